@@ -1,0 +1,49 @@
+"""QoS per topic class: the one place that decides how SEM topics behave on the bus.
+
+| class    | topics                         | reliability | durability      | history        | why |
+|----------|--------------------------------|-------------|-----------------|----------------|-----|
+| command  | *Command                       | reliable    | transient-local | keep last 1    | a command is immutable, one sample per sessionID; a provider that starts or restarts later still finds it (ICD 4.1.2) |
+| status   | *CommandStatus, *CommandAckReport | reliable | transient-local | keep last 32   | every transition reaches a running consumer in order (a command has at most 5), and a consumer that joins late sees where each command stands |
+| report   | *Report (GPS, GPSFix, INS)     | reliable    | transient-local | keep last 1    | a consumer that starts after the provider shows the last report at once; newer reports replace older ones |
+
+Writers of types with @optional members (GPSReport, GPSFixReport) offer XCDR1 so that
+another vendor's default reader decodes them; Cyclone already uses XCDR1 for the
+other (final, no optional) types. Readers accept both representations.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+
+from cyclonedds.core import Policy, Qos
+from cyclonedds.util import duration
+
+STATUS_DEPTH = 32
+_RELIABLE = Policy.Reliability.Reliable(duration(seconds=1))
+
+
+class TopicClass(str, Enum):
+    COMMAND = "command"
+    STATUS = "status"
+    REPORT = "report"
+
+
+_DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: STATUS_DEPTH, TopicClass.REPORT: 1}
+
+
+def writer_qos(cls: TopicClass, xcdr1: bool = False) -> Qos:
+    policies = [_RELIABLE, Policy.Durability.TransientLocal, Policy.History.KeepLast(_DEPTH[cls]),
+                # Instances end by an explicit dispose (cancel, cleanup, shutdown), never by a writer closing.
+                Policy.WriterDataLifecycle(autodispose=False)]
+    if xcdr1:
+        policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
+    return Qos(*policies)
+
+
+def reader_qos(cls: TopicClass) -> Qos:
+    return Qos(
+        _RELIABLE,
+        Policy.Durability.TransientLocal,
+        Policy.History.KeepLast(_DEPTH[cls]),
+        Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
+    )

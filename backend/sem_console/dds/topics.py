@@ -1,0 +1,62 @@
+"""Every SEM topic: its UMAA name, generated type and QoS class, in one table."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+from UMAA.SEM.GPSFixControl import GPSFixCommandAckReportType, GPSFixCommandStatusType, GPSFixCommandType
+from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
+from UMAA.SEM.GPSStatus import GPSReportType
+from UMAA.SEM.InertialSensorControl import (
+    InertialSensorCommandAckReportType,
+    InertialSensorCommandStatusType,
+    InertialSensorCommandType,
+)
+from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+
+from sem_console.dds.qos import TopicClass
+
+
+@dataclass(frozen=True)
+class TopicSpec:
+    name: str
+    type: type
+    cls: TopicClass
+    xcdr1: bool = False  # type has @optional members: offer XCDR1 for other vendors' default readers
+
+
+class Sem(Enum):
+    GPS_FIX_COMMAND = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommand", GPSFixCommandType, TopicClass.COMMAND)
+    GPS_FIX_COMMAND_STATUS = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandStatus", GPSFixCommandStatusType, TopicClass.STATUS)
+    GPS_FIX_COMMAND_ACK = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS)
+    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT, xcdr1=True)
+    GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
+    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT, xcdr1=True)
+    INS_COMMAND = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND)
+    INS_COMMAND_STATUS = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus", InertialSensorCommandStatusType, TopicClass.STATUS)
+    INS_COMMAND_ACK = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport", InertialSensorCommandAckReportType, TopicClass.STATUS)
+    INS_REPORT = TopicSpec("UMAA::SEM::InertialSensorStatus::InertialSensorReport", InertialSensorReportType, TopicClass.REPORT)
+
+    @property
+    def spec(self) -> TopicSpec:
+        return self.value
+
+
+class Service(str, Enum):
+    """The two commandable SEM services and their command, status and ack topics."""
+
+    GPS_FIX = "GPSFix"
+    INERTIAL_SENSOR = "InertialSensor"
+
+    @property
+    def command(self) -> Sem:
+        return Sem.GPS_FIX_COMMAND if self is Service.GPS_FIX else Sem.INS_COMMAND
+
+    @property
+    def status(self) -> Sem:
+        return Sem.GPS_FIX_COMMAND_STATUS if self is Service.GPS_FIX else Sem.INS_COMMAND_STATUS
+
+    @property
+    def ack(self) -> Sem:
+        return Sem.GPS_FIX_COMMAND_ACK if self is Service.GPS_FIX else Sem.INS_COMMAND_ACK

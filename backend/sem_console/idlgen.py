@@ -1,0 +1,152 @@
+"""Generate the Python types in ``backend/UMAA`` from the IDL in ``idl/``.
+
+Run ``python -m sem_console.idlgen`` after changing ``idl/``; the test suite
+regenerates into a temporary folder and fails when the committed code differs.
+
+Why this is not a plain ``idlc -l py`` call:
+
+1. The ``idlc`` shipped in the cyclonedds 11.0.1 wheel segfaults before
+   ``main`` (cyclonedds-python issue #336). The cause is in the ELF file, not
+   in idlc: the wheel's patchelf step moved ``.dynamic`` so that it spills
+   out of the writable LOAD segment into a read-only page, and the dynamic
+   loader faults when it stores its debugger hook into the ``DT_DEBUG``
+   entry. We copy the binary into a cache folder and retag that one entry
+   as ``DT_BIND_NOW`` (which asks only for eager symbol binding); nothing
+   else changes, so it is the same idlc and the same ``_idlpy`` backend that
+   the runtime ships with, and the output matches the runtime exactly.
+   Building Cyclone from source is not possible here (no network beyond the
+   package registries) and an idlc from another Cyclone release would not
+   match the 11.0.1 Python runtime.
+2. UMAA puts every enum in a module of its own name
+   (``...::CommandStatusEnumType::CommandStatusEnumType``). Cyclone's idlc
+   enforces the IDL rule that a module's name may not be declared again
+   inside it, so it rejects that IDL. ``idl/`` keeps UMAA's layout; idlc is
+   fed a copy in which such enums carry a temporary suffix, and the suffix is
+   removed from the generated Python. Enum type names never reach the wire
+   for matching (XTypes minimal type objects hold literal name hashes only);
+   the restored names keep the complete type information right as well.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import sysconfig
+import tempfile
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+IDL_DIR = REPO / "idl"
+OUT_DIR = REPO / "backend"
+SUFFIX = "__UMAA_SAME_NAME"
+
+DT_DEBUG = 21
+DT_BIND_NOW = 24
+PT_DYNAMIC = 2
+
+
+def _wheel_paths() -> tuple[Path, Path, Path]:
+    import cyclonedds
+
+    pkg = Path(cyclonedds.__file__).resolve().parent
+    idlc = pkg / ".libs" / "idlc"
+    libs = pkg.parent / "cyclonedds.libs"
+    plugin = next(pkg.glob("_idlpy*"))
+    return idlc, libs, plugin
+
+
+def patch_dt_debug(src: Path, dst: Path) -> None:
+    """Copy an x86-64 ELF executable, retagging its DT_DEBUG entry as DT_BIND_NOW."""
+    data = bytearray(src.read_bytes())
+    if data[:4] != b"\x7fELF" or data[4] != 2 or data[5] != 1:
+        raise RuntimeError(f"{src} is not a 64-bit little-endian ELF file")
+    phoff = struct.unpack_from("<Q", data, 0x20)[0]
+    phentsize, phnum = struct.unpack_from("<HH", data, 0x36)
+    for i in range(phnum):
+        p_type, _flags, offset, _va, _pa, filesz = struct.unpack_from("<IIQQQQ", data, phoff + i * phentsize)
+        if p_type != PT_DYNAMIC:
+            continue
+        for entry in range(offset, offset + filesz, 16):
+            if struct.unpack_from("<q", data, entry)[0] == DT_DEBUG:
+                struct.pack_into("<q", data, entry, DT_BIND_NOW)
+    dst.write_bytes(bytes(data))
+    dst.chmod(0o755)
+
+
+def working_idlc(cache: Path) -> Path:
+    idlc, _libs, _plugin = _wheel_paths()
+    cache.mkdir(parents=True, exist_ok=True)
+    fixed = cache / "idlc"
+    if not fixed.exists() or fixed.stat().st_mtime < idlc.stat().st_mtime:
+        patch_dt_debug(idlc, fixed)
+    return fixed
+
+
+def _rename_same_name_enums(src: Path, dst: Path) -> None:
+    """Copy ``src`` IDL tree to ``dst`` with module-named enums suffixed for idlc."""
+    shutil.copytree(src, dst)
+    enum_decl = re.compile(r"module (\w+) \{\s*enum \1 \{")
+    names: set[str] = set()
+    files = sorted(dst.rglob("*.idl"))
+    for f in files:
+        names.update(m.group(1) for m in enum_decl.finditer(f.read_text()))
+    for f in files:
+        text = f.read_text()
+        for n in names:
+            text = re.sub(rf"\benum {n} \{{", f"enum {n}{SUFFIX} {{", text)
+            text = re.sub(rf"::{n}::{n}\b", f"::{n}::{n}{SUFFIX}", text)
+        f.write_text(text)
+
+
+def generate(out_dir: Path, cache: Path | None = None) -> list[Path]:
+    """Generate the ``UMAA`` package into ``out_dir``; return the written files."""
+    cache = cache or Path(tempfile.gettempdir()) / "sem-console-idlc"
+    idlc = working_idlc(cache)
+    _orig, libs, plugin = _wheel_paths()
+    env = dict(os.environ)
+    env["LD_LIBRARY_PATH"] = os.pathsep.join(filter(None, [str(libs), env.get("LD_LIBRARY_PATH")]))
+    # idlc asks `python -m cyclonedds.__idlc__` where the backend is; give it this interpreter.
+    env["PATH"] = os.pathsep.join([str(Path(sys.executable).parent), sysconfig.get_path("scripts"), env.get("PATH", "")])
+    with tempfile.TemporaryDirectory() as tmp:
+        work_idl = Path(tmp) / "idl"
+        gen = Path(tmp) / "gen"
+        gen.mkdir()
+        _rename_same_name_enums(IDL_DIR, work_idl)
+        for f in sorted(work_idl.rglob("*.idl")):
+            # The Python backend writes into the current directory (it ignores -o).
+            subprocess.run(
+                [str(idlc), "-l", str(plugin), "-x", "final", "-I", str(work_idl), str(f)],
+                cwd=gen, env=env, check=True, capture_output=True, text=True,
+            )
+        target = out_dir / "UMAA"
+        if target.exists():
+            shutil.rmtree(target)
+        written = []
+        for f in sorted(gen.rglob("*.py")):
+            dest = target / f.relative_to(gen / "UMAA")
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            dest.write_text(f.read_text().replace(SUFFIX, ""))
+            written.append(dest)
+        return written
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="Generate Python types from idl/ with Cyclone DDS idlc.")
+    parser.add_argument("--out", type=Path, default=OUT_DIR, help="folder to write the UMAA package into (default: backend/)")
+    args = parser.parse_args(argv)
+    try:
+        files = generate(args.out)
+    except subprocess.CalledProcessError as e:
+        print(f"idlc failed on {e.cmd[-1]}:\n{e.stderr}", file=sys.stderr)
+        return 1
+    print(f"wrote {len(files)} files under {args.out / 'UMAA'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

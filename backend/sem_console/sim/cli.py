@@ -1,0 +1,114 @@
+"""`sem-sim`: simulated vehicles that are UMAA SEM Service Providers on a DDS domain."""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import signal
+import sys
+from typing import Callable, NoReturn
+
+from sem_console.core.config import Settings
+from sem_console.dds.bus import Bus
+from sem_console.sim.provider import FAULTS, SimOptions, Simulator, vehicle_guid
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _ranged(kind: Callable[[str], float], lo: float, hi: float) -> Callable[[str], float]:
+    def parse(text: str) -> float:
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
+        return value
+    return parse
+
+
+def _fault(text: str) -> tuple[str, int]:
+    kind, _, target = text.partition(":")
+    if kind not in FAULTS:
+        raise argparse.ArgumentTypeError(f"unknown fault {kind!r} (one of {', '.join(FAULTS)})")
+    if not target:
+        return kind, 0
+    if not target.isdigit() or int(target) < 1:
+        raise argparse.ArgumentTypeError(f"fault target {target!r} must be a vehicle number from 1")
+    return kind, int(target)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    d = SimOptions()
+    p = _Parser(prog="sem-sim", description=(
+        "Simulated unmanned vehicles, each a UMAA SEM Service Provider for GPSFixControl, GPSFixStatus, "
+        "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
+        "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))
+    p.add_argument("--domain", type=_ranged(int, 0, 232), default=Settings().domain, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
+    p.add_argument("--vehicles", type=_ranged(int, 1, 100), default=d.vehicles, help="number of vehicles, each with its own stable source GUID (default: %(default)s)")
+    p.add_argument("--time-scale", type=_ranged(float, 0.001, 100), default=d.time_scale, help="multiply every duration below, e.g. 0.1 runs ten times faster (default: %(default)s)")
+    p.add_argument("--step-seconds", type=_ranged(float, 0, 600), default=d.step_seconds, help="delay between ISSUED, COMMANDED and EXECUTING (default: %(default)s)")
+    p.add_argument("--surface-seconds", type=_ranged(float, 0, 3600), default=d.surface_seconds, help="time for a GPSFix command to surface and get a fix (default: %(default)s)")
+    p.add_argument("--align-seconds", type=_ranged(float, 0, 3600), default=d.align_seconds, help="INS power-on to OPERATIONAL through four alignment stages (default: %(default)s)")
+    p.add_argument("--fix-rate", type=_ranged(float, 1, 10), default=d.fix_rate, help="GPSFixReport and GPSFixStatusReport rate in Hz, 1..10 (default: %(default)s)")
+    p.add_argument("--gps-rate", type=_ranged(float, 0.1, 10), default=d.gps_rate, help="GPSReport (satellites) rate in Hz (default: %(default)s)")
+    p.add_argument("--ins-rate", type=_ranged(float, 0.1, 50), default=d.ins_rate, help="InertialSensorReport rate in Hz (default: %(default)s)")
+    p.add_argument("--satellites", type=_ranged(int, 20, 40), default=d.satellites, help="satellites per vehicle, 20..40 (default: %(default)s)")
+    p.add_argument("--sky-speed", type=_ranged(float, 0, 1000), default=d.sky_speed, help="how much faster than real satellites move across the sky (default: %(default)s)")
+    p.add_argument("--on-startup", choices=("fail", "resume"), default=d.on_startup, help="commands for our vehicles already on the bus at start: fail them with SERVICE_FAILED, or resume (from their last status on the bus, else from the start) (default: %(default)s)")
+    p.add_argument("--orphan-grace", type=_ranged(float, 0, 3600), default=d.orphan_grace, help="seconds a command may have no live writer before it is treated as canceled (default: %(default)s)")
+    p.add_argument("--fault", type=_fault, action="append", default=[], metavar="KIND[:VEHICLE]", help=(
+        "inject a fault, for all vehicles or vehicle N (1-based); repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
+        "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
+        "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
+        "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))
+    p.add_argument("--slow-factor", type=_ranged(float, 1, 1000), default=d.slow_factor, help="slow-down of the 'slow' fault (default: %(default)s)")
+    p.add_argument("--list", action="store_true", help="print each vehicle's source GUID and exit")
+    p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info", help="log level (default: %(default)s)")
+    return p
+
+
+def options_from(args: argparse.Namespace) -> SimOptions:
+    faults: dict[int, set[str]] = {}
+    for kind, target in args.fault:
+        faults.setdefault(target, set()).add(kind)
+    return SimOptions(
+        vehicles=args.vehicles, time_scale=args.time_scale, step_seconds=args.step_seconds,
+        surface_seconds=args.surface_seconds, align_seconds=args.align_seconds, fix_rate=args.fix_rate,
+        gps_rate=args.gps_rate, ins_rate=args.ins_rate, satellites=args.satellites, sky_speed=args.sky_speed,
+        on_startup=args.on_startup, orphan_grace=args.orphan_grace, slow_factor=args.slow_factor, faults=faults,
+    )
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    opts = options_from(args)
+    if args.list:
+        for i in range(1, opts.vehicles + 1):
+            print(f"vehicle {i}: {vehicle_guid(i)}")
+        return 0
+    logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    settings = Settings()
+    stopping = False
+
+    def stop(_signum: int, _frame: object) -> None:
+        nonlocal stopping
+        stopping = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+    sim = Simulator(bus, opts)
+    for v in sim.vehicles.values():
+        logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.index, v.guid, sorted(v.faults) or "none")
+    sim.run(lambda: stopping)
+    logging.getLogger("sem-sim").info("shutting down: failing incomplete commands, disposing reports")
+    sim.shutdown()
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

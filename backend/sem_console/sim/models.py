@@ -1,0 +1,131 @@
+"""What a simulated vehicle's sensors see: satellites, a track at sea, and an INS.
+
+Pure functions of time (seconds since the vehicle started, already scaled), so they
+can be tested without DDS. Angles on the wire are radians, as UMAA's Angle types.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from dataclasses import dataclass, field
+
+from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+# (constellation, share of the sky, PRN range, carrier frequency Hz)
+CONSTELLATIONS = [
+    (Constellation.GPS, 0.30, range(1, 33), 1575.42e6),
+    (Constellation.GALILEO, 0.25, range(1, 37), 1575.42e6),
+    (Constellation.GLONASS, 0.20, range(1, 25), 1602.0e6),
+    (Constellation.BEIDOU, 0.20, range(1, 64), 1561.098e6),
+    (Constellation.SBAS, 0.05, range(120, 159), 1575.42e6),
+]
+MAX_USED = 12
+SUBMERGED_DEPTH_M = -30.0
+
+
+@dataclass
+class Satellite:
+    constellation: Constellation
+    prn: int
+    frequency: float
+    az0: float  # radians
+    az_rate: float  # radians per second
+    el_mid: float
+    el_amp: float
+    el_rate: float
+    phase: float
+    almanac: bool
+    ephemeris: bool
+
+    def az_el(self, t: float) -> tuple[float, float]:
+        az = (self.az0 + self.az_rate * t) % (2 * math.pi)
+        if az > math.pi:  # UMAA Angle is -pi..pi
+            az -= 2 * math.pi
+        el = self.el_mid + self.el_amp * math.sin(self.el_rate * t + self.phase)
+        return az, min(max(el, math.radians(3)), math.radians(89))
+
+    def cn0(self, el: float, exposure: float, noise: float) -> float:
+        """C/N0 in dB-Hz: rises with elevation; exposure 0 (submerged) .. 1 (antenna clear)."""
+        clear = 28.0 + 22.0 * math.sin(el) + noise
+        return max(0.0, clear * exposure + 4.0 * (1 - exposure) * abs(noise) / 2)
+
+
+def make_sky(seed: int, count: int, sky_speed: float = 20.0) -> list[Satellite]:
+    """`count` satellites (20..40) spread over the five constellations."""
+    rng = random.Random(seed)
+    sats: list[Satellite] = []
+    remaining = count
+    for i, (const, share, prns, freq) in enumerate(CONSTELLATIONS):
+        n = remaining if i == len(CONSTELLATIONS) - 1 else max(1, round(count * share))
+        n = min(n, remaining - (len(CONSTELLATIONS) - 1 - i))  # leave one for each constellation after
+        remaining -= n
+        for k, prn in enumerate(sorted(rng.sample(list(prns), n))):
+            if const is Constellation.GLONASS:
+                freq_k = freq + (k - 7) * 0.5625e6
+            else:
+                freq_k = freq
+            sats.append(Satellite(
+                constellation=const, prn=prn, frequency=freq_k,
+                az0=rng.uniform(0, 2 * math.pi),
+                # real satellites move about 0.5 deg/min; sky_speed makes them visibly move
+                az_rate=math.radians(rng.uniform(0.2, 0.6)) / 60 * sky_speed * rng.choice((-1, 1)),
+                el_mid=math.radians(rng.uniform(20, 60)), el_amp=math.radians(rng.uniform(5, 25)),
+                el_rate=rng.uniform(0.5, 1.5) * 2 * math.pi / 3600 * sky_speed, phase=rng.uniform(0, 2 * math.pi),
+                almanac=True, ephemeris=rng.random() > 0.1,
+            ))
+    return sats
+
+
+@dataclass
+class Track:
+    """A vehicle cruising a wide circle; depth moves between submerged and surface."""
+
+    lat0: float
+    lon0: float
+    speed: float = 1.8  # m/s over ground
+    turn_rate: float = math.radians(0.5)  # rad/s of course change
+    course0: float = 0.0
+
+    def at(self, t: float) -> tuple[float, float, float]:
+        """(latitude deg, longitude deg, true course rad 0..2pi) at t seconds."""
+        course = (self.course0 + self.turn_rate * t) % (2 * math.pi)
+        r = self.speed / self.turn_rate  # radius of the circle in metres
+        north = r * (math.sin(self.course0 + self.turn_rate * t) - math.sin(self.course0))
+        east = -r * (math.cos(self.course0 + self.turn_rate * t) - math.cos(self.course0))
+        lat = self.lat0 + north / 111_320.0
+        lon = self.lon0 + east / (111_320.0 * math.cos(math.radians(self.lat0)))
+        return lat, lon, course
+
+
+@dataclass
+class Ins:
+    """Inertial sensor: power state and alignment, driven by commands and time."""
+
+    align_seconds: float
+    state: InsState = InsState.ON
+    since: float = 0.0  # time the current state began
+    failed: bool = False
+    stages: tuple[OpStatus, ...] = field(default=(
+        OpStatus.INIT, OpStatus.COURSE_STATIONARY_ALIGNMENT,
+        OpStatus.FINE_STATIONARY_ALIGNMENT_STARTED, OpStatus.FINE_STATIONARY_ALIGNMENT_COMPLETE,
+    ))
+
+    def set(self, state: InsState, t: float) -> None:
+        self.state, self.since = state, t
+
+    def step(self, t: float) -> None:
+        """RESTARTING lasts one alignment stage, then the INS is ON and aligns again."""
+        if self.state is InsState.RESTARTING and t - self.since >= self.align_seconds / len(self.stages):
+            self.set(InsState.ON, t)
+
+    def status(self, t: float) -> OpStatus:
+        # No literal means "off": an unpowered or restarting INS reports INIT.
+        if self.failed:
+            return OpStatus.INERTIAL_SENSOR_FAILURE
+        if self.state is not InsState.ON:
+            return OpStatus.INIT
+        stage = int((t - self.since) / (self.align_seconds / len(self.stages)))
+        return self.stages[stage] if stage < len(self.stages) else OpStatus.OPERATIONAL

@@ -1,0 +1,91 @@
+"""The UMAA command status state machine (ICD 4.1, Figure 4), as plain Python.
+
+    (new) --ISSUED/SUCCEEDED--> ISSUED --COMMANDED/SUCCEEDED--> COMMANDED --EXECUTING/SUCCEEDED--> EXECUTING
+    EXECUTING --COMPLETED/SUCCEEDED--> COMPLETED
+    ISSUED | COMMANDED | EXECUTING --FAILED/<a failure reason>--> FAILED
+    ISSUED | COMMANDED | EXECUTING --CANCELED/CANCELED--> CANCELED
+
+One addition to the figure, from the provider startup sequence (ICD 4.1.2.1): a
+restarted provider that will not resume a persisted command fails it with
+SERVICE_FAILED, which a consumer may see as the first status from that provider.
+A status equal to the current one (same state and reason) is a repeat, not a transition.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+
+TERMINAL = frozenset({Status.COMPLETED, Status.FAILED, Status.CANCELED})
+FAILURE_REASONS = frozenset({
+    Reason.VALIDATION_FAILED, Reason.OBJECTIVE_FAILED, Reason.SERVICE_FAILED, Reason.RESOURCE_FAILED,
+    Reason.RESOURCE_REJECTED, Reason.INTERRUPTED, Reason.TIMEOUT,
+})
+_ACTIVE = (Status.ISSUED, Status.COMMANDED, Status.EXECUTING)
+
+# state before (None: no status yet) -> states allowed next
+NEXT: dict[Status | None, frozenset[Status]] = {
+    None: frozenset({Status.ISSUED, Status.FAILED}),
+    Status.ISSUED: frozenset({Status.COMMANDED, Status.FAILED, Status.CANCELED}),
+    Status.COMMANDED: frozenset({Status.EXECUTING, Status.FAILED, Status.CANCELED}),
+    Status.EXECUTING: frozenset({Status.COMPLETED, Status.FAILED, Status.CANCELED}),
+    Status.COMPLETED: frozenset(),
+    Status.FAILED: frozenset(),
+    Status.CANCELED: frozenset(),
+}
+
+
+def reason_allowed(status: Status, reason: Reason, first: bool = False) -> bool:
+    if status is Status.FAILED:
+        return reason is Reason.SERVICE_FAILED if first else reason in FAILURE_REASONS
+    if status is Status.CANCELED:
+        return reason is Reason.CANCELED
+    return reason is Reason.SUCCEEDED
+
+
+def check_transition(prev: Status | None, status: Status, reason: Reason) -> str | None:
+    """None when prev -> (status, reason) follows Figure 4, else what is wrong with it."""
+    if status not in NEXT[prev]:
+        before = prev.name if prev is not None else "(no status)"
+        return f"{before} -> {status.name} is not a Figure 4 transition"
+    if not reason_allowed(status, reason, first=prev is None):
+        return f"reason {reason.name} is not valid for {status.name}"
+    return None
+
+
+@dataclass
+class Transition:
+    status: Status
+    reason: Reason
+    log_message: str
+    violation: str | None = None
+
+
+@dataclass
+class CommandFlow:
+    """Follows one command's statuses; records each transition and any violation."""
+
+    transitions: list[Transition] = field(default_factory=list)
+
+    @property
+    def status(self) -> Status | None:
+        return self.transitions[-1].status if self.transitions else None
+
+    @property
+    def terminal(self) -> bool:
+        return self.status in TERMINAL
+
+    @property
+    def violations(self) -> list[str]:
+        return [t.violation for t in self.transitions if t.violation]
+
+    def observe(self, status: Status, reason: Reason, log_message: str = "") -> Transition | None:
+        """Feed a received status; returns the new transition, or None for a repeat."""
+        last = self.transitions[-1] if self.transitions else None
+        if last is not None and last.status is status and last.reason is reason:
+            return None
+        t = Transition(status, reason, log_message, check_transition(self.status, status, reason))
+        self.transitions.append(t)
+        return t

@@ -1,0 +1,26 @@
+"""Small helpers to build and read generated UMAA samples."""
+
+from __future__ import annotations
+
+import time
+from dataclasses import fields
+from typing import Any, TypeVar
+
+from UMAA.Common.Measurement import DateTime
+
+T = TypeVar("T")
+
+
+def make(cls: type[T], **values: Any) -> T:
+    """Construct a generated struct; members not given are None (for @optional members)."""
+    return cls(**{f.name: values.get(f.name) for f in fields(cls)})  # type: ignore[arg-type]
+
+
+def now_datetime(t: float | None = None) -> DateTime:
+    t = time.time() if t is None else t
+    seconds = int(t)
+    return DateTime(seconds=seconds, nanoseconds=min(int((t - seconds) * 1e9), 999_999_999))
+
+
+def datetime_to_float(dt: DateTime) -> float:
+    return dt.seconds + dt.nanoseconds / 1e9

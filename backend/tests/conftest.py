@@ -1,0 +1,86 @@
+"""Test fixtures: a fresh DDS domain per test on loopback, and real `sem-sim` processes."""
+
+from __future__ import annotations
+
+import itertools
+import os
+import random
+import signal
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Callable, Iterator
+
+import pytest
+
+from consumer import Consumer
+
+# A random start per run, then a new domain per test; a domain whose first discovery
+# port is taken (another run on this host) is skipped, so runs never see each other.
+_domains = itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(1, 200))
+
+
+def _port_free(port: int) -> bool:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.bind(("127.0.0.1", port))
+            return True
+        except OSError:
+            return False
+
+
+@pytest.fixture
+def domain() -> int:
+    for _ in range(232):
+        d = next(_domains) % 232 + 1
+        if _port_free(7410 + 250 * d):
+            return d
+    raise RuntimeError("no free DDS domain id on this host")
+
+
+FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
+
+
+class SimProcess:
+    def __init__(self, domain: int, args: list[str]) -> None:
+        self.domain, self.args = domain, args
+        self.proc: subprocess.Popen[str] | None = None
+
+    def start(self) -> "SimProcess":
+        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), *FAST, *self.args]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        return self
+
+    def stop(self, sig: int = signal.SIGINT, timeout: float = 15) -> str:
+        assert self.proc is not None
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+        out, _ = self.proc.communicate(timeout=timeout)
+        return out
+
+    def kill(self) -> None:
+        self.stop(signal.SIGKILL)
+
+
+@pytest.fixture
+def sim(domain: int) -> Iterator[Callable[..., SimProcess]]:
+    started: list[SimProcess] = []
+
+    def start(*args: str) -> SimProcess:
+        p = SimProcess(domain, list(args)).start()
+        started.append(p)
+        return p
+
+    yield start
+    for p in started:
+        if p.proc and p.proc.poll() is None:
+            p.kill()
+
+
+@pytest.fixture
+def consumer(domain: int) -> Iterator[Consumer]:
+    c = Consumer(domain)
+    yield c
+    c.close()

@@ -1,0 +1,243 @@
+"""`sem-sim` against a test consumer over real Cyclone DDS on loopback, one fresh domain per test.
+
+Every status sequence is checked against Figure 4 by CommandFlow as it arrives.
+"""
+
+from __future__ import annotations
+
+import math
+import signal
+import subprocess
+import sys
+import uuid
+
+import pytest
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
+from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType as Fix
+from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as Nav
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from UMAA.Common.Measurement import DateTime
+from consumer import Consumer
+from sem_console.dds.topics import Sem, Service
+from sem_console.sim.provider import vehicle_guid
+from sem_console.umaa.guid import from_guid, satellite_label
+
+V1, V2 = vehicle_guid(1), vehicle_guid(2)
+HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+
+
+def wait_reports(c: Consumer, vehicle: uuid.UUID, sems: list[Sem] | None = None) -> None:
+    sems = sems or [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT]
+    c.wait(lambda: all(c.reports[s].get(vehicle) for s in sems), 20, "a report of every type")
+
+
+def test_every_report_type_with_plausible_values(sim, consumer: Consumer) -> None:
+    sim("--vehicles", "2")
+    for v in (V1, V2):
+        wait_reports(consumer, v)
+    gps = consumer.latest(Sem.GPS_REPORT, V1)
+    assert 20 <= len(gps.satellites) <= 40 and gps.numberSatellitesInView == len(gps.satellites)
+    consts = {s.constellationType.name for s in gps.satellites}
+    assert {"GPS", "GALILEO", "GLONASS", "BEIDOU", "SBAS"} <= consts
+    for s in gps.satellites:
+        assert -math.pi <= s.azimuth <= math.pi and 0 < s.elevation < math.pi / 2
+        assert 0 <= s.antennaCarrierNoiseDensity < 60 and s.carrierFrequency > 1.5e9
+        assert satellite_label(s.satelliteId)[0] in "GERCS"
+    assert gps.clock.leapSecond == 18 and gps.clock.biasUncertianty is not None
+    # submerged at start: no valid fix, dead reckoning, nothing used in the fix
+    fix, status = consumer.latest(Sem.GPS_FIX_REPORT, V1), consumer.latest(Sem.GPS_FIX_STATUS_REPORT, V1)
+    assert fix.GPSLatLongValid is False and fix.altitudeMSL.altitude < 0
+    assert status.fixValid is False and status.navSolution is Nav.GPS_DEAD_RECK
+    assert not any(s.usedInFix for s in gps.satellites)
+    assert -90 <= fix.position2DWithTime.geodeticPosition.geodeticLatitude.latitude <= 90
+    assert 0 <= fix.trueCourse < 2 * math.pi and fix.SOG > 0
+    assert math.isclose(math.hypot(fix.velocity.northSpeed, fix.velocity.eastSpeed), fix.SOG, rel_tol=1e-6)
+    assert fix.position2DWithTime.timeAtPosition > 1.7e9
+    # satellites move between reports; the two vehicles have their own sources and skies
+    consumer.wait(lambda: len(consumer.reports[Sem.GPS_REPORT][V1]) >= 3, 10, "three GPS reports")
+    first, last = consumer.reports[Sem.GPS_REPORT][V1][0], consumer.latest(Sem.GPS_REPORT, V1)
+    assert first.satellites[0].azimuth != last.satellites[0].azimuth
+    assert [s.satelliteId for s in gps.satellites] != [s.satelliteId for s in consumer.latest(Sem.GPS_REPORT, V2).satellites]
+
+
+def test_ins_aligns_after_power_on(sim, consumer: Consumer) -> None:
+    sim("--align-seconds", "20")  # 1 s at --time-scale 0.05
+    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL")
+    seen = [r.status for r in consumer.reports[Sem.INS_REPORT][V1]]
+    order = [Op.INIT, Op.COURSE_STATIONARY_ALIGNMENT, Op.FINE_STATIONARY_ALIGNMENT_STARTED,
+             Op.FINE_STATIONARY_ALIGNMENT_COMPLETE, Op.OPERATIONAL]
+    ranks = [order.index(s) for s in seen]
+    assert ranks == sorted(ranks) and len(set(ranks)) >= 3
+
+
+def test_gps_fix_surfaces_and_completes(sim, consumer: Consumer) -> None:
+    sim()
+    wait_reports(consumer, V1)
+    session = consumer.command(Service.GPS_FIX, V1)
+    seen = consumer.wait_terminal(session)
+    assert seen.statuses == HAPPY and seen.reasons == [R.SUCCEEDED] * 4 and seen.flow.violations == []
+    assert from_guid(seen.ack.sessionID) == session and from_guid(seen.ack.source) == V1
+    consumer.wait(lambda: consumer.latest(Sem.GPS_FIX_REPORT, V1).GPSFixCommandStatus is Fix.STABLE, 5, "STABLE")
+    fix_states = [r.GPSFixCommandStatus for r in consumer.reports[Sem.GPS_FIX_REPORT][V1]]
+    assert Fix.PERFORMING in fix_states and Fix.STABLE in fix_states
+    assert fix_states.index(Fix.PERFORMING) < len(fix_states) - 1 - fix_states[::-1].index(Fix.STABLE)
+    consumer.wait(lambda: consumer.latest(Sem.GPS_FIX_STATUS_REPORT, V1).fixValid, 5, "a valid fix")
+    assert consumer.latest(Sem.GPS_FIX_STATUS_REPORT, V1).navSolution is Nav.GPS_3D
+    consumer.wait(lambda: any(s.usedInFix for s in consumer.latest(Sem.GPS_REPORT, V1).satellites), 5, "satellites used")
+    # cleanup: the consumer disposes the finished command, the provider disposes status and ack
+    consumer.dispose(session)
+    consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 10, "status and ack disposed")
+    assert seen.statuses == HAPPY  # no CANCELED for a finished command
+
+
+@pytest.mark.parametrize("target,state_after", [(Ins.OFF, Ins.OFF), (Ins.ON, Ins.ON), (Ins.RESTARTING, Ins.ON)])
+def test_inertial_sensor_commands(sim, consumer: Consumer, target: Ins, state_after: Ins) -> None:
+    sim("--align-seconds", "20")
+    wait_reports(consumer, V1, [Sem.INS_REPORT])
+    if target is Ins.ON:  # switch it off first so ON has an alignment to go through
+        assert consumer.wait_terminal(consumer.command(Service.INERTIAL_SENSOR, V1, Ins.OFF)).statuses == HAPPY
+    mark = len(consumer.reports[Sem.INS_REPORT][V1])
+    session = consumer.command(Service.INERTIAL_SENSOR, V1, target)
+    seen = consumer.wait_terminal(session)
+    assert seen.statuses == HAPPY and seen.flow.violations == [] and seen.ack.state is target
+    after = consumer.reports[Sem.INS_REPORT][V1][mark:]
+    consumer.pump()
+    assert consumer.latest(Sem.INS_REPORT, V1).state is state_after
+    if target is Ins.RESTARTING:
+        assert any(r.state is Ins.RESTARTING for r in after)
+    if state_after is Ins.ON:
+        assert consumer.latest(Sem.INS_REPORT, V1).status is Op.OPERATIONAL
+        assert any(r.status is Op.COURSE_STATIONARY_ALIGNMENT for r in after)
+
+
+def test_cancel_by_dispose(sim, consumer: Consumer) -> None:
+    sim("--surface-seconds", "400")  # 20 s to surface: plenty of time to cancel
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1)
+    seen = consumer.wait_status(session, S.EXECUTING)
+    consumer.dispose(session)
+    consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 10, "status and ack disposed after cancel")
+    assert seen.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED]
+    assert seen.reasons[-1] is R.CANCELED and seen.flow.violations == []
+
+
+def test_commands_for_another_destination_are_ignored(sim, consumer: Consumer) -> None:
+    sim()
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    other = consumer.command(Service.GPS_FIX, uuid.uuid4())
+    mine = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_terminal(mine)
+    assert consumer.commands[other].statuses == []
+
+
+def test_invalid_command_fails_validation(sim, consumer: Consumer) -> None:
+    sim()
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1, timeStamp=DateTime(seconds=1, nanoseconds=2_000_000_000))
+    seen = consumer.wait_terminal(session)
+    assert seen.statuses == [S.ISSUED, S.FAILED] and seen.reasons[-1] is R.VALIDATION_FAILED
+    assert "timeStamp" in seen.flow.transitions[-1].log_message
+
+
+def test_newer_command_interrupts_running_one(sim, consumer: Consumer) -> None:
+    sim("--surface-seconds", "400")
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    first = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(first, S.EXECUTING)
+    second = consumer.command(Service.GPS_FIX, V1)
+    seen = consumer.wait_terminal(first)
+    assert seen.statuses[-1] is S.FAILED and seen.reasons[-1] is R.INTERRUPTED
+    consumer.wait_status(second, S.EXECUTING)
+
+
+@pytest.mark.parametrize("fault,statuses,reason", [
+    ("reject", [S.ISSUED, S.FAILED], R.RESOURCE_REJECTED),
+    ("fail-midway", [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED], R.RESOURCE_FAILED),
+    ("skip-commanded", [S.ISSUED, S.EXECUTING, S.COMPLETED], R.SUCCEEDED),
+])
+def test_injected_faults_on_one_vehicle(sim, consumer: Consumer, fault: str, statuses: list[S], reason: R) -> None:
+    sim("--vehicles", "2", "--fault", f"{fault}:2")
+    for v in (V1, V2):
+        wait_reports(consumer, v, [Sem.GPS_FIX_REPORT])
+    healthy, faulty = consumer.command(Service.GPS_FIX, V1), consumer.command(Service.GPS_FIX, V2)
+    assert consumer.wait_terminal(healthy).statuses == HAPPY
+    seen = consumer.wait_terminal(faulty)
+    assert seen.statuses == statuses and seen.reasons[-1] is reason
+    if fault == "skip-commanded":
+        assert seen.flow.violations == ["ISSUED -> EXECUTING is not a Figure 4 transition"]
+    else:
+        assert seen.flow.violations == []
+
+
+def test_no_answer_and_slow_faults(sim, consumer: Consumer) -> None:
+    sim("--vehicles", "3", "--fault", "no-answer:2", "--fault", "slow:3", "--slow-factor", "100")
+    for v in (V1, V2, vehicle_guid(3)):
+        wait_reports(consumer, v, [Sem.GPS_FIX_REPORT])
+    healthy = consumer.command(Service.GPS_FIX, V1)
+    silent = consumer.command(Service.GPS_FIX, V2)
+    slow = consumer.command(Service.GPS_FIX, vehicle_guid(3))
+    consumer.wait_terminal(healthy)
+    consumer.wait_status(slow, S.ISSUED)
+    consumer.pump()
+    # the healthy vehicle finished while the slow one has not moved past ISSUED (each step takes 2.5 s)
+    assert consumer.commands[slow].statuses == [S.ISSUED]
+    consumer.wait_status(slow, S.COMMANDED, timeout=10)
+    assert consumer.commands[silent].statuses == [] and consumer.commands[silent].ack is None
+
+
+def test_provider_restart_fails_persisted_command(sim, consumer: Consumer) -> None:
+    first = sim("--surface-seconds", "400")
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(session, S.EXECUTING)
+    first.kill()  # no shutdown sequence: the command stays on the bus
+    sim("--surface-seconds", "400")
+    seen = consumer.wait_terminal(session, timeout=20)
+    assert seen.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED]
+    assert seen.reasons[-1] is R.SERVICE_FAILED and seen.flow.violations == []
+
+
+def test_provider_resumes_command_published_before_it_started(sim, consumer: Consumer) -> None:
+    session = consumer.command(Service.GPS_FIX, V1)
+    sim("--on-startup", "resume")
+    seen = consumer.wait_terminal(session, timeout=20)
+    assert seen.statuses == HAPPY and seen.flow.violations == []
+
+
+def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
+    p = sim("--surface-seconds", "400")
+    wait_reports(consumer, V1)
+    session = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(session, S.EXECUTING)
+    out = p.stop(signal.SIGINT)
+    assert p.proc is not None and p.proc.returncode == 0, out
+    assert "Traceback" not in out
+    seen = consumer.wait_terminal(session)
+    assert seen.statuses[-1] is S.FAILED and seen.reasons[-1] is R.SERVICE_FAILED
+    consumer.wait(lambda: all(V1 in consumer.report_disposed[s] for s in
+                              (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT)),
+                  10, "reports disposed")
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--vehicles", "0"], "--vehicles: 0 is outside 1..100"),
+    (["--domain", "x"], "--domain: 'x' is not a number"),
+    (["--fault", "explode"], "unknown fault 'explode'"),
+    (["--fault", "reject:zero"], "must be a vehicle number"),
+    (["--fix-rate", "50"], "--fix-rate: 50 is outside 1..10"),
+    (["--nope"], "unrecognized arguments: --nope"),
+])
+def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", *args], capture_output=True, text=True, timeout=30)
+    assert out.returncode == 2
+    assert out.stdout == "" and out.stderr.count("\n") == 1 and message in out.stderr, out.stderr
+
+
+def test_help_documents_every_option() -> None:
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--help"], capture_output=True, text=True, timeout=30)
+    assert out.returncode == 0
+    for opt in ("--domain", "--vehicles", "--time-scale", "--fault", "--on-startup", "--surface-seconds", "--align-seconds"):
+        assert opt in out.stdout
