@@ -12,7 +12,9 @@ from cyclonedds.idl import IdlEnum, IdlStruct
 
 from sem_console.dds.topics import Sem
 
-SPEC = Path(__file__).resolve().parents[3] / "shared" / "spec" / "umaa-3.0.1-wire-layout.md"
+# shared/ stands beside the repository clone (../shared/spec from the repo root).
+SPEC = next(p / "shared" / "spec" / "umaa-3.0.1-wire-layout.md" for p in Path(__file__).resolve().parents
+            if (p / "shared" / "spec" / "umaa-3.0.1-wire-layout.md").exists())
 TEXT = SPEC.read_text()
 MEMBER = re.compile(r"^(?P<type>.+?) (?P<name>\w+)(?: \((?P<flag>[ko])\))?$")
 
