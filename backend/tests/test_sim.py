@@ -241,3 +241,27 @@ def test_help_documents_every_option() -> None:
     assert out.returncode == 0
     for opt in ("--domain", "--vehicles", "--time-scale", "--fault", "--on-startup", "--surface-seconds", "--align-seconds"):
         assert opt in out.stdout
+
+
+def test_ins_failure_fault_on_one_vehicle(sim, consumer: Consumer) -> None:
+    sim("--vehicles", "2", "--fault", "ins-failure:2")
+    for v in (V1, V2):
+        wait_reports(consumer, v, [Sem.INS_REPORT])
+    consumer.wait(lambda: consumer.latest(Sem.INS_REPORT, V1).status is Op.OPERATIONAL, 10, "vehicle 1 OPERATIONAL")
+    assert consumer.latest(Sem.INS_REPORT, V2).status is Op.INERTIAL_SENSOR_FAILURE
+
+
+def test_writers_of_optional_member_types_offer_xcdr1(sim, consumer: Consumer) -> None:
+    """What another vendor's default reader needs: XCDR1 offered by the GPSReport and GPSFixReport writers."""
+    from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
+    from cyclonedds.core import Policy
+
+    reader = BuiltinDataReader(consumer.bus.participant, BuiltinTopicDcpsPublication)
+    sim()
+    wait_reports(consumer, V1)
+    offered: dict[str, object] = {}
+    consumer.wait(lambda: (offered.update({p.topic_name: p.qos[Policy.DataRepresentation] for p in reader.read(N=100)})
+                           or {Sem.GPS_REPORT.spec.name, Sem.GPS_FIX_REPORT.spec.name} <= set(offered)), 10, "publications")
+    for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT):
+        rep = offered[sem.spec.name]
+        assert rep.use_cdrv0_representation and not rep.use_xcdrv2_representation, rep
