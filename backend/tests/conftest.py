@@ -44,12 +44,13 @@ FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-r
 
 
 class SimProcess:
-    def __init__(self, domain: int, args: list[str]) -> None:
-        self.domain, self.args = domain, args
+    def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
+        self.domain, self.args, self.state_file = domain, args, state_file
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> "SimProcess":
-        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), *FAST, *self.args]
+        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), "--state-file",
+               str(self.state_file), *FAST, *self.args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return self
 
@@ -65,11 +66,12 @@ class SimProcess:
 
 
 @pytest.fixture
-def sim(domain: int) -> Iterator[Callable[..., SimProcess]]:
+def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
+    """Start `sem-sim` processes on the test's domain; they share one state file, like restarts of one simulator."""
     started: list[SimProcess] = []
 
     def start(*args: str) -> SimProcess:
-        p = SimProcess(domain, list(args)).start()
+        p = SimProcess(domain, list(args), tmp_path / "sim-state.json").start()
         started.append(p)
         return p
 

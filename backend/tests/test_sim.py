@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import signal
+import time
 import subprocess
 import sys
 import uuid
@@ -200,11 +201,90 @@ def test_provider_restart_fails_persisted_command(sim, consumer: Consumer) -> No
     assert seen.reasons[-1] is R.SERVICE_FAILED and seen.flow.violations == []
 
 
-def test_provider_resumes_command_published_before_it_started(sim, consumer: Consumer) -> None:
+def test_command_published_before_the_provider_started_runs_normally(sim, consumer: Consumer) -> None:
     session = consumer.command(Service.GPS_FIX, V1)
-    sim("--on-startup", "resume")
+    sim()
     seen = consumer.wait_terminal(session, timeout=20)
     assert seen.statuses == HAPPY and seen.flow.violations == []
+
+
+def test_provider_restart_resumes_persisted_command(sim, consumer: Consumer) -> None:
+    first = sim("--surface-seconds", "100", "--on-startup", "resume")
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(session, S.EXECUTING)
+    first.kill()
+    sim("--surface-seconds", "100", "--on-startup", "resume")
+    seen = consumer.wait_terminal(session, timeout=20)
+    assert seen.statuses == HAPPY and seen.flow.violations == []
+    consumer.wait(lambda: seen.ack is not None, 5, "the ack again")
+
+
+def test_provider_restart_leaves_finished_command_for_cleanup(sim, consumer: Consumer) -> None:
+    first = sim()
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1)
+    seen = consumer.wait_terminal(session)
+    first.kill()  # finished, not yet cleaned up by the consumer
+    second = sim()
+    consumer.wait(lambda: bool(consumer.reports[Sem.GPS_FIX_REPORT][V1]) and second.proc is not None, 10, "restart")
+    consumer.reports[Sem.GPS_FIX_REPORT][V1].clear()
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])  # the new process is up and past its startup window
+    consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) > 20, 10, "two seconds of reports")
+    assert seen.statuses == HAPPY and seen.flow.violations == []
+
+
+def test_orphaned_command_is_canceled_and_never_restarted(sim, consumer: Consumer, domain: int) -> None:
+    sim("--surface-seconds", "400", "--orphan-grace", "0.5")
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    other = Consumer(domain, name="short-lived")
+    session = other.command(Service.GPS_FIX, V1)
+    service, sample = other.sent[session]
+    consumer.wait_status(session, S.EXECUTING)
+    other.close()
+    del other  # its writer goes away: the command has no writer left
+    seen = consumer.wait_terminal(session, timeout=15)
+    assert seen.statuses[-1] is S.CANCELED
+    writer = consumer.bus.writer(service.command)  # a new writer, as a restarted consumer would have
+    consumer.wait(lambda: bool(writer.get_matched_subscriptions()), 10, "the new writer to match")
+    # The writer sees the match before the provider's reader has matched the writer, and a
+    # sample written in between does not arrive: give discovery a moment to settle both ways.
+    time.sleep(1.0)
+    writer.write(sample)  # the same command, published again
+    mark = len(consumer.reports[Sem.GPS_FIX_REPORT][V1])
+    consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) > mark + 20, 10, "two seconds to react")
+    assert seen.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED] and seen.flow.violations == []
+
+
+def test_invalid_command_does_not_interrupt_running_one(sim, consumer: Consumer) -> None:
+    sim("--surface-seconds", "100")
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    running = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(running, S.EXECUTING)
+    bad = consumer.command(Service.GPS_FIX, V1, timeStamp=DateTime(seconds=-5, nanoseconds=0))
+    assert consumer.wait_terminal(bad).reasons[-1] is R.VALIDATION_FAILED
+    assert consumer.commands[bad].ack is None
+    assert consumer.wait_terminal(running).statuses == HAPPY
+
+
+def test_ins_command_fails_when_the_ins_has_failed(sim, consumer: Consumer) -> None:
+    sim("--fault", "ins-failure")
+    wait_reports(consumer, V1, [Sem.INS_REPORT])
+    seen = consumer.wait_terminal(consumer.command(Service.INERTIAL_SENSOR, V1, Ins.RESTARTING))
+    assert seen.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED] and seen.reasons[-1] is R.RESOURCE_FAILED
+
+
+def test_command_timeout(sim, consumer: Consumer) -> None:
+    sim("--surface-seconds", "400", "--command-timeout", "10")  # 0.5 s at --time-scale 0.05
+    wait_reports(consumer, V1, [Sem.GPS_FIX_REPORT])
+    seen = consumer.wait_terminal(consumer.command(Service.GPS_FIX, V1))
+    assert seen.statuses[-1] is S.FAILED and seen.reasons[-1] is R.TIMEOUT
+
+
+def test_zero_alignment_time(sim, consumer: Consumer) -> None:
+    p = sim("--align-seconds", "0")
+    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 10, "OPERATIONAL")
+    assert p.proc is not None and p.proc.poll() is None
 
 
 def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:

@@ -2,9 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
-
-from cyclonedds.core import InstanceState, ReadCondition, SampleState, ViewState
+from cyclonedds.core import InstanceState, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
@@ -36,8 +34,8 @@ class Bus:
     def writer(self, sem: Sem) -> DataWriter:
         return DataWriter(self.participant, self.topic(sem), qos=writer_qos(sem.spec.cls, sem.spec.xcdr1))
 
-    def reader(self, sem: Sem, listener: Any = None) -> DataReader:
-        return DataReader(self.participant, self.topic(sem), qos=reader_qos(sem.spec.cls), listener=listener)
+    def reader(self, sem: Sem, qos: Qos | None = None) -> DataReader:
+        return DataReader(self.participant, self.topic(sem), qos=qos or reader_qos(sem.spec.cls))
 
     def close(self) -> None:
         self._topics.clear()
@@ -45,5 +43,10 @@ class Bus:
 
 
 def all_samples(reader: DataReader) -> ReadCondition:
-    """A condition that also yields disposed and no-writer instances (the default one hides them)."""
+    """Every sample, including disposed and no-writer instances.
+
+    cyclonedds-python's plain take/read use this mask already, but its take_iter/read_iter
+    and async iterators default to alive instances only and would hide a cancel; we pass
+    the condition explicitly, and it doubles as a WaitSet trigger.
+    """
     return ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.Any)

@@ -47,3 +47,18 @@ def reader_qos(cls: TopicClass) -> Qos:
         Policy.History.KeepLast(_DEPTH[cls]),
         Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
     )
+
+
+def any_writer_reader_qos() -> Qos:
+    """Best-effort, volatile, latest per instance: matches a writer whatever it offers.
+
+    A console reads each report topic with this reader and with `reader_qos(REPORT)`:
+    the first matches best-effort and volatile providers too, the second receives the
+    last report of a transient-local provider that was running before the console.
+    """
+    return Qos(
+        Policy.Reliability.BestEffort,
+        Policy.Durability.Volatile,
+        Policy.History.KeepLast(1),
+        Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
+    )

@@ -6,6 +6,7 @@ import argparse
 import logging
 import signal
 import sys
+from pathlib import Path
 from typing import Callable, NoReturn
 
 from sem_console.core.config import Settings
@@ -58,8 +59,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--ins-rate", type=_ranged(float, 0.1, 50), default=d.ins_rate, help="InertialSensorReport rate in Hz (default: %(default)s)")
     p.add_argument("--satellites", type=_ranged(int, 20, 40), default=d.satellites, help="satellites per vehicle, 20..40 (default: %(default)s)")
     p.add_argument("--sky-speed", type=_ranged(float, 0, 1000), default=d.sky_speed, help="how much faster than real satellites move across the sky (default: %(default)s)")
-    p.add_argument("--on-startup", choices=("fail", "resume"), default=d.on_startup, help="commands for our vehicles already on the bus at start: fail them with SERVICE_FAILED, or resume (from their last status on the bus, else from the start) (default: %(default)s)")
+    p.add_argument("--on-startup", choices=("fail", "resume"), default=d.on_startup, help="a command this provider was running before a restart (known from --state-file): fail it with SERVICE_FAILED, or resume it from its last status; commands it never saw start normally (default: %(default)s)")
     p.add_argument("--orphan-grace", type=_ranged(float, 0, 3600), default=d.orphan_grace, help="seconds a command may have no live writer before it is treated as canceled (default: %(default)s)")
+    p.add_argument("--command-timeout", type=_ranged(float, 0.1, 86400), default=d.command_timeout, help="an executing command that has not finished after this many seconds fails with TIMEOUT (default: %(default)s)")
+    p.add_argument("--state-file", type=Path, default=None, help="where command states are journaled so a restarted simulator can recover them (default: $XDG_STATE_HOME/sem-sim/domain-N.json)")
     p.add_argument("--fault", type=_fault, action="append", default=[], metavar="KIND[:VEHICLE]", help=(
         "inject a fault, for all vehicles or vehicle N (1-based); repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
         "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
@@ -80,6 +83,7 @@ def options_from(args: argparse.Namespace) -> SimOptions:
         surface_seconds=args.surface_seconds, align_seconds=args.align_seconds, fix_rate=args.fix_rate,
         gps_rate=args.gps_rate, ins_rate=args.ins_rate, satellites=args.satellites, sky_speed=args.sky_speed,
         on_startup=args.on_startup, orphan_grace=args.orphan_grace, slow_factor=args.slow_factor, faults=faults,
+        command_timeout=args.command_timeout, state_file=args.state_file,
     )
 
 
@@ -104,9 +108,11 @@ def main(argv: list[str] | None = None) -> int:
     sim = Simulator(bus, opts)
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.index, v.guid, sorted(v.faults) or "none")
-    sim.run(lambda: stopping)
-    logging.getLogger("sem-sim").info("shutting down: failing incomplete commands, disposing reports")
-    sim.shutdown()
+    try:
+        sim.run(lambda: stopping)
+    finally:
+        logging.getLogger("sem-sim").info("shutting down: failing incomplete commands, disposing reports")
+        sim.shutdown()
     return 0
 
 

@@ -116,9 +116,13 @@ class Ins:
     def set(self, state: InsState, t: float) -> None:
         self.state, self.since = state, t
 
+    @property
+    def stage_seconds(self) -> float:
+        return self.align_seconds / len(self.stages)
+
     def step(self, t: float) -> None:
         """RESTARTING lasts one alignment stage, then the INS is ON and aligns again."""
-        if self.state is InsState.RESTARTING and t - self.since >= self.align_seconds / len(self.stages):
+        if self.state is InsState.RESTARTING and t - self.since >= self.stage_seconds:
             self.set(InsState.ON, t)
 
     def status(self, t: float) -> OpStatus:
@@ -127,5 +131,7 @@ class Ins:
             return OpStatus.INERTIAL_SENSOR_FAILURE
         if self.state is not InsState.ON:
             return OpStatus.INIT
-        stage = int((t - self.since) / (self.align_seconds / len(self.stages)))
+        if self.stage_seconds <= 0:
+            return OpStatus.OPERATIONAL
+        stage = int((t - self.since) / self.stage_seconds)
         return self.stages[stage] if stage < len(self.stages) else OpStatus.OPERATIONAL

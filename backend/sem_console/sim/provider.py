@@ -8,12 +8,16 @@ state is shared between threads.
 
 from __future__ import annotations
 
+import json
 import logging
 import math
+import os
 import random
 import time
 import uuid
+from collections import OrderedDict
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any, Callable
 
 from cyclonedds.internal import InvalidSample
@@ -34,6 +38,7 @@ from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Track, make_sky
 from sem_console.umaa.flow import TERMINAL
@@ -42,6 +47,7 @@ from sem_console.umaa.samples import make, now_datetime
 
 log = logging.getLogger("sem-sim")
 
+MAX_TOMBSTONES = 10_000
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
 
 
@@ -59,6 +65,8 @@ class SimOptions:
     sky_speed: float = 20.0
     on_startup: str = "fail"  # persisted commands found at startup: "fail" or "resume"
     orphan_grace: float = 10.0  # s a command may have no writer before it counts as canceled
+    command_timeout: float = 300.0  # s an executing command may take before it fails with TIMEOUT
+    state_file: Path | None = None  # where the provider journals command states (default: per domain, see Journal)
     slow_factor: float = 10.0
     faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle index (1-based, 0 = all) -> faults
     start_lat: float = 36.80
@@ -112,6 +120,7 @@ class Vehicle:
         self.surfacing = False
         self.fix_state = FixState.INITIATING
         self.executions: dict[tuple[Service, uuid.UUID], Execution] = {}
+        self.ended: OrderedDict[tuple[Service, uuid.UUID], None] = OrderedDict()  # tombstones of ended commands
         self.next_report = {Sem.GPS_FIX_REPORT: 0.0, Sem.GPS_REPORT: 0.0, Sem.INS_REPORT: 0.0}
 
     # ---- sensor state -------------------------------------------------------------
@@ -233,37 +242,46 @@ class Vehicle:
         if ex is not None:
             ex.orphan_since = None  # a writer is back for this command: it is not orphaned
             return  # commands are immutable: a repeat of a known command changes nothing
+        if key in self.ended:
+            return  # canceled or cleaned up before: a republished sample must not start it again
         ex = Execution(service, cmd, received=now)
         self.executions[key] = ex
         if "no-answer" in self.faults:
             return
-        if startup:
-            if self.opts.on_startup == "resume" and last_status is not None:
-                ex.status, ex.next_at = last_status, now
-                log.info("vehicle %d resumes %s %s from %s", self.index, service.value, ex.session, last_status.name)
-                if last_status is Status.EXECUTING:
-                    self.start_effect(ex, now)
-                return
-            if self.opts.on_startup == "fail" or last_status is not None:
-                if last_status not in TERMINAL:
-                    self.publish_status(ex, Status.FAILED, Reason.SERVICE_FAILED, "provider restarted and does not resume commands")
-                return
-        self.accept(ex, now)
+        if startup and last_status is not None:
+            self.recover(ex, last_status, now)
+        else:
+            self.accept(ex, now)
+
+    def recover(self, ex: Execution, last: Status, now: float) -> None:
+        """Provider Startup Sequence for a command this provider had already answered (ICD 4.1.2.1)."""
+        ex.status = last
+        if last in TERMINAL:
+            return  # finished: wait for the consumer's cleanup
+        self.sim.write(ex.service.ack, self.ack_sample(ex))  # the ack died with the previous process
+        if self.opts.on_startup == "resume":
+            log.info("vehicle %d resumes %s %s from %s", self.index, ex.service.value, ex.session, last.name)
+            ex.next_at = now
+            if last is Status.EXECUTING:
+                self.start_effect(ex, now)
+        else:
+            self.publish_status(ex, Status.FAILED, Reason.SERVICE_FAILED, "provider restarted and does not resume commands")
 
     def accept(self, ex: Execution, now: float) -> None:
-        """Command Start Sequence: ISSUED, and the ack as processing starts."""
+        """Command Start Sequence: ISSUED; then, for a valid command it will run, the ack."""
         self.publish_status(ex, Status.ISSUED, Reason.SUCCEEDED, "command received")
-        self.sim.write(ex.service.ack, self.ack_sample(ex))
-        for other in self.executions.values():  # a newer command of a service supersedes the running one
-            if other is not ex and other.service is ex.service and other.status not in TERMINAL and other.status is not None:
-                self.publish_status(other, Status.FAILED, Reason.INTERRUPTED, f"superseded by command {ex.session}")
         error = self.validate(ex)
         if error:
             self.publish_status(ex, Status.FAILED, Reason.VALIDATION_FAILED, error)
-        elif "reject" in self.faults:
+            return
+        if "reject" in self.faults:
             self.publish_status(ex, Status.FAILED, Reason.RESOURCE_REJECTED, "resource rejected the command (injected fault)")
-        else:
-            ex.next_at = now + self.step_delay()
+            return
+        for other in self.executions.values():  # a newer command of a service supersedes the running one
+            if other is not ex and other.service is ex.service and other.status not in TERMINAL and other.status is not None:
+                self.publish_status(other, Status.FAILED, Reason.INTERRUPTED, f"superseded by command {ex.session}")
+        self.sim.write(ex.service.ack, self.ack_sample(ex))
+        ex.next_at = now + self.step_delay()
 
     def validate(self, ex: Execution) -> str | None:
         ts = ex.command.timeStamp
@@ -284,6 +302,7 @@ class Vehicle:
 
     def publish_status(self, ex: Execution, status: Status, reason: Reason, message: str) -> None:
         ex.status = status
+        self.sim.journal.set(self.guid, ex.service, ex.session, status)
         self.sim.write(ex.service.status, self.status_sample(ex, status, reason, message))
         log.info("vehicle %d %s %s -> %s/%s %s", self.index, ex.service.value, ex.session, status.name, reason.name, message)
 
@@ -326,7 +345,12 @@ class Vehicle:
             ex.next_at = now + self.step_delay()
         elif ex.status is Status.EXECUTING:
             half = self.opts.scaled(self.opts.surface_seconds if ex.service is Service.GPS_FIX else self.opts.align_seconds) / 2
-            if "fail-midway" in self.faults and now - ex.received >= half:
+            if now - ex.received >= self.opts.scaled(self.opts.command_timeout):
+                self.surfacing = False
+                self.publish_status(ex, Status.FAILED, Reason.TIMEOUT, "the command did not finish in time")
+            elif ex.service is Service.INERTIAL_SENSOR and self.ins.failed and ex.command.state is not InsState.OFF:
+                self.publish_status(ex, Status.FAILED, Reason.RESOURCE_FAILED, "inertial sensor failure")
+            elif "fail-midway" in self.faults and now - ex.received >= half:
                 self.surfacing = False
                 self.publish_status(ex, Status.FAILED, Reason.RESOURCE_FAILED, "resource failed during execution (injected fault)")
             elif self.effect_done(ex, now) and ("slow" not in self.faults or now >= ex.next_at):
@@ -348,7 +372,12 @@ class Vehicle:
             self.sim.dispose(ex.service.status, self.status_sample(ex, ex.status, Reason.SUCCEEDED, ""))
             self.sim.dispose(ex.service.ack, self.ack_sample(ex))
         ex.ended = True
-        del self.executions[(ex.service, ex.session)]
+        key = (ex.service, ex.session)
+        del self.executions[key]
+        self.ended[key] = None
+        while len(self.ended) > MAX_TOMBSTONES:
+            self.ended.popitem(last=False)
+        self.sim.journal.drop(self.guid, ex.service, ex.session)
 
     def shutdown(self) -> None:
         """Provider Shutdown Sequence: fail what is incomplete, then dispose the reports."""
@@ -371,6 +400,53 @@ def _zero_fix_status() -> dict[str, Any]:
                 originPosition=pos, pCode=False, timeOut=False, timeStamp=now_datetime())
 
 
+class Journal:
+    """The last status of each command a provider answered, in a small JSON file.
+
+    Status and ack samples live in the provider's own transient-local writers, so they
+    die with the process; this file is what lets a restarted provider tell a command it
+    never saw (start it) from one it was running (resume or fail it) or had finished
+    (leave it for the consumer's cleanup). Entries go when a command is cleaned up.
+    """
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        try:
+            self.entries: dict[str, str] = json.loads(path.read_text())
+        except (OSError, ValueError):
+            self.entries = {}
+
+    @staticmethod
+    def _key(vehicle: uuid.UUID, service: Service, session: uuid.UUID) -> str:
+        return f"{vehicle}/{service.value}/{session}"
+
+    def get(self, vehicle: uuid.UUID, service: Service, session: uuid.UUID) -> Status | None:
+        name = self.entries.get(self._key(vehicle, service, session))
+        return Status[name] if name in Status.__members__ else None
+
+    def set(self, vehicle: uuid.UUID, service: Service, session: uuid.UUID, status: Status) -> None:
+        self.entries[self._key(vehicle, service, session)] = status.name
+        self._save()
+
+    def drop(self, vehicle: uuid.UUID, service: Service, session: uuid.UUID) -> None:
+        if self.entries.pop(self._key(vehicle, service, session), None) is not None:
+            self._save()
+
+    def _save(self) -> None:
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            tmp = self.path.with_suffix(".tmp")
+            tmp.write_text(json.dumps(self.entries))
+            tmp.replace(self.path)
+        except OSError as e:  # a read-only disk must not stop the vehicle
+            log.warning("cannot write %s: %s", self.path, e)
+
+
+def default_state_file(domain: int) -> Path:
+    base = Path(os.environ.get("XDG_STATE_HOME") or Path.home() / ".local" / "state")
+    return base / "sem-sim" / f"domain-{domain}.json"
+
+
 class Simulator:
     """Runs the vehicles of one `sem-sim` process on one DDS participant."""
 
@@ -378,13 +454,15 @@ class Simulator:
 
     def __init__(self, bus: Bus, opts: SimOptions) -> None:
         self.bus, self.opts = bus, opts
+        self.journal = Journal(opts.state_file or default_state_file(bus.domain_id))
         # Provider Startup Sequence: publishers of status and ack (and reports) first ...
-        self.writers = {sem: bus.writer(sem) for sem in Sem if sem.spec.cls.value != "command"}
+        self.writers = {sem: bus.writer(sem) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
         self.vehicles = {v.guid: v for v in (Vehicle(self, i) for i in range(1, opts.vehicles + 1))}
-        # ... then subscribe to commands; the status readers tell where a persisted command stood.
+        # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
         self.command_readers = {s: bus.reader(s.command) for s in Service}
         self.status_readers = {s: bus.reader(s.status) for s in Service}
         self.conditions = {s: all_samples(r) for s, r in self.command_readers.items()}
+        self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         self.last = time.monotonic()
         self.started = False
 
@@ -394,33 +472,45 @@ class Simulator:
     def dispose(self, sem: Sem, sample: Any) -> None:
         self.writers[sem].dispose(sample)
 
-    def startup(self, wait: float = 1.0) -> None:
-        """Handle commands already on the bus addressed to our vehicles (ICD 4.1.2.1)."""
-        for r in list(self.command_readers.values()) + list(self.status_readers.values()):
-            r.wait_for_historical_data(duration(seconds=wait))
-        time.sleep(min(wait, 0.5))  # let discovery of already running consumers deliver their history
-        self.poll_commands(startup=True)
+    def startup(self, window: float = 1.0) -> None:
+        """Handle commands already on the bus addressed to our vehicles (ICD 4.1.2.1).
+
+        For `window` seconds, commands that arrive are checked against the journal (and
+        any status still on the bus) before they are treated as new.
+        """
+        deadline = time.monotonic() + window
+        while time.monotonic() < deadline:
+            self._take_bus_statuses()
+            self.poll_commands(startup=True)
+            self.step_vehicles()
+            time.sleep(self.TICK)
+        self.status_readers.clear()  # only needed for startup; they would keep our own statuses
         self.started = True
 
-    def _last_statuses(self, service: Service) -> dict[tuple[uuid.UUID, uuid.UUID], Status]:
-        last: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
-        for s in self.status_readers[service].take(N=4096):
-            if not isinstance(s, InvalidSample) and from_guid(s.source) in self.vehicles:
-                last[(from_guid(s.source), from_guid(s.sessionID))] = s.commandStatus
-        return last
+    def _take_bus_statuses(self) -> None:
+        for reader in self.status_readers.values():
+            for s in reader.take(N=4096):
+                if not isinstance(s, InvalidSample) and from_guid(s.source) in self.vehicles:
+                    self._bus_status[(from_guid(s.source), from_guid(s.sessionID))] = s.commandStatus
+
+    def last_status(self, vehicle: Vehicle, service: Service, session: uuid.UUID) -> Status | None:
+        return self.journal.get(vehicle.guid, service, session) or self._bus_status.get((vehicle.guid, session))
 
     def poll_commands(self, startup: bool = False) -> None:
         now = time.monotonic()
         for service, reader in self.command_readers.items():
-            samples = reader.take(N=256, condition=self.conditions[service])
-            if not samples:
-                continue
-            last = self._last_statuses(service) if startup else {}
-            for s in samples:
-                self.handle(service, s, now, startup, last)
+            while True:
+                try:
+                    samples = reader.take(N=256, condition=self.conditions[service])
+                except Exception as e:  # a sample Python cannot decode must not stop the vehicles
+                    log.warning("undecodable %s command: %s", service.value, e)
+                    break
+                for s in samples:
+                    self.handle(service, s, now, startup)
+                if len(samples) < 256:
+                    break
 
-    def handle(self, service: Service, s: Any, now: float, startup: bool,
-               last: dict[tuple[uuid.UUID, uuid.UUID], Status]) -> None:
+    def handle(self, service: Service, s: Any, now: float, startup: bool) -> None:
         state = s.sample_info.instance_state
         cmd = s.key_sample if isinstance(s, InvalidSample) else s
         try:
@@ -431,7 +521,8 @@ class Simulator:
         if vehicle is None:
             return  # addressed to another provider
         if not isinstance(s, InvalidSample):
-            vehicle.on_command(service, s, now, startup, last.get((dest, session)))
+            last = self.last_status(vehicle, service, session) if startup else None
+            vehicle.on_command(service, s, now, startup, last)
         # A dispose that follows an unread sample shows only in that sample's instance state.
         ex = vehicle.executions.get((service, session))
         if ex is None:
@@ -442,9 +533,12 @@ class Simulator:
             ex.orphan_since = now
 
     def tick(self) -> None:
+        self.poll_commands()
+        self.step_vehicles()
+
+    def step_vehicles(self) -> None:
         now = time.monotonic()
         dt, self.last = now - self.last, now
-        self.poll_commands()
         for v in self.vehicles.values():
             v.step_models(now, dt)
             for ex in list(v.executions.values()):
