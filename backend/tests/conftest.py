@@ -43,16 +43,10 @@ def domain() -> int:
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
 
 
-class SimProcess:
-    def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
-        self.domain, self.args, self.state_file = domain, args, state_file
-        self.proc: subprocess.Popen[str] | None = None
+class Process:
+    """A child process of a test, stopped with a signal (SIGINT runs its shutdown sequence)."""
 
-    def start(self) -> "SimProcess":
-        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), "--state-file",
-               str(self.state_file), *FAST, *self.args]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-        return self
+    proc: subprocess.Popen[str] | None = None
 
     def stop(self, sig: int = signal.SIGINT, timeout: float = 15) -> str:
         assert self.proc is not None
@@ -63,6 +57,20 @@ class SimProcess:
 
     def kill(self) -> None:
         self.stop(signal.SIGKILL)
+
+
+class SimProcess(Process):
+    def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
+        self.domain, self.args, self.state_file = domain, args, state_file
+        self.proc: subprocess.Popen[str] | None = None
+
+    def start(self) -> "SimProcess":
+        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), "--state-file",
+               str(self.state_file), *FAST, *self.args]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        return self
+
+
 
 
 @pytest.fixture
@@ -86,3 +94,57 @@ def consumer(domain: int) -> Iterator[Consumer]:
     c = Consumer(domain)
     yield c
     c.close()
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+class ConsoleProcess(Process):
+    """A real `sem-console` (uvicorn) process on the test's domain."""
+
+    def __init__(self, domain: int, db: Path, args: list[str], env: dict[str, str]) -> None:
+        self.domain, self.db, self.args, self.env = domain, db, args, env
+        self.port = free_port()
+        self.url = f"http://127.0.0.1:{self.port}"
+        self.ws_url = f"ws://127.0.0.1:{self.port}/ws"
+        self.proc: subprocess.Popen[str] | None = None
+
+    def start(self) -> "ConsoleProcess":
+        import httpx
+
+        cmd = [sys.executable, "-m", "sem_console.cli", "--port", str(self.port), "--domain", str(self.domain),
+               "--db", str(self.db), "--comms-lost-timeout", "1", "--regained-time", "1", "--unanswered-timeout", "2",
+               "--log-level", "warning", *self.args]
+        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                                     env={**os.environ, **self.env})
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline:
+            if self.proc.poll() is not None:
+                raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
+            try:
+                if httpx.get(self.url + "/api/health", timeout=1).status_code == 200:
+                    return self
+            except httpx.HTTPError:
+                pass
+            time.sleep(0.1)
+        raise RuntimeError("sem-console did not start")
+
+
+
+@pytest.fixture
+def console(domain: int, tmp_path: Path) -> Iterator[Callable[..., ConsoleProcess]]:
+    """Start `sem-console` processes on the test's domain; they share one database, like restarts."""
+    started: list[ConsoleProcess] = []
+
+    def start(*args: str, env: dict[str, str] | None = None) -> ConsoleProcess:
+        c = ConsoleProcess(domain, tmp_path / "console.sqlite3", list(args), env or {}).start()
+        started.append(c)
+        return c
+
+    yield start
+    for c in started:
+        if c.proc and c.proc.poll() is None:
+            c.stop(signal.SIGKILL)

@@ -29,7 +29,8 @@ class Settings(BaseSettings):
     regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a lost provider is regained")
     unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered")
     report_interval: float = Field(0.05, ge=0, le=10, description="at most one take of report topics per this many seconds")
-    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind before it is dropped")
+    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
+    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
 
     # Operators: "name:token,name2:token2" (a bare token is operator "operator"). Empty: no sign-in.
     operator_tokens: str = ""

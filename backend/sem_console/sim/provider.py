@@ -171,8 +171,8 @@ class Vehicle:
             referenceCarrierFrequency=1575.42e6, referenceCodeTypeFor="C/A",
             referenceConstellationType=self.sky[0].constellation, time=elapsed_ns % 2**31, timeUncertainty=20.0,
         )
-        in_view = sum(1 for s in sats if (s.antennaCarrierNoiseDensity or 0) > 0)
-        return GPSReportType(clock=clock, numberSatellitesInView=in_view, satellites=sats,
+        # every listed satellite is above the horizon (in view); whether it is tracked shows in its C/N0
+        return GPSReportType(clock=clock, numberSatellitesInView=len(sats), satellites=sats,
                              source=self.source, timeStamp=now_datetime())
 
     def fix_reports(self, now: float, sats: list[GPSSatelliteType]) -> tuple[GPSFixReportType, GPSFixStatusReportType]:

@@ -1,0 +1,156 @@
+"""The console's REST and WebSocket contract. The frontend's TypeScript types are generated from
+the OpenAPI document and /api/ws-schema, which are built from these models."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
+
+ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
+LinkState = Literal["live", "lost", "regained"]
+InsStateName = Literal["OFF", "ON", "RESTARTING"]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class TopicHealth(_Model):
+    ageSeconds: float = Field(description="seconds since the last sample on this topic")
+    samples: int
+    alive: bool = Field(description="false once the instance was disposed or lost its writers")
+    receivedAt: float = Field(description="UTC seconds since the epoch of the last sample")
+
+
+class ProviderSummary(_Model):
+    id: str = Field(description="the provider's source GUID as a UUID string")
+    link: LinkState
+    ageSeconds: float = Field(description="seconds since the last sample on any topic")
+    topics: dict[str, TopicHealth]
+
+
+class ReportEnvelope(_Model):
+    report: dict[str, Any] = Field(description="the sample, member for member as in the IDL (see the *Json schemas)")
+    invalid: list[str] = Field(description="'member.path: why' for each value that is not a valid reading")
+    receivedAt: float
+
+
+class ProviderDetail(ProviderSummary):
+    reports: dict[ReportTopic, ReportEnvelope | None]
+
+
+class Transition(_Model):
+    seq: int = Field(description="1-based position in the command's history")
+    status: str
+    reason: str
+    logMessage: str
+    violation: str | None = Field(description="why this transition breaks ICD Figure 4, or null")
+    providerTime: float | None = Field(description="the status sample's timeStamp, UTC seconds")
+    receivedAt: float
+
+
+class Command(_Model):
+    sessionId: str
+    service: Literal["GPSFix", "InertialSensor"]
+    providerId: str
+    state: InsStateName | None = Field(description="the commanded INS state (InertialSensor only)")
+    operator: str | None
+    createdAt: float
+    status: str | None = Field(description="the last commandStatus, null before ISSUED")
+    terminal: bool
+    unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
+    cancelRequested: bool
+    canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
+    cleanedUp: bool
+    violations: list[str]
+    transitions: list[Transition]
+
+
+class InertialSensorRequest(_Model):
+    state: InsStateName
+
+
+class Health(_Model):
+    status: Literal["ok"]
+    consoleId: str
+    domain: int
+    authRequired: bool
+
+
+# ---- WebSocket: server -> client ---------------------------------------------------------
+class SnapshotMessage(_Model):
+    type: Literal["snapshot"]
+    consoleId: str
+    serverTime: float
+    authRequired: bool
+    providers: list[ProviderDetail]
+    commands: list[Command]
+
+
+class ReportMessage(_Model):
+    type: Literal["report"]
+    providerId: str
+    topic: ReportTopic
+    report: ReportEnvelope
+
+
+class ProviderMessage(_Model):
+    type: Literal["provider"]
+    event: Literal["appeared", "lost", "regained"]
+    provider: ProviderSummary
+
+
+class CommandMessage(_Model):
+    type: Literal["command"]
+    command: Command
+
+
+class TransitionMessage(_Model):
+    type: Literal["transition"]
+    sessionId: str
+    transition: Transition
+    command: Command
+
+
+class ErrorMessage(_Model):
+    type: Literal["error"]
+    message: str
+
+
+class PongMessage(_Model):
+    type: Literal["pong"]
+    serverTime: float
+
+
+ServerMessage = Annotated[
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, ErrorMessage, PongMessage],
+    Field(discriminator="type"),
+]
+
+
+# ---- WebSocket: client -> server ---------------------------------------------------------
+class PingMessage(_Model):
+    type: Literal["ping"]
+
+
+class ResyncMessage(_Model):
+    """Ask for a fresh snapshot."""
+
+    type: Literal["resync"]
+
+
+ClientMessage = Annotated[Union[PingMessage, ResyncMessage], Field(discriminator="type")]
+
+server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
+client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)
+
+
+def ws_schema() -> dict[str, Any]:
+    return {
+        "$schema": "https://json-schema.org/draft/2020-12/schema",
+        "title": "SEM Console WebSocket messages",
+        "description": "Messages on /ws. The server sends a snapshot first, then deltas; every message has a 'type'.",
+        "server": server_messages.json_schema(ref_template="#/server/$defs/{model}"),
+        "client": client_messages.json_schema(ref_template="#/client/$defs/{model}"),
+    }

@@ -1,0 +1,188 @@
+"""The console as UMAA Service Consumer for GPSFixControl and InertialSensorControl (ICD 4.1).
+
+Plain Python: DDS writes go through the `write` and `dispose` callables given to it.
+Each command gets a fresh RFC 4122 sessionID; every status is checked against Figure 4
+(umaa.flow); cancel is a dispose; cleanup disposes the command once it is COMPLETED or
+FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswered.
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.console.store import Store
+from sem_console.dds.topics import Service
+from sem_console.umaa.flow import CommandFlow
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import datetime_to_float, now_datetime
+
+Emit = Callable[[dict[str, Any]], None]
+
+
+@dataclass
+class Command:
+    session_id: uuid.UUID
+    service: Service
+    provider_id: uuid.UUID
+    state: InsState | None
+    operator: str | None
+    created_at: float
+    sample: Any
+    flow: CommandFlow = field(default_factory=CommandFlow)
+    times: list[tuple[float | None, float]] = field(default_factory=list)  # (provider time, received) per transition
+    unanswered: bool = False
+    cancel_requested: bool = False
+    canceled_by: str | None = None
+    cleaned_up: bool = False
+    issued_by_deadline: float = 0.0
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "sessionId": str(self.session_id), "service": self.service.value, "providerId": str(self.provider_id),
+            "state": self.state.name if self.state else None, "operator": self.operator, "createdAt": self.created_at,
+            "status": self.flow.status.name if self.flow.status else None, "terminal": self.flow.terminal,
+            "unanswered": self.unanswered, "cancelRequested": self.cancel_requested, "canceledBy": self.canceled_by, "cleanedUp": self.cleaned_up,
+            "violations": self.flow.violations,
+            "transitions": [transition_json(i, t, pt, rt)
+                            for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times), start=1)],
+        }
+
+
+def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> dict[str, Any]:
+    return {"seq": seq, "status": t.status.name, "reason": t.reason.name, "logMessage": t.log_message, "violation": t.violation,
+            "providerTime": provider_time, "receivedAt": received_at}
+
+
+class CommandError(Exception):
+    """A command request the console cannot carry out (unknown session, already finished...)."""
+
+
+class Commands:
+    def __init__(self, source: uuid.UUID, store: Store, write: Callable[[Service, Any], None],
+                 dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float) -> None:
+        self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
+        self.unanswered_timeout = unanswered_timeout
+        self.by_session: dict[uuid.UUID, Command] = {}
+        self._load_history()
+
+    # ---- history --------------------------------------------------------------------
+    def _load_history(self) -> None:
+        for row in self.store.commands():
+            service = Service(row["service"])
+            state = InsState[row["state"]] if row["state"] else None
+            cmd = Command(uuid.UUID(row["session_id"]), service, uuid.UUID(row["provider_id"]), state, row["operator"],
+                          row["created_at"], self._sample(service, uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"]),
+                                                          state, row["command"]["timeStamp"]),
+                          unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
+                          canceled_by=row["canceled_by"],
+                          cleaned_up=bool(row["cleaned_up"]))
+            for t in row["transitions"]:
+                cmd.flow.observe(Status[t["status"]], Reason[t["reason"]], t["log_message"])
+                cmd.times.append((t["provider_time"], t["received_at"]))
+            self.by_session[cmd.session_id] = cmd
+
+    def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | None,
+                stamp: tuple[int, int] | list[int]) -> Any:
+        from UMAA.Common.Measurement import DateTime
+        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(provider), sessionID=to_guid(session),
+                                      timeStamp=DateTime(seconds=int(stamp[0]), nanoseconds=int(stamp[1])))
+        if service is Service.INERTIAL_SENSOR:
+            values["state"] = state
+        return service.command.spec.type(**values)
+
+    # ---- consumer flow --------------------------------------------------------------
+    def startup(self) -> list[Command]:
+        """Consumer Startup Sequence: resume following our commands that were not finished."""
+        resumed = [c for c in self.by_session.values() if not c.cleaned_up and not c.flow.terminal and not c.cancel_requested]
+        for c in resumed:
+            c.issued_by_deadline = time.monotonic() + self.unanswered_timeout
+            self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
+        for c in self.by_session.values():
+            if c.flow.terminal and not c.cleaned_up and not c.cancel_requested:
+                self.cleanup(c)
+        return resumed
+
+    def issue(self, service: Service, provider: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
+        session = uuid.uuid4()
+        stamp = now_datetime()
+        cmd = Command(session, service, provider, state, operator, time.time(),
+                      self._sample(service, provider, session, state, (stamp.seconds, stamp.nanoseconds)),
+                      issued_by_deadline=time.monotonic() + self.unanswered_timeout)
+        self.by_session[session] = cmd
+        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]})
+        self._write(service, cmd.sample)
+        self.emit({"type": "command", "command": cmd.to_json()})
+        return cmd
+
+    def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
+        cmd = self.by_session.get(session)
+        if cmd is None:
+            raise CommandError(f"no command with sessionId {session}")
+        if cmd.flow.terminal or cmd.cleaned_up:
+            raise CommandError(f"command {session} already finished ({cmd.flow.status.name if cmd.flow.status else 'cleaned up'})")
+        if not cmd.cancel_requested:
+            cmd.cancel_requested, cmd.canceled_by = True, operator
+            self.store.set_canceled(str(session), operator)
+            self._dispose(cmd.service, cmd.sample)
+            self.emit({"type": "command", "command": cmd.to_json()})
+        return cmd
+
+    def cleanup(self, cmd: Command) -> None:
+        """Command Cleanup: dispose a COMPLETED or FAILED command (CANCELED was disposed to cancel it)."""
+        if not cmd.cleaned_up:
+            if not cmd.cancel_requested:
+                self._dispose(cmd.service, cmd.sample)
+            cmd.cleaned_up = True
+            self.store.set_flag(str(cmd.session_id), "cleaned_up")
+
+    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status, reason: Reason,
+                  log_message: str, provider_time: float | None) -> None:
+        cmd = self.by_session.get(session)
+        if cmd is None or cmd.service is not service or source != cmd.provider_id:
+            return  # not ours (another consumer's command, or a provider it was not sent to)
+        last_time = cmd.times[-1][0] if cmd.times else None
+        if provider_time is not None and last_time is not None and provider_time <= last_time:
+            return  # a replay of history we have (transient-local, after our restart)
+        t = cmd.flow.observe(status, reason, log_message)
+        if t is None:
+            return
+        received = time.time()
+        cmd.times.append((provider_time, received))
+        seq = len(cmd.flow.transitions)
+        self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
+        if cmd.unanswered:
+            cmd.unanswered = False  # it did answer, late
+        self.emit({"type": "transition", "sessionId": str(session), "transition": transition_json(seq, t, provider_time, received),
+                   "command": cmd.to_json()})
+        if cmd.flow.terminal:
+            self.cleanup(cmd)
+
+    def tick(self, now: float) -> None:
+        for cmd in self.by_session.values():
+            if not cmd.flow.transitions and not cmd.unanswered and not cmd.cancel_requested and not cmd.cleaned_up \
+                    and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
+                cmd.unanswered = True
+                self.store.set_flag(str(cmd.session_id), "unanswered")
+                self.emit({"type": "command", "command": cmd.to_json()})
+
+    def shutdown(self) -> list[Command]:
+        """Consumer Shutdown Sequence: cancel every incomplete command; returns them."""
+        canceled = [c for c in self.by_session.values() if not c.flow.terminal and not c.cleaned_up]
+        for cmd in canceled:
+            if not cmd.cancel_requested:
+                self.cancel(cmd.session_id)
+        return canceled
+
+
+def provider_time(sample: Any) -> float | None:
+    try:
+        return datetime_to_float(sample.timeStamp)
+    except (AttributeError, TypeError):
+        return None

@@ -1,0 +1,94 @@
+"""WebSocket fan-out: every client has its own sender task and queues.
+
+Ordered events (commands, transitions, providers) are queued per client and never
+conflated; reports are conflated per client (the latest per provider and topic), so a
+client that reads slowly gets fewer reports, not later ones. A client is dropped when
+its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
+stopped reading), or when the queue reaches four times `max_queue` whatever it does;
+so no client holds memory without bound nor delays anyone else, and a burst does not
+drop a healthy client. Everything here runs on the event loop thread.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import logging
+import time
+from collections import deque
+from typing import Any, Awaitable, Callable
+
+log = logging.getLogger("sem-console.hub")
+
+
+class Client:
+    def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float) -> None:
+        self.send, self.max_queue, self.stall_seconds = send, max_queue, stall_seconds
+        self.last_sent = time.monotonic()
+        self.ordered: deque[str] = deque()
+        self.reports: dict[tuple[str, str], str] = {}
+        self.wake = asyncio.Event()
+        self.task: asyncio.Task[None] | None = None
+        self.dropped = False
+
+    def push(self, text: str, key: tuple[str, str] | None = None) -> None:
+        if self.dropped:
+            return
+        if key is not None:
+            self.reports.pop(key, None)  # re-insert: conflated reports go out oldest first
+            self.reports[key] = text
+        elif len(self.ordered) >= self.max_queue and (
+                time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue):
+            self.drop()
+            return
+        else:
+            self.ordered.append(text)
+        self.wake.set()
+
+    def drop(self) -> None:
+        self.dropped = True
+        self.ordered.clear()
+        self.reports.clear()
+        if self.task is not None:
+            self.task.cancel()
+
+    async def run(self) -> None:
+        while True:
+            await self.wake.wait()
+            self.wake.clear()
+            while self.ordered:
+                await self.send(self.ordered.popleft())
+                self.last_sent = time.monotonic()
+            while self.reports:
+                key = next(iter(self.reports))
+                await self.send(self.reports.pop(key))
+                self.last_sent = time.monotonic()
+
+
+class Hub:
+    def __init__(self, max_queue: int = 10_000, stall_seconds: float = 5.0) -> None:
+        self.max_queue, self.stall_seconds = max_queue, stall_seconds
+        self.clients: set[Client] = set()
+
+    def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None) -> None:
+        if not self.clients:
+            return
+        text = json.dumps(message, separators=(",", ":"))
+        for c in list(self.clients):
+            c.push(text, key)
+            if c.dropped:
+                log.warning("dropped a WebSocket client that stopped reading (%d messages behind)", self.max_queue)
+                self.clients.discard(c)
+
+    def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any]) -> Client:
+        """Register a client with `first` (its snapshot) queued ahead of any later event."""
+        client = Client(send, self.max_queue, self.stall_seconds)
+        client.push(json.dumps(first, separators=(",", ":")))
+        self.clients.add(client)
+        client.task = asyncio.get_running_loop().create_task(client.run())
+        return client
+
+    def detach(self, client: Client) -> None:
+        self.clients.discard(client)
+        if client.task is not None:
+            client.task.cancel()

@@ -1,0 +1,167 @@
+"""DDS -> asyncio: two threads take SEM samples and hand them to the event loop.
+
+- The status thread takes command status and ack samples as soon as they arrive, so
+  every transition reaches the loop in order and none is lost.
+- The report thread takes report samples at most every `report_interval` seconds.
+  Report readers keep the latest sample per instance, so a provider publishing faster
+  than that is conflated by DDS itself: the console's cost follows what it shows.
+
+Samples are decoded and converted to JSON in these threads; the loop only applies them
+(`loop.call_soon_threadsafe`), so DDS never blocks it. Disposes and lost writers are
+read explicitly. A sample that cannot be decoded is counted, never raised.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+import time
+import uuid
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from cyclonedds.core import InstanceState, WaitSet
+from cyclonedds.internal import InvalidSample
+from cyclonedds.sub import DataReader
+from cyclonedds.util import duration
+
+from sem_console.console.convert import to_json
+from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.qos import any_writer_reader_qos
+from sem_console.dds.topics import Sem, Service
+
+log = logging.getLogger("sem-console.ingest")
+
+REPORT_TOPICS = {
+    Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
+    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
+}
+STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
+ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
+
+
+@dataclass
+class ReportItem:
+    topic: str
+    source: uuid.UUID
+    report: dict[str, Any] | None  # None: the instance was disposed or lost its writers
+    invalid: list[str]
+    alive: bool
+    received_at: float
+
+
+@dataclass
+class StatusItem:
+    service: Service
+    kind: str  # "status" | "ack"
+    source: uuid.UUID
+    session: uuid.UUID
+    sample: Any  # None when disposed
+    alive: bool
+
+
+def _guid(raw: Any) -> uuid.UUID | None:
+    try:
+        return uuid.UUID(bytes=bytes(raw))
+    except (TypeError, ValueError):
+        return None
+
+
+class Ingest:
+    def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
+                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float) -> None:
+        self.loop, self.on_reports, self.on_statuses = loop, on_reports, on_statuses
+        self.report_interval = report_interval
+        self.undecodable: dict[str, int] = {}
+        self.running = False
+        # Two readers per report topic (see qos.any_writer_reader_qos); the newer sample wins.
+        self.report_readers: list[tuple[Sem, DataReader]] = []
+        for sem in REPORT_TOPICS:
+            self.report_readers += [(sem, bus.reader(sem, any_writer_reader_qos())), (sem, bus.reader(sem))]
+        self.status_readers = [(sem, bus.reader(sem)) for sem in list(STATUS_TOPICS) + list(ACK_TOPICS)]
+        self._last_ts: dict[tuple[Sem, uuid.UUID], int] = {}
+        self.threads: list[threading.Thread] = []
+        self._waitsets = {}
+        for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
+            ws = WaitSet(bus.participant)
+            conds = []
+            for _sem, r in readers:
+                c = all_samples(r)
+                ws.attach(c)
+                conds.append(c)
+            self._waitsets[name] = (ws, conds)
+
+    def start(self) -> None:
+        self.running = True
+        for name, fn in (("reports", self._report_loop), ("statuses", self._status_loop)):
+            t = threading.Thread(target=fn, name=f"sem-ingest-{name}", daemon=True)
+            t.start()
+            self.threads.append(t)
+
+    def stop(self) -> None:
+        self.running = False
+        for t in self.threads:
+            t.join(timeout=2)
+
+    def _take(self, sem: Sem, reader: DataReader, condition: Any) -> list[Any]:
+        try:
+            return reader.take(N=512, condition=condition)
+        except Exception as e:  # a sample Python cannot decode: count it, keep reading
+            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+            log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+            return []
+
+    def _report_loop(self) -> None:
+        ws, conds = self._waitsets["reports"]
+        while self.running:
+            ws.wait(duration(milliseconds=200))
+            started = time.monotonic()
+            items: list[ReportItem] = []
+            for (sem, reader), cond in zip(self.report_readers, conds):
+                for s in self._take(sem, reader, cond):
+                    item = self._report(sem, s)
+                    if item is not None:
+                        items.append(item)
+            if items:
+                self.loop.call_soon_threadsafe(self.on_reports, items)
+            time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
+
+    def _report(self, sem: Sem, s: Any) -> ReportItem | None:
+        info = s.sample_info
+        key = s.key_sample if isinstance(s, InvalidSample) else s
+        source = _guid(getattr(key, "source", None))
+        if source is None:
+            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+            return None
+        alive = info.instance_state == InstanceState.Alive
+        if isinstance(s, InvalidSample):
+            return ReportItem(REPORT_TOPICS[sem], source, None, [], False, time.time())
+        last = self._last_ts.get((sem, source), -1)
+        if info.source_timestamp <= last and alive:
+            return None  # the same sample through the other reader
+        self._last_ts[(sem, source)] = info.source_timestamp
+        try:
+            report, invalid = to_json(s)
+        except Exception as e:  # never let one bad sample stop the reader
+            report, invalid = {}, [f"sample could not be converted: {e}"]
+        return ReportItem(REPORT_TOPICS[sem], source, report, invalid, alive, time.time())
+
+    def _status_loop(self) -> None:
+        ws, conds = self._waitsets["statuses"]
+        while self.running:
+            ws.wait(duration(milliseconds=200))
+            items: list[StatusItem] = []
+            for (sem, reader), cond in zip(self.status_readers, conds):
+                for s in self._take(sem, reader, cond):
+                    key = s.key_sample if isinstance(s, InvalidSample) else s
+                    source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
+                    if source is None or session is None:
+                        continue
+                    service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
+                    kind = "status" if sem in STATUS_TOPICS else "ack"
+                    alive = s.sample_info.instance_state == InstanceState.Alive
+                    sample = None if isinstance(s, InvalidSample) else s
+                    items.append(StatusItem(service, kind, source, session, sample, alive))
+            if items:
+                self.loop.call_soon_threadsafe(self.on_statuses, items)

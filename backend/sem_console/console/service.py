@@ -1,0 +1,176 @@
+"""The running console: DDS ingest, providers, the UMAA consumer, the WebSocket hub.
+
+Owned by the FastAPI lifespan. Every method here runs on the event loop thread.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+import time
+import uuid
+from typing import Any
+
+from cyclonedds.internal import InvalidSample
+from cyclonedds.util import duration
+
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.hub import Hub
+from sem_console.console.ingest import Ingest, ReportItem, StatusItem
+from sem_console.console.providers import REPORTS, Provider, Providers
+from sem_console.console.store import Store
+from sem_console.core.config import Settings
+from sem_console.dds.bus import Bus
+from sem_console.dds.topics import Service
+from sem_console.umaa.guid import from_guid
+
+log = logging.getLogger("sem-console")
+TICK = 0.2
+
+
+class Console:
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+        self.store = Store(settings.db_path)
+        self.id = self.store.console_guid()
+        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
+        self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
+        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time)
+        self.command_writers = {s: self.bus.writer(s.command) for s in Service}
+        self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
+                                 lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
+        self.ingest: Ingest | None = None
+        self._ticker: asyncio.Task[None] | None = None
+        self._sim: tuple[threading.Thread, list[bool]] | None = None
+
+    # ---- lifecycle ------------------------------------------------------------------
+    async def start(self) -> None:
+        loop = asyncio.get_running_loop()
+        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval)
+        self._adopt_commands_on_bus()
+        resumed = self.commands.startup()
+        if resumed:
+            log.info("resumed following %d commands", len(resumed))
+        self.ingest.start()
+        self._ticker = loop.create_task(self._tick_forever())
+        if self.settings.sim:
+            self._start_sim()
+
+    async def stop(self, answer_wait: float = 3.0) -> None:
+        """Consumer Shutdown Sequence: cancel what is incomplete, then leave the bus.
+
+        The providers' answers (CANCELED) are awaited for up to `answer_wait` seconds so the
+        history records how each command ended; they dispose those statuses right after.
+        """
+        canceled = self.commands.shutdown()
+        for w in self.command_writers.values():
+            w.wait_for_acks(duration(seconds=1))
+        deadline = time.monotonic() + answer_wait
+        while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
+            await asyncio.sleep(0.05)
+        if self._ticker:
+            self._ticker.cancel()
+        if self.ingest:
+            self.ingest.stop()
+        if self._sim:
+            thread, stop = self._sim
+            stop[0] = True
+            thread.join(timeout=5)
+        self.store.close()
+
+    def _adopt_commands_on_bus(self) -> None:
+        """Our own commands persisted on the bus that the history does not know (e.g. a wiped database)."""
+        for service in Service:
+            reader = self.bus.reader(service.command)
+            reader.wait_for_historical_data(duration(milliseconds=300))
+            for s in reader.take(N=1024):
+                if isinstance(s, InvalidSample) or from_guid(s.source) != self.id:
+                    continue
+                session = from_guid(s.sessionID)
+                if session not in self.commands.by_session:
+                    state = s.state if service is Service.INERTIAL_SENSOR else None
+                    self.commands.by_session[session] = Command(session, service, from_guid(s.destination), state, None,
+                                                                time.time(), s)
+
+    def _start_sim(self) -> None:
+        from sem_console.sim.provider import SimOptions, Simulator
+
+        stop = [False]
+        sim = Simulator(self.bus, SimOptions(vehicles=self.settings.sim, time_scale=self.settings.sim_time_scale))
+
+        def run() -> None:
+            try:
+                sim.run(lambda: stop[0])
+            finally:
+                sim.shutdown()
+
+        thread = threading.Thread(target=run, name="sem-sim", daemon=True)
+        thread.start()
+        self._sim = (thread, stop)
+
+    async def _tick_forever(self) -> None:
+        while True:
+            await asyncio.sleep(TICK)
+            try:
+                self.tick(time.monotonic())
+            except Exception:  # a bug here must not stop link health or unanswered checks for good
+                log.exception("tick failed")
+
+    def tick(self, now: float) -> None:
+        for p, event in self.providers.tick(now):
+            self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
+        self.commands.tick(now)
+
+    # ---- DDS input (on the loop) --------------------------------------------------------
+    def _on_reports(self, items: list[ReportItem]) -> None:
+        now = time.monotonic()
+        for it in items:
+            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
+            if new:
+                self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+            if it.report is not None:
+                self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
+                                  "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
+
+    @staticmethod
+    def _envelope(it: ReportItem) -> dict[str, Any] | None:
+        if it.report is None:
+            return None
+        return {"report": it.report, "invalid": it.invalid, "receivedAt": it.received_at}
+
+    def _on_statuses(self, items: list[StatusItem]) -> None:
+        now = time.monotonic()
+        for it in items:
+            topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
+            p, new = self.providers.seen(topic, it.source, None, now, time.time(), it.alive or it.sample is not None)
+            if new:
+                self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+            if it.kind == "status" and it.sample is not None:
+                s = it.sample
+                self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
+                                        s.logMessage, provider_time(s))
+
+    def _emit(self, message: dict[str, Any]) -> None:
+        self.hub.publish(message)
+
+    # ---- queries and commands (REST, WebSocket) -----------------------------------------
+    def provider(self, provider_id: uuid.UUID) -> Provider | None:
+        return self.providers.by_id.get(provider_id)
+
+    def provider_detail(self, p: Provider, now: float) -> dict[str, Any]:
+        return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
+
+    def snapshot(self) -> dict[str, Any]:
+        now = time.monotonic()
+        return {
+            "type": "snapshot", "consoleId": str(self.id), "serverTime": time.time(),
+            "authRequired": bool(self.settings.operators()),
+            "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
+            "commands": [c.to_json() for c in self.commands.by_session.values()],
+        }
+
+    def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
+        return self.commands.issue(service, provider_id, state, operator)

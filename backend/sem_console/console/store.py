@@ -1,0 +1,68 @@
+"""Command history and audit in SQLite; also keeps the console's own source GUID across restarts."""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+import uuid
+from pathlib import Path
+from typing import Any
+
+SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
+CREATE TABLE IF NOT EXISTS commands (
+    session_id TEXT PRIMARY KEY, service TEXT NOT NULL, provider_id TEXT NOT NULL, state TEXT,
+    operator TEXT, created_at REAL NOT NULL, command TEXT NOT NULL, unanswered INTEGER NOT NULL DEFAULT 0,
+    cancel_requested INTEGER NOT NULL DEFAULT 0, canceled_by TEXT, cleaned_up INTEGER NOT NULL DEFAULT 0
+);
+CREATE TABLE IF NOT EXISTS transitions (
+    session_id TEXT NOT NULL REFERENCES commands(session_id), seq INTEGER NOT NULL, status TEXT NOT NULL,
+    reason TEXT NOT NULL, log_message TEXT NOT NULL, violation TEXT, provider_time REAL, received_at REAL NOT NULL,
+    PRIMARY KEY (session_id, seq)
+);
+"""
+
+
+class Store:
+    def __init__(self, path: Path) -> None:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.db = sqlite3.connect(path, check_same_thread=False, isolation_level=None)
+        self.db.row_factory = sqlite3.Row
+        self.db.execute("PRAGMA journal_mode=WAL")
+        self.db.execute("PRAGMA synchronous=NORMAL")
+        self.db.executescript(SCHEMA)
+
+    def console_guid(self) -> uuid.UUID:
+        row = self.db.execute("SELECT value FROM meta WHERE key='source'").fetchone()
+        if row:
+            return uuid.UUID(row["value"])
+        guid = uuid.uuid4()
+        self.db.execute("INSERT INTO meta VALUES ('source', ?)", (str(guid),))
+        return guid
+
+    def add_command(self, rec: dict[str, Any], command: dict[str, Any]) -> None:
+        self.db.execute(
+            "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES (?,?,?,?,?,?,?)",
+            (rec["sessionId"], rec["service"], rec["providerId"], rec["state"], rec["operator"], rec["createdAt"], json.dumps(command)))
+
+    def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
+        self.db.execute(
+            "INSERT OR IGNORE INTO transitions VALUES (?,?,?,?,?,?,?,?)",
+            (session_id, seq, t["status"], t["reason"], t["logMessage"], t["violation"], t["providerTime"], t["receivedAt"]))
+
+    def set_flag(self, session_id: str, flag: str) -> None:
+        assert flag in ("unanswered", "cleaned_up")
+        self.db.execute(f"UPDATE commands SET {flag}=1 WHERE session_id=?", (session_id,))
+
+    def set_canceled(self, session_id: str, operator: str | None) -> None:
+        self.db.execute("UPDATE commands SET cancel_requested=1, canceled_by=? WHERE session_id=?", (operator, session_id))
+
+    def commands(self) -> list[dict[str, Any]]:
+        rows = self.db.execute("SELECT * FROM commands ORDER BY created_at").fetchall()
+        trans: dict[str, list[dict[str, Any]]] = {}
+        for t in self.db.execute("SELECT * FROM transitions ORDER BY session_id, seq"):
+            trans.setdefault(t["session_id"], []).append(dict(t))
+        return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
+
+    def close(self) -> None:
+        self.db.close()

@@ -1,0 +1,384 @@
+"""`sem-console` against `sem-sim` over real DDS on loopback: REST, WebSocket, the UMAA consumer flow."""
+
+from __future__ import annotations
+
+import json
+import math
+import signal
+import socket
+import threading
+import time
+import uuid
+from typing import Any, Callable
+
+import httpx
+import pytest
+from websockets.sync.client import connect
+
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from UMAA.SEM.GPSFixStatus import GPSFixReportType
+from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
+from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+from consumer import Consumer
+from sem_console.api.schemas import server_messages
+from sem_console.dds.qos import any_writer_reader_qos
+from sem_console.dds.topics import Sem
+from sem_console.sim.provider import vehicle_guid
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import make, now_datetime
+
+V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
+HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+REPORTS = {"GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"}
+
+
+def wait_until(predicate: Callable[[], Any], timeout: float = 15, what: str = "condition") -> Any:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        value = predicate()
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"timed out waiting for {what}")
+
+
+class WsClient:
+    """Reads /ws on a thread; every message is validated against the published schema."""
+
+    def __init__(self, url: str) -> None:
+        self._connection = connect(url, open_timeout=10, max_size=2**24)
+        self.ws = self._connection.__enter__()
+        self.messages: list[dict[str, Any]] = []
+        self.errors: list[str] = []
+        self.thread = threading.Thread(target=self._read, daemon=True)
+        self.thread.start()
+
+    def _read(self) -> None:
+        try:
+            while True:
+                msg = json.loads(self.ws.recv())
+                try:
+                    server_messages.validate_python(msg)
+                except Exception as e:
+                    self.errors.append(f"{msg.get('type')}: {e}")
+                self.messages.append(msg)
+        except Exception:
+            pass
+
+    def of(self, kind: str) -> list[dict[str, Any]]:
+        return [m for m in list(self.messages) if m["type"] == kind]
+
+    def transitions(self, session: str) -> list[str]:
+        return [m["transition"]["status"] for m in self.of("transition") if m["sessionId"] == session]
+
+    def close(self) -> None:
+        self.ws.close()
+
+
+def command(base: str, session: str) -> dict[str, Any]:
+    return httpx.get(f"{base}/api/commands/{session}").json()
+
+
+def wait_command(base: str, session: str, timeout: float = 15, done: Callable[[dict[str, Any]], bool] | None = None) -> dict[str, Any]:
+    done = done or (lambda c: c["terminal"] and c["cleanedUp"])
+    return wait_until(lambda: (lambda c: c if done(c) else None)(command(base, session)), timeout, f"command {session}")
+
+
+def gps_fix_executing(base: str) -> str:
+    """Request a GPS fix of vehicle 1 and wait until it is EXECUTING; returns its sessionId."""
+    provider_ready(base, V1, {"GPSFixReport"})
+    session = httpx.post(f"{base}/api/providers/{V1}/gps-fix").json()["sessionId"]
+    wait_command(base, session, done=lambda x: x["status"] == "EXECUTING")
+    return str(session)
+
+
+def provider_ready(base: str, pid: str, topics: set[str] = REPORTS) -> dict[str, Any]:
+    def ready() -> dict[str, Any] | None:
+        r = httpx.get(f"{base}/api/providers/{pid}")
+        if r.status_code != 200:
+            return None
+        d = r.json()
+        return d if all(d["reports"][t] for t in topics) else None
+    return wait_until(ready, 20, f"provider {pid} with {topics}")
+
+
+# ---- reports -----------------------------------------------------------------------------------
+def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
+    sim("--vehicles", "2")
+    c = console()
+    detail = provider_ready(c.url, V1)
+    provider_ready(c.url, V2)
+    ids = {p["id"] for p in httpx.get(f"{c.url}/api/providers").json()}
+    assert {V1, V2} <= ids
+    gps = detail["reports"]["GPSReport"]["report"]
+    assert gps["source"] == V1 and gps["numberSatellitesInView"] == len(gps["satellites"]) >= 20
+    sat = gps["satellites"][0]
+    assert isinstance(sat["constellationType"], str) and uuid.UUID(sat["satelliteId"])
+    assert set(sat) == {"antennaCarrierNoiseDensity", "azimuth", "basebandCarrierNoiseDensity", "carrierFrequency",
+                        "constellationType", "containsAlmanacData", "elevation", "ephemerisData", "satelliteId", "usedInFix"}
+    fix = detail["reports"]["GPSFixReport"]["report"]
+    assert set(fix["position2DWithTime"]["geodeticPosition"]) == {"geodeticLatitude", "geodeticLongitude"}
+    assert fix["GPSFixCommandStatus"] in ("INITIATING", "PERFORMING", "STABLE")
+    assert detail["reports"]["GPSFixStatusReport"]["report"]["navSolution"] == "GPS_DEAD_RECK"
+    assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
+    assert detail["link"] == "live" and all(r["invalid"] == [] for r in detail["reports"].values())
+
+    ws = WsClient(c.ws_url)
+    wait_until(lambda: {m["topic"] for m in ws.of("report") if m["providerId"] == V1} >= REPORTS, 10, "a report of each type")
+    snap = ws.messages[0]
+    assert snap["type"] == "snapshot" and {p["id"] for p in snap["providers"]} >= {V1, V2}
+    assert ws.errors == []
+    ws.close()
+
+
+def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
+    c = console()
+    bus = Consumer(domain, name="be-provider").bus
+    from cyclonedds.pub import DataWriter
+    writer = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=any_writer_reader_qos())
+    source = uuid.uuid4()
+    sample = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(source), timeStamp=now_datetime())
+
+    def seen() -> bool:
+        writer.write(sample)
+        return httpx.get(f"{c.url}/api/providers/{source}").status_code == 200
+    wait_until(seen, 10, "the best-effort provider")
+
+
+def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> None:
+    c = console()
+    bus = Consumer(domain, name="bad-provider").bus
+    source = uuid.uuid4()
+    fix = make(GPSFixReportType, **{k: v for k, v in vars(_valid_fix()).items()})
+    fix.SOG = math.nan
+    fix.position2DWithTime.geodeticPosition.geodeticLatitude.latitude = 200.0
+    fix.source = to_guid(source)
+    # An unknown enum ordinal cannot be sent from Cyclone (its writer refuses it); see test_convert.py.
+    ins = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(source), timeStamp=now_datetime())
+    sats = [make(GPSSatelliteType, azimuth=0.5) for _ in range(10_000)]
+    gps = make(GPSReportType, clock=make(GPSClockType),
+               numberSatellitesInView=10_000, satellites=sats, source=to_guid(source), timeStamp=now_datetime())
+    writers = {sem: bus.writer(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.INS_REPORT, Sem.GPS_REPORT)}
+    writers[Sem.GPS_FIX_REPORT].write(fix)
+    writers[Sem.INS_REPORT].write(ins)
+    writers[Sem.GPS_REPORT].write(gps)
+    d = provider_ready(c.url, str(source), {"GPSFixReport", "InertialSensorReport", "GPSReport"})
+    fix_invalid = d["reports"]["GPSFixReport"]["invalid"]
+    assert any(x.startswith("SOG:") for x in fix_invalid) and any("latitude: 200.0 outside" in x for x in fix_invalid)
+    assert d["reports"]["GPSFixReport"]["report"]["SOG"] is None
+    assert d["reports"]["InertialSensorReport"]["invalid"] == []
+    assert len(d["reports"]["GPSReport"]["report"]["satellites"]) == 256
+    assert any("10000 elements" in x for x in d["reports"]["GPSReport"]["invalid"])
+    assert httpx.get(f"{c.url}/api/health").status_code == 200
+
+
+def _valid_fix() -> GPSFixReportType:
+    from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType
+    from UMAA.Common.Measurement import (Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D,
+                                         Position2DTime, Velocity3D_PlatformNED)
+    return GPSFixReportType(
+        altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=GPSFixEnumType.STABLE, GPSLatLongValid=True, magneticVariation=0.1,
+        position2DWithTime=Position2DTime(Position2D(GeodeticLatitude(10.0), GeodeticLongitude(20.0)), 1.7e9),
+        SOG=1.0, trueCourse=1.0, velocity=Velocity3D_PlatformNED(0.0, 0.0, 1.0), source=to_guid(uuid.uuid4()),
+        timeStamp=now_datetime())
+
+
+# ---- commands ----------------------------------------------------------------------------------
+def test_gps_fix_completes_with_every_transition_in_history_and_websocket(sim, console) -> None:
+    sim()
+    c = console()
+    provider_ready(c.url, V1)
+    ws = WsClient(c.ws_url)
+    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix")
+    assert r.status_code == 201
+    session = r.json()["sessionId"]
+    assert uuid.UUID(session).version == 4 and r.json()["providerId"] == V1
+    done = wait_command(c.url, session)
+    assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
+    assert [t["seq"] for t in done["transitions"]] == [1, 2, 3, 4]
+    assert all(t["reason"] == "SUCCEEDED" and t["providerTime"] and t["receivedAt"] for t in done["transitions"])
+    wait_until(lambda: ws.transitions(session) == HAPPY, 5, "every transition on the WebSocket")
+    assert any(m["command"]["sessionId"] == session for m in ws.of("command"))
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"],
+               5, "a valid fix")
+    assert ws.errors == []
+
+
+@pytest.mark.parametrize("state", ["OFF", "ON", "RESTARTING"])
+def test_inertial_sensor_states_complete(sim, console, state: str) -> None:
+    sim("--align-seconds", "20")
+    c = console()
+    provider_ready(c.url, V1, {"InertialSensorReport"})
+    r = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": state})
+    assert r.status_code == 201 and r.json()["state"] == state
+    done = wait_command(c.url, r.json()["sessionId"])
+    assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
+
+
+def test_cancel_gives_canceled(sim, console) -> None:
+    sim("--surface-seconds", "400")
+    c = console()
+    session = gps_fix_executing(c.url)
+    r = httpx.delete(f"{c.url}/api/commands/{session}")
+    assert r.status_code == 200 and r.json()["cancelRequested"]
+    done = wait_command(c.url, session, done=lambda x: x["terminal"])
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+    assert done["transitions"][-1]["reason"] == "CANCELED"
+    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 409
+
+
+@pytest.mark.parametrize("fault,expect", [
+    ("reject", ("FAILED", "RESOURCE_REJECTED")),
+    ("fail-midway", ("FAILED", "RESOURCE_FAILED")),
+    ("no-answer", "unanswered"),
+    ("skip-commanded", "violation"),
+])
+def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
+    sim("--vehicles", "2", "--fault", f"{fault}:2")
+    c = console()
+    provider_ready(c.url, V2, {"GPSFixReport"})
+    session = httpx.post(f"{c.url}/api/providers/{V2}/gps-fix").json()["sessionId"]
+    if expect == "unanswered":
+        done = wait_command(c.url, session, done=lambda x: x["unanswered"])
+        assert done["transitions"] == []
+    elif expect == "violation":
+        done = wait_command(c.url, session)
+        assert [t["status"] for t in done["transitions"]] == ["ISSUED", "EXECUTING", "COMPLETED"]
+        assert done["violations"] == ["ISSUED -> EXECUTING is not a Figure 4 transition"]
+        assert done["transitions"][1]["violation"]
+    else:
+        done = wait_command(c.url, session)
+        assert (done["transitions"][-1]["status"], done["transitions"][-1]["reason"]) == expect
+        assert done["violations"] == []
+
+
+def test_backend_restart_resumes_following_the_command(sim, console) -> None:
+    sim("--surface-seconds", "100", "--orphan-grace", "60")  # 5 s to surface
+    first = console()
+    console_id = httpx.get(f"{first.url}/api/health").json()["consoleId"]
+    session = gps_fix_executing(first.url)
+    first.stop(signal.SIGKILL)  # a crash: no shutdown sequence, the command is not canceled
+    second = console()
+    assert httpx.get(f"{second.url}/api/health").json()["consoleId"] == console_id
+    assert command(second.url, session)["status"] == "EXECUTING"
+    done = wait_command(second.url, session, timeout=20)
+    assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
+
+
+def test_console_shutdown_cancels_incomplete_commands(sim, console) -> None:
+    sim("--surface-seconds", "400")
+    first = console()
+    session = gps_fix_executing(first.url)
+    first.stop(signal.SIGINT)
+    second = console()
+    done = wait_command(second.url, session, done=lambda x: x["terminal"], timeout=20)
+    assert done["cancelRequested"] and done["transitions"][-1]["status"] == "CANCELED"
+
+
+def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
+    first = sim()
+    c = console()
+    provider_ready(c.url, V1)
+    ws = WsClient(c.ws_url)
+    first.kill()
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
+    sim()
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] in ("regained", "live")
+               and any(m["event"] == "regained" for m in ws.of("provider")), 15, "regained")
+    events = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == V1]
+    assert events.index("lost") < events.index("regained")
+
+
+def test_stalled_websocket_client_does_not_stop_another(sim, console) -> None:
+    sim("--vehicles", "3", "--fix-rate", "10")
+    c = console(env={"SEM_WS_MAX_QUEUE": "50"})
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    stalled = socket.create_connection(("127.0.0.1", c.port))
+    stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+    stalled.sendall(b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                    b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+    time.sleep(1.0)  # it is connected and reads nothing from here on
+    ws = WsClient(c.ws_url)
+    sessions = [httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": s}).json()["sessionId"]
+                for s in ("OFF", "ON")]
+    for s in sessions:
+        wait_until(lambda s=s: ws.transitions(s) and ws.transitions(s)[-1] in ("COMPLETED", "FAILED"), 15, "transitions")
+    assert ws.transitions(sessions[0])[0] == "ISSUED" and ws.errors == []
+    stalled.close()
+
+
+# ---- operators ---------------------------------------------------------------------------------
+def test_operator_token_guards_commands(sim, console) -> None:
+    sim("--surface-seconds", "400")
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    url = f"{c.url}/api/providers/{V1}/gps-fix"
+    assert httpx.post(url).status_code == 401
+    assert httpx.post(url, headers={"Authorization": "Bearer nope"}).status_code == 401
+    r = httpx.post(url, headers={"Authorization": "Bearer s3cret"})
+    assert r.status_code == 201 and r.json()["operator"] == "alice"
+    session = r.json()["sessionId"]
+    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 401
+    r = httpx.delete(f"{c.url}/api/commands/{session}", headers={"Authorization": "Bearer s3cret"})
+    assert r.status_code == 200 and r.json()["canceledBy"] == "alice"
+    assert httpx.get(f"{c.url}/api/commands/{session}").status_code == 200  # reads stay open
+    assert httpx.get(f"{c.url}/api/health").json()["authRequired"] is True
+
+
+# ---- bad input ---------------------------------------------------------------------------------
+@pytest.fixture
+def live(sim, console):  # type: ignore[no-untyped-def]
+    sim()
+    c = console()
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    return c
+
+
+UNKNOWN = "00000000-0000-4000-8000-000000000000"
+
+
+@pytest.mark.parametrize("method,path,body,code,needle", [
+    ("GET", "/api/providers/not-a-uuid", None, 422, "provider_id"),
+    ("GET", f"/api/providers/{UNKNOWN}", None, 404, "no provider"),
+    ("POST", "/api/providers/xyz/gps-fix", None, 422, "provider_id"),
+    ("POST", f"/api/providers/{UNKNOWN}/gps-fix", None, 404, "no provider"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422, "'OFF', 'ON' or 'RESTARTING'"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": 1}, 422, "body.state"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", {}, 422, "body.state: Field required"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", "{not json", 422, "JSON decode error"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "ON", "extra": 1}, 422, "body.extra"),
+    ("POST", f"/api/providers/{UNKNOWN}/inertial-sensor", {"state": "ON"}, 404, "no provider"),
+    ("DELETE", "/api/commands/42", None, 422, "session_id"),
+    ("DELETE", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
+    ("GET", "/api/commands/42", None, 422, "session_id"),
+    ("GET", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
+])
+def test_every_route_rejects_bad_input(live, method: str, path: str, body: Any, code: int, needle: str) -> None:
+    kwargs: dict[str, Any] = {}
+    if isinstance(body, str):
+        kwargs = {"content": body, "headers": {"content-type": "application/json"}}
+    elif body is not None:
+        kwargs = {"json": body}
+    r = httpx.request(method, live.url + path, **kwargs)
+    assert r.status_code == code and needle in r.json()["detail"], r.text
+
+
+def test_websocket_bad_input_gets_an_error_and_keeps_the_connection(live) -> None:
+    ws = WsClient(live.ws_url)
+    ws.ws.send("not json")
+    ws.ws.send(json.dumps({"type": "launch-missiles"}))
+    ws.ws.send(json.dumps({"type": "ping"}))
+    wait_until(lambda: len(ws.of("error")) == 2 and ws.of("pong"), 5, "two errors and a pong")
+    assert "bad message" in ws.of("error")[0]["message"]
+    assert ws.errors == []
+
+
+def test_openapi_and_ws_schema_are_published(live) -> None:
+    spec = httpx.get(f"{live.url}/openapi.json").json()
+    assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
+            "/api/providers/{provider_id}/inertial-sensor", "/api/commands", "/api/commands/{session_id}"} <= set(spec["paths"])
+    schema = httpx.get(f"{live.url}/api/ws-schema").json()
+    kinds = {m["properties"]["type"]["const"] for m in schema["server"]["$defs"].values() if "type" in m.get("properties", {})}
+    assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong"}
+    assert httpx.get(f"{live.url}/docs").status_code == 200

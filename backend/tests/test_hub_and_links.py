@@ -1,0 +1,90 @@
+"""The WebSocket hub and link health, without a network."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import uuid
+
+from sem_console.console.hub import Hub
+from sem_console.console.providers import Providers
+
+
+def test_hub_keeps_order_conflates_reports_and_drops_a_stalled_client() -> None:
+    async def scenario() -> None:
+        hub = Hub(max_queue=5, stall_seconds=0.0)
+        fast: list[dict] = []
+        gate = asyncio.Event()
+
+        async def send_fast(text: str) -> None:
+            fast.append(json.loads(text))
+
+        async def send_stalled(_text: str) -> None:
+            await gate.wait()  # never returns: a client that stopped reading
+
+        hub.attach(send_fast, {"type": "snapshot"})
+        stalled = hub.attach(send_stalled, {"type": "snapshot"})
+        for i in range(3):
+            hub.publish({"type": "report", "n": i}, key=("p", "GPSFixReport"))
+        hub.publish({"type": "transition", "n": 1})
+        await asyncio.sleep(0.01)
+        for i in range(10):
+            hub.publish({"type": "transition", "n": i + 2})
+            await asyncio.sleep(0)  # the fast client gets to run between events; the stalled one never sends
+        await asyncio.sleep(0.01)
+        assert [m["type"] for m in fast][:2] == ["snapshot", "transition"]
+        assert [m["n"] for m in fast if m["type"] == "transition"] == list(range(1, 12))
+        assert [m["n"] for m in fast if m["type"] == "report"] == [2]  # conflated to the latest
+        assert stalled.dropped and stalled not in hub.clients and len(stalled.ordered) == 0
+
+    asyncio.run(scenario())
+
+
+def test_link_lost_after_silence_and_regained_after_continuous_samples() -> None:
+    links = Providers(comms_lost_timeout=1.0, regained_time=2.0)
+    pid = uuid.uuid4()
+    links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
+    assert links.tick(0.5) == [] and links.by_id[pid].link == "live"
+    assert [e for _, e in links.tick(1.6)] == ["lost"]
+    t = 2.0
+    while t < 3.9:  # samples every 0.2 s, but not yet for the regained time
+        links.seen("GPSFixReport", pid, {"x": 1}, t, t, True)
+        assert links.tick(t) == []
+        t += 0.2
+    links.seen("GPSFixReport", pid, {"x": 1}, 4.1, 4.1, True)
+    assert [e for _, e in links.tick(4.1)] == ["regained"]
+    for t in (4.8, 5.5, 6.2):
+        links.seen("GPSFixReport", pid, {"x": 1}, t, t, True)
+        assert links.tick(t) == []
+    assert links.by_id[pid].link == "live"
+
+
+def test_link_lost_when_all_report_writers_go() -> None:
+    links = Providers(comms_lost_timeout=10.0, regained_time=1.0)
+    pid = uuid.uuid4()
+    for topic in ("GPSFixReport", "InertialSensorReport"):
+        links.seen(topic, pid, {"x": 1}, 0.0, 0.0, True)
+    links.seen("GPSFixReport", pid, None, 0.1, 0.1, False)
+    assert links.tick(0.2) == []
+    links.seen("InertialSensorReport", pid, None, 0.2, 0.2, False)
+    assert [e for _, e in links.tick(0.3)] == ["lost"]
+
+
+def test_hub_burst_does_not_drop_a_healthy_client() -> None:
+    async def scenario() -> None:
+        hub = Hub(max_queue=5, stall_seconds=5.0)
+        got: list[dict] = []
+
+        async def send(text: str) -> None:
+            got.append(json.loads(text))
+
+        client = hub.attach(send, {"type": "snapshot"})
+        for i in range(15):  # one synchronous burst, three times the bound
+            hub.publish({"type": "transition", "n": i})
+        await asyncio.sleep(0.01)
+        assert not client.dropped and [m["n"] for m in got[1:]] == list(range(15))
+        for i in range(25):  # past four times the bound: dropped whatever it does
+            hub.publish({"type": "transition", "n": i})
+        assert client.dropped
+
+    asyncio.run(scenario())
