@@ -1,18 +1,26 @@
-# Sourced by scripts/run and scripts/test: makes .venv with the backend installed.
+# Sourced by scripts/run, scripts/test and scripts/screenshot: makes .venv with the backend installed,
+# installs the dashboard's npm packages and builds it into frontend/dist (which the console serves).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PY="${PYTHON:-python3}"
+
+apt_install() {  # Debian packages, when we can install them
+  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+  else
+    echo "missing: $* (install with: sudo apt-get install $*)" >&2
+    exit 1
+  fi
+}
+
 if [ ! -x "$ROOT/.venv/bin/python" ]; then
   if ! "$PY" -m venv "$ROOT/.venv" >/dev/null 2>&1; then
-    # Debian ships venv separately; install it when we can.
     rm -rf "$ROOT/.venv"
-    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-      apt-get update -qq && apt-get install -y -qq python3-venv >/dev/null
-      "$PY" -m venv "$ROOT/.venv"
-    else
-      echo "python3 -m venv failed: install python3-venv (sudo apt-get install python3-venv)" >&2
-      exit 1
-    fi
+    apt_install python3-venv  # Debian ships venv separately
+    "$PY" -m venv "$ROOT/.venv"
   fi
 fi
 "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT/backend[test]"
+
+command -v npm >/dev/null || apt_install nodejs npm
+(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build >/dev/null)

@@ -379,6 +379,8 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
     assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
             "/api/providers/{provider_id}/inertial-sensor", "/api/commands", "/api/commands/{session_id}"} <= set(spec["paths"])
     schema = httpx.get(f"{live.url}/api/ws-schema").json()
-    kinds = {m["properties"]["type"]["const"] for m in schema["server"]["$defs"].values() if "type" in m.get("properties", {})}
-    assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong"}
+    kinds = {m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})}
+    assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync"}
+    assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
+    assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"
     assert httpx.get(f"{live.url}/docs").status_code == 200

@@ -3,6 +3,7 @@ the OpenAPI document and /api/ws-schema, which are built from these models."""
 
 from __future__ import annotations
 
+import typing
 from typing import Annotated, Any, Literal, Union
 
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
@@ -146,11 +147,32 @@ server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
 client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)
 
 
+class _Messages(_Model):
+    server: ServerMessage
+    client: ClientMessage
+
+
 def ws_schema() -> dict[str, Any]:
+    """One JSON Schema document: both message unions, and the JSON form of each report type
+    (derived from the generated IDL types) with `ReportTypes` mapping topic to type."""
+    from sem_console.console.jsonschema import report_schemas
+
+    schema = _Messages.model_json_schema(ref_template="#/$defs/{model}")
+    defs = schema.setdefault("$defs", {})
+    reports = report_schemas()
+    clash = set(reports) & set(defs)
+    assert not clash, f"report type names clash with message names: {clash}"
+    defs.update(reports)
+    defs["ReportTypes"] = {
+        "type": "object", "title": "ReportTypes", "description": "The report JSON carried for each report topic",
+        "properties": {topic: {"$ref": f"#/$defs/{topic}Type"} for topic in typing.get_args(ReportTopic)},
+        "required": list(typing.get_args(ReportTopic)), "additionalProperties": False,
+    }
+    schema["properties"]["reportTypes"] = {"$ref": "#/$defs/ReportTypes"}
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
-        "title": "SEM Console WebSocket messages",
-        "description": "Messages on /ws. The server sends a snapshot first, then deltas; every message has a 'type'.",
-        "server": server_messages.json_schema(ref_template="#/server/$defs/{model}"),
-        "client": client_messages.json_schema(ref_template="#/client/$defs/{model}"),
+        "title": "SemConsoleMessages",
+        "description": "Messages on /ws: `server` (snapshot first, then deltas) and `client`, each tagged by `type`; "
+                       "`ReportTypes` gives the JSON of each report topic's `report.report`.",
+        **{k: v for k, v in schema.items() if k != "title"},
     }

@@ -1,0 +1,39 @@
+"""Write the console's published schemas for the frontend's type generation.
+
+`python -m sem_console.api.export` writes frontend/schema/openapi.json and ws-schema.json;
+the dashboard's build generates its TypeScript types from them, and the test suite fails
+when they no longer match the code.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from sem_console.api.schemas import ws_schema
+
+SCHEMA_DIR = Path(__file__).resolve().parents[3] / "frontend" / "schema"
+
+
+def schemas() -> dict[str, dict[str, Any]]:
+    from sem_console.main import create_app
+
+    return {"openapi.json": create_app().openapi(), "ws-schema.json": ws_schema()}
+
+
+def render(doc: dict[str, Any]) -> str:
+    return json.dumps(doc, indent=2, sort_keys=True) + "\n"
+
+
+def main() -> int:
+    SCHEMA_DIR.mkdir(parents=True, exist_ok=True)
+    for name, doc in schemas().items():
+        (SCHEMA_DIR / name).write_text(render(doc))
+    print(f"wrote {', '.join(schemas())} to {SCHEMA_DIR}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

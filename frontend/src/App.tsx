@@ -1,0 +1,32 @@
+import { ErrorBoundary } from "./components/ErrorBoundary";
+import { AlertsPanel } from "./panels/Alerts";
+import { CommandsPanel } from "./panels/Commands";
+import { FixPanel } from "./panels/Fix";
+import { Header } from "./panels/Header";
+import { InsPanel } from "./panels/Ins";
+import { SatellitesPanel } from "./panels/Satellites";
+import { VehicleSelector } from "./panels/VehicleSelector";
+
+export function App() {
+  return (
+    <div className="app">
+      <Header />
+      <div className="layout">
+        <aside className="side">
+          <ErrorBoundary name="Vehicles">
+            <VehicleSelector />
+          </ErrorBoundary>
+          <AlertsPanel />
+        </aside>
+        <main className="main">
+          <SatellitesPanel />
+          <div className="column">
+            <FixPanel />
+            <InsPanel />
+          </div>
+          <CommandsPanel />
+        </main>
+      </div>
+    </div>
+  );
+}

@@ -1,0 +1,41 @@
+// REST calls for commands, typed from the console's OpenAPI document.
+import type { paths } from "./generated/openapi";
+import type { Command } from "./types";
+
+type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
+
+export class ApiError extends Error {
+  constructor(readonly status: number, message: string) {
+    super(message);
+  }
+}
+
+async function call(method: string, path: string, token: string | null, body?: unknown): Promise<Command> {
+  const headers: Record<string, string> = {};
+  if (token) headers.Authorization = `Bearer ${token}`;
+  if (body !== undefined) headers["Content-Type"] = "application/json";
+  const r = await fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
+  if (!r.ok) {
+    let detail = r.statusText;
+    try {
+      const j = (await r.json()) as { detail?: unknown };
+      if (typeof j.detail === "string") detail = j.detail;
+    } catch {
+      /* not JSON */
+    }
+    throw new ApiError(r.status, detail);
+  }
+  return (await r.json()) as Command;
+}
+
+export function requestGpsFix(providerId: string, token: string | null): Promise<Command> {
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token);
+}
+
+export function setInertialSensor(providerId: string, state: InsState, token: string | null): Promise<Command> {
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/inertial-sensor`, token, { state });
+}
+
+export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
+  return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
+}

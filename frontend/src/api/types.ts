@@ -1,0 +1,36 @@
+// The console's message and report types, all generated from the backend's schema (see scripts/gen-types.mjs).
+import type {
+  Command,
+  GPSConstellationEnumType,
+  ReportEnvelope,
+  ReportTypes,
+  Server,
+  Client,
+  Transition,
+  ProviderSummary,
+  ProviderDetail,
+} from "./generated/ws";
+
+export type {
+  Command,
+  GPSConstellationEnumType,
+  ReportEnvelope,
+  ReportTypes,
+  Transition,
+  ProviderSummary,
+  ProviderDetail,
+};
+export type {
+  GPSReportType,
+  GPSSatelliteType,
+  GPSFixReportType,
+  GPSFixStatusReportType,
+  InertialSensorReportType,
+  InertialSensorOpStatusEnumType,
+  InertialSensorStateEnumType,
+} from "./generated/ws";
+export type ServerMessage = Server;
+export type ClientMessage = Client;
+export type Topic = keyof ReportTypes;
+export const TOPICS: readonly Topic[] = ["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"];
+export type LinkState = ProviderSummary["link"];

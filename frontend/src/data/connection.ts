@@ -1,0 +1,136 @@
+// The one connection to the console: a WebSocket with explicit states, reconnect with backoff,
+// a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
+import type { ClientMessage, ServerMessage } from "../api/types";
+import { initialState, reduce, type State } from "./store";
+
+export type ConnectionState = "connecting" | "live" | "reconnecting" | "offline";
+
+export const BACKOFF_MIN_MS = 500;
+export const BACKOFF_MAX_MS = 10_000;
+export const OFFLINE_AFTER_FAILURES = 5;
+
+export function backoff(failures: number): number {
+  return Math.min(BACKOFF_MAX_MS, BACKOFF_MIN_MS * 2 ** Math.max(0, failures - 1));
+}
+
+type Listener = () => void;
+
+/** Holds the state; everything a panel shows is read from here through the hooks. */
+export class Store {
+  private state: State = initialState;
+  private listeners = new Set<Listener>();
+  private queue: ServerMessage[] = [];
+  private scheduled = false;
+
+  getState = (): State => this.state;
+
+  subscribe = (l: Listener): (() => void) => {
+    this.listeners.add(l);
+    return () => this.listeners.delete(l);
+  };
+
+  /** Apply a local change (select a vehicle, dismiss an alert). */
+  update(fn: (s: State) => State): void {
+    this.set(fn(this.state));
+  }
+
+  /** Queue a server message; queued messages are applied together on the next frame. */
+  enqueue(msg: ServerMessage): void {
+    this.queue.push(msg);
+    if (this.scheduled) return;
+    this.scheduled = true;
+    const flush = () => this.flush();
+    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) requestAnimationFrame(flush);
+    else setTimeout(flush, 50);
+  }
+
+  flush(): void {
+    this.scheduled = false;
+    if (!this.queue.length) return;
+    const now = Date.now() / 1000;
+    let s = this.state;
+    for (const msg of this.queue) s = reduce(s, msg, now);
+    this.queue = [];
+    this.set(s);
+  }
+
+  private set(s: State): void {
+    if (s === this.state) return;
+    this.state = s;
+    for (const l of this.listeners) l();
+  }
+}
+
+export class Connection {
+  state: ConnectionState = "connecting";
+  lastError: string | null = null;
+  private ws: WebSocket | null = null;
+  private failures = 0;
+  private timer: ReturnType<typeof setTimeout> | null = null;
+  private stopped = false;
+  private listeners = new Set<Listener>();
+
+  constructor(private readonly url: string, private readonly store: Store) {}
+
+  subscribe = (l: Listener): (() => void) => {
+    this.listeners.add(l);
+    return () => this.listeners.delete(l);
+  };
+
+  getState = (): ConnectionState => this.state;
+
+  start(): void {
+    this.stopped = false;
+    this.open();
+  }
+
+  stop(): void {
+    this.stopped = true;
+    if (this.timer) clearTimeout(this.timer);
+    this.ws?.close();
+  }
+
+  send(msg: ClientMessage): void {
+    if (this.ws?.readyState === WebSocket.OPEN) this.ws.send(JSON.stringify(msg));
+  }
+
+  private setState(s: ConnectionState): void {
+    if (s === this.state) return;
+    this.state = s;
+    for (const l of this.listeners) l();
+  }
+
+  private open(): void {
+    const ws = new WebSocket(this.url);
+    this.ws = ws;
+    ws.onmessage = (ev: MessageEvent<string>) => {
+      let msg: ServerMessage;
+      try {
+        msg = JSON.parse(ev.data) as ServerMessage;
+      } catch {
+        return;
+      }
+      if (msg.type === "snapshot") {
+        this.failures = 0;
+        this.store.enqueue(msg);
+        this.store.flush(); // the snapshot is the baseline: apply it at once
+        this.setState("live");
+        return;
+      }
+      if (msg.type === "error") this.lastError = msg.message;
+      this.store.enqueue(msg);
+    };
+    ws.onclose = () => {
+      if (this.ws !== ws || this.stopped) return;
+      this.failures += 1;
+      this.setState(this.failures >= OFFLINE_AFTER_FAILURES ? "offline" : "reconnecting");
+      this.timer = setTimeout(() => this.open(), backoff(this.failures));
+    };
+    ws.onerror = () => ws.close();
+  }
+}
+
+export function defaultUrl(): string {
+  const { protocol, host } = window.location;
+  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws`;
+}

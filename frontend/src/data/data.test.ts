@@ -1,0 +1,106 @@
+import { describe, expect, it } from "vitest";
+import type { Command, ServerMessage } from "../api/types";
+import { Store, backoff } from "./connection";
+import { HISTORY_SECONDS, dismiss, initialState, reduce, report, type State } from "./store";
+
+const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
+
+function env(report: Record<string, unknown>, invalid: string[] = []) {
+  return { report, invalid, receivedAt: 1 };
+}
+
+function cmd(over: Partial<Command> = {}): Command {
+  return {
+    sessionId: "s1", service: "GPSFix", providerId: P, state: null, operator: null, createdAt: 1, status: null, terminal: false,
+    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, violations: [], transitions: [], ...over,
+  };
+}
+
+function snapshot(): ServerMessage {
+  return {
+    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()],
+    providers: [{ id: P, link: "live", ageSeconds: 0, topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
+      reports: { GPSReport: env({ satellites: [], numberSatellitesInView: 0 }), GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null } }],
+  } as unknown as ServerMessage;
+}
+
+function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): State {
+  return msgs.reduce((s, m, i) => reduce(s, m, t0 + i), start);
+}
+
+describe("reducer", () => {
+  it("takes the snapshot as the baseline and selects the first vehicle", () => {
+    const s = apply([snapshot()]);
+    expect(s.consoleId).toBe("c");
+    expect(s.authRequired).toBe(true);
+    expect(s.selected).toBe(P);
+    expect(report(s.providers[P], "GPSReport")).toEqual({ satellites: [], numberSatellitesInView: 0 });
+    expect(s.providers[P].topics.GPSReport!.at).toBe(998); // arrived ageSeconds before the snapshot
+    expect(Object.keys(s.commands)).toEqual(["s1"]);
+  });
+
+  it("applies reports and keeps untouched providers identical", () => {
+    const other: ServerMessage = { type: "report", providerId: "other", topic: "InertialSensorReport", report: env({ state: "ON", status: "INIT" }) } as ServerMessage;
+    const s1 = apply([snapshot(), other]);
+    const s2 = reduce(s1, { type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "OFF", status: "INIT" }) } as ServerMessage, 2000);
+    expect(s2.providers.other).toBe(s1.providers.other);
+    expect(report(s2.providers[P], "InertialSensorReport")?.state).toBe("OFF");
+  });
+
+  it("raises alerts for fix lost, INS failure, failed commands, violations, unanswered, lost and regained", () => {
+    const fix = (v: boolean) => ({ type: "report", providerId: P, topic: "GPSFixStatusReport", report: env({ fixValid: v, carrierToNoise: [40] }) }) as ServerMessage;
+    const ins = (st: string) => ({ type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "ON", status: st }) }) as ServerMessage;
+    const tr = (status: string, reason: string, violation: string | null): ServerMessage => ({
+      type: "transition", sessionId: "s1", command: cmd({ status }),
+      transition: { seq: 1, status, reason, logMessage: "x", violation, providerTime: 1, receivedAt: 1 },
+    });
+    const s = apply([
+      snapshot(), fix(true), fix(false), ins("OPERATIONAL"), ins("INERTIAL_SENSOR_FAILURE"), ins("INERTIAL_SENSOR_FAILURE"),
+      tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"), tr("FAILED", "RESOURCE_FAILED", null),
+      { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
+      { type: "provider", event: "lost", provider: { id: P, link: "lost", ageSeconds: 3, topics: {} } },
+      { type: "provider", event: "regained", provider: { id: P, link: "regained", ageSeconds: 0, topics: {} } },
+    ]);
+    expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
+    expect(s.providers[P].link).toBe("regained");
+    const d = dismiss(s, s.alerts[0].id);
+    expect(d.alerts.filter((a) => !a.dismissed)).toHaveLength(6);
+    expect(dismiss(s, "all").alerts.every((a) => a.dismissed)).toBe(true);
+  });
+
+  it("keeps satellite trails and a bounded C/N0 history", () => {
+    const gps = (az: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
+      report: env({ satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) }) as ServerMessage;
+    let s = apply([snapshot()]);
+    for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000), 5000 + t);
+    const trail = s.providers[P].trails.E07;
+    expect(trail.length).toBeGreaterThan(10);
+    expect(trail[trail.length - 1].t - trail[0].t).toBeLessThanOrEqual(600);
+    expect(s.providers[P].history.length).toBeLessThanOrEqual(HISTORY_SECONDS + 1);
+    expect(s.providers[P].history.at(-1)?.used).toBe(1);
+  });
+
+  it("ignores errors and pongs", () => {
+    const s = apply([snapshot()]);
+    expect(reduce(s, { type: "pong", serverTime: 1 }, 1)).toBe(s);
+    expect(reduce(s, { type: "error", message: "x" }, 1)).toBe(s);
+  });
+});
+
+describe("store and connection", () => {
+  it("applies queued messages together and notifies once", () => {
+    const store = new Store();
+    let calls = 0;
+    store.subscribe(() => calls++);
+    store.enqueue(snapshot());
+    store.enqueue({ type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "ON" }) } as ServerMessage);
+    expect(calls).toBe(0);
+    store.flush();
+    expect(calls).toBe(1);
+    expect(report(store.getState().providers[P], "InertialSensorReport")?.state).toBe("ON");
+  });
+
+  it("backs off exponentially up to a ceiling", () => {
+    expect([1, 2, 3, 4, 5, 6, 10].map(backoff)).toEqual([500, 1000, 2000, 4000, 8000, 10000, 10000]);
+  });
+});

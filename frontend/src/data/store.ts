@@ -1,0 +1,211 @@
+// The dashboard's state and the pure reducer that applies server messages to it.
+// Unchanged parts keep their identity, so panels that select them do not re-render.
+import type { Command, LinkState, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import { nextInterval } from "../lib/freshness";
+import { satelliteLabel } from "../lib/satellites";
+
+export interface TopicView {
+  envelope: ReportEnvelope;
+  at: number; // client time (s) it arrived
+  interval: number | null; // observed seconds between samples
+}
+
+export interface TrailPoint {
+  az: number;
+  el: number;
+  t: number;
+}
+
+export interface HistoryPoint {
+  t: number;
+  cn0: number | null; // mean of carrierToNoise, dB-Hz
+  used: number | null; // satellites used in the fix
+}
+
+export interface ProviderView {
+  id: string;
+  link: LinkState;
+  topics: Partial<Record<Topic, TopicView>>;
+  trails: Record<string, TrailPoint[]>;
+  history: HistoryPoint[];
+}
+
+export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained";
+
+export interface Alert {
+  id: number;
+  at: number; // client time, s since the epoch
+  kind: AlertKind;
+  severity: "alarm" | "warning" | "info";
+  text: string;
+  providerId: string | null;
+  dismissed: boolean;
+}
+
+export interface State {
+  consoleId: string | null;
+  authRequired: boolean;
+  providers: Record<string, ProviderView>;
+  commands: Record<string, Command>;
+  alerts: Alert[];
+  nextAlertId: number;
+  selected: string | null;
+}
+
+export const TRAIL_SECONDS = 600;
+export const TRAIL_STEP = 5;
+export const HISTORY_SECONDS = 300;
+export const HISTORY_STEP = 1;
+export const MAX_ALERTS = 200;
+
+export const initialState: State = {
+  consoleId: null,
+  authRequired: false,
+  providers: {},
+  commands: {},
+  alerts: [],
+  nextAlertId: 1,
+  selected: null,
+};
+
+export function report<T extends Topic>(p: ProviderView | undefined, topic: T): ReportTypes[T] | null {
+  const view = p?.topics[topic];
+  return view ? (view.envelope.report as unknown as ReportTypes[T]) : null;
+}
+
+function emptyProvider(id: string, link: LinkState): ProviderView {
+  return { id, link, topics: {}, trails: {}, history: [] };
+}
+
+function alert(state: State, now: number, kind: AlertKind, severity: Alert["severity"], text: string, providerId: string | null): State {
+  const a: Alert = { id: state.nextAlertId, at: now, kind, severity, text, providerId, dismissed: false };
+  return { ...state, alerts: [a, ...state.alerts].slice(0, MAX_ALERTS), nextAlertId: state.nextAlertId + 1 };
+}
+
+function shortId(id: string | null): string {
+  return id ? id.slice(0, 8) : "?";
+}
+
+function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope, now: number): Record<string, TrailPoint[]> {
+  const gps = env.report as unknown as ReportTypes["GPSReport"];
+  const next: Record<string, TrailPoint[]> = {};
+  for (const s of gps.satellites ?? []) {
+    if (typeof s.azimuth !== "number" || typeof s.elevation !== "number") continue;
+    const key = satelliteLabel(s.satelliteId);
+    const old = trails[key] ?? [];
+    const last = old[old.length - 1];
+    if (last && now - last.t < TRAIL_STEP) {
+      next[key] = old;
+      continue;
+    }
+    const kept = old.filter((p) => now - p.t <= TRAIL_SECONDS);
+    next[key] = [...kept, { az: s.azimuth, el: s.elevation, t: now }];
+  }
+  return next;
+}
+
+function updateHistory(p: ProviderView, now: number): HistoryPoint[] {
+  const last = p.history[p.history.length - 1];
+  if (last && now - last.t < HISTORY_STEP) return p.history;
+  const status = report(p, "GPSFixStatusReport");
+  const gps = report(p, "GPSReport");
+  const cn0s = (status?.carrierToNoise ?? []).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
+  const point: HistoryPoint = {
+    t: now,
+    cn0: cn0s.length ? cn0s.reduce((a, b) => a + b, 0) / cn0s.length : null,
+    used: gps ? (gps.satellites ?? []).filter((s) => s.usedInFix === true).length : null,
+  };
+  return [...p.history.filter((h) => now - h.t <= HISTORY_SECONDS), point];
+}
+
+function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
+  const before = state.providers[providerId] ?? emptyProvider(providerId, "live");
+  const prevView = before.topics[topic];
+  const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
+  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now) };
+  if (topic === "GPSFixStatusReport" || topic === "GPSReport") p = { ...p, history: updateHistory(p, now) };
+  let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
+  if (!next.selected) next = { ...next, selected: providerId };
+  if (topic === "GPSFixStatusReport") {
+    const was = report(before, "GPSFixStatusReport")?.fixValid;
+    const is = report(p, "GPSFixStatusReport")?.fixValid;
+    if (was === true && is === false) next = alert(next, now, "fix-lost", "warning", `GPS fix lost on ${shortId(providerId)}`, providerId);
+  }
+  if (topic === "InertialSensorReport") {
+    const was = report(before, "InertialSensorReport")?.status;
+    const is = report(p, "InertialSensorReport")?.status;
+    if (is === "INERTIAL_SENSOR_FAILURE" && was !== is) {
+      next = alert(next, now, "ins-failure", "alarm", `Inertial sensor failure on ${shortId(providerId)}`, providerId);
+    }
+  }
+  return next;
+}
+
+function applyCommand(state: State, cmd: Command, now: number): State {
+  const before = state.commands[cmd.sessionId];
+  let next: State = { ...state, commands: { ...state.commands, [cmd.sessionId]: cmd } };
+  if (cmd.unanswered && !before?.unanswered) {
+    next = alert(next, now, "unanswered", "warning", `${cmd.service} command ${shortId(cmd.sessionId)} unanswered`, cmd.providerId);
+  }
+  return next;
+}
+
+export function reduce(state: State, msg: ServerMessage, now: number): State {
+  switch (msg.type) {
+    case "snapshot": {
+      const providers: Record<string, ProviderView> = {};
+      for (const d of msg.providers) {
+        const old = state.providers[d.id];
+        let p: ProviderView = { ...(old ?? emptyProvider(d.id, d.link)), link: d.link, topics: {} };
+        for (const topic of Object.keys(d.reports) as Topic[]) {
+          const env = d.reports[topic];
+          if (env) {
+            const ageS = d.topics[topic]?.ageSeconds ?? 0;
+            p = { ...p, topics: { ...p.topics, [topic]: { envelope: env, at: now - ageS, interval: old?.topics[topic]?.interval ?? null } } };
+          }
+        }
+        providers[d.id] = p;
+      }
+      const commands: Record<string, Command> = {};
+      for (const c of msg.commands) commands[c.sessionId] = c;
+      const selected = state.selected && providers[state.selected] ? state.selected : (msg.providers[0]?.id ?? null);
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, selected };
+    }
+    case "report":
+      return applyReport(state, msg.providerId, msg.topic, msg.report, now);
+    case "provider": {
+      const id = msg.provider.id;
+      const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
+      let next: State = { ...state, providers: { ...state.providers, [id]: { ...before, link: msg.provider.link } } };
+      if (!next.selected) next = { ...next, selected: id };
+      if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${shortId(id)} lost`, id);
+      if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${shortId(id)} regained`, id);
+      return next;
+    }
+    case "command":
+      return applyCommand(state, msg.command, now);
+    case "transition": {
+      let next = applyCommand(state, msg.command, now);
+      const t = msg.transition;
+      if (t.status === "FAILED") {
+        next = alert(next, now, "command-failed", "alarm", `${msg.command.service} command failed: ${t.reason}${t.logMessage ? ` (${t.logMessage})` : ""}`, msg.command.providerId);
+      }
+      if (t.violation) {
+        next = alert(next, now, "violation", "alarm", `${msg.command.service} command broke the UMAA flow: ${t.violation}`, msg.command.providerId);
+      }
+      return next;
+    }
+    case "error":
+    case "pong":
+      return state;
+  }
+}
+
+export function dismiss(state: State, alertId: number | "all"): State {
+  return { ...state, alerts: state.alerts.map((a) => (alertId === "all" || a.id === alertId ? { ...a, dismissed: true } : a)) };
+}
+
+export function select(state: State, providerId: string): State {
+  return state.providers[providerId] ? { ...state, selected: providerId } : state;
+}

@@ -1,0 +1,99 @@
+import { describe, expect, it } from "vitest";
+import { freshness, nextInterval, staleAfter } from "./freshness";
+import { satelliteLabel } from "./satellites";
+import { project, trailPath } from "./skyplot";
+import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
+
+describe("sky-plot projection", () => {
+  const R = 100;
+  it("puts the zenith at the centre and the horizon on the rim", () => {
+    expect(project(1.0, Math.PI / 2, R)).toEqual({ x: 0, y: -0 });
+    const north = project(0, 0, R)!;
+    expect(north.x).toBeCloseTo(0);
+    expect(north.y).toBeCloseTo(-R);
+  });
+  it("puts east right, south down, west left (azimuth -pi..pi or 0..2pi)", () => {
+    const east = project(Math.PI / 2, 0, R)!;
+    expect(east.x).toBeCloseTo(R);
+    expect(east.y).toBeCloseTo(0);
+    expect(project(Math.PI, 0, R)!.y).toBeCloseTo(R);
+    const west1 = project(-Math.PI / 2, 0, R)!;
+    const west2 = project((3 * Math.PI) / 2, 0, R)!;
+    expect(west1.x).toBeCloseTo(-R);
+    expect(west2.x).toBeCloseTo(west1.x);
+  });
+  it("scales radius linearly with elevation and clamps below the horizon", () => {
+    const p = project(Math.PI / 2, Math.PI / 4, R)!;
+    expect(p.x).toBeCloseTo(R / 2);
+    expect(project(0, -0.3, R)!.y).toBeCloseTo(-R);
+  });
+  it("refuses missing or non-finite angles", () => {
+    expect(project(null, 0.5, R)).toBeNull();
+    expect(project(0.5, Number.NaN, R)).toBeNull();
+    expect(project(undefined, undefined, R)).toBeNull();
+  });
+  it("draws trails of two or more points", () => {
+    expect(trailPath([{ x: 0, y: 0 }])).toBe("");
+    expect(trailPath([{ x: 0, y: 0 }, { x: 1.25, y: -2 }])).toBe("M0.0,0.0 L1.3,-2.0");
+  });
+});
+
+describe("unit formatting", () => {
+  it("shows a dash for missing or non-finite values", () => {
+    for (const f of [(v: number | null) => fixed(v, 1, "m"), degrees, speed, (v: number | null) => latLon(v, true), (v: number | null) => dms(v, false), utc, age]) {
+      expect(f(null)).toBe(DASH);
+      expect(f(Number.NaN)).toBe(DASH);
+    }
+  });
+  it("converts radians to degrees, bearings wrapped to 0..360", () => {
+    expect(degrees(Math.PI / 2)).toBe("90.0°");
+    expect(degrees(-Math.PI / 2, 0, true)).toBe("270°");
+  });
+  it("gives speed in m/s and knots", () => {
+    expect(speed(1)).toBe("1.00 m/s (1.94 kn)");
+  });
+  it("formats positions as decimal degrees and DMS with hemispheres", () => {
+    expect(latLon(36.8, true)).toBe("36.800000° N");
+    expect(latLon(-75.7, false)).toBe("75.700000° W");
+    expect(dms(36.80012222, true)).toBe("36° 48′ 00.44″ N");
+    expect(dms(-75.5, false)).toBe("75° 30′ 00.00″ W");
+    expect(dms(10.999999, true)).toBe("11° 00′ 00.00″ N");
+  });
+  it("formats UTC times", () => {
+    expect(utc(0)).toBe("1970-01-01 00:00:00.000Z");
+    expect(utc(90061.5, false)).toBe("01:01:01.500Z");
+  });
+});
+
+describe("freshness", () => {
+  it("is live within the allowance, stale after, lost when the link is lost", () => {
+    expect(freshness(0.5, "GPSFixReport", 0.1, "live")).toBe("live");
+    expect(freshness(2.0, "GPSFixReport", 0.1, "live")).toBe("stale");
+    expect(freshness(2.0, "GPSReport", 1.0, "live")).toBe("live");
+    expect(freshness(3.5, "GPSReport", 1.0, "regained")).toBe("stale");
+    expect(freshness(0.1, "GPSReport", 1.0, "lost")).toBe("lost");
+    expect(freshness(null, "GPSReport", null, "live")).toBe("none");
+  });
+  it("allows three observed intervals for slow topics", () => {
+    expect(staleAfter("InertialSensorReport", 2)).toBe(6);
+    expect(staleAfter("InertialSensorReport", null)).toBe(1.5);
+  });
+  it("learns the interval but not from gaps", () => {
+    expect(nextInterval(null, 0.1)).toBe(0.1);
+    expect(nextInterval(0.1, 0.2)).toBeCloseTo(0.12);
+    expect(nextInterval(0.1, 10)).toBe(0.1);
+    expect(nextInterval(0.1, -1)).toBe(0.1);
+  });
+});
+
+describe("satellite labels", () => {
+  it("decodes the simulator's satelliteId convention", () => {
+    // satellite_guid(GALILEO, 7) as the backend makes it
+    expect(satelliteLabel("ca5d35fb-bcc2-5b9a-b20c-df56b7b90207")).toBe("E07");
+    expect(satelliteLabel("ca5d35fb-bcc2-5b9a-b20c-df56b7b90785")).toBe("S133");
+  });
+  it("falls back to a short id", () => {
+    expect(satelliteLabel("12345678-0000-4000-8000-000000000000")).toBe("12345678");
+    expect(satelliteLabel(null)).toBe("?");
+  });
+});

@@ -1,0 +1,72 @@
+// Formatting of numbers with units. Every function returns "—" for a value that is missing or not finite.
+
+export const DASH = "—";
+const KNOTS_PER_MPS = 3600 / 1852;
+
+export function isNum(v: unknown): v is number {
+  return typeof v === "number" && Number.isFinite(v);
+}
+
+export function fixed(v: number | null | undefined, digits: number, unit = ""): string {
+  if (!isNum(v)) return DASH;
+  return unit ? `${v.toFixed(digits)} ${unit}` : v.toFixed(digits);
+}
+
+export function radToDeg(rad: number): number {
+  return (rad * 180) / Math.PI;
+}
+
+/** An angle in radians shown in degrees; `wrap` maps it to 0..360 (bearings). */
+export function degrees(rad: number | null | undefined, digits = 1, wrap = false): string {
+  if (!isNum(rad)) return DASH;
+  let d = radToDeg(rad);
+  if (wrap) d = ((d % 360) + 360) % 360;
+  return `${d.toFixed(digits)}°`;
+}
+
+export function speed(mps: number | null | undefined): string {
+  if (!isNum(mps)) return DASH;
+  return `${mps.toFixed(2)} m/s (${(mps * KNOTS_PER_MPS).toFixed(2)} kn)`;
+}
+
+/** Decimal degrees with hemisphere, e.g. 36.800123° N. */
+export function latLon(deg: number | null | undefined, isLat: boolean): string {
+  if (!isNum(deg)) return DASH;
+  const hemi = isLat ? (deg >= 0 ? "N" : "S") : deg >= 0 ? "E" : "W";
+  return `${Math.abs(deg).toFixed(6)}° ${hemi}`;
+}
+
+/** Degrees, minutes, seconds with hemisphere, e.g. 36° 48′ 00.44″ N. */
+export function dms(deg: number | null | undefined, isLat: boolean): string {
+  if (!isNum(deg)) return DASH;
+  const hemi = isLat ? (deg >= 0 ? "N" : "S") : deg >= 0 ? "E" : "W";
+  let totalSeconds = Math.round(Math.abs(deg) * 360000) / 100; // hundredths of a second
+  const d = Math.floor(totalSeconds / 3600);
+  totalSeconds -= d * 3600;
+  const m = Math.floor(totalSeconds / 60);
+  const s = totalSeconds - m * 60;
+  return `${d}° ${String(m).padStart(2, "0")}′ ${s.toFixed(2).padStart(5, "0")}″ ${hemi}`;
+}
+
+/** UTC time of an epoch in seconds, e.g. 2026-11-22 21:03:04.123Z. */
+export function utc(epochSeconds: number | null | undefined, withDate = true): string {
+  if (!isNum(epochSeconds)) return DASH;
+  const iso = new Date(epochSeconds * 1000).toISOString(); // 2026-11-22T21:03:04.123Z
+  return withDate ? iso.replace("T", " ") : iso.slice(11);
+}
+
+export function hertz(hz: number | null | undefined): string {
+  if (!isNum(hz)) return DASH;
+  return hz >= 1e6 ? `${(hz / 1e6).toFixed(3)} MHz` : `${hz.toFixed(0)} Hz`;
+}
+
+export function age(seconds: number | null | undefined): string {
+  if (!isNum(seconds)) return DASH;
+  if (seconds < 10) return `${seconds.toFixed(1)} s`;
+  if (seconds < 120) return `${seconds.toFixed(0)} s`;
+  return `${(seconds / 60).toFixed(0)} min`;
+}
+
+export function yesNo(v: boolean | null | undefined): string {
+  return v === true ? "yes" : v === false ? "no" : DASH;
+}

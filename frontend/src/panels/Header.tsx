@@ -1,0 +1,45 @@
+import { useState } from "react";
+import { setToken, useToken } from "../data/auth";
+import { useConnectionState, useNow, useSelector } from "../data/hooks";
+import { utc } from "../lib/units";
+
+const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)" };
+
+export function Header() {
+  const conn = useConnectionState();
+  const consoleId = useSelector((s) => s.consoleId);
+  const authRequired = useSelector((s) => s.authRequired);
+  const token = useToken();
+  const now = useNow(1000);
+  const [draft, setDraft] = useState("");
+  return (
+    <header className="app-header">
+      <h1>SEM Console</h1>
+      <span className={`conn conn-${conn}`} data-testid="connection-state" role="status" aria-label="connection">
+        {LABEL[conn]}
+      </span>
+      <span className="muted" title="console source GUID">{consoleId ? `console ${consoleId.slice(0, 8)}` : ""}</span>
+      <span className="spacer" />
+      {authRequired &&
+        (token ? (
+          <span className="signin" data-testid="signed-in">
+            Operator signed in <button onClick={() => setToken(null)}>Sign out</button>
+          </span>
+        ) : (
+          <form
+            className="signin"
+            onSubmit={(e) => {
+              e.preventDefault();
+              setToken(draft);
+              setDraft("");
+            }}
+          >
+            <span className="readonly" data-testid="read-only">Read-only</span>
+            <input type="password" aria-label="Operator token" placeholder="Operator token" value={draft} onChange={(e) => setDraft(e.target.value)} />
+            <button type="submit">Sign in</button>
+          </form>
+        ))}
+      <span className="clock" title="UTC">{utc(now).slice(0, 19)} UTC</span>
+    </header>
+  );
+}

@@ -1,0 +1,66 @@
+import type { InertialSensorOpStatusEnumType } from "../api/types";
+import { Panel } from "../components/Panel";
+import { useNow, useSelectedProvider } from "../data/hooks";
+import { report } from "../data/store";
+import { freshness } from "../lib/freshness";
+import { DASH, utc } from "../lib/units";
+
+export const STEPS: readonly InertialSensorOpStatusEnumType[] = [
+  "INIT",
+  "COURSE_STATIONARY_ALIGNMENT",
+  "FINE_STATIONARY_ALIGNMENT_STARTED",
+  "FINE_STATIONARY_ALIGNMENT_COMPLETE",
+  "OPERATIONAL",
+];
+const GPS_STEPS: Partial<Record<InertialSensorOpStatusEnumType, number>> = {
+  COURSE_GPS_ALIGNMENT: 1,
+  FINE_GPS_ALIGNMENT_STARTED: 2,
+  FINE_GPS_ALIGNMENT_COMPLETE: 3,
+};
+
+/** Index of a status in the alignment steps (GPS-aided stages map to their stationary peers), -1 if none. */
+export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined): number {
+  if (!status) return -1;
+  const i = STEPS.indexOf(status);
+  return i >= 0 ? i : (GPS_STEPS[status] ?? -1);
+}
+
+export function InsPanel() {
+  const p = useSelectedProvider();
+  const now = useNow();
+  const view = p?.topics.InertialSensorReport ?? null;
+  const ins = report(p ?? undefined, "InertialSensorReport");
+  const ageS = view ? Math.max(0, now - view.at) : null;
+  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, p?.link ?? null);
+  const stale = fresh === "stale" || fresh === "lost";
+  const failed = ins?.status === "INERTIAL_SENSOR_FAILURE";
+  const current = stepIndex(ins?.status);
+  return (
+    <Panel title="Inertial sensor" testId="ins-panel" freshness={fresh} ageSeconds={ageS}>
+      {!ins ? (
+        <p className="muted">No InertialSensorReport yet.</p>
+      ) : (
+        <>
+          <div className="badges">
+            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state">{ins.state ?? DASH}</span>
+            <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status">{ins.status ?? DASH}</span>
+            <span className="muted">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
+          </div>
+          {failed && (
+            <div className="alarm" role="alert" data-testid="ins-failure">
+              INERTIAL SENSOR FAILURE
+            </div>
+          )}
+          <ol className={`steps${stale ? " stale" : ""}`} aria-label="Alignment">
+            {STEPS.map((s, i) => (
+              <li key={s} className={i < current ? "done" : i === current ? "current" : ""} aria-current={i === current ? "step" : undefined}>
+                {s.replace(/_/g, " ").toLowerCase()}
+              </li>
+            ))}
+          </ol>
+          {view && view.envelope.invalid.length > 0 && <p className="invalid-note">⚠ {view.envelope.invalid.join("; ")}</p>}
+        </>
+      )}
+    </Panel>
+  );
+}

@@ -1,0 +1,44 @@
+import { useNow, useProviders, useSelector, useStore } from "../data/hooks";
+import { report, select, type ProviderView } from "../data/store";
+import { age } from "../lib/units";
+
+function lastSeen(p: ProviderView): number | null {
+  const times = Object.values(p.topics).map((t) => t.at);
+  return times.length ? Math.max(...times) : null;
+}
+
+export function VehicleSelector() {
+  const providers = useProviders();
+  const selected = useSelector((s) => s.selected);
+  const store = useStore();
+  const now = useNow();
+  return (
+    <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles">
+      {providers.length === 0 && <p className="muted">No vehicle on the bus yet.</p>}
+      {providers.map((p) => {
+        const seen = lastSeen(p);
+        const ageS = seen === null ? null : Math.max(0, now - seen);
+        const link = p.link === "live" && ageS !== null && ageS > 3 ? "stale" : p.link;
+        const fix = report(p, "GPSFixStatusReport");
+        const ins = report(p, "InertialSensorReport");
+        return (
+          <button
+            key={p.id}
+            className={`vehicle${p.id === selected ? " selected" : ""}`}
+            aria-pressed={p.id === selected}
+            data-testid="vehicle"
+            data-link={link}
+            onClick={() => store.update((s) => select(s, p.id))}
+          >
+            <span className="vehicle-name">Vehicle {p.id.slice(0, 8)}</span>
+            <span className={`link link-${link}`} data-testid="vehicle-link">{link}</span>
+            <span className="vehicle-meta">
+              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS {ins?.status ?? "—"} · {age(ageS)}
+            </span>
+            <span className="vehicle-id muted">{p.id}</span>
+          </button>
+        );
+      })}
+    </nav>
+  );
+}
