@@ -22,7 +22,8 @@ from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
-from sem_console.dds.qos import any_writer_reader_qos
+from cyclonedds.core import Policy, Qos
+from cyclonedds.util import duration
 from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
@@ -136,7 +137,8 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
     c = console()
     bus = Consumer(domain, name="be-provider").bus
     from cyclonedds.pub import DataWriter
-    writer = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=any_writer_reader_qos())
+    writer = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=Qos(
+        Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.LatencyBudget(duration(milliseconds=10))))
     source = uuid.uuid4()
     sample = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(source), timeStamp=now_datetime())
 
@@ -144,6 +146,34 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
         writer.write(sample)
         return httpx.get(f"{c.url}/api/providers/{source}").status_code == 200
     wait_until(seen, 10, "the best-effort provider")
+
+
+def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain: int) -> None:
+    """A provider whose report and status writers are best-effort and volatile, with a latency budget."""
+    from cyclonedds.pub import DataWriter
+    from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as St
+    from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Rs
+    from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
+
+    c = console()
+    bus = Consumer(domain, name="be-status-provider").bus
+    qos = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.LatencyBudget(duration(milliseconds=10)))
+    reports = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=qos)
+    statuses = DataWriter(bus.participant, bus.topic(Sem.GPS_FIX_COMMAND_STATUS), qos=qos)
+    commands = bus.reader(Sem.GPS_FIX_COMMAND)
+    me = uuid.uuid4()
+    wait_until(lambda: reports.write(InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(me),
+                                                              timeStamp=now_datetime()))
+               or httpx.get(f"{c.url}/api/providers/{me}").status_code == 200, 10, "the provider")
+    session = httpx.post(f"{c.url}/api/providers/{me}/gps-fix").json()["sessionId"]
+    cmd = wait_until(lambda: next((x for x in commands.take(N=10) if str(uuid.UUID(bytes=bytes(x.sessionID))) == session), None),
+                     10, "the command at the provider")
+    for st in (St.ISSUED, St.COMMANDED):
+        statuses.write(GPSFixCommandStatusType(source=to_guid(me), commandStatus=st, commandStatusReason=Rs.SUCCEEDED,
+                                               logMessage="", sessionID=cmd.sessionID, timeStamp=now_datetime()))
+        time.sleep(0.05)
+    done = wait_command(c.url, session, done=lambda x: x["status"] == "COMMANDED")
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED"]
 
 
 def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> None:

@@ -48,3 +48,16 @@ def test_repeat_is_not_a_transition_and_violation_is_recorded() -> None:
     t = flow.observe(S.EXECUTING, OK)
     assert t is not None and t.violation
     assert flow.status is S.EXECUTING and len(flow.violations) == 1
+
+
+def test_unknown_ordinals_are_violations_and_do_not_move_the_state() -> None:
+    from sem_console.umaa.flow import name, parse
+    flow = CommandFlow()
+    flow.observe(S.ISSUED, OK)
+    t = flow.observe(99, OK)
+    assert t is not None and t.violation == "unknown commandStatus ordinal 99"
+    t = flow.observe(S.COMMANDED, 77)
+    assert t is not None and t.violation == "unknown commandStatusReason ordinal 77"
+    assert flow.status is S.ISSUED
+    assert flow.observe(S.COMMANDED, OK).violation is None  # type: ignore[union-attr]
+    assert name(99) == "UNKNOWN(99)" and parse(S, "UNKNOWN(99)") == 99 and parse(R, "TIMEOUT") is R.TIMEOUT

@@ -53,10 +53,11 @@ def test_link_lost_after_silence_and_regained_after_continuous_samples() -> None
         t += 0.2
     links.seen("GPSFixReport", pid, {"x": 1}, 4.1, 4.1, True)
     assert [e for _, e in links.tick(4.1)] == ["regained"]
-    for t in (4.8, 5.5, 6.2):
+    for t in (4.8, 5.5):
         links.seen("GPSFixReport", pid, {"x": 1}, t, t, True)
         assert links.tick(t) == []
-    assert links.by_id[pid].link == "live"
+    links.seen("GPSFixReport", pid, {"x": 1}, 6.2, 6.2, True)
+    assert [e for _, e in links.tick(6.2)] == ["live"] and links.by_id[pid].link == "live"
 
 
 def test_link_lost_when_all_report_writers_go() -> None:
@@ -86,5 +87,22 @@ def test_hub_burst_does_not_drop_a_healthy_client() -> None:
         for i in range(25):  # past four times the bound: dropped whatever it does
             hub.publish({"type": "transition", "n": i})
         assert client.dropped
+
+    asyncio.run(scenario())
+
+
+def test_resync_storm_queues_one_snapshot() -> None:
+    async def scenario() -> None:
+        hub = Hub(max_queue=100)
+        gate = asyncio.Event()
+
+        async def slow(_text: str) -> None:
+            await gate.wait()
+
+        client = hub.attach(slow, {"type": "snapshot"})
+        await asyncio.sleep(0)  # the first snapshot is being sent (and blocks)
+        for _ in range(1000):
+            client.push_snapshot(json.dumps({"type": "snapshot", "big": "x" * 1000}))
+        assert len(client.ordered) == 1 and not client.dropped
 
     asyncio.run(scenario())

@@ -13,11 +13,11 @@ from sem_console.core.config import Settings
 _bearer = HTTPBearer(auto_error=False, description="an operator token, when the console has any configured")
 
 
-def get_console(request: Request) -> Console:
+async def get_console(request: Request) -> Console:
     return request.app.state.console  # type: ignore[no-any-return]
 
 
-def get_settings(request: Request) -> Settings:
+async def get_settings(request: Request) -> Settings:
     return request.app.state.settings  # type: ignore[no-any-return]
 
 
@@ -25,7 +25,7 @@ ConsoleDep = Annotated[Console, Depends(get_console)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 
 
-def operator_name(settings: SettingsDep,
+async def operator_name(settings: SettingsDep,
                   credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]) -> str | None:
     """The signed-in operator for command routes; None when the console needs no sign-in."""
     operators = settings.operators()

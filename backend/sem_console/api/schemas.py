@@ -32,7 +32,8 @@ class ProviderSummary(_Model):
 
 
 class ReportEnvelope(_Model):
-    report: dict[str, Any] = Field(description="the sample, member for member as in the IDL (see the *Json schemas)")
+    report: dict[str, Any] = Field(description="the sample, member for member as in the IDL; its type per topic is "
+                                             "ReportTypes in /api/ws-schema")
     invalid: list[str] = Field(description="'member.path: why' for each value that is not a valid reading")
     receivedAt: float
 
@@ -63,6 +64,7 @@ class Command(_Model):
     unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
     cancelRequested: bool
     canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
+    ackedAt: float | None = Field(description="when the provider first reported executing it (its CommandAckReport), UTC seconds")
     cleanedUp: bool
     violations: list[str]
     transitions: list[Transition]
@@ -98,7 +100,7 @@ class ReportMessage(_Model):
 
 class ProviderMessage(_Model):
     type: Literal["provider"]
-    event: Literal["appeared", "lost", "regained"]
+    event: Literal["appeared", "lost", "regained", "live"] = Field(description="live: a regained provider is back to normal")
     provider: ProviderSummary
 
 

@@ -8,6 +8,7 @@ FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswere
 
 from __future__ import annotations
 
+import logging
 import time
 import uuid
 from dataclasses import dataclass, field
@@ -19,11 +20,13 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.console.store import Store
 from sem_console.dds.topics import Service
-from sem_console.umaa.flow import CommandFlow
-from sem_console.umaa.guid import to_guid
+from sem_console.umaa.flow import CommandFlow, name, parse
+from sem_console.umaa.guid import from_guid, to_guid
 from sem_console.umaa.samples import datetime_to_float, now_datetime
 
+log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
+KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 
 
 @dataclass
@@ -41,14 +44,16 @@ class Command:
     cancel_requested: bool = False
     canceled_by: str | None = None
     cleaned_up: bool = False
+    acked_at: float | None = None
     issued_by_deadline: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         return {
             "sessionId": str(self.session_id), "service": self.service.value, "providerId": str(self.provider_id),
-            "state": self.state.name if self.state else None, "operator": self.operator, "createdAt": self.created_at,
-            "status": self.flow.status.name if self.flow.status else None, "terminal": self.flow.terminal,
+            "state": name(self.state) if self.state is not None else None, "operator": self.operator, "createdAt": self.created_at,
+            "status": name(self.flow.status) if self.flow.status else None, "terminal": self.flow.terminal,
             "unanswered": self.unanswered, "cancelRequested": self.cancel_requested, "canceledBy": self.canceled_by, "cleanedUp": self.cleaned_up,
+            "ackedAt": self.acked_at,
             "violations": self.flow.violations,
             "transitions": [transition_json(i, t, pt, rt)
                             for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times), start=1)],
@@ -56,7 +61,7 @@ class Command:
 
 
 def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> dict[str, Any]:
-    return {"seq": seq, "status": t.status.name, "reason": t.reason.name, "logMessage": t.log_message, "violation": t.violation,
+    return {"seq": seq, "status": name(t.status), "reason": name(t.reason), "logMessage": t.log_message, "violation": t.violation,
             "providerTime": provider_time, "receivedAt": received_at}
 
 
@@ -74,21 +79,41 @@ class Commands:
 
     # ---- history --------------------------------------------------------------------
     def _load_history(self) -> None:
-        for row in self.store.commands():
-            service = Service(row["service"])
-            state = InsState[row["state"]] if row["state"] else None
-            cmd = Command(uuid.UUID(row["session_id"]), service, uuid.UUID(row["provider_id"]), state, row["operator"],
-                          row["created_at"], self._sample(service, uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"]),
-                                                          state, row["command"]["timeStamp"]),
-                          unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
-                          canceled_by=row["canceled_by"],
-                          cleaned_up=bool(row["cleaned_up"]))
-            for t in row["transitions"]:
-                cmd.flow.observe(Status[t["status"]], Reason[t["reason"]], t["log_message"])
-                cmd.times.append((t["provider_time"], t["received_at"]))
+        for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
+            cmd = self.from_row(row)
             self.by_session[cmd.session_id] = cmd
 
-    def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | None,
+    def from_row(self, row: dict[str, Any]) -> Command:
+        service = Service(row["service"])
+        state = parse(InsState, row["state"]) if row["state"] else None
+        provider, session = uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"])
+        cmd = Command(session, service, provider, state if isinstance(state, InsState) else None, row["operator"],
+                      row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"]),
+                      unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
+                      canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"])
+        for t in row["transitions"]:
+            cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"])
+            cmd.times.append((t["provider_time"], t["received_at"]))
+        return cmd
+
+    def history(self, limit: int, offset: int) -> list[dict[str, Any]]:
+        """Newest first, from the database (memory holds only active and recent commands)."""
+        return [self.from_row(r).to_json() for r in self.store.commands(limit=limit, offset=offset)]
+
+    def get(self, session: uuid.UUID) -> Command | None:
+        if session in self.by_session:
+            return self.by_session[session]
+        rows = self.store.commands(session_id=str(session))
+        return self.from_row(rows[0]) if rows else None
+
+    def _forget_old(self) -> None:
+        """Keep the active commands and the KEEP_FINISHED most recent finished ones in memory."""
+        finished = [c for c in self.by_session.values() if c.cleaned_up]
+        if len(finished) > KEEP_FINISHED:
+            for c in sorted(finished, key=lambda c: c.created_at)[: len(finished) - KEEP_FINISHED]:
+                del self.by_session[c.session_id]
+
+    def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | int | None,
                 stamp: tuple[int, int] | list[int]) -> Any:
         from UMAA.Common.Measurement import DateTime
         values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(provider), sessionID=to_guid(session),
@@ -98,12 +123,36 @@ class Commands:
         return service.command.spec.type(**values)
 
     # ---- consumer flow --------------------------------------------------------------
+    def adopt(self, found: tuple[Service, Any]) -> None:
+        """One of our commands found on the bus that the history does not know (a wiped database)."""
+        service, sample = found
+        session = from_guid(sample.sessionID)
+        if session in self.by_session:
+            return
+        state = sample.state if service is Service.INERTIAL_SENSOR else None
+        cmd = Command(session, service, from_guid(sample.destination), state, None, time.time(), sample)
+        self.by_session[session] = cmd
+        ts = sample.timeStamp
+        self.store.add_command(cmd.to_json(), {"timeStamp": [ts.seconds, ts.nanoseconds]})
+
+    def on_ack(self, service: Service, session: uuid.UUID, source: uuid.UUID) -> None:
+        """The provider reports it is executing this command (its CommandAckReport)."""
+        cmd = self.by_session.get(session)
+        if cmd is None or cmd.service is not service or source != cmd.provider_id or cmd.acked_at is not None:
+            return
+        cmd.acked_at = time.time()
+        self.store.set_acked(str(session), cmd.acked_at)
+        self.emit({"type": "command", "command": cmd.to_json()})
+
     def startup(self) -> list[Command]:
         """Consumer Startup Sequence: resume following our commands that were not finished."""
         resumed = [c for c in self.by_session.values() if not c.cleaned_up and not c.flow.terminal and not c.cancel_requested]
         for c in resumed:
             c.issued_by_deadline = time.monotonic() + self.unanswered_timeout
-            self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
+            try:
+                self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
+            except Exception as e:  # e.g. a command adopted from the bus that Cyclone will not write again
+                log.warning("cannot publish command %s again: %s", c.session_id, e)
         for c in self.by_session.values():
             if c.flow.terminal and not c.cleaned_up and not c.cancel_requested:
                 self.cleanup(c)
@@ -123,10 +172,10 @@ class Commands:
 
     def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
         cmd = self.by_session.get(session)
-        if cmd is None:
-            raise CommandError(f"no command with sessionId {session}")
+        if cmd is None:  # not in memory: unknown, or finished long ago
+            raise CommandError(f"command {session} is not running")
         if cmd.flow.terminal or cmd.cleaned_up:
-            raise CommandError(f"command {session} already finished ({cmd.flow.status.name if cmd.flow.status else 'cleaned up'})")
+            raise CommandError(f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})")
         if not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, operator
             self.store.set_canceled(str(session), operator)
@@ -141,15 +190,17 @@ class Commands:
                 self._dispose(cmd.service, cmd.sample)
             cmd.cleaned_up = True
             self.store.set_flag(str(cmd.session_id), "cleaned_up")
+            self._forget_old()
 
-    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status, reason: Reason,
+    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status | int, reason: Reason | int,
                   log_message: str, provider_time: float | None) -> None:
         cmd = self.by_session.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id:
             return  # not ours (another consumer's command, or a provider it was not sent to)
-        last_time = cmd.times[-1][0] if cmd.times else None
-        if provider_time is not None and last_time is not None and provider_time <= last_time:
-            return  # a replay of history we have (transient-local, after our restart)
+        if provider_time is not None and any(
+                t.status == status and t.reason == reason and pt == provider_time
+                for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times)):
+            return  # a replay of a status we have recorded (transient-local history, after our restart)
         t = cmd.flow.observe(status, reason, log_message)
         if t is None:
             return
@@ -159,6 +210,7 @@ class Commands:
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
+            self.store.set_flag(str(session), "unanswered", False)
         self.emit({"type": "transition", "sessionId": str(session), "transition": transition_json(seq, t, provider_time, received),
                    "command": cmd.to_json()})
         if cmd.flow.terminal:

@@ -21,11 +21,16 @@ from typing import Any, Awaitable, Callable
 log = logging.getLogger("sem-console.hub")
 
 
+MAX_QUEUED_BYTES = 64 * 1024 * 1024
+
+
 class Client:
     def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float) -> None:
         self.send, self.max_queue, self.stall_seconds = send, max_queue, stall_seconds
         self.last_sent = time.monotonic()
         self.ordered: deque[str] = deque()
+        self.queued_bytes = 0
+        self.snapshot_pending = False
         self.reports: dict[tuple[str, str], str] = {}
         self.wake = asyncio.Event()
         self.task: asyncio.Task[None] | None = None
@@ -37,17 +42,25 @@ class Client:
         if key is not None:
             self.reports.pop(key, None)  # re-insert: conflated reports go out oldest first
             self.reports[key] = text
-        elif len(self.ordered) >= self.max_queue and (
+        elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue):
             self.drop()
             return
         else:
             self.ordered.append(text)
+            self.queued_bytes += len(text)
         self.wake.set()
+
+    def push_snapshot(self, text: str) -> None:
+        """Queue a snapshot unless one is already waiting to go out (a resync storm costs one)."""
+        if not self.snapshot_pending:
+            self.snapshot_pending = True
+            self.push(text)
 
     def drop(self) -> None:
         self.dropped = True
         self.ordered.clear()
+        self.queued_bytes = 0
         self.reports.clear()
         if self.task is not None:
             self.task.cancel()
@@ -57,7 +70,11 @@ class Client:
             await self.wake.wait()
             self.wake.clear()
             while self.ordered:
-                await self.send(self.ordered.popleft())
+                text = self.ordered.popleft()
+                self.queued_bytes -= len(text)
+                if text.startswith('{"type":"snapshot"'):
+                    self.snapshot_pending = False
+                await self.send(text)
                 self.last_sent = time.monotonic()
             while self.reports:
                 key = next(iter(self.reports))
@@ -83,7 +100,7 @@ class Hub:
     def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any]) -> Client:
         """Register a client with `first` (its snapshot) queued ahead of any later event."""
         client = Client(send, self.max_queue, self.stall_seconds)
-        client.push(json.dumps(first, separators=(",", ":")))
+        client.push_snapshot(json.dumps(first, separators=(",", ":")))
         self.clients.add(client)
         client.task = asyncio.get_running_loop().create_task(client.run())
         return client

@@ -75,12 +75,10 @@ class Ingest:
         self.report_interval = report_interval
         self.undecodable: dict[str, int] = {}
         self.running = False
-        # Two readers per report topic (see qos.any_writer_reader_qos); the newer sample wins.
-        self.report_readers: list[tuple[Sem, DataReader]] = []
-        for sem in REPORT_TOPICS:
-            self.report_readers += [(sem, bus.reader(sem, any_writer_reader_qos())), (sem, bus.reader(sem))]
-        self.status_readers = [(sem, bus.reader(sem)) for sem in list(STATUS_TOPICS) + list(ACK_TOPICS)]
-        self._last_ts: dict[tuple[Sem, uuid.UUID], int] = {}
+        # Two readers per topic (see qos.any_writer_reader_qos); a sample seen by both is applied once.
+        self.report_readers = self._readers(bus, list(REPORT_TOPICS))
+        self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS))
+        self._last_ts: dict[tuple[Sem, uuid.UUID, uuid.UUID | None], int] = {}
         self.threads: list[threading.Thread] = []
         self._waitsets = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
@@ -104,13 +102,37 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
-    def _take(self, sem: Sem, reader: DataReader, condition: Any) -> list[Any]:
-        try:
-            return reader.take(N=512, condition=condition)
-        except Exception as e:  # a sample Python cannot decode: count it, keep reading
-            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
-            log.warning("undecodable sample on %s: %s", sem.spec.name, e)
-            return []
+    @staticmethod
+    def _readers(bus: Bus, sems: list[Sem]) -> list[tuple[Sem, DataReader]]:
+        out = []
+        for sem in sems:
+            out += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls))), (sem, bus.reader(sem))]
+        return out
+
+    def _take(self, sem: Sem, reader: DataReader, condition: Any, limit: int = 4096) -> list[Any]:
+        """Take one sample at a time: one that Python cannot decode costs only itself."""
+        out: list[Any] = []
+        while len(out) < limit:
+            try:
+                got = reader.take(N=1, condition=condition)
+            except Exception as e:
+                self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+                log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+                continue
+            if not got:
+                break
+            out.extend(got)
+        return out
+
+    def _is_new(self, sem: Sem, source: uuid.UUID, session: uuid.UUID | None, s: Any) -> bool:
+        """False for a sample already applied through the other reader of the topic."""
+        if isinstance(s, InvalidSample):
+            return True
+        key = (sem, source, session)
+        if s.sample_info.source_timestamp <= self._last_ts.get(key, -1):
+            return False
+        self._last_ts[key] = s.sample_info.source_timestamp
+        return True
 
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
@@ -137,10 +159,8 @@ class Ingest:
         alive = info.instance_state == InstanceState.Alive
         if isinstance(s, InvalidSample):
             return ReportItem(REPORT_TOPICS[sem], source, None, [], False, time.time())
-        last = self._last_ts.get((sem, source), -1)
-        if info.source_timestamp <= last and alive:
-            return None  # the same sample through the other reader
-        self._last_ts[(sem, source)] = info.source_timestamp
+        if not self._is_new(sem, source, None, s):
+            return None
         try:
             report, invalid = to_json(s)
         except Exception as e:  # never let one bad sample stop the reader
@@ -156,7 +176,7 @@ class Ingest:
                 for s in self._take(sem, reader, cond):
                     key = s.key_sample if isinstance(s, InvalidSample) else s
                     source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
-                    if source is None or session is None:
+                    if source is None or session is None or not self._is_new(sem, source, session, s):
                         continue
                     service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
                     kind = "status" if sem in STATUS_TOPICS else "ack"

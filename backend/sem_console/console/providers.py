@@ -75,7 +75,7 @@ class Providers:
         return p, new
 
     def tick(self, now: float) -> list[tuple[Provider, str]]:
-        """Advance link states; returns (provider, 'lost' | 'regained') events."""
+        """Advance link states; returns (provider, 'lost' | 'regained' | 'live') events."""
         events: list[tuple[Provider, str]] = []
         for p in self.by_id.values():
             silent = now - p.last_seen() > self.comms_lost_timeout
@@ -92,4 +92,5 @@ class Providers:
                     events.append((p, "regained"))
             elif p.link == "regained" and p.regained_at is not None and now - p.regained_at >= self.regained_time:
                 p.link = "live"
+                events.append((p, "live"))
         return events

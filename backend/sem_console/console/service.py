@@ -45,12 +45,14 @@ class Console:
         self.ingest: Ingest | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
+        self.closing = False
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
         loop = asyncio.get_running_loop()
         self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval)
-        self._adopt_commands_on_bus()
+        for adopted in await asyncio.to_thread(self._commands_on_bus):  # waits for DDS history: off the loop
+            self.commands.adopt(adopted)
         resumed = self.commands.startup()
         if resumed:
             log.info("resumed following %d commands", len(resumed))
@@ -66,34 +68,34 @@ class Console:
         history records how each command ended; they dispose those statuses right after.
         """
         canceled = self.commands.shutdown()
-        for w in self.command_writers.values():
-            w.wait_for_acks(duration(seconds=1))
+        await asyncio.to_thread(lambda: [w.wait_for_acks(duration(seconds=1)) for w in self.command_writers.values()])
         deadline = time.monotonic() + answer_wait
         while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
             await asyncio.sleep(0.05)
+        self.closing = True  # from here on, samples still queued for the loop are ignored
         if self._ticker:
             self._ticker.cancel()
         if self.ingest:
-            self.ingest.stop()
+            await asyncio.to_thread(self.ingest.stop)
         if self._sim:
             thread, stop = self._sim
             stop[0] = True
-            thread.join(timeout=5)
+            await asyncio.to_thread(thread.join, 5)
+        # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
+        self.command_writers.clear()
+        self.ingest = None
+        self.bus.close()
         self.store.close()
 
-    def _adopt_commands_on_bus(self) -> None:
-        """Our own commands persisted on the bus that the history does not know (e.g. a wiped database)."""
+    def _commands_on_bus(self) -> list[Any]:
+        """Our own commands persisted on the bus (runs in a worker thread: it waits for DDS history)."""
+        found = []
         for service in Service:
             reader = self.bus.reader(service.command)
             reader.wait_for_historical_data(duration(milliseconds=300))
-            for s in reader.take(N=1024):
-                if isinstance(s, InvalidSample) or from_guid(s.source) != self.id:
-                    continue
-                session = from_guid(s.sessionID)
-                if session not in self.commands.by_session:
-                    state = s.state if service is Service.INERTIAL_SENSOR else None
-                    self.commands.by_session[session] = Command(session, service, from_guid(s.destination), state, None,
-                                                                time.time(), s)
+            found += [(service, s) for s in reader.take(N=1024)
+                      if not isinstance(s, InvalidSample) and from_guid(s.source) == self.id]
+        return found
 
     def _start_sim(self) -> None:
         from sem_console.sim.provider import SimOptions, Simulator
@@ -126,6 +128,8 @@ class Console:
 
     # ---- DDS input (on the loop) --------------------------------------------------------
     def _on_reports(self, items: list[ReportItem]) -> None:
+        if self.closing:
+            return
         now = time.monotonic()
         for it in items:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
@@ -142,16 +146,28 @@ class Console:
         return {"report": it.report, "invalid": it.invalid, "receivedAt": it.received_at}
 
     def _on_statuses(self, items: list[StatusItem]) -> None:
+        if self.closing:
+            return
         now = time.monotonic()
         for it in items:
-            topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
-            p, new = self.providers.seen(topic, it.source, None, now, time.time(), it.alive or it.sample is not None)
-            if new:
-                self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
-            if it.kind == "status" and it.sample is not None:
-                s = it.sample
-                self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
-                                        s.logMessage, provider_time(s))
+            try:
+                self._on_status(it, now)
+            except Exception:  # one bad sample must not lose the rest of the batch
+                log.exception("could not apply a %s %s sample", it.service.value, it.kind)
+
+    def _on_status(self, it: StatusItem, now: float) -> None:
+        topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
+        p, new = self.providers.seen(topic, it.source, None, now, time.time(), it.alive or it.sample is not None)
+        if new:
+            self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+        if it.sample is None:
+            return
+        if it.kind == "ack":
+            self.commands.on_ack(it.service, it.session, it.source)
+            return
+        s = it.sample
+        self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
+                                s.logMessage, provider_time(s))
 
     def _emit(self, message: dict[str, Any]) -> None:
         self.hub.publish(message)

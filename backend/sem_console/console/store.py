@@ -13,7 +13,8 @@ CREATE TABLE IF NOT EXISTS meta (key TEXT PRIMARY KEY, value TEXT NOT NULL);
 CREATE TABLE IF NOT EXISTS commands (
     session_id TEXT PRIMARY KEY, service TEXT NOT NULL, provider_id TEXT NOT NULL, state TEXT,
     operator TEXT, created_at REAL NOT NULL, command TEXT NOT NULL, unanswered INTEGER NOT NULL DEFAULT 0,
-    cancel_requested INTEGER NOT NULL DEFAULT 0, canceled_by TEXT, cleaned_up INTEGER NOT NULL DEFAULT 0
+    cancel_requested INTEGER NOT NULL DEFAULT 0, canceled_by TEXT, cleaned_up INTEGER NOT NULL DEFAULT 0,
+    acked_at REAL
 );
 CREATE TABLE IF NOT EXISTS transitions (
     session_id TEXT NOT NULL REFERENCES commands(session_id), seq INTEGER NOT NULL, status TEXT NOT NULL,
@@ -31,6 +32,14 @@ class Store:
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
         self.db.executescript(SCHEMA)
+        self._migrate()
+
+    def _migrate(self) -> None:
+        """Add columns that a database from an earlier version lacks."""
+        have = {r["name"] for r in self.db.execute("PRAGMA table_info(commands)")}
+        for column, decl in (("canceled_by", "TEXT"), ("acked_at", "REAL")):
+            if column not in have:
+                self.db.execute(f"ALTER TABLE commands ADD COLUMN {column} {decl}")
 
     def console_guid(self) -> uuid.UUID:
         row = self.db.execute("SELECT value FROM meta WHERE key='source'").fetchone()
@@ -50,18 +59,33 @@ class Store:
             "INSERT OR IGNORE INTO transitions VALUES (?,?,?,?,?,?,?,?)",
             (session_id, seq, t["status"], t["reason"], t["logMessage"], t["violation"], t["providerTime"], t["receivedAt"]))
 
-    def set_flag(self, session_id: str, flag: str) -> None:
+    def set_flag(self, session_id: str, flag: str, value: bool = True) -> None:
         assert flag in ("unanswered", "cleaned_up")
-        self.db.execute(f"UPDATE commands SET {flag}=1 WHERE session_id=?", (session_id,))
+        self.db.execute(f"UPDATE commands SET {flag}=? WHERE session_id=?", (int(value), session_id))
+
+    def set_acked(self, session_id: str, at: float) -> None:
+        self.db.execute("UPDATE commands SET acked_at=? WHERE session_id=?", (at, session_id))
 
     def set_canceled(self, session_id: str, operator: str | None) -> None:
         self.db.execute("UPDATE commands SET cancel_requested=1, canceled_by=? WHERE session_id=?", (operator, session_id))
 
-    def commands(self) -> list[dict[str, Any]]:
-        rows = self.db.execute("SELECT * FROM commands ORDER BY created_at").fetchall()
+    def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
+                 session_id: str | None = None) -> list[dict[str, Any]]:
+        """Commands newest first with their transitions: `limit` of them from `offset`, plus every
+        command not yet cleaned up when `unfinished`, or the one `session_id`."""
+        if session_id is not None:
+            rows = self.db.execute("SELECT * FROM commands WHERE session_id=?", (session_id,)).fetchall()
+        else:
+            page = "SELECT session_id FROM commands ORDER BY created_at DESC LIMIT ? OFFSET ?"
+            rows = self.db.execute(
+                f"SELECT * FROM commands WHERE session_id IN ({page}) {'OR cleaned_up=0' if unfinished else ''} "
+                "ORDER BY created_at DESC", (-1 if limit is None else limit, offset)).fetchall()
+        ids = [r["session_id"] for r in rows]
         trans: dict[str, list[dict[str, Any]]] = {}
-        for t in self.db.execute("SELECT * FROM transitions ORDER BY session_id, seq"):
-            trans.setdefault(t["session_id"], []).append(dict(t))
+        for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
+            marks = ",".join("?" * len(chunk))
+            for t in self.db.execute(f"SELECT * FROM transitions WHERE session_id IN ({marks}) ORDER BY session_id, seq", chunk):
+                trans.setdefault(t["session_id"], []).append(dict(t))
         return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
 
     def close(self) -> None:

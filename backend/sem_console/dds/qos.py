@@ -40,25 +40,32 @@ def writer_qos(cls: TopicClass, xcdr1: bool = False) -> Qos:
     return Qos(*policies)
 
 
+# A reader's latency budget must be at least the writer's for them to match: ours accept any.
+_ANY_LATENCY = Policy.LatencyBudget(duration(infinite=True))
+
+
 def reader_qos(cls: TopicClass) -> Qos:
     return Qos(
         _RELIABLE,
         Policy.Durability.TransientLocal,
         Policy.History.KeepLast(_DEPTH[cls]),
+        _ANY_LATENCY,
         Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
     )
 
 
-def any_writer_reader_qos() -> Qos:
-    """Best-effort, volatile, latest per instance: matches a writer whatever it offers.
+def any_writer_reader_qos(cls: TopicClass) -> Qos:
+    """Best-effort, volatile, any latency budget: matches a writer whatever it offers.
 
-    A console reads each report topic with this reader and with `reader_qos(REPORT)`:
-    the first matches best-effort and volatile providers too, the second receives the
-    last report of a transient-local provider that was running before the console.
+    A console reads each report, status and ack topic with this reader and with
+    `reader_qos`: the first matches best-effort and volatile providers too, the second
+    is reliable and receives what a transient-local provider published before the
+    console started.
     """
     return Qos(
         Policy.Reliability.BestEffort,
         Policy.Durability.Volatile,
-        Policy.History.KeepLast(1),
+        Policy.History.KeepLast(_DEPTH[cls]),
+        _ANY_LATENCY,
         Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
     )

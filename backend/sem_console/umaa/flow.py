@@ -14,10 +14,13 @@ A status equal to the current one (same state and reason) is a repeat, not a tra
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from enum import Enum
+from typing import TypeVar
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 
+E = TypeVar("E", bound=Enum)
 TERMINAL = frozenset({Status.COMPLETED, Status.FAILED, Status.CANCELED})
 FAILURE_REASONS = frozenset({
     Reason.VALIDATION_FAILED, Reason.OBJECTIVE_FAILED, Reason.SERVICE_FAILED, Reason.RESOURCE_FAILED,
@@ -45,8 +48,28 @@ def reason_allowed(status: Status, reason: Reason, first: bool = False) -> bool:
     return reason is Reason.SUCCEEDED
 
 
-def check_transition(prev: Status | None, status: Status, reason: Reason) -> str | None:
+def name(v: Enum | int | None) -> str:
+    """An enum literal's name; an ordinal the enum does not have (another vendor's bad sample) as UNKNOWN(n)."""
+    if v is None:
+        return "(no status)"
+    return v.name if isinstance(v, Enum) else f"UNKNOWN({v})"
+
+
+def parse(enum: type[E], text: str) -> E | int:
+    """The inverse of `name`: a literal, or the ordinal of an UNKNOWN(n)."""
+    if text in enum.__members__:
+        return enum[text]
+    if text.startswith("UNKNOWN(") and text.endswith(")") and text[8:-1].lstrip("-").isdigit():
+        return int(text[8:-1])
+    raise ValueError(f"{text!r} is not a {enum.__name__}")
+
+
+def check_transition(prev: Status | None, status: Status | int, reason: Reason | int) -> str | None:
     """None when prev -> (status, reason) follows Figure 4, else what is wrong with it."""
+    if not isinstance(status, Status):
+        return f"unknown commandStatus ordinal {status!r}"
+    if not isinstance(reason, Reason):
+        return f"unknown commandStatusReason ordinal {reason!r}"
     if status not in NEXT[prev]:
         before = prev.name if prev is not None else "(no status)"
         return f"{before} -> {status.name} is not a Figure 4 transition"
@@ -57,8 +80,8 @@ def check_transition(prev: Status | None, status: Status, reason: Reason) -> str
 
 @dataclass
 class Transition:
-    status: Status
-    reason: Reason
+    status: Status | int  # an int only for an ordinal the enum does not have (always a violation)
+    reason: Reason | int
     log_message: str
     violation: str | None = None
 
@@ -71,7 +94,11 @@ class CommandFlow:
 
     @property
     def status(self) -> Status | None:
-        return self.transitions[-1].status if self.transitions else None
+        """The last valid status (an unknown ordinal does not move the state machine)."""
+        for t in reversed(self.transitions):
+            if isinstance(t.status, Status) and isinstance(t.reason, Reason):
+                return t.status
+        return None
 
     @property
     def terminal(self) -> bool:
@@ -81,7 +108,7 @@ class CommandFlow:
     def violations(self) -> list[str]:
         return [t.violation for t in self.transitions if t.violation]
 
-    def observe(self, status: Status, reason: Reason, log_message: str = "") -> Transition | None:
+    def observe(self, status: Status | int, reason: Reason | int, log_message: str = "") -> Transition | None:
         """Feed a received status; returns the new transition, or None for a repeat."""
         last = self.transitions[-1] if self.transitions else None
         if last is not None and last.status is status and last.reason is reason:

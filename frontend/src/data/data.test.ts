@@ -12,7 +12,7 @@ function env(report: Record<string, unknown>, invalid: string[] = []) {
 function cmd(over: Partial<Command> = {}): Command {
   return {
     sessionId: "s1", service: "GPSFix", providerId: P, state: null, operator: null, createdAt: 1, status: null, terminal: false,
-    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, violations: [], transitions: [], ...over,
+    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, ackedAt: null, violations: [], transitions: [], ...over,
   };
 }
 
@@ -60,9 +60,10 @@ describe("reducer", () => {
       { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
       { type: "provider", event: "lost", provider: { id: P, link: "lost", ageSeconds: 3, topics: {} } },
       { type: "provider", event: "regained", provider: { id: P, link: "regained", ageSeconds: 0, topics: {} } },
+      { type: "provider", event: "live", provider: { id: P, link: "live", ageSeconds: 0, topics: {} } },
     ]);
     expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
-    expect(s.providers[P].link).toBe("regained");
+    expect(s.providers[P].link).toBe("live");
     const d = dismiss(s, s.alerts[0].id);
     expect(d.alerts.filter((a) => !a.dismissed)).toHaveLength(6);
     expect(dismiss(s, "all").alerts.every((a) => a.dismissed)).toBe(true);

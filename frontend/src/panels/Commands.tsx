@@ -34,6 +34,11 @@ function Timeline({ c }: { c: Command }) {
         <span className="t-status">REQUESTED</span> <span className="t-time">{utc(c.createdAt, false)}</span>
         {c.operator ? <span> by {c.operator}</span> : null}
       </li>
+      {c.ackedAt !== null && (
+        <li className="muted" data-testid="ack">
+          <span className="t-status">ACK</span> provider reports executing it <span className="t-time">{utc(c.ackedAt, false)}</span>
+        </li>
+      )}
       {c.transitions.map((t) => (
         <li key={t.seq} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status}>
           <span className="t-status">{t.status}</span> <span className="t-reason">{t.reason}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>

@@ -1,11 +1,15 @@
-"""Commands: issue GPSFix and InertialSensor commands, cancel them, read their history."""
+"""Commands: issue GPSFix and InertialSensor commands, cancel them, read their history.
+
+Every route is `async def`: it runs on the event loop, the one thread that owns the
+console's state (a plain `def` would run in a worker thread).
+"""
 
 from __future__ import annotations
 
 import uuid
-from typing import Any
+from typing import Annotated, Any
 
-from fastapi import APIRouter, HTTPException, status
+from fastapi import APIRouter, HTTPException, Query, status
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -21,7 +25,7 @@ AUTH = {401: {"description": "an operator token is configured and none (or a wro
 
 @router.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
              responses={404: {"description": "unknown provider"}, **AUTH})
-def request_gps_fix(provider_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
+async def request_gps_fix(provider_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
     """Surface the vehicle for a GPS fix (GPSFixCommand). Returns the command with its sessionId."""
     known_provider(console, provider_id)
     return console.issue(Service.GPS_FIX, provider_id, None, operator).to_json()
@@ -29,7 +33,7 @@ def request_gps_fix(provider_id: uuid.UUID, console: ConsoleDep, operator: Opera
 
 @router.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
              responses={404: {"description": "unknown provider"}, **AUTH})
-def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
+async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
                         operator: OperatorDep) -> dict[str, Any]:
     """Set the inertial sensor OFF, ON or RESTARTING (InertialSensorCommand)."""
     known_provider(console, provider_id)
@@ -38,9 +42,9 @@ def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, con
 
 @router.delete("/api/commands/{session_id}", response_model=Command,
                responses={404: {"description": "unknown command"}, 409: {"description": "the command has finished"}, **AUTH})
-def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
+async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
     """Cancel a running command: the console disposes it, the provider answers CANCELED."""
-    if session_id not in console.commands.by_session:
+    if console.commands.get(session_id) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     try:
         return console.commands.cancel(session_id, operator).to_json()
@@ -49,14 +53,15 @@ def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: Operato
 
 
 @router.get("/api/commands", response_model=list[Command])
-def list_commands(console: ConsoleDep) -> list[dict[str, Any]]:
-    """Every command this console issued, oldest first, with every status transition."""
-    return [c.to_json() for c in sorted(console.commands.by_session.values(), key=lambda c: c.created_at)]
+async def list_commands(console: ConsoleDep, limit: Annotated[int, Query(ge=1, le=1000)] = 100,
+                        offset: Annotated[int, Query(ge=0)] = 0) -> list[dict[str, Any]]:
+    """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
+    return console.commands.history(limit, offset)
 
 
 @router.get("/api/commands/{session_id}", response_model=Command, responses={404: {"description": "unknown command"}})
-def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
-    cmd = console.commands.by_session.get(session_id)
+async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+    cmd = console.commands.get(session_id)
     if cmd is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     return cmd.to_json()

@@ -13,5 +13,5 @@ router = APIRouter(prefix="/api", tags=["meta"])
 
 
 @router.get("/health", response_model=Health)
-def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
+async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain, "authRequired": bool(settings.operators())}

@@ -24,11 +24,11 @@ def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
 
 
 @router.get("", response_model=list[ProviderSummary])
-def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
+async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
     now = time.monotonic()
     return [p.summary(now) for p in console.providers.by_id.values()]
 
 
 @router.get("/{provider_id}", response_model=ProviderDetail, responses={404: {"description": "unknown provider"}})
-def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     return console.provider_detail(known_provider(console, provider_id), time.monotonic())

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import json
 import time
 from typing import Any
@@ -25,9 +27,28 @@ async def websocket(ws: WebSocket) -> None:
     console = ws.app.state.console
     await ws.accept()
     client = console.hub.attach(ws.send_text, console.snapshot())
+    receiver = asyncio.create_task(_receive(ws, client, console))
     try:
+        assert client.task is not None
+        await asyncio.wait({receiver, client.task}, return_when=asyncio.FIRST_COMPLETED)
+        if client.dropped:  # it stopped reading: tell it (if it still can hear), and let it go
+            with contextlib.suppress(Exception):
+                await asyncio.wait_for(ws.close(code=1013, reason="too far behind; reconnect"), timeout=1)
+    finally:
+        receiver.cancel()
+        console.hub.detach(client)
+
+
+async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
+    with contextlib.suppress(WebSocketDisconnect):
         while True:
-            text = await ws.receive_text()
+            message = await ws.receive()
+            if message["type"] == "websocket.disconnect":
+                return
+            text = message.get("text")
+            if text is None:
+                client.push(json.dumps({"type": "error", "message": "bad message: send JSON text, not binary"}))
+                continue
             try:
                 msg = client_messages.validate_python(json.loads(text))
             except (ValueError, ValidationError) as e:
@@ -36,11 +57,7 @@ async def websocket(ws: WebSocket) -> None:
             if msg.type == "ping":
                 client.push(json.dumps({"type": "pong", "serverTime": time.time()}))
             elif msg.type == "resync":
-                client.push(json.dumps(console.snapshot()))
-    except WebSocketDisconnect:
-        pass
-    finally:
-        console.hub.detach(client)
+                client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
 
 
 def _short(e: Exception) -> str:

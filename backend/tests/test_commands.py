@@ -1,0 +1,116 @@
+"""The UMAA Service Consumer logic, without a network: a real SQLite store, DDS writes recorded."""
+
+from __future__ import annotations
+
+import uuid
+from pathlib import Path
+from typing import Any
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from sem_console.console import commands as commands_module
+from sem_console.console.commands import Commands
+from sem_console.console.store import Store
+from sem_console.dds.topics import Service
+
+OK = R.SUCCEEDED
+VEHICLE = uuid.uuid4()
+
+
+class Bus:
+    def __init__(self) -> None:
+        self.written: list[Any] = []
+        self.disposed: list[Any] = []
+        self.emitted: list[dict[str, Any]] = []
+
+
+def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
+    store = Store(db)
+    return Commands(store.console_guid(), store, lambda _s, x: bus.written.append(x),
+                    lambda _s, x: bus.disposed.append(x), bus.emitted.append, timeout)
+
+
+def test_every_transition_recorded_even_with_equal_provider_times(tmp_path: Path) -> None:
+    bus = Bus()
+    c = consumer(tmp_path / "db", bus)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    for st in (S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED):
+        c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, st, OK, "", 1000.0)  # a provider with a coarse clock
+    assert [t.status for t in cmd.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+    assert cmd.cleaned_up and bus.disposed == [cmd.sample]  # cleanup disposes the finished command
+    assert [m["type"] for m in bus.emitted] == ["command"] + ["transition"] * 4
+
+
+def test_restart_ignores_replayed_history_and_keeps_following(tmp_path: Path) -> None:
+    bus = Bus()
+    first = consumer(tmp_path / "db", bus)
+    cmd = first.issue(Service.INERTIAL_SENSOR, VEHICLE, Ins.RESTARTING, None)
+    for i, st in enumerate((S.ISSUED, S.COMMANDED, S.EXECUTING)):
+        first.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, OK, "", 10.0 + i)
+    second = consumer(tmp_path / "db", Bus())
+    resumed = second.startup()
+    assert [c.session_id for c in resumed] == [cmd.session_id]
+    again = second.by_session[cmd.session_id]
+    for i, st in enumerate((S.ISSUED, S.COMMANDED, S.EXECUTING)):  # the provider's transient-local history
+        second.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, OK, "", 10.0 + i)
+    second.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, S.COMPLETED, OK, "", 13.0)
+    assert [t.status for t in again.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+    assert again.flow.violations == [] and again.state is Ins.RESTARTING
+
+
+def test_unknown_ordinal_is_recorded_as_a_violation_and_survives_restart(tmp_path: Path) -> None:
+    c = consumer(tmp_path / "db", Bus())
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
+    c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, 99, OK, "", 2.0)
+    assert cmd.to_json()["transitions"][1]["status"] == "UNKNOWN(99)"
+    assert cmd.flow.violations == ["unknown commandStatus ordinal 99"] and cmd.flow.status is S.ISSUED
+    again = consumer(tmp_path / "db", Bus()).by_session[cmd.session_id]
+    assert again.to_json()["violations"] == ["unknown commandStatus ordinal 99"]
+
+
+def test_unanswered_then_late_answer_is_persisted(tmp_path: Path) -> None:
+    c = consumer(tmp_path / "db", Bus(), timeout=1.0)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    c.tick(cmd.issued_by_deadline + 0.1)
+    assert cmd.unanswered
+    c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
+    assert not cmd.unanswered
+    assert not consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].unanswered
+
+
+def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:
+    c = consumer(tmp_path / "db", Bus())
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    c.on_status(Service.GPS_FIX, cmd.session_id, uuid.uuid4(), S.ISSUED, OK, "", 1.0)
+    c.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
+    c.on_status(Service.GPS_FIX, uuid.uuid4(), VEHICLE, S.ISSUED, OK, "", 1.0)
+    assert cmd.flow.transitions == []
+
+
+def test_memory_keeps_active_and_recent_commands_history_pages_from_the_database(tmp_path: Path, monkeypatch) -> None:
+    monkeypatch.setattr(commands_module, "KEEP_FINISHED", 3)
+    c = consumer(tmp_path / "db", Bus())
+    sessions = []
+    for i in range(6):
+        cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+        sessions.append(cmd.session_id)
+        if i < 5:
+            for st in (S.ISSUED, S.FAILED):
+                c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, st, OK if st is S.ISSUED else R.RESOURCE_FAILED, "", 1.0)
+    assert set(c.by_session) == set(sessions[2:])  # the running one and the three newest finished
+    page = c.history(limit=2, offset=0)
+    assert [p["sessionId"] for p in page] == [str(s) for s in sessions[::-1][:2]]
+    old = c.get(sessions[0])
+    assert old is not None and [t.status for t in old.flow.transitions] == [S.ISSUED, S.FAILED]
+    assert len(c.history(limit=100, offset=0)) == 6
+
+
+def test_ack_recorded(tmp_path: Path) -> None:
+    bus = Bus()
+    c = consumer(tmp_path / "db", bus)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    c.on_ack(Service.GPS_FIX, cmd.session_id, VEHICLE)
+    assert cmd.acked_at is not None and bus.emitted[-1]["command"]["ackedAt"] == cmd.acked_at
+    assert consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].acked_at == cmd.acked_at
