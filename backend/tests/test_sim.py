@@ -345,3 +345,19 @@ def test_writers_of_optional_member_types_offer_xcdr1(sim, consumer: Consumer) -
     for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT):
         rep = offered[sem.spec.name]
         assert rep.use_cdrv0_representation and not rep.use_xcdrv2_representation, rep
+
+
+def test_shutdown_with_a_vanished_reader_is_clean(sim, consumer: Consumer, domain: int) -> None:
+    """wait_for_acks times out when a matched reader died without a goodbye; shutdown must still be clean."""
+    p = sim("--surface-seconds", "400")
+    wait_reports(consumer, V1)
+    crashed = subprocess.Popen([sys.executable, "-c", (
+        "import sys, time; sys.path.insert(0, 'tests'); from consumer import Consumer; "
+        f"c = Consumer({domain}, name='crashes'); time.sleep(30)")], cwd=str(__import__('pathlib').Path(__file__).parents[1]))
+    time.sleep(2.0)  # it has matched the simulator's writers
+    session = consumer.command(Service.GPS_FIX, V1)
+    consumer.wait_status(session, S.EXECUTING)
+    crashed.kill()
+    crashed.wait()
+    out = p.stop(signal.SIGINT)
+    assert p.proc is not None and p.proc.returncode == 0 and "Traceback" not in out, out

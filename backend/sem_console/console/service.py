@@ -23,7 +23,7 @@ from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.store import Store
 from sem_console.core.config import Settings
-from sem_console.dds.bus import Bus
+from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.umaa.guid import from_guid
 
@@ -68,7 +68,7 @@ class Console:
         history records how each command ended; they dispose those statuses right after.
         """
         canceled = self.commands.shutdown()
-        await asyncio.to_thread(lambda: [w.wait_for_acks(duration(seconds=1)) for w in self.command_writers.values()])
+        await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
         deadline = time.monotonic() + answer_wait
         while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
             await asyncio.sleep(0.05)

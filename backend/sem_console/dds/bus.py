@@ -2,11 +2,15 @@
 
 from __future__ import annotations
 
+import time
+from collections.abc import Iterable
+
 from cyclonedds.core import InstanceState, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
+from cyclonedds.util import duration
 
 from sem_console.dds.config import dds_config
 from sem_console.dds.qos import reader_qos, writer_qos
@@ -50,3 +54,19 @@ def all_samples(reader: DataReader) -> ReadCondition:
     the condition explicitly, and it doubles as a WaitSet trigger.
     """
     return ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.Any)
+
+
+def wait_for_acks(writers: Iterable[DataWriter], seconds: float) -> bool:
+    """Wait until every matched reliable reader has acknowledged what the writers wrote.
+
+    cyclonedds-python 11.0.1's DataWriter.wait_for_acks raises AttributeError on a timeout
+    (it compares with `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so call the
+    C function it wraps and read its return code here. True when all were acknowledged.
+    """
+    deadline = time.monotonic() + seconds
+    ok = True
+    for w in writers:
+        remaining = max(0.0, deadline - time.monotonic())
+        ret = w._wait_for_acks(w._ref, duration(seconds=remaining))  # noqa: SLF001 (see the docstring)
+        ok = ok and ret == 0
+    return ok

@@ -1,8 +1,12 @@
 """Cyclone DDS configuration: loopback by default, CYCLONEDDS_URI honoured when set.
 
-On loopback Linux offers no multicast, so discovery is unicast to the listed peers.
-Participants then need a participant index (``auto``) so that peers know which
-ports to probe; 100 indices leave room for many processes on one host per domain.
+Two modes, from the interface and peers settings (SEM_DDS_INTERFACE, SEM_DDS_PEERS):
+- peers given (the default, 127.0.0.1): unicast discovery to those peers with multicast
+  off. Loopback offers no multicast on Linux, so this is how processes on one host find
+  each other; participants take an index (`auto`) so peers know which ports to probe, and
+  100 indices leave room for many processes per domain and host.
+- no peers (SEM_DDS_PEERS=""): multicast discovery on the interface, as on most vehicle
+  networks and on a Docker Compose bridge network.
 """
 
 from __future__ import annotations
@@ -14,11 +18,14 @@ MAX_PARTICIPANT_INDEX = 100
 
 
 def loopback_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
-    peer_xml = "".join(f"<Peer address={quoteattr(p.strip())}/>" for p in peers.split(",") if p.strip())
+    peer_list = [p.strip() for p in peers.split(",") if p.strip()]
+    general = f"<Interfaces><NetworkInterface name={quoteattr(interface)}/></Interfaces>"
+    if not peer_list:
+        return f'<CycloneDDS><Domain Id="any"><General>{general}<AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>'
+    peer_xml = "".join(f"<Peer address={quoteattr(p)}/>" for p in peer_list)
     return (
         '<CycloneDDS><Domain Id="any">'
-        f"<General><Interfaces><NetworkInterface name={quoteattr(interface)}/></Interfaces>"
-        "<AllowMulticast>false</AllowMulticast></General>"
+        f"<General>{general}<AllowMulticast>false</AllowMulticast></General>"
         "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
         f"<MaxAutoParticipantIndex>{MAX_PARTICIPANT_INDEX}</MaxAutoParticipantIndex>"
         f"<Peers>{peer_xml}</Peers></Discovery>"

@@ -63,6 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--orphan-grace", type=_ranged(float, 0, 3600), default=d.orphan_grace, help="seconds a command may have no live writer before it is treated as canceled (default: %(default)s)")
     p.add_argument("--command-timeout", type=_ranged(float, 0.1, 86400), default=d.command_timeout, help="an executing command that has not finished after this many seconds fails with TIMEOUT (default: %(default)s)")
     p.add_argument("--state-file", type=Path, default=None, help="where command states are journaled so a restarted simulator can recover them (default: $XDG_STATE_HOME/sem-sim/domain-N.json)")
+    p.add_argument("--health-file", type=Path, default=None, help="touch this file every second while running (for healthchecks)")
     p.add_argument("--fault", type=_fault, action="append", default=[], metavar="KIND[:VEHICLE]", help=(
         "inject a fault, for all vehicles or vehicle N (1-based); repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
         "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
@@ -83,7 +84,7 @@ def options_from(args: argparse.Namespace) -> SimOptions:
         surface_seconds=args.surface_seconds, align_seconds=args.align_seconds, fix_rate=args.fix_rate,
         gps_rate=args.gps_rate, ins_rate=args.ins_rate, satellites=args.satellites, sky_speed=args.sky_speed,
         on_startup=args.on_startup, orphan_grace=args.orphan_grace, slow_factor=args.slow_factor, faults=faults,
-        command_timeout=args.command_timeout, state_file=args.state_file,
+        command_timeout=args.command_timeout, state_file=args.state_file, health_file=args.health_file,
     )
 
 

@@ -8,6 +8,7 @@ state is shared between threads.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import logging
 import math
@@ -22,7 +23,6 @@ from typing import Any, Callable
 
 from cyclonedds.internal import InvalidSample
 from cyclonedds.core import InstanceState
-from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -37,7 +37,7 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
-from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.bus import Bus, all_samples, wait_for_acks
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Track, make_sky
@@ -67,6 +67,7 @@ class SimOptions:
     orphan_grace: float = 10.0  # s a command may have no writer before it counts as canceled
     command_timeout: float = 300.0  # s an executing command may take before it fails with TIMEOUT
     state_file: Path | None = None  # where the provider journals command states (default: per domain, see Journal)
+    health_file: Path | None = None  # touched every second while the simulator runs (for container healthchecks)
     slow_factor: float = 10.0
     faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle index (1-based, 0 = all) -> faults
     start_lat: float = 36.80
@@ -463,6 +464,7 @@ class Simulator:
         self.status_readers = {s: bus.reader(s.status) for s in Service}
         self.conditions = {s: all_samples(r) for s, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
+        self._health_at = 0.0
         self.last = time.monotonic()
         self.started = False
 
@@ -539,6 +541,10 @@ class Simulator:
     def step_vehicles(self) -> None:
         now = time.monotonic()
         dt, self.last = now - self.last, now
+        if self.opts.health_file and now - self._health_at >= 1.0:
+            self._health_at = now
+            with contextlib.suppress(OSError):
+                self.opts.health_file.touch()
         for v in self.vehicles.values():
             v.step_models(now, dt)
             for ex in list(v.executions.values()):
@@ -558,5 +564,4 @@ class Simulator:
     def shutdown(self, ack_timeout: float = 2.0) -> None:
         for v in self.vehicles.values():
             v.shutdown()
-        for w in self.writers.values():
-            w.wait_for_acks(duration(seconds=ack_timeout))
+        wait_for_acks(self.writers.values(), ack_timeout)

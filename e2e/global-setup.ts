@@ -1,0 +1,6 @@
+import { startStack } from "./stack";
+
+export default async function globalSetup(): Promise<void> {
+  const stack = await startStack();
+  process.env.SEM_E2E_URL = stack.url;
+}

@@ -1,0 +1,156 @@
+// The real stack for the end-to-end tests: `sem-console` and `sem-sim` processes on a fresh DDS
+// domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
+import { execFileSync, spawn, type ChildProcess } from "node:child_process";
+import { createSocket } from "node:dgram";
+import { mkdtempSync, readFileSync, writeFileSync } from "node:fs";
+import { createServer } from "node:net";
+import { tmpdir } from "node:os";
+import { dirname, join } from "node:path";
+import { fileURLToPath } from "node:url";
+
+const ROOT = join(dirname(fileURLToPath(import.meta.url)), "..");
+const BIN = join(ROOT, ".venv", "bin");
+const STATE = join(ROOT, "e2e", ".stack.json");
+
+export interface Stack {
+  domain: number;
+  port: number;
+  url: string;
+  dir: string;
+  simArgs: string[];
+  consoleArgs: string[];
+  simPid: number;
+  consolePid: number;
+  vehicles: string[]; // source GUIDs of vehicles 1, 2, 3
+}
+
+async function freePort(): Promise<number> {
+  return new Promise((resolve, reject) => {
+    const srv = createServer();
+    srv.listen(0, "127.0.0.1", () => {
+      const port = (srv.address() as { port: number }).port;
+      srv.close(() => resolve(port));
+    });
+    srv.on("error", reject);
+  });
+}
+
+async function udpFree(port: number): Promise<boolean> {
+  return new Promise((resolve) => {
+    const s = createSocket("udp4");
+    s.once("error", () => resolve(false));
+    s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
+  });
+}
+
+/** A DDS domain nobody on this host uses (its first discovery port is free). */
+async function freeDomain(): Promise<number> {
+  const start = 1 + Math.floor(Math.random() * 200);
+  for (let i = 0; i < 232; i++) {
+    const d = ((start + i) % 232) + 1;
+    if (await udpFree(7410 + 250 * d)) return d;
+  }
+  throw new Error("no free DDS domain");
+}
+
+function launch(cmd: string, args: string[], env: Record<string, string> = {}): ChildProcess {
+  const child = spawn(join(BIN, cmd), args, { stdio: ["ignore", "inherit", "inherit"], env: { ...process.env, ...env }, detached: false });
+  child.unref();
+  return child;
+}
+
+export async function waitHealthy(url: string, timeoutMs = 30_000): Promise<void> {
+  const deadline = Date.now() + timeoutMs;
+  while (Date.now() < deadline) {
+    try {
+      if ((await fetch(`${url}/api/health`)).ok) return;
+    } catch {
+      /* not up yet */
+    }
+    await new Promise((r) => setTimeout(r, 200));
+  }
+  throw new Error(`console at ${url} did not start`);
+}
+
+export async function startStack(): Promise<Stack> {
+  const domain = await freeDomain();
+  const port = await freePort();
+  const dir = mkdtempSync(join(tmpdir(), "sem-e2e-"));
+  const simArgs = ["--domain", String(domain), "--vehicles", "3", "--fault", "reject:2", "--fault", "skip-commanded:3",
+    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
+    "--state-file", join(dir, "sim.json"), "--log-level", "warning"];
+  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"),
+    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning"];
+  const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
+    .trim().split("\n").map((l) => l.split(": ")[1]);
+  const sim = launch("sem-sim", simArgs);
+  const con = launch("sem-console", consoleArgs);
+  const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles };
+  save(stack);
+  await waitHealthy(stack.url);
+  return stack;
+}
+
+export function load(): Stack {
+  return JSON.parse(readFileSync(STATE, "utf8")) as Stack;
+}
+
+function save(stack: Stack): void {
+  writeFileSync(STATE, JSON.stringify(stack, null, 2));
+}
+
+async function stopPid(pid: number, signal: NodeJS.Signals): Promise<void> {
+  try {
+    process.kill(pid, signal);
+  } catch {
+    return; // already gone
+  }
+  const deadline = Date.now() + 15_000;
+  while (Date.now() < deadline) {
+    try {
+      process.kill(pid, 0);
+    } catch {
+      return;
+    }
+    await new Promise((r) => setTimeout(r, 100));
+  }
+  try {
+    process.kill(pid, "SIGKILL");
+  } catch {
+    /* gone */
+  }
+}
+
+export async function stopSim(signal: NodeJS.Signals = "SIGKILL"): Promise<void> {
+  await stopPid(load().simPid, signal);
+}
+
+export async function restartSim(): Promise<void> {
+  const stack = load();
+  stack.simPid = launch("sem-sim", stack.simArgs).pid!;
+  save(stack);
+}
+
+export async function restartConsole(): Promise<void> {
+  const stack = load();
+  await stopPid(stack.consolePid, "SIGINT");
+  stack.consolePid = launch("sem-console", stack.consoleArgs).pid!;
+  save(stack);
+  await waitHealthy(stack.url);
+}
+
+/** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
+export async function startGuardedConsole(token: string): Promise<{ url: string; stop: () => Promise<void> }> {
+  const stack = load();
+  const port = await freePort();
+  const url = `http://127.0.0.1:${port}`;
+  const child = launch("sem-console", ["--port", String(port), "--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"),
+    "--log-level", "warning"], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
+  await waitHealthy(url);
+  return { url, stop: () => stopPid(child.pid!, "SIGINT") };
+}
+
+export async function stopStack(): Promise<void> {
+  const stack = load();
+  await Promise.all([stopPid(stack.consolePid, "SIGINT"), stopPid(stack.simPid, "SIGINT")]);
+}

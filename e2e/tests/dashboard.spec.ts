@@ -1,0 +1,153 @@
+// The dashboard against the real stack: sem-console and sem-sim over Cyclone DDS on loopback.
+// Vehicle 1 is healthy, vehicle 2 rejects every command, vehicle 3 skips COMMANDED (a Figure 4 violation).
+import { expect, test, type Locator, type Page } from "@playwright/test";
+import { load, restartConsole, restartSim, startGuardedConsole, stopSim } from "../stack";
+
+const HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"];
+
+function vehicle(page: Page, id: string): Locator {
+  return page.getByTestId("vehicle").filter({ hasText: id.slice(0, 8) });
+}
+
+async function open(page: Page, vehicleIndex = 0): Promise<string> {
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  const id = stack.vehicles[vehicleIndex];
+  await vehicle(page, id).click();
+  await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
+  return id;
+}
+
+function latestCommand(page: Page): Locator {
+  return page.getByTestId("commands-panel").getByTestId("command").first();
+}
+
+async function statuses(cmd: Locator): Promise<string[]> {
+  return cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? ""));
+}
+
+test("the dashboard shows the connection, the vehicles, satellites, sky plot, fix and INS", async ({ page, request }) => {
+  const id = await open(page);
+  await expect(page.getByTestId("vehicle")).toHaveCount(3);
+  const detail = await (await request.get(`${load().url}/api/providers/${id}`)).json();
+  const listed = detail.reports.GPSReport.report.satellites.length;
+  expect(listed).toBeGreaterThanOrEqual(20);
+  await expect(page.getByTestId("sats-listed")).toHaveText(String(listed));
+  await expect(page.getByRole("img", { name: "Sky plot" })).toBeVisible();
+  await expect(page.getByTestId("sky-satellite")).toHaveCount(listed);
+  await expect(page.getByTestId("cn0-bar")).toHaveCount(listed);
+  await expect(page.getByTestId("satellite-table").locator("tbody tr")).toHaveCount(listed);
+  await expect(page.getByTestId("fix-panel")).toBeVisible();
+  await expect(page.getByTestId("latitude")).toContainText("° N");
+  await expect(page.getByTestId("ins-panel")).toBeVisible();
+  await expect(page.getByTestId("ins-state")).toHaveText("ON");
+});
+
+test("Request GPS fix: the timeline walks ISSUED to COMPLETED and the fix becomes valid", async ({ page }) => {
+  await open(page);
+  await expect(page.getByTestId("fix-valid")).toHaveText("No fix");
+  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  const cmd = latestCommand(page);
+  await expect(cmd).toHaveAttribute("data-status", "COMPLETED", { timeout: 30_000 });
+  expect(await statuses(cmd)).toEqual(HAPPY);
+  await expect(page.getByTestId("fix-valid")).toHaveText("Fix valid");
+  await expect(page.getByTestId("gps-fix-state")).toHaveText("GPSFix STABLE");
+});
+
+test("INS RESTART: RESTARTING, then alignment to OPERATIONAL, and the command completes", async ({ page }) => {
+  await open(page);
+  await expect(page.getByTestId("ins-status")).toHaveText("OPERATIONAL", { timeout: 30_000 });
+  await page.getByRole("button", { name: "INS RESTART" }).click();
+  await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
+  await expect(page.getByTestId("ins-state")).toHaveText("RESTARTING");
+  await expect(page.getByTestId("ins-status")).toHaveText("COURSE_STATIONARY_ALIGNMENT");
+  await expect(page.getByTestId("ins-state")).toHaveText("ON");
+  await expect(page.getByTestId("ins-status")).toHaveText("OPERATIONAL", { timeout: 30_000 });
+  const cmd = latestCommand(page);
+  await expect(cmd).toHaveAttribute("data-status", "COMPLETED");
+  expect(await statuses(cmd)).toEqual(HAPPY);
+});
+
+test("cancel a running command: CANCELED appears", async ({ page }) => {
+  await open(page);
+  await page.getByRole("button", { name: "INS OFF" }).click();
+  await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
+  await expect(latestCommand(page)).toHaveAttribute("data-status", "COMPLETED");
+  await page.getByRole("button", { name: "INS ON" }).click(); // six seconds of alignment to cancel in
+  const cmd = latestCommand(page);
+  await expect(cmd).toHaveAttribute("data-status", "EXECUTING");
+  await cmd.getByRole("button", { name: "Cancel" }).click();
+  await expect(cmd).toHaveAttribute("data-status", "CANCELED");
+  expect(await statuses(cmd)).toEqual(["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]);
+  await expect(cmd.getByTestId("transition").last()).toContainText("CANCELED");
+});
+
+test("injected faults: FAILED with its reason, and a state-machine violation flagged", async ({ page }) => {
+  const stack = load();
+  await open(page, 1);
+  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  const rejected = latestCommand(page);
+  await expect(rejected).toHaveAttribute("data-status", "FAILED");
+  await expect(rejected.getByTestId("transition").last()).toContainText("RESOURCE_REJECTED");
+  await expect(page.getByTestId("alert").filter({ hasText: "RESOURCE_REJECTED" })).toBeVisible();
+
+  await vehicle(page, stack.vehicles[2]).click();
+  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  const broken = latestCommand(page);
+  await expect(broken.getByTestId("violation")).toContainText("ISSUED -> EXECUTING is not a Figure 4 transition");
+  await expect(broken.getByTestId("command-violation")).toBeVisible();
+  await expect(page.getByTestId("alert").filter({ hasText: "broke the UMAA flow" })).toBeVisible();
+});
+
+test("the simulator is stopped: the vehicle shows lost; restarted: regained", async ({ page }) => {
+  const id = await open(page);
+  const link = vehicle(page, id).getByTestId("vehicle-link");
+  await expect(link).toHaveText("live");
+  await stopSim();
+  try {
+    await expect(link).toHaveText("lost");
+    await expect(page.getByTestId("alert").filter({ hasText: `Vehicle ${id.slice(0, 8)} lost` })).toBeVisible();
+    await expect(page.getByTestId("satellites-panel-freshness")).toContainText("lost");
+  } finally {
+    await restartSim(); // the next tests need the vehicles, whatever happened here
+  }
+  await expect(page.getByTestId("alert").filter({ hasText: `Vehicle ${id.slice(0, 8)} regained` })).toBeVisible({ timeout: 30_000 });
+  await expect(link).toHaveText(/regained|live/);
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+});
+
+test("the backend restarts: the page reconnects by itself and shows live data again", async ({ page }) => {
+  await open(page);
+  const before = await page.getByTestId("connection-state").textContent();
+  expect(before).toBe("Live");
+  await restartConsole();
+  await expect(page.getByTestId("connection-state")).toHaveText("Live", { timeout: 30_000 });
+  await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+});
+
+test("with an operator token: commands are refused until sign-in", async ({ page, request }) => {
+  const token = "e2e-secret";
+  const guarded = await startGuardedConsole(token);
+  try {
+    const id = load().vehicles[0];
+    await page.goto(guarded.url);
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    await vehicle(page, id).click();
+    await expect(page.getByTestId("read-only")).toBeVisible();
+    await expect(page.getByTestId("commands-read-only")).toBeVisible();
+    await expect(page.getByRole("button", { name: "Request GPS fix" })).toBeDisabled();
+    expect((await request.post(`${guarded.url}/api/providers/${id}/gps-fix`)).status()).toBe(401);
+
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toBeVisible();
+    await page.getByRole("button", { name: "Request GPS fix" }).click();
+    const cmd = latestCommand(page);
+    await expect(cmd).toHaveAttribute("data-status", /ISSUED|COMMANDED|EXECUTING|COMPLETED/);
+    await expect(cmd).toContainText("by e2e-operator");
+  } finally {
+    await guarded.stop();
+  }
+});
