@@ -414,3 +414,11 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
     assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
     assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"
     assert httpx.get(f"{live.url}/docs").status_code == 200
+
+
+def test_metrics_count_what_the_console_takes_and_sends(live) -> None:
+    ws = WsClient(live.ws_url)
+    wait_until(lambda: len(ws.of("report")) > 5, 10, "reports on the WebSocket")
+    m = httpx.get(f"{live.url}/api/metrics").json()
+    assert m["samplesTaken"] >= m["reportsApplied"] > 0 and m["wsClients"] == 1
+    assert m["wsMessagesPublished"] >= 5 and m["providers"] >= 1 and m["undecodableSamples"] == 0

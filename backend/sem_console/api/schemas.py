@@ -81,6 +81,18 @@ class Health(_Model):
     authRequired: bool
 
 
+class Metrics(_Model):
+    uptimeSeconds: float
+    samplesTaken: int = Field(description="samples taken from DDS since start (every reader of every SEM topic)")
+    undecodableSamples: int
+    reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
+    wsClients: int
+    wsMessagesPublished: int = Field(description="messages handed to WebSocket clients, one per client")
+    wsClientsDropped: int
+    providers: int
+    commandsInMemory: int
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]

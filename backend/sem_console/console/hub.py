@@ -86,14 +86,18 @@ class Hub:
     def __init__(self, max_queue: int = 10_000, stall_seconds: float = 5.0) -> None:
         self.max_queue, self.stall_seconds = max_queue, stall_seconds
         self.clients: set[Client] = set()
+        self.published = 0  # messages handed to clients (one per client), for /api/metrics
+        self.dropped = 0
 
     def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None) -> None:
         if not self.clients:
             return
         text = json.dumps(message, separators=(",", ":"))
+        self.published += len(self.clients)
         for c in list(self.clients):
             c.push(text, key)
             if c.dropped:
+                self.dropped += 1
                 log.warning("dropped a WebSocket client that stopped reading (%d messages behind)", self.max_queue)
                 self.clients.discard(c)
 

@@ -74,6 +74,7 @@ class Ingest:
         self.loop, self.on_reports, self.on_statuses = loop, on_reports, on_statuses
         self.report_interval = report_interval
         self.undecodable: dict[str, int] = {}
+        self.taken = 0  # samples taken from DDS (both readers of every topic), for /api/metrics
         self.running = False
         # Two readers per topic (see qos.any_writer_reader_qos); a sample seen by both is applied once.
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
@@ -122,6 +123,7 @@ class Ingest:
             if not got:
                 break
             out.extend(got)
+        self.taken += len(out)
         return out
 
     def _is_new(self, sem: Sem, source: uuid.UUID, session: uuid.UUID | None, s: Any) -> bool:

@@ -46,6 +46,8 @@ class Console:
         self._ticker: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
+        self.started_at = time.monotonic()
+        self.reports_applied = 0
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
@@ -136,6 +138,7 @@ class Console:
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
+                self.reports_applied += 1
                 self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
                                   "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
 
@@ -186,6 +189,19 @@ class Console:
             "authRequired": bool(self.settings.operators()),
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
+        }
+
+    def metrics(self) -> dict[str, Any]:
+        return {
+            "uptimeSeconds": round(time.monotonic() - self.started_at, 3),
+            "samplesTaken": self.ingest.taken if self.ingest else 0,
+            "undecodableSamples": sum(self.ingest.undecodable.values()) if self.ingest else 0,
+            "reportsApplied": self.reports_applied,
+            "wsClients": len(self.hub.clients),
+            "wsMessagesPublished": self.hub.published,
+            "wsClientsDropped": self.hub.dropped,
+            "providers": len(self.providers.by_id),
+            "commandsInMemory": len(self.commands.by_session),
         }
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:

@@ -28,7 +28,7 @@ class Settings(BaseSettings):
     comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without a sample before a provider is lost")
     regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a lost provider is regained")
     unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered")
-    report_interval: float = Field(0.05, ge=0, le=10, description="at most one take of report topics per this many seconds")
+    report_interval: float = Field(0.005, ge=0, le=10, description="at most one take of report topics per this many seconds (conflation window)")
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
 

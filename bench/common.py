@@ -1,0 +1,179 @@
+"""Shared parts of the benchmarks: the real stack on a spare DDS domain, WebSocket clients,
+process CPU and memory from /proc, percentiles, and the output format (a table, then one
+JSON line). Figures, never assertions: a benchmark prints what it measured."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import os
+import random
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any, Iterator
+
+ROOT = Path(__file__).resolve().parents[1]
+BIN = ROOT / ".venv" / "bin"
+sys.path.insert(0, str(ROOT / "backend"))
+
+CLK_TCK = os.sysconf("SC_CLK_TCK")
+PAGE = os.sysconf("SC_PAGE_SIZE")
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def free_domain() -> int:
+    start = random.randrange(1, 200)
+    for i in range(232):
+        d = (start + i) % 232 + 1
+        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+            try:
+                s.bind(("127.0.0.1", 7410 + 250 * d))
+                return d
+            except OSError:
+                continue
+    raise RuntimeError("no free DDS domain")
+
+
+def percentile(values: list[float], p: float) -> float:
+    if not values:
+        return float("nan")
+    v = sorted(values)
+    return v[min(len(v) - 1, int(p / 100 * len(v)))]
+
+
+def ms(x: float) -> float:
+    return round(x * 1000, 2)
+
+
+def cpu_seconds(pid: int) -> float:
+    """User plus system CPU seconds a process has used (from /proc)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / CLK_TCK
+
+
+class Proc:
+    """A child process whose CPU time and RSS we can read."""
+
+    def __init__(self, args: list[str], env: dict[str, str] | None = None) -> None:
+        self.p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, env={**os.environ, **(env or {})})
+
+    def cpu_seconds(self) -> float:
+        return cpu_seconds(self.p.pid)
+
+    def rss_mb(self) -> float:
+        return int(Path(f"/proc/{self.p.pid}/statm").read_text().split()[1]) * PAGE / 2**20
+
+    def stop(self) -> None:
+        if self.p.poll() is None:
+            self.p.send_signal(signal.SIGINT)
+            try:
+                self.p.wait(10)
+            except subprocess.TimeoutExpired:
+                self.p.kill()
+
+
+class CpuMeter:
+    """Share of one core a process used between start() and read()."""
+
+    def __init__(self, proc: Proc) -> None:
+        self.proc = proc
+        self.start()
+
+    def start(self) -> None:
+        self.t0, self.c0 = time.monotonic(), self.proc.cpu_seconds()
+
+    def read(self) -> float:
+        return (self.proc.cpu_seconds() - self.c0) / max(time.monotonic() - self.t0, 1e-9)
+
+
+@contextmanager
+def stack(sim_args: list[str] | None = None, console_env: dict[str, str] | None = None) -> Iterator[dict[str, Any]]:
+    """A console (and, unless sim_args is None, a separate simulator) on a spare domain and port."""
+    domain, port = free_domain(), free_port()
+    tmp = Path(tempfile.mkdtemp(prefix="sem-bench-"))
+    procs: dict[str, Proc] = {}
+    try:
+        if sim_args is not None:
+            procs["sim"] = Proc([str(BIN / "sem-sim"), "--domain", str(domain), "--state-file", str(tmp / "sim.json"),
+                                 "--log-level", "warning", *sim_args])
+        procs["console"] = Proc([str(BIN / "sem-console"), "--domain", str(domain), "--port", str(port),
+                                 "--db", str(tmp / "console.sqlite3"), "--log-level", "warning"], console_env)
+        url = f"http://127.0.0.1:{port}"
+        wait_http(url + "/api/health")
+        yield {"domain": domain, "port": port, "url": url, "ws": f"ws://127.0.0.1:{port}/ws", "procs": procs, "tmp": tmp}
+    finally:
+        for p in procs.values():
+            p.stop()
+
+
+def wait_http(url: str, timeout: float = 30) -> None:
+    import urllib.request
+
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:
+            urllib.request.urlopen(url, timeout=1)
+            return
+        except OSError:
+            time.sleep(0.1)
+    raise RuntimeError(f"{url} did not answer")
+
+
+def get_json(url: str, method: str = "GET") -> Any:
+    import urllib.request
+
+    req = urllib.request.Request(url, method=method)
+    with urllib.request.urlopen(req, timeout=10) as r:
+        return json.loads(r.read())
+
+
+def report_latency(msg: dict[str, Any], now: float) -> float | None:
+    """Seconds from a report's timeStamp (set by its writer) to its arrival here."""
+    if msg.get("type") != "report":
+        return None
+    ts = (msg["report"]["report"] or {}).get("timeStamp") or {}
+    if ts.get("seconds") is None:
+        return None
+    return now - (ts["seconds"] + ts["nanoseconds"] / 1e9)
+
+
+async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
+    """Read a WebSocket for `seconds`, calling on_message(msg, arrival_time) for each message."""
+    import websockets
+
+    async with websockets.connect(url, max_size=2**26) as ws:
+        deadline = time.monotonic() + seconds
+        while True:
+            remaining = deadline - time.monotonic()
+            if remaining <= 0:
+                return
+            try:
+                text = await asyncio.wait_for(ws.recv(), remaining)
+            except asyncio.TimeoutError:
+                return
+            on_message(json.loads(text), time.time())
+
+
+def table(title: str, header: list[str], rows: list[list[Any]]) -> None:
+    widths = [max(len(str(x)) for x in col) for col in zip(header, *rows)]
+    print(f"\n{title}")
+    print("  ".join(str(h).ljust(w) for h, w in zip(header, widths)))
+    print("  ".join("-" * w for w in widths))
+    for r in rows:
+        print("  ".join(str(x).ljust(w) for x, w in zip(r, widths)))
+
+
+def emit(name: str, figures: dict[str, Any]) -> None:
+    """The one JSON line a benchmark ends with."""
+    print(json.dumps({"bench": name, "cores": os.cpu_count(), **figures}, separators=(",", ":")))

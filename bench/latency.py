@@ -1,0 +1,100 @@
+"""Latency, sample to WebSocket, against the floor of a plain DDS reader in another process.
+
+A writer publishes InertialSensorReport and GPSFixReport samples stamped with their send time
+(5 sources x 2 topics at 10 Hz, under the console's conflation rate, so every sample is shown);
+a WebSocket client of the console and a plain cyclonedds-python reader record arrival. Run with
+the default conflation window (report_interval 5 ms) and with 50 ms.
+Usage: python bench/latency.py [--seconds 12]
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import subprocess
+import sys
+import threading
+import time
+import uuid
+
+import common
+from common import emit, ms, percentile, stack, table, ws_collect
+
+from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from UMAA.Common.Measurement import (Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D, Position2DTime,
+                                     Velocity3D_PlatformNED)
+from UMAA.SEM.GPSFixStatus import GPSFixReportType
+from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+from sem_console.dds.bus import Bus
+from sem_console.dds.topics import Sem
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
+
+SOURCES, RATE = 5, 10.0
+
+
+def publish(domain: int, seconds: float, stop: threading.Event) -> int:
+    bus = Bus(domain)
+    ins_w, fix_w = bus.writer(Sem.INS_REPORT), bus.writer(Sem.GPS_FIX_REPORT)
+    sources = [to_guid(uuid.uuid4()) for _ in range(SOURCES)]
+    pos = Position2DTime(Position2D(GeodeticLatitude(36.8), GeodeticLongitude(-75.7)), None)
+    time.sleep(2.0)  # discovery settles both ways before the first timed sample
+    sent, t_end = 0, time.monotonic() + seconds
+    while time.monotonic() < t_end and not stop.is_set():
+        t0 = time.monotonic()
+        for src in sources:
+            ins_w.write(InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=src, timeStamp=now_datetime()))
+            fix_w.write(GPSFixReportType(altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=GPSFixEnumType.STABLE,
+                                         GPSLatLongValid=True, magneticVariation=0.0, position2DWithTime=pos, SOG=1.0,
+                                         trueCourse=0.5, velocity=Velocity3D_PlatformNED(0.0, 0.5, 0.8), source=src,
+                                         timeStamp=now_datetime()))
+            sent += 2
+        time.sleep(max(0.0, 1 / RATE - (time.monotonic() - t0)))
+    return sent
+
+
+def run(window: float, seconds: float) -> dict[str, float]:
+    with stack(console_env={"SEM_REPORT_INTERVAL": str(window)}) as st:
+        floor = subprocess.Popen([sys.executable, str(common.ROOT / "bench" / "floor_reader.py"), str(st["domain"]),
+                                  str(seconds + 4), "INS_REPORT", "GPS_FIX_REPORT"], stdout=subprocess.PIPE, text=True)
+        assert floor.stdout is not None and floor.stdout.readline().strip() == "ready"
+        console: list[float] = []
+        stop = threading.Event()
+        sent: list[int] = []
+        writer = threading.Thread(target=lambda: sent.append(publish(st["domain"], seconds, stop)))
+
+        def on(msg: dict, now: float) -> None:
+            lat = common.report_latency(msg, now)
+            if lat is not None and msg["topic"] in ("InertialSensorReport", "GPSFixReport"):
+                console.append(lat)
+
+        writer.start()
+        asyncio.run(ws_collect(st["ws"], seconds + 3, on))
+        stop.set()
+        writer.join()
+        floor_lat = [float(x) for x in __import__("json").loads(floor.communicate(timeout=30)[0].strip().splitlines()[-1])]
+    c50, c99, f50, f99 = percentile(console, 50), percentile(console, 99), percentile(floor_lat, 50), percentile(floor_lat, 99)
+    return {
+        "window_ms": window * 1000, "published": sent[0] if sent else 0, "console_n": len(console), "floor_n": len(floor_lat),
+        "console_p50_ms": ms(c50), "console_p99_ms": ms(c99), "console_max_ms": ms(max(console, default=float("nan"))),
+        "floor_p50_ms": ms(f50), "floor_p99_ms": ms(f99),
+        "overhead_p50_ms": ms(c50 - f50), "overhead_p99_ms": ms(c99 - f99),
+        "ratio_p50": round(c50 / f50, 1) if f50 > 0 else None, "ratio_p99": round(c99 / f99, 1) if f99 > 0 else None,
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--seconds", type=float, default=12.0)
+    args = ap.parse_args()
+    runs = [run(w, args.seconds) for w in (0.005, 0.05)]  # the default window, and a wider one
+    keys = ["window_ms", "published", "console_n", "floor_n", "console_p50_ms", "console_p99_ms", "console_max_ms",
+            "floor_p50_ms", "floor_p99_ms", "overhead_p50_ms", "overhead_p99_ms", "ratio_p50", "ratio_p99"]
+    table("Latency, sample to WebSocket vs raw DDS floor", keys, [[r[k] for k in keys] for r in runs])
+    emit("latency", {"runs": runs})
+
+
+if __name__ == "__main__":
+    main()
