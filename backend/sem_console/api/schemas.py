@@ -84,6 +84,7 @@ class Health(_Model):
 class Metrics(_Model):
     uptimeSeconds: float
     samplesTaken: int = Field(description="samples taken from DDS since start (every reader of every SEM topic)")
+    samplesDecoded: int = Field(description="of those, decoded: a sample that reaches both readers of a topic is decoded once")
     undecodableSamples: int
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
     wsClients: int

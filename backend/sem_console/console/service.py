@@ -195,6 +195,7 @@ class Console:
         return {
             "uptimeSeconds": round(time.monotonic() - self.started_at, 3),
             "samplesTaken": self.ingest.taken if self.ingest else 0,
+            "samplesDecoded": self.ingest.decoded if self.ingest else 0,
             "undecodableSamples": sum(self.ingest.undecodable.values()) if self.ingest else 0,
             "reportsApplied": self.reports_applied,
             "wsClients": len(self.hub.clients),

@@ -207,21 +207,27 @@ class Vehicle:
         return InertialSensorReportType(state=self.ins.state, status=self.ins.status(self.t(now)),
                                         source=self.source, timeStamp=now_datetime())
 
+    def _reschedule(self, sem: Sem, rate: float, now: float) -> None:
+        """Next due time from the previous one, so the tick does not stretch every period;
+        after a stall (or a report forced early) the schedule starts again from now."""
+        nxt = self.next_report[sem] + 1.0 / rate
+        self.next_report[sem] = nxt if nxt > now else now + 1.0 / rate
+
     def publish_reports(self, now: float) -> None:
         due = {k: now >= v for k, v in self.next_report.items()}
         if due[Sem.GPS_FIX_REPORT] or due[Sem.GPS_REPORT]:
             sats = self.satellites(now)
             if due[Sem.GPS_REPORT]:
                 self.sim.write(Sem.GPS_REPORT, self.gps_report(now, sats))
-                self.next_report[Sem.GPS_REPORT] = now + 1.0 / self.opts.gps_rate
+                self._reschedule(Sem.GPS_REPORT, self.opts.gps_rate, now)
             if due[Sem.GPS_FIX_REPORT]:
                 fix, status = self.fix_reports(now, sats)
                 self.sim.write(Sem.GPS_FIX_REPORT, fix)
                 self.sim.write(Sem.GPS_FIX_STATUS_REPORT, status)
-                self.next_report[Sem.GPS_FIX_REPORT] = now + 1.0 / self.opts.fix_rate
+                self._reschedule(Sem.GPS_FIX_REPORT, self.opts.fix_rate, now)
         if due[Sem.INS_REPORT]:
             self.sim.write(Sem.INS_REPORT, self.ins_report(now))
-            self.next_report[Sem.INS_REPORT] = now + 1.0 / self.opts.ins_rate
+            self._reschedule(Sem.INS_REPORT, self.opts.ins_rate, now)
 
     def dispose_reports(self) -> None:
         key = self.source
