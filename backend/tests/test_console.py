@@ -240,10 +240,13 @@ def test_inertial_sensor_states_complete(sim, console, state: str) -> None:
     sim("--align-seconds", "20")
     c = console()
     provider_ready(c.url, V1, {"InertialSensorReport"})
+    ws = WsClient(c.ws_url)
     r = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": state})
     assert r.status_code == 201 and r.json()["state"] == state
     done = wait_command(c.url, r.json()["sessionId"])
     assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
+    wait_until(lambda: ws.transitions(r.json()["sessionId"]) == HAPPY, 5, "every transition on the WebSocket")
+    assert ws.errors == []
 
 
 def test_cancel_gives_canceled(sim, console) -> None:
@@ -382,6 +385,9 @@ UNKNOWN = "00000000-0000-4000-8000-000000000000"
     ("DELETE", "/api/commands/42", None, 422, "session_id"),
     ("DELETE", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
     ("GET", "/api/commands/42", None, 422, "session_id"),
+    ("GET", "/api/commands?limit=0", None, 422, "query.limit"),
+    ("GET", "/api/commands?offset=-1", None, 422, "query.offset"),
+    ("GET", "/api/commands?limit=many", None, 422, "query.limit"),
     ("GET", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
 ])
 def test_every_route_rejects_bad_input(live, method: str, path: str, body: Any, code: int, needle: str) -> None:

@@ -303,7 +303,7 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
 
 
 @pytest.mark.parametrize("args,message", [
-    (["--vehicles", "0"], "--vehicles: 0 is outside 1..100"),
+    (["--vehicles", "0"], "--vehicles: 0 is outside 1..500"),
     (["--domain", "x"], "--domain: 'x' is not a number"),
     (["--fault", "explode"], "unknown fault 'explode'"),
     (["--fault", "reject:zero"], "must be a vehicle number"),

@@ -49,7 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
         "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
         "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))
     p.add_argument("--domain", type=_ranged(int, 0, 232), default=Settings().domain, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
-    p.add_argument("--vehicles", type=_ranged(int, 1, 100), default=d.vehicles, help="number of vehicles, each with its own stable source GUID (default: %(default)s)")
+    p.add_argument("--vehicles", type=_ranged(int, 1, 500), default=d.vehicles, help="number of vehicles, each with its own stable source GUID (default: %(default)s)")
     p.add_argument("--time-scale", type=_ranged(float, 0.001, 100), default=d.time_scale, help="multiply every duration below, e.g. 0.1 runs ten times faster (default: %(default)s)")
     p.add_argument("--step-seconds", type=_ranged(float, 0, 600), default=d.step_seconds, help="delay between ISSUED, COMMANDED and EXECUTING (default: %(default)s)")
     p.add_argument("--surface-seconds", type=_ranged(float, 0, 3600), default=d.surface_seconds, help="time for a GPSFix command to surface and get a fix (default: %(default)s)")
