@@ -42,7 +42,3 @@ class Settings(BaseSettings):
             name, _, token = item.rpartition(":")
             out[token] = name or "operator"
         return out
-
-
-def get_settings() -> Settings:
-    return Settings()
