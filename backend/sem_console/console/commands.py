@@ -17,6 +17,7 @@ from typing import Any, Callable
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.store import Store
 from sem_console.dds.topics import Service
@@ -115,7 +116,6 @@ class Commands:
 
     def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | int | None,
                 stamp: tuple[int, int] | list[int]) -> Any:
-        from UMAA.Common.Measurement import DateTime
         values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(provider), sessionID=to_guid(session),
                                       timeStamp=DateTime(seconds=int(stamp[0]), nanoseconds=int(stamp[1])))
         if service is Service.INERTIAL_SENSOR:

@@ -159,9 +159,10 @@ class Ingest:
 
     def _is_new(self, sem: Sem, source: uuid.UUID, session: uuid.UUID | None, s: Any) -> bool:
         """False for a sample already applied through the other reader of the topic."""
-        if isinstance(s, InvalidSample):
-            return True
         key = (sem, source, session)
+        if isinstance(s, InvalidSample):
+            self._last_ts.pop(key, None)  # the instance ended: forget it (one entry per command otherwise)
+            return True
         if s.sample_info.source_timestamp <= self._last_ts.get(key, -1):
             return False
         self._last_ts[key] = s.sample_info.source_timestamp

@@ -1,6 +1,6 @@
 // The one connection to the console: a WebSocket with explicit states, reconnect with backoff,
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
-import type { ClientMessage, ServerMessage } from "../api/types";
+import type { ServerMessage } from "../api/types";
 import { initialState, reduce, type State } from "./store";
 
 export type ConnectionState = "connecting" | "live" | "reconnecting" | "offline";
@@ -63,7 +63,6 @@ export class Store {
 
 export class Connection {
   state: ConnectionState = "connecting";
-  lastError: string | null = null;
   private ws: WebSocket | null = null;
   private failures = 0;
   private timer: ReturnType<typeof setTimeout> | null = null;
@@ -90,10 +89,6 @@ export class Connection {
     this.ws?.close();
   }
 
-  send(msg: ClientMessage): void {
-    if (this.ws?.readyState === WebSocket.OPEN) this.ws.send(JSON.stringify(msg));
-  }
-
   private setState(s: ConnectionState): void {
     if (s === this.state) return;
     this.state = s;
@@ -117,7 +112,6 @@ export class Connection {
         this.setState("live");
         return;
       }
-      if (msg.type === "error") this.lastError = msg.message;
       this.store.enqueue(msg);
     };
     ws.onclose = () => {

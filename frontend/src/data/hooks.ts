@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command, Topic } from "../api/types";
+import type { Command } from "../api/types";
 import type { Connection, ConnectionState, Store } from "./connection";
 import type { Alert, ProviderView, State } from "./store";
 
@@ -38,10 +38,6 @@ export function useProviders(): ProviderView[] {
 
 export function useSelectedProvider(): ProviderView | null {
   return useSelector((s) => (s.selected ? (s.providers[s.selected] ?? null) : null));
-}
-
-export function useTopic(p: ProviderView | null, topic: Topic) {
-  return p?.topics[topic] ?? null;
 }
 
 export function useCommands(providerId: string | null): Command[] {
