@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import importlib
+import os
 import re
 import typing
 from pathlib import Path
@@ -12,9 +13,20 @@ from cyclonedds.idl import IdlEnum, IdlStruct
 
 from sem_console.dds.topics import Sem
 
-# shared/ stands beside the repository clone (../shared/spec from the repo root).
-SPEC = next(p / "shared" / "spec" / "umaa-3.0.1-wire-layout.md" for p in Path(__file__).resolve().parents
-            if (p / "shared" / "spec" / "umaa-3.0.1-wire-layout.md").exists())
+NAME = "umaa-3.0.1-wire-layout.md"
+
+
+def _find_spec() -> Path:
+    """SEM_SPEC_DIR, else shared/spec beside the repository clone (../shared/spec from the repo root)."""
+    if os.environ.get("SEM_SPEC_DIR"):
+        return Path(os.environ["SEM_SPEC_DIR"]) / NAME
+    for parent in Path(__file__).resolve().parents:
+        if (parent / "shared" / "spec" / NAME).exists():
+            return parent / "shared" / "spec" / NAME
+    raise FileNotFoundError(f"{NAME} not found: put shared/ beside the repository or set SEM_SPEC_DIR")
+
+
+SPEC = _find_spec()
 TEXT = SPEC.read_text()
 MEMBER = re.compile(r"^(?P<type>.+?) (?P<name>\w+)(?: \((?P<flag>[ko])\))?$")
 
