@@ -10,6 +10,7 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from sem_console.core.config import Settings
+from sem_console.dds.bus import DdsConfigError, open_domain
 from sem_console.sim.cli import _Parser
 
 
@@ -46,6 +47,11 @@ def main(argv: list[str] | None = None) -> int:
     if settings.host not in ("127.0.0.1", "localhost", "::1") and not settings.operators():
         logging.getLogger("sem-console").warning(
             "listening on %s with no operator token: anyone who reaches this port can command vehicles", settings.host)
+    try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
+        open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
+    except DdsConfigError as e:
+        print(f"sem-console: {e}", file=sys.stderr)
+        return 2
     import uvicorn
 
     from sem_console.main import create_app

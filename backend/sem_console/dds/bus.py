@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Iterable
 
-from cyclonedds.core import InstanceState, Qos, ReadCondition, SampleState, ViewState
+from cyclonedds.core import DDSException, InstanceState, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
@@ -20,12 +21,27 @@ from sem_console.dds.topics import Sem
 _domains: dict[int, Domain] = {}
 
 
+class DdsConfigError(RuntimeError):
+    """Cyclone refused the configuration (a bad CYCLONEDDS_URI, an interface that does not exist)."""
+
+
+def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> Domain:
+    """The process's Domain for this id, created from CYCLONEDDS_URI or the interface and peers settings."""
+    if domain_id not in _domains:
+        source = "CYCLONEDDS_URI" if os.environ.get("CYCLONEDDS_URI", "").strip() else f"interface {interface!r}, peers {peers!r}"
+        try:
+            _domains[domain_id] = Domain(domain_id, dds_config(interface, peers))
+        except (DDSException, UnicodeEncodeError) as e:
+            raise DdsConfigError(f"Cyclone DDS could not start domain {domain_id} with the configuration from {source} "
+                                 f"(Cyclone prints the reason before this line): {e}") from None
+    return _domains[domain_id]
+
+
 class Bus:
     """Owns one DomainParticipant and a Topic per SEM topic (created on first use)."""
 
     def __init__(self, domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> None:
-        if domain_id not in _domains:
-            _domains[domain_id] = Domain(domain_id, dds_config(interface, peers))
+        open_domain(domain_id, interface, peers)
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
         self._topics: dict[Sem, Topic] = {}

@@ -1,5 +1,11 @@
 """Cyclone DDS configuration: loopback by default, CYCLONEDDS_URI honoured when set.
 
+CYCLONEDDS_URI, when set and not empty, is the whole configuration, exactly as Cyclone
+documents it: a comma-separated list of file paths, `file://` URIs and inline XML fragments,
+later ones overriding earlier ones. cyclonedds-python's Domain passes a NULL config to
+`dds_create_domain` when given None, and Cyclone then uses its built-in defaults without
+reading the variable; so the text of the variable is handed to the Domain here.
+
 Two modes, from the interface and peers settings (SEM_DDS_INTERFACE, SEM_DDS_PEERS):
 - peers given (the default, 127.0.0.1): unicast discovery to those peers with multicast
   off. Loopback offers no multicast on Linux, so this is how processes on one host find
@@ -33,8 +39,7 @@ def loopback_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
     )
 
 
-def dds_config(interface: str = "lo", peers: str = "127.0.0.1") -> str | None:
-    """The config to create the Domain with, or None to let Cyclone read CYCLONEDDS_URI."""
-    if os.environ.get("CYCLONEDDS_URI"):
-        return None
-    return loopback_config(interface, peers)
+def dds_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
+    """The config to create the Domain with: CYCLONEDDS_URI when set, else the loopback/peers config."""
+    uri = os.environ.get("CYCLONEDDS_URI", "").strip()
+    return uri or loopback_config(interface, peers)

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Callable, NoReturn
 
 from sem_console.core.config import Settings
-from sem_console.dds.bus import Bus
+from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.sim.provider import FAULTS, SimOptions, Simulator, vehicle_guid
 
 
@@ -105,7 +105,11 @@ def main(argv: list[str] | None = None) -> int:
 
     signal.signal(signal.SIGINT, stop)
     signal.signal(signal.SIGTERM, stop)
-    bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+    try:
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+    except DdsConfigError as e:
+        print(f"sem-sim: {e}", file=sys.stderr)
+        return 2
     sim = Simulator(bus, opts)
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.index, v.guid, sorted(v.faults) or "none")
