@@ -331,18 +331,23 @@ def test_ins_failure_fault_on_one_vehicle(sim, consumer: Consumer) -> None:
     assert consumer.latest(Sem.INS_REPORT, V2).status is Op.INERTIAL_SENSOR_FAILURE
 
 
-def test_writers_of_optional_member_types_offer_xcdr1(sim, consumer: Consumer) -> None:
-    """What another vendor's default reader needs: XCDR1 offered by the GPSReport and GPSFixReport writers."""
+def test_writers_offer_the_representation_of_their_type(sim, consumer: Consumer) -> None:
+    """XCDR1 (what every vendor's default reader accepts) for types without @optional members; XCDR2
+    only for GPSReport and GPSFixReport, whose XCDR1 layout vendors read differently."""
     from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
     from cyclonedds.core import Policy
 
     reader = BuiltinDataReader(consumer.bus.participant, BuiltinTopicDcpsPublication)
     sim()
     wait_reports(consumer, V1)
+    reports = {s.spec.name for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT)}
     offered: dict[str, object] = {}
     consumer.wait(lambda: (offered.update({p.topic_name: p.qos[Policy.DataRepresentation] for p in reader.read(N=100)})
-                           or {Sem.GPS_REPORT.spec.name, Sem.GPS_FIX_REPORT.spec.name} <= set(offered)), 10, "publications")
+                           or reports <= set(offered)), 10, "publications")
     for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT):
+        rep = offered[sem.spec.name]
+        assert rep.use_xcdrv2_representation and not rep.use_cdrv0_representation, rep
+    for sem in (Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT):
         rep = offered[sem.spec.name]
         assert rep.use_cdrv0_representation and not rep.use_xcdrv2_representation, rep
 

@@ -6,7 +6,7 @@ import os
 import time
 from collections.abc import Iterable
 
-from cyclonedds.core import DDSException, InstanceState, Qos, ReadCondition, SampleState, ViewState
+from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
@@ -14,7 +14,7 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from sem_console.dds.config import dds_config
-from sem_console.dds.qos import reader_qos, writer_qos
+from sem_console.dds.qos import reader_qos, representation, writer_qos
 from sem_console.dds.topics import Sem
 
 # One Domain object per domain id per process: Cyclone keeps the first config it was given.
@@ -52,10 +52,13 @@ class Bus:
         return self._topics[sem]
 
     def writer(self, sem: Sem) -> DataWriter:
-        return DataWriter(self.participant, self.topic(sem), qos=writer_qos(sem.spec.cls, sem.spec.xcdr1))
+        return DataWriter(self.participant, self.topic(sem),
+                          qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
-    def reader(self, sem: Sem, qos: Qos | None = None) -> DataReader:
-        return DataReader(self.participant, self.topic(sem), qos=qos or reader_qos(sem.spec.cls))
+    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader:
+        """A reader with the given QoS (else the topic class's), always with the type's data representation."""
+        qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
+        return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
 
     def close(self) -> None:
         self._topics.clear()

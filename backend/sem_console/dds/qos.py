@@ -6,9 +6,12 @@
 | status   | *CommandStatus, *CommandAckReport | reliable | transient-local | keep last 32   | every transition reaches a running consumer in order (a command has at most 5), and a consumer that joins late sees where each command stands |
 | report   | *Report (GPS, GPSFix, INS)     | reliable    | transient-local | keep last 1    | a consumer that starts after the provider shows the last report at once; newer reports replace older ones |
 
-Writers of types with @optional members (GPSReport, GPSFixReport) offer XCDR1 so that
-another vendor's default reader decodes them; Cyclone already uses XCDR1 for the
-other (final, no optional) types. Readers accept both representations.
+The data representation follows from the type, not the topic (`representation`): a type with
+no @optional member travels in XCDR1, which every vendor's default reader accepts (RTI
+Connext's accepts nothing else); a type with @optional members travels in XCDR2 only, because
+vendors disagree on XCDR1's layout of an optional member (README, "Other DDS vendors"): an
+XCDR1 sample of such a type is misread or rejected across vendors, so it is neither written
+nor accepted.
 """
 
 from __future__ import annotations
@@ -31,13 +34,18 @@ class TopicClass(str, Enum):
 _DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: STATUS_DEPTH, TopicClass.REPORT: 1}
 
 
-def writer_qos(cls: TopicClass, xcdr1: bool = False) -> Qos:
-    policies = [_RELIABLE, Policy.Durability.TransientLocal, Policy.History.KeepLast(_DEPTH[cls]),
-                # Instances end by an explicit dispose (cancel, cleanup, shutdown), never by a writer closing.
-                Policy.WriterDataLifecycle(autodispose=False)]
-    if xcdr1:
-        policies.append(Policy.DataRepresentation(use_cdrv0_representation=True))
-    return Qos(*policies)
+def writer_qos(cls: TopicClass) -> Qos:
+    return Qos(_RELIABLE, Policy.Durability.TransientLocal, Policy.History.KeepLast(_DEPTH[cls]),
+               # Instances end by an explicit dispose (cancel, cleanup, shutdown), never by a writer closing.
+               Policy.WriterDataLifecycle(autodispose=False))
+
+
+def representation(xcdr2_only: bool, writer: bool) -> Qos:
+    """The DataRepresentation of an endpoint: XCDR2 only for types with @optional members; otherwise
+    writers offer XCDR1 and readers accept XCDR1 and XCDR2."""
+    if xcdr2_only:
+        return Qos(Policy.DataRepresentation(use_xcdrv2_representation=True))
+    return Qos(Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=not writer))
 
 
 # A reader's latency budget must be at least the writer's for them to match: ours accept any.

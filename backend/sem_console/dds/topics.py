@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import functools
+import typing
 from dataclasses import dataclass
 from enum import Enum
+
+from cyclonedds.idl import IdlStruct
 
 from UMAA.SEM.GPSFixControl import GPSFixCommandAckReportType, GPSFixCommandStatusType, GPSFixCommandType
 from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
@@ -18,21 +22,38 @@ from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 from sem_console.dds.qos import TopicClass
 
 
+@functools.cache
+def has_optional(t: type) -> bool:
+    """Whether a generated struct has an @optional member anywhere in its member tree."""
+    for hint in typing.get_type_hints(t, include_extras=True).values():
+        if typing.get_origin(hint) is typing.Union:
+            return True
+        while typing.get_origin(hint) is typing.Annotated or typing.get_origin(hint) is list:
+            hint = typing.get_args(hint)[0]
+        if isinstance(hint, type) and issubclass(hint, IdlStruct) and has_optional(hint):
+            return True
+    return False
+
+
 @dataclass(frozen=True)
 class TopicSpec:
     name: str
     type: type
     cls: TopicClass
-    xcdr1: bool = False  # type has @optional members: offer XCDR1 for other vendors' default readers
+
+    @property
+    def xcdr2_only(self) -> bool:
+        """Exchanged in XCDR2 only: the type has @optional members (see qos.representation)."""
+        return has_optional(self.type)
 
 
 class Sem(Enum):
     GPS_FIX_COMMAND = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommand", GPSFixCommandType, TopicClass.COMMAND)
     GPS_FIX_COMMAND_STATUS = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandStatus", GPSFixCommandStatusType, TopicClass.STATUS)
     GPS_FIX_COMMAND_ACK = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS)
-    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT, xcdr1=True)
+    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT)
     GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
-    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT, xcdr1=True)
+    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT)
     INS_COMMAND = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND)
     INS_COMMAND_STATUS = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus", InertialSensorCommandStatusType, TopicClass.STATUS)
     INS_COMMAND_ACK = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport", InertialSensorCommandAckReportType, TopicClass.STATUS)

@@ -1,0 +1,117 @@
+"""RTI Connext, through its Python Connector, as the other vendor in interoperability tests.
+
+The participant keeps RTI's defaults for everything about types and encoding: the types come
+from the project's IDL as RTI's XML type representation (`idl2xml`), with no extensibility
+given (RTI applies appendable), and no data representation set (RTI writers and readers use
+XCDR1 only). What is set: UDPv4 on loopback with 127.0.0.1 as the initial peer (Cyclone speaks
+neither RTI's shared memory nor multicast on `lo`), and per topic class the reliability,
+durability and depth a UMAA system configures. Command writers serialize the key with a dispose,
+so a cancel carries the instance's key and not only its MD5 key hash (keys over 16 bytes).
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+from xml.sax.saxutils import quoteattr
+
+import rticonnextdds_connector as rti
+
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import Sem
+
+from .idl2xml import types_xml
+
+_DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: 32, TopicClass.REPORT: 1}
+
+
+def type_name(sem: Sem) -> str:
+    return sem.spec.type.__idl_typename__.replace(".", "::")
+
+
+def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> str:
+    tag = "datawriter_qos" if writer else "datareader_qos"
+    extra = ""
+    if representation:
+        extra += f"<representation><value><element>{representation}</element></value></representation>"
+    if writer and sem.spec.cls is TopicClass.COMMAND:
+        extra = "<protocol><serialize_key_with_dispose>true</serialize_key_with_dispose></protocol>"
+    # Unbounded members (GPSReport's satellites): RTI allocates the largest sample up front unless
+    # told to allocate samples over this size on demand.
+    side = "writer" if writer else "reader"
+    extra += (f"<property><value><element><name>dds.data_{side}.history.memory_manager.fast_pool.pool_buffer_max_size"
+              "</name><value>4096</value></element></value></property>")
+    if writer:
+        extra += "<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances></writer_data_lifecycle>"
+    return (f'<{tag}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
+            f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
+            f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>')
+
+
+def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None) -> str:
+    sems = list(dict.fromkeys(writers + readers))
+    regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
+    topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
+    pubs = "".join(f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, True, representation)}</data_writer>"
+                   for s in writers)
+    subs = "".join(f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, False)}</data_reader>"
+                   for s in readers)
+    return f"""<?xml version="1.0"?>
+<dds>
+<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true">
+<domain_participant_qos>
+  <transport_builtin><mask>UDPv4</mask></transport_builtin>
+  <discovery><initial_peers><element>32@udpv4://127.0.0.1</element></initial_peers><multicast_receive_addresses/></discovery>
+</domain_participant_qos>
+</qos_profile></qos_library>
+{types_xml()}
+<domain_library name="Domains"><domain name="Sem" domain_id="{domain}">{regs}{topics}</domain></domain_library>
+<domain_participant_library name="Participants"><domain_participant name="Rti" domain_ref="Domains::Sem">
+<publisher name="pub">{pubs}</publisher><subscriber name="sub">{subs}</subscriber>
+</domain_participant></domain_participant_library>
+</dds>"""
+
+
+class RtiParticipant:
+    """One RTI Connext participant with a writer and/or reader per given SEM topic."""
+
+    def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
+                 representation: str | None = None) -> None:
+        self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
+        self._file.write(config_xml(domain, list(writers), list(readers), representation))
+        self._file.close()
+        self.connector = rti.Connector("Participants::Rti", self._file.name)
+        self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
+        self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}
+
+    def wait_matched(self, sem: Sem, timeout: float = 10.0) -> None:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            port = self.outputs.get(sem) or self.inputs[sem]
+            matched = port.matched_subscriptions if sem in self.outputs else port.matched_publications
+            if matched:
+                return
+            time.sleep(0.05)
+        raise TimeoutError(f"RTI {sem.spec.name} matched nothing")
+
+    def write(self, sem: Sem, sample: dict[str, Any], action: str = "write") -> None:
+        out = self.outputs[sem]
+        out.clear_members()
+        out.instance.set_dictionary(sample)
+        out.write(**({"action": action} if action != "write" else {}))
+
+    def take(self, sem: Sem) -> list[tuple[dict[str, Any] | None, str]]:
+        """(sample or None for a dispose, instance state) for each sample RTI's reader has."""
+        inp = self.inputs[sem]
+        inp.take()
+        out = []
+        for s in inp.samples:
+            state = s.info["instance_state"]
+            out.append((s.get_dictionary() if s.valid_data else None, state))
+        return out
+
+    def close(self) -> None:
+        self.connector.close()
+        Path(self._file.name).unlink(missing_ok=True)

@@ -1,0 +1,276 @@
+"""Interoperability with a second DDS vendor: RTI Connext (its Python Connector) against our Cyclone stack.
+
+RTI keeps its defaults for types and encoding (types from our IDL as RTI's XML type
+representation, appendable, XCDR1; see rti/connector.py). Covered both ways: every topic whose
+type has no @optional member sample for sample, and the full command flow (ISSUED ->
+COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as the consumer.
+The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
+RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors").
+"""
+
+from __future__ import annotations
+
+import math
+import random
+import time
+import uuid
+from typing import Any, Callable
+
+import httpx
+import pytest
+
+from rti.connector import RtiParticipant
+from samplegen import random_sample, to_plain
+from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.topics import Sem, Service
+from sem_console.sim.provider import vehicle_guid
+from test_console import wait_until
+
+PLAIN = [s for s in Sem if not s.spec.xcdr2_only]  # exchanged in XCDR1, RTI's default
+COMMANDS = {Service.GPS_FIX: Sem.GPS_FIX_COMMAND, Service.INERTIAL_SENSOR: Sem.INS_COMMAND}
+STATUS = {"FAILED": 0, "COMPLETED": 1, "ISSUED": 2, "COMMANDED": 3, "EXECUTING": 4, "CANCELED": 5}
+REASON = {"CANCELED": 0, "SUCCEEDED": 8}
+STATUS_NAME = {v: k for k, v in STATUS.items()}
+
+
+def same(a: Any, b: Any) -> bool:
+    """Equal as plain values. RTI's Connector hands samples over as JSON text: whole doubles come
+    back as integers and a double may lose its last bit there, so doubles compare within 1e-15."""
+    if isinstance(a, dict):
+        return isinstance(b, dict) and set(a) == set(b) and all(same(a[k], b[k]) for k in a)
+    if isinstance(a, list):
+        return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+    if isinstance(a, float):
+        return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-15) or (math.isnan(a) and math.isnan(b)))
+    return a == b
+
+
+@pytest.fixture
+def rti() -> Any:
+    made: list[RtiParticipant] = []
+
+    def make(domain: int, **kw: Any) -> RtiParticipant:
+        p = RtiParticipant(domain, **kw)
+        made.append(p)
+        return p
+
+    yield make
+    for p in made:
+        p.close()
+
+
+def test_every_plain_topic_from_rti_decodes_in_cyclone(rti: Callable[..., RtiParticipant], domain: int) -> None:
+    bus = Bus(domain)
+    readers = {s: bus.reader(s) for s in PLAIN}
+    p = rti(domain, writers=PLAIN)
+    rng = random.Random(5)
+    sent = {s: [random_sample(s.spec.type, rng) for _ in range(10)] for s in PLAIN}
+    for s in PLAIN:
+        p.wait_matched(s)
+        for x in sent[s]:
+            p.write(s, to_plain(x))
+    for s in PLAIN:
+        got: list[Any] = []
+        wait_until(lambda: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
+                   10, f"{s.spec.name} from RTI")
+        assert len(got) == len(sent[s])
+        for x in sent[s]:
+            assert any(same(to_plain(x), to_plain(g)) for g in got), (s.spec.name, to_plain(x))
+
+
+def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiParticipant], domain: int) -> None:
+    bus = Bus(domain)
+    p = rti(domain, readers=PLAIN)
+    writers = {s: bus.writer(s) for s in PLAIN}
+    rng = random.Random(6)
+    sent = {s: [random_sample(s.spec.type, rng) for _ in range(10)] for s in PLAIN}
+    for s in PLAIN:
+        p.wait_matched(s)
+        for x in sent[s]:
+            writers[s].write(x)
+    for s in PLAIN:
+        got: list[Any] = []
+        wait_until(lambda: got.extend(x for x, _ in p.take(s) if x) or len(got) >= 10, 10, f"{s.spec.name} in RTI")
+        for x in sent[s]:
+            assert any(same(to_plain(x), g) for g in got), (s.spec.name, to_plain(x))
+
+
+def test_optional_member_topics_are_not_matched_in_xcdr1(rti: Callable[..., RtiParticipant], domain: int) -> None:
+    """RTI's default XCDR1 GPSReport/GPSFixReport endpoints do not match ours: nothing is exchanged in
+    the one representation whose optional-member layout the two vendors read differently."""
+    optional = [s for s in Sem if s.spec.xcdr2_only]
+    readers = {s: Bus(domain).reader(s) for s in optional}  # each in a participant of its own,
+    writers = {s: Bus(domain).writer(s) for s in optional}  # so a reader matches our writer only
+    p = rti(domain, writers=optional, readers=optional)
+    time.sleep(2)  # discovery on loopback takes well under a second (the tests above)
+    for s in optional:
+        assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
+        assert len(writers[s].get_matched_subscriptions()) == 1, s.spec.name  # our own XCDR2 reader
+        # RTI's writer and reader match each other (same participant, both named) and nothing of ours.
+        assert p.outputs[s].matched_subscriptions == [{"name": s.name}], s.spec.name
+        assert p.inputs[s].matched_publications == [{"name": s.name}], s.spec.name
+
+
+class RtiVehicle:
+    """A UMAA provider on RTI Connext: INS and fix-status reports, and the command flow of both services."""
+
+    def __init__(self, p: RtiParticipant) -> None:
+        self.p = p
+        self.guid = uuid.uuid4()
+        self.handled: set[bytes] = set()
+        self.disposed: list[bytes] = []
+        self.hold: set[bytes] = set()  # commands to keep EXECUTING (to be canceled)
+
+    def report(self) -> None:
+        now = time.time()
+        stamp = {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}
+        src = list(self.guid.bytes)
+        self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
+        self.p.write(Sem.GPS_FIX_STATUS_REPORT, {
+            "carrierToNoise": [41.5, 38.0], "countDown": 3, "fixValid": True, "lowBkupBattery": False, "navSolution": 4,
+            "originPosition": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
+                               "heightAboveEllipsoid": {"altitude": 12.5}},
+            "pCode": False, "timeOut": False, "source": src, "timeStamp": stamp})
+
+    def status(self, service: Service, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
+        now = time.time()
+        self.p.write(service.status, {"source": list(self.guid.bytes), "sessionID": cmd["sessionID"], "commandStatus": STATUS[status],
+                                      "commandStatusReason": REASON[reason], "logMessage": f"rti {status.lower()}",
+                                      "timeStamp": {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}})
+
+    def step(self) -> None:
+        """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
+        self.report()
+        for service, sem in COMMANDS.items():
+            for cmd, state in self.p.take(sem):
+                if cmd is None:  # a dispose: the consumer cancels or cleans up
+                    continue
+                session = bytes(cmd["sessionID"])
+                if session in self.handled or bytes(cmd["destination"]) != self.guid.bytes:
+                    continue
+                self.handled.add(session)
+                ack = {"source": list(self.guid.bytes), "sessionID": cmd["sessionID"]}
+                if service is Service.INERTIAL_SENSOR:
+                    ack["state"] = cmd["state"]
+                self.p.write(service.ack, ack)
+                for s in ("ISSUED", "COMMANDED", "EXECUTING"):
+                    self.status(service, cmd, s)
+                if session in self.hold:
+                    self.running = (service, cmd)
+                else:
+                    self.status(service, cmd, "COMPLETED")
+
+    def cancel_running_if_disposed(self) -> bool:
+        service, cmd = self.running
+        for got, state in self.p.take(COMMANDS[service]):
+            if got is None or state != "ALIVE":
+                self.status(service, cmd, "CANCELED", "CANCELED")
+                return True
+        return False
+
+
+def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], console: Any, domain: int) -> None:
+    c = console()
+    topics = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
+              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK]
+    v = RtiVehicle(rti(domain, writers=topics, readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
+    me = str(v.guid)
+
+    def shown() -> Any:
+        v.step()
+        r = httpx.get(f"{c.url}/api/providers/{me}")
+        return r.json() if r.status_code == 200 and {"InertialSensorReport", "GPSFixStatusReport"} <= set(
+            k for k, x in r.json()["reports"].items() if x) else None
+
+    detail = wait_until(shown, 15, "the RTI vehicle in the console")
+    assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
+    assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "OPERATIONAL"
+    assert detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == 36.85
+
+    for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
+        r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
+        assert r.status_code == 201, r.text
+        session = r.json()["sessionId"]
+
+        def done() -> Any:
+            v.step()
+            cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
+            return cmd if cmd["transitions"] and cmd["transitions"][-1]["status"] == "COMPLETED" else None
+
+        cmd = wait_until(done, 15, f"{path} COMPLETED")
+        assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+        assert cmd["violations"] == [] and cmd["ackedAt"]
+        # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
+        wait_until(lambda: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
+            Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 10, "the cleanup dispose in RTI")
+
+    # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
+    r = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
+    session = r.json()["sessionId"]
+    v.hold.add(uuid.UUID(session).bytes)
+    wait_until(lambda: v.step() or getattr(v, "running", None), 10, "the held command")
+    wait_until(lambda: v.report() or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"],
+               10, "EXECUTING in the console")
+    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
+    wait_until(lambda: v.report() or v.cancel_running_if_disposed(), 10, "the cancel dispose in RTI")
+    cmd = wait_until(lambda: v.report() or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
+        httpx.get(f"{c.url}/api/commands/{session}").json()), 10, "CANCELED in the console")
+    assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+    assert cmd["violations"] == []
+
+
+def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None = None) -> dict[str, Any]:
+    now = time.time()
+    cmd: dict[str, Any] = {"source": list(me.bytes), "destination": list(dest.bytes), "sessionID": list(uuid.uuid4().bytes),
+                           "timeStamp": {"seconds": int(now), "nanoseconds": 0}}
+    if state is not None:
+        cmd["state"] = state
+    return cmd
+
+
+def _statuses(p: RtiParticipant, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
+    for x, state in p.take(service.status):
+        if x is None:
+            seen.append((None, state))
+        elif x["sessionID"] == session:
+            seen.append((STATUS_NAME[x["commandStatus"]], state))
+    return seen
+
+
+@pytest.mark.parametrize("service,state", [(Service.GPS_FIX, None), (Service.INERTIAL_SENSOR, 2)])
+def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, rti: Callable[..., RtiParticipant],
+                                       sim: Any, domain: int) -> None:
+    sim()
+    vehicle = vehicle_guid(1)
+    sem = COMMANDS[service]
+    p = rti(domain, writers=[sem], readers=[service.status, service.ack])
+    me = uuid.uuid4()
+    p.wait_matched(sem)
+    p.wait_matched(service.status)
+    cmd = _command(service, me, vehicle, state)
+    p.write(sem, cmd)
+    seen: list[tuple[str | None, str]] = []
+    wait_until(lambda: ("COMPLETED", "ALIVE") in _statuses(p, service, cmd["sessionID"], seen), 20, "COMPLETED in RTI")
+    assert [s for s, _ in seen] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+    acks = [x for x, _ in p.take(service.ack) if x and x["sessionID"] == cmd["sessionID"]]
+    assert acks and bytes(acks[0]["source"]) == vehicle.bytes
+    # Cleanup: RTI disposes the finished command (its key travels with the dispose); the simulator
+    # disposes the status and the ack.
+    p.write(sem, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
+    wait_until(lambda: any(s is None or st != "ALIVE" for s, st in _statuses(p, service, cmd["sessionID"], [])), 10,
+               "the simulator's status dispose")
+
+
+def test_rti_consumer_cancels_by_dispose(rti: Callable[..., RtiParticipant], sim: Any, domain: int) -> None:
+    sim("--fault", "slow")
+    vehicle = vehicle_guid(1)
+    p = rti(domain, writers=[Sem.GPS_FIX_COMMAND], readers=[Sem.GPS_FIX_COMMAND_STATUS])
+    p.wait_matched(Sem.GPS_FIX_COMMAND)
+    p.wait_matched(Sem.GPS_FIX_COMMAND_STATUS)
+    cmd = _command(Service.GPS_FIX, uuid.uuid4(), vehicle)
+    p.write(Sem.GPS_FIX_COMMAND, cmd)
+    seen: list[tuple[str | None, str]] = []
+    wait_until(lambda: ("EXECUTING", "ALIVE") in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen), 20, "EXECUTING")
+    p.write(Sem.GPS_FIX_COMMAND, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
+    wait_until(lambda: any(s == "CANCELED" for s, _ in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen)), 20, "CANCELED")
+    assert [s for s, _ in seen if s] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
