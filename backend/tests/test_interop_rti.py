@@ -274,3 +274,27 @@ def test_rti_consumer_cancels_by_dispose(rti: Callable[..., RtiParticipant], sim
     p.write(Sem.GPS_FIX_COMMAND, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
     wait_until(lambda: any(s == "CANCELED" for s, _ in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen)), 20, "CANCELED")
     assert [s for s, _ in seen if s] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+
+
+def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti: Callable[..., RtiParticipant], domain: int) -> None:
+    """README's recipe for an RTI vehicle's position: GPSFixReport in XCDR2 with the type final."""
+    s = Sem.GPS_FIX_REPORT
+    reader, writer = Bus(domain).reader(s), Bus(domain).writer(s)
+    p = rti(domain, writers=[s], readers=[s], representation="XCDR2_DATA_REPRESENTATION", extensibility="final")
+    rng = random.Random(8)
+    theirs = [random_sample(s.spec.type, rng) for _ in range(10)]
+    ours = [random_sample(s.spec.type, rng) for _ in range(10)]
+    wait_until(lambda: len(p.outputs[s].matched_subscriptions) == 2 and len(p.inputs[s].matched_publications) == 2,
+               10, "RTI matched with our reader and writer")
+    for x in theirs:
+        p.write(s, to_plain(x))
+    for x in ours:
+        writer.write(x)
+    got: list[Any] = []
+    wait_until(lambda: got.extend(to_plain(g) for g in reader.take(N=100, condition=all_samples(reader))) or len(got) >= 20,
+               10, "RTI's samples in Cyclone")
+    rti_got: list[Any] = []
+    wait_until(lambda: rti_got.extend(x for x, _ in p.take(s) if x) or len(rti_got) >= 20, 10, "our samples in RTI")
+    for x in theirs + ours:
+        assert any(same(to_plain(x), g) for g in got), to_plain(x)
+        assert any(same(to_plain(x), g) for g in rti_got), to_plain(x)

@@ -50,13 +50,14 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
             f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>')
 
 
-def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None) -> str:
+def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None,
+               extensibility: str | None = None) -> str:
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
     pubs = "".join(f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, True, representation)}</data_writer>"
                    for s in writers)
-    subs = "".join(f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, False)}</data_reader>"
+    subs = "".join(f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, False, representation)}</data_reader>"
                    for s in readers)
     return f"""<?xml version="1.0"?>
 <dds>
@@ -66,7 +67,7 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
   <discovery><initial_peers><element>32@udpv4://127.0.0.1</element></initial_peers><multicast_receive_addresses/></discovery>
 </domain_participant_qos>
 </qos_profile></qos_library>
-{types_xml()}
+{types_xml(extensibility=extensibility)}
 <domain_library name="Domains"><domain name="Sem" domain_id="{domain}">{regs}{topics}</domain></domain_library>
 <domain_participant_library name="Participants"><domain_participant name="Rti" domain_ref="Domains::Sem">
 <publisher name="pub">{pubs}</publisher><subscriber name="sub">{subs}</subscriber>
@@ -78,9 +79,9 @@ class RtiParticipant:
     """One RTI Connext participant with a writer and/or reader per given SEM topic."""
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
-                 representation: str | None = None) -> None:
+                 representation: str | None = None, extensibility: str | None = None) -> None:
         self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
-        self._file.write(config_xml(domain, list(writers), list(readers), representation))
+        self._file.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
         self._file.close()
         self.connector = rti.Connector("Participants::Rti", self._file.name)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}

@@ -44,25 +44,27 @@ def _type_xml(tokens: list[str], i: int) -> tuple[str, int]:
     return f'type="nonBasic" nonBasicTypeName="{name}"', i + 1
 
 
-def _parse(tokens: list[str]) -> str:
+def _parse(tokens: list[str], extensibility: str | None) -> str:
     """XML for a token stream of module, struct, enum and typedef declarations."""
     out: list[str] = []
+    closers: list[str] = []
+    ext = f' extensibility="{extensibility}"' if extensibility else ""
     i = 0
     while i < len(tokens):
         t = tokens[i]
         if t == "module":
             out.append(f'<module name="{tokens[i + 1]}">')
-            _closers.append("</module>")
+            closers.append("</module>")
             i += 3
         elif t == "}":
             i += 1
-            closer = _closers.pop()
+            closer = closers.pop()
             out.append(closer)
             if i < len(tokens) and tokens[i] == ";":
                 i += 1
         elif t == "struct":
-            out.append(f'<struct name="{tokens[i + 1]}">')
-            _closers.append("</struct>")
+            out.append(f'<struct name="{tokens[i + 1]}"{ext}>')
+            closers.append("</struct>")
             i += 3
             while tokens[i] != "}":
                 flags = []
@@ -98,9 +100,6 @@ def _parse(tokens: list[str]) -> str:
     return "\n".join(out)
 
 
-_closers: list[str] = []
-
-
 def _files_in_order(root: Path) -> list[Path]:
     """Every IDL file, each after the files it includes (RTI resolves XML types in order)."""
     done: list[Path] = []
@@ -117,9 +116,10 @@ def _files_in_order(root: Path) -> list[Path]:
     return done
 
 
-def types_xml(root: Path = IDL_ROOT) -> str:
-    """One <types> element with every type of the project's IDL."""
-    return "<types>\n" + "\n".join(_parse(_tokens(p.read_text())) for p in _files_in_order(root)) + "\n</types>"
+def types_xml(root: Path = IDL_ROOT, extensibility: str | None = None) -> str:
+    """One <types> element with every type of the project's IDL (structs of the given extensibility,
+    else RTI's default)."""
+    return "<types>\n" + "\n".join(_parse(_tokens(p.read_text()), extensibility) for p in _files_in_order(root)) + "\n</types>"
 
 
 if __name__ == "__main__":
