@@ -174,6 +174,7 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
         time.sleep(0.05)
     done = wait_command(c.url, session, done=lambda x: x["status"] == "COMMANDED")
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED"]
+    assert httpx.get(f"{c.url}/api/metrics").json()["samplesByReader"]["bestEffort"] >= 3  # its only reader
 
 
 def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> None:
