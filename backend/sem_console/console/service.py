@@ -84,12 +84,19 @@ class Console:
         self.store.close()
 
     def _start_sim(self) -> None:
-        from sem_console.sim.provider import SimOptions, Simulator
+        from sem_console.sim.provider import InUse, SimOptions, Simulator
 
         stop = [False]
-        sim = Simulator(self.bus, SimOptions(vehicles=self.settings.sim, time_scale=self.settings.sim_time_scale))
+        opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
+                          time_scale=self.settings.sim_time_scale)
 
         def run() -> None:
+            try:
+                sim = Simulator(self.bus, opts)  # looks for its vehicles on the bus first: off the loop
+            except InUse as e:
+                hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
+                log.error("the embedded simulator did not start: %s%s", e, hint)
+                return
             try:
                 sim.run(lambda: stop[0])
             finally:
