@@ -24,6 +24,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--domain", type=int, help="DDS domain id, 0..232 (default: 0)")
     p.add_argument("--sim", type=int, help="start N simulated vehicles alongside on the same domain (default: 0)")
     p.add_argument("--sim-time-scale", type=float, help="time scale of the embedded simulator (default: 1)")
+    p.add_argument("--sim-first-vehicle", type=int, help="number of the embedded simulator's first vehicle, as sem-sim --first-vehicle (default: 1)")
     p.add_argument("--db", type=Path, dest="db_path", help="SQLite command history (default: var/sem-console.sqlite3)")
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")

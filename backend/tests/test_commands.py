@@ -114,3 +114,37 @@ def test_ack_recorded(tmp_path: Path) -> None:
     c.on_ack(Service.GPS_FIX, cmd.session_id, VEHICLE)
     assert cmd.acked_at is not None and bus.emitted[-1]["command"]["ackedAt"] == cmd.acked_at
     assert consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].acked_at == cmd.acked_at
+
+
+def _statuses(c: Commands, cmd: Any, *steps: tuple[S, R, float]) -> None:
+    for st, reason, at in steps:
+        c.on_status(cmd.service, cmd.session_id, VEHICLE, st, reason, "", at)
+
+
+def test_statuses_with_tied_or_backward_provider_times_are_all_applied_in_arrival_order(tmp_path: Path) -> None:
+    c = consumer(tmp_path / "db", Bus())
+    tied = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    _statuses(c, tied, (S.ISSUED, OK, 50.0), (S.FAILED, R.RESOURCE_REJECTED, 50.0))  # one millisecond, one stamp
+    assert [(t.status, t.reason) for t in tied.flow.transitions] == [(S.ISSUED, OK), (S.FAILED, R.RESOURCE_REJECTED)]
+    backward = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    _statuses(c, backward, (S.ISSUED, OK, 40.0), (S.COMMANDED, OK, 39.0), (S.EXECUTING, OK, 20.0), (S.COMPLETED, OK, 1.0))
+    assert [t.status for t in backward.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+    assert backward.flow.violations == [] and backward.cleaned_up
+    # a broken provider repeating an earlier status with the same stamp: recorded as the violation it is
+    repeat = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    _statuses(c, repeat, (S.ISSUED, OK, 5.0), (S.COMMANDED, OK, 5.0), (S.ISSUED, OK, 5.0))
+    assert [t.status for t in repeat.flow.transitions] == [S.ISSUED, S.COMMANDED, S.ISSUED]
+    assert repeat.flow.violations == ["COMMANDED -> ISSUED is not a Figure 4 transition"]
+
+
+def test_restart_skips_a_replay_of_only_the_last_statuses(tmp_path: Path) -> None:
+    """A provider whose status history keeps one sample replays only its last status after our restart."""
+    first = consumer(tmp_path / "db", Bus())
+    cmd = first.issue(Service.GPS_FIX, VEHICLE, None, None)
+    _statuses(first, cmd, (S.ISSUED, OK, 7.0), (S.COMMANDED, OK, 7.0), (S.EXECUTING, OK, 7.0))
+    second = consumer(tmp_path / "db", Bus())
+    second.startup()
+    again = second.by_session[cmd.session_id]
+    _statuses(second, again, (S.EXECUTING, OK, 7.0), (S.COMPLETED, OK, 7.0))  # the replay, then a new status, same stamp
+    assert [t.status for t in again.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+    assert again.flow.violations == [] and again.cleaned_up

@@ -174,6 +174,7 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
         time.sleep(0.05)
     done = wait_command(c.url, session, done=lambda x: x["status"] == "COMMANDED")
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED"]
+    assert httpx.get(f"{c.url}/api/metrics").json()["samplesByReader"]["bestEffort"] >= 3  # its only reader
 
 
 def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> None:
@@ -321,6 +322,25 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
                and any(m["event"] == "regained" for m in ws.of("provider")), 15, "regained")
     events = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == V1]
     assert events.index("lost") < events.index("regained")
+
+
+def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp_path) -> None:
+    """`scripts/run` (the console with --sim 1) beside a running `sem-sim`: the console shows the running
+    simulator's vehicle 1 and logs why its own did not start; --sim-first-vehicle runs both."""
+    running = sim("--surface-seconds", "100")
+    state = {"XDG_STATE_HOME": str(tmp_path)}  # the embedded simulator's journal
+    first = console("--sim", "1", "--sim-time-scale", "0.05", "--log-level", "error", env=state)
+    provider_ready(first.url, V1, {"InertialSensorReport"})
+    time.sleep(2)  # the embedded simulator's look at the bus (0.5 s) is long over
+    session = httpx.post(f"{first.url}/api/providers/{V1}/gps-fix").json()["sessionId"]
+    wait_command(first.url, session, done=lambda x: x["status"] == "EXECUTING")  # 5 s to surface: the running one's
+    assert [p["id"] for p in httpx.get(f"{first.url}/api/providers").json()] == [V1]
+    out = first.stop()
+    assert (f"the embedded simulator did not start: vehicle 1 already runs on domain {first.domain} in another process; "
+            "start the console with --sim-first-vehicle 2 to run both") in out
+    second = console("--sim", "1", "--sim-first-vehicle", "2", "--sim-time-scale", "0.05", env=state)
+    provider_ready(second.url, V2, {"InertialSensorReport"})
+    assert running.proc is not None and running.proc.poll() is None
 
 
 def test_stalled_websocket_client_does_not_stop_another(sim, console) -> None:

@@ -366,3 +366,27 @@ def test_shutdown_with_a_vanished_reader_is_clean(sim, consumer: Consumer, domai
     crashed.wait()
     out = p.stop(signal.SIGINT)
     assert p.proc is not None and p.proc.returncode == 0 and "Traceback" not in out, out
+
+
+def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consumer, tmp_path) -> None:
+    """Two real processes on one domain: the second refuses vehicle 1, runs vehicles from 2 when told to,
+    and never takes over the first one's journal."""
+    first = sim()
+    wait_reports(consumer, V1, [Sem.INS_REPORT])
+    second = sim("--state-file", str(tmp_path / "second.json"))  # its own journal, the same vehicle 1
+    assert second.proc is not None and second.proc.wait(timeout=20) == 1
+    out = second.stop()
+    assert out.strip().splitlines()[-1] == (f"sem-sim: error: vehicle 1 already runs on domain {second.domain} in another "
+                                            "process; run these vehicles with --first-vehicle 2 or on another --domain")
+    same_journal = sim("--first-vehicle", "2")  # other vehicles, but the first one's journal
+    assert same_journal.proc is not None and same_journal.proc.wait(timeout=20) == 1
+    assert f"is in use by another simulator (pid {first.proc.pid})" in same_journal.stop()  # type: ignore[union-attr]
+    both = sim("--first-vehicle", "2", "--vehicles", "2", "--state-file", str(tmp_path / "from-2.json"))
+    for v in (V2, vehicle_guid(3)):
+        wait_reports(consumer, v, [Sem.INS_REPORT])
+    session = consumer.command(Service.GPS_FIX, V1)  # vehicle 1 is still the first process's, and answers
+    assert consumer.wait_terminal(session, timeout=20).statuses == HAPPY
+    assert first.proc is not None and first.proc.poll() is None and both.proc is not None and both.proc.poll() is None
+    listed = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--first-vehicle", "2", "--vehicles", "2", "--list"],
+                            capture_output=True, text=True, timeout=30).stdout
+    assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]

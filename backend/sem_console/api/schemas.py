@@ -83,8 +83,11 @@ class Health(_Model):
 
 class Metrics(_Model):
     uptimeSeconds: float
-    samplesTaken: int = Field(description="samples taken from DDS since start (every reader of every SEM topic)")
-    samplesDecoded: int = Field(description="of those, decoded: a sample that reaches both readers of a topic is decoded once")
+    samplesTaken: int = Field(description="samples taken from DDS since start (all three readers of every SEM topic)")
+    samplesDecoded: int = Field(description="of those, decoded and applied: a writer's samples only from its owner, the most "
+                                            "reliable of a topic's readers it matches, so each sample is decoded once")
+    samplesByReader: dict[str, int] = Field(description="samplesDecoded per owner reader: reliableTransientLocal, "
+                                                        "reliableVolatile, bestEffort")
     undecodableSamples: int
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
     wsClients: int

@@ -22,7 +22,7 @@ from UMAA.Common.Measurement import DateTime
 from sem_console.console.store import Store
 from sem_console.dds.topics import Service
 from sem_console.umaa.flow import CommandFlow, name, parse
-from sem_console.umaa.guid import from_guid, to_guid
+from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import datetime_to_float, now_datetime
 
 log = logging.getLogger("sem-console.commands")
@@ -47,6 +47,9 @@ class Command:
     cleaned_up: bool = False
     acked_at: float | None = None
     issued_by_deadline: float = 0.0
+    # Loaded from history: the statuses already recorded, which the provider's transient-local
+    # history delivers again after a restart (in order, perhaps only the last few).
+    replay: list[tuple[Status | int, Reason | int, float | None]] = field(default_factory=list)
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -82,6 +85,7 @@ class Commands:
     def _load_history(self) -> None:
         for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
             cmd = self.from_row(row)
+            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times)]
             self.by_session[cmd.session_id] = cmd
 
     def from_row(self, row: dict[str, Any]) -> Command:
@@ -123,18 +127,6 @@ class Commands:
         return service.command.spec.type(**values)
 
     # ---- consumer flow --------------------------------------------------------------
-    def adopt(self, found: tuple[Service, Any]) -> None:
-        """One of our commands found on the bus that the history does not know (a wiped database)."""
-        service, sample = found
-        session = from_guid(sample.sessionID)
-        if session in self.by_session:
-            return
-        state = sample.state if service is Service.INERTIAL_SENSOR else None
-        cmd = Command(session, service, from_guid(sample.destination), state, None, time.time(), sample)
-        self.by_session[session] = cmd
-        ts = sample.timeStamp
-        self.store.add_command(cmd.to_json(), {"timeStamp": [ts.seconds, ts.nanoseconds]})
-
     def on_ack(self, service: Service, session: uuid.UUID, source: uuid.UUID) -> None:
         """The provider reports it is executing this command (its CommandAckReport)."""
         cmd = self.by_session.get(session)
@@ -151,7 +143,7 @@ class Commands:
             c.issued_by_deadline = time.monotonic() + self.unanswered_timeout
             try:
                 self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
-            except Exception as e:  # e.g. a command adopted from the bus that Cyclone will not write again
+            except Exception as e:  # a bad row must not stop the others
                 log.warning("cannot publish command %s again: %s", c.session_id, e)
         for c in self.by_session.values():
             if c.flow.terminal and not c.cleaned_up and not c.cancel_requested:
@@ -197,10 +189,12 @@ class Commands:
         cmd = self.by_session.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id:
             return  # not ours (another consumer's command, or a provider it was not sent to)
-        if provider_time is not None and any(
-                t.status == status and t.reason == reason and pt == provider_time
-                for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times)):
-            return  # a replay of a status we have recorded (transient-local history, after our restart)
+        if cmd.replay:  # after our restart: skip what the provider's history repeats of what we recorded
+            seen = (status, reason, provider_time)
+            if seen in cmd.replay:
+                del cmd.replay[: cmd.replay.index(seen) + 1]
+                return
+            cmd.replay.clear()  # the first status we had not recorded: the replay is over
         t = cmd.flow.observe(status, reason, log_message)
         if t is None:
             return

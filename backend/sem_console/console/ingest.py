@@ -9,6 +9,15 @@
 Samples are decoded and converted to JSON in these threads; the loop only applies them
 (`loop.call_soon_threadsafe`), so DDS never blocks it. Disposes and lost writers are
 read explicitly. A sample that cannot be decoded is counted, never raised.
+
+Every topic is read by three readers, so that any writer is matched and a reliable one
+loses nothing whatever its durability: reliable transient-local (also receives what a
+writer published before the console started), reliable volatile (matches a reliable
+volatile writer) and best-effort volatile (matches any writer). A writer's samples are
+applied from exactly one of them, its owner: the most reliable reader its offered QoS
+matches, decided from that QoS when a reader first matches the writer (`Owners`). The
+copies the other readers receive are dropped undecoded. Nothing depends on timestamps
+or payloads: equal, repeated or backward source timestamps are all applied, in order.
 """
 
 from __future__ import annotations
@@ -19,17 +28,18 @@ import threading
 import time
 import uuid
 from dataclasses import dataclass
+from enum import Enum
 from typing import Any, Callable
 
 from cyclonedds._clayer import ddspy_take
-from cyclonedds.core import InstanceState, WaitSet
+from cyclonedds.core import InstanceState, Listener, Policy, Qos, WaitSet
 from cyclonedds.internal import InvalidSample
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
 from sem_console.console.convert import to_json
 from sem_console.dds.bus import Bus, all_samples
-from sem_console.dds.qos import any_writer_reader_qos
+from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem, Service
 
 log = logging.getLogger("sem-console.ingest")
@@ -69,26 +79,103 @@ def _guid(raw: Any) -> uuid.UUID | None:
         return None
 
 
+class Via(str, Enum):
+    """The three readers of a topic, most reliable first."""
+
+    RELIABLE_TRANSIENT_LOCAL = "reliableTransientLocal"
+    RELIABLE_VOLATILE = "reliableVolatile"
+    BEST_EFFORT = "bestEffort"
+
+    def qos(self, sem: Sem) -> Qos:
+        if self is Via.BEST_EFFORT:
+            return any_writer_reader_qos(sem.spec.cls)
+        return reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+
+
+def owner_of(writer_qos: Qos) -> Via:
+    """The most reliable of our readers that a writer offering `writer_qos` matches.
+
+    Our three readers differ only in reliability and durability and accept any latency
+    budget and data representation, so that is all that decides it: reliable and at
+    least transient-local, reliable and volatile, or best-effort.
+    """
+    reliability = writer_qos[Policy.Reliability] if Policy.Reliability in writer_qos else None
+    durability = writer_qos[Policy.Durability] if Policy.Durability in writer_qos else Policy.Durability.Volatile
+    if not isinstance(reliability, Policy.Reliability.Reliable):
+        return Via.BEST_EFFORT
+    return Via.RELIABLE_VOLATILE if durability == Policy.Durability.Volatile else Via.RELIABLE_TRANSIENT_LOCAL
+
+
+_U64 = 0xFFFF_FFFF_FFFF_FFFF
+FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
+
+
+class Owners:
+    """publication handle -> the reader that applies that writer's samples.
+
+    Learnt in each reader's subscription-matched listener (Cyclone calls it as the match is
+    made, before the writer's samples can be taken), from the writer's own QoS, so all three
+    readers agree on it from the first sample, including those that arrive while discovery is
+    still matching the writer to the other readers. An entry goes FORGET_AFTER seconds after
+    the writer left.
+    """
+
+    def __init__(self) -> None:
+        self.by_handle: dict[int, Via] = {}
+        self._left: dict[int, float] = {}
+
+    def listener(self) -> Listener:
+        return Listener(on_subscription_matched=self._on_matched)
+
+    def _on_matched(self, reader: DataReader, status: Any) -> None:
+        handle = status.last_publication_handle & _U64
+        if status.current_count_change > 0:
+            self._left.pop(handle, None)
+            self.learn(reader, handle)
+        elif status.current_count_change < 0:
+            self._left[handle] = time.monotonic()
+
+    def learn(self, reader: DataReader, handle: int) -> Via | None:
+        try:
+            data = reader.get_matched_publication_data(handle)
+        except Exception as e:  # called from Cyclone's listener thread: never raise there
+            log.warning("cannot read the QoS of writer %x: %s", handle, e)
+            return None
+        if data is None:
+            return None
+        via = self.by_handle[handle] = owner_of(data.qos)
+        return via
+
+    def owner(self, reader: DataReader, handle: int) -> Via | None:
+        """None only for a writer that left before any reader could read its QoS."""
+        return self.by_handle.get(handle) or self.learn(reader, handle)
+
+    def forget_departed(self, now: float) -> None:
+        for handle, left in list(self._left.items()):
+            if now - left > FORGET_AFTER:
+                del self._left[handle]
+                self.by_handle.pop(handle, None)
+
+
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
                  on_statuses: Callable[[list[StatusItem]], None], report_interval: float) -> None:
         self.loop, self.on_reports, self.on_statuses = loop, on_reports, on_statuses
         self.report_interval = report_interval
         self.undecodable: dict[str, int] = {}
-        self.taken = 0  # samples taken from DDS (both readers of every topic), for /api/metrics
-        self.decoded = 0  # of those, decoded (the rest came through the other reader too)
-        self._matched: dict[int, tuple[float, frozenset[int]]] = {}
+        self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
+        self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
+        self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
+        self.owners = Owners()
         self.running = False
-        # Two readers per topic (see qos.any_writer_reader_qos); a sample seen by both is applied once.
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
         self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS))
-        self._last_ts: dict[tuple[Sem, uuid.UUID, uuid.UUID | None], int] = {}
         self.threads: list[threading.Thread] = []
         self._waitsets = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
             ws = WaitSet(bus.participant)
             conds = []
-            for _sem, r, _partner in readers:
+            for _sem, _via, r in readers:
                 c = all_samples(r)
                 ws.attach(c)
                 conds.append(c)
@@ -106,31 +193,15 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
-    @staticmethod
-    def _readers(bus: Bus, sems: list[Sem]) -> list[tuple[Sem, DataReader, DataReader | None]]:
-        """Per topic the reliable transient-local reader, then the any-writer one paired with it."""
-        out: list[tuple[Sem, DataReader, DataReader | None]] = []
-        for sem in sems:
-            reliable = bus.reader(sem)
-            out += [(sem, reliable, None), (sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), reliable)]
-        return out
+    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader]]:
+        """The three readers of every topic (see the module docstring)."""
+        return [(sem, via, DataReader(bus.participant, bus.topic(sem), qos=via.qos(sem), listener=self.owners.listener()))
+                for sem in sems for via in Via]
 
-    def _skip_set(self, partner: DataReader | None, now: float) -> frozenset[int]:
-        """Writers the partner (reliable) reader also matches, refreshed twice a second."""
-        if partner is None:
-            return frozenset()
-        cached = self._matched.get(id(partner))
-        if cached is None or now - cached[0] > 0.5:
-            # get_matched_publications gives the handles as signed 64-bit, SampleInfo as unsigned
-            cached = (now, frozenset(h & 0xFFFF_FFFF_FFFF_FFFF for h in partner.get_matched_publications()))
-            self._matched[id(partner)] = cached
-        return cached[1]
-
-    def _take(self, sem: Sem, reader: DataReader, condition: Any, partner: DataReader | None = None) -> list[Any]:
-        """Take raw samples and decode them one by one: a sample that cannot be decoded costs only
-        itself, and one from a writer the partner reader also matches is dropped undecoded (it
-        reaches us through the partner): each sample is decoded once."""
-        skip = self._skip_set(partner, time.monotonic())
+    def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Any]:
+        """Take raw samples and decode those of writers this reader owns, one by one: a sample
+        that cannot be decoded costs only itself, and the copies other readers own are
+        dropped undecoded, so each sample is decoded and applied once."""
         dtype = sem.spec.type
         out: list[Any] = []
         while True:
@@ -140,7 +211,7 @@ class Ingest:
                 break
             self.taken += len(raw)
             for data, info in raw:
-                if info.publication_handle in skip:
+                if self.owners.owner(reader, info.publication_handle & _U64) not in (via, None):
                     continue
                 try:
                     if info.valid_data:
@@ -155,18 +226,8 @@ class Ingest:
             if len(raw) < 256:
                 break
         self.decoded += len(out)
+        self.by_reader[via.value] += len(out)
         return out
-
-    def _is_new(self, sem: Sem, source: uuid.UUID, session: uuid.UUID | None, s: Any) -> bool:
-        """False for a sample already applied through the other reader of the topic."""
-        key = (sem, source, session)
-        if isinstance(s, InvalidSample):
-            self._last_ts.pop(key, None)  # the instance ended: forget it (one entry per command otherwise)
-            return True
-        if s.sample_info.source_timestamp <= self._last_ts.get(key, -1):
-            return False
-        self._last_ts[key] = s.sample_info.source_timestamp
-        return True
 
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
@@ -174,13 +235,14 @@ class Ingest:
             ws.wait(duration(milliseconds=200))
             started = time.monotonic()
             items: list[ReportItem] = []
-            for (sem, reader, partner), cond in zip(self.report_readers, conds):
-                for s in self._take(sem, reader, cond, partner):
+            for (sem, via, reader), cond in zip(self.report_readers, conds):
+                for s in self._take(sem, via, reader, cond):
                     item = self._report(sem, s)
                     if item is not None:
                         items.append(item)
             if items:
                 self.loop.call_soon_threadsafe(self.on_reports, items)
+            self.owners.forget_departed(started)
             time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
 
     def _report(self, sem: Sem, s: Any) -> ReportItem | None:
@@ -193,8 +255,6 @@ class Ingest:
         alive = info.instance_state == InstanceState.Alive
         if isinstance(s, InvalidSample):
             return ReportItem(REPORT_TOPICS[sem], source, None, [], False, time.time())
-        if not self._is_new(sem, source, None, s):
-            return None
         try:
             report, invalid = to_json(s)
         except Exception as e:  # never let one bad sample stop the reader
@@ -206,11 +266,11 @@ class Ingest:
         while self.running:
             ws.wait(duration(milliseconds=200))
             items: list[StatusItem] = []
-            for (sem, reader, partner), cond in zip(self.status_readers, conds):
-                for s in self._take(sem, reader, cond, partner):
+            for (sem, via, reader), cond in zip(self.status_readers, conds):
+                for s in self._take(sem, via, reader, cond):
                     key = s.key_sample if isinstance(s, InvalidSample) else s
                     source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
-                    if source is None or session is None or not self._is_new(sem, source, session, s):
+                    if source is None or session is None:
                         continue
                     service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
                     kind = "status" if sem in STATUS_TOPICS else "ack"

@@ -12,9 +12,6 @@ import time
 import uuid
 from typing import Any
 
-from cyclonedds.internal import InvalidSample
-from cyclonedds.util import duration
-
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command, Commands, provider_time
@@ -25,7 +22,6 @@ from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
-from sem_console.umaa.guid import from_guid
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -53,8 +49,6 @@ class Console:
     async def start(self) -> None:
         loop = asyncio.get_running_loop()
         self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval)
-        for adopted in await asyncio.to_thread(self._commands_on_bus):  # waits for DDS history: off the loop
-            self.commands.adopt(adopted)
         resumed = self.commands.startup()
         if resumed:
             log.info("resumed following %d commands", len(resumed))
@@ -89,23 +83,20 @@ class Console:
         self.bus.close()
         self.store.close()
 
-    def _commands_on_bus(self) -> list[Any]:
-        """Our own commands persisted on the bus (runs in a worker thread: it waits for DDS history)."""
-        found = []
-        for service in Service:
-            reader = self.bus.reader(service.command)
-            reader.wait_for_historical_data(duration(milliseconds=300))
-            found += [(service, s) for s in reader.take(N=1024)
-                      if not isinstance(s, InvalidSample) and from_guid(s.source) == self.id]
-        return found
-
     def _start_sim(self) -> None:
-        from sem_console.sim.provider import SimOptions, Simulator
+        from sem_console.sim.provider import InUse, SimOptions, Simulator
 
         stop = [False]
-        sim = Simulator(self.bus, SimOptions(vehicles=self.settings.sim, time_scale=self.settings.sim_time_scale))
+        opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
+                          time_scale=self.settings.sim_time_scale)
 
         def run() -> None:
+            try:
+                sim = Simulator(self.bus, opts)  # looks for its vehicles on the bus first: off the loop
+            except InUse as e:
+                hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
+                log.error("the embedded simulator did not start: %s%s", e, hint)
+                return
             try:
                 sim.run(lambda: stop[0])
             finally:
@@ -196,6 +187,7 @@ class Console:
             "uptimeSeconds": round(time.monotonic() - self.started_at, 3),
             "samplesTaken": self.ingest.taken if self.ingest else 0,
             "samplesDecoded": self.ingest.decoded if self.ingest else 0,
+            "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
             "undecodableSamples": sum(self.ingest.undecodable.values()) if self.ingest else 0,
             "reportsApplied": self.reports_applied,
             "wsClients": len(self.hub.clients),

@@ -21,6 +21,7 @@ class Settings(BaseSettings):
     port: int = Field(8000, ge=0, le=65535)
     sim: int = Field(0, ge=0, le=100, description="simulated vehicles to run inside the console on the same domain")
     sim_time_scale: float = Field(1.0, gt=0, le=100)
+    sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle")
     frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist if it exists)")
 
     # UMAA consumer and link health

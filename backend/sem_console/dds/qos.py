@@ -52,10 +52,12 @@ def representation(xcdr2_only: bool, writer: bool) -> Qos:
 _ANY_LATENCY = Policy.LatencyBudget(duration(infinite=True))
 
 
-def reader_qos(cls: TopicClass) -> Qos:
+def reader_qos(cls: TopicClass, durable: bool = True) -> Qos:
+    """Reliable; transient-local (what a writer published before the reader started), or
+    volatile with `durable=False` (the reliable reader that also matches a volatile writer)."""
     return Qos(
         _RELIABLE,
-        Policy.Durability.TransientLocal,
+        Policy.Durability.TransientLocal if durable else Policy.Durability.Volatile,
         Policy.History.KeepLast(_DEPTH[cls]),
         _ANY_LATENCY,
         Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
@@ -65,10 +67,9 @@ def reader_qos(cls: TopicClass) -> Qos:
 def any_writer_reader_qos(cls: TopicClass) -> Qos:
     """Best-effort, volatile, any latency budget: matches a writer whatever it offers.
 
-    A console reads each report, status and ack topic with this reader and with
-    `reader_qos`: the first matches best-effort and volatile providers too, the second
-    is reliable and receives what a transient-local provider published before the
-    console started.
+    A console reads each report, status and ack topic with this reader and with both
+    `reader_qos` readers, and applies each writer's samples from the most reliable of the
+    three that matches it (`console.ingest`).
     """
     return Qos(
         Policy.Reliability.BestEffort,

@@ -11,7 +11,8 @@ from typing import Callable, NoReturn
 
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, DdsConfigError
-from sem_console.sim.provider import FAULTS, SimOptions, Simulator, vehicle_guid
+from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
+from sem_console.sim.options import MAX_VEHICLE
 
 
 class _Parser(argparse.ArgumentParser):
@@ -50,6 +51,9 @@ def build_parser() -> argparse.ArgumentParser:
         "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))
     p.add_argument("--domain", type=_ranged(int, 0, 232), default=Settings().domain, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
     p.add_argument("--vehicles", type=_ranged(int, 1, 500), default=d.vehicles, help="number of vehicles, each with its own stable source GUID (default: %(default)s)")
+    p.add_argument("--first-vehicle", type=_ranged(int, 1, MAX_VEHICLE - 500), default=d.first_vehicle, help=(
+        "number of the first vehicle: vehicles N, N+1, ... (their GUIDs follow from their numbers). A simulator "
+        "refuses to start a vehicle another process already runs on the domain (default: %(default)s)"))
     p.add_argument("--time-scale", type=_ranged(float, 0.001, 100), default=d.time_scale, help="multiply every duration below, e.g. 0.1 runs ten times faster (default: %(default)s)")
     p.add_argument("--step-seconds", type=_ranged(float, 0, 600), default=d.step_seconds, help="delay between ISSUED, COMMANDED and EXECUTING (default: %(default)s)")
     p.add_argument("--surface-seconds", type=_ranged(float, 0, 3600), default=d.surface_seconds, help="time for a GPSFix command to surface and get a fix (default: %(default)s)")
@@ -62,10 +66,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--on-startup", choices=("fail", "resume"), default=d.on_startup, help="a command this provider was running before a restart (known from --state-file): fail it with SERVICE_FAILED, or resume it from its last status; commands it never saw start normally (default: %(default)s)")
     p.add_argument("--orphan-grace", type=_ranged(float, 0, 3600), default=d.orphan_grace, help="seconds a command may have no live writer before it is treated as canceled (default: %(default)s)")
     p.add_argument("--command-timeout", type=_ranged(float, 0.1, 86400), default=d.command_timeout, help="an executing command that has not finished after this many seconds fails with TIMEOUT (default: %(default)s)")
-    p.add_argument("--state-file", type=Path, default=None, help="where command states are journaled so a restarted simulator can recover them (default: $XDG_STATE_HOME/sem-sim/domain-N.json)")
+    p.add_argument("--state-file", type=Path, default=None, help="where command states are journaled so a restarted simulator can recover them; one simulator at a time "
+                   "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)")
     p.add_argument("--health-file", type=Path, default=None, help="touch this file every second while running (for healthchecks)")
     p.add_argument("--fault", type=_fault, action="append", default=[], metavar="KIND[:VEHICLE]", help=(
-        "inject a fault, for all vehicles or vehicle N (1-based); repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
+        "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
         "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
         "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
         "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))
@@ -80,7 +85,7 @@ def options_from(args: argparse.Namespace) -> SimOptions:
     for kind, target in args.fault:
         faults.setdefault(target, set()).add(kind)
     return SimOptions(
-        vehicles=args.vehicles, time_scale=args.time_scale, step_seconds=args.step_seconds,
+        vehicles=args.vehicles, first_vehicle=args.first_vehicle, time_scale=args.time_scale, step_seconds=args.step_seconds,
         surface_seconds=args.surface_seconds, align_seconds=args.align_seconds, fix_rate=args.fix_rate,
         gps_rate=args.gps_rate, ins_rate=args.ins_rate, satellites=args.satellites, sky_speed=args.sky_speed,
         on_startup=args.on_startup, orphan_grace=args.orphan_grace, slow_factor=args.slow_factor, faults=faults,
@@ -92,8 +97,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     opts = options_from(args)
     if args.list:
-        for i in range(1, opts.vehicles + 1):
-            print(f"vehicle {i}: {vehicle_guid(i)}")
+        for n in opts.numbers:
+            print(f"vehicle {n}: {vehicle_guid(n)}")
         return 0
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     settings = Settings()
@@ -110,9 +115,14 @@ def main(argv: list[str] | None = None) -> int:
     except DdsConfigError as e:
         print(f"sem-sim: {e}", file=sys.stderr)
         return 2
-    sim = Simulator(bus, opts)
+    try:
+        sim = Simulator(bus, opts)
+    except InUse as e:
+        hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
+        print(f"sem-sim: error: {e}{hint}", file=sys.stderr)
+        return 1
     for v in sim.vehicles.values():
-        logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.index, v.guid, sorted(v.faults) or "none")
+        logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.number, v.guid, sorted(v.faults) or "none")
     try:
         sim.run(lambda: stopping)
     finally:

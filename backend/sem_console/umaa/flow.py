@@ -39,6 +39,11 @@ NEXT: dict[Status | None, frozenset[Status]] = {
     Status.CANCELED: frozenset(),
 }
 
+# The successful path, which a provider walks one step at a time.
+SUCCESS_NEXT: dict[Status | None, Status] = {
+    None: Status.ISSUED, Status.ISSUED: Status.COMMANDED, Status.COMMANDED: Status.EXECUTING, Status.EXECUTING: Status.COMPLETED,
+}
+
 
 def reason_allowed(status: Status, reason: Reason, first: bool = False) -> bool:
     if status is Status.FAILED:

@@ -1,0 +1,52 @@
+"""What a `sem-sim` process runs: its options, its fault kinds and its vehicles' stable GUIDs."""
+
+from __future__ import annotations
+
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from sem_console.umaa.guid import stable_guid
+
+FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
+MAX_VEHICLE = 10_000  # vehicle numbers run 1..MAX_VEHICLE
+
+
+@dataclass
+class SimOptions:
+    vehicles: int = 1
+    first_vehicle: int = 1  # the vehicles are numbers first_vehicle .. first_vehicle + vehicles - 1
+    time_scale: float = 1.0  # every duration below is multiplied by this
+    step_seconds: float = 0.5  # ISSUED -> COMMANDED -> EXECUTING
+    surface_seconds: float = 8.0  # dive depth to surface, then a fix
+    align_seconds: float = 12.0  # INS power-on to OPERATIONAL
+    fix_rate: float = 5.0  # Hz, GPSFixReport and GPSFixStatusReport
+    gps_rate: float = 1.0  # Hz, GPSReport
+    ins_rate: float = 2.0  # Hz, InertialSensorReport
+    satellites: int = 32
+    sky_speed: float = 20.0
+    on_startup: str = "fail"  # persisted commands found at startup: "fail" or "resume"
+    orphan_grace: float = 10.0  # s a command may have no writer before it counts as canceled
+    command_timeout: float = 300.0  # s an executing command may take before it fails with TIMEOUT
+    state_file: Path | None = None  # where the provider journals command states (default: see journal.default_state_file)
+    health_file: Path | None = None  # touched every second while the simulator runs (for container healthchecks)
+    slow_factor: float = 10.0
+    faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle number (0 = all) -> faults
+    start_lat: float = 36.80
+    start_lon: float = -75.70
+    identity_wait: float = 0.5  # s to look for another process already providing our vehicles (see Simulator.claim)
+
+    @property
+    def numbers(self) -> range:
+        return range(self.first_vehicle, self.first_vehicle + self.vehicles)
+
+    def faults_for(self, number: int) -> set[str]:
+        return self.faults.get(0, set()) | self.faults.get(number, set())
+
+    def scaled(self, seconds: float) -> float:
+        return seconds * self.time_scale
+
+
+def vehicle_guid(number: int) -> uuid.UUID:
+    """Stable source GUID of simulated vehicle `number` (from 1), the same on every run and host."""
+    return stable_guid(f"sim-vehicle-{number}")
