@@ -141,7 +141,9 @@ def test_a_report_clock_stepping_back_keeps_the_vehicle_live(console, domain: in
 def lossy_participant(domain: int, per_mille: int) -> tuple[Domain, DomainParticipant]:
     """A participant of its own domain instance that drops `per_mille` of the packets it sends
     (Cyclone's Internal/Test/XmitLossiness): data, heartbeats and discovery alike."""
-    xml = loopback_config().replace("</Domain>", f"<Internal><Test><XmitLossiness>{per_mille}</XmitLossiness></Test></Internal></Domain>")
+    # A lost participant announcement is otherwise repeated only every 30 s: announce twice a second.
+    xml = loopback_config().replace("<Discovery>", "<Discovery><SPDPInterval>500 ms</SPDPInterval>").replace(
+        "</Domain>", f"<Internal><Test><XmitLossiness>{per_mille}</XmitLossiness></Test></Internal></Domain>")
     dom = Domain(domain, xml)  # first in this process for this domain id: Cyclone keeps this config
     return dom, DomainParticipant(domain)
 
