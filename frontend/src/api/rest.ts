@@ -29,7 +29,7 @@ async function call(method: string, path: string, token: string | null, body?: u
 }
 
 export function requestGpsFix(providerId: string, token: string | null): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token);
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, {});
 }
 
 export function setInertialSensor(providerId: string, state: InsState, token: string | null): Promise<Command> {
