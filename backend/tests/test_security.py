@@ -174,7 +174,7 @@ def test_bad_options_exit_with_a_clear_error(tmp_path: Path) -> None:
                          (["--operator-tokens-file", str(bad_file)], f"{bad_file}:1: expected name:token"),
                          (["--auth-reads"], "--auth-reads needs operator tokens"),
                          (["--tls-certfile", str(bad_file)], "--tls-certfile and --tls-keyfile go together"),
-                         (["--vehicle-names", "not-a-guid=Alpha"], "badly formed hexadecimal UUID string")):
+                         (["--vehicle-names", "not-a-guid=Alpha"], "'not-a-guid' is not a GUID")):
         p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
         assert p.returncode == 2 and needle in p.stderr, (args, p.stderr)
 

@@ -82,7 +82,10 @@ class Settings(BaseSettings):
             guid, sep, name = item.partition("=")
             if not sep or not name.strip():
                 raise ValueError(f"vehicle name {item!r}: expected GUID=name")
-            out[str(uuid.UUID(guid.strip()))] = name.strip()
+            try:
+                out[str(uuid.UUID(guid.strip()))] = name.strip()
+            except ValueError:
+                raise ValueError(f"vehicle name {item!r}: {guid.strip()!r} is not a GUID") from None
         return out
 
 
