@@ -36,7 +36,8 @@ async def console_round_trips(st: dict, vehicle: str, n: int) -> tuple[list[floa
         task = asyncio.create_task(reader())
         loop = asyncio.get_running_loop()
         for _ in range(n + 5):
-            req = urllib.request.Request(f"{st['url']}/api/providers/{vehicle}/gps-fix", method="POST")
+            req = urllib.request.Request(f"{st['url']}/api/providers/{vehicle}/gps-fix", method="POST", data=b"{}",
+                                         headers={"Content-Type": "application/json"})
             t0 = time.perf_counter()
             body = await loop.run_in_executor(None, lambda: urllib.request.urlopen(req, timeout=10).read())
             session = json.loads(body)["sessionId"]

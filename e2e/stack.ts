@@ -11,6 +11,7 @@ import { fileURLToPath } from "node:url";
 const ROOT = join(dirname(fileURLToPath(import.meta.url)), "..");
 const BIN = join(ROOT, ".venv", "bin");
 const STATE = join(ROOT, "e2e", ".stack.json");
+export const VEHICLE_3_NAME = "Charlie"; // configured with --vehicle-names; vehicles 1 and 2 have none
 
 export interface Stack {
   domain: number;
@@ -79,10 +80,10 @@ export async function startStack(): Promise<Stack> {
   const simArgs = ["--domain", String(domain), "--vehicles", "3", "--fault", "reject:2", "--fault", "skip-commanded:3",
     "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
     "--state-file", join(dir, "sim.json"), "--log-level", "warning"];
-  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"),
-    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning"];
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);
+  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"),
+    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`];
   const sim = launch("sem-sim", simArgs);
   const con = launch("sem-console", consoleArgs);
   const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles };
@@ -140,12 +141,12 @@ export async function restartConsole(): Promise<void> {
 }
 
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
-export async function startGuardedConsole(token: string): Promise<{ url: string; stop: () => Promise<void> }> {
+export async function startGuardedConsole(token: string, args: string[] = []): Promise<{ url: string; stop: () => Promise<void> }> {
   const stack = load();
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
   const child = launch("sem-console", ["--port", String(port), "--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"),
-    "--log-level", "warning"], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
+    "--log-level", "warning", ...args], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
   await waitHealthy(url);
   return { url, stop: () => stopPid(child.pid!, "SIGINT") };
 }

@@ -29,7 +29,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")
     p.add_argument("--unanswered-timeout", type=float, help="seconds without ISSUED before a command is unanswered (default: 5)")
-    p.add_argument("--operator-tokens", help="'name:token,...': command routes then need Authorization: Bearer <token>")
+    p.add_argument("--operator-tokens", help="'name:token,...': command routes then need Authorization: Bearer <token> "
+                   "(prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)")
+    p.add_argument("--operator-tokens-file", type=Path, help="file of operator tokens, one 'name:token' per line")
+    p.add_argument("--auth-reads", action="store_true", default=None,
+                   help="reads (REST GETs, /ws) need an operator token too (needs operator tokens)")
+    p.add_argument("--allowed-hosts", help="Host header names accepted, comma separated; '*' for any "
+                   "(default: localhost,127.0.0.1,[::1], plus the --host address)")
+    p.add_argument("--allowed-origins", help="origins allowed besides the console's own, comma separated "
+                   "(e.g. https://console.example.org behind a reverse proxy)")
+    p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
+    p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
+    p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -44,10 +55,21 @@ def main(argv: list[str] | None = None) -> int:
     except ValidationError as e:
         err = e.errors()[0]
         parser.error(f"--{str(err['loc'][0]).replace('_', '-')}: {err['msg']}")
+    try:
+        settings.operators()
+        settings.names()
+    except ValueError as e:
+        parser.error(str(e))
+    if settings.auth_reads and not settings.operators():
+        parser.error("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
+    if (settings.tls_certfile is None) != (settings.tls_keyfile is None):
+        parser.error("--tls-certfile and --tls-keyfile go together")
+    for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
+        if not tls_file.is_file():
+            parser.error(f"no such file: {tls_file}")
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
-    if settings.host not in ("127.0.0.1", "localhost", "::1") and not settings.operators():
-        logging.getLogger("sem-console").warning(
-            "listening on %s with no operator token: anyone who reaches this port can command vehicles", settings.host)
+    for warning in start_warnings(settings):
+        logging.getLogger("sem-console").warning(warning)
     try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
         open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
     except DdsConfigError as e:
@@ -58,8 +80,23 @@ def main(argv: list[str] | None = None) -> int:
     from sem_console.main import create_app
 
     uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
-                ws_ping_interval=20, ws_ping_timeout=20)
+                ws_ping_interval=20, ws_ping_timeout=20,
+                ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
     return 0
+
+
+def start_warnings(settings: Settings) -> list[str]:
+    out = []
+    beyond_loopback = settings.host not in ("127.0.0.1", "localhost", "::1")
+    if beyond_loopback and not settings.operators():
+        out.append(f"listening on {settings.host} with no operator token: anyone who reaches this port can command vehicles")
+    if beyond_loopback and settings.operators() and settings.tls_certfile is None:
+        out.append(f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
+                   "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)")
+    f = settings.operator_tokens_file
+    if f is not None and f.stat().st_mode & 0o077:
+        out.append(f"{f} can be read by other users of this machine (chmod 600 it)")
+    return out
 
 
 if __name__ == "__main__":

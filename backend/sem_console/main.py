@@ -7,17 +7,24 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
 
-from fastapi import FastAPI, Request
+from fastapi import Depends, FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
+from starlette.exceptions import HTTPException
+from starlette.routing import Match, Mount
 
 from sem_console import __version__
+from sem_console.api.auth import Operators
+from sem_console.api.deps import require_operator, require_reader
+from sem_console.api.guard import Guard, require_json
+from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN
 from sem_console.api.routes import commands, meta, providers, ws
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 
 log = logging.getLogger("sem-console")
+METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
 DEFAULT_FRONTEND = Path(__file__).resolve().parents[2] / "frontend" / "dist"
 
 
@@ -39,6 +46,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings
+    app.state.operators = operators = Operators(settings.operators())
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(_request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -46,8 +54,22 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         problems = [f"{'.'.join(str(x) for x in e['loc'])}: {e['msg']}" for e in exc.errors()]
         return JSONResponse(status_code=422, content={"detail": "; ".join(problems), "errors": problems})
 
-    for r in (providers.router, commands.router, meta.router, ws.router):
-        app.include_router(r)
+    @app.exception_handler(405)
+    async def method_not_allowed(request: Request, _exc: HTTPException) -> JSONResponse:
+        """405 whose Allow lists every method of the path (Starlette names only the first route's)."""
+        allow = [m for m in METHODS if any(not isinstance(r, Mount) and r.matches({**request.scope, "method": m})[0] is Match.FULL
+                                           for r in app.routes)]
+        return JSONResponse({"detail": "Method Not Allowed"}, status_code=405, headers={"Allow": ", ".join(allow)})
+
+    # Reads need a token only with --auth-reads, commands only when there are tokens: the published
+    # OpenAPI document then says exactly which routes need one.
+    reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
+    writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
+    commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
+    for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (commands.writes, commands_writes),
+                     (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
+        app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
+    app.add_middleware(Guard, settings=settings)
     frontend = settings.frontend_dir or DEFAULT_FRONTEND
     if (frontend / "index.html").exists():
         app.mount("/", StaticFiles(directory=frontend, html=True), name="dashboard")

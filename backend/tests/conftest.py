@@ -7,6 +7,7 @@ import os
 import random
 import signal
 import socket
+import ssl
 import subprocess
 import sys
 import time
@@ -108,8 +109,11 @@ class ConsoleProcess(Process):
     def __init__(self, domain: int, db: Path, args: list[str], env: dict[str, str]) -> None:
         self.domain, self.db, self.args, self.env = domain, db, args, env
         self.port = free_port()
-        self.url = f"http://127.0.0.1:{self.port}"
-        self.ws_url = f"ws://127.0.0.1:{self.port}/ws"
+        tls = "--tls-certfile" in args
+        # httpx's verify (and the websockets client's ssl) for a console with a certificate of its own
+        self.verify: ssl.SSLContext | bool = ssl.create_default_context(cafile=args[args.index("--tls-certfile") + 1]) if tls else True
+        self.url = f"{'https' if tls else 'http'}://127.0.0.1:{self.port}"
+        self.ws_url = f"{'wss' if tls else 'ws'}://127.0.0.1:{self.port}/ws"
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> "ConsoleProcess":
@@ -125,7 +129,7 @@ class ConsoleProcess(Process):
             if self.proc.poll() is not None:
                 raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
             try:
-                if httpx.get(self.url + "/api/health", timeout=1).status_code == 200:
+                if httpx.get(self.url + "/api/health", timeout=1, verify=self.verify).status_code == 200:
                     return self
             except httpx.HTTPError:
                 pass

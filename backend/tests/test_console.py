@@ -89,7 +89,7 @@ def wait_command(base: str, session: str, timeout: float = 15, done: Callable[[d
 def gps_fix_executing(base: str) -> str:
     """Request a GPS fix of vehicle 1 and wait until it is EXECUTING; returns its sessionId."""
     provider_ready(base, V1, {"GPSFixReport"})
-    session = httpx.post(f"{base}/api/providers/{V1}/gps-fix").json()["sessionId"]
+    session = httpx.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(base, session, done=lambda x: x["status"] == "EXECUTING")
     return str(session)
 
@@ -165,7 +165,7 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
     wait_until(lambda: reports.write(InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(me),
                                                               timeStamp=now_datetime()))
                or httpx.get(f"{c.url}/api/providers/{me}").status_code == 200, 10, "the provider")
-    session = httpx.post(f"{c.url}/api/providers/{me}/gps-fix").json()["sessionId"]
+    session = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={}).json()["sessionId"]
     cmd = wait_until(lambda: next((x for x in commands.take(N=10) if str(uuid.UUID(bytes=bytes(x.sessionID))) == session), None),
                      10, "the command at the provider")
     for st in (St.ISSUED, St.COMMANDED):
@@ -221,7 +221,7 @@ def test_gps_fix_completes_with_every_transition_in_history_and_websocket(sim, c
     c = console()
     provider_ready(c.url, V1)
     ws = WsClient(c.ws_url)
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix")
+    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={})
     assert r.status_code == 201
     session = r.json()["sessionId"]
     assert uuid.UUID(session).version == 4 and r.json()["providerId"] == V1
@@ -272,7 +272,7 @@ def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
     sim("--vehicles", "2", "--fault", f"{fault}:2")
     c = console()
     provider_ready(c.url, V2, {"GPSFixReport"})
-    session = httpx.post(f"{c.url}/api/providers/{V2}/gps-fix").json()["sessionId"]
+    session = httpx.post(f"{c.url}/api/providers/{V2}/gps-fix", json={}).json()["sessionId"]
     if expect == "unanswered":
         done = wait_command(c.url, session, done=lambda x: x["unanswered"])
         assert done["transitions"] == []
@@ -367,9 +367,9 @@ def test_operator_token_guards_commands(sim, console) -> None:
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     provider_ready(c.url, V1, {"GPSFixReport"})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
-    assert httpx.post(url).status_code == 401
-    assert httpx.post(url, headers={"Authorization": "Bearer nope"}).status_code == 401
-    r = httpx.post(url, headers={"Authorization": "Bearer s3cret"})
+    assert httpx.post(url, json={}).status_code == 401
+    assert httpx.post(url, json={}, headers={"Authorization": "Bearer nope"}).status_code == 401
+    r = httpx.post(url, json={}, headers={"Authorization": "Bearer s3cret"})
     assert r.status_code == 201 and r.json()["operator"] == "alice"
     session = r.json()["sessionId"]
     assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 401
@@ -394,8 +394,10 @@ UNKNOWN = "00000000-0000-4000-8000-000000000000"
 @pytest.mark.parametrize("method,path,body,code,needle", [
     ("GET", "/api/providers/not-a-uuid", None, 422, "provider_id"),
     ("GET", f"/api/providers/{UNKNOWN}", None, 404, "no provider"),
-    ("POST", "/api/providers/xyz/gps-fix", None, 422, "provider_id"),
-    ("POST", f"/api/providers/{UNKNOWN}/gps-fix", None, 404, "no provider"),
+    ("POST", "/api/providers/xyz/gps-fix", {}, 422, "provider_id"),
+    ("POST", f"/api/providers/{UNKNOWN}/gps-fix", {}, 404, "no provider"),
+    ("POST", f"/api/providers/{V1}/gps-fix", None, 415, "Content-Type: application/json"),
+    ("POST", f"/api/providers/{V1}/gps-fix", {"force": True}, 422, "body.force"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422, "'OFF', 'ON' or 'RESTARTING'"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": 1}, 422, "body.state"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {}, 422, "body.state: Field required"),
@@ -445,7 +447,9 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
 def test_metrics_count_what_the_console_takes_and_sends(live) -> None:
     ws = WsClient(live.ws_url)
     wait_until(lambda: len(ws.of("report")) > 5, 10, "reports on the WebSocket")
-    m = httpx.get(f"{live.url}/api/metrics").json()
+    # past the start, where history reaches the transient-local reader only (taken and decoded once)
+    m = wait_until(lambda: (lambda m: m if m["samplesTaken"] >= 200 else None)(httpx.get(f"{live.url}/api/metrics").json()),
+                   15, "200 samples taken")
     assert m["samplesTaken"] >= m["reportsApplied"] > 0 and m["wsClients"] == 1
     # the simulator's writers reach both readers of each topic; each sample is decoded once
     assert m["samplesDecoded"] <= 0.6 * m["samplesTaken"]

@@ -1,27 +1,11 @@
 // The dashboard against the real stack: sem-console and sem-sim over Cyclone DDS on loopback.
 // Vehicle 1 is healthy, vehicle 2 rejects every command, vehicle 3 skips COMMANDED (a Figure 4 violation).
-import { expect, test, type Locator, type Page } from "@playwright/test";
+import { expect, test, type Locator } from "@playwright/test";
+import { latestCommand, open, vehicle } from "../helpers";
 import { load, restartConsole, restartSim, startGuardedConsole, stopSim } from "../stack";
 
 const HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"];
 
-function vehicle(page: Page, id: string): Locator {
-  return page.getByTestId("vehicle").filter({ hasText: id.slice(0, 8) });
-}
-
-async function open(page: Page, vehicleIndex = 0): Promise<string> {
-  const stack = load();
-  await page.goto(stack.url);
-  await expect(page.getByTestId("connection-state")).toHaveText("Live");
-  const id = stack.vehicles[vehicleIndex];
-  await vehicle(page, id).click();
-  await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
-  return id;
-}
-
-function latestCommand(page: Page): Locator {
-  return page.getByTestId("commands-panel").getByTestId("command").first();
-}
 
 async function statuses(cmd: Locator): Promise<string[]> {
   return cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? ""));

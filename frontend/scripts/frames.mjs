@@ -12,6 +12,7 @@ try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
   await page.goto(url);
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 30_000 });
+  await page.getByTestId("vehicle").first().click(); // the dashboard selects no vehicle by itself
   await page.getByTestId("sky-satellite").first().waitFor({ timeout: 30_000 });
   await page.waitForTimeout(2000);
   const heap = () => page.evaluate(() => { globalThis.gc?.(); return performance.memory.usedJSHeapSize / 2 ** 20; });

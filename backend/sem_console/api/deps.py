@@ -2,15 +2,18 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Callable
 
-from fastapi import Depends, HTTPException, Request, status
+from fastapi import Depends, HTTPException, Query, Request
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
+from sem_console.api import audit
+from sem_console.api.auth import AuthError, Operators
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 
-_bearer = HTTPBearer(auto_error=False, description="an operator token, when the console has any configured")
+_bearer = HTTPBearer(auto_error=False, description="an operator token")
+BearerDep = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
 
 
 async def get_console(request: Request) -> Console:
@@ -25,17 +28,43 @@ ConsoleDep = Annotated[Console, Depends(get_console)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 
 
-async def operator_name(settings: SettingsDep,
-                  credentials: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]) -> str | None:
-    """The signed-in operator for command routes; None when the console needs no sign-in."""
-    operators = settings.operators()
-    if not operators:
-        return None
-    name = operators.get(credentials.credentials) if credentials else None
-    if name is None:
-        raise HTTPException(status.HTTP_401_UNAUTHORIZED, "an operator token is required: Authorization: Bearer <token>",
-                            headers={"WWW-Authenticate": "Bearer"})
-    return name
+def _authenticate(request: Request, credentials: HTTPAuthorizationCredentials | None) -> str:
+    operators: Operators = request.app.state.operators
+    try:
+        return operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None)
+    except AuthError as e:
+        headers = {"WWW-Authenticate": "Bearer"} if e.status == 401 else {"Retry-After": str(e.retry_after)}
+        if request.method not in ("GET", "HEAD", "OPTIONS"):
+            audit.record(request.scope, "refused", e.status, e.detail)
+        raise HTTPException(e.status, e.detail, headers=headers) from None
 
 
-OperatorDep = Annotated[str | None, Depends(operator_name)]
+async def require_operator(request: Request, credentials: BearerDep) -> None:
+    """Router dependency of the command routes when the console has operator tokens."""
+    request.state.operator = _authenticate(request, credentials)
+
+
+async def require_reader(request: Request, credentials: BearerDep) -> None:
+    """Router dependency of the read routes with --auth-reads."""
+    _authenticate(request, credentials)
+
+
+async def current_operator(request: Request) -> str | None:
+    """The signed-in operator (set by require_operator); None when the console needs no sign-in."""
+    return getattr(request.state, "operator", None)
+
+
+OperatorDep = Annotated[str | None, Depends(current_operator)]
+
+
+async def get_auditor(request: Request) -> Callable[[int, str, str | None], None]:
+    """Records an accepted command request: (HTTP status, sessionId, operator)."""
+    return lambda status, session, operator: audit.record(request.scope, "accepted", status, "accepted", operator, session)
+
+
+AuditDep = Annotated[Callable[[int, str, str | None], None], Depends(get_auditor)]
+
+
+# Paging of the history routes (an offset beyond SQLite's 64-bit integers is a 422, not a crash)
+Limit = Annotated[int, Query(ge=1, le=1000, description="at most this many, newest first")]
+Offset = Annotated[int, Query(ge=0, le=2**62, description="skip this many")]

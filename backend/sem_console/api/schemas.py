@@ -26,6 +26,7 @@ class TopicHealth(_Model):
 
 class ProviderSummary(_Model):
     id: str = Field(description="the provider's source GUID as a UUID string")
+    name: str | None = Field(description="the vehicle's name from the console's --vehicle-names, or null")
     link: LinkState
     ageSeconds: float = Field(description="seconds since the last sample on any topic")
     topics: dict[str, TopicHealth]
@@ -74,11 +75,43 @@ class InertialSensorRequest(_Model):
     state: InsStateName
 
 
+class GpsFixRequest(_Model):
+    """A GPS fix takes no parameters: the body is the empty JSON object `{}`."""
+
+
+class Problem(_Model):
+    detail: str = Field(description="what is wrong, in one line")
+
+
+class ValidationProblem(_Model):
+    detail: str = Field(description="every problem, '; ' separated")
+    errors: list[str] = Field(description="one 'location: message' per problem, e.g. 'body.state: Field required'")
+
+
+class AuditEntry(_Model):
+    id: int
+    at: float = Field(description="UTC seconds since the epoch")
+    outcome: Literal["accepted", "refused"]
+    status: int = Field(description="the HTTP status answered")
+    method: str
+    path: str
+    client: str | None = Field(description="the client's address")
+    origin: str | None = Field(description="the request's Origin header")
+    operator: str | None
+    sessionId: str | None = Field(description="the command created or canceled (accepted requests)")
+    reason: str
+
+
+class Operator(_Model):
+    operator: str | None = Field(description="the name the token belongs to; null when the console has no operator tokens")
+
+
 class Health(_Model):
     status: Literal["ok"]
     consoleId: str
     domain: int
-    authRequired: bool
+    authRequired: bool = Field(description="commands need an operator token")
+    readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
 
 
 class Metrics(_Model):

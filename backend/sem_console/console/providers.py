@@ -27,6 +27,7 @@ class TopicHealth:
 class Provider:
     id: uuid.UUID
     first_seen: float
+    name: str | None = None
     reports: dict[str, dict[str, Any]] = field(default_factory=dict)
     health: dict[str, TopicHealth] = field(default_factory=dict)
     link: str = "live"  # live | lost | regained
@@ -39,6 +40,7 @@ class Provider:
     def summary(self, now: float) -> dict[str, Any]:
         return {
             "id": str(self.id),
+            "name": self.name,
             "link": self.link,
             "ageSeconds": round(now - self.last_seen(), 3),
             "topics": {name: {"ageSeconds": round(now - h.last_seen, 3), "samples": h.samples, "alive": h.alive,
@@ -50,6 +52,7 @@ class Provider:
 class Providers:
     comms_lost_timeout: float
     regained_time: float
+    names: dict[str, str] = field(default_factory=dict)  # GUID string -> configured name
     by_id: dict[uuid.UUID, Provider] = field(default_factory=dict)
 
     def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
@@ -57,7 +60,7 @@ class Providers:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
         (disposed, or no writers). Returns (provider, whether it is new)."""
         new = source not in self.by_id
-        p = self.by_id.setdefault(source, Provider(source, now))
+        p = self.by_id.get(source) or self.by_id.setdefault(source, Provider(source, now, self.names.get(str(source))))
         h = p.health.get(topic)
         if report is None and not alive:
             if h:

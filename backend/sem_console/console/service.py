@@ -34,7 +34,7 @@ class Console:
         self.id = self.store.console_guid()
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
-        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time)
+        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names())
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}
         self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
                                  lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)

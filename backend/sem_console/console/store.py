@@ -21,7 +21,12 @@ CREATE TABLE IF NOT EXISTS transitions (
     reason TEXT NOT NULL, log_message TEXT NOT NULL, violation TEXT, provider_time REAL, received_at REAL NOT NULL,
     PRIMARY KEY (session_id, seq)
 );
+CREATE TABLE IF NOT EXISTS audit (
+    id INTEGER PRIMARY KEY AUTOINCREMENT, at REAL NOT NULL, outcome TEXT NOT NULL, status INTEGER NOT NULL,
+    method TEXT NOT NULL, path TEXT NOT NULL, client TEXT, origin TEXT, operator TEXT, session_id TEXT, reason TEXT NOT NULL
+);
 """
+AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
 class Store:
@@ -87,6 +92,15 @@ class Store:
             for t in self.db.execute(f"SELECT * FROM transitions WHERE session_id IN ({marks}) ORDER BY session_id, seq", chunk):
                 trans.setdefault(t["session_id"], []).append(dict(t))
         return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
+
+    def add_audit(self, entry: dict[str, Any]) -> None:
+        """One command request, accepted or refused (keys: AUDIT_COLUMNS)."""
+        self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",
+                        tuple(entry.get(k) for k in AUDIT_COLUMNS))
+
+    def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
+        """Newest first."""
+        return [dict(r) for r in self.db.execute("SELECT * FROM audit ORDER BY id DESC LIMIT ? OFFSET ?", (limit, offset))]
 
     def close(self) -> None:
         self.db.close()

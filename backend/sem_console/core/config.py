@@ -2,9 +2,10 @@
 
 from __future__ import annotations
 
+import uuid
 from pathlib import Path
 
-from pydantic import Field
+from pydantic import Field, PrivateAttr
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
@@ -33,13 +34,75 @@ class Settings(BaseSettings):
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
 
-    # Operators: "name:token,name2:token2" (a bare token is operator "operator"). Empty: no sign-in.
+    # Operators: "name:token,name2:token2" (a bare token is operator "operator"), and/or a file of
+    # "name:token" lines. None at all: no sign-in.
     operator_tokens: str = ""
+    operator_tokens_file: Path | None = Field(None, description="one 'name:token' per line (# comments, blank lines)")
+    auth_reads: bool = Field(False, description="reads (REST GETs and /ws) need an operator token too")
+
+    # Requests from other sites (see README, Security)
+    allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated "
+                               "('*' accepts any); the --host address is added when it is a concrete address")
+    allowed_origins: str = Field("", description="origins allowed beside the console's own (e.g. a reverse proxy's), "
+                                 "comma separated, such as https://console.example.org")
+    tls_certfile: Path | None = Field(None, description="PEM certificate (chain): serve HTTPS and WSS")
+    tls_keyfile: Path | None = Field(None, description="PEM private key of tls_certfile")
+
+    # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
+    vehicle_names: str = ""
+
+    _operators: dict[str, str] | None = PrivateAttr(None)
 
     def operators(self) -> dict[str, str]:
-        """token -> operator name."""
+        """token -> operator name, from operator_tokens and operator_tokens_file (read once).
+        Raises ValueError for a file that cannot be read or a line that is not name:token."""
+        if self._operators is None:
+            out = {}
+            for item in filter(None, (x.strip() for x in self.operator_tokens.split(","))):
+                name, _, token = item.rpartition(":")
+                out[token] = name or "operator"
+            if self.operator_tokens_file is not None:
+                out.update(read_tokens_file(self.operator_tokens_file))
+            self._operators = out
+        return self._operators
+
+    def host_names(self) -> set[str]:
+        """Host header names accepted (lower case, IPv6 in brackets); '*' in the set accepts any."""
+        names = {x.strip().lower() for x in self.allowed_hosts.split(",") if x.strip()}
+        if self.host not in ("0.0.0.0", "::", ""):
+            names.add(f"[{self.host}]" if ":" in self.host else self.host.lower())
+        return names
+
+    def origins(self) -> set[str]:
+        return {x.strip().rstrip("/").lower() for x in self.allowed_origins.split(",") if x.strip()}
+
+    def names(self) -> dict[str, str]:
+        """provider GUID (lower-case UUID string) -> name."""
         out = {}
-        for item in filter(None, (x.strip() for x in self.operator_tokens.split(","))):
-            name, _, token = item.rpartition(":")
-            out[token] = name or "operator"
+        for item in filter(None, (x.strip() for x in self.vehicle_names.split(","))):
+            guid, sep, name = item.partition("=")
+            if not sep or not name.strip():
+                raise ValueError(f"vehicle name {item!r}: expected GUID=name")
+            try:
+                out[str(uuid.UUID(guid.strip()))] = name.strip()
+            except ValueError:
+                raise ValueError(f"vehicle name {item!r}: {guid.strip()!r} is not a GUID") from None
         return out
+
+
+def read_tokens_file(path: Path) -> dict[str, str]:
+    """token -> name from a file of "name:token" lines (the name ends at the first colon)."""
+    try:
+        text = path.read_text()
+    except OSError as e:
+        raise ValueError(f"cannot read operator tokens file {path}: {e.strerror}") from None
+    out = {}
+    for n, line in enumerate(text.splitlines(), start=1):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        name, sep, token = line.partition(":")
+        if not sep or not name.strip() or not token.strip():
+            raise ValueError(f"{path}:{n}: expected name:token")
+        out[token.strip()] = name.strip()
+    return out

@@ -10,7 +10,7 @@ export class ApiError extends Error {
   }
 }
 
-async function call(method: string, path: string, token: string | null, body?: unknown): Promise<Command> {
+async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
   const headers: Record<string, string> = {};
   if (token) headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) headers["Content-Type"] = "application/json";
@@ -25,11 +25,25 @@ async function call(method: string, path: string, token: string | null, body?: u
     }
     throw new ApiError(r.status, detail);
   }
-  return (await r.json()) as Command;
+  return (await r.json()) as T;
+}
+
+/** The operator a token belongs to (GET /api/operator): the sign-in check. */
+export async function checkToken(token: string): Promise<string | null> {
+  return (await call<{ operator: string | null }>("GET", "/api/operator", token)).operator;
+}
+
+export interface Health {
+  authRequired: boolean;
+  readAuthRequired: boolean;
+}
+
+export async function health(): Promise<Health> {
+  return call<Health>("GET", "/api/health", null);
 }
 
 export function requestGpsFix(providerId: string, token: string | null): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token);
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, {});
 }
 
 export function setInertialSensor(providerId: string, state: InsState, token: string | null): Promise<Command> {

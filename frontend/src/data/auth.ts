@@ -18,12 +18,19 @@ export function getToken(): string | null {
   return token;
 }
 
+export function onTokenChange(l: () => void): () => void {
+  listeners.add(l);
+  return () => listeners.delete(l);
+}
+
+/** The subprotocols that carry the token on /ws (a browser's WebSocket cannot send an Authorization header). */
+export function wsProtocols(t: string | null = token): string[] {
+  if (!t) return [];
+  const bytes = new TextEncoder().encode(t);
+  const b64 = btoa(String.fromCharCode(...bytes)).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+  return ["sem-console", `bearer.${b64}`];
+}
+
 export function useToken(): string | null {
-  return useSyncExternalStore(
-    (l) => {
-      listeners.add(l);
-      return () => listeners.delete(l);
-    },
-    () => token,
-  );
+  return useSyncExternalStore(onTokenChange, () => token);
 }

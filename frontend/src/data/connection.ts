@@ -17,10 +17,15 @@ type Listener = () => void;
 
 /** Holds the state; everything a panel shows is read from here through the hooks. */
 export class Store {
-  private state: State = initialState;
+  private state: State;
   private listeners = new Set<Listener>();
   private queue: ServerMessage[] = [];
   private scheduled = false;
+
+  /** `selected`: the vehicle to show first (the page's ?vehicle= link), null for none. */
+  constructor(selected: string | null = null) {
+    this.state = { ...initialState, selected };
+  }
 
   getState = (): State => this.state;
 
@@ -69,7 +74,8 @@ export class Connection {
   private stopped = false;
   private listeners = new Set<Listener>();
 
-  constructor(private readonly url: string, private readonly store: Store) {}
+  /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
+  constructor(private readonly url: string, private readonly store: Store, private readonly protocols: () => string[] = () => []) {}
 
   subscribe = (l: Listener): (() => void) => {
     this.listeners.add(l);
@@ -89,6 +95,17 @@ export class Connection {
     this.ws?.close();
   }
 
+  /** Connect afresh at once (e.g. with a new token); the old socket's close is ignored. */
+  restart(): void {
+    if (this.timer) clearTimeout(this.timer);
+    const old = this.ws;
+    this.ws = null;
+    old?.close();
+    this.failures = 0;
+    this.stopped = false;
+    this.open();
+  }
+
   private setState(s: ConnectionState): void {
     if (s === this.state) return;
     this.state = s;
@@ -96,7 +113,8 @@ export class Connection {
   }
 
   private open(): void {
-    const ws = new WebSocket(this.url);
+    const protocols = this.protocols();
+    const ws = protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url);
     this.ws = ws;
     ws.onmessage = (ev: MessageEvent<string>) => {
       let msg: ServerMessage;

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { Command, ServerMessage } from "../api/types";
 import { Store, backoff } from "./connection";
-import { HISTORY_SECONDS, dismiss, initialState, reduce, report, type State } from "./store";
+import { HISTORY_SECONDS, dismiss, initialState, reduce, report, select, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 
@@ -29,14 +29,29 @@ function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): S
 }
 
 describe("reducer", () => {
-  it("takes the snapshot as the baseline and selects the first vehicle", () => {
+  it("takes the snapshot as the baseline and selects no vehicle by itself", () => {
     const s = apply([snapshot()]);
     expect(s.consoleId).toBe("c");
     expect(s.authRequired).toBe(true);
-    expect(s.selected).toBe(P);
+    expect(s.selected).toBe(null);
     expect(report(s.providers[P], "GPSReport")).toEqual({ satellites: [], numberSatellitesInView: 0 });
     expect(s.providers[P].topics.GPSReport!.at).toBe(998); // arrived ageSeconds before the snapshot
     expect(Object.keys(s.commands)).toEqual(["s1"]);
+  });
+
+  it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
+    const other = { type: "report", providerId: "other", topic: "InertialSensorReport", report: env({ state: "ON", status: "INIT" }) } as ServerMessage;
+    const appeared = { type: "provider", event: "appeared", provider: { id: "third", name: "Alpha", link: "live", ageSeconds: 0, topics: {} } } as unknown as ServerMessage;
+    let s = select(apply([snapshot()]), "other");
+    s = apply([other, appeared], s);
+    expect(s.selected).toBe("other");
+    expect(s.providers.third.name).toBe("Alpha");
+    s = apply([snapshot()], s);
+    expect(s.selected).toBe("other");
+    expect(s.providers.other).toBeUndefined(); // the fresh snapshot does not have it (yet): still selected
+    expect(apply([other], s).selected).toBe("other");
+    const linked = apply([snapshot()], select(initialState, "from-a-link"));
+    expect(linked.selected).toBe("from-a-link");
   });
 
   it("applies reports and keeps untouched providers identical", () => {
@@ -58,9 +73,9 @@ describe("reducer", () => {
       snapshot(), fix(true), fix(false), ins("OPERATIONAL"), ins("INERTIAL_SENSOR_FAILURE"), ins("INERTIAL_SENSOR_FAILURE"),
       tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"), tr("FAILED", "RESOURCE_FAILED", null),
       { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
-      { type: "provider", event: "lost", provider: { id: P, link: "lost", ageSeconds: 3, topics: {} } },
-      { type: "provider", event: "regained", provider: { id: P, link: "regained", ageSeconds: 0, topics: {} } },
-      { type: "provider", event: "live", provider: { id: P, link: "live", ageSeconds: 0, topics: {} } },
+      { type: "provider", event: "lost", provider: { id: P, name: null, link: "lost", ageSeconds: 3, topics: {} } },
+      { type: "provider", event: "regained", provider: { id: P, name: null, link: "regained", ageSeconds: 0, topics: {} } },
+      { type: "provider", event: "live", provider: { id: P, name: null, link: "live", ageSeconds: 0, topics: {} } },
     ]);
     expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
     expect(s.providers[P].link).toBe("live");

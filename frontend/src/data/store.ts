@@ -24,6 +24,7 @@ export interface HistoryPoint {
 
 export interface ProviderView {
   id: string;
+  name: string | null; // configured on the console (--vehicle-names)
   link: LinkState;
   topics: Partial<Record<Topic, TopicView>>;
   trails: Record<string, TrailPoint[]>;
@@ -45,10 +46,13 @@ export interface Alert {
 export interface State {
   consoleId: string | null;
   authRequired: boolean;
+  readAuthRequired: boolean; // reads (and /ws) need a token too (GET /api/health)
   providers: Record<string, ProviderView>;
   commands: Record<string, Command>;
   alerts: Alert[];
   nextAlertId: number;
+  // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
+  // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet).
   selected: string | null;
 }
 
@@ -61,6 +65,7 @@ export const MAX_ALERTS = 200;
 export const initialState: State = {
   consoleId: null,
   authRequired: false,
+  readAuthRequired: false,
   providers: {},
   commands: {},
   alerts: [],
@@ -73,8 +78,8 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
   return view ? (view.envelope.report as unknown as ReportTypes[T]) : null;
 }
 
-function emptyProvider(id: string, link: LinkState): ProviderView {
-  return { id, link, topics: {}, trails: {}, history: [] };
+function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
+  return { id, name, link, topics: {}, trails: {}, history: [] };
 }
 
 function alert(state: State, now: number, kind: AlertKind, severity: Alert["severity"], text: string, providerId: string | null): State {
@@ -84,6 +89,11 @@ function alert(state: State, now: number, kind: AlertKind, severity: Alert["seve
 
 function shortId(id: string | null): string {
   return id ? id.slice(0, 8) : "?";
+}
+
+function vehicleName(state: State, id: string): string {
+  const name = state.providers[id]?.name;
+  return name ? `${name} (${shortId(id)})` : shortId(id);
 }
 
 function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope, now: number): Record<string, TrailPoint[]> {
@@ -126,7 +136,6 @@ function applyReport(state: State, providerId: string, topic: Topic, env: Report
   if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now) };
   if (topic === "GPSFixStatusReport" || topic === "GPSReport") p = { ...p, history: updateHistory(p, now) };
   let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
-  if (!next.selected) next = { ...next, selected: providerId };
   if (topic === "GPSFixStatusReport") {
     const was = report(before, "GPSFixStatusReport")?.fixValid;
     const is = report(p, "GPSFixStatusReport")?.fixValid;
@@ -157,7 +166,7 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       const providers: Record<string, ProviderView> = {};
       for (const d of msg.providers) {
         const old = state.providers[d.id];
-        let p: ProviderView = { ...(old ?? emptyProvider(d.id, d.link)), link: d.link, topics: {} };
+        let p: ProviderView = { ...(old ?? emptyProvider(d.id, d.link)), name: d.name, link: d.link, topics: {} };
         for (const topic of Object.keys(d.reports) as Topic[]) {
           const env = d.reports[topic];
           if (env) {
@@ -169,18 +178,16 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      const selected = state.selected && providers[state.selected] ? state.selected : (msg.providers[0]?.id ?? null);
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, selected };
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands };
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
-      let next: State = { ...state, providers: { ...state.providers, [id]: { ...before, link: msg.provider.link } } };
-      if (!next.selected) next = { ...next, selected: id };
-      if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${shortId(id)} lost`, id);
-      if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${shortId(id)} regained`, id);
+      let next: State = { ...state, providers: { ...state.providers, [id]: { ...before, name: msg.provider.name, link: msg.provider.link } } };
+      if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${vehicleName(next, id)} lost`, id);
+      if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${vehicleName(next, id)} regained`, id);
       return next;
     }
     case "command":
@@ -206,6 +213,7 @@ export function dismiss(state: State, alertId: number | "all"): State {
   return { ...state, alerts: state.alerts.map((a) => (alertId === "all" || a.id === alertId ? { ...a, dismissed: true } : a)) };
 }
 
-export function select(state: State, providerId: string): State {
-  return state.providers[providerId] ? { ...state, selected: providerId } : state;
+/** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */
+export function select(state: State, providerId: string | null): State {
+  return providerId === state.selected ? state : { ...state, selected: providerId };
 }

@@ -3,6 +3,29 @@ import { freshness, nextInterval, staleAfter } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
+import { urlWithVehicle, vehicleColor, vehicleFromUrl, vehicleHue, vehicleLabel } from "./vehicle";
+
+describe("vehicle identity", () => {
+  const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+  const B = "1c7e3a29-34a0-5d7b-9fd6-0e0f0e5f2a11";
+  it("labels a vehicle by name and short id", () => {
+    expect(vehicleLabel({ id: A, name: null })).toBe("Vehicle 77b2ceb8");
+    expect(vehicleLabel({ id: A, name: "Alpha" })).toBe("Alpha (77b2ceb8)");
+  });
+  it("gives each id a stable colour", () => {
+    expect(vehicleColor(A)).toBe(vehicleColor(A));
+    expect(vehicleHue(A)).not.toBe(vehicleHue(B));
+    expect(vehicleHue(A)).toBeGreaterThanOrEqual(0);
+    expect(vehicleHue(A)).toBeLessThan(360);
+  });
+  it("reads and writes ?vehicle= in the address", () => {
+    expect(vehicleFromUrl(`?vehicle=${A.toUpperCase()}`)).toBe(A);
+    expect(vehicleFromUrl("?vehicle=<script>")).toBe(null);
+    expect(vehicleFromUrl("")).toBe(null);
+    expect(urlWithVehicle("http://h:1/?x=1", A)).toBe(`http://h:1/?x=1&vehicle=${A}`);
+    expect(urlWithVehicle(`http://h:1/?vehicle=${A}`, null)).toBe("http://h:1/");
+  });
+});
 
 describe("sky-plot projection", () => {
   const R = 100;

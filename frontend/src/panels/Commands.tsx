@@ -2,18 +2,23 @@ import { useState } from "react";
 import { ApiError, cancelCommand, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Panel } from "../components/Panel";
+import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCommands, useSelectedProvider, useSelector } from "../data/hooks";
+import { useCommands, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
+import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 type Action = { label: string; confirm: string | null; run: (provider: string, token: string | null) => Promise<Command> };
 
 const ACTIONS: Action[] = [
   { label: "Request GPS fix", confirm: null, run: (p, t) => requestGpsFix(p, t) },
   { label: "INS ON", confirm: null, run: (p, t) => setInertialSensor(p, "ON", t) },
-  { label: "INS OFF", confirm: "Switch the inertial sensor OFF? Navigation falls back to GPS only.", run: (p, t) => setInertialSensor(p, "OFF", t) },
-  { label: "INS RESTART", confirm: "Restart the inertial sensor? It must align again before it is OPERATIONAL.", run: (p, t) => setInertialSensor(p, "RESTARTING", t) },
+  { label: "INS OFF", confirm: "Switch its inertial sensor OFF? Navigation falls back to GPS only.", run: (p, t) => setInertialSensor(p, "OFF", t) },
+  { label: "INS RESTART", confirm: "Restart its inertial sensor? It must align again before it is OPERATIONAL.", run: (p, t) => setInertialSensor(p, "RESTARTING", t) },
 ];
+
+/** A confirmation is bound to the vehicle it was prepared for. */
+type Pending = { action: Action; target: VehicleIdentity };
 
 function title(c: Command): string {
   return c.service === "GPSFix" ? "GPS fix" : `INS ${c.state ?? ""}`;
@@ -60,7 +65,7 @@ function Timeline({ c }: { c: Command }) {
   );
 }
 
-function CommandCard({ c, canCommand, onCancel, open }: { c: Command; canCommand: boolean; onCancel: (c: Command) => void; open: boolean }) {
+function CommandCard({ c, target, canCommand, onCancel, open }: { c: Command; target: VehicleIdentity; canCommand: boolean; onCancel: (c: Command) => void; open: boolean }) {
   return (
     <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
       <summary>
@@ -69,7 +74,7 @@ function CommandCard({ c, canCommand, onCancel, open }: { c: Command; canCommand
         {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ violation</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && !c.cancelRequested && (
-          <button className="small danger" disabled={!canCommand} onClick={(e) => (e.preventDefault(), onCancel(c))}>
+          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), onCancel(c))}>
             Cancel
           </button>
         )}
@@ -81,30 +86,54 @@ function CommandCard({ c, canCommand, onCancel, open }: { c: Command; canCommand
 }
 
 export function CommandsPanel() {
-  const p = useSelectedProvider();
-  const commands = useCommands(p?.id ?? null);
+  const selected = useSelector((s) => s.selected);
+  const known = useSelector((s) => (s.selected ? s.providers[s.selected] : undefined));
+  const target: VehicleIdentity | null = selected ? { id: selected, name: known?.name ?? null } : null;
+  const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
-  const [pending, setPending] = useState<Action | null>(null);
+  const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
-  const canCommand = !!p && (!authRequired || !!token);
+  const [note, setNote] = useState<string | null>(null);
+  const canCommand = !!known && (!authRequired || !!token);
 
-  const run = async (fn: () => Promise<Command>) => {
+  // Another vehicle selected: a confirmation prepared for the previous one is void (adjusted while
+  // rendering, so no frame ever shows it beside the new vehicle).
+  if (pending !== null && pending.target.id !== selected) {
+    setNote(`${pending.action.label} for ${vehicleLabel(pending.target)} not sent: the selected vehicle changed.`);
+    setPending(null);
+  }
+
+  const run = async (target: VehicleIdentity, what: string, fn: () => Promise<Command>) => {
     setError(null);
+    setNote(null);
     try {
       await fn();
     } catch (e) {
-      setError(e instanceof ApiError ? `${e.status}: ${e.message}` : String(e));
+      setError(`${what} on ${vehicleLabel(target)}: ${e instanceof ApiError ? `${e.status}: ${e.message}` : String(e)}`);
     }
   };
-  const act = (a: Action) => (a.confirm ? setPending(a) : void run(() => a.run(p!.id, token)));
+  const act = (a: Action, t: VehicleIdentity) => {
+    setNote(null);
+    if (a.confirm) setPending({ action: a, target: t });
+    else void run(t, a.label, () => a.run(t.id, token));
+  };
+  const shown = pending !== null && pending.target.id === selected ? pending : null;
 
   return (
     <Panel title="Commands" testId="commands-panel">
       {authRequired && !token && <p className="readonly-note" data-testid="commands-read-only">Read-only: sign in with an operator token to command vehicles.</p>}
-      <div className="actions" role="group" aria-label="Command actions">
+      {target ? (
+        <p className="command-target" data-testid="command-target">
+          Commands to <VehicleTag v={target} />
+          {!known && <span className="muted">not on the bus (yet)</span>}
+        </p>
+      ) : (
+        <p className="muted" data-testid="command-target">Select a vehicle to command it.</p>
+      )}
+      <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand} onClick={() => act(a)}>
+          <button key={a.label} disabled={!canCommand || !target} title={target ? `${a.label} on ${vehicleLabel(target)}` : undefined} onClick={() => target && act(a, target)}>
             {a.label}
           </button>
         ))}
@@ -114,15 +143,23 @@ export function CommandsPanel() {
           {error}
         </p>
       )}
-      {pending && (
-        <div className="confirm" role="dialog" aria-modal="true" aria-label="Confirm command">
-          <p>{pending.confirm}</p>
+      {note && (
+        <p className="muted" role="status" data-testid="command-note">
+          {note}
+        </p>
+      )}
+      {shown && (
+        <div className="confirm" role="dialog" aria-modal="true" aria-label="Confirm command" data-vehicle={shown.target.id}>
+          <p>
+            <strong>{shown.action.label}</strong> on <VehicleTag v={shown.target} />
+          </p>
+          <p>{shown.action.confirm}</p>
           <button
             className="danger"
             onClick={() => {
-              const a = pending;
+              const { action, target: to } = shown;
               setPending(null);
-              void run(() => a.run(p!.id, token));
+              void run(to, action.label, () => action.run(to.id, token)); // the vehicle it was prepared for
             }}
           >
             Confirm
@@ -131,10 +168,18 @@ export function CommandsPanel() {
         </div>
       )}
       <div className="command-list" data-testid="command-list">
-        {commands.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
-        {commands.map((c, i) => (
-          <CommandCard key={c.sessionId} c={c} canCommand={canCommand} open={i < 3 || !c.terminal} onCancel={(x) => void run(() => cancelCommand(x.sessionId, token))} />
-        ))}
+        {target && commands.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
+        {target &&
+          commands.map((c, i) => (
+            <CommandCard
+              key={c.sessionId}
+              c={c}
+              target={target}
+              canCommand={canCommand}
+              open={i < 3 || !c.terminal}
+              onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
+            />
+          ))}
       </div>
     </Panel>
   );

@@ -1,4 +1,5 @@
 import { useState } from "react";
+import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
 import { useConnectionState, useNow, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
@@ -9,9 +10,21 @@ export function Header() {
   const conn = useConnectionState();
   const consoleId = useSelector((s) => s.consoleId);
   const authRequired = useSelector((s) => s.authRequired);
+  const readAuthRequired = useSelector((s) => s.readAuthRequired);
   const token = useToken();
   const now = useNow(1000);
   const [draft, setDraft] = useState("");
+  const [refused, setRefused] = useState<string | null>(null);
+  const signIn = async (t: string) => {
+    setRefused(null);
+    try {
+      await checkToken(t); // the console says whether the token is good before it is kept
+      setToken(t);
+      setDraft("");
+    } catch (e) {
+      setRefused(e instanceof ApiError ? e.message : String(e));
+    }
+  };
   return (
     <header className="app-header">
       <h1>SEM Console</h1>
@@ -20,7 +33,12 @@ export function Header() {
       </span>
       <span className="muted" title="console source GUID">{consoleId ? `console ${consoleId.slice(0, 8)}` : ""}</span>
       <span className="spacer" />
-      {authRequired &&
+      {readAuthRequired && !token && (
+        <span className="readonly" data-testid="sign-in-to-read">
+          Sign in to see the vehicles
+        </span>
+      )}
+      {(authRequired || readAuthRequired) &&
         (token ? (
           <span className="signin" data-testid="signed-in">
             Operator signed in <button onClick={() => setToken(null)}>Sign out</button>
@@ -30,13 +48,17 @@ export function Header() {
             className="signin"
             onSubmit={(e) => {
               e.preventDefault();
-              setToken(draft);
-              setDraft("");
+              void signIn(draft.trim());
             }}
           >
             <span className="readonly" data-testid="read-only">Read-only</span>
             <input type="password" aria-label="Operator token" placeholder="Operator token" value={draft} onChange={(e) => setDraft(e.target.value)} />
             <button type="submit">Sign in</button>
+            {refused && (
+              <span className="error" role="alert" data-testid="sign-in-error">
+                {refused}
+              </span>
+            )}
           </form>
         ))}
       <span className="clock" title="UTC">{utc(now).slice(0, 19)} UTC</span>

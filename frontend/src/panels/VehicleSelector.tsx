@@ -1,3 +1,4 @@
+import { VehicleTag } from "../components/VehicleTag";
 import { useNow, useProviders, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { age } from "../lib/units";
@@ -15,6 +16,12 @@ export function VehicleSelector() {
   return (
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles">
       {providers.length === 0 && <p className="muted">No vehicle on the bus yet.</p>}
+      {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
+      {selected && !providers.some((p) => p.id === selected) && (
+        <p className="vehicle selected missing" data-testid="selected-missing">
+          <VehicleTag v={{ id: selected, name: null }} /> selected, not on the bus (yet)
+        </p>
+      )}
       {providers.map((p) => {
         const seen = lastSeen(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
@@ -30,7 +37,9 @@ export function VehicleSelector() {
             data-link={link}
             onClick={() => store.update((s) => select(s, p.id))}
           >
-            <span className="vehicle-name">Vehicle {p.id.slice(0, 8)}</span>
+            <span className="vehicle-name">
+              <VehicleTag v={p} />
+            </span>
             <span className={`link link-${link}`} data-testid="vehicle-link">{link}</span>
             <span className="vehicle-meta">
               {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS {ins?.status ?? "—"} · {age(ageS)}

@@ -1,4 +1,4 @@
-"""Commands: issue GPSFix and InertialSensor commands, cancel them, read their history.
+"""Commands: issue GPSFix and InertialSensor commands, cancel them (`writes`), read their history (`reads`).
 
 Every route is `async def`: it runs on the event loop, the one thread that owns the
 console's state (a plain `def` would run in a worker thread).
@@ -7,59 +7,75 @@ console's state (a plain `def` would run in a worker thread).
 from __future__ import annotations
 
 import uuid
-from typing import Annotated, Any
+from typing import Any
 
-from fastapi import APIRouter, HTTPException, Query, status
+from fastapi import APIRouter, HTTPException, status
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.api.deps import ConsoleDep, OperatorDep
+from sem_console.api.deps import AuditDep, ConsoleDep, Limit, Offset, OperatorDep
+from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.routes.providers import known_provider
-from sem_console.api.schemas import Command, InertialSensorRequest
+from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
 from sem_console.console.commands import CommandError
 from sem_console.dds.topics import Service
 
-router = APIRouter(tags=["commands"])
-AUTH = {401: {"description": "an operator token is configured and none (or a wrong one) was given"}}
+writes = APIRouter(tags=["commands"])
+reads = APIRouter(tags=["commands"])
+UNKNOWN_PROVIDER = {404: problem("unknown provider")}
+UNKNOWN_COMMAND = {404: problem("unknown command")}
+# OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
+CREATED = {201: {"description": "the command, published on the bus", "links": {
+    name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
+    for name, op in (("GetCommand", "get_command_api_commands__session_id__get"),
+                     ("CancelCommand", "cancel_command_api_commands__session_id__delete"))}}}
 
 
-@router.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={404: {"description": "unknown provider"}, **AUTH})
-async def request_gps_fix(provider_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
-    """Surface the vehicle for a GPS fix (GPSFixCommand). Returns the command with its sessionId."""
+@writes.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
+             responses={**CREATED, **UNKNOWN_PROVIDER, **JSON_BODY})
+async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep,
+                          audit: AuditDep) -> dict[str, Any]:
+    """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId."""
     known_provider(console, provider_id)
-    return console.issue(Service.GPS_FIX, provider_id, None, operator).to_json()
+    cmd = console.issue(Service.GPS_FIX, provider_id, None, operator)
+    audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
+    return cmd.to_json()
 
 
-@router.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={404: {"description": "unknown provider"}, **AUTH})
+@writes.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
+             responses={**CREATED, **UNKNOWN_PROVIDER, **JSON_BODY})
 async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
-                        operator: OperatorDep) -> dict[str, Any]:
+                              operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Set the inertial sensor OFF, ON or RESTARTING (InertialSensorCommand)."""
     known_provider(console, provider_id)
-    return console.issue(Service.INERTIAL_SENSOR, provider_id, InsState[body.state], operator).to_json()
+    cmd = console.issue(Service.INERTIAL_SENSOR, provider_id, InsState[body.state], operator)
+    audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
+    return cmd.to_json()
 
 
-@router.delete("/api/commands/{session_id}", response_model=Command,
-               responses={404: {"description": "unknown command"}, 409: {"description": "the command has finished"}, **AUTH})
-async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep) -> dict[str, Any]:
+@writes.delete("/api/commands/{session_id}", response_model=Command,
+               responses={**UNKNOWN_COMMAND, 409: problem("the command has finished")})
+async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep,
+                         audit: AuditDep) -> dict[str, Any]:
     """Cancel a running command: the console disposes it, the provider answers CANCELED."""
     if console.commands.get(session_id) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     try:
-        return console.commands.cancel(session_id, operator).to_json()
+        cmd = console.commands.cancel(session_id, operator)
     except CommandError as e:
         raise HTTPException(status.HTTP_409_CONFLICT, str(e)) from None
+    audit(status.HTTP_200_OK, str(session_id), operator)
+    return cmd.to_json()
 
 
-@router.get("/api/commands", response_model=list[Command])
-async def list_commands(console: ConsoleDep, limit: Annotated[int, Query(ge=1, le=1000)] = 100,
-                        offset: Annotated[int, Query(ge=0)] = 0) -> list[dict[str, Any]]:
+@reads.get("/api/commands", response_model=list[Command])
+async def list_commands(console: ConsoleDep, limit: Limit = 100,
+                        offset: Offset = 0) -> list[dict[str, Any]]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
     return console.commands.history(limit, offset)
 
 
-@router.get("/api/commands/{session_id}", response_model=Command, responses={404: {"description": "unknown command"}})
+@reads.get("/api/commands/{session_id}", response_model=Command, responses=UNKNOWN_COMMAND)
 async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     cmd = console.commands.get(session_id)
     if cmd is None:

@@ -9,6 +9,7 @@ from typing import Any
 from fastapi import APIRouter, HTTPException, status
 
 from sem_console.api.deps import ConsoleDep
+from sem_console.api.responses import problem
 from sem_console.api.schemas import ProviderDetail, ProviderSummary
 from sem_console.console.providers import Provider
 from sem_console.console.service import Console
@@ -29,6 +30,6 @@ async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
     return [p.summary(now) for p in console.providers.by_id.values()]
 
 
-@router.get("/{provider_id}", response_model=ProviderDetail, responses={404: {"description": "unknown provider"}})
+@router.get("/{provider_id}", response_model=ProviderDetail, responses={404: problem("unknown provider")})
 async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     return console.provider_detail(known_provider(console, provider_id), time.monotonic())

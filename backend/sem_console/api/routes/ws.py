@@ -5,15 +5,20 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import logging
 import time
 from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import ValidationError
 
+from sem_console.api import audit
+from sem_console.api.auth import WS_PROTOCOL, AuthError, ws_token
+from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
 
 router = APIRouter()
+log = logging.getLogger("sem-console.ws")
 
 
 @router.get("/api/ws-schema", tags=["meta"])
@@ -24,8 +29,16 @@ def get_ws_schema() -> dict[str, Any]:
 
 @router.websocket("/ws")
 async def websocket(ws: WebSocket) -> None:
+    """With --auth-reads the token comes as the subprotocol `bearer.<base64url token>` beside `sem-console`."""
     console = ws.app.state.console
-    await ws.accept()
+    if ws.app.state.settings.auth_reads:
+        try:
+            ws.app.state.operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])))
+        except AuthError as e:
+            log.warning("refused /ws from %s: %s", audit.client_of(ws.scope), e.detail)
+            await refuse(ws.scope, ws.send, e.status, e.detail)
+            return
+    await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
     client = console.hub.attach(ws.send_text, console.snapshot())
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:

@@ -1,0 +1,33 @@
+// Locators and steps shared by the specs.
+import { expect, type APIRequestContext, type Locator, type Page } from "@playwright/test";
+import { load } from "./stack";
+
+export function vehicle(page: Page, id: string): Locator {
+  return page.getByTestId("vehicle").filter({ hasText: id.slice(0, 8) });
+}
+
+/** Load the dashboard and select a vehicle of the stack (the dashboard selects none by itself). */
+export async function open(page: Page, vehicleIndex = 0): Promise<string> {
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  const id = stack.vehicles[vehicleIndex];
+  await vehicle(page, id).click();
+  await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
+  return id;
+}
+
+export function latestCommand(page: Page): Locator {
+  return page.getByTestId("commands-panel").getByTestId("command").first();
+}
+
+export interface CommandRecord {
+  sessionId: string;
+  providerId: string;
+  state: string | null;
+}
+
+/** Every command in the console's history (REST, newest first). */
+export async function history(request: APIRequestContext, url = load().url): Promise<CommandRecord[]> {
+  return (await (await request.get(`${url}/api/commands?limit=1000`)).json()) as CommandRecord[];
+}
