@@ -34,7 +34,7 @@ class SimOptions:
     faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle number (0 = all) -> faults
     start_lat: float = 36.80
     start_lon: float = -75.70
-    identity_wait: float = 0.5  # s to look for another process already providing our vehicles (see Simulator.claim)
+    identity_wait: float = 1.0  # s to look for another process already providing our vehicles (see Simulator.claim)
 
     @property
     def numbers(self) -> range:

@@ -46,19 +46,25 @@ class Vehicle:
     commands: ProviderFlow
 
 
-def providers_on_bus(bus: Bus, wait: float) -> set[uuid.UUID]:
-    """Source GUIDs whose reports are alive on the bus within `wait` seconds: a transient-local
-    writer's at once, any other's within its report period."""
-    readers = [bus.reader(sem, qos) for sem in REPORT_TOPICS for qos in (None, any_writer_reader_qos(sem.spec.cls))]
+def providers_on_bus(bus: Bus, wait: float, longest: float = 3.0) -> set[uuid.UUID]:
+    """Source GUIDs whose reports are alive on the bus: what arrives within `wait` seconds (a
+    best-effort or volatile writer's within its report period), and, up to `longest` seconds,
+    the history of every transient-local writer matched by then (slow on a loaded machine)."""
+    durable = [bus.reader(sem) for sem in REPORT_TOPICS]
+    readers = durable + [bus.reader(sem, any_writer_reader_qos(sem.spec.cls)) for sem in REPORT_TOPICS]
     found: set[uuid.UUID] = set()
-    deadline = time.monotonic() + wait
+    heard: set[int] = set()  # writers (publication handles) whose samples arrived
+    start = time.monotonic()
     while True:
         for r in readers:
             for s in r.take(N=4096):
+                heard.add(s.sample_info.publication_handle & 0xFFFF_FFFF_FFFF_FFFF)
                 if not isinstance(s, InvalidSample) and s.sample_info.instance_state == InstanceState.Alive:
                     with contextlib.suppress(TypeError, ValueError):
                         found.add(from_guid(s.source))
-        if time.monotonic() >= deadline:
+        waiting = {h & 0xFFFF_FFFF_FFFF_FFFF for r in durable for h in r.get_matched_publications()} - heard
+        elapsed = time.monotonic() - start
+        if elapsed >= longest or (elapsed >= wait and not waiting):
             return found
         time.sleep(0.02)
 
