@@ -332,7 +332,7 @@ def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp
     first = console("--sim", "1", "--sim-time-scale", "0.05", "--log-level", "error", env=state)
     provider_ready(first.url, V1, {"InertialSensorReport"})
     time.sleep(4)  # the embedded simulator's look at the bus (1 to 3 s) is over
-    session = httpx.post(f"{first.url}/api/providers/{V1}/gps-fix").json()["sessionId"]
+    session = httpx.post(f"{first.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(first.url, session, done=lambda x: x["status"] == "EXECUTING")  # 5 s to surface: the running one's
     assert [p["id"] for p in httpx.get(f"{first.url}/api/providers").json()] == [V1]
     out = first.stop()

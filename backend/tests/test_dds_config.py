@@ -48,8 +48,8 @@ def test_sim_reads_cyclonedds_uri(form: str, domain: int, tmp_path: Path) -> Non
                              str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": uri},
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
-        wait_until(lambda: trace.exists() and "config:" in trace.read_text(errors="replace"), what="the sim's trace file")
-        assert str(trace) in trace.read_text(errors="replace")  # Cyclone logs the config it read, our file among it
+        # Cyclone traces the configuration it read, the name of this very trace file among it.
+        wait_until(lambda: trace.exists() and str(trace) in trace.read_text(errors="replace"), what="the sim's trace file")
     finally:
         proc.terminate()
         proc.communicate(timeout=15)

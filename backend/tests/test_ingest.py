@@ -65,7 +65,7 @@ class Provider:
 
     def gps_fix(self, url: str) -> Any:
         """Have the console command a GPS fix of this provider; returns the command as the provider received it."""
-        session = uuid.UUID(httpx.post(f"{url}/api/providers/{self.id}/gps-fix").json()["sessionId"])
+        session = uuid.UUID(httpx.post(f"{url}/api/providers/{self.id}/gps-fix", json={}).json()["sessionId"])
 
         def received() -> Any:
             for s in self.commands.take(N=64):
