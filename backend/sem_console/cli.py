@@ -40,6 +40,11 @@ def build_parser() -> argparse.ArgumentParser:
                    "(e.g. https://console.example.org behind a reverse proxy)")
     p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
+    p.add_argument("--record", type=Path, metavar="DIR", help="record every SEM sample to DIR/<UTC start>.mcap from the start "
+                   "(the dashboard's record control and POST /api/recordings record there too)")
+    p.add_argument("--recordings-dir", type=Path, help="where recordings go without --record (default: var/recordings)")
+    p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
+    p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
