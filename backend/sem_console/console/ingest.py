@@ -63,8 +63,9 @@ class Tap(Protocol):
 
     active: bool
 
-    def on_sample(self, sem: Sem, data: bytes, valid: bool, instance_state: int, source_ns: int, received_ns: int) -> None:
-        """`data`: the sample's CDR with its encapsulation header (only the key when not `valid`)."""
+    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+        """One take of a topic: (data, valid, instance state, source timestamp in ns) per sample, where data is
+        the sample's CDR with its encapsulation header (only the key when not valid)."""
 
 
 @dataclass
@@ -227,12 +228,12 @@ class Ingest:
                 break
             self.taken += len(raw)
             tap = self.tap if self.tap is not None and self.tap.active else None
-            received_ns = time.time_ns()
+            tapped: list[tuple[bytes, bool, int, int]] = []
             for data, info in raw:
                 if self.owners.owner(reader, info.publication_handle & _U64) not in (via, None):
                     continue
                 if tap is not None:
-                    tap.on_sample(sem, data, info.valid_data, info.instance_state, info.source_timestamp, received_ns)
+                    tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
                 if not decode:
                     continue
                 try:
@@ -245,6 +246,8 @@ class Ingest:
                 except Exception as e:
                     self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
                     log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+            if tapped and tap is not None:
+                tap.on_samples(sem, tapped, time.time_ns())
             if len(raw) < 256:
                 break
         self.decoded += len(out)

@@ -40,8 +40,8 @@ class Settings(BaseSettings):
     recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go when `record` is not set")
     record_max_bytes: int = Field(1 << 30, ge=65_536, description="a recording file rolls over to the next at this size")
     record_max_seconds: float = Field(3600.0, gt=0, description="a recording file rolls over to the next after this long")
-    record_queue: int = Field(20_000, ge=100, description="samples waiting for the recording's writer; beyond it they are "
-                              "dropped and counted")
+    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
+                              "beyond it they are dropped and their samples counted")
 
     # Operators: "name:token,name2:token2" (a bare token is operator "operator"), and/or a file of
     # "name:token" lines. None at all: no sign-in.

@@ -11,8 +11,9 @@
   events), holding the WebSocket messages of the same names (`api/schemas.py`).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
-ingest: the ingest threads and the event loop only put items on a bounded queue (full: the item
-is dropped and counted); one writer thread per recording writes them. Any OSError (a full
+ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
+a bounded queue (full: the item is dropped and its samples counted); one writer thread per
+recording writes them. Any OSError (a full
 disk: ENOSPC) stops the recording with the error in its status and in the log; the console
 goes on. Chunks are flushed at least every FLUSH_SECONDS, so a crash loses at most that much.
 """
@@ -131,7 +132,7 @@ class Recorder:
     """Owned by the console; `on_sample` is its `ingest.Tap`. start/stop/status run on the loop
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
-    def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 20_000,
+    def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
                  on_change: Callable[[dict[str, Any]], None] | None = None) -> None:
         self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
         self.queue_size = queue_size
@@ -148,24 +149,21 @@ class Recorder:
         self._lock = threading.Lock()  # start/stop against each other
 
     # ---- input (ingest threads, event loop): never blocks ---------------------------------
-    def on_sample(self, sem: Sem, data: bytes, valid: bool, instance_state: int, source_ns: int, received_ns: int) -> None:
-        if valid:
-            self._put((sem, data, received_ns, max(source_ns, 0)))
-        if instance_state != InstanceState.Alive:
-            self._put(("instance", (sem, data, valid, instance_state), received_ns, max(source_ns, 0)))
+    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+        """One take of a topic (ingest.Tap): one queue item, however many samples."""
+        self._put((sem, samples, received_ns, len(samples)))
 
     def on_message(self, message: dict[str, Any]) -> None:
         """A console WebSocket message; commands, transitions and provider events are recorded."""
         channel = _CHANNEL_OF_TYPE.get(message.get("type", ""))
         if channel is not None and self.active:
-            now = time.time_ns()
-            self._put((channel, message, now, now))
+            self._put((channel, message, time.time_ns(), 1))
 
-    def _put(self, item: tuple[Any, ...]) -> None:
+    def _put(self, item: tuple[Any, Any, int, int]) -> None:
         try:
             self._queue.put_nowait(item)
         except queue.Full:
-            self.dropped += 1
+            self.dropped += item[3]
 
     # ---- control -----------------------------------------------------------------------
     def start(self) -> dict[str, Any]:
@@ -302,14 +300,20 @@ class Recorder:
             log.exception("recording stopped")
             self._changed_from_thread()
 
-    def _write(self, f: _File, key: Any, data: Any, log_ns: int, publish_ns: int) -> None:
+    def _write(self, f: _File, key: Any, data: Any, log_ns: int, _count: int) -> None:
         if isinstance(key, Sem):
-            f.add(key, data, log_ns, publish_ns)
-        elif key == "instance":
-            f.add("sem-console/instances", json.dumps(_instance_event(*data)).encode(), log_ns, publish_ns)
+            for raw, valid, instance_state, source_ns in data:
+                source_ns = max(source_ns, 0)
+                if valid:
+                    f.add(key, raw, log_ns, source_ns)
+                    self.messages += 1
+                if instance_state != InstanceState.Alive:
+                    event = _instance_event(key, raw, valid, instance_state)
+                    f.add("sem-console/instances", json.dumps(event).encode(), log_ns, source_ns)
+                    self.messages += 1
         else:
-            f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, publish_ns)
-        self.messages += 1
+            f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, log_ns)
+            self.messages += 1
 
     def _changed_from_thread(self) -> None:
         if self.on_change is not None:
