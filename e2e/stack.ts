@@ -140,15 +140,25 @@ export async function restartConsole(): Promise<void> {
   await waitHealthy(stack.url);
 }
 
+/** Another console beside the stack's; returns its URL and a stop function. */
+async function startExtraConsole(args: string[], env: Record<string, string> = {}): Promise<{ url: string; stop: () => Promise<void> }> {
+  const port = await freePort();
+  const url = `http://127.0.0.1:${port}`;
+  const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
+  await waitHealthy(url);
+  return { url, stop: () => stopPid(child.pid!, "SIGINT") };
+}
+
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
 export async function startGuardedConsole(token: string, args: string[] = []): Promise<{ url: string; stop: () => Promise<void> }> {
   const stack = load();
-  const port = await freePort();
-  const url = `http://127.0.0.1:${port}`;
-  const child = launch("sem-console", ["--port", String(port), "--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"), "--recordings-dir", join(stack.dir, "recordings"),
-    "--log-level", "warning", ...args], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
-  await waitHealthy(url);
-  return { url, stop: () => stopPid(child.pid!, "SIGINT") };
+  return startExtraConsole(["--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"), "--recordings-dir", join(stack.dir, "recordings"),
+    ...args], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
+}
+
+/** A console replaying a recording of the stack's (`sem-console --replay`): no DDS. */
+export async function startReplayConsole(recording: string, args: string[] = []): Promise<{ url: string; stop: () => Promise<void> }> {
+  return startExtraConsole(["--replay", join(load().dir, "recordings", recording), ...args]);
 }
 
 export async function stopStack(): Promise<void> {

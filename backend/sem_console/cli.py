@@ -11,6 +11,7 @@ from pydantic import ValidationError
 
 from sem_console.core.config import Settings
 from sem_console.dds.bus import DdsConfigError, open_domain
+from sem_console.recording.replay import check_file
 from sem_console.sim.cli import _Parser
 
 
@@ -45,6 +46,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--recordings-dir", type=Path, help="where recordings go without --record (default: var/recordings)")
     p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
     p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
+    p.add_argument("--replay", type=Path, metavar="FILE.mcap", help="serve the dashboard from this recording instead of DDS "
+                   "(read-only: commands and recording are refused; play, pause, speed and seek in the dashboard and /api/replay)")
+    p.add_argument("--replay-speed", type=float, help="the replay's speed at start, 0.25 to 20 (default: 1)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
@@ -72,14 +76,21 @@ def main(argv: list[str] | None = None) -> int:
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
+    if settings.replay is not None:
+        if settings.sim or settings.record is not None:
+            parser.error("--replay is read-only: it does not go with --sim or --record")
+        problem = check_file(settings.replay)
+        if problem:
+            parser.error(problem)
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     for warning in start_warnings(settings):
         logging.getLogger("sem-console").warning(warning)
-    try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
-        open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
-    except DdsConfigError as e:
-        print(f"sem-console: {e}", file=sys.stderr)
-        return 2
+    if settings.replay is None:
+        try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
+            open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
+        except DdsConfigError as e:
+            print(f"sem-console: {e}", file=sys.stderr)
+            return 2
     import uvicorn
 
     from sem_console.main import create_app

@@ -16,10 +16,10 @@ from starlette.routing import Match, Mount
 
 from sem_console import __version__
 from sem_console.api.auth import Operators
-from sem_console.api.deps import require_operator, require_reader
+from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
-from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN
-from sem_console.api.routes import commands, meta, providers, recordings, ws
+from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY
+from sem_console.api.routes import commands, meta, providers, recordings, replay, ws
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 
@@ -33,10 +33,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        console = Console(settings)  # owns the DDS participant
+        console = Console(settings)  # owns the DDS participant (none in a replay)
         app.state.console = console
         await console.start()
-        log.info("console %s on DDS domain %d", console.id, settings.domain)
+        if settings.replay is not None:
+            log.info("console %s replaying %s (read-only)", console.id, settings.replay)
+        else:
+            log.info("console %s on DDS domain %d", console.id, settings.domain)
         try:
             yield
         finally:
@@ -66,7 +69,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
     writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
     commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
+    if settings.replay is not None:  # read-only: commands and recording are refused, and the OpenAPI document says so
+        commands_writes = {"dependencies": [*commands_writes["dependencies"], Depends(refuse_in_replay)],
+                           "responses": {**commands_writes.get("responses", {}), **READ_ONLY}}
+    replay_controls = {**reads, "dependencies": [*reads.get("dependencies", []), Depends(require_json)]}
     for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (recordings.reads, reads),
+                     (replay.reads, reads), (replay.controls, replay_controls),
                      (commands.writes, commands_writes), (recordings.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})

@@ -22,6 +22,7 @@ from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
 from test_console import V1, gps_fix_executing, provider_ready, wait_until
+from test_replay import synthetic_recording
 
 EVIL = "http://evil.example"
 TOKENS = "# operators of the test console\nalice:s3cret\n\nbob:t0k:en\n"
@@ -273,13 +274,25 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     sim("--vehicles", "2", "--surface-seconds", "400")
     c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers={"Authorization": "Bearer s3cret"}).json(), 20, "vehicles")
-    cmd = [str(Path(sys.executable).parent / "schemathesis"), "run", f"{c.url}/openapi.json", "--checks", "all",
+    schemathesis(c.url, tmp_path, "-H", "Authorization: Bearer s3cret")
+
+
+def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path) -> None:
+    """The same against a console replaying a recording: its command and recording routes answer 409
+    (read-only), its playback controls take whatever the schema allows."""
+    c = console("--replay", str(synthetic_recording(tmp_path / "recordings")))  # the console's recordings folder: listed
+    assert httpx.get(f"{c.url}/api/replay").status_code == 200
+    schemathesis(c.url, tmp_path)
+
+
+def schemathesis(url: str, tmp_path: Path, *args: str) -> None:
+    cmd = [str(Path(sys.executable).parent / "schemathesis"), "run", f"{url}/openapi.json", "--checks", "all",
            "--exclude-checks", "use_after_free", "--generation-deterministic", "--max-examples", "25", "--workers", "1",
-           "-H", "Authorization: Bearer s3cret", "--no-color", "--report", "junit", "--report-dir", str(tmp_path)]
+           *args, "--no-color", "--report", "junit", "--report-dir", str(tmp_path)]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=tmp_path)
     summary = p.stdout[p.stdout.rfind("SUMMARY"):]
     print(summary)
     assert p.returncode == 0, p.stdout[-6000:]
-    operations = sum(len(ops) for ops in httpx.get(f"{c.url}/openapi.json").json()["paths"].values())
+    operations = sum(len(ops) for ops in httpx.get(f"{url}/openapi.json").json()["paths"].values())
     assert f"Tested: {operations}" in summary and " passed" in summary and "failure" not in summary, summary
     assert "Warnings:" not in summary, summary

@@ -4,6 +4,7 @@ import { CommandsPanel } from "./panels/Commands";
 import { FixPanel } from "./panels/Fix";
 import { Header } from "./panels/Header";
 import { InsPanel } from "./panels/Ins";
+import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
 
@@ -11,6 +12,7 @@ export function App() {
   return (
     <div className="app">
       <Header />
+      <ReplayBar />
       <div className="layout">
         <aside className="side">
           <ErrorBoundary name="Vehicles">

@@ -1,10 +1,12 @@
 import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
-import { health } from "./api/rest";
+import { health, type Health } from "./api/rest";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
 import { Connection, Store, defaultUrl } from "./data/connection";
 import { DataContext } from "./data/hooks";
+import { ReplaySource } from "./data/replay";
+import type { DataSource } from "./data/source";
 import { urlWithVehicle, vehicleFromUrl } from "./lib/vehicle";
 import "./styles.css";
 
@@ -18,29 +20,41 @@ store.subscribe(() => {
   window.history.replaceState(window.history.state, "", urlWithVehicle(window.location.href, selected));
 });
 
-const connection = new Connection(defaultUrl(), store, () => wsProtocols());
-const mayConnect = () => !store.getState().readAuthRequired || getToken() !== null;
-onTokenChange(() => (mayConnect() ? connection.restart() : connection.stop()));
+const root = createRoot(document.getElementById("root")!);
+root.render(
+  <p className="starting" data-testid="connection-state" role="status">
+    Connecting…
+  </p>,
+);
 
-// Whether reads need a token is known before the first connect (with --auth-reads /ws refuses a client without one).
-async function start(): Promise<void> {
+// Before anything else the console says whether reads need a token (with --auth-reads /ws refuses a client
+// without one) and whether it replays a recording: that decides the data source.
+async function consoleHealth(): Promise<Health> {
   for (;;) {
     try {
-      const h = await health();
-      store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
-      break;
+      return await health();
     } catch {
       await new Promise((r) => setTimeout(r, 2000)); // the console is not up yet
     }
   }
-  if (mayConnect()) connection.start(); // else once the operator signs in
+}
+
+async function start(): Promise<void> {
+  const h = await consoleHealth();
+  store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
+  const source: DataSource = h.replay
+    ? new ReplaySource(defaultUrl(), store, () => wsProtocols())
+    : new Connection(defaultUrl(), store, () => wsProtocols());
+  store.clock = source.now;
+  const mayConnect = () => !store.getState().readAuthRequired || getToken() !== null;
+  onTokenChange(() => (mayConnect() ? source.restart() : source.stop()));
+  root.render(
+    <StrictMode>
+      <DataContext.Provider value={{ store, source }}>
+        <App />
+      </DataContext.Provider>
+    </StrictMode>,
+  );
+  if (mayConnect()) source.start(); // else once the operator signs in
 }
 void start();
-
-createRoot(document.getElementById("root")!).render(
-  <StrictMode>
-    <DataContext.Provider value={{ store, connection }}>
-      <App />
-    </DataContext.Provider>
-  </StrictMode>,
-);

@@ -49,6 +49,15 @@ async def require_reader(request: Request, credentials: BearerDep) -> None:
     _authenticate(request, credentials)
 
 
+async def refuse_in_replay(request: Request) -> None:
+    """Router dependency of the command and recording routes of a replay (sem-console --replay): it is read-only."""
+    settings: Settings = request.app.state.settings
+    if settings.replay is not None:
+        reason = f"read-only: this console replays the recording {settings.replay.name}; it sends no command and records nothing"
+        audit.record(request.scope, "refused", 409, reason)
+        raise HTTPException(409, reason)
+
+
 async def current_operator(request: Request) -> str | None:
     """The signed-in operator (set by require_operator); None when the console needs no sign-in."""
     return getattr(request.state, "operator", None)

@@ -25,3 +25,6 @@ JSON_BODY: Responses = {
     400: problem("the body could not be read (e.g. not UTF-8)"),
     415: problem("the request is not Content-Type: application/json"),
 }
+READ_ONLY: Responses = {
+    409: problem("read-only: the console replays a recording (sem-console --replay); nothing is commanded or recorded"),
+}

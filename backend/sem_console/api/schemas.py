@@ -112,6 +112,8 @@ class Health(_Model):
     domain: int
     authRequired: bool = Field(description="commands need an operator token")
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
+    replay: bool = Field(description="the console serves a recording (sem-console --replay), not DDS: read-only, "
+                                     "with playback controls (/api/replay)")
 
 
 class Metrics(_Model):
@@ -155,6 +157,40 @@ class RecordingRequest(_Model):
     action: Literal["start", "stop"]
 
 
+class ReplayStatus(_Model):
+    file: str = Field(description="the recording being replayed")
+    state: Literal["playing", "paused"] = Field(description="paused at the end once it has played to the end")
+    speed: float = Field(description="recording seconds per wall-clock second, 0.25 to 20")
+    position: float = Field(description="the instant shown, UTC seconds (start..end); the console's clock")
+    start: float = Field(description="the recording's first message, UTC seconds")
+    end: float = Field(description="the recording's last message, UTC seconds")
+
+
+class ReplayPlay(_Model):
+    """Play from the position (from the start when at the end)."""
+
+    action: Literal["play"]
+
+
+class ReplayPause(_Model):
+    action: Literal["pause"]
+
+
+class ReplaySeek(_Model):
+    """Show the state at `position`: rebuilt from the recording, sent to every client as a fresh snapshot."""
+
+    action: Literal["seek"]
+    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its start or end")
+
+
+class ReplaySpeed(_Model):
+    action: Literal["speed"]
+    speed: float = Field(strict=True, ge=0.25, le=20, description="recording seconds per wall-clock second")
+
+
+ReplayRequest = Annotated[Union[ReplayPlay, ReplayPause, ReplaySeek, ReplaySpeed], Field(discriminator="action")]
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
@@ -164,6 +200,7 @@ class SnapshotMessage(_Model):
     providers: list[ProviderDetail]
     commands: list[Command]
     recording: RecordingStatus
+    replay: ReplayStatus | None = Field(description="the replay's playback (sem-console --replay); null for a live console")
 
 
 class ReportMessage(_Model):
@@ -198,6 +235,13 @@ class RecordingMessage(_Model):
     recording: RecordingStatus
 
 
+class ReplayMessage(_Model):
+    """A replay's playback changed (play, pause, speed, seek) or moved on (every 0.5 s while playing)."""
+
+    type: Literal["replay"]
+    replay: ReplayStatus
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -209,8 +253,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ErrorMessage,
-          PongMessage],
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ReplayMessage,
+          ErrorMessage, PongMessage],
     Field(discriminator="type"),
 ]
 

@@ -9,7 +9,6 @@ FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswere
 from __future__ import annotations
 
 import logging
-import time
 import uuid
 from dataclasses import dataclass, field
 from typing import Any, Callable
@@ -19,6 +18,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 from UMAA.Common.Measurement import DateTime
 
+from sem_console.console.clock import Clock
 from sem_console.console.store import Store
 from sem_console.dds.topics import Service
 from sem_console.umaa.flow import CommandFlow, name, parse
@@ -75,8 +75,9 @@ class CommandError(Exception):
 
 class Commands:
     def __init__(self, source: uuid.UUID, store: Store, write: Callable[[Service, Any], None],
-                 dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float) -> None:
+                 dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float, clock: Clock | None = None) -> None:
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
+        self.clock = clock or Clock()
         self.unanswered_timeout = unanswered_timeout
         self.by_session: dict[uuid.UUID, Command] = {}
         self._load_history()
@@ -132,7 +133,7 @@ class Commands:
         cmd = self.by_session.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id or cmd.acked_at is not None:
             return
-        cmd.acked_at = time.time()
+        cmd.acked_at = self.clock.wall()
         self.store.set_acked(str(session), cmd.acked_at)
         self.emit({"type": "command", "command": cmd.to_json()})
 
@@ -140,7 +141,7 @@ class Commands:
         """Consumer Startup Sequence: resume following our commands that were not finished."""
         resumed = [c for c in self.by_session.values() if not c.cleaned_up and not c.flow.terminal and not c.cancel_requested]
         for c in resumed:
-            c.issued_by_deadline = time.monotonic() + self.unanswered_timeout
+            c.issued_by_deadline = self.clock.monotonic() + self.unanswered_timeout
             try:
                 self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
             except Exception as e:  # a bad row must not stop the others
@@ -153,12 +154,35 @@ class Commands:
     def issue(self, service: Service, provider: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
         session = uuid.uuid4()
         stamp = now_datetime()
-        cmd = Command(session, service, provider, state, operator, time.time(),
+        cmd = Command(session, service, provider, state, operator, self.clock.wall(),
                       self._sample(service, provider, session, state, (stamp.seconds, stamp.nanoseconds)),
-                      issued_by_deadline=time.monotonic() + self.unanswered_timeout)
+                      issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
         self.by_session[session] = cmd
         self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]})
         self._write(service, cmd.sample)
+        self.emit({"type": "command", "command": cmd.to_json()})
+        return cmd
+
+    def adopt(self, c: dict[str, Any]) -> Command | None:
+        """Replay: a command the recorded console issued or changed (its `command` message, as on the
+        WebSocket). A new one is followed from here on like one issued here, but never published; for
+        a known one, a cancel request is taken over. Statuses and acks come from the recorded samples."""
+        session = uuid.UUID(c["sessionId"])
+        cmd = self.by_session.get(session)
+        if cmd is None:
+            service, provider = Service(c["service"]), uuid.UUID(c["providerId"])
+            state = InsState[c["state"]] if c.get("state") else None
+            stamp = (int(c["createdAt"]), int(c["createdAt"] % 1 * 1e9))
+            cmd = Command(session, service, provider, state, c.get("operator"), float(c["createdAt"]),
+                          self._sample(service, provider, session, state, stamp),
+                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
+            self.by_session[session] = cmd
+            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)})
+        elif c.get("cancelRequested") and not cmd.cancel_requested:
+            cmd.cancel_requested, cmd.canceled_by = True, c.get("canceledBy")
+            self.store.set_canceled(str(session), cmd.canceled_by)
+        else:
+            return cmd
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
@@ -198,7 +222,7 @@ class Commands:
         t = cmd.flow.observe(status, reason, log_message)
         if t is None:
             return
-        received = time.time()
+        received = self.clock.wall()
         cmd.times.append((provider_time, received))
         seq = len(cmd.flow.transitions)
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))

@@ -109,6 +109,17 @@ class Hub:
         client.task = asyncio.get_running_loop().create_task(client.run())
         return client
 
+    def resync(self, snapshot: dict[str, Any]) -> None:
+        """Every client starts again from `snapshot` (a replay seeked): what was queued for it is dropped."""
+        text = json.dumps(snapshot, separators=(",", ":"))
+        for c in self.clients:
+            c.ordered.clear()
+            c.queued_bytes = 0
+            c.reports.clear()
+            c.snapshot_pending = False
+            c.push_snapshot(text)
+        self.published += len(self.clients)
+
     def detach(self, client: Client) -> None:
         self.clients.discard(client)
         if client.task is not None:

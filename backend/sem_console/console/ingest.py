@@ -30,31 +30,22 @@ import asyncio
 import logging
 import threading
 import time
-import uuid
-from dataclasses import dataclass
 from enum import Enum
 from typing import Any, Callable, Protocol
 
 from cyclonedds._clayer import ddspy_take
-from cyclonedds.core import InstanceState, Listener, Policy, Qos, WaitSet
-from cyclonedds.internal import InvalidSample
+from cyclonedds.core import Listener, Policy, Qos, WaitSet
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-from sem_console.console.convert import to_json
+from sem_console.console.decode import (ACK_TOPICS, COMMAND_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem,
+                                        StatusItem)
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import Sem
 
 log = logging.getLogger("sem-console.ingest")
-
-REPORT_TOPICS = {
-    Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
-    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
-}
-STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
-ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
-COMMAND_TOPICS = [s.command for s in Service]  # read for the tap only
+__all__ = ["Ingest", "ReportItem", "StatusItem", "REPORT_TOPICS", "Tap", "Via", "owner_of"]
 
 
 class Tap(Protocol):
@@ -66,33 +57,6 @@ class Tap(Protocol):
     def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic: (data, valid, instance state, source timestamp in ns) per sample, where data is
         the sample's CDR with its encapsulation header (only the key when not valid)."""
-
-
-@dataclass
-class ReportItem:
-    topic: str
-    source: uuid.UUID
-    report: dict[str, Any] | None  # None: the instance was disposed or lost its writers
-    invalid: list[str]
-    alive: bool
-    received_at: float
-
-
-@dataclass
-class StatusItem:
-    service: Service
-    kind: str  # "status" | "ack"
-    source: uuid.UUID
-    session: uuid.UUID
-    sample: Any  # None when disposed
-    alive: bool
-
-
-def _guid(raw: Any) -> uuid.UUID | None:
-    try:
-        return uuid.UUID(bytes=bytes(raw))
-    except (TypeError, ValueError):
-        return None
 
 
 class Via(str, Enum):
@@ -178,7 +142,8 @@ class Ingest:
                  on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.report_interval = report_interval
-        self.undecodable: dict[str, int] = {}
+        self.decoder = Decoder()
+        self.undecodable = self.decoder.undecodable
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
@@ -214,13 +179,12 @@ class Ingest:
         return [(sem, via, DataReader(bus.participant, bus.topic(sem), qos=via.qos(sem), listener=self.owners.listener()))
                 for sem in sems for via in Via]
 
-    def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Any]:
-        """Take raw samples and decode those of writers this reader owns, one by one: a sample
-        that cannot be decoded costs only itself, and the copies other readers own are
-        dropped undecoded, so each sample is decoded and applied once."""
-        dtype = sem.spec.type
+    def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Item]:
+        """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
+        path a replay takes too): a sample that cannot be decoded costs only itself, and the copies
+        other readers own are dropped undecoded, so each sample is decoded and applied once."""
         decode = sem not in COMMAND_TOPICS
-        out: list[Any] = []
+        out: list[Item] = []
         while True:
             raw = ddspy_take(reader._ref, condition.mask, 256)  # noqa: SLF001 (DataReader.take, without its decode)
             if isinstance(raw, int):
@@ -229,6 +193,7 @@ class Ingest:
             self.taken += len(raw)
             tap = self.tap if self.tap is not None and self.tap.active else None
             tapped: list[tuple[bytes, bool, int, int]] = []
+            received_ns = time.time_ns()  # the receive time of the recording's messages and of the state alike
             for data, info in raw:
                 if self.owners.owner(reader, info.publication_handle & _U64) not in (via, None):
                     continue
@@ -236,18 +201,11 @@ class Ingest:
                     tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
                 if not decode:
                     continue
-                try:
-                    if info.valid_data:
-                        sample = dtype.deserialize(data)
-                        sample.sample_info = info
-                        out.append(sample)
-                    else:
-                        out.append(InvalidSample(dtype.deserialize_key(data), info))
-                except Exception as e:
-                    self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
-                    log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+                item = self.decoder.decode(sem, data, info.valid_data, info.instance_state, received_ns / 1e9)
+                if item is not None:
+                    out.append(item)
             if tapped and tap is not None:
-                tap.on_samples(sem, tapped, time.time_ns())
+                tap.on_samples(sem, tapped, received_ns)
             if len(raw) < 256:
                 break
         self.decoded += len(out)
@@ -261,30 +219,11 @@ class Ingest:
             started = time.monotonic()
             items: list[ReportItem] = []
             for (sem, via, reader), cond in zip(self.report_readers, conds):
-                for s in self._take(sem, via, reader, cond):
-                    item = self._report(sem, s)
-                    if item is not None:
-                        items.append(item)
+                items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
             if items:
                 self.loop.call_soon_threadsafe(self.on_reports, items)
             self.owners.forget_departed(started)
             time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
-
-    def _report(self, sem: Sem, s: Any) -> ReportItem | None:
-        info = s.sample_info
-        key = s.key_sample if isinstance(s, InvalidSample) else s
-        source = _guid(getattr(key, "source", None))
-        if source is None:
-            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
-            return None
-        alive = info.instance_state == InstanceState.Alive
-        if isinstance(s, InvalidSample):
-            return ReportItem(REPORT_TOPICS[sem], source, None, [], False, time.time())
-        try:
-            report, invalid = to_json(s)
-        except Exception as e:  # never let one bad sample stop the reader
-            report, invalid = {}, [f"sample could not be converted: {e}"]
-        return ReportItem(REPORT_TOPICS[sem], source, report, invalid, alive, time.time())
 
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]
@@ -292,15 +231,6 @@ class Ingest:
             ws.wait(duration(milliseconds=200))
             items: list[StatusItem] = []
             for (sem, via, reader), cond in zip(self.status_readers, conds):
-                for s in self._take(sem, via, reader, cond):
-                    key = s.key_sample if isinstance(s, InvalidSample) else s
-                    source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
-                    if source is None or session is None:
-                        continue
-                    service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
-                    kind = "status" if sem in STATUS_TOPICS else "ack"
-                    alive = s.sample_info.instance_state == InstanceState.Alive
-                    sample = None if isinstance(s, InvalidSample) else s
-                    items.append(StatusItem(service, kind, source, session, sample, alive))
+                items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
             if items:
                 self.loop.call_soon_threadsafe(self.on_statuses, items)

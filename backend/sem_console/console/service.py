@@ -1,6 +1,8 @@
 """The running console: DDS ingest, providers, the UMAA consumer, the WebSocket hub.
 
-Owned by the FastAPI lifespan. Every method here runs on the event loop thread.
+Owned by the FastAPI lifespan. Every method here runs on the event loop thread. With
+`settings.replay` the input is a recording instead of DDS (`console/replay.py`): no DDS
+participant, the recording's clock, an in-memory history, and the same `apply` path.
 """
 
 from __future__ import annotations
@@ -10,19 +12,25 @@ import logging
 import threading
 import time
 import uuid
-from typing import Any
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.hub import Hub
-from sem_console.console.ingest import Ingest, ReportItem, StatusItem
+from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
+
+if TYPE_CHECKING:
+    from sem_console.console.replay import Replay
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -31,27 +39,60 @@ TICK = 0.2
 class Console:
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
-        self.store = Store(settings.db_path)
+        replaying = settings.replay is not None
+        self.clock: Clock = RecordingClock() if replaying else Clock()
+        # a replay keeps its rebuilt history in memory: the live console's database is never touched
+        self.store = Store(Path(":memory:") if replaying else settings.db_path)
         self.id = self.store.console_guid()
-        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
+        self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
-        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names())
-        self.command_writers = {s: self.bus.writer(s.command) for s in Service}
-        self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
-                                 lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
+        self.command_writers = {s: self.bus.writer(s.command) for s in Service} if self.bus else {}
+        self.providers, self.commands = self._fresh_state()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
         self.ingest: Ingest | None = None
+        self.replay: Replay | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
+        self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
         self.started_at = time.monotonic()
         self.reports_applied = 0
+
+    def _fresh_state(self) -> tuple[Providers, Commands]:
+        providers = Providers(self.settings.comms_lost_timeout, self.settings.regained_time, self.settings.names())
+        commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
+                            self.settings.unanswered_timeout, self.clock)
+        return providers, commands
+
+    def reset(self) -> None:
+        """A replay seeking backwards: forget every provider, report and command (the audit trail stays)."""
+        self.store.clear_commands()
+        self.providers, self.commands = self._fresh_state()
+        self.reports_applied = 0
+
+    def _write_command(self, service: Service, sample: Any) -> None:
+        writer = self.command_writers.get(service)  # none in a replay: nothing is published
+        if writer is not None:
+            writer.write(sample)
+
+    def _dispose_command(self, service: Service, sample: Any) -> None:
+        writer = self.command_writers.get(service)
+        if writer is not None:
+            writer.dispose(sample)
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
         loop = self._loop = asyncio.get_running_loop()
+        if self.settings.replay is not None:
+            from sem_console.console.replay import Replay
+
+            assert isinstance(self.clock, RecordingClock)
+            self.replay = Replay(self, self.settings.replay, self.settings.replay_speed, self.clock)
+            await self.replay.open()
+            return
+        assert self.bus is not None
         self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder)
         if self.settings.record is not None:
             try:
@@ -71,7 +112,13 @@ class Console:
 
         The providers' answers (CANCELED) are awaited for up to `answer_wait` seconds so the
         history records how each command ended; they dispose those statuses right after.
+        A replay has nothing to cancel and no bus to leave.
         """
+        if self.replay is not None:
+            self.closing = True
+            await self.replay.close()
+            self.store.close()
+            return
         canceled = self.commands.shutdown()
         await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
         deadline = time.monotonic() + answer_wait
@@ -90,7 +137,8 @@ class Console:
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
-        self.bus.close()
+        if self.bus is not None:
+            self.bus.close()
         self.store.close()
 
     def _start_sim(self) -> None:
@@ -129,19 +177,32 @@ class Console:
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
         self.commands.tick(now)
 
-    # ---- DDS input (on the loop) --------------------------------------------------------
+    # ---- input: DDS (ingest) or a recording (replay), on the loop -------------------------------
+    def apply(self, item: ReportItem | StatusItem | dict[str, Any]) -> None:
+        """One item of a replay: a decoded report or status sample, or a recorded command message's command."""
+        if isinstance(item, ReportItem):
+            self._on_reports([item])
+        elif isinstance(item, StatusItem):
+            self._on_statuses([item])
+        else:
+            try:
+                self.commands.adopt(item)
+            except (KeyError, ValueError, TypeError) as e:
+                log.warning("skipped a recorded command that cannot be read: %s", e)
+
     def _on_reports(self, items: list[ReportItem]) -> None:
         if self.closing:
             return
-        now = time.monotonic()
+        now = self.clock.monotonic()
         for it in items:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
                 self.reports_applied += 1
-                self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
-                                  "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
+                if not self.quiet:
+                    self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
+                                      "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
 
     @staticmethod
     def _envelope(it: ReportItem) -> dict[str, Any] | None:
@@ -152,7 +213,7 @@ class Console:
     def _on_statuses(self, items: list[StatusItem]) -> None:
         if self.closing:
             return
-        now = time.monotonic()
+        now = self.clock.monotonic()
         for it in items:
             try:
                 self._on_status(it, now)
@@ -161,7 +222,7 @@ class Console:
 
     def _on_status(self, it: StatusItem, now: float) -> None:
         topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
-        p, new = self.providers.seen(topic, it.source, None, now, time.time(), it.alive or it.sample is not None)
+        p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None)
         if new:
             self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
         if it.sample is None:
@@ -174,7 +235,8 @@ class Console:
                                 s.logMessage, provider_time(s))
 
     def _emit(self, message: dict[str, Any]) -> None:
-        self.hub.publish(message)
+        if not self.quiet:
+            self.hub.publish(message)
         self.recorder.on_message(message)
 
     def _recording_changed(self, status: dict[str, Any]) -> None:
@@ -194,22 +256,24 @@ class Console:
         return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
     def snapshot(self) -> dict[str, Any]:
-        now = time.monotonic()
+        now = self.clock.monotonic()
         return {
-            "type": "snapshot", "consoleId": str(self.id), "serverTime": time.time(),
+            "type": "snapshot", "consoleId": str(self.id), "serverTime": self.clock.wall(),
             "authRequired": bool(self.settings.operators()),
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "recording": self.recorder.status(),
+            "replay": self.replay.status() if self.replay else None,
         }
 
     def metrics(self) -> dict[str, Any]:
+        decoder = self.ingest.decoder if self.ingest else self.replay.decoder if self.replay else None
         return {
             "uptimeSeconds": round(time.monotonic() - self.started_at, 3),
             "samplesTaken": self.ingest.taken if self.ingest else 0,
-            "samplesDecoded": self.ingest.decoded if self.ingest else 0,
+            "samplesDecoded": self.ingest.decoded if self.ingest else decoder.decoded if decoder else 0,
             "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
-            "undecodableSamples": sum(self.ingest.undecodable.values()) if self.ingest else 0,
+            "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
             "reportsApplied": self.reports_applied,
             "wsClients": len(self.hub.clients),
             "wsMessagesPublished": self.hub.published,

@@ -93,6 +93,11 @@ class Store:
                 trans.setdefault(t["session_id"], []).append(dict(t))
         return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
 
+    def clear_commands(self) -> None:
+        """Forget every command and transition (a replay rebuilding its state); the audit trail stays."""
+        self.db.execute("DELETE FROM transitions")
+        self.db.execute("DELETE FROM commands")
+
     def add_audit(self, entry: dict[str, Any]) -> None:
         """One command request, accepted or refused (keys: AUDIT_COLUMNS)."""
         self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",

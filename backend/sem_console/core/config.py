@@ -43,6 +43,10 @@ class Settings(BaseSettings):
     record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
                               "beyond it they are dropped and their samples counted")
 
+    # Replay in the console (see README, Replay in the console)
+    replay: Path | None = Field(None, description="serve the dashboard from this recording (MCAP) instead of DDS: read-only")
+    replay_speed: float = Field(1.0, ge=0.25, le=20, description="the replay's speed at start (0.25 to 20)")
+
     # Operators: "name:token,name2:token2" (a bare token is operator "operator"), and/or a file of
     # "name:token" lines. None at all: no sign-in.
     operator_tokens: str = ""

@@ -19,10 +19,11 @@ import base64
 import json
 import logging
 import signal
+import struct
 import sys
 import time
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any, Collection, Iterator
 
 from cyclonedds._clayer import ddspy_write_ts
 from cyclonedds.pub import DataWriter
@@ -86,18 +87,8 @@ class Replay:
         return False
 
     def messages(self) -> Iterator[tuple[str, Any]]:
-        """The recording's SEM and instance messages in log time order; a file without a summary (the console
-        stopped on an error or was killed) is read from the start in file order, up to where it is cut short."""
-        with open(self.path, "rb") as f:
-            try:
-                complete = make_reader(f).get_summary() is not None
-            except (McapError, ValueError, EOFError):
-                complete = False
-            f.seek(0)
-            reader = make_reader(f) if complete else NonSeekingReader(f)
-            for _schema, channel, message in reader.iter_messages(log_time_order=complete):
-                if channel.topic in self.topics or channel.topic == INSTANCES:
-                    yield channel.topic, message
+        """The recording's SEM and instance messages in log time order (see `iter_messages`)."""
+        return iter_messages(self.path, {*self.topics, INSTANCES})
 
     def run_once(self) -> None:
         start_wall: float | None = None
@@ -146,6 +137,56 @@ class Replay:
             self.unregisters += 1
 
 
+def iter_messages(path: Path, topics: Collection[str]) -> Iterator[tuple[str, Any]]:
+    """(channel topic, message) of the channels named in `topics`, in log time order; a file without a summary
+    (the console stopped on an error or was killed) is read from the start in file order, up to where it is cut
+    short (the iterator then raises McapError, OSError or EOFError)."""
+    with open(path, "rb") as f:
+        try:
+            complete = make_reader(f).get_summary() is not None
+        except (McapError, ValueError, EOFError, struct.error):
+            complete = False
+        f.seek(0)
+        reader = make_reader(f) if complete else NonSeekingReader(f)
+        for _schema, channel, message in reader.iter_messages(log_time_order=complete):
+            if channel.topic in topics:
+                yield channel.topic, message
+
+
+def time_range(path: Path) -> tuple[int, int] | None:
+    """(first, last) log time of a recording's messages in ns since the epoch, from its summary, or for a file
+    cut short by reading it up to where it stops; None when it holds no message."""
+    with open(path, "rb") as f:
+        try:
+            summary = make_reader(f).get_summary()
+        except (McapError, ValueError, EOFError, struct.error):
+            summary = None
+        if summary is not None and summary.statistics is not None:
+            stats = summary.statistics
+            return (stats.message_start_time, stats.message_end_time) if stats.message_count else None
+        f.seek(0)
+        first = last = None
+        try:
+            for _schema, _channel, message in NonSeekingReader(f).iter_messages():
+                first = message.log_time if first is None else min(first, message.log_time)
+                last = message.log_time if last is None else max(last, message.log_time)
+        except (McapError, OSError, EOFError, struct.error) as e:
+            log.warning("%s ends early: %s", path, e)
+    return None if first is None or last is None else (first, last)
+
+
+def check_file(path: Path) -> str | None:
+    """Why `path` cannot be replayed (unreadable, not MCAP), or None."""
+    try:
+        with open(path, "rb") as f:
+            make_reader(f).get_header()
+    except OSError as e:
+        return f"cannot read {path}: {e.strerror}"
+    except (McapError, ValueError, EOFError, StopIteration, struct.error) as e:
+        return f"{path} is not an MCAP file: {e}"
+    return None
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -154,13 +195,9 @@ def main(argv: list[str] | None = None) -> int:
     if not args.speed > 0:
         parser.error("--speed: must be more than 0")
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
-    try:
-        with open(args.file, "rb") as f:
-            make_reader(f).get_header()
-    except OSError as e:
-        parser.error(f"cannot read {args.file}: {e.strerror}")
-    except (McapError, ValueError, EOFError, StopIteration) as e:
-        parser.error(f"{args.file} is not an MCAP file: {e}")
+    problem = check_file(args.file)
+    if problem:
+        parser.error(problem)
     settings = Settings()
     try:
         bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)

@@ -1,6 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
-import type { paths } from "./generated/openapi";
-import type { Command, RecordingStatus } from "./types";
+import type { components, paths } from "./generated/openapi";
+import type { Command, RecordingStatus, ReplayStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -33,10 +33,8 @@ export async function checkToken(token: string): Promise<string | null> {
   return (await call<{ operator: string | null }>("GET", "/api/operator", token)).operator;
 }
 
-export interface Health {
-  authRequired: boolean;
-  readAuthRequired: boolean;
-}
+export type Health = components["schemas"]["Health"];
+export type ReplayRequest = paths["/api/replay"]["post"]["requestBody"]["content"]["application/json"];
 
 export async function health(): Promise<Health> {
   return call<Health>("GET", "/api/health", null);
@@ -57,4 +55,9 @@ export function cancelCommand(sessionId: string, token: string | null): Promise<
 /** Start or stop the console's recording to MCAP (POST /api/recordings); needs an operator token when commands do. */
 export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
   return call<RecordingStatus>("POST", "/api/recordings", token, { action });
+}
+
+/** Play, pause, seek or set the speed of a replay (POST /api/replay); answered with the playback once done. */
+export function controlReplay(request: ReplayRequest, token: string | null): Promise<ReplayStatus> {
+  return call<ReplayStatus>("POST", "/api/replay", token, request);
 }

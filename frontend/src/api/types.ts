@@ -10,6 +10,7 @@ import type {
   ProviderSummary,
   ProviderDetail,
   RecordingStatus,
+  ReplayStatus,
 } from "./generated/ws";
 
 export type {
@@ -21,6 +22,7 @@ export type {
   ProviderSummary,
   ProviderDetail,
   RecordingStatus,
+  ReplayStatus,
 };
 export type {
   GPSReportType,

@@ -1,9 +1,10 @@
-// The one connection to the console: a WebSocket with explicit states, reconnect with backoff,
+// The live data source: one WebSocket to the console with explicit states, reconnect with backoff,
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
-import type { ServerMessage } from "../api/types";
+import type { ReplayStatus, ServerMessage } from "../api/types";
+import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { initialState, reduce, type State } from "./store";
 
-export type ConnectionState = "connecting" | "live" | "reconnecting" | "offline";
+export type ConnectionState = SourceState;
 
 export const BACKOFF_MIN_MS = 500;
 export const BACKOFF_MAX_MS = 10_000;
@@ -21,6 +22,8 @@ export class Store {
   private listeners = new Set<Listener>();
   private queue: ServerMessage[] = [];
   private scheduled = false;
+  /** The data source's clock (UTC seconds): when each batch of messages is applied. */
+  clock: () => number = () => Date.now() / 1000;
 
   /** `selected`: the vehicle to show first (the page's ?vehicle= link), null for none. */
   constructor(selected: string | null = null) {
@@ -52,7 +55,7 @@ export class Store {
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;
-    const now = Date.now() / 1000;
+    const now = this.clock();
     let s = this.state;
     for (const msg of this.queue) s = reduce(s, msg, now);
     this.queue = [];
@@ -66,7 +69,10 @@ export class Store {
   }
 }
 
-export class Connection {
+export class Connection implements DataSource {
+  readonly kind: "live" | "replay" = "live";
+  readonly capabilities: Capabilities = LIVE;
+  readonly playback: PlaybackControls | null = null;
   state: ConnectionState = "connecting";
   private ws: WebSocket | null = null;
   private failures = 0;
@@ -75,7 +81,7 @@ export class Connection {
   private listeners = new Set<Listener>();
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
-  constructor(private readonly url: string, private readonly store: Store, private readonly protocols: () => string[] = () => []) {}
+  constructor(private readonly url: string, protected readonly store: Store, private readonly protocols: () => string[] = () => []) {}
 
   subscribe = (l: Listener): (() => void) => {
     this.listeners.add(l);
@@ -83,6 +89,14 @@ export class Connection {
   };
 
   getState = (): ConnectionState => this.state;
+
+  getPlayback = (): ReplayStatus | null => null;
+
+  now = (): number => Date.now() / 1000;
+
+  protected notify(): void {
+    for (const l of this.listeners) l();
+  }
 
   start(): void {
     this.stopped = false;
@@ -109,7 +123,19 @@ export class Connection {
   private setState(s: ConnectionState): void {
     if (s === this.state) return;
     this.state = s;
-    for (const l of this.listeners) l();
+    this.notify();
+  }
+
+  /** One message from the console (a replay source looks at some first). */
+  protected receive(msg: ServerMessage): void {
+    if (msg.type === "snapshot") {
+      this.failures = 0;
+      this.store.enqueue(msg);
+      this.store.flush(); // the snapshot is the baseline: apply it at once
+      this.setState("live");
+      return;
+    }
+    this.store.enqueue(msg);
   }
 
   private open(): void {
@@ -123,14 +149,7 @@ export class Connection {
       } catch {
         return;
       }
-      if (msg.type === "snapshot") {
-        this.failures = 0;
-        this.store.enqueue(msg);
-        this.store.flush(); // the snapshot is the baseline: apply it at once
-        this.setState("live");
-        return;
-      }
-      this.store.enqueue(msg);
+      this.receive(msg);
     };
     ws.onclose = () => {
       if (this.ws !== ws || this.stopped) return;

@@ -1,6 +1,7 @@
-import { describe, expect, it } from "vitest";
-import type { Command, ServerMessage } from "../api/types";
-import { Store, backoff } from "./connection";
+import { afterEach, describe, expect, it, vi } from "vitest";
+import type { Command, ReplayStatus, ServerMessage } from "../api/types";
+import { Connection, Store, backoff } from "./connection";
+import { ReplaySource } from "./replay";
 import { HISTORY_SECONDS, dismiss, initialState, reduce, report, select, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -110,10 +111,11 @@ describe("reducer", () => {
     expect(s.alerts.length).toBe(1);
   });
 
-  it("ignores errors and pongs", () => {
+  it("ignores errors, pongs and replay playback messages", () => {
     const s = apply([snapshot()]);
     expect(reduce(s, { type: "pong", serverTime: 1 }, 1)).toBe(s);
     expect(reduce(s, { type: "error", message: "x" }, 1)).toBe(s);
+    expect(reduce(s, { type: "replay", replay: playback("paused", 5, 1) }, 1)).toBe(s);
   });
 });
 
@@ -132,5 +134,75 @@ describe("store and connection", () => {
 
   it("backs off exponentially up to a ceiling", () => {
     expect([1, 2, 3, 4, 5, 6, 10].map(backoff)).toEqual([500, 1000, 2000, 4000, 8000, 10000, 10000]);
+  });
+});
+
+function playback(state: "playing" | "paused", position: number, speed: number): ReplayStatus {
+  return { file: "20261122T101530.123Z.mcap", state, speed, position, start: 1000, end: 1100 };
+}
+
+/** A data source's message handler, as its WebSocket calls it. */
+function deliver(source: Connection, msg: ServerMessage): void {
+  (source as unknown as { receive(m: ServerMessage): void }).receive(msg);
+}
+
+describe("data sources", () => {
+  afterEach(() => vi.useRealTimers());
+
+  it("the live source commands and records, has no playback, and its clock is the wall clock", () => {
+    vi.useFakeTimers({ now: 1_700_000_000_000 });
+    const live = new Connection("ws://x/ws", new Store());
+    expect(live.capabilities).toEqual({ command: true, record: true, playback: false });
+    expect(live.playback).toBe(null);
+    expect(live.getPlayback()).toBe(null);
+    expect(live.now()).toBe(1_700_000_000);
+  });
+
+  it("the replay source's clock is the recording's: at the speed while playing, still when paused, never past the end", () => {
+    vi.useFakeTimers({ now: 1_700_000_000_000 });
+    const store = new Store();
+    const replay = new ReplaySource("ws://x/ws", store);
+    expect(replay.capabilities).toEqual({ command: false, record: false, playback: true });
+    let heard = 0;
+    replay.subscribe(() => heard++);
+    deliver(replay, { type: "replay", replay: playback("playing", 1010, 4) });
+    expect(heard).toBe(1);
+    expect(replay.getPlayback()?.position).toBe(1010);
+    expect(replay.getPlayback()).toBe(replay.getPlayback()); // the same object until it changes
+    vi.advanceTimersByTime(2500);
+    expect(replay.now()).toBeCloseTo(1020);
+    vi.advanceTimersByTime(60_000);
+    expect(replay.now()).toBe(1100);
+    deliver(replay, { type: "replay", replay: playback("paused", 1042, 4) });
+    vi.advanceTimersByTime(5000);
+    expect(replay.now()).toBe(1042);
+    // a store driven by it stamps what it applies with the recording's time
+    store.clock = replay.now;
+    deliver(replay, { ...snapshot(), replay: playback("paused", 1042, 4) } as ServerMessage);
+    expect(store.getState().providers[P].topics.GPSReport!.at).toBe(1040); // 2 s old at the instant shown
+  });
+
+  it("a replay snapshot (a seek) starts trails, charts, commands and alerts again and keeps the selection", () => {
+    vi.useFakeTimers({ now: 1_700_000_000_000 });
+    const store = new Store(P);
+    const replay = new ReplaySource("ws://x/ws", store);
+    store.clock = replay.now;
+    deliver(replay, { ...snapshot(), replay: playback("paused", 1050, 1) } as ServerMessage);
+    const gps = { type: "report", providerId: P, topic: "GPSReport",
+      report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
+    deliver(replay, gps);
+    store.flush();
+    deliver(replay, { type: "provider", event: "lost", provider: { id: P, name: null, link: "lost", ageSeconds: 3, topics: {} } });
+    store.flush();
+    expect(store.getState().providers[P].trails.E07).toHaveLength(1);
+    expect(store.getState().alerts).toHaveLength(1);
+    deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage); // seek back
+    const s = store.getState();
+    expect(s.providers[P].trails).toEqual({});
+    expect(s.providers[P].history).toEqual([]);
+    expect(s.alerts).toEqual([]);
+    expect(s.commands).toEqual({});
+    expect(s.selected).toBe(P);
+    expect(replay.getPlayback()?.position).toBe(1010);
   });
 });

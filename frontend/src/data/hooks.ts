@@ -1,12 +1,13 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command, RecordingStatus } from "../api/types";
-import type { Connection, ConnectionState, Store } from "./connection";
+import type { Command, RecordingStatus, ReplayStatus } from "../api/types";
+import type { Store } from "./connection";
+import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
 import type { Alert, ProviderView, State } from "./store";
 
 export interface DataContextValue {
   store: Store;
-  connection: Connection;
+  source: DataSource; // live or replay: panels do not know which
 }
 
 export const DataContext = createContext<DataContextValue | null>(null);
@@ -26,9 +27,21 @@ export function useSelector<T>(select: (s: State) => T): T {
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));
 }
 
-export function useConnectionState(): ConnectionState {
-  const { connection } = useData();
-  return useSyncExternalStore(connection.subscribe, connection.getState);
+export function useConnectionState(): SourceState {
+  const { source } = useData();
+  return useSyncExternalStore(source.subscribe, source.getState);
+}
+
+/** What the data source can do: send commands, record, play back. */
+export function useCapabilities(): Capabilities {
+  return useData().source.capabilities;
+}
+
+/** The playback and its controls (a replay); null for the live source. */
+export function usePlayback(): { status: ReplayStatus; controls: PlaybackControls } | null {
+  const { source } = useData();
+  const status = useSyncExternalStore(source.subscribe, source.getPlayback);
+  return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
 export function useProviders(): ProviderView[] {
@@ -56,12 +69,14 @@ export function useAlerts(): Alert[] {
   return useSelector((s) => s.alerts);
 }
 
-/** Current time in seconds since the epoch, refreshed every `periodMs` (for ages and freshness). */
+/** The data source's time in UTC seconds (the wall clock live, the recording's in a replay), refreshed every
+ * `periodMs` (for ages and freshness). */
 export function useNow(periodMs = 500): number {
-  const [now, setNow] = useState(() => Date.now() / 1000);
+  const { source } = useData();
+  const [now, setNow] = useState(() => source.now());
   useEffect(() => {
-    const t = setInterval(() => setNow(Date.now() / 1000), periodMs);
+    const t = setInterval(() => setNow(source.now()), periodMs);
     return () => clearInterval(t);
-  }, [periodMs]);
+  }, [periodMs, source]);
   return now;
 }

@@ -213,10 +213,16 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
     }
     case "recording":
       return applyRecording(state, msg.recording, now);
+    case "replay": // the playback is the data source's (replay.ts), not the console's state
     case "error":
     case "pong":
       return state;
   }
+}
+
+/** A replay moved to another instant: what was built from the instants before it (trails, charts, alerts) goes. */
+export function forNewInstant(state: State): State {
+  return { ...state, providers: {}, commands: {}, alerts: [] };
 }
 
 export function dismiss(state: State, alertId: number | "all"): State {

@@ -67,6 +67,15 @@ export function age(seconds: number | null | undefined): string {
   return `${(seconds / 60).toFixed(0)} min`;
 }
 
+/** A duration as m:ss or h:mm:ss (floored to the second): "03:07", "1:02:09". */
+export function clockDuration(seconds: number): string {
+  const s = Math.max(0, Math.floor(seconds));
+  const hh = Math.floor(s / 3600);
+  const mm = String(Math.floor((s % 3600) / 60)).padStart(2, "0");
+  const ss = String(s % 60).padStart(2, "0");
+  return hh ? `${hh}:${mm}:${ss}` : `${mm}:${ss}`;
+}
+
 export function yesNo(v: boolean | null | undefined): string {
   return v === true ? "yes" : v === false ? "no" : DASH;
 }

@@ -4,7 +4,7 @@ import type { Command } from "../api/types";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCommands, useSelector } from "../data/hooks";
+import { useCapabilities, useCommands, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -92,10 +92,11 @@ export function CommandsPanel() {
   const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
+  const { command: mayCommand } = useCapabilities();
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
-  const canCommand = !!known && (!authRequired || !!token);
+  const canCommand = mayCommand && !!known && (!authRequired || !!token);
 
   // Another vehicle selected: a confirmation prepared for the previous one is void (adjusted while
   // rendering, so no frame ever shows it beside the new vehicle).
@@ -122,7 +123,8 @@ export function CommandsPanel() {
 
   return (
     <Panel title="Commands" testId="commands-panel">
-      {authRequired && !token && <p className="readonly-note" data-testid="commands-read-only">Read-only: sign in with an operator token to command vehicles.</p>}
+      {!mayCommand && <p className="readonly-note" data-testid="commands-replay">Replay: read-only. Commands are not sent.</p>}
+      {mayCommand && authRequired && !token && <p className="readonly-note" data-testid="commands-read-only">Read-only: sign in with an operator token to command vehicles.</p>}
       {target ? (
         <p className="command-target" data-testid="command-target">
           Commands to <VehicleTag v={target} />

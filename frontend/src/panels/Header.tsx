@@ -1,7 +1,7 @@
 import { useState } from "react";
 import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
-import { useConnectionState, useNow, useSelector } from "../data/hooks";
+import { useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { RecordControl } from "./Recording";
 
@@ -9,6 +9,7 @@ const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconn
 
 export function Header() {
   const conn = useConnectionState();
+  const playback = usePlayback();
   const consoleId = useSelector((s) => s.consoleId);
   const authRequired = useSelector((s) => s.authRequired);
   const readAuthRequired = useSelector((s) => s.readAuthRequired);
@@ -30,8 +31,13 @@ export function Header() {
     <header className="app-header">
       <h1>SEM Console</h1>
       <span className={`conn conn-${conn}`} data-testid="connection-state" role="status" aria-label="connection">
-        {LABEL[conn]}
+        {playback && conn === "live" ? "Connected" : LABEL[conn]}
       </span>
+      {playback && (
+        <span className="replay-badge" data-testid="replay-badge" title={`Replaying ${playback.status.file}: read-only`}>
+          Replay <span className="replay-file">{playback.status.file}</span>
+        </span>
+      )}
       <span className="muted" title="console source GUID">{consoleId ? `console ${consoleId.slice(0, 8)}` : ""}</span>
       <span className="spacer" />
       <RecordControl />
@@ -63,7 +69,7 @@ export function Header() {
             )}
           </form>
         ))}
-      <span className="clock" title="UTC">{utc(now).slice(0, 19)} UTC</span>
+      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now).slice(0, 19)} UTC</span>
     </header>
   );
 }

@@ -1,25 +1,19 @@
 import { useState } from "react";
 import { ApiError, controlRecording } from "../api/rest";
 import { useToken } from "../data/auth";
-import { useNow, useRecording, useSelector } from "../data/hooks";
-
-function elapsed(seconds: number): string {
-  const s = Math.max(0, Math.floor(seconds));
-  const hh = Math.floor(s / 3600);
-  const mm = String(Math.floor((s % 3600) / 60)).padStart(2, "0");
-  const ss = String(s % 60).padStart(2, "0");
-  return hh ? `${hh}:${mm}:${ss}` : `${mm}:${ss}`;
-}
+import { useCapabilities, useNow, useRecording, useSelector } from "../data/hooks";
+import { clockDuration } from "../lib/units";
 
 /** The header's record/stop control: records every SEM sample the console receives to MCAP. */
 export function RecordControl() {
   const rec = useRecording();
+  const { record } = useCapabilities();
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
   const now = useNow(1000);
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<string | null>(null);
-  if (!rec) return null;
+  if (!rec || !record) return null; // a replay records nothing
   const recording = rec.state === "recording";
   const allowed = !authRequired || !!token;
   const run = async (action: "start" | "stop") => {
@@ -39,7 +33,7 @@ export function RecordControl() {
         <>
           <span className="rec-dot" aria-hidden="true">●</span>
           <span title={`${rec.directory}/${rec.file ?? ""}`} data-testid="recording-status">
-            REC {rec.startedAt !== null ? elapsed(now - rec.startedAt) : ""}
+            REC {rec.startedAt !== null ? clockDuration(now - rec.startedAt) : ""}
             {rec.dropped > 0 ? ` (${rec.dropped} dropped)` : ""}
           </span>
           <button className="small" disabled={busy || !allowed} onClick={() => void run("stop")} title="Stop recording">

@@ -68,7 +68,9 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
     return cmd.to_json()
 
 
-@reads.get("/api/commands", response_model=list[Command])
+@reads.get("/api/commands", response_model=list[Command], responses={200: {"description": "commands, newest first", "links": {
+    "GetNewestCommand": {"operationId": "get_command_api_commands__session_id__get",
+                         "parameters": {"session_id": "$response.body#/0/sessionId"}}}}})
 async def list_commands(console: ConsoleDep, limit: Limit = 100,
                         offset: Offset = 0) -> list[dict[str, Any]]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""

@@ -18,7 +18,7 @@ operator_router = APIRouter(prefix="/api", tags=["meta"])  # needs a token when 
 @health_router.get("/health", response_model=Health)
 async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
-            "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads}
+            "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads, "replay": settings.replay is not None}
 
 
 @reads.get("/metrics", response_model=Metrics)

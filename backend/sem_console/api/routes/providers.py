@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 import uuid
 from typing import Any
 
@@ -26,10 +25,10 @@ def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
 
 @router.get("", response_model=list[ProviderSummary])
 async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
-    now = time.monotonic()
+    now = console.clock.monotonic()
     return [p.summary(now) for p in console.providers.by_id.values()]
 
 
 @router.get("/{provider_id}", response_model=ProviderDetail, responses={404: problem("unknown provider")})
 async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
-    return console.provider_detail(known_provider(console, provider_id), time.monotonic())
+    return console.provider_detail(known_provider(console, provider_id), console.clock.monotonic())

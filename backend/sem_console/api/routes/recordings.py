@@ -6,17 +6,18 @@ File I/O (opening, finishing, listing files) runs in worker threads, never on th
 from __future__ import annotations
 
 import asyncio
-from typing import Any
+from typing import Annotated, Any
 
-from fastapi import APIRouter, HTTPException, Request, status
+from fastapi import APIRouter, HTTPException, Path, Request, status
 from fastapi.responses import FileResponse
 
 from sem_console.api import audit
 from sem_console.api.deps import ConsoleDep, OperatorDep
 from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.schemas import RecordingFile, RecordingRequest, RecordingStatus
-from sem_console.recording.recorder import RecordingError
+from sem_console.recording.recorder import NAME, RecordingError
 
+RecordingName = Annotated[str, Path(pattern=NAME.pattern, description="<UTC start time>.mcap, e.g. 20261122T101530.123Z.mcap")]
 writes = APIRouter(prefix="/api", tags=["recordings"])
 reads = APIRouter(prefix="/api", tags=["recordings"])
 
@@ -51,13 +52,11 @@ async def list_recordings(console: ConsoleDep) -> list[dict[str, Any]]:
 
 @reads.get("/recordings/{name}", response_class=FileResponse,
            responses={200: {"content": {"application/octet-stream": {}}, "description": "the MCAP file"},
-                      400: problem("not a recording's name (<UTC start>.mcap)"), 404: problem("no such recording"),
+                      404: problem("no such recording"),
                       409: problem("the file is being recorded: stop the recording (or wait for it to roll over)")})
-async def download_recording(name: str, console: ConsoleDep) -> FileResponse:
-    """Download one recording (MCAP)."""
+async def download_recording(name: RecordingName, console: ConsoleDep) -> FileResponse:
+    """Download one recording (MCAP). A name that is not a recording's (`<UTC start>.mcap`) is a 422: never a path."""
     recorder = console.recorder
-    if not recorder.valid_name(name):
-        raise HTTPException(status.HTTP_400_BAD_REQUEST, f"{name!r} is not a recording's name (<UTC start>.mcap)")
     if name == recorder.current():
         raise HTTPException(status.HTTP_409_CONFLICT, f"{name} is being recorded")
     path = await asyncio.to_thread(recorder.path_of, name)

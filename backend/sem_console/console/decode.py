@@ -1,0 +1,104 @@
+"""Raw SEM samples -> what the console applies: the one decode path of live DDS and of a replay.
+
+`Decoder.decode` takes a sample as it came off the wire (its CDR with the encapsulation header,
+or only the key for a dispose or an instance that lost its writers) and turns it into a
+`ReportItem` (report topics, converted to JSON) or a `StatusItem` (command status and ack
+topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
+(`console/replay.py`) calls it for every recorded message. A sample that cannot be decoded is
+counted per topic and logged, never raised.
+"""
+
+from __future__ import annotations
+
+import logging
+import uuid
+from dataclasses import dataclass
+from typing import Any
+
+from cyclonedds.core import InstanceState
+
+from sem_console.console.convert import to_json
+from sem_console.dds.topics import Sem, Service
+
+log = logging.getLogger("sem-console.ingest")
+
+REPORT_TOPICS = {
+    Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
+    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
+}
+STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
+ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
+COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
+
+
+@dataclass
+class ReportItem:
+    topic: str
+    source: uuid.UUID
+    report: dict[str, Any] | None  # None: the instance was disposed or lost its writers
+    invalid: list[str]
+    alive: bool
+    received_at: float
+
+
+@dataclass
+class StatusItem:
+    service: Service
+    kind: str  # "status" | "ack"
+    source: uuid.UUID
+    session: uuid.UUID
+    sample: Any  # None when disposed
+    alive: bool
+
+
+Item = ReportItem | StatusItem
+
+
+def guid(raw: Any) -> uuid.UUID | None:
+    try:
+        return uuid.UUID(bytes=bytes(raw))
+    except (TypeError, ValueError):
+        return None
+
+
+class Decoder:
+    def __init__(self) -> None:
+        self.undecodable: dict[str, int] = {}
+        self.decoded = 0
+
+    def _bad(self, sem: Sem) -> None:
+        self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+
+    def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float) -> Item | None:
+        """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
+        `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
+        taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic."""
+        if sem not in REPORT_TOPICS and sem not in STATUS_TOPICS and sem not in ACK_TOPICS:
+            return None
+        dtype = sem.spec.type
+        try:
+            sample = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
+        except Exception as e:
+            self._bad(sem)
+            log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+            return None
+        self.decoded += 1
+        alive = instance_state == InstanceState.Alive
+        source = guid(getattr(sample, "source", None))
+        if source is None:
+            self._bad(sem)
+            return None
+        if sem in REPORT_TOPICS:
+            if not valid:
+                return ReportItem(REPORT_TOPICS[sem], source, None, [], False, received_at)
+            try:
+                report, invalid = to_json(sample)
+            except Exception as e:  # never let one bad sample stop the reader
+                report, invalid = {}, [f"sample could not be converted: {e}"]
+            return ReportItem(REPORT_TOPICS[sem], source, report, invalid, alive, received_at)
+        session = guid(getattr(sample, "sessionID", None))
+        if session is None:
+            return None
+        service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
+        kind = "status" if sem in STATUS_TOPICS else "ack"
+        return StatusItem(service, kind, source, session, sample if valid else None, alive)

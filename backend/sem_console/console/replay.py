@@ -1,0 +1,243 @@
+"""`sem-console --replay FILE.mcap`: the console's state rebuilt from a recording instead of DDS.
+
+The recorded CDR of each report, status and ack topic goes through the same `Decoder` the DDS
+ingest uses and is applied by the same console methods; disposes and lost writers come from the
+`sem-console/instances` channel, the commands the recording console issued (and cancel requests)
+from `sem-console/commands`. Everything else is computed again as a live console computes it:
+transitions with their Figure 4 verdicts from the recorded statuses, acks, link health (the
+console's tick, run at every TICK of recording time), unanswered commands. The console's clock
+is the recording's time (`RecordingClock`), so ages, receive times and timeouts are those of the
+recording.
+
+Playback: play, pause, speed (0.25x to 20x) and seek. Playing advances the position by the wall
+time elapsed times the speed, every STEP seconds; the messages up to the new position are read
+and decoded on a worker thread (never on the loop) and applied on the loop. Seeking backwards
+resets the state (providers, reports, commands) and applies everything from the start up to the
+target without sending it to clients; seeking forwards does the same from the current position.
+Every client then gets a fresh snapshot. A `replay` WebSocket message carries the position on
+every change and every STATUS_EVERY seconds while playing.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import base64
+import json
+import logging
+import struct
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from cyclonedds.core import InstanceState
+from mcap.exceptions import McapError
+
+from sem_console.console.clock import RecordingClock
+from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item
+from sem_console.dds.topics import Sem
+from sem_console.recording.replay import INSTANCES, iter_messages, time_range
+
+if TYPE_CHECKING:
+    from sem_console.console.service import Console
+
+log = logging.getLogger("sem-console.replay")
+
+COMMANDS = "sem-console/commands"
+SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
+TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS}
+STEP = 0.05  # wall seconds between steps while playing
+STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
+BATCH = 2_000  # decoded messages per worker-thread read
+TICK = 0.2  # recording seconds between link-health and unanswered checks (the live console's tick)
+MIN_SPEED, MAX_SPEED = 0.25, 20.0
+
+
+class ReplayError(Exception):
+    """A replay request that cannot be carried out (a position outside the recording)."""
+
+
+class Cursor:
+    """Reads a recording from its start, in log time order, and decodes each message. Used from one
+    worker thread at a time."""
+
+    def __init__(self, path: Path, decoder: Decoder) -> None:
+        self.decoder = decoder
+        self._messages = iter_messages(path, TOPICS)
+        self._pending: tuple[str, Any] | None = None
+        self.done = False
+        self.skipped = 0
+
+    def read_until(self, until_ns: int, limit: int = BATCH) -> list[tuple[int, Item | dict[str, Any]]]:
+        """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them."""
+        out: list[tuple[int, Item | dict[str, Any]]] = []
+        while len(out) < limit and not self.done:
+            if self._pending is None:
+                try:
+                    self._pending = next(self._messages)
+                except StopIteration:
+                    self.done = True
+                    break
+                except (McapError, OSError, EOFError, ValueError, struct.error) as e:  # a file cut short: play what came before
+                    log.warning("the recording ends early: %s", e)
+                    self.done = True
+                    break
+            topic, message = self._pending
+            if message.log_time > until_ns:
+                break
+            self._pending = None
+            item = self._decode(topic, message)
+            if item is not None:
+                out.append((message.log_time, item))
+        return out
+
+    def _decode(self, topic: str, message: Any) -> Item | dict[str, Any] | None:
+        at = message.log_time / 1e9
+        if topic in SEM_TOPICS:
+            return self.decoder.decode(SEM_TOPICS[topic], message.data, True, InstanceState.Alive, at)
+        try:
+            event = json.loads(message.data)
+            if topic == COMMANDS:
+                return dict(event["command"])
+            sem = SEM_TOPICS.get(event["topic"])
+            if sem is None:  # a command topic's dispose: the console follows its own commands from COMMANDS
+                return None
+            state = InstanceState.NotAliveDisposed if event["state"] == "disposed" else InstanceState.NotAliveNoWriters
+            return self.decoder.decode(sem, base64.b64decode(event["key"]), False, state, at)
+        except (ValueError, KeyError, TypeError) as e:
+            self.skipped += 1
+            log.warning("skipped a message on %s at %d: %s", topic, message.log_time, e)
+            return None
+
+    def close(self) -> None:
+        self._messages.close()
+
+
+class Replay:
+    """Owned by the console in replay mode; every method runs on the event loop."""
+
+    def __init__(self, console: Console, path: Path, speed: float, clock: RecordingClock) -> None:
+        self.console, self.path, self.speed, self.clock = console, path, speed, clock
+        self.playing = True
+        self.start = self.end = self.position = 0.0
+        self.decoder = Decoder()
+        self._cursor: Cursor | None = None
+        self._next_tick = 0.0
+        self._end_ns = 0
+        self._lock = asyncio.Lock()
+        self._task: asyncio.Task[None] | None = None
+        self._since = 0.0  # loop time from which playing advances (after a seek or play)
+        self._sent = 0.0  # loop time of the last `replay` message
+
+    # ---- lifecycle -------------------------------------------------------------------------
+    async def open(self) -> None:
+        span = await asyncio.to_thread(time_range, self.path)
+        first, last = span if span is not None else (0, 0)
+        self.start, self.end, self._end_ns = first / 1e9, last / 1e9, last
+        self._rewind()
+        self.position = self.start
+        log.info("replaying %s: %.1f s of recording, at %gx", self.path, self.end - self.start, self.speed)
+        self._task = asyncio.get_running_loop().create_task(self._run())
+
+    async def close(self) -> None:
+        if self._task is not None:
+            self._task.cancel()
+            await asyncio.gather(self._task, return_exceptions=True)
+        async with self._lock:
+            if self._cursor is not None:
+                self._cursor.close()
+
+    def _rewind(self) -> None:
+        if self._cursor is not None:
+            self._cursor.close()
+        self._cursor = Cursor(self.path, self.decoder)
+        self._next_tick = self.start + TICK
+        self.clock.at = self.start
+
+    # ---- control (the REST route) --------------------------------------------------------------
+    def status(self) -> dict[str, Any]:
+        return {"file": self.path.name, "state": "playing" if self.playing else "paused", "speed": self.speed,
+                "position": self.position, "start": self.start, "end": self.end}
+
+    async def play(self) -> None:
+        if self.position >= self.end:  # at the end: from the start again
+            await self.seek(self.start)
+        self.playing = True
+        self._since = asyncio.get_running_loop().time()
+        self._broadcast()
+
+    def pause(self) -> None:
+        self.playing = False
+        self._broadcast()
+
+    def set_speed(self, speed: float) -> None:
+        if not MIN_SPEED <= speed <= MAX_SPEED:
+            raise ReplayError(f"speed {speed} is outside {MIN_SPEED}..{MAX_SPEED}")
+        self.speed = speed
+        self._broadcast()
+
+    async def seek(self, position: float) -> None:
+        """Rebuild the state at `position` (UTC seconds, within the recording), then send every client a snapshot."""
+        if not self.start <= position <= self.end:
+            raise ReplayError(f"position {position} is outside the recording ({self.start} to {self.end})")
+        async with self._lock:
+            if position < self.position:
+                self._rewind()
+                self.console.reset()
+            self.console.quiet = True  # what happens on the way is not sent: the snapshot after it is
+            try:
+                await self._advance(position)
+            finally:
+                self.console.quiet = False
+            self._since = asyncio.get_running_loop().time()
+            self.console.hub.resync(self.console.snapshot())
+            self._broadcast()
+
+    # ---- playing ---------------------------------------------------------------------------------
+    async def _run(self) -> None:
+        loop = asyncio.get_running_loop()
+        last = loop.time()
+        while True:
+            await asyncio.sleep(STEP)
+            now = loop.time()
+            elapsed, last = now - max(last, self._since), now
+            if not self.playing:
+                continue
+            try:
+                async with self._lock:
+                    if not self.playing:
+                        continue
+                    await self._advance(min(self.end, self.position + max(0.0, elapsed) * self.speed))
+                    if self.position >= self.end:
+                        self.playing = False
+                        self._broadcast()
+            except Exception:  # a bug here must not stop the replay for good
+                log.exception("replay step failed")
+            if now - self._sent >= STATUS_EVERY:
+                self._broadcast()
+
+    async def _advance(self, target: float) -> None:
+        """Read, decode (on a worker thread) and apply every message up to `target`, ticking the console
+        at every TICK of recording time on the way, as the live console's ticker does."""
+        cursor = self._cursor
+        assert cursor is not None
+        until = self._end_ns if target >= self.end else int(target * 1e9)  # the last message, whatever float rounding does
+        while True:
+            items = await asyncio.to_thread(cursor.read_until, until)
+            for at_ns, item in items:
+                at = at_ns / 1e9
+                self._tick_to(at)
+                self.clock.at = at
+                self.console.apply(item)
+            if len(items) < BATCH:
+                break
+        self._tick_to(target)
+        self.clock.at = self.position = target
+
+    def _tick_to(self, at: float) -> None:
+        while self._next_tick <= at:
+            self.clock.at = self._next_tick
+            self.console.tick(self._next_tick)
+            self._next_tick += TICK
+
+    def _broadcast(self) -> None:
+        self._sent = asyncio.get_running_loop().time()
+        self.console.hub.publish({"type": "replay", "replay": self.status()})

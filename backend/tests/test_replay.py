@@ -1,0 +1,213 @@
+"""Replay in the console (`sem-console --replay FILE.mcap`): a live simulator run with a GPS fix command is
+recorded through the recording feature, then a second console serves that file. It must show what the live
+console showed (the same reports, byte for byte decoded alike, and the same command timeline), rebuild the
+state when seeking, follow the speed, and refuse anything that would command or record."""
+
+from __future__ import annotations
+
+import random
+import subprocess
+import sys
+import time
+import uuid
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from cyclonedds.core import InstanceState
+
+from samplegen import random_sample
+from sem_console.console.decode import REPORT_TOPICS
+from sem_console.recording.recorder import Recorder
+from sem_console.umaa.guid import to_guid
+from test_console import HAPPY, V1, WsClient, command, provider_ready, wait_command, wait_until
+from test_recording import recorded
+
+JSON = {"Content-Type": "application/json"}
+
+
+def control(base: str, body: dict[str, Any]) -> dict[str, Any]:
+    r = httpx.post(f"{base}/api/replay", json=body, timeout=30)
+    assert r.status_code == 200, r.text
+    return dict(r.json())
+
+
+def replay_state(base: str) -> dict[str, Any]:
+    return dict(httpx.get(f"{base}/api/replay").json())
+
+
+@pytest.fixture
+def recorded_run(sim, console, tmp_path: Path) -> dict[str, Any]:
+    """A live run recorded to MCAP: the vehicle before and after a GPS fix command, what the live console
+    showed at the end (REST), and the file."""
+    sim()
+    c = console("--record", str(tmp_path / "rec"))
+    provider_ready(c.url, V1)
+    time.sleep(1.0)
+    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    done = wait_command(c.url, session)
+    assert [t["status"] for t in done["transitions"]] == HAPPY
+    time.sleep(1.5)
+    live = httpx.get(f"{c.url}/api/providers/{V1}").json()
+    # a live console has no playback: GET gives null, the controls a 409
+    assert httpx.get(f"{c.url}/api/replay").json() is None
+    r = httpx.post(f"{c.url}/api/replay", json={"action": "pause"})
+    assert r.status_code == 409 and "--replay" in r.json()["detail"]
+    assert httpx.get(f"{c.url}/api/health").json()["replay"] is False
+    path = recorded(c.url, tmp_path)
+    c.stop()
+    return {"path": path, "session": session, "live": live, "command": command_of(done)}
+
+
+def command_of(c: dict[str, Any]) -> dict[str, Any]:
+    """What a replay must reproduce of a command: everything but when the console applied each status."""
+    return {**c, "transitions": [{k: v for k, v in t.items() if k != "receivedAt"} for t in c["transitions"]], "ackedAt": None}
+
+
+def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: dict[str, Any], console) -> None:
+    session, live = recorded_run["session"], recorded_run["live"]
+    r = console("--replay", str(recorded_run["path"]))
+    assert httpx.get(f"{r.url}/api/health").json()["replay"] is True
+    state = replay_state(r.url)
+    assert state["file"] == recorded_run["path"].name and state["state"] == "playing" and state["speed"] == 1
+    start, end = state["start"], state["end"]
+    assert start < end and start <= state["position"] <= end
+    ws = WsClient(r.ws_url)
+    wait_until(lambda: ws.of("replay"), 5, "a replay message while playing")
+    assert ws.messages[0]["type"] == "snapshot" and ws.messages[0]["replay"]["file"] == recorded_run["path"].name
+
+    # at the instant the live console last took each report, the replay shows that very report
+    for topic in ("GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"):
+        at = live["reports"][topic]["receivedAt"]
+        assert start <= at <= end
+        control(r.url, {"action": "pause"})
+        assert control(r.url, {"action": "seek", "position": at + 0.0005})["position"] == pytest.approx(at + 0.0005)
+        shown = httpx.get(f"{r.url}/api/providers/{V1}").json()
+        assert shown["reports"][topic] == live["reports"][topic], topic
+    satellites = {s["satelliteId"] for s in live["reports"]["GPSReport"]["report"]["satellites"]}
+    assert len(satellites) >= 20
+
+    # the same command timeline, rebuilt from the recorded statuses (with their Figure 4 verdicts)
+    control(r.url, {"action": "seek", "position": end})
+    replayed = httpx.get(f"{r.url}/api/commands").json()
+    assert [c["sessionId"] for c in replayed] == [session]
+    assert command_of(replayed[0]) == recorded_run["command"]
+    assert replayed[0]["ackedAt"] is not None and replayed[0]["cleanedUp"]
+    times = [t["receivedAt"] for t in replayed[0]["transitions"]]
+    assert times == sorted(times) and start <= times[0] and times[-1] <= end
+
+    # seek back before the command: it is absent; between EXECUTING and COMPLETED: EXECUTING; at the end: done
+    control(r.url, {"action": "seek", "position": replayed[0]["createdAt"] - 0.2})
+    assert httpx.get(f"{r.url}/api/commands").json() == []
+    assert httpx.get(f"{r.url}/api/commands/{session}").status_code == 404
+    assert httpx.get(f"{r.url}/api/providers/{V1}").status_code == 200
+    control(r.url, {"action": "seek", "position": (times[2] + times[3]) / 2})
+    midway = command(r.url, session)
+    assert [t["status"] for t in midway["transitions"]] == HAPPY[:3] and not midway["terminal"]
+    snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if m["commands"] and m["commands"][0]["status"] == "EXECUTING"],
+                          5, "a fresh snapshot after the seek")[-1]
+    assert snapshot["replay"]["position"] == pytest.approx((times[2] + times[3]) / 2)
+    control(r.url, {"action": "seek", "position": end + 100})  # beyond the end: the end
+    assert replay_state(r.url)["position"] == end
+    assert command(r.url, session)["status"] == "COMPLETED"
+    assert ws.errors == []
+    ws.close()
+
+
+def test_replay_speed_pause_and_play_from_the_end(recorded_run: dict[str, Any], console) -> None:
+    r = console("--replay", str(recorded_run["path"]), "--replay-speed", "0.25")
+    state = replay_state(r.url)
+    start, end = state["start"], state["end"]
+    assert end - start > 2.5 and state["speed"] == 0.25
+
+    def advance(speed: float) -> float:
+        control(r.url, {"action": "pause"})
+        control(r.url, {"action": "seek", "position": start})
+        control(r.url, {"action": "speed", "speed": speed})
+        before = control(r.url, {"action": "play"})["position"]
+        time.sleep(1.0)
+        return float(control(r.url, {"action": "pause"})["position"] - before)
+
+    slow, fast = advance(0.25), advance(2)
+    assert 0 < slow < 0.6 and fast > 1.0 and fast / slow > 3, (slow, fast)
+    paused = replay_state(r.url)
+    time.sleep(0.5)
+    assert replay_state(r.url) == paused and paused["state"] == "paused"
+    # played to the end it pauses there; play starts again from the start
+    control(r.url, {"action": "seek", "position": end - 0.2})
+    control(r.url, {"action": "speed", "speed": 20})
+    control(r.url, {"action": "play"})
+    wait_until(lambda: replay_state(r.url)["state"] == "paused", 5, "the replay paused at the end")
+    assert replay_state(r.url)["position"] == end
+    again = control(r.url, {"action": "play"})
+    assert again["state"] == "playing" and again["position"] < start + 2
+    # bad controls: a clear 422, nothing changes
+    for body in ({"action": "speed", "speed": 40}, {"action": "rewind"}, {"action": "seek"}, {"action": "speed", "speed": "fast"}):
+        bad = httpx.post(f"{r.url}/api/replay", json=body)
+        assert bad.status_code == 422 and bad.json()["detail"], body
+    assert httpx.post(f"{r.url}/api/replay", content=b'{"action":"pause"}').status_code == 415
+    assert httpx.post(f"{r.url}/api/replay", json={"action": "pause"}, headers={"Origin": "http://evil.example"}).status_code == 403
+
+
+def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
+    r = console("--replay", str(recorded_run["path"]))
+    control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
+    session = recorded_run["session"]
+    refused = [httpx.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
+               httpx.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
+               httpx.delete(f"{r.url}/api/commands/{session}"),
+               httpx.post(f"{r.url}/api/recordings", json={"action": "start"})]
+    for x in refused:
+        assert x.status_code == 409 and x.json()["detail"].startswith("read-only: this console replays"), x.text
+    assert httpx.get(f"{r.url}/api/recordings/status").json()["state"] == "off"
+    assert [c["sessionId"] for c in httpx.get(f"{r.url}/api/commands").json()] == [session]
+    audit = httpx.get(f"{r.url}/api/audit").json()
+    assert [(a["outcome"], a["status"]) for a in audit] == [("refused", 409)] * 4
+    # the OpenAPI document of a replay says so
+    doc = httpx.get(f"{r.url}/openapi.json").json()
+    assert "read-only" in doc["paths"]["/api/providers/{provider_id}/gps-fix"]["post"]["responses"]["409"]["description"]
+    assert "read-only" in doc["paths"]["/api/recordings"]["post"]["responses"]["409"]["description"]
+
+
+def test_replay_options_are_checked(tmp_path: Path) -> None:
+    not_mcap = tmp_path / "notes.mcap"
+    not_mcap.write_text("hello")
+    for args, needle in ((["--replay", str(tmp_path / "missing.mcap")], "cannot read"),
+                         (["--replay", str(not_mcap)], "is not an MCAP file"),
+                         (["--replay", str(not_mcap), "--sim", "1"], "does not go with --sim or --record"),
+                         (["--replay", str(not_mcap), "--replay-speed", "50"], "--replay-speed")):
+        p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
+        assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
+
+
+def synthetic_recording(directory: Path, seconds: float = 4.0, rate: float = 4.0) -> Path:
+    """A small recording written by the console's own recorder from random report samples of one vehicle and
+    a GPS fix command it never answered (no DDS): for tests of the replay's HTTP contract."""
+    rng = random.Random(11)
+    recorder = Recorder(directory, 1 << 30, 3600)
+    recorder.start()
+    t0 = time.time_ns()
+    recorder.on_message({"type": "command", "command": {
+        "sessionId": str(uuid.UUID(int=rng.getrandbits(128), version=4)), "service": "GPSFix", "providerId": V1, "state": None,
+        "operator": None, "createdAt": t0 / 1e9, "status": None, "terminal": False, "unanswered": False, "cancelRequested": False,
+        "canceledBy": None, "ackedAt": None, "cleanedUp": False, "violations": [], "transitions": []}})
+    for i in range(int(seconds * rate)):
+        at = t0 + int(i * 1e9 / rate)
+        for sem in REPORT_TOPICS:
+            sample = random_sample(sem.spec.type, rng)
+            sample.source = to_guid(uuid.UUID(V1))
+            recorder.on_samples(sem, [(sample.serialize(use_version_2=sem.spec.xcdr2_only), True, InstanceState.Alive, at)], at)
+    recorder.stop()
+    (path,) = directory.glob("*.mcap")
+    return path
+
+
+def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
+    r = console("--replay", str(synthetic_recording(tmp_path / "rec")), "--replay-speed", "20")
+    wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
+    detail = httpx.get(f"{r.url}/api/providers/{V1}").json()
+    assert all(detail["reports"][t] for t in ("GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"))
+    assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
+    (cmd,) = httpx.get(f"{r.url}/api/commands").json()
+    assert cmd["service"] == "GPSFix" and cmd["unanswered"] and cmd["transitions"] == []  # no ISSUED within 2 s

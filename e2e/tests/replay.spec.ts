@@ -1,0 +1,135 @@
+// Replay in the console: a stretch of the live stack with a GPS fix command is recorded (POST /api/recordings),
+// then `sem-console --replay` serves that file. The dashboard must show the same vehicle, satellites and
+// command timeline, seek and change speed, keep command controls disabled, and show the replay badge.
+import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
+import { vehicle } from "../helpers";
+import { load, startReplayConsole } from "../stack";
+
+const HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"];
+const SATELLITE = /^[GERCSJIU]\d+$/;
+
+interface Recorded {
+  file: string;
+  session: string;
+  vehicleId: string;
+  gps: { receivedAt: number; report: { satellites: { satelliteId: string }[] } };
+}
+
+let recorded: Recorded;
+let replay: { url: string; stop: () => Promise<void> };
+
+async function json<T>(r: Promise<{ json(): Promise<unknown>; ok(): boolean; status(): number }>): Promise<T> {
+  const res = await r;
+  expect(res.ok(), `HTTP ${res.status()}`).toBe(true);
+  return (await res.json()) as T;
+}
+
+async function recordACommand(request: APIRequestContext): Promise<Recorded> {
+  const { url, vehicles } = load();
+  const vehicleId = vehicles[0];
+  await json(request.post(`${url}/api/recordings`, { data: { action: "start" } }));
+  await new Promise((r) => setTimeout(r, 1500));
+  const { sessionId } = await json<{ sessionId: string }>(request.post(`${url}/api/providers/${vehicleId}/gps-fix`, { data: {} }));
+  await expect.poll(async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${sessionId}`))).cleanedUp,
+    { timeout: 40_000 }).toBe(true);
+  await new Promise((r) => setTimeout(r, 1500));
+  const detail = await json<{ reports: { GPSReport: Recorded["gps"] } }>(request.get(`${url}/api/providers/${vehicleId}`));
+  const { file } = await json<{ file: string }>(request.post(`${url}/api/recordings`, { data: { action: "stop" } }));
+  return { file, session: sessionId, vehicleId, gps: detail.reports.GPSReport };
+}
+
+async function seek(page: Page, position: number): Promise<void> {
+  await page.getByTestId("replay-seek").fill(String(position)); // the bar's change event seeks
+  await expect.poll(async () => (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position).toBeCloseTo(position, 3);
+}
+
+async function shownSatellites(page: Page): Promise<string[]> {
+  const labels = await page.getByTestId("satellite-table").locator("tbody tr td:first-child").allTextContents();
+  return labels.map((l) => l.trim()).sort();
+}
+
+test.describe.serial("replay of a recording", () => {
+  test.beforeAll(async ({ request }) => {
+    test.setTimeout(120_000);
+    recorded = await recordACommand(request);
+    replay = await startReplayConsole(recorded.file);
+  });
+
+  test.afterAll(async () => {
+    await replay?.stop();
+  });
+
+  test("shows the recorded vehicle, satellites and command timeline, with the badge and commands disabled", async ({ page }) => {
+    const live = load();
+    await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
+    await expect(page.getByTestId("replay-badge")).toContainText(recorded.file);
+    await expect(page.getByTestId("connection-state")).toHaveText("Connected");
+    await expect(page.getByTestId("replay-bar")).toBeVisible();
+    await expect(page.getByTestId("vehicle")).toHaveCount(3); // the three vehicles on the bus when it was recorded
+    await expect(vehicle(page, recorded.vehicleId)).toHaveAttribute("aria-pressed", "true");
+
+    // the instant the live console took its last GPSReport: the same satellites
+    await page.getByRole("button", { name: "Pause" }).click();
+    await seek(page, recorded.gps.receivedAt + 0.05);
+    const expected = (await json<{ reports: { GPSReport: { report: { satellites: { satelliteId: string }[] } } } }>(
+      page.request.get(`${replay.url}/api/providers/${recorded.vehicleId}`))).reports.GPSReport.report;
+    expect(expected).toEqual(recorded.gps.report);
+    await expect(page.getByTestId("sats-listed")).toHaveText(String(recorded.gps.report.satellites.length));
+    const labels = await shownSatellites(page);
+    expect(labels).toHaveLength(recorded.gps.report.satellites.length);
+    expect(labels.every((l) => SATELLITE.test(l))).toBe(true);
+    await expect(page.getByTestId("sky-satellite")).toHaveCount(recorded.gps.report.satellites.length);
+
+    // the command timeline, as the live console recorded it
+    const cmd = page.getByTestId("commands-panel").getByTestId("command").first();
+    await expect(cmd).toHaveAttribute("data-session", recorded.session);
+    await expect(cmd).toHaveAttribute("data-status", "COMPLETED");
+    expect(await cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status))).toEqual(HAPPY);
+    const liveCmd = await json<{ transitions: { status: string; reason: string }[] }>(page.request.get(`${live.url}/api/commands/${recorded.session}`));
+    expect(liveCmd.transitions.map((t) => t.status)).toEqual(HAPPY);
+    await expect(cmd.getByTestId("ack")).toBeVisible();
+
+    // read-only: every command control disabled, no record control, the console refuses commands
+    await expect(page.getByTestId("commands-replay")).toBeVisible();
+    for (const name of ["Request GPS fix", "INS ON", "INS OFF", "INS RESTART"]) {
+      await expect(page.getByRole("button", { name })).toBeDisabled();
+    }
+    await expect(page.getByTestId("recording")).toHaveCount(0);
+    const refused = await page.request.post(`${replay.url}/api/providers/${recorded.vehicleId}/gps-fix`, { data: {} });
+    expect(refused.status()).toBe(409);
+  });
+
+  test("seek rebuilds the state at that instant; speed and play move it on", async ({ page }) => {
+    await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
+    await expect(page.getByTestId("replay-bar")).toBeVisible();
+    const status = await json<{ start: number; end: number; state: string }>(page.request.get(`${replay.url}/api/replay`));
+    if (status.state === "playing") await page.getByRole("button", { name: "Pause" }).click();
+    const command = await json<{ createdAt: number; transitions: { receivedAt: number }[] }>(
+      page.request.get(`${replay.url}/api/commands/${recorded.session}`));
+    const commands = page.getByTestId("commands-panel").getByTestId("command");
+
+    await seek(page, command.createdAt - 0.5); // before the command: not there
+    await expect(commands).toHaveCount(0);
+    await expect(page.getByTestId("command-list")).toContainText("No commands sent to this vehicle.");
+    const midway = (command.transitions[2].receivedAt + command.transitions[3].receivedAt) / 2;
+    await seek(page, midway); // between EXECUTING and COMPLETED
+    await expect(commands.first()).toHaveAttribute("data-status", "EXECUTING");
+    await seek(page, status.end); // the end: done
+    await expect(commands.first()).toHaveAttribute("data-status", "COMPLETED");
+    await expect(page.getByTestId("replay-elapsed")).toHaveText(await page.getByTestId("replay-total").innerText());
+
+    // speed: 5x plays five seconds of recording per second
+    await seek(page, status.start);
+    await page.getByTestId("replay-speed").selectOption("5");
+    await expect.poll(async () => (await json<{ speed: number }>(page.request.get(`${replay.url}/api/replay`))).speed).toBe(5);
+    const t0 = Date.now();
+    await page.getByRole("button", { name: "Play" }).click();
+    await page.waitForTimeout(1500);
+    await page.getByRole("button", { name: "Pause" }).click();
+    const played = (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position - status.start;
+    const wall = (Date.now() - t0) / 1000;
+    expect(played).toBeGreaterThan(2.5 * Math.min(wall, 1.5)); // at 1x it would be at most the wall time
+    expect(played).toBeLessThanOrEqual(5 * wall + 0.5);
+    await expect(page.getByTestId("replay-bar")).toHaveAttribute("data-state", "paused");
+  });
+});
