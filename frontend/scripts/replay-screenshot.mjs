@@ -8,7 +8,7 @@ const browser = await chromium.launch({
   args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
 });
 try {
-  const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
+  const page = await browser.newPage({ viewport: { width: 1440, height: 1180 } });
   await page.goto(vehicle ? `${url}/?vehicle=${vehicle}` : url);
   await page.getByTestId("replay-bar").waitFor({ timeout: 20_000 });
   const status = await (await page.request.get(`${url}/api/replay`)).json();
@@ -16,7 +16,7 @@ try {
   await post({ action: "seek", position: Math.min(status.end, status.start + Number(at)) });
   await post({ action: "speed", speed: 2 });
   await post({ action: "play" });
-  await page.waitForTimeout(3000); // trails, charts and ages fill in as it plays
+  await page.waitForTimeout(5000); // trails, charts and ages fill in as it plays
   await post({ action: "pause" });
   await page.waitForTimeout(800);
   await page.screenshot({ path: out, fullPage: false });

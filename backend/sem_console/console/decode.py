@@ -39,6 +39,7 @@ class ReportItem:
     invalid: list[str]
     alive: bool
     received_at: float
+    sample: Any = None  # decoded but not yet converted to JSON (`Decoder.decode(..., convert=False)`)
 
 
 @dataclass
@@ -69,10 +70,13 @@ class Decoder:
     def _bad(self, sem: Sem) -> None:
         self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
 
-    def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float) -> Item | None:
+    def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float,
+               convert: bool = True) -> Item | None:
         """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
         `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
-        taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic."""
+        taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic.
+        With `convert` False a report keeps its decoded sample and no JSON yet (`convert`): a replay
+        rebuilding its state converts only the reports that are not superseded on the way."""
         if sem not in REPORT_TOPICS and sem not in STATUS_TOPICS and sem not in ACK_TOPICS:
             return None
         dtype = sem.spec.type
@@ -91,14 +95,21 @@ class Decoder:
         if sem in REPORT_TOPICS:
             if not valid:
                 return ReportItem(REPORT_TOPICS[sem], source, None, [], False, received_at)
-            try:
-                report, invalid = to_json(sample)
-            except Exception as e:  # never let one bad sample stop the reader
-                report, invalid = {}, [f"sample could not be converted: {e}"]
-            return ReportItem(REPORT_TOPICS[sem], source, report, invalid, alive, received_at)
+            item = ReportItem(REPORT_TOPICS[sem], source, None, [], alive, received_at, sample)
+            return self.convert(item) if convert else item
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None
         service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
         kind = "status" if sem in STATUS_TOPICS else "ack"
         return StatusItem(service, kind, source, session, sample if valid else None, alive)
+
+    @staticmethod
+    def convert(item: ReportItem) -> ReportItem:
+        """The report's JSON from its decoded sample."""
+        try:
+            item.report, item.invalid = to_json(item.sample)
+        except Exception as e:  # never let one bad sample stop the reader
+            item.report, item.invalid = {}, [f"sample could not be converted: {e}"]
+        item.sample = None
+        return item

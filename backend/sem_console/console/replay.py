@@ -32,7 +32,7 @@ from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
 
 from sem_console.console.clock import RecordingClock
-from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item
+from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.dds.topics import Sem
 from sem_console.recording.replay import INSTANCES, iter_messages, time_range
 
@@ -46,7 +46,8 @@ SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPI
 TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS}
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
-BATCH = 2_000  # decoded messages per worker-thread read
+BATCH = 2_000  # decoded messages per worker-thread read while playing
+REBUILD_BATCH = 10_000  # the same while seeking: the larger, the fewer superseded reports converted
 TICK = 0.2  # recording seconds between link-health and unanswered checks (the live console's tick)
 MIN_SPEED, MAX_SPEED = 0.25, 20.0
 
@@ -66,8 +67,10 @@ class Cursor:
         self.done = False
         self.skipped = 0
 
-    def read_until(self, until_ns: int, limit: int = BATCH) -> list[tuple[int, Item | dict[str, Any]]]:
-        """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them."""
+    def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Item | dict[str, Any]]]:
+        """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them. With
+        `rebuild` (a seek: nothing is sent to clients on the way) only the last report of each provider and topic
+        is converted to JSON; the ones before it count for link health only (a report with no JSON, alive)."""
         out: list[tuple[int, Item | dict[str, Any]]] = []
         while len(out) < limit and not self.done:
             if self._pending is None:
@@ -84,15 +87,25 @@ class Cursor:
             if message.log_time > until_ns:
                 break
             self._pending = None
-            item = self._decode(topic, message)
+            item = self._decode(topic, message, convert=not rebuild)
             if item is not None:
                 out.append((message.log_time, item))
+        if rebuild:
+            last: dict[tuple[str, Any], ReportItem] = {}
+            for _at, item in out:
+                if isinstance(item, ReportItem) and item.sample is not None:
+                    last[(item.topic, item.source)] = item
+            for item in last.values():
+                self.decoder.convert(item)
+            for _at, item in out:
+                if isinstance(item, ReportItem):
+                    item.sample = None
         return out
 
-    def _decode(self, topic: str, message: Any) -> Item | dict[str, Any] | None:
+    def _decode(self, topic: str, message: Any, convert: bool) -> Item | dict[str, Any] | None:
         at = message.log_time / 1e9
         if topic in SEM_TOPICS:
-            return self.decoder.decode(SEM_TOPICS[topic], message.data, True, InstanceState.Alive, at)
+            return self.decoder.decode(SEM_TOPICS[topic], message.data, True, InstanceState.Alive, at, convert)
         try:
             event = json.loads(message.data)
             if topic == COMMANDS:
@@ -184,7 +197,7 @@ class Replay:
                 self.console.reset()
             self.console.quiet = True  # what happens on the way is not sent: the snapshot after it is
             try:
-                await self._advance(position)
+                await self._advance(position, rebuild=True)
             finally:
                 self.console.quiet = False
             self._since = asyncio.get_running_loop().time()
@@ -214,20 +227,21 @@ class Replay:
             if now - self._sent >= STATUS_EVERY:
                 self._broadcast()
 
-    async def _advance(self, target: float) -> None:
+    async def _advance(self, target: float, rebuild: bool = False) -> None:
         """Read, decode (on a worker thread) and apply every message up to `target`, ticking the console
         at every TICK of recording time on the way, as the live console's ticker does."""
         cursor = self._cursor
         assert cursor is not None
         until = self._end_ns if target >= self.end else int(target * 1e9)  # the last message, whatever float rounding does
+        batch = REBUILD_BATCH if rebuild else BATCH
         while True:
-            items = await asyncio.to_thread(cursor.read_until, until)
+            items = await asyncio.to_thread(cursor.read_until, until, batch, rebuild)
             for at_ns, item in items:
                 at = at_ns / 1e9
                 self._tick_to(at)
                 self.clock.at = at
                 self.console.apply(item)
-            if len(items) < BATCH:
+            if len(items) < batch:
                 break
         self._tick_to(target)
         self.clock.at = self.position = target

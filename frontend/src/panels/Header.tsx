@@ -1,7 +1,7 @@
 import { useState } from "react";
 import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
-import { useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
+import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { RecordControl } from "./Recording";
 
@@ -10,6 +10,7 @@ const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconn
 export function Header() {
   const conn = useConnectionState();
   const playback = usePlayback();
+  const { command } = useCapabilities();
   const consoleId = useSelector((s) => s.consoleId);
   const authRequired = useSelector((s) => s.authRequired);
   const readAuthRequired = useSelector((s) => s.readAuthRequired);
@@ -46,7 +47,7 @@ export function Header() {
           Sign in to see the vehicles
         </span>
       )}
-      {(authRequired || readAuthRequired) &&
+      {((authRequired && command) || readAuthRequired) && // a replay commands nothing: a token matters only to read
         (token ? (
           <span className="signin" data-testid="signed-in">
             Operator signed in <button onClick={() => setToken(null)}>Sign out</button>
