@@ -43,6 +43,13 @@ async function seek(page: Page, position: number): Promise<void> {
   await expect.poll(async () => (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position).toBeCloseTo(position, 3);
 }
 
+async function pause(page: Page): Promise<{ start: number; end: number }> {
+  const status = await json<{ start: number; end: number; state: string }>(page.request.get(`${replay.url}/api/replay`));
+  if (status.state === "playing") await page.getByRole("button", { name: "Pause" }).click();
+  await expect(page.getByTestId("replay-bar")).toHaveAttribute("data-state", "paused");
+  return status;
+}
+
 async function shownSatellites(page: Page): Promise<string[]> {
   const labels = await page.getByTestId("satellite-table").locator("tbody tr td:first-child").allTextContents();
   return labels.map((l) => l.trim()).sort();
@@ -102,8 +109,7 @@ test.describe.serial("replay of a recording", () => {
   test("seek rebuilds the state at that instant; speed and play move it on", async ({ page }) => {
     await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
     await expect(page.getByTestId("replay-bar")).toBeVisible();
-    const status = await json<{ start: number; end: number; state: string }>(page.request.get(`${replay.url}/api/replay`));
-    if (status.state === "playing") await page.getByRole("button", { name: "Pause" }).click();
+    const status = await pause(page);
     const command = await json<{ createdAt: number; transitions: { receivedAt: number }[] }>(
       page.request.get(`${replay.url}/api/commands/${recorded.session}`));
     const commands = page.getByTestId("commands-panel").getByTestId("command");

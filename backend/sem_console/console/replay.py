@@ -121,7 +121,10 @@ class Cursor:
             return None
 
     def close(self) -> None:
-        self._messages.close()
+        try:
+            self._messages.close()
+        except ValueError:  # still being read on a worker thread (shutdown): the file closes with it
+            pass
 
 
 class Replay:

@@ -133,5 +133,5 @@ class Ins:
             return OpStatus.INIT
         if self.stage_seconds <= 0:
             return OpStatus.OPERATIONAL
-        stage = int((t - self.since) / self.stage_seconds)
+        stage = max(0, int((t - self.since) / self.stage_seconds))  # t before `since` (a dispose's sample at t=0): INIT's stage
         return self.stages[stage] if stage < len(self.stages) else OpStatus.OPERATIONAL
