@@ -172,7 +172,7 @@ class RtiVehicle:
 def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], console: Any, domain: int) -> None:
     c = console()
     topics = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
-              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK]
+              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK, Sem.GPS_FIX_REPORT]
     v = RtiVehicle(rti(domain, writers=topics, readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
     me = str(v.guid)
 
@@ -186,6 +186,10 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
     assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "OPERATIONAL"
     assert detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == 36.85
+    # Its default (XCDR1) GPSFixReport writer is not read, and the console says so.
+    incompatible = wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"], 10, "the refused writer")
+    assert incompatible == {Sem.GPS_FIX_REPORT.spec.name: 1}
+    assert not detail["reports"].get("GPSFixReport")
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)

@@ -122,6 +122,9 @@ class Metrics(_Model):
     samplesByReader: dict[str, int] = Field(description="samplesDecoded per owner reader: reliableTransientLocal, "
                                                         "reliableVolatile, bestEffort")
     undecodableSamples: int
+    incompatibleWriters: dict[str, int] = Field(description="per topic, writers whose QoS no reader of the console accepts, so "
+                                                            "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
+                                                            "writer: README, 'Other DDS vendors')")
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
     wsClients: int
     wsMessagesPublished: int = Field(description="messages handed to WebSocket clients, one per client")

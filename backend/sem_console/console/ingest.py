@@ -107,6 +107,10 @@ def owner_of(writer_qos: Qos) -> Via:
 
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
+# Cyclone's dds_qos_policy_id_t values a requested-incompatible-QoS status may name.
+_POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyBudget", 6: "Ownership",
+                 8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
+                 25: "DataRepresentation"}
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
 
 
@@ -124,8 +128,8 @@ class Owners:
         self.by_handle: dict[int, Via] = {}
         self._left: dict[int, float] = {}
 
-    def listener(self) -> Listener:
-        return Listener(on_subscription_matched=self._on_matched)
+    def listener(self, **more: Callable[..., None]) -> Listener:
+        return Listener(on_subscription_matched=self._on_matched, **more)
 
     def _on_matched(self, reader: DataReader, status: Any) -> None:
         handle = status.last_publication_handle & _U64
@@ -163,6 +167,8 @@ class Ingest:
         self.loop, self.on_reports, self.on_statuses = loop, on_reports, on_statuses
         self.report_interval = report_interval
         self.undecodable: dict[str, int] = {}
+        self.incompatible: dict[str, int] = {}  # topic -> writers no reader of ours matches (see _on_incompatible)
+        self._warned: set[tuple[Sem, str]] = set()
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
@@ -195,8 +201,26 @@ class Ingest:
 
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader]]:
         """The three readers of every topic (see the module docstring)."""
-        return [(sem, via, DataReader(bus.participant, bus.topic(sem), qos=via.qos(sem), listener=self.owners.listener()))
+        return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
+                    on_requested_incompatible_qos=self._on_incompatible(sem, via))))
                 for sem in sems for via in Via]
+
+    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader, Any], None]:
+        """Count the writers of a topic that no reader of ours can match. The best-effort reader
+        accepts any reliability, durability and latency budget, so what it refuses is refused by
+        all three: in practice a data representation (an XCDR1 writer of a type with @optional
+        members, README "Other DDS vendors"). Logged once per topic and policy."""
+
+        def on(_reader: DataReader, status: Any) -> None:
+            if via is not Via.BEST_EFFORT:
+                return
+            self.incompatible[sem.spec.name] = status.total_count
+            policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
+            if (sem, policy) not in self._warned:
+                self._warned.add((sem, policy))
+                log.warning("a writer of %s offers a %s no reader of the console accepts; it is not read%s", sem.spec.name,
+                            policy, " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "")
+        return on
 
     def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Any]:
         """Take raw samples and decode those of writers this reader owns, one by one: a sample

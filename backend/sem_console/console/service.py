@@ -189,6 +189,7 @@ class Console:
             "samplesDecoded": self.ingest.decoded if self.ingest else 0,
             "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
             "undecodableSamples": sum(self.ingest.undecodable.values()) if self.ingest else 0,
+            "incompatibleWriters": dict(self.ingest.incompatible) if self.ingest else {},
             "reportsApplied": self.reports_applied,
             "wsClients": len(self.hub.clients),
             "wsMessagesPublished": self.hub.published,
