@@ -13,7 +13,8 @@ read explicitly. A sample that cannot be decoded is counted, never raised.
 Every topic is read by three readers, so that any writer is matched and a reliable one
 loses nothing whatever its durability: reliable transient-local (also receives what a
 writer published before the console started), reliable volatile (matches a reliable
-volatile writer) and best-effort volatile (matches any writer). A writer's samples are
+volatile writer) and best-effort volatile (matches any writer with shared ownership in the
+default partition and the type's data representation; see _on_incompatible). A writer's samples are
 applied from exactly one of them, its owner: the most reliable reader its offered QoS
 matches, decided from that QoS when a reader first matches the writer (`Owners`). The
 copies the other readers receive are dropped undecoded. Nothing depends on timestamps
@@ -155,9 +156,9 @@ class Owners:
         return self.by_handle.get(handle) or self.learn(reader, handle)
 
     def forget_departed(self, now: float) -> None:
-        for handle, left in list(self._left.items()):
+        for handle, left in list(self._left.items()):  # the listener thread may change _left meanwhile
             if now - left > FORGET_AFTER:
-                del self._left[handle]
+                self._left.pop(handle, None)
                 self.by_handle.pop(handle, None)
 
 
@@ -173,6 +174,7 @@ class Ingest:
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
         self.owners = Owners()
+        self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
         self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS))
@@ -233,7 +235,8 @@ class Ingest:
             if isinstance(raw, int):
                 log.warning("take on %s failed: %d", sem.spec.name, raw)
                 break
-            self.taken += len(raw)
+            with self._counting:  # both ingest threads count
+                self.taken += len(raw)
             for data, info in raw:
                 if self.owners.owner(reader, info.publication_handle & _U64) not in (via, None):
                     continue
@@ -249,8 +252,9 @@ class Ingest:
                     log.warning("undecodable sample on %s: %s", sem.spec.name, e)
             if len(raw) < 256:
                 break
-        self.decoded += len(out)
-        self.by_reader[via.value] += len(out)
+        with self._counting:
+            self.decoded += len(out)
+            self.by_reader[via.value] += len(out)
         return out
 
     def _report_loop(self) -> None:
@@ -258,15 +262,18 @@ class Ingest:
         while self.running:
             ws.wait(duration(milliseconds=200))
             started = time.monotonic()
-            items: list[ReportItem] = []
-            for (sem, via, reader), cond in zip(self.report_readers, conds):
-                for s in self._take(sem, via, reader, cond):
-                    item = self._report(sem, s)
-                    if item is not None:
-                        items.append(item)
-            if items:
-                self.loop.call_soon_threadsafe(self.on_reports, items)
-            self.owners.forget_departed(started)
+            try:
+                items: list[ReportItem] = []
+                for (sem, via, reader), cond in zip(self.report_readers, conds):
+                    for s in self._take(sem, via, reader, cond):
+                        item = self._report(sem, s)
+                        if item is not None:
+                            items.append(item)
+                if items:
+                    self.loop.call_soon_threadsafe(self.on_reports, items)
+                self.owners.forget_departed(started)
+            except Exception:  # a bug here must not stop every report for good
+                log.exception("report ingest cycle failed")
             time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
 
     def _report(self, sem: Sem, s: Any) -> ReportItem | None:
@@ -289,17 +296,23 @@ class Ingest:
         ws, conds = self._waitsets["statuses"]
         while self.running:
             ws.wait(duration(milliseconds=200))
-            items: list[StatusItem] = []
-            for (sem, via, reader), cond in zip(self.status_readers, conds):
-                for s in self._take(sem, via, reader, cond):
-                    key = s.key_sample if isinstance(s, InvalidSample) else s
-                    source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
-                    if source is None or session is None:
-                        continue
-                    service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
-                    kind = "status" if sem in STATUS_TOPICS else "ack"
-                    alive = s.sample_info.instance_state == InstanceState.Alive
-                    sample = None if isinstance(s, InvalidSample) else s
-                    items.append(StatusItem(service, kind, source, session, sample, alive))
-            if items:
-                self.loop.call_soon_threadsafe(self.on_statuses, items)
+            try:
+                self._status_cycle(conds)
+            except Exception:  # a bug here must not stop every status for good
+                log.exception("status ingest cycle failed")
+
+    def _status_cycle(self, conds: list[Any]) -> None:
+        items: list[StatusItem] = []
+        for (sem, via, reader), cond in zip(self.status_readers, conds):
+            for s in self._take(sem, via, reader, cond):
+                key = s.key_sample if isinstance(s, InvalidSample) else s
+                source, session = _guid(getattr(key, "source", None)), _guid(getattr(key, "sessionID", None))
+                if source is None or session is None:
+                    continue
+                service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
+                kind = "status" if sem in STATUS_TOPICS else "ack"
+                alive = s.sample_info.instance_state == InstanceState.Alive
+                sample = None if isinstance(s, InvalidSample) else s
+                items.append(StatusItem(service, kind, source, session, sample, alive))
+        if items:
+            self.loop.call_soon_threadsafe(self.on_statuses, items)

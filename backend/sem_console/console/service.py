@@ -76,7 +76,7 @@ class Console:
         if self._sim:
             thread, stop = self._sim
             stop[0] = True
-            await asyncio.to_thread(thread.join, 5)
+            await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
@@ -97,10 +97,14 @@ class Console:
                 hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
                 log.error("the embedded simulator did not start: %s%s", e, hint)
                 return
+            twin = False
             try:
                 sim.run(lambda: stop[0])
+            except InUse as e:
+                twin = True
+                log.error("the embedded simulator stopped: %s", e)
             finally:
-                sim.shutdown()
+                sim.shutdown(twin=twin)
 
         thread = threading.Thread(target=run, name="sem-sim", daemon=True)
         thread.start()

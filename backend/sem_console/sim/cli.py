@@ -123,12 +123,16 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.number, v.guid, sorted(v.faults) or "none")
+    twin = False
     try:
         sim.run(lambda: stopping)
+    except InUse as e:
+        twin = True
+        print(f"sem-sim: error: {e}; this process stops", file=sys.stderr)
     finally:
         logging.getLogger("sem-sim").info("shutting down: failing incomplete commands, disposing reports")
-        sim.shutdown()
-    return 0
+        sim.shutdown(twin=twin)
+    return 1 if twin else 0
 
 
 if __name__ == "__main__":
