@@ -41,6 +41,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
+    p.add_argument("--aspn-lcm", metavar="URL", help="publish each vehicle's navigation as ASPN-23 over LCM at URL "
+                   "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to write a log); off by default")
+    p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)")
+    p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log (default: 300)")
+    p.add_argument("--jaus-port", type=int, nargs="?", const=3794, metavar="N",
+                   help="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); off by default")
+    p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)")
+    p.add_argument("--jaus-host", help="address the JAUS gateway listens on (default: --host)")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -67,6 +75,13 @@ def main(argv: list[str] | None = None) -> int:
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
+    if settings.aspn_lcm is not None:
+        from sem_console.gateways.aspn.gateway import open_lcm
+
+        try:  # an URL LCM cannot open is a one-line error at start, not a gateway that never publishes
+            open_lcm(settings.aspn_lcm)
+        except (OSError, RuntimeError, ValueError) as e:
+            parser.error(f"--aspn-lcm {settings.aspn_lcm}: {e}")
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     for warning in start_warnings(settings):
         logging.getLogger("sem-console").warning(warning)

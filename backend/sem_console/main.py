@@ -19,9 +19,10 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN
-from sem_console.api.routes import commands, meta, providers, ws
+from sem_console.api.routes import commands, gateways as gateway_routes, meta, providers, ws
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
+from sem_console.gateways.run import Gateways
 
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
@@ -35,12 +36,17 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         console = Console(settings)  # owns the DDS participant
         app.state.console = console
+        gateways = Gateways(settings, console.feed)  # subscribed before the first sample arrives
+        app.state.gateways = gateways
+        console.gateway_states = gateways.states
+        await gateways.start(console.hub.publish)
         await console.start()
         log.info("console %s on DDS domain %d", console.id, settings.domain)
         try:
             yield
         finally:
             await console.stop()
+            await gateways.stop()
 
     app = FastAPI(title="SEM Console", version=__version__, lifespan=lifespan,
                   description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
@@ -66,7 +72,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
     writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
     commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
-    for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (commands.writes, commands_writes),
+    for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (gateway_routes.reads, reads),
+                     (commands.writes, commands_writes), (gateway_routes.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
     app.add_middleware(Guard, settings=settings)

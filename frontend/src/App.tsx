@@ -2,6 +2,7 @@ import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlertsPanel } from "./panels/Alerts";
 import { CommandsPanel } from "./panels/Commands";
 import { FixPanel } from "./panels/Fix";
+import { GatewaysPanel } from "./panels/Gateways";
 import { Header } from "./panels/Header";
 import { InsPanel } from "./panels/Ins";
 import { SatellitesPanel } from "./panels/Satellites";
@@ -17,6 +18,7 @@ export function App() {
             <VehicleSelector />
           </ErrorBoundary>
           <AlertsPanel />
+          <GatewaysPanel />
         </aside>
         <main className="main">
           <SatellitesPanel />

@@ -11,6 +11,7 @@ from sem_console.api import audit
 from sem_console.api.auth import AuthError, Operators
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
+from sem_console.gateways.run import Gateways
 
 _bearer = HTTPBearer(auto_error=False, description="an operator token")
 BearerDep = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
@@ -57,12 +58,19 @@ async def current_operator(request: Request) -> str | None:
 OperatorDep = Annotated[str | None, Depends(current_operator)]
 
 
-async def get_auditor(request: Request) -> Callable[[int, str, str | None], None]:
-    """Records an accepted command request: (HTTP status, sessionId, operator)."""
+async def get_auditor(request: Request) -> Callable[[int, str | None, str | None], None]:
+    """Records an accepted command request: (HTTP status, sessionId or None, operator)."""
     return lambda status, session, operator: audit.record(request.scope, "accepted", status, "accepted", operator, session)
 
 
-AuditDep = Annotated[Callable[[int, str, str | None], None], Depends(get_auditor)]
+AuditDep = Annotated[Callable[[int, str | None, str | None], None], Depends(get_auditor)]
+
+
+async def get_gateways(request: Request) -> Gateways:
+    return request.app.state.gateways  # type: ignore[no-any-return]
+
+
+GatewaysDep = Annotated[Gateways, Depends(get_gateways)]
 
 
 # Paging of the history routes (an offset beyond SQLite's 64-bit integers is a 422, not a crash)

@@ -6,7 +6,7 @@
   must come from the console's own origin (scheme and Host of the request) or an allowed origin.
   Without an Origin header, `Sec-Fetch-Site` must be same-origin or none where a browser sent it;
   a request with neither is not from a browser page (curl, scripts) and passes.
-- **Content type** (`require_json`, a dependency of the command routes): every POST must say
+- **Content type** (`require_json`, a dependency of the command routes): every POST and PUT must say
   `Content-Type: application/json`: a page can send a cross-site "simple" request (one without
   a CORS preflight) only as text/plain, form or multipart, never as JSON.
 
@@ -90,11 +90,11 @@ class Guard:
 
 
 async def require_json(request: Request) -> None:
-    """Dependency of the command routes: a POST must say Content-Type: application/json (checked
+    """Dependency of the command routes: a POST or PUT must say Content-Type: application/json (checked
     after routing, so a POST to a route that has none is still a 405)."""
-    if request.method == "POST" and not is_json(request.headers.get("content-type")):
-        reason = "a POST needs Content-Type: application/json and a JSON body (e.g. {})"
-        log.warning("refused POST %s from %s: %s", request.url.path, audit.client_of(request.scope), reason)
+    if request.method in ("POST", "PUT") and not is_json(request.headers.get("content-type")):
+        reason = f"a {request.method} needs Content-Type: application/json and a JSON body (e.g. {{}})"
+        log.warning("refused %s %s from %s: %s", request.method, request.url.path, audit.client_of(request.scope), reason)
         audit.record(request.scope, "refused", 415, reason)
         raise HTTPException(415, reason)
 

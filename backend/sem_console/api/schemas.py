@@ -6,7 +6,7 @@ from __future__ import annotations
 import typing
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
@@ -24,10 +24,32 @@ class TopicHealth(_Model):
     receivedAt: float = Field(description="UTC seconds since the epoch of the last sample")
 
 
+class LinkConfig(_Model):
+    """A vehicle's link thresholds and comms-lost configuration (reported as JAUS ReportCommsLostConfiguration)."""
+
+
+    commsLostTimeout: float = Field(ge=0.1, le=65535, description="seconds without any sample before the vehicle is lost")
+    regainedTime: float = Field(ge=0, le=65535, description="seconds of continuous samples before a lost vehicle is regained")
+    policy: Literal["STOP_MISSION", "CONTINUE_MISSION"] = Field(
+        description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)")
+    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and reported")
+
+    @field_validator("commsLostTimeout", "regainedTime", "regainedBehavior", mode="before")
+    @classmethod
+    def _a_json_number(cls, v: Any) -> Any:
+        """JSON numbers only: not true for 1, nor "5" for 5 (1.0 is the integer 1, as JSON Schema has it)."""
+        if isinstance(v, (bool, str)):
+            raise ValueError("Input should be a number")
+        return v
+
+
 class ProviderSummary(_Model):
     id: str = Field(description="the provider's source GUID as a UUID string")
     name: str | None = Field(description="the vehicle's name from the console's --vehicle-names, or null")
     link: LinkState
+    linkConfig: LinkConfig
+    jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
+                                           "is on, else null")
     ageSeconds: float = Field(description="seconds since the last sample on any topic")
     topics: dict[str, TopicHealth]
 
@@ -114,6 +136,17 @@ class Health(_Model):
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
 
 
+class GatewayState(_Model):
+    name: Literal["aspn", "jaus"]
+    enabled: bool = Field(description="on (its option was given) or off")
+    endpoint: str | None = Field(description="where it publishes or listens")
+    messagesOut: int = Field(description="messages sent since start")
+    messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
+    lastError: str | None
+    lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
+    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), errors")
+
+
 class Metrics(_Model):
     uptimeSeconds: float
     samplesTaken: int = Field(description="samples taken from DDS since start (all three readers of every SEM topic)")
@@ -141,6 +174,7 @@ class SnapshotMessage(_Model):
     authRequired: bool
     providers: list[ProviderDetail]
     commands: list[Command]
+    gateways: list[GatewayState]
 
 
 class ReportMessage(_Model):
@@ -152,7 +186,8 @@ class ReportMessage(_Model):
 
 class ProviderMessage(_Model):
     type: Literal["provider"]
-    event: Literal["appeared", "lost", "regained", "live"] = Field(description="live: a regained provider is back to normal")
+    event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
+        description="live: a regained provider is back to normal; configured: its linkConfig changed")
     provider: ProviderSummary
 
 
@@ -168,6 +203,13 @@ class TransitionMessage(_Model):
     command: Command
 
 
+class GatewaysMessage(_Model):
+    """Every gateway's state, at most once a second and only when it changed."""
+
+    type: Literal["gateways"]
+    gateways: list[GatewayState]
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -179,7 +221,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, ErrorMessage, PongMessage],
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, GatewaysMessage, ErrorMessage,
+          PongMessage],
     Field(discriminator="type"),
 ]
 

@@ -10,14 +10,15 @@ import logging
 import threading
 import time
 import uuid
-from typing import Any
+from typing import Any, Callable
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.feed import Feed
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem
-from sem_console.console.providers import REPORTS, Provider, Providers
+from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
@@ -34,7 +35,11 @@ class Console:
         self.id = self.store.console_guid()
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
-        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names())
+        self.feed = Feed()  # what the gateways subscribe to
+        self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
+        configs = {k: LinkConfig(**v) for k, v in self.store.link_configs().items()}
+        self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names(), configs,
+                                   settings.jaus_subsystem if settings.jaus_port is not None else None)
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}
         self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
                                  lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
@@ -134,8 +139,9 @@ class Console:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
                 self.reports_applied += 1
-                self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
-                                  "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
+                message = {"type": "report", "providerId": str(it.source), "topic": it.topic, "report": p.reports[it.topic]}
+                self.hub.publish(message, key=(str(it.source), it.topic))
+                self.feed.publish(message)
 
     @staticmethod
     def _envelope(it: ReportItem) -> dict[str, Any] | None:
@@ -169,6 +175,7 @@ class Console:
 
     def _emit(self, message: dict[str, Any]) -> None:
         self.hub.publish(message)
+        self.feed.publish(message)
 
     # ---- queries and commands (REST, WebSocket) -----------------------------------------
     def provider(self, provider_id: uuid.UUID) -> Provider | None:
@@ -184,6 +191,7 @@ class Console:
             "authRequired": bool(self.settings.operators()),
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
+            "gateways": self.gateway_states(),
         }
 
     def metrics(self) -> dict[str, Any]:
@@ -201,6 +209,13 @@ class Console:
             "providers": len(self.providers.by_id),
             "commandsInMemory": len(self.commands.by_session),
         }
+
+    def set_link_config(self, p: Provider, config: LinkConfig) -> None:
+        """A vehicle's link thresholds and comms-lost configuration, kept in the database; link health
+        follows the new thresholds from the next tick."""
+        self.store.set_link_config(str(p.id), config.to_json())
+        p.config = config
+        self._emit({"type": "provider", "event": "configured", "provider": p.summary(time.monotonic())})
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
         return self.commands.issue(service, provider_id, state, operator)

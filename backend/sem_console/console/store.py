@@ -1,4 +1,5 @@
-"""Command history and audit in SQLite; also keeps the console's own source GUID across restarts."""
+"""Command history and audit in SQLite; also keeps the console's own source GUID and each vehicle's
+link configuration across restarts."""
 
 from __future__ import annotations
 
@@ -26,6 +27,7 @@ CREATE TABLE IF NOT EXISTS audit (
     method TEXT NOT NULL, path TEXT NOT NULL, client TEXT, origin TEXT, operator TEXT, session_id TEXT, reason TEXT NOT NULL
 );
 """
+CREATE_LINK_CONFIG = "CREATE TABLE IF NOT EXISTS link_config (provider_id TEXT PRIMARY KEY, config TEXT NOT NULL)"
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
@@ -37,6 +39,7 @@ class Store:
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
         self.db.executescript(SCHEMA)
+        self.db.execute(CREATE_LINK_CONFIG)
         self._migrate()
 
     def _migrate(self) -> None:
@@ -101,6 +104,13 @@ class Store:
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
         return [dict(r) for r in self.db.execute("SELECT * FROM audit ORDER BY id DESC LIMIT ? OFFSET ?", (limit, offset))]
+
+    def link_configs(self) -> dict[str, dict[str, Any]]:
+        """provider GUID string -> the link configuration an operator set for it."""
+        return {r["provider_id"]: json.loads(r["config"]) for r in self.db.execute("SELECT * FROM link_config")}
+
+    def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
+        self.db.execute("INSERT OR REPLACE INTO link_config VALUES (?, ?)", (provider_id, json.dumps(config)))
 
     def close(self) -> None:
         self.db.close()

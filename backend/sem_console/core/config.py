@@ -48,6 +48,18 @@ class Settings(BaseSettings):
     tls_certfile: Path | None = Field(None, description="PEM certificate (chain): serve HTTPS and WSS")
     tls_keyfile: Path | None = Field(None, description="PEM private key of tls_certfile")
 
+    # Gateways (each off unless its option is given; see README, "Gateways")
+    aspn_lcm: str | None = Field(None, description="LCM URL to publish each vehicle's navigation on as ASPN-23 "
+                                 "(udpm://239.255.76.67:7667?ttl=0, file://PATH.lcm, memq://); off when unset")
+    aspn_prefix: str = Field("aspn23", pattern=r"^[A-Za-z0-9_.\-/]{1,64}$",
+                             description="first part of every ASPN channel name: <prefix>/<vehicle>/<measurement>")
+    aspn_log_seconds: float = Field(300.0, gt=0, le=86_400, description="seconds of each vehicle's ASPN messages kept "
+                                    "for the dashboard's Record ASPN log (at most 8 MiB per vehicle)")
+    jaus_port: int | None = Field(None, ge=0, le=65535, description="UDP port of the JAUS (JUDP, AS5669A) gateway; "
+                                  "off when unset")
+    jaus_subsystem: int = Field(1, ge=1, le=65534, description="JAUS subsystem id of the console's components")
+    jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
+
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
     vehicle_names: str = ""
 

@@ -1,6 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { paths } from "./generated/openapi";
-import type { Command } from "./types";
+import type { Command, LinkConfig } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -10,7 +10,7 @@ export class ApiError extends Error {
   }
 }
 
-async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
+async function send(method: string, path: string, token: string | null, body?: unknown): Promise<Response> {
   const headers: Record<string, string> = {};
   if (token) headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) headers["Content-Type"] = "application/json";
@@ -25,7 +25,11 @@ async function call<T = Command>(method: string, path: string, token: string | n
     }
     throw new ApiError(r.status, detail);
   }
-  return (await r.json()) as T;
+  return r;
+}
+
+async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
+  return (await (await send(method, path, token, body)).json()) as T;
 }
 
 /** The operator a token belongs to (GET /api/operator): the sign-in check. */
@@ -52,4 +56,16 @@ export function setInertialSensor(providerId: string, state: InsState, token: st
 
 export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
   return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
+}
+
+/** Set a vehicle's link thresholds and comms-lost configuration (PUT, operator token, audited). */
+export function setLinkConfig(providerId: string, config: LinkConfig, token: string | null): Promise<LinkConfig> {
+  return call<LinkConfig>("PUT", `/api/providers/${encodeURIComponent(providerId)}/link-config`, token, config);
+}
+
+/** The vehicle's ASPN-23 messages of the last `seconds` (the console's clock) as an LCM log file, and its file name. */
+export async function aspnLog(providerId: string, seconds: number, token: string | null): Promise<{ blob: Blob; filename: string }> {
+  const r = await send("GET", `/api/providers/${encodeURIComponent(providerId)}/aspn-log?seconds=${seconds}`, token);
+  const named = /filename="([^"]+)"/.exec(r.headers.get("Content-Disposition") ?? "");
+  return { blob: await r.blob(), filename: named ? named[1] : "aspn.lcm" };
 }

@@ -9,9 +9,13 @@ import type {
   Transition,
   ProviderSummary,
   ProviderDetail,
+  GatewayState,
+  LinkConfig,
 } from "./generated/ws";
 
 export type {
+  GatewayState,
+  LinkConfig,
   Command,
   GPSConstellationEnumType,
   ReportEnvelope,

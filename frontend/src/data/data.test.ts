@@ -18,11 +18,14 @@ function cmd(over: Partial<Command> = {}): Command {
 
 function snapshot(): ServerMessage {
   return {
-    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()],
+    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()], gateways: [],
     providers: [{ id: P, link: "live", ageSeconds: 0, topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
       reports: { GPSReport: env({ satellites: [], numberSatellitesInView: 0 }), GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null } }],
   } as unknown as ServerMessage;
 }
+
+const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
+const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({ id: P, name: null, link, ageSeconds, topics: {}, linkConfig: CONFIG, jausId: null });
 
 function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): State {
   return msgs.reduce((s, m, i) => reduce(s, m, t0 + i), start);
@@ -73,9 +76,9 @@ describe("reducer", () => {
       snapshot(), fix(true), fix(false), ins("OPERATIONAL"), ins("INERTIAL_SENSOR_FAILURE"), ins("INERTIAL_SENSOR_FAILURE"),
       tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"), tr("FAILED", "RESOURCE_FAILED", null),
       { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
-      { type: "provider", event: "lost", provider: { id: P, name: null, link: "lost", ageSeconds: 3, topics: {} } },
-      { type: "provider", event: "regained", provider: { id: P, name: null, link: "regained", ageSeconds: 0, topics: {} } },
-      { type: "provider", event: "live", provider: { id: P, name: null, link: "live", ageSeconds: 0, topics: {} } },
+      { type: "provider", event: "lost", provider: summary("lost", 3) },
+      { type: "provider", event: "regained", provider: summary("regained") },
+      { type: "provider", event: "live", provider: summary("live") },
     ]);
     expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
     expect(s.providers[P].link).toBe("live");
@@ -94,6 +97,17 @@ describe("reducer", () => {
     expect(trail[trail.length - 1].t - trail[0].t).toBeLessThanOrEqual(600);
     expect(s.providers[P].history.length).toBeLessThanOrEqual(HISTORY_SECONDS + 1);
     expect(s.providers[P].history.at(-1)?.used).toBe(1);
+  });
+
+  it("keeps gateway states and a vehicle's link configuration and JAUS id", () => {
+    const gw = { name: "jaus", enabled: true, endpoint: "udp://127.0.0.1:3794 subsystem 5", messagesOut: 4, messagesPerSecond: 0.8,
+      lastError: null, lastErrorAt: null, counters: { received: 4 } } as const;
+    const configured = { ...summary("live"), linkConfig: { ...CONFIG, commsLostTimeout: 9, policy: "CONTINUE_MISSION" as const }, jausId: "5.1.1" };
+    const s = apply([snapshot(), { type: "gateways", gateways: [gw] }, { type: "provider", event: "configured", provider: configured }]);
+    expect(s.gateways).toEqual([gw]);
+    expect(s.providers[P].linkConfig?.commsLostTimeout).toBe(9);
+    expect(s.providers[P].jausId).toBe("5.1.1");
+    expect(s.alerts).toEqual([]); // a new configuration is no alert
   });
 
   it("ignores errors and pongs", () => {

@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command } from "../api/types";
+import type { Command, GatewayState } from "../api/types";
 import type { Connection, ConnectionState, Store } from "./connection";
 import type { Alert, ProviderView, State } from "./store";
 
@@ -60,4 +60,8 @@ export function useNow(periodMs = 500): number {
     return () => clearInterval(t);
   }, [periodMs]);
   return now;
+}
+
+export function useGateways(): GatewayState[] {
+  return useSelector((s) => s.gateways);
 }

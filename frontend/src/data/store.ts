@@ -1,6 +1,6 @@
 // The dashboard's state and the pure reducer that applies server messages to it.
 // Unchanged parts keep their identity, so panels that select them do not re-render.
-import type { Command, LinkState, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { satelliteLabel } from "../lib/satellites";
 
@@ -26,6 +26,8 @@ export interface ProviderView {
   id: string;
   name: string | null; // configured on the console (--vehicle-names)
   link: LinkState;
+  linkConfig: LinkConfig | null; // per-vehicle thresholds and comms-lost configuration
+  jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
   topics: Partial<Record<Topic, TopicView>>;
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
@@ -49,6 +51,7 @@ export interface State {
   readAuthRequired: boolean; // reads (and /ws) need a token too (GET /api/health)
   providers: Record<string, ProviderView>;
   commands: Record<string, Command>;
+  gateways: GatewayState[]; // ASPN and JAUS: on or off, messages per second, last error
   alerts: Alert[];
   nextAlertId: number;
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
@@ -68,6 +71,7 @@ export const initialState: State = {
   readAuthRequired: false,
   providers: {},
   commands: {},
+  gateways: [],
   alerts: [],
   nextAlertId: 1,
   selected: null,
@@ -79,7 +83,12 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
 }
 
 function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
-  return { id, name, link, topics: {}, trails: {}, history: [] };
+  return { id, name, link, linkConfig: null, jausId: null, topics: {}, trails: {}, history: [] };
+}
+
+/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id). */
+function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
+  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId };
 }
 
 function alert(state: State, now: number, kind: AlertKind, severity: Alert["severity"], text: string, providerId: string | null): State {
@@ -166,7 +175,7 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       const providers: Record<string, ProviderView> = {};
       for (const d of msg.providers) {
         const old = state.providers[d.id];
-        let p: ProviderView = { ...(old ?? emptyProvider(d.id, d.link)), name: d.name, link: d.link, topics: {} };
+        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {} };
         for (const topic of Object.keys(d.reports) as Topic[]) {
           const env = d.reports[topic];
           if (env) {
@@ -178,14 +187,14 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands };
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways };
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
-      let next: State = { ...state, providers: { ...state.providers, [id]: { ...before, name: msg.provider.name, link: msg.provider.link } } };
+      let next: State = { ...state, providers: { ...state.providers, [id]: fromSummary(before, msg.provider) } };
       if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${vehicleName(next, id)} lost`, id);
       if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${vehicleName(next, id)} regained`, id);
       return next;
@@ -203,6 +212,8 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       return next;
     }
+    case "gateways":
+      return { ...state, gateways: msg.gateways };
     case "error":
     case "pong":
       return state;
