@@ -48,6 +48,13 @@ CONTEXT_IDS = {"measurement_position": 1, "measurement_altitude": 2, "measuremen
                "measurement_speed": 4, "measurement_direction_of_motion_2d": 5, "measurement_satnav": 6}
 TO_LCM: dict[str, Callable[[Any], Any]] = {name: getattr(conversions, f"{name}_to_lcm") for name in CONTEXT_IDS}
 
+# one-value measurements: (class, its "no error model", the member holding the value)
+SCALARS: dict[str, tuple[Any, Any, str]] = {
+    "measurement_altitude": (MeasurementAltitude, MeasurementAltitudeErrorModel.NONE, "altitude"),
+    "measurement_speed": (MeasurementSpeed, MeasurementSpeedErrorModel.NONE, "speed"),
+    "measurement_direction_of_motion_2d": (MeasurementDirectionOfMotion2D, MeasurementDirectionOfMotion2DErrorModel.NONE, "obs"),
+}
+
 GPS_EPOCH = 315_964_800  # 1980-01-06 in POSIX seconds
 LEAP_SECONDS = 18  # GPS - UTC since 2017, used when the GPSReport's clock gives no leapSecond
 WEEK = 604_800
@@ -164,10 +171,7 @@ class Encoder:
         if alt is None:
             self._skip("altitude: invalid")
         else:
-            out.append(("measurement_altitude", MeasurementAltitude(
-                header=self.header(vehicle, "measurement_altitude"), time_of_validity=when,
-                reference=MeasurementAltitudeReference.MSL, altitude=alt, variance=NAN,
-                error_model=MeasurementAltitudeErrorModel.NONE, error_model_params=NO_PARAMS, integrity=[])))
+            out.append(self._scalar(vehicle, "measurement_altitude", when, MeasurementAltitudeReference.MSL, alt))
         ned = [n(f"velocity.{c}") for c in ("northSpeed", "eastSpeed", "downSpeed")]
         if all(v is None for v in ned):
             self._skip("velocity: invalid")
@@ -181,19 +185,21 @@ class Encoder:
         if sog is None:
             self._skip("speed: SOG invalid")
         else:
-            out.append(("measurement_speed", MeasurementSpeed(
-                header=self.header(vehicle, "measurement_speed"), time_of_validity=when,
-                reference=MeasurementSpeedReference.GROUND, speed=sog, variance=NAN,
-                error_model=MeasurementSpeedErrorModel.NONE, error_model_params=NO_PARAMS, integrity=[])))
+            out.append(self._scalar(vehicle, "measurement_speed", when, MeasurementSpeedReference.GROUND, sog))
         course = n("trueCourse")
         if course is None:
             self._skip("direction of motion: trueCourse invalid")
         else:
-            out.append(("measurement_direction_of_motion_2d", MeasurementDirectionOfMotion2D(
-                header=self.header(vehicle, "measurement_direction_of_motion_2d"), time_of_validity=when,
-                reference=MeasurementDirectionOfMotion2DReference.NE, obs=course, variance=NAN,
-                error_model=MeasurementDirectionOfMotion2DErrorModel.NONE, error_model_params=NO_PARAMS, integrity=[])))
+            out.append(self._scalar(vehicle, "measurement_direction_of_motion_2d", when,
+                                    MeasurementDirectionOfMotion2DReference.NE, course))
         return out
+
+    def _scalar(self, vehicle: uuid.UUID, measurement: str, when: TypeTimestamp, reference: Any, value: float) -> tuple[str, Any]:
+        """A one-value measurement (altitude, speed, direction of motion) with no variance known (NaN)."""
+        cls, no_error_model, member = SCALARS[measurement]
+        return measurement, cls(header=self.header(vehicle, measurement), time_of_validity=when, reference=reference,
+                                **{member: value}, variance=NAN, error_model=no_error_model,
+                                error_model_params=NO_PARAMS, integrity=[])
 
     def gps_report(self, vehicle: uuid.UUID, report: dict[str, Any], invalid: list[str]) -> list[tuple[str, Any]]:
         t = self._time(report, invalid)
