@@ -26,7 +26,7 @@ from conftest import free_port
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
-from test_console import V1, _valid_fix, provider_ready, wait_command, wait_until
+from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
 
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 
@@ -164,8 +164,9 @@ def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) ->
     no_frequency = make(GPSSatelliteType, constellationType=Constellation.GPS, satelliteId=satellite_guid(Constellation.GPS, 8))
     gps = make(GPSReportType, clock=make(GPSClockType), numberSatellitesInView=2, satellites=[good, no_frequency],
                source=to_guid(source), timeStamp=now_datetime())
-    bus.writer(Sem.GPS_FIX_REPORT).write(fix)
-    bus.writer(Sem.GPS_REPORT).write(gps)
+    writers = {sem: bus.writer(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.GPS_REPORT)}  # alive until the test ends
+    writers[Sem.GPS_FIX_REPORT].write(fix)
+    writers[Sem.GPS_REPORT].write(gps)
     provider_ready(c.url, str(source), {"GPSFixReport", "GPSReport"})
 
     def log() -> dict[str, Any] | None:
@@ -332,6 +333,14 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
     assert state["enabled"] and state["messagesOut"] >= 21 and state["counters"]["received"] >= 21
     assert state["endpoint"] == f"udp://127.0.0.1:{port} subsystem 42"
+    ws = WsClient(c.ws_url)  # every message checked against the published schema
+    wait_until(lambda: ws.messages, 5, "the snapshot")
+    assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True}
+    ask(station, port, judp(me, 0x2421, everything))
+    update = wait_until(lambda: ws.of("gateways"), 5, "a gateways message")[-1]
+    assert next(g for g in update["gateways"] if g["name"] == "jaus")["messagesOut"] > state["messagesOut"]
+    assert ws.errors == []
+    ws.close()
 
 
 def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) -> None:
@@ -386,6 +395,8 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
     for b in bad:
         station.sendto(bytes(b), ("127.0.0.1", port))
         sent_bad += 1
+        if sent_bad % 10 == 0:
+            time.sleep(0.02)  # UDP: a burst beyond the socket's buffer would be lost in the kernel, uncounted
     # everything above is dropped, never answered; a good query still is
     station.settimeout(0.5)
     got = []

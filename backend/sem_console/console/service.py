@@ -37,7 +37,12 @@ class Console:
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
-        configs = {k: LinkConfig(**v) for k, v in self.store.link_configs().items()}
+        configs = {}
+        for vehicle, stored in self.store.link_configs().items():
+            try:
+                configs[vehicle] = LinkConfig(**stored)
+            except TypeError:  # a row this version cannot read: the defaults apply
+                log.warning("ignored the stored link configuration of %s: %s", vehicle, stored)
         self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names(), configs,
                                    settings.jaus_subsystem if settings.jaus_port is not None else None)
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}
