@@ -170,13 +170,32 @@ def test_auth_reads_need_a_token_for_rest_and_websocket(sim, console, tmp_path: 
 def test_bad_options_exit_with_a_clear_error(tmp_path: Path) -> None:
     bad_file = tmp_path / "tokens"
     bad_file.write_text("alice-without-a-token\n")
+    accented = tmp_path / "accented"
+    accented.write_text("# a token no browser can send\nalice:pässwort\n", encoding="utf-8")
     for args, needle in ((["--operator-tokens-file", str(tmp_path / "missing")], "cannot read operator tokens file"),
                          (["--operator-tokens-file", str(bad_file)], f"{bad_file}:1: expected name:token"),
+                         (["--operator-tokens-file", str(accented)], f"{accented}:2: the token of 'alice' must be visible ASCII"),
+                         (["--operator-tokens", "alice:s3cret,bob:"], "item 2: expected name:token"),
                          (["--auth-reads"], "--auth-reads needs operator tokens"),
                          (["--tls-certfile", str(bad_file)], "--tls-certfile and --tls-keyfile go together"),
                          (["--vehicle-names", "not-a-guid=Alpha"], "'not-a-guid' is not a GUID")):
         p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
         assert p.returncode == 2 and needle in p.stderr, (args, p.stderr)
+
+
+def test_both_token_sources_split_at_the_first_colon(tmp_path: Path) -> None:
+    tokens = tmp_path / "tokens"
+    tokens.write_text(" dave : Long-Secret:x \n")
+    s = Settings(operator_tokens=" bob : Long-Secret:y , carol:c4rol", operator_tokens_file=tokens)
+    assert s.operators() == {"Long-Secret:y": "bob", "c4rol": "carol", "Long-Secret:x": "dave"}
+    for bad, needle in (("bob:", "item 1: expected name:token"), (" :t0k", "expected name:token"),
+                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must be visible ASCII"),
+                        ("bob:two words", "visible ASCII"), ("bob:tab\tinside", "visible ASCII"),
+                        ("alice:same,bob:same", "'bob' has the same token as 'alice'")):
+        with pytest.raises(ValueError, match=needle):
+            Settings(operator_tokens=bad).operators()
+    with pytest.raises(ValueError, match="'dave' has the same token as 'eve'"):
+        Settings(operator_tokens="eve:Long-Secret:x", operator_tokens_file=tokens).operators()
 
 
 def test_start_warnings(tmp_path: Path) -> None:
