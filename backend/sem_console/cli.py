@@ -93,6 +93,10 @@ def start_warnings(settings: Settings) -> list[str]:
     if beyond_loopback and settings.operators() and settings.tls_certfile is None:
         out.append(f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
                    "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)")
+    if "*" in settings.host_names():
+        out.append("--allowed-hosts '*' accepts any Host header: a page under a foreign DNS name that resolves to this "
+                   "console (DNS rebinding) passes the Host and the Origin checks (without --auth-reads it reads the "
+                   "vehicles; without operator tokens it commands them): name the hosts instead")
     f = settings.operator_tokens_file
     if f is not None and f.stat().st_mode & 0o077:
         out.append(f"{f} can be read by other users of this machine (chmod 600 it)")

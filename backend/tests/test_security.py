@@ -71,6 +71,9 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
     assert commands(c) == before  # nothing created, nothing canceled
     assert not httpx.get(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
     assert httpx.get(f"{c.url}/api/providers", headers={"Host": "rebound.example"}).status_code == 403  # DNS rebinding
+    for host in ("localhost:8123@evil.example", "127.0.0.1:1@evil.example", "localhost:80:80"):  # a name not parsed strictly
+        r = httpx.get(f"{c.url}/api/providers", headers={"Host": host})
+        assert r.status_code == 403 and "is not a host name" in r.json()["detail"], (host, r.text)
 
     # /ws: a foreign origin or host is refused, the console's own origin (and no Origin: not a browser) accepted
     assert ws_refused(c.ws_url, origin=EVIL) == 403  # type: ignore[arg-type]
@@ -206,6 +209,7 @@ def test_start_warnings(tmp_path: Path) -> None:
     assert "no operator token" in start_warnings(Settings(host="0.0.0.0"))[0]
     warned = start_warnings(Settings(host="10.0.0.5", operator_tokens_file=tokens))
     assert any("clear text" in w for w in warned) and any("chmod 600" in w for w in warned)
+    assert any("DNS rebinding" in w for w in start_warnings(Settings(allowed_hosts="localhost, *")))
     tokens.chmod(0o600)
     assert start_warnings(Settings(host="10.0.0.5", operator_tokens_file=tokens, tls_certfile=tokens, tls_keyfile=tokens)) == []
 
@@ -233,8 +237,11 @@ def test_token_helpers() -> None:
     assert ops.lookup("s3cret") == "alice" and ops.lookup("s3cre") is None and ops.lookup("") is None
     assert ws_token(["sem-console", "bearer." + base64.urlsafe_b64encode(b"a:b/c?").decode().rstrip("=")]) == "a:b/c?"
     assert ws_token(["sem-console"]) is None and ws_token(["bearer.%%%"]) == ""
-    assert [host_name(h) for h in ("Example.org:8000", "[::1]:80", "[::1]", "localhost", "::1")] == \
-        ["example.org", "[::1]", "[::1]", "localhost", "::1"]
+    assert [host_name(h) for h in ("Example.org:8000", "[::1]:80", "[::1]", "localhost", " 127.0.0.1:8000 ")] == \
+        ["example.org", "[::1]", "[::1]", "localhost", "127.0.0.1"]
+    for bad in ("localhost:8123@evil.example", "localhost@evil.example", "::1", "[::1", "[evil.example]:80", "localhost:80:80",
+                "localhost:port", "localhost/x", "local host", "localhost:123456", "", ":80", "evil..example"):
+        assert host_name(bad) is None, bad
     assert is_json("application/json; charset=utf-8") and is_json("application/merge-patch+json")
     assert not is_json("text/plain") and not is_json(None) and not is_json("multipart/form-data; boundary=x")
     assert Settings(host="10.0.0.5").host_names() == {"localhost", "127.0.0.1", "[::1]", "10.0.0.5"}

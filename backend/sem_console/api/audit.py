@@ -11,6 +11,14 @@ from starlette.datastructures import Headers
 from starlette.types import Scope
 
 log = logging.getLogger("sem-console.audit")
+CLIP = 200
+
+
+def clip(value: str | None, limit: int = CLIP) -> str:
+    """repr() of a string a client sent, cut to `limit` characters: one log line whatever it holds
+    (a percent-decoded path can hold a newline)."""
+    r = repr(value)
+    return r if len(r) <= limit else r[: limit - 3] + "..."
 
 
 def client_of(scope: Scope) -> str | None:

@@ -16,8 +16,10 @@ would have changed state, an entry in the audit trail.
 
 from __future__ import annotations
 
+import ipaddress
 import json
 import logging
+import re
 from email.message import Message
 
 from fastapi import HTTPException, Request
@@ -25,18 +27,30 @@ from starlette.datastructures import Headers
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from sem_console.api import audit
+from sem_console.api.audit import clip
 from sem_console.core.config import Settings
 
 log = logging.getLogger("sem-console.guard")
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 
 
-def host_name(host: str) -> str:
-    """The name part of a Host header, lower case: 'Example.org:8000' -> 'example.org', '[::1]:80' -> '[::1]'."""
-    host = host.strip().lower()
-    if host.startswith("["):
-        return host[: host.find("]") + 1]
-    return host.rsplit(":", 1)[0] if host.count(":") == 1 else host
+HOST = re.compile(r"(?P<name>\[[0-9a-f:.]+\]|[a-z0-9_-]+(?:\.[a-z0-9_-]+)*\.?)(?::[0-9]{1,5})?")
+
+
+def host_name(host: str) -> str | None:
+    """The name part of a Host header (host[:port], an IPv6 address in brackets), lower case:
+    'Example.org:8000' -> 'example.org', '[::1]:80' -> '[::1]'; None for anything else
+    ('localhost:8123@evil.example', a bare IPv6 address, spaces, userinfo, a path)."""
+    m = HOST.fullmatch(host.strip().lower())
+    if m is None:
+        return None
+    name = m["name"]
+    if name.startswith("["):
+        try:
+            ipaddress.IPv6Address(name[1:-1])
+        except ValueError:
+            return None
+    return name
 
 
 def is_json(content_type: str | None) -> bool:
@@ -73,8 +87,11 @@ class Guard:
         host = headers.get("host")
         if not host:
             return 403, "no Host header"
-        if "*" not in self.hosts and host_name(host) not in self.hosts:
-            return 403, f"host {host_name(host)!r} is not allowed (--allowed-hosts)"
+        name = host_name(host)
+        if name is None:
+            return 403, f"host {clip(host)} is not a host name with an optional port"
+        if "*" not in self.hosts and name not in self.hosts:
+            return 403, f"host {clip(name)} is not allowed (--allowed-hosts)"
         websocket = scope["type"] == "websocket"
         method = scope.get("method", "GET")
         if not websocket and method in SAFE_METHODS:
@@ -83,9 +100,9 @@ class Guard:
         if origin is not None:
             own = f"{'https' if scope.get('scheme') in ('https', 'wss') else 'http'}://{host.strip().lower()}"
             if origin.strip().rstrip("/").lower() not in self.origins | {own}:
-                return 403, f"origin {origin!r} is not allowed (the console's own is {own}; --allowed-origins)"
+                return 403, f"origin {clip(origin)} is not allowed (the console's own is {clip(own)}; --allowed-origins)"
         elif headers.get("sec-fetch-site", "same-origin") not in ("same-origin", "none"):
-            return 403, f"a {headers['sec-fetch-site']} request without Origin is not allowed"
+            return 403, f"a {clip(headers['sec-fetch-site'])} request without Origin is not allowed"
         return None
 
 
