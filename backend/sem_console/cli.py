@@ -38,6 +38,8 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default: localhost,127.0.0.1,[::1], plus the --host address)")
     p.add_argument("--allowed-origins", help="origins allowed besides the console's own, comma separated "
                    "(e.g. https://console.example.org behind a reverse proxy)")
+    p.add_argument("--forwarded-allow-ips", help="addresses of reverse proxies whose X-Forwarded-For/-Proto are trusted, "
+                   "comma separated (default: none; the client address is the connection's)")
     p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
@@ -81,6 +83,10 @@ def main(argv: list[str] | None = None) -> int:
 
     uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
                 ws_ping_interval=20, ws_ping_timeout=20,
+                # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on 127.0.0.1,
+                # which could then pick its own client address (the token slow-down, the audit's client)
+                proxy_headers=bool(settings.forwarded_allow_ips.strip()),
+                forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
                 ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
     return 0
 

@@ -150,6 +150,22 @@ def test_tokens_file_bad_tokens_slowed_down_and_audited(sim, console, tmp_path: 
     assert [a["operator"] for a in trail if a["outcome"] == "accepted"] == ["carol", "bob", "alice"]
 
 
+def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
+    """Any local process can send X-Forwarded-For: trusted by default, it would pick its own client
+    address past the slow-down of wrong tokens and into the audit."""
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    url = f"{c.url}/api/providers/{V1}/gps-fix"
+    statuses = [httpx.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
+                for i in range(FREE_FAILURES + 1)]
+    assert statuses == [401] * FREE_FAILURES + [429]  # one client, whatever it claims
+    assert {a["client"] for a in audit(c)} == {"127.0.0.1"}
+    c.stop()
+    c = console("--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})  # behind a proxy on this host
+    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={},
+                      headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"}).status_code == 401
+    assert audit(c)[0]["client"] == "10.9.9.9"
+
+
 def test_auth_reads_need_a_token_for_rest_and_websocket(sim, console, tmp_path: Path) -> None:
     sim()
     c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})

@@ -45,6 +45,8 @@ class Settings(BaseSettings):
                                "('*' accepts any); the --host address is added when it is a concrete address")
     allowed_origins: str = Field("", description="origins allowed beside the console's own (e.g. a reverse proxy's), "
                                  "comma separated, such as https://console.example.org")
+    forwarded_allow_ips: str = Field("", description="addresses of reverse proxies whose X-Forwarded-For and "
+                                     "X-Forwarded-Proto are trusted, comma separated (default: none, the headers are ignored)")
     tls_certfile: Path | None = Field(None, description="PEM certificate (chain): serve HTTPS and WSS")
     tls_keyfile: Path | None = Field(None, description="PEM private key of tls_certfile")
 
