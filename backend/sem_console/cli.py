@@ -42,6 +42,9 @@ def build_parser() -> argparse.ArgumentParser:
                    "comma separated (default: none; the client address is the connection's)")
     p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
+    p.add_argument("--audit-max-rows", type=int, help="the audit trail keeps this many newest entries (default: 100000)")
+    p.add_argument("--audit-refusals-per-minute", type=int, help="refused requests of one client address logged and "
+                   "audited per minute; further ones that minute are only counted (default: 30)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")

@@ -21,7 +21,7 @@ from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
-from test_console import V1, gps_fix_executing, provider_ready, wait_until
+from test_console import V1, gps_fix_executing, provider_ready, wait_command, wait_until
 
 EVIL = "http://evil.example"
 TOKENS = "# operators of the test console\nalice:s3cret\n\nbob:t0k:en\n"
@@ -101,7 +101,7 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
     assert trail == sorted(trail, key=lambda a: -a["id"]) and all(a["at"] > 0 and a["client"] == "127.0.0.1" for a in trail)
     assert [a["id"] for a in audit(c)[1:3]] == [a["id"] for a in httpx.get(f"{c.url}/api/audit?limit=2&offset=1").json()]
     out = c.stop()
-    assert "refused POST" in out and "origin 'http://evil.example' is not allowed" in out and "refused WEBSOCKET /ws" in out
+    assert "refused POST" in out and "origin 'http://evil.example' is not allowed" in out and "refused WEBSOCKET '/ws'" in out
 
 
 def test_allowed_hosts_and_origins_for_a_reverse_proxy(sim, console) -> None:
@@ -116,6 +116,74 @@ def test_allowed_hosts_and_origins_for_a_reverse_proxy(sim, console) -> None:
                       headers={**proxied, "Origin": "https://other.example.org"}).status_code == 403
     assert ws_handshake(c.port, Host="console.example.org", Origin="https://console.example.org") == 101
     assert ws_handshake(c.port, Host="console.example.org", Origin="https://other.example.org") == 403
+
+
+def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
+    """A refusal costs its sender nothing: only command requests are recorded, the table keeps its
+    newest rows, and what a client sent is logged escaped and cut."""
+    # (at info uvicorn logs each path in full: kept short enough for the test's pipe)
+    c = console("--log-level", "info", env={"SEM_AUDIT_MAX_ROWS": "10", "SEM_AUDIT_REFUSALS_PER_MINUTE": "1000"})
+    forged = "/api/x%0aFORGED-LINE%0d" + "a" * 400
+    for _ in range(20):  # no command route: logged only
+        assert httpx.post(c.url + forged, json={}, headers={"Origin": EVIL}).status_code == 403
+    assert audit(c) == []
+    long_id = "b" * 400
+    for _ in range(20):  # a command route (its id is not even a UUID): recorded, within the table's bound
+        assert httpx.post(f"{c.url}/api/providers/{long_id}/gps-fix", json={}, headers={"Origin": EVIL + "/" + "c" * 7000}).status_code == 403
+    trail = audit(c)
+    assert len(trail) == 10 and trail[0]["id"] - trail[-1]["id"] == 9 and trail[0]["id"] >= 20
+    assert all(len(a["path"]) <= 200 and len(a["origin"]) <= 200 and len(a["reason"]) <= 600 for a in trail)
+    out = c.stop()
+    lines = [line for line in out.splitlines() if "sem-console.audit" in line]
+    assert len(lines) == 40 and all(len(line) < 800 for line in lines), max(map(len, lines))
+    assert sum(" INFO refused POST '/api/x\\nFORGED-LINE\\r" in line for line in lines) == 20
+    assert sum(" WARNING refused POST '/api/providers/bbbb" in line for line in lines) == 20
+    assert not any(line.startswith("FORGED-LINE") for line in out.splitlines())
+
+
+def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_route(sim, console) -> None:
+    sim()
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", "SEM_AUDIT_REFUSALS_PER_MINUTE": "5"})
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    alice = {"Authorization": "Bearer s3cret"}
+    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).status_code == 201
+    assert httpx.get(f"{c.url}/api/operator").status_code == 401  # no token on a read: logged, not recorded
+    assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer nope"}).status_code == 401  # the sign-in check
+    for _ in range(30):  # wrong tokens, then the slow-down's 429s: one client
+        assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"}).status_code in (401, 429)
+    trail = audit(c, **alice)
+    assert [(a["outcome"], a["status"], a["method"]) for a in reversed(trail)] == \
+        [("accepted", 201, "POST"), ("refused", 401, "GET")] + [("refused", 401, "POST")] * 3 + [("rate-limited", 401, "POST")]
+    assert trail[-2]["path"] == "/api/operator" and trail[-2]["reason"] == "the operator token is not valid"
+    assert "more than 5 refusals from 127.0.0.1 within a minute" in trail[0]["reason"]
+    out = c.stop()
+    assert "refused GET '/api/operator' from 127.0.0.1 (origin None): 401 'the operator token is not valid'" in out
+    assert out.count("refused POST") == 4 and "more than 5 refusals from 127.0.0.1 within a minute" in out
+
+
+def test_an_operators_refused_commands_are_recorded(sim, console) -> None:
+    """Every command request, accepted or refused: a bad body (422), an unknown vehicle or command
+    (404), a finished command (409), with the operator's name."""
+    sim()
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    provider_ready(c.url, V1, {"InertialSensorReport"})
+    alice = {"Authorization": "Bearer s3cret"}
+    done = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=alice).json()["sessionId"]
+    wait_command(c.url, done)
+    unknown = "00000000-0000-0000-0000-000000000001"
+    for method, path, body, status in (("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422),
+                                       ("POST", f"/api/providers/{V1}/gps-fix", {"extra": 1}, 422),
+                                       ("POST", f"/api/providers/{unknown}/gps-fix", {}, 404),
+                                       ("DELETE", f"/api/commands/{unknown}", None, 404),
+                                       ("DELETE", f"/api/commands/{done}", None, 409)):
+        r = httpx.request(method, c.url + path, json=body, headers=alice)
+        assert r.status_code == status, (method, path, r.text)
+    trail = list(reversed(audit(c)))
+    assert [(a["outcome"], a["status"], a["method"], a["operator"]) for a in trail] == [("accepted", 201, "POST", "alice")] + [
+        ("refused", s, m, "alice") for m, s in (("POST", 422), ("POST", 422), ("POST", 404), ("DELETE", 404), ("DELETE", 409))]
+    assert "body.state" in trail[1]["reason"] and "already finished" in trail[5]["reason"]
+    assert httpx.get(f"{c.url}/api/commands/{unknown}").status_code == 404  # a read's 404 is no refusal of a command
+    assert len(audit(c)) == 6
 
 
 # ---- operator tokens ------------------------------------------------------------------------------
@@ -145,7 +213,7 @@ def test_tokens_file_bad_tokens_slowed_down_and_audited(sim, console, tmp_path: 
     assert httpx.get(f"{c.url}/api/providers").status_code == 200  # reads stay open without --auth-reads
     trail = audit(c)
     refused = [a for a in trail if a["outcome"] == "refused"]
-    assert [a["status"] for a in refused] == [429] + [401] * FREE_FAILURES
+    assert [(a["status"], a["method"]) for a in refused] == [(429, "GET"), (429, "POST")] + [(401, "POST")] * FREE_FAILURES
     assert refused[-1]["reason"] == "the operator token is not valid" and refused[-1]["operator"] is None
     assert [a["operator"] for a in trail if a["outcome"] == "accepted"] == ["carol", "bob", "alice"]
 

@@ -59,9 +59,11 @@ class Throttle:
 
 
 class AuthError(Exception):
-    def __init__(self, status: int, detail: str, retry_after: int | None = None) -> None:
+    """`audit`: a wrong token or the slow-down (recorded in the audit on any route), not a missing token."""
+
+    def __init__(self, status: int, detail: str, retry_after: int | None = None, audit: bool = True) -> None:
         super().__init__(detail)
-        self.status, self.detail, self.retry_after = status, detail, retry_after
+        self.status, self.detail, self.retry_after, self.audit = status, detail, retry_after, audit
 
 
 class Operators:
@@ -90,7 +92,7 @@ class Operators:
             raise AuthError(429, f"too many wrong operator tokens from {client}: retry in {math.ceil(wait)} s",
                             math.ceil(wait))
         if not token:
-            raise AuthError(401, "an operator token is required: Authorization: Bearer <token>")
+            raise AuthError(401, "an operator token is required: Authorization: Bearer <token>", audit=False)
         name = self.lookup(token)
         if name is None:
             self.throttle.failed(client, now)

@@ -28,15 +28,21 @@ ConsoleDep = Annotated[Console, Depends(get_console)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 
 
+class TokenRefused(HTTPException):
+    """401/429 of the token check; `audit`: a wrong token or the slow-down, recorded on any route (see api/audit.py)."""
+
+    def __init__(self, e: AuthError) -> None:
+        headers = {"WWW-Authenticate": "Bearer"} if e.status == 401 else {"Retry-After": str(e.retry_after)}
+        super().__init__(e.status, e.detail, headers=headers)
+        self.audit = e.audit
+
+
 def _authenticate(request: Request, credentials: HTTPAuthorizationCredentials | None) -> str:
     operators: Operators = request.app.state.operators
     try:
         return operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None)
     except AuthError as e:
-        headers = {"WWW-Authenticate": "Bearer"} if e.status == 401 else {"Retry-After": str(e.retry_after)}
-        if request.method not in ("GET", "HEAD", "OPTIONS"):
-            audit.record(request.scope, "refused", e.status, e.detail)
-        raise HTTPException(e.status, e.detail, headers=headers) from None
+        raise TokenRefused(e) from None  # logged and recorded by the app's exception handler
 
 
 async def require_operator(request: Request, credentials: BearerDep) -> None:
@@ -58,8 +64,9 @@ OperatorDep = Annotated[str | None, Depends(current_operator)]
 
 
 async def get_auditor(request: Request) -> Callable[[int, str, str | None], None]:
-    """Records an accepted command request: (HTTP status, sessionId, operator)."""
-    return lambda status, session, operator: audit.record(request.scope, "accepted", status, "accepted", operator, session)
+    """Records an accepted command request: (HTTP status, sessionId, operator); refused ones are
+    recorded by the app's exception handlers."""
+    return lambda status, session, operator: audit.auditor(request.scope).accepted(request.scope, status, operator, session)
 
 
 AuditDep = Annotated[Callable[[int, str, str | None], None], Depends(get_auditor)]

@@ -10,15 +10,14 @@
   `Content-Type: application/json`: a page can send a cross-site "simple" request (one without
   a CORS preflight) only as text/plain, form or multipart, never as JSON.
 
-A refused request gets a 403 (415 for the content type) with a `detail` (/ws: a bare 403), a log line and, when it
-would have changed state, an entry in the audit trail.
+A refused request gets a 403 (415 for the content type) with a `detail` (/ws: a bare 403), a log line and, for
+a command request, an entry in the audit trail (both bounded: see api/audit.py).
 """
 
 from __future__ import annotations
 
 import ipaddress
 import json
-import logging
 import re
 from email.message import Message
 
@@ -30,7 +29,6 @@ from sem_console.api import audit
 from sem_console.api.audit import clip
 from sem_console.core.config import Settings
 
-log = logging.getLogger("sem-console.guard")
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 
 
@@ -77,10 +75,7 @@ class Guard:
             await self.app(scope, receive, send)
             return
         status, reason = refusal
-        method = scope.get("method", "WEBSOCKET") if scope["type"] == "http" else "WEBSOCKET"
-        log.warning("refused %s %s from %s: %s", method, scope["path"], audit.client_of(scope), reason)
-        if scope["type"] == "http" and method not in SAFE_METHODS:
-            audit.record(scope, "refused", status, reason)
+        audit.auditor(scope).refused(scope, status, reason)  # recorded when it is a command request
         await refuse(scope, send, status, reason)
 
     def refusal(self, scope: Scope, headers: Headers) -> tuple[int, str] | None:
@@ -110,10 +105,7 @@ async def require_json(request: Request) -> None:
     """Dependency of the command routes: a POST must say Content-Type: application/json (checked
     after routing, so a POST to a route that has none is still a 405)."""
     if request.method == "POST" and not is_json(request.headers.get("content-type")):
-        reason = "a POST needs Content-Type: application/json and a JSON body (e.g. {})"
-        log.warning("refused POST %s from %s: %s", request.url.path, audit.client_of(request.scope), reason)
-        audit.record(request.scope, "refused", 415, reason)
-        raise HTTPException(415, reason)
+        raise HTTPException(415, "a POST needs Content-Type: application/json and a JSON body (e.g. {})")
 
 
 async def refuse(scope: Scope, send: Send, status: int, detail: str) -> None:

@@ -40,6 +40,10 @@ class Settings(BaseSettings):
     operator_tokens_file: Path | None = Field(None, description="one 'name:token' per line (# comments, blank lines)")
     auth_reads: bool = Field(False, description="reads (REST GETs and /ws) need an operator token too")
 
+    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries")
+    audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
+                                           "recorded per minute; the rest of the minute are counted (see api/audit.py)")
+
     # Requests from other sites (see README, Security)
     allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated "
                                "('*' accepts any); the --host address is added when it is a concrete address")

@@ -5,7 +5,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
-import logging
 import time
 from typing import Any
 
@@ -18,7 +17,6 @@ from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
 
 router = APIRouter()
-log = logging.getLogger("sem-console.ws")
 
 
 @router.get("/api/ws-schema", tags=["meta"])
@@ -35,7 +33,7 @@ async def websocket(ws: WebSocket) -> None:
         try:
             ws.app.state.operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])))
         except AuthError as e:
-            log.warning("refused /ws from %s: %s", audit.client_of(ws.scope), e.detail)
+            audit.auditor(ws.scope).refused(ws.scope, e.status, e.detail, audit=e.audit)
             await refuse(ws.scope, ws.send, e.status, e.detail)
             return
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
