@@ -234,6 +234,34 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     assert audit(c)[0]["client"] == "10.9.9.9"
 
 
+def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_address(sim, console) -> None:
+    """Every local process is 127.0.0.1: wrong tokens from one of them slow down that address, but
+    not a client that signed in with a good token before (its device cookie)."""
+    sim()
+    c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    alice = {"Authorization": "Bearer s3cret"}
+    with httpx.Client(base_url=c.url) as operator:
+        r = operator.get("/api/operator", headers=alice)  # the dashboard's sign-in
+        assert r.status_code == 200 and "httponly" in r.headers["set-cookie"].lower() and "samesite=strict" in r.headers["set-cookie"].lower()
+        device = operator.cookies["sem-console-device"]
+        statuses = [httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
+                    for _ in range(FREE_FAILURES + 1)]
+        assert statuses == [401] * FREE_FAILURES + [429]
+        assert httpx.get(f"{c.url}/api/operator", headers=alice).status_code == 429  # the address waits, whatever token it sends
+        assert httpx.get(f"{c.url}/api/operator", headers=alice, cookies={"sem-console-device": device[:-1] + "0"}).status_code == 429
+        wait_until(lambda: operator.get(f"/api/providers/{V1}", headers=alice).status_code == 200, 20, "the vehicle")
+        assert operator.post(f"/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["operator"] == "alice"
+        good = "bearer." + base64.urlsafe_b64encode(b"s3cret").decode().rstrip("=")
+        assert ws_refused(c.ws_url, subprotocols=["sem-console", good]) == 403  # type: ignore[list-item]
+        with connect(c.ws_url, open_timeout=5, subprotocols=["sem-console", good],  # type: ignore[list-item]
+                     additional_headers={"Cookie": f"sem-console-device={device}"}) as ws:
+            assert '"snapshot"' in ws.recv(timeout=5)
+        # the cookie is no free pass: wrong tokens with it slow down that device
+        statuses = [operator.get("/api/operator", headers={"Authorization": "Bearer guess"}).status_code for _ in range(FREE_FAILURES + 1)]
+        assert statuses == [401] * FREE_FAILURES + [429]
+        assert operator.get("/api/operator", headers=alice).status_code == 429
+
+
 def test_auth_reads_need_a_token_for_rest_and_websocket(sim, console, tmp_path: Path) -> None:
     sim()
     c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})

@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Annotated, Callable
 
-from fastapi import Depends, HTTPException, Query, Request
+from fastapi import Depends, HTTPException, Query, Request, Response
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
 from sem_console.api import audit
-from sem_console.api.auth import AuthError, Operators
+from sem_console.api.auth import DEVICE_COOKIE, AuthError, Operators
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 
@@ -37,22 +37,29 @@ class TokenRefused(HTTPException):
         self.audit = e.audit
 
 
-def _authenticate(request: Request, credentials: HTTPAuthorizationCredentials | None) -> str:
+def _authenticate(request: Request, response: Response, credentials: HTTPAuthorizationCredentials | None) -> str:
+    """The operator's name; a client without a valid device cookie gets one (see api/auth.py)."""
     operators: Operators = request.app.state.operators
+    device = operators.device(request.cookies.get(DEVICE_COOKIE))
     try:
-        return operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None)
+        name = operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None,
+                                      device=device)
     except AuthError as e:
         raise TokenRefused(e) from None  # logged and recorded by the app's exception handler
+    if device is None:
+        response.set_cookie(DEVICE_COOKIE, operators.new_device(), httponly=True, samesite="strict",
+                            secure=request.url.scheme == "https")
+    return name
 
 
-async def require_operator(request: Request, credentials: BearerDep) -> None:
+async def require_operator(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the command routes when the console has operator tokens."""
-    request.state.operator = _authenticate(request, credentials)
+    request.state.operator = _authenticate(request, response, credentials)
 
 
-async def require_reader(request: Request, credentials: BearerDep) -> None:
+async def require_reader(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the read routes with --auth-reads."""
-    _authenticate(request, credentials)
+    _authenticate(request, response, credentials)
 
 
 async def current_operator(request: Request) -> str | None:

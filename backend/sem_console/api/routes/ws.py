@@ -12,7 +12,7 @@ from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import ValidationError
 
 from sem_console.api import audit
-from sem_console.api.auth import WS_PROTOCOL, AuthError, ws_token
+from sem_console.api.auth import DEVICE_COOKIE, WS_PROTOCOL, AuthError, ws_token
 from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
 
@@ -31,7 +31,9 @@ async def websocket(ws: WebSocket) -> None:
     console = ws.app.state.console
     if ws.app.state.settings.auth_reads:
         try:
-            ws.app.state.operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])))
+            operators = ws.app.state.operators
+            operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])),
+                                   device=operators.device(ws.cookies.get(DEVICE_COOKIE)))
         except AuthError as e:
             audit.auditor(ws.scope).refused(ws.scope, e.status, e.detail, audit=e.audit)
             await refuse(ws.scope, ws.send, e.status, e.detail)
