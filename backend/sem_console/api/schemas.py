@@ -91,7 +91,8 @@ class ValidationProblem(_Model):
 class AuditEntry(_Model):
     id: int
     at: float = Field(description="UTC seconds since the epoch")
-    outcome: Literal["accepted", "refused"]
+    outcome: Literal["accepted", "refused", "rate-limited"] = Field(
+        description="rate-limited: refused, and the client's further refusals this minute are not recorded")
     status: int = Field(description="the HTTP status answered")
     method: str
     path: str

@@ -30,7 +30,7 @@ TICK = 0.2
 class Console:
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
-        self.store = Store(settings.db_path)
+        self.store = Store(settings.db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)

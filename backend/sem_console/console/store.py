@@ -30,7 +30,8 @@ AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin"
 
 
 class Store:
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, audit_max_rows: int = 100_000) -> None:
+        self.audit_max_rows = audit_max_rows
         path.parent.mkdir(parents=True, exist_ok=True)
         self.db = sqlite3.connect(path, check_same_thread=False, isolation_level=None)
         self.db.row_factory = sqlite3.Row
@@ -94,9 +95,12 @@ class Store:
         return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
 
     def add_audit(self, entry: dict[str, Any]) -> None:
-        """One command request, accepted or refused (keys: AUDIT_COLUMNS)."""
-        self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",
-                        tuple(entry.get(k) for k in AUDIT_COLUMNS))
+        """One entry (keys: AUDIT_COLUMNS); the table keeps the newest audit_max_rows. Ids count up without
+        gaps (AUTOINCREMENT, never deleted but from the old end), so the prune is one range delete on the key."""
+        cur = self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",
+                              tuple(entry.get(k) for k in AUDIT_COLUMNS))
+        assert cur.lastrowid is not None
+        self.db.execute("DELETE FROM audit WHERE id <= ?", (cur.lastrowid - self.audit_max_rows,))
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""

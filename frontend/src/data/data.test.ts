@@ -1,6 +1,6 @@
-import { describe, expect, it } from "vitest";
+import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Command, ServerMessage } from "../api/types";
-import { Store, backoff } from "./connection";
+import { Connection, Store, backoff } from "./connection";
 import { HISTORY_SECONDS, dismiss, initialState, reduce, report, select, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -118,5 +118,66 @@ describe("store and connection", () => {
 
   it("backs off exponentially up to a ceiling", () => {
     expect([1, 2, 3, 4, 5, 6, 10].map(backoff)).toEqual([500, 1000, 2000, 4000, 8000, 10000, 10000]);
+  });
+
+  describe("sign-out when reads need a token", () => {
+    // The browser's WebSocket as far as Connection uses it: the test plays the console's side.
+    class FakeSocket {
+      static all: FakeSocket[] = [];
+      onmessage: ((ev: { data: string }) => void) | null = null;
+      onclose: (() => void) | null = null;
+      onerror: (() => void) | null = null;
+      closed = false;
+      constructor(readonly url: string, readonly protocols?: string[]) {
+        FakeSocket.all.push(this);
+      }
+      close(): void {
+        if (this.closed) return;
+        this.closed = true;
+        queueMicrotask(() => this.onclose?.());
+      }
+      receive(msg: ServerMessage): void {
+        this.onmessage?.({ data: JSON.stringify(msg) });
+      }
+    }
+    afterEach(() => {
+      vi.unstubAllGlobals();
+      FakeSocket.all = [];
+    });
+
+    it("stops in a clear state, keeps the selection and shows nothing of the vehicles, even from a late message", async () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      const store = new Store(P);
+      store.update((s) => ({ ...s, readAuthRequired: true, authRequired: true }));
+      const conn = new Connection("ws://console/ws", store, () => ["sem-console", "bearer.dG9rZW4"]);
+      const states: string[] = [];
+      conn.subscribe(() => states.push(conn.getState()));
+      conn.start();
+      const ws = FakeSocket.all[0];
+      expect(ws.protocols).toEqual(["sem-console", "bearer.dG9rZW4"]);
+      ws.receive(snapshot());
+      expect(conn.getState()).toBe("live");
+      expect(Object.keys(store.getState().providers)).toEqual([P]);
+
+      conn.stop(); // the operator signed out
+      ws.receive(snapshot()); // still in flight on the closed socket
+      store.flush();
+      await Promise.resolve(); // the close event
+      expect(ws.closed).toBe(true);
+      expect(conn.getState()).toBe("signed-out");
+      const s = store.getState();
+      expect(s.providers).toEqual({});
+      expect(s.commands).toEqual({});
+      expect(s.consoleId).toBe(null);
+      expect(s.selected).toBe(P);
+      expect(s.readAuthRequired).toBe(true);
+      expect(FakeSocket.all).toHaveLength(1); // no reconnect
+
+      conn.restart(); // signed in again
+      expect(conn.getState()).toBe("connecting");
+      FakeSocket.all[1].receive(snapshot());
+      expect(conn.getState()).toBe("live");
+      expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
   });
 });

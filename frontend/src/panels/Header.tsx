@@ -4,7 +4,7 @@ import { setToken, useToken } from "../data/auth";
 import { useConnectionState, useNow, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 
-const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)" };
+const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
 
 export function Header() {
   const conn = useConnectionState();
