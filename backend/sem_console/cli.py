@@ -45,6 +45,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--audit-max-rows", type=int, help="the audit trail keeps this many newest entries (default: 100000)")
     p.add_argument("--audit-refusals-per-minute", type=int, help="refused requests of one client address logged and "
                    "audited per minute; further ones that minute are only counted (default: 30)")
+    p.add_argument("--record", type=Path, metavar="DIR", help="record every SEM sample to DIR/<UTC start>.mcap from the start "
+                   "(the dashboard's record control and POST /api/recordings record there too)")
+    p.add_argument("--recordings-dir", type=Path, help="where recordings go without --record (default: var/recordings)")
+    p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
+    p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")

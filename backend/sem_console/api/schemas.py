@@ -134,6 +134,31 @@ class Metrics(_Model):
     commandsInMemory: int
 
 
+class RecordingStatus(_Model):
+    state: Literal["off", "recording", "failed"] = Field(description="failed: the recording stopped on an error "
+                                                                     "(e.g. a full disk), see `error`")
+    directory: str = Field(description="where the recordings are written")
+    file: str | None = Field(description="the file being written (recording), or the last one written")
+    startedAt: float | None = Field(description="when this recording started, UTC seconds (null unless recording)")
+    messages: int = Field(description="messages written by this recording (all its files)")
+    dropped: int = Field(description="samples dropped because the writer fell behind (its queue was full)")
+    error: str | None = Field(description="why the recording stopped, when it failed")
+
+
+class RecordingFile(_Model):
+    name: str = Field(description="<UTC start time>.mcap, e.g. 20261122T101530.123Z.mcap")
+    size: int = Field(description="bytes")
+    start: float = Field(description="UTC seconds of the first message (of the file's name while it is written)")
+    end: float | None = Field(description="UTC seconds of the last message; null while recording or when cut short")
+    state: Literal["recording", "complete", "incomplete"] = Field(
+        description="incomplete: it has no MCAP summary (the console stopped on an error or was killed); "
+                    "MCAP readers still read its messages")
+
+
+class RecordingRequest(_Model):
+    action: Literal["start", "stop"]
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
@@ -142,6 +167,7 @@ class SnapshotMessage(_Model):
     authRequired: bool
     providers: list[ProviderDetail]
     commands: list[Command]
+    recording: RecordingStatus
 
 
 class ReportMessage(_Model):
@@ -169,6 +195,13 @@ class TransitionMessage(_Model):
     command: Command
 
 
+class RecordingMessage(_Model):
+    """The recording started, stopped, rolled over to a new file, or failed."""
+
+    type: Literal["recording"]
+    recording: RecordingStatus
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -180,7 +213,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, ErrorMessage, PongMessage],
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ErrorMessage,
+          PongMessage],
     Field(discriminator="type"),
 ]
 

@@ -22,6 +22,7 @@ from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
+from sem_console.recording.recorder import Recorder, RecordingError
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -38,7 +39,10 @@ class Console:
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}
         self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
                                  lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
+        self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
+                                 settings.record_queue, self._recording_changed)
         self.ingest: Ingest | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
@@ -47,8 +51,13 @@ class Console:
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
-        loop = asyncio.get_running_loop()
-        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval)
+        loop = self._loop = asyncio.get_running_loop()
+        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder)
+        if self.settings.record is not None:
+            try:
+                await asyncio.to_thread(self.recorder.start)
+            except RecordingError as e:
+                log.error("%s", e)
         resumed = self.commands.startup()
         if resumed:
             log.info("resumed following %d commands", len(resumed))
@@ -73,6 +82,7 @@ class Console:
             self._ticker.cancel()
         if self.ingest:
             await asyncio.to_thread(self.ingest.stop)
+        await asyncio.to_thread(self.recorder.stop)
         if self._sim:
             thread, stop = self._sim
             stop[0] = True
@@ -169,6 +179,16 @@ class Console:
 
     def _emit(self, message: dict[str, Any]) -> None:
         self.hub.publish(message)
+        self.recorder.on_message(message)
+
+    def _recording_changed(self, status: dict[str, Any]) -> None:
+        """From any thread: the recording started, stopped, rolled over or failed."""
+        loop = self._loop
+        if loop is not None:
+            try:
+                loop.call_soon_threadsafe(self.hub.publish, {"type": "recording", "recording": status})
+            except RuntimeError:  # the loop has closed (shutdown)
+                pass
 
     # ---- queries and commands (REST, WebSocket) -----------------------------------------
     def provider(self, provider_id: uuid.UUID) -> Provider | None:
@@ -184,6 +204,7 @@ class Console:
             "authRequired": bool(self.settings.operators()),
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
+            "recording": self.recorder.status(),
         }
 
     def metrics(self) -> dict[str, Any]:

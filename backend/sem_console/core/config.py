@@ -34,6 +34,15 @@ class Settings(BaseSettings):
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
 
+    # Recording to MCAP (see README, Recording)
+    record: Path | None = Field(None, description="record from the start into this directory (the dashboard's and "
+                                "POST /api/recordings' recordings go there too)")
+    recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go when `record` is not set")
+    record_max_bytes: int = Field(1 << 30, ge=65_536, description="a recording file rolls over to the next at this size")
+    record_max_seconds: float = Field(3600.0, gt=0, description="a recording file rolls over to the next after this long")
+    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
+                              "beyond it they are dropped and their samples counted")
+
     # Operators: "name:token,name2:token2" and/or a file of "name:token" lines; both split at the
     # first colon (parse_token). None at all: no sign-in.
     operator_tokens: str = ""
@@ -71,6 +80,9 @@ class Settings(BaseSettings):
                     add_token(out, name, token, str(self.operator_tokens_file))
             self._operators = out
         return self._operators
+
+    def recording_dir(self) -> Path:
+        return self.record or self.recordings_dir
 
     def host_names(self) -> set[str]:
         """Host header names accepted (lower case, IPv6 in brackets); '*' in the set accepts any."""

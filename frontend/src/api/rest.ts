@@ -1,6 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { paths } from "./generated/openapi";
-import type { Command } from "./types";
+import type { Command, RecordingStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -52,4 +52,9 @@ export function setInertialSensor(providerId: string, state: InsState, token: st
 
 export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
   return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
+}
+
+/** Start or stop the console's recording to MCAP (POST /api/recordings); needs an operator token when commands do. */
+export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
+  return call<RecordingStatus>("POST", "/api/recordings", token, { action });
 }

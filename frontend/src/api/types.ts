@@ -9,6 +9,7 @@ import type {
   Transition,
   ProviderSummary,
   ProviderDetail,
+  RecordingStatus,
 } from "./generated/ws";
 
 export type {
@@ -19,6 +20,7 @@ export type {
   Transition,
   ProviderSummary,
   ProviderDetail,
+  RecordingStatus,
 };
 export type {
   GPSReportType,

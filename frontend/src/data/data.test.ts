@@ -19,6 +19,7 @@ function cmd(over: Partial<Command> = {}): Command {
 function snapshot(): ServerMessage {
   return {
     type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()],
+    recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
     providers: [{ id: P, link: "live", ageSeconds: 0, topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
       reports: { GPSReport: env({ satellites: [], numberSatellitesInView: 0 }), GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null } }],
   } as unknown as ServerMessage;
@@ -94,6 +95,19 @@ describe("reducer", () => {
     expect(trail[trail.length - 1].t - trail[0].t).toBeLessThanOrEqual(600);
     expect(s.providers[P].history.length).toBeLessThanOrEqual(HISTORY_SECONDS + 1);
     expect(s.providers[P].history.at(-1)?.used).toBe(1);
+  });
+
+  it("follows the recording and raises one alarm when it fails (a full disk)", () => {
+    const rec = { state: "recording", directory: "/rec", file: "a.mcap", startedAt: 1, messages: 0, dropped: 0, error: null } as const;
+    let s = apply([{ ...snapshot(), recording: rec } as ServerMessage]);
+    expect(s.recording?.state).toBe("recording");
+    const failed = { ...rec, state: "failed", startedAt: null, error: "recording stopped: the disk is full (/rec/a.mcap)" } as const;
+    s = apply([{ type: "recording", recording: failed }, { type: "recording", recording: failed }], s);
+    expect(s.recording?.state).toBe("failed");
+    expect(s.alerts.filter((a) => a.kind === "recording-failed").map((a) => a.text)).toEqual([failed.error]);
+    s = apply([{ type: "recording", recording: { ...rec, file: "b.mcap" } }], s);
+    expect(s.recording?.file).toBe("b.mcap");
+    expect(s.alerts.length).toBe(1);
   });
 
   it("ignores errors and pongs", () => {

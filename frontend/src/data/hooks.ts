@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command } from "../api/types";
+import type { Command, RecordingStatus } from "../api/types";
 import type { Connection, ConnectionState, Store } from "./connection";
 import type { Alert, ProviderView, State } from "./store";
 
@@ -46,6 +46,10 @@ export function useCommands(providerId: string | null): Command[] {
     () => Object.values(commands).filter((c) => !providerId || c.providerId === providerId).sort((a, b) => b.createdAt - a.createdAt),
     [commands, providerId],
   );
+}
+
+export function useRecording(): RecordingStatus | null {
+  return useSelector((s) => s.recording);
 }
 
 export function useAlerts(): Alert[] {

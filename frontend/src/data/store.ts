@@ -1,6 +1,6 @@
 // The dashboard's state and the pure reducer that applies server messages to it.
 // Unchanged parts keep their identity, so panels that select them do not re-render.
-import type { Command, LinkState, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import type { Command, LinkState, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { satelliteLabel } from "../lib/satellites";
 
@@ -31,7 +31,7 @@ export interface ProviderView {
   history: HistoryPoint[];
 }
 
-export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained";
+export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained" | "recording-failed";
 
 export interface Alert {
   id: number;
@@ -51,6 +51,7 @@ export interface State {
   commands: Record<string, Command>;
   alerts: Alert[];
   nextAlertId: number;
+  recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet).
   selected: string | null;
@@ -70,6 +71,7 @@ export const initialState: State = {
   commands: {},
   alerts: [],
   nextAlertId: 1,
+  recording: null,
   selected: null,
 };
 
@@ -160,6 +162,12 @@ function applyCommand(state: State, cmd: Command, now: number): State {
   return next;
 }
 
+function applyRecording(state: State, rec: RecordingStatus, now: number): State {
+  const next = { ...state, recording: rec };
+  const newFailure = rec.state === "failed" && rec.error !== null && (state.recording?.state !== "failed" || state.recording.error !== rec.error);
+  return newFailure ? alert(next, now, "recording-failed", "alarm", rec.error ?? "recording stopped", null) : next;
+}
+
 export function reduce(state: State, msg: ServerMessage, now: number): State {
   switch (msg.type) {
     case "snapshot": {
@@ -178,7 +186,7 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands };
+      return applyRecording({ ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands }, msg.recording, now);
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
@@ -203,6 +211,8 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       return next;
     }
+    case "recording":
+      return applyRecording(state, msg.recording, now);
     case "error":
     case "pong":
       return state;
