@@ -49,7 +49,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators())
-    app.state.auditor = auditor = Auditor(commands.writes.routes, settings.audit_refusals_per_minute)
+    app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes, settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:

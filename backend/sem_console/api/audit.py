@@ -71,8 +71,9 @@ class Auditor:
         """A request to a command route (the state-changing API routes), matched by method and path."""
         return scope["type"] == "http" and any(r.matches(scope)[0] is Match.FULL for r in self.routes)
 
-    def accepted(self, scope: Scope, status: int, operator: str | None, session_id: str) -> None:
-        _write(scope, "accepted", status, "accepted", operator, session_id)
+    def accepted(self, scope: Scope, status: int, operator: str | None, session_id: str | None,
+                 reason: str = "accepted") -> None:
+        _write(scope, "accepted", status, reason, operator, session_id)
 
     def refused(self, scope: Scope, status: int, reason: str, *, audit: bool = False, operator: str | None = None,
                 now: float | None = None) -> None:
