@@ -29,7 +29,7 @@ from sem_console.console.history import SeriesPoint, TrackPoint
 from sem_console.console.service import Console
 
 router = APIRouter(tags=["history"])
-EXT_NS = "https://github.com/sem-console/gpx-extensions/v1"  # namespace of the course/SOG extensions
+EXT_NS = "urn:sem-console:gpx-extensions:1"  # namespace of the course/SOG extensions (a name, not a location)
 UNKNOWN_PROVIDER: Responses = {404: problem("no such provider on the bus nor in the history")}
 
 
