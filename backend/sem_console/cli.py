@@ -29,6 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")
     p.add_argument("--unanswered-timeout", type=float, help="seconds without ISSUED before a command is unanswered (default: 5)")
+    p.add_argument("--track-retention-hours", type=float, help="hours of track and chart history kept per vehicle (default: 24)")
     p.add_argument("--operator-tokens", help="'name:token,...': command routes then need Authorization: Bearer <token> "
                    "(prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)")
     p.add_argument("--operator-tokens-file", type=Path, help="file of operator tokens, one 'name:token' per line")

@@ -21,7 +21,7 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN
-from sem_console.api.routes import commands, meta, providers, recordings, ws
+from sem_console.api.routes import commands, history, meta, providers, recordings, ws
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 
@@ -79,7 +79,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
     writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
     commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
-    for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (recordings.reads, reads),
+    for r, extra in ((providers.router, reads), (history.router, reads), (commands.reads, reads), (meta.reads, reads), (recordings.reads, reads),
                      (commands.writes, commands_writes), (recordings.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})

@@ -418,6 +418,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     summary = p.stdout[p.stdout.rfind("SUMMARY"):]
     print(summary)
     assert p.returncode == 0, p.stdout[-6000:]
-    operations = sum(len(ops) for ops in httpx.get(f"{c.url}/openapi.json").json()["paths"].values())
+    spec = httpx.get(f"{c.url}/openapi.json").json()
+    operations = sum(1 for path in spec["paths"].values() for method in path if method in ("get", "post", "put", "patch", "delete"))
     assert f"Tested: {operations}" in summary and " passed" in summary and "failure" not in summary, summary
     assert "Warnings:" not in summary, summary

@@ -132,6 +132,10 @@ class Metrics(_Model):
     wsClientsDropped: int
     providers: int
     commandsInMemory: int
+    historyRowsWritten: int = Field(description="track and chart points written to the database")
+    historyRowsPruned: int = Field(description="track and chart points removed for being older than the retention")
+    historyWriteSecondsMax: float = Field(description="longest batched write of track and chart points (in a worker "
+                                                      "thread, off the event loop), seconds")
 
 
 class RecordingStatus(_Model):

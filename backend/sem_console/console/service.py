@@ -15,6 +15,7 @@ from typing import Any
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.providers import REPORTS, Provider, Providers
@@ -33,6 +34,7 @@ class Console:
         self.settings = settings
         self.store = Store(settings.db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
+        self.history = History(settings.db_path, settings.track_retention_hours)
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names())
@@ -44,6 +46,7 @@ class Console:
         self.ingest: Ingest | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
+        self._history_task: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.started_at = time.monotonic()
@@ -63,6 +66,7 @@ class Console:
             log.info("resumed following %d commands", len(resumed))
         self.ingest.start()
         self._ticker = loop.create_task(self._tick_forever())
+        self._history_task = loop.create_task(self.history.run())
         if self.settings.sim:
             self._start_sim()
 
@@ -82,6 +86,9 @@ class Console:
             self._ticker.cancel()
         if self.ingest:
             await asyncio.to_thread(self.ingest.stop)
+        if self._history_task:  # writes what it still holds
+            self._history_task.cancel()
+            await asyncio.gather(self._history_task, return_exceptions=True)
         await asyncio.to_thread(self.recorder.stop)
         if self._sim:
             thread, stop = self._sim
@@ -91,6 +98,7 @@ class Console:
         self.command_writers.clear()
         self.ingest = None
         self.bus.close()
+        self.history.close()
         self.store.close()
 
     def _start_sim(self) -> None:
@@ -144,8 +152,19 @@ class Console:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
                 self.reports_applied += 1
+                self._record(p, it)
                 self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
                                   "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
+
+    def _record(self, p: Provider, it: ReportItem) -> None:
+        """Track and chart history (at most one point per vehicle and second each)."""
+        assert it.report is not None
+        if it.topic == "GPSFixReport":
+            status = p.reports.get("GPSFixStatusReport")
+            fix_valid = status["report"].get("fixValid") if status else None
+            self.history.on_fix(it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None)
+        elif it.topic == "GPSReport":
+            self.history.on_gps(it.source, it.received_at, it.report)
 
     @staticmethod
     def _envelope(it: ReportItem) -> dict[str, Any] | None:
@@ -221,6 +240,9 @@ class Console:
             "wsClientsDropped": self.hub.dropped,
             "providers": len(self.providers.by_id),
             "commandsInMemory": len(self.commands.by_session),
+            "historyRowsWritten": self.history.rows_written,
+            "historyRowsPruned": self.history.rows_pruned,
+            "historyWriteSecondsMax": round(self.history.max_write_seconds, 6),
         }
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:

@@ -33,6 +33,8 @@ class Settings(BaseSettings):
     report_interval: float = Field(0.005, ge=0, le=10, description="at most one take of report topics per this many seconds (conflation window)")
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
+    track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
+                                         "vehicle in the database (older points are pruned)")
 
     # Recording to MCAP (see README, Recording)
     record: Path | None = Field(None, description="record from the start into this directory (the dashboard's and "

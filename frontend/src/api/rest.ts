@@ -58,3 +58,23 @@ export function cancelCommand(sessionId: string, token: string | null): Promise<
 export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
   return call<RecordingStatus>("POST", "/api/recordings", token, { action });
 }
+
+type SeriesPoint = paths["/api/providers/{provider_id}/series"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
+export function series(providerId: string, since: string, token: string | null): Promise<SeriesPoint[]> {
+  return call<SeriesPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/series?since=${encodeURIComponent(since)}`, token);
+}
+
+/** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */
+export function commandPage(providerId: string, limit: number, offset: number, token: string | null): Promise<Command[]> {
+  const q = new URLSearchParams({ provider_id: providerId, limit: String(limit), offset: String(offset) });
+  return call<Command[]>("GET", `/api/commands?${q}`, token);
+}
+
+/** A file from the console (an export), fetched with the token when reads need one. */
+export async function download(url: string, token: string | null): Promise<Blob> {
+  const r = await fetch(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+  if (!r.ok) throw new ApiError(r.status, r.statusText);
+  return r.blob();
+}

@@ -1,12 +1,12 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Command, ServerMessage } from "../api/types";
 import { Connection, Store, backoff } from "./connection";
-import { HISTORY_SECONDS, dismiss, initialState, reduce, report, select, type State } from "./store";
+import { HISTORY_SECONDS, dismiss, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 
-function env(report: Record<string, unknown>, invalid: string[] = []) {
-  return { report, invalid, receivedAt: 1 };
+function env(report: Record<string, unknown>, invalid: string[] = [], receivedAt = 1) {
+  return { report, invalid, receivedAt };
 }
 
 function cmd(over: Partial<Command> = {}): Command {
@@ -85,16 +85,33 @@ describe("reducer", () => {
     expect(dismiss(s, "all").alerts.every((a) => a.dismissed)).toBe(true);
   });
 
-  it("keeps satellite trails and a bounded C/N0 history", () => {
-    const gps = (az: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
-      report: env({ satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) }) as ServerMessage;
+  it("keeps satellite trails and a bounded C/N0 history, one point per second of the console's clock", () => {
+    const gps = (az: number, at: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
+      report: env({ numberSatellitesInView: 9, satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true, antennaCarrierNoiseDensity: 40 }] }, [], at) }) as ServerMessage;
     let s = apply([snapshot()]);
-    for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000), 5000 + t);
+    for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000, 7000 + t / 2), 5000 + t);
     const trail = s.providers[P].trails.E07;
     expect(trail.length).toBeGreaterThan(10);
     expect(trail[trail.length - 1].t - trail[0].t).toBeLessThanOrEqual(600);
-    expect(s.providers[P].history.length).toBeLessThanOrEqual(HISTORY_SECONDS + 1);
-    expect(s.providers[P].history.at(-1)?.used).toBe(1);
+    const history = s.providers[P].history;
+    expect(history.length).toBe(HISTORY_SECONDS); // 2 reports a second, one kept
+    expect(history.at(-1)).toEqual({ t: 7000 + (HISTORY_SECONDS * 2 - 2) / 2, cn0: 40, used: 1, inView: 9 });
+  });
+
+  it("computes chart points as the console does and merges the console's history after a reload", () => {
+    const sats = [{ antennaCarrierNoiseDensity: 30, usedInFix: true }, { antennaCarrierNoiseDensity: 50, usedInFix: false }, { usedInFix: true }];
+    expect(historyPoint({ satellites: sats, numberSatellitesInView: 3 } as never, 5)).toEqual({ t: 5, cn0: 40, used: 2, inView: 3 });
+    expect(historyPoint({ satellites: [], numberSatellitesInView: 0 } as never, 5).cn0).toBe(null);
+    const pt = (t: number, used = 1): HistoryPoint => ({ t, cn0: 40, used, inView: 9 });
+    const live = [pt(1000.2, 7), pt(1001.1, 7)];
+    const stored = [pt(690), pt(999.5), pt(1000.0), pt(1001.9)];
+    // one per second, the live point first; older than HISTORY_SECONDS before the latest: dropped
+    expect(mergeHistory(live, stored)).toEqual([pt(999.5), pt(1000.2, 7), pt(1001.1, 7)]);
+    let s = apply([snapshot()]);
+    s = historyLoaded(s, P, stored);
+    expect(s.providers[P].history.map((p) => p.t)).toEqual([999.5, 1000.0, 1001.9]);
+    expect(historyLoaded(s, "unknown", stored)).toBe(s); // a vehicle the dashboard does not know: nothing
+    expect(historyLoaded(s, P, [])).toBe(s);
   });
 
   it("follows the recording and raises one alarm when it fails (a full disk)", () => {

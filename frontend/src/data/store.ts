@@ -16,10 +16,12 @@ export interface TrailPoint {
   t: number;
 }
 
+/** One point of the GPS chart: the same values as the console's `SeriesPoint` (GET /api/providers/{id}/series). */
 export interface HistoryPoint {
-  t: number;
-  cn0: number | null; // mean of carrierToNoise, dB-Hz
+  t: number; // UTC seconds when the console received the GPSReport (its receivedAt)
+  cn0: number | null; // mean antennaCarrierNoiseDensity of the satellites that report one, dB-Hz
   used: number | null; // satellites used in the fix
+  inView: number | null; // numberSatellitesInView
 }
 
 export interface ProviderView {
@@ -116,18 +118,45 @@ function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope,
   return next;
 }
 
-function updateHistory(p: ProviderView, now: number): HistoryPoint[] {
-  const last = p.history[p.history.length - 1];
-  if (last && now - last.t < HISTORY_STEP) return p.history;
-  const status = report(p, "GPSFixStatusReport");
-  const gps = report(p, "GPSReport");
-  const cn0s = (status?.carrierToNoise ?? []).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
-  const point: HistoryPoint = {
-    t: now,
+/** The chart values of a GPSReport received at `t` (as the console computes its series). */
+export function historyPoint(gps: ReportTypes["GPSReport"], t: number): HistoryPoint {
+  const sats = gps.satellites ?? [];
+  const cn0s = sats.map((s) => s.antennaCarrierNoiseDensity).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
+  const inView = gps.numberSatellitesInView;
+  return {
+    t,
     cn0: cn0s.length ? cn0s.reduce((a, b) => a + b, 0) / cn0s.length : null,
-    used: gps ? (gps.satellites ?? []).filter((s) => s.usedInFix === true).length : null,
+    used: sats.filter((s) => s.usedInFix === true).length,
+    inView: typeof inView === "number" && inView >= 0 ? inView : sats.length,
   };
-  return [...p.history.filter((h) => now - h.t <= HISTORY_SECONDS), point];
+}
+
+const slot = (t: number) => Math.floor(t / HISTORY_STEP);
+
+/** Points of both lists, at most one per second (`history`'s first), in time order, within
+ * HISTORY_SECONDS of the latest: live points merged with what the console kept (after a reload). */
+export function mergeHistory(history: HistoryPoint[], more: HistoryPoint[]): HistoryPoint[] {
+  const bySlot = new Map<number, HistoryPoint>();
+  for (const p of [...history, ...more]) if (Number.isFinite(p.t) && !bySlot.has(slot(p.t))) bySlot.set(slot(p.t), p);
+  const all = [...bySlot.values()].sort((a, b) => a.t - b.t);
+  const latest = all.length ? all[all.length - 1].t : 0;
+  return all.filter((p) => latest - p.t <= HISTORY_SECONDS);
+}
+
+function updateHistory(history: HistoryPoint[], env: ReportEnvelope): HistoryPoint[] {
+  const last = history[history.length - 1];
+  if (last && slot(last.t) === slot(env.receivedAt)) return history;
+  const point = historyPoint(env.report as unknown as ReportTypes["GPSReport"], env.receivedAt);
+  if (last && point.t < last.t) return mergeHistory(history, [point]);
+  return [...history.filter((h) => point.t - h.t <= HISTORY_SECONDS), point];
+}
+
+/** The console's series of a vehicle (REST), merged into the live history. */
+export function historyLoaded(state: State, providerId: string, points: HistoryPoint[]): State {
+  const before = state.providers[providerId];
+  if (!before || !points.length) return state;
+  const history = mergeHistory(before.history, points);
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, history } } };
 }
 
 function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
@@ -135,8 +164,7 @@ function applyReport(state: State, providerId: string, topic: Topic, env: Report
   const prevView = before.topics[topic];
   const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
-  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now) };
-  if (topic === "GPSFixStatusReport" || topic === "GPSReport") p = { ...p, history: updateHistory(p, now) };
+  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
   let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
   if (topic === "GPSFixStatusReport") {
     const was = report(before, "GPSFixStatusReport")?.fixValid;
