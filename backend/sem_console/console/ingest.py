@@ -152,7 +152,8 @@ class Owners:
         handle = status.last_publication_handle & _U64
         if status.current_count_change > 0:
             self._left.pop(handle, None)
-            self.learn(reader, handle)
+            if reader is not None:  # None while the reader is still being created: owner() learns it at the first take
+                self.learn(reader, handle)
         elif status.current_count_change < 0:
             self._left[handle] = time.monotonic()
 
