@@ -8,6 +8,7 @@ RUN npm run build
 
 FROM python:3.11-slim-bookworm
 WORKDIR /app
+COPY idl/ idl/
 COPY backend/ backend/
 RUN pip install --no-cache-dir ./backend
 COPY --from=dashboard /src/frontend/dist /app/frontend/dist

@@ -82,7 +82,7 @@ export async function startStack(): Promise<Stack> {
     "--state-file", join(dir, "sim.json"), "--log-level", "warning"];
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);
-  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"),
+  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"), "--recordings-dir", join(dir, "recordings"),
     "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`,
     "--aspn-lcm", `file://${join(dir, "aspn.lcm")}`, "--jaus-port", "0", "--jaus-subsystem", "7"];
   const sim = launch("sem-sim", simArgs);
@@ -146,7 +146,7 @@ export async function startGuardedConsole(token: string, args: string[] = []): P
   const stack = load();
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
-  const child = launch("sem-console", ["--port", String(port), "--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"),
+  const child = launch("sem-console", ["--port", String(port), "--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"), "--recordings-dir", join(stack.dir, "recordings"),
     "--log-level", "warning", ...args], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
   await waitHealthy(url);
   return { url, stop: () => stopPid(child.pid!, "SIGINT") };

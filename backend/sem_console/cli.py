@@ -29,6 +29,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")
     p.add_argument("--unanswered-timeout", type=float, help="seconds without ISSUED before a command is unanswered (default: 5)")
+    p.add_argument("--track-retention-hours", type=float, help="hours of track and chart history kept per vehicle (default: 24)")
     p.add_argument("--operator-tokens", help="'name:token,...': command routes then need Authorization: Bearer <token> "
                    "(prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)")
     p.add_argument("--operator-tokens-file", type=Path, help="file of operator tokens, one 'name:token' per line")
@@ -38,8 +39,18 @@ def build_parser() -> argparse.ArgumentParser:
                    "(default: localhost,127.0.0.1,[::1], plus the --host address)")
     p.add_argument("--allowed-origins", help="origins allowed besides the console's own, comma separated "
                    "(e.g. https://console.example.org behind a reverse proxy)")
+    p.add_argument("--forwarded-allow-ips", help="addresses of reverse proxies whose X-Forwarded-For/-Proto are trusted, "
+                   "comma separated (default: none; the client address is the connection's)")
     p.add_argument("--tls-certfile", type=Path, help="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     p.add_argument("--tls-keyfile", type=Path, help="PEM private key of --tls-certfile")
+    p.add_argument("--audit-max-rows", type=int, help="the audit trail keeps this many newest entries (default: 100000)")
+    p.add_argument("--audit-refusals-per-minute", type=int, help="refused requests of one client address logged and "
+                   "audited per minute; further ones that minute are only counted (default: 30)")
+    p.add_argument("--record", type=Path, metavar="DIR", help="record every SEM sample to DIR/<UTC start>.mcap from the start "
+                   "(the dashboard's record control and POST /api/recordings record there too)")
+    p.add_argument("--recordings-dir", type=Path, help="where recordings go without --record (default: var/recordings)")
+    p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
+    p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--aspn-lcm", metavar="URL", help="publish each vehicle's navigation as ASPN-23 over LCM at URL "
                    "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to write a log); off by default")
@@ -96,6 +107,10 @@ def main(argv: list[str] | None = None) -> int:
 
     uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
                 ws_ping_interval=20, ws_ping_timeout=20,
+                # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on 127.0.0.1,
+                # which could then pick its own client address (the token slow-down, the audit's client)
+                proxy_headers=bool(settings.forwarded_allow_ips.strip()),
+                forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
                 ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
     return 0
 
@@ -108,6 +123,10 @@ def start_warnings(settings: Settings) -> list[str]:
     if beyond_loopback and settings.operators() and settings.tls_certfile is None:
         out.append(f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
                    "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)")
+    if "*" in settings.host_names():
+        out.append("--allowed-hosts '*' accepts any Host header: a page under a foreign DNS name that resolves to this "
+                   "console (DNS rebinding) passes the Host and the Origin checks (without --auth-reads it reads the "
+                   "vehicles; without operator tokens it commands them): name the hosts instead")
     f = settings.operator_tokens_file
     if f is not None and f.stat().st_mode & 0o077:
         out.append(f"{f} can be read by other users of this machine (chmod 600 it)")

@@ -90,7 +90,7 @@ def working_idlc(cache: Path) -> Path:
 def _rename_same_name_enums(src: Path, dst: Path) -> None:
     """Copy ``src`` IDL tree to ``dst`` with module-named enums suffixed for idlc."""
     shutil.copytree(src, dst)
-    enum_decl = re.compile(r"module (\w+) \{\s*enum \1 \{")
+    enum_decl = re.compile(r"module (\w+) \{\s*(?://[^\n]*\n\s*)*enum \1 \{")  # comments may come between
     names: set[str] = set()
     files = sorted(dst.rglob("*.idl"))
     for f in files:
@@ -103,8 +103,10 @@ def _rename_same_name_enums(src: Path, dst: Path) -> None:
         f.write_text(text)
 
 
-def generate(out_dir: Path, cache: Path | None = None) -> list[Path]:
-    """Generate the ``UMAA`` package into ``out_dir``; return the written files."""
+def generate(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
+             extensibility: str | None = "final") -> list[Path]:
+    """Generate the ``UMAA`` package from the IDL files under ``idl_dir`` into ``out_dir``; return the
+    written files. ``extensibility``: idlc's default for types that do not say (None: idlc's own)."""
     cache = cache or Path(tempfile.gettempdir()) / "sem-console-idlc"
     idlc = working_idlc(cache)
     _orig, libs, plugin = _wheel_paths()
@@ -116,11 +118,12 @@ def generate(out_dir: Path, cache: Path | None = None) -> list[Path]:
         work_idl = Path(tmp) / "idl"
         gen = Path(tmp) / "gen"
         gen.mkdir()
-        _rename_same_name_enums(IDL_DIR, work_idl)
+        _rename_same_name_enums(idl_dir, work_idl)
+        default = ["-x", extensibility] if extensibility else []
         for f in sorted(work_idl.rglob("*.idl")):
             # The Python backend writes into the current directory (it ignores -o).
             subprocess.run(
-                [str(idlc), "-l", str(plugin), "-x", "final", "-I", str(work_idl), str(f)],
+                [str(idlc), "-l", str(plugin), *default, "-I", str(work_idl), str(f)],
                 cwd=gen, env=env, check=True, capture_output=True, text=True,
             )
         target = out_dir / "UMAA"

@@ -123,7 +123,7 @@ class ConsoleProcess(Process):
         import httpx
 
         cmd = [sys.executable, "-m", "sem_console.cli", "--port", str(self.port), "--domain", str(self.domain),
-               "--db", str(self.db), "--comms-lost-timeout", "1", "--regained-time", "1", "--unanswered-timeout", "2",
+               "--db", str(self.db), "--recordings-dir", str(self.db.parent / "recordings"), "--comms-lost-timeout", "1", "--regained-time", "1", "--unanswered-timeout", "2",
                "--log-level", "warning", *self.args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                      env={**os.environ, **self.env})

@@ -166,3 +166,19 @@ test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, lin
     { data: { commsLostTimeout: 1.5, regainedTime: 1.5, policy: "STOP_MISSION", regainedBehavior: 0 } });
   expect(restored.status()).toBe(200);
 });
+
+test("Record, then Stop: the header shows REC and the recording is listed complete", async ({ page, request }) => {
+  await open(page);
+  const control = page.getByTestId("recording");
+  await expect(control).toHaveAttribute("data-state", "off");
+  await control.getByRole("button", { name: "● Record" }).click();
+  await expect(control).toHaveAttribute("data-state", "recording");
+  await expect(page.getByTestId("recording-status")).toContainText("REC 00:0");
+  const listed = await (await request.get(`${load().url}/api/recordings`)).json();
+  expect(listed[0].state).toBe("recording");
+  await control.getByRole("button", { name: "Stop" }).click();
+  await expect(control).toHaveAttribute("data-state", "off");
+  const after = await (await request.get(`${load().url}/api/recordings`)).json();
+  expect(after[0]).toMatchObject({ name: listed[0].name, state: "complete" });
+  expect(after[0].size).toBeGreaterThan(0);
+});

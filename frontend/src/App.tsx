@@ -1,6 +1,7 @@
 import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlertsPanel } from "./panels/Alerts";
 import { CommandsPanel } from "./panels/Commands";
+import { ExportPanel } from "./panels/Export";
 import { FixPanel } from "./panels/Fix";
 import { GatewaysPanel } from "./panels/Gateways";
 import { Header } from "./panels/Header";
@@ -25,6 +26,7 @@ export function App() {
           <div className="column">
             <FixPanel />
             <InsPanel />
+            <ExportPanel />
           </div>
           <CommandsPanel />
         </main>

@@ -33,7 +33,8 @@ async function start(): Promise<void> {
       await new Promise((r) => setTimeout(r, 2000)); // the console is not up yet
     }
   }
-  if (mayConnect()) connection.start(); // else once the operator signs in
+  if (mayConnect()) connection.start();
+  else connection.stop(); // "Not signed in" until the operator signs in
 }
 void start();
 

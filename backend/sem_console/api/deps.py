@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Annotated, Callable
 
-from fastapi import Depends, HTTPException, Query, Request
+from fastapi import Depends, HTTPException, Query, Request, Response
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
 from sem_console.api import audit
-from sem_console.api.auth import AuthError, Operators
+from sem_console.api.auth import DEVICE_COOKIE, AuthError, Operators
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
@@ -29,25 +29,38 @@ ConsoleDep = Annotated[Console, Depends(get_console)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 
 
-def _authenticate(request: Request, credentials: HTTPAuthorizationCredentials | None) -> str:
-    operators: Operators = request.app.state.operators
-    try:
-        return operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None)
-    except AuthError as e:
+class TokenRefused(HTTPException):
+    """401/429 of the token check; `audit`: a wrong token or the slow-down, recorded on any route (see api/audit.py)."""
+
+    def __init__(self, e: AuthError) -> None:
         headers = {"WWW-Authenticate": "Bearer"} if e.status == 401 else {"Retry-After": str(e.retry_after)}
-        if request.method not in ("GET", "HEAD", "OPTIONS"):
-            audit.record(request.scope, "refused", e.status, e.detail)
-        raise HTTPException(e.status, e.detail, headers=headers) from None
+        super().__init__(e.status, e.detail, headers=headers)
+        self.audit = e.audit
 
 
-async def require_operator(request: Request, credentials: BearerDep) -> None:
+def _authenticate(request: Request, response: Response, credentials: HTTPAuthorizationCredentials | None) -> str:
+    """The operator's name; a client without a valid device cookie gets one (see api/auth.py)."""
+    operators: Operators = request.app.state.operators
+    device = operators.device(request.cookies.get(DEVICE_COOKIE))
+    try:
+        name = operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None,
+                                      device=device)
+    except AuthError as e:
+        raise TokenRefused(e) from None  # logged and recorded by the app's exception handler
+    if device is None:
+        response.set_cookie(DEVICE_COOKIE, operators.new_device(), httponly=True, samesite="strict",
+                            secure=request.url.scheme == "https")
+    return name
+
+
+async def require_operator(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the command routes when the console has operator tokens."""
-    request.state.operator = _authenticate(request, credentials)
+    request.state.operator = _authenticate(request, response, credentials)
 
 
-async def require_reader(request: Request, credentials: BearerDep) -> None:
+async def require_reader(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the read routes with --auth-reads."""
-    _authenticate(request, credentials)
+    _authenticate(request, response, credentials)
 
 
 async def current_operator(request: Request) -> str | None:
@@ -59,8 +72,9 @@ OperatorDep = Annotated[str | None, Depends(current_operator)]
 
 
 async def get_auditor(request: Request) -> Callable[[int, str | None, str | None], None]:
-    """Records an accepted command request: (HTTP status, sessionId or None, operator)."""
-    return lambda status, session, operator: audit.record(request.scope, "accepted", status, "accepted", operator, session)
+    """Records an accepted command request: (HTTP status, sessionId or None, operator); refused ones are
+    recorded by the app's exception handlers."""
+    return lambda status, session, operator: audit.auditor(request.scope).accepted(request.scope, status, operator, session)
 
 
 AuditDep = Annotated[Callable[[int, str | None, str | None], None], Depends(get_auditor)]

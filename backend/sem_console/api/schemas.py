@@ -113,7 +113,8 @@ class ValidationProblem(_Model):
 class AuditEntry(_Model):
     id: int
     at: float = Field(description="UTC seconds since the epoch")
-    outcome: Literal["accepted", "refused"]
+    outcome: Literal["accepted", "refused", "rate-limited"] = Field(
+        description="rate-limited: refused, and the client's further refusals this minute are not recorded")
     status: int = Field(description="the HTTP status answered")
     method: str
     path: str
@@ -164,6 +165,35 @@ class Metrics(_Model):
     wsClientsDropped: int
     providers: int
     commandsInMemory: int
+    historyRowsWritten: int = Field(description="track and chart points written to the database")
+    historyRowsPruned: int = Field(description="track and chart points removed for being older than the retention")
+    historyWriteSecondsMax: float = Field(description="longest batched write of track and chart points (in a worker "
+                                                      "thread, off the event loop), seconds")
+
+
+class RecordingStatus(_Model):
+    state: Literal["off", "recording", "failed"] = Field(description="failed: the recording stopped on an error "
+                                                                     "(e.g. a full disk), see `error`")
+    directory: str = Field(description="where the recordings are written")
+    file: str | None = Field(description="the file being written (recording), or the last one written")
+    startedAt: float | None = Field(description="when this recording started, UTC seconds (null unless recording)")
+    messages: int = Field(description="messages written by this recording (all its files)")
+    dropped: int = Field(description="samples dropped because the writer fell behind (its queue was full)")
+    error: str | None = Field(description="why the recording stopped, when it failed")
+
+
+class RecordingFile(_Model):
+    name: str = Field(description="<UTC start time>.mcap, e.g. 20261122T101530.123Z.mcap")
+    size: int = Field(description="bytes")
+    start: float = Field(description="UTC seconds of the first message (of the file's name while it is written)")
+    end: float | None = Field(description="UTC seconds of the last message; null while recording or when cut short")
+    state: Literal["recording", "complete", "incomplete"] = Field(
+        description="incomplete: it has no MCAP summary (the console stopped on an error or was killed); "
+                    "MCAP readers still read its messages")
+
+
+class RecordingRequest(_Model):
+    action: Literal["start", "stop"]
 
 
 # ---- WebSocket: server -> client ---------------------------------------------------------
@@ -175,6 +205,7 @@ class SnapshotMessage(_Model):
     providers: list[ProviderDetail]
     commands: list[Command]
     gateways: list[GatewayState]
+    recording: RecordingStatus
 
 
 class ReportMessage(_Model):
@@ -210,6 +241,13 @@ class GatewaysMessage(_Model):
     gateways: list[GatewayState]
 
 
+class RecordingMessage(_Model):
+    """The recording started, stopped, rolled over to a new file, or failed."""
+
+    type: Literal["recording"]
+    recording: RecordingStatus
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -221,7 +259,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, GatewaysMessage, ErrorMessage,
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, GatewaysMessage,
+          ErrorMessage,
           PongMessage],
     Field(discriminator="type"),
 ]

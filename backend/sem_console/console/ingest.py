@@ -19,6 +19,10 @@ applied from exactly one of them, its owner: the most reliable reader its offere
 matches, decided from that QoS when a reader first matches the writer (`Owners`). The
 copies the other readers receive are dropped undecoded. Nothing depends on timestamps
 or payloads: equal, repeated or backward source timestamps are all applied, in order.
+
+A `Tap` (the recorder) gets every sample taken from its owner reader as the raw CDR from the
+wire, before it is decoded; the command topics are read for it alone (the console's own
+commands and any other consumer's), never decoded here.
 """
 
 from __future__ import annotations
@@ -30,7 +34,7 @@ import time
 import uuid
 from dataclasses import dataclass
 from enum import Enum
-from typing import Any, Callable
+from typing import Any, Callable, Protocol
 
 from cyclonedds._clayer import ddspy_take
 from cyclonedds.core import InstanceState, Listener, Policy, Qos, WaitSet
@@ -51,6 +55,18 @@ REPORT_TOPICS = {
 }
 STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
 ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
+COMMAND_TOPICS = [s.command for s in Service]  # read for the tap only
+
+
+class Tap(Protocol):
+    """Where every sample the console takes goes too, raw (the recorder). Called on the ingest
+    threads: it must return at once. `active` is read before each call."""
+
+    active: bool
+
+    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+        """One take of a topic: (data, valid, instance state, source timestamp in ns) per sample, where data is
+        the sample's CDR with its encapsulation header (only the key when not valid)."""
 
 
 @dataclass
@@ -136,7 +152,8 @@ class Owners:
         handle = status.last_publication_handle & _U64
         if status.current_count_change > 0:
             self._left.pop(handle, None)
-            self.learn(reader, handle)
+            if reader is not None:  # None while the reader is still being created: owner() learns it at the first take
+                self.learn(reader, handle)
         elif status.current_count_change < 0:
             self._left[handle] = time.monotonic()
 
@@ -164,8 +181,8 @@ class Owners:
 
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
-                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float) -> None:
-        self.loop, self.on_reports, self.on_statuses = loop, on_reports, on_statuses
+                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None) -> None:
+        self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.report_interval = report_interval
         self.undecodable: dict[str, int] = {}
         self.incompatible: dict[str, int] = {}  # topic -> writers no reader of ours matches (see _on_incompatible)
@@ -177,7 +194,7 @@ class Ingest:
         self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
-        self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS))
+        self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS) + COMMAND_TOPICS)
         self.threads: list[threading.Thread] = []
         self._waitsets = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
@@ -229,6 +246,7 @@ class Ingest:
         that cannot be decoded costs only itself, and the copies other readers own are
         dropped undecoded, so each sample is decoded and applied once."""
         dtype = sem.spec.type
+        decode = sem not in COMMAND_TOPICS
         out: list[Any] = []
         while True:
             raw = ddspy_take(reader._ref, condition.mask, 256)  # noqa: SLF001 (DataReader.take, without its decode)
@@ -237,8 +255,14 @@ class Ingest:
                 break
             with self._counting:  # both ingest threads count
                 self.taken += len(raw)
+            tap = self.tap if self.tap is not None and self.tap.active else None
+            tapped: list[tuple[bytes, bool, int, int]] = []
             for data, info in raw:
                 if self.owners.owner(reader, info.publication_handle & _U64) not in (via, None):
+                    continue
+                if tap is not None:
+                    tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
+                if not decode:
                     continue
                 try:
                     if info.valid_data:
@@ -250,6 +274,8 @@ class Ingest:
                 except Exception as e:
                     self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
                     log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+            if tapped and tap is not None:
+                tap.on_samples(sem, tapped, time.time_ns())
             if len(raw) < 256:
                 break
         with self._counting:

@@ -16,6 +16,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
+from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
@@ -23,6 +24,7 @@ from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
+from sem_console.recording.recorder import Recorder, RecordingError
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -31,8 +33,9 @@ TICK = 0.2
 class Console:
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
-        self.store = Store(settings.db_path)
+        self.store = Store(settings.db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
+        self.history = History(settings.db_path, settings.track_retention_hours)
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
@@ -48,8 +51,12 @@ class Console:
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}
         self.commands = Commands(self.id, self.store, lambda s, x: self.command_writers[s].write(x),
                                  lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
+        self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
+                                 settings.record_queue, self._recording_changed)
         self.ingest: Ingest | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
+        self._history_task: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.started_at = time.monotonic()
@@ -57,13 +64,19 @@ class Console:
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
-        loop = asyncio.get_running_loop()
-        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval)
+        loop = self._loop = asyncio.get_running_loop()
+        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder)
+        if self.settings.record is not None:
+            try:
+                await asyncio.to_thread(self.recorder.start)
+            except RecordingError as e:
+                log.error("%s", e)
         resumed = self.commands.startup()
         if resumed:
             log.info("resumed following %d commands", len(resumed))
         self.ingest.start()
         self._ticker = loop.create_task(self._tick_forever())
+        self._history_task = loop.create_task(self.history.run())
         if self.settings.sim:
             self._start_sim()
 
@@ -83,6 +96,10 @@ class Console:
             self._ticker.cancel()
         if self.ingest:
             await asyncio.to_thread(self.ingest.stop)
+        if self._history_task:  # writes what it still holds
+            self._history_task.cancel()
+            await asyncio.gather(self._history_task, return_exceptions=True)
+        await asyncio.to_thread(self.recorder.stop)
         if self._sim:
             thread, stop = self._sim
             stop[0] = True
@@ -91,6 +108,7 @@ class Console:
         self.command_writers.clear()
         self.ingest = None
         self.bus.close()
+        self.history.close()
         self.store.close()
 
     def _start_sim(self) -> None:
@@ -147,6 +165,17 @@ class Console:
                 message = {"type": "report", "providerId": str(it.source), "topic": it.topic, "report": p.reports[it.topic]}
                 self.hub.publish(message, key=(str(it.source), it.topic))
                 self.feed.publish(message)
+                self._record(p, it)
+
+    def _record(self, p: Provider, it: ReportItem) -> None:
+        """Track and chart history (at most one point per vehicle and second each)."""
+        assert it.report is not None
+        if it.topic == "GPSFixReport":
+            status = p.reports.get("GPSFixStatusReport")
+            fix_valid = status["report"].get("fixValid") if status else None
+            self.history.on_fix(it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None)
+        elif it.topic == "GPSReport":
+            self.history.on_gps(it.source, it.received_at, it.report)
 
     @staticmethod
     def _envelope(it: ReportItem) -> dict[str, Any] | None:
@@ -181,6 +210,16 @@ class Console:
     def _emit(self, message: dict[str, Any]) -> None:
         self.hub.publish(message)
         self.feed.publish(message)
+        self.recorder.on_message(message)
+
+    def _recording_changed(self, status: dict[str, Any]) -> None:
+        """From any thread: the recording started, stopped, rolled over or failed."""
+        loop = self._loop
+        if loop is not None:
+            try:
+                loop.call_soon_threadsafe(self.hub.publish, {"type": "recording", "recording": status})
+            except RuntimeError:  # the loop has closed (shutdown)
+                pass
 
     # ---- queries and commands (REST, WebSocket) -----------------------------------------
     def provider(self, provider_id: uuid.UUID) -> Provider | None:
@@ -197,6 +236,7 @@ class Console:
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "gateways": self.gateway_states(),
+            "recording": self.recorder.status(),
         }
 
     def metrics(self) -> dict[str, Any]:
@@ -213,6 +253,9 @@ class Console:
             "wsClientsDropped": self.hub.dropped,
             "providers": len(self.providers.by_id),
             "commandsInMemory": len(self.commands.by_session),
+            "historyRowsWritten": self.history.rows_written,
+            "historyRowsPruned": self.history.rows_pruned,
+            "historyWriteSecondsMax": round(self.history.max_write_seconds, 6),
         }
 
     def set_link_config(self, p: Provider, config: LinkConfig) -> None:

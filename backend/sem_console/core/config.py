@@ -33,18 +33,35 @@ class Settings(BaseSettings):
     report_interval: float = Field(0.005, ge=0, le=10, description="at most one take of report topics per this many seconds (conflation window)")
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
+    track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
+                                         "vehicle in the database (older points are pruned)")
 
-    # Operators: "name:token,name2:token2" (a bare token is operator "operator"), and/or a file of
-    # "name:token" lines. None at all: no sign-in.
+    # Recording to MCAP (see README, Recording)
+    record: Path | None = Field(None, description="record from the start into this directory (the dashboard's and "
+                                "POST /api/recordings' recordings go there too)")
+    recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go when `record` is not set")
+    record_max_bytes: int = Field(1 << 30, ge=65_536, description="a recording file rolls over to the next at this size")
+    record_max_seconds: float = Field(3600.0, gt=0, description="a recording file rolls over to the next after this long")
+    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
+                              "beyond it they are dropped and their samples counted")
+
+    # Operators: "name:token,name2:token2" and/or a file of "name:token" lines; both split at the
+    # first colon (parse_token). None at all: no sign-in.
     operator_tokens: str = ""
     operator_tokens_file: Path | None = Field(None, description="one 'name:token' per line (# comments, blank lines)")
     auth_reads: bool = Field(False, description="reads (REST GETs and /ws) need an operator token too")
+
+    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries")
+    audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
+                                           "recorded per minute; the rest of the minute are counted (see api/audit.py)")
 
     # Requests from other sites (see README, Security)
     allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated "
                                "('*' accepts any); the --host address is added when it is a concrete address")
     allowed_origins: str = Field("", description="origins allowed beside the console's own (e.g. a reverse proxy's), "
                                  "comma separated, such as https://console.example.org")
+    forwarded_allow_ips: str = Field("", description="addresses of reverse proxies whose X-Forwarded-For and "
+                                     "X-Forwarded-Proto are trusted, comma separated (default: none, the headers are ignored)")
     tls_certfile: Path | None = Field(None, description="PEM certificate (chain): serve HTTPS and WSS")
     tls_keyfile: Path | None = Field(None, description="PEM private key of tls_certfile")
 
@@ -69,14 +86,17 @@ class Settings(BaseSettings):
         """token -> operator name, from operator_tokens and operator_tokens_file (read once).
         Raises ValueError for a file that cannot be read or a line that is not name:token."""
         if self._operators is None:
-            out = {}
-            for item in filter(None, (x.strip() for x in self.operator_tokens.split(","))):
-                name, _, token = item.rpartition(":")
-                out[token] = name or "operator"
+            out: dict[str, str] = {}
+            for n, item in enumerate(filter(None, (x.strip() for x in self.operator_tokens.split(","))), start=1):
+                add_token(out, *parse_token(item, f"operator tokens (SEM_OPERATOR_TOKENS or --operator-tokens), item {n}"))
             if self.operator_tokens_file is not None:
-                out.update(read_tokens_file(self.operator_tokens_file))
+                for token, name in read_tokens_file(self.operator_tokens_file).items():
+                    add_token(out, name, token, str(self.operator_tokens_file))
             self._operators = out
         return self._operators
+
+    def recording_dir(self) -> Path:
+        return self.record or self.recordings_dir
 
     def host_names(self) -> set[str]:
         """Host header names accepted (lower case, IPv6 in brackets); '*' in the set accepts any."""
@@ -102,19 +122,35 @@ class Settings(BaseSettings):
         return out
 
 
+def parse_token(item: str, where: str) -> tuple[str, str, str]:
+    """(name, token, where) from "name:token": the name ends at the first colon, both are stripped.
+    A token must be visible ASCII (an HTTP header carries nothing else reliably: a browser cannot
+    send other characters and Starlette reads headers as latin-1, so such a token could never match)."""
+    name, sep, token = item.partition(":")
+    name, token = name.strip(), token.strip()
+    if not sep or not name or not token:
+        raise ValueError(f"{where}: expected name:token")
+    if not all("!" <= ch <= "~" for ch in token):
+        raise ValueError(f"{where}: the token of {name!r} must be visible ASCII characters (no spaces, no accents)")
+    return name, token, where
+
+
+def add_token(out: dict[str, str], name: str, token: str, where: str) -> None:
+    if out.get(token, name) != name:
+        raise ValueError(f"{where}: {name!r} has the same token as {out[token]!r}")
+    out[token] = name
+
+
 def read_tokens_file(path: Path) -> dict[str, str]:
-    """token -> name from a file of "name:token" lines (the name ends at the first colon)."""
+    """token -> name from a file of "name:token" lines (parse_token; # comments, blank lines)."""
     try:
-        text = path.read_text()
-    except OSError as e:
-        raise ValueError(f"cannot read operator tokens file {path}: {e.strerror}") from None
-    out = {}
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as e:
+        raise ValueError(f"cannot read operator tokens file {path}: {getattr(e, 'strerror', None) or e}") from None
+    out: dict[str, str] = {}
     for n, line in enumerate(text.splitlines(), start=1):
         line = line.strip()
         if not line or line.startswith("#"):
             continue
-        name, sep, token = line.partition(":")
-        if not sep or not name.strip() or not token.strip():
-            raise ValueError(f"{path}:{n}: expected name:token")
-        out[token.strip()] = name.strip()
+        add_token(out, *parse_token(line, f"{path}:{n}"))
     return out

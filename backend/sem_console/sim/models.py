@@ -133,5 +133,5 @@ class Ins:
             return OpStatus.INIT
         if self.stage_seconds <= 0:
             return OpStatus.OPERATIONAL
-        stage = int((t - self.since) / self.stage_seconds)
+        stage = max(0, int((t - self.since) / self.stage_seconds))  # t may be a tick older than `since`
         return self.stages[stage] if stage < len(self.stages) else OpStatus.OPERATIONAL

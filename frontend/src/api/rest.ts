@@ -1,6 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { paths } from "./generated/openapi";
-import type { Command, LinkConfig } from "./types";
+import type { Command, LinkConfig, RecordingStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -68,4 +68,29 @@ export async function aspnLog(providerId: string, seconds: number, token: string
   const r = await send("GET", `/api/providers/${encodeURIComponent(providerId)}/aspn-log?seconds=${seconds}`, token);
   const named = /filename="([^"]+)"/.exec(r.headers.get("Content-Disposition") ?? "");
   return { blob: await r.blob(), filename: named ? named[1] : "aspn.lcm" };
+}
+
+/** Start or stop the console's recording to MCAP (POST /api/recordings); needs an operator token when commands do. */
+export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
+  return call<RecordingStatus>("POST", "/api/recordings", token, { action });
+}
+
+type SeriesPoint = paths["/api/providers/{provider_id}/series"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
+export function series(providerId: string, since: string, token: string | null): Promise<SeriesPoint[]> {
+  return call<SeriesPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/series?since=${encodeURIComponent(since)}`, token);
+}
+
+/** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */
+export function commandPage(providerId: string, limit: number, offset: number, token: string | null): Promise<Command[]> {
+  const q = new URLSearchParams({ provider_id: providerId, limit: String(limit), offset: String(offset) });
+  return call<Command[]>("GET", `/api/commands?${q}`, token);
+}
+
+/** A file from the console (an export), fetched with the token when reads need one. */
+export async function download(url: string, token: string | null): Promise<Blob> {
+  const r = await fetch(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+  if (!r.ok) throw new ApiError(r.status, r.statusText);
+  return r.blob();
 }

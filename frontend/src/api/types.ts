@@ -11,6 +11,7 @@ import type {
   ProviderDetail,
   GatewayState,
   LinkConfig,
+  RecordingStatus,
 } from "./generated/ws";
 
 export type {
@@ -23,6 +24,7 @@ export type {
   Transition,
   ProviderSummary,
   ProviderDetail,
+  RecordingStatus,
 };
 export type {
   GPSReportType,

@@ -3,7 +3,8 @@
 import type { ServerMessage } from "../api/types";
 import { initialState, reduce, type State } from "./store";
 
-export type ConnectionState = "connecting" | "live" | "reconnecting" | "offline";
+// signed-out: stopped because reads need a token and there is none (the store holds no vehicle data then).
+export type ConnectionState = "connecting" | "live" | "reconnecting" | "offline" | "signed-out";
 
 export const BACKOFF_MIN_MS = 500;
 export const BACKOFF_MAX_MS = 10_000;
@@ -49,6 +50,14 @@ export class Store {
     else setTimeout(flush, 50);
   }
 
+  /** Forget everything the console sent (on sign-out when reads need a token); the operator's
+   * selection and what /api/health said stay. */
+  clear(): void {
+    this.queue = [];
+    const { selected, authRequired, readAuthRequired } = this.state;
+    this.set({ ...initialState, selected, authRequired, readAuthRequired });
+  }
+
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;
@@ -86,13 +95,20 @@ export class Connection {
 
   start(): void {
     this.stopped = false;
+    this.setState("connecting");
     this.open();
   }
 
+  /** Sign-out when reads need a token: close, stay closed, and clear the store (nothing of the
+   * vehicles stays on screen; a message still in flight on the old socket is dropped). */
   stop(): void {
     this.stopped = true;
     if (this.timer) clearTimeout(this.timer);
-    this.ws?.close();
+    const old = this.ws;
+    this.ws = null;
+    old?.close();
+    this.store.clear();
+    this.setState("signed-out");
   }
 
   /** Connect afresh at once (e.g. with a new token); the old socket's close is ignored. */
@@ -103,6 +119,7 @@ export class Connection {
     old?.close();
     this.failures = 0;
     this.stopped = false;
+    this.setState("connecting");
     this.open();
   }
 
@@ -117,6 +134,7 @@ export class Connection {
     const ws = protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url);
     this.ws = ws;
     ws.onmessage = (ev: MessageEvent<string>) => {
+      if (this.ws !== ws) return; // a socket closed by stop() or restart()
       let msg: ServerMessage;
       try {
         msg = JSON.parse(ev.data) as ServerMessage;

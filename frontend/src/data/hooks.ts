@@ -1,8 +1,10 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command, GatewayState } from "../api/types";
+import { series } from "../api/rest";
+import type { Command, GatewayState, RecordingStatus } from "../api/types";
+import { useToken } from "./auth";
 import type { Connection, ConnectionState, Store } from "./connection";
-import type { Alert, ProviderView, State } from "./store";
+import { HISTORY_SECONDS, historyLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
 
 export interface DataContextValue {
   store: Store;
@@ -48,6 +50,10 @@ export function useCommands(providerId: string | null): Command[] {
   );
 }
 
+export function useRecording(): RecordingStatus | null {
+  return useSelector((s) => s.recording);
+}
+
 export function useAlerts(): Alert[] {
   return useSelector((s) => s.alerts);
 }
@@ -64,4 +70,31 @@ export function useNow(periodMs = 500): number {
 
 export function useGateways(): GatewayState[] {
   return useSelector((s) => s.gateways);
+}
+
+const NO_HISTORY: HistoryPoint[] = [];
+
+/** A vehicle's chart history: what the console kept (loaded over REST when the vehicle is selected,
+ * shown or reconnected, so a reload does not start empty), then the live points appended. */
+export function useHistory(providerId: string | null): HistoryPoint[] {
+  const { store } = useData();
+  const known = useSelector((s) => (providerId ? providerId in s.providers : false));
+  const live = useConnectionState() === "live";
+  const token = useToken();
+  useEffect(() => {
+    if (!providerId || !known || !live) return;
+    let current = true;
+    const since = new Date(Date.now() - HISTORY_SECONDS * 1000).toISOString();
+    series(providerId, since, token)
+      .then((points) => {
+        if (!current) return;
+        const loaded = points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
+        store.update((s) => historyLoaded(s, providerId, loaded));
+      })
+      .catch(() => undefined); // no history (yet): the chart fills from live data
+    return () => {
+      current = false;
+    };
+  }, [providerId, known, live, token, store]);
+  return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }

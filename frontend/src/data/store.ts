@@ -1,6 +1,6 @@
 // The dashboard's state and the pure reducer that applies server messages to it.
 // Unchanged parts keep their identity, so panels that select them do not re-render.
-import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { satelliteLabel } from "../lib/satellites";
 
@@ -16,10 +16,12 @@ export interface TrailPoint {
   t: number;
 }
 
+/** One point of the GPS chart: the same values as the console's `SeriesPoint` (GET /api/providers/{id}/series). */
 export interface HistoryPoint {
-  t: number;
-  cn0: number | null; // mean of carrierToNoise, dB-Hz
+  t: number; // UTC seconds when the console received the GPSReport (its receivedAt)
+  cn0: number | null; // mean antennaCarrierNoiseDensity of the satellites that report one, dB-Hz
   used: number | null; // satellites used in the fix
+  inView: number | null; // numberSatellitesInView
 }
 
 export interface ProviderView {
@@ -33,7 +35,7 @@ export interface ProviderView {
   history: HistoryPoint[];
 }
 
-export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained";
+export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained" | "recording-failed";
 
 export interface Alert {
   id: number;
@@ -54,6 +56,7 @@ export interface State {
   gateways: GatewayState[]; // ASPN and JAUS: on or off, messages per second, last error
   alerts: Alert[];
   nextAlertId: number;
+  recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet).
   selected: string | null;
@@ -74,6 +77,7 @@ export const initialState: State = {
   gateways: [],
   alerts: [],
   nextAlertId: 1,
+  recording: null,
   selected: null,
 };
 
@@ -123,18 +127,45 @@ function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope,
   return next;
 }
 
-function updateHistory(p: ProviderView, now: number): HistoryPoint[] {
-  const last = p.history[p.history.length - 1];
-  if (last && now - last.t < HISTORY_STEP) return p.history;
-  const status = report(p, "GPSFixStatusReport");
-  const gps = report(p, "GPSReport");
-  const cn0s = (status?.carrierToNoise ?? []).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
-  const point: HistoryPoint = {
-    t: now,
+/** The chart values of a GPSReport received at `t` (as the console computes its series). */
+export function historyPoint(gps: ReportTypes["GPSReport"], t: number): HistoryPoint {
+  const sats = gps.satellites ?? [];
+  const cn0s = sats.map((s) => s.antennaCarrierNoiseDensity).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
+  const inView = gps.numberSatellitesInView;
+  return {
+    t,
     cn0: cn0s.length ? cn0s.reduce((a, b) => a + b, 0) / cn0s.length : null,
-    used: gps ? (gps.satellites ?? []).filter((s) => s.usedInFix === true).length : null,
+    used: sats.filter((s) => s.usedInFix === true).length,
+    inView: typeof inView === "number" && inView >= 0 ? inView : sats.length,
   };
-  return [...p.history.filter((h) => now - h.t <= HISTORY_SECONDS), point];
+}
+
+const slot = (t: number) => Math.floor(t / HISTORY_STEP);
+
+/** Points of both lists, at most one per second (`history`'s first), in time order, within
+ * HISTORY_SECONDS of the latest: live points merged with what the console kept (after a reload). */
+export function mergeHistory(history: HistoryPoint[], more: HistoryPoint[]): HistoryPoint[] {
+  const bySlot = new Map<number, HistoryPoint>();
+  for (const p of [...history, ...more]) if (Number.isFinite(p.t) && !bySlot.has(slot(p.t))) bySlot.set(slot(p.t), p);
+  const all = [...bySlot.values()].sort((a, b) => a.t - b.t);
+  const latest = all.length ? all[all.length - 1].t : 0;
+  return all.filter((p) => latest - p.t <= HISTORY_SECONDS);
+}
+
+function updateHistory(history: HistoryPoint[], env: ReportEnvelope): HistoryPoint[] {
+  const last = history[history.length - 1];
+  if (last && slot(last.t) === slot(env.receivedAt)) return history;
+  const point = historyPoint(env.report as unknown as ReportTypes["GPSReport"], env.receivedAt);
+  if (last && point.t < last.t) return mergeHistory(history, [point]);
+  return [...history.filter((h) => point.t - h.t <= HISTORY_SECONDS), point];
+}
+
+/** The console's series of a vehicle (REST), merged into the live history. */
+export function historyLoaded(state: State, providerId: string, points: HistoryPoint[]): State {
+  const before = state.providers[providerId];
+  if (!before || !points.length) return state;
+  const history = mergeHistory(before.history, points);
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, history } } };
 }
 
 function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
@@ -142,8 +173,7 @@ function applyReport(state: State, providerId: string, topic: Topic, env: Report
   const prevView = before.topics[topic];
   const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
-  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now) };
-  if (topic === "GPSFixStatusReport" || topic === "GPSReport") p = { ...p, history: updateHistory(p, now) };
+  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
   let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
   if (topic === "GPSFixStatusReport") {
     const was = report(before, "GPSFixStatusReport")?.fixValid;
@@ -169,6 +199,12 @@ function applyCommand(state: State, cmd: Command, now: number): State {
   return next;
 }
 
+function applyRecording(state: State, rec: RecordingStatus, now: number): State {
+  const next = { ...state, recording: rec };
+  const newFailure = rec.state === "failed" && rec.error !== null && (state.recording?.state !== "failed" || state.recording.error !== rec.error);
+  return newFailure ? alert(next, now, "recording-failed", "alarm", rec.error ?? "recording stopped", null) : next;
+}
+
 export function reduce(state: State, msg: ServerMessage, now: number): State {
   switch (msg.type) {
     case "snapshot": {
@@ -187,7 +223,7 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways };
+      return applyRecording({ ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways }, msg.recording, now);
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
@@ -214,6 +250,8 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
     }
     case "gateways":
       return { ...state, gateways: msg.gateways };
+    case "recording":
+      return applyRecording(state, msg.recording, now);
     case "error":
     case "pong":
       return state;

@@ -3,8 +3,9 @@ import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
 import { useConnectionState, useNow, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
+import { RecordControl } from "./Recording";
 
-const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)" };
+const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
 
 export function Header() {
   const conn = useConnectionState();
@@ -33,6 +34,7 @@ export function Header() {
       </span>
       <span className="muted" title="console source GUID">{consoleId ? `console ${consoleId.slice(0, 8)}` : ""}</span>
       <span className="spacer" />
+      <RecordControl />
       {readAuthRequired && !token && (
         <span className="readonly" data-testid="sign-in-to-read">
           Sign in to see the vehicles

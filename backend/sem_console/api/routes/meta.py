@@ -30,7 +30,7 @@ async def metrics(console: ConsoleDep) -> dict[str, Any]:
 @reads.get("/audit", response_model=list[AuditEntry])
 async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
-    """Command requests, accepted and refused (wrong token, foreign origin or host, not JSON), newest first."""
+    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first (bounded: README, Security)."""
     return [entry_json(r) for r in console.store.audit(limit, offset)]
 
 

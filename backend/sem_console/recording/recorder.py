@@ -1,0 +1,349 @@
+"""Recording to MCAP: every SEM sample the console takes, raw, plus the console's own view.
+
+- **SEM topics**: one channel per DDS topic (named by the topic, e.g.
+  `UMAA::SEM::GPSStatus::GPSReport`), message encoding `cdr`: each message is the sample's CDR as
+  it came off the wire, with its 4-byte encapsulation header; `log_time` is when the console took
+  it, `publish_time` the writer's source timestamp (ns since the epoch). Schemas: `omgidl`, named
+  by the UMAA type (`schema.py`). Disposes and instances that lost their writers have no sample
+  to record: they go to the JSON channel `sem-console/instances` (topic, key CDR, source, sessionId).
+- **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
+  `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
+  events), holding the WebSocket messages of the same names (`api/schemas.py`).
+
+Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
+ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
+a bounded queue (full: the item is dropped and its samples counted); one writer thread per
+recording writes them. Any OSError (a full
+disk: ENOSPC) stops the recording with the error in its status and in the log; the console
+goes on. Chunks are flushed at least every FLUSH_SECONDS, so a crash loses at most that much.
+"""
+
+from __future__ import annotations
+
+import base64
+import datetime as dt
+import errno
+import json
+import logging
+import queue
+import re
+import threading
+import time
+import uuid
+from pathlib import Path
+from typing import Any, BinaryIO, Callable
+
+from cyclonedds.core import InstanceState
+from mcap.exceptions import McapError
+from mcap.reader import make_reader
+from mcap.writer import CompressionType, Writer
+from pydantic import BaseModel, ConfigDict, Field
+
+from sem_console import __version__
+from sem_console.api.schemas import CommandMessage, ProviderMessage, TransitionMessage
+from sem_console.dds.topics import Sem
+from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
+
+log = logging.getLogger("sem-console.recording")
+
+FLUSH_SECONDS = 2.0
+PROFILE = ""  # MCAP profile: none of the well-known ones (ros1, ros2...) applies
+NAME = re.compile(r"^\d{8}T\d{6}\.\d{3}Z(-\d+)?\.mcap$")
+
+
+class InstanceEvent(BaseModel):
+    """An instance of a SEM topic that was disposed or lost its last writer (channel `sem-console/instances`)."""
+
+    model_config = ConfigDict(extra="forbid")
+    topic: str = Field(description="the DDS topic name")
+    state: str = Field(description="'disposed' or 'noWriters'")
+    key: str = Field(description="the instance's key as received: CDR with its encapsulation header, base64")
+    source: str | None = Field(description="the key's source GUID as a UUID string")
+    sessionId: str | None = Field(description="the key's sessionID (command, status and ack topics)")
+
+
+# JSON channel -> (WebSocket message type it holds, the model of its messages)
+JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
+    "sem-console/commands": ("command", CommandMessage),
+    "sem-console/transitions": ("transition", TransitionMessage),
+    "sem-console/links": ("provider", ProviderMessage),
+    "sem-console/instances": ("instance", InstanceEvent),
+}
+_CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
+_STOP = object()
+
+
+def file_name(at: float) -> str:
+    """`DIR/<UTC start time>.mcap`, ISO 8601 basic format with milliseconds: 20261122T101530.123Z.mcap."""
+    t = dt.datetime.fromtimestamp(at, dt.timezone.utc)
+    return t.strftime("%Y%m%dT%H%M%S.") + f"{t.microsecond // 1000:03d}Z.mcap"
+
+
+def start_of(name: str) -> float:
+    return dt.datetime.strptime(name[:19], "%Y%m%dT%H%M%S.%f").replace(tzinfo=dt.timezone.utc).timestamp()
+
+
+class RecordingError(Exception):
+    """A recording that cannot start (the directory cannot be made or written)."""
+
+
+class _File:
+    """One MCAP file being written, with a channel for every SEM topic and JSON channel."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self.stream: BinaryIO = open(path, "xb")  # noqa: SIM115 (closed in close())
+        self.writer = Writer(self.stream, compression=CompressionType.ZSTD)
+        self.writer.start(profile=PROFILE, library=f"sem-console {__version__}")
+        self.channels: dict[Any, int] = {}
+        self.sequence: dict[int, int] = {}
+        for sem in Sem:
+            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode())
+            self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema)
+        for channel, (_kind, model) in JSON_CHANNELS.items():
+            schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
+            self.channels[channel] = self.writer.register_channel(channel, "json", schema)
+        self.opened = time.monotonic()
+        self.messages = 0
+
+    def add(self, key: Any, data: bytes, log_ns: int, publish_ns: int) -> None:
+        cid = self.channels[key]
+        seq = self.sequence[cid] = self.sequence.get(cid, 0) + 1
+        self.writer.add_message(cid, log_ns, data, publish_ns, seq)
+        self.messages += 1
+
+    def size(self) -> int:
+        return self.stream.tell()
+
+    def close(self) -> None:
+        try:
+            self.writer.finish()
+        finally:
+            self.stream.close()
+
+    def abandon(self) -> None:
+        try:
+            self.stream.close()
+        except OSError:
+            pass
+
+
+class Recorder:
+    """Owned by the console; `on_sample` is its `ingest.Tap`. start/stop/status run on the loop
+    (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
+
+    def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
+                 on_change: Callable[[dict[str, Any]], None] | None = None) -> None:
+        self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
+        self.queue_size = queue_size
+        self.on_change = on_change
+        self.active = False
+        self.dropped = 0
+        self.messages = 0
+        self.started_at: float | None = None
+        self.error: str | None = None
+        self._file: _File | None = None
+        self._files_written = 0
+        self._queue: queue.Queue[Any] = queue.Queue(queue_size)
+        self._thread: threading.Thread | None = None
+        self._lock = threading.Lock()  # start/stop against each other
+
+    # ---- input (ingest threads, event loop): never blocks ---------------------------------
+    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+        """One take of a topic (ingest.Tap): one queue item, however many samples."""
+        self._put((sem, samples, received_ns, len(samples)))
+
+    def on_message(self, message: dict[str, Any]) -> None:
+        """A console WebSocket message; commands, transitions and provider events are recorded."""
+        channel = _CHANNEL_OF_TYPE.get(message.get("type", ""))
+        if channel is not None and self.active:
+            self._put((channel, message, time.time_ns(), 1))
+
+    def _put(self, item: tuple[Any, Any, int, int]) -> None:
+        try:
+            self._queue.put_nowait(item)
+        except queue.Full:
+            self.dropped += item[3]
+
+    # ---- control -----------------------------------------------------------------------
+    def start(self) -> dict[str, Any]:
+        with self._lock:
+            if self.active:
+                return self.status()
+            if self._thread is not None:  # a writer that stopped on an error: it has finished
+                self._thread.join()
+            try:
+                self.directory.mkdir(parents=True, exist_ok=True)
+                first = self._open()
+            except OSError as e:
+                raise RecordingError(f"cannot record into {self.directory}: {e.strerror or e}") from None
+            self._file, self.error, self.dropped, self.messages = first, None, 0, 0
+            self.started_at = time.time()
+            self._queue = queue.Queue(self.queue_size)
+            self.active = True
+            self._thread = threading.Thread(target=self._run, args=(self._queue,), name="sem-recorder", daemon=True)
+            self._thread.start()
+            log.info("recording to %s", first.path)
+        self._changed()
+        return self.status()
+
+    def stop(self, timeout: float = 10.0) -> dict[str, Any]:
+        with self._lock:
+            thread = self._thread
+            if self.active:
+                self.active = False
+                self._queue.put(_STOP)  # blocks only while the writer drains a full queue
+            if thread is not None:
+                thread.join(timeout)
+                if not thread.is_alive():
+                    self._thread = None
+        self._changed()
+        return self.status()
+
+    def status(self) -> dict[str, Any]:
+        f = self._file
+        state = "recording" if self.active else "failed" if self.error else "off"
+        return {"state": state, "directory": str(self.directory), "file": f.path.name if f else None,
+                "startedAt": self.started_at if self.active else None, "messages": self.messages,
+                "dropped": self.dropped, "error": self.error}
+
+    def _changed(self) -> None:
+        if self.on_change is not None:
+            self.on_change(self.status())
+
+    # ---- files -------------------------------------------------------------------------
+    def _open(self) -> _File:
+        name = file_name(time.time())
+        path, n = self.directory / name, 0
+        while True:
+            try:
+                return _File(path)
+            except FileExistsError:
+                n += 1
+                path = self.directory / name.replace(".mcap", f"-{n}.mcap")
+
+    @staticmethod
+    def valid_name(name: str) -> bool:
+        """Only names the recorder makes: never a path (no '/', no '..')."""
+        return NAME.fullmatch(name) is not None
+
+    def path_of(self, name: str) -> Path | None:
+        """The recording of that name in the directory, or None."""
+        if not self.valid_name(name):
+            return None
+        path = self.directory / name
+        return path if path.is_file() else None
+
+    def current(self) -> str | None:
+        f = self._file
+        return f.path.name if f is not None and self.active else None
+
+    def list(self) -> list[dict[str, Any]]:
+        """Every recording in the directory, newest first (reads each file's summary)."""
+        if not self.directory.is_dir():
+            return []
+        current = self.current()
+        out = []
+        for path in sorted((p for p in self.directory.iterdir() if NAME.fullmatch(p.name)), reverse=True):
+            try:
+                size = path.stat().st_size
+            except OSError:
+                continue
+            start, end, state = start_of(path.name), None, "recording" if path.name == current else "incomplete"
+            if state != "recording":
+                stats = _statistics(path)
+                if stats is not None:
+                    state = "complete"
+                    if stats.message_count:
+                        start, end = stats.message_start_time / 1e9, stats.message_end_time / 1e9
+            out.append({"name": path.name, "size": size, "start": start, "end": end, "state": state})
+        return out
+
+    # ---- the writer thread ---------------------------------------------------------------
+    def _run(self, q: queue.Queue[Any]) -> None:
+        f = self._file
+        assert f is not None
+        flushed = time.monotonic()
+        try:
+            while True:
+                try:
+                    item = q.get(timeout=0.5)
+                except queue.Empty:
+                    item = None
+                if item is _STOP:
+                    break
+                if item is not None:
+                    self._write(f, *item)
+                now = time.monotonic()
+                if f.size() >= self.max_bytes or now - f.opened >= self.max_seconds:
+                    f.close()
+                    f = self._file = self._open()
+                    log.info("recording rolled over to %s", f.path)
+                    flushed = now
+                    self._changed_from_thread()
+                elif now - flushed >= FLUSH_SECONDS:
+                    f.writer.flush()
+                    flushed = now
+            f.close()
+            log.info("recording stopped: %s (%d messages, %d dropped)", f.path, self.messages, self.dropped)
+        except OSError as e:
+            f.abandon()
+            self.active = False
+            reason = "the disk is full" if e.errno == errno.ENOSPC else (e.strerror or str(e))
+            self.error = f"recording stopped: {reason} ({f.path})"
+            log.error("%s; the console goes on without recording", self.error)
+            self._changed_from_thread()
+        except Exception as e:  # a bug here must never reach the console
+            f.abandon()
+            self.active = False
+            self.error = f"recording stopped: {e}"
+            log.exception("recording stopped")
+            self._changed_from_thread()
+
+    def _write(self, f: _File, key: Any, data: Any, log_ns: int, _count: int) -> None:
+        if isinstance(key, Sem):
+            for raw, valid, instance_state, source_ns in data:
+                source_ns = max(source_ns, 0)
+                if valid:
+                    f.add(key, raw, log_ns, source_ns)
+                    self.messages += 1
+                if instance_state != InstanceState.Alive:
+                    event = _instance_event(key, raw, valid, instance_state)
+                    f.add("sem-console/instances", json.dumps(event).encode(), log_ns, source_ns)
+                    self.messages += 1
+        else:
+            f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, log_ns)
+            self.messages += 1
+
+    def _changed_from_thread(self) -> None:
+        if self.on_change is not None:
+            self.on_change(self.status())
+
+
+def _instance_event(sem: Sem, data: bytes, valid: bool, instance_state: int) -> dict[str, Any]:
+    dtype = sem.spec.type
+    try:
+        key = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
+        key_cdr = key.serialize_key() if valid else data
+    except Exception:  # an undecodable key: recorded as received
+        key, key_cdr = None, data
+    state = "disposed" if instance_state == InstanceState.NotAliveDisposed else "noWriters"
+    return {"topic": sem.spec.name, "state": state, "key": base64.b64encode(key_cdr).decode(),
+            "source": _uuid(getattr(key, "source", None)), "sessionId": _uuid(getattr(key, "sessionID", None))}
+
+
+def _uuid(raw: Any) -> str | None:
+    try:
+        return str(uuid.UUID(bytes=bytes(raw)))
+    except (TypeError, ValueError):
+        return None
+
+
+def _statistics(path: Path) -> Any:
+    """The statistics of a finished MCAP file; None for one without a summary (still written, or cut short)."""
+    try:
+        with open(path, "rb") as fh:
+            summary = make_reader(fh).get_summary()
+    except (OSError, McapError, ValueError, EOFError):
+        return None
+    return summary.statistics if summary is not None else None

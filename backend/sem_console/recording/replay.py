@@ -1,0 +1,196 @@
+"""`sem-replay FILE.mcap --domain N [--speed X] [--loop]`: republish a recording on DDS.
+
+Every SEM sample of the recording is written again on its topic, in the order and with the
+spacing it was received (`log_time`, divided by `--speed`), as the CDR it was recorded with
+(its keys, so its vehicle's source GUID and a command's sessionID, are the original ones) and,
+unless `--retime`, with its original source timestamp. Writers use the project's QoS per topic
+class. A sample recorded in a data representation the writer does not use (e.g. XCDR2 for a
+type written in XCDR1) is decoded and written again in the writer's. Disposes and instances
+that lost their writers (channel `sem-console/instances`) are republished as disposes and
+unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand) are left out unless
+`--commands`: a provider on the target domain would carry them out. The console's own channels (commands, transitions, links) are not DDS topics
+and are not republished. An integrator can test their own UMAA consumer against a trial this way.
+"""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import json
+import logging
+import signal
+import sys
+import time
+from pathlib import Path
+from typing import Any, Iterator
+
+from cyclonedds._clayer import ddspy_write_ts
+from cyclonedds.pub import DataWriter
+from mcap.exceptions import McapError
+from mcap.reader import NonSeekingReader, make_reader
+
+from sem_console.core.config import Settings
+from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
+from sem_console.dds.topics import Sem, Service
+from sem_console.sim.cli import _Parser
+
+log = logging.getLogger("sem-replay")
+BY_TOPIC = {s.spec.name: s for s in Sem}
+COMMANDS = {s.command for s in Service}
+INSTANCES = "sem-console/instances"
+# CDR encapsulation identifiers (first two bytes, big endian) of final types: XCDR1 and XCDR2
+PLAIN_CDR, PLAIN_CDR2 = {0x0000, 0x0001}, {0x0006, 0x0007}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = _Parser(prog="sem-replay", description=(
+        "Republish a sem-console recording (MCAP) on DDS: every SEM sample with its original keys, "
+        "timing and source timestamps; disposes as disposes."))
+    p.add_argument("file", type=Path, help="the recording (.mcap)")
+    p.add_argument("--domain", type=int, required=True, help="DDS domain id to publish on, 0..232")
+    p.add_argument("--speed", type=float, default=1.0, help="playback speed, e.g. 2 for twice as fast (default: 1)")
+    p.add_argument("--loop", action="store_true", help="start again at the end, until interrupted")
+    p.add_argument("--commands", action="store_true",
+                   help="republish the recorded commands too (a vehicle on that domain would carry them out)")
+    p.add_argument("--retime", action="store_true",
+                   help="stamp samples with the replay's time instead of their recorded source timestamps")
+    p.add_argument("--wait", type=float, default=5.0, metavar="SECONDS",
+                   help="wait up to this long for a reader on the bus before the first sample (default: 5; 0: start at once)")
+    p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
+    return p
+
+
+class Replay:
+    def __init__(self, bus: Bus, path: Path, speed: float, retime: bool, commands: bool = False) -> None:
+        self.bus, self.path, self.speed, self.retime = bus, path, speed, retime
+        self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem not in COMMANDS}
+        self.writers: dict[Sem, DataWriter] = {}
+        self.samples = self.disposes = self.unregisters = self.reencoded = self.skipped = 0
+        self.stopping = False
+
+    def writer(self, sem: Sem) -> DataWriter:
+        if sem not in self.writers:
+            self.writers[sem] = self.bus.writer(sem)
+        return self.writers[sem]
+
+    def wait_for_readers(self, seconds: float) -> bool:
+        """Make a writer for every topic to replay and wait until one of them matches a reader (or `seconds` pass),
+        so the first samples are not published before anyone listens."""
+        for sem in self.topics.values():
+            self.writer(sem)
+        deadline = time.monotonic() + seconds
+        while time.monotonic() < deadline and not self.stopping:
+            if any(w.get_matched_subscriptions() for w in self.writers.values()):
+                return True
+            time.sleep(0.05)
+        return False
+
+    def messages(self) -> Iterator[tuple[str, Any]]:
+        """The recording's SEM and instance messages in log time order; a file without a summary (the console
+        stopped on an error or was killed) is read from the start in file order, up to where it is cut short."""
+        with open(self.path, "rb") as f:
+            try:
+                complete = make_reader(f).get_summary() is not None
+            except (McapError, ValueError, EOFError):
+                complete = False
+            f.seek(0)
+            reader = make_reader(f) if complete else NonSeekingReader(f)
+            for _schema, channel, message in reader.iter_messages(log_time_order=complete):
+                if channel.topic in self.topics or channel.topic == INSTANCES:
+                    yield channel.topic, message
+
+    def run_once(self) -> None:
+        start_wall: float | None = None
+        start_log = 0
+        for topic, m in self.messages():
+            if self.stopping:
+                return
+            if start_wall is None:
+                start_wall, start_log = time.monotonic(), m.log_time
+            delay = start_wall + (m.log_time - start_log) / 1e9 / self.speed - time.monotonic()
+            while delay > 0 and not self.stopping:
+                time.sleep(min(delay, 0.2))
+                delay = start_wall + (m.log_time - start_log) / 1e9 / self.speed - time.monotonic()
+            ts = time.time_ns() if self.retime else m.publish_time
+            try:
+                if topic == INSTANCES:
+                    self.instance(json.loads(m.data), ts)
+                else:
+                    self.sample(BY_TOPIC[topic], m.data, ts)
+            except Exception as e:  # one bad message costs only itself
+                self.skipped += 1
+                log.warning("skipped a message on %s at %d: %s", topic, m.log_time, e)
+
+    def sample(self, sem: Sem, data: bytes, ts: int) -> None:
+        w = self.writer(sem)
+        encapsulation = int.from_bytes(data[:2], "big")
+        if encapsulation not in (PLAIN_CDR2 if sem.spec.xcdr2_only else PLAIN_CDR):
+            data = sem.spec.type.deserialize(data).serialize(use_version_2=sem.spec.xcdr2_only)
+            self.reencoded += 1
+        data = data.ljust((len(data) + 3) & ~3, b"\0")
+        ret = ddspy_write_ts(w._ref, data, ts)  # noqa: SLF001 (DataWriter.write of bytes already serialized)
+        if ret < 0:
+            raise RuntimeError(f"write failed ({ret})")
+        self.samples += 1
+
+    def instance(self, event: dict[str, Any], ts: int) -> None:
+        sem = self.topics.get(event["topic"])
+        if sem is None:
+            return
+        key = sem.spec.type.deserialize_key(base64.b64decode(event["key"]))
+        if event["state"] == "disposed":
+            self.writer(sem).dispose(key, timestamp=ts)
+            self.disposes += 1
+        else:
+            self.writer(sem).unregister_instance(key, timestamp=ts)
+            self.unregisters += 1
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not 0 <= args.domain <= 232:
+        parser.error("--domain: must be 0..232")
+    if not args.speed > 0:
+        parser.error("--speed: must be more than 0")
+    logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    try:
+        with open(args.file, "rb") as f:
+            make_reader(f).get_header()
+    except OSError as e:
+        parser.error(f"cannot read {args.file}: {e.strerror}")
+    except (McapError, ValueError, EOFError, StopIteration) as e:
+        parser.error(f"{args.file} is not an MCAP file: {e}")
+    settings = Settings()
+    try:
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+    except DdsConfigError as e:
+        print(f"sem-replay: {e}", file=sys.stderr)
+        return 2
+    replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
+
+    def stop(_sig: int, _frame: Any) -> None:
+        replay.stopping = True
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    if args.wait > 0 and not replay.wait_for_readers(args.wait):
+        log.info("no reader of the SEM topics after %.1f s: replaying anyway", args.wait)
+    started = time.monotonic()
+    try:
+        while not replay.stopping:
+            replay.run_once()
+            if not args.loop:
+                break
+    except (McapError, OSError, EOFError) as e:  # a file cut short: what came before it was replayed
+        log.error("the recording ends early: %s", e)
+    wait_for_acks(list(replay.writers.values()), 5.0)
+    log.info("replayed %d samples, %d disposes, %d unregistrations from %s in %.1f s%s%s", replay.samples,
+             replay.disposes, replay.unregisters, args.file, time.monotonic() - started,
+             f"; {replay.reencoded} re-encoded for the writer's data representation" if replay.reencoded else "",
+             f"; {replay.skipped} skipped" if replay.skipped else "")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

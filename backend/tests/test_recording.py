@@ -1,0 +1,318 @@
+"""Recording to MCAP and `sem-replay`, over real DDS with real `sem-sim` and `sem-console` processes.
+
+The files are read back with the `mcap` library and decoded with Python types that Cyclone's idlc
+builds from the schema text in the file, never with the recorder's code.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import os
+import subprocess
+import sys
+import textwrap
+import threading
+import time
+import uuid
+from collections import defaultdict
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from mcap.reader import make_reader
+
+import conftest
+from conftest import ConsoleProcess
+from sem_console import idlgen
+from sem_console.dds.topics import Sem
+from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
+
+SEM_TOPICS = {s.spec.name: s for s in Sem}
+JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances"}
+
+
+def post(base: str, action: str) -> dict[str, Any]:
+    r = httpx.post(f"{base}/api/recordings", json={"action": action}, timeout=15)
+    assert r.status_code == 200, r.text
+    return dict(r.json())
+
+
+def recorded(base: str, tmp: Path) -> Path:
+    """Stop the recording and download its one file through the REST API."""
+    post(base, "stop")
+    files = httpx.get(f"{base}/api/recordings").json()
+    assert len(files) == 1 and files[0]["state"] == "complete" and files[0]["end"] >= files[0]["start"], files
+    r = httpx.get(f"{base}/api/recordings/{files[0]['name']}")
+    assert r.status_code == 200 and r.headers["content-type"] == "application/octet-stream"
+    assert len(r.content) == files[0]["size"]
+    path = tmp / files[0]["name"]
+    path.write_bytes(r.content)
+    return path
+
+
+def read(path: Path) -> tuple[dict[str, Any], dict[str, list[Any]]]:
+    """(channel topic -> (schema, channel)), (topic -> messages) with the mcap library."""
+    with open(path, "rb") as f:
+        reader = make_reader(f)
+        summary = reader.get_summary()
+        assert summary is not None
+        channels = {c.topic: (summary.schemas[c.schema_id], c) for c in summary.channels.values()}
+        messages: dict[str, list[Any]] = defaultdict(list)
+        for _schema, channel, message in reader.iter_messages(log_time_order=True):
+            messages[channel.topic].append(message)
+    return channels, messages
+
+
+DECODE = textwrap.dedent("""
+    import importlib, json, sys
+    gen, module, name, path = sys.argv[1:5]
+    sys.path.insert(0, gen)
+    t = getattr(importlib.import_module(module), name)
+    assert importlib.import_module("UMAA").__file__.startswith(gen), "decoded with the project's own types"
+    from mcap.reader import make_reader
+    from cyclonedds.idl import IdlEnum
+    def plain(v):
+        if isinstance(v, IdlEnum): return v.name
+        if isinstance(v, (bytes, bytearray)): return v.hex()
+        if isinstance(v, list): return [plain(x) for x in v]
+        if hasattr(v, "__dataclass_fields__"): return {k: plain(getattr(v, k)) for k in v.__dataclass_fields__}
+        return v
+    out = []
+    with open(path, "rb") as f:
+        for _s, ch, m in make_reader(f).iter_messages(topics=[sys.argv[5]]):
+            out.append(plain(t.deserialize(m.data)))
+    print(json.dumps(out))
+""")
+
+
+def decode_with_schema(schema_name: str, idl: str, topic: str, path: Path, tmp: Path) -> list[dict[str, Any]]:
+    """Every message of `topic` decoded with types that idlc builds from the schema text alone."""
+    work = tmp / schema_name.replace("::", "_")
+    (work / "idl").mkdir(parents=True)
+    (work / "idl" / "schema.idl").write_text(idl)
+    idlgen.generate(work / "gen", idl_dir=work / "idl", extensibility=None)  # the text says @final itself
+    module, name = schema_name.replace("::", ".").rsplit(".", 1)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    out = subprocess.run([sys.executable, "-c", DECODE, str(work / "gen"), module, name, str(path), topic],
+                         capture_output=True, text=True, cwd=work, env=env, timeout=60)
+    assert out.returncode == 0, out.stderr
+    return list(json.loads(out.stdout))
+
+
+def guid(hex_bytes: str) -> str:
+    return str(uuid.UUID(hex=hex_bytes))
+
+
+def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: Path) -> None:
+    sim()
+    c = console("--record", str(tmp_path / "rec"))
+    status = httpx.get(f"{c.url}/api/recordings/status").json()
+    assert status["state"] == "recording" and status["directory"] == str(tmp_path / "rec")
+    ws = WsClient(c.ws_url)
+    provider_ready(c.url, V1)
+    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    done = wait_command(c.url, session)  # COMPLETED, then cleaned up (the provider disposes status and ack)
+    assert [t["status"] for t in done["transitions"]] == HAPPY
+    time.sleep(0.5)
+    live = httpx.get(f"{c.url}/api/recordings").json()
+    assert [f["state"] for f in live] == ["recording"]
+    assert httpx.get(f"{c.url}/api/recordings/{live[0]['name']}").status_code == 409  # still being written
+    path = recorded(c.url, tmp_path)
+    assert path.parent != tmp_path / "rec" and (tmp_path / "rec" / path.name).is_file()
+    wait_until(lambda: any(m["recording"]["state"] == "off" for m in ws.of("recording")), 5, "the recording's stop on /ws")
+    assert ws.messages[0]["recording"]["state"] == "recording" and ws.errors == []
+    ws.close()
+
+    channels, messages = read(path)
+    # a channel per SEM topic, named by the DDS topic, with the OMG IDL of its type; the console's own JSON channels
+    assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
+    for topic, sem in SEM_TOPICS.items():
+        schema, channel = channels[topic]
+        assert channel.message_encoding == "cdr" and schema.encoding == "omgidl"
+        assert schema.name == str(sem.spec.type.__idl_typename__).replace(".", "::")
+        assert "#include" not in schema.data.decode() and f"struct {schema.name.rsplit('::', 1)[1]} {{" in schema.data.decode()
+    for topic in JSON_TOPICS:
+        schema, channel = channels[topic]
+        assert channel.message_encoding == "json" and schema.encoding == "jsonschema" and json.loads(schema.data)["properties"]
+
+    # the raw CDR from the wire: an encapsulation header, a receive time and the writer's source timestamp
+    fix_reports = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]
+    assert len(fix_reports) >= 10
+    assert all(m.data[:2] == b"\x00\x07" for m in fix_reports)  # XCDR2 little endian: the type has @optional members
+    assert all(m.data[:2] == b"\x00\x01" for m in messages["UMAA::SEM::GPSFixControl::GPSFixCommandStatus"])  # XCDR1
+    assert all(0 < m.log_time - m.publish_time < 5e9 for m in fix_reports)
+
+    # decoded with types built by idlc from the schema text in the file
+    status_schema, _ = channels["UMAA::SEM::GPSFixControl::GPSFixCommandStatus"]
+    statuses = decode_with_schema(status_schema.name, status_schema.data.decode(),
+                                  "UMAA::SEM::GPSFixControl::GPSFixCommandStatus", path, tmp_path)
+    ours = [s for s in statuses if guid(s["sessionID"]) == session]
+    assert [s["commandStatus"] for s in ours] == HAPPY and {guid(s["source"]) for s in ours} == {V1}
+    assert ours[-1]["commandStatusReason"] == "SUCCEEDED"
+    fix_schema, _ = channels["UMAA::SEM::GPSFixStatus::GPSFixReport"]
+    fixes = decode_with_schema(fix_schema.name, fix_schema.data.decode(), "UMAA::SEM::GPSFixStatus::GPSFixReport", path, tmp_path)
+    assert len(fixes) == len(fix_reports) and {guid(f["source"]) for f in fixes} == {V1}
+    lats = [f["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"] for f in fixes]
+    assert all(-90 <= x <= 90 for x in lats) and len(set(lats)) > 1  # the vehicle moves
+    assert fixes[-1]["GPSFixCommandStatus"] == "STABLE" and fixes[-1]["GPSLatLongValid"] is True
+    cmd_schema, _ = channels["UMAA::SEM::GPSFixControl::GPSFixCommand"]
+    commands = decode_with_schema(cmd_schema.name, cmd_schema.data.decode(), "UMAA::SEM::GPSFixControl::GPSFixCommand", path, tmp_path)
+    assert [guid(x["sessionID"]) for x in commands] == [session] and guid(commands[0]["destination"]) == V1
+
+    # the console's view: the transitions with their Figure 4 verdicts, the command, the provider's appearance
+    transitions = [json.loads(m.data) for m in messages["sem-console/transitions"]]
+    assert [t["transition"]["status"] for t in transitions if t["sessionId"] == session] == HAPPY
+    assert all(t["transition"]["violation"] is None for t in transitions)
+    assert any(json.loads(m.data)["command"]["sessionId"] == session for m in messages["sem-console/commands"])
+    assert any(json.loads(m.data)["event"] == "appeared" for m in messages["sem-console/links"])
+    # the cleanup's disposes: the console's command, then the provider's status and ack
+    disposed = [json.loads(m.data) for m in messages["sem-console/instances"]]
+    assert {(d["topic"].rsplit("::", 1)[1], d["state"]) for d in disposed if d["sessionId"] == session} == {
+        ("GPSFixCommand", "disposed"), ("GPSFixCommandStatus", "disposed"), ("GPSFixCommandAckReport", "disposed")}
+    key = next(d for d in disposed if d["topic"].endswith("GPSFixCommandStatus"))["key"]
+    assert len(base64.b64decode(key)) >= 4 + 32  # header, source and sessionID
+
+
+def _other_domain(taken: int) -> int:
+    for _ in range(232):
+        d = next(conftest._domains) % 232 + 1
+        if d != taken and conftest._port_free(7410 + 250 * d):
+            return d
+    raise RuntimeError("no second free DDS domain")
+
+
+def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, console, domain: int, tmp_path: Path) -> None:
+    s = sim()
+    c = console()
+    assert post(c.url, "start")["state"] == "recording"
+    provider_ready(c.url, V1)
+    time.sleep(1.5)
+    s.stop()  # the simulator's shutdown disposes every report: recorded as disposes
+    wait_until(lambda: not httpx.get(f"{c.url}/api/providers/{V1}").json()["topics"]["GPSFixReport"]["alive"], 10,
+               "the disposed GPSFixReport")
+    path = recorded(c.url, tmp_path)
+    _channels, messages = read(path)
+    recorded_fixes = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]
+    assert recorded_fixes
+
+    other = _other_domain(domain)
+    second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
+    try:
+        from cyclonedds.core import InstanceState
+        from sem_console.dds.bus import Bus, all_samples
+        from sem_console.dds.qos import reader_qos
+        bus = Bus(other)
+        reader = bus.reader(Sem.GPS_FIX_REPORT, reader_qos(Sem.GPS_FIX_REPORT.spec.cls, durable=True))
+        seen_ts: list[int] = []
+        disposed: list[Any] = []
+        cond = all_samples(reader)
+        stop = threading.Event()
+
+        def take() -> None:  # every sample the replay publishes (keep last 1: take often)
+            while not stop.is_set():
+                for x in reader.take(N=100, condition=cond):
+                    if x.sample_info.instance_state == InstanceState.NotAliveDisposed:
+                        disposed.append(x)
+                    elif x.sample_info.valid_data:
+                        seen_ts.append(x.sample_info.source_timestamp)
+                time.sleep(0.005)
+        taker = threading.Thread(target=take, daemon=True)
+        taker.start()
+        replay = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
+                                   "--speed", "2", "--log-level", "info"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+        def live_with_reports() -> bool:
+            r = httpx.get(f"{second.url}/api/providers/{V1}")
+            return r.status_code == 200 and all(r.json()["reports"][t] for t in ("GPSReport", "GPSFixReport", "InertialSensorReport"))
+        wait_until(live_with_reports, 15, "the replayed vehicle on the second console")
+        out, _ = replay.communicate(timeout=30)
+        assert replay.returncode == 0, out
+        assert "replayed" in out and "disposes" in out
+        wait_until(lambda: disposed, 10, "the replayed dispose")
+        stop.set()
+        taker.join()
+        detail = httpx.get(f"{second.url}/api/providers/{V1}").json()
+        assert not detail["topics"]["GPSFixReport"]["alive"]  # disposed, as when it was recorded
+        # the original source timestamps
+        assert set(seen_ts) <= {m.publish_time for m in recorded_fixes} and len(seen_ts) >= len(recorded_fixes) // 2, (
+            sorted(seen_ts), sorted(m.publish_time for m in recorded_fixes))
+        # the second console got the recorded positions (the last report is the last recorded one)
+        last = detail["reports"]["GPSFixReport"]["report"]
+        wire = Sem.GPS_FIX_REPORT.spec.type.deserialize(recorded_fixes[-1].data)
+        assert last["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == pytest.approx(
+            wire.position2DWithTime.geodeticPosition.geodeticLatitude.latitude)
+        assert httpx.get(f"{second.url}/api/commands").json() == []  # commands are not republished by default
+    finally:
+        second.stop()
+
+
+def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path: Path) -> None:
+    """A real full disk: a 192 KiB tmpfs (we run as root here). Where mounting is not permitted, the
+    console process gets a file size limit instead (RLIMIT_FSIZE: writes past it fail with EFBIG)."""
+    small = tmp_path / "small"
+    small.mkdir()
+    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=192k", "tmpfs", str(small)], capture_output=True).returncode == 0
+    try:
+        sim("--vehicles", "3", "--satellites", "40")
+        c = console("--record", str(small))
+        if not mounted:
+            import resource
+            assert c.proc is not None
+            resource.prlimit(c.proc.pid, resource.RLIMIT_FSIZE, (192 * 1024, 192 * 1024))
+        ws = WsClient(c.ws_url)
+        status = wait_until(lambda: (lambda s: s if s["state"] == "failed" else None)(
+            httpx.get(f"{c.url}/api/recordings/status").json()), 90, "the recording to fail")
+        assert ("the disk is full" if mounted else "too large") in status["error"].lower()
+        wait_until(lambda: any(m["recording"]["state"] == "failed" for m in ws.of("recording")), 5, "the failure on /ws")
+        # the console goes on: health, fresh reports, and a recording that can be tried again
+        assert httpx.get(f"{c.url}/api/health").status_code == 200
+        applied = httpx.get(f"{c.url}/api/metrics").json()["reportsApplied"]
+        wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["reportsApplied"] > applied + 10, 10, "more reports")
+        files = httpx.get(f"{c.url}/api/recordings").json()
+        assert files and files[0]["state"] == "incomplete"
+        assert c.proc is not None and c.proc.poll() is None
+        ws.close()
+        c.stop()
+    finally:
+        if mounted:
+            subprocess.run(["umount", str(small)], check=False)
+
+
+def test_recording_control_is_a_command_and_downloads_stay_in_the_directory(console, tmp_path: Path) -> None:
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    url, token = f"{c.url}/api/recordings", {"Authorization": "Bearer s3cret"}
+    assert httpx.post(url, json={"action": "start"}).status_code == 401  # the operator auth of commands
+    assert httpx.post(url, content='{"action": "start"}', headers={**token, "Content-Type": "text/plain"}).status_code == 415
+    foreign = httpx.post(url, json={"action": "start"}, headers={**token, "Origin": "http://evil.example"})
+    assert foreign.status_code == 403
+    assert httpx.post(url, json={"action": "record"}, headers=token).status_code == 422
+    assert httpx.get(f"{url}/status").json()["state"] == "off"
+    started = httpx.post(url, json={"action": "start"}, headers=token).json()
+    assert started["state"] == "recording" and started["directory"] == str(tmp_path / "recordings")
+    assert httpx.post(url, json={"action": "start"}, headers=token).json()["file"] == started["file"]  # no second file
+    stopped = httpx.post(url, json={"action": "stop"}, headers=token).json()
+    assert stopped["state"] == "off" and stopped["error"] is None
+    (tmp_path / "secret.mcap").write_bytes(b"not yours")
+    for name in ("..%2Fsecret.mcap", "%2E%2E%2Fconsole.sqlite3", "secret.mcap", "20261122T101530.123Z.mcap.."):
+        assert httpx.get(f"{url}/{name}").status_code in (400, 404), name
+    assert httpx.get(f"{url}/20000101T000000.000Z.mcap").status_code == 404
+    assert httpx.get(f"{url}/{started['file']}").content[:8] == b"\x89MCAP0\r\n"
+    audit = httpx.get(f"{c.url}/api/audit").json()
+    assert [(a["outcome"], a["operator"], a["reason"]) for a in audit if a["path"] == "/api/recordings"][:3] == [
+        ("accepted", "alice", "recording stop"), ("accepted", "alice", "recording start"), ("accepted", "alice", "recording start")]
+
+
+def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> None:
+    sim()
+    c = console("--record", str(tmp_path / "rec"), "--record-max-seconds", "1")
+    provider_ready(c.url, V1)
+    wait_until(lambda: len(httpx.get(f"{c.url}/api/recordings").json()) >= 3, 20, "three files")
+    post(c.url, "stop")
+    files = httpx.get(f"{c.url}/api/recordings").json()
+    assert all(f["state"] == "complete" for f in files) and len({f["name"] for f in files}) == len(files)
+    for f in files[1:-1]:  # the middle ones: a whole second each, with every channel and its schema
+        channels, messages = read(tmp_path / "rec" / f["name"])
+        assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
+        assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5

@@ -1,0 +1,79 @@
+"""Recording cost: the console's CPU with and without recording to MCAP at the ingest benchmark's
+50-vehicle rate (per vehicle 40 satellites at 1 Hz and three reports at 10 Hz), and what it writes.
+Phases alternate off, on, off, on (`--seconds` each) on one running stack, so both see the same
+input; the added CPU is the mean of the on phases minus the mean of the off phases.
+Usage: python bench/recording.py [--vehicles 50] [--seconds 15]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import tempfile
+import time
+import urllib.request
+from pathlib import Path
+
+from common import CpuMeter, emit, get_json, stack, table
+from ingest import sim_args
+
+
+def post_json(url: str, body: dict) -> dict:
+    req = urllib.request.Request(url, data=json.dumps(body).encode(), method="POST",
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=30) as r:
+        return json.loads(r.read())
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--vehicles", type=int, default=50)
+    ap.add_argument("--seconds", type=float, default=15.0)
+    args = ap.parse_args()
+    rec_dir = Path(tempfile.mkdtemp(prefix="sem-bench-rec-"))
+    rows = []
+    with stack(sim_args=sim_args(args.vehicles), console_env={"SEM_RECORDINGS_DIR": str(rec_dir)}) as st:
+        console, url = st["procs"]["console"], st["url"]
+        deadline = time.monotonic() + 30
+        while get_json(url + "/api/metrics")["providers"] < args.vehicles and time.monotonic() < deadline:
+            time.sleep(0.5)
+        time.sleep(3)  # warm up
+        for phase in ("off", "on", "off", "on"):
+            if phase == "on":
+                post_json(url + "/api/recordings", {"action": "start"})
+                time.sleep(1)  # the file is opened, the transient-local history written
+            m0, cpu, t0 = get_json(url + "/api/metrics"), CpuMeter(console), time.monotonic()
+            s0 = get_json(url + "/api/recordings/status")
+            size0 = sum(p.stat().st_size for p in rec_dir.glob("*.mcap"))
+            time.sleep(args.seconds)
+            elapsed = time.monotonic() - t0
+            row = {"phase": phase, "console_cpu": round(cpu.read(), 3),
+                   "decoded_per_s": round((get_json(url + "/api/metrics")["samplesDecoded"] - m0["samplesDecoded"]) / elapsed)}
+            if phase == "on":
+                s1 = get_json(url + "/api/recordings/status")
+                size1 = sum(p.stat().st_size for p in rec_dir.glob("*.mcap"))
+                row.update({"recorded_per_s": round((s1["messages"] - s0["messages"]) / elapsed),
+                            "mb_per_min": round((size1 - size0) / 2**20 / elapsed * 60, 2), "dropped": s1["dropped"]})
+                post_json(url + "/api/recordings", {"action": "stop"})
+                time.sleep(1)
+            rows.append(row)
+        files = get_json(url + "/api/recordings")
+    off = [r["console_cpu"] for r in rows if r["phase"] == "off"]
+    on = [r for r in rows if r["phase"] == "on"]
+    cpu_off, cpu_on = sum(off) / len(off), sum(r["console_cpu"] for r in on) / len(on)
+    keys = ["phase", "console_cpu", "decoded_per_s", "recorded_per_s", "mb_per_min", "dropped"]
+    table(f"Recording at {args.vehicles} vehicles ({args.seconds:.0f} s per phase)", keys, [[r.get(k, "") for k in keys] for r in rows])
+    figures = {
+        "vehicles": args.vehicles, "console_cpu_off": round(cpu_off, 3), "console_cpu_on": round(cpu_on, 3),
+        "added_cpu_core": round(cpu_on - cpu_off, 3), "added_cpu_percent": round((cpu_on - cpu_off) / max(cpu_off, 1e-9) * 100, 1),
+        "recorded_per_s": round(sum(r["recorded_per_s"] for r in on) / len(on)),
+        "mb_per_min": round(sum(r["mb_per_min"] for r in on) / len(on), 2),
+        "dropped": sum(r["dropped"] for r in on), "files": [f["state"] for f in files],
+    }
+    print(f"\nadded console CPU: {figures['added_cpu_core']} core ({figures['added_cpu_percent']}% of "
+          f"{figures['console_cpu_off']}); written: {figures['mb_per_min']} MB/min")
+    emit("recording", figures)
+
+
+if __name__ == "__main__":
+    main()
