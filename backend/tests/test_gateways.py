@@ -368,6 +368,8 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
     assert httpx.get(f"{c.url}/api/providers/{V1}").json()["linkConfig"] == {**body, "regainedTime": 2.0}
     audit = httpx.get(f"{c.url}/api/audit").json()
     assert any(a["path"].endswith("/link-config") and a["outcome"] == "accepted" and a["operator"] == "alice" for a in audit)
+    # a command route of the auditor: the refused attempts are in the audit too (no token, not JSON, a bad body)
+    assert {401, 415, 422} <= {a["status"] for a in audit if a["path"].endswith("/link-config") and a["outcome"] == "refused"}
     c.stop()
     again = console("--jaus-port", str(port), "--jaus-subsystem", "42", "--operator-tokens", "alice:secret-1")
     provider_ready(again.url, V1, {"GPSFixReport"})
