@@ -6,7 +6,7 @@ import { chromium } from "playwright-core";
 const [url = "http://127.0.0.1:8000", out = "../docs/dashboard.png", show = ""] = process.argv.slice(2);
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
+  args: ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
 });
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });

@@ -5,6 +5,7 @@ import { ExportPanel } from "./panels/Export";
 import { FixPanel } from "./panels/Fix";
 import { Header } from "./panels/Header";
 import { InsPanel } from "./panels/Ins";
+import { MapPanel } from "./panels/Map";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
 
@@ -20,6 +21,7 @@ export function App() {
           <AlertsPanel />
         </aside>
         <main className="main">
+          <MapPanel />
           <SatellitesPanel />
           <div className="column">
             <FixPanel />

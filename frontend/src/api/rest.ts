@@ -78,3 +78,20 @@ export async function download(url: string, token: string | null): Promise<Blob>
   if (!r.ok) throw new ApiError(r.status, r.statusText);
   return r.blob();
 }
+
+export type TrackPoint = paths["/api/providers/{provider_id}/track"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's stored track of a vehicle from `since` (GET /api/providers/{id}/track). */
+export function track(providerId: string, since: string, token: string | null): Promise<TrackPoint[]> {
+  return call<TrackPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/track?since=${encodeURIComponent(since)}`, token);
+}
+
+/** The CoMap world model (GET /api/worldmodel): null when the console has none (404, CoMap not built in or off). */
+export async function worldModel(token: string | null): Promise<import("geojson").FeatureCollection | null> {
+  try {
+    return await call<import("geojson").FeatureCollection>("GET", "/api/worldmodel", token);
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 404) return null;
+    throw e;
+  }
+}

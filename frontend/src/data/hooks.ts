@@ -1,10 +1,11 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import { series } from "../api/rest";
+import { series, track, worldModel } from "../api/rest";
+import type { FeatureCollection } from "geojson";
 import type { Command, RecordingStatus } from "../api/types";
 import { useToken } from "./auth";
 import type { Connection, ConnectionState, Store } from "./connection";
-import { HISTORY_SECONDS, historyLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
+import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, trackLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
 
 export interface DataContextValue {
   store: Store;
@@ -93,4 +94,54 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
     };
   }, [providerId, known, live, token, store]);
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
+}
+
+/** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
+ * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
+export function useTrackedProviders(): ProviderView[] {
+  const { store } = useData();
+  const providers = useProviders();
+  const ids = providers.map((p) => p.id).join(",");
+  const live = useConnectionState() === "live";
+  const token = useToken();
+  useEffect(() => {
+    if (!live || !ids) return;
+    let current = true;
+    const since = new Date(Date.now() - TRACK_SECONDS * 1000).toISOString();
+    for (const id of ids.split(",")) {
+      track(id, since, token)
+        .then((points) => {
+          if (!current) return;
+          const loaded = points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
+          store.update((s) => trackLoaded(s, id, loaded));
+        })
+        .catch(() => undefined); // no stored track (yet): the map draws the live one
+    }
+    return () => {
+      current = false;
+    };
+  }, [ids, live, token, store]);
+  return providers;
+}
+
+/** The CoMap world model (GET /api/worldmodel, polled every `periodMs`); null while the console has none (404). */
+export function useWorldModel(periodMs = 5000): FeatureCollection | null {
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  const [model, setModel] = useState<FeatureCollection | null>(null);
+  useEffect(() => {
+    if (!live) return;
+    let current = true;
+    const load = () =>
+      worldModel(token)
+        .then((m) => current && setModel(m))
+        .catch(() => undefined);
+    void load();
+    const t = setInterval(load, periodMs);
+    return () => {
+      current = false;
+      clearInterval(t);
+    };
+  }, [token, live, periodMs]);
+  return model;
 }
