@@ -52,6 +52,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
     p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
+    p.add_argument("--basemap", type=Path, metavar="FILE.pmtiles", help="an offline chart (PMTiles, vector or raster) the "
+                   "dashboard's map draws, served at /api/basemap.pmtiles (default: the built-in Natural Earth land only)")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -75,6 +77,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
     if (settings.tls_certfile is None) != (settings.tls_keyfile is None):
         parser.error("--tls-certfile and --tls-keyfile go together")
+    if settings.basemap is not None and not settings.basemap.is_file():
+        parser.error(f"--basemap: no such file: {settings.basemap}")
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")

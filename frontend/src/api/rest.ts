@@ -36,6 +36,7 @@ export async function checkToken(token: string): Promise<string | null> {
 export interface Health {
   authRequired: boolean;
   readAuthRequired: boolean;
+  basemap?: boolean; // a PMTiles chart at /api/basemap.pmtiles (--basemap)
 }
 
 export async function health(): Promise<Health> {

@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import { series, track, worldModel } from "../api/rest";
+import { health, series, track, worldModel } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, RecordingStatus } from "../api/types";
 import { useToken } from "./auth";
@@ -144,4 +144,19 @@ export function useWorldModel(periodMs = 5000): FeatureCollection | null {
     };
   }, [token, live, periodMs]);
   return model;
+}
+
+/** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
+export function useChartConfigured(): boolean {
+  const [configured, setConfigured] = useState(false);
+  useEffect(() => {
+    let current = true;
+    health()
+      .then((h) => current && setConfigured(h.basemap === true))
+      .catch(() => undefined);
+    return () => {
+      current = false;
+    };
+  }, []);
+  return configured;
 }

@@ -79,3 +79,19 @@ describe("the offline basemap", () => {
     expect(polygons.length).toBeGreaterThan(100);
   });
 });
+
+describe("the PMTiles chart", () => {
+  it("a vector archive gets a layer set per vector layer, water and land in the basemap's colours", async () => {
+    const { chartStyle, vectorLayers } = await import("./chart");
+    const { TileType } = await import("pmtiles");
+    const meta = { vector_layers: [{ id: "water" }, { id: "roads" }, { id: 3 }] };
+    expect(vectorLayers(meta)).toEqual(["water", "roads"]);
+    expect(vectorLayers(null)).toEqual([]);
+    const s = chartStyle("http://x/api/basemap.pmtiles", { tileType: TileType.Mvt, minZoom: 0, maxZoom: 14 }, meta);
+    expect(s.source).toMatchObject({ type: "vector", url: "pmtiles://http://x/api/basemap.pmtiles", maxzoom: 14 });
+    expect(s.layers.map((l) => l.id)).toEqual(["chart-water-fill", "chart-water-line", "chart-water-point", "chart-roads-fill", "chart-roads-line", "chart-roads-point"]);
+    const r = chartStyle("http://x/c.pmtiles", { tileType: TileType.Png, minZoom: 2, maxZoom: 9 }, null);
+    expect(r.source.type).toBe("raster");
+    expect(r.layers).toHaveLength(1);
+  });
+});

@@ -2,14 +2,19 @@
 // with a course arrow (colour by fix validity, stale and lost marked), their tracks, the
 // GPSFixStatusReport origins and the CoMap world model's features by coverage.
 import { useEffect, useMemo, useRef, useState } from "react";
-import { LngLatBounds, Map as MapLibre, NavigationControl, ScaleControl, setWorkerUrl, type ExpressionSpecification, type GeoJSONSource, type MapMouseEvent } from "maplibre-gl";
+import { addProtocol, LngLatBounds, Map as MapLibre, NavigationControl, ScaleControl, setWorkerUrl, type ExpressionSpecification, type GeoJSONSource, type MapMouseEvent } from "maplibre-gl";
 import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
+import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
 setWorkerUrl(workerUrl);
+const pmtiles = new Protocol();
+addProtocol("pmtiles", pmtiles.tile);
 import { Panel } from "../components/Panel";
-import { useNow, useSelector, useStore, useTrackedProviders, useWorldModel } from "../data/hooks";
+import { useChartConfigured, useNow, useSelector, useStore, useTrackedProviders, useWorldModel } from "../data/hooks";
+import { useToken } from "../data/auth";
+import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
 import { useDmsSetting } from "../data/settings";
 import { report, select, type ProviderView } from "../data/store";
 import { loadLand, offlineStyle } from "../lib/basemap";
@@ -155,6 +160,9 @@ export function MapPanel() {
   const now = useNow(1000);
   const worldModel = useWorldModel();
   const [useDms, setDms] = useDmsSetting();
+  const chartConfigured = useChartConfigured();
+  const token = useToken();
+  const [chart, setChart] = useState<"none" | "loading" | "shown" | "failed">("none");
   const container = useRef<HTMLDivElement>(null);
   const mapRef = useRef<MapLibre | null>(null);
   const [ready, setReady] = useState(false);
@@ -225,6 +233,29 @@ export function MapPanel() {
       mapRef.current = null;
     };
   }, [store]);
+
+  // the console's PMTiles chart, over the built-in land and under everything else
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map || !chartConfigured || map.getSource(CHART_SOURCE)) return;
+    let current = true;
+    const url = `${window.location.origin}${CHART_PATH}`;
+    const archive = new PMTiles(new FetchSource(url, new Headers(token ? { Authorization: `Bearer ${token}` } : {})));
+    pmtiles.add(archive);
+    setTimeout(() => current && setChart("loading"));
+    Promise.all([archive.getHeader(), archive.getMetadata().catch(() => null)])
+      .then(([header, metadata]) => {
+        if (!current || map.getSource(CHART_SOURCE)) return;
+        const { source: src, layers } = chartStyle(url, header, metadata);
+        map.addSource(CHART_SOURCE, src);
+        for (const layer of layers) map.addLayer(layer, "wm-fill");
+        setChart("shown");
+      })
+      .catch(() => current && setChart("failed"));
+    return () => {
+      current = false;
+    };
+  }, [ready, chartConfigured, token]);
 
   useEffect(() => {
     measuringRef.current = measuring;
@@ -316,6 +347,7 @@ export function MapPanel() {
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
         <div className="map-status">
           <span data-testid="map-cursor">{cursor ? positionText(cursor.lat, cursor.lon, useDms) : "—"}</span>
+          {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
           <span data-testid="map-vehicle-count">{vehiclesDrawn} of {providers.length} vehicles drawn</span>
           {measuring && (
             <span data-testid="map-distance">
