@@ -1,7 +1,7 @@
 // The map against the real stack, with every request to anything but the console's origin refused:
 // the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow.
 import { expect, test, type Page } from "@playwright/test";
-import { vehicle } from "../helpers";
+import { open, vehicle } from "../helpers";
 import { load } from "../stack";
 
 /** Refuse (and record) every request that does not go to the console; the test fails on any. */
@@ -115,3 +115,44 @@ test("cursor coordinates follow the decimal/DMS setting, and the measure tool gi
   await page.mouse.click(box.x + b.x, box.y + b.y);
   await expect(page.getByTestId("map-distance")).toHaveText(/^111\.\d\d km \(60\.\d\d NM\) · last leg 90°$/);
 });
+
+test("a collapsed panel stays collapsed across a reload, and expands again", async ({ page }) => {
+  await open(page);
+  const sats = page.getByTestId("satellites-panel");
+  await expect(sats.getByTestId("satellite-table")).toBeVisible();
+  await page.getByTestId("satellites-panel-collapse").click();
+  await expect(page.getByTestId("satellites-panel-collapse")).toHaveAttribute("aria-expanded", "false");
+  await expect(sats.getByTestId("satellite-table")).toHaveCount(0);
+  await page.reload();
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  await expect(page.getByTestId("satellites-panel-collapse")).toHaveAttribute("aria-expanded", "false");
+  await expect(page.getByTestId("fix-panel").getByTestId("latitude")).toBeVisible(); // the others are untouched
+  await expect(sats.getByTestId("satellite-table")).toHaveCount(0);
+  await page.getByTestId("satellites-panel-collapse").click();
+  await expect(sats.getByTestId("satellite-table")).toBeVisible();
+});
+
+for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900 }]) {
+  test(`at ${viewport.width}x${viewport.height} every panel fits the width and the satellite table is not cut off`, async ({ page }) => {
+    await page.setViewportSize(viewport);
+    await open(page);
+    await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
+    expect(await page.evaluate(() => document.documentElement.scrollWidth)).toBeLessThanOrEqual(viewport.width);
+    for (const id of ["map-panel", "satellites-panel", "fix-panel", "ins-panel", "export-panel", "commands-panel", "vehicles"]) {
+      const box = (await page.getByTestId(id).boundingBox())!;
+      expect(box.x, id).toBeGreaterThanOrEqual(0);
+      expect(box.x + box.width, id).toBeLessThanOrEqual(viewport.width);
+    }
+    // the whole table is in its box: no column hidden behind a horizontal scroll
+    const wrap = page.getByTestId("satellite-table").locator("xpath=..");
+    const { scroll, client } = await wrap.evaluate((e) => ({ scroll: e.scrollWidth, client: e.clientWidth }));
+    expect(scroll).toBeLessThanOrEqual(client);
+    const lastHeader = page.getByTestId("satellite-table").locator("thead th").last();
+    const th = (await lastHeader.boundingBox())!;
+    const box = (await wrap.boundingBox())!;
+    expect(th.x + th.width).toBeLessThanOrEqual(box.x + box.width + 1);
+    // the map is on the first screen
+    const map = (await page.getByTestId("map").boundingBox())!;
+    expect(map.y + map.height).toBeLessThanOrEqual(viewport.height);
+  });
+}

@@ -55,3 +55,12 @@ const isBool = (v: unknown): v is boolean => typeof v === "boolean";
 export function useDmsSetting(): [boolean, (v: boolean) => void] {
   return useSetting("sem-console.dms", false, isBool);
 }
+
+const isStrings = (v: unknown): v is string[] => Array.isArray(v) && v.every((x) => typeof x === "string");
+const COLLAPSED = "sem-console.collapsed";
+
+/** Whether the panel `id` is collapsed to its title bar (the layout is remembered in localStorage). */
+export function useCollapsed(id: string): [boolean, (v: boolean) => void] {
+  const [ids, setIds] = useSetting<string[]>(COLLAPSED, [], isStrings);
+  return [ids.includes(id), (v: boolean) => setIds(v ? [...ids.filter((x) => x !== id), id] : ids.filter((x) => x !== id))];
+}
