@@ -10,10 +10,11 @@ const browser = await chromium.launch({
 });
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
-  await page.goto(url);
+  await page.goto(show ? `${url}/?vehicle=${show}` : url); // the dashboard selects no vehicle by itself
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 20_000 });
   await page.getByTestId("sky-satellite").first().waitFor({ timeout: 20_000 });
   const vehicles = page.getByTestId("vehicle");
+  if (!show) await vehicles.first().click();
   const count = await vehicles.count();
 
   // frame times while switching vehicles every 500 ms for 10 s

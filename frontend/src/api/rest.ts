@@ -96,3 +96,43 @@ export async function worldModel(token: string | null): Promise<import("geojson"
     throw e;
   }
 }
+
+// CoMap C2 (issue 12): the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
+export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
+
+export interface TaskRequest {
+  kind: "survey" | "move";
+  vehicle: string;
+  featureId?: number;
+  sensor?: string;
+  resolution?: number;
+  deadline?: string;
+  point?: { lat: number; lon: number };
+}
+
+export interface Task {
+  id: string | number;
+  kind: string;
+  vehicle: string;
+  state?: string | null;
+  progress?: number | null;
+  quality?: number | null;
+  featureId?: number | null;
+  [more: string]: unknown;
+}
+
+export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
+  return call<unknown>("PUT", "/api/worldmodel", token, model);
+}
+
+export function createTask(task: TaskRequest, token: string | null): Promise<Task> {
+  return call<Task>("POST", "/api/tasks", token, task);
+}
+
+export function tasks(token: string | null): Promise<Task[]> {
+  return call<Task[]>("GET", "/api/tasks", token);
+}
+
+export function synchTask(id: string | number, action: SynchAction, token: string | null): Promise<unknown> {
+  return call<unknown>("POST", `/api/tasks/${encodeURIComponent(String(id))}/synch`, token, { action });
+}

@@ -95,3 +95,29 @@ describe("the PMTiles chart", () => {
     expect(r.layers).toHaveLength(1);
   });
 });
+
+describe("CoMap geometry", () => {
+  it("1 vertex is a point, 2 a line, 3 or more a closed polygon; a closed ring is the same polygon", async () => {
+    const { drawnGeometry } = await import("./geo");
+    const a = { lon: 0, lat: 0 }, b = { lon: 1, lat: 0 }, c = { lon: 1, lat: 1 };
+    expect(drawnGeometry([])).toBeNull();
+    expect(drawnGeometry([a])).toEqual({ type: "Point", coordinates: [0, 0] });
+    expect(drawnGeometry([a, b])).toEqual({ type: "LineString", coordinates: [[0, 0], [1, 0]] });
+    const poly = { type: "Polygon", coordinates: [[[0, 0], [1, 0], [1, 1], [0, 0]]] };
+    expect(drawnGeometry([a, b, c])).toEqual(poly);
+    expect(drawnGeometry([a, b, c, a])).toEqual(poly);
+  });
+  it("an imported file keeps its featureIds and numbers the features without one", async () => {
+    const { parseWorldModel, nextFeatureId } = await import("./geo");
+    const fc = parseWorldModel(JSON.stringify({ type: "FeatureCollection", features: [
+      { type: "Feature", geometry: { type: "Point", coordinates: [0, 0] }, properties: { featureId: 7 } },
+      { type: "Feature", geometry: { type: "Point", coordinates: [1, 0] }, properties: null },
+    ] }));
+    expect(fc.features.map((f) => f.properties?.featureId)).toEqual([7, 8]);
+    expect(fc.features[1].properties?.coverage).toBeNull();
+    expect(nextFeatureId(fc)).toBe(9);
+    expect(nextFeatureId(null)).toBe(1);
+    expect(() => parseWorldModel('{"type": "Feature"}')).toThrow(/FeatureCollection/);
+    expect(() => parseWorldModel("not json")).toThrow();
+  });
+});

@@ -1,5 +1,5 @@
 // Pure geometry for the map: distances, coordinate text, and the GeoJSON the map layers draw.
-import type { Feature, FeatureCollection, LineString, Point } from "geojson";
+import type { Feature, FeatureCollection, LineString, Point, Polygon } from "geojson";
 import { DASH, dms, isNum, latLon } from "./units";
 
 export const EARTH_RADIUS_M = 6_371_008.8; // mean Earth radius (IUGG)
@@ -141,4 +141,33 @@ export function coverageColor(c: Coverage): string {
     default:
       return "#9fb3c8";
   }
+}
+
+/** A drawn vertex list as a CoMap geometry (the spec's rule: 1 vertex a point, 2 a line, 3 or more
+ * a polygon, whose ring is closed here; a closed ring given is the same polygon). */
+export function drawnGeometry(points: LonLat[]): Point | LineString | Polygon | null {
+  const pts = points.map((p) => [p.lon, p.lat]);
+  if (pts.length >= 4 && pts[0][0] === pts[pts.length - 1][0] && pts[0][1] === pts[pts.length - 1][1]) pts.pop();
+  if (pts.length === 0) return null;
+  if (pts.length === 1) return { type: "Point", coordinates: pts[0] };
+  if (pts.length === 2) return { type: "LineString", coordinates: pts };
+  return { type: "Polygon", coordinates: [[...pts, pts[0]]] };
+}
+
+/** The next free featureId of a world model (1 for an empty one). */
+export function nextFeatureId(fc: FeatureCollection | null): number {
+  const ids = (fc?.features ?? []).map((f) => Number(f.properties?.featureId)).filter((n) => Number.isInteger(n));
+  return ids.length ? Math.max(...ids) + 1 : 1;
+}
+
+/** A file's text as a world model: a FeatureCollection whose features get an integer featureId when they lack one. */
+export function parseWorldModel(text: string): FeatureCollection {
+  const j = JSON.parse(text) as FeatureCollection;
+  if (j?.type !== "FeatureCollection" || !Array.isArray(j.features)) throw new Error("not a GeoJSON FeatureCollection");
+  let next = nextFeatureId(j);
+  const features = j.features.map((f) => {
+    const id = Number(f.properties?.featureId);
+    return { ...f, properties: { ...f.properties, featureId: Number.isInteger(id) ? id : next++, coverage: f.properties?.coverage ?? null } };
+  });
+  return { type: "FeatureCollection", features };
 }

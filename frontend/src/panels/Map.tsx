@@ -15,6 +15,8 @@ import { Panel } from "../components/Panel";
 import { useChartConfigured, useNow, useSelector, useStore, useTrackedProviders, useWorldModel } from "../data/hooks";
 import { useToken } from "../data/auth";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
+import { CoMapControls, type MapTool } from "./CoMap";
+import type { FeatureCollection } from "geojson";
 import { useDmsSetting } from "../data/settings";
 import { report, select, type ProviderView } from "../data/store";
 import { loadLand, offlineStyle } from "../lib/basemap";
@@ -170,9 +172,13 @@ export function MapPanel() {
   const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
   const [follow, setFollow] = useState(true);
   const [cursor, setCursor] = useState<LonLat | null>(null);
-  const [measuring, setMeasuring] = useState(false);
+  const [tool, setTool] = useState<MapTool>("select");
+  const measuring = tool === "measure";
   const [measure, setMeasure] = useState<LonLat[]>([]);
-  const measuringRef = useRef(false);
+  const [drawn, setDrawn] = useState<LonLat[]>([]);
+  const [moveTarget, setMoveTarget] = useState<LonLat | null>(null);
+  const [draft, setDraft] = useState<FeatureCollection | null>(null); // the world model being edited
+  const toolRef = useRef<MapTool>("select");
   const framed = useRef(false);
 
   const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
@@ -206,10 +212,10 @@ export function MapPanel() {
     map.on("mouseout", () => setCursor(null));
     map.on("dragstart", () => setFollow(false)); // the operator pans away: stop following
     map.on("click", (e: MapMouseEvent) => {
-      if (measuringRef.current) {
-        setMeasure((m) => [...m, { lon: e.lngLat.lng, lat: e.lngLat.lat }]);
-        return;
-      }
+      const at = { lon: e.lngLat.lng, lat: e.lngLat.lat };
+      if (toolRef.current === "measure") return setMeasure((m) => [...m, at]);
+      if (toolRef.current === "draw") return setDrawn((d) => [...d, at]);
+      if (toolRef.current === "move-target") return setMoveTarget(at);
       const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
       const id = hit?.properties?.id as string | undefined;
       if (id) {
@@ -258,10 +264,10 @@ export function MapPanel() {
   }, [ready, chartConfigured, token]);
 
   useEffect(() => {
-    measuringRef.current = measuring;
+    toolRef.current = tool;
     const map = mapRef.current;
-    if (map) map.getCanvas().style.cursor = measuring ? "crosshair" : "";
-  }, [measuring]);
+    if (map) map.getCanvas().style.cursor = tool === "select" ? "" : "crosshair";
+  }, [tool]);
 
   // layers' data
   useEffect(() => {
@@ -288,15 +294,16 @@ export function MapPanel() {
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const features = (worldModel?.features ?? []).map((f) => ({ ...f, properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null) } }));
+    const features = ((draft ?? worldModel)?.features ?? []).map((f) => ({ ...f, properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null) } }));
     source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
-  }, [ready, worldModel]);
+  }, [ready, worldModel, draft]);
 
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    source(map, "measure")?.setData(measureGeoJson(measure));
-  }, [ready, measure]);
+    const shown = tool === "measure" ? measure : tool === "draw" ? drawn : tool === "move-target" && moveTarget ? [moveTarget] : [];
+    source(map, "measure")?.setData(measureGeoJson(shown));
+  }, [ready, measure, drawn, moveTarget, tool]);
 
   // first frame: every vehicle in view; then follow the selected one unless the operator panned away
   useEffect(() => {
@@ -330,7 +337,7 @@ export function MapPanel() {
             aria-pressed={measuring}
             data-testid="map-measure"
             onClick={() => {
-              setMeasuring(!measuring);
+              setTool(measuring ? "select" : "measure");
               setMeasure([]);
             }}
             title="click points on the map to measure the distance along them"
@@ -356,6 +363,21 @@ export function MapPanel() {
           )}
         </div>
       </div>
+      {worldModel && (
+        <CoMapControls
+          model={draft ?? worldModel}
+          dirty={draft !== null}
+          setDraft={setDraft}
+          tool={tool}
+          setTool={(t) => {
+            setTool(t);
+            setMoveTarget(null);
+          }}
+          drawn={drawn}
+          clearDrawn={() => setDrawn([])}
+          moveTarget={moveTarget}
+        />
+      )}
       <p className="map-legend muted">
         <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin
         {worldModel ? " · areas: covered (green), partial (amber), not (red)" : ""}
