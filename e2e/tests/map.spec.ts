@@ -50,6 +50,9 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   await expect(page.getByTestId("map-vehicle-count")).toHaveText(`${stack.vehicles.length} of ${stack.vehicles.length} vehicles drawn`);
+  // the CoMap controls are there exactly when the console has a world model
+  const hasWorldModel = (await page.request.get(`${stack.url}/api/worldmodel`)).ok();
+  await expect(page.getByTestId("comap")).toHaveCount(hasWorldModel ? 1 : 0);
   // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
   await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);

@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import { health, series, track, worldModel } from "../api/rest";
+import { health, series, tasks, track, worldModel, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, RecordingStatus } from "../api/types";
 import { useToken } from "./auth";
@@ -124,27 +124,39 @@ export function useTrackedProviders(): ProviderView[] {
   return providers;
 }
 
-/** The CoMap world model (GET /api/worldmodel, polled every `periodMs`); null while the console has none (404). */
-export function useWorldModel(periodMs = 5000): FeatureCollection | null {
+/** A value read over REST every `periodMs` while the connection is live (null until the first answer). */
+function usePolled<T>(load: (token: string | null) => Promise<T>, periodMs: number): T | null {
   const token = useToken();
   const live = useConnectionState() === "live";
-  const [model, setModel] = useState<FeatureCollection | null>(null);
+  const [value, setValue] = useState<T | null>(null);
   useEffect(() => {
     if (!live) return;
     let current = true;
-    const load = () =>
-      worldModel(token)
-        .then((m) => current && setModel(m))
-        .catch(() => undefined);
-    void load();
-    const t = setInterval(load, periodMs);
+    const poll = () =>
+      load(token)
+        .then((v) => current && setValue(v))
+        .catch(() => undefined); // kept as it was; the next poll tries again
+    void poll();
+    const t = setInterval(poll, periodMs);
     return () => {
       current = false;
       clearInterval(t);
     };
-  }, [token, live, periodMs]);
-  return model;
+  }, [load, token, live, periodMs]);
+  return value;
 }
+
+/** The CoMap world model (GET /api/worldmodel, polled every `periodMs`); null while the console has none (404). */
+export function useWorldModel(periodMs = 5000): FeatureCollection | null {
+  return usePolled(worldModel, periodMs);
+}
+
+/** The CoMap tasks and their state (GET /api/tasks, polled every `periodMs`). */
+export function useTasks(periodMs = 2000): Task[] {
+  return usePolled(tasks, periodMs) ?? NO_TASKS;
+}
+
+const NO_TASKS: Task[] = [];
 
 /** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
 export function useChartConfigured(): boolean {

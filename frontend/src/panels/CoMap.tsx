@@ -1,11 +1,11 @@
 // CoMap C2 under the map: edit the world model (draw, delete, import, export, send), assign survey and
 // move tasks to the selected vehicle, follow their state and HOLD, RESUME or INTERRUPT them.
 // Shown only when the console has CoMap (GET /api/worldmodel answers).
-import { useEffect, useState } from "react";
+import { useState } from "react";
 import type { FeatureCollection } from "geojson";
-import { createTask, putWorldModel, synchTask, tasks as listTasks, type SynchAction, type Task } from "../api/rest";
+import { createTask, putWorldModel, synchTask, type SynchAction, type Task } from "../api/rest";
 import { useToken } from "../data/auth";
-import { useSelectedProvider } from "../data/hooks";
+import { useSelectedProvider, useTasks } from "../data/hooks";
 import { drawnGeometry, nextFeatureId, parseWorldModel, type LonLat } from "../lib/geo";
 import { vehicleLabel } from "../lib/vehicle";
 
@@ -30,21 +30,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
   const [sensor, setSensor] = useState("SIDESCAN");
   const [resolution, setResolution] = useState(1);
   const [deadline, setDeadline] = useState("");
-  const [taskList, setTaskList] = useState<Task[]>([]);
-
-  useEffect(() => {
-    let current = true;
-    const load = () =>
-      listTasks(token)
-        .then((t) => current && setTaskList(t))
-        .catch(() => undefined);
-    void load();
-    const t = setInterval(load, 2000);
-    return () => {
-      current = false;
-      clearInterval(t);
-    };
-  }, [token]);
+  const taskList = useTasks();
 
   const run = (p: Promise<unknown>) => {
     setError(null);
@@ -128,11 +114,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
           {tool === "move-target" ? (moveTarget ? "Send move" : "click a destination") : "Move to…"}
         </button>
       </div>
-      {error && (
-        <p className="error" role="alert">
-          {error}
-        </p>
-      )}
+      {error && <p className="error" role="alert">{error}</p>}
       <table className="tasks">
         <tbody>
           {taskList.map((t) => (
