@@ -60,6 +60,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); off by default")
     p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)")
     p.add_argument("--jaus-host", help="address the JAUS gateway listens on (default: --host)")
+    p.add_argument("--basemap", type=Path, metavar="FILE.pmtiles", help="an offline chart (PMTiles, vector or raster) the "
+                   "dashboard's map draws, served at /api/basemap.pmtiles (default: the built-in Natural Earth land only)")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -83,6 +85,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
     if (settings.tls_certfile is None) != (settings.tls_keyfile is None):
         parser.error("--tls-certfile and --tls-keyfile go together")
+    if settings.basemap is not None and not settings.basemap.is_file():
+        parser.error(f"--basemap: no such file: {settings.basemap}")
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")

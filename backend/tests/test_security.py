@@ -409,7 +409,9 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     GET after DELETE to be a 404, but DELETE /api/commands/{id} is a cancel request and the command
     stays in the history (by design)."""
     sim("--vehicles", "2", "--surface-seconds", "400")
-    c = console("--auth-reads", "--aspn-lcm", "memq://", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
+    c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
+                env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers={"Authorization": "Bearer s3cret"}).json(), 20, "vehicles")
     cmd = [str(Path(sys.executable).parent / "schemathesis"), "run", f"{c.url}/openapi.json", "--checks", "all",
            "--exclude-checks", "use_after_free", "--generation-deterministic", "--max-examples", "25", "--workers", "1",

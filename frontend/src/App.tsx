@@ -6,6 +6,7 @@ import { FixPanel } from "./panels/Fix";
 import { GatewaysPanel } from "./panels/Gateways";
 import { Header } from "./panels/Header";
 import { InsPanel } from "./panels/Ins";
+import { MapPanel } from "./panels/Map";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
 
@@ -22,6 +23,7 @@ export function App() {
           <GatewaysPanel />
         </aside>
         <main className="main">
+          <MapPanel />
           <SatellitesPanel />
           <div className="column">
             <FixPanel />

@@ -135,6 +135,7 @@ class Health(_Model):
     domain: int
     authRequired: bool = Field(description="commands need an operator token")
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
+    basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
 
 
 class GatewayState(_Model):

@@ -24,6 +24,8 @@ class Settings(BaseSettings):
     sim_time_scale: float = Field(1.0, gt=0, le=100)
     sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle")
     frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist if it exists)")
+    basemap: Path | None = Field(None, description="a PMTiles chart served at GET /api/basemap.pmtiles (HTTP range requests), "
+                                 "drawn by the dashboard's map over its built-in Natural Earth basemap")
 
     # UMAA consumer and link health
     db_path: Path = Field(Path("var/sem-console.sqlite3"), description="SQLite command history and the console's GUID")

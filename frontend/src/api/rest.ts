@@ -40,6 +40,7 @@ export async function checkToken(token: string): Promise<string | null> {
 export interface Health {
   authRequired: boolean;
   readAuthRequired: boolean;
+  basemap?: boolean; // a PMTiles chart at /api/basemap.pmtiles (--basemap)
 }
 
 export async function health(): Promise<Health> {
@@ -93,4 +94,61 @@ export async function download(url: string, token: string | null): Promise<Blob>
   const r = await fetch(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
   if (!r.ok) throw new ApiError(r.status, r.statusText);
   return r.blob();
+}
+
+export type TrackPoint = paths["/api/providers/{provider_id}/track"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's stored track of a vehicle from `since` (GET /api/providers/{id}/track). */
+export function track(providerId: string, since: string, token: string | null): Promise<TrackPoint[]> {
+  return call<TrackPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/track?since=${encodeURIComponent(since)}`, token);
+}
+
+/** The CoMap world model (GET /api/worldmodel): null when the console has none (404, CoMap not built in or off). */
+export async function worldModel(token: string | null): Promise<import("geojson").FeatureCollection | null> {
+  try {
+    return await call<import("geojson").FeatureCollection>("GET", "/api/worldmodel", token);
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 404) return null;
+    throw e;
+  }
+}
+
+// CoMap C2 (issue 12): the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
+export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
+
+export interface TaskRequest {
+  kind: "survey" | "move";
+  vehicle: string;
+  featureId?: number;
+  sensor?: string;
+  resolution?: number;
+  deadline?: string;
+  point?: { lat: number; lon: number };
+}
+
+export interface Task {
+  id: string | number;
+  kind: string;
+  vehicle: string;
+  state?: string | null;
+  progress?: number | null;
+  quality?: number | null;
+  featureId?: number | null;
+  [more: string]: unknown;
+}
+
+export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
+  return call<unknown>("PUT", "/api/worldmodel", token, model);
+}
+
+export function createTask(task: TaskRequest, token: string | null): Promise<Task> {
+  return call<Task>("POST", "/api/tasks", token, task);
+}
+
+export function tasks(token: string | null): Promise<Task[]> {
+  return call<Task[]>("GET", "/api/tasks", token);
+}
+
+export function synchTask(id: string | number, action: SynchAction, token: string | null): Promise<unknown> {
+  return call<unknown>("POST", `/api/tasks/${encodeURIComponent(String(id))}/synch`, token, { action });
 }

@@ -226,3 +226,16 @@ describe("store and connection", () => {
     });
   });
 });
+
+describe("the map's track", () => {
+  const fix = (lat: number, lon: number, t: number) =>
+    ({ type: "report", providerId: P, topic: "GPSFixReport", report: env({ position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t) }) as unknown as ServerMessage;
+  it("takes at most one valid position a second from GPSFixReports, then merges the console's stored track", async () => {
+    const { trackLoaded, TRACK_SECONDS } = await import("./store");
+    let s = apply([snapshot(), fix(1, 2, 5000.1), fix(1.1, 2, 5000.6), fix(200, 2, 5001.2), fix(1.2, 2, 5002.0)]);
+    expect(s.providers[P].track).toEqual([{ lat: 1, lon: 2, t: 5000.1 }, { lat: 1.2, lon: 2, t: 5002.0 }]); // 1.1 same second, 200 invalid
+    s = trackLoaded(s, P, [{ lat: 0, lon: 0, t: 5002.0 - TRACK_SECONDS - 1 }, { lat: 0.5, lon: 2, t: 4990 }, { lat: 9, lon: 9, t: 5000.3 }]);
+    expect(s.providers[P].track.map((p) => p.t)).toEqual([4990, 5000.1, 5002.0]); // too old dropped; the live point kept for its second
+    expect(trackLoaded(s, "nobody", [{ lat: 0, lon: 0, t: 1 }])).toBe(s);
+  });
+});

@@ -2,6 +2,7 @@
 // Unchanged parts keep their identity, so panels that select them do not re-render.
 import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
+import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
 import { satelliteLabel } from "../lib/satellites";
 
 export interface TopicView {
@@ -33,6 +34,7 @@ export interface ProviderView {
   topics: Partial<Record<Topic, TopicView>>;
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
+  track: TrackSample[]; // positions of the last TRACK_SECONDS, at most one per second (the map's track)
 }
 
 export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained" | "recording-failed";
@@ -67,6 +69,7 @@ export const TRAIL_STEP = 5;
 export const HISTORY_SECONDS = 300;
 export const HISTORY_STEP = 1;
 export const MAX_ALERTS = 200;
+export const TRACK_SECONDS = 900;
 
 export const initialState: State = {
   consoleId: null,
@@ -87,7 +90,7 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
 }
 
 function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
-  return { id, name, link, linkConfig: null, jausId: null, topics: {}, trails: {}, history: [] };
+  return { id, name, link, linkConfig: null, jausId: null, topics: {}, trails: {}, history: [], track: [] };
 }
 
 /** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id). */
@@ -168,12 +171,42 @@ export function historyLoaded(state: State, providerId: string, points: HistoryP
   return { ...state, providers: { ...state.providers, [providerId]: { ...before, history } } };
 }
 
+/** The position of a GPSFixReport received at `t` as a track point (null: no usable position). */
+export function trackSample(fix: ReportTypes["GPSFixReport"], t: number): TrackSample | null {
+  const g = fix.position2DWithTime?.geodeticPosition;
+  const pos = validPosition(g?.geodeticLatitude?.latitude, g?.geodeticLongitude?.longitude);
+  return pos ? { ...pos, t } : null;
+}
+
+function updateTrack(track: TrackSample[], env: ReportEnvelope): TrackSample[] {
+  const last = track[track.length - 1];
+  if (last && Math.floor(last.t) === Math.floor(env.receivedAt)) return track;
+  const point = trackSample(env.report as unknown as ReportTypes["GPSFixReport"], env.receivedAt);
+  if (!point) return track;
+  if (last && point.t < last.t) return trimTrack([...track, point], point.t, TRACK_SECONDS);
+  const from = point.t - TRACK_SECONDS;
+  return [...(track.length && track[0].t < from ? track.filter((p) => p.t >= from) : track), point];
+}
+
+/** The console's stored track of a vehicle (REST, after a reload or reconnect), merged into the live one. */
+export function trackLoaded(state: State, providerId: string, points: TrackSample[]): State {
+  const before = state.providers[providerId];
+  if (!before || !points.length) return state;
+  const all = [...points, ...before.track];
+  const latest = Math.max(...all.map((p) => p.t));
+  const bySecond = new Map<number, TrackSample>();
+  for (const p of all) bySecond.set(Math.floor(p.t), p);
+  const track = trimTrack([...bySecond.values()], latest, TRACK_SECONDS);
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, track } } };
+}
+
 function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
   const before = state.providers[providerId] ?? emptyProvider(providerId, "live");
   const prevView = before.topics[topic];
   const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
   if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
+  if (topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, env) };
   let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
   if (topic === "GPSFixStatusReport") {
     const was = report(before, "GPSFixStatusReport")?.fixValid;

@@ -1,7 +1,7 @@
-import { useState } from "react";
 import { Field, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
 import { useHistory, useNow, useSelectedProvider } from "../data/hooks";
+import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, report } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
@@ -10,7 +10,7 @@ export function FixPanel() {
   const p = useSelectedProvider();
   const now = useNow();
   const history = useHistory(p?.id ?? null);
-  const [useDms, setDms] = useState(false);
+  const [useDms, setDms] = useDmsSetting();
   const fixView = p?.topics.GPSFixReport ?? null;
   const statusView = p?.topics.GPSFixStatusReport ?? null;
   const fix = report(p ?? undefined, "GPSFixReport");
