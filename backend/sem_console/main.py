@@ -54,7 +54,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                   description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings
-    app.state.operators = operators = Operators(settings.operators())
+    app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
     app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes,
                                             settings.audit_refusals_per_minute)
 

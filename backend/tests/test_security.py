@@ -18,6 +18,9 @@ from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
 from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
+
+# A first wait long enough that a loaded machine's slow requests still fall inside it.
+SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
@@ -143,7 +146,7 @@ def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
 
 def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_route(sim, console) -> None:
     sim()
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", "SEM_AUDIT_REFUSALS_PER_MINUTE": "5"})
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", "SEM_AUDIT_REFUSALS_PER_MINUTE": "5", **SLOW})
     provider_ready(c.url, V1, {"GPSFixReport"})
     alice = {"Authorization": "Bearer s3cret"}
     assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).status_code == 201
@@ -165,7 +168,7 @@ def test_an_operators_refused_commands_are_recorded(sim, console) -> None:
     """Every command request, accepted or refused: a bad body (422), an unknown vehicle or command
     (404), a finished command (409), with the operator's name."""
     sim()
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     provider_ready(c.url, V1, {"InertialSensorReport"})
     alice = {"Authorization": "Bearer s3cret"}
     done = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=alice).json()["sessionId"]
@@ -192,7 +195,7 @@ def test_tokens_file_bad_tokens_slowed_down_and_audited(sim, console, tmp_path: 
     tokens = tmp_path / "tokens"
     tokens.write_text(TOKENS)
     tokens.chmod(0o600)
-    c = console("--operator-tokens-file", str(tokens), env={"SEM_OPERATOR_TOKENS": "carol:c4rol"})
+    c = console("--operator-tokens-file", str(tokens), env={"SEM_OPERATOR_TOKENS": "carol:c4rol", **SLOW})
     provider_ready(c.url, V1, {"GPSFixReport"})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
 
@@ -221,14 +224,14 @@ def test_tokens_file_bad_tokens_slowed_down_and_audited(sim, console, tmp_path: 
 def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     """Any local process can send X-Forwarded-For: trusted by default, it would pick its own client
     address past the slow-down of wrong tokens and into the audit."""
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
     statuses = [httpx.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
                 for i in range(FREE_FAILURES + 1)]
     assert statuses == [401] * FREE_FAILURES + [429]  # one client, whatever it claims
     assert {a["client"] for a in audit(c)} == {"127.0.0.1"}
     c.stop()
-    c = console("--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})  # behind a proxy on this host
+    c = console("--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})  # behind a proxy on this host
     assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={},
                       headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"}).status_code == 401
     assert audit(c)[0]["client"] == "10.9.9.9"
@@ -238,7 +241,7 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
     """Every local process is 127.0.0.1: wrong tokens from one of them slow down that address, but
     not a client that signed in with a good token before (its device cookie)."""
     sim()
-    c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     alice = {"Authorization": "Bearer s3cret"}
     with httpx.Client(base_url=c.url) as operator:
         r = operator.get("/api/operator", headers=alice)  # the dashboard's sign-in
@@ -264,7 +267,7 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
 
 def test_auth_reads_need_a_token_for_rest_and_websocket(sim, console, tmp_path: Path) -> None:
     sim()
-    c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    c = console("--auth-reads", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     alice = {"Authorization": "Bearer s3cret"}
     health = httpx.get(f"{c.url}/api/health").json()  # open: the dashboard learns it must sign in
     assert health["authRequired"] and health["readAuthRequired"]
@@ -388,7 +391,7 @@ def self_signed(folder: Path) -> tuple[Path, Path]:
 def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Path) -> None:
     certfile, keyfile = self_signed(tmp_path)
     sim()
-    c = console("--tls-certfile", str(certfile), "--tls-keyfile", str(keyfile), env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+    c = console("--tls-certfile", str(certfile), "--tls-keyfile", str(keyfile), env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     assert c.url.startswith("https://")
     wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}", verify=c.verify).status_code == 200, 20, "the vehicle over HTTPS")
     r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, verify=c.verify,
@@ -411,7 +414,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     sim("--vehicles", "2", "--surface-seconds", "400")
     (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
     c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
-                env={"SEM_OPERATOR_TOKENS": "alice:s3cret"})
+                env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers={"Authorization": "Bearer s3cret"}).json(), 20, "vehicles")
     cmd = [str(Path(sys.executable).parent / "schemathesis"), "run", f"{c.url}/openapi.json", "--checks", "all",
            "--exclude-checks", "use_after_free", "--generation-deterministic", "--max-examples", "25", "--workers", "1",

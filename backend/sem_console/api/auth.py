@@ -45,7 +45,8 @@ class _Client:
 
 
 class Throttle:
-    def __init__(self) -> None:
+    def __init__(self, first_wait: float = 1.0) -> None:
+        self.first_wait = first_wait
         self.clients: OrderedDict[str, _Client] = OrderedDict()
 
     def retry_after(self, client: str, now: float) -> float:
@@ -62,7 +63,7 @@ class Throttle:
         c = self.clients.pop(client, None) or _Client()
         c.failures, c.last = c.failures + 1, now
         if c.failures >= FREE_FAILURES:
-            c.blocked_until = now + min(MAX_DELAY, 2.0 ** (c.failures - FREE_FAILURES))
+            c.blocked_until = now + min(MAX_DELAY, self.first_wait * 2.0 ** (c.failures - FREE_FAILURES))
         self.clients[client] = c  # most recent last
         while len(self.clients) > MAX_CLIENTS:
             self.clients.popitem(last=False)
@@ -82,9 +83,9 @@ class AuthError(Exception):
 class Operators:
     """The configured tokens and who they belong to, and the throttle of bad ones."""
 
-    def __init__(self, tokens: dict[str, str]) -> None:
+    def __init__(self, tokens: dict[str, str], first_wait: float = 1.0) -> None:
         self.tokens = [(t.encode(), name) for t, name in tokens.items()]
-        self.throttle = Throttle()
+        self.throttle = Throttle(first_wait)
         self._device_secret = secrets.token_bytes(32)
 
     def _mac(self, device: str) -> str:

@@ -54,6 +54,8 @@ class Settings(BaseSettings):
     auth_reads: bool = Field(False, description="reads (REST GETs and /ws) need an operator token too")
 
     audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries")
+    throttle_first_wait: float = Field(1.0, gt=0, le=60, description="seconds a client waits after its fifth wrong "
+                                       "operator token in a row; each further one doubles it, up to 60 s")
     audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
                                            "recorded per minute; the rest of the minute are counted (see api/audit.py)")
 
