@@ -102,10 +102,10 @@ class Guard:
 
 
 async def require_json(request: Request) -> None:
-    """Dependency of the command routes: a POST must say Content-Type: application/json (checked
+    """Dependency of the command routes: a POST or PUT must say Content-Type: application/json (checked
     after routing, so a POST to a route that has none is still a 405)."""
-    if request.method == "POST" and not is_json(request.headers.get("content-type")):
-        raise HTTPException(415, "a POST needs Content-Type: application/json and a JSON body (e.g. {})")
+    if request.method in ("POST", "PUT") and not is_json(request.headers.get("content-type")):
+        raise HTTPException(415, f"a {request.method} needs Content-Type: application/json and a JSON body (e.g. {{}})")
 
 
 async def refuse(scope: Scope, send: Send, status: int, detail: str) -> None:

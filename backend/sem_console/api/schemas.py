@@ -4,9 +4,11 @@ the OpenAPI document and /api/ws-schema, which are built from these models."""
 from __future__ import annotations
 
 import typing
+import uuid
+from datetime import datetime
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
+from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, model_validator
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
@@ -163,6 +165,132 @@ class RecordingRequest(_Model):
     action: Literal["start", "stop"]
 
 
+# ---- CoMap: world model (GeoJSON), tasks, vehicles --------------------------------------------
+CoverageName = Literal["COMPLETED", "PARTIAL", "NONE"]
+SensorName = Literal["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"]
+TaskState = Literal["ASSIGNED", "ACCEPTED", "REJECTED", "IN_PROGRESS", "HELD", "COMPLETED", "ERROR", "INTERRUPTED"]
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Position = Annotated[list[Finite], Field(min_length=2, max_length=3, description="[longitude, latitude(, altitude)] in degrees (GeoJSON)")]
+
+
+class FeatureProperties(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    featureId: int | None = Field(None, ge=0, le=0xFFFE, description="the CoMap feature id (u16); the console numbers "
+                                  "a feature without one when it takes the model")
+    coverage: CoverageName | None = Field(None, description="the feature's CoverageState, or null when none is known")
+
+
+class PointGeometry(_Model):
+    type: Literal["Point"]
+    coordinates: Position
+
+
+class LineStringGeometry(_Model):
+    type: Literal["LineString"]
+    coordinates: Annotated[list[Position], Field(min_length=2, max_length=2, description="a CoMap line has 2 vertices")]
+
+
+class PolygonGeometry(_Model):
+    type: Literal["Polygon"]
+    coordinates: Annotated[list[Annotated[list[Position], Field(min_length=3, max_length=4096)]],
+                           Field(min_length=1, max_length=1, description="one ring, no holes; closed or not")]
+
+
+class GeoJsonFeature(_Model):
+    type: Literal["Feature"]
+    id: int | str | None = None
+    geometry: Annotated[Union[PointGeometry, LineStringGeometry, PolygonGeometry], Field(discriminator="type")]
+    properties: FeatureProperties
+
+
+class WorldModelIn(_Model):
+    """A GeoJSON FeatureCollection: CoMap's 1 vertex point, 2 line, 3+ polygon."""
+    type: Literal["FeatureCollection"]
+    features: Annotated[list[GeoJsonFeature], Field(max_length=1000)]
+
+
+class WorldModel(_Model):
+    type: Literal["FeatureCollection"]
+    features: list[GeoJsonFeature]
+    updatedAt: float | None = Field(description="UTC seconds of the last change, null before any")
+    source: str | None = Field(description="'operator' (a PUT), 'imc:<system id>' (a WorldModel received) or "
+                               "'coverage' (a CoverageState merged)")
+
+
+class LatLon(_Model):
+    lat: Finite = Field(ge=-90, le=90, description="degrees")
+    lon: Finite = Field(ge=-180, le=180, description="degrees")
+
+
+class TaskRequest(_Model):
+    kind: Literal["survey", "move"]
+    vehicle: uuid.UUID = Field(description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)")
+    featureId: int | None = Field(None, ge=0, le=0xFFFE, description="survey: the world model feature to survey")
+    sensor: SensorName = "ANY"
+    resolution: Finite = Field(1.0, gt=0, le=1e6, description="survey: px/m²")
+    deadline: datetime | None = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
+    point: LatLon | None = Field(None, description="move: the destination")
+
+    @model_validator(mode="after")
+    def _needs(self) -> "TaskRequest":
+        if self.kind == "survey" and self.featureId is None:
+            raise ValueError("a survey task needs featureId")
+        if self.kind == "move" and self.point is None:
+            raise ValueError("a move task needs point")
+        return self
+
+
+class Task(_Model):
+    taskId: int = Field(description="the C2's CoMap task id (u16)")
+    kind: Literal["survey", "move"]
+    vehicle: str = Field(description="the provider GUID")
+    imcId: int
+    featureId: int | None
+    sensor: SensorName | None
+    resolution: float | None
+    deadline: float | None = Field(description="UTC seconds since the epoch")
+    point: LatLon | None
+    state: TaskState
+    progress: int = Field(ge=0, le=100, description="% from the vehicle's TaskStatus")
+    quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
+    synch: Literal["HOLD", "RESUME", "INTERRUPT"] | None = Field(description="the last SynchAdmin sent for this task")
+    operator: str | None
+    createdAt: float
+    updatedAt: float
+
+
+class SynchRequest(_Model):
+    action: Literal["HOLD", "RESUME", "INTERRUPT"]
+
+
+class Capability(_Model):
+    kind: Literal["AREA_SURVEY", "POINT_SURVEY", "MOVE"]
+    sensor: str | None = None
+    resolution: float | None = Field(None, description="px/m²")
+    resolutionBathymetryFactor: float | None = None
+    coverageRate: float | None = Field(None, description="m²/s")
+    coverageBathymetryFactor: float | None = None
+    duration: float | None = Field(None, description="s")
+    speed: float | None = Field(None, description="m/s")
+
+
+class ComapVehicle(_Model):
+    imcId: int | None = Field(description="its IMC system id, null for a provider not in --imc-vehicles")
+    providerId: str | None = Field(description="the provider GUID from --imc-vehicles, null for a system not in the table")
+    capabilities: list[Capability] | None = Field(description="from its last VehicleCapabilities, null before any")
+    lastHeard: float | None = Field(description="UTC seconds of its last IMC message")
+
+
+class ComapStatus(_Model):
+    enabled: bool = Field(description="false unless the console was started with --imc-port")
+    imcId: int
+    port: int | None
+    peers: list[str]
+    counters: dict[str, int] = Field(description="datagrams received, accepted, sent; dropped ones per reason: truncated, "
+                                     "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs")
+    vehicles: list[ComapVehicle]
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
@@ -206,6 +334,20 @@ class RecordingMessage(_Model):
     recording: RecordingStatus
 
 
+class WorldModelMessage(_Model):
+    """The world model changed (a PUT, a WorldModel over IMC, a CoverageState)."""
+
+    type: Literal["worldmodel"]
+    worldModel: WorldModel
+
+
+class TaskMessage(_Model):
+    """A CoMap task was assigned or changed."""
+
+    type: Literal["task"]
+    task: Task
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -217,8 +359,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ErrorMessage,
-          PongMessage],
+    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage,
+          WorldModelMessage, TaskMessage, ErrorMessage, PongMessage],
     Field(discriminator="type"),
 ]
 
