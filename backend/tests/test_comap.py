@@ -30,6 +30,15 @@ def comap_pair(sim: Any, console: Any, *sim_args: str) -> tuple[Any, int, int]:
     return c, c_port, s_port
 
 
+def capabilities(base: str) -> list[dict[str, Any]]:
+    def get() -> list[dict[str, Any]] | None:
+        return httpx.get(f"{base}/api/providers/{V1}/capabilities").json()["capabilities"]  # type: ignore[no-any-return]
+    try:
+        return wait_until(get, 20, "capabilities")  # type: ignore[no-any-return]
+    except AssertionError:
+        raise AssertionError(f"no capabilities; IMC node: {httpx.get(f'{base}/api/comap').json()}") from None
+
+
 def last_position(base: str) -> tuple[float, float]:
     def get() -> tuple[float, float] | None:
         pts = httpx.get(f"{base}/api/providers/{V1}/track").json() if httpx.get(f"{base}/api/providers/{V1}").status_code == 200 else []
@@ -51,7 +60,7 @@ def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[
 def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     c, _c_port, _s_port = comap_pair(sim, console)
     here = last_position(c.url)
-    caps = wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}/capabilities").json()["capabilities"], 20, "capabilities")
+    caps = capabilities(c.url)
     assert {x["kind"] for x in caps} == {"AREA_SURVEY", "POINT_SURVEY", "MOVE"}
     assert any(x["sensor"] == "SIDESCAN" for x in caps if x["kind"] == "AREA_SURVEY")
 
@@ -92,12 +101,12 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
 
 
 def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
-    c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "0.5")
+    c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "1")
     here = last_position(c.url)
     box = square(here, 50, 400)
     assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, None)]}).status_code == 200
     fid = httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["featureId"]
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}/capabilities").json()["capabilities"], 20, "capabilities")
+    capabilities(c.url)
 
     def state(tid: int, want: str) -> dict[str, Any]:
         return wait_until(lambda: (lambda t: t if t["state"] == want else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
@@ -112,17 +121,20 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     state(t["taskId"], "IN_PROGRESS")
     wait_until(lambda: httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] >= 2, 20, "progress")
     assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
-    time.sleep(0.5)
+    time.sleep(2.5)  # the track takes a point a second and is written a second later
     p1 = last_position(c.url)
+    held = httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()
     time.sleep(2.5)
     assert Local(*p1).xy(*last_position(c.url)) == (0.0, 0.0)  # held: the track stands still
+    assert httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] == held["progress"] < 100
     assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "RESUME"}).json()["state"] == "IN_PROGRESS"
     wait_until(lambda: Local(*p1).xy(*last_position(c.url)) != (0.0, 0.0), 10, "moving again")
     assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
 
     dest = Local(*here).latlon(-60.0, -40.0)
     m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
-    state(m["taskId"], "COMPLETED")
+    wait_until(lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+               40, "the move task to complete")
     wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
 
 
@@ -139,9 +151,13 @@ def test_task_routes_refuse_bad_requests(console) -> None:
         (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
                                                             "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1], [2, 2]]}}]}, 422),
         (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # a bow tie crosses itself
-                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [1, 0], [0, 1]]]}}]}, 422),
+                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [1, 0], [0, 1]]]}}]}, 409),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # 3 vertices, 2 distinct
+                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [0, 0], [0, 0]]]}}]}, 409),
         (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": 3},
-                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}] * 2}, 422),
+                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}] * 2}, 409),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": True},
+                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}]}, 422),
         (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
                                                             "geometry": {"type": "Point", "coordinates": [200, 0]}}]}, 422),
     ]
@@ -151,7 +167,7 @@ def test_task_routes_refuse_bad_requests(console) -> None:
     audit = httpx.get(f"{c.url}/api/audit").json()
     assert sum(1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")) == len(cases)
     off = console()
-    assert httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 503
+    assert httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
     assert httpx.get(f"{off.url}/api/comap").json()["enabled"] is False
 
 

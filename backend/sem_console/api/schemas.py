@@ -3,12 +3,13 @@ the OpenAPI document and /api/ws-schema, which are built from these models."""
 
 from __future__ import annotations
 
+import re
 import typing
 import uuid
 from datetime import datetime
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, model_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
@@ -169,13 +170,40 @@ class RecordingRequest(_Model):
 CoverageName = Literal["COMPLETED", "PARTIAL", "NONE"]
 SensorName = Literal["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"]
 TaskState = Literal["ASSIGNED", "ACCEPTED", "REJECTED", "IN_PROGRESS", "HELD", "COMPLETED", "ERROR", "INTERRUPTED"]
-Finite = Annotated[float, Field(allow_inf_nan=False)]
-Position = Annotated[list[Finite], Field(min_length=2, max_length=3, description="[longitude, latitude(, altitude)] in degrees (GeoJSON)")]
+ISO_8601 = re.compile(r"\d{4}-\d{2}-\d{2}([Tt ].*)?")
+
+
+def iso_only(v: Any) -> Any:
+    """ISO 8601 only: pydantic would also take a number as seconds since the epoch."""
+    if isinstance(v, str) and not ISO_8601.fullmatch(v.strip()):
+        raise ValueError("expected an ISO 8601 date and time, e.g. 2026-11-22T08:00:00Z")
+    return v
+
+
+def _iso_string(v: Any) -> Any:
+    if v is not None and not isinstance(v, str):
+        raise ValueError("expected an ISO 8601 date and time as a string, e.g. 2026-11-22T08:00:00Z")
+    return iso_only(v)
+
+
+def _no_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError("must be a number, not a boolean")
+    return v
+
+
+NoBool = BeforeValidator(_no_bool)
+Finite = Annotated[float, Field(allow_inf_nan=False), NoBool]
+Lon = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False), NoBool]
+Lat = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False), NoBool]
+Position = Annotated[Union[tuple[Lon, Lat], tuple[Lon, Lat, Finite]],
+                     Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")]
+FeatureId = Annotated[int, Field(ge=0, le=0xFFFE), NoBool]
 
 
 class FeatureProperties(BaseModel):
     model_config = ConfigDict(extra="allow")
-    featureId: int | None = Field(None, ge=0, le=0xFFFE, description="the CoMap feature id (u16); the console numbers "
+    featureId: FeatureId | None = Field(None, description="the CoMap feature id (u16); the console numbers "
                                   "a feature without one when it takes the model")
     coverage: CoverageName | None = Field(None, description="the feature's CoverageState, or null when none is known")
 
@@ -198,7 +226,7 @@ class PolygonGeometry(_Model):
 
 class GeoJsonFeature(_Model):
     type: Literal["Feature"]
-    id: int | str | None = None
+    id: Annotated[int, NoBool] | str | None = Field(None, description="GeoJSON feature id (the console gives featureId)")
     geometry: Annotated[Union[PointGeometry, LineStringGeometry, PolygonGeometry], Field(discriminator="type")]
     properties: FeatureProperties
 
@@ -218,26 +246,33 @@ class WorldModel(_Model):
 
 
 class LatLon(_Model):
-    lat: Finite = Field(ge=-90, le=90, description="degrees")
-    lon: Finite = Field(ge=-180, le=180, description="degrees")
+    lat: Lat = Field(description="degrees")
+    lon: Lon = Field(description="degrees")
 
 
-class TaskRequest(_Model):
-    kind: Literal["survey", "move"]
-    vehicle: uuid.UUID = Field(description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)")
-    featureId: int | None = Field(None, ge=0, le=0xFFFE, description="survey: the world model feature to survey")
-    sensor: SensorName = "ANY"
-    resolution: Finite = Field(1.0, gt=0, le=1e6, description="survey: px/m²")
-    deadline: datetime | None = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
-    point: LatLon | None = Field(None, description="move: the destination")
+class _TaskRequest(_Model):
+    vehicle: uuid.UUID = Field(description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)",
+                               examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])  # sem-sim's vehicle 1
+    sensor: SensorName = Field("ANY", description="survey: the sensor to survey with")
+    resolution: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False), NoBool] = Field(1.0, description="survey: px/m²")
+    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
 
-    @model_validator(mode="after")
-    def _needs(self) -> "TaskRequest":
-        if self.kind == "survey" and self.featureId is None:
-            raise ValueError("a survey task needs featureId")
-        if self.kind == "move" and self.point is None:
-            raise ValueError("a move task needs point")
-        return self
+
+class SurveyTaskRequest(_TaskRequest):
+    """A SurveyTask of a world model feature."""
+    kind: Literal["survey"]
+    featureId: FeatureId = Field(description="the world model feature to survey", examples=[1])
+    point: LatLon | None = Field(None, description="not used by a survey")
+
+
+class MoveTaskRequest(_TaskRequest):
+    """A MoveTask to a point."""
+    kind: Literal["move"]
+    point: LatLon = Field(description="the destination")
+    featureId: FeatureId | None = Field(None, description="not used by a move")
+
+
+TaskRequest = Annotated[Union[SurveyTaskRequest, MoveTaskRequest], Field(discriminator="kind")]
 
 
 class Task(_Model):

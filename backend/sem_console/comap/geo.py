@@ -67,10 +67,10 @@ def feature_from_geojson(f: dict[str, Any], where: str) -> Feature:
         if not isinstance(coords, list) or len(coords) != 1:
             raise GeoError(f"{where}: a CoMap polygon is one ring without holes")
         points = open_ring([_latlon(p, where) for p in coords[0] or []])
-        if len(points) < 3:
+        if len(set(points)) < 3:
             raise GeoError(f"{where}: a polygon needs 3 or more distinct vertices")
         if not Polygon([(lon, lat) for lat, lon in points]).is_valid:
-            raise GeoError(f"{where}: the polygon crosses itself")
+            raise GeoError(f"{where}: not a valid polygon (it crosses itself or has no area)")
     else:
         raise GeoError(f"{where}: geometry must be a Point, LineString or Polygon, not {kind}")
     fid = props.pop("featureId", None)

@@ -217,7 +217,10 @@ class Simulator:
             with contextlib.suppress(OSError):
                 self.opts.health_file.touch()
         if self.comap is not None:  # moves the vehicles under way for a task before they report
-            self.comap.step()
+            try:
+                self.comap.step()
+            except Exception:  # a CoMap fault must not stop the UMAA provider
+                log.exception("CoMap step failed")
         for v in self.vehicles.values():
             v.sensors.step(now, dt)
             v.commands.step(now)

@@ -11,7 +11,6 @@ from datetime import timezone
 from typing import Any
 
 from fastapi import APIRouter, HTTPException, Path, status
-from fastapi.exceptions import RequestValidationError
 
 from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
 from sem_console.api.responses import JSON_BODY, problem
@@ -22,28 +21,28 @@ from sem_console.comap.geo import Feature, GeoError, feature_from_geojson, world
 
 writes = APIRouter(tags=["comap"])
 reads = APIRouter(tags=["comap"])
-TaskId = Path(ge=0, le=0xFFFF, description="the CoMap task id")
-COMAP_OFF = {503: problem("CoMap is off: the console was started without --imc-port")}
+TaskId = Path(ge=0, le=0xFFFF, description="the CoMap task id", examples=[1])
+COMAP_OFF = "; or CoMap is off (the console was started without --imc-port)"
 UNKNOWN_TASK = {404: problem("unknown task")}
 
 
 def _features(body: WorldModelIn) -> list[Feature]:
+    """The features, or a 409 for what the schema allows but CoMap cannot carry."""
     out: list[Feature] = []
     problems = []
     seen: set[int] = set()
     for i, f in enumerate(body.features):
         try:
-            feat = feature_from_geojson(f.model_dump(), f"feature {i}")
+            feat = feature_from_geojson(f.model_dump(), f"features[{i}]")
         except GeoError as e:
-            problems.append({"loc": ("body", "features", i), "msg": str(e), "type": "value_error"})
+            problems.append(str(e))
             continue
         if feat.feature_id >= 0 and feat.feature_id in seen:
-            problems.append({"loc": ("body", "features", i, "properties", "featureId"),
-                             "msg": f"featureId {feat.feature_id} is given twice", "type": "value_error"})
+            problems.append(f"features[{i}]: featureId {feat.feature_id} is given twice")
         seen.add(feat.feature_id)
         out.append(feat)
     if problems:
-        raise RequestValidationError(problems)
+        raise HTTPException(status.HTTP_409_CONFLICT, "; ".join(problems[:20]))
     return out
 
 
@@ -54,7 +53,9 @@ async def get_world_model(console: ConsoleDep) -> dict[str, Any]:
 
 
 @writes.put("/api/worldmodel", response_model=WorldModel,
-            responses={**JSON_BODY, 413: problem("the world model does not fit one IMC packet (65535 bytes of payload)")})
+            responses={**JSON_BODY, 409: problem("geometry CoMap cannot carry: a polygon that crosses itself or has fewer "
+                                                "than 3 distinct vertices, a featureId given twice"),
+                       413: problem("the world model does not fit one IMC packet (65535 bytes of payload)")})
 async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Replace the world model and send it (IMC WorldModel) to every IMC peer. Features without a
     featureId are numbered; a closed polygon ring and an open one are the same polygon."""
@@ -82,14 +83,17 @@ async def get_task(console: ConsoleDep, task_id: int = TaskId) -> dict[str, Any]
 
 
 @writes.post("/api/tasks", response_model=Task, status_code=status.HTTP_201_CREATED,
-             responses={201: {"description": "the task, sent to the vehicle as TaskAdmin ASSIGN (state ASSIGNED)"},
+             responses={201: {"description": "the task, sent to the vehicle as TaskAdmin ASSIGN (state ASSIGNED)", "links": {
+                 name: {"operationId": op, "parameters": {"task_id": "$response.body#/taskId"}}
+                 for name, op in (("GetTask", "get_task_api_tasks__task_id__get"),
+                                  ("SynchTask", "synch_task_api_tasks__task_id__synch_post"))}},
                         404: problem("the vehicle has no IMC system id in the console's vehicle table"),
-                        409: problem("a survey of a feature the world model does not have, or no free task id"),
-                        **COMAP_OFF, **JSON_BODY})
+                        409: problem("a survey of a feature the world model does not have, or no free task id" + COMAP_OFF),
+                        **JSON_BODY})
 async def assign_task(body: TaskRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Assign a SurveyTask (featureId, sensor, resolution, deadline) or a MoveTask (point, deadline) to a vehicle."""
     if console.imc is None:
-        raise HTTPException(status.HTTP_503_SERVICE_UNAVAILABLE, "CoMap is off: start the console with --imc-port")
+        raise HTTPException(status.HTTP_409_CONFLICT, "CoMap is off: start the console with --imc-port")
     deadline = None
     if body.deadline is not None:
         d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=timezone.utc)
@@ -105,12 +109,12 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
 
 
 @writes.post("/api/tasks/{task_id}/synch", response_model=Task,
-             responses={**UNKNOWN_TASK, 409: problem("the task has finished"), **COMAP_OFF, **JSON_BODY})
+             responses={**UNKNOWN_TASK, 409: problem("the task has finished" + COMAP_OFF), **JSON_BODY})
 async def synch_task(body: SynchRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep,
                      task_id: int = TaskId) -> dict[str, Any]:
     """HOLD, RESUME or INTERRUPT the task's vehicle (IMC SynchAdmin)."""
     if console.imc is None:
-        raise HTTPException(status.HTTP_503_SERVICE_UNAVAILABLE, "CoMap is off: start the console with --imc-port")
+        raise HTTPException(status.HTTP_409_CONFLICT, "CoMap is off: start the console with --imc-port")
     try:
         task = console.c2.synch(task_id, body.action)
     except TaskError as e:
