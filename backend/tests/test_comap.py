@@ -198,3 +198,19 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
     assert dropped == len(datagrams), counters
     assert httpx.get(f"{c.url}/api/health").status_code == 200 and c.proc.poll() is None
     assert decode_packet(good)[1]["state"] == 2
+
+
+def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
+    import subprocess
+    import sys
+    cases = [
+        (["-m", "sem_console.cli", "--imc-vehicles", "not-a-guid=5"], "is not a GUID"),
+        (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
+        (["-m", "sem_console.cli", "--imc-peers", "localhost"], "is not host:port"),
+        (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
+        (["-m", "sem_console.sim.cli", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
+        (["-m", "sem_console.sim.cli", "--imc-peers", "h:99999"], "is not host:port"),
+    ]
+    for args, text in cases:
+        p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
+        assert p.returncode == 2 and text in p.stderr and len(p.stderr.strip().splitlines()) <= 2, (args, p.stderr)
