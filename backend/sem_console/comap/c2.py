@@ -22,7 +22,7 @@ from typing import Any, Callable
 
 from sem_console.comap.codec import BROADCAST, Header, Message, msg
 from sem_console.comap.geo import Feature, GeoError, collection, coverage_name, features_from_world_model, world_model_message
-from sem_console.comap.messages import SynchOp, TaskOp, TaskStatusEnum
+from sem_console.comap.messages import Sensor, SynchOp, TaskOp, TaskStatusEnum
 
 log = logging.getLogger("sem-console.comap")
 FINAL = {"REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"}
@@ -86,7 +86,6 @@ def capability_json(m: Message) -> dict[str, Any]:
 
 
 def _sensor_name(v: int) -> str:
-    from sem_console.comap.messages import Sensor
     try:
         return Sensor(v).name
     except ValueError:
@@ -104,7 +103,6 @@ class C2:
         self.world_source: str | None = None
         self.tasks: dict[int, Task] = {}
         self._next_task = 1
-        self.ignored = 0  # messages of ours that a C2 does not act on (e.g. a vehicle's WorldModel echo) are fine; this counts wrong ones
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
@@ -192,8 +190,6 @@ class C2:
     def assign(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,
                sensor: str = "ANY", resolution: float = 1.0, deadline: float | None = None,
                point: dict[str, float] | None = None) -> Task:
-        from sem_console.comap.messages import Sensor
-
         imc_id = self.imc_of.get(vehicle)
         if imc_id is None:
             raise TaskError(404, f"vehicle {vehicle} has no IMC system id in the console's vehicle table (--imc-vehicles)")
