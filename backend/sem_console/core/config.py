@@ -5,7 +5,9 @@ from __future__ import annotations
 import uuid
 from pathlib import Path
 
-from pydantic import Field, PrivateAttr
+from typing import Any
+
+from pydantic import Field, PrivateAttr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
@@ -76,6 +78,12 @@ class Settings(BaseSettings):
     imc_vehicles: str = Field("", description="UMAA provider to IMC system id: 'GUID=imcid,...' (decimal or 0x hex)")
 
     _operators: dict[str, str] | None = PrivateAttr(None)
+
+    @field_validator("imc_id", mode="before")
+    @classmethod
+    def _imc_id_hex(cls, v: Any) -> Any:
+        """SEM_IMC_ID=0x4001 as --imc-id takes it."""
+        return parse_imc_id(v, "imc_id") if isinstance(v, str) else v
 
     def operators(self) -> dict[str, str]:
         """token -> operator name, from operator_tokens and operator_tokens_file (read once).
