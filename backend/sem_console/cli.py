@@ -9,9 +9,17 @@ from pathlib import Path
 
 from pydantic import ValidationError
 
-from sem_console.core.config import Settings
+from sem_console.comap.transport import parse_peers
+from sem_console.core.config import Settings, parse_imc_id, parse_imc_vehicles
 from sem_console.dds.bus import DdsConfigError, open_domain
 from sem_console.sim.cli import _Parser
+
+
+def _imc_id(text: str) -> int:
+    try:
+        return parse_imc_id(text, "--imc-id")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -62,6 +70,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--jaus-host", help="address the JAUS gateway listens on (default: --host)")
     p.add_argument("--basemap", type=Path, metavar="FILE.pmtiles", help="an offline chart (PMTiles, vector or raster) the "
                    "dashboard's map draws, served at /api/basemap.pmtiles (default: the built-in Natural Earth land only)")
+    p.add_argument("--imc-port", type=int, help="CoMap over IMC: UDP port to listen on (CoMap is off without it)")
+    p.add_argument("--imc-host", help="address the IMC node listens on (default: 0.0.0.0)")
+    p.add_argument("--imc-peers", help="IMC peers (vehicles) the console sends to: 'host:port,...'")
+    p.add_argument("--imc-id", type=_imc_id, help="the console's IMC system id, decimal or 0x hex (default: 0x4001)")
+    p.add_argument("--imc-vehicles", help="'GUID=imcid,...': the IMC system id of each UMAA provider")
     p.add_argument("--frontend-dir", type=Path, help="built dashboard to serve at / (default: frontend/dist)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -79,6 +92,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         settings.operators()
         settings.names()
+        parse_imc_vehicles(settings.imc_vehicles)
+        parse_peers(settings.imc_peers)
     except ValueError as e:
         parser.error(str(e))
     if settings.auth_reads and not settings.operators():

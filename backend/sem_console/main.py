@@ -21,7 +21,7 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN
-from sem_console.api.routes import commands, gateways as gateway_routes, history, meta, providers, recordings, ws
+from sem_console.api.routes import comap, commands, gateways as gateway_routes, history, meta, providers, recordings, ws
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
@@ -55,8 +55,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
-    app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes,
-                                            settings.audit_refusals_per_minute)
+    app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
+                                          + comap.writes.routes, settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -87,8 +87,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
     commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
     for r, extra in ((providers.router, reads), (history.router, reads), (commands.reads, reads), (meta.reads, reads),
-                     (recordings.reads, reads), (gateway_routes.reads, reads),
+                     (recordings.reads, reads), (gateway_routes.reads, reads), (comap.reads, reads),
                      (commands.writes, commands_writes), (recordings.writes, commands_writes), (gateway_routes.writes, commands_writes),
+                     (comap.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
     app.add_middleware(Guard, settings=settings)

@@ -24,6 +24,7 @@ SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
+from conftest import free_udp_port
 from test_console import V1, gps_fix_executing, provider_ready, wait_command, wait_until
 
 EVIL = "http://evil.example"
@@ -414,8 +415,14 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     sim("--vehicles", "2", "--surface-seconds", "400")
     (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
     c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
+                "--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001",
                 env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers={"Authorization": "Bearer s3cret"}).json(), 20, "vehicles")
+    auth = {"Authorization": "Bearer s3cret"}
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
+    # CoMap data for the routes that read it: feature 1, task 1 (the OpenAPI example of a task id)
+    point = {"type": "Feature", "geometry": {"type": "Point", "coordinates": [-75.7, 36.8]}, "properties": {"featureId": 1}}
+    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}, headers=auth).status_code == 200
+    assert httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}, headers=auth).json()["taskId"] == 1
     cmd = [str(Path(sys.executable).parent / "schemathesis"), "run", f"{c.url}/openapi.json", "--checks", "all",
            "--exclude-checks", "use_after_free", "--generation-deterministic", "--max-examples", "25", "--workers", "1",
            "-H", "Authorization: Bearer s3cret", "--no-color", "--report", "junit", "--report-dir", str(tmp_path)]

@@ -14,6 +14,9 @@ from typing import Any, Callable
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from sem_console.comap.c2 import C2
+from sem_console.comap.codec import BROADCAST, Header, Message
+from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
@@ -21,7 +24,7 @@ from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.store import Store
-from sem_console.core.config import Settings
+from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
@@ -53,6 +56,8 @@ class Console:
                                  lambda s, x: self.command_writers[s].dispose(x), self._emit, settings.unanswered_timeout)
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
+        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
+        self.imc: AsyncNode | None = None
         self.ingest: Ingest | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
@@ -75,6 +80,11 @@ class Console:
         if resumed:
             log.info("resumed following %d commands", len(resumed))
         self.ingest.start()
+        if self.settings.imc_port is not None:
+            node = AsyncNode(Endpoint(self.settings.imc_id, parse_peers(self.settings.imc_peers)), self._on_imc)
+            await node.open(self.settings.imc_host, self.settings.imc_port)
+            self.imc = node
+            log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
         self._ticker = loop.create_task(self._tick_forever())
         self._history_task = loop.create_task(self.history.run())
         if self.settings.sim:
@@ -92,6 +102,8 @@ class Console:
         while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
             await asyncio.sleep(0.05)
         self.closing = True  # from here on, samples still queued for the loop are ignored
+        if self.imc is not None:
+            self.imc.close()
         if self._ticker:
             self._ticker.cancel()
         if self.ingest:
@@ -206,6 +218,21 @@ class Console:
         s = it.sample
         self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
                                 s.logMessage, provider_time(s))
+
+    # ---- CoMap over IMC (on the loop) ---------------------------------------------------------
+    def _on_imc(self, header: Header, m: Message, _addr: Addr) -> None:
+        if not self.closing:
+            self.c2.on_message(header, m)
+
+    def _imc_send(self, m: Message, dst: int = BROADCAST) -> int:
+        return self.imc.send(m, dst) if self.imc is not None else 0
+
+    def comap_status(self) -> dict[str, Any]:
+        ep = self.imc.endpoint if self.imc is not None else None
+        return {"enabled": ep is not None, "imcId": self.settings.imc_id, "port": self.settings.imc_port,
+                "peers": [f"{h}:{p}" for h, p in ep.peers] if ep else [],
+                "counters": dict(ep.counters) if ep else {},
+                "vehicles": [v.to_json() for v in self.c2.vehicles.values()]}
 
     def _emit(self, message: dict[str, Any]) -> None:
         self.hub.publish(message)

@@ -5,7 +5,9 @@ from __future__ import annotations
 import uuid
 from pathlib import Path
 
-from pydantic import Field, PrivateAttr
+from typing import Any
+
+from pydantic import Field, PrivateAttr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
@@ -84,7 +86,20 @@ class Settings(BaseSettings):
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
     vehicle_names: str = ""
 
+    # CoMap over IMC (UDP); off unless imc_port is given (see README, CoMap)
+    imc_port: int | None = Field(None, ge=0, le=65535, description="UDP port the console's IMC node listens on")
+    imc_host: str = Field("0.0.0.0", description="address the IMC node listens on")
+    imc_peers: str = Field("", description="IMC peers (vehicles) as host:port, comma separated")
+    imc_id: int = Field(0x4001, ge=0, le=0xFFFE, description="the console's IMC system id")
+    imc_vehicles: str = Field("", description="UMAA provider to IMC system id: 'GUID=imcid,...' (decimal or 0x hex)")
+
     _operators: dict[str, str] | None = PrivateAttr(None)
+
+    @field_validator("imc_id", mode="before")
+    @classmethod
+    def _imc_id_hex(cls, v: Any) -> Any:
+        """SEM_IMC_ID=0x4001 as --imc-id takes it."""
+        return parse_imc_id(v, "imc_id") if isinstance(v, str) else v
 
     def operators(self) -> dict[str, str]:
         """token -> operator name, from operator_tokens and operator_tokens_file (read once).
@@ -124,6 +139,35 @@ class Settings(BaseSettings):
             except ValueError:
                 raise ValueError(f"vehicle name {item!r}: {guid.strip()!r} is not a GUID") from None
         return out
+
+
+def parse_imc_id(text: str, where: str) -> int:
+    """An IMC system id, decimal or 0x hex, 0..0xFFFE (0xFFFF is broadcast)."""
+    try:
+        value = int(text.strip(), 0)
+    except ValueError:
+        raise ValueError(f"{where}: {text.strip()!r} is not an IMC system id (decimal or 0x hex)") from None
+    if not 0 <= value <= 0xFFFE:
+        raise ValueError(f"{where}: IMC system id {value} is not in 0..0xFFFE")
+    return value
+
+
+def parse_imc_vehicles(text: str) -> dict[uuid.UUID, int]:
+    """'GUID=imcid,...' -> {provider GUID: IMC system id}; ValueError naming the item that is wrong."""
+    out: dict[uuid.UUID, int] = {}
+    for item in filter(None, (x.strip() for x in text.split(","))):
+        guid, sep, imc = item.partition("=")
+        if not sep:
+            raise ValueError(f"IMC vehicle {item!r}: expected GUID=imcid")
+        try:
+            key = uuid.UUID(guid.strip())
+        except ValueError:
+            raise ValueError(f"IMC vehicle {item!r}: {guid.strip()!r} is not a GUID") from None
+        value = parse_imc_id(imc, f"IMC vehicle {item!r}")
+        if value in out.values():
+            raise ValueError(f"IMC vehicle {item!r}: IMC system id {value} is given to two vehicles")
+        out[key] = value
+    return out
 
 
 def parse_token(item: str, where: str) -> tuple[str, str, str]:

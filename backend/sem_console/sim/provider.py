@@ -25,6 +25,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
+from sem_console.comap.vehicle import ComapVehicles
 from sem_console.sim.flow import ProviderFlow
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
@@ -85,6 +86,9 @@ class Simulator:
         # Provider Startup Sequence: publishers of status and ack (and reports) first ...
         self.writers = {sem: bus.writer(sem) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
+        self.comap: ComapVehicles | None = None
+        if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
+            self.comap = ComapVehicles(opts, [v.sensors for v in self.vehicles.values()])
         # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
         self.command_readers = {s: bus.reader(s.command) for s in Service}
         self.status_readers = {s: bus.reader(s.status) for s in Service}
@@ -212,6 +216,11 @@ class Simulator:
             self._health_at = now
             with contextlib.suppress(OSError):
                 self.opts.health_file.touch()
+        if self.comap is not None:  # moves the vehicles under way for a task before they report
+            try:
+                self.comap.step()
+            except Exception:  # a CoMap fault must not stop the UMAA provider
+                log.exception("CoMap step failed")
         for v in self.vehicles.values():
             v.sensors.step(now, dt)
             v.commands.step(now)
@@ -228,6 +237,8 @@ class Simulator:
         """Provider Shutdown Sequence: fail what is incomplete, dispose the reports, wait for acks.
         A process that found a twin (watch_for_twins) only closes its journal: the vehicle's
         commands and reports belong to the other process."""
+        if self.comap is not None:
+            self.comap.close()
         if twin:
             self.journal.close()
             return

@@ -285,6 +285,8 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       return { ...state, gateways: msg.gateways };
     case "recording":
       return applyRecording(state, msg.recording, now);
+    case "worldmodel": // CoMap: the map's state (issue 12b) keeps these
+    case "task":
     case "error":
     case "pong":
       return state;

@@ -8,7 +8,6 @@ from __future__ import annotations
 import asyncio
 import csv
 import io
-import re
 import uuid
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -25,6 +24,7 @@ from pydantic import BeforeValidator
 from sem_console import __version__
 from sem_console.api.deps import ConsoleDep
 from sem_console.api.responses import Responses, problem
+from sem_console.api.schemas import iso_only
 from sem_console.console.history import SeriesPoint, TrackPoint
 from sem_console.console.service import Console
 
@@ -66,17 +66,7 @@ def _invalid(name: str, message: str) -> RequestValidationError:
     return RequestValidationError([{"loc": ("query", name), "msg": message, "type": "value_error"}])
 
 
-ISO_8601 = re.compile(r"\d{4}-\d{2}-\d{2}([Tt ].*)?")
-
-
-def _iso_only(v: Any) -> Any:
-    """ISO 8601 only: pydantic would also take a number as seconds since the epoch."""
-    if isinstance(v, str) and not ISO_8601.fullmatch(v.strip()):
-        raise ValueError("expected an ISO 8601 date and time, e.g. 2026-11-22T08:00:00Z")
-    return v
-
-
-IsoTime = Annotated[datetime | None, BeforeValidator(_iso_only)]
+IsoTime = Annotated[datetime | None, BeforeValidator(iso_only)]
 SINCE_DOC = "from this time on (ISO 8601, e.g. 2026-11-22T08:00:00Z; without an offset: UTC)"
 UNTIL_DOC = "up to this time (ISO 8601; without an offset: UTC); before `since`: nothing"
 
