@@ -1,5 +1,5 @@
 // REST calls for commands, typed from the console's OpenAPI document.
-import type { paths } from "./generated/openapi";
+import type { components, paths } from "./generated/openapi";
 import type { Command, LinkConfig, RecordingStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
@@ -116,26 +116,9 @@ export async function worldModel(token: string | null): Promise<import("geojson"
 // CoMap C2 (issue 12): the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
 export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
 
-export interface TaskRequest {
-  kind: "survey" | "move";
-  vehicle: string;
-  featureId?: number;
-  sensor?: string;
-  resolution?: number;
-  deadline?: string;
-  point?: { lat: number; lon: number };
-}
-
-export interface Task {
-  id: string | number;
-  kind: string;
-  vehicle: string;
-  state?: string | null;
-  progress?: number | null;
-  quality?: number | null;
-  featureId?: number | null;
-  [more: string]: unknown;
-}
+/** A SurveyTask or MoveTask to assign (POST /api/tasks), and a task as the console follows it: the backend's models. */
+export type TaskRequest = components["schemas"]["SurveyTaskRequest"] | components["schemas"]["MoveTaskRequest"];
+export type Task = components["schemas"]["Task"];
 
 export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
   return call<unknown>("PUT", "/api/worldmodel", token, model);

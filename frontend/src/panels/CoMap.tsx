@@ -22,12 +22,15 @@ interface Props {
   moveTarget: LonLat | null;
 }
 
+type Sensor = Task["sensor"] & string;
+const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"];
+
 export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget }: Props) {
   const token = useToken();
   const vehicle = useSelectedProvider();
   const [error, setError] = useState<string | null>(null);
   const [featureId, setFeatureId] = useState<number | "">("");
-  const [sensor, setSensor] = useState("SIDESCAN");
+  const [sensor, setSensor] = useState<Sensor>("SIDESCAN");
   const [resolution, setResolution] = useState(1);
   const [deadline, setDeadline] = useState("");
   const taskList = useTasks();
@@ -58,8 +61,8 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
     vehicle &&
     featureId !== "" &&
     run(createTask({ kind: "survey", vehicle: vehicle.id, featureId, sensor, resolution, ...(deadline ? { deadline: new Date(`${deadline}Z`).toISOString() } : {}) }, token));
-  const move = () => vehicle && moveTarget && run(createTask({ kind: "move", vehicle: vehicle.id, point: moveTarget }, token).then(() => setTool("select")));
-  const synch = (id: Task["id"], action: SynchAction) => run(synchTask(id, action, token));
+  const move = () => vehicle && moveTarget && run(createTask({ kind: "move", vehicle: vehicle.id, point: moveTarget, sensor: "ANY", resolution: 1 }, token).then(() => setTool("select")));
+  const synch = (id: Task["taskId"], action: SynchAction) => run(synchTask(id, action, token));
 
   return (
     <div className="comap" data-testid="comap">
@@ -104,7 +107,11 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
             </option>
           ))}
         </select>
-        <input aria-label="Sensor" value={sensor} onChange={(e) => setSensor(e.target.value)} size={10} />
+        <select aria-label="Sensor" value={sensor} onChange={(e) => setSensor(e.target.value as Sensor)}>
+          {SENSORS.map((s) => (
+            <option key={s}>{s}</option>
+          ))}
+        </select>
         <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button className="small" disabled={!vehicle || featureId === ""} onClick={survey}>
@@ -118,8 +125,8 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
       <table className="tasks">
         <tbody>
           {taskList.map((t) => (
-            <tr key={String(t.id)}>
-              <td>{String(t.id)}</td>
+            <tr key={t.taskId}>
+              <td>{t.taskId}</td>
               <td>{t.kind}</td>
               <td>{t.vehicle.slice(0, 8)}</td>
               <td>{t.state ?? "—"}</td>
@@ -127,7 +134,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
               <td>{typeof t.quality === "number" ? `q ${t.quality}` : ""}</td>
               <td>
                 {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                  <button key={a} className="small" onClick={() => synch(t.id, a)}>
+                  <button key={a} className="small" onClick={() => synch(t.taskId, a)}>
                     {a}
                   </button>
                 ))}
