@@ -9,6 +9,7 @@ import random
 import signal
 import socket
 import struct
+import threading
 import time
 import uuid
 from pathlib import Path
@@ -419,3 +420,48 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
                    "no such component", "multi-packet"):
         assert counters[f"malformed: {reason}"] >= 1, reason
     assert httpx.get(f"{c.url}/api/health").status_code == 200
+
+
+class _HeldLcm:
+    """An LCM whose publish waits until the test lets it go: a slow network or a full disk."""
+
+    def __init__(self, inner: lcm.LCM) -> None:
+        self.inner, self.go, self.channels = inner, threading.Event(), []
+
+    def publish(self, channel: str, data: bytes) -> None:
+        self.go.wait(30)
+        self.inner.publish(channel, data)
+        self.channels.append(channel)
+
+
+def _speed_report(vehicle: uuid.UUID, seconds: int) -> dict[str, Any]:
+    report = {"timeStamp": {"seconds": seconds, "nanoseconds": 0}, "SOG": float(seconds)}
+    return {"type": "report", "topic": "GPSFixReport", "providerId": str(vehicle), "report": {"report": report, "invalid": []}}
+
+
+def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn import gateway as aspn
+
+    monkeypatch.setattr(aspn, "QUEUE_SIZE", 5)
+    feed = Feed()
+    gw = aspn.AspnGateway(feed, f"file://{tmp_path / 'aspn.lcm'}")
+    held = _HeldLcm(gw.lcm)
+    gw.lcm = held  # type: ignore[assignment]
+    vehicle = uuid.uuid4()
+    try:
+        for second in range(1, 21):  # with publish on the loop this would hang on the first report
+            feed.publish(_speed_report(vehicle, second))
+        counters = gw.state()["counters"]
+        assert feed.errors == {}
+        # one report taken by the held worker, five waiting, the rest dropped and counted
+        assert 14 <= counters["dropped: queue full"] <= 15
+        held.go.set()
+        kept = wait_until(lambda: (lambda e: e if len(e) == 20 - counters["dropped: queue full"] else None)(gw.events(vehicle)),
+                          10, "the queued reports published")
+        speeds = [aspn23_lcm.measurement_speed.decode(data).speed for _, _, data in kept]
+        assert speeds == sorted(speeds) and speeds[0] == 1.0  # in arrival order
+        assert len(held.channels) == len(kept) and gw.state()["messagesOut"] == len(kept)
+    finally:
+        held.go.set()
+        gw.close()
