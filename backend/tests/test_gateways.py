@@ -465,3 +465,24 @@ def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: 
     finally:
         held.go.set()
         gw.close()
+
+
+def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn.gateway import AspnGateway, check_url
+
+    log_file = tmp_path / "aspn.lcm"
+    vehicle = uuid.uuid4()
+    for run in (1, 2):  # two console runs on the same file:// URL
+        feed = Feed()
+        gw = AspnGateway(feed, f"file://{log_file}")
+        feed.publish(_speed_report(vehicle, run))
+        wait_until(lambda: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
+        gw.close()
+    speeds = [m.speed for _, m in read_log(log_file)]
+    assert speeds == [1.0, 2.0]  # the first run's message is still there
+    check_url(f"file://{log_file}")  # an existing, writable log passes the start check
+    with pytest.raises(RuntimeError):
+        check_url(f"file://{tmp_path}/no/such/dir/x.lcm")
+    with pytest.raises(RuntimeError):
+        check_url(f"file://{tmp_path}")

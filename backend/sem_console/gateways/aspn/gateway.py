@@ -16,6 +16,7 @@ import time
 import uuid
 from collections import deque
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import lcm
@@ -31,15 +32,32 @@ log = logging.getLogger("sem-console.gateways")
 
 
 def lcm_url(url: str) -> str:
-    """A file:// URL without a mode writes the log (LCM's file provider would read it)."""
+    """A file:// URL without a mode appends to the log (LCM's file provider would read it; `mode=w` would
+    wipe the previous run's log at each start). The file is never rotated."""
     if url.startswith("file://") and "mode=" not in url:
-        return url + ("&" if "?" in url else "?") + "mode=w"
+        return url + ("&" if "?" in url else "?") + "mode=a"
     return url
 
 
 def open_lcm(url: str) -> lcm.LCM:
     """LCM on `url`; RuntimeError when LCM cannot open it (unknown provider, a file that cannot be written)."""
     return lcm.LCM(lcm_url(url))
+
+
+def check_url(url: str) -> None:
+    """RuntimeError when the gateway could not open `url`. A file:// log is checked without opening it
+    (the gateway opens it once, at start); any other URL is opened once and let go."""
+    if not url.startswith("file://"):
+        open_lcm(url)
+        return
+    path = Path(url.removeprefix("file://").split("?", 1)[0])
+    if path.is_dir():
+        raise RuntimeError(f"{path} is a directory")
+    target = path if path.exists() else path.parent
+    if not target.is_dir() and not path.exists():
+        raise RuntimeError(f"no such directory: {path.parent}")
+    if not os.access(target, os.W_OK):
+        raise RuntimeError(f"cannot write {target}")
 
 
 @dataclass
