@@ -486,3 +486,33 @@ def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
         check_url(f"file://{tmp_path}/no/such/dir/x.lcm")
     with pytest.raises(RuntimeError):
         check_url(f"file://{tmp_path}")
+
+
+def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn import gateway as aspn
+
+    monkeypatch.setattr(aspn, "MAX_LOG_BYTES", 20_000)
+    feed = Feed()
+    gw = aspn.AspnGateway(feed, "memq://", log_seconds=1.0)
+    v1, v2 = uuid.uuid4(), uuid.uuid4()
+    try:
+        for second in range(1, 401):
+            feed.publish(_speed_report(v1, second))
+        wait_until(lambda: gw.state()["messagesOut"] == 400 or None, 20, "the reports published")
+        with gw._lock:
+            rec = gw.recordings[v1]
+            events = list(rec.events)
+            # what the events really take (tuple, int, bytes object, deque slot) is inside what was counted
+            real = sum(sys.getsizeof(e) + sys.getsizeof(e[0]) + sys.getsizeof(e[2]) + 8 for e in events)
+            assert real <= rec.size == sum(len(e[2]) + aspn.EVENT_OVERHEAD for e in events) <= aspn.MAX_LOG_BYTES
+            assert 0 < len(events) < 400  # the byte bound, not the window, let the oldest go
+            assert len({id(e[1]) for e in events}) == 1  # the stream's channel string held once
+        time.sleep(1.2)  # v1 quiet for longer than the kept window
+        feed.publish(_speed_report(v2, 1))
+        wait_until(lambda: gw.state()["messagesOut"] == 401 or None, 10, "v2's report published")
+        assert gw.events(v1) == [] and v1 not in gw.recordings and len(gw.events(v2)) == 1
+    finally:
+        gw.close()

@@ -1,6 +1,7 @@
 """The ASPN gateway: the console's feed in, ASPN-23 messages out on LCM channels <prefix>/<vehicle>/<measurement>.
 
-It also keeps each vehicle's last `log_seconds` of messages (at most `MAX_LOG_BYTES` each), from which
+It also keeps each vehicle's last `log_seconds` of messages (at most `MAX_LOG_BYTES` of memory each,
+per-message overhead included; a vehicle quiet for longer is forgotten), from which
 `GET /api/providers/{id}/aspn-log` writes an LCM log file with LCM's own `EventLog`.
 """
 
@@ -60,10 +61,17 @@ def check_url(url: str) -> None:
         raise RuntimeError(f"cannot write {target}")
 
 
+# Memory one kept message costs beside its LCM bytes: the tuple, its int, the bytes object's header and the
+# deque slot (measured with tracemalloc on CPython 3.11: ~141 bytes), rounded up. The channel string is
+# held once per stream (`Recording.channels`), so it is not counted per message.
+EVENT_OVERHEAD = 160
+
+
 @dataclass
 class Recording:
     events: deque[tuple[int, str, bytes]] = field(default_factory=deque)  # (UTC microseconds, channel, LCM bytes)
-    size: int = 0
+    size: int = 0  # bytes the events use: their LCM bytes plus EVENT_OVERHEAD each
+    channels: dict[str, str] = field(default_factory=dict)  # each stream's channel string, held once
 
 
 def write_log(events: list[tuple[int, str, bytes]]) -> bytes:
@@ -183,12 +191,16 @@ class AspnGateway:
                 self.stats.sent()
 
     def _record(self, vehicle: uuid.UUID, utime: int, channel: str, data: bytes) -> None:
+        """Keep the message (caller holds the lock); forget what is older than the window or over
+        MAX_LOG_BYTES, and every vehicle quiet for longer than the window."""
         rec = self.recordings.setdefault(vehicle, Recording())
-        rec.events.append((utime, channel, data))
-        rec.size += len(data)
+        rec.events.append((utime, rec.channels.setdefault(channel, channel), data))
+        rec.size += len(data) + EVENT_OVERHEAD
         oldest = utime - int(self.log_seconds * 1e6)
         while rec.events and (rec.events[0][0] < oldest or rec.size > MAX_LOG_BYTES):
-            rec.size -= len(rec.events.popleft()[2])
+            rec.size -= len(rec.events.popleft()[2]) + EVENT_OVERHEAD
+        for other in [v for v, r in self.recordings.items() if not r.events or r.events[-1][0] < oldest]:
+            del self.recordings[other]  # it left (or went quiet): nothing of it is inside the window any more
 
     def events(self, vehicle: uuid.UUID, since: float | None = None, seconds: float | None = None) -> list[tuple[int, str, bytes]]:
         """The vehicle's kept messages from UTC `since` (seconds) and/or of the last `seconds`, oldest first."""
