@@ -516,3 +516,29 @@ def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(tmp_p
         assert gw.events(v1) == [] and v1 not in gw.recordings and len(gw.events(v2)) == 1
     finally:
         gw.close()
+
+
+def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.jaus.gateway import JausGateway, report_navigation
+
+    everything = (0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF)
+    now = 1_700_000_000.25
+
+    def fix(seconds: int) -> dict[str, Any]:
+        return {"report": {"timeStamp": {"seconds": seconds, "nanoseconds": 7}, "SOG": 1.0}, "invalid": []}
+    body, unfit = report_navigation(fix(1_600_000_000), everything, now)
+    assert decode_navigation(body)["sync"] == (1_600_000_000, 7) and not unfit
+    for bad in (2**32 + 5, -1):  # wrapped, 2**32 + 5 would read as 5 s after 1970: the console's time instead
+        body, unfit = report_navigation(fix(bad), everything, now)
+        nav = decode_navigation(body)
+        assert nav["sync"] == (1_700_000_000, 250_000_000) and unfit
+        assert "TimeSeconds" not in nav["global"]  # the records leave the unfit time out, as before
+    body, unfit = report_navigation(None, everything, now)
+    assert decode_navigation(body)["sync"] == (1_700_000_000, 250_000_000) and not unfit
+    gw = JausGateway(Feed(), 1, 42)  # answer() alone: no socket is opened without start()
+    vehicle = uuid.uuid4()
+    gw.vehicles[1], gw.fixes[vehicle] = vehicle, fix(2**32 + 5)
+    gw.answer(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))
+    assert gw.stats.counters["report time outside u32: console time sent"] == 1
+    gw.close()
