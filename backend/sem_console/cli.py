@@ -61,7 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--aspn-lcm", metavar="URL", help="publish each vehicle's navigation as ASPN-23 over LCM at URL "
-                   "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to write a log); off by default")
+                   "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default")
     p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)")
     p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log (default: 300)")
     p.add_argument("--jaus-port", type=int, nargs="?", const=3794, metavar="N",
@@ -106,10 +106,10 @@ def main(argv: list[str] | None = None) -> int:
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
     if settings.aspn_lcm is not None:
-        from sem_console.gateways.aspn.gateway import open_lcm
+        from sem_console.gateways.aspn.gateway import check_url
 
         try:  # an URL LCM cannot open is a one-line error at start, not a gateway that never publishes
-            open_lcm(settings.aspn_lcm)
+            check_url(settings.aspn_lcm)
         except (OSError, RuntimeError, ValueError) as e:
             parser.error(f"--aspn-lcm {settings.aspn_lcm}: {e}")
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")

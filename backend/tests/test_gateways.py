@@ -9,6 +9,7 @@ import random
 import signal
 import socket
 import struct
+import threading
 import time
 import uuid
 from pathlib import Path
@@ -419,3 +420,141 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
                    "no such component", "multi-packet"):
         assert counters[f"malformed: {reason}"] >= 1, reason
     assert httpx.get(f"{c.url}/api/health").status_code == 200
+
+
+class _HeldLcm:
+    """An LCM whose publish waits until the test lets it go: a slow network or a full disk."""
+
+    def __init__(self, inner: lcm.LCM) -> None:
+        self.inner, self.go, self.channels = inner, threading.Event(), []
+
+    def publish(self, channel: str, data: bytes) -> None:
+        self.go.wait(30)
+        self.inner.publish(channel, data)
+        self.channels.append(channel)
+
+
+def _speed_report(vehicle: uuid.UUID, seconds: int) -> dict[str, Any]:
+    report = {"timeStamp": {"seconds": seconds, "nanoseconds": 0}, "SOG": float(seconds)}
+    return {"type": "report", "topic": "GPSFixReport", "providerId": str(vehicle), "report": {"report": report, "invalid": []}}
+
+
+def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn import gateway as aspn
+
+    monkeypatch.setattr(aspn, "QUEUE_SIZE", 5)
+    feed = Feed()
+    gw = aspn.AspnGateway(feed, f"file://{tmp_path / 'aspn.lcm'}")
+    held = _HeldLcm(gw.lcm)
+    gw.lcm = held  # type: ignore[assignment]
+    vehicle = uuid.uuid4()
+    try:
+        for second in range(1, 21):  # with publish on the loop this would hang on the first report
+            feed.publish(_speed_report(vehicle, second))
+        counters = gw.state()["counters"]
+        assert feed.errors == {}
+        # one report taken by the held worker, five waiting, the rest dropped and counted
+        assert 14 <= counters["dropped: queue full"] <= 15
+        held.go.set()
+        kept = wait_until(lambda: (lambda e: e if len(e) == 20 - counters["dropped: queue full"] else None)(gw.events(vehicle)),
+                          10, "the queued reports published")
+        speeds = [aspn23_lcm.measurement_speed.decode(data).speed for _, _, data in kept]
+        assert speeds == sorted(speeds) and speeds[0] == 1.0  # in arrival order
+        assert len(held.channels) == len(kept) and gw.state()["messagesOut"] == len(kept)
+    finally:
+        held.go.set()
+        gw.close()
+
+
+def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn.gateway import AspnGateway, check_url
+
+    log_file = tmp_path / "aspn.lcm"
+    vehicle = uuid.uuid4()
+    for run in (1, 2):  # two console runs on the same file:// URL
+        feed = Feed()
+        gw = AspnGateway(feed, f"file://{log_file}")
+        feed.publish(_speed_report(vehicle, run))
+        wait_until(lambda: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
+        gw.close()
+    speeds = [m.speed for _, m in read_log(log_file)]
+    assert speeds == [1.0, 2.0]  # the first run's message is still there
+    check_url(f"file://{log_file}")  # an existing, writable log passes the start check
+    with pytest.raises(RuntimeError):
+        check_url(f"file://{tmp_path}/no/such/dir/x.lcm")
+    with pytest.raises(RuntimeError):
+        check_url(f"file://{tmp_path}")
+
+
+def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    import sys
+
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn import gateway as aspn
+
+    monkeypatch.setattr(aspn, "MAX_LOG_BYTES", 20_000)
+    feed = Feed()
+    gw = aspn.AspnGateway(feed, "memq://", log_seconds=1.0)
+    v1, v2 = uuid.uuid4(), uuid.uuid4()
+    try:
+        for second in range(1, 401):
+            feed.publish(_speed_report(v1, second))
+        wait_until(lambda: gw.state()["messagesOut"] == 400 or None, 20, "the reports published")
+        with gw._lock:
+            rec = gw.recordings[v1]
+            events = list(rec.events)
+            # what the events really take (tuple, int, bytes object, deque slot) is inside what was counted
+            real = sum(sys.getsizeof(e) + sys.getsizeof(e[0]) + sys.getsizeof(e[2]) + 8 for e in events)
+            assert real <= rec.size == sum(len(e[2]) + aspn.EVENT_OVERHEAD for e in events) <= aspn.MAX_LOG_BYTES
+            assert 0 < len(events) < 400  # the byte bound, not the window, let the oldest go
+            assert len({id(e[1]) for e in events}) == 1  # the stream's channel string held once
+        time.sleep(1.2)  # v1 quiet for longer than the kept window
+        feed.publish(_speed_report(v2, 1))
+        wait_until(lambda: gw.state()["messagesOut"] == 401 or None, 10, "v2's report published")
+        assert gw.events(v1) == [] and v1 not in gw.recordings and len(gw.events(v2)) == 1
+    finally:
+        gw.close()
+
+
+def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.jaus.gateway import JausGateway, report_navigation
+
+    everything = (0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF)
+    now = 1_700_000_000.25
+
+    def fix(seconds: int) -> dict[str, Any]:
+        return {"report": {"timeStamp": {"seconds": seconds, "nanoseconds": 7}, "SOG": 1.0}, "invalid": []}
+    body, unfit = report_navigation(fix(1_600_000_000), everything, now)
+    assert decode_navigation(body)["sync"] == (1_600_000_000, 7) and not unfit
+    for bad in (2**32 + 5, -1):  # wrapped, 2**32 + 5 would read as 5 s after 1970: the console's time instead
+        body, unfit = report_navigation(fix(bad), everything, now)
+        nav = decode_navigation(body)
+        assert nav["sync"] == (1_700_000_000, 250_000_000) and unfit
+        assert "TimeSeconds" not in nav["global"]  # the records leave the unfit time out, as before
+    body, unfit = report_navigation(None, everything, now)
+    assert decode_navigation(body)["sync"] == (1_700_000_000, 250_000_000) and not unfit
+    gw = JausGateway(Feed(), 1, 42)  # answer() alone: no socket is opened without start()
+    vehicle = uuid.uuid4()
+    gw.vehicles[1], gw.fixes[vehicle] = vehicle, fix(2**32 + 5)
+    gw.answer(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))
+    assert gw.stats.counters["report time outside u32: console time sent"] == 1
+    gw.close()
+
+
+def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> None:
+    from sem_console.console.providers import LinkConfig
+    from sem_console.console.service import stored_link_configs
+
+    good = {"commsLostTimeout": 2.5, "regainedTime": 1, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
+    rows = {"a": good, "old": {"commsLostTimeout": 4, "regainedTime": 2},  # a row from before the policy: its defaults
+            "negative": {**good, "commsLostTimeout": -1}, "nan": {**good, "regainedTime": float("nan")},
+            "text": {**good, "commsLostTimeout": "5"}, "policy": {**good, "policy": "EXPLODE"},
+            "extra": {**good, "colour": "red"}, "list": [1, 2], "not json": "{oops"}
+    with caplog.at_level("WARNING", logger="sem-console"):
+        configs = stored_link_configs(rows)
+    assert configs == {"a": LinkConfig(2.5, 1.0, "CONTINUE_MISSION", 3), "old": LinkConfig(4.0, 2.0)}
+    warnings = [r for r in caplog.records if r.levelname == "WARNING"]
+    assert len(warnings) == 1 and all(k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json"))

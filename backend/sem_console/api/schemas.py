@@ -149,7 +149,8 @@ class GatewayState(_Model):
     messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
     lastError: str | None
     lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
-    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), errors")
+    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: queue full (ASPN), "
+                                           "report time outside u32: console time sent (JAUS), errors")
 
 
 class Metrics(_Model):

@@ -33,6 +33,29 @@ log = logging.getLogger("sem-console")
 TICK = 0.2
 
 
+def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
+    """The stored link configurations that pass the API's own validation (`api.schemas.LinkConfig`, the one
+    an operator's PUT passed); any other row (unreadable, out of range, of another version) gives way to
+    the defaults, with one warning naming them all."""
+    from pydantic import ValidationError
+
+    from sem_console.api.schemas import LinkConfig as LinkConfigModel
+
+    configs: dict[str, LinkConfig] = {}
+    ignored: list[str] = []
+    for vehicle, stored in rows.items():
+        try:
+            if not isinstance(stored, dict):
+                raise ValueError("not a JSON object")
+            model = LinkConfigModel.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
+            configs[vehicle] = LinkConfig(**model.model_dump())
+        except (ValidationError, ValueError) as e:
+            ignored.append(f"{vehicle} ({str(e).splitlines()[0]})")
+    if ignored:
+        log.warning("ignored %d stored link configuration(s), the defaults apply: %s", len(ignored), "; ".join(ignored))
+    return configs
+
+
 class Console:
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
@@ -43,12 +66,7 @@ class Console:
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
-        configs = {}
-        for vehicle, stored in self.store.link_configs().items():
-            try:
-                configs[vehicle] = LinkConfig(**stored)
-            except TypeError:  # a row this version cannot read: the defaults apply
-                log.warning("ignored the stored link configuration of %s: %s", vehicle, stored)
+        configs = stored_link_configs(self.store.link_configs())
         self.providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names(), configs,
                                    settings.jaus_subsystem if settings.jaus_port is not None else None)
         self.command_writers = {s: self.bus.writer(s.command) for s in Service}

@@ -119,9 +119,15 @@ class Store:
         """Newest first."""
         return [dict(r) for r in self.db.execute("SELECT * FROM audit ORDER BY id DESC LIMIT ? OFFSET ?", (limit, offset))]
 
-    def link_configs(self) -> dict[str, dict[str, Any]]:
-        """provider GUID string -> the link configuration an operator set for it."""
-        return {r["provider_id"]: json.loads(r["config"]) for r in self.db.execute("SELECT * FROM link_config")}
+    def link_configs(self) -> dict[str, Any]:
+        """provider GUID string -> the link configuration an operator set for it (as stored: the caller validates)."""
+        out: dict[str, Any] = {}
+        for r in self.db.execute("SELECT * FROM link_config"):
+            try:
+                out[r["provider_id"]] = json.loads(r["config"])
+            except ValueError:  # not JSON: the caller's validation refuses it
+                out[r["provider_id"]] = r["config"]
+        return out
 
     def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
         self.db.execute("INSERT OR REPLACE INTO link_config VALUES (?, ?)", (provider_id, json.dumps(config)))

@@ -70,20 +70,24 @@ def navigation_values(fix: dict[str, Any] | None) -> tuple[dict[str, float], dic
     return pose, ned, state, stamp
 
 
-def report_navigation(fix: dict[str, Any] | None, asked: tuple[int, int, int, int], now: float) -> bytes:
+def report_navigation(fix: dict[str, Any] | None, asked: tuple[int, int, int, int], now: float) -> tuple[bytes, bool]:
     """ReportNavigation 0x4421's body: SyncTimeRec, global pose, local pose, velocity (VelocityVar with the
     NED record, then the velocity state record), acceleration; each record holds what was asked for and the
-    vehicle has. The NED record comes whenever any velocity-state field is asked for."""
+    vehicle has. The NED record comes whenever any velocity-state field is asked for.
+    SyncTimeRec is the report's time, or `now` when there is none or it does not fit u32 (negative seconds,
+    after 2106, nanoseconds out of range): never a wrapped, plausible-looking wrong time. The second value
+    is True when the report's time was there but did not fit."""
     pose, ned, state, stamp = navigation_values(fix)
-    if stamp is None:
+    unfit = stamp is not None and not (0 <= stamp[0] <= 0xFFFFFFFF and 0 <= stamp[1] <= 999_999_999)
+    if stamp is None or unfit:
         stamp = (int(now), int(now % 1 * 1e9))
     g, local, velocity, acceleration = asked
-    return (struct.pack("<II", stamp[0] & 0xFFFFFFFF, stamp[1])
+    return (struct.pack("<II", stamp[0], stamp[1])
             + judp.record(judp.GLOBAL_POSE, g, pose)
             + judp.record(judp.LOCAL_POSE, local, {})
             + struct.pack("<B", judp.VELOCITY_NED_TAG) + judp.record(judp.VELOCITY_NED, 0xFF if velocity else 0, ned)
             + judp.record(judp.VELOCITY_STATE, velocity, state)
-            + judp.record(judp.ACCELERATION_STATE, acceleration, {}))
+            + judp.record(judp.ACCELERATION_STATE, acceleration, {})), unfit
 
 
 def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
@@ -169,7 +173,10 @@ class JausGateway(asyncio.DatagramProtocol):
             if len(p.body) != QUERY_NAVIGATION_BODY.size:
                 raise Malformed("wrong body size")
             asked = QUERY_NAVIGATION_BODY.unpack(p.body)
-            message_id, body = judp.REPORT_NAVIGATION, report_navigation(self.fixes.get(vehicle), asked, time.time())
+            body, unfit = report_navigation(self.fixes.get(vehicle), asked, time.time())
+            message_id = judp.REPORT_NAVIGATION
+            if unfit:
+                self.stats.count("report time outside u32: console time sent")
         elif p.message_id == judp.QUERY_COMMS_LOST_CONFIGURATION:
             if p.body:
                 raise Malformed("wrong body size")
