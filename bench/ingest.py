@@ -59,6 +59,9 @@ def measure(n: int, seconds: float) -> dict:
             "applied_per_s": round((m1["reportsApplied"] - m0["reportsApplied"]) / elapsed),
             "shown_per_s": round(shown[0] / elapsed),
             "p50_ms": ms(percentile(lat, 50)), "p99_ms": ms(percentile(lat, 99)),
+            # track and chart points, written in batches in a worker thread (off the event loop)
+            "history_rows_per_s": round((m1["historyRowsWritten"] - m0["historyRowsWritten"]) / elapsed),
+            "history_write_max_ms": round(m1["historyWriteSecondsMax"] * 1000, 1),
         }
         console.stop()  # the naive reader gets the same input, and the cores to itself
         row.update(naive_reader(st["domain"], seconds))

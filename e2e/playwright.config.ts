@@ -15,9 +15,12 @@ export default defineConfig({
     viewport: { width: 1440, height: 900 },
     screenshot: "only-on-failure",
     trace: "retain-on-failure",
+    // --disable-gpu leaves WebGL (the map, MapLibre GL) to SwiftShader, the software renderer. Chromium
+    // still falls back to it by itself but has deprecated that fallback; --enable-unsafe-swiftshader
+    // keeps it explicitly ("unsafe" only for pages of untrusted origins, and these tests load our console).
     launchOptions: {
       executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-      args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
+      args: ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
     },
   },
 });

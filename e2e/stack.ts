@@ -83,7 +83,8 @@ export async function startStack(): Promise<Stack> {
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);
   const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"), "--recordings-dir", join(dir, "recordings"),
-    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`];
+    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`,
+    "--aspn-lcm", `file://${join(dir, "aspn.lcm")}`, "--jaus-port", "0", "--jaus-subsystem", "7"];
   const sim = launch("sem-sim", simArgs);
   const con = launch("sem-console", consoleArgs);
   const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles };

@@ -8,20 +8,24 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 from fastapi import Depends, FastAPI, Request
+from fastapi.exception_handlers import http_exception_handler
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.responses import JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException
 from starlette.routing import Match, Mount
 
 from sem_console import __version__
+from sem_console.api.audit import Auditor
 from sem_console.api.auth import Operators
 from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY
-from sem_console.api.routes import commands, meta, providers, recordings, replay, ws
+from sem_console.api.routes import (comap, commands, gateways as gateway_routes, history, meta, providers, recordings, replay,
+                                    ws)
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
+from sem_console.gateways.run import Gateways
 
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
@@ -35,6 +39,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         console = Console(settings)  # owns the DDS participant (none in a replay)
         app.state.console = console
+        gateways = Gateways(settings, console.feed)  # subscribed before the first sample arrives
+        app.state.gateways = gateways
+        console.gateway_states = gateways.states
+        await gateways.start(console.hub.publish)
         await console.start()
         if settings.replay is not None:
             log.info("console %s replaying %s (read-only)", console.id, settings.replay)
@@ -44,18 +52,31 @@ def create_app(settings: Settings | None = None) -> FastAPI:
             yield
         finally:
             await console.stop()
+            await gateways.stop()
 
     app = FastAPI(title="SEM Console", version=__version__, lifespan=lifespan,
                   description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings
-    app.state.operators = operators = Operators(settings.operators())
+    app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
+    app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
+                                          + comap.writes.routes, settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
-    async def validation_error(_request: Request, exc: RequestValidationError) -> JSONResponse:
+    async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
         """422 with one readable line per problem, e.g. "body.state: Input should be 'OFF', 'ON' or 'RESTARTING'"."""
         problems = [f"{'.'.join(str(x) for x in e['loc'])}: {e['msg']}" for e in exc.errors()]
+        if auditor.is_command(request.scope):  # an operator's refused command is what the audit is for
+            auditor.refused(request.scope, 422, "; ".join(problems), operator=getattr(request.state, "operator", None))
         return JSONResponse(status_code=422, content={"detail": "; ".join(problems), "errors": problems})
+
+    @app.exception_handler(HTTPException)
+    async def http_error(request: Request, exc: HTTPException) -> Response:
+        """Refused command requests (401, 404, 409, 415, 429 ...) and 401/429 anywhere: logged and recorded (api/audit.py)."""
+        if exc.status_code in (401, 429) or auditor.is_command(request.scope):
+            auditor.refused(request.scope, exc.status_code, str(exc.detail), audit=getattr(exc, "audit", False),
+                            operator=getattr(request.state, "operator", None))
+        return await http_exception_handler(request, exc)
 
     @app.exception_handler(405)
     async def method_not_allowed(request: Request, _exc: HTTPException) -> JSONResponse:
@@ -69,13 +90,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
     writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
     commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
-    if settings.replay is not None:  # read-only: commands and recording are refused, and the OpenAPI document says so
+    if settings.replay is not None:  # read-only: commands, recording, link config and CoMap writes are refused (409)
         commands_writes = {"dependencies": [*commands_writes["dependencies"], Depends(refuse_in_replay)],
                            "responses": {**commands_writes.get("responses", {}), **READ_ONLY}}
     replay_controls = {**reads, "dependencies": [*reads.get("dependencies", []), Depends(require_json)]}
-    for r, extra in ((providers.router, reads), (commands.reads, reads), (meta.reads, reads), (recordings.reads, reads),
+    for r, extra in ((providers.router, reads), (history.router, reads), (commands.reads, reads), (meta.reads, reads),
+                     (recordings.reads, reads), (gateway_routes.reads, reads), (comap.reads, reads),
                      (replay.reads, reads), (replay.controls, replay_controls),
-                     (commands.writes, commands_writes), (recordings.writes, commands_writes),
+                     (commands.writes, commands_writes), (recordings.writes, commands_writes), (gateway_routes.writes, commands_writes),
+                     (comap.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
     app.add_middleware(Guard, settings=settings)

@@ -18,6 +18,9 @@ import pytest
 
 from consumer import Consumer
 
+# Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
+os.environ.pop("CYCLONEDDS_URI", None)
+
 # A random start per run, then a new domain per test; a domain whose first discovery
 # port is taken (another run on this host) is skipped, so runs never see each other.
 _domains = itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(1, 200))
@@ -99,6 +102,12 @@ def consumer(domain: int) -> Iterator[Consumer]:
 
 def free_port() -> int:
     with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+def free_udp_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.bind(("127.0.0.1", 0))
         return int(s.getsockname()[1])
 

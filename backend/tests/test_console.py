@@ -411,6 +411,13 @@ UNKNOWN = "00000000-0000-4000-8000-000000000000"
     ("GET", "/api/commands?offset=-1", None, 422, "query.offset"),
     ("GET", "/api/commands?limit=many", None, 422, "query.limit"),
     ("GET", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
+    ("GET", "/api/commands?provider_id=7", None, 422, "query.provider_id"),
+    ("GET", f"/api/providers/{UNKNOWN}/track", None, 404, "no provider"),
+    ("GET", f"/api/providers/{UNKNOWN}/track.gpx", None, 404, "no provider"),
+    ("GET", f"/api/providers/{V1}/track?since=yesterday", None, 422, "query.since"),
+    ("GET", f"/api/providers/{V1}/series?until=2026-13-01T00:00:00Z", None, 422, "query.until"),
+    ("GET", f"/api/providers/{V1}/track.csv?until=1795393808.5", None, 422, "query.until: Value error, expected an ISO 8601"),
+    ("GET", "/api/commands.csv?since=soon", None, 422, "query.since"),
 ])
 def test_every_route_rejects_bad_input(live, method: str, path: str, body: Any, code: int, needle: str) -> None:
     kwargs: dict[str, Any] = {}

@@ -6,8 +6,9 @@ import asyncio
 import json
 import uuid
 
+from sem_console.console.feed import Feed
 from sem_console.console.hub import Hub
-from sem_console.console.providers import Providers
+from sem_console.console.providers import LinkConfig, Providers
 
 
 def test_hub_keeps_order_conflates_reports_and_drops_a_stalled_client() -> None:
@@ -106,3 +107,39 @@ def test_resync_storm_queues_one_snapshot() -> None:
         assert len(client.ordered) == 1 and not client.dropped
 
     asyncio.run(scenario())
+
+
+def test_link_thresholds_are_per_vehicle() -> None:
+    slow = uuid.uuid4()
+    links = Providers(comms_lost_timeout=1.0, regained_time=1.0, configs={str(slow): LinkConfig(5.0, 1.0, "CONTINUE_MISSION", 2)},
+                      jaus_subsystem=9)
+    fast = uuid.uuid4()
+    links.seen("GPSFixReport", fast, {"x": 1}, 0.0, 0.0, True)
+    links.seen("GPSFixReport", slow, {"x": 1}, 0.0, 0.0, True)
+    assert [(p.id, e) for p, e in links.tick(2.0)] == [(fast, "lost")]  # slow has 5 s
+    assert [(p.id, e) for p, e in links.tick(5.1)] == [(slow, "lost")]
+    assert links.by_id[fast].summary(5.1)["linkConfig"] == {"commsLostTimeout": 1.0, "regainedTime": 1.0,
+                                                             "policy": "STOP_MISSION", "regainedBehavior": 0}
+    assert [links.by_id[x].summary(0)["jausId"] for x in (fast, slow)] == ["9.1.1", "9.1.2"]  # order of appearance
+    links.by_id[fast].config = LinkConfig(0.5, 3.0)
+    links.seen("GPSFixReport", fast, {"x": 1}, 6.0, 6.0, True)
+    links.seen("GPSFixReport", fast, {"x": 1}, 6.4, 6.4, True)
+    assert links.tick(6.4) == []  # 0.5 s lost timeout: 0.4 s gaps keep regaining going
+    links.seen("GPSFixReport", fast, {"x": 1}, 9.1, 9.1, True)  # a 2.7 s gap restarts it
+    assert links.tick(9.1) == []
+    assert Providers(1.0, 1.0).seen("GPSFixReport", fast, None, 0, 0, True)[0].summary(0)["jausId"] is None  # JAUS off
+
+
+def test_feed_delivers_in_order_and_survives_a_failing_subscriber() -> None:
+    feed = Feed()
+    got: list[int] = []
+
+    def bad(_m: dict) -> None:
+        raise RuntimeError("boom")
+    feed.subscribe("bad", bad)
+    stop = feed.subscribe("good", lambda m: got.append(m["n"]))
+    for n in range(3):
+        feed.publish({"type": "report", "n": n})
+    stop()
+    feed.publish({"type": "report", "n": 3})
+    assert got == [0, 1, 2] and feed.errors == {"bad": 4}

@@ -126,6 +126,13 @@ class RtiVehicle:
         stamp = {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}
         src = list(self.guid.bytes)
         self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
+        if Sem.GPS_FIX_REPORT in self.p.outputs:  # RTI's default XCDR1: must not reach the console
+            self.p.write(Sem.GPS_FIX_REPORT, {
+                "altitudeMSL": {"altitude": 0.5}, "GPSFixCommandStatus": 2, "GPSLatLongValid": True, "magneticVariation": -0.17,
+                "position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85},
+                                                            "geodeticLongitude": {"longitude": -75.98}}, "timeAtPosition": now},
+                "SOG": 2.5, "trueCourse": 1.2, "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
+                "source": src, "timeStamp": stamp})
         self.p.write(Sem.GPS_FIX_STATUS_REPORT, {
             "carrierToNoise": [41.5, 38.0], "countDown": 3, "fixValid": True, "lowBkupBattery": False, "navSolution": 4,
             "originPosition": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
@@ -172,7 +179,7 @@ class RtiVehicle:
 def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], console: Any, domain: int) -> None:
     c = console()
     topics = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
-              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK]
+              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK, Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
     v = RtiVehicle(rti(domain, writers=topics, readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
     me = str(v.guid)
 
@@ -186,6 +193,12 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
     assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "OPERATIONAL"
     assert detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == 36.85
+    # Its default (XCDR1) GPSFixReport and GPSReport writers are not read, and the console says so.
+    optional = {Sem.GPS_FIX_REPORT.spec.name: 1, Sem.GPS_REPORT.spec.name: 1}
+    incompatible = wait_until(lambda: (lambda m: m if m == optional else None)(
+        httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"]), 10, "the refused writers")
+    assert incompatible == optional
+    assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)

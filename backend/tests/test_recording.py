@@ -302,3 +302,17 @@ def test_recording_control_is_a_command_and_downloads_stay_in_the_directory(cons
     audit = httpx.get(f"{c.url}/api/audit").json()
     assert [(a["outcome"], a["operator"], a["reason"]) for a in audit if a["path"] == "/api/recordings"][:3] == [
         ("accepted", "alice", "recording stop"), ("accepted", "alice", "recording start"), ("accepted", "alice", "recording start")]
+
+
+def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> None:
+    sim()
+    c = console("--record", str(tmp_path / "rec"), "--record-max-seconds", "1")
+    provider_ready(c.url, V1)
+    wait_until(lambda: len(httpx.get(f"{c.url}/api/recordings").json()) >= 3, 20, "three files")
+    post(c.url, "stop")
+    files = httpx.get(f"{c.url}/api/recordings").json()
+    assert all(f["state"] == "complete" for f in files) and len({f["name"] for f in files}) == len(files)
+    for f in files[1:-1]:  # the middle ones: a whole second each, with every channel and its schema
+        channels, messages = read(tmp_path / "rec" / f["name"])
+        assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
+        assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5

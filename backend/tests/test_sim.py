@@ -195,10 +195,13 @@ def test_provider_restart_fails_persisted_command(sim, consumer: Consumer) -> No
     session = consumer.command(Service.GPS_FIX, V1)
     consumer.wait_status(session, S.EXECUTING)
     first.kill()  # no shutdown sequence: the command stays on the bus
+    consumer.pump()
+    consumer.commands[session].ack = None  # the first process's ack was seen
     sim("--surface-seconds", "400")
     seen = consumer.wait_terminal(session, timeout=20)
     assert seen.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED]
     assert seen.reasons[-1] is R.SERVICE_FAILED and seen.flow.violations == []
+    assert seen.ack is None  # the ack is published again only by a provider that resumes the command
 
 
 def test_command_published_before_the_provider_started_runs_normally(sim, consumer: Consumer) -> None:
@@ -390,3 +393,54 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     listed = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--first-vehicle", "2", "--vehicles", "2", "--list"],
                             capture_output=True, text=True, timeout=30).stdout
     assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]
+
+
+def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: int) -> None:
+    """A GPSReport whose string is not UTF-8 passes Cyclone and fails Python's decoder; the
+    simulator's look at the bus at start must not die of it (it is transient-local: it stays)."""
+    import random
+
+    from cyclonedds._clayer import ddspy_write
+
+    from samplegen import random_sample
+    from sem_console.dds.bus import Bus
+
+    bus = Bus(domain)
+    w = bus.writer(Sem.GPS_REPORT)
+    rng = random.Random(1)
+    x = random_sample(Sem.GPS_REPORT.spec.type, rng)
+    while x.clock is None:
+        x = random_sample(Sem.GPS_REPORT.spec.type, rng)
+    x.clock.referenceCodeTypeFor = "ZZZZ"
+    data = x.serialize(use_version_2=True).replace(b"ZZZZ", b"\xff\xfeZZ")
+    with pytest.raises(UnicodeDecodeError):
+        Sem.GPS_REPORT.spec.type.deserialize(data)
+    assert ddspy_write(w._ref, data) == 0  # noqa: SLF001 (the bytes as a peer would send them)
+    p = sim()
+    time.sleep(4)  # past the start-up look at the bus (1 to 3 s)
+    assert p.proc is not None and p.proc.poll() is None, p.stop()
+    assert "Traceback" not in p.stop()
+
+
+def test_two_simulators_started_together_leave_one_vehicle(domain: int, tmp_path) -> None:
+    """Both pass the start-up look at an empty bus when they start at the same moment; the watch
+    that follows leaves exactly one of them running."""
+    from conftest import FAST
+
+    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+                               str(tmp_path / f"s{i}.json"), *FAST], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              text=True) for i in range(2)]
+    try:
+        deadline = time.monotonic() + 12
+        while time.monotonic() < deadline and all(p.poll() is None for p in procs):
+            time.sleep(0.1)
+        time.sleep(1)
+        running = [p for p in procs if p.poll() is None]
+        assert len(running) == 1, [p.poll() for p in procs]
+        stopped = next(p for p in procs if p.poll() is not None)
+        assert stopped.returncode == 1 and "vehicle 1" in stopped.communicate()[0]
+    finally:
+        for p in procs:
+            if p.poll() is None:
+                p.terminate()
+                p.communicate(timeout=15)

@@ -1,5 +1,6 @@
 // The dashboard against the real stack: sem-console and sem-sim over Cyclone DDS on loopback.
 // Vehicle 1 is healthy, vehicle 2 rejects every command, vehicle 3 skips COMMANDED (a Figure 4 violation).
+import { readFileSync } from "node:fs";
 import { expect, test, type Locator } from "@playwright/test";
 import { latestCommand, open, vehicle } from "../helpers";
 import { load, restartConsole, restartSim, startGuardedConsole, stopSim } from "../stack";
@@ -134,6 +135,36 @@ test("with an operator token: commands are refused until sign-in", async ({ page
   } finally {
     await guarded.stop();
   }
+});
+
+test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, link thresholds saved", async ({ page, request }) => {
+  const id = await open(page);
+  const panel = page.getByTestId("gateways-panel");
+  for (const name of ["aspn", "jaus"]) {
+    await expect(panel.getByTestId(`gateway-${name}`).getByTestId("gateway-state")).toHaveText("on");
+  }
+  await expect(panel.getByTestId("gateway-aspn").getByTestId("gateway-rate")).toContainText(/[1-9][0-9.]*\/s/, { timeout: 10_000 });
+  await expect(panel.getByTestId("gateway-aspn").getByTestId("gateway-error")).toHaveText("none");
+  await expect(panel.getByTestId("jaus-id")).toHaveText(/^7\.1\.[1-3]$/);
+
+  await panel.getByTestId("aspn-record").click();
+  await page.waitForTimeout(1500);
+  const [download] = await Promise.all([page.waitForEvent("download"), panel.getByTestId("aspn-stop").click()]);
+  expect(download.suggestedFilename()).toMatch(new RegExp(`^aspn-${id.slice(0, 8)}-.*\\.lcm$`));
+  const bytes = readFileSync(await download.path());
+  expect(bytes.length).toBeGreaterThan(100);
+  expect(bytes.readUInt32BE(0)).toBe(0xeda1da01); // an LCM log event's sync word
+
+  const form = panel.getByRole("form", { name: /Link configuration of/ });
+  await form.getByLabel("Comms-lost timeout (s)").fill("9");
+  await form.getByLabel("On comms lost").selectOption("CONTINUE_MISSION");
+  await form.getByRole("button", { name: "Save" }).click();
+  await expect(panel.getByRole("form", { name: /Link configuration of/ }).getByLabel("Comms-lost timeout (s)")).toHaveValue("9");
+  await expect.poll(async () => (await (await request.get(`${load().url}/api/providers/${id}`)).json()).linkConfig)
+    .toEqual({ commsLostTimeout: 9, regainedTime: 1.5, policy: "CONTINUE_MISSION", regainedBehavior: 0 });
+  const restored = await request.put(`${load().url}/api/providers/${id}/link-config`,
+    { data: { commsLostTimeout: 1.5, regainedTime: 1.5, policy: "STOP_MISSION", regainedBehavior: 0 } });
+  expect(restored.status()).toBe(200);
 });
 
 test("Record, then Stop: the header shows REC and the recording is listed complete", async ({ page, request }) => {

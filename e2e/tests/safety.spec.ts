@@ -83,6 +83,7 @@ test("with --auth-reads: nothing is shown until sign-in, a wrong token is refuse
   try {
     await page.goto(guarded.url);
     await expect(page.getByTestId("sign-in-to-read")).toBeVisible();
+    await expect(page.getByTestId("connection-state")).toHaveText("Not signed in");
     await expect(page.getByTestId("vehicle")).toHaveCount(0);
     await page.getByLabel("Operator token").fill("wrong");
     await page.getByRole("button", { name: "Sign in" }).click();
@@ -92,6 +93,24 @@ test("with --auth-reads: nothing is shown until sign-in, a wrong token is refuse
     await expect(page.getByTestId("signed-in")).toBeVisible();
     await expect(page.getByTestId("connection-state")).toHaveText("Live");
     await expect(page.getByTestId("vehicle")).toHaveCount(3);
+    const chosen = await page.getByTestId("vehicle").nth(1).getByTestId("vehicle-tag").getAttribute("data-vehicle");
+
+    // Sign out: nothing of the vehicles stays on screen, and the header does not claim "Live".
+    await page.getByTestId("vehicle").nth(1).click();
+    await page.getByRole("button", { name: "Sign out" }).click();
+    await expect(page.getByTestId("connection-state")).toHaveText("Not signed in");
+    await expect(page.getByTestId("sign-in-to-read")).toBeVisible();
+    await expect(page.getByTestId("vehicle")).toHaveCount(0);
+    await expect(page.getByTestId("ins-state")).toHaveCount(0);
+    await expect(page.getByTestId("selected-missing")).toContainText("shown after sign-in");
+    await page.waitForTimeout(1500); // no report brings them back
+    await expect(page.getByTestId("vehicle")).toHaveCount(0);
+    expect(new URL(page.url()).searchParams.get("vehicle")).toBe(chosen); // the selection stays
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    await expect(page.getByTestId("vehicle").and(page.locator('[aria-pressed="true"]')).getByTestId("vehicle-tag"))
+      .toHaveAttribute("data-vehicle", chosen!);
   } finally {
     await guarded.stop();
   }

@@ -6,14 +6,15 @@ import { chromium } from "playwright-core";
 const [url = "http://127.0.0.1:8000", out = "../docs/dashboard.png", show = ""] = process.argv.slice(2);
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
+  args: ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
 });
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
-  await page.goto(url);
+  await page.goto(show ? `${url}/?vehicle=${show}` : url); // the dashboard selects no vehicle by itself
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 20_000 });
   await page.getByTestId("sky-satellite").first().waitFor({ timeout: 20_000 });
   const vehicles = page.getByTestId("vehicle");
+  if (!show) await vehicles.first().click();
   const count = await vehicles.count();
 
   // frame times while switching vehicles every 500 ms for 10 s

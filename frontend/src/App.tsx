@@ -1,9 +1,12 @@
 import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlertsPanel } from "./panels/Alerts";
 import { CommandsPanel } from "./panels/Commands";
+import { ExportPanel } from "./panels/Export";
 import { FixPanel } from "./panels/Fix";
+import { GatewaysPanel } from "./panels/Gateways";
 import { Header } from "./panels/Header";
 import { InsPanel } from "./panels/Ins";
+import { MapPanel } from "./panels/Map";
 import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
@@ -19,12 +22,15 @@ export function App() {
             <VehicleSelector />
           </ErrorBoundary>
           <AlertsPanel />
+          <GatewaysPanel />
         </aside>
         <main className="main">
+          <MapPanel />
           <SatellitesPanel />
           <div className="column">
             <FixPanel />
             <InsPanel />
+            <ExportPanel />
           </div>
           <CommandsPanel />
         </main>

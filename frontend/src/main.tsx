@@ -55,6 +55,7 @@ async function start(): Promise<void> {
       </DataContext.Provider>
     </StrictMode>,
   );
-  if (mayConnect()) source.start(); // else once the operator signs in
+  if (mayConnect()) source.start();
+  else source.stop(); // "Not signed in" until the operator signs in
 }
 void start();

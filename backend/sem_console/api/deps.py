@@ -4,13 +4,14 @@ from __future__ import annotations
 
 from typing import Annotated, Callable
 
-from fastapi import Depends, HTTPException, Query, Request
+from fastapi import Depends, HTTPException, Query, Request, Response
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
 from sem_console.api import audit
-from sem_console.api.auth import AuthError, Operators
+from sem_console.api.auth import DEVICE_COOKIE, AuthError, Operators
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
+from sem_console.gateways.run import Gateways
 
 _bearer = HTTPBearer(auto_error=False, description="an operator token")
 BearerDep = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
@@ -28,34 +29,47 @@ ConsoleDep = Annotated[Console, Depends(get_console)]
 SettingsDep = Annotated[Settings, Depends(get_settings)]
 
 
-def _authenticate(request: Request, credentials: HTTPAuthorizationCredentials | None) -> str:
-    operators: Operators = request.app.state.operators
-    try:
-        return operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None)
-    except AuthError as e:
+class TokenRefused(HTTPException):
+    """401/429 of the token check; `audit`: a wrong token or the slow-down, recorded on any route (see api/audit.py)."""
+
+    def __init__(self, e: AuthError) -> None:
         headers = {"WWW-Authenticate": "Bearer"} if e.status == 401 else {"Retry-After": str(e.retry_after)}
-        if request.method not in ("GET", "HEAD", "OPTIONS"):
-            audit.record(request.scope, "refused", e.status, e.detail)
-        raise HTTPException(e.status, e.detail, headers=headers) from None
+        super().__init__(e.status, e.detail, headers=headers)
+        self.audit = e.audit
 
 
-async def require_operator(request: Request, credentials: BearerDep) -> None:
+def _authenticate(request: Request, response: Response, credentials: HTTPAuthorizationCredentials | None) -> str:
+    """The operator's name; a client without a valid device cookie gets one (see api/auth.py)."""
+    operators: Operators = request.app.state.operators
+    device = operators.device(request.cookies.get(DEVICE_COOKIE))
+    try:
+        name = operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None,
+                                      device=device)
+    except AuthError as e:
+        raise TokenRefused(e) from None  # logged and recorded by the app's exception handler
+    if device is None:
+        response.set_cookie(DEVICE_COOKIE, operators.new_device(), httponly=True, samesite="strict",
+                            secure=request.url.scheme == "https")
+    return name
+
+
+async def require_operator(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the command routes when the console has operator tokens."""
-    request.state.operator = _authenticate(request, credentials)
+    request.state.operator = _authenticate(request, response, credentials)
 
 
-async def require_reader(request: Request, credentials: BearerDep) -> None:
+async def require_reader(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the read routes with --auth-reads."""
-    _authenticate(request, credentials)
+    _authenticate(request, response, credentials)
 
 
 async def refuse_in_replay(request: Request) -> None:
-    """Router dependency of the command and recording routes of a replay (sem-console --replay): it is read-only."""
+    """Router dependency of the command routes of a replay (sem-console --replay: commands, recording, link
+    configuration, CoMap writes): it is read-only. The 409 is audited like every refused command request."""
     settings: Settings = request.app.state.settings
     if settings.replay is not None:
-        reason = f"read-only: this console replays the recording {settings.replay.name}; it sends no command and records nothing"
-        audit.record(request.scope, "refused", 409, reason)
-        raise HTTPException(409, reason)
+        raise HTTPException(409, f"read-only: this console replays the recording {settings.replay.name}; "
+                                 "it sends no command and records nothing")
 
 
 async def current_operator(request: Request) -> str | None:
@@ -66,12 +80,20 @@ async def current_operator(request: Request) -> str | None:
 OperatorDep = Annotated[str | None, Depends(current_operator)]
 
 
-async def get_auditor(request: Request) -> Callable[[int, str, str | None], None]:
-    """Records an accepted command request: (HTTP status, sessionId, operator)."""
-    return lambda status, session, operator: audit.record(request.scope, "accepted", status, "accepted", operator, session)
+async def get_auditor(request: Request) -> Callable[[int, str | None, str | None], None]:
+    """Records an accepted command request: (HTTP status, sessionId or None, operator); refused ones are
+    recorded by the app's exception handlers."""
+    return lambda status, session, operator: audit.auditor(request.scope).accepted(request.scope, status, operator, session)
 
 
-AuditDep = Annotated[Callable[[int, str, str | None], None], Depends(get_auditor)]
+AuditDep = Annotated[Callable[[int, str | None, str | None], None], Depends(get_auditor)]
+
+
+async def get_gateways(request: Request) -> Gateways:
+    return request.app.state.gateways  # type: ignore[no-any-return]
+
+
+GatewaysDep = Annotated[Gateways, Depends(get_gateways)]
 
 
 # Paging of the history routes (an offset beyond SQLite's 64-bit integers is a 422, not a crash)

@@ -6,18 +6,19 @@
   must come from the console's own origin (scheme and Host of the request) or an allowed origin.
   Without an Origin header, `Sec-Fetch-Site` must be same-origin or none where a browser sent it;
   a request with neither is not from a browser page (curl, scripts) and passes.
-- **Content type** (`require_json`, a dependency of the command routes): every POST must say
+- **Content type** (`require_json`, a dependency of the command routes): every POST and PUT must say
   `Content-Type: application/json`: a page can send a cross-site "simple" request (one without
   a CORS preflight) only as text/plain, form or multipart, never as JSON.
 
-A refused request gets a 403 (415 for the content type) with a `detail` (/ws: a bare 403), a log line and, when it
-would have changed state, an entry in the audit trail.
+A refused request gets a 403 (415 for the content type) with a `detail` (/ws: a bare 403), a log line and, for
+a command request, an entry in the audit trail (both bounded: see api/audit.py).
 """
 
 from __future__ import annotations
 
+import ipaddress
 import json
-import logging
+import re
 from email.message import Message
 
 from fastapi import HTTPException, Request
@@ -25,18 +26,29 @@ from starlette.datastructures import Headers
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from sem_console.api import audit
+from sem_console.api.audit import clip
 from sem_console.core.config import Settings
 
-log = logging.getLogger("sem-console.guard")
 SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
 
 
-def host_name(host: str) -> str:
-    """The name part of a Host header, lower case: 'Example.org:8000' -> 'example.org', '[::1]:80' -> '[::1]'."""
-    host = host.strip().lower()
-    if host.startswith("["):
-        return host[: host.find("]") + 1]
-    return host.rsplit(":", 1)[0] if host.count(":") == 1 else host
+HOST = re.compile(r"(?P<name>\[[0-9a-f:.]+\]|[a-z0-9_-]+(?:\.[a-z0-9_-]+)*\.?)(?::[0-9]{1,5})?")
+
+
+def host_name(host: str) -> str | None:
+    """The name part of a Host header (host[:port], an IPv6 address in brackets), lower case:
+    'Example.org:8000' -> 'example.org', '[::1]:80' -> '[::1]'; None for anything else
+    ('localhost:8123@evil.example', a bare IPv6 address, spaces, userinfo, a path)."""
+    m = HOST.fullmatch(host.strip().lower())
+    if m is None:
+        return None
+    name = m["name"]
+    if name.startswith("["):
+        try:
+            ipaddress.IPv6Address(name[1:-1])
+        except ValueError:
+            return None
+    return name
 
 
 def is_json(content_type: str | None) -> bool:
@@ -63,18 +75,18 @@ class Guard:
             await self.app(scope, receive, send)
             return
         status, reason = refusal
-        method = scope.get("method", "WEBSOCKET") if scope["type"] == "http" else "WEBSOCKET"
-        log.warning("refused %s %s from %s: %s", method, scope["path"], audit.client_of(scope), reason)
-        if scope["type"] == "http" and method not in SAFE_METHODS:
-            audit.record(scope, "refused", status, reason)
+        audit.auditor(scope).refused(scope, status, reason)  # recorded when it is a command request
         await refuse(scope, send, status, reason)
 
     def refusal(self, scope: Scope, headers: Headers) -> tuple[int, str] | None:
         host = headers.get("host")
         if not host:
             return 403, "no Host header"
-        if "*" not in self.hosts and host_name(host) not in self.hosts:
-            return 403, f"host {host_name(host)!r} is not allowed (--allowed-hosts)"
+        name = host_name(host)
+        if name is None:
+            return 403, f"host {clip(host)} is not a host name with an optional port"
+        if "*" not in self.hosts and name not in self.hosts:
+            return 403, f"host {clip(name)} is not allowed (--allowed-hosts)"
         websocket = scope["type"] == "websocket"
         method = scope.get("method", "GET")
         if not websocket and method in SAFE_METHODS:
@@ -83,20 +95,17 @@ class Guard:
         if origin is not None:
             own = f"{'https' if scope.get('scheme') in ('https', 'wss') else 'http'}://{host.strip().lower()}"
             if origin.strip().rstrip("/").lower() not in self.origins | {own}:
-                return 403, f"origin {origin!r} is not allowed (the console's own is {own}; --allowed-origins)"
+                return 403, f"origin {clip(origin)} is not allowed (the console's own is {clip(own)}; --allowed-origins)"
         elif headers.get("sec-fetch-site", "same-origin") not in ("same-origin", "none"):
-            return 403, f"a {headers['sec-fetch-site']} request without Origin is not allowed"
+            return 403, f"a {clip(headers['sec-fetch-site'])} request without Origin is not allowed"
         return None
 
 
 async def require_json(request: Request) -> None:
-    """Dependency of the command routes: a POST must say Content-Type: application/json (checked
+    """Dependency of the command routes: a POST or PUT must say Content-Type: application/json (checked
     after routing, so a POST to a route that has none is still a 405)."""
-    if request.method == "POST" and not is_json(request.headers.get("content-type")):
-        reason = "a POST needs Content-Type: application/json and a JSON body (e.g. {})"
-        log.warning("refused POST %s from %s: %s", request.url.path, audit.client_of(request.scope), reason)
-        audit.record(request.scope, "refused", 415, reason)
-        raise HTTPException(415, reason)
+    if request.method in ("POST", "PUT") and not is_json(request.headers.get("content-type")):
+        raise HTTPException(415, f"a {request.method} needs Content-Type: application/json and a JSON body (e.g. {{}})")
 
 
 async def refuse(scope: Scope, send: Send, status: int, detail: str) -> None:

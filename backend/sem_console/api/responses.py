@@ -14,7 +14,7 @@ def problem(description: str) -> dict[str, Any]:
 
 
 EVERY_ROUTE: Responses = {
-    403: problem("refused: the Host, or for a POST, DELETE or /ws the Origin, is not allowed"),
+    403: problem("refused: the Host, or for a POST, PUT, DELETE or /ws the Origin, is not allowed"),
     422: {"model": ValidationProblem, "description": "a parameter or the body is not valid"},
 }
 NEEDS_TOKEN: Responses = {

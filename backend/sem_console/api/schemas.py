@@ -3,10 +3,13 @@ the OpenAPI document and /api/ws-schema, which are built from these models."""
 
 from __future__ import annotations
 
+import re
 import typing
+import uuid
+from datetime import datetime
 from typing import Annotated, Any, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field, TypeAdapter
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, field_validator
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
@@ -24,10 +27,32 @@ class TopicHealth(_Model):
     receivedAt: float = Field(description="UTC seconds since the epoch of the last sample")
 
 
+class LinkConfig(_Model):
+    """A vehicle's link thresholds and comms-lost configuration (reported as JAUS ReportCommsLostConfiguration)."""
+
+
+    commsLostTimeout: float = Field(ge=0.1, le=65535, description="seconds without any sample before the vehicle is lost")
+    regainedTime: float = Field(ge=0, le=65535, description="seconds of continuous samples before a lost vehicle is regained")
+    policy: Literal["STOP_MISSION", "CONTINUE_MISSION"] = Field(
+        description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)")
+    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and reported")
+
+    @field_validator("commsLostTimeout", "regainedTime", "regainedBehavior", mode="before")
+    @classmethod
+    def _a_json_number(cls, v: Any) -> Any:
+        """JSON numbers only: not true for 1, nor "5" for 5 (1.0 is the integer 1, as JSON Schema has it)."""
+        if isinstance(v, (bool, str)):
+            raise ValueError("Input should be a number")
+        return v
+
+
 class ProviderSummary(_Model):
     id: str = Field(description="the provider's source GUID as a UUID string")
     name: str | None = Field(description="the vehicle's name from the console's --vehicle-names, or null")
     link: LinkState
+    linkConfig: LinkConfig
+    jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
+                                           "is on, else null")
     ageSeconds: float = Field(description="seconds since the last sample on any topic")
     topics: dict[str, TopicHealth]
 
@@ -91,7 +116,8 @@ class ValidationProblem(_Model):
 class AuditEntry(_Model):
     id: int
     at: float = Field(description="UTC seconds since the epoch")
-    outcome: Literal["accepted", "refused"]
+    outcome: Literal["accepted", "refused", "rate-limited"] = Field(
+        description="rate-limited: refused, and the client's further refusals this minute are not recorded")
     status: int = Field(description="the HTTP status answered")
     method: str
     path: str
@@ -112,8 +138,21 @@ class Health(_Model):
     domain: int
     authRequired: bool = Field(description="commands need an operator token")
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
+    basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
     replay: bool = Field(description="the console serves a recording (sem-console --replay), not DDS: read-only, "
                                      "with playback controls (/api/replay)")
+
+
+class GatewayState(_Model):
+    name: Literal["aspn", "jaus"]
+    enabled: bool = Field(description="on (its option was given) or off")
+    endpoint: str | None = Field(description="where it publishes or listens")
+    messagesOut: int = Field(description="messages sent since start")
+    messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
+    lastError: str | None
+    lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
+    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: queue full (ASPN), "
+                                           "report time outside u32: console time sent (JAUS), errors")
 
 
 class Metrics(_Model):
@@ -124,12 +163,19 @@ class Metrics(_Model):
     samplesByReader: dict[str, int] = Field(description="samplesDecoded per owner reader: reliableTransientLocal, "
                                                         "reliableVolatile, bestEffort")
     undecodableSamples: int
+    incompatibleWriters: dict[str, int] = Field(description="per topic, writers whose QoS no reader of the console accepts, so "
+                                                            "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
+                                                            "writer: README, 'Other DDS vendors')")
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
     wsClients: int
     wsMessagesPublished: int = Field(description="messages handed to WebSocket clients, one per client")
     wsClientsDropped: int
     providers: int
     commandsInMemory: int
+    historyRowsWritten: int = Field(description="track and chart points written to the database")
+    historyRowsPruned: int = Field(description="track and chart points removed for being older than the retention")
+    historyWriteSecondsMax: float = Field(description="longest batched write of track and chart points (in a worker "
+                                                      "thread, off the event loop), seconds")
 
 
 class RecordingStatus(_Model):
@@ -191,6 +237,166 @@ class ReplaySpeed(_Model):
 ReplayRequest = Annotated[Union[ReplayPlay, ReplayPause, ReplaySeek, ReplaySpeed], Field(discriminator="action")]
 
 
+# ---- CoMap: world model (GeoJSON), tasks, vehicles --------------------------------------------
+CoverageName = Literal["COMPLETED", "PARTIAL", "NONE"]
+SensorName = Literal["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"]
+TaskState = Literal["ASSIGNED", "ACCEPTED", "REJECTED", "IN_PROGRESS", "HELD", "COMPLETED", "ERROR", "INTERRUPTED"]
+ISO_8601 = re.compile(r"\d{4}-\d{2}-\d{2}([Tt ].*)?")
+
+
+def iso_only(v: Any) -> Any:
+    """ISO 8601 only: pydantic would also take a number as seconds since the epoch."""
+    if isinstance(v, str) and not ISO_8601.fullmatch(v.strip()):
+        raise ValueError("expected an ISO 8601 date and time, e.g. 2026-11-22T08:00:00Z")
+    return v
+
+
+def _iso_string(v: Any) -> Any:
+    if v is not None and not isinstance(v, str):
+        raise ValueError("expected an ISO 8601 date and time as a string, e.g. 2026-11-22T08:00:00Z")
+    return iso_only(v)
+
+
+def _no_bool(v: Any) -> Any:
+    if isinstance(v, bool):
+        raise ValueError("must be a number, not a boolean")
+    return v
+
+
+NoBool = BeforeValidator(_no_bool)
+Finite = Annotated[float, Field(allow_inf_nan=False), NoBool]
+Lon = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False), NoBool]
+Lat = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False), NoBool]
+Position = Annotated[Union[tuple[Lon, Lat], tuple[Lon, Lat, Finite]],
+                     Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")]
+FeatureId = Annotated[int, Field(ge=0, le=0xFFFE), NoBool]
+
+
+class FeatureProperties(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    featureId: FeatureId | None = Field(None, description="the CoMap feature id (u16); the console numbers "
+                                  "a feature without one when it takes the model")
+    coverage: CoverageName | None = Field(None, description="the feature's CoverageState, or null when none is known")
+
+
+class PointGeometry(_Model):
+    type: Literal["Point"]
+    coordinates: Position
+
+
+class LineStringGeometry(_Model):
+    type: Literal["LineString"]
+    coordinates: Annotated[list[Position], Field(min_length=2, max_length=2, description="a CoMap line has 2 vertices")]
+
+
+class PolygonGeometry(_Model):
+    type: Literal["Polygon"]
+    coordinates: Annotated[list[Annotated[list[Position], Field(min_length=3, max_length=4096)]],
+                           Field(min_length=1, max_length=1, description="one ring, no holes; closed or not")]
+
+
+class GeoJsonFeature(_Model):
+    type: Literal["Feature"]
+    id: Annotated[int, NoBool] | str | None = Field(None, description="GeoJSON feature id (the console gives featureId)")
+    geometry: Annotated[Union[PointGeometry, LineStringGeometry, PolygonGeometry], Field(discriminator="type")]
+    properties: FeatureProperties
+
+
+class WorldModelIn(_Model):
+    """A GeoJSON FeatureCollection: CoMap's 1 vertex point, 2 line, 3+ polygon."""
+    type: Literal["FeatureCollection"]
+    features: Annotated[list[GeoJsonFeature], Field(max_length=1000)]
+
+
+class WorldModel(_Model):
+    type: Literal["FeatureCollection"]
+    features: list[GeoJsonFeature]
+    updatedAt: float | None = Field(description="UTC seconds of the last change, null before any")
+    source: str | None = Field(description="'operator' (a PUT), 'imc:<system id>' (a WorldModel received) or "
+                               "'coverage' (a CoverageState merged)")
+
+
+class LatLon(_Model):
+    lat: Lat = Field(description="degrees")
+    lon: Lon = Field(description="degrees")
+
+
+class _TaskRequest(_Model):
+    vehicle: uuid.UUID = Field(description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)",
+                               examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])  # sem-sim's vehicle 1
+    sensor: SensorName = Field("ANY", description="survey: the sensor to survey with")
+    resolution: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False), NoBool] = Field(1.0, description="survey: px/m²")
+    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
+
+
+class SurveyTaskRequest(_TaskRequest):
+    """A SurveyTask of a world model feature."""
+    kind: Literal["survey"]
+    featureId: FeatureId = Field(description="the world model feature to survey", examples=[1])
+    point: LatLon | None = Field(None, description="not used by a survey")
+
+
+class MoveTaskRequest(_TaskRequest):
+    """A MoveTask to a point."""
+    kind: Literal["move"]
+    point: LatLon = Field(description="the destination")
+    featureId: FeatureId | None = Field(None, description="not used by a move")
+
+
+TaskRequest = Annotated[Union[SurveyTaskRequest, MoveTaskRequest], Field(discriminator="kind")]
+
+
+class Task(_Model):
+    taskId: int = Field(description="the C2's CoMap task id (u16)")
+    kind: Literal["survey", "move"]
+    vehicle: str = Field(description="the provider GUID")
+    imcId: int
+    featureId: int | None
+    sensor: SensorName | None
+    resolution: float | None
+    deadline: float | None = Field(description="UTC seconds since the epoch")
+    point: LatLon | None
+    state: TaskState
+    progress: int = Field(ge=0, le=100, description="% from the vehicle's TaskStatus")
+    quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
+    synch: Literal["HOLD", "RESUME", "INTERRUPT"] | None = Field(description="the last SynchAdmin sent for this task")
+    operator: str | None
+    createdAt: float
+    updatedAt: float
+
+
+class SynchRequest(_Model):
+    action: Literal["HOLD", "RESUME", "INTERRUPT"]
+
+
+class Capability(_Model):
+    kind: Literal["AREA_SURVEY", "POINT_SURVEY", "MOVE"]
+    sensor: str | None = None
+    resolution: float | None = Field(None, description="px/m²")
+    resolutionBathymetryFactor: float | None = None
+    coverageRate: float | None = Field(None, description="m²/s")
+    coverageBathymetryFactor: float | None = None
+    duration: float | None = Field(None, description="s")
+    speed: float | None = Field(None, description="m/s")
+
+
+class ComapVehicle(_Model):
+    imcId: int | None = Field(description="its IMC system id, null for a provider not in --imc-vehicles")
+    providerId: str | None = Field(description="the provider GUID from --imc-vehicles, null for a system not in the table")
+    capabilities: list[Capability] | None = Field(description="from its last VehicleCapabilities, null before any")
+    lastHeard: float | None = Field(description="UTC seconds of its last IMC message")
+
+
+class ComapStatus(_Model):
+    enabled: bool = Field(description="false unless the console was started with --imc-port")
+    imcId: int
+    port: int | None
+    peers: list[str]
+    counters: dict[str, int] = Field(description="datagrams received, accepted, sent; dropped ones per reason: truncated, "
+                                     "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs")
+    vehicles: list[ComapVehicle]
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
@@ -199,6 +405,7 @@ class SnapshotMessage(_Model):
     authRequired: bool
     providers: list[ProviderDetail]
     commands: list[Command]
+    gateways: list[GatewayState]
     recording: RecordingStatus
     replay: ReplayStatus | None = Field(description="the replay's playback (sem-console --replay); null for a live console")
 
@@ -212,7 +419,8 @@ class ReportMessage(_Model):
 
 class ProviderMessage(_Model):
     type: Literal["provider"]
-    event: Literal["appeared", "lost", "regained", "live"] = Field(description="live: a regained provider is back to normal")
+    event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
+        description="live: a regained provider is back to normal; configured: its linkConfig changed")
     provider: ProviderSummary
 
 
@@ -226,6 +434,13 @@ class TransitionMessage(_Model):
     sessionId: str
     transition: Transition
     command: Command
+
+
+class GatewaysMessage(_Model):
+    """Every gateway's state, at most once a second and only when it changed."""
+
+    type: Literal["gateways"]
+    gateways: list[GatewayState]
 
 
 class RecordingMessage(_Model):
@@ -242,6 +457,20 @@ class ReplayMessage(_Model):
     replay: ReplayStatus
 
 
+class WorldModelMessage(_Model):
+    """The world model changed (a PUT, a WorldModel over IMC, a CoverageState)."""
+
+    type: Literal["worldmodel"]
+    worldModel: WorldModel
+
+
+class TaskMessage(_Model):
+    """A CoMap task was assigned or changed."""
+
+    type: Literal["task"]
+    task: Task
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -254,7 +483,7 @@ class PongMessage(_Model):
 
 ServerMessage = Annotated[
     Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ReplayMessage,
-          ErrorMessage, PongMessage],
+          GatewaysMessage, WorldModelMessage, TaskMessage, ErrorMessage, PongMessage],
     Field(discriminator="type"),
 ]
 

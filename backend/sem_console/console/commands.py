@@ -102,9 +102,10 @@ class Commands:
             cmd.times.append((t["provider_time"], t["received_at"]))
         return cmd
 
-    def history(self, limit: int, offset: int) -> list[dict[str, Any]]:
+    def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:
         """Newest first, from the database (memory holds only active and recent commands)."""
-        return [self.from_row(r).to_json() for r in self.store.commands(limit=limit, offset=offset)]
+        rows = self.store.commands(limit=limit, offset=offset, provider_id=None if provider_id is None else str(provider_id))
+        return [self.from_row(r).to_json() for r in rows]
 
     def get(self, session: uuid.UUID) -> Command | None:
         if session in self.by_session:

@@ -11,6 +11,7 @@ counted per topic and logged, never raised.
 from __future__ import annotations
 
 import logging
+import threading
 import uuid
 from dataclasses import dataclass
 from typing import Any
@@ -66,9 +67,11 @@ class Decoder:
     def __init__(self) -> None:
         self.undecodable: dict[str, int] = {}
         self.decoded = 0
+        self._counting = threading.Lock()  # both DDS ingest threads decode
 
     def _bad(self, sem: Sem) -> None:
-        self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+        with self._counting:
+            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
 
     def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float,
                convert: bool = True) -> Item | None:
@@ -86,7 +89,8 @@ class Decoder:
             self._bad(sem)
             log.warning("undecodable sample on %s: %s", sem.spec.name, e)
             return None
-        self.decoded += 1
+        with self._counting:
+            self.decoded += 1
         alive = instance_state == InstanceState.Alive
         source = guid(getattr(sample, "source", None))
         if source is None:

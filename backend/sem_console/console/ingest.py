@@ -13,7 +13,8 @@ read explicitly. A sample that cannot be decoded is counted, never raised.
 Every topic is read by three readers, so that any writer is matched and a reliable one
 loses nothing whatever its durability: reliable transient-local (also receives what a
 writer published before the console started), reliable volatile (matches a reliable
-volatile writer) and best-effort volatile (matches any writer). A writer's samples are
+volatile writer) and best-effort volatile (matches any writer with shared ownership in the
+default partition and the type's data representation; see _on_incompatible). A writer's samples are
 applied from exactly one of them, its owner: the most reliable reader its offered QoS
 matches, decided from that QoS when a reader first matches the writer (`Owners`). The
 copies the other readers receive are dropped undecoded. Nothing depends on timestamps
@@ -87,6 +88,10 @@ def owner_of(writer_qos: Qos) -> Via:
 
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
+# Cyclone's dds_qos_policy_id_t values a requested-incompatible-QoS status may name.
+_POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyBudget", 6: "Ownership",
+                 8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
+                 25: "DataRepresentation"}
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
 
 
@@ -104,14 +109,15 @@ class Owners:
         self.by_handle: dict[int, Via] = {}
         self._left: dict[int, float] = {}
 
-    def listener(self) -> Listener:
-        return Listener(on_subscription_matched=self._on_matched)
+    def listener(self, **more: Callable[..., None]) -> Listener:
+        return Listener(on_subscription_matched=self._on_matched, **more)
 
     def _on_matched(self, reader: DataReader, status: Any) -> None:
         handle = status.last_publication_handle & _U64
         if status.current_count_change > 0:
             self._left.pop(handle, None)
-            self.learn(reader, handle)
+            if reader is not None:  # None while the reader is still being created: owner() learns it at the first take
+                self.learn(reader, handle)
         elif status.current_count_change < 0:
             self._left[handle] = time.monotonic()
 
@@ -131,9 +137,9 @@ class Owners:
         return self.by_handle.get(handle) or self.learn(reader, handle)
 
     def forget_departed(self, now: float) -> None:
-        for handle, left in list(self._left.items()):
+        for handle, left in list(self._left.items()):  # the listener thread may change _left meanwhile
             if now - left > FORGET_AFTER:
-                del self._left[handle]
+                self._left.pop(handle, None)
                 self.by_handle.pop(handle, None)
 
 
@@ -144,10 +150,13 @@ class Ingest:
         self.report_interval = report_interval
         self.decoder = Decoder()
         self.undecodable = self.decoder.undecodable
+        self.incompatible: dict[str, int] = {}  # topic -> writers no reader of ours matches (see _on_incompatible)
+        self._warned: set[tuple[Sem, str]] = set()
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
         self.owners = Owners()
+        self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
         self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS) + COMMAND_TOPICS)
@@ -176,8 +185,26 @@ class Ingest:
 
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader]]:
         """The three readers of every topic (see the module docstring)."""
-        return [(sem, via, DataReader(bus.participant, bus.topic(sem), qos=via.qos(sem), listener=self.owners.listener()))
+        return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
+                    on_requested_incompatible_qos=self._on_incompatible(sem, via))))
                 for sem in sems for via in Via]
+
+    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader, Any], None]:
+        """Count the writers of a topic that no reader of ours can match. The best-effort reader
+        accepts any reliability, durability and latency budget, so what it refuses is refused by
+        all three: in practice a data representation (an XCDR1 writer of a type with @optional
+        members, README "Other DDS vendors"). Logged once per topic and policy."""
+
+        def on(_reader: DataReader, status: Any) -> None:
+            if via is not Via.BEST_EFFORT:
+                return
+            self.incompatible[sem.spec.name] = status.total_count
+            policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
+            if (sem, policy) not in self._warned:
+                self._warned.add((sem, policy))
+                log.warning("a writer of %s offers a %s no reader of the console accepts; it is not read%s", sem.spec.name,
+                            policy, " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "")
+        return on
 
     def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Item]:
         """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
@@ -190,7 +217,8 @@ class Ingest:
             if isinstance(raw, int):
                 log.warning("take on %s failed: %d", sem.spec.name, raw)
                 break
-            self.taken += len(raw)
+            with self._counting:  # both ingest threads count
+                self.taken += len(raw)
             tap = self.tap if self.tap is not None and self.tap.active else None
             tapped: list[tuple[bytes, bool, int, int]] = []
             received_ns = time.time_ns()  # the receive time of the recording's messages and of the state alike
@@ -208,8 +236,9 @@ class Ingest:
                 tap.on_samples(sem, tapped, received_ns)
             if len(raw) < 256:
                 break
-        self.decoded += len(out)
-        self.by_reader[via.value] += len(out)
+        with self._counting:
+            self.decoded += len(out)
+            self.by_reader[via.value] += len(out)
         return out
 
     def _report_loop(self) -> None:
@@ -217,20 +246,29 @@ class Ingest:
         while self.running:
             ws.wait(duration(milliseconds=200))
             started = time.monotonic()
-            items: list[ReportItem] = []
-            for (sem, via, reader), cond in zip(self.report_readers, conds):
-                items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
-            if items:
-                self.loop.call_soon_threadsafe(self.on_reports, items)
-            self.owners.forget_departed(started)
+            try:
+                items: list[ReportItem] = []
+                for (sem, via, reader), cond in zip(self.report_readers, conds):
+                    items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
+                if items:
+                    self.loop.call_soon_threadsafe(self.on_reports, items)
+                self.owners.forget_departed(started)
+            except Exception:  # a bug here must not stop every report for good
+                log.exception("report ingest cycle failed")
             time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
 
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]
         while self.running:
             ws.wait(duration(milliseconds=200))
-            items: list[StatusItem] = []
-            for (sem, via, reader), cond in zip(self.status_readers, conds):
-                items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
-            if items:
-                self.loop.call_soon_threadsafe(self.on_statuses, items)
+            try:
+                self._status_cycle(conds)
+            except Exception:  # a bug here must not stop every status for good
+                log.exception("status ingest cycle failed")
+
+    def _status_cycle(self, conds: list[Any]) -> None:
+        items: list[StatusItem] = []
+        for (sem, via, reader), cond in zip(self.status_readers, conds):
+            items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
+        if items:
+            self.loop.call_soon_threadsafe(self.on_statuses, items)

@@ -1,18 +1,35 @@
 """Providers seen on the bus, their latest reports, and link health (JAUS ReportCommsLostConfiguration semantics).
 
-A provider is `lost` after `comms_lost_timeout` seconds without any sample (or at once
-when all its report instances lose their writers or are disposed), and `regained` only
-after samples have kept arriving, with no gap longer than the comms-lost timeout, for
-`regained_time` seconds. It shows `regained` for one regained time, then `live`.
+A provider is `lost` after its comms-lost timeout without any sample (or at once when all
+its report instances lose their writers or are disposed), and `regained` only after samples
+have kept arriving, with no gap longer than the comms-lost timeout, for its regained time.
+It shows `regained` for one regained time, then `live`. Both thresholds are per vehicle
+(`LinkConfig`, default from the console's settings), with the comms-lost policy and
+regained behaviour the vehicle is recorded to follow (reported, never enforced, by the console).
 """
 
 from __future__ import annotations
 
 import uuid
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import asdict, dataclass, field
+from typing import Any, Literal
 
 REPORTS = ("GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport")
+Policy = Literal["STOP_MISSION", "CONTINUE_MISSION"]
+MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
+
+
+@dataclass(frozen=True)
+class LinkConfig:
+    """A vehicle's link thresholds (seconds) and its comms-lost configuration (JAUS 0x4C03)."""
+
+    commsLostTimeout: float
+    regainedTime: float
+    policy: Policy = "STOP_MISSION"
+    regainedBehavior: int = 0
+
+    def to_json(self) -> dict[str, Any]:
+        return asdict(self)
 
 
 @dataclass
@@ -27,7 +44,10 @@ class TopicHealth:
 class Provider:
     id: uuid.UUID
     first_seen: float
+    config: LinkConfig
     name: str | None = None
+    ordinal: int = 0  # 1-based order of appearance, kept for the console's lifetime
+    jaus_subsystem: int | None = None
     reports: dict[str, dict[str, Any]] = field(default_factory=dict)
     health: dict[str, TopicHealth] = field(default_factory=dict)
     link: str = "live"  # live | lost | regained
@@ -42,10 +62,18 @@ class Provider:
             "id": str(self.id),
             "name": self.name,
             "link": self.link,
+            "linkConfig": self.config.to_json(),
+            "jausId": self.jaus_id(),
             "ageSeconds": round(now - self.last_seen(), 3),
             "topics": {name: {"ageSeconds": round(now - h.last_seen, 3), "samples": h.samples, "alive": h.alive,
                               "receivedAt": h.received_at} for name, h in self.health.items()},
         }
+
+    def jaus_id(self) -> str | None:
+        """"S.1.C": subsystem S, node 1, component C (the order of appearance), when the JAUS gateway is on."""
+        if self.jaus_subsystem is None or not 0 < self.ordinal <= MAX_JAUS_COMPONENT:
+            return None
+        return f"{self.jaus_subsystem}.1.{self.ordinal}"
 
 
 @dataclass
@@ -53,14 +81,23 @@ class Providers:
     comms_lost_timeout: float
     regained_time: float
     names: dict[str, str] = field(default_factory=dict)  # GUID string -> configured name
+    configs: dict[str, LinkConfig] = field(default_factory=dict)  # GUID string -> stored per-vehicle config
+    jaus_subsystem: int | None = None
     by_id: dict[uuid.UUID, Provider] = field(default_factory=dict)
+
+    def default_config(self) -> LinkConfig:
+        return LinkConfig(self.comms_lost_timeout, self.regained_time)
 
     def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
              alive: bool) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
         (disposed, or no writers). Returns (provider, whether it is new)."""
-        new = source not in self.by_id
-        p = self.by_id.get(source) or self.by_id.setdefault(source, Provider(source, now, self.names.get(str(source))))
+        p = self.by_id.get(source)
+        new = p is None
+        if p is None:
+            key = str(source)
+            p = self.by_id[source] = Provider(source, now, self.configs.get(key) or self.default_config(),
+                                              self.names.get(key), len(self.by_id) + 1, self.jaus_subsystem)
         h = p.health.get(topic)
         if report is None and not alive:
             if h:
@@ -73,7 +110,7 @@ class Providers:
         h.samples += 1
         if report is not None:
             p.reports[topic] = report
-        if p.link == "lost" and (p.regaining_since is None or gap > self.comms_lost_timeout):
+        if p.link == "lost" and (p.regaining_since is None or gap > p.config.commsLostTimeout):
             p.regaining_since = now
         return p, new
 
@@ -81,7 +118,8 @@ class Providers:
         """Advance link states; returns (provider, 'lost' | 'regained' | 'live') events."""
         events: list[tuple[Provider, str]] = []
         for p in self.by_id.values():
-            silent = now - p.last_seen() > self.comms_lost_timeout
+            lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
+            silent = now - p.last_seen() > lost_after
             reports = [h for t, h in p.health.items() if t in REPORTS]
             gone = bool(reports) and not any(h.alive for h in reports)
             if p.link != "lost" and (silent or gone):
@@ -90,10 +128,10 @@ class Providers:
             elif p.link == "lost":
                 if silent or gone:
                     p.regaining_since = None
-                elif p.regaining_since is not None and now - p.regaining_since >= self.regained_time:
+                elif p.regaining_since is not None and now - p.regaining_since >= regain_after:
                     p.link, p.regained_at, p.regaining_since = "regained", now, None
                     events.append((p, "regained"))
-            elif p.link == "regained" and p.regained_at is not None and now - p.regained_at >= self.regained_time:
+            elif p.link == "regained" and p.regained_at is not None and now - p.regained_at >= regain_after:
                 p.link = "live"
                 events.append((p, "live"))
         return events

@@ -12,19 +12,26 @@ import logging
 import threading
 import time
 import uuid
+import math
+import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Callable
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from sem_console.comap.c2 import C2
+from sem_console.comap.codec import BROADCAST, Header, Message
+from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.decode import ReportItem, StatusItem
+from sem_console.console.feed import Feed
+from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest
-from sem_console.console.providers import REPORTS, Provider, Providers
+from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.store import Store
-from sem_console.core.config import Settings
+from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
@@ -36,24 +43,56 @@ log = logging.getLogger("sem-console")
 TICK = 0.2
 
 
+def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
+    """The stored link configurations that pass the API's own validation (`api.schemas.LinkConfig`, the one
+    an operator's PUT passed); any other row (unreadable, out of range, of another version) gives way to
+    the defaults, with one warning naming them all."""
+    from pydantic import ValidationError
+
+    from sem_console.api.schemas import LinkConfig as LinkConfigModel
+
+    configs: dict[str, LinkConfig] = {}
+    ignored: list[str] = []
+    for vehicle, stored in rows.items():
+        try:
+            if not isinstance(stored, dict):
+                raise ValueError("not a JSON object")
+            model = LinkConfigModel.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
+            configs[vehicle] = LinkConfig(**model.model_dump())
+        except (ValidationError, ValueError) as e:
+            ignored.append(f"{vehicle} ({str(e).splitlines()[0]})")
+    if ignored:
+        log.warning("ignored %d stored link configuration(s), the defaults apply: %s", len(ignored), "; ".join(ignored))
+    return configs
+
+
 class Console:
     def __init__(self, settings: Settings) -> None:
         self.settings = settings
         replaying = settings.replay is not None
         self.clock: Clock = RecordingClock() if replaying else Clock()
-        # a replay keeps its rebuilt history in memory: the live console's database is never touched
-        self.store = Store(Path(":memory:") if replaying else settings.db_path)
+        # a replay keeps its rebuilt state apart: the live console's database is never touched (an in-memory
+        # store; the track and chart history in a temporary file, kept whatever the recording's age)
+        self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
+        self.store = Store(Path(":memory:") if replaying else settings.db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
+        self.history = (History(Path(self._replay_dir.name) / "history.sqlite", math.inf) if self._replay_dir
+                        else History(settings.db_path, settings.track_retention_hours))
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
+        self.feed = Feed()  # what the gateways subscribe to
+        self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
         self.command_writers = {s: self.bus.writer(s.command) for s in Service} if self.bus else {}
         self.providers, self.commands = self._fresh_state()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
+        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
+        self.imc: AsyncNode | None = None
         self.ingest: Ingest | None = None
         self.replay: Replay | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
+        self._history_task: asyncio.Task[None] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
@@ -61,7 +100,10 @@ class Console:
         self.reports_applied = 0
 
     def _fresh_state(self) -> tuple[Providers, Commands]:
-        providers = Providers(self.settings.comms_lost_timeout, self.settings.regained_time, self.settings.names())
+        settings = self.settings
+        providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names(),
+                              stored_link_configs(self.store.link_configs()),
+                              settings.jaus_subsystem if settings.jaus_port is not None else None)
         commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
                             self.settings.unanswered_timeout, self.clock)
         return providers, commands
@@ -85,7 +127,8 @@ class Console:
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
         loop = self._loop = asyncio.get_running_loop()
-        if self.settings.replay is not None:
+        self._history_task = loop.create_task(self.history.run())
+        if self.settings.replay is not None:  # no DDS, no IMC: a replay is read-only
             from sem_console.console.replay import Replay
 
             assert isinstance(self.clock, RecordingClock)
@@ -103,6 +146,11 @@ class Console:
         if resumed:
             log.info("resumed following %d commands", len(resumed))
         self.ingest.start()
+        if self.settings.imc_port is not None:
+            node = AsyncNode(Endpoint(self.settings.imc_id, parse_peers(self.settings.imc_peers)), self._on_imc)
+            await node.open(self.settings.imc_host, self.settings.imc_port)
+            self.imc = node
+            log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
         self._ticker = loop.create_task(self._tick_forever())
         if self.settings.sim:
             self._start_sim()
@@ -117,7 +165,10 @@ class Console:
         if self.replay is not None:
             self.closing = True
             await self.replay.close()
+            await self._stop_history()
             self.store.close()
+            if self._replay_dir is not None:
+                self._replay_dir.cleanup()
             return
         canceled = self.commands.shutdown()
         await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
@@ -125,21 +176,30 @@ class Console:
         while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
             await asyncio.sleep(0.05)
         self.closing = True  # from here on, samples still queued for the loop are ignored
+        if self.imc is not None:
+            self.imc.close()
         if self._ticker:
             self._ticker.cancel()
         if self.ingest:
             await asyncio.to_thread(self.ingest.stop)
+        await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
         if self._sim:
             thread, stop = self._sim
             stop[0] = True
-            await asyncio.to_thread(thread.join, 5)
+            await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
         if self.bus is not None:
             self.bus.close()
         self.store.close()
+
+    async def _stop_history(self) -> None:
+        if self._history_task:  # writes what it still holds
+            self._history_task.cancel()
+            await asyncio.gather(self._history_task, return_exceptions=True)
+        self.history.close()
 
     def _start_sim(self) -> None:
         from sem_console.sim.provider import InUse, SimOptions, Simulator
@@ -155,10 +215,14 @@ class Console:
                 hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
                 log.error("the embedded simulator did not start: %s%s", e, hint)
                 return
+            twin = False
             try:
                 sim.run(lambda: stop[0])
+            except InUse as e:
+                twin = True
+                log.error("the embedded simulator stopped: %s", e)
             finally:
-                sim.shutdown()
+                sim.shutdown(twin=twin)
 
         thread = threading.Thread(target=run, name="sem-sim", daemon=True)
         thread.start()
@@ -200,9 +264,21 @@ class Console:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
                 self.reports_applied += 1
+                message = {"type": "report", "providerId": str(it.source), "topic": it.topic, "report": p.reports[it.topic]}
                 if not self.quiet:
-                    self.hub.publish({"type": "report", "providerId": str(it.source), "topic": it.topic,
-                                      "report": p.reports[it.topic]}, key=(str(it.source), it.topic))
+                    self.hub.publish(message, key=(str(it.source), it.topic))
+                    self.feed.publish(message)
+                self._record(p, it)
+
+    def _record(self, p: Provider, it: ReportItem) -> None:
+        """Track and chart history (at most one point per vehicle and second each)."""
+        assert it.report is not None
+        if it.topic == "GPSFixReport":
+            status = p.reports.get("GPSFixStatusReport")
+            fix_valid = status["report"].get("fixValid") if status else None
+            self.history.on_fix(it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None)
+        elif it.topic == "GPSReport":
+            self.history.on_gps(it.source, it.received_at, it.report)
 
     @staticmethod
     def _envelope(it: ReportItem) -> dict[str, Any] | None:
@@ -234,9 +310,25 @@ class Console:
         self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
                                 s.logMessage, provider_time(s))
 
+    # ---- CoMap over IMC (on the loop) ---------------------------------------------------------
+    def _on_imc(self, header: Header, m: Message, _addr: Addr) -> None:
+        if not self.closing:
+            self.c2.on_message(header, m)
+
+    def _imc_send(self, m: Message, dst: int = BROADCAST) -> int:
+        return self.imc.send(m, dst) if self.imc is not None else 0
+
+    def comap_status(self) -> dict[str, Any]:
+        ep = self.imc.endpoint if self.imc is not None else None
+        return {"enabled": ep is not None, "imcId": self.settings.imc_id, "port": self.settings.imc_port,
+                "peers": [f"{h}:{p}" for h, p in ep.peers] if ep else [],
+                "counters": dict(ep.counters) if ep else {},
+                "vehicles": [v.to_json() for v in self.c2.vehicles.values()]}
+
     def _emit(self, message: dict[str, Any]) -> None:
         if not self.quiet:
             self.hub.publish(message)
+            self.feed.publish(message)
         self.recorder.on_message(message)
 
     def _recording_changed(self, status: dict[str, Any]) -> None:
@@ -262,6 +354,8 @@ class Console:
             "authRequired": bool(self.settings.operators()),
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
+            "gateways": self.gateway_states(),
+            "gateways": self.gateway_states(),
             "recording": self.recorder.status(),
             "replay": self.replay.status() if self.replay else None,
         }
@@ -274,13 +368,24 @@ class Console:
             "samplesDecoded": self.ingest.decoded if self.ingest else decoder.decoded if decoder else 0,
             "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
             "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
+            "incompatibleWriters": dict(self.ingest.incompatible) if self.ingest else {},
             "reportsApplied": self.reports_applied,
             "wsClients": len(self.hub.clients),
             "wsMessagesPublished": self.hub.published,
             "wsClientsDropped": self.hub.dropped,
             "providers": len(self.providers.by_id),
             "commandsInMemory": len(self.commands.by_session),
+            "historyRowsWritten": self.history.rows_written,
+            "historyRowsPruned": self.history.rows_pruned,
+            "historyWriteSecondsMax": round(self.history.max_write_seconds, 6),
         }
+
+    def set_link_config(self, p: Provider, config: LinkConfig) -> None:
+        """A vehicle's link thresholds and comms-lost configuration, kept in the database; link health
+        follows the new thresholds from the next tick."""
+        self.store.set_link_config(str(p.id), config.to_json())
+        p.config = config
+        self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
         return self.commands.issue(service, provider_id, state, operator)

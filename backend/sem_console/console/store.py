@@ -1,4 +1,5 @@
-"""Command history and audit in SQLite; also keeps the console's own source GUID across restarts."""
+"""Command history and audit in SQLite; also keeps the console's own source GUID and each vehicle's
+link configuration across restarts."""
 
 from __future__ import annotations
 
@@ -26,17 +27,21 @@ CREATE TABLE IF NOT EXISTS audit (
     method TEXT NOT NULL, path TEXT NOT NULL, client TEXT, origin TEXT, operator TEXT, session_id TEXT, reason TEXT NOT NULL
 );
 """
+CREATE_LINK_CONFIG = "CREATE TABLE IF NOT EXISTS link_config (provider_id TEXT PRIMARY KEY, config TEXT NOT NULL)"
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
 class Store:
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, audit_max_rows: int = 100_000) -> None:
+        self.audit_max_rows = audit_max_rows
         path.parent.mkdir(parents=True, exist_ok=True)
+        self.path = path
         self.db = sqlite3.connect(path, check_same_thread=False, isolation_level=None)
         self.db.row_factory = sqlite3.Row
         self.db.execute("PRAGMA journal_mode=WAL")
         self.db.execute("PRAGMA synchronous=NORMAL")
         self.db.executescript(SCHEMA)
+        self.db.execute(CREATE_LINK_CONFIG)
         self._migrate()
 
     def _migrate(self) -> None:
@@ -75,23 +80,32 @@ class Store:
         self.db.execute("UPDATE commands SET cancel_requested=1, canceled_by=? WHERE session_id=?", (operator, session_id))
 
     def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
-                 session_id: str | None = None) -> list[dict[str, Any]]:
-        """Commands newest first with their transitions: `limit` of them from `offset`, plus every
-        command not yet cleaned up when `unfinished`, or the one `session_id`."""
+                 session_id: str | None = None, provider_id: str | None = None) -> list[dict[str, Any]]:
+        """Commands newest first with their transitions: `limit` of them from `offset` (to `provider_id`
+        when given), plus every command not yet cleaned up when `unfinished`, or the one `session_id`."""
         if session_id is not None:
             rows = self.db.execute("SELECT * FROM commands WHERE session_id=?", (session_id,)).fetchall()
         else:
-            page = "SELECT session_id FROM commands ORDER BY created_at DESC LIMIT ? OFFSET ?"
+            to = "WHERE provider_id=?" if provider_id is not None else ""
+            page = f"SELECT session_id FROM commands {to} ORDER BY created_at DESC LIMIT ? OFFSET ?"
+            params = (*([provider_id] if provider_id is not None else []), -1 if limit is None else limit, offset)
             rows = self.db.execute(
                 f"SELECT * FROM commands WHERE session_id IN ({page}) {'OR cleaned_up=0' if unfinished else ''} "
-                "ORDER BY created_at DESC", (-1 if limit is None else limit, offset)).fetchall()
-        ids = [r["session_id"] for r in rows]
-        trans: dict[str, list[dict[str, Any]]] = {}
-        for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
-            marks = ",".join("?" * len(chunk))
-            for t in self.db.execute(f"SELECT * FROM transitions WHERE session_id IN ({marks}) ORDER BY session_id, seq", chunk):
-                trans.setdefault(t["session_id"], []).append(dict(t))
-        return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
+                "ORDER BY created_at DESC", params).fetchall()
+        return _with_transitions(self.db, rows)
+
+    def export_commands(self, provider_id: str | None, since: float | None, until: float | None) -> list[dict[str, Any]]:
+        """Commands created in [since, until] (to `provider_id` when given), oldest first, with their
+        transitions; on a connection of its own, for a worker thread."""
+        db = sqlite3.connect(self.path, timeout=10)
+        db.row_factory = sqlite3.Row
+        try:
+            rows = db.execute(
+                "SELECT * FROM commands WHERE (?1 IS NULL OR provider_id=?1) AND (?2 IS NULL OR created_at>=?2) "
+                "AND (?3 IS NULL OR created_at<=?3) ORDER BY created_at", (provider_id, since, until)).fetchall()
+            return _with_transitions(db, rows)
+        finally:
+            db.close()
 
     def clear_commands(self) -> None:
         """Forget every command and transition (a replay rebuilding its state); the audit trail stays."""
@@ -99,13 +113,39 @@ class Store:
         self.db.execute("DELETE FROM commands")
 
     def add_audit(self, entry: dict[str, Any]) -> None:
-        """One command request, accepted or refused (keys: AUDIT_COLUMNS)."""
-        self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",
-                        tuple(entry.get(k) for k in AUDIT_COLUMNS))
+        """One entry (keys: AUDIT_COLUMNS); the table keeps the newest audit_max_rows. Ids count up without
+        gaps (AUTOINCREMENT, never deleted but from the old end), so the prune is one range delete on the key."""
+        cur = self.db.execute(f"INSERT INTO audit ({','.join(AUDIT_COLUMNS)}) VALUES ({','.join('?' * len(AUDIT_COLUMNS))})",
+                              tuple(entry.get(k) for k in AUDIT_COLUMNS))
+        assert cur.lastrowid is not None
+        self.db.execute("DELETE FROM audit WHERE id <= ?", (cur.lastrowid - self.audit_max_rows,))
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
         return [dict(r) for r in self.db.execute("SELECT * FROM audit ORDER BY id DESC LIMIT ? OFFSET ?", (limit, offset))]
 
+    def link_configs(self) -> dict[str, Any]:
+        """provider GUID string -> the link configuration an operator set for it (as stored: the caller validates)."""
+        out: dict[str, Any] = {}
+        for r in self.db.execute("SELECT * FROM link_config"):
+            try:
+                out[r["provider_id"]] = json.loads(r["config"])
+            except ValueError:  # not JSON: the caller's validation refuses it
+                out[r["provider_id"]] = r["config"]
+        return out
+
+    def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
+        self.db.execute("INSERT OR REPLACE INTO link_config VALUES (?, ?)", (provider_id, json.dumps(config)))
+
     def close(self) -> None:
         self.db.close()
+
+
+def _with_transitions(db: sqlite3.Connection, rows: list[sqlite3.Row]) -> list[dict[str, Any]]:
+    ids = [r["session_id"] for r in rows]
+    trans: dict[str, list[dict[str, Any]]] = {}
+    for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
+        marks = ",".join("?" * len(chunk))
+        for t in db.execute(f"SELECT * FROM transitions WHERE session_id IN ({marks}) ORDER BY session_id, seq", chunk):
+            trans.setdefault(t["session_id"], []).append(dict(t))
+    return [{**dict(r), "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Iterable
+from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
@@ -73,6 +74,35 @@ def all_samples(reader: DataReader) -> ReadCondition:
     the condition explicitly, and it doubles as a WaitSet trigger.
     """
     return ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.Any)
+
+
+def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int = 256) -> tuple[list[Any], int]:
+    """Take every sample (by `condition`, else all, disposes included) and decode each on its own:
+    one a Python decoder refuses (a string that is not UTF-8, say) costs only itself. Returns the
+    decoded samples (InvalidSample for a dispose) and how many could not be decoded."""
+    from cyclonedds._clayer import ddspy_take
+    from cyclonedds.internal import InvalidSample
+
+    mask = (condition or all_samples(reader)).mask
+    dtype = reader.topic.data_type
+    out: list[Any] = []
+    bad = 0
+    while True:
+        raw = ddspy_take(reader._ref, mask, n)  # noqa: SLF001 (DataReader.take, decoding each sample on its own)
+        if isinstance(raw, int):
+            break
+        for data, info in raw:
+            try:
+                sample = dtype.deserialize(data) if info.valid_data else InvalidSample(dtype.deserialize_key(data), info)
+            except Exception:  # noqa: BLE001 (whatever a peer sent, only this sample is lost)
+                bad += 1
+                continue
+            if info.valid_data:
+                sample.sample_info = info
+            out.append(sample)
+        if len(raw) < n:
+            break
+    return out, bad
 
 
 def wait_for_acks(writers: Iterable[DataWriter], seconds: float) -> bool:

@@ -9,7 +9,9 @@ import sys
 from pathlib import Path
 from typing import Callable, NoReturn
 
-from sem_console.core.config import Settings
+from sem_console.comap.messages import Sensor
+from sem_console.comap.transport import parse_peers
+from sem_console.core.config import Settings, parse_imc_id
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
 from sem_console.sim.options import MAX_VEHICLE
@@ -41,6 +43,28 @@ def _fault(text: str) -> tuple[str, int]:
     if not target.isdigit() or int(target) < 1:
         raise argparse.ArgumentTypeError(f"fault target {target!r} must be a vehicle number from 1")
     return kind, int(target)
+
+
+def _imc_id(text: str) -> int:
+    try:
+        return parse_imc_id(text, "--imc-id")
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _peers(text: str) -> list[tuple[str, int]]:
+    try:
+        return parse_peers(text)
+    except ValueError as e:
+        raise argparse.ArgumentTypeError(str(e)) from None
+
+
+def _sensors(text: str) -> tuple[str, ...]:
+    names = tuple(x.strip().upper() for x in text.split(",") if x.strip())
+    bad = [n for n in names if n not in Sensor.__members__ or n == "ANY"]
+    if bad or not names:
+        raise argparse.ArgumentTypeError(f"unknown sensor {', '.join(bad) or '(none)'}")
+    return names
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -75,6 +99,13 @@ def build_parser() -> argparse.ArgumentParser:
         "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
         "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))
     p.add_argument("--slow-factor", type=_ranged(float, 1, 1000), default=d.slow_factor, help="slow-down of the 'slow' fault (default: %(default)s)")
+    p.add_argument("--imc-port", type=_ranged(int, 0, 65535), default=None, help="CoMap over IMC: UDP port the vehicles listen on (CoMap is off without it)")
+    p.add_argument("--imc-host", default=d.imc_host, help="address the IMC port listens on (default: %(default)s)")
+    p.add_argument("--imc-id", type=_imc_id, default=d.imc_id, help="IMC system id of the first vehicle, decimal or 0x hex; the next ones count up (default: 0x2001)")
+    p.add_argument("--imc-peers", type=_peers, default=[], help="C2s (consoles) the vehicles send to: 'host:port,...'")
+    p.add_argument("--imc-sensors", type=_sensors, default=d.imc_sensors, help=f"survey sensors the vehicles have, comma separated, of {', '.join(n for n in Sensor.__members__ if n != 'ANY')} (default: SIDESCAN)")
+    p.add_argument("--survey-spacing", type=_ranged(float, 1, 10_000), default=d.survey_spacing, help="metres between lawnmower lanes of a survey (default: %(default)s)")
+    p.add_argument("--survey-speed", type=_ranged(float, 0.1, 100), default=d.survey_speed, help="m/s under way for a CoMap task, before --time-scale (default: %(default)s)")
     p.add_argument("--list", action="store_true", help="print each vehicle's source GUID and exit")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info", help="log level (default: %(default)s)")
     return p
@@ -90,6 +121,8 @@ def options_from(args: argparse.Namespace) -> SimOptions:
         gps_rate=args.gps_rate, ins_rate=args.ins_rate, satellites=args.satellites, sky_speed=args.sky_speed,
         on_startup=args.on_startup, orphan_grace=args.orphan_grace, slow_factor=args.slow_factor, faults=faults,
         command_timeout=args.command_timeout, state_file=args.state_file, health_file=args.health_file,
+        imc_port=args.imc_port, imc_host=args.imc_host, imc_id=args.imc_id, imc_peers=args.imc_peers,
+        imc_sensors=args.imc_sensors, survey_spacing=args.survey_spacing, survey_speed=args.survey_speed,
     )
 
 
@@ -98,7 +131,8 @@ def main(argv: list[str] | None = None) -> int:
     opts = options_from(args)
     if args.list:
         for n in opts.numbers:
-            print(f"vehicle {n}: {vehicle_guid(n)}")
+            imc = f" imc {opts.imc_id_of(n)} (0x{opts.imc_id_of(n):04X})" if opts.imc_port is not None else ""
+            print(f"vehicle {n}: {vehicle_guid(n)}{imc}")
         return 0
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     settings = Settings()
@@ -117,18 +151,25 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         sim = Simulator(bus, opts)
+    except OSError as e:
+        print(f"sem-sim: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}", file=sys.stderr)
+        return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
         print(f"sem-sim: error: {e}{hint}", file=sys.stderr)
         return 1
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.number, v.guid, sorted(v.faults) or "none")
+    twin = False
     try:
         sim.run(lambda: stopping)
+    except InUse as e:
+        twin = True
+        print(f"sem-sim: error: {e}; this process stops", file=sys.stderr)
     finally:
         logging.getLogger("sem-sim").info("shutting down: failing incomplete commands, disposing reports")
-        sim.shutdown()
-    return 0
+        sim.shutdown(twin=twin)
+    return 1 if twin else 0
 
 
 if __name__ == "__main__":

@@ -91,8 +91,8 @@ class ProviderFlow:
         ex.flow.transitions.append(Transition(last, Reason.SUCCEEDED, "from the journal"))  # where it stood
         if last in TERMINAL:
             return  # finished: wait for the consumer's cleanup
-        self.write(ex.service.ack, self.ack_sample(ex))  # the ack died with the previous process
         if self.opts.on_startup == "resume":
+            self.write(ex.service.ack, self.ack_sample(ex))  # the ack died with the previous process
             log.info("vehicle %d resumes %s %s from %s", self.number, ex.service.value, ex.session, last.name)
             ex.next_at = now
             if last is Status.EXECUTING:

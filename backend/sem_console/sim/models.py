@@ -101,6 +101,45 @@ class Track:
 
 
 @dataclass
+class Pilot:
+    """A vehicle under way to waypoints (a CoMap task) instead of cruising its circle: it holds its
+    position when it has none left, or while held."""
+
+    lat: float
+    lon: float
+    course: float = 0.0  # rad, 0..2pi
+    speed: float = 0.0  # m/s over ground
+    waypoints: list[tuple[float, float]] = field(default_factory=list)
+    travelled: float = 0.0  # m since the waypoints were given
+
+    def go(self, waypoints: list[tuple[float, float]]) -> None:
+        self.waypoints, self.travelled = list(waypoints), 0.0
+
+    def step(self, dt: float, speed: float) -> None:
+        """Move `speed * dt` metres along the waypoints (a reached one is dropped)."""
+        left = speed * dt
+        self.speed = 0.0
+        while left > 0 and self.waypoints:
+            k = math.cos(math.radians(self.lat))
+            lat, lon = self.waypoints[0]
+            north, east = (lat - self.lat) * 111_320.0, (lon - self.lon) * 111_320.0 * k
+            d = math.hypot(north, east)
+            if d > 1e-6:
+                self.course = math.atan2(east, north) % (2 * math.pi)
+            if d <= left:
+                self.lat, self.lon = lat, lon
+                self.waypoints.pop(0)
+                left -= d
+                self.travelled += d
+            else:
+                self.lat += north * left / d / 111_320.0
+                self.lon += east * left / d / (111_320.0 * k)
+                self.travelled += left
+                left = 0.0
+            self.speed = speed
+
+
+@dataclass
 class Ins:
     """Inertial sensor: power state and alignment, driven by commands and time."""
 
@@ -133,5 +172,5 @@ class Ins:
             return OpStatus.INIT
         if self.stage_seconds <= 0:
             return OpStatus.OPERATIONAL
-        stage = max(0, int((t - self.since) / self.stage_seconds))  # t before `since` (a dispose's sample at t=0): INIT's stage
+        stage = max(0, int((t - self.since) / self.stage_seconds))  # t may be a tick older than `since`
         return self.stages[stage] if stage < len(self.stages) else OpStatus.OPERATIONAL

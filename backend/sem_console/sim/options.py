@@ -34,6 +34,15 @@ class SimOptions:
     faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle number (0 = all) -> faults
     start_lat: float = 36.80
     start_lon: float = -75.70
+    # CoMap over IMC (comap/vehicle.py): off unless imc_port is given
+    imc_port: int | None = None
+    imc_host: str = "0.0.0.0"
+    imc_id: int = 0x2001  # the first vehicle's IMC system id; the next vehicles count up from it
+    imc_peers: list[tuple[str, int]] = field(default_factory=list)  # C2s (consoles) the vehicles report to
+    imc_sensors: tuple[str, ...] = ("SIDESCAN",)
+    imc_resolution: float = 10.0  # px/m² of its survey sensors
+    survey_spacing: float = 30.0  # m between lawnmower lanes
+    survey_speed: float = 2.0  # m/s under way for a task
     identity_wait: float = 1.0  # s to look for another process already providing our vehicles (see Simulator.claim)
 
     @property
@@ -42,6 +51,9 @@ class SimOptions:
 
     def faults_for(self, number: int) -> set[str]:
         return self.faults.get(0, set()) | self.faults.get(number, set())
+
+    def imc_id_of(self, number: int) -> int:
+        return self.imc_id + number - self.first_vehicle
 
     def scaled(self, seconds: float) -> float:
         return seconds * self.time_scale

@@ -22,9 +22,10 @@ from cyclonedds.internal import InvalidSample
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
-from sem_console.dds.bus import Bus, all_samples, wait_for_acks
+from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
+from sem_console.comap.vehicle import ComapVehicles
 from sem_console.sim.flow import ProviderFlow
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
@@ -35,6 +36,9 @@ __all__ = ["FAULTS", "InUse", "SimOptions", "Simulator", "Vehicle", "vehicle_gui
 
 log = logging.getLogger("sem-sim")
 REPORT_TOPICS = [sem for sem in Sem if sem.spec.cls is TopicClass.REPORT]
+
+
+_U64 = 0xFFFF_FFFF_FFFF_FFFF
 
 
 @dataclass
@@ -57,7 +61,8 @@ def providers_on_bus(bus: Bus, wait: float, longest: float = 3.0) -> set[uuid.UU
     start = time.monotonic()
     while True:
         for r in readers:
-            for s in r.take(N=4096):
+            samples, _bad = take_each(r)  # a sample Python cannot decode must not stop the simulator
+            for s in samples:
                 heard.add(s.sample_info.publication_handle & 0xFFFF_FFFF_FFFF_FFFF)
                 if not isinstance(s, InvalidSample) and s.sample_info.instance_state == InstanceState.Alive:
                     with contextlib.suppress(TypeError, ValueError):
@@ -81,11 +86,18 @@ class Simulator:
         # Provider Startup Sequence: publishers of status and ack (and reports) first ...
         self.writers = {sem: bus.writer(sem) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
+        self.comap: ComapVehicles | None = None
+        if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
+            self.comap = ComapVehicles(opts, [v.sensors for v in self.vehicles.values()])
         # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
         self.command_readers = {s: bus.reader(s.command) for s in Service}
         self.status_readers = {s: bus.reader(s.status) for s in Service}
         self.conditions = {s: all_samples(r) for s, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
+        # Watched for as long as it runs: another process that starts at the same moment passes claim().
+        self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT))
+        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64
+        self._twin_at = 0.0
         self._health_at = 0.0
         self.last = time.monotonic()
         self.started = False
@@ -130,7 +142,7 @@ class Simulator:
 
     def _take_bus_statuses(self) -> None:
         for reader in self.status_readers.values():
-            for s in reader.take(N=4096):
+            for s in take_each(reader)[0]:
                 if not isinstance(s, InvalidSample) and from_guid(s.source) in self.vehicles:
                     self._bus_status[(from_guid(s.source), from_guid(s.sessionID))] = s.commandStatus
 
@@ -140,16 +152,11 @@ class Simulator:
     def poll_commands(self, startup: bool = False) -> None:
         now = time.monotonic()
         for service, reader in self.command_readers.items():
-            while True:
-                try:
-                    samples = reader.take(N=256, condition=self.conditions[service])
-                except Exception as e:  # a sample Python cannot decode must not stop the vehicles
-                    log.warning("undecodable %s command: %s", service.value, e)
-                    break
-                for s in samples:
-                    self.handle(service, s, now, startup)
-                if len(samples) < 256:
-                    break
+            samples, bad = take_each(reader, self.conditions[service])
+            if bad:  # a sample Python cannot decode costs only itself
+                log.warning("%d undecodable %s command(s)", bad, service.value)
+            for s in samples:
+                self.handle(service, s, now, startup)
 
     def handle(self, service: Service, s: Any, now: float, startup: bool) -> None:
         state = s.sample_info.instance_state
@@ -177,6 +184,30 @@ class Simulator:
     def tick(self) -> None:
         self.poll_commands()
         self.step_vehicles()
+        self.watch_for_twins()
+
+    def watch_for_twins(self, every: float = 1.0) -> None:
+        """Raise InUse when another process publishes one of our vehicles: two processes that
+        started together both passed claim(). Both see it; the one whose report writer has the
+        greater GUID leaves (without disposing the vehicle's reports, which the other still
+        publishes), so exactly one stays."""
+        now = time.monotonic()
+        if now - self._twin_at < every:
+            return
+        self._twin_at = now
+        mine = self.writers[Sem.INS_REPORT].guid
+        for s in take_each(self._twin_reader)[0]:
+            handle = s.sample_info.publication_handle & _U64
+            if handle == self._own_writer or isinstance(s, InvalidSample):
+                continue
+            with contextlib.suppress(TypeError, ValueError):
+                source = from_guid(s.source)
+                if source in self.vehicles:
+                    other = self._twin_reader.get_matched_publication_data(handle)
+                    if other is not None and other.key.bytes > mine.bytes:
+                        continue  # the other process leaves
+                    number = self.vehicles[source].number
+                    raise InUse(f"vehicle {number} is also published by another process on domain {self.bus.domain_id}")
 
     def step_vehicles(self) -> None:
         now = time.monotonic()
@@ -185,6 +216,11 @@ class Simulator:
             self._health_at = now
             with contextlib.suppress(OSError):
                 self.opts.health_file.touch()
+        if self.comap is not None:  # moves the vehicles under way for a task before they report
+            try:
+                self.comap.step()
+            except Exception:  # a CoMap fault must not stop the UMAA provider
+                log.exception("CoMap step failed")
         for v in self.vehicles.values():
             v.sensors.step(now, dt)
             v.commands.step(now)
@@ -197,8 +233,15 @@ class Simulator:
             self.tick()
             time.sleep(self.TICK)
 
-    def shutdown(self, ack_timeout: float = 2.0) -> None:
-        """Provider Shutdown Sequence: fail what is incomplete, dispose the reports, wait for acks."""
+    def shutdown(self, ack_timeout: float = 2.0, twin: bool = False) -> None:
+        """Provider Shutdown Sequence: fail what is incomplete, dispose the reports, wait for acks.
+        A process that found a twin (watch_for_twins) only closes its journal: the vehicle's
+        commands and reports belong to the other process."""
+        if self.comap is not None:
+            self.comap.close()
+        if twin:
+            self.journal.close()
+            return
         for v in self.vehicles.values():
             v.commands.shutdown()
             v.sensors.dispose(self.dispose)

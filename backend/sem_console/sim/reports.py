@@ -21,7 +21,7 @@ from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.topics import Sem
-from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Track, make_sky
+from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Pilot, Track, make_sky
 from sem_console.sim.options import SimOptions
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
@@ -43,6 +43,7 @@ class Sensors:
         self.depth = SUBMERGED_DEPTH_M
         self.surfacing = False
         self.fix_state = FixState.INITIATING
+        self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap/vehicle.py)
         self.next_report = {Sem.GPS_FIX_REPORT: 0.0, Sem.GPS_REPORT: 0.0, Sem.INS_REPORT: 0.0}
 
     # ---- sensor state -------------------------------------------------------------
@@ -100,6 +101,8 @@ class Sensors:
     def fix_reports(self, now: float, sats: list[GPSSatelliteType]) -> tuple[GPSFixReportType, GPSFixStatusReportType]:
         lat, lon, course = self.track.at(self.t(now))
         sog = self.track.speed
+        if self.pilot is not None:  # under way for a CoMap task (or holding where one ended)
+            lat, lon, course, sog = self.pilot.lat, self.pilot.lon, self.pilot.course, self.pilot.speed
         rising = -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3) if self.surfacing and self.depth < 0 else 0.0
         fix = GPSFixReportType(
             altitudeMSL=Altitude_MSL(altitude=self.depth),

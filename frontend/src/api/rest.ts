@@ -1,6 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { components, paths } from "./generated/openapi";
-import type { Command, RecordingStatus, ReplayStatus } from "./types";
+import type { Command, LinkConfig, RecordingStatus, ReplayStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -10,7 +10,7 @@ export class ApiError extends Error {
   }
 }
 
-async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
+async function send(method: string, path: string, token: string | null, body?: unknown): Promise<Response> {
   const headers: Record<string, string> = {};
   if (token) headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) headers["Content-Type"] = "application/json";
@@ -25,7 +25,11 @@ async function call<T = Command>(method: string, path: string, token: string | n
     }
     throw new ApiError(r.status, detail);
   }
-  return (await r.json()) as T;
+  return r;
+}
+
+async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
+  return (await (await send(method, path, token, body)).json()) as T;
 }
 
 /** The operator a token belongs to (GET /api/operator): the sign-in check. */
@@ -52,6 +56,18 @@ export function cancelCommand(sessionId: string, token: string | null): Promise<
   return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
 }
 
+/** Set a vehicle's link thresholds and comms-lost configuration (PUT, operator token, audited). */
+export function setLinkConfig(providerId: string, config: LinkConfig, token: string | null): Promise<LinkConfig> {
+  return call<LinkConfig>("PUT", `/api/providers/${encodeURIComponent(providerId)}/link-config`, token, config);
+}
+
+/** The vehicle's ASPN-23 messages of the last `seconds` (the console's clock) as an LCM log file, and its file name. */
+export async function aspnLog(providerId: string, seconds: number, token: string | null): Promise<{ blob: Blob; filename: string }> {
+  const r = await send("GET", `/api/providers/${encodeURIComponent(providerId)}/aspn-log?seconds=${seconds}`, token);
+  const named = /filename="([^"]+)"/.exec(r.headers.get("Content-Disposition") ?? "");
+  return { blob: await r.blob(), filename: named ? named[1] : "aspn.lcm" };
+}
+
 /** Start or stop the console's recording to MCAP (POST /api/recordings); needs an operator token when commands do. */
 export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
   return call<RecordingStatus>("POST", "/api/recordings", token, { action });
@@ -60,4 +76,64 @@ export function controlRecording(action: "start" | "stop", token: string | null)
 /** Play, pause, seek or set the speed of a replay (POST /api/replay); answered with the playback once done. */
 export function controlReplay(request: ReplayRequest, token: string | null): Promise<ReplayStatus> {
   return call<ReplayStatus>("POST", "/api/replay", token, request);
+}
+
+type SeriesPoint = paths["/api/providers/{provider_id}/series"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
+export function series(providerId: string, since: string, token: string | null): Promise<SeriesPoint[]> {
+  return call<SeriesPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/series?since=${encodeURIComponent(since)}`, token);
+}
+
+/** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */
+export function commandPage(providerId: string, limit: number, offset: number, token: string | null): Promise<Command[]> {
+  const q = new URLSearchParams({ provider_id: providerId, limit: String(limit), offset: String(offset) });
+  return call<Command[]>("GET", `/api/commands?${q}`, token);
+}
+
+/** A file from the console (an export), fetched with the token when reads need one. */
+export async function download(url: string, token: string | null): Promise<Blob> {
+  const r = await fetch(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+  if (!r.ok) throw new ApiError(r.status, r.statusText);
+  return r.blob();
+}
+
+export type TrackPoint = paths["/api/providers/{provider_id}/track"]["get"]["responses"][200]["content"]["application/json"][number];
+
+/** The console's stored track of a vehicle from `since` (GET /api/providers/{id}/track). */
+export function track(providerId: string, since: string, token: string | null): Promise<TrackPoint[]> {
+  return call<TrackPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/track?since=${encodeURIComponent(since)}`, token);
+}
+
+/** The CoMap world model (GET /api/worldmodel): null when the console has none (404, CoMap not built in or off). */
+export async function worldModel(token: string | null): Promise<import("geojson").FeatureCollection | null> {
+  try {
+    return await call<import("geojson").FeatureCollection>("GET", "/api/worldmodel", token);
+  } catch (e) {
+    if (e instanceof ApiError && e.status === 404) return null;
+    throw e;
+  }
+}
+
+// CoMap C2 (issue 12): the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
+export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
+
+/** A SurveyTask or MoveTask to assign (POST /api/tasks), and a task as the console follows it: the backend's models. */
+export type TaskRequest = components["schemas"]["SurveyTaskRequest"] | components["schemas"]["MoveTaskRequest"];
+export type Task = components["schemas"]["Task"];
+
+export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
+  return call<unknown>("PUT", "/api/worldmodel", token, model);
+}
+
+export function createTask(task: TaskRequest, token: string | null): Promise<Task> {
+  return call<Task>("POST", "/api/tasks", token, task);
+}
+
+export function tasks(token: string | null): Promise<Task[]> {
+  return call<Task[]>("GET", "/api/tasks", token);
+}
+
+export function synchTask(id: string | number, action: SynchAction, token: string | null): Promise<unknown> {
+  return call<unknown>("POST", `/api/tasks/${encodeURIComponent(String(id))}/synch`, token, { action });
 }

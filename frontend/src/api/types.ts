@@ -9,11 +9,15 @@ import type {
   Transition,
   ProviderSummary,
   ProviderDetail,
+  GatewayState,
+  LinkConfig,
   RecordingStatus,
   ReplayStatus,
 } from "./generated/ws";
 
 export type {
+  GatewayState,
+  LinkConfig,
   Command,
   GPSConstellationEnumType,
   ReportEnvelope,

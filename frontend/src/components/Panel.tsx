@@ -2,6 +2,7 @@ import type { ReactNode } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Freshness } from "../lib/freshness";
 import { age } from "../lib/units";
+import { useCollapsed } from "../data/settings";
 
 interface Props {
   title: string;
@@ -13,19 +14,32 @@ interface Props {
   className?: string;
 }
 
+/** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel).
+ * A collapsed panel's content is not rendered, so it costs nothing while folded. */
 export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
+  const [collapsed, setCollapsed] = useCollapsed(testId);
   return (
-    <section className={`panel ${className ?? ""}`} data-testid={testId} aria-label={title}>
+    <section className={`panel ${className ?? ""}${collapsed ? " collapsed" : ""}`} data-testid={testId} aria-label={title}>
       <header className="panel-head">
+        <button
+          className="collapse"
+          aria-expanded={!collapsed}
+          aria-label={`${collapsed ? "Expand" : "Collapse"} ${title}`}
+          title={collapsed ? "expand" : "collapse to the title"}
+          onClick={() => setCollapsed(!collapsed)}
+          data-testid={`${testId}-collapse`}
+        >
+          {collapsed ? "▸" : "▾"}
+        </button>
         <h2>{title}</h2>
         {freshness && freshness !== "none" && (
           <span className={`fresh fresh-${freshness}`} data-testid={`${testId}-freshness`} title="age of the latest data">
             {freshness === "live" ? "live" : freshness} · {age(ageSeconds ?? null)}
           </span>
         )}
-        {actions}
+        {!collapsed && actions}
       </header>
-      <ErrorBoundary name={title}>{children}</ErrorBoundary>
+      {!collapsed && <ErrorBoundary name={title}>{children}</ErrorBoundary>}
     </section>
   );
 }

@@ -52,6 +52,14 @@ export class Store {
     else setTimeout(flush, 50);
   }
 
+  /** Forget everything the console sent (on sign-out when reads need a token); the operator's
+   * selection and what /api/health said stay. */
+  clear(): void {
+    this.queue = [];
+    const { selected, authRequired, readAuthRequired } = this.state;
+    this.set({ ...initialState, selected, authRequired, readAuthRequired });
+  }
+
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;
@@ -100,13 +108,20 @@ export class Connection implements DataSource {
 
   start(): void {
     this.stopped = false;
+    this.setState("connecting");
     this.open();
   }
 
+  /** Sign-out when reads need a token: close, stay closed, and clear the store (nothing of the
+   * vehicles stays on screen; a message still in flight on the old socket is dropped). */
   stop(): void {
     this.stopped = true;
     if (this.timer) clearTimeout(this.timer);
-    this.ws?.close();
+    const old = this.ws;
+    this.ws = null;
+    old?.close();
+    this.store.clear();
+    this.setState("signed-out");
   }
 
   /** Connect afresh at once (e.g. with a new token); the old socket's close is ignored. */
@@ -117,6 +132,7 @@ export class Connection implements DataSource {
     old?.close();
     this.failures = 0;
     this.stopped = false;
+    this.setState("connecting");
     this.open();
   }
 
@@ -143,6 +159,7 @@ export class Connection implements DataSource {
     const ws = protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url);
     this.ws = ws;
     ws.onmessage = (ev: MessageEvent<string>) => {
+      if (this.ws !== ws) return; // a socket closed by stop() or restart()
       let msg: ServerMessage;
       try {
         msg = JSON.parse(ev.data) as ServerMessage;

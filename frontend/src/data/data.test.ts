@@ -2,12 +2,12 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Command, ReplayStatus, ServerMessage } from "../api/types";
 import { Connection, Store, backoff } from "./connection";
 import { ReplaySource } from "./replay";
-import { HISTORY_SECONDS, dismiss, initialState, reduce, report, select, type State } from "./store";
+import { HISTORY_SECONDS, dismiss, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 
-function env(report: Record<string, unknown>, invalid: string[] = []) {
-  return { report, invalid, receivedAt: 1 };
+function env(report: Record<string, unknown>, invalid: string[] = [], receivedAt = 1) {
+  return { report, invalid, receivedAt };
 }
 
 function cmd(over: Partial<Command> = {}): Command {
@@ -19,12 +19,15 @@ function cmd(over: Partial<Command> = {}): Command {
 
 function snapshot(): ServerMessage {
   return {
-    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()],
+    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()], gateways: [],
     recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
     providers: [{ id: P, link: "live", ageSeconds: 0, topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
       reports: { GPSReport: env({ satellites: [], numberSatellitesInView: 0 }), GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null } }],
   } as unknown as ServerMessage;
 }
+
+const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
+const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({ id: P, name: null, link, ageSeconds, topics: {}, linkConfig: CONFIG, jausId: null });
 
 function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): State {
   return msgs.reduce((s, m, i) => reduce(s, m, t0 + i), start);
@@ -75,9 +78,9 @@ describe("reducer", () => {
       snapshot(), fix(true), fix(false), ins("OPERATIONAL"), ins("INERTIAL_SENSOR_FAILURE"), ins("INERTIAL_SENSOR_FAILURE"),
       tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"), tr("FAILED", "RESOURCE_FAILED", null),
       { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
-      { type: "provider", event: "lost", provider: { id: P, name: null, link: "lost", ageSeconds: 3, topics: {} } },
-      { type: "provider", event: "regained", provider: { id: P, name: null, link: "regained", ageSeconds: 0, topics: {} } },
-      { type: "provider", event: "live", provider: { id: P, name: null, link: "live", ageSeconds: 0, topics: {} } },
+      { type: "provider", event: "lost", provider: summary("lost", 3) },
+      { type: "provider", event: "regained", provider: summary("regained") },
+      { type: "provider", event: "live", provider: summary("live") },
     ]);
     expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
     expect(s.providers[P].link).toBe("live");
@@ -86,16 +89,33 @@ describe("reducer", () => {
     expect(dismiss(s, "all").alerts.every((a) => a.dismissed)).toBe(true);
   });
 
-  it("keeps satellite trails and a bounded C/N0 history", () => {
-    const gps = (az: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
-      report: env({ satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) }) as ServerMessage;
+  it("keeps satellite trails and a bounded C/N0 history, one point per second of the console's clock", () => {
+    const gps = (az: number, at: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
+      report: env({ numberSatellitesInView: 9, satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true, antennaCarrierNoiseDensity: 40 }] }, [], at) }) as ServerMessage;
     let s = apply([snapshot()]);
-    for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000), 5000 + t);
+    for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000, 7000 + t / 2), 5000 + t);
     const trail = s.providers[P].trails.E07;
     expect(trail.length).toBeGreaterThan(10);
     expect(trail[trail.length - 1].t - trail[0].t).toBeLessThanOrEqual(600);
-    expect(s.providers[P].history.length).toBeLessThanOrEqual(HISTORY_SECONDS + 1);
-    expect(s.providers[P].history.at(-1)?.used).toBe(1);
+    const history = s.providers[P].history;
+    expect(history.length).toBe(HISTORY_SECONDS); // 2 reports a second, one kept
+    expect(history.at(-1)).toEqual({ t: 7000 + (HISTORY_SECONDS * 2 - 2) / 2, cn0: 40, used: 1, inView: 9 });
+  });
+
+  it("computes chart points as the console does and merges the console's history after a reload", () => {
+    const sats = [{ antennaCarrierNoiseDensity: 30, usedInFix: true }, { antennaCarrierNoiseDensity: 50, usedInFix: false }, { usedInFix: true }];
+    expect(historyPoint({ satellites: sats, numberSatellitesInView: 3 } as never, 5)).toEqual({ t: 5, cn0: 40, used: 2, inView: 3 });
+    expect(historyPoint({ satellites: [], numberSatellitesInView: 0 } as never, 5).cn0).toBe(null);
+    const pt = (t: number, used = 1): HistoryPoint => ({ t, cn0: 40, used, inView: 9 });
+    const live = [pt(1000.2, 7), pt(1001.1, 7)];
+    const stored = [pt(690), pt(999.5), pt(1000.0), pt(1001.9)];
+    // one per second, the live point first; older than HISTORY_SECONDS before the latest: dropped
+    expect(mergeHistory(live, stored)).toEqual([pt(999.5), pt(1000.2, 7), pt(1001.1, 7)]);
+    let s = apply([snapshot()]);
+    s = historyLoaded(s, P, stored);
+    expect(s.providers[P].history.map((p) => p.t)).toEqual([999.5, 1000.0, 1001.9]);
+    expect(historyLoaded(s, "unknown", stored)).toBe(s); // a vehicle the dashboard does not know: nothing
+    expect(historyLoaded(s, P, [])).toBe(s);
   });
 
   it("follows the recording and raises one alarm when it fails (a full disk)", () => {
@@ -109,6 +129,17 @@ describe("reducer", () => {
     s = apply([{ type: "recording", recording: { ...rec, file: "b.mcap" } }], s);
     expect(s.recording?.file).toBe("b.mcap");
     expect(s.alerts.length).toBe(1);
+  });
+
+  it("keeps gateway states and a vehicle's link configuration and JAUS id", () => {
+    const gw = { name: "jaus", enabled: true, endpoint: "udp://127.0.0.1:3794 subsystem 5", messagesOut: 4, messagesPerSecond: 0.8,
+      lastError: null, lastErrorAt: null, counters: { received: 4 } } as const;
+    const configured = { ...summary("live"), linkConfig: { ...CONFIG, commsLostTimeout: 9, policy: "CONTINUE_MISSION" as const }, jausId: "5.1.1" };
+    const s = apply([snapshot(), { type: "gateways", gateways: [gw] }, { type: "provider", event: "configured", provider: configured }]);
+    expect(s.gateways).toEqual([gw]);
+    expect(s.providers[P].linkConfig?.commsLostTimeout).toBe(9);
+    expect(s.providers[P].jausId).toBe("5.1.1");
+    expect(s.alerts).toEqual([]); // a new configuration is no alert
   });
 
   it("ignores errors, pongs and replay playback messages", () => {
@@ -134,6 +165,80 @@ describe("store and connection", () => {
 
   it("backs off exponentially up to a ceiling", () => {
     expect([1, 2, 3, 4, 5, 6, 10].map(backoff)).toEqual([500, 1000, 2000, 4000, 8000, 10000, 10000]);
+  });
+
+  describe("sign-out when reads need a token", () => {
+    // The browser's WebSocket as far as Connection uses it: the test plays the console's side.
+    class FakeSocket {
+      static all: FakeSocket[] = [];
+      onmessage: ((ev: { data: string }) => void) | null = null;
+      onclose: (() => void) | null = null;
+      onerror: (() => void) | null = null;
+      closed = false;
+      constructor(readonly url: string, readonly protocols?: string[]) {
+        FakeSocket.all.push(this);
+      }
+      close(): void {
+        if (this.closed) return;
+        this.closed = true;
+        queueMicrotask(() => this.onclose?.());
+      }
+      receive(msg: ServerMessage): void {
+        this.onmessage?.({ data: JSON.stringify(msg) });
+      }
+    }
+    afterEach(() => {
+      vi.unstubAllGlobals();
+      FakeSocket.all = [];
+    });
+
+    it("stops in a clear state, keeps the selection and shows nothing of the vehicles, even from a late message", async () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      const store = new Store(P);
+      store.update((s) => ({ ...s, readAuthRequired: true, authRequired: true }));
+      const conn = new Connection("ws://console/ws", store, () => ["sem-console", "bearer.dG9rZW4"]);
+      const states: string[] = [];
+      conn.subscribe(() => states.push(conn.getState()));
+      conn.start();
+      const ws = FakeSocket.all[0];
+      expect(ws.protocols).toEqual(["sem-console", "bearer.dG9rZW4"]);
+      ws.receive(snapshot());
+      expect(conn.getState()).toBe("live");
+      expect(Object.keys(store.getState().providers)).toEqual([P]);
+
+      conn.stop(); // the operator signed out
+      ws.receive(snapshot()); // still in flight on the closed socket
+      store.flush();
+      await Promise.resolve(); // the close event
+      expect(ws.closed).toBe(true);
+      expect(conn.getState()).toBe("signed-out");
+      const s = store.getState();
+      expect(s.providers).toEqual({});
+      expect(s.commands).toEqual({});
+      expect(s.consoleId).toBe(null);
+      expect(s.selected).toBe(P);
+      expect(s.readAuthRequired).toBe(true);
+      expect(FakeSocket.all).toHaveLength(1); // no reconnect
+
+      conn.restart(); // signed in again
+      expect(conn.getState()).toBe("connecting");
+      FakeSocket.all[1].receive(snapshot());
+      expect(conn.getState()).toBe("live");
+      expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
+  });
+});
+
+describe("the map's track", () => {
+  const fix = (lat: number, lon: number, t: number) =>
+    ({ type: "report", providerId: P, topic: "GPSFixReport", report: env({ position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t) }) as unknown as ServerMessage;
+  it("takes at most one valid position a second from GPSFixReports, then merges the console's stored track", async () => {
+    const { trackLoaded, TRACK_SECONDS } = await import("./store");
+    let s = apply([snapshot(), fix(1, 2, 5000.1), fix(1.1, 2, 5000.6), fix(200, 2, 5001.2), fix(1.2, 2, 5002.0)]);
+    expect(s.providers[P].track).toEqual([{ lat: 1, lon: 2, t: 5000.1 }, { lat: 1.2, lon: 2, t: 5002.0 }]); // 1.1 same second, 200 invalid
+    s = trackLoaded(s, P, [{ lat: 0, lon: 0, t: 5002.0 - TRACK_SECONDS - 1 }, { lat: 0.5, lon: 2, t: 4990 }, { lat: 9, lon: 9, t: 5000.3 }]);
+    expect(s.providers[P].track.map((p) => p.t)).toEqual([4990, 5000.1, 5002.0]); // too old dropped; the live point kept for its second
+    expect(trackLoaded(s, "nobody", [{ lat: 0, lon: 0, t: 1 }])).toBe(s);
   });
 });
 
@@ -192,7 +297,7 @@ describe("data sources", () => {
       report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
     deliver(replay, gps);
     store.flush();
-    deliver(replay, { type: "provider", event: "lost", provider: { id: P, name: null, link: "lost", ageSeconds: 3, topics: {} } });
+    deliver(replay, { type: "provider", event: "lost", provider: summary("lost", 3) });
     store.flush();
     expect(store.getState().providers[P].trails.E07).toHaveLength(1);
     expect(store.getState().alerts).toHaveLength(1);

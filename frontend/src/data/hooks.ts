@@ -1,9 +1,12 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Command, RecordingStatus, ReplayStatus } from "../api/types";
+import { health, series, tasks, track, worldModel, type Task } from "../api/rest";
+import type { FeatureCollection } from "geojson";
+import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
+import { useToken } from "./auth";
 import type { Store } from "./connection";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
-import type { Alert, ProviderView, State } from "./store";
+import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, trackLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
 
 export interface DataContextValue {
   store: Store;
@@ -79,4 +82,112 @@ export function useNow(periodMs = 500): number {
     return () => clearInterval(t);
   }, [periodMs, source]);
   return now;
+}
+
+export function useGateways(): GatewayState[] {
+  return useSelector((s) => s.gateways);
+}
+
+const NO_HISTORY: HistoryPoint[] = [];
+
+/** A vehicle's chart history: what the console kept (loaded over REST when the vehicle is selected,
+ * shown or reconnected, so a reload does not start empty), then the live points appended. */
+export function useHistory(providerId: string | null): HistoryPoint[] {
+  const { store, source } = useData();
+  const known = useSelector((s) => (providerId ? providerId in s.providers : false));
+  const live = useConnectionState() === "live";
+  const token = useToken();
+  useEffect(() => {
+    if (!providerId || !known || !live) return;
+    let current = true;
+    const since = new Date((source.now() - HISTORY_SECONDS) * 1000).toISOString();
+    series(providerId, since, token)
+      .then((points) => {
+        if (!current) return;
+        const loaded = points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
+        store.update((s) => historyLoaded(s, providerId, loaded));
+      })
+      .catch(() => undefined); // no history (yet): the chart fills from live data
+    return () => {
+      current = false;
+    };
+  }, [providerId, known, live, token, store, source]);
+  return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
+}
+
+/** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
+ * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
+export function useTrackedProviders(): ProviderView[] {
+  const { store, source } = useData();
+  const providers = useProviders();
+  const ids = providers.map((p) => p.id).join(",");
+  const live = useConnectionState() === "live";
+  const token = useToken();
+  useEffect(() => {
+    if (!live || !ids) return;
+    let current = true;
+    const since = new Date((source.now() - TRACK_SECONDS) * 1000).toISOString();
+    for (const id of ids.split(",")) {
+      track(id, since, token)
+        .then((points) => {
+          if (!current) return;
+          const loaded = points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
+          store.update((s) => trackLoaded(s, id, loaded));
+        })
+        .catch(() => undefined); // no stored track (yet): the map draws the live one
+    }
+    return () => {
+      current = false;
+    };
+  }, [ids, live, token, store, source]);
+  return providers;
+}
+
+/** A value read over REST every `periodMs` while the connection is live (null until the first answer). */
+function usePolled<T>(load: (token: string | null) => Promise<T>, periodMs: number): T | null {
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  const [value, setValue] = useState<T | null>(null);
+  useEffect(() => {
+    if (!live) return;
+    let current = true;
+    const poll = () =>
+      load(token)
+        .then((v) => current && setValue(v))
+        .catch(() => undefined); // kept as it was; the next poll tries again
+    void poll();
+    const t = setInterval(poll, periodMs);
+    return () => {
+      current = false;
+      clearInterval(t);
+    };
+  }, [load, token, live, periodMs]);
+  return value;
+}
+
+/** The CoMap world model (GET /api/worldmodel, polled every `periodMs`); null while the console has none (404). */
+export function useWorldModel(periodMs = 5000): FeatureCollection | null {
+  return usePolled(worldModel, periodMs);
+}
+
+/** The CoMap tasks and their state (GET /api/tasks, polled every `periodMs`). */
+export function useTasks(periodMs = 2000): Task[] {
+  return usePolled(tasks, periodMs) ?? NO_TASKS;
+}
+
+const NO_TASKS: Task[] = [];
+
+/** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
+export function useChartConfigured(): boolean {
+  const [configured, setConfigured] = useState(false);
+  useEffect(() => {
+    let current = true;
+    health()
+      .then((h) => current && setConfigured(h.basemap === true))
+      .catch(() => undefined);
+    return () => {
+      current = false;
+    };
+  }, []);
+  return configured;
 }

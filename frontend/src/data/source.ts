@@ -3,8 +3,9 @@
 // read state through the hooks, and what the source can do through its capabilities.
 import type { ReplayStatus } from "../api/types";
 
-/** connecting → live; a dropped socket: reconnecting, then offline after repeated failures (still retrying). */
-export type SourceState = "connecting" | "live" | "reconnecting" | "offline";
+/** connecting → live; a dropped socket: reconnecting, then offline after repeated failures (still retrying);
+ * signed-out: stopped because reads need a token and there is none (the store holds no vehicle data then). */
+export type SourceState = "connecting" | "live" | "reconnecting" | "offline" | "signed-out";
 
 export interface Capabilities {
   command: boolean; // commands and cancels can be sent

@@ -1,7 +1,8 @@
 // The dashboard's state and the pure reducer that applies server messages to it.
 // Unchanged parts keep their identity, so panels that select them do not re-render.
-import type { Command, LinkState, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
+import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
 import { satelliteLabel } from "../lib/satellites";
 
 export interface TopicView {
@@ -16,19 +17,24 @@ export interface TrailPoint {
   t: number;
 }
 
+/** One point of the GPS chart: the same values as the console's `SeriesPoint` (GET /api/providers/{id}/series). */
 export interface HistoryPoint {
-  t: number;
-  cn0: number | null; // mean of carrierToNoise, dB-Hz
+  t: number; // UTC seconds when the console received the GPSReport (its receivedAt)
+  cn0: number | null; // mean antennaCarrierNoiseDensity of the satellites that report one, dB-Hz
   used: number | null; // satellites used in the fix
+  inView: number | null; // numberSatellitesInView
 }
 
 export interface ProviderView {
   id: string;
   name: string | null; // configured on the console (--vehicle-names)
   link: LinkState;
+  linkConfig: LinkConfig | null; // per-vehicle thresholds and comms-lost configuration
+  jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
   topics: Partial<Record<Topic, TopicView>>;
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
+  track: TrackSample[]; // positions of the last TRACK_SECONDS, at most one per second (the map's track)
 }
 
 export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained" | "recording-failed";
@@ -49,6 +55,7 @@ export interface State {
   readAuthRequired: boolean; // reads (and /ws) need a token too (GET /api/health)
   providers: Record<string, ProviderView>;
   commands: Record<string, Command>;
+  gateways: GatewayState[]; // ASPN and JAUS: on or off, messages per second, last error
   alerts: Alert[];
   nextAlertId: number;
   recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
@@ -62,6 +69,7 @@ export const TRAIL_STEP = 5;
 export const HISTORY_SECONDS = 300;
 export const HISTORY_STEP = 1;
 export const MAX_ALERTS = 200;
+export const TRACK_SECONDS = 900;
 
 export const initialState: State = {
   consoleId: null,
@@ -69,6 +77,7 @@ export const initialState: State = {
   readAuthRequired: false,
   providers: {},
   commands: {},
+  gateways: [],
   alerts: [],
   nextAlertId: 1,
   recording: null,
@@ -81,7 +90,12 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
 }
 
 function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
-  return { id, name, link, topics: {}, trails: {}, history: [] };
+  return { id, name, link, linkConfig: null, jausId: null, topics: {}, trails: {}, history: [], track: [] };
+}
+
+/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id). */
+function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
+  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId };
 }
 
 function alert(state: State, now: number, kind: AlertKind, severity: Alert["severity"], text: string, providerId: string | null): State {
@@ -116,18 +130,74 @@ function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope,
   return next;
 }
 
-function updateHistory(p: ProviderView, now: number): HistoryPoint[] {
-  const last = p.history[p.history.length - 1];
-  if (last && now - last.t < HISTORY_STEP) return p.history;
-  const status = report(p, "GPSFixStatusReport");
-  const gps = report(p, "GPSReport");
-  const cn0s = (status?.carrierToNoise ?? []).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
-  const point: HistoryPoint = {
-    t: now,
+/** The chart values of a GPSReport received at `t` (as the console computes its series). */
+export function historyPoint(gps: ReportTypes["GPSReport"], t: number): HistoryPoint {
+  const sats = gps.satellites ?? [];
+  const cn0s = sats.map((s) => s.antennaCarrierNoiseDensity).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
+  const inView = gps.numberSatellitesInView;
+  return {
+    t,
     cn0: cn0s.length ? cn0s.reduce((a, b) => a + b, 0) / cn0s.length : null,
-    used: gps ? (gps.satellites ?? []).filter((s) => s.usedInFix === true).length : null,
+    used: sats.filter((s) => s.usedInFix === true).length,
+    inView: typeof inView === "number" && inView >= 0 ? inView : sats.length,
   };
-  return [...p.history.filter((h) => now - h.t <= HISTORY_SECONDS), point];
+}
+
+const slot = (t: number) => Math.floor(t / HISTORY_STEP);
+
+/** Points of both lists, at most one per second (`history`'s first), in time order, within
+ * HISTORY_SECONDS of the latest: live points merged with what the console kept (after a reload). */
+export function mergeHistory(history: HistoryPoint[], more: HistoryPoint[]): HistoryPoint[] {
+  const bySlot = new Map<number, HistoryPoint>();
+  for (const p of [...history, ...more]) if (Number.isFinite(p.t) && !bySlot.has(slot(p.t))) bySlot.set(slot(p.t), p);
+  const all = [...bySlot.values()].sort((a, b) => a.t - b.t);
+  const latest = all.length ? all[all.length - 1].t : 0;
+  return all.filter((p) => latest - p.t <= HISTORY_SECONDS);
+}
+
+function updateHistory(history: HistoryPoint[], env: ReportEnvelope): HistoryPoint[] {
+  const last = history[history.length - 1];
+  if (last && slot(last.t) === slot(env.receivedAt)) return history;
+  const point = historyPoint(env.report as unknown as ReportTypes["GPSReport"], env.receivedAt);
+  if (last && point.t < last.t) return mergeHistory(history, [point]);
+  return [...history.filter((h) => point.t - h.t <= HISTORY_SECONDS), point];
+}
+
+/** The console's series of a vehicle (REST), merged into the live history. */
+export function historyLoaded(state: State, providerId: string, points: HistoryPoint[]): State {
+  const before = state.providers[providerId];
+  if (!before || !points.length) return state;
+  const history = mergeHistory(before.history, points);
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, history } } };
+}
+
+/** The position of a GPSFixReport received at `t` as a track point (null: no usable position). */
+export function trackSample(fix: ReportTypes["GPSFixReport"], t: number): TrackSample | null {
+  const g = fix.position2DWithTime?.geodeticPosition;
+  const pos = validPosition(g?.geodeticLatitude?.latitude, g?.geodeticLongitude?.longitude);
+  return pos ? { ...pos, t } : null;
+}
+
+function updateTrack(track: TrackSample[], env: ReportEnvelope): TrackSample[] {
+  const last = track[track.length - 1];
+  if (last && Math.floor(last.t) === Math.floor(env.receivedAt)) return track;
+  const point = trackSample(env.report as unknown as ReportTypes["GPSFixReport"], env.receivedAt);
+  if (!point) return track;
+  if (last && point.t < last.t) return trimTrack([...track, point], point.t, TRACK_SECONDS);
+  const from = point.t - TRACK_SECONDS;
+  return [...(track.length && track[0].t < from ? track.filter((p) => p.t >= from) : track), point];
+}
+
+/** The console's stored track of a vehicle (REST, after a reload or reconnect), merged into the live one. */
+export function trackLoaded(state: State, providerId: string, points: TrackSample[]): State {
+  const before = state.providers[providerId];
+  if (!before || !points.length) return state;
+  const all = [...points, ...before.track];
+  const latest = Math.max(...all.map((p) => p.t));
+  const bySecond = new Map<number, TrackSample>();
+  for (const p of all) bySecond.set(Math.floor(p.t), p);
+  const track = trimTrack([...bySecond.values()], latest, TRACK_SECONDS);
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, track } } };
 }
 
 function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
@@ -135,8 +205,8 @@ function applyReport(state: State, providerId: string, topic: Topic, env: Report
   const prevView = before.topics[topic];
   const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
-  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now) };
-  if (topic === "GPSFixStatusReport" || topic === "GPSReport") p = { ...p, history: updateHistory(p, now) };
+  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
+  if (topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, env) };
   let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
   if (topic === "GPSFixStatusReport") {
     const was = report(before, "GPSFixStatusReport")?.fixValid;
@@ -174,7 +244,7 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       const providers: Record<string, ProviderView> = {};
       for (const d of msg.providers) {
         const old = state.providers[d.id];
-        let p: ProviderView = { ...(old ?? emptyProvider(d.id, d.link)), name: d.name, link: d.link, topics: {} };
+        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {} };
         for (const topic of Object.keys(d.reports) as Topic[]) {
           const env = d.reports[topic];
           if (env) {
@@ -186,14 +256,14 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return applyRecording({ ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands }, msg.recording, now);
+      return applyRecording({ ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways }, msg.recording, now);
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
-      let next: State = { ...state, providers: { ...state.providers, [id]: { ...before, name: msg.provider.name, link: msg.provider.link } } };
+      let next: State = { ...state, providers: { ...state.providers, [id]: fromSummary(before, msg.provider) } };
       if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${vehicleName(next, id)} lost`, id);
       if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${vehicleName(next, id)} regained`, id);
       return next;
@@ -211,9 +281,13 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       return next;
     }
+    case "gateways":
+      return { ...state, gateways: msg.gateways };
     case "recording":
       return applyRecording(state, msg.recording, now);
     case "replay": // the playback is the data source's (replay.ts), not the console's state
+    case "worldmodel": // CoMap: the map's state (issue 12b) keeps these
+    case "task":
     case "error":
     case "pong":
       return state;

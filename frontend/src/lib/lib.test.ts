@@ -1,4 +1,6 @@
 import { describe, expect, it } from "vitest";
+import { mergeCommands } from "./commands";
+import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
 import { freshness, nextInterval, staleAfter } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
@@ -118,5 +120,36 @@ describe("satellite labels", () => {
   it("falls back to a short id", () => {
     expect(satelliteLabel("12345678-0000-4000-8000-000000000000")).toBe("12345678");
     expect(satelliteLabel(null)).toBe("?");
+  });
+});
+
+describe("exports", () => {
+  const V = "77b2ceb8-5afe-554e-8450-93db17c48923";
+  const now = Date.parse("2026-11-22T12:00:00Z");
+  it("turns a range into UTC ISO 8601 parameters", () => {
+    expect(rangeQuery({ kind: "last", hours: 1 }, now)).toEqual({ since: "2026-11-22T11:00:00Z" });
+    expect(rangeQuery({ kind: "all" }, now)).toEqual({});
+    expect(rangeQuery({ kind: "between", since: "2026-11-22T08:00", until: "" }, now)).toEqual({ since: "2026-11-22T08:00:00Z" });
+    expect(rangeQuery({ kind: "between", since: "2026-11-22T09:00", until: "2026-11-22T08:00" }, now)).toEqual({ error: "From is after To" });
+    expect(rangeQuery({ kind: "between", since: "soon", until: "" }, now)).toEqual({ error: "From is not a valid date and time" });
+    expect(utcParam("2026-02-30T08:00")).toBe(null);
+    expect(utcParam("2026-11-22 08:00:30")).toBe("2026-11-22T08:00:30Z");
+  });
+  it("builds the console's export URLs and file names", () => {
+    const q = { since: "2026-11-22T11:00:00Z" };
+    expect(exportUrl("gpx", V, q)).toBe(`/api/providers/${V}/track.gpx?since=2026-11-22T11%3A00%3A00Z`);
+    expect(exportUrl("csv", V, {})).toBe(`/api/providers/${V}/track.csv`);
+    expect(exportUrl("commands", V, { until: "2026-11-22T11:00:00Z" })).toBe(`/api/commands.csv?provider_id=${V}&until=2026-11-22T11%3A00%3A00Z`);
+    expect(exportUrl("commands", null, {})).toBe("/api/commands.csv");
+    expect(exportName("gpx", V)).toBe(`track_${V}.gpx`);
+    expect(exportName("commands", null)).toBe("commands.csv");
+  });
+});
+
+describe("command pager", () => {
+  it("merges live commands with older pages: no repeats, newest first, the live copy wins", () => {
+    const c = (sessionId: string, createdAt: number, status: string) => ({ sessionId, createdAt, status }) as never;
+    const merged = mergeCommands([c("b", 2, "EXECUTING"), c("c", 3, "ISSUED")], [c("b", 2, "ISSUED"), c("a", 1, "COMPLETED")]);
+    expect(merged.map((x) => `${x.sessionId}:${x.status}`)).toEqual(["c:ISSUED", "b:EXECUTING", "a:COMPLETED"]);
   });
 });

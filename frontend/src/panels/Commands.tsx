@@ -1,10 +1,11 @@
-import { useState } from "react";
-import { ApiError, cancelCommand, requestGpsFix, setInertialSensor } from "../api/rest";
+import { useMemo, useState } from "react";
+import { ApiError, cancelCommand, commandPage, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useSelector } from "../data/hooks";
+import { mergeCommands } from "../lib/commands";
 import { utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -82,6 +83,76 @@ function CommandCard({ c, target, canCommand, onCancel, open }: { c: Command; ta
       <Timeline c={c} />
       <p className="muted c-session">session {c.sessionId}</p>
     </details>
+  );
+}
+
+const PAGE = 20; // commands shown per page
+const FETCH = 100; // commands asked of the console per request
+
+/** The selected vehicle's commands, newest first: the live ones, then older pages from the console's
+ * history (GET /api/commands) on demand. Keyed by the vehicle, so its pages never show beside another. */
+function CommandList({ target, live, canCommand, onCancel }: { target: VehicleIdentity; live: Command[]; canCommand: boolean; onCancel: (c: Command) => void }) {
+  const token = useToken();
+  const [older, setOlder] = useState<Command[]>([]);
+  const [fetched, setFetched] = useState(0); // rows of the history read so far (from the newest)
+  const [done, setDone] = useState(false); // the history has nothing beyond them
+  const [visible, setVisible] = useState(PAGE);
+  const [loading, setLoading] = useState(false);
+  const [error, setError] = useState<string | null>(null);
+  const all = useMemo(() => mergeCommands(live, older), [live, older]);
+  const shown = all.filter((c, i) => i < visible || !c.terminal); // running commands always
+
+  const showOlder = async () => {
+    const want = visible + PAGE;
+    setError(null);
+    if (all.length >= want || done) {
+      setVisible(want);
+      return;
+    }
+    setLoading(true);
+    let got = older, offset = fetched, end = false;
+    try {
+      while (mergeCommands(live, got).length < want && !end) {
+        const page = await commandPage(target.id, FETCH, offset, token);
+        got = [...got, ...page];
+        offset += page.length;
+        end = page.length < FETCH;
+      }
+      setVisible(want);
+    } catch (e) {
+      setError(`Older commands of ${vehicleLabel(target)}: ${e instanceof ApiError ? `${e.status}: ${e.message}` : String(e)}`);
+    } finally {
+      setOlder(got);
+      setFetched(offset);
+      setDone(end);
+      setLoading(false);
+    }
+  };
+
+  return (
+    <>
+      <div className="command-list" data-testid="command-list">
+        {all.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
+        {shown.map((c, i) => (
+          <CommandCard key={c.sessionId} c={c} target={target} canCommand={canCommand} open={i < 3 || !c.terminal} onCancel={onCancel} />
+        ))}
+      </div>
+      {(all.length > 0 || older.length > 0) && (
+        <div className="pager" data-testid="command-pager">
+          <span className="muted" data-testid="command-count">
+            {shown.length} of {done ? all.length : `${all.length}+`} commands
+          </span>
+          <button className="small" onClick={() => void showOlder()} disabled={loading || (done && shown.length >= all.length)}>
+            {loading ? "Loading…" : "Older commands"}
+          </button>
+        </div>
+      )}
+      {error && (
+        <p className="error" role="alert">
+          {error}
+        </p>
+      )}
+    </>
   );
 }
 
@@ -169,20 +240,15 @@ export function CommandsPanel() {
           <button onClick={() => setPending(null)}>Keep as is</button>
         </div>
       )}
-      <div className="command-list" data-testid="command-list">
-        {target && commands.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
-        {target &&
-          commands.map((c, i) => (
-            <CommandCard
-              key={c.sessionId}
-              c={c}
-              target={target}
-              canCommand={canCommand}
-              open={i < 3 || !c.terminal}
-              onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
-            />
-          ))}
-      </div>
+      {target && (
+        <CommandList
+          key={target.id}
+          target={target}
+          live={commands}
+          canCommand={canCommand}
+          onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
+        />
+      )}
     </Panel>
   );
 }

@@ -1,35 +1,16 @@
-import { useState } from "react";
 import { Field, Panel, invalidFor } from "../components/Panel";
-import { useNow, useSelectedProvider } from "../data/hooks";
-import { HISTORY_SECONDS, report, type HistoryPoint } from "../data/store";
+import { TrendChart } from "../components/TrendChart";
+import { useHistory, useNow, useSelectedProvider } from "../data/hooks";
+import { useDmsSetting } from "../data/settings";
+import { HISTORY_SECONDS, report } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
-
-function HistoryChart({ history, now }: { history: HistoryPoint[]; now: number }) {
-  const w = 300, h = 80;
-  const x = (t: number) => w - ((now - t) / HISTORY_SECONDS) * w;
-  const line = (vals: (number | null)[], max: number) =>
-    history
-      .map((p, i) => (vals[i] === null ? null : `${x(p.t).toFixed(1)},${(h - ((vals[i] as number) / max) * h).toFixed(1)}`))
-      .filter(Boolean)
-      .join(" ");
-  return (
-    <figure className="history">
-      <svg viewBox={`0 0 ${w} ${h}`} preserveAspectRatio="none" role="img" aria-label="C/N0 and satellites used, last 5 minutes" data-testid="fix-history">
-        <polyline points={line(history.map((p) => p.cn0), 60)} className="hist-cn0" />
-        <polyline points={line(history.map((p) => p.used), 20)} className="hist-used" />
-      </svg>
-      <figcaption>
-        <span className="hist-cn0-key">— mean C/N0 (0–60 dB-Hz)</span> <span className="hist-used-key">— satellites used (0–20)</span> · last 5 min
-      </figcaption>
-    </figure>
-  );
-}
 
 export function FixPanel() {
   const p = useSelectedProvider();
   const now = useNow();
-  const [useDms, setDms] = useState(false);
+  const history = useHistory(p?.id ?? null);
+  const [useDms, setDms] = useDmsSetting();
   const fixView = p?.topics.GPSFixReport ?? null;
   const statusView = p?.topics.GPSFixStatusReport ?? null;
   const fix = report(p ?? undefined, "GPSFixReport");
@@ -88,7 +69,7 @@ export function FixPanel() {
             <Field label="Time-out" value={yesNo(st?.timeOut)} stale={sSt} />
             <Field label="Carrier-to-noise" value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH} stale={sSt} invalid={invS("carrierToNoise")} />
           </div>
-          <HistoryChart history={p?.history ?? []} now={now} />
+          <TrendChart points={history} label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`} />
         </>
       )}
     </Panel>

@@ -5,7 +5,7 @@ import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector }
 import { utc } from "../lib/units";
 import { RecordControl } from "./Recording";
 
-const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)" };
+const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
 
 export function Header() {
   const conn = useConnectionState();

@@ -1,5 +1,5 @@
 import { VehicleTag } from "../components/VehicleTag";
-import { useNow, useProviders, useSelector, useStore } from "../data/hooks";
+import { useConnectionState, useNow, useProviders, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { age } from "../lib/units";
 
@@ -13,13 +13,14 @@ export function VehicleSelector() {
   const selected = useSelector((s) => s.selected);
   const store = useStore();
   const now = useNow();
+  const signedOut = useConnectionState() === "signed-out";
   return (
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles">
-      {providers.length === 0 && <p className="muted">No vehicle on the bus yet.</p>}
+      {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
       {selected && !providers.some((p) => p.id === selected) && (
         <p className="vehicle selected missing" data-testid="selected-missing">
-          <VehicleTag v={{ id: selected, name: null }} /> selected, not on the bus (yet)
+          <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
         </p>
       )}
       {providers.map((p) => {

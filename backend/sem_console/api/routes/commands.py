@@ -7,9 +7,9 @@ console's state (a plain `def` would run in a worker thread).
 from __future__ import annotations
 
 import uuid
-from typing import Any
+from typing import Annotated, Any
 
-from fastapi import APIRouter, HTTPException, status
+from fastapi import APIRouter, HTTPException, Query, status
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -71,10 +71,11 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
 @reads.get("/api/commands", response_model=list[Command], responses={200: {"description": "commands, newest first", "links": {
     "GetNewestCommand": {"operationId": "get_command_api_commands__session_id__get",
                          "parameters": {"session_id": "$response.body#/0/sessionId"}}}}})
-async def list_commands(console: ConsoleDep, limit: Limit = 100,
-                        offset: Offset = 0) -> list[dict[str, Any]]:
+async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset = 0,
+                        provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
+                        ) -> list[dict[str, Any]]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
-    return console.commands.history(limit, offset)
+    return console.commands.history(limit, offset, provider_id)
 
 
 @reads.get("/api/commands/{session_id}", response_model=Command, responses=UNKNOWN_COMMAND)

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from fastapi import APIRouter
+from fastapi import APIRouter, HTTPException
+from fastapi.responses import FileResponse
 
 from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
-from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator
+from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
 
 health_router = APIRouter(prefix="/api", tags=["meta"])  # always open
 reads = APIRouter(prefix="/api", tags=["meta"])
@@ -18,7 +19,8 @@ operator_router = APIRouter(prefix="/api", tags=["meta"])  # needs a token when 
 @health_router.get("/health", response_model=Health)
 async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
-            "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads, "replay": settings.replay is not None}
+            "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
+            "basemap": settings.basemap is not None, "replay": settings.replay is not None}
 
 
 @reads.get("/metrics", response_model=Metrics)
@@ -27,10 +29,27 @@ async def metrics(console: ConsoleDep) -> dict[str, Any]:
     return console.metrics()
 
 
+PMTILES = "application/vnd.pmtiles"
+_BYTES = {"schema": {"type": "string", "format": "binary"}}
+
+
+@reads.get("/basemap.pmtiles", response_class=FileResponse, responses={
+    200: {"description": "the whole PMTiles file", "content": {PMTILES: _BYTES}},
+    206: {"description": "the byte range asked for with `Range: bytes=a-b` (how the dashboard's pmtiles reader reads it)",
+          "content": {PMTILES: _BYTES}},
+    404: {"description": "the console has no basemap (no --basemap)", "model": Problem},
+    416: {"description": "the range is outside the file", "content": {"text/plain": {"schema": {"type": "string"}}}}})
+async def basemap(settings: SettingsDep) -> FileResponse:
+    """The offline chart given with --basemap, for the map; HTTP range requests (206) are how it is read."""
+    if settings.basemap is None:
+        raise HTTPException(404, "no basemap: start the console with --basemap FILE.pmtiles")
+    return FileResponse(settings.basemap, media_type=PMTILES)
+
+
 @reads.get("/audit", response_model=list[AuditEntry])
 async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
-    """Command requests, accepted and refused (wrong token, foreign origin or host, not JSON), newest first."""
+    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first (bounded: README, Security)."""
     return [entry_json(r) for r in console.store.audit(limit, offset)]
 
 

@@ -32,9 +32,9 @@ async def control_recording(body: RecordingRequest, request: Request, console: C
     try:
         result = await asyncio.to_thread(recorder.start if body.action == "start" else recorder.stop)
     except RecordingError as e:
-        audit.record(request.scope, "refused", 503, str(e), operator)
+        audit.auditor(request.scope).refused(request.scope, 503, str(e), audit=True, operator=operator)
         raise HTTPException(status.HTTP_503_SERVICE_UNAVAILABLE, str(e)) from None
-    audit.record(request.scope, "accepted", 200, f"recording {body.action}", operator)
+    audit.auditor(request.scope).accepted(request.scope, 200, operator, None, f"recording {body.action}")
     return result
 
 

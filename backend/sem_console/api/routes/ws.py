@@ -5,7 +5,6 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
-import logging
 import time
 from typing import Any
 
@@ -13,12 +12,11 @@ from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import ValidationError
 
 from sem_console.api import audit
-from sem_console.api.auth import WS_PROTOCOL, AuthError, ws_token
+from sem_console.api.auth import DEVICE_COOKIE, WS_PROTOCOL, AuthError, ws_token
 from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
 
 router = APIRouter()
-log = logging.getLogger("sem-console.ws")
 
 
 @router.get("/api/ws-schema", tags=["meta"])
@@ -33,9 +31,11 @@ async def websocket(ws: WebSocket) -> None:
     console = ws.app.state.console
     if ws.app.state.settings.auth_reads:
         try:
-            ws.app.state.operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])))
+            operators = ws.app.state.operators
+            operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])),
+                                   device=operators.device(ws.cookies.get(DEVICE_COOKIE)))
         except AuthError as e:
-            log.warning("refused /ws from %s: %s", audit.client_of(ws.scope), e.detail)
+            audit.auditor(ws.scope).refused(ws.scope, e.status, e.detail, audit=e.audit)
             await refuse(ws.scope, ws.send, e.status, e.detail)
             return
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)

@@ -1,0 +1,239 @@
+"""Per-vehicle track and chart series in the console's SQLite database, for reloads, charts and exports.
+
+One model per concept: `TrackPoint` and `SeriesPoint` are SQLModel classes, each both the table
+mapping and the REST response model. Points are taken from reports on the event loop (a few
+dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
+pruned (older than the retention) and read in a worker thread, so SQLite never runs on the loop.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import time
+import uuid
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from sqlalchemy import event, insert
+from sqlalchemy.engine import Engine
+from sqlmodel import Field, Session, SQLModel, col, create_engine, delete, select
+
+log = logging.getLogger("sem-console.history")
+FLUSH_INTERVAL = 1.0  # seconds between batched writes
+PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
+
+
+class TrackPoint(SQLModel, table=True):
+    """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
+
+    __tablename__ = "track"
+    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
+    time: float = Field(primary_key=True, index=True,
+                        description="UTC seconds since the epoch when the console received the GPSFixReport")
+    positionTime: float | None = Field(description="the report's timeAtPosition, UTC seconds (null: not sent)")
+    latitude: float = Field(description="degrees, WGS 84, north positive")
+    longitude: float = Field(description="degrees, WGS 84, east positive")
+    altitudeMsl: float | None = Field(description="altitude above mean sea level, metres")
+    course: float | None = Field(description="true course over ground, degrees 0..360")
+    sog: float | None = Field(description="speed over ground, metres per second")
+    latLongValid: bool = Field(description="GPSLatLongValid: the position is from GPS (false: from the INS)")
+    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport "
+                                                            "(null: none received yet)")
+
+
+class SeriesPoint(SQLModel, table=True):
+    """The dashboard's chart values of a vehicle at one time, from its GPSReport (at most one per UTC second)."""
+
+    __tablename__ = "series"
+    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
+    time: float = Field(primary_key=True, index=True,
+                        description="UTC seconds since the epoch when the console received the GPSReport")
+    cn0Mean: float | None = Field(description="mean antennaCarrierNoiseDensity (C/N0) of the satellites "
+                                                            "that report one, dB-Hz (null: none)")
+    satellitesUsed: int = Field(description="satellites with usedInFix")
+    satellitesInView: int = Field(description="numberSatellitesInView")
+
+
+def _get(d: Any, *path: str) -> Any:
+    for key in path:
+        if not isinstance(d, dict):
+            return None
+        d = d.get(key)
+    return d
+
+
+def _number(v: Any) -> float | None:
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) else None
+
+
+def _flagged(invalid: Sequence[str], path: str) -> bool:
+    return any(x.startswith(path) for x in invalid)
+
+
+def track_point(provider: str, received_at: float, fix: dict[str, Any], invalid: Sequence[str],
+                fix_valid: bool | None) -> dict[str, Any] | None:
+    """The track point of a GPSFixReport's JSON, or None when it has no valid position.
+    A value the ingest flagged as invalid (out of range) is left out (null)."""
+    pos = _get(fix, "position2DWithTime", "geodeticPosition")
+    lat, lon = _number(_get(pos, "geodeticLatitude", "latitude")), _number(_get(pos, "geodeticLongitude", "longitude"))
+    if lat is None or lon is None or _flagged(invalid, "position2DWithTime.geodeticPosition"):
+        return None
+
+    def value(path: str, v: Any) -> float | None:
+        return None if _flagged(invalid, path) else _number(v)
+
+    course = value("trueCourse", fix.get("trueCourse"))
+    return {
+        "providerId": provider, "time": received_at,
+        "positionTime": value("position2DWithTime.timeAtPosition", _get(fix, "position2DWithTime", "timeAtPosition")),
+        "latitude": lat, "longitude": lon,
+        "altitudeMsl": value("altitudeMSL", _get(fix, "altitudeMSL", "altitude")),
+        "course": None if course is None else math.degrees(course) % 360.0,
+        "sog": value("SOG", fix.get("SOG")),
+        "latLongValid": fix.get("GPSLatLongValid") is True, "fixValid": fix_valid,
+    }
+
+
+def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict[str, Any]:
+    """The chart values of a GPSReport's JSON."""
+    sats = [s for s in gps.get("satellites") or [] if isinstance(s, dict)]
+    cn0 = [v for v in (_number(s.get("antennaCarrierNoiseDensity")) for s in sats) if v is not None]
+    in_view = gps.get("numberSatellitesInView")
+    return {
+        "providerId": provider, "time": received_at,
+        "cn0Mean": sum(cn0) / len(cn0) if cn0 else None,
+        "satellitesUsed": sum(1 for s in sats if s.get("usedInFix") is True),
+        "satellitesInView": in_view if isinstance(in_view, int) and not isinstance(in_view, bool) and in_view >= 0 else len(sats),
+    }
+
+
+def _sqlite_engine(path: Path) -> Engine:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    engine = create_engine(f"sqlite:///{path}", connect_args={"check_same_thread": False, "timeout": 10})
+
+    @event.listens_for(engine, "connect")
+    def _pragmas(dbapi_connection: Any, _record: Any) -> None:
+        cur = dbapi_connection.cursor()
+        cur.execute("PRAGMA journal_mode=WAL")
+        cur.execute("PRAGMA synchronous=NORMAL")
+        cur.close()
+
+    return engine
+
+
+class History:
+    """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
+
+    def __init__(self, path: Path, retention_hours: float) -> None:
+        self.engine = _sqlite_engine(path)
+        SQLModel.metadata.create_all(self.engine, tables=[TrackPoint.__table__, SeriesPoint.__table__])  # type: ignore[list-item]
+        self.retention = retention_hours * 3600.0
+        self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
+        self._track: list[dict[str, Any]] = []
+        self._series: list[dict[str, Any]] = []
+        self._slot: dict[tuple[str, str], int] = {}  # (table, provider) -> UTC second of its last point
+        self._lock = asyncio.Lock()
+        self._last_prune = 0.0
+        # figures for /api/metrics
+        self.rows_written = 0
+        self.rows_pruned = 0
+        self.last_write_seconds = 0.0
+        self.max_write_seconds = 0.0
+
+    # ---- on the loop ----------------------------------------------------------------------
+    def _due(self, table: str, provider: str, received_at: float) -> bool:
+        slot = math.floor(received_at)
+        if self._slot.get((table, provider)) == slot:
+            return False
+        self._slot[(table, provider)] = slot
+        return True
+
+    def on_fix(self, provider: uuid.UUID, received_at: float, fix: dict[str, Any], invalid: Sequence[str],
+               fix_valid: bool | None) -> None:
+        pid = str(provider)
+        if not self._due("track", pid, received_at):
+            return
+        point = track_point(pid, received_at, fix, invalid, fix_valid)
+        if point is not None:
+            self._track.append(point)
+
+    def on_gps(self, provider: uuid.UUID, received_at: float, gps: dict[str, Any]) -> None:
+        pid = str(provider)
+        if self._due("series", pid, received_at):
+            self._series.append(series_point(pid, received_at, gps))
+
+    async def run(self) -> None:
+        """Flush every FLUSH_INTERVAL until canceled (then once more)."""
+        try:
+            while True:
+                await asyncio.sleep(FLUSH_INTERVAL)
+                try:
+                    await self.flush()
+                except Exception:  # a full disk must not stop the console; the batch is lost, logged
+                    log.exception("could not write the track and series")
+        finally:
+            if self._track or self._series:
+                await asyncio.shield(self.flush())
+
+    async def flush(self) -> None:
+        async with self._lock:
+            track, series, self._track, self._series = self._track, self._series, [], []
+            now = time.time()
+            prune_before = now - self.retention if now - self._last_prune >= self.prune_interval else None
+            if not (track or series or prune_before is not None):
+                return
+            if prune_before is not None:
+                self._last_prune = now
+            started = time.perf_counter()
+            await asyncio.to_thread(self._write, track, series, prune_before)
+            self.last_write_seconds = time.perf_counter() - started
+            self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
+
+    def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
+        with Session(self.engine) as s:
+            for model, rows in ((TrackPoint, track), (SeriesPoint, series)):
+                if rows:
+                    s.execute(insert(model).prefix_with("OR IGNORE"), rows)
+            if prune_before is not None:
+                for model in (TrackPoint, SeriesPoint):
+                    self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]
+            s.commit()
+        self.rows_written += len(track) + len(series)
+
+    # ---- reads (REST) ------------------------------------------------------------------------
+    async def track(self, provider: uuid.UUID, since: float | None, until: float | None) -> list[TrackPoint]:
+        return await self._read(TrackPoint, provider, since, until)
+
+    async def series(self, provider: uuid.UUID, since: float | None, until: float | None) -> list[SeriesPoint]:
+        return await self._read(SeriesPoint, provider, since, until)
+
+    async def has(self, provider: uuid.UUID) -> bool:
+        """Whether the database has any point of this provider (it may not be on the bus now)."""
+        def query() -> bool:
+            with Session(self.engine) as s:
+                for model in (TrackPoint, SeriesPoint):
+                    if s.exec(select(model.time).where(model.providerId == str(provider)).limit(1)).first() is not None:
+                        return True
+            return False
+        return await asyncio.to_thread(query)
+
+    async def _read(self, model: type[Any], provider: uuid.UUID, since: float | None, until: float | None) -> list[Any]:
+        await self.flush()  # what arrived until now is included
+
+        def query() -> list[Any]:
+            q = select(model).where(model.providerId == str(provider))
+            if since is not None:
+                q = q.where(col(model.time) >= since)
+            if until is not None:
+                q = q.where(col(model.time) <= until)
+            with Session(self.engine) as s:
+                rows = list(s.exec(q.order_by(col(model.time))).all())
+                s.expunge_all()
+                return rows
+        return await asyncio.to_thread(query)
+
+    def close(self) -> None:
+        self.engine.dispose()

@@ -1,0 +1,58 @@
+"""Gateways: the console's state out to neighbouring worlds, each in its own package (`aspn`, `jaus`).
+
+A gateway reads the console only through its feed (`sem_console.console.feed.Feed`): it never touches
+DDS. Each is off unless its option is given; its state (on or off, messages out per second, last error,
+its counters) is in `GET /api/gateways` and in the WebSocket `gateways` message.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections import deque
+from typing import Any
+
+log = logging.getLogger("sem-console.gateways")
+RATE_WINDOW = 5.0  # seconds the messages-per-second figure averages over
+
+
+class Stats:
+    """What a gateway shows: on or off, where it sends, messages out and their rate, last error, counters."""
+
+    def __init__(self, name: str, enabled: bool, endpoint: str | None = None) -> None:
+        self.name, self.enabled, self.endpoint = name, enabled, endpoint
+        self.messages_out = 0
+        self.counters: dict[str, int] = {}
+        self.last_error: str | None = None
+        self.last_error_at: float | None = None
+        self._recent: deque[tuple[float, int]] = deque()  # (monotonic second, messages out in it)
+        self.started = time.monotonic()
+
+    def sent(self, n: int = 1) -> None:
+        self.messages_out += n
+        second = float(int(time.monotonic()))
+        if self._recent and self._recent[-1][0] == second:
+            self._recent[-1] = (second, self._recent[-1][1] + n)
+        else:
+            self._recent.append((second, n))
+
+    def count(self, key: str, n: int = 1) -> None:
+        self.counters[key] = self.counters.get(key, 0) + n
+
+    def error(self, text: str) -> None:
+        if text != self.last_error:
+            log.warning("%s gateway: %s", self.name, text)
+        self.last_error, self.last_error_at = text[:500], time.time()
+        self.count("errors")
+
+    def per_second(self, now: float | None = None) -> float:
+        now = time.monotonic() if now is None else now
+        while self._recent and self._recent[0][0] < now - RATE_WINDOW:
+            self._recent.popleft()
+        span = min(RATE_WINDOW, max(now - self.started, 1.0))
+        return round(sum(n for _, n in self._recent) / span, 1)
+
+    def state(self) -> dict[str, Any]:
+        return {"name": self.name, "enabled": self.enabled, "endpoint": self.endpoint,
+                "messagesOut": self.messages_out, "messagesPerSecond": self.per_second() if self.enabled else 0.0,
+                "lastError": self.last_error, "lastErrorAt": self.last_error_at, "counters": dict(self.counters)}

@@ -1,0 +1,46 @@
+"""Starts and stops the gateways the settings ask for, and tells WebSocket clients how they fare."""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+from typing import Any, Callable
+
+from sem_console.console.feed import Feed
+from sem_console.core.config import Settings
+from sem_console.gateways.aspn.gateway import AspnGateway
+from sem_console.gateways.jaus.gateway import JausGateway
+
+STATE_PERIOD = 1.0  # seconds between `gateways` WebSocket messages (sent only when something changed)
+
+
+class Gateways:
+    def __init__(self, settings: Settings, feed: Feed) -> None:
+        self.aspn = AspnGateway(feed, settings.aspn_lcm, settings.aspn_prefix, settings.aspn_log_seconds)
+        self.jaus = JausGateway(feed, settings.jaus_port, settings.jaus_subsystem, settings.jaus_host or settings.host)
+        self._task: asyncio.Task[None] | None = None
+
+    def states(self) -> list[dict[str, Any]]:
+        return [self.aspn.state(), self.jaus.state()]
+
+    async def start(self, publish: Callable[[dict[str, Any]], None]) -> None:
+        await self.jaus.start()
+        if self.aspn.enabled or self.jaus.stats.enabled:
+            self._task = asyncio.get_running_loop().create_task(self._report(publish))
+
+    async def _report(self, publish: Callable[[dict[str, Any]], None]) -> None:
+        last: list[dict[str, Any]] | None = None
+        while True:
+            await asyncio.sleep(STATE_PERIOD)
+            states = self.states()
+            if states != last:
+                publish({"type": "gateways", "gateways": states})
+                last = states
+
+    async def stop(self) -> None:
+        if self._task:
+            self._task.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._task
+        self.aspn.close()
+        self.jaus.close()

@@ -1,0 +1,216 @@
+"""CoMap over IMC end to end: a real console and a real simulator talking IMC over UDP on
+127.0.0.1 (and DDS on loopback), plus fuzzed datagrams against the console's IMC port."""
+
+from __future__ import annotations
+
+import math
+import random
+import socket
+import struct
+import time
+from typing import Any
+
+import httpx
+
+from conftest import free_udp_port
+from sem_console.comap.codec import crc16, decode_packet, encode_packet, msg
+from sem_console.comap.geo import Local, contains
+from sem_console.sim.options import vehicle_guid
+from test_console import WsClient, wait_until
+
+V1 = str(vehicle_guid(1))
+
+
+def comap_pair(sim: Any, console: Any, *sim_args: str) -> tuple[Any, int, int]:
+    c_port, s_port = free_udp_port(), free_udp_port()
+    sim("--imc-port", str(s_port), "--imc-host", "127.0.0.1", "--imc-id", "0x2001", "--imc-peers", f"127.0.0.1:{c_port}",
+        "--time-scale", "0.02", "--survey-spacing", "50", *sim_args)
+    c = console("--imc-port", str(c_port), "--imc-host", "127.0.0.1", "--imc-peers", f"127.0.0.1:{s_port}",
+                "--imc-id", "0x4001", "--imc-vehicles", f"{V1}=0x2001")
+    return c, c_port, s_port
+
+
+def capabilities(base: str) -> list[dict[str, Any]]:
+    def get() -> list[dict[str, Any]] | None:
+        return httpx.get(f"{base}/api/providers/{V1}/capabilities").json()["capabilities"]  # type: ignore[no-any-return]
+    try:
+        return wait_until(get, 20, "capabilities")  # type: ignore[no-any-return]
+    except AssertionError:
+        raise AssertionError(f"no capabilities; IMC node: {httpx.get(f'{base}/api/comap').json()}") from None
+
+
+def last_position(base: str) -> tuple[float, float]:
+    def get() -> tuple[float, float] | None:
+        pts = httpx.get(f"{base}/api/providers/{V1}/track").json() if httpx.get(f"{base}/api/providers/{V1}").status_code == 200 else []
+        return (pts[-1]["latitude"], pts[-1]["longitude"]) if pts else None
+    return wait_until(get, 20, "a track point of vehicle 1")  # type: ignore[no-any-return]
+
+
+def square(center: tuple[float, float], north_m: float, size_m: float) -> list[tuple[float, float]]:
+    loc = Local(*center)
+    return [loc.latlon(x, north_m + y) for x, y in ((-size_m / 2, 0), (size_m / 2, 0), (size_m / 2, size_m), (-size_m / 2, size_m))]
+
+
+def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[str, Any]:
+    ring = [[lon, lat] for lat, lon in points]
+    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + [ring[0]]]},
+            "properties": {"featureId": fid, "name": "box"}}
+
+
+def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
+    c, _c_port, _s_port = comap_pair(sim, console)
+    here = last_position(c.url)
+    caps = capabilities(c.url)
+    assert {x["kind"] for x in caps} == {"AREA_SURVEY", "POINT_SURVEY", "MOVE"}
+    assert any(x["sensor"] == "SIDESCAN" for x in caps if x["kind"] == "AREA_SURVEY")
+
+    box = square(here, 100, 150)
+    ws = WsClient(c.ws_url)
+    put = httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, 7)]})
+    assert put.status_code == 200, put.text
+    (f,) = put.json()["features"]
+    assert f["properties"]["featureId"] == 7 and f["properties"]["coverage"] is None and f["properties"]["name"] == "box"
+    assert len(f["geometry"]["coordinates"][0]) == 5  # closed ring out, 4 vertices over IMC
+
+    r = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 7, "sensor": "SIDESCAN",
+                                               "resolution": 5.0, "deadline": "2099-01-01T00:00:00Z"})
+    assert r.status_code == 201, r.text
+    task = r.json()
+    assert task["state"] == "ASSIGNED" and task["kind"] == "survey" and task["deadline"] == 4070908800.0
+    tid = task["taskId"]
+    done = wait_until(lambda: (lambda t: t if t["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+                      60, "the survey to complete")
+    assert done["progress"] == 100 and done["quality"] == 100
+    time.sleep(0.5)
+    ws.close()
+    assert not ws.errors
+    states = [m["task"]["state"] for m in ws.of("task") if m["task"]["taskId"] == tid]
+    assert states[:2] == ["ASSIGNED", "ACCEPTED"] and "IN_PROGRESS" in states and states[-1] == "COMPLETED", states
+    progress = [m["task"]["progress"] for m in ws.of("task") if m["task"]["taskId"] == tid]
+    assert progress == sorted(progress) and len(set(progress)) > 3, progress
+    coverage = [m["worldModel"]["features"][0]["properties"]["coverage"] for m in ws.of("worldmodel")]
+    assert coverage[0] is None and coverage[-2:] == ["PARTIAL", "COMPLETED"], coverage
+    assert httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["coverage"] == "COMPLETED"
+
+    # the UMAA track (GPSFixReport positions the console stored) really went over the polygon
+    def inside() -> list[Any] | None:
+        pts = httpx.get(f"{c.url}/api/providers/{V1}/track").json()
+        hits = [p for p in pts if contains(box, p["latitude"], p["longitude"])]
+        return hits if len(hits) >= 3 else None
+    wait_until(inside, 5, "track points inside the polygon")
+
+
+def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
+    c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "1")
+    here = last_position(c.url)
+    box = square(here, 50, 400)
+    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, None)]}).status_code == 200
+    fid = httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["featureId"]
+    capabilities(c.url)
+
+    def state(tid: int, want: str) -> dict[str, Any]:
+        return wait_until(lambda: (lambda t: t if t["state"] == want else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+                          20, f"task {tid} {want}")
+
+    # a sensor it lacks: REJECT
+    r = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid, "sensor": "CAMERA"}).json()
+    state(r["taskId"], "REJECTED")
+    assert httpx.post(f"{c.url}/api/tasks/{r['taskId']}/synch", json={"action": "HOLD"}).status_code == 409
+
+    t = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid}).json()
+    state(t["taskId"], "IN_PROGRESS")
+    wait_until(lambda: httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] >= 2, 20, "progress")
+    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "HOLD"}).json()["state"] == "HELD"
+    time.sleep(2.5)  # the track takes a point a second and is written a second later
+    p1 = last_position(c.url)
+    held = httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()
+    time.sleep(2.5)
+    assert Local(*p1).xy(*last_position(c.url)) == (0.0, 0.0)  # held: the track stands still
+    assert httpx.get(f"{c.url}/api/tasks/{t['taskId']}").json()["progress"] == held["progress"] < 100
+    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "RESUME"}).json()["state"] == "IN_PROGRESS"
+    wait_until(lambda: Local(*p1).xy(*last_position(c.url)) != (0.0, 0.0), 10, "moving again")
+    assert httpx.post(f"{c.url}/api/tasks/{t['taskId']}/synch", json={"action": "INTERRUPT"}).json()["state"] == "INTERRUPTED"
+
+    dest = Local(*here).latlon(-60.0, -40.0)
+    m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
+    wait_until(lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+               40, "the move task to complete")
+    wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
+
+
+def test_task_routes_refuse_bad_requests(console) -> None:
+    c = console("--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001")
+    fc = {"type": "FeatureCollection", "features": []}
+    other = "00000000-0000-0000-0000-000000000001"
+    cases = [
+        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": other, "featureId": 1}, 404),
+        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": V1, "featureId": 1}, 409),
+        (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": V1}, 422),
+        (httpx.post, "/api/tasks", {"kind": "move", "vehicle": V1, "point": {"lat": 91, "lon": 0}}, 422),
+        (httpx.post, "/api/tasks/99/synch", {"action": "HOLD"}, 404),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
+                                                            "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1], [2, 2]]}}]}, 422),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # a bow tie crosses itself
+                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [1, 0], [0, 1]]]}}]}, 409),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # 3 vertices, 2 distinct
+                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [0, 0], [0, 0]]]}}]}, 409),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": 3},
+                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}] * 2}, 409),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": True},
+                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}]}, 422),
+        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
+                                                            "geometry": {"type": "Point", "coordinates": [200, 0]}}]}, 422),
+    ]
+    for call, path, body, want in cases:
+        r = call(c.url + path, json=body)
+        assert r.status_code == want, (path, body, r.text)
+    audit = httpx.get(f"{c.url}/api/audit").json()
+    assert sum(1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")) == len(cases)
+    off = console()
+    assert httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
+    assert httpx.get(f"{off.url}/api/comap").json()["enabled"] is False
+
+
+def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
+    port = free_udp_port()
+    c = console("--imc-port", str(port), "--imc-host", "127.0.0.1")
+    rng = random.Random(1212)
+    good = encode_packet(msg("CoverageState", feature_id=1, state=2), src=5)
+
+    def packet(mgid: int, payload: bytes) -> bytes:
+        body = struct.pack("<HHHdHBHB", 0xFE55, mgid, len(payload), 0.0, 5, 0, 0xFFFF, 0xFF) + payload
+        return body + struct.pack("<H", crc16(body))
+    datagrams = [bytes(rng.randbytes(rng.randint(0, 300))) for _ in range(300)]
+    datagrams += [good[:-1] + bytes([good[-1] ^ 0xFF])] * 20  # bad CRC
+    datagrams += [packet(3001, b"\xff\xff")] * 20  # a list of 65535 features in no bytes
+    datagrams += [packet(3001, struct.pack("<HHHH", 1, 3002, 9, 60000) + b"\x5c\x02" * 10)] * 20  # points that are not there
+    datagrams += [packet(3002, struct.pack("<HH", 1, 0) + b"\x00" * 500)] * 20  # oversized: bytes beyond its fields
+    datagrams += [good[:10]] * 20
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        for d in datagrams:
+            s.sendto(d, ("127.0.0.1", port))
+            time.sleep(0.001)
+        s.sendto(encode_packet(msg("TaskStatus", task_id=1, status=2, progress=3, quality=4), src=5), ("127.0.0.1", port))
+    counters = wait_until(lambda: (lambda x: x if x["received"] == len(datagrams) + 1 else None)(httpx.get(f"{c.url}/api/comap").json()["counters"]),
+                          10, "every datagram counted")
+    assert counters["accepted"] == 1 and counters["bad_crc"] >= 20 and counters["bad_size"] >= 40 and counters["truncated"] >= 40, counters
+    dropped = sum(counters[k] for k in ("truncated", "bad_sync", "bad_size", "bad_crc", "unknown_id", "bad_message"))
+    assert dropped == len(datagrams), counters
+    assert httpx.get(f"{c.url}/api/health").status_code == 200 and c.proc.poll() is None
+    assert decode_packet(good)[1]["state"] == 2
+
+
+def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
+    import subprocess
+    import sys
+    cases = [
+        (["-m", "sem_console.cli", "--imc-vehicles", "not-a-guid=5"], "is not a GUID"),
+        (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
+        (["-m", "sem_console.cli", "--imc-peers", "localhost"], "is not host:port"),
+        (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
+        (["-m", "sem_console.sim.cli", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
+        (["-m", "sem_console.sim.cli", "--imc-peers", "h:99999"], "is not host:port"),
+    ]
+    for args, text in cases:
+        p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
+        assert p.returncode == 2 and text in p.stderr and len(p.stderr.strip().splitlines()) <= 2, (args, p.stderr)

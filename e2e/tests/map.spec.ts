@@ -1,0 +1,161 @@
+// The map against the real stack, with every request to anything but the console's origin refused:
+// the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow.
+import { expect, test, type Page } from "@playwright/test";
+import { open, vehicle } from "../helpers";
+import { load } from "../stack";
+
+/** Refuse (and record) every request that does not go to the console; the test fails on any. */
+async function consoleOnly(page: Page): Promise<string[]> {
+  const origin = new URL(load().url).origin;
+  const foreign: string[] = [];
+  await page.route("**/*", (route) => {
+    const url = route.request().url();
+    if (new URL(url).origin === origin) return route.continue();
+    foreign.push(url);
+    return route.abort("blockedbyclient");
+  });
+  page.on("requestfailed", (r) => {
+    const url = r.url();
+    if (!url.startsWith("data:") && !url.startsWith("blob:") && new URL(url).origin !== origin) foreign.push(url);
+  });
+  return foreign;
+}
+
+async function drawn(page: Page, attr: "data-land" | "data-vehicles"): Promise<number> {
+  return Number((await page.getByTestId("map").getAttribute(attr)) ?? "0");
+}
+
+/** The pixel (in the page) where the map draws a vehicle, from its latest position on the console. */
+async function vehiclePixel(page: Page, id: string): Promise<{ x: number; y: number }> {
+  const r = await page.request.get(`${load().url}/api/providers/${id}`);
+  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
+  const p = (await r.json()) as { reports: { GPSFixReport: Fix } };
+  const g = p.reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
+  const box = (await page.getByTestId("map").boundingBox())!;
+  const xy = await page.evaluate(([lon, lat]) => window.__semMap!.project([lon, lat]), [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+  return { x: box.x + xy.x, y: box.y + xy.y };
+}
+
+declare global {
+  interface Window {
+    __semMap?: { project(lngLat: [number, number]): { x: number; y: number }; getZoom(): number; getCenter(): { lng: number; lat: number } };
+  }
+}
+
+test("offline: the map draws the Natural Earth basemap and every vehicle, and requests nothing from another origin", async ({ page }) => {
+  const foreign = await consoleOnly(page);
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  await expect(page.getByTestId("map-vehicle-count")).toHaveText(`${stack.vehicles.length} of ${stack.vehicles.length} vehicles drawn`);
+  // the CoMap controls are there exactly when the console has a world model
+  const hasWorldModel = (await page.request.get(`${stack.url}/api/worldmodel`)).ok();
+  await expect(page.getByTestId("comap")).toHaveCount(hasWorldModel ? 1 : 0);
+  // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
+  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [0, 20], zoom: 1 }));
+  await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
+  // and nothing where there is only sea (mid-Pacific)
+  await page.getByTestId("map-follow").click(); // stop following, so the view stays put
+  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [-140, -30], zoom: 5 }));
+  await expect.poll(() => drawn(page, "data-land")).toBe(0);
+  expect(foreign).toEqual([]);
+});
+
+test("clicking a vehicle on the map selects it everywhere; the map follows it until the operator pans", async ({ page }) => {
+  const foreign = await consoleOnly(page);
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  const id = stack.vehicles[1];
+  const { x, y } = await vehiclePixel(page, id);
+  await page.mouse.click(x, y);
+  await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
+  await expect(page).toHaveURL(new RegExp(`vehicle=${id}`));
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "true");
+
+  // a drag is the operator panning away: following stops; the toggle brings it back
+  const box = (await page.getByTestId("map").boundingBox())!;
+  await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+  await page.mouse.down();
+  await page.mouse.move(box.x + box.width / 2 + 120, box.y + box.height / 2 + 60, { steps: 8 });
+  await page.mouse.up();
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "false");
+  await page.getByTestId("map-follow").click();
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "true");
+  await expect
+    .poll(async () => {
+      const p = await vehiclePixel(page, id);
+      return Math.hypot(p.x - (box.x + box.width / 2), p.y - (box.y + box.height / 2));
+    })
+    .toBeLessThan(40);
+  expect(foreign).toEqual([]);
+});
+
+test("cursor coordinates follow the decimal/DMS setting, and the measure tool gives a distance", async ({ page }) => {
+  await consoleOnly(page);
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
+  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [0, 0], zoom: 6 }));
+  const box = (await page.getByTestId("map").boundingBox())!;
+  const cx = box.x + box.width / 2;
+  const cy = box.y + box.height / 2;
+  await page.mouse.move(cx, cy);
+  await expect(page.getByTestId("map-cursor")).toHaveText(/^0\.\d{6}° [NS], 0\.\d{6}° [EW]$/);
+  await page.getByTestId("map-panel").getByRole("button", { name: "Decimal" }).click();
+  await page.mouse.move(cx + 1, cy);
+  await expect(page.getByTestId("map-cursor")).toHaveText(/^0° \d\d′ \d\d\.\d\d″ [NS], 0° \d\d′ \d\d\.\d\d″ [EW]$/);
+  await page.getByTestId("map-panel").getByRole("button", { name: "DMS" }).click(); // back to decimal for the other tests
+
+  await page.getByTestId("map-measure").click();
+  // two points one degree of longitude apart on the equator: 111.2 km
+  const a = await page.evaluate(() => window.__semMap!.project([-0.5, 0]));
+  const b = await page.evaluate(() => window.__semMap!.project([0.5, 0]));
+  await page.mouse.click(box.x + a.x, box.y + a.y);
+  await page.mouse.click(box.x + b.x, box.y + b.y);
+  await expect(page.getByTestId("map-distance")).toHaveText(/^111\.\d\d km \(60\.\d\d NM\) · last leg 90°$/);
+});
+
+test("a collapsed panel stays collapsed across a reload, and expands again", async ({ page }) => {
+  await open(page);
+  const sats = page.getByTestId("satellites-panel");
+  await expect(sats.getByTestId("satellite-table")).toBeVisible();
+  await page.getByTestId("satellites-panel-collapse").click();
+  await expect(page.getByTestId("satellites-panel-collapse")).toHaveAttribute("aria-expanded", "false");
+  await expect(sats.getByTestId("satellite-table")).toHaveCount(0);
+  await page.reload();
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  await expect(page.getByTestId("satellites-panel-collapse")).toHaveAttribute("aria-expanded", "false");
+  await expect(page.getByTestId("fix-panel").getByTestId("latitude")).toBeVisible(); // the others are untouched
+  await expect(sats.getByTestId("satellite-table")).toHaveCount(0);
+  await page.getByTestId("satellites-panel-collapse").click();
+  await expect(sats.getByTestId("satellite-table")).toBeVisible();
+});
+
+for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900 }]) {
+  test(`at ${viewport.width}x${viewport.height} every panel fits the width and the satellite table is not cut off`, async ({ page }) => {
+    await page.setViewportSize(viewport);
+    await open(page);
+    await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
+    expect(await page.evaluate(() => document.documentElement.scrollWidth)).toBeLessThanOrEqual(viewport.width);
+    for (const id of ["map-panel", "satellites-panel", "fix-panel", "ins-panel", "export-panel", "commands-panel", "vehicles"]) {
+      const box = (await page.getByTestId(id).boundingBox())!;
+      expect(box.x, id).toBeGreaterThanOrEqual(0);
+      expect(box.x + box.width, id).toBeLessThanOrEqual(viewport.width);
+    }
+    // the whole table is in its box: no column hidden behind a horizontal scroll
+    const wrap = page.getByTestId("satellite-table").locator("xpath=..");
+    const { scroll, client } = await wrap.evaluate((e) => ({ scroll: e.scrollWidth, client: e.clientWidth }));
+    expect(scroll).toBeLessThanOrEqual(client);
+    const lastHeader = page.getByTestId("satellite-table").locator("thead th").last();
+    const th = (await lastHeader.boundingBox())!;
+    const box = (await wrap.boundingBox())!;
+    expect(th.x + th.width).toBeLessThanOrEqual(box.x + box.width + 1);
+    // the map is on the first screen
+    const map = (await page.getByTestId("map").boundingBox())!;
+    expect(map.y + map.height).toBeLessThanOrEqual(viewport.height);
+  });
+}

@@ -1,0 +1,64 @@
+// The GPS chart: mean C/N0 (left axis) and satellites used / in view (right axis) over time, drawn by uPlot.
+import { useEffect, useRef } from "react";
+import uPlot from "uplot";
+import "uplot/dist/uPlot.min.css";
+import type { HistoryPoint } from "../data/store";
+
+const HEIGHT = 150;
+const hms = (t: number) => new Date(t * 1000).toISOString().slice(11, 19);
+const AXIS = { stroke: "#7b8a9a", grid: { stroke: "#243140", width: 1 }, ticks: { stroke: "#243140", width: 1 } };
+
+/** uPlot's columns: times, C/N0, used, in view (null: a gap). */
+export function chartData(points: HistoryPoint[]): uPlot.AlignedData {
+  return [points.map((p) => p.t), points.map((p) => p.cn0), points.map((p) => p.used), points.map((p) => p.inView)];
+}
+
+function options(width: number): uPlot.Options {
+  return {
+    width,
+    height: HEIGHT,
+    cursor: { drag: { x: false, y: false } },
+    legend: { live: true },
+    scales: { x: { time: true }, db: { range: [0, 60] }, n: { range: (_u, _min, max) => [0, Math.max(12, Math.ceil((max ?? 0) + 2))] } },
+    axes: [
+      { ...AXIS, values: (_u, splits) => splits.map(hms) },
+      { ...AXIS, scale: "db", label: "dB-Hz", size: 44, labelSize: 14 },
+      { ...AXIS, scale: "n", side: 1, label: "satellites", size: 40, labelSize: 14, grid: { show: false } },
+    ],
+    series: [
+      { label: "UTC", value: (_u, v) => (v == null ? "—" : hms(v)) },
+      { label: "C/N0 mean", scale: "db", stroke: "#4fc3f7", width: 1.5, value: (_u, v) => (v == null ? "—" : `${v.toFixed(1)} dB-Hz`) },
+      { label: "used", scale: "n", stroke: "#4caf50", width: 1.5, value: (_u, v) => (v == null ? "—" : String(v)) },
+      { label: "in view", scale: "n", stroke: "#f5a623", width: 1, dash: [4, 3], value: (_u, v) => (v == null ? "—" : String(v)) },
+    ],
+  };
+}
+
+export function TrendChart({ points, label }: { points: HistoryPoint[]; label: string }) {
+  const box = useRef<HTMLDivElement>(null);
+  const plot = useRef<uPlot | null>(null);
+
+  useEffect(() => {
+    const el = box.current;
+    if (!el) return;
+    const u = new uPlot(options(Math.max(200, el.clientWidth)), [[], [], [], []], el);
+    plot.current = u;
+    const resize = new ResizeObserver(() => u.setSize({ width: Math.max(200, el.clientWidth), height: HEIGHT }));
+    resize.observe(el);
+    return () => {
+      resize.disconnect();
+      u.destroy();
+      plot.current = null;
+    };
+  }, []);
+
+  useEffect(() => {
+    plot.current?.setData(chartData(points));
+  }, [points]);
+
+  return (
+    <figure className="trend" role="img" aria-label={label} data-testid="fix-history" data-points={points.length} data-first={points[0]?.t}>
+      <div ref={box} />
+    </figure>
+  );
+}

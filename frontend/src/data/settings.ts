@@ -1,0 +1,66 @@
+// The operator's display settings, kept in localStorage so a reload keeps them:
+// decimal or DMS coordinates (the Fix panel and the map share it) and the panel layout.
+import { useSyncExternalStore } from "react";
+
+const listeners = new Set<() => void>();
+const cache = new Map<string, unknown>();
+
+function storage(): Storage | null {
+  try {
+    return typeof localStorage !== "undefined" ? localStorage : null;
+  } catch {
+    return null; // storage disabled: settings last for the page only
+  }
+}
+
+export function readSetting<T>(key: string, fallback: T, valid: (v: unknown) => v is T): T {
+  if (cache.has(key)) return cache.get(key) as T;
+  let value = fallback;
+  try {
+    const raw = storage()?.getItem(key);
+    if (raw != null) {
+      const parsed: unknown = JSON.parse(raw);
+      if (valid(parsed)) value = parsed;
+    }
+  } catch {
+    /* not JSON: the default */
+  }
+  cache.set(key, value);
+  return value;
+}
+
+export function writeSetting<T>(key: string, value: T): void {
+  cache.set(key, value);
+  try {
+    storage()?.setItem(key, JSON.stringify(value));
+  } catch {
+    /* full or disabled: kept for the page */
+  }
+  for (const l of listeners) l();
+}
+
+function subscribe(l: () => void): () => void {
+  listeners.add(l);
+  return () => listeners.delete(l);
+}
+
+export function useSetting<T>(key: string, fallback: T, valid: (v: unknown) => v is T): [T, (v: T) => void] {
+  const value = useSyncExternalStore(subscribe, () => readSetting(key, fallback, valid));
+  return [value, (v: T) => writeSetting(key, v)];
+}
+
+const isBool = (v: unknown): v is boolean => typeof v === "boolean";
+
+/** Coordinates in DMS (true) or decimal degrees (false), everywhere the console shows a position. */
+export function useDmsSetting(): [boolean, (v: boolean) => void] {
+  return useSetting("sem-console.dms", false, isBool);
+}
+
+const isStrings = (v: unknown): v is string[] => Array.isArray(v) && v.every((x) => typeof x === "string");
+const COLLAPSED = "sem-console.collapsed";
+
+/** Whether the panel `id` is collapsed to its title bar (the layout is remembered in localStorage). */
+export function useCollapsed(id: string): [boolean, (v: boolean) => void] {
+  const [ids, setIds] = useSetting<string[]>(COLLAPSED, [], isStrings);
+  return [ids.includes(id), (v: boolean) => setIds(v ? [...ids.filter((x) => x !== id), id] : ids.filter((x) => x !== id))];
+}

@@ -1,0 +1,47 @@
+// Export links (GPX, CSV) for a vehicle and a time range: pure, so the dashboard and tests agree.
+
+export type ExportRange =
+  | { kind: "last"; hours: number } // the last `hours` up to now
+  | { kind: "all" } // everything the console keeps
+  | { kind: "between"; since: string; until: string }; // UTC, as an <input type="datetime-local"> gives it (YYYY-MM-DDTHH:MM)
+
+export type ExportKind = "gpx" | "csv" | "commands";
+
+/** "2026-11-22T08:00" (taken as UTC) or a Date -> "2026-11-22T08:00:00Z"; null for an empty or bad value. */
+export function utcParam(v: string | Date): string | null {
+  if (v instanceof Date) return Number.isFinite(v.getTime()) ? v.toISOString().replace(/\.\d{3}Z$/, "Z") : null;
+  const m = /^(\d{4}-\d{2}-\d{2})[T ](\d{2}:\d{2})(:\d{2})?$/.exec(v.trim());
+  if (!m) return null;
+  const iso = `${m[1]}T${m[2]}${m[3] ?? ":00"}Z`;
+  const t = Date.parse(iso);
+  return Number.isFinite(t) && new Date(t).toISOString().startsWith(iso.slice(0, 19)) ? iso : null; // not 30 February
+}
+
+/** The query of a range, or an error to show (a bad or reversed range sends nothing). */
+export function rangeQuery(range: ExportRange, nowMs: number): { since?: string; until?: string } | { error: string } {
+  if (range.kind === "all") return {};
+  if (range.kind === "last") return { since: utcParam(new Date(nowMs - range.hours * 3_600_000))! };
+  const since = range.since ? utcParam(range.since) : undefined;
+  const until = range.until ? utcParam(range.until) : undefined;
+  if (since === null) return { error: "From is not a valid date and time" };
+  if (until === null) return { error: "To is not a valid date and time" };
+  if (since && until && since > until) return { error: "From is after To" };
+  return { ...(since ? { since } : {}), ...(until ? { until } : {}) };
+}
+
+/** The console's URL of an export; `providerId` null: the commands of every vehicle. */
+export function exportUrl(kind: ExportKind, providerId: string | null, query: { since?: string; until?: string }): string {
+  const q = new URLSearchParams();
+  if (kind === "commands" && providerId) q.set("provider_id", providerId);
+  if (query.since) q.set("since", query.since);
+  if (query.until) q.set("until", query.until);
+  const path = kind === "commands" ? "/api/commands.csv" : `/api/providers/${encodeURIComponent(providerId ?? "")}/track.${kind}`;
+  const qs = q.toString();
+  return qs ? `${path}?${qs}` : path;
+}
+
+/** The file name a download gets (the console sends the same in Content-Disposition). */
+export function exportName(kind: ExportKind, providerId: string | null): string {
+  if (kind === "commands") return providerId ? `commands_${providerId}.csv` : "commands.csv";
+  return `track_${providerId}.${kind}`;
+}

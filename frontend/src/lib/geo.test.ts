@@ -1,0 +1,123 @@
+import { describe, expect, it } from "vitest";
+import type { Topology } from "topojson-specification";
+import { topoToGeoJson } from "./basemap";
+import { bearingDeg, distanceM, distanceText, measureGeoJson, pathLengthM, positionText, trimTrack, tracksGeoJson, validPosition, vehiclesGeoJson } from "./geo";
+import { dms } from "./units";
+
+describe("distances", () => {
+  it("one degree of longitude on the equator is 111.2 km, east", () => {
+    expect(distanceM({ lon: 0, lat: 0 }, { lon: 1, lat: 0 })).toBeCloseTo(111_195, -1);
+    expect(bearingDeg({ lon: 0, lat: 0 }, { lon: 1, lat: 0 })).toBeCloseTo(90, 6);
+  });
+  it("a known pair: Norfolk VA to Bermuda, about 1,250 km", () => {
+    const d = distanceM({ lat: 36.8508, lon: -76.2859 }, { lat: 32.3078, lon: -64.7505 });
+    expect(d / 1000).toBeGreaterThan(1_150);
+    expect(d / 1000).toBeLessThan(1_200);
+  });
+  it("a path adds its legs; one point is nothing", () => {
+    const pts = [{ lon: 0, lat: 0 }, { lon: 0, lat: 1 }, { lon: 0, lat: 2 }];
+    expect(pathLengthM(pts)).toBeCloseTo(2 * distanceM(pts[0], pts[1]), 6);
+    expect(pathLengthM(pts.slice(0, 1))).toBe(0);
+  });
+  it("is shown in m or km with nautical miles", () => {
+    expect(distanceText(850)).toBe("850 m (0.46 NM)");
+    expect(distanceText(1852 * 10)).toBe("18.52 km (10.00 NM)");
+    expect(distanceText(NaN)).toBe("—");
+  });
+});
+
+describe("coordinates", () => {
+  it("decimal or DMS with hemispheres", () => {
+    expect(positionText(36.8, -76.25, false)).toBe("36.800000° N, 76.250000° W");
+    expect(positionText(-0.5, 0.25, true)).toBe("0° 30′ 00.00″ S, 0° 15′ 00.00″ E");
+    expect(dms(59.99999999, true)).toBe("60° 00′ 00.00″ N"); // rounding carries into minutes and degrees
+    expect(positionText(null, 1, true)).toBe("—");
+  });
+  it("an out-of-range or missing position is not drawn", () => {
+    expect(validPosition(200, 0)).toBeNull();
+    expect(validPosition(0, NaN)).toBeNull();
+    expect(validPosition(undefined, 0)).toBeNull();
+    expect(validPosition(-90, 180)).toEqual({ lat: -90, lon: 180 });
+  });
+});
+
+describe("GeoJSON for the layers", () => {
+  it("vehicles are points lon/lat with the properties the layers style by", () => {
+    const fc = vehiclesGeoJson([{ id: "a", label: "A", position: { lon: 1, lat: 2 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "lost", selected: true }]);
+    expect(fc.features[0].geometry.coordinates).toEqual([1, 2]);
+    expect(fc.features[0].properties).toMatchObject({ id: "a", hasCourse: false, course: 0, fix: "valid", link: "lost", selected: true });
+  });
+  it("tracks keep the last window in time order, one point per time; a single point draws no line", () => {
+    const t = trimTrack([{ lon: 0, lat: 0, t: 5 }, { lon: 1, lat: 0, t: 1 }, { lon: 2, lat: 0, t: 5 }, { lon: 3, lat: 0, t: 9 }], 10, 6);
+    expect(t.map((p) => [p.lon, p.t])).toEqual([[2, 5], [3, 9]]);
+    const fc = tracksGeoJson([{ id: "a", selected: false, points: t }, { id: "b", selected: false, points: t.slice(0, 1) }]);
+    expect(fc.features).toHaveLength(1);
+    expect(fc.features[0].geometry.coordinates).toEqual([[2, 0], [3, 0]]);
+  });
+  it("the measure path is its points and, from two points on, a line", () => {
+    expect(measureGeoJson([{ lon: 0, lat: 0 }]).features).toHaveLength(1);
+    expect(measureGeoJson([{ lon: 0, lat: 0 }, { lon: 1, lat: 1 }]).features.map((f) => f.geometry.type)).toEqual(["Point", "Point", "LineString"]);
+  });
+});
+
+describe("the offline basemap", () => {
+  it("turns a TopoJSON object into GeoJSON (arcs decoded, quantization applied)", () => {
+    const topo = {
+      type: "Topology",
+      transform: { scale: [1, 1], translate: [10, 20] },
+      objects: { land: { type: "GeometryCollection", geometries: [{ type: "Polygon", arcs: [[0]] }] } },
+      arcs: [[[0, 0], [1, 0], [0, 1], [-1, -1]]],
+    } as unknown as Topology;
+    const fc = topoToGeoJson(topo, "land");
+    expect(fc.features[0].geometry).toEqual({ type: "Polygon", coordinates: [[[10, 20], [11, 20], [11, 21], [10, 20]]] });
+    expect(() => topoToGeoJson(topo, "sea")).toThrow(/no object sea/);
+  });
+  it("the bundled Natural Earth land has the continents", async () => {
+    const land = (await import("world-atlas/land-110m.json")).default as unknown as Topology;
+    const fc = topoToGeoJson(land, "land");
+    const polygons = fc.features.flatMap((f) => (f.geometry.type === "MultiPolygon" ? f.geometry.coordinates : f.geometry.type === "Polygon" ? [f.geometry.coordinates] : []));
+    expect(polygons.length).toBeGreaterThan(100);
+  });
+});
+
+describe("the PMTiles chart", () => {
+  it("a vector archive gets a layer set per vector layer, water and land in the basemap's colours", async () => {
+    const { chartStyle, vectorLayers } = await import("./chart");
+    const { TileType } = await import("pmtiles");
+    const meta = { vector_layers: [{ id: "water" }, { id: "roads" }, { id: 3 }] };
+    expect(vectorLayers(meta)).toEqual(["water", "roads"]);
+    expect(vectorLayers(null)).toEqual([]);
+    const s = chartStyle("http://x/api/basemap.pmtiles", { tileType: TileType.Mvt, minZoom: 0, maxZoom: 14 }, meta);
+    expect(s.source).toMatchObject({ type: "vector", url: "pmtiles://http://x/api/basemap.pmtiles", maxzoom: 14 });
+    expect(s.layers.map((l) => l.id)).toEqual(["chart-water-fill", "chart-water-line", "chart-water-point", "chart-roads-fill", "chart-roads-line", "chart-roads-point"]);
+    const r = chartStyle("http://x/c.pmtiles", { tileType: TileType.Png, minZoom: 2, maxZoom: 9 }, null);
+    expect(r.source.type).toBe("raster");
+    expect(r.layers).toHaveLength(1);
+  });
+});
+
+describe("CoMap geometry", () => {
+  it("1 vertex is a point, 2 a line, 3 or more a closed polygon; a closed ring is the same polygon", async () => {
+    const { drawnGeometry } = await import("./geo");
+    const a = { lon: 0, lat: 0 }, b = { lon: 1, lat: 0 }, c = { lon: 1, lat: 1 };
+    expect(drawnGeometry([])).toBeNull();
+    expect(drawnGeometry([a])).toEqual({ type: "Point", coordinates: [0, 0] });
+    expect(drawnGeometry([a, b])).toEqual({ type: "LineString", coordinates: [[0, 0], [1, 0]] });
+    const poly = { type: "Polygon", coordinates: [[[0, 0], [1, 0], [1, 1], [0, 0]]] };
+    expect(drawnGeometry([a, b, c])).toEqual(poly);
+    expect(drawnGeometry([a, b, c, a])).toEqual(poly);
+  });
+  it("an imported file keeps its featureIds and numbers the features without one", async () => {
+    const { parseWorldModel, nextFeatureId } = await import("./geo");
+    const fc = parseWorldModel(JSON.stringify({ type: "FeatureCollection", features: [
+      { type: "Feature", geometry: { type: "Point", coordinates: [0, 0] }, properties: { featureId: 7 } },
+      { type: "Feature", geometry: { type: "Point", coordinates: [1, 0] }, properties: null },
+    ] }));
+    expect(fc.features.map((f) => f.properties?.featureId)).toEqual([7, 8]);
+    expect(fc.features[1].properties?.coverage).toBeNull();
+    expect(nextFeatureId(fc)).toBe(9);
+    expect(nextFeatureId(null)).toBe(1);
+    expect(() => parseWorldModel('{"type": "Feature"}')).toThrow(/FeatureCollection/);
+    expect(() => parseWorldModel("not json")).toThrow();
+  });
+});

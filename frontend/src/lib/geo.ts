@@ -1,0 +1,173 @@
+// Pure geometry for the map: distances, coordinate text, and the GeoJSON the map layers draw.
+import type { Feature, FeatureCollection, LineString, Point, Polygon } from "geojson";
+import { DASH, dms, isNum, latLon } from "./units";
+
+export const EARTH_RADIUS_M = 6_371_008.8; // mean Earth radius (IUGG)
+
+export interface LonLat {
+  lon: number;
+  lat: number;
+}
+
+const rad = (d: number) => (d * Math.PI) / 180;
+
+/** Great-circle distance in metres (haversine on the mean sphere; within 0.5% of the ellipsoid). */
+export function distanceM(a: LonLat, b: LonLat): number {
+  const dLat = rad(b.lat - a.lat);
+  const dLon = rad(b.lon - a.lon);
+  const h = Math.sin(dLat / 2) ** 2 + Math.cos(rad(a.lat)) * Math.cos(rad(b.lat)) * Math.sin(dLon / 2) ** 2;
+  return 2 * EARTH_RADIUS_M * Math.asin(Math.min(1, Math.sqrt(h)));
+}
+
+/** Length of a path in metres (the sum of its legs). */
+export function pathLengthM(points: LonLat[]): number {
+  let total = 0;
+  for (let i = 1; i < points.length; i++) total += distanceM(points[i - 1], points[i]);
+  return total;
+}
+
+/** Initial great-circle bearing from a to b, degrees 0..360 from true north. */
+export function bearingDeg(a: LonLat, b: LonLat): number {
+  const y = Math.sin(rad(b.lon - a.lon)) * Math.cos(rad(b.lat));
+  const x = Math.cos(rad(a.lat)) * Math.sin(rad(b.lat)) - Math.sin(rad(a.lat)) * Math.cos(rad(b.lat)) * Math.cos(rad(b.lon - a.lon));
+  return ((Math.atan2(y, x) * 180) / Math.PI + 360) % 360;
+}
+
+/** "850 m", "12.35 km", with nautical miles beside: "12.35 km (6.67 NM)". */
+export function distanceText(m: number): string {
+  if (!isNum(m)) return DASH;
+  const metric = m < 1000 ? `${m.toFixed(0)} m` : `${(m / 1000).toFixed(2)} km`;
+  return `${metric} (${(m / 1852).toFixed(2)} NM)`;
+}
+
+/** A position as the console shows it: decimal degrees or DMS, latitude first. */
+export function positionText(lat: number | null | undefined, lon: number | null | undefined, useDms: boolean): string {
+  if (!isNum(lat) || !isNum(lon)) return DASH;
+  const f = useDms ? dms : latLon;
+  return `${f(lat, true)}, ${f(lon, false)}`;
+}
+
+/** A usable position: both finite and in range (a report may carry latitude 200, flagged invalid). */
+export function validPosition(lat: number | null | undefined, lon: number | null | undefined): LonLat | null {
+  if (!isNum(lat) || !isNum(lon) || Math.abs(lat) > 90 || Math.abs(lon) > 180) return null;
+  return { lat, lon };
+}
+
+export type VehicleStatus = "valid" | "invalid" | "unknown";
+
+export interface VehicleMark {
+  id: string;
+  label: string;
+  position: LonLat;
+  courseDeg: number | null; // true course, degrees from north
+  fix: VehicleStatus; // GPSFixStatusReport.fixValid
+  gpsPosition: boolean | null; // GPSLatLongValid (false: INS position)
+  link: "live" | "stale" | "lost" | "regained";
+  selected: boolean;
+}
+
+/** Vehicles as GeoJSON points; properties drive colour (fix), marking (link) and the arrow's rotation. */
+export function vehiclesGeoJson(vs: VehicleMark[]): FeatureCollection<Point> {
+  return {
+    type: "FeatureCollection",
+    features: vs.map((v) => ({
+      type: "Feature",
+      id: v.id,
+      geometry: { type: "Point", coordinates: [v.position.lon, v.position.lat] },
+      properties: {
+        id: v.id,
+        label: v.label,
+        course: v.courseDeg ?? 0,
+        hasCourse: v.courseDeg !== null,
+        fix: v.fix,
+        gps: v.gpsPosition,
+        link: v.link,
+        selected: v.selected,
+      },
+    })),
+  };
+}
+
+export interface TrackSample extends LonLat {
+  t: number; // seconds since the epoch
+}
+
+/** Keep the points of the last `seconds` before `now`, in time order, without repeated times. */
+export function trimTrack(points: TrackSample[], now: number, seconds: number): TrackSample[] {
+  const from = now - seconds;
+  const out: TrackSample[] = [];
+  for (const p of [...points].sort((a, b) => a.t - b.t)) {
+    if (p.t < from) continue;
+    if (out.length && out[out.length - 1].t === p.t) out[out.length - 1] = p;
+    else out.push(p);
+  }
+  return out;
+}
+
+/** Tracks as GeoJSON lines (a track of fewer than two points draws nothing). */
+export function tracksGeoJson(tracks: { id: string; selected: boolean; points: LonLat[] }[]): FeatureCollection<LineString> {
+  const features: Feature<LineString>[] = [];
+  for (const t of tracks) {
+    if (t.points.length < 2) continue;
+    features.push({
+      type: "Feature",
+      geometry: { type: "LineString", coordinates: t.points.map((p) => [p.lon, p.lat]) },
+      properties: { id: t.id, selected: t.selected },
+    });
+  }
+  return { type: "FeatureCollection", features };
+}
+
+/** The measure tool's path: the line and one point per vertex. */
+export function measureGeoJson(points: LonLat[]): FeatureCollection {
+  const features: Feature[] = points.map((p) => ({ type: "Feature", geometry: { type: "Point", coordinates: [p.lon, p.lat] }, properties: {} }));
+  if (points.length >= 2) features.push({ type: "Feature", geometry: { type: "LineString", coordinates: points.map((p) => [p.lon, p.lat]) }, properties: {} });
+  return { type: "FeatureCollection", features };
+}
+
+export const EMPTY: FeatureCollection = { type: "FeatureCollection", features: [] };
+
+export type Coverage = "COMPLETED" | "PARTIAL" | "NONE" | null;
+
+/** The colour of a CoMap feature by its coverage state. */
+export function coverageColor(c: Coverage): string {
+  switch (c) {
+    case "COMPLETED":
+      return "#4caf50";
+    case "PARTIAL":
+      return "#f5a623";
+    case "NONE":
+      return "#e0593f";
+    default:
+      return "#9fb3c8";
+  }
+}
+
+/** A drawn vertex list as a CoMap geometry (the spec's rule: 1 vertex a point, 2 a line, 3 or more
+ * a polygon, whose ring is closed here; a closed ring given is the same polygon). */
+export function drawnGeometry(points: LonLat[]): Point | LineString | Polygon | null {
+  const pts = points.map((p) => [p.lon, p.lat]);
+  if (pts.length >= 4 && pts[0][0] === pts[pts.length - 1][0] && pts[0][1] === pts[pts.length - 1][1]) pts.pop();
+  if (pts.length === 0) return null;
+  if (pts.length === 1) return { type: "Point", coordinates: pts[0] };
+  if (pts.length === 2) return { type: "LineString", coordinates: pts };
+  return { type: "Polygon", coordinates: [[...pts, pts[0]]] };
+}
+
+/** The next free featureId of a world model (1 for an empty one). */
+export function nextFeatureId(fc: FeatureCollection | null): number {
+  const ids = (fc?.features ?? []).map((f) => Number(f.properties?.featureId)).filter((n) => Number.isInteger(n));
+  return ids.length ? Math.max(...ids) + 1 : 1;
+}
+
+/** A file's text as a world model: a FeatureCollection whose features get an integer featureId when they lack one. */
+export function parseWorldModel(text: string): FeatureCollection {
+  const j = JSON.parse(text) as FeatureCollection;
+  if (j?.type !== "FeatureCollection" || !Array.isArray(j.features)) throw new Error("not a GeoJSON FeatureCollection");
+  let next = nextFeatureId(j);
+  const features = j.features.map((f) => {
+    const id = Number(f.properties?.featureId);
+    return { ...f, properties: { ...f.properties, featureId: Number.isInteger(id) ? id : next++, coverage: f.properties?.coverage ?? null } };
+  });
+  return { type: "FeatureCollection", features };
+}

@@ -1,0 +1,148 @@
+// CoMap C2 under the map: edit the world model (draw, delete, import, export, send), assign survey and
+// move tasks to the selected vehicle, follow their state and HOLD, RESUME or INTERRUPT them.
+// Shown only when the console has CoMap (GET /api/worldmodel answers).
+import { useState } from "react";
+import type { FeatureCollection } from "geojson";
+import { createTask, putWorldModel, synchTask, type SynchAction, type Task } from "../api/rest";
+import { useToken } from "../data/auth";
+import { useSelectedProvider, useTasks } from "../data/hooks";
+import { drawnGeometry, nextFeatureId, parseWorldModel, type LonLat } from "../lib/geo";
+import { vehicleLabel } from "../lib/vehicle";
+
+export type MapTool = "select" | "measure" | "draw" | "move-target";
+
+interface Props {
+  model: FeatureCollection; // what the map shows: the draft while editing, else the console's
+  dirty: boolean;
+  setDraft: (fc: FeatureCollection | null) => void; // null: back to the console's model
+  tool: MapTool;
+  setTool: (t: MapTool) => void;
+  drawn: LonLat[]; // vertices clicked in draw mode
+  clearDrawn: () => void;
+  moveTarget: LonLat | null;
+}
+
+type Sensor = Task["sensor"] & string;
+const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"];
+
+export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget }: Props) {
+  const token = useToken();
+  const vehicle = useSelectedProvider();
+  const [error, setError] = useState<string | null>(null);
+  const [featureId, setFeatureId] = useState<number | "">("");
+  const [sensor, setSensor] = useState<Sensor>("SIDESCAN");
+  const [resolution, setResolution] = useState(1);
+  const [deadline, setDeadline] = useState("");
+  const taskList = useTasks();
+
+  const run = (p: Promise<unknown>) => {
+    setError(null);
+    p.catch((e: Error) => setError(e.message));
+  };
+  const finishDrawing = () => {
+    const geometry = drawnGeometry(drawn);
+    if (geometry) {
+      const id = nextFeatureId(model);
+      setDraft({ ...model, features: [...model.features, { type: "Feature", geometry, properties: { featureId: id, coverage: null } }] });
+    }
+    clearDrawn();
+    setTool("select");
+  };
+  const remove = (id: unknown) => setDraft({ ...model, features: model.features.filter((f) => f.properties?.featureId !== id) });
+  const importFile = (file: File | undefined) => {
+    if (!file) return;
+    file
+      .text()
+      .then((text) => setDraft(parseWorldModel(text)))
+      .catch((e: Error) => setError(`import: ${e.message}`));
+  };
+  const exportHref = `data:application/geo+json;charset=utf-8,${encodeURIComponent(JSON.stringify(model))}`;
+  const survey = () =>
+    vehicle &&
+    featureId !== "" &&
+    run(createTask({ kind: "survey", vehicle: vehicle.id, featureId, sensor, resolution, ...(deadline ? { deadline: new Date(`${deadline}Z`).toISOString() } : {}) }, token));
+  const move = () => vehicle && moveTarget && run(createTask({ kind: "move", vehicle: vehicle.id, point: moveTarget, sensor: "ANY", resolution: 1 }, token).then(() => setTool("select")));
+  const synch = (id: Task["taskId"], action: SynchAction) => run(synchTask(id, action, token));
+
+  return (
+    <div className="comap" data-testid="comap">
+      <div className="comap-row">
+        <strong>World model</strong>
+        <button className="small" aria-pressed={tool === "draw"} onClick={() => (tool === "draw" ? finishDrawing() : (clearDrawn(), setTool("draw")))}>
+          {tool === "draw" ? `Finish (${drawn.length} points)` : "Draw feature"}
+        </button>
+        <label className="button small">
+          Import GeoJSON
+          <input type="file" accept=".json,.geojson,application/geo+json" hidden onChange={(e) => importFile(e.target.files?.[0])} />
+        </label>
+        <a className="button" href={exportHref} download="worldmodel.geojson">
+          Export GeoJSON
+        </a>
+        <button className="small" disabled={!dirty} onClick={() => run(putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
+          Send world model
+        </button>
+        {dirty && (
+          <button className="small" onClick={() => setDraft(null)}>
+            Discard changes
+          </button>
+        )}
+      </div>
+      <ul className="features">
+        {model.features.map((f) => (
+          <li key={String(f.properties?.featureId)}>
+            #{String(f.properties?.featureId)} {f.geometry?.type} · {String(f.properties?.coverage ?? "coverage unknown")}{" "}
+            <button className="small" onClick={() => remove(f.properties?.featureId)} aria-label={`Delete feature ${String(f.properties?.featureId)}`}>
+              ✕
+            </button>
+          </li>
+        ))}
+      </ul>
+      <div className="comap-row">
+        <strong>Task {vehicle ? vehicleLabel(vehicle) : "(select a vehicle)"}</strong>
+        <select aria-label="Feature" value={featureId} onChange={(e) => setFeatureId(e.target.value ? Number(e.target.value) : "")}>
+          <option value="">feature…</option>
+          {model.features.map((f) => (
+            <option key={String(f.properties?.featureId)} value={String(f.properties?.featureId)}>
+              #{String(f.properties?.featureId)}
+            </option>
+          ))}
+        </select>
+        <select aria-label="Sensor" value={sensor} onChange={(e) => setSensor(e.target.value as Sensor)}>
+          {SENSORS.map((s) => (
+            <option key={s}>{s}</option>
+          ))}
+        </select>
+        <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
+        <button className="small" disabled={!vehicle || featureId === ""} onClick={survey}>
+          Survey
+        </button>
+        <button className="small" aria-pressed={tool === "move-target"} disabled={!vehicle} onClick={() => (tool === "move-target" && moveTarget ? move() : setTool("move-target"))}>
+          {tool === "move-target" ? (moveTarget ? "Send move" : "click a destination") : "Move to…"}
+        </button>
+      </div>
+      {error && <p className="error" role="alert">{error}</p>}
+      <table className="tasks">
+        <tbody>
+          {taskList.map((t) => (
+            <tr key={t.taskId}>
+              <td>{t.taskId}</td>
+              <td>{t.kind}</td>
+              <td>{t.vehicle.slice(0, 8)}</td>
+              <td>{t.state ?? "—"}</td>
+              <td>{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
+              <td>{typeof t.quality === "number" ? `q ${t.quality}` : ""}</td>
+              <td>
+                {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
+                  <button key={a} className="small" onClick={() => synch(t.taskId, a)}>
+                    {a}
+                  </button>
+                ))}
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}

@@ -1,0 +1,387 @@
+// The map: MapLibre GL over the built-in offline basemap. Vehicles at their GPSFixReport positions
+// with a course arrow (colour by fix validity, stale and lost marked), their tracks, the
+// GPSFixStatusReport origins and the CoMap world model's features by coverage.
+import { useEffect, useMemo, useRef, useState } from "react";
+import { addProtocol, LngLatBounds, Map as MapLibre, NavigationControl, ScaleControl, setWorkerUrl, type ExpressionSpecification, type GeoJSONSource, type MapMouseEvent } from "maplibre-gl";
+import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
+import { FetchSource, PMTiles, Protocol } from "pmtiles";
+import "maplibre-gl/dist/maplibre-gl.css";
+
+// the worker is a file of the build, served by the console like the rest of the dashboard
+setWorkerUrl(workerUrl);
+const pmtiles = new Protocol();
+addProtocol("pmtiles", pmtiles.tile);
+import { Panel } from "../components/Panel";
+import { useChartConfigured, useNow, useSelector, useStore, useTrackedProviders, useWorldModel } from "../data/hooks";
+import { useToken } from "../data/auth";
+import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
+import { CoMapControls, type MapTool } from "./CoMap";
+import type { FeatureCollection } from "geojson";
+import { useDmsSetting } from "../data/settings";
+import { report, select, type ProviderView } from "../data/store";
+import { loadLand, offlineStyle } from "../lib/basemap";
+import { freshness } from "../lib/freshness";
+import {
+  EMPTY,
+  bearingDeg,
+  coverageColor,
+  distanceText,
+  measureGeoJson,
+  pathLengthM,
+  positionText,
+  tracksGeoJson,
+  validPosition,
+  vehiclesGeoJson,
+  type LonLat,
+  type VehicleMark,
+} from "../lib/geo";
+import { radToDeg } from "../lib/units";
+import { vehicleColor, vehicleLabel } from "../lib/vehicle";
+
+const FIX_COLOR = ["match", ["get", "fix"], "valid", "#4caf50", "invalid", "#e0593f", "#9fb3c8"] as const;
+
+function vehicleMark(p: ProviderView, now: number, selected: string | null): VehicleMark | null {
+  const fix = report(p, "GPSFixReport");
+  const st = report(p, "GPSFixStatusReport");
+  const g = fix?.position2DWithTime?.geodeticPosition;
+  const position = validPosition(g?.geodeticLatitude?.latitude, g?.geodeticLongitude?.longitude);
+  if (!position) return null;
+  const view = p.topics.GPSFixReport;
+  const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link) : "none";
+  const link = p.link === "lost" || f === "lost" ? "lost" : f === "stale" ? "stale" : p.link === "regained" ? "regained" : "live";
+  const course = typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse) ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360 : null;
+  return {
+    id: p.id,
+    label: vehicleLabel(p),
+    position,
+    courseDeg: course,
+    fix: st?.fixValid === true ? "valid" : st?.fixValid === false ? "invalid" : "unknown",
+    gpsPosition: fix?.GPSLatLongValid ?? null,
+    link,
+    selected: p.id === selected,
+  };
+}
+
+function originOf(p: ProviderView): LonLat | null {
+  const o = report(p, "GPSFixStatusReport")?.originPosition?.geodeticPosition;
+  return validPosition(o?.geodeticLatitude?.latitude, o?.geodeticLongitude?.longitude);
+}
+
+/** A course arrow as an SDF image (coloured by the layer), pointing up (north) at rotation 0. */
+function arrowImage(size = 32): ImageData {
+  const c = document.createElement("canvas");
+  c.width = c.height = size;
+  const g = c.getContext("2d")!;
+  g.fillStyle = "#fff";
+  g.beginPath();
+  g.moveTo(size / 2, 1);
+  g.lineTo(size - 5, size - 3);
+  g.lineTo(size / 2, size * 0.7);
+  g.lineTo(5, size - 3);
+  g.closePath();
+  g.fill();
+  return g.getImageData(0, 0, size, size);
+}
+
+function source(map: MapLibre, id: string): GeoJSONSource | undefined {
+  return map.getSource(id) as GeoJSONSource | undefined;
+}
+
+function addLayers(map: MapLibre): void {
+  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "measure"]) map.addSource(id, { type: "geojson", data: EMPTY });
+  map.addImage("course-arrow", arrowImage(), { sdf: true });
+  map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
+  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": 2 } });
+  map.addLayer({ id: "wm-point", type: "circle", source: "worldmodel", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-color": ["get", "color"], "circle-radius": 5 } });
+  map.addLayer({
+    id: "tracks",
+    type: "line",
+    source: "tracks",
+    paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "selected"], 2.5, 1.5], "line-opacity": 0.8 },
+  });
+  map.addLayer({
+    id: "origins",
+    type: "circle",
+    source: "origins",
+    paint: { "circle-radius": 4, "circle-color": "#0000", "circle-stroke-color": ["get", "color"], "circle-stroke-width": 2 },
+  });
+  map.addLayer({
+    id: "vehicle-link",
+    type: "circle",
+    source: "vehicles",
+    filter: ["in", ["get", "link"], ["literal", ["stale", "lost"]]],
+    paint: {
+      "circle-radius": 15,
+      "circle-color": "#0000",
+      "circle-stroke-width": 2,
+      "circle-stroke-color": ["match", ["get", "link"], "lost", "#e0593f", "#f5a623"],
+    },
+  });
+  map.addLayer({
+    id: "vehicle-dot",
+    type: "circle",
+    source: "vehicles",
+    paint: {
+      "circle-radius": ["case", ["get", "selected"], 9, 7],
+      "circle-color": FIX_COLOR as unknown as ExpressionSpecification,
+      "circle-opacity": ["case", ["==", ["get", "link"], "lost"], 0.4, 1],
+      "circle-stroke-color": ["case", ["get", "selected"], "#ffffff", ["get", "color"]],
+      "circle-stroke-width": ["case", ["get", "selected"], 3, 2],
+    },
+  });
+  map.addLayer({
+    id: "vehicle-arrow",
+    type: "symbol",
+    source: "vehicles",
+    filter: ["get", "hasCourse"],
+    layout: {
+      "icon-image": "course-arrow",
+      "icon-rotate": ["get", "course"],
+      "icon-rotation-alignment": "map",
+      "icon-allow-overlap": true,
+      "icon-ignore-placement": true,
+      "icon-offset": [0, -20],
+      "icon-size": 0.7,
+    },
+    paint: { "icon-color": FIX_COLOR as unknown as ExpressionSpecification, "icon-halo-color": "#000", "icon-halo-width": 1 },
+  });
+  map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
+  map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
+}
+
+declare global {
+  interface Window {
+    __semMap?: MapLibre; // test hook: Playwright reads rendered features and projects positions
+  }
+}
+
+export function MapPanel() {
+  const providers = useTrackedProviders();
+  const selected = useSelector((s) => s.selected);
+  const store = useStore();
+  const now = useNow(1000);
+  const worldModel = useWorldModel();
+  const [useDms, setDms] = useDmsSetting();
+  const chartConfigured = useChartConfigured();
+  const token = useToken();
+  const [chart, setChart] = useState<"none" | "loading" | "shown" | "failed">("none");
+  const container = useRef<HTMLDivElement>(null);
+  const mapRef = useRef<MapLibre | null>(null);
+  const [ready, setReady] = useState(false);
+  const [landDrawn, setLandDrawn] = useState(0);
+  const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
+  const [follow, setFollow] = useState(true);
+  const [cursor, setCursor] = useState<LonLat | null>(null);
+  const [tool, setTool] = useState<MapTool>("select");
+  const measuring = tool === "measure";
+  const [measure, setMeasure] = useState<LonLat[]>([]);
+  const [drawn, setDrawn] = useState<LonLat[]>([]);
+  const [moveTarget, setMoveTarget] = useState<LonLat | null>(null);
+  const [draft, setDraft] = useState<FeatureCollection | null>(null); // the world model being edited
+  const toolRef = useRef<MapTool>("select");
+  const framed = useRef(false);
+
+  const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
+
+  // the map itself, once
+  useEffect(() => {
+    const map = new MapLibre({
+      container: container.current!,
+      style: offlineStyle(),
+      center: [0, 20],
+      zoom: 1,
+      attributionControl: { compact: true },
+      maxPitch: 0,
+    });
+    mapRef.current = map;
+    window.__semMap = map;
+    map.addControl(new NavigationControl({ showCompass: true }), "top-right");
+    map.addControl(new ScaleControl({ unit: "metric", maxWidth: 120 }), "bottom-left");
+    map.addControl(new ScaleControl({ unit: "nautical", maxWidth: 120 }), "bottom-left");
+    let alive = true;
+    map.on("load", () => {
+      addLayers(map);
+      setReady(true);
+      loadLand()
+        .then((land) => {
+          if (alive) source(map, "land")?.setData(land);
+        })
+        .catch(() => undefined);
+    });
+    map.on("mousemove", (e) => setCursor({ lon: e.lngLat.lng, lat: e.lngLat.lat }));
+    map.on("mouseout", () => setCursor(null));
+    map.on("dragstart", () => setFollow(false)); // the operator pans away: stop following
+    map.on("click", (e: MapMouseEvent) => {
+      const at = { lon: e.lngLat.lng, lat: e.lngLat.lat };
+      if (toolRef.current === "measure") return setMeasure((m) => [...m, at]);
+      if (toolRef.current === "draw") return setDrawn((d) => [...d, at]);
+      if (toolRef.current === "move-target") return setMoveTarget(at);
+      const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
+      const id = hit?.properties?.id as string | undefined;
+      if (id) {
+        store.update((s) => select(s, id));
+        setFollow(true);
+      }
+    });
+    map.on("mouseenter", "vehicle-dot", () => (map.getCanvas().style.cursor = "pointer"));
+    map.on("mouseleave", "vehicle-dot", () => (map.getCanvas().style.cursor = ""));
+    // what is drawn, for the operator's status line and the tests: counted from rendered features
+    const count = setInterval(() => {
+      if (!map.getLayer("vehicle-dot")) return; // layers not added yet
+      setLandDrawn(map.queryRenderedFeatures({ layers: ["land"] }).length);
+      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: ["vehicle-dot"] }).map((f) => f.properties?.id)).size);
+    }, 1000);
+    return () => {
+      alive = false;
+      clearInterval(count);
+      if (window.__semMap === map) delete window.__semMap;
+      map.remove();
+      mapRef.current = null;
+    };
+  }, [store]);
+
+  // the console's PMTiles chart, over the built-in land and under everything else
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map || !chartConfigured || map.getSource(CHART_SOURCE)) return;
+    let current = true;
+    const url = `${window.location.origin}${CHART_PATH}`;
+    const archive = new PMTiles(new FetchSource(url, new Headers(token ? { Authorization: `Bearer ${token}` } : {})));
+    pmtiles.add(archive);
+    setTimeout(() => current && setChart("loading"));
+    Promise.all([archive.getHeader(), archive.getMetadata().catch(() => null)])
+      .then(([header, metadata]) => {
+        if (!current || map.getSource(CHART_SOURCE)) return;
+        const { source: src, layers } = chartStyle(url, header, metadata);
+        map.addSource(CHART_SOURCE, src);
+        for (const layer of layers) map.addLayer(layer, "wm-fill");
+        setChart("shown");
+      })
+      .catch(() => current && setChart("failed"));
+    return () => {
+      current = false;
+    };
+  }, [ready, chartConfigured, token]);
+
+  useEffect(() => {
+    toolRef.current = tool;
+    const map = mapRef.current;
+    if (map) map.getCanvas().style.cursor = tool === "select" ? "" : "crosshair";
+  }, [tool]);
+
+  // layers' data
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map) return;
+    const fc = vehiclesGeoJson(marks);
+    for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+    source(map, "vehicles")?.setData(fc);
+  }, [ready, marks]);
+
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map) return;
+    const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
+    for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+    source(map, "tracks")?.setData(fc);
+    const origins = providers.flatMap((p) => {
+      const o = originOf(p);
+      return o ? [{ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [o.lon, o.lat] }, properties: { id: p.id, color: vehicleColor(p.id) } }] : [];
+    });
+    source(map, "origins")?.setData({ type: "FeatureCollection", features: origins });
+  }, [ready, providers, selected]);
+
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map) return;
+    const features = ((draft ?? worldModel)?.features ?? []).map((f) => ({ ...f, properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null) } }));
+    source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
+  }, [ready, worldModel, draft]);
+
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map) return;
+    const shown = tool === "measure" ? measure : tool === "draw" ? drawn : tool === "move-target" && moveTarget ? [moveTarget] : [];
+    source(map, "measure")?.setData(measureGeoJson(shown));
+  }, [ready, measure, drawn, moveTarget, tool]);
+
+  // first frame: every vehicle in view; then follow the selected one unless the operator panned away
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map || !marks.length) return;
+    if (!framed.current) {
+      framed.current = true;
+      const b = new LngLatBounds();
+      for (const m of marks) b.extend([m.position.lon, m.position.lat]);
+      map.fitBounds(b, { padding: 60, maxZoom: 14, duration: 0 });
+      return;
+    }
+    const sel = marks.find((m) => m.selected);
+    if (follow && sel) map.easeTo({ center: [sel.position.lon, sel.position.lat], duration: 300 });
+  }, [ready, marks, follow]);
+
+  const measured = pathLengthM(measure);
+  const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;
+  return (
+    <Panel
+      title="Map"
+      testId="map-panel"
+      className="map-panel"
+      actions={
+        <div className="map-tools">
+          <button className="small" aria-pressed={follow} onClick={() => setFollow(!follow)} data-testid="map-follow" title="keep the selected vehicle in view">
+            Follow
+          </button>
+          <button
+            className="small"
+            aria-pressed={measuring}
+            data-testid="map-measure"
+            onClick={() => {
+              setTool(measuring ? "select" : "measure");
+              setMeasure([]);
+            }}
+            title="click points on the map to measure the distance along them"
+          >
+            Measure
+          </button>
+          <button className="small" onClick={() => setDms(!useDms)} aria-pressed={useDms} title="coordinates in degrees-minutes-seconds or decimal degrees">
+            {useDms ? "DMS" : "Decimal"}
+          </button>
+        </div>
+      }
+    >
+      <div className="map-wrap">
+        <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
+        <div className="map-status">
+          <span data-testid="map-cursor">{cursor ? positionText(cursor.lat, cursor.lon, useDms) : "—"}</span>
+          {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
+          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {providers.length} vehicles drawn</span>
+          {measuring && (
+            <span data-testid="map-distance">
+              {measure.length < 2 ? "click points to measure" : `${distanceText(measured)} · last leg ${lastLeg!.toFixed(0)}°`}
+            </span>
+          )}
+        </div>
+      </div>
+      {worldModel && (
+        <CoMapControls
+          model={draft ?? worldModel}
+          dirty={draft !== null}
+          setDraft={setDraft}
+          tool={tool}
+          setTool={(t) => {
+            setTool(t);
+            setMoveTarget(null);
+          }}
+          drawn={drawn}
+          clearDrawn={() => setDrawn([])}
+          moveTarget={moveTarget}
+        />
+      )}
+      <p className="map-legend muted">
+        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin
+        {worldModel ? " · areas: covered (green), partial (amber), not (red)" : ""}
+      </p>
+    </Panel>
+  );
+}
