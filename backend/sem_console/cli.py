@@ -112,6 +112,8 @@ def main(argv: list[str] | None = None) -> int:
     if settings.replay is not None:
         if settings.sim or settings.record is not None:
             parser.error("--replay is read-only: it does not go with --sim or --record")
+        if settings.imc_port is not None:
+            parser.error("--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)")
         problem = check_file(settings.replay)
         if problem:
             parser.error(problem)

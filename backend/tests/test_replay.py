@@ -158,13 +158,19 @@ def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
     refused = [httpx.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
                httpx.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
                httpx.delete(f"{r.url}/api/commands/{session}"),
-               httpx.post(f"{r.url}/api/recordings", json={"action": "start"})]
+               httpx.post(f"{r.url}/api/recordings", json={"action": "start"}),
+               httpx.put(f"{r.url}/api/providers/{V1}/link-config",
+                         json={"commsLostTimeout": 3, "regainedTime": 3, "policy": "STOP_MISSION", "regainedBehavior": 0}),
+               httpx.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
+               httpx.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
+               httpx.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"})]
     for x in refused:
         assert x.status_code == 409 and x.json()["detail"].startswith("read-only: this console replays"), x.text
     assert httpx.get(f"{r.url}/api/recordings/status").json()["state"] == "off"
     assert [c["sessionId"] for c in httpx.get(f"{r.url}/api/commands").json()] == [session]
     audit = httpx.get(f"{r.url}/api/audit").json()
-    assert [(a["outcome"], a["status"]) for a in audit] == [("refused", 409)] * 4
+    assert [(a["outcome"], a["status"]) for a in audit] == [("refused", 409)] * len(refused)
+    assert httpx.get(f"{r.url}/api/tasks").json() == []  # nothing assigned
     # the OpenAPI document of a replay says so
     doc = httpx.get(f"{r.url}/openapi.json").json()
     assert "read-only" in doc["paths"]["/api/providers/{provider_id}/gps-fix"]["post"]["responses"]["409"]["description"]
@@ -177,6 +183,7 @@ def test_replay_options_are_checked(tmp_path: Path) -> None:
     for args, needle in ((["--replay", str(tmp_path / "missing.mcap")], "cannot read"),
                          (["--replay", str(not_mcap)], "is not an MCAP file"),
                          (["--replay", str(not_mcap), "--sim", "1"], "does not go with --sim or --record"),
+                         (["--replay", str(not_mcap), "--imc-port", "4001"], "does not go with --imc-port"),
                          (["--replay", str(not_mcap), "--replay-speed", "50"], "--replay-speed")):
         p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
         assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)

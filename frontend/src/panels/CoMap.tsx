@@ -5,7 +5,7 @@ import { useState } from "react";
 import type { FeatureCollection } from "geojson";
 import { createTask, putWorldModel, synchTask, type SynchAction, type Task } from "../api/rest";
 import { useToken } from "../data/auth";
-import { useSelectedProvider, useTasks } from "../data/hooks";
+import { useCapabilities, useSelectedProvider, useTasks } from "../data/hooks";
 import { drawnGeometry, nextFeatureId, parseWorldModel, type LonLat } from "../lib/geo";
 import { vehicleLabel } from "../lib/vehicle";
 
@@ -27,6 +27,7 @@ const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMET
 
 export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget }: Props) {
   const token = useToken();
+  const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const vehicle = useSelectedProvider();
   const [error, setError] = useState<string | null>(null);
   const [featureId, setFeatureId] = useState<number | "">("");
@@ -78,7 +79,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
         <a className="button" href={exportHref} download="worldmodel.geojson">
           Export GeoJSON
         </a>
-        <button className="small" disabled={!dirty} onClick={() => run(putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
+        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run(putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
           Send world model
         </button>
         {dirty && (
@@ -114,13 +115,14 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
         </select>
         <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
-        <button className="small" disabled={!vehicle || featureId === ""} onClick={survey}>
+        <button className="small" disabled={!mayWrite || !vehicle || featureId === ""} onClick={survey}>
           Survey
         </button>
-        <button className="small" aria-pressed={tool === "move-target"} disabled={!vehicle} onClick={() => (tool === "move-target" && moveTarget ? move() : setTool("move-target"))}>
+        <button className="small" aria-pressed={tool === "move-target"} disabled={!mayWrite || !vehicle} onClick={() => (tool === "move-target" && moveTarget ? move() : setTool("move-target"))}>
           {tool === "move-target" ? (moveTarget ? "Send move" : "click a destination") : "Move to…"}
         </button>
       </div>
+      {!mayWrite && <p className="readonly-note">Replay: read-only. The world model and tasks are not sent.</p>}
       {error && <p className="error" role="alert">{error}</p>}
       <table className="tasks">
         <tbody>
@@ -134,7 +136,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
               <td>{typeof t.quality === "number" ? `q ${t.quality}` : ""}</td>
               <td>
                 {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                  <button key={a} className="small" onClick={() => synch(t.taskId, a)}>
+                  <button key={a} className="small" disabled={!mayWrite} onClick={() => synch(t.taskId, a)}>
                     {a}
                   </button>
                 ))}

@@ -4,7 +4,7 @@ import type { GatewayState, LinkConfig } from "../api/types";
 import { Field, Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useGateways, useNow, useSelector } from "../data/hooks";
+import { useCapabilities, useGateways, useNow, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -146,6 +146,7 @@ export function GatewaysPanel() {
   const known = useSelector((s) => (s.selected ? s.providers[s.selected] : undefined));
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
+  const mayWrite = useCapabilities().command; // a replay is read-only
   const [outcome, setOutcome] = useState<Outcome | null>(null);
   const target: VehicleIdentity | null = selected ? { id: selected, name: known?.name ?? null } : null;
   const aspnOn = gateways.some((g) => g.name === "aspn" && g.enabled);
@@ -165,7 +166,7 @@ export function GatewaysPanel() {
               key={`${target.id} ${JSON.stringify(known.linkConfig)}`}
               target={target}
               config={known.linkConfig}
-              canEdit={!authRequired || !!token}
+              canEdit={mayWrite && (!authRequired || !!token)}
               token={token}
               outcome={outcome}
               setOutcome={setOutcome}
