@@ -2,7 +2,7 @@
 
 Owned by the FastAPI lifespan. Every method here runs on the event loop thread. With
 `settings.replay` the input is a recording instead of DDS (`console/replay.py`): no DDS
-participant, the recording's clock, an in-memory history, and the same `apply` path.
+participant, the recording's clock, a temporary database, and the same `apply` path.
 """
 
 from __future__ import annotations
@@ -71,13 +71,14 @@ class Console:
         self.settings = settings
         replaying = settings.replay is not None
         self.clock: Clock = RecordingClock() if replaying else Clock()
-        # a replay keeps its rebuilt state apart: the live console's database is never touched (an in-memory
-        # store; the track and chart history in a temporary file, kept whatever the recording's age)
+        # a replay keeps its rebuilt state apart, in a temporary database removed when it stops: the live
+        # console's is never touched (the exports read the database on connections of their own, so not
+        # ":memory:"); its track and chart history is kept whatever the recording's age
         self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
-        self.store = Store(Path(":memory:") if replaying else settings.db_path, settings.audit_max_rows)
+        db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
+        self.store = Store(db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
-        self.history = (History(Path(self._replay_dir.name) / "history.sqlite", math.inf) if self._replay_dir
-                        else History(settings.db_path, settings.track_retention_hours))
+        self.history = History(db_path, math.inf if replaying else settings.track_retention_hours)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
