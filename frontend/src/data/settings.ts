@@ -1,6 +1,7 @@
 // The operator's display settings, kept in localStorage so a reload keeps them:
 // decimal or DMS coordinates (the Fix panel and the map share it) and the panel layout.
-import { useSyncExternalStore } from "react";
+import { useMemo, useSyncExternalStore } from "react";
+import { DEFAULT_LAYOUT, mergeLayout, type Group, type Layout } from "../lib/layout";
 
 const listeners = new Set<() => void>();
 const cache = new Map<string, unknown>();
@@ -63,4 +64,21 @@ const COLLAPSED = "sem-console.collapsed";
 export function useCollapsed(id: string): [boolean, (v: boolean) => void] {
   const [ids, setIds] = useSetting<string[]>(COLLAPSED, [], isStrings);
   return [ids.includes(id), (v: boolean) => setIds(v ? [...ids.filter((x) => x !== id), id] : ids.filter((x) => x !== id))];
+}
+
+const LAYOUT = "sem-console.layout";
+const isAny = (v: unknown): v is unknown => v !== undefined;
+
+/** The panel order of each group, as the operator left it (merged with this build's panels, so a
+ * stored layout naming unknown panels or missing new ones still shows every panel), and its setter. */
+export function useLayout(): [Layout, (g: Group, order: string[]) => void] {
+  const [stored, setStored] = useSetting<unknown>(LAYOUT, null, isAny);
+  const layout = useMemo(() => mergeLayout(stored), [stored]);
+  return [layout, (g, order) => setStored({ ...layout, [g]: order })];
+}
+
+/** Back to the default layout: the default panel order, nothing collapsed. */
+export function resetLayout(): void {
+  writeSetting(LAYOUT, DEFAULT_LAYOUT);
+  writeSetting<string[]>(COLLAPSED, []);
 }
