@@ -68,7 +68,7 @@ test("the ↑ ↓ buttons and the keyboard move a panel within its group, and ke
 
   // the side column, by keyboard: Space picks the panel up, the arrow moves it, Space drops it
   expect(await order(page, "side-panels")).toEqual(SIDE);
-  // each key waits for the step to show (the handle pressed, then the screen reader's announcement)
+  // each key waits for its step to show: the handle pressed, then what a screen reader is told
   const handle = page.getByTestId("alerts-panel-drag");
   await handle.focus();
   await page.keyboard.press("Space");
@@ -76,10 +76,10 @@ test("the ↑ ↓ buttons and the keyboard move a panel within its group, and ke
   // (the sensor listens for the arrows from its next task on: press again until the move shows)
   await expect(async () => {
     await page.keyboard.press("ArrowDown");
-    await expect(page.getByRole("status").filter({ hasText: "moved over droppable area gateways-panel" })).toHaveCount(1, { timeout: 2_000 });
+    await expect(page.getByRole("status").filter({ hasText: "Alerts over place 2 of 2." })).toHaveCount(1, { timeout: 2_000 });
   }).toPass();
   await page.keyboard.press("Space");
-  await expect(page.getByRole("status").filter({ hasText: "was dropped over droppable area gateways-panel" })).toHaveCount(1);
+  await expect(page.getByRole("status").filter({ hasText: "Alerts dropped at place 2 of 2." })).toHaveCount(1);
   await expect.poll(() => order(page, "side-panels")).toEqual(["gateways-panel", "alerts-panel"]);
   expect(await order(page, "main-panels")).not.toContain("alerts-panel"); // a group keeps its own panels
 });

@@ -1,7 +1,7 @@
 // Rearranging the panels of a group (dnd-kit): drag a panel by its ⠿ handle, or focus the handle and
 // press Space, the arrow keys, Space; or use its ↑ ↓ buttons. The order is kept in the settings store.
 import { createContext, useContext, useRef, type CSSProperties, type ReactNode } from "react";
-import { DndContext, KeyboardSensor, PointerSensor, closestCenter, useSensor, useSensors, type DragEndEvent } from "@dnd-kit/core";
+import { DndContext, KeyboardSensor, PointerSensor, closestCenter, useSensor, useSensors, type Announcements, type DragEndEvent, type UniqueIdentifier } from "@dnd-kit/core";
 import { SortableContext, rectSortingStrategy, sortableKeyboardCoordinates, useSortable, verticalListSortingStrategy } from "@dnd-kit/sortable";
 import { CSS } from "@dnd-kit/utilities";
 import { useLayout } from "../data/settings";
@@ -32,11 +32,20 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
     useSensor(PointerSensor, { activationConstraint: { distance: 5 } }),
     useSensor(KeyboardSensor, { coordinateGetter: sortableKeyboardCoordinates }),
   );
+  // what a screen reader says while a panel is moved: its title and the place it would take
+  const name = (id: UniqueIdentifier) => document.querySelector(`[data-panel="${String(id)}"] > section`)?.getAttribute("aria-label") ?? String(id);
+  const place = (id: UniqueIdentifier) => `place ${order.indexOf(String(id)) + 1} of ${order.length}`;
+  const announcements: Announcements = {
+    onDragStart: ({ active }) => `Picked up ${name(active.id)}, at ${place(active.id)}.`,
+    onDragOver: ({ active, over }) => (over ? `${name(active.id)} over ${place(over.id)}.` : `${name(active.id)} is over no place.`),
+    onDragEnd: ({ active, over }) => (over ? `${name(active.id)} dropped at ${place(over.id)}.` : `${name(active.id)} dropped where it was.`),
+    onDragCancel: ({ active }) => `Moving ${name(active.id)} cancelled.`,
+  };
   const onDragEnd = ({ active, over }: DragEndEvent) => {
     if (over && active.id !== over.id) setOrder(group, moveTo(order, String(active.id), order.indexOf(String(over.id))));
   };
   return (
-    <DndContext sensors={sensors} collisionDetection={closestCenter} onDragEnd={onDragEnd}>
+    <DndContext sensors={sensors} collisionDetection={closestCenter} onDragEnd={onDragEnd} accessibility={{ announcements }}>
       <SortableContext items={order} strategy={group === "side" ? verticalListSortingStrategy : rectSortingStrategy}>
         <div className={className} data-testid={testId} aria-label={label} role="group">
           {order.map((id, i) => (
