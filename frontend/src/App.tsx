@@ -12,8 +12,8 @@ import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
 
-// The panels by test id (their order is in lib/layout.ts and the operator's settings). A wide panel
-// takes the whole width of the main area; the others share it two to a row.
+// The panels of each group by test id, in their default order (the operator's order is kept in the
+// settings). A wide panel takes the whole width of the main area; the others share it two to a row.
 const SIDE = { "alerts-panel": { node: <AlertsPanel /> }, "gateways-panel": { node: <GatewaysPanel /> } };
 const MAIN = {
   "map-panel": { node: <MapPanel />, wide: true },

@@ -4,7 +4,7 @@ import { createContext, useContext, useRef, type CSSProperties, type ReactNode }
 import { DndContext, KeyboardSensor, PointerSensor, closestCenter, useSensor, useSensors, type Announcements, type DragEndEvent, type UniqueIdentifier } from "@dnd-kit/core";
 import { SortableContext, rectSortingStrategy, sortableKeyboardCoordinates, useSortable, verticalListSortingStrategy } from "@dnd-kit/sortable";
 import { CSS } from "@dnd-kit/utilities";
-import { useLayout } from "../data/settings";
+import { usePanelOrder } from "../data/settings";
 import { moveBy, moveTo, type Group } from "../lib/layout";
 
 interface Slot {
@@ -24,10 +24,9 @@ interface GroupProps {
   label: string;
 }
 
-/** The panels of one group, in the operator's order, each movable within the group. */
+/** The panels of one group, in the operator's order (by default that of `panels`), each movable within the group. */
 export function ArrangeableGroup({ group, panels, className, testId, label }: GroupProps) {
-  const [layout, setOrder] = useLayout();
-  const order = layout[group].filter((id) => id in panels);
+  const [order, setOrder] = usePanelOrder(group, Object.keys(panels));
   const sensors = useSensors(
     useSensor(PointerSensor, { activationConstraint: { distance: 5 } }),
     useSensor(KeyboardSensor, { coordinateGetter: sortableKeyboardCoordinates }),
@@ -42,14 +41,14 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
     onDragCancel: ({ active }) => `Moving ${name(active.id)} cancelled.`,
   };
   const onDragEnd = ({ active, over }: DragEndEvent) => {
-    if (over && active.id !== over.id) setOrder(group, moveTo(order, String(active.id), order.indexOf(String(over.id))));
+    if (over && active.id !== over.id) setOrder(moveTo(order, String(active.id), order.indexOf(String(over.id))));
   };
   return (
     <DndContext sensors={sensors} collisionDetection={closestCenter} onDragEnd={onDragEnd} accessibility={{ announcements }}>
       <SortableContext items={order} strategy={group === "side" ? verticalListSortingStrategy : rectSortingStrategy}>
         <div className={className} data-testid={testId} aria-label={label} role="group">
           {order.map((id, i) => (
-            <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => setOrder(group, moveBy(order, id, by))}>
+            <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => setOrder(moveBy(order, id, by))}>
               {panels[id].node}
             </SortableSlot>
           ))}

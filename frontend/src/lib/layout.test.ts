@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { DEFAULT_LAYOUT, mergeLayout, mergeOrder, moveBy, moveTo } from "./layout";
+import { groupOrder, mergeOrder, moveBy, moveTo } from "./layout";
 
 const KNOWN = ["a", "b", "c", "d"];
 
@@ -9,20 +9,17 @@ describe("panel order", () => {
   });
   it("drops unknown panels and duplicates, appends the panels the stored order misses", () => {
     expect(mergeOrder(["c", "gone", "a", "c", 7, null], KNOWN)).toEqual(["c", "a", "b", "d"]);
+    expect(mergeOrder([], KNOWN)).toEqual(KNOWN);
   });
   it("falls back to the default order for anything that is not a list", () => {
     for (const bad of [null, undefined, "a,b", 3, { a: 1 }]) expect(mergeOrder(bad, KNOWN)).toEqual(KNOWN);
   });
-  it("merges a whole stored layout group by group, never moving a panel to another group", () => {
-    const stored = { main: ["commands-panel", "alerts-panel", "map-panel"], side: ["gateways-panel"], extra: ["x"] };
-    const l = mergeLayout(stored);
-    expect(l.main).toEqual(["commands-panel", "map-panel", ...DEFAULT_LAYOUT.main.filter((id) => id !== "commands-panel" && id !== "map-panel")]);
-    expect(l.side).toEqual(["gateways-panel", "alerts-panel"]);
-    for (const bad of [null, "x", 1, [], { main: "map-panel" }]) expect(mergeLayout(bad)).toEqual(DEFAULT_LAYOUT);
-  });
-  it("every default panel is in exactly one group", () => {
-    const all = [...DEFAULT_LAYOUT.side, ...DEFAULT_LAYOUT.main];
-    expect(new Set(all).size).toBe(all.length);
+  it("reads a group out of a stored layout, whatever else it holds", () => {
+    const stored = { main: ["c", "x", "a"], side: ["s2"], extra: ["x"] };
+    expect(groupOrder(stored, "main", KNOWN)).toEqual(["c", "a", "b", "d"]);
+    expect(groupOrder(stored, "side", ["s1", "s2"])).toEqual(["s2", "s1"]);
+    expect(groupOrder({ main: ["s2", "a"] }, "main", KNOWN)).toEqual(KNOWN); // a panel of another group stays there
+    for (const bad of [null, "x", 1, [], ["a"], { main: "a" }, { side: ["a"] }]) expect(groupOrder(bad, "main", KNOWN)).toEqual(KNOWN);
   });
   it("moves a panel to an index or by a number of places, clamped to the list", () => {
     expect(moveTo(KNOWN, "a", 2)).toEqual(["b", "c", "a", "d"]);
