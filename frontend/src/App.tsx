@@ -1,3 +1,4 @@
+import { ArrangeableGroup } from "./components/Arrange";
 import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlertsPanel } from "./panels/Alerts";
 import { CommandsPanel } from "./panels/Commands";
@@ -11,6 +12,18 @@ import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
 
+// The panels of each group by test id, in their default order (the operator's order is kept in the
+// settings). A wide panel takes the whole width of the main area; the others share it two to a row.
+const SIDE = { "alerts-panel": { node: <AlertsPanel /> }, "gateways-panel": { node: <GatewaysPanel /> } };
+const MAIN = {
+  "map-panel": { node: <MapPanel />, wide: true },
+  "fix-panel": { node: <FixPanel /> },
+  "ins-panel": { node: <InsPanel /> },
+  "satellites-panel": { node: <SatellitesPanel />, wide: true },
+  "export-panel": { node: <ExportPanel /> },
+  "commands-panel": { node: <CommandsPanel /> },
+};
+
 export function App() {
   return (
     <div className="app">
@@ -21,18 +34,10 @@ export function App() {
           <ErrorBoundary name="Vehicles">
             <VehicleSelector />
           </ErrorBoundary>
-          <AlertsPanel />
-          <GatewaysPanel />
+          <ArrangeableGroup group="side" panels={SIDE} className="side-panels" testId="side-panels" label="Side panels" />
         </aside>
         <main className="main">
-          <MapPanel />
-          <SatellitesPanel />
-          <div className="column">
-            <FixPanel />
-            <InsPanel />
-            <ExportPanel />
-          </div>
-          <CommandsPanel />
+          <ArrangeableGroup group="main" panels={MAIN} className="main-panels" testId="main-panels" label="Main panels" />
         </main>
       </div>
     </div>

@@ -3,6 +3,7 @@ import { ErrorBoundary } from "./ErrorBoundary";
 import type { Freshness } from "../lib/freshness";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
+import { DragHandle, MoveButtons } from "./Arrange";
 
 interface Props {
   title: string;
@@ -14,13 +15,15 @@ interface Props {
   className?: string;
 }
 
-/** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel).
+/** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel),
+ * and, in an arrangeable group, move it by its ⠿ handle or ↑ ↓ buttons.
  * A collapsed panel's content is not rendered, so it costs nothing while folded. */
 export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
   const [collapsed, setCollapsed] = useCollapsed(testId);
   return (
     <section className={`panel ${className ?? ""}${collapsed ? " collapsed" : ""}`} data-testid={testId} aria-label={title}>
       <header className="panel-head">
+        <DragHandle title={title} testId={testId} />
         <button
           className="collapse"
           aria-expanded={!collapsed}
@@ -38,6 +41,7 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
           </span>
         )}
         {!collapsed && actions}
+        <MoveButtons title={title} testId={testId} />
       </header>
       {!collapsed && <ErrorBoundary name={title}>{children}</ErrorBoundary>}
     </section>

@@ -1,6 +1,7 @@
 // The operator's display settings, kept in localStorage so a reload keeps them:
 // decimal or DMS coordinates (the Fix panel and the map share it) and the panel layout.
 import { useSyncExternalStore } from "react";
+import { groupOrder, type Group } from "../lib/layout";
 
 const listeners = new Set<() => void>();
 const cache = new Map<string, unknown>();
@@ -63,4 +64,22 @@ const COLLAPSED = "sem-console.collapsed";
 export function useCollapsed(id: string): [boolean, (v: boolean) => void] {
   const [ids, setIds] = useSetting<string[]>(COLLAPSED, [], isStrings);
   return [ids.includes(id), (v: boolean) => setIds(v ? [...ids.filter((x) => x !== id), id] : ids.filter((x) => x !== id))];
+}
+
+const LAYOUT = "sem-console.layout";
+const isAny = (v: unknown): v is unknown => v !== undefined;
+
+/** The order of the panels of `group` as the operator left it, merged with the group's `known`
+ * panels (in their default order): a stored layout naming unknown panels or missing new ones still
+ * shows every panel. And its setter. */
+export function usePanelOrder(group: Group, known: readonly string[]): [string[], (order: string[]) => void] {
+  const [stored, setStored] = useSetting<unknown>(LAYOUT, null, isAny);
+  const others = stored !== null && typeof stored === "object" && !Array.isArray(stored) ? stored : {};
+  return [groupOrder(stored, group, known), (order) => setStored({ ...others, [group]: order })];
+}
+
+/** Back to the default layout: the default panel order, nothing collapsed. */
+export function resetLayout(): void {
+  writeSetting(LAYOUT, null);
+  writeSetting<string[]>(COLLAPSED, []);
 }

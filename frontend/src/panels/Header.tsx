@@ -1,6 +1,7 @@
 import { useState } from "react";
 import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
+import { resetLayout } from "../data/settings";
 import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { RecordControl } from "./Recording";
@@ -70,6 +71,9 @@ export function Header() {
             )}
           </form>
         ))}
+      <button className="small" onClick={resetLayout} title="the default panel order, nothing collapsed" data-testid="reset-layout">
+        Reset layout
+      </button>
       <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now).slice(0, 19)} UTC</span>
     </header>
   );
