@@ -126,3 +126,15 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
     assert len(dense) <= 8, dense  # at most the bucket's takes, not one per sample
     assert dense == sorted(dense)
     ws.close()
+
+
+def test_websocket_compression_only_when_configured(console) -> None:
+    """permessage-deflate costs CPU and latency on every message: off unless SEM_WS_COMPRESSION asks for it."""
+    from websockets.sync.client import connect
+
+    for env, want in (({}, []), ({"SEM_WS_COMPRESSION": "true"}, ["PerMessageDeflate"])):
+        c = console(env=env)
+        with connect(c.ws_url, open_timeout=10, max_size=2**24) as ws:  # offers permessage-deflate, as browsers do
+            assert [type(e).__name__ for e in ws.protocol.extensions] == want
+            assert json.loads(ws.recv())["type"] == "snapshot"
+        c.stop()
