@@ -114,6 +114,7 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
         return [m["report"]["report"]["timeStamp"]["seconds"] * S + m["report"]["report"]["timeStamp"]["nanoseconds"] - base
                 for m in ws.of("report") if m["providerId"] == str(p.id) and m["topic"] == "InertialSensorReport"]
 
+    time.sleep(2.5)  # idle: the thread's wakeups by its 200 ms timeout take nothing and must not empty the bucket
     # a take can see a sample in one of its three readers and take again for the copies: 2 writes, at most 6 takes
     for i in (1, 2):
         p.report(base + i * S)

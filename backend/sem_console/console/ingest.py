@@ -247,9 +247,10 @@ class Ingest:
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
         while self.running:
-            ws.wait(duration(milliseconds=200))
+            woken = ws.wait(duration(milliseconds=200)) > 0  # not by the timeout: a take that counts
             started = time.monotonic()
-            self.pace.took()
+            if woken:
+                self.pace.took()
             try:
                 items: list[ReportItem] = []
                 for (sem, via, reader), cond in zip(self.report_readers, conds):
