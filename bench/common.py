@@ -177,3 +177,12 @@ def table(title: str, header: list[str], rows: list[list[Any]]) -> None:
 def emit(name: str, figures: dict[str, Any]) -> None:
     """The one JSON line a benchmark ends with."""
     print(json.dumps({"bench": name, "cores": os.cpu_count(), **figures}, separators=(",", ":")))
+
+
+def target(name: str, value: float | None, unit: str, op: str, limit: float | None, against: str = "") -> dict[str, Any]:
+    """Print one figure beside its target and whether it holds; returns it for the JSON line."""
+    ok = value is not None and limit is not None and value == value and limit == limit and (
+        value < limit if op == "<" else value <= limit if op == "<=" else value > limit)
+    bound = f"{op} {limit} {unit}" + (f" ({against})" if against else "")
+    print(f"target  {name}: {value} {unit}, target {bound}: {'holds' if ok else 'MISSED'}")
+    return {"name": name, "value": value, "unit": unit, "target": f"{op} {limit}", "holds": ok}

@@ -1,9 +1,13 @@
-"""Latency, sample to WebSocket, against the floor of a plain DDS reader in another process.
+"""Latency, sample to WebSocket, against the floor of a plain DDS reader in another process and
+against a peer: the generic answer (a cyclonedds reader feeding Foxglove's WebSocket server, each
+sample as JSON; bench/foxglove_peer.py), in the same run on the same samples.
 
 A writer publishes InertialSensorReport and GPSFixReport samples stamped with their send time
-(5 sources x 2 topics at 10 Hz, under the console's conflation rate, so every sample is shown);
-a WebSocket client of the console and a plain cyclonedds-python reader record arrival. Run with
-the default conflation window (report_interval 5 ms) and with 50 ms.
+(5 sources x 2 topics at 10 Hz, written together every 100 ms: sparse input, so every sample is
+shown); a WebSocket client of the console, a Foxglove WebSocket client of the peer and a plain
+cyclonedds-python reader record arrival. Run with the default conflation window (report_interval
+5 ms) and with 50 ms. Targets: overhead over the floor p50 < 1 ms and p99 < 5 ms; the console
+beats the peer at p50 and p99.
 Usage: python bench/latency.py [--seconds 12]
 """
 
@@ -19,6 +23,7 @@ import uuid
 
 import common
 from common import emit, ms, percentile, stack, table, ws_collect
+from foxglove_peer import foxglove_collect, peer, sample_latency
 
 from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
@@ -56,11 +61,12 @@ def publish(domain: int, seconds: float, stop: threading.Event) -> int:
 
 
 def run(window: float, seconds: float) -> dict[str, float]:
-    with stack(console_env={"SEM_REPORT_INTERVAL": str(window)}) as st:
+    with stack(console_env={"SEM_REPORT_INTERVAL": str(window)}) as st, peer(st["domain"]) as (_peer, peer_url):
         floor = subprocess.Popen([sys.executable, str(common.ROOT / "bench" / "floor_reader.py"), str(st["domain"]),
                                   str(seconds + 4), "INS_REPORT", "GPS_FIX_REPORT"], stdout=subprocess.PIPE, text=True)
         assert floor.stdout is not None and floor.stdout.readline().strip() == "ready"
         console: list[float] = []
+        generic: list[float] = []
         stop = threading.Event()
         sent: list[int] = []
         writer = threading.Thread(target=lambda: sent.append(publish(st["domain"], seconds, stop)))
@@ -70,17 +76,28 @@ def run(window: float, seconds: float) -> dict[str, float]:
             if lat is not None and msg["topic"] in ("InertialSensorReport", "GPSFixReport"):
                 console.append(lat)
 
+        def on_peer(topic: str, sample: dict, now: float) -> None:
+            lat = sample_latency(sample, now)
+            if lat is not None and topic in ("InertialSensorReport", "GPSFixReport"):
+                generic.append(lat)
+
+        async def both() -> None:  # both clients in this one process, on the same loop
+            await asyncio.gather(ws_collect(st["ws"], seconds + 3, on), foxglove_collect(peer_url, seconds + 3, on_peer))
+
         writer.start()
-        asyncio.run(ws_collect(st["ws"], seconds + 3, on))
+        asyncio.run(both())
         stop.set()
         writer.join()
         floor_lat = [float(x) for x in __import__("json").loads(floor.communicate(timeout=30)[0].strip().splitlines()[-1])]
     c50, c99, f50, f99 = percentile(console, 50), percentile(console, 99), percentile(floor_lat, 50), percentile(floor_lat, 99)
+    g50, g99 = percentile(generic, 50), percentile(generic, 99)
     return {
-        "window_ms": window * 1000, "published": sent[0] if sent else 0, "console_n": len(console), "floor_n": len(floor_lat),
+        "window_ms": window * 1000, "published": sent[0] if sent else 0, "console_n": len(console), "peer_n": len(generic),
+        "floor_n": len(floor_lat),
         "console_p50_ms": ms(c50), "console_p99_ms": ms(c99), "console_max_ms": ms(max(console, default=float("nan"))),
-        "floor_p50_ms": ms(f50), "floor_p99_ms": ms(f99),
+        "peer_p50_ms": ms(g50), "peer_p99_ms": ms(g99), "floor_p50_ms": ms(f50), "floor_p99_ms": ms(f99),
         "overhead_p50_ms": ms(c50 - f50), "overhead_p99_ms": ms(c99 - f99),
+        "peer_overhead_p50_ms": ms(g50 - f50), "peer_overhead_p99_ms": ms(g99 - f99),
         "ratio_p50": round(c50 / f50, 1) if f50 > 0 else None, "ratio_p99": round(c99 / f99, 1) if f99 > 0 else None,
     }
 
@@ -90,10 +107,19 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=12.0)
     args = ap.parse_args()
     runs = [run(w, args.seconds) for w in (0.005, 0.05)]  # the default window, and a wider one
-    keys = ["window_ms", "published", "console_n", "floor_n", "console_p50_ms", "console_p99_ms", "console_max_ms",
-            "floor_p50_ms", "floor_p99_ms", "overhead_p50_ms", "overhead_p99_ms", "ratio_p50", "ratio_p99"]
-    table("Latency, sample to WebSocket vs raw DDS floor", keys, [[r[k] for k in keys] for r in runs])
-    emit("latency", {"runs": runs})
+    keys = ["window_ms", "published", "console_n", "peer_n", "floor_n", "console_p50_ms", "console_p99_ms", "console_max_ms",
+            "peer_p50_ms", "peer_p99_ms", "floor_p50_ms", "floor_p99_ms", "overhead_p50_ms", "overhead_p99_ms",
+            "peer_overhead_p50_ms", "peer_overhead_p99_ms", "ratio_p50", "ratio_p99"]
+    table("Latency, sample to WebSocket: console, peer (cyclonedds + Foxglove WebSocket server), raw DDS floor", keys,
+          [[r[k] for k in keys] for r in runs])
+    d = runs[0]  # the default window
+    targets = [
+        common.target("overhead over the floor, p50 (5 ms window)", d["overhead_p50_ms"], "ms", "<", 1.0),
+        common.target("overhead over the floor, p99 (5 ms window)", d["overhead_p99_ms"], "ms", "<", 5.0),
+        common.target("console p50 against the peer's", d["console_p50_ms"], "ms", "<", d["peer_p50_ms"], "the peer"),
+        common.target("console p99 against the peer's", d["console_p99_ms"], "ms", "<", d["peer_p99_ms"], "the peer"),
+    ]
+    emit("latency", {"runs": runs, "targets": targets})
 
 
 if __name__ == "__main__":

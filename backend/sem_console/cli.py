@@ -138,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
     from sem_console.main import create_app
 
     uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
-                ws_ping_interval=20, ws_ping_timeout=20,
+                ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
                 # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on 127.0.0.1,
                 # which could then pick its own client address (the token slow-down, the audit's client)
                 proxy_headers=bool(settings.forwarded_allow_ips.strip()),

@@ -2,9 +2,10 @@
 
 - The status thread takes command status and ack samples as soon as they arrive, so
   every transition reaches the loop in order and none is lost.
-- The report thread takes report samples at most every `report_interval` seconds.
-  Report readers keep the latest sample per instance, so a provider publishing faster
-  than that is conflated by DDS itself: the console's cost follows what it shows.
+- The report thread takes report samples as they arrive while input is sparse, and at most
+  every `report_interval` seconds under load (`Pacer`: a burst of `report_burst` takes, then
+  one per window). Report readers keep the latest sample per instance, so a provider
+  publishing faster than that is conflated by DDS itself: the console's cost follows what it shows.
 
 Samples are decoded and converted to JSON in these threads; the loop only applies them
 (`loop.call_soon_threadsafe`), so DDS never blocks it. Disposes and lost writers are
@@ -41,6 +42,7 @@ from cyclonedds.util import duration
 
 from sem_console.console.decode import (ACK_TOPICS, COMMAND_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem,
                                         StatusItem)
+from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem
@@ -145,9 +147,10 @@ class Owners:
 
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
-                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None) -> None:
+                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None,
+                 report_burst: int = 8) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
-        self.report_interval = report_interval
+        self.pace = Pacer(report_interval, report_burst)
         self.decoder = Decoder()
         self.undecodable = self.decoder.undecodable
         self.incompatible: dict[str, int] = {}  # topic -> writers no reader of ours matches (see _on_incompatible)
@@ -244,8 +247,10 @@ class Ingest:
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
         while self.running:
-            ws.wait(duration(milliseconds=200))
+            woken = ws.wait(duration(milliseconds=200)) > 0  # not by the timeout: a take that counts
             started = time.monotonic()
+            if woken:
+                self.pace.took()
             try:
                 items: list[ReportItem] = []
                 for (sem, via, reader), cond in zip(self.report_readers, conds):
@@ -255,7 +260,7 @@ class Ingest:
                 self.owners.forget_departed(started)
             except Exception:  # a bug here must not stop every report for good
                 log.exception("report ingest cycle failed")
-            time.sleep(max(0.0, self.report_interval - (time.monotonic() - started)))
+            time.sleep(self.pace.delay())
 
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]

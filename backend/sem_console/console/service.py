@@ -137,7 +137,8 @@ class Console:
             await self.replay.open()
             return
         assert self.bus is not None
-        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder)
+        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder,
+                             self.settings.report_burst)
         if self.settings.record is not None:
             try:
                 await asyncio.to_thread(self.recorder.start)

@@ -34,9 +34,14 @@ class Settings(BaseSettings):
     comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without a sample before a provider is lost")
     regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a lost provider is regained")
     unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered")
-    report_interval: float = Field(0.005, ge=0, le=10, description="at most one take of report topics per this many seconds (conflation window)")
+    report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "
+                                   "this many seconds (conflation window); sparse input is taken as it arrives")
+    report_burst: int = Field(8, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
+                              "window applies (refilled at one per window)")
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
+    ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
+                                 "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)")
     track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
                                          "vehicle in the database (older points are pruned)")
 

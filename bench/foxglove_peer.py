@@ -1,0 +1,129 @@
+"""The peer: the generic answer a user would otherwise build. A plain cyclonedds-python reader per
+report topic feeding Foxglove's WebSocket server (`foxglove-sdk`), every sample published as JSON on
+a channel per topic, as it arrives. It runs in a process of its own (so its CPU is measured apart):
+    foxglove_peer.py DOMAIN PORT
+`peer()` starts it; `foxglove_collect()` is a client of the Foxglove WebSocket protocol (the
+`foxglove.sdk.v1` subprotocol foxglove-sdk speaks, the framing of `foxglove.websocket.v1`) that
+subscribes to every channel and timestamps arrivals.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import dataclasses
+import enum
+import json
+import socket
+import struct
+import sys
+import time
+from contextlib import contextmanager
+from typing import Any, Callable, Iterator
+
+import common
+from common import Proc
+
+SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]  # foxglove-sdk 0.30 accepts only the first
+MESSAGE_DATA = 0x01  # binary opcode: u8 op, u32 subscription id, u64 log time (ns), payload
+
+
+def jsonable(x: Any) -> Any:
+    """A cyclonedds sample as plain JSON values: what a generic bridge does with any IDL type."""
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return {f.name: jsonable(getattr(x, f.name)) for f in dataclasses.fields(x)}
+    if isinstance(x, enum.Enum):
+        return x.name
+    if isinstance(x, (bytes, bytearray)):
+        return list(x)
+    if isinstance(x, (list, tuple)):
+        return [jsonable(v) for v in x]
+    return x
+
+
+def main() -> None:
+    import foxglove
+    from cyclonedds.core import WaitSet
+    from cyclonedds.util import duration
+
+    from sem_console.console.decode import REPORT_TOPICS
+    from sem_console.dds.bus import Bus, all_samples
+    from sem_console.dds.qos import reader_qos
+
+    domain, port = int(sys.argv[1]), int(sys.argv[2])
+    server = foxglove.start_server(name="generic-dds-bridge", host="127.0.0.1", port=port)
+    bus = Bus(domain)
+    topics = []
+    for sem, name in REPORT_TOPICS.items():
+        reader = bus.reader(sem, reader_qos(sem.spec.cls))  # reliable, transient-local, the latest per instance
+        topics.append((reader, all_samples(reader), foxglove.Channel(name, message_encoding="json")))
+    ws = WaitSet(bus.participant)
+    for _r, cond, _c in topics:
+        ws.attach(cond)
+    try:
+        while True:
+            ws.wait(duration(milliseconds=200))
+            for reader, cond, channel in topics:
+                for sample in reader.take(N=256, condition=cond):
+                    if dataclasses.is_dataclass(sample):  # not a dispose
+                        channel.log(jsonable(sample))
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.stop()
+
+
+@contextmanager
+def peer(domain: int) -> Iterator[tuple[Proc, str]]:
+    """The peer on `domain`: its process and its WebSocket URL, once it listens."""
+    port = common.free_port()
+    proc = Proc([sys.executable, __file__, str(domain), str(port)])
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                socket.create_connection(("127.0.0.1", port), timeout=1).close()
+                break
+            except OSError:
+                if proc.p.poll() is not None or time.monotonic() > deadline:
+                    raise RuntimeError("the Foxglove peer did not start (is foxglove-sdk installed? scripts/bench installs it)")
+                time.sleep(0.1)
+        yield proc, f"ws://127.0.0.1:{port}"
+    finally:
+        proc.stop()
+
+
+async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, dict[str, Any], float], None]) -> None:
+    """Subscribe to every channel for `seconds`, calling on_message(topic, sample, arrival_time) per message."""
+    import websockets
+
+    async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=2**26) as ws:  # type: ignore[arg-type]
+        topic_of: dict[int, str] = {}
+        deadline = time.monotonic() + seconds
+        while (remaining := deadline - time.monotonic()) > 0:
+            try:
+                data = await asyncio.wait_for(ws.recv(), remaining)
+            except asyncio.TimeoutError:
+                return
+            now = time.time()
+            if isinstance(data, str):
+                msg = json.loads(data)
+                if msg.get("op") == "advertise":
+                    subs = [{"id": len(topic_of) + i + 1, "channelId": c["id"]} for i, c in enumerate(msg["channels"])]
+                    for s, c in zip(subs, msg["channels"]):
+                        topic_of[s["id"]] = c["topic"]
+                    await ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
+            elif data and data[0] == MESSAGE_DATA:
+                (sub,) = struct.unpack_from("<I", data, 1)
+                on_message(topic_of.get(sub, "?"), json.loads(data[13:]), now)
+
+
+def sample_latency(sample: dict[str, Any], now: float) -> float | None:
+    """Seconds from a sample's timeStamp (set by its writer) to its arrival here."""
+    ts = sample.get("timeStamp") or {}
+    if ts.get("seconds") is None:
+        return None
+    return now - (ts["seconds"] + ts["nanoseconds"] / 1e9)
+
+
+if __name__ == "__main__":
+    main()
