@@ -41,9 +41,10 @@ try {
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 20_000 });
   await page.locator('[data-testid="feature"][data-coverage="PARTIAL"]').waitFor({ timeout: 60_000 });
   await page.getByTestId("capabilities").filter({ hasText: "area survey" }).waitFor({ timeout: 20_000 });
-  await page.getByTestId("map-follow").click(); // stop following: the area stays in view
+  const follow = page.getByTestId("map-follow");
+  if ((await follow.getAttribute("aria-pressed")) === "true") await follow.click(); // stop following: the area stays in view
   await page.evaluate((c) => window.__semMap.jumpTo({ center: c, zoom: 15.6 }), at(-60, 150));
-  await page.waitForTimeout(4000); // some of the survey's track
+  await page.waitForTimeout(15_000); // some of the survey's track
   await page.getByTestId("map-panel").screenshot({ path: out });
   console.log(`screenshot: ${out}${foreign.length ? ` (refused: ${foreign.join(", ")})` : ""}`);
 } finally {
