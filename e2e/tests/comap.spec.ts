@@ -2,7 +2,8 @@
 // every request to anything but the console's origin refused: the operator draws a polygon on the map,
 // moves one of its vertices, sends the world model and assigns a SurveyTask on it to a simulated vehicle;
 // the task goes ASSIGNED, ACCEPTED, IN_PROGRESS, COMPLETED, the vehicle's track crosses the polygon and the
-// feature's coverage colour, in the feature list and on the map, goes PARTIAL (amber), then COMPLETED (green).
+// feature's coverage colour, in the feature list and on the map, goes PARTIAL (amber), then COMPLETED (green);
+// then the operator deletes the feature.
 import { expect, test, type Page } from "@playwright/test";
 import { consoleOnly, vehicle } from "../helpers";
 import { load } from "../stack";
@@ -155,5 +156,13 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
       return pts.filter((p) => inside([p.longitude, p.latitude], ring)).length;
     })
     .toBeGreaterThanOrEqual(3);
+
+  // delete it: gone from the console's world model once sent
+  await comap.getByRole("button", { name: `Delete feature ${fid}` }).click();
+  await expect(feature).toHaveCount(0);
+  await comap.getByTestId("send-worldmodel").click();
+  await expect(comap.getByTestId("send-worldmodel")).toBeDisabled();
+  const after = (await (await page.request.get(`${stack.url}/api/worldmodel`)).json()) as Model;
+  expect(after.features.map((f) => f.properties.featureId)).not.toContain(fid);
   expect(foreign).toEqual([]);
 });
