@@ -157,9 +157,14 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
     })
     .toBeGreaterThanOrEqual(3);
 
-  // delete it: gone from the console's world model once sent
-  await comap.getByRole("button", { name: `Delete feature ${fid}` }).click();
+  // delete it on the map (the edit tool: click it, Delete): gone from the console's world model once sent
+  await comap.getByTestId("edit-features").click();
+  const [mid] = await pixels(page, [corner(0, 120)]);
+  await page.mouse.click(mid.x, mid.y);
+  await expect(feature).toHaveAttribute("aria-current", "true");
+  await comap.getByTestId("delete-picked").click();
   await expect(feature).toHaveCount(0);
+  await comap.getByTestId("edit-features").click(); // done editing
   await comap.getByTestId("send-worldmodel").click();
   await expect(comap.getByTestId("send-worldmodel")).toBeDisabled();
   const after = (await (await page.request.get(`${stack.url}/api/worldmodel`)).json()) as Model;

@@ -21,6 +21,7 @@ interface Props {
   drawn: LonLat[]; // vertices clicked in draw mode
   clearDrawn: () => void;
   moveTarget: LonLat | null;
+  picked: unknown; // the featureId clicked on the map with the edit tool, null for none
 }
 
 type Sensor = Task["sensor"] & string;
@@ -37,7 +38,7 @@ function capabilityText(c: Capability): string {
   return parts.join(" ");
 }
 
-export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget }: Props) {
+export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked }: Props) {
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const vehicle = useSelectedProvider();
@@ -93,10 +94,15 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
             if (tool !== "edit") setDraft(model); // edits go to a draft, sent with "Send world model"
             setTool(tool === "edit" ? "select" : "edit");
           }}
-          title="drag a vertex handle on the map to move it"
+          title="drag a vertex handle on the map to move it; click a feature to delete it"
         >
-          {tool === "edit" ? "Done editing" : "Edit vertices"}
+          {tool === "edit" ? "Done editing" : "Edit features"}
         </button>
+        {tool === "edit" && picked !== null && model.features.some((f) => f.properties?.featureId === picked) && (
+          <button className="small" data-testid="delete-picked" onClick={() => remove(picked)}>
+            Delete #{String(picked)}
+          </button>
+        )}
         <label className="button small">
           Import GeoJSON
           <input type="file" accept=".json,.geojson,application/geo+json" hidden onChange={(e) => importFile(e.target.files?.[0])} />
@@ -115,7 +121,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
       </div>
       <ul className="features">
         {model.features.map((f) => (
-          <li key={String(f.properties?.featureId)} data-testid="feature" data-feature-id={String(f.properties?.featureId)} data-coverage={String(f.properties?.coverage ?? "")}>
+          <li key={String(f.properties?.featureId)} data-testid="feature" aria-current={picked !== null && f.properties?.featureId === picked ? "true" : undefined} data-feature-id={String(f.properties?.featureId)} data-coverage={String(f.properties?.coverage ?? "")}>
             <span className="swatch" data-testid="coverage-swatch" style={{ background: coverageColor((f.properties?.coverage ?? null) as Coverage) }} />
             #{String(f.properties?.featureId)} {f.geometry?.type} · <span data-testid="coverage">{String(f.properties?.coverage ?? "coverage unknown")}</span>{" "}
             <button className="small" onClick={() => remove(f.properties?.featureId)} aria-label={`Delete feature ${String(f.properties?.featureId)}`}>

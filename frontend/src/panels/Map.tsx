@@ -93,7 +93,7 @@ function addLayers(map: MapLibre): void {
   for (const id of ["worldmodel", "tracks", "origins", "vehicles", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
   map.addImage("course-arrow", arrowImage(), { sdf: true });
   map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
-  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": 2 } });
+  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] } });
   map.addLayer({ id: "wm-point", type: "circle", source: "worldmodel", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-color": ["get", "color"], "circle-radius": 5 } });
   map.addLayer({
     id: "tracks",
@@ -181,6 +181,7 @@ export function MapPanel() {
   const [measure, setMeasure] = useState<LonLat[]>([]);
   const [drawn, setDrawn] = useState<LonLat[]>([]);
   const [moveTarget, setMoveTarget] = useState<LonLat | null>(null);
+  const [picked, setPicked] = useState<unknown>(null); // the featureId clicked in the edit tool (to delete)
   const [draft, setDraft] = useState<FeatureCollection | null>(null); // the world model being edited
   const toolRef = useRef<MapTool>("select");
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
@@ -236,6 +237,10 @@ export function MapPanel() {
       if (toolRef.current === "measure") return setMeasure((m) => [...m, at]);
       if (toolRef.current === "draw") return setDrawn((d) => [...d, at]);
       if (toolRef.current === "move-target") return setMoveTarget(at);
+      if (toolRef.current === "edit") {
+        const f = map.queryRenderedFeatures(e.point, { layers: ["edit-handle", "wm-point", "wm-line", "wm-fill"] })[0];
+        return setPicked(f?.properties?.featureId ?? null);
+      }
       const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
       const id = hit?.properties?.id as string | undefined;
       if (id) {
@@ -316,10 +321,13 @@ export function MapPanel() {
     if (!ready || !map) return;
     const model = draft ?? worldModel;
     modelRef.current = model;
-    const features = (model?.features ?? []).map((f) => ({ ...f, properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null) } }));
+    const features = (model?.features ?? []).map((f) => ({
+      ...f,
+      properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null), picked: tool === "edit" && picked !== null && f.properties?.featureId === picked },
+    }));
     source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
     source(map, "handles")?.setData(tool === "edit" ? vertexHandles(model) : EMPTY);
-  }, [ready, worldModel, draft, tool]);
+  }, [ready, worldModel, draft, tool, picked]);
 
   useEffect(() => {
     const map = mapRef.current;
@@ -399,6 +407,7 @@ export function MapPanel() {
           drawn={drawn}
           clearDrawn={() => setDrawn([])}
           moveTarget={moveTarget}
+          picked={tool === "edit" ? picked : null}
         />
       )}
       <p className="map-legend muted">
