@@ -177,7 +177,6 @@ export function useTasks(): Task[] {
   return useMemo(() => Object.values(byId).sort((a, b) => b.createdAt - a.createdAt), [byId]);
 }
 
-
 /** A vehicle's CoMap capabilities (GET /api/providers/{id}/capabilities): asked when it is selected and every
  * `periodMs` (vehicles send VehicleCapabilities every few seconds; no WebSocket message carries them). Null
  * while unknown, or when the console has no CoMap. */
