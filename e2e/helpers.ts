@@ -31,3 +31,36 @@ export interface CommandRecord {
 export async function history(request: APIRequestContext, url = load().url): Promise<CommandRecord[]> {
   return (await (await request.get(`${url}/api/commands?limit=1000`)).json()) as CommandRecord[];
 }
+
+/** Refuse (and record) every request that does not go to the console; the test fails on any. */
+export async function consoleOnly(page: Page): Promise<string[]> {
+  const origin = new URL(load().url).origin;
+  const foreign: string[] = [];
+  await page.route("**/*", (route) => {
+    const url = route.request().url();
+    if (new URL(url).origin === origin) return route.continue();
+    foreign.push(url);
+    return route.abort("blockedbyclient");
+  });
+  page.on("requestfailed", (r) => {
+    const url = r.url();
+    if (!url.startsWith("data:") && !url.startsWith("blob:") && new URL(url).origin !== origin) foreign.push(url);
+  });
+  return foreign;
+}
+
+/** What the tests use of the dashboard's MapLibre map (Map.tsx's test hook `window.__semMap`). */
+export interface TestMap {
+  project(lngLat: [number, number]): { x: number; y: number };
+  unproject(point: [number, number]): { lng: number; lat: number };
+  getZoom(): number;
+  getCenter(): { lng: number; lat: number };
+  jumpTo(options: { center?: [number, number]; zoom?: number }): void;
+  queryRenderedFeatures(options: { layers: string[] }): { properties: Record<string, unknown> | null }[];
+}
+
+declare global {
+  interface Window {
+    __semMap?: TestMap;
+  }
+}

@@ -23,7 +23,10 @@ export interface Stack {
   simPid: number;
   consolePid: number;
   vehicles: string[]; // source GUIDs of vehicles 1, 2, 3
+  imcVehicles: number[]; // their CoMap IMC system ids (the console's --imc-vehicles table)
 }
+
+export const SIM_IMC_ID = 0x2001; // sem-sim's first vehicle; the next ones count up
 
 async function freePort(): Promise<number> {
   return new Promise((resolve, reject) => {
@@ -42,6 +45,17 @@ async function udpFree(port: number): Promise<boolean> {
     s.once("error", () => resolve(false));
     s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
   });
+}
+
+/** A UDP port for IMC that no DDS participant or ephemeral socket takes meanwhile: below the kernel's
+ * ephemeral range (32768 up) and in the gap of a 250-port DDS domain block (offsets 0..149 are DDS's),
+ * as backend/tests/conftest.py free_udp_port. `avoid`: ports already chosen. */
+async function freeImcPort(avoid: number[] = []): Promise<number> {
+  for (let i = 0; i < 200; i++) {
+    const port = 7400 + 250 * Math.floor(Math.random() * 100) + 150 + Math.floor(Math.random() * 95);
+    if (!avoid.includes(port) && (await udpFree(port))) return port;
+  }
+  throw new Error("no free UDP port for IMC");
 }
 
 /** A DDS domain nobody on this host uses (its first discovery port is free). */
@@ -77,17 +91,25 @@ export async function startStack(): Promise<Stack> {
   const domain = await freeDomain();
   const port = await freePort();
   const dir = mkdtempSync(join(tmpdir(), "sem-e2e-"));
-  const simArgs = ["--domain", String(domain), "--vehicles", "3", "--fault", "reject:2", "--fault", "skip-commanded:3",
+  const consoleImc = await freeImcPort();
+  const simImc = await freeImcPort([consoleImc]);
+  // CoMap over IMC on 127.0.0.1: the simulator's vehicles survey at 8 m/s (before --time-scale), lanes 40 m apart
+  const simArgs = ["--domain", String(domain), "--vehicles", "3",
+    "--imc-port", String(simImc), "--imc-host", "127.0.0.1", "--imc-id", String(SIM_IMC_ID), "--imc-peers", `127.0.0.1:${consoleImc}`,
+    "--survey-speed", "8", "--survey-spacing", "40", "--fault", "reject:2", "--fault", "skip-commanded:3",
     "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
     "--state-file", join(dir, "sim.json"), "--log-level", "warning"];
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);
+  const imcVehicles = vehicles.map((_, i) => SIM_IMC_ID + i);
   const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"), "--recordings-dir", join(dir, "recordings"),
     "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`,
-    "--aspn-lcm", `file://${join(dir, "aspn.lcm")}`, "--jaus-port", "0", "--jaus-subsystem", "7"];
+    "--aspn-lcm", `file://${join(dir, "aspn.lcm")}`, "--jaus-port", "0", "--jaus-subsystem", "7",
+    "--imc-port", String(consoleImc), "--imc-host", "127.0.0.1", "--imc-peers", `127.0.0.1:${simImc}`,
+    "--imc-vehicles", vehicles.map((v, i) => `${v}=${imcVehicles[i]}`).join(",")];
   const sim = launch("sem-sim", simArgs);
   const con = launch("sem-console", consoleArgs);
-  const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles };
+  const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles, imcVehicles };
   save(stack);
   await waitHealthy(stack.url);
   return stack;

@@ -1,25 +1,8 @@
 // The map against the real stack, with every request to anything but the console's origin refused:
 // the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow.
 import { expect, test, type Page } from "@playwright/test";
-import { open, vehicle } from "../helpers";
+import { consoleOnly, open, vehicle } from "../helpers";
 import { load } from "../stack";
-
-/** Refuse (and record) every request that does not go to the console; the test fails on any. */
-async function consoleOnly(page: Page): Promise<string[]> {
-  const origin = new URL(load().url).origin;
-  const foreign: string[] = [];
-  await page.route("**/*", (route) => {
-    const url = route.request().url();
-    if (new URL(url).origin === origin) return route.continue();
-    foreign.push(url);
-    return route.abort("blockedbyclient");
-  });
-  page.on("requestfailed", (r) => {
-    const url = r.url();
-    if (!url.startsWith("data:") && !url.startsWith("blob:") && new URL(url).origin !== origin) foreign.push(url);
-  });
-  return foreign;
-}
 
 async function drawn(page: Page, attr: "data-land" | "data-vehicles"): Promise<number> {
   return Number((await page.getByTestId("map").getAttribute(attr)) ?? "0");
@@ -36,12 +19,6 @@ async function vehiclePixel(page: Page, id: string): Promise<{ x: number; y: num
   return { x: box.x + xy.x, y: box.y + xy.y };
 }
 
-declare global {
-  interface Window {
-    __semMap?: { project(lngLat: [number, number]): { x: number; y: number }; getZoom(): number; getCenter(): { lng: number; lat: number } };
-  }
-}
-
 test("offline: the map draws the Natural Earth basemap and every vehicle, and requests nothing from another origin", async ({ page }) => {
   const foreign = await consoleOnly(page);
   const stack = load();
@@ -54,11 +31,11 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   const hasWorldModel = (await page.request.get(`${stack.url}/api/worldmodel`)).ok();
   await expect(page.getByTestId("comap")).toHaveCount(hasWorldModel ? 1 : 0);
   // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
-  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [0, 20], zoom: 1 }));
+  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
   // and nothing where there is only sea (mid-Pacific)
   await page.getByTestId("map-follow").click(); // stop following, so the view stays put
-  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [-140, -30], zoom: 5 }));
+  await page.evaluate(() => window.__semMap!.jumpTo({ center: [-140, -30], zoom: 5 }));
   await expect.poll(() => drawn(page, "data-land")).toBe(0);
   expect(foreign).toEqual([]);
 });
@@ -99,7 +76,7 @@ test("cursor coordinates follow the decimal/DMS setting, and the measure tool gi
   const stack = load();
   await page.goto(stack.url);
   await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
-  await page.evaluate(() => (window.__semMap as unknown as { jumpTo(o: object): void }).jumpTo({ center: [0, 0], zoom: 6 }));
+  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 6 }));
   const box = (await page.getByTestId("map").boundingBox())!;
   const cx = box.x + box.width / 2;
   const cy = box.y + box.height / 2;

@@ -123,7 +123,8 @@ export type TaskRequest = components["schemas"]["SurveyTaskRequest"] | component
 export type Task = components["schemas"]["Task"];
 
 export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
-  return call<unknown>("PUT", "/api/worldmodel", token, model);
+  // the features only: what the console adds to its model (updatedAt, source) is not part of a PUT
+  return call<unknown>("PUT", "/api/worldmodel", token, { type: "FeatureCollection", features: model.features });
 }
 
 export function createTask(task: TaskRequest, token: string | null): Promise<Task> {
@@ -136,4 +137,12 @@ export function tasks(token: string | null): Promise<Task[]> {
 
 export function synchTask(id: string | number, action: SynchAction, token: string | null): Promise<unknown> {
   return call<unknown>("POST", `/api/tasks/${encodeURIComponent(String(id))}/synch`, token, { action });
+}
+
+export type ComapVehicle = components["schemas"]["ComapVehicle"];
+export type Capability = components["schemas"]["Capability"];
+
+/** A vehicle's CoMap side: its IMC id and last VehicleCapabilities (GET /api/providers/{id}/capabilities). */
+export function vehicleCapabilities(providerId: string, token: string | null): Promise<ComapVehicle> {
+  return call<ComapVehicle>("GET", `/api/providers/${encodeURIComponent(providerId)}/capabilities`, token);
 }

@@ -150,6 +150,31 @@ describe("reducer", () => {
   });
 });
 
+describe("CoMap world model and tasks", () => {
+  const fc = (coverage: string | null) => ({ type: "FeatureCollection", updatedAt: 1, source: "put",
+    features: [{ type: "Feature", geometry: { type: "Point", coordinates: [1, 2] }, properties: { featureId: 1, coverage } }] });
+  const task = (state: string, updatedAt: number, taskId = 1) => ({ taskId, kind: "survey", vehicle: P, imcId: 8193, featureId: 1, sensor: "SIDESCAN",
+    resolution: 1, deadline: null, point: null, state, progress: 0, quality: null, synch: null, operator: null, createdAt: taskId, updatedAt });
+  it("takes the world model and tasks from the WebSocket; a REST answer older than a message does not undo it", async () => {
+    const { tasksLoaded, worldModelLoaded } = await import("./store");
+    let s = reduce(initialState, { type: "worldmodel", worldModel: fc(null) } as unknown as ServerMessage, 1);
+    const seqBefore = s.worldModelSeq; // a GET /api/worldmodel starts here...
+    s = reduce(s, { type: "worldmodel", worldModel: fc("PARTIAL") } as unknown as ServerMessage, 2); // ...a message overtakes it
+    expect(worldModelLoaded(s, fc(null) as never, seqBefore)).toBe(s);
+    expect(s.worldModel?.features[0].properties?.coverage).toBe("PARTIAL");
+    const fresh = worldModelLoaded(s, fc("COMPLETED") as never, s.worldModelSeq);
+    expect(fresh.worldModel?.features[0].properties?.coverage).toBe("COMPLETED");
+
+    s = reduce(s, { type: "task", task: task("ASSIGNED", 10) } as unknown as ServerMessage, 3);
+    s = reduce(s, { type: "task", task: task("ACCEPTED", 11) } as unknown as ServerMessage, 3);
+    expect(s.tasks[1].state).toBe("ACCEPTED");
+    const kept = tasksLoaded(s, [task("ASSIGNED", 10) as never, task("COMPLETED", 30, 2) as never]); // REST: task 1 older, task 2 new
+    expect(kept.tasks[1].state).toBe("ACCEPTED");
+    expect(kept.tasks[2].state).toBe("COMPLETED");
+    expect(tasksLoaded(kept, [task("ASSIGNED", 10) as never])).toBe(kept); // nothing newer: the same state
+  });
+});
+
 describe("store and connection", () => {
   it("applies queued messages together and notifies once", () => {
     const store = new Store();

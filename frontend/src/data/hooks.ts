@@ -1,12 +1,12 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import { health, series, tasks, track, worldModel, type Task } from "../api/rest";
+import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import { useToken } from "./auth";
 import type { Store } from "./connection";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
-import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, trackLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
+import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, tasksLoaded, trackLoaded, worldModelLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
 
 export interface DataContextValue {
   store: Store;
@@ -143,39 +143,63 @@ export function useTrackedProviders(): ProviderView[] {
   return providers;
 }
 
-/** A value read over REST every `periodMs` while the connection is live (null until the first answer). */
-function usePolled<T>(load: (token: string | null) => Promise<T>, periodMs: number): T | null {
+/** Once per connection (a reload, a reconnect): what the console holds now, over REST; the WebSocket's
+ * messages keep it current from then on. */
+function useLoadOnConnect(load: (token: string | null, store: Store) => Promise<void>): void {
+  const { store } = useData();
   const token = useToken();
   const live = useConnectionState() === "live";
-  const [value, setValue] = useState<T | null>(null);
   useEffect(() => {
-    if (!live) return;
+    if (live) load(token, store).catch(() => undefined); // none (yet): the messages fill it
+  }, [load, token, live, store]);
+}
+
+const loadWorldModel = async (token: string | null, store: Store) => {
+  const seq = store.getState().worldModelSeq;
+  const model = await worldModel(token);
+  store.update((s) => worldModelLoaded(s, model, seq));
+};
+const loadTasks = async (token: string | null, store: Store) => {
+  const list = await tasks(token);
+  store.update((s) => tasksLoaded(s, list));
+};
+
+/** The CoMap world model (WebSocket `worldmodel` messages); null while the console has none (404: CoMap is off). */
+export function useWorldModel(): FeatureCollection | null {
+  useLoadOnConnect(loadWorldModel);
+  return useSelector((s) => s.worldModel);
+}
+
+/** The CoMap tasks and their state (WebSocket `task` messages), newest first. */
+export function useTasks(): Task[] {
+  useLoadOnConnect(loadTasks);
+  const byId = useSelector((s) => s.tasks);
+  return useMemo(() => Object.values(byId).sort((a, b) => b.createdAt - a.createdAt), [byId]);
+}
+
+/** A vehicle's CoMap capabilities (GET /api/providers/{id}/capabilities): asked when it is selected and every
+ * `periodMs` (vehicles send VehicleCapabilities every few seconds; no WebSocket message carries them). Null
+ * while unknown, or when the console has no CoMap. */
+export function useVehicleCapabilities(providerId: string | null, periodMs = 5000): ComapVehicle | null {
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  const [value, setValue] = useState<{ id: string; caps: ComapVehicle } | null>(null);
+  useEffect(() => {
+    if (!live || !providerId) return;
     let current = true;
-    const poll = () =>
-      load(token)
-        .then((v) => current && setValue(v))
-        .catch(() => undefined); // kept as it was; the next poll tries again
-    void poll();
-    const t = setInterval(poll, periodMs);
+    const ask = () =>
+      vehicleCapabilities(providerId, token)
+        .then((caps) => current && setValue({ id: providerId, caps }))
+        .catch(() => undefined); // kept as it was; asked again
+    void ask();
+    const t = setInterval(ask, periodMs);
     return () => {
       current = false;
       clearInterval(t);
     };
-  }, [load, token, live, periodMs]);
-  return value;
+  }, [providerId, token, live, periodMs]);
+  return value && value.id === providerId ? value.caps : null;
 }
-
-/** The CoMap world model (GET /api/worldmodel, polled every `periodMs`); null while the console has none (404). */
-export function useWorldModel(periodMs = 5000): FeatureCollection | null {
-  return usePolled(worldModel, periodMs);
-}
-
-/** The CoMap tasks and their state (GET /api/tasks, polled every `periodMs`). */
-export function useTasks(periodMs = 2000): Task[] {
-  return usePolled(tasks, periodMs) ?? NO_TASKS;
-}
-
-const NO_TASKS: Task[] = [];
 
 /** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
 export function useChartConfigured(): boolean {

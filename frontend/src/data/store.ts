@@ -1,5 +1,7 @@
 // The dashboard's state and the pure reducer that applies server messages to it.
 // Unchanged parts keep their identity, so panels that select them do not re-render.
+import type { FeatureCollection } from "geojson";
+import type { Task } from "../api/rest";
 import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
@@ -62,6 +64,11 @@ export interface State {
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet).
   selected: string | null;
+  // CoMap (issue 12): the console's world model (null: none known; a console without CoMap answers 404)
+  // and its tasks by id, from the WebSocket's `worldmodel` and `task` messages after one REST load per connection
+  worldModel: FeatureCollection | null;
+  worldModelSeq: number; // `worldmodel` messages received: a REST answer older than one of them is dropped
+  tasks: Record<number, Task>;
 }
 
 export const TRAIL_SECONDS = 600;
@@ -82,6 +89,9 @@ export const initialState: State = {
   nextAlertId: 1,
   recording: null,
   selected: null,
+  worldModel: null,
+  worldModelSeq: 0,
+  tasks: {},
 };
 
 export function report<T extends Topic>(p: ProviderView | undefined, topic: T): ReportTypes[T] | null {
@@ -285,13 +295,32 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       return { ...state, gateways: msg.gateways };
     case "recording":
       return applyRecording(state, msg.recording, now);
-    case "replay": // the playback is the data source's (replay.ts), not the console's state
-    case "worldmodel": // CoMap: the map's state (issue 12b) keeps these
+    case "worldmodel":
+      return { ...state, worldModel: msg.worldModel as unknown as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task":
+      return tasksLoaded(state, [msg.task as unknown as Task]);
+    case "replay": // the playback is the data source's (replay.ts), not the console's state
     case "error":
     case "pong":
       return state;
   }
+}
+
+/** The world model as GET /api/worldmodel gave it, asked when `worldModelSeq` was `seq`: dropped if a
+ * `worldmodel` message came since (it is newer). */
+export function worldModelLoaded(state: State, model: FeatureCollection | null, seq: number): State {
+  return state.worldModelSeq !== seq || state.worldModel === model ? state : { ...state, worldModel: model };
+}
+
+/** Tasks (GET /api/tasks or a `task` message) merged by id; a task's newer state (updatedAt) wins. */
+export function tasksLoaded(state: State, tasks: Task[]): State {
+  let next: Record<number, Task> | null = null;
+  for (const t of tasks) {
+    const old = (next ?? state.tasks)[t.taskId];
+    if (old && old.updatedAt > t.updatedAt) continue;
+    next = { ...(next ?? state.tasks), [t.taskId]: t };
+  }
+  return next ? { ...state, tasks: next } : state;
 }
 
 /** A replay moved to another instant: what was built from the instants before it (trails, charts, alerts) goes. */

@@ -120,4 +120,24 @@ describe("CoMap geometry", () => {
     expect(() => parseWorldModel('{"type": "Feature"}')).toThrow(/FeatureCollection/);
     expect(() => parseWorldModel("not json")).toThrow();
   });
+  it("the edit tool's handles are the vertices as drawn, and moving one keeps the geometry's kind and a closed ring", async () => {
+    const { drawnGeometry, moveVertex, vertexHandles } = await import("./geo");
+    const square = drawnGeometry([{ lon: 0, lat: 0 }, { lon: 1, lat: 0 }, { lon: 1, lat: 1 }, { lon: 0, lat: 1 }])!;
+    const fc = { type: "FeatureCollection" as const, features: [
+      { type: "Feature" as const, geometry: square, properties: { featureId: 3, coverage: "PARTIAL" } },
+      { type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [5, 5] }, properties: { featureId: 4 } },
+    ] };
+    const handles = vertexHandles(fc).features;
+    expect(handles.map((h) => [h.properties?.featureId, h.properties?.index, h.geometry.coordinates])).toEqual([
+      [3, 0, [0, 0]], [3, 1, [1, 0]], [3, 2, [1, 1]], [3, 3, [0, 1]], [4, 0, [5, 5]],
+    ]);
+    const moved = moveVertex(fc, 3, 0, { lon: -1, lat: -1 });
+    expect(moved.features[0].geometry).toEqual({ type: "Polygon", coordinates: [[[-1, -1], [1, 0], [1, 1], [0, 1], [-1, -1]]] });
+    expect(moved.features[0].properties).toEqual({ featureId: 3, coverage: "PARTIAL" });
+    expect(moved.features[1]).toBe(fc.features[1]); // the others untouched
+    expect(moveVertex(fc, 4, 0, { lon: 6, lat: 7 }).features[1].geometry).toEqual({ type: "Point", coordinates: [6, 7] });
+    expect(moveVertex(fc, 3, 9, { lon: 6, lat: 7 }).features[0]).toBe(fc.features[0]); // no such vertex
+    expect(moveVertex(fc, 99, 0, { lon: 6, lat: 7 })).toEqual(fc);
+    expect(vertexHandles(null).features).toEqual([]);
+  });
 });

@@ -171,3 +171,36 @@ export function parseWorldModel(text: string): FeatureCollection {
   });
   return { type: "FeatureCollection", features };
 }
+
+/** The vertices of a geometry as drawn (a polygon's outer ring without its closing vertex). */
+function vertices(g: Feature["geometry"] | null | undefined): number[][] {
+  if (!g) return [];
+  if (g.type === "Point") return [g.coordinates];
+  if (g.type === "LineString") return g.coordinates;
+  if (g.type === "Polygon") {
+    const ring = g.coordinates[0] ?? [];
+    const closed = ring.length > 1 && ring[0][0] === ring[ring.length - 1][0] && ring[0][1] === ring[ring.length - 1][1];
+    return closed ? ring.slice(0, -1) : ring;
+  }
+  return [];
+}
+
+/** The edit tool's handles: one point per vertex of every feature, with its featureId and vertex index. */
+export function vertexHandles(fc: FeatureCollection | null): FeatureCollection<Point> {
+  const features = (fc?.features ?? []).flatMap((f) =>
+    vertices(f.geometry).map((c, index) => ({ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: c }, properties: { featureId: f.properties?.featureId, index } })),
+  );
+  return { type: "FeatureCollection", features };
+}
+
+/** The world model with vertex `index` of feature `featureId` moved to `to` (a polygon's ring stays closed). */
+export function moveVertex(fc: FeatureCollection, featureId: unknown, index: number, to: LonLat): FeatureCollection {
+  const features = fc.features.map((f) => {
+    if (f.properties?.featureId !== featureId) return f;
+    const pts = vertices(f.geometry).map((c, i) => (i === index ? [to.lon, to.lat] : c));
+    if (index < 0 || index >= pts.length) return f;
+    return { ...f, geometry: drawnGeometry(pts.map(([lon, lat]) => ({ lon, lat })))! };
+  });
+  return { ...fc, features };
+}
+

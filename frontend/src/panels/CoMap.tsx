@@ -1,15 +1,16 @@
-// CoMap C2 under the map: edit the world model (draw, delete, import, export, send), assign survey and
-// move tasks to the selected vehicle, follow their state and HOLD, RESUME or INTERRUPT them.
+// CoMap C2 under the map: edit the world model (draw, move vertices, delete, import, export, send), assign
+// survey and move tasks to the selected vehicle, follow their state and HOLD, RESUME or INTERRUPT them, and
+// show the selected vehicle's capabilities.
 // Shown only when the console has CoMap (GET /api/worldmodel answers).
 import { useState } from "react";
 import type { FeatureCollection } from "geojson";
-import { createTask, putWorldModel, synchTask, type SynchAction, type Task } from "../api/rest";
+import { createTask, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
 import { useToken } from "../data/auth";
-import { useCapabilities, useSelectedProvider, useTasks } from "../data/hooks";
-import { drawnGeometry, nextFeatureId, parseWorldModel, type LonLat } from "../lib/geo";
+import { useCapabilities, useSelectedProvider, useTasks, useVehicleCapabilities } from "../data/hooks";
+import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { vehicleLabel } from "../lib/vehicle";
 
-export type MapTool = "select" | "measure" | "draw" | "move-target";
+export type MapTool = "select" | "measure" | "draw" | "edit" | "move-target";
 
 interface Props {
   model: FeatureCollection; // what the map shows: the draft while editing, else the console's
@@ -20,12 +21,24 @@ interface Props {
   drawn: LonLat[]; // vertices clicked in draw mode
   clearDrawn: () => void;
   moveTarget: LonLat | null;
+  picked: unknown; // the featureId clicked on the map with the edit tool, null for none
 }
 
 type Sensor = Task["sensor"] & string;
 const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"];
 
-export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget }: Props) {
+/** One VehicleCapabilities entry as the operator reads it. */
+function capabilityText(c: Capability): string {
+  const parts: string[] = [c.kind === "AREA_SURVEY" ? "area survey" : c.kind === "POINT_SURVEY" ? "point survey" : "move"];
+  if (c.sensor) parts.push(c.sensor);
+  if (typeof c.resolution === "number") parts.push(`${c.resolution} px/m²`);
+  if (typeof c.coverageRate === "number") parts.push(`${c.coverageRate} m²/s`);
+  if (typeof c.duration === "number") parts.push(`${c.duration} s`);
+  if (typeof c.speed === "number") parts.push(`${c.speed} m/s`);
+  return parts.join(" ");
+}
+
+export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked }: Props) {
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const vehicle = useSelectedProvider();
@@ -35,6 +48,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
   const [resolution, setResolution] = useState(1);
   const [deadline, setDeadline] = useState("");
   const taskList = useTasks();
+  const caps = useVehicleCapabilities(vehicle?.id ?? null);
 
   const run = (p: Promise<unknown>) => {
     setError(null);
@@ -72,6 +86,23 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
         <button className="small" aria-pressed={tool === "draw"} onClick={() => (tool === "draw" ? finishDrawing() : (clearDrawn(), setTool("draw")))}>
           {tool === "draw" ? `Finish (${drawn.length} points)` : "Draw feature"}
         </button>
+        <button
+          className="small"
+          aria-pressed={tool === "edit"}
+          data-testid="edit-features"
+          onClick={() => {
+            if (tool !== "edit") setDraft(model); // edits go to a draft, sent with "Send world model"
+            setTool(tool === "edit" ? "select" : "edit");
+          }}
+          title="drag a vertex handle on the map to move it; click a feature to delete it"
+        >
+          {tool === "edit" ? "Done editing" : "Edit features"}
+        </button>
+        {tool === "edit" && picked !== null && model.features.some((f) => f.properties?.featureId === picked) && (
+          <button className="small" data-testid="delete-picked" onClick={() => remove(picked)}>
+            Delete #{String(picked)}
+          </button>
+        )}
         <label className="button small">
           Import GeoJSON
           <input type="file" accept=".json,.geojson,application/geo+json" hidden onChange={(e) => importFile(e.target.files?.[0])} />
@@ -90,8 +121,9 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
       </div>
       <ul className="features">
         {model.features.map((f) => (
-          <li key={String(f.properties?.featureId)}>
-            #{String(f.properties?.featureId)} {f.geometry?.type} · {String(f.properties?.coverage ?? "coverage unknown")}{" "}
+          <li key={String(f.properties?.featureId)} data-testid="feature" aria-current={picked !== null && f.properties?.featureId === picked ? "true" : undefined} data-feature-id={String(f.properties?.featureId)} data-coverage={String(f.properties?.coverage ?? "")}>
+            <span className="swatch" data-testid="coverage-swatch" style={{ background: coverageColor((f.properties?.coverage ?? null) as Coverage) }} />
+            #{String(f.properties?.featureId)} {f.geometry?.type} · <span data-testid="coverage">{String(f.properties?.coverage ?? "coverage unknown")}</span>{" "}
             <button className="small" onClick={() => remove(f.properties?.featureId)} aria-label={`Delete feature ${String(f.properties?.featureId)}`}>
               ✕
             </button>
@@ -122,17 +154,29 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
           {tool === "move-target" ? (moveTarget ? "Send move" : "click a destination") : "Move to…"}
         </button>
       </div>
+      {vehicle && (
+        <p className="capabilities muted" data-testid="capabilities">
+          Capabilities:{" "}
+          {caps === null
+            ? "none heard"
+            : caps.imcId === null
+              ? "no IMC system id (--imc-vehicles)"
+              : caps.capabilities === null
+                ? `IMC ${caps.imcId}: none heard yet`
+                : `IMC ${caps.imcId}: ${caps.capabilities.map(capabilityText).join(" · ") || "none"}`}
+        </p>
+      )}
       {!mayWrite && <p className="readonly-note">Replay: read-only. The world model and tasks are not sent.</p>}
       {error && <p className="error" role="alert">{error}</p>}
       <table className="tasks">
         <tbody>
           {taskList.map((t) => (
-            <tr key={t.taskId}>
+            <tr key={t.taskId} data-testid="task" data-task-id={t.taskId}>
               <td>{t.taskId}</td>
               <td>{t.kind}</td>
               <td>{t.vehicle.slice(0, 8)}</td>
-              <td>{t.state ?? "—"}</td>
-              <td>{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
+              <td data-testid="task-state">{t.state ?? "—"}</td>
+              <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
               <td>{typeof t.quality === "number" ? `q ${t.quality}` : ""}</td>
               <td>
                 {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (

@@ -27,10 +27,12 @@ import {
   coverageColor,
   distanceText,
   measureGeoJson,
+  moveVertex,
   pathLengthM,
   positionText,
   tracksGeoJson,
   validPosition,
+  vertexHandles,
   vehiclesGeoJson,
   type LonLat,
   type VehicleMark,
@@ -88,10 +90,10 @@ function source(map: MapLibre, id: string): GeoJSONSource | undefined {
 }
 
 function addLayers(map: MapLibre): void {
-  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "measure"]) map.addSource(id, { type: "geojson", data: EMPTY });
+  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
   map.addImage("course-arrow", arrowImage(), { sdf: true });
   map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
-  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": 2 } });
+  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] } });
   map.addLayer({ id: "wm-point", type: "circle", source: "worldmodel", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-color": ["get", "color"], "circle-radius": 5 } });
   map.addLayer({
     id: "tracks",
@@ -147,6 +149,8 @@ function addLayers(map: MapLibre): void {
   });
   map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
   map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
+  // the edit tool's vertex handles, dragged to move a vertex
+  map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
 }
 
 declare global {
@@ -177,8 +181,10 @@ export function MapPanel() {
   const [measure, setMeasure] = useState<LonLat[]>([]);
   const [drawn, setDrawn] = useState<LonLat[]>([]);
   const [moveTarget, setMoveTarget] = useState<LonLat | null>(null);
+  const [picked, setPicked] = useState<unknown>(null); // the featureId clicked in the edit tool (to delete)
   const [draft, setDraft] = useState<FeatureCollection | null>(null); // the world model being edited
   const toolRef = useRef<MapTool>("select");
+  const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
   const framed = useRef(false);
 
   const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
@@ -208,7 +214,22 @@ export function MapPanel() {
         })
         .catch(() => undefined);
     });
-    map.on("mousemove", (e) => setCursor({ lon: e.lngLat.lng, lat: e.lngLat.lat }));
+    // the edit tool: press on a vertex handle and drag it (the map does not pan meanwhile)
+    let dragging: { featureId: unknown; index: number } | null = null;
+    map.on("mousedown", "edit-handle", (e) => {
+      const h = e.features?.[0]?.properties;
+      if (toolRef.current !== "edit" || !h) return;
+      e.preventDefault();
+      dragging = { featureId: h.featureId, index: Number(h.index) };
+    });
+    map.on("mouseup", () => (dragging = null));
+    map.on("mousemove", (e) => {
+      setCursor({ lon: e.lngLat.lng, lat: e.lngLat.lat });
+      const model = modelRef.current;
+      if (dragging && model) setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
+    });
+    map.on("mouseenter", "edit-handle", () => toolRef.current === "edit" && (map.getCanvas().style.cursor = "move"));
+    map.on("mouseleave", "edit-handle", () => toolRef.current === "edit" && (map.getCanvas().style.cursor = "crosshair"));
     map.on("mouseout", () => setCursor(null));
     map.on("dragstart", () => setFollow(false)); // the operator pans away: stop following
     map.on("click", (e: MapMouseEvent) => {
@@ -216,6 +237,10 @@ export function MapPanel() {
       if (toolRef.current === "measure") return setMeasure((m) => [...m, at]);
       if (toolRef.current === "draw") return setDrawn((d) => [...d, at]);
       if (toolRef.current === "move-target") return setMoveTarget(at);
+      if (toolRef.current === "edit") {
+        const f = map.queryRenderedFeatures(e.point, { layers: ["edit-handle", "wm-point", "wm-line", "wm-fill"] })[0];
+        return setPicked(f?.properties?.featureId ?? null);
+      }
       const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
       const id = hit?.properties?.id as string | undefined;
       if (id) {
@@ -294,9 +319,15 @@ export function MapPanel() {
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const features = ((draft ?? worldModel)?.features ?? []).map((f) => ({ ...f, properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null) } }));
+    const model = draft ?? worldModel;
+    modelRef.current = model;
+    const features = (model?.features ?? []).map((f) => ({
+      ...f,
+      properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null), picked: tool === "edit" && picked !== null && f.properties?.featureId === picked },
+    }));
     source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
-  }, [ready, worldModel, draft]);
+    source(map, "handles")?.setData(tool === "edit" ? vertexHandles(model) : EMPTY);
+  }, [ready, worldModel, draft, tool, picked]);
 
   useEffect(() => {
     const map = mapRef.current;
@@ -376,6 +407,7 @@ export function MapPanel() {
           drawn={drawn}
           clearDrawn={() => setDrawn([])}
           moveTarget={moveTarget}
+          picked={tool === "edit" ? picked : null}
         />
       )}
       <p className="map-legend muted">
