@@ -3,6 +3,7 @@ import { ErrorBoundary } from "./ErrorBoundary";
 import type { Freshness } from "../lib/freshness";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
+import { countRender } from "../lib/renders";
 
 interface Props {
   title: string;
@@ -17,6 +18,7 @@ interface Props {
 /** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel).
  * A collapsed panel's content is not rendered, so it costs nothing while folded. */
 export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
+  countRender(testId);
   const [collapsed, setCollapsed] = useCollapsed(testId);
   return (
     <section className={`panel ${className ?? ""}${collapsed ? " collapsed" : ""}`} data-testid={testId} aria-label={title}>

@@ -1,12 +1,32 @@
 // The only way panels read state: hooks over the store and the connection.
-import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+import { createContext, useCallback, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import { health, series, tasks, track, worldModel, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import { useToken } from "./auth";
 import type { Store } from "./connection";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
-import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, trackLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
+import {
+  HISTORY_SECONDS,
+  TRACK_SECONDS,
+  allProviders,
+  historyLoaded,
+  selectedJausId,
+  selectedKnown,
+  selectedLink,
+  selectedLinkConfig,
+  selectedName,
+  selectedTopic,
+  selectedTrails,
+  trackLoaded,
+  type Alert,
+  type HistoryPoint,
+  type ProviderView,
+  type State,
+  type TopicView,
+  type TrailPoint,
+} from "./store";
+import type { LinkConfig, LinkState, Topic } from "../api/types";
 
 export interface DataContextValue {
   store: Store;
@@ -30,6 +50,98 @@ export function useSelector<T>(select: (s: State) => T): T {
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));
 }
 
+/** `fn` called at most once every `ms` (at once, then once more at the end of the period if it was
+ * called meanwhile); `cancel` drops a pending call. */
+export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
+  let timer: ReturnType<typeof setTimeout> | null = null;
+  let pending = false;
+  const end = () => {
+    timer = null;
+    if (!pending) return;
+    pending = false;
+    fn();
+    timer = setTimeout(end, ms);
+  };
+  const call = () => {
+    if (timer) {
+      pending = true;
+      return;
+    }
+    fn();
+    timer = setTimeout(end, ms);
+  };
+  call.cancel = () => {
+    if (timer) clearTimeout(timer);
+    timer = null;
+    pending = false;
+  };
+  return call;
+}
+
+/** A slice of the state by a stable selector (a module-level function such as store.ts's
+ * selectedTopic("GPSReport")): the component is woken only when the slice changes, and at most every
+ * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
+export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
+  const { store } = useData();
+  const subscribe = useCallback(
+    (onChange: () => void) => {
+      if (!throttleMs) return store.subscribeTo(select, onChange);
+      const t = throttle(onChange, throttleMs);
+      const off = store.subscribeTo(select, t);
+      return () => {
+        off();
+        t.cancel();
+      };
+    },
+    [store, select, throttleMs],
+  );
+  return useSyncExternalStore(subscribe, () => select(store.getState()));
+}
+
+/** The selected vehicle's latest report of one topic (null: none yet or none selected). */
+export function useSelectedTopic(topic: Topic): TopicView | null {
+  return useSlice(selectedTopic(topic));
+}
+
+/** The selected vehicle's satellite trails. */
+export function useSelectedTrails(): Record<string, TrailPoint[]> {
+  return useSlice(selectedTrails);
+}
+
+/** The selected vehicle's link state (null: none selected or not on the bus). */
+export function useSelectedLink(): LinkState | null {
+  return useSlice(selectedLink);
+}
+
+/** What the console knows of the selected vehicle apart from its reports (changes with the console's
+ * provider messages, not with each report); null when none is selected or it is not on the bus. */
+export interface SelectedVehicle {
+  id: string;
+  name: string | null;
+  link: LinkState;
+  linkConfig: LinkConfig | null;
+  jausId: string | null;
+}
+
+export function useSelectedVehicle(): SelectedVehicle | null {
+  const id = useSlice(selectedId);
+  const known = useSlice(selectedKnown);
+  const name = useSlice(selectedName);
+  const link = useSlice(selectedLink);
+  const linkConfig = useSlice(selectedLinkConfig);
+  const jausId = useSlice(selectedJausId);
+  return useMemo(() => (id && known && link ? { id, name, link, linkConfig, jausId } : null), [id, known, name, link, linkConfig, jausId]);
+}
+
+const selectedId = (s: State): string | null => s.selected;
+
+/** Every vehicle, sorted by id, refreshed at most every `throttleMs` (an overview: it changes with
+ * every report of every vehicle). */
+export function useProvidersAtMost(throttleMs: number): ProviderView[] {
+  const providers = useSlice(allProviders, throttleMs);
+  return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
+}
+
 export function useConnectionState(): SourceState {
   const { source } = useData();
   return useSyncExternalStore(source.subscribe, source.getState);
@@ -47,11 +159,13 @@ export function usePlayback(): { status: ReplayStatus; controls: PlaybackControl
   return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
+/** Every vehicle, sorted by id, on every report of any of them (an overview wants useProvidersAtMost). */
 export function useProviders(): ProviderView[] {
-  const providers = useSelector((s) => s.providers);
-  return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
+  return useProvidersAtMost(0);
 }
 
+/** The selected vehicle's whole view: it changes with each of its reports. A panel that draws one topic
+ * wants useSelectedTopic, and one that names the vehicle useSelectedVehicle. */
 export function useSelectedProvider(): ProviderView | null {
   return useSelector((s) => (s.selected ? (s.providers[s.selected] ?? null) : null));
 }
@@ -117,9 +231,9 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 
 /** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
  * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(): ProviderView[] {
+export function useTrackedProviders(throttleMs = 0): ProviderView[] {
   const { store, source } = useData();
-  const providers = useProviders();
+  const providers = useProvidersAtMost(throttleMs);
   const ids = providers.map((p) => p.id).join(",");
   const live = useConnectionState() === "live";
   const token = useToken();
