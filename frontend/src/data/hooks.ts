@@ -98,14 +98,15 @@ export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
   return useSyncExternalStore(subscribe, () => select(store.getState()));
 }
 
-/** The selected vehicle's latest report of one topic (null: none yet or none selected). */
-export function useSelectedTopic(topic: Topic): TopicView | null {
-  return useSlice(selectedTopic(topic));
+/** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
+ * `throttleMs` when given (text and plots an operator reads need not change at the report's 10 Hz). */
+export function useSelectedTopic(topic: Topic, throttleMs = 0): TopicView | null {
+  return useSlice(selectedTopic(topic), throttleMs);
 }
 
 /** The selected vehicle's satellite trails. */
-export function useSelectedTrails(): Record<string, TrailPoint[]> {
-  return useSlice(selectedTrails);
+export function useSelectedTrails(throttleMs = 0): Record<string, TrailPoint[]> {
+  return useSlice(selectedTrails, throttleMs);
 }
 
 /** The selected vehicle's link state (null: none selected or not on the bus). */
@@ -191,11 +192,29 @@ export function useAlerts(): Alert[] {
 export function useNow(periodMs = 500): number {
   const { source } = useData();
   const [now, setNow] = useState(() => source.now());
-  useEffect(() => {
-    const t = setInterval(() => setNow(source.now()), periodMs);
-    return () => clearInterval(t);
-  }, [periodMs, source]);
+  useEffect(() => onTick(periodMs, () => setNow(source.now())), [periodMs, source]);
   return now;
+}
+
+const tickers = new Map<number, { listeners: Set<() => void>; timer: ReturnType<typeof setInterval> }>();
+
+/** Call `l` every `periodMs`, on one timer for all callers of that period, so the panels showing ages
+ * update together (one render and one layout) and not each on a timer of its own. */
+function onTick(periodMs: number, l: () => void): () => void {
+  let ticker = tickers.get(periodMs);
+  if (!ticker) {
+    const listeners = new Set<() => void>();
+    ticker = { listeners, timer: setInterval(() => listeners.forEach((f) => f()), periodMs) };
+    tickers.set(periodMs, ticker);
+  }
+  ticker.listeners.add(l);
+  const t = ticker;
+  return () => {
+    t.listeners.delete(l);
+    if (t.listeners.size) return;
+    clearInterval(t.timer);
+    tickers.delete(periodMs);
+  };
 }
 
 export function useGateways(): GatewayState[] {

@@ -6,14 +6,17 @@ import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
+/** The fix is shown at most this often: an operator does not read figures that change ten times a second. */
+const DRAW_MS = 250;
+
 export function FixPanel() {
   const selected = useSelector((s) => s.selected);
   const link = useSelectedLink();
   const now = useNow();
   const history = useHistory(link ? selected : null);
   const [useDms, setDms] = useDmsSetting();
-  const fixView = useSelectedTopic("GPSFixReport");
-  const statusView = useSelectedTopic("GPSFixStatusReport");
+  const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
+  const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
   const fix = viewReport<"GPSFixReport">(fixView);
   const st = viewReport<"GPSFixStatusReport">(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;

@@ -26,7 +26,7 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 }
 
 export function InsPanel() {
-  const view = useSelectedTopic("InertialSensorReport");
+  const view = useSelectedTopic("InertialSensorReport", 250); // read by eye: at most 4 times a second
   const link = useSelectedLink();
   const now = useNow();
   const ins = viewReport<"InertialSensorReport">(view);

@@ -17,7 +17,7 @@ import { useToken } from "../data/auth";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
 import { CoMapControls, type MapTool } from "./CoMap";
 import type { FeatureCollection } from "geojson";
-import { useDmsSetting } from "../data/settings";
+import { useCollapsed, useDmsSetting } from "../data/settings";
 import { report, select, type ProviderView } from "../data/store";
 import { loadLand, offlineStyle } from "../lib/basemap";
 import { freshness } from "../lib/freshness";
@@ -40,8 +40,8 @@ import { radToDeg } from "../lib/units";
 import { vehicleColor, vehicleLabel } from "../lib/vehicle";
 
 /** The vehicles, tracks and origins are redrawn at most this often (and only when they changed): a
- * redraw of the map costs a frame or more without a GPU, and vehicles at sea move little in 0.5 s. */
-const MAP_UPDATE_MS = 500;
+ * redraw of the map costs a frame or more without a GPU, and vehicles at sea move a few metres a second. */
+const MAP_UPDATE_MS = 1000;
 
 const FIX_COLOR = ["match", ["get", "fix"], "valid", "#4caf50", "invalid", "#e0593f", "#9fb3c8"] as const;
 
@@ -190,8 +190,11 @@ export function MapPanel() {
 
   const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
 
-  // the map itself, once
+  // the map itself, while the panel is open: a collapsed panel has no container, and a map kept
+  // without one would still draw every update
+  const [collapsed] = useCollapsed("map-panel");
   useEffect(() => {
+    if (collapsed || !container.current) return;
     const map = new MapLibre({
       container: container.current!,
       style: offlineStyle(),
@@ -246,8 +249,9 @@ export function MapPanel() {
       map.remove();
       mapRef.current = null;
       drawnData.current = { vehicles: "", tracks: [], origins: "" };
+      setReady(false);
     };
-  }, [store]);
+  }, [store, collapsed]);
 
   // the console's PMTiles chart, over the built-in land and under everything else
   useEffect(() => {

@@ -10,6 +10,9 @@ import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
 const R = 120;
+/** The satellites are redrawn at most this often: 40 rows, markers, trails and bars are much to lay out
+ * and paint, and a sky changes little in half a second. */
+const DRAW_MS = 500;
 
 function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: number; fill: string; stroke: string }) {
   const s = 6;
@@ -207,8 +210,8 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
 const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
-  const view = useSelectedTopic("GPSReport");
-  const trails = useSelectedTrails();
+  const view = useSelectedTopic("GPSReport", DRAW_MS);
+  const trails = useSelectedTrails(DRAW_MS);
   const link = useSelectedLink();
   const now = useNow();
   const gps = viewReport<"GPSReport">(view);
