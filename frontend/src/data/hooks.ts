@@ -50,8 +50,15 @@ export function useSelector<T>(select: (s: State) => T): T {
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));
 }
 
-/** `fn` called at most once every `ms` (at once, then once more at the end of the period if it was
- * called meanwhile); `cancel` drops a pending call. */
+/** Milliseconds to the next multiple of `ms` of the clock: throttled redraws and age timers of the same
+ * period fall on the same instants, so the panels change in one frame (one layout) rather than each
+ * in a frame of its own. */
+function toBoundary(ms: number): number {
+  return ms - (Date.now() % ms);
+}
+
+/** `fn` called at most about once every `ms`: at once when it was quiet, else at the next multiple of
+ * `ms` of the clock (with every call in between folded into one); `cancel` drops a pending call. */
 export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
   let timer: ReturnType<typeof setTimeout> | null = null;
   let pending = false;
@@ -60,7 +67,7 @@ export function throttle(fn: () => void, ms: number): { (): void; cancel: () => 
     if (!pending) return;
     pending = false;
     fn();
-    timer = setTimeout(end, ms);
+    timer = setTimeout(end, toBoundary(ms));
   };
   const call = () => {
     if (timer) {
@@ -68,7 +75,7 @@ export function throttle(fn: () => void, ms: number): { (): void; cancel: () => 
       return;
     }
     fn();
-    timer = setTimeout(end, ms);
+    timer = setTimeout(end, toBoundary(ms));
   };
   call.cancel = () => {
     if (timer) clearTimeout(timer);
@@ -196,15 +203,27 @@ export function useNow(periodMs = 500): number {
   return now;
 }
 
-const tickers = new Map<number, { listeners: Set<() => void>; timer: ReturnType<typeof setInterval> }>();
+interface Ticker {
+  listeners: Set<() => void>;
+  timer: ReturnType<typeof setTimeout> | null;
+}
 
-/** Call `l` every `periodMs`, on one timer for all callers of that period, so the panels showing ages
- * update together (one render and one layout) and not each on a timer of its own. */
+const tickers = new Map<number, Ticker>();
+
+/** Call `l` every `periodMs` (on multiples of it of the clock), on one timer for all callers of that
+ * period, so the panels showing ages update together (one render and one layout) and not each on a
+ * timer of its own. */
 function onTick(periodMs: number, l: () => void): () => void {
   let ticker = tickers.get(periodMs);
   if (!ticker) {
     const listeners = new Set<() => void>();
-    ticker = { listeners, timer: setInterval(() => listeners.forEach((f) => f()), periodMs) };
+    const t: Ticker = { listeners, timer: null };
+    const tick = () => {
+      listeners.forEach((f) => f());
+      if (tickers.get(periodMs) === t) t.timer = setTimeout(tick, toBoundary(periodMs)); // not if the last listener left
+    };
+    t.timer = setTimeout(tick, toBoundary(periodMs));
+    ticker = t;
     tickers.set(periodMs, ticker);
   }
   ticker.listeners.add(l);
@@ -212,7 +231,7 @@ function onTick(periodMs: number, l: () => void): () => void {
   return () => {
     t.listeners.delete(l);
     if (t.listeners.size) return;
-    clearInterval(t.timer);
+    if (t.timer) clearTimeout(t.timer);
     tickers.delete(periodMs);
   };
 }

@@ -92,6 +92,7 @@ describe("throttle", () => {
 
   it("calls at once, then at most once per period with the calls in between folded into one", () => {
     vi.useFakeTimers();
+    vi.setSystemTime(0);
     let calls = 0;
     const f = throttle(() => calls++, 500);
     f();
