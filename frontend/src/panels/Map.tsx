@@ -202,6 +202,7 @@ export function MapPanel() {
       zoom: 1,
       attributionControl: { compact: true },
       maxPitch: 0,
+      fadeDuration: 0, // no symbol fade: it would redraw the map every frame for 0.3 s after each update
     });
     mapRef.current = map;
     window.__semMap = map;
