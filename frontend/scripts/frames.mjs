@@ -1,39 +1,74 @@
-// Frame times (requestAnimationFrame intervals) and JS heap of the dashboard in headless Chromium.
-// Usage: node scripts/frames.mjs <console URL> [seconds=20]; prints one JSON line.
+// The dashboard in headless Chromium: frame times (requestAnimationFrame intervals), long tasks
+// (PerformanceObserver "longtask"), renders per panel per second (the dashboard's ?renders counters) and
+// JS heap, over one window. Optionally with the CPU throttled (DevTools Emulation.setCPUThrottlingRate)
+// and panels collapsed by their collapse buttons.
+// Usage: node scripts/frames.mjs <console URL> [seconds=20] [--throttle N] [--collapse <panel test id>]...
+// Prints one JSON line.
 import { chromium } from "playwright-core";
 
-const [url, seconds = "20"] = process.argv.slice(2);
+const positional = [];
+const collapse = [];
+let throttle = 1;
+const argv = process.argv.slice(2);
+for (let i = 0; i < argv.length; i++) {
+  if (argv[i] === "--throttle") throttle = Number(argv[++i]);
+  else if (argv[i] === "--collapse") collapse.push(argv[++i]);
+  else positional.push(argv[i]);
+}
+const [url, seconds = "20"] = positional;
+
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
   args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--no-first-run", "--enable-precise-memory-info", "--js-flags=--expose-gc"],
+    "--disable-sync", "--no-first-run", "--enable-unsafe-swiftshader", "--enable-precise-memory-info", "--js-flags=--expose-gc"],
 });
 try {
-  const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
-  await page.goto(url);
+  const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
+  const page = await context.newPage();
+  await page.goto(`${url}/?renders`);
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 30_000 });
+  // the panels the operator folded (a collapsed panel is remembered per browser profile, so this context only)
+  for (const id of collapse) {
+    const button = page.getByTestId(`${id}-collapse`);
+    if ((await button.getAttribute("aria-expanded")) === "true") await button.click();
+  }
   await page.getByTestId("vehicle").first().click(); // the dashboard selects no vehicle by itself
   await page.getByTestId("sky-satellite").first().waitFor({ timeout: 30_000 });
-  await page.waitForTimeout(2000);
+  if (!collapse.includes("map-panel")) await page.locator('[data-testid="map"][data-ready="true"]').waitFor({ timeout: 60_000 });
+  const cdp = await context.newCDPSession(page);
+  await cdp.send("Emulation.setCPUThrottlingRate", { rate: throttle });
+  await page.waitForTimeout(3000); // settle under the throttle
   const heap = () => page.evaluate(() => { globalThis.gc?.(); return performance.memory.usedJSHeapSize / 2 ** 20; });
   const heapStart = await heap();
-  const frames = await page.evaluate((ms) => new Promise((resolve) => {
-    const out = [];
-    let last = performance.now();
-    const end = last + ms;
+  const run = await page.evaluate((ms) => new Promise((resolve) => {
+    const longTasks = [];
+    const observer = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
+    observer.observe({ type: "longtask" });
+    const rendersStart = { ...(window.__semRenders ?? {}) };
+    const frames = [];
+    const t0 = performance.now();
+    let last = t0;
     const tick = (t) => {
-      out.push(t - last);
+      frames.push(t - last);
       last = t;
-      if (t < end) requestAnimationFrame(tick);
-      else resolve(out);
+      if (t < t0 + ms) return requestAnimationFrame(tick);
+      observer.disconnect();
+      const elapsed = (t - t0) / 1000;
+      const renders = {};
+      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
+      resolve({ frames, longTasks, renders });
     };
     requestAnimationFrame(tick);
   }), Number(seconds) * 1000);
   const heapEnd = await heap();
-  frames.sort((a, b) => a - b);
+  const frames = run.frames.slice(1).sort((a, b) => a - b); // the first interval starts mid-frame
   const q = (p) => frames[Math.min(frames.length - 1, Math.floor(p * frames.length))];
-  console.log(JSON.stringify({ frames: frames.length, p50_ms: +q(0.5).toFixed(2), p95_ms: +q(0.95).toFixed(2), max_ms: +frames.at(-1).toFixed(2),
-    heap_start_mb: +heapStart.toFixed(1), heap_end_mb: +heapEnd.toFixed(1) }));
+  const r2 = (x) => +x.toFixed(2);
+  console.log(JSON.stringify({
+    throttle, collapsed: collapse, frames: frames.length, p50_ms: r2(q(0.5)), p95_ms: r2(q(0.95)), max_ms: r2(frames.at(-1)),
+    long_tasks: run.longTasks.length, long_task_max_ms: r2(Math.max(0, ...run.longTasks)), long_task_total_ms: r2(run.longTasks.reduce((a, b) => a + b, 0)),
+    renders_per_s: run.renders, heap_start_mb: r2(heapStart), heap_end_mb: r2(heapEnd),
+  }));
 } finally {
   await browser.close();
 }

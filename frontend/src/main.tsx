@@ -8,6 +8,9 @@ import { DataContext } from "./data/hooks";
 import { ReplaySource } from "./data/replay";
 import type { DataSource } from "./data/source";
 import { urlWithVehicle, vehicleFromUrl } from "./lib/vehicle";
+import { countRender, countingRenders } from "./lib/renders";
+import { TOPICS } from "./api/types";
+import { selectedTopic } from "./data/store";
 import "./styles.css";
 
 // The selection lives in the address (?vehicle=<id>): a link or a reload opens the same vehicle.
@@ -19,6 +22,9 @@ store.subscribe(() => {
   shown = selected;
   window.history.replaceState(window.history.state, "", urlWithVehicle(window.location.href, selected));
 });
+
+// with ?renders (bench/browser.py): how often each topic of the selected vehicle changed, beside the renders
+if (countingRenders) for (const t of TOPICS) store.subscribeTo(selectedTopic(t), () => countRender(`selected:${t}`));
 
 const root = createRoot(document.getElementById("root")!);
 root.render(

@@ -4,6 +4,7 @@ import type { Freshness } from "../lib/freshness";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
 import { DragHandle, MoveButtons } from "./Arrange";
+import { countRender } from "../lib/renders";
 
 interface Props {
   title: string;
@@ -19,6 +20,7 @@ interface Props {
  * and, in an arrangeable group, move it by its ⠿ handle or ↑ ↓ buttons.
  * A collapsed panel's content is not rendered, so it costs nothing while folded. */
 export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
+  countRender(testId);
   const [collapsed, setCollapsed] = useCollapsed(testId);
   return (
     <section className={`panel ${className ?? ""}${collapsed ? " collapsed" : ""}`} data-testid={testId} aria-label={title}>

@@ -1,8 +1,9 @@
 // The GPS chart: mean C/N0 (left axis) and satellites used / in view (right axis) over time, drawn by uPlot.
-import { useEffect, useRef } from "react";
+import { memo, useEffect, useRef } from "react";
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
 import type { HistoryPoint } from "../data/store";
+import { countRender } from "../lib/renders";
 
 const HEIGHT = 150;
 const hms = (t: number) => new Date(t * 1000).toISOString().slice(11, 19);
@@ -34,9 +35,11 @@ function options(width: number): uPlot.Options {
   };
 }
 
-export function TrendChart({ points, label }: { points: HistoryPoint[]; label: string }) {
+/** Redraws when its points change (once a second), not with every render of its panel. */
+export const TrendChart = memo(function TrendChart({ points, label }: { points: HistoryPoint[]; label: string }) {
   const box = useRef<HTMLDivElement>(null);
   const plot = useRef<uPlot | null>(null);
+  countRender("fix-history");
 
   useEffect(() => {
     const el = box.current;
@@ -61,4 +64,4 @@ export function TrendChart({ points, label }: { points: HistoryPoint[]; label: s
       <div ref={box} />
     </figure>
   );
-}
+});

@@ -37,6 +37,18 @@ export class Store {
     return () => this.listeners.delete(l);
   };
 
+  /** Subscribe to one slice of the state: `onChange` is called only when `select`'s value changes
+   * (Object.is), not on every change of the store (a GPSFixReport does not wake the sky plot). */
+  subscribeTo<T>(select: (s: State) => T, onChange: Listener): () => void {
+    let last = select(this.state);
+    return this.subscribe(() => {
+      const next = select(this.state);
+      if (Object.is(next, last)) return;
+      last = next;
+      onChange();
+    });
+  }
+
   /** Apply a local change (select a vehicle, dismiss an alert). */
   update(fn: (s: State) => State): void {
     this.set(fn(this.state));

@@ -1,12 +1,34 @@
 // The only way panels read state: hooks over the store and the connection.
-import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+import { createContext, useCallback, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import { useToken } from "./auth";
 import type { Store } from "./connection";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
-import { HISTORY_SECONDS, TRACK_SECONDS, historyLoaded, tasksLoaded, trackLoaded, worldModelLoaded, type Alert, type HistoryPoint, type ProviderView, type State } from "./store";
+import {
+  HISTORY_SECONDS,
+  TRACK_SECONDS,
+  allProviders,
+  historyLoaded,
+  selectedJausId,
+  selectedKnown,
+  selectedLink,
+  selectedLinkConfig,
+  selectedName,
+  selectedTopic,
+  selectedTrails,
+  tasksLoaded,
+  trackLoaded,
+  worldModelLoaded,
+  type Alert,
+  type HistoryPoint,
+  type ProviderView,
+  type State,
+  type TopicView,
+  type TrailPoint,
+} from "./store";
+import type { LinkConfig, LinkState, Topic } from "../api/types";
 
 export interface DataContextValue {
   store: Store;
@@ -30,6 +52,106 @@ export function useSelector<T>(select: (s: State) => T): T {
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));
 }
 
+/** Milliseconds to the next multiple of `ms` of the clock: throttled redraws and age timers of the same
+ * period fall on the same instants, so the panels change in one frame (one layout) rather than each
+ * in a frame of its own. */
+function toBoundary(ms: number): number {
+  return ms - (Date.now() % ms);
+}
+
+/** `fn` called at most about once every `ms`: at once when it was quiet, else at the next multiple of
+ * `ms` of the clock (with every call in between folded into one); `cancel` drops a pending call. */
+export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
+  let timer: ReturnType<typeof setTimeout> | null = null;
+  let pending = false;
+  const end = () => {
+    timer = null;
+    if (!pending) return;
+    pending = false;
+    fn();
+    timer = setTimeout(end, toBoundary(ms));
+  };
+  const call = () => {
+    if (timer) {
+      pending = true;
+      return;
+    }
+    fn();
+    timer = setTimeout(end, toBoundary(ms));
+  };
+  call.cancel = () => {
+    if (timer) clearTimeout(timer);
+    timer = null;
+    pending = false;
+  };
+  return call;
+}
+
+/** A slice of the state by a stable selector (a module-level function such as store.ts's
+ * selectedTopic("GPSReport")): the component is woken only when the slice changes, and at most every
+ * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
+export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
+  const { store } = useData();
+  const subscribe = useCallback(
+    (onChange: () => void) => {
+      if (!throttleMs) return store.subscribeTo(select, onChange);
+      const t = throttle(onChange, throttleMs);
+      const off = store.subscribeTo(select, t);
+      return () => {
+        off();
+        t.cancel();
+      };
+    },
+    [store, select, throttleMs],
+  );
+  return useSyncExternalStore(subscribe, () => select(store.getState()));
+}
+
+/** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
+ * `throttleMs` when given (text and plots an operator reads need not change at the report's 10 Hz). */
+export function useSelectedTopic(topic: Topic, throttleMs = 0): TopicView | null {
+  return useSlice(selectedTopic(topic), throttleMs);
+}
+
+/** The selected vehicle's satellite trails. */
+export function useSelectedTrails(throttleMs = 0): Record<string, TrailPoint[]> {
+  return useSlice(selectedTrails, throttleMs);
+}
+
+/** The selected vehicle's link state (null: none selected or not on the bus). */
+export function useSelectedLink(): LinkState | null {
+  return useSlice(selectedLink);
+}
+
+/** What the console knows of the selected vehicle apart from its reports (changes with the console's
+ * provider messages, not with each report); null when none is selected or it is not on the bus. */
+export interface SelectedVehicle {
+  id: string;
+  name: string | null;
+  link: LinkState;
+  linkConfig: LinkConfig | null;
+  jausId: string | null;
+}
+
+export function useSelectedVehicle(): SelectedVehicle | null {
+  const id = useSlice(selectedId);
+  const known = useSlice(selectedKnown);
+  const name = useSlice(selectedName);
+  const link = useSlice(selectedLink);
+  const linkConfig = useSlice(selectedLinkConfig);
+  const jausId = useSlice(selectedJausId);
+  return useMemo(() => (id && known && link ? { id, name, link, linkConfig, jausId } : null), [id, known, name, link, linkConfig, jausId]);
+}
+
+const selectedId = (s: State): string | null => s.selected;
+
+/** Every vehicle, sorted by id, refreshed at most every `throttleMs` (an overview: it changes with
+ * every report of every vehicle). */
+export function useProvidersAtMost(throttleMs: number): ProviderView[] {
+  const providers = useSlice(allProviders, throttleMs);
+  return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
+}
+
 export function useConnectionState(): SourceState {
   const { source } = useData();
   return useSyncExternalStore(source.subscribe, source.getState);
@@ -47,11 +169,13 @@ export function usePlayback(): { status: ReplayStatus; controls: PlaybackControl
   return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
+/** Every vehicle, sorted by id, on every report of any of them (an overview wants useProvidersAtMost). */
 export function useProviders(): ProviderView[] {
-  const providers = useSelector((s) => s.providers);
-  return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
+  return useProvidersAtMost(0);
 }
 
+/** The selected vehicle's whole view: it changes with each of its reports. A panel that draws one topic
+ * wants useSelectedTopic, and one that names the vehicle useSelectedVehicle. */
 export function useSelectedProvider(): ProviderView | null {
   return useSelector((s) => (s.selected ? (s.providers[s.selected] ?? null) : null));
 }
@@ -77,11 +201,41 @@ export function useAlerts(): Alert[] {
 export function useNow(periodMs = 500): number {
   const { source } = useData();
   const [now, setNow] = useState(() => source.now());
-  useEffect(() => {
-    const t = setInterval(() => setNow(source.now()), periodMs);
-    return () => clearInterval(t);
-  }, [periodMs, source]);
+  useEffect(() => onTick(periodMs, () => setNow(source.now())), [periodMs, source]);
   return now;
+}
+
+interface Ticker {
+  listeners: Set<() => void>;
+  timer: ReturnType<typeof setTimeout> | null;
+}
+
+const tickers = new Map<number, Ticker>();
+
+/** Call `l` every `periodMs` (on multiples of it of the clock), on one timer for all callers of that
+ * period, so the panels showing ages update together (one render and one layout) and not each on a
+ * timer of its own. */
+function onTick(periodMs: number, l: () => void): () => void {
+  let ticker = tickers.get(periodMs);
+  if (!ticker) {
+    const listeners = new Set<() => void>();
+    const t: Ticker = { listeners, timer: null };
+    const tick = () => {
+      listeners.forEach((f) => f());
+      if (tickers.get(periodMs) === t) t.timer = setTimeout(tick, toBoundary(periodMs)); // not if the last listener left
+    };
+    t.timer = setTimeout(tick, toBoundary(periodMs));
+    ticker = t;
+    tickers.set(periodMs, ticker);
+  }
+  ticker.listeners.add(l);
+  const t = ticker;
+  return () => {
+    t.listeners.delete(l);
+    if (t.listeners.size) return;
+    if (t.timer) clearTimeout(t.timer);
+    tickers.delete(periodMs);
+  };
 }
 
 export function useGateways(): GatewayState[] {
@@ -117,9 +271,9 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 
 /** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
  * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(): ProviderView[] {
+export function useTrackedProviders(throttleMs = 0): ProviderView[] {
   const { store, source } = useData();
-  const providers = useProviders();
+  const providers = useProvidersAtMost(throttleMs);
   const ids = providers.map((p) => p.id).join(",");
   const live = useConnectionState() === "live";
   const token = useToken();

@@ -95,7 +95,11 @@ export const initialState: State = {
 };
 
 export function report<T extends Topic>(p: ProviderView | undefined, topic: T): ReportTypes[T] | null {
-  const view = p?.topics[topic];
+  return viewReport<T>(p?.topics[topic] ?? null);
+}
+
+/** The report a view of topic T holds (null: none), e.g. viewReport<"GPSReport">(view). */
+export function viewReport<T extends Topic>(view: TopicView | null): ReportTypes[T] | null {
   return view ? (view.envelope.report as unknown as ReportTypes[T]) : null;
 }
 
@@ -336,3 +340,39 @@ export function dismiss(state: State, alertId: number | "all"): State {
 export function select(state: State, providerId: string | null): State {
   return providerId === state.selected ? state : { ...state, selected: providerId };
 }
+
+// Slices of the state that panels draw. Each keeps its identity until what it holds changes, so a
+// subscription to one (Store.subscribeTo, hooks' useSlice) is not woken by another topic's report.
+const NO_TRAILS: Record<string, TrailPoint[]> = {};
+
+function selectedView(s: State): ProviderView | undefined {
+  return s.selected ? s.providers[s.selected] : undefined;
+}
+
+const topicSelectors: Partial<Record<Topic, (s: State) => TopicView | null>> = {};
+
+/** The selected vehicle's latest report of `topic` (one selector per topic, so it can key a subscription). */
+export function selectedTopic(topic: Topic): (s: State) => TopicView | null {
+  return (topicSelectors[topic] ??= (s) => selectedView(s)?.topics[topic] ?? null);
+}
+
+/** The selected vehicle's satellite trails (changed by its GPSReport only). */
+export const selectedTrails = (s: State): Record<string, TrailPoint[]> => selectedView(s)?.trails ?? NO_TRAILS;
+
+/** The selected vehicle's link state (null: none selected, or not on the bus). */
+export const selectedLink = (s: State): LinkState | null => selectedView(s)?.link ?? null;
+
+/** The selected vehicle's name, null when it has none or is not known. */
+export const selectedName = (s: State): string | null => selectedView(s)?.name ?? null;
+
+/** The selected vehicle's link configuration (changed by the console's provider messages only). */
+export const selectedLinkConfig = (s: State): LinkConfig | null => selectedView(s)?.linkConfig ?? null;
+
+/** The selected vehicle's JAUS id. */
+export const selectedJausId = (s: State): string | null => selectedView(s)?.jausId ?? null;
+
+/** Whether the selected vehicle is on the bus (known to the console). */
+export const selectedKnown = (s: State): boolean => selectedView(s) !== undefined;
+
+/** Every vehicle's view (changes with any report: subscribe to it at a bounded rate). */
+export const allProviders = (s: State): Record<string, ProviderView> => s.providers;

@@ -4,7 +4,7 @@ import type { Command } from "../api/types";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useCommands, useSelector } from "../data/hooks";
+import { useCapabilities, useCommands, useSelectedVehicle, useSelector } from "../data/hooks";
 import { mergeCommands } from "../lib/commands";
 import { utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -158,7 +158,7 @@ function CommandList({ target, live, canCommand, onCancel }: { target: VehicleId
 
 export function CommandsPanel() {
   const selected = useSelector((s) => s.selected);
-  const known = useSelector((s) => (s.selected ? s.providers[s.selected] : undefined));
+  const known = useSelectedVehicle();
   const target: VehicleIdentity | null = selected ? { id: selected, name: known?.name ?? null } : null;
   const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);

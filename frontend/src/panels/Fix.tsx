@@ -1,24 +1,28 @@
 import { Field, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useHistory, useNow, useSelectedProvider } from "../data/hooks";
+import { useHistory, useNow, useSelectedLink, useSelectedTopic, useSelector } from "../data/hooks";
 import { useDmsSetting } from "../data/settings";
-import { HISTORY_SECONDS, report } from "../data/store";
+import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
+/** The fix is shown at most this often: an operator does not read figures that change ten times a second. */
+const DRAW_MS = 250;
+
 export function FixPanel() {
-  const p = useSelectedProvider();
+  const selected = useSelector((s) => s.selected);
+  const link = useSelectedLink();
   const now = useNow();
-  const history = useHistory(p?.id ?? null);
+  const history = useHistory(link ? selected : null);
   const [useDms, setDms] = useDmsSetting();
-  const fixView = p?.topics.GPSFixReport ?? null;
-  const statusView = p?.topics.GPSFixStatusReport ?? null;
-  const fix = report(p ?? undefined, "GPSFixReport");
-  const st = report(p ?? undefined, "GPSFixStatusReport");
+  const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
+  const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
+  const fix = viewReport<"GPSFixReport">(fixView);
+  const st = viewReport<"GPSFixStatusReport">(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
-  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, p?.link ?? null);
-  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, p?.link ?? null);
+  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link);
+  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link);
   const sFix = fFix === "stale" || fFix === "lost";
   const sSt = fSt === "stale" || fSt === "lost";
   const inv = (path: string) => invalidFor(fixView?.envelope.invalid, path);

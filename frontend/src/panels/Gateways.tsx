@@ -4,7 +4,7 @@ import type { GatewayState, LinkConfig } from "../api/types";
 import { Field, Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useGateways, useNow, useSelector } from "../data/hooks";
+import { useCapabilities, useGateways, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -143,7 +143,7 @@ function LinkConfigForm({ target, config, canEdit, token, outcome, setOutcome }:
 export function GatewaysPanel() {
   const gateways = useGateways();
   const selected = useSelector((s) => s.selected);
-  const known = useSelector((s) => (s.selected ? s.providers[s.selected] : undefined));
+  const known = useSelectedVehicle();
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only

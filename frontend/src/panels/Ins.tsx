@@ -1,7 +1,7 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Panel } from "../components/Panel";
-import { useNow, useSelectedProvider } from "../data/hooks";
-import { report } from "../data/store";
+import { useNow, useSelectedLink, useSelectedTopic } from "../data/hooks";
+import { viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { DASH, utc } from "../lib/units";
 
@@ -26,12 +26,12 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 }
 
 export function InsPanel() {
-  const p = useSelectedProvider();
+  const view = useSelectedTopic("InertialSensorReport", 250); // read by eye: at most 4 times a second
+  const link = useSelectedLink();
   const now = useNow();
-  const view = p?.topics.InertialSensorReport ?? null;
-  const ins = report(p ?? undefined, "InertialSensorReport");
+  const ins = viewReport<"InertialSensorReport">(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, p?.link ?? null);
+  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link);
   const stale = fresh === "stale" || fresh === "lost";
   const failed = ins?.status === "INERTIAL_SENSOR_FAILURE";
   const current = stepIndex(ins?.status);

@@ -17,7 +17,7 @@ import { useToken } from "../data/auth";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
 import { CoMapControls, type MapTool } from "./CoMap";
 import type { FeatureCollection } from "geojson";
-import { useDmsSetting } from "../data/settings";
+import { useCollapsed, useDmsSetting } from "../data/settings";
 import { report, select, type ProviderView } from "../data/store";
 import { loadLand, offlineStyle } from "../lib/basemap";
 import { freshness } from "../lib/freshness";
@@ -37,8 +37,13 @@ import {
   type LonLat,
   type VehicleMark,
 } from "../lib/geo";
+import { countRender } from "../lib/renders";
 import { radToDeg } from "../lib/units";
 import { vehicleColor, vehicleLabel } from "../lib/vehicle";
+
+/** The vehicles, tracks and origins are redrawn at most this often (and only when they changed): a
+ * redraw of the map costs a frame or more without a GPU, and vehicles at sea move a few metres a second. */
+const MAP_UPDATE_MS = 1000;
 
 const FIX_COLOR = ["match", ["get", "fix"], "valid", "#4caf50", "invalid", "#e0593f", "#9fb3c8"] as const;
 
@@ -160,7 +165,7 @@ declare global {
 }
 
 export function MapPanel() {
-  const providers = useTrackedProviders();
+  const providers = useTrackedProviders(MAP_UPDATE_MS);
   const selected = useSelector((s) => s.selected);
   const store = useStore();
   const now = useNow(1000);
@@ -186,11 +191,16 @@ export function MapPanel() {
   const toolRef = useRef<MapTool>("select");
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
   const framed = useRef(false);
+  // what the map's sources hold now, to skip a setData that would change nothing
+  const drawnData = useRef<{ vehicles: string; tracks: unknown[]; origins: string }>({ vehicles: "", tracks: [], origins: "" });
 
   const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
 
-  // the map itself, once
+  // the map itself, while the panel is open: a collapsed panel has no container, and a map kept
+  // without one would still draw every update
+  const [collapsed] = useCollapsed("map-panel");
   useEffect(() => {
+    if (collapsed || !container.current) return;
     const map = new MapLibre({
       container: container.current!,
       style: offlineStyle(),
@@ -198,6 +208,7 @@ export function MapPanel() {
       zoom: 1,
       attributionControl: { compact: true },
       maxPitch: 0,
+      fadeDuration: 0, // no symbol fade: it would redraw the map every frame for 0.3 s after each update
     });
     mapRef.current = map;
     window.__semMap = map;
@@ -214,6 +225,7 @@ export function MapPanel() {
         })
         .catch(() => undefined);
     });
+    map.on("render", () => countRender("map:frame")); // the map's redraws (?renders only)
     // the edit tool: press on a vertex handle and drag it (the map does not pan meanwhile)
     let dragging: { featureId: unknown; index: number } | null = null;
     map.on("mousedown", "edit-handle", (e) => {
@@ -262,8 +274,10 @@ export function MapPanel() {
       if (window.__semMap === map) delete window.__semMap;
       map.remove();
       mapRef.current = null;
+      drawnData.current = { vehicles: "", tracks: [], origins: "" };
+      setReady(false);
     };
-  }, [store]);
+  }, [store, collapsed]);
 
   // the console's PMTiles chart, over the built-in land and under everything else
   useEffect(() => {
@@ -300,19 +314,33 @@ export function MapPanel() {
     if (!ready || !map) return;
     const fc = vehiclesGeoJson(marks);
     for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+    const json = JSON.stringify(fc);
+    if (json === drawnData.current.vehicles) return; // nothing moved or changed: no redraw
+    drawnData.current.vehicles = json;
     source(map, "vehicles")?.setData(fc);
+    countRender("map:vehicles-data");
   }, [ready, marks]);
 
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
-    for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-    source(map, "tracks")?.setData(fc);
+    // a track changes once a second at most; the same arrays and selection need no redraw
+    const tracks = [selected, ...providers.flatMap((p) => [p.id, p.track])];
+    const last = drawnData.current.tracks;
+    if (tracks.length !== last.length || tracks.some((t, i) => t !== last[i])) {
+      drawnData.current.tracks = tracks;
+      const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
+      for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+      source(map, "tracks")?.setData(fc);
+      countRender("map:tracks-data");
+    }
     const origins = providers.flatMap((p) => {
       const o = originOf(p);
       return o ? [{ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [o.lon, o.lat] }, properties: { id: p.id, color: vehicleColor(p.id) } }] : [];
     });
+    const json = JSON.stringify(origins);
+    if (json === drawnData.current.origins) return;
+    drawnData.current.origins = json;
     source(map, "origins")?.setData({ type: "FeatureCollection", features: origins });
   }, [ready, providers, selected]);
 
@@ -348,7 +376,11 @@ export function MapPanel() {
       return;
     }
     const sel = marks.find((m) => m.selected);
-    if (follow && sel) map.easeTo({ center: [sel.position.lon, sel.position.lat], duration: 300 });
+    if (!follow || !sel) return;
+    // a jump, not an animation (an animation redraws the map every frame); none when it has not moved a pixel
+    const at = map.project([sel.position.lon, sel.position.lat]);
+    const mid = map.project(map.getCenter());
+    if (Math.hypot(at.x - mid.x, at.y - mid.y) >= 1) map.jumpTo({ center: [sel.position.lon, sel.position.lat] });
   }, [ready, marks, follow]);
 
   const measured = pathLengthM(measure);

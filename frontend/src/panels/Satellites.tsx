@@ -1,14 +1,18 @@
-import { useMemo, useState } from "react";
+import { memo, useMemo, useState } from "react";
 import type { GPSSatelliteType } from "../api/types";
 import { Field, Panel } from "../components/Panel";
-import { useNow, useSelectedProvider } from "../data/hooks";
-import { report } from "../data/store";
+import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails } from "../data/hooks";
+import { viewReport, type TrailPoint } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
+import { countRender } from "../lib/renders";
 import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
 const R = 120;
+/** The satellites are redrawn at most this often: 40 rows, markers, trails and bars are much to lay out
+ * and paint, and a sky changes little in half a second. */
+const DRAW_MS = 500;
 
 function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: number; fill: string; stroke: string }) {
   const s = 6;
@@ -29,7 +33,10 @@ function tooltip(s: GPSSatelliteType): string {
   ].join("\n");
 }
 
-function SkyPlot({ sats, trails, stale }: { sats: GPSSatelliteType[]; trails: Record<string, { az: number; el: number }[]>; stale: boolean }) {
+// The sky plot, table and chart redraw only when their props change: the selected vehicle's GPSReport
+// (not its GPSFixReport, nor the panel's age display).
+const SkyPlot = memo(function SkyPlot({ sats, trails, stale }: { sats: GPSSatelliteType[]; trails: Record<string, TrailPoint[]>; stale: boolean }) {
+  countRender("skyplot");
   return (
     <svg className={`skyplot${stale ? " stale" : ""}`} viewBox={`${-R - 16} ${-R - 16} ${2 * R + 32} ${2 * R + 32}`} role="img" aria-label="Sky plot" data-testid="skyplot">
       {[0, 30, 60].map((el) => (
@@ -67,7 +74,7 @@ function SkyPlot({ sats, trails, stale }: { sats: GPSSatelliteType[]; trails: Re
       })}
     </svg>
   );
-}
+});
 
 interface Bar {
   s: GPSSatelliteType;
@@ -93,7 +100,8 @@ function cn0Layout(sats: GPSSatelliteType[]): { groups: Group[]; width: number }
   return { groups, width: Math.max(x, 14) };
 }
 
-function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) {
+const Cn0Chart = memo(function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) {
+  countRender("cn0-chart");
   const { groups, width } = cn0Layout(sats);
   const h = 110;
   const max = 55;
@@ -129,7 +137,7 @@ function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) {
       ))}
     </svg>
   );
-}
+});
 
 type SortKey = "id" | "constellation" | "az" | "el" | "cn0" | "almanac" | "ephemeris" | "used";
 
@@ -146,7 +154,8 @@ function sortValue(s: GPSSatelliteType, k: SortKey): string | number {
   }
 }
 
-function SatelliteTable({ sats }: { sats: GPSSatelliteType[] }) {
+const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelliteType[] }) {
+  countRender("satellite-table");
   const [key, setKey] = useState<SortKey>("cn0");
   const [desc, setDesc] = useState(true);
   const rows = useMemo(() => {
@@ -196,16 +205,19 @@ function SatelliteTable({ sats }: { sats: GPSSatelliteType[] }) {
       </table>
     </div>
   );
-}
+});
+
+const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
-  const p = useSelectedProvider();
+  const view = useSelectedTopic("GPSReport", DRAW_MS);
+  const trails = useSelectedTrails(DRAW_MS);
+  const link = useSelectedLink();
   const now = useNow();
-  const view = p?.topics.GPSReport ?? null;
-  const gps = report(p ?? undefined, "GPSReport");
-  const sats = gps?.satellites ?? [];
+  const gps = viewReport<"GPSReport">(view);
+  const sats = gps?.satellites ?? NO_SATELLITES;
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, p?.link ?? null);
+  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link);
   const stale = fresh === "stale" || fresh === "lost";
   const used = sats.filter((s) => s.usedInFix === true).length;
   const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(([, n]) => n);
@@ -226,7 +238,7 @@ export function SatellitesPanel() {
             {view && view.envelope.invalid.length > 0 && <span className="invalid-note" title={view.envelope.invalid.join("\n")}>⚠ {view.envelope.invalid.length} invalid values</span>}
           </div>
           <div className="sat-grid">
-            <SkyPlot sats={sats} trails={p?.trails ?? {}} stale={stale} />
+            <SkyPlot sats={sats} trails={trails} stale={stale} />
             <SatelliteTable sats={sats} />
           </div>
           <Cn0Chart sats={sats} />

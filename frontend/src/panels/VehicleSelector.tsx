@@ -1,5 +1,5 @@
 import { VehicleTag } from "../components/VehicleTag";
-import { useConnectionState, useNow, useProviders, useSelector, useStore } from "../data/hooks";
+import { useConnectionState, useNow, useProvidersAtMost, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { age } from "../lib/units";
 
@@ -9,7 +9,7 @@ function lastSeen(p: ProviderView): number | null {
 }
 
 export function VehicleSelector() {
-  const providers = useProviders();
+  const providers = useProvidersAtMost(500); // ages, link and fix shown to the half second
   const selected = useSelector((s) => s.selected);
   const store = useStore();
   const now = useNow();
