@@ -162,7 +162,8 @@ async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
                 text = await asyncio.wait_for(ws.recv(), remaining)
             except asyncio.TimeoutError:
                 return
-            on_message(json.loads(text), time.time())
+            now = time.time()  # on arrival, before parsing (as the peer's client does)
+            on_message(json.loads(text), now)
 
 
 def table(title: str, header: list[str], rows: list[list[Any]]) -> None:

@@ -4,7 +4,7 @@ GPSFixStatusReport and InertialSensorReport at 10 Hz) and 500 finished commands.
 through the real stack: POSTed GPS fixes that the simulated vehicles answer (at once: step and
 surface times 0), each vehicle's next command once its last finished. Then new clients connect
 one after another: time from connect to the snapshot received, and its size.
-Target: the first full frame within 300 ms (median of the connects; the worst is printed beside it).
+Targets: the first full frame within 300 ms, at the median of the connects and at the worst.
 Usage: python bench/snapshot.py [--vehicles 50] [--commands 500] [--connects 20]
 """
 
@@ -113,8 +113,14 @@ def main() -> None:
            "p50_ms": round(med, 1), "p90_ms": round(percentile(times, 90) * 1000, 1), "max_ms": round(worst, 1),
            "snapshot_bytes": int(percentile(sizes, 50))}
     table("Snapshot: a new WebSocket client's first full frame", list(row), [list(row.values())])
-    targets = [common.target(f"connect to first full frame, median of {len(times)} ({shape['providers']} vehicles, "
-                             f"{shape['finished']} finished commands)", row["p50_ms"], "ms", "<", 300.0)]
+    # the target is for 50 vehicles and 500 finished commands: a snapshot holding less does not count
+    short = shape["providers"] < args.vehicles or shape["finished"] < args.commands
+    if short:
+        print(f"the snapshot holds {shape['providers']} vehicles and {shape['finished']} finished commands, "
+              f"not the {args.vehicles} and {args.commands} the target is for: MISSED")
+    name = f"connect to first full frame ({shape['providers']} vehicles, {shape['finished']} finished commands)"
+    targets = [common.target(f"{name}, median of {len(times)}", None if short else row["p50_ms"], "ms", "<", 300.0),
+               common.target(f"{name}, worst of {len(times)}", None if short else row["max_ms"], "ms", "<", 300.0)]
     print(f"snapshot bytes: {row['snapshot_bytes']}; worst connect {row['max_ms']} ms")
     emit("snapshot", {**row, "targets": targets})
 

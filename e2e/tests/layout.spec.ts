@@ -64,6 +64,7 @@ test("the ↑ ↓ buttons and the keyboard move a panel within its group, and ke
   await earlier.press("Enter");
   await expect.poll(() => order(page, "main-panels")).toEqual(["map-panel", "satellites-panel", "fix-panel", "ins-panel", "export-panel", "commands-panel"]);
   await expect(earlier).toBeFocused();
+  await expect(page.getByTestId("main-panels-status")).toHaveText("Satellites moved to place 2 of 6."); // a screen reader hears it
   await expect(page.getByTestId("satellite-table")).toBeVisible(); // still drawn where it moved
 
   // the side column, by keyboard: Space picks the panel up, the arrow moves it, Space drops it

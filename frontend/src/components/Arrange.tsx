@@ -1,6 +1,6 @@
 // Rearranging the panels of a group (dnd-kit): drag a panel by its ⠿ handle, or focus the handle and
 // press Space, the arrow keys, Space; or use its ↑ ↓ buttons. The order is kept in the settings store.
-import { createContext, useContext, useRef, type CSSProperties, type ReactNode } from "react";
+import { createContext, useContext, useRef, useState, type CSSProperties, type ReactNode } from "react";
 import { DndContext, KeyboardSensor, PointerSensor, closestCenter, useSensor, useSensors, type Announcements, type DragEndEvent, type UniqueIdentifier } from "@dnd-kit/core";
 import { SortableContext, rectSortingStrategy, sortableKeyboardCoordinates, useSortable, verticalListSortingStrategy } from "@dnd-kit/sortable";
 import { CSS } from "@dnd-kit/utilities";
@@ -27,6 +27,7 @@ interface GroupProps {
 /** The panels of one group, in the operator's order (by default that of `panels`), each movable within the group. */
 export function ArrangeableGroup({ group, panels, className, testId, label }: GroupProps) {
   const [order, setOrder] = usePanelOrder(group, Object.keys(panels));
+  const [said, setSaid] = useState(""); // what a screen reader hears after a move by the ↑ ↓ buttons
   const sensors = useSensors(
     useSensor(PointerSensor, { activationConstraint: { distance: 5 } }),
     useSensor(KeyboardSensor, { coordinateGetter: sortableKeyboardCoordinates }),
@@ -48,10 +49,17 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
       <SortableContext items={order} strategy={group === "side" ? verticalListSortingStrategy : rectSortingStrategy}>
         <div className={className} data-testid={testId} aria-label={label} role="group">
           {order.map((id, i) => (
-            <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => setOrder(moveBy(order, id, by))}>
+            <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => {
+                const next = moveBy(order, id, by);
+                setOrder(next);
+                setSaid(`${name(id)} moved to place ${next.indexOf(id) + 1} of ${next.length}.`);
+              }}>
               {panels[id].node}
             </SortableSlot>
           ))}
+        </div>
+        <div role="status" className="visually-hidden" data-testid={`${testId}-status`}>
+          {said}
         </div>
       </SortableContext>
     </DndContext>

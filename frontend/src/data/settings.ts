@@ -45,6 +45,17 @@ function subscribe(l: () => void): () => void {
   return () => listeners.delete(l);
 }
 
+// another tab of the console changed a setting: read it again, so this tab neither shows a stale
+// layout nor writes its stale copy back over the other tab's change
+if (typeof window !== "undefined") {
+  window.addEventListener("storage", (e: StorageEvent) => {
+    if (e.key === null) cache.clear();
+    else if (!e.key.startsWith("sem-console.")) return;
+    else cache.delete(e.key);
+    for (const l of listeners) l();
+  });
+}
+
 export function useSetting<T>(key: string, fallback: T, valid: (v: unknown) => v is T): [T, (v: T) => void] {
   const value = useSyncExternalStore(subscribe, () => readSetting(key, fallback, valid));
   return [value, (v: T) => writeSetting(key, v)];
