@@ -27,8 +27,11 @@ test("drag a panel by its handle: the new order survives a reload, and Reset lay
   expect(await order(page, "main-panels")).toEqual(MAIN);
   // drag the INS panel onto the fix panel, beside it on the left
   await page.getByTestId("ins-panel").scrollIntoViewIfNeeded();
+  // dnd-kit drops where the dragged panel's centre is closest: move the handle by the distance
+  // between the two panels' centres, so the INS panel's centre lands on the fix panel's
   const from = await center(page, "ins-panel-drag");
-  const to = await center(page, "fix-panel");
+  const [insAt, fixAt] = [await center(page, "ins-panel"), await center(page, "fix-panel")];
+  const to = { x: from.x + fixAt.x - insAt.x, y: from.y + fixAt.y - insAt.y };
   await page.mouse.move(from.x, from.y);
   await page.mouse.down();
   await page.mouse.move(from.x - 20, from.y, { steps: 4 });

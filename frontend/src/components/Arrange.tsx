@@ -58,10 +58,10 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
             </SortableSlot>
           ))}
         </div>
-        <div role="status" className="visually-hidden" data-testid={`${testId}-status`}>
-          {said}
-        </div>
       </SortableContext>
+      <div role="status" className="visually-hidden" data-testid={`${testId}-status`}>
+        {said}
+      </div>
     </DndContext>
   );
 }
