@@ -167,6 +167,8 @@ class Metrics(_Model):
                                                             "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
                                                             "writer: README, 'Other DDS vendors')")
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
+    reportWindowWaits: int = Field(description="report takes that waited for the conflation window (report_interval): input "
+                                               "dense enough to batch; sparse input is taken as it arrives")
     wsClients: int
     wsMessagesPublished: int = Field(description="messages handed to WebSocket clients, one per client")
     wsClientsDropped: int

@@ -158,6 +158,7 @@ class Ingest:
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
+        self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
         self._counting = threading.Lock()
         self.running = False
@@ -247,20 +248,24 @@ class Ingest:
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
         while self.running:
-            woken = ws.wait(duration(milliseconds=200)) > 0  # not by the timeout: a take that counts
+            ws.wait(duration(milliseconds=200))
             started = time.monotonic()
-            if woken:
-                self.pace.took()
             try:
                 items: list[ReportItem] = []
                 for (sem, via, reader), cond in zip(self.report_readers, conds):
                     items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
                 if items:
+                    # a take counts only when it applied something: a wake by the timeout, or by the copies
+                    # of a sample in the topic's other readers (taken and dropped), spends no token
+                    self.pace.took()
                     self.loop.call_soon_threadsafe(self.on_reports, items)
                 self.owners.forget_departed(started)
             except Exception:  # a bug here must not stop every report for good
                 log.exception("report ingest cycle failed")
-            time.sleep(self.pace.delay())
+            wait = self.pace.delay()
+            if wait > 0:
+                self.window_waits += 1  # input dense enough that the conflation window applies
+                time.sleep(wait)
 
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]

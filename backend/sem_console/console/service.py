@@ -372,6 +372,7 @@ class Console:
             "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
             "incompatibleWriters": dict(self.ingest.incompatible) if self.ingest else {},
             "reportsApplied": self.reports_applied,
+            "reportWindowWaits": self.ingest.window_waits if self.ingest else 0,
             "wsClients": len(self.hub.clients),
             "wsMessagesPublished": self.hub.published,
             "wsClientsDropped": self.hub.dropped,
