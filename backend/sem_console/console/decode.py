@@ -6,6 +6,10 @@ or only the key for a dispose or an instance that lost its writers) and turns it
 topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
 (`console/replay.py`) calls it for every recorded message. A sample that cannot be decoded is
 counted per topic and logged, never raised.
+
+Samples are decoded by the code `console/fastcdr.py` generates per type (a report straight to its
+JSON, the same as `convert.to_json` of cyclonedds' sample, a status to the same sample cyclonedds
+builds); a key (disposes, lost writers) by cyclonedds.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from typing import Any
 
 from cyclonedds.core import InstanceState
 
-from sem_console.console.convert import to_json
+from sem_console.console import fastcdr
 from sem_console.dds.topics import Sem, Service
 
 log = logging.getLogger("sem-console.ingest")
@@ -40,7 +44,7 @@ class ReportItem:
     invalid: list[str]
     alive: bool
     received_at: float
-    sample: Any = None  # decoded but not yet converted to JSON (`Decoder.decode(..., convert=False)`)
+    sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
 
 
 @dataclass
@@ -83,8 +87,18 @@ class Decoder:
         if sem not in REPORT_TOPICS and sem not in STATUS_TOPICS and sem not in ACK_TOPICS:
             return None
         dtype = sem.spec.type
+        report = sample = None
         try:
-            sample = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
+            if not valid:
+                sample = dtype.deserialize_key(data)
+                source = guid(getattr(sample, "source", None))
+            elif sem in REPORT_TOPICS:
+                report = fastcdr.decoder(dtype).json(data)
+                text = report[0].get("source")
+                source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
+            else:
+                sample = fastcdr.decoder(dtype).sample(data)
+                source = guid(getattr(sample, "source", None))
         except Exception as e:
             self._bad(sem)
             log.warning("undecodable sample on %s: %s", sem.spec.name, e)
@@ -92,14 +106,13 @@ class Decoder:
         with self._counting:
             self.decoded += 1
         alive = instance_state == InstanceState.Alive
-        source = guid(getattr(sample, "source", None))
         if source is None:
             self._bad(sem)
             return None
         if sem in REPORT_TOPICS:
-            if not valid:
+            if report is None:
                 return ReportItem(REPORT_TOPICS[sem], source, None, [], False, received_at)
-            item = ReportItem(REPORT_TOPICS[sem], source, None, [], alive, received_at, sample)
+            item = ReportItem(REPORT_TOPICS[sem], source, None, [], alive, received_at, report)
             return self.convert(item) if convert else item
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
@@ -110,10 +123,7 @@ class Decoder:
 
     @staticmethod
     def convert(item: ReportItem) -> ReportItem:
-        """The report's JSON from its decoded sample."""
-        try:
-            item.report, item.invalid = to_json(item.sample)
-        except Exception as e:  # never let one bad sample stop the reader
-            item.report, item.invalid = {}, [f"sample could not be converted: {e}"]
+        """The report's JSON, decoded with the sample, applied to the item."""
+        item.report, item.invalid = item.sample
         item.sample = None
         return item
