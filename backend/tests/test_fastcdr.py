@@ -191,3 +191,26 @@ def test_decoder_counts_and_drops_malformed_samples(sem: Sem) -> None:
                 d.decode(sem, bad, True, InstanceState.Alive, 0.0, convert=False)
                 d.decode(sem, bad, False, InstanceState.NotAliveDisposed, 0.0)
     assert d.undecodable.get(sem.spec.name)
+
+
+@pytest.mark.parametrize("sem", [s for s in SEMS if s.spec.cls.value != "command"], ids=lambda s: s.name)
+def test_decoder_items_match_cyclonedds(sem: Sem) -> None:
+    """What `Decoder.decode` hands the console: a report's JSON is `to_json` of cyclonedds' sample (also
+    when kept aside for a replay's rebuild, `convert=False`), a status or ack carries cyclonedds' sample."""
+    rng = random.Random(f"items {sem.name}")
+    t = sem.spec.type
+    d = Decoder()
+    for _ in range(20):
+        sample = random_sample(t, rng)
+        for v2, endian in encodings(sem):
+            data = t.serialize(sample, use_version_2=v2, endianness=endian)
+            ref = t.deserialize(data)
+            item = d.decode(sem, data, True, InstanceState.Alive, 1.5)
+            assert item is not None and item.source.bytes == bytes(ref.source) and item.alive
+            if sem in REPORT_TOPICS:
+                assert (item.report, item.invalid) == to_json(ref) and item.received_at == 1.5
+                kept = d.decode(sem, data, True, InstanceState.Alive, 1.5, convert=False)
+                assert kept.report is None and Decoder.convert(kept).report == item.report
+            else:
+                assert item.sample == ref and item.session.bytes == bytes(ref.sessionID)
+    assert not d.undecodable and d.decoded
