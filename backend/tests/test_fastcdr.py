@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 import random
 import struct
+from collections.abc import Iterator
 
 import pytest
 from cyclonedds.core import InstanceState
@@ -28,6 +29,15 @@ N = 150
 def encodings(sem: Sem) -> list[tuple[bool, Endianness]]:
     versions = [True] if sem.spec.xcdr2_only else [False, True]
     return [(v2, e) for v2 in versions for e in (Endianness.Little, Endianness.Big)]
+
+
+def encoded(sem: Sem, rng: random.Random, n: int, **kw: float) -> Iterator[bytes]:
+    """`n` random samples of the topic's type, each in every encoding the topic uses."""
+    t = sem.spec.type
+    for _ in range(n):
+        sample = random_sample(t, rng, **kw)
+        for v2, endian in encodings(sem):
+            yield t.serialize(sample, use_version_2=v2, endianness=endian)
 
 
 def same(a: object, b: object) -> bool:
@@ -50,13 +60,10 @@ def test_pinned_to_cyclonedds_on_random_samples(sem: Sem) -> None:
     dec = fastcdr.decoder(t)
     for i in range(N):
         # every optional member present (the one-unpack layout), none, or some (member by member)
-        sample = random_sample(t, rng, absent=(0.0, 1.0, 0.1, 0.4, 0.7)[i % 5])
-        for v2, endian in encodings(sem):
-            data = t.serialize(sample, use_version_2=v2, endianness=endian)
+        for data in encoded(sem, rng, 1, absent=(0.0, 1.0, 0.1, 0.4, 0.7)[i % 5]):
             ref = t.deserialize(data)
-            assert dec.sample(data) == ref, (sem.name, v2, endian, i)
-            got, ref_json = dec.json(data), to_json(ref)
-            assert got == ref_json, (sem.name, v2, endian, i)
+            assert dec.sample(data) == ref, (i, data.hex())
+            assert dec.json(data) == to_json(ref), (i, data.hex())
 
 
 @pytest.mark.parametrize("sem", SEMS, ids=[s.name for s in SEMS])
@@ -155,24 +162,22 @@ def test_malformed_samples_raise_or_match_cyclonedds(sem: Sem) -> None:
     t = sem.spec.type
     dec = fastcdr.decoder(t)
     decoded = refused = 0
-    for _ in range(30):
-        sample = random_sample(t, rng)
-        for v2, endian in encodings(sem):
-            for bad in _mutations(t.serialize(sample, use_version_2=v2, endianness=endian), rng):
-                try:
-                    got = dec.sample(bad)
-                except Exception:
-                    refused += 1
-                    continue
-                decoded += 1
-                try:
-                    ref = t.deserialize(bad)
-                except Exception as e:  # pragma: no cover - a failure message
-                    pytest.fail(f"fastcdr decoded what cyclonedds refuses ({e}): {bad.hex()}")
-                assert same(got, ref), bad.hex()
-                got_json = dec.json(bad)
-                ref_json = to_json(ref)
-                assert same(got_json[0], ref_json[0]) and got_json[1] == ref_json[1], bad.hex()
+    for data in encoded(sem, rng, 30):
+        for bad in _mutations(data, rng):
+            try:
+                got = dec.sample(bad)
+            except Exception:
+                refused += 1
+                continue
+            decoded += 1
+            try:
+                ref = t.deserialize(bad)
+            except Exception as e:  # pragma: no cover - a failure message
+                pytest.fail(f"fastcdr decoded what cyclonedds refuses ({e}): {bad.hex()}")
+            assert same(got, ref), bad.hex()
+            got_json = dec.json(bad)
+            ref_json = to_json(ref)
+            assert same(got_json[0], ref_json[0]) and got_json[1] == ref_json[1], bad.hex()
     assert decoded and refused
 
 
@@ -180,16 +185,12 @@ def test_malformed_samples_raise_or_match_cyclonedds(sem: Sem) -> None:
 def test_decoder_counts_and_drops_malformed_samples(sem: Sem) -> None:
     """Through `Decoder.decode`, the ingest and replay path: nothing raises, what cannot be decoded is counted."""
     rng = random.Random(f"decoder {sem.name}")
-    t = sem.spec.type
     d = Decoder()
-    for _ in range(15):
-        sample = random_sample(t, rng)
-        for v2, endian in encodings(sem):
-            data = t.serialize(sample, use_version_2=v2, endianness=endian)
-            for bad in _mutations(data, rng):
-                d.decode(sem, bad, True, InstanceState.Alive, 0.0)
-                d.decode(sem, bad, True, InstanceState.Alive, 0.0, convert=False)
-                d.decode(sem, bad, False, InstanceState.NotAliveDisposed, 0.0)
+    for data in encoded(sem, rng, 15):
+        for bad in _mutations(data, rng):
+            d.decode(sem, bad, True, InstanceState.Alive, 0.0)
+            d.decode(sem, bad, True, InstanceState.Alive, 0.0, convert=False)
+            d.decode(sem, bad, False, InstanceState.NotAliveDisposed, 0.0)
     assert d.undecodable.get(sem.spec.name)
 
 
@@ -198,19 +199,15 @@ def test_decoder_items_match_cyclonedds(sem: Sem) -> None:
     """What `Decoder.decode` hands the console: a report's JSON is `to_json` of cyclonedds' sample (also
     when kept aside for a replay's rebuild, `convert=False`), a status or ack carries cyclonedds' sample."""
     rng = random.Random(f"items {sem.name}")
-    t = sem.spec.type
     d = Decoder()
-    for _ in range(20):
-        sample = random_sample(t, rng)
-        for v2, endian in encodings(sem):
-            data = t.serialize(sample, use_version_2=v2, endianness=endian)
-            ref = t.deserialize(data)
-            item = d.decode(sem, data, True, InstanceState.Alive, 1.5)
-            assert item is not None and item.source.bytes == bytes(ref.source) and item.alive
-            if sem in REPORT_TOPICS:
-                assert (item.report, item.invalid) == to_json(ref) and item.received_at == 1.5
-                kept = d.decode(sem, data, True, InstanceState.Alive, 1.5, convert=False)
-                assert kept.report is None and Decoder.convert(kept).report == item.report
-            else:
-                assert item.sample == ref and item.session.bytes == bytes(ref.sessionID)
+    for data in encoded(sem, rng, 20):
+        ref = sem.spec.type.deserialize(data)
+        item = d.decode(sem, data, True, InstanceState.Alive, 1.5)
+        assert item is not None and item.source.bytes == bytes(ref.source) and item.alive
+        if sem in REPORT_TOPICS:
+            assert (item.report, item.invalid) == to_json(ref) and item.received_at == 1.5
+            kept = d.decode(sem, data, True, InstanceState.Alive, 1.5, convert=False)
+            assert kept.report is None and Decoder.convert(kept).report == item.report
+        else:
+            assert item.sample == ref and item.session.bytes == bytes(ref.sessionID)
     assert not d.undecodable and d.decoded
