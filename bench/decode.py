@@ -14,6 +14,7 @@ Usage: python bench/decode.py [--rounds 5]
 from __future__ import annotations
 
 import argparse
+import os
 import random
 import sys
 import time
@@ -94,7 +95,9 @@ def main() -> None:
     rows.append(["per vehicle-second (ms)", "as sent", "", "", round(per_vehicle["cyclonedds_json"] / 1000, 3), round(per_vehicle["console"] / 1000, 3),
                  "", "", round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1)])
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
-    emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()}})
+    print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
+                    "load_average": round(os.getloadavg()[0], 2)})
 
 
 if __name__ == "__main__":
