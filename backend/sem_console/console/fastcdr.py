@@ -410,7 +410,6 @@ class _Gen:
             save_run, save_phase = self.run, self.phase
             self.run, self.phase = [], (4, r0)
             flags: list[str] = []
-            k0 = self.k
             checks_before = self.checks
             self.checks = []
             lines_mark = len(self.lines)
@@ -427,7 +426,6 @@ class _Gen:
             variants.append((struct.Struct(fmt), [v for _, v in self.run if v], flags, self.checks, exprs, names))
             assert len(self.lines) == lines_mark
             self.run, self.phase, self.checks = save_run, save_phase, checks_before
-            del k0
         m0, r0 = start_phase
         phases = [r0 % 4] if m0 >= 4 else list(range(4))
         structs = [variants[r][0] if r in phases else None for r in range(4)]
@@ -466,9 +464,8 @@ class _Gen:
             self.emit(f"{out} = {e}")
 
         self.phase = start_phase
-        _, after = self.block(f"if {out} is None:", slow)
-        self.phase = (1, 0)
-        del after
+        self.block(f"if {out} is None:", slow)
+        self.phase = (1, 0)  # the end depends on which members were present
         return out
 
 
