@@ -28,7 +28,7 @@ def _meta(hint: Any) -> tuple[Any, str | None, bool]:
     return hint, None, optional
 
 
-def random_value(hint: Any, rng: random.Random, depth: int = 0) -> Any:
+def random_value(hint: Any, rng: random.Random, depth: int = 0, absent: float = 0.4) -> Any:
     base, meta, _ = _meta(hint)
     if meta is not None:
         if "NumericGUID" in meta or meta.startswith("array["):
@@ -45,23 +45,24 @@ def random_value(hint: Any, rng: random.Random, depth: int = 0) -> Any:
         if meta.startswith("sequence["):
             inner = typing.get_args(base)[0]
             bound = int(meta[:-1].split(", ")[-1]) if ", " in meta else 6
-            return [random_value(inner, rng, depth + 1) for _ in range(rng.randrange(0, bound + 1))]
+            return [random_value(inner, rng, depth + 1, absent) for _ in range(rng.randrange(0, bound + 1))]
         raise AssertionError(f"unexpected annotation {meta}")
     if base is bool:
         return rng.random() < 0.5
     if isinstance(base, type) and issubclass(base, IdlEnum):
         return rng.choice(list(base))
     if isinstance(base, type) and issubclass(base, IdlStruct):
-        return random_sample(base, rng, depth + 1)
+        return random_sample(base, rng, depth + 1, absent)
     raise AssertionError(f"unexpected member type {hint!r}")
 
 
-def random_sample(cls: type, rng: random.Random, depth: int = 0) -> Any:
+def random_sample(cls: type, rng: random.Random, depth: int = 0, absent: float = 0.4) -> Any:
+    """`absent`: the chance that each @optional member is left out."""
     hints = typing.get_type_hints(cls, include_extras=True)
     values = {}
     for f in fields(cls):
         _, _, optional = _meta(hints[f.name])
-        values[f.name] = None if optional and rng.random() < 0.4 else random_value(hints[f.name], rng, depth)
+        values[f.name] = None if optional and rng.random() < absent else random_value(hints[f.name], rng, depth, absent)
     return cls(**values)
 
 

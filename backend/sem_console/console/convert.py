@@ -67,7 +67,7 @@ def _value(v: Any, path: str, invalid: list[str]) -> Any:
         for f in fields(v):
             member, sub = getattr(v, f.name), f"{path}.{f.name}" if path else f.name
             if f.name in enums and member is not None and not isinstance(member, Enum):
-                invalid.append(f"{sub}: unknown {enums[f.name].__name__} ordinal {member!r}")
+                invalid.append(unknown_ordinal(enums[f.name], member, sub))
                 out[f.name] = None
             else:
                 out[f.name] = _value(member, sub, invalid)
@@ -94,11 +94,19 @@ def _value(v: Any, path: str, invalid: list[str]) -> Any:
         return v
     if isinstance(v, (list, tuple)):
         if len(v) > MAX_SATELLITES:
-            invalid.append(f"{path}: {len(v)} elements, more than {MAX_SATELLITES}; the first {MAX_SATELLITES} kept")
+            invalid.append(too_many(len(v), path))
             v = v[:MAX_SATELLITES]
         return [_value(x, f"{path}[{i}]", invalid) for i, x in enumerate(v)]
     invalid.append(f"{path}: unreadable value {type(v).__name__}")
     return None
+
+
+def unknown_ordinal(enum: type, value: Any, path: str) -> str:
+    return f"{path}: unknown {enum.__name__} ordinal {value!r}"
+
+
+def too_many(n: int, path: str) -> str:
+    return f"{path}: {n} elements, more than {MAX_SATELLITES}; the first {MAX_SATELLITES} kept"
 
 
 def _check_range(name: str, v: float, path: str, invalid: list[str]) -> None:

@@ -6,6 +6,10 @@ or only the key for a dispose or an instance that lost its writers) and turns it
 topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
 (`console/replay.py`) calls it for every recorded message. A sample that cannot be decoded is
 counted per topic and logged, never raised.
+
+Samples are decoded by the code `console/fastcdr.py` generates per type (a report straight to its
+JSON, the same as `convert.to_json` of cyclonedds' sample, a status to the same sample cyclonedds
+builds); a key (disposes, lost writers) by cyclonedds.
 """
 
 from __future__ import annotations
@@ -18,7 +22,7 @@ from typing import Any
 
 from cyclonedds.core import InstanceState
 
-from sem_console.console.convert import to_json
+from sem_console.console import fastcdr
 from sem_console.dds.topics import Sem, Service
 
 log = logging.getLogger("sem-console.ingest")
@@ -40,7 +44,7 @@ class ReportItem:
     invalid: list[str]
     alive: bool
     received_at: float
-    sample: Any = None  # decoded but not yet converted to JSON (`Decoder.decode(..., convert=False)`)
+    sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
 
 
 @dataclass
@@ -63,57 +67,86 @@ def guid(raw: Any) -> uuid.UUID | None:
         return None
 
 
+@dataclass(frozen=True)
+class _Route:
+    """What `Decoder.decode` needs of a topic, looked up once per sample."""
+
+    name: str
+    type: type
+    fast: fastcdr.TypeDecoder
+    report: str | None  # the report's topic name (report topics)
+    service: Service | None  # status and ack topics
+    kind: str  # "report" | "status" | "ack"
+
+
+_ROUTES: dict[Sem, _Route] = {
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), topic, None, "report")
+       for sem, topic in REPORT_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "status")
+       for sem, service in STATUS_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
+       for sem, service in ACK_TOPICS.items()},
+}
+_ALIVE = InstanceState.Alive
+
+
 class Decoder:
     def __init__(self) -> None:
         self.undecodable: dict[str, int] = {}
         self.decoded = 0
         self._counting = threading.Lock()  # both DDS ingest threads decode
 
-    def _bad(self, sem: Sem) -> None:
+    def _bad(self, name: str) -> None:
         with self._counting:
-            self.undecodable[sem.spec.name] = self.undecodable.get(sem.spec.name, 0) + 1
+            self.undecodable[name] = self.undecodable.get(name, 0) + 1
 
     def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float,
                convert: bool = True) -> Item | None:
         """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
         `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
         taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic.
-        With `convert` False a report keeps its decoded sample and no JSON yet (`convert`): a replay
-        rebuilding its state converts only the reports that are not superseded on the way."""
-        if sem not in REPORT_TOPICS and sem not in STATUS_TOPICS and sem not in ACK_TOPICS:
+        With `convert` False a report keeps its JSON aside (`convert` applies it): a replay rebuilding
+        its state applies only the reports that are not superseded on the way."""
+        route = _ROUTES.get(sem)
+        if route is None:
             return None
-        dtype = sem.spec.type
+        report = sample = None
         try:
-            sample = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
+            if not valid:
+                sample = route.type.deserialize_key(data)
+                source = guid(getattr(sample, "source", None))
+            elif route.report is not None:
+                report = route.fast.json(data)
+                text = report[0].get("source")
+                source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
+            else:
+                sample = route.fast.sample(data)
+                source = guid(getattr(sample, "source", None))
         except Exception as e:
-            self._bad(sem)
-            log.warning("undecodable sample on %s: %s", sem.spec.name, e)
+            self._bad(route.name)
+            log.warning("undecodable sample on %s: %s", route.name, e)
             return None
         with self._counting:
             self.decoded += 1
-        alive = instance_state == InstanceState.Alive
-        source = guid(getattr(sample, "source", None))
         if source is None:
-            self._bad(sem)
+            self._bad(route.name)
             return None
-        if sem in REPORT_TOPICS:
-            if not valid:
-                return ReportItem(REPORT_TOPICS[sem], source, None, [], False, received_at)
-            item = ReportItem(REPORT_TOPICS[sem], source, None, [], alive, received_at, sample)
-            return self.convert(item) if convert else item
+        alive = instance_state == _ALIVE
+        if route.report is not None:
+            if report is None:
+                return ReportItem(route.report, source, None, [], False, received_at)
+            if convert:
+                return ReportItem(route.report, source, report[0], report[1], alive, received_at)
+            return ReportItem(route.report, source, None, [], alive, received_at, report)
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None
-        service = STATUS_TOPICS.get(sem) or ACK_TOPICS[sem]
-        kind = "status" if sem in STATUS_TOPICS else "ack"
-        return StatusItem(service, kind, source, session, sample if valid else None, alive)
+        assert route.service is not None
+        return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive)
 
     @staticmethod
     def convert(item: ReportItem) -> ReportItem:
-        """The report's JSON from its decoded sample."""
-        try:
-            item.report, item.invalid = to_json(item.sample)
-        except Exception as e:  # never let one bad sample stop the reader
-            item.report, item.invalid = {}, [f"sample could not be converted: {e}"]
+        """The report's JSON, decoded with the sample, applied to the item."""
+        item.report, item.invalid = item.sample
         item.sample = None
         return item

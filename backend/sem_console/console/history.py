@@ -134,7 +134,7 @@ class History:
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
-        self._slot: dict[tuple[str, str], int] = {}  # (table, provider) -> UTC second of its last point
+        self._slot: dict[tuple[str, uuid.UUID], int] = {}  # (table, provider) -> UTC second of its last point
         self._lock = asyncio.Lock()
         self._last_prune = 0.0
         # figures for /api/metrics
@@ -144,7 +144,7 @@ class History:
         self.max_write_seconds = 0.0
 
     # ---- on the loop ----------------------------------------------------------------------
-    def _due(self, table: str, provider: str, received_at: float) -> bool:
+    def _due(self, table: str, provider: uuid.UUID, received_at: float) -> bool:
         slot = math.floor(received_at)
         if self._slot.get((table, provider)) == slot:
             return False
@@ -153,17 +153,15 @@ class History:
 
     def on_fix(self, provider: uuid.UUID, received_at: float, fix: dict[str, Any], invalid: Sequence[str],
                fix_valid: bool | None) -> None:
-        pid = str(provider)
-        if not self._due("track", pid, received_at):
+        if not self._due("track", provider, received_at):  # most reports: the vehicle has this second's point
             return
-        point = track_point(pid, received_at, fix, invalid, fix_valid)
+        point = track_point(str(provider), received_at, fix, invalid, fix_valid)
         if point is not None:
             self._track.append(point)
 
     def on_gps(self, provider: uuid.UUID, received_at: float, gps: dict[str, Any]) -> None:
-        pid = str(provider)
-        if self._due("series", pid, received_at):
-            self._series.append(series_point(pid, received_at, gps))
+        if self._due("series", provider, received_at):
+            self._series.append(series_point(str(provider), received_at, gps))
 
     async def run(self) -> None:
         """Flush every FLUSH_INTERVAL until canceled (then once more)."""

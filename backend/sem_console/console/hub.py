@@ -18,10 +18,22 @@ import time
 from collections import deque
 from typing import Any, Awaitable, Callable
 
+import orjson
+
 log = logging.getLogger("sem-console.hub")
 
 
 MAX_QUEUED_BYTES = 64 * 1024 * 1024
+
+
+def dumps(message: dict[str, Any]) -> str:
+    """Compact JSON, by orjson (a tenth of json.dumps' CPU for a report); json.dumps for what orjson
+    refuses (an integer past 64 bits). orjson writes a non-finite float as null, json.dumps as NaN,
+    which no browser parses: reports never carry one (convert nulls them)."""
+    try:
+        return orjson.dumps(message, option=orjson.OPT_NON_STR_KEYS).decode()
+    except TypeError:
+        return json.dumps(message, separators=(",", ":"))
 
 
 class Client:
@@ -92,7 +104,7 @@ class Hub:
     def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None) -> None:
         if not self.clients:
             return
-        text = json.dumps(message, separators=(",", ":"))
+        text = dumps(message)
         self.published += len(self.clients)
         for c in list(self.clients):
             c.push(text, key)

@@ -266,9 +266,10 @@ class Console:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
                 self.reports_applied += 1
-                message = {"type": "report", "providerId": str(it.source), "topic": it.topic, "report": p.reports[it.topic]}
+                pid = str(it.source)
+                message = {"type": "report", "providerId": pid, "topic": it.topic, "report": p.reports[it.topic]}
                 if not self.quiet:
-                    self.hub.publish(message, key=(str(it.source), it.topic))
+                    self.hub.publish(message, key=(pid, it.topic))
                     self.feed.publish(message)
                 self._record(p, it)
 

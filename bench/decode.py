@@ -1,0 +1,104 @@
+"""Decode cost per SEM topic, µs per sample: the console's generated decoder (console/fastcdr.py) beside
+cyclonedds' own deserializer, in the same run, on the same bytes. Reports are the simulator's (a
+GPSReport of 40 satellites, every optional member present, as sem-sim sends them); status, ack and
+command samples are random (backend/tests/samplegen.py). Each topic in every encoding its writers may
+use: XCDR2 for the types with @optional members, XCDR1 (what writers offer) and XCDR2 for the others.
+
+Columns: cyclonedds = `T.deserialize`; cyclonedds+json = that and `convert.to_json` (the console's
+path before the generated decoder); console = what the console runs now (a report straight to its
+JSON, a status to its sample). The last row is the decode cost per vehicle-second at the ingest
+benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz). CPU time, best of several rounds.
+Usage: python bench/decode.py [--rounds 5]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import random
+import sys
+import time
+import uuid
+from typing import Any, Callable
+
+from common import ROOT, emit, table
+
+sys.path.insert(0, str(ROOT / "backend" / "tests"))
+
+from samplegen import random_sample  # noqa: E402
+
+from sem_console.console import fastcdr  # noqa: E402
+from sem_console.console.convert import to_json  # noqa: E402
+from sem_console.console.decode import REPORT_TOPICS  # noqa: E402
+from sem_console.dds.topics import Sem  # noqa: E402
+from sem_console.sim.options import SimOptions  # noqa: E402
+from sem_console.sim.reports import Sensors  # noqa: E402
+
+RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
+
+
+def samples() -> dict[Sem, Any]:
+    s = Sensors(SimOptions(vehicles=1, satellites=40), 1, uuid.UUID(int=1), set())
+    now = time.monotonic()
+    sats = s.satellites(now)
+    fix, status = s.fix_reports(now, sats)
+    out: dict[Sem, Any] = {Sem.GPS_REPORT: s.gps_report(now, sats), Sem.GPS_FIX_REPORT: fix,
+                           Sem.GPS_FIX_STATUS_REPORT: status, Sem.INS_REPORT: s.ins_report(now)}
+    rng = random.Random(1)
+    for sem in Sem:
+        out.setdefault(sem, random_sample(sem.spec.type, rng))
+    return out
+
+
+def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:
+    """CPU µs per call, the best of `rounds` rounds of about 50 ms each."""
+    t0 = time.process_time()
+    fn(data)
+    n = max(1, int(0.05 / max(time.process_time() - t0, 1e-6)))
+    best = float("inf")
+    for _ in range(rounds):
+        t0 = time.process_time()
+        for _ in range(n):
+            fn(data)
+        best = min(best, (time.process_time() - t0) / n)
+    return best * 1e6
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--rounds", type=int, default=5)
+    args = ap.parse_args()
+    rows, figures = [], []
+    per_vehicle = {"cyclonedds_json": 0.0, "console": 0.0}
+    for sem, sample in samples().items():
+        t = sem.spec.type
+        dec = fastcdr.decoder(t)
+        report = sem in REPORT_TOPICS
+        ours = dec.json if report else dec.sample
+        for v2 in ([True] if sem.spec.xcdr2_only else [False, True]):
+            data = t.serialize(sample, use_version_2=v2)
+            cdds = cpu_us(t.deserialize, data, args.rounds)
+            cdds_json = cpu_us(lambda d: to_json(t.deserialize(d)), data, args.rounds) if report else None
+            console = cpu_us(ours, data, args.rounds)
+            before = cdds_json if cdds_json is not None else cdds
+            r = {"topic": sem.spec.name.rsplit("::", 1)[1], "encoding": "XCDR2" if v2 else "XCDR1", "bytes": len(data),
+                 "cyclonedds_us": round(cdds, 1), "cyclonedds_json_us": None if cdds_json is None else round(cdds_json, 1),
+                 "console_us": round(console, 1), "console_mode": "json" if report else "sample",
+                 "speedup_vs_cyclonedds": round(cdds / console, 1), "speedup_vs_before": round(before / console, 1)}
+            figures.append(r)
+            rows.append(list(r.values()))
+            # the encoding the simulator's writers use: XCDR2 for types with optionals, else XCDR1
+            if sem in RATES and v2 == sem.spec.xcdr2_only:
+                per_vehicle["cyclonedds_json"] += RATES[sem] * before
+                per_vehicle["console"] += RATES[sem] * console
+    keys = list(figures[0])
+    rows.append(["per vehicle-second (ms)", "as sent", "", "", round(per_vehicle["cyclonedds_json"] / 1000, 3), round(per_vehicle["console"] / 1000, 3),
+                 "", "", round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1)])
+    table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
+    print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
+                    "load_average": round(os.getloadavg()[0], 2)})
+
+
+if __name__ == "__main__":
+    main()
