@@ -1,5 +1,5 @@
 // The only way panels read state: hooks over the store and the connection.
-import { createContext, useCallback, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
@@ -18,7 +18,7 @@ import {
   selectedName,
   selectedTopic,
   selectedTrails,
-  tasksLoaded,
+  tasksReplaced,
   trackLoaded,
   worldModelLoaded,
   type Alert,
@@ -87,24 +87,36 @@ export function throttle(fn: () => void, ms: number): { (): void; cancel: () => 
   return call;
 }
 
-/** A slice of the state by a stable selector (a module-level function such as store.ts's
- * selectedTopic("GPSReport")): the component is woken only when the slice changes, and at most every
- * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
-export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
-  const { store } = useData();
-  const subscribe = useCallback(
-    (onChange: () => void) => {
-      if (!throttleMs) return store.subscribeTo(select, onChange);
-      const t = throttle(onChange, throttleMs);
+/** A slice of the state as an external store for useSyncExternalStore, notified at most every `throttleMs`
+ * (0: on every change). Throttled, the value read is the one the last notification took, not the live one:
+ * a render for another reason (a mouse move, a timer) shows the same value and does not bypass the cap. */
+export function sliceSource<T>(store: Store, select: (s: State) => T, throttleMs = 0): { subscribe: (onChange: () => void) => () => void; getSnapshot: () => T } {
+  if (!throttleMs) return { subscribe: (onChange) => store.subscribeTo(select, onChange), getSnapshot: () => select(store.getState()) };
+  let value = select(store.getState());
+  return {
+    subscribe: (onChange) => {
+      value = select(store.getState()); // what changed while nobody listened (useSyncExternalStore then renders it)
+      const t = throttle(() => {
+        value = select(store.getState());
+        onChange();
+      }, throttleMs);
       const off = store.subscribeTo(select, t);
       return () => {
         off();
         t.cancel();
       };
     },
-    [store, select, throttleMs],
-  );
-  return useSyncExternalStore(subscribe, () => select(store.getState()));
+    getSnapshot: () => value,
+  };
+}
+
+/** A slice of the state by a stable selector (a module-level function such as store.ts's
+ * selectedTopic("GPSReport")): the component is woken only when the slice changes, and at most every
+ * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
+export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
+  const { store } = useData();
+  const src = useMemo(() => sliceSource(store, select, throttleMs), [store, select, throttleMs]);
+  return useSyncExternalStore(src.subscribe, src.getSnapshot);
 }
 
 /** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
@@ -314,8 +326,9 @@ const loadWorldModel = async (token: string | null, store: Store) => {
   store.update((s) => worldModelLoaded(s, model, seq));
 };
 const loadTasks = async (token: string | null, store: Store) => {
+  const seq = store.getState().taskSeq;
   const list = await tasks(token);
-  store.update((s) => tasksLoaded(s, list));
+  store.update((s) => tasksReplaced(s, list, seq));
 };
 
 /** The CoMap world model (WebSocket `worldmodel` messages); null while the console has none (404: CoMap is off). */
