@@ -59,29 +59,50 @@ function toBoundary(ms: number): number {
   return ms - (Date.now() % ms);
 }
 
+/** The pending calls for the next multiple of `ms` of the clock, run by one timer: throttled slices of one
+ * period are refreshed in the same task, so React renders a panel reading two of them (the sky plot's
+ * satellites and trails) once, not once per slice. */
+const boundaries = new Map<number, Set<() => void>>();
+
+function atBoundary(ms: number, fn: () => void): () => void {
+  let due = boundaries.get(ms);
+  if (!due) {
+    const set = new Set<() => void>();
+    boundaries.set(ms, set);
+    setTimeout(() => {
+      boundaries.delete(ms);
+      for (const f of set) f();
+    }, toBoundary(ms));
+    due = set;
+  }
+  const set = due;
+  set.add(fn);
+  return () => set.delete(fn);
+}
+
 /** `fn` called at most about once every `ms`: at once when it was quiet, else at the next multiple of
  * `ms` of the clock (with every call in between folded into one); `cancel` drops a pending call. */
 export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
-  let timer: ReturnType<typeof setTimeout> | null = null;
+  let waiting: (() => void) | null = null; // cancels the wait for the next boundary
   let pending = false;
   const end = () => {
-    timer = null;
+    waiting = null;
     if (!pending) return;
     pending = false;
     fn();
-    timer = setTimeout(end, toBoundary(ms));
+    waiting = atBoundary(ms, end);
   };
   const call = () => {
-    if (timer) {
+    if (waiting) {
       pending = true;
       return;
     }
     fn();
-    timer = setTimeout(end, toBoundary(ms));
+    waiting = atBoundary(ms, end);
   };
   call.cancel = () => {
-    if (timer) clearTimeout(timer);
-    timer = null;
+    waiting?.();
+    waiting = null;
     pending = false;
   };
   return call;
@@ -219,24 +240,24 @@ export function useNow(periodMs = 500): number {
 
 interface Ticker {
   listeners: Set<() => void>;
-  timer: ReturnType<typeof setTimeout> | null;
+  stop: () => void; // cancels the wait for the next tick
 }
 
 const tickers = new Map<number, Ticker>();
 
 /** Call `l` every `periodMs` (on multiples of it of the clock), on one timer for all callers of that
- * period, so the panels showing ages update together (one render and one layout) and not each on a
- * timer of its own. */
+ * period and the throttled slices of the same period, so the panels showing ages update together (one
+ * render and one layout) and not each on a timer of its own. */
 function onTick(periodMs: number, l: () => void): () => void {
   let ticker = tickers.get(periodMs);
   if (!ticker) {
     const listeners = new Set<() => void>();
-    const t: Ticker = { listeners, timer: null };
+    const t: Ticker = { listeners, stop: () => undefined };
     const tick = () => {
       listeners.forEach((f) => f());
-      if (tickers.get(periodMs) === t) t.timer = setTimeout(tick, toBoundary(periodMs)); // not if the last listener left
+      if (tickers.get(periodMs) === t) t.stop = atBoundary(periodMs, tick); // not if the last listener left
     };
-    t.timer = setTimeout(tick, toBoundary(periodMs));
+    t.stop = atBoundary(periodMs, tick);
     ticker = t;
     tickers.set(periodMs, ticker);
   }
@@ -245,7 +266,7 @@ function onTick(periodMs: number, l: () => void): () => void {
   return () => {
     t.listeners.delete(l);
     if (t.listeners.size) return;
-    if (t.timer) clearTimeout(t.timer);
+    t.stop();
     tickers.delete(periodMs);
   };
 }

@@ -111,6 +111,21 @@ describe("throttle", () => {
     vi.advanceTimersByTime(1000);
     expect(calls).toBe(3);
   });
+
+  it("throttles of one period wait on one timer: the panels they wake render in the same task", () => {
+    vi.useFakeTimers();
+    vi.setSystemTime(0);
+    const order: string[] = [];
+    const a = throttle(() => order.push("a"), 500);
+    const b = throttle(() => order.push("b"), 500);
+    a();
+    b();
+    a();
+    b();
+    expect(vi.getTimerCount()).toBe(1);
+    vi.advanceTimersByTime(500);
+    expect(order).toEqual(["a", "b", "a", "b"]);
+  });
 });
 
 describe("a throttled slice", () => {
