@@ -72,7 +72,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   };
   const remove = (id: unknown) => {
     setDeleted((d) => [...d, id]);
-    if (id === picked) unpick();
+    unpick(); // the picked feature may be the one deleted
     setDraft({ ...model, features: model.features.filter((f) => f.properties?.featureId !== id) });
   };
   const importFile = (file: File | undefined) => {
