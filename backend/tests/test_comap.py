@@ -214,3 +214,25 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
         assert p.returncode == 2 and text in p.stderr and len(p.stderr.strip().splitlines()) <= 2, (args, p.stderr)
+
+
+def test_new_feature_ids_are_not_reused_after_a_delete() -> None:
+    """A feature PUT without an id is numbered above every id the C2 has seen (not the lowest free one):
+    a deleted feature's id, whose survey may still report CoverageState, is not given to a new feature."""
+    from sem_console.comap.c2 import C2
+    from sem_console.comap.codec import Header
+    from sem_console.comap.geo import Feature, world_model_message
+
+    sent: list[Any] = []
+    c2 = C2({}, lambda m, dst: sent.append(m), lambda ws: None)
+    pt = [(1.0, 2.0)]
+    c2.put_world_model([Feature(1, pt), Feature(2, pt), Feature(-1, pt)])
+    assert [f.feature_id for f in c2.features] == [1, 2, 3]
+    c2.put_world_model([Feature(1, pt)])  # #2 and #3 deleted
+    c2.put_world_model([Feature(1, pt), Feature(-1, pt), Feature(-1, pt)])
+    assert [f.feature_id for f in c2.features] == [1, 4, 5]
+    # ids in a world model a peer sent count too
+    c2.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0xFFFF, dst_ent=0), world_model_message([Feature(9, pt)]))
+    c2.put_world_model([Feature(-1, pt)])
+    assert [f.feature_id for f in c2.features] == [10]
+    assert len(sent) == 4 and sent[-1].name == "WorldModel"

@@ -138,7 +138,12 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", PARTIAL.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "PARTIAL", color: PARTIAL.hex });
 
-  // then COMPLETED, the task too
+  // an edit draft opened now still shows the coverage the vehicle reports, and no survey is assigned from it
+  await comap.getByTestId("edit-features").click();
+  await expect(comap.getByTestId("draft-note")).toBeVisible();
+  await expect(comap.getByRole("button", { name: "Survey", exact: true })).toBeDisabled();
+
+  // then COMPLETED (shown through the draft), the task too
   await expect(feature).toHaveAttribute("data-coverage", "COMPLETED", { timeout: 60_000 });
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", COMPLETED.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "COMPLETED", color: COMPLETED.hex });
@@ -148,6 +153,13 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   expect(states.slice(0, 2)).toEqual(["ASSIGNED", "ACCEPTED"]);
   expect(states).toContain("IN_PROGRESS");
   expect(states[states.length - 1]).toBe("COMPLETED");
+
+  // sending the draft opened while PARTIAL keeps the console's coverage (COMPLETED), not the draft's copy
+  await comap.getByTestId("edit-features").click(); // done editing
+  await comap.getByTestId("send-worldmodel").click();
+  await expect(comap.getByTestId("send-worldmodel")).toBeDisabled();
+  const resent = (await (await page.request.get(`${stack.url}/api/worldmodel`)).json()) as Model;
+  expect(resent.features.find((f) => f.properties.featureId === fid)?.properties.coverage).toBe("COMPLETED");
 
   // the vehicle's stored UMAA track went over the polygon
   await expect
@@ -169,5 +181,13 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await expect(comap.getByTestId("send-worldmodel")).toBeDisabled();
   const after = (await (await page.request.get(`${stack.url}/api/worldmodel`)).json()) as Model;
   expect(after.features.map((f) => f.properties.featureId)).not.toContain(fid);
+
+  // a feature drawn next does not take the deleted one's id (its survey's coverage would colour it)
+  await comap.getByRole("button", { name: "Draw feature" }).click();
+  await page.mouse.click(mid.x, mid.y);
+  await comap.getByRole("button", { name: "Finish (1 points)" }).click();
+  const drawnId = Number(await comap.getByTestId("feature").last().getAttribute("data-feature-id"));
+  expect(drawnId).toBeGreaterThan(fid);
+  await comap.getByRole("button", { name: "Discard changes" }).click();
   expect(foreign).toEqual([]);
 });

@@ -112,6 +112,21 @@ test("a collapsed panel stays collapsed across a reload, and expands again", asy
   await expect(sats.getByTestId("satellite-table")).toBeVisible();
 });
 
+test("the map collapsed and expanded again frames the vehicles again and keeps the tool's cursor", async ({ page }) => {
+  await open(page);
+  const map = page.getByTestId("map");
+  await expect(map).toHaveAttribute("data-ready", "true");
+  const zoom = () => page.evaluate(() => window.__semMap?.getZoom() ?? 0);
+  await expect.poll(zoom, { timeout: 30_000 }).toBeGreaterThan(3); // the first frame: the vehicles, not the world (zoom 1)
+  await page.getByTestId("map-measure").click();
+  await page.getByTestId("map-panel-collapse").click();
+  await expect(map).toHaveCount(0);
+  await page.getByTestId("map-panel-collapse").click();
+  await expect(map).toHaveAttribute("data-ready", "true");
+  await expect.poll(zoom, { timeout: 30_000 }).toBeGreaterThan(3);
+  await expect.poll(() => page.evaluate(() => window.__semMap!.getCanvas().style.cursor)).toBe("crosshair");
+});
+
 for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900 }]) {
   test(`at ${viewport.width}x${viewport.height} every panel fits the width and the satellite table is not cut off`, async ({ page }) => {
     await page.setViewportSize(viewport);

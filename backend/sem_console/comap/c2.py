@@ -103,22 +103,33 @@ class C2:
         self.world_source: str | None = None
         self.tasks: dict[int, Task] = {}
         self._next_task = 1
+        self._highest_feature = 0  # the highest featureId this console has seen: new features are numbered above it
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
         return {**collection(self.features), "updatedAt": self.world_updated_at, "source": self.world_source}
 
     def put_world_model(self, features: list[Feature]) -> dict[str, Any]:
-        """Replace the model (ids given by the operator kept, the others numbered) and send it to every peer."""
+        """Replace the model (ids given by the operator kept, the others numbered) and send it to every peer.
+        A feature without an id gets one above every id seen so far (in this model, the models before it and
+        the tasks), so it never takes the id of a deleted feature whose survey may still report coverage; only
+        when those run out (ids go to 65534) is a lower id not in this model used."""
         used = {f.feature_id for f in features if f.feature_id >= 0}
-        free = (i for i in range(1, 0xFFFF) if i not in used)
+        self._saw_features(used)
+        fresh = iter(range(self._highest_feature + 1, 0xFFFF))  # 0..65534
+        reuse = (i for i in range(1, 0xFFFF) if i not in used)
         for f in features:
             if f.feature_id < 0:
-                f.feature_id = next(free)
+                f.feature_id = next(fresh, None) or next(reuse)
+                used.add(f.feature_id)
+                self._saw_features([f.feature_id])
         self.features = features
         self._world_changed("operator")
         self.send(world_model_message(self.features), BROADCAST)
         return self.world_model()
+
+    def _saw_features(self, ids: Any) -> None:
+        self._highest_feature = max([self._highest_feature, *ids])
 
     def _world_changed(self, source: str) -> None:
         self.world_updated_at, self.world_source = time.time(), source
@@ -136,6 +147,7 @@ class C2:
             except GeoError as e:
                 log.warning("ignored a WorldModel from IMC system %d: %s", header.src, e)
                 return
+            self._saw_features(f.feature_id for f in self.features)
             self._world_changed(f"imc:{header.src}")
         elif m.name == "CoverageState":
             self._coverage(m["feature_id"], m["state"])

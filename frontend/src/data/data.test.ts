@@ -173,6 +173,17 @@ describe("CoMap world model and tasks", () => {
     expect(kept.tasks[2].state).toBe("COMPLETED");
     expect(tasksLoaded(kept, [task("ASSIGNED", 10) as never])).toBe(kept); // nothing newer: the same state
   });
+  it("the REST load per connection says which tasks exist: a restarted console's old tasks go", async () => {
+    const { tasksReplaced } = await import("./store");
+    let s = reduce(initialState, { type: "task", task: task("EXECUTING", 10, 1) } as unknown as ServerMessage, 1);
+    s = reduce(s, { type: "task", task: task("EXECUTING", 10, 2) } as unknown as ServerMessage, 1);
+    const seq = s.taskSeq; // the console restarts, the page reconnects and asks GET /api/tasks here...
+    s = reduce(s, { type: "task", task: task("ASSIGNED", 20, 3) } as unknown as ServerMessage, 2); // ...a new task's message overtakes it
+    const after = tasksReplaced(s, [task("ASSIGNED", 5, 1) as never], seq); // the new console's task 1
+    expect(Object.keys(after.tasks).map(Number).sort()).toEqual([1, 3]); // old task 2 gone; task 3 came after the request
+    expect(after.tasks[1].state).toBe("ASSIGNED");
+    expect(tasksReplaced(s, [], s.taskSeq).tasks).toEqual({});
+  });
 });
 
 describe("store and connection", () => {

@@ -1,5 +1,5 @@
 // The only way panels read state: hooks over the store and the connection.
-import { createContext, useCallback, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
@@ -18,7 +18,7 @@ import {
   selectedName,
   selectedTopic,
   selectedTrails,
-  tasksLoaded,
+  tasksReplaced,
   trackLoaded,
   worldModelLoaded,
   type Alert,
@@ -59,32 +59,76 @@ function toBoundary(ms: number): number {
   return ms - (Date.now() % ms);
 }
 
+/** The pending calls for the next multiple of `ms` of the clock, run by one timer: throttled slices of one
+ * period are refreshed in the same task, so React renders a panel reading two of them (the sky plot's
+ * satellites and trails) once, not once per slice. */
+const boundaries = new Map<number, Set<() => void>>();
+
+function atBoundary(ms: number, fn: () => void): () => void {
+  let due = boundaries.get(ms);
+  if (!due) {
+    const set = new Set<() => void>();
+    boundaries.set(ms, set);
+    setTimeout(() => {
+      boundaries.delete(ms);
+      for (const f of set) f();
+    }, toBoundary(ms));
+    due = set;
+  }
+  const set = due;
+  set.add(fn);
+  return () => set.delete(fn);
+}
+
 /** `fn` called at most about once every `ms`: at once when it was quiet, else at the next multiple of
  * `ms` of the clock (with every call in between folded into one); `cancel` drops a pending call. */
 export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
-  let timer: ReturnType<typeof setTimeout> | null = null;
+  let waiting: (() => void) | null = null; // cancels the wait for the next boundary
   let pending = false;
   const end = () => {
-    timer = null;
+    waiting = null;
     if (!pending) return;
     pending = false;
     fn();
-    timer = setTimeout(end, toBoundary(ms));
+    waiting = atBoundary(ms, end);
   };
   const call = () => {
-    if (timer) {
+    if (waiting) {
       pending = true;
       return;
     }
     fn();
-    timer = setTimeout(end, toBoundary(ms));
+    waiting = atBoundary(ms, end);
   };
   call.cancel = () => {
-    if (timer) clearTimeout(timer);
-    timer = null;
+    waiting?.();
+    waiting = null;
     pending = false;
   };
   return call;
+}
+
+/** A slice of the state as an external store for useSyncExternalStore, notified at most every `throttleMs`
+ * (0: on every change). Throttled, the value read is the one the last notification took, not the live one:
+ * a render for another reason (a mouse move, a timer) shows the same value and does not bypass the cap. */
+export function sliceSource<T>(store: Store, select: (s: State) => T, throttleMs = 0): { subscribe: (onChange: () => void) => () => void; getSnapshot: () => T } {
+  if (!throttleMs) return { subscribe: (onChange) => store.subscribeTo(select, onChange), getSnapshot: () => select(store.getState()) };
+  let value = select(store.getState());
+  return {
+    subscribe: (onChange) => {
+      value = select(store.getState()); // what changed while nobody listened (useSyncExternalStore then renders it)
+      const t = throttle(() => {
+        value = select(store.getState());
+        onChange();
+      }, throttleMs);
+      const off = store.subscribeTo(select, t);
+      return () => {
+        off();
+        t.cancel();
+      };
+    },
+    getSnapshot: () => value,
+  };
 }
 
 /** A slice of the state by a stable selector (a module-level function such as store.ts's
@@ -92,19 +136,8 @@ export function throttle(fn: () => void, ms: number): { (): void; cancel: () => 
  * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
 export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
   const { store } = useData();
-  const subscribe = useCallback(
-    (onChange: () => void) => {
-      if (!throttleMs) return store.subscribeTo(select, onChange);
-      const t = throttle(onChange, throttleMs);
-      const off = store.subscribeTo(select, t);
-      return () => {
-        off();
-        t.cancel();
-      };
-    },
-    [store, select, throttleMs],
-  );
-  return useSyncExternalStore(subscribe, () => select(store.getState()));
+  const src = useMemo(() => sliceSource(store, select, throttleMs), [store, select, throttleMs]);
+  return useSyncExternalStore(src.subscribe, src.getSnapshot);
 }
 
 /** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
@@ -207,24 +240,24 @@ export function useNow(periodMs = 500): number {
 
 interface Ticker {
   listeners: Set<() => void>;
-  timer: ReturnType<typeof setTimeout> | null;
+  stop: () => void; // cancels the wait for the next tick
 }
 
 const tickers = new Map<number, Ticker>();
 
 /** Call `l` every `periodMs` (on multiples of it of the clock), on one timer for all callers of that
- * period, so the panels showing ages update together (one render and one layout) and not each on a
- * timer of its own. */
+ * period and the throttled slices of the same period, so the panels showing ages update together (one
+ * render and one layout) and not each on a timer of its own. */
 function onTick(periodMs: number, l: () => void): () => void {
   let ticker = tickers.get(periodMs);
   if (!ticker) {
     const listeners = new Set<() => void>();
-    const t: Ticker = { listeners, timer: null };
+    const t: Ticker = { listeners, stop: () => undefined };
     const tick = () => {
       listeners.forEach((f) => f());
-      if (tickers.get(periodMs) === t) t.timer = setTimeout(tick, toBoundary(periodMs)); // not if the last listener left
+      if (tickers.get(periodMs) === t) t.stop = atBoundary(periodMs, tick); // not if the last listener left
     };
-    t.timer = setTimeout(tick, toBoundary(periodMs));
+    t.stop = atBoundary(periodMs, tick);
     ticker = t;
     tickers.set(periodMs, ticker);
   }
@@ -233,7 +266,7 @@ function onTick(periodMs: number, l: () => void): () => void {
   return () => {
     t.listeners.delete(l);
     if (t.listeners.size) return;
-    if (t.timer) clearTimeout(t.timer);
+    t.stop();
     tickers.delete(periodMs);
   };
 }
@@ -314,8 +347,9 @@ const loadWorldModel = async (token: string | null, store: Store) => {
   store.update((s) => worldModelLoaded(s, model, seq));
 };
 const loadTasks = async (token: string | null, store: Store) => {
+  const seq = store.getState().taskSeq;
   const list = await tasks(token);
-  store.update((s) => tasksLoaded(s, list));
+  store.update((s) => tasksReplaced(s, list, seq));
 };
 
 /** The CoMap world model (WebSocket `worldmodel` messages); null while the console has none (404: CoMap is off). */

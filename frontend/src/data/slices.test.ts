@@ -2,7 +2,7 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { ServerMessage, Topic } from "../api/types";
 import { Store } from "./connection";
-import { throttle } from "./hooks";
+import { sliceSource, throttle } from "./hooks";
 import { allProviders, selectedKnown, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State } from "./store";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -110,5 +110,52 @@ describe("throttle", () => {
     f.cancel();
     vi.advanceTimersByTime(1000);
     expect(calls).toBe(3);
+  });
+
+  it("throttles of one period wait on one timer: the panels they wake render in the same task", () => {
+    vi.useFakeTimers();
+    vi.setSystemTime(0);
+    const order: string[] = [];
+    const a = throttle(() => order.push("a"), 500);
+    const b = throttle(() => order.push("b"), 500);
+    a();
+    b();
+    a();
+    b();
+    expect(vi.getTimerCount()).toBe(1);
+    vi.advanceTimersByTime(500);
+    expect(order).toEqual(["a", "b", "a", "b"]);
+  });
+});
+
+describe("a throttled slice", () => {
+  afterEach(() => {
+    vi.useRealTimers();
+  });
+
+  it("reads the value of its last notification: a render for another reason does not show a newer one", () => {
+    vi.useFakeTimers();
+    vi.setSystemTime(0);
+    const { store, send } = setup({});
+    const src = sliceSource(store, allProviders, 1000);
+    let woken = 0;
+    const off = src.subscribe(() => woken++);
+    const first = src.getSnapshot();
+    send(A, "GPSFixReport"); // at once: it was quiet
+    expect(woken).toBe(1);
+    const second = src.getSnapshot();
+    expect(second).not.toBe(first);
+    send(A, "GPSFixReport");
+    send(B, "GPSFixReport");
+    expect(woken).toBe(1);
+    expect(src.getSnapshot()).toBe(second); // the store changed, the throttled value did not
+    expect(store.getState().providers).not.toBe(second);
+    vi.advanceTimersByTime(1000);
+    expect(woken).toBe(2);
+    expect(src.getSnapshot()).toBe(store.getState().providers);
+    off();
+    const unthrottled = sliceSource(store, allProviders);
+    send(A, "GPSFixReport");
+    expect(unthrottled.getSnapshot()).toBe(store.getState().providers);
   });
 });

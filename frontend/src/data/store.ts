@@ -69,6 +69,8 @@ export interface State {
   worldModel: FeatureCollection | null;
   worldModelSeq: number; // `worldmodel` messages received: a REST answer older than one of them is dropped
   tasks: Record<number, Task>;
+  taskSeq: number; // `task` messages received
+  taskMessageSeq: Record<number, number>; // each task's last `task` message (its taskSeq then)
 }
 
 export const TRAIL_SECONDS = 600;
@@ -92,6 +94,8 @@ export const initialState: State = {
   worldModel: null,
   worldModelSeq: 0,
   tasks: {},
+  taskSeq: 0,
+  taskMessageSeq: {},
 };
 
 export function report<T extends Topic>(p: ProviderView | undefined, topic: T): ReportTypes[T] | null {
@@ -301,8 +305,11 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       return applyRecording(state, msg.recording, now);
     case "worldmodel":
       return { ...state, worldModel: msg.worldModel as unknown as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
-    case "task":
-      return tasksLoaded(state, [msg.task as unknown as Task]);
+    case "task": {
+      const t = msg.task as unknown as Task;
+      const taskSeq = state.taskSeq + 1;
+      return { ...tasksLoaded(state, [t]), taskSeq, taskMessageSeq: { ...state.taskMessageSeq, [t.taskId]: taskSeq } };
+    }
     case "replay": // the playback is the data source's (replay.ts), not the console's state
     case "error":
     case "pong":
@@ -325,6 +332,15 @@ export function tasksLoaded(state: State, tasks: Task[]): State {
     next = { ...(next ?? state.tasks), [t.taskId]: t };
   }
   return next ? { ...state, tasks: next } : state;
+}
+
+/** The tasks as GET /api/tasks gave them, asked when `taskSeq` was `seq`: the console's list is what exists
+ * (a task of a console since restarted goes), except a task whose `task` message came after the request
+ * (kept, merged by updatedAt). */
+export function tasksReplaced(state: State, tasks: Task[], seq: number): State {
+  const kept: Record<number, Task> = {};
+  for (const [id, t] of Object.entries(state.tasks)) if ((state.taskMessageSeq[Number(id)] ?? 0) > seq) kept[Number(id)] = t;
+  return tasksLoaded({ ...state, tasks: kept }, tasks);
 }
 
 /** A replay moved to another instant: what was built from the instants before it (trails, charts, alerts) goes. */

@@ -140,4 +140,27 @@ describe("CoMap geometry", () => {
     expect(moveVertex(fc, 99, 0, { lon: 6, lat: 7 })).toEqual(fc);
     expect(vertexHandles(null).features).toEqual([]);
   });
+  it("a moved vertex of a line of 3 or more vertices leaves it a line (not a polygon)", async () => {
+    const { moveVertex } = await import("./geo");
+    const line = { type: "LineString" as const, coordinates: [[0, 0], [1, 0], [2, 1]] };
+    const fc = { type: "FeatureCollection" as const, features: [{ type: "Feature" as const, geometry: line, properties: { featureId: 1 } }] };
+    expect(moveVertex(fc, 1, 2, { lon: 3, lat: 3 }).features[0].geometry).toEqual({ type: "LineString", coordinates: [[0, 0], [1, 0], [3, 3]] });
+  });
+  it("a new featureId is above every id used: both models, tasks' features, ids deleted", async () => {
+    const { nextFeatureId } = await import("./geo");
+    const fc = (...ids: number[]) => ({ type: "FeatureCollection" as const, features: ids.map((featureId) => ({ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [0, 0] }, properties: { featureId } })) });
+    expect(nextFeatureId([fc(1, 2), fc(1, 2, 3)])).toBe(4); // #3 deleted in the draft, still in the console's model
+    expect(nextFeatureId([fc(1), fc(1)], [5, null, undefined])).toBe(6); // #5 deleted and sent, or a task's feature
+    expect(nextFeatureId([null, null], [])).toBe(1);
+  });
+  it("an edit draft shows and sends the console's coverage by featureId, not the coverage it was copied with", async () => {
+    const { withLiveCoverage } = await import("./geo");
+    const f = (featureId: number, coverage: string | null, x = 0) => ({ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [x, 0] }, properties: { featureId, coverage } });
+    const draft = { type: "FeatureCollection" as const, features: [f(1, "NONE", 9), f(2, null), f(7, "PARTIAL")] };
+    const live = { type: "FeatureCollection" as const, features: [f(1, "COMPLETED"), f(2, "PARTIAL")] };
+    const out = withLiveCoverage(draft, live);
+    expect(out.features.map((x) => x.properties?.coverage)).toEqual(["COMPLETED", "PARTIAL", null]); // #7 is new: none
+    expect(out.features[0].geometry).toEqual({ type: "Point", coordinates: [9, 0] }); // the draft's geometry
+    expect(withLiveCoverage(draft, null).features.map((x) => x.properties?.coverage)).toEqual([null, null, null]);
+  });
 });

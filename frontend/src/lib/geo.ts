@@ -154,22 +154,41 @@ export function drawnGeometry(points: LonLat[]): Point | LineString | Polygon | 
   return { type: "Polygon", coordinates: [[...pts, pts[0]]] };
 }
 
-/** The next free featureId of a world model (1 for an empty one). */
-export function nextFeatureId(fc: FeatureCollection | null): number {
-  const ids = (fc?.features ?? []).map((f) => Number(f.properties?.featureId)).filter((n) => Number.isInteger(n));
-  return ids.length ? Math.max(...ids) + 1 : 1;
+/** The next featureId: above every id of the given world models and of `used` (tasks' features, ids deleted
+ * this session), so a new feature never takes the id of a deleted one (whose CoverageState may still come). */
+export function nextFeatureId(fcs: FeatureCollection | null | (FeatureCollection | null)[], used: Iterable<unknown> = []): number {
+  let max = 0;
+  const see = (v: unknown) => {
+    const n = Number(v);
+    if (v !== null && Number.isInteger(n) && n > max) max = n;
+  };
+  for (const fc of Array.isArray(fcs) ? fcs : [fcs]) for (const f of fc?.features ?? []) see(f.properties?.featureId);
+  for (const v of used) see(v);
+  return max + 1;
 }
 
-/** A file's text as a world model: a FeatureCollection whose features get an integer featureId when they lack one. */
-export function parseWorldModel(text: string): FeatureCollection {
+/** A file's text as a world model: a FeatureCollection whose features get an integer featureId when they lack
+ * one (from `from` on at least, so an import does not take an id already used). */
+export function parseWorldModel(text: string, from = 1): FeatureCollection {
   const j = JSON.parse(text) as FeatureCollection;
   if (j?.type !== "FeatureCollection" || !Array.isArray(j.features)) throw new Error("not a GeoJSON FeatureCollection");
-  let next = nextFeatureId(j);
+  let next = Math.max(from, nextFeatureId(j));
   const features = j.features.map((f) => {
     const id = Number(f.properties?.featureId);
     return { ...f, properties: { ...f.properties, featureId: Number.isInteger(id) ? id : next++, coverage: f.properties?.coverage ?? null } };
   });
   return { type: "FeatureCollection", features };
+}
+
+/** An edit draft (geometry only) with each feature's coverage as the console's model has it now: coverage
+ * reported while the operator edits shows, and is what a Send carries (a feature new in the draft: null). */
+export function withLiveCoverage(draft: FeatureCollection, live: FeatureCollection | null): FeatureCollection {
+  const coverage = new Map((live?.features ?? []).map((f) => [f.properties?.featureId, f.properties?.coverage ?? null]));
+  const features = draft.features.map((f) => {
+    const c = coverage.get(f.properties?.featureId) ?? null;
+    return f.properties?.coverage === c ? f : { ...f, properties: { ...f.properties, coverage: c } };
+  });
+  return { ...draft, features };
 }
 
 /** The vertices of a geometry as drawn (a polygon's outer ring without its closing vertex). */
@@ -193,13 +212,18 @@ export function vertexHandles(fc: FeatureCollection | null): FeatureCollection<P
   return { type: "FeatureCollection", features };
 }
 
-/** The world model with vertex `index` of feature `featureId` moved to `to` (a polygon's ring stays closed). */
+/** The world model with vertex `index` of feature `featureId` moved to `to`: the geometry keeps its type (a
+ * line stays a line), and a polygon's ring stays closed. */
 export function moveVertex(fc: FeatureCollection, featureId: unknown, index: number, to: LonLat): FeatureCollection {
   const features = fc.features.map((f) => {
-    if (f.properties?.featureId !== featureId) return f;
-    const pts = vertices(f.geometry).map((c, i) => (i === index ? [to.lon, to.lat] : c));
+    const g = f.geometry;
+    if (f.properties?.featureId !== featureId || !g) return f;
+    const pts = vertices(g).map((c, i) => (i === index ? [to.lon, to.lat] : c));
     if (index < 0 || index >= pts.length) return f;
-    return { ...f, geometry: drawnGeometry(pts.map(([lon, lat]) => ({ lon, lat })))! };
+    if (g.type === "Point") return { ...f, geometry: { ...g, coordinates: pts[0] } };
+    if (g.type === "LineString") return { ...f, geometry: { ...g, coordinates: pts } };
+    if (g.type === "Polygon") return { ...f, geometry: { ...g, coordinates: [[...pts, pts[0]], ...g.coordinates.slice(1)] } };
+    return f;
   });
   return { ...fc, features };
 }

@@ -6,14 +6,16 @@ import { useState } from "react";
 import type { FeatureCollection } from "geojson";
 import { createTask, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
 import { useToken } from "../data/auth";
-import { useCapabilities, useSelectedProvider, useTasks, useVehicleCapabilities } from "../data/hooks";
+import { useCapabilities, useSelectedVehicle, useTasks, useVehicleCapabilities } from "../data/hooks";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
+import { countRender } from "../lib/renders";
 import { vehicleLabel } from "../lib/vehicle";
 
 export type MapTool = "select" | "measure" | "draw" | "edit" | "move-target";
 
 interface Props {
-  model: FeatureCollection; // what the map shows: the draft while editing, else the console's
+  model: FeatureCollection; // what the map shows: the draft (with the console's coverage) while editing, else the console's
+  consoleModel: FeatureCollection; // the console's world model: what a survey can be assigned on
   dirty: boolean;
   setDraft: (fc: FeatureCollection | null) => void; // null: back to the console's model
   tool: MapTool;
@@ -22,6 +24,7 @@ interface Props {
   clearDrawn: () => void;
   moveTarget: LonLat | null;
   picked: unknown; // the featureId clicked on the map with the edit tool, null for none
+  unpick: () => void;
 }
 
 type Sensor = Task["sensor"] & string;
@@ -38,10 +41,12 @@ function capabilityText(c: Capability): string {
   return parts.join(" ");
 }
 
-export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked }: Props) {
+export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked, unpick }: Props) {
+  countRender("comap");
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
-  const vehicle = useSelectedProvider();
+  const vehicle = useSelectedVehicle();
+  const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
   const [error, setError] = useState<string | null>(null);
   const [featureId, setFeatureId] = useState<number | "">("");
   const [sensor, setSensor] = useState<Sensor>("SIDESCAN");
@@ -54,27 +59,34 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
     setError(null);
     p.catch((e: Error) => setError(e.message));
   };
+  // a new feature's id is above every id used so far (a survey's CoverageState for a deleted #n must not colour it)
+  const freshId = () => nextFeatureId([model, consoleModel], [...deleted, ...taskList.map((t) => t.featureId)]);
   const finishDrawing = () => {
     const geometry = drawnGeometry(drawn);
     if (geometry) {
-      const id = nextFeatureId(model);
+      const id = freshId();
       setDraft({ ...model, features: [...model.features, { type: "Feature", geometry, properties: { featureId: id, coverage: null } }] });
     }
     clearDrawn();
     setTool("select");
   };
-  const remove = (id: unknown) => setDraft({ ...model, features: model.features.filter((f) => f.properties?.featureId !== id) });
+  const remove = (id: unknown) => {
+    setDeleted((d) => [...d, id]);
+    unpick(); // the picked feature may be the one deleted
+    setDraft({ ...model, features: model.features.filter((f) => f.properties?.featureId !== id) });
+  };
   const importFile = (file: File | undefined) => {
     if (!file) return;
     file
       .text()
-      .then((text) => setDraft(parseWorldModel(text)))
+      .then((text) => setDraft(parseWorldModel(text, freshId())))
       .catch((e: Error) => setError(`import: ${e.message}`));
   };
   const exportHref = `data:application/geo+json;charset=utf-8,${encodeURIComponent(JSON.stringify(model))}`;
   const survey = () =>
     vehicle &&
     featureId !== "" &&
+    !dirty &&
     run(createTask({ kind: "survey", vehicle: vehicle.id, featureId, sensor, resolution, ...(deadline ? { deadline: new Date(`${deadline}Z`).toISOString() } : {}) }, token));
   const move = () => vehicle && moveTarget && run(createTask({ kind: "move", vehicle: vehicle.id, point: moveTarget, sensor: "ANY", resolution: 1 }, token).then(() => setTool("select")));
   const synch = (id: Task["taskId"], action: SynchAction) => run(synchTask(id, action, token));
@@ -134,7 +146,7 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
         <strong>Task {vehicle ? vehicleLabel(vehicle) : "(select a vehicle)"}</strong>
         <select aria-label="Feature" value={featureId} onChange={(e) => setFeatureId(e.target.value ? Number(e.target.value) : "")}>
           <option value="">feature…</option>
-          {model.features.map((f) => (
+          {consoleModel.features.map((f) => (
             <option key={String(f.properties?.featureId)} value={String(f.properties?.featureId)}>
               #{String(f.properties?.featureId)}
             </option>
@@ -147,7 +159,13 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
         </select>
         <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
-        <button className="small" disabled={!mayWrite || !vehicle || featureId === ""} onClick={survey}>
+        <button
+          className="small"
+          disabled={!mayWrite || !vehicle || featureId === "" || dirty}
+          onClick={survey}
+          data-testid="survey"
+          title={dirty ? "send or discard the world model edits first: the vehicle surveys the console's features" : undefined}
+        >
           Survey
         </button>
         <button className="small" aria-pressed={tool === "move-target"} disabled={!mayWrite || !vehicle} onClick={() => (tool === "move-target" && moveTarget ? move() : setTool("move-target"))}>
@@ -164,6 +182,11 @@ export function CoMapControls({ model, dirty, setDraft, tool, setTool, drawn, cl
               : caps.capabilities === null
                 ? `IMC ${caps.imcId}: none heard yet`
                 : `IMC ${caps.imcId}: ${caps.capabilities.map(capabilityText).join(" · ") || "none"}`}
+        </p>
+      )}
+      {dirty && (
+        <p className="muted" data-testid="draft-note">
+          Unsent edits: surveys are assigned on the console's features; send or discard the edits first.
         </p>
       )}
       {!mayWrite && <p className="readonly-note">Replay: read-only. The world model and tasks are not sent.</p>}

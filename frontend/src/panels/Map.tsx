@@ -1,7 +1,7 @@
 // The map: MapLibre GL over the built-in offline basemap. Vehicles at their GPSFixReport positions
 // with a course arrow (colour by fix validity, stale and lost marked), their tracks, the
 // GPSFixStatusReport origins and the CoMap world model's features by coverage.
-import { useEffect, useMemo, useRef, useState } from "react";
+import { useEffect, useMemo, useRef, useState, useSyncExternalStore } from "react";
 import { addProtocol, LngLatBounds, Map as MapLibre, NavigationControl, ScaleControl, setWorkerUrl, type ExpressionSpecification, type GeoJSONSource, type MapMouseEvent } from "maplibre-gl";
 import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
 import { FetchSource, PMTiles, Protocol } from "pmtiles";
@@ -34,6 +34,7 @@ import {
   validPosition,
   vertexHandles,
   vehiclesGeoJson,
+  withLiveCoverage,
   type LonLat,
   type VehicleMark,
 } from "../lib/geo";
@@ -158,6 +159,27 @@ function addLayers(map: MapLibre): void {
   map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
 }
 
+/** The pointer's position over the map, outside React state: a mouse move re-renders only the readout
+ * (MapCursor), not the panel with its marks and sources. */
+class CursorStore {
+  private at: LonLat | null = null;
+  private listeners = new Set<() => void>();
+  get = (): LonLat | null => this.at;
+  set(at: LonLat | null): void {
+    this.at = at;
+    for (const l of this.listeners) l();
+  }
+  subscribe = (l: () => void): (() => void) => {
+    this.listeners.add(l);
+    return () => this.listeners.delete(l);
+  };
+}
+
+function MapCursor({ cursor, useDms }: { cursor: CursorStore; useDms: boolean }) {
+  const at = useSyncExternalStore(cursor.subscribe, cursor.get);
+  return <span data-testid="map-cursor">{at ? positionText(at.lat, at.lon, useDms) : "—"}</span>;
+}
+
 declare global {
   interface Window {
     __semMap?: MapLibre; // test hook: Playwright reads rendered features and projects positions
@@ -180,14 +202,16 @@ export function MapPanel() {
   const [landDrawn, setLandDrawn] = useState(0);
   const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
   const [follow, setFollow] = useState(true);
-  const [cursor, setCursor] = useState<LonLat | null>(null);
+  const [cursor] = useState(() => new CursorStore());
   const [tool, setTool] = useState<MapTool>("select");
   const measuring = tool === "measure";
   const [measure, setMeasure] = useState<LonLat[]>([]);
   const [drawn, setDrawn] = useState<LonLat[]>([]);
   const [moveTarget, setMoveTarget] = useState<LonLat | null>(null);
   const [picked, setPicked] = useState<unknown>(null); // the featureId clicked in the edit tool (to delete)
-  const [draft, setDraft] = useState<FeatureCollection | null>(null); // the world model being edited
+  // the world model being edited: its geometry only; coverage is always the console's (withLiveCoverage)
+  const [draft, setDraft] = useState<FeatureCollection | null>(null);
+  const shownModel = useMemo(() => (draft ? withLiveCoverage(draft, worldModel) : worldModel), [draft, worldModel]);
   const toolRef = useRef<MapTool>("select");
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
   const framed = useRef(false);
@@ -215,6 +239,7 @@ export function MapPanel() {
     map.addControl(new NavigationControl({ showCompass: true }), "top-right");
     map.addControl(new ScaleControl({ unit: "metric", maxWidth: 120 }), "bottom-left");
     map.addControl(new ScaleControl({ unit: "nautical", maxWidth: 120 }), "bottom-left");
+    map.getCanvas().style.cursor = toolRef.current === "select" ? "" : "crosshair"; // a tool chosen before a collapse
     let alive = true;
     map.on("load", () => {
       addLayers(map);
@@ -234,15 +259,19 @@ export function MapPanel() {
       e.preventDefault();
       dragging = { featureId: h.featureId, index: Number(h.index) };
     });
-    map.on("mouseup", () => (dragging = null));
+    // the drag ends when the button is released, over the map or anywhere else
+    const endDrag = () => (dragging = null);
+    map.on("mouseup", endDrag);
+    window.addEventListener("mouseup", endDrag);
     map.on("mousemove", (e) => {
-      setCursor({ lon: e.lngLat.lng, lat: e.lngLat.lat });
+      cursor.set({ lon: e.lngLat.lng, lat: e.lngLat.lat });
+      if (dragging && (e.originalEvent.buttons & 1) === 0) dragging = null; // released outside the window
       const model = modelRef.current;
       if (dragging && model) setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
     });
     map.on("mouseenter", "edit-handle", () => toolRef.current === "edit" && (map.getCanvas().style.cursor = "move"));
     map.on("mouseleave", "edit-handle", () => toolRef.current === "edit" && (map.getCanvas().style.cursor = "crosshair"));
-    map.on("mouseout", () => setCursor(null));
+    map.on("mouseout", () => cursor.set(null));
     map.on("dragstart", () => setFollow(false)); // the operator pans away: stop following
     map.on("click", (e: MapMouseEvent) => {
       const at = { lon: e.lngLat.lng, lat: e.lngLat.lat };
@@ -271,13 +300,16 @@ export function MapPanel() {
     return () => {
       alive = false;
       clearInterval(count);
+      window.removeEventListener("mouseup", endDrag);
+      cursor.set(null);
+      framed.current = false; // reopened: frame the vehicles again
       if (window.__semMap === map) delete window.__semMap;
       map.remove();
       mapRef.current = null;
       drawnData.current = { vehicles: "", tracks: [], origins: "" };
       setReady(false);
     };
-  }, [store, collapsed]);
+  }, [store, collapsed, cursor]);
 
   // the console's PMTiles chart, over the built-in land and under everything else
   useEffect(() => {
@@ -347,7 +379,7 @@ export function MapPanel() {
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const model = draft ?? worldModel;
+    const model = shownModel;
     modelRef.current = model;
     const features = (model?.features ?? []).map((f) => ({
       ...f,
@@ -355,7 +387,7 @@ export function MapPanel() {
     }));
     source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
     source(map, "handles")?.setData(tool === "edit" ? vertexHandles(model) : EMPTY);
-  }, [ready, worldModel, draft, tool, picked]);
+  }, [ready, shownModel, tool, picked]);
 
   useEffect(() => {
     const map = mapRef.current;
@@ -416,7 +448,7 @@ export function MapPanel() {
       <div className="map-wrap">
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
         <div className="map-status">
-          <span data-testid="map-cursor">{cursor ? positionText(cursor.lat, cursor.lon, useDms) : "—"}</span>
+          <MapCursor cursor={cursor} useDms={useDms} />
           {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
           <span data-testid="map-vehicle-count">{vehiclesDrawn} of {providers.length} vehicles drawn</span>
           {measuring && (
@@ -428,7 +460,8 @@ export function MapPanel() {
       </div>
       {worldModel && (
         <CoMapControls
-          model={draft ?? worldModel}
+          model={shownModel ?? worldModel}
+          consoleModel={worldModel}
           dirty={draft !== null}
           setDraft={setDraft}
           tool={tool}
@@ -440,6 +473,7 @@ export function MapPanel() {
           clearDrawn={() => setDrawn([])}
           moveTarget={moveTarget}
           picked={tool === "edit" ? picked : null}
+          unpick={() => setPicked(null)}
         />
       )}
       <p className="map-legend muted">
