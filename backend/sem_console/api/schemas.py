@@ -189,6 +189,7 @@ class RecordingStatus(_Model):
     messages: int = Field(description="messages written by this recording (all its files)")
     dropped: int = Field(description="samples dropped because the writer fell behind (its queue was full)")
     error: str | None = Field(description="why the recording stopped, when it failed")
+    writerCpuSeconds: float = Field(0.0, description="CPU seconds the recording's writer thread has used (bench/recording.py)")
 
 
 class RecordingFile(_Model):

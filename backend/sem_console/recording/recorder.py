@@ -12,8 +12,9 @@
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
-a bounded queue (full: the item is dropped and its samples counted); one writer thread per
-recording writes them. Any OSError (a full
+a bounded buffer (a deque: no lock; full, the item is dropped and its samples counted); one
+writer thread per recording writes what was queued every BATCH_SECONDS (a thread wake per take
+costs more than the write). Any OSError (a full
 disk: ENOSPC) stops the recording with the error in its status and in the log; the console
 goes on. Chunks are flushed at least every FLUSH_SECONDS, so a crash loses at most that much.
 """
@@ -25,11 +26,11 @@ import datetime as dt
 import errno
 import json
 import logging
-import queue
 import re
 import threading
 import time
 import uuid
+from collections import deque
 from pathlib import Path
 from typing import Any, BinaryIO, Callable
 
@@ -47,6 +48,7 @@ from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_
 log = logging.getLogger("sem-console.recording")
 
 FLUSH_SECONDS = 2.0
+BATCH_SECONDS = 0.05  # the writer thread writes what was queued at most this often
 PROFILE = ""  # MCAP profile: none of the well-known ones (ros1, ros2...) applies
 NAME = re.compile(r"^\d{8}T\d{6}\.\d{3}Z(-\d+)?\.mcap$")
 
@@ -70,7 +72,6 @@ JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
     "sem-console/instances": ("instance", InstanceEvent),
 }
 _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
-_STOP = object()
 
 
 def file_name(at: float) -> str:
@@ -140,11 +141,13 @@ class Recorder:
         self.active = False
         self.dropped = 0
         self.messages = 0
+        self.writer_cpu = 0.0  # CPU seconds of this recording's writer thread (its files, all of them)
         self.started_at: float | None = None
         self.error: str | None = None
         self._file: _File | None = None
         self._files_written = 0
-        self._queue: queue.Queue[Any] = queue.Queue(queue_size)
+        self._buffer: deque[tuple[Any, Any, int, int]] = deque()  # appends and poplefts are atomic: no lock
+        self._stopping = threading.Event()
         self._thread: threading.Thread | None = None
         self._lock = threading.Lock()  # start/stop against each other
 
@@ -160,10 +163,11 @@ class Recorder:
             self._put((channel, message, time.time_ns(), 1))
 
     def _put(self, item: tuple[Any, Any, int, int]) -> None:
-        try:
-            self._queue.put_nowait(item)
-        except queue.Full:
+        buffer = self._buffer
+        if len(buffer) >= self.queue_size:
             self.dropped += item[3]
+        else:
+            buffer.append(item)
 
     # ---- control -----------------------------------------------------------------------
     def start(self) -> dict[str, Any]:
@@ -177,11 +181,12 @@ class Recorder:
                 first = self._open()
             except OSError as e:
                 raise RecordingError(f"cannot record into {self.directory}: {e.strerror or e}") from None
-            self._file, self.error, self.dropped, self.messages = first, None, 0, 0
+            self._file, self.error, self.dropped, self.messages, self.writer_cpu = first, None, 0, 0, 0.0
             self.started_at = time.time()
-            self._queue = queue.Queue(self.queue_size)
+            self._buffer, self._stopping = deque(), threading.Event()
             self.active = True
-            self._thread = threading.Thread(target=self._run, args=(self._queue,), name="sem-recorder", daemon=True)
+            self._thread = threading.Thread(target=self._run, args=(self._buffer, self._stopping), name="sem-recorder",
+                                            daemon=True)
             self._thread.start()
             log.info("recording to %s", first.path)
         self._changed()
@@ -192,7 +197,7 @@ class Recorder:
             thread = self._thread
             if self.active:
                 self.active = False
-                self._queue.put(_STOP)  # blocks only while the writer drains a full queue
+                self._stopping.set()  # the writer writes what is queued, then closes the file
             if thread is not None:
                 thread.join(timeout)
                 if not thread.is_alive():
@@ -205,7 +210,7 @@ class Recorder:
         state = "recording" if self.active else "failed" if self.error else "off"
         return {"state": state, "directory": str(self.directory), "file": f.path.name if f else None,
                 "startedAt": self.started_at if self.active else None, "messages": self.messages,
-                "dropped": self.dropped, "error": self.error}
+                "dropped": self.dropped, "error": self.error, "writerCpuSeconds": round(self.writer_cpu, 4)}
 
     def _changed(self) -> None:
         if self.on_change is not None:
@@ -260,20 +265,20 @@ class Recorder:
         return out
 
     # ---- the writer thread ---------------------------------------------------------------
-    def _run(self, q: queue.Queue[Any]) -> None:
+    def _run(self, buffer: deque[tuple[Any, Any, int, int]], stopping: threading.Event) -> None:
         f = self._file
         assert f is not None
         flushed = time.monotonic()
+        cpu0 = time.thread_time()
         try:
             while True:
-                try:
-                    item = q.get(timeout=0.5)
-                except queue.Empty:
-                    item = None
-                if item is _STOP:
+                self.writer_cpu = time.thread_time() - cpu0
+                # what was queued in the last BATCH_SECONDS, at once: a thread wake per take costs more than the write
+                stop = stopping.wait(BATCH_SECONDS)
+                for _ in range(len(buffer)):
+                    self._write(f, *buffer.popleft())
+                if stop:
                     break
-                if item is not None:
-                    self._write(f, *item)
                 now = time.monotonic()
                 if f.size() >= self.max_bytes or now - f.opened >= self.max_seconds:
                     f.close()
