@@ -56,7 +56,8 @@ export interface TestMap {
   getZoom(): number;
   getCenter(): { lng: number; lat: number };
   jumpTo(options: { center?: [number, number]; zoom?: number }): void;
-  queryRenderedFeatures(options: { layers: string[] }): { properties: Record<string, unknown> | null }[];
+  queryRenderedFeatures(options: { layers: string[] }): { properties: Record<string, unknown> | null; geometry: { type: string; coordinates?: unknown } }[];
+  getCanvas(): HTMLCanvasElement;
 }
 
 declare global {
