@@ -2,7 +2,7 @@
 // (PUT /api/worldmodel), a SurveyTask on it (POST /api/tasks), taken while the vehicle is surveying it
 // (coverage PARTIAL). Every request to another origin is refused. The console must run with --imc-port
 // and the vehicle in its --imc-vehicles. Usage: node scripts/comap-screenshot.mjs <console URL> <out.png> <vehicle id>
-import { chromium } from "playwright-core";
+import { launchChromium, refuseOtherOrigins } from "./browser.mjs";
 
 const [url = "http://127.0.0.1:8000", out = "../docs/comap.png", id = ""] = process.argv.slice(2);
 const json = async (path, init) => {
@@ -24,19 +24,10 @@ const done = { type: "Feature", geometry: { type: "Polygon", coordinates: [[at(-
 await send("PUT", "/api/worldmodel", { type: "FeatureCollection", features: [area, done] });
 await send("POST", "/api/tasks", { kind: "survey", vehicle: id, featureId: 1, sensor: "SIDESCAN", resolution: 1 });
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 1000 } });
-  const origin = new URL(url).origin;
-  const foreign = [];
-  await page.route("**/*", (route) => {
-    if (new URL(route.request().url()).origin === origin) return route.continue();
-    foreign.push(route.request().url());
-    return route.abort();
-  });
+  const foreign = await refuseOtherOrigins(page, url);
   await page.goto(`${url}/?vehicle=${id}`);
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 20_000 });
   await page.locator('[data-testid="feature"][data-coverage="PARTIAL"]').waitFor({ timeout: 60_000 });

@@ -4,7 +4,7 @@
 // and panels collapsed by their collapse buttons.
 // Usage: node scripts/frames.mjs <console URL> [seconds=20] [--throttle N] [--collapse <panel test id>]...
 // Prints one JSON line.
-import { chromium } from "playwright-core";
+import { launchChromium } from "./browser.mjs";
 
 const positional = [];
 const collapse = [];
@@ -17,11 +17,7 @@ for (let i = 0; i < argv.length; i++) {
 }
 const [url, seconds = "20"] = positional;
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
-    "--disable-sync", "--no-first-run", "--enable-unsafe-swiftshader", "--enable-precise-memory-info", "--js-flags=--expose-gc"],
-});
+const browser = await launchChromium(["--enable-precise-memory-info", "--js-flags=--expose-gc"]);
 try {
   const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
   const page = await context.newPage();

@@ -1,12 +1,9 @@
 // Screenshot of the dashboard replaying a recording, with the replay controls, in headless Chromium.
 // Usage: node scripts/replay-screenshot.mjs <replay console URL> <out.png> <vehicle id> [seconds from the start to show]
-import { chromium } from "playwright-core";
+import { launchChromium } from "./browser.mjs";
 
 const [url = "http://127.0.0.1:8000", out = "../docs/replay.png", vehicle = "", at = "0"] = process.argv.slice(2);
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 1180 } });
   await page.goto(vehicle ? `${url}/?vehicle=${vehicle}` : url);

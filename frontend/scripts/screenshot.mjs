@@ -1,13 +1,10 @@
 // Screenshot of the dashboard and a quick smoothness measurement, in headless Chromium.
 // Usage: node scripts/screenshot.mjs <console URL> <out.png>
 // Prints frame-time figures (requestAnimationFrame intervals) while it switches vehicles under live updates.
-import { chromium } from "playwright-core";
+import { launchChromium } from "./browser.mjs";
 
 const [url = "http://127.0.0.1:8000", out = "../docs/dashboard.png", show = ""] = process.argv.slice(2);
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
-  args: ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
-});
+const browser = await launchChromium();
 try {
   const page = await browser.newPage({ viewport: { width: 1440, height: 900 } });
   await page.goto(show ? `${url}/?vehicle=${show}` : url); // the dashboard selects no vehicle by itself
