@@ -37,12 +37,12 @@ from typing import Any, BinaryIO, Callable
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
 from mcap.reader import make_reader
-from mcap.writer import CompressionType, Writer
 from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
 from sem_console.api.schemas import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem
+from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -50,6 +50,7 @@ log = logging.getLogger("sem-console.recording")
 FLUSH_SECONDS = 2.0
 BATCH_SECONDS = 0.05  # the writer thread writes what was queued at most this often
 PROFILE = ""  # MCAP profile: none of the well-known ones (ros1, ros2...) applies
+_ALIVE = InstanceState.Alive
 NAME = re.compile(r"^\d{8}T\d{6}\.\d{3}Z(-\d+)?\.mcap$")
 
 
@@ -94,8 +95,7 @@ class _File:
     def __init__(self, path: Path) -> None:
         self.path = path
         self.stream: BinaryIO = open(path, "xb")  # noqa: SIM115 (closed in close())
-        self.writer = Writer(self.stream, compression=CompressionType.ZSTD)
-        self.writer.start(profile=PROFILE, library=f"sem-console {__version__}")
+        self.writer = McapWriter(self.stream, profile=PROFILE, library=f"sem-console {__version__}")
         self.channels: dict[Any, int] = {}
         self.sequence: dict[int, int] = {}
         for sem in Sem:
@@ -105,16 +105,26 @@ class _File:
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
             self.channels[channel] = self.writer.register_channel(channel, "json", schema)
         self.opened = time.monotonic()
-        self.messages = 0
 
     def add(self, key: Any, data: bytes, log_ns: int, publish_ns: int) -> None:
         cid = self.channels[key]
         seq = self.sequence[cid] = self.sequence.get(cid, 0) + 1
         self.writer.add_message(cid, log_ns, data, publish_ns, seq)
-        self.messages += 1
+
+    def add_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], log_ns: int) -> int:
+        """The valid samples of one take, in order; returns how many. The hot path: one call per sample."""
+        add, cid = self.writer.add_message, self.channels[sem]
+        seq = self.sequence.get(cid, 0)
+        for raw, valid, _state, source_ns in samples:
+            if valid:
+                seq += 1
+                add(cid, log_ns, raw, source_ns if source_ns > 0 else 0, seq)
+        n = seq - self.sequence.get(cid, 0)
+        self.sequence[cid] = seq
+        return n
 
     def size(self) -> int:
-        return self.stream.tell()
+        return self.writer.tell()
 
     def close(self) -> None:
         try:
@@ -307,14 +317,11 @@ class Recorder:
 
     def _write(self, f: _File, key: Any, data: Any, log_ns: int, _count: int) -> None:
         if isinstance(key, Sem):
+            self.messages += f.add_samples(key, data, log_ns)
             for raw, valid, instance_state, source_ns in data:
-                source_ns = max(source_ns, 0)
-                if valid:
-                    f.add(key, raw, log_ns, source_ns)
-                    self.messages += 1
-                if instance_state != InstanceState.Alive:
+                if instance_state != _ALIVE:
                     event = _instance_event(key, raw, valid, instance_state)
-                    f.add("sem-console/instances", json.dumps(event).encode(), log_ns, source_ns)
+                    f.add("sem-console/instances", json.dumps(event).encode(), log_ns, max(source_ns, 0))
                     self.messages += 1
         else:
             f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, log_ns)
