@@ -12,12 +12,23 @@ import zlib
 import pytest
 import zstandard
 from mcap.reader import NonSeekingReader, make_reader
-from mcap.records import Chunk, DataEnd, Footer, MessageIndex
+from mcap.records import Channel, Chunk, ChunkIndex, DataEnd, Footer, MessageIndex, Schema, Statistics, SummaryOffset
 from mcap.stream_reader import StreamReader
 
 from sem_console.recording.mcap_writer import McapWriter
 
 T0 = 1_795_000_000_000_000_000  # 2026-11 in ns since the epoch
+
+
+def records_in(buf: bytes) -> list[object]:
+    """The records back to back in `buf` (opcode u8, length u64, content), each parsed by the mcap library."""
+    out, at = [], 0
+    while at < len(buf):
+        (length,) = struct.unpack_from("<Q", buf, at + 1)
+        out.append(next(iter(StreamReader(io.BytesIO(buf[at:at + 9 + length]), skip_magic=True).records)))
+        at += 9 + length
+    assert at == len(buf)
+    return out
 
 
 def test_message_record_and_index_are_the_spec_bytes() -> None:
@@ -66,6 +77,8 @@ def _write(chunk_size: int) -> tuple[bytes, list[tuple[int, int, bytes, int, int
         seq[cid] += 1
         data = rng.randbytes(rng.randrange(0, 300))
         log_time = t - rng.randrange(0, 1_000_000) if i % 97 == 0 else t  # now and then a little out of order
+        if i == 2950:
+            log_time = T0 - 10**9  # the earliest of all, in a late chunk and not first in it
         w.add_message(cid, log_time, data, log_time - 5_000, seq[cid])
         sent.append((cid, log_time, data, log_time - 5_000, seq[cid]))
         if i == 1500:
@@ -100,13 +113,25 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     window = [(m.log_time, m.data) for _s, _c, m in reader.iter_messages(topics=["t/b"], starting_at=lo, ending_before=hi)]
     assert window == sorted(((m[1], m[2]) for m in sent if m[0] == 2 and lo <= m[1] < hi), key=lambda x: x[0])
     # each chunk index points at its chunk, and at one message index per channel with the chunk's entries
-    for ci in summary.chunk_indexes:
+    for ci, next_start in zip(summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None]):
         chunk = next(iter(StreamReader(io.BytesIO(raw[ci.chunk_start_offset:ci.chunk_start_offset + ci.chunk_length]),
                                        skip_magic=True, emit_chunks=True).records))
         assert isinstance(chunk, Chunk)
         assert (chunk.message_start_time, chunk.message_end_time) == (ci.message_start_time, ci.message_end_time)
         assert ci.compressed_size == len(chunk.data) and ci.uncompressed_size == chunk.uncompressed_size
         records = zstandard.ZstdDecompressor().decompress(chunk.data, max_output_size=chunk.uncompressed_size)
+        # the chunk record ends where its message indexes begin; they end where the next record begins
+        assert ci.chunk_start_offset + ci.chunk_length == min(ci.message_index_offsets.values())
+        after = ci.chunk_start_offset + ci.chunk_length + ci.message_index_length
+        assert next_start is None or after == next_start
+        assert raw[after] in (0x06, 0x0F)  # the next chunk or the data end
+        # its time range is the least and greatest log time of the messages in it, wherever they are
+        times, at = [], 0
+        while at < len(records):
+            _op, length, _cid, _seq, log_time = struct.unpack_from("<BQHIQ", records, at)
+            times.append(log_time)
+            at += 9 + length
+        assert (ci.message_start_time, ci.message_end_time) == (min(times), max(times))
         for cid, offset in ci.message_index_offsets.items():
             index = next(iter(StreamReader(io.BytesIO(raw[offset:ci.chunk_start_offset + ci.chunk_length + ci.message_index_length]),
                                            skip_magic=True).records))
@@ -118,6 +143,43 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     footer = next(r for r in StreamReader(io.BytesIO(raw[-8 - 29:]), skip_magic=True).records)
     assert isinstance(footer, Footer) and footer.summary_start > 0
     assert footer.summary_crc == zlib.crc32(raw[footer.summary_start:len(raw) - 8 - 4])
+    # the summary offsets: one per group, each group holding only records of its opcode, back to back
+    offsets = records_in(raw[footer.summary_offset_start:len(raw) - 8 - 29])
+    assert all(isinstance(o, SummaryOffset) for o in offsets)
+    kinds = {0x03: Schema, 0x04: Channel, 0x0B: Statistics, 0x08: ChunkIndex}
+    assert [o.group_opcode for o in offsets] == list(kinds)
+    at = footer.summary_start
+    for o in offsets:
+        assert o.group_start == at
+        group = records_in(raw[o.group_start:o.group_start + o.group_length])
+        assert group and all(isinstance(r, kinds[o.group_opcode]) for r in group)
+        at += o.group_length
+    assert at == footer.summary_offset_start
+
+
+def test_a_refused_message_leaves_the_file_as_it_was() -> None:
+    out = io.BytesIO()
+    w = McapWriter(out)
+    cid = w.register_channel("t", "cdr", 0)
+    w.add_message(cid, T0, b"a", T0, 1)
+    for bad in [dict(sequence=2**32), dict(publish_time=-1), dict(log_time=2**64)]:
+        with pytest.raises(struct.error):
+            w.add_message(**{"channel_id": cid, "log_time": T0 + 1, "data": b"x", "publish_time": T0, "sequence": 2, **bad})
+    with pytest.raises(AttributeError):
+        w.register_channel("u", "cdr", 0, {"k": 1})  # type: ignore[dict-item]  # cannot be written: no channel 2
+    w.add_message(cid, T0 + 2, b"b", T0, 2)
+    w.finish()
+    size = len(out.getvalue())
+    with pytest.raises(ValueError):
+        w.add_message(cid, T0 + 3, b"c", T0, 3)  # finished
+    with pytest.raises(ValueError):
+        w.register_schema("s", "omgidl", b"")
+    w.flush()
+    assert len(out.getvalue()) == size
+    raw = out.getvalue()
+    assert [m.data for _s, _c, m in NonSeekingReader(io.BytesIO(raw), validate_crcs=True).iter_messages()] == [b"a", b"b"]
+    summary = make_reader(io.BytesIO(raw), validate_crcs=True).get_summary()
+    assert summary is not None and summary.statistics.message_count == 2 and list(summary.channels) == [1]
 
 
 def test_empty_file_and_bad_input() -> None:

@@ -4,14 +4,15 @@ Why not `mcap.writer.Writer`: its `add_message` builds a `Message` dataclass and
 fields one by one into a seeking BytesIO: 3.5 µs per message alone (`bench/mcap_write.py`), 11 µs
 in the running console (the writer thread's CPU, `bench/recording.py`), which at the 50-vehicle ingest rate is
 more than the 10% of the console's CPU recording may cost. Here a message is one struct pack
-and three list appends; its index entry and the chunk's time range are worked out per chunk.
-Every other record (header, schema, channel, chunk, chunk index, data end, statistics, summary
-offsets, footer) is serialised by the mcap library's own record classes.
+and a few list appends; the chunk's time range is worked out once per chunk, and its message
+index records are packed in one call per channel. The other records (header, schema, channel,
+chunk, chunk index, data end, statistics, summary offsets, footer) are serialised by the mcap
+library's own record classes.
 
-The layout is the mcap library's: schemas and channels in the data section as they are
-registered, chunks (zstd) each followed by one message index per channel, then a summary with
-the schemas, channels, statistics and chunk indexes, summary offsets, and a footer with the
-summary CRC. `tests/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs
+The layout: schemas and channels in the data section, outside chunks, as they are registered
+(the mcap library puts them in the chunk in progress; the specification allows both), chunks
+(zstd) each followed by one message index per channel, then a summary with the schemas,
+channels, statistics and chunk indexes, summary offsets, and a footer with the summary CRC. `tests/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs
 validated) and checks a message record against bytes worked out from the specification.
 """
 
@@ -38,11 +39,19 @@ _MESSAGE_INDEX = struct.Struct("<BQHI")
 _FOOTER_HEAD = struct.Struct("<BQQQ")  # what the summary CRC covers of the footer: opcode, length, two offsets
 
 
+class _Finished(dict[int, list[int]]):
+    """The channel index of a finished file: every channel is missing, with a clear error."""
+
+    def __missing__(self, key: int) -> list[int]:
+        raise ValueError("the MCAP file is finished")
+
+
 class McapWriter:
     """Write an MCAP file to `stream` (opened for binary writing; never seeked, never closed here).
 
     `register_schema`/`register_channel`, then `add_message` as often as wanted (channel ids
-    must be registered), `flush` to end the chunk in progress, `finish` to write the summary."""
+    must be registered), `flush` to end the chunk in progress, `finish` to write the summary; after
+    that, writing anything is a ValueError."""
 
     def __init__(self, stream: BinaryIO, *, chunk_size: int = 1 << 20, profile: str = "", library: str = "",
                  zstd_level: int = 3) -> None:
@@ -68,8 +77,8 @@ class McapWriter:
     # ---- the data section --------------------------------------------------------------
     def register_schema(self, name: str, encoding: str, data: bytes) -> int:
         schema = Schema(id=len(self._schemas) + 1, name=name, encoding=encoding, data=data)
+        self._record(schema)  # first: a record that cannot be written is not kept either
         self._schemas.append(schema)
-        self._record(schema)
         return schema.id
 
     def register_channel(self, topic: str, message_encoding: str, schema_id: int,
@@ -78,18 +87,19 @@ class McapWriter:
             raise ValueError(f"no schema {schema_id}")
         channel = Channel(id=len(self._channels) + 1, topic=topic, message_encoding=message_encoding,
                           metadata=metadata or {}, schema_id=schema_id)
+        self._record(channel)  # before the chunk that will hold its messages
         self._channels.append(channel)
         self._index[channel.id] = []
-        self._record(channel)  # before the chunk that will hold its messages
         return channel.id
 
     def add_message(self, channel_id: int, log_time: int, data: bytes, publish_time: int, sequence: int = 0) -> None:
-        """The hot path: a KeyError for an unregistered channel, struct.error for a field out of range."""
+        """The hot path: a KeyError for an unregistered channel, struct.error for a field out of range
+        (sequence u32, times u64); either leaves the file as it was."""
         index = self._index[channel_id]
+        head = _MESSAGE.pack(_MESSAGE_OP, _MESSAGE_FIXED + len(data), channel_id, sequence, log_time, publish_time)
         index.append(log_time)
         index.append(self._size)
-        self._parts.append(_MESSAGE.pack(_MESSAGE_OP, _MESSAGE_FIXED + len(data), channel_id, sequence, log_time,
-                                         publish_time))
+        self._parts.append(head)
         self._parts.append(data)
         self._size += _MESSAGE_HEADER + len(data)
         if self._size >= self._chunk_size:
@@ -110,6 +120,8 @@ class McapWriter:
             return
         self._end_chunk()
         self._record(DataEnd(data_section_crc=self._data_crc))
+        self._finished = True  # nothing more in the data section; what follows is not in its CRC
+        self._index = _Finished()  # add_message: a ValueError, at no cost to the hot path
         summary_start = self._offset
         builder, offsets = RecordBuilder(), []
         groups: list[tuple[Opcode, list]] = [
@@ -133,7 +145,6 @@ class McapWriter:
         self._record(Footer(summary_start=summary_start, summary_offset_start=summary_offset_start, summary_crc=crc))
         self._write(MAGIC)
         self._out.flush()
-        self._finished = True
 
     # ---- internals ---------------------------------------------------------------------
     def _write(self, data: bytes) -> None:
@@ -143,6 +154,8 @@ class McapWriter:
             self._data_crc = zlib.crc32(data, self._data_crc)
 
     def _record(self, record: Header | Schema | Channel | DataEnd | Footer | Chunk) -> None:
+        if self._finished and not isinstance(record, Footer):
+            raise ValueError("the MCAP file is finished")
         builder = RecordBuilder()
         record.write(builder)
         self._write(builder.end())
@@ -150,6 +163,8 @@ class McapWriter:
     def _end_chunk(self) -> None:
         if not self._parts:
             return
+        if self._finished:
+            raise ValueError("the MCAP file is finished")
         records = b"".join(self._parts)
         indexes = [(cid, entries) for cid, entries in self._index.items() if entries]
         start = min(min(entries[0::2]) for _cid, entries in indexes)
