@@ -1,7 +1,9 @@
 // Replay in the console: a stretch of the live stack with a GPS fix command is recorded (POST /api/recordings),
 // then `sem-console --replay` serves that file. The dashboard must show the same vehicle, satellites and
 // command timeline, seek and change speed, keep command controls disabled, and show the replay badge.
+import { McapIndexedReader, McapStreamReader, type McapTypes } from "@mcap/core";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
+import { decompress } from "fzstd";
 import { vehicle } from "../helpers";
 import { load, startReplayConsole } from "../stack";
 
@@ -64,6 +66,68 @@ test.describe.serial("replay of a recording", () => {
 
   test.afterAll(async () => {
     await replay?.stop();
+  });
+
+  test("the recording reads with @mcap/core, the TypeScript MCAP library Foxglove's apps use", async ({ request }) => {
+    // an MCAP reader we did not write, on the file as the console serves it: streamed and through its indexes, CRCs checked
+    const res = await request.get(`${load().url}/api/recordings/${recorded.file}`);
+    expect(res.ok(), `HTTP ${res.status()}`).toBe(true);
+    const data = new Uint8Array(await res.body());
+    const decompressHandlers = {
+      zstd: (buffer: Uint8Array, size: bigint) => {
+        const out = decompress(buffer);
+        expect(BigInt(out.length)).toBe(size);
+        return out;
+      },
+    };
+    const stream = new McapStreamReader({ decompressHandlers, validateCrcs: true });
+    stream.append(data);
+    const channels = new Map<number, McapTypes.Channel>();
+    const schemas = new Map<number, McapTypes.Schema>();
+    const streamed = new Map<string, number>();
+    const transitions: string[] = [];
+    for (let record = stream.nextRecord(); record; record = stream.nextRecord()) {
+      if (record.type === "Schema") schemas.set(record.id, record);
+      if (record.type === "Channel") channels.set(record.id, record);
+      if (record.type !== "Message") continue;
+      const channel = channels.get(record.channelId)!;
+      streamed.set(channel.topic, (streamed.get(channel.topic) ?? 0) + 1);
+      if (channel.topic === "sem-console/transitions") {
+        const t = JSON.parse(new TextDecoder().decode(record.data)) as { sessionId: string; transition: { status: string } };
+        if (t.sessionId === recorded.session) transitions.push(t.transition.status);
+      }
+    }
+    expect(stream.done()).toBe(true);
+    // every SEM topic a channel of CDR with its UMAA type's OMG IDL schema; the command's transitions in order
+    const sem = [...channels.values()].filter((c) => c.topic.startsWith("UMAA::SEM::"));
+    expect(sem).toHaveLength(10);
+    for (const c of sem) {
+      expect(c.messageEncoding).toBe("cdr");
+      expect(schemas.get(c.schemaId)).toMatchObject({ encoding: "omgidl" });
+      expect(schemas.get(c.schemaId)!.name).toMatch(/^UMAA::SEM::\w+::\w+Type$/);
+    }
+    expect(streamed.get("UMAA::SEM::GPSFixControl::GPSFixCommand")).toBeGreaterThanOrEqual(1);
+    expect(streamed.get("UMAA::SEM::GPSStatus::GPSReport")).toBeGreaterThanOrEqual(1);
+    expect(transitions).toEqual(HAPPY);
+
+    const reader = await McapIndexedReader.Initialize({
+      readable: { size: async () => BigInt(data.length), read: async (offset, length) => data.slice(Number(offset), Number(offset + length)) },
+      decompressHandlers,
+    });
+    const total = [...streamed.values()].reduce((a, b) => a + b, 0);
+    expect(Number(reader.statistics!.messageCount)).toBe(total);
+    expect(reader.chunkIndexes.length).toBe(reader.statistics!.chunkCount);
+    for (const [id, count] of reader.statistics!.channelMessageCounts) {
+      expect(Number(count)).toBe(streamed.get(reader.channelsById.get(id)!.topic));
+    }
+    let indexed = 0;
+    let last = 0n;
+    for await (const message of reader.readMessages({ validateCrcs: true })) {
+      expect(message.logTime >= last).toBe(true); // in log time order, by the message indexes
+      last = message.logTime;
+      indexed += 1;
+    }
+    expect(indexed).toBe(total);
   });
 
   test("shows the recorded vehicle, satellites and command timeline, with the badge and commands disabled", async ({ page }) => {
