@@ -160,6 +160,14 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     cmd_schema, _ = channels["UMAA::SEM::GPSFixControl::GPSFixCommand"]
     commands = decode_with_schema(cmd_schema.name, cmd_schema.data.decode(), "UMAA::SEM::GPSFixControl::GPSFixCommand", path, tmp_path)
     assert [guid(x["sessionID"]) for x in commands] == [session] and guid(commands[0]["destination"]) == V1
+    # the other topics the run carried, each with the types built from its own schema text
+    for topic in ("UMAA::SEM::GPSStatus::GPSReport", "UMAA::SEM::GPSFixStatus::GPSFixStatusReport",
+                  "UMAA::SEM::InertialSensorStatus::InertialSensorReport", "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport"):
+        schema, _ = channels[topic]
+        decoded = decode_with_schema(schema.name, schema.data.decode(), topic, path, tmp_path)
+        assert decoded and len(decoded) == len(messages[topic]) and {guid(x["source"]) for x in decoded} == {V1}, topic
+        if topic.endswith("GPSReport"):
+            assert all(len(x["satellites"]) >= 20 and x["satellites"][0]["satelliteId"] for x in decoded)
 
     # the console's view: the transitions with their Figure 4 verdicts, the command, the provider's appearance
     transitions = [json.loads(m.data) for m in messages["sem-console/transitions"]]
@@ -316,3 +324,37 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
         channels, messages = read(tmp_path / "rec" / f["name"])
         assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
         assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5
+
+
+def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
+    """The size limit, on the recorder alone (no DDS here: its tap is fed as the ingest threads feed it)."""
+    from sem_console.recording.recorder import Recorder
+
+    limit = 65_536  # the least --record-max-bytes; a file's schemas alone are about 30 kB
+    r = Recorder(tmp_path, max_bytes=limit, max_seconds=3600)
+    r.start()
+    sent = 0
+    for batch in range(40):
+        for _ in range(25):  # incompressible samples: the file grows as fast as they come
+            now = time.time_ns()
+            r.on_samples(Sem.GPS_FIX_REPORT, [(b"\x00\x07\x00\x00" + os.urandom(200), True, 16, now - 1_000)], now)
+            sent += 1
+        time.sleep(0.05 if batch % 4 else 0.25)  # now and then a batch is written
+    r.stop()
+    assert r.status()["state"] == "off" and r.dropped == 0
+    files = sorted(tmp_path.glob("*.mcap"))
+    assert len(files) >= 3
+    got = 0
+    for path in files:
+        raw = path.read_bytes()
+        summary_start = int.from_bytes(raw[-8 - 29 + 9:-8 - 29 + 17], "little")  # the footer's first field
+        # what the data section holds goes at most a writer's batch (0.2 s, about 100 samples here) beyond the limit;
+        # the summary after it repeats the schemas
+        assert summary_start <= limit + 40_000, (path.name, summary_start, len(raw))
+        with open(path, "rb") as f:
+            reader = make_reader(f, validate_crcs=True)
+            summary = reader.get_summary()
+            assert summary is not None and {c.topic for c in summary.channels.values()} == set(SEM_TOPICS) | JSON_TOPICS
+            got += sum(1 for _ in reader.iter_messages(topics=["UMAA::SEM::GPSFixStatus::GPSFixReport"]))
+    assert got == sent
+    assert all(p.stat().st_size >= limit for p in files[:-1])  # each rolled over at the limit, not before

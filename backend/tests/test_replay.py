@@ -98,9 +98,20 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
     times = [t["receivedAt"] for t in replayed[0]["transitions"]]
     assert times == sorted(times) and start <= times[0] and times[-1] <= end
 
+    # the track and chart history played so far reach the end
+    def history(kind: str) -> list[float]:
+        got = httpx.get(f"{r.url}/api/providers/{V1}/{kind}")
+        assert got.status_code == 200, got.text
+        return [p["time"] for p in got.json()]
+    assert max(history("track")) > replayed[0]["createdAt"] and max(history("series")) > replayed[0]["createdAt"]
+
     # seek back before the command: it is absent; between EXECUTING and COMPLETED: EXECUTING; at the end: done
-    control(r.url, {"action": "seek", "position": replayed[0]["createdAt"] - 0.2})
+    back = replayed[0]["createdAt"] - 0.2
+    control(r.url, {"action": "seek", "position": back})
     assert httpx.get(f"{r.url}/api/commands").json() == []
+    for kind in ("track", "series"):  # nothing after the instant shown, and what came before it is kept
+        kept = history(kind)
+        assert kept and max(kept) <= back, kind
     assert httpx.get(f"{r.url}/api/commands/{session}").status_code == 404
     assert httpx.get(f"{r.url}/api/providers/{V1}").status_code == 200
     control(r.url, {"action": "seek", "position": (times[2] + times[3]) / 2})

@@ -2,6 +2,8 @@
 // then `sem-console --replay` serves that file. The dashboard must show the same vehicle, satellites and
 // command timeline, seek and change speed, keep command controls disabled, and show the replay badge.
 import { McapIndexedReader, McapStreamReader, type McapTypes } from "@mcap/core";
+import { parseIDL, type IDLMessageDefinition } from "@foxglove/omgidl-parser";
+import { MessageReader } from "@foxglove/omgidl-serialization";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
 import { decompress } from "fzstd";
 import { vehicle } from "../helpers";
@@ -86,12 +88,14 @@ test.describe.serial("replay of a recording", () => {
     const schemas = new Map<number, McapTypes.Schema>();
     const streamed = new Map<string, number>();
     const transitions: string[] = [];
+    const cdr = new Map<string, Uint8Array[]>(); // SEM topic -> its messages' CDR
     for (let record = stream.nextRecord(); record; record = stream.nextRecord()) {
       if (record.type === "Schema") schemas.set(record.id, record);
       if (record.type === "Channel") channels.set(record.id, record);
       if (record.type !== "Message") continue;
       const channel = channels.get(record.channelId)!;
       streamed.set(channel.topic, (streamed.get(channel.topic) ?? 0) + 1);
+      if (channel.messageEncoding === "cdr") cdr.set(channel.topic, [...(cdr.get(channel.topic) ?? []), record.data]);
       if (channel.topic === "sem-console/transitions") {
         const t = JSON.parse(new TextDecoder().decode(record.data)) as { sessionId: string; transition: { status: string } };
         if (t.sessionId === recorded.session) transitions.push(t.transition.status);
@@ -128,6 +132,50 @@ test.describe.serial("replay of a recording", () => {
       indexed += 1;
     }
     expect(indexed).toBe(total);
+
+    // Foxglove's own OMG IDL parser and CDR decoder (what its apps use), on the schema text and bytes as recorded.
+    // It implements neither @optional nor the DHEADER XCDR2 puts before a sequence of structs, so
+    // GPSFixReport and GPSReport are out of its reach (README, "Opening in Foxglove"); the other eight decode.
+    const decode = (topic: string): Record<string, unknown>[] => {
+      const channel = sem.find((c) => c.topic === topic)!;
+      const schema = schemas.get(channel.schemaId)!;
+      const definitions: IDLMessageDefinition[] = parseIDL(new TextDecoder().decode(schema.data));
+      const reader = new MessageReader(schema.name, definitions);
+      const enums = (name: string): Map<number, string> => {
+        const module = definitions.find((d) => d.aggregatedKind === "module" && (d.name ?? "").endsWith(`::${name}`));
+        return new Map(module && "definitions" in module ? module.definitions.map((c) => [Number(c.value), c.name]) : []);
+      };
+      const statusNames = topic.endsWith("CommandStatus") ? enums("CommandStatusEnumType") : undefined;
+      return (cdr.get(topic) ?? []).map((bytes) => {
+        const message = reader.readMessage<Record<string, unknown>>(bytes);
+        if (statusNames) message.commandStatus = statusNames.get(message.commandStatus as number);
+        return message;
+      });
+    };
+    for (const c of sem) { // all ten schema texts parse as recorded, the same-named module and enum included
+      expect(() => parseIDL(new TextDecoder().decode(schemas.get(c.schemaId)!.data)), c.topic).not.toThrow();
+    }
+    const guid = (g: unknown): string => {
+      const hex = Buffer.from(Uint8Array.from(Object.values(g as Record<string, number>))).toString("hex");
+      return `${hex.slice(0, 8)}-${hex.slice(8, 12)}-${hex.slice(12, 16)}-${hex.slice(16, 20)}-${hex.slice(20)}`;
+    };
+    const vehicles = new Set(load().vehicles);
+    const command = decode("UMAA::SEM::GPSFixControl::GPSFixCommand").filter((m) => guid(m.sessionID) === recorded.session);
+    expect(command.map((m) => guid(m.destination))).toEqual([recorded.vehicleId]);
+    const statuses = decode("UMAA::SEM::GPSFixControl::GPSFixCommandStatus").filter((m) => guid(m.sessionID) === recorded.session);
+    expect(statuses.map((m) => m.commandStatus)).toEqual(HAPPY); // as the vehicle reported them, ISSUED first
+    expect(statuses.every((m) => guid(m.source) === recorded.vehicleId)).toBe(true);
+    const acks = decode("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport").filter((m) => guid(m.sessionID) === recorded.session);
+    expect(acks.map((m) => guid(m.source))).toEqual([recorded.vehicleId]);
+    for (const topic of ["UMAA::SEM::GPSFixStatus::GPSFixStatusReport", "UMAA::SEM::InertialSensorStatus::InertialSensorReport"]) {
+      const reports = decode(topic); // every vehicle's, its key the last member: read in step with the bytes
+      expect(reports.length, topic).toBeGreaterThan(10);
+      expect(new Set(reports.map((m) => guid(m.source))), topic).toEqual(vehicles);
+    }
+    for (const topic of ["UMAA::SEM::InertialSensorControl::InertialSensorCommand", "UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus",
+      "UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport"]) {
+      expect(() => decode(topic), topic).not.toThrow();
+    }
   });
 
   test("shows the recorded vehicle, satellites and command timeline, with the badge and commands disabled", async ({ page }) => {

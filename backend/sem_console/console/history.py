@@ -201,6 +201,21 @@ class History:
             s.commit()
         self.rows_written += len(track) + len(series)
 
+    async def forget_after(self, t: float) -> None:
+        """A replay seeking back to `t`: every point after it goes, held or written, so the track and
+        charts show what the recording had said by then (the points played next are taken again)."""
+        async with self._lock:  # after a flush in progress, before the next
+            self._track = [p for p in self._track if p["time"] <= t]
+            self._series = [p for p in self._series if p["time"] <= t]
+            self._slot = {k: slot for k, slot in self._slot.items() if slot < math.floor(t)}
+            await asyncio.to_thread(self._delete_after, t)
+
+    def _delete_after(self, t: float) -> None:
+        with Session(self.engine) as s:
+            for model in (TrackPoint, SeriesPoint):
+                s.execute(delete(model).where(col(model.time) > t))
+            s.commit()
+
     # ---- reads (REST) ------------------------------------------------------------------------
     async def track(self, provider: uuid.UUID, since: float | None, until: float | None) -> list[TrackPoint]:
         return await self._read(TrackPoint, provider, since, until)

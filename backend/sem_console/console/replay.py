@@ -198,6 +198,7 @@ class Replay:
             if position < self.position:
                 self._rewind()
                 self.console.reset()
+                await self.console.history.forget_after(position)
             self.console.quiet = True  # what happens on the way is not sent: the snapshot after it is
             try:
                 await self._advance(position, rebuild=True)

@@ -109,6 +109,10 @@ class McapWriter:
         """Bytes written to the stream so far (the chunk in progress not counted)."""
         return self._offset
 
+    def pending(self) -> int:
+        """Bytes of the chunk in progress, before compression."""
+        return self._size
+
     def flush(self) -> None:
         """End the chunk in progress (so a reader of the file as it grows has it) and flush the stream."""
         self._end_chunk()

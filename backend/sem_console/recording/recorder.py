@@ -124,7 +124,8 @@ class _File:
         return n
 
     def size(self) -> int:
-        return self.writer.tell()
+        """What the file will hold at least: written, and the chunk in progress as if it did not compress."""
+        return self.writer.tell() + self.writer.pending()
 
     def close(self) -> None:
         try:
