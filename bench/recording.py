@@ -57,7 +57,7 @@ def main() -> None:
                 s1 = get_json(url + "/api/recordings/status")
                 size1 = sum(p.stat().st_size for p in rec_dir.glob("*.mcap"))
                 row.update({"recorded_per_s": round((s1["messages"] - s0["messages"]) / elapsed),
-                            "mb_per_min": round((size1 - size0) / 2**20 / elapsed * 60, 2), "dropped": s1["dropped"],
+                            "mb_per_min": round((size1 - size0) / 1e6 / elapsed * 60, 2), "dropped": s1["dropped"],
                             "writer_cpu": round((s1["writerCpuSeconds"] - s0["writerCpuSeconds"]) / elapsed, 4)})
                 post_json(url + "/api/recordings", {"action": "stop"})
                 time.sleep(1)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import base64
 import json
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -214,6 +215,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         bus = Bus(other)
         reader = bus.reader(Sem.GPS_FIX_REPORT, reader_qos(Sem.GPS_FIX_REPORT.spec.cls, durable=True))
         seen_ts: list[int] = []
+        arrived: dict[int, float] = {}  # source timestamp -> when the test took it (monotonic)
         disposed: list[Any] = []
         cond = all_samples(reader)
         stop = threading.Event()
@@ -225,6 +227,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
                         disposed.append(x)
                     elif x.sample_info.valid_data:
                         seen_ts.append(x.sample_info.source_timestamp)
+                        arrived.setdefault(x.sample_info.source_timestamp, time.monotonic())
                 time.sleep(0.005)
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
@@ -246,12 +249,35 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         # the original source timestamps
         assert set(seen_ts) <= {m.publish_time for m in recorded_fixes} and len(seen_ts) >= len(recorded_fixes) // 2, (
             sorted(seen_ts), sorted(m.publish_time for m in recorded_fixes))
+        # with the recorded timing, at twice the speed: never faster (the loose bound above allows for a loaded machine)
+        logged = {m.publish_time: m.log_time for m in recorded_fixes}
+        first, last = min(arrived, key=arrived.__getitem__), max(arrived, key=arrived.__getitem__)
+        recorded_span, replayed_span = (logged[last] - logged[first]) / 1e9, arrived[last] - arrived[first]
+        assert recorded_span > 0.5 and 0.8 * recorded_span / 2 - 0.05 <= replayed_span <= recorded_span / 2 + 2.0, (
+            recorded_span, replayed_span)
         # the second console got the recorded positions (the last report is the last recorded one)
         last = detail["reports"]["GPSFixReport"]["report"]
         wire = Sem.GPS_FIX_REPORT.spec.type.deserialize(recorded_fixes[-1].data)
         assert last["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == pytest.approx(
             wire.position2DWithTime.geodeticPosition.geodeticLatitude.latitude)
         assert httpx.get(f"{second.url}/api/commands").json() == []  # commands are not republished by default
+
+        # --loop --retime: again and again, stamped with the replay's time, until interrupted
+        seen_ts.clear()
+        stop.clear()
+        taker = threading.Thread(target=take, daemon=True)
+        taker.start()
+        began = time.time_ns()
+        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
+                                    "--speed", "20", "--loop", "--retime", "--wait", "0"],
+                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        wait_until(lambda: len(seen_ts) > 2 * len(recorded_fixes), 30, "the recording replayed more than twice")
+        looping.send_signal(signal.SIGINT)
+        out, _ = looping.communicate(timeout=30)
+        stop.set()
+        taker.join()
+        assert looping.returncode == 0, out
+        assert all(ts >= began for ts in seen_ts) and not set(seen_ts) & set(logged)  # retimed: none of the recorded stamps
     finally:
         second.stop()
 
