@@ -5,6 +5,7 @@ state when seeking, follow the speed, and refuse anything that would command or 
 
 from __future__ import annotations
 
+import math
 import random
 import subprocess
 import sys
@@ -123,6 +124,9 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
     control(r.url, {"action": "seek", "position": end + 100})  # beyond the end: the end
     assert replay_state(r.url)["position"] == end
     assert command(r.url, session)["status"] == "COMPLETED"
+    for kind in ("track", "series"):  # played, sought back, rebuilt, played: still at most one point a second
+        seconds = [math.floor(x) for x in history(kind)]
+        assert seconds and len(seconds) == len(set(seconds)), kind
     assert ws.errors == []
     ws.close()
 

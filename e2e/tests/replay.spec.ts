@@ -15,6 +15,8 @@ const SATELLITE = /^[GERCSJIU]\d+$/;
 interface Recorded {
   file: string;
   session: string;
+  insSession: string; // an INS ON command to another vehicle in the same stretch
+  insVehicleId: string;
   vehicleId: string;
   gps: { receivedAt: number; report: { satellites: { satelliteId: string }[] } };
 }
@@ -36,10 +38,14 @@ async function recordACommand(request: APIRequestContext): Promise<Recorded> {
   const { sessionId } = await json<{ sessionId: string }>(request.post(`${url}/api/providers/${vehicleId}/gps-fix`, { data: {} }));
   await expect.poll(async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${sessionId}`))).cleanedUp,
     { timeout: 40_000 }).toBe(true);
+  const insVehicleId = vehicles[2]; // another vehicle (the first one's timeline holds the GPS fix only; the second rejects)
+  const ins = await json<{ sessionId: string }>(request.post(`${url}/api/providers/${insVehicleId}/inertial-sensor`, { data: { state: "ON" } }));
+  await expect.poll(async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${ins.sessionId}`))).cleanedUp,
+    { timeout: 40_000 }).toBe(true);
   await new Promise((r) => setTimeout(r, 1500));
   const detail = await json<{ reports: { GPSReport: Recorded["gps"] } }>(request.get(`${url}/api/providers/${vehicleId}`));
   const { file } = await json<{ file: string }>(request.post(`${url}/api/recordings`, { data: { action: "stop" } }));
-  return { file, session: sessionId, vehicleId, gps: detail.reports.GPSReport };
+  return { file, session: sessionId, insSession: ins.sessionId, insVehicleId, vehicleId, gps: detail.reports.GPSReport };
 }
 
 async function seek(page: Page, position: number): Promise<void> {
@@ -88,14 +94,14 @@ test.describe.serial("replay of a recording", () => {
     const schemas = new Map<number, McapTypes.Schema>();
     const streamed = new Map<string, number>();
     const transitions: string[] = [];
-    const cdr = new Map<string, Uint8Array[]>(); // SEM topic -> its messages' CDR
+    const cdr = new Map<string, { data: Uint8Array; logTime: bigint }[]>(); // SEM topic -> its messages' CDR
     for (let record = stream.nextRecord(); record; record = stream.nextRecord()) {
       if (record.type === "Schema") schemas.set(record.id, record);
       if (record.type === "Channel") channels.set(record.id, record);
       if (record.type !== "Message") continue;
       const channel = channels.get(record.channelId)!;
       streamed.set(channel.topic, (streamed.get(channel.topic) ?? 0) + 1);
-      if (channel.messageEncoding === "cdr") cdr.set(channel.topic, [...(cdr.get(channel.topic) ?? []), record.data]);
+      if (channel.messageEncoding === "cdr") cdr.set(channel.topic, [...(cdr.get(channel.topic) ?? []), { data: record.data, logTime: record.logTime }]);
       if (channel.topic === "sem-console/transitions") {
         const t = JSON.parse(new TextDecoder().decode(record.data)) as { sessionId: string; transition: { status: string } };
         if (t.sessionId === recorded.session) transitions.push(t.transition.status);
@@ -136,7 +142,7 @@ test.describe.serial("replay of a recording", () => {
     // Foxglove's own OMG IDL parser and CDR decoder (what its apps use), on the schema text and bytes as recorded.
     // It implements neither @optional nor the DHEADER XCDR2 puts before a sequence of structs, so
     // GPSFixReport and GPSReport are out of its reach (README, "Opening in Foxglove"); the other eight decode.
-    const decode = (topic: string): Record<string, unknown>[] => {
+    const decode = (topic: string): (Record<string, unknown> & { logTime: bigint })[] => {
       const channel = sem.find((c) => c.topic === topic)!;
       const schema = schemas.get(channel.schemaId)!;
       const definitions: IDLMessageDefinition[] = parseIDL(new TextDecoder().decode(schema.data));
@@ -146,10 +152,14 @@ test.describe.serial("replay of a recording", () => {
         return new Map(module && "definitions" in module ? module.definitions.map((c) => [Number(c.value), c.name]) : []);
       };
       const statusNames = topic.endsWith("CommandStatus") ? enums("CommandStatusEnumType") : undefined;
-      return (cdr.get(topic) ?? []).map((bytes) => {
-        const message = reader.readMessage<Record<string, unknown>>(bytes);
+      const stateNames = topic.includes("InertialSensor") ? enums("InertialSensorStateEnumType") : undefined;
+      const messages = cdr.get(topic) ?? [];
+      expect(messages.length, topic).toBeGreaterThan(0);
+      return messages.map(({ data, logTime }) => {
+        const message = reader.readMessage<Record<string, unknown>>(data);
         if (statusNames) message.commandStatus = statusNames.get(message.commandStatus as number);
-        return message;
+        if (stateNames && "state" in message) message.state = stateNames.get(message.state as number);
+        return { ...message, logTime };
       });
     };
     for (const c of sem) { // all ten schema texts parse as recorded, the same-named module and enum included
@@ -168,14 +178,22 @@ test.describe.serial("replay of a recording", () => {
     const acks = decode("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport").filter((m) => guid(m.sessionID) === recorded.session);
     expect(acks.map((m) => guid(m.source))).toEqual([recorded.vehicleId]);
     for (const topic of ["UMAA::SEM::GPSFixStatus::GPSFixStatusReport", "UMAA::SEM::InertialSensorStatus::InertialSensorReport"]) {
-      const reports = decode(topic); // every vehicle's, its key the last member: read in step with the bytes
+      const reports = decode(topic); // every vehicle's; the key and the time stamp are the last members: read in step
       expect(reports.length, topic).toBeGreaterThan(10);
       expect(new Set(reports.map((m) => guid(m.source))), topic).toEqual(vehicles);
+      for (const m of reports) {
+        const stamped = Number((m.timeStamp as { seconds: number | bigint }).seconds);
+        expect(Math.abs(stamped - Number(m.logTime / 1_000_000_000n)), topic).toBeLessThanOrEqual(5); // stamped when sent
+      }
     }
-    for (const topic of ["UMAA::SEM::InertialSensorControl::InertialSensorCommand", "UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus",
-      "UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport"]) {
-      expect(() => decode(topic), topic).not.toThrow();
-    }
+    const ins = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommand").filter((m) => guid(m.sessionID) === recorded.insSession);
+    expect(ins.map((m) => [guid(m.destination), m.state])).toEqual([[recorded.insVehicleId, "ON"]]);
+    const insStatuses = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus").filter((m) => guid(m.sessionID) === recorded.insSession);
+    const insLive = await json<{ transitions: { status: string }[] }>(request.get(`${load().url}/api/commands/${recorded.insSession}`));
+    expect(insLive.transitions.length).toBeGreaterThanOrEqual(2); // as the live console took them, ISSUED first
+    expect(insStatuses.map((m) => m.commandStatus)).toEqual(insLive.transitions.map((t) => t.status));
+    const insAcks = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport").filter((m) => guid(m.sessionID) === recorded.insSession);
+    expect(insAcks.map((m) => [guid(m.source), m.state])).toEqual([[recorded.insVehicleId, "ON"]]);
   });
 
   test("shows the recorded vehicle, satellites and command timeline, with the badge and commands disabled", async ({ page }) => {

@@ -17,7 +17,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sqlalchemy import event, insert
+from sqlalchemy import event, func, insert
 from sqlalchemy.engine import Engine
 from sqlmodel import Field, Session, SQLModel, col, create_engine, delete, select
 
@@ -127,7 +127,7 @@ def _sqlite_engine(path: Path) -> Engine:
 class History:
     """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
 
-    def __init__(self, path: Path, retention_hours: float) -> None:
+    def __init__(self, path: Path, retention_hours: float, replay: bool = False) -> None:
         self.engine = _sqlite_engine(path)
         SQLModel.metadata.create_all(self.engine, tables=[TrackPoint.__table__, SeriesPoint.__table__])  # type: ignore[list-item]
         self.retention = retention_hours * 3600.0
@@ -135,6 +135,9 @@ class History:
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
         self._slot: dict[tuple[str, uuid.UUID], int] = {}  # (table, provider) -> UTC second of its last point
+        # a replay's clock only goes forward (a seek back resets the slots): no point in a second not later than
+        # the last one's. Live, only the same second is refused: a wall clock stepped back must not stop the track.
+        self.replay = replay
         self._lock = asyncio.Lock()
         self._last_prune = 0.0
         # figures for /api/metrics
@@ -145,8 +148,10 @@ class History:
 
     # ---- on the loop ----------------------------------------------------------------------
     def _due(self, table: str, provider: uuid.UUID, received_at: float) -> bool:
+        """At most one point a second: the first report of a new second (in a replay, of a later second)."""
         slot = math.floor(received_at)
-        if self._slot.get((table, provider)) == slot:
+        last = self._slot.get((table, provider))
+        if last is not None and (slot == last or (self.replay and slot < last)):
             return False
         self._slot[(table, provider)] = slot
         return True
@@ -207,14 +212,23 @@ class History:
         async with self._lock:  # after a flush in progress, before the next
             self._track = [p for p in self._track if p["time"] <= t]
             self._series = [p for p in self._series if p["time"] <= t]
-            self._slot = {k: slot for k, slot in self._slot.items() if slot < math.floor(t)}
-            await asyncio.to_thread(self._delete_after, t)
+            kept = await asyncio.to_thread(self._delete_after, t)
+            # each vehicle's last second with a point, kept or held: the rebuild up to `t` adds none before it
+            for table, rows in (("track", self._track), ("series", self._series)):
+                for p in rows:
+                    kept[(table, p["providerId"])] = max(kept.get((table, p["providerId"]), p["time"]), p["time"])
+            self._slot = {(table, uuid.UUID(provider)): math.floor(time_) for (table, provider), time_ in kept.items()}
 
-    def _delete_after(self, t: float) -> None:
+    def _delete_after(self, t: float) -> dict[tuple[str, str], float]:
+        """Delete the points after `t`; the latest time kept per (table, provider)."""
+        kept: dict[tuple[str, str], float] = {}
         with Session(self.engine) as s:
-            for model in (TrackPoint, SeriesPoint):
+            for table, model in (("track", TrackPoint), ("series", SeriesPoint)):
                 s.execute(delete(model).where(col(model.time) > t))
+                for provider, latest in s.exec(select(model.providerId, func.max(model.time)).group_by(model.providerId)).all():
+                    kept[(table, provider)] = latest
             s.commit()
+        return kept
 
     # ---- reads (REST) ------------------------------------------------------------------------
     async def track(self, provider: uuid.UUID, since: float | None, until: float | None) -> list[TrackPoint]:

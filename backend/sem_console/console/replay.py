@@ -196,9 +196,12 @@ class Replay:
             raise ReplayError(f"position {position} is outside the recording ({self.start} to {self.end})")
         async with self._lock:
             if position < self.position:
+                try:  # first: if the database fails, the seek goes on and the charts show a little more
+                    await self.console.history.forget_after(position)
+                except Exception:
+                    log.exception("could not forget the track and series after %s", position)
                 self._rewind()
                 self.console.reset()
-                await self.console.history.forget_after(position)
             self.console.quiet = True  # what happens on the way is not sent: the snapshot after it is
             try:
                 await self._advance(position, rebuild=True)

@@ -78,7 +78,7 @@ class Console:
         db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
         self.store = Store(db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
-        self.history = History(db_path, math.inf if replaying else settings.track_retention_hours)
+        self.history = History(db_path, math.inf if replaying else settings.track_retention_hours, replay=replaying)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to

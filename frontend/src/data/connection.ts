@@ -72,6 +72,11 @@ export class Store {
     this.set({ ...initialState, selected, authRequired, readAuthRequired });
   }
 
+  /** Drop the messages not yet applied (a replay's new instant: they were from before it). */
+  discardQueued(): void {
+    this.queue = [];
+  }
+
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;

@@ -346,4 +346,21 @@ describe("data sources", () => {
     expect(s.selected).toBe(P);
     expect(replay.getPlayback()?.position).toBe(1010);
   });
+
+  it("a seek drops the reports still queued from before it, and moves the instant on (history reloads)", () => {
+    vi.useFakeTimers({ now: 1_700_000_000_000 });
+    const store = new Store(P);
+    const replay = new ReplaySource("ws://x/ws", store);
+    store.clock = replay.now;
+    deliver(replay, { ...snapshot(), replay: playback("playing", 1050, 1) } as ServerMessage);
+    const instant = store.getState().instant;
+    deliver(replay, { type: "report", providerId: P, topic: "GPSReport",
+      report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage);
+    // not applied yet (the next frame), when the seek back's snapshot comes
+    deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage);
+    store.flush();
+    vi.advanceTimersByTime(1000);
+    expect(store.getState().providers[P].trails).toEqual({});
+    expect(store.getState().instant).toBe(instant + 1);
+  });
 });

@@ -284,6 +284,7 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
   const known = useSelector((s) => (providerId ? providerId in s.providers : false));
   const live = useConnectionState() === "live";
   const token = useToken();
+  const instant = useSelector((s) => s.instant); // a replay's seek: the history up to the new instant
   useEffect(() => {
     if (!providerId || !known || !live) return;
     let current = true;
@@ -298,7 +299,7 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
     return () => {
       current = false;
     };
-  }, [providerId, known, live, token, store, source]);
+  }, [providerId, known, live, token, store, source, instant]);
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }
 
@@ -310,6 +311,7 @@ export function useTrackedProviders(throttleMs = 0): ProviderView[] {
   const ids = providers.map((p) => p.id).join(",");
   const live = useConnectionState() === "live";
   const token = useToken();
+  const instant = useSelector((s) => s.instant);
   useEffect(() => {
     if (!live || !ids) return;
     let current = true;
@@ -326,7 +328,7 @@ export function useTrackedProviders(throttleMs = 0): ProviderView[] {
     return () => {
       current = false;
     };
-  }, [ids, live, token, store, source]);
+  }, [ids, live, token, store, source, instant]);
   return providers;
 }
 

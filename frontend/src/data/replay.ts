@@ -36,8 +36,10 @@ export class ReplaySource extends Connection {
       return;
     }
     if (msg.type === "snapshot" && msg.replay) {
-      // a seek (or a reconnect): the state of another instant, so trails, charts and alerts start again from it
+      // a seek (or a reconnect): the state of another instant, so trails, charts and alerts start again from it;
+      // reports still queued for the next frame are from before it (a hidden tab applies them only every second)
       this.setStatus(msg.replay);
+      this.store.discardQueued();
       this.store.update(forNewInstant);
     }
     super.receive(msg);

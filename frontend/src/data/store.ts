@@ -71,6 +71,9 @@ export interface State {
   tasks: Record<number, Task>;
   taskSeq: number; // `task` messages received
   taskMessageSeq: Record<number, number>; // each task's last `task` message (its taskSeq then)
+  // A replay's instants shown (each seek, each reconnect): the chart's and map's history is loaded again
+  // for each, and a REST answer for an earlier one is dropped
+  instant: number;
 }
 
 export const TRAIL_SECONDS = 600;
@@ -96,6 +99,7 @@ export const initialState: State = {
   tasks: {},
   taskSeq: 0,
   taskMessageSeq: {},
+  instant: 0,
 };
 
 export function report<T extends Topic>(p: ProviderView | undefined, topic: T): ReportTypes[T] | null {
@@ -345,7 +349,7 @@ export function tasksReplaced(state: State, tasks: Task[], seq: number): State {
 
 /** A replay moved to another instant: what was built from the instants before it (trails, charts, alerts) goes. */
 export function forNewInstant(state: State): State {
-  return { ...state, providers: {}, commands: {}, alerts: [] };
+  return { ...state, providers: {}, commands: {}, alerts: [], instant: state.instant + 1 };
 }
 
 export function dismiss(state: State, alertId: number | "all"): State {
