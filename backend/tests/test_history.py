@@ -105,7 +105,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     points = gpx.tracks[0].segments[0].points
     assert len(points) == len(track)
     times = [p.time.timestamp() for p in points]
-    assert len(times) >= 5 and all(a < b for a, b in zip(times, times[1:]))  # in time order, one per instant
+    assert len(times) >= 3 and all(a < b for a, b in zip(times, times[1:]))  # in time order, one per instant
     assert len({math.floor(t) for t in times}) == len(times)  # at most one a second (1 Hz)
     assert len({(p.latitude, p.longitude) for p in points}) > 1  # the vehicle's track, not one point repeated
     for p, t in zip(points, track):

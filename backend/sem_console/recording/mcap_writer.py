@@ -1,9 +1,9 @@
 """A streaming MCAP writer whose per-message cost fits the recorder's budget (MCAP version 0).
 
 Why not `mcap.writer.Writer`: its `add_message` builds a `Message` dataclass and packs seven
-fields one by one into a seeking BytesIO: 3.5 µs per message alone (`bench/mcap_write.py`), 11 µs
-in the running console (the writer thread's CPU, `bench/recording.py`), which at the 50-vehicle ingest rate is
-more than the 10% of the console's CPU recording may cost. Here a message is one struct pack
+fields one by one into a seeking BytesIO: 4-5 µs per message alone (`bench/mcap_write.py`), 11 µs
+in the running console (the writer thread's CPU, `bench/recording.py`), which at the 50-vehicle
+ingest rate is more than the 10% of the console's CPU recording may cost. Here a message is one struct pack
 and a few list appends; the chunk's time range is worked out once per chunk, and its message
 index records are packed in one call per channel. The other records (header, schema, channel,
 chunk, chunk index, data end, statistics, summary offsets, footer) are serialised by the mcap
@@ -12,8 +12,9 @@ library's own record classes.
 The layout: schemas and channels in the data section, outside chunks, as they are registered
 (the mcap library puts them in the chunk in progress; the specification allows both), chunks
 (zstd) each followed by one message index per channel, then a summary with the schemas,
-channels, statistics and chunk indexes, summary offsets, and a footer with the summary CRC. `tests/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs
-validated) and checks a message record against bytes worked out from the specification.
+channels, statistics and chunk indexes, summary offsets, and a footer with the summary CRC.
+`tests/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs validated) and
+checks a message record against bytes worked out from the specification.
 """
 
 from __future__ import annotations

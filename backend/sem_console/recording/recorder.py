@@ -124,7 +124,7 @@ class _File:
         return n
 
     def size(self) -> int:
-        """What the file will hold at least: written, and the chunk in progress as if it did not compress."""
+        """The size the rollover goes by: what is written, and the chunk in progress before compression."""
         return self.writer.tell() + self.writer.pending()
 
     def close(self) -> None:
