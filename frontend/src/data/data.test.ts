@@ -323,15 +323,21 @@ describe("data sources", () => {
     expect(store.getState().providers[P].topics.GPSReport!.at).toBe(1040); // 2 s old at the instant shown
   });
 
-  it("a replay snapshot (a seek) starts trails, charts, commands and alerts again and keeps the selection", () => {
+  /** A replay source on a store with P selected, at `position` of the recording. */
+  function replayAt(state: "playing" | "paused", position: number): { store: Store; replay: ReplaySource } {
     vi.useFakeTimers({ now: 1_700_000_000_000 });
     const store = new Store(P);
     const replay = new ReplaySource("ws://x/ws", store);
     store.clock = replay.now;
-    deliver(replay, { ...snapshot(), replay: playback("paused", 1050, 1) } as ServerMessage);
-    const gps = { type: "report", providerId: P, topic: "GPSReport",
-      report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
-    deliver(replay, gps);
+    deliver(replay, { ...snapshot(), replay: playback(state, position, 1) } as ServerMessage);
+    return { store, replay };
+  }
+  const gpsReport = { type: "report", providerId: P, topic: "GPSReport",
+    report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
+
+  it("a replay snapshot (a seek) starts trails, charts, commands and alerts again and keeps the selection", () => {
+    const { store, replay } = replayAt("paused", 1050);
+    deliver(replay, gpsReport);
     store.flush();
     deliver(replay, { type: "provider", event: "lost", provider: summary("lost", 3) });
     store.flush();
@@ -348,14 +354,9 @@ describe("data sources", () => {
   });
 
   it("a seek drops the reports still queued from before it, and moves the instant on (history reloads)", () => {
-    vi.useFakeTimers({ now: 1_700_000_000_000 });
-    const store = new Store(P);
-    const replay = new ReplaySource("ws://x/ws", store);
-    store.clock = replay.now;
-    deliver(replay, { ...snapshot(), replay: playback("playing", 1050, 1) } as ServerMessage);
+    const { store, replay } = replayAt("playing", 1050);
     const instant = store.getState().instant;
-    deliver(replay, { type: "report", providerId: P, topic: "GPSReport",
-      report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage);
+    deliver(replay, gpsReport);
     // not applied yet (the next frame), when the seek back's snapshot comes
     deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage);
     store.flush();
