@@ -10,7 +10,8 @@ import { fileURLToPath } from "node:url";
 
 const ROOT = join(dirname(fileURLToPath(import.meta.url)), "..");
 const BIN = join(ROOT, ".venv", "bin");
-const STATE = join(ROOT, "e2e", ".stack.json");
+// E2E_STACK_STATE: another file, for a second Playwright run beside the first
+const STATE = process.env.E2E_STACK_STATE ?? join(ROOT, "e2e", ".stack.json");
 export const VEHICLE_3_NAME = "Charlie"; // configured with --vehicle-names; vehicles 1 and 2 have none
 
 export interface Stack {

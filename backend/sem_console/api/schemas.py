@@ -96,12 +96,19 @@ class Command(_Model):
     transitions: list[Transition]
 
 
+CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and commands it anyway; without it a command to a "
+                "lost vehicle is refused with 409")
+
+
 class InertialSensorRequest(_Model):
     state: InsStateName
+    confirmLost: bool = Field(False, description=CONFIRM_LOST)
 
 
 class GpsFixRequest(_Model):
-    """A GPS fix takes no parameters: the body is the empty JSON object `{}`."""
+    """A GPS fix takes no parameters but the lost-vehicle confirmation: the body is `{}` (or `{"confirmLost": true}`)."""
+
+    confirmLost: bool = Field(False, description=CONFIRM_LOST)
 
 
 class Problem(_Model):
@@ -138,6 +145,8 @@ class Health(_Model):
     domain: int
     authRequired: bool = Field(description="commands need an operator token")
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
+    ddsNetwork: str | None = Field(None, description="where the console looks for vehicles, in one line: the interface and "
+                                   "discovery (unicast peers or multicast), or CYCLONEDDS_URI; null in a replay")
     basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
     replay: bool = Field(description="the console serves a recording (sem-console --replay), not DDS: read-only, "
                                      "with playback controls (/api/replay)")
@@ -400,6 +409,32 @@ class ComapStatus(_Model):
     vehicles: list[ComapVehicle]
 
 
+# ---- Alarms (ISA-18.2 states, derived on the server from the console's state) ------------------------
+AlarmKind = Literal["link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "command-failed",
+                    "command-interrupted", "flow-violation", "executed-late", "recording-failed"]
+AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-unacknowledged"]
+
+
+class Alarm(_Model):
+    """One alarm of the active set. A condition alarm (link-lost, ins-failure, fix-lost, no-fix-after-command,
+    command-unanswered) is active while its condition holds; an event alarm (command-failed, command-interrupted,
+    flow-violation, executed-late, recording-failed) is latched: its condition clears at once. An acknowledged
+    alarm whose condition has cleared returns to normal and leaves the set (it stays in the database)."""
+
+    id: int
+    kind: AlarmKind
+    severity: Literal["alarm", "warning"] = Field(description="alarm: act now; warning: look when you can")
+    providerId: str | None = Field(description="the vehicle's source GUID; null for the console's own (recording)")
+    vehicle: str | None = Field(description="the vehicle as the operator knows it: its configured name, else its short id")
+    sessionId: str | None = Field(description="the command the alarm is about, if any")
+    text: str = Field(description="one line in the operator's words, naming the vehicle")
+    since: float = Field(description="when it became active, UTC seconds")
+    state: AlarmState
+    clearedAt: float | None = Field(description="when its condition cleared, UTC seconds")
+    ackedAt: float | None
+    ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in on this console)")
+
+
 # ---- WebSocket: server -> client ---------------------------------------------------------
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
@@ -411,6 +446,7 @@ class SnapshotMessage(_Model):
     gateways: list[GatewayState]
     recording: RecordingStatus
     replay: ReplayStatus | None = Field(description="the replay's playback (sem-console --replay); null for a live console")
+    alarms: list[Alarm] = Field(description="the active alarm set (every alarm not returned to normal), newest first")
 
 
 class ReportMessage(_Model):
@@ -474,6 +510,13 @@ class TaskMessage(_Model):
     task: Task
 
 
+class AlarmsMessage(_Model):
+    """The active alarm set changed (raised, acknowledged, cleared, returned to normal): the whole set, newest first."""
+
+    type: Literal["alarms"]
+    alarms: list[Alarm]
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -486,7 +529,7 @@ class PongMessage(_Model):
 
 ServerMessage = Annotated[
     Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ReplayMessage,
-          GatewaysMessage, WorldModelMessage, TaskMessage, ErrorMessage, PongMessage],
+          GatewaysMessage, WorldModelMessage, TaskMessage, AlarmsMessage, ErrorMessage, PongMessage],
     Field(discriminator="type"),
 ]
 

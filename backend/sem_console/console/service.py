@@ -358,9 +358,9 @@ class Console:
             "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "gateways": self.gateway_states(),
-            "gateways": self.gateway_states(),
             "recording": self.recorder.status(),
             "replay": self.replay.status() if self.replay else None,
+            "alarms": [],
         }
 
     def metrics(self) -> dict[str, Any]:

@@ -43,3 +43,14 @@ def dds_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
     """The config to create the Domain with: CYCLONEDDS_URI when set, else the loopback/peers config."""
     uri = os.environ.get("CYCLONEDDS_URI", "").strip()
     return uri or loopback_config(interface, peers)
+
+
+def describe(interface: str = "lo", peers: str = "127.0.0.1") -> str:
+    """The configuration `dds_config` gives, in one line for an operator."""
+    uri = os.environ.get("CYCLONEDDS_URI", "").strip()
+    if uri:
+        return f"CYCLONEDDS_URI ({uri if len(uri) <= 80 else uri[:77] + '...'})"
+    peer_list = [p.strip() for p in peers.split(",") if p.strip()]
+    if peer_list:
+        return f"interface {interface}, unicast discovery to {', '.join(peer_list)}"
+    return f"interface {interface}, multicast discovery"

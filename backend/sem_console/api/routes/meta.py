@@ -9,6 +9,7 @@ from fastapi.responses import FileResponse
 
 from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
+from sem_console.dds.config import describe
 from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
 
 health_router = APIRouter(prefix="/api", tags=["meta"])  # always open
@@ -20,7 +21,8 @@ operator_router = APIRouter(prefix="/api", tags=["meta"])  # needs a token when 
 async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
             "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
-            "basemap": settings.basemap is not None, "replay": settings.replay is not None}
+            "basemap": settings.basemap is not None, "replay": settings.replay is not None,
+            "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers)}
 
 
 @reads.get("/metrics", response_model=Metrics)
