@@ -3,8 +3,14 @@
 from __future__ import annotations
 
 import argparse
+import errno
 import logging
+import socket
+import sqlite3
+import ssl
 import sys
+import tempfile
+from contextlib import closing
 from pathlib import Path
 
 from pydantic import ValidationError
@@ -104,11 +110,14 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
     if (settings.tls_certfile is None) != (settings.tls_keyfile is None):
         parser.error("--tls-certfile and --tls-keyfile go together")
-    if settings.basemap is not None and not settings.basemap.is_file():
-        parser.error(f"--basemap: no such file: {settings.basemap}")
+    if settings.basemap is not None and (problem := check_basemap(settings.basemap)):
+        parser.error(problem)
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
+    if settings.tls_certfile is not None and settings.tls_keyfile is not None and (
+            problem := check_tls(settings.tls_certfile, settings.tls_keyfile)):
+        parser.error(problem)
     if settings.replay is not None:
         if settings.sim or settings.record is not None:
             parser.error("--replay is read-only: it does not go with --sim or --record")
@@ -124,6 +133,21 @@ def main(argv: list[str] | None = None) -> int:
             check_url(settings.aspn_lcm)
         except (OSError, RuntimeError, ValueError) as e:
             parser.error(f"--aspn-lcm {settings.aspn_lcm}: {e}")
+    # files and ports before DDS and the application start: each problem is one line and exit code 2 here,
+    # not a traceback from the application's start-up (or uvicorn's "startup complete" and then a bind error)
+    if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
+        for problem in (check_database(settings.db_path),
+                        check_directory("--record", settings.record) if settings.record else None,
+                        # a folder given for the record control; the default one only gets a warning below
+                        check_directory("--recordings-dir", settings.recordings_dir)
+                        if "recordings_dir" in settings.model_fields_set else None):
+            if problem:
+                parser.error(problem)
+    try:
+        listeners = listen(settings.host, settings.port)
+        check_udp_ports(settings)
+    except StartError as e:
+        parser.error(str(e))
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     for warning in start_warnings(settings):
         logging.getLogger("sem-console").warning(warning)
@@ -137,14 +161,23 @@ def main(argv: list[str] | None = None) -> int:
 
     from sem_console.main import create_app
 
-    uvicorn.run(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
-                ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
-                # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on 127.0.0.1,
-                # which could then pick its own client address (the token slow-down, the audit's client)
-                proxy_headers=bool(settings.forwarded_allow_ips.strip()),
-                forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
-                ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
-    return 0
+    config = uvicorn.Config(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
+                            ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
+                            # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
+                            # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)
+                            proxy_headers=bool(settings.forwarded_allow_ips.strip()),
+                            forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
+                            ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
+    server = uvicorn.Server(config)
+    scheme = "https" if settings.tls_certfile else "http"
+    for sock in listeners:  # uvicorn names no address for sockets it is given
+        address, port = sock.getsockname()[:2]
+        logging.getLogger("sem-console").info("listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port)
+    try:  # on the sockets bound above: no other process can take the port between the check and the start
+        server.run(sockets=listeners)
+    except KeyboardInterrupt:
+        pass
+    return 0 if server.started else 3  # 3: the application's start-up failed (uvicorn's code for it)
 
 
 def start_warnings(settings: Settings) -> list[str]:
@@ -159,10 +192,165 @@ def start_warnings(settings: Settings) -> list[str]:
         out.append("--allowed-hosts '*' accepts any Host header: a page under a foreign DNS name that resolves to this "
                    "console (DNS rebinding) passes the Host and the Origin checks (without --auth-reads it reads the "
                    "vehicles; without operator tokens it commands them): name the hosts instead")
+    if settings.replay is None and settings.record is None and "recordings_dir" not in settings.model_fields_set and (
+            problem := check_directory("--recordings-dir", settings.recordings_dir)):
+        out.append(f"{problem} (the record control fails until then)")
     f = settings.operator_tokens_file
     if f is not None and f.stat().st_mode & 0o077:
         out.append(f"{f} can be read by other users of this machine (chmod 600 it)")
     return out
+
+
+# ---- start-up checks: a problem is one line naming the file or port and what to do -----------------------------
+class StartError(Exception):
+    """A port the console cannot listen on: its message is the one line the operator reads."""
+
+
+def check_database(path: Path) -> str | None:
+    """Why the console cannot keep its history in `path`, or None. SQLite itself reads it (read-only,
+    `PRAGMA quick_check`, about 0.3 s for 300 MB): the store would otherwise fail in the application's
+    start-up with a long traceback. A missing or empty file is a new database."""
+    fix = "move it aside or pass another --db"
+    if path.is_dir():
+        return f"--db {path} is a directory, not a database file: pass another --db"
+    # the store creates the directory, and WAL mode writes -wal and -shm files beside the database
+    if problem := writable_directory(path.parent):
+        return f"--db {path}: {problem}: pass another --db"
+    if not path.exists():
+        return None
+    try:
+        with open(path, "r+b"):  # the console writes to it: readable is not enough
+            pass
+    except OSError as e:
+        return f"--db {path}: cannot open it to read and write ({e.strerror or e}): fix its permissions, or {fix}"
+    try:
+        with closing(sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, timeout=10)) as db:
+            problems = [str(row[0]) for row in db.execute("PRAGMA quick_check")]
+    except sqlite3.DatabaseError as e:
+        if getattr(e, "sqlite_errorname", "") in ("SQLITE_BUSY", "SQLITE_LOCKED"):
+            return f"--db {path} is locked by another process: stop it, or pass another --db"
+        return f"--db {path} is not a SQLite database or is damaged ({e}): {fix}"
+    if problems != ["ok"]:
+        return f"--db {path} is damaged ({problems[0] if problems else 'no answer to PRAGMA quick_check'}): {fix}"
+    return None
+
+
+def check_directory(option: str, directory: Path) -> str | None:
+    """Why recordings cannot be written into `directory`, or None. A missing directory is left to the
+    recorder to make (when it first records): its nearest existing parent must take files."""
+    existing = next((d for d in (directory, *directory.parents) if d.exists()), Path("."))
+    if not existing.is_dir():
+        return f"{option} {directory}: {existing} is a file, not a directory: pass another directory"
+    problem = writable_directory(existing)
+    return f"{option} {directory}: {problem}: pass another directory" if problem else None
+
+
+def writable_directory(directory: Path) -> str | None:
+    """Why no file can be written in `directory` (made if missing), or None."""
+    try:
+        directory.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=directory):  # nothing is left behind, even on a crash
+            pass
+    except (FileExistsError, NotADirectoryError):
+        return f"cannot make the directory {directory} (a file is in the way)"
+    except OSError as e:
+        return f"cannot write in {directory} ({e.strerror or e})"
+    return None
+
+
+PMTILES_HEADER = 127  # bytes of a PMTiles v3 header, which starts with b"PMTiles" and the version byte 3
+
+
+def check_basemap(path: Path) -> str | None:
+    """Why `path` is not a PMTiles v3 archive the dashboard's map can read, or None (only the header is read)."""
+    if not path.exists():
+        return f"--basemap: no such file: {path}"
+    if path.is_dir():
+        return f"--basemap {path} is a directory, not a PMTiles file"
+    try:
+        with open(path, "rb") as f:
+            head = f.read(PMTILES_HEADER)
+    except OSError as e:
+        return f"--basemap {path}: cannot read it ({e.strerror or e})"
+    if not head.startswith(b"PMTiles"):
+        return (f"--basemap {path} is not a PMTiles file (it does not start with 'PMTiles'): "
+                "convert it (pmtiles convert FILE.mbtiles FILE.pmtiles) or pass another --basemap")
+    if len(head) < PMTILES_HEADER or head[7] != 3:
+        found = f"version {head[7]}" if len(head) > 7 else "no version"
+        return f"--basemap {path} is not a whole PMTiles version 3 file ({found}, {len(head)} header bytes): pass another --basemap"
+    return None
+
+
+def check_tls(certfile: Path, keyfile: Path) -> str | None:
+    """Why uvicorn could not serve TLS with these files, or None."""
+    try:
+        ssl.create_default_context(ssl.Purpose.CLIENT_AUTH).load_cert_chain(certfile, keyfile)
+    except (OSError, ssl.SSLError) as e:
+        return f"--tls-certfile {certfile} and --tls-keyfile {keyfile}: not a PEM certificate and its private key ({e})"
+    return None
+
+
+def listen(host: str, port: int) -> list[socket.socket]:
+    """Sockets bound to every address of `host` at `port`, as uvicorn (asyncio's create_server) binds them,
+    to hand to uvicorn: a busy port is then found before anything starts, and nothing takes it meanwhile.
+    StartError names the host and port and what to do."""
+    where = f"{host}:{port}" if ":" not in host else f"[{host}]:{port}"
+    try:
+        infos = socket.getaddrinfo(host or None, port, socket.AF_UNSPEC, socket.SOCK_STREAM, 0, socket.AI_PASSIVE)
+    except socket.gaierror as e:
+        raise StartError(f"--host {host}: not an address of this machine ({e.strerror}): pass another --host") from None
+    sockets: list[socket.socket] = []
+    for family, kind, proto, _name, address in dict.fromkeys(infos):
+        sock = socket.socket(family, kind, proto)
+        sockets.append(sock)
+        try:
+            sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+            if family == socket.AF_INET6:  # one family per socket, as asyncio does
+                sock.setsockopt(socket.IPPROTO_IPV6, socket.IPV6_V6ONLY, 1)
+            sock.bind(address)
+        except OSError as e:
+            for s in sockets:
+                s.close()
+            raise StartError(port_problem("--port", "--host", "TCP", where, e)) from None
+    return sockets
+
+
+def check_udp_ports(settings: Settings) -> None:
+    """StartError when the JAUS gateway's or the IMC node's UDP port cannot be bound (bound together, so
+    the two given the same port is found too, then released for them)."""
+    wanted: list[tuple[str, str, str, int, int]] = []  # option, its host option, host, port, address family
+    if settings.jaus_port is not None:
+        host_option = "--jaus-host" if settings.jaus_host else "--host"
+        wanted.append(("--jaus-port", host_option, settings.jaus_host or settings.host, settings.jaus_port, socket.AF_UNSPEC))
+    if settings.imc_port is not None and settings.replay is None:  # comap/transport.py binds IPv4
+        wanted.append(("--imc-port", "--imc-host", settings.imc_host, settings.imc_port, socket.AF_INET))
+    taken: list[socket.socket] = []
+    try:
+        for option, host_option, host, port, family in wanted:
+            where = f"{host}:{port}" if ":" not in host else f"[{host}]:{port}"
+            try:
+                info = socket.getaddrinfo(host, port, family, socket.SOCK_DGRAM)[0]
+                sock = socket.socket(info[0], info[1], info[2])
+                taken.append(sock)
+                sock.bind(info[4])
+            except socket.gaierror as e:
+                raise StartError(f"{host_option} {host}: not an address of this machine ({e.strerror}): "
+                                 f"pass another {host_option}") from None
+            except OSError as e:
+                raise StartError(port_problem(option, host_option, "UDP", where, e)) from None
+    finally:
+        for sock in taken:
+            sock.close()
+
+
+def port_problem(option: str, host_option: str, protocol: str, where: str, e: OSError) -> str:
+    if e.errno == errno.EADDRINUSE:
+        return f"{option}: {protocol} {where} is already in use (another sem-console?): stop it, or pass another {option}"
+    if e.errno == errno.EACCES:
+        return f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
+    if e.errno == errno.EADDRNOTAVAIL:
+        return f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: pass another {host_option}"
+    return f"{option}: cannot listen on {protocol} {where} ({e.strerror or e})"
 
 
 if __name__ == "__main__":

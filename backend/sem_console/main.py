@@ -21,8 +21,8 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY
-from sem_console.api.routes import (comap, commands, gateways as gateway_routes, history, meta, providers, recordings, replay,
-                                    ws)
+from sem_console.api.routes import (alarms, comap, commands, gateways as gateway_routes, history, meta, providers, recordings,
+                                    replay, ws)
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
@@ -60,7 +60,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
     app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
-                                          + comap.writes.routes, settings.audit_refusals_per_minute)
+                                          + comap.writes.routes + alarms.writes.routes, settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -98,7 +98,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                      (recordings.reads, reads), (gateway_routes.reads, reads), (comap.reads, reads),
                      (replay.reads, reads), (replay.controls, replay_controls),
                      (commands.writes, commands_writes), (recordings.writes, commands_writes), (gateway_routes.writes, commands_writes),
-                     (comap.writes, commands_writes),
+                     (comap.writes, commands_writes), (alarms.reads, reads), (alarms.writes, commands_writes),
                      (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
     app.add_middleware(Guard, settings=settings)

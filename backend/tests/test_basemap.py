@@ -12,7 +12,7 @@ import httpx
 
 
 def test_the_basemap_is_served_with_range_requests(console, tmp_path: Path) -> None:
-    data = os.urandom(200_000)
+    data = b"PMTiles\x03" + os.urandom(200_000)
     (tmp_path / "chart.pmtiles").write_bytes(data)
     c = console("--basemap", str(tmp_path / "chart.pmtiles"))
     assert httpx.get(f"{c.url}/api/health").json()["basemap"] is True

@@ -414,7 +414,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     GET after DELETE to be a 404, but DELETE /api/commands/{id} is a cancel request and the command
     stays in the history (by design)."""
     sim("--vehicles", "2", "--surface-seconds", "400")
-    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
+    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles\x03" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
     c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
                 "--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001",
                 env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
@@ -431,7 +431,7 @@ def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path)
     """The same against a console replaying a recording: its command, recording, link configuration and
     CoMap write routes answer 409 (read-only), its playback controls take whatever the schema allows.
     The ASPN gateway and the basemap work in a replay as live, so they are on here too."""
-    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles" + bytes(2000))
+    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles\x03" + bytes(2000))
     c = console("--replay", str(synthetic_recording(tmp_path / "recordings")),  # the console's recordings folder: listed
                 "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"))
     assert httpx.get(f"{c.url}/api/replay").status_code == 200

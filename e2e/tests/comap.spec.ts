@@ -6,7 +6,7 @@
 // then the operator deletes the feature.
 import { expect, test, type Page } from "@playwright/test";
 import { consoleOnly, vehicle } from "../helpers";
-import { load } from "../stack";
+import { VEHICLE_3_NAME, load } from "../stack";
 
 type LonLat = [number, number];
 const PARTIAL = { hex: "#f5a623", rgb: "rgb(245, 166, 35)" }; // the legend's "partial (amber)"
@@ -75,7 +75,7 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await vehicle(page, id).click();
   await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
   const comap = page.getByTestId("comap");
-  await expect(comap.getByTestId("capabilities")).toContainText(`IMC ${stack.imcVehicles[2]}: area survey SIDESCAN`, { timeout: 30_000 });
+  await expect(comap.getByTestId("capabilities")).toContainText(`IMC ${stack.imcVehicles[2]}: area survey side-scan sonar`, { timeout: 30_000 });
   await expect(comap.getByTestId("capabilities")).toContainText("move 8 m/s");
   const follow = page.getByTestId("map-follow");
   if ((await follow.getAttribute("aria-pressed")) === "true") await follow.click();
@@ -128,13 +128,16 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await comap.getByLabel("Feature", { exact: true }).selectOption(String(fid));
   await comap.getByLabel("Sensor", { exact: true }).selectOption("SIDESCAN");
   await comap.getByRole("button", { name: "Survey", exact: true }).click();
+  const confirm = comap.getByRole("dialog", { name: "Confirm survey" }); // bound to the vehicle and named
+  await expect(confirm).toContainText(`Survey feature #${fid} with ${VEHICLE_3_NAME} (${id.slice(0, 8)})`);
+  await confirm.getByRole("button", { name: "Send survey" }).click();
   const row = comap.getByTestId("task").first();
-  await expect(row.getByTestId("task-state")).toHaveText(/ACCEPTED|IN_PROGRESS/, { timeout: 20_000 });
+  await expect(row.getByTestId("task-state")).toHaveAttribute("data-state", /ACCEPTED|IN_PROGRESS/, { timeout: 20_000 });
   const taskId = Number(await row.getAttribute("data-task-id"));
 
   // coverage PARTIAL, in the list (text and swatch) and on the map, in the same colour
   await expect(feature).toHaveAttribute("data-coverage", "PARTIAL", { timeout: 30_000 });
-  await expect(feature.getByTestId("coverage")).toHaveText("PARTIAL");
+  await expect(feature.getByTestId("coverage")).toHaveAttribute("title", "IMC coverage: PARTIAL");
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", PARTIAL.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "PARTIAL", color: PARTIAL.hex });
 
@@ -147,7 +150,7 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await expect(feature).toHaveAttribute("data-coverage", "COMPLETED", { timeout: 60_000 });
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", COMPLETED.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "COMPLETED", color: COMPLETED.hex });
-  await expect(row.getByTestId("task-state")).toHaveText("COMPLETED");
+  await expect(row.getByTestId("task-state")).toHaveAttribute("data-state", "COMPLETED");
   await expect(row.getByTestId("task-progress")).toHaveText("100%");
   const states = tasks.filter((t) => t.taskId === taskId).map((t) => t.state);
   expect(states.slice(0, 2)).toEqual(["ASSIGNED", "ACCEPTED"]);
@@ -183,6 +186,7 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
 
   // delete it on the map (the edit tool: click it, Delete): gone from the console's world model once sent
   await comap.getByTestId("edit-features").click();
+  await map.evaluate((e) => e.scrollIntoView({ block: "center" })); // the controls clicked below it may have scrolled it away
   const [mid] = await pixels(page, [corner(0, 120)]);
   await page.mouse.click(mid.x, mid.y);
   await expect(feature).toHaveAttribute("aria-current", "true");
@@ -196,7 +200,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
 
   // a feature drawn next does not take the deleted one's id (its survey's coverage would colour it)
   await comap.getByRole("button", { name: "Draw feature" }).click();
-  await page.mouse.click(mid.x, mid.y);
+  await map.evaluate((e) => e.scrollIntoView({ block: "center" }));
+  const [again] = await pixels(page, [corner(0, 120)]);
+  await page.mouse.click(again.x, again.y);
   await comap.getByRole("button", { name: "Finish (1 points)" }).click();
   const drawnId = Number(await comap.getByTestId("feature").last().getAttribute("data-feature-id"));
   expect(drawnId).toBeGreaterThan(fid);

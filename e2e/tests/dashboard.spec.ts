@@ -26,29 +26,29 @@ test("the dashboard shows the connection, the vehicles, satellites, sky plot, fi
   await expect(page.getByTestId("fix-panel")).toBeVisible();
   await expect(page.getByTestId("latitude")).toContainText("° N");
   await expect(page.getByTestId("ins-panel")).toBeVisible();
-  await expect(page.getByTestId("ins-state")).toHaveText("ON");
+  await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON");
 });
 
 test("Request GPS fix: the timeline walks ISSUED to COMPLETED and the fix becomes valid", async ({ page }) => {
   await open(page);
   await expect(page.getByTestId("fix-valid")).toHaveText("No fix");
-  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
   const cmd = latestCommand(page);
   await expect(cmd).toHaveAttribute("data-status", "COMPLETED", { timeout: 30_000 });
   expect(await statuses(cmd)).toEqual(HAPPY);
   await expect(page.getByTestId("fix-valid")).toHaveText("Fix valid");
-  await expect(page.getByTestId("gps-fix-state")).toHaveText("GPSFix STABLE");
+  await expect(page.getByTestId("gps-fix-state")).toHaveAttribute("data-state", "STABLE");
 });
 
 test("INS RESTART: RESTARTING, then alignment to OPERATIONAL, and the command completes", async ({ page }) => {
   await open(page);
-  await expect(page.getByTestId("ins-status")).toHaveText("OPERATIONAL", { timeout: 30_000 });
-  await page.getByRole("button", { name: "INS RESTART" }).click();
+  await expect(page.getByTestId("ins-status")).toHaveAttribute("data-status", "OPERATIONAL", { timeout: 30_000 });
+  await page.getByRole("button", { name: "INS RESTART", exact: true }).click();
   await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
-  await expect(page.getByTestId("ins-state")).toHaveText("RESTARTING");
-  await expect(page.getByTestId("ins-status")).toHaveText("COURSE_STATIONARY_ALIGNMENT");
-  await expect(page.getByTestId("ins-state")).toHaveText("ON");
-  await expect(page.getByTestId("ins-status")).toHaveText("OPERATIONAL", { timeout: 30_000 });
+  await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "RESTARTING");
+  await expect(page.getByTestId("ins-status")).toHaveAttribute("data-status", "COURSE_STATIONARY_ALIGNMENT");
+  await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON");
+  await expect(page.getByTestId("ins-status")).toHaveAttribute("data-status", "OPERATIONAL", { timeout: 30_000 });
   const cmd = latestCommand(page);
   await expect(cmd).toHaveAttribute("data-status", "COMPLETED");
   expect(await statuses(cmd)).toEqual(HAPPY);
@@ -56,48 +56,55 @@ test("INS RESTART: RESTARTING, then alignment to OPERATIONAL, and the command co
 
 test("cancel a running command: CANCELED appears", async ({ page }) => {
   await open(page);
-  await page.getByRole("button", { name: "INS OFF" }).click();
+  await page.getByRole("button", { name: "INS OFF", exact: true }).click();
   await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
+  // the INS OFF card itself (not the previous test's command) completed, and the sensor is off
+  await expect(latestCommand(page).getByText("INS OFF", { exact: true })).toBeVisible();
   await expect(latestCommand(page)).toHaveAttribute("data-status", "COMPLETED");
-  await page.getByRole("button", { name: "INS ON" }).click(); // six seconds of alignment to cancel in
+  await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "OFF");
+  await page.getByRole("button", { name: "INS ON", exact: true }).click(); // six seconds of alignment to cancel in
   const cmd = latestCommand(page);
+  await expect(cmd.getByText("INS ON", { exact: true })).toBeVisible();
   await expect(cmd).toHaveAttribute("data-status", "EXECUTING");
   await cmd.getByRole("button", { name: "Cancel" }).click();
   await expect(cmd).toHaveAttribute("data-status", "CANCELED");
   expect(await statuses(cmd)).toEqual(["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]);
-  await expect(cmd.getByTestId("transition").last()).toContainText("CANCELED");
+  await expect(cmd.getByTestId("transition").last()).toHaveAttribute("data-status", "CANCELED");
 });
 
 test("injected faults: FAILED with its reason, and a state-machine violation flagged", async ({ page }) => {
   const stack = load();
   await open(page, 1);
-  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
   const rejected = latestCommand(page);
   await expect(rejected).toHaveAttribute("data-status", "FAILED");
-  await expect(rejected.getByTestId("transition").last()).toContainText("RESOURCE_REJECTED");
-  await expect(page.getByTestId("alert").filter({ hasText: "RESOURCE_REJECTED" })).toBeVisible();
+  await expect(rejected.getByTestId("transition").last()).toHaveAttribute("data-reason", "RESOURCE_REJECTED");
+  // the server's alarm, in the operator's words (the UMAA reason is the command card's data-reason)
+  await expect(page.locator('[data-testid="alarm"][data-kind="command-failed"]').first()).toBeVisible();
 
   await vehicle(page, stack.vehicles[2]).click();
-  await page.getByRole("button", { name: "Request GPS fix" }).click();
+  await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
   const broken = latestCommand(page);
-  await expect(broken.getByTestId("violation")).toContainText("ISSUED -> EXECUTING is not a Figure 4 transition");
+  await expect(broken.getByTestId("violation")).toHaveAttribute("title", /ISSUED -> EXECUTING is not a Figure 4 transition/);
   await expect(broken.getByTestId("command-violation")).toBeVisible();
-  await expect(page.getByTestId("alert").filter({ hasText: "broke the UMAA flow" })).toBeVisible();
+  await expect(page.locator('[data-testid="alarm"][data-kind="flow-violation"]').first()).toBeVisible();
 });
 
 test("the simulator is stopped: the vehicle shows lost; restarted: regained", async ({ page }) => {
   const id = await open(page);
   const link = vehicle(page, id).getByTestId("vehicle-link");
   await expect(link).toHaveText("live");
+  const lostAlarm = page.locator('[data-testid="alarm"][data-kind="link-lost"]').filter({ hasText: id.slice(0, 8) });
   await stopSim();
   try {
     await expect(link).toHaveText("lost");
-    await expect(page.getByTestId("alert").filter({ hasText: `Vehicle ${id.slice(0, 8)} lost` })).toBeVisible();
+    await expect(lostAlarm).toHaveAttribute("data-state", "active-unacknowledged");
     await expect(page.getByTestId("satellites-panel-freshness")).toContainText("lost");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
-  await expect(page.getByTestId("alert").filter({ hasText: `Vehicle ${id.slice(0, 8)} regained` })).toBeVisible({ timeout: 30_000 });
+  // regained: the alarm's condition cleared, and it waits for the operator's acknowledgement
+  await expect(lostAlarm).toHaveAttribute("data-state", "cleared-unacknowledged", { timeout: 30_000 });
   await expect(link).toHaveText(/regained|live/);
   await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
 });
@@ -122,13 +129,13 @@ test("with an operator token: commands are refused until sign-in", async ({ page
     await vehicle(page, id).click();
     await expect(page.getByTestId("read-only")).toBeVisible();
     await expect(page.getByTestId("commands-read-only")).toBeVisible();
-    await expect(page.getByRole("button", { name: "Request GPS fix" })).toBeDisabled();
+    await expect(page.getByRole("button", { name: "Request GPS fix", exact: true })).toBeDisabled();
     expect((await request.post(`${guarded.url}/api/providers/${id}/gps-fix`)).status()).toBe(401);
 
     await page.getByLabel("Operator token").fill(token);
     await page.getByRole("button", { name: "Sign in" }).click();
     await expect(page.getByTestId("signed-in")).toBeVisible();
-    await page.getByRole("button", { name: "Request GPS fix" }).click();
+    await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
     const cmd = latestCommand(page);
     await expect(cmd).toHaveAttribute("data-status", /ISSUED|COMMANDED|EXECUTING|COMPLETED/);
     await expect(cmd).toContainText("by e2e-operator");

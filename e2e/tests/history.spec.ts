@@ -38,7 +38,7 @@ test("export links download the vehicle's track as GPX and CSV, and the command 
   await page.getByRole("combobox", { name: "Export range" }).selectOption({ label: "Everything kept" });
 
   const gpx = await downloaded(page, "export-gpx");
-  expect(gpx.name).toBe(`track_${id}.gpx`);
+  expect(gpx.name).toMatch(new RegExp(`^Vehicle-${id.slice(0, 8)}-track-\\d{4}-\\d{2}-\\d{2}T\\d{4}Z\\.gpx$`)); // whose and when, not a GUID
   expect(gpx.text).toContain('<gpx xmlns="http://www.topografix.com/GPX/1/1"');
   expect(gpx.text.match(/<trkpt /g)?.length ?? 0).toBeGreaterThan(3);
 
@@ -49,7 +49,7 @@ test("export links download the vehicle's track as GPX and CSV, and the command 
   expect(lines[1]).toMatch(/^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z,/);
 
   const commands = await downloaded(page, "export-commands-all");
-  expect(commands.name).toBe("commands.csv");
+  expect(commands.name).toMatch(/^all-vehicles-commands-\d{4}-\d{2}-\d{2}T\d{4}Z\.csv$/);
   expect(commands.text.split(/\r?\n/)[0]).toMatch(/^session_id,service,provider_id,/);
 
   // a reversed range sends nothing and says why

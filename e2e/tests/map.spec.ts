@@ -1,8 +1,9 @@
 // The map against the real stack, with every request to anything but the console's origin refused:
-// the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow.
+// the offline basemap and the vehicles are drawn, clicking a vehicle selects it, measure, follow; for a
+// fleet: the first view with the coast, the vehicles' names, Fit all, and arrows at the edge to those outside.
 import { expect, test, type Page } from "@playwright/test";
 import { consoleOnly, open, vehicle } from "../helpers";
-import { load } from "../stack";
+import { VEHICLE_3_NAME, load } from "../stack";
 
 async function drawn(page: Page, attr: "data-land" | "data-vehicles"): Promise<number> {
   return Number((await page.getByTestId("map").getAttribute(attr)) ?? "0");
@@ -151,3 +152,89 @@ for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900
     expect(map.y + map.height).toBeLessThanOrEqual(viewport.height);
   });
 }
+
+/** Whether the map draws vehicle `id` inside its view now. */
+async function inView(page: Page, id: string): Promise<boolean> {
+  const box = (await page.getByTestId("map").boundingBox())!;
+  const p = await vehiclePixel(page, id);
+  return p.x >= box.x && p.x <= box.x + box.width && p.y >= box.y && p.y <= box.y + box.height;
+}
+
+test("the first view frames every vehicle with the coast in view, and each vehicle is named on the map", async ({ page }) => {
+  const foreign = await consoleOnly(page);
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  // the built-in basemap's coastline is drawn in the first view, which is not the whole world
+  await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
+  expect(await page.evaluate(() => window.__semMap!.getZoom())).toBeGreaterThan(7);
+  // a label per vehicle, by its name (or short id), beside it
+  const labels = page.getByTestId("map-label");
+  await expect(labels).toHaveCount(stack.vehicles.length);
+  for (const [i, id] of stack.vehicles.entries()) {
+    const label = labels.and(page.locator(`[data-vehicle="${id}"]`));
+    await expect(label).toBeVisible();
+    await expect(label).toHaveText(i === 2 ? VEHICLE_3_NAME : id.slice(0, 8));
+    const at = await vehiclePixel(page, id);
+    const box = (await label.boundingBox())!;
+    expect(Math.abs(box.x - at.x)).toBeLessThan(60);
+    expect(Math.abs(box.y + box.height / 2 - at.y)).toBeLessThan(30);
+  }
+  expect(foreign).toEqual([]);
+});
+
+test("Fit all brings every vehicle into view and stops following", async ({ page }) => {
+  const stack = load();
+  await open(page);
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  await page.getByTestId("map-follow").click(); // stop following, so the view stays where it is put
+  await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 12 }));
+  await expect.poll(() => drawn(page, "data-vehicles")).toBe(0);
+  await page.getByTestId("map-follow").click();
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "true");
+  await page.getByTestId("map-fit-all").click();
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "false");
+  for (const id of stack.vehicles) await expect.poll(() => inView(page, id), { message: id }).toBe(true);
+  await expect.poll(() => drawn(page, "data-vehicles")).toBe(stack.vehicles.length);
+  await expect(page.getByTestId("map-edge").filter({ visible: true })).toHaveCount(0);
+});
+
+test("a vehicle outside the view gets an arrow at the map's edge with its name; clicking it selects and centres that vehicle", async ({ page }) => {
+  const stack = load();
+  const first = await open(page);
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  // close in on the selected vehicle (followed): the others, 2 km and more away, leave the view
+  await page.evaluate(() => window.__semMap!.jumpTo({ zoom: 16 }));
+  const charlie = stack.vehicles[2];
+  await expect.poll(() => inView(page, charlie)).toBe(false);
+  const edge = page.getByTestId("map-edge").and(page.locator(`[data-vehicle="${charlie}"]`));
+  await expect(edge).toBeVisible();
+  await expect(edge).toHaveText(VEHICLE_3_NAME);
+  await expect(edge).toHaveAccessibleName(new RegExp(`^${VEHICLE_3_NAME}: outside the map, [\\d.]+ k?m`));
+  await expect(page.getByTestId("map-label").and(page.locator(`[data-vehicle="${charlie}"]`))).toBeHidden();
+  await expect(page.getByTestId("map-edge").and(page.locator(`[data-vehicle="${first}"]`))).toBeHidden(); // in view: its label instead
+  // at the map's edge, on the side towards the vehicle (north-east of the first: up and right)
+  const box = (await page.getByTestId("map").boundingBox())!;
+  const e = (await edge.boundingBox())!;
+  expect(e.x).toBeGreaterThanOrEqual(box.x);
+  expect(e.x + e.width).toBeLessThanOrEqual(box.x + box.width);
+  expect(e.y).toBeGreaterThanOrEqual(box.y);
+  expect(e.y + e.height).toBeLessThanOrEqual(box.y + box.height);
+  const nearEdge = Math.min(e.x - box.x, box.x + box.width - (e.x + e.width), e.y - box.y, box.y + box.height - (e.y + e.height));
+  expect(nearEdge).toBeLessThan(40);
+  const at = await vehiclePixel(page, charlie);
+  expect(Math.sign(at.x - (box.x + box.width / 2))).toBe(Math.sign(e.x + e.width / 2 - (box.x + box.width / 2)));
+
+  await edge.click();
+  await expect(vehicle(page, charlie)).toHaveAttribute("aria-pressed", "true");
+  await expect(page.getByTestId("map-follow")).toHaveAttribute("aria-pressed", "true");
+  await expect
+    .poll(async () => {
+      const p = await vehiclePixel(page, charlie);
+      return Math.hypot(p.x - (box.x + box.width / 2), p.y - (box.y + box.height / 2));
+    })
+    .toBeLessThan(40);
+  await expect(edge).toBeHidden();
+  await expect(page.getByTestId("map-label").and(page.locator(`[data-vehicle="${charlie}"]`))).toBeVisible();
+});

@@ -229,7 +229,7 @@ test.describe.serial("replay of a recording", () => {
     // read-only: every command control disabled, no record control, the console refuses commands
     await expect(page.getByTestId("commands-replay")).toBeVisible();
     for (const name of ["Request GPS fix", "INS ON", "INS OFF", "INS RESTART"]) {
-      await expect(page.getByRole("button", { name })).toBeDisabled();
+      await expect(page.getByTestId("commands-panel").getByRole("button", { name, exact: true })).toBeDisabled();
     }
     await expect(page.getByTestId("recording")).toHaveCount(0);
     const refused = await page.request.post(`${replay.url}/api/providers/${recorded.vehicleId}/gps-fix`, { data: {} });

@@ -17,8 +17,8 @@ test("wrong vehicle: INS OFF on A, select B, Confirm is gone and nothing is sent
   const before = new Set((await history(request)).map((c) => c.sessionId));
 
   await expect(page.getByTestId("command-target")).toContainText(`Vehicle ${a.slice(0, 8)}`);
-  await expect(page.getByRole("button", { name: "INS OFF" })).toHaveAttribute("title", `INS OFF on Vehicle ${a.slice(0, 8)}`);
-  await page.getByRole("button", { name: "INS OFF" }).click();
+  await expect(page.getByRole("button", { name: "INS OFF", exact: true })).toHaveAttribute("title", `INS OFF on Vehicle ${a.slice(0, 8)}`);
+  await page.getByRole("button", { name: "INS OFF", exact: true }).click();
   const dialog = page.getByRole("dialog", { name: "Confirm command" });
   await expect(dialog).toContainText(`INS OFF on Vehicle ${a.slice(0, 8)}`);
   await expect(dialog.getByTestId("vehicle-tag")).toHaveAttribute("data-vehicle", a);
@@ -36,11 +36,11 @@ test("wrong vehicle: INS OFF on A, select B, Confirm is gone and nothing is sent
 
   // A confirmation goes to the vehicle it was prepared for, and only there.
   await vehicle(page, a).click();
-  await page.getByRole("button", { name: "INS RESTART" }).click();
+  await page.getByRole("button", { name: "INS RESTART", exact: true }).click();
   await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
   await expect.poll(async () => (await history(request)).filter((c) => !before.has(c.sessionId)).map((c) => [c.providerId, c.state]))
     .toEqual([[a, "RESTARTING"]]);
-  await expect(page.getByTestId("ins-state")).toHaveText("ON", { timeout: 30_000 }); // leave A as it was
+  await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON", { timeout: 30_000 }); // leave A as it was
 });
 
 test("the selection survives a reconnect and a backend restart, lives in ?vehicle= and opens from a link", async ({ page }) => {

@@ -1,8 +1,9 @@
 import { ArrangeableGroup } from "./components/Arrange";
 import { ErrorBoundary } from "./components/ErrorBoundary";
-import { AlertsPanel } from "./panels/Alerts";
+import { AlarmsPanel } from "./panels/Alarms";
 import { CommandsPanel } from "./panels/Commands";
 import { ExportPanel } from "./panels/Export";
+import { FleetBar } from "./panels/FleetBar";
 import { FixPanel } from "./panels/Fix";
 import { GatewaysPanel } from "./panels/Gateways";
 import { Header } from "./panels/Header";
@@ -11,34 +12,46 @@ import { MapPanel } from "./panels/Map";
 import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
+import "./lib/theme"; // the theme is set before the first paint
 
 // The panels of each group by test id, in their default order (the operator's order is kept in the
-// settings). A wide panel takes the whole width of the main area; the others share it two to a row.
-const SIDE = { "alerts-panel": { node: <AlertsPanel /> }, "gateways-panel": { node: <GatewaysPanel /> } };
+// settings). On a wide screen the groups are columns: the side column, the selected vehicle's status
+// with its commands (the INS panel, the command buttons right under it, then the GPS fix), and the
+// map's. A wide panel takes the whole width of its column; the others share it two to a row.
+const SIDE = { "alarms-panel": { node: <AlarmsPanel /> }, "gateways-panel": { node: <GatewaysPanel /> } };
+const STATUS = {
+  "ins-panel": { node: <InsPanel />, wide: true },
+  "commands-panel": { node: <CommandsPanel />, wide: true },
+  "fix-panel": { node: <FixPanel />, wide: true },
+};
 const MAIN = {
   "map-panel": { node: <MapPanel />, wide: true },
-  "fix-panel": { node: <FixPanel /> },
-  "ins-panel": { node: <InsPanel /> },
   "satellites-panel": { node: <SatellitesPanel />, wide: true },
-  "export-panel": { node: <ExportPanel /> },
-  "commands-panel": { node: <CommandsPanel /> },
+  "export-panel": { node: <ExportPanel />, wide: true },
 };
 
 export function App() {
   return (
     <div className="app">
-      <Header />
-      <ReplayBar />
+      {/* the header and the fleet bar stay at the top together, whatever is scrolled */}
+      <div className="top-bars">
+        <Header />
+        <ErrorBoundary name="Fleet">
+          <FleetBar />
+        </ErrorBoundary>
+        <ReplayBar />
+      </div>
       <div className="layout">
-        <aside className="side">
+        <main className="main">
+          <ArrangeableGroup group="status" panels={STATUS} className="panels status-panels" testId="status-panels" label="Selected vehicle: status and commands" />
+          <ArrangeableGroup group="main" panels={MAIN} className="panels main-panels" testId="main-panels" label="Map and satellites" />
+        </main>
+        <aside className="side" aria-label="Vehicles and alerts">
           <ErrorBoundary name="Vehicles">
             <VehicleSelector />
           </ErrorBoundary>
           <ArrangeableGroup group="side" panels={SIDE} className="side-panels" testId="side-panels" label="Side panels" />
         </aside>
-        <main className="main">
-          <ArrangeableGroup group="main" panels={MAIN} className="main-panels" testId="main-panels" label="Main panels" />
-        </main>
       </div>
     </div>
   );

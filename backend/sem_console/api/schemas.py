@@ -102,13 +102,13 @@ CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and comma
 
 class InertialSensorRequest(_Model):
     state: InsStateName
-    confirmLost: bool = Field(False, description=CONFIRM_LOST)
+    confirmLost: bool = Field(False, strict=True, description=CONFIRM_LOST)
 
 
 class GpsFixRequest(_Model):
     """A GPS fix takes no parameters but the lost-vehicle confirmation: the body is `{}` (or `{"confirmLost": true}`)."""
 
-    confirmLost: bool = Field(False, description=CONFIRM_LOST)
+    confirmLost: bool = Field(False, strict=True, description=CONFIRM_LOST)
 
 
 class Problem(_Model):
@@ -417,9 +417,11 @@ AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-un
 
 class Alarm(_Model):
     """One alarm of the active set. A condition alarm (link-lost, ins-failure, fix-lost, no-fix-after-command,
-    command-unanswered) is active while its condition holds; an event alarm (command-failed, command-interrupted,
-    flow-violation, executed-late, recording-failed) is latched: its condition clears at once. An acknowledged
-    alarm whose condition has cleared returns to normal and leaves the set (it stays in the database)."""
+    command-unanswered) is active while its condition holds, then cleared-unacknowledged until acknowledged. An event
+    alarm (command-failed, command-interrupted, flow-violation, executed-late, recording-failed) is latched: what
+    happened does not undo itself (the order was not carried out, the vehicle ran it late), so it stays
+    active-unacknowledged until acknowledged, never "cleared". An acknowledged alarm whose condition has cleared, and
+    an acknowledged event, return to normal and leave the set (the row stays in the database with its times)."""
 
     id: int
     kind: AlarmKind
@@ -433,6 +435,10 @@ class Alarm(_Model):
     clearedAt: float | None = Field(description="when its condition cleared, UTC seconds")
     ackedAt: float | None
     ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in on this console)")
+
+
+class AlarmAckRequest(_Model):
+    """Acknowledge takes no parameters: the body is `{}` (JSON, like every command request)."""
 
 
 # ---- WebSocket: server -> client ---------------------------------------------------------

@@ -47,6 +47,7 @@ class Command:
     cleaned_up: bool = False
     acked_at: float | None = None
     issued_by_deadline: float = 0.0
+    answered_late_after: float | None = None  # seconds it was unanswered, when a status came after all (not stored)
     # Loaded from history: the statuses already recorded, which the provider's transient-local
     # history delivers again after a restart (in order, perhaps only the last few).
     replay: list[tuple[Status | int, Reason | int, float | None]] = field(default_factory=list)
@@ -229,6 +230,7 @@ class Commands:
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
+            cmd.answered_late_after = received - cmd.created_at
             self.store.set_flag(str(session), "unanswered", False)
         self.emit({"type": "transition", "sessionId": str(session), "transition": transition_json(seq, t, provider_time, received),
                    "command": cmd.to_json()})

@@ -22,6 +22,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from sem_console.comap.c2 import C2
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
+from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.decode import ReportItem, StatusItem
@@ -41,6 +42,7 @@ if TYPE_CHECKING:
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
+ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
@@ -87,6 +89,8 @@ class Console:
         self.providers, self.commands = self._fresh_state()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
+        self.alarms = Alarms(self.store, settings.names())  # the ones not back to normal, from the database
+        self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
         self.imc: AsyncNode | None = None
         self.ingest: Ingest | None = None
@@ -113,6 +117,7 @@ class Console:
         """A replay seeking backwards: forget every provider, report and command (the audit trail stays)."""
         self.store.clear_commands()
         self.providers, self.commands = self._fresh_state()
+        self.alarms.reset()
         self.reports_applied = 0
 
     def _write_command(self, service: Service, sample: Any) -> None:
@@ -242,6 +247,7 @@ class Console:
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
         self.commands.tick(now)
+        self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
     # ---- input: DDS (ingest) or a recording (replay), on the loop -------------------------------
     def apply(self, item: ReportItem | StatusItem | dict[str, Any]) -> None:
@@ -260,11 +266,13 @@ class Console:
         if self.closing:
             return
         now = self.clock.monotonic()
+        alarming = False
         for it in items:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
+                alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
                 self.reports_applied += 1
                 pid = str(it.source)
                 message = {"type": "report", "providerId": pid, "topic": it.topic, "report": p.reports[it.topic]}
@@ -272,6 +280,8 @@ class Console:
                     self.hub.publish(message, key=(pid, it.topic))
                     self.feed.publish(message)
                 self._record(p, it)
+        if alarming:
+            self._update_alarms()
 
     def _record(self, p: Provider, it: ReportItem) -> None:
         """Track and chart history (at most one point per vehicle and second each)."""
@@ -333,6 +343,24 @@ class Console:
             self.hub.publish(message)
             self.feed.publish(message)
         self.recorder.on_message(message)
+        if message["type"] in ALARM_INPUTS:
+            changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"])) if "command" in message else None
+            self._update_alarms([changed] if changed is not None else [])
+
+    def _update_alarms(self, changed: list[Command] | None = None) -> None:
+        """Re-derive the alarms (looking again at the `changed` commands); publish the set when it changed."""
+        if self.closing:  # shutting down: the database closes
+            return
+        if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error):
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+
+    def acknowledge(self, alarm_id: int, operator: str | None) -> Alarm | None:
+        """An operator acknowledges an alarm of the active set (None: there is none with that id)."""
+        before = self.alarms.active()
+        alarm = self.alarms.acknowledge(alarm_id, operator, self.clock.wall())
+        if alarm is not None and self.alarms.active() != before:
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        return alarm
 
     def _recording_changed(self, status: dict[str, Any]) -> None:
         """From any thread: the recording started, stopped, rolled over or failed."""
@@ -340,6 +368,7 @@ class Console:
         if loop is not None:
             try:
                 loop.call_soon_threadsafe(self.hub.publish, {"type": "recording", "recording": status})
+                loop.call_soon_threadsafe(self._update_alarms)  # a failed recording is an alarm
             except RuntimeError:  # the loop has closed (shutdown)
                 pass
 
@@ -360,7 +389,7 @@ class Console:
             "gateways": self.gateway_states(),
             "recording": self.recorder.status(),
             "replay": self.replay.status() if self.replay else None,
-            "alarms": [],
+            "alarms": self.alarms.active(),
         }
 
     def metrics(self) -> dict[str, Any]:

@@ -28,6 +28,18 @@ CREATE TABLE IF NOT EXISTS audit (
 );
 """
 CREATE_LINK_CONFIG = "CREATE TABLE IF NOT EXISTS link_config (provider_id TEXT PRIMARY KEY, config TEXT NOT NULL)"
+# console/alarms.py: normal_at is set when an alarm is back to normal (out of the active set)
+CREATE_ALARMS = """
+CREATE TABLE IF NOT EXISTS alarms (
+    id INTEGER PRIMARY KEY AUTOINCREMENT, key TEXT NOT NULL, kind TEXT NOT NULL, severity TEXT NOT NULL, provider_id TEXT,
+    vehicle TEXT, session_id TEXT, text TEXT NOT NULL, since REAL NOT NULL, cleared_at REAL, acked_at REAL, acked_by TEXT,
+    normal_at REAL
+);
+CREATE INDEX IF NOT EXISTS alarms_open ON alarms (normal_at);
+"""
+ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
+                 "acked_by", "normal_at")
+ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
@@ -42,6 +54,7 @@ class Store:
         self.db.execute("PRAGMA synchronous=NORMAL")
         self.db.executescript(SCHEMA)
         self.db.execute(CREATE_LINK_CONFIG)
+        self.db.executescript(CREATE_ALARMS)
         self._migrate()
 
     def _migrate(self) -> None:
@@ -136,6 +149,26 @@ class Store:
 
     def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
         self.db.execute("INSERT OR REPLACE INTO link_config VALUES (?, ?)", (provider_id, json.dumps(config)))
+
+    def add_alarm(self, alarm: dict[str, Any]) -> int:
+        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go."""
+        cur = self.db.execute(f"INSERT INTO alarms ({','.join(ALARM_COLUMNS)}) VALUES ({','.join('?' * len(ALARM_COLUMNS))})",
+                              tuple(alarm.get(k) for k in ALARM_COLUMNS))
+        assert cur.lastrowid is not None
+        self.db.execute("DELETE FROM alarms WHERE id <= ? AND normal_at IS NOT NULL", (cur.lastrowid - ALARMS_KEPT,))
+        return cur.lastrowid
+
+    def update_alarm(self, alarm: dict[str, Any]) -> None:
+        self.db.execute("UPDATE alarms SET since=?, cleared_at=?, acked_at=?, acked_by=?, normal_at=? WHERE id=?",
+                        (alarm["since"], alarm["cleared_at"], alarm["acked_at"], alarm["acked_by"], alarm["normal_at"], alarm["id"]))
+
+    def open_alarms(self) -> list[dict[str, Any]]:
+        """The alarms not back to normal, oldest first."""
+        return [dict(r) for r in self.db.execute("SELECT * FROM alarms WHERE normal_at IS NULL ORDER BY id")]
+
+    def clear_alarms(self) -> None:
+        """Forget every alarm (a replay rebuilding its state)."""
+        self.db.execute("DELETE FROM alarms")
 
     def close(self) -> None:
         self.db.close()

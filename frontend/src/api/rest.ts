@@ -1,5 +1,6 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { components, paths } from "./generated/openapi";
+import type { Alarm } from "./generated/ws";
 import type { Command, LinkConfig, RecordingStatus, ReplayStatus } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
@@ -10,11 +11,30 @@ export class ApiError extends Error {
   }
 }
 
+/** What a request that never got an answer (the console down, the network gone) says: status 0. */
+export const UNREACHABLE = "console unreachable";
+
+/** A failed call in the operator's words: "409: Alpha is lost…", "console unreachable"; never a JavaScript error's text. */
+export function problemText(e: unknown): string {
+  if (e instanceof ApiError) return e.status === 0 ? e.message : `${e.status}: ${e.message}`;
+  return e instanceof Error && e.message ? e.message : String(e);
+}
+
+/** fetch, with a request that gets no answer (fetch's TypeError "Failed to fetch") turned into ApiError(0, UNREACHABLE). */
+async function reach(path: string, init: RequestInit): Promise<Response> {
+  try {
+    return await fetch(path, init);
+  } catch (e) {
+    if (e instanceof DOMException && e.name === "AbortError") throw e;
+    throw new ApiError(0, UNREACHABLE);
+  }
+}
+
 async function send(method: string, path: string, token: string | null, body?: unknown): Promise<Response> {
   const headers: Record<string, string> = {};
   if (token) headers.Authorization = `Bearer ${token}`;
   if (body !== undefined) headers["Content-Type"] = "application/json";
-  const r = await fetch(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
+  const r = await reach(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
   if (!r.ok) {
     let detail = r.statusText;
     try {
@@ -44,16 +64,23 @@ export async function health(): Promise<Health> {
   return call<Health>("GET", "/api/health", null);
 }
 
-export function requestGpsFix(providerId: string, token: string | null): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, {});
+/** `confirmLost`: the operator confirmed commanding a vehicle whose link is lost (the console refuses it with 409 otherwise). */
+export function requestGpsFix(providerId: string, token: string | null, confirmLost = false): Promise<Command> {
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, confirmLost ? { confirmLost } : {});
 }
 
-export function setInertialSensor(providerId: string, state: InsState, token: string | null): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/inertial-sensor`, token, { state });
+export function setInertialSensor(providerId: string, state: InsState, token: string | null, confirmLost = false): Promise<Command> {
+  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/inertial-sensor`, token, confirmLost ? { state, confirmLost } : { state });
 }
 
 export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
   return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
+}
+
+/** Acknowledge an alarm (POST /api/alarms/{id}/ack): an operator action, audited with the operator's name.
+ * Answered with the active set after it (the WebSocket's `alarms` message brings the same to every page). */
+export function ackAlarm(alarmId: number, token: string | null): Promise<Alarm[]> {
+  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/ack`, token, {});
 }
 
 /** Set a vehicle's link thresholds and comms-lost configuration (PUT, operator token, audited). */
@@ -93,7 +120,7 @@ export function commandPage(providerId: string, limit: number, offset: number, t
 
 /** A file from the console (an export), fetched with the token when reads need one. */
 export async function download(url: string, token: string | null): Promise<Blob> {
-  const r = await fetch(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+  const r = await reach(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
   if (!r.ok) throw new ApiError(r.status, r.statusText);
   return r.blob();
 }
@@ -145,4 +172,11 @@ export type Capability = components["schemas"]["Capability"];
 /** A vehicle's CoMap side: its IMC id and last VehicleCapabilities (GET /api/providers/{id}/capabilities). */
 export function vehicleCapabilities(providerId: string, token: string | null): Promise<ComapVehicle> {
   return call<ComapVehicle>("GET", `/api/providers/${encodeURIComponent(providerId)}/capabilities`, token);
+}
+
+export type ComapStatus = components["schemas"]["ComapStatus"];
+
+/** The console's IMC node (GET /api/comap): `enabled` false when it was started without --imc-port (CoMap off). */
+export function comapStatus(token: string | null): Promise<ComapStatus> {
+  return call<ComapStatus>("GET", "/api/comap", token);
 }

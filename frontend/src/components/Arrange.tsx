@@ -46,7 +46,7 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
   };
   return (
     <DndContext sensors={sensors} collisionDetection={closestCenter} onDragEnd={onDragEnd} accessibility={{ announcements }}>
-      <SortableContext items={order} strategy={group === "side" ? verticalListSortingStrategy : rectSortingStrategy}>
+      <SortableContext items={order} strategy={group === "main" ? rectSortingStrategy : verticalListSortingStrategy}>
         <div className={className} data-testid={testId} aria-label={label} role="group">
           {order.map((id, i) => (
             <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => {

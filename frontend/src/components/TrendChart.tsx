@@ -7,7 +7,9 @@ import { countRender } from "../lib/renders";
 
 const HEIGHT = 150;
 const hms = (t: number) => new Date(t * 1000).toISOString().slice(11, 19);
-const AXIS = { stroke: "#7b8a9a", grid: { stroke: "#243140", width: 1 }, ticks: { stroke: "#243140", width: 1 } };
+/** A colour of the theme (styles.css), read when the chart draws: a change of theme shows at its next redraw. */
+const themed = (name: string, fallback: string) => () => getComputedStyle(document.documentElement).getPropertyValue(name).trim() || fallback;
+const AXIS = { stroke: themed("--muted", "#8a99a9"), grid: { stroke: themed("--line", "#243140"), width: 1 }, ticks: { stroke: themed("--line", "#243140"), width: 1 } };
 
 /** uPlot's columns: times, C/N0, used, in view (null: a gap). */
 export function chartData(points: HistoryPoint[]): uPlot.AlignedData {

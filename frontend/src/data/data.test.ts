@@ -2,7 +2,7 @@ import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Command, ReplayStatus, ServerMessage } from "../api/types";
 import { Connection, Store, backoff } from "./connection";
 import { ReplaySource } from "./replay";
-import { HISTORY_SECONDS, dismiss, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
+import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 
@@ -34,11 +34,11 @@ function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): S
 }
 
 describe("reducer", () => {
-  it("takes the snapshot as the baseline and selects no vehicle by itself", () => {
+  it("takes the snapshot as the baseline and selects its lone vehicle (alarms.test.ts: when not)", () => {
     const s = apply([snapshot()]);
     expect(s.consoleId).toBe("c");
     expect(s.authRequired).toBe(true);
-    expect(s.selected).toBe(null);
+    expect(s.selected).toBe(P);
     expect(report(s.providers[P], "GPSReport")).toEqual({ satellites: [], numberSatellitesInView: 0 });
     expect(s.providers[P].topics.GPSReport!.at).toBe(998); // arrived ageSeconds before the snapshot
     expect(Object.keys(s.commands)).toEqual(["s1"]);
@@ -67,7 +67,7 @@ describe("reducer", () => {
     expect(report(s2.providers[P], "InertialSensorReport")?.state).toBe("OFF");
   });
 
-  it("raises alerts for fix lost, INS failure, failed commands, violations, unanswered, lost and regained", () => {
+  it("raises no alarm itself for fix lost, INS failure, failed commands, violations, unanswered, lost and regained: the console does", () => {
     const fix = (v: boolean) => ({ type: "report", providerId: P, topic: "GPSFixStatusReport", report: env({ fixValid: v, carrierToNoise: [40] }) }) as ServerMessage;
     const ins = (st: string) => ({ type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "ON", status: st }) }) as ServerMessage;
     const tr = (status: string, reason: string, violation: string | null): ServerMessage => ({
@@ -82,11 +82,9 @@ describe("reducer", () => {
       { type: "provider", event: "regained", provider: summary("regained") },
       { type: "provider", event: "live", provider: summary("live") },
     ]);
-    expect(s.alerts.map((a) => a.kind).reverse()).toEqual(["fix-lost", "ins-failure", "violation", "command-failed", "unanswered", "provider-lost", "provider-regained"]);
+    expect(s.alarms).toEqual([]);
     expect(s.providers[P].link).toBe("live");
-    const d = dismiss(s, s.alerts[0].id);
-    expect(d.alerts.filter((a) => !a.dismissed)).toHaveLength(6);
-    expect(dismiss(s, "all").alerts.every((a) => a.dismissed)).toBe(true);
+    expect(s.commands.s1.status).toBe("FAILED");
   });
 
   it("keeps satellite trails and a bounded C/N0 history, one point per second of the console's clock", () => {
@@ -118,17 +116,16 @@ describe("reducer", () => {
     expect(historyLoaded(s, P, [])).toBe(s);
   });
 
-  it("follows the recording and raises one alarm when it fails (a full disk)", () => {
+  it("follows the recording, failed too (a full disk: the console raises the alarm)", () => {
     const rec = { state: "recording", directory: "/rec", file: "a.mcap", startedAt: 1, messages: 0, dropped: 0, error: null } as const;
     let s = apply([{ ...snapshot(), recording: rec } as ServerMessage]);
     expect(s.recording?.state).toBe("recording");
     const failed = { ...rec, state: "failed", startedAt: null, error: "recording stopped: the disk is full (/rec/a.mcap)" } as const;
     s = apply([{ type: "recording", recording: failed }, { type: "recording", recording: failed }], s);
     expect(s.recording?.state).toBe("failed");
-    expect(s.alerts.filter((a) => a.kind === "recording-failed").map((a) => a.text)).toEqual([failed.error]);
+    expect(s.recording?.error).toBe(failed.error);
     s = apply([{ type: "recording", recording: { ...rec, file: "b.mcap" } }], s);
     expect(s.recording?.file).toBe("b.mcap");
-    expect(s.alerts.length).toBe(1);
   });
 
   it("keeps gateway states and a vehicle's link configuration and JAUS id", () => {
@@ -139,7 +136,7 @@ describe("reducer", () => {
     expect(s.gateways).toEqual([gw]);
     expect(s.providers[P].linkConfig?.commsLostTimeout).toBe(9);
     expect(s.providers[P].jausId).toBe("5.1.1");
-    expect(s.alerts).toEqual([]); // a new configuration is no alert
+    expect(s.alarms).toEqual([]); // a new configuration is no alarm
   });
 
   it("ignores errors, pongs and replay playback messages", () => {
@@ -335,19 +332,20 @@ describe("data sources", () => {
   const gpsReport = { type: "report", providerId: P, topic: "GPSReport",
     report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
 
-  it("a replay snapshot (a seek) starts trails, charts, commands and alerts again and keeps the selection", () => {
+  it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
     const { store, replay } = replayAt("paused", 1050);
     deliver(replay, gpsReport);
     store.flush();
-    deliver(replay, { type: "provider", event: "lost", provider: summary("lost", 3) });
+    deliver(replay, { type: "alarms", alarms: [{ id: 1, kind: "link-lost", severity: "alarm", providerId: P, vehicle: P.slice(0, 8), sessionId: null,
+      text: "lost", since: 1049, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null }] });
     store.flush();
     expect(store.getState().providers[P].trails.E07).toHaveLength(1);
-    expect(store.getState().alerts).toHaveLength(1);
+    expect(store.getState().alarms).toHaveLength(1);
     deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage); // seek back
     const s = store.getState();
     expect(s.providers[P].trails).toEqual({});
     expect(s.providers[P].history).toEqual([]);
-    expect(s.alerts).toEqual([]);
+    expect(s.alarms).toEqual([]); // the snapshot's: none at that instant
     expect(s.commands).toEqual({});
     expect(s.selected).toBe(P);
     expect(replay.getPlayback()?.position).toBe(1010);

@@ -1,6 +1,7 @@
 // The only way panels read state: hooks over the store and the connection.
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Task } from "../api/rest";
+import type { Alarm } from "../api/generated/ws";
+import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Health, type Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import { useToken } from "./auth";
@@ -21,7 +22,6 @@ import {
   tasksReplaced,
   trackLoaded,
   worldModelLoaded,
-  type Alert,
   type HistoryPoint,
   type ProviderView,
   type State,
@@ -225,8 +225,34 @@ export function useRecording(): RecordingStatus | null {
   return useSelector((s) => s.recording);
 }
 
-export function useAlerts(): Alert[] {
-  return useSelector((s) => s.alerts);
+/** The console's active alarm set, newest first. */
+export function useAlarms(): Alarm[] {
+  return useSelector((s) => s.alarms);
+}
+
+const providerCount = (s: State): number => Object.keys(s.providers).length;
+
+/** Why the selected vehicle's panels have nothing to show: "no-vehicle" (none on the bus), "select"
+ * (vehicles, none selected); null when one is selected (even one not on the bus yet, from a link). */
+export function useSelectionGap(): "no-vehicle" | "select" | null {
+  const selected = useSlice(selectedId);
+  const count = useSlice(providerCount);
+  return selected !== null ? null : count === 0 ? "no-vehicle" : "select";
+}
+
+/** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
+export function useConsoleHealth(): Health | null {
+  const [value, setValue] = useState<Health | null>(null);
+  useEffect(() => {
+    let current = true;
+    health()
+      .then((h) => current && setValue(h))
+      .catch(() => undefined); // the console is unreachable: nothing to say of its network
+    return () => {
+      current = false;
+    };
+  }, []);
+  return value;
 }
 
 /** The data source's time in UTC seconds (the wall clock live, the recording's in a replay), refreshed every

@@ -1,5 +1,5 @@
 // The operator's display settings, kept in localStorage so a reload keeps them:
-// decimal or DMS coordinates (the Fix panel and the map share it) and the panel layout.
+// decimal or DMS coordinates (the Fix panel and the map share it), the panel layout and the theme.
 import { useSyncExternalStore } from "react";
 import { groupOrder, type Group } from "../lib/layout";
 
@@ -40,7 +40,8 @@ export function writeSetting<T>(key: string, value: T): void {
   for (const l of listeners) l();
 }
 
-function subscribe(l: () => void): () => void {
+/** Call `l` whenever a setting changes (in this tab or another). */
+export function subscribe(l: () => void): () => void {
   listeners.add(l);
   return () => listeners.delete(l);
 }
@@ -93,4 +94,13 @@ export function usePanelOrder(group: Group, known: readonly string[]): [string[]
 export function resetLayout(): void {
   writeSetting(LAYOUT, null);
   writeSetting<string[]>(COLLAPSED, []);
+}
+
+export type ThemeChoice = "system" | "light" | "dark";
+export const THEME = "sem-console.theme";
+export const isThemeChoice = (v: unknown): v is ThemeChoice => v === "system" || v === "light" || v === "dark";
+
+/** The colour theme the operator chose: the system's (light by day if the system says so), light or dark. */
+export function useThemeSetting(): [ThemeChoice, (v: ThemeChoice) => void] {
+  return useSetting<ThemeChoice>(THEME, "system", isThemeChoice);
 }

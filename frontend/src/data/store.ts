@@ -2,6 +2,7 @@
 // Unchanged parts keep their identity, so panels that select them do not re-render.
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
+import type { Alarm } from "../api/generated/ws";
 import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
@@ -39,18 +40,6 @@ export interface ProviderView {
   track: TrackSample[]; // positions of the last TRACK_SECONDS, at most one per second (the map's track)
 }
 
-export type AlertKind = "fix-lost" | "ins-failure" | "command-failed" | "violation" | "unanswered" | "provider-lost" | "provider-regained" | "recording-failed";
-
-export interface Alert {
-  id: number;
-  at: number; // client time, s since the epoch
-  kind: AlertKind;
-  severity: "alarm" | "warning" | "info";
-  text: string;
-  providerId: string | null;
-  dismissed: boolean;
-}
-
 export interface State {
   consoleId: string | null;
   authRequired: boolean;
@@ -58,11 +47,13 @@ export interface State {
   providers: Record<string, ProviderView>;
   commands: Record<string, Command>;
   gateways: GatewayState[]; // ASPN and JAUS: on or off, messages per second, last error
-  alerts: Alert[];
-  nextAlertId: number;
+  // The console's active alarm set (snapshot and `alarms` messages), newest first: the server derives it
+  // from state and keeps it, so a new or reloaded page shows what is active, not what it happened to see.
+  alarms: Alarm[];
   recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
-  // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet).
+  // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet); only while
+  // none is chosen, a lone vehicle on the bus is selected (withLoneSelected).
   selected: string | null;
   // CoMap (issue 12): the console's world model (null: none known; a console without CoMap answers 404)
   // and its tasks by id, from the WebSocket's `worldmodel` and `task` messages after one REST load per connection
@@ -80,7 +71,6 @@ export const TRAIL_SECONDS = 600;
 export const TRAIL_STEP = 5;
 export const HISTORY_SECONDS = 300;
 export const HISTORY_STEP = 1;
-export const MAX_ALERTS = 200;
 export const TRACK_SECONDS = 900;
 
 export const initialState: State = {
@@ -90,8 +80,7 @@ export const initialState: State = {
   providers: {},
   commands: {},
   gateways: [],
-  alerts: [],
-  nextAlertId: 1,
+  alarms: [],
   recording: null,
   selected: null,
   worldModel: null,
@@ -118,20 +107,6 @@ function emptyProvider(id: string, link: LinkState, name: string | null = null):
 /** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id). */
 function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
   return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId };
-}
-
-function alert(state: State, now: number, kind: AlertKind, severity: Alert["severity"], text: string, providerId: string | null): State {
-  const a: Alert = { id: state.nextAlertId, at: now, kind, severity, text, providerId, dismissed: false };
-  return { ...state, alerts: [a, ...state.alerts].slice(0, MAX_ALERTS), nextAlertId: state.nextAlertId + 1 };
-}
-
-function shortId(id: string | null): string {
-  return id ? id.slice(0, 8) : "?";
-}
-
-function vehicleName(state: State, id: string): string {
-  const name = state.providers[id]?.name;
-  return name ? `${name} (${shortId(id)})` : shortId(id);
 }
 
 function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope, now: number): Record<string, TrailPoint[]> {
@@ -229,38 +204,32 @@ function applyReport(state: State, providerId: string, topic: Topic, env: Report
   let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
   if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
   if (topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, env) };
-  let next: State = { ...state, providers: { ...state.providers, [providerId]: p } };
-  if (topic === "GPSFixStatusReport") {
-    const was = report(before, "GPSFixStatusReport")?.fixValid;
-    const is = report(p, "GPSFixStatusReport")?.fixValid;
-    if (was === true && is === false) next = alert(next, now, "fix-lost", "warning", `GPS fix lost on ${shortId(providerId)}`, providerId);
-  }
-  if (topic === "InertialSensorReport") {
-    const was = report(before, "InertialSensorReport")?.status;
-    const is = report(p, "InertialSensorReport")?.status;
-    if (is === "INERTIAL_SENSOR_FAILURE" && was !== is) {
-      next = alert(next, now, "ins-failure", "alarm", `Inertial sensor failure on ${shortId(providerId)}`, providerId);
-    }
-  }
-  return next;
+  return { ...state, providers: { ...state.providers, [providerId]: p } };
 }
 
-function applyCommand(state: State, cmd: Command, now: number): State {
-  const before = state.commands[cmd.sessionId];
-  let next: State = { ...state, commands: { ...state.commands, [cmd.sessionId]: cmd } };
-  if (cmd.unanswered && !before?.unanswered) {
-    next = alert(next, now, "unanswered", "warning", `${cmd.service} command ${shortId(cmd.sessionId)} unanswered`, cmd.providerId);
-  }
-  return next;
+function applyCommand(state: State, cmd: Command): State {
+  return { ...state, commands: { ...state.commands, [cmd.sessionId]: cmd } };
 }
 
-function applyRecording(state: State, rec: RecordingStatus, now: number): State {
-  const next = { ...state, recording: rec };
-  const newFailure = rec.state === "failed" && rec.error !== null && (state.recording?.state !== "failed" || state.recording.error !== rec.error);
-  return newFailure ? alert(next, now, "recording-failed", "alarm", rec.error ?? "recording stopped", null) : next;
+/** The vehicle to select by itself: the lone vehicle on the bus, while the operator has chosen none (and
+ * the page's link named none); otherwise the selection stays as it is. */
+export function withLoneSelected(state: State): State {
+  if (state.selected !== null) return state;
+  let lone: string | null = null;
+  for (const id in state.providers) {
+    if (lone !== null) return state; // several: the operator chooses
+    lone = id;
+  }
+  return lone === null ? state : { ...state, selected: lone };
 }
 
 export function reduce(state: State, msg: ServerMessage, now: number): State {
+  const next = reduceMessage(state, msg, now);
+  // a vehicle is only added with a new providers object: a report of a known one need not look
+  return next.selected === null && next.providers !== state.providers ? withLoneSelected(next) : next;
+}
+
+function reduceMessage(state: State, msg: ServerMessage, now: number): State {
   switch (msg.type) {
     case "snapshot": {
       const providers: Record<string, ProviderView> = {};
@@ -278,35 +247,24 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return applyRecording({ ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways }, msg.recording, now);
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [] };
     }
     case "report":
       return applyReport(state, msg.providerId, msg.topic, msg.report, now);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
-      let next: State = { ...state, providers: { ...state.providers, [id]: fromSummary(before, msg.provider) } };
-      if (msg.event === "lost") next = alert(next, now, "provider-lost", "alarm", `Vehicle ${vehicleName(next, id)} lost`, id);
-      if (msg.event === "regained") next = alert(next, now, "provider-regained", "info", `Vehicle ${vehicleName(next, id)} regained`, id);
-      return next;
+      return { ...state, providers: { ...state.providers, [id]: fromSummary(before, msg.provider) } };
     }
     case "command":
-      return applyCommand(state, msg.command, now);
-    case "transition": {
-      let next = applyCommand(state, msg.command, now);
-      const t = msg.transition;
-      if (t.status === "FAILED") {
-        next = alert(next, now, "command-failed", "alarm", `${msg.command.service} command failed: ${t.reason}${t.logMessage ? ` (${t.logMessage})` : ""}`, msg.command.providerId);
-      }
-      if (t.violation) {
-        next = alert(next, now, "violation", "alarm", `${msg.command.service} command broke the UMAA flow: ${t.violation}`, msg.command.providerId);
-      }
-      return next;
-    }
+    case "transition": // the console raises the alarms of commands (failed, violations, unanswered): see `alarms`
+      return applyCommand(state, msg.command);
     case "gateways":
       return { ...state, gateways: msg.gateways };
     case "recording":
-      return applyRecording(state, msg.recording, now);
+      return { ...state, recording: msg.recording };
+    case "alarms":
+      return { ...state, alarms: msg.alarms };
     case "worldmodel":
       return { ...state, worldModel: msg.worldModel as unknown as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task": {
@@ -347,13 +305,20 @@ export function tasksReplaced(state: State, tasks: Task[], seq: number): State {
   return tasksLoaded({ ...state, tasks: kept }, tasks);
 }
 
-/** A replay moved to another instant: what was built from the instants before it (trails, charts, alerts) goes. */
+/** A replay moved to another instant: what was built from the instants before it (trails, charts) goes;
+ * the snapshot that follows brings the alarms of the new instant. */
 export function forNewInstant(state: State): State {
-  return { ...state, providers: {}, commands: {}, alerts: [], instant: state.instant + 1 };
+  return { ...state, providers: {}, commands: {}, instant: state.instant + 1 };
 }
 
-export function dismiss(state: State, alertId: number | "all"): State {
-  return { ...state, alerts: state.alerts.map((a) => (alertId === "all" || a.id === alertId ? { ...a, dismissed: true } : a)) };
+/** Alarms the operator has yet to acknowledge: active or already cleared. */
+export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
+  return alarms.filter((a) => a.state !== "active-acknowledged");
+}
+
+/** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */
+export function pageTitle(unacknowledgedCount: number): string {
+  return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) SEM Console` : "SEM Console";
 }
 
 /** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */

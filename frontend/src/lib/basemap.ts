@@ -1,7 +1,7 @@
 // The built-in offline basemap: land and coastlines from Natural Earth 1:50m (world-atlas, TopoJSON),
 // bundled into the dashboard. The style names no glyphs, sprite or remote source, so the map
 // requests nothing from any origin; the land data is a chunk of the build, loaded from the console.
-import type { StyleSpecification } from "maplibre-gl";
+import type { Map as MapLibre, StyleSpecification } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import type { GeometryCollection, Topology } from "topojson-specification";
 import { feature } from "topojson-client";
@@ -10,6 +10,14 @@ import { EMPTY } from "./geo";
 export const WATER = "#0d2233";
 export const LAND = "#26313b";
 export const COAST = "#5d7386";
+
+/** The basemap's colours per theme: the dark ones above for the night; pale sea, sand-grey land and a
+ * darker coastline for daylight. */
+export const PALETTES = {
+  dark: { water: WATER, land: LAND, coast: COAST },
+  light: { water: "#b9d3e6", land: "#e9e5d8", coast: "#6f8190" },
+} as const;
+export type Palette = (typeof PALETTES)[keyof typeof PALETTES];
 
 /** TopoJSON object `name` of a topology as a GeoJSON FeatureCollection. */
 export function topoToGeoJson(topology: Topology, name: string): FeatureCollection {
@@ -25,7 +33,7 @@ export async function loadLand(): Promise<FeatureCollection> {
 }
 
 /** The offline style: water background, land fill, coastline; a PMTiles chart (when the console has one) on top. */
-export function offlineStyle(): StyleSpecification {
+export function offlineStyle(palette: Palette = PALETTES.dark): StyleSpecification {
   return {
     version: 8,
     name: "SEM Console offline",
@@ -33,9 +41,17 @@ export function offlineStyle(): StyleSpecification {
       land: { type: "geojson", data: EMPTY, attribution: "Natural Earth" },
     },
     layers: [
-      { id: "water", type: "background", paint: { "background-color": WATER } },
-      { id: "land", type: "fill", source: "land", paint: { "fill-color": LAND } },
-      { id: "coastline", type: "line", source: "land", paint: { "line-color": COAST, "line-width": 0.8 } },
+      { id: "water", type: "background", paint: { "background-color": palette.water } },
+      { id: "land", type: "fill", source: "land", paint: { "fill-color": palette.land } },
+      { id: "coastline", type: "line", source: "land", paint: { "line-color": palette.coast, "line-width": 0.8 } },
     ],
   };
+}
+
+/** Recolour a map drawn with offlineStyle for another theme: three paint properties, no reload of the style or data. */
+export function setPalette(map: Pick<MapLibre, "getLayer" | "setPaintProperty">, palette: Palette): void {
+  if (!map.getLayer("water")) return;
+  map.setPaintProperty("water", "background-color", palette.water);
+  map.setPaintProperty("land", "fill-color", palette.land);
+  map.setPaintProperty("coastline", "line-color", palette.coast);
 }

@@ -7,3 +7,23 @@ export function mergeCommands(live: Command[], older: Command[]): Command[] {
   for (const c of [...live, ...older]) if (!seen.has(c.sessionId)) seen.set(c.sessionId, c);
   return [...seen.values()].sort((a, b) => b.createdAt - a.createdAt);
 }
+
+/** How long a completed command took: from its request to its last status (COMPLETED), seconds. */
+export function durationOf(c: Command): number | null {
+  if (c.status !== "COMPLETED" || c.transitions.length === 0) return null;
+  return c.transitions[c.transitions.length - 1].receivedAt - c.createdAt;
+}
+
+/** The duration to expect of a command: the median of the same vehicle's earlier COMPLETED commands of the
+ * same service (for INS, to the same state: a RESTART aligns for minutes, an OFF takes a second); null when
+ * there is none to go by. Failed and cancelled ones say nothing of how long the service takes. */
+export function expectedDuration(c: Command, all: Command[]): number | null {
+  const took = all
+    .filter((o) => o.sessionId !== c.sessionId && o.providerId === c.providerId && o.service === c.service && (o.state ?? null) === (c.state ?? null) && o.createdAt < c.createdAt)
+    .map(durationOf)
+    .filter((d): d is number => d !== null && d >= 0)
+    .sort((a, b) => a - b);
+  if (took.length === 0) return null;
+  const mid = Math.floor(took.length / 2);
+  return took.length % 2 ? took[mid] : (took[mid - 1] + took[mid]) / 2;
+}

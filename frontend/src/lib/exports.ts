@@ -45,3 +45,15 @@ export function exportName(kind: ExportKind, providerId: string | null): string 
   if (kind === "commands") return providerId ? `commands_${providerId}.csv` : "commands.csv";
   return `track_${providerId}.${kind}`;
 }
+
+/** The name a download is saved under, for the operator's folder: the vehicle's name (else "Vehicle-<short id>"),
+ * what it holds and when it was taken, in UTC to the minute: "Charlie-commands-2026-11-25T1432Z.csv",
+ * "Vehicle-77b2ceb8-track-2026-11-25T1432Z.gpx"; `vehicle` null: the commands of every vehicle. */
+export function exportFileName(kind: ExportKind, vehicle: { id: string; name: string | null } | null, nowMs: number): string {
+  const who = vehicle === null ? "all-vehicles" : vehicle.name ? vehicle.name : `Vehicle-${vehicle.id.slice(0, 8)}`;
+  const safe = who.replace(/[^\p{L}\p{N}._-]+/gu, "-").replace(/^[-.]+|-+$/g, "") || `Vehicle-${vehicle?.id.slice(0, 8) ?? "all"}`;
+  const d = new Date(nowMs).toISOString(); // 2026-11-25T14:32:07.123Z
+  const stamp = `${d.slice(0, 10)}T${d.slice(11, 13)}${d.slice(14, 16)}Z`;
+  const what = kind === "commands" ? "commands.csv" : `track.${kind}`;
+  return `${safe}-${what.replace(".", `-${stamp}.`)}`;
+}

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { Topology } from "topojson-specification";
 import { topoToGeoJson } from "./basemap";
-import { bearingDeg, distanceM, distanceText, measureGeoJson, pathLengthM, positionText, trimTrack, tracksGeoJson, validPosition, vehiclesGeoJson } from "./geo";
+import { bearingDeg, distanceM, distanceText, edgeMark, framePoints, measureGeoJson, middle, nearestVertex, pathLengthM, positionText, trimTrack, tracksGeoJson, validPosition, vehiclesGeoJson } from "./geo";
 import { dms } from "./units";
 
 describe("distances", () => {
@@ -162,5 +162,49 @@ describe("CoMap geometry", () => {
     expect(out.features.map((x) => x.properties?.coverage)).toEqual(["COMPLETED", "PARTIAL", null]); // #7 is new: none
     expect(out.features[0].geometry).toEqual({ type: "Point", coordinates: [9, 0] }); // the draft's geometry
     expect(withLiveCoverage(draft, null).features.map((x) => x.properties?.coverage)).toEqual([null, null, null]);
+  });
+});
+
+describe("the map for a fleet", () => {
+  it("an edge mark sits inside the border towards a point outside the view, and points at it", () => {
+    expect(edgeMark(50, 40, 100, 80, 10)).toBeNull(); // in view
+    expect(edgeMark(100, 80, 100, 80, 10)).toBeNull(); // on the border is in view
+    const east = edgeMark(500, 40, 100, 80, 10)!;
+    expect(east).toEqual({ x: 90, y: 40, angleDeg: 90 });
+    const north = edgeMark(50, -300, 100, 80, 10)!;
+    expect(north.x).toBeCloseTo(50, 9);
+    expect(north.y).toBeCloseTo(10, 9);
+    expect(north.angleDeg).toBeCloseTo(0, 9);
+    // south-west, nearer the bottom side than the left one: on the bottom, inset
+    const sw = edgeMark(-40, 400, 100, 80, 10)!;
+    expect(sw.y).toBeCloseTo(70, 6);
+    expect(sw.x).toBeGreaterThan(10);
+    expect(sw.x).toBeLessThan(50);
+    expect(sw.angleDeg).toBeGreaterThan(180);
+    expect(sw.angleDeg).toBeLessThan(270);
+    expect(edgeMark(NaN, 0, 100, 80, 10)).toBeNull();
+  });
+  it("the nearest coast vertex within a distance, else none", () => {
+    const coast = {
+      type: "FeatureCollection" as const,
+      features: [
+        { type: "Feature" as const, properties: {}, geometry: { type: "MultiPolygon" as const, coordinates: [[[[-76, 36], [-75.97, 36.85], [-76.2, 37], [-76, 36]]]] } },
+        { type: "Feature" as const, properties: {}, geometry: { type: "Polygon" as const, coordinates: [[[10, 10], [11, 10], [10, 11], [10, 10]]] } },
+      ],
+    };
+    const sea = { lon: -75.7, lat: 36.82 };
+    expect(nearestVertex(coast, sea, 60_000)).toEqual({ lon: -75.97, lat: 36.85 });
+    expect(nearestVertex(coast, sea, 10_000)).toBeNull(); // 24 km away
+    expect(nearestVertex({ type: "FeatureCollection", features: [] }, sea, 1e7)).toBeNull();
+  });
+  it("the first view frames the vehicles, and the coast with its mirror image across the followed vehicle", () => {
+    const vs = [{ lon: -75.7, lat: 36.8 }, { lon: -75.66, lat: 36.84 }];
+    expect(middle(vs)).toEqual({ lon: -75.68, lat: 36.82 });
+    expect(middle([])).toBeNull();
+    expect(framePoints(vs, null, vs[0])).toEqual(vs);
+    const pts = framePoints(vs, { lon: -76, lat: 36.9 }, vs[0]);
+    expect(pts).toHaveLength(4);
+    expect(pts[3].lon).toBeCloseTo(-75.4, 9);
+    expect(pts[3].lat).toBeCloseTo(36.7, 9);
   });
 });

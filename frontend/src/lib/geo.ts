@@ -228,3 +228,74 @@ export function moveVertex(fc: FeatureCollection, featureId: unknown, index: num
   return { ...fc, features };
 }
 
+
+/** Every vertex of the polygons and lines of a feature collection. */
+function* allVertices(fc: FeatureCollection): Generator<number[]> {
+  for (const f of fc.features) {
+    const g = f.geometry;
+    if (!g) continue;
+    const lines = g.type === "Polygon" || g.type === "MultiLineString" ? g.coordinates : g.type === "MultiPolygon" ? g.coordinates.flat() : g.type === "LineString" ? [g.coordinates] : [];
+    for (const line of lines) yield* line;
+  }
+}
+
+/** The vertex of `fc` (the coastline: the land polygons' rings) nearest to `at`, if one is within `withinM`.
+ * One pass over the vertices, done once per framing, not per frame (Natural Earth 1:50m has about 100,000). */
+export function nearestVertex(fc: FeatureCollection, at: LonLat, withinM: number): LonLat | null {
+  // compare on a local flat approximation (cheap), then check the winner on the sphere
+  const k = Math.cos(rad(at.lat));
+  let best: number[] | null = null;
+  let bestD = Infinity;
+  for (const [lon, lat] of allVertices(fc)) {
+    const dx = (lon - at.lon) * k;
+    const dy = lat - at.lat;
+    const d = dx * dx + dy * dy;
+    if (d < bestD) {
+      bestD = d;
+      best = [lon, lat];
+    }
+  }
+  if (!best) return null;
+  const p = { lon: best[0], lat: best[1] };
+  return distanceM(at, p) <= withinM ? p : null;
+}
+
+/** The points the first view of the map frames: every vehicle and, when the coast is near, the nearest
+ * coast point and its mirror image across `centre` (the vehicle the map follows, else the fleet's middle),
+ * so the coast stays in view while the map keeps that vehicle in its middle. */
+export function framePoints(vehicles: LonLat[], coast: LonLat | null, centre: LonLat): LonLat[] {
+  if (!coast) return vehicles;
+  return [...vehicles, coast, { lon: 2 * centre.lon - coast.lon, lat: 2 * centre.lat - coast.lat }];
+}
+
+/** The middle of the points' bounding box (no wrap across the antimeridian). */
+export function middle(points: LonLat[]): LonLat | null {
+  if (!points.length) return null;
+  const lons = points.map((p) => p.lon);
+  const lats = points.map((p) => p.lat);
+  return { lon: (Math.min(...lons) + Math.max(...lons)) / 2, lat: (Math.min(...lats) + Math.max(...lats)) / 2 };
+}
+
+/** An edge marker: where on the border of a view a marker for a point outside it goes, and the direction
+ * it points (degrees clockwise from up, the screen's y growing down). */
+export interface EdgeMark {
+  x: number;
+  y: number;
+  angleDeg: number;
+}
+
+/** The edge marker of the screen point (x, y) for a `width`×`height` view, on the line from the view's
+ * middle towards the point, `inset` pixels inside the border; null when the point is in the view. */
+export function edgeMark(x: number, y: number, width: number, height: number, inset: number): EdgeMark | null {
+  if (!isNum(x) || !isNum(y)) return null;
+  if (x >= 0 && x <= width && y >= 0 && y <= height) return null;
+  const cx = width / 2;
+  const cy = height / 2;
+  const dx = x - cx;
+  const dy = y - cy;
+  // scale the direction down to the inset border: the nearer of the vertical and horizontal sides
+  const sx = dx === 0 ? Infinity : Math.max(0, cx - inset) / Math.abs(dx);
+  const sy = dy === 0 ? Infinity : Math.max(0, cy - inset) / Math.abs(dy);
+  const s = Math.min(sx, sy);
+  return { x: cx + dx * s, y: cy + dy * s, angleDeg: ((Math.atan2(dx, -dy) * 180) / Math.PI + 360) % 360 };
+}

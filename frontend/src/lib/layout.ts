@@ -1,8 +1,8 @@
-// The order of the panels, per group (the side column, the main area). An operator moves a panel
-// only within its group (the side column is too narrow for the main area's panels). A stored order
+// The order of the panels, per group (the side column, the selected vehicle's status and commands,
+// the map's column). An operator moves a panel only within its group (each column has its width). A stored order
 // is merged with the panels this build has, so every panel is always shown exactly once.
 
-export type Group = "side" | "main";
+export type Group = "side" | "status" | "main";
 
 /** A stored order made safe: only the `known` panels, each once, in the stored order; known panels
  * the stored order misses (new in this build) appended in their default (`known`) order. */

@@ -1,15 +1,21 @@
 // CoMap C2 under the map: edit the world model (draw, move vertices, delete, import, export, send), assign
 // survey and move tasks to the selected vehicle, follow their state and HOLD, RESUME or INTERRUPT them, and
 // show the selected vehicle's capabilities.
-// Shown only when the console has CoMap (GET /api/worldmodel answers).
-import { useState } from "react";
+// Shown only when the console has CoMap (GET /api/worldmodel answers, GET /api/comap says enabled); otherwise
+// CoMapOff says why. Every order is bound to the vehicle selected when it was prepared (a Move-to armed,
+// a confirmation open) and void once another vehicle is selected, as the UMAA command confirmations.
+import { useEffect, useMemo, useState } from "react";
 import type { FeatureCollection } from "geojson";
-import { createTask, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
+import { ApiError, comapStatus, createTask, problemText, putWorldModel, synchTask, type Capability, type ComapStatus, type SynchAction, type Task } from "../api/rest";
+import { Confirm } from "../components/Confirm";
+import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useSelectedVehicle, useTasks, useVehicleCapabilities } from "../data/hooks";
+import { useCapabilities, useConnectionState, useSelectedVehicle, useSelector, useTasks, useVehicleCapabilities } from "../data/hooks";
+import type { State } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
+import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
-import { vehicleLabel } from "../lib/vehicle";
+import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 export type MapTool = "select" | "measure" | "draw" | "edit" | "move-target";
 
@@ -29,11 +35,19 @@ interface Props {
 
 type Sensor = Task["sensor"] & string;
 const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"];
+const FINISHED = new Set(["REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"]);
+const SYNCH_WORDS: Record<SynchAction, string> = { HOLD: "Hold", RESUME: "Resume", INTERRUPT: "Interrupt" };
+const GEOMETRY_WORDS: Record<string, string> = { Polygon: "Polygon", LineString: "Line", Point: "Point" };
+
+/** The tooltip that keeps CoMap's (IMC's) word for a value shown in plain words. */
+function imc(field: string, literal: string | null | undefined): string | undefined {
+  return literal ? `IMC ${field}: ${literal}` : undefined;
+}
 
 /** One VehicleCapabilities entry as the operator reads it. */
 function capabilityText(c: Capability): string {
   const parts: string[] = [c.kind === "AREA_SURVEY" ? "area survey" : c.kind === "POINT_SURVEY" ? "point survey" : "move"];
-  if (c.sensor) parts.push(c.sensor);
+  if (c.sensor) parts.push(sensorText(c.sensor).toLowerCase());
   if (typeof c.resolution === "number") parts.push(`${c.resolution} px/m²`);
   if (typeof c.coverageRate === "number") parts.push(`${c.coverageRate} m²/s`);
   if (typeof c.duration === "number") parts.push(`${c.duration} s`);
@@ -41,23 +55,101 @@ function capabilityText(c: Capability): string {
   return parts.join(" ");
 }
 
+/** What waits for the operator's Confirm, bound to the vehicle it was prepared for. */
+type Pending =
+  | { kind: "move"; target: VehicleIdentity; point: LonLat }
+  | { kind: "survey"; target: VehicleIdentity; featureId: number; sensor: Sensor; resolution: number; deadline: string }
+  | { kind: "synch"; target: VehicleIdentity; task: Task; action: SynchAction };
+
+function pendingText(p: Pending): string {
+  if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
+  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, ${p.resolution} m resolution${p.deadline ? `, by ${p.deadline.replace("T", " ")} UTC` : ""}?`;
+  return `${SYNCH_WORDS[p.action]} task ${p.task.taskId} (${taskKindText(p.task.kind).toLowerCase()}) of ${vehicleLabel(p.target)}?`;
+}
+
+function pendingName(p: Pending): string {
+  return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
+}
+
+/** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves,
+ * which change with every report): "id=name\n…". */
+function vehicleNames(s: State): string {
+  return Object.values(s.providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n");
+}
+
+/** The console's IMC node, asked once per connection: null while unknown, "absent" for a console without
+ * CoMap routes (404). */
+function useComapStatus(): ComapStatus | "absent" | null {
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  const [status, setStatus] = useState<ComapStatus | "absent" | null>(null);
+  useEffect(() => {
+    if (!live) return;
+    let current = true;
+    comapStatus(token)
+      .then((st) => current && setStatus(st))
+      .catch((e: unknown) => current && e instanceof ApiError && e.status === 404 && setStatus("absent"));
+    return () => {
+      current = false;
+    };
+  }, [live, token]);
+  return status;
+}
+
+const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";
+const COMAP_ABSENT = "CoMap is off: this console has no CoMap (it answers 404).";
+
+/** In place of the CoMap controls when the console has no world model: why, once the console says. */
+export function CoMapOff() {
+  const status = useComapStatus();
+  if (status === null || (status !== "absent" && status.enabled)) return null;
+  return (
+    <p className="muted" data-testid="comap-off">
+      {status === "absent" ? COMAP_ABSENT : COMAP_OFF}
+    </p>
+  );
+}
+
 export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked, unpick }: Props) {
   countRender("comap");
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
+  const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
+  const names = useSelector(vehicleNames);
+  const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
   const [error, setError] = useState<string | null>(null);
+  const [note, setNote] = useState<string | null>(null);
   const [featureId, setFeatureId] = useState<number | "">("");
   const [sensor, setSensor] = useState<Sensor>("SIDESCAN");
   const [resolution, setResolution] = useState(1);
   const [deadline, setDeadline] = useState("");
+  const [armed, setArmed] = useState<VehicleIdentity | null>(null); // Move-to armed for this vehicle: the map's next click is its destination
+  const [pending, setPending] = useState<Pending | null>(null);
   const taskList = useTasks();
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
+  const nameOf = useMemo(() => new Map(names.split("\n").map((l) => l.split("=") as [string, string])), [names]);
+  const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
+
+  // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
+  if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
+    const what = pending ?? { kind: "move" as const, target: armed! };
+    setNote(`${what.kind === "move" ? "Move-to" : pendingName(what as Pending)} for ${vehicleLabel(what.target)} not sent: the selected vehicle changed.`);
+    setArmed(null);
+    setPending(null);
+  } else if (armed && tool !== "move-target" && pending?.kind !== "move") {
+    setArmed(null); // another map tool taken meanwhile (measure, draw): Move-to is put down
+  }
+  // the map's tool follows: a Move-to no longer armed leaves its click-a-destination tool
+  useEffect(() => {
+    if (tool === "move-target" && armed === null) setTool("select");
+  }, [tool, armed, setTool]);
 
   const run = (p: Promise<unknown>) => {
     setError(null);
-    p.catch((e: Error) => setError(e.message));
+    setNote(null);
+    p.catch((e: unknown) => setError(problemText(e)));
   };
   // a new feature's id is above every id used so far (a survey's CoverageState for a deleted #n must not colour it)
   const freshId = () => nextFeatureId([model, consoleModel], [...deleted, ...taskList.map((t) => t.featureId)]);
@@ -83,13 +175,51 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       .catch((e: Error) => setError(`import: ${e.message}`));
   };
   const exportHref = `data:application/geo+json;charset=utf-8,${encodeURIComponent(JSON.stringify(model))}`;
-  const survey = () =>
-    vehicle &&
-    featureId !== "" &&
-    !dirty &&
-    run(createTask({ kind: "survey", vehicle: vehicle.id, featureId, sensor, resolution, ...(deadline ? { deadline: new Date(`${deadline}Z`).toISOString() } : {}) }, token));
-  const move = () => vehicle && moveTarget && run(createTask({ kind: "move", vehicle: vehicle.id, point: moveTarget, sensor: "ANY", resolution: 1 }, token).then(() => setTool("select")));
-  const synch = (id: Task["taskId"], action: SynchAction) => run(synchTask(id, action, token));
+  // Why the selected vehicle cannot be tasked (null: it can): CoMap off, or no IMC id for it.
+  const offReason = status === "absent" ? COMAP_ABSENT : status !== null && !status.enabled ? COMAP_OFF : null;
+  const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
+  const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
+  const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
+
+  const send = (p: Pending) => {
+    setPending(null);
+    const to = p.target.id; // the vehicle it was prepared for, whatever is selected now
+    if (p.kind === "move") {
+      setArmed(null);
+      run(createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
+    } else if (p.kind === "survey") {
+      run(createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
+    } else {
+      run(synchTask(p.task.taskId, p.action, token));
+    }
+  };
+  const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, featureId, sensor, resolution, deadline }));
+  const moveButton = () => {
+    setNote(null);
+    if (armed && moveTarget) setPending({ kind: "move", target: armed, point: moveTarget });
+    else if (armed) {
+      setArmed(null); // pressed again before a destination: put down
+      setTool("select");
+    } else if (target) {
+      setArmed(target);
+      setTool("move-target");
+    }
+  };
+  const synch = (t: Task, action: SynchAction) => {
+    setNote(null);
+    if (action === "INTERRUPT") setPending({ kind: "synch", target: identity(t.vehicle), task: t, action });
+    else run(synchTask(t.taskId, action, token));
+  };
+
+  if (offReason) {
+    return (
+      <div className="comap" data-testid="comap">
+        <p className="muted" data-testid="comap-off">
+          {offReason}
+        </p>
+      </div>
+    );
+  }
 
   return (
     <div className="comap" data-testid="comap">
@@ -135,15 +265,18 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         {model.features.map((f) => (
           <li key={String(f.properties?.featureId)} data-testid="feature" aria-current={picked !== null && f.properties?.featureId === picked ? "true" : undefined} data-feature-id={String(f.properties?.featureId)} data-coverage={String(f.properties?.coverage ?? "")}>
             <span className="swatch" data-testid="coverage-swatch" style={{ background: coverageColor((f.properties?.coverage ?? null) as Coverage) }} />
-            #{String(f.properties?.featureId)} {f.geometry?.type} · <span data-testid="coverage">{String(f.properties?.coverage ?? "coverage unknown")}</span>{" "}
+            #{String(f.properties?.featureId)} {GEOMETRY_WORDS[f.geometry?.type ?? ""] ?? f.geometry?.type} ·{" "}
+            <span data-testid="coverage" title={imc("coverage", (f.properties?.coverage ?? null) as string | null)}>
+              {coverageText((f.properties?.coverage ?? null) as string | null)}
+            </span>{" "}
             <button className="small" onClick={() => remove(f.properties?.featureId)} aria-label={`Delete feature ${String(f.properties?.featureId)}`}>
               ✕
             </button>
           </li>
         ))}
       </ul>
-      <div className="comap-row">
-        <strong>Task {vehicle ? vehicleLabel(vehicle) : "(select a vehicle)"}</strong>
+      <div className="comap-row" role="group" aria-label={target ? `Task ${vehicleLabel(target)}` : "Task a vehicle"}>
+        <strong>Task {target ? <VehicleTag v={target} /> : "(select a vehicle)"}</strong>
         <select aria-label="Feature" value={featureId} onChange={(e) => setFeatureId(e.target.value ? Number(e.target.value) : "")}>
           <option value="">feature…</option>
           {consoleModel.features.map((f) => (
@@ -154,24 +287,58 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         </select>
         <select aria-label="Sensor" value={sensor} onChange={(e) => setSensor(e.target.value as Sensor)}>
           {SENSORS.map((s) => (
-            <option key={s}>{s}</option>
+            <option key={s} value={s}>
+              {sensorText(s)}
+            </option>
           ))}
         </select>
         <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button
           className="small"
-          disabled={!mayWrite || !vehicle || featureId === "" || dirty}
+          disabled={cannotTask !== null || featureId === "" || dirty}
           onClick={survey}
           data-testid="survey"
-          title={dirty ? "send or discard the world model edits first: the vehicle surveys the console's features" : undefined}
+          title={cannotTask ?? (dirty ? "send or discard the world model edits first: the vehicle surveys the console's features" : target ? `Survey the chosen feature with ${vehicleLabel(target)} (asks you to confirm)` : undefined)}
         >
           Survey
         </button>
-        <button className="small" aria-pressed={tool === "move-target"} disabled={!mayWrite || !vehicle} onClick={() => (tool === "move-target" && moveTarget ? move() : setTool("move-target"))}>
-          {tool === "move-target" ? (moveTarget ? "Send move" : "click a destination") : "Move to…"}
+        <button
+          className="small"
+          aria-pressed={armed !== null}
+          disabled={cannotTask !== null}
+          onClick={moveButton}
+          data-testid="move-to"
+          data-vehicle={armed?.id}
+          title={cannotTask ?? (armed ? `Move-to armed for ${vehicleLabel(armed)}: click its destination on the map` : target ? `Move ${vehicleLabel(target)}: then click its destination on the map` : undefined)}
+        >
+          {armed ? (moveTarget ? `Send move of ${vehicleLabel(armed)}…` : `Move ${vehicleLabel(armed)}: click its destination`) : "Move to…"}
         </button>
       </div>
+      {cannotTask && target && mayWrite && (
+        <p className="muted" data-testid="comap-cannot-task">
+          {cannotTask}
+        </p>
+      )}
+      {pending && (
+        <Confirm
+          key={`${pending.kind} ${pending.target.id}`}
+          label={`Confirm ${pendingName(pending).toLowerCase()}`}
+          vehicle={pending.target.id}
+          confirmText={pending.kind === "synch" ? SYNCH_WORDS[pending.action] : pending.kind === "move" ? "Send move" : "Send survey"}
+          onConfirm={() => send(pending)}
+          onCancel={() => setPending(null)}
+          testId="comap-confirm"
+        >
+          <p>{pendingText(pending)}</p>
+          {pending.kind === "synch" && <p>It stops the task for good: a new task is needed to go on.</p>}
+        </Confirm>
+      )}
+      {note && (
+        <p className="muted" role="status" data-testid="comap-note">
+          {note}
+        </p>
+      )}
       {vehicle && (
         <p className="capabilities muted" data-testid="capabilities">
           Capabilities:{" "}
@@ -190,26 +357,36 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         </p>
       )}
       {!mayWrite && <p className="readonly-note">Replay: read-only. The world model and tasks are not sent.</p>}
-      {error && <p className="error" role="alert">{error}</p>}
+      {error && <p className="error" role="alert" data-testid="comap-error">{error}</p>}
       <table className="tasks">
         <tbody>
-          {taskList.map((t) => (
-            <tr key={t.taskId} data-testid="task" data-task-id={t.taskId}>
-              <td>{t.taskId}</td>
-              <td>{t.kind}</td>
-              <td>{t.vehicle.slice(0, 8)}</td>
-              <td data-testid="task-state">{t.state ?? "—"}</td>
-              <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
-              <td>{typeof t.quality === "number" ? `q ${t.quality}` : ""}</td>
-              <td>
-                {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                  <button key={a} className="small" disabled={!mayWrite} onClick={() => synch(t.taskId, a)}>
-                    {a}
-                  </button>
-                ))}
-              </td>
-            </tr>
-          ))}
+          {taskList.map((t) => {
+            const owner = identity(t.vehicle);
+            const finished = t.state !== null && FINISHED.has(t.state);
+            // a task's HOLD, RESUME, INTERRUPT go to its own vehicle, and only while that vehicle is the one selected
+            const why = !mayWrite ? "Replay: read-only." : finished ? "the task has finished" : t.vehicle !== selected ? `select ${vehicleLabel(owner)} to act on its task` : null;
+            return (
+              <tr key={t.taskId} data-testid="task" data-task-id={t.taskId} data-vehicle={t.vehicle}>
+                <td>{t.taskId}</td>
+                <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
+                <td data-testid="task-vehicle">
+                  <VehicleTag v={owner} />
+                </td>
+                <td data-testid="task-state" data-state={t.state ?? ""} title={imc("task state", t.state)}>
+                  {t.state ? taskStateText(t.state) : "—"}
+                </td>
+                <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
+                <td>{typeof t.quality === "number" ? `quality ${t.quality}%` : ""}</td>
+                <td>
+                  {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
+                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
+                      {SYNCH_WORDS[a]}
+                    </button>
+                  ))}
+                </td>
+              </tr>
+            );
+          })}
         </tbody>
       </table>
     </div>

@@ -1,28 +1,48 @@
 import { useMemo, useState } from "react";
-import { ApiError, cancelCommand, commandPage, requestGpsFix, setInertialSensor } from "../api/rest";
+import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
+import { Confirm } from "../components/Confirm";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useCommands, useSelectedVehicle, useSelector } from "../data/hooks";
-import { mergeCommands } from "../lib/commands";
-import { utc } from "../lib/units";
+import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
+import type { State } from "../data/store";
+import { expectedDuration, mergeCommands } from "../lib/commands";
+import { commandStatusText, lostText, reasonText, umaa } from "../lib/labels";
+import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
-type Action = { label: string; confirm: string | null; run: (provider: string, token: string | null) => Promise<Command> };
+type Action = { label: string; noun: string; confirm: string | null; run: (provider: string, token: string | null, confirmLost: boolean) => Promise<Command> };
 
 const ACTIONS: Action[] = [
-  { label: "Request GPS fix", confirm: null, run: (p, t) => requestGpsFix(p, t) },
-  { label: "INS ON", confirm: null, run: (p, t) => setInertialSensor(p, "ON", t) },
-  { label: "INS OFF", confirm: "Switch its inertial sensor OFF? Navigation falls back to GPS only.", run: (p, t) => setInertialSensor(p, "OFF", t) },
-  { label: "INS RESTART", confirm: "Restart its inertial sensor? It must align again before it is OPERATIONAL.", run: (p, t) => setInertialSensor(p, "RESTARTING", t) },
+  { label: "Request GPS fix", noun: "a GPS fix request", confirm: null, run: (p, t, l) => requestGpsFix(p, t, l) },
+  { label: "INS ON", noun: "INS ON", confirm: null, run: (p, t, l) => setInertialSensor(p, "ON", t, l) },
+  { label: "INS OFF", noun: "INS OFF", confirm: "Switch its inertial sensor off? Navigation falls back to GPS only.", run: (p, t, l) => setInertialSensor(p, "OFF", t, l) },
+  { label: "INS RESTART", noun: "INS RESTART", confirm: "Restart its inertial sensor? It must align again before it is operational.", run: (p, t, l) => setInertialSensor(p, "RESTARTING", t, l) },
 ];
 
-/** A confirmation is bound to the vehicle it was prepared for. */
-type Pending = { action: Action; target: VehicleIdentity };
+/** A confirmation is bound to the vehicle it was prepared for, and to whether that vehicle was lost then
+ * (a lost vehicle's command says so and is sent with confirmLost). */
+type Pending = { action: Action; target: VehicleIdentity; lost: boolean };
+
+/** When the selected vehicle was last heard (client seconds), while its link is lost; null when it is not
+ * lost, 0 when nothing was heard since the page opened. A number: the panel re-renders only when it changes. */
+function selectedLostSince(s: State): number | null {
+  const p = s.selected ? s.providers[s.selected] : undefined;
+  if (!p || p.link !== "lost") return null;
+  const times = Object.values(p.topics).map((t) => t?.at ?? 0);
+  return times.length ? Math.max(...times) : 0;
+}
+
+/** "Alpha (77b2ceb8) is lost: no reports for 12 s", counting. */
+function LostFor({ target, since }: { target: VehicleIdentity; since: number }) {
+  const now = useNow(1000);
+  return <>{lostText(vehicleLabel(target), since > 0 ? now - since : null)}</>;
+}
 
 function title(c: Command): string {
-  return c.service === "GPSFix" ? "GPS fix" : `INS ${c.state ?? ""}`;
+  if (c.service === "GPSFix") return "GPS fix";
+  return c.state === "RESTARTING" ? "INS RESTART" : `INS ${c.state ?? ""}`;
 }
 
 function statusClass(c: Command): string {
@@ -33,32 +53,34 @@ function statusClass(c: Command): string {
   return "active";
 }
 
-function Timeline({ c }: { c: Command }) {
+function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
   return (
     <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${title(c)}`}>
       <li className="muted">
-        <span className="t-status">REQUESTED</span> <span className="t-time">{utc(c.createdAt, false)}</span>
+        <span className="t-status">Requested</span> <span className="t-time">{utc(c.createdAt, false)}</span>
         {c.operator ? <span> by {c.operator}</span> : null}
       </li>
       {c.ackedAt !== null && (
         <li className="muted" data-testid="ack">
-          <span className="t-status">ACK</span> provider reports executing it <span className="t-time">{utc(c.ackedAt, false)}</span>
+          <span className="t-status" title="UMAA CommandAckReport">Acknowledged</span> the vehicle reports executing it <span className="t-time">{utc(c.ackedAt, false)}</span>
         </li>
       )}
       {c.transitions.map((t) => (
-        <li key={t.seq} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status}>
-          <span className="t-status">{t.status}</span> <span className="t-reason">{t.reason}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>
+        <li key={t.seq} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status} data-reason={t.reason}>
+          <span className="t-status" title={umaa("commandStatus", t.status)}>{commandStatusText(t.status)}</span>{" "}
+          <span className="t-reason" title={umaa("reason", t.reason)}>{reasonText(t.reason)}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>
           {t.logMessage && <span className="t-log">“{t.logMessage}”</span>}
           {t.violation && (
-            <strong className="t-violation" role="alert" data-testid="violation">
-              UMAA flow violation: {t.violation}
+            <strong className="t-violation" role="alert" data-testid="violation" title={`UMAA flow violation: ${t.violation}`}>
+              Out of sequence: the vehicle skipped a step or went back
             </strong>
           )}
         </li>
       ))}
       {c.unanswered && (
-        <li className="violation" role="alert" data-testid="unanswered">
-          <strong>Unanswered: the provider has not acknowledged this command (no ISSUED)</strong>
+        <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
+          <strong>No answer: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
+          hears it, late. Cancel it if it should not run then.
         </li>
       )}
       {c.cancelRequested && !c.terminal && <li className="muted">cancel requested{c.canceledBy ? ` by ${c.canceledBy}` : ""}…</li>}
@@ -66,21 +88,36 @@ function Timeline({ c }: { c: Command }) {
   );
 }
 
-function CommandCard({ c, target, canCommand, onCancel, open }: { c: Command; target: VehicleIdentity; canCommand: boolean; onCancel: (c: Command) => void; open: boolean }) {
+/** How long a running command has taken, against what this vehicle's earlier ones of its kind took. */
+function Elapsed({ c, expected }: { c: Command; expected: number | null }) {
+  const now = useNow(1000);
+  return (
+    <span className="c-elapsed muted" data-testid="command-elapsed" title="time since it was requested; expected: the median of this vehicle's earlier completed commands of this kind">
+      {clockDuration(now - c.createdAt)} of {expected === null ? "— expected" : `${clockDuration(expected)} expected`}
+    </span>
+  );
+}
+
+function CommandCard({ c, target, expected, canCommand, onCancel, open }: {
+  c: Command; target: VehicleIdentity; expected: number | null; canCommand: boolean; onCancel: (c: Command) => void; open: boolean;
+}) {
   return (
     <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
       <summary>
         <span className="c-title">{title(c)}</span>
-        <span className="c-status" data-testid="command-status">{c.unanswered ? "UNANSWERED" : (c.status ?? "sent")}</span>
-        {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ violation</span>}
+        <span className="c-status" data-testid="command-status" title={c.unanswered ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
+          {c.unanswered ? "No answer" : c.status ? commandStatusText(c.status) : "Sent"}
+        </span>
+        {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
+        {!c.terminal && <Elapsed c={c} expected={expected} />}
         {!c.terminal && !c.cancelRequested && (
           <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), onCancel(c))}>
             Cancel
           </button>
         )}
       </summary>
-      <Timeline c={c} />
+      <Timeline c={c} target={target} />
       <p className="muted c-session">session {c.sessionId}</p>
     </details>
   );
@@ -120,7 +157,7 @@ function CommandList({ target, live, canCommand, onCancel }: { target: VehicleId
       }
       setVisible(want);
     } catch (e) {
-      setError(`Older commands of ${vehicleLabel(target)}: ${e instanceof ApiError ? `${e.status}: ${e.message}` : String(e)}`);
+      setError(`Older commands of ${vehicleLabel(target)}: ${problemText(e)}`);
     } finally {
       setOlder(got);
       setFetched(offset);
@@ -134,7 +171,7 @@ function CommandList({ target, live, canCommand, onCancel }: { target: VehicleId
       <div className="command-list" data-testid="command-list">
         {all.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
         {shown.map((c, i) => (
-          <CommandCard key={c.sessionId} c={c} target={target} canCommand={canCommand} open={i < 3 || !c.terminal} onCancel={onCancel} />
+          <CommandCard key={c.sessionId} c={c} target={target} expected={c.terminal ? null : expectedDuration(c, all)} canCommand={canCommand} open={i < 3 || !c.terminal} onCancel={onCancel} />
         ))}
       </div>
       {(all.length > 0 || older.length > 0) && (
@@ -162,17 +199,25 @@ export function CommandsPanel() {
   const target: VehicleIdentity | null = selected ? { id: selected, name: known?.name ?? null } : null;
   const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);
+  const lostSince = useSelector(selectedLostSince);
   const token = useToken();
+  const connection = useConnectionState();
   const { command: mayCommand } = useCapabilities();
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
-  const canCommand = mayCommand && !!known && (!authRequired || !!token);
+  const unreachable = connection === "reconnecting" || connection === "offline";
+  const lost = known?.link === "lost";
+  const canCommand = mayCommand && !!known && (!authRequired || !!token) && !unreachable;
 
-  // Another vehicle selected: a confirmation prepared for the previous one is void (adjusted while
-  // rendering, so no frame ever shows it beside the new vehicle).
+  // Adjusted while rendering, so no frame ever shows a void confirmation:
+  // another vehicle selected: a confirmation prepared for the previous one is void;
   if (pending !== null && pending.target.id !== selected) {
     setNote(`${pending.action.label} for ${vehicleLabel(pending.target)} not sent: the selected vehicle changed.`);
+    setPending(null);
+  } else if (pending !== null && !pending.lost && lost) {
+    // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
+    setNote(`${pending.action.label} for ${vehicleLabel(pending.target)} not sent: the vehicle was lost meanwhile.`);
     setPending(null);
   }
 
@@ -182,20 +227,27 @@ export function CommandsPanel() {
     try {
       await fn();
     } catch (e) {
-      setError(`${what} on ${vehicleLabel(target)}: ${e instanceof ApiError ? `${e.status}: ${e.message}` : String(e)}`);
+      setError(`${what} on ${vehicleLabel(target)}: ${problemText(e)}`);
     }
   };
   const act = (a: Action, t: VehicleIdentity) => {
     setNote(null);
-    if (a.confirm) setPending({ action: a, target: t });
-    else void run(t, a.label, () => a.run(t.id, token));
+    if (a.confirm || lost) setPending({ action: a, target: t, lost });
+    else void run(t, a.label, () => a.run(t.id, token, false));
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
+  const why = (a: Action, t: VehicleIdentity): string =>
+    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is lost: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
 
   return (
     <Panel title="Commands" testId="commands-panel">
       {!mayCommand && <p className="readonly-note" data-testid="commands-replay">Replay: read-only. Commands are not sent.</p>}
       {mayCommand && authRequired && !token && <p className="readonly-note" data-testid="commands-read-only">Read-only: sign in with an operator token to command vehicles.</p>}
+      {mayCommand && unreachable && (
+        <p className="error" role="status" data-testid="commands-unreachable">
+          Console unreachable: no command can be sent until it answers again.
+        </p>
+      )}
       {target ? (
         <p className="command-target" data-testid="command-target">
           Commands to <VehicleTag v={target} />
@@ -204,10 +256,16 @@ export function CommandsPanel() {
       ) : (
         <p className="muted" data-testid="command-target">Select a vehicle to command it.</p>
       )}
+      {target && lost && lostSince !== null && (
+        <p className="alarm" role="status" data-testid="command-lost">
+          <LostFor target={target} since={lostSince} />. A command waits until it is heard again; each one asks you to confirm.
+        </p>
+      )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target} title={target ? `${a.label} on ${vehicleLabel(target)}` : undefined} onClick={() => target && act(a, target)}>
+          <button key={a.label} disabled={!canCommand || !target} title={target ? why(a, target) : undefined} onClick={() => target && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
+            {lost && " (vehicle lost)"}
           </button>
         ))}
       </div>
@@ -222,23 +280,31 @@ export function CommandsPanel() {
         </p>
       )}
       {shown && (
-        <div className="confirm" role="dialog" aria-modal="true" aria-label="Confirm command" data-vehicle={shown.target.id}>
+        <Confirm
+          key={`${shown.action.label} ${shown.target.id}`}
+          label="Confirm command"
+          vehicle={shown.target.id}
+          confirmText={shown.lost ? "Send anyway" : "Confirm"}
+          onConfirm={() => {
+            const { action, target: to, lost: toLost } = shown;
+            setPending(null);
+            void run(to, action.label, () => action.run(to.id, token, toLost)); // the vehicle it was prepared for
+          }}
+          onCancel={() => setPending(null)}
+        >
           <p>
             <strong>{shown.action.label}</strong> on <VehicleTag v={shown.target} />
           </p>
-          <p>{shown.action.confirm}</p>
-          <button
-            className="danger"
-            onClick={() => {
-              const { action, target: to } = shown;
-              setPending(null);
-              void run(to, action.label, () => action.run(to.id, token)); // the vehicle it was prepared for
-            }}
-          >
-            Confirm
-          </button>
-          <button onClick={() => setPending(null)}>Keep as is</button>
-        </div>
+          {shown.lost && (
+            <p className="confirm-lost" data-testid="confirm-lost">
+              <strong>
+                {lostSince !== null ? <LostFor target={shown.target} since={lostSince} /> : `${vehicleLabel(shown.target)} was lost`}. Send {shown.action.noun} anyway?
+              </strong>{" "}
+              It runs when the vehicle hears it, maybe much later.
+            </p>
+          )}
+          {shown.action.confirm && <p>{shown.action.confirm}</p>}
+        </Confirm>
       )}
       {target && (
         <CommandList

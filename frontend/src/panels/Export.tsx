@@ -1,10 +1,10 @@
 import { useState, type MouseEvent } from "react";
-import { download } from "../api/rest";
+import { download, problemText } from "../api/rest";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useNow, useSelector } from "../data/hooks";
-import { exportName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../lib/exports";
+import { exportFileName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../lib/exports";
 
 const CHOICES: { value: string; label: string; range: ExportRange | null }[] = [
   { value: "1", label: "Last hour", range: { kind: "last", hours: 1 } },
@@ -18,7 +18,6 @@ const CHOICES: { value: string; label: string; range: ExportRange | null }[] = [
 export function ExportPanel() {
   const selected = useSelector((s) => s.selected);
   const name = useSelector((s) => (s.selected ? (s.providers[s.selected]?.name ?? null) : null));
-  const readAuthRequired = useSelector((s) => s.readAuthRequired);
   const token = useToken();
   const now = useNow(30_000);
   const [choice, setChoice] = useState("1");
@@ -30,35 +29,32 @@ export function ExportPanel() {
   const checked = rangeQuery(range, now * 1000);
   const rangeError = "error" in checked ? checked.error : null;
 
-  // The URL is built when clicked, so "last hour" ends now; with --auth-reads the file is fetched with the token.
-  const fetchOnClick = (kind: ExportKind, providerId: string | null) => (e: MouseEvent<HTMLAnchorElement>) => {
-    const q = rangeQuery(range, Date.now());
-    if ("error" in q) {
-      e.preventDefault();
-      return;
-    }
-    const url = exportUrl(kind, providerId, q);
-    setError(null);
-    if (!readAuthRequired) {
-      e.currentTarget.href = url;
-      return;
-    }
+  const vehicle = selected ? { id: selected, name } : null;
+
+  // The URL is built when clicked, so "last hour" ends now. The file is fetched here (with the token under
+  // --auth-reads) and saved under a name that says whose and when (the console's own names carry the GUID).
+  const fetchOnClick = (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
     e.preventDefault();
+    const q = rangeQuery(range, Date.now());
+    if ("error" in q) return;
+    const url = exportUrl(kind, who?.id ?? null, q);
+    const filename = exportFileName(kind, who, Date.now());
+    setError(null);
     download(url, token)
       .then((blob) => {
         const a = document.createElement("a");
         a.href = URL.createObjectURL(blob);
-        a.download = exportName(kind, providerId);
+        a.download = filename;
         a.click();
         setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
       })
-      .catch((err: unknown) => setError(`Export failed: ${String(err)}`));
+      .catch((err: unknown) => setError(`Export of ${filename} failed: ${problemText(err)}`));
   };
-  const link = (kind: ExportKind, providerId: string | null, label: string, testId: string) => {
+  const link = (kind: ExportKind, who: { id: string; name: string | null } | null, label: string, testId: string) => {
     const q = "error" in checked ? {} : checked;
     return (
-      <a className={`button small${rangeError ? " disabled" : ""}`} href={exportUrl(kind, providerId, q)} download={exportName(kind, providerId)}
-        onClick={fetchOnClick(kind, providerId)} aria-disabled={!!rangeError} data-testid={testId}>
+      <a className={`button small${rangeError ? " disabled" : ""}`} href={exportUrl(kind, who?.id ?? null, q)} download={exportFileName(kind, who, now * 1000)}
+        onClick={fetchOnClick(kind, who)} aria-disabled={!!rangeError} data-testid={testId}>
         {label}
       </a>
     );
@@ -89,12 +85,12 @@ export function ExportPanel() {
         )}
       </div>
       {rangeError && <p className="error" role="alert">{rangeError}</p>}
-      {selected ? (
+      {vehicle ? (
         <div className="export-links" role="group" aria-label="Exports of the selected vehicle">
-          <VehicleTag v={{ id: selected, name }} />
-          {link("gpx", selected, "Track GPX", "export-gpx")}
-          {link("csv", selected, "Track CSV", "export-csv")}
-          {link("commands", selected, "Commands CSV", "export-commands")}
+          <VehicleTag v={vehicle} />
+          {link("gpx", vehicle, "Track GPX", "export-gpx")}
+          {link("csv", vehicle, "Track CSV", "export-csv")}
+          {link("commands", vehicle, "Commands CSV", "export-commands")}
         </div>
       ) : (
         <p className="muted">Select a vehicle to export its track.</p>

@@ -1,9 +1,11 @@
 import { Field, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useHistory, useNow, useSelectedLink, useSelectedTopic, useSelector } from "../data/hooks";
+import { useHistory, useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { SelectionGap } from "./FleetBar";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
+import { fixCommandText, navSolutionText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
 /** The fix is shown at most this often: an operator does not read figures that change ten times a second. */
@@ -11,6 +13,7 @@ const DRAW_MS = 250;
 
 export function FixPanel() {
   const selected = useSelector((s) => s.selected);
+  const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const link = useSelectedLink();
   const now = useNow();
   const history = useHistory(link ? selected : null);
@@ -43,7 +46,9 @@ export function FixPanel() {
         </button>
       }
     >
-      {!fix && !st ? (
+      {gap ? (
+        <SelectionGap gap={gap} />
+      ) : !fix && !st ? (
         <p className="muted">No GPS fix reports yet.</p>
       ) : (
         <>
@@ -54,8 +59,8 @@ export function FixPanel() {
             <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}>
               {fix?.GPSLatLongValid ? "GPS position" : "INS position"}
             </span>
-            <span className="badge" data-testid="gps-fix-state">GPSFix {fix?.GPSFixCommandStatus ?? DASH}</span>
-            <span className="badge">{st?.navSolution ?? DASH}</span>
+            <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={umaa("GPSFixCommandStatus", fix?.GPSFixCommandStatus)}>GPS fix {fixCommandText(fix?.GPSFixCommandStatus).toLowerCase()}</span>
+            <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
           </div>
           <div className="fields">
             <Field label="Latitude" value={fmt(lat, true)} stale={sFix} invalid={inv("position2DWithTime.geodeticPosition.geodeticLatitude")} testId="latitude" />
@@ -70,7 +75,9 @@ export function FixPanel() {
             <Field label="Countdown" value={fixed(st?.countDown, 0, "s")} stale={sSt} />
             <Field label="P-code" value={yesNo(st?.pCode)} stale={sSt} />
             <Field label="Low backup battery" value={yesNo(st?.lowBkupBattery)} stale={sSt} />
-            <Field label="Time-out" value={yesNo(st?.timeOut)} stale={sSt} />
+            <span style={{ display: "contents" }} title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}>
+              <Field label="Fix search" value={timeOutText(st?.timeOut)} stale={sSt} testId="fix-timeout" />
+            </span>
             <Field label="Carrier-to-noise" value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH} stale={sSt} invalid={invS("carrierToNoise")} />
           </div>
           <TrendChart points={history} label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`} />

@@ -1,5 +1,5 @@
 import { useState, type ChangeEvent } from "react";
-import { ApiError, aspnLog, setLinkConfig } from "../api/rest";
+import { aspnLog, problemText, setLinkConfig } from "../api/rest";
 import type { GatewayState, LinkConfig } from "../api/types";
 import { Field, Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
@@ -55,7 +55,7 @@ function RecordAspn({ target, enabled, token }: { target: VehicleIdentity; enabl
       a.click();
       setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
     } catch (e) {
-      setError(`ASPN log of ${vehicleLabel(vehicle)}: ${e instanceof ApiError ? `${e.status}: ${e.message}` : String(e)}`);
+      setError(`ASPN log of ${vehicleLabel(vehicle)}: ${problemText(e)}`);
     }
   };
   return (
@@ -101,7 +101,7 @@ function LinkConfigForm({ target, config, canEdit, token, outcome, setOutcome }:
       await setLinkConfig(target.id, draft, token);
       setOutcome({ vehicle: target.id, note: `Saved for ${vehicleLabel(target)}.`, error: null });
     } catch (e) {
-      const why = e instanceof ApiError ? `${e.status}: ${e.message}` : String(e);
+      const why = problemText(e);
       setOutcome({ vehicle: target.id, note: null, error: `Link configuration of ${vehicleLabel(target)}: ${why}` });
     }
   };
@@ -120,8 +120,8 @@ function LinkConfigForm({ target, config, canEdit, token, outcome, setOutcome }:
           <option value="CONTINUE_MISSION">continue mission</option>
         </select>
       </label>
-      <label>
-        Regained behaviour (code) <input type="number" min={0} max={255} step={1} value={Number.isNaN(draft.regainedBehavior) ? "" : draft.regainedBehavior} onChange={num("regainedBehavior")} disabled={!canEdit} />
+      <label title="JAUS CommsRegainedBehavior (0 to 255): what the vehicle does when its link comes back, as its own code; recorded and reported, the console enforces nothing">
+        Behaviour code when the link comes back <input type="number" min={0} max={255} step={1} value={Number.isNaN(draft.regainedBehavior) ? "" : draft.regainedBehavior} onChange={num("regainedBehavior")} disabled={!canEdit} />
       </label>
       <button type="submit" disabled={!canEdit} title={`Save the link configuration of ${vehicleLabel(target)}`}>
         Save

@@ -1,7 +1,7 @@
 import { useState } from "react";
 import { ApiError, checkToken } from "../api/rest";
 import { setToken, useToken } from "../data/auth";
-import { resetLayout } from "../data/settings";
+import { resetLayout, useThemeSetting, isThemeChoice } from "../data/settings";
 import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
 import { RecordControl } from "./Recording";
@@ -71,10 +71,26 @@ export function Header() {
             )}
           </form>
         ))}
+      <ThemeToggle />
       <button className="small" onClick={resetLayout} title="the default panel order, nothing collapsed" data-testid="reset-layout">
         Reset layout
       </button>
       <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now).slice(0, 19)} UTC</span>
     </header>
+  );
+}
+
+/** Light for daylight, dark for the night, or whatever the system is set to (the default). */
+function ThemeToggle() {
+  const [theme, setTheme] = useThemeSetting();
+  return (
+    <label className="theme-toggle" title="colours for daylight (light) or the night (dark); System follows the computer's setting">
+      Theme
+      <select value={theme} onChange={(e) => isThemeChoice(e.target.value) && setTheme(e.target.value)} data-testid="theme">
+        <option value="system">System</option>
+        <option value="light">Light</option>
+        <option value="dark">Dark</option>
+      </select>
+    </label>
   );
 }

@@ -1,9 +1,11 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Panel } from "../components/Panel";
-import { useNow, useSelectedLink, useSelectedTopic } from "../data/hooks";
+import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
+import { SelectionGap } from "./FleetBar";
 import { viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
-import { DASH, utc } from "../lib/units";
+import { alignmentStepText, insStateText, insStatusText, umaa } from "../lib/labels";
+import { utc } from "../lib/units";
 
 export const STEPS: readonly InertialSensorOpStatusEnumType[] = [
   "INIT",
@@ -28,6 +30,7 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 export function InsPanel() {
   const view = useSelectedTopic("InertialSensorReport", 250); // read by eye: at most 4 times a second
   const link = useSelectedLink();
+  const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
   const ins = viewReport<"InertialSensorReport">(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
@@ -37,24 +40,26 @@ export function InsPanel() {
   const current = stepIndex(ins?.status);
   return (
     <Panel title="Inertial sensor" testId="ins-panel" freshness={fresh} ageSeconds={ageS}>
-      {!ins ? (
+      {gap ? (
+        <SelectionGap gap={gap} />
+      ) : !ins ? (
         <p className="muted">No InertialSensorReport yet.</p>
       ) : (
         <>
           <div className="badges">
-            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state">{ins.state ?? DASH}</span>
-            <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status">{ins.status ?? DASH}</span>
+            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={umaa("state", ins.state)}>INS {insStateText(ins.state).toLowerCase()}</span>
+            <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>{insStatusText(ins.status)}</span>
             <span className="muted">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
           </div>
           {failed && (
             <div className="alarm" role="alert" data-testid="ins-failure">
-              INERTIAL SENSOR FAILURE
+              Inertial sensor failure: navigation cannot rely on it
             </div>
           )}
           <ol className={`steps${stale ? " stale" : ""}`} aria-label="Alignment">
             {STEPS.map((s, i) => (
               <li key={s} className={i < current ? "done" : i === current ? "current" : ""} aria-current={i === current ? "step" : undefined}>
-                {s.replace(/_/g, " ").toLowerCase()}
+                <span title={umaa("status", s)}>{alignmentStepText(s)}</span>
               </li>
             ))}
           </ol>

@@ -15,15 +15,18 @@ import { Panel } from "../components/Panel";
 import { useChartConfigured, useNow, useSelector, useStore, useTrackedProviders, useWorldModel } from "../data/hooks";
 import { useToken } from "../data/auth";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../lib/chart";
-import { CoMapControls, type MapTool } from "./CoMap";
+import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
 import type { FeatureCollection } from "geojson";
 import { useCollapsed, useDmsSetting } from "../data/settings";
 import { report, select, type ProviderView } from "../data/store";
-import { loadLand, offlineStyle } from "../lib/basemap";
+import { PALETTES, loadLand, offlineStyle, setPalette } from "../lib/basemap";
 import { freshness } from "../lib/freshness";
 import {
   EMPTY,
   bearingDeg,
+  framePoints,
+  middle,
+  nearestVertex,
   coverageColor,
   distanceText,
   measureGeoJson,
@@ -38,13 +41,20 @@ import {
   type LonLat,
   type VehicleMark,
 } from "../lib/geo";
+import { VehicleOverlay } from "../lib/mapOverlay";
 import { countRender } from "../lib/renders";
+import { useTheme } from "../lib/theme";
 import { radToDeg } from "../lib/units";
-import { vehicleColor, vehicleLabel } from "../lib/vehicle";
+import { shortId, vehicleColor } from "../lib/vehicle";
 
 /** The vehicles, tracks and origins are redrawn at most this often (and only when they changed): a
  * redraw of the map costs a frame or more without a GPU, and vehicles at sea move a few metres a second. */
 const MAP_UPDATE_MS = 1000;
+/** The first view takes in the coast when it is this near the vehicles (a sea without a coast tells the
+ * operator nothing of where the vehicles are), else the vehicles alone. */
+const COAST_WITHIN_M = 60_000;
+/** Closest zoom of a frame of the vehicles (a lone vehicle would else fill the map with a few metres of sea). */
+const FRAME_MAX_ZOOM = 14;
 
 const FIX_COLOR = ["match", ["get", "fix"], "valid", "#4caf50", "invalid", "#e0593f", "#9fb3c8"] as const;
 
@@ -60,7 +70,7 @@ function vehicleMark(p: ProviderView, now: number, selected: string | null): Veh
   const course = typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse) ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360 : null;
   return {
     id: p.id,
-    label: vehicleLabel(p),
+    label: p.name ?? shortId(p.id), // on the map: the name, or the short id of a vehicle without one
     position,
     courseDeg: course,
     fix: st?.fixValid === true ? "valid" : st?.fixValid === false ? "invalid" : "unknown",
@@ -159,6 +169,14 @@ function addLayers(map: MapLibre): void {
   map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
 }
 
+/** The view that takes in every point (a jump: an animation would redraw the map every frame). */
+function fitAll(map: MapLibre, points: LonLat[]): void {
+  if (!points.length) return;
+  const b = new LngLatBounds();
+  for (const p of points) b.extend([p.lon, p.lat]);
+  map.fitBounds(b, { padding: 60, maxZoom: FRAME_MAX_ZOOM, duration: 0 });
+}
+
 /** The pointer's position over the map, outside React state: a mouse move re-renders only the readout
  * (MapCursor), not the panel with its marks and sources. */
 class CursorStore {
@@ -215,6 +233,11 @@ export function MapPanel() {
   const toolRef = useRef<MapTool>("select");
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
   const framed = useRef(false);
+  const theme = useTheme();
+  const themeRef = useRef(theme); // the theme a new map starts in
+  const overlay = useRef<VehicleOverlay | null>(null);
+  const land = useRef<FeatureCollection | null>(null); // the basemap's land, for the first view's coast
+  const [landLoaded, setLandLoaded] = useState(false); // loaded or failed: the first view waits for it
   // what the map's sources hold now, to skip a setData that would change nothing
   const drawnData = useRef<{ vehicles: string; tracks: unknown[]; origins: string }>({ vehicles: "", tracks: [], origins: "" });
 
@@ -227,12 +250,13 @@ export function MapPanel() {
     if (collapsed || !container.current) return;
     const map = new MapLibre({
       container: container.current!,
-      style: offlineStyle(),
+      style: offlineStyle(PALETTES[themeRef.current]),
       center: [0, 20],
       zoom: 1,
       attributionControl: { compact: true },
       maxPitch: 0,
       fadeDuration: 0, // no symbol fade: it would redraw the map every frame for 0.3 s after each update
+      locale: { "Map.Title": "Map view" }, // the canvas's name: "Map" is the panel's (landmarks need distinct names)
     });
     mapRef.current = map;
     window.__semMap = map;
@@ -241,14 +265,23 @@ export function MapPanel() {
     map.addControl(new ScaleControl({ unit: "nautical", maxWidth: 120 }), "bottom-left");
     map.getCanvas().style.cursor = toolRef.current === "select" ? "" : "crosshair"; // a tool chosen before a collapse
     let alive = true;
+    overlay.current = new VehicleOverlay(map, (m) => {
+      // an edge arrow: that vehicle selected, in the middle of the map, and followed
+      store.update((s) => select(s, m.id));
+      map.jumpTo({ center: [m.position.lon, m.position.lat] });
+      setFollow(true);
+    });
     map.on("load", () => {
       addLayers(map);
       setReady(true);
       loadLand()
-        .then((land) => {
-          if (alive) source(map, "land")?.setData(land);
+        .then((fc) => {
+          if (!alive) return;
+          land.current = fc;
+          source(map, "land")?.setData(fc);
         })
-        .catch(() => undefined);
+        .catch(() => undefined)
+        .finally(() => alive && setLandLoaded(true));
     });
     map.on("render", () => countRender("map:frame")); // the map's redraws (?renders only)
     // the edit tool: press on a vertex handle and drag it (the map does not pan meanwhile)
@@ -303,6 +336,8 @@ export function MapPanel() {
       window.removeEventListener("mouseup", endDrag);
       cursor.set(null);
       framed.current = false; // reopened: frame the vehicles again
+      overlay.current?.destroy();
+      overlay.current = null;
       if (window.__semMap === map) delete window.__semMap;
       map.remove();
       mapRef.current = null;
@@ -353,6 +388,18 @@ export function MapPanel() {
     countRender("map:vehicles-data");
   }, [ready, marks]);
 
+  // the names and edge arrows, at the same bounded rate as the vehicles' data
+  useEffect(() => {
+    if (ready) overlay.current?.set(marks);
+  }, [ready, marks]);
+
+  // a change of theme recolours the basemap (three paint properties)
+  useEffect(() => {
+    themeRef.current = theme;
+    const map = mapRef.current;
+    if (ready && map) setPalette(map, PALETTES[theme]);
+  }, [ready, theme]);
+
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
@@ -396,15 +443,19 @@ export function MapPanel() {
     source(map, "measure")?.setData(measureGeoJson(shown));
   }, [ready, measure, drawn, moveTarget, tool]);
 
-  // first frame: every vehicle in view; then follow the selected one unless the operator panned away
+  // first frame: every vehicle in view, and the coast when it is near; then follow the selected one unless
+  // the operator panned away
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map || !marks.length) return;
     if (!framed.current) {
+      if (!landLoaded) return; // a moment: the coast is part of the first view
       framed.current = true;
-      const b = new LngLatBounds();
-      for (const m of marks) b.extend([m.position.lon, m.position.lat]);
-      map.fitBounds(b, { padding: 60, maxZoom: 14, duration: 0 });
+      const positions = marks.map((m) => m.position);
+      const sel = marks.find((m) => m.selected);
+      const centre = (follow && sel ? sel.position : middle(positions))!;
+      const coast = land.current ? nearestVertex(land.current, centre, COAST_WITHIN_M) : null;
+      fitAll(map, framePoints(positions, coast, centre));
       return;
     }
     const sel = marks.find((m) => m.selected);
@@ -413,7 +464,7 @@ export function MapPanel() {
     const at = map.project([sel.position.lon, sel.position.lat]);
     const mid = map.project(map.getCenter());
     if (Math.hypot(at.x - mid.x, at.y - mid.y) >= 1) map.jumpTo({ center: [sel.position.lon, sel.position.lat] });
-  }, [ready, marks, follow]);
+  }, [ready, marks, follow, landLoaded]);
 
   const measured = pathLengthM(measure);
   const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;
@@ -426,6 +477,20 @@ export function MapPanel() {
         <div className="map-tools">
           <button className="small" aria-pressed={follow} onClick={() => setFollow(!follow)} data-testid="map-follow" title="keep the selected vehicle in view">
             Follow
+          </button>
+          <button
+            className="small"
+            data-testid="map-fit-all"
+            disabled={!marks.length}
+            title="every vehicle with a position in view (stops following)"
+            onClick={() => {
+              const map = mapRef.current;
+              if (!map) return;
+              setFollow(false); // following would take the view back to one vehicle
+              fitAll(map, marks.map((m) => m.position));
+            }}
+          >
+            Fit all
           </button>
           <button
             className="small"
@@ -458,7 +523,7 @@ export function MapPanel() {
           )}
         </div>
       </div>
-      {worldModel && (
+      {worldModel ? (
         <CoMapControls
           model={shownModel ?? worldModel}
           consoleModel={worldModel}
@@ -475,6 +540,8 @@ export function MapPanel() {
           picked={tool === "edit" ? picked : null}
           unpick={() => setPicked(null)}
         />
+      ) : (
+        <CoMapOff />
       )}
       <p className="map-legend muted">
         <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin

@@ -1,5 +1,5 @@
 import { useEffect, useRef, useState } from "react";
-import { ApiError } from "../api/rest";
+import { problemText } from "../api/rest";
 import { useNow, usePlayback } from "../data/hooks";
 import { SPEEDS } from "../data/source";
 import { clockDuration, utc } from "../lib/units";
@@ -18,7 +18,7 @@ export function ReplayBar() {
     try {
       await fn();
     } catch (e) {
-      setError(e instanceof ApiError ? `${e.status}: ${e.message}` : String(e));
+      setError(problemText(e));
     }
   };
 

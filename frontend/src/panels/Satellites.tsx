@@ -1,11 +1,13 @@
-import { memo, useMemo, useState } from "react";
+import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../api/types";
 import { Field, Panel } from "../components/Panel";
-import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails } from "../data/hooks";
+import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
+import { SelectionGap } from "./FleetBar";
 import { viewReport, type TrailPoint } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
 import { countRender } from "../lib/renders";
+import { constellationText } from "../lib/labels";
 import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
@@ -24,7 +26,7 @@ function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: num
 
 function tooltip(s: GPSSatelliteType): string {
   return [
-    `${satelliteLabel(s.satelliteId)} (${constellationOf(s)})`,
+    `${satelliteLabel(s.satelliteId)} (${constellationText(constellationOf(s))})`,
     `azimuth ${degrees(s.azimuth, 1, true)}, elevation ${degrees(s.elevation)}`,
     `C/N0 antenna ${fixed(s.antennaCarrierNoiseDensity, 1, "dB-Hz")}, baseband ${fixed(s.basebandCarrierNoiseDensity, 1, "dB-Hz")}`,
     `carrier ${hertz(s.carrierFrequency)}`,
@@ -131,7 +133,7 @@ const Cn0Chart = memo(function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) 
             );
           })}
           <text x={g.x + 2} y={h + 24} className="axis" fill={COLOR[g.c]}>
-            {g.c}
+            {constellationText(g.c)}
           </text>
         </g>
       ))}
@@ -192,7 +194,7 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
           {rows.map((s) => (
             <tr key={satelliteLabel(s.satelliteId)} className={s.usedInFix ? "used" : ""}>
               <td>{satelliteLabel(s.satelliteId)}</td>
-              <td style={{ color: COLOR[constellationOf(s)] }}>{constellationOf(s)}</td>
+              <td className="constellation" style={{ "--constellation": COLOR[constellationOf(s)] } as CSSProperties}>{constellationText(constellationOf(s))}</td>
               <td>{typeof s.azimuth === "number" ? (((radToDeg(s.azimuth) % 360) + 360) % 360).toFixed(1) : DASH}</td>
               <td>{typeof s.elevation === "number" ? radToDeg(s.elevation).toFixed(1) : DASH}</td>
               <td>{fixed(s.antennaCarrierNoiseDensity, 1)}</td>
@@ -213,6 +215,7 @@ export function SatellitesPanel() {
   const view = useSelectedTopic("GPSReport", DRAW_MS);
   const trails = useSelectedTrails(DRAW_MS);
   const link = useSelectedLink();
+  const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
   const gps = viewReport<"GPSReport">(view);
   const sats = gps?.satellites ?? NO_SATELLITES;
@@ -224,7 +227,9 @@ export function SatellitesPanel() {
   const clock = gps?.clock;
   return (
     <Panel title="Satellites" testId="satellites-panel" freshness={fresh} ageSeconds={ageS} className="wide">
-      {!gps ? (
+      {gap ? (
+        <SelectionGap gap={gap} />
+      ) : !gps ? (
         <p className="muted">No GPSReport yet.</p>
       ) : (
         <>
@@ -233,7 +238,7 @@ export function SatellitesPanel() {
             <Field label="Listed" value={String(sats.length)} testId="sats-listed" stale={stale} />
             <Field label="Used in fix" value={String(used)} testId="sats-used" stale={stale} />
             {counts.map(([c, n]) => (
-              <Field key={c} label={c} value={String(n)} stale={stale} />
+              <Field key={c} label={constellationText(c)} value={String(n)} stale={stale} />
             ))}
             {view && view.envelope.invalid.length > 0 && <span className="invalid-note" title={view.envelope.invalid.join("\n")}>⚠ {view.envelope.invalid.length} invalid values</span>}
           </div>
@@ -244,8 +249,8 @@ export function SatellitesPanel() {
           <Cn0Chart sats={sats} />
           <div className="legend">
             {CONSTELLATIONS.filter((c) => counts.some(([k]) => k === c)).map((c) => (
-              <span key={c} style={{ color: COLOR[c] }}>
-                {{ circle: "●", square: "■", diamond: "◆", triangle: "▲" }[SHAPE[c]]} {c}
+              <span key={c} className="constellation" style={{ "--constellation": COLOR[c] } as CSSProperties}>
+                {{ circle: "●", square: "■", diamond: "◆", triangle: "▲" }[SHAPE[c]]} {constellationText(c)}
               </span>
             ))}
             <span className="muted">filled: used in fix · trails: last 10 min</span>
@@ -264,7 +269,7 @@ export function SatellitesPanel() {
                 <Field label="Time uncertainty" value={fixed(clock.timeUncertainty, 1, "ns")} />
                 <Field label="Reference frequency" value={hertz(clock.referenceCarrierFrequency)} />
                 <Field label="Reference code" value={clock.referenceCodeTypeFor ?? DASH} />
-                <Field label="Reference constellation" value={clock.referenceConstellationType ?? DASH} />
+                <Field label="Reference constellation" value={constellationText(clock.referenceConstellationType)} />
                 <Field label="HW clock discontinuities" value={fixed(clock.hardwareClockDiscontinuityCount, 0)} />
               </div>
             )}

@@ -1,6 +1,7 @@
 import { VehicleTag } from "../components/VehicleTag";
 import { useConnectionState, useNow, useProvidersAtMost, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
+import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
 
 function lastSeen(p: ProviderView): number | null {
@@ -16,7 +17,7 @@ export function VehicleSelector() {
   const signedOut = useConnectionState() === "signed-out";
   return (
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles">
-      {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet."}</p>}
+      {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
       {selected && !providers.some((p) => p.id === selected) && (
         <p className="vehicle selected missing" data-testid="selected-missing">
@@ -43,7 +44,7 @@ export function VehicleSelector() {
             </span>
             <span className={`link link-${link}`} data-testid="vehicle-link">{link}</span>
             <span className="vehicle-meta">
-              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS {ins?.status ?? "—"} · {age(ageS)}
+              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span> · {age(ageS)}
             </span>
             <span className="vehicle-id muted">{p.id}</span>
           </button>

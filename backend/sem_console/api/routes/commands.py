@@ -17,13 +17,17 @@ from sem_console.api.deps import AuditDep, ConsoleDep, Limit, Offset, OperatorDe
 from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
+from sem_console.console.alarms import vehicle_label
 from sem_console.console.commands import CommandError
+from sem_console.console.service import Console
 from sem_console.dds.topics import Service
 
 writes = APIRouter(tags=["commands"])
 reads = APIRouter(tags=["commands"])
 UNKNOWN_PROVIDER = {404: problem("unknown provider")}
 UNKNOWN_COMMAND = {404: problem("unknown command")}
+LOST = {409: problem("the vehicle's link is lost: send confirmLost true to command it anyway (a replay, read-only, "
+                     "refuses every command with 409)")}
 # OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
 CREATED = {201: {"description": "the command, published on the bus", "links": {
     name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
@@ -32,25 +36,36 @@ CREATED = {201: {"description": "the command, published on the bus", "links": {
 
 
 @writes.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={**CREATED, **UNKNOWN_PROVIDER, **JSON_BODY})
+             responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep,
                           audit: AuditDep) -> dict[str, Any]:
     """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId."""
-    known_provider(console, provider_id)
+    reachable_provider(console, provider_id, body.confirmLost)
     cmd = console.issue(Service.GPS_FIX, provider_id, None, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
 
 @writes.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={**CREATED, **UNKNOWN_PROVIDER, **JSON_BODY})
+             responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
                               operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Set the inertial sensor OFF, ON or RESTARTING (InertialSensorCommand)."""
-    known_provider(console, provider_id)
+    reachable_provider(console, provider_id, body.confirmLost)
     cmd = console.issue(Service.INERTIAL_SENSOR, provider_id, InsState[body.state], operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
+
+
+def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: bool) -> None:
+    """A known provider; one whose link is lost only with the operator's explicit confirmation (409 otherwise):
+    the command would wait on the bus and may run whenever the vehicle comes back."""
+    p = known_provider(console, provider_id)
+    if p.link == "lost" and not confirm_lost:
+        silent = console.clock.monotonic() - p.last_seen()
+        raise HTTPException(status.HTTP_409_CONFLICT,
+                            f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
+                            "the command could run whenever it comes back; send confirmLost true to command it anyway")
 
 
 @writes.delete("/api/commands/{session_id}", response_model=Command,

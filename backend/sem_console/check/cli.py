@@ -1,0 +1,93 @@
+"""`sem-check`: test a UMAA SEM Service Provider on a DDS domain against ICD 3.0.1, headless, with a
+JUnit report for CI. See docs/sem-check.md."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import uuid
+from pathlib import Path
+from typing import Callable
+
+from sem_console.check.runner import Options, all_names, run
+from sem_console.core.config import Settings
+
+
+def _ranged(lo: float, hi: float) -> Callable[[str], float]:
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
+        return value
+    return parse
+
+
+def _domain(text: str) -> int:
+    if not text.isdigit() or not 0 <= int(text) <= 232:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a domain id 0..232")
+    return int(text)
+
+
+def _guid(text: str) -> uuid.UUID:
+    try:
+        return uuid.UUID(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a GUID (e.g. 0d9ca6b5-2f4e-5b3a-9c61-1b7c1f7f2a10)") from None
+
+
+def _names(text: str) -> list[str]:
+    return [n.strip() for n in text.split(",") if n.strip()]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    d = Options()
+    p = argparse.ArgumentParser(prog="sem-check", description=(
+        "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
+        "the topics it serves (types, keys, QoS), its reports and, with --commands, the command flow of "
+        "section 4.1 and Figure 4. Read-only unless --commands is given. Exit code 0: all passed, 1: a test "
+        "failed, 2: could not test. DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say otherwise."))
+    p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
+    p.add_argument("--provider", type=_guid, default=None, help="the provider's source GUID; needed when several providers are on the domain")
+    p.add_argument("--commands", action="store_true", help=(
+        "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
+        "commands; what will be sent is printed first. Without it no command writer is created"))
+    p.add_argument("--junit", type=Path, default=None, metavar="FILE", help="write a JUnit XML report to FILE")
+    p.add_argument("--timeout", type=_ranged(0.1, 3600), default=d.timeout, metavar="S", help=(
+        "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
+    p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
+        "run only these tests: comma separated names, dotted prefixes (reports, commands.GPSFix) or globs (*.values)"))
+    p.add_argument("--skip", type=_names, action="append", default=[], metavar="NAMES", help="leave these tests out (same forms as --only)")
+    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap", help="record every sample of the run to an MCAP file as evidence")
+    p.add_argument("--window", type=_ranged(0.5, 3600), default=d.window, metavar="S", help="seconds of reports watched before they are judged (default: %(default)s)")
+    p.add_argument("--max-gap", type=_ranged(0.01, 3600), default=d.max_gap, metavar="S", help="longest a report topic may go without a report (default: %(default)s)")
+    p.add_argument("--clock-offset", type=_ranged(0.001, 3600), default=d.clock_offset, metavar="S", help=(
+        "largest difference between a report's timeStamp and the checker's clock on arrival (default: %(default)s)"))
+    p.add_argument("--step-time", type=_ranged(0.01, 3600), default=d.step_time, metavar="S", help=(
+        "seconds allowed for each command step after ISSUED (COMMANDED, EXECUTING, the ack, CANCELED after a cancel, "
+        "the disposes of the cleanup) (default: %(default)s)"))
+    p.add_argument("--execute-time", type=_ranged(0.01, 86400), default=d.execute_time, metavar="S", help=(
+        "seconds allowed from EXECUTING to COMPLETED (surfacing, INS alignment) (default: %(default)s)"))
+    p.add_argument("--list", action="store_true", help="print the test names and exit")
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.list:
+        print("\n".join(all_names()))
+        return 0
+    settings = Settings()
+    opts = Options(
+        domain=settings.domain if args.domain is None else args.domain, provider=args.provider, commands=args.commands,
+        junit=args.junit, timeout=args.timeout, only=[n for group in args.only for n in group],
+        skip=[n for group in args.skip for n in group], record=args.record, window=args.window, max_gap=args.max_gap,
+        clock_offset=args.clock_offset, step_time=args.step_time, execute_time=args.execute_time,
+        interface=settings.dds_interface, peers=settings.dds_peers)
+    return run(opts)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

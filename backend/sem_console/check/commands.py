@@ -1,0 +1,425 @@
+"""Command tests (`--commands` only): the checker is a UMAA Service Consumer and runs commands
+through the ICD 4.1 flow, each status sequence followed by the console's Figure 4 monitor
+(`umaa.flow.CommandFlow`).
+
+- `commands.GPSFix.complete`: ISSUED -> COMMANDED -> EXECUTING -> COMPLETED, each step within the
+  stated time, with the ack report (ICD 4.1.4, 4.1.4.1, 4.1.4.2) and, when the provider serves
+  GPSFixReport, a valid position reported by then;
+- `commands.GPSFix.cancel`: disposed while EXECUTING -> CANCELED, then status and ack disposed
+  (ICD 4.1.4.4, Figure 14);
+- `commands.InertialSensor.OFF|ON|RESTARTING`: each through the flow, the InertialSensorReport
+  following the commanded state;
+- `commands.<Service>.cleanup`: after the consumer disposes a finished command the provider
+  disposes its status and ack (ICD 4.1.5, Figure 15).
+
+Any status sequence that breaks Figure 4 fails its test, quoting the transition; a command with
+no status within the answer time fails as unanswered, with the time waited, and the service's
+next commands are skipped. Every command is disposed before the checker leaves (ICD 4.1.6.2).
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from dataclasses import dataclass, field
+from typing import Any, Callable, TextIO
+
+from cyclonedds.pub import DataWriter
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.check import icd
+from sem_console.check.observe import Observer
+from sem_console.check.results import Case, Timer
+from sem_console.dds.bus import wait_for_acks
+from sem_console.dds.topics import Sem, Service
+from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
+
+
+@dataclass
+class CommandLimits:
+    answer: float  # s from sending to the first status (ISSUED)
+    step: float  # s for each later step: COMMANDED, EXECUTING, the ack, CANCELED after a dispose, the cleanup disposes
+    execute: float  # s from EXECUTING to a terminal status
+
+
+SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
+
+
+def names() -> list[str]:
+    return ["commands.GPSFix.complete", "commands.GPSFix.cancel", "commands.GPSFix.cleanup",
+            *(f"commands.InertialSensor.{s.name}" for s in (InsState.OFF, InsState.ON, InsState.RESTARTING)),
+            "commands.InertialSensor.cleanup"]
+
+
+@dataclass
+class Sent:
+    """One command the checker sent, and what the provider answered."""
+
+    service: Service
+    session: uuid.UUID
+    sample: Any
+    sent_at: float  # the checker's clock, UTC seconds
+    flow: CommandFlow = field(default_factory=CommandFlow)
+    at: list[float] = field(default_factory=list)  # when each transition of `flow` arrived
+    ack: Any = None
+    ack_at: float | None = None
+    status_disposed: bool = False
+    ack_disposed: bool = False
+    disposed_at: float | None = None  # when the checker disposed the command
+    seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
+
+    def when(self, status: Status) -> float | None:
+        for t, at in zip(self.flow.transitions, self.at):
+            if t.status is status:
+                return at
+        return None
+
+    def story(self) -> str:
+        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s" for t, at in zip(self.flow.transitions, self.at)]
+        return ", ".join(steps) or "no status"
+
+
+class Consumer:
+    """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
+
+    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO) -> None:
+        self.observer, self.provider, self.limits, self.out = observer, provider, limits, out
+        self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
+        self.writers: dict[Service, DataWriter] = {}
+        self.sent: list[Sent] = []
+
+    def writer(self, service: Service) -> DataWriter | None:
+        """The service's command writer, once it matched a reader of the provider's participants."""
+        if service not in self.writers:
+            self.writers[service] = self.observer.bus.writer(service.command)
+        w = self.writers[service]
+        participants = self.observer.source_participants.get(self.provider, set())
+
+        def matched() -> bool:
+            for h in w.get_matched_subscriptions():
+                try:
+                    data = w.get_matched_subscription_data(h)
+                except Exception:  # noqa: BLE001 (a reader that just left)
+                    continue
+                if data is not None and data.participant_key in participants:
+                    return True
+            return False
+
+        return w if self.observer.wait(matched, self.limits.answer) else None
+
+    def send(self, service: Service, writer: DataWriter, state: InsState | None = None) -> Sent:
+        session = uuid.uuid4()
+        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(self.provider),
+                                      sessionID=to_guid(session), timeStamp=now_datetime())
+        if service is Service.INERTIAL_SENSOR:
+            values["state"] = state
+        sample = service.command.spec.type(**values)
+        what = f"{icd.short(service.command)}" + (f" {state.name}" if state is not None else "")
+        print(f"  sending {what} (session {session})", file=self.out, flush=True)
+        sent = Sent(service, session, sample, time.time())
+        writer.write(sample)
+        self.sent.append(sent)
+        return sent
+
+    def dispose(self, sent: Sent) -> None:
+        if sent.disposed_at is None:
+            self.writers[sent.service].dispose(sent.sample)
+            sent.disposed_at = time.time()
+
+    def update(self, sent: Sent) -> None:
+        """Feed the provider's new statuses and acks of the command to its flow."""
+        statuses = self.observer.statuses.get(sent.session, [])
+        acks = self.observer.acks.get(sent.session, [])
+        for s in statuses[sent.seen[0]:]:
+            if s.source != self.provider:
+                continue
+            if s.sample is not None:
+                t = sent.flow.observe(s.sample.commandStatus, s.sample.commandStatusReason, s.sample.logMessage)
+                if t is not None:
+                    sent.at.append(s.received)
+            if not s.alive:
+                sent.status_disposed = True
+        for a in acks[sent.seen[1]:]:
+            if a.source != self.provider:
+                continue
+            if a.sample is not None and sent.ack is None:
+                sent.ack, sent.ack_at = a.sample, a.received
+            if not a.alive:
+                sent.ack_disposed = True
+        sent.seen = (len(statuses), len(acks))
+
+    def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
+        return self.observer.wait(lambda: (self.update(sent), predicate())[1], seconds)
+
+    def close(self) -> None:
+        """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
+        for sent in self.sent:
+            self.dispose(sent)
+        wait_for_acks(self.writers.values(), 2.0)
+
+
+def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None = None) -> bool:
+    """Follow a command to a terminal status within the stated times (disposing it on reaching
+    `cancel_at`); the Figure 4 verdict of every transition goes to the case. False when unanswered."""
+    limits = consumer.limits
+    answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
+    if not answered:
+        waited = time.time() - sent.sent_at
+        case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
+                  "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)")
+        return False
+    # A provider that keeps publishing transitions (each a Figure 4 breach) must not keep the checker forever.
+    overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
+    while not sent.flow.terminal:
+        if time.time() > overall:
+            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command; statuses: {sent.story()}")
+            break
+        status = sent.flow.status
+        if cancel_at is not None and status is cancel_at and sent.disposed_at is None:
+            consumer.dispose(sent)
+        n = len(sent.flow.transitions)
+        if sent.disposed_at is not None:
+            limit, since, what = limits.step, sent.disposed_at, "CANCELED after the consumer's dispose (ICD 4.1.4.4)"
+        elif status is Status.EXECUTING:
+            limit, since, what = limits.execute, sent.at[-1], "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)"
+        else:
+            step = SUCCESS_NEXT.get(status)
+            ref = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}.get(step, "ICD 4.1, Figure 4")
+            limit, since, what = limits.step, sent.at[-1], f"{name(step)} after {name(status)} ({ref})"
+        remaining = since + limit - time.time()
+        if not consumer.wait(sent, lambda n=n: len(sent.flow.transitions) > n, max(remaining, 0.0)):
+            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}")
+            break
+    for v in sent.flow.violations:
+        case.fail(f"Figure 4 breach: {v} (ICD 4.1, Figure 4); statuses: {sent.story()}")
+    case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
+    return True
+
+
+def check_end(sent: Sent, case: Case, canceled: bool = False) -> None:
+    """How the command ended, against how it should have."""
+    last = sent.flow.transitions[-1] if sent.flow.transitions else None
+    if last is None or not sent.flow.terminal:
+        return
+    if sent.flow.status is Status.FAILED:
+        case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" (ICD 4.1.4.3)")
+    elif sent.flow.status is Status.CANCELED and not canceled:
+        case.fail("CANCELED, though the consumer did not cancel it (ICD 4.1.4.4: CANCELED answers the consumer's dispose)")
+
+
+def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
+    """The ack report of a command the provider ran (ICD 4.1.4.1 step 1)."""
+    if sent.flow.status is Status.FAILED and sent.when(Status.EXECUTING) is None:
+        return  # rejected or failed before running: no ack is due
+    ack_topic = icd.short(sent.service.ack)
+    if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
+        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status "
+                  "(ICD 4.1.4.1 step 1: the provider publishes the ack of the command it processes)")
+        return
+    if sent.service is Service.INERTIAL_SENSOR and sent.ack.state is not sent.sample.state:
+        case.fail(f"{ack_topic} state {name(sent.ack.state)}, the command's is {sent.sample.state.name} (ICD 5.1.4.1, Table 16)")
+    case.note(f"{ack_topic} +{(sent.ack_at or sent.sent_at) - sent.sent_at:.2f} s")
+
+
+def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
+    """Dispose a finished command; the provider disposes its status and ack (ICD 4.1.5, Figure 15)."""
+    consumer.dispose(sent)
+    need_ack = sent.ack is not None
+
+    def done() -> bool:
+        return sent.status_disposed and (sent.ack_disposed or not need_ack)
+
+    if not consumer.wait(sent, done, consumer.limits.step):
+        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed), (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
+        case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
+                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)")
+    else:
+        case.note(f"{sent.session}: status and ack disposed after the consumer's dispose")
+
+
+def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
+    return [r.body for r in consumer.observer.reports.get(sem, {}).get(consumer.provider, [])
+            if r.alive and r.body is not None and r.received >= since]
+
+
+def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
+    cases = []
+    complete, cancel, clean = (Case(n) for n in names()[:3])
+    writer = consumer.writer(Service.GPS_FIX)
+    if writer is None:
+        reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
+                  f"{consumer.limits.answer:g} s (see discovery.GPSFixCommand)")
+        return [c.fail(reason) if c.name != clean.name else c.skip(reason) for c in (complete, cancel, clean) if selected(c.name)]
+    finished: Sent | None = None
+    answered = True
+    if selected(complete.name) or selected(clean.name):
+        with Timer(complete):
+            sent = consumer.send(Service.GPS_FIX, writer)
+            answered = follow(consumer, sent, complete)
+            check_end(sent, complete)
+            if sent.flow.status is Status.COMPLETED:
+                check_ack(consumer, sent, complete)
+                _check_fix_report(consumer, sent, offered, complete)
+            finished = sent if sent.flow.terminal else None
+        cases.append(complete)
+    if selected(cancel.name):
+        with Timer(cancel):
+            if not answered:
+                cancel.skip("the provider did not answer the previous GPSFix command")
+            else:
+                sent = consumer.send(Service.GPS_FIX, writer)
+                follow(consumer, sent, cancel, cancel_at=Status.EXECUTING)
+                _check_cancel(consumer, sent, cancel)
+        cases.append(cancel)
+    if selected(clean.name):
+        with Timer(clean):
+            if finished is None:
+                clean.skip("needs a command that finished: see commands.GPSFix.complete")
+            else:
+                cleanup(consumer, finished, clean)
+        cases.append(clean)
+    return [c for c in cases if selected(c.name)]
+
+
+def _check_fix_report(consumer: Consumer, sent: Sent, offered: set[str], case: Case) -> None:
+    if "GPSFixStatus" not in offered:
+        case.note("the provider does not serve GPSFixReport: the position after the fix not checked")
+        return
+    executing = sent.when(Status.EXECUTING) or sent.sent_at
+
+    def valid() -> bool:
+        return any(b.get("GPSLatLongValid") for b in _reports_since(consumer, Sem.GPS_FIX_REPORT, executing))
+
+    if not consumer.wait(sent, valid, consumer.limits.step):
+        case.fail(f"COMPLETED, but no GPSFixReport with GPSLatLongValid since EXECUTING, nor within {consumer.limits.step:g} s "
+                  "after (ICD 5.1.1.3: the platform surfaces to update its GPS position)")
+
+
+def _check_cancel(consumer: Consumer, sent: Sent, case: Case) -> None:
+    if not sent.flow.transitions:
+        return  # unanswered: already failed
+    status = sent.flow.status
+    if sent.disposed_at is None:
+        if status is Status.COMPLETED:
+            case.skip("the command COMPLETED before it reached EXECUTING long enough to be canceled; cancel not tested")
+        else:
+            check_end(sent, case)
+        return
+    if status is Status.COMPLETED:
+        case.skip("the command COMPLETED after the consumer's dispose, which ICD 4.1.4.4 allows for a command that "
+                  "cannot be canceled; cancel not tested")
+        return
+    if status is Status.CANCELED:
+        last = sent.flow.transitions[-1]
+        case.note(f"CANCELED/{name(last.reason)} +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose")
+    else:
+        check_end(sent, case, canceled=True)
+    check_ack(consumer, sent, case)
+
+    def done() -> bool:
+        return sent.status_disposed and (sent.ack_disposed or sent.ack is None)
+
+    if sent.flow.terminal and not consumer.wait(sent, done, consumer.limits.step):
+        case.fail(f"{name(status)}, but the provider did not dispose its status and ack within {consumer.limits.step:g} s "
+                  "(ICD 4.1.4.4, Figure 14)")
+
+
+def ins_plan(consumer: Consumer) -> list[InsState]:
+    """OFF, ON, RESTARTING; from ON, RESTARTING, OFF when the INS reports OFF: it ends as found."""
+    last = _reports_since(consumer, Sem.INS_REPORT, 0.0)
+    if last and last[-1].get("state") == "OFF":
+        return [InsState.ON, InsState.RESTARTING, InsState.OFF]
+    return [InsState.OFF, InsState.ON, InsState.RESTARTING]
+
+
+def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
+    cases: list[Case] = []
+    all_names = names()[3:]
+    clean = Case(all_names[-1])
+    writer = consumer.writer(Service.INERTIAL_SENSOR)
+    if writer is None:
+        reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
+                  f"{consumer.limits.answer:g} s (see discovery.InertialSensorCommand)")
+        return [Case(n).fail(reason) if n != clean.name else Case(n).skip(reason) for n in all_names if selected(n)]
+    answered = True
+    finished: list[Sent] = []
+    for state in ins_plan(consumer):
+        case = Case(f"commands.InertialSensor.{state.name}")
+        if not selected(case.name):
+            continue
+        with Timer(case):
+            if not answered:
+                case.skip("the provider did not answer the previous InertialSensor command")
+            else:
+                sent = consumer.send(Service.INERTIAL_SENSOR, writer, state)
+                answered = follow(consumer, sent, case)
+                check_end(sent, case)
+                if sent.flow.status is Status.COMPLETED:
+                    check_ack(consumer, sent, case)
+                    _check_ins_report(consumer, sent, offered, case)
+                if sent.flow.terminal:
+                    finished.append(sent)
+                    # clean up now: the next command must not find this one on the bus
+                    cleanup(consumer, sent, clean)
+        cases.append(case)
+    if selected(clean.name):
+        if not finished:
+            clean.skip("needs a command that finished: see the commands.InertialSensor tests")
+        cases.append(clean)
+    return cases
+
+
+def _check_ins_report(consumer: Consumer, sent: Sent, offered: set[str], case: Case) -> None:
+    if "InertialSensorStatus" not in offered:
+        case.note("the provider does not serve InertialSensorReport: the reported state not checked")
+        return
+    target: InsState = sent.sample.state
+    executing = sent.when(Status.EXECUTING) or sent.sent_at
+
+    def seen() -> bool:
+        bodies = _reports_since(consumer, Sem.INS_REPORT, executing)
+        if target is InsState.RESTARTING:  # a restart shows as RESTARTING, or as a new alignment from INIT
+            return any(b.get("state") == "RESTARTING" or b.get("status") == "INIT" for b in bodies)
+        return bool(bodies) and bodies[-1].get("state") == target.name
+
+    if not consumer.wait(sent, seen, consumer.limits.step):
+        shown = [b.get("state") for b in _reports_since(consumer, Sem.INS_REPORT, executing)]
+        case.fail(f"COMPLETED, but the InertialSensorReport did not show {target.name} from EXECUTING to "
+                  f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
+                  "ICD 5.1.4.3 and 5.1.5.1)")
+
+
+def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
+    cases: list[Case] = []
+    try:
+        if "GPSFixControl" in offered:
+            cases += gps_fix(consumer, offered, selected)
+        else:
+            cases += [Case(n).skip("the provider does not offer the GPSFixControl service")
+                      for n in names()[:3] if selected(n)]
+        if "InertialSensorControl" in offered:
+            cases += inertial_sensor(consumer, offered, selected)
+        else:
+            cases += [Case(n).skip("the provider does not offer the InertialSensorControl service")
+                      for n in names()[3:] if selected(n)]
+    finally:
+        consumer.close()
+    return cases
+
+
+def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[str]:
+    """What --commands will send, said before anything is sent."""
+    lines = []
+    gps = [n for n in names()[:2] if selected(n)]
+    if "GPSFixControl" in offered and (gps or selected(names()[2])):
+        lines.append("GPSFixCommand: the vehicle surfaces for a GPS fix"
+                     + (" (a second command is canceled while executing)" if selected(names()[1]) else ""))
+    ins = [s.name for s in ins_plan(consumer) if selected(f"commands.InertialSensor.{s.name}")]
+    if "InertialSensorControl" in offered and ins:
+        lines.append(f"InertialSensorCommand: {', then '.join(ins)} (the inertial sensor is switched off and on)")
+    return lines
+

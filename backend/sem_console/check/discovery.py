@@ -1,0 +1,184 @@
+"""Discovery tests, one per SEM topic (`discovery.<Topic>`): does the provider serve the topic, with
+the UMAA 3.0.1 IDL's type name, members and keys, and with a QoS a consumer on the ICD's QoS
+(dds/qos.py: reliable, transient-local) matches?
+
+The provider's endpoints are those of its participants (the participants whose writers carry its
+source GUID). A service counts as offered when any of its topics is; then every topic of it is
+required (the service's operations table), and a service not offered at all is skipped: ICD
+compliance is per service (ICD 3.2).
+"""
+
+from __future__ import annotations
+
+import uuid
+from typing import Any
+
+from cyclonedds.builtin_types import DcpsEndpoint
+from cyclonedds.core import DDSException, Policy, Qos
+from cyclonedds.dynamic import get_types_for_typeid
+
+from sem_console.check import icd
+from sem_console.check.observe import Observer
+from sem_console.check.results import Case, Timer
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import Sem
+
+RESOLVE_MS = 3000  # how long a peer's type object may take to arrive (XTypes type lookup)
+
+
+def name(sem: Sem) -> str:
+    return f"discovery.{icd.short(sem)}"
+
+
+def _policy(qos: Qos, policy: Any) -> Any:
+    try:
+        return qos[policy] if policy in qos else None
+    except (KeyError, TypeError):
+        return None
+
+
+def _common_problems(qos: Qos) -> list[str]:
+    problems = []
+    if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
+        problems.append("EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it")
+    partition = _policy(qos, Policy.Partition)
+    if partition is not None and [p for p in partition.partitions if p]:
+        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it")
+    return problems
+
+
+def writer_problems(sem: Sem, qos: Qos) -> list[str]:
+    """Why a consumer on the ICD QoS would not (reliably, durably) receive this writer's samples."""
+    problems = []
+    what = "report" if sem.spec.cls is TopicClass.REPORT else "status"
+    if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
+        problems.append("BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it")
+    durability = _policy(qos, Policy.Durability)
+    if durability is None or durability == Policy.Durability.Volatile:
+        ref = "ICD 4.2.1.1" if sem.spec.cls is TopicClass.REPORT else "ICD 4.1.2"
+        problems.append(f"VOLATILE durability: a consumer on the ICD QoS (TRANSIENT_LOCAL) does not match it, and one that "
+                        f"starts later never gets the {what} already published ({ref})")
+    problems += _common_problems(qos)
+    rep = _policy(qos, Policy.DataRepresentation)
+    if sem.spec.xcdr2_only and (rep is None or rep.use_cdrv0_representation or not rep.use_xcdrv2_representation):
+        problems.append("XCDR1 data representation for a type with @optional members: a consumer accepts XCDR2 only for "
+                        "it (vendors lay out optional members differently in XCDR1)")
+    return problems
+
+
+def reader_problems(sem: Sem, qos: Qos) -> list[str]:
+    """Why a consumer's command writer (dds/qos.py writer_qos) would not reliably reach this reader."""
+    problems = []
+    if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
+        problems.append("BEST_EFFORT reliability: the provider can lose a command the consumer then waits on "
+                        "(ICD 4.1.4: the provider answers every command)")
+    durability = _policy(qos, Policy.Durability)
+    if durability is None or durability == Policy.Durability.Volatile:
+        problems.append("VOLATILE durability: commands already on the bus when the provider starts never reach it "
+                        "(ICD 4.1.2.1: the provider handles persisted commands)")
+    elif durability in (Policy.Durability.Transient, Policy.Durability.Persistent):
+        problems.append(f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it")
+    problems += _common_problems(qos)
+    deadline = _policy(qos, Policy.Deadline)
+    if deadline is not None and 0 <= deadline.deadline < 2**63 - 1:
+        problems.append(f"a deadline of {deadline.deadline / 1e9:g} s requested: a consumer's command writer (no deadline) "
+                        "does not match it")
+    rep = _policy(qos, Policy.DataRepresentation)
+    if rep is not None and not sem.spec.xcdr2_only and not rep.use_cdrv0_representation:
+        problems.append("XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member)")
+    return problems
+
+
+class TypeCheck:
+    """Compares an endpoint's type with the UMAA 3.0.1 IDL; peers' type objects resolved once each."""
+
+    def __init__(self, observer: Observer) -> None:
+        self.observer = observer
+        self._resolved: dict[bytes, type | str] = {}
+
+    def _resolve(self, endpoint: DcpsEndpoint) -> type | str:
+        key = endpoint.type_id.serialize()
+        if key not in self._resolved:
+            try:
+                self._resolved[key] = get_types_for_typeid(self.observer.bus.participant, endpoint.type_id, RESOLVE_MS)[0]
+            except (DDSException, Exception) as e:  # noqa: BLE001 (any failure means: not resolvable)
+                self._resolved[key] = f"its type object could not be resolved ({e})"
+        return self._resolved[key]
+
+    def check(self, sem: Sem, endpoint: DcpsEndpoint, role: str, case: Case) -> list[str]:
+        problems = []
+        expected = icd.type_name(sem)
+        if endpoint.type_name != expected:
+            problems.append(f"type name {endpoint.type_name}; the UMAA 3.0.1 IDL names it {expected} ({icd.TOPIC_REF[sem]})")
+        if endpoint.type_id is None:
+            case.note(f"{role} {endpoint.key}: no type information sent; members and keys not checked")
+            return problems
+        t = self._resolve(endpoint)
+        if isinstance(t, str):
+            case.note(f"{role} {endpoint.key}: {t}; members and keys not checked")
+            return problems
+        ours, theirs = icd.members(sem.spec.type), list(getattr(t, "__annotations__", {}))
+        missing, extra = [m for m in ours if m not in theirs], [m for m in theirs if m not in ours]
+        if missing or extra:
+            problems.append("members differ from the UMAA 3.0.1 IDL:" + (f" missing {', '.join(missing)}" if missing else "")
+                            + (";" if missing and extra else "") + (f" extra {', '.join(extra)}" if extra else "")
+                            + f" ({icd.TOPIC_REF[sem]})")
+        elif theirs != ours:
+            problems.append(f"members in another order than the UMAA 3.0.1 IDL ({', '.join(theirs)}): the order is the wire "
+                            f"layout ({icd.TOPIC_REF[sem]})")
+        want, have = icd.keys(sem.spec.type), icd.keys(t)
+        if want != have:
+            problems.append(f"key members {{{', '.join(sorted(have)) or 'none'}}}; the UMAA 3.0.1 IDL keys "
+                            f"{{{', '.join(sorted(want))}}} ({icd.key_ref(sem)}: the members marked *)")
+        extensibility = getattr(t, "__idl_annotations__", {}).get("extensibility")
+        case.note(f"{role} {endpoint.key}: type {endpoint.type_name}, keys {{{', '.join(sorted(have))}}}"
+                  + (f", {extensibility}" if extensibility else ""))
+        return problems
+
+
+def run(observer: Observer, provider: uuid.UUID, selected: Any) -> list[Case]:
+    participants = observer.source_participants.get(provider, set())
+    types = TypeCheck(observer)
+    cases = []
+    for service in icd.SERVICES:
+        offered = {sem: observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)
+                   for sem in service.topics}
+        for sem in service.topics:
+            if not selected(name(sem)):
+                continue
+            case = Case(name(sem))
+            with Timer(case):
+                _check_topic(observer, types, sem, service, offered, case)
+            cases.append(case)
+    return cases
+
+
+def _check_topic(observer: Observer, types: TypeCheck, sem: Sem, service: icd.ServiceDef,
+                 offered: dict[Sem, list[DcpsEndpoint]], case: Case) -> None:
+    command = sem.spec.cls is TopicClass.COMMAND
+    role = "reader" if command else "writer"
+    if not any(offered.values()):
+        case.skip(f"the provider does not offer the {service.name} service (no endpoint of its topics)")
+        return
+    endpoints = offered[sem]
+    if not endpoints:
+        others = ", ".join(icd.short(s) for s, e in offered.items() if e)
+        case.fail(f"no {role} of {sem.spec.name}, though the provider offers {service.name} ({others}); "
+                  f"the service has every topic of {service.section}")
+        return
+    for e in endpoints:
+        problems = types.check(sem, e, role, case)
+        problems += reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos)
+        if not command and not problems and not observer.matched_by_consumer(sem, e):
+            problems.append("a consumer on the ICD QoS did not match it (its type is not assignable to the UMAA 3.0.1 IDL's)")
+        for p in problems:
+            case.fail(f"{role} {e.key}: {p}")
+        if not problems:
+            case.note(f"{role} {e.key}: QoS fits " + ("a consumer's command writer" if command else "a consumer on the ICD QoS"))
+
+
+def offered_services(observer: Observer, provider: uuid.UUID) -> set[str]:
+    """The services of which the provider has any endpoint (see the module docstring)."""
+    participants = observer.source_participants.get(provider, set())
+    return {s.name for s in icd.SERVICES for sem in s.topics
+            if observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)}

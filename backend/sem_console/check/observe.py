@@ -1,0 +1,184 @@
+"""What the checker sees of the bus: every SEM sample, as a Service Consumer on the ICD's QoS
+reads it, and every SEM endpoint that discovery announces.
+
+Each report, status and ack topic is read by a reader with the consumer QoS of `dds/qos.py`
+(reliable, transient-local): what it receives is what a conforming consumer receives, and the
+report and command tests judge only that. Each report topic is also read by a best-effort
+volatile reader (`any_writer_reader_qos`) that matches any writer, used only to find providers
+and their participants: a provider whose writer a consumer cannot match is still found, and its
+discovery test says why it does not match. The command topics are read only for a recording.
+
+Samples are taken raw (their CDR as received) and decoded by the console's `Decoder`, the one
+decode path of the console and its replays; the raw samples also go to the recorder (`--record`).
+Endpoints come from Cyclone's built-in DCPSPublication and DCPSSubscription topics: topic and
+type name, QoS and, where the peer sends it, the XTypes type identifier.
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from collections import defaultdict
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from cyclonedds._clayer import ddspy_take
+from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
+from cyclonedds.builtin_types import DcpsEndpoint
+from cyclonedds.core import InstanceState
+from cyclonedds.sub import DataReader
+
+from sem_console.console.decode import Decoder, ReportItem, StatusItem
+from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.qos import TopicClass, any_writer_reader_qos
+from sem_console.dds.topics import Sem, Service
+from sem_console.recording.recorder import Recorder
+
+_U64 = 0xFFFF_FFFF_FFFF_FFFF
+SEM_TOPICS = {sem.spec.name: sem for sem in Sem}
+REPORTS = [sem for sem in Sem if sem.spec.cls is TopicClass.REPORT]
+TICK = 0.02  # s between takes while waiting
+
+
+@dataclass
+class Report:
+    """One report sample as the consumer-QoS reader received it."""
+
+    received: float  # the checker's clock (UTC seconds) when taken
+    body: dict[str, Any] | None  # the report as JSON (console/convert.py); None for a dispose or a lost writer
+    invalid: list[str]  # what the decoder flagged: unknown enum ordinals, NaN, values out of their ICD range
+    alive: bool
+    writer: int  # publication handle
+
+
+@dataclass
+class StatusSeen:
+    """One command status or ack sample (None: the instance was disposed or lost its writer)."""
+
+    received: float
+    source: uuid.UUID
+    sample: Any | None
+    alive: bool
+
+
+class Observer:
+    def __init__(self, bus: Bus, recorder: Recorder | None = None) -> None:
+        self.bus = bus
+        self.recorder = recorder
+        self.decoder = Decoder()
+        # (topic, reader, consumer QoS?) for every topic we read
+        self.readers: list[tuple[Sem, DataReader, bool]] = [
+            (sem, bus.reader(sem), True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND]
+        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), False) for sem in REPORTS]
+        if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
+            self.readers += [(s.command, bus.reader(s.command), True) for s in Service]
+        self._conditions = [all_samples(r) for _, r, _ in self.readers]
+        self.consumer_readers = {sem: r for sem, r, consumer in self.readers if consumer}
+        self._pubs = BuiltinDataReader(bus.participant, BuiltinTopicDcpsPublication)
+        self._subs = BuiltinDataReader(bus.participant, BuiltinTopicDcpsSubscription)
+        self.publications: dict[uuid.UUID, DcpsEndpoint] = {}
+        self.subscriptions: dict[uuid.UUID, DcpsEndpoint] = {}
+        self.reports: dict[Sem, dict[uuid.UUID, list[Report]]] = defaultdict(lambda: defaultdict(list))
+        self.statuses: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)  # by sessionID
+        self.acks: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)
+        self.alive_sources: dict[uuid.UUID, float] = {}  # provider source -> when first seen alive
+        self.source_participants: dict[uuid.UUID, set[uuid.UUID]] = defaultdict(set)
+        self._writer_participant: dict[int, uuid.UUID] = {}
+
+    # ---- taking -------------------------------------------------------------------------
+    def pump(self) -> None:
+        """Take everything that arrived: endpoints first, so a sample's writer is known."""
+        self._take_endpoints()
+        for (sem, reader, consumer), cond in zip(self.readers, self._conditions):
+            self._take(sem, reader, consumer, cond)
+
+    def wait(self, predicate: Callable[[], bool], seconds: float) -> bool:
+        """Pump until `predicate` holds (True) or `seconds` pass (False)."""
+        deadline = time.monotonic() + seconds
+        while True:
+            self.pump()
+            if predicate():
+                return True
+            if time.monotonic() >= deadline:
+                return False
+            time.sleep(TICK)
+
+    def idle(self, seconds: float) -> None:
+        self.wait(lambda: False, seconds)
+
+    def _take_endpoints(self) -> None:
+        for builtin, table in ((self._pubs, self.publications), (self._subs, self.subscriptions)):
+            while True:
+                got = builtin.take(N=256)
+                for e in got:
+                    if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in SEM_TOPICS:
+                        table[e.key] = e
+                    else:
+                        table.pop(e.key, None)
+                if len(got) < 256:
+                    break
+
+    def _participant_of(self, reader: DataReader, handle: int) -> uuid.UUID | None:
+        if handle not in self._writer_participant:
+            try:
+                data = reader.get_matched_publication_data(handle)
+            except Exception:  # noqa: BLE001 (a writer that already left: asked again with its next sample)
+                return None
+            if data is None:
+                return None
+            self._writer_participant[handle] = data.participant_key
+        return self._writer_participant[handle]
+
+    def _take(self, sem: Sem, reader: DataReader, consumer: bool, cond: Any) -> None:
+        while True:
+            raw = ddspy_take(reader._ref, cond.mask, 256)  # noqa: SLF001 (raw CDR, as console/ingest.py takes it)
+            if isinstance(raw, int) or not raw:
+                return
+            now = time.time()
+            tapped = []
+            for data, info in raw:
+                handle = info.publication_handle & _U64
+                if consumer and self.recorder is not None and self.recorder.active:
+                    tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
+                item = self.decoder.decode(sem, data, info.valid_data, info.instance_state, now)
+                if item is None:
+                    continue  # undecodable (counted by the decoder) or a command topic (recorded only)
+                if item.alive:
+                    self.alive_sources.setdefault(item.source, now)
+                    participant = self._participant_of(reader, handle)
+                    if participant is not None:
+                        self.source_participants[item.source].add(participant)
+                if not consumer:
+                    continue
+                if isinstance(item, ReportItem):
+                    self.reports[sem][item.source].append(Report(now, item.report, item.invalid, item.alive, handle))
+                elif isinstance(item, StatusItem):
+                    table = self.statuses if item.kind == "status" else self.acks
+                    table[item.session].append(StatusSeen(now, item.source, item.sample, item.alive))
+            if tapped and self.recorder is not None and self.recorder.active:
+                self.recorder.on_samples(sem, tapped, time.time_ns())
+            if len(raw) < 256:
+                return
+
+    # ---- what was seen ------------------------------------------------------------------
+    def providers(self) -> set[uuid.UUID]:
+        return set(self.alive_sources)
+
+    def endpoints(self, participants: set[uuid.UUID], sem: Sem, writers: bool) -> list[DcpsEndpoint]:
+        """The provider's writers (or readers) of a topic, found by its participants."""
+        table = self.publications if writers else self.subscriptions
+        return [e for e in table.values() if e.participant_key in participants and e.topic_name == sem.spec.name]
+
+    def matched_by_consumer(self, sem: Sem, endpoint: DcpsEndpoint) -> bool:
+        """Whether the checker's consumer-QoS reader of the topic matched this writer."""
+        reader = self.consumer_readers.get(sem)
+        if reader is None:
+            return False
+        for handle in reader.get_matched_publications():
+            try:
+                data = reader.get_matched_publication_data(handle)
+            except Exception:  # noqa: BLE001
+                continue
+            if data is not None and data.key == endpoint.key:
+                return True
+        return False

@@ -1,0 +1,200 @@
+"""Report tests, two per report topic:
+
+- `reports.<Topic>.timing`: reports arrive (none for longer than `max_gap`), each timeStamp is a
+  valid DateTime, never goes back for one writer, and is within `clock_offset` of the checker's
+  clock on arrival (the first sample of a writer may be older: its transient-local history);
+- `reports.<Topic>.values`: every value within its ICD range, enum ordinals the ICD lists, GUIDs
+  RFC 4122, optional members well-formed when present, and the satellite counts consistent.
+
+Only what a consumer on the ICD QoS received counts (observe.py). The ranges and enum checks of
+the console's decoder (console/convert.py) apply, with the stricter ones of the ICD added here.
+"""
+
+from __future__ import annotations
+
+import math
+import uuid
+from dataclasses import dataclass
+from typing import Any, Callable
+
+from sem_console.check import icd
+from sem_console.check.observe import REPORTS, Observer, Report
+from sem_console.check.results import Case, Timer
+from sem_console.dds.topics import Sem
+
+MAX_PROBLEMS = 5  # distinct problems quoted per case; the rest are counted
+
+
+@dataclass
+class ReportLimits:
+    window: float  # s the reports were watched for
+    max_gap: float  # s a provider may go without a report of a topic
+    clock_offset: float  # s a timeStamp may differ from the checker's clock on arrival
+
+
+def names(sem: Sem) -> tuple[str, str]:
+    return f"reports.{icd.short(sem)}.timing", f"reports.{icd.short(sem)}.values"
+
+
+def stamp(body: dict[str, Any]) -> tuple[float | None, str | None]:
+    """The report's timeStamp in seconds, or what makes it no DateTime (ICD 5.2.6, Table 26)."""
+    ts = body.get("timeStamp") or {}
+    s, ns = ts.get("seconds"), ts.get("nanoseconds")
+    if not isinstance(s, int) or not isinstance(ns, int):
+        return None, "timeStamp missing or unreadable"
+    if s < 0 or not 0 <= ns <= 999_999_999:
+        return None, f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds 0..999999999: ICD 5.2.6, Table 45)"
+    return s + ns / 1e9, None
+
+
+def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limits: ReportLimits, case: Case) -> None:
+    topic = icd.short(sem)
+    live = [r for r in samples if r.alive and r.body is not None]
+    if any(not r.alive for r in samples):
+        case.note(f"the provider disposed its {topic} (or its writer left) during the run")
+    if not live:
+        case.fail(f"no {topic} from the provider within {end - start:.1f} s (ICD 4.2.1: the provider publishes its reports)")
+        return
+    arrivals = [start] + [r.received for r in live if r.received <= end] + [end]
+    gap = max(b - a for a, b in zip(arrivals, arrivals[1:]))
+    rate = (len(arrivals) - 2) / max(end - start, 1e-9)
+    offsets: list[float] = []
+    last: dict[int, float] = {}
+    for r in live:
+        t, bad = stamp(r.body or {})
+        if bad:
+            case.fail(f"{topic} {bad}")
+            continue
+        assert t is not None
+        offset = t - r.received
+        if r.writer in last and t < last[r.writer]:
+            case.fail(f"{topic} timeStamp went back {last[r.writer] - t:.3f} s (ICD 5.2.1: the time the data was derived)")
+        first = r.writer not in last
+        last[r.writer] = t
+        if offset > limits.clock_offset or (not first and offset < -limits.clock_offset):
+            case.fail(f"{topic} timeStamp {offset:+.3f} s from the checker's clock on arrival, beyond the stated "
+                      f"{limits.clock_offset:g} s (ICD 5.2.6: UTC)")
+        if not first:
+            offsets.append(offset)
+    if gap > limits.max_gap:
+        case.fail(f"no {topic} for {gap:.1f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s)")
+    spread = f", timeStamp {min(offsets):+.3f}..{max(offsets):+.3f} s from the checker's clock" if offsets else ""
+    case.note(f"{len(live)} {topic} samples, {rate:.2f}/s over {end - start:.1f} s, longest gap {gap:.2f} s{spread}")
+
+
+def _icd_ref(problem: str) -> str:
+    if "unknown" in problem and "ordinal" in problem:
+        return f"{problem} (ICD 5.3)"
+    return f"{problem} (ICD 5.4, Table 45)"
+
+
+def _guid_problem(text: Any, path: str) -> str | None:
+    if text is None:
+        return None
+    try:
+        g = uuid.UUID(str(text))
+    except ValueError:
+        return f"{path}: {text!r} is not a GUID"
+    if g.variant != uuid.RFC_4122:
+        return f"{path}: {g} is not an RFC 4122 GUID (variant 2: ICD 3.7, Table 45 NumericGUID)"
+    return None
+
+
+def _range(v: Any, lo: float, hi: float, path: str, ref: str) -> str | None:
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and not lo <= v <= hi:
+        return f"{path}: {v} outside {lo:g}..{hi:g} ({ref})"
+    return None
+
+
+def _gps_report(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[str | None]:
+    sats = b.get("satellites") or []
+    n = b.get("numberSatellitesInView")
+    used = sum(1 for s in sats if s and s.get("usedInFix"))
+    out: list[str | None] = []
+    if isinstance(n, int) and n < 0:
+        out.append(f"numberSatellitesInView {n} is negative (ICD 5.1.3.1, Table 14)")
+    elif isinstance(n, int) and used > n:
+        out.append(f"{used} satellites usedInFix but numberSatellitesInView is {n} (ICD 5.1.3.1, Table 14)")
+    for i, s in enumerate(sats):
+        if not s:
+            continue
+        p = f"satellites[{i}]"
+        out.append(_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", "ICD 5.4, Table 45: Angle is -pi..pi"))
+        out.append(_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", "ICD 5.4, Table 45: RadioFrequency_Hertz"))
+        out.append(_guid_problem(s.get("satelliteId"), f"{p}.satelliteId"))
+    clock = b.get("clock") or {}
+    out.append(_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
+                      "ICD 5.4, Table 45: RadioFrequency_Hertz"))
+    return out
+
+
+def _fix_status(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[str | None]:
+    cn0 = b.get("carrierToNoise") or []
+    return [_range(v, 0, 1e6, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12: a C/N0 in dB-Hz, Table 45") for i, v in enumerate(cn0)]
+
+
+def _fix(b: dict[str, Any], r: Report, limits: ReportLimits) -> list[str | None]:
+    t = (b.get("position2DWithTime") or {}).get("timeAtPosition")
+    if isinstance(t, (int, float)) and t - r.received > limits.clock_offset:
+        return [f"position2DWithTime.timeAtPosition is {t - r.received:.1f} s in the future (ICD 5.2.14, Table 34)"]
+    if isinstance(t, (int, float)) and t < 0:
+        return [f"position2DWithTime.timeAtPosition {t} is before the epoch (ICD 5.2.14, Table 34)"]
+    return []
+
+
+_MORE: dict[Sem, Callable[[dict[str, Any], Report, ReportLimits], list[str | None]]] = {
+    Sem.GPS_REPORT: _gps_report, Sem.GPS_FIX_STATUS_REPORT: _fix_status, Sem.GPS_FIX_REPORT: _fix,
+}
+
+
+def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Case) -> None:
+    topic = icd.short(sem)
+    live = [r for r in samples if r.alive and r.body is not None]
+    if not live:
+        case.fail(f"no {topic} from the provider to check (see reports.{topic}.timing)")
+        return
+    problems: dict[str, None] = {}
+    bad_samples = 0
+    for r in live:
+        assert r.body is not None
+        found = [_icd_ref(p) for p in r.invalid]
+        found.append(_guid_problem(r.body.get("source"), "source"))  # type: ignore[arg-type]
+        found += _MORE.get(sem, lambda *_: [])(r.body, r, limits)
+        found = [p for p in found if p]
+        bad_samples += bool(found)
+        for p in found:
+            problems.setdefault(p, None)
+    if problems:
+        listed = list(problems)
+        case.fail(f"{topic} {listed[0]}")
+        for p in listed[1:MAX_PROBLEMS]:
+            case.note(f"also: {p}")
+        more = len(listed) - MAX_PROBLEMS
+        case.note(f"{bad_samples} of {len(live)} samples had problems" + (f"; {more} more kinds not listed" if more > 0 else ""))
+    else:
+        case.note(f"{len(live)} {topic} samples, every value within the ICD")
+
+
+def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
+        selected: Callable[[str], bool]) -> list[Case]:
+    cases = []
+    undecodable = observer.decoder.undecodable
+    for sem in REPORTS:
+        service = icd.SERVICE_OF[sem].name
+        samples = observer.reports.get(sem, {}).get(provider, [])
+        for test, check in zip(names(sem), ("timing", "values")):
+            if not selected(test):
+                continue
+            case = Case(test)
+            with Timer(case):
+                if service not in offered and not samples:
+                    case.skip(f"the provider does not offer the {service} service")
+                elif check == "timing":
+                    check_timing(sem, samples, start, end, limits, case)
+                else:
+                    if undecodable.get(sem.spec.name):
+                        case.note(f"{undecodable[sem.spec.name]} {icd.short(sem)} samples on the bus (any provider) could "
+                                  "not be decoded as the UMAA 3.0.1 IDL type")
+                    check_values(sem, samples, limits, case)
+            cases.append(case)
+    return cases

@@ -1,0 +1,189 @@
+"""One `sem-check` run: find the provider, watch its reports, run the tests, report.
+
+Exit codes: 0 every selected test passed (skipped ones included), 1 a test failed, 2 the run could
+not test (no provider within the timeout, several and no --provider, a DDS configuration Cyclone
+refused, a --only/--skip that selects nothing).
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import shutil
+import sys
+import tempfile
+import time
+import uuid
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TextIO
+
+from sem_console import __version__
+from sem_console.check import commands, discovery, icd, junit, reports
+from sem_console.check.observe import REPORTS, TICK, Observer
+from sem_console.check.results import Case, Outcome, Selection, summary
+from sem_console.dds.bus import Bus, DdsConfigError
+from sem_console.dds.config import describe
+from sem_console.dds.topics import Sem
+from sem_console.recording.recorder import Recorder, RecordingError
+
+SETTLE = 1.0  # s to keep looking for more providers after the first one is found
+
+OK, FAILED, COULD_NOT_TEST = 0, 1, 2
+
+
+@dataclass
+class Options:
+    domain: int = 0
+    provider: uuid.UUID | None = None
+    commands: bool = False
+    junit: Path | None = None
+    timeout: float = 10.0  # finding the provider; a command's first status
+    only: list[str] = field(default_factory=list)
+    skip: list[str] = field(default_factory=list)
+    record: Path | None = None
+    window: float = 5.0  # s of reports watched before they are judged
+    max_gap: float = 5.0
+    clock_offset: float = 1.0
+    step_time: float = 5.0
+    execute_time: float = 300.0
+    interface: str = "lo"
+    peers: str = "127.0.0.1"
+
+
+def all_names() -> list[str]:
+    out = [discovery.name(sem) for s in icd.SERVICES for sem in s.topics]
+    out += [n for sem in REPORTS for n in reports.names(sem)]
+    return out + commands.names()
+
+
+class CouldNotTest(Exception):
+    """Why the run could not test, in one line (or a line and a list)."""
+
+
+def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
+    start = time.monotonic()
+    deadline = start + opts.timeout
+    first: float | None = None
+    while True:
+        observer.pump()
+        found = observer.providers()
+        now = time.monotonic()
+        if opts.provider is not None and opts.provider in found:
+            return opts.provider
+        if found and first is None:
+            first = now
+        if opts.provider is None and first is not None and now - first >= SETTLE:
+            break
+        if now >= deadline:
+            break
+        time.sleep(TICK)
+    if opts.provider is not None:
+        others = f"; providers seen: {', '.join(map(str, sorted(found, key=str)))}" if found else ""
+        raise CouldNotTest(f"provider {opts.provider} not found on domain {opts.domain} within {opts.timeout:g} s "
+                           f"(DDS: {net}){others}")
+    if not found:
+        raise CouldNotTest(f"no UMAA SEM provider on domain {opts.domain} within {opts.timeout:g} s (DDS: {net})")
+    if len(found) > 1:
+        listing = "\n".join(f"  {g}  ({', '.join(_topics_of(observer, g))})" for g in sorted(found, key=str))
+        raise CouldNotTest(f"{len(found)} providers on domain {opts.domain}; choose one with --provider:\n{listing}")
+    return next(iter(found))
+
+
+def _topics_of(observer: Observer, source: uuid.UUID) -> list[str]:
+    return [icd.short(sem) for sem in Sem if source in observer.reports.get(sem, {})] or ["no report read yet"]
+
+
+class Evidence:
+    """--record: the run's samples through the console's recorder, then renamed to the file asked for."""
+
+    def __init__(self, target: Path) -> None:
+        self.target = target
+        self.target.parent.mkdir(parents=True, exist_ok=True)
+        self.dir = Path(tempfile.mkdtemp(prefix=".sem-check-", dir=self.target.parent))
+        self.recorder = Recorder(self.dir, max_bytes=2**62, max_seconds=1e9, queue_size=100_000)
+        self.recorder.start()
+
+    def finish(self) -> str | None:
+        """Close the file and move it into place; an error message, or None."""
+        status = self.recorder.stop()
+        try:
+            files = sorted(self.dir.glob("*.mcap"))
+            if status.get("error") or len(files) != 1:
+                return status.get("error") or f"the recording in {self.dir} was not written"
+            shutil.move(str(files[0]), self.target)
+            return None
+        finally:
+            shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
+    out, err = out or sys.stdout, err or sys.stderr
+    started, t0 = dt.datetime.now(dt.timezone.utc), time.monotonic()
+    selection = Selection(opts.only, opts.skip)
+    names = all_names()
+    properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
+                  "version": __version__}
+
+    def could_not(message: str) -> int:
+        print(f"sem-check: {message}", file=err, flush=True)
+        if opts.junit is not None:
+            junit.write(opts.junit, [], time.monotonic() - t0, properties, error=message.splitlines()[0], started=started)
+        return COULD_NOT_TEST
+
+    unknown = selection.unknown(names)
+    if unknown:
+        return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
+    net = describe(opts.interface, opts.peers)
+    try:
+        bus = Bus(opts.domain, opts.interface, opts.peers)
+    except DdsConfigError as e:
+        return could_not(str(e))
+    evidence: Evidence | None = None
+    try:
+        if opts.record is not None:
+            try:
+                evidence = Evidence(opts.record)
+            except (OSError, RecordingError) as e:
+                return could_not(f"cannot record to {opts.record}: {e}")
+        observer = Observer(bus, evidence.recorder if evidence else None)
+        try:
+            provider = find_provider(observer, opts, net)
+        except CouldNotTest as e:
+            return could_not(str(e))
+        properties["provider"] = str(provider)
+        print(f"sem-check: provider {provider} on domain {opts.domain} ({net})", file=out)
+        print("sem-check: " + ("--commands: the command tests send commands to the provider" if opts.commands else
+                               "read-only: no command is sent (--commands runs the command tests)"), file=out, flush=True)
+        window_start = observer.alive_sources[provider]
+        observer.idle(max(0.0, window_start + opts.window - time.time()))
+        window_end = time.time()
+        offered = discovery.offered_services(observer, provider)
+        cases = discovery.run(observer, provider, selection)
+        limits = reports.ReportLimits(opts.window, opts.max_gap, opts.clock_offset)
+        cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection)
+        if opts.commands:
+            consumer = commands.Consumer(observer, provider, commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time), out)
+            lines = commands.plan(consumer, offered, selection)
+            if lines:
+                print(f"sem-check: sending to provider {provider}:", file=out)
+                for line in lines:
+                    print(f"  {line}", file=out)
+                out.flush()
+            cases += commands.run(consumer, offered, selection)
+        else:
+            cases += [Case(n).skip("read-only run: --commands sends commands (a real vehicle's INS may be switched off)")
+                      for n in commands.names() if selection(n)]
+        seconds = time.monotonic() - t0
+        summary(cases, seconds, out)
+        if opts.junit is not None:
+            junit.write(opts.junit, cases, seconds, properties, started=started)
+            print(f"sem-check: JUnit report {opts.junit}", file=out)
+        return FAILED if any(c.outcome is Outcome.FAILED for c in cases) else OK
+    finally:
+        if evidence is not None:
+            problem = evidence.finish()
+            if problem:
+                print(f"sem-check: recording not written: {problem}", file=err)
+            else:
+                print(f"sem-check: samples recorded in {opts.record}", file=out)
+        bus.close()

@@ -1,0 +1,348 @@
+"""The console's alarms, after ISA-18.2, derived from its own state: never from what a browser saw.
+
+Inputs: the providers (link, latest INS status and fixValid), this console's commands (statuses,
+transitions, unanswered) and the recorder's error. Outputs: the active set (every alarm not back
+to normal), kept in the console's database (`Store`, table `alarms`) so a restart keeps it.
+
+Two kinds of alarm (see `api.schemas.Alarm`):
+- condition alarms are active while their condition holds: link-lost, ins-failure, fix-lost,
+  no-fix-after-command, command-unanswered. Cleared but not acknowledged they stay in the set
+  (cleared-unacknowledged); acknowledged and cleared, they return to normal and leave it.
+- event alarms (command-failed, command-interrupted, flow-violation, executed-late, recording-failed)
+  record something that happened and cannot "clear" by itself: the order was not carried out, the
+  vehicle ran a command late. They are shown active-unacknowledged until the operator acknowledges
+  them, which returns them to normal (an event never shows as "cleared": that would read as "solved").
+
+One alarm per key (kind, vehicle, command) while it is not back to normal. An event is raised once:
+the events already in the history loaded at start (`baseline`) were raised by an earlier run, or
+predate alarms, and are not raised again.
+
+The operator's own supersession (a command FAILED/INTERRUPTED because this console sent a newer
+command of the same service to the same vehicle; sem-sim logs "superseded by command <id>") is
+information, not an alarm. An INTERRUPTED that nothing of ours explains (another operator's command)
+is command-interrupted.
+
+Cost: `report_changed` is on the report path (thousands of samples a second): one dict lookup and
+a comparison. `update` runs on the console's tick (5 Hz) and after the events that change a
+condition; it looks at a command only when that command changed (`changed`).
+"""
+
+from __future__ import annotations
+
+import uuid
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.console.commands import Command
+from sem_console.console.providers import Provider
+from sem_console.console.store import Store
+from sem_console.dds.topics import Service
+
+NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
+CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered"})
+EVENTS = frozenset({"command-failed", "command-interrupted", "flow-violation", "executed-late", "recording-failed"})
+SEVERITY = {
+    "link-lost": "alarm", "ins-failure": "alarm", "fix-lost": "warning", "no-fix-after-command": "warning",
+    "command-unanswered": "warning", "command-failed": "alarm", "command-interrupted": "alarm", "flow-violation": "alarm",
+    "executed-late": "alarm", "recording-failed": "warning",
+}
+INS_FAILURE = "INERTIAL_SENSOR_FAILURE"
+WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
+REASON_WORDS = {
+    Reason.VALIDATION_FAILED: "validation failed", Reason.OBJECTIVE_FAILED: "objective not reached",
+    Reason.SERVICE_FAILED: "service failed", Reason.RESOURCE_FAILED: "resource failed",
+    Reason.RESOURCE_REJECTED: "rejected by the vehicle", Reason.INTERRUPTED: "interrupted", Reason.TIMEOUT: "timed out",
+}
+TOOK_UP = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING, Status.COMPLETED})
+_MISSING = object()
+
+
+def short_id(provider_id: uuid.UUID | str) -> str:
+    return str(provider_id).replace("-", "")[:8]
+
+
+def vehicle_label(provider_id: uuid.UUID | str, name: str | None) -> str:
+    """The vehicle as the operator knows it: its configured name, else the first 8 hex digits of its GUID."""
+    return name or short_id(provider_id)
+
+
+def command_words(cmd: Command) -> str:
+    """'GPS fix command', 'INS OFF', 'INS ON', 'INS RESTART'."""
+    if cmd.service is Service.GPS_FIX:
+        return "GPS fix command"
+    state = cmd.state.name if isinstance(cmd.state, InsState) else "?"
+    return f"INS {'RESTART' if state == 'RESTARTING' else state}"
+
+
+@dataclass
+class Alarm:
+    id: int
+    key: str
+    kind: str
+    severity: str
+    provider_id: str | None
+    vehicle: str | None
+    session_id: str | None
+    text: str
+    since: float
+    cleared_at: float | None = None
+    acked_at: float | None = None
+    acked_by: str | None = None
+    normal_at: float | None = None  # back to normal: out of the active set (the row stays in the database)
+
+    @property
+    def state(self) -> str:
+        if self.cleared_at is not None:
+            return "cleared-unacknowledged"
+        return "active-acknowledged" if self.acked_at is not None else "active-unacknowledged"
+
+    def to_json(self) -> dict[str, Any]:
+        return {"id": self.id, "kind": self.kind, "severity": self.severity, "providerId": self.provider_id,
+                "vehicle": self.vehicle, "sessionId": self.session_id, "text": self.text, "since": self.since,
+                "state": self.state, "clearedAt": self.cleared_at, "ackedAt": self.acked_at, "ackedBy": self.acked_by}
+
+    def row(self) -> dict[str, Any]:
+        return {"id": self.id, "key": self.key, "kind": self.kind, "severity": self.severity, "provider_id": self.provider_id,
+                "vehicle": self.vehicle, "session_id": self.session_id, "text": self.text, "since": self.since,
+                "cleared_at": self.cleared_at, "acked_at": self.acked_at, "acked_by": self.acked_by,
+                "normal_at": self.normal_at}
+
+    @classmethod
+    def from_row(cls, r: Mapping[str, Any]) -> Alarm:
+        return cls(**{k: r[k] for k in ("id", "key", "kind", "severity", "provider_id", "vehicle", "session_id", "text",
+                                        "since", "cleared_at", "acked_at", "acked_by", "normal_at")})
+
+
+@dataclass(frozen=True)
+class Found:
+    """A condition that holds or an event that happened, before it is an alarm."""
+
+    kind: str
+    provider_id: str | None
+    session_id: str | None
+    text: str
+    detail: str = ""  # part of the key only (recording-failed: which failure)
+
+    @property
+    def key(self) -> str:
+        return "|".join((self.kind, self.provider_id or "", self.session_id or "", self.detail))
+
+
+class Alarms:
+    def __init__(self, store: Store, names: Mapping[str, str] | None = None) -> None:
+        self.store = store
+        self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
+        self._load()
+
+    def _load(self) -> None:
+        self.open: dict[str, Alarm] = {}
+        for r in self.store.open_alarms():
+            a = Alarm.from_row(r)
+            self.open[a.key] = a
+        self._raised: set[str] = {k for k, a in self.open.items() if a.kind in EVENTS}  # events never raised twice
+        # a vehicle with an open fix-lost alarm had a valid fix (kept across a restart)
+        self._had_fix: set[str] = {a.provider_id for a in self.open.values() if a.kind == "fix-lost" and a.provider_id}
+        self._watched: dict[tuple[uuid.UUID, str], Any] = {}
+        # what the alarms need of the commands, kept up to date command by command (`_track`)
+        self._unanswered: dict[str, Found] = {}
+        self._latest_fix: dict[str, Command] = {}  # provider -> this console's newest GPS fix command to it
+        self._newest: dict[tuple[str, Service], float] = {}  # (provider, service) -> its newest command's creation
+        self._sessions: set[str] = set()
+
+    def reset(self) -> None:
+        """A replay seeking backwards: forget every alarm (its state is rebuilt from the start)."""
+        self.store.clear_alarms()
+        self._load()
+
+    def baseline(self, commands: Iterable[Command]) -> None:
+        """At start, with the command history loaded: what it already holds of events is not raised again."""
+        commands = list(commands)
+        for c in commands:
+            self._track(c)
+        self._raised |= {f.key for c in commands for f in self._events(c)}
+
+    # ---- inputs -------------------------------------------------------------------------
+    def report_changed(self, source: uuid.UUID, topic: str, report: Mapping[str, Any]) -> bool:
+        """A report arrived: True when a field an alarm depends on changed (then call `update`)."""
+        field = WATCHED.get(topic)
+        if field is None:
+            return False
+        value = report.get(field)
+        key = (source, topic)
+        if self._watched.get(key, _MISSING) == value:
+            return False
+        self._watched[key] = value
+        return True
+
+    def update(self, now: float, providers: Mapping[uuid.UUID, Provider], commands: Iterable[Command] = (),
+               recording_error: str | None = None) -> bool:
+        """Re-derive the active set at `now` (UTC seconds), looking again at `commands` (the ones that changed;
+        new ones first). Returns whether the active set changed."""
+        changed = False
+        commands = list(commands)
+        for c in commands:
+            self._track(c)
+        events = [f for c in commands for f in self._events(c)]
+        if recording_error:
+            events.append(Found("recording-failed", None, None, f"Recording failed: {_recording_reason(recording_error)}",
+                                recording_error))
+        for f in events:
+            if f.key not in self._raised:
+                self._raised.add(f.key)
+                self._raise(f, now)
+                changed = True
+        holding = self._conditions(now, providers)
+        for key, a in list(self.open.items()):
+            if a.kind not in CONDITIONS:
+                continue
+            if key in holding:
+                if a.cleared_at is not None:  # back again before it was acknowledged: active once more
+                    a.cleared_at, a.since = None, now
+                    self._save(a)
+                    changed = True
+            elif self._can_judge(a, providers):
+                if a.acked_at is not None:
+                    a.cleared_at = a.normal_at = now
+                    del self.open[key]
+                    self._save(a)
+                    changed = True
+                elif a.cleared_at is None:
+                    a.cleared_at = now
+                    self._save(a)
+                    changed = True
+        for key, f in holding.items():
+            if key not in self.open:
+                self._raise(f, now)
+                changed = True
+        return changed
+
+    def acknowledge(self, alarm_id: int, operator: str | None, now: float) -> Alarm | None:
+        """The operator has seen it. None: no such alarm in the active set. An acknowledged event, or a
+        condition that has cleared, returns to normal; acknowledging again changes nothing."""
+        a = next((x for x in self.open.values() if x.id == alarm_id), None)
+        if a is None or a.acked_at is not None:
+            return a
+        a.acked_at, a.acked_by = now, operator
+        if a.kind in EVENTS or a.cleared_at is not None:
+            a.cleared_at = a.cleared_at or now
+            a.normal_at = now
+            del self.open[a.key]
+        self._save(a)
+        return a
+
+    def active(self) -> list[dict[str, Any]]:
+        """The active set, newest first."""
+        return [a.to_json() for a in sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)]
+
+    # ---- derivation ---------------------------------------------------------------------
+    def _vehicle(self, provider_id: str) -> str:
+        return vehicle_label(provider_id, self.names.get(provider_id))
+
+    def _track(self, c: Command) -> None:
+        """What the alarms need of a command: whether it is unanswered, the newest commands per vehicle."""
+        pid, sid = str(c.provider_id), str(c.session_id)
+        self._sessions.add(sid)
+        key = (pid, c.service)
+        self._newest[key] = max(self._newest.get(key, c.created_at), c.created_at)
+        f = Found("command-unanswered", pid, sid, f"{self._vehicle(pid)}: {command_words(c)} unanswered")
+        if c.unanswered and not c.cancel_requested and not c.flow.terminal and not c.cleaned_up:
+            self._unanswered[f.key] = f
+        else:
+            self._unanswered.pop(f.key, None)
+        if c.service is Service.GPS_FIX:
+            newest = self._latest_fix.get(pid)
+            if newest is None or c.created_at >= newest.created_at:
+                self._latest_fix[pid] = c
+
+    def _events(self, c: Command) -> list[Found]:
+        """What has happened to the command that is an alarm (raised once each: see `_raised`)."""
+        pid, sid = str(c.provider_id), str(c.session_id)
+        who, what = self._vehicle(pid), command_words(c)
+        out: list[Found] = []
+        if c.flow.violations:
+            out.append(Found("flow-violation", pid, sid, f"{who}: {what}: the vehicle reported an invalid status sequence"))
+        if c.flow.status is Status.FAILED:
+            reason = next((t.reason for t in reversed(c.flow.transitions) if t.status is Status.FAILED), None)
+            if reason is not Reason.INTERRUPTED:
+                words = REASON_WORDS.get(reason, "failed") if isinstance(reason, Reason) else "failed"
+                out.append(Found("command-failed", pid, sid, f"{who}: {what} failed: {words}"))
+            elif not self._superseded(c):
+                out.append(Found("command-interrupted", pid, sid,
+                                 f"{who}: {what} interrupted by a command not from this console"))
+        late = c.answered_late_after
+        if late is not None and c.flow.transitions and c.flow.transitions[0].status in TOOK_UP:
+            out.append(Found("executed-late", pid, sid, f"{who}: {what} executed late (unanswered for {late:.0f} s)"))
+        return out
+
+    def _superseded(self, c: Command) -> bool:
+        """FAILED/INTERRUPTED by this console's own newer command of the service to the vehicle (which sem-sim's
+        log message names: "superseded by command <id>")."""
+        if self._newest.get((str(c.provider_id), c.service), c.created_at) > c.created_at:
+            return True
+        message = next((t.log_message for t in reversed(c.flow.transitions) if t.status is Status.FAILED), "")
+        own = str(c.session_id)
+        return any(w != own and w in self._sessions for w in (word.strip(".,;:()") for word in message.split()))
+
+    def _conditions(self, now: float, providers: Mapping[uuid.UUID, Provider]) -> dict[str, Found]:
+        holding: dict[str, Found] = dict(self._unanswered)
+        fix_valid: dict[str, Any] = {}
+        for p in providers.values():
+            pid = str(p.id)
+            who = self._vehicle(pid)
+            found: list[Found] = []
+            if p.link == "lost":
+                found.append(Found("link-lost", pid, None, f"{who}: link lost"))
+            ins = p.reports.get("InertialSensorReport")
+            if ins is not None and ins["report"].get("status") == INS_FAILURE:
+                found.append(Found("ins-failure", pid, None, f"{who}: inertial sensor failure"))
+            status = p.reports.get("GPSFixStatusReport")
+            valid = status["report"].get("fixValid") if status is not None else None
+            fix_valid[pid] = valid
+            if valid is True:
+                self._had_fix.add(pid)
+            elif valid is False and pid in self._had_fix:
+                found.append(Found("fix-lost", pid, None, f"{who}: GPS fix lost"))
+            holding.update((f.key, f) for f in found)
+        for pid, c in self._latest_fix.items():
+            if c.flow.status is Status.COMPLETED and fix_valid.get(pid) is False and c.times:
+                completed_at = c.times[-1][1]
+                if now - completed_at >= NO_FIX_GRACE:
+                    text = f"{self._vehicle(pid)}: no valid GPS fix {now - completed_at:.0f} s after the fix command completed"
+                    f = Found("no-fix-after-command", pid, str(c.session_id), text)
+                    holding[f.key] = f
+        return holding
+
+    def _can_judge(self, a: Alarm, providers: Mapping[uuid.UUID, Provider]) -> bool:
+        """Whether the state holds what the alarm's condition is about; after a restart a vehicle not heard
+        from yet (or not yet this report) is no evidence that its condition cleared."""
+        if a.kind == "command-unanswered":
+            return True  # the commands not finished are always in memory
+        p = providers.get(uuid.UUID(a.provider_id)) if a.provider_id else None
+        if p is None:
+            return False
+        if a.kind == "ins-failure":
+            return "InertialSensorReport" in p.reports
+        if a.kind in ("fix-lost", "no-fix-after-command"):
+            return "GPSFixStatusReport" in p.reports
+        return True
+
+    # ---- storage ------------------------------------------------------------------------
+    def _raise(self, f: Found, now: float) -> Alarm:
+        a = Alarm(0, f.key, f.kind, SEVERITY[f.kind], f.provider_id, self._vehicle(f.provider_id) if f.provider_id else None,
+                  f.session_id, f.text, now)
+        a.id = self.store.add_alarm(a.row())
+        self.open[a.key] = a
+        return a
+
+    def _save(self, a: Alarm) -> None:
+        self.store.update_alarm(a.row())
+
+
+def _recording_reason(error: str) -> str:
+    """'recording stopped: the disk is full (/var/x.mcap)' -> 'the disk is full (/var/x.mcap)'."""
+    return error.removeprefix("recording stopped: ")

@@ -1,0 +1,288 @@
+"""Alarms derived on the server (console/alarms.py): the derivation and ISA-18.2 states without a network
+(a real SQLite store, the console's Commands and Providers), the routes through FastAPI's TestClient, and one
+vehicle with a failed INS over real DDS."""
+
+from __future__ import annotations
+
+import uuid
+from pathlib import Path
+from typing import Any
+
+import httpx
+from fastapi.testclient import TestClient
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from sem_console.console.alarms import NO_FIX_GRACE, Alarms
+from sem_console.console.clock import RecordingClock
+from sem_console.console.commands import Command, Commands
+from sem_console.console.providers import Providers
+from sem_console.console.store import Store
+from sem_console.core.config import Settings
+from sem_console.dds.topics import Service
+from sem_console.main import create_app
+from test_console import V1, WsClient, provider_ready, wait_until
+
+OK = R.SUCCEEDED
+ALPHA, CHARLIE, UNNAMED = uuid.uuid4(), uuid.uuid4(), uuid.UUID("3f2a9c01-0000-4000-8000-000000000000")
+NAMES = {str(ALPHA): "Alpha", str(CHARLIE): "Charlie"}
+T0 = 1_800_000_000.0
+
+
+class World:
+    """A console's state without DDS: its store, commands and providers on a clock the test moves."""
+
+    def __init__(self, db: Path) -> None:
+        self.clock = RecordingClock(T0)
+        self.store = Store(db)
+        self.written: list[Any] = []
+        self.disposed: list[Any] = []
+        self.commands = Commands(self.store.console_guid(), self.store, lambda _s, x: self.written.append(x),
+                                 lambda _s, x: self.disposed.append(x), lambda _m: None, 2.0, self.clock)
+        self.providers = Providers(3.0, 1.0, NAMES)  # lost after 3 s, regained after 1 s
+        self.alarms = Alarms(self.store, NAMES)
+        self.alarms.baseline(self.commands.by_session.values())
+        self.recording_error: str | None = None
+
+    def at(self, t: float) -> World:
+        self.clock.at = T0 + t
+        return self
+
+    def report(self, vehicle: uuid.UUID, topic: str, **fields: Any) -> bool:
+        now = self.clock.at
+        self.providers.seen(topic, vehicle, {"report": fields, "invalid": [], "receivedAt": now}, now, now, True)
+        return self.alarms.report_changed(vehicle, topic, fields)
+
+    def status(self, cmd: Command, *steps: tuple[S, R] | tuple[S, R, str]) -> None:
+        for st, reason, *message in steps:
+            self.commands.on_status(cmd.service, cmd.session_id, cmd.provider_id, st, reason, message[0] if message else "",
+                                    self.clock.at)
+
+    def update(self) -> list[dict[str, Any]]:
+        self.providers.tick(self.clock.at)
+        self.commands.tick(self.clock.at)
+        self.alarms.update(self.clock.at, self.providers.by_id, self.commands.by_session.values(), self.recording_error)
+        return self.alarms.active()
+
+    def ack(self, alarm_id: int, operator: str | None = "alice") -> bool:
+        return self.alarms.acknowledge(alarm_id, operator, self.clock.at) is not None
+
+
+def kinds(active: list[dict[str, Any]]) -> list[tuple[str, str]]:
+    return [(a["kind"], a["state"]) for a in active]
+
+
+# ---- conditions --------------------------------------------------------------------------------
+def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    w.report(CHARLIE, "GPSReport")
+    assert w.update() == []
+    [lost] = w.at(5).update()
+    assert (lost["kind"], lost["severity"], lost["state"], lost["text"]) == ("link-lost", "alarm", "active-unacknowledged",
+                                                                             "Charlie: link lost")
+    assert lost["vehicle"] == "Charlie" and lost["providerId"] == str(CHARLIE) and lost["since"] == T0 + 5
+    assert w.ack(lost["id"]) and kinds(w.update()) == [("link-lost", "active-acknowledged")]
+    assert w.alarms.active()[0]["ackedBy"] == "alice"
+    for t in (6, 6.5, 7, 7.5):  # samples again for the regained time
+        w.at(t).report(CHARLIE, "GPSReport")
+        w.update()
+    assert w.providers.by_id[CHARLIE].link == "regained" and w.alarms.active() == []
+    [row] = w.store.db.execute("SELECT * FROM alarms").fetchall()
+    assert row["normal_at"] == row["cleared_at"] == T0 + 7 and row["acked_by"] == "alice"
+
+
+def test_a_cleared_alarm_waits_for_acknowledge_and_comes_back_active(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    assert w.report(ALPHA, "InertialSensorReport", status="OPERATIONAL")
+    assert not w.report(ALPHA, "InertialSensorReport", status="OPERATIONAL")  # the same: nothing to re-derive
+    assert w.update() == []
+    assert w.at(1).report(ALPHA, "InertialSensorReport", status="INERTIAL_SENSOR_FAILURE")
+    [failed] = w.update()
+    assert (failed["kind"], failed["severity"], failed["text"]) == ("ins-failure", "alarm", "Alpha: inertial sensor failure")
+    w.at(2).report(ALPHA, "InertialSensorReport", status="OPERATIONAL")
+    assert kinds(w.update()) == [("ins-failure", "cleared-unacknowledged")] and w.alarms.active()[0]["clearedAt"] == T0 + 2
+    w.at(3).report(ALPHA, "InertialSensorReport", status="INERTIAL_SENSOR_FAILURE")
+    [again] = w.update()
+    assert (again["id"], again["state"], again["clearedAt"]) == (failed["id"], "active-unacknowledged", None)
+    w.at(4).report(ALPHA, "InertialSensorReport", status="OPERATIONAL")
+    w.update()
+    assert w.ack(failed["id"]) and w.update() == []
+    assert not w.ack(failed["id"])  # back to normal: no longer in the set
+
+
+def test_fix_lost_only_after_a_valid_fix(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    w.report(UNNAMED, "GPSFixStatusReport", fixValid=False)  # submerged from the start: nothing lost
+    assert w.update() == []
+    w.at(1).report(UNNAMED, "GPSFixStatusReport", fixValid=True)
+    assert w.update() == []
+    w.at(1.5).report(UNNAMED, "GPSFixStatusReport", fixValid=False)
+    [lost] = w.update()
+    assert (lost["kind"], lost["severity"], lost["text"], lost["vehicle"]) == ("fix-lost", "warning", "3f2a9c01: GPS fix lost",
+                                                                               "3f2a9c01")
+    w.at(2).report(UNNAMED, "GPSFixStatusReport", fixValid=True)
+    assert kinds(w.update()) == [("fix-lost", "cleared-unacknowledged")]
+
+
+def test_no_fix_a_few_seconds_after_a_completed_gps_fix_command(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    w.report(ALPHA, "GPSFixStatusReport", fixValid=False)
+    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, "alice")
+    w.status(cmd, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.COMPLETED, OK))
+    w.at(NO_FIX_GRACE - 2).report(ALPHA, "GPSFixStatusReport", fixValid=False)  # the vehicle keeps reporting
+    assert w.at(NO_FIX_GRACE - 1).update() == []
+    [nofix] = w.at(NO_FIX_GRACE + 1).update()
+    assert (nofix["kind"], nofix["severity"], nofix["sessionId"]) == ("no-fix-after-command", "warning", str(cmd.session_id))
+    assert nofix["text"] == "Alpha: no valid GPS fix 6 s after the fix command completed"
+    w.at(NO_FIX_GRACE + 2).report(ALPHA, "GPSFixStatusReport", fixValid=True)
+    assert kinds(w.update()) == [("no-fix-after-command", "cleared-unacknowledged")]
+
+
+def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    cmd = w.commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.RESTARTING, "alice")
+    assert w.at(1).update() == []
+    [unanswered] = w.at(3).update()
+    assert (unanswered["kind"], unanswered["severity"], unanswered["text"]) == (
+        "command-unanswered", "warning", "Alpha: INS RESTART unanswered")
+    w.commands.cancel(cmd.session_id, "alice")  # an UNANSWERED command can be canceled: it is disposed
+    assert w.disposed == [cmd.sample] and cmd.cancel_requested
+    assert kinds(w.update()) == [("command-unanswered", "cleared-unacknowledged")]
+    w.at(12).status(cmd, (S.ISSUED, OK))  # the vehicle comes back and takes it up anyway
+    late, cleared = w.update()
+    assert (late["kind"], late["severity"], late["state"]) == ("executed-late", "alarm", "active-unacknowledged")
+    assert late["text"] == "Alpha: INS RESTART executed late (unanswered for 12 s)" and cleared["kind"] == "command-unanswered"
+
+
+# ---- events ------------------------------------------------------------------------------------
+def test_failed_command_is_latched_until_acknowledged_then_never_raised_again(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    cmd = w.commands.issue(Service.GPS_FIX, UNNAMED, None, "alice")
+    w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.VALIDATION_FAILED, "timeStamp out of range"))
+    [failed] = w.at(1).update()
+    assert (failed["kind"], failed["severity"], failed["state"], failed["clearedAt"]) == (
+        "command-failed", "alarm", "active-unacknowledged", None)
+    assert failed["text"] == "3f2a9c01: GPS fix command failed: validation failed"
+    assert kinds(w.at(30).update()) == [("command-failed", "active-unacknowledged")]  # it does not clear by itself
+    assert w.ack(failed["id"]) and w.update() == []
+    assert w.at(40).update() == []  # the command is still FAILED in memory: not raised twice
+
+
+def test_own_supersession_is_not_an_alarm_another_operators_interruption_is(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    first = w.commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.OFF, "alice")
+    w.status(first, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
+    second = w.at(1).commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.RESTARTING, "alice")
+    w.status(first, (S.FAILED, R.INTERRUPTED, f"superseded by command {second.session_id}"))
+    w.status(second, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
+    assert w.update() == []
+    w.at(2).status(second, (S.FAILED, R.INTERRUPTED, "superseded by command 0b9f5c2e-6c1d-4a7e-9f00-000000000000"))
+    [interrupted] = w.update()  # no newer command of this console explains it: another operator's
+    assert (interrupted["kind"], interrupted["severity"], interrupted["sessionId"]) == (
+        "command-interrupted", "alarm", str(second.session_id))
+    assert interrupted["text"] == "Alpha: INS RESTART interrupted by a command not from this console"
+
+
+def test_flow_violation_and_recording_failure(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    cmd = w.commands.issue(Service.GPS_FIX, CHARLIE, None, None)
+    w.status(cmd, (S.ISSUED, OK), (S.EXECUTING, OK))  # COMMANDED skipped
+    w.recording_error = "recording stopped: the disk is full (/var/recordings/x.mcap)"
+    recording, violation = w.at(1).update()
+    assert (violation["kind"], violation["severity"], violation["text"]) == (
+        "flow-violation", "alarm", "Charlie: GPS fix command: the vehicle reported an invalid status sequence")
+    assert (recording["kind"], recording["providerId"], recording["vehicle"], recording["text"]) == (
+        "recording-failed", None, None, "Recording failed: the disk is full (/var/recordings/x.mcap)")
+    assert w.ack(recording["id"]) and kinds(w.at(2).update()) == [("flow-violation", "active-unacknowledged")]
+
+
+# ---- persistence -------------------------------------------------------------------------------
+def test_a_restart_keeps_the_alarms_not_back_to_normal(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    w.report(CHARLIE, "GPSReport")
+    old = w.commands.issue(Service.GPS_FIX, ALPHA, None, None)
+    w.status(old, (S.ISSUED, OK), (S.FAILED, R.RESOURCE_FAILED))
+    w.at(1).update()
+    acked = w.alarms.active()[0]
+    assert acked["kind"] == "command-failed" and w.ack(acked["id"])  # back to normal: gone for good
+    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, None)
+    w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.TIMEOUT))
+    before = w.at(5).update()
+    assert kinds(before) == [("link-lost", "active-unacknowledged"), ("command-failed", "active-unacknowledged")]
+    w.store.close()
+
+    again = World(tmp_path / "db").at(6)
+    assert again.alarms.active() == before  # loaded from the database; Charlie not heard from yet is no evidence
+    assert again.update() == before  # the failed commands in the loaded history are not raised again
+
+
+# ---- REST and WebSocket ------------------------------------------------------------------------
+def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(domain: int, tmp_path: Path) -> None:
+    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings",
+                        operator_tokens="alice:s3cret", vehicle_names=f"{CHARLIE}=Charlie", unanswered_timeout=2.0)
+    auth = {"Authorization": "Bearer s3cret"}
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+
+        def heard_a_minute_ago() -> None:  # on the console's loop, like every change of its state
+            now, wall = console.clock.monotonic(), console.clock.wall()
+            console.providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60,
+                                   wall - 60, True)
+            console.tick(now)
+
+        client.portal.call(heard_a_minute_ago)
+        gps_fix = f"/api/providers/{CHARLIE}/gps-fix"
+        r = client.post(gps_fix, json={}, headers=auth)
+        assert r.status_code == 409 and r.json()["detail"].startswith("Charlie is lost (nothing heard for 60 s)"), r.text
+        assert client.post(f"/api/providers/{CHARLIE}/inertial-sensor", json={"state": "OFF"}, headers=auth).status_code == 409
+        r = client.post(gps_fix, json={"confirmLost": True}, headers=auth)
+        assert r.status_code == 201, r.text
+        session = r.json()["sessionId"]
+        client.portal.call(lambda: console.tick(console.clock.monotonic() + 3))  # past the unanswered timeout
+        unanswered, lost = client.get("/api/alarms").json()
+        assert (unanswered["kind"], unanswered["text"], unanswered["sessionId"]) == (
+            "command-unanswered", "Charlie: GPS fix command unanswered", session)
+        assert (lost["kind"], lost["text"], lost["state"]) == ("link-lost", "Charlie: link lost", "active-unacknowledged")
+
+        r = client.delete(f"/api/commands/{session}", headers=auth)  # an UNANSWERED command can be canceled
+        assert r.status_code == 200 and r.json()["cancelRequested"] and r.json()["unanswered"]
+        assert client.get("/api/alarms").json()[0]["state"] == "cleared-unacknowledged"
+
+        ack = f"/api/alarms/{lost['id']}/ack"
+        assert client.post(ack, json={}).status_code == 401
+        assert client.post(ack, headers=auth).status_code == 415  # a JSON body ({}) like every command route
+        r = client.post(ack, json={}, headers=auth)
+        assert r.status_code == 200 and r.json()[1]["state"] == "active-acknowledged" and r.json()[1]["ackedBy"] == "alice"
+        assert client.post(ack, json={}, headers=auth).json() == r.json()  # again: no change
+        assert client.post("/api/alarms/99999/ack", json={}, headers=auth).status_code == 404
+        with client.websocket_connect("ws://localhost/ws") as ws:
+            assert [a["id"] for a in ws.receive_json()["alarms"]] == [unanswered["id"], lost["id"]]
+            assert client.post(f"/api/alarms/{unanswered['id']}/ack", json={}, headers=auth).status_code == 200
+            message = ws.receive_json()
+            while message["type"] != "alarms":
+                message = ws.receive_json()
+            assert [a["id"] for a in message["alarms"]] == [lost["id"]]  # cleared and acknowledged: back to normal
+        audit = [(e["path"], e["outcome"], e["status"], e["operator"]) for e in client.get("/api/audit").json()]
+        assert (ack, "accepted", 200, "alice") in audit and (ack, "refused", 401, None) in audit
+        assert (gps_fix, "refused", 409, "alice") in audit and (gps_fix, "accepted", 201, "alice") in audit
+        # Charlie takes the canceled command up at last, then cancels it: it was executed late all the same
+        for st, reason in ((S.ISSUED, OK), (S.CANCELED, R.CANCELED)):
+            client.portal.call(console.commands.on_status, Service.GPS_FIX, uuid.UUID(session), CHARLIE, st, reason, "", None)
+        late = client.get("/api/alarms").json()[0]
+        assert (late["kind"], late["sessionId"]) == ("executed-late", session)
+        assert late["text"].startswith("Charlie: GPS fix command executed late (unanswered for ")
+
+
+def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, console) -> None:
+    sim("--fault", "ins-failure")
+    c = console("--vehicle-names", f"{V1}=Alpha")
+    provider_ready(c.url, V1, {"InertialSensorReport"})
+    [alarm] = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10,
+                         "an ins-failure alarm")
+    assert (alarm["text"], alarm["providerId"], alarm["severity"], alarm["state"]) == (
+        "Alpha: inertial sensor failure", V1, "alarm", "active-unacknowledged")
+    ws = WsClient(c.ws_url)
+    snapshot = wait_until(lambda: ws.messages and ws.messages[0], 10, "the snapshot")
+    assert snapshot["type"] == "snapshot" and alarm in snapshot["alarms"] and ws.errors == []
+    ws.close()

@@ -1,0 +1,308 @@
+"""`sem-check` against implementations that are not the checker: `sem-sim` (clean and with each
+fault kind), tiny Cyclone providers with a wrong QoS or a wrong key, RTI Connext, and an empty
+domain. The JUnit report is validated against the common JUnit layout (tests/data/junit.xsd)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import subprocess
+import sys
+import threading
+import time
+import typing
+import uuid
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Callable, Iterator
+
+import pytest
+import xmlschema
+from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
+from cyclonedds.core import Policy, Qos
+from cyclonedds.idl import make_idl_struct
+from cyclonedds.pub import DataWriter
+from cyclonedds.topic import Topic
+from mcap.reader import make_reader
+
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+from sem_console.check.cli import main
+from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.qos import TopicClass, representation, writer_qos
+from sem_console.dds.topics import Sem, Service
+from sem_console.sim.options import SimOptions, vehicle_guid
+from sem_console.sim.reports import Sensors
+from sem_console.umaa.guid import from_guid
+from sem_console.umaa.samples import now_datetime
+
+XSD = xmlschema.XMLSchema(Path(__file__).parent / "data" / "junit.xsd")
+COMMAND_TOPICS = [s.command for s in Service]
+
+
+@dataclass
+class Run:
+    code: int
+    out: str
+    err: str
+    cases: dict[str, tuple[str, str]]  # test name -> (passed|failed|skipped|error, reason)
+
+
+def junit_cases(path: Path) -> dict[str, tuple[str, str]]:
+    XSD.validate(str(path))
+    cases = {}
+    for tc in ET.parse(path).getroot().iter("testcase"):
+        group = tc.get("classname", "").removeprefix("sem-check").lstrip(".")
+        name = f"{group}.{tc.get('name')}" if group else str(tc.get("name"))
+        outcome, reason = "passed", ""
+        for kind in ("failure", "error", "skipped"):
+            el = tc.find(kind)
+            if el is not None:
+                outcome, reason = {"failure": "failed"}.get(kind, kind), el.get("message", "")
+        cases[name] = (outcome, reason)
+    return cases
+
+
+def check(tmp_path: Path, *args: str) -> Run:
+    """sem-check in this process (faster than a subprocess), with a JUnit report read back."""
+    report = tmp_path / f"junit-{uuid.uuid4().hex[:8]}.xml"
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main([*args, "--junit", str(report)])
+    return Run(code, out.getvalue(), err.getvalue(), junit_cases(report))
+
+
+def failed(run: Run) -> dict[str, str]:
+    return {n: r for n, (o, r) in run.cases.items() if o == "failed"}
+
+
+def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.UUID]:
+    """The sources of n providers' InertialSensorReports (a reader only: nothing is written)."""
+    bus = Bus(domain)
+    reader = bus.reader(Sem.INS_REPORT)
+    seen: set[uuid.UUID] = set()
+    deadline = time.monotonic() + timeout
+    while len(seen) < n and time.monotonic() < deadline:
+        seen |= {from_guid(s.source) for s in take_each(reader)[0] if hasattr(s, "source")}
+        time.sleep(0.05)
+    bus.close()
+    assert len(seen) >= n, f"{len(seen)} of {n} providers up"
+    return seen
+
+
+def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    sim("--time-scale", "0.1")
+    wait_for_providers(domain, 1)
+    evidence = tmp_path / "evidence.mcap"
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--window", "1.5", "--record", str(evidence))
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    assert all(o == "passed" for o, _ in run.cases.values()), run.cases
+    assert len(run.cases) == 25
+    # What will be sent is said before anything is sent.
+    assert run.out.index("sending to provider") < run.out.index("sending GPSFixCommand")
+    assert "InertialSensorCommand: OFF, then ON, then RESTARTING" in run.out
+    # The evidence: the run's samples, the checker's own commands included.
+    with open(evidence, "rb") as fh:
+        summary = make_reader(fh).get_summary()
+    assert summary is not None
+    counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
+    assert counts[Sem.GPS_FIX_COMMAND.spec.name] == 2  # complete and cancel
+    assert counts[Sem.INS_COMMAND.spec.name] == 3
+    assert counts[Sem.INS_COMMAND_STATUS.spec.name] >= 12  # ISSUED .. COMPLETED for each
+    assert counts[Sem.GPS_REPORT.spec.name] > 0
+
+
+# fault -> (the test that must fail, what its reason must say)
+FAULTS = {
+    "reject": ("commands.GPSFix.complete", "FAILED/RESOURCE_REJECTED"),
+    "fail-midway": ("commands.GPSFix.complete", "FAILED/RESOURCE_FAILED \"resource failed during execution"),
+    "no-answer": ("commands.GPSFix.complete", "unanswered: no status within 2 s of sending the command (waited 2."),
+    "slow": ("commands.GPSFix.complete", "no COMMANDED after ISSUED (ICD 4.1.4.1 step 2) within the stated 1 s"),
+    "skip-commanded": ("commands.GPSFix.complete", "Figure 4 breach: ISSUED -> EXECUTING is not a Figure 4 transition"),
+    "ins-failure": ("commands.InertialSensor.ON", "FAILED/RESOURCE_FAILED \"inertial sensor failure\""),
+}
+
+
+def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    faults = list(FAULTS)
+    sim("--vehicles", str(len(faults)), "--slow-factor", "200",  # slow: 5 s a step
+        *(a for i, f in enumerate(faults, 1) for a in ("--fault", f"{f}:{i}")))
+    wait_for_providers(domain, len(faults))
+
+    # Several providers and no --provider: they are listed, nothing is tested.
+    several = check(tmp_path, "--domain", str(domain), "--timeout", "5")
+    assert several.code == 2
+    assert f"{len(faults)} providers on domain {domain}; choose one with --provider" in several.err
+    assert all(str(vehicle_guid(i)) in several.err for i in range(1, len(faults) + 1))
+    assert several.cases["setup"][0] == "error"
+
+    wrong = []
+    for i, fault in enumerate(faults, 1):
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(i)), "--commands",
+                    "--timeout", "2", "--step-time", "1", "--window", "1")
+        test, reason = FAULTS[fault]
+        bad = failed(run)
+        if run.code != 1 or reason not in bad.get(test, ""):
+            wrong.append(f"{fault}: exit {run.code}, {test} -> {run.cases.get(test)}")
+        # the fault is a command fault: discovery and reports are not blamed for it
+        blamed = [n for n in bad if not n.startswith("commands.")]
+        if blamed:
+            wrong.append(f"{fault}: also failed {blamed}")
+        if fault == "ins-failure" and "commands.GPSFix.complete" in bad:
+            wrong.append("ins-failure: GPSFix.complete failed too")
+    assert not wrong, "\n".join(wrong)
+
+
+def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    sim()
+    wait_for_providers(domain, 1)
+    # An independent reader of both command topics, and of every writer that appears on the domain.
+    bus = Bus(domain)
+    readers = {sem: bus.reader(sem) for sem in COMMAND_TOPICS}
+    publications = BuiltinDataReader(bus.participant, BuiltinTopicDcpsPublication)
+    run = check(tmp_path, "--domain", str(domain), "--window", "1")
+    time.sleep(0.5)  # anything written in the run has reached the reader by now (loopback)
+    assert run.code == 0, run.out + run.err
+    assert "read-only: no command is sent" in run.out
+    assert {sem: take_each(r)[0] for sem, r in readers.items()} == {sem: [] for sem in COMMAND_TOPICS}
+    writers = [p.topic_name for p in publications.take(N=1000)]
+    assert Sem.INS_REPORT.spec.name in writers  # the simulator's writers were seen ...
+    assert not set(writers) & {sem.spec.name for sem in COMMAND_TOPICS}  # ... and no command writer, ever
+    skipped = {n: r for n, (o, r) in run.cases.items() if o == "skipped"}
+    assert set(skipped) == {n for n in run.cases if n.startswith("commands.")} and len(skipped) == 7
+    assert all("read-only run" in r for r in skipped.values())
+    bus.close()
+
+
+def test_empty_domain_cannot_test_in_one_line(domain: int, tmp_path: Path) -> None:
+    report = tmp_path / "junit.xml"
+    p = subprocess.run([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "1",
+                        "--junit", str(report)], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 2
+    assert p.stdout == ""
+    lines = p.stderr.strip().splitlines()
+    assert lines == [f"sem-check: no UMAA SEM provider on domain {domain} within 1 s "
+                     "(DDS: interface lo, unicast discovery to 127.0.0.1)"]
+    assert junit_cases(report) == {"setup": ("error", lines[0].removeprefix("sem-check: "))}
+
+
+def test_unknown_test_name_cannot_test(domain: int, tmp_path: Path) -> None:
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery.GPSFixReprot")
+    assert run.code == 2
+    assert "--only/--skip discovery.GPSFixReprot selects no test" in run.err
+
+
+# ---- tiny Cyclone providers with one topic wrong ------------------------------------------------
+
+def wrong_key_ins_report() -> type:
+    """InertialSensorReportType with `state` keyed too: the UMAA 3.0.1 IDL keys `source` only."""
+    good = Sem.INS_REPORT.spec.type
+    return make_idl_struct("InertialSensorReportType", "UMAA::SEM::InertialSensorStatus::InertialSensorReportType",
+                           typing.get_type_hints(good, include_extras=True),
+                           field_annotations={"state": {"key": True}, "source": {"key": True}})
+
+
+class TinyProvider:
+    """A Cyclone provider of GPSFixStatus and InertialSensorStatus reports, each written once (the
+    consumer gets them from the writers' transient-local history)."""
+
+    def __init__(self, domain: int, fix_status_qos: Qos | None = None, wrong_ins_key: bool = False) -> None:
+        self.bus = Bus(domain)
+        self.guid = uuid.uuid4()
+        sensors = Sensors(SimOptions(), 1, self.guid, set())
+        now = time.monotonic()
+        fix, status = sensors.fix_reports(now, sensors.satellites(now))
+        self.writers = [self.bus.writer(Sem.GPS_FIX_REPORT)]
+        self.writers[0].write(fix)
+        qos = fix_status_qos or writer_qos(TopicClass.REPORT)
+        self.writers.append(DataWriter(self.bus.participant, self.bus.topic(Sem.GPS_FIX_STATUS_REPORT),
+                                       qos=qos + representation(False, writer=True)))
+        self.writers[-1].write(status)
+        if wrong_ins_key:
+            wrong = wrong_key_ins_report()
+            topic = Topic(self.bus.participant, Sem.INS_REPORT.spec.name, wrong)
+            w = DataWriter(self.bus.participant, topic, qos=writer_qos(TopicClass.REPORT) + representation(False, writer=True))
+            w.write(wrong(state=InsState.ON, status=OpStatus.OPERATIONAL, source=list(self.guid.bytes), timeStamp=now_datetime()))
+        else:
+            w = self.bus.writer(Sem.INS_REPORT)
+            w.write(sensors.ins_report(now))
+        self.writers.append(w)
+
+    def close(self) -> None:
+        self.writers.clear()
+        self.bus.close()
+
+
+@pytest.fixture
+def tiny(domain: int) -> Iterator[Callable[..., TinyProvider]]:
+    made: list[TinyProvider] = []
+
+    def make(**kw: Any) -> TinyProvider:
+        made.append(TinyProvider(domain, **kw))
+        return made[-1]
+
+    yield make
+    for p in made:
+        p.close()
+
+
+def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
+    p = tiny(fix_status_qos=Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile))
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
+    assert run.code == 1
+    bad = failed(run)
+    assert "BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it" in bad["discovery.GPSFixStatusReport"]
+    assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
+    assert run.cases["discovery.InertialSensorReport"][0] == "passed"
+    assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
+
+
+def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
+    p = tiny(wrong_ins_key=True)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
+    assert run.code == 1
+    bad = failed(run)
+    assert set(bad) == {"discovery.InertialSensorReport"}, bad
+    assert ("key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members "
+            "marked *)") in bad["discovery.InertialSensorReport"]
+    assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
+
+
+# ---- RTI Connext ---------------------------------------------------------------------------------
+
+RTI_SERVES = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
+              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK]
+
+
+def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path) -> None:
+    try:
+        from rti.connector import RtiParticipant
+        from test_interop_rti import RtiVehicle
+    except Exception as e:  # noqa: BLE001 (the connector's native library may not load here)
+        pytest.skip(f"RTI Connext's connector cannot load: {e}")
+    p = RtiParticipant(domain, writers=RTI_SERVES, readers=COMMAND_TOPICS)
+    v = RtiVehicle(p)
+    stop = threading.Event()
+
+    def publish() -> None:
+        while not stop.is_set():
+            v.report()
+            time.sleep(0.1)
+
+    t = threading.Thread(target=publish, daemon=True)
+    t.start()
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports",
+                    "--window", "1.5")
+    finally:
+        stop.set()
+        t.join()
+        p.close()
+    served = [f"discovery.{s.spec.name.rsplit('::', 1)[-1]}" for s in RTI_SERVES + COMMAND_TOPICS]
+    served += [f"reports.{s}.{k}" for s in ("InertialSensorReport", "GPSFixStatusReport") for k in ("timing", "values")]
+    assert {n: run.cases[n] for n in served} == {n: ("passed", "") for n in served}
+    # The one topic of an offered service it does not serve is named; GPSStatus is not offered at all.
+    assert "no writer of UMAA::SEM::GPSFixStatus::GPSFixReport" in failed(run)["discovery.GPSFixReport"]
+    assert run.cases["discovery.GPSReport"][0] == "skipped"

@@ -1,0 +1,173 @@
+// Operator awareness (issue 19): the console's alarms (kept on the server) on the page, the fleet bar in
+// view whatever is scrolled, the tab title's count, and an honest first screen.
+import { execFileSync, spawn, type ChildProcess } from "node:child_process";
+import { createSocket } from "node:dgram";
+import { dirname, join } from "node:path";
+import { fileURLToPath } from "node:url";
+import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
+import { vehicle } from "../helpers";
+import { VEHICLE_3_NAME, load, restartSim, startGuardedConsole, stopSim } from "../stack";
+
+const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
+
+interface AlarmRecord {
+  id: number;
+  kind: string;
+  providerId: string | null;
+  state: string;
+  ackedBy: string | null;
+}
+
+async function alarms(request: APIRequestContext, url: string): Promise<AlarmRecord[]> {
+  return (await (await request.get(`${url}/api/alarms`)).json()) as AlarmRecord[];
+}
+
+/** Stop a process this spec started and wait for it to exit (SIGKILL after 15 s). */
+async function stopChild(child: ChildProcess): Promise<void> {
+  if (child.exitCode !== null || child.signalCode !== null) return;
+  const exited = new Promise<void>((resolve) => child.once("exit", () => resolve()));
+  child.kill("SIGINT");
+  const timer = setTimeout(() => child.kill("SIGKILL"), 15_000);
+  await exited;
+  clearTimeout(timer);
+}
+
+/** The tab title's count of unacknowledged alarms ("(3) SEM Console"), 0 for none. */
+async function titleCount(page: Page): Promise<number> {
+  return Number(/^\((\d+)\) SEM Console$/.exec(await page.title())?.[1] ?? 0);
+}
+
+async function udpFree(port: number): Promise<boolean> {
+  return new Promise((resolve) => {
+    const s = createSocket("udp4");
+    s.once("error", () => resolve(false));
+    s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
+  });
+}
+
+/** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
+async function otherFreeDomain(not: number): Promise<number> {
+  const start = 1 + Math.floor(Math.random() * 200);
+  for (let i = 0; i < 232; i++) {
+    const d = ((start + i) % 232) + 1;
+    if (d !== not && (await udpFree(7410 + 250 * d))) return d;
+  }
+  throw new Error("no free DDS domain");
+}
+
+test("with several vehicles and none selected, the panels say so; a chip of the fleet bar selects one", async ({ page }) => {
+  const stack = load();
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  const bar = page.getByTestId("fleet-bar");
+  await expect(bar.getByTestId("fleet-vehicle")).toHaveCount(stack.vehicles.length);
+  await expect(page.getByTestId("fix-panel")).toContainText("Select a vehicle");
+  await expect(page.getByTestId("fix-panel")).not.toContainText("No GPS fix reports yet");
+  await expect(page.getByTestId("ins-panel")).toContainText("Select a vehicle");
+  const chip = bar.getByTestId("fleet-vehicle").filter({ hasText: stack.vehicles[1].slice(0, 8) });
+  await chip.click();
+  await expect(chip).toHaveAttribute("aria-pressed", "true");
+  await expect(vehicle(page, stack.vehicles[1])).toHaveAttribute("aria-pressed", "true");
+  await expect(page.getByTestId("fix-panel")).not.toContainText("Select a vehicle");
+});
+
+test("a vehicle lost while the page is scrolled to the commands is in the viewport, and the tab title counts it", async ({ page, request }) => {
+  const stack = load();
+  await page.setViewportSize({ width: 1024, height: 768 });
+  await page.goto(stack.url);
+  await expect(page.getByTestId("connection-state")).toHaveText("Live");
+  const chips = page.getByTestId("fleet-bar").getByTestId("fleet-vehicle");
+  await expect(chips).toHaveCount(stack.vehicles.length);
+  await chips.first().click();
+  const commands = page.getByTestId("commands-panel");
+  await commands.evaluate((el) => el.scrollIntoView({ block: "start" }));
+  await expect(commands).toBeInViewport();
+  // the page has scrolled past where the fleet bar sits at the top of the page: it did not scroll with it
+  const bar = (await page.getByTestId("fleet-bar").boundingBox())!;
+  expect(await page.evaluate(() => window.scrollY)).toBeGreaterThan(bar.y + bar.height);
+  const before = await titleCount(page);
+  await stopSim();
+  try {
+    // a chip names the vehicle: its configured name (the third's), else its short id
+    for (const label of [stack.vehicles[0].slice(0, 8), stack.vehicles[1].slice(0, 8), VEHICLE_3_NAME]) {
+      const chip = chips.filter({ hasText: label });
+      await expect(chip).toHaveAttribute("data-link", "lost");
+      await expect(chip).toContainText("Lost"); // in words, not by colour alone
+      const box = (await chip.boundingBox())!;
+      expect(box.y).toBeGreaterThanOrEqual(0);
+      expect(box.y + box.height).toBeLessThanOrEqual(768);
+    }
+    await expect(page.getByTestId("fleet-lost")).toHaveText(`${stack.vehicles.length} lost`);
+    await expect(commands).toBeInViewport(); // nothing scrolled the operator away from the commands
+    await expect.poll(() => titleCount(page)).toBeGreaterThanOrEqual(before + stack.vehicles.length);
+    await expect(page.getByTestId("fleet-alarms")).toHaveText(/^[1-9]\d* unacknowledged alarms?$/);
+  } finally {
+    await restartSim(); // the next tests need the vehicles, whatever happened here
+  }
+  await expect.poll(async () => {
+    const summaries = (await (await request.get(`${stack.url}/api/providers`)).json()) as { id: string; link: string }[];
+    return stack.vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
+  }, { timeout: 30_000 }).toBe(true);
+  // the link-lost alarms have cleared: acknowledged, they return to normal and leave the set
+  for (const a of await alarms(request, stack.url)) {
+    if (a.kind === "link-lost" && a.state === "cleared-unacknowledged") await request.post(`${stack.url}/api/alarms/${a.id}/ack`, { data: {} });
+  }
+  await expect.poll(async () => (await alarms(request, stack.url)).filter((a) => a.kind === "link-lost").length).toBe(0);
+  await expect(page.getByTestId("fleet-lost")).toHaveText("0 lost");
+});
+
+test("a vehicle whose INS failed before the page opened shows its alarm, through a reload, until acknowledged", async ({ page, request }) => {
+  // Its own domain and console (with an operator token): a vehicle stopped at the end stays on a console as
+  // lost, and the stack's console must keep its three vehicles for the other specs.
+  const stack = load();
+  const domain = await otherFreeDomain(stack.domain);
+  const token = "awareness-token";
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "awareness.sqlite3")]);
+  const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "9"], { encoding: "utf8" }).trim().split(": ")[1];
+  const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "1", "--first-vehicle", "9", "--fault", "ins-failure",
+    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
+    "--state-file", join(stack.dir, "awareness-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  try {
+    await expect.poll(async () => (await alarms(request, extra.url)).some((a) => a.kind === "ins-failure" && a.providerId === id), { timeout: 30_000 }).toBe(true);
+    await page.goto(extra.url); // only now: the page never saw the failure happen
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    const region = page.getByRole("region", { name: "Alarms" });
+    const entry = region.getByTestId("alarm").and(page.locator('[data-kind="ins-failure"]')).filter({ hasText: id.slice(0, 8) });
+    await expect(entry).toBeVisible();
+    await expect(entry).toHaveAttribute("data-state", "active-unacknowledged");
+    await expect(entry).toContainText("Alarm");
+    await expect(entry).toContainText("Unacknowledged");
+    await expect.poll(() => titleCount(page)).toBeGreaterThanOrEqual(1);
+    // the lone vehicle is selected at once, and its chip says what failed
+    const chip = page.getByTestId("fleet-bar").getByTestId("fleet-vehicle");
+    await expect(chip).toHaveAttribute("aria-pressed", "true");
+    await expect(chip).toContainText("INS failed");
+
+    await page.reload();
+    await expect(entry).toBeVisible();
+    await expect(entry).toHaveAttribute("data-state", "active-unacknowledged");
+    await expect(region.getByTestId("alarm-sign-in")).toBeVisible(); // acknowledging is an operator's action
+
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toBeVisible();
+    const ack = entry.getByRole("button", { name: /^Acknowledge/ });
+    // the console does not answer: said in words
+    await page.route("**/api/alarms/*/ack", (route) => route.abort("connectionrefused"));
+    await ack.click();
+    await expect(entry.getByRole("alert")).toHaveText("Not acknowledged: console unreachable");
+    await page.unroute("**/api/alarms/*/ack");
+    await ack.click();
+    await expect(entry).toHaveAttribute("data-state", "active-acknowledged"); // the INS still fails: active, acknowledged
+    await expect(entry).toContainText("Acknowledged");
+    await expect(entry.getByRole("alert")).toHaveCount(0);
+    const kept = (await alarms(request, extra.url)).find((a) => a.kind === "ins-failure" && a.providerId === id);
+    expect(kept?.state).toBe("active-acknowledged");
+    expect(kept?.ackedBy).toBe("e2e-operator"); // audited with the operator's name
+    await page.reload();
+    await expect(entry).toHaveAttribute("data-state", "active-acknowledged");
+  } finally {
+    await stopChild(sim);
+    await extra.stop();
+  }
+});

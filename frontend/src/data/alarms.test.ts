@@ -1,0 +1,114 @@
+import { describe, expect, it } from "vitest";
+import type { Alarm } from "../api/generated/ws";
+import type { ServerMessage } from "../api/types";
+import { NewAlarms } from "../lib/tone";
+import { Store } from "./connection";
+import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
+
+const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+const B = "0c1f3a52-2d6e-5f0e-9a43-6f1b1d2a9e11";
+
+function alarm(id: number, over: Partial<Alarm> = {}): Alarm {
+  return {
+    id, kind: "ins-failure", severity: "alarm", providerId: A, vehicle: A.slice(0, 8), sessionId: null, text: `Inertial sensor failure on ${A.slice(0, 8)}`,
+    since: 1000 + id, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, ...over,
+  };
+}
+
+const provider = (id: string) => ({
+  id, name: null, link: "live", ageSeconds: 0, topics: {}, linkConfig: null, jausId: null,
+  reports: { GPSReport: null, GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null },
+});
+
+function snapshot(ids: string[], alarms: Alarm[] = []): ServerMessage {
+  return {
+    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: false, commands: [], gateways: [], replay: null, alarms,
+    recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
+    providers: ids.map(provider),
+  } as unknown as ServerMessage;
+}
+
+const report = (id: string): ServerMessage =>
+  ({ type: "report", providerId: id, topic: "InertialSensorReport", report: { report: { state: "ON", status: "INIT" }, invalid: [], receivedAt: 1 } }) as unknown as ServerMessage;
+
+function apply(msgs: ServerMessage[], start: State = initialState): State {
+  return msgs.reduce((s, m, i) => reduce(s, m, 2000 + i), start);
+}
+
+describe("the console's alarms in the store", () => {
+  it("takes the active set from the snapshot (a new or reloaded page shows it at once)", () => {
+    const s = apply([snapshot([A, B], [alarm(2), alarm(1, { state: "active-acknowledged" })])]);
+    expect(s.alarms.map((a) => a.id)).toEqual([2, 1]);
+    expect(unacknowledged(s.alarms).map((a) => a.id)).toEqual([2]);
+  });
+
+  it("replaces the whole set with each `alarms` message: raised, acknowledged, cleared, gone", () => {
+    let s = apply([snapshot([A, B])]);
+    expect(s.alarms).toEqual([]);
+    s = apply([{ type: "alarms", alarms: [alarm(1)] }], s);
+    expect(s.alarms).toEqual([alarm(1)]);
+    s = apply([{ type: "alarms", alarms: [alarm(2, { kind: "link-lost", providerId: B }), alarm(1, { state: "cleared-unacknowledged", clearedAt: 1500 })] }], s);
+    expect(s.alarms.map((a) => [a.id, a.state])).toEqual([[2, "active-unacknowledged"], [1, "cleared-unacknowledged"]]);
+    expect(unacknowledged(s.alarms)).toHaveLength(2); // cleared, but the operator has not seen it acknowledged
+    s = apply([{ type: "alarms", alarms: [alarm(2, { kind: "link-lost", providerId: B, state: "active-acknowledged", ackedAt: 1600, ackedBy: "alice" })] }], s);
+    expect(unacknowledged(s.alarms)).toEqual([]);
+    expect(s.alarms).toHaveLength(1); // acknowledged and still active: listed
+  });
+
+  it("derives none from reports or link changes, and wakes only subscribers of the alarms when they change", () => {
+    const store = new Store();
+    store.enqueue(snapshot([A, B], [alarm(1)]));
+    store.flush();
+    let woken = 0;
+    store.subscribeTo((s) => s.alarms, () => woken++);
+    store.enqueue(report(A));
+    store.enqueue({ type: "provider", event: "lost", provider: { ...provider(B), link: "lost" } } as unknown as ServerMessage);
+    store.flush();
+    expect(woken).toBe(0);
+    expect(store.getState().alarms).toEqual([alarm(1)]);
+    store.enqueue({ type: "alarms", alarms: [] });
+    store.flush();
+    expect(woken).toBe(1);
+  });
+});
+
+describe("the tab title", () => {
+  it("counts the unacknowledged alarms, and is plain at zero", () => {
+    expect(pageTitle(2)).toBe("(2) SEM Console");
+    expect(pageTitle(unacknowledged([alarm(1), alarm(2, { state: "cleared-unacknowledged" }), alarm(3, { state: "active-acknowledged" })]).length)).toBe("(2) SEM Console");
+    expect(pageTitle(0)).toBe("SEM Console");
+  });
+});
+
+describe("the tone's new alarms", () => {
+  it("sounds for an unacknowledged alarm not seen before, not for the page's first set nor twice", () => {
+    const news = new NewAlarms();
+    expect(news.take([alarm(1)])).toEqual([]); // on screen when the page opened
+    expect(news.take([alarm(2), alarm(1)]).map((a) => a.id)).toEqual([2]);
+    expect(news.take([alarm(2, { state: "cleared-unacknowledged" }), alarm(1)])).toEqual([]);
+    expect(news.take([alarm(3, { state: "active-acknowledged" })])).toEqual([]); // acknowledged elsewhere first
+    expect(news.take([alarm(4, { severity: "warning" })]).map((a) => a.id)).toEqual([4]);
+  });
+});
+
+describe("the lone vehicle", () => {
+  it("is selected at once when it is the only one on the bus", () => {
+    expect(apply([snapshot([A])]).selected).toBe(A);
+    expect(apply([report(A)]).selected).toBe(A); // first heard of by its report
+  });
+
+  it("is not chosen for the operator among several", () => {
+    expect(apply([snapshot([A, B])]).selected).toBe(null);
+    const later = apply([snapshot([]), report(A), report(B)]);
+    expect(later.selected).toBe(A); // alone at first: selected then, and kept when B comes
+  });
+
+  it("does not override the operator's choice or the page's ?vehicle= link", () => {
+    const linked = new Store("from-a-link");
+    linked.enqueue(snapshot([A]));
+    linked.flush();
+    expect(linked.getState().selected).toBe("from-a-link");
+    const chosen = apply([snapshot([B])], select(initialState, A)); // A chosen, then only B on the bus
+    expect(chosen.selected).toBe(A);
+  });
+});

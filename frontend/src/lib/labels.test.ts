@@ -1,0 +1,120 @@
+import { describe, expect, it } from "vitest";
+import type { Command } from "../api/types";
+import { durationOf, expectedDuration } from "./commands";
+import { exportFileName } from "./exports";
+import {
+  alignmentStepText,
+  commandStatusText,
+  coverageText,
+  fixCommandText,
+  insStateText,
+  insStatusText,
+  lostText,
+  navSolutionText,
+  positionText,
+  reasonText,
+  sensorText,
+  taskStateText,
+  timeOutText,
+  umaa,
+} from "./labels";
+
+describe("operator labels", () => {
+  it("says UMAA literals in plain words and keeps the literal for the tooltip", () => {
+    expect(navSolutionText("GPS_DEAD_RECK")).toBe("Dead reckoning");
+    expect(navSolutionText("GPS_3D")).toBe("GPS 3D");
+    expect(navSolutionText("NO_NAV")).toBe("No navigation");
+    expect(umaa("navSolution", "GPS_DEAD_RECK")).toBe("UMAA navSolution: GPS_DEAD_RECK");
+    expect(umaa("navSolution", null)).toBeUndefined();
+    expect(insStateText("RESTARTING")).toBe("Restarting");
+    expect(insStatusText("COURSE_STATIONARY_ALIGNMENT")).toBe("Coarse alignment, stationary");
+    expect(insStatusText("INERTIAL_SENSOR_FAILURE")).toBe("Sensor failure");
+    expect(alignmentStepText("FINE_STATIONARY_ALIGNMENT_STARTED")).toBe("Fine alignment");
+    expect(fixCommandText("STABLE")).toBe("Stable");
+    expect(commandStatusText("EXECUTING")).toBe("In progress");
+    expect(commandStatusText("CANCELED")).toBe("Cancelled");
+    expect(reasonText("RESOURCE_REJECTED")).toBe("the vehicle refused it");
+    expect(taskStateText("HELD")).toBe("On hold");
+    expect(sensorText("SIDESCAN")).toBe("Side-scan sonar");
+    expect(coverageText("PARTIAL")).toBe("Partly covered");
+  });
+
+  it("says nothing more for a plain success, a dash for no value, and shows an unknown literal as it is", () => {
+    expect(reasonText("SUCCEEDED")).toBe("");
+    expect(reasonText(null)).toBe("");
+    expect(navSolutionText(null)).toBe("—");
+    expect(insStatusText(undefined)).toBe("—");
+    expect(coverageText(null)).toBe("Coverage unknown");
+    expect(navSolutionText("GPS_9D")).toBe("GPS_9D"); // a newer ICD's value: shown, not hidden
+  });
+
+  it("words the GPS time-out flag as a person would", () => {
+    expect(timeOutText(true)).toBe("Timed out, no fix in time");
+    expect(timeOutText(false)).toBe("Not timed out");
+    expect(timeOutText(null)).toBe("—");
+  });
+
+  it("reads a position aloud and names a lost vehicle with how long it has been silent", () => {
+    expect(positionText(42.12344, -70.56781)).toBe("42.1234 N, 70.5678 W");
+    expect(positionText(-33.9, 151.2)).toBe("33.9000 S, 151.2000 E");
+    expect(lostText("Alpha (77b2ceb8)", 12.4)).toBe("Alpha (77b2ceb8) is lost: no reports for 12 s");
+    expect(lostText("Alpha (77b2ceb8)", 600)).toBe("Alpha (77b2ceb8) is lost: no reports for 10 min");
+    expect(lostText("Alpha (77b2ceb8)", null)).toBe("Alpha (77b2ceb8) is lost: no reports since this page opened");
+  });
+});
+
+describe("expected duration of a running command", () => {
+  const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+  const B = "1c7e3a29-34a0-5d7b-9fd6-0e0f0e5f2a11";
+  let n = 0;
+  /** A command created at `at` that ended `took` seconds later with `status` (null: still running). */
+  const cmd = (at: number, took: number | null, o: Partial<Command> = {}, status = "COMPLETED"): Command =>
+    ({
+      sessionId: `s${++n}`,
+      service: "InertialSensor",
+      providerId: A,
+      state: "RESTARTING",
+      createdAt: at,
+      status: took === null ? "EXECUTING" : status,
+      terminal: took !== null,
+      transitions: took === null ? [{ receivedAt: at + 1 }] : [{ receivedAt: at + 1 }, { receivedAt: at + took }],
+      ...o,
+    }) as unknown as Command;
+
+  it("is the median of the same vehicle's earlier completed commands of the same kind", () => {
+    const running = cmd(1000, null);
+    const all = [running, cmd(100, 30), cmd(200, 50), cmd(300, 40)];
+    expect(expectedDuration(running, all)).toBe(40);
+    expect(expectedDuration(running, [...all, cmd(400, 60)])).toBe(45); // an even count: the mean of the middle two
+  });
+
+  it("leaves out other vehicles, other services and states, failures, and later commands", () => {
+    const running = cmd(1000, null);
+    const others = [
+      cmd(100, 5, { providerId: B }),
+      cmd(100, 5, { service: "GPSFix", state: null }),
+      cmd(100, 5, { state: "OFF" }),
+      cmd(100, 5, {}, "FAILED"),
+      cmd(100, 5, {}, "CANCELED"),
+      cmd(2000, 5),
+    ];
+    expect(expectedDuration(running, others)).toBeNull();
+    expect(expectedDuration(running, [...others, cmd(100, 90)])).toBe(90);
+  });
+
+  it("takes a completed command's duration from its request to its last status", () => {
+    expect(durationOf(cmd(100, 30))).toBe(30);
+    expect(durationOf(cmd(100, null))).toBeNull();
+    expect(durationOf(cmd(100, 30, {}, "FAILED"))).toBeNull();
+  });
+});
+
+describe("export file names", () => {
+  const at = Date.parse("2026-11-25T14:32:59.900Z");
+  it("name the vehicle, what the file holds and when, in UTC to the minute", () => {
+    expect(exportFileName("commands", { id: "f0e1d2c3-0000-5000-8000-000000000003", name: "Charlie" }, at)).toBe("Charlie-commands-2026-11-25T1432Z.csv");
+    expect(exportFileName("gpx", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: null }, at)).toBe("Vehicle-77b2ceb8-track-2026-11-25T1432Z.gpx");
+    expect(exportFileName("csv", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: "Sea Dog/2" }, at)).toBe("Sea-Dog-2-track-2026-11-25T1432Z.csv");
+    expect(exportFileName("commands", null, at)).toBe("all-vehicles-commands-2026-11-25T1432Z.csv");
+  });
+});

@@ -1,0 +1,157 @@
+// The vehicles' names on the map, and for each vehicle outside the view an arrow at the map's edge that
+// points to it: HTML over the map's canvas. MapLibre draws text only from glyph files, which the offline
+// basemap does not have (it requests nothing from anywhere); a few HTML labels need none. They are placed
+// when the camera moves (MapLibre's "move": only while it moves, never while the map is still) and when the
+// vehicles' data changes (at the map's bounded update rate): nothing runs per frame otherwise, and no React
+// render at all.
+import type { Map as MapLibre } from "maplibre-gl";
+import { distanceM, distanceText, edgeMark, type VehicleMark } from "./geo";
+import { vehicleColor } from "./vehicle";
+
+/** How far inside the map's border the edge arrows sit (px): clear of the border, under the controls. */
+const EDGE_INSET = 22;
+
+interface Marker {
+  mark: VehicleMark;
+  label: HTMLDivElement;
+  edge: HTMLButtonElement;
+  edgeName: HTMLSpanElement;
+  arrow: SVGSVGElement;
+  size: { w: number; h: number } | null; // the edge arrow's box, measured once per text
+}
+
+interface Box {
+  x: number;
+  y: number;
+  w: number;
+  h: number;
+}
+
+const SVG = "http://www.w3.org/2000/svg";
+const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v));
+const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+
+export class VehicleOverlay {
+  private readonly root: HTMLDivElement;
+  private readonly markers = new Map<string, Marker>();
+
+  /** `pick`: the operator clicked the edge arrow of vehicle `id` (select it and bring it into view). */
+  constructor(
+    private readonly map: MapLibre,
+    private readonly pick: (mark: VehicleMark) => void,
+  ) {
+    this.root = document.createElement("div");
+    this.root.className = "map-overlay";
+    this.root.dataset.testid = "map-overlay";
+    // between the canvas and the controls: above the vehicles, under the zoom buttons; outside the
+    // canvas container, so a click on an arrow is not also a click on the map
+    const container = map.getContainer();
+    container.insertBefore(this.root, container.querySelector(".maplibregl-control-container"));
+    map.on("move", this.place);
+    map.on("resize", this.place);
+  }
+
+  /** The vehicles to label (at the map's update rate): elements made, updated or removed, then placed. */
+  set(marks: VehicleMark[]): void {
+    const seen = new Set<string>();
+    for (const mark of marks) {
+      seen.add(mark.id);
+      const m = this.markers.get(mark.id) ?? this.add(mark);
+      m.mark = mark;
+      const lost = mark.link === "lost";
+      const text = lost ? `${mark.label} · lost` : mark.label;
+      if (m.label.textContent !== text) m.label.textContent = text;
+      m.label.classList.toggle("selected", mark.selected);
+      m.label.classList.toggle("lost", lost);
+      m.edge.classList.toggle("selected", mark.selected);
+      m.edge.classList.toggle("lost", lost);
+      if (m.edgeName.textContent !== text) {
+        m.edgeName.textContent = text;
+        m.size = null;
+      }
+    }
+    for (const [id, m] of this.markers) {
+      if (seen.has(id)) continue;
+      m.label.remove();
+      m.edge.remove();
+      this.markers.delete(id);
+    }
+    this.place();
+  }
+
+  private add(mark: VehicleMark): Marker {
+    const colour = vehicleColor(mark.id);
+    const label = document.createElement("div");
+    label.className = "map-label";
+    label.dataset.testid = "map-label";
+    label.dataset.vehicle = mark.id;
+    label.style.borderLeftColor = colour;
+    const edge = document.createElement("button");
+    edge.type = "button";
+    edge.className = "map-edge";
+    edge.dataset.testid = "map-edge";
+    edge.dataset.vehicle = mark.id;
+    edge.style.borderColor = colour;
+    // an arrowhead pointing up (north on a map not turned), turned by the edge mark's angle
+    const arrow = document.createElementNS(SVG, "svg");
+    arrow.setAttribute("class", "map-edge-arrow");
+    arrow.setAttribute("viewBox", "-5 -5 10 10");
+    arrow.setAttribute("aria-hidden", "true");
+    const head = document.createElementNS(SVG, "path");
+    head.setAttribute("d", "M0 -5 L4.5 4.5 L0 2 L-4.5 4.5 Z");
+    head.setAttribute("fill", "currentColor");
+    arrow.append(head);
+    const edgeName = document.createElement("span");
+    edge.append(arrow, edgeName);
+    const m: Marker = { mark, label, edge, edgeName, arrow, size: null };
+    edge.addEventListener("click", () => this.pick(m.mark));
+    this.root.append(label, edge);
+    this.markers.set(mark.id, m);
+    return m;
+  }
+
+  /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. */
+  readonly place = (): void => {
+    const width = this.root.clientWidth;
+    const height = this.root.clientHeight;
+    if (!width || !height) return;
+    const centre = this.map.getCenter();
+    const placed: Box[] = [];
+    for (const m of this.markers.values()) {
+      const { lon, lat } = m.mark.position;
+      const p = this.map.project([lon, lat]);
+      const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
+      m.label.hidden = edge !== null;
+      m.edge.hidden = edge === null;
+      if (!edge) {
+        m.label.style.transform = `translate(${Math.round(p.x + 14)}px, ${Math.round(p.y - 9)}px)`;
+        continue;
+      }
+      // the arrow at the edge point, its name on the side towards the middle of the map; arrows that
+      // would cover one another are stacked (towards the middle of that side)
+      const right = edge.x > width / 2;
+      m.edge.classList.toggle("from-right", right);
+      m.size ??= { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
+      const { w, h } = m.size;
+      const box = { x: clamp(right ? edge.x - w : edge.x, 2, width - w - 2), y: clamp(edge.y - h / 2, 2, height - h - 2), w, h };
+      const step = box.y + h / 2 < height / 2 ? h + 2 : -(h + 2);
+      for (let i = 0; i < this.markers.size && placed.some((b) => overlaps(b, box)); i++) box.y += step;
+      placed.push(box);
+      m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
+      m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
+      const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, m.mark.position));
+      const said = `${m.mark.label}${m.mark.link === "lost" ? " (lost)" : ""}: outside the map, ${away} from its middle. Show it`;
+      if (m.edge.getAttribute("aria-label") !== said) {
+        m.edge.setAttribute("aria-label", said);
+        m.edge.title = `${said} and select it`;
+      }
+    }
+  };
+
+  destroy(): void {
+    this.map.off("move", this.place);
+    this.map.off("resize", this.place);
+    this.root.remove();
+    this.markers.clear();
+  }
+}

@@ -1,0 +1,75 @@
+// The audible alarm: a short beep generated with the Web Audio API (an oscillator, no sound file) for
+// each new unacknowledged alarm, and the operator's mute. Audio is a help, never a requirement: where it
+// is unavailable or not yet allowed, nothing throws and the screen still shows the alarm.
+import type { Alarm } from "../api/generated/ws";
+
+let context: AudioContext | null = null;
+
+function audioContext(): AudioContext | null {
+  if (context) return context;
+  try {
+    const Ctor = typeof window !== "undefined" ? window.AudioContext : undefined;
+    if (!Ctor) return null;
+    context = new Ctor();
+  } catch {
+    return null; // no audio device, or audio disabled
+  }
+  return context;
+}
+
+/** Browsers start audio only after a user gesture: the context is created (or resumed) on the first click
+ * or key press of the page, and the listeners go once it runs. Returns the removal of the listeners. */
+export function unlockAudioOnGesture(): () => void {
+  const events = ["pointerdown", "keydown"] as const;
+  const remove = () => events.forEach((e) => window.removeEventListener(e, unlock, true));
+  function unlock() {
+    const c = audioContext();
+    if (!c) return remove();
+    if (c.state === "running") return remove();
+    c.resume().then(remove, () => undefined); // refused: the next gesture tries again
+  }
+  events.forEach((e) => window.addEventListener(e, unlock, true));
+  return remove;
+}
+
+/** Two short falling tones (880 then 660 Hz), about half a second: heard over a room, not startling. */
+export function beep(): void {
+  try {
+    const c = context;
+    if (!c || c.state !== "running") return; // no gesture yet: the screen alone tells
+    const t0 = c.currentTime;
+    for (const [start, freq] of [
+      [0, 880],
+      [0.25, 660],
+    ]) {
+      const osc = c.createOscillator();
+      const gain = c.createGain();
+      osc.type = "sine";
+      osc.frequency.value = freq;
+      gain.gain.setValueAtTime(0.0001, t0 + start);
+      gain.gain.exponentialRampToValueAtTime(0.25, t0 + start + 0.02);
+      gain.gain.exponentialRampToValueAtTime(0.0001, t0 + start + 0.2);
+      osc.connect(gain).connect(c.destination);
+      osc.start(t0 + start);
+      osc.stop(t0 + start + 0.22);
+    }
+  } catch {
+    /* audio failed: the alarm is on screen all the same */
+  }
+}
+
+/** Which alarms are new to this page: an unacknowledged alarm whose id it has not seen before. The first
+ * set it is given (the page's first snapshot) is taken as seen: those alarms are on screen when the page
+ * opens. An alarm seen once does not sound again (cleared, acknowledged, or after a reconnect). */
+export class NewAlarms {
+  private seen: Set<number> | null = null;
+
+  /** The alarms of `alarms` new since the last call (none on the first call). */
+  take(alarms: readonly Alarm[]): Alarm[] {
+    const first = this.seen === null;
+    const seen = (this.seen ??= new Set());
+    const fresh = alarms.filter((a) => !seen.has(a.id) && a.state !== "active-acknowledged");
+    for (const a of alarms) seen.add(a.id);
+    return first ? [] : fresh;
+  }
+}

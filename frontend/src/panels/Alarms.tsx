@@ -1,0 +1,133 @@
+// The alarm list: the console's active alarm set (derived from state and kept by the server, so a new or
+// reloaded page shows what is active), newest first. Each entry names its vehicle and selects it on click;
+// acknowledging is an operator action the console audits.
+import { useState } from "react";
+import type { Alarm } from "../api/generated/ws";
+import { ApiError, ackAlarm } from "../api/rest";
+import { Panel } from "../components/Panel";
+import { VehicleTag } from "../components/VehicleTag";
+import { useToken } from "../data/auth";
+import { useAlarms, useCapabilities, useNow, useSelector, useStore } from "../data/hooks";
+import { select, unacknowledged } from "../data/store";
+import { age, utc } from "../lib/units";
+import { shortId } from "../lib/vehicle";
+import "./fleet.css";
+
+const SEVERITY: Record<Alarm["severity"], { text: string; tone: string }> = {
+  alarm: { text: "Alarm", tone: "bad" },
+  warning: { text: "Warning", tone: "warn" },
+};
+
+const STATE: Record<Alarm["state"], string> = {
+  "active-unacknowledged": "Unacknowledged",
+  "active-acknowledged": "Acknowledged",
+  "cleared-unacknowledged": "Cleared, unacknowledged",
+};
+
+/** An acknowledge that failed, in words: the console's answer, or "console unreachable" when none came. */
+function failure(e: unknown): string {
+  return e instanceof ApiError ? `Not acknowledged: ${e.message}` : "Not acknowledged: console unreachable";
+}
+
+export function AlarmsPanel() {
+  const alarms = useAlarms();
+  const store = useStore();
+  const token = useToken();
+  const { command } = useCapabilities(); // a replay acknowledges nothing
+  const authRequired = useSelector((s) => s.authRequired);
+  const mayAck = command && (!authRequired || token !== null); // acknowledging is an operator's action
+  const now = useNow(1000);
+  const [errors, setErrors] = useState<Record<number, string>>({});
+  const [busy, setBusy] = useState(false);
+  const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
+  const open = unacknowledged(alarms);
+
+  const ack = async (ids: number[]) => {
+    setBusy(true);
+    const failed: Record<number, string> = {};
+    // one at a time: the console has no "acknowledge all", and each is audited on its own
+    for (const id of ids) {
+      try {
+        await ackAlarm(id, token);
+      } catch (e) {
+        failed[id] = failure(e);
+      }
+    }
+    setErrors((old) => {
+      const next = { ...old };
+      for (const id of ids) delete next[id];
+      return { ...next, ...failed };
+    });
+    setBusy(false);
+  };
+
+  return (
+    <Panel
+      title="Alarms"
+      testId="alarms-panel"
+      actions={
+        <>
+          <span className={`alarm-count tone-${open.length ? "bad" : "muted"}`} data-testid="alarm-count">
+            {open.length} unacknowledged
+          </span>
+          {command && !mayAck && open.length > 0 && (
+            <span className="muted alarm-count" data-testid="alarm-sign-in">
+              Sign in to acknowledge
+            </span>
+          )}
+          {mayAck && open.length > 0 && (
+            <button className="small" disabled={busy} onClick={() => void ack(open.map((a) => a.id))}>
+              Acknowledge all
+            </button>
+          )}
+        </>
+      }
+    >
+      {sorted.length === 0 ? (
+        <p className="muted">No active alarms.</p>
+      ) : (
+        <ul className="alarm-list" aria-label="Active alarms">
+          {sorted.map((a) => {
+            const sev = SEVERITY[a.severity];
+            const acked = a.state === "active-acknowledged";
+            // the console names the vehicle: its configured name, else its short id (then it has no name)
+            const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
+            return (
+              <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
+                <button
+                  className="alarm-main"
+                  onClick={() => a.providerId && store.update((s) => select(s, a.providerId))}
+                  disabled={!a.providerId}
+                  title={a.providerId ? "select this vehicle" : "the console's own alarm"}
+                >
+                  <span className="alarm-head">
+                    <span className={`alarm-severity tone-${sev.tone}`}>{sev.text}</span>
+                    {vehicle ? <VehicleTag v={vehicle} /> : <span className="vehicle-tag">Console</span>}
+                    <span className="alarm-state" data-testid="alarm-state">
+                      {STATE[a.state]}
+                    </span>
+                  </span>
+                  <span className="alarm-text">{a.text}</span>
+                  <span className="alarm-since muted">
+                    since {utc(a.since, false).slice(0, 8)} UTC ({age(Math.max(0, now - a.since))} ago)
+                    {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false).slice(0, 8)} UTC${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}
+                  </span>
+                </button>
+                {mayAck && !acked && (
+                  <button className="small alarm-ack" disabled={busy} onClick={() => void ack([a.id])} aria-label={`Acknowledge: ${a.text}`}>
+                    Acknowledge
+                  </button>
+                )}
+                {errors[a.id] && (
+                  <p className="error alarm-error" role="alert">
+                    {errors[a.id]}
+                  </p>
+                )}
+              </li>
+            );
+          })}
+        </ul>
+      )}
+    </Panel>
+  );
+}

@@ -1,0 +1,268 @@
+// The fleet bar: every vehicle's link, fix and INS state and the counts of live and lost vehicles and of
+// unacknowledged alarms, held at the top of the page, so whatever the operator has scrolled to, a lost
+// vehicle or a new alarm is in view. It also carries the page's alarm annunciation (the tab title and
+// the tone, with its mute), and says why the vehicle panels are empty when none is selected.
+import { memo, useEffect, useMemo, useRef } from "react";
+import type { Alarm } from "../api/generated/ws";
+import type { LinkState } from "../api/types";
+import {
+  useAlarms,
+  useCapabilities,
+  useConnectionState,
+  useConsoleHealth,
+  useNow,
+  useProvidersAtMost,
+  useSelector,
+  useStore,
+} from "../data/hooks";
+import { useSetting } from "../data/settings";
+import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
+import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
+import { umaa } from "../lib/labels";
+import { NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
+import { DASH } from "../lib/units";
+import { shortId, vehicleColor } from "../lib/vehicle";
+import "./fleet.css";
+
+/** The bar is redrawn at most this often: it shows every vehicle, and any of them reports many times a second. */
+const DRAW_MS = 500;
+/** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
+export const STALE_AFTER_S = 3;
+
+export type FleetLink = LinkState | "stale";
+export type Tone = "ok" | "warn" | "bad" | "info" | "muted";
+
+/** A state in words with its colour: colour is never the only cue. */
+export interface Word {
+  text: string;
+  tone: Tone;
+  title?: string;
+}
+
+function lastSeen(p: ProviderView): number | null {
+  let latest: number | null = null;
+  for (const t of Object.values(p.topics)) if (latest === null || t.at > latest) latest = t.at;
+  return latest;
+}
+
+/** The console's link state, or "stale" for a live vehicle that has been silent a few seconds. */
+export function fleetLink(p: ProviderView, now: number): FleetLink {
+  const seen = lastSeen(p);
+  return p.link === "live" && seen !== null && now - seen > STALE_AFTER_S ? "stale" : p.link;
+}
+
+const LINK: Record<FleetLink, Word> = {
+  live: { text: "Live", tone: "ok" },
+  regained: { text: "Regained", tone: "info", title: "back after a loss, not yet steady" },
+  stale: { text: "Stale", tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
+  lost: { text: "Lost", tone: "bad", title: "no report within the link timeout" },
+};
+
+type FixValid = GPSFixStatusReportType["fixValid"] | undefined; // undefined: no report yet
+
+export function fixWord(fixValid: FixValid): Word {
+  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: "no GPS fix status yet" };
+  return fixValid ? { text: "Fix", tone: "ok", title: umaa("fixValid", "true") } : { text: "No fix", tone: "warn", title: umaa("fixValid", "false") };
+}
+
+type InsState = InertialSensorReportType["state"] | undefined;
+type InsStatus = InertialSensorReportType["status"] | undefined;
+
+export function insWord(state: InsState, status: InsStatus): Word {
+  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: "no inertial sensor report yet" };
+  const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
+  if (status === "INERTIAL_SENSOR_FAILURE") return { text: "INS failed", tone: "bad", title };
+  if (state === "OFF") return { text: "INS off", tone: "warn", title };
+  if (state === "RESTARTING") return { text: "INS restarting", tone: "warn", title };
+  if (status === "OPERATIONAL") return { text: "INS ready", tone: "ok", title };
+  return { text: "INS aligning", tone: "warn", title };
+}
+
+function name(p: { id: string; name: string | null }): string {
+  return p.name ?? shortId(p.id);
+}
+
+// primitives only, so the memo below compares them by value
+interface ChipProps {
+  id: string;
+  label: string;
+  link: FleetLink;
+  fixValid: FixValid;
+  insState: InsState;
+  insStatus: InsStatus;
+  alarms: number;
+  selected: boolean;
+  onSelect: (id: string) => void;
+}
+
+// Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, selected, onSelect }: ChipProps) {
+  const l = LINK[link];
+  const fix = fixWord(fixValid);
+  const ins = insWord(insState, insStatus);
+  const old = link === "lost" ? " (last known)" : "";
+  return (
+    <button
+      className={`fleet-chip fleet-${l.tone}${selected ? " selected" : ""}`}
+      data-testid="fleet-vehicle"
+      data-link={link}
+      data-vehicle={id}
+      aria-pressed={selected}
+      title={id}
+      onClick={() => onSelect(id)}
+    >
+      <span className="fleet-name">
+        <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
+        {label}
+      </span>
+      <span className={`fleet-word tone-${l.tone}`} title={l.title} data-testid="fleet-link">
+        {l.text}
+      </span>
+      <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>
+        {fix.text}
+      </span>
+      <span className={`fleet-word tone-${ins.tone}${old ? " fleet-old" : ""}`} title={(ins.title ?? "") + old}>
+        {ins.text}
+      </span>
+      {alarms > 0 && <span className="fleet-word tone-bad">{alarms === 1 ? "1 alarm" : `${alarms} alarms`}</span>}
+    </button>
+  );
+});
+
+/** The tab title counts the unacknowledged alarms; a new one sounds the tone unless muted (not in a replay). */
+function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boolean): void {
+  const { command } = useCapabilities(); // a replay's alarms are history: no sound
+  const ready = useSelector((s) => s.consoleId !== null); // the first snapshot is in
+  const news = useRef(new NewAlarms());
+  useEffect(() => unlockAudioOnGesture(), []);
+  useEffect(() => {
+    document.title = pageTitle(unacked);
+  }, [unacked]);
+  useEffect(() => {
+    if (!ready) return;
+    const fresh = news.current.take(alarms);
+    if (fresh.length && command && !muted) beep();
+  }, [alarms, ready, command, muted]);
+}
+
+const isBool = (v: unknown): v is boolean => typeof v === "boolean";
+
+/** A speaker, crossed out when muted (drawn: an emoji needs a font the console's computer may not have). */
+function SpeakerIcon({ muted }: { muted: boolean }) {
+  return (
+    <svg className="fleet-icon" viewBox="0 0 16 16" width="14" height="14" aria-hidden="true">
+      <path d="M2 6h3l4-3v10l-4-3H2z" fill="currentColor" />
+      {muted ? <path d="M11 5.5l4 5M15 5.5l-4 5" stroke="currentColor" strokeWidth="1.6" /> : <path d="M11 5a4 4 0 0 1 0 6M12.5 3a7 7 0 0 1 0 10" stroke="currentColor" strokeWidth="1.4" fill="none" />}
+    </svg>
+  );
+}
+
+/** With no vehicle on the bus: where the console looks, and what to check, in two lines. */
+function NoVehicleHelp() {
+  const health = useConsoleHealth();
+  const conn = useConnectionState();
+  if (conn === "signed-out") return <p className="fleet-help">Sign in to see the vehicles.</p>;
+  if (conn !== "live") return <p className="fleet-help">No vehicles: the console is not connected.</p>;
+  if (health?.replay) return <p className="fleet-help">No vehicle in the recording at this point.</p>;
+  return (
+    <div className="fleet-help" data-testid="no-vehicle-help">
+      <p>
+        No vehicle on DDS domain {health ? health.domain : "…"}
+        {health?.ddsNetwork ? ` (${health.ddsNetwork})` : ""}.
+      </p>
+      <p>
+        Check the vehicle's domain id and network interface (CYCLONEDDS_URI for another network): see “Pointing the console at a
+        real vehicle” in the docs.
+      </p>
+    </div>
+  );
+}
+
+export function FleetBar() {
+  const providers = useProvidersAtMost(DRAW_MS);
+  const selected = useSelector((s) => s.selected);
+  const alarms = useAlarms();
+  const store = useStore();
+  const now = useNow(1000);
+  const [muted, setMuted] = useSetting("sem-console.mute", false, isBool);
+  const open = useMemo(() => unacknowledged(alarms), [alarms]);
+  useAnnunciation(alarms, open.length, muted);
+  const onSelect = useMemo(() => (id: string) => store.update((s) => select(s, id)), [store]);
+  const byVehicle = useMemo(() => {
+    const m = new Map<string, number>();
+    for (const a of open) if (a.providerId) m.set(a.providerId, (m.get(a.providerId) ?? 0) + 1);
+    return m;
+  }, [open]);
+  const all = providers.map((p) => ({ p, link: fleetLink(p, now) }));
+  const lost = all.filter((c) => c.link === "lost");
+  const live = all.length - lost.length;
+  // lost vehicles first: with many, the bar scrolls inside itself, and a lost one must not be out of sight
+  const chips = lost.length ? [...lost, ...all.filter((c) => c.link !== "lost")] : all;
+  const newest = open[0] ?? null;
+  const showAlarms = () => {
+    const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
+    region?.scrollIntoView({ block: "nearest" });
+  };
+  return (
+    <nav className="fleet-bar" data-testid="fleet-bar" aria-label="Fleet">
+      <div className="fleet-counts">
+        <span className="fleet-counts" role="status">
+          <span className={`fleet-count tone-${live ? "ok" : "muted"}`} data-testid="fleet-live">
+            {live} live
+          </span>
+          <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
+            {lost.length} lost
+          </span>
+        </span>
+        <button className={`fleet-count fleet-alarms tone-${open.length ? "bad" : "muted"}`} data-testid="fleet-alarms" onClick={showAlarms} title="show the alarm list">
+          {open.length === 1 ? "1 unacknowledged alarm" : `${open.length} unacknowledged alarms`}
+        </button>
+        <button className="fleet-mute" aria-pressed={muted} data-testid="mute" onClick={() => setMuted(!muted)} title={muted ? "the alarm tone is off" : "the alarm tone is on"}>
+          <SpeakerIcon muted={muted} /> Mute tone
+        </button>
+      </div>
+      {newest && (
+        <button
+          className={`fleet-newest tone-${newest.severity === "alarm" ? "bad" : "warn"}`}
+          data-testid="fleet-newest-alarm"
+          onClick={() => {
+            if (newest.providerId) onSelect(newest.providerId);
+            showAlarms();
+          }}
+          title="newest unacknowledged alarm: show it"
+        >
+          {newest.severity === "alarm" ? "Alarm" : "Warning"}: {newest.text}
+        </button>
+      )}
+      {providers.length === 0 ? (
+        <NoVehicleHelp />
+      ) : (
+        <div className="fleet-chips" role="group" aria-label="Vehicles in the fleet">
+          {chips.map(({ p, link }) => (
+            <Chip
+              key={p.id}
+              id={p.id}
+              label={name(p)}
+              link={link}
+              fixValid={report(p, "GPSFixStatusReport")?.fixValid}
+              insState={report(p, "InertialSensorReport")?.state}
+              insStatus={report(p, "InertialSensorReport")?.status}
+              alarms={byVehicle.get(p.id) ?? 0}
+              selected={p.id === selected}
+              onSelect={onSelect}
+            />
+          ))}
+        </div>
+      )}
+    </nav>
+  );
+}
+
+/** What a vehicle panel says instead of its data when no vehicle is selected. */
+export function SelectionGap({ gap }: { gap: "no-vehicle" | "select" }) {
+  return (
+    <p className="muted" data-testid="selection-gap">
+      {gap === "select" ? "Select a vehicle in the fleet bar or the vehicle list." : "No vehicle on the bus yet: see the fleet bar above."}
+    </p>
+  );
+}
