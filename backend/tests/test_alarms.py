@@ -139,6 +139,24 @@ def test_no_fix_a_few_seconds_after_a_completed_gps_fix_command(tmp_path: Path) 
     assert kinds(w.update()) == [("no-fix-after-command", "cleared-unacknowledged")]
 
 
+def test_a_fix_that_came_and_went_after_the_command_is_fix_lost_only_also_after_a_restart(tmp_path: Path) -> None:
+    w = World(tmp_path / "db")
+    w.report(ALPHA, "GPSFixStatusReport", fixValid=False)
+    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, "alice")
+    w.status(cmd, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
+    w.at(1).report(ALPHA, "GPSFixStatusReport", fixValid=True)
+    w.status(cmd, (S.COMPLETED, OK))
+    assert w.update() == []
+    w.at(60).report(ALPHA, "GPSFixStatusReport", fixValid=False)  # its work is under water: the vehicle dives again
+    w.at(60 + NO_FIX_GRACE + 1).report(ALPHA, "GPSFixStatusReport", fixValid=False)
+    assert kinds(w.update()) == [("fix-lost", "active-unacknowledged")]  # not also "no fix after the command"
+    w.store.close()
+
+    again = World(tmp_path / "db").at(120)  # restarted: the completed command is in the history, the fix is invalid
+    again.report(ALPHA, "GPSFixStatusReport", fixValid=False)
+    assert kinds(again.update()) == [("fix-lost", "active-unacknowledged")]
+
+
 def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     cmd = w.commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.RESTARTING, "alice")

@@ -110,6 +110,23 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await page.waitForTimeout(1000);
     expect((await history(request)).filter((c) => !before.has(c.sessionId))).toEqual([]);
 
+    // a CoMap order to it says so as well, and its confirmation names the lost state (Esc: nothing sent)
+    const tasksBefore = (await tasks(request)).length;
+    const move = page.getByTestId("move-to");
+    await expect(move).toHaveText("Move to… (vehicle lost)");
+    await move.click();
+    await page.getByTestId("map").click();
+    await expect(move).toHaveText(`Send move of ${label}…`);
+    await move.click();
+    const moveDialog = page.getByRole("dialog", { name: "Confirm move-to" });
+    await expect(moveDialog).toBeFocused();
+    await expect(moveDialog.getByTestId("comap-confirm-lost")).toContainText(`${label} is lost`);
+    await expect(moveDialog.getByRole("button", { name: "Send anyway" })).toBeVisible();
+    await page.keyboard.press("Escape");
+    await expect(moveDialog).toHaveCount(0);
+    await page.waitForTimeout(1000);
+    expect((await tasks(request)).length).toBe(tasksBefore);
+
     // confirmed: sent, with confirmLost
     await lostFix.click();
     await dialog.getByRole("button", { name: "Send anyway" }).click();

@@ -151,6 +151,9 @@ class Alarms:
         # what the alarms need of the commands, kept up to date command by command (`_track`)
         self._unanswered: dict[str, Found] = {}
         self._latest_fix: dict[str, Command] = {}  # provider -> this console's newest GPS fix command to it
+        # GPS fix commands that brought a valid fix after they completed: a later loss (the vehicle dives
+        # again) is fix-lost, not "no fix after the command"
+        self._fix_followed: set[str] = set()
         self._newest: dict[tuple[str, Service], float] = {}  # (provider, service) -> its newest command's creation
         self._sessions: set[str] = set()
 
@@ -165,6 +168,11 @@ class Alarms:
         for c in commands:
             self._track(c)
         self._raised |= {f.key for c in commands for f in self._events(c)}
+        # a fix command completed before the start: whether a fix followed it is not known, so it raises
+        # nothing now (one already raised is in the database and clears as usual)
+        raised_no_fix = {a.session_id for a in self.open.values() if a.kind == "no-fix-after-command"}
+        self._fix_followed |= {str(c.session_id) for c in commands if c.service is Service.GPS_FIX
+                               and c.flow.status is Status.COMPLETED and str(c.session_id) not in raised_no_fix}
 
     # ---- inputs -------------------------------------------------------------------------
     def report_changed(self, source: uuid.UUID, topic: str, report: Mapping[str, Any]) -> bool:
@@ -309,7 +317,12 @@ class Alarms:
                 found.append(Found("fix-lost", pid, None, f"{who}: GPS fix lost"))
             holding.update((f.key, f) for f in found)
         for pid, c in self._latest_fix.items():
-            if c.flow.status is Status.COMPLETED and fix_valid.get(pid) is False and c.times:
+            if c.flow.status is not Status.COMPLETED or not c.times:
+                continue
+            sid = str(c.session_id)
+            if fix_valid.get(pid) is True:
+                self._fix_followed.add(sid)
+            elif fix_valid.get(pid) is False and sid not in self._fix_followed:
                 completed_at = c.times[-1][1]
                 if now - completed_at >= NO_FIX_GRACE:
                     text = f"{self._vehicle(pid)}: no valid GPS fix {now - completed_at:.0f} s after the fix command completed"

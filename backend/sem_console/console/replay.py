@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING, Any
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
 
+from sem_console.console.alarms import WATCHED
 from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.dds.topics import Sem
@@ -66,6 +67,7 @@ class Cursor:
         self._pending: tuple[str, Any] | None = None
         self.done = False
         self.skipped = 0
+        self._watched: dict[tuple[str, Any], Any] = {}  # (topic, source) -> the value the alarms watch, as last read
 
     def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Item | dict[str, Any]]]:
         """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them. With
@@ -90,17 +92,38 @@ class Cursor:
             item = self._decode(topic, message, convert=not rebuild)
             if item is not None:
                 out.append((message.log_time, item))
+        changes = self._watched_changes(out)
         if rebuild:
             last: dict[tuple[str, Any], ReportItem] = {}
             for _at, item in out:
                 if isinstance(item, ReportItem) and item.sample is not None:
                     last[(item.topic, item.source)] = item
-            for item in last.values():
+            # a report that changes what an alarm watches (INS status, fixValid) is applied too: the alarm is
+            # then raised or cleared at its own time, not at the batch's last report, minutes later
+            for item in {id(i): i for i in (*changes, *last.values())}.values():
                 self.decoder.convert(item)
             for _at, item in out:
                 if isinstance(item, ReportItem):
                     item.sample = None
         return out
+
+    def _watched_changes(self, out: list[tuple[int, Item | dict[str, Any]]]) -> list[ReportItem]:
+        """The reports of `out` whose field the alarms watch (`console.alarms.WATCHED`) differs from the
+        report before it of the same provider and topic."""
+        changes: list[ReportItem] = []
+        for _at, item in out:
+            field = WATCHED.get(item.topic) if isinstance(item, ReportItem) else None
+            if field is None:
+                continue
+            assert isinstance(item, ReportItem)
+            report = item.report if item.sample is None else item.sample[0]
+            if report is None:
+                continue
+            key, value = (item.topic, item.source), report.get(field)
+            if key not in self._watched or self._watched[key] != value:
+                self._watched[key] = value
+                changes.append(item)
+        return changes
 
     def _decode(self, topic: str, message: Any, convert: bool) -> Item | dict[str, Any] | None:
         at = message.log_time / 1e9

@@ -42,7 +42,9 @@ export function Confirm({ label, confirmText, cancelText = "Keep as is", onConfi
   }, []);
 
   return (
-    <div ref={box} className="confirm" role="dialog" aria-modal="true" aria-label={label} tabIndex={-1} data-vehicle={vehicle} data-testid={testId}>
+    // not aria-modal: the page stays usable beside it (another vehicle selected voids it), and a modal
+    // dialog would hide the rest of the page from a screen reader
+    <div ref={box} className="confirm" role="dialog" aria-label={label} tabIndex={-1} data-vehicle={vehicle} data-testid={testId}>
       {children}
       <button className="danger" onClick={onConfirm}>
         {confirmText}

@@ -55,11 +55,13 @@ function capabilityText(c: Capability): string {
   return parts.join(" ");
 }
 
-/** What waits for the operator's Confirm, bound to the vehicle it was prepared for. */
-type Pending =
-  | { kind: "move"; target: VehicleIdentity; point: LonLat }
-  | { kind: "survey"; target: VehicleIdentity; featureId: number; sensor: Sensor; resolution: number; deadline: string }
-  | { kind: "synch"; target: VehicleIdentity; task: Task; action: SynchAction };
+/** What waits for the operator's Confirm, bound to the vehicle it was prepared for, and to whether that
+ * vehicle was lost then (the confirmation then says so, as the UMAA commands' do). */
+type Pending = { target: VehicleIdentity; lost: boolean } & (
+  | { kind: "move"; point: LonLat }
+  | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: string }
+  | { kind: "synch"; task: Task; action: SynchAction }
+);
 
 function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
@@ -69,6 +71,15 @@ function pendingText(p: Pending): string {
 
 function pendingName(p: Pending): string {
   return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
+}
+
+/** The ids of the vehicles whose link is lost, as one string (stable while no link changes). */
+function lostVehicles(s: State): string {
+  return Object.values(s.providers)
+    .filter((p) => p.link === "lost")
+    .map((p) => p.id)
+    .sort()
+    .join("\n");
 }
 
 /** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves,
@@ -117,6 +128,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
   const names = useSelector(vehicleNames);
+  const lostIds = useSelector(lostVehicles);
   const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
   const [error, setError] = useState<string | null>(null);
@@ -131,12 +143,18 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
   const nameOf = useMemo(() => new Map(names.split("\n").map((l) => l.split("=") as [string, string])), [names]);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
+  const lostSet = useMemo(() => new Set(lostIds.split("\n")), [lostIds]);
+  const isLost = (id: string): boolean => lostSet.has(id);
 
   // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
   if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
     const what = pending ?? { kind: "move" as const, target: armed! };
     setNote(`${what.kind === "move" ? "Move-to" : pendingName(what as Pending)} for ${vehicleLabel(what.target)} not sent: the selected vehicle changed.`);
     setArmed(null);
+    setPending(null);
+  } else if (pending && !pending.lost && isLost(pending.target.id)) {
+    // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
+    setNote(`${pendingName(pending)} for ${vehicleLabel(pending.target)} not sent: the vehicle was lost meanwhile.`);
     setPending(null);
   } else if (armed && tool !== "move-target" && pending?.kind !== "move") {
     setArmed(null); // another map tool taken meanwhile (measure, draw): Move-to is put down
@@ -180,6 +198,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
   const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
+  const targetLost = target !== null && isLost(target.id) ? " (vehicle lost)" : "";
 
   const send = (p: Pending) => {
     setPending(null);
@@ -193,10 +212,10 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       run(synchTask(p.task.taskId, p.action, token));
     }
   };
-  const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, featureId, sensor, resolution, deadline }));
+  const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline }));
   const moveButton = () => {
     setNote(null);
-    if (armed && moveTarget) setPending({ kind: "move", target: armed, point: moveTarget });
+    if (armed && moveTarget) setPending({ kind: "move", target: armed, lost: isLost(armed.id), point: moveTarget });
     else if (armed) {
       setArmed(null); // pressed again before a destination: put down
       setTool("select");
@@ -207,7 +226,8 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   };
   const synch = (t: Task, action: SynchAction) => {
     setNote(null);
-    if (action === "INTERRUPT") setPending({ kind: "synch", target: identity(t.vehicle), task: t, action });
+    // INTERRUPT, and any order to a lost vehicle, waits for the operator's confirmation
+    if (action === "INTERRUPT" || isLost(t.vehicle)) setPending({ kind: "synch", target: identity(t.vehicle), lost: isLost(t.vehicle), task: t, action });
     else run(synchTask(t.taskId, action, token));
   };
 
@@ -301,7 +321,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           data-testid="survey"
           title={cannotTask ?? (dirty ? "send or discard the world model edits first: the vehicle surveys the console's features" : target ? `Survey the chosen feature with ${vehicleLabel(target)} (asks you to confirm)` : undefined)}
         >
-          Survey
+          Survey{targetLost}
         </button>
         <button
           className="small"
@@ -312,7 +332,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           data-vehicle={armed?.id}
           title={cannotTask ?? (armed ? `Move-to armed for ${vehicleLabel(armed)}: click its destination on the map` : target ? `Move ${vehicleLabel(target)}: then click its destination on the map` : undefined)}
         >
-          {armed ? (moveTarget ? `Send move of ${vehicleLabel(armed)}…` : `Move ${vehicleLabel(armed)}: click its destination`) : "Move to…"}
+          {armed ? (moveTarget ? `Send move of ${vehicleLabel(armed)}…` : `Move ${vehicleLabel(armed)}: click its destination`) : `Move to…${targetLost}`}
         </button>
       </div>
       {cannotTask && target && mayWrite && (
@@ -325,13 +345,19 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           key={`${pending.kind} ${pending.target.id}`}
           label={`Confirm ${pendingName(pending).toLowerCase()}`}
           vehicle={pending.target.id}
-          confirmText={pending.kind === "synch" ? SYNCH_WORDS[pending.action] : pending.kind === "move" ? "Send move" : "Send survey"}
+          confirmText={pending.lost ? "Send anyway" : pending.kind === "synch" ? SYNCH_WORDS[pending.action] : pending.kind === "move" ? "Send move" : "Send survey"}
           onConfirm={() => send(pending)}
           onCancel={() => setPending(null)}
           testId="comap-confirm"
         >
           <p>{pendingText(pending)}</p>
-          {pending.kind === "synch" && <p>It stops the task for good: a new task is needed to go on.</p>}
+          {pending.lost && (
+            <p className="confirm-lost" data-testid="comap-confirm-lost">
+              <strong>{vehicleLabel(pending.target)} is lost: no reports within the link timeout. Send anyway?</strong> It may reach the vehicle late, or
+              not at all.
+            </p>
+          )}
+          {pending.kind === "synch" && pending.action === "INTERRUPT" && <p>It stops the task for good: a new task is needed to go on.</p>}
         </Confirm>
       )}
       {note && (
@@ -371,6 +397,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
                 <td data-testid="task-vehicle">
                   <VehicleTag v={owner} />
+                  {isLost(t.vehicle) && <span className="tone-bad"> lost</span>}
                 </td>
                 <td data-testid="task-state" data-state={t.state ?? ""} title={imc("task state", t.state)}>
                   {t.state ? taskStateText(t.state) : "—"}
@@ -379,7 +406,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 <td>{typeof t.quality === "number" ? `quality ${t.quality}%` : ""}</td>
                 <td>
                   {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
+                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? ", which is lost (asks you to confirm)" : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
                       {SYNCH_WORDS[a]}
                     </button>
                   ))}

@@ -195,10 +195,13 @@ export function FleetBar() {
   }, [open]);
   const all = providers.map((p) => ({ p, link: fleetLink(p, now) }));
   const lost = all.filter((c) => c.link === "lost");
-  const live = all.length - lost.length;
+  // a vehicle silent for seconds (or all of them, with the console unreachable) is not counted live
+  const stale = all.filter((c) => c.link === "stale").length;
+  const live = all.length - lost.length - stale;
   // lost vehicles first: with many, the bar scrolls inside itself, and a lost one must not be out of sight
   const chips = lost.length ? [...lost, ...all.filter((c) => c.link !== "lost")] : all;
-  const newest = open[0] ?? null;
+  // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
+  const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
   const showAlarms = () => {
     const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
     region?.scrollIntoView({ block: "nearest" });
@@ -210,6 +213,11 @@ export function FleetBar() {
           <span className={`fleet-count tone-${live ? "ok" : "muted"}`} data-testid="fleet-live">
             {live} live
           </span>
+          {stale > 0 && (
+            <span className="fleet-count tone-warn" data-testid="fleet-stale" title={`no report for over ${STALE_AFTER_S} s`}>
+              {stale} stale
+            </span>
+          )}
           <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
             {lost.length} lost
           </span>
@@ -232,6 +240,7 @@ export function FleetBar() {
           title="newest unacknowledged alarm: show it"
         >
           {newest.severity === "alarm" ? "Alarm" : "Warning"}: {newest.text}
+          {newest.state === "cleared-unacknowledged" && " (cleared)"}
         </button>
       )}
       {providers.length === 0 ? (
