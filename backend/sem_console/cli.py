@@ -18,8 +18,8 @@ from pydantic import ValidationError
 from sem_console.comap.transport import parse_peers
 from sem_console.core.config import Settings, parse_imc_id, parse_imc_vehicles
 from sem_console.dds.bus import DdsConfigError, open_domain
-from sem_console.recording.replay import check_file
-from sem_console.sim.cli import _Parser
+from sem_console.recording.reader import check_file
+from sem_console.core.command_line import Parser
 
 
 def _imc_id(text: str) -> int:
@@ -30,7 +30,7 @@ def _imc_id(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="sem-console", description=(
+    p = Parser(prog="sem-console", description=(
         "UMAA SEM operator console: a UMAA Service Consumer for GPSFix and InertialSensor commands that "
         "streams GPS and INS state over WebSockets. Every option can also be set as an SEM_* environment "
         "variable (e.g. SEM_DOMAIN, SEM_OPERATOR_TOKENS)."))

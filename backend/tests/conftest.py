@@ -69,7 +69,7 @@ class SimProcess(Process):
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> "SimProcess":
-        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), "--state-file",
+        cmd = [sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(self.domain), "--state-file",
                str(self.state_file), *FAST, *self.args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return self

@@ -208,8 +208,8 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
         (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
         (["-m", "sem_console.cli", "--imc-peers", "localhost"], "is not host:port"),
         (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
-        (["-m", "sem_console.sim.cli", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
-        (["-m", "sem_console.sim.cli", "--imc-peers", "h:99999"], "is not host:port"),
+        (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
+        (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
     ]
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)

@@ -232,7 +232,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
                 time.sleep(0.005)
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
-        replay = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
+        replay = subprocess.Popen([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
                                    "--speed", "2", "--log-level", "info"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
 
         def live_with_reports() -> bool:
@@ -272,7 +272,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
         began = time.time_ns()
-        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
+        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
                                     "--speed", "20", "--loop", "--retime", "--wait", "0"],
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:

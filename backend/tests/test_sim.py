@@ -314,13 +314,13 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
     (["--nope"], "unrecognized arguments: --nope"),
 ])
 def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
-    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", *args], capture_output=True, text=True, timeout=30)
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", *args], capture_output=True, text=True, timeout=30)
     assert out.returncode == 2
     assert out.stdout == "" and out.stderr.count("\n") == 1 and message in out.stderr, out.stderr
 
 
 def test_help_documents_every_option() -> None:
-    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--help"], capture_output=True, text=True, timeout=30)
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--help"], capture_output=True, text=True, timeout=30)
     assert out.returncode == 0
     for opt in ("--domain", "--vehicles", "--time-scale", "--fault", "--on-startup", "--surface-seconds", "--align-seconds"):
         assert opt in out.stdout
@@ -390,7 +390,7 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     session = consumer.command(Service.GPS_FIX, V1)  # vehicle 1 is still the first process's, and answers
     assert consumer.wait_terminal(session, timeout=20).statuses == HAPPY
     assert first.proc is not None and first.proc.poll() is None and both.proc is not None and both.proc.poll() is None
-    listed = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--first-vehicle", "2", "--vehicles", "2", "--list"],
+    listed = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--first-vehicle", "2", "--vehicles", "2", "--list"],
                             capture_output=True, text=True, timeout=30).stdout
     assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]
 
@@ -427,7 +427,7 @@ def test_two_simulators_started_together_leave_one_vehicle(domain: int, tmp_path
     that follows leaves exactly one of them running."""
     from conftest import FAST
 
-    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
                                str(tmp_path / f"s{i}.json"), *FAST], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                               text=True) for i in range(2)]
     try:

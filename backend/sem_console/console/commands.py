@@ -19,7 +19,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.clock import Clock
-from sem_console.console.store import Store
+from sem_console.console.database import Database
 from sem_console.dds.topics import Service
 from sem_console.umaa.flow import CommandFlow, name, parse
 from sem_console.umaa.guid import to_guid
@@ -75,7 +75,7 @@ class CommandError(Exception):
 
 
 class Commands:
-    def __init__(self, source: uuid.UUID, store: Store, write: Callable[[Service, Any], None],
+    def __init__(self, source: uuid.UUID, store: Database, write: Callable[[Service, Any], None],
                  dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float, clock: Clock | None = None) -> None:
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()

@@ -4,7 +4,7 @@
 or only the key for a dispose or an instance that lost its writers) and turns it into a
 `ReportItem` (report topics, converted to JSON) or a `StatusItem` (command status and ack
 topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
-(`console/replay.py`) calls it for every recorded message. A sample that cannot be decoded is
+(`console/replay_source.py`) calls it for every recorded message. A sample that cannot be decoded is
 counted per topic and logged, never raised.
 
 Samples are decoded by the code `console/fastcdr.py` generates per type (a report straight to its

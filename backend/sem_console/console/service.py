@@ -1,7 +1,7 @@
 """The running console: DDS ingest, providers, the UMAA consumer, the WebSocket hub.
 
 Owned by the FastAPI lifespan. Every method here runs on the event loop thread. With
-`settings.replay` the input is a recording instead of DDS (`console/replay.py`): no DDS
+`settings.replay` the input is a recording instead of DDS (`console/replay_source.py`): no DDS
 participant, the recording's clock, a temporary database, and the same `apply` path.
 """
 
@@ -15,7 +15,9 @@ import uuid
 import math
 import tempfile
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any, Callable
+
+from pydantic import ValidationError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -31,14 +33,13 @@ from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
-from sem_console.console.store import Store
+from sem_console.console.replay_source import Replay
+from sem_console.console.database import Database
 from sem_console.core.config import Settings, parse_imc_vehicles
+from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
-
-if TYPE_CHECKING:
-    from sem_console.console.replay import Replay
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -46,13 +47,9 @@ ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages afte
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
-    """The stored link configurations that pass the API's own validation (`api.schemas.LinkConfig`, the one
+    """The stored link configurations that pass the API's own validation (`core.contract.LinkConfig`, the one
     an operator's PUT passed); any other row (unreadable, out of range, of another version) gives way to
     the defaults, with one warning naming them all."""
-    from pydantic import ValidationError
-
-    from sem_console.api.schemas import LinkConfig as LinkConfigModel
-
     configs: dict[str, LinkConfig] = {}
     ignored: list[str] = []
     for vehicle, stored in rows.items():
@@ -78,7 +75,7 @@ class Console:
         # ":memory:"); its track and chart history is kept whatever the recording's age
         self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
         db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
-        self.store = Store(db_path, settings.audit_max_rows)
+        self.store = Database(db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
         self.history = History(db_path, math.inf if replaying else settings.track_retention_hours, replay=replaying)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
@@ -135,8 +132,6 @@ class Console:
         loop = self._loop = asyncio.get_running_loop()
         self._history_task = loop.create_task(self.history.run())
         if self.settings.replay is not None:  # no DDS, no IMC: a replay is read-only
-            from sem_console.console.replay import Replay
-
             assert isinstance(self.clock, RecordingClock)
             self.replay = Replay(self, self.settings.replay, self.settings.replay_speed, self.clock)
             await self.replay.open()

@@ -8,7 +8,7 @@
   to record: they go to the JSON channel `sem-console/instances` (topic, key CDR, source, sessionId).
 - **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
   `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
-  events), holding the WebSocket messages of the same names (`api/schemas.py`).
+  events), holding the WebSocket messages of the same names (`core/contract.py`).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
@@ -40,7 +40,7 @@ from mcap.reader import make_reader
 from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
-from sem_console.api.schemas import CommandMessage, ProviderMessage, TransitionMessage
+from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name

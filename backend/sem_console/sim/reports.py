@@ -43,7 +43,7 @@ class Sensors:
         self.depth = SUBMERGED_DEPTH_M
         self.surfacing = False
         self.fix_state = FixState.INITIATING
-        self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap/vehicle.py)
+        self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap_vehicle.py)
         self.next_report = {Sem.GPS_FIX_REPORT: 0.0, Sem.GPS_REPORT: 0.0, Sem.INS_REPORT: 0.0}
 
     # ---- sensor state -------------------------------------------------------------

@@ -11,15 +11,11 @@ from typing import Callable, NoReturn
 
 from sem_console.comap.messages import Sensor
 from sem_console.comap.transport import parse_peers
+from sem_console.core.command_line import Parser
 from sem_console.core.config import Settings, parse_imc_id
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
 from sem_console.sim.options import MAX_VEHICLE
-
-
-class _Parser(argparse.ArgumentParser):
-    def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
 
 
 def _ranged(kind: Callable[[str], float], lo: float, hi: float) -> Callable[[str], float]:
@@ -69,7 +65,7 @@ def _sensors(text: str) -> tuple[str, ...]:
 
 def build_parser() -> argparse.ArgumentParser:
     d = SimOptions()
-    p = _Parser(prog="sem-sim", description=(
+    p = Parser(prog="sem-sim", description=(
         "Simulated unmanned vehicles, each a UMAA SEM Service Provider for GPSFixControl, GPSFixStatus, "
         "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
         "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))

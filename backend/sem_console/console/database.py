@@ -43,7 +43,7 @@ ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
-class Store:
+class Database:
     def __init__(self, path: Path, audit_max_rows: int = 100_000) -> None:
         self.audit_max_rows = audit_max_rows
         path.parent.mkdir(parents=True, exist_ok=True)
