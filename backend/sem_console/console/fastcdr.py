@@ -39,9 +39,10 @@ import threading
 import uuid
 from typing import Any, Callable
 
-from cyclonedds.idl import _machinery as mc
 
 from sem_console.console import convert
+from sem_console.dds.cyclone_private import machinery as mc
+from sem_console.dds.cyclone_private import type_machine
 
 log = logging.getLogger("sem-console.ingest")
 MAX_ELEMENTS = convert.MAX_SATELLITES
@@ -194,9 +195,7 @@ class _Gen:
         """Emit the reads of one value; returns the expression of its decoded value (valid once flushed).
         `path` is the body of an f-string naming the value (as convert.to_json names it)."""
         if isinstance(mach, mc.InstanceMachine):
-            idl = mach.type.__idl__
-            idl.populate()
-            return self.value(idl.v2_machine if mach.use_version_2 else idl.v1_machine, path, name, enum_member)
+            return self.value(type_machine(mach.type, mach.use_version_2), path, name, enum_member)
         if isinstance(mach, mc.StructMachine):
             return self.speculative(mach, path) if self.v2 and self._speculable(mach) else self.struct(mach, path)
         if isinstance(mach, mc.PrimitiveMachine):
@@ -212,7 +211,7 @@ class _Gen:
             code, size = ("I", 4) if isinstance(mach, mc.EnumMachine) else (mach.code, mach.size)
             v = self.fixed(code, size, mach.alignment)
             out = self.var()
-            members = mach.enum._value2member_map_  # what Enum(v) looks up
+            members = {m.value: m for m in mach.enum}  # what Enum(v) looks up (aliases are not members)
             if not self.json:
                 self.checks.append(f"{out} = {self.const(members, 'E')}.get({v}, {v})")
             elif enum_member:
@@ -375,8 +374,7 @@ class _Gen:
         """One element of a sequence (JSON: a struct or string as to_json converts it, anything else by convert)."""
         target = mach
         while isinstance(target, mc.InstanceMachine):
-            target.type.__idl__.populate()
-            target = target.type.__idl__.v2_machine if target.use_version_2 else target.type.__idl__.v1_machine
+            target = type_machine(target.type, target.use_version_2)
         if self.json and not isinstance(target, (mc.StructMachine, mc.StringMachine)):
             return self._generic_element(mach, path, name)
         return self.value(mach, path, name)
@@ -471,10 +469,8 @@ class _Gen:
 
 def generate(cls: type, v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
     """The source of `decode(b)` for `cls` and the names it uses."""
-    idl = cls.__idl__
-    idl.populate()
     g = _Gen(v2, little, json)
-    expr = g.value(idl.v2_machine if v2 else idl.v1_machine, "", "")
+    expr = g.value(type_machine(cls, v2), "", "")
     g.flush()
     head = ["def decode(b):", "    p = 4"] + (["    inv = []"] if json else [])
     tail = [f"    return {expr}, inv" if json else f"    return {expr}"]

@@ -35,7 +35,6 @@ import time
 from enum import Enum
 from typing import Any, Callable, Protocol
 
-from cyclonedds._clayer import ddspy_take
 from cyclonedds.core import Listener, Policy, Qos, WaitSet
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
@@ -43,6 +42,7 @@ from cyclonedds.util import duration
 from sem_console.console.decode import (ACK_TOPICS, COMMAND_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem,
                                         StatusItem)
 from sem_console.console.pace import Pacer
+from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem
@@ -217,7 +217,7 @@ class Ingest:
         decode = sem not in COMMAND_TOPICS
         out: list[Item] = []
         while True:
-            raw = ddspy_take(reader._ref, condition.mask, 256)  # noqa: SLF001 (DataReader.take, without its decode)
+            raw = take_cdr(reader, condition.mask, 256)
             if isinstance(raw, int):
                 log.warning("take on %s failed: %d", sem.spec.name, raw)
                 break

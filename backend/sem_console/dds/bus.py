@@ -15,6 +15,8 @@ from cyclonedds.topic import Topic
 from cyclonedds.util import duration
 
 from sem_console.dds.config import dds_config
+from sem_console.dds.cyclone_private import InvalidSample, take_cdr
+from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import reader_qos, representation, writer_qos
 from sem_console.dds.topics import Sem
 
@@ -80,15 +82,12 @@ def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int
     """Take every sample (by `condition`, else all, disposes included) and decode each on its own:
     one a Python decoder refuses (a string that is not UTF-8, say) costs only itself. Returns the
     decoded samples (InvalidSample for a dispose) and how many could not be decoded."""
-    from cyclonedds._clayer import ddspy_take
-    from cyclonedds.internal import InvalidSample
-
     mask = (condition or all_samples(reader)).mask
     dtype = reader.topic.data_type
     out: list[Any] = []
     bad = 0
     while True:
-        raw = ddspy_take(reader._ref, mask, n)  # noqa: SLF001 (DataReader.take, decoding each sample on its own)
+        raw = take_cdr(reader, mask, n)
         if isinstance(raw, int):
             break
         for data, info in raw:
@@ -103,19 +102,3 @@ def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int
         if len(raw) < n:
             break
     return out, bad
-
-
-def wait_for_acks(writers: Iterable[DataWriter], seconds: float) -> bool:
-    """Wait until every matched reliable reader has acknowledged what the writers wrote.
-
-    cyclonedds-python 11.0.1's DataWriter.wait_for_acks raises AttributeError on a timeout
-    (it compares with `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so call the
-    C function it wraps and read its return code here. True when all were acknowledged.
-    """
-    deadline = time.monotonic() + seconds
-    ok = True
-    for w in writers:
-        remaining = max(0.0, deadline - time.monotonic())
-        ret = w._wait_for_acks(w._ref, duration(seconds=remaining))  # noqa: SLF001 (see the docstring)
-        ok = ok and ret == 0
-    return ok

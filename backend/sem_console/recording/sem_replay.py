@@ -25,12 +25,12 @@ import time
 from pathlib import Path
 from typing import Any, Collection, Iterator
 
-from cyclonedds._clayer import ddspy_write_ts
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
+from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.topics import Sem, Service
 from sem_console.core.command_line import Parser
 from sem_console.recording.reader import INSTANCES, check_file, iter_messages
@@ -118,7 +118,7 @@ class Replay:
             data = sem.spec.type.deserialize(data).serialize(use_version_2=sem.spec.xcdr2_only)
             self.reencoded += 1
         data = data.ljust((len(data) + 3) & ~3, b"\0")
-        ret = ddspy_write_ts(w._ref, data, ts)  # noqa: SLF001 (DataWriter.write of bytes already serialized)
+        ret = write_cdr(w, data, ts)
         if ret < 0:
             raise RuntimeError(f"write failed ({ret})")
         self.samples += 1

@@ -18,11 +18,11 @@ from dataclasses import dataclass
 from typing import Any, Callable
 
 from cyclonedds.core import InstanceState
-from cyclonedds.internal import InvalidSample
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
+from sem_console.dds.cyclone_private import InvalidSample
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.comap_vehicle import ComapVehicles
