@@ -20,7 +20,7 @@ import sys
 import time
 
 import common
-from common import CpuMeter, Proc, emit, get_json, ms, percentile, report_latency, stack, table, ws_collect
+from common import CpuMeter, emit, get_json, ms, percentile, report_latency, stack, table, ws_collect
 
 TOPICS = ["GPS_REPORT", "GPS_FIX_REPORT", "GPS_FIX_STATUS_REPORT", "INS_REPORT"]
 SAMPLES_PER_VEHICLE_S = 1 + 10 + 10 + 10  # the rates of sim_args

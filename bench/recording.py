@@ -66,7 +66,7 @@ def main() -> None:
     off = [r["console_cpu"] for r in rows if r["phase"] == "off"]
     on = [r for r in rows if r["phase"] == "on"]
     cpu_off, cpu_on = sum(off) / len(off), sum(r["console_cpu"] for r in on) / len(on)
-    differences = [r["console_cpu"] - o for r, o in zip(on, off)]  # each on phase against the off phase before it
+    differences = [r["console_cpu"] - o for r, o in zip(on, off, strict=False)]  # each on phase against the off phase before it
     stderr = statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else float("nan")
     keys = ["phase", "console_cpu", "writer_cpu", "decoded_per_s", "recorded_per_s", "mb_per_min", "dropped"]
     table(f"Recording at {args.vehicles} vehicles ({args.seconds:.0f} s per phase, {args.pairs} off/on pairs)", keys, [[r.get(k, "") for k in keys] for r in rows])

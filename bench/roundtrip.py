@@ -39,7 +39,7 @@ async def console_round_trips(st: dict, vehicle: str, n: int) -> tuple[list[floa
             req = urllib.request.Request(f"{st['url']}/api/providers/{vehicle}/gps-fix", method="POST", data=b"{}",
                                          headers={"Content-Type": "application/json"})
             t0 = time.perf_counter()
-            body = await loop.run_in_executor(None, lambda: urllib.request.urlopen(req, timeout=10).read())
+            body = await loop.run_in_executor(None, lambda req=req: urllib.request.urlopen(req, timeout=10).read())
             session = json.loads(body)["sessionId"]
             deadline = time.monotonic() + 10
             while "COMPLETED" not in seen.get(session, {}) and time.monotonic() < deadline:
@@ -57,6 +57,7 @@ def plain_round_trips(domain: int, vehicle: uuid.UUID, n: int) -> tuple[list[flo
     from cyclonedds.util import duration
 
     from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+
     from sem_console.dds.bus import Bus, all_samples
     from sem_console.dds.topics import Service
     from sem_console.umaa.guid import to_guid

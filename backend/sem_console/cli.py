@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import logging
 import socket
@@ -16,10 +17,10 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from sem_console.comap.transport import parse_peers
+from sem_console.core.command_line import Parser
 from sem_console.core.config import Settings, parse_imc_id, parse_imc_vehicles
 from sem_console.dds.bus import DdsConfigError, open_domain
 from sem_console.recording.reader import check_file
-from sem_console.core.command_line import Parser
 
 
 def _imc_id(text: str) -> int:
@@ -39,7 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--domain", type=int, help="DDS domain id, 0..232 (default: 0)")
     p.add_argument("--sim", type=int, help="start N simulated vehicles alongside on the same domain (default: 0)")
     p.add_argument("--sim-time-scale", type=float, help="time scale of the embedded simulator (default: 1)")
-    p.add_argument("--sim-first-vehicle", type=int, help="number of the embedded simulator's first vehicle, as sem-sim --first-vehicle (default: 1)")
+    p.add_argument("--sim-first-vehicle", type=int, help="number of the embedded simulator's first vehicle, as sem-sim "
+                                                         "--first-vehicle (default: 1)")
     p.add_argument("--db", type=Path, dest="db_path", help="SQLite command history (default: var/sem-console.sqlite3)")
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")
@@ -67,16 +69,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
     p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--replay", type=Path, metavar="FILE.mcap", help="serve the dashboard from this recording instead of DDS "
-                   "(read-only: commands and recording are refused; play, pause, speed and seek in the dashboard and /api/replay)")
+                   "(read-only: commands and recording are refused; play, pause, speed and seek in the dashboard and "
+                   "/api/replay)")
     p.add_argument("--replay-speed", type=float, help="the replay's speed at start, 0.25 to 20 (default: 1)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--aspn-lcm", metavar="URL", help="publish each vehicle's navigation as ASPN-23 over LCM at URL "
                    "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default")
-    p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)")
-    p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log (default: 300)")
+    p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: "
+                                         "aspn23)")
+    p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log "
+                                                          "(default: 300)")
     p.add_argument("--jaus-port", type=int, nargs="?", const=3794, metavar="N",
                    help="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); off by default")
-    p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)")
+    p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... "
+                                                                   "(default: 1)")
     p.add_argument("--jaus-host", help="address the JAUS gateway listens on (default: --host)")
     p.add_argument("--basemap", type=Path, metavar="FILE.pmtiles", help="an offline chart (PMTiles, vector or raster) the "
                    "dashboard's map draws, served at /api/basemap.pmtiles (default: the built-in Natural Earth land only)")
@@ -173,10 +179,9 @@ def main(argv: list[str] | None = None) -> int:
     for sock in listeners:  # uvicorn names no address for sockets it is given
         address, port = sock.getsockname()[:2]
         logging.getLogger("sem-console").info("listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port)
-    try:  # on the sockets bound above: no other process can take the port between the check and the start
+    # on the sockets bound above: no other process can take the port between the check and the start
+    with contextlib.suppress(KeyboardInterrupt):
         server.run(sockets=listeners)
-    except KeyboardInterrupt:
-        pass
     return 0 if server.started else 3  # 3: the application's start-up failed (uvicorn's code for it)
 
 

@@ -21,8 +21,8 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY
-from sem_console.api.routes import (alarms, comap, commands, gateways as gateway_routes, history, meta, providers, recordings,
-                                    replay, ws)
+from sem_console.api.routes import alarms, comap, commands, history, meta, providers, recordings, replay, ws
+from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways

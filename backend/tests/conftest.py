@@ -11,8 +11,8 @@ import ssl
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Callable, Iterator
 
 import pytest
 
@@ -68,7 +68,7 @@ class SimProcess(Process):
         self.domain, self.args, self.state_file = domain, args, state_file
         self.proc: subprocess.Popen[str] | None = None
 
-    def start(self) -> "SimProcess":
+    def start(self) -> SimProcess:
         cmd = [sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(self.domain), "--state-file",
                str(self.state_file), *FAST, *self.args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -135,7 +135,7 @@ class ConsoleProcess(Process):
         self.ws_url = f"{'wss' if tls else 'ws'}://127.0.0.1:{self.port}/ws"
         self.proc: subprocess.Popen[str] | None = None
 
-    def start(self) -> "ConsoleProcess":
+    def start(self) -> ConsoleProcess:
         import httpx
 
         cmd = [sys.executable, "-m", "sem_console.cli", "--port", str(self.port), "--domain", str(self.domain),

@@ -53,7 +53,7 @@ def square(center: tuple[float, float], north_m: float, size_m: float) -> list[t
 
 def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[str, Any]:
     ring = [[lon, lat] for lat, lon in points]
-    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + [ring[0]]]},
+    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[*ring, ring[0]]]},
             "properties": {"featureId": fid, "name": "box"}}
 
 

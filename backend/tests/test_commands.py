@@ -9,6 +9,7 @@ from typing import Any
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+
 from sem_console.console import commands as commands_module
 from sem_console.console.commands import Commands
 from sem_console.console.database import Database

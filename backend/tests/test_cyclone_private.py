@@ -14,12 +14,19 @@ from typing import Any
 
 from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
-from samplegen import random_sample
 
+from samplegen import random_sample
 from sem_console.dds import cyclone_private
 from sem_console.dds.bus import Bus, all_samples, take_each
-from sem_console.dds.cyclone_private import (MACHINE_ATTRIBUTES, InvalidSample, machinery, take_cdr, type_machine,
-                                             wait_for_acks, write_cdr)
+from sem_console.dds.cyclone_private import (
+    MACHINE_ATTRIBUTES,
+    InvalidSample,
+    machinery,
+    take_cdr,
+    type_machine,
+    wait_for_acks,
+    write_cdr,
+)
 from sem_console.dds.topics import Sem
 
 PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"

@@ -47,10 +47,10 @@ def same(a: object, b: object) -> bool:
     if isinstance(a, dict) and isinstance(b, dict):
         return a.keys() == b.keys() and all(same(a[k], b[k]) for k in a)
     if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
-        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
     if hasattr(a, "__dataclass_fields__") and type(a) is type(b):
         return all(same(getattr(a, f), getattr(b, f)) for f in a.__dataclass_fields__)
-    return bool(a == b) and type(a) is type(b) or (isinstance(a, (bytes, bytearray)) and a == b)
+    return (bool(a == b) and type(a) is type(b)) or (isinstance(a, (bytes, bytearray)) and a == b)
 
 
 @pytest.mark.parametrize("sem", SEMS, ids=[s.name for s in SEMS])

@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import random
-import signal
 import socket
 import struct
 import threading
@@ -20,16 +19,15 @@ import httpx
 import lcm
 import pytest
 
+from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
-from UMAA.SEM.GPSFixStatus import GPSFixReportType
-from consumer import Consumer
+
 from conftest import free_port
+from consumer import Consumer
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
 from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
-
-from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 
 FIX_MEASUREMENTS = {"measurement_position", "measurement_altitude", "measurement_velocity", "measurement_speed",
                     "measurement_direction_of_motion_2d"}
@@ -107,7 +105,7 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
                 continue
             matched[measurement] += 1
             assert m.num_signals_tracked == len(r.satellites) == len(m.obs)
-            for o, s in zip(m.obs, r.satellites):
+            for o, s in zip(m.obs, r.satellites, strict=True):
                 assert o.prn == bytes(s.satelliteId)[15]
                 assert o.satellite_system.satellite_system == {Constellation.GPS: 0, Constellation.GALILEO: 1, Constellation.GLONASS: 2,
                                                                Constellation.BEIDOU: 3, Constellation.SBAS: 4}[s.constellationType]
@@ -324,7 +322,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
         assert abs(g["AltitudeMSL"] - r.altitudeMSL.altitude) <= step("AltitudeMSL")
         course = (r.trueCourse + math.pi) % (2 * math.pi) - math.pi
         assert abs(g["Course"] - course) <= step("Course")
-        for name, want in zip(NED, (r.velocity.northSpeed, r.velocity.eastSpeed, r.velocity.downSpeed)):
+        for name, want in zip(NED, (r.velocity.northSpeed, r.velocity.eastSpeed, r.velocity.downSpeed), strict=True):
             assert abs(nav["ned"][name] - want) <= step(name)
         assert abs(nav["state"]["SpeedOverGround"] - r.SOG) <= step("SpeedOverGround")
     assert checked >= 3
@@ -477,7 +475,7 @@ def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
         feed = Feed()
         gw = AspnGateway(feed, f"file://{log_file}")
         feed.publish(_speed_report(vehicle, run))
-        wait_until(lambda: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
+        wait_until(lambda gw=gw: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
         gw.close()
     speeds = [m.speed for _, m in read_log(log_file)]
     assert speeds == [1.0, 2.0]  # the first run's message is still there

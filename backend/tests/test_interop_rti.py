@@ -14,7 +14,8 @@ import math
 import random
 import time
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import httpx
 import pytest
@@ -39,7 +40,7 @@ def same(a: Any, b: Any) -> bool:
     if isinstance(a, dict):
         return isinstance(b, dict) and set(a) == set(b) and all(same(a[k], b[k]) for k in a)
     if isinstance(a, list):
-        return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+        return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
     if isinstance(a, float):
         return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-15) or (math.isnan(a) and math.isnan(b)))
     return a == b
@@ -71,7 +72,7 @@ def test_every_plain_topic_from_rti_decodes_in_cyclone(rti: Callable[..., RtiPar
             p.write(s, to_plain(x))
     for s in PLAIN:
         got: list[Any] = []
-        wait_until(lambda: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
+        wait_until(lambda s=s, got=got: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
                    10, f"{s.spec.name} from RTI")
         assert len(got) == len(sent[s])
         for x in sent[s]:
@@ -90,7 +91,7 @@ def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiPar
             writers[s].write(x)
     for s in PLAIN:
         got: list[Any] = []
-        wait_until(lambda: got.extend(x for x, _ in p.take(s) if x) or len(got) >= 10, 10, f"{s.spec.name} in RTI")
+        wait_until(lambda s=s, got=got: got.extend(x for x, _ in p.take(s) if x) or len(got) >= 10, 10, f"{s.spec.name} in RTI")
         for x in sent[s]:
             assert any(same(to_plain(x), g) for g in got), (s.spec.name, to_plain(x))
 
@@ -149,7 +150,7 @@ class RtiVehicle:
         """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
         self.report()
         for service, sem in COMMANDS.items():
-            for cmd, state in self.p.take(sem):
+            for cmd, _state in self.p.take(sem):
                 if cmd is None:  # a dispose: the consumer cancels or cleans up
                     continue
                 session = bytes(cmd["sessionID"])
@@ -205,7 +206,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
 
-        def done() -> Any:
+        def done(session: str = session) -> Any:
             v.step()
             cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
             return cmd if cmd["transitions"] and cmd["transitions"][-1]["status"] == "COMPLETED" else None
@@ -214,7 +215,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
-        wait_until(lambda: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
+        wait_until(lambda path=path: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
             Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 10, "the cleanup dispose in RTI")
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.

@@ -113,7 +113,7 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     window = [(m.log_time, m.data) for _s, _c, m in reader.iter_messages(topics=["t/b"], starting_at=lo, ending_before=hi)]
     assert window == sorted(((m[1], m[2]) for m in sent if m[0] == 2 and lo <= m[1] < hi), key=lambda x: x[0])
     # each chunk index points at its chunk, and at one message index per channel with the chunk's entries
-    for ci, next_start in zip(summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None]):
+    for ci, next_start in zip(summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None], strict=True):
         chunk = next(iter(StreamReader(io.BytesIO(raw[ci.chunk_start_offset:ci.chunk_start_offset + ci.chunk_length]),
                                        skip_magic=True, emit_chunks=True).records))
         assert isinstance(chunk, Chunk)

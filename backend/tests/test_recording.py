@@ -211,6 +211,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
     second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
     try:
         from cyclonedds.core import InstanceState
+
         from sem_console.dds.bus import Bus, all_samples
         from sem_console.dds.qos import reader_qos
         bus = Bus(other)
@@ -373,7 +374,7 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
             now = time.time_ns()
             r.on_samples(Sem.GPS_FIX_REPORT, [(b"\x00\x07\x00\x00" + os.urandom(200), True, 16, now - 1_000)], now)
             sent += 1
-        wait_until(lambda: not r._buffer, 10, "the writer took the batch")  # noqa: SLF001 (one batch per write)
+        wait_until(lambda: not r._buffer, 10, "the writer took the batch")  # one batch per write
     r.stop()
     assert r.status()["state"] == "off" and r.dropped == 0
     files = sorted(tmp_path.glob("*.mcap"))

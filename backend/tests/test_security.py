@@ -17,16 +17,16 @@ import pytest
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
+from conftest import free_udp_port
 from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
-
-# A first wait long enough that a loaded machine's slow requests still fall inside it.
-SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
-from conftest import free_udp_port
 from test_console import V1, gps_fix_executing, provider_ready, wait_command, wait_until
 from test_replay import synthetic_recording
+
+# A first wait long enough that a loaded machine's slow requests still fall inside it.
+SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 
 EVIL = "http://evil.example"
 TOKENS = "# operators of the test console\nalice:s3cret\n\nbob:t0k:en\n"
@@ -309,7 +309,8 @@ def test_both_token_sources_split_at_the_first_colon(tmp_path: Path) -> None:
     s = Settings(operator_tokens=" bob : Long-Secret:y , carol:c4rol", operator_tokens_file=tokens)
     assert s.operators() == {"Long-Secret:y": "bob", "c4rol": "carol", "Long-Secret:x": "dave"}
     for bad, needle in (("bob:", "item 1: expected name:token"), (" :t0k", "expected name:token"),
-                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must be visible ASCII"),
+                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must "
+                                                                                                "be visible ASCII"),
                         ("bob:two words", "visible ASCII"), ("bob:tab\tinside", "visible ASCII"),
                         ("alice:same,bob:same", "'bob' has the same token as 'alice'")):
         with pytest.raises(ValueError, match=needle):
@@ -375,7 +376,7 @@ def self_signed(folder: Path) -> tuple[Path, Path]:
 
     key = ec.generate_private_key(ec.SECP256R1())
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "sem-console test")])
-    now = datetime.datetime.now(datetime.timezone.utc)
+    now = datetime.datetime.now(datetime.UTC)
     cert = (x509.CertificateBuilder().subject_name(name).issuer_name(name).public_key(key.public_key())
             .serial_number(x509.random_serial_number()).not_valid_before(now - datetime.timedelta(minutes=1))
             .not_valid_after(now + datetime.timedelta(days=1))

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import math
 import signal
-import time
 import subprocess
 import sys
+import time
 import uuid
 
 import pytest
@@ -21,6 +21,7 @@ from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNav
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
+
 from consumer import Consumer
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
@@ -415,7 +416,7 @@ def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: 
     data = x.serialize(use_version_2=True).replace(b"ZZZZ", b"\xff\xfeZZ")
     with pytest.raises(UnicodeDecodeError):
         Sem.GPS_REPORT.spec.type.deserialize(data)
-    assert ddspy_write(w._ref, data) == 0  # noqa: SLF001 (the bytes as a peer would send them)
+    assert ddspy_write(w._ref, data) == 0  # the bytes as a peer would send them
     p = sim()
     time.sleep(4)  # past the start-up look at the bus (1 to 3 s)
     assert p.proc is not None and p.proc.poll() is None, p.stop()

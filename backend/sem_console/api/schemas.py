@@ -7,7 +7,7 @@ import re
 import typing
 import uuid
 from datetime import datetime
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
 
@@ -102,7 +102,8 @@ class GatewayState(_Model):
     messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
     lastError: str | None
     lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
-    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: queue full (ASPN), "
+    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: "
+                                                 "queue full (ASPN), "
                                            "report time outside u32: console time sent (JAUS), errors")
 
 
@@ -180,7 +181,8 @@ class ReplaySeek(_Model):
     """Show the state at `position`: rebuilt from the recording, sent to every client as a fresh snapshot."""
 
     action: Literal["seek"]
-    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its start or end")
+    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its "
+                                                                          "start or end")
 
 
 class ReplaySpeed(_Model):
@@ -188,7 +190,7 @@ class ReplaySpeed(_Model):
     speed: float = Field(strict=True, ge=0.25, le=20, description="recording seconds per wall-clock second")
 
 
-ReplayRequest = Annotated[Union[ReplayPlay, ReplayPause, ReplaySeek, ReplaySpeed], Field(discriminator="action")]
+ReplayRequest = Annotated[ReplayPlay | ReplayPause | ReplaySeek | ReplaySpeed, Field(discriminator="action")]
 
 
 # ---- CoMap: world model (GeoJSON), tasks, vehicles --------------------------------------------
@@ -221,7 +223,7 @@ NoBool = BeforeValidator(_no_bool)
 Finite = Annotated[float, Field(allow_inf_nan=False), NoBool]
 Lon = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False), NoBool]
 Lat = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False), NoBool]
-Position = Annotated[Union[tuple[Lon, Lat], tuple[Lon, Lat, Finite]],
+Position = Annotated[tuple[Lon, Lat] | tuple[Lon, Lat, Finite],
                      Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")]
 FeatureId = Annotated[int, Field(ge=0, le=0xFFFE), NoBool]
 
@@ -252,7 +254,7 @@ class PolygonGeometry(_Model):
 class GeoJsonFeature(_Model):
     type: Literal["Feature"]
     id: Annotated[int, NoBool] | str | None = Field(None, description="GeoJSON feature id (the console gives featureId)")
-    geometry: Annotated[Union[PointGeometry, LineStringGeometry, PolygonGeometry], Field(discriminator="type")]
+    geometry: Annotated[PointGeometry | LineStringGeometry | PolygonGeometry, Field(discriminator="type")]
     properties: FeatureProperties
 
 
@@ -280,7 +282,9 @@ class _TaskRequest(_Model):
                                examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])  # sem-sim's vehicle 1
     sensor: SensorName = Field("ANY", description="survey: the sensor to survey with")
     resolution: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False), NoBool] = Field(1.0, description="survey: px/m²")
-    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
+    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset "
+                                                                                                 "is given); default: an hour "
+                                                                                                 "from now")
 
 
 class SurveyTaskRequest(_TaskRequest):
@@ -297,7 +301,7 @@ class MoveTaskRequest(_TaskRequest):
     featureId: FeatureId | None = Field(None, description="not used by a move")
 
 
-TaskRequest = Annotated[Union[SurveyTaskRequest, MoveTaskRequest], Field(discriminator="kind")]
+TaskRequest = Annotated[SurveyTaskRequest | MoveTaskRequest, Field(discriminator="kind")]
 
 
 class Task(_Model):
@@ -457,8 +461,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ReplayMessage,
-          GatewaysMessage, WorldModelMessage, TaskMessage, AlarmsMessage, ErrorMessage, PongMessage],
+    SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage | ReplayMessage
+    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | ErrorMessage | PongMessage,
     Field(discriminator="type"),
 ]
 
@@ -474,7 +478,7 @@ class ResyncMessage(_Model):
     type: Literal["resync"]
 
 
-ClientMessage = Annotated[Union[PingMessage, ResyncMessage], Field(discriminator="type")]
+ClientMessage = Annotated[PingMessage | ResyncMessage, Field(discriminator="type")]
 
 server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
 client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)

@@ -86,7 +86,7 @@ def feature_to_geojson(feat: Feature) -> dict[str, Any]:
     elif feat.kind == "LineString":
         coords = pts
     else:
-        coords = [pts + [pts[0]]]
+        coords = [[*pts, pts[0]]]
     return {"type": "Feature", "id": feat.feature_id, "geometry": {"type": feat.kind, "coordinates": coords},
             "properties": {**feat.properties, "featureId": feat.feature_id, "coverage": feat.coverage}}
 

@@ -35,9 +35,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import Union
 
-FieldType = Union[str, tuple[str, str]]
+FieldType = str | tuple[str, str]
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,7 @@ import asyncio
 import logging
 import socket
 from collections import Counter
-from typing import Callable
+from collections.abc import Callable
 
 from sem_console.comap.codec import BROADCAST, Header, ImcError, Message, decode_packet, encode_packet
 

@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import logging
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -61,7 +62,7 @@ class Command:
             "ackedAt": self.acked_at,
             "violations": self.flow.violations,
             "transitions": [transition_json(i, t, pt, rt)
-                            for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times), start=1)],
+                            for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times, strict=True), start=1)],
         }
 
 
@@ -87,7 +88,7 @@ class Commands:
     def _load_history(self) -> None:
         for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
             cmd = self.from_row(row)
-            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times)]
+            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
             self.by_session[cmd.session_id] = cmd
 
     def from_row(self, row: dict[str, Any]) -> Command:
@@ -99,8 +100,8 @@ class Commands:
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"])
         for t in row["transitions"]:
-            cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"])
-            cmd.times.append((t["provider_time"], t["received_at"]))
+            if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
+                cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
     def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:

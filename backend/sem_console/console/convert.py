@@ -13,7 +13,7 @@ import typing
 import uuid
 from dataclasses import fields, is_dataclass
 from enum import Enum
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 MAX_SATELLITES = 256
@@ -43,7 +43,7 @@ def to_json(sample: Any) -> tuple[dict[str, Any], list[str]]:
     return _value(sample, "", invalid), invalid
 
 
-@lru_cache(maxsize=None)
+@cache
 def _enum_members(cls: type) -> dict[str, type]:
     """Members of a generated struct whose declared type is an enum."""
     out = {}

@@ -74,7 +74,8 @@ class Database:
 
     def add_command(self, rec: dict[str, Any], command: dict[str, Any]) -> None:
         self.db.execute(
-            "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES (?,?,?,?,?,?,?)",
+            "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES "
+            "(?,?,?,?,?,?,?)",
             (rec["sessionId"], rec["service"], rec["providerId"], rec["state"], rec["operator"], rec["createdAt"], json.dumps(command)))
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:

@@ -37,8 +37,8 @@ import struct
 import sys
 import threading
 import uuid
-from typing import Any, Callable
-
+from collections.abc import Callable
+from typing import Any
 
 from sem_console.console import convert
 from sem_console.dds.cyclone_private import machinery as mc
@@ -263,7 +263,7 @@ class _Gen:
         enums = convert._enum_members(cls) if self.json else {}  # noqa: SLF001
         exprs = [self.value(mm, f"{path}.{n}" if path else n, n, n in enums) for n, mm in mach.members_machines.items()]
         if self.json:
-            return "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs)) + "}"
+            return "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs, strict=True)) + "}"
         return f"{self.const(cls, 'T')}({', '.join(exprs)})"
 
     def optional(self, mach: Any, path: str, name: str, enum_member: bool) -> str:
@@ -447,7 +447,7 @@ class _Gen:
             for c in checks:
                 self.emit(c)
             if self.json:
-                self.emit(f"{out} = {{{', '.join(f'{n!r}: {e}' for n, e in zip(fields_, exprs))}}}")
+                self.emit(f"{out} = {{{', '.join(f'{n!r}: {e}' for n, e in zip(fields_, exprs, strict=True))}}}")
             else:
                 self.emit(f"{out} = {self.const(mach.type, 'T')}({', '.join(exprs)})")
             self.indent -= 1
@@ -503,7 +503,7 @@ class TypeDecoder:
         name = f"{self.cls.__name__} {'xcdr2' if v2 else 'xcdr1'} {'le' if little else 'be'}{' json' if json else ''}"
         try:
             source, ns = generate(self.cls, v2, little, json)
-            exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # noqa: S102 (our own generated source)
+            exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # our own generated source
             return ns["decode"]
         except Unsupported:
             return _FALLBACK

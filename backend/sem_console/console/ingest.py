@@ -32,23 +32,32 @@ import asyncio
 import logging
 import threading
 import time
+from collections.abc import Callable
 from enum import Enum
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 from cyclonedds.core import Listener, Policy, Qos, WaitSet
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-from sem_console.console.decode import (ACK_TOPICS, COMMAND_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem,
-                                        StatusItem)
+from sem_console.console.decode import (
+    ACK_TOPICS,
+    COMMAND_TOPICS,
+    REPORT_TOPICS,
+    STATUS_TOPICS,
+    Decoder,
+    Item,
+    ReportItem,
+    StatusItem,
+)
 from sem_console.console.pace import Pacer
-from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem
 
 log = logging.getLogger("sem-console.ingest")
-__all__ = ["Ingest", "ReportItem", "StatusItem", "REPORT_TOPICS", "Tap", "Via", "owner_of"]
+__all__ = ["REPORT_TOPICS", "Ingest", "ReportItem", "StatusItem", "Tap", "Via", "owner_of"]
 
 
 class Tap(Protocol):
@@ -82,8 +91,9 @@ def owner_of(writer_qos: Qos) -> Via:
     budget and data representation, so that is all that decides it: reliable and at
     least transient-local, reliable and volatile, or best-effort.
     """
-    reliability = writer_qos[Policy.Reliability] if Policy.Reliability in writer_qos else None
-    durability = writer_qos[Policy.Durability] if Policy.Durability in writer_qos else Policy.Durability.Volatile
+    # (no .get(): Qos has `in` and [] only)
+    reliability = writer_qos[Policy.Reliability] if Policy.Reliability in writer_qos else None  # noqa: SIM401
+    durability = writer_qos[Policy.Durability] if Policy.Durability in writer_qos else Policy.Durability.Volatile  # noqa: SIM401
     if not isinstance(reliability, Policy.Reliability.Reliable):
         return Via.BEST_EFFORT
     return Via.RELIABLE_VOLATILE if durability == Policy.Durability.Volatile else Via.RELIABLE_TRANSIENT_LOCAL
@@ -252,7 +262,7 @@ class Ingest:
             started = time.monotonic()
             try:
                 items: list[ReportItem] = []
-                for (sem, via, reader), cond in zip(self.report_readers, conds):
+                for (sem, via, reader), cond in zip(self.report_readers, conds, strict=True):
                     items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
                 if items:
                     # a take counts only when it applied something: a wake by the timeout, or by the copies
@@ -278,7 +288,7 @@ class Ingest:
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []
-        for (sem, via, reader), cond in zip(self.status_readers, conds):
+        for (sem, via, reader), cond in zip(self.status_readers, conds, strict=True):
             items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
         if items:
             self.loop.call_soon_threadsafe(self.on_statuses, items)

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import asyncio
 import base64
+import contextlib
 import json
 import logging
 import struct
@@ -35,7 +36,6 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.dds.topics import Sem
 from sem_console.recording.reader import INSTANCES, iter_messages, time_range
 
 log = logging.getLogger("sem-console.replay")
@@ -120,10 +120,8 @@ class Cursor:
             return None
 
     def close(self) -> None:
-        try:
+        with contextlib.suppress(ValueError):  # still being read on a worker thread (shutdown): the file closes with it
             self._messages.close()
-        except ValueError:  # still being read on a worker thread (shutdown): the file closes with it
-            pass
 
 
 class Replayed(Protocol):

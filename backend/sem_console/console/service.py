@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
+import tempfile
 import threading
 import time
 import uuid
-import math
-import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from pydantic import ValidationError
 
@@ -27,6 +28,7 @@ from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.database import Database
 from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
@@ -34,7 +36,6 @@ from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.replay_source import Replay
-from sem_console.console.database import Database
 from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks

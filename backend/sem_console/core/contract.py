@@ -37,7 +37,8 @@ class LinkConfig(StrictModel):
     regainedTime: float = Field(ge=0, le=65535, description="seconds of continuous samples before a lost vehicle is regained")
     policy: Literal["STOP_MISSION", "CONTINUE_MISSION"] = Field(
         description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)")
-    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and reported")
+    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and "
+                                                            "reported")
 
     @field_validator("commsLostTimeout", "regainedTime", "regainedBehavior", mode="before")
     @classmethod

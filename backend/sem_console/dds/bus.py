@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import os
-import time
-from collections.abc import Iterable
 from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
@@ -12,7 +10,6 @@ from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-from cyclonedds.util import duration
 
 from sem_console.dds.config import dds_config
 from sem_console.dds.cyclone_private import InvalidSample, take_cdr
@@ -93,7 +90,7 @@ def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int
         for data, info in raw:
             try:
                 sample = dtype.deserialize(data) if info.valid_data else InvalidSample(dtype.deserialize_key(data), info)
-            except Exception:  # noqa: BLE001 (whatever a peer sent, only this sample is lost)
+            except Exception:  # whatever a peer sent, only this sample is lost
                 bad += 1
                 continue
             if info.valid_data:

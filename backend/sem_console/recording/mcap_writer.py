@@ -27,8 +27,7 @@ from typing import BinaryIO
 
 import zstandard
 from mcap.opcode import Opcode
-from mcap.records import (Channel, Chunk, ChunkIndex, DataEnd, Footer, Header, McapRecord, Schema, Statistics,
-                          SummaryOffset)
+from mcap.records import Channel, Chunk, ChunkIndex, DataEnd, Footer, Header, McapRecord, Schema, Statistics, SummaryOffset
 
 from sem_console.recording.mcap_private import record_bytes
 

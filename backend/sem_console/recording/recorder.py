@@ -22,6 +22,7 @@ goes on. Chunks are flushed at least every FLUSH_SECONDS, so a crash loses at mo
 from __future__ import annotations
 
 import base64
+import contextlib
 import datetime as dt
 import errno
 import json
@@ -31,8 +32,9 @@ import threading
 import time
 import uuid
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, BinaryIO, Callable
+from typing import Any, BinaryIO
 
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -77,12 +79,12 @@ _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.i
 
 def file_name(at: float) -> str:
     """`DIR/<UTC start time>.mcap`, ISO 8601 basic format with milliseconds: 20261122T101530.123Z.mcap."""
-    t = dt.datetime.fromtimestamp(at, dt.timezone.utc)
+    t = dt.datetime.fromtimestamp(at, dt.UTC)
     return t.strftime("%Y%m%dT%H%M%S.") + f"{t.microsecond // 1000:03d}Z.mcap"
 
 
 def start_of(name: str) -> float:
-    return dt.datetime.strptime(name[:19], "%Y%m%dT%H%M%S.%f").replace(tzinfo=dt.timezone.utc).timestamp()
+    return dt.datetime.strptime(name[:19], "%Y%m%dT%H%M%S.%f").replace(tzinfo=dt.UTC).timestamp()
 
 
 class RecordingError(Exception):
@@ -134,10 +136,8 @@ class _File:
             self.stream.close()
 
     def abandon(self) -> None:
-        try:
+        with contextlib.suppress(OSError):
             self.stream.close()
-        except OSError:
-            pass
 
 
 class Recorder:

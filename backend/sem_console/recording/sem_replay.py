@@ -19,20 +19,20 @@ import base64
 import json
 import logging
 import signal
-import struct
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Collection, Iterator
+from typing import Any
 
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
+from sem_console.core.command_line import Parser
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.topics import Sem, Service
-from sem_console.core.command_line import Parser
 from sem_console.recording.reader import INSTANCES, check_file, iter_messages
 
 log = logging.getLogger("sem-replay")

@@ -14,8 +14,9 @@ import contextlib
 import logging
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from cyclonedds.core import InstanceState
 
@@ -26,9 +27,9 @@ from sem_console.dds.cyclone_private import InvalidSample
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.comap_vehicle import ComapVehicles
-from sem_console.sim.provider_flow import ProviderFlow
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
+from sem_console.sim.provider_flow import ProviderFlow
 from sem_console.sim.reports import Sensors
 from sem_console.umaa.guid import from_guid
 

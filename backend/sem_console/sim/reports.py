@@ -7,14 +7,21 @@ import math
 import random
 import time
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType as FixState
 from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as NavSolution
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 from UMAA.Common.Measurement import (
-    Altitude_HAE, Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D, Position2DTime,
-    Position3D_WGS84, Velocity3D_PlatformNED,
+    Altitude_HAE,
+    Altitude_MSL,
+    GeodeticLatitude,
+    GeodeticLongitude,
+    Position2D,
+    Position2DTime,
+    Position3D_WGS84,
+    Velocity3D_PlatformNED,
 )
 from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType

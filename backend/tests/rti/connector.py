@@ -80,9 +80,9 @@ class RtiParticipant:
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
                  representation: str | None = None, extensibility: str | None = None) -> None:
-        self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
-        self._file.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
-        self._file.close()
+        with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
+            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
+        self._file = f
         self.connector = rti.Connector("Participants::Rti", self._file.name)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
         self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}

@@ -9,8 +9,8 @@ from fastapi.responses import FileResponse
 
 from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
-from sem_console.dds.config import describe
 from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
+from sem_console.dds.config import describe
 
 health_router = APIRouter(prefix="/api", tags=["meta"])  # always open
 reads = APIRouter(prefix="/api", tags=["meta"])

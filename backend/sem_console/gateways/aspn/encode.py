@@ -18,6 +18,7 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
+import aspn23_lcm_conversions as conversions
 import numpy as np
 from aspn23.measurement_altitude import MeasurementAltitude, MeasurementAltitudeErrorModel, MeasurementAltitudeReference
 from aspn23.measurement_direction_of_motion_2d import (
@@ -37,7 +38,6 @@ from aspn23.type_satnav_signal_descriptor import TypeSatnavSignalDescriptor
 from aspn23.type_satnav_signal_descriptor import TypeSatnavSignalDescriptorSignalDescriptor as Signal
 from aspn23.type_satnav_time import TypeSatnavTime, TypeSatnavTimeTimeReference
 from aspn23.type_timestamp import TypeTimestamp
-import aspn23_lcm_conversions as conversions
 
 from sem_console.umaa.guid import SAT_PREFIX
 
