@@ -92,8 +92,19 @@ def main() -> None:
                 per_vehicle["cyclonedds_json"] += RATES[sem] * before
                 per_vehicle["console"] += RATES[sem] * console
     keys = list(figures[0])
-    rows.append(["per vehicle-second (ms)", "as sent", "", "", round(per_vehicle["cyclonedds_json"] / 1000, 3), round(per_vehicle["console"] / 1000, 3),
-                 "", "", round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1)])
+    rows.append(
+        [
+            "per vehicle-second (ms)",
+            "as sent",
+            "",
+            "",
+            round(per_vehicle["cyclonedds_json"] / 1000, 3),
+            round(per_vehicle["console"] / 1000, 3),
+            "",
+            "",
+            round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1),
+        ]
+    )
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},

@@ -86,7 +86,9 @@ def peer(domain: int) -> Iterator[tuple[Proc, str]]:
                 break
             except OSError as e:
                 if proc.p.poll() is not None or time.monotonic() > deadline:
-                    raise RuntimeError("the Foxglove peer did not start (is foxglove-sdk installed? scripts/bench installs it)") from e
+                    raise RuntimeError(
+                        "the Foxglove peer did not start (is foxglove-sdk installed? scripts/bench installs it)"
+                    ) from e
                 time.sleep(0.1)
         yield proc, f"ws://127.0.0.1:{port}"
     finally:

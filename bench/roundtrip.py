@@ -73,7 +73,9 @@ def plain_round_trips(domain: int, vehicle: uuid.UUID, n: int) -> tuple[list[flo
     issued, completed = [], []
     for _ in range(n + 5):
         session = uuid.uuid4()
-        cmd = Service.GPS_FIX.command.spec.type(source=me, destination=to_guid(vehicle), sessionID=to_guid(session), timeStamp=now_datetime())
+        cmd = Service.GPS_FIX.command.spec.type(
+            source=me, destination=to_guid(vehicle), sessionID=to_guid(session), timeStamp=now_datetime()
+        )
         t0 = time.perf_counter()
         writer.write(cmd)
         got: dict[S, float] = {}

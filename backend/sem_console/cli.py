@@ -178,7 +178,9 @@ def main(argv: list[str] | None = None) -> int:
     scheme = "https" if settings.tls_certfile else "http"
     for sock in listeners:  # uvicorn names no address for sockets it is given
         address, port = sock.getsockname()[:2]
-        logging.getLogger("sem-console").info("listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port)
+        logging.getLogger("sem-console").info(
+            "listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port
+        )
     # on the sockets bound above: no other process can take the port between the check and the start
     with contextlib.suppress(KeyboardInterrupt):
         server.run(sockets=listeners)
@@ -282,7 +284,9 @@ def check_basemap(path: Path) -> str | None:
                 "convert it (pmtiles convert FILE.mbtiles FILE.pmtiles) or pass another --basemap")
     if len(head) < PMTILES_HEADER or head[7] != 3:
         found = f"version {head[7]}" if len(head) > 7 else "no version"
-        return f"--basemap {path} is not a whole PMTiles version 3 file ({found}, {len(head)} header bytes): pass another --basemap"
+        return (
+            f"--basemap {path} is not a whole PMTiles version 3 file ({found}, {len(head)} header bytes): pass another --basemap"
+        )
     return None
 
 
@@ -352,9 +356,12 @@ def port_problem(option: str, host_option: str, protocol: str, where: str, e: OS
     if e.errno == errno.EADDRINUSE:
         return f"{option}: {protocol} {where} is already in use (another sem-console?): stop it, or pass another {option}"
     if e.errno == errno.EACCES:
-        return f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
+        return (
+            f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
+        )
     if e.errno == errno.EADDRNOTAVAIL:
-        return f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: pass another {host_option}"
+        return (f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: "
+                f"pass another {host_option}")
     return f"{option}: cannot listen on {protocol} {where} ({e.strerror or e})"
 
 

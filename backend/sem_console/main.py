@@ -94,12 +94,26 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         commands_writes = {"dependencies": [*commands_writes["dependencies"], Depends(refuse_in_replay)],
                            "responses": {**commands_writes.get("responses", {}), **READ_ONLY}}
     replay_controls = {**reads, "dependencies": [*reads.get("dependencies", []), Depends(require_json)]}
-    for r, extra in ((providers.router, reads), (history.router, reads), (commands.reads, reads), (meta.reads, reads),
-                     (recordings.reads, reads), (gateway_routes.reads, reads), (comap.reads, reads),
-                     (replay.reads, reads), (replay.controls, replay_controls),
-                     (commands.writes, commands_writes), (recordings.writes, commands_writes), (gateway_routes.writes, commands_writes),
-                     (comap.writes, commands_writes), (alarms.reads, reads), (alarms.writes, commands_writes),
-                     (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
+    for r, extra in (
+        (providers.router, reads),
+        (history.router, reads),
+        (commands.reads, reads),
+        (meta.reads, reads),
+        (recordings.reads, reads),
+        (gateway_routes.reads, reads),
+        (comap.reads, reads),
+        (replay.reads, reads),
+        (replay.controls, replay_controls),
+        (commands.writes, commands_writes),
+        (recordings.writes, commands_writes),
+        (gateway_routes.writes, commands_writes),
+        (comap.writes, commands_writes),
+        (alarms.reads, reads),
+        (alarms.writes, commands_writes),
+        (meta.operator_router, writes),
+        (meta.health_router, {}),
+        (ws.router, {}),
+    ):
         app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
     app.add_middleware(Guard, settings=settings)
     frontend = settings.frontend_dir or DEFAULT_FRONTEND

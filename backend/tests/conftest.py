@@ -130,7 +130,9 @@ class ConsoleProcess(Process):
         self.port = free_port()
         tls = "--tls-certfile" in args
         # httpx's verify (and the websockets client's ssl) for a console with a certificate of its own
-        self.verify: ssl.SSLContext | bool = ssl.create_default_context(cafile=args[args.index("--tls-certfile") + 1]) if tls else True
+        self.verify: ssl.SSLContext | bool = (
+            ssl.create_default_context(cafile=args[args.index("--tls-certfile") + 1]) if tls else True
+        )
         self.url = f"{'https' if tls else 'http'}://127.0.0.1:{self.port}"
         self.ws_url = f"{'wss' if tls else 'ws'}://127.0.0.1:{self.port}/ws"
         self.proc: subprocess.Popen[str] | None = None
@@ -138,9 +140,28 @@ class ConsoleProcess(Process):
     def start(self) -> ConsoleProcess:
         import httpx
 
-        cmd = [sys.executable, "-m", "sem_console.cli", "--port", str(self.port), "--domain", str(self.domain),
-               "--db", str(self.db), "--recordings-dir", str(self.db.parent / "recordings"), "--comms-lost-timeout", "1", "--regained-time", "1", "--unanswered-timeout", "2",
-               "--log-level", "warning", *self.args]
+        cmd = [
+            sys.executable,
+            "-m",
+            "sem_console.cli",
+            "--port",
+            str(self.port),
+            "--domain",
+            str(self.domain),
+            "--db",
+            str(self.db),
+            "--recordings-dir",
+            str(self.db.parent / "recordings"),
+            "--comms-lost-timeout",
+            "1",
+            "--regained-time",
+            "1",
+            "--unanswered-timeout",
+            "2",
+            "--log-level",
+            "warning",
+            *self.args,
+        ]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                      env={**os.environ, **self.env})
         deadline = time.monotonic() + 20

@@ -80,7 +80,11 @@ def test_world_model_golden_decodes_and_reencodes() -> None:
     assert m.name == "WorldModel"
     (feature,) = m["geo_features"]
     assert feature["feature_id"] == 7
-    assert [(p["lat"], p["lon"], p["alt"]) for p in feature["points"]] == [(0.5, -0.25, 0.0), (0.5, -0.125, 0.0), (0.375, -0.25, 0.0)]
+    assert [(p["lat"], p["lon"], p["alt"]) for p in feature["points"]] == [
+        (0.5, -0.25, 0.0),
+        (0.5, -0.125, 0.0),
+        (0.375, -0.25, 0.0),
+    ]
     (cov,) = m["cov_states"]
     assert (cov["feature_id"], cov["state"]) == (7, 2)
     assert encode_packet(m, src=0x4001, src_ent=0xFF, timestamp=header.timestamp) == WORLD_MODEL

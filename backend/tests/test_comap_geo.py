@@ -74,4 +74,6 @@ def test_lawnmower_sweeps_the_polygon_lane_by_lane() -> None:
 def _on_edge(poly: list[tuple[float, float]], p: tuple[float, float]) -> bool:
     lat0, lon0 = min(a for a, _ in poly), min(b for _, b in poly)
     lat1, lon1 = max(a for a, _ in poly), max(b for _, b in poly)
-    return lat0 - 1e-9 <= p[0] <= lat1 + 1e-9 and (math.isclose(p[1], lon0, abs_tol=1e-9) or math.isclose(p[1], lon1, abs_tol=1e-9))
+    return lat0 - 1e-9 <= p[0] <= lat1 + 1e-9 and (
+        math.isclose(p[1], lon0, abs_tol=1e-9) or math.isclose(p[1], lon1, abs_tol=1e-9)
+    )

@@ -101,7 +101,9 @@ def test_we_read_what_pyimclsts_sends_and_the_console_takes_its_world_model(peer
     c = console("--imc-port", str(port), "--imc-host", "127.0.0.1")
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.sendto(enc["WorldModel-be"], ("127.0.0.1", port))
-    model = wait_until(lambda: (lambda w: w if w["features"] else None)(httpx.get(f"{c.url}/api/worldmodel").json()), 10, "the world model")
+    model = wait_until(
+        lambda: (lambda w: w if w["features"] else None)(httpx.get(f"{c.url}/api/worldmodel").json()), 10, "the world model"
+    )
     (f,) = model["features"]
     assert model["source"] == f"imc:{0x2001}" and f["properties"] == {"featureId": 42, "coverage": "PARTIAL"}
     ring = f["geometry"]["coordinates"][0]

@@ -83,7 +83,9 @@ def command(base: str, session: str) -> dict[str, Any]:
     return httpx.get(f"{base}/api/commands/{session}").json()
 
 
-def wait_command(base: str, session: str, timeout: float = 15, done: Callable[[dict[str, Any]], bool] | None = None) -> dict[str, Any]:
+def wait_command(
+    base: str, session: str, timeout: float = 15, done: Callable[[dict[str, Any]], bool] | None = None
+) -> dict[str, Any]:
     done = done or (lambda c: c["terminal"] and c["cleanedUp"])
     return wait_until(lambda: (lambda c: c if done(c) else None)(command(base, session)), timeout, f"command {session}")
 
@@ -453,7 +455,9 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
     assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
             "/api/providers/{provider_id}/inertial-sensor", "/api/commands", "/api/commands/{session_id}"} <= set(spec["paths"])
     schema = httpx.get(f"{live.url}/api/ws-schema").json()
-    kinds = {m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})}
+    kinds = {
+        m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})
+    }
     assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync"}
     assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
     assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"

@@ -137,7 +137,10 @@ def test_unknown_enum_ordinal_and_too_many_satellites() -> None:
 
 
 def _mutations(data: bytes, rng: random.Random) -> list[bytes]:
-    out = [data[:n] for n in sorted({0, 1, 2, 3, 4, 5, len(data) // 2, len(data) - 1, *rng.sample(range(len(data)), min(8, len(data)))})]
+    out = [
+        data[:n]
+        for n in sorted({0, 1, 2, 3, 4, 5, len(data) // 2, len(data) - 1, *rng.sample(range(len(data)), min(8, len(data)))})
+    ]
     for _ in range(25):
         b = bytearray(data)
         for _ in range(rng.randrange(1, 4)):

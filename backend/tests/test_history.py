@@ -130,7 +130,9 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     # an empty range is an empty file, not an error
     empty = httpx.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": "2001-01-01T00:00:00Z"})
     assert empty.status_code == 200 and gpxpy.parse(empty.text).tracks[0].segments[0].points == []
-    assert httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(TRACK_HEADER)
+    assert httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(
+        TRACK_HEADER
+    )
 
 
 def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim, console) -> None:

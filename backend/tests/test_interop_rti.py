@@ -134,17 +134,38 @@ class RtiVehicle:
                                                             "geodeticLongitude": {"longitude": -75.98}}, "timeAtPosition": now},
                 "SOG": 2.5, "trueCourse": 1.2, "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
                 "source": src, "timeStamp": stamp})
-        self.p.write(Sem.GPS_FIX_STATUS_REPORT, {
-            "carrierToNoise": [41.5, 38.0], "countDown": 3, "fixValid": True, "lowBkupBattery": False, "navSolution": 4,
-            "originPosition": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
-                               "heightAboveEllipsoid": {"altitude": 12.5}},
-            "pCode": False, "timeOut": False, "source": src, "timeStamp": stamp})
+        self.p.write(
+            Sem.GPS_FIX_STATUS_REPORT,
+            {
+                "carrierToNoise": [41.5, 38.0],
+                "countDown": 3,
+                "fixValid": True,
+                "lowBkupBattery": False,
+                "navSolution": 4,
+                "originPosition": {
+                    "geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
+                    "heightAboveEllipsoid": {"altitude": 12.5},
+                },
+                "pCode": False,
+                "timeOut": False,
+                "source": src,
+                "timeStamp": stamp,
+            },
+        )
 
     def status(self, service: Service, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
         now = time.time()
-        self.p.write(service.status, {"source": list(self.guid.bytes), "sessionID": cmd["sessionID"], "commandStatus": STATUS[status],
-                                      "commandStatusReason": REASON[reason], "logMessage": f"rti {status.lower()}",
-                                      "timeStamp": {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}})
+        self.p.write(
+            service.status,
+            {
+                "source": list(self.guid.bytes),
+                "sessionID": cmd["sessionID"],
+                "commandStatus": STATUS[status],
+                "commandStatusReason": REASON[reason],
+                "logMessage": f"rti {status.lower()}",
+                "timeStamp": {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)},
+            },
+        )
 
     def step(self) -> None:
         """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
@@ -193,7 +214,10 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     detail = wait_until(shown, 15, "the RTI vehicle in the console")
     assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
     assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "OPERATIONAL"
-    assert detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == 36.85
+    assert (
+        detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"]
+        == 36.85
+    )
     # Its default (XCDR1) GPSFixReport and GPSReport writers are not read, and the console says so.
     optional = {Sem.GPS_FIX_REPORT.spec.name: 1, Sem.GPS_REPORT.spec.name: 1}
     incompatible = wait_until(lambda: (lambda m: m if m == optional else None)(
@@ -223,8 +247,14 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     session = r.json()["sessionId"]
     v.hold.add(uuid.UUID(session).bytes)
     wait_until(lambda: v.step() or getattr(v, "running", None), 10, "the held command")
-    wait_until(lambda: v.report() or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"],
-               10, "EXECUTING in the console")
+    wait_until(
+        lambda: (
+            v.report()
+            or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"]
+        ),
+        10,
+        "EXECUTING in the console",
+    )
     assert httpx.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
     wait_until(lambda: v.report() or v.cancel_running_if_disposed(), 10, "the cancel dispose in RTI")
     cmd = wait_until(lambda: v.report() or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
@@ -242,7 +272,9 @@ def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None
     return cmd
 
 
-def _statuses(p: RtiParticipant, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
+def _statuses(
+    p: RtiParticipant, service: Service, session: list[int], seen: list[tuple[str | None, str]]
+) -> list[tuple[str | None, str]]:
     for x, state in p.take(service.status):
         if x is None:
             seen.append((None, state))

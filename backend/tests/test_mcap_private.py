@@ -38,7 +38,9 @@ def test_only_mcap_private_imports_the_private_module() -> None:
 def test_records_as_the_specification_lays_them_out() -> None:
     """opcode (u8), record length (u64), then the fields: strings u32-length-prefixed, integers little endian."""
     body = _string("p") + _string("sem-console 1")
-    assert record_bytes(Header(profile="p", library="sem-console 1")) == bytes([Opcode.HEADER]) + struct.pack("<Q", len(body)) + body
+    assert (
+        record_bytes(Header(profile="p", library="sem-console 1")) == bytes([Opcode.HEADER]) + struct.pack("<Q", len(body)) + body
+    )
 
     body = struct.pack("<BQQ", Opcode.CHANNEL, 123, 45)
     assert record_bytes(SummaryOffset(group_opcode=Opcode.CHANNEL, group_start=123, group_length=45)) == (

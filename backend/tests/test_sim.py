@@ -67,7 +67,9 @@ def test_every_report_type_with_plausible_values(sim, consumer: Consumer) -> Non
 
 def test_ins_aligns_after_power_on(sim, consumer: Consumer) -> None:
     sim("--align-seconds", "20")  # 1 s at --time-scale 0.05
-    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL")
+    consumer.wait(
+        lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL"
+    )
     seen = [r.status for r in consumer.reports[Sem.INS_REPORT][V1]]
     order = [Op.INIT, Op.COURSE_STATIONARY_ALIGNMENT, Op.FINE_STATIONARY_ALIGNMENT_STARTED,
              Op.FINE_STATIONARY_ALIGNMENT_COMPLETE, Op.OPERATIONAL]
@@ -287,7 +289,9 @@ def test_command_timeout(sim, consumer: Consumer) -> None:
 
 def test_zero_alignment_time(sim, consumer: Consumer) -> None:
     p = sim("--align-seconds", "0")
-    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 10, "OPERATIONAL")
+    consumer.wait(
+        lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 10, "OPERATIONAL"
+    )
     assert p.proc is not None and p.proc.poll() is None
 
 
@@ -391,8 +395,12 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     session = consumer.command(Service.GPS_FIX, V1)  # vehicle 1 is still the first process's, and answers
     assert consumer.wait_terminal(session, timeout=20).statuses == HAPPY
     assert first.proc is not None and first.proc.poll() is None and both.proc is not None and both.proc.poll() is None
-    listed = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--first-vehicle", "2", "--vehicles", "2", "--list"],
-                            capture_output=True, text=True, timeout=30).stdout
+    listed = subprocess.run(
+        [sys.executable, "-m", "sem_console.sim.sem_sim", "--first-vehicle", "2", "--vehicles", "2", "--list"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    ).stdout
     assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]
 
 

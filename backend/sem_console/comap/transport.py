@@ -32,7 +32,9 @@ class Endpoint:
 
     def __init__(self, imc_id: int, peers: list[Addr]) -> None:
         self.imc_id, self.peers = imc_id, list(peers)
-        self.counters: Counter[str] = Counter({k: 0 for k in ("received", "accepted", "sent", "sendErrors", "notForUs", *BAD_KINDS)})
+        self.counters: Counter[str] = Counter(
+            {k: 0 for k in ("received", "accepted", "sent", "sendErrors", "notForUs", *BAD_KINDS)}
+        )
         self.addresses: dict[int, Addr] = {}  # IMC system id -> where its datagrams came from
 
     def feed(self, data: bytes, addr: Addr, ours: Callable[[int], bool] | None = None) -> tuple[Header, Message] | None:

@@ -55,14 +55,24 @@ class Command:
 
     def to_json(self) -> dict[str, Any]:
         return {
-            "sessionId": str(self.session_id), "service": self.service.value, "providerId": str(self.provider_id),
-            "state": name(self.state) if self.state is not None else None, "operator": self.operator, "createdAt": self.created_at,
-            "status": name(self.flow.status) if self.flow.status else None, "terminal": self.flow.terminal,
-            "unanswered": self.unanswered, "cancelRequested": self.cancel_requested, "canceledBy": self.canceled_by, "cleanedUp": self.cleaned_up,
+            "sessionId": str(self.session_id),
+            "service": self.service.value,
+            "providerId": str(self.provider_id),
+            "state": name(self.state) if self.state is not None else None,
+            "operator": self.operator,
+            "createdAt": self.created_at,
+            "status": name(self.flow.status) if self.flow.status else None,
+            "terminal": self.flow.terminal,
+            "unanswered": self.unanswered,
+            "cancelRequested": self.cancel_requested,
+            "canceledBy": self.canceled_by,
+            "cleanedUp": self.cleaned_up,
             "ackedAt": self.acked_at,
             "violations": self.flow.violations,
-            "transitions": [transition_json(i, t, pt, rt)
-                            for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times, strict=True), start=1)],
+            "transitions": [
+                transition_json(i, t, pt, rt)
+                for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times, strict=True), start=1)
+            ],
         }
 
 
@@ -76,8 +86,16 @@ class CommandError(Exception):
 
 
 class Commands:
-    def __init__(self, source: uuid.UUID, store: Database, write: Callable[[Service, Any], None],
-                 dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float, clock: Clock | None = None) -> None:
+    def __init__(
+        self,
+        source: uuid.UUID,
+        store: Database,
+        write: Callable[[Service, Any], None],
+        dispose: Callable[[Service, Any], None],
+        emit: Emit,
+        unanswered_timeout: float,
+        clock: Clock | None = None,
+    ) -> None:
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()
         self.unanswered_timeout = unanswered_timeout
@@ -194,7 +212,9 @@ class Commands:
         if cmd is None:  # not in memory: unknown, or finished long ago
             raise CommandError(f"command {session} is not running")
         if cmd.flow.terminal or cmd.cleaned_up:
-            raise CommandError(f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})")
+            raise CommandError(
+                f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})"
+            )
         if not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, operator
             self.store.set_canceled(str(session), operator)
@@ -233,8 +253,14 @@ class Commands:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
             self.store.set_flag(str(session), "unanswered", False)
-        self.emit({"type": "transition", "sessionId": str(session), "transition": transition_json(seq, t, provider_time, received),
-                   "command": cmd.to_json()})
+        self.emit(
+            {
+                "type": "transition",
+                "sessionId": str(session),
+                "transition": transition_json(seq, t, provider_time, received),
+                "command": cmd.to_json(),
+            }
+        )
         if cmd.flow.terminal:
             self.cleanup(cmd)
 

@@ -76,7 +76,16 @@ class Database:
         self.db.execute(
             "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES "
             "(?,?,?,?,?,?,?)",
-            (rec["sessionId"], rec["service"], rec["providerId"], rec["state"], rec["operator"], rec["createdAt"], json.dumps(command)))
+            (
+                rec["sessionId"],
+                rec["service"],
+                rec["providerId"],
+                rec["state"],
+                rec["operator"],
+                rec["createdAt"],
+                json.dumps(command),
+            ),
+        )
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
         self.db.execute(
@@ -160,8 +169,10 @@ class Database:
         return cur.lastrowid
 
     def update_alarm(self, alarm: dict[str, Any]) -> None:
-        self.db.execute("UPDATE alarms SET since=?, cleared_at=?, acked_at=?, acked_by=?, normal_at=? WHERE id=?",
-                        (alarm["since"], alarm["cleared_at"], alarm["acked_at"], alarm["acked_by"], alarm["normal_at"], alarm["id"]))
+        self.db.execute(
+            "UPDATE alarms SET since=?, cleared_at=?, acked_at=?, acked_by=?, normal_at=? WHERE id=?",
+            (alarm["since"], alarm["cleared_at"], alarm["acked_at"], alarm["acked_by"], alarm["normal_at"], alarm["id"]),
+        )
 
     def open_alarms(self) -> list[dict[str, Any]]:
         """The alarms not back to normal, oldest first."""

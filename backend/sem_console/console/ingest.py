@@ -216,8 +216,13 @@ class Ingest:
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:
                 self._warned.add((sem, policy))
-                log.warning("a writer of %s offers a %s no reader of the console accepts; it is not read%s", sem.spec.name,
-                            policy, " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "")
+                log.warning(
+                    "a writer of %s offers a %s no reader of the console accepts; it is not read%s",
+                    sem.spec.name,
+                    policy,
+                    " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "",
+                )
+
         return on
 
     def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Item]:

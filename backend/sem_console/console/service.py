@@ -285,7 +285,9 @@ class Console:
         if it.topic == "GPSFixReport":
             status = p.reports.get("GPSFixStatusReport")
             fix_valid = status["report"].get("fixValid") if status else None
-            self.history.on_fix(it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None)
+            self.history.on_fix(
+                it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None
+            )
         elif it.topic == "GPSReport":
             self.history.on_gps(it.source, it.received_at, it.report)
 

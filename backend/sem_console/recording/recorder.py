@@ -101,7 +101,9 @@ class _File:
         self.channels: dict[Any, int] = {}
         self.sequence: dict[int, int] = {}
         for sem in Sem:
-            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode())
+            schema = self.writer.register_schema(
+                type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode()
+            )
             self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema)
         for channel, (_kind, model) in JSON_CHANNELS.items():
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())

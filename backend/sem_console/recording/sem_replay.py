@@ -8,8 +8,9 @@ class. A sample recorded in a data representation the writer does not use (e.g. 
 type written in XCDR1) is decoded and written again in the writer's. Disposes and instances
 that lost their writers (channel `sem-console/instances`) are republished as disposes and
 unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand) are left out unless
-`--commands`: a provider on the target domain would carry them out. The console's own channels (commands, transitions, links) are not DDS topics
-and are not republished. An integrator can test their own UMAA consumer against a trial this way.
+`--commands`: a provider on the target domain would carry them out. The console's own channels (commands,
+transitions, links) are not DDS topics and are not republished. An integrator can test their own UMAA consumer
+against a trial this way.
 """
 
 from __future__ import annotations

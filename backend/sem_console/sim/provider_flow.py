@@ -136,7 +136,9 @@ class ProviderFlow:
     def publish_status(self, ex: Execution, status: Status, reason: Reason, message: str) -> None:
         t = ex.flow.observe(status, reason, message)
         if t is not None and t.violation and "skip-commanded" not in self.faults:
-            log.warning("vehicle %d %s %s: publishing a Figure 4 violation: %s", self.number, ex.service.value, ex.session, t.violation)
+            log.warning(
+                "vehicle %d %s %s: publishing a Figure 4 violation: %s", self.number, ex.service.value, ex.session, t.violation
+            )
         self.journal.set(self.guid, ex.service, ex.session, status)
         self.write(ex.service.status, self.status_sample(ex, status, reason, message))
         log.info("vehicle %d %s %s -> %s/%s %s", self.number, ex.service.value, ex.session, status.name, reason.name, message)

@@ -110,27 +110,43 @@ class Sensors:
         sog = self.track.speed
         if self.pilot is not None:  # under way for a CoMap task (or holding where one ended)
             lat, lon, course, sog = self.pilot.lat, self.pilot.lon, self.pilot.course, self.pilot.speed
-        rising = -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3) if self.surfacing and self.depth < 0 else 0.0
+        rising = (
+            -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3)
+            if self.surfacing and self.depth < 0
+            else 0.0
+        )
         fix = GPSFixReportType(
             altitudeMSL=Altitude_MSL(altitude=self.depth),
             GPSFixCommandStatus=self.fix_state,
             GPSLatLongValid=self.fix_valid,
             magneticVariation=math.radians(-10.8),
             position2DWithTime=Position2DTime(
-                geodeticPosition=Position2D(GeodeticLatitude(lat), GeodeticLongitude(lon)), timeAtPosition=time.time()),
-            SOG=sog, trueCourse=course,
-            velocity=Velocity3D_PlatformNED(downSpeed=-rising, eastSpeed=sog * math.sin(course), northSpeed=sog * math.cos(course)),
-            source=self.source, timeStamp=now_datetime(),
+                geodeticPosition=Position2D(GeodeticLatitude(lat), GeodeticLongitude(lon)), timeAtPosition=time.time()
+            ),
+            SOG=sog,
+            trueCourse=course,
+            velocity=Velocity3D_PlatformNED(
+                downSpeed=-rising, eastSpeed=sog * math.sin(course), northSpeed=sog * math.cos(course)
+            ),
+            source=self.source,
+            timeStamp=now_datetime(),
         )
         used_cn0 = sorted((s.antennaCarrierNoiseDensity or 0.0 for s in sats if s.usedInFix), reverse=True)[:11]
         status = GPSFixStatusReportType(
             carrierToNoise=used_cn0,
-            countDown=max(0, math.ceil(-self.depth / -SUBMERGED_DEPTH_M * self.opts.scaled(self.opts.surface_seconds))) if self.surfacing else 0,
-            fixValid=self.fix_valid, lowBkupBattery=False,
+            countDown=max(0, math.ceil(-self.depth / -SUBMERGED_DEPTH_M * self.opts.scaled(self.opts.surface_seconds)))
+            if self.surfacing
+            else 0,
+            fixValid=self.fix_valid,
+            lowBkupBattery=False,
             navSolution=NavSolution.GPS_3D if self.fix_valid else NavSolution.GPS_DEAD_RECK,
             originPosition=Position3D_WGS84(
-                Position2D(GeodeticLatitude(self.track.lat0), GeodeticLongitude(self.track.lon0)), Altitude_HAE(-36.5)),
-            pCode=False, timeOut=not self.fix_valid, source=self.source, timeStamp=now_datetime(),
+                Position2D(GeodeticLatitude(self.track.lat0), GeodeticLongitude(self.track.lon0)), Altitude_HAE(-36.5)
+            ),
+            pCode=False,
+            timeOut=not self.fix_valid,
+            source=self.source,
+            timeStamp=now_datetime(),
         )
         return fix, status
 

@@ -101,8 +101,13 @@ def build_parser() -> argparse.ArgumentParser:
         "seconds a command may have no live writer before it is treated as canceled (default: %(default)s)"))
     p.add_argument("--command-timeout", type=_ranged(float, 0.1, 86400), default=d.command_timeout, help=(
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: %(default)s)"))
-    p.add_argument("--state-file", type=Path, default=None, help="where command states are journaled so a restarted simulator can recover them; one simulator at a time "
-                   "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)")
+    p.add_argument(
+        "--state-file",
+        type=Path,
+        default=None,
+        help="where command states are journaled so a restarted simulator can recover them; one simulator at a time "
+        "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)",
+    )
     p.add_argument("--health-file", type=Path, default=None, help="touch this file every second while running (for healthchecks)")
     p.add_argument("--fault", type=_fault, action="append", default=[], metavar="KIND[:VEHICLE]", help=(
         "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
@@ -117,7 +122,13 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--imc-id", type=_imc_id, default=d.imc_id, help=(
         "IMC system id of the first vehicle, decimal or 0x hex; the next ones count up (default: 0x2001)"))
     p.add_argument("--imc-peers", type=_peers, default=[], help="C2s (consoles) the vehicles send to: 'host:port,...'")
-    p.add_argument("--imc-sensors", type=_sensors, default=d.imc_sensors, help=f"survey sensors the vehicles have, comma separated, of {', '.join(n for n in Sensor.__members__ if n != 'ANY')} (default: SIDESCAN)")
+    p.add_argument(
+        "--imc-sensors",
+        type=_sensors,
+        default=d.imc_sensors,
+        help=f"survey sensors the vehicles have, comma separated, of {', '.join(n for n in Sensor.__members__ if n != 'ANY')} "
+        "(default: SIDESCAN)",
+    )
     p.add_argument("--survey-spacing", type=_ranged(float, 1, 10_000), default=d.survey_spacing, help=(
         "metres between lawnmower lanes of a survey (default: %(default)s)"))
     p.add_argument("--survey-speed", type=_ranged(float, 0.1, 100), default=d.survey_speed, help=(

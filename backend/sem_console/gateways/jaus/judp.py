@@ -91,8 +91,21 @@ LOCAL_POSE = (16, ("X", "Y", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth
 VELOCITY_NED = (8, ("Velocity_N", "Velocity_E", "Velocity_D"))
 VELOCITY_STATE = (16, ("Velocity_RMS", "RollRate", "PitchRate", "YawRate", "Rate_RMS", "SpeedOverGround",
                        "SpeedRelativeToMedium", "RotationsPerMinute", "IndicatedSpeed", "TimeSeconds", "TimeNanoSeconds"))
-ACCELERATION_STATE = (16, ("Acceleration_X", "Acceleration_Y", "Acceleration_Z", "Acceleration_RMS", "RollAcceleration",
-                           "PitchAcceleration", "YawAcceleration", "RotationalAcceleration_RMS", "TimeSeconds", "TimeNanoSeconds"))
+ACCELERATION_STATE = (
+    16,
+    (
+        "Acceleration_X",
+        "Acceleration_Y",
+        "Acceleration_Z",
+        "Acceleration_RMS",
+        "RollAcceleration",
+        "PitchAcceleration",
+        "YawAcceleration",
+        "RotationalAcceleration_RMS",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    ),
+)
 VELOCITY_NED_TAG = 2  # VelocityVar: 0 VelocityVehicleXYZRec, 1 VelocityLocalXYZRec, 2 VelocityNEDRec
 COMMS_LOST_POLICIES = {"STOP_MISSION": 0, "CONTINUE_MISSION": 1}  # CommsLostPolicyVar tags we report
 
