@@ -108,7 +108,8 @@ class Auditor:
 
 
 def auditor(scope: Scope) -> Auditor:
-    return scope["app"].state.auditor  # type: ignore[no-any-return]
+    auditor: Auditor = scope["app"].state.auditor  # set by main.create_app
+    return auditor
 
 
 def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str | None = None,

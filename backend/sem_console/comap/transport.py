@@ -8,6 +8,7 @@ import logging
 import socket
 from collections import Counter
 from collections.abc import Callable
+from typing import Any
 
 from sem_console.comap.codec import BROADCAST, Header, ImcError, Message, decode_packet, encode_packet
 
@@ -71,7 +72,7 @@ class _Protocol(asyncio.DatagramProtocol):
     def __init__(self, on_datagram: Callable[[bytes, Addr], None]) -> None:
         self.on_datagram = on_datagram
 
-    def datagram_received(self, data: bytes, addr: tuple) -> None:  # type: ignore[type-arg]
+    def datagram_received(self, data: bytes, addr: tuple[str | Any, int]) -> None:  # asyncio's signature
         self.on_datagram(data, (addr[0], addr[1]))
 
     def error_received(self, exc: Exception) -> None:  # e.g. ICMP port unreachable from a peer that is down

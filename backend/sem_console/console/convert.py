@@ -61,9 +61,9 @@ def _value(v: Any, path: str, invalid: list[str]) -> Any:
         return None
     if isinstance(v, Enum):
         return v.name
-    if is_dataclass(v):
+    if is_dataclass(v) and not isinstance(v, type):  # a sample (not a class)
         enums = _enum_members(type(v))
-        out = {}
+        out: dict[str, Any] = {}
         for f in fields(v):
             member, sub = getattr(v, f.name), f"{path}.{f.name}" if path else f.name
             if f.name in enums and member is not None and not isinstance(member, Enum):

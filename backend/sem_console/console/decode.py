@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cyclonedds.core import InstanceState
+from cyclonedds.idl import IdlStruct
 
 from sem_console.console import fastcdr
 from sem_console.dds.topics import Sem, Service
@@ -72,7 +73,7 @@ class _Route:
     """What `Decoder.decode` needs of a topic, looked up once per sample."""
 
     name: str
-    type: type
+    type: type[IdlStruct]
     fast: fastcdr.TypeDecoder
     report: str | None  # the report's topic name (report topics)
     service: Service | None  # status and ack topics

@@ -40,9 +40,11 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
+from cyclonedds.idl import IdlStruct
+
 from sem_console.console import convert
+from sem_console.dds.cyclone_private import enum_type, type_machine
 from sem_console.dds.cyclone_private import machinery as mc
-from sem_console.dds.cyclone_private import type_machine
 
 log = logging.getLogger("sem-console.ingest")
 MAX_ELEMENTS = convert.MAX_SATELLITES
@@ -88,8 +90,8 @@ def _meet(a: tuple[int, int], b: tuple[int, int]) -> tuple[int, int]:
     return m, a[1] % m
 
 
-def _float_fails(v: float, name: str) -> str:
-    """The condition (Python source) under which `convert` flags the float `v` of member `name`."""
+def _float_fails(v: str, name: str) -> str:
+    """The condition (Python source) under which `convert` flags the float in variable `v` of member `name`."""
     lo_hi = convert.RANGES.get(name)
     if lo_hi:  # NaN fails the comparison too
         return f"not ({lo_hi[0]!r} <= {v} <= {lo_hi[1]!r})"
@@ -211,7 +213,7 @@ class _Gen:
             code, size = ("I", 4) if isinstance(mach, mc.EnumMachine) else (mach.code, mach.size)
             v = self.fixed(code, size, mach.alignment)
             out = self.var()
-            members = {m.value: m for m in mach.enum}  # what Enum(v) looks up (aliases are not members)
+            members = {m.value: m for m in enum_type(mach)}  # what Enum(v) looks up (aliases are not members)
             if not self.json:
                 self.checks.append(f"{out} = {self.const(members, 'E')}.get({v}, {v})")
             elif enum_member:
@@ -467,7 +469,7 @@ class _Gen:
         return out
 
 
-def generate(cls: type, v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
+def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
     """The source of `decode(b)` for `cls` and the names it uses."""
     g = _Gen(v2, little, json)
     expr = g.value(type_machine(cls, v2), "", "")
@@ -483,7 +485,7 @@ _FALLBACK: Any = object()
 class TypeDecoder:
     """The generated decoders of one type, built on first use per encoding, byte order and mode."""
 
-    def __init__(self, cls: type) -> None:
+    def __init__(self, cls: type[IdlStruct]) -> None:
         self.cls = cls
         self._fns: dict[tuple[bool, bool, bool], Any] = {}
         self._lock = threading.Lock()
@@ -516,7 +518,8 @@ class TypeDecoder:
         fn = self._fn(data, True)
         if fn is _FALLBACK:
             return convert.to_json(self.cls.deserialize(data))
-        return fn(data)
+        decoded: tuple[dict[str, Any], list[str]] = fn(data)  # the generated decode(b), JSON mode
+        return decoded
 
     def sample(self, data: bytes) -> Any:
         """`cls.deserialize(data)`, faster."""
@@ -526,10 +529,10 @@ class TypeDecoder:
         return fn(data)
 
 
-_decoders: dict[type, TypeDecoder] = {}
+_decoders: dict[type[IdlStruct], TypeDecoder] = {}
 
 
-def decoder(cls: type) -> TypeDecoder:
+def decoder(cls: type[IdlStruct]) -> TypeDecoder:
     d = _decoders.get(cls)
     if d is None:
         d = _decoders.setdefault(cls, TypeDecoder(cls))

@@ -124,7 +124,7 @@ class Owners:
     def listener(self, **more: Callable[..., None]) -> Listener:
         return Listener(on_subscription_matched=self._on_matched, **more)
 
-    def _on_matched(self, reader: DataReader, status: Any) -> None:
+    def _on_matched(self, reader: DataReader[Any], status: Any) -> None:
         handle = status.last_publication_handle & _U64
         if status.current_count_change > 0:
             self._left.pop(handle, None)
@@ -133,7 +133,7 @@ class Owners:
         elif status.current_count_change < 0:
             self._left[handle] = time.monotonic()
 
-    def learn(self, reader: DataReader, handle: int) -> Via | None:
+    def learn(self, reader: DataReader[Any], handle: int) -> Via | None:
         try:
             data = reader.get_matched_publication_data(handle)
         except Exception as e:  # called from Cyclone's listener thread: never raise there
@@ -144,7 +144,7 @@ class Owners:
         via = self.by_handle[handle] = owner_of(data.qos)
         return via
 
-    def owner(self, reader: DataReader, handle: int) -> Via | None:
+    def owner(self, reader: DataReader[Any], handle: int) -> Via | None:
         """None only for a writer that left before any reader could read its QoS."""
         return self.by_handle.get(handle) or self.learn(reader, handle)
 
@@ -197,19 +197,19 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
-    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader]]:
+    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
         """The three readers of every topic (see the module docstring)."""
         return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
                     on_requested_incompatible_qos=self._on_incompatible(sem, via))))
                 for sem in sems for via in Via]
 
-    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader, Any], None]:
+    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
         accepts any reliability, durability and latency budget, so what it refuses is refused by
         all three: in practice a data representation (an XCDR1 writer of a type with @optional
         members, README "Other DDS vendors"). Logged once per topic and policy."""
 
-        def on(_reader: DataReader, status: Any) -> None:
+        def on(_reader: DataReader[Any], status: Any) -> None:
             if via is not Via.BEST_EFFORT:
                 return
             self.incompatible[sem.spec.name] = status.total_count
@@ -225,7 +225,7 @@ class Ingest:
 
         return on
 
-    def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Item]:
+    def _take(self, sem: Sem, via: Via, reader: DataReader[Any], condition: Any) -> list[Item]:
         """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
         path a replay takes too): a sample that cannot be decoded costs only itself, and the copies
         other readers own are dropped undecoded, so each sample is decoded and applied once."""

@@ -156,7 +156,7 @@ class Console:
             log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
         self._ticker = loop.create_task(self._tick_forever())
         if self.settings.sim:
-            self._start_sim()
+            self._start_sim(self.bus)
 
     async def stop(self, answer_wait: float = 3.0) -> None:
         """Consumer Shutdown Sequence: cancel what is incomplete, then leave the bus.
@@ -204,7 +204,7 @@ class Console:
             await asyncio.gather(self._history_task, return_exceptions=True)
         self.history.close()
 
-    def _start_sim(self) -> None:
+    def _start_sim(self, bus: Bus) -> None:
         from sem_console.sim.provider import InUse, SimOptions, Simulator
 
         stop = [False]
@@ -213,7 +213,7 @@ class Console:
 
         def run() -> None:
             try:
-                sim = Simulator(self.bus, opts)  # looks for its vehicles on the bus first: off the loop
+                sim = Simulator(bus, opts)  # looks for its vehicles on the bus first: off the loop
             except InUse as e:
                 hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
                 log.error("the embedded simulator did not start: %s%s", e, hint)

@@ -44,18 +44,18 @@ class Bus:
         open_domain(domain_id, interface, peers)
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
-        self._topics: dict[Sem, Topic] = {}
+        self._topics: dict[Sem, Topic[Any]] = {}
 
-    def topic(self, sem: Sem) -> Topic:
+    def topic(self, sem: Sem) -> Topic[Any]:
         if sem not in self._topics:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
 
-    def writer(self, sem: Sem) -> DataWriter:
+    def writer(self, sem: Sem) -> DataWriter[Any]:
         return DataWriter(self.participant, self.topic(sem),
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
-    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader:
+    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader[Any]:
         """A reader with the given QoS (else the topic class's), always with the type's data representation."""
         qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
         return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
@@ -65,7 +65,7 @@ class Bus:
         self.participant = None  # type: ignore[assignment]  # entities are deleted with the last reference
 
 
-def all_samples(reader: DataReader) -> ReadCondition:
+def all_samples(reader: DataReader[Any]) -> ReadCondition:
     """Every sample, including disposed and no-writer instances.
 
     cyclonedds-python's plain take/read use this mask already, but its take_iter/read_iter
@@ -75,7 +75,7 @@ def all_samples(reader: DataReader) -> ReadCondition:
     return ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.Any)
 
 
-def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int = 256) -> tuple[list[Any], int]:
+def take_each(reader: DataReader[Any], condition: ReadCondition | None = None, n: int = 256) -> tuple[list[Any], int]:
     """Take every sample (by `condition`, else all, disposes included) and decode each on its own:
     one a Python decoder refuses (a string that is not UTF-8, say) costs only itself. Returns the
     decoded samples (InvalidSample for a dispose) and how many could not be decoded."""

@@ -19,7 +19,8 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable
-from typing import Any
+from enum import Enum
+from typing import Any, cast
 
 from cyclonedds._clayer import ddspy_take, ddspy_write_ts
 from cyclonedds.idl import IdlStruct
@@ -30,7 +31,9 @@ from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-__all__ = ["MACHINE_ATTRIBUTES", "InvalidSample", "machinery", "take_cdr", "type_machine", "wait_for_acks", "write_cdr"]
+__all__ = [
+    "MACHINE_ATTRIBUTES", "InvalidSample", "enum_type", "machinery", "take_cdr", "type_machine", "wait_for_acks", "write_cdr",
+]
 
 # The machine classes console/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
 MACHINE_ATTRIBUTES: dict[type, tuple[str, ...]] = {
@@ -74,9 +77,14 @@ def wait_for_acks(writers: Iterable[DataWriter[Any]], seconds: float) -> bool:
     return ok
 
 
+def enum_type(machine: machinery.EnumMachine | machinery.BitBoundEnumMachine) -> type[Enum]:
+    """The enum class an enum machine reads (cyclonedds annotates the attribute as an Enum; it holds the class)."""
+    return cast("type[Enum]", machine.enum)
+
+
 def type_machine(cls: type[IdlStruct], v2: bool) -> machinery.Machine:
     """The root machine cyclonedds serialises `cls` with: XCDR2 (`v2`) or XCDR1."""
     idl = cls.__idl__
-    idl.populate()  # type: ignore[no-untyped-call]  # cyclonedds' IDL.populate has no annotations
+    idl.populate()
     machine: machinery.Machine = idl.v2_machine if v2 else idl.v1_machine
     return machine

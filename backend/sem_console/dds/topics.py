@@ -38,7 +38,7 @@ def has_optional(t: type) -> bool:
 @dataclass(frozen=True)
 class TopicSpec:
     name: str
-    type: type
+    type: type[IdlStruct]
     cls: TopicClass
 
     @property

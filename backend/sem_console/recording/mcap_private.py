@@ -16,5 +16,5 @@ def record_bytes(record: McapRecord) -> bytes:
     """A record as it goes in the file: opcode, length, fields (the MCAP specification's layout)."""
     builder = RecordBuilder()
     record.write(builder)
-    data: bytes = builder.end()  # type: ignore[no-untyped-call]  # mcap's RecordBuilder.end has no annotations
+    data: bytes = builder.end()
     return data

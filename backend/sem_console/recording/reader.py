@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import logging
 import struct
-from collections.abc import Collection, Iterator
+from collections.abc import Collection, Generator
 from pathlib import Path
 from typing import Any
 
@@ -18,7 +18,7 @@ log = logging.getLogger("sem-console.recording")
 INSTANCES = "sem-console/instances"  # the JSON channel of disposes and lost writers (recorder.py)
 
 
-def iter_messages(path: Path, topics: Collection[str]) -> Iterator[tuple[str, Any]]:
+def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, Any], None, None]:
     """(channel topic, message) of the channels named in `topics`, in log time order; a file without a summary
     (the console stopped on an error or was killed) is read from the start in file order, up to where it is cut
     short (the iterator then raises McapError, OSError or EOFError)."""

@@ -65,11 +65,11 @@ class Replay:
     def __init__(self, bus: Bus, path: Path, speed: float, retime: bool, commands: bool = False) -> None:
         self.bus, self.path, self.speed, self.retime = bus, path, speed, retime
         self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem not in COMMANDS}
-        self.writers: dict[Sem, DataWriter] = {}
+        self.writers: dict[Sem, DataWriter[Any]] = {}
         self.samples = self.disposes = self.unregisters = self.reencoded = self.skipped = 0
         self.stopping = False
 
-    def writer(self, sem: Sem) -> DataWriter:
+    def writer(self, sem: Sem) -> DataWriter[Any]:
         if sem not in self.writers:
             self.writers[sem] = self.bus.writer(sem)
         return self.writers[sem]

@@ -161,7 +161,7 @@ class Simulator:
 
     def handle(self, service: Service, s: Any, now: float, startup: bool) -> None:
         state = s.sample_info.instance_state
-        cmd = s.key_sample if isinstance(s, InvalidSample) else s
+        cmd: Any = s.key_sample if isinstance(s, InvalidSample) else s  # a generated command struct
         try:
             dest, session = from_guid(cmd.destination), from_guid(cmd.sessionID)
         except (TypeError, ValueError):

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 import uuid
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -125,12 +126,14 @@ class ProviderFlow:
         return None
 
     def ack_sample(self, ex: Execution) -> Any:
+        ack: Callable[..., Any] = ex.service.ack.spec.type  # a generated struct takes its members as keywords
         if ex.service is Service.GPS_FIX:
-            return ex.service.ack.spec.type(source=self.source, sessionID=ex.command.sessionID)
-        return ex.service.ack.spec.type(state=ex.command.state, source=self.source, sessionID=ex.command.sessionID)
+            return ack(source=self.source, sessionID=ex.command.sessionID)
+        return ack(state=ex.command.state, source=self.source, sessionID=ex.command.sessionID)
 
     def status_sample(self, ex: Execution, status: Status, reason: Reason, message: str) -> Any:
-        return ex.service.status.spec.type(source=self.source, commandStatus=status, commandStatusReason=reason,
+        status_type: Callable[..., Any] = ex.service.status.spec.type  # as above
+        return status_type(source=self.source, commandStatus=status, commandStatusReason=reason,
                                            logMessage=message[:4095], sessionID=ex.command.sessionID, timeStamp=now_datetime())
 
     def publish_status(self, ex: Execution, status: Status, reason: Reason, message: str) -> None:

@@ -102,7 +102,7 @@ class Sensors:
             referenceConstellationType=self.sky[0].constellation, time=elapsed_ns % 2**31, timeUncertainty=20.0,
         )
         # every listed satellite is above the horizon (in view); whether it is tracked shows in its C/N0
-        return GPSReportType(clock=clock, numberSatellitesInView=len(sats), satellites=sats,
+        return make(GPSReportType, clock=clock, numberSatellitesInView=len(sats), satellites=sats,
                              source=self.source, timeStamp=now_datetime())
 
     def fix_reports(self, now: float, sats: list[GPSSatelliteType]) -> tuple[GPSFixReportType, GPSFixStatusReportType]:
@@ -115,7 +115,8 @@ class Sensors:
             if self.surfacing and self.depth < 0
             else 0.0
         )
-        fix = GPSFixReportType(
+        fix = make(
+            GPSFixReportType,
             altitudeMSL=Altitude_MSL(altitude=self.depth),
             GPSFixCommandStatus=self.fix_state,
             GPSLatLongValid=self.fix_valid,
@@ -132,7 +133,8 @@ class Sensors:
             timeStamp=now_datetime(),
         )
         used_cn0 = sorted((s.antennaCarrierNoiseDensity or 0.0 for s in sats if s.usedInFix), reverse=True)[:11]
-        status = GPSFixStatusReportType(
+        status = make(
+            GPSFixStatusReportType,
             carrierToNoise=used_cn0,
             countDown=max(0, math.ceil(-self.depth / -SUBMERGED_DEPTH_M * self.opts.scaled(self.opts.surface_seconds)))
             if self.surfacing
@@ -151,7 +153,7 @@ class Sensors:
         return fix, status
 
     def ins_report(self, now: float) -> InertialSensorReportType:
-        return InertialSensorReportType(state=self.ins.state, status=self.ins.status(self.t(now)),
+        return make(InertialSensorReportType, state=self.ins.state, status=self.ins.status(self.t(now)),
                                         source=self.source, timeStamp=now_datetime())
 
     def _reschedule(self, sem: Sem, rate: float, now: float) -> None:

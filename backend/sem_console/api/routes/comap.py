@@ -13,7 +13,7 @@ from typing import Any
 from fastapi import APIRouter, HTTPException, Path, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
-from sem_console.api.responses import JSON_BODY, problem
+from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.schemas import ComapStatus, ComapVehicle, SynchRequest, Task, TaskRequest, WorldModel, WorldModelIn
 from sem_console.comap.c2 import TaskError
 from sem_console.comap.codec import MAX_PAYLOAD, encode_payload
@@ -23,7 +23,7 @@ writes = APIRouter(tags=["comap"])
 reads = APIRouter(tags=["comap"])
 TaskId = Path(ge=0, le=0xFFFF, description="the CoMap task id", examples=[1])
 COMAP_OFF = "; or CoMap is off (the console was started without --imc-port)"
-UNKNOWN_TASK = {404: problem("unknown task")}
+UNKNOWN_TASK: Responses = {404: problem("unknown task")}
 
 
 def _features(body: WorldModelIn) -> list[Feature]:

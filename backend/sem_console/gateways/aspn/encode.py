@@ -164,7 +164,10 @@ class Encoder:
         if t is None:
             return []
         when = TypeTimestamp(elapsed_nsec=t)
-        n = lambda path: number(report, invalid, path)  # noqa: E731
+
+        def n(path: str) -> float | None:
+            return number(report, invalid, path)
+
         out: list[tuple[str, Any]] = []
         lat = n("position2DWithTime.geodeticPosition.geodeticLatitude.latitude")
         lon = n("position2DWithTime.geodeticPosition.geodeticLongitude.longitude")

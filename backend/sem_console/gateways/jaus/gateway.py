@@ -103,7 +103,10 @@ def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
     """ReportCommsLostConfiguration 0x4C03's body: CommsLostTimeout u16 s, the policy variant (tag u8, then its
     StopMission or ContinueMission u8, 1), CommsRegainedTimeout u16 s, CommsRegainedBehavior u8. Seconds
     are rounded up to whole seconds (the spec lets an implementation round up to what it supports)."""
-    seconds = lambda v: min(65535, math.ceil(float(v)))  # noqa: E731
+
+    def seconds(v: Any) -> int:
+        return min(65535, math.ceil(float(v)))
+
     return struct.pack("<HBBHB", seconds(config["commsLostTimeout"]), judp.COMMS_LOST_POLICIES[config["policy"]], 1,
                        seconds(config["regainedTime"]), int(config["regainedBehavior"]) & 0xFF)
 

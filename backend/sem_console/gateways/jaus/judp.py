@@ -46,7 +46,7 @@ class FieldType:
 
     def raw(self, value: float) -> int | None:
         """The integer for `value`, or None when it is outside the type's range (the field is then not sent)."""
-        top = 2**self.bits - 1
+        top = (1 << self.bits) - 1  # an int (2**n is typed as int | float)
         if self.lo is None or self.hi is None:
             v = int(value)
             return v if 0 <= v <= top else None
@@ -57,7 +57,7 @@ class FieldType:
     def value(self, raw: int) -> float:
         if self.lo is None or self.hi is None:
             return float(raw)
-        return raw * (self.hi - self.lo) / (2**self.bits - 1) + self.lo
+        return raw * (self.hi - self.lo) / ((1 << self.bits) - 1) + self.lo
 
 
 U32, U16 = 32, 16
