@@ -44,7 +44,8 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
     extra += (f"<property><value><element><name>dds.data_{side}.history.memory_manager.fast_pool.pool_buffer_max_size"
               "</name><value>4096</value></element></value></property>")
     if writer:
-        extra += "<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances></writer_data_lifecycle>"
+        extra += ("<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances>"
+                  "</writer_data_lifecycle>")
     return (f'<{tag}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
             f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
             f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>')
@@ -55,10 +56,16 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
-    pubs = "".join(f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, True, representation)}</data_writer>"
-                   for s in writers)
-    subs = "".join(f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, False, representation)}</data_reader>"
-                   for s in readers)
+    pubs = "".join(
+        f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
+        f"{_endpoint_qos(s, True, representation)}</data_writer>"
+        for s in writers
+    )
+    subs = "".join(
+        f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
+        f"{_endpoint_qos(s, False, representation)}</data_reader>"
+        for s in readers
+    )
     return f"""<?xml version="1.0"?>
 <dds>
 <qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true">
@@ -80,9 +87,9 @@ class RtiParticipant:
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
                  representation: str | None = None, extensibility: str | None = None) -> None:
-        self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
-        self._file.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
-        self._file.close()
+        with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
+            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
+        self._file = f
         self.connector = rti.Connector("Participants::Rti", self._file.name)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
         self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}
