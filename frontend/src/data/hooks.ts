@@ -142,7 +142,7 @@ export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
 
 /** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
  * `throttleMs` when given (text and plots an operator reads need not change at the report's 10 Hz). */
-export function useSelectedTopic(topic: Topic, throttleMs = 0): TopicView | null {
+export function useSelectedTopic<T extends Topic>(topic: T, throttleMs = 0): TopicView<T> | null {
   return useSlice(selectedTopic(topic), throttleMs);
 }
 

@@ -20,8 +20,8 @@ export function FixPanel() {
   const [useDms, setDms] = useDmsSetting();
   const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
   const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
-  const fix = viewReport<"GPSFixReport">(fixView);
-  const st = viewReport<"GPSFixStatusReport">(statusView);
+  const fix = viewReport(fixView);
+  const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
   const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link);
