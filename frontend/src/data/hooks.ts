@@ -1,15 +1,15 @@
 // The only way panels read state: hooks over the store and the connection.
+import { useQueries, useQuery, type UseQueryResult } from "@tanstack/react-query";
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import type { Alarm } from "../api/generated/ws";
-import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Health, type Task } from "../api/rest";
+import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
 import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import { useToken } from "./auth";
 import type { Store } from "./connection";
+import { capabilitiesQuery, comapStatusQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
 import {
-  HISTORY_SECONDS,
-  TRACK_SECONDS,
   allProviders,
   historyLoaded,
   selectedJausId,
@@ -242,17 +242,7 @@ export function useSelectionGap(): "no-vehicle" | "select" | null {
 
 /** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
 export function useConsoleHealth(): Health | null {
-  const [value, setValue] = useState<Health | null>(null);
-  useEffect(() => {
-    let current = true;
-    health()
-      .then((h) => current && setValue(h))
-      .catch(() => undefined); // the console is unreachable: nothing to say of its network
-    return () => {
-      current = false;
-    };
-  }, []);
-  return value;
+  return useQuery(healthQuery()).data ?? null; // unreachable: nothing to say of its network
 }
 
 /** The data source's time in UTC seconds (the wall clock live, the recording's in a replay), refreshed every
@@ -303,6 +293,15 @@ export function useGateways(): GatewayState[] {
 
 const NO_HISTORY: HistoryPoint[] = [];
 
+/** Runs `apply` once for each new answer of a query (the current key's only: an answer for an earlier key, such as
+ * a replay's earlier instant, is never given). */
+function useEachAnswer<T>(result: UseQueryResult<T>, apply: (data: T) => void): void {
+  const { data } = result;
+  useEffect(() => {
+    if (data !== undefined) apply(data);
+  }, [data]); // eslint-disable-line react-hooks/exhaustive-deps -- once per answer, whatever `apply` closes over
+}
+
 /** A vehicle's chart history: what the console kept (loaded over REST when the vehicle is selected,
  * shown or reconnected, so a reload does not start empty), then the live points appended. */
 export function useHistory(providerId: string | null): HistoryPoint[] {
@@ -311,21 +310,9 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant); // a replay's seek: the history up to the new instant
-  useEffect(() => {
-    if (!providerId || !known || !live) return;
-    let current = true;
-    const since = new Date((source.now() - HISTORY_SECONDS) * 1000).toISOString();
-    series(providerId, since, token)
-      .then((points) => {
-        if (!current) return;
-        const loaded = points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
-        store.update((s) => historyLoaded(s, providerId, loaded));
-      })
-      .catch(() => undefined); // no history (yet): the chart fills from live data
-    return () => {
-      current = false;
-    };
-  }, [providerId, known, live, token, store, source, instant]);
+  const loaded = useQuery({ ...seriesQuery(providerId ?? "", token, instant, source.now), enabled: !!providerId && known && live });
+  // no history (yet), an error: the chart fills from live data
+  useEachAnswer(loaded, (points) => providerId && store.update((s) => historyLoaded(s, providerId, points)));
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }
 
@@ -334,61 +321,47 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 export function useTrackedProviders(throttleMs = 0): ProviderView[] {
   const { store, source } = useData();
   const providers = useProvidersAtMost(throttleMs);
-  const ids = providers.map((p) => p.id).join(",");
+  const idList = providers.map((p) => p.id).join(",");
+  const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);
+  const answers = useQueries({
+    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live })),
+    combine: (results) => results.map((r) => r.data),
+  });
   useEffect(() => {
-    if (!live || !ids) return;
-    let current = true;
-    const since = new Date((source.now() - TRACK_SECONDS) * 1000).toISOString();
-    for (const id of ids.split(",")) {
-      track(id, since, token)
-        .then((points) => {
-          if (!current) return;
-          const loaded = points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
-          store.update((s) => trackLoaded(s, id, loaded));
-        })
-        .catch(() => undefined); // no stored track (yet): the map draws the live one
-    }
-    return () => {
-      current = false;
-    };
-  }, [ids, live, token, store, source, instant]);
+    // each answer once (an answer is a new array): no stored track (yet), an error: the map draws the live one
+    answers.forEach((points, i) => {
+      if (points && !merged.has(points)) {
+        merged.add(points);
+        store.update((s) => trackLoaded(s, ids[i], points));
+      }
+    });
+  }, [answers, ids, store]);
   return providers;
 }
 
-/** Once per connection (a reload, a reconnect): what the console holds now, over REST; the WebSocket's
- * messages keep it current from then on. */
-function useLoadOnConnect(load: (token: string | null, store: Store) => Promise<void>): void {
+const merged = new WeakSet<object>(); // the track answers merged into the store
+
+/** The CoMap world model (WebSocket `worldmodel` messages, after one REST load per connection); null while the
+ * console has none (404: CoMap is off). */
+export function useWorldModel(): FeatureCollection | null {
   const { store } = useData();
   const token = useToken();
   const live = useConnectionState() === "live";
-  useEffect(() => {
-    if (live) load(token, store).catch(() => undefined); // none (yet): the messages fill it
-  }, [load, token, live, store]);
-}
-
-const loadWorldModel = async (token: string | null, store: Store) => {
-  const seq = store.getState().worldModelSeq;
-  const model = await worldModel(token);
-  store.update((s) => worldModelLoaded(s, model, seq));
-};
-const loadTasks = async (token: string | null, store: Store) => {
-  const seq = store.getState().taskSeq;
-  const list = await tasks(token);
-  store.update((s) => tasksReplaced(s, list, seq));
-};
-
-/** The CoMap world model (WebSocket `worldmodel` messages); null while the console has none (404: CoMap is off). */
-export function useWorldModel(): FeatureCollection | null {
-  useLoadOnConnect(loadWorldModel);
+  const loaded = useQuery({ ...worldModelQuery(token, () => store.getState().worldModelSeq), enabled: live });
+  useEachAnswer(loaded, ({ value, seq }) => store.update((s) => worldModelLoaded(s, value, seq)));
   return useSelector((s) => s.worldModel);
 }
 
-/** The CoMap tasks and their state (WebSocket `task` messages), newest first. */
+/** The CoMap tasks and their state (WebSocket `task` messages, after one REST load per connection), newest first. */
 export function useTasks(): Task[] {
-  useLoadOnConnect(loadTasks);
+  const { store } = useData();
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  const loaded = useQuery({ ...tasksQuery(token, () => store.getState().taskSeq), enabled: live });
+  useEachAnswer(loaded, ({ value, seq }) => store.update((s) => tasksReplaced(s, value, seq)));
   const byId = useSelector((s) => s.tasks);
   return useMemo(() => Object.values(byId).sort((a, b) => b.createdAt - a.createdAt), [byId]);
 }
@@ -399,35 +372,19 @@ export function useTasks(): Task[] {
 export function useVehicleCapabilities(providerId: string | null, periodMs = 5000): ComapVehicle | null {
   const token = useToken();
   const live = useConnectionState() === "live";
-  const [value, setValue] = useState<{ id: string; caps: ComapVehicle } | null>(null);
-  useEffect(() => {
-    if (!live || !providerId) return;
-    let current = true;
-    const ask = () =>
-      vehicleCapabilities(providerId, token)
-        .then((caps) => current && setValue({ id: providerId, caps }))
-        .catch(() => undefined); // kept as it was; asked again
-    void ask();
-    const t = setInterval(ask, periodMs);
-    return () => {
-      current = false;
-      clearInterval(t);
-    };
-  }, [providerId, token, live, periodMs]);
-  return value && value.id === providerId ? value.caps : null;
+  const { data } = useQuery({ ...capabilitiesQuery(providerId ?? "", token, periodMs), enabled: live && !!providerId });
+  return providerId ? (data ?? null) : null;
+}
+
+/** The console's IMC node, asked once per connection: null while unknown, "absent" for a console without
+ * CoMap routes (404). */
+export function useComapStatus(): ComapStatus | "absent" | null {
+  const token = useToken();
+  const live = useConnectionState() === "live";
+  return useQuery({ ...comapStatusQuery(token), enabled: live }).data ?? null;
 }
 
 /** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
 export function useChartConfigured(): boolean {
-  const [configured, setConfigured] = useState(false);
-  useEffect(() => {
-    let current = true;
-    health()
-      .then((h) => current && setConfigured(h.basemap === true))
-      .catch(() => undefined);
-    return () => {
-      current = false;
-    };
-  }, []);
-  return configured;
+  return useConsoleHealth()?.basemap === true;
 }
