@@ -10,7 +10,8 @@ import { createTask, problemText, putWorldModel, synchTask, type Capability, typ
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useComapStatus, useSelectedVehicle, useSelector, useTasks, useVehicleCapabilities } from "../data/hooks";
+import { useCapabilities, useSelectedVehicle, useSelector } from "../data/hooks";
+import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import type { State } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";

@@ -1,6 +1,7 @@
 import { Field, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useHistory, useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
