@@ -440,7 +440,8 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     --auth-reads so every route checks its token. One check is left out: use_after_free expects a
     GET after DELETE to be a 404, but DELETE /api/commands/{id} is a cancel request and the command
     stays in the history (by design)."""
-    sim("--vehicles", "2", "--surface-seconds", "400")
+    # vehicle 2's INS has failed: alarm 1 (the OpenAPI example of an alarm id) exists, so its acknowledgement is exercised
+    sim("--vehicles", "2", "--surface-seconds", "400", "--fault", "ins-failure:2")
     (tmp_path / "chart.pmtiles").write_bytes(
         b"PMTiles\x03" + bytes(2000)
     )  # served as it is: GET /api/basemap.pmtiles answers 200
@@ -449,6 +450,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
                 env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     auth = {"Authorization": "Bearer s3cret"}
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
+    wait_until(lambda: any(a["id"] == 1 for a in httpx.get(f"{c.url}/api/alarms", headers=auth).json()), 20, "alarm 1")
     # CoMap data for the routes that read it: feature 1, task 1 (the OpenAPI example of a task id)
     point = {"type": "Feature", "geometry": {"type": "Point", "coordinates": [-75.7, 36.8]}, "properties": {"featureId": 1}}
     assert (
