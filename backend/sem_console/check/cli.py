@@ -4,12 +4,14 @@ JUnit report for CI. See docs/sem-check.md."""
 from __future__ import annotations
 
 import argparse
+import signal
 import sys
+import traceback
 import uuid
 from pathlib import Path
 from typing import Callable
 
-from sem_console.check.runner import Options, all_names, run
+from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
 from sem_console.core.config import Settings
 
 
@@ -74,6 +76,11 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _terminated(_signum: int, _frame: object) -> None:
+    print("sem-check: terminated: nothing more is tested", file=sys.stderr, flush=True)
+    raise SystemExit(COULD_NOT_TEST)
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.list:
@@ -86,7 +93,17 @@ def main(argv: list[str] | None = None) -> int:
         skip=[n for group in args.skip for n in group], record=args.record, window=args.window, max_gap=args.max_gap,
         clock_offset=args.clock_offset, step_time=args.step_time, execute_time=args.execute_time,
         interface=settings.dds_interface, peers=settings.dds_peers)
-    return run(opts)
+    # A CI job that is canceled or times out gets SIGTERM: leave as on Ctrl-C, through the finally
+    # blocks, so every command sent is disposed (Service Consumer Shutdown, ICD 4.1.6.2).
+    previous = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        return run(opts)
+    except Exception:  # noqa: BLE001 (a crash is not a test failure: exit 1 would tell CI the vehicle failed)
+        traceback.print_exc()
+        print("sem-check: could not test: internal error (above)", file=sys.stderr)
+        return COULD_NOT_TEST
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":
