@@ -15,9 +15,10 @@ import time
 import typing
 import uuid
 import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any
 
 import pytest
 import xmlschema
@@ -32,6 +33,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as CmdReason
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
 from sem_console.check import junit
 from sem_console.check.cli import main
 from sem_console.check.results import Case, Outcome, summary
@@ -323,7 +325,8 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
     assert run.code == 1
     bad = failed(run)
-    assert "BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it (ICD 4.2.1" in bad["discovery.GPSFixStatusReport"]
+    assert ("BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it (ICD 4.2.1"
+            in bad["discovery.GPSFixStatusReport"])
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
@@ -427,7 +430,7 @@ def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path
     try:
         from rti.connector import RtiParticipant
         from test_interop_rti import RtiVehicle
-    except Exception as e:  # noqa: BLE001 (the connector's native library may not load here)
+    except Exception as e:  # the connector's native library may not load here
         pytest.skip(f"RTI Connext's connector cannot load: {e}")
     p = RtiParticipant(domain, writers=RTI_SERVES, readers=COMMAND_TOPICS)
     v = RtiVehicle(p)

@@ -8,8 +8,8 @@ import signal
 import sys
 import traceback
 import uuid
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
 from sem_console.core.config import Settings
@@ -50,9 +50,11 @@ def build_parser() -> argparse.ArgumentParser:
         "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
         "the topics it serves (types, keys, QoS), its reports and, with --commands, the command flow of "
         "section 4.1 and Figure 4. Read-only unless --commands is given. Exit code 0: all passed, 1: a test "
-        "failed, 2: could not test. DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say otherwise."))
+        "failed, 2: could not test. DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say "
+        "otherwise."))
     p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
-    p.add_argument("--provider", type=_guid, default=None, help="the provider's source GUID; needed when several providers are on the domain")
+    p.add_argument("--provider", type=_guid, default=None,
+                   help="the provider's source GUID; needed when several providers are on the domain")
     p.add_argument("--commands", action="store_true", help=(
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
         "commands; what will be sent is printed first. Without it no command writer is created"))
@@ -61,10 +63,14 @@ def build_parser() -> argparse.ArgumentParser:
         "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
     p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
         "run only these tests: comma separated names, dotted prefixes (reports, commands.GPSFix) or globs (*.values)"))
-    p.add_argument("--skip", type=_names, action="append", default=[], metavar="NAMES", help="leave these tests out (same forms as --only)")
-    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap", help="record every sample of the run to an MCAP file as evidence")
-    p.add_argument("--window", type=_ranged(0.5, 3600), default=d.window, metavar="S", help="seconds of reports watched before they are judged (default: %(default)s)")
-    p.add_argument("--max-gap", type=_ranged(0.01, 3600), default=d.max_gap, metavar="S", help="longest a report topic may go without a report (default: %(default)s)")
+    p.add_argument("--skip", type=_names, action="append", default=[], metavar="NAMES",
+                   help="leave these tests out (same forms as --only)")
+    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap",
+                   help="record every sample of the run to an MCAP file as evidence")
+    p.add_argument("--window", type=_ranged(0.5, 3600), default=d.window, metavar="S",
+                   help="seconds of reports watched before they are judged (default: %(default)s)")
+    p.add_argument("--max-gap", type=_ranged(0.01, 3600), default=d.max_gap, metavar="S",
+                   help="longest a report topic may go without a report (default: %(default)s)")
     p.add_argument("--clock-offset", type=_ranged(0.001, 3600), default=d.clock_offset, metavar="S", help=(
         "largest difference between a report's timeStamp and the checker's clock on arrival (default: %(default)s)"))
     p.add_argument("--step-time", type=_ranged(0.01, 3600), default=d.step_time, metavar="S", help=(
@@ -98,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
     previous = signal.signal(signal.SIGTERM, _terminated)
     try:
         return run(opts)
-    except Exception:  # noqa: BLE001 (a crash is not a test failure: exit 1 would tell CI the vehicle failed)
+    except Exception:  # a crash is not a test failure: exit 1 would tell CI the vehicle failed
         traceback.print_exc()
         print("sem-check: could not test: internal error (above)", file=sys.stderr)
         return COULD_NOT_TEST

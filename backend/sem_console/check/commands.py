@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable, TextIO
+from typing import Any, TextIO
 
 from cyclonedds.pub import DataWriter
 
@@ -47,6 +48,9 @@ class CommandLimits:
 
 
 SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
+
+# Where the ICD has the provider take a step of the successful path after ISSUED
+STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
 
 
 def names() -> list[str]:
@@ -74,13 +78,14 @@ class Sent:
     breaches_reported: int = 0  # of flow.violations, those already failed a case
 
     def when(self, status: Status) -> float | None:
-        for t, at in zip(self.flow.transitions, self.at):
+        for t, at in zip(self.flow.transitions, self.at, strict=True):
             if t.status is status:
                 return at
         return None
 
     def story(self) -> str:
-        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s" for t, at in zip(self.flow.transitions, self.at)]
+        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s"
+                 for t, at in zip(self.flow.transitions, self.at, strict=True)]
         return ", ".join(steps) or "no status"
 
 
@@ -90,10 +95,10 @@ class Consumer:
     def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO) -> None:
         self.observer, self.provider, self.limits, self.out = observer, provider, limits, out
         self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
-        self.writers: dict[Service, DataWriter] = {}
+        self.writers: dict[Service, DataWriter[Any]] = {}
         self.sent: list[Sent] = []
 
-    def writer(self, service: Service) -> DataWriter | None:
+    def writer(self, service: Service) -> DataWriter[Any] | None:
         """The service's command writer, once it matched a reader of the provider's participants."""
         if service not in self.writers:
             self.writers[service] = self.observer.bus.writer(service.command)
@@ -104,7 +109,7 @@ class Consumer:
             for h in w.get_matched_subscriptions():
                 try:
                     data = w.get_matched_subscription_data(h)
-                except Exception:  # noqa: BLE001 (a reader that just left)
+                except Exception:  # a reader that just left
                     continue
                 if data is not None and data.participant_key in participants:
                     return True
@@ -112,7 +117,7 @@ class Consumer:
 
         return w if self.observer.wait(matched, self.limits.answer) else None
 
-    def send(self, service: Service, writer: DataWriter, state: InsState | None = None) -> Sent:
+    def send(self, service: Service, writer: DataWriter[Any], state: InsState | None = None) -> Sent:
         session = uuid.uuid4()
         values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(self.provider),
                                       sessionID=to_guid(session), timeStamp=now_datetime())
@@ -154,7 +159,11 @@ class Consumer:
         sent.seen = (len(statuses), len(acks))
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
-        return self.observer.wait(lambda: (self.update(sent), predicate())[1], seconds)
+        def fed() -> bool:
+            self.update(sent)
+            return predicate()
+
+        return self.observer.wait(fed, seconds)
 
     def close(self) -> None:
         """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
@@ -187,13 +196,18 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
         if sent.disposed_at is not None:
             limit, since, what = limits.step, sent.disposed_at, "CANCELED after the consumer's dispose (ICD 4.1.4.4)"
         elif status is Status.EXECUTING:
-            limit, since, what = limits.execute, sent.at[-1], "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)"
+            limit, since, what = (limits.execute, sent.at[-1],
+                                  "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)")
         else:
             step = SUCCESS_NEXT.get(status)
-            ref = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}.get(step, "ICD 4.1, Figure 4")
+            ref = STEP_REF.get(step, "ICD 4.1, Figure 4")
             limit, since, what = limits.step, sent.at[-1], f"{name(step)} after {name(status)} ({ref})"
         remaining = since + limit - time.time()
-        if not consumer.wait(sent, lambda n=n: len(sent.flow.transitions) > n, max(remaining, 0.0)):
+
+        def moved(n: int = n) -> bool:
+            return len(sent.flow.transitions) > n
+
+        if not consumer.wait(sent, moved, max(remaining, 0.0)):
             case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}")
             break
     breaches(sent, case)
@@ -243,7 +257,8 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
         return sent.status_disposed and (sent.ack_disposed or not need_ack)
 
     if not consumer.wait(sent, done, consumer.limits.step):
-        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed), (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
+        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
+                                          (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
         case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
                   f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)")
     else:

@@ -11,7 +11,7 @@ compliance is per service (ICD 3.2).
 from __future__ import annotations
 
 import uuid
-from typing import Any
+from typing import Any, cast
 
 from cyclonedds.builtin_types import DcpsEndpoint
 from cyclonedds.core import DDSException, Policy, Qos
@@ -34,8 +34,9 @@ def name(sem: Sem) -> str:
 
 
 def _policy(qos: Qos, policy: Any) -> Any:
+    """The QoS's policy of this kind (Qos[...] gives None for a kind the QoS does not set)."""
     try:
-        return qos[policy] if policy in qos else None
+        return qos[policy]
     except (KeyError, TypeError):
         return None
 
@@ -46,7 +47,8 @@ def _common_problems(qos: Qos, ref: str) -> list[str]:
         problems.append(f"EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it ({ref})")
     partition = _policy(qos, Policy.Partition)
     if partition is not None and [p for p in partition.partitions if p]:
-        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it ({ref})")
+        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it "
+                        f"({ref})")
     return problems
 
 
@@ -111,11 +113,16 @@ class TypeCheck:
         self._resolved: dict[bytes, type | str] = {}
 
     def _resolve(self, endpoint: DcpsEndpoint) -> type | str:
-        key = endpoint.type_id.serialize()
+        type_id = endpoint.type_id
+        if type_id is None:  # check() says so before it asks
+            return "it sent no type information"
+        key = type_id.serialize()
         if key not in self._resolved:
             try:
-                self._resolved[key] = get_types_for_typeid(self.observer.bus.participant, endpoint.type_id, RESOLVE_TIMEOUT)[0]
-            except (DDSException, Exception) as e:  # noqa: BLE001 (any failure means: not resolvable)
+                # cyclonedds annotates the type as an instance; it is the class (its docstring: "IdlStruct subclass")
+                resolved = get_types_for_typeid(self.observer.bus.participant, type_id, RESOLVE_TIMEOUT)[0]
+                self._resolved[key] = cast("type", resolved)
+            except (DDSException, Exception) as e:  # any failure means: not resolvable
                 self._resolved[key] = f"its type object could not be resolved ({e})"
         return self._resolved[key]
 

@@ -45,7 +45,7 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
         cases = [Case("setup")]
     errors = 1 if error is not None else 0
     root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, errors, seconds, skipped=False)})
-    started = started or dt.datetime.now(dt.timezone.utc)
+    started = started or dt.datetime.now(dt.UTC)
     suite = ET.SubElement(root, "testsuite", {
         "name": SUITE, **_attrs(cases, errors, seconds),
         "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(), "hostname": socket.gethostname()})

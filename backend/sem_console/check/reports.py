@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import math
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from itertools import pairwise
+from typing import Any
 
 from sem_console.check import icd
 from sem_console.check.observe import REPORTS, Observer, Report
@@ -57,7 +59,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
         case.fail(f"no {topic} from the provider within {end - start:.1f} s (ICD 4.2.1: the provider publishes its reports)")
         return
     arrivals = [start] + [r.received for r in live if r.received <= end] + [end]
-    gap = max(b - a for a, b in zip(arrivals, arrivals[1:]))
+    gap = max(b - a for a, b in pairwise(arrivals))
     rate = (len(arrivals) - 2) / max(end - start, 1e-9)
     offsets: list[float] = []
     last: dict[int, float] = {}
@@ -164,12 +166,14 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
     bad_samples = 0
     for r in live:
         assert r.body is not None
-        found = [_icd_ref(p) for p in r.invalid]
-        found.append(_guid_problem(r.body.get("source"), "source"))  # type: ignore[arg-type]
-        found += _MORE.get(sem, lambda *_: [])(r.body, r, limits)
-        found = [p for p in found if p]
-        bad_samples += bool(found)
-        for p in found:
+        found: list[str | None] = [_icd_ref(p) for p in r.invalid]
+        found.append(_guid_problem(r.body.get("source"), "source"))
+        extra = _MORE.get(sem)
+        if extra is not None:
+            found += extra(r.body, r, limits)
+        kept = [p for p in found if p]
+        bad_samples += bool(kept)
+        for p in kept:
             problems.setdefault(p, None)
     if problems:
         listed = list(problems)
@@ -189,7 +193,7 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
     for sem in REPORTS:
         service = icd.SERVICE_OF[sem].name
         samples = observer.reports.get(sem, {}).get(provider, [])
-        for test, check in zip(names(sem), ("timing", "values")):
+        for test, check in zip(names(sem), ("timing", "values"), strict=True):
             if not selected(test):
                 continue
             case = Case(test)

@@ -30,7 +30,7 @@ class Case:
     def group(self) -> str:
         return self.name.split(".", 1)[0]
 
-    def fail(self, reason: str) -> "Case":
+    def fail(self, reason: str) -> Case:
         """The first failure stays the reason (later ones become notes): it is usually the cause."""
         if self.outcome is Outcome.FAILED:
             self.notes.append(f"also: {reason}")
@@ -38,7 +38,7 @@ class Case:
             self.outcome, self.reason = Outcome.FAILED, reason
         return self
 
-    def skip(self, reason: str) -> "Case":
+    def skip(self, reason: str) -> Case:
         """A failure already found stays the outcome: skipping the rest must not hide it."""
         if self.outcome is Outcome.FAILED:
             self.notes.append(f"then not tested further: {reason}")
@@ -46,7 +46,7 @@ class Case:
             self.outcome, self.reason = Outcome.SKIPPED, reason
         return self
 
-    def caveat(self, text: str) -> "Case":
+    def caveat(self, text: str) -> Case:
         """Part of the test could not be done (the case can still pass): shown as its reason on the
         terminal, so a pass never hides what was not checked."""
         self.notes.append(text)
@@ -54,7 +54,7 @@ class Case:
             self.reason = text
         return self
 
-    def note(self, text: str) -> "Case":
+    def note(self, text: str) -> Case:
         self.notes.append(text)
         return self
 

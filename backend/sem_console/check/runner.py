@@ -119,7 +119,7 @@ class Evidence:
 
 def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
     out, err = out or sys.stdout, err or sys.stderr
-    started, t0 = dt.datetime.now(dt.timezone.utc), time.monotonic()
+    started, t0 = dt.datetime.now(dt.UTC), time.monotonic()
     selection = Selection(opts.only, opts.skip)
     names = all_names()
     properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
@@ -176,7 +176,8 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
         cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection)
         if opts.commands:
-            consumer = commands.Consumer(observer, provider, commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time), out)
+            command_limits = commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time)
+            consumer = commands.Consumer(observer, provider, command_limits, out)
             lines = commands.plan(consumer, offered, selection)
             if lines:
                 print(f"sem-check: sending to provider {provider}:", file=out)
