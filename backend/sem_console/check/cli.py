@@ -8,23 +8,11 @@ import signal
 import sys
 import traceback
 import uuid
-from collections.abc import Callable
 from pathlib import Path
 
 from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
+from sem_console.core.command_line import ranged
 from sem_console.core.config import Settings
-
-
-def _ranged(lo: float, hi: float) -> Callable[[str], float]:
-    def parse(text: str) -> float:
-        try:
-            value = float(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
-        if not lo <= value <= hi:
-            raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
-        return value
-    return parse
 
 
 def _domain(text: str) -> int:
@@ -59,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
         "commands; what will be sent is printed first. Without it no command writer is created"))
     p.add_argument("--junit", type=Path, default=None, metavar="FILE", help="write a JUnit XML report to FILE")
-    p.add_argument("--timeout", type=_ranged(0.1, 3600), default=d.timeout, metavar="S", help=(
+    p.add_argument("--timeout", type=ranged(float, 0.1, 3600), default=d.timeout, metavar="S", help=(
         "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
     p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
         "run only these tests: comma separated names, dotted prefixes (reports, commands.GPSFix) or globs (*.values)"))
@@ -67,16 +55,16 @@ def build_parser() -> argparse.ArgumentParser:
                    help="leave these tests out (same forms as --only)")
     p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap",
                    help="record every sample of the run to an MCAP file as evidence")
-    p.add_argument("--window", type=_ranged(0.5, 3600), default=d.window, metavar="S",
+    p.add_argument("--window", type=ranged(float, 0.5, 3600), default=d.window, metavar="S",
                    help="seconds of reports watched before they are judged (default: %(default)s)")
-    p.add_argument("--max-gap", type=_ranged(0.01, 3600), default=d.max_gap, metavar="S",
+    p.add_argument("--max-gap", type=ranged(float, 0.01, 3600), default=d.max_gap, metavar="S",
                    help="longest a report topic may go without a report (default: %(default)s)")
-    p.add_argument("--clock-offset", type=_ranged(0.001, 3600), default=d.clock_offset, metavar="S", help=(
+    p.add_argument("--clock-offset", type=ranged(float, 0.001, 3600), default=d.clock_offset, metavar="S", help=(
         "largest difference between a report's timeStamp and the checker's clock on arrival (default: %(default)s)"))
-    p.add_argument("--step-time", type=_ranged(0.01, 3600), default=d.step_time, metavar="S", help=(
+    p.add_argument("--step-time", type=ranged(float, 0.01, 3600), default=d.step_time, metavar="S", help=(
         "seconds allowed for each command step after ISSUED (COMMANDED, EXECUTING, the ack, CANCELED after a cancel, "
         "the disposes of the cleanup) (default: %(default)s)"))
-    p.add_argument("--execute-time", type=_ranged(0.01, 86400), default=d.execute_time, metavar="S", help=(
+    p.add_argument("--execute-time", type=ranged(float, 0.01, 86400), default=d.execute_time, metavar="S", help=(
         "seconds allowed from EXECUTING to COMPLETED (surfacing, INS alignment) (default: %(default)s)"))
     p.add_argument("--list", action="store_true", help="print the test names and exit")
     return p

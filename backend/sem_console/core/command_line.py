@@ -1,9 +1,12 @@
-"""What the three commands' argument parsers share (`sem-console`, `sem-sim`, `sem-replay`)."""
+"""What the commands' argument parsers share (`sem-console`, `sem-sim`, `sem-replay`, `sem-check`)."""
 
 from __future__ import annotations
 
 import argparse
-from typing import NoReturn
+from collections.abc import Callable
+from typing import NoReturn, TypeVar
+
+N = TypeVar("N", int, float)
 
 
 class Parser(argparse.ArgumentParser):
@@ -11,3 +14,16 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def ranged(kind: Callable[[str], N], lo: float, hi: float) -> Callable[[str], N]:
+    """An argument type: `kind` of the text, within lo..hi, else a one-line error naming the range."""
+    def parse(text: str) -> N:
+        try:
+            value = kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        if not lo <= value <= hi:
+            raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
+        return value
+    return parse
