@@ -11,7 +11,7 @@ import uuid
 from pathlib import Path
 
 from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
-from sem_console.core.command_line import ranged
+from sem_console.core.command_line import Parser, ranged
 from sem_console.core.config import Settings
 
 
@@ -34,7 +34,7 @@ def _names(text: str) -> list[str]:
 
 def build_parser() -> argparse.ArgumentParser:
     d = Options()
-    p = argparse.ArgumentParser(prog="sem-check", description=(
+    p = Parser(prog="sem-check", description=(
         "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
         "the topics it serves (types, keys, QoS), its reports and, with --commands, the command flow of "
         "section 4.1 and Figure 4. Read-only unless --commands is given. Exit code 0: all passed, 1: a test "
