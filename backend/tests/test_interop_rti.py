@@ -11,6 +11,7 @@ RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors")
 from __future__ import annotations
 
 import math
+import subprocess
 import random
 import time
 import uuid
@@ -20,6 +21,7 @@ import httpx
 import pytest
 
 from rti.connector import RtiParticipant
+from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.topics import Sem, Service
@@ -45,15 +47,54 @@ def same(a: Any, b: Any) -> bool:
     return a == b
 
 
-@pytest.fixture
-def rti() -> Any:
-    made: list[RtiParticipant] = []
+@pytest.fixture(scope="session")
+def connext7() -> None:
+    """Connext 7.x (the npm Connector's native libraries), fetched once; skipped when it cannot be had."""
+    try:
+        connector7()
+    except (RuntimeError, OSError, subprocess.SubprocessError) as e:
+        pytest.skip(f"Connext 7 unavailable: {e}")
 
-    def make(domain: int, **kw: Any) -> RtiParticipant:
-        p = RtiParticipant(domain, **kw)
+
+def _factory(version: str, request: pytest.FixtureRequest) -> Any:
+    made: list[Any] = []
+
+    def make(domain: int, **kw: Any) -> Any:
+        if version == "7":
+            request.getfixturevalue("connext7")
+            # Connext 7 sends XTypes 1.3 type information that Cyclone cannot use, and then matches
+            # nothing (test_connext7_on_defaults_matches_no_sem_topic): the one setting it always needs.
+            kw.setdefault("type_object_max", 0)
+            p: Any = RemoteParticipant(domain, **kw)
+        else:
+            kw.pop("env", None)  # 6.1.2 reads no NDDS_XTYPES_COMPLIANCE_MASK
+            p = RtiParticipant(domain, **kw)
         made.append(p)
         return p
 
+    return made, make
+
+
+@pytest.fixture(params=["6", "7"], ids=["connext6.1.2", "connext7.7"])
+def rti(request: pytest.FixtureRequest) -> Any:
+    """An RTI participant factory, once with Connext 6.1.2 (in this process) and once with 7.7 (a child process)."""
+    made, make = _factory(request.param, request)
+    yield make
+    for p in made:
+        p.close()
+
+
+@pytest.fixture
+def rti6(request: pytest.FixtureRequest) -> Any:
+    made, make = _factory("6", request)
+    yield make
+    for p in made:
+        p.close()
+
+
+@pytest.fixture
+def rti7(request: pytest.FixtureRequest) -> Any:
+    made, make = _factory("7", request)
     yield make
     for p in made:
         p.close()
@@ -95,13 +136,13 @@ def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiPar
             assert any(same(to_plain(x), g) for g in got), (s.spec.name, to_plain(x))
 
 
-def test_optional_member_topics_are_not_matched_in_xcdr1(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_optional_member_topics_are_not_matched_in_xcdr1(rti6: Callable[..., RtiParticipant], domain: int) -> None:
     """RTI's default XCDR1 GPSReport/GPSFixReport endpoints do not match ours: nothing is exchanged in
     the one representation whose optional-member layout the two vendors read differently."""
     optional = [s for s in Sem if s.spec.xcdr2_only]
     readers = {s: Bus(domain).reader(s) for s in optional}  # each in a participant of its own,
     writers = {s: Bus(domain).writer(s) for s in optional}  # so a reader matches our writer only
-    p = rti(domain, writers=optional, readers=optional)
+    p = rti6(domain, writers=optional, readers=optional)
     time.sleep(2)  # discovery on loopback takes well under a second (the tests above)
     for s in optional:
         assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
@@ -114,7 +155,7 @@ def test_optional_member_topics_are_not_matched_in_xcdr1(rti: Callable[..., RtiP
 class RtiVehicle:
     """A UMAA provider on RTI Connext: INS and fix-status reports, and the command flow of both services."""
 
-    def __init__(self, p: RtiParticipant) -> None:
+    def __init__(self, p: Any) -> None:
         self.p = p
         self.guid = uuid.uuid4()
         self.handled: set[bytes] = set()
@@ -126,7 +167,7 @@ class RtiVehicle:
         stamp = {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}
         src = list(self.guid.bytes)
         self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
-        if Sem.GPS_FIX_REPORT in self.p.outputs:  # RTI's default XCDR1: must not reach the console
+        if Sem.GPS_FIX_REPORT in self.p.writers:  # RTI's default XCDR1: must not reach the console
             self.p.write(Sem.GPS_FIX_REPORT, {
                 "altitudeMSL": {"altitude": 0.5}, "GPSFixCommandStatus": 2, "GPSLatLongValid": True, "magneticVariation": -0.17,
                 "position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85},
@@ -241,7 +282,7 @@ def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None
     return cmd
 
 
-def _statuses(p: RtiParticipant, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
+def _statuses(p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
     for x, state in p.take(service.status):
         if x is None:
             seen.append((None, state))
@@ -289,11 +330,11 @@ def test_rti_consumer_cancels_by_dispose(rti: Callable[..., RtiParticipant], sim
     assert [s for s, _ in seen if s] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
 
 
-def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti6: Callable[..., RtiParticipant], domain: int) -> None:
     """README's recipe for an RTI vehicle's position: GPSFixReport in XCDR2 with the type final."""
     s = Sem.GPS_FIX_REPORT
     reader, writer = Bus(domain).reader(s), Bus(domain).writer(s)
-    p = rti(domain, writers=[s], readers=[s], representation="XCDR2_DATA_REPRESENTATION", extensibility="final")
+    p = rti6(domain, writers=[s], readers=[s], representation="XCDR2_DATA_REPRESENTATION", extensibility="final")
     rng = random.Random(8)
     theirs = [random_sample(s.spec.type, rng) for _ in range(10)]
     ours = [random_sample(s.spec.type, rng) for _ in range(10)]
@@ -311,3 +352,36 @@ def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti: Callable[..., RtiPa
     for x in theirs + ours:
         assert any(same(to_plain(x), g) for g in got), to_plain(x)
         assert any(same(to_plain(x), g) for g in rti_got), to_plain(x)
+
+
+def _rti_matches(rti7: Callable[..., Any], domain: int, **kw: Any) -> dict[Sem, tuple[int, int]]:
+    """For each SEM topic: whether Cyclone's reader matched RTI 7's writer, and Cyclone's writer RTI 7's reader."""
+    readers = {s: Bus(domain).reader(s) for s in Sem}  # each in a participant of its own, so a reader
+    writers = {s: Bus(domain).writer(s) for s in Sem}  # matches our writer (1) and RTI's or not
+    rti7(domain, writers=list(Sem), readers=list(Sem), **kw)
+    time.sleep(3)  # discovery on loopback takes well under a second
+    return {s: (len(readers[s].get_matched_publications()) - 1, len(writers[s].get_matched_subscriptions()) - 1) for s in Sem}
+
+
+def test_connext7_on_defaults_matches_no_sem_topic(rti7: Callable[..., Any], domain: int) -> None:
+    """Issue 23, point 1. Connext 7.7 on its defaults announces XTypes 1.3 type information; Cyclone
+    fetches the type object over TypeLookup, fails to add it, and matches no SEM topic either way.
+    (The next test but one is the same set-up expected to match: it flips when that is fixed.)"""
+    assert _rti_matches(rti7, domain, type_object_max=None) == {s: (0, 0) for s in Sem}
+
+
+def test_connext7_without_type_information_matches_by_name(rti7: Callable[..., Any], domain: int) -> None:
+    """With type_object_max_serialized_length 0 RTI sends no type information and topics match by
+    name: every topic whose type has no @optional member (the other two need the recipe's XCDR2)."""
+    got = _rti_matches(rti7, domain, type_object_max=0)
+    assert {s: m for s, m in got.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
+    assert {s: m for s, m in got.items() if s not in PLAIN} == {s: (0, 0) for s in Sem if s not in PLAIN}
+
+
+@pytest.mark.xfail(strict=True, reason="Cyclone DDS 11.0.1 cannot add RTI Connext 7's type object (docs/dds.md, "
+                                       "'RTI 7 type information'): flips when a fix lands")
+def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., Any], domain: int) -> None:
+    """The upstream reproducer: an RTI 7.7 participant on its defaults and Cyclone 11 endpoints of the
+    same UMAA types on one host. Expected: every topic whose type has no @optional member matches."""
+    on_defaults = _rti_matches(rti7, domain, type_object_max=None)
+    assert {s: m for s, m in on_defaults.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
