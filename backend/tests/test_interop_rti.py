@@ -17,6 +17,11 @@ import time
 import uuid
 from typing import Any, Callable
 
+import json
+import os
+import sys
+from pathlib import Path
+
 import httpx
 import pytest
 
@@ -37,13 +42,14 @@ STATUS_NAME = {v: k for k, v in STATUS.items()}
 
 def same(a: Any, b: Any) -> bool:
     """Equal as plain values. RTI's Connector hands samples over as JSON text: whole doubles come
-    back as integers and a double may lose its last bit there, so doubles compare within 1e-15."""
+    back as integers and a double may lose its last digits there (7.7's Connector prints some with 14
+    significant digits), so doubles compare within 1e-14."""
     if isinstance(a, dict):
         return isinstance(b, dict) and set(a) == set(b) and all(same(a[k], b[k]) for k in a)
     if isinstance(a, list):
         return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
     if isinstance(a, float):
-        return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-15) or (math.isnan(a) and math.isnan(b)))
+        return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-14) or (math.isnan(a) and math.isnan(b)))
     return a == b
 
 
@@ -385,3 +391,59 @@ def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., 
     same UMAA types on one host. Expected: every topic whose type has no @optional member matches."""
     on_defaults = _rti_matches(rti7, domain, type_object_max=None)
     assert {s: m for s, m in on_defaults.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
+
+
+# --- The recipe: GPSReport and GPSFixReport with the console's types appendable -----------------
+# The console's types are final today (idlc's default). These tests run the Cyclone side of the two
+# types in a child process whose UMAA package is generated appendable (sem_console.idlgen), to
+# measure the recipe before the console changes: rti/appendable_peer.py.
+
+_TESTS = Path(__file__).resolve().parent
+
+
+@pytest.fixture(scope="session")
+def appendable_umaa(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from sem_console.idlgen import generate
+
+    out = tmp_path_factory.mktemp("appendable-umaa")
+    generate(out, extensibility="appendable")
+    return out
+
+
+def _peer(umaa: Path, *args: Any) -> dict[str, Any]:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(umaa), str(_TESTS), str(_TESTS.parent)])}
+    # cwd: not backend/, whose final UMAA package would come first on sys.path
+    r = subprocess.run([sys.executable, "-m", "rti.appendable_peer", *map(str, args)], cwd=umaa, env=env,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+ALL_RIGHT = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 20, "cyclone_to_rti_right": 20}
+
+
+@pytest.mark.parametrize("version,mask,gps_report_right", [("7", "mask", True), ("7", "nomask", False), ("6", "nomask", False)],
+                         ids=["connext7.7-recipe", "connext7.7-recipe-without-mask", "connext6.1.2-recipe"])
+def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_right: bool, appendable_umaa: Path,
+                                          domain: int, request: pytest.FixtureRequest) -> None:
+    """Issue 23, point 4: RTI on the drop-in profile (XCDR2 writers for the two types, readers accepting
+    XCDR and XCDR2, no type information) and Cyclone with GPSReport, GPSFixReport and their nested types
+    appendable: 20 random samples each way, values compared. GPSReport needs
+    NDDS_XTYPES_COMPLIANCE_MASK (Connext 7 only; 6.1.2 does not read it): without it RTI leaves out the
+    DHEADER before sequence<GPSSatelliteType>, and neither side reads the other's GPSReport."""
+    if version == "7":
+        request.getfixturevalue("connext7")
+    got = _peer(appendable_umaa, domain, version, mask)
+    for name, m in got.items():
+        m.pop("received"), m.pop("rti_received")
+    assert got["GPS_FIX_REPORT"] == ALL_RIGHT
+    assert got["GPS_REPORT"] == (ALL_RIGHT if gps_report_right else
+                                 {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 0, "cyclone_to_rti_right": 0})
+
+
+def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: Path, domain: int) -> None:
+    """Issue 23, point 3 (a): Cyclone endpoints of the appendable GPSReport/GPSFixReport and of idlc's
+    default (final, as a vehicle built from the plain UMAA IDL has, and as sem-sim has today) do not
+    match either way: both send type information and XTypes does not assign final to appendable."""
+    final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
+    assert _peer(appendable_umaa, domain, "cyclone") == {"GPS_REPORT": [0, 0], "GPS_FIX_REPORT": [0, 0]}

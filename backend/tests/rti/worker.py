@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+import os
 import sys
 import time
 import traceback
@@ -15,8 +16,10 @@ from sem_console.dds.topics import Sem
 
 def main() -> None:
     p: RtiParticipant | None = None
-    out = sys.stdout
-    sys.stdout = sys.stderr  # RTI's own prints must not reach the pipe
+    # The pipe gets its own descriptor; fd 1 (where RTI's C logging prints) goes to stderr.
+    out = os.fdopen(os.dup(1), "w")
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
     for line in sys.stdin:
         op, args, kw = json.loads(line)
         try:
