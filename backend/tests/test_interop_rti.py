@@ -447,3 +447,35 @@ def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: 
     match either way: both send type information and XTypes does not assign final to appendable."""
     final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
     assert _peer(appendable_umaa, domain, "cyclone") == {"GPS_REPORT": [0, 0], "GPS_FIX_REPORT": [0, 0]}
+
+
+# RTI Connext 7.7.0's TypeLookup reply for the MINIMAL type object of InertialSensorReportType
+# (captured on loopback with Cyclone's PacketCaptureFile; the bytes after the type identifier
+# EK_MINIMAL 23681250e70ec42bb8fda372f23c): XCDR2 little endian, from the TypeObject's DHEADER.
+RTI7_INS_REPORT_MINIMAL = bytes.fromhex(
+    "92000000f1510200010000000000000082000000040000001a000000000000000100f1431172effd44d3f350b5c42cb009"
+    "9ed39e2e0000001a000000010000000100f1d4eda04ef966c8d0e1eab88c284a9acb44540000001a000000020000003100"
+    "f1c02c6d65a8318e236ed99e33c31b36cd38f40000001a000000030000000100f1f45382ce293f961a67b3cba95ad687a3cb5c00")
+
+
+def test_why_cyclone_refuses_connext7_type_objects() -> None:
+    """Issue 23, point 2, in bytes (no RTI needed). RTI's type identifier is the MD5 of RTI's own
+    serialization of the type object, which writes each MinimalStructMember's DHEADER as 26 (0x1a)
+    where the member is 25 bytes (member_id 4, member_flags 2, TypeIdentifier 15, name_hash 4), with
+    one byte of what is alignment padding inside it, and the sequence and object DHEADERs to match.
+    Cyclone deserializes the object, re-serializes it to compute its hash (ddsi_type_add_typeobj ->
+    ddsi_typeobj_get_hash_id), gets DHEADER 25 and another MD5, so the identifier and the object
+    disagree: "failed to add typeobj", and the endpoint never matches."""
+    import hashlib
+
+    from cyclonedds.idl._typesupport.DDS.XTypes import TypeObject
+
+    rti_id = "23681250e70ec42bb8fda372f23c"
+    assert hashlib.md5(RTI7_INS_REPORT_MINIMAL).hexdigest()[:28] == rti_id
+    obj = TypeObject.deserialize(b"\x00\x07\x00\x00" + RTI7_INS_REPORT_MINIMAL)  # XCDR2, little endian
+    members = obj.minimal.struct_type.member_seq
+    assert [m.common.member_id for m in members] == [0, 1, 2, 3]
+    again = obj.serialize(use_version_2=True)[4:]
+    assert RTI7_INS_REPORT_MINIMAL[24:28] == b"\x1a\x00\x00\x00" and again[24:28] == b"\x19\x00\x00\x00"
+    assert len(again) == len(RTI7_INS_REPORT_MINIMAL) - 1
+    assert hashlib.md5(again).hexdigest()[:28] != rti_id  # what Cyclone compares with RTI's identifier
