@@ -479,3 +479,25 @@ def test_why_cyclone_refuses_connext7_type_objects() -> None:
     assert RTI7_INS_REPORT_MINIMAL[24:28] == b"\x1a\x00\x00\x00" and again[24:28] == b"\x19\x00\x00\x00"
     assert len(again) == len(RTI7_INS_REPORT_MINIMAL) - 1
     assert hashlib.md5(again).hexdigest()[:28] != rti_id  # what Cyclone compares with RTI's identifier
+
+
+@pytest.mark.parametrize("force", [False, True], ids=["plain-reader", "force_type_validation"])
+def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, rti7: Callable[..., Any], domain: int) -> None:
+    """The building block of one reader per extensibility (issue 23, point 3): the console's final
+    GPSReport/GPSFixReport reader, as sem-sim and a plain-IDL Cyclone vehicle write them, must not
+    also take an RTI vehicle's appendable samples (it would misread them: test_recipe_with_appendable_gps_types
+    with final types). RTI on the recipe sends no type information and matches by name, unless the
+    reader sets force_type_validation; Cyclone writers send theirs and still match."""
+    from cyclonedds.core import Policy, Qos
+
+    from sem_console.dds.qos import reader_qos
+
+    topics = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]
+    extra = Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True)) if force else Qos()
+    readers = {s: Bus(domain).reader(s, qos=reader_qos(s.spec.cls) + extra) for s in topics}
+    cyclone = {s: Bus(domain).writer(s) for s in topics}  # noqa: F841 - the final writer, as sem-sim's
+    p = rti7(domain, writers=topics, recipe=True)
+    wait_until(lambda: all(len(p.matched(s, True)) >= (0 if force else 1) for s in topics), 10, "RTI's writers matched")
+    time.sleep(1)
+    assert {s: len(readers[s].get_matched_publications()) for s in topics} == {s: 1 if force else 2 for s in topics}
+    assert {s: len(p.matched(s, True)) for s in topics} == {s: 0 if force else 1 for s in topics}
