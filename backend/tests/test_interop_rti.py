@@ -25,7 +25,7 @@ from pathlib import Path
 import httpx
 import pytest
 
-from rti.connector import RtiParticipant
+from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
 from sem_console.dds.bus import Bus, all_samples
@@ -69,8 +69,9 @@ def _factory(version: str, request: pytest.FixtureRequest) -> Any:
         if version == "7":
             request.getfixturevalue("connext7")
             # Connext 7 sends XTypes 1.3 type information that Cyclone cannot use, and then matches
-            # nothing (test_connext7_on_defaults_matches_no_sem_topic): the one setting it always needs.
-            kw.setdefault("type_object_max", 0)
+            # nothing (test_connext7_on_defaults_matches_no_sem_topic): it runs on the drop-in profile
+            # a console of today needs (docs/rti/sem-console-interop.xml, Default: no type information).
+            kw.setdefault("recipe", "Default")
             p: Any = RemoteParticipant(domain, **kw)
         else:
             kw.pop("env", None)  # 6.1.2 reads no NDDS_XTYPES_COMPLIANCE_MASK
@@ -373,13 +374,13 @@ def test_connext7_on_defaults_matches_no_sem_topic(rti7: Callable[..., Any], dom
     """Issue 23, point 1. Connext 7.7 on its defaults announces XTypes 1.3 type information; Cyclone
     fetches the type object over TypeLookup, fails to add it, and matches no SEM topic either way.
     (The next test but one is the same set-up expected to match: it flips when that is fixed.)"""
-    assert _rti_matches(rti7, domain, type_object_max=None) == {s: (0, 0) for s in Sem}
+    assert _rti_matches(rti7, domain, recipe=None, env={}) == {s: (0, 0) for s in Sem}
 
 
 def test_connext7_without_type_information_matches_by_name(rti7: Callable[..., Any], domain: int) -> None:
     """With type_object_max_serialized_length 0 RTI sends no type information and topics match by
     name: every topic whose type has no @optional member (the other two need the recipe's XCDR2)."""
-    got = _rti_matches(rti7, domain, type_object_max=0)
+    got = _rti_matches(rti7, domain, recipe=None, env={}, type_object_max=0)
     assert {s: m for s, m in got.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
     assert {s: m for s, m in got.items() if s not in PLAIN} == {s: (0, 0) for s in Sem if s not in PLAIN}
 
@@ -389,7 +390,7 @@ def test_connext7_without_type_information_matches_by_name(rti7: Callable[..., A
 def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., Any], domain: int) -> None:
     """The upstream reproducer: an RTI 7.7 participant on its defaults and Cyclone 11 endpoints of the
     same UMAA types on one host. Expected: every topic whose type has no @optional member matches."""
-    on_defaults = _rti_matches(rti7, domain, type_object_max=None)
+    on_defaults = _rti_matches(rti7, domain, recipe=None, env={})
     assert {s: m for s, m in on_defaults.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
 
 
@@ -496,7 +497,7 @@ def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, r
     extra = Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True)) if force else Qos()
     readers = {s: Bus(domain).reader(s, qos=reader_qos(s.spec.cls) + extra) for s in topics}
     cyclone = {s: Bus(domain).writer(s) for s in topics}  # noqa: F841 - the final writer, as sem-sim's
-    p = rti7(domain, writers=topics, recipe=True)
+    p = rti7(domain, writers=topics, recipe="AppendableGps", env=RECIPE_ENV)
     wait_until(lambda: all(len(p.matched(s, True)) >= (0 if force else 1) for s in topics), 10, "RTI's writers matched")
     time.sleep(1)
     assert {s: len(readers[s].get_matched_publications()) for s in topics} == {s: 1 if force else 2 for s in topics}

@@ -47,7 +47,7 @@ def main() -> None:
     extra = Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True)) if force else Qos()
     readers = {s: Bus(domain).reader(s, qos=reader_qos(s.spec.cls) + extra) for s in TOPICS}
     writers = {s: Bus(domain).writer(s) for s in TOPICS}
-    kw = dict(writers=TOPICS, readers=TOPICS, recipe=True)
+    kw = dict(writers=TOPICS, readers=TOPICS, recipe="AppendableGps")
     p = RemoteParticipant(domain, env=RECIPE_ENV if mask else {}, **kw) if version == "7" else RtiParticipant(domain, **kw)
     try:
         deadline = time.monotonic() + 5

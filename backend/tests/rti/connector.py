@@ -60,9 +60,10 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
 
 
 def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None,
-               extensibility: str | None = None, recipe: bool = False, type_object_max: int | None = None) -> str:
-    """RTI's XML for one participant. ``recipe``: its QoS inherits the repository's drop-in profile
-    (docs/rti/sem-console-interop.xml); ``type_object_max``: RTI's type_object_max_serialized_length."""
+               extensibility: str | None = None, recipe: str | None = None, type_object_max: int | None = None) -> str:
+    """RTI's XML for one participant. ``recipe``: the profile of the repository's drop-in
+    (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps") its QoS inherits;
+    ``type_object_max``: RTI's type_object_max_serialized_length."""
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
@@ -73,7 +74,7 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
     return f"""<?xml version="1.0"?>
 <dds>
 {_recipe_library() if recipe else ""}
-<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{' base_name="SemConsoleInterop::Default"' if recipe else ""}>
+<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""}>
 <domain_participant_qos>{"" if type_object_max is None else f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>"}
   <transport_builtin><mask>UDPv4</mask></transport_builtin>
   <discovery><initial_peers><element>32@udpv4://127.0.0.1</element></initial_peers><multicast_receive_addresses/></discovery>
@@ -91,7 +92,7 @@ class RtiParticipant:
     """One RTI Connext participant with a writer and/or reader per given SEM topic."""
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
-                 representation: str | None = None, extensibility: str | None = None, recipe: bool = False,
+                 representation: str | None = None, extensibility: str | None = None, recipe: str | None = None,
                  type_object_max: int | None = None) -> None:
         self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
         self._file.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max))
