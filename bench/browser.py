@@ -33,14 +33,27 @@ SKY_PARTS = ("skyplot", "satellite-table", "cn0-chart")
 
 def sim_args(vehicles: int, gps_hz: float = RATE_HZ) -> list[str]:
     rate = str(RATE_HZ)
-    return ["--vehicles", str(vehicles), "--satellites", "40", "--gps-rate", f"{gps_hz:g}", "--fix-rate", rate, "--ins-rate", rate]
+    return [
+        "--vehicles",
+        str(vehicles),
+        "--satellites",
+        "40",
+        "--gps-rate",
+        f"{gps_hz:g}",
+        "--fix-rate",
+        rate,
+        "--ins-rate",
+        rate,
+    ]
 
 
 def measure(url: str, seconds: float, throttle: float, collapse: list[str]) -> dict[str, Any]:
     cmd = ["node", "scripts/frames.mjs", url, str(seconds), "--throttle", str(throttle)]
     for c in collapse:
         cmd += ["--collapse", c]
-    out = subprocess.run(cmd, cwd=common.ROOT / "frontend", capture_output=True, text=True, timeout=seconds + 240, check=True).stdout
+    out = subprocess.run(
+        cmd, cwd=common.ROOT / "frontend", capture_output=True, text=True, timeout=seconds + 240, check=True
+    ).stdout
     return json.loads(out.strip().splitlines()[-1])
 
 
@@ -78,13 +91,38 @@ def main() -> None:
     with stack(sim_args=sim_args(args.vehicles, SPARSE_GPS_HZ)) as st:
         runs[sparse] = measure(st["url"], args.seconds, args.throttle, [])
 
-    title = f"Dashboard in headless Chromium, CPU throttled {args.throttle:g}x ({args.vehicles} vehicles x 40 satellites, {RATE_HZ} Hz)"
+    title = (f"Dashboard in headless Chromium, CPU throttled {args.throttle:g}x ({args.vehicles} vehicles x 40 satellites, "
+             f"{RATE_HZ} Hz)")
     rows = []
     for name, r in runs.items():
-        rows.append([name, r["frames"], r["p50_ms"], f"{r['p95_ms']} ({holds(frame_ok(r['p95_ms']))})", r["max_ms"],
-                     f"{r['long_tasks']} ({holds(r['long_task_max_ms'] <= LONG_TASK_MS)})", r["long_task_max_ms"], r["heap_start_mb"], r["heap_end_mb"]])
-    table(title, ["layout", "frames", "p50 ms", f"p95 ms (<= {FRAME_MS:.1f})", "max ms", f"long tasks (none > {LONG_TASK_MS} ms)", "longest ms",
-                  "heap start MB", "heap end MB"], rows)
+        rows.append(
+            [
+                name,
+                r["frames"],
+                r["p50_ms"],
+                f"{r['p95_ms']} ({holds(frame_ok(r['p95_ms']))})",
+                r["max_ms"],
+                f"{r['long_tasks']} ({holds(r['long_task_max_ms'] <= LONG_TASK_MS)})",
+                r["long_task_max_ms"],
+                r["heap_start_mb"],
+                r["heap_end_mb"],
+            ]
+        )
+    table(
+        title,
+        [
+            "layout",
+            "frames",
+            "p50 ms",
+            f"p95 ms (<= {FRAME_MS:.1f})",
+            "max ms",
+            f"long tasks (none > {LONG_TASK_MS} ms)",
+            "longest ms",
+            "heap start MB",
+            "heap end MB",
+        ],
+        rows,
+    )
 
     names = sorted({k for r in runs.values() for k in r["renders_per_s"]})
     rrows = []
@@ -100,19 +138,31 @@ def main() -> None:
 
     d = runs["default"]
     m = runs["map collapsed"]
-    emit("browser", {
-        "vehicles": args.vehicles, "throttle": args.throttle,
-        "p50_ms": d["p50_ms"], "p95_ms": d["p95_ms"], "long_tasks": d["long_tasks"], "long_task_max_ms": d["long_task_max_ms"],
-        "p95_holds": frame_ok(d["p95_ms"]), "long_tasks_hold": d["long_task_max_ms"] <= LONG_TASK_MS,
-        "no_map_p50_ms": m["p50_ms"], "no_map_p95_ms": m["p95_ms"], "no_map_long_tasks": m["long_tasks"], "no_map_long_task_max_ms": m["long_task_max_ms"],
-        "skyplot_renders_per_s": d["renders_per_s"].get("skyplot", 0),
-        "sparse_gps_skyplot_renders_per_s": runs[sparse]["renders_per_s"].get("skyplot", 0),
-        "sparse_gps_selected_gpsreport_per_s": runs[sparse]["renders_per_s"].get("selected:GPSReport", 0),
-        "sparse_gps_selected_gpsfixreport_per_s": runs[sparse]["renders_per_s"].get("selected:GPSFixReport", 0),
-        "skyplot_holds": all(sky_ok(runs[sparse], p) for p in SKY_PARTS),
-        "renders_per_s": d["renders_per_s"],
-        "heap_start_mb": d["heap_start_mb"], "heap_end_mb": d["heap_end_mb"],
-    })
+    emit(
+        "browser",
+        {
+            "vehicles": args.vehicles,
+            "throttle": args.throttle,
+            "p50_ms": d["p50_ms"],
+            "p95_ms": d["p95_ms"],
+            "long_tasks": d["long_tasks"],
+            "long_task_max_ms": d["long_task_max_ms"],
+            "p95_holds": frame_ok(d["p95_ms"]),
+            "long_tasks_hold": d["long_task_max_ms"] <= LONG_TASK_MS,
+            "no_map_p50_ms": m["p50_ms"],
+            "no_map_p95_ms": m["p95_ms"],
+            "no_map_long_tasks": m["long_tasks"],
+            "no_map_long_task_max_ms": m["long_task_max_ms"],
+            "skyplot_renders_per_s": d["renders_per_s"].get("skyplot", 0),
+            "sparse_gps_skyplot_renders_per_s": runs[sparse]["renders_per_s"].get("skyplot", 0),
+            "sparse_gps_selected_gpsreport_per_s": runs[sparse]["renders_per_s"].get("selected:GPSReport", 0),
+            "sparse_gps_selected_gpsfixreport_per_s": runs[sparse]["renders_per_s"].get("selected:GPSFixReport", 0),
+            "skyplot_holds": all(sky_ok(runs[sparse], p) for p in SKY_PARTS),
+            "renders_per_s": d["renders_per_s"],
+            "heap_start_mb": d["heap_start_mb"],
+            "heap_end_mb": d["heap_end_mb"],
+        },
+    )
 
 
 if __name__ == "__main__":

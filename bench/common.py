@@ -14,9 +14,10 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any, Iterator
+from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 BIN = ROOT / ".venv" / "bin"
@@ -160,19 +161,19 @@ async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
                 return
             try:
                 text = await asyncio.wait_for(ws.recv(), remaining)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 return
             now = time.time()  # on arrival, before parsing (as the peer's client does)
             on_message(json.loads(text), now)
 
 
 def table(title: str, header: list[str], rows: list[list[Any]]) -> None:
-    widths = [max(len(str(x)) for x in col) for col in zip(header, *rows)]
+    widths = [max(len(str(x)) for x in col) for col in zip(header, *rows, strict=True)]
     print(f"\n{title}")
-    print("  ".join(str(h).ljust(w) for h, w in zip(header, widths)))
+    print("  ".join(str(h).ljust(w) for h, w in zip(header, widths, strict=True)))
     print("  ".join("-" * w for w in widths))
     for r in rows:
-        print("  ".join(str(x).ljust(w) for x, w in zip(r, widths)))
+        print("  ".join(str(x).ljust(w) for x, w in zip(r, widths, strict=True)))
 
 
 def emit(name: str, figures: dict[str, Any]) -> None:

@@ -19,20 +19,20 @@ import random
 import sys
 import time
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from common import ROOT, emit, table
 
 sys.path.insert(0, str(ROOT / "backend" / "tests"))
 
-from samplegen import random_sample  # noqa: E402
-
-from sem_console.console import fastcdr  # noqa: E402
-from sem_console.console.convert import to_json  # noqa: E402
-from sem_console.console.decode import REPORT_TOPICS  # noqa: E402
-from sem_console.dds.topics import Sem  # noqa: E402
-from sem_console.sim.options import SimOptions  # noqa: E402
-from sem_console.sim.reports import Sensors  # noqa: E402
+from samplegen import random_sample
+from sem_console.console import fastcdr
+from sem_console.console.convert import to_json
+from sem_console.console.decode import REPORT_TOPICS
+from sem_console.dds.topics import Sem
+from sem_console.sim.options import SimOptions
+from sem_console.sim.reports import Sensors
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 
@@ -78,7 +78,7 @@ def main() -> None:
         for v2 in ([True] if sem.spec.xcdr2_only else [False, True]):
             data = t.serialize(sample, use_version_2=v2)
             cdds = cpu_us(t.deserialize, data, args.rounds)
-            cdds_json = cpu_us(lambda d: to_json(t.deserialize(d)), data, args.rounds) if report else None
+            cdds_json = cpu_us(lambda d, t=t: to_json(t.deserialize(d)), data, args.rounds) if report else None
             console = cpu_us(ours, data, args.rounds)
             before = cdds_json if cdds_json is not None else cdds
             r = {"topic": sem.spec.name.rsplit("::", 1)[1], "encoding": "XCDR2" if v2 else "XCDR1", "bytes": len(data),
@@ -92,8 +92,19 @@ def main() -> None:
                 per_vehicle["cyclonedds_json"] += RATES[sem] * before
                 per_vehicle["console"] += RATES[sem] * console
     keys = list(figures[0])
-    rows.append(["per vehicle-second (ms)", "as sent", "", "", round(per_vehicle["cyclonedds_json"] / 1000, 3), round(per_vehicle["console"] / 1000, 3),
-                 "", "", round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1)])
+    rows.append(
+        [
+            "per vehicle-second (ms)",
+            "as sent",
+            "",
+            "",
+            round(per_vehicle["cyclonedds_json"] / 1000, 3),
+            round(per_vehicle["console"] / 1000, 3),
+            "",
+            "",
+            round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1),
+        ]
+    )
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},

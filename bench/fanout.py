@@ -80,9 +80,17 @@ def against_peer(vehicles: int, seconds: float) -> list[dict]:
         rows = []
         for name, label in (("console", "console"), ("peer", "peer: cyclonedds + Foxglove WS (JSON)")):
             cpu, (delivered, lat) = meters[name].read(), got[name]
-            rows.append({"system": label, "vehicles": vehicles, "cpu_cores": round(cpu, 2), "delivered_per_s": round(delivered / elapsed),
-                         "cpu_us_per_delivered": round(cpu * elapsed / max(delivered, 1) * 1e6, 1),
-                         "p50_ms": ms(percentile(lat, 50)), "p99_ms": ms(percentile(lat, 99))})
+            rows.append(
+                {
+                    "system": label,
+                    "vehicles": vehicles,
+                    "cpu_cores": round(cpu, 2),
+                    "delivered_per_s": round(delivered / elapsed),
+                    "cpu_us_per_delivered": round(cpu * elapsed / max(delivered, 1) * 1e6, 1),
+                    "p50_ms": ms(percentile(lat, 50)),
+                    "p99_ms": ms(percentile(lat, 99)),
+                }
+            )
         return rows
 
 
@@ -105,13 +113,17 @@ def main() -> None:
             if sock:
                 sock.close()
     keys = list(rows[0])
-    table("Fan-out: latency per number of WebSocket clients (5 vehicles at full rate)", keys, [[r[k] for k in keys] for r in rows])
+    table(
+        "Fan-out: latency per number of WebSocket clients (5 vehicles at full rate)", keys, [[r[k] for k in keys] for r in rows]
+    )
     base = next(r for r in rows if r["clients"] == 10 and not r["stalled_beside"])
     with_stalled = rows[-1]
     print(f"\np99 with 10 clients: {base['p99_ms']} ms; with one stalled client beside them: {with_stalled['p99_ms']} ms")
     vs = against_peer(args.peer_vehicles, args.seconds)
     keys = list(vs[0])
-    table(f"Against the peer: {args.peer_vehicles} vehicles, one client each, same input", keys, [[r[k] for k in keys] for r in vs])
+    table(
+        f"Against the peer: {args.peer_vehicles} vehicles, one client each, same input", keys, [[r[k] for k in keys] for r in vs]
+    )
     c, g = vs
     targets = [common.target(f"console CPU per delivered sample ({args.peer_vehicles} vehicles) against the peer's",
                              c["cpu_us_per_delivered"], "µs", "<", g["cpu_us_per_delivered"], "the peer"),

@@ -36,7 +36,7 @@ def main() -> None:
     deadline = time.monotonic() + seconds
     while time.monotonic() < deadline:
         ws.wait(duration(milliseconds=100))
-        for r, c in zip(readers, conds):
+        for r, c in zip(readers, conds, strict=True):
             for s in r.take(N=256, condition=c):
                 now = time.time()
                 ts = getattr(s, "timeStamp", None)

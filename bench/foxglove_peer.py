@@ -17,8 +17,9 @@ import socket
 import struct
 import sys
 import time
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from typing import Any, Callable, Iterator
+from typing import Any
 
 import common
 from common import Proc
@@ -83,9 +84,11 @@ def peer(domain: int) -> Iterator[tuple[Proc, str]]:
             try:
                 socket.create_connection(("127.0.0.1", port), timeout=1).close()
                 break
-            except OSError:
+            except OSError as e:
                 if proc.p.poll() is not None or time.monotonic() > deadline:
-                    raise RuntimeError("the Foxglove peer did not start (is foxglove-sdk installed? scripts/bench installs it)")
+                    raise RuntimeError(
+                        "the Foxglove peer did not start (is foxglove-sdk installed? scripts/bench installs it)"
+                    ) from e
                 time.sleep(0.1)
         yield proc, f"ws://127.0.0.1:{port}"
     finally:
@@ -102,14 +105,14 @@ async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, 
         while (remaining := deadline - time.monotonic()) > 0:
             try:
                 data = await asyncio.wait_for(ws.recv(), remaining)
-            except asyncio.TimeoutError:
+            except TimeoutError:
                 return
             now = time.time()
             if isinstance(data, str):
                 msg = json.loads(data)
                 if msg.get("op") == "advertise":
                     subs = [{"id": len(topic_of) + i + 1, "channelId": c["id"]} for i, c in enumerate(msg["channels"])]
-                    for s, c in zip(subs, msg["channels"]):
+                    for s, c in zip(subs, msg["channels"], strict=True):
                         topic_of[s["id"]] = c["topic"]
                     await ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
             elif data and data[0] == MESSAGE_DATA:

@@ -20,7 +20,7 @@ import sys
 import time
 
 import common
-from common import CpuMeter, Proc, emit, get_json, ms, percentile, report_latency, stack, table, ws_collect
+from common import CpuMeter, emit, get_json, ms, percentile, report_latency, stack, table, ws_collect
 
 TOPICS = ["GPS_REPORT", "GPS_FIX_REPORT", "GPS_FIX_STATUS_REPORT", "INS_REPORT"]
 SAMPLES_PER_VEHICLE_S = 1 + 10 + 10 + 10  # the rates of sim_args
@@ -28,7 +28,20 @@ CPU_PER_VEHICLE_TARGET_MS = 1.2  # a third of the 3.6 ms (0.89 core at 250 vehic
 
 
 def sim_args(n: int) -> list[str]:
-    return ["--vehicles", str(n), "--satellites", "40", "--gps-rate", "1", "--fix-rate", "10", "--ins-rate", "10", "--align-seconds", "1"]
+    return [
+        "--vehicles",
+        str(n),
+        "--satellites",
+        "40",
+        "--gps-rate",
+        "1",
+        "--fix-rate",
+        "10",
+        "--ins-rate",
+        "10",
+        "--align-seconds",
+        "1",
+    ]
 
 
 def measure(n: int, seconds: float) -> dict:

@@ -28,10 +28,17 @@ from foxglove_peer import foxglove_collect, peer, sample_latency
 from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
-from UMAA.Common.Measurement import (Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D, Position2DTime,
-                                     Velocity3D_PlatformNED)
+from UMAA.Common.Measurement import (
+    Altitude_MSL,
+    GeodeticLatitude,
+    GeodeticLongitude,
+    Position2D,
+    Position2DTime,
+    Velocity3D_PlatformNED,
+)
 from UMAA.SEM.GPSFixStatus import GPSFixReportType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+
 from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import to_guid

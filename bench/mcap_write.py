@@ -3,8 +3,9 @@
 messages. The messages are what 50 vehicles send in a second at the ingest benchmark's rates (per
 vehicle a GPSReport of 40 satellites at 1 Hz, GPSFixReport, GPSFixStatusReport and
 InertialSensorReport at 10 Hz, made and serialised as sem-sim does, each vehicle's at its own
-instant), taken five at a time as the ingest threads do; both write zstd chunks of 1 MiB to a file. Single-threaded and alone: the running
-console adds the GIL and its other threads (`recording.py` measures that). Best of several rounds.
+instant), taken five at a time as the ingest threads do; both write zstd chunks of 1 MiB to a file.
+Single-threaded and alone: the running console adds the GIL and its other threads (`recording.py` measures that).
+Best of several rounds.
 Usage: python bench/mcap_write.py [--rounds 15] [--seconds 10]
 """
 
@@ -15,8 +16,9 @@ import os
 import tempfile
 import time
 import uuid
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 from common import emit, table
 from decode import RATES
@@ -99,7 +101,11 @@ def main() -> None:
     messages_per_s = sum(len(batch) for _sem, batch, _t in items) / args.seconds
     rows = [["recorder (mcap_writer.py)", round(ours, 2), round(ours * messages_per_s / 1e6, 4)],
             ["mcap library Writer.add_message", round(theirs, 2), round(theirs * messages_per_s / 1e6, 4)]]
-    table(f"MCAP write cost, 50 vehicles' input ({messages_per_s:.0f} messages/s)", ["path", "us_per_message", "core_at_50_vehicles"], rows)
+    table(
+        f"MCAP write cost, 50 vehicles' input ({messages_per_s:.0f} messages/s)",
+        ["path", "us_per_message", "core_at_50_vehicles"],
+        rows,
+    )
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     emit("mcap_write", {"messages_per_s": messages_per_s, "recorder_us": round(ours, 2), "library_us": round(theirs, 2),
                         "speedup": round(theirs / ours, 1), "load_average": round(os.getloadavg()[0], 2)})

@@ -66,17 +66,26 @@ def main() -> None:
     off = [r["console_cpu"] for r in rows if r["phase"] == "off"]
     on = [r for r in rows if r["phase"] == "on"]
     cpu_off, cpu_on = sum(off) / len(off), sum(r["console_cpu"] for r in on) / len(on)
-    differences = [r["console_cpu"] - o for r, o in zip(on, off)]  # each on phase against the off phase before it
+    differences = [r["console_cpu"] - o for r, o in zip(on, off, strict=False)]  # each on phase against the off phase before it
     stderr = statistics.stdev(differences) / len(differences) ** 0.5 if len(differences) > 1 else float("nan")
     keys = ["phase", "console_cpu", "writer_cpu", "decoded_per_s", "recorded_per_s", "mb_per_min", "dropped"]
-    table(f"Recording at {args.vehicles} vehicles ({args.seconds:.0f} s per phase, {args.pairs} off/on pairs)", keys, [[r.get(k, "") for k in keys] for r in rows])
+    table(
+        f"Recording at {args.vehicles} vehicles ({args.seconds:.0f} s per phase, {args.pairs} off/on pairs)",
+        keys,
+        [[r.get(k, "") for k in keys] for r in rows],
+    )
     figures = {
-        "vehicles": args.vehicles, "console_cpu_off": round(cpu_off, 3), "console_cpu_on": round(cpu_on, 3),
-        "added_cpu_core": round(cpu_on - cpu_off, 3), "added_cpu_percent": round((cpu_on - cpu_off) / max(cpu_off, 1e-9) * 100, 1),
-        "added_cpu_stderr_percent": round(stderr / max(cpu_off, 1e-9) * 100, 1), "pairs": args.pairs,
+        "vehicles": args.vehicles,
+        "console_cpu_off": round(cpu_off, 3),
+        "console_cpu_on": round(cpu_on, 3),
+        "added_cpu_core": round(cpu_on - cpu_off, 3),
+        "added_cpu_percent": round((cpu_on - cpu_off) / max(cpu_off, 1e-9) * 100, 1),
+        "added_cpu_stderr_percent": round(stderr / max(cpu_off, 1e-9) * 100, 1),
+        "pairs": args.pairs,
         "recorded_per_s": round(sum(r["recorded_per_s"] for r in on) / len(on)),
         "mb_per_min": round(sum(r["mb_per_min"] for r in on) / len(on), 2),
-        "dropped": sum(r["dropped"] for r in on), "files": [f["state"] for f in files],
+        "dropped": sum(r["dropped"] for r in on),
+        "files": [f["state"] for f in files],
         "writer_cpu_core": round(sum(r["writer_cpu"] for r in on) / len(on), 4),
     }
     figures["writer_cpu_percent"] = round(figures["writer_cpu_core"] / max(cpu_off, 1e-9) * 100, 1)

@@ -39,7 +39,7 @@ async def console_round_trips(st: dict, vehicle: str, n: int) -> tuple[list[floa
             req = urllib.request.Request(f"{st['url']}/api/providers/{vehicle}/gps-fix", method="POST", data=b"{}",
                                          headers={"Content-Type": "application/json"})
             t0 = time.perf_counter()
-            body = await loop.run_in_executor(None, lambda: urllib.request.urlopen(req, timeout=10).read())
+            body = await loop.run_in_executor(None, lambda req=req: urllib.request.urlopen(req, timeout=10).read())
             session = json.loads(body)["sessionId"]
             deadline = time.monotonic() + 10
             while "COMPLETED" not in seen.get(session, {}) and time.monotonic() < deadline:
@@ -57,6 +57,7 @@ def plain_round_trips(domain: int, vehicle: uuid.UUID, n: int) -> tuple[list[flo
     from cyclonedds.util import duration
 
     from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+
     from sem_console.dds.bus import Bus, all_samples
     from sem_console.dds.topics import Service
     from sem_console.umaa.guid import to_guid
@@ -72,7 +73,9 @@ def plain_round_trips(domain: int, vehicle: uuid.UUID, n: int) -> tuple[list[flo
     issued, completed = [], []
     for _ in range(n + 5):
         session = uuid.uuid4()
-        cmd = Service.GPS_FIX.command.spec.type(source=me, destination=to_guid(vehicle), sessionID=to_guid(session), timeStamp=now_datetime())
+        cmd = Service.GPS_FIX.command.spec.type(
+            source=me, destination=to_guid(vehicle), sessionID=to_guid(session), timeStamp=now_datetime()
+        )
         t0 = time.perf_counter()
         writer.write(cmd)
         got: dict[S, float] = {}

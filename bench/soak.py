@@ -39,7 +39,9 @@ def main() -> None:
     growth = (end - start) / start * 100
     table(f"Console RSS over {seconds:.0f} s (10 vehicles, 1 WebSocket client)", ["t (s)", "RSS (MiB)"], samples)
     print(f"\nRSS start {start:.1f} MiB, end {end:.1f} MiB, growth {growth:+.1f}%")
-    emit("soak", {"seconds": seconds, "rss_start_mb": round(start, 1), "rss_end_mb": round(end, 1), "growth_pct": round(growth, 1)})
+    emit(
+        "soak", {"seconds": seconds, "rss_start_mb": round(start, 1), "rss_end_mb": round(end, 1), "growth_pct": round(growth, 1)}
+    )
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import errno
 import logging
 import socket
@@ -16,10 +17,10 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from sem_console.comap.transport import parse_peers
+from sem_console.core.command_line import Parser
 from sem_console.core.config import Settings, parse_imc_id, parse_imc_vehicles
 from sem_console.dds.bus import DdsConfigError, open_domain
-from sem_console.recording.replay import check_file
-from sem_console.sim.cli import _Parser
+from sem_console.recording.reader import check_file
 
 
 def _imc_id(text: str) -> int:
@@ -30,7 +31,7 @@ def _imc_id(text: str) -> int:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="sem-console", description=(
+    p = Parser(prog="sem-console", description=(
         "UMAA SEM operator console: a UMAA Service Consumer for GPSFix and InertialSensor commands that "
         "streams GPS and INS state over WebSockets. Every option can also be set as an SEM_* environment "
         "variable (e.g. SEM_DOMAIN, SEM_OPERATOR_TOKENS)."))
@@ -39,7 +40,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--domain", type=int, help="DDS domain id, 0..232 (default: 0)")
     p.add_argument("--sim", type=int, help="start N simulated vehicles alongside on the same domain (default: 0)")
     p.add_argument("--sim-time-scale", type=float, help="time scale of the embedded simulator (default: 1)")
-    p.add_argument("--sim-first-vehicle", type=int, help="number of the embedded simulator's first vehicle, as sem-sim --first-vehicle (default: 1)")
+    p.add_argument("--sim-first-vehicle", type=int, help="number of the embedded simulator's first vehicle, as sem-sim "
+                                                         "--first-vehicle (default: 1)")
     p.add_argument("--db", type=Path, dest="db_path", help="SQLite command history (default: var/sem-console.sqlite3)")
     p.add_argument("--comms-lost-timeout", type=float, help="seconds without samples before a provider is lost (default: 3)")
     p.add_argument("--regained-time", type=float, help="seconds of continuous samples before a provider is regained (default: 3)")
@@ -67,16 +69,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--record-max-bytes", type=int, help="roll a recording over to a new file at this size (default: 1 GiB)")
     p.add_argument("--record-max-seconds", type=float, help="roll a recording over to a new file after this long (default: 3600)")
     p.add_argument("--replay", type=Path, metavar="FILE.mcap", help="serve the dashboard from this recording instead of DDS "
-                   "(read-only: commands and recording are refused; play, pause, speed and seek in the dashboard and /api/replay)")
+                   "(read-only: commands and recording are refused; play, pause, speed and seek in the dashboard and "
+                   "/api/replay)")
     p.add_argument("--replay-speed", type=float, help="the replay's speed at start, 0.25 to 20 (default: 1)")
     p.add_argument("--vehicle-names", help="'GUID=name,...': names shown beside vehicle ids")
     p.add_argument("--aspn-lcm", metavar="URL", help="publish each vehicle's navigation as ASPN-23 over LCM at URL "
                    "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default")
-    p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)")
-    p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log (default: 300)")
+    p.add_argument("--aspn-prefix", help="first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: "
+                                         "aspn23)")
+    p.add_argument("--aspn-log-seconds", type=float, help="seconds of ASPN messages kept per vehicle for Record ASPN log "
+                                                          "(default: 300)")
     p.add_argument("--jaus-port", type=int, nargs="?", const=3794, metavar="N",
                    help="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); off by default")
-    p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)")
+    p.add_argument("--jaus-subsystem", type=int, metavar="S", help="JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... "
+                                                                   "(default: 1)")
     p.add_argument("--jaus-host", help="address the JAUS gateway listens on (default: --host)")
     p.add_argument("--basemap", type=Path, metavar="FILE.pmtiles", help="an offline chart (PMTiles, vector or raster) the "
                    "dashboard's map draws, served at /api/basemap.pmtiles (default: the built-in Natural Earth land only)")
@@ -172,11 +178,12 @@ def main(argv: list[str] | None = None) -> int:
     scheme = "https" if settings.tls_certfile else "http"
     for sock in listeners:  # uvicorn names no address for sockets it is given
         address, port = sock.getsockname()[:2]
-        logging.getLogger("sem-console").info("listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port)
-    try:  # on the sockets bound above: no other process can take the port between the check and the start
+        logging.getLogger("sem-console").info(
+            "listening on %s://%s:%d", scheme, f"[{address}]" if ":" in address else address, port
+        )
+    # on the sockets bound above: no other process can take the port between the check and the start
+    with contextlib.suppress(KeyboardInterrupt):
         server.run(sockets=listeners)
-    except KeyboardInterrupt:
-        pass
     return 0 if server.started else 3  # 3: the application's start-up failed (uvicorn's code for it)
 
 
@@ -277,7 +284,9 @@ def check_basemap(path: Path) -> str | None:
                 "convert it (pmtiles convert FILE.mbtiles FILE.pmtiles) or pass another --basemap")
     if len(head) < PMTILES_HEADER or head[7] != 3:
         found = f"version {head[7]}" if len(head) > 7 else "no version"
-        return f"--basemap {path} is not a whole PMTiles version 3 file ({found}, {len(head)} header bytes): pass another --basemap"
+        return (
+            f"--basemap {path} is not a whole PMTiles version 3 file ({found}, {len(head)} header bytes): pass another --basemap"
+        )
     return None
 
 
@@ -347,9 +356,12 @@ def port_problem(option: str, host_option: str, protocol: str, where: str, e: OS
     if e.errno == errno.EADDRINUSE:
         return f"{option}: {protocol} {where} is already in use (another sem-console?): stop it, or pass another {option}"
     if e.errno == errno.EACCES:
-        return f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
+        return (
+            f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
+        )
     if e.errno == errno.EADDRNOTAVAIL:
-        return f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: pass another {host_option}"
+        return (f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: "
+                f"pass another {host_option}")
     return f"{option}: cannot listen on {protocol} {where} ({e.strerror or e})"
 
 

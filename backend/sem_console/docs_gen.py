@@ -111,7 +111,7 @@ def command_section(name: str, parser: argparse.ArgumentParser) -> list[str]:
     if parser.description:
         lines += [text(parser.description), ""]
     lines += ['<div class="options" markdown>', "", "| option | environment | default | what |", "|---|---|---|---|"]
-    for action in parser._actions:  # argparse has no public list of a parser's actions
+    for action in parser._actions:  # noqa: SLF001 (argparse has no public list of a parser's actions)
         in_settings = action.dest in fields and (settings_names is None or action.dest in settings_names)
         env = f"`SEM_{action.dest.upper()}`" if in_settings else "—"
         if action.required:
@@ -123,7 +123,7 @@ def command_section(name: str, parser: argparse.ArgumentParser) -> list[str]:
         lines.append(f"| {invocation(action)} | {env} | {default} | {text(help_of(parser, action))} |")
     lines += ["", "</div>", ""]
     if SETTINGS_OPTIONS.get(name, set()) is None:
-        options = {a.dest for a in parser._actions}
+        options = {a.dest for a in parser._actions}  # noqa: SLF001 (as above)
         rest = [(k, f) for k, f in fields.items() if k not in options]
         if rest:
             lines += ["### Environment variables without an option", "",

@@ -5,7 +5,9 @@ from __future__ import annotations
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 from fastapi import Depends, FastAPI, Request
 from fastapi.exception_handlers import http_exception_handler
@@ -20,9 +22,9 @@ from sem_console.api.audit import Auditor
 from sem_console.api.auth import Operators
 from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
 from sem_console.api.guard import Guard, require_json
-from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY
-from sem_console.api.routes import (alarms, comap, commands, gateways as gateway_routes, history, meta, providers, recordings,
-                                    replay, ws)
+from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY, Responses
+from sem_console.api.routes import alarms, comap, commands, history, meta, providers, recordings, replay, ws
+from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
@@ -30,6 +32,14 @@ from sem_console.gateways.run import Gateways
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
 DEFAULT_FRONTEND = Path(__file__).resolve().parents[2] / "frontend" / "dist"
+
+
+@dataclass(frozen=True)
+class Included:
+    """What every route of a router gets: its dependencies and its documented error responses."""
+
+    dependencies: list[Any] = field(default_factory=list)
+    responses: Responses = field(default_factory=dict)
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -87,20 +97,34 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     # Reads need a token only with --auth-reads, commands only when there are tokens: the published
     # OpenAPI document then says exactly which routes need one.
-    reads = {"dependencies": [Depends(require_reader)], "responses": NEEDS_TOKEN} if settings.auth_reads else {}
-    writes = {"dependencies": [Depends(require_operator)], "responses": NEEDS_TOKEN} if operators else {}
-    commands_writes = {**writes, "dependencies": [*writes.get("dependencies", []), Depends(require_json)]}
+    reads = Included([Depends(require_reader)], NEEDS_TOKEN) if settings.auth_reads else Included()
+    writes = Included([Depends(require_operator)], NEEDS_TOKEN) if operators else Included()
+    commands_writes = Included([*writes.dependencies, Depends(require_json)], writes.responses)
     if settings.replay is not None:  # read-only: commands, recording, link config and CoMap writes are refused (409)
-        commands_writes = {"dependencies": [*commands_writes["dependencies"], Depends(refuse_in_replay)],
-                           "responses": {**commands_writes.get("responses", {}), **READ_ONLY}}
-    replay_controls = {**reads, "dependencies": [*reads.get("dependencies", []), Depends(require_json)]}
-    for r, extra in ((providers.router, reads), (history.router, reads), (commands.reads, reads), (meta.reads, reads),
-                     (recordings.reads, reads), (gateway_routes.reads, reads), (comap.reads, reads),
-                     (replay.reads, reads), (replay.controls, replay_controls),
-                     (commands.writes, commands_writes), (recordings.writes, commands_writes), (gateway_routes.writes, commands_writes),
-                     (comap.writes, commands_writes), (alarms.reads, reads), (alarms.writes, commands_writes),
-                     (meta.operator_router, writes), (meta.health_router, {}), (ws.router, {})):
-        app.include_router(r, **{**extra, "responses": {**EVERY_ROUTE, **extra.get("responses", {})}})
+        commands_writes = Included([*commands_writes.dependencies, Depends(refuse_in_replay)],
+                                   {**commands_writes.responses, **READ_ONLY})
+    replay_controls = Included([*reads.dependencies, Depends(require_json)], reads.responses)
+    for r, extra in (
+        (providers.router, reads),
+        (history.router, reads),
+        (commands.reads, reads),
+        (meta.reads, reads),
+        (recordings.reads, reads),
+        (gateway_routes.reads, reads),
+        (comap.reads, reads),
+        (replay.reads, reads),
+        (replay.controls, replay_controls),
+        (commands.writes, commands_writes),
+        (recordings.writes, commands_writes),
+        (gateway_routes.writes, commands_writes),
+        (comap.writes, commands_writes),
+        (alarms.reads, reads),
+        (alarms.writes, commands_writes),
+        (meta.operator_router, writes),
+        (meta.health_router, Included()),
+        (ws.router, Included()),
+    ):
+        app.include_router(r, dependencies=extra.dependencies, responses={**EVERY_ROUTE, **extra.responses})
     app.add_middleware(Guard, settings=settings)
     frontend = settings.frontend_dir or DEFAULT_FRONTEND
     if (frontend / "index.html").exists():

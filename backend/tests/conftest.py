@@ -11,8 +11,8 @@ import ssl
 import subprocess
 import sys
 import time
+from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Callable, Iterator
 
 import pytest
 
@@ -68,8 +68,8 @@ class SimProcess(Process):
         self.domain, self.args, self.state_file = domain, args, state_file
         self.proc: subprocess.Popen[str] | None = None
 
-    def start(self) -> "SimProcess":
-        cmd = [sys.executable, "-m", "sem_console.sim.cli", "--domain", str(self.domain), "--state-file",
+    def start(self) -> SimProcess:
+        cmd = [sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(self.domain), "--state-file",
                str(self.state_file), *FAST, *self.args]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return self
@@ -130,17 +130,38 @@ class ConsoleProcess(Process):
         self.port = free_port()
         tls = "--tls-certfile" in args
         # httpx's verify (and the websockets client's ssl) for a console with a certificate of its own
-        self.verify: ssl.SSLContext | bool = ssl.create_default_context(cafile=args[args.index("--tls-certfile") + 1]) if tls else True
+        self.verify: ssl.SSLContext | bool = (
+            ssl.create_default_context(cafile=args[args.index("--tls-certfile") + 1]) if tls else True
+        )
         self.url = f"{'https' if tls else 'http'}://127.0.0.1:{self.port}"
         self.ws_url = f"{'wss' if tls else 'ws'}://127.0.0.1:{self.port}/ws"
         self.proc: subprocess.Popen[str] | None = None
 
-    def start(self) -> "ConsoleProcess":
+    def start(self) -> ConsoleProcess:
         import httpx
 
-        cmd = [sys.executable, "-m", "sem_console.cli", "--port", str(self.port), "--domain", str(self.domain),
-               "--db", str(self.db), "--recordings-dir", str(self.db.parent / "recordings"), "--comms-lost-timeout", "1", "--regained-time", "1", "--unanswered-timeout", "2",
-               "--log-level", "warning", *self.args]
+        cmd = [
+            sys.executable,
+            "-m",
+            "sem_console.cli",
+            "--port",
+            str(self.port),
+            "--domain",
+            str(self.domain),
+            "--db",
+            str(self.db),
+            "--recordings-dir",
+            str(self.db.parent / "recordings"),
+            "--comms-lost-timeout",
+            "1",
+            "--regained-time",
+            "1",
+            "--unanswered-timeout",
+            "2",
+            "--log-level",
+            "warning",
+            *self.args,
+        ]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                      env={**os.environ, **self.env})
         deadline = time.monotonic() + 20

@@ -5,8 +5,9 @@ from __future__ import annotations
 import time
 import uuid
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from cyclonedds.core import InstanceState
 from cyclonedds.internal import InvalidSample
@@ -14,10 +15,11 @@ from cyclonedds.internal import InvalidSample
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.topics import Sem, Service
 from sem_console.umaa.flow import CommandFlow
-from sem_console.umaa.guid import from_guid, to_guid, stable_guid
+from sem_console.umaa.guid import from_guid, stable_guid, to_guid
 from sem_console.umaa.samples import now_datetime
 
 

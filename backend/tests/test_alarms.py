@@ -14,11 +14,12 @@ from fastapi.testclient import TestClient
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+
 from sem_console.console.alarms import NO_FIX_GRACE, Alarms
 from sem_console.console.clock import RecordingClock
 from sem_console.console.commands import Command, Commands
+from sem_console.console.database import Database
 from sem_console.console.providers import Providers
-from sem_console.console.store import Store
 from sem_console.core.config import Settings
 from sem_console.dds.topics import Service
 from sem_console.main import create_app
@@ -35,7 +36,7 @@ class World:
 
     def __init__(self, db: Path) -> None:
         self.clock = RecordingClock(T0)
-        self.store = Store(db)
+        self.store = Database(db)
         self.written: list[Any] = []
         self.disposed: list[Any] = []
         self.commands = Commands(self.store.console_guid(), self.store, lambda _s, x: self.written.append(x),

@@ -1,11 +1,13 @@
 """`sem-check` against implementations that are not the checker: `sem-sim` (clean and with each
-fault kind), tiny Cyclone providers with a wrong QoS or a wrong key, RTI Connext, and an empty
-domain. The JUnit report is validated against the common JUnit layout (tests/data/junit.xsd)."""
+fault kind), tiny Cyclone providers with a wrong QoS or a wrong key, that stopped reporting or that
+breaks Figure 4 after a command ended, RTI Connext, and an empty domain. The JUnit report is
+validated against the common JUnit layout (tests/data/junit.xsd)."""
 
 from __future__ import annotations
 
 import contextlib
 import io
+import signal
 import subprocess
 import sys
 import threading
@@ -13,28 +15,34 @@ import time
 import typing
 import uuid
 import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable, Iterator
+from typing import Any
 
 import pytest
 import xmlschema
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication
-from cyclonedds.core import Policy, Qos
+from cyclonedds.core import InstanceState, Policy, Qos
 from cyclonedds.idl import make_idl_struct
 from cyclonedds.pub import DataWriter
 from cyclonedds.topic import Topic
 from mcap.reader import make_reader
 
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as CmdStatus
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as CmdReason
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.check import junit
 from sem_console.check.cli import main
+from sem_console.check.results import Case, Outcome, summary
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.qos import TopicClass, representation, writer_qos
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.options import SimOptions, vehicle_guid
 from sem_console.sim.reports import Sensors
-from sem_console.umaa.guid import from_guid
+from sem_console.umaa.guid import from_guid, to_guid
 from sem_console.umaa.samples import now_datetime
 
 XSD = xmlschema.XMLSchema(Path(__file__).parent / "data" / "junit.xsd")
@@ -47,6 +55,7 @@ class Run:
     out: str
     err: str
     cases: dict[str, tuple[str, str]]  # test name -> (passed|failed|skipped|error, reason)
+    report: Path  # the JUnit file
 
 
 def junit_cases(path: Path) -> dict[str, tuple[str, str]]:
@@ -70,7 +79,7 @@ def check(tmp_path: Path, *args: str) -> Run:
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main([*args, "--junit", str(report)])
-    return Run(code, out.getvalue(), err.getvalue(), junit_cases(report))
+    return Run(code, out.getvalue(), err.getvalue(), junit_cases(report), report)
 
 
 def failed(run: Run) -> dict[str, str]:
@@ -95,7 +104,7 @@ def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_pat
     sim("--time-scale", "0.1")
     wait_for_providers(domain, 1)
     evidence = tmp_path / "evidence.mcap"
-    run = check(tmp_path, "--domain", str(domain), "--commands", "--window", "1.5", "--record", str(evidence))
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--window", "1.5", "--max-gap", "1", "--record", str(evidence))
     assert run.code == 0, run.out + run.err
     assert failed(run) == {}
     assert all(o == "passed" for o, _ in run.cases.values()), run.cases
@@ -137,11 +146,14 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
     assert f"{len(faults)} providers on domain {domain}; choose one with --provider" in several.err
     assert all(str(vehicle_guid(i)) in several.err for i in range(1, len(faults) + 1))
     assert several.cases["setup"][0] == "error"
+    # the JUnit error keeps the list to choose from (its message is the first line)
+    error = ET.parse(several.report).getroot().find("testsuite/testcase/error")
+    assert error is not None and all(str(vehicle_guid(i)) in str(error.text) for i in range(1, len(faults) + 1))
 
     wrong = []
     for i, fault in enumerate(faults, 1):
         run = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(i)), "--commands",
-                    "--timeout", "2", "--step-time", "1", "--window", "1")
+                    "--timeout", "2", "--step-time", "1", "--window", "1", "--max-gap", "1")
         test, reason = FAULTS[fault]
         bad = failed(run)
         if run.code != 1 or reason not in bad.get(test, ""):
@@ -154,6 +166,29 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
             wrong.append("ins-failure: GPSFix.complete failed too")
     assert not wrong, "\n".join(wrong)
 
+    # A CI job canceled while a command waits for its answer (SIGTERM): sem-check still disposes the
+    # command it sent (ICD 4.1.6.2), seen by an independent reader, and exits 2.
+    bus = Bus(domain)
+    reader = bus.reader(Sem.GPS_FIX_COMMAND)
+    p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--provider",
+                          str(vehicle_guid(faults.index("no-answer") + 1)), "--commands", "--only", "commands.GPSFix.complete",
+                          "--timeout", "60", "--window", "0.5"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout is not None
+    for line in p.stdout:
+        if "sending GPSFixCommand" in line:
+            break
+    p.send_signal(signal.SIGTERM)
+    _, err = p.communicate(timeout=30)
+    assert p.returncode == 2, err
+    assert "sem-check: terminated" in err
+    states: list[int] = []
+    deadline = time.monotonic() + 10
+    while InstanceState.NotAliveDisposed not in states and time.monotonic() < deadline:
+        states += [s.sample_info.instance_state for s in reader.take(N=100)]
+        time.sleep(0.05)
+    bus.close()
+    assert InstanceState.NotAliveDisposed in states, states
+
 
 def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     sim()
@@ -162,7 +197,7 @@ def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, t
     bus = Bus(domain)
     readers = {sem: bus.reader(sem) for sem in COMMAND_TOPICS}
     publications = BuiltinDataReader(bus.participant, BuiltinTopicDcpsPublication)
-    run = check(tmp_path, "--domain", str(domain), "--window", "1")
+    run = check(tmp_path, "--domain", str(domain), "--window", "1", "--max-gap", "1")
     time.sleep(0.5)  # anything written in the run has reached the reader by now (loopback)
     assert run.code == 0, run.out + run.err
     assert "read-only: no command is sent" in run.out
@@ -174,6 +209,10 @@ def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, t
     assert set(skipped) == {n for n in run.cases if n.startswith("commands.")} and len(skipped) == 7
     assert all("read-only run" in r for r in skipped.values())
     bus.close()
+    # Only the command tests, read-only: nothing is tested, which is no pass.
+    only_commands = check(tmp_path, "--domain", str(domain), "--only", "commands", "--window", "0.5")
+    assert only_commands.code == 2, only_commands.out + only_commands.err
+    assert "nothing was tested: every selected test was skipped" in only_commands.err
 
 
 def test_empty_domain_cannot_test_in_one_line(domain: int, tmp_path: Path) -> None:
@@ -192,6 +231,39 @@ def test_unknown_test_name_cannot_test(domain: int, tmp_path: Path) -> None:
     run = check(tmp_path, "--domain", str(domain), "--only", "discovery.GPSFixReprot")
     assert run.code == 2
     assert "--only/--skip discovery.GPSFixReprot selects no test" in run.err
+
+
+def test_unwritable_junit_cannot_test_before_the_run(domain: int, tmp_path: Path) -> None:
+    """Exit 2 (not a traceback and exit 1, which CI reads as a failed vehicle), before anything is sent."""
+    a_file = tmp_path / "a-file"
+    a_file.write_text("")
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["--domain", str(domain), "--commands", "--junit", str(a_file / "junit.xml")])
+    assert code == 2
+    assert err.getvalue().startswith(f"sem-check: cannot write the JUnit report {a_file / 'junit.xml'}: ")
+    assert len(err.getvalue().splitlines()) == 1
+
+
+def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
+    """A skip after a failure keeps the failure; the terminal shows whole reasons (their ICD
+    reference comes last) and what a pass did not check; the JUnit failure text has what was seen."""
+    reason = ("Figure 4 breach: ISSUED -> COMPLETED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
+              "ISSUED/SUCCEEDED +0.01 s, COMPLETED/SUCCEEDED +0.02 s")
+    breach = Case("commands.GPSFix.cancel").fail(reason)
+    breach.skip("the command COMPLETED before it reached EXECUTING long enough to be canceled; cancel not tested")
+    assert (breach.outcome, breach.reason) == (Outcome.FAILED, reason)
+    unchecked = Case("discovery.GPSFixCommand").caveat("members and keys not checked: reader 1 sent no type information")
+    assert unchecked.outcome is Outcome.PASSED
+    out = io.StringIO()
+    summary([breach, unchecked], 1.0, out)
+    assert reason in out.getvalue()
+    assert "pass      0.0s  members and keys not checked: reader 1 sent no type information" in out.getvalue()
+    report = tmp_path / "junit.xml"
+    junit.write(report, [breach, unchecked], 1.0, {})
+    assert junit_cases(report) == {"commands.GPSFix.cancel": ("failed", reason), "discovery.GPSFixCommand": ("passed", "")}
+    failure = ET.parse(report).getroot().find("testsuite/testcase/failure")
+    assert failure is not None and "then not tested further: the command COMPLETED" in str(failure.text)
 
 
 # ---- tiny Cyclone providers with one topic wrong ------------------------------------------------
@@ -253,7 +325,8 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
     assert run.code == 1
     bad = failed(run)
-    assert "BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it" in bad["discovery.GPSFixStatusReport"]
+    assert ("BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it (ICD 4.2.1"
+            in bad["discovery.GPSFixStatusReport"])
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
@@ -270,6 +343,83 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
 
 
+# ---- a provider that breaks Figure 4 after the command ended ------------------------------------
+
+class BreachAfterCleanup:
+    """A Cyclone GPSFixControl provider (with an InertialSensorReport, to be found) that runs each
+    command to COMPLETED with its ack, and answers the consumer's cleanup dispose with EXECUTING
+    before disposing its status and ack: a Figure 4 breach after the command ended."""
+
+    def __init__(self, domain: int) -> None:
+        self.bus = Bus(domain)
+        self.guid = uuid.uuid4()
+        self.commands = self.bus.reader(Sem.GPS_FIX_COMMAND)
+        self.status = self.bus.writer(Sem.GPS_FIX_COMMAND_STATUS)
+        self.ack = self.bus.writer(Sem.GPS_FIX_COMMAND_ACK)
+        self.ins = self.bus.writer(Sem.INS_REPORT)
+        self.ins.write(Sensors(SimOptions(), 1, self.guid, set()).ins_report(time.monotonic()))
+        self.running: dict[int, Any] = {}  # instance handle -> command
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self.loop, daemon=True)
+        self.thread.start()
+
+    def status_of(self, cmd: Any, status: CmdStatus) -> Any:
+        return Sem.GPS_FIX_COMMAND_STATUS.spec.type(
+            source=to_guid(self.guid), sessionID=cmd.sessionID, commandStatus=status, commandStatusReason=CmdReason.SUCCEEDED,
+            logMessage="", timeStamp=now_datetime())
+
+    def loop(self) -> None:
+        while not self.stop.is_set():
+            for s in self.commands.take(N=16):
+                info = s.sample_info
+                if info.valid_data and info.instance_state == InstanceState.Alive and from_guid(s.destination) == self.guid:
+                    self.running[info.instance_handle] = s
+                    self.ack.write(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid), sessionID=s.sessionID))
+                    for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
+                        self.status.write(self.status_of(s, status))
+                elif info.instance_state == InstanceState.NotAliveDisposed and info.instance_handle in self.running:
+                    cmd = self.running.pop(info.instance_handle)
+                    self.status.write(self.status_of(cmd, CmdStatus.EXECUTING))  # COMPLETED -> EXECUTING
+                    self.status.dispose(self.status_of(cmd, CmdStatus.EXECUTING))
+                    self.ack.dispose(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid), sessionID=cmd.sessionID))
+            time.sleep(0.02)
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join()
+        self.bus.close()
+
+
+def test_a_breach_after_the_end_fails_the_cleanup(domain: int, tmp_path: Path) -> None:
+    """Every status of a command goes through Figure 4, also those after its test followed it."""
+    p = BreachAfterCleanup(domain)
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
+                    "commands.GPSFix.complete,commands.GPSFix.cleanup", "--timeout", "5", "--step-time", "2", "--window", "0.5")
+    finally:
+        p.close()
+    assert run.cases["commands.GPSFix.complete"] == ("passed", ""), run.out
+    assert run.code == 1
+    assert failed(run)["commands.GPSFix.cleanup"].startswith(
+        "Figure 4 breach: COMPLETED -> EXECUTING is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: ISSUED/SUCCEEDED")
+
+
+# ---- a provider that stopped reporting ----------------------------------------------------------
+
+def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int,
+                                                        tmp_path: Path) -> None:
+    """Each report written once (its writer still alive): a window shorter than --max-gap cannot
+    see the gap, so sem-check watches at least twice --max-gap."""
+    p = tiny()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "reports.InertialSensorReport",
+                "--window", "0.5", "--max-gap", "1")
+    assert "watching its reports for 2 s" in run.out
+    assert run.code == 1, run.out + run.err
+    assert set(failed(run)) == {"reports.InertialSensorReport.timing"}
+    assert "more than the stated 1 s" in failed(run)["reports.InertialSensorReport.timing"]
+    assert "ICD 4.2.1.1: the provider publishes its updated reports)" in failed(run)["reports.InertialSensorReport.timing"]
+
+
 # ---- RTI Connext ---------------------------------------------------------------------------------
 
 RTI_SERVES = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
@@ -280,7 +430,7 @@ def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path
     try:
         from rti.connector import RtiParticipant
         from test_interop_rti import RtiVehicle
-    except Exception as e:  # noqa: BLE001 (the connector's native library may not load here)
+    except Exception as e:  # the connector's native library may not load here
         pytest.skip(f"RTI Connext's connector cannot load: {e}")
     p = RtiParticipant(domain, writers=RTI_SERVES, readers=COMMAND_TOPICS)
     v = RtiVehicle(p)
@@ -295,7 +445,7 @@ def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path
     t.start()
     try:
         run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports",
-                    "--window", "1.5")
+                    "--window", "1.5", "--max-gap", "1")
     finally:
         stop.set()
         t.join()

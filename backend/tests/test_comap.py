@@ -41,19 +41,25 @@ def capabilities(base: str) -> list[dict[str, Any]]:
 
 def last_position(base: str) -> tuple[float, float]:
     def get() -> tuple[float, float] | None:
-        pts = httpx.get(f"{base}/api/providers/{V1}/track").json() if httpx.get(f"{base}/api/providers/{V1}").status_code == 200 else []
+        pts = (
+            httpx.get(f"{base}/api/providers/{V1}/track").json()
+            if httpx.get(f"{base}/api/providers/{V1}").status_code == 200
+            else []
+        )
         return (pts[-1]["latitude"], pts[-1]["longitude"]) if pts else None
     return wait_until(get, 20, "a track point of vehicle 1")  # type: ignore[no-any-return]
 
 
 def square(center: tuple[float, float], north_m: float, size_m: float) -> list[tuple[float, float]]:
     loc = Local(*center)
-    return [loc.latlon(x, north_m + y) for x, y in ((-size_m / 2, 0), (size_m / 2, 0), (size_m / 2, size_m), (-size_m / 2, size_m))]
+    return [
+        loc.latlon(x, north_m + y) for x, y in ((-size_m / 2, 0), (size_m / 2, 0), (size_m / 2, size_m), (-size_m / 2, size_m))
+    ]
 
 
 def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[str, Any]:
     ring = [[lon, lat] for lat, lon in points]
-    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [ring + [ring[0]]]},
+    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[*ring, ring[0]]]},
             "properties": {"featureId": fid, "name": "box"}}
 
 
@@ -104,7 +110,12 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "1")
     here = last_position(c.url)
     box = square(here, 50, 400)
-    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, None)]}).status_code == 200
+    assert (
+        httpx.put(
+            f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(box, None)]}
+        ).status_code
+        == 200
+    )
     fid = httpx.get(f"{c.url}/api/worldmodel").json()["features"][0]["properties"]["featureId"]
     capabilities(c.url)
 
@@ -148,26 +159,92 @@ def test_task_routes_refuse_bad_requests(console) -> None:
         (httpx.post, "/api/tasks", {"kind": "survey", "vehicle": V1}, 422),
         (httpx.post, "/api/tasks", {"kind": "move", "vehicle": V1, "point": {"lat": 91, "lon": 0}}, 422),
         (httpx.post, "/api/tasks/99/synch", {"action": "HOLD"}, 404),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
-                                                            "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1], [2, 2]]}}]}, 422),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # a bow tie crosses itself
-                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [1, 0], [0, 1]]]}}]}, 409),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},  # 3 vertices, 2 distinct
-                                                            "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [0, 0], [0, 0]]]}}]}, 409),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": 3},
-                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}] * 2}, 409),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {"featureId": True},
-                                                            "geometry": {"type": "Point", "coordinates": [0, 0]}}]}, 422),
-        (httpx.put, "/api/worldmodel", {**fc, "features": [{"type": "Feature", "properties": {},
-                                                            "geometry": {"type": "Point", "coordinates": [200, 0]}}]}, 422),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {
+                **fc,
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {},
+                        "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1], [2, 2]]},
+                    }
+                ],
+            },
+            422,
+        ),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {
+                **fc,
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {},  # a bow tie crosses itself
+                        "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [1, 0], [0, 1]]]},
+                    }
+                ],
+            },
+            409,
+        ),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {
+                **fc,
+                "features": [
+                    {
+                        "type": "Feature",
+                        "properties": {},  # 3 vertices, 2 distinct
+                        "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1, 1], [0, 0], [0, 0]]]},
+                    }
+                ],
+            },
+            409,
+        ),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {
+                **fc,
+                "features": [
+                    {"type": "Feature", "properties": {"featureId": 3}, "geometry": {"type": "Point", "coordinates": [0, 0]}}
+                ]
+                * 2,
+            },
+            409,
+        ),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {
+                **fc,
+                "features": [
+                    {"type": "Feature", "properties": {"featureId": True}, "geometry": {"type": "Point", "coordinates": [0, 0]}}
+                ],
+            },
+            422,
+        ),
+        (
+            httpx.put,
+            "/api/worldmodel",
+            {**fc, "features": [{"type": "Feature", "properties": {}, "geometry": {"type": "Point", "coordinates": [200, 0]}}]},
+            422,
+        ),
     ]
     for call, path, body, want in cases:
         r = call(c.url + path, json=body)
         assert r.status_code == want, (path, body, r.text)
     audit = httpx.get(f"{c.url}/api/audit").json()
-    assert sum(1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")) == len(cases)
+    assert sum(
+        1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")
+    ) == len(cases)
     off = console()
-    assert httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
+    assert (
+        httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
+    )
     assert httpx.get(f"{off.url}/api/comap").json()["enabled"] is False
 
 
@@ -191,9 +268,16 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
             s.sendto(d, ("127.0.0.1", port))
             time.sleep(0.001)
         s.sendto(encode_packet(msg("TaskStatus", task_id=1, status=2, progress=3, quality=4), src=5), ("127.0.0.1", port))
-    counters = wait_until(lambda: (lambda x: x if x["received"] == len(datagrams) + 1 else None)(httpx.get(f"{c.url}/api/comap").json()["counters"]),
-                          10, "every datagram counted")
-    assert counters["accepted"] == 1 and counters["bad_crc"] >= 20 and counters["bad_size"] >= 40 and counters["truncated"] >= 40, counters
+    counters = wait_until(
+        lambda: (lambda x: x if x["received"] == len(datagrams) + 1 else None)(
+            httpx.get(f"{c.url}/api/comap").json()["counters"]
+        ),
+        10,
+        "every datagram counted",
+    )
+    assert (
+        counters["accepted"] == 1 and counters["bad_crc"] >= 20 and counters["bad_size"] >= 40 and counters["truncated"] >= 40
+    ), counters
     dropped = sum(counters[k] for k in ("truncated", "bad_sync", "bad_size", "bad_crc", "unknown_id", "bad_message"))
     assert dropped == len(datagrams), counters
     assert httpx.get(f"{c.url}/api/health").status_code == 200 and c.proc.poll() is None
@@ -208,8 +292,8 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
         (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
         (["-m", "sem_console.cli", "--imc-peers", "localhost"], "is not host:port"),
         (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
-        (["-m", "sem_console.sim.cli", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
-        (["-m", "sem_console.sim.cli", "--imc-peers", "h:99999"], "is not host:port"),
+        (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
+        (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
     ]
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
@@ -232,7 +316,9 @@ def test_new_feature_ids_are_not_reused_after_a_delete() -> None:
     c2.put_world_model([Feature(1, pt), Feature(-1, pt), Feature(-1, pt)])
     assert [f.feature_id for f in c2.features] == [1, 4, 5]
     # ids in a world model a peer sent count too
-    c2.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0xFFFF, dst_ent=0), world_model_message([Feature(9, pt)]))
+    c2.on_message(
+        Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0xFFFF, dst_ent=0), world_model_message([Feature(9, pt)])
+    )
     c2.put_world_model([Feature(-1, pt)])
     assert [f.feature_id for f in c2.features] == [10]
     assert len(sent) == 4 and sent[-1].name == "WorldModel"

@@ -2,13 +2,23 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import pytest
 
 from sem_console.comap.codec import decode_packet, encode_packet
-from sem_console.comap.geo import (Feature, GeoError, Local, contains, feature_from_geojson, feature_to_geojson,
-                                   features_from_world_model, lawnmower, world_model_message)
+from sem_console.comap.geo import (
+    Feature,
+    GeoError,
+    Local,
+    contains,
+    feature_from_geojson,
+    feature_to_geojson,
+    features_from_world_model,
+    lawnmower,
+    world_model_message,
+)
 
 SQUARE = [[-75.70, 36.80], [-75.698, 36.80], [-75.698, 36.8015], [-75.70, 36.8015]]
 
@@ -21,7 +31,7 @@ def test_vertex_count_makes_the_kind_and_a_closed_ring_is_the_same_polygon() -> 
     point = feature_from_geojson(gj("Point", [-75.7, 36.8], featureId=1), "f")
     line = feature_from_geojson(gj("LineString", SQUARE[:2], featureId=2), "f")
     open_ = feature_from_geojson(gj("Polygon", [SQUARE], featureId=3), "f")
-    closed = feature_from_geojson(gj("Polygon", [SQUARE + [SQUARE[0]]], featureId=3), "f")
+    closed = feature_from_geojson(gj("Polygon", [[*SQUARE, SQUARE[0]]], featureId=3), "f")
     assert (point.kind, line.kind, open_.kind) == ("Point", "LineString", "Polygon")
     assert open_.points == closed.points and len(closed.points) == 4
     # over IMC: the open ring; back from IMC: the same polygon, GeoJSON closes it
@@ -55,7 +65,7 @@ def test_lawnmower_sweeps_the_polygon_lane_by_lane() -> None:
     assert len(lanes) == 2 * 6 and all(contains(poly, *p) or _on_edge(poly, p) for p in lanes)
     loc = Local(*poly[0])
     ys = sorted({round(loc.xy(*p)[1], 3) for p in lanes})
-    assert ys[0] == pytest.approx(15.0) and all(b - a == pytest.approx(30.0) for a, b in zip(ys, ys[1:]))
+    assert ys[0] == pytest.approx(15.0) and all(b - a == pytest.approx(30.0) for a, b in itertools.pairwise(ys))
     xs = [round(loc.xy(*p)[0]) for p in lanes]
     assert xs[:4] == [0, 178, 178, 0]  # boustrophedon: east, then back west
     assert lawnmower(poly[:2], 30.0) == poly[:2] and lawnmower(poly[:1], 30.0) == poly[:1]
@@ -64,4 +74,6 @@ def test_lawnmower_sweeps_the_polygon_lane_by_lane() -> None:
 def _on_edge(poly: list[tuple[float, float]], p: tuple[float, float]) -> bool:
     lat0, lon0 = min(a for a, _ in poly), min(b for _, b in poly)
     lat1, lon1 = max(a for a, _ in poly), max(b for _, b in poly)
-    return lat0 - 1e-9 <= p[0] <= lat1 + 1e-9 and (math.isclose(p[1], lon0, abs_tol=1e-9) or math.isclose(p[1], lon1, abs_tol=1e-9))
+    return lat0 - 1e-9 <= p[0] <= lat1 + 1e-9 and (
+        math.isclose(p[1], lon0, abs_tol=1e-9) or math.isclose(p[1], lon1, abs_tol=1e-9)
+    )

@@ -68,7 +68,7 @@ def test_pyimclsts_reads_what_we_send(peer: Path) -> None:
     decoded = got["decoded"]
     assert len(decoded) == len(OURS)
     assert got["crc"] == [int.from_bytes(p[-2:], "little") for p in packets]  # its CRC-16-IBM agrees with ours
-    for m, packet, theirs in zip(OURS, packets, decoded):
+    for m, packet, theirs in zip(OURS, packets, decoded, strict=True):
         header = theirs.pop("_header")
         assert header[:3] == [0xFE55, m.id, len(packet) - 22] and header[4:] == [0x4001, 0xFF, 0x2001, 0]
         assert _close(theirs, as_plain(m)), (theirs, as_plain(m))
@@ -78,7 +78,7 @@ def _close(a: Any, b: Any) -> bool:
     if isinstance(a, dict) and isinstance(b, dict):
         return a.keys() == b.keys() and all(_close(a[k], b[k]) for k in a)
     if isinstance(a, list) and isinstance(b, list):
-        return len(a) == len(b) and all(_close(x, y) for x, y in zip(a, b))
+        return len(a) == len(b) and all(_close(x, y) for x, y in zip(a, b, strict=True))
     if isinstance(a, float) or isinstance(b, float):
         return math.isclose(a, b, rel_tol=1e-6)  # fp32 fields
     return bool(a == b)
@@ -101,7 +101,9 @@ def test_we_read_what_pyimclsts_sends_and_the_console_takes_its_world_model(peer
     c = console("--imc-port", str(port), "--imc-host", "127.0.0.1")
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.sendto(enc["WorldModel-be"], ("127.0.0.1", port))
-    model = wait_until(lambda: (lambda w: w if w["features"] else None)(httpx.get(f"{c.url}/api/worldmodel").json()), 10, "the world model")
+    model = wait_until(
+        lambda: (lambda w: w if w["features"] else None)(httpx.get(f"{c.url}/api/worldmodel").json()), 10, "the world model"
+    )
     (f,) = model["features"]
     assert model["source"] == f"imc:{0x2001}" and f["properties"] == {"featureId": 42, "coverage": "PARTIAL"}
     ring = f["geometry"]["coordinates"][0]

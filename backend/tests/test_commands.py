@@ -9,9 +9,10 @@ from typing import Any
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+
 from sem_console.console import commands as commands_module
 from sem_console.console.commands import Commands
-from sem_console.console.store import Store
+from sem_console.console.database import Database
 from sem_console.dds.topics import Service
 
 OK = R.SUCCEEDED
@@ -26,7 +27,7 @@ class Bus:
 
 
 def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
-    store = Store(db)
+    store = Database(db)
     return Commands(store.console_guid(), store, lambda _s, x: bus.written.append(x),
                     lambda _s, x: bus.disposed.append(x), bus.emitted.append, timeout)
 

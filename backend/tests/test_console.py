@@ -9,10 +9,13 @@ import socket
 import threading
 import time
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import httpx
 import pytest
+from cyclonedds.core import Policy, Qos
+from cyclonedds.util import duration
 from websockets.sync.client import connect
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
@@ -20,10 +23,9 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.SEM.GPSFixStatus import GPSFixReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
-from cyclonedds.core import Policy, Qos
-from cyclonedds.util import duration
 from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
@@ -81,7 +83,9 @@ def command(base: str, session: str) -> dict[str, Any]:
     return httpx.get(f"{base}/api/commands/{session}").json()
 
 
-def wait_command(base: str, session: str, timeout: float = 15, done: Callable[[dict[str, Any]], bool] | None = None) -> dict[str, Any]:
+def wait_command(
+    base: str, session: str, timeout: float = 15, done: Callable[[dict[str, Any]], bool] | None = None
+) -> dict[str, Any]:
     done = done or (lambda c: c["terminal"] and c["cleanedUp"])
     return wait_until(lambda: (lambda c: c if done(c) else None)(command(base, session)), timeout, f"command {session}")
 
@@ -151,6 +155,7 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
 def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain: int) -> None:
     """A provider whose report and status writers are best-effort and volatile, with a latency budget."""
     from cyclonedds.pub import DataWriter
+
     from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as St
     from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Rs
     from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
@@ -206,8 +211,14 @@ def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> Non
 
 def _valid_fix() -> GPSFixReportType:
     from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType
-    from UMAA.Common.Measurement import (Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D,
-                                         Position2DTime, Velocity3D_PlatformNED)
+    from UMAA.Common.Measurement import (
+        Altitude_MSL,
+        GeodeticLatitude,
+        GeodeticLongitude,
+        Position2D,
+        Position2DTime,
+        Velocity3D_PlatformNED,
+    )
     return GPSFixReportType(
         altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=GPSFixEnumType.STABLE, GPSLatLongValid=True, magneticVariation=0.1,
         position2DWithTime=Position2DTime(Position2D(GeodeticLatitude(10.0), GeodeticLongitude(20.0)), 1.7e9),
@@ -444,7 +455,9 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
     assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
             "/api/providers/{provider_id}/inertial-sensor", "/api/commands", "/api/commands/{session_id}"} <= set(spec["paths"])
     schema = httpx.get(f"{live.url}/api/ws-schema").json()
-    kinds = {m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})}
+    kinds = {
+        m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})
+    }
     assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync"}
     assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
     assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"

@@ -8,6 +8,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import Inert
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+
 from sem_console.console.convert import to_json
 
 
@@ -24,7 +25,7 @@ def test_unknown_enum_ordinal_from_the_wire_is_flagged() -> None:
 
 def test_nan_and_out_of_range() -> None:
     sample = InertialSensorReportType(state=Ins.ON, status=Op.INIT, source=bytes(range(16)), timeStamp=DateTime(1, 2_000_000_000))
-    report, invalid = to_json(sample)
+    _report, invalid = to_json(sample)
     assert invalid == ["timeStamp.nanoseconds: 2000000000 outside 0..1e+09"]
     from sem_console.console.convert import _value
     bad: list[str] = []

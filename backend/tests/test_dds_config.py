@@ -44,7 +44,7 @@ def uri_forms(tmp_path: Path, name: str) -> dict[str, tuple[str, Path]]:
 @pytest.mark.parametrize("form", ["inline", "path", "file-uri"])
 def test_sim_reads_cyclonedds_uri(form: str, domain: int, tmp_path: Path) -> None:
     uri, trace = uri_forms(tmp_path, "sim")[form]
-    proc = subprocess.Popen([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+    proc = subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
                              str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": uri},
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
@@ -58,7 +58,7 @@ def test_sim_reads_cyclonedds_uri(form: str, domain: int, tmp_path: Path) -> Non
 def test_console_and_sim_configured_by_uri_find_each_other(console, domain: int, tmp_path: Path) -> None:
     sim_uri, sim_trace = uri_forms(tmp_path, "sim")["file-uri"]
     console_uri, console_trace = uri_forms(tmp_path, "console")["inline"]
-    sim = subprocess.Popen([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+    sim = subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
                             str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": sim_uri},
                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     try:
@@ -75,7 +75,7 @@ def test_uri_pointing_elsewhere_is_not_replaced_by_loopback(domain: int, tmp_pat
     """A URI that names another interface is used as given (it used to fall back to Cyclone's defaults)."""
     trace = tmp_path / "other.log"
     xml = traced(trace).replace('name="lo"', 'name="sem-no-such-interface"')
-    proc = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+    proc = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
                            str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": xml},
                           capture_output=True, text=True, timeout=30)
     assert proc.returncode == 2

@@ -47,10 +47,10 @@ def same(a: object, b: object) -> bool:
     if isinstance(a, dict) and isinstance(b, dict):
         return a.keys() == b.keys() and all(same(a[k], b[k]) for k in a)
     if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
-        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+        return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
     if hasattr(a, "__dataclass_fields__") and type(a) is type(b):
         return all(same(getattr(a, f), getattr(b, f)) for f in a.__dataclass_fields__)
-    return bool(a == b) and type(a) is type(b) or (isinstance(a, (bytes, bytearray)) and a == b)
+    return (bool(a == b) and type(a) is type(b)) or (isinstance(a, (bytes, bytearray)) and a == b)
 
 
 @pytest.mark.parametrize("sem", SEMS, ids=[s.name for s in SEMS])
@@ -137,7 +137,10 @@ def test_unknown_enum_ordinal_and_too_many_satellites() -> None:
 
 
 def _mutations(data: bytes, rng: random.Random) -> list[bytes]:
-    out = [data[:n] for n in sorted({0, 1, 2, 3, 4, 5, len(data) // 2, len(data) - 1, *rng.sample(range(len(data)), min(8, len(data)))})]
+    out = [
+        data[:n]
+        for n in sorted({0, 1, 2, 3, 4, 5, len(data) // 2, len(data) - 1, *rng.sample(range(len(data)), min(8, len(data)))})
+    ]
     for _ in range(25):
         b = bytearray(data)
         for _ in range(rng.randrange(1, 4)):

@@ -6,6 +6,7 @@ import pytest
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
+
 from sem_console.umaa.flow import CommandFlow, check_transition
 
 OK = R.SUCCEEDED

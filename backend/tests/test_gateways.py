@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import math
 import random
-import signal
 import socket
 import struct
 import threading
@@ -20,16 +19,15 @@ import httpx
 import lcm
 import pytest
 
+from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
-from UMAA.SEM.GPSFixStatus import GPSFixReportType
-from consumer import Consumer
+
 from conftest import free_port
+from consumer import Consumer
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
 from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
-
-from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 
 FIX_MEASUREMENTS = {"measurement_position", "measurement_altitude", "measurement_velocity", "measurement_speed",
                     "measurement_direction_of_motion_2d"}
@@ -71,7 +69,10 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     collect(consumer, 1.5)
     recorded = httpx.get(f"{c.url}/api/providers/{V1}/aspn-log", params={"seconds": 60})
     assert recorded.status_code == 200 and recorded.headers["content-type"] == "application/octet-stream"
-    assert recorded.headers["content-disposition"].startswith("attachment; filename=") and ".lcm" in recorded.headers["content-disposition"]
+    assert (
+        recorded.headers["content-disposition"].startswith("attachment; filename=")
+        and ".lcm" in recorded.headers["content-disposition"]
+    )
     (tmp_path / "recorded.lcm").write_bytes(recorded.content)
     state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
     assert state["aspn"]["enabled"] and state["aspn"]["messagesOut"] > 0 and state["aspn"]["lastError"] is None
@@ -107,16 +108,30 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
                 continue
             matched[measurement] += 1
             assert m.num_signals_tracked == len(r.satellites) == len(m.obs)
-            for o, s in zip(m.obs, r.satellites):
+            for o, s in zip(m.obs, r.satellites, strict=True):
                 assert o.prn == bytes(s.satelliteId)[15]
-                assert o.satellite_system.satellite_system == {Constellation.GPS: 0, Constellation.GALILEO: 1, Constellation.GLONASS: 2,
-                                                               Constellation.BEIDOU: 3, Constellation.SBAS: 4}[s.constellationType]
+                assert (
+                    o.satellite_system.satellite_system
+                    == {
+                        Constellation.GPS: 0,
+                        Constellation.GALILEO: 1,
+                        Constellation.GLONASS: 2,
+                        Constellation.BEIDOU: 3,
+                        Constellation.SBAS: 4,
+                    }[s.constellationType]
+                )
                 assert o.frequency == s.carrierFrequency
                 if s.antennaCarrierNoiseDensity is None:
                     assert math.isnan(o.c_n0)
                 else:
                     assert o.c_n0 == pytest.approx(s.antennaCarrierNoiseDensity)
-                for absent in (o.pseudorange, o.pseudorange_variance, o.pseudorange_rate, o.carrier_phase, o.carrier_phase_variance):
+                for absent in (
+                    o.pseudorange,
+                    o.pseudorange_variance,
+                    o.pseudorange_rate,
+                    o.carrier_phase,
+                    o.carrier_phase_variance,
+                ):
                     assert math.isnan(absent)  # UMAA has none of these: NaN, never a stand-in 0
                 assert o.lock_count == -1
             continue
@@ -128,8 +143,12 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
             assert r.GPSLatLongValid
             positions_at.add(t)
             assert m.reference_frame == aspn23_lcm.measurement_position.REFERENCE_FRAME_GEODETIC
-            assert m.term1 == pytest.approx(math.radians(r.position2DWithTime.geodeticPosition.geodeticLatitude.latitude), abs=1e-12)
-            assert m.term2 == pytest.approx(math.radians(r.position2DWithTime.geodeticPosition.geodeticLongitude.longitude), abs=1e-12)
+            assert m.term1 == pytest.approx(
+                math.radians(r.position2DWithTime.geodeticPosition.geodeticLatitude.latitude), abs=1e-12
+            )
+            assert m.term2 == pytest.approx(
+                math.radians(r.position2DWithTime.geodeticPosition.geodeticLongitude.longitude), abs=1e-12
+            )
             assert math.isnan(m.term3)  # UMAA gives MSL, not height above the ellipsoid
             assert m.num_meas == 2 and all(math.isnan(x) for row in m.covariance for x in row)
         elif measurement == "measurement_altitude":
@@ -220,8 +239,24 @@ TABLE: dict[str, tuple[int, float | None, float | None]] = {
 }
 GLOBAL = ["Latitude", "Longitude", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth", "XYPositionRMS", "ZPositionRMS", "Roll",
           "Pitch", "Heading", "Attitude_RMS", "Course", "TimeSeconds", "TimeNanoSeconds"]
-LOCAL = ["X", "Y", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth", "ZLocal", "XYPositionRMS", "ZPositionRMS", "Roll", "Pitch",
-         "Heading", "Attitude_RMS", "Course", "TimeSeconds", "TimeNanoSeconds"]
+LOCAL = [
+    "X",
+    "Y",
+    "AltitudeAGL",
+    "AltitudeMSL",
+    "AltitudeASF",
+    "Depth",
+    "ZLocal",
+    "XYPositionRMS",
+    "ZPositionRMS",
+    "Roll",
+    "Pitch",
+    "Heading",
+    "Attitude_RMS",
+    "Course",
+    "TimeSeconds",
+    "TimeNanoSeconds",
+]
 NED = ["Velocity_N", "Velocity_E", "Velocity_D"]
 VSTATE = ["Velocity_RMS", "RollRate", "PitchRate", "YawRate", "Rate_RMS", "SpeedOverGround", "SpeedRelativeToMedium",
           "RotationsPerMinute", "IndicatedSpeed", "TimeSeconds", "TimeNanoSeconds"]
@@ -324,7 +359,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
         assert abs(g["AltitudeMSL"] - r.altitudeMSL.altitude) <= step("AltitudeMSL")
         course = (r.trueCourse + math.pi) % (2 * math.pi) - math.pi
         assert abs(g["Course"] - course) <= step("Course")
-        for name, want in zip(NED, (r.velocity.northSpeed, r.velocity.eastSpeed, r.velocity.downSpeed)):
+        for name, want in zip(NED, (r.velocity.northSpeed, r.velocity.eastSpeed, r.velocity.downSpeed), strict=True):
             assert abs(nav["ned"][name] - want) <= step(name)
         assert abs(nav["state"]["SpeedOverGround"] - r.SOG) <= step("SpeedOverGround")
     assert checked >= 3
@@ -360,7 +395,10 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
     body = {"commsLostTimeout": 7.5, "regainedTime": 2, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
     url = f"{c.url}/api/providers/{V1}/link-config"
     assert httpx.put(url, json=body).status_code == 401
-    assert httpx.put(url, content="{}", headers={"Authorization": "Bearer secret-1", "Content-Type": "text/plain"}).status_code == 415
+    assert (
+        httpx.put(url, content="{}", headers={"Authorization": "Bearer secret-1", "Content-Type": "text/plain"}).status_code
+        == 415
+    )
     bad = httpx.put(url, json={**body, "policy": "RETROTRAVERSE"}, headers={"Authorization": "Bearer secret-1"})
     assert bad.status_code == 422 and "policy" in bad.json()["detail"]
     r = httpx.put(url, json=body, headers={"Authorization": "Bearer secret-1"})
@@ -477,7 +515,7 @@ def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
         feed = Feed()
         gw = AspnGateway(feed, f"file://{log_file}")
         feed.publish(_speed_report(vehicle, run))
-        wait_until(lambda: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
+        wait_until(lambda gw=gw: gw.state()["messagesOut"] == 1 or None, 10, "the report published")
         gw.close()
     speeds = [m.speed for _, m in read_log(log_file)]
     assert speeds == [1.0, 2.0]  # the first run's message is still there
@@ -488,7 +526,9 @@ def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
         check_url(f"file://{tmp_path}")
 
 
-def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     import sys
 
     from sem_console.console.feed import Feed
@@ -557,4 +597,6 @@ def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> 
         configs = stored_link_configs(rows)
     assert configs == {"a": LinkConfig(2.5, 1.0, "CONTINUE_MISSION", 3), "old": LinkConfig(4.0, 2.0)}
     warnings = [r for r in caplog.records if r.levelname == "WARNING"]
-    assert len(warnings) == 1 and all(k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json"))
+    assert len(warnings) == 1 and all(
+        k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json")
+    )

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import csv
 import io
+import itertools
 import math
 import signal
 import time
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from typing import Any
 
 import gpxpy
@@ -21,7 +22,7 @@ TRACK_HEADER = ["time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m", "
 
 
 def iso(t: float) -> str:
-    return datetime.fromtimestamp(t, timezone.utc).isoformat().replace("+00:00", "Z")
+    return datetime.fromtimestamp(t, UTC).isoformat().replace("+00:00", "Z")
 
 
 def parse_utc(s: str) -> float:
@@ -105,10 +106,10 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     points = gpx.tracks[0].segments[0].points
     assert len(points) == len(track)
     times = [p.time.timestamp() for p in points]
-    assert len(times) >= 3 and all(a < b for a, b in zip(times, times[1:]))  # in time order, one per instant
+    assert len(times) >= 3 and all(a < b for a, b in itertools.pairwise(times))  # in time order, one per instant
     assert len({math.floor(t) for t in times}) == len(times)  # at most one a second (1 Hz)
     assert len({(p.latitude, p.longitude) for p in points}) > 1  # the vehicle's track, not one point repeated
-    for p, t in zip(points, track):
+    for p, t in zip(points, track, strict=True):
         assert abs(p.time.timestamp() - t["time"]) < 1e-3
         assert (p.latitude, p.longitude, p.elevation) == (t["latitude"], t["longitude"], t["altitudeMsl"])
         ext = {e.tag.split("}")[1]: float(e.text) for e in p.extensions}
@@ -118,8 +119,8 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
     rows = list(csv.reader(io.StringIO(r.text)))
     assert rows[0] == TRACK_HEADER and len(rows) == len(track) + 1
-    for row, t in zip(rows[1:], track):
-        rec = dict(zip(TRACK_HEADER, row))
+    for row, t in zip(rows[1:], track, strict=True):
+        rec = dict(zip(TRACK_HEADER, row, strict=True))
         assert abs(parse_utc(rec["time_utc"]) - t["time"]) < 1e-3
         assert (float(rec["latitude_deg"]), float(rec["longitude_deg"]), float(rec["altitude_msl_m"])) == \
                (t["latitude"], t["longitude"], t["altitudeMsl"])
@@ -129,7 +130,9 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     # an empty range is an empty file, not an error
     empty = httpx.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": "2001-01-01T00:00:00Z"})
     assert empty.status_code == 200 and gpxpy.parse(empty.text).tracks[0].segments[0].points == []
-    assert httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(TRACK_HEADER)
+    assert httpx.get(f"{c.url}/api/providers/{V1}/track.csv", params={"until": "2001-01-01"}).text.strip() == ",".join(
+        TRACK_HEADER
+    )
 
 
 def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim, console) -> None:
@@ -149,7 +152,7 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
     for row in rows:
         by_session.setdefault(row["session_id"], []).append(row)
     assert list(by_session) == sessions  # oldest first
-    for s, v in zip(sessions, (V1, V2, V1)):
+    for s, v in zip(sessions, (V1, V2, V1), strict=True):
         mine = by_session[s]
         assert [x["status"] for x in mine] == HAPPY and [x["seq"] for x in mine] == ["1", "2", "3", "4"]
         assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"]) for x in mine} == \

@@ -22,6 +22,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import Inert
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+
 from sem_console.dds.bus import Bus
 from sem_console.dds.config import loopback_config
 from sem_console.dds.qos import reader_qos

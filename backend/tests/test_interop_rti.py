@@ -10,17 +10,17 @@ RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors")
 
 from __future__ import annotations
 
+import json
 import math
-import subprocess
+import os
 import random
+import subprocess
+import sys
 import time
 import uuid
-from typing import Any, Callable
-
-import json
-import os
-import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import httpx
 import pytest
@@ -47,7 +47,7 @@ def same(a: Any, b: Any) -> bool:
     if isinstance(a, dict):
         return isinstance(b, dict) and set(a) == set(b) and all(same(a[k], b[k]) for k in a)
     if isinstance(a, list):
-        return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
+        return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
     if isinstance(a, float):
         return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-14) or (math.isnan(a) and math.isnan(b)))
     return a == b
@@ -119,7 +119,7 @@ def test_every_plain_topic_from_rti_decodes_in_cyclone(rti: Callable[..., RtiPar
             p.write(s, to_plain(x))
     for s in PLAIN:
         got: list[Any] = []
-        wait_until(lambda: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
+        wait_until(lambda s=s, got=got: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
                    10, f"{s.spec.name} from RTI")
         assert len(got) == len(sent[s])
         for x in sent[s]:
@@ -138,7 +138,7 @@ def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiPar
             writers[s].write(x)
     for s in PLAIN:
         got: list[Any] = []
-        wait_until(lambda: got.extend(x for x, _ in p.take(s) if x) or len(got) >= 10, 10, f"{s.spec.name} in RTI")
+        wait_until(lambda s=s, got=got: got.extend(x for x, _ in p.take(s) if x) or len(got) >= 10, 10, f"{s.spec.name} in RTI")
         for x in sent[s]:
             assert any(same(to_plain(x), g) for g in got), (s.spec.name, to_plain(x))
 
@@ -181,23 +181,44 @@ class RtiVehicle:
                                                             "geodeticLongitude": {"longitude": -75.98}}, "timeAtPosition": now},
                 "SOG": 2.5, "trueCourse": 1.2, "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
                 "source": src, "timeStamp": stamp})
-        self.p.write(Sem.GPS_FIX_STATUS_REPORT, {
-            "carrierToNoise": [41.5, 38.0], "countDown": 3, "fixValid": True, "lowBkupBattery": False, "navSolution": 4,
-            "originPosition": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
-                               "heightAboveEllipsoid": {"altitude": 12.5}},
-            "pCode": False, "timeOut": False, "source": src, "timeStamp": stamp})
+        self.p.write(
+            Sem.GPS_FIX_STATUS_REPORT,
+            {
+                "carrierToNoise": [41.5, 38.0],
+                "countDown": 3,
+                "fixValid": True,
+                "lowBkupBattery": False,
+                "navSolution": 4,
+                "originPosition": {
+                    "geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
+                    "heightAboveEllipsoid": {"altitude": 12.5},
+                },
+                "pCode": False,
+                "timeOut": False,
+                "source": src,
+                "timeStamp": stamp,
+            },
+        )
 
     def status(self, service: Service, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
         now = time.time()
-        self.p.write(service.status, {"source": list(self.guid.bytes), "sessionID": cmd["sessionID"], "commandStatus": STATUS[status],
-                                      "commandStatusReason": REASON[reason], "logMessage": f"rti {status.lower()}",
-                                      "timeStamp": {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}})
+        self.p.write(
+            service.status,
+            {
+                "source": list(self.guid.bytes),
+                "sessionID": cmd["sessionID"],
+                "commandStatus": STATUS[status],
+                "commandStatusReason": REASON[reason],
+                "logMessage": f"rti {status.lower()}",
+                "timeStamp": {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)},
+            },
+        )
 
     def step(self) -> None:
         """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
         self.report()
         for service, sem in COMMANDS.items():
-            for cmd, state in self.p.take(sem):
+            for cmd, _state in self.p.take(sem):
                 if cmd is None:  # a dispose: the consumer cancels or cleans up
                     continue
                 session = bytes(cmd["sessionID"])
@@ -240,7 +261,10 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     detail = wait_until(shown, 15, "the RTI vehicle in the console")
     assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
     assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "OPERATIONAL"
-    assert detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == 36.85
+    assert (
+        detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"]
+        == 36.85
+    )
     # Its default (XCDR1) GPSFixReport and GPSReport writers are not read, and the console says so.
     optional = {Sem.GPS_FIX_REPORT.spec.name: 1, Sem.GPS_REPORT.spec.name: 1}
     incompatible = wait_until(lambda: (lambda m: m if m == optional else None)(
@@ -253,7 +277,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
 
-        def done() -> Any:
+        def done(session: str = session) -> Any:
             v.step()
             cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
             return cmd if cmd["transitions"] and cmd["transitions"][-1]["status"] == "COMPLETED" else None
@@ -262,7 +286,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
-        wait_until(lambda: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
+        wait_until(lambda path=path: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
             Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 10, "the cleanup dispose in RTI")
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
@@ -270,8 +294,14 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     session = r.json()["sessionId"]
     v.hold.add(uuid.UUID(session).bytes)
     wait_until(lambda: v.step() or getattr(v, "running", None), 10, "the held command")
-    wait_until(lambda: v.report() or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"],
-               10, "EXECUTING in the console")
+    wait_until(
+        lambda: (
+            v.report()
+            or [t["status"] for t in httpx.get(f"{c.url}/api/commands/{session}").json()["transitions"]][-1:] == ["EXECUTING"]
+        ),
+        10,
+        "EXECUTING in the console",
+    )
     assert httpx.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
     wait_until(lambda: v.report() or v.cancel_running_if_disposed(), 10, "the cancel dispose in RTI")
     cmd = wait_until(lambda: v.report() or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
@@ -289,7 +319,9 @@ def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None
     return cmd
 
 
-def _statuses(p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
+def _statuses(
+    p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]
+) -> list[tuple[str | None, str]]:
     for x, state in p.take(service.status):
         if x is None:
             seen.append((None, state))
@@ -435,11 +467,11 @@ def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_ri
     if version == "7":
         request.getfixturevalue("connext7")
     got = _peer(appendable_umaa, domain, version, mask)
-    for name, m in got.items():
+    for m in got.values():
         m.pop("received"), m.pop("rti_received")
+    none_right = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 0, "cyclone_to_rti_right": 0}
     assert got["GPS_FIX_REPORT"] == ALL_RIGHT
-    assert got["GPS_REPORT"] == (ALL_RIGHT if gps_report_right else
-                                 {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 0, "cyclone_to_rti_right": 0})
+    assert got["GPS_REPORT"] == (ALL_RIGHT if gps_report_right else none_right)
 
 
 def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: Path, domain: int) -> None:

@@ -56,7 +56,9 @@ def test_message_record_and_index_are_the_spec_bytes() -> None:
     assert [r for r in records if isinstance(r, MessageIndex)] == [MessageIndex(channel_id=1, records=[(0x0102030405060708, 0)])]
     # data end: the CRC of every byte before it (magic included)
     end = next(r for r in records if isinstance(r, DataEnd))
-    assert end.data_section_crc == zlib.crc32(raw[:raw.index(b"\x0f\x04\x00\x00\x00\x00\x00\x00\x00" + struct.pack("<I", end.data_section_crc))])
+    assert end.data_section_crc == zlib.crc32(
+        raw[: raw.index(b"\x0f\x04\x00\x00\x00\x00\x00\x00\x00" + struct.pack("<I", end.data_section_crc))]
+    )
     assert raw[:8] == b"\x89MCAP0\r\n" and raw[-8:] == b"\x89MCAP0\r\n"
 
 
@@ -113,7 +115,9 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     window = [(m.log_time, m.data) for _s, _c, m in reader.iter_messages(topics=["t/b"], starting_at=lo, ending_before=hi)]
     assert window == sorted(((m[1], m[2]) for m in sent if m[0] == 2 and lo <= m[1] < hi), key=lambda x: x[0])
     # each chunk index points at its chunk, and at one message index per channel with the chunk's entries
-    for ci, next_start in zip(summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None]):
+    for ci, next_start in zip(
+        summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None], strict=True
+    ):
         chunk = next(iter(StreamReader(io.BytesIO(raw[ci.chunk_start_offset:ci.chunk_start_offset + ci.chunk_length]),
                                        skip_magic=True, emit_chunks=True).records))
         assert isinstance(chunk, Chunk)
@@ -133,8 +137,14 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
             at += 9 + length
         assert (ci.message_start_time, ci.message_end_time) == (min(times), max(times))
         for cid, offset in ci.message_index_offsets.items():
-            index = next(iter(StreamReader(io.BytesIO(raw[offset:ci.chunk_start_offset + ci.chunk_length + ci.message_index_length]),
-                                           skip_magic=True).records))
+            index = next(
+                iter(
+                    StreamReader(
+                        io.BytesIO(raw[offset : ci.chunk_start_offset + ci.chunk_length + ci.message_index_length]),
+                        skip_magic=True,
+                    ).records
+                )
+            )
             assert isinstance(index, MessageIndex) and index.channel_id == cid and index.records
             for log_time, at in index.records:  # the message record at that offset has that channel and log time
                 opcode, _length, channel, _seq, at_log = struct.unpack_from("<BQHIQ", records, at)

@@ -14,7 +14,7 @@ from sem_console.console.hub import Hub
 from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus
 from test_console import WsClient, wait_until
-from test_ingest import S, Provider
+from test_ingest import Provider, S
 
 
 class Clock:
@@ -119,7 +119,7 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
     time.sleep(2.5)  # idle: the thread's wakeups by its 200 ms timeout take nothing and must not empty the bucket
     for i in (1, 2):
         p.report(base + i * S)
-        wait_until(lambda: i * S in shown(), 30, f"sparse report {i}")
+        wait_until(lambda i=i: i * S in shown(), 30, f"sparse report {i}")
     # taken as they came: no take waited for the window (the old thread slept it after every take)
     assert httpx.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] == 0
     before = len(shown())

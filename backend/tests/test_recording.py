@@ -160,7 +160,9 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     assert all(-90 <= x <= 90 for x in lats) and len(set(lats)) > 1  # the vehicle moves
     assert fixes[-1]["GPSFixCommandStatus"] == "STABLE" and fixes[-1]["GPSLatLongValid"] is True
     cmd_schema, _ = channels["UMAA::SEM::GPSFixControl::GPSFixCommand"]
-    commands = decode_with_schema(cmd_schema.name, cmd_schema.data.decode(), "UMAA::SEM::GPSFixControl::GPSFixCommand", path, tmp_path)
+    commands = decode_with_schema(
+        cmd_schema.name, cmd_schema.data.decode(), "UMAA::SEM::GPSFixControl::GPSFixCommand", path, tmp_path
+    )
     assert [guid(x["sessionID"]) for x in commands] == [session] and guid(commands[0]["destination"]) == V1
     # the other topics the run carried, each with the types built from its own schema text
     for topic in ("UMAA::SEM::GPSStatus::GPSReport", "UMAA::SEM::GPSFixStatus::GPSFixStatusReport",
@@ -211,6 +213,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
     second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
     try:
         from cyclonedds.core import InstanceState
+
         from sem_console.dds.bus import Bus, all_samples
         from sem_console.dds.qos import reader_qos
         bus = Bus(other)
@@ -232,12 +235,30 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
                 time.sleep(0.005)
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
-        replay = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
-                                   "--speed", "2", "--log-level", "info"], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        replay = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "sem_console.recording.sem_replay",
+                str(path),
+                "--domain",
+                str(other),
+                "--speed",
+                "2",
+                "--log-level",
+                "info",
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
 
         def live_with_reports() -> bool:
             r = httpx.get(f"{second.url}/api/providers/{V1}")
-            return r.status_code == 200 and all(r.json()["reports"][t] for t in ("GPSReport", "GPSFixReport", "InertialSensorReport"))
+            return r.status_code == 200 and all(
+                r.json()["reports"][t] for t in ("GPSReport", "GPSFixReport", "InertialSensorReport")
+            )
+
         wait_until(live_with_reports, 15, "the replayed vehicle on the second console")
         out, _ = replay.communicate(timeout=30)
         assert replay.returncode == 0, out
@@ -272,7 +293,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
         began = time.time_ns()
-        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.replay", str(path), "--domain", str(other),
+        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
                                     "--speed", "20", "--loop", "--retime", "--wait", "0"],
                                    stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         try:
@@ -295,7 +316,9 @@ def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path:
     console process gets a file size limit instead (RLIMIT_FSIZE: writes past it fail with EFBIG)."""
     small = tmp_path / "small"
     small.mkdir()
-    mounted = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=192k", "tmpfs", str(small)], capture_output=True).returncode == 0
+    mounted = (
+        subprocess.run(["mount", "-t", "tmpfs", "-o", "size=192k", "tmpfs", str(small)], capture_output=True).returncode == 0
+    )
     try:
         sim("--vehicles", "3", "--satellites", "40")
         c = console("--record", str(small))
@@ -343,7 +366,10 @@ def test_recording_control_is_a_command_and_downloads_stay_in_the_directory(cons
     assert httpx.get(f"{url}/{started['file']}").content[:8] == b"\x89MCAP0\r\n"
     audit = httpx.get(f"{c.url}/api/audit").json()
     assert [(a["outcome"], a["operator"], a["reason"]) for a in audit if a["path"] == "/api/recordings"][:3] == [
-        ("accepted", "alice", "recording stop"), ("accepted", "alice", "recording start"), ("accepted", "alice", "recording start")]
+        ("accepted", "alice", "recording stop"),
+        ("accepted", "alice", "recording start"),
+        ("accepted", "alice", "recording start"),
+    ]
 
 
 def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> None:
@@ -373,7 +399,7 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
             now = time.time_ns()
             r.on_samples(Sem.GPS_FIX_REPORT, [(b"\x00\x07\x00\x00" + os.urandom(200), True, 16, now - 1_000)], now)
             sent += 1
-        wait_until(lambda: not r._buffer, 10, "the writer took the batch")  # noqa: SLF001 (one batch per write)
+        wait_until(lambda: not r._buffer, 10, "the writer took the batch")  # one batch per write
     r.stop()
     assert r.status()["state"] == "off" and r.dropped == 0
     files = sorted(tmp_path.glob("*.mcap"))

@@ -159,11 +159,18 @@ def test_replay_speed_pause_and_play_from_the_end(recorded_run: dict[str, Any], 
     again = control(r.url, {"action": "play"})
     assert again["state"] == "playing" and again["position"] < start + 2
     # bad controls: a clear 422, nothing changes
-    for body in ({"action": "speed", "speed": 40}, {"action": "rewind"}, {"action": "seek"}, {"action": "speed", "speed": "fast"}):
+    for body in (
+        {"action": "speed", "speed": 40},
+        {"action": "rewind"},
+        {"action": "seek"},
+        {"action": "speed", "speed": "fast"},
+    ):
         bad = httpx.post(f"{r.url}/api/replay", json=body)
         assert bad.status_code == 422 and bad.json()["detail"], body
     assert httpx.post(f"{r.url}/api/replay", content=b'{"action":"pause"}').status_code == 415
-    assert httpx.post(f"{r.url}/api/replay", json={"action": "pause"}, headers={"Origin": "http://evil.example"}).status_code == 403
+    assert (
+        httpx.post(f"{r.url}/api/replay", json={"action": "pause"}, headers={"Origin": "http://evil.example"}).status_code == 403
+    )
 
 
 def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:

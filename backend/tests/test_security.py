@@ -17,16 +17,16 @@ import pytest
 from websockets.exceptions import InvalidStatus
 from websockets.sync.client import connect
 
+from conftest import free_udp_port
 from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
-
-# A first wait long enough that a loaded machine's slow requests still fall inside it.
-SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
-from conftest import free_udp_port
 from test_console import V1, gps_fix_executing, provider_ready, wait_command, wait_until
 from test_replay import synthetic_recording
+
+# A first wait long enough that a loaded machine's slow requests still fall inside it.
+SLOW = {"SEM_THROTTLE_FIRST_WAIT": "30"}
 
 EVIL = "http://evil.example"
 TOKENS = "# operators of the test console\nalice:s3cret\n\nbob:t0k:en\n"
@@ -92,7 +92,9 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
     own = {"Origin": c.url, "Sec-Fetch-Site": "same-origin"}
     r = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=own)
     assert r.status_code == 201
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Sec-Fetch-Site": "same-origin"}).status_code == 201
+    assert (
+        httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Sec-Fetch-Site": "same-origin"}).status_code == 201
+    )
 
     # the audit trail: every refusal of a command request with its reason, beside the accepted ones
     trail = audit(c)
@@ -134,7 +136,12 @@ def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
     assert audit(c) == []
     long_id = "b" * 400
     for _ in range(20):  # a command route (its id is not even a UUID): recorded, within the table's bound
-        assert httpx.post(f"{c.url}/api/providers/{long_id}/gps-fix", json={}, headers={"Origin": EVIL + "/" + "c" * 7000}).status_code == 403
+        assert (
+            httpx.post(
+                f"{c.url}/api/providers/{long_id}/gps-fix", json={}, headers={"Origin": EVIL + "/" + "c" * 7000}
+            ).status_code
+            == 403
+        )
     trail = audit(c)
     assert len(trail) == 10 and trail[0]["id"] - trail[-1]["id"] == 9 and trail[0]["id"] >= 20
     assert all(len(a["path"]) <= 200 and len(a["origin"]) <= 200 and len(a["reason"]) <= 600 for a in trail)
@@ -155,7 +162,9 @@ def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_rou
     assert httpx.get(f"{c.url}/api/operator").status_code == 401  # no token on a read: logged, not recorded
     assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer nope"}).status_code == 401  # the sign-in check
     for _ in range(30):  # wrong tokens, then the slow-down's 429s: one client
-        assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"}).status_code in (401, 429)
+        assert httpx.post(
+            f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"}
+        ).status_code in (401, 429)
     trail = audit(c, **alice)
     assert [(a["outcome"], a["status"], a["method"]) for a in reversed(trail)] == \
         [("accepted", 201, "POST"), ("refused", 401, "GET")] + [("refused", 401, "POST")] * 3 + [("rate-limited", 401, "POST")]
@@ -233,7 +242,9 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     assert statuses == [401] * FREE_FAILURES + [429]  # one client, whatever it claims
     assert {a["client"] for a in audit(c)} == {"127.0.0.1"}
     c.stop()
-    c = console("--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})  # behind a proxy on this host
+    c = console(
+        "--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW}
+    )  # behind a proxy on this host
     assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={},
                       headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"}).status_code == 401
     assert audit(c)[0]["client"] == "10.9.9.9"
@@ -247,13 +258,24 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
     alice = {"Authorization": "Bearer s3cret"}
     with httpx.Client(base_url=c.url) as operator:
         r = operator.get("/api/operator", headers=alice)  # the dashboard's sign-in
-        assert r.status_code == 200 and "httponly" in r.headers["set-cookie"].lower() and "samesite=strict" in r.headers["set-cookie"].lower()
+        assert (
+            r.status_code == 200
+            and "httponly" in r.headers["set-cookie"].lower()
+            and "samesite=strict" in r.headers["set-cookie"].lower()
+        )
         device = operator.cookies["sem-console-device"]
         statuses = [httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
                     for _ in range(FREE_FAILURES + 1)]
         assert statuses == [401] * FREE_FAILURES + [429]
         assert httpx.get(f"{c.url}/api/operator", headers=alice).status_code == 429  # the address waits, whatever token it sends
-        assert httpx.get(f"{c.url}/api/operator", headers=alice, cookies={"sem-console-device": device[:-1] + ("1" if device[-1] == "0" else "0")}).status_code == 429  # a forged cookie does not pass
+        assert (
+            httpx.get(
+                f"{c.url}/api/operator",
+                headers=alice,
+                cookies={"sem-console-device": device[:-1] + ("1" if device[-1] == "0" else "0")},
+            ).status_code
+            == 429
+        )  # a forged cookie does not pass
         wait_until(lambda: operator.get(f"/api/providers/{V1}", headers=alice).status_code == 200, 20, "the vehicle")
         assert operator.post(f"/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["operator"] == "alice"
         good = "bearer." + base64.urlsafe_b64encode(b"s3cret").decode().rstrip("=")
@@ -262,7 +284,9 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
                      additional_headers={"Cookie": f"sem-console-device={device}"}) as ws:
             assert '"snapshot"' in ws.recv(timeout=5)
         # the cookie is no free pass: wrong tokens with it slow down that device
-        statuses = [operator.get("/api/operator", headers={"Authorization": "Bearer guess"}).status_code for _ in range(FREE_FAILURES + 1)]
+        statuses = [
+            operator.get("/api/operator", headers={"Authorization": "Bearer guess"}).status_code for _ in range(FREE_FAILURES + 1)
+        ]
         assert statuses == [401] * FREE_FAILURES + [429]
         assert operator.get("/api/operator", headers=alice).status_code == 429
 
@@ -309,7 +333,8 @@ def test_both_token_sources_split_at_the_first_colon(tmp_path: Path) -> None:
     s = Settings(operator_tokens=" bob : Long-Secret:y , carol:c4rol", operator_tokens_file=tokens)
     assert s.operators() == {"Long-Secret:y": "bob", "c4rol": "carol", "Long-Secret:x": "dave"}
     for bad, needle in (("bob:", "item 1: expected name:token"), (" :t0k", "expected name:token"),
-                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must be visible ASCII"),
+                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must "
+                                                                                                "be visible ASCII"),
                         ("bob:two words", "visible ASCII"), ("bob:tab\tinside", "visible ASCII"),
                         ("alice:same,bob:same", "'bob' has the same token as 'alice'")):
         with pytest.raises(ValueError, match=needle):
@@ -375,7 +400,7 @@ def self_signed(folder: Path) -> tuple[Path, Path]:
 
     key = ec.generate_private_key(ec.SECP256R1())
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "sem-console test")])
-    now = datetime.datetime.now(datetime.timezone.utc)
+    now = datetime.datetime.now(datetime.UTC)
     cert = (x509.CertificateBuilder().subject_name(name).issuer_name(name).public_key(key.public_key())
             .serial_number(x509.random_serial_number()).not_valid_before(now - datetime.timedelta(minutes=1))
             .not_valid_after(now + datetime.timedelta(days=1))
@@ -393,7 +418,9 @@ def self_signed(folder: Path) -> tuple[Path, Path]:
 def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Path) -> None:
     certfile, keyfile = self_signed(tmp_path)
     sim()
-    c = console("--tls-certfile", str(certfile), "--tls-keyfile", str(keyfile), env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
+    c = console(
+        "--tls-certfile", str(certfile), "--tls-keyfile", str(keyfile), env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW}
+    )
     assert c.url.startswith("https://")
     wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}", verify=c.verify).status_code == 200, 20, "the vehicle over HTTPS")
     r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, verify=c.verify,
@@ -413,17 +440,27 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     --auth-reads so every route checks its token. One check is left out: use_after_free expects a
     GET after DELETE to be a 404, but DELETE /api/commands/{id} is a cancel request and the command
     stays in the history (by design)."""
-    sim("--vehicles", "2", "--surface-seconds", "400")
-    (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles\x03" + bytes(2000))  # served as it is: GET /api/basemap.pmtiles answers 200
+    # vehicle 2's INS has failed: alarm 1 (the OpenAPI example of an alarm id) exists, so its acknowledgement is exercised
+    sim("--vehicles", "2", "--surface-seconds", "400", "--fault", "ins-failure:2")
+    (tmp_path / "chart.pmtiles").write_bytes(
+        b"PMTiles\x03" + bytes(2000)
+    )  # served as it is: GET /api/basemap.pmtiles answers 200
     c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
                 "--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001",
                 env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     auth = {"Authorization": "Bearer s3cret"}
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
+    wait_until(lambda: any(a["id"] == 1 for a in httpx.get(f"{c.url}/api/alarms", headers=auth).json()), 20, "alarm 1")
     # CoMap data for the routes that read it: feature 1, task 1 (the OpenAPI example of a task id)
     point = {"type": "Feature", "geometry": {"type": "Point", "coordinates": [-75.7, 36.8]}, "properties": {"featureId": 1}}
-    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}, headers=auth).status_code == 200
-    assert httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}, headers=auth).json()["taskId"] == 1
+    assert (
+        httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point]}, headers=auth).status_code
+        == 200
+    )
+    assert (
+        httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 1}, headers=auth).json()["taskId"]
+        == 1
+    )
     schemathesis(c.url, tmp_path, "-H", "Authorization: Bearer s3cret")
 
 

@@ -7,9 +7,9 @@ from __future__ import annotations
 
 import math
 import signal
-import time
 import subprocess
 import sys
+import time
 import uuid
 
 import pytest
@@ -21,6 +21,7 @@ from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNav
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
+
 from consumer import Consumer
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
@@ -66,7 +67,9 @@ def test_every_report_type_with_plausible_values(sim, consumer: Consumer) -> Non
 
 def test_ins_aligns_after_power_on(sim, consumer: Consumer) -> None:
     sim("--align-seconds", "20")  # 1 s at --time-scale 0.05
-    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL")
+    consumer.wait(
+        lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL"
+    )
     seen = [r.status for r in consumer.reports[Sem.INS_REPORT][V1]]
     order = [Op.INIT, Op.COURSE_STATIONARY_ALIGNMENT, Op.FINE_STATIONARY_ALIGNMENT_STARTED,
              Op.FINE_STATIONARY_ALIGNMENT_COMPLETE, Op.OPERATIONAL]
@@ -286,7 +289,9 @@ def test_command_timeout(sim, consumer: Consumer) -> None:
 
 def test_zero_alignment_time(sim, consumer: Consumer) -> None:
     p = sim("--align-seconds", "0")
-    consumer.wait(lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 10, "OPERATIONAL")
+    consumer.wait(
+        lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 10, "OPERATIONAL"
+    )
     assert p.proc is not None and p.proc.poll() is None
 
 
@@ -314,13 +319,13 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
     (["--nope"], "unrecognized arguments: --nope"),
 ])
 def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
-    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", *args], capture_output=True, text=True, timeout=30)
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", *args], capture_output=True, text=True, timeout=30)
     assert out.returncode == 2
     assert out.stdout == "" and out.stderr.count("\n") == 1 and message in out.stderr, out.stderr
 
 
 def test_help_documents_every_option() -> None:
-    out = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--help"], capture_output=True, text=True, timeout=30)
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--help"], capture_output=True, text=True, timeout=30)
     assert out.returncode == 0
     for opt in ("--domain", "--vehicles", "--time-scale", "--fault", "--on-startup", "--surface-seconds", "--align-seconds"):
         assert opt in out.stdout
@@ -390,8 +395,12 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     session = consumer.command(Service.GPS_FIX, V1)  # vehicle 1 is still the first process's, and answers
     assert consumer.wait_terminal(session, timeout=20).statuses == HAPPY
     assert first.proc is not None and first.proc.poll() is None and both.proc is not None and both.proc.poll() is None
-    listed = subprocess.run([sys.executable, "-m", "sem_console.sim.cli", "--first-vehicle", "2", "--vehicles", "2", "--list"],
-                            capture_output=True, text=True, timeout=30).stdout
+    listed = subprocess.run(
+        [sys.executable, "-m", "sem_console.sim.sem_sim", "--first-vehicle", "2", "--vehicles", "2", "--list"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    ).stdout
     assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]
 
 
@@ -415,7 +424,7 @@ def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: 
     data = x.serialize(use_version_2=True).replace(b"ZZZZ", b"\xff\xfeZZ")
     with pytest.raises(UnicodeDecodeError):
         Sem.GPS_REPORT.spec.type.deserialize(data)
-    assert ddspy_write(w._ref, data) == 0  # noqa: SLF001 (the bytes as a peer would send them)
+    assert ddspy_write(w._ref, data) == 0  # the bytes as a peer would send them
     p = sim()
     time.sleep(4)  # past the start-up look at the bus (1 to 3 s)
     assert p.proc is not None and p.proc.poll() is None, p.stop()
@@ -427,7 +436,7 @@ def test_two_simulators_started_together_leave_one_vehicle(domain: int, tmp_path
     that follows leaves exactly one of them running."""
     from conftest import FAST
 
-    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.cli", "--domain", str(domain), "--state-file",
+    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
                                str(tmp_path / f"s{i}.json"), *FAST], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                               text=True) for i in range(2)]
     try:

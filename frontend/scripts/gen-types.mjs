@@ -1,5 +1,5 @@
 // Generates src/api/generated/*.ts from the backend's published schemas in schema/
-// (written by `python -m sem_console.api.export`, kept current by the backend's tests).
+// (written by `python -m sem_console.schema_export`, kept current by the backend's tests).
 // The generated files are build output: never edit them, never commit them.
 import { mkdir, readFile, writeFile } from "node:fs/promises";
 import { compile } from "json-schema-to-typescript";

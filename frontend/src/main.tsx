@@ -1,3 +1,4 @@
+import { QueryClientProvider } from "@tanstack/react-query";
 import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
@@ -5,6 +6,7 @@ import { health, type Health } from "./api/rest";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
 import { Connection, Store, defaultUrl } from "./data/connection";
 import { DataContext } from "./data/hooks";
+import { healthQuery, makeQueryClient } from "./data/queries";
 import { ReplaySource } from "./data/replay";
 import type { DataSource } from "./data/source";
 import { urlWithVehicle, vehicleFromUrl } from "./lib/vehicle";
@@ -25,6 +27,9 @@ store.subscribe(() => {
 
 // with ?renders (bench/browser.py): how often each topic of the selected vehicle changed, beside the renders
 if (countingRenders) for (const t of TOPICS) store.subscribeTo(selectedTopic(t), () => countRender(`selected:${t}`));
+
+// REST loading and caching (TanStack Query); the WebSocket is the live source (the store)
+const queryClient = makeQueryClient();
 
 const root = createRoot(document.getElementById("root")!);
 root.render(
@@ -48,6 +53,7 @@ async function consoleHealth(): Promise<Health> {
 async function start(): Promise<void> {
   const h = await consoleHealth();
   store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
+  queryClient.setQueryData(healthQuery().queryKey, h); // the panels that read it need not ask again
   const source: DataSource = h.replay
     ? new ReplaySource(defaultUrl(), store, () => wsProtocols())
     : new Connection(defaultUrl(), store, () => wsProtocols());
@@ -56,9 +62,11 @@ async function start(): Promise<void> {
   onTokenChange(() => (mayConnect() ? source.restart() : source.stop()));
   root.render(
     <StrictMode>
-      <DataContext.Provider value={{ store, source }}>
-        <App />
-      </DataContext.Provider>
+      <QueryClientProvider client={queryClient}>
+        <DataContext.Provider value={{ store, source }}>
+          <App />
+        </DataContext.Provider>
+      </QueryClientProvider>
     </StrictMode>,
   );
   if (mayConnect()) source.start();

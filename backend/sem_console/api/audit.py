@@ -15,7 +15,7 @@ Bounds, since a refusal costs its sender nothing: at most `per_minute` refusals 
 address are logged and recorded per minute; the next one leaves one line and one "rate-limited"
 row saying so, the rest of that minute are only counted (the count is logged when the minute is
 over). Client-sent text (path, origin, reasons quoting them) is logged as repr() and cut to about
-200 characters. The table keeps the newest `Settings.audit_max_rows` rows (Store.add_audit).
+200 characters. The table keeps the newest `Settings.audit_max_rows` rows (Database.add_audit).
 """
 
 from __future__ import annotations
@@ -108,7 +108,8 @@ class Auditor:
 
 
 def auditor(scope: Scope) -> Auditor:
-    return scope["app"].state.auditor  # type: ignore[no-any-return]
+    auditor: Auditor = scope["app"].state.auditor  # set by main.create_app
+    return auditor
 
 
 def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str | None = None,

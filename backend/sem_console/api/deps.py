@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Callable
+from collections.abc import Callable
+from typing import Annotated
 
 from fastapi import Depends, HTTPException, Query, Request, Response
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
@@ -18,11 +19,13 @@ BearerDep = Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)]
 
 
 async def get_console(request: Request) -> Console:
-    return request.app.state.console  # type: ignore[no-any-return]
+    console: Console = request.app.state.console  # set by main.create_app
+    return console
 
 
 async def get_settings(request: Request) -> Settings:
-    return request.app.state.settings  # type: ignore[no-any-return]
+    settings: Settings = request.app.state.settings  # set by main.create_app
+    return settings
 
 
 ConsoleDep = Annotated[Console, Depends(get_console)]
@@ -90,7 +93,8 @@ AuditDep = Annotated[Callable[[int, str | None, str | None], None], Depends(get_
 
 
 async def get_gateways(request: Request) -> Gateways:
-    return request.app.state.gateways  # type: ignore[no-any-return]
+    gateways: Gateways = request.app.state.gateways  # set by main.create_app
+    return gateways
 
 
 GatewaysDep = Annotated[Gateways, Depends(get_gateways)]

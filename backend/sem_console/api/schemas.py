@@ -7,54 +7,24 @@ import re
 import typing
 import uuid
 from datetime import datetime
-from typing import Annotated, Any, Literal, Union
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter, field_validator
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
 
-ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
-LinkState = Literal["live", "lost", "regained"]
-InsStateName = Literal["OFF", "ON", "RESTARTING"]
-
-
-class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-
-class TopicHealth(_Model):
-    ageSeconds: float = Field(description="seconds since the last sample on this topic")
-    samples: int
-    alive: bool = Field(description="false once the instance was disposed or lost its writers")
-    receivedAt: float = Field(description="UTC seconds since the epoch of the last sample")
-
-
-class LinkConfig(_Model):
-    """A vehicle's link thresholds and comms-lost configuration (reported as JAUS ReportCommsLostConfiguration)."""
-
-
-    commsLostTimeout: float = Field(ge=0.1, le=65535, description="seconds without any sample before the vehicle is lost")
-    regainedTime: float = Field(ge=0, le=65535, description="seconds of continuous samples before a lost vehicle is regained")
-    policy: Literal["STOP_MISSION", "CONTINUE_MISSION"] = Field(
-        description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)")
-    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and reported")
-
-    @field_validator("commsLostTimeout", "regainedTime", "regainedBehavior", mode="before")
-    @classmethod
-    def _a_json_number(cls, v: Any) -> Any:
-        """JSON numbers only: not true for 1, nor "5" for 5 (1.0 is the integer 1, as JSON Schema has it)."""
-        if isinstance(v, (bool, str)):
-            raise ValueError("Input should be a number")
-        return v
-
-
-class ProviderSummary(_Model):
-    id: str = Field(description="the provider's source GUID as a UUID string")
-    name: str | None = Field(description="the vehicle's name from the console's --vehicle-names, or null")
-    link: LinkState
-    linkConfig: LinkConfig
-    jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
-                                           "is on, else null")
-    ageSeconds: float = Field(description="seconds since the last sample on any topic")
-    topics: dict[str, TopicHealth]
+# the models the API shares with the lower rooms are written once, in core/contract.py; this module is the API's whole
+# contract, so it names them again (`X as X`: re-exported)
+from sem_console.core.contract import Command as Command
+from sem_console.core.contract import CommandMessage as CommandMessage
+from sem_console.core.contract import InsStateName as InsStateName
+from sem_console.core.contract import LinkConfig as LinkConfig
+from sem_console.core.contract import LinkState as LinkState
+from sem_console.core.contract import ProviderMessage as ProviderMessage
+from sem_console.core.contract import ProviderSummary as ProviderSummary
+from sem_console.core.contract import ReportTopic as ReportTopic
+from sem_console.core.contract import StrictModel as _Model
+from sem_console.core.contract import TopicHealth as TopicHealth
+from sem_console.core.contract import Transition as Transition
+from sem_console.core.contract import TransitionMessage as TransitionMessage
 
 
 class ReportEnvelope(_Model):
@@ -66,34 +36,6 @@ class ReportEnvelope(_Model):
 
 class ProviderDetail(ProviderSummary):
     reports: dict[ReportTopic, ReportEnvelope | None]
-
-
-class Transition(_Model):
-    seq: int = Field(description="1-based position in the command's history")
-    status: str
-    reason: str
-    logMessage: str
-    violation: str | None = Field(description="why this transition breaks ICD Figure 4, or null")
-    providerTime: float | None = Field(description="the status sample's timeStamp, UTC seconds")
-    receivedAt: float
-
-
-class Command(_Model):
-    sessionId: str
-    service: Literal["GPSFix", "InertialSensor"]
-    providerId: str
-    state: InsStateName | None = Field(description="the commanded INS state (InertialSensor only)")
-    operator: str | None
-    createdAt: float
-    status: str | None = Field(description="the last commandStatus, null before ISSUED")
-    terminal: bool
-    unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
-    cancelRequested: bool
-    canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
-    ackedAt: float | None = Field(description="when the provider first reported executing it (its CommandAckReport), UTC seconds")
-    cleanedUp: bool
-    violations: list[str]
-    transitions: list[Transition]
 
 
 CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and commands it anyway; without it a command to a "
@@ -160,7 +102,8 @@ class GatewayState(_Model):
     messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
     lastError: str | None
     lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
-    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: queue full (ASPN), "
+    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: "
+                                                 "queue full (ASPN), "
                                            "report time outside u32: console time sent (JAUS), errors")
 
 
@@ -238,7 +181,8 @@ class ReplaySeek(_Model):
     """Show the state at `position`: rebuilt from the recording, sent to every client as a fresh snapshot."""
 
     action: Literal["seek"]
-    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its start or end")
+    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its "
+                                                                          "start or end")
 
 
 class ReplaySpeed(_Model):
@@ -246,7 +190,7 @@ class ReplaySpeed(_Model):
     speed: float = Field(strict=True, ge=0.25, le=20, description="recording seconds per wall-clock second")
 
 
-ReplayRequest = Annotated[Union[ReplayPlay, ReplayPause, ReplaySeek, ReplaySpeed], Field(discriminator="action")]
+ReplayRequest = Annotated[ReplayPlay | ReplayPause | ReplaySeek | ReplaySpeed, Field(discriminator="action")]
 
 
 # ---- CoMap: world model (GeoJSON), tasks, vehicles --------------------------------------------
@@ -279,7 +223,7 @@ NoBool = BeforeValidator(_no_bool)
 Finite = Annotated[float, Field(allow_inf_nan=False), NoBool]
 Lon = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False), NoBool]
 Lat = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False), NoBool]
-Position = Annotated[Union[tuple[Lon, Lat], tuple[Lon, Lat, Finite]],
+Position = Annotated[tuple[Lon, Lat] | tuple[Lon, Lat, Finite],
                      Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")]
 FeatureId = Annotated[int, Field(ge=0, le=0xFFFE), NoBool]
 
@@ -310,7 +254,7 @@ class PolygonGeometry(_Model):
 class GeoJsonFeature(_Model):
     type: Literal["Feature"]
     id: Annotated[int, NoBool] | str | None = Field(None, description="GeoJSON feature id (the console gives featureId)")
-    geometry: Annotated[Union[PointGeometry, LineStringGeometry, PolygonGeometry], Field(discriminator="type")]
+    geometry: Annotated[PointGeometry | LineStringGeometry | PolygonGeometry, Field(discriminator="type")]
     properties: FeatureProperties
 
 
@@ -338,7 +282,9 @@ class _TaskRequest(_Model):
                                examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])  # sem-sim's vehicle 1
     sensor: SensorName = Field("ANY", description="survey: the sensor to survey with")
     resolution: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False), NoBool] = Field(1.0, description="survey: px/m²")
-    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset is given); default: an hour from now")
+    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset "
+                                                                                                 "is given); default: an hour "
+                                                                                                 "from now")
 
 
 class SurveyTaskRequest(_TaskRequest):
@@ -355,7 +301,7 @@ class MoveTaskRequest(_TaskRequest):
     featureId: FeatureId | None = Field(None, description="not used by a move")
 
 
-TaskRequest = Annotated[Union[SurveyTaskRequest, MoveTaskRequest], Field(discriminator="kind")]
+TaskRequest = Annotated[SurveyTaskRequest | MoveTaskRequest, Field(discriminator="kind")]
 
 
 class Task(_Model):
@@ -462,25 +408,6 @@ class ReportMessage(_Model):
     report: ReportEnvelope
 
 
-class ProviderMessage(_Model):
-    type: Literal["provider"]
-    event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
-        description="live: a regained provider is back to normal; configured: its linkConfig changed")
-    provider: ProviderSummary
-
-
-class CommandMessage(_Model):
-    type: Literal["command"]
-    command: Command
-
-
-class TransitionMessage(_Model):
-    type: Literal["transition"]
-    sessionId: str
-    transition: Transition
-    command: Command
-
-
 class GatewaysMessage(_Model):
     """Every gateway's state, at most once a second and only when it changed."""
 
@@ -534,8 +461,8 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    Union[SnapshotMessage, ReportMessage, ProviderMessage, CommandMessage, TransitionMessage, RecordingMessage, ReplayMessage,
-          GatewaysMessage, WorldModelMessage, TaskMessage, AlarmsMessage, ErrorMessage, PongMessage],
+    SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage | ReplayMessage
+    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | ErrorMessage | PongMessage,
     Field(discriminator="type"),
 ]
 
@@ -551,7 +478,7 @@ class ResyncMessage(_Model):
     type: Literal["resync"]
 
 
-ClientMessage = Annotated[Union[PingMessage, ResyncMessage], Field(discriminator="type")]
+ClientMessage = Annotated[PingMessage | ResyncMessage, Field(discriminator="type")]
 
 server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
 client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)

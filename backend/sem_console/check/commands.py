@@ -21,8 +21,9 @@ from __future__ import annotations
 
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable, TextIO
+from typing import Any, TextIO
 
 from cyclonedds.pub import DataWriter
 
@@ -48,6 +49,9 @@ class CommandLimits:
 
 SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
 
+# Where the ICD has the provider take a step of the successful path after ISSUED
+STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
+
 
 def names() -> list[str]:
     return ["commands.GPSFix.complete", "commands.GPSFix.cancel", "commands.GPSFix.cleanup",
@@ -71,15 +75,17 @@ class Sent:
     ack_disposed: bool = False
     disposed_at: float | None = None  # when the checker disposed the command
     seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
+    breaches_reported: int = 0  # of flow.violations, those already failed a case
 
     def when(self, status: Status) -> float | None:
-        for t, at in zip(self.flow.transitions, self.at):
+        for t, at in zip(self.flow.transitions, self.at, strict=True):
             if t.status is status:
                 return at
         return None
 
     def story(self) -> str:
-        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s" for t, at in zip(self.flow.transitions, self.at)]
+        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s"
+                 for t, at in zip(self.flow.transitions, self.at, strict=True)]
         return ", ".join(steps) or "no status"
 
 
@@ -89,10 +95,10 @@ class Consumer:
     def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO) -> None:
         self.observer, self.provider, self.limits, self.out = observer, provider, limits, out
         self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
-        self.writers: dict[Service, DataWriter] = {}
+        self.writers: dict[Service, DataWriter[Any]] = {}
         self.sent: list[Sent] = []
 
-    def writer(self, service: Service) -> DataWriter | None:
+    def writer(self, service: Service) -> DataWriter[Any] | None:
         """The service's command writer, once it matched a reader of the provider's participants."""
         if service not in self.writers:
             self.writers[service] = self.observer.bus.writer(service.command)
@@ -103,7 +109,7 @@ class Consumer:
             for h in w.get_matched_subscriptions():
                 try:
                     data = w.get_matched_subscription_data(h)
-                except Exception:  # noqa: BLE001 (a reader that just left)
+                except Exception:  # a reader that just left
                     continue
                 if data is not None and data.participant_key in participants:
                     return True
@@ -111,7 +117,7 @@ class Consumer:
 
         return w if self.observer.wait(matched, self.limits.answer) else None
 
-    def send(self, service: Service, writer: DataWriter, state: InsState | None = None) -> Sent:
+    def send(self, service: Service, writer: DataWriter[Any], state: InsState | None = None) -> Sent:
         session = uuid.uuid4()
         values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(self.provider),
                                       sessionID=to_guid(session), timeStamp=now_datetime())
@@ -119,10 +125,10 @@ class Consumer:
             values["state"] = state
         sample = service.command.spec.type(**values)
         what = f"{icd.short(service.command)}" + (f" {state.name}" if state is not None else "")
-        print(f"  sending {what} (session {session})", file=self.out, flush=True)
         sent = Sent(service, session, sample, time.time())
+        self.sent.append(sent)  # before it is written: a SIGTERM or Ctrl-C from here on still disposes it (close)
+        print(f"  sending {what} (session {session})", file=self.out, flush=True)
         writer.write(sample)
-        self.sent.append(sent)
         return sent
 
     def dispose(self, sent: Sent) -> None:
@@ -153,7 +159,11 @@ class Consumer:
         sent.seen = (len(statuses), len(acks))
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
-        return self.observer.wait(lambda: (self.update(sent), predicate())[1], seconds)
+        def fed() -> bool:
+            self.update(sent)
+            return predicate()
+
+        return self.observer.wait(fed, seconds)
 
     def close(self) -> None:
         """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
@@ -176,7 +186,8 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
     while not sent.flow.terminal:
         if time.time() > overall:
-            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command; statuses: {sent.story()}")
+            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command (ICD 4.1.4: every command "
+                      f"follows Figure 4 to its end); statuses: {sent.story()}")
             break
         status = sent.flow.status
         if cancel_at is not None and status is cancel_at and sent.disposed_at is None:
@@ -185,19 +196,31 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
         if sent.disposed_at is not None:
             limit, since, what = limits.step, sent.disposed_at, "CANCELED after the consumer's dispose (ICD 4.1.4.4)"
         elif status is Status.EXECUTING:
-            limit, since, what = limits.execute, sent.at[-1], "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)"
+            limit, since, what = (limits.execute, sent.at[-1],
+                                  "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)")
         else:
             step = SUCCESS_NEXT.get(status)
-            ref = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}.get(step, "ICD 4.1, Figure 4")
+            ref = STEP_REF.get(step, "ICD 4.1, Figure 4")
             limit, since, what = limits.step, sent.at[-1], f"{name(step)} after {name(status)} ({ref})"
         remaining = since + limit - time.time()
-        if not consumer.wait(sent, lambda n=n: len(sent.flow.transitions) > n, max(remaining, 0.0)):
+
+        def moved(n: int = n) -> bool:
+            return len(sent.flow.transitions) > n
+
+        if not consumer.wait(sent, moved, max(remaining, 0.0)):
             case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}")
             break
-    for v in sent.flow.violations:
-        case.fail(f"Figure 4 breach: {v} (ICD 4.1, Figure 4); statuses: {sent.story()}")
+    breaches(sent, case)
     case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
     return True
+
+
+def breaches(sent: Sent, case: Case) -> None:
+    """Fail the case for each Figure 4 breach of the command not reported yet: statuses keep coming
+    after `follow` (during the ack, report, cancel and cleanup checks), and each is checked too."""
+    for v in sent.flow.violations[sent.breaches_reported:]:
+        case.fail(f"Figure 4 breach: {v} (ICD 4.1, Figure 4); statuses: {sent.story()}")
+    sent.breaches_reported = len(sent.flow.violations)
 
 
 def check_end(sent: Sent, case: Case, canceled: bool = False) -> None:
@@ -234,11 +257,13 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
         return sent.status_disposed and (sent.ack_disposed or not need_ack)
 
     if not consumer.wait(sent, done, consumer.limits.step):
-        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed), (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
+        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
+                                          (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
         case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
                   f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)")
     else:
         case.note(f"{sent.session}: status and ack disposed after the consumer's dispose")
+    breaches(sent, case)
 
 
 def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
@@ -252,7 +277,8 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
         reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s (see discovery.GPSFixCommand)")
+                  f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
+                  "see discovery.GPSFixCommand)")
         return [c.fail(reason) if c.name != clean.name else c.skip(reason) for c in (complete, cancel, clean) if selected(c.name)]
     finished: Sent | None = None
     answered = True
@@ -264,6 +290,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
             if sent.flow.status is Status.COMPLETED:
                 check_ack(consumer, sent, complete)
                 _check_fix_report(consumer, sent, offered, complete)
+            breaches(sent, complete)
             finished = sent if sent.flow.terminal else None
         cases.append(complete)
     if selected(cancel.name):
@@ -274,6 +301,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
                 sent = consumer.send(Service.GPS_FIX, writer)
                 follow(consumer, sent, cancel, cancel_at=Status.EXECUTING)
                 _check_cancel(consumer, sent, cancel)
+                breaches(sent, cancel)
         cases.append(cancel)
     if selected(clean.name):
         with Timer(clean):
@@ -328,10 +356,15 @@ def _check_cancel(consumer: Consumer, sent: Sent, case: Case) -> None:
                   "(ICD 4.1.4.4, Figure 14)")
 
 
+def ins_state(consumer: Consumer) -> str | None:
+    """The state the provider's InertialSensorReport shows now (None: it sent none)."""
+    last = _reports_since(consumer, Sem.INS_REPORT, 0.0)
+    return last[-1].get("state") if last else None
+
+
 def ins_plan(consumer: Consumer) -> list[InsState]:
     """OFF, ON, RESTARTING; from ON, RESTARTING, OFF when the INS reports OFF: it ends as found."""
-    last = _reports_since(consumer, Sem.INS_REPORT, 0.0)
-    if last and last[-1].get("state") == "OFF":
+    if ins_state(consumer) == "OFF":
         return [InsState.ON, InsState.RESTARTING, InsState.OFF]
     return [InsState.OFF, InsState.ON, InsState.RESTARTING]
 
@@ -343,7 +376,8 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
         reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s (see discovery.InertialSensorCommand)")
+                  f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
+                  "see discovery.InertialSensorCommand)")
         return [Case(n).fail(reason) if n != clean.name else Case(n).skip(reason) for n in all_names if selected(n)]
     answered = True
     finished: list[Sent] = []
@@ -361,6 +395,7 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                 if sent.flow.status is Status.COMPLETED:
                     check_ack(consumer, sent, case)
                     _check_ins_report(consumer, sent, offered, case)
+                breaches(sent, case)
                 if sent.flow.terminal:
                     finished.append(sent)
                     # clean up now: the next command must not find this one on the bus
@@ -420,6 +455,15 @@ def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool])
                      + (" (a second command is canceled while executing)" if selected(names()[1]) else ""))
     ins = [s.name for s in ins_plan(consumer) if selected(f"commands.InertialSensor.{s.name}")]
     if "InertialSensorControl" in offered and ins:
-        lines.append(f"InertialSensorCommand: {', then '.join(ins)} (the inertial sensor is switched off and on)")
+        # The full plan ends as found; a --only/--skip subset may not, and the person running it must know.
+        now = ins_state(consumer)
+        left = "OFF" if ins[-1] == "OFF" else "ON"  # a restart ends ON
+        if now is None:
+            tail = "; it reports no state now"
+        elif left == ("OFF" if now == "OFF" else "ON"):
+            tail = ", as it reports now"
+        else:
+            tail = f"; it reports {now} now"
+        lines.append(f"InertialSensorCommand: {', then '.join(ins)} (the inertial sensor is left {left}{tail})")
     return lines
 

@@ -11,11 +11,12 @@ compliance is per service (ICD 3.2).
 from __future__ import annotations
 
 import uuid
-from typing import Any
+from typing import Any, cast
 
 from cyclonedds.builtin_types import DcpsEndpoint
 from cyclonedds.core import DDSException, Policy, Qos
 from cyclonedds.dynamic import get_types_for_typeid
+from cyclonedds.util import duration
 
 from sem_console.check import icd
 from sem_console.check.observe import Observer
@@ -23,7 +24,9 @@ from sem_console.check.results import Case, Timer
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem
 
-RESOLVE_MS = 3000  # how long a peer's type object may take to arrive (XTypes type lookup)
+# How long a peer's type object may take to arrive (XTypes type lookup). Cyclone takes a
+# dds_duration_t, in nanoseconds: a bare 3000 would be 3 us, and a remote type would go unchecked.
+RESOLVE_TIMEOUT = duration(seconds=3)
 
 
 def name(sem: Sem) -> str:
@@ -31,20 +34,31 @@ def name(sem: Sem) -> str:
 
 
 def _policy(qos: Qos, policy: Any) -> Any:
+    """The QoS's policy of this kind (Qos[...] gives None for a kind the QoS does not set)."""
     try:
-        return qos[policy] if policy in qos else None
+        return qos[policy]
     except (KeyError, TypeError):
         return None
 
 
-def _common_problems(qos: Qos) -> list[str]:
+def _common_problems(qos: Qos, ref: str) -> list[str]:
     problems = []
     if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
-        problems.append("EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it")
+        problems.append(f"EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it ({ref})")
     partition = _policy(qos, Policy.Partition)
     if partition is not None and [p for p in partition.partitions if p]:
-        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it")
+        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it "
+                        f"({ref})")
     return problems
+
+
+def delivery_ref(sem: Sem) -> str:
+    """Where the ICD has the provider's samples of this topic reach its consumers."""
+    if sem.spec.cls is TopicClass.REPORT:
+        return "ICD 4.2.1: the DDS bus delivers the provider's reports to the consumer"
+    if sem.spec.cls is TopicClass.STATUS:
+        return "ICD 4.1: the provider updates the consumer through its command status and ack"
+    return "ICD 4.1: the provider responds to every command addressed to it"
 
 
 def writer_problems(sem: Sem, qos: Qos) -> list[str]:
@@ -52,17 +66,17 @@ def writer_problems(sem: Sem, qos: Qos) -> list[str]:
     problems = []
     what = "report" if sem.spec.cls is TopicClass.REPORT else "status"
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
-        problems.append("BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it")
+        problems.append(f"BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it ({delivery_ref(sem)})")
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
         ref = "ICD 4.2.1.1" if sem.spec.cls is TopicClass.REPORT else "ICD 4.1.2"
         problems.append(f"VOLATILE durability: a consumer on the ICD QoS (TRANSIENT_LOCAL) does not match it, and one that "
                         f"starts later never gets the {what} already published ({ref})")
-    problems += _common_problems(qos)
+    problems += _common_problems(qos, delivery_ref(sem))
     rep = _policy(qos, Policy.DataRepresentation)
     if sem.spec.xcdr2_only and (rep is None or rep.use_cdrv0_representation or not rep.use_xcdrv2_representation):
         problems.append("XCDR1 data representation for a type with @optional members: a consumer accepts XCDR2 only for "
-                        "it (vendors lay out optional members differently in XCDR1)")
+                        "it (vendors lay out optional members differently in XCDR1; " + delivery_ref(sem) + ")")
     return problems
 
 
@@ -71,21 +85,23 @@ def reader_problems(sem: Sem, qos: Qos) -> list[str]:
     problems = []
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
         problems.append("BEST_EFFORT reliability: the provider can lose a command the consumer then waits on "
-                        "(ICD 4.1.4: the provider answers every command)")
+                        "(ICD 4.1: the provider responds to every command addressed to it)")
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
         problems.append("VOLATILE durability: commands already on the bus when the provider starts never reach it "
                         "(ICD 4.1.2.1: the provider handles persisted commands)")
     elif durability in (Policy.Durability.Transient, Policy.Durability.Persistent):
-        problems.append(f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it")
-    problems += _common_problems(qos)
+        problems.append(f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it "
+                        f"({delivery_ref(sem)})")
+    problems += _common_problems(qos, delivery_ref(sem))
     deadline = _policy(qos, Policy.Deadline)
     if deadline is not None and 0 <= deadline.deadline < 2**63 - 1:
         problems.append(f"a deadline of {deadline.deadline / 1e9:g} s requested: a consumer's command writer (no deadline) "
-                        "does not match it")
+                        f"does not match it ({delivery_ref(sem)})")
     rep = _policy(qos, Policy.DataRepresentation)
     if rep is not None and not sem.spec.xcdr2_only and not rep.use_cdrv0_representation:
-        problems.append("XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member)")
+        problems.append("XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member; "
+                        f"{delivery_ref(sem)})")
     return problems
 
 
@@ -97,11 +113,16 @@ class TypeCheck:
         self._resolved: dict[bytes, type | str] = {}
 
     def _resolve(self, endpoint: DcpsEndpoint) -> type | str:
-        key = endpoint.type_id.serialize()
+        type_id = endpoint.type_id
+        if type_id is None:  # check() says so before it asks
+            return "it sent no type information"
+        key = type_id.serialize()
         if key not in self._resolved:
             try:
-                self._resolved[key] = get_types_for_typeid(self.observer.bus.participant, endpoint.type_id, RESOLVE_MS)[0]
-            except (DDSException, Exception) as e:  # noqa: BLE001 (any failure means: not resolvable)
+                # cyclonedds annotates the type as an instance; it is the class (its docstring: "IdlStruct subclass")
+                resolved = get_types_for_typeid(self.observer.bus.participant, type_id, RESOLVE_TIMEOUT)[0]
+                self._resolved[key] = cast("type", resolved)
+            except (DDSException, Exception) as e:  # any failure means: not resolvable
                 self._resolved[key] = f"its type object could not be resolved ({e})"
         return self._resolved[key]
 
@@ -111,11 +132,11 @@ class TypeCheck:
         if endpoint.type_name != expected:
             problems.append(f"type name {endpoint.type_name}; the UMAA 3.0.1 IDL names it {expected} ({icd.TOPIC_REF[sem]})")
         if endpoint.type_id is None:
-            case.note(f"{role} {endpoint.key}: no type information sent; members and keys not checked")
+            case.caveat(f"members and keys not checked: {role} {endpoint.key} sent no type information")
             return problems
         t = self._resolve(endpoint)
         if isinstance(t, str):
-            case.note(f"{role} {endpoint.key}: {t}; members and keys not checked")
+            case.caveat(f"members and keys not checked: {role} {endpoint.key}: {t}")
             return problems
         ours, theirs = icd.members(sem.spec.type), list(getattr(t, "__annotations__", {}))
         missing, extra = [m for m in ours if m not in theirs], [m for m in theirs if m not in ours]
@@ -170,7 +191,8 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: Sem, service: icd.Se
         problems = types.check(sem, e, role, case)
         problems += reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos)
         if not command and not problems and not observer.matched_by_consumer(sem, e):
-            problems.append("a consumer on the ICD QoS did not match it (its type is not assignable to the UMAA 3.0.1 IDL's)")
+            problems.append("a consumer on the ICD QoS did not match it (its type is not assignable to the UMAA 3.0.1 IDL's: "
+                            f"{icd.TOPIC_REF[sem]})")
         for p in problems:
             case.fail(f"{role} {e.key}: {p}")
         if not problems:

@@ -1,23 +1,28 @@
 """The JUnit XML report (`--junit FILE`), in the common layout CI servers read:
 
-    <testsuites name tests failures errors skipped time>
+    <testsuites name tests failures errors time>
       <testsuite name tests failures errors skipped time timestamp hostname>
         <properties><property name value/>...</properties>
         <testcase name classname time>
-          <failure message type>details</failure> | <error message type/> | <skipped message/>
-          <system-out>what was seen</system-out>
+          <failure message type>reason, then what was seen</failure> | <error message type>..</error> | <skipped message/>
+          <system-out>what was seen (passed and skipped cases)</system-out>
         </testcase>
       </testsuite>
     </testsuites>
 
-A case's classname is `sem-check.<group>` and its name the rest of its dotted name, so CI
-servers group the cases by discovery, reports and commands. A run that could not test (exit
-code 2) is one case, `sem-check.setup`, with an <error>.
+(<testsuites> carries no `skipped`: the common schema, Jenkins xUnit's junit-10.xsd, does not
+allow it there.) A case's classname is `sem-check.<group>` and its name the rest of its dotted
+name, so CI servers group the cases by discovery, reports and commands. A failure's message is
+its one-line reason and its text the reason followed by what was seen (the status sequence, the
+other problems), which is what a CI's test view shows under the failure. A run that could not
+test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its
+message, the whole message (e.g. the list of providers to choose from) as its text.
 """
 
 from __future__ import annotations
 
 import datetime as dt
+import os
 import socket
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -27,10 +32,10 @@ from sem_console.check.results import Case, Outcome, counts
 SUITE = "sem-check"
 
 
-def _attrs(cases: list[Case], errors: int, seconds: float) -> dict[str, str]:
+def _attrs(cases: list[Case], errors: int, seconds: float, skipped: bool = True) -> dict[str, str]:
     n = counts(cases)
     return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(errors),
-            "skipped": str(n[Outcome.SKIPPED]), "time": f"{seconds:.3f}"}
+            **({"skipped": str(n[Outcome.SKIPPED])} if skipped else {}), "time": f"{seconds:.3f}"}
 
 
 def document(cases: list[Case], seconds: float, properties: dict[str, str], error: str | None = None,
@@ -39,8 +44,8 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
     if error is not None:
         cases = [Case("setup")]
     errors = 1 if error is not None else 0
-    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, errors, seconds)})
-    started = started or dt.datetime.now(dt.timezone.utc)
+    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, errors, seconds, skipped=False)})
+    started = started or dt.datetime.now(dt.UTC)
     suite = ET.SubElement(root, "testsuite", {
         "name": SUITE, **_attrs(cases, errors, seconds),
         "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(), "hostname": socket.gethostname()})
@@ -52,15 +57,28 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
         case = ET.SubElement(suite, "testcase", {"name": rest or group, "classname": f"{SUITE}.{group}" if rest else SUITE,
                                                  "time": f"{c.seconds:.3f}"})
         if error is not None:
-            ET.SubElement(case, "error", {"message": error, "type": "could-not-test"}).text = error
+            ET.SubElement(case, "error", {"message": error.splitlines()[0], "type": "could-not-test"}).text = error
         elif c.outcome is Outcome.FAILED:
-            ET.SubElement(case, "failure", {"message": c.reason, "type": "nonconformance"}).text = c.reason
+            ET.SubElement(case, "failure", {"message": c.reason, "type": "nonconformance"}).text = "\n".join([c.reason, *c.notes])
         elif c.outcome is Outcome.SKIPPED:
             ET.SubElement(case, "skipped", {"message": c.reason})
-        if c.notes:
+        if c.notes and c.outcome is not Outcome.FAILED:
             ET.SubElement(case, "system-out").text = "\n".join(c.notes)
     ET.indent(root)
     return ET.ElementTree(root)
+
+
+def unwritable(path: Path) -> str | None:
+    """Why the report could not be written to `path` (None: it can), asked before the run."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        return str(e)
+    if path.is_dir():
+        return "it is a directory"
+    if not os.access(path if path.exists() else path.parent, os.W_OK):
+        return "permission denied"
+    return None
 
 
 def write(path: Path, cases: list[Case], seconds: float, properties: dict[str, str], error: str | None = None,

@@ -19,17 +19,18 @@ from __future__ import annotations
 import time
 import uuid
 from collections import defaultdict
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
-from cyclonedds._clayer import ddspy_take
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 from cyclonedds.builtin_types import DcpsEndpoint
-from cyclonedds.core import InstanceState
+from cyclonedds.core import InstanceState, ReadCondition
 from cyclonedds.sub import DataReader
 
 from sem_console.console.decode import Decoder, ReportItem, StatusItem
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
 from sem_console.recording.recorder import Recorder
@@ -67,7 +68,7 @@ class Observer:
         self.recorder = recorder
         self.decoder = Decoder()
         # (topic, reader, consumer QoS?) for every topic we read
-        self.readers: list[tuple[Sem, DataReader, bool]] = [
+        self.readers: list[tuple[Sem, DataReader[Any], bool]] = [
             (sem, bus.reader(sem), True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND]
         self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), False) for sem in REPORTS]
         if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
@@ -89,7 +90,7 @@ class Observer:
     def pump(self) -> None:
         """Take everything that arrived: endpoints first, so a sample's writer is known."""
         self._take_endpoints()
-        for (sem, reader, consumer), cond in zip(self.readers, self._conditions):
+        for (sem, reader, consumer), cond in zip(self.readers, self._conditions, strict=True):
             self._take(sem, reader, consumer, cond)
 
     def wait(self, predicate: Callable[[], bool], seconds: float) -> bool:
@@ -118,24 +119,24 @@ class Observer:
                 if len(got) < 256:
                     break
 
-    def _participant_of(self, reader: DataReader, handle: int) -> uuid.UUID | None:
+    def _participant_of(self, reader: DataReader[Any], handle: int) -> uuid.UUID | None:
         if handle not in self._writer_participant:
             try:
                 data = reader.get_matched_publication_data(handle)
-            except Exception:  # noqa: BLE001 (a writer that already left: asked again with its next sample)
+            except Exception:  # a writer that already left: asked again with its next sample
                 return None
             if data is None:
                 return None
             self._writer_participant[handle] = data.participant_key
         return self._writer_participant[handle]
 
-    def _take(self, sem: Sem, reader: DataReader, consumer: bool, cond: Any) -> None:
+    def _take(self, sem: Sem, reader: DataReader[Any], consumer: bool, cond: ReadCondition) -> None:
         while True:
-            raw = ddspy_take(reader._ref, cond.mask, 256)  # noqa: SLF001 (raw CDR, as console/ingest.py takes it)
+            raw = take_cdr(reader, cond.mask, 256)  # raw CDR, as console/ingest.py takes it
             if isinstance(raw, int) or not raw:
                 return
             now = time.time()
-            tapped = []
+            tapped: list[tuple[bytes, bool, int, int]] = []
             for data, info in raw:
                 handle = info.publication_handle & _U64
                 if consumer and self.recorder is not None and self.recorder.active:
@@ -177,7 +178,7 @@ class Observer:
         for handle in reader.get_matched_publications():
             try:
                 data = reader.get_matched_publication_data(handle)
-            except Exception:  # noqa: BLE001
+            except Exception:  # a writer that just left
                 continue
             if data is not None and data.key == endpoint.key:
                 return True

@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import math
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from itertools import pairwise
+from typing import Any
 
 from sem_console.check import icd
 from sem_console.check.observe import REPORTS, Observer, Report
@@ -41,9 +43,10 @@ def stamp(body: dict[str, Any]) -> tuple[float | None, str | None]:
     ts = body.get("timeStamp") or {}
     s, ns = ts.get("seconds"), ts.get("nanoseconds")
     if not isinstance(s, int) or not isinstance(ns, int):
-        return None, "timeStamp missing or unreadable"
+        return None, "timeStamp missing or unreadable (ICD 5.2.1, Table 21: every report has its timeStamp)"
     if s < 0 or not 0 <= ns <= 999_999_999:
-        return None, f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds 0..999999999: ICD 5.2.6, Table 45)"
+        return None, (f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds 0..999999999: ICD 5.2.6, "
+                      "Table 26; Table 45)")
     return s + ns / 1e9, None
 
 
@@ -56,7 +59,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
         case.fail(f"no {topic} from the provider within {end - start:.1f} s (ICD 4.2.1: the provider publishes its reports)")
         return
     arrivals = [start] + [r.received for r in live if r.received <= end] + [end]
-    gap = max(b - a for a, b in zip(arrivals, arrivals[1:]))
+    gap = max(b - a for a, b in pairwise(arrivals))
     rate = (len(arrivals) - 2) / max(end - start, 1e-9)
     offsets: list[float] = []
     last: dict[int, float] = {}
@@ -77,7 +80,8 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
         if not first:
             offsets.append(offset)
     if gap > limits.max_gap:
-        case.fail(f"no {topic} for {gap:.1f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s)")
+        case.fail(f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
+                  "ICD 4.2.1.1: the provider publishes its updated reports)")
     spread = f", timeStamp {min(offsets):+.3f}..{max(offsets):+.3f} s from the checker's clock" if offsets else ""
     case.note(f"{len(live)} {topic} samples, {rate:.2f}/s over {end - start:.1f} s, longest gap {gap:.2f} s{spread}")
 
@@ -85,6 +89,8 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
 def _icd_ref(problem: str) -> str:
     if "unknown" in problem and "ordinal" in problem:
         return f"{problem} (ICD 5.3)"
+    if "elements, more than" in problem:  # console/convert.py's cap: the sequence is unbounded in the IDL
+        return f"{problem} (ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)"
     return f"{problem} (ICD 5.4, Table 45)"
 
 
@@ -129,8 +135,11 @@ def _gps_report(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[st
 
 
 def _fix_status(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[str | None]:
+    # carrierToNoise is a sequence<Size_Numeral> (Table 12), "nonnegative", -1e12..1e12 (Table 45); the 0..1e6 dB-Hz
+    # of CarrierToNoiseDensityRatio is the satellites' C/N0 type, checked by the decoder.
     cn0 = b.get("carrierToNoise") or []
-    return [_range(v, 0, 1e6, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12: a C/N0 in dB-Hz, Table 45") for i, v in enumerate(cn0)]
+    return [_range(v, 0, 1e12, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12; Table 45: Size_Numeral, nonnegative")
+            for i, v in enumerate(cn0)]
 
 
 def _fix(b: dict[str, Any], r: Report, limits: ReportLimits) -> list[str | None]:
@@ -157,12 +166,14 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
     bad_samples = 0
     for r in live:
         assert r.body is not None
-        found = [_icd_ref(p) for p in r.invalid]
-        found.append(_guid_problem(r.body.get("source"), "source"))  # type: ignore[arg-type]
-        found += _MORE.get(sem, lambda *_: [])(r.body, r, limits)
-        found = [p for p in found if p]
-        bad_samples += bool(found)
-        for p in found:
+        found: list[str | None] = [_icd_ref(p) for p in r.invalid]
+        found.append(_guid_problem(r.body.get("source"), "source"))
+        extra = _MORE.get(sem)
+        if extra is not None:
+            found += extra(r.body, r, limits)
+        kept = [p for p in found if p]
+        bad_samples += bool(kept)
+        for p in kept:
             problems.setdefault(p, None)
     if problems:
         listed = list(problems)
@@ -182,7 +193,7 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
     for sem in REPORTS:
         service = icd.SERVICE_OF[sem].name
         samples = observer.reports.get(sem, {}).get(provider, [])
-        for test, check in zip(names(sem), ("timing", "values")):
+        for test, check in zip(names(sem), ("timing", "values"), strict=True):
             if not selected(test):
                 continue
             case = Case(test)

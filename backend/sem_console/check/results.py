@@ -21,7 +21,8 @@ class Case:
 
     name: str
     outcome: Outcome = Outcome.PASSED
-    reason: str = ""  # why it failed or was skipped: names the ICD section, table or figure
+    reason: str = ""  # why it failed or was skipped (names the ICD section, table or figure); for a passed
+    # case, what it could not check (`caveat`)
     notes: list[str] = field(default_factory=list)  # what was seen (JUnit system-out)
     seconds: float = 0.0
 
@@ -29,7 +30,7 @@ class Case:
     def group(self) -> str:
         return self.name.split(".", 1)[0]
 
-    def fail(self, reason: str) -> "Case":
+    def fail(self, reason: str) -> Case:
         """The first failure stays the reason (later ones become notes): it is usually the cause."""
         if self.outcome is Outcome.FAILED:
             self.notes.append(f"also: {reason}")
@@ -37,11 +38,23 @@ class Case:
             self.outcome, self.reason = Outcome.FAILED, reason
         return self
 
-    def skip(self, reason: str) -> "Case":
-        self.outcome, self.reason = Outcome.SKIPPED, reason
+    def skip(self, reason: str) -> Case:
+        """A failure already found stays the outcome: skipping the rest must not hide it."""
+        if self.outcome is Outcome.FAILED:
+            self.notes.append(f"then not tested further: {reason}")
+        else:
+            self.outcome, self.reason = Outcome.SKIPPED, reason
         return self
 
-    def note(self, text: str) -> "Case":
+    def caveat(self, text: str) -> Case:
+        """Part of the test could not be done (the case can still pass): shown as its reason on the
+        terminal, so a pass never hides what was not checked."""
+        self.notes.append(text)
+        if self.outcome is Outcome.PASSED and not self.reason:
+            self.reason = text
+        return self
+
+    def note(self, text: str) -> Case:
         self.notes.append(text)
         return self
 
@@ -88,13 +101,13 @@ def counts(cases: list[Case]) -> dict[Outcome, int]:
 _MARK = {Outcome.PASSED: "pass", Outcome.FAILED: "FAIL", Outcome.SKIPPED: "skip"}
 
 
-def summary(cases: list[Case], seconds: float, out: TextIO, width: int = 100) -> None:
-    """The table on the terminal: one line per test, its reason (cut to the width) when not passed."""
+def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
+    """The table on the terminal: one line per test, with its whole reason (a failure's ICD reference
+    comes last: it must not be cut off), or what a passed test could not check."""
     name_w = max([len(c.name) for c in cases] + [4])
     print(f"{'TEST':<{name_w}}  {'RESULT':<6}  {'TIME':>6}  REASON", file=out)
     for c in cases:
-        reason = c.reason if len(c.reason) <= width else c.reason[:width - 3] + "..."
-        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {reason}".rstrip(), file=out)
+        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {c.reason}".rstrip(), file=out)
     n = counts(cases)
     print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped "
           f"in {seconds:.1f} s", file=out)

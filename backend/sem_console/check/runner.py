@@ -2,7 +2,8 @@
 
 Exit codes: 0 every selected test passed (skipped ones included), 1 a test failed, 2 the run could
 not test (no provider within the timeout, several and no --provider, a DDS configuration Cyclone
-refused, a --only/--skip that selects nothing).
+refused, a --only/--skip that selects nothing, every selected test skipped, a --junit or --record
+file that cannot be written, an internal error: cli.main).
 """
 
 from __future__ import annotations
@@ -41,7 +42,7 @@ class Options:
     only: list[str] = field(default_factory=list)
     skip: list[str] = field(default_factory=list)
     record: Path | None = None
-    window: float = 5.0  # s of reports watched before they are judged
+    window: float = 5.0  # s of reports watched before they are judged (at least 2 x max_gap for the timing tests: see run)
     max_gap: float = 5.0
     clock_offset: float = 1.0
     step_time: float = 5.0
@@ -118,7 +119,7 @@ class Evidence:
 
 def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
     out, err = out or sys.stdout, err or sys.stderr
-    started, t0 = dt.datetime.now(dt.timezone.utc), time.monotonic()
+    started, t0 = dt.datetime.now(dt.UTC), time.monotonic()
     selection = Selection(opts.only, opts.skip)
     names = all_names()
     properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
@@ -127,9 +128,17 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
     def could_not(message: str) -> int:
         print(f"sem-check: {message}", file=err, flush=True)
         if opts.junit is not None:
-            junit.write(opts.junit, [], time.monotonic() - t0, properties, error=message.splitlines()[0], started=started)
+            try:
+                junit.write(opts.junit, [], time.monotonic() - t0, properties, error=message, started=started)
+            except OSError as e:
+                print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
         return COULD_NOT_TEST
 
+    if opts.junit is not None:  # found out before a long run (or commands sent), not after it
+        problem = junit.unwritable(opts.junit)
+        if problem:
+            print(f"sem-check: cannot write the JUnit report {opts.junit}: {problem}", file=err)
+            return COULD_NOT_TEST
     unknown = selection.unknown(names)
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
@@ -154,15 +163,21 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         print(f"sem-check: provider {provider} on domain {opts.domain} ({net})", file=out)
         print("sem-check: " + ("--commands: the command tests send commands to the provider" if opts.commands else
                                "read-only: no command is sent (--commands runs the command tests)"), file=out, flush=True)
+        # A gap longer than --max-gap shows for sure only in a window of twice that (a provider that
+        # reports every 1.5 x max-gap may show one report mid-window, with shorter gaps either side).
+        timing = any(selection(n) for n in names if n.startswith("reports.") and n.endswith(".timing"))
+        window = max(opts.window, 2 * opts.max_gap) if timing else opts.window
+        print(f"sem-check: watching its reports for {window:g} s", file=out, flush=True)
         window_start = observer.alive_sources[provider]
-        observer.idle(max(0.0, window_start + opts.window - time.time()))
+        observer.idle(max(0.0, window_start + window - time.time()))
         window_end = time.time()
         offered = discovery.offered_services(observer, provider)
         cases = discovery.run(observer, provider, selection)
-        limits = reports.ReportLimits(opts.window, opts.max_gap, opts.clock_offset)
+        limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
         cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection)
         if opts.commands:
-            consumer = commands.Consumer(observer, provider, commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time), out)
+            command_limits = commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time)
+            consumer = commands.Consumer(observer, provider, command_limits, out)
             lines = commands.plan(consumer, offered, selection)
             if lines:
                 print(f"sem-check: sending to provider {provider}:", file=out)
@@ -176,9 +191,18 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         seconds = time.monotonic() - t0
         summary(cases, seconds, out)
         if opts.junit is not None:
-            junit.write(opts.junit, cases, seconds, properties, started=started)
+            try:
+                junit.write(opts.junit, cases, seconds, properties, started=started)
+            except OSError as e:
+                print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
+                return COULD_NOT_TEST
             print(f"sem-check: JUnit report {opts.junit}", file=out)
-        return FAILED if any(c.outcome is Outcome.FAILED for c in cases) else OK
+        if any(c.outcome is Outcome.FAILED for c in cases):
+            return FAILED
+        if all(c.outcome is Outcome.SKIPPED for c in cases):  # a green CI run must mean something was tested
+            print("sem-check: nothing was tested: every selected test was skipped (the reasons are above)", file=err)
+            return COULD_NOT_TEST
+        return OK
     finally:
         if evidence is not None:
             problem = evidence.finish()

@@ -17,8 +17,9 @@ import logging
 import math
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from sem_console.comap.codec import BROADCAST, Header, Message, msg
 from sem_console.comap.geo import Feature, GeoError, collection, coverage_name, features_from_world_model, world_model_message

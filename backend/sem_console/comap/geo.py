@@ -45,7 +45,11 @@ def open_ring(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
 
 
 def _latlon(pos: Any, where: str) -> tuple[float, float]:
-    if not isinstance(pos, (list, tuple)) or len(pos) < 2 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in pos):
+    if (
+        not isinstance(pos, (list, tuple))
+        or len(pos) < 2
+        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in pos)
+    ):
         raise GeoError(f"{where}: a position is [longitude, latitude] in degrees")
     lon, lat = float(pos[0]), float(pos[1])
     if not (math.isfinite(lat) and math.isfinite(lon) and -90 <= lat <= 90 and -180 <= lon <= 180):
@@ -86,7 +90,7 @@ def feature_to_geojson(feat: Feature) -> dict[str, Any]:
     elif feat.kind == "LineString":
         coords = pts
     else:
-        coords = [pts + [pts[0]]]
+        coords = [[*pts, pts[0]]]
     return {"type": "Feature", "id": feat.feature_id, "geometry": {"type": feat.kind, "coordinates": coords},
             "properties": {**feat.properties, "featureId": feat.feature_id, "coverage": feat.coverage}}
 
@@ -162,7 +166,13 @@ def lawnmower(points: list[tuple[float, float]], spacing: float) -> list[tuple[f
         y = (miny + maxy) / 2
     while y <= maxy:
         cut = poly.intersection(LineString([(minx - 1, y), (maxx + 1, y)]))
-        segs = list(cut.geoms) if isinstance(cut, MultiLineString) else [cut] if isinstance(cut, LineString) and not cut.is_empty else []
+        segs = (
+            list(cut.geoms)
+            if isinstance(cut, MultiLineString)
+            else [cut]
+            if isinstance(cut, LineString) and not cut.is_empty
+            else []
+        )
         xs = sorted((min(s.coords[0][0], s.coords[-1][0]), max(s.coords[0][0], s.coords[-1][0])) for s in segs)
         if lane % 2:
             xs = [(b, a) for a, b in reversed(xs)]

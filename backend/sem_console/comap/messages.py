@@ -19,12 +19,15 @@ table to encode and to decode; there is no hand-written encoder or decoder for a
 | 3004 | TaskAdmin             | 5+   | tid u16, op u8 (TAOP: 1 ACCEPT .. 6 STATUS_REQUEST), arg msg<TaskAdminArgs> |
 | 3005 | SynchAdmin            | 1    | op u8 (SYNCOP: 1 HOLD, 2 RESUME, 3 INTERRUPT) |
 | 3006 | VehicleCapabilities   | 2+   | capabilities list<VehicleCapability> |
-| 3010 | CapabilityAreaSurvey  | 17   | sensor u8, resolution fp32 px/m², res_bathym_factor fp32, cov_rate fp32 m²/s, cov_bathym_factor fp32 |
+| 3010 | CapabilityAreaSurvey  | 17   | sensor u8, resolution fp32 px/m², res_bathym_factor fp32, cov_rate fp32 m²/s,
+|      |                       |      | cov_bathym_factor fp32 |
 | 3011 | CapabilityPointSurvey | 9    | sensor u8, resolution fp32 px/m², duration fp32 s |
 | 3012 | CapabilityMove        | 4    | speed fp32 m/s |
-| 3101 | SurveyTask            | 17   | task_id u16, feature_id u16, sensor u8, resolution fp32 px/m², deadline fp64 s since epoch |
+| 3101 | SurveyTask            | 17   | task_id u16, feature_id u16, sensor u8, resolution fp32 px/m²,
+|      |                       |      | deadline fp64 s since epoch |
 | 3102 | MoveTask              | 32   | task_id u16, destination msg<MapPoint>, deadline fp64 s since epoch |
-| 3103 | TaskStatus            | 5    | task_id u16, status u8 (SSTATUS: 1 COMPLETED, 2 IN_PROGRESS, 3 ERROR, 4 ASSIGNED), progress u8 %, quality u8 % |
+| 3103 | TaskStatus            | 5    | task_id u16, status u8 (SSTATUS: 1 COMPLETED, 2 IN_PROGRESS, 3 ERROR, 4 ASSIGNED),
+|      |                       |      | progress u8 %, quality u8 % |
 | 3104 | SynchTask             | 14   | task_id u16, feature_id u16, time_window u16 s, deadline fp64 s since epoch |
 
 The definitions name a sensor type enum without listing its values; the project numbers it as
@@ -35,9 +38,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import IntEnum
-from typing import Union
 
-FieldType = Union[str, tuple[str, str]]
+FieldType = str | tuple[str, str]
 
 
 @dataclass(frozen=True)

@@ -7,7 +7,8 @@ import asyncio
 import logging
 import socket
 from collections import Counter
-from typing import Callable
+from collections.abc import Callable
+from typing import Any
 
 from sem_console.comap.codec import BROADCAST, Header, ImcError, Message, decode_packet, encode_packet
 
@@ -32,7 +33,9 @@ class Endpoint:
 
     def __init__(self, imc_id: int, peers: list[Addr]) -> None:
         self.imc_id, self.peers = imc_id, list(peers)
-        self.counters: Counter[str] = Counter({k: 0 for k in ("received", "accepted", "sent", "sendErrors", "notForUs", *BAD_KINDS)})
+        self.counters: Counter[str] = Counter(
+            {k: 0 for k in ("received", "accepted", "sent", "sendErrors", "notForUs", *BAD_KINDS)}
+        )
         self.addresses: dict[int, Addr] = {}  # IMC system id -> where its datagrams came from
 
     def feed(self, data: bytes, addr: Addr, ours: Callable[[int], bool] | None = None) -> tuple[Header, Message] | None:
@@ -69,7 +72,7 @@ class _Protocol(asyncio.DatagramProtocol):
     def __init__(self, on_datagram: Callable[[bytes, Addr], None]) -> None:
         self.on_datagram = on_datagram
 
-    def datagram_received(self, data: bytes, addr: tuple) -> None:  # type: ignore[type-arg]
+    def datagram_received(self, data: bytes, addr: tuple[str | Any, int]) -> None:  # asyncio's signature
         self.on_datagram(data, (addr[0], addr[1]))
 
     def error_received(self, exc: Exception) -> None:  # e.g. ICMP port unreachable from a peer that is down

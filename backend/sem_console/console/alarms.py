@@ -2,7 +2,7 @@
 
 Inputs: the providers (link, latest INS status and fixValid), this console's commands (statuses,
 transitions, unanswered) and the recorder's error. Outputs: the active set (every alarm not back
-to normal), kept in the console's database (`Store`, table `alarms`) so a restart keeps it.
+to normal), kept in the console's database (`Database`, table `alarms`) so a restart keeps it.
 
 Two kinds of alarm (see `api.schemas.Alarm`):
 - condition alarms are active while their condition holds: link-lost, ins-failure, fix-lost,
@@ -39,8 +39,8 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command
+from sem_console.console.database import Database
 from sem_console.console.providers import Provider
-from sem_console.console.store import Store
 from sem_console.dds.topics import Service
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
@@ -134,7 +134,7 @@ class Found:
 
 
 class Alarms:
-    def __init__(self, store: Store, names: Mapping[str, str] | None = None) -> None:
+    def __init__(self, store: Database, names: Mapping[str, str] | None = None) -> None:
         self.store = store
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self._load()

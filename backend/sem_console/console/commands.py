@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import logging
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -19,7 +20,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.clock import Clock
-from sem_console.console.store import Store
+from sem_console.console.database import Database
 from sem_console.dds.topics import Service
 from sem_console.umaa.flow import CommandFlow, name, parse
 from sem_console.umaa.guid import to_guid
@@ -54,14 +55,24 @@ class Command:
 
     def to_json(self) -> dict[str, Any]:
         return {
-            "sessionId": str(self.session_id), "service": self.service.value, "providerId": str(self.provider_id),
-            "state": name(self.state) if self.state is not None else None, "operator": self.operator, "createdAt": self.created_at,
-            "status": name(self.flow.status) if self.flow.status else None, "terminal": self.flow.terminal,
-            "unanswered": self.unanswered, "cancelRequested": self.cancel_requested, "canceledBy": self.canceled_by, "cleanedUp": self.cleaned_up,
+            "sessionId": str(self.session_id),
+            "service": self.service.value,
+            "providerId": str(self.provider_id),
+            "state": name(self.state) if self.state is not None else None,
+            "operator": self.operator,
+            "createdAt": self.created_at,
+            "status": name(self.flow.status) if self.flow.status else None,
+            "terminal": self.flow.terminal,
+            "unanswered": self.unanswered,
+            "cancelRequested": self.cancel_requested,
+            "canceledBy": self.canceled_by,
+            "cleanedUp": self.cleaned_up,
             "ackedAt": self.acked_at,
             "violations": self.flow.violations,
-            "transitions": [transition_json(i, t, pt, rt)
-                            for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times), start=1)],
+            "transitions": [
+                transition_json(i, t, pt, rt)
+                for i, (t, (pt, rt)) in enumerate(zip(self.flow.transitions, self.times, strict=True), start=1)
+            ],
         }
 
 
@@ -75,8 +86,16 @@ class CommandError(Exception):
 
 
 class Commands:
-    def __init__(self, source: uuid.UUID, store: Store, write: Callable[[Service, Any], None],
-                 dispose: Callable[[Service, Any], None], emit: Emit, unanswered_timeout: float, clock: Clock | None = None) -> None:
+    def __init__(
+        self,
+        source: uuid.UUID,
+        store: Database,
+        write: Callable[[Service, Any], None],
+        dispose: Callable[[Service, Any], None],
+        emit: Emit,
+        unanswered_timeout: float,
+        clock: Clock | None = None,
+    ) -> None:
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()
         self.unanswered_timeout = unanswered_timeout
@@ -87,7 +106,7 @@ class Commands:
     def _load_history(self) -> None:
         for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
             cmd = self.from_row(row)
-            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times)]
+            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
             self.by_session[cmd.session_id] = cmd
 
     def from_row(self, row: dict[str, Any]) -> Command:
@@ -99,8 +118,8 @@ class Commands:
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"])
         for t in row["transitions"]:
-            cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"])
-            cmd.times.append((t["provider_time"], t["received_at"]))
+            if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
+                cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
     def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:
@@ -193,7 +212,9 @@ class Commands:
         if cmd is None:  # not in memory: unknown, or finished long ago
             raise CommandError(f"command {session} is not running")
         if cmd.flow.terminal or cmd.cleaned_up:
-            raise CommandError(f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})")
+            raise CommandError(
+                f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})"
+            )
         if not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, operator
             self.store.set_canceled(str(session), operator)
@@ -232,8 +253,14 @@ class Commands:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
             self.store.set_flag(str(session), "unanswered", False)
-        self.emit({"type": "transition", "sessionId": str(session), "transition": transition_json(seq, t, provider_time, received),
-                   "command": cmd.to_json()})
+        self.emit(
+            {
+                "type": "transition",
+                "sessionId": str(session),
+                "transition": transition_json(seq, t, provider_time, received),
+                "command": cmd.to_json(),
+            }
+        )
         if cmd.flow.terminal:
             self.cleanup(cmd)
 

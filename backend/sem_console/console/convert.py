@@ -13,7 +13,7 @@ import typing
 import uuid
 from dataclasses import fields, is_dataclass
 from enum import Enum
-from functools import lru_cache
+from functools import cache
 from typing import Any
 
 MAX_SATELLITES = 256
@@ -43,7 +43,7 @@ def to_json(sample: Any) -> tuple[dict[str, Any], list[str]]:
     return _value(sample, "", invalid), invalid
 
 
-@lru_cache(maxsize=None)
+@cache
 def _enum_members(cls: type) -> dict[str, type]:
     """Members of a generated struct whose declared type is an enum."""
     out = {}
@@ -61,9 +61,9 @@ def _value(v: Any, path: str, invalid: list[str]) -> Any:
         return None
     if isinstance(v, Enum):
         return v.name
-    if is_dataclass(v):
+    if is_dataclass(v) and not isinstance(v, type):  # a sample (not a class)
         enums = _enum_members(type(v))
-        out = {}
+        out: dict[str, Any] = {}
         for f in fields(v):
             member, sub = getattr(v, f.name), f"{path}.{f.name}" if path else f.name
             if f.name in enums and member is not None and not isinstance(member, Enum):

@@ -4,7 +4,7 @@
 or only the key for a dispose or an instance that lost its writers) and turns it into a
 `ReportItem` (report topics, converted to JSON) or a `StatusItem` (command status and ack
 topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
-(`console/replay.py`) calls it for every recorded message. A sample that cannot be decoded is
+(`console/replay_source.py`) calls it for every recorded message. A sample that cannot be decoded is
 counted per topic and logged, never raised.
 
 Samples are decoded by the code `console/fastcdr.py` generates per type (a report straight to its
@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from cyclonedds.core import InstanceState
+from cyclonedds.idl import IdlStruct
 
 from sem_console.console import fastcdr
 from sem_console.dds.topics import Sem, Service
@@ -72,7 +73,7 @@ class _Route:
     """What `Decoder.decode` needs of a topic, looked up once per sample."""
 
     name: str
-    type: type
+    type: type[IdlStruct]
     fast: fastcdr.TypeDecoder
     report: str | None  # the report's topic name (report topics)
     service: Service | None  # status and ack topics

@@ -37,11 +37,14 @@ import struct
 import sys
 import threading
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
-from cyclonedds.idl import _machinery as mc
+from cyclonedds.idl import IdlStruct
 
 from sem_console.console import convert
+from sem_console.dds.cyclone_private import enum_type, type_machine
+from sem_console.dds.cyclone_private import machinery as mc
 
 log = logging.getLogger("sem-console.ingest")
 MAX_ELEMENTS = convert.MAX_SATELLITES
@@ -87,8 +90,8 @@ def _meet(a: tuple[int, int], b: tuple[int, int]) -> tuple[int, int]:
     return m, a[1] % m
 
 
-def _float_fails(v: float, name: str) -> str:
-    """The condition (Python source) under which `convert` flags the float `v` of member `name`."""
+def _float_fails(v: str, name: str) -> str:
+    """The condition (Python source) under which `convert` flags the float in variable `v` of member `name`."""
     lo_hi = convert.RANGES.get(name)
     if lo_hi:  # NaN fails the comparison too
         return f"not ({lo_hi[0]!r} <= {v} <= {lo_hi[1]!r})"
@@ -194,9 +197,7 @@ class _Gen:
         """Emit the reads of one value; returns the expression of its decoded value (valid once flushed).
         `path` is the body of an f-string naming the value (as convert.to_json names it)."""
         if isinstance(mach, mc.InstanceMachine):
-            idl = mach.type.__idl__
-            idl.populate()
-            return self.value(idl.v2_machine if mach.use_version_2 else idl.v1_machine, path, name, enum_member)
+            return self.value(type_machine(mach.type, mach.use_version_2), path, name, enum_member)
         if isinstance(mach, mc.StructMachine):
             return self.speculative(mach, path) if self.v2 and self._speculable(mach) else self.struct(mach, path)
         if isinstance(mach, mc.PrimitiveMachine):
@@ -212,7 +213,7 @@ class _Gen:
             code, size = ("I", 4) if isinstance(mach, mc.EnumMachine) else (mach.code, mach.size)
             v = self.fixed(code, size, mach.alignment)
             out = self.var()
-            members = mach.enum._value2member_map_  # what Enum(v) looks up
+            members = {m.value: m for m in enum_type(mach)}  # what Enum(v) looks up (aliases are not members)
             if not self.json:
                 self.checks.append(f"{out} = {self.const(members, 'E')}.get({v}, {v})")
             elif enum_member:
@@ -264,7 +265,7 @@ class _Gen:
         enums = convert._enum_members(cls) if self.json else {}  # noqa: SLF001
         exprs = [self.value(mm, f"{path}.{n}" if path else n, n, n in enums) for n, mm in mach.members_machines.items()]
         if self.json:
-            return "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs)) + "}"
+            return "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs, strict=True)) + "}"
         return f"{self.const(cls, 'T')}({', '.join(exprs)})"
 
     def optional(self, mach: Any, path: str, name: str, enum_member: bool) -> str:
@@ -375,8 +376,7 @@ class _Gen:
         """One element of a sequence (JSON: a struct or string as to_json converts it, anything else by convert)."""
         target = mach
         while isinstance(target, mc.InstanceMachine):
-            target.type.__idl__.populate()
-            target = target.type.__idl__.v2_machine if target.use_version_2 else target.type.__idl__.v1_machine
+            target = type_machine(target.type, target.use_version_2)
         if self.json and not isinstance(target, (mc.StructMachine, mc.StringMachine)):
             return self._generic_element(mach, path, name)
         return self.value(mach, path, name)
@@ -449,7 +449,7 @@ class _Gen:
             for c in checks:
                 self.emit(c)
             if self.json:
-                self.emit(f"{out} = {{{', '.join(f'{n!r}: {e}' for n, e in zip(fields_, exprs))}}}")
+                self.emit(f"{out} = {{{', '.join(f'{n!r}: {e}' for n, e in zip(fields_, exprs, strict=True))}}}")
             else:
                 self.emit(f"{out} = {self.const(mach.type, 'T')}({', '.join(exprs)})")
             self.indent -= 1
@@ -469,12 +469,10 @@ class _Gen:
         return out
 
 
-def generate(cls: type, v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
+def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
     """The source of `decode(b)` for `cls` and the names it uses."""
-    idl = cls.__idl__
-    idl.populate()
     g = _Gen(v2, little, json)
-    expr = g.value(idl.v2_machine if v2 else idl.v1_machine, "", "")
+    expr = g.value(type_machine(cls, v2), "", "")
     g.flush()
     head = ["def decode(b):", "    p = 4"] + (["    inv = []"] if json else [])
     tail = [f"    return {expr}, inv" if json else f"    return {expr}"]
@@ -487,7 +485,7 @@ _FALLBACK: Any = object()
 class TypeDecoder:
     """The generated decoders of one type, built on first use per encoding, byte order and mode."""
 
-    def __init__(self, cls: type) -> None:
+    def __init__(self, cls: type[IdlStruct]) -> None:
         self.cls = cls
         self._fns: dict[tuple[bool, bool, bool], Any] = {}
         self._lock = threading.Lock()
@@ -507,7 +505,7 @@ class TypeDecoder:
         name = f"{self.cls.__name__} {'xcdr2' if v2 else 'xcdr1'} {'le' if little else 'be'}{' json' if json else ''}"
         try:
             source, ns = generate(self.cls, v2, little, json)
-            exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # noqa: S102 (our own generated source)
+            exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # our own generated source
             return ns["decode"]
         except Unsupported:
             return _FALLBACK
@@ -520,7 +518,8 @@ class TypeDecoder:
         fn = self._fn(data, True)
         if fn is _FALLBACK:
             return convert.to_json(self.cls.deserialize(data))
-        return fn(data)
+        decoded: tuple[dict[str, Any], list[str]] = fn(data)  # the generated decode(b), JSON mode
+        return decoded
 
     def sample(self, data: bytes) -> Any:
         """`cls.deserialize(data)`, faster."""
@@ -530,10 +529,10 @@ class TypeDecoder:
         return fn(data)
 
 
-_decoders: dict[type, TypeDecoder] = {}
+_decoders: dict[type[IdlStruct], TypeDecoder] = {}
 
 
-def decoder(cls: type) -> TypeDecoder:
+def decoder(cls: type[IdlStruct]) -> TypeDecoder:
     d = _decoders.get(cls)
     if d is None:
         d = _decoders.setdefault(cls, TypeDecoder(cls))

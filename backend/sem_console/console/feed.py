@@ -9,7 +9,8 @@ error is logged and counted, the console and the other subscribers go on.
 from __future__ import annotations
 
 import logging
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 log = logging.getLogger("sem-console.feed")
 Subscriber = Callable[[dict[str, Any]], None]

@@ -24,12 +24,13 @@ from sqlmodel import Field, Session, SQLModel, col, create_engine, delete, selec
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
 PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
+TRACK, SERIES = "track", "series"  # the tables
 
 
 class TrackPoint(SQLModel, table=True):
     """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
 
-    __tablename__ = "track"
+    __tablename__ = TRACK
     providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
     time: float = Field(primary_key=True, index=True,
                         description="UTC seconds since the epoch when the console received the GPSFixReport")
@@ -47,7 +48,7 @@ class TrackPoint(SQLModel, table=True):
 class SeriesPoint(SQLModel, table=True):
     """The dashboard's chart values of a vehicle at one time, from its GPSReport (at most one per UTC second)."""
 
-    __tablename__ = "series"
+    __tablename__ = SERIES
     providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
     time: float = Field(primary_key=True, index=True,
                         description="UTC seconds since the epoch when the console received the GPSReport")
@@ -129,7 +130,7 @@ class History:
 
     def __init__(self, path: Path, retention_hours: float, replay: bool = False) -> None:
         self.engine = _sqlite_engine(path)
-        SQLModel.metadata.create_all(self.engine, tables=[TrackPoint.__table__, SeriesPoint.__table__])  # type: ignore[list-item]
+        SQLModel.metadata.create_all(self.engine, tables=[SQLModel.metadata.tables[t] for t in (TRACK, SERIES)])
         self.retention = retention_hours * 3600.0
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
         self._track: list[dict[str, Any]] = []
@@ -202,7 +203,7 @@ class History:
                     s.execute(insert(model).prefix_with("OR IGNORE"), rows)
             if prune_before is not None:
                 for model in (TrackPoint, SeriesPoint):
-                    self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]
+                    self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
             s.commit()
         self.rows_written += len(track) + len(series)
 

@@ -16,7 +16,8 @@ import json
 import logging
 import time
 from collections import deque
-from typing import Any, Awaitable, Callable
+from collections.abc import Awaitable, Callable
+from typing import Any
 
 import orjson
 
@@ -54,8 +55,8 @@ class Client:
         if key is not None:
             self.reports.pop(key, None)  # re-insert: conflated reports go out oldest first
             self.reports[key] = text
-        elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or len(self.ordered) >= self.max_queue and (
-                time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue):
+        elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
+                time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
             self.drop()
             return
         else:

@@ -32,23 +32,32 @@ import asyncio
 import logging
 import threading
 import time
+from collections.abc import Callable
 from enum import Enum
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
-from cyclonedds._clayer import ddspy_take
 from cyclonedds.core import Listener, Policy, Qos, WaitSet
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-from sem_console.console.decode import (ACK_TOPICS, COMMAND_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem,
-                                        StatusItem)
+from sem_console.console.decode import (
+    ACK_TOPICS,
+    COMMAND_TOPICS,
+    REPORT_TOPICS,
+    STATUS_TOPICS,
+    Decoder,
+    Item,
+    ReportItem,
+    StatusItem,
+)
 from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem
 
 log = logging.getLogger("sem-console.ingest")
-__all__ = ["Ingest", "ReportItem", "StatusItem", "REPORT_TOPICS", "Tap", "Via", "owner_of"]
+__all__ = ["REPORT_TOPICS", "Ingest", "ReportItem", "StatusItem", "Tap", "Via", "owner_of"]
 
 
 class Tap(Protocol):
@@ -82,8 +91,9 @@ def owner_of(writer_qos: Qos) -> Via:
     budget and data representation, so that is all that decides it: reliable and at
     least transient-local, reliable and volatile, or best-effort.
     """
-    reliability = writer_qos[Policy.Reliability] if Policy.Reliability in writer_qos else None
-    durability = writer_qos[Policy.Durability] if Policy.Durability in writer_qos else Policy.Durability.Volatile
+    # (no .get(): Qos has `in` and [] only)
+    reliability = writer_qos[Policy.Reliability] if Policy.Reliability in writer_qos else None  # noqa: SIM401
+    durability = writer_qos[Policy.Durability] if Policy.Durability in writer_qos else Policy.Durability.Volatile  # noqa: SIM401
     if not isinstance(reliability, Policy.Reliability.Reliable):
         return Via.BEST_EFFORT
     return Via.RELIABLE_VOLATILE if durability == Policy.Durability.Volatile else Via.RELIABLE_TRANSIENT_LOCAL
@@ -114,7 +124,7 @@ class Owners:
     def listener(self, **more: Callable[..., None]) -> Listener:
         return Listener(on_subscription_matched=self._on_matched, **more)
 
-    def _on_matched(self, reader: DataReader, status: Any) -> None:
+    def _on_matched(self, reader: DataReader[Any], status: Any) -> None:
         handle = status.last_publication_handle & _U64
         if status.current_count_change > 0:
             self._left.pop(handle, None)
@@ -123,7 +133,7 @@ class Owners:
         elif status.current_count_change < 0:
             self._left[handle] = time.monotonic()
 
-    def learn(self, reader: DataReader, handle: int) -> Via | None:
+    def learn(self, reader: DataReader[Any], handle: int) -> Via | None:
         try:
             data = reader.get_matched_publication_data(handle)
         except Exception as e:  # called from Cyclone's listener thread: never raise there
@@ -134,7 +144,7 @@ class Owners:
         via = self.by_handle[handle] = owner_of(data.qos)
         return via
 
-    def owner(self, reader: DataReader, handle: int) -> Via | None:
+    def owner(self, reader: DataReader[Any], handle: int) -> Via | None:
         """None only for a writer that left before any reader could read its QoS."""
         return self.by_handle.get(handle) or self.learn(reader, handle)
 
@@ -187,37 +197,42 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
-    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader]]:
+    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
         """The three readers of every topic (see the module docstring)."""
         return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
                     on_requested_incompatible_qos=self._on_incompatible(sem, via))))
                 for sem in sems for via in Via]
 
-    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader, Any], None]:
+    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
         accepts any reliability, durability and latency budget, so what it refuses is refused by
         all three: in practice a data representation (an XCDR1 writer of a type with @optional
         members, README "Other DDS vendors"). Logged once per topic and policy."""
 
-        def on(_reader: DataReader, status: Any) -> None:
+        def on(_reader: DataReader[Any], status: Any) -> None:
             if via is not Via.BEST_EFFORT:
                 return
             self.incompatible[sem.spec.name] = status.total_count
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:
                 self._warned.add((sem, policy))
-                log.warning("a writer of %s offers a %s no reader of the console accepts; it is not read%s", sem.spec.name,
-                            policy, " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "")
+                log.warning(
+                    "a writer of %s offers a %s no reader of the console accepts; it is not read%s",
+                    sem.spec.name,
+                    policy,
+                    " (XCDR1 for a type with optional members: offer XCDR2)" if policy == "DataRepresentation" else "",
+                )
+
         return on
 
-    def _take(self, sem: Sem, via: Via, reader: DataReader, condition: Any) -> list[Item]:
+    def _take(self, sem: Sem, via: Via, reader: DataReader[Any], condition: Any) -> list[Item]:
         """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
         path a replay takes too): a sample that cannot be decoded costs only itself, and the copies
         other readers own are dropped undecoded, so each sample is decoded and applied once."""
         decode = sem not in COMMAND_TOPICS
         out: list[Item] = []
         while True:
-            raw = ddspy_take(reader._ref, condition.mask, 256)  # noqa: SLF001 (DataReader.take, without its decode)
+            raw = take_cdr(reader, condition.mask, 256)
             if isinstance(raw, int):
                 log.warning("take on %s failed: %d", sem.spec.name, raw)
                 break
@@ -252,7 +267,7 @@ class Ingest:
             started = time.monotonic()
             try:
                 items: list[ReportItem] = []
-                for (sem, via, reader), cond in zip(self.report_readers, conds):
+                for (sem, via, reader), cond in zip(self.report_readers, conds, strict=True):
                     items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
                 if items:
                     # a take counts only when it applied something: a wake by the timeout, or by the copies
@@ -278,7 +293,7 @@ class Ingest:
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []
-        for (sem, via, reader), cond in zip(self.status_readers, conds):
+        for (sem, via, reader), cond in zip(self.status_readers, conds, strict=True):
             items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
         if items:
             self.loop.call_soon_threadsafe(self.on_statuses, items)

@@ -11,6 +11,8 @@ import typing
 from enum import Enum
 from typing import Any
 
+from cyclonedds.idl import IdlStruct
+
 from sem_console.console.convert import GUID_MEMBERS
 
 
@@ -35,13 +37,13 @@ def _schema(hint: Any, name: str, defs: dict[str, Any]) -> dict[str, Any]:
     if isinstance(hint, type) and issubclass(hint, Enum):
         defs.setdefault(hint.__name__, {"type": "string", "enum": [e.name for e in hint]})
         return {"$ref": f"#/$defs/{hint.__name__}"}
-    if isinstance(hint, type) and hasattr(hint, "__dataclass_fields__"):
+    if isinstance(hint, type) and issubclass(hint, IdlStruct):
         struct_schema(hint, defs)
         return {"$ref": f"#/$defs/{hint.__name__}"}
     raise TypeError(f"no JSON schema for {hint!r}")
 
 
-def struct_schema(cls: type, defs: dict[str, Any]) -> None:
+def struct_schema(cls: type[IdlStruct], defs: dict[str, Any]) -> None:
     if cls.__name__ in defs:
         return
     defs[cls.__name__] = {}  # placeholder against recursion
@@ -50,7 +52,7 @@ def struct_schema(cls: type, defs: dict[str, Any]) -> None:
     defs[cls.__name__] = {
         "type": "object",
         "title": cls.__name__,
-        "description": f"JSON form of {cls.__idl_typename__.replace('.', '::')}",  # type: ignore[attr-defined]
+        "description": f"JSON form of {cls.__idl_typename__.replace('.', '::')}",
         "properties": props,
         "required": list(hints),
         "additionalProperties": False,

@@ -12,7 +12,7 @@ what it shows. Plain Python with an injectable clock, so its behaviour is tested
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 
 class Pacer:

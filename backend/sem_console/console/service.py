@@ -1,7 +1,7 @@
 """The running console: DDS ingest, providers, the UMAA consumer, the WebSocket hub.
 
 Owned by the FastAPI lifespan. Every method here runs on the event loop thread. With
-`settings.replay` the input is a recording instead of DDS (`console/replay.py`): no DDS
+`settings.replay` the input is a recording instead of DDS (`console/replay_source.py`): no DDS
 participant, the recording's clock, a temporary database, and the same `apply` path.
 """
 
@@ -9,13 +9,16 @@ from __future__ import annotations
 
 import asyncio
 import logging
+import math
+import tempfile
 import threading
 import time
 import uuid
-import math
-import tempfile
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable
+from typing import Any
+
+from pydantic import ValidationError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -25,20 +28,19 @@ from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
+from sem_console.console.database import Database
 from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
-from sem_console.console.store import Store
+from sem_console.console.replay_source import Replay
 from sem_console.core.config import Settings, parse_imc_vehicles
+from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
-
-if TYPE_CHECKING:
-    from sem_console.console.replay import Replay
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -46,13 +48,9 @@ ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages afte
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
-    """The stored link configurations that pass the API's own validation (`api.schemas.LinkConfig`, the one
+    """The stored link configurations that pass the API's own validation (`core.contract.LinkConfig`, the one
     an operator's PUT passed); any other row (unreadable, out of range, of another version) gives way to
     the defaults, with one warning naming them all."""
-    from pydantic import ValidationError
-
-    from sem_console.api.schemas import LinkConfig as LinkConfigModel
-
     configs: dict[str, LinkConfig] = {}
     ignored: list[str] = []
     for vehicle, stored in rows.items():
@@ -78,7 +76,7 @@ class Console:
         # ":memory:"); its track and chart history is kept whatever the recording's age
         self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
         db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
-        self.store = Store(db_path, settings.audit_max_rows)
+        self.store = Database(db_path, settings.audit_max_rows)
         self.id = self.store.console_guid()
         self.history = History(db_path, math.inf if replaying else settings.track_retention_hours, replay=replaying)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
@@ -135,8 +133,6 @@ class Console:
         loop = self._loop = asyncio.get_running_loop()
         self._history_task = loop.create_task(self.history.run())
         if self.settings.replay is not None:  # no DDS, no IMC: a replay is read-only
-            from sem_console.console.replay import Replay
-
             assert isinstance(self.clock, RecordingClock)
             self.replay = Replay(self, self.settings.replay, self.settings.replay_speed, self.clock)
             await self.replay.open()
@@ -160,7 +156,7 @@ class Console:
             log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
         self._ticker = loop.create_task(self._tick_forever())
         if self.settings.sim:
-            self._start_sim()
+            self._start_sim(self.bus)
 
     async def stop(self, answer_wait: float = 3.0) -> None:
         """Consumer Shutdown Sequence: cancel what is incomplete, then leave the bus.
@@ -208,7 +204,7 @@ class Console:
             await asyncio.gather(self._history_task, return_exceptions=True)
         self.history.close()
 
-    def _start_sim(self) -> None:
+    def _start_sim(self, bus: Bus) -> None:
         from sem_console.sim.provider import InUse, SimOptions, Simulator
 
         stop = [False]
@@ -217,7 +213,7 @@ class Console:
 
         def run() -> None:
             try:
-                sim = Simulator(self.bus, opts)  # looks for its vehicles on the bus first: off the loop
+                sim = Simulator(bus, opts)  # looks for its vehicles on the bus first: off the loop
             except InUse as e:
                 hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
                 log.error("the embedded simulator did not start: %s%s", e, hint)
@@ -289,7 +285,9 @@ class Console:
         if it.topic == "GPSFixReport":
             status = p.reports.get("GPSFixStatusReport")
             fix_valid = status["report"].get("fixValid") if status else None
-            self.history.on_fix(it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None)
+            self.history.on_fix(
+                it.source, it.received_at, it.report, it.invalid, fix_valid if isinstance(fix_valid, bool) else None
+            )
         elif it.topic == "GPSReport":
             self.history.on_gps(it.source, it.received_at, it.report)
 

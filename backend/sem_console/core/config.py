@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import uuid
 from pathlib import Path
-
 from typing import Any
 
 from pydantic import Field, PrivateAttr, field_validator
@@ -38,8 +37,10 @@ class Settings(BaseSettings):
                                    "this many seconds (conflation window); sparse input is taken as it arrives")
     report_burst: int = Field(8, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
                               "window applies (refilled at one per window)")
-    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends nothing for ws_stall_seconds) before it is dropped")
-    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over ws_max_queue stalled")
+    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
+                                                         "nothing for ws_stall_seconds) before it is dropped")
+    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over "
+                                                           "ws_max_queue stalled")
     ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
                                  "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)")
     track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "

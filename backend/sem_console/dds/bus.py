@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import os
-import time
-from collections.abc import Iterable
 from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
@@ -12,9 +10,10 @@ from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
-from cyclonedds.util import duration
 
 from sem_console.dds.config import dds_config
+from sem_console.dds.cyclone_private import InvalidSample, take_cdr
+from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import reader_qos, representation, writer_qos
 from sem_console.dds.topics import Sem
 
@@ -45,18 +44,18 @@ class Bus:
         open_domain(domain_id, interface, peers)
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
-        self._topics: dict[Sem, Topic] = {}
+        self._topics: dict[Sem, Topic[Any]] = {}
 
-    def topic(self, sem: Sem) -> Topic:
+    def topic(self, sem: Sem) -> Topic[Any]:
         if sem not in self._topics:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
 
-    def writer(self, sem: Sem) -> DataWriter:
+    def writer(self, sem: Sem) -> DataWriter[Any]:
         return DataWriter(self.participant, self.topic(sem),
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
-    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader:
+    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader[Any]:
         """A reader with the given QoS (else the topic class's), always with the type's data representation."""
         qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
         return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
@@ -66,7 +65,7 @@ class Bus:
         self.participant = None  # type: ignore[assignment]  # entities are deleted with the last reference
 
 
-def all_samples(reader: DataReader) -> ReadCondition:
+def all_samples(reader: DataReader[Any]) -> ReadCondition:
     """Every sample, including disposed and no-writer instances.
 
     cyclonedds-python's plain take/read use this mask already, but its take_iter/read_iter
@@ -76,25 +75,22 @@ def all_samples(reader: DataReader) -> ReadCondition:
     return ReadCondition(reader, ViewState.Any | InstanceState.Any | SampleState.Any)
 
 
-def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int = 256) -> tuple[list[Any], int]:
+def take_each(reader: DataReader[Any], condition: ReadCondition | None = None, n: int = 256) -> tuple[list[Any], int]:
     """Take every sample (by `condition`, else all, disposes included) and decode each on its own:
     one a Python decoder refuses (a string that is not UTF-8, say) costs only itself. Returns the
     decoded samples (InvalidSample for a dispose) and how many could not be decoded."""
-    from cyclonedds._clayer import ddspy_take
-    from cyclonedds.internal import InvalidSample
-
     mask = (condition or all_samples(reader)).mask
     dtype = reader.topic.data_type
     out: list[Any] = []
     bad = 0
     while True:
-        raw = ddspy_take(reader._ref, mask, n)  # noqa: SLF001 (DataReader.take, decoding each sample on its own)
+        raw = take_cdr(reader, mask, n)
         if isinstance(raw, int):
             break
         for data, info in raw:
             try:
                 sample = dtype.deserialize(data) if info.valid_data else InvalidSample(dtype.deserialize_key(data), info)
-            except Exception:  # noqa: BLE001 (whatever a peer sent, only this sample is lost)
+            except Exception:  # whatever a peer sent, only this sample is lost
                 bad += 1
                 continue
             if info.valid_data:
@@ -103,19 +99,3 @@ def take_each(reader: DataReader, condition: ReadCondition | None = None, n: int
         if len(raw) < n:
             break
     return out, bad
-
-
-def wait_for_acks(writers: Iterable[DataWriter], seconds: float) -> bool:
-    """Wait until every matched reliable reader has acknowledged what the writers wrote.
-
-    cyclonedds-python 11.0.1's DataWriter.wait_for_acks raises AttributeError on a timeout
-    (it compares with `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so call the
-    C function it wraps and read its return code here. True when all were acknowledged.
-    """
-    deadline = time.monotonic() + seconds
-    ok = True
-    for w in writers:
-        remaining = max(0.0, deadline - time.monotonic())
-        ret = w._wait_for_acks(w._ref, duration(seconds=remaining))  # noqa: SLF001 (see the docstring)
-        ok = ok and ret == 0
-    return ok

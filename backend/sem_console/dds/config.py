@@ -27,7 +27,8 @@ def loopback_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
     peer_list = [p.strip() for p in peers.split(",") if p.strip()]
     general = f"<Interfaces><NetworkInterface name={quoteattr(interface)}/></Interfaces>"
     if not peer_list:
-        return f'<CycloneDDS><Domain Id="any"><General>{general}<AllowMulticast>true</AllowMulticast></General></Domain></CycloneDDS>'
+        return (f'<CycloneDDS><Domain Id="any"><General>{general}<AllowMulticast>true</AllowMulticast></General>'
+                '</Domain></CycloneDDS>')
     peer_xml = "".join(f"<Peer address={quoteattr(p)}/>" for p in peer_list)
     return (
         '<CycloneDDS><Domain Id="any">'

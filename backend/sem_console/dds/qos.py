@@ -1,10 +1,15 @@
 """QoS per topic class: the one place that decides how SEM topics behave on the bus.
 
-| class    | topics                         | reliability | durability      | history        | why |
-|----------|--------------------------------|-------------|-----------------|----------------|-----|
-| command  | *Command                       | reliable    | transient-local | keep last 1    | a command is immutable, one sample per sessionID; a provider that starts or restarts later still finds it (ICD 4.1.2) |
-| status   | *CommandStatus, *CommandAckReport | reliable | transient-local | keep last 32   | every transition reaches a running consumer in order (a command has at most 5), and a consumer that joins late sees where each command stands |
-| report   | *Report (GPS, GPSFix, INS)     | reliable    | transient-local | keep last 1    | a consumer that starts after the provider shows the last report at once; newer reports replace older ones |
+| class    | topics                            | reliability | durability      | history      |
+|----------|-----------------------------------|-------------|-----------------|--------------|
+| command  | *Command                          | reliable    | transient-local | keep last 1  |
+| status   | *CommandStatus, *CommandAckReport | reliable    | transient-local | keep last 32 |
+| report   | *Report (GPS, GPSFix, INS)        | reliable    | transient-local | keep last 1  |
+
+Why: a command is immutable, one sample per sessionID; a provider that starts or restarts later still finds it
+(ICD 4.1.2). Every status transition reaches a running consumer in order (a command has at most 5), and a consumer
+that joins late sees where each command stands. A consumer that starts after the provider shows the last report at
+once; newer reports replace older ones.
 
 The data representation follows from the type, not the topic (`representation`): a type with
 no @optional member travels in XCDR1, which every vendor's default reader accepts (RTI

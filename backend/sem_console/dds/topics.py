@@ -38,7 +38,7 @@ def has_optional(t: type) -> bool:
 @dataclass(frozen=True)
 class TopicSpec:
     name: str
-    type: type
+    type: type[IdlStruct]
     cls: TopicClass
 
     @property
@@ -49,14 +49,24 @@ class TopicSpec:
 
 class Sem(Enum):
     GPS_FIX_COMMAND = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommand", GPSFixCommandType, TopicClass.COMMAND)
-    GPS_FIX_COMMAND_STATUS = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandStatus", GPSFixCommandStatusType, TopicClass.STATUS)
-    GPS_FIX_COMMAND_ACK = TopicSpec("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS)
+    GPS_FIX_COMMAND_STATUS = TopicSpec(
+        "UMAA::SEM::GPSFixControl::GPSFixCommandStatus", GPSFixCommandStatusType, TopicClass.STATUS
+    )
+    GPS_FIX_COMMAND_ACK = TopicSpec(
+        "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS
+    )
     GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT)
     GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
     GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT)
-    INS_COMMAND = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND)
-    INS_COMMAND_STATUS = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus", InertialSensorCommandStatusType, TopicClass.STATUS)
-    INS_COMMAND_ACK = TopicSpec("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport", InertialSensorCommandAckReportType, TopicClass.STATUS)
+    INS_COMMAND = TopicSpec(
+        "UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND
+    )
+    INS_COMMAND_STATUS = TopicSpec(
+        "UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus", InertialSensorCommandStatusType, TopicClass.STATUS
+    )
+    INS_COMMAND_ACK = TopicSpec(
+        "UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport", InertialSensorCommandAckReportType, TopicClass.STATUS
+    )
     INS_REPORT = TopicSpec("UMAA::SEM::InertialSensorStatus::InertialSensorReport", InertialSensorReportType, TopicClass.REPORT)
 
     @property

@@ -22,12 +22,14 @@ from __future__ import annotations
 import struct
 import zlib
 from collections import defaultdict
+from collections.abc import Sequence
 from typing import BinaryIO
 
 import zstandard
-from mcap.data_stream import RecordBuilder
 from mcap.opcode import Opcode
-from mcap.records import Channel, Chunk, ChunkIndex, DataEnd, Footer, Header, Schema, Statistics, SummaryOffset
+from mcap.records import Channel, Chunk, ChunkIndex, DataEnd, Footer, Header, McapRecord, Schema, Statistics, SummaryOffset
+
+from sem_console.recording.mcap_private import record_bytes
 
 MAGIC = b"\x89MCAP0\r\n"
 # Message record: opcode, record length, channel id, sequence, log time, publish time; then the data
@@ -128,22 +130,23 @@ class McapWriter:
         self._finished = True  # nothing more in the data section; what follows is not in its CRC
         self._index = _Finished()  # add_message: a ValueError, at no cost to the hot path
         summary_start = self._offset
-        builder, offsets = RecordBuilder(), []
-        groups: list[tuple[Opcode, list]] = [
+        parts: list[bytes] = []
+        length = 0  # of the summary so far
+        offsets: list[SummaryOffset] = []
+        groups: list[tuple[Opcode, Sequence[McapRecord]]] = [
             (Opcode.SCHEMA, self._schemas), (Opcode.CHANNEL, self._channels),
             (Opcode.STATISTICS, [self._statistics()]), (Opcode.CHUNK_INDEX, self._chunk_indexes)]
         for opcode, records in groups:
             if not records:
                 continue
-            start = builder.count
+            start = length
             for record in records:
-                record.write(builder)
-            offsets.append(SummaryOffset(group_opcode=opcode, group_start=summary_start + start,
-                                         group_length=builder.count - start))
-        summary_offset_start = summary_start + builder.count
-        for offset in offsets:
-            offset.write(builder)
-        summary = builder.end()
+                parts.append(record_bytes(record))
+                length += len(parts[-1])
+            offsets.append(SummaryOffset(group_opcode=opcode, group_start=summary_start + start, group_length=length - start))
+        summary_offset_start = summary_start + length
+        parts.extend(record_bytes(offset) for offset in offsets)
+        summary = b"".join(parts)
         crc = zlib.crc32(summary)
         crc = zlib.crc32(_FOOTER_HEAD.pack(Opcode.FOOTER, 8 + 8 + 4, summary_start, summary_offset_start), crc)
         self._write(summary)
@@ -161,9 +164,7 @@ class McapWriter:
     def _record(self, record: Header | Schema | Channel | DataEnd | Footer | Chunk) -> None:
         if self._finished and not isinstance(record, Footer):
             raise ValueError("the MCAP file is finished")
-        builder = RecordBuilder()
-        record.write(builder)
-        self._write(builder.end())
+        self._write(record_bytes(record))
 
     def _end_chunk(self) -> None:
         if not self._parts:

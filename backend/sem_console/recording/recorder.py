@@ -8,7 +8,7 @@
   to record: they go to the JSON channel `sem-console/instances` (topic, key CDR, source, sessionId).
 - **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
   `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
-  events), holding the WebSocket messages of the same names (`api/schemas.py`).
+  events), holding the WebSocket messages of the same names (`core/contract.py`).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
@@ -22,6 +22,7 @@ goes on. Chunks are flushed at least every FLUSH_SECONDS, so a crash loses at mo
 from __future__ import annotations
 
 import base64
+import contextlib
 import datetime as dt
 import errno
 import json
@@ -31,8 +32,9 @@ import threading
 import time
 import uuid
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, BinaryIO, Callable
+from typing import Any, BinaryIO
 
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -40,7 +42,7 @@ from mcap.reader import make_reader
 from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
-from sem_console.api.schemas import CommandMessage, ProviderMessage, TransitionMessage
+from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
@@ -77,12 +79,12 @@ _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.i
 
 def file_name(at: float) -> str:
     """`DIR/<UTC start time>.mcap`, ISO 8601 basic format with milliseconds: 20261122T101530.123Z.mcap."""
-    t = dt.datetime.fromtimestamp(at, dt.timezone.utc)
+    t = dt.datetime.fromtimestamp(at, dt.UTC)
     return t.strftime("%Y%m%dT%H%M%S.") + f"{t.microsecond // 1000:03d}Z.mcap"
 
 
 def start_of(name: str) -> float:
-    return dt.datetime.strptime(name[:19], "%Y%m%dT%H%M%S.%f").replace(tzinfo=dt.timezone.utc).timestamp()
+    return dt.datetime.strptime(name[:19], "%Y%m%dT%H%M%S.%f").replace(tzinfo=dt.UTC).timestamp()
 
 
 class RecordingError(Exception):
@@ -99,7 +101,9 @@ class _File:
         self.channels: dict[Any, int] = {}
         self.sequence: dict[int, int] = {}
         for sem in Sem:
-            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode())
+            schema = self.writer.register_schema(
+                type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode()
+            )
             self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema)
         for channel, (_kind, model) in JSON_CHANNELS.items():
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
@@ -134,10 +138,8 @@ class _File:
             self.stream.close()
 
     def abandon(self) -> None:
-        try:
+        with contextlib.suppress(OSError):
             self.stream.close()
-        except OSError:
-            pass
 
 
 class Recorder:

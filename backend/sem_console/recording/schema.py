@@ -21,6 +21,8 @@ import functools
 import re
 from pathlib import Path
 
+from cyclonedds.idl import IdlStruct
+
 IDL_DIR = Path(__file__).resolve().parent / "idl"
 SCHEMA_ENCODING = "omgidl"
 MESSAGE_ENCODING = "cdr"
@@ -28,9 +30,9 @@ _INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^">]+)[">]', re.MULTILINE)
 _STRUCT = re.compile(r"^(\s*)struct\s", re.MULTILINE)
 
 
-def type_name(dtype: type) -> str:
+def type_name(dtype: type[IdlStruct]) -> str:
     """The fully qualified UMAA type name of a generated type, e.g. UMAA::SEM::GPSStatus::GPSReportType."""
-    return str(dtype.__idl_typename__).replace(".", "::")  # type: ignore[attr-defined]
+    return dtype.__idl_typename__.replace(".", "::")
 
 
 def _file_of(name: str) -> str:

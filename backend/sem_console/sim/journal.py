@@ -83,7 +83,7 @@ class Journal:
 
     def get(self, vehicle: uuid.UUID, service: Service, session: uuid.UUID) -> Status | None:
         name = self.entries.get(self._key(vehicle, service, session))
-        return Status[name] if name in Status.__members__ else None
+        return Status[name] if name is not None and name in Status.__members__ else None
 
     def set(self, vehicle: uuid.UUID, service: Service, session: uuid.UUID, status: Status) -> None:
         self.entries[self._key(vehicle, service, session)] = status.name

@@ -63,10 +63,7 @@ def make_sky(seed: int, count: int, sky_speed: float = 20.0) -> list[Satellite]:
         n = min(n, remaining - (len(CONSTELLATIONS) - 1 - i))  # leave one for each constellation after
         remaining -= n
         for k, prn in enumerate(sorted(rng.sample(list(prns), n))):
-            if const is Constellation.GLONASS:
-                freq_k = freq + (k - 7) * 0.5625e6
-            else:
-                freq_k = freq
+            freq_k = freq + (k - 7) * 562500.0 if const is Constellation.GLONASS else freq
             sats.append(Satellite(
                 constellation=const, prn=prn, frequency=freq_k,
                 az0=rng.uniform(0, 2 * math.pi),

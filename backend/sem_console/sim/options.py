@@ -34,7 +34,7 @@ class SimOptions:
     faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle number (0 = all) -> faults
     start_lat: float = 36.80
     start_lon: float = -75.70
-    # CoMap over IMC (comap/vehicle.py): off unless imc_port is given
+    # CoMap over IMC (comap_vehicle.py): off unless imc_port is given
     imc_port: int | None = None
     imc_host: str = "0.0.0.0"
     imc_id: int = 0x2001  # the first vehicle's IMC system id; the next vehicles count up from it

@@ -4,7 +4,7 @@ InertialSensorControl and InertialSensorStatus (ICD 4.1 and 5.1).
 One process, one participant, one writer per topic; each vehicle writes its own
 instances (keyed by its source GUID). A single thread runs the polling loop
 (`Simulator.run`), so no state is shared between threads. The parts: `options`,
-`reports` (each vehicle's sensors and reports), `flow` (the provider side of the command
+`reports` (each vehicle's sensors and reports), `provider_flow` (the provider side of the command
 flow), `journal` (command states across restarts) and, here, the polling loop.
 """
 
@@ -14,21 +14,22 @@ import contextlib
 import logging
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Callable
+from typing import Any
 
 from cyclonedds.core import InstanceState
-from cyclonedds.internal import InvalidSample
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
+from sem_console.dds.cyclone_private import InvalidSample
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
-from sem_console.comap.vehicle import ComapVehicles
-from sem_console.sim.flow import ProviderFlow
+from sem_console.sim.comap_vehicle import ComapVehicles
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
+from sem_console.sim.provider_flow import ProviderFlow
 from sem_console.sim.reports import Sensors
 from sem_console.umaa.guid import from_guid
 
@@ -160,7 +161,7 @@ class Simulator:
 
     def handle(self, service: Service, s: Any, now: float, startup: bool) -> None:
         state = s.sample_info.instance_state
-        cmd = s.key_sample if isinstance(s, InvalidSample) else s
+        cmd: Any = s.key_sample if isinstance(s, InvalidSample) else s  # a generated command struct
         try:
             dest, session = from_guid(cmd.destination), from_guid(cmd.sessionID)
         except (TypeError, ValueError):

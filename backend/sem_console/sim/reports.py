@@ -7,14 +7,21 @@ import math
 import random
 import time
 import uuid
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType as FixState
 from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as NavSolution
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 from UMAA.Common.Measurement import (
-    Altitude_HAE, Altitude_MSL, GeodeticLatitude, GeodeticLongitude, Position2D, Position2DTime,
-    Position3D_WGS84, Velocity3D_PlatformNED,
+    Altitude_HAE,
+    Altitude_MSL,
+    GeodeticLatitude,
+    GeodeticLongitude,
+    Position2D,
+    Position2DTime,
+    Position3D_WGS84,
+    Velocity3D_PlatformNED,
 )
 from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
@@ -43,7 +50,7 @@ class Sensors:
         self.depth = SUBMERGED_DEPTH_M
         self.surfacing = False
         self.fix_state = FixState.INITIATING
-        self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap/vehicle.py)
+        self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap_vehicle.py)
         self.next_report = {Sem.GPS_FIX_REPORT: 0.0, Sem.GPS_REPORT: 0.0, Sem.INS_REPORT: 0.0}
 
     # ---- sensor state -------------------------------------------------------------
@@ -95,7 +102,7 @@ class Sensors:
             referenceConstellationType=self.sky[0].constellation, time=elapsed_ns % 2**31, timeUncertainty=20.0,
         )
         # every listed satellite is above the horizon (in view); whether it is tracked shows in its C/N0
-        return GPSReportType(clock=clock, numberSatellitesInView=len(sats), satellites=sats,
+        return make(GPSReportType, clock=clock, numberSatellitesInView=len(sats), satellites=sats,
                              source=self.source, timeStamp=now_datetime())
 
     def fix_reports(self, now: float, sats: list[GPSSatelliteType]) -> tuple[GPSFixReportType, GPSFixStatusReportType]:
@@ -103,32 +110,50 @@ class Sensors:
         sog = self.track.speed
         if self.pilot is not None:  # under way for a CoMap task (or holding where one ended)
             lat, lon, course, sog = self.pilot.lat, self.pilot.lon, self.pilot.course, self.pilot.speed
-        rising = -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3) if self.surfacing and self.depth < 0 else 0.0
-        fix = GPSFixReportType(
+        rising = (
+            -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3)
+            if self.surfacing and self.depth < 0
+            else 0.0
+        )
+        fix = make(
+            GPSFixReportType,
             altitudeMSL=Altitude_MSL(altitude=self.depth),
             GPSFixCommandStatus=self.fix_state,
             GPSLatLongValid=self.fix_valid,
             magneticVariation=math.radians(-10.8),
             position2DWithTime=Position2DTime(
-                geodeticPosition=Position2D(GeodeticLatitude(lat), GeodeticLongitude(lon)), timeAtPosition=time.time()),
-            SOG=sog, trueCourse=course,
-            velocity=Velocity3D_PlatformNED(downSpeed=-rising, eastSpeed=sog * math.sin(course), northSpeed=sog * math.cos(course)),
-            source=self.source, timeStamp=now_datetime(),
+                geodeticPosition=Position2D(GeodeticLatitude(lat), GeodeticLongitude(lon)), timeAtPosition=time.time()
+            ),
+            SOG=sog,
+            trueCourse=course,
+            velocity=Velocity3D_PlatformNED(
+                downSpeed=-rising, eastSpeed=sog * math.sin(course), northSpeed=sog * math.cos(course)
+            ),
+            source=self.source,
+            timeStamp=now_datetime(),
         )
         used_cn0 = sorted((s.antennaCarrierNoiseDensity or 0.0 for s in sats if s.usedInFix), reverse=True)[:11]
-        status = GPSFixStatusReportType(
+        status = make(
+            GPSFixStatusReportType,
             carrierToNoise=used_cn0,
-            countDown=max(0, math.ceil(-self.depth / -SUBMERGED_DEPTH_M * self.opts.scaled(self.opts.surface_seconds))) if self.surfacing else 0,
-            fixValid=self.fix_valid, lowBkupBattery=False,
+            countDown=max(0, math.ceil(-self.depth / -SUBMERGED_DEPTH_M * self.opts.scaled(self.opts.surface_seconds)))
+            if self.surfacing
+            else 0,
+            fixValid=self.fix_valid,
+            lowBkupBattery=False,
             navSolution=NavSolution.GPS_3D if self.fix_valid else NavSolution.GPS_DEAD_RECK,
             originPosition=Position3D_WGS84(
-                Position2D(GeodeticLatitude(self.track.lat0), GeodeticLongitude(self.track.lon0)), Altitude_HAE(-36.5)),
-            pCode=False, timeOut=not self.fix_valid, source=self.source, timeStamp=now_datetime(),
+                Position2D(GeodeticLatitude(self.track.lat0), GeodeticLongitude(self.track.lon0)), Altitude_HAE(-36.5)
+            ),
+            pCode=False,
+            timeOut=not self.fix_valid,
+            source=self.source,
+            timeStamp=now_datetime(),
         )
         return fix, status
 
     def ins_report(self, now: float) -> InertialSensorReportType:
-        return InertialSensorReportType(state=self.ins.state, status=self.ins.status(self.t(now)),
+        return make(InertialSensorReportType, state=self.ins.state, status=self.ins.status(self.t(now)),
                                         source=self.source, timeStamp=now_datetime())
 
     def _reschedule(self, sem: Sem, rate: float, now: float) -> None:

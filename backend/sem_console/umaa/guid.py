@@ -10,7 +10,7 @@ A display that sees that prefix labels the satellite as a letter plus the PRN
 from __future__ import annotations
 
 import uuid
-from typing import Sequence
+from collections.abc import Sequence
 
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 

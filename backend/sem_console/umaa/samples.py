@@ -4,16 +4,19 @@ from __future__ import annotations
 
 import time
 from dataclasses import fields
-from typing import Any, TypeVar
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from UMAA.Common.Measurement import DateTime
 
-T = TypeVar("T")
+if TYPE_CHECKING:
+    from _typeshed import DataclassInstance
+
+T = TypeVar("T", bound="DataclassInstance")  # the generated structs are dataclasses
 
 
 def make(cls: type[T], **values: Any) -> T:
     """Construct a generated struct; members not given are None (for @optional members)."""
-    return cls(**{f.name: values.get(f.name) for f in fields(cls)})  # type: ignore[arg-type]
+    return cls(**{f.name: values.get(f.name) for f in fields(cls)})
 
 
 def now_datetime(t: float | None = None) -> DateTime:

@@ -15,6 +15,7 @@ import json
 import random
 import sys
 import time
+from typing import Any
 
 from cyclonedds.core import Policy, Qos
 
@@ -47,7 +48,7 @@ def main() -> None:
     extra = Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True)) if force else Qos()
     readers = {s: Bus(domain).reader(s, qos=reader_qos(s.spec.cls) + extra) for s in TOPICS}
     writers = {s: Bus(domain).writer(s) for s in TOPICS}
-    kw = dict(writers=TOPICS, readers=TOPICS, recipe="AppendableGps")
+    kw: dict[str, Any] = {"writers": TOPICS, "readers": TOPICS, "recipe": "AppendableGps"}
     p = RemoteParticipant(domain, env=RECIPE_ENV if mask else {}, **kw) if version == "7" else RtiParticipant(domain, **kw)
     try:
         deadline = time.monotonic() + 5
@@ -70,7 +71,8 @@ def main() -> None:
         for s in TOPICS:
             got = [to_plain(g) for g in readers[s].take(N=200, condition=all_samples(readers[s]))]
             rti_got = [x for x, _ in p.take(s) if x]
-            result[s.name]["received"] = len(got); result[s.name]["rti_received"] = len(rti_got)
+            result[s.name]["received"] = len(got)
+            result[s.name]["rti_received"] = len(rti_got)
             result[s.name]["rti_to_cyclone_right"] = sum(any(same(to_plain(x), g) for g in got) for x in theirs[s])
             result[s.name]["cyclone_to_rti_right"] = sum(any(same(to_plain(x), g) for g in rti_got) for x in ours[s])
             if "-v" in sys.argv:

@@ -52,7 +52,8 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
     extra += (f"<property><value><element><name>dds.data_{side}.history.memory_manager.fast_pool.pool_buffer_max_size"
               "</name><value>4096</value></element></value></property>")
     if writer:
-        extra += "<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances></writer_data_lifecycle>"
+        extra += ("<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances>"
+                  "</writer_data_lifecycle>")
     base = ' base_name="SemInterop::Loopback"'
     return (f'<{tag}{base}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
             f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
@@ -67,15 +68,24 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
-    pubs = "".join(f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, True, representation)}</data_writer>"
-                   for s in writers)
-    subs = "".join(f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>{_endpoint_qos(s, False, representation)}</data_reader>"
-                   for s in readers)
+    pubs = "".join(
+        f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
+        f"{_endpoint_qos(s, True, representation)}</data_writer>"
+        for s in writers
+    )
+    subs = "".join(
+        f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
+        f"{_endpoint_qos(s, False, representation)}</data_reader>"
+        for s in readers
+    )
+    base = f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""
+    limits = ("" if type_object_max is None else
+              f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>")
     return f"""<?xml version="1.0"?>
 <dds>
 {_recipe_library() if recipe else ""}
-<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""}>
-<domain_participant_qos>{"" if type_object_max is None else f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>"}
+<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{base}>
+<domain_participant_qos>{limits}
   <transport_builtin><mask>UDPv4</mask></transport_builtin>
   <discovery><initial_peers><element>32@udpv4://127.0.0.1</element></initial_peers><multicast_receive_addresses/></discovery>
 </domain_participant_qos>
@@ -94,9 +104,9 @@ class RtiParticipant:
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
                  representation: str | None = None, extensibility: str | None = None, recipe: str | None = None,
                  type_object_max: int | None = None) -> None:
-        self._file = tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False)
-        self._file.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max))
-        self._file.close()
+        with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
+            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max))
+        self._file = f
         self.connector = rti.Connector("Participants::Rti", self._file.name)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
         self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}

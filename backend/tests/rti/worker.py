@@ -51,7 +51,7 @@ def main() -> None:
             else:
                 raise ValueError(op)
             out.write(json.dumps([True, value]) + "\n")
-        except Exception:  # noqa: BLE001 - reported to the test
+        except Exception:  # reported to the test
             out.write(json.dumps([False, traceback.format_exc()]) + "\n")
         out.flush()
         if op == "close":

@@ -3,6 +3,7 @@ import type { Alarm } from "../api/generated/ws";
 import type { ServerMessage } from "../api/types";
 import { NewAlarms } from "../lib/tone";
 import { Store } from "./connection";
+import { reportMessage } from "./testing";
 import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -29,7 +30,7 @@ function snapshot(ids: string[], alarms: Alarm[] = []): ServerMessage {
 }
 
 const report = (id: string): ServerMessage =>
-  ({ type: "report", providerId: id, topic: "InertialSensorReport", report: { report: { state: "ON", status: "INIT" }, invalid: [], receivedAt: 1 } }) as unknown as ServerMessage;
+  reportMessage(id, "InertialSensorReport", { state: "ON", status: "INIT" });
 
 function apply(msgs: ServerMessage[], start: State = initialState): State {
   return msgs.reduce((s, m, i) => reduce(s, m, 2000 + i), start);

@@ -1,7 +1,8 @@
-import { afterEach, describe, expect, it, vi } from "vitest";
-import type { Command, ReplayStatus, ServerMessage } from "../api/types";
+import { afterEach, describe, expect, expectTypeOf, it, vi } from "vitest";
+import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, InertialSensorReportType, ReplayStatus, ServerMessage } from "../api/types";
 import { Connection, Store, backoff } from "./connection";
 import { ReplaySource } from "./replay";
+import { reportMessage } from "./testing";
 import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -45,7 +46,7 @@ describe("reducer", () => {
   });
 
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
-    const other = { type: "report", providerId: "other", topic: "InertialSensorReport", report: env({ state: "ON", status: "INIT" }) } as ServerMessage;
+    const other = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
     const appeared = { type: "provider", event: "appeared", provider: { id: "third", name: "Alpha", link: "live", ageSeconds: 0, topics: {} } } as unknown as ServerMessage;
     let s = select(apply([snapshot()]), "other");
     s = apply([other, appeared], s);
@@ -60,16 +61,16 @@ describe("reducer", () => {
   });
 
   it("applies reports and keeps untouched providers identical", () => {
-    const other: ServerMessage = { type: "report", providerId: "other", topic: "InertialSensorReport", report: env({ state: "ON", status: "INIT" }) } as ServerMessage;
+    const other: ServerMessage = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
     const s1 = apply([snapshot(), other]);
-    const s2 = reduce(s1, { type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "OFF", status: "INIT" }) } as ServerMessage, 2000);
+    const s2 = reduce(s1, reportMessage(P, "InertialSensorReport", { state: "OFF", status: "INIT" }), 2000);
     expect(s2.providers.other).toBe(s1.providers.other);
     expect(report(s2.providers[P], "InertialSensorReport")?.state).toBe("OFF");
   });
 
   it("raises no alarm itself for fix lost, INS failure, failed commands, violations, unanswered, lost and regained: the console does", () => {
-    const fix = (v: boolean) => ({ type: "report", providerId: P, topic: "GPSFixStatusReport", report: env({ fixValid: v, carrierToNoise: [40] }) }) as ServerMessage;
-    const ins = (st: string) => ({ type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "ON", status: st }) }) as ServerMessage;
+    const fix = (v: boolean) => reportMessage(P, "GPSFixStatusReport", { fixValid: v, carrierToNoise: [40] });
+    const ins = (st: InertialSensorOpStatusEnumType) => reportMessage(P, "InertialSensorReport", { state: "ON", status: st });
     const tr = (status: string, reason: string, violation: string | null): ServerMessage => ({
       type: "transition", sessionId: "s1", command: cmd({ status }),
       transition: { seq: 1, status, reason, logMessage: "x", violation, providerTime: 1, receivedAt: 1 },
@@ -88,8 +89,7 @@ describe("reducer", () => {
   });
 
   it("keeps satellite trails and a bounded C/N0 history, one point per second of the console's clock", () => {
-    const gps = (az: number, at: number): ServerMessage => ({ type: "report", providerId: P, topic: "GPSReport",
-      report: env({ numberSatellitesInView: 9, satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true, antennaCarrierNoiseDensity: 40 }] }, [], at) }) as ServerMessage;
+    const gps = (az: number, at: number): ServerMessage => reportMessage(P, "GPSReport", { numberSatellitesInView: 9, satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true, antennaCarrierNoiseDensity: 40 }] }, [], at);
     let s = apply([snapshot()]);
     for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000, 7000 + t / 2), 5000 + t);
     const trail = s.providers[P].trails.E07;
@@ -189,7 +189,7 @@ describe("store and connection", () => {
     let calls = 0;
     store.subscribe(() => calls++);
     store.enqueue(snapshot());
-    store.enqueue({ type: "report", providerId: P, topic: "InertialSensorReport", report: env({ state: "ON" }) } as ServerMessage);
+    store.enqueue(reportMessage(P, "InertialSensorReport", { state: "ON" }));
     expect(calls).toBe(0);
     store.flush();
     expect(calls).toBe(1);
@@ -264,7 +264,7 @@ describe("store and connection", () => {
 
 describe("the map's track", () => {
   const fix = (lat: number, lon: number, t: number) =>
-    ({ type: "report", providerId: P, topic: "GPSFixReport", report: env({ position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t) }) as unknown as ServerMessage;
+    reportMessage(P, "GPSFixReport", { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t);
   it("takes at most one valid position a second from GPSFixReports, then merges the console's stored track", async () => {
     const { trackLoaded, TRACK_SECONDS } = await import("./store");
     let s = apply([snapshot(), fix(1, 2, 5000.1), fix(1.1, 2, 5000.6), fix(200, 2, 5001.2), fix(1.2, 2, 5002.0)]);
@@ -329,8 +329,7 @@ describe("data sources", () => {
     deliver(replay, { ...snapshot(), replay: playback(state, position, 1) } as ServerMessage);
     return { store, replay };
   }
-  const gpsReport = { type: "report", providerId: P, topic: "GPSReport",
-    report: env({ satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] }) } as ServerMessage;
+  const gpsReport = reportMessage(P, "GPSReport", { satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] });
 
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
     const { store, replay } = replayAt("paused", 1050);
@@ -361,5 +360,18 @@ describe("data sources", () => {
     vi.advanceTimersByTime(1000);
     expect(store.getState().providers[P].trails).toEqual({});
     expect(store.getState().instant).toBe(instant + 1);
+  });
+});
+
+describe("report payloads typed per topic", () => {
+  it("a report message's topic narrows its report; a topic's view holds that topic's report", async () => {
+    const { selectedTopic, viewReport } = await import("./store");
+    const msg = reportMessage(P, "GPSFixStatusReport", { fixValid: true });
+    if (msg.type === "report" && msg.topic === "GPSFixStatusReport") expectTypeOf(msg.report.report).toEqualTypeOf<GPSFixStatusReportType>();
+    const s = apply([snapshot(), msg]);
+    const status = viewReport(selectedTopic("GPSFixStatusReport")(s));
+    expectTypeOf(status).toEqualTypeOf<GPSFixStatusReportType | null>();
+    expect(status?.fixValid).toBe(true);
+    expectTypeOf(report(s.providers[P], "InertialSensorReport")).toEqualTypeOf<InertialSensorReportType | null>();
   });
 });

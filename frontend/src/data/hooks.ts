@@ -1,17 +1,11 @@
-// The only way panels read state: hooks over the store and the connection.
+// The only way panels read state: hooks over the store and the connection (REST loading: loaders.ts).
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
 import type { Alarm } from "../api/generated/ws";
-import { health, series, tasks, track, vehicleCapabilities, worldModel, type ComapVehicle, type Health, type Task } from "../api/rest";
-import type { FeatureCollection } from "geojson";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
-import { useToken } from "./auth";
 import type { Store } from "./connection";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
 import {
-  HISTORY_SECONDS,
-  TRACK_SECONDS,
   allProviders,
-  historyLoaded,
   selectedJausId,
   selectedKnown,
   selectedLink,
@@ -19,10 +13,6 @@ import {
   selectedName,
   selectedTopic,
   selectedTrails,
-  tasksReplaced,
-  trackLoaded,
-  worldModelLoaded,
-  type HistoryPoint,
   type ProviderView,
   type State,
   type TopicView,
@@ -37,7 +27,7 @@ export interface DataContextValue {
 
 export const DataContext = createContext<DataContextValue | null>(null);
 
-function useData(): DataContextValue {
+export function useData(): DataContextValue {
   const ctx = useContext(DataContext);
   if (!ctx) throw new Error("DataContext missing");
   return ctx;
@@ -142,7 +132,7 @@ export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
 
 /** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
  * `throttleMs` when given (text and plots an operator reads need not change at the report's 10 Hz). */
-export function useSelectedTopic(topic: Topic, throttleMs = 0): TopicView | null {
+export function useSelectedTopic<T extends Topic>(topic: T, throttleMs = 0): TopicView<T> | null {
   return useSlice(selectedTopic(topic), throttleMs);
 }
 
@@ -240,21 +230,6 @@ export function useSelectionGap(): "no-vehicle" | "select" | null {
   return selected !== null ? null : count === 0 ? "no-vehicle" : "select";
 }
 
-/** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
-export function useConsoleHealth(): Health | null {
-  const [value, setValue] = useState<Health | null>(null);
-  useEffect(() => {
-    let current = true;
-    health()
-      .then((h) => current && setValue(h))
-      .catch(() => undefined); // the console is unreachable: nothing to say of its network
-    return () => {
-      current = false;
-    };
-  }, []);
-  return value;
-}
-
 /** The data source's time in UTC seconds (the wall clock live, the recording's in a replay), refreshed every
  * `periodMs` (for ages and freshness). */
 export function useNow(periodMs = 500): number {
@@ -299,135 +274,4 @@ function onTick(periodMs: number, l: () => void): () => void {
 
 export function useGateways(): GatewayState[] {
   return useSelector((s) => s.gateways);
-}
-
-const NO_HISTORY: HistoryPoint[] = [];
-
-/** A vehicle's chart history: what the console kept (loaded over REST when the vehicle is selected,
- * shown or reconnected, so a reload does not start empty), then the live points appended. */
-export function useHistory(providerId: string | null): HistoryPoint[] {
-  const { store, source } = useData();
-  const known = useSelector((s) => (providerId ? providerId in s.providers : false));
-  const live = useConnectionState() === "live";
-  const token = useToken();
-  const instant = useSelector((s) => s.instant); // a replay's seek: the history up to the new instant
-  useEffect(() => {
-    if (!providerId || !known || !live) return;
-    let current = true;
-    const since = new Date((source.now() - HISTORY_SECONDS) * 1000).toISOString();
-    series(providerId, since, token)
-      .then((points) => {
-        if (!current) return;
-        const loaded = points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
-        store.update((s) => historyLoaded(s, providerId, loaded));
-      })
-      .catch(() => undefined); // no history (yet): the chart fills from live data
-    return () => {
-      current = false;
-    };
-  }, [providerId, known, live, token, store, source, instant]);
-  return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
-}
-
-/** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
- * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(throttleMs = 0): ProviderView[] {
-  const { store, source } = useData();
-  const providers = useProvidersAtMost(throttleMs);
-  const ids = providers.map((p) => p.id).join(",");
-  const live = useConnectionState() === "live";
-  const token = useToken();
-  const instant = useSelector((s) => s.instant);
-  useEffect(() => {
-    if (!live || !ids) return;
-    let current = true;
-    const since = new Date((source.now() - TRACK_SECONDS) * 1000).toISOString();
-    for (const id of ids.split(",")) {
-      track(id, since, token)
-        .then((points) => {
-          if (!current) return;
-          const loaded = points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
-          store.update((s) => trackLoaded(s, id, loaded));
-        })
-        .catch(() => undefined); // no stored track (yet): the map draws the live one
-    }
-    return () => {
-      current = false;
-    };
-  }, [ids, live, token, store, source, instant]);
-  return providers;
-}
-
-/** Once per connection (a reload, a reconnect): what the console holds now, over REST; the WebSocket's
- * messages keep it current from then on. */
-function useLoadOnConnect(load: (token: string | null, store: Store) => Promise<void>): void {
-  const { store } = useData();
-  const token = useToken();
-  const live = useConnectionState() === "live";
-  useEffect(() => {
-    if (live) load(token, store).catch(() => undefined); // none (yet): the messages fill it
-  }, [load, token, live, store]);
-}
-
-const loadWorldModel = async (token: string | null, store: Store) => {
-  const seq = store.getState().worldModelSeq;
-  const model = await worldModel(token);
-  store.update((s) => worldModelLoaded(s, model, seq));
-};
-const loadTasks = async (token: string | null, store: Store) => {
-  const seq = store.getState().taskSeq;
-  const list = await tasks(token);
-  store.update((s) => tasksReplaced(s, list, seq));
-};
-
-/** The CoMap world model (WebSocket `worldmodel` messages); null while the console has none (404: CoMap is off). */
-export function useWorldModel(): FeatureCollection | null {
-  useLoadOnConnect(loadWorldModel);
-  return useSelector((s) => s.worldModel);
-}
-
-/** The CoMap tasks and their state (WebSocket `task` messages), newest first. */
-export function useTasks(): Task[] {
-  useLoadOnConnect(loadTasks);
-  const byId = useSelector((s) => s.tasks);
-  return useMemo(() => Object.values(byId).sort((a, b) => b.createdAt - a.createdAt), [byId]);
-}
-
-/** A vehicle's CoMap capabilities (GET /api/providers/{id}/capabilities): asked when it is selected and every
- * `periodMs` (vehicles send VehicleCapabilities every few seconds; no WebSocket message carries them). Null
- * while unknown, or when the console has no CoMap. */
-export function useVehicleCapabilities(providerId: string | null, periodMs = 5000): ComapVehicle | null {
-  const token = useToken();
-  const live = useConnectionState() === "live";
-  const [value, setValue] = useState<{ id: string; caps: ComapVehicle } | null>(null);
-  useEffect(() => {
-    if (!live || !providerId) return;
-    let current = true;
-    const ask = () =>
-      vehicleCapabilities(providerId, token)
-        .then((caps) => current && setValue({ id: providerId, caps }))
-        .catch(() => undefined); // kept as it was; asked again
-    void ask();
-    const t = setInterval(ask, periodMs);
-    return () => {
-      current = false;
-      clearInterval(t);
-    };
-  }, [providerId, token, live, periodMs]);
-  return value && value.id === providerId ? value.caps : null;
-}
-
-/** Whether the console serves a PMTiles chart (GET /api/health `basemap`, asked once). */
-export function useChartConfigured(): boolean {
-  const [configured, setConfigured] = useState(false);
-  useEffect(() => {
-    let current = true;
-    health()
-      .then((h) => current && setConfigured(h.basemap === true))
-      .catch(() => undefined);
-    return () => {
-      current = false;
-    };
-  }, []);
-  return configured;
 }

@@ -1,8 +1,9 @@
 // Panels subscribe to the slices they draw: a report of one topic wakes only the subscriptions to it.
 import { afterEach, describe, expect, it, vi } from "vitest";
-import type { ServerMessage, Topic } from "../api/types";
+import type { ReportTypes, ServerMessage, Topic } from "../api/types";
 import { Store } from "./connection";
 import { sliceSource, throttle } from "./hooks";
+import { reportMessage, type DeepPartial } from "./testing";
 import { allProviders, selectedKnown, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State } from "./store";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -24,13 +25,13 @@ function snapshot(): ServerMessage {
 let t = 100;
 function reportMsg(providerId: string, topic: Topic): ServerMessage {
   t += 0.1;
-  const bodies: Record<Topic, Record<string, unknown>> = {
+  const bodies: { [T in Topic]: DeepPartial<ReportTypes[T]> } = {
     GPSReport: { numberSatellitesInView: 2, satellites: [{ satelliteId: "s3", azimuth: 1, elevation: 0.5, usedInFix: true }, { satelliteId: "s70", azimuth: 2, elevation: 0.2 }] },
     GPSFixReport: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: 0.1 + t * 1e-6 }, geodeticLongitude: { longitude: 0.2 } } }, trueCourse: 1 },
     GPSFixStatusReport: { fixValid: true },
     InertialSensorReport: { state: "ON", status: "OPERATIONAL" },
   };
-  return { type: "report", providerId, topic, report: { report: bodies[topic], invalid: [], receivedAt: t } } as unknown as ServerMessage;
+  return reportMessage(providerId, topic, bodies[topic], [], t);
 }
 
 /** A store with vehicles A and B, A selected, and a counter of notifications per slice. */

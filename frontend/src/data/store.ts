@@ -3,13 +3,14 @@
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
 import type { Alarm } from "../api/generated/ws";
-import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelope, ReportTypes, ServerMessage, Topic } from "../api/types";
+import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TypedReportMessage } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
 import { satelliteLabel } from "../lib/satellites";
 
-export interface TopicView {
-  envelope: ReportEnvelope;
+/** A vehicle's latest report of topic T (any topic's when T is the union). */
+export interface TopicView<T extends Topic = Topic> {
+  envelope: ReportEnvelopeOf<T>;
   at: number; // client time (s) it arrived
   interval: number | null; // observed seconds between samples
 }
@@ -34,7 +35,7 @@ export interface ProviderView {
   link: LinkState;
   linkConfig: LinkConfig | null; // per-vehicle thresholds and comms-lost configuration
   jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
-  topics: Partial<Record<Topic, TopicView>>;
+  topics: { [T in Topic]?: TopicView<T> };
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
   track: TrackSample[]; // positions of the last TRACK_SECONDS, at most one per second (the map's track)
@@ -96,8 +97,8 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
 }
 
 /** The report a view of topic T holds (null: none), e.g. viewReport<"GPSReport">(view). */
-export function viewReport<T extends Topic>(view: TopicView | null): ReportTypes[T] | null {
-  return view ? (view.envelope.report as unknown as ReportTypes[T]) : null;
+export function viewReport<T extends Topic>(view: TopicView<T> | null | undefined): ReportTypes[T] | null {
+  return view ? view.envelope.report : null;
 }
 
 function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
@@ -109,8 +110,8 @@ function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
   return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId };
 }
 
-function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelope, now: number): Record<string, TrailPoint[]> {
-  const gps = env.report as unknown as ReportTypes["GPSReport"];
+function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeOf<"GPSReport">, now: number): Record<string, TrailPoint[]> {
+  const gps = env.report;
   const next: Record<string, TrailPoint[]> = {};
   for (const s of gps.satellites ?? []) {
     if (typeof s.azimuth !== "number" || typeof s.elevation !== "number") continue;
@@ -152,10 +153,10 @@ export function mergeHistory(history: HistoryPoint[], more: HistoryPoint[]): His
   return all.filter((p) => latest - p.t <= HISTORY_SECONDS);
 }
 
-function updateHistory(history: HistoryPoint[], env: ReportEnvelope): HistoryPoint[] {
+function updateHistory(history: HistoryPoint[], env: ReportEnvelopeOf<"GPSReport">): HistoryPoint[] {
   const last = history[history.length - 1];
   if (last && slot(last.t) === slot(env.receivedAt)) return history;
-  const point = historyPoint(env.report as unknown as ReportTypes["GPSReport"], env.receivedAt);
+  const point = historyPoint(env.report, env.receivedAt);
   if (last && point.t < last.t) return mergeHistory(history, [point]);
   return [...history.filter((h) => point.t - h.t <= HISTORY_SECONDS), point];
 }
@@ -175,10 +176,10 @@ export function trackSample(fix: ReportTypes["GPSFixReport"], t: number): TrackS
   return pos ? { ...pos, t } : null;
 }
 
-function updateTrack(track: TrackSample[], env: ReportEnvelope): TrackSample[] {
+function updateTrack(track: TrackSample[], env: ReportEnvelopeOf<"GPSFixReport">): TrackSample[] {
   const last = track[track.length - 1];
   if (last && Math.floor(last.t) === Math.floor(env.receivedAt)) return track;
-  const point = trackSample(env.report as unknown as ReportTypes["GPSFixReport"], env.receivedAt);
+  const point = trackSample(env.report, env.receivedAt);
   if (!point) return track;
   if (last && point.t < last.t) return trimTrack([...track, point], point.t, TRACK_SECONDS);
   const from = point.t - TRACK_SECONDS;
@@ -197,13 +198,14 @@ export function trackLoaded(state: State, providerId: string, points: TrackSampl
   return { ...state, providers: { ...state.providers, [providerId]: { ...before, track } } };
 }
 
-function applyReport(state: State, providerId: string, topic: Topic, env: ReportEnvelope, now: number): State {
+function applyReport(state: State, msg: TypedReportMessage, now: number): State {
+  const { providerId, topic } = msg;
   const before = state.providers[providerId] ?? emptyProvider(providerId, "live");
   const prevView = before.topics[topic];
-  const view: TopicView = { envelope: env, at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
-  let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: view } };
-  if (topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, env, now), history: updateHistory(p.history, env) };
-  if (topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, env) };
+  const at = { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: { envelope: msg.report, ...at } } };
+  if (msg.topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, msg.report, now), history: updateHistory(p.history, msg.report) };
+  if (msg.topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, msg.report) };
   return { ...state, providers: { ...state.providers, [providerId]: p } };
 }
 
@@ -250,7 +252,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [] };
     }
     case "report":
-      return applyReport(state, msg.providerId, msg.topic, msg.report, now);
+      return applyReport(state, msg, now);
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
@@ -266,9 +268,9 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
     case "alarms":
       return { ...state, alarms: msg.alarms };
     case "worldmodel":
-      return { ...state, worldModel: msg.worldModel as unknown as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
+      return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task": {
-      const t = msg.task as unknown as Task;
+      const t: Task = msg.task;
       const taskSeq = state.taskSeq + 1;
       return { ...tasksLoaded(state, [t]), taskSeq, taskMessageSeq: { ...state.taskMessageSeq, [t.taskId]: taskSeq } };
     }
@@ -334,11 +336,20 @@ function selectedView(s: State): ProviderView | undefined {
   return s.selected ? s.providers[s.selected] : undefined;
 }
 
-const topicSelectors: Partial<Record<Topic, (s: State) => TopicView | null>> = {};
+function topicSelector<T extends Topic>(topic: T): (s: State) => TopicView<T> | null {
+  return (s) => selectedView(s)?.topics[topic] ?? null;
+}
+
+const topicSelectors: { [T in Topic]: (s: State) => TopicView<T> | null } = {
+  GPSReport: topicSelector("GPSReport"),
+  GPSFixReport: topicSelector("GPSFixReport"),
+  GPSFixStatusReport: topicSelector("GPSFixStatusReport"),
+  InertialSensorReport: topicSelector("InertialSensorReport"),
+};
 
 /** The selected vehicle's latest report of `topic` (one selector per topic, so it can key a subscription). */
-export function selectedTopic(topic: Topic): (s: State) => TopicView | null {
-  return (topicSelectors[topic] ??= (s) => selectedView(s)?.topics[topic] ?? null);
+export function selectedTopic<T extends Topic>(topic: T): (s: State) => TopicView<T> | null {
+  return topicSelectors[topic];
 }
 
 /** The selected vehicle's satellite trails (changed by its GPSReport only). */

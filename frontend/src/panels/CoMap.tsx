@@ -6,11 +6,12 @@
 // a confirmation open) and void once another vehicle is selected, as the UMAA command confirmations.
 import { useEffect, useMemo, useState } from "react";
 import type { FeatureCollection } from "geojson";
-import { ApiError, comapStatus, createTask, problemText, putWorldModel, synchTask, type Capability, type ComapStatus, type SynchAction, type Task } from "../api/rest";
+import { createTask, problemText, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useConnectionState, useSelectedVehicle, useSelector, useTasks, useVehicleCapabilities } from "../data/hooks";
+import { useCapabilities, useSelectedVehicle, useSelector } from "../data/hooks";
+import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import type { State } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
@@ -86,25 +87,6 @@ function lostVehicles(s: State): string {
  * which change with every report): "id=name\n…". */
 function vehicleNames(s: State): string {
   return Object.values(s.providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n");
-}
-
-/** The console's IMC node, asked once per connection: null while unknown, "absent" for a console without
- * CoMap routes (404). */
-function useComapStatus(): ComapStatus | "absent" | null {
-  const token = useToken();
-  const live = useConnectionState() === "live";
-  const [status, setStatus] = useState<ComapStatus | "absent" | null>(null);
-  useEffect(() => {
-    if (!live) return;
-    let current = true;
-    comapStatus(token)
-      .then((st) => current && setStatus(st))
-      .catch((e: unknown) => current && e instanceof ApiError && e.status === 404 && setStatus("absent"));
-    return () => {
-      current = false;
-    };
-  }, [live, token]);
-  return status;
 }
 
 const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";

@@ -1,6 +1,7 @@
 import { Field, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useHistory, useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
@@ -20,8 +21,8 @@ export function FixPanel() {
   const [useDms, setDms] = useDmsSetting();
   const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
   const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
-  const fix = viewReport<"GPSFixReport">(fixView);
-  const st = viewReport<"GPSFixStatusReport">(statusView);
+  const fix = viewReport(fixView);
+  const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
   const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link);

@@ -5,16 +5,8 @@
 import { memo, useEffect, useMemo, useRef } from "react";
 import type { Alarm } from "../api/generated/ws";
 import type { LinkState } from "../api/types";
-import {
-  useAlarms,
-  useCapabilities,
-  useConnectionState,
-  useConsoleHealth,
-  useNow,
-  useProvidersAtMost,
-  useSelector,
-  useStore,
-} from "../data/hooks";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersAtMost, useSelector, useStore } from "../data/hooks";
+import { useConsoleHealth } from "../data/loaders";
 import { useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";

@@ -32,7 +32,7 @@ export function InsPanel() {
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
-  const ins = viewReport<"InertialSensorReport">(view);
+  const ins = viewReport(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
   const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link);
   const stale = fresh === "stale" || fresh === "lost";

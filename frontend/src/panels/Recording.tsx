@@ -1,4 +1,4 @@
-import { useState } from "react";
+import { useMutation } from "@tanstack/react-query";
 import { ApiError, controlRecording } from "../api/rest";
 import { useToken } from "../data/auth";
 import { useCapabilities, useNow, useRecording, useSelector } from "../data/hooks";
@@ -11,22 +11,14 @@ export function RecordControl() {
   const authRequired = useSelector((s) => s.authRequired);
   const token = useToken();
   const now = useNow(1000);
-  const [busy, setBusy] = useState(false);
-  const [error, setError] = useState<string | null>(null);
+  // the new state arrives on the WebSocket too: the answer is not kept
+  const control = useMutation({ mutationFn: (action: "start" | "stop") => controlRecording(action, token) });
   if (!rec || !record) return null; // a replay records nothing
   const recording = rec.state === "recording";
   const allowed = !authRequired || !!token;
-  const run = async (action: "start" | "stop") => {
-    setBusy(true);
-    setError(null);
-    try {
-      await controlRecording(action, token); // the new state arrives on the WebSocket too
-    } catch (e) {
-      setError(e instanceof ApiError ? e.message : String(e));
-    } finally {
-      setBusy(false);
-    }
-  };
+  const busy = control.isPending;
+  const error = control.error ? (control.error instanceof ApiError ? control.error.message : String(control.error)) : null;
+  const run = (action: "start" | "stop") => control.mutate(action);
   return (
     <span className="recording" data-testid="recording" data-state={rec.state}>
       {recording ? (
@@ -36,12 +28,12 @@ export function RecordControl() {
             REC {rec.startedAt !== null ? clockDuration(now - rec.startedAt) : ""}
             {rec.dropped > 0 ? ` (${rec.dropped} dropped)` : ""}
           </span>
-          <button className="small" disabled={busy || !allowed} onClick={() => void run("stop")} title="Stop recording">
+          <button className="small" disabled={busy || !allowed} onClick={() => run("stop")} title="Stop recording">
             Stop
           </button>
         </>
       ) : (
-        <button className="small" disabled={busy || !allowed} onClick={() => void run("start")}
+        <button className="small" disabled={busy || !allowed} onClick={() => run("start")}
           title={allowed ? `Record every SEM sample to ${rec.directory}` : "Sign in to record"}>
           ● Record
         </button>

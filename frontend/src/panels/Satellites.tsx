@@ -217,7 +217,7 @@ export function SatellitesPanel() {
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
-  const gps = viewReport<"GPSReport">(view);
+  const gps = viewReport(view);
   const sats = gps?.satellites ?? NO_SATELLITES;
   const ageS = view ? Math.max(0, now - view.at) : null;
   const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link);

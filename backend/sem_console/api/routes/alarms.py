@@ -6,15 +6,16 @@ a replay, and is audited like a command (the operator's name is recorded).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated, Any
 
-from fastapi import APIRouter, HTTPException, status
+from fastapi import APIRouter, HTTPException, Path, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
 from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.schemas import Alarm, AlarmAckRequest
 
 reads = APIRouter(tags=["alarms"])
+AlarmId = Annotated[int, Path(ge=1, description="the alarm's id (`id` in GET /api/alarms)", examples=[1])]
 writes = APIRouter(tags=["alarms"])
 
 
@@ -27,7 +28,7 @@ async def list_alarms(console: ConsoleDep) -> list[dict[str, Any]]:
 @writes.post("/api/alarms/{alarm_id}/ack", response_model=list[Alarm],
              responses={200: {"description": "the active alarm set after the acknowledgement, newest first"},
                         404: problem("no such alarm in the active set (unknown, or already back to normal)"), **JSON_BODY})
-async def acknowledge_alarm(alarm_id: int, body: AlarmAckRequest, console: ConsoleDep, operator: OperatorDep,
+async def acknowledge_alarm(alarm_id: AlarmId, body: AlarmAckRequest, console: ConsoleDep, operator: OperatorDep,
                             audit: AuditDep) -> list[dict[str, Any]]:
     """Acknowledge an alarm (the body is `{}`). An event alarm, or a condition alarm
     whose condition has cleared, then returns to normal and leaves the set; an active condition alarm stays as

@@ -7,13 +7,13 @@ operator token, Origin guard, JSON body and audit, as the UMAA commands.
 from __future__ import annotations
 
 import uuid
-from datetime import timezone
+from datetime import UTC
 from typing import Any
 
 from fastapi import APIRouter, HTTPException, Path, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
-from sem_console.api.responses import JSON_BODY, problem
+from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.schemas import ComapStatus, ComapVehicle, SynchRequest, Task, TaskRequest, WorldModel, WorldModelIn
 from sem_console.comap.c2 import TaskError
 from sem_console.comap.codec import MAX_PAYLOAD, encode_payload
@@ -23,7 +23,7 @@ writes = APIRouter(tags=["comap"])
 reads = APIRouter(tags=["comap"])
 TaskId = Path(ge=0, le=0xFFFF, description="the CoMap task id", examples=[1])
 COMAP_OFF = "; or CoMap is off (the console was started without --imc-port)"
-UNKNOWN_TASK = {404: problem("unknown task")}
+UNKNOWN_TASK: Responses = {404: problem("unknown task")}
 
 
 def _features(body: WorldModelIn) -> list[Feature]:
@@ -62,7 +62,8 @@ async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: Ope
     features = _features(body)
     size = len(encode_payload(world_model_message([Feature(max(f.feature_id, 0), f.points, f.coverage) for f in features])))
     if size > MAX_PAYLOAD:
-        raise HTTPException(status.HTTP_413_REQUEST_ENTITY_TOO_LARGE, f"the world model is {size} bytes of IMC payload; at most {MAX_PAYLOAD} fit")
+        raise HTTPException(status.HTTP_413_REQUEST_ENTITY_TOO_LARGE, f"the world model is {size} bytes of IMC payload; at most "
+                                                                      f"{MAX_PAYLOAD} fit")
     model = console.c2.put_world_model(features)
     audit(status.HTTP_200_OK, f"worldmodel:{len(features)} features", operator)
     return model
@@ -96,7 +97,7 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
         raise HTTPException(status.HTTP_409_CONFLICT, "CoMap is off: start the console with --imc-port")
     deadline = None
     if body.deadline is not None:
-        d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=timezone.utc)
+        d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=UTC)
         deadline = d.timestamp()
     try:
         task = console.c2.assign(body.kind, body.vehicle, operator, feature_id=body.featureId, sensor=body.sensor,

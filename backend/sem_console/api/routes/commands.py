@@ -14,7 +14,7 @@ from fastapi import APIRouter, HTTPException, Query, status
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.api.deps import AuditDep, ConsoleDep, Limit, Offset, OperatorDep
-from sem_console.api.responses import JSON_BODY, problem
+from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
 from sem_console.console.alarms import vehicle_label
@@ -24,12 +24,12 @@ from sem_console.dds.topics import Service
 
 writes = APIRouter(tags=["commands"])
 reads = APIRouter(tags=["commands"])
-UNKNOWN_PROVIDER = {404: problem("unknown provider")}
-UNKNOWN_COMMAND = {404: problem("unknown command")}
-LOST = {409: problem("the vehicle's link is lost: send confirmLost true to command it anyway (a replay, read-only, "
+UNKNOWN_PROVIDER: Responses = {404: problem("unknown provider")}
+UNKNOWN_COMMAND: Responses = {404: problem("unknown command")}
+LOST: Responses = {409: problem("the vehicle's link is lost: send confirmLost true to command it anyway (a replay, read-only, "
                      "refuses every command with 409)")}
 # OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
-CREATED = {201: {"description": "the command, published on the bus", "links": {
+CREATED: Responses = {201: {"description": "the command, published on the bus", "links": {
     name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
     for name, op in (("GetCommand", "get_command_api_commands__session_id__get"),
                      ("CancelCommand", "cancel_command_api_commands__session_id__delete"))}}}

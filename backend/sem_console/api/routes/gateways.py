@@ -11,7 +11,7 @@ from typing import Annotated, Any
 from fastapi import APIRouter, HTTPException, Query, Response, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, GatewaysDep, OperatorDep
-from sem_console.api.responses import JSON_BODY, problem
+from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import GatewayState, LinkConfig
 from sem_console.console.providers import LinkConfig as ProviderLinkConfig
@@ -19,9 +19,13 @@ from sem_console.gateways.aspn.gateway import write_log
 
 reads = APIRouter(tags=["gateways"])
 writes = APIRouter(tags=["gateways"])
-LCM_LOG = {200: {"description": "an LCM log file (LCM's EventLog format) of the vehicle's ASPN-23 messages, oldest first; "
-                                "each event's timestamp is when the console published it (UTC microseconds)",
-                 "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}}}}
+LCM_LOG: Responses = {
+    200: {
+        "description": "an LCM log file (LCM's EventLog format) of the vehicle's ASPN-23 messages, oldest first; "
+        "each event's timestamp is when the console published it (UTC microseconds)",
+        "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}},
+    }
+}
 
 
 @reads.get("/api/gateways", response_model=list[GatewayState])

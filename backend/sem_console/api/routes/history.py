@@ -11,7 +11,7 @@ import io
 import uuid
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from typing import Annotated, Any
 from xml.etree import ElementTree
 
@@ -56,7 +56,7 @@ def _epoch(name: str, value: datetime | None) -> float | None:
     if value is None:
         return None
     try:
-        return (value if value.tzinfo else value.replace(tzinfo=timezone.utc)).timestamp()
+        return (value if value.tzinfo else value.replace(tzinfo=UTC)).timestamp()
     except (OverflowError, ValueError):  # e.g. 0001-01-01T00:00:00+05:00 is before the year 1 in UTC
         raise _invalid(name, f"{value.isoformat()} is out of range") from None
 
@@ -103,7 +103,7 @@ async def get_series(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -
 
 # ---- exports --------------------------------------------------------------------------------
 def _utc(t: float | None) -> str:
-    return "" if t is None else datetime.fromtimestamp(t, timezone.utc).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+    return "" if t is None else datetime.fromtimestamp(t, UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
 def _cell(v: Any) -> Any:
@@ -152,7 +152,7 @@ def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPo
     segment = gpxpy.gpx.GPXTrackSegment()
     for p in points:
         pt = gpxpy.gpx.GPXTrackPoint(p.latitude, p.longitude, elevation=p.altitudeMsl,
-                                     time=datetime.fromtimestamp(p.time, timezone.utc))
+                                     time=datetime.fromtimestamp(p.time, UTC))
         pt.description = f"fix {'valid' if p.fixValid else 'not valid' if p.fixValid is False else 'unknown'}, " \
                          f"position from {'GPS' if p.latLongValid else 'INS'}"
         for tag, value in (("course", p.course), ("speed", p.sog)):

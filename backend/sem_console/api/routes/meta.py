@@ -9,8 +9,8 @@ from fastapi.responses import FileResponse
 
 from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
-from sem_console.dds.config import describe
 from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
+from sem_console.dds.config import describe
 
 health_router = APIRouter(prefix="/api", tags=["meta"])  # always open
 reads = APIRouter(prefix="/api", tags=["meta"])
@@ -51,7 +51,8 @@ async def basemap(settings: SettingsDep) -> FileResponse:
 @reads.get("/audit", response_model=list[AuditEntry])
 async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
-    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first (bounded: README, Security)."""
+    # one line: the docstring is the route's description in the published OpenAPI document
+    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first (bounded: README, Security)."""  # noqa: E501
     return [entry_json(r) for r in console.store.audit(limit, offset)]
 
 

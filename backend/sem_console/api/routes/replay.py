@@ -15,7 +15,7 @@ from fastapi import APIRouter, HTTPException, status
 from sem_console.api.deps import ConsoleDep
 from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.schemas import ReplayRequest, ReplayStatus
-from sem_console.console.replay import Replay
+from sem_console.console.replay_source import Replay
 
 reads = APIRouter(prefix="/api", tags=["replay"])
 controls = APIRouter(prefix="/api", tags=["replay"])

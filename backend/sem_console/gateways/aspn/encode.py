@@ -18,6 +18,7 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
+import aspn23_lcm_conversions as conversions
 import numpy as np
 from aspn23.measurement_altitude import MeasurementAltitude, MeasurementAltitudeErrorModel, MeasurementAltitudeReference
 from aspn23.measurement_direction_of_motion_2d import (
@@ -37,7 +38,6 @@ from aspn23.type_satnav_signal_descriptor import TypeSatnavSignalDescriptor
 from aspn23.type_satnav_signal_descriptor import TypeSatnavSignalDescriptorSignalDescriptor as Signal
 from aspn23.type_satnav_time import TypeSatnavTime, TypeSatnavTimeTimeReference
 from aspn23.type_timestamp import TypeTimestamp
-import aspn23_lcm_conversions as conversions
 
 from sem_console.umaa.guid import SAT_PREFIX
 
@@ -64,14 +64,25 @@ SYSTEMS = {"GPS": Sys.SYS_GPS, "GALILEO": Sys.SYS_GALILEO, "GLONASS": Sys.SYS_GL
 # (system, carrier frequency band in MHz) -> RINEX 3.05 observation code. UMAA gives the carrier frequency,
 # not the tracking code: each band takes the code a receiver of it most commonly tracks (README).
 SIGNALS: list[tuple[Sys, float, float, Signal]] = [
-    (Sys.SYS_GPS, 1575.42, 1.0, Signal.L1C), (Sys.SYS_GPS, 1227.60, 1.0, Signal.L2X), (Sys.SYS_GPS, 1176.45, 1.0, Signal.L5X),
-    (Sys.SYS_GALILEO, 1575.42, 1.0, Signal.L1X), (Sys.SYS_GALILEO, 1176.45, 1.0, Signal.L5X),
-    (Sys.SYS_GALILEO, 1207.14, 1.0, Signal.L7X), (Sys.SYS_GALILEO, 1278.75, 1.0, Signal.L6X),
-    (Sys.SYS_GLONASS, 1602.0, 4.5, Signal.L1C), (Sys.SYS_GLONASS, 1246.0, 3.5, Signal.L2C),  # FDMA: G1, G2 with k
-    (Sys.SYS_BEIDOU, 1561.098, 1.0, Signal.L2I), (Sys.SYS_BEIDOU, 1575.42, 1.0, Signal.L1X),
-    (Sys.SYS_BEIDOU, 1176.45, 1.0, Signal.L5X), (Sys.SYS_BEIDOU, 1207.14, 1.0, Signal.L7I), (Sys.SYS_BEIDOU, 1268.52, 1.0, Signal.L6I),
-    (Sys.SYS_SBAS, 1575.42, 1.0, Signal.L1C), (Sys.SYS_SBAS, 1176.45, 1.0, Signal.L5I),
-    (Sys.SYS_QZSS, 1575.42, 1.0, Signal.L1C), (Sys.SYS_QZSS, 1227.60, 1.0, Signal.L2X), (Sys.SYS_QZSS, 1176.45, 1.0, Signal.L5X),
+    (Sys.SYS_GPS, 1575.42, 1.0, Signal.L1C),
+    (Sys.SYS_GPS, 1227.60, 1.0, Signal.L2X),
+    (Sys.SYS_GPS, 1176.45, 1.0, Signal.L5X),
+    (Sys.SYS_GALILEO, 1575.42, 1.0, Signal.L1X),
+    (Sys.SYS_GALILEO, 1176.45, 1.0, Signal.L5X),
+    (Sys.SYS_GALILEO, 1207.14, 1.0, Signal.L7X),
+    (Sys.SYS_GALILEO, 1278.75, 1.0, Signal.L6X),
+    (Sys.SYS_GLONASS, 1602.0, 4.5, Signal.L1C),
+    (Sys.SYS_GLONASS, 1246.0, 3.5, Signal.L2C),  # FDMA: G1, G2 with k
+    (Sys.SYS_BEIDOU, 1561.098, 1.0, Signal.L2I),
+    (Sys.SYS_BEIDOU, 1575.42, 1.0, Signal.L1X),
+    (Sys.SYS_BEIDOU, 1176.45, 1.0, Signal.L5X),
+    (Sys.SYS_BEIDOU, 1207.14, 1.0, Signal.L7I),
+    (Sys.SYS_BEIDOU, 1268.52, 1.0, Signal.L6I),
+    (Sys.SYS_SBAS, 1575.42, 1.0, Signal.L1C),
+    (Sys.SYS_SBAS, 1176.45, 1.0, Signal.L5I),
+    (Sys.SYS_QZSS, 1575.42, 1.0, Signal.L1C),
+    (Sys.SYS_QZSS, 1227.60, 1.0, Signal.L2X),
+    (Sys.SYS_QZSS, 1176.45, 1.0, Signal.L5X),
     (Sys.SYS_IRNSS, 1176.45, 1.0, Signal.L5A),
 ]
 
@@ -153,7 +164,10 @@ class Encoder:
         if t is None:
             return []
         when = TypeTimestamp(elapsed_nsec=t)
-        n = lambda path: number(report, invalid, path)  # noqa: E731
+
+        def n(path: str) -> float | None:
+            return number(report, invalid, path)
+
         out: list[tuple[str, Any]] = []
         lat = n("position2DWithTime.geodeticPosition.geodeticLatitude.latitude")
         lon = n("position2DWithTime.geodeticPosition.geodeticLongitude.longitude")
@@ -230,12 +244,18 @@ class Encoder:
         if raw[:14] != SAT_PREFIX:
             self._skip("satellite: PRN unknown (satelliteId does not follow the PRN convention)")
             return None
-        freq = number(sat, [], "carrierFrequency") if not any(x.startswith(f"{path}.carrierFrequency:") for x in invalid) else None
+        freq = (
+            number(sat, [], "carrierFrequency") if not any(x.startswith(f"{path}.carrierFrequency:") for x in invalid) else None
+        )
         signal = signal_of(system, freq) if freq is not None else None
         if freq is None or signal is None:
             self._skip("satellite: carrier frequency absent or in no known band")
             return None
-        cn0 = None if any(x.startswith(f"{path}.antennaCarrierNoiseDensity:") for x in invalid) else number(sat, [], "antennaCarrierNoiseDensity")
+        cn0 = (
+            None
+            if any(x.startswith(f"{path}.antennaCarrierNoiseDensity:") for x in invalid)
+            else number(sat, [], "antennaCarrierNoiseDensity")
+        )
         return TypeSatnavObs(
             satellite_system=TypeSatnavSatelliteSystem(system), signal_descriptor=TypeSatnavSignalDescriptor(signal),
             prn=raw[15], frequency=freq, pseudorange=NAN, pseudorange_variance=NAN,

@@ -202,7 +202,9 @@ class AspnGateway:
         for other in [v for v, r in self.recordings.items() if not r.events or r.events[-1][0] < oldest]:
             del self.recordings[other]  # it left (or went quiet): nothing of it is inside the window any more
 
-    def events(self, vehicle: uuid.UUID, since: float | None = None, seconds: float | None = None) -> list[tuple[int, str, bytes]]:
+    def events(
+        self, vehicle: uuid.UUID, since: float | None = None, seconds: float | None = None
+    ) -> list[tuple[int, str, bytes]]:
         """The vehicle's kept messages from UTC `since` (seconds) and/or of the last `seconds`, oldest first."""
         with self._lock:
             rec = self.recordings.get(vehicle)

@@ -42,7 +42,9 @@ def _angle(v: float | None) -> float | None:
     return None if v is None else (v + math.pi) % (2 * math.pi) - math.pi
 
 
-def navigation_values(fix: dict[str, Any] | None) -> tuple[dict[str, float], dict[str, float], dict[str, float], tuple[int, int] | None]:
+def navigation_values(
+    fix: dict[str, Any] | None,
+) -> tuple[dict[str, float], dict[str, float], dict[str, float], tuple[int, int] | None]:
     """(global pose, NED velocity, velocity state) values and the report's time from a GPSFixReport envelope."""
     if fix is None:
         return {}, {}, {}, None
@@ -61,8 +63,15 @@ def navigation_values(fix: dict[str, Any] | None) -> tuple[dict[str, float], dic
     if (course := _angle(_valid(fix, "trueCourse"))) is not None:
         pose["Course"] = course
     pose.update(times)
-    ned = {k: v for k, v in (("Velocity_N", _valid(fix, "velocity.northSpeed")), ("Velocity_E", _valid(fix, "velocity.eastSpeed")),
-                             ("Velocity_D", _valid(fix, "velocity.downSpeed"))) if v is not None}
+    ned = {
+        k: v
+        for k, v in (
+            ("Velocity_N", _valid(fix, "velocity.northSpeed")),
+            ("Velocity_E", _valid(fix, "velocity.eastSpeed")),
+            ("Velocity_D", _valid(fix, "velocity.downSpeed")),
+        )
+        if v is not None
+    }
     state: dict[str, float] = {}
     if (sog := _valid(fix, "SOG")) is not None:
         state["SpeedOverGround"] = sog
@@ -94,7 +103,10 @@ def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
     """ReportCommsLostConfiguration 0x4C03's body: CommsLostTimeout u16 s, the policy variant (tag u8, then its
     StopMission or ContinueMission u8, 1), CommsRegainedTimeout u16 s, CommsRegainedBehavior u8. Seconds
     are rounded up to whole seconds (the spec lets an implementation round up to what it supports)."""
-    seconds = lambda v: min(65535, math.ceil(float(v)))  # noqa: E731
+
+    def seconds(v: Any) -> int:
+        return min(65535, math.ceil(float(v)))
+
     return struct.pack("<HBBHB", seconds(config["commsLostTimeout"]), judp.COMMS_LOST_POLICIES[config["policy"]], 1,
                        seconds(config["regainedTime"]), int(config["regainedBehavior"]) & 0xFF)
 

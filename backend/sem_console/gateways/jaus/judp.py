@@ -46,7 +46,7 @@ class FieldType:
 
     def raw(self, value: float) -> int | None:
         """The integer for `value`, or None when it is outside the type's range (the field is then not sent)."""
-        top = 2**self.bits - 1
+        top = (1 << self.bits) - 1  # an int (2**n is typed as int | float)
         if self.lo is None or self.hi is None:
             v = int(value)
             return v if 0 <= v <= top else None
@@ -57,7 +57,7 @@ class FieldType:
     def value(self, raw: int) -> float:
         if self.lo is None or self.hi is None:
             return float(raw)
-        return raw * (self.hi - self.lo) / (2**self.bits - 1) + self.lo
+        return raw * (self.hi - self.lo) / ((1 << self.bits) - 1) + self.lo
 
 
 U32, U16 = 32, 16
@@ -91,8 +91,21 @@ LOCAL_POSE = (16, ("X", "Y", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth
 VELOCITY_NED = (8, ("Velocity_N", "Velocity_E", "Velocity_D"))
 VELOCITY_STATE = (16, ("Velocity_RMS", "RollRate", "PitchRate", "YawRate", "Rate_RMS", "SpeedOverGround",
                        "SpeedRelativeToMedium", "RotationsPerMinute", "IndicatedSpeed", "TimeSeconds", "TimeNanoSeconds"))
-ACCELERATION_STATE = (16, ("Acceleration_X", "Acceleration_Y", "Acceleration_Z", "Acceleration_RMS", "RollAcceleration",
-                           "PitchAcceleration", "YawAcceleration", "RotationalAcceleration_RMS", "TimeSeconds", "TimeNanoSeconds"))
+ACCELERATION_STATE = (
+    16,
+    (
+        "Acceleration_X",
+        "Acceleration_Y",
+        "Acceleration_Z",
+        "Acceleration_RMS",
+        "RollAcceleration",
+        "PitchAcceleration",
+        "YawAcceleration",
+        "RotationalAcceleration_RMS",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    ),
+)
 VELOCITY_NED_TAG = 2  # VelocityVar: 0 VelocityVehicleXYZRec, 1 VelocityLocalXYZRec, 2 VelocityNEDRec
 COMMS_LOST_POLICIES = {"STOP_MISSION": 0, "CONTINUE_MISSION": 1}  # CommsLostPolicyVar tags we report
 

@@ -8,8 +8,9 @@ class. A sample recorded in a data representation the writer does not use (e.g. 
 type written in XCDR1) is decoded and written again in the writer's. Disposes and instances
 that lost their writers (channel `sem-console/instances`) are republished as disposes and
 unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand) are left out unless
-`--commands`: a provider on the target domain would carry them out. The console's own channels (commands, transitions, links) are not DDS topics
-and are not republished. An integrator can test their own UMAA consumer against a trial this way.
+`--commands`: a provider on the target domain would carry them out. The console's own channels (commands,
+transitions, links) are not DDS topics and are not republished. An integrator can test their own UMAA consumer
+against a trial this way.
 """
 
 from __future__ import annotations
@@ -19,32 +20,31 @@ import base64
 import json
 import logging
 import signal
-import struct
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
-from typing import Any, Collection, Iterator
+from typing import Any
 
-from cyclonedds._clayer import ddspy_write_ts
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
-from mcap.reader import NonSeekingReader, make_reader
 
+from sem_console.core.command_line import Parser
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
+from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.topics import Sem, Service
-from sem_console.sim.cli import _Parser
+from sem_console.recording.reader import INSTANCES, check_file, iter_messages
 
 log = logging.getLogger("sem-replay")
 BY_TOPIC = {s.spec.name: s for s in Sem}
 COMMANDS = {s.command for s in Service}
-INSTANCES = "sem-console/instances"
 # CDR encapsulation identifiers (first two bytes, big endian) of final types: XCDR1 and XCDR2
 PLAIN_CDR, PLAIN_CDR2 = {0x0000, 0x0001}, {0x0006, 0x0007}
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = _Parser(prog="sem-replay", description=(
+    p = Parser(prog="sem-replay", description=(
         "Republish a sem-console recording (MCAP) on DDS: every SEM sample with its original keys, "
         "timing and source timestamps; disposes as disposes."))
     p.add_argument("file", type=Path, help="the recording (.mcap)")
@@ -65,11 +65,11 @@ class Replay:
     def __init__(self, bus: Bus, path: Path, speed: float, retime: bool, commands: bool = False) -> None:
         self.bus, self.path, self.speed, self.retime = bus, path, speed, retime
         self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem not in COMMANDS}
-        self.writers: dict[Sem, DataWriter] = {}
+        self.writers: dict[Sem, DataWriter[Any]] = {}
         self.samples = self.disposes = self.unregisters = self.reencoded = self.skipped = 0
         self.stopping = False
 
-    def writer(self, sem: Sem) -> DataWriter:
+    def writer(self, sem: Sem) -> DataWriter[Any]:
         if sem not in self.writers:
             self.writers[sem] = self.bus.writer(sem)
         return self.writers[sem]
@@ -119,7 +119,7 @@ class Replay:
             data = sem.spec.type.deserialize(data).serialize(use_version_2=sem.spec.xcdr2_only)
             self.reencoded += 1
         data = data.ljust((len(data) + 3) & ~3, b"\0")
-        ret = ddspy_write_ts(w._ref, data, ts)  # noqa: SLF001 (DataWriter.write of bytes already serialized)
+        ret = write_cdr(w, data, ts)
         if ret < 0:
             raise RuntimeError(f"write failed ({ret})")
         self.samples += 1
@@ -135,56 +135,6 @@ class Replay:
         else:
             self.writer(sem).unregister_instance(key, timestamp=ts)
             self.unregisters += 1
-
-
-def iter_messages(path: Path, topics: Collection[str]) -> Iterator[tuple[str, Any]]:
-    """(channel topic, message) of the channels named in `topics`, in log time order; a file without a summary
-    (the console stopped on an error or was killed) is read from the start in file order, up to where it is cut
-    short (the iterator then raises McapError, OSError or EOFError)."""
-    with open(path, "rb") as f:
-        try:
-            complete = make_reader(f).get_summary() is not None
-        except (McapError, ValueError, EOFError, struct.error):
-            complete = False
-        f.seek(0)
-        reader = make_reader(f) if complete else NonSeekingReader(f)
-        for _schema, channel, message in reader.iter_messages(log_time_order=complete):
-            if channel.topic in topics:
-                yield channel.topic, message
-
-
-def time_range(path: Path) -> tuple[int, int] | None:
-    """(first, last) log time of a recording's messages in ns since the epoch, from its summary, or for a file
-    cut short by reading it up to where it stops; None when it holds no message."""
-    with open(path, "rb") as f:
-        try:
-            summary = make_reader(f).get_summary()
-        except (McapError, ValueError, EOFError, struct.error):
-            summary = None
-        if summary is not None and summary.statistics is not None:
-            stats = summary.statistics
-            return (stats.message_start_time, stats.message_end_time) if stats.message_count else None
-        f.seek(0)
-        first = last = None
-        try:
-            for _schema, _channel, message in NonSeekingReader(f).iter_messages():
-                first = message.log_time if first is None else min(first, message.log_time)
-                last = message.log_time if last is None else max(last, message.log_time)
-        except (McapError, OSError, EOFError, struct.error) as e:
-            log.warning("%s ends early: %s", path, e)
-    return None if first is None or last is None else (first, last)
-
-
-def check_file(path: Path) -> str | None:
-    """Why `path` cannot be replayed (unreadable, not MCAP), or None."""
-    try:
-        with open(path, "rb") as f:
-            make_reader(f).get_header()
-    except OSError as e:
-        return f"cannot read {path}: {e.strerror}"
-    except (McapError, ValueError, EOFError, StopIteration, struct.error) as e:
-        return f"{path} is not an MCAP file: {e}"
-    return None
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,6 +1,6 @@
 """Write the console's published schemas for the frontend's type generation.
 
-`python -m sem_console.api.export` writes frontend/schema/openapi.json and ws-schema.json;
+`python -m sem_console.schema_export` writes frontend/schema/openapi.json and ws-schema.json;
 the dashboard's build generates its TypeScript types from them, and the test suite fails
 when they no longer match the code.
 """
@@ -14,7 +14,7 @@ from typing import Any
 
 from sem_console.api.schemas import ws_schema
 
-SCHEMA_DIR = Path(__file__).resolve().parents[3] / "frontend" / "schema"
+SCHEMA_DIR = Path(__file__).resolve().parents[2] / "frontend" / "schema"
 
 
 def schemas() -> dict[str, dict[str, Any]]:

@@ -10,8 +10,9 @@ from __future__ import annotations
 import logging
 import uuid
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -125,18 +126,22 @@ class ProviderFlow:
         return None
 
     def ack_sample(self, ex: Execution) -> Any:
+        ack: Callable[..., Any] = ex.service.ack.spec.type  # a generated struct takes its members as keywords
         if ex.service is Service.GPS_FIX:
-            return ex.service.ack.spec.type(source=self.source, sessionID=ex.command.sessionID)
-        return ex.service.ack.spec.type(state=ex.command.state, source=self.source, sessionID=ex.command.sessionID)
+            return ack(source=self.source, sessionID=ex.command.sessionID)
+        return ack(state=ex.command.state, source=self.source, sessionID=ex.command.sessionID)
 
     def status_sample(self, ex: Execution, status: Status, reason: Reason, message: str) -> Any:
-        return ex.service.status.spec.type(source=self.source, commandStatus=status, commandStatusReason=reason,
+        status_type: Callable[..., Any] = ex.service.status.spec.type  # as above
+        return status_type(source=self.source, commandStatus=status, commandStatusReason=reason,
                                            logMessage=message[:4095], sessionID=ex.command.sessionID, timeStamp=now_datetime())
 
     def publish_status(self, ex: Execution, status: Status, reason: Reason, message: str) -> None:
         t = ex.flow.observe(status, reason, message)
         if t is not None and t.violation and "skip-commanded" not in self.faults:
-            log.warning("vehicle %d %s %s: publishing a Figure 4 violation: %s", self.number, ex.service.value, ex.session, t.violation)
+            log.warning(
+                "vehicle %d %s %s: publishing a Figure 4 violation: %s", self.number, ex.service.value, ex.session, t.violation
+            )
         self.journal.set(self.guid, ex.service, ex.session, status)
         self.write(ex.service.status, self.status_sample(ex, status, reason, message))
         log.info("vehicle %d %s %s -> %s/%s %s", self.number, ex.service.value, ex.session, status.name, reason.name, message)

@@ -43,7 +43,7 @@ ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 
 
-class Store:
+class Database:
     def __init__(self, path: Path, audit_max_rows: int = 100_000) -> None:
         self.audit_max_rows = audit_max_rows
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -74,8 +74,18 @@ class Store:
 
     def add_command(self, rec: dict[str, Any], command: dict[str, Any]) -> None:
         self.db.execute(
-            "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES (?,?,?,?,?,?,?)",
-            (rec["sessionId"], rec["service"], rec["providerId"], rec["state"], rec["operator"], rec["createdAt"], json.dumps(command)))
+            "INSERT INTO commands (session_id, service, provider_id, state, operator, created_at, command) VALUES "
+            "(?,?,?,?,?,?,?)",
+            (
+                rec["sessionId"],
+                rec["service"],
+                rec["providerId"],
+                rec["state"],
+                rec["operator"],
+                rec["createdAt"],
+                json.dumps(command),
+            ),
+        )
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
         self.db.execute(
@@ -159,8 +169,10 @@ class Store:
         return cur.lastrowid
 
     def update_alarm(self, alarm: dict[str, Any]) -> None:
-        self.db.execute("UPDATE alarms SET since=?, cleared_at=?, acked_at=?, acked_by=?, normal_at=? WHERE id=?",
-                        (alarm["since"], alarm["cleared_at"], alarm["acked_at"], alarm["acked_by"], alarm["normal_at"], alarm["id"]))
+        self.db.execute(
+            "UPDATE alarms SET since=?, cleared_at=?, acked_at=?, acked_by=?, normal_at=? WHERE id=?",
+            (alarm["since"], alarm["cleared_at"], alarm["acked_at"], alarm["acked_by"], alarm["normal_at"], alarm["id"]),
+        )
 
     def open_alarms(self) -> list[dict[str, Any]]:
         """The alarms not back to normal, oldest first."""

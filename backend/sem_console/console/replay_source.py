@@ -22,11 +22,12 @@ from __future__ import annotations
 
 import asyncio
 import base64
+import contextlib
 import json
 import logging
 import struct
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -34,11 +35,9 @@ from mcap.exceptions import McapError
 from sem_console.console.alarms import WATCHED
 from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
-from sem_console.dds.topics import Sem
-from sem_console.recording.replay import INSTANCES, iter_messages, time_range
-
-if TYPE_CHECKING:
-    from sem_console.console.service import Console
+from sem_console.console.history import History
+from sem_console.console.hub import Hub
+from sem_console.recording.reader import INSTANCES, iter_messages, time_range
 
 log = logging.getLogger("sem-console.replay")
 
@@ -144,16 +143,27 @@ class Cursor:
             return None
 
     def close(self) -> None:
-        try:
+        with contextlib.suppress(ValueError):  # still being read on a worker thread (shutdown): the file closes with it
             self._messages.close()
-        except ValueError:  # still being read on a worker thread (shutdown): the file closes with it
-            pass
+
+
+class Replayed(Protocol):
+    """What a replay drives: the console (`service.Console`), which owns the replay and hands itself in."""
+
+    history: History
+    hub: Hub
+    quiet: bool  # True while seeking: state changes are not sent to clients (a snapshot follows)
+
+    def reset(self) -> None: ...
+    def snapshot(self) -> dict[str, Any]: ...
+    def apply(self, item: Item | dict[str, Any]) -> None: ...
+    def tick(self, now: float) -> None: ...
 
 
 class Replay:
     """Owned by the console in replay mode; every method runs on the event loop."""
 
-    def __init__(self, console: Console, path: Path, speed: float, clock: RecordingClock) -> None:
+    def __init__(self, console: Replayed, path: Path, speed: float, clock: RecordingClock) -> None:
         self.console, self.path, self.speed, self.clock = console, path, speed, clock
         self.playing = True
         self.start = self.end = self.position = 0.0

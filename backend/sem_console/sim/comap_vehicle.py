@@ -17,6 +17,7 @@ deadline ends with TaskStatus ERROR. Speeds follow `--time-scale` as every durat
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import time
@@ -53,7 +54,7 @@ class RunningTask:
 
 
 class ComapVehicle:
-    def __init__(self, imc_id: int, sensors: "Sensors", opts: "SimOptions") -> None:
+    def __init__(self, imc_id: int, sensors: Sensors, opts: SimOptions) -> None:
         self.imc_id, self.sensors, self.opts = imc_id, sensors, opts
         self.task: RunningTask | None = None
         self.sensor_kinds = [Sensor[s] for s in opts.imc_sensors]
@@ -96,7 +97,7 @@ class ComapVehicle:
         else:
             return False, f"cannot run a {arg.name}"
         p = self.pilot
-        path = sum(distance_m(a, b) for a, b in zip([(p.lat, p.lon), *waypoints], waypoints))
+        path = sum(distance_m(a, b) for a, b in itertools.pairwise([(p.lat, p.lon), *waypoints]))
         p.go(waypoints)
         self.task = RunningTask(tid, kind, c2, deadline, max(path, 1e-6), fid, quality)
         return True, "accepted"
@@ -142,7 +143,7 @@ class ComapVehicle:
 class ComapVehicles:
     """The CoMap side of one simulator process: one UDP socket, one IMC system per vehicle."""
 
-    def __init__(self, opts: "SimOptions", sensors: list["Sensors"]) -> None:
+    def __init__(self, opts: SimOptions, sensors: list[Sensors]) -> None:
         self.opts = opts
         self.node = SocketNode(Endpoint(opts.imc_id, opts.imc_peers), opts.imc_host, opts.imc_port or 0)
         self.vehicles = {opts.imc_id + i: ComapVehicle(opts.imc_id + i, s, opts) for i, s in enumerate(sensors)}

@@ -1,0 +1,90 @@
+"""Every private part of cyclonedds-python the project uses, in this one module (cyclonedds==11.0.1, pinned in
+backend/pyproject.toml). `tests/test_cyclone_private.py` pins each of them against the installed version: a new
+cyclonedds that moves or changes one fails there, by name, instead of somewhere in the console.
+
+Why each is needed (none has a public equivalent in 11.0.1):
+- `take_cdr`: `DataReader.take` without its decode, so the console decodes each sample itself (`console/decode.py`:
+  one sample Python cannot decode costs only itself; the copies of a sample other readers own are dropped
+  undecoded) and the recorder keeps the CDR as it came off the wire.
+- `write_cdr`: `DataWriter.write` of bytes already serialised, with their source timestamp (`sem-replay`
+  republishes recorded CDR as it was recorded).
+- `wait_for_acks`: `DataWriter.wait_for_acks` raises AttributeError on a timeout in 11.0.1 (it compares with
+  `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so the C function it wraps is called here.
+- `type_machine` and `machinery`: the tree of "machines" cyclonedds serialises a type with (its layout rules:
+  alignment, headers, optional flags), which `console/fastcdr.py` compiles into a decoder per type.
+- `InvalidSample`: what a take returns for a dispose or an instance without writers (a key, no data).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+from enum import Enum
+from typing import Any, cast
+
+from cyclonedds._clayer import ddspy_take, ddspy_write_ts
+from cyclonedds.idl import IdlStruct
+from cyclonedds.idl import _machinery as machinery
+from cyclonedds.internal import InvalidSample as InvalidSample
+from cyclonedds.internal import SampleInfo
+from cyclonedds.pub import DataWriter
+from cyclonedds.sub import DataReader
+from cyclonedds.util import duration
+
+__all__ = [
+    "MACHINE_ATTRIBUTES", "InvalidSample", "enum_type", "machinery", "take_cdr", "type_machine", "wait_for_acks", "write_cdr",
+]
+
+# The machine classes console/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
+MACHINE_ATTRIBUTES: dict[type, tuple[str, ...]] = {
+    machinery.InstanceMachine: ("type", "use_version_2"),
+    machinery.StructMachine: ("type", "members_machines"),
+    machinery.PrimitiveMachine: ("code", "size", "alignment"),
+    machinery.EnumMachine: ("enum", "alignment"),
+    machinery.BitBoundEnumMachine: ("enum", "code", "size", "alignment"),
+    machinery.ByteArrayMachine: ("size",),
+    machinery.OptionalMachine: ("submachine",),
+    machinery.StringMachine: (),
+    machinery.PlainCdrV2SequenceOfPrimitiveMachine: ("code", "size", "alignment"),
+    machinery.SequenceMachine: ("submachine", "add_size_header"),
+    machinery.PlainCdrV2ArrayOfPrimitiveMachine: ("code", "size", "alignment"),
+}
+
+
+def take_cdr(reader: DataReader[Any], mask: int, n: int) -> list[tuple[bytes, SampleInfo]] | int:
+    """Take up to `n` samples matching the read condition `mask`: (CDR with its 4-byte encapsulation header, info) per
+    sample (a key's CDR when `info.valid_data` is false), or Cyclone's negative return code."""
+    result: list[tuple[bytes, SampleInfo]] | int = ddspy_take(reader._ref, mask, n)  # noqa: SLF001 (see the module)
+    return result
+
+
+def write_cdr(writer: DataWriter[Any], data: bytes, timestamp_ns: int) -> int:
+    """Write serialised CDR (encapsulation header included, padded to 4 bytes) with this source timestamp (ns since
+    the epoch). Returns Cyclone's return code (negative on failure)."""
+    result: int = ddspy_write_ts(writer._ref, data, timestamp_ns)  # noqa: SLF001 (see the module)
+    return result
+
+
+def wait_for_acks(writers: Iterable[DataWriter[Any]], seconds: float) -> bool:
+    """Wait until every matched reliable reader has acknowledged what the writers wrote, `seconds` in all (not
+    each). True when all were acknowledged."""
+    deadline = time.monotonic() + seconds
+    ok = True
+    for w in writers:
+        remaining = max(0.0, deadline - time.monotonic())
+        ret = w._wait_for_acks(w._ref, duration(seconds=remaining))  # noqa: SLF001 (see the module)
+        ok = ok and ret == 0
+    return ok
+
+
+def enum_type(machine: machinery.EnumMachine | machinery.BitBoundEnumMachine) -> type[Enum]:
+    """The enum class an enum machine reads (cyclonedds annotates the attribute as an Enum; it holds the class)."""
+    return cast("type[Enum]", machine.enum)
+
+
+def type_machine(cls: type[IdlStruct], v2: bool) -> machinery.Machine:
+    """The root machine cyclonedds serialises `cls` with: XCDR2 (`v2`) or XCDR1."""
+    idl = cls.__idl__
+    idl.populate()
+    machine: machinery.Machine = idl.v2_machine if v2 else idl.v1_machine
+    return machine

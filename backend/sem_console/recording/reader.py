@@ -1,0 +1,68 @@
+"""Reading a recording (MCAP): its messages in log time order, its time span, whether it can be read at all.
+Shared by the console's replay (`console/replay_source.py`), `sem-replay` (`sem_replay.py`) and `sem-console --replay`'s
+start-up check."""
+
+from __future__ import annotations
+
+import logging
+import struct
+from collections.abc import Collection, Generator
+from pathlib import Path
+from typing import Any
+
+from mcap.exceptions import McapError
+from mcap.reader import NonSeekingReader, make_reader
+
+log = logging.getLogger("sem-console.recording")
+
+INSTANCES = "sem-console/instances"  # the JSON channel of disposes and lost writers (recorder.py)
+
+
+def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, Any], None, None]:
+    """(channel topic, message) of the channels named in `topics`, in log time order; a file without a summary
+    (the console stopped on an error or was killed) is read from the start in file order, up to where it is cut
+    short (the iterator then raises McapError, OSError or EOFError)."""
+    with open(path, "rb") as f:
+        try:
+            complete = make_reader(f).get_summary() is not None
+        except (McapError, ValueError, EOFError, struct.error):
+            complete = False
+        f.seek(0)
+        reader = make_reader(f) if complete else NonSeekingReader(f)
+        for _schema, channel, message in reader.iter_messages(log_time_order=complete):
+            if channel.topic in topics:
+                yield channel.topic, message
+
+
+def time_range(path: Path) -> tuple[int, int] | None:
+    """(first, last) log time of a recording's messages in ns since the epoch, from its summary, or for a file
+    cut short by reading it up to where it stops; None when it holds no message."""
+    with open(path, "rb") as f:
+        try:
+            summary = make_reader(f).get_summary()
+        except (McapError, ValueError, EOFError, struct.error):
+            summary = None
+        if summary is not None and summary.statistics is not None:
+            stats = summary.statistics
+            return (stats.message_start_time, stats.message_end_time) if stats.message_count else None
+        f.seek(0)
+        first = last = None
+        try:
+            for _schema, _channel, message in NonSeekingReader(f).iter_messages():
+                first = message.log_time if first is None else min(first, message.log_time)
+                last = message.log_time if last is None else max(last, message.log_time)
+        except (McapError, OSError, EOFError, struct.error) as e:
+            log.warning("%s ends early: %s", path, e)
+    return None if first is None or last is None else (first, last)
+
+
+def check_file(path: Path) -> str | None:
+    """Why `path` cannot be replayed (unreadable, not MCAP), or None."""
+    try:
+        with open(path, "rb") as f:
+            make_reader(f).get_header()
+    except OSError as e:
+        return f"cannot read {path}: {e.strerror}"
+    except (McapError, ValueError, EOFError, StopIteration, struct.error) as e:
+        return f"{path} is not an MCAP file: {e}"
+    return None
