@@ -10,17 +10,23 @@ RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors")
 
 from __future__ import annotations
 
+import json
 import math
+import os
 import random
+import subprocess
+import sys
 import time
 import uuid
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import httpx
 import pytest
 
-from rti.connector import RtiParticipant
+from rti.connector import RECIPE_ENV, RtiParticipant
+from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.topics import Sem, Service
@@ -36,25 +42,66 @@ STATUS_NAME = {v: k for k, v in STATUS.items()}
 
 def same(a: Any, b: Any) -> bool:
     """Equal as plain values. RTI's Connector hands samples over as JSON text: whole doubles come
-    back as integers and a double may lose its last bit there, so doubles compare within 1e-15."""
+    back as integers and a double may lose its last digits there (7.7's Connector prints some with 14
+    significant digits), so doubles compare within 1e-14."""
     if isinstance(a, dict):
         return isinstance(b, dict) and set(a) == set(b) and all(same(a[k], b[k]) for k in a)
     if isinstance(a, list):
         return isinstance(b, list) and len(a) == len(b) and all(same(x, y) for x, y in zip(a, b, strict=True))
     if isinstance(a, float):
-        return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-15) or (math.isnan(a) and math.isnan(b)))
+        return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-14) or (math.isnan(a) and math.isnan(b)))
     return a == b
 
 
-@pytest.fixture
-def rti() -> Any:
-    made: list[RtiParticipant] = []
+@pytest.fixture(scope="session")
+def connext7() -> None:
+    """Connext 7.x (the npm Connector's native libraries), fetched once; skipped when it cannot be had."""
+    try:
+        connector7()
+    except (RuntimeError, OSError, subprocess.SubprocessError) as e:
+        pytest.skip(f"Connext 7 unavailable: {e}")
 
-    def make(domain: int, **kw: Any) -> RtiParticipant:
-        p = RtiParticipant(domain, **kw)
+
+def _factory(version: str, request: pytest.FixtureRequest) -> Any:
+    made: list[Any] = []
+
+    def make(domain: int, **kw: Any) -> Any:
+        if version == "7":
+            request.getfixturevalue("connext7")
+            # Connext 7 sends XTypes 1.3 type information that Cyclone cannot use, and then matches
+            # nothing (test_connext7_on_defaults_matches_no_sem_topic): it runs on the drop-in profile
+            # a console of today needs (docs/rti/sem-console-interop.xml, Default: no type information).
+            kw.setdefault("recipe", "Default")
+            p: Any = RemoteParticipant(domain, **kw)
+        else:
+            kw.pop("env", None)  # 6.1.2 reads no NDDS_XTYPES_COMPLIANCE_MASK
+            p = RtiParticipant(domain, **kw)
         made.append(p)
         return p
 
+    return made, make
+
+
+@pytest.fixture(params=["6", "7"], ids=["connext6.1.2", "connext7.7"])
+def rti(request: pytest.FixtureRequest) -> Any:
+    """An RTI participant factory, once with Connext 6.1.2 (in this process) and once with 7.7 (a child process)."""
+    made, make = _factory(request.param, request)
+    yield make
+    for p in made:
+        p.close()
+
+
+@pytest.fixture
+def rti6(request: pytest.FixtureRequest) -> Any:
+    made, make = _factory("6", request)
+    yield make
+    for p in made:
+        p.close()
+
+
+@pytest.fixture
+def rti7(request: pytest.FixtureRequest) -> Any:
+    made, make = _factory("7", request)
     yield make
     for p in made:
         p.close()
@@ -96,13 +143,13 @@ def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiPar
             assert any(same(to_plain(x), g) for g in got), (s.spec.name, to_plain(x))
 
 
-def test_optional_member_topics_are_not_matched_in_xcdr1(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_optional_member_topics_are_not_matched_in_xcdr1(rti6: Callable[..., RtiParticipant], domain: int) -> None:
     """RTI's default XCDR1 GPSReport/GPSFixReport endpoints do not match ours: nothing is exchanged in
     the one representation whose optional-member layout the two vendors read differently."""
     optional = [s for s in Sem if s.spec.xcdr2_only]
     readers = {s: Bus(domain).reader(s) for s in optional}  # each in a participant of its own,
     writers = {s: Bus(domain).writer(s) for s in optional}  # so a reader matches our writer only
-    p = rti(domain, writers=optional, readers=optional)
+    p = rti6(domain, writers=optional, readers=optional)
     time.sleep(2)  # discovery on loopback takes well under a second (the tests above)
     for s in optional:
         assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
@@ -115,7 +162,7 @@ def test_optional_member_topics_are_not_matched_in_xcdr1(rti: Callable[..., RtiP
 class RtiVehicle:
     """A UMAA provider on RTI Connext: INS and fix-status reports, and the command flow of both services."""
 
-    def __init__(self, p: RtiParticipant) -> None:
+    def __init__(self, p: Any) -> None:
         self.p = p
         self.guid = uuid.uuid4()
         self.handled: set[bytes] = set()
@@ -127,7 +174,7 @@ class RtiVehicle:
         stamp = {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}
         src = list(self.guid.bytes)
         self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
-        if Sem.GPS_FIX_REPORT in self.p.outputs:  # RTI's default XCDR1: must not reach the console
+        if Sem.GPS_FIX_REPORT in self.p.writers:  # RTI's default XCDR1: must not reach the console
             self.p.write(Sem.GPS_FIX_REPORT, {
                 "altitudeMSL": {"altitude": 0.5}, "GPSFixCommandStatus": 2, "GPSLatLongValid": True, "magneticVariation": -0.17,
                 "position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85},
@@ -273,7 +320,7 @@ def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None
 
 
 def _statuses(
-    p: RtiParticipant, service: Service, session: list[int], seen: list[tuple[str | None, str]]
+    p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]
 ) -> list[tuple[str | None, str]]:
     for x, state in p.take(service.status):
         if x is None:
@@ -322,11 +369,11 @@ def test_rti_consumer_cancels_by_dispose(rti: Callable[..., RtiParticipant], sim
     assert [s for s, _ in seen if s] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
 
 
-def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti6: Callable[..., RtiParticipant], domain: int) -> None:
     """README's recipe for an RTI vehicle's position: GPSFixReport in XCDR2 with the type final."""
     s = Sem.GPS_FIX_REPORT
     reader, writer = Bus(domain).reader(s), Bus(domain).writer(s)
-    p = rti(domain, writers=[s], readers=[s], representation="XCDR2_DATA_REPRESENTATION", extensibility="final")
+    p = rti6(domain, writers=[s], readers=[s], representation="XCDR2_DATA_REPRESENTATION", extensibility="final")
     rng = random.Random(8)
     theirs = [random_sample(s.spec.type, rng) for _ in range(10)]
     ours = [random_sample(s.spec.type, rng) for _ in range(10)]
@@ -344,3 +391,146 @@ def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti: Callable[..., RtiPa
     for x in theirs + ours:
         assert any(same(to_plain(x), g) for g in got), to_plain(x)
         assert any(same(to_plain(x), g) for g in rti_got), to_plain(x)
+
+
+def _rti_matches(rti7: Callable[..., Any], domain: int, **kw: Any) -> dict[Sem, tuple[int, int]]:
+    """For each SEM topic: whether Cyclone's reader matched RTI 7's writer, and Cyclone's writer RTI 7's reader."""
+    readers = {s: Bus(domain).reader(s) for s in Sem}  # each in a participant of its own, so a reader
+    writers = {s: Bus(domain).writer(s) for s in Sem}  # matches our writer (1) and RTI's or not
+    rti7(domain, writers=list(Sem), readers=list(Sem), **kw)
+    time.sleep(3)  # discovery on loopback takes well under a second
+    return {s: (len(readers[s].get_matched_publications()) - 1, len(writers[s].get_matched_subscriptions()) - 1) for s in Sem}
+
+
+def test_connext7_on_defaults_matches_no_sem_topic(rti7: Callable[..., Any], domain: int) -> None:
+    """Issue 23, point 1. Connext 7.7 on its defaults announces XTypes 1.3 type information; Cyclone
+    fetches the type object over TypeLookup, fails to add it, and matches no SEM topic either way.
+    (The next test but one is the same set-up expected to match: it flips when that is fixed.)"""
+    assert _rti_matches(rti7, domain, recipe=None, env={}) == {s: (0, 0) for s in Sem}
+
+
+def test_connext7_without_type_information_matches_by_name(rti7: Callable[..., Any], domain: int) -> None:
+    """With type_object_max_serialized_length 0 RTI sends no type information and topics match by
+    name: every topic whose type has no @optional member (the other two need the recipe's XCDR2)."""
+    got = _rti_matches(rti7, domain, recipe=None, env={}, type_object_max=0)
+    assert {s: m for s, m in got.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
+    assert {s: m for s, m in got.items() if s not in PLAIN} == {s: (0, 0) for s in Sem if s not in PLAIN}
+
+
+@pytest.mark.xfail(strict=True, reason="Cyclone DDS 11.0.1 cannot add RTI Connext 7's type object (docs/dds.md, "
+                                       "'RTI 7 type information'): flips when a fix lands")
+def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., Any], domain: int) -> None:
+    """The upstream reproducer: an RTI 7.7 participant on its defaults and Cyclone 11 endpoints of the
+    same UMAA types on one host. Expected: every topic whose type has no @optional member matches."""
+    on_defaults = _rti_matches(rti7, domain, recipe=None, env={})
+    assert {s: m for s, m in on_defaults.items() if s in PLAIN} == {s: (1, 1) for s in PLAIN}
+
+
+# --- The recipe: GPSReport and GPSFixReport with the console's types appendable -----------------
+# The console's types are final today (idlc's default). These tests run the Cyclone side of the two
+# types in a child process whose UMAA package is generated appendable (sem_console.idlgen), to
+# measure the recipe before the console changes: rti/appendable_peer.py.
+
+_TESTS = Path(__file__).resolve().parent
+
+
+@pytest.fixture(scope="session")
+def appendable_umaa(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    from sem_console.idlgen import generate
+
+    out = tmp_path_factory.mktemp("appendable-umaa")
+    generate(out, extensibility="appendable")
+    return out
+
+
+def _peer(umaa: Path, *args: Any) -> dict[str, Any]:
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(umaa), str(_TESTS), str(_TESTS.parent)])}
+    # cwd: not backend/, whose final UMAA package would come first on sys.path
+    r = subprocess.run([sys.executable, "-m", "rti.appendable_peer", *map(str, args)], cwd=umaa, env=env,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+ALL_RIGHT = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 20, "cyclone_to_rti_right": 20}
+
+
+@pytest.mark.parametrize("version,mask,gps_report_right", [("7", "mask", True), ("7", "nomask", False), ("6", "nomask", False)],
+                         ids=["connext7.7-recipe", "connext7.7-recipe-without-mask", "connext6.1.2-recipe"])
+def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_right: bool, appendable_umaa: Path,
+                                          domain: int, request: pytest.FixtureRequest) -> None:
+    """Issue 23, point 4: RTI on the drop-in profile (XCDR2 writers for the two types, readers accepting
+    XCDR and XCDR2, no type information) and Cyclone with GPSReport, GPSFixReport and their nested types
+    appendable: 20 random samples each way, values compared. GPSReport needs
+    NDDS_XTYPES_COMPLIANCE_MASK (Connext 7 only; 6.1.2 does not read it): without it RTI leaves out the
+    DHEADER before sequence<GPSSatelliteType>, and neither side reads the other's GPSReport."""
+    if version == "7":
+        request.getfixturevalue("connext7")
+    got = _peer(appendable_umaa, domain, version, mask)
+    for m in got.values():
+        m.pop("received"), m.pop("rti_received")
+    none_right = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 0, "cyclone_to_rti_right": 0}
+    assert got["GPS_FIX_REPORT"] == ALL_RIGHT
+    assert got["GPS_REPORT"] == (ALL_RIGHT if gps_report_right else none_right)
+
+
+def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: Path, domain: int) -> None:
+    """Issue 23, point 3 (a): Cyclone endpoints of the appendable GPSReport/GPSFixReport and of idlc's
+    default (final, as a vehicle built from the plain UMAA IDL has, and as sem-sim has today) do not
+    match either way: both send type information and XTypes does not assign final to appendable."""
+    final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
+    assert _peer(appendable_umaa, domain, "cyclone") == {"GPS_REPORT": [0, 0], "GPS_FIX_REPORT": [0, 0]}
+
+
+# RTI Connext 7.7.0's TypeLookup reply for the MINIMAL type object of InertialSensorReportType
+# (captured on loopback with Cyclone's PacketCaptureFile; the bytes after the type identifier
+# EK_MINIMAL 23681250e70ec42bb8fda372f23c): XCDR2 little endian, from the TypeObject's DHEADER.
+RTI7_INS_REPORT_MINIMAL = bytes.fromhex(
+    "92000000f1510200010000000000000082000000040000001a000000000000000100f1431172effd44d3f350b5c42cb009"
+    "9ed39e2e0000001a000000010000000100f1d4eda04ef966c8d0e1eab88c284a9acb44540000001a000000020000003100"
+    "f1c02c6d65a8318e236ed99e33c31b36cd38f40000001a000000030000000100f1f45382ce293f961a67b3cba95ad687a3cb5c00")
+
+
+def test_why_cyclone_refuses_connext7_type_objects() -> None:
+    """Issue 23, point 2, in bytes (no RTI needed). RTI's type identifier is the MD5 of RTI's own
+    serialization of the type object, which writes each MinimalStructMember's DHEADER as 26 (0x1a)
+    where the member is 25 bytes (member_id 4, member_flags 2, TypeIdentifier 15, name_hash 4), with
+    one byte of what is alignment padding inside it, and the sequence and object DHEADERs to match.
+    Cyclone deserializes the object, re-serializes it to compute its hash (ddsi_type_add_typeobj ->
+    ddsi_typeobj_get_hash_id), gets DHEADER 25 and another MD5, so the identifier and the object
+    disagree: "failed to add typeobj", and the endpoint never matches."""
+    import hashlib
+
+    from cyclonedds.idl._typesupport.DDS.XTypes import TypeObject
+
+    rti_id = "23681250e70ec42bb8fda372f23c"
+    assert hashlib.md5(RTI7_INS_REPORT_MINIMAL).hexdigest()[:28] == rti_id
+    obj = TypeObject.deserialize(b"\x00\x07\x00\x00" + RTI7_INS_REPORT_MINIMAL)  # XCDR2, little endian
+    members = obj.minimal.struct_type.member_seq
+    assert [m.common.member_id for m in members] == [0, 1, 2, 3]
+    again = obj.serialize(use_version_2=True)[4:]
+    assert RTI7_INS_REPORT_MINIMAL[24:28] == b"\x1a\x00\x00\x00" and again[24:28] == b"\x19\x00\x00\x00"
+    assert len(again) == len(RTI7_INS_REPORT_MINIMAL) - 1
+    assert hashlib.md5(again).hexdigest()[:28] != rti_id  # what Cyclone compares with RTI's identifier
+
+
+@pytest.mark.parametrize("force", [False, True], ids=["plain-reader", "force_type_validation"])
+def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, rti7: Callable[..., Any], domain: int) -> None:
+    """The building block of one reader per extensibility (issue 23, point 3): the console's final
+    GPSReport/GPSFixReport reader, as sem-sim and a plain-IDL Cyclone vehicle write them, must not
+    also take an RTI vehicle's appendable samples (it would misread them: test_recipe_with_appendable_gps_types
+    with final types). RTI on the recipe sends no type information and matches by name, unless the
+    reader sets force_type_validation; Cyclone writers send theirs and still match."""
+    from cyclonedds.core import Policy, Qos
+
+    from sem_console.dds.qos import reader_qos
+
+    topics = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]
+    extra = Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True)) if force else Qos()
+    readers = {s: Bus(domain).reader(s, qos=reader_qos(s.spec.cls) + extra) for s in topics}
+    cyclone = {s: Bus(domain).writer(s) for s in topics}  # noqa: F841 - the final writer, as sem-sim's
+    p = rti7(domain, writers=topics, recipe="AppendableGps", env=RECIPE_ENV)
+    wait_until(lambda: all(len(p.matched(s, True)) >= (0 if force else 1) for s in topics), 10, "RTI's writers matched")
+    time.sleep(1)
+    assert {s: len(readers[s].get_matched_publications()) for s in topics} == {s: 1 if force else 2 for s in topics}
+    assert {s: len(p.matched(s, True)) for s in topics} == {s: 0 if force else 1 for s in topics}

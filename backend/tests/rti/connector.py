@@ -24,6 +24,14 @@ from sem_console.dds.topics import Sem
 
 from .idl2xml import types_xml
 
+RECIPE_XML = Path(__file__).resolve().parents[3] / "docs" / "rti" / "sem-console-interop.xml"
+RECIPE_ENV = {"NDDS_XTYPES_COMPLIANCE_MASK": "0x1a9"}
+
+
+def _recipe_library() -> str:
+    text = RECIPE_XML.read_text()
+    return text[text.index("<qos_library"):text.index("</qos_library>") + len("</qos_library>")]
+
 _DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: 32, TopicClass.REPORT: 1}
 
 
@@ -46,13 +54,17 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
     if writer:
         extra += ("<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances>"
                   "</writer_data_lifecycle>")
-    return (f'<{tag}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
+    base = ' base_name="SemInterop::Loopback"'
+    return (f'<{tag}{base}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
             f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
             f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>')
 
 
 def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None,
-               extensibility: str | None = None) -> str:
+               extensibility: str | None = None, recipe: str | None = None, type_object_max: int | None = None) -> str:
+    """RTI's XML for one participant. ``recipe``: the profile of the repository's drop-in
+    (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps") its QoS inherits;
+    ``type_object_max``: RTI's type_object_max_serialized_length."""
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
@@ -66,10 +78,14 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
         f"{_endpoint_qos(s, False, representation)}</data_reader>"
         for s in readers
     )
+    base = f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""
+    limits = ("" if type_object_max is None else
+              f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>")
     return f"""<?xml version="1.0"?>
 <dds>
-<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true">
-<domain_participant_qos>
+{_recipe_library() if recipe else ""}
+<qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{base}>
+<domain_participant_qos>{limits}
   <transport_builtin><mask>UDPv4</mask></transport_builtin>
   <discovery><initial_peers><element>32@udpv4://127.0.0.1</element></initial_peers><multicast_receive_addresses/></discovery>
 </domain_participant_qos>
@@ -86,9 +102,10 @@ class RtiParticipant:
     """One RTI Connext participant with a writer and/or reader per given SEM topic."""
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
-                 representation: str | None = None, extensibility: str | None = None) -> None:
+                 representation: str | None = None, extensibility: str | None = None, recipe: str | None = None,
+                 type_object_max: int | None = None) -> None:
         with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
-            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility))
+            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max))
         self._file = f
         self.connector = rti.Connector("Participants::Rti", self._file.name)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
@@ -103,6 +120,18 @@ class RtiParticipant:
                 return
             time.sleep(0.05)
         raise TimeoutError(f"RTI {sem.spec.name} matched nothing")
+
+    @property
+    def writers(self) -> set[Sem]:
+        return set(self.outputs)
+
+    @property
+    def version(self) -> str:
+        """The Connext core's build, e.g. NDDSCORE_BUILD_7.7.0.0_…"""
+        return next(line for line in rti.Connector.get_version().splitlines() if line.startswith("NDDSCORE"))
+
+    def matched(self, sem: Sem, writer: bool) -> list[Any]:
+        return list(self.outputs[sem].matched_subscriptions if writer else self.inputs[sem].matched_publications)
 
     def write(self, sem: Sem, sample: dict[str, Any], action: str = "write") -> None:
         out = self.outputs[sem]

@@ -1,0 +1,122 @@
+"""RTI Connext 7.x for the interop tests: the native libraries of the npm package
+`rticonnextdds-connector` under the Python Connector's own code, in a process of its own.
+
+The PyPI Connector (Connext 6.1.2 core) loads `../rticonnextdds-connector/lib/<platform>/`
+relative to its module file. A copy of its module next to the npm package's `lib/` loads
+Connext 7.x instead. Both cores export the same C symbols, so one process holds one of them:
+the 6.1.2 participants run inside pytest (rti.connector), the 7.x ones in a child process
+(rti.worker) driven over a pipe, with the same methods.
+
+The libraries are test-only, fetched with `npm pack` into ~/.cache/sem-console/rti (or
+$SEM_RTI_CACHE) under the Connector's terms for non-commercial use; the product neither ships
+nor needs RTI code.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import tarfile
+import tempfile
+from pathlib import Path
+from typing import Any
+
+NPM_VERSION = "1.5.0"  # Connext 7.7.0
+CONNEXT7 = "7.7.0"
+_PLATFORM = {"x86_64": "linux-x64", "aarch64": "linux-arm64"}
+_TESTS = Path(__file__).resolve().parents[1]
+_BACKEND = _TESTS.parent
+
+
+def cache_dir() -> Path:
+    return Path(os.environ.get("SEM_RTI_CACHE", Path.home() / ".cache" / "sem-console" / "rti"))
+
+
+def connector7() -> Path:
+    """A directory to put first on sys.path so that `import rticonnextdds_connector` loads Connext 7.x;
+    fetched once. Raises RuntimeError (with the reason) when it cannot be had."""
+    plat = _PLATFORM.get(platform.machine())
+    if platform.system() != "Linux" or plat is None:
+        raise RuntimeError(f"no Connext 7 libraries for {platform.system()} {platform.machine()} in this set-up")
+    root = cache_dir() / f"connector-{NPM_VERSION}"
+    lib = root / "rticonnextdds-connector" / "lib" / plat
+    if not (lib / "librtiddsconnector.so").exists():
+        npm = shutil.which("npm")
+        if npm is None:
+            raise RuntimeError("npm is not installed: cannot fetch rticonnextdds-connector (Connext 7)")
+        with tempfile.TemporaryDirectory() as tmp:
+            r = subprocess.run([npm, "pack", f"rticonnextdds-connector@{NPM_VERSION}", "--silent"], cwd=tmp,
+                               capture_output=True, text=True, timeout=300)
+            if r.returncode != 0:
+                raise RuntimeError(f"npm pack rticonnextdds-connector@{NPM_VERSION} failed: {r.stderr.strip()[-300:]}")
+            tgz = Path(tmp) / r.stdout.strip().splitlines()[-1]
+            with tarfile.open(tgz) as t:
+                prefix = f"package/rticonnextdds-connector/lib/{plat}/"
+                members = [m for m in t.getmembers() if m.name.startswith(prefix) and m.isfile()]
+                lib.mkdir(parents=True, exist_ok=True)
+                for m in members:
+                    m.name = m.name[len(prefix):]
+                    t.extract(m, lib)
+    pkg = root / "rticonnextdds_connector"
+    if not (pkg / "rticonnextdds_connector.py").exists():
+        import importlib.util
+
+        spec = importlib.util.find_spec("rticonnextdds_connector")  # the PyPI package's Python code
+        if spec is None or spec.origin is None:
+            raise RuntimeError("rticonnextdds-connector (PyPI) is not installed")
+        shutil.copytree(Path(spec.origin).parent, pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    return root
+
+
+class RemoteParticipant:
+    """An RtiParticipant (rti.connector) in a child process loading Connext 7.x."""
+
+    def __init__(self, domain: int, env: dict[str, str] | None = None, **kw: Any) -> None:
+        root = connector7()
+        pythonpath = os.pathsep.join([str(root), str(_TESTS), str(_BACKEND)])
+        self.proc = subprocess.Popen([sys.executable, "-m", "rti.worker"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                     text=True, cwd=_TESTS, env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
+        self.writers = set(kw.get("writers", ()))
+        kw = {k: ([s.name for s in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
+        self.version = self._call("start", domain, **kw)
+
+    def _call(self, op: str, *args: Any, **kw: Any) -> Any:
+        assert self.proc.stdin and self.proc.stdout
+        self.proc.stdin.write(json.dumps([op, args, kw]) + "\n")
+        self.proc.stdin.flush()
+        line = self.proc.stdout.readline()
+        if not line:
+            raise RuntimeError(f"the Connext 7 worker exited ({self.proc.wait()})")
+        ok, value = json.loads(line)
+        if not ok:
+            raise RuntimeError(f"Connext 7 worker: {value}")
+        return value
+
+    def wait_matched(self, sem: Any, timeout: float = 10.0) -> None:
+        if not self._call("wait_matched", sem.name, timeout):
+            raise TimeoutError(f"RTI 7 {sem.spec.name} matched nothing")
+
+    def matched(self, sem: Any, writer: bool) -> list[Any]:
+        return self._call("matched", sem.name, writer)
+
+    def write(self, sem: Any, sample: dict[str, Any], action: str = "write") -> None:
+        self._call("write", sem.name, sample, action)
+
+    def take(self, sem: Any) -> list[tuple[dict[str, Any] | None, str]]:
+        return [tuple(x) for x in self._call("take", sem.name)]  # type: ignore[misc]
+
+    def close(self) -> None:
+        if self.proc.poll() is None:
+            try:
+                self._call("close")
+            finally:
+                assert self.proc.stdin
+                self.proc.stdin.close()
+                try:
+                    self.proc.wait(10)
+                except subprocess.TimeoutExpired:
+                    self.proc.kill()
