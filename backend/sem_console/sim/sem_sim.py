@@ -10,9 +10,8 @@ from collections.abc import Callable
 from pathlib import Path
 
 from sem_console.comap.messages import Sensor
-from sem_console.comap.transport import parse_peers
 from sem_console.core.command_line import Parser
-from sem_console.core.config import Settings, parse_imc_id
+from sem_console.core.config import Settings, parse_imc_id, parse_peers
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.sim.options import MAX_VEHICLE
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
