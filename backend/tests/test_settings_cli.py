@@ -96,3 +96,19 @@ def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixt
     assert e.value.code == 2
     assert capsys.readouterr().err == (
         "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
+
+
+@pytest.mark.parametrize("env, line", [
+    ({"SEM_DOMAIN": "999"}, "sem-sim: error: SEM_DOMAIN: Input should be less than or equal to 232\n"),
+    ({"SEM_TLS_KEYFILE": "key.pem"}, "sem-sim: error: --tls-certfile and --tls-keyfile go together\n"),
+])
+def test_the_other_commands_refuse_a_bad_environment_in_one_line(
+        env: dict[str, str], line: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """sem-sim, sem-replay and sem-check read their DDS settings from the environment (from_environment)."""
+    from sem_console.sim import sem_sim
+
+    for name, value in env.items():
+        monkeypatch.setenv(name, value)
+    with pytest.raises(SystemExit) as e:
+        sem_sim.build_parser()
+    assert e.value.code == 2 and capsys.readouterr().err == line

@@ -4,11 +4,14 @@ generator of `sem-console`'s options from the fields of `Settings` (core/config.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from types import UnionType
-from typing import Any, NoReturn, Union, get_args, get_origin
+from typing import Any, NoReturn, TypeVar, Union, get_args, get_origin
 
 from pydantic import BaseModel, ValidationError
+
+M = TypeVar("M", bound=BaseModel)
 
 
 class Parser(argparse.ArgumentParser):
@@ -69,3 +72,16 @@ def model_error(model: type[BaseModel], error: ValidationError) -> str:
     first = error.errors()[0]
     message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
     return f"{flag_of(model, str(first['loc'][0]))}: {message}" if first["loc"] else message
+
+
+def from_environment(prog: str, model: type[M]) -> M:
+    """`model` from the SEM_* environment alone (the commands other than sem-console), or exit 2 with one line
+    naming the variable: `prog: error: SEM_DOMAIN: Input should be ...`, not a traceback."""
+    try:
+        return model()
+    except ValidationError as e:
+        line, loc = model_error(model, e), e.errors()[0]["loc"]
+        if loc:  # the variable, not the option, that was given
+            line = f"SEM_{str(loc[0]).upper()}: " + line.removeprefix(flag_of(model, str(loc[0])) + ": ")
+        print(f"{prog}: error: {line}", file=sys.stderr)
+        raise SystemExit(2) from None
