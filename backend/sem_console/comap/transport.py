@@ -17,17 +17,6 @@ Addr = tuple[str, int]
 BAD_KINDS = ("truncated", "bad_sync", "bad_size", "bad_crc", "unknown_id", "bad_message")
 
 
-def parse_peers(text: str) -> list[Addr]:
-    """'host:port,host:port' -> [(host, port)]; ValueError with the item that is wrong."""
-    out: list[Addr] = []
-    for item in filter(None, (x.strip() for x in text.split(","))):
-        host, sep, port = item.rpartition(":")
-        if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
-            raise ValueError(f"IMC peer {item!r} is not host:port")
-        out.append((host.strip("[]"), int(port)))
-    return out
-
-
 class Endpoint:
     """What one IMC system (id `imc_id`) receives and sends; every bad datagram is counted, none raises."""
 

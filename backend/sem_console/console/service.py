@@ -24,7 +24,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.comap.c2 import C2
 from sem_console.comap.codec import BROADCAST, Header, Message
-from sem_console.comap.transport import Addr, AsyncNode, Endpoint, parse_peers
+from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
@@ -36,7 +36,7 @@ from sem_console.console.hub import Hub
 from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.replay_source import Replay
-from sem_console.core.config import Settings, parse_imc_vehicles
+from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
 from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service

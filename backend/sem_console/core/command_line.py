@@ -1,11 +1,18 @@
-"""What the commands' argument parsers share (`sem-console`, `sem-sim`, `sem-replay`, `sem-check`)."""
+"""What the commands' argument parsers share (`sem-console`, `sem-sim`, `sem-replay`, `sem-check`), and the
+generator of `sem-console`'s options from the fields of `Settings` (core/config.py)."""
 
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
-from typing import NoReturn, TypeVar
+from pathlib import Path
+from types import UnionType
+from typing import Any, NoReturn, TypeVar, Union, get_args, get_origin
 
+from pydantic import BaseModel, ValidationError
+
+M = TypeVar("M", bound=BaseModel)
 N = TypeVar("N", int, float)
 
 
@@ -27,3 +34,69 @@ def ranged(kind: Callable[[str], N], lo: float, hi: float) -> Callable[[str], N]
             raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
         return value
     return parse
+
+
+# argparse's type for a `cli(type=...)` override (a name: json_schema_extra holds JSON values)
+TYPES: dict[str, type] = {"str": str, "int": int, "float": float, "Path": Path}
+
+
+def cli_options(model: type[BaseModel]) -> dict[str, dict[str, Any]]:
+    """field name -> its command-line option's metadata (`cli(...)` of core/config.py; {} for the defaults),
+    for every field that has an option (environment-only fields, {"cli": None}, are left out)."""
+    out = {}
+    for name, field in model.model_fields.items():
+        extra = field.json_schema_extra if isinstance(field.json_schema_extra, dict) else {}
+        options = extra.get("cli", {})
+        if options is not None:
+            assert isinstance(options, dict), (name, options)
+            out[name] = dict(options)
+    return out
+
+
+def flag_of(model: type[BaseModel], name: str) -> str:
+    """The option of a field: --<name> with dashes, or its `cli(flag=...)`."""
+    return str(cli_options(model).get(name, {}).get("flag") or "--" + name.replace("_", "-"))
+
+
+def value_type(annotation: Any) -> Any:
+    """int for `int | None`, Path for `Path`, ...: what argparse converts an option's text to."""
+    optional = get_origin(annotation) in (Union, UnionType)
+    kinds = [a for a in get_args(annotation) if a is not type(None)] if optional else [annotation]
+    assert len(kinds) == 1, annotation
+    return kinds[0]
+
+
+def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel]) -> None:
+    """One option per field of `model` that has one, in the fields' order: its type from the annotation (a bool is a
+    flag that sets True), its help the field's description, default None (given options only: the model decides the
+    rest, and reads the environment for it)."""
+    for name, options in cli_options(model).items():
+        field = model.model_fields[name]
+        flag = options.pop("flag", None) or "--" + name.replace("_", "-")
+        kind = TYPES[options.pop("type")] if "type" in options else value_type(field.annotation)
+        if kind is bool:
+            options["action"] = "store_true"
+        elif kind is not str:
+            options["type"] = kind
+        parser.add_argument(flag, dest=name, default=None, help=field.description, **options)
+
+
+def model_error(model: type[BaseModel], error: ValidationError) -> str:
+    """The first problem of a validation error as one line: `--port: Input should be less than or equal to 65535`,
+    or a check between fields as it is worded (`--tls-certfile and --tls-keyfile go together`)."""
+    first = error.errors()[0]
+    message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
+    return f"{flag_of(model, str(first['loc'][0]))}: {message}" if first["loc"] else message
+
+
+def from_environment(prog: str, model: type[M]) -> M:
+    """`model` from the SEM_* environment alone (the commands other than sem-console), or exit 2 with one line
+    naming the variable: `prog: error: SEM_DOMAIN: Input should be ...`, not a traceback."""
+    try:
+        return model()
+    except ValidationError as e:
+        line, loc = model_error(model, e), e.errors()[0]["loc"]
+        if loc:  # the variable, not the option, that was given
+            line = f"SEM_{str(loc[0]).upper()}: " + line.removeprefix(flag_of(model, str(loc[0])) + ": ")
+        print(f"{prog}: error: {line}", file=sys.stderr)
+        raise SystemExit(2) from None

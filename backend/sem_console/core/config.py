@@ -1,115 +1,170 @@
-"""One settings object for the whole process; every value can come from SEM_* environment variables."""
+"""One settings object for the whole process; every value can come from SEM_* environment variables, and
+`sem-console`'s command line is generated from it (core/command_line.add_model_options): each field is the option
+--<name> (underscores as dashes) with the field's type and its description as the help, unless its
+`json_schema_extra={"cli": {...}}` says otherwise (another flag, a metavar, nargs) or is {"cli": None}
+(environment only). The checks between fields are model validators, so an environment-only configuration
+gets them too."""
 
 from __future__ import annotations
 
 import uuid
 from pathlib import Path
-from typing import Any
+from typing import Any, Self
 
-from pydantic import Field, PrivateAttr, field_validator
+from pydantic import Field, PrivateAttr, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
+
+ENV_ONLY: dict[str, Any] = {"cli": None}  # json_schema_extra of a setting without a command-line option
+
+
+def cli(**options: Any) -> dict[str, Any]:
+    """json_schema_extra of a field whose option differs from --<name> <TYPE>: `flag`, and argparse's `metavar`,
+    `nargs` and `const`."""
+    return {"cli": options}
 
 
 class Settings(BaseSettings):
     model_config = SettingsConfigDict(env_prefix="SEM_", extra="ignore")
 
-    # DDS
-    domain: int = Field(0, ge=0, le=232, description="DDS domain id (Cyclone's default port mapping allows 0..232)")
-    dds_interface: str = Field("lo", description="network interface Cyclone binds to when CYCLONEDDS_URI is not set")
-    dds_peers: str = Field("127.0.0.1", description="unicast discovery peers when CYCLONEDDS_URI is not set, comma separated")
-
-    # HTTP
-    host: str = "127.0.0.1"
-    port: int = Field(8000, ge=0, le=65535)
-    sim: int = Field(0, ge=0, le=100, description="simulated vehicles to run inside the console on the same domain")
-    sim_time_scale: float = Field(1.0, gt=0, le=100)
-    sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle")
-    frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist if it exists)")
-    basemap: Path | None = Field(None, description="a PMTiles chart served at GET /api/basemap.pmtiles (HTTP range requests), "
-                                 "drawn by the dashboard's map over its built-in Natural Earth basemap")
+    # Fields in the order `sem-console --help` lists their options.
+    # HTTP and DDS
+    host: str = Field("127.0.0.1", description="address to listen on (default: 127.0.0.1; anything else is only used "
+                                               "when given)")
+    port: int = Field(8000, ge=0, le=65535, description="HTTP port (default: 8000)")
+    domain: int = Field(0, ge=0, le=232, description="DDS domain id, 0..232 (default: 0)")
+    dds_interface: str = Field("lo", description="network interface Cyclone binds to when CYCLONEDDS_URI is not set",
+                               json_schema_extra=ENV_ONLY)
+    dds_peers: str = Field("127.0.0.1", description="unicast discovery peers when CYCLONEDDS_URI is not set, comma "
+                                                    "separated", json_schema_extra=ENV_ONLY)
+    sim: int = Field(0, ge=0, le=100, description="start N simulated vehicles alongside on the same domain (default: 0)")
+    sim_time_scale: float = Field(1.0, gt=0, le=100, description="time scale of the embedded simulator (default: 1)")
+    sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle, as "
+                                                                  "sem-sim --first-vehicle (default: 1)")
 
     # UMAA consumer and link health
-    db_path: Path = Field(Path("var/sem-console.sqlite3"), description="SQLite command history and the console's GUID")
-    comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without a sample before a provider is lost")
-    regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a lost provider is regained")
-    unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered")
-    report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "
-                                   "this many seconds (conflation window); sparse input is taken as it arrives")
-    report_burst: int = Field(8, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
-                              "window applies (refilled at one per window)")
-    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
-                                                         "nothing for ws_stall_seconds) before it is dropped")
-    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over "
-                                                           "ws_max_queue stalled")
-    ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
-                                 "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)")
+    db_path: Path = Field(Path("var/sem-console.sqlite3"), json_schema_extra=cli(flag="--db"),
+                          description="SQLite command history (default: var/sem-console.sqlite3)")
+    comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without samples before a provider is lost "
+                                                             "(default: 3)")
+    regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a provider is regained "
+                                                        "(default: 3)")
+    unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered "
+                                                             "(default: 5)")
     track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
-                                         "vehicle in the database (older points are pruned)")
-
-    # Recording to MCAP (see README, Recording)
-    record: Path | None = Field(None, description="record from the start into this directory (the dashboard's and "
-                                "POST /api/recordings' recordings go there too)")
-    recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go when `record` is not set")
-    record_max_bytes: int = Field(1 << 30, ge=65_536, description="a recording file rolls over to the next at this size")
-    record_max_seconds: float = Field(3600.0, gt=0, description="a recording file rolls over to the next after this long")
-    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
-                              "beyond it they are dropped and their samples counted")
-
-    # Replay in the console (see README, Replay in the console)
-    replay: Path | None = Field(None, description="serve the dashboard from this recording (MCAP) instead of DDS: read-only")
-    replay_speed: float = Field(1.0, ge=0.25, le=20, description="the replay's speed at start (0.25 to 20)")
+                                         "vehicle (default: 24)")
+    report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "
+                                   "this many seconds (conflation window); sparse input is taken as it arrives",
+                                   json_schema_extra=ENV_ONLY)
+    report_burst: int = Field(8, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
+                              "window applies (refilled at one per window)", json_schema_extra=ENV_ONLY)
+    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
+                              "nothing for ws_stall_seconds) before it is dropped", json_schema_extra=ENV_ONLY)
+    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over "
+                                    "ws_max_queue stalled", json_schema_extra=ENV_ONLY)
+    ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
+                                 "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)",
+                                 json_schema_extra=ENV_ONLY)
 
     # Operators: "name:token,name2:token2" and/or a file of "name:token" lines; both split at the
     # first colon (parse_token). None at all: no sign-in.
-    operator_tokens: str = ""
-    operator_tokens_file: Path | None = Field(None, description="one 'name:token' per line (# comments, blank lines)")
-    auth_reads: bool = Field(False, description="reads (REST GETs and /ws) need an operator token too")
+    operator_tokens: str = Field("", description="'name:token,...': command routes then need Authorization: Bearer "
+                                 "<token> (prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)")
+    operator_tokens_file: Path | None = Field(None, description="file of operator tokens, one 'name:token' per line")
+    auth_reads: bool = Field(False, description="reads (REST GETs, /ws) need an operator token too (needs operator tokens)")
 
-    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries")
-    throttle_first_wait: float = Field(1.0, gt=0, le=60, description="seconds a client waits after its fifth wrong "
-                                       "operator token in a row; each further one doubles it, up to 60 s")
+    # Requests from other sites (see docs/security.md)
+    allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated; '*' "
+                               "for any (default: localhost,127.0.0.1,[::1], plus the --host address)")
+    allowed_origins: str = Field("", description="origins allowed besides the console's own, comma separated "
+                                 "(e.g. https://console.example.org behind a reverse proxy)")
+    forwarded_allow_ips: str = Field("", description="addresses of reverse proxies whose X-Forwarded-For/-Proto are "
+                                     "trusted, comma separated (default: none; the client address is the connection's)")
+    tls_certfile: Path | None = Field(None, description="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
+    tls_keyfile: Path | None = Field(None, description="PEM private key of --tls-certfile")
+    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries "
+                                                            "(default: 100000)")
     audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
-                                           "recorded per minute; the rest of the minute are counted (see api/audit.py)")
+                                           "audited per minute; further ones that minute are only counted (default: 30)")
 
-    # Requests from other sites (see README, Security)
-    allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated "
-                               "('*' accepts any); the --host address is added when it is a concrete address")
-    allowed_origins: str = Field("", description="origins allowed beside the console's own (e.g. a reverse proxy's), "
-                                 "comma separated, such as https://console.example.org")
-    forwarded_allow_ips: str = Field("", description="addresses of reverse proxies whose X-Forwarded-For and "
-                                     "X-Forwarded-Proto are trusted, comma separated (default: none, the headers are ignored)")
-    tls_certfile: Path | None = Field(None, description="PEM certificate (chain): serve HTTPS and WSS")
-    tls_keyfile: Path | None = Field(None, description="PEM private key of tls_certfile")
+    # Recording to MCAP (see docs/recording.md)
+    record: Path | None = Field(None, json_schema_extra=cli(metavar="DIR"), description=(
+        "record every SEM sample to DIR/<UTC start>.mcap from the start "
+        "(the dashboard's record control and POST /api/recordings record there too)"))
+    recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go without --record "
+                                                                     "(default: var/recordings)")
+    record_max_bytes: int = Field(1 << 30, ge=65_536, description="roll a recording over to a new file at this size "
+                                                                  "(default: 1 GiB)")
+    record_max_seconds: float = Field(3600.0, gt=0, description="roll a recording over to a new file after this long "
+                                                                "(default: 3600)")
+    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
+                              "beyond it they are dropped and their samples counted", json_schema_extra=ENV_ONLY)
+    throttle_first_wait: float = Field(1.0, gt=0, le=60, description="seconds a client waits after its fifth wrong "
+                                       "operator token in a row; each further one doubles it, up to 60 s",
+                                       json_schema_extra=ENV_ONLY)
 
-    # Gateways (each off unless its option is given; see README, "Gateways")
-    aspn_lcm: str | None = Field(None, description="LCM URL to publish each vehicle's navigation on as ASPN-23 "
-                                 "(udpm://239.255.76.67:7667?ttl=0, file://PATH.lcm, memq://); off when unset")
-    aspn_prefix: str = Field("aspn23", pattern=r"^[A-Za-z0-9_.\-/]{1,64}$",
-                             description="first part of every ASPN channel name: <prefix>/<vehicle>/<measurement>")
-    aspn_log_seconds: float = Field(300.0, gt=0, le=86_400, description="seconds of each vehicle's ASPN messages kept "
-                                    "for the dashboard's Record ASPN log (at most 8 MiB per vehicle)")
-    jaus_port: int | None = Field(None, ge=0, le=65535, description="UDP port of the JAUS (JUDP, AS5669A) gateway; "
-                                  "off when unset")
-    jaus_subsystem: int = Field(1, ge=1, le=65534, description="JAUS subsystem id of the console's components")
-    jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
+    # Replay in the console (see docs/recording.md)
+    replay: Path | None = Field(None, json_schema_extra=cli(metavar="FILE.mcap"), description=(
+        "serve the dashboard from this recording instead of DDS (read-only: commands and recording are refused; "
+        "play, pause, speed and seek in the dashboard and /api/replay)"))
+    replay_speed: float = Field(1.0, ge=0.25, le=20, description="the replay's speed at start, 0.25 to 20 (default: 1)")
 
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
-    vehicle_names: str = ""
+    vehicle_names: str = Field("", description="'GUID=name,...': names shown beside vehicle ids")
 
-    # CoMap over IMC (UDP); off unless imc_port is given (see README, CoMap)
-    imc_port: int | None = Field(None, ge=0, le=65535, description="UDP port the console's IMC node listens on")
-    imc_host: str = Field("0.0.0.0", description="address the IMC node listens on")
-    imc_peers: str = Field("", description="IMC peers (vehicles) as host:port, comma separated")
-    imc_id: int = Field(0x4001, ge=0, le=0xFFFE, description="the console's IMC system id")
-    imc_vehicles: str = Field("", description="UMAA provider to IMC system id: 'GUID=imcid,...' (decimal or 0x hex)")
+    # Gateways (each off unless its option is given; see docs/gateways.md)
+    aspn_lcm: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(
+        "publish each vehicle's navigation as ASPN-23 over LCM at URL "
+        "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default"))
+    aspn_prefix: str = Field("aspn23", pattern=r"^[A-Za-z0-9_.\-/]{1,64}$", description=(
+        "first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)"))
+    aspn_log_seconds: float = Field(300.0, gt=0, le=86_400, description="seconds of ASPN messages kept per vehicle for "
+                                                                        "Record ASPN log (default: 300)")
+    jaus_port: int | None = Field(None, ge=0, le=65535, json_schema_extra=cli(nargs="?", const=3794, metavar="N"),
+                                  description="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); "
+                                              "off by default")
+    jaus_subsystem: int = Field(1, ge=1, le=65534, json_schema_extra=cli(metavar="S"), description=(
+        "JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)"))
+    jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
+    basemap: Path | None = Field(None, json_schema_extra=cli(metavar="FILE.pmtiles"), description=(
+        "an offline chart (PMTiles, vector or raster) the dashboard's map draws, served at /api/basemap.pmtiles "
+        "(default: the built-in Natural Earth land only)"))
+
+    # CoMap over IMC (UDP); off unless imc_port is given (see docs/comap.md)
+    imc_port: int | None = Field(None, ge=0, le=65535, description="CoMap over IMC: UDP port to listen on (CoMap is off "
+                                                                   "without it)")
+    imc_host: str = Field("0.0.0.0", description="address the IMC node listens on (default: 0.0.0.0)")
+    imc_peers: str = Field("", description="IMC peers (vehicles) the console sends to: 'host:port,...'")
+    # an int that the option and SEM_IMC_ID give as text, decimal or 0x hex (_imc_id_hex)
+    imc_id: int = Field(0x4001, ge=0, le=0xFFFE, json_schema_extra=cli(type="str"), description=(
+        "the console's IMC system id, decimal or 0x hex (default: 0x4001)"))
+    imc_vehicles: str = Field("", description="'GUID=imcid,...': the IMC system id of each UMAA provider")
+    frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist)")
 
     _operators: dict[str, str] | None = PrivateAttr(None)
 
     @field_validator("imc_id", mode="before")
     @classmethod
     def _imc_id_hex(cls, v: Any) -> Any:
-        """SEM_IMC_ID=0x4001 as --imc-id takes it."""
-        return parse_imc_id(v, "imc_id") if isinstance(v, str) else v
+        """SEM_IMC_ID=0x4001 and --imc-id 0x4001."""
+        return parse_imc_id(v) if isinstance(v, str) else v
+
+    @model_validator(mode="after")
+    def _consistent(self) -> Self:
+        """The checks between fields, and of the texts that hold lists (ValueError: one line naming the option)."""
+        self.operators()
+        self.names()
+        parse_imc_vehicles(self.imc_vehicles)
+        parse_peers(self.imc_peers)
+        if self.auth_reads and not self.operators():
+            raise ValueError("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
+        if (self.tls_certfile is None) != (self.tls_keyfile is None):
+            raise ValueError("--tls-certfile and --tls-keyfile go together")
+        if self.replay is not None:
+            if self.sim or self.record is not None:
+                raise ValueError("--replay is read-only: it does not go with --sim or --record")
+            if self.imc_port is not None:
+                raise ValueError("--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)")
+        return self
 
     def operators(self) -> dict[str, str]:
         """token -> operator name, from operator_tokens and operator_tokens_file (read once).
@@ -151,15 +206,27 @@ class Settings(BaseSettings):
         return out
 
 
-def parse_imc_id(text: str, where: str) -> int:
-    """An IMC system id, decimal or 0x hex, 0..0xFFFE (0xFFFF is broadcast)."""
+def parse_imc_id(text: str, where: str = "") -> int:
+    """An IMC system id, decimal or 0x hex, 0..0xFFFE (0xFFFF is broadcast); ValueError starting with `where`, if any."""
+    prefix = f"{where}: " if where else ""
     try:
         value = int(text.strip(), 0)
     except ValueError:
-        raise ValueError(f"{where}: {text.strip()!r} is not an IMC system id (decimal or 0x hex)") from None
+        raise ValueError(f"{prefix}{text.strip()!r} is not an IMC system id (decimal or 0x hex)") from None
     if not 0 <= value <= 0xFFFE:
-        raise ValueError(f"{where}: IMC system id {value} is not in 0..0xFFFE")
+        raise ValueError(f"{prefix}IMC system id {value} is not in 0..0xFFFE")
     return value
+
+
+def parse_peers(text: str) -> list[tuple[str, int]]:
+    """'host:port,host:port' -> [(host, port)]; ValueError with the item that is wrong."""
+    out: list[tuple[str, int]] = []
+    for item in filter(None, (x.strip() for x in text.split(","))):
+        host, sep, port = item.rpartition(":")
+        if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+            raise ValueError(f"IMC peer {item!r} is not host:port")
+        out.append((host.strip("[]"), int(port)))
+    return out
 
 
 def parse_imc_vehicles(text: str) -> dict[uuid.UUID, int]:

@@ -1,0 +1,114 @@
+"""`sem-console`'s options are generated from `Settings` (issue 20, point 3): every field has its option or is
+marked environment-only, the checks between fields are model validators (so the environment gets them too, as one
+line), and an option and its SEM_* variable make the same Settings. In process: no console is started."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import pytest
+from pydantic import ValidationError
+
+from sem_console import cli
+from sem_console.core.command_line import cli_options, flag_of, model_error, value_type
+from sem_console.core.config import Settings
+
+# the options whose name is not --<field> with dashes, and the one option that is no setting
+RENAMED = {"db_path": "--db"}
+CLI_ONLY = {"log_level"}
+ENV_ONLY = {"dds_interface", "dds_peers", "report_interval", "report_burst", "ws_max_queue", "ws_stall_seconds",
+            "ws_compression", "record_queue", "throttle_first_wait"}
+
+
+def actions() -> dict[str, argparse.Action]:
+    """dest -> action of sem-console's parser, less --help."""
+    return {a.dest: a for a in cli.build_parser()._actions if a.dest != "help"}
+
+
+def test_every_field_has_its_option_or_is_environment_only() -> None:
+    parsed = actions()
+    assert set(parsed) == (set(Settings.model_fields) - ENV_ONLY) | CLI_ONLY
+    assert set(cli_options(Settings)) == set(Settings.model_fields) - ENV_ONLY
+    for name, action in parsed.items():
+        if name in CLI_ONLY:
+            continue
+        field = Settings.model_fields[name]
+        assert action.option_strings == [RENAMED.get(name, "--" + name.replace("_", "-"))] == [flag_of(Settings, name)]
+        assert action.default is None, name  # the model decides what is not given (and reads SEM_* for it)
+        assert field.description and action.help == field.description, name
+        kind = value_type(field.annotation)
+        if kind is bool:
+            assert action.nargs == 0 and action.const is True, name
+        elif name != "imc_id":  # text: decimal or 0x hex, parsed by the model
+            assert (action.type or str) is kind, name
+    # the fields' order is the order --help lists the options in
+    assert [d for d in parsed if d not in CLI_ONLY] == [n for n in Settings.model_fields if n not in ENV_ONLY]
+
+
+def test_options_and_environment_make_the_same_settings(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    tokens = tmp_path / "tokens"
+    tokens.write_text("alice:s3cret\n")
+    values = {"host": "0.0.0.0", "port": "8123", "domain": "7", "db_path": str(tmp_path / "db"), "comms_lost_timeout": "1.5",
+              "operator_tokens_file": str(tokens), "auth_reads": None, "imc_port": "6002", "imc_id": "0x4002",
+              "imc_peers": "127.0.0.1:6001", "jaus_port": "3795", "record_max_bytes": "1000000", "aspn_prefix": "nav"}
+    argv: list[str] = []
+    for name, value in values.items():
+        argv += [flag_of(Settings, name)] + ([value] if value is not None else [])
+    args = vars(cli.build_parser().parse_args(argv))
+    from_options = Settings(**{k: v for k, v in args.items() if v is not None and k != "log_level"})
+    for name, value in values.items():
+        monkeypatch.setenv(f"SEM_{name.upper()}", value if value is not None else "true")
+    from_environment = Settings()
+    assert from_options == from_environment
+    assert from_options.imc_id == 0x4002 and from_options.auth_reads and from_options.operators() == {"s3cret": "alice"}
+
+
+@pytest.mark.parametrize("given, line", [
+    ({"auth_reads": True}, "--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)"),
+    ({"tls_keyfile": "key.pem"}, "--tls-certfile and --tls-keyfile go together"),
+    ({"replay": "run.mcap", "sim": 2}, "--replay is read-only: it does not go with --sim or --record"),
+    ({"replay": "run.mcap", "imc_port": 6002}, "--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)"),
+    ({"imc_peers": "nope"}, "IMC peer 'nope' is not host:port"),
+    ({"vehicle_names": "not-a-guid=Alpha"}, "vehicle name 'not-a-guid=Alpha': 'not-a-guid' is not a GUID"),
+    ({"operator_tokens": "alice:s3cret,bob:"}, "item 2: expected name:token"),
+    ({"imc_id": "0xZZ"}, "--imc-id: '0xZZ' is not an IMC system id (decimal or 0x hex)"),
+    ({"port": 70000}, "--port: Input should be less than or equal to 65535"),
+    ({"db_path": 5.5}, "--db: Input is not a valid path"),
+])
+def test_a_check_fails_as_one_line_from_options_and_environment(
+        given: dict[str, object], line: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    with pytest.raises(ValidationError) as e:
+        Settings(**given)  # type: ignore[arg-type]
+    message = model_error(Settings, e.value)
+    assert line in message and "\n" not in message, message
+    if all(isinstance(v, str | int) for v in given.values()):
+        for name, value in given.items():
+            monkeypatch.setenv(f"SEM_{name.upper()}", str(value))
+        with pytest.raises(ValidationError) as e:
+            Settings()
+        assert line in model_error(Settings, e.value)
+
+
+def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--replay", "run.mcap", "--imc-port", "6002"])
+    assert e.value.code == 2
+    assert capsys.readouterr().err == (
+        "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
+
+
+@pytest.mark.parametrize("env, line", [
+    ({"SEM_DOMAIN": "999"}, "sem-sim: error: SEM_DOMAIN: Input should be less than or equal to 232\n"),
+    ({"SEM_TLS_KEYFILE": "key.pem"}, "sem-sim: error: --tls-certfile and --tls-keyfile go together\n"),
+])
+def test_the_other_commands_refuse_a_bad_environment_in_one_line(
+        env: dict[str, str], line: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]) -> None:
+    """sem-sim, sem-replay and sem-check read their DDS settings from the environment (from_environment)."""
+    from sem_console.sim import sem_sim
+
+    for name, value in env.items():
+        monkeypatch.setenv(name, value)
+    with pytest.raises(SystemExit) as e:
+        sem_sim.build_parser()
+    assert e.value.code == 2 and capsys.readouterr().err == line
