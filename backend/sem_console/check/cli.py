@@ -12,7 +12,7 @@ from pathlib import Path
 
 from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
 from sem_console.core.command_line import Parser, from_environment, ranged
-from sem_console.core.config import Settings
+from sem_console.core.config import BusSettings
 
 
 def _domain(text: str) -> int:
@@ -80,7 +80,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.list:
         print("\n".join(all_names()))
         return 0
-    settings = from_environment("sem-check", Settings)
+    settings = from_environment("sem-check", BusSettings)
     opts = Options(
         domain=settings.domain if args.domain is None else args.domain, provider=args.provider, commands=args.commands,
         junit=args.junit, timeout=args.timeout, only=[n for group in args.only for n in group],

@@ -279,3 +279,17 @@ def read_tokens_file(path: Path) -> dict[str, str]:
             continue
         add_token(out, *parse_token(line, f"{path}:{n}"))
     return out
+
+
+class BusSettings(BaseSettings):
+    """What the commands other than sem-console take from the SEM_* environment: the DDS domain and network
+    (the same fields as `Settings`, without the console's cross-field checks, so a console's tokens file or
+    TLS pair never stops `sem-sim`, `sem-replay` or `sem-check`)."""
+
+    model_config = SettingsConfigDict(env_prefix="SEM_", extra="ignore")
+
+    # Settings' own field definitions (one definition each); pydantic takes a FieldInfo as the field, mypy's
+    # plugin types only Field(...) calls
+    domain: int = Settings.model_fields["domain"]  # type: ignore[assignment]  # a FieldInfo: see above
+    dds_interface: str = Settings.model_fields["dds_interface"]  # type: ignore[assignment]  # a FieldInfo
+    dds_peers: str = Settings.model_fields["dds_peers"]  # type: ignore[assignment]  # a FieldInfo

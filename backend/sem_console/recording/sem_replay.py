@@ -30,7 +30,7 @@ from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
 from sem_console.core.command_line import Parser, from_environment
-from sem_console.core.config import Settings
+from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.topics import Sem, Service
@@ -148,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     problem = check_file(args.file)
     if problem:
         parser.error(problem)
-    settings = from_environment("sem-replay", Settings)
+    settings = from_environment("sem-replay", BusSettings)
     try:
         bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
     except DdsConfigError as e:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.command_line import Parser, from_environment, ranged
-from sem_console.core.config import Settings, parse_imc_id, parse_peers
+from sem_console.core.config import BusSettings, parse_imc_id, parse_peers
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.sim.options import MAX_VEHICLE
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
@@ -55,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
         "Simulated unmanned vehicles, each a UMAA SEM Service Provider for GPSFixControl, GPSFixStatus, "
         "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
         "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))
-    p.add_argument("--domain", type=ranged(int, 0, 232), default=from_environment("sem-sim", Settings).domain, help=(
+    p.add_argument("--domain", type=ranged(int, 0, 232), default=from_environment("sem-sim", BusSettings).domain, help=(
         "DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"))
     p.add_argument("--vehicles", type=ranged(int, 1, 500), default=d.vehicles, help=(
         "number of vehicles, each with its own stable source GUID (default: %(default)s)"))
@@ -149,7 +149,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"vehicle {n}: {vehicle_guid(n)}{imc}")
         return 0
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
-    settings = from_environment("sem-sim", Settings)
+    settings = from_environment("sem-sim", BusSettings)
     stopping = False
 
     def stop(_signum: int, _frame: object) -> None:
