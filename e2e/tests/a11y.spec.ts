@@ -15,6 +15,8 @@ async function streaming(page: Page): Promise<void> {
   await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
   await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
   await expect(page.getByTestId("map-label")).toHaveCount(load().vehicles.length, { timeout: 30_000 });
+  // the map's first frame waits for the land: over once land is drawn, so a later jump is not undone
+  await expect.poll(async () => Number((await page.getByTestId("map").getAttribute("data-land")) ?? "0")).toBeGreaterThan(0);
 }
 
 /** axe's violations, each as its rule and the elements it found, so a failure says what to fix. */

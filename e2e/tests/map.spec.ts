@@ -77,6 +77,9 @@ test("cursor coordinates follow the decimal/DMS setting, and the measure tool gi
   const stack = load();
   await page.goto(stack.url);
   await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
+  // the first frame (every vehicle, and the coast once the land has loaded) is over before the map is moved away
+  await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 0], zoom: 6 }));
   const box = (await page.getByTestId("map").boundingBox())!;
   const cx = box.x + box.width / 2;
