@@ -7,6 +7,7 @@ from __future__ import annotations
 import asyncio
 import json
 import os
+import platform
 import random
 import signal
 import socket
@@ -176,9 +177,35 @@ def table(title: str, header: list[str], rows: list[list[Any]]) -> None:
         print("  ".join(str(x).ljust(w) for x, w in zip(r, widths, strict=True)))
 
 
+RESULTS = Path(os.environ.get("SEM_BENCH_RESULTS", ROOT / "bench" / "results"))  # the docs' benchmark page reads them
+
+
+def machine() -> dict[str, Any]:
+    """What the figures were measured on: they mean little without it."""
+    model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
+                  if line.startswith("model name")), platform.machine())
+    mem_kib = next(int(line.split()[1]) for line in Path("/proc/meminfo").read_text().splitlines()
+                   if line.startswith("MemTotal:"))
+    try:
+        from importlib.metadata import version
+
+        cyclone = version("cyclonedds")
+    except Exception:  # not installed: the benchmark still reports
+        cyclone = None
+    return {"cores": os.cpu_count(), "cpu": model, "memoryGiB": round(mem_kib / 2**20, 1),
+            "os": f"{platform.system()} {platform.release()}", "python": platform.python_version(),
+            "cyclonedds": cyclone, "loadAverage1m": round(os.getloadavg()[0], 2)}
+
+
 def emit(name: str, figures: dict[str, Any]) -> None:
-    """The one JSON line a benchmark ends with."""
-    print(json.dumps({"bench": name, "cores": os.cpu_count(), **figures}, separators=(",", ":")))
+    """The one JSON line a benchmark ends with, also kept as bench/results/<name>.json (with the date and the
+    machine) for the docs' benchmark page (bench/figures.py renders it)."""
+    stamped = {"bench": name, "cores": os.cpu_count(), **figures,
+               "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "machine": machine(),
+               "command": " ".join(["python", *sys.argv])}
+    print(json.dumps(stamped, separators=(",", ":")))
+    RESULTS.mkdir(parents=True, exist_ok=True)
+    (RESULTS / f"{name}.json").write_text(json.dumps(stamped, indent=1) + "\n")
 
 
 def target(name: str, value: float | None, unit: str, op: str, limit: float | None, against: str = "") -> dict[str, Any]:

@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+import json
 import re
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -61,3 +63,39 @@ def test_readme_is_short_and_its_links_resolve() -> None:
     broken = [link for link in links if not re.match(r"[a-z]+:", link)
               and not (ROOT / link.partition("#")[0]).exists()]
     assert not broken, f"README.md links to missing files: {broken}"
+
+
+def _figures() -> object:
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bench_figures", ROOT / "bench" / "figures.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_benchmark_page_shows_each_figure_of_the_json_beside_its_target(tmp_path: Path) -> None:
+    figures: Any = _figures()
+    (tmp_path / "latency.json").write_text(json.dumps({
+        "bench": "latency", "cores": 2, "date": "2026-11-25T18:00:00Z",
+        "machine": {"cores": 2, "cpu": "Xeon", "memoryGiB": 23.5, "os": "Linux", "python": "3.11.7", "cyclonedds": "11.0.1",
+                    "loadAverage1m": 1.5},
+        "targets": [{"name": "overhead p50", "value": 0.8, "unit": "ms", "target": "< 1", "holds": True},
+                    {"name": "overhead p99", "value": 7.5, "unit": "ms", "target": "< 5", "holds": False}],
+        "runs": [{"window_ms": 5, "p50_ms": 1.9}]}))
+    page = figures.render(tmp_path)
+    assert "measured 2026-11-25T18:00:00Z on Xeon, 2 cores" in page and "load average 1.5" in page
+    assert "| overhead p50 | 0.8 ms | < 1 ms | holds |" in page
+    assert "| overhead p99 | 7.5 ms | < 5 ms | **missed** |" in page
+    assert "| 5 | 1.9 |" in page  # a list of rows becomes a table
+    # the page the docs build renders carries the marker the hook replaces
+    assert figures.MARKER in (ROOT / "docs" / "benchmarks.md").read_text(encoding="utf-8")
+
+
+def test_a_broken_benchmark_result_is_one_line_naming_the_file(tmp_path: Path) -> None:
+    figures: Any = _figures()
+    (tmp_path / "ingest.json").write_text('{"bench": "ingest", ')
+    with pytest.raises(SystemExit, match=r"ingest\.json is not JSON .*run its benchmark again"):
+        figures.render(tmp_path)
+    assert "No benchmark has been run" in figures.render(tmp_path / "none")
