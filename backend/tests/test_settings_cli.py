@@ -82,7 +82,7 @@ def test_options_and_environment_make_the_same_settings(monkeypatch: pytest.Monk
     ({"vehicle_names": "not-a-guid=Alpha"}, "vehicle name 'not-a-guid=Alpha': 'not-a-guid' is not a GUID"),
     ({"operator_tokens": "alice:s3cret,bob:"}, "item 2: expected name:token"),
     ({"imc_id": "0xZZ"}, "--imc-id: '0xZZ' is not an IMC system id (decimal or 0x hex)"),
-    ({"port": 70000}, "--port: Input should be less than or equal to 65535"),
+    ({"port": 70000}, "--port: 70000 is outside 0..65535"),
     ({"db_path": 5.5}, "--db: Input is not a valid path"),
 ])
 def test_a_check_fails_as_one_line_from_options_and_environment(
@@ -116,7 +116,7 @@ def test_the_other_commands_refuse_a_bad_domain_in_one_line(monkeypatch: pytest.
     with pytest.raises(SystemExit) as e:
         sem_sim.build_parser()
     assert e.value.code == 2
-    assert capsys.readouterr().err == "sem-sim: error: SEM_DOMAIN: Input should be less than or equal to 232\n"
+    assert capsys.readouterr().err == "sem-sim: error: SEM_DOMAIN: 999 is outside 0..232\n"
 
 
 @pytest.mark.parametrize("env", [

@@ -8,7 +8,7 @@ import sys
 from collections.abc import Callable
 from pathlib import Path
 from types import UnionType
-from typing import Any, NoReturn, TypeVar, Union, get_args, get_origin
+from typing import Any, Literal, NoReturn, TypeVar, Union, get_args, get_origin
 
 from pydantic import BaseModel, ValidationError
 
@@ -66,14 +66,19 @@ def value_type(annotation: Any) -> Any:
     return kinds[0]
 
 
-def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel]) -> None:
+def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel],
+                      types: dict[str, Callable[[str], Any]] | None = None) -> None:
     """One option per field of `model` that has one, in the fields' order: its type from the annotation (a bool is a
-    flag that sets True), its help the field's description, default None (given options only: the model decides the
-    rest, and reads the environment for it)."""
+    flag that sets True) or the `types` entry its `cli(type=...)` names, its help the field's description, default
+    None (given options only: the model decides the rest, and reads the environment for it)."""
+    known: dict[str, Callable[[str], Any]] = {**TYPES, **(types or {})}
     for name, options in cli_options(model).items():
         field = model.model_fields[name]
         flag = options.pop("flag", None) or "--" + name.replace("_", "-")
-        kind = TYPES[options.pop("type")] if "type" in options else value_type(field.annotation)
+        kind = known[options.pop("type")] if "type" in options else value_type(field.annotation)
+        if get_origin(kind) is Literal:  # one of a few words: argparse's choices, named in its error
+            options["choices"] = get_args(kind)
+            kind = str
         if kind is bool:
             options["action"] = "store_true"
         elif kind is not str:
@@ -86,7 +91,24 @@ def model_error(model: type[BaseModel], error: ValidationError) -> str:
     or a check between fields as it is worded (`--tls-certfile and --tls-keyfile go together`)."""
     first = error.errors()[0]
     message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
+    if first["type"] in BOUNDS and first["loc"]:  # a number out of range: say the whole range, as `ranged` does
+        message = _out_of_range(model, str(first["loc"][0]), first["input"]) or message
     return f"{flag_of(model, str(first['loc'][0]))}: {message}" if first["loc"] else message
+
+
+BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
+
+
+def _out_of_range(model: type[BaseModel], name: str, value: Any) -> str | None:
+    """`70000 is outside 0..65535` for a field with both bounds (`above 0` and `up to 100` with one of them)."""
+    lo = hi = None
+    for bound in model.model_fields[name].metadata:
+        lo = next((v for v in (getattr(bound, "ge", None), getattr(bound, "gt", None)) if v is not None), lo)
+        hi = next((v for v in (getattr(bound, "le", None), getattr(bound, "lt", None)) if v is not None), hi)
+    if lo is not None and hi is not None:
+        shown = f"{value:g}" if isinstance(value, (int, float)) and not isinstance(value, bool) else str(value)
+        return f"{shown} is outside {lo:g}..{hi:g}"
+    return None
 
 
 def from_environment(prog: str, model: type[M]) -> M:

@@ -37,7 +37,7 @@ class Settings(BaseSettings):
     dds_peers: str = Field("127.0.0.1", description="unicast discovery peers when CYCLONEDDS_URI is not set, comma "
                                                     "separated", json_schema_extra=ENV_ONLY)
     sim: int = Field(0, ge=0, le=100, description="start N simulated vehicles alongside on the same domain (default: 0)")
-    sim_time_scale: float = Field(1.0, gt=0, le=100, description="time scale of the embedded simulator (default: 1)")
+    sim_time_scale: float = Field(1.0, ge=0.001, le=100, description="time scale of the embedded simulator (default: 1)")
     sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle, as "
                                                                   "sem-sim --first-vehicle (default: 1)")
 

@@ -3,47 +3,89 @@
 from __future__ import annotations
 
 import uuid
-from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Literal
 
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from sem_console.comap.messages import Sensor
+from sem_console.core.config import ENV_ONLY, cli
 from sem_console.umaa.guid import stable_guid
 
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
 MAX_VEHICLE = 10_000  # vehicle numbers run 1..MAX_VEHICLE
 
 
-@dataclass
-class SimOptions:
-    vehicles: int = 1
-    first_vehicle: int = 1  # the vehicles are numbers first_vehicle .. first_vehicle + vehicles - 1
-    time_scale: float = 1.0  # every duration below is multiplied by this
-    step_seconds: float = 0.5  # ISSUED -> COMMANDED -> EXECUTING
-    surface_seconds: float = 8.0  # dive depth to surface, then a fix
-    align_seconds: float = 12.0  # INS power-on to OPERATIONAL
-    fix_rate: float = 5.0  # Hz, GPSFixReport and GPSFixStatusReport
-    gps_rate: float = 1.0  # Hz, GPSReport
-    ins_rate: float = 2.0  # Hz, InertialSensorReport
-    satellites: int = 32
-    sky_speed: float = 20.0
-    on_startup: str = "fail"  # persisted commands found at startup: "fail" or "resume"
-    orphan_grace: float = 10.0  # s a command may have no writer before it counts as canceled
-    command_timeout: float = 300.0  # s an executing command may take before it fails with TIMEOUT
-    state_file: Path | None = None  # where the provider journals command states (default: see journal.default_state_file)
-    health_file: Path | None = None  # touched every second while the simulator runs (for container healthchecks)
-    slow_factor: float = 10.0
-    faults: dict[int, set[str]] = field(default_factory=dict)  # vehicle number (0 = all) -> faults
-    start_lat: float = 36.80
-    start_lon: float = -75.70
+class SimOptions(BaseModel):
+    """What a simulator runs. `sem-sim`'s options are generated from these fields (sim/sem_sim.py through
+    core/command_line.add_model_options), so the ranges, defaults and help are written once, here."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    vehicles: int = Field(1, ge=1, le=500, description="number of vehicles, each with its own stable source GUID (default: 1)")
+    first_vehicle: int = Field(1, ge=1, le=MAX_VEHICLE - 500, description=(
+        "number of the first vehicle: vehicles N, N+1, ... (their GUIDs follow from their numbers). A simulator refuses to "
+        "start a vehicle another process already runs on the domain (default: 1)"))
+    time_scale: float = Field(1.0, ge=0.001, le=100, description=(
+        "multiply every duration below, e.g. 0.1 runs ten times faster (default: 1)"))
+    step_seconds: float = Field(0.5, ge=0, le=600, description="delay between ISSUED, COMMANDED and EXECUTING (default: 0.5)")
+    surface_seconds: float = Field(8.0, ge=0, le=3600, description=(
+        "time for a GPSFix command to surface and get a fix (default: 8)"))
+    align_seconds: float = Field(12.0, ge=0, le=3600, description=(
+        "INS power-on to OPERATIONAL through four alignment stages (default: 12)"))
+    fix_rate: float = Field(5.0, ge=1, le=10, description="GPSFixReport and GPSFixStatusReport rate in Hz, 1..10 (default: 5)")
+    gps_rate: float = Field(1.0, ge=0.1, le=10, description="GPSReport (satellites) rate in Hz (default: 1)")
+    ins_rate: float = Field(2.0, ge=0.1, le=50, description="InertialSensorReport rate in Hz (default: 2)")
+    satellites: int = Field(32, ge=20, le=40, description="satellites per vehicle, 20..40 (default: 32)")
+    sky_speed: float = Field(20.0, ge=0, le=1000, description=(
+        "how much faster than real satellites move across the sky (default: 20)"))
+    on_startup: Literal["fail", "resume"] = Field("fail", description=(
+        "a command this provider was running before a restart (known from --state-file): fail it with SERVICE_FAILED, or "
+        "resume it from its last status; commands it never saw start normally (default: fail)"))
+    orphan_grace: float = Field(10.0, ge=0, le=3600, description=(
+        "seconds a command may have no live writer before it is treated as canceled (default: 10)"))
+    command_timeout: float = Field(300.0, ge=0.1, le=86400, description=(
+        "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
+    state_file: Path | None = Field(None, description=(
+        "where command states are journaled so a restarted simulator can recover them; one simulator at a time "
+        "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)"))
+    health_file: Path | None = Field(None, description="touch this file every second while running (for healthchecks)")
+    faults: dict[int, set[str]] = Field(default_factory=dict, json_schema_extra=cli(
+        flag="--fault", type="fault", action="append", metavar="KIND[:VEHICLE]"), description=(
+        "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
+        "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
+        "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
+        "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))  # vehicle number (0 = all) -> faults
+    slow_factor: float = Field(10.0, ge=1, le=1000, description="slow-down of the 'slow' fault (default: 10)")
+    start_lat: float = Field(36.80, json_schema_extra=ENV_ONLY)
+    start_lon: float = Field(-75.70, json_schema_extra=ENV_ONLY)
     # CoMap over IMC (comap_vehicle.py): off unless imc_port is given
-    imc_port: int | None = None
-    imc_host: str = "0.0.0.0"
-    imc_id: int = 0x2001  # the first vehicle's IMC system id; the next vehicles count up from it
-    imc_peers: list[tuple[str, int]] = field(default_factory=list)  # C2s (consoles) the vehicles report to
-    imc_sensors: tuple[str, ...] = ("SIDESCAN",)
-    imc_resolution: float = 10.0  # px/m² of its survey sensors
-    survey_spacing: float = 30.0  # m between lawnmower lanes
-    survey_speed: float = 2.0  # m/s under way for a task
-    identity_wait: float = 1.0  # s to look for another process already providing our vehicles (see Simulator.claim)
+    imc_port: int | None = Field(None, ge=0, le=65535, description=(
+        "CoMap over IMC: UDP port the vehicles listen on (CoMap is off without it)"))
+    imc_host: str = Field("0.0.0.0", description="address the IMC port listens on (default: 0.0.0.0)")
+    imc_id: int = Field(0x2001, json_schema_extra=cli(type="imc_id"), description=(
+        "IMC system id of the first vehicle, decimal or 0x hex; the next ones count up (default: 0x2001)"))
+    imc_peers: list[tuple[str, int]] = Field(default_factory=list, json_schema_extra=cli(type="peers"), description=(
+        "C2s (consoles) the vehicles send to: 'host:port,...'"))
+    imc_sensors: tuple[str, ...] = Field(("SIDESCAN",), json_schema_extra=cli(type="sensors"), description=(
+        f"survey sensors the vehicles have, comma separated, of {', '.join(n for n in Sensor.__members__ if n != 'ANY')} "
+        "(default: SIDESCAN)"))
+    imc_resolution: float = Field(10.0, json_schema_extra=ENV_ONLY)  # px/m² of its survey sensors
+    survey_spacing: float = Field(30.0, ge=1, le=10_000, description="metres between lawnmower lanes of a survey (default: 30)")
+    survey_speed: float = Field(2.0, ge=0.1, le=100, description=(
+        "m/s under way for a CoMap task, before --time-scale (default: 2)"))
+    identity_wait: float = Field(1.0, json_schema_extra=ENV_ONLY)  # s to look for another process providing our vehicles
+
+    @field_validator("faults", mode="before")
+    @classmethod
+    def _faults(cls, value: Any) -> Any:
+        """--fault's list of (kind, vehicle number) pairs -> {vehicle number (0: all): kinds}."""
+        if isinstance(value, list):
+            faults: dict[int, set[str]] = {}
+            for kind, target in value:
+                faults.setdefault(target, set()).add(kind)
+            return faults
+        return value
 
     @property
     def numbers(self) -> range:
