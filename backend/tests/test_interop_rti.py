@@ -30,8 +30,10 @@ from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
+from test_check import check, failed
 from test_console import wait_until
 
 PLAIN = [s for s in Sem if not s.spec.xcdr2_only]  # exchanged in XCDR1, RTI's default
@@ -272,6 +274,17 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"]), 10, "the refused writers")
     assert incompatible == optional
     assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
+    # ... and tells the operator the fix, in RTI's terms, per writer (issue 23, point 4); nothing for the eight
+    # topics it reads.
+    findings = wait_until(lambda: v.report() or (lambda f: f if len(f) == 2 else None)(  # reports: the vehicle stays alive
+        httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]), 10, "the findings on the refused writers")
+    assert [(f["name"], f["vendor"], f["kind"], f["topic"], f["fix"]) for f in findings] == [
+        ("Rti", "RTI", "representation", "GPSFixReport", "set XCDR2 on that writer"),
+        ("Rti", "RTI", "representation", "GPSReport", "set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
+         "environment (Connext 7; Connext 6 cannot write it readably)")]
+    assert findings[1]["message"] == ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and "
+                                      "NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its environment (Connext 7; Connext 6 cannot "
+                                      "write it readably) (docs/dds.md#rti-connext-7)")
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
@@ -309,6 +322,55 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         httpx.get(f"{c.url}/api/commands/{session}").json()), 10, "CANCELED in the console")
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
+    log = c.stop()
+    for f in findings:  # logged once per participant and finding
+        assert log.count(f["message"]) == 1, log[-3000:]
+
+
+def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
+                                                                    domain: int) -> None:
+    """Issue 23, point 4: Connext 7 on its defaults sends type information Cyclone cannot add, and nothing
+    of it matches (test_connext7_on_defaults_matches_no_sem_topic). The console names the participant and
+    the one setting that fixes it, once for the participant (not per topic)."""
+    c = console()
+    p = rti7(domain, writers=[Sem.INS_REPORT, Sem.GPS_REPORT], readers=[Sem.INS_COMMAND], recipe=None, env={})
+    findings = wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["peerFindings"], 15, "a finding")
+    assert [(f["name"], f["kind"], f["topic"]) for f in findings] == [("Rti", "typeInformation", None)]
+    assert findings[0]["message"] == (
+        "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
+        "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)")
+    assert p.matched(Sem.INS_REPORT, True) == []  # what the finding says: nothing of it matches
+    assert c.stop().count(findings[0]["message"]) == 1
+
+
+def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: Callable[..., RtiParticipant], domain: int, tmp_path: Path) -> None:
+    """Issue 23, point 4, in sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
+    (RTI's default; Connext 7 on the Default profile) fails discovery.GPSReport and discovery.GPSFixReport with the
+    fix in RTI's terms; its other topics pass."""
+    v = RtiVehicle(rti(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+                       readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
+    v.report()  # transient-local: sem-check finds the vehicle by its reports
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--window", "1", "--timeout", "10")
+    assert run.code == 1, run.out + run.err
+    fails = failed(run)
+    assert set(fails) == {"discovery.GPSReport", "discovery.GPSFixReport"}, fails
+    assert ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
+            "in its environment") in run.report.read_text()  # the failure text
+    assert "RTI participant Rti offers GPSFixReport in XCDR1: set XCDR2 on that writer (docs" in run.report.read_text()
+    assert run.cases["discovery.InertialSensorReport"][0] == "passed"
+
+
+def test_sem_check_names_the_fix_for_an_rti7_on_defaults(rti7: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """Connext 7 on its defaults: nothing of it matches, so sem-check finds no provider, and says why in RTI's terms."""
+    v = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT], recipe=None, env={}))
+    v.report()
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--timeout", "4")
+    assert run.code == 2, run.out + run.err
+    assert run.err.splitlines()[-1].strip() == (
+        "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
+        "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"), run.err
 
 
 def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None = None) -> dict[str, Any]:

@@ -33,6 +33,7 @@ from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
 from sem_console.dds.topics import Sem, Service
+from sem_console.dds.vendors import Finding, PeerWatch
 from sem_console.recording.recorder import Recorder
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
@@ -85,11 +86,13 @@ class Observer:
         self.alive_sources: dict[uuid.UUID, float] = {}  # provider source -> when first seen alive
         self.source_participants: dict[uuid.UUID, set[uuid.UUID]] = defaultdict(set)
         self._writer_participant: dict[int, uuid.UUID] = {}
+        self.peers = PeerWatch(bus.participant)  # other vendors' participants: what their operator must change
 
     # ---- taking -------------------------------------------------------------------------
     def pump(self) -> None:
         """Take everything that arrived: endpoints first, so a sample's writer is known."""
         self._take_endpoints()
+        self.peers.poll(time.monotonic())
         for (sem, reader, consumer), cond in zip(self.readers, self._conditions, strict=True):
             self._take(sem, reader, consumer, cond)
 
@@ -169,6 +172,13 @@ class Observer:
         """The provider's writers (or readers) of a topic, found by its participants."""
         table = self.publications if writers else self.subscriptions
         return [e for e in table.values() if e.participant_key in participants and e.topic_name == sem.spec.name]
+
+    def peer_findings(self) -> list[Finding]:
+        """What other vendors' participants on the bus must change for a consumer to read them (dds/vendors.py)."""
+        return self.peers.findings(self._matched_writers, time.monotonic())
+
+    def _matched_writers(self, sem: Sem) -> set[int]:
+        return {h & _U64 for s, r, _ in self.readers if s is sem for h in r.get_matched_publications()}
 
     def matched_by_consumer(self, sem: Sem, endpoint: DcpsEndpoint) -> bool:
         """Whether the checker's consumer-QoS reader of the topic matched this writer."""

@@ -55,6 +55,7 @@ from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem
+from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
 __all__ = ["REPORT_TOPICS", "Ingest", "ReportItem", "StatusItem", "Tap", "Via", "owner_of"]
@@ -105,6 +106,7 @@ _POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyB
                  8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
                  25: "DataRepresentation"}
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
+PEER_CHECK = 1.0  # s between looks at other vendors' participants in discovery (dds/vendors.py)
 
 
 class Owners:
@@ -170,6 +172,10 @@ class Ingest:
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
+        self.peers = PeerWatch(bus.participant)
+        self.findings: list[Finding] = []  # what other vendors' participants must change (dds/vendors.py), for /api/metrics
+        self._logged: set[tuple[str, str, str | None]] = set()
+        self._peers_checked = 0.0
         self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
@@ -288,8 +294,27 @@ class Ingest:
             ws.wait(duration(milliseconds=200))
             try:
                 self._status_cycle(conds)
+                self._check_peers(time.monotonic())
             except Exception:  # a bug here must not stop every status for good
                 log.exception("status ingest cycle failed")
+
+    def _check_peers(self, now: float) -> None:
+        """Every PEER_CHECK s: what other vendors' participants must change; each finding logged once."""
+        if now - self._peers_checked < PEER_CHECK:
+            return
+        self._peers_checked = now
+        self.peers.poll(now)
+        findings = self.peers.findings(self.matched_writers, now)
+        for f in findings:
+            if (f.participant, f.kind, f.topic) not in self._logged:
+                self._logged.add((f.participant, f.kind, f.topic))
+                log.warning("%s", f.message)
+        self.findings = findings  # replaced whole: /api/metrics reads it from the loop
+
+    def matched_writers(self, sem: Sem) -> set[int]:
+        """The publication handles any reader of ours of this topic matched."""
+        return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
+                for h in r.get_matched_publications()}
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []
