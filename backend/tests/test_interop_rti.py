@@ -29,6 +29,8 @@ import pytest
 from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
+from sem_console.console.convert import to_json
+from sem_console.console.decode import REPORT_TOPICS
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Service
@@ -544,6 +546,81 @@ def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: 
     match either way: both send type information and XTypes does not assign final to appendable."""
     final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
     assert _peer(appendable_umaa, domain, "cyclone") == {"GPS_REPORT": [0, 0], "GPS_FIX_REPORT": [0, 0]}
+
+
+GPS = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]
+
+
+def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
+    """What the console shows of each sample's source on this topic (None until it shows it)."""
+    out = {}
+    for x in sent:
+        r = httpx.get(f"{c.url}/api/providers/{uuid.UUID(bytes=bytes(x.source))}")
+        out[str(x.source)] = (r.json()["reports"].get(REPORT_TOPICS[sem]) or {}).get("report") if r.status_code == 200 else None
+    return out
+
+
+@pytest.mark.parametrize("version", ["7", "6"], ids=["connext7.7", "connext6.1.2"])
+def test_console_reads_gps_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
+                                                                   request: pytest.FixtureRequest) -> None:
+    """Issue 23, point 3: one reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
+    RTI vehicle on the drop-in's AppendableGps profile (XCDR2, RTI's appendable types; Connext 7 with the mask in its
+    environment) through its appendable readers, and from a Cyclone vehicle on plain idlc types (final, as sem-sim's)
+    through its final readers, at once; 5 random samples per topic and vehicle, values compared, each decoded once.
+    Connext 6.1.2 reads no mask: Cyclone drops its GPSReport in C (never shown, never misread); GPSFixReport works."""
+    made, make = _factory(version, request)
+    c = console()
+    try:
+        p = make(domain, writers=GPS, recipe="AppendableGps", env=RECIPE_ENV)
+        cyclone = {s: Bus(domain).writer(s) for s in GPS}
+        rng = random.Random(31)
+        theirs = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in GPS}
+        ours = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in GPS}
+        wait_until(lambda: all(len(p.matched(s, True)) == 3 for s in GPS), 10,  # the console's three appendable readers
+                   "RTI's writers matched by the console")
+        for s in GPS:
+            for x in theirs[s]:
+                p.write(s, to_plain(x))
+            for x in ours[s]:
+                cyclone[s].write(x)
+        readable = [(s, who, sent) for s in GPS for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
+                    if not (version == "6" and who == "RTI" and s is Sem.GPS_REPORT)]
+        for s, who, sent in readable:
+            want = {str(x.source): to_json(x)[0] for x in sent}
+            got = wait_until(lambda s=s, sent=sent: (lambda g: g if all(g.values()) else None)(_shown(c, s, sent)),
+                             10, f"{who}'s {s.spec.name} in the console")
+            for k in want:
+                assert same(want[k], got[k]), (who, s.spec.name, want[k], got[k])
+        metrics = httpx.get(f"{c.url}/api/metrics").json()
+        # each sample decoded once (from its writer's owner reader), one vehicle per source, nothing refused
+        assert metrics["samplesDecoded"] == metrics["providers"] == 5 * len(readable), metrics
+        assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, [])
+        if version == "6":  # its GPSReport: matched, dropped by Cyclone before the console sees it
+            assert not any(_shown(c, Sem.GPS_REPORT, theirs[Sem.GPS_REPORT]).values())
+    finally:
+        for x in made:
+            x.close()
+
+
+def test_rti_consumer_misreads_sem_sims_gps_topics(rti: Callable[..., Any], domain: int) -> None:
+    """Measured, not wanted: an RTI consumer on the AppendableGps profile reads GPSReport and GPSFixReport with
+    RTI's appendable types; sem-sim's writers (the console's final types, as here) send type information, which
+    RTI does not hold against them: they match by name and nothing arrives right. Hence Default for an RTI consumer
+    (docs/dds.md, "Which profile"). Flips if sem-sim or RTI changes."""
+    writers = {s: Bus(domain).writer(s) for s in GPS}
+    p = rti(domain, readers=GPS, recipe="AppendableGps", env=RECIPE_ENV)
+    wait_until(lambda: all(len(p.matched(s, False)) == 1 for s in GPS), 10, "RTI's readers matched with the final writers")
+    rng = random.Random(7)
+    ours = {s: [random_sample(s.spec.type, rng) for _ in range(20)] for s in GPS}
+    for s in GPS:
+        for x in ours[s]:
+            writers[s].write(x)
+    got: dict[Sem, list[Any]] = {s: [] for s in GPS}
+    wait_until(lambda: got[Sem.GPS_FIX_REPORT].extend(x for x, _ in p.take(Sem.GPS_FIX_REPORT) if x) or got[Sem.GPS_FIX_REPORT],
+               10, "a GPSFixReport sample in RTI")  # GPSReport: none arrived when measured
+    for s in GPS:
+        got[s] += [x for x, _ in p.take(s) if x]
+    assert {s: sum(any(same(to_plain(x), g) for g in got[s]) for x in ours[s]) for s in GPS} == {s: 0 for s in GPS}
 
 
 # RTI Connext 7.7.0's TypeLookup reply for the MINIMAL type object of InertialSensorReportType

@@ -20,6 +20,9 @@ applied from exactly one of them, its owner: the most reliable reader its offere
 matches, decided from that QoS when a reader first matches the writer (`Owners`). The
 copies the other readers receive are dropped undecoded. Nothing depends on timestamps
 or payloads: equal, repeated or backward source timestamps are all applied, in order.
+GPSReport and GPSFixReport have three more readers, of appendable copies of their types, for
+RTI vehicles; a writer matches the readers of one extensibility only (Via.qos, docs/dds.md
+"One reader per extensibility").
 
 A `Tap` (the recorder) gets every sample taken from its owner reader as the raw CDR from the
 wire, before it is decoded; the command topics are read for it alone (the console's own
@@ -79,10 +82,15 @@ class Via(str, Enum):
     RELIABLE_VOLATILE = "reliableVolatile"
     BEST_EFFORT = "bestEffort"
 
-    def qos(self, sem: Sem) -> Qos:
-        if self is Via.BEST_EFFORT:
-            return any_writer_reader_qos(sem.spec.cls)
-        return reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+    def qos(self, sem: Sem, appendable: bool = False) -> Qos:
+        """The reader's QoS. A topic with an appendable copy (TopicSpec.appendable) is read by a reader of each type:
+        the final one validates the writer's type (`force_type_validation`: a writer that sends no type information, as
+        RTI on the recipe, is refused, not matched by name and misread), the appendable one matches by name."""
+        qos = any_writer_reader_qos(sem.spec.cls) if self is Via.BEST_EFFORT else \
+            reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+        if sem.spec.appendable is not None and not appendable:
+            qos += Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True))
+        return qos
 
 
 def owner_of(writer_qos: Qos) -> Via:
@@ -105,6 +113,7 @@ _U64 = 0xFFFF_FFFF_FFFF_FFFF
 _POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyBudget", 6: "Ownership",
                  8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
                  25: "DataRepresentation"}
+_TYPE_CONSISTENCY = 24
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
 PEER_CHECK = 1.0  # s between looks at other vendors' participants in discovery (dds/vendors.py)
 
@@ -204,10 +213,13 @@ class Ingest:
             t.join(timeout=2)
 
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
-        """The three readers of every topic (see the module docstring)."""
-        return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
+        """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
+        has one (Via.qos). A writer matches the readers of one type only, so `Owners` needs no change: its samples are
+        taken from its owner among them, and `Decoder` tells the two types apart by the encapsulation header."""
+        return [(sem, via, bus.reader(sem, via.qos(sem, appendable), appendable=appendable, listener=self.owners.listener(
                     on_requested_incompatible_qos=self._on_incompatible(sem, via))))
-                for sem in sems for via in Via]
+                for sem in sems for appendable in (False, True) if not appendable or sem.spec.appendable is not None
+                for via in Via]
 
     def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
@@ -216,8 +228,8 @@ class Ingest:
         members, README "Other DDS vendors"). Logged once per topic and policy."""
 
         def on(_reader: DataReader[Any], status: Any) -> None:
-            if via is not Via.BEST_EFFORT:
-                return
+            if via is not Via.BEST_EFFORT or (sem.spec.appendable is not None and status.last_policy_id == _TYPE_CONSISTENCY):
+                return  # a writer of the other extensibility: the other reader of the topic reads it
             self.incompatible[sem.spec.name] = status.total_count
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:

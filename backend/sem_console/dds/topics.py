@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import builtins
 import functools
 import typing
 from dataclasses import dataclass
@@ -18,6 +19,8 @@ from UMAA.SEM.InertialSensorControl import (
     InertialSensorCommandType,
 )
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+from UMAA_appendable.SEM.GPSFixStatus import GPSFixReportType as AppendableGPSFixReportType
+from UMAA_appendable.SEM.GPSStatus import GPSReportType as AppendableGPSReportType
 
 from sem_console.dds.qos import TopicClass
 
@@ -40,6 +43,10 @@ class TopicSpec:
     name: str
     type: type[IdlStruct]
     cls: TopicClass
+    # The same type appendable, with the types nested in it (UMAA_appendable, generated): what an RTI Connext
+    # vehicle writes (RTI's default for IDL that does not say). The console reads such a topic with a reader of each
+    # (docs/dds.md, "One reader per extensibility"). Only for the two types RTI and Cyclone exchange in XCDR2.
+    appendable: builtins.type[IdlStruct] | None = None  # (`type` is the field above)
 
     @property
     def xcdr2_only(self) -> bool:
@@ -55,9 +62,10 @@ class Sem(Enum):
     GPS_FIX_COMMAND_ACK = TopicSpec(
         "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS
     )
-    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT)
+    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT,
+                               AppendableGPSFixReportType)
     GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
-    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT)
+    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT, AppendableGPSReportType)
     INS_COMMAND = TopicSpec(
         "UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND
     )
