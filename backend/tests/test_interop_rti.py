@@ -5,7 +5,9 @@ representation, appendable, XCDR1; see rti/connector.py). Covered both ways: eve
 type has no @optional member sample for sample, and the full command flow (ISSUED ->
 COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as the consumer.
 The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
-RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors").
+RTI endpoint left at XCDR1 for them is not matched, and the console and sem-check name the fix. An RTI
+vehicle on the drop-in's AppendableGps profile is read through the console's appendable readers
+(one reader per extensibility). See docs/dds.md, "Other DDS vendors".
 """
 
 from __future__ import annotations
@@ -17,6 +19,7 @@ import random
 import subprocess
 import sys
 import tarfile
+import threading
 import time
 import uuid
 from collections.abc import Callable
@@ -373,6 +376,33 @@ def test_sem_check_names_the_fix_for_an_rti7_on_defaults(rti7: Callable[..., Any
         "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
         "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
         "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"), run.err
+
+
+def test_sem_check_passes_an_rti7_vehicle_on_the_recipe(rti7: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """sem-check reads GPSReport and GPSFixReport as the console does (a reader per extensibility): an RTI 7 vehicle
+    on AppendableGps with the mask passes every discovery test, and its GPSFixReports are read right (with a final
+    reader that matched RTI by name they were misread, and no report of this vehicle's source would be seen)."""
+    v = RtiVehicle(rti7(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+                        readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe="AppendableGps", env=RECIPE_ENV))
+    stop = threading.Event()
+
+    def publish() -> None:
+        while not stop.is_set():
+            v.report()
+            time.sleep(0.1)
+
+    t = threading.Thread(target=publish, daemon=True)
+    t.start()
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports.GPSFixReport",
+                    "--window", "1.5", "--max-gap", "1")
+    finally:
+        stop.set()
+        t.join()
+    assert run.code == 0 and failed(run) == {}, run.out + run.err
+    assert {n: o for n, (o, _) in run.cases.items() if "GPS" in n and "Command" not in n} == {
+        "discovery.GPSReport": "passed", "discovery.GPSFixReport": "passed", "discovery.GPSFixStatusReport": "passed",
+        "reports.GPSFixReport.timing": "passed", "reports.GPSFixReport.values": "passed"}
 
 
 def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None = None) -> dict[str, Any]:

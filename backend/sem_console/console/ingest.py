@@ -57,7 +57,7 @@ from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
@@ -88,9 +88,7 @@ class Via(str, Enum):
         RTI on the recipe, is refused, not matched by name and misread), the appendable one matches by name."""
         qos = any_writer_reader_qos(sem.spec.cls) if self is Via.BEST_EFFORT else \
             reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
-        if sem.spec.appendable is not None and not appendable:
-            qos += Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True))
-        return qos
+        return qos if appendable else qos + final_type_qos(sem)
 
 
 def owner_of(writer_qos: Qos) -> Via:

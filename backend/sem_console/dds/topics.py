@@ -8,6 +8,7 @@ import typing
 from dataclasses import dataclass
 from enum import Enum
 
+from cyclonedds.core import Policy, Qos
 from cyclonedds.idl import IdlStruct
 
 from UMAA.SEM.GPSFixControl import GPSFixCommandAckReportType, GPSFixCommandStatusType, GPSFixCommandType
@@ -99,3 +100,12 @@ class Service(str, Enum):
     @property
     def ack(self) -> Sem:
         return Sem.GPS_FIX_COMMAND_ACK if self is Service.GPS_FIX else Sem.INS_COMMAND_ACK
+
+
+def final_type_qos(sem: Sem) -> Qos:
+    """What a reader of a topic's final type adds when the topic also has an appendable copy: it validates the
+    writer's type (`force_type_validation`), so a writer that sends no type information (RTI on the recipe) is
+    refused, not matched by name and misread; that writer is read by a reader of the appendable copy."""
+    if sem.spec.appendable is None:
+        return Qos()
+    return Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True))
