@@ -12,6 +12,7 @@ vehicle on the drop-in's AppendableGps profile is read through the console's app
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -22,7 +23,7 @@ import tarfile
 import threading
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -208,6 +209,24 @@ class RtiVehicle:
             },
         )
 
+    @contextlib.contextmanager
+    def reporting(self, period: float = 0.1) -> Iterator[None]:
+        """Publish the reports every `period` s, in a thread, while the block runs (a vehicle sem-check watches)."""
+        stop = threading.Event()
+
+        def publish() -> None:
+            while not stop.is_set():
+                self.report()
+                time.sleep(period)
+
+        t = threading.Thread(target=publish, daemon=True)
+        t.start()
+        try:
+            yield
+        finally:
+            stop.set()
+            t.join()
+
     def status(self, service: Service, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
         now = time.time()
         self.p.write(
@@ -384,21 +403,9 @@ def test_sem_check_passes_an_rti7_vehicle_on_the_recipe(rti7: Callable[..., Any]
     reader that matched RTI by name they were misread, and no report of this vehicle's source would be seen)."""
     v = RtiVehicle(rti7(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
                         readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe="AppendableGps", env=RECIPE_ENV))
-    stop = threading.Event()
-
-    def publish() -> None:
-        while not stop.is_set():
-            v.report()
-            time.sleep(0.1)
-
-    t = threading.Thread(target=publish, daemon=True)
-    t.start()
-    try:
+    with v.reporting():
         run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports.GPSFixReport",
                     "--window", "1.5", "--max-gap", "1")
-    finally:
-        stop.set()
-        t.join()
     assert run.code == 0 and failed(run) == {}, run.out + run.err
     assert {n: o for n, (o, _) in run.cases.items() if "GPS" in n and "Command" not in n} == {
         "discovery.GPSReport": "passed", "discovery.GPSFixReport": "passed", "discovery.GPSFixStatusReport": "passed",
