@@ -586,6 +586,7 @@ def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: 
 
 
 GPS = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]
+REPORTS = list(REPORT_TOPICS)
 
 
 def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
@@ -598,29 +599,30 @@ def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
 
 
 @pytest.mark.parametrize("version", ["7", "6"], ids=["connext7.7", "connext6.1.2"])
-def test_console_reads_gps_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
+def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
                                                                    request: pytest.FixtureRequest) -> None:
     """Issue 23, point 3: one reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
     RTI vehicle on the drop-in's AppendableGps profile (XCDR2, RTI's appendable types; Connext 7 with the mask in its
     environment) through its appendable readers, and from a Cyclone vehicle on plain idlc types (final, as sem-sim's)
     through its final readers, at once; 5 random samples per topic and vehicle, values compared, each decoded once.
+    The other two report topics too (XCDR1, the same readers for both vehicles).
     Connext 6.1.2 reads no mask: Cyclone drops its GPSReport in C (never shown, never misread); GPSFixReport works."""
     made, make = _factory(version, request)
     c = console()
     try:
-        p = make(domain, writers=GPS, recipe="AppendableGps", env=RECIPE_ENV)
-        cyclone = {s: Bus(domain).writer(s) for s in GPS}
+        p = make(domain, writers=REPORTS, recipe="AppendableGps", env=RECIPE_ENV)
+        cyclone = {s: Bus(domain).writer(s) for s in REPORTS}
         rng = random.Random(31)
-        theirs = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in GPS}
-        ours = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in GPS}
-        wait_until(lambda: all(len(p.matched(s, True)) == 3 for s in GPS), 10,  # the console's three appendable readers
-                   "RTI's writers matched by the console")
-        for s in GPS:
+        theirs = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in REPORTS}
+        ours = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in REPORTS}
+        # three readers of the console each (for GPSReport and GPSFixReport: the appendable ones)
+        wait_until(lambda: all(len(p.matched(s, True)) == 3 for s in REPORTS), 10, "RTI's writers matched by the console")
+        for s in REPORTS:
             for x in theirs[s]:
                 p.write(s, to_plain(x))
             for x in ours[s]:
                 cyclone[s].write(x)
-        readable = [(s, who, sent) for s in GPS for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
+        readable = [(s, who, sent) for s in REPORTS for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
                     if not (version == "6" and who == "RTI" and s is Sem.GPS_REPORT)]
         for s, who, sent in readable:
             want = {str(x.source): to_json(x)[0] for x in sent}
