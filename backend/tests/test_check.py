@@ -434,21 +434,11 @@ def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path
         pytest.skip(f"RTI Connext's connector cannot load: {e}")
     p = RtiParticipant(domain, writers=RTI_SERVES, readers=COMMAND_TOPICS)
     v = RtiVehicle(p)
-    stop = threading.Event()
-
-    def publish() -> None:
-        while not stop.is_set():
-            v.report()
-            time.sleep(0.1)
-
-    t = threading.Thread(target=publish, daemon=True)
-    t.start()
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports",
-                    "--window", "1.5", "--max-gap", "1")
+        with v.reporting():
+            run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports",
+                        "--window", "1.5", "--max-gap", "1")
     finally:
-        stop.set()
-        t.join()
         p.close()
     served = [f"discovery.{s.spec.name.rsplit('::', 1)[-1]}" for s in RTI_SERVES + COMMAND_TOPICS]
     served += [f"reports.{s}.{k}" for s in ("InertialSensorReport", "GPSFixStatusReport") for k in ("timing", "values")]

@@ -226,3 +226,20 @@ def test_what_is_not_generated_is_decoded_by_cyclonedds() -> None:
     ref = t.deserialize(data)
     assert fastcdr.decoder(t).sample(data) == ref
     assert fastcdr.decoder(t).json(data) == to_json(ref)
+
+
+@pytest.mark.parametrize("sem", [s for s in Sem if s.spec.appendable is not None], ids=lambda s: s.name)
+def test_decoder_reads_an_appendable_writers_sample_with_the_appendable_copy(sem: Sem) -> None:
+    """One reader per extensibility (docs/dds.md): an appendable writer's sample (D_CDR2 header, a DHEADER before
+    each struct) is decoded with the topic's appendable copy, a final writer's with its final type; both give the
+    same report. The path of the ingest and of a replay alike."""
+    decoder = Decoder()
+    for seed in range(20):
+        final = random_sample(sem.spec.type, random.Random(seed))
+        appendable = random_sample(sem.spec.appendable, random.Random(seed))  # the same values, the other type
+        want = to_json(final)
+        for data in (final.serialize(use_version_2=True), appendable.serialize(use_version_2=True)):
+            item = decoder.decode(sem, data, True, InstanceState.Alive, 0.0)
+            assert item is not None and (item.report, item.invalid) == want, (seed, data[:4].hex())
+        assert appendable.serialize(use_version_2=True)[1] == 0x09 and final.serialize(use_version_2=True)[1] == 0x07
+    assert decoder.undecodable == {}

@@ -18,6 +18,13 @@ def test_generated_types_are_fresh(tmp_path: Path) -> None:
     assert not stale, f"stale generated code, run `python -m sem_console.idlgen`: {stale}"
 
 
+def test_appendable_copies_are_fresh(tmp_path: Path) -> None:
+    written = idlgen.generate_appendable(tmp_path)
+    fresh = {p.relative_to(tmp_path): p.read_text() for p in written}
+    committed = {p.relative_to(BACKEND): p.read_text() for p in (BACKEND / idlgen.APPENDABLE).rglob("*.py")}
+    assert fresh == committed, "stale appendable copies: run `python -m sem_console.idlgen`"
+
+
 def test_patched_idlc_runs(tmp_path: Path) -> None:
     import subprocess
     idlc = idlgen.working_idlc(tmp_path)

@@ -5,11 +5,14 @@ representation, appendable, XCDR1; see rti/connector.py). Covered both ways: eve
 type has no @optional member sample for sample, and the full command flow (ISSUED ->
 COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as the consumer.
 The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
-RTI endpoint left at XCDR1 for them is not matched (README, "Other DDS vendors").
+RTI endpoint left at XCDR1 for them is not matched, and the console and sem-check name the fix. An RTI
+vehicle on the drop-in's AppendableGps profile is read through the console's appendable readers
+(one reader per extensibility). See docs/dds.md, "Other DDS vendors".
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -17,9 +20,10 @@ import random
 import subprocess
 import sys
 import tarfile
+import threading
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -29,9 +33,13 @@ import pytest
 from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
+from sem_console.console.convert import to_json
+from sem_console.console.decode import REPORT_TOPICS
 from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
+from test_check import check, failed
 from test_console import wait_until
 
 PLAIN = [s for s in Sem if not s.spec.xcdr2_only]  # exchanged in XCDR1, RTI's default
@@ -201,6 +209,24 @@ class RtiVehicle:
             },
         )
 
+    @contextlib.contextmanager
+    def reporting(self, period: float = 0.1) -> Iterator[None]:
+        """Publish the reports every `period` s, in a thread, while the block runs (a vehicle sem-check watches)."""
+        stop = threading.Event()
+
+        def publish() -> None:
+            while not stop.is_set():
+                self.report()
+                time.sleep(period)
+
+        t = threading.Thread(target=publish, daemon=True)
+        t.start()
+        try:
+            yield
+        finally:
+            stop.set()
+            t.join()
+
     def status(self, service: Service, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
         now = time.time()
         self.p.write(
@@ -272,6 +298,17 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"]), 10, "the refused writers")
     assert incompatible == optional
     assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
+    # ... and tells the operator the fix, in RTI's terms, per writer (issue 23, point 4); nothing for the eight
+    # topics it reads.
+    findings = wait_until(lambda: v.report() or (lambda f: f if len(f) == 2 else None)(  # reports: the vehicle stays alive
+        httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]), 10, "the findings on the refused writers")
+    assert [(f["name"], f["vendor"], f["kind"], f["topic"], f["fix"]) for f in findings] == [
+        ("Rti", "RTI", "representation", "GPSFixReport", "set XCDR2 on that writer"),
+        ("Rti", "RTI", "representation", "GPSReport", "set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
+         "environment (Connext 7; Connext 6 cannot write it readably)")]
+    assert findings[1]["message"] == ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and "
+                                      "NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its environment (Connext 7; Connext 6 cannot "
+                                      "write it readably) (docs/dds.md#rti-connext-7)")
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
@@ -309,6 +346,70 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         httpx.get(f"{c.url}/api/commands/{session}").json()), 10, "CANCELED in the console")
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
+    log = c.stop()
+    for f in findings:  # logged once per participant and finding
+        assert log.count(f["message"]) == 1, log[-3000:]
+
+
+def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
+                                                                    domain: int) -> None:
+    """Issue 23, point 4: Connext 7 on its defaults sends type information Cyclone cannot add, and nothing
+    of it matches (test_connext7_on_defaults_matches_no_sem_topic). The console names the participant and
+    the one setting that fixes it, once for the participant (not per topic)."""
+    c = console()
+    p = rti7(domain, writers=[Sem.INS_REPORT, Sem.GPS_REPORT], readers=[Sem.INS_COMMAND], recipe=None, env={})
+    findings = wait_until(lambda: httpx.get(f"{c.url}/api/metrics").json()["peerFindings"], 15, "a finding")
+    assert [(f["name"], f["kind"], f["topic"]) for f in findings] == [("Rti", "typeInformation", None)]
+    assert findings[0]["message"] == (
+        "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
+        "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)")
+    assert p.matched(Sem.INS_REPORT, True) == []  # what the finding says: nothing of it matches
+    assert c.stop().count(findings[0]["message"]) == 1
+
+
+def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: Callable[..., RtiParticipant], domain: int, tmp_path: Path) -> None:
+    """Issue 23, point 4, in sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
+    (RTI's default; Connext 7 on the Default profile) fails discovery.GPSReport and discovery.GPSFixReport with the
+    fix in RTI's terms; its other topics pass."""
+    v = RtiVehicle(rti(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+                       readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
+    v.report()  # transient-local: sem-check finds the vehicle by its reports
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--window", "1", "--timeout", "10")
+    assert run.code == 1, run.out + run.err
+    fails = failed(run)
+    assert set(fails) == {"discovery.GPSReport", "discovery.GPSFixReport"}, fails
+    assert ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
+            "in its environment") in run.report.read_text()  # the failure text
+    assert "RTI participant Rti offers GPSFixReport in XCDR1: set XCDR2 on that writer (docs" in run.report.read_text()
+    assert run.cases["discovery.InertialSensorReport"][0] == "passed"
+
+
+def test_sem_check_names_the_fix_for_an_rti7_on_defaults(rti7: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """Connext 7 on its defaults: nothing of it matches, so sem-check finds no provider, and says why in RTI's terms."""
+    v = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT], recipe=None, env={}))
+    v.report()
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--timeout", "4")
+    assert run.code == 2, run.out + run.err
+    assert run.err.splitlines()[-1].strip() == (
+        "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
+        "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"), run.err
+
+
+def test_sem_check_passes_an_rti7_vehicle_on_the_recipe(rti7: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """sem-check reads GPSReport and GPSFixReport as the console does (a reader per extensibility): an RTI 7 vehicle
+    on AppendableGps with the mask passes every discovery test, and its GPSFixReports are read right (with a final
+    reader that matched RTI by name they were misread, and no report of this vehicle's source would be seen)."""
+    v = RtiVehicle(rti7(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+                        readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe="AppendableGps", env=RECIPE_ENV))
+    with v.reporting():
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports.GPSFixReport",
+                    "--window", "1.5", "--max-gap", "1")
+    assert run.code == 0 and failed(run) == {}, run.out + run.err
+    assert {n: o for n, (o, _) in run.cases.items() if "GPS" in n and "Command" not in n} == {
+        "discovery.GPSReport": "passed", "discovery.GPSFixReport": "passed", "discovery.GPSFixStatusReport": "passed",
+        "reports.GPSFixReport.timing": "passed", "reports.GPSFixReport.values": "passed"}
 
 
 def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None = None) -> dict[str, Any]:
@@ -482,6 +583,83 @@ def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: 
     match either way: both send type information and XTypes does not assign final to appendable."""
     final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
     assert _peer(appendable_umaa, domain, "cyclone") == {"GPS_REPORT": [0, 0], "GPS_FIX_REPORT": [0, 0]}
+
+
+GPS = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]
+REPORTS = list(REPORT_TOPICS)
+
+
+def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
+    """What the console shows of each sample's source on this topic (None until it shows it)."""
+    out = {}
+    for x in sent:
+        r = httpx.get(f"{c.url}/api/providers/{uuid.UUID(bytes=bytes(x.source))}")
+        out[str(x.source)] = (r.json()["reports"].get(REPORT_TOPICS[sem]) or {}).get("report") if r.status_code == 200 else None
+    return out
+
+
+@pytest.mark.parametrize("version", ["7", "6"], ids=["connext7.7", "connext6.1.2"])
+def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
+                                                                   request: pytest.FixtureRequest) -> None:
+    """Issue 23, point 3: one reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
+    RTI vehicle on the drop-in's AppendableGps profile (XCDR2, RTI's appendable types; Connext 7 with the mask in its
+    environment) through its appendable readers, and from a Cyclone vehicle on plain idlc types (final, as sem-sim's)
+    through its final readers, at once; 5 random samples per topic and vehicle, values compared, each decoded once.
+    The other two report topics too (XCDR1, the same readers for both vehicles).
+    Connext 6.1.2 reads no mask: Cyclone drops its GPSReport in C (never shown, never misread); GPSFixReport works."""
+    made, make = _factory(version, request)
+    c = console()
+    try:
+        p = make(domain, writers=REPORTS, recipe="AppendableGps", env=RECIPE_ENV)
+        cyclone = {s: Bus(domain).writer(s) for s in REPORTS}
+        rng = random.Random(31)
+        theirs = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in REPORTS}
+        ours = {s: [random_sample(s.spec.type, rng) for _ in range(5)] for s in REPORTS}
+        # three readers of the console each (for GPSReport and GPSFixReport: the appendable ones)
+        wait_until(lambda: all(len(p.matched(s, True)) == 3 for s in REPORTS), 10, "RTI's writers matched by the console")
+        for s in REPORTS:
+            for x in theirs[s]:
+                p.write(s, to_plain(x))
+            for x in ours[s]:
+                cyclone[s].write(x)
+        readable = [(s, who, sent) for s in REPORTS for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
+                    if not (version == "6" and who == "RTI" and s is Sem.GPS_REPORT)]
+        for s, who, sent in readable:
+            want = {str(x.source): to_json(x)[0] for x in sent}
+            got = wait_until(lambda s=s, sent=sent: (lambda g: g if all(g.values()) else None)(_shown(c, s, sent)),
+                             10, f"{who}'s {s.spec.name} in the console")
+            for k in want:
+                assert same(want[k], got[k]), (who, s.spec.name, want[k], got[k])
+        metrics = httpx.get(f"{c.url}/api/metrics").json()
+        # each sample decoded once (from its writer's owner reader), one vehicle per source, nothing refused
+        assert metrics["samplesDecoded"] == metrics["providers"] == 5 * len(readable), metrics
+        assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, [])
+        if version == "6":  # its GPSReport: matched, dropped by Cyclone before the console sees it
+            assert not any(_shown(c, Sem.GPS_REPORT, theirs[Sem.GPS_REPORT]).values())
+    finally:
+        for x in made:
+            x.close()
+
+
+def test_rti_consumer_misreads_sem_sims_gps_topics(rti: Callable[..., Any], domain: int) -> None:
+    """Measured, not wanted: an RTI consumer on the AppendableGps profile reads GPSReport and GPSFixReport with
+    RTI's appendable types; sem-sim's writers (the console's final types, as here) send type information, which
+    RTI does not hold against them: they match by name and nothing arrives right. Hence Default for an RTI consumer
+    (docs/dds.md, "Which profile"). Flips if sem-sim or RTI changes."""
+    writers = {s: Bus(domain).writer(s) for s in GPS}
+    p = rti(domain, readers=GPS, recipe="AppendableGps", env=RECIPE_ENV)
+    wait_until(lambda: all(len(p.matched(s, False)) == 1 for s in GPS), 10, "RTI's readers matched with the final writers")
+    rng = random.Random(7)
+    ours = {s: [random_sample(s.spec.type, rng) for _ in range(20)] for s in GPS}
+    for s in GPS:
+        for x in ours[s]:
+            writers[s].write(x)
+    got: dict[Sem, list[Any]] = {s: [] for s in GPS}
+    wait_until(lambda: got[Sem.GPS_FIX_REPORT].extend(x for x, _ in p.take(Sem.GPS_FIX_REPORT) if x) or got[Sem.GPS_FIX_REPORT],
+               10, "a GPSFixReport sample in RTI")  # GPSReport: none arrived when measured
+    for s in GPS:
+        got[s] += [x for x, _ in p.take(s) if x]
+    assert {s: sum(any(same(to_plain(x), g) for g in got[s]) for x in ours[s]) for s in GPS} == {s: 0 for s in GPS}
 
 
 # RTI Connext 7.7.0's TypeLookup reply for the MINIMAL type object of InertialSensorReportType

@@ -2,6 +2,7 @@ import { ArrangeableGroup } from "./components/Arrange";
 import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlarmsPanel } from "./panels/Alarms";
 import { CommandsPanel } from "./panels/Commands";
+import { DdsDiagnostics } from "./panels/DdsDiagnostics";
 import { ExportPanel } from "./panels/Export";
 import { FleetBar } from "./panels/FleetBar";
 import { FixPanel } from "./panels/Fix";
@@ -49,6 +50,9 @@ export function App() {
         <aside className="side" aria-label="Vehicles and alerts">
           <ErrorBoundary name="Vehicles">
             <VehicleSelector />
+          </ErrorBoundary>
+          <ErrorBoundary name="DDS diagnostics">
+            <DdsDiagnostics />
           </ErrorBoundary>
           <ArrangeableGroup group="side" panels={SIDE} className="side-panels" testId="side-panels" label="Side panels" />
         </aside>

@@ -107,6 +107,21 @@ class GatewayState(_Model):
                                            "report time outside u32: console time sent (JAUS), errors")
 
 
+class PeerFinding(_Model):
+    """What another vendor's participant must change for the console to read it (docs/dds.md, "Other DDS vendors")."""
+
+    participant: str = Field(description="the participant's GUID")
+    name: str = Field(description="its name as it announces it (RTI: the participant's name in its XML), else its GUID")
+    vendor: Literal["RTI"] = Field(description="the vendor, from the GUID's vendor id (RTI Connext: 01.01)")
+    kind: Literal["typeInformation", "representation", "unmatched"] = Field(
+        description="typeInformation: it sends XTypes type information the console cannot use, so none of its SEM topics "
+                    "match; representation: a GPSReport or GPSFixReport writer offers XCDR1; unmatched: another SEM "
+                    "writer of it that no reader of the console matches")
+    topic: str | None = Field(description="the SEM topic (short name, e.g. GPSReport); null for the whole participant")
+    fix: str = Field(description="what to change, in the vendor's terms")
+    message: str = Field(description="the whole finding in one line, as logged: who, what, the fix and the docs")
+
+
 class Metrics(_Model):
     uptimeSeconds: float
     samplesTaken: int = Field(description="samples taken from DDS since start (all three readers of every SEM topic)")
@@ -118,6 +133,8 @@ class Metrics(_Model):
     incompatibleWriters: dict[str, int] = Field(description="per topic, writers whose QoS no reader of the console accepts, so "
                                                             "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
                                                             "writer: README, 'Other DDS vendors')")
+    peerFindings: list[PeerFinding] = Field(description="other vendors' participants (today RTI Connext) that the console "
+                                                        "sees in discovery but cannot read, each with the exact fix")
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
     reportWindowWaits: int = Field(description="report takes that waited for the conflation window (report_interval): input "
                                                "dense enough to batch; sparse input is taken as it arrives")

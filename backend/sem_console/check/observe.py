@@ -25,14 +25,15 @@ from typing import Any
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 from cyclonedds.builtin_types import DcpsEndpoint
-from cyclonedds.core import InstanceState, ReadCondition
+from cyclonedds.core import InstanceState, Qos, ReadCondition
 from cyclonedds.sub import DataReader
 
 from sem_console.console.decode import Decoder, ReportItem, StatusItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
-from sem_console.dds.qos import TopicClass, any_writer_reader_qos
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
+from sem_console.dds.topics import Sem, Service, final_type_qos
+from sem_console.dds.vendors import Finding, PeerWatch
 from sem_console.recording.recorder import Recorder
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
@@ -67,14 +68,23 @@ class Observer:
         self.bus = bus
         self.recorder = recorder
         self.decoder = Decoder()
-        # (topic, reader, consumer QoS?) for every topic we read
+        # (topic, reader, consumer QoS?) for every topic we read. GPSReport and GPSFixReport also by readers of their
+        # appendable copies, for RTI vehicles, as the console reads them (console/ingest.py; a writer matches the
+        # readers of one extensibility only, and Decoder tells the two apart by the encapsulation header).
+        def both(sem: Sem, qos: Qos) -> list[DataReader[Any]]:
+            readers = [bus.reader(sem, qos + final_type_qos(sem))]
+            return readers + ([bus.reader(sem, qos, appendable=True)] if sem.spec.appendable is not None else [])
+
         self.readers: list[tuple[Sem, DataReader[Any], bool]] = [
-            (sem, bus.reader(sem), True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND]
-        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), False) for sem in REPORTS]
+            (sem, r, True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND for r in both(sem, reader_qos(sem.spec.cls))]
+        self.readers += [(sem, r, False) for sem in REPORTS for r in both(sem, any_writer_reader_qos(sem.spec.cls))]
         if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
             self.readers += [(s.command, bus.reader(s.command), True) for s in Service]
         self._conditions = [all_samples(r) for _, r, _ in self.readers]
-        self.consumer_readers = {sem: r for sem, r, consumer in self.readers if consumer}
+        self.consumer_readers: dict[Sem, list[DataReader[Any]]] = {}
+        for sem, r, consumer in self.readers:
+            if consumer:
+                self.consumer_readers.setdefault(sem, []).append(r)
         self._pubs = BuiltinDataReader(bus.participant, BuiltinTopicDcpsPublication)
         self._subs = BuiltinDataReader(bus.participant, BuiltinTopicDcpsSubscription)
         self.publications: dict[uuid.UUID, DcpsEndpoint] = {}
@@ -85,11 +95,13 @@ class Observer:
         self.alive_sources: dict[uuid.UUID, float] = {}  # provider source -> when first seen alive
         self.source_participants: dict[uuid.UUID, set[uuid.UUID]] = defaultdict(set)
         self._writer_participant: dict[int, uuid.UUID] = {}
+        self.peers = PeerWatch(bus.participant)  # other vendors' participants: what their operator must change
 
     # ---- taking -------------------------------------------------------------------------
     def pump(self) -> None:
         """Take everything that arrived: endpoints first, so a sample's writer is known."""
         self._take_endpoints()
+        self.peers.poll(time.monotonic())
         for (sem, reader, consumer), cond in zip(self.readers, self._conditions, strict=True):
             self._take(sem, reader, consumer, cond)
 
@@ -170,11 +182,19 @@ class Observer:
         table = self.publications if writers else self.subscriptions
         return [e for e in table.values() if e.participant_key in participants and e.topic_name == sem.spec.name]
 
+    def peer_findings(self) -> list[Finding]:
+        """What other vendors' participants on the bus must change for a consumer to read them (dds/vendors.py)."""
+        return self.peers.findings(self._matched_writers, time.monotonic())
+
+    def _matched_writers(self, sem: Sem) -> set[int]:
+        return {h & _U64 for s, r, _ in self.readers if s is sem for h in r.get_matched_publications()}
+
     def matched_by_consumer(self, sem: Sem, endpoint: DcpsEndpoint) -> bool:
-        """Whether the checker's consumer-QoS reader of the topic matched this writer."""
-        reader = self.consumer_readers.get(sem)
-        if reader is None:
-            return False
+        """Whether one of the checker's consumer-QoS readers of the topic matched this writer."""
+        return any(self._matched_by(reader, endpoint) for reader in self.consumer_readers.get(sem, []))
+
+    @staticmethod
+    def _matched_by(reader: DataReader[Any], endpoint: DcpsEndpoint) -> bool:
         for handle in reader.get_matched_publications():
             try:
                 data = reader.get_matched_publication_data(handle)

@@ -83,7 +83,9 @@ def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
         raise CouldNotTest(f"provider {opts.provider} not found on domain {opts.domain} within {opts.timeout:g} s "
                            f"(DDS: {net}){others}")
     if not found:
-        raise CouldNotTest(f"no UMAA SEM provider on domain {opts.domain} within {opts.timeout:g} s (DDS: {net})")
+        # a vehicle of another vendor may be there, unreadable: say what its operator must change
+        why = "".join(f"\n  {f.message}" for f in observer.peer_findings())
+        raise CouldNotTest(f"no UMAA SEM provider on domain {opts.domain} within {opts.timeout:g} s (DDS: {net}){why}")
     if len(found) > 1:
         listing = "\n".join(f"  {g}  ({', '.join(_topics_of(observer, g))})" for g in sorted(found, key=str))
         raise CouldNotTest(f"{len(found)} providers on domain {opts.domain}; choose one with --provider:\n{listing}")

@@ -88,6 +88,13 @@ _ROUTES: dict[Sem, _Route] = {
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
        for sem, service in ACK_TOPICS.items()},
 }
+# The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
+# delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
+# any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
+_APPENDABLE_ROUTES: dict[Sem, _Route] = {
+    sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
+    for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
+_D_CDR2 = (0x08, 0x09)  # big and little endian
 _ALIVE = InstanceState.Alive
 
 
@@ -111,6 +118,8 @@ class Decoder:
         route = _ROUTES.get(sem)
         if route is None:
             return None
+        if len(data) > 1 and data[1] in _D_CDR2 and sem in _APPENDABLE_ROUTES:
+            route = _APPENDABLE_ROUTES[sem]
         report = sample = None
         try:
             if not valid:

@@ -20,6 +20,9 @@ applied from exactly one of them, its owner: the most reliable reader its offere
 matches, decided from that QoS when a reader first matches the writer (`Owners`). The
 copies the other readers receive are dropped undecoded. Nothing depends on timestamps
 or payloads: equal, repeated or backward source timestamps are all applied, in order.
+GPSReport and GPSFixReport have three more readers, of appendable copies of their types, for
+RTI vehicles; a writer matches the readers of one extensibility only (Via.qos, docs/dds.md
+"One reader per extensibility").
 
 A `Tap` (the recorder) gets every sample taken from its owner reader as the raw CDR from the
 wire, before it is decoded; the command topics are read for it alone (the console's own
@@ -54,7 +57,8 @@ from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, final_type_qos
+from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
 __all__ = ["REPORT_TOPICS", "Ingest", "ReportItem", "StatusItem", "Tap", "Via", "owner_of"]
@@ -78,10 +82,13 @@ class Via(str, Enum):
     RELIABLE_VOLATILE = "reliableVolatile"
     BEST_EFFORT = "bestEffort"
 
-    def qos(self, sem: Sem) -> Qos:
-        if self is Via.BEST_EFFORT:
-            return any_writer_reader_qos(sem.spec.cls)
-        return reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+    def qos(self, sem: Sem, appendable: bool = False) -> Qos:
+        """The reader's QoS. A topic with an appendable copy (TopicSpec.appendable) is read by a reader of each type:
+        the final one validates the writer's type (`force_type_validation`: a writer that sends no type information, as
+        RTI on the recipe, is refused, not matched by name and misread), the appendable one matches by name."""
+        qos = any_writer_reader_qos(sem.spec.cls) if self is Via.BEST_EFFORT else \
+            reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+        return qos if appendable else qos + final_type_qos(sem)
 
 
 def owner_of(writer_qos: Qos) -> Via:
@@ -104,7 +111,9 @@ _U64 = 0xFFFF_FFFF_FFFF_FFFF
 _POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyBudget", 6: "Ownership",
                  8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
                  25: "DataRepresentation"}
+_TYPE_CONSISTENCY = 24
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
+PEER_CHECK = 1.0  # s between looks at other vendors' participants in discovery (dds/vendors.py)
 
 
 class Owners:
@@ -170,6 +179,10 @@ class Ingest:
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
+        self.peers = PeerWatch(bus.participant)
+        self.findings: list[Finding] = []  # what other vendors' participants must change (dds/vendors.py), for /api/metrics
+        self._logged: set[tuple[str, str, str | None]] = set()
+        self._peers_checked = 0.0
         self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, list(REPORT_TOPICS))
@@ -198,10 +211,13 @@ class Ingest:
             t.join(timeout=2)
 
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
-        """The three readers of every topic (see the module docstring)."""
-        return [(sem, via, bus.reader(sem, via.qos(sem), listener=self.owners.listener(
+        """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
+        has one (Via.qos). A writer matches the readers of one type only, so `Owners` needs no change: its samples are
+        taken from its owner among them, and `Decoder` tells the two types apart by the encapsulation header."""
+        return [(sem, via, bus.reader(sem, via.qos(sem, appendable), appendable=appendable, listener=self.owners.listener(
                     on_requested_incompatible_qos=self._on_incompatible(sem, via))))
-                for sem in sems for via in Via]
+                for sem in sems for appendable in (False, True) if not appendable or sem.spec.appendable is not None
+                for via in Via]
 
     def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
@@ -210,8 +226,8 @@ class Ingest:
         members, README "Other DDS vendors"). Logged once per topic and policy."""
 
         def on(_reader: DataReader[Any], status: Any) -> None:
-            if via is not Via.BEST_EFFORT:
-                return
+            if via is not Via.BEST_EFFORT or (sem.spec.appendable is not None and status.last_policy_id == _TYPE_CONSISTENCY):
+                return  # a writer of the other extensibility: the other reader of the topic reads it
             self.incompatible[sem.spec.name] = status.total_count
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:
@@ -288,8 +304,27 @@ class Ingest:
             ws.wait(duration(milliseconds=200))
             try:
                 self._status_cycle(conds)
+                self._check_peers(time.monotonic())
             except Exception:  # a bug here must not stop every status for good
                 log.exception("status ingest cycle failed")
+
+    def _check_peers(self, now: float) -> None:
+        """Every PEER_CHECK s: what other vendors' participants must change; each finding logged once."""
+        if now - self._peers_checked < PEER_CHECK:
+            return
+        self._peers_checked = now
+        self.peers.poll(now)
+        findings = self.peers.findings(self.matched_writers, now)
+        for f in findings:
+            if (f.participant, f.kind, f.topic) not in self._logged:
+                self._logged.add((f.participant, f.kind, f.topic))
+                log.warning("%s", f.message)
+        self.findings = findings  # replaced whole: /api/metrics reads it from the loop
+
+    def matched_writers(self, sem: Sem) -> set[int]:
+        """The publication handles any reader of ours of this topic matched."""
+        return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
+                for h in r.get_matched_publications()}
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []

@@ -399,6 +399,7 @@ class Console:
             "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
             "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
             "incompatibleWriters": dict(self.ingest.incompatible) if self.ingest else {},
+            "peerFindings": [f.to_json() for f in self.ingest.findings] if self.ingest else [],
             "reportsApplied": self.reports_applied,
             "reportWindowWaits": self.ingest.window_waits if self.ingest else 0,
             "wsClients": len(self.hub.clients),

@@ -45,6 +45,7 @@ class Bus:
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
         self._topics: dict[Sem, Topic[Any]] = {}
+        self._appendable_topics: dict[Sem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)
 
     def topic(self, sem: Sem) -> Topic[Any]:
         if sem not in self._topics:
@@ -55,13 +56,23 @@ class Bus:
         return DataWriter(self.participant, self.topic(sem),
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
-    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None) -> DataReader[Any]:
-        """A reader with the given QoS (else the topic class's), always with the type's data representation."""
+    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None,
+               appendable: bool = False) -> DataReader[Any]:
+        """A reader with the given QoS (else the topic class's), always with the type's data representation;
+        `appendable`: of the type's appendable copy (TopicSpec.appendable)."""
         qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
-        return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
+        if not appendable:
+            return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
+        cls = sem.spec.appendable
+        if cls is None:
+            raise ValueError(f"{sem.spec.name} has no appendable copy")
+        if sem not in self._appendable_topics:  # the same topic name, another type: Cyclone keeps a type per topic
+            self._appendable_topics[sem] = Topic(self.participant, sem.spec.name, cls)
+        return DataReader(self.participant, self._appendable_topics[sem], qos=qos, listener=listener)
 
     def close(self) -> None:
         self._topics.clear()
+        self._appendable_topics.clear()
         self.participant = None  # type: ignore[assignment]  # entities are deleted with the last reference
 
 

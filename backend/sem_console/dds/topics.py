@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import builtins
 import functools
 import typing
 from dataclasses import dataclass
 from enum import Enum
 
+from cyclonedds.core import Policy, Qos
 from cyclonedds.idl import IdlStruct
 
 from UMAA.SEM.GPSFixControl import GPSFixCommandAckReportType, GPSFixCommandStatusType, GPSFixCommandType
@@ -18,6 +20,8 @@ from UMAA.SEM.InertialSensorControl import (
     InertialSensorCommandType,
 )
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+from UMAA_appendable.SEM.GPSFixStatus import GPSFixReportType as AppendableGPSFixReportType
+from UMAA_appendable.SEM.GPSStatus import GPSReportType as AppendableGPSReportType
 
 from sem_console.dds.qos import TopicClass
 
@@ -40,6 +44,10 @@ class TopicSpec:
     name: str
     type: type[IdlStruct]
     cls: TopicClass
+    # The same type appendable, with the types nested in it (UMAA_appendable, generated): what an RTI Connext
+    # vehicle writes (RTI's default for IDL that does not say). The console reads such a topic with a reader of each
+    # (docs/dds.md, "One reader per extensibility"). Only for the two types RTI and Cyclone exchange in XCDR2.
+    appendable: builtins.type[IdlStruct] | None = None  # (`type` is the field above)
 
     @property
     def xcdr2_only(self) -> bool:
@@ -55,9 +63,10 @@ class Sem(Enum):
     GPS_FIX_COMMAND_ACK = TopicSpec(
         "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS
     )
-    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT)
+    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT,
+                               AppendableGPSFixReportType)
     GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
-    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT)
+    GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT, AppendableGPSReportType)
     INS_COMMAND = TopicSpec(
         "UMAA::SEM::InertialSensorControl::InertialSensorCommand", InertialSensorCommandType, TopicClass.COMMAND
     )
@@ -91,3 +100,12 @@ class Service(str, Enum):
     @property
     def ack(self) -> Sem:
         return Sem.GPS_FIX_COMMAND_ACK if self is Service.GPS_FIX else Sem.INS_COMMAND_ACK
+
+
+def final_type_qos(sem: Sem) -> Qos:
+    """What a reader of a topic's final type adds when the topic also has an appendable copy: it validates the
+    writer's type (`force_type_validation`), so a writer that sends no type information (RTI on the recipe) is
+    refused, not matched by name and misread; that writer is read by a reader of the appendable copy."""
+    if sem.spec.appendable is None:
+        return Qos()
+    return Qos(Policy.TypeConsistency.AllowTypeCoercion(force_type_validation=True))

@@ -64,6 +64,14 @@ export async function health(): Promise<Health> {
   return call<Health>("GET", "/api/health", null);
 }
 
+/** What another vendor's participant must change for the console to read it (docs/dds.md, "Other DDS vendors"). */
+export type PeerFinding = components["schemas"]["PeerFinding"];
+
+/** GET /api/metrics' findings on other vendors' participants (an RTI vehicle on XCDR1, sending type information…). */
+export async function peerFindings(token: string | null): Promise<PeerFinding[]> {
+  return (await call<components["schemas"]["Metrics"]>("GET", "/api/metrics", token)).peerFindings;
+}
+
 /** `confirmLost`: the operator confirmed commanding a vehicle whose link is lost (the console refuses it with 409 otherwise). */
 export function requestGpsFix(providerId: string, token: string | null, confirmLost = false): Promise<Command> {
   return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, confirmLost ? { confirmLost } : {});

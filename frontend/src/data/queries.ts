@@ -3,7 +3,7 @@
 // Every key holds the operator's token, so a sign-in or sign-out asks again and never shows another's answer.
 import { QueryClient, queryOptions } from "@tanstack/react-query";
 import type { FeatureCollection } from "geojson";
-import { ApiError, comapStatus, health, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
+import { ApiError, comapStatus, health, peerFindings, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
 import type { TrackSample } from "../lib/geo";
 import { HISTORY_SECONDS, TRACK_SECONDS, type HistoryPoint } from "./store";
 
@@ -18,6 +18,12 @@ const isoSecondsAgo = (now: number, seconds: number) => new Date((now - seconds)
 /** GET /api/health: what the console is (auth, replay, basemap, DDS network). It does not change while the page
  * is open: asked once, shared by every reader (main.tsx seeds it with the answer it starts with). */
 export const healthQuery = () => queryOptions({ queryKey: ["health"], queryFn: () => health(), staleTime: Infinity });
+
+/** Other vendors' participants the console sees but cannot read, with the fix (GET /api/metrics): asked every
+ * PEER_FINDINGS_MS, as the console itself looks at discovery every second; not pushed over the WebSocket. */
+export const PEER_FINDINGS_MS = 5000;
+export const peerFindingsQuery = (token: string | null) =>
+  queryOptions({ queryKey: ["peerFindings", token], queryFn: () => peerFindings(token), refetchInterval: PEER_FINDINGS_MS });
 
 // The history and track loaders: their answers are merged into the store (the live history), so each answer is
 // merged once and none is kept for later (gcTime 0); `instant` (a replay's seek) makes an earlier instant's answer
