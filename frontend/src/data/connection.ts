@@ -2,6 +2,7 @@
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
 import type { ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
+import { onFrame } from "./frame";
 import { initialState, reduce, type State } from "./store";
 
 export type ConnectionState = SourceState;
@@ -59,9 +60,10 @@ export class Store {
     this.queue.push(msg);
     if (this.scheduled) return;
     this.scheduled = true;
-    const flush = () => this.flush();
-    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) requestAnimationFrame(flush);
-    else setTimeout(flush, 50);
+    // on the frame, before the panels it wakes draw in that same frame (frame.ts); a hidden page has no frames,
+    // and its state stays current for the tab's title and the alarm tone
+    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) onFrame(this.flushJob);
+    else setTimeout(this.flushJob, 50);
   }
 
   /** Forget everything the console sent (on sign-out when reads need a token); the operator's
@@ -76,6 +78,8 @@ export class Store {
   discardQueued(): void {
     this.queue = [];
   }
+
+  private flushJob = (): void => this.flush();
 
   flush(): void {
     this.scheduled = false;

@@ -5,7 +5,7 @@ import type { FeatureCollection } from "geojson";
 import { useEffect, useMemo } from "react";
 import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
 import { useToken } from "./auth";
-import { useConnectionState, useData, useProvidersAtMost, useSelector } from "./hooks";
+import { useConnectionState, useData, useProvidersOnFrame, useSelector } from "./hooks";
 import { capabilitiesQuery, comapStatusQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
 import { historyLoaded, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint, type ProviderView } from "./store";
 
@@ -41,9 +41,9 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 
 /** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
  * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(throttleMs = 0): ProviderView[] {
+export function useTrackedProviders(everyMs = 0): ProviderView[] {
   const { store, source } = useData();
-  const providers = useProvidersAtMost(throttleMs);
+  const providers = useProvidersOnFrame(undefined, everyMs);
   const idList = providers.map((p) => p.id).join(",");
   const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
   const live = useConnectionState() === "live";

@@ -9,9 +9,6 @@ import { freshness } from "../lib/freshness";
 import { fixCommandText, navSolutionText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
-/** The fix is shown at most this often: an operator does not read figures that change ten times a second. */
-const DRAW_MS = 250;
-
 export function FixPanel() {
   const selected = useSelector((s) => s.selected);
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
@@ -19,8 +16,8 @@ export function FixPanel() {
   const now = useNow();
   const history = useHistory(link ? selected : null);
   const [useDms, setDms] = useDmsSetting();
-  const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
-  const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
+  const fixView = useSelectedTopic("GPSFixReport");
+  const statusView = useSelectedTopic("GPSFixStatusReport");
   const fix = viewReport(fixView);
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;

@@ -28,7 +28,7 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 }
 
 export function InsPanel() {
-  const view = useSelectedTopic("InertialSensorReport", 250); // read by eye: at most 4 times a second
+  const view = useSelectedTopic("InertialSensorReport"); // drawn on the frame after it changed
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();

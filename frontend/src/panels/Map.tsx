@@ -7,10 +7,10 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useNow, useSelector, useStore } from "../data/hooks";
+import { useNow, useSelectedTopic, useSelector, useStore } from "../data/hooks";
 import { useChartConfigured, useTrackedProviders, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
-import { select } from "../data/store";
+import { select, type ProviderView, type TopicView } from "../data/store";
 import { bearingDeg, distanceText, pathLengthM, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
 import { useTheme } from "../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
@@ -30,13 +30,16 @@ import {
 } from "./map/hooks";
 import { fitAll, vehicleMark } from "./map/layers";
 
-/** The vehicles, tracks and origins are redrawn at most this often (and only when they changed): a
- * redraw of the map costs a frame or more without a GPU, and vehicles at sea move a few metres a second. */
-const MAP_UPDATE_MS = 1000;
+/** The fleet (every vehicle's mark, tracks and origins) is redrawn on the first frame at least this long after
+ * the last (and only when it changed): a redraw of the map costs a frame or more without a GPU, and vehicles at
+ * sea move a few metres a second. The selected vehicle's mark moves on the frame after each of its fixes. */
+const FLEET_EVERY_MS = 500;
 
 export function MapPanel() {
-  const providers = useTrackedProviders(MAP_UPDATE_MS);
+  const fleet = useTrackedProviders(FLEET_EVERY_MS);
+  const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
+  const providers = useMemo(() => withNewestFix(fleet, selected, selectedFix), [fleet, selected, selectedFix]);
   const store = useStore();
   const now = useNow(1000);
   const worldModel = useWorldModel();
@@ -151,4 +154,11 @@ export function MapPanel() {
       </p>
     </Panel>
   );
+}
+
+/** The fleet as last drawn, with the selected vehicle's newest fix (it moves on every frame, the rest at the
+ * fleet's rate): the vehicles' source is updated at most once a frame, when the selected vehicle moved. */
+function withNewestFix(fleet: ProviderView[], selected: string | null, fix: TopicView<"GPSFixReport"> | null): ProviderView[] {
+  if (!fix || !selected) return fleet;
+  return fleet.map((p) => (p.id !== selected || p.topics.GPSFixReport === fix ? p : { ...p, topics: { ...p.topics, GPSFixReport: fix } }));
 }

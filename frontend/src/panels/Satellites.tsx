@@ -12,9 +12,6 @@ import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
 const R = 120;
-/** The satellites are redrawn at most this often: 40 rows, markers, trails and bars are much to lay out
- * and paint, and a sky changes little in half a second. */
-const DRAW_MS = 500;
 
 function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: number; fill: string; stroke: string }) {
   const s = 6;
@@ -212,8 +209,8 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
 const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
-  const view = useSelectedTopic("GPSReport", DRAW_MS);
-  const trails = useSelectedTrails(DRAW_MS);
+  const view = useSelectedTopic("GPSReport");
+  const trails = useSelectedTrails();
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
