@@ -49,7 +49,7 @@ export function InsPanel() {
           <div className="badges">
             <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={umaa("state", ins.state)}>INS {insStateText(ins.state).toLowerCase()}</span>
             <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>{insStatusText(ins.status)}</span>
-            <span className="muted">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
+            <span className="muted" data-testid="ins-time">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
           </div>
           {failed && (
             <div className="alarm" role="alert" data-testid="ins-failure">

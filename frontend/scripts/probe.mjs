@@ -1,0 +1,112 @@
+// Sample to pixel in headless Chromium (bench/probe.py drives it): the dashboard opened on a probe vehicle whose
+// shown values encode a sequence number (latitude, INS time, satellites in view). A MutationObserver on each panel
+// records every change of the shown value, stamped after the next frame (rAF, then a task: the frame has been
+// painted); the map's vehicle source updates are recorded from setData and stamped after the map's next render once the
+// worker has them.
+// Also, over the same window: frame intervals, long tasks, render counts (?renders) and the CPU time of the
+// renderer and GPU processes (CDP SystemInfo.getProcessInfo). First: a new client's time from navigation to the
+// full dashboard (fix, INS and satellites shown, the map ready).
+// Usage: node scripts/probe.mjs <console URL> <probe vehicle id> [seconds=20] [--no-map]
+// Prints one JSON line.
+import { launchChromium } from "./browser.mjs";
+
+const argv = process.argv.slice(2);
+const noMap = argv.includes("--no-map");
+const [url, probe, seconds = "20"] = argv.filter((a) => !a.startsWith("--"));
+const WATCHED = { latitude: "fix-panel", "ins-time": "ins-panel", "sats-in-view": "satellites-panel" };
+
+const browser = await launchChromium(["--enable-precise-memory-info"]);
+try {
+  const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
+  if (noMap) await context.addInitScript(() => localStorage.setItem("sem-console.collapsed", JSON.stringify(["map-panel"])));
+  const page = await context.newPage();
+  await page.goto(`${url}/?renders&vehicle=${probe}`);
+  // a new client: navigation to every panel's value shown and the map ready (ms since navigation start)
+  const full = await page.waitForFunction(({ ids, noMap }) => {
+    const shown = ids.every((id) => {
+      const t = document.querySelector(`[data-testid="${id}"]`)?.textContent;
+      return t && t !== "—";
+    });
+    const map = noMap || document.querySelector('[data-testid="map"][data-ready="true"]');
+    return shown && map ? performance.now() : false;
+  }, { ids: Object.keys(WATCHED), noMap }, { polling: "raf", timeout: 60_000 });
+  const fullMs = await full.jsonValue();
+  await page.waitForTimeout(3000); // settle: the map's first frame, the tracks' REST loads
+  const cdp = await browser.newBrowserCDPSession();
+  const cpu = async () => {
+    const { processInfo } = await cdp.send("SystemInfo.getProcessInfo");
+    const sum = (type) => processInfo.filter((p) => p.type === type).reduce((a, p) => a + p.cpuTime, 0);
+    return { renderer: sum("renderer"), gpu: sum("GPU") };
+  };
+  const cpuStart = await cpu();
+  const run = await page.evaluate(({ ms, watched, probe, noMap }) => new Promise((resolve) => {
+    const wall = () => performance.timeOrigin + performance.now();
+    const afterFrame = (f) => requestAnimationFrame(() => setTimeout(f, 0));
+    const shown = [];
+    const observers = [];
+    for (const [id, panel] of Object.entries(watched)) {
+      let last = null;
+      const check = () => {
+        const text = document.querySelector(`[data-testid="${id}"]`)?.textContent ?? null;
+        if (text === last) return;
+        last = text;
+        afterFrame(() => shown.push([id, text, wall()]));
+      };
+      const o = new MutationObserver(check);
+      o.observe(document.querySelector(`[data-testid="${panel}"]`), { subtree: true, childList: true, characterData: true });
+      observers.push(o);
+    }
+    // the map: the probe's latitude in each update of the vehicles' source, stamped after the next render
+    const map = [];
+    const m = window.__semMap;
+    if (!noMap && m) {
+      const src = m.getSource("vehicles");
+      const setData = src.setData.bind(src);
+      let pending = null;
+      src.setData = (fc, ...rest) => {
+        const f = fc.features.find((x) => x.properties?.id === probe);
+        if (f) pending = f.geometry.coordinates[1].toFixed(6);
+        return setData(fc, ...rest);
+      };
+      // the worker has the new data (the latest set: MapLibre sends only the newest of updates made meanwhile),
+      // then the map's next render draws it
+      let loaded = null;
+      m.on("data", (e) => {
+        if (e.sourceId !== "vehicles" || e.sourceDataType !== "content" || pending === null) return;
+        loaded = pending;
+        pending = null;
+      });
+      m.on("render", () => {
+        if (loaded === null) return;
+        const lat = loaded;
+        loaded = null;
+        afterFrame(() => map.push([lat, wall()]));
+      });
+    }
+    const longTasks = [];
+    const lt = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
+    lt.observe({ type: "longtask" });
+    const rendersStart = { ...(window.__semRenders ?? {}) };
+    const frames = [];
+    const t0 = performance.now();
+    const start = wall();
+    let last = t0;
+    const tick = (t) => {
+      frames.push(t - last);
+      last = t;
+      if (t < t0 + ms) return requestAnimationFrame(tick);
+      lt.disconnect();
+      for (const o of observers) o.disconnect();
+      const elapsed = (t - t0) / 1000;
+      const renders = {};
+      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
+      setTimeout(() => resolve({ shown, map, frames: frames.slice(1), longTasks, renders, start, end: wall(), elapsed }), 100);
+    };
+    requestAnimationFrame(tick);
+  }), { ms: Number(seconds) * 1000, watched: WATCHED, probe, noMap });
+  const cpuEnd = await cpu();
+  const cores = (k) => +((cpuEnd[k] - cpuStart[k]) / run.elapsed).toFixed(3);
+  console.log(JSON.stringify({ ...run, full_dashboard_ms: +fullMs.toFixed(1), renderer_cores: cores("renderer"), gpu_cores: cores("gpu") }));
+} finally {
+  await browser.close();
+}
