@@ -8,7 +8,7 @@
 // full dashboard (fix, INS and satellites shown, the map ready).
 // Usage: node scripts/probe.mjs <console URL> <probe vehicle id> [seconds=20] [--no-map]
 // Prints one JSON line.
-import { launchChromium } from "./browser.mjs";
+import { launchChromium, startMeter } from "./browser.mjs";
 
 const argv = process.argv.slice(2);
 const noMap = argv.includes("--no-map");
@@ -39,7 +39,8 @@ try {
     return { renderer: sum("renderer"), gpu: sum("GPU") };
   };
   const cpuStart = await cpu();
-  const run = await page.evaluate(({ ms, watched, probe, noMap }) => new Promise((resolve) => {
+  await page.evaluate(startMeter);
+  const watched = await page.evaluate(({ ms, watched, probe, noMap }) => new Promise((resolve) => {
     const wall = () => performance.timeOrigin + performance.now();
     const afterFrame = (f) => requestAnimationFrame(() => setTimeout(f, 0));
     const shown = [];
@@ -83,27 +84,14 @@ try {
         afterFrame(() => map.push([lat, wall()]));
       });
     }
-    const longTasks = [];
-    const lt = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
-    lt.observe({ type: "longtask" });
-    const rendersStart = { ...(window.__semRenders ?? {}) };
-    const frames = [];
-    const t0 = performance.now();
     const start = wall();
-    let last = t0;
-    const tick = (t) => {
-      frames.push(t - last);
-      last = t;
-      if (t < t0 + ms) return requestAnimationFrame(tick);
-      lt.disconnect();
+    setTimeout(() => {
       for (const o of observers) o.disconnect();
-      const elapsed = (t - t0) / 1000;
-      const renders = {};
-      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
-      setTimeout(() => resolve({ shown, map, frames: frames.slice(1), longTasks, renders, start, end: wall(), elapsed }), 100);
-    };
-    requestAnimationFrame(tick);
+      const end = wall();
+      setTimeout(() => resolve({ shown, map, start, end }), 100); // the last changes' stamps
+    }, ms);
   }), { ms: Number(seconds) * 1000, watched: WATCHED, probe, noMap });
+  const run = { ...watched, ...(await page.evaluate(() => window.__semMeter.stop())) };
   const cpuEnd = await cpu();
   const cores = (k) => +((cpuEnd[k] - cpuStart[k]) / run.elapsed).toFixed(3);
   console.log(JSON.stringify({ ...run, full_dashboard_ms: +fullMs.toFixed(1), renderer_cores: cores("renderer"), gpu_cores: cores("gpu") }));

@@ -2,6 +2,7 @@ import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../api/types";
 import { Field, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
+import { useSelectedSatellitesLoaded } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { viewReport, type TrailPoint } from "../data/store";
 import { freshness } from "../lib/freshness";
@@ -209,6 +210,7 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
 const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
+  useSelectedSatellitesLoaded(); // the snapshot left them out
   const view = useSelectedTopic("GPSReport");
   const trails = useSelectedTrails();
   const link = useSelectedLink();
