@@ -8,6 +8,7 @@ counts as shown when it or a later one is on screen (its latency: its write to t
 change, how old the value shown is; "drawn": the share of samples that were on screen themselves.
 Runs 1, 20 and 50 vehicles (the simulator's at 10 Hz with 40 satellites) and a fleet of --fleet vehicles at the
 simulator's default rates; with 50, a new client's time to the full dashboard and the snapshot's size.
+The probe's GPSFixReports are stamped as they reach the page too: the console's and the machine's part.
 Every figure is printed beside its target (issue 24's list), then one JSON line with the date, the machine and
 its load average.
 Usage: python bench/probe.py [--seconds 20] [--fleet 250]
@@ -178,12 +179,15 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         seq = round((float(lat) - LAT0) / LAT_STEP)
         if seq in written.at:
             marker.append((seq, t / 1000))
+    to_page = [(t / 1000 - written.at[seq]) * 1000 for lat, t in page["arrived"]
+               if (seq := round((float(lat) - LAT0) / LAT_STEP)) in written.at]
     frames = sorted(page["frames"])
     drawn_fix = panels["latitude"]["drawn"] * RATE_HZ  # samples drawn per second
     return {
         "vehicles": vehicles,
         "panels": panels,
         "map_marker": latencies(marker, written, start, end),
+        "fix_to_page": q(to_page),  # write to the page's WebSocket: the console's and the machine's part
         "map_vehicle_updates_per_s": page["renders"].get("map:vehicles-data", 0),
         "frame_p50_ms": round(percentile(frames, 50), 1) if frames else None,
         "frame_p95_ms": round(percentile(frames, 95), 1) if frames else None,
@@ -227,6 +231,8 @@ def main() -> None:
             rows.append([name, panel, s["p50"], s["p95"], s["p99"], a["p50"], a["p95"], a["p99"], f["drawn"], r["load"]])
     table("Sample to pixel (ms), headless Chromium, software WebGL", ["vehicles", "shown value", "per sample p50", "p95", "p99",
           "age p50", "p95", "p99", "drawn", "load avg"], rows)
+    table("The probe's GPSFixReport, write to the page's WebSocket (ms): the console's and the machine's part",
+          ["vehicles", "p50", "p95", "p99", "load avg"], [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()])
     table("Cost", ["vehicles", "renderer cores", "GPU cores", "renderer ms / drawn sample", "frame p50", "p95", "long tasks",
                    "longest", "map vehicle updates/s", "full dashboard ms", "snapshot kB"],
           [[n, r["renderer_cores"], r["gpu_cores"], r["renderer_ms_per_drawn_sample"], r["frame_p50_ms"], r["frame_p95_ms"],

@@ -5,7 +5,8 @@
 // worker has them.
 // Also, over the same window: frame intervals, long tasks, render counts (?renders) and the CPU time of the
 // renderer and GPU processes (CDP SystemInfo.getProcessInfo). First: a new client's time from navigation to the
-// full dashboard (fix, INS and satellites shown, the map ready).
+// full dashboard (fix, INS and satellites shown, the map ready). The probe's fix reports are stamped as they reach the
+// page too (a WebSocket wrapped before the dashboard loads).
 // Usage: node scripts/probe.mjs <console URL> <probe vehicle id> [seconds=20] [--no-map]
 // Prints one JSON line.
 import { launchChromium, startMeter } from "./browser.mjs";
@@ -19,6 +20,22 @@ const browser = await launchChromium(["--enable-precise-memory-info"]);
 try {
   const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
   if (noMap) await context.addInitScript(() => localStorage.setItem("sem-console.collapsed", JSON.stringify(["map-panel"])));
+  // the probe's GPSFixReports as they reach the page (before the dashboard applies them): the part of the latency
+  // that is the console's and the machine's, not the rendering's
+  await context.addInitScript((probe) => {
+    const arrived = (window.__probeArrivals = []);
+    const Base = window.WebSocket;
+    window.WebSocket = class extends Base {
+      constructor(...args) {
+        super(...args);
+        this.addEventListener("message", (e) => {
+          if (typeof e.data !== "string" || !e.data.includes(probe) || !e.data.includes('"GPSFixReport"')) return;
+          const lat = JSON.parse(e.data).report?.report?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
+          if (typeof lat === "number") arrived.push([lat.toFixed(6), performance.timeOrigin + performance.now()]);
+        });
+      }
+    };
+  }, probe);
   const page = await context.newPage();
   await page.goto(`${url}/?renders&vehicle=${probe}`);
   // a new client: navigation to every panel's value shown and the map ready (ms since navigation start)
@@ -88,7 +105,8 @@ try {
     setTimeout(() => {
       for (const o of observers) o.disconnect();
       const end = wall();
-      setTimeout(() => resolve({ shown, map, start, end }), 100); // the last changes' stamps
+      const arrived = window.__probeArrivals.filter(([, t]) => t >= start && t <= end);
+      setTimeout(() => resolve({ shown, map, arrived, start, end }), 100); // the last changes' stamps
     }, ms);
   }), { ms: Number(seconds) * 1000, watched: WATCHED, probe, noMap });
   const run = { ...watched, ...(await page.evaluate(() => window.__semMeter.stop())) };

@@ -1,4 +1,4 @@
-import { Field, Panel, invalidFor } from "../components/Panel";
+import { Field, Foldable, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
 import { useHistory } from "../data/loaders";
@@ -10,6 +10,14 @@ import { fixCommandText, navSolutionText, timeOutText, umaa } from "../lib/label
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
 export function FixPanel() {
+  return (
+    <Foldable title="GPS fix" testId="fix-panel">
+      <FixBody />
+    </Foldable>
+  );
+}
+
+function FixBody() {
   const selected = useSelector((s) => s.selected);
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const link = useSelectedLink();

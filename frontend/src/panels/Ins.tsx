@@ -1,5 +1,5 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
-import { Panel } from "../components/Panel";
+import { Foldable, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
 import { viewReport } from "../data/store";
@@ -28,6 +28,14 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 }
 
 export function InsPanel() {
+  return (
+    <Foldable title="Inertial sensor" testId="ins-panel">
+      <InsBody />
+    </Foldable>
+  );
+}
+
+function InsBody() {
   const view = useSelectedTopic("InertialSensorReport"); // drawn on the frame after it changed
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"

@@ -1,6 +1,6 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../api/types";
-import { Field, Panel } from "../components/Panel";
+import { Field, Foldable, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
 import { useSelectedSatellitesLoaded } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
@@ -210,6 +210,14 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
 const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
+  return (
+    <Foldable title="Satellites" testId="satellites-panel" className="wide">
+      <SatellitesBody />
+    </Foldable>
+  );
+}
+
+function SatellitesBody() {
   useSelectedSatellitesLoaded(); // the snapshot left them out
   const view = useSelectedTopic("GPSReport");
   const trails = useSelectedTrails();
