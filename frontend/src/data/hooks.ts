@@ -128,11 +128,16 @@ export function useProvidersOnFrame(same?: (a: Record<string, ProviderView>, b: 
  * vehicles with the same name, link, fix validity and INS state and status, last heard of in the same
  * `seenStep` seconds (the overview shows ages to that step). */
 export function sameOverview(seenStep: number): (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean {
+  const keys = new WeakMap<ProviderView, string>(); // a view's key, computed once (a frame compares every vehicle)
   const key = (p: ProviderView) => {
+    let k = keys.get(p);
+    if (k !== undefined) return k;
     const ins = report(p, "InertialSensorReport");
     let seen = -Infinity;
     for (const t of Object.values(p.topics)) seen = Math.max(seen, t.at);
-    return `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}|${Math.floor(seen / seenStep)}`;
+    k = `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}|${Math.floor(seen / seenStep)}`;
+    keys.set(p, k);
+    return k;
   };
   return (a, b) => {
     if (a === b) return true;
