@@ -78,7 +78,7 @@ try {
     const map = [];
     const m = window.__semMap;
     if (!noMap && m) {
-      const src = m.getSource("vehicles");
+      const src = m.getSource("selected"); // the probe is the selected vehicle: its mark is in a source of its own
       const setData = src.setData.bind(src);
       let pending = null;
       src.setData = (fc, ...rest) => {
@@ -90,7 +90,7 @@ try {
       // then the map's next render draws it
       let loaded = null;
       m.on("data", (e) => {
-        if (e.sourceId !== "vehicles" || e.sourceDataType !== "content" || pending === null) return;
+        if (e.sourceId !== "selected" || e.sourceDataType !== "content" || pending === null) return;
         loaded = pending;
         pending = null;
       });

@@ -29,6 +29,9 @@ export class Store {
   /** `selected`: the vehicle to show first (the page's ?vehicle= link), null for none. */
   constructor(selected: string | null = null) {
     this.state = { ...initialState, selected };
+    // hidden with a frame asked for: the browser runs no frames, so the queue is applied on the timer instead
+    if (typeof document !== "undefined" && typeof document.addEventListener === "function")
+      document.addEventListener("visibilitychange", () => document.hidden && this.scheduled && setTimeout(this.flushJob, 50));
   }
 
   getState = (): State => this.state;

@@ -31,9 +31,10 @@ import {
 import { fitAll, vehicleMark } from "./map/layers";
 
 /** The fleet (every vehicle's mark, tracks and origins) is redrawn on the first frame at least this long after
- * the last (and only when it changed): a redraw of the map costs a frame or more without a GPU, and vehicles at
- * sea move a few metres a second. The selected vehicle's mark moves on the frame after each of its fixes. */
-const FLEET_EVERY_MS = 500;
+ * the last (and only when it changed), so at least twice a second while vehicles move: a redraw of the map costs
+ * a frame or more without a GPU, and vehicles at sea move a few metres a second. The selected vehicle's mark, in
+ * a source of its own, moves on the frame after each of its fixes. */
+const FLEET_EVERY_MS = 450;
 
 export function MapPanel() {
   const fleet = useTrackedProviders(FLEET_EVERY_MS);

@@ -29,7 +29,7 @@ import type { Theme } from "../../lib/theme";
 import { vehicleColor } from "../../lib/vehicle";
 import type { MapTool } from "../CoMap";
 import type { CursorStore } from "./MapCursor";
-import { addLayers, fitAll, originOf, source } from "./layers";
+import { VEHICLE_DOTS, VEHICLE_HITS, addLayers, fitAll, originOf, source } from "./layers";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
@@ -201,7 +201,7 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
         const f = map.queryRenderedFeatures(e.point, { layers: ["edit-handle", "wm-point", "wm-line", "wm-fill"] })[0];
         return setPicked(f?.properties?.featureId ?? null);
       }
-      const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
+      const hit = map.queryRenderedFeatures(e.point, { layers: VEHICLE_HITS })[0];
       const id = hit?.properties?.id as string | undefined;
       if (id) {
         store.update((s) => select(s, id));
@@ -242,7 +242,7 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
  * (an edge arrow's click: `onPick`). */
 export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMark[], onPick: (map: MapLibre, m: VehicleMark) => void): void {
   const overlay = useRef<VehicleOverlay | null>(null);
-  const drawn = useRef<{ map: MapLibre | null; json: string }>({ map: null, json: "" }); // what the source holds now
+  const drawn = useRef<{ map: MapLibre | null; json: string; selected: string }>({ map: null, json: "", selected: "" }); // what the sources hold now
   const pick = useRef(onPick);
   useEffect(() => {
     pick.current = onPick;
@@ -260,13 +260,19 @@ export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMa
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const fc = vehiclesGeoJson(marks);
-    for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-    const json = JSON.stringify(fc);
-    if (drawn.current.map === map && json === drawn.current.json) return; // nothing moved or changed: no redraw
-    drawn.current = { map, json };
-    source(map, "vehicles")?.setData(fc);
-    countRender("map:vehicles-data");
+    if (drawn.current.map !== map) drawn.current = { map, json: "", selected: "" }; // a new map holds nothing
+    // the fleet and the selected vehicle each only when it moved or changed (no redraw else)
+    const update = (id: "vehicles" | "selected", ms: VehicleMark[]) => {
+      const fc = vehiclesGeoJson(ms);
+      for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+      const json = JSON.stringify(fc);
+      if (json === drawn.current[id === "vehicles" ? "json" : "selected"]) return;
+      drawn.current = { ...drawn.current, [id === "vehicles" ? "json" : "selected"]: json };
+      source(map, id)?.setData(fc);
+      countRender(`map:${id}-data`);
+    };
+    update("vehicles", marks.filter((m) => !m.selected));
+    update("selected", marks.filter((m) => m.selected));
   }, [mapRef, ready, marks]);
   // the names and edge arrows, at the same bounded rate as the vehicles' data
   useEffect(() => {
@@ -361,9 +367,9 @@ export function useDrawnCounts(mapRef: MapRef, ready: boolean): { landDrawn: num
     const map = mapRef.current;
     if (!ready || !map) return;
     const count = setInterval(() => {
-      if (!map.getLayer("vehicle-dot")) return; // layers not added yet
+      if (!map.getLayer("selected-dot")) return; // layers not added yet
       setLandDrawn(map.queryRenderedFeatures({ layers: ["land"] }).length);
-      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: ["vehicle-dot"] }).map((f) => f.properties?.id)).size);
+      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: VEHICLE_DOTS }).map((f) => f.properties?.id)).size);
     }, 1000);
     return () => clearInterval(count);
   }, [mapRef, ready]);
