@@ -188,7 +188,7 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         "panels": panels,
         "map_marker": latencies(marker, written, start, end),
         "fix_to_page": q(to_page),  # write to the page's WebSocket: the console's and the machine's part
-        "map_vehicle_updates_per_s": page["renders"].get("map:vehicles-data", 0) + page["renders"].get("map:selected-data", 0),
+        "map_vehicle_updates_per_s": round(sum(page["renders"].get(f"map:{k}-data", 0) for k in ("vehicles", "selected")), 2),
         "map_fleet_updates_per_s": page["renders"].get("map:vehicles-data", 0),
         "frame_p50_ms": round(percentile(frames, 50), 1) if frames else None,
         "frame_p95_ms": round(percentile(frames, 95), 1) if frames else None,
