@@ -10,7 +10,7 @@ import { useToken } from "../data/auth";
 import { useNow, useSelectedTopic, useSelector, useStore } from "../data/hooks";
 import { useChartConfigured, useTrackedProviders, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
-import { select, type ProviderView, type TopicView } from "../data/store";
+import { select } from "../data/store";
 import { bearingDeg, distanceText, pathLengthM, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
 import { useTheme } from "../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
@@ -40,7 +40,7 @@ export function MapPanel() {
   const fleet = useTrackedProviders(FLEET_EVERY_MS);
   const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
-  const providers = useMemo(() => withNewestFix(fleet, selected, selectedFix), [fleet, selected, selectedFix]);
+
   const store = useStore();
   const now = useNow(1000);
   const worldModel = useWorldModel();
@@ -61,7 +61,13 @@ export function MapPanel() {
   const [draft, setDraft] = useState<FeatureCollection | null>(null);
   const shownModel = useMemo(() => (draft ? withLiveCoverage(draft, worldModel) : worldModel), [draft, worldModel]);
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
-  const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
+  // the fleet's marks change at the fleet's rate; the selected vehicle's, with its newest fix, on every frame after one
+  const fleetMarks = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null && !v.selected), [fleet, now, selected]);
+  const selectedMark = useMemo(() => {
+    const p = fleet.find((v) => v.id === selected);
+    return p ? vehicleMark(selectedFix ? { ...p, topics: { ...p.topics, GPSFixReport: selectedFix } } : p, now, selected) : null;
+  }, [fleet, selected, selectedFix, now]);
+  const marks = useMemo(() => (selectedMark ? [...fleetMarks, selectedMark] : fleetMarks), [fleetMarks, selectedMark]);
   const toolPoints = useMemo(
     () => (tool === "measure" ? measure : tool === "draw" ? drawn : tool === "move-target" && moveTarget ? [moveTarget] : []),
     [tool, measure, drawn, moveTarget],
@@ -81,8 +87,8 @@ export function MapPanel() {
     },
     [store],
   );
-  useVehicleLayer(mapRef, ready, marks, pickEdge);
-  useTrackLayer(mapRef, ready, providers, selected);
+  useVehicleLayer(mapRef, ready, fleetMarks, selectedMark, marks, pickEdge);
+  useTrackLayer(mapRef, ready, fleet, selected);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);
   useFitAll(mapRef, ready, marks, follow, land, landLoaded);
@@ -121,7 +127,7 @@ export function MapPanel() {
         <div className="map-status">
           <MapCursor cursor={cursor} useDms={useDms} />
           {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
-          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {providers.length} vehicles drawn</span>
+          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {fleet.length} vehicles drawn</span>
           {measuring && (
             <span data-testid="map-distance">
               {measure.length < 2 ? "click points to measure" : `${distanceText(measured)} · last leg ${lastLeg!.toFixed(0)}°`}
@@ -155,11 +161,4 @@ export function MapPanel() {
       </p>
     </Panel>
   );
-}
-
-/** The fleet as last drawn, with the selected vehicle's newest fix (it moves on every frame, the rest at the
- * fleet's rate): the vehicles' source is updated at most once a frame, when the selected vehicle moved. */
-function withNewestFix(fleet: ProviderView[], selected: string | null, fix: TopicView<"GPSFixReport"> | null): ProviderView[] {
-  if (!fix || !selected) return fleet;
-  return fleet.map((p) => (p.id !== selected || p.topics.GPSFixReport === fix ? p : { ...p, topics: { ...p.topics, GPSFixReport: fix } }));
 }

@@ -238,11 +238,19 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
   }, [mapRef, ready, modelRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
 }
 
-/** The vehicles: their dots and course arrows (redrawn only when a mark changed), and their names and edge arrows
- * (an edge arrow's click: `onPick`). */
-export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMark[], onPick: (map: MapLibre, m: VehicleMark) => void): void {
+/** The vehicles: their dots and course arrows, the fleet's (`fleet`, without the selected one) and the selected
+ * vehicle's (`selected`) each in a source of its own, updated only when its marks changed; and every vehicle's name
+ * and edge arrow (`marks`; an edge arrow's click: `onPick`). */
+export function useVehicleLayer(
+  mapRef: MapRef,
+  ready: boolean,
+  fleet: VehicleMark[],
+  selected: VehicleMark | null,
+  marks: VehicleMark[],
+  onPick: (map: MapLibre, m: VehicleMark) => void,
+): void {
   const overlay = useRef<VehicleOverlay | null>(null);
-  const drawn = useRef<{ map: MapLibre | null; json: string; selected: string }>({ map: null, json: "", selected: "" }); // what the sources hold now
+  const drawn = useRef<Drawn>({ map: null, vehicles: "", selected: "" });
   const pick = useRef(onPick);
   useEffect(() => {
     pick.current = onPick;
@@ -259,25 +267,29 @@ export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMa
   }, [mapRef, ready]);
   useEffect(() => {
     const map = mapRef.current;
-    if (!ready || !map) return;
-    if (drawn.current.map !== map) drawn.current = { map, json: "", selected: "" }; // a new map holds nothing
-    // the fleet and the selected vehicle each only when it moved or changed (no redraw else)
-    const update = (id: "vehicles" | "selected", ms: VehicleMark[]) => {
-      const fc = vehiclesGeoJson(ms);
-      for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-      const json = JSON.stringify(fc);
-      if (json === drawn.current[id === "vehicles" ? "json" : "selected"]) return;
-      drawn.current = { ...drawn.current, [id === "vehicles" ? "json" : "selected"]: json };
-      source(map, id)?.setData(fc);
-      countRender(`map:${id}-data`);
-    };
-    update("vehicles", marks.filter((m) => !m.selected));
-    update("selected", marks.filter((m) => m.selected));
-  }, [mapRef, ready, marks]);
+    if (ready && map) setVehicles(drawn, map, "vehicles", fleet);
+  }, [mapRef, ready, fleet]);
+  useEffect(() => {
+    const map = mapRef.current;
+    if (ready && map) setVehicles(drawn, map, "selected", selected ? [selected] : []);
+  }, [mapRef, ready, selected]);
   // the names and edge arrows, at the same bounded rate as the vehicles' data
   useEffect(() => {
     if (ready) overlay.current?.set(marks);
   }, [ready, marks]);
+}
+
+type Drawn = { map: MapLibre | null; vehicles: string; selected: string }; // what the vehicle sources hold now
+
+/** Vehicle source `id` of `map` set to `marks`, only when they moved or changed (no redraw else). */
+function setVehicles(drawn: RefObject<Drawn>, map: MapLibre, id: "vehicles" | "selected", marks: VehicleMark[]): void {
+  const fc = vehiclesGeoJson(marks);
+  for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+  const json = JSON.stringify(fc);
+  if (drawn.current.map === map && json === drawn.current[id]) return;
+  drawn.current = drawn.current.map === map ? { ...drawn.current, [id]: json } : { map, vehicles: "", selected: "", [id]: json };
+  source(map, id)?.setData(fc);
+  countRender(`map:${id}-data`);
 }
 
 /** The vehicles' tracks (the selected one wider) and their GPSFixStatusReport origins. */
