@@ -8,7 +8,7 @@ counts as shown when it or a later one is on screen (its latency: its write to t
 change, how old the value shown is; "drawn": the share of samples that were on screen themselves.
 Runs 1, 20 and 50 vehicles (the simulator's at 10 Hz with 40 satellites) and a fleet of --fleet vehicles at the
 simulator's default rates; with 50, a new client's time to the full dashboard and the snapshot's size.
-The probe's GPSFixReports are stamped as they reach the page too: the console's and the machine's part.
+The probe's GPSFixReports are stamped as they reach the page's WebSocket too: what comes before the dashboard.
 Every figure is printed beside its target (issue 24's list), then one JSON line with the date, the machine and
 its load average.
 Usage: python bench/probe.py [--seconds 20] [--fleet 250]
@@ -187,7 +187,7 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         "vehicles": vehicles,
         "panels": panels,
         "map_marker": latencies(marker, written, start, end),
-        "fix_to_page": q(to_page),  # write to the page's WebSocket: the console's and the machine's part
+        "fix_to_page": q(to_page),  # write to the page's WebSocket message: the console, the socket, the page's queue
         "map_vehicle_updates_per_s": round(sum(page["renders"].get(f"map:{k}-data", 0) for k in ("vehicles", "selected")), 2),
         "map_fleet_updates_per_s": page["renders"].get("map:vehicles-data", 0),
         "frame_p50_ms": round(percentile(frames, 50), 1) if frames else None,
@@ -232,7 +232,7 @@ def main() -> None:
             rows.append([name, panel, s["p50"], s["p95"], s["p99"], a["p50"], a["p95"], a["p99"], f["drawn"], r["load"]])
     table("Sample to pixel (ms), headless Chromium, software WebGL", ["vehicles", "shown value", "per sample p50", "p95", "p99",
           "age p50", "p95", "p99", "drawn", "load avg"], rows)
-    table("The probe's GPSFixReport, write to the page's WebSocket (ms): the console's and the machine's part",
+    table("The probe's GPSFixReport, write to the page's WebSocket message (ms): all before the dashboard sees it",
           ["vehicles", "p50", "p95", "p99", "load avg"], [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()])
     table("Cost", ["vehicles", "renderer cores", "GPU cores", "renderer ms / drawn sample", "frame p50", "p95", "long tasks",
                    "longest", "map vehicle updates/s", "full dashboard ms", "snapshot kB"],

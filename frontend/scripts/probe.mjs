@@ -20,8 +20,8 @@ const browser = await launchChromium(["--enable-precise-memory-info"]);
 try {
   const context = await browser.newContext({ viewport: { width: 1440, height: 900 } });
   if (noMap) await context.addInitScript(() => localStorage.setItem("sem-console.collapsed", JSON.stringify(["map-panel"])));
-  // the probe's GPSFixReports as they reach the page (before the dashboard applies them): the part of the latency
-  // that is the console's and the machine's, not the rendering's
+  // the probe's GPSFixReports as the page's WebSocket gives them (before the dashboard applies them): the part of
+  // the latency before the rendering (the console, the socket's buffers, the page's queue of messages)
   await context.addInitScript((probe) => {
     const arrived = (window.__probeArrivals = []);
     const Base = window.WebSocket;
