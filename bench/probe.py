@@ -3,7 +3,7 @@
 (36.8 + seq x 1e-5 degrees), its InertialSensorReport's time stamp (the write time, shown to the millisecond)
 and its GPSReport's satellites in view (100 + seq mod 900), each written at 10 Hz beside the simulator's other
 vehicles. The page (frontend/scripts/probe.mjs) records every change of each shown value, stamped after the
-next frame, and the map's vehicle source updates, stamped after the map's next render. "Per sample": a sample
+next frame, and the map's marker of it (the ring over the selected vehicle) likewise. "Per sample": a sample
 counts as shown when it or a later one is on screen (its latency: its write to that); "shown value age": at each
 change, how old the value shown is; "drawn": the share of samples that were on screen themselves.
 Runs 1, 20 and 50 vehicles (the simulator's at 10 Hz with 40 satellites) and a fleet of --fleet vehicles at the

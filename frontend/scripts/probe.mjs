@@ -1,8 +1,7 @@
 // Sample to pixel in headless Chromium (bench/probe.py drives it): the dashboard opened on a probe vehicle whose
 // shown values encode a sequence number (latitude, INS time, satellites in view). A MutationObserver on each panel
 // records every change of the shown value, stamped after the next frame (rAF, then a task: the frame has been
-// painted); the map's vehicle source updates are recorded from setData and stamped after the map's next render once the
-// worker has them.
+// painted); the map's marker of the selected vehicle (the overlay's ring) likewise.
 // Also, over the same window: frame intervals, long tasks, render counts (?renders) and the CPU time of the
 // renderer and GPU processes (CDP SystemInfo.getProcessInfo). First: a new client's time from navigation to the
 // full dashboard (fix, INS and satellites shown, the map ready). The probe's fix reports are stamped as they reach the
@@ -74,32 +73,16 @@ try {
       o.observe(document.querySelector(`[data-testid="${panel}"]`), { subtree: true, childList: true, characterData: true });
       observers.push(o);
     }
-    // the map: the probe's latitude in each update of the vehicles' source, stamped after the next render
+    // the map: the selected vehicle's ring (HTML over the map, moved on the frame after its fix), its latitude
     const map = [];
-    const m = window.__semMap;
-    if (!noMap && m) {
-      const src = m.getSource("selected"); // the probe is the selected vehicle: its mark is in a source of its own
-      const setData = src.setData.bind(src);
-      let pending = null;
-      src.setData = (fc, ...rest) => {
-        const f = fc.features.find((x) => x.properties?.id === probe);
-        if (f) pending = f.geometry.coordinates[1].toFixed(6);
-        return setData(fc, ...rest);
-      };
-      // the worker has the new data (the latest set: MapLibre sends only the newest of updates made meanwhile),
-      // then the map's next render draws it
-      let loaded = null;
-      m.on("data", (e) => {
-        if (e.sourceId !== "selected" || e.sourceDataType !== "content" || pending === null) return;
-        loaded = pending;
-        pending = null;
-      });
-      m.on("render", () => {
-        if (loaded === null) return;
-        const lat = loaded;
-        loaded = null;
+    const ring = document.querySelector('[data-testid="map-selected"]');
+    if (!noMap && ring) {
+      const o = new MutationObserver(() => {
+        const lat = ring.dataset.lat;
         afterFrame(() => map.push([lat, wall()]));
       });
+      o.observe(ring, { attributes: true, attributeFilter: ["data-lat"] });
+      observers.push(o);
     }
     const start = wall();
     setTimeout(() => {

@@ -32,8 +32,8 @@ import { fitAll, vehicleMark } from "./map/layers";
 
 /** The fleet (every vehicle's mark, tracks and origins) is redrawn on the first frame at least this long after
  * the last (and only when it changed), so at least twice a second while vehicles move: a redraw of the map costs
- * a frame or more without a GPU, and vehicles at sea move a few metres a second. The selected vehicle's mark, in
- * a source of its own, moves on the frame after each of its fixes. */
+ * a frame or more without a GPU, and vehicles at sea move a few metres a second. The selected vehicle's ring (HTML
+ * over the map, no redraw) moves on the frame after each of its fixes. */
 const FLEET_EVERY_MS = 450;
 
 export function MapPanel() {
@@ -61,8 +61,11 @@ export function MapPanel() {
   const [draft, setDraft] = useState<FeatureCollection | null>(null);
   const shownModel = useMemo(() => (draft ? withLiveCoverage(draft, worldModel) : worldModel), [draft, worldModel]);
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
-  // the fleet's marks change at the fleet's rate; the selected vehicle's, with its newest fix, on every frame after one
-  const fleetMarks = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null && !v.selected), [fleet, now, selected]);
+  // the fleet's marks (drawn by the map, named by the overlay) change at the fleet's rate; the selected vehicle's,
+  // with its newest fix, on every frame after one (the overlay's ring, and what the map follows)
+  const fleetAll = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [fleet, now, selected]);
+  const fleetMarks = useMemo(() => fleetAll.filter((m) => !m.selected), [fleetAll]);
+  const drawnSelected = useMemo(() => fleetAll.find((m) => m.selected) ?? null, [fleetAll]);
   const selectedMark = useMemo(() => {
     const p = fleet.find((v) => v.id === selected);
     return p ? vehicleMark(selectedFix ? { ...p, topics: { ...p.topics, GPSFixReport: selectedFix } } : p, now, selected) : null;
@@ -87,7 +90,7 @@ export function MapPanel() {
     },
     [store],
   );
-  useVehicleLayer(mapRef, ready, fleetMarks, selectedMark, marks, pickEdge);
+  useVehicleLayer(mapRef, ready, { fleet: fleetMarks, selected: drawnSelected, all: fleetAll, newest: selectedMark }, pickEdge);
   useTrackLayer(mapRef, ready, fleet, selected);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);

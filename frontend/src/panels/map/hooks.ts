@@ -238,17 +238,20 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
   }, [mapRef, ready, modelRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
 }
 
-/** The vehicles: their dots and course arrows, the fleet's (`fleet`, without the selected one) and the selected
- * vehicle's (`selected`) each in a source of its own, updated only when its marks changed; and every vehicle's name
- * and edge arrow (`marks`; an edge arrow's click: `onPick`). */
-export function useVehicleLayer(
-  mapRef: MapRef,
-  ready: boolean,
-  fleet: VehicleMark[],
-  selected: VehicleMark | null,
-  marks: VehicleMark[],
-  onPick: (map: MapLibre, m: VehicleMark) => void,
-): void {
+/** The marks of the vehicle layer: the fleet's at its rate (`fleet` without the selected vehicle, `selected`, `all`),
+ * and the selected vehicle's newest (on every frame after its fix). */
+export interface VehicleMarks {
+  fleet: VehicleMark[];
+  selected: VehicleMark | null;
+  all: VehicleMark[];
+  newest: VehicleMark | null;
+}
+
+/** The vehicles: the map's dots and course arrows at the fleet's rate, the fleet's and the selected vehicle's each in
+ * a source of its own, updated only when its marks changed; every vehicle's name and edge arrow (an edge arrow's
+ * click: `onPick`); and the selected vehicle's ring at its newest position, moved without redrawing the map. */
+export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMarks, onPick: (map: MapLibre, m: VehicleMark) => void): void {
+  const { fleet, selected, all, newest } = marks;
   const overlay = useRef<VehicleOverlay | null>(null);
   const drawn = useRef<Drawn>({ map: null, vehicles: "", selected: "" });
   const pick = useRef(onPick);
@@ -275,8 +278,11 @@ export function useVehicleLayer(
   }, [mapRef, ready, selected]);
   // the names and edge arrows, at the same bounded rate as the vehicles' data
   useEffect(() => {
-    if (ready) overlay.current?.set(marks);
-  }, [ready, marks]);
+    if (ready) overlay.current?.set(all);
+  }, [ready, all]);
+  useEffect(() => {
+    if (ready) overlay.current?.setSelected(newest);
+  }, [ready, newest]);
 }
 
 type Drawn = { map: MapLibre | null; vehicles: string; selected: string }; // what the vehicle sources hold now
