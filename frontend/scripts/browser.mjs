@@ -21,3 +21,32 @@ export async function refuseOtherOrigins(page, url) {
   });
   return foreign;
 }
+
+/** In the page: start measuring frame intervals (requestAnimationFrame), long tasks and renders per panel (the
+ * dashboard's ?renders counters); `window.__semMeter.stop()` returns them over the window since. */
+export function startMeter() {
+  const longTasks = [];
+  const observer = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
+  observer.observe({ type: "longtask" });
+  const rendersStart = { ...(window.__semRenders ?? {}) };
+  const frames = [];
+  const t0 = performance.now();
+  let last = t0;
+  let running = true;
+  const tick = (t) => {
+    frames.push(t - last);
+    last = t;
+    if (running) requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+  window.__semMeter = {
+    stop: () => {
+      running = false;
+      observer.disconnect();
+      const elapsed = (performance.now() - t0) / 1000;
+      const renders = {};
+      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
+      return { frames: frames.slice(1), longTasks, renders, elapsed }; // the first interval starts mid-frame
+    },
+  };
+}

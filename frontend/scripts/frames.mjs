@@ -4,7 +4,7 @@
 // and panels collapsed by their collapse buttons.
 // Usage: node scripts/frames.mjs <console URL> [seconds=20] [--throttle N] [--collapse <panel test id>]...
 // Prints one JSON line.
-import { launchChromium } from "./browser.mjs";
+import { launchChromium, startMeter } from "./browser.mjs";
 
 const positional = [];
 const collapse = [];
@@ -36,28 +36,11 @@ try {
   await page.waitForTimeout(3000); // settle under the throttle
   const heap = () => page.evaluate(() => { globalThis.gc?.(); return performance.memory.usedJSHeapSize / 2 ** 20; });
   const heapStart = await heap();
-  const run = await page.evaluate((ms) => new Promise((resolve) => {
-    const longTasks = [];
-    const observer = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
-    observer.observe({ type: "longtask" });
-    const rendersStart = { ...(window.__semRenders ?? {}) };
-    const frames = [];
-    const t0 = performance.now();
-    let last = t0;
-    const tick = (t) => {
-      frames.push(t - last);
-      last = t;
-      if (t < t0 + ms) return requestAnimationFrame(tick);
-      observer.disconnect();
-      const elapsed = (t - t0) / 1000;
-      const renders = {};
-      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
-      resolve({ frames, longTasks, renders });
-    };
-    requestAnimationFrame(tick);
-  }), Number(seconds) * 1000);
+  await page.evaluate(startMeter);
+  await page.waitForTimeout(Number(seconds) * 1000);
+  const run = await page.evaluate(() => window.__semMeter.stop());
   const heapEnd = await heap();
-  const frames = run.frames.slice(1).sort((a, b) => a - b); // the first interval starts mid-frame
+  const frames = [...run.frames].sort((a, b) => a - b);
   const q = (p) => frames[Math.min(frames.length - 1, Math.floor(p * frames.length))];
   const r2 = (x) => +x.toFixed(2);
   console.log(JSON.stringify({

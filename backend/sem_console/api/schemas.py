@@ -410,7 +410,9 @@ class SnapshotMessage(_Model):
     consoleId: str
     serverTime: float
     authRequired: bool
-    providers: list[ProviderDetail]
+    providers: list[ProviderDetail] = Field(description=(
+        "every vehicle with its latest reports, its GPSReport's satellites left out (an empty list): only the selected "
+        "vehicle's are drawn, and GET /api/providers/{id} has them"))
     commands: list[Command]
     gateways: list[GatewayState]
     recording: RecordingStatus

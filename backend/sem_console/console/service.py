@@ -377,12 +377,21 @@ class Console:
     def provider_detail(self, p: Provider, now: float) -> dict[str, Any]:
         return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
+    def first_screen_detail(self, p: Provider, now: float) -> dict[str, Any]:
+        """A vehicle as the snapshot has it: its GPSReport without its satellites, which only the selected vehicle's
+        panel draws (it asks GET /api/providers/{id}); 40 satellites of each of 50 vehicles were most of a snapshot."""
+        detail = self.provider_detail(p, now)
+        gps = detail["reports"].get("GPSReport")
+        if gps and gps["report"].get("satellites"):
+            detail["reports"] = {**detail["reports"], "GPSReport": {**gps, "report": {**gps["report"], "satellites": []}}}
+        return detail
+
     def snapshot(self) -> dict[str, Any]:
         now = self.clock.monotonic()
         return {
             "type": "snapshot", "consoleId": str(self.id), "serverTime": self.clock.wall(),
             "authRequired": bool(self.settings.operators()),
-            "providers": [self.provider_detail(p, now) for p in self.providers.by_id.values()],
+            "providers": [self.first_screen_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "gateways": self.gateway_states(),
             "recording": self.recorder.status(),

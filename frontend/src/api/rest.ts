@@ -1,7 +1,7 @@
 // REST calls for commands, typed from the console's OpenAPI document.
 import type { components, paths } from "./generated/openapi";
 import type { Alarm } from "./generated/ws";
-import type { Command, LinkConfig, RecordingStatus, ReplayStatus } from "./types";
+import type { Command, LinkConfig, RecordingStatus, ReplayStatus, TypedProviderDetail } from "./types";
 
 type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
@@ -118,6 +118,11 @@ type SeriesPoint = paths["/api/providers/{provider_id}/series"]["get"]["response
 /** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
 export function series(providerId: string, since: string, token: string | null): Promise<SeriesPoint[]> {
   return call<SeriesPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/series?since=${encodeURIComponent(since)}`, token);
+}
+
+/** A vehicle with its latest reports, in full (GET /api/providers/{id}): the snapshot leaves out the satellites. */
+export function providerDetail(providerId: string, token: string | null): Promise<TypedProviderDetail> {
+  return call<TypedProviderDetail>("GET", `/api/providers/${encodeURIComponent(providerId)}`, token);
 }
 
 /** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */

@@ -50,6 +50,19 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
   );
 }
 
+/** A panel whose body (`children`, the component that subscribes to what the panel draws) exists only while the
+ * panel is open: collapsed, it subscribes to nothing and draws nothing but its title bar. */
+export function Foldable({ title, testId, className, children }: { title: string; testId: string; className?: string; children: ReactNode }) {
+  const [collapsed] = useCollapsed(testId);
+  return collapsed ? (
+    <Panel title={title} testId={testId} className={className}>
+      {null}
+    </Panel>
+  ) : (
+    children
+  );
+}
+
 interface FieldProps {
   label: string;
   value: string;

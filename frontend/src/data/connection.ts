@@ -2,6 +2,7 @@
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
 import type { ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
+import { onFrame } from "./frame";
 import { initialState, reduce, type State } from "./store";
 
 export type ConnectionState = SourceState;
@@ -28,6 +29,9 @@ export class Store {
   /** `selected`: the vehicle to show first (the page's ?vehicle= link), null for none. */
   constructor(selected: string | null = null) {
     this.state = { ...initialState, selected };
+    // hidden with a frame asked for: the browser runs no frames, so the queue is applied on the timer instead
+    if (typeof document !== "undefined" && typeof document.addEventListener === "function")
+      document.addEventListener("visibilitychange", () => document.hidden && this.scheduled && setTimeout(this.flushJob, 50));
   }
 
   getState = (): State => this.state;
@@ -59,9 +63,10 @@ export class Store {
     this.queue.push(msg);
     if (this.scheduled) return;
     this.scheduled = true;
-    const flush = () => this.flush();
-    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) requestAnimationFrame(flush);
-    else setTimeout(flush, 50);
+    // on the frame, before the panels it wakes draw in that same frame (frame.ts); a hidden page has no frames,
+    // and its state stays current for the tab's title and the alarm tone
+    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) onFrame(this.flushJob);
+    else setTimeout(this.flushJob, 50);
   }
 
   /** Forget everything the console sent (on sign-out when reads need a token); the operator's
@@ -76,6 +81,8 @@ export class Store {
   discardQueued(): void {
     this.queue = [];
   }
+
+  private flushJob = (): void => this.flush();
 
   flush(): void {
     this.scheduled = false;

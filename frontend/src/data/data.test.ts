@@ -375,3 +375,20 @@ describe("report payloads typed per topic", () => {
     expectTypeOf(report(s.providers[P], "InertialSensorReport")).toEqualTypeOf<InertialSensorReportType | null>();
   });
 });
+
+describe("the first screen: the snapshot's GPSReport without its satellites", () => {
+  it("is completed by the vehicle's REST detail, unless a report came since", async () => {
+    const { detailLoaded, selectedGpsPartial } = await import("./store");
+    const sats = [{ satelliteId: "s3", azimuth: 1, elevation: 0.5 }];
+    const full = { GPSReport: env({ satellites: sats, numberSatellitesInView: 1 }, [], 1) } as never;
+    const s = apply([snapshot()]);
+    expect(selectedGpsPartial(s)).toBe(true);
+    const done = detailLoaded(s, P, full);
+    expect(selectedGpsPartial(done)).toBe(false);
+    expect(report(done.providers[P], "GPSReport")?.satellites).toEqual(sats);
+    expect(detailLoaded(done, P, full)).toBe(done); // once: no longer partial
+    const live = apply([reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 0 }, [], 2)], s);
+    expect(selectedGpsPartial(live)).toBe(false); // the next report is whole
+    expect(detailLoaded(live, P, full)).toBe(live);
+  });
+});

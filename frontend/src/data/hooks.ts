@@ -3,9 +3,11 @@ import { createContext, useContext, useEffect, useMemo, useState, useSyncExterna
 import type { Alarm } from "../api/generated/ws";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import type { Store } from "./connection";
+import { frameSource, onFrame } from "./frame";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
 import {
   allProviders,
+  report,
   selectedJausId,
   selectedKnown,
   selectedLink,
@@ -42,103 +44,49 @@ export function useSelector<T>(select: (s: State) => T): T {
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));
 }
 
-/** Milliseconds to the next multiple of `ms` of the clock: throttled redraws and age timers of the same
- * period fall on the same instants, so the panels change in one frame (one layout) rather than each
- * in a frame of its own. */
+/** Milliseconds to the next multiple of `ms` of the clock: age timers of the same period fall on the same
+ * instants, so the panels showing ages change in one frame (one layout) rather than each in a frame of its own. */
 function toBoundary(ms: number): number {
   return ms - (Date.now() % ms);
 }
 
-/** The pending calls for the next multiple of `ms` of the clock, run by one timer: throttled slices of one
- * period are refreshed in the same task, so React renders a panel reading two of them (the sky plot's
- * satellites and trails) once, not once per slice. */
-const boundaries = new Map<number, Set<() => void>>();
-
+/** Call `fn` at the next multiple of `ms` of the clock; the result cancels it. */
 function atBoundary(ms: number, fn: () => void): () => void {
-  let due = boundaries.get(ms);
-  if (!due) {
-    const set = new Set<() => void>();
-    boundaries.set(ms, set);
-    setTimeout(() => {
-      boundaries.delete(ms);
-      for (const f of set) f();
-    }, toBoundary(ms));
-    due = set;
-  }
-  const set = due;
-  set.add(fn);
-  return () => set.delete(fn);
+  const t = setTimeout(fn, toBoundary(ms));
+  return () => clearTimeout(t);
 }
 
-/** `fn` called at most about once every `ms`: at once when it was quiet, else at the next multiple of
- * `ms` of the clock (with every call in between folded into one); `cancel` drops a pending call. */
-export function throttle(fn: () => void, ms: number): { (): void; cancel: () => void } {
-  let waiting: (() => void) | null = null; // cancels the wait for the next boundary
-  let pending = false;
-  const end = () => {
-    waiting = null;
-    if (!pending) return;
-    pending = false;
-    fn();
-    waiting = atBoundary(ms, end);
-  };
-  const call = () => {
-    if (waiting) {
-      pending = true;
-      return;
-    }
-    fn();
-    waiting = atBoundary(ms, end);
-  };
-  call.cancel = () => {
-    waiting?.();
-    waiting = null;
-    pending = false;
-  };
-  return call;
-}
-
-/** A slice of the state as an external store for useSyncExternalStore, notified at most every `throttleMs`
- * (0: on every change). Throttled, the value read is the one the last notification took, not the live one:
- * a render for another reason (a mouse move, a timer) shows the same value and does not bypass the cap. */
-export function sliceSource<T>(store: Store, select: (s: State) => T, throttleMs = 0): { subscribe: (onChange: () => void) => () => void; getSnapshot: () => T } {
-  if (!throttleMs) return { subscribe: (onChange) => store.subscribeTo(select, onChange), getSnapshot: () => select(store.getState()) };
-  let value = select(store.getState());
-  return {
-    subscribe: (onChange) => {
-      value = select(store.getState()); // what changed while nobody listened (useSyncExternalStore then renders it)
-      const t = throttle(() => {
-        value = select(store.getState());
-        onChange();
-      }, throttleMs);
-      const off = store.subscribeTo(select, t);
-      return () => {
-        off();
-        t.cancel();
-      };
-    },
-    getSnapshot: () => value,
-  };
+/** A slice of the state as an external store for useSyncExternalStore, notified on every change of it. */
+export function sliceSource<T>(store: Store, select: (s: State) => T): { subscribe: (onChange: () => void) => () => void; getSnapshot: () => T } {
+  return { subscribe: (onChange) => store.subscribeTo(select, onChange), getSnapshot: () => select(store.getState()) };
 }
 
 /** A slice of the state by a stable selector (a module-level function such as store.ts's
- * selectedTopic("GPSReport")): the component is woken only when the slice changes, and at most every
- * `throttleMs` when given (for overviews of every vehicle, which change with any report). */
-export function useSlice<T>(select: (s: State) => T, throttleMs = 0): T {
+ * selectedTopic("GPSReport")), at once on each change: for what the operator's own actions change (the
+ * selection); what reports change is drawn on the frame (useFrameValue). */
+export function useSlice<T>(select: (s: State) => T): T {
   const { store } = useData();
-  const src = useMemo(() => sliceSource(store, select, throttleMs), [store, select, throttleMs]);
+  const src = useMemo(() => sliceSource(store, select), [store, select]);
   return useSyncExternalStore(src.subscribe, src.getSnapshot);
 }
 
-/** The selected vehicle's latest report of one topic (null: none yet or none selected), at most every
- * `throttleMs` when given (text and plots an operator reads need not change at the report's 10 Hz). */
-export function useSelectedTopic<T extends Topic>(topic: T, throttleMs = 0): TopicView<T> | null {
-  return useSlice(selectedTopic(topic), throttleMs);
+/** The rendering model (frame.ts): the slice `select` (a stable selector) drawn on the animation frame after it
+ * changed, with the newest value then; at most once a frame, nothing while the page is hidden. `same` (stable
+ * too) says when a new value draws as the old one did, so the panel skips that frame. */
+export function useFrameValue<T>(select: (s: State) => T, same?: (a: T, b: T) => boolean, everyMs = 0): T {
+  const { store } = useData();
+  const src = useMemo(() => frameSource(store, select, same, everyMs), [store, select, same, everyMs]);
+  return useSyncExternalStore(src.subscribe, src.getSnapshot);
 }
 
-/** The selected vehicle's satellite trails. */
-export function useSelectedTrails(throttleMs = 0): Record<string, TrailPoint[]> {
-  return useSlice(selectedTrails, throttleMs);
+/** The selected vehicle's latest report of one topic (null: none yet or none selected), on the frame. */
+export function useSelectedTopic<T extends Topic>(topic: T): TopicView<T> | null {
+  return useFrameValue(selectedTopic(topic));
+}
+
+/** The selected vehicle's satellite trails, on the frame. */
+export function useSelectedTrails(): Record<string, TrailPoint[]> {
+  return useFrameValue(selectedTrails);
 }
 
 /** The selected vehicle's link state (null: none selected or not on the bus). */
@@ -168,11 +116,35 @@ export function useSelectedVehicle(): SelectedVehicle | null {
 
 const selectedId = (s: State): string | null => s.selected;
 
-/** Every vehicle, sorted by id, refreshed at most every `throttleMs` (an overview: it changes with
- * every report of every vehicle). */
-export function useProvidersAtMost(throttleMs: number): ProviderView[] {
-  const providers = useSlice(allProviders, throttleMs);
+/** Every vehicle, sorted by id, on the frame; `same` (stable): when two views of every vehicle draw alike (an
+ * overview showing a few fields of each skips the frames where none of those changed); `everyMs`: at most
+ * once that often (frameSource). */
+export function useProvidersOnFrame(same?: (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean, everyMs = 0): ProviderView[] {
+  const providers = useFrameValue(allProviders, same, everyMs);
   return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
+}
+
+/** When two views of every vehicle draw alike in an overview (the fleet bar, the vehicle list): the same
+ * vehicles with the same name, link, fix validity and INS state and status, last heard of in the same
+ * `seenStep` seconds (the overview shows ages to that step). */
+export function sameOverview(seenStep: number): (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean {
+  const keys = new WeakMap<ProviderView, string>(); // a view's key, computed once (a frame compares every vehicle)
+  const key = (p: ProviderView) => {
+    let k = keys.get(p);
+    if (k !== undefined) return k;
+    const ins = report(p, "InertialSensorReport");
+    let seen = -Infinity;
+    for (const t of Object.values(p.topics)) seen = Math.max(seen, t.at);
+    k = `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}|${Math.floor(seen / seenStep)}`;
+    keys.set(p, k);
+    return k;
+  };
+  return (a, b) => {
+    if (a === b) return true;
+    const ids = Object.keys(a);
+    if (ids.length !== Object.keys(b).length) return false;
+    return ids.every((id) => a[id] === b[id] || (b[id] !== undefined && key(a[id]) === key(b[id])));
+  };
 }
 
 export function useConnectionState(): SourceState {
@@ -192,9 +164,10 @@ export function usePlayback(): { status: ReplayStatus; controls: PlaybackControl
   return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
-/** Every vehicle, sorted by id, on every report of any of them (an overview wants useProvidersAtMost). */
+/** Every vehicle, sorted by id, on the frame after any report of any of them (an overview wants
+ * useProvidersOnFrame with sameOverview). */
 export function useProviders(): ProviderView[] {
-  return useProvidersAtMost(0);
+  return useProvidersOnFrame();
 }
 
 /** The selected vehicle's whole view: it changes with each of its reports. A panel that draws one topic
@@ -247,15 +220,17 @@ interface Ticker {
 const tickers = new Map<number, Ticker>();
 
 /** Call `l` every `periodMs` (on multiples of it of the clock), on one timer for all callers of that
- * period and the throttled slices of the same period, so the panels showing ages update together (one
- * render and one layout) and not each on a timer of its own. */
+ * period, so the panels showing ages update together (one render and one layout) and not each on a timer
+ * of its own; called on the animation frame (frame.ts), so a hidden page's ages do not draw. The clock of
+ * ages is the one timer of the rendering model: an age changes with time, not with a report. */
 function onTick(periodMs: number, l: () => void): () => void {
   let ticker = tickers.get(periodMs);
   if (!ticker) {
     const listeners = new Set<() => void>();
     const t: Ticker = { listeners, stop: () => undefined };
+    const draw = () => listeners.forEach((f) => f());
     const tick = () => {
-      listeners.forEach((f) => f());
+      onFrame(draw);
       if (tickers.get(periodMs) === t) t.stop = atBoundary(periodMs, tick); // not if the last listener left
     };
     t.stop = atBoundary(periodMs, tick);

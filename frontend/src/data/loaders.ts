@@ -5,9 +5,9 @@ import type { FeatureCollection } from "geojson";
 import { useEffect, useMemo } from "react";
 import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
 import { useToken } from "./auth";
-import { useConnectionState, useData, useProvidersAtMost, useSelector } from "./hooks";
-import { capabilitiesQuery, comapStatusQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
-import { historyLoaded, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint, type ProviderView } from "./store";
+import { useConnectionState, useData, useProvidersOnFrame, useSelector } from "./hooks";
+import { capabilitiesQuery, comapStatusQuery, detailQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
+import { detailLoaded, historyLoaded, selectedGpsPartial, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint, type ProviderView } from "./store";
 
 /** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
 export function useConsoleHealth(): Health | null {
@@ -15,6 +15,19 @@ export function useConsoleHealth(): Health | null {
 }
 
 const NO_HISTORY: HistoryPoint[] = [];
+
+/** The selected vehicle's satellites when its GPSReport is still the snapshot's (which leaves them out): asked over
+ * REST at once rather than waiting for its next GPSReport (a real receiver may report every few seconds). */
+export function useSelectedSatellitesLoaded(): void {
+  const { store } = useData();
+  const selected = useSelector((s) => s.selected);
+  const partial = useSelector(selectedGpsPartial);
+  const live = useConnectionState() === "live";
+  const token = useToken();
+  const instant = useSelector((s) => s.instant);
+  const loaded = useQuery({ ...detailQuery(selected ?? "", token, instant), enabled: !!selected && partial && live });
+  useEachAnswer(loaded, (reports) => selected && store.update((s) => detailLoaded(s, selected, reports)));
+}
 
 /** Runs `apply` once for each new answer of a query (the current key's only: an answer for an earlier key, such as
  * a replay's earlier instant, is never given). */
@@ -41,9 +54,9 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 
 /** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
  * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(throttleMs = 0): ProviderView[] {
+export function useTrackedProviders(everyMs = 0): ProviderView[] {
   const { store, source } = useData();
-  const providers = useProvidersAtMost(throttleMs);
+  const providers = useProvidersOnFrame(undefined, everyMs);
   const idList = providers.map((p) => p.id).join(",");
   const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
   const live = useConnectionState() === "live";

@@ -3,7 +3,8 @@
 // Every key holds the operator's token, so a sign-in or sign-out asks again and never shows another's answer.
 import { QueryClient, queryOptions } from "@tanstack/react-query";
 import type { FeatureCollection } from "geojson";
-import { ApiError, comapStatus, health, peerFindings, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
+import { ApiError, comapStatus, health, peerFindings, providerDetail, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
+import type { TopicReports } from "../api/types";
 import type { TrackSample } from "../lib/geo";
 import { HISTORY_SECONDS, TRACK_SECONDS, type HistoryPoint } from "./store";
 
@@ -42,6 +43,15 @@ export const seriesQuery = (providerId: string, token: string | null, instant: n
       })),
     gcTime: 0,
     structuralSharing: false, // each answer is new data to merge, even one equal to the last
+  });
+
+/** A vehicle's latest reports in full (GET /api/providers/{id}), merged once into the store (detailLoaded). */
+export const detailQuery = (providerId: string, token: string | null, instant: number) =>
+  queryOptions({
+    queryKey: ["detail", providerId, token, instant],
+    queryFn: async (): Promise<TopicReports> => (await providerDetail(providerId, token)).reports,
+    gcTime: 0,
+    structuralSharing: false,
   });
 
 /** A vehicle's stored track (GET /api/providers/{id}/track) of the TRACK_SECONDS before `now()`. */

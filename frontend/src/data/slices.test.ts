@@ -2,9 +2,10 @@
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { ReportTypes, ServerMessage, Topic } from "../api/types";
 import { Store } from "./connection";
-import { sliceSource, throttle } from "./hooks";
+import { frameSource, onFrame } from "./frame";
+import { sameOverview } from "./hooks";
 import { reportMessage, type DeepPartial } from "./testing";
-import { allProviders, selectedKnown, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State } from "./store";
+import { allProviders, selectedKnown, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State, type TopicView } from "./store";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -86,77 +87,126 @@ describe("slice subscriptions", () => {
   });
 });
 
-describe("throttle", () => {
+/** Animation frames run by the test: requestAnimationFrame queues, `frame()` runs what is queued (one frame). */
+function frames(hidden = false) {
+  let queued: FrameRequestCallback[] = [];
+  vi.stubGlobal("requestAnimationFrame", (cb: FrameRequestCallback) => queued.push(cb));
+  vi.stubGlobal("document", { hidden });
+  return {
+    pending: () => queued.length,
+    frame: () => {
+      const run = queued;
+      queued = [];
+      for (const cb of run) cb(performance.now());
+    },
+  };
+}
+
+const latitude = (v: TopicView<"GPSFixReport"> | null) => v?.envelope.report.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
+
+describe("the rendering model: a panel draws on the animation frame", () => {
   afterEach(() => {
-    vi.useRealTimers();
+    vi.unstubAllGlobals();
+    vi.restoreAllMocks();
   });
 
-  it("calls at once, then at most once per period with the calls in between folded into one", () => {
-    vi.useFakeTimers();
-    vi.setSystemTime(0);
-    let calls = 0;
-    const f = throttle(() => calls++, 500);
-    f();
-    expect(calls).toBe(1);
-    for (let i = 0; i < 20; i++) f();
-    expect(calls).toBe(1);
-    vi.advanceTimersByTime(500);
-    expect(calls).toBe(2);
-    vi.advanceTimersByTime(500); // nothing new: nothing more
-    expect(calls).toBe(2);
-    vi.advanceTimersByTime(1000);
-    f();
-    expect(calls).toBe(3);
-    f();
-    f.cancel();
-    vi.advanceTimersByTime(1000);
-    expect(calls).toBe(3);
+  it("draws at most once per frame, the newest sample, in the frame the store applies it", () => {
+    const { store } = setup({});
+    const { frame, pending } = frames();
+    const src = frameSource(store, selectedTopic("GPSFixReport"));
+    let draws = 0;
+    src.subscribe(() => draws++);
+    for (let i = 0; i < 5; i++) store.enqueue(reportMsg(A, "GPSFixReport"));
+    expect(draws).toBe(0); // nothing before the frame
+    expect(pending()).toBe(1); // one frame asked for, not one per sample
+    frame();
+    expect(draws).toBe(1);
+    expect(latitude(src.getSnapshot())).toBe(latitude(store.getState().providers[A].topics.GPSFixReport!));
+    expect(pending()).toBe(0); // drawn in the frame that applied the samples: no frame more
+    store.enqueue(reportMsg(B, "GPSFixReport")); // another vehicle: not this panel's
+    frame();
+    expect(draws).toBe(1);
   });
 
-  it("throttles of one period wait on one timer: the panels they wake render in the same task", () => {
-    vi.useFakeTimers();
-    vi.setSystemTime(0);
-    const order: string[] = [];
-    const a = throttle(() => order.push("a"), 500);
-    const b = throttle(() => order.push("b"), 500);
-    a();
-    b();
-    a();
-    b();
-    expect(vi.getTimerCount()).toBe(1);
-    vi.advanceTimersByTime(500);
-    expect(order).toEqual(["a", "b", "a", "b"]);
+  it("a sample arriving after the last one drawn is drawn, even within the frame that drew", () => {
+    const { store } = setup({});
+    const { frame, pending } = frames();
+    const src = frameSource(store, selectedTopic("GPSFixReport"));
+    let draws = 0;
+    // a sample applied later in the frame of the second draw (after the panel drew)...
+    const late = () => {
+      store.enqueue(reportMsg(A, "GPSFixReport"));
+      store.flush();
+    };
+    src.subscribe(() => ++draws === 2 && onFrame(late));
+    store.enqueue(reportMsg(A, "GPSFixReport"));
+    frame();
+    expect(draws).toBe(1);
+    store.enqueue(reportMsg(A, "GPSFixReport"));
+    frame();
+    expect(draws).toBe(2); // ...is not a second draw in that frame...
+    const newest = store.getState().providers[A].topics.GPSFixReport!;
+    expect(src.getSnapshot()).not.toBe(newest);
+    expect(pending()).toBe(1); // ...but drawn on the next
+    frame();
+    expect(draws).toBe(3);
+    expect(src.getSnapshot()).toBe(newest);
+  });
+
+  it("nothing draws while the page is hidden; its first frame draws the newest", () => {
+    const { store } = setup({});
+    const { frame } = frames(true);
+    const src = frameSource(store, selectedTopic("GPSFixReport"));
+    let draws = 0;
+    src.subscribe(() => draws++);
+    for (let i = 0; i < 3; i++) {
+      store.enqueue(reportMsg(A, "GPSFixReport"));
+      store.flush(); // a hidden page applies messages on a timer (the tab's title, the alarm tone)
+    }
+    expect(draws).toBe(0);
+    frame(); // shown again: the browser runs frames
+    expect(draws).toBe(1);
+    expect(src.getSnapshot()).toBe(store.getState().providers[A].topics.GPSFixReport);
+  });
+
+  it("a rate-limited slice (the map's fleet) draws on the first frame after its period, with the newest", () => {
+    const { store } = setup({});
+    const { frame } = frames();
+    let now = 1000;
+    vi.spyOn(performance, "now").mockImplementation(() => now);
+    const src = frameSource(store, allProviders, Object.is, 500);
+    let draws = 0;
+    src.subscribe(() => draws++);
+    store.enqueue(reportMsg(A, "GPSFixReport"));
+    frame();
+    expect(draws).toBe(1);
+    for (let i = 0; i < 10; i++) {
+      now += 40;
+      store.enqueue(reportMsg(B, "GPSFixReport"));
+      frame();
+    }
+    expect(draws).toBe(1); // 400 ms: not yet
+    now += 100;
+    frame(); // no new sample, but one is waiting: drawn
+    expect(draws).toBe(2);
+    expect(src.getSnapshot()).toBe(store.getState().providers);
+    now += 1000;
+    frame();
+    expect(draws).toBe(2); // nothing new: nothing drawn
   });
 });
 
-describe("a throttled slice", () => {
-  afterEach(() => {
-    vi.useRealTimers();
-  });
-
-  it("reads the value of its last notification: a render for another reason does not show a newer one", () => {
-    vi.useFakeTimers();
-    vi.setSystemTime(0);
+describe("an overview's slice", () => {
+  it("draws alike when no shown field changed, not when a link did", () => {
     const { store, send } = setup({});
-    const src = sliceSource(store, allProviders, 1000);
-    let woken = 0;
-    const off = src.subscribe(() => woken++);
-    const first = src.getSnapshot();
-    send(A, "GPSFixReport"); // at once: it was quiet
-    expect(woken).toBe(1);
-    const second = src.getSnapshot();
-    expect(second).not.toBe(first);
+    const same = sameOverview(1);
     send(A, "GPSFixReport");
-    send(B, "GPSFixReport");
-    expect(woken).toBe(1);
-    expect(src.getSnapshot()).toBe(second); // the store changed, the throttled value did not
-    expect(store.getState().providers).not.toBe(second);
-    vi.advanceTimersByTime(1000);
-    expect(woken).toBe(2);
-    expect(src.getSnapshot()).toBe(store.getState().providers);
-    off();
-    const unthrottled = sliceSource(store, allProviders);
-    send(A, "GPSFixReport");
-    expect(unthrottled.getSnapshot()).toBe(store.getState().providers);
+    const before = store.getState().providers;
+    send(A, "GPSFixReport"); // t moves by 0.1 s: the same second
+    expect(same(before, store.getState().providers)).toBe(Math.floor(t - 0.1) === Math.floor(t));
+    const a = store.getState().providers;
+    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null } } as unknown as ServerMessage);
+    store.flush();
+    expect(same(a, store.getState().providers)).toBe(false);
   });
 });

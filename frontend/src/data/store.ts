@@ -3,7 +3,7 @@
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
 import type { Alarm } from "../api/generated/ws";
-import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TypedReportMessage } from "../api/types";
+import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TopicReports, TypedReportMessage } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
 import { satelliteLabel } from "../lib/satellites";
@@ -13,6 +13,9 @@ export interface TopicView<T extends Topic = Topic> {
   envelope: ReportEnvelopeOf<T>;
   at: number; // client time (s) it arrived
   interval: number | null; // observed seconds between samples
+  // the snapshot's GPSReport, without its satellites (the snapshot is the first screen): the selected vehicle's is
+  // completed by GET /api/providers/{id} (detailLoaded), any by its next report
+  partial?: boolean;
 }
 
 export interface TrailPoint {
@@ -161,6 +164,17 @@ function updateHistory(history: HistoryPoint[], env: ReportEnvelopeOf<"GPSReport
   return [...history.filter((h) => point.t - h.t <= HISTORY_SECONDS), point];
 }
 
+/** A vehicle's reports as GET /api/providers/{id} gave them: its GPSReport's satellites, which the snapshot left out,
+ * unless a report came since (it is newer). */
+export function detailLoaded(state: State, providerId: string, reports: TopicReports): State {
+  const before = state.providers[providerId];
+  const view = before?.topics.GPSReport;
+  const env = reports.GPSReport;
+  if (!before || !view?.partial || !env || env.receivedAt < view.envelope.receivedAt) return state;
+  const gps: TopicView<"GPSReport"> = { envelope: env, at: view.at, interval: view.interval };
+  return { ...state, providers: { ...state.providers, [providerId]: { ...before, topics: { ...before.topics, GPSReport: gps } } } };
+}
+
 /** The console's series of a vehicle (REST), merged into the live history. */
 export function historyLoaded(state: State, providerId: string, points: HistoryPoint[]): State {
   const before = state.providers[providerId];
@@ -242,7 +256,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
           const env = d.reports[topic];
           if (env) {
             const ageS = d.topics[topic]?.ageSeconds ?? 0;
-            p = { ...p, topics: { ...p.topics, [topic]: { envelope: env, at: now - ageS, interval: old?.topics[topic]?.interval ?? null } } };
+            const partial = topic === "GPSReport" ? { partial: true } : {};
+            p = { ...p, topics: { ...p.topics, [topic]: { envelope: env, at: now - ageS, interval: old?.topics[topic]?.interval ?? null, ...partial } } };
           }
         }
         providers[d.id] = p;
@@ -351,6 +366,9 @@ const topicSelectors: { [T in Topic]: (s: State) => TopicView<T> | null } = {
 export function selectedTopic<T extends Topic>(topic: T): (s: State) => TopicView<T> | null {
   return topicSelectors[topic];
 }
+
+/** Whether the selected vehicle's GPSReport is the snapshot's, without its satellites. */
+export const selectedGpsPartial = (s: State): boolean => selectedView(s)?.topics.GPSReport?.partial === true;
 
 /** The selected vehicle's satellite trails (changed by its GPSReport only). */
 export const selectedTrails = (s: State): Record<string, TrailPoint[]> => selectedView(s)?.trails ?? NO_TRAILS;

@@ -34,6 +34,10 @@ const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y <
 export class VehicleOverlay {
   private readonly root: HTMLDivElement;
   private readonly markers = new Map<string, Marker>();
+  // the selected vehicle at its newest position: a ring over its dot, moved on every frame after its fix by a CSS
+  // transform, which redraws no map (a software-rendered map redrawn ten times a second takes most of a core)
+  private readonly ring: HTMLDivElement;
+  private selected: VehicleMark | null = null;
 
   /** `pick`: the operator clicked the edge arrow of vehicle `id` (select it and bring it into view). */
   constructor(
@@ -47,6 +51,11 @@ export class VehicleOverlay {
     // canvas container, so a click on an arrow is not also a click on the map
     const container = map.getContainer();
     container.insertBefore(this.root, container.querySelector(".maplibregl-control-container"));
+    this.ring = document.createElement("div");
+    this.ring.className = "map-selected";
+    this.ring.dataset.testid = "map-selected";
+    this.ring.hidden = true;
+    this.root.append(this.ring);
     map.on("move", this.place);
     map.on("resize", this.place);
   }
@@ -77,6 +86,21 @@ export class VehicleOverlay {
       this.markers.delete(id);
     }
     this.place();
+  }
+
+  /** The selected vehicle's newest mark (null: none, or no position): its ring placed at once. */
+  setSelected(mark: VehicleMark | null): void {
+    this.selected = mark;
+    if (mark) this.ring.dataset.lat = mark.position.lat.toFixed(6); // what it shows (the probe benchmark reads it)
+    this.placeRing();
+  }
+
+  private placeRing(): void {
+    const mark = this.selected;
+    const p = mark ? this.map.project([mark.position.lon, mark.position.lat]) : null;
+    const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.root.clientWidth && p.y <= this.root.clientHeight;
+    this.ring.hidden = !inView;
+    if (p && inView) this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
   }
 
   private add(mark: VehicleMark): Marker {
@@ -112,6 +136,7 @@ export class VehicleOverlay {
 
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. */
   readonly place = (): void => {
+    this.placeRing();
     const width = this.root.clientWidth;
     const height = this.root.clientHeight;
     if (!width || !height) return;

@@ -1,4 +1,4 @@
-import { Field, Panel, invalidFor } from "../components/Panel";
+import { Field, Foldable, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
 import { useHistory } from "../data/loaders";
@@ -9,18 +9,23 @@ import { freshness } from "../lib/freshness";
 import { fixCommandText, navSolutionText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
-/** The fix is shown at most this often: an operator does not read figures that change ten times a second. */
-const DRAW_MS = 250;
-
 export function FixPanel() {
+  return (
+    <Foldable title="GPS fix" testId="fix-panel">
+      <FixBody />
+    </Foldable>
+  );
+}
+
+function FixBody() {
   const selected = useSelector((s) => s.selected);
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const link = useSelectedLink();
   const now = useNow();
   const history = useHistory(link ? selected : null);
   const [useDms, setDms] = useDmsSetting();
-  const fixView = useSelectedTopic("GPSFixReport", DRAW_MS);
-  const statusView = useSelectedTopic("GPSFixStatusReport", DRAW_MS);
+  const fixView = useSelectedTopic("GPSFixReport");
+  const statusView = useSelectedTopic("GPSFixStatusReport");
   const fix = viewReport(fixView);
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;

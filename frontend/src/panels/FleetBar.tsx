@@ -5,7 +5,7 @@
 import { memo, useEffect, useMemo, useRef } from "react";
 import type { Alarm } from "../api/generated/ws";
 import type { LinkState } from "../api/types";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersAtMost, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
@@ -16,8 +16,9 @@ import { DASH } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
 
-/** The bar is redrawn at most this often: it shows every vehicle, and any of them reports many times a second. */
-const DRAW_MS = 500;
+/** The bar shows every vehicle, and any of them reports many times a second: it draws (on the frame) only when
+ * what it shows of one changed, ages to the second. */
+const SAME_BAR = sameOverview(1);
 /** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
 export const STALE_AFTER_S = 3;
 
@@ -171,7 +172,7 @@ function NoVehicleHelp() {
 }
 
 export function FleetBar() {
-  const providers = useProvidersAtMost(DRAW_MS);
+  const providers = useProvidersOnFrame(SAME_BAR);
   const selected = useSelector((s) => s.selected);
   const alarms = useAlarms();
   const store = useStore();

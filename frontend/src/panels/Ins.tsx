@@ -1,5 +1,5 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
-import { Panel } from "../components/Panel";
+import { Foldable, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
 import { viewReport } from "../data/store";
@@ -28,7 +28,15 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 }
 
 export function InsPanel() {
-  const view = useSelectedTopic("InertialSensorReport", 250); // read by eye: at most 4 times a second
+  return (
+    <Foldable title="Inertial sensor" testId="ins-panel">
+      <InsBody />
+    </Foldable>
+  );
+}
+
+function InsBody() {
+  const view = useSelectedTopic("InertialSensorReport"); // drawn on the frame after it changed
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
@@ -49,7 +57,7 @@ export function InsPanel() {
           <div className="badges">
             <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={umaa("state", ins.state)}>INS {insStateText(ins.state).toLowerCase()}</span>
             <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>{insStatusText(ins.status)}</span>
-            <span className="muted">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
+            <span className="muted" data-testid="ins-time">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
           </div>
           {failed && (
             <div className="alarm" role="alert" data-testid="ins-failure">

@@ -7,7 +7,7 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useNow, useSelector, useStore } from "../data/hooks";
+import { useNow, useSelectedTopic, useSelector, useStore } from "../data/hooks";
 import { useChartConfigured, useTrackedProviders, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
 import { select } from "../data/store";
@@ -30,13 +30,17 @@ import {
 } from "./map/hooks";
 import { fitAll, vehicleMark } from "./map/layers";
 
-/** The vehicles, tracks and origins are redrawn at most this often (and only when they changed): a
- * redraw of the map costs a frame or more without a GPU, and vehicles at sea move a few metres a second. */
-const MAP_UPDATE_MS = 1000;
+/** The fleet (every vehicle's mark, tracks and origins) is redrawn on the first frame at least this long after
+ * the last (and only when it changed), so at least twice a second while vehicles move: a redraw of the map costs
+ * a frame or more without a GPU, and vehicles at sea move a few metres a second. The selected vehicle's ring (HTML
+ * over the map, no redraw) moves on the frame after each of its fixes. */
+const FLEET_EVERY_MS = 450;
 
 export function MapPanel() {
-  const providers = useTrackedProviders(MAP_UPDATE_MS);
+  const fleet = useTrackedProviders(FLEET_EVERY_MS);
+  const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
+
   const store = useStore();
   const now = useNow(1000);
   const worldModel = useWorldModel();
@@ -57,7 +61,16 @@ export function MapPanel() {
   const [draft, setDraft] = useState<FeatureCollection | null>(null);
   const shownModel = useMemo(() => (draft ? withLiveCoverage(draft, worldModel) : worldModel), [draft, worldModel]);
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
-  const marks = useMemo(() => providers.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [providers, now, selected]);
+  // the fleet's marks (drawn by the map, named by the overlay) change at the fleet's rate; the selected vehicle's,
+  // with its newest fix, on every frame after one (the overlay's ring, and what the map follows)
+  const fleetAll = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [fleet, now, selected]);
+  const fleetMarks = useMemo(() => fleetAll.filter((m) => !m.selected), [fleetAll]);
+  const drawnSelected = useMemo(() => fleetAll.find((m) => m.selected) ?? null, [fleetAll]);
+  const selectedMark = useMemo(() => {
+    const p = fleet.find((v) => v.id === selected);
+    return p ? vehicleMark(selectedFix ? { ...p, topics: { ...p.topics, GPSFixReport: selectedFix } } : p, now, selected) : null;
+  }, [fleet, selected, selectedFix, now]);
+  const marks = useMemo(() => (selectedMark ? [...fleetMarks, selectedMark] : fleetMarks), [fleetMarks, selectedMark]);
   const toolPoints = useMemo(
     () => (tool === "measure" ? measure : tool === "draw" ? drawn : tool === "move-target" && moveTarget ? [moveTarget] : []),
     [tool, measure, drawn, moveTarget],
@@ -77,8 +90,8 @@ export function MapPanel() {
     },
     [store],
   );
-  useVehicleLayer(mapRef, ready, marks, pickEdge);
-  useTrackLayer(mapRef, ready, providers, selected);
+  useVehicleLayer(mapRef, ready, { fleet: fleetMarks, selected: drawnSelected, all: fleetAll, newest: selectedMark }, pickEdge);
+  useTrackLayer(mapRef, ready, fleet, selected);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);
   useFitAll(mapRef, ready, marks, follow, land, landLoaded);
@@ -117,7 +130,7 @@ export function MapPanel() {
         <div className="map-status">
           <MapCursor cursor={cursor} useDms={useDms} />
           {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
-          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {providers.length} vehicles drawn</span>
+          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {fleet.length} vehicles drawn</span>
           {measuring && (
             <span data-testid="map-distance">
               {measure.length < 2 ? "click points to measure" : `${distanceText(measured)} · last leg ${lastLeg!.toFixed(0)}°`}

@@ -1,7 +1,8 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../api/types";
-import { Field, Panel } from "../components/Panel";
+import { Field, Foldable, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
+import { useSelectedSatellitesLoaded } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { viewReport, type TrailPoint } from "../data/store";
 import { freshness } from "../lib/freshness";
@@ -12,9 +13,6 @@ import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
 const R = 120;
-/** The satellites are redrawn at most this often: 40 rows, markers, trails and bars are much to lay out
- * and paint, and a sky changes little in half a second. */
-const DRAW_MS = 500;
 
 function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: number; fill: string; stroke: string }) {
   const s = 6;
@@ -212,8 +210,17 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
 const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
-  const view = useSelectedTopic("GPSReport", DRAW_MS);
-  const trails = useSelectedTrails(DRAW_MS);
+  return (
+    <Foldable title="Satellites" testId="satellites-panel" className="wide">
+      <SatellitesBody />
+    </Foldable>
+  );
+}
+
+function SatellitesBody() {
+  useSelectedSatellitesLoaded(); // the snapshot left them out
+  const view = useSelectedTopic("GPSReport");
+  const trails = useSelectedTrails();
   const link = useSelectedLink();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();

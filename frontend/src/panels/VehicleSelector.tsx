@@ -1,5 +1,5 @@
 import { VehicleTag } from "../components/VehicleTag";
-import { useConnectionState, useNow, useProvidersAtMost, useSelector, useStore } from "../data/hooks";
+import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
@@ -9,8 +9,11 @@ function lastSeen(p: ProviderView): number | null {
   return times.length ? Math.max(...times) : null;
 }
 
+/** The list draws when a vehicle's name, link, fix or INS changed, or its age by half a second. */
+const SAME_LIST = sameOverview(0.5);
+
 export function VehicleSelector() {
-  const providers = useProvidersAtMost(500); // ages, link and fix shown to the half second
+  const providers = useProvidersOnFrame(SAME_LIST); // on the frame, when what it shows changed
   const selected = useSelector((s) => s.selected);
   const store = useStore();
   const now = useNow();

@@ -29,7 +29,7 @@ import type { Theme } from "../../lib/theme";
 import { vehicleColor } from "../../lib/vehicle";
 import type { MapTool } from "../CoMap";
 import type { CursorStore } from "./MapCursor";
-import { addLayers, fitAll, originOf, source } from "./layers";
+import { VEHICLE_DOTS, VEHICLE_HITS, addLayers, fitAll, originOf, source } from "./layers";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
@@ -201,7 +201,7 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
         const f = map.queryRenderedFeatures(e.point, { layers: ["edit-handle", "wm-point", "wm-line", "wm-fill"] })[0];
         return setPicked(f?.properties?.featureId ?? null);
       }
-      const hit = map.queryRenderedFeatures(e.point, { layers: ["vehicle-dot", "vehicle-arrow"] })[0];
+      const hit = map.queryRenderedFeatures(e.point, { layers: VEHICLE_HITS })[0];
       const id = hit?.properties?.id as string | undefined;
       if (id) {
         store.update((s) => select(s, id));
@@ -238,11 +238,22 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
   }, [mapRef, ready, modelRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
 }
 
-/** The vehicles: their dots and course arrows (redrawn only when a mark changed), and their names and edge arrows
- * (an edge arrow's click: `onPick`). */
-export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMark[], onPick: (map: MapLibre, m: VehicleMark) => void): void {
+/** The marks of the vehicle layer: the fleet's at its rate (`fleet` without the selected vehicle, `selected`, `all`),
+ * and the selected vehicle's newest (on every frame after its fix). */
+export interface VehicleMarks {
+  fleet: VehicleMark[];
+  selected: VehicleMark | null;
+  all: VehicleMark[];
+  newest: VehicleMark | null;
+}
+
+/** The vehicles: the map's dots and course arrows at the fleet's rate, the fleet's and the selected vehicle's each in
+ * a source of its own, updated only when its marks changed; every vehicle's name and edge arrow (an edge arrow's
+ * click: `onPick`); and the selected vehicle's ring at its newest position, moved without redrawing the map. */
+export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMarks, onPick: (map: MapLibre, m: VehicleMark) => void): void {
+  const { fleet, selected, all, newest } = marks;
   const overlay = useRef<VehicleOverlay | null>(null);
-  const drawn = useRef<{ map: MapLibre | null; json: string }>({ map: null, json: "" }); // what the source holds now
+  const drawn = useRef<Drawn>({ map: null, vehicles: "", selected: "" });
   const pick = useRef(onPick);
   useEffect(() => {
     pick.current = onPick;
@@ -259,19 +270,32 @@ export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMa
   }, [mapRef, ready]);
   useEffect(() => {
     const map = mapRef.current;
-    if (!ready || !map) return;
-    const fc = vehiclesGeoJson(marks);
-    for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-    const json = JSON.stringify(fc);
-    if (drawn.current.map === map && json === drawn.current.json) return; // nothing moved or changed: no redraw
-    drawn.current = { map, json };
-    source(map, "vehicles")?.setData(fc);
-    countRender("map:vehicles-data");
-  }, [mapRef, ready, marks]);
+    if (ready && map) setVehicles(drawn, map, "vehicles", fleet);
+  }, [mapRef, ready, fleet]);
+  useEffect(() => {
+    const map = mapRef.current;
+    if (ready && map) setVehicles(drawn, map, "selected", selected ? [selected] : []);
+  }, [mapRef, ready, selected]);
   // the names and edge arrows, at the same bounded rate as the vehicles' data
   useEffect(() => {
-    if (ready) overlay.current?.set(marks);
-  }, [ready, marks]);
+    if (ready) overlay.current?.set(all);
+  }, [ready, all]);
+  useEffect(() => {
+    if (ready) overlay.current?.setSelected(newest);
+  }, [ready, newest]);
+}
+
+type Drawn = { map: MapLibre | null; vehicles: string; selected: string }; // what the vehicle sources hold now
+
+/** Vehicle source `id` of `map` set to `marks`, only when they moved or changed (no redraw else). */
+function setVehicles(drawn: RefObject<Drawn>, map: MapLibre, id: "vehicles" | "selected", marks: VehicleMark[]): void {
+  const fc = vehiclesGeoJson(marks);
+  for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
+  const json = JSON.stringify(fc);
+  if (drawn.current.map === map && json === drawn.current[id]) return;
+  drawn.current = drawn.current.map === map ? { ...drawn.current, [id]: json } : { map, vehicles: "", selected: "", [id]: json };
+  source(map, id)?.setData(fc);
+  countRender(`map:${id}-data`);
 }
 
 /** The vehicles' tracks (the selected one wider) and their GPSFixStatusReport origins. */
@@ -361,9 +385,9 @@ export function useDrawnCounts(mapRef: MapRef, ready: boolean): { landDrawn: num
     const map = mapRef.current;
     if (!ready || !map) return;
     const count = setInterval(() => {
-      if (!map.getLayer("vehicle-dot")) return; // layers not added yet
+      if (!map.getLayer("selected-dot")) return; // layers not added yet
       setLandDrawn(map.queryRenderedFeatures({ layers: ["land"] }).length);
-      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: ["vehicle-dot"] }).map((f) => f.properties?.id)).size);
+      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: VEHICLE_DOTS }).map((f) => f.properties?.id)).size);
     }, 1000);
     return () => clearInterval(count);
   }, [mapRef, ready]);

@@ -59,7 +59,7 @@ export function source(map: MapLibre, id: string): GeoJSONSource | undefined {
 }
 
 export function addLayers(map: MapLibre): void {
-  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
+  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "selected", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
   map.addImage("course-arrow", arrowImage(), { sdf: true });
   map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
   map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] } });
@@ -76,10 +76,22 @@ export function addLayers(map: MapLibre): void {
     source: "origins",
     paint: { "circle-radius": 4, "circle-color": "#0000", "circle-stroke-color": ["get", "color"], "circle-stroke-width": 2 },
   });
+  // the fleet, then the selected vehicle on top, in a source of its own: it moves on every frame after its fix, and
+  // updating a one-feature source does not make MapLibre's worker lay out the whole fleet again
+  addVehicleLayers(map, "vehicle", "vehicles");
+  addVehicleLayers(map, "selected", "selected");
+  map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
+  map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
+  // the edit tool's vertex handles, dragged to move a vertex
+  map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
+}
+
+/** The layers that draw `source`'s vehicles: `<prefix>-link` (a ring when stale or lost), `-dot`, `-arrow` (course). */
+function addVehicleLayers(map: MapLibre, prefix: string, source: string): void {
   map.addLayer({
-    id: "vehicle-link",
+    id: `${prefix}-link`,
     type: "circle",
-    source: "vehicles",
+    source,
     filter: ["in", ["get", "link"], ["literal", ["stale", "lost"]]],
     paint: {
       "circle-radius": 15,
@@ -89,9 +101,9 @@ export function addLayers(map: MapLibre): void {
     },
   });
   map.addLayer({
-    id: "vehicle-dot",
+    id: `${prefix}-dot`,
     type: "circle",
-    source: "vehicles",
+    source,
     paint: {
       "circle-radius": ["case", ["get", "selected"], 9, 7],
       "circle-color": FIX_COLOR,
@@ -101,9 +113,9 @@ export function addLayers(map: MapLibre): void {
     },
   });
   map.addLayer({
-    id: "vehicle-arrow",
+    id: `${prefix}-arrow`,
     type: "symbol",
-    source: "vehicles",
+    source,
     filter: ["get", "hasCourse"],
     layout: {
       "icon-image": "course-arrow",
@@ -116,11 +128,11 @@ export function addLayers(map: MapLibre): void {
     },
     paint: { "icon-color": FIX_COLOR, "icon-halo-color": "#000", "icon-halo-width": 1 },
   });
-  map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
-  map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
-  // the edit tool's vertex handles, dragged to move a vertex
-  map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
 }
+
+/** The layers a click on a vehicle hits, and that count the vehicles drawn. */
+export const VEHICLE_DOTS = ["vehicle-dot", "selected-dot"];
+export const VEHICLE_HITS = ["vehicle-dot", "vehicle-arrow", "selected-dot", "selected-arrow"];
 
 /** The view that takes in every point (a jump: an animation would redraw the map every frame). */
 export function fitAll(map: MapLibre, points: LonLat[]): void {
