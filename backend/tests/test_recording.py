@@ -24,6 +24,7 @@ from typing import Any
 
 import httpx
 import pytest
+from cyclonedds.core import InstanceState
 from mcap.reader import make_reader
 
 import conftest
@@ -448,11 +449,12 @@ def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: 
 def test_sem_replay_republishes_an_appendable_writers_sample_as_it_was_sent(domain: int, tmp_path: Path) -> None:
     """sem-replay of an RTI vehicle's GPSFixReport (delimited XCDR2): written by a writer of the appendable copy, so
     the console's reader of that copy gets the same values, and its final reader (force_type_validation) nothing;
-    re-encoding it with the final type would misread it."""
+    re-encoding it with the final type would misread it. Its dispose the same way (the recorder's instance event)."""
     from samplegen import random_sample
     from sem_console.dds.bus import Bus
     from sem_console.dds.qos import reader_qos
     from sem_console.dds.topics import final_type_qos
+    from sem_console.recording.recorder import _instance_event
     from sem_console.recording.sem_replay import Replay
 
     sem = Sem.GPS_FIX_REPORT
@@ -467,6 +469,12 @@ def test_sem_replay_republishes_an_appendable_writers_sample_as_it_was_sent(doma
         got = wait_until(lambda: appendable.take(), 10, "the replayed sample")
         assert got == [sent] and replay.reencoded == 0
         assert final.take() == [] and final.get_matched_publications() == []
+        # its dispose, as the recorder writes it (a valid sample taken disposed) and sem-replay republishes it
+        event = _instance_event(sem, sent.serialize(use_version_2=True), True, InstanceState.NotAliveDisposed)
+        assert event["source"] == str(uuid.UUID(bytes=bytes(sent.source)))
+        replay.instance(event, time.time_ns())
+        ended = wait_until(lambda: appendable.take(), 10, "the replayed dispose")
+        assert [s.sample_info.instance_state for s in ended] == [InstanceState.NotAliveDisposed]
     finally:
         bus.close()
 

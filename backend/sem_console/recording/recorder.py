@@ -354,7 +354,9 @@ class Recorder:
 
 
 def _instance_event(sem: Sem, data: bytes, valid: bool, instance_state: int) -> dict[str, Any]:
-    dtype = sem.spec.appendable if valid and sem.spec.appendable is not None and delimited(data) else sem.spec.type
+    # an appendable writer's (delimited XCDR2) with the appendable copy: the final type misreads it, and sem-replay
+    # disposes such a key with a writer of that copy
+    dtype = sem.spec.appendable if sem.spec.appendable is not None and delimited(data) else sem.spec.type
     try:
         key = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
         key_cdr = key.serialize_key() if valid else data

@@ -75,6 +75,12 @@ class Replay:
             self.writers[sem] = self.bus.writer(sem)
         return self.writers[sem]
 
+    def appendable_writer(self, sem: Sem) -> DataWriter[Any]:
+        """A writer of the topic's appendable copy, made at an appendable writer's first sample or key."""
+        if sem not in self.appendable_writers:
+            self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
+        return self.appendable_writers[sem]
+
     def wait_for_readers(self, seconds: float) -> bool:
         """Make a writer for every topic to replay and wait until one of them matches a reader (or `seconds` pass),
         so the first samples are not published before anyone listens."""
@@ -117,9 +123,7 @@ class Replay:
         if sem.spec.appendable is not None and delimited(data):
             # an appendable writer's sample (an RTI vehicle's, delimited XCDR2): republished as it was sent, by a writer
             # of the appendable copy, which the console's readers of that copy match (the final type would misread it)
-            if sem not in self.appendable_writers:
-                self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
-            w = self.appendable_writers[sem]
+            w = self.appendable_writer(sem)
         else:
             w = self.writer(sem)
             encapsulation = int.from_bytes(data[:2], "big")
@@ -136,12 +140,16 @@ class Replay:
         sem = self.topics.get(event["topic"])
         if sem is None:
             return
-        key = sem.spec.type.deserialize_key(base64.b64decode(event["key"]))
+        raw = base64.b64decode(event["key"])
+        if sem.spec.appendable is not None and delimited(raw):  # an appendable writer's instance (recorder.py)
+            key, w = sem.spec.appendable.deserialize_key(raw), self.appendable_writer(sem)
+        else:
+            key, w = sem.spec.type.deserialize_key(raw), self.writer(sem)
         if event["state"] == "disposed":
-            self.writer(sem).dispose(key, timestamp=ts)
+            w.dispose(key, timestamp=ts)
             self.disposes += 1
         else:
-            self.writer(sem).unregister_instance(key, timestamp=ts)
+            w.unregister_instance(key, timestamp=ts)
             self.unregisters += 1
 
 
