@@ -152,8 +152,11 @@ class PeerWatch:
             unmatched = [(e, seen) for e, handle, seen in writers if handle not in matched(_BY_NAME[e.topic_name])]
             typed = any(e.type_id is not None for e in ends)
             if typed and len(unmatched) == len(writers):
-                out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> to 0 "
-                                   f"in its participant QoS (the drop-in profile {DROP_IN} does)"))
+                # a writer is matched as it is discovered, but the builtin topic may show it a moment before: said (and
+                # logged, once for good) only once its writers stayed unmatched SETTLE s
+                if all(now - seen >= SETTLE for _, seen in unmatched):
+                    out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> "
+                                       f"to 0 in its participant QoS (the drop-in profile {DROP_IN} does)"))
                 continue  # nothing of it matches until then: the rest would only repeat it
             for e, seen in sorted(unmatched, key=lambda u: u[0].topic_name):
                 sem = _BY_NAME[e.topic_name]
