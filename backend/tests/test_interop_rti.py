@@ -368,6 +368,34 @@ def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callab
     assert c.stop().count(findings[0]["message"]) == 1
 
 
+def test_console_tells_of_an_rti_writer_it_does_not_match(rti6: Callable[..., RtiParticipant], console: Any,
+                                                         domain: int) -> None:
+    """Issue 23, point 4, the third finding: an RTI writer of a SEM topic that no reader of the console matches, with
+    no incompatible QoS on either side to say why (a partition: Cyclone and RTI drop it in silence). The console names
+    the participant, the topic and the fix, once; its writer in the default partition has no finding."""
+    c = console()
+    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA"))
+    here = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT]))
+
+    def found() -> Any:
+        for v in (elsewhere, here):
+            v.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": list(v.guid.bytes),
+                                       "timeStamp": {"seconds": int(time.time()), "nanoseconds": 0}})
+        return httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] or None
+
+    findings = wait_until(found, 15, "a finding")
+    assert [(f["name"], f["vendor"], f["kind"], f["topic"]) for f in findings] == [
+        ("Rti", "RTI", "unmatched", "InertialSensorReport")], findings
+    assert findings[0]["message"] == (
+        "RTI participant Rti has a writer of InertialSensorReport that the console does not match: publish it in the default "
+        "partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)")
+    detail = wait_until(lambda: (lambda r: r.json() if r.status_code == 200 else None)(  # the other one is read
+        httpx.get(f"{c.url}/api/providers/{here.guid}")), 10, "the vehicle in the default partition")
+    assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
+    assert httpx.get(f"{c.url}/api/providers/{elsewhere.guid}").status_code == 404
+    assert c.stop().count(findings[0]["message"]) == 1
+
+
 def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: Callable[..., RtiParticipant], domain: int, tmp_path: Path) -> None:
     """Issue 23, point 4, in sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
     (RTI's default; Connext 7 on the Default profile) fails discovery.GPSReport and discovery.GPSFixReport with the

@@ -9,6 +9,7 @@ from __future__ import annotations
 import base64
 import json
 import os
+import random
 import re
 import signal
 import subprocess
@@ -23,6 +24,7 @@ from typing import Any
 
 import httpx
 import pytest
+from cyclonedds.core import InstanceState
 from mcap.reader import make_reader
 
 import conftest
@@ -70,6 +72,7 @@ def read(path: Path) -> tuple[dict[str, Any], dict[str, list[Any]]]:
 DECODE = textwrap.dedent("""
     import importlib, json, sys
     gen, module, name, path = sys.argv[1:5]
+    channel = int(sys.argv[6]) if len(sys.argv) > 6 else None  # only that channel of the topic
     sys.path.insert(0, gen)
     t = getattr(importlib.import_module(module), name)
     assert importlib.import_module("UMAA").__file__.startswith(gen), "decoded with the project's own types"
@@ -84,23 +87,42 @@ DECODE = textwrap.dedent("""
     out = []
     with open(path, "rb") as f:
         for _s, ch, m in make_reader(f).iter_messages(topics=[sys.argv[5]]):
-            out.append(plain(t.deserialize(m.data)))
+            if channel is None or ch.id == channel:
+                out.append(plain(t.deserialize(m.data)))
     print(json.dumps(out))
 """)
 
 
-def decode_with_schema(schema_name: str, idl: str, topic: str, path: Path, tmp: Path) -> list[dict[str, Any]]:
-    """Every message of `topic` decoded with types that idlc builds from the schema text alone."""
-    work = tmp / schema_name.replace("::", "_")
+def decode_with_schema(schema_name: str, idl: str, topic: str, path: Path, tmp: Path,
+                       channel: int | None = None) -> list[dict[str, Any]]:
+    """Every message of `topic` (of its channel `channel` only, if given) decoded with types that idlc builds from the
+    schema text alone."""
+    work = tmp / (schema_name.replace("::", "_") + ("" if channel is None else f"-{channel}"))
     (work / "idl").mkdir(parents=True)
     (work / "idl" / "schema.idl").write_text(idl)
     idlgen.generate(work / "gen", idl_dir=work / "idl", extensibility=None)  # the text says @final itself
     module, name = schema_name.replace("::", ".").rsplit(".", 1)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    out = subprocess.run([sys.executable, "-c", DECODE, str(work / "gen"), module, name, str(path), topic],
+    out = subprocess.run([sys.executable, "-c", DECODE, str(work / "gen"), module, name, str(path), topic,
+                          *([] if channel is None else [str(channel)])],
                          capture_output=True, text=True, cwd=work, env=env, timeout=60)
     assert out.returncode == 0, out.stderr
     return list(json.loads(out.stdout))
+
+
+def _plain(v: Any) -> Any:
+    """A sample as DECODE prints it."""
+    from cyclonedds.idl import IdlEnum
+
+    if isinstance(v, IdlEnum):
+        return v.name
+    if isinstance(v, (bytes, bytearray)):
+        return v.hex()
+    if isinstance(v, list):
+        return [_plain(x) for x in v]
+    if hasattr(v, "__dataclass_fields__"):
+        return {k: _plain(getattr(v, k)) for k in v.__dataclass_fields__}
+    return v
 
 
 def guid(hex_bytes: str) -> str:
@@ -384,6 +406,77 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
         channels, messages = read(tmp_path / "rec" / f["name"])
         assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
         assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5
+
+
+@pytest.mark.parametrize("sem", [s for s in Sem if s.spec.appendable is not None], ids=lambda s: s.name)
+def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: Sem, tmp_path: Path) -> None:
+    """An RTI vehicle's GPSReport and GPSFixReport are appendable (delimited XCDR2: a DHEADER before each struct). The
+    recorder puts them on a channel of their own on the same topic, whose schema says @appendable, so a reader of the
+    file that goes by the schema (here idlc's types built from the schema text alone) reads them right; the final
+    writer's samples stay on the topic's channel with the @final IDL. On the recorder alone: its tap is fed as the
+    ingest feeds it (a take of both writers at once)."""
+    from samplegen import random_sample
+    from sem_console.recording.recorder import Recorder
+
+    assert sem.spec.appendable is not None
+    finals = [random_sample(sem.spec.type, random.Random(seed)) for seed in range(5)]
+    appendables = [random_sample(sem.spec.appendable, random.Random(seed)) for seed in range(5, 10)]
+    r = Recorder(tmp_path, max_bytes=1 << 30, max_seconds=3600)
+    r.start()
+    now = time.time_ns()
+    take = [(s.serialize(use_version_2=True), True, 16, now) for pair in zip(finals, appendables, strict=True) for s in pair]
+    r.on_samples(sem, take, now)
+    r.stop()
+    assert r.status()["state"] == "off" and r.messages == 10
+    [path] = tmp_path.glob("*.mcap")
+    with open(path, "rb") as f:
+        summary = make_reader(f, validate_crcs=True).get_summary()
+    assert summary is not None
+    channels = [c for c in summary.channels.values() if c.topic == sem.spec.name]
+    by_extensibility = {c.metadata.get("extensibility", "final"): c for c in channels}
+    assert len(channels) == 2 and set(by_extensibility) == {"final", "appendable"}, channels
+    type_name = str(sem.spec.type.__idl_typename__).replace(".", "::")
+    for kind, samples in (("final", finals), ("appendable", appendables)):
+        channel = by_extensibility[kind]
+        schema = summary.schemas[channel.schema_id]
+        assert schema.name == type_name and schema.encoding == "omgidl"
+        assert f"@{kind}\nstruct" in schema.data.decode() and f"@{'final' if kind == 'appendable' else 'appendable'}" \
+            not in schema.data.decode()
+        got = decode_with_schema(schema.name, schema.data.decode(), sem.spec.name, path, tmp_path, channel.id)
+        assert got == json.loads(json.dumps([_plain(s) for s in samples])), kind
+
+
+def test_sem_replay_republishes_an_appendable_writers_sample_as_it_was_sent(domain: int, tmp_path: Path) -> None:
+    """sem-replay of an RTI vehicle's GPSFixReport (delimited XCDR2): written by a writer of the appendable copy, so
+    the console's reader of that copy gets the same values, and its final reader (force_type_validation) nothing;
+    re-encoding it with the final type would misread it. Its dispose the same way (the recorder's instance event)."""
+    from samplegen import random_sample
+    from sem_console.dds.bus import Bus
+    from sem_console.dds.qos import reader_qos
+    from sem_console.dds.topics import final_type_qos
+    from sem_console.recording.recorder import _instance_event
+    from sem_console.recording.sem_replay import Replay
+
+    sem = Sem.GPS_FIX_REPORT
+    assert sem.spec.appendable is not None
+    sent = random_sample(sem.spec.appendable, random.Random(7))
+    bus = Bus(domain)
+    try:
+        appendable = bus.reader(sem, appendable=True)
+        final = bus.reader(sem, reader_qos(sem.spec.cls) + final_type_qos(sem))
+        replay = Replay(bus, tmp_path / "unused.mcap", 1.0, retime=False)
+        replay.sample(sem, sent.serialize(use_version_2=True), time.time_ns())
+        got = wait_until(lambda: appendable.take(), 10, "the replayed sample")
+        assert got == [sent] and replay.reencoded == 0
+        assert final.take() == [] and final.get_matched_publications() == []
+        # its dispose, as the recorder writes it (a valid sample taken disposed) and sem-replay republishes it
+        event = _instance_event(sem, sent.serialize(use_version_2=True), True, InstanceState.NotAliveDisposed)
+        assert event["source"] == str(uuid.UUID(bytes=bytes(sent.source)))
+        replay.instance(event, time.time_ns())
+        ended = wait_until(lambda: appendable.take(), 10, "the replayed dispose")
+        assert [s.sample_info.instance_state for s in ended] == [InstanceState.NotAliveDisposed]
+    finally:
+        bus.close()
 
 
 def test_files_roll_over_at_their_size(tmp_path: Path) -> None:

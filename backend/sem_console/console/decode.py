@@ -24,7 +24,7 @@ from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
 from sem_console.console import fastcdr
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import Sem, Service, delimited
 
 log = logging.getLogger("sem-console.ingest")
 
@@ -94,7 +94,6 @@ _ROUTES: dict[Sem, _Route] = {
 _APPENDABLE_ROUTES: dict[Sem, _Route] = {
     sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
     for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
-_D_CDR2 = (0x08, 0x09)  # big and little endian
 _ALIVE = InstanceState.Alive
 
 
@@ -118,7 +117,7 @@ class Decoder:
         route = _ROUTES.get(sem)
         if route is None:
             return None
-        if len(data) > 1 and data[1] in _D_CDR2 and sem in _APPENDABLE_ROUTES:
+        if sem in _APPENDABLE_ROUTES and delimited(data):
             route = _APPENDABLE_ROUTES[sem]
         report = sample = None
         try:

@@ -52,23 +52,28 @@ class Bus:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
 
-    def writer(self, sem: Sem) -> DataWriter[Any]:
-        return DataWriter(self.participant, self.topic(sem),
+    def writer(self, sem: Sem, appendable: bool = False) -> DataWriter[Any]:
+        """A writer with the topic class's QoS and the type's data representation; `appendable`: of the type's
+        appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
+        topic = self._appendable_topic(sem) if appendable else self.topic(sem)
+        return DataWriter(self.participant, topic,
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
+
+    def _appendable_topic(self, sem: Sem) -> Topic[Any]:
+        cls = sem.spec.appendable
+        if cls is None:
+            raise ValueError(f"{sem.spec.name} has no appendable copy")
+        if sem not in self._appendable_topics:  # the same topic name, another type: Cyclone keeps a type per topic
+            self._appendable_topics[sem] = Topic(self.participant, sem.spec.name, cls)
+        return self._appendable_topics[sem]
 
     def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None,
                appendable: bool = False) -> DataReader[Any]:
         """A reader with the given QoS (else the topic class's), always with the type's data representation;
         `appendable`: of the type's appendable copy (TopicSpec.appendable)."""
         qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
-        if not appendable:
-            return DataReader(self.participant, self.topic(sem), qos=qos, listener=listener)
-        cls = sem.spec.appendable
-        if cls is None:
-            raise ValueError(f"{sem.spec.name} has no appendable copy")
-        if sem not in self._appendable_topics:  # the same topic name, another type: Cyclone keeps a type per topic
-            self._appendable_topics[sem] = Topic(self.participant, sem.spec.name, cls)
-        return DataReader(self.participant, self._appendable_topics[sem], qos=qos, listener=listener)
+        topic = self._appendable_topic(sem) if appendable else self.topic(sem)
+        return DataReader(self.participant, topic, qos=qos, listener=listener)
 
     def close(self) -> None:
         self._topics.clear()

@@ -102,6 +102,15 @@ class Service(str, Enum):
         return Sem.GPS_FIX_COMMAND_ACK if self is Service.GPS_FIX else Sem.INS_COMMAND_ACK
 
 
+_D_CDR2 = (0x08, 0x09)  # the second byte of the delimited XCDR2 encapsulation ids, big and little endian
+
+
+def delimited(data: bytes) -> bool:
+    """Whether serialised CDR says delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2) in its encapsulation header: what
+    a writer of an appendable type sends, so a sample of a topic's appendable copy (TopicSpec.appendable)."""
+    return len(data) > 1 and data[0] == 0 and data[1] in _D_CDR2
+
+
 def final_type_qos(sem: Sem) -> Qos:
     """What a reader of a topic's final type adds when the topic also has an appendable copy: it validates the
     writer's type (`force_type_validation`), so a writer that sends no type information (RTI on the recipe) is

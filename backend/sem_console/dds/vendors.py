@@ -59,7 +59,7 @@ class Finding:
         what = {
             "typeInformation": "sends type information this console cannot use (none of its SEM topics match)",
             "representation": f"offers {self.topic} in XCDR1",
-            "unmatched": f"has a {self.topic} writer the console does not match",
+            "unmatched": f"has a writer of {self.topic} that the console does not match",
         }[self.kind]
         return f"{self.vendor} participant {self.name} {what}: {self.fix} ({DOCS})"
 
@@ -80,6 +80,15 @@ def _representations(qos: Qos) -> tuple[bool, bool]:
     if rep is None:
         return True, False
     return bool(rep.use_cdrv0_representation), bool(rep.use_xcdrv2_representation)
+
+
+def _partitions(qos: Qos) -> list[str]:
+    """The named partitions of an endpoint (none: the default partition, where the console's readers are)."""
+    try:
+        partition = qos[Policy.Partition]
+    except (KeyError, TypeError):
+        partition = None
+    return [p for p in partition.partitions if p] if partition is not None else []
 
 
 def _name(qos: Qos, guid: uuid.UUID) -> str:
@@ -143,8 +152,11 @@ class PeerWatch:
             unmatched = [(e, seen) for e, handle, seen in writers if handle not in matched(_BY_NAME[e.topic_name])]
             typed = any(e.type_id is not None for e in ends)
             if typed and len(unmatched) == len(writers):
-                out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> to 0 "
-                                   f"in its participant QoS (the drop-in profile {DROP_IN} does)"))
+                # a writer is matched as it is discovered, but the builtin topic may show it a moment before: said (and
+                # logged, once for good) only once its writers stayed unmatched SETTLE s
+                if all(now - seen >= SETTLE for _, seen in unmatched):
+                    out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> "
+                                       f"to 0 in its participant QoS (the drop-in profile {DROP_IN} does)"))
                 continue  # nothing of it matches until then: the rest would only repeat it
             for e, seen in sorted(unmatched, key=lambda u: u[0].topic_name):
                 sem = _BY_NAME[e.topic_name]
@@ -154,9 +166,12 @@ class PeerWatch:
                         if sem is Sem.GPS_REPORT else ""
                     out.append(finding("representation", short(sem), f"set XCDR2 on that writer{mask}"))
                 elif now - seen >= SETTLE:
-                    out.append(finding("unmatched", short(sem), f"compare its QoS with the drop-in profile {DROP_IN} "
-                                       f"({'XCDR1' if xcdr1 else ''}{'+' if xcdr1 and xcdr2 else ''}"
-                                       f"{'XCDR2' if xcdr2 else ''} offered)"))
+                    partitions = _partitions(e.qos)  # the one thing that fails silently, no incompatible QoS on either side
+                    fix = (f"publish it in the default partition, as the console reads (it is in partition "
+                           f"{', '.join(partitions)})" if partitions else
+                           f"compare its QoS with the drop-in profile {DROP_IN} ({'XCDR1' if xcdr1 else ''}"
+                           f"{'+' if xcdr1 and xcdr2 else ''}{'XCDR2' if xcdr2 else ''} offered)")
+                    out.append(finding("unmatched", short(sem), fix))
         return out
 
 

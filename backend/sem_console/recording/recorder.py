@@ -43,7 +43,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
@@ -51,6 +51,7 @@ log = logging.getLogger("sem-console.recording")
 
 FLUSH_SECONDS = 2.0
 BATCH_SECONDS = 0.2  # the writer thread writes what was queued at most this often: a wake costs ~0.1 ms of CPU
+APPENDABLE = "appendable"  # the extensibility of a channel of samples an appendable writer sent (_File.appendable)
 PROFILE = ""  # MCAP profile: none of the well-known ones (ros1, ros2...) applies
 _ALIVE = InstanceState.Alive
 NAME = re.compile(r"^\d{8}T\d{6}\.\d{3}Z(-\d+)?\.mcap$")
@@ -110,14 +111,27 @@ class _File:
             self.channels[channel] = self.writer.register_channel(channel, "json", schema)
         self.opened = time.monotonic()
 
+    def appendable(self, sem: Sem) -> tuple[Sem, str]:
+        """The channel key of the samples of `sem` that an appendable writer sent (an RTI vehicle's GPSReport and
+        GPSFixReport: delimited XCDR2, TopicSpec.appendable). Their own channel, on the same topic, whose schema is the
+        IDL with every struct appendable, so a reader of the file decodes them as they are laid out; registered at the
+        first such sample, so a recording without one has none."""
+        key = (sem, APPENDABLE)
+        if key not in self.channels:
+            name = type_name(sem.spec.type)
+            schema = self.writer.register_schema(name, SCHEMA_ENCODING, idl_text(name, extensibility=APPENDABLE).encode())
+            self.channels[key] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema,
+                                                              {"extensibility": APPENDABLE})
+        return key
+
     def add(self, key: Any, data: bytes, log_ns: int, publish_ns: int) -> None:
         cid = self.channels[key]
         seq = self.sequence[cid] = self.sequence.get(cid, 0) + 1
         self.writer.add_message(cid, log_ns, data, publish_ns, seq)
 
-    def add_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], log_ns: int) -> int:
+    def add_samples(self, key: Sem | tuple[Sem, str], samples: list[tuple[bytes, bool, int, int]], log_ns: int) -> int:
         """The valid samples of one take, in order; returns how many. The hot path: one call per sample."""
-        add, cid = self.writer.add_message, self.channels[sem]
+        add, cid = self.writer.add_message, self.channels[key]
         seq = self.sequence.get(cid, 0)
         for raw, valid, _state, source_ns in samples:
             if valid:
@@ -320,7 +334,11 @@ class Recorder:
 
     def _write(self, f: _File, key: Any, data: Any, log_ns: int, _count: int) -> None:
         if isinstance(key, Sem):
-            self.messages += f.add_samples(key, data, log_ns)
+            if key.spec.appendable is not None and any(delimited(s[0]) for s in data):  # from an appendable writer
+                self.messages += f.add_samples(f.appendable(key), [s for s in data if delimited(s[0])], log_ns)
+                self.messages += f.add_samples(key, [s for s in data if not delimited(s[0])], log_ns)
+            else:
+                self.messages += f.add_samples(key, data, log_ns)
             for raw, valid, instance_state, source_ns in data:
                 if instance_state != _ALIVE:
                     event = _instance_event(key, raw, valid, instance_state)
@@ -336,7 +354,9 @@ class Recorder:
 
 
 def _instance_event(sem: Sem, data: bytes, valid: bool, instance_state: int) -> dict[str, Any]:
-    dtype = sem.spec.type
+    # an appendable writer's (delimited XCDR2) with the appendable copy: the final type misreads it, and sem-replay
+    # disposes such a key with a writer of that copy
+    dtype = sem.spec.appendable if sem.spec.appendable is not None and delimited(data) else sem.spec.type
     try:
         key = dtype.deserialize(data) if valid else dtype.deserialize_key(data)
         key_cdr = key.serialize_key() if valid else data

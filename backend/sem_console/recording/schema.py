@@ -8,8 +8,10 @@ opened once and holds the declarations of every file in it, in that order (plain
 concatenation reopens `module UMAA` once per file, which is valid IDL too, but Cyclone's idlc
 Python backend crashes on a reopened module that adds a submodule). Each struct is marked
 `@final`: that is how the console's types are built (`idlgen` runs idlc with `-x final`) and
-so how their CDR is laid out on the wire. UMAA's enums stay in modules of their own name,
-which is valid OMG IDL.
+so how their CDR is laid out on the wire; a channel of samples an appendable writer sent (an RTI
+vehicle's GPSReport and GPSFixReport, delimited XCDR2) has the same IDL with each struct
+`@appendable` (`idl_text(name, extensibility="appendable")`), which is how those samples are laid
+out. UMAA's enums stay in modules of their own name, which is valid OMG IDL.
 
 `idl/` is part of the installed package: `sem_console/recording/idl` links to it in the
 repository, and the package data takes the files into a wheel (the console's image copies it).
@@ -20,6 +22,7 @@ from __future__ import annotations
 import functools
 import re
 from pathlib import Path
+from typing import Literal
 
 from cyclonedds.idl import IdlStruct
 
@@ -59,9 +62,9 @@ def _files_in_order(root: str, idl_dir: Path) -> list[str]:
     return order
 
 
-def _standalone(text: str) -> str:
+def _standalone(text: str, extensibility: str) -> str:
     lines = [ln for ln in text.splitlines() if not ln.lstrip().startswith("#")]
-    return _STRUCT.sub(lambda m: f"{m.group(1)}@final\n{m.group(1)}struct ", "\n".join(lines))
+    return _STRUCT.sub(lambda m: f"{m.group(1)}@{extensibility}\n{m.group(1)}struct ", "\n".join(lines))
 
 
 _MODULE = re.compile(r"module\s+(\w+)\s*\{")
@@ -130,9 +133,10 @@ def _flush(buf: list[str], into: _Module, note: str) -> str:
 
 
 @functools.cache
-def idl_text(name: str, idl_dir: Path = IDL_DIR) -> str:
-    """The self-contained IDL of the type `name` (fully qualified), as a recording's schema holds it."""
+def idl_text(name: str, idl_dir: Path = IDL_DIR, extensibility: Literal["final", "appendable"] = "final") -> str:
+    """The self-contained IDL of the type `name` (fully qualified), as a recording's schema holds it, every struct
+    of the given extensibility."""
     root = _Module()
     for rel in _files_in_order(_file_of(name), idl_dir):
-        _merge(_standalone((idl_dir / rel).read_text()), root, f"// {rel}\n")
+        _merge(_standalone((idl_dir / rel).read_text(), extensibility), root, f"// {rel}\n")
     return root.render()

@@ -33,7 +33,7 @@ from sem_console.core.command_line import Parser, from_environment
 from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import Sem, Service, delimited
 from sem_console.recording.reader import INSTANCES, check_file, iter_messages
 
 log = logging.getLogger("sem-replay")
@@ -66,6 +66,7 @@ class Replay:
         self.bus, self.path, self.speed, self.retime = bus, path, speed, retime
         self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem not in COMMANDS}
         self.writers: dict[Sem, DataWriter[Any]] = {}
+        self.appendable_writers: dict[Sem, DataWriter[Any]] = {}  # made at an appendable writer's first sample
         self.samples = self.disposes = self.unregisters = self.reencoded = self.skipped = 0
         self.stopping = False
 
@@ -73,6 +74,12 @@ class Replay:
         if sem not in self.writers:
             self.writers[sem] = self.bus.writer(sem)
         return self.writers[sem]
+
+    def appendable_writer(self, sem: Sem) -> DataWriter[Any]:
+        """A writer of the topic's appendable copy, made at an appendable writer's first sample or key."""
+        if sem not in self.appendable_writers:
+            self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
+        return self.appendable_writers[sem]
 
     def wait_for_readers(self, seconds: float) -> bool:
         """Make a writer for every topic to replay and wait until one of them matches a reader (or `seconds` pass),
@@ -113,11 +120,16 @@ class Replay:
                 log.warning("skipped a message on %s at %d: %s", topic, m.log_time, e)
 
     def sample(self, sem: Sem, data: bytes, ts: int) -> None:
-        w = self.writer(sem)
-        encapsulation = int.from_bytes(data[:2], "big")
-        if encapsulation not in (PLAIN_CDR2 if sem.spec.xcdr2_only else PLAIN_CDR):
-            data = sem.spec.type.deserialize(data).serialize(use_version_2=sem.spec.xcdr2_only)
-            self.reencoded += 1
+        if sem.spec.appendable is not None and delimited(data):
+            # an appendable writer's sample (an RTI vehicle's, delimited XCDR2): republished as it was sent, by a writer
+            # of the appendable copy, which the console's readers of that copy match (the final type would misread it)
+            w = self.appendable_writer(sem)
+        else:
+            w = self.writer(sem)
+            encapsulation = int.from_bytes(data[:2], "big")
+            if encapsulation not in (PLAIN_CDR2 if sem.spec.xcdr2_only else PLAIN_CDR):
+                data = sem.spec.type.deserialize(data).serialize(use_version_2=sem.spec.xcdr2_only)
+                self.reencoded += 1
         data = data.ljust((len(data) + 3) & ~3, b"\0")
         ret = write_cdr(w, data, ts)
         if ret < 0:
@@ -128,12 +140,16 @@ class Replay:
         sem = self.topics.get(event["topic"])
         if sem is None:
             return
-        key = sem.spec.type.deserialize_key(base64.b64decode(event["key"]))
+        raw = base64.b64decode(event["key"])
+        if sem.spec.appendable is not None and delimited(raw):  # an appendable writer's instance (recorder.py)
+            key, w = sem.spec.appendable.deserialize_key(raw), self.appendable_writer(sem)
+        else:
+            key, w = sem.spec.type.deserialize_key(raw), self.writer(sem)
         if event["state"] == "disposed":
-            self.writer(sem).dispose(key, timestamp=ts)
+            w.dispose(key, timestamp=ts)
             self.disposes += 1
         else:
-            self.writer(sem).unregister_instance(key, timestamp=ts)
+            w.unregister_instance(key, timestamp=ts)
             self.unregisters += 1
 
 
@@ -171,7 +187,7 @@ def main(argv: list[str] | None = None) -> int:
                 break
     except (McapError, OSError, EOFError) as e:  # a file cut short: what came before it was replayed
         log.error("the recording ends early: %s", e)
-    wait_for_acks(list(replay.writers.values()), 5.0)
+    wait_for_acks([*replay.writers.values(), *replay.appendable_writers.values()], 5.0)
     log.info("replayed %d samples, %d disposes, %d unregistrations from %s in %.1f s%s%s", replay.samples,
              replay.disposes, replay.unregisters, args.file, time.monotonic() - started,
              f"; {replay.reencoded} re-encoded for the writer's data representation" if replay.reencoded else "",

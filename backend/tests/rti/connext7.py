@@ -14,6 +14,7 @@ nor needs RTI code.
 
 from __future__ import annotations
 
+import atexit
 import json
 import os
 import platform
@@ -78,17 +79,53 @@ def connector7() -> Path:
     return root
 
 
+# Workers whose participant was closed, by the environment they run in, waiting for the next participant: a worker
+# costs an interpreter, its imports and RTI's libraries to start (about half the 1 s a participant takes), and the
+# Connext 7 tests make some twenty. The same process makes one participant after another, as pytest does with 6.1.2.
+_IDLE: dict[tuple[tuple[str, str], ...], list[subprocess.Popen[str]]] = {}
+
+
+@atexit.register
+def _end_idle() -> None:
+    for procs in _IDLE.values():
+        for proc in procs:
+            _end(proc)
+    _IDLE.clear()
+
+
+def _end(proc: subprocess.Popen[str]) -> None:
+    """End a worker: its stdin closed, it exits at the end of input; killed if it does not within 10 s."""
+    if proc.stdin:
+        proc.stdin.close()
+    try:
+        proc.wait(10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+
+
 class RemoteParticipant:
-    """An RtiParticipant (rti.connector) in a child process loading Connext 7.x."""
+    """An RtiParticipant (rti.connector) in a child process loading Connext 7.x; the process is reused for the next
+    participant in the same environment once this one is closed."""
 
     def __init__(self, domain: int, env: dict[str, str] | None = None, **kw: Any) -> None:
         root = connector7()
-        pythonpath = os.pathsep.join([str(root), str(_TESTS), str(_BACKEND)])
-        self.proc = subprocess.Popen([sys.executable, "-m", "rti.worker"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                     text=True, cwd=_TESTS, env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
+        self._env = tuple(sorted((env or {}).items()))
+        idle = _IDLE.get(self._env)
+        if idle:
+            self.proc = idle.pop()
+        else:
+            pythonpath = os.pathsep.join([str(root), str(_TESTS), str(_BACKEND)])
+            self.proc = subprocess.Popen([sys.executable, "-m", "rti.worker"], stdin=subprocess.PIPE,
+                                         stdout=subprocess.PIPE, text=True, cwd=_TESTS,
+                                         env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
         self.writers = set(kw.get("writers", ()))
         kw = {k: ([s.name for s in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
-        self.version = self._call("start", domain, **kw)
+        try:
+            self.version = self._call("start", domain, **kw)
+        except BaseException:
+            _end(self.proc)
+            raise
 
     def _call(self, op: str, *args: Any, **kw: Any) -> Any:
         assert self.proc.stdin and self.proc.stdout
@@ -116,13 +153,11 @@ class RemoteParticipant:
         return [tuple(x) for x in self._call("take", sem.name)]  # type: ignore[misc]
 
     def close(self) -> None:
-        if self.proc.poll() is None:
-            try:
-                self._call("close")
-            finally:
-                assert self.proc.stdin
-                self.proc.stdin.close()
-                try:
-                    self.proc.wait(10)
-                except subprocess.TimeoutExpired:
-                    self.proc.kill()
+        if self.proc.poll() is not None:
+            return
+        try:
+            self._call("close")
+        except BaseException:
+            _end(self.proc)
+            raise
+        _IDLE.setdefault(self._env, []).append(self.proc)  # ready for the next participant

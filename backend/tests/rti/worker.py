@@ -1,12 +1,12 @@
-"""Child process of rti.connext7.RemoteParticipant: one RtiParticipant, driven by JSON lines on stdin
-([op, args, kwargs] in, [ok, value] out). Whichever `rticonnextdds_connector` is first on sys.path is used."""
+"""Child process of rti.connext7.RemoteParticipant: one RtiParticipant at a time, driven by JSON lines on stdin
+([op, args, kwargs] in, [ok, value] out): "start" makes one, "close" deletes it, and the next "start" makes another;
+the process exits at the end of its input. Whichever `rticonnextdds_connector` is first on sys.path is used."""
 
 from __future__ import annotations
 
 import json
 import os
 import sys
-import time
 import traceback
 from typing import Any
 
@@ -30,7 +30,7 @@ def main() -> None:
             elif op == "close":
                 assert p is not None
                 p.close()
-                value = None
+                p, value = None, None
             elif op == "wait_matched":
                 assert p is not None
                 try:
@@ -54,9 +54,8 @@ def main() -> None:
         except Exception:  # reported to the test
             out.write(json.dumps([False, traceback.format_exc()]) + "\n")
         out.flush()
-        if op == "close":
-            break
-    time.sleep(0)
+    if p is not None:
+        p.close()
 
 
 if __name__ == "__main__":
