@@ -20,8 +20,8 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.clock import Clock
-from sem_console.console.database import Database
 from sem_console.dds.topics import Service
+from sem_console.storage.database import Database
 from sem_console.umaa.flow import CommandFlow, name, parse
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import datetime_to_float, now_datetime
@@ -95,7 +95,9 @@ class Commands:
         emit: Emit,
         unanswered_timeout: float,
         clock: Clock | None = None,
+        station: str | None = None,
     ) -> None:
+        self.station = station  # this console's name: the commands it issued are its own to follow and clean up
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()
         self.unanswered_timeout = unanswered_timeout
@@ -104,7 +106,7 @@ class Commands:
 
     # ---- history --------------------------------------------------------------------
     def _load_history(self) -> None:
-        for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
+        for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True, console=self.station):
             cmd = self.from_row(row)
             cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
             self.by_session[cmd.session_id] = cmd
@@ -179,7 +181,7 @@ class Commands:
                       self._sample(service, provider, session, state, (stamp.seconds, stamp.nanoseconds)),
                       issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
         self.by_session[session] = cmd
-        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]})
+        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
         self._write(service, cmd.sample)
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
@@ -198,7 +200,7 @@ class Commands:
                           self._sample(service, provider, session, state, stamp),
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
             self.by_session[session] = cmd
-            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)})
+            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, self.station)
         elif c.get("cancelRequested") and not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, c.get("canceledBy")
             self.store.set_canceled(str(session), cmd.canceled_by)

@@ -1,9 +1,9 @@
-"""Per-vehicle track and chart series in the console's SQLite database, for reloads, charts and exports.
+"""Per-vehicle track and chart series in the console's database, for reloads, charts and exports.
 
-One model per concept: `TrackPoint` and `SeriesPoint` are SQLModel classes, each both the table
-mapping and the REST response model. Points are taken from reports on the event loop (a few
+One model per concept: `TrackPoint` and `SeriesPoint` (storage/models.py) are SQLModel classes, each both the
+table mapping and the REST response model. Points are taken from reports on the event loop (a few
 dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
-pruned (older than the retention) and read in a worker thread, so SQLite never runs on the loop.
+pruned (older than the retention) and read in a worker thread, so the database never runs on the loop.
 """
 
 from __future__ import annotations
@@ -14,48 +14,18 @@ import math
 import time
 import uuid
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
-from sqlalchemy import event, func, insert
+from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
-from sqlmodel import Field, Session, SQLModel, col, create_engine, delete, select
+from sqlmodel import Session, col, delete, func, select
+
+from sem_console.storage.models import SeriesPoint, TrackPoint
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
 PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
-TRACK, SERIES = "track", "series"  # the tables
-
-
-class TrackPoint(SQLModel, table=True):
-    """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
-
-    __tablename__ = TRACK
-    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSFixReport")
-    positionTime: float | None = Field(description="the report's timeAtPosition, UTC seconds (null: not sent)")
-    latitude: float = Field(description="degrees, WGS 84, north positive")
-    longitude: float = Field(description="degrees, WGS 84, east positive")
-    altitudeMsl: float | None = Field(description="altitude above mean sea level, metres")
-    course: float | None = Field(description="true course over ground, degrees 0..360")
-    sog: float | None = Field(description="speed over ground, metres per second")
-    latLongValid: bool = Field(description="GPSLatLongValid: the position is from GPS (false: from the INS)")
-    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport "
-                                                            "(null: none received yet)")
-
-
-class SeriesPoint(SQLModel, table=True):
-    """The dashboard's chart values of a vehicle at one time, from its GPSReport (at most one per UTC second)."""
-
-    __tablename__ = SERIES
-    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSReport")
-    cn0Mean: float | None = Field(description="mean antennaCarrierNoiseDensity (C/N0) of the satellites "
-                                                            "that report one, dB-Hz (null: none)")
-    satellitesUsed: int = Field(description="satellites with usedInFix")
-    satellitesInView: int = Field(description="numberSatellitesInView")
+__all__ = ["History", "SeriesPoint", "TrackPoint", "series_point", "track_point"]
 
 
 def _get(d: Any, *path: str) -> Any:
@@ -111,26 +81,12 @@ def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict
     }
 
 
-def _sqlite_engine(path: Path) -> Engine:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    engine = create_engine(f"sqlite:///{path}", connect_args={"check_same_thread": False, "timeout": 10})
-
-    @event.listens_for(engine, "connect")
-    def _pragmas(dbapi_connection: Any, _record: Any) -> None:
-        cur = dbapi_connection.cursor()
-        cur.execute("PRAGMA journal_mode=WAL")
-        cur.execute("PRAGMA synchronous=NORMAL")
-        cur.close()
-
-    return engine
-
-
 class History:
     """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
 
-    def __init__(self, path: Path, retention_hours: float, replay: bool = False) -> None:
-        self.engine = _sqlite_engine(path)
-        SQLModel.metadata.create_all(self.engine, tables=[SQLModel.metadata.tables[t] for t in (TRACK, SERIES)])
+    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False) -> None:
+        self.engine = engine  # the console's database (storage.Database), which made the tables and closes it
+        self._insert = (postgresql if engine.dialect.name == "postgresql" else sqlite).insert
         self.retention = retention_hours * 3600.0
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
         self._track: list[dict[str, Any]] = []
@@ -200,7 +156,7 @@ class History:
         with Session(self.engine) as s:
             for model, rows in ((TrackPoint, track), (SeriesPoint, series)):
                 if rows:
-                    s.execute(insert(model).prefix_with("OR IGNORE"), rows)
+                    s.execute(self._insert(model).on_conflict_do_nothing(), rows)
             if prune_before is not None:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
@@ -264,4 +220,4 @@ class History:
         return await asyncio.to_thread(query)
 
     def close(self) -> None:
-        self.engine.dispose()
+        """Nothing of its own to close: the engine is the database's."""

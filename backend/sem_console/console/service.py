@@ -28,7 +28,6 @@ from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
-from sem_console.console.database import Database
 from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
@@ -41,6 +40,8 @@ from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
+from sem_console.storage.database import Database
+from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -67,7 +68,8 @@ def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
 
 
 class Console:
-    def __init__(self, settings: Settings) -> None:
+    def __init__(self, settings: Settings, store: Database | None = None) -> None:
+        """`store`: the database `sem-console` opened (and whose name it claimed) before the start; else opened here."""
         self.settings = settings
         replaying = settings.replay is not None
         self.clock: Clock = RecordingClock() if replaying else Clock()
@@ -75,10 +77,12 @@ class Console:
         # console's is never touched (the exports read the database on connections of their own, so not
         # ":memory:"); its track and chart history is kept whatever the recording's age
         self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
-        db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
-        self.store = Database(db_path, settings.audit_max_rows)
-        self.id = self.store.console_guid()
-        self.history = History(db_path, math.inf if replaying else settings.track_retention_hours, replay=replaying)
+        self.station = "replay" if replaying else settings.station()
+        if self._replay_dir is not None:
+            store = Database(sqlite_file(Path(self._replay_dir.name) / "replay.sqlite3"), settings.audit_max_rows)
+        self.store = store or Database(settings.database(), settings.audit_max_rows)
+        self.id = self.store.claim(self.station)
+        self.history = History(self.store.engine, math.inf if replaying else settings.track_retention_hours, replay=replaying)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
@@ -108,7 +112,7 @@ class Console:
                               stored_link_configs(self.store.link_configs()),
                               settings.jaus_subsystem if settings.jaus_port is not None else None)
         commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
-                            self.settings.unanswered_timeout, self.clock)
+                            self.settings.unanswered_timeout, self.clock, self.station)
         return providers, commands
 
     def reset(self) -> None:
