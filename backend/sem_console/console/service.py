@@ -41,6 +41,7 @@ from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.database import Database
+from sem_console.storage.notify import Listener
 from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
@@ -100,6 +101,7 @@ class Console:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
+        self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
@@ -122,6 +124,28 @@ class Console:
         self.alarms.reset()
         self.reports_applied = 0
 
+    def _on_shared(self, message: dict[str, Any]) -> None:
+        """What another console station on the database changed (storage/notify.py), on the loop: its commands
+        reach this console's clients; a link configuration applies here too."""
+        if self.closing or message.get("console") == self.station:
+            return
+        try:
+            if message.get("kind") == "command":
+                cmd = self.commands.shared(uuid.UUID(str(message["session"])))
+                if cmd is not None:
+                    self._emit({"type": "command", "command": cmd.to_json()})
+            elif message.get("kind") == "link":
+                self._shared_link_config(str(message["provider"]))
+        except (KeyError, ValueError) as e:
+            log.warning("ignored a notification of another console (%s): %.200s", e, message)
+
+    def _shared_link_config(self, provider_id: str) -> None:
+        config = stored_link_configs({k: v for k, v in self.store.link_configs().items() if k == provider_id})
+        p = self.providers.by_id.get(uuid.UUID(provider_id))
+        if p is not None and provider_id in config:
+            p.config = config[provider_id]
+            self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
+
     def _write_command(self, service: Service, sample: Any) -> None:
         writer = self.command_writers.get(service)  # none in a replay: nothing is published
         if writer is not None:
@@ -142,6 +166,7 @@ class Console:
             await self.replay.open()
             return
         assert self.bus is not None
+        self._listener = self.store.listen(lambda message: loop.call_soon_threadsafe(self._on_shared, message))
         self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder,
                              self.settings.report_burst)
         if self.settings.record is not None:
@@ -177,6 +202,8 @@ class Console:
             if self._replay_dir is not None:
                 self._replay_dir.cleanup()
             return
+        if self._listener is not None:
+            await asyncio.to_thread(self._listener.stop)
         canceled = self.commands.shutdown()
         await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
         deadline = time.monotonic() + answer_wait

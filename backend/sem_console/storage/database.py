@@ -15,6 +15,7 @@ import os
 import sqlite3
 import time
 import uuid
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -36,6 +37,7 @@ from sem_console.storage.models import (
     TransitionRecord,
     table,
 )
+from sem_console.storage.notify import CHANNEL, Listener
 from sem_console.storage.url import DatabaseUrl, sqlite_file
 
 log = logging.getLogger("sem-console.storage")
@@ -158,6 +160,7 @@ class Database:
         self.engine = open_engine(db)
         self._lock: Connection | int | None = None  # what holds this console's name (claim)
         self._held: str | None = None
+        self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
         try:
             migrate(self.engine, db)
         except (SQLAlchemyError, sqlite3.Error, OSError) as e:
@@ -174,6 +177,7 @@ class Database:
         if hold and self._held != name:
             self._hold(name)
             self._held = name
+        self.station = name
         for _attempt in range(3):  # another console may take the first release's GUID at the same moment
             try:
                 with self.engine.begin() as c:
@@ -216,6 +220,21 @@ class Database:
         os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is
         self._lock = fd
 
+    # ---- between consoles (PostgreSQL) ------------------------------------------------------
+    def _notify(self, c: Connection, kind: str, **fields: Any) -> None:
+        """Tell the other consoles on this database what changed (delivered when the transaction commits)."""
+        if self.db.path is None:
+            payload = json.dumps({"kind": kind, "console": self.station, **fields})
+            c.execute(select(func.pg_notify(CHANNEL, payload)))
+
+    def listen(self, on_message: Callable[[dict[str, Any]], object]) -> Listener | None:
+        """A started Listener of the other consoles' notifications (None on SQLite: one console per file)."""
+        if self.db.path is not None:
+            return None
+        listener = Listener(self.db.url, on_message)
+        listener.start()
+        return listener
+
     def consoles(self) -> dict[str, uuid.UUID]:
         """Every console name that used this database -> its source GUID."""
         with self.engine.connect() as c:
@@ -228,6 +247,7 @@ class Database:
                 session_id=rec["sessionId"], service=rec["service"], provider_id=rec["providerId"], state=rec["state"],
                 operator=rec["operator"], created_at=rec["createdAt"], command=json.dumps(command_), unanswered=False,
                 cancel_requested=False, cleaned_up=False, console=console))
+            self._notify(c, "command", session=rec["sessionId"])
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
         with self.engine.begin() as c:
@@ -235,6 +255,7 @@ class Database:
                 session_id=session_id, seq=seq, status=t["status"], reason=t["reason"], log_message=t["logMessage"],
                 violation=t["violation"], provider_time=t["providerTime"], received_at=t["receivedAt"],
             ).on_conflict_do_nothing())
+            self._notify(c, "command", session=session_id)
 
     def set_flag(self, session_id: str, flag: str, value: bool = True) -> None:
         assert flag in ("unanswered", "cleaned_up")
@@ -249,6 +270,7 @@ class Database:
     def _update_command(self, session_id: str, **values: Any) -> None:
         with self.engine.begin() as c:
             c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
+            self._notify(c, "command", session=session_id)
 
     def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
                  session_id: str | None = None, provider_id: str | None = None,
@@ -298,6 +320,7 @@ class Database:
         with self.engine.begin() as c:
             new_id = c.execute(insert(AUDIT).values({k: entry.get(k) for k in AUDIT_COLUMNS}).returning(AUDIT.c.id)).scalar_one()
             c.execute(delete(AUDIT).where(AUDIT.c.id <= new_id - self.audit_max_rows))
+            self._notify(c, "audit", id=new_id)
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
@@ -321,6 +344,7 @@ class Database:
         stmt = self._insert(LINK_CONFIG).values(provider_id=provider_id, config=json.dumps(config))
         with self.engine.begin() as c:
             c.execute(stmt.on_conflict_do_update(index_elements=["provider_id"], set_={"config": stmt.excluded.config}))
+            self._notify(c, "link", provider=provider_id)
 
     # ---- alarms -------------------------------------------------------------------------
     def add_alarm(self, alarm: dict[str, Any]) -> int:
