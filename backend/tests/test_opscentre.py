@@ -11,7 +11,9 @@ from typing import Any
 import httpx
 
 from conftest import ConsoleProcess
-from test_console import WsClient, command, gps_fix_executing, wait_command, wait_until
+from pg import Cluster
+from test_console import V1, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_history import at_most_one_per_second
 
 
 def health(c: ConsoleProcess) -> dict[str, Any]:
@@ -66,3 +68,56 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
     done = wait_command(b.url, session, done=lambda x: x["terminal"])
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+
+
+def test_a_database_outage_loses_nothing_and_stops_no_console(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    """PostgreSQL stopped: both consoles keep monitoring, A commands and cancels, its health says since when the
+    shared history is unavailable; started again: what A held is written, and B reads it all from the database."""
+    sim("--surface-seconds", "400")
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(a.url, V1, {"GPSFixReport"})
+    pg_cluster.stop()
+    try:
+        r = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={})
+        assert r.status_code == 201, r.text
+        session = r.json()["sessionId"]
+        wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
+        assert httpx.delete(f"{a.url}/api/commands/{session}").status_code == 200
+        wait_command(a.url, session, done=lambda x: x["terminal"])
+        down = health(a)
+        assert down["databaseUnavailableSince"] is not None and down["databaseWritesHeld"] > 0, down
+        for c in (a, b):  # monitoring goes on
+            assert httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
+    finally:
+        pg_cluster.start()
+    wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
+    assert health(a)["databaseWritesHeld"] == 0
+    done = command(b.url, session)  # from the database: everything A did meanwhile
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
+    assert done["cancelRequested"] and done["console"] == "watch"
+    paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
+    assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
+    assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
+
+
+def test_each_vehicles_track_is_written_once_and_handed_over(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    """Two consoles hear the vehicle, one writes its track (at most one point a second in the shared database);
+    when that one stops, the other goes on writing it."""
+    sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(a.url, V1, {"GPSFixReport"})
+    provider_ready(b.url, V1, {"GPSFixReport"})
+
+    def track() -> list[dict[str, Any]]:
+        return httpx.get(f"{b.url}/api/providers/{V1}/track").json()
+
+    wait_until(lambda: len(track()) >= 6, 20, "six track points")
+    at_most_one_per_second(track())
+    a.stop()  # whichever of the two wrote it, B writes it from now on
+    stopped = len(track())
+    wait_until(lambda: len(track()) >= stopped + 4, 20, "the track going on after A stopped")
+    at_most_one_per_second(track())

@@ -20,10 +20,12 @@ from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
 from sqlmodel import Session, col, delete, func, select
 
+from sem_console.storage.database import VehicleWriters
 from sem_console.storage.models import SeriesPoint, TrackPoint
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
+HELD_POINTS = 100_000  # track (and series) points held while they cannot be written (a database outage)
 PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
 __all__ = ["History", "SeriesPoint", "TrackPoint", "series_point", "track_point"]
 
@@ -86,6 +88,8 @@ class History:
 
     def __init__(self, engine: Engine, retention_hours: float, replay: bool = False) -> None:
         self.engine = engine  # the console's database (storage.Database), which made the tables and closes it
+        # shared by consoles (PostgreSQL): each vehicle's points written by one of them
+        self.writers = VehicleWriters(engine) if engine.dialect.name == "postgresql" else None
         self._insert = (postgresql if engine.dialect.name == "postgresql" else sqlite).insert
         self.retention = retention_hours * 3600.0
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
@@ -127,13 +131,21 @@ class History:
 
     async def run(self) -> None:
         """Flush every FLUSH_INTERVAL until canceled (then once more)."""
+        failing = False
         try:
             while True:
                 await asyncio.sleep(FLUSH_INTERVAL)
                 try:
                     await self.flush()
-                except Exception:  # a full disk must not stop the console; the batch is lost, logged
-                    log.exception("could not write the track and series")
+                    if failing:
+                        log.warning("the track and series are written again")
+                    failing = False
+                except Exception as e:  # a full disk or a database outage must not stop the console: held, logged once
+                    if not failing:
+                        log.warning("could not write the track and series (%s): held (up to %d points) and tried "
+                                    "again each second", str(e).splitlines()[0] if str(e) else type(e).__name__,
+                                    HELD_POINTS)
+                    failing = True
         finally:
             if self._track or self._series:
                 await asyncio.shield(self.flush())
@@ -148,11 +160,18 @@ class History:
             if prune_before is not None:
                 self._last_prune = now
             started = time.perf_counter()
-            await asyncio.to_thread(self._write, track, series, prune_before)
+            try:
+                await asyncio.to_thread(self._write, track, series, prune_before)
+            except Exception:  # kept for the next flush (a database outage), up to HELD_POINTS: then the oldest go
+                self._track, self._series = (track + self._track)[-HELD_POINTS:], (series + self._series)[-HELD_POINTS:]
+                raise
             self.last_write_seconds = time.perf_counter() - started
             self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
 
     def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
+        if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
+            mine = self.writers.mine({p["providerId"] for p in (*track, *series)})
+            track, series = [p for p in track if p["providerId"] in mine], [p for p in series if p["providerId"] in mine]
         with Session(self.engine) as s:
             for model, rows in ((TrackPoint, track), (SeriesPoint, series)):
                 if rows:
@@ -220,4 +239,6 @@ class History:
         return await asyncio.to_thread(query)
 
     def close(self) -> None:
-        """Nothing of its own to close: the engine is the database's."""
+        """Let the vehicles this console wrote go (the engine is the database's, closed by it)."""
+        if self.writers is not None:
+            self.writers.close()

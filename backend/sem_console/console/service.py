@@ -46,6 +46,7 @@ from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
+HELD_RETRY = 2.0  # seconds between attempts to write what was held while the database could not be reached
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
@@ -102,6 +103,8 @@ class Console:
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
+        self._writing_held: asyncio.Task[bool] | None = None  # writing what was held during a database outage
+        self._held_tried = 0.0
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
@@ -271,6 +274,11 @@ class Console:
                 log.exception("tick failed")
 
     def tick(self, now: float) -> None:
+        if self.store.held and self._writing_held is None and now - self._held_tried >= HELD_RETRY:
+            # an outage of the database: what was held is written in a worker thread, once it can be reached again
+            self._held_tried = now
+            self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.write_held))
+            self._writing_held.add_done_callback(lambda _t: setattr(self, "_writing_held", None))
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
         self.commands.tick(now)

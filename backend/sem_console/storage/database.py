@@ -9,12 +9,14 @@ from __future__ import annotations
 
 import fcntl
 import hashlib
+import itertools
 import json
 import logging
 import os
 import sqlite3
 import time
 import uuid
+from collections import deque
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -25,7 +27,7 @@ from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from sqlalchemy import Connection, Engine, create_engine, delete, event, func, insert, inspect, or_, select, update
 from sqlalchemy.dialects import postgresql, sqlite
-from sqlalchemy.exc import IntegrityError, SQLAlchemyError
+from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQLAlchemyError
 
 from sem_console.storage.models import (
     AlarmRecord,
@@ -49,6 +51,10 @@ ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_i
                  "acked_by", "normal_at")
 CONNECT_TIMEOUT = 5  # seconds to reach a PostgreSQL server before the start fails
 MIGRATION_LOCK = 0x53454D_0001  # pg advisory lock key: one console upgrades the schema at a time
+# Writes held while a PostgreSQL server cannot be reached, written in order when it is back. Past the bound the
+# oldest held writes are dropped (counted in `dropped`, logged): at a few writes a second (commands, transitions,
+# audit, alarms) that is hours of an outage, and memory stays bounded.
+HELD_MAX = 50_000
 
 
 # the Core tables: statements below are on their columns
@@ -161,6 +167,11 @@ class Database:
         self._lock: Connection | int | None = None  # what holds this console's name (claim)
         self._held: str | None = None
         self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
+        self._held_writes: deque[Callable[[Connection], object]] = deque()  # during an outage, oldest first
+        self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
+        self.dropped = 0  # held writes dropped past HELD_MAX
+        self._temporary_ids = itertools.count(-1, -1)  # alarms raised during an outage, until written
+        self._alarm_ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
         try:
             migrate(self.engine, db)
         except (SQLAlchemyError, sqlite3.Error, OSError) as e:
@@ -220,6 +231,58 @@ class Database:
         os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is
         self._lock = fd
 
+    # ---- writes, and what happens to them during an outage -----------------------------------
+    def _write(self, fn: Callable[[Connection], object]) -> None:
+        """Run `fn` in a transaction. A PostgreSQL server that cannot be reached (stopped, restarting, the network)
+        is an outage, not an error: the write is held, in order behind any held before, and written by
+        `write_held` when the server is back. SQLite raises as before (one file on this machine)."""
+        if self._held_writes:
+            self._hold_write(fn)
+            return
+        try:
+            with self.engine.begin() as c:
+                fn(c)
+        except (OperationalError, InterfaceError) as e:
+            if self.db.path is not None:
+                raise
+            if self.unavailable_since is None:
+                self.unavailable_since = time.time()
+                log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
+                            str(e.orig or e).strip().splitlines()[0] if str(e.orig or e).strip() else type(e).__name__)
+            self._hold_write(fn)
+
+    def _hold_write(self, fn: Callable[[Connection], object]) -> None:
+        if len(self._held_writes) >= HELD_MAX:
+            self._held_writes.popleft()
+            self.dropped += 1
+            if self.dropped in (1, 10, 100) or self.dropped % 1000 == 0:
+                log.error("%d held writes dropped: the database has been unreachable too long (more than %d held)",
+                          self.dropped, HELD_MAX)
+        self._held_writes.append(fn)
+
+    @property
+    def held(self) -> int:
+        return len(self._held_writes)
+
+    def write_held(self) -> bool:
+        """Write what was held during an outage, oldest first (for a worker thread: the console's tick starts it
+        while anything is held); True when nothing is left. Stops at the first write the server still refuses."""
+        written = 0
+        while self._held_writes:
+            fn = self._held_writes[0]
+            try:
+                with self.engine.begin() as c:
+                    fn(c)
+            except (OperationalError, InterfaceError):
+                return False
+            self._held_writes.popleft()
+            written += 1
+        if self.unavailable_since is not None:
+            log.warning("the database %s is back after %.0f s: wrote %d held changes", self.db.shown,
+                        time.time() - self.unavailable_since, written)
+            self.unavailable_since = None
+        return True
+
     # ---- between consoles (PostgreSQL) ------------------------------------------------------
     def _notify(self, c: Connection, kind: str, **fields: Any) -> None:
         """Tell the other consoles on this database what changed (delivered when the transaction commits)."""
@@ -242,20 +305,25 @@ class Database:
 
     # ---- commands -----------------------------------------------------------------------
     def add_command(self, rec: dict[str, Any], command_: dict[str, Any], console: str | None = None) -> None:
-        with self.engine.begin() as c:
-            c.execute(insert(COMMANDS).values(
-                session_id=rec["sessionId"], service=rec["service"], provider_id=rec["providerId"], state=rec["state"],
-                operator=rec["operator"], created_at=rec["createdAt"], command=json.dumps(command_), unanswered=False,
-                cancel_requested=False, cleaned_up=False, console=console))
+        row = dict(session_id=rec["sessionId"], service=rec["service"], provider_id=rec["providerId"], state=rec["state"],
+                   operator=rec["operator"], created_at=rec["createdAt"], command=json.dumps(command_), unanswered=False,
+                   cancel_requested=False, cleaned_up=False, console=console)
+
+        def write(c: Connection) -> None:
+            c.execute(insert(COMMANDS).values(row))
             self._notify(c, "command", session=rec["sessionId"])
+        self._write(write)
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
-        with self.engine.begin() as c:
-            c.execute(self._insert(TRANSITIONS).values(
-                session_id=session_id, seq=seq, status=t["status"], reason=t["reason"], log_message=t["logMessage"],
-                violation=t["violation"], provider_time=t["providerTime"], received_at=t["receivedAt"],
-            ).on_conflict_do_nothing())
+        stmt = self._insert(TRANSITIONS).values(
+            session_id=session_id, seq=seq, status=t["status"], reason=t["reason"], log_message=t["logMessage"],
+            violation=t["violation"], provider_time=t["providerTime"], received_at=t["receivedAt"],
+        ).on_conflict_do_nothing()
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
             self._notify(c, "command", session=session_id)
+        self._write(write)
 
     def set_flag(self, session_id: str, flag: str, value: bool = True) -> None:
         assert flag in ("unanswered", "cleaned_up")
@@ -268,9 +336,10 @@ class Database:
         self._update_command(session_id, cancel_requested=True, canceled_by=operator)
 
     def _update_command(self, session_id: str, **values: Any) -> None:
-        with self.engine.begin() as c:
+        def write(c: Connection) -> None:
             c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
             self._notify(c, "command", session=session_id)
+        self._write(write)
 
     def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
                  session_id: str | None = None, provider_id: str | None = None,
@@ -317,10 +386,13 @@ class Database:
     def add_audit(self, entry: dict[str, Any]) -> None:
         """One entry (keys: AUDIT_COLUMNS); the table keeps the newest audit_max_rows. Ids count up (never
         reused), so the prune is one range delete on the key."""
-        with self.engine.begin() as c:
-            new_id = c.execute(insert(AUDIT).values({k: entry.get(k) for k in AUDIT_COLUMNS}).returning(AUDIT.c.id)).scalar_one()
+        row = {k: entry.get(k) for k in AUDIT_COLUMNS}
+
+        def write(c: Connection) -> None:
+            new_id = c.execute(insert(AUDIT).values(row).returning(AUDIT.c.id)).scalar_one()
             c.execute(delete(AUDIT).where(AUDIT.c.id <= new_id - self.audit_max_rows))
             self._notify(c, "audit", id=new_id)
+        self._write(write)
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
@@ -342,23 +414,36 @@ class Database:
 
     def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
         stmt = self._insert(LINK_CONFIG).values(provider_id=provider_id, config=json.dumps(config))
-        with self.engine.begin() as c:
-            c.execute(stmt.on_conflict_do_update(index_elements=["provider_id"], set_={"config": stmt.excluded.config}))
+        upsert = stmt.on_conflict_do_update(index_elements=["provider_id"], set_={"config": stmt.excluded.config})
+
+        def write(c: Connection) -> None:
+            c.execute(upsert)
             self._notify(c, "link", provider=provider_id)
+        self._write(write)
 
     # ---- alarms -------------------------------------------------------------------------
     def add_alarm(self, alarm: dict[str, Any]) -> int:
-        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go."""
-        with self.engine.begin() as c:
-            row = {k: alarm.get(k) for k in ALARM_COLUMNS}
+        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
+        During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
+        updates go to the row written for it."""
+        row = {k: alarm.get(k) for k in ALARM_COLUMNS}
+        temporary = next(self._temporary_ids)
+        ids: list[int] = []
+
+        def write(c: Connection) -> None:
             new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
-        return new_id
+            self._alarm_ids[temporary] = new_id
+            ids.append(new_id)
+        self._write(write)
+        return ids[0] if ids else temporary
 
     def update_alarm(self, alarm: dict[str, Any]) -> None:
-        with self.engine.begin() as c:
-            c.execute(update(ALARMS).where(ALARMS.c.id == alarm["id"]).values(
-                {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}))
+        values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
+
+        def write(c: Connection) -> None:
+            c.execute(update(ALARMS).where(ALARMS.c.id == self._alarm_ids.get(alarm["id"], alarm["id"])).values(values))
+        self._write(write)
 
     def open_alarms(self) -> list[dict[str, Any]]:
         """The alarms not back to normal, oldest first."""
@@ -378,6 +463,38 @@ class Database:
             os.close(self._lock)
         self._lock = None
         self.engine.dispose()
+
+
+class VehicleWriters:
+    """Which vehicles' track and chart history this console writes, on PostgreSQL: one console per vehicle, so the
+    consoles that hear it do not each write it. A session advisory lock per vehicle, taken on a connection of this
+    console's own at its first point: the server lets it go when that connection ends (the console stops or dies),
+    and another console that hears the vehicle takes it at its next batch. For a worker thread."""
+
+    def __init__(self, engine: Engine) -> None:
+        self.engine = engine
+        self._conn: Connection | None = None
+        self._held: set[str] = set()
+
+    def mine(self, providers: set[str]) -> set[str]:
+        """The vehicles of `providers` this console writes (it takes those no other console holds)."""
+        try:
+            if self._conn is None:
+                self._conn, self._held = self.engine.connect(), set()
+            for provider in providers - self._held:
+                if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
+                    self._held.add(provider)
+            self._conn.commit()  # not idle in a transaction between batches
+        except (OperationalError, InterfaceError):  # the server restarted or is away: its locks went with it
+            self.close()
+            raise
+        return providers & self._held
+
+    def close(self) -> None:
+        if self._conn is not None:
+            self._conn.invalidate()  # a connection whose session held locks is not given to anyone else
+            self._conn.close()
+        self._conn, self._held = None, set()
 
 
 def _with_transitions(c: Connection, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
