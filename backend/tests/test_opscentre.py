@@ -102,6 +102,24 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
     assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
 
 
+def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    vehicle = sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    for c in (a, b):
+        provider_ready(c.url, V1, {"GPSFixReport"})
+    vehicle.kill()  # both lose it: each raises its own link-lost alarm
+
+    def lost(c: ConsoleProcess) -> dict[str, Any] | None:
+        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
+
+    on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
+    wait_until(lambda: lost(b), 15, "link-lost on B")
+    assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
+    wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
+
+
 def test_each_vehicles_track_is_written_once_and_handed_over(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     """Two consoles hear the vehicle, one writes its track (at most one point a second in the shared database);

@@ -243,6 +243,14 @@ class Alarms:
         self._save(a)
         return a
 
+    def acknowledged_elsewhere(self, key: str, operator: str | None, at: float) -> bool:
+        """Another console station acknowledged its alarm of this key: so is this one's (whether it changed)."""
+        a = self.open.get(key)
+        if a is None or a.acked_at is not None:
+            return False
+        self.acknowledge(a.id, operator, at)
+        return True
+
     def active(self) -> list[dict[str, Any]]:
         """The active set, newest first."""
         return [a.to_json() for a in sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)]

@@ -203,9 +203,9 @@ class Commands:
             stamp = (int(c["createdAt"]), int(c["createdAt"] % 1 * 1e9))
             cmd = Command(session, service, provider, state, c.get("operator"), float(c["createdAt"]),
                           self._sample(service, provider, session, state, stamp),
-                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
-            self.by_session[session] = cmd
-            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, self.station)
+                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
+            self.by_session[session] = cmd  # the station that issued it is the recorded console's
+            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
         elif c.get("cancelRequested") and not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, c.get("canceledBy")
             self.store.set_canceled(str(session), cmd.canceled_by)

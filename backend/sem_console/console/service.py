@@ -139,6 +139,11 @@ class Console:
                     self._emit({"type": "command", "command": cmd.to_json()})
             elif message.get("kind") == "link":
                 self._shared_link_config(str(message["provider"]))
+            elif message.get("kind") == "alarm-ack":
+                by = message.get("by")
+                if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
+                                                      float(message["at"])):
+                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
 

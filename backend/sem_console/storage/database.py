@@ -200,8 +200,9 @@ class Database:
                         legacy = None
                     guid = legacy or str(uuid.uuid4())
                     c.execute(insert(CONSOLES).values(name=name, guid=guid, created_at=time.time()))
-                    if legacy is not None:  # the first release's commands were this station's
+                    if legacy is not None:  # the first release's commands and alarms were this station's
                         c.execute(update(COMMANDS).where(COMMANDS.c.console.is_(None)).values(console=name))
+                        c.execute(update(ALARMS).where(ALARMS.c.console.is_(None)).values(console=name))
                     return uuid.UUID(guid)
             except IntegrityError:
                 continue
@@ -426,7 +427,7 @@ class Database:
         """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
         During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
         updates go to the row written for it."""
-        row = {k: alarm.get(k) for k in ALARM_COLUMNS}
+        row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.station}
         temporary = next(self._temporary_ids)
         ids: list[int] = []
 
@@ -443,12 +444,16 @@ class Database:
 
         def write(c: Connection) -> None:
             c.execute(update(ALARMS).where(ALARMS.c.id == self._alarm_ids.get(alarm["id"], alarm["id"])).values(values))
+            if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
+                self._notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
         self._write(write)
 
     def open_alarms(self) -> list[dict[str, Any]]:
-        """The alarms not back to normal, oldest first."""
+        """This console's alarms not back to normal, oldest first."""
         with self.engine.connect() as c:
             q = select(*ALARMS.c).where(ALARMS.c.normal_at.is_(None)).order_by(ALARMS.c.id)
+            if self.station is not None:
+                q = q.where(ALARMS.c.console == self.station)
             return [dict(r) for r in c.execute(q).mappings()]
 
     def clear_alarms(self) -> None:

@@ -107,6 +107,7 @@ class AlarmRecord(SQLModel, table=True):
     acked_at: float | None = None
     acked_by: str | None = None
     normal_at: float | None = None
+    console: str | None = Field(None, description="the console station whose alarm it is (null: before station names)")
 
 
 class TrackPoint(SQLModel, table=True):
