@@ -12,7 +12,8 @@ COPY idl/ idl/
 COPY backend/ backend/
 RUN pip install --no-cache-dir ./backend
 COPY --from=dashboard /src/frontend/dist /app/frontend/dist
-ENV SEM_FRONTEND_DIR=/app/frontend/dist SEM_HOST=0.0.0.0 SEM_PORT=8000 SEM_DB_PATH=/data/sem-console.sqlite3
+# the database a URL (not SEM_DB_PATH): an operations centre station replaces it with its postgresql:// one
+ENV SEM_FRONTEND_DIR=/app/frontend/dist SEM_HOST=0.0.0.0 SEM_PORT=8000 SEM_DATABASE_URL=/data/sem-console.sqlite3
 VOLUME /data
 EXPOSE 8000
 HEALTHCHECK --interval=10s --timeout=3s --start-period=20s \

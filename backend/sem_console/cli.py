@@ -20,6 +20,7 @@ from sem_console.core.command_line import Parser, add_model_options, model_error
 from sem_console.core.config import Settings
 from sem_console.dds.bus import DdsConfigError, open_domain
 from sem_console.recording.reader import check_file
+from sem_console.storage.database import Database, StorageError
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -60,8 +61,9 @@ def main(argv: list[str] | None = None) -> int:
             parser.error(f"--aspn-lcm {settings.aspn_lcm}: {e}")
     # files and ports before DDS and the application start: each problem is one line and exit code 2 here,
     # not a traceback from the application's start-up (or uvicorn's "startup complete" and then a bind error)
+    database = settings.database()
     if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
-        for problem in (check_database(settings.db_path),
+        for problem in (check_database(database.path) if database.path is not None else None,
                         check_directory("--record", settings.record) if settings.record else None,
                         # a folder given for the record control; the default one only gets a warning below
                         check_directory("--recordings-dir", settings.recordings_dir)
@@ -74,6 +76,16 @@ def main(argv: list[str] | None = None) -> int:
     except StartError as e:
         parser.error(str(e))
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
+    store = None
+    if settings.replay is None:
+        try:  # reached, upgraded and this console's name held here: a problem is one line, not a lifespan traceback
+            store = Database(database, settings.audit_max_rows)
+            store.claim(settings.station())
+        except StorageError as e:
+            if store is not None:
+                store.close()
+            parser.error(str(e))
+        logging.getLogger("sem-console").info("database %s, console name %r", database.shown, settings.station())
     for warning in start_warnings(settings):
         logging.getLogger("sem-console").warning(warning)
     if settings.replay is None:
@@ -86,7 +98,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from sem_console.main import create_app
 
-    config = uvicorn.Config(create_app(settings), host=settings.host, port=settings.port, log_level=args.log_level,
+    config = uvicorn.Config(create_app(settings, store), host=settings.host, port=settings.port, log_level=args.log_level,
                             ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
                             # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
                             # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)

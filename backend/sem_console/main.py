@@ -28,6 +28,7 @@ from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
+from sem_console.storage.database import Database
 
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
@@ -42,12 +43,13 @@ class Included:
     responses: Responses = field(default_factory=dict)
 
 
-def create_app(settings: Settings | None = None) -> FastAPI:
+def create_app(settings: Settings | None = None, store: Database | None = None) -> FastAPI:
+    """`store`: the console's database when the caller opened it (sem-console: to refuse a bad one in one line)."""
     settings = settings or Settings()
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        console = Console(settings)  # owns the DDS participant (none in a replay)
+        console = Console(settings, store)  # owns the DDS participant (none in a replay)
         app.state.console = console
         gateways = Gateways(settings, console.feed)  # subscribed before the first sample arrives
         app.state.gateways = gateways

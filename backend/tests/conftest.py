@@ -18,6 +18,8 @@ import pytest
 
 from consumer import Consumer
 
+pytest_plugins = ["pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures (tests/pg.py)
+
 # Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
 os.environ.pop("CYCLONEDDS_URI", None)
 
@@ -148,8 +150,10 @@ class ConsoleProcess(Process):
             str(self.port),
             "--domain",
             str(self.domain),
-            "--db",
-            str(self.db),
+            # the database: --db unless the test gives --database-url; the one console name of the test, so a restart
+            # (on another HTTP port) keeps its identity, unless the test names its consoles
+            *([] if "--database-url" in self.args else ["--db", str(self.db)]),
+            *([] if "--console-name" in self.args else ["--console-name", "test-console"]),
             "--recordings-dir",
             str(self.db.parent / "recordings"),
             "--comms-lost-timeout",

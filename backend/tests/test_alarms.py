@@ -10,6 +10,7 @@ from typing import Any
 
 import httpx
 from fastapi.testclient import TestClient
+from sqlalchemy import text
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
@@ -18,11 +19,11 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from sem_console.console.alarms import NO_FIX_GRACE, Alarms
 from sem_console.console.clock import RecordingClock
 from sem_console.console.commands import Command, Commands
-from sem_console.console.database import Database
 from sem_console.console.providers import Providers
 from sem_console.core.config import Settings
 from sem_console.dds.topics import Service
 from sem_console.main import create_app
+from sem_console.storage.database import Database
 from test_console import V1, WsClient, provider_ready, wait_until
 
 OK = R.SUCCEEDED
@@ -39,7 +40,7 @@ class World:
         self.store = Database(db)
         self.written: list[Any] = []
         self.disposed: list[Any] = []
-        self.commands = Commands(self.store.console_guid(), self.store, lambda _s, x: self.written.append(x),
+        self.commands = Commands(self.store.claim("test", hold=False), self.store, lambda _s, x: self.written.append(x),
                                  lambda _s, x: self.disposed.append(x), lambda _m: None, 2.0, self.clock)
         self.providers = Providers(3.0, 1.0, NAMES)  # lost after 3 s, regained after 1 s
         self.alarms = Alarms(self.store, NAMES)
@@ -89,7 +90,8 @@ def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_pat
         w.at(t).report(CHARLIE, "GPSReport")
         w.update()
     assert w.providers.by_id[CHARLIE].link == "regained" and w.alarms.active() == []
-    [row] = w.store.db.execute("SELECT * FROM alarms").fetchall()
+    with w.store.engine.connect() as c:
+        [row] = c.execute(text("SELECT * FROM alarms")).mappings().all()
     assert row["normal_at"] == row["cleared_at"] == T0 + 7 and row["acked_by"] == "alice"
 
 

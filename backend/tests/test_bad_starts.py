@@ -15,7 +15,8 @@ from pathlib import Path
 
 import pytest
 
-from conftest import free_port
+from conftest import ConsoleProcess, free_port
+from pg import PASSWORD, Cluster
 
 EXE = Path(sys.executable).parent / "sem-console"
 PMTILES_V3 = b"PMTiles\x03" + bytes(119)  # a whole v3 header: magic, version, then offsets and bounds (zeros here)
@@ -127,6 +128,38 @@ def test_an_empty_or_sound_database_passes_the_check(content: bytes | None, doma
     path = tmp_path / "db"
     path.write_bytes(content) if content is not None else database(path)
     assert "--port" in refused(["--db", str(path)], domain, port=busy_tcp)
+
+
+@pytest.mark.parametrize("case, says, fix", [
+    ("no server", "cannot reach the PostgreSQL server", "start it, or fix the host and port in --database-url"),
+    ("wrong password", 'password authentication failed for user "postgres"', "fix the user name or password"),
+    ("no such database", 'database "nope" does not exist', "create it (createdb, or CREATE DATABASE)"),
+])
+def test_a_postgresql_it_cannot_use_is_one_line_without_the_password(case: str, says: str, fix: str, domain: int,
+                                                                       pg_cluster: Cluster) -> None:
+    url = {"no server": f"postgresql://postgres:{PASSWORD}@127.0.0.1:{free_port()}/console",
+           "wrong password": pg_cluster.url("postgres", password="not-it-42"),
+           "no such database": pg_cluster.url("nope")}[case]
+    line = refused(["--database-url", url], domain)
+    assert says in line and fix in line and "--database-url postgresql+psycopg://postgres:***@127.0.0.1:" in line, line
+    assert PASSWORD not in line and "not-it-42" not in line
+
+
+def test_db_and_database_url_together_is_one_line(domain: int, tmp_path: Path) -> None:
+    line = refused(["--db", str(tmp_path / "db"), "--database-url", str(tmp_path / "other")], domain)
+    assert "--db and --database-url: give one" in line, line
+
+
+@pytest.mark.parametrize("backend", ["sqlite", "postgresql"])
+def test_a_second_console_of_the_same_name_on_one_database_is_one_line(backend: str, domain: int, tmp_path: Path,
+                                                                         console: Callable[..., ConsoleProcess],
+                                                                         request: pytest.FixtureRequest) -> None:
+    url = str(tmp_path / "console.sqlite3") if backend == "sqlite" else request.getfixturevalue("pg_url")
+    console("--database-url", url, "--console-name", "watch")
+    line = refused(["--database-url", url, "--console-name", "watch"], domain)
+    shown = url if backend == "sqlite" else "postgresql+psycopg://postgres:***@"
+    assert f"another console named 'watch' is running on {shown}" in line and "another --console-name" in line, line
+    assert PASSWORD not in line
 
 
 # ---- ports ------------------------------------------------------------------------------------------------------

@@ -12,8 +12,8 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.console import commands as commands_module
 from sem_console.console.commands import Commands
-from sem_console.console.database import Database
 from sem_console.dds.topics import Service
+from sem_console.storage.database import Database
 
 OK = R.SUCCEEDED
 VEHICLE = uuid.uuid4()
@@ -28,7 +28,7 @@ class Bus:
 
 def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
     store = Database(db)
-    return Commands(store.console_guid(), store, lambda _s, x: bus.written.append(x),
+    return Commands(store.claim("test", hold=False), store, lambda _s, x: bus.written.append(x),
                     lambda _s, x: bus.disposed.append(x), bus.emitted.append, timeout)
 
 

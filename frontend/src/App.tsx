@@ -2,6 +2,7 @@ import { ArrangeableGroup } from "./components/Arrange";
 import { ErrorBoundary } from "./components/ErrorBoundary";
 import { AlarmsPanel } from "./panels/Alarms";
 import { CommandsPanel } from "./panels/Commands";
+import { DatabaseBanner } from "./panels/DatabaseBanner";
 import { DdsDiagnostics } from "./panels/DdsDiagnostics";
 import { ExportPanel } from "./panels/Export";
 import { FleetBar } from "./panels/FleetBar";
@@ -37,6 +38,7 @@ export function App() {
       {/* the header and the fleet bar stay at the top together, whatever is scrolled */}
       <div className="top-bars">
         <Header />
+        <DatabaseBanner />
         <ErrorBoundary name="Fleet">
           <FleetBar />
         </ErrorBoundary>

@@ -92,6 +92,12 @@ class Health(_Model):
     basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
     replay: bool = Field(description="the console serves a recording (sem-console --replay), not DDS: read-only, "
                                      "with playback controls (/api/replay)")
+    consoleName: str = Field("", description="this console station's --console-name")
+    databaseUnavailableSince: float | None = Field(None, description=(
+        "UTC seconds since when the console's PostgreSQL database cannot be reached (shared history unavailable): "
+        "monitoring goes on, commands, transitions, audit and acknowledgements are held here and written when it is "
+        "back; null while it can be reached"))
+    databaseWritesHeld: int = Field(0, description="writes held for the database (at most 50000; past it the oldest go)")
 
 
 class GatewayState(_Model):

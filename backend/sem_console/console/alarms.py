@@ -39,9 +39,9 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command
-from sem_console.console.database import Database
 from sem_console.console.providers import Provider
 from sem_console.dds.topics import Service
+from sem_console.storage.database import Database
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
 CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered"})
@@ -242,6 +242,14 @@ class Alarms:
             del self.open[a.key]
         self._save(a)
         return a
+
+    def acknowledged_elsewhere(self, key: str, operator: str | None, at: float) -> bool:
+        """Another console station acknowledged its alarm of this key: so is this one's (whether it changed)."""
+        a = self.open.get(key)
+        if a is None or a.acked_at is not None:
+            return False
+        self.acknowledge(a.id, operator, at)
+        return True
 
     def active(self) -> list[dict[str, Any]]:
         """The active set, newest first."""

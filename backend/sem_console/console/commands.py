@@ -20,8 +20,8 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.clock import Clock
-from sem_console.console.database import Database
 from sem_console.dds.topics import Service
+from sem_console.storage.database import Database
 from sem_console.umaa.flow import CommandFlow, name, parse
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import datetime_to_float, now_datetime
@@ -48,6 +48,7 @@ class Command:
     cleaned_up: bool = False
     acked_at: float | None = None
     issued_by_deadline: float = 0.0
+    console: str | None = None  # the console station that issued it (--console-name); None: before station names
     answered_late_after: float | None = None  # seconds it was unanswered, when a status came after all (not stored)
     # Loaded from history: the statuses already recorded, which the provider's transient-local
     # history delivers again after a restart (in order, perhaps only the last few).
@@ -67,6 +68,7 @@ class Command:
             "cancelRequested": self.cancel_requested,
             "canceledBy": self.canceled_by,
             "cleanedUp": self.cleaned_up,
+            "console": self.console,
             "ackedAt": self.acked_at,
             "violations": self.flow.violations,
             "transitions": [
@@ -95,7 +97,9 @@ class Commands:
         emit: Emit,
         unanswered_timeout: float,
         clock: Clock | None = None,
+        station: str | None = None,
     ) -> None:
+        self.station = station  # this console's name: the commands it issued are its own to follow and clean up
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()
         self.unanswered_timeout = unanswered_timeout
@@ -104,19 +108,21 @@ class Commands:
 
     # ---- history --------------------------------------------------------------------
     def _load_history(self) -> None:
-        for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True):
+        for row in self.store.commands(limit=KEEP_FINISHED, unfinished=True, console=self.station):
             cmd = self.from_row(row)
             cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
             self.by_session[cmd.session_id] = cmd
 
-    def from_row(self, row: dict[str, Any]) -> Command:
+    def from_row(self, row: dict[str, Any], source: uuid.UUID | None = None) -> Command:
+        """The command of a database row; `source`: the GUID of the console that issued it when not this one."""
         service = Service(row["service"])
         state = parse(InsState, row["state"]) if row["state"] else None
         provider, session = uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"])
         cmd = Command(session, service, provider, state if isinstance(state, InsState) else None, row["operator"],
-                      row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"]),
+                      row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"], source),
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
-                      canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"])
+                      canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"],
+                      console=row.get("console"))
         for t in row["transitions"]:
             if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
@@ -141,8 +147,9 @@ class Commands:
                 del self.by_session[c.session_id]
 
     def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | int | None,
-                stamp: tuple[int, int] | list[int]) -> Any:
-        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(provider), sessionID=to_guid(session),
+                stamp: tuple[int, int] | list[int], source: uuid.UUID | None = None) -> Any:
+        values: dict[str, Any] = dict(source=to_guid(source or self.source), destination=to_guid(provider),
+                                      sessionID=to_guid(session),
                                       timeStamp=DateTime(seconds=int(stamp[0]), nanoseconds=int(stamp[1])))
         if service is Service.INERTIAL_SENSOR:
             values["state"] = state
@@ -177,9 +184,9 @@ class Commands:
         stamp = now_datetime()
         cmd = Command(session, service, provider, state, operator, self.clock.wall(),
                       self._sample(service, provider, session, state, (stamp.seconds, stamp.nanoseconds)),
-                      issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
+                      issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
         self.by_session[session] = cmd
-        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]})
+        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
         self._write(service, cmd.sample)
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
@@ -196,9 +203,9 @@ class Commands:
             stamp = (int(c["createdAt"]), int(c["createdAt"] % 1 * 1e9))
             cmd = Command(session, service, provider, state, c.get("operator"), float(c["createdAt"]),
                           self._sample(service, provider, session, state, stamp),
-                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout)
-            self.by_session[session] = cmd
-            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)})
+                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
+            self.by_session[session] = cmd  # the station that issued it is the recorded console's
+            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
         elif c.get("cancelRequested") and not cmd.cancel_requested:
             cmd.cancel_requested, cmd.canceled_by = True, c.get("canceledBy")
             self.store.set_canceled(str(session), cmd.canceled_by)
@@ -208,7 +215,7 @@ class Commands:
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
-        cmd = self.by_session.get(session)
+        cmd = self.by_session.get(session) or self._take_over(session)
         if cmd is None:  # not in memory: unknown, or finished long ago
             raise CommandError(f"command {session} is not running")
         if cmd.flow.terminal or cmd.cleaned_up:
@@ -221,6 +228,39 @@ class Commands:
             self._dispose(cmd.service, cmd.sample)
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
+
+    def _take_over(self, session: uuid.UUID) -> Command | None:
+        """Hand-over: a running command another console station on this database issued, taken into this
+        console's care (to cancel it, whether or not that station still runs): its sample keeps that
+        station's source GUID, so the dispose reaches the vehicle's instance of it; its statuses are
+        followed and recorded from here on as well (a transition both record is stored once)."""
+        rows = self.store.commands(session_id=str(session))
+        if not rows or rows[0]["console"] in (None, self.station) or rows[0]["cleaned_up"]:
+            return None
+        source = self.store.consoles().get(rows[0]["console"])
+        if source is None:
+            return None
+        cmd = self.from_row(rows[0], source)
+        if cmd.flow.terminal:
+            return None
+        cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
+        self.by_session[session] = cmd
+        log.info("took over command %s of console %r to cancel it", session, cmd.console)
+        return cmd
+
+    def shared(self, session: uuid.UUID) -> Command | None:
+        """A command another console station changed in the shared database: as it is now (for this console's
+        clients). One this console follows takes the other station's cancel request over."""
+        rows = self.store.commands(session_id=str(session))
+        if not rows:
+            return None
+        stored = self.from_row(rows[0])
+        mine = self.by_session.get(session)
+        if mine is None:
+            return stored
+        if stored.cancel_requested and not mine.cancel_requested:
+            mine.cancel_requested, mine.canceled_by = True, stored.canceled_by
+        return mine
 
     def cleanup(self, cmd: Command) -> None:
         """Command Cleanup: dispose a COMPLETED or FAILED command (CANCELED was disposed to cancel it)."""

@@ -1,9 +1,9 @@
-"""Per-vehicle track and chart series in the console's SQLite database, for reloads, charts and exports.
+"""Per-vehicle track and chart series in the console's database, for reloads, charts and exports.
 
-One model per concept: `TrackPoint` and `SeriesPoint` are SQLModel classes, each both the table
-mapping and the REST response model. Points are taken from reports on the event loop (a few
+One model per concept: `TrackPoint` and `SeriesPoint` (storage/models.py) are SQLModel classes, each both the
+table mapping and the REST response model. Points are taken from reports on the event loop (a few
 dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
-pruned (older than the retention) and read in a worker thread, so SQLite never runs on the loop.
+pruned (older than the retention) and read in a worker thread, so the database never runs on the loop.
 """
 
 from __future__ import annotations
@@ -14,48 +14,20 @@ import math
 import time
 import uuid
 from collections.abc import Sequence
-from pathlib import Path
 from typing import Any
 
-from sqlalchemy import event, func, insert
+from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
-from sqlmodel import Field, Session, SQLModel, col, create_engine, delete, select
+from sqlmodel import Session, col, delete, func, select
+
+from sem_console.storage.database import VehicleWriters
+from sem_console.storage.models import SeriesPoint, TrackPoint
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
+HELD_POINTS = 100_000  # track (and series) points held while they cannot be written (a database outage)
 PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
-TRACK, SERIES = "track", "series"  # the tables
-
-
-class TrackPoint(SQLModel, table=True):
-    """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
-
-    __tablename__ = TRACK
-    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSFixReport")
-    positionTime: float | None = Field(description="the report's timeAtPosition, UTC seconds (null: not sent)")
-    latitude: float = Field(description="degrees, WGS 84, north positive")
-    longitude: float = Field(description="degrees, WGS 84, east positive")
-    altitudeMsl: float | None = Field(description="altitude above mean sea level, metres")
-    course: float | None = Field(description="true course over ground, degrees 0..360")
-    sog: float | None = Field(description="speed over ground, metres per second")
-    latLongValid: bool = Field(description="GPSLatLongValid: the position is from GPS (false: from the INS)")
-    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport "
-                                                            "(null: none received yet)")
-
-
-class SeriesPoint(SQLModel, table=True):
-    """The dashboard's chart values of a vehicle at one time, from its GPSReport (at most one per UTC second)."""
-
-    __tablename__ = SERIES
-    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSReport")
-    cn0Mean: float | None = Field(description="mean antennaCarrierNoiseDensity (C/N0) of the satellites "
-                                                            "that report one, dB-Hz (null: none)")
-    satellitesUsed: int = Field(description="satellites with usedInFix")
-    satellitesInView: int = Field(description="numberSatellitesInView")
+__all__ = ["History", "SeriesPoint", "TrackPoint", "series_point", "track_point"]
 
 
 def _get(d: Any, *path: str) -> Any:
@@ -111,26 +83,14 @@ def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict
     }
 
 
-def _sqlite_engine(path: Path) -> Engine:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    engine = create_engine(f"sqlite:///{path}", connect_args={"check_same_thread": False, "timeout": 10})
-
-    @event.listens_for(engine, "connect")
-    def _pragmas(dbapi_connection: Any, _record: Any) -> None:
-        cur = dbapi_connection.cursor()
-        cur.execute("PRAGMA journal_mode=WAL")
-        cur.execute("PRAGMA synchronous=NORMAL")
-        cur.close()
-
-    return engine
-
-
 class History:
     """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
 
-    def __init__(self, path: Path, retention_hours: float, replay: bool = False) -> None:
-        self.engine = _sqlite_engine(path)
-        SQLModel.metadata.create_all(self.engine, tables=[SQLModel.metadata.tables[t] for t in (TRACK, SERIES)])
+    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False) -> None:
+        self.engine = engine  # the console's database (storage.Database), which made the tables and closes it
+        # shared by consoles (PostgreSQL): each vehicle's points written by one of them
+        self.writers = VehicleWriters(engine) if engine.dialect.name == "postgresql" else None
+        self._insert = (postgresql if engine.dialect.name == "postgresql" else sqlite).insert
         self.retention = retention_hours * 3600.0
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
         self._track: list[dict[str, Any]] = []
@@ -171,13 +131,21 @@ class History:
 
     async def run(self) -> None:
         """Flush every FLUSH_INTERVAL until canceled (then once more)."""
+        failing = False
         try:
             while True:
                 await asyncio.sleep(FLUSH_INTERVAL)
                 try:
                     await self.flush()
-                except Exception:  # a full disk must not stop the console; the batch is lost, logged
-                    log.exception("could not write the track and series")
+                    if failing:
+                        log.warning("the track and series are written again")
+                    failing = False
+                except Exception as e:  # a full disk or a database outage must not stop the console: held, logged once
+                    if not failing:
+                        log.warning("could not write the track and series (%s): held (up to %d points) and tried "
+                                    "again each second", str(e).splitlines()[0] if str(e) else type(e).__name__,
+                                    HELD_POINTS)
+                    failing = True
         finally:
             if self._track or self._series:
                 await asyncio.shield(self.flush())
@@ -192,15 +160,22 @@ class History:
             if prune_before is not None:
                 self._last_prune = now
             started = time.perf_counter()
-            await asyncio.to_thread(self._write, track, series, prune_before)
+            try:
+                await asyncio.to_thread(self._write, track, series, prune_before)
+            except Exception:  # kept for the next flush (a database outage), up to HELD_POINTS: then the oldest go
+                self._track, self._series = (track + self._track)[-HELD_POINTS:], (series + self._series)[-HELD_POINTS:]
+                raise
             self.last_write_seconds = time.perf_counter() - started
             self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
 
     def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
+        if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
+            mine = self.writers.mine({p["providerId"] for p in (*track, *series)})
+            track, series = [p for p in track if p["providerId"] in mine], [p for p in series if p["providerId"] in mine]
         with Session(self.engine) as s:
             for model, rows in ((TrackPoint, track), (SeriesPoint, series)):
                 if rows:
-                    s.execute(insert(model).prefix_with("OR IGNORE"), rows)
+                    s.execute(self._insert(model).on_conflict_do_nothing(), rows)
             if prune_before is not None:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
@@ -264,4 +239,6 @@ class History:
         return await asyncio.to_thread(query)
 
     def close(self) -> None:
-        self.engine.dispose()
+        """Let the vehicles this console wrote go (the engine is the database's, closed by it)."""
+        if self.writers is not None:
+            self.writers.close()

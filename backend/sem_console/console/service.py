@@ -28,7 +28,6 @@ from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.commands import Command, Commands, provider_time
-from sem_console.console.database import Database
 from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
@@ -41,9 +40,13 @@ from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
+from sem_console.storage.database import Database
+from sem_console.storage.notify import Listener
+from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
+HELD_RETRY = 2.0  # seconds between attempts to write what was held while the database could not be reached
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
@@ -67,7 +70,8 @@ def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
 
 
 class Console:
-    def __init__(self, settings: Settings) -> None:
+    def __init__(self, settings: Settings, store: Database | None = None) -> None:
+        """`store`: the database `sem-console` opened (and whose name it claimed) before the start; else opened here."""
         self.settings = settings
         replaying = settings.replay is not None
         self.clock: Clock = RecordingClock() if replaying else Clock()
@@ -75,10 +79,12 @@ class Console:
         # console's is never touched (the exports read the database on connections of their own, so not
         # ":memory:"); its track and chart history is kept whatever the recording's age
         self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
-        db_path = Path(self._replay_dir.name) / "replay.sqlite3" if self._replay_dir else settings.db_path
-        self.store = Database(db_path, settings.audit_max_rows)
-        self.id = self.store.console_guid()
-        self.history = History(db_path, math.inf if replaying else settings.track_retention_hours, replay=replaying)
+        self.station = "replay" if replaying else settings.station()
+        if self._replay_dir is not None:
+            store = Database(sqlite_file(Path(self._replay_dir.name) / "replay.sqlite3"), settings.audit_max_rows)
+        self.store = store or Database(settings.database(), settings.audit_max_rows)
+        self.id = self.store.claim(self.station)
+        self.history = History(self.store.engine, math.inf if replaying else settings.track_retention_hours, replay=replaying)
         self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
@@ -96,6 +102,9 @@ class Console:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
+        self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
+        self._writing_held: asyncio.Task[bool] | None = None  # writing what was held during a database outage
+        self._held_tried = 0.0
         self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
@@ -108,7 +117,7 @@ class Console:
                               stored_link_configs(self.store.link_configs()),
                               settings.jaus_subsystem if settings.jaus_port is not None else None)
         commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
-                            self.settings.unanswered_timeout, self.clock)
+                            self.settings.unanswered_timeout, self.clock, self.station)
         return providers, commands
 
     def reset(self) -> None:
@@ -117,6 +126,33 @@ class Console:
         self.providers, self.commands = self._fresh_state()
         self.alarms.reset()
         self.reports_applied = 0
+
+    def _on_shared(self, message: dict[str, Any]) -> None:
+        """What another console station on the database changed (storage/notify.py), on the loop: its commands
+        reach this console's clients; a link configuration applies here too."""
+        if self.closing or message.get("console") == self.station:
+            return
+        try:
+            if message.get("kind") == "command":
+                cmd = self.commands.shared(uuid.UUID(str(message["session"])))
+                if cmd is not None:
+                    self._emit({"type": "command", "command": cmd.to_json()})
+            elif message.get("kind") == "link":
+                self._shared_link_config(str(message["provider"]))
+            elif message.get("kind") == "alarm-ack":
+                by = message.get("by")
+                if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
+                                                      float(message["at"])):
+                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        except (KeyError, ValueError) as e:
+            log.warning("ignored a notification of another console (%s): %.200s", e, message)
+
+    def _shared_link_config(self, provider_id: str) -> None:
+        config = stored_link_configs({k: v for k, v in self.store.link_configs().items() if k == provider_id})
+        p = self.providers.by_id.get(uuid.UUID(provider_id))
+        if p is not None and provider_id in config:
+            p.config = config[provider_id]
+            self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
 
     def _write_command(self, service: Service, sample: Any) -> None:
         writer = self.command_writers.get(service)  # none in a replay: nothing is published
@@ -138,6 +174,7 @@ class Console:
             await self.replay.open()
             return
         assert self.bus is not None
+        self._listener = self.store.listen(lambda message: loop.call_soon_threadsafe(self._on_shared, message))
         self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder,
                              self.settings.report_burst)
         if self.settings.record is not None:
@@ -173,6 +210,8 @@ class Console:
             if self._replay_dir is not None:
                 self._replay_dir.cleanup()
             return
+        if self._listener is not None:
+            await asyncio.to_thread(self._listener.stop)
         canceled = self.commands.shutdown()
         await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
         deadline = time.monotonic() + answer_wait
@@ -240,6 +279,11 @@ class Console:
                 log.exception("tick failed")
 
     def tick(self, now: float) -> None:
+        if self.store.held and self._writing_held is None and now - self._held_tried >= HELD_RETRY:
+            # an outage of the database: what was held is written in a worker thread, once it can be reached again
+            self._held_tried = now
+            self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.write_held))
+            self._writing_held.add_done_callback(lambda _t: setattr(self, "_writing_held", None))
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
         self.commands.tick(now)

@@ -7,12 +7,15 @@ gets them too."""
 
 from __future__ import annotations
 
+import socket
 import uuid
 from pathlib import Path
 from typing import Any, Self
 
 from pydantic import Field, PrivateAttr, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
+
+from sem_console.storage.url import DatabaseUrl, parse_database_url, sqlite_file
 
 ENV_ONLY: dict[str, Any] = {"cli": None}  # json_schema_extra of a setting without a command-line option
 
@@ -43,7 +46,14 @@ class Settings(BaseSettings):
 
     # UMAA consumer and link health
     db_path: Path = Field(Path("var/sem-console.sqlite3"), json_schema_extra=cli(flag="--db"),
-                          description="SQLite command history (default: var/sem-console.sqlite3)")
+                          description="SQLite database file: commands, audit, alarms, track history (default: "
+                                      "var/sem-console.sqlite3); the shorthand of --database-url PATH")
+    database_url: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(
+        "the console's database: postgresql://user:password@host:port/database (shared by the consoles of an "
+        "operations centre), or a SQLite file path or sqlite:///PATH (default: --db)"))
+    console_name: str | None = Field(None, min_length=1, max_length=200, description=(
+        "this console station's name, which keeps its UMAA source GUID in the database across restarts; unique "
+        "among the consoles running on one database (default: <host name>:<HTTP port>)"))
     comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without samples before a provider is lost "
                                                              "(default: 3)")
     regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a provider is regained "
@@ -157,6 +167,10 @@ class Settings(BaseSettings):
         parse_peers(self.imc_peers)
         if self.auth_reads and not self.operators():
             raise ValueError("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
+        if self.database_url is not None:
+            if "db_path" in self.model_fields_set:
+                raise ValueError("--db and --database-url: give one (--db PATH is the shorthand of --database-url PATH)")
+            parse_database_url(self.database_url)
         if (self.tls_certfile is None) != (self.tls_keyfile is None):
             raise ValueError("--tls-certfile and --tls-keyfile go together")
         if self.replay is not None:
@@ -178,6 +192,14 @@ class Settings(BaseSettings):
                     add_token(out, name, token, str(self.operator_tokens_file))
             self._operators = out
         return self._operators
+
+    def database(self) -> DatabaseUrl:
+        """The database given by --database-url, else the --db file."""
+        return parse_database_url(self.database_url) if self.database_url is not None else sqlite_file(self.db_path)
+
+    def station(self) -> str:
+        """This console's name (--console-name, else <host name>:<HTTP port>)."""
+        return self.console_name or f"{socket.gethostname()}:{self.port}"
 
     def recording_dir(self) -> Path:
         return self.record or self.recordings_dir

@@ -84,6 +84,8 @@ class Command(StrictModel):
     canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
     ackedAt: float | None = Field(description="when the provider first reported executing it (its CommandAckReport), UTC seconds")
     cleanedUp: bool
+    console: str | None = Field(None, description="the console station that issued it (its --console-name); null: a "
+                                            "command of a release before station names")
     violations: list[str]
     transitions: list[Transition]
 

@@ -14,7 +14,7 @@ function env(report: Record<string, unknown>, invalid: string[] = [], receivedAt
 function cmd(over: Partial<Command> = {}): Command {
   return {
     sessionId: "s1", service: "GPSFix", providerId: P, state: null, operator: null, createdAt: 1, status: null, terminal: false,
-    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, ackedAt: null, violations: [], transitions: [], ...over,
+    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, console: null, ackedAt: null, violations: [], transitions: [], ...over,
   };
 }
 

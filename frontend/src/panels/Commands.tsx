@@ -59,6 +59,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
       <li className="muted">
         <span className="t-status">Requested</span> <span className="t-time">{utc(c.createdAt, false)}</span>
         {c.operator ? <span> by {c.operator}</span> : null}
+        {c.console ? <span data-testid="station"> on {c.console}</span> : null}
       </li>
       {c.ackedAt !== null && (
         <li className="muted" data-testid="ack">

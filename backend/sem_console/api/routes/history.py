@@ -25,8 +25,8 @@ from sem_console import __version__
 from sem_console.api.deps import ConsoleDep
 from sem_console.api.responses import Responses, problem
 from sem_console.api.schemas import iso_only
-from sem_console.console.history import SeriesPoint, TrackPoint
 from sem_console.console.service import Console
+from sem_console.storage.models import SeriesPoint, TrackPoint
 
 router = APIRouter(tags=["history"])
 EXT_NS = "urn:sem-console:gpx-extensions:1"  # namespace of the course/SOG extensions (a name, not a location)

@@ -1,0 +1,515 @@
+"""The console's database on SQLAlchemy 2.0 (sync engine), SQLite or PostgreSQL: commands and their transitions,
+audit, link configurations, alarms and console identities (storage/models.py). The schema is Alembic's
+(storage/migrations), upgraded when the database is opened; a SQLite file is copied beside itself first.
+
+Calls are synchronous, where the console made them before (most on the event loop: single-row writes;
+the exports and the track and chart history in worker threads)."""
+
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import itertools
+import json
+import logging
+import os
+import sqlite3
+import time
+import uuid
+from collections import deque
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from alembic import command
+from alembic.config import Config
+from alembic.runtime.migration import MigrationContext
+from alembic.script import ScriptDirectory
+from sqlalchemy import Connection, Engine, create_engine, delete, event, func, insert, inspect, or_, select, update
+from sqlalchemy.dialects import postgresql, sqlite
+from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQLAlchemyError
+
+from sem_console.storage.models import (
+    AlarmRecord,
+    AuditRecord,
+    CommandRecord,
+    ConsoleIdentity,
+    LinkConfigRecord,
+    Meta,
+    TransitionRecord,
+    table,
+)
+from sem_console.storage.notify import CHANNEL, Listener
+from sem_console.storage.url import DatabaseUrl, sqlite_file
+
+log = logging.getLogger("sem-console.storage")
+logging.getLogger("alembic").setLevel(logging.WARNING)  # its INFO lines name plugins and contexts: our own say what changed
+MIGRATIONS = Path(__file__).parent / "migrations"
+ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
+AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
+ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
+                 "acked_by", "normal_at")
+CONNECT_TIMEOUT = 5  # seconds to reach a PostgreSQL server before the start fails
+MIGRATION_LOCK = 0x53454D_0001  # pg advisory lock key: one console upgrades the schema at a time
+# Writes held while a PostgreSQL server cannot be reached, written in order when it is back. Past the bound the
+# oldest held writes are dropped (counted in `dropped`, logged): at a few writes a second (commands, transitions,
+# audit, alarms) that is hours of an outage, and memory stays bounded.
+HELD_MAX = 50_000
+
+
+# the Core tables: statements below are on their columns
+COMMANDS, TRANSITIONS, AUDIT, ALARMS = table(CommandRecord), table(TransitionRecord), table(AuditRecord), table(AlarmRecord)
+CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkConfigRecord)
+
+
+class StorageError(Exception):
+    """The console cannot use its database: the message is the one line the operator reads (problem and fix)."""
+
+
+def _key(text_: str) -> int:
+    """A stable signed 64-bit key (PostgreSQL advisory locks) of a name."""
+    return int.from_bytes(hashlib.sha256(text_.encode()).digest()[:8], "big", signed=True)
+
+
+def open_engine(db: DatabaseUrl) -> Engine:
+    if db.path is None:
+        # pre-ping: a connection the server dropped (restart, outage) is replaced, not handed out broken
+        return create_engine(db.url, pool_pre_ping=True, connect_args={"connect_timeout": CONNECT_TIMEOUT})
+    db.path.parent.mkdir(parents=True, exist_ok=True)
+    engine = create_engine(db.url, connect_args={"check_same_thread": False, "timeout": 10})
+
+    @event.listens_for(engine, "connect")
+    def _pragmas(dbapi_connection: Any, _record: Any) -> None:
+        cur = dbapi_connection.cursor()
+        cur.execute("PRAGMA journal_mode=WAL")
+        cur.execute("PRAGMA synchronous=NORMAL")
+        cur.close()
+
+    return engine
+
+
+def problem(db: DatabaseUrl, e: Exception) -> str:
+    """One line for an error reaching or reading the database: what is wrong and what to do."""
+    where = f"--database-url {db.shown}" if db.path is None else f"--db {db.path}"
+    message = str(getattr(e, "orig", None) or e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+    lower = message.lower()
+    if db.path is not None:
+        return f"{where}: {message}: move it aside or pass another --db"
+    if "password authentication failed" in lower or "no password supplied" in lower:
+        return f"{where}: {message}: fix the user name or password in --database-url"
+    if "does not exist" in lower:
+        return f"{where}: {message}: create it (createdb, or CREATE DATABASE) or fix --database-url"
+    if "connection refused" in lower or "timeout" in lower or "could not translate host name" in lower \
+            or "no route to host" in lower:
+        return f"{where}: cannot reach the PostgreSQL server ({message}): start it, or fix the host and port in --database-url"
+    return f"{where}: {message}: fix --database-url or the server"
+
+
+def alembic_config(connection: Connection) -> Config:
+    cfg = Config()
+    cfg.set_main_option("script_location", str(MIGRATIONS))
+    cfg.attributes["connection"] = connection
+    return cfg
+
+
+def head_revision() -> str | None:
+    cfg = Config()
+    cfg.set_main_option("script_location", str(MIGRATIONS))
+    return ScriptDirectory.from_config(cfg).get_current_head()
+
+
+def migrate(engine: Engine, db: DatabaseUrl) -> None:
+    """Upgrade the schema to the newest revision. A SQLite file with tables at an older revision (or of the
+    first release, without Alembic's table) is copied beside itself first, with a name that says why."""
+    head = head_revision()
+    with engine.connect() as c:
+        if db.path is None:  # two consoles starting together: one upgrades, the other then finds it done
+            c.execute(select(func.pg_advisory_lock(MIGRATION_LOCK)))
+        try:
+            current = MigrationContext.configure(c).get_current_revision()
+            if current == head:
+                return
+            tables = set(inspect(c).get_table_names())
+            c.commit()
+            if db.path is not None and tables - {"alembic_version"}:
+                backup = backup_sqlite(db.path, current)
+                log.warning("copied %s to %s before upgrading its schema (from %s to %s)", db.path, backup,
+                            current or "the first release's", head)
+            with c.begin():
+                command.upgrade(alembic_config(c), "head")
+            log.info("database %s upgraded to schema revision %s", db.shown, head)
+        finally:
+            if db.path is None:
+                c.execute(select(func.pg_advisory_unlock(MIGRATION_LOCK)))
+                c.commit()
+
+
+def backup_sqlite(path: Path, revision: str | None) -> Path:
+    """A consistent copy of the file (SQLite's backup API: the WAL included) named
+    <name>.before-upgrade-from-<revision>-<UTC time>.sqlite3 beside it."""
+    stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
+    target = path.with_name(f"{path.stem}.before-upgrade-from-{revision or 'first-release'}-{stamp}.sqlite3")
+    src, dst = sqlite3.connect(path), sqlite3.connect(target)
+    try:
+        src.backup(dst)
+    finally:
+        src.close()
+        dst.close()
+    return target
+
+
+class Database:
+    def __init__(self, db: DatabaseUrl | Path, audit_max_rows: int = 100_000) -> None:
+        """Open (and upgrade) the database (a Path: a SQLite file); StorageError when it cannot be used."""
+        self.db = db = sqlite_file(db) if isinstance(db, Path) else db
+        self.audit_max_rows = audit_max_rows
+        self.engine = open_engine(db)
+        self._lock: Connection | int | None = None  # what holds this console's name (claim)
+        self._held: str | None = None
+        self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
+        self._held_writes: deque[Callable[[Connection], object]] = deque()  # during an outage, oldest first
+        self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
+        self.dropped = 0  # held writes dropped past HELD_MAX
+        self._temporary_ids = itertools.count(-1, -1)  # alarms raised during an outage, until written
+        self._alarm_ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
+        try:
+            migrate(self.engine, db)
+        except (SQLAlchemyError, sqlite3.Error, OSError) as e:
+            self.engine.dispose()
+            raise StorageError(problem(db, e)) from e
+        self._insert = (postgresql if self.engine.dialect.name == "postgresql" else sqlite).insert
+
+    # ---- identity -----------------------------------------------------------------------
+    def claim(self, name: str, hold: bool = True) -> uuid.UUID:
+        """This console's source GUID, by its name: the one it had, else the first release's (meta 'source')
+        when no name took it yet, else a new one. The name is held while the console runs: a second console
+        of the same name on this database is refused (StorageError). `hold=False`: the identity only (tests that
+        restart a console's parts in one process)."""
+        if hold and self._held != name:
+            self._hold(name)
+            self._held = name
+        self.station = name
+        for _attempt in range(3):  # another console may take the first release's GUID at the same moment
+            try:
+                with self.engine.begin() as c:
+                    guid = c.execute(select(CONSOLES.c.guid).where(CONSOLES.c.name == name)).scalar()
+                    if guid is not None:
+                        return uuid.UUID(guid)
+                    legacy = c.execute(select(META.c.value).where(META.c.key == "source")).scalar()
+                    if legacy is None or c.execute(select(CONSOLES.c.name).where(CONSOLES.c.guid == legacy)).first():
+                        legacy = None
+                    guid = legacy or str(uuid.uuid4())
+                    c.execute(insert(CONSOLES).values(name=name, guid=guid, created_at=time.time()))
+                    if legacy is not None:  # the first release's commands and alarms were this station's
+                        c.execute(update(COMMANDS).where(COMMANDS.c.console.is_(None)).values(console=name))
+                        c.execute(update(ALARMS).where(ALARMS.c.console.is_(None)).values(console=name))
+                    return uuid.UUID(guid)
+            except IntegrityError:
+                continue
+        raise StorageError(f"{self.db.shown}: could not record the console name {name!r}: try again")
+
+    def _hold(self, name: str) -> None:
+        taken = StorageError(f"another console named {name!r} is running on {self.db.shown}: give this one another "
+                             "--console-name")
+        if self.db.path is None:  # a session advisory lock: the server lets it go when this console's connection ends
+            c = self.engine.connect()
+            held = c.execute(select(func.pg_try_advisory_lock(_key(f"console:{name}")))).scalar()
+            c.commit()  # not idle in a transaction for the console's lifetime
+            if not held:
+                c.close()
+                raise taken
+            self._lock = c
+            return
+        # SQLite: an flock on a file beside the database, one per name, let go when the process ends
+        lock = self.db.path.with_name(f"{self.db.path.name}.console-{hashlib.sha256(name.encode()).hexdigest()[:12]}.lock")
+        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise taken from None
+        os.ftruncate(fd, 0)
+        os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is
+        self._lock = fd
+
+    # ---- writes, and what happens to them during an outage -----------------------------------
+    def _write(self, fn: Callable[[Connection], object]) -> None:
+        """Run `fn` in a transaction. A PostgreSQL server that cannot be reached (stopped, restarting, the network)
+        is an outage, not an error: the write is held, in order behind any held before, and written by
+        `write_held` when the server is back. SQLite raises as before (one file on this machine)."""
+        if self._held_writes:
+            self._hold_write(fn)
+            return
+        try:
+            with self.engine.begin() as c:
+                fn(c)
+        except (OperationalError, InterfaceError) as e:
+            if self.db.path is not None:
+                raise
+            if self.unavailable_since is None:
+                self.unavailable_since = time.time()
+                log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
+                            str(e.orig or e).strip().splitlines()[0] if str(e.orig or e).strip() else type(e).__name__)
+            self._hold_write(fn)
+
+    def _hold_write(self, fn: Callable[[Connection], object]) -> None:
+        if len(self._held_writes) >= HELD_MAX:
+            self._held_writes.popleft()
+            self.dropped += 1
+            if self.dropped in (1, 10, 100) or self.dropped % 1000 == 0:
+                log.error("%d held writes dropped: the database has been unreachable too long (more than %d held)",
+                          self.dropped, HELD_MAX)
+        self._held_writes.append(fn)
+
+    @property
+    def held(self) -> int:
+        return len(self._held_writes)
+
+    def write_held(self) -> bool:
+        """Write what was held during an outage, oldest first (for a worker thread: the console's tick starts it
+        while anything is held); True when nothing is left. Stops at the first write the server still refuses."""
+        written = 0
+        while self._held_writes:
+            fn = self._held_writes[0]
+            try:
+                with self.engine.begin() as c:
+                    fn(c)
+            except (OperationalError, InterfaceError):
+                return False
+            self._held_writes.popleft()
+            written += 1
+        if self.unavailable_since is not None:
+            log.warning("the database %s is back after %.0f s: wrote %d held changes", self.db.shown,
+                        time.time() - self.unavailable_since, written)
+            self.unavailable_since = None
+        return True
+
+    # ---- between consoles (PostgreSQL) ------------------------------------------------------
+    def _notify(self, c: Connection, kind: str, **fields: Any) -> None:
+        """Tell the other consoles on this database what changed (delivered when the transaction commits)."""
+        if self.db.path is None:
+            payload = json.dumps({"kind": kind, "console": self.station, **fields})
+            c.execute(select(func.pg_notify(CHANNEL, payload)))
+
+    def listen(self, on_message: Callable[[dict[str, Any]], object]) -> Listener | None:
+        """A started Listener of the other consoles' notifications (None on SQLite: one console per file)."""
+        if self.db.path is not None:
+            return None
+        listener = Listener(self.db.url, on_message)
+        listener.start()
+        return listener
+
+    def consoles(self) -> dict[str, uuid.UUID]:
+        """Every console name that used this database -> its source GUID."""
+        with self.engine.connect() as c:
+            return {n: uuid.UUID(g) for n, g in c.execute(select(CONSOLES.c.name, CONSOLES.c.guid))}
+
+    # ---- commands -----------------------------------------------------------------------
+    def add_command(self, rec: dict[str, Any], command_: dict[str, Any], console: str | None = None) -> None:
+        row = dict(session_id=rec["sessionId"], service=rec["service"], provider_id=rec["providerId"], state=rec["state"],
+                   operator=rec["operator"], created_at=rec["createdAt"], command=json.dumps(command_), unanswered=False,
+                   cancel_requested=False, cleaned_up=False, console=console)
+
+        def write(c: Connection) -> None:
+            c.execute(insert(COMMANDS).values(row))
+            self._notify(c, "command", session=rec["sessionId"])
+        self._write(write)
+
+    def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
+        stmt = self._insert(TRANSITIONS).values(
+            session_id=session_id, seq=seq, status=t["status"], reason=t["reason"], log_message=t["logMessage"],
+            violation=t["violation"], provider_time=t["providerTime"], received_at=t["receivedAt"],
+        ).on_conflict_do_nothing()
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
+            self._notify(c, "command", session=session_id)
+        self._write(write)
+
+    def set_flag(self, session_id: str, flag: str, value: bool = True) -> None:
+        assert flag in ("unanswered", "cleaned_up")
+        self._update_command(session_id, **{flag: value})
+
+    def set_acked(self, session_id: str, at: float) -> None:
+        self._update_command(session_id, acked_at=at)
+
+    def set_canceled(self, session_id: str, operator: str | None) -> None:
+        self._update_command(session_id, cancel_requested=True, canceled_by=operator)
+
+    def _update_command(self, session_id: str, **values: Any) -> None:
+        def write(c: Connection) -> None:
+            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
+            self._notify(c, "command", session=session_id)
+        self._write(write)
+
+    def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
+                 session_id: str | None = None, provider_id: str | None = None,
+                 console: str | None = None) -> list[dict[str, Any]]:
+        """Commands newest first with their transitions: `limit` of them from `offset` (to `provider_id`,
+        issued by `console`, when given), plus every command not yet cleaned up when `unfinished`, or the one
+        `session_id`."""
+        q = select(*COMMANDS.c)
+        if session_id is not None:
+            q = q.where(COMMANDS.c.session_id == session_id)
+        else:
+            page = select(COMMANDS.c.session_id).order_by(COMMANDS.c.created_at.desc())
+            if provider_id is not None:
+                page = page.where(COMMANDS.c.provider_id == provider_id)
+            if console is not None:
+                page, q = page.where(COMMANDS.c.console == console), q.where(COMMANDS.c.console == console)
+            page = page.limit(limit).offset(offset)
+            chosen = COMMANDS.c.session_id.in_(page)
+            q = q.where(or_(chosen, COMMANDS.c.cleaned_up.is_(False)) if unfinished else chosen)
+            q = q.order_by(COMMANDS.c.created_at.desc())
+        with self.engine.connect() as c:
+            return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
+
+    def export_commands(self, provider_id: str | None, since: float | None, until: float | None) -> list[dict[str, Any]]:
+        """Commands created in [since, until] (to `provider_id` when given), oldest first, with their
+        transitions; for a worker thread (a connection of its own from the pool)."""
+        q = select(*COMMANDS.c).order_by(COMMANDS.c.created_at)
+        if provider_id is not None:
+            q = q.where(COMMANDS.c.provider_id == provider_id)
+        if since is not None:
+            q = q.where(COMMANDS.c.created_at >= since)
+        if until is not None:
+            q = q.where(COMMANDS.c.created_at <= until)
+        with self.engine.connect() as c:
+            return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
+
+    def clear_commands(self) -> None:
+        """Forget every command and transition (a replay rebuilding its state); the audit trail stays."""
+        with self.engine.begin() as c:
+            c.execute(delete(TRANSITIONS))
+            c.execute(delete(COMMANDS))
+
+    # ---- audit ----------------------------------------------------------------------------
+    def add_audit(self, entry: dict[str, Any]) -> None:
+        """One entry (keys: AUDIT_COLUMNS); the table keeps the newest audit_max_rows. Ids count up (never
+        reused), so the prune is one range delete on the key."""
+        row = {k: entry.get(k) for k in AUDIT_COLUMNS}
+
+        def write(c: Connection) -> None:
+            new_id = c.execute(insert(AUDIT).values(row).returning(AUDIT.c.id)).scalar_one()
+            c.execute(delete(AUDIT).where(AUDIT.c.id <= new_id - self.audit_max_rows))
+            self._notify(c, "audit", id=new_id)
+        self._write(write)
+
+    def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
+        """Newest first."""
+        with self.engine.connect() as c:
+            q = select(*AUDIT.c).order_by(AUDIT.c.id.desc()).limit(limit).offset(offset)
+            return [dict(r) for r in c.execute(q).mappings()]
+
+    # ---- link configurations ----------------------------------------------------------
+    def link_configs(self) -> dict[str, Any]:
+        """provider GUID string -> the link configuration an operator set for it (as stored: the caller validates)."""
+        out: dict[str, Any] = {}
+        with self.engine.connect() as c:
+            for provider, config in c.execute(select(LINK_CONFIG.c.provider_id, LINK_CONFIG.c.config)):
+                try:
+                    out[provider] = json.loads(config)
+                except ValueError:  # not JSON: the caller's validation refuses it
+                    out[provider] = config
+        return out
+
+    def set_link_config(self, provider_id: str, config: dict[str, Any]) -> None:
+        stmt = self._insert(LINK_CONFIG).values(provider_id=provider_id, config=json.dumps(config))
+        upsert = stmt.on_conflict_do_update(index_elements=["provider_id"], set_={"config": stmt.excluded.config})
+
+        def write(c: Connection) -> None:
+            c.execute(upsert)
+            self._notify(c, "link", provider=provider_id)
+        self._write(write)
+
+    # ---- alarms -------------------------------------------------------------------------
+    def add_alarm(self, alarm: dict[str, Any]) -> int:
+        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
+        During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
+        updates go to the row written for it."""
+        row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.station}
+        temporary = next(self._temporary_ids)
+        ids: list[int] = []
+
+        def write(c: Connection) -> None:
+            new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
+            c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
+            self._alarm_ids[temporary] = new_id
+            ids.append(new_id)
+        self._write(write)
+        return ids[0] if ids else temporary
+
+    def update_alarm(self, alarm: dict[str, Any]) -> None:
+        values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
+
+        def write(c: Connection) -> None:
+            c.execute(update(ALARMS).where(ALARMS.c.id == self._alarm_ids.get(alarm["id"], alarm["id"])).values(values))
+            if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
+                self._notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
+        self._write(write)
+
+    def open_alarms(self) -> list[dict[str, Any]]:
+        """This console's alarms not back to normal, oldest first."""
+        with self.engine.connect() as c:
+            q = select(*ALARMS.c).where(ALARMS.c.normal_at.is_(None)).order_by(ALARMS.c.id)
+            if self.station is not None:
+                q = q.where(ALARMS.c.console == self.station)
+            return [dict(r) for r in c.execute(q).mappings()]
+
+    def clear_alarms(self) -> None:
+        """Forget every alarm (a replay rebuilding its state)."""
+        with self.engine.begin() as c:
+            c.execute(delete(ALARMS))
+
+    def close(self) -> None:
+        if isinstance(self._lock, Connection):
+            self._lock.close()
+        elif isinstance(self._lock, int):
+            os.close(self._lock)
+        self._lock = None
+        self.engine.dispose()
+
+
+class VehicleWriters:
+    """Which vehicles' track and chart history this console writes, on PostgreSQL: one console per vehicle, so the
+    consoles that hear it do not each write it. A session advisory lock per vehicle, taken on a connection of this
+    console's own at its first point: the server lets it go when that connection ends (the console stops or dies),
+    and another console that hears the vehicle takes it at its next batch. For a worker thread."""
+
+    def __init__(self, engine: Engine) -> None:
+        self.engine = engine
+        self._conn: Connection | None = None
+        self._held: set[str] = set()
+
+    def mine(self, providers: set[str]) -> set[str]:
+        """The vehicles of `providers` this console writes (it takes those no other console holds)."""
+        try:
+            if self._conn is None:
+                self._conn, self._held = self.engine.connect(), set()
+            for provider in providers - self._held:
+                if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
+                    self._held.add(provider)
+            self._conn.commit()  # not idle in a transaction between batches
+        except (OperationalError, InterfaceError):  # the server restarted or is away: its locks went with it
+            self.close()
+            raise
+        return providers & self._held
+
+    def close(self) -> None:
+        if self._conn is not None:
+            self._conn.invalidate()  # a connection whose session held locks is not given to anyone else
+            self._conn.close()
+        self._conn, self._held = None, set()
+
+
+def _with_transitions(c: Connection, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    ids = [r["session_id"] for r in rows]
+    trans: dict[str, list[dict[str, Any]]] = {}
+    table = TRANSITIONS
+    for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
+        q = select(*table.c).where(table.c.session_id.in_(chunk)).order_by(table.c.session_id, table.c.seq)
+        for t in c.execute(q).mappings():
+            trans.setdefault(t["session_id"], []).append(dict(t))
+    return [{**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])} for r in rows]
+
+

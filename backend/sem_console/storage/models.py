@@ -1,0 +1,148 @@
+"""The console's tables, one SQLModel class per concept. The column names are those of the first (raw sqlite3)
+schema, so a database written by an earlier release is read as it is; `migrations/` creates and changes them.
+
+TrackPoint and SeriesPoint are also the REST response models of the track and chart routes; the other API
+schemas (api/schemas.py, core/contract.py) keep their camelCase field names, built from these rows by the
+console's own classes (Command, Alarm) where state is added to them."""
+
+from __future__ import annotations
+
+from sqlalchemy import Index, Table
+from sqlmodel import Field, SQLModel
+
+TRACK, SERIES = "track", "series"
+
+
+class Meta(SQLModel, table=True):
+    """Key/value of the first schema; its 'source' row held the console's source GUID before the consoles table."""
+
+    __tablename__ = "meta"
+    key: str = Field(primary_key=True)
+    value: str
+
+
+class ConsoleIdentity(SQLModel, table=True):
+    """A console station's name and its UMAA source GUID (NumericGUID): one per name, never shared."""
+
+    __tablename__ = "consoles"
+    name: str = Field(primary_key=True, description="--console-name (default: host name and HTTP port)")
+    guid: str = Field(unique=True, description="the console's source GUID as a UUID string")
+    created_at: float = Field(description="UTC seconds since the epoch when the name was first used")
+
+
+class CommandRecord(SQLModel, table=True):
+    """A command this console (or another station on the same database) issued, with its flags."""
+
+    __tablename__ = "commands"
+    session_id: str = Field(primary_key=True)
+    service: str
+    provider_id: str
+    state: str | None = None
+    operator: str | None = None
+    created_at: float
+    command: str = Field(description="the command sample's own fields as JSON (its timeStamp)")
+    unanswered: bool = False
+    cancel_requested: bool = False
+    canceled_by: str | None = None
+    cleaned_up: bool = False
+    acked_at: float | None = None
+    console: str | None = Field(None, description="name of the console station that issued it (null: before names)")
+
+
+class TransitionRecord(SQLModel, table=True):
+    """One status of a command, in the order received (seq from 1)."""
+
+    __tablename__ = "transitions"
+    session_id: str = Field(primary_key=True, foreign_key="commands.session_id")
+    seq: int = Field(primary_key=True)
+    status: str
+    reason: str
+    log_message: str
+    violation: str | None = None
+    provider_time: float | None = None
+    received_at: float
+
+
+class AuditRecord(SQLModel, table=True):
+    """One request to a command route (accepted or refused); the newest Settings.audit_max_rows are kept."""
+
+    __tablename__ = "audit"
+    __table_args__ = {"sqlite_autoincrement": True}  # ids never reused: the prune is one range delete on the key
+    id: int | None = Field(None, primary_key=True)
+    at: float
+    outcome: str
+    status: int
+    method: str
+    path: str
+    client: str | None = None
+    origin: str | None = None
+    operator: str | None = None
+    session_id: str | None = None
+    reason: str
+
+
+class LinkConfigRecord(SQLModel, table=True):
+    """A vehicle's link configuration as an operator set it (JSON of core.contract.LinkConfig)."""
+
+    __tablename__ = "link_config"
+    provider_id: str = Field(primary_key=True)
+    config: str
+
+
+class AlarmRecord(SQLModel, table=True):
+    """An alarm (console/alarms.py); normal_at is set when it is back to normal (out of the active set)."""
+
+    __tablename__ = "alarms"
+    __table_args__ = (Index("alarms_open", "normal_at"), {"sqlite_autoincrement": True})
+    id: int | None = Field(None, primary_key=True)
+    key: str
+    kind: str
+    severity: str
+    provider_id: str | None = None
+    vehicle: str | None = None
+    session_id: str | None = None
+    text: str
+    since: float
+    cleared_at: float | None = None
+    acked_at: float | None = None
+    acked_by: str | None = None
+    normal_at: float | None = None
+    console: str | None = Field(None, description="the console station whose alarm it is (null: before station names)")
+
+
+class TrackPoint(SQLModel, table=True):
+    """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
+
+    __tablename__ = TRACK
+    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
+    time: float = Field(primary_key=True, index=True,
+                        description="UTC seconds since the epoch when the console received the GPSFixReport")
+    positionTime: float | None = Field(description="the report's timeAtPosition, UTC seconds (null: not sent)")
+    latitude: float = Field(description="degrees, WGS 84, north positive")
+    longitude: float = Field(description="degrees, WGS 84, east positive")
+    altitudeMsl: float | None = Field(description="altitude above mean sea level, metres")
+    course: float | None = Field(description="true course over ground, degrees 0..360")
+    sog: float | None = Field(description="speed over ground, metres per second")
+    latLongValid: bool = Field(description="GPSLatLongValid: the position is from GPS (false: from the INS)")
+    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport "
+                                              "(null: none received yet)")
+
+
+class SeriesPoint(SQLModel, table=True):
+    """The dashboard's chart values of a vehicle at one time, from its GPSReport (at most one per UTC second)."""
+
+    __tablename__ = SERIES
+    providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
+    time: float = Field(primary_key=True, index=True,
+                        description="UTC seconds since the epoch when the console received the GPSReport")
+    cn0Mean: float | None = Field(description="mean antennaCarrierNoiseDensity (C/N0) of the satellites "
+                                              "that report one, dB-Hz (null: none)")
+    satellitesUsed: int = Field(description="satellites with usedInFix")
+    satellitesInView: int = Field(description="numberSatellitesInView")
+
+
+def table(model: type[SQLModel]) -> Table:
+    """The Core table of a model (for statements on its columns, typed)."""
+    t = model.__table__  # type: ignore[attr-defined]  # set by SQLModel on table=True classes
+    assert isinstance(t, Table)
+    return t

@@ -1,0 +1,70 @@
+"""PostgreSQL LISTEN/NOTIFY between the consoles of one database: what one console writes (a command, its
+transitions and flags, a link configuration...) the others hear within a second, without polling.
+
+A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered when it commits; storage/database.py);
+`Listener` is a thread with a connection of its own that waits on LISTEN and hands each payload to a callback
+(the console passes one that goes on to its event loop with call_soon_threadsafe). A lost connection (the server
+restarts, an outage) is reopened, a second apart, until it is back."""
+
+from __future__ import annotations
+
+import json
+import logging
+import threading
+from collections.abc import Callable
+from typing import Any
+
+import psycopg
+from sqlalchemy.engine import URL
+
+log = logging.getLogger("sem-console.storage")
+CHANNEL = "sem_console"
+RECONNECT = 1.0  # seconds between attempts to reopen a lost listening connection
+
+
+def conninfo(url: URL) -> str:
+    """The libpq URI of a SQLAlchemy postgresql+psycopg URL (with its password: never logged)."""
+    return url.set(drivername="postgresql").render_as_string(hide_password=False)
+
+
+class Listener:
+    def __init__(self, url: URL, on_message: Callable[[dict[str, Any]], object]) -> None:
+        self._conninfo, self._on_message = conninfo(url), on_message
+        self._stop = threading.Event()
+        self._conn: psycopg.Connection[Any] | None = None
+        self._thread = threading.Thread(target=self._run, name="pg-listen", daemon=True)
+        self.connected = threading.Event()  # set while LISTEN is in place (tests wait for it)
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.is_set():
+            try:
+                with psycopg.connect(self._conninfo, autocommit=True, connect_timeout=5) as conn:
+                    self._conn = conn
+                    conn.execute(f"LISTEN {CHANNEL}")
+                    self.connected.set()
+                    while not self._stop.is_set():
+                        for n in conn.notifies(timeout=1.0):  # returns each second so a stop is seen
+                            self._deliver(n.payload)
+            except psycopg.Error as e:
+                if not self._stop.is_set():
+                    log.debug("listening connection lost (%s): reopening", e)
+            finally:
+                self.connected.clear()
+                self._conn = None
+            self._stop.wait(RECONNECT)
+
+    def _deliver(self, payload: str) -> None:
+        try:
+            message = json.loads(payload)
+        except ValueError:
+            log.warning("ignored a notification that is not JSON: %.80s", payload)
+            return
+        if isinstance(message, dict):
+            self._on_message(message)
+
+    def stop(self) -> None:
+        self._stop.set()
+        self._thread.join(5)

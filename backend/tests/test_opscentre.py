@@ -1,0 +1,141 @@
+"""An operations centre: two real `sem-console` processes on one DDS domain and one real PostgreSQL database
+(tests/pg.py), with a simulated vehicle. Each console is its own UMAA consumer; what one does reaches the other's
+WebSocket through LISTEN/NOTIFY; a command issued on one can be canceled from the other, running or not."""
+
+from __future__ import annotations
+
+import signal
+from collections.abc import Callable
+from typing import Any
+
+import httpx
+
+from conftest import ConsoleProcess
+from pg import Cluster
+from test_console import V1, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_history import at_most_one_per_second
+
+
+def health(c: ConsoleProcess) -> dict[str, Any]:
+    return httpx.get(f"{c.url}/api/health").json()
+
+
+def heard(ws: WsClient, session: str, status: str) -> dict[str, Any] | None:
+    """The newest `command` message of `session` on this WebSocket, once its status is `status`."""
+    for m in reversed(ws.of("command")):
+        if m["command"]["sessionId"] == session:
+            return m["command"] if m["command"]["status"] == status else None
+    return None
+
+
+def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim("--surface-seconds", "400")  # a GPS fix stays EXECUTING until canceled
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    id_a, id_b = health(a)["consoleId"], health(b)["consoleId"]
+    assert id_a != id_b  # two UMAA consumers on one domain, told apart by the vehicle
+    ws_b = WsClient(b.ws_url)
+    try:
+        session = gps_fix_executing(a.url)
+        on_b = wait_until(lambda: heard(ws_b, session, "EXECUTING"), 10, "A's command on B's WebSocket")
+        assert on_b["console"] == "watch" and [t["status"] for t in on_b["transitions"]] == ["ISSUED", "COMMANDED",
+                                                                                              "EXECUTING"]
+        assert command(b.url, session)["console"] == "watch"  # and in B's history
+        r = httpx.delete(f"{b.url}/api/commands/{session}")  # B cancels A's command
+        assert r.status_code == 200 and r.json()["cancelRequested"], r.text
+        statuses = ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+        for c in (a, b):
+            done = wait_command(c.url, session, done=lambda x: x["terminal"])
+            assert [t["status"] for t in done["transitions"]] == statuses
+        wait_until(lambda: heard(ws_b, session, "CANCELED"), 10, "CANCELED on B's WebSocket")
+        assert not ws_b.errors, ws_b.errors
+    finally:
+        ws_b.close()
+    a.stop()
+    again = console("--database-url", pg_url, "--console-name", "watch")
+    assert health(again)["consoleId"] == id_a  # a restart keeps its identity
+
+
+def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim("--surface-seconds", "400")
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    session = gps_fix_executing(a.url)
+    a.stop(signal.SIGKILL)  # gone without its shutdown sequence: the command still runs on the vehicle
+    r = httpx.delete(f"{b.url}/api/commands/{session}")
+    assert r.status_code == 200 and r.json()["cancelRequested"], r.text
+    done = wait_command(b.url, session, done=lambda x: x["terminal"])
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+
+
+def test_a_database_outage_loses_nothing_and_stops_no_console(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    """PostgreSQL stopped: both consoles keep monitoring, A commands and cancels, its health says since when the
+    shared history is unavailable; started again: what A held is written, and B reads it all from the database."""
+    sim("--surface-seconds", "400")
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(a.url, V1, {"GPSFixReport"})
+    pg_cluster.stop()
+    try:
+        r = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={})
+        assert r.status_code == 201, r.text
+        session = r.json()["sessionId"]
+        wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
+        assert httpx.delete(f"{a.url}/api/commands/{session}").status_code == 200
+        wait_command(a.url, session, done=lambda x: x["terminal"])
+        down = health(a)
+        assert down["databaseUnavailableSince"] is not None and down["databaseWritesHeld"] > 0, down
+        for c in (a, b):  # monitoring goes on
+            assert httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
+    finally:
+        pg_cluster.start()
+    wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
+    assert health(a)["databaseWritesHeld"] == 0
+    done = command(b.url, session)  # from the database: everything A did meanwhile
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
+    assert done["cancelRequested"] and done["console"] == "watch"
+    paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
+    assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
+    assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
+
+
+def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    vehicle = sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    for c in (a, b):
+        provider_ready(c.url, V1, {"GPSFixReport"})
+    vehicle.kill()  # both lose it: each raises its own link-lost alarm
+
+    def lost(c: ConsoleProcess) -> dict[str, Any] | None:
+        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
+
+    on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
+    wait_until(lambda: lost(b), 15, "link-lost on B")
+    assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
+    wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
+
+
+def test_each_vehicles_track_is_written_once_and_handed_over(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    """Two consoles hear the vehicle, one writes its track (at most one point a second in the shared database);
+    when that one stops, the other goes on writing it."""
+    sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(a.url, V1, {"GPSFixReport"})
+    provider_ready(b.url, V1, {"GPSFixReport"})
+
+    def track() -> list[dict[str, Any]]:
+        return httpx.get(f"{b.url}/api/providers/{V1}/track").json()
+
+    wait_until(lambda: len(track()) >= 6, 20, "six track points")
+    at_most_one_per_second(track())
+    a.stop()  # whichever of the two wrote it, B writes it from now on
+    stopped = len(track())
+    wait_until(lambda: len(track()) >= stopped + 4, 20, "the track going on after A stopped")
+    at_most_one_per_second(track())

@@ -1,0 +1,158 @@
+"""The console's storage (sem_console/storage): Alembic migrations, console identities and the shipped database of
+the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where a case applies to one console."""
+
+from __future__ import annotations
+
+import asyncio
+import math
+import shutil
+import sqlite3
+import time
+import uuid
+from pathlib import Path
+
+import pytest
+from alembic.autogenerate import compare_metadata
+from alembic.runtime.migration import MigrationContext
+from fastapi.testclient import TestClient
+from sqlalchemy import text
+from sqlmodel import SQLModel
+
+from sem_console.console.history import History
+from sem_console.core.config import Settings
+from sem_console.main import create_app
+from sem_console.storage.database import Database, StorageError, head_revision
+from sem_console.storage.url import parse_database_url
+
+LEGACY = Path(__file__).parent / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
+LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
+V1 = "77b2ceb8-5afe-554e-8450-93db17c48923"
+
+
+def open_db(url: str) -> Database:
+    return Database(parse_database_url(url))
+
+
+def test_a_new_database_has_the_models_schema(database_url: str) -> None:
+    """The migrations make what the models say (no column, index or constraint of one missing in the other)."""
+    db = open_db(database_url)
+    try:
+        with db.engine.connect() as c:
+            context = MigrationContext.configure(c)
+            assert context.get_current_revision() == head_revision()
+            assert compare_metadata(context, SQLModel.metadata) == []
+    finally:
+        db.close()
+
+
+def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) -> None:
+    a = open_db(database_url)
+    first = a.claim("watch")
+    assert a.claim("watch") == first
+    other = open_db(database_url)
+    with pytest.raises(StorageError) as refused:  # the same name, running
+        other.claim("watch")
+    assert "another console named 'watch' is running on" in str(refused.value) and "--console-name" in str(refused.value)
+    assert "pg-test-s3cret" not in str(refused.value)  # the URL is shown with its password hidden
+    relief = other.claim("relief")
+    assert relief != first
+    a.close()
+    other.close()
+    again = open_db(database_url)  # a restart: the same name, the same GUID
+    assert again.claim("watch") == first and again.consoles() == {"watch": first, "relief": relief}
+    again.close()
+
+
+def test_commands_audit_link_configs_and_alarms_round_trip(database_url: str) -> None:
+    db = open_db(database_url)
+    db.audit_max_rows = 3
+    try:
+        session = str(uuid.uuid4())
+        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
+                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        for seq, status in enumerate(("ISSUED", "COMMANDED", "COMMANDED"), start=1):
+            db.add_transition(session, min(seq, 2), {"status": status, "reason": "SUCCEEDED", "logMessage": "",
+                                                     "violation": None, "providerTime": 1.0, "receivedAt": 2.0})
+        db.set_canceled(session, "bob")
+        db.set_flag(session, "cleaned_up")
+        [row] = db.commands(session_id=session)
+        assert [t["seq"] for t in row["transitions"]] == [1, 2]  # a repeated (session, seq) is ignored
+        assert row["cancel_requested"] is True and row["canceled_by"] == "bob" and row["cleaned_up"] is True
+        assert row["console"] == "watch" and row["command"] == {"timeStamp": [100, 0]}
+        assert db.commands(limit=10, unfinished=True, console="relief") == []
+        for n in range(5):
+            db.add_audit({"at": float(n), "outcome": "accepted", "status": 200, "method": "POST", "path": f"/{n}",
+                          "reason": "accepted"})
+        assert [e["path"] for e in db.audit(10, 0)] == ["/4", "/3", "/2"]  # the newest audit_max_rows
+        db.set_link_config(V1, {"commsLostTimeout": 5})
+        db.set_link_config(V1, {"commsLostTimeout": 7})
+        assert db.link_configs() == {V1: {"commsLostTimeout": 7}}
+        alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+                 "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+                 "acked_by": None, "normal_at": None}
+        first = db.add_alarm(alarm)
+        assert db.add_alarm(alarm) == first + 1
+        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
+        assert [a["id"] for a in db.open_alarms()] == [first + 1]
+    finally:
+        db.close()
+
+
+def test_track_points_written_once_read_in_order(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24)
+    provider = uuid.UUID(V1)
+    fix = {"position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 0.5},
+                                                       "geodeticLongitude": {"longitude": 0.25}}},
+           "GPSLatLongValid": True}
+
+    async def run() -> list[float]:
+        now = math.floor(time.time()) + 0.25
+        for t in (now, now + 0.5, now + 1, now + 2):  # at most one point a second: the second one is not taken
+            history.on_fix(provider, t, fix, [], True)
+        await history.flush()
+        history._track.append({**(await history.track(provider, None, None))[0].model_dump()})  # the same point again
+        await history.flush()
+        return [p.time for p in await history.track(provider, None, None)]
+
+    try:
+        times = asyncio.run(run())
+        assert len(times) == 3 and times == sorted(times)
+    finally:
+        db.close()
+
+
+def test_the_first_releases_file_opens_with_its_history_and_identity(tmp_path: Path) -> None:
+    """The file a console of 8592e59 wrote is upgraded in place, a copy kept beside it first; its commands with
+    their transitions, audit, link configuration, alarm and track are there; its source GUID is the first name's."""
+    path = tmp_path / "sem-console.sqlite3"
+    shutil.copy(LEGACY, path)
+    db = Database(path)  # upgraded here: the track is read before a console's retention could prune it
+    with db.engine.connect() as c:
+        assert c.execute(text("SELECT count(*) FROM track")).scalar() == 28
+    db.close()
+    settings = Settings(db_path=path, console_name="station-1", recordings_dir=tmp_path / "recordings", domain=231)
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+        assert console.id == LEGACY_GUID
+        commands = client.get("/api/commands").json()
+        assert {c["service"]: c["status"] for c in commands} == {"GPSFix": "COMPLETED", "InertialSensor": "CANCELED"}
+        assert [t["status"] for t in commands[1]["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+        assert commands[0]["cancelRequested"] and commands[0]["canceledBy"] == "alice"
+        audit = client.get("/api/audit").json()
+        assert len(audit) == 6 and {e["outcome"] for e in audit} == {"accepted", "refused"}
+        [alarm] = client.get("/api/alarms").json()
+        assert alarm["kind"] == "link-lost" and alarm["ackedBy"] == "alice"
+        assert console.store.link_configs()[V1]["policy"] == "CONTINUE_MISSION"
+    [backup] = tmp_path.glob("sem-console.before-upgrade-from-first-release-*.sqlite3")
+    with sqlite3.connect(backup) as old:  # the copy is the file as it was: no Alembic table, the same rows
+        tables = {r[0] for r in old.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+        assert "alembic_version" not in tables and old.execute("SELECT count(*) FROM transitions").fetchone()[0] == 6
+    old.close()
+    db = Database(path)  # a second station on the file gets an identity of its own; the first keeps the old one
+    try:
+        assert db.claim("station-2", hold=False) != LEGACY_GUID
+        assert db.consoles()["station-1"] == LEGACY_GUID
+    finally:
+        db.close()
+    assert len(list(tmp_path.glob("*.before-upgrade-*"))) == 1  # upgraded once: no copy at the next start
