@@ -39,7 +39,7 @@ def free_domain() -> int:
         d = (start + i) % 232 + 1
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
             try:
-                s.bind(("127.0.0.1", 7410 + 250 * d))
+                s.bind(("127.0.0.1", 7400 + 250 * d))
                 return d
             except OSError:
                 continue

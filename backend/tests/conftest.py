@@ -21,9 +21,15 @@ from consumer import Consumer
 # Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
 os.environ.pop("CYCLONEDDS_URI", None)
 
-# A random start per run, then a new domain per test; a domain whose first discovery
-# port is taken (another run on this host) is skipped, so runs never see each other.
-_domains = itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(1, 200))
+# pytest-xdist's workers (scripts/test runs pytest with -n): each takes the domain ids of its own residue
+# class, so two workers never pick the same domain; without xdist, one worker with every id.
+_WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
+_WORKERS = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+_OWN_DOMAINS = [d for d in range(1, 233) if (d - 1) % _WORKERS == _WORKER]  # Cyclone's domain ids: 0..232
+# A random start per run, then a new domain per test; a domain whose discovery port is taken (7400 + 250 d,
+# bound by every Cyclone participant of the domain: another run on this host) is skipped, so runs never see each other.
+_domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
+            for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS))))
 
 
 def _port_free(port: int) -> bool:
@@ -35,13 +41,18 @@ def _port_free(port: int) -> bool:
             return False
 
 
-@pytest.fixture
-def domain() -> int:
-    for _ in range(232):
-        d = next(_domains) % 232 + 1
-        if _port_free(7410 + 250 * d):
+def free_domain(taken: int | None = None) -> int:
+    """A DDS domain id of this worker's that no one on this host uses, other than `taken`."""
+    for _ in range(len(_OWN_DOMAINS)):
+        d = next(_domains)
+        if d != taken and _port_free(7400 + 250 * d):
             return d
     raise RuntimeError("no free DDS domain id on this host")
+
+
+@pytest.fixture
+def domain() -> int:
+    return free_domain()
 
 
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
@@ -164,7 +175,8 @@ class ConsoleProcess(Process):
         ]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                      env={**os.environ, **self.env})
-        deadline = time.monotonic() + 20
+        # a wait for start-up, not a timed assertion: generous, since pytest-xdist's workers start consoles at once
+        deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
                 raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
@@ -174,6 +186,7 @@ class ConsoleProcess(Process):
             except httpx.HTTPError:
                 pass
             time.sleep(0.1)
+        self.kill()  # not left running after the test: the fixture keeps only consoles that started
         raise RuntimeError("sem-console did not start")
 
 

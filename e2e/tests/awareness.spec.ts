@@ -50,7 +50,7 @@ async function otherFreeDomain(not: number): Promise<number> {
   const start = 1 + Math.floor(Math.random() * 200);
   for (let i = 0; i < 232; i++) {
     const d = ((start + i) % 232) + 1;
-    if (d !== not && (await udpFree(7410 + 250 * d))) return d;
+    if (d !== not && (await udpFree(7400 + 250 * d))) return d;
   }
   throw new Error("no free DDS domain");
 }
