@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import os
 import random
@@ -73,6 +74,17 @@ class Process:
     def kill(self) -> None:
         self.stop(signal.SIGKILL)
 
+    def end(self) -> None:
+        """Stopped after its test: killed; but while coverage measures child processes (`--cov`, patch =
+        subprocess in pyproject.toml) asked first (SIGINT), so that it writes what was measured."""
+        if self.proc is None or self.proc.poll() is not None:
+            return
+        if "COVERAGE_PROCESS_CONFIG" in os.environ:
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                self.stop(signal.SIGINT, timeout=10)
+        if self.proc.poll() is None:
+            self.kill()
+
 
 class SimProcess(Process):
     def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
@@ -100,8 +112,7 @@ def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
 
     yield start
     for p in started:
-        if p.proc and p.proc.poll() is None:
-            p.kill()
+        p.end()
 
 
 @pytest.fixture
@@ -203,5 +214,4 @@ def console(domain: int, tmp_path: Path) -> Iterator[Callable[..., ConsoleProces
 
     yield start
     for c in started:
-        if c.proc and c.proc.poll() is None:
-            c.stop(signal.SIGKILL)
+        c.end()

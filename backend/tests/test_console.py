@@ -413,7 +413,7 @@ def refusing(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ConsoleProces
         yield c
     finally:
         for p in started:
-            p.kill()
+            p.end()
 
 
 UNKNOWN = "00000000-0000-4000-8000-000000000000"
