@@ -36,11 +36,11 @@ def free_port() -> int:
 
 def free_domain() -> int:
     start = random.randrange(1, 200)
-    for i in range(232):
-        d = (start + i) % 232 + 1
+    for i in range(230):
+        d = (start + i) % 230 + 1  # 1..230: above, loopback's unicast discovery ports pass 65535
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
             try:
-                s.bind(("127.0.0.1", 7410 + 250 * d))
+                s.bind(("127.0.0.1", 7400 + 250 * d))
                 return d
             except OSError:
                 continue

@@ -59,12 +59,12 @@ async function freeImcPort(avoid: number[] = []): Promise<number> {
   throw new Error("no free UDP port for IMC");
 }
 
-/** A DDS domain nobody on this host uses (its first discovery port is free). */
+/** A DDS domain nobody on this host uses (its discovery port, 7400 + 250 d, bound by every Cyclone participant of the domain, is free). */
 async function freeDomain(): Promise<number> {
   const start = 1 + Math.floor(Math.random() * 200);
-  for (let i = 0; i < 232; i++) {
-    const d = ((start + i) % 232) + 1;
-    if (await udpFree(7410 + 250 * d)) return d;
+  for (let i = 0; i < 230; i++) {
+    const d = ((start + i) % 230) + 1; // 1..230: above, loopback's unicast discovery ports pass 65535
+    if (await udpFree(7400 + 250 * d)) return d;
   }
   throw new Error("no free DDS domain");
 }

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import os
 import random
@@ -23,9 +24,17 @@ pytest_plugins = ["pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and 
 # Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
 os.environ.pop("CYCLONEDDS_URI", None)
 
-# A random start per run, then a new domain per test; a domain whose first discovery
-# port is taken (another run on this host) is skipped, so runs never see each other.
-_domains = itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(1, 200))
+# pytest-xdist's workers (scripts/test runs pytest with -n): each takes the domain ids of its own residue
+# class, so two workers never pick the same domain; without xdist, one worker with every id.
+_WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
+_WORKERS = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+# Cyclone's domain ids go to 232, but near the top the unicast discovery ports of loopback's higher participant
+# indexes (7410 + 250 d + 2 i) pass 65535 ("ddsi_udp_conn_write to udp/127.0.0.1:65536 failed" on 232)
+_OWN_DOMAINS = [d for d in range(1, 231) if (d - 1) % _WORKERS == _WORKER]
+# A random start per run, then a new domain per test; a domain whose discovery port is taken (7400 + 250 d,
+# bound by every Cyclone participant of the domain: another run on this host) is skipped, so runs never see each other.
+_domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
+            for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS))))
 
 
 def _port_free(port: int) -> bool:
@@ -37,13 +46,18 @@ def _port_free(port: int) -> bool:
             return False
 
 
-@pytest.fixture
-def domain() -> int:
-    for _ in range(232):
-        d = next(_domains) % 232 + 1
-        if _port_free(7410 + 250 * d):
+def free_domain(taken: int | None = None) -> int:
+    """A DDS domain id of this worker's that no one on this host uses, other than `taken`."""
+    for _ in range(len(_OWN_DOMAINS)):
+        d = next(_domains)
+        if d != taken and _port_free(7400 + 250 * d):
             return d
     raise RuntimeError("no free DDS domain id on this host")
+
+
+@pytest.fixture
+def domain() -> int:
+    return free_domain()
 
 
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
@@ -63,6 +77,17 @@ class Process:
 
     def kill(self) -> None:
         self.stop(signal.SIGKILL)
+
+    def end(self) -> None:
+        """Stopped after its test: killed; but while coverage measures child processes (`--cov`, patch =
+        subprocess in pyproject.toml) asked first (SIGINT), so that it writes what was measured."""
+        if self.proc is None or self.proc.poll() is not None:
+            return
+        if "COVERAGE_PROCESS_CONFIG" in os.environ:
+            with contextlib.suppress(subprocess.TimeoutExpired):
+                self.stop(signal.SIGINT, timeout=10)
+        if self.proc.poll() is None:
+            self.kill()
 
 
 class SimProcess(Process):
@@ -91,8 +116,7 @@ def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
 
     yield start
     for p in started:
-        if p.proc and p.proc.poll() is None:
-            p.kill()
+        p.end()
 
 
 @pytest.fixture
@@ -168,7 +192,8 @@ class ConsoleProcess(Process):
         ]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                      env={**os.environ, **self.env})
-        deadline = time.monotonic() + 20
+        # a wait for start-up, not a timed assertion: generous, since pytest-xdist's workers start consoles at once
+        deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
             if self.proc.poll() is not None:
                 raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
@@ -178,6 +203,7 @@ class ConsoleProcess(Process):
             except httpx.HTTPError:
                 pass
             time.sleep(0.1)
+        self.kill()  # not left running after the test: the fixture keeps only consoles that started
         raise RuntimeError("sem-console did not start")
 
 
@@ -194,5 +220,4 @@ def console(domain: int, tmp_path: Path) -> Iterator[Callable[..., ConsoleProces
 
     yield start
     for c in started:
-        if c.proc and c.proc.poll() is None:
-            c.stop(signal.SIGKILL)
+        c.end()

@@ -9,7 +9,7 @@ import socket
 import threading
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from typing import Any
 
 import httpx
@@ -24,6 +24,7 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
+from conftest import ConsoleProcess, Process, SimProcess, free_domain
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
 from sem_console.dds.topics import Sem
@@ -402,6 +403,22 @@ def live(sim, console):  # type: ignore[no-untyped-def]
     return c
 
 
+@pytest.fixture(scope="module")
+def refusing(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ConsoleProcess]:
+    """One simulator and console for every bad-input case: each case is a request the console refuses,
+    so none changes what the next one sees, and one start-up serves them all."""
+    domain, tmp = free_domain(), tmp_path_factory.mktemp("bad-input")
+    started: list[Process] = [SimProcess(domain, [], tmp / "sim-state.json").start()]
+    try:
+        c = ConsoleProcess(domain, tmp / "console.sqlite3", [], {}).start()
+        started.append(c)
+        provider_ready(c.url, V1, {"GPSFixReport"})
+        yield c
+    finally:
+        for p in started:
+            p.end()
+
+
 UNKNOWN = "00000000-0000-4000-8000-000000000000"
 
 
@@ -433,13 +450,15 @@ UNKNOWN = "00000000-0000-4000-8000-000000000000"
     ("GET", f"/api/providers/{V1}/track.csv?until=1795393808.5", None, 422, "query.until: Value error, expected an ISO 8601"),
     ("GET", "/api/commands.csv?since=soon", None, 422, "query.since"),
 ])
-def test_every_route_rejects_bad_input(live, method: str, path: str, body: Any, code: int, needle: str) -> None:
+@pytest.mark.xdist_group("bad-input")  # with pytest-xdist's --dist loadgroup: every case on the worker holding `refusing`
+def test_every_route_rejects_bad_input(refusing: ConsoleProcess, method: str, path: str, body: Any, code: int,
+                                       needle: str) -> None:
     kwargs: dict[str, Any] = {}
     if isinstance(body, str):
         kwargs = {"content": body, "headers": {"content-type": "application/json"}}
     elif body is not None:
         kwargs = {"json": body}
-    r = httpx.request(method, live.url + path, **kwargs)
+    r = httpx.request(method, refusing.url + path, **kwargs)
     assert r.status_code == code and needle in r.json()["detail"], r.text
 
 

@@ -27,8 +27,7 @@ import pytest
 from cyclonedds.core import InstanceState
 from mcap.reader import make_reader
 
-import conftest
-from conftest import ConsoleProcess
+from conftest import ConsoleProcess, free_domain
 from sem_console import idlgen
 from sem_console.dds.topics import Sem
 from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
@@ -209,14 +208,6 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     assert len(base64.b64decode(key)) >= 4 + 32  # header, source and sessionID
 
 
-def _other_domain(taken: int) -> int:
-    for _ in range(232):
-        d = next(conftest._domains) % 232 + 1
-        if d != taken and conftest._port_free(7410 + 250 * d):
-            return d
-    raise RuntimeError("no second free DDS domain")
-
-
 def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, console, domain: int, tmp_path: Path) -> None:
     s = sim()
     c = console()
@@ -231,7 +222,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
     recorded_fixes = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]
     assert recorded_fixes
 
-    other = _other_domain(domain)
+    other = free_domain(taken=domain)
     second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
     try:
         from cyclonedds.core import InstanceState

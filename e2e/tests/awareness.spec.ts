@@ -48,9 +48,9 @@ async function udpFree(port: number): Promise<boolean> {
 /** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
 async function otherFreeDomain(not: number): Promise<number> {
   const start = 1 + Math.floor(Math.random() * 200);
-  for (let i = 0; i < 232; i++) {
-    const d = ((start + i) % 232) + 1;
-    if (d !== not && (await udpFree(7410 + 250 * d))) return d;
+  for (let i = 0; i < 230; i++) {
+    const d = ((start + i) % 230) + 1; // 1..230: above, loopback's unicast discovery ports pass 65535
+    if (d !== not && (await udpFree(7400 + 250 * d))) return d;
   }
   throw new Error("no free DDS domain");
 }

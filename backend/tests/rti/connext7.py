@@ -15,6 +15,7 @@ nor needs RTI code.
 from __future__ import annotations
 
 import atexit
+import fcntl
 import json
 import os
 import platform
@@ -43,6 +44,14 @@ def connector7() -> Path:
     plat = _PLATFORM.get(platform.machine())
     if platform.system() != "Linux" or plat is None:
         raise RuntimeError(f"no Connext 7 libraries for {platform.system()} {platform.machine()} in this set-up")
+    cache_dir().mkdir(parents=True, exist_ok=True)
+    # one fetch at a time: pytest-xdist's workers ask at once, and half-extracted libraries must not be loaded
+    with open(cache_dir() / ".lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        return _fetch(plat)
+
+
+def _fetch(plat: str) -> Path:
     root = cache_dir() / f"connector-{NPM_VERSION}"
     lib = root / "rticonnextdds-connector" / "lib" / plat
     if not (lib / "librtiddsconnector.so").exists():
