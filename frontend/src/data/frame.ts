@@ -78,8 +78,9 @@ export function frameSource<T>(
         const now = performance.now();
         if (now - drawnAt < everyMs) return onFrame(draw); // too soon: ask the next frame
         const next = select(store.getState());
-        if (same(value, next)) return;
-        value = next;
+        const alike = same(value, next);
+        value = next; // alike, not drawn now; but a render for another reason (the clock of ages) shows the newest
+        if (alike) return;
         drawnAt = now;
         onChange();
       };

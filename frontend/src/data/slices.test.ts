@@ -197,6 +197,28 @@ describe("the rendering model: a panel draws on the animation frame", () => {
 });
 
 describe("an overview's slice", () => {
+  afterEach(() => {
+    vi.unstubAllGlobals();
+  });
+
+  it("skips a frame that draws alike, yet a render for another reason (the clock of ages) reads the newest", () => {
+    const { store } = setup({});
+    const { frame } = frames();
+    const src = frameSource(store, allProviders, sameOverview(1000)); // the samples below within one step: alike
+    let draws = 0;
+    src.subscribe(() => draws++);
+    store.enqueue(reportMsg(A, "GPSFixReport")); // its first fix: drawn
+    frame();
+    expect(draws).toBe(1);
+    const drawn = src.getSnapshot();
+    store.enqueue(reportMsg(A, "GPSFixReport"));
+    frame();
+    expect(draws).toBe(1);
+    expect(src.getSnapshot()).not.toBe(drawn); // an age computed from it is the newest report's
+    expect(src.getSnapshot()).toBe(store.getState().providers);
+  });
+
+
   it("draws alike when no shown field changed, not when a link did", () => {
     const { store, send } = setup({});
     const same = sameOverview(1);
