@@ -93,7 +93,6 @@ export class VehicleOverlay {
   /** The selected vehicle's newest mark (null: none, or no position): its ring placed at once. */
   setSelected(mark: VehicleMark | null): void {
     this.selected = mark;
-    if (mark) this.ring.dataset.lat = mark.position.lat.toFixed(6); // what it shows (the probe benchmark reads it)
     this.placeRing();
     // its name goes with the ring, not with the map's dot (drawn at the fleet's rate): only its label is moved,
     // unless it crossed the map's edge (then every label and edge arrow is placed again)
@@ -115,7 +114,11 @@ export class VehicleOverlay {
     const p = mark ? this.map.project([mark.position.lon, mark.position.lat]) : null;
     const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.root.clientWidth && p.y <= this.root.clientHeight;
     this.ring.hidden = !inView;
-    if (p && inView) this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
+    if (!mark || !p || !inView) return;
+    this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
+    // the latitude it shows, for the probe benchmark: only a ring on screen, once per position
+    const lat = mark.position.lat.toFixed(6);
+    if (this.ring.dataset.lat !== lat) this.ring.dataset.lat = lat;
   }
 
   private add(mark: VehicleMark): Marker {
