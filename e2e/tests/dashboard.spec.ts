@@ -95,11 +95,16 @@ test("the simulator is stopped: the vehicle shows lost; restarted: regained", as
   const link = vehicle(page, id).getByTestId("vehicle-link");
   await expect(link).toHaveText("live");
   const lostAlarm = page.locator('[data-testid="alarm"][data-kind="link-lost"]').filter({ hasText: id.slice(0, 8) });
+  // a collapsed panel draws no reports, but its title bar still says how fresh they are
+  await page.getByTestId("fix-panel-collapse").click();
+  await expect(page.getByTestId("fix-panel").locator(".field")).toHaveCount(0);
+  await expect(page.getByTestId("fix-panel-freshness")).toContainText("live");
   await stopSim();
   try {
     await expect(link).toHaveText("lost");
     await expect(lostAlarm).toHaveAttribute("data-state", "active-unacknowledged");
     await expect(page.getByTestId("satellites-panel-freshness")).toContainText("lost");
+    await expect(page.getByTestId("fix-panel-freshness")).toContainText("lost");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }

@@ -1,6 +1,9 @@
 import type { ReactNode } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
-import type { Freshness } from "../lib/freshness";
+import type { Topic } from "../api/types";
+import { freshness, type Freshness } from "../lib/freshness";
+import { useFrameValue, useNow, useSelectedLink } from "../data/hooks";
+import { selectedTopic, type State, type TopicView } from "../data/store";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
 import { DragHandle, MoveButtons } from "./Arrange";
@@ -51,15 +54,26 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
 }
 
 /** A panel whose body (`children`, the component that subscribes to what the panel draws) exists only while the
- * panel is open: collapsed, it subscribes to nothing and draws nothing but its title bar. */
-export function Foldable({ title, testId, className, children }: { title: string; testId: string; className?: string; children: ReactNode }) {
+ * panel is open: collapsed, it does not draw `children`'s reports, only its title bar with the freshness and age of
+ * the selected vehicle's `topic` (so a folded panel still says its data went stale or lost). */
+export function Foldable({ title, testId, topic, className, children }: { title: string; testId: string; topic: Topic; className?: string; children: ReactNode }) {
   const [collapsed] = useCollapsed(testId);
-  return collapsed ? (
-    <Panel title={title} testId={testId} className={className}>
+  return collapsed ? <Folded title={title} testId={testId} topic={topic} className={className} /> : children;
+}
+
+/** Two views of a topic alike for a folded title bar: both none, or last heard of in the same second (the clock of
+ * ages redraws it twice a second with the newest view; a report changes it at most once a second). */
+const sameSecond = (a: TopicView | null, b: TopicView | null): boolean => a === b || (a !== null && b !== null && Math.floor(a.at) === Math.floor(b.at));
+
+function Folded({ title, testId, topic, className }: { title: string; testId: string; topic: Topic; className?: string }) {
+  const view = useFrameValue(selectedTopic(topic) as (s: State) => TopicView | null, sameSecond);
+  const link = useSelectedLink();
+  const now = useNow();
+  const ageS = view ? Math.max(0, now - view.at) : null;
+  return (
+    <Panel title={title} testId={testId} className={className} freshness={freshness(ageS, topic, view?.interval ?? null, link)} ageSeconds={ageS}>
       {null}
     </Panel>
-  ) : (
-    children
   );
 }
 

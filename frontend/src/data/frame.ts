@@ -62,7 +62,8 @@ export function cancelFrame(job: Job): void {
  * the slice asks for a frame, and the frame takes the newest value (changes between two frames are one draw).
  * `same` says when a new value draws the same as the old one (default: Object.is), e.g. an overview that
  * shows a few fields of every vehicle. `everyMs` > 0: drawn on the first frame at least that long after the
- * last draw (the map's fleet: a software-rendered map cannot redraw every frame), still on a frame. */
+ * last draw (the map's fleet: a software-rendered map cannot redraw every frame), still on a frame, asked for by a
+ * timer at the end of the period. */
 export function frameSource<T>(
   store: Store,
   select: (s: State) => T,
@@ -74,12 +75,21 @@ export function frameSource<T>(
   return {
     subscribe: (onChange) => {
       value = select(store.getState()); // what changed while nobody listened (useSyncExternalStore renders it)
+      let waiting: ReturnType<typeof setTimeout> | undefined; // too soon: the frame after the period is asked for then
       const draw = () => {
         const now = performance.now();
-        if (now - drawnAt < everyMs) return onFrame(draw); // too soon: ask the next frame
+        if (now - drawnAt < everyMs) {
+          // not a frame asked for each frame until then (a page kept producing frames for nothing)
+          waiting ??= setTimeout(() => {
+            waiting = undefined;
+            onFrame(draw);
+          }, everyMs - (now - drawnAt));
+          return;
+        }
         const next = select(store.getState());
-        if (same(value, next)) return;
-        value = next;
+        const alike = same(value, next);
+        value = next; // alike, not drawn now; but a render for another reason (the clock of ages) shows the newest
+        if (alike) return;
         drawnAt = now;
         onChange();
       };
@@ -87,6 +97,8 @@ export function frameSource<T>(
       return () => {
         off();
         cancelFrame(draw);
+        clearTimeout(waiting);
+        waiting = undefined;
       };
     },
     getSnapshot: () => value,

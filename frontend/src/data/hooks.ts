@@ -164,12 +164,6 @@ export function usePlayback(): { status: ReplayStatus; controls: PlaybackControl
   return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
-/** Every vehicle, sorted by id, on the frame after any report of any of them (an overview wants
- * useProvidersOnFrame with sameOverview). */
-export function useProviders(): ProviderView[] {
-  return useProvidersOnFrame();
-}
-
 /** The selected vehicle's whole view: it changes with each of its reports. A panel that draws one topic
  * wants useSelectedTopic, and one that names the vehicle useSelectedVehicle. */
 export function useSelectedProvider(): ProviderView | null {

@@ -2,8 +2,8 @@
 // points to it: HTML over the map's canvas. MapLibre draws text only from glyph files, which the offline
 // basemap does not have (it requests nothing from anywhere); a few HTML labels need none. They are placed
 // when the camera moves (MapLibre's "move": only while it moves, never while the map is still) and when the
-// vehicles' data changes (at the map's bounded update rate): nothing runs per frame otherwise, and no React
-// render at all.
+// vehicles' data changes (at the map's bounded update rate); the selected vehicle's ring and name on the frame
+// after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type VehicleMark } from "./geo";
 import { vehicleColor } from "./vehicle";
@@ -29,6 +29,8 @@ interface Box {
 
 const SVG = "http://www.w3.org/2000/svg";
 const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v));
+/** A name's transform: right of its vehicle at screen point `p`, centred on it vertically. */
+const labelAt = (p: { x: number; y: number }) => `translate(${Math.round(p.x + 14)}px, ${Math.round(p.y - 9)}px)`;
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
 export class VehicleOverlay {
@@ -91,8 +93,20 @@ export class VehicleOverlay {
   /** The selected vehicle's newest mark (null: none, or no position): its ring placed at once. */
   setSelected(mark: VehicleMark | null): void {
     this.selected = mark;
-    if (mark) this.ring.dataset.lat = mark.position.lat.toFixed(6); // what it shows (the probe benchmark reads it)
     this.placeRing();
+    // its name goes with the ring, not with the map's dot (drawn at the fleet's rate): only its label is moved,
+    // unless it crossed the map's edge (then every label and edge arrow is placed again)
+    const m = mark && this.markers.get(mark.id);
+    if (!mark || !m || !this.root.clientWidth) return;
+    const p = this.map.project([mark.position.lon, mark.position.lat]);
+    const inView = edgeMark(p.x, p.y, this.root.clientWidth, this.root.clientHeight, EDGE_INSET) === null;
+    if (inView && !m.label.hidden) m.label.style.transform = labelAt(p);
+    else if (inView || m.edge.hidden) this.place();
+  }
+
+  /** Where a vehicle's name goes: the selected vehicle's newest position (its ring), another's mark. */
+  private positionOf(m: Marker): VehicleMark["position"] {
+    return this.selected?.id === m.mark.id ? this.selected.position : m.mark.position;
   }
 
   private placeRing(): void {
@@ -100,7 +114,11 @@ export class VehicleOverlay {
     const p = mark ? this.map.project([mark.position.lon, mark.position.lat]) : null;
     const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.root.clientWidth && p.y <= this.root.clientHeight;
     this.ring.hidden = !inView;
-    if (p && inView) this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
+    if (!mark || !p || !inView) return;
+    this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
+    // the latitude it shows, for the probe benchmark: only a ring on screen, once per position
+    const lat = mark.position.lat.toFixed(6);
+    if (this.ring.dataset.lat !== lat) this.ring.dataset.lat = lat;
   }
 
   private add(mark: VehicleMark): Marker {
@@ -143,13 +161,13 @@ export class VehicleOverlay {
     const centre = this.map.getCenter();
     const placed: Box[] = [];
     for (const m of this.markers.values()) {
-      const { lon, lat } = m.mark.position;
+      const { lon, lat } = this.positionOf(m);
       const p = this.map.project([lon, lat]);
       const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
       m.label.hidden = edge !== null;
       m.edge.hidden = edge === null;
       if (!edge) {
-        m.label.style.transform = `translate(${Math.round(p.x + 14)}px, ${Math.round(p.y - 9)}px)`;
+        m.label.style.transform = labelAt(p);
         continue;
       }
       // the arrow at the edge point, its name on the side towards the middle of the map; arrows that
@@ -164,7 +182,7 @@ export class VehicleOverlay {
       placed.push(box);
       m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
       m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
-      const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, m.mark.position));
+      const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, this.positionOf(m)));
       const said = `${m.mark.label}${m.mark.link === "lost" ? " (lost)" : ""}: outside the map, ${away} from its middle. Show it`;
       if (m.edge.getAttribute("aria-label") !== said) {
         m.edge.setAttribute("aria-label", said);

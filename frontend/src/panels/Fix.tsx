@@ -11,7 +11,7 @@ import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/uni
 
 export function FixPanel() {
   return (
-    <Foldable title="GPS fix" testId="fix-panel">
+    <Foldable title="GPS fix" testId="fix-panel" topic="GPSFixReport">
       <FixBody />
     </Foldable>
   );

@@ -29,7 +29,7 @@ export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefi
 
 export function InsPanel() {
   return (
-    <Foldable title="Inertial sensor" testId="ins-panel">
+    <Foldable title="Inertial sensor" testId="ins-panel" topic="InertialSensorReport">
       <InsBody />
     </Foldable>
   );

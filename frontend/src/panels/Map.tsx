@@ -94,7 +94,8 @@ export function MapPanel() {
   useTrackLayer(mapRef, ready, fleet, selected);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);
-  useFitAll(mapRef, ready, marks, follow, land, landLoaded);
+  // followed at the fleet's rate (a jump redraws the map): between jumps the ring moves from the middle
+  useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
   const { landDrawn, vehiclesDrawn } = useDrawnCounts(mapRef, ready);
 
   const measured = pathLengthM(measure);

@@ -211,7 +211,7 @@ const NO_SATELLITES: GPSSatelliteType[] = [];
 
 export function SatellitesPanel() {
   return (
-    <Foldable title="Satellites" testId="satellites-panel" className="wide">
+    <Foldable title="Satellites" testId="satellites-panel" topic="GPSReport" className="wide">
       <SatellitesBody />
     </Foldable>
   );

@@ -6,6 +6,7 @@ import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
 import type { FeatureCollection } from "geojson";
 import type { Store } from "../../data/connection";
+import { cancelFrame, onFrame } from "../../data/frame";
 import { select, type ProviderView } from "../../data/store";
 import { PALETTES, loadLand, offlineStyle, setPalette } from "../../lib/basemap";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../../lib/chart";
@@ -377,19 +378,24 @@ export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], 
   }, [mapRef, ready, marks, follow, land, landLoaded]);
 }
 
-/** What is drawn, for the operator's status line and the tests: counted from rendered features once a second. */
+/** What is drawn, for the operator's status line and the tests: counted from rendered features once a second, on the
+ * frame (a hidden page draws nothing, so it counts nothing: a count of rendered features is a search of them). */
 export function useDrawnCounts(mapRef: MapRef, ready: boolean): { landDrawn: number; vehiclesDrawn: number } {
   const [landDrawn, setLandDrawn] = useState(0);
   const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const count = setInterval(() => {
+    const count = () => {
       if (!map.getLayer("selected-dot")) return; // layers not added yet
       setLandDrawn(map.queryRenderedFeatures({ layers: ["land"] }).length);
       setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: VEHICLE_DOTS }).map((f) => f.properties?.id)).size);
-    }, 1000);
-    return () => clearInterval(count);
+    };
+    const every = setInterval(() => onFrame(count), 1000);
+    return () => {
+      clearInterval(every);
+      cancelFrame(count);
+    };
   }, [mapRef, ready]);
   return { landDrawn, vehiclesDrawn };
 }
