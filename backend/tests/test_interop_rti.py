@@ -7,7 +7,8 @@ COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as t
 The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
 RTI endpoint left at XCDR1 for them is not matched, and the console and sem-check name the fix. An RTI
 vehicle on the drop-in's AppendableGps profile is read through the console's appendable readers
-(one reader per extensibility). See docs/dds.md, "Other DDS vendors".
+(one reader per extensibility); an RTI consumer on that profile reads `sem-sim --gps-extensibility appendable`.
+See docs/dds.md, "Other DDS vendors".
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from typing import Any
 
 import httpx
 import pytest
+from cyclonedds.core import Policy, Qos
 
 from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
@@ -36,8 +38,8 @@ from samplegen import random_sample, to_plain
 from sem_console.console.convert import to_json
 from sem_console.console.decode import REPORT_TOPICS
 from sem_console.dds.bus import Bus, all_samples
-from sem_console.dds.qos import TopicClass
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.qos import TopicClass, reader_qos
+from sem_console.dds.topics import Sem, Service, final_type_qos
 from sem_console.sim.provider import vehicle_guid
 from test_check import check, failed
 from test_console import wait_until
@@ -745,3 +747,86 @@ def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, r
     time.sleep(1)
     assert {s: len(readers[s].get_matched_publications()) for s in topics} == {s: 1 if force else 2 for s in topics}
     assert {s: len(p.matched(s, True)) for s in topics} == {s: 1 for s in topics}  # the plain reader, never the forced
+
+
+# --- An RTI consumer of sem-sim on AppendableGps: sem-sim --gps-extensibility appendable --------------------------
+
+def _taken(readers: dict[Sem, Any], into: dict[Sem, list[Any]]) -> dict[Sem, list[Any]]:
+    for s, r in readers.items():
+        into[s] += r.take(N=1000, condition=all_samples(r))
+    return into
+
+
+@pytest.mark.parametrize("version,gps_report_right", [("7", True), ("6", False)], ids=["connext7.7", "connext6.1.2"])
+def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_report_right: bool, sim: Any, domain: int,
+                                                          request: pytest.FixtureRequest) -> None:
+    """Issue 23, RTI as consumer: on the drop-in's AppendableGps profile (Connext 7 with the mask in its environment)
+    it reads `sem-sim --gps-extensibility appendable`'s GPSReport and GPSFixReport, at least 20 samples each, every
+    one equal to one a Cyclone reader of the appendable copy took from the same writers, and runs a GPS fix command
+    to COMPLETED. Connext 6.1.2 reads no mask: its GPSFixReport is right, and no GPSReport arrives (matched, dropped by
+    RTI; never misread), as Cyclone drops an RTI 6.1.2 vehicle's (docs/dds.md, the matrix)."""
+    made, make = _factory(version, request)
+    sim("--gps-extensibility", "appendable", "--gps-rate", "10")
+    bus = Bus(domain)
+    # keeping all: sem-sim writes faster than RTI's samples are collected
+    cyclone = {s: bus.reader(s, reader_qos(TopicClass.REPORT) + Qos(Policy.History.KeepAll), appendable=True) for s in GPS}
+    final = {s: bus.reader(s, final_type_qos(s)) for s in GPS}  # the console's final readers refuse them
+    try:
+        p = make(domain, readers=[*GPS, Sem.GPS_FIX_COMMAND_STATUS], writers=[Sem.GPS_FIX_COMMAND], recipe="AppendableGps",
+                 env=RECIPE_ENV)
+        wait_until(lambda: all(p.matched(s, False) for s in GPS) and all(r.get_matched_publications() for r in cyclone.values()),
+                   10, "sem-sim's appendable GPS writers matched by RTI and by Cyclone")
+        assert all(not r.get_matched_publications() for r in final.values())
+        got: dict[Sem, list[Any]] = {s: [] for s in GPS}
+
+        def rti_took(topics: list[Sem]) -> bool:
+            for s in topics:
+                got[s] += [x for x, _ in p.take(s) if x]
+            return all(len(got[s]) >= 20 for s in topics)
+
+        wait_until(lambda: rti_took(GPS if gps_report_right else [Sem.GPS_FIX_REPORT]), 20, "20 samples of each GPS topic in RTI")
+        rti_took(GPS)
+        # every sample RTI got, Cyclone got too (sem-sim keeps writing: Cyclone may still be taking the last ones)
+        ours: dict[Sem, list[Any]] = {s: [] for s in GPS}
+
+        def right() -> dict[Sem, int]:
+            _taken(cyclone, ours)
+            return {s: sum(any(same(to_plain(y), x) for y in ours[s]) for x in got[s]) for s in GPS}
+
+        want = {s: len(got[s]) for s in GPS}
+        wait_until(lambda: right() == want, 10, f"RTI's samples equal to Cyclone's: {want}")
+        if not gps_report_right:  # measured: 6.1.2 drops every one (20 sent meanwhile at 10 Hz), none misread
+            assert got[Sem.GPS_REPORT] == []
+        # the command flow, on the same profile
+        cmd = _command(Service.GPS_FIX, uuid.uuid4(), vehicle_guid(1))
+        p.wait_matched(Sem.GPS_FIX_COMMAND)
+        p.write(Sem.GPS_FIX_COMMAND, cmd)
+        seen: list[tuple[str | None, str]] = []
+        wait_until(lambda: ("COMPLETED", "ALIVE") in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen), 20,
+                   "COMPLETED in RTI")
+        assert [s for s, _ in seen] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+    finally:
+        for x in made:
+            x.close()
+
+
+def test_console_reads_sem_sim_with_appendable_gps_writers(console: Any, sim: Any, domain: int) -> None:
+    """`sem-sim --gps-extensibility appendable`: the console reads every report topic of it, GPSReport and GPSFixReport
+    through its appendable readers (its final readers, force_type_validation, refuse the writers: no duplicate, no
+    misread); what it shows of each topic is a sample a Cyclone reader took from the same writer."""
+    c = console()
+    sim("--gps-extensibility", "appendable")
+    bus = Bus(domain)
+    readers = {s: bus.reader(s, appendable=s in GPS) for s in REPORTS}
+    taken: dict[Sem, list[Any]] = {s: [] for s in REPORTS}
+    vehicle = str(vehicle_guid(1))
+
+    def shown_right(s: Sem) -> bool:
+        r = httpx.get(f"{c.url}/api/providers/{vehicle}")  # first: the samples taken after include the one shown
+        shown = (r.json()["reports"].get(REPORT_TOPICS[s]) or {}).get("report") if r.status_code == 200 else None
+        return shown is not None and any(same(to_json(x)[0], shown) for x in _taken(readers, taken)[s])
+
+    for s in REPORTS:
+        wait_until(lambda s=s: shown_right(s), 20, f"sem-sim's {s.spec.name} in the console")
+    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    assert (metrics["providers"], metrics["undecodableSamples"], metrics["incompatibleWriters"]) == (1, 0, {}), metrics

@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import builtins
 import functools
+import importlib
 import typing
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, is_dataclass
 from enum import Enum
+from typing import Any
 
 from cyclonedds.core import Policy, Qos
 from cyclonedds.idl import IdlStruct
@@ -109,6 +111,24 @@ def delimited(data: bytes) -> bool:
     """Whether serialised CDR says delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2) in its encapsulation header: what
     a writer of an appendable type sends, so a sample of a topic's appendable copy (TopicSpec.appendable)."""
     return len(data) > 1 and data[0] == 0 and data[1] in _D_CDR2
+
+
+def _appendable_class(cls: type) -> Any:
+    """The class of the same name in UMAA_appendable (sem_console.idlgen writes it at the same module path)."""
+    return getattr(importlib.import_module(cls.__module__.replace("UMAA.", "UMAA_appendable.", 1)), cls.__name__)
+
+
+def to_appendable(value: Any) -> Any:
+    """A sample of a topic's final type as its appendable copy (TopicSpec.appendable), member for member: what
+    `sem-sim --gps-extensibility appendable` writes. cyclonedds serialises a member by the class its annotation names,
+    so the nested structs and enums become the copy's too."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return _appendable_class(type(value))(**{f.name: to_appendable(getattr(value, f.name)) for f in fields(value)})
+    if isinstance(value, Enum):
+        return _appendable_class(type(value))[value.name]
+    if isinstance(value, list):
+        return [to_appendable(v) for v in value]
+    return value
 
 
 def final_type_qos(sem: Sem) -> Qos:

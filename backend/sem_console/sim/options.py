@@ -46,6 +46,10 @@ class SimOptions(BaseModel):
         "seconds a command may have no live writer before it is treated as canceled (default: 10)"))
     command_timeout: float = Field(300.0, ge=0.1, le=86400, description=(
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
+    gps_extensibility: Literal["final", "appendable"] = Field("final", description=(
+        "the types GPSReport and GPSFixReport are written with. final: the console's types (idlc's default, as a "
+        "vehicle built from the plain UMAA IDL); appendable: UMAA's types appendable in XCDR2, for RTI Connext consumers "
+        "on the drop-in's AppendableGps profile (docs/dds.md); the console reads either (default: final)"))
     state_file: Path | None = Field(None, description=(
         "where command states are journaled so a restarted simulator can recover them; one simulator at a time "
         "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)"))

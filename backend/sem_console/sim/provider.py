@@ -25,7 +25,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
 from sem_console.dds.cyclone_private import InvalidSample
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import Sem, Service, to_appendable
 from sem_console.sim.comap_vehicle import ComapVehicles
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
@@ -85,7 +85,11 @@ class Simulator:
         self.claim()  # before anything is published: a second process must not impersonate the first
         self.journal = Journal(opts.state_file or default_state_file(bus.domain_id, opts.first_vehicle))
         # Provider Startup Sequence: publishers of status and ack (and reports) first ...
-        self.writers = {sem: bus.writer(sem) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
+        # --gps-extensibility appendable: GPSReport and GPSFixReport written with their appendable copies, which RTI
+        # consumers on the AppendableGps profile read right (the console reads either: one reader per extensibility)
+        self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
+        self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable)
+                        for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
@@ -121,10 +125,10 @@ class Simulator:
                        ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, self.write, self.dispose))
 
     def write(self, sem: Sem, sample: Any) -> None:
-        self.writers[sem].write(sample)
+        self.writers[sem].write(to_appendable(sample) if sem in self.appendable else sample)
 
     def dispose(self, sem: Sem, sample: Any) -> None:
-        self.writers[sem].dispose(sample)
+        self.writers[sem].dispose(to_appendable(sample) if sem in self.appendable else sample)
 
     def startup(self, window: float = 1.0) -> None:
         """Handle commands already on the bus addressed to our vehicles (ICD 4.1.2.1).
