@@ -66,6 +66,10 @@ class StorageError(Exception):
     """The console cannot use its database: the message is the one line the operator reads (problem and fix)."""
 
 
+class Unavailable(Exception):
+    """A read of the shared database during an outage: the message is the one line a client reads (503)."""
+
+
 def _key(text_: str) -> int:
     """A stable signed 64-bit key (PostgreSQL advisory locks) of a name."""
     return int.from_bytes(hashlib.sha256(text_.encode()).digest()[:8], "big", signed=True)
@@ -237,7 +241,7 @@ class Database:
         """Run `fn` in a transaction. A PostgreSQL server that cannot be reached (stopped, restarting, the network)
         is an outage, not an error: the write is held, in order behind any held before, and written by
         `write_held` when the server is back. SQLite raises as before (one file on this machine)."""
-        if self._held_writes:
+        if self._held_writes or self.unavailable_since is not None:  # in order; no connect timeout on the loop
             self._hold_write(fn)
             return
         try:
@@ -246,10 +250,7 @@ class Database:
         except (OperationalError, InterfaceError) as e:
             if self.db.path is not None:
                 raise
-            if self.unavailable_since is None:
-                self.unavailable_since = time.time()
-                log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
-                            str(e.orig or e).strip().splitlines()[0] if str(e.orig or e).strip() else type(e).__name__)
+            self._went_away(e)
             self._hold_write(fn)
 
     def _hold_write(self, fn: Callable[[Connection], object]) -> None:
@@ -265,9 +266,80 @@ class Database:
     def held(self) -> int:
         return len(self._held_writes)
 
+    def _reads(self) -> Connection:
+        """A connection for a read. During an outage (found by a write or a read, cleared by `maintain`) a read
+        fails at once, not after a connect timeout on the caller's thread (most often the event loop)."""
+        if self.unavailable_since is not None:
+            raise self._unavailable()
+        try:
+            return self.engine.connect()
+        except (OperationalError, InterfaceError) as e:
+            if self.db.path is not None:
+                raise
+            self._went_away(e)
+            raise self._unavailable() from e
+
+    def unreachable(self, e: Exception) -> Unavailable:
+        """A read elsewhere (the track and chart history) that could not reach the server: an outage, one line."""
+        if self.db.path is not None:  # one file on this machine: no outage to wait out
+            return Unavailable(problem(self.db, e))
+        self._went_away(e)
+        return self._unavailable()
+
+    def _unavailable(self) -> Unavailable:
+        since = time.strftime("%Y-%m-%d %H:%M:%SZ", time.gmtime(self.unavailable_since or time.time()))
+        return Unavailable(f"shared history unavailable since {since}: the database {self.db.shown} cannot be reached; "
+                           "live monitoring goes on and changes are held here until it is back")
+
+    def _went_away(self, e: Exception) -> None:
+        if self.unavailable_since is None:
+            self.unavailable_since = time.time()
+            orig = getattr(e, "orig", None) or e
+            log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
+                        str(orig).strip().splitlines()[0] if str(orig).strip() else type(e).__name__)
+
+    def maintain(self) -> bool:
+        """For a worker thread, every few seconds on PostgreSQL (the console's tick): during an outage, find the
+        server back and write what was held; re-take this console's name when the server restarted (its session
+        lock went with the old connection). True when the database can be used."""
+        if self.unavailable_since is not None and not self._held_writes:
+            try:
+                with self.engine.connect() as c:
+                    c.execute(select(1))
+            except (OperationalError, InterfaceError):
+                return False
+        if not self.write_held():
+            return False
+        self._keep_name()
+        return True
+
+    def _keep_name(self) -> None:
+        lock = self._lock
+        if not isinstance(lock, Connection) or self._held is None:
+            return
+        try:
+            lock.execute(select(1))
+            lock.commit()
+            return
+        except (OperationalError, InterfaceError):
+            pass  # the server restarted: the session, and the name's lock with it, are gone
+        try:
+            lock.invalidate()
+            lock.close()
+        except SQLAlchemyError:
+            pass
+        self._lock = None
+        try:
+            self._hold(self._held)
+            log.warning("the database %s is back: console name %r held again", self.db.shown, self._held)
+        except StorageError as e:
+            log.error("%s (it started while the database was away); the two share one UMAA identity: stop one", e)
+        except (OperationalError, InterfaceError):
+            pass  # away again: the next call tries
+
     def write_held(self) -> bool:
-        """Write what was held during an outage, oldest first (for a worker thread: the console's tick starts it
-        while anything is held); True when nothing is left. Stops at the first write the server still refuses."""
+        """Write what was held during an outage, oldest first (for a worker thread: see `maintain`); True when
+        nothing is left. Stops at the first write the server still refuses."""
         written = 0
         while self._held_writes:
             fn = self._held_writes[0]
@@ -301,7 +373,7 @@ class Database:
 
     def consoles(self) -> dict[str, uuid.UUID]:
         """Every console name that used this database -> its source GUID."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return {n: uuid.UUID(g) for n, g in c.execute(select(CONSOLES.c.name, CONSOLES.c.guid))}
 
     # ---- commands -----------------------------------------------------------------------
@@ -361,7 +433,7 @@ class Database:
             chosen = COMMANDS.c.session_id.in_(page)
             q = q.where(or_(chosen, COMMANDS.c.cleaned_up.is_(False)) if unfinished else chosen)
             q = q.order_by(COMMANDS.c.created_at.desc())
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
 
     def export_commands(self, provider_id: str | None, since: float | None, until: float | None) -> list[dict[str, Any]]:
@@ -374,7 +446,7 @@ class Database:
             q = q.where(COMMANDS.c.created_at >= since)
         if until is not None:
             q = q.where(COMMANDS.c.created_at <= until)
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
 
     def clear_commands(self) -> None:
@@ -397,7 +469,7 @@ class Database:
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             q = select(*AUDIT.c).order_by(AUDIT.c.id.desc()).limit(limit).offset(offset)
             return [dict(r) for r in c.execute(q).mappings()]
 
@@ -405,7 +477,7 @@ class Database:
     def link_configs(self) -> dict[str, Any]:
         """provider GUID string -> the link configuration an operator set for it (as stored: the caller validates)."""
         out: dict[str, Any] = {}
-        with self.engine.connect() as c:
+        with self._reads() as c:
             for provider, config in c.execute(select(LINK_CONFIG.c.provider_id, LINK_CONFIG.c.config)):
                 try:
                     out[provider] = json.loads(config)
@@ -437,7 +509,10 @@ class Database:
             self._alarm_ids[temporary] = new_id
             ids.append(new_id)
         self._write(write)
-        return ids[0] if ids else temporary
+        if ids:  # written now: no temporary id to map
+            self._alarm_ids.pop(temporary, None)
+            return ids[0]
+        return temporary
 
     def update_alarm(self, alarm: dict[str, Any]) -> None:
         values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
@@ -450,11 +525,26 @@ class Database:
 
     def open_alarms(self) -> list[dict[str, Any]]:
         """This console's alarms not back to normal, oldest first."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             q = select(*ALARMS.c).where(ALARMS.c.normal_at.is_(None)).order_by(ALARMS.c.id)
             if self.station is not None:
                 q = q.where(ALARMS.c.console == self.station)
             return [dict(r) for r in c.execute(q).mappings()]
+
+    def acked_elsewhere(self, since: dict[str, float]) -> dict[str, tuple[float, str | None]]:
+        """Alarm key -> (when, by whom) another console station acknowledged its alarm of that key, at or after
+        `since[key]` (this console's alarm of the key was raised then): what a reopened listener may have missed."""
+        out: dict[str, tuple[float, str | None]] = {}
+        if not since:
+            return out
+        q = select(ALARMS.c.key, ALARMS.c.acked_at, ALARMS.c.acked_by).where(
+            ALARMS.c.key.in_(list(since)), ALARMS.c.acked_at.is_not(None),
+            or_(ALARMS.c.console.is_(None), ALARMS.c.console != self.station)).order_by(ALARMS.c.acked_at)
+        with self._reads() as c:
+            for key, at, by in c.execute(q):
+                if at >= since[key]:
+                    out[key] = (at, by)
+        return out
 
     def clear_alarms(self) -> None:
         """Forget every alarm (a replay rebuilding its state)."""

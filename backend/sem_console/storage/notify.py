@@ -4,7 +4,9 @@ transitions and flags, a link configuration...) the others hear within a second,
 A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered when it commits; storage/database.py);
 `Listener` is a thread with a connection of its own that waits on LISTEN and hands each payload to a callback
 (the console passes one that goes on to its event loop with call_soon_threadsafe). A lost connection (the server
-restarts, an outage) is reopened, a second apart, until it is back."""
+restarts, an outage) is reopened, a second apart, until it is back; what was sent meanwhile is not delivered
+again, so a reopened connection hands `{"kind": "resync"}` to the callback: the console reads what it may have
+missed from the database."""
 
 from __future__ import annotations
 
@@ -39,12 +41,16 @@ class Listener:
         self._thread.start()
 
     def _run(self) -> None:
+        listened = False
         while not self._stop.is_set():
             try:
                 with psycopg.connect(self._conninfo, autocommit=True, connect_timeout=5) as conn:
                     self._conn = conn
                     conn.execute(f"LISTEN {CHANNEL}")
                     self.connected.set()
+                    if listened:  # notifications sent while it was away are lost: the console reads the database
+                        self._on_message({"kind": "resync"})
+                    listened = True
                     while not self._stop.is_set():
                         for n in conn.notifies(timeout=1.0):  # returns each second so a stop is seen
                             self._deliver(n.payload)
