@@ -39,7 +39,7 @@ from sem_console.storage.models import (
     TransitionRecord,
     table,
 )
-from sem_console.storage.notify import CHANNEL, Listener
+from sem_console.storage.notify import CHANNEL, PG_CONNECT_ARGS, Listener
 from sem_console.storage.url import DatabaseUrl, sqlite_file
 
 log = logging.getLogger("sem-console.storage")
@@ -49,7 +49,6 @@ ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
                  "acked_by", "normal_at")
-CONNECT_TIMEOUT = 5  # seconds to reach a PostgreSQL server before the start fails
 MIGRATION_LOCK = 0x53454D_0001  # pg advisory lock key: one console upgrades the schema at a time
 # Writes held while a PostgreSQL server cannot be reached, written in order when it is back. Past the bound the
 # oldest held writes are dropped (counted in `dropped`, logged): at a few writes a second (commands, transitions,
@@ -78,7 +77,7 @@ def _key(text_: str) -> int:
 def open_engine(db: DatabaseUrl) -> Engine:
     if db.path is None:
         # pre-ping: a connection the server dropped (restart, outage) is replaced, not handed out broken
-        return create_engine(db.url, pool_pre_ping=True, connect_args={"connect_timeout": CONNECT_TIMEOUT})
+        return create_engine(db.url, pool_pre_ping=True, connect_args=PG_CONNECT_ARGS)
     db.path.parent.mkdir(parents=True, exist_ok=True)
     engine = create_engine(db.url, connect_args={"check_same_thread": False, "timeout": 10})
 

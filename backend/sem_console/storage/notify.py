@@ -20,6 +20,13 @@ import psycopg
 from sqlalchemy.engine import URL
 
 log = logging.getLogger("sem-console.storage")
+# Every PostgreSQL connection of the console (this listener's, storage/database.py's engine). connect_timeout: the
+# seconds to reach a server (a start fails after it). A server gone without closing its connections (a network cut, a
+# host powered off): without the TCP settings an open connection's next statement waits for TCP's retransmissions
+# (many minutes; on the event loop for a write) and a listening connection never notices; with them a statement fails
+# after about 5 s and the outage path takes over.
+PG_CONNECT_ARGS: dict[str, Any] = {"connect_timeout": 5, "tcp_user_timeout": 5000, "keepalives": 1,
+                                   "keepalives_idle": 5, "keepalives_interval": 2, "keepalives_count": 2}
 CHANNEL = "sem_console"
 RECONNECT = 1.0  # seconds between attempts to reopen a lost listening connection
 
@@ -44,7 +51,7 @@ class Listener:
         listened = False
         while not self._stop.is_set():
             try:
-                with psycopg.connect(self._conninfo, autocommit=True, connect_timeout=5) as conn:
+                with psycopg.connect(self._conninfo, autocommit=True, **PG_CONNECT_ARGS) as conn:
                     self._conn = conn
                     conn.execute(f"LISTEN {CHANNEL}")
                     self.connected.set()
