@@ -197,3 +197,12 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
             other.close()
     finally:
         db.close()
+
+
+@pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",
+                                 "mysql://u:s3cret@h/db"])
+def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url: str) -> None:
+    with pytest.raises(ValueError) as refused:
+        parse_database_url(url)
+    line = str(refused.value)
+    assert line.startswith("--database-url") and "\n" not in line and "s3cret" not in line, line
