@@ -59,7 +59,9 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
 
 def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
-    sim("--surface-seconds", "400")
+    # no orphan grace to speak of: the vehicle would cancel a command that lost its writer (A) by itself after 10 s,
+    # and this test would pass without B's dispose reaching it
+    sim("--surface-seconds", "400", "--orphan-grace", "3600")
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
     session = gps_fix_executing(a.url)
