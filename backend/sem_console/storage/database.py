@@ -12,6 +12,7 @@ import hashlib
 import itertools
 import json
 import logging
+import math
 import os
 import sqlite3
 import time
@@ -36,6 +37,8 @@ from sem_console.storage.models import (
     ConsoleIdentity,
     LinkConfigRecord,
     Meta,
+    SeriesPoint,
+    TrackPoint,
     TransitionRecord,
     table,
 )
@@ -59,6 +62,7 @@ HELD_MAX = 50_000
 # the Core tables: statements below are on their columns
 COMMANDS, TRANSITIONS, AUDIT, ALARMS = table(CommandRecord), table(TransitionRecord), table(AuditRecord), table(AlarmRecord)
 CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkConfigRecord)
+TRACK_POINTS, SERIES_POINTS = table(TrackPoint), table(SeriesPoint)
 
 
 class StorageError(Exception):
@@ -347,7 +351,8 @@ class Database:
                     fn(c)
             except (OperationalError, InterfaceError):
                 return False
-            self._held_writes.popleft()
+            if self._held_writes and self._held_writes[0] is fn:  # unless the loop dropped it meanwhile (the bound)
+                self._held_writes.popleft()
             written += 1
         if self.unavailable_since is not None:
             log.warning("the database %s is back after %.0f s: wrote %d held changes", self.db.shown,
@@ -569,26 +574,37 @@ class VehicleWriters:
         self.engine = engine
         self._conn: Connection | None = None
         self._held: set[str] = set()
+        # (table, provider) -> the first UTC second this console writes: a vehicle taken over from a console that
+        # stopped may have a point in the second this console's batch starts in (at most one point a second)
+        self._start: dict[tuple[str, str], float] = {}
 
     def mine(self, providers: set[str]) -> set[str]:
         """The vehicles of `providers` this console writes (it takes those no other console holds)."""
         try:
             if self._conn is None:
-                self._conn, self._held = self.engine.connect(), set()
+                self._conn, self._held, self._start = self.engine.connect(), set(), {}
             for provider in providers - self._held:
                 if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
                     self._held.add(provider)
+                    for t in (TRACK_POINTS, SERIES_POINTS):
+                        last = self._conn.execute(select(func.max(t.c.time)).where(t.c.providerId == provider)).scalar()
+                        if last is not None:
+                            self._start[(t.name, provider)] = math.floor(last) + 1
             self._conn.commit()  # not idle in a transaction between batches
         except (OperationalError, InterfaceError):  # the server restarted or is away: its locks went with it
             self.close()
             raise
         return providers & self._held
 
+    def after_last(self, table_name: str, point: dict[str, Any]) -> bool:
+        """Whether a point of a vehicle this console writes is in a later second than any already written for it."""
+        return bool(point["time"] >= self._start.get((table_name, point["providerId"]), -math.inf))
+
     def close(self) -> None:
         if self._conn is not None:
             self._conn.invalidate()  # a connection whose session held locks is not given to anyone else
             self._conn.close()
-        self._conn, self._held = None, set()
+        self._conn, self._held, self._start = None, set(), {}
 
 
 def _with_transitions(c: Connection, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:
