@@ -116,8 +116,8 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert done["cancelRequested"] and done["console"] == "watch"
         paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
         assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
-        wait_until(lambda: heard(ws_b, session, "CANCELED"), 10, "A's command, made during the outage, on B's WebSocket")
-        wait_until(lambda: (x := lost(b)) is not None and x["state"] != "active-unacknowledged", 10, "A's ack on B")
+        wait_until(lambda: heard(ws_b, session, "CANCELED"), 20, "A's command, made during the outage, on B's WebSocket")
+        wait_until(lambda: (x := lost(b)) is not None and x["state"] != "active-unacknowledged", 20, "A's ack on B")
         assert not ws_b.errors, ws_b.errors
     finally:
         ws_b.close()
