@@ -14,6 +14,7 @@ from fastapi.exception_handlers import http_exception_handler
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, Response
 from fastapi.staticfiles import StaticFiles
+from sqlalchemy.exc import InterfaceError, OperationalError
 from starlette.exceptions import HTTPException
 from starlette.routing import Match, Mount
 
@@ -28,7 +29,7 @@ from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
-from sem_console.storage.database import Database
+from sem_console.storage.database import Database, Unavailable
 
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
@@ -89,6 +90,17 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
             auditor.refused(request.scope, exc.status_code, str(exc.detail), audit=getattr(exc, "audit", False),
                             operator=getattr(request.state, "operator", None))
         return await http_exception_handler(request, exc)
+
+    @app.exception_handler(Unavailable)
+    async def database_unavailable(request: Request, exc: Unavailable) -> JSONResponse:
+        """A read of the shared database during an outage: 503 in one line (the console goes on monitoring)."""
+        return JSONResponse({"detail": str(exc)}, status_code=503, headers={"Retry-After": "2"})
+
+    @app.exception_handler(OperationalError)
+    @app.exception_handler(InterfaceError)
+    async def database_unreachable(request: Request, exc: Exception) -> JSONResponse:
+        """A read in a worker thread (the track and chart history) that could not reach the database: the same."""
+        return await database_unavailable(request, request.app.state.console.store.unreachable(exc))
 
     @app.exception_handler(405)
     async def method_not_allowed(request: Request, _exc: HTTPException) -> JSONResponse:

@@ -59,7 +59,9 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
 
 def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
-    sim("--surface-seconds", "400")
+    # no orphan grace to speak of: the vehicle would cancel a command that lost its writer (A) by itself after 10 s,
+    # and this test would pass without B's dispose reaching it
+    sim("--surface-seconds", "400", "--orphan-grace", "3600")
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
     session = gps_fix_executing(a.url)
@@ -73,11 +75,15 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
 def test_a_database_outage_loses_nothing_and_stops_no_console(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
     """PostgreSQL stopped: both consoles keep monitoring, A commands and cancels, its health says since when the
-    shared history is unavailable; started again: what A held is written, and B reads it all from the database."""
-    sim("--surface-seconds", "400")
+    shared history is unavailable, reads of the database answer 503 in one line, an alarm raised meanwhile can be
+    acknowledged; started again: what A held is written, B reads it all from the database and its WebSocket hears
+    what it missed (A's command, the acknowledgement)."""
+    vehicle = sim("--surface-seconds", "400")
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
     provider_ready(a.url, V1, {"GPSFixReport"})
+    provider_ready(b.url, V1, {"GPSFixReport"})
+    ws_b = WsClient(b.ws_url)
     pg_cluster.stop()
     try:
         r = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={})
@@ -90,16 +96,37 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert down["databaseUnavailableSince"] is not None and down["databaseWritesHeld"] > 0, down
         for c in (a, b):  # monitoring goes on
             assert httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
+        for c in (a, b):  # the shared history: one line, not a traceback
+            r = httpx.get(f"{c.url}/api/audit")
+            assert r.status_code == 503 and r.json()["detail"].startswith("shared history unavailable since"), r.text
+            assert "\n" not in r.json()["detail"] and "pg-test-s3cret" not in r.text
+        vehicle.kill()  # an alarm raised during the outage: a temporary id, acknowledged by it
+        on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
+        wait_until(lambda: lost(b), 15, "link-lost on B")
+        assert on_a["id"] < 0, on_a
+        r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={})
+        assert r.status_code == 200, r.text
     finally:
         pg_cluster.start()
-    wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
-    assert health(a)["databaseWritesHeld"] == 0
-    done = command(b.url, session)  # from the database: everything A did meanwhile
-    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
-    assert done["cancelRequested"] and done["console"] == "watch"
-    paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
-    assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
+    try:
+        wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
+        assert health(a)["databaseWritesHeld"] == 0
+        done = command(b.url, session)  # from the database: everything A did meanwhile
+        assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
+        assert done["cancelRequested"] and done["console"] == "watch"
+        paths = {(e["method"], e["path"]) for e in httpx.get(f"{b.url}/api/audit").json()}
+        assert ("POST", f"/api/providers/{V1}/gps-fix") in paths and ("DELETE", f"/api/commands/{session}") in paths
+        wait_until(lambda: heard(ws_b, session, "CANCELED"), 20, "A's command, made during the outage, on B's WebSocket")
+        wait_until(lambda: (x := lost(b)) is not None and x["state"] != "active-unacknowledged", 20, "A's ack on B")
+        assert not ws_b.errors, ws_b.errors
+    finally:
+        ws_b.close()
     assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
+
+
+def lost(c: ConsoleProcess) -> dict[str, Any] | None:
+    """The console's link-lost alarm, when it has one."""
+    return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
 
 
 def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
@@ -110,10 +137,6 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     for c in (a, b):
         provider_ready(c.url, V1, {"GPSFixReport"})
     vehicle.kill()  # both lose it: each raises its own link-lost alarm
-
-    def lost(c: ConsoleProcess) -> dict[str, Any] | None:
-        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
-
     on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
     wait_until(lambda: lost(b), 15, "link-lost on B")
     assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200

@@ -18,10 +18,11 @@ from fastapi.testclient import TestClient
 from sqlalchemy import text
 from sqlmodel import SQLModel
 
+from pg import Cluster
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
-from sem_console.storage.database import Database, StorageError, head_revision
+from sem_console.storage.database import Database, StorageError, Unavailable, head_revision
 from sem_console.storage.url import parse_database_url
 
 LEGACY = Path(__file__).parent / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
@@ -156,3 +157,52 @@ def test_the_first_releases_file_opens_with_its_history_and_identity(tmp_path: P
     finally:
         db.close()
     assert len(list(tmp_path.glob("*.before-upgrade-*"))) == 1  # upgraded once: no copy at the next start
+
+
+def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluster: Cluster, pg_url: str) -> None:
+    """PostgreSQL stopped: writes are held in order (an alarm gets a temporary id), reads fail at once in one line
+    (no connect attempt on the caller's thread); started again: `maintain` writes what was held (the alarm's
+    acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
+    db = open_db(pg_url)
+    db.claim("watch")
+    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+             "acked_by": None, "normal_at": None}
+    try:
+        pg_cluster.stop()
+        try:
+            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a",
+                          "reason": "accepted"})
+            temporary = db.add_alarm(alarm)
+            assert temporary < 0 and db.unavailable_since is not None and db.held == 2
+            db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
+            assert db.held == 3
+            started = time.monotonic()
+            with pytest.raises(Unavailable) as refused:
+                db.audit(10, 0)
+            assert time.monotonic() - started < 1  # not a connect timeout
+            assert "shared history unavailable since" in str(refused.value) and "pg-test-s3cret" not in str(refused.value)
+            assert not db.maintain()  # still away
+        finally:
+            pg_cluster.start()
+        assert db.maintain() and db.held == 0 and db.unavailable_since is None
+        assert [e["path"] for e in db.audit(10, 0)] == ["/a"]
+        [row] = db.open_alarms()
+        assert row["acked_by"] == "alice" and row["acked_at"] == 2.0  # the held update found the row written late
+        other = open_db(pg_url)
+        try:
+            with pytest.raises(StorageError):  # the name's lock went with the old server; maintain took it again
+                other.claim("watch")
+        finally:
+            other.close()
+    finally:
+        db.close()
+
+
+@pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",
+                                 "mysql://u:s3cret@h/db"])
+def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url: str) -> None:
+    with pytest.raises(ValueError) as refused:
+        parse_database_url(url)
+    line = str(refused.value)
+    assert line.startswith("--database-url") and "\n" not in line and "s3cret" not in line, line

@@ -98,6 +98,8 @@ class Health(_Model):
         "monitoring goes on, commands, transitions, audit and acknowledgements are held here and written when it is "
         "back; null while it can be reached"))
     databaseWritesHeld: int = Field(0, description="writes held for the database (at most 50000; past it the oldest go)")
+    databaseWritesDropped: int = Field(0, description="held writes dropped since the console started, the oldest first, "
+                                                      "because more than 50000 were held: lost from the shared history")
 
 
 class GatewayState(_Model):

@@ -252,10 +252,12 @@ class Commands:
         """A command another console station changed in the shared database: as it is now (for this console's
         clients). One this console follows takes the other station's cancel request over."""
         rows = self.store.commands(session_id=str(session))
-        if not rows:
-            return None
-        stored = self.from_row(rows[0])
-        mine = self.by_session.get(session)
+        return self.merge_shared(rows[0]) if rows else None
+
+    def merge_shared(self, row: dict[str, Any]) -> Command:
+        """The command of a shared database row (see `shared`)."""
+        stored = self.from_row(row)
+        mine = self.by_session.get(stored.session_id)
         if mine is None:
             return stored
         if stored.cancel_requested and not mine.cancel_requested:

@@ -170,8 +170,10 @@ class History:
 
     def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
         if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
-            mine = self.writers.mine({p["providerId"] for p in (*track, *series)})
-            track, series = [p for p in track if p["providerId"] in mine], [p for p in series if p["providerId"] in mine]
+            w = self.writers
+            mine = w.mine({p["providerId"] for p in (*track, *series)})
+            track = [p for p in track if p["providerId"] in mine and w.after_last(TrackPoint.__tablename__, p)]
+            series = [p for p in series if p["providerId"] in mine and w.after_last(SeriesPoint.__tablename__, p)]
         with Session(self.engine) as s:
             for model, rows in ((TrackPoint, track), (SeriesPoint, series)):
                 if rows:

@@ -40,13 +40,14 @@ from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
-from sem_console.storage.database import Database
+from sem_console.storage.database import Database, Unavailable
 from sem_console.storage.notify import Listener
 from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
-HELD_RETRY = 2.0  # seconds between attempts to write what was held while the database could not be reached
+HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's end found, held writes, the name's lock
+RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
@@ -133,7 +134,9 @@ class Console:
         if self.closing or message.get("console") == self.station:
             return
         try:
-            if message.get("kind") == "command":
+            if message.get("kind") == "resync":
+                self._resync()
+            elif message.get("kind") == "command":
                 cmd = self.commands.shared(uuid.UUID(str(message["session"])))
                 if cmd is not None:
                     self._emit({"type": "command", "command": cmd.to_json()})
@@ -146,9 +149,26 @@ class Console:
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
+        except Unavailable as e:  # away again: the next reopened listener resyncs
+            log.warning("%s", e)
 
-    def _shared_link_config(self, provider_id: str) -> None:
-        config = stored_link_configs({k: v for k, v in self.store.link_configs().items() if k == provider_id})
+    def _resync(self) -> None:
+        """The listening connection was reopened (the server restarted, an outage): what the other stations
+        changed meanwhile was not heard, so it is read from the database and sent to this console's clients."""
+        for row in self.store.commands(limit=RESYNC_COMMANDS, unfinished=True):
+            if row["console"] != self.station:
+                self._emit({"type": "command", "command": self.commands.merge_shared(row).to_json()})
+        rows = self.store.link_configs()
+        for provider_id in rows:
+            self._shared_link_config(provider_id, rows)
+        missed = self.store.acked_elsewhere({k: a.since for k, a in self.alarms.open.items() if a.acked_at is None})
+        if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in missed.items()]):
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        log.info("listening to the other consoles again: resynced from the database")
+
+    def _shared_link_config(self, provider_id: str, rows: dict[str, Any] | None = None) -> None:
+        rows = self.store.link_configs() if rows is None else rows
+        config = stored_link_configs({k: v for k, v in rows.items() if k == provider_id})
         p = self.providers.by_id.get(uuid.UUID(provider_id))
         if p is not None and provider_id in config:
             p.config = config[provider_id]
@@ -279,10 +299,11 @@ class Console:
                 log.exception("tick failed")
 
     def tick(self, now: float) -> None:
-        if self.store.held and self._writing_held is None and now - self._held_tried >= HELD_RETRY:
-            # an outage of the database: what was held is written in a worker thread, once it can be reached again
+        if self.store.db.path is None and self._writing_held is None and now - self._held_tried >= HELD_RETRY:
+            # PostgreSQL's upkeep in a worker thread (never a connect timeout on the loop): the end of an outage
+            # found and what was held written; this console's name held again after a server restart
             self._held_tried = now
-            self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.write_held))
+            self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(lambda _t: setattr(self, "_writing_held", None))
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})

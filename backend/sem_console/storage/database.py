@@ -12,6 +12,7 @@ import hashlib
 import itertools
 import json
 import logging
+import math
 import os
 import sqlite3
 import time
@@ -36,10 +37,12 @@ from sem_console.storage.models import (
     ConsoleIdentity,
     LinkConfigRecord,
     Meta,
+    SeriesPoint,
+    TrackPoint,
     TransitionRecord,
     table,
 )
-from sem_console.storage.notify import CHANNEL, Listener
+from sem_console.storage.notify import CHANNEL, PG_CONNECT_ARGS, Listener
 from sem_console.storage.url import DatabaseUrl, sqlite_file
 
 log = logging.getLogger("sem-console.storage")
@@ -49,7 +52,6 @@ ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
 AUDIT_COLUMNS = ("at", "outcome", "status", "method", "path", "client", "origin", "operator", "session_id", "reason")
 ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
                  "acked_by", "normal_at")
-CONNECT_TIMEOUT = 5  # seconds to reach a PostgreSQL server before the start fails
 MIGRATION_LOCK = 0x53454D_0001  # pg advisory lock key: one console upgrades the schema at a time
 # Writes held while a PostgreSQL server cannot be reached, written in order when it is back. Past the bound the
 # oldest held writes are dropped (counted in `dropped`, logged): at a few writes a second (commands, transitions,
@@ -60,10 +62,15 @@ HELD_MAX = 50_000
 # the Core tables: statements below are on their columns
 COMMANDS, TRANSITIONS, AUDIT, ALARMS = table(CommandRecord), table(TransitionRecord), table(AuditRecord), table(AlarmRecord)
 CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkConfigRecord)
+TRACK_POINTS, SERIES_POINTS = table(TrackPoint), table(SeriesPoint)
 
 
 class StorageError(Exception):
     """The console cannot use its database: the message is the one line the operator reads (problem and fix)."""
+
+
+class Unavailable(Exception):
+    """A read of the shared database during an outage: the message is the one line a client reads (503)."""
 
 
 def _key(text_: str) -> int:
@@ -74,7 +81,7 @@ def _key(text_: str) -> int:
 def open_engine(db: DatabaseUrl) -> Engine:
     if db.path is None:
         # pre-ping: a connection the server dropped (restart, outage) is replaced, not handed out broken
-        return create_engine(db.url, pool_pre_ping=True, connect_args={"connect_timeout": CONNECT_TIMEOUT})
+        return create_engine(db.url, pool_pre_ping=True, connect_args=PG_CONNECT_ARGS)
     db.path.parent.mkdir(parents=True, exist_ok=True)
     engine = create_engine(db.url, connect_args={"check_same_thread": False, "timeout": 10})
 
@@ -237,7 +244,7 @@ class Database:
         """Run `fn` in a transaction. A PostgreSQL server that cannot be reached (stopped, restarting, the network)
         is an outage, not an error: the write is held, in order behind any held before, and written by
         `write_held` when the server is back. SQLite raises as before (one file on this machine)."""
-        if self._held_writes:
+        if self._held_writes or self.unavailable_since is not None:  # in order; no connect timeout on the loop
             self._hold_write(fn)
             return
         try:
@@ -246,10 +253,7 @@ class Database:
         except (OperationalError, InterfaceError) as e:
             if self.db.path is not None:
                 raise
-            if self.unavailable_since is None:
-                self.unavailable_since = time.time()
-                log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
-                            str(e.orig or e).strip().splitlines()[0] if str(e.orig or e).strip() else type(e).__name__)
+            self._went_away(e)
             self._hold_write(fn)
 
     def _hold_write(self, fn: Callable[[Connection], object]) -> None:
@@ -265,9 +269,80 @@ class Database:
     def held(self) -> int:
         return len(self._held_writes)
 
+    def _reads(self) -> Connection:
+        """A connection for a read. During an outage (found by a write or a read, cleared by `maintain`) a read
+        fails at once, not after a connect timeout on the caller's thread (most often the event loop)."""
+        if self.unavailable_since is not None:
+            raise self._unavailable()
+        try:
+            return self.engine.connect()
+        except (OperationalError, InterfaceError) as e:
+            if self.db.path is not None:
+                raise
+            self._went_away(e)
+            raise self._unavailable() from e
+
+    def unreachable(self, e: Exception) -> Unavailable:
+        """A read elsewhere (the track and chart history) that could not reach the server: an outage, one line."""
+        if self.db.path is not None:  # one file on this machine: no outage to wait out
+            return Unavailable(problem(self.db, e))
+        self._went_away(e)
+        return self._unavailable()
+
+    def _unavailable(self) -> Unavailable:
+        since = time.strftime("%Y-%m-%d %H:%M:%SZ", time.gmtime(self.unavailable_since or time.time()))
+        return Unavailable(f"shared history unavailable since {since}: the database {self.db.shown} cannot be reached; "
+                           "live monitoring goes on and changes are held here until it is back")
+
+    def _went_away(self, e: Exception) -> None:
+        if self.unavailable_since is None:
+            self.unavailable_since = time.time()
+            orig = getattr(e, "orig", None) or e
+            log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
+                        str(orig).strip().splitlines()[0] if str(orig).strip() else type(e).__name__)
+
+    def maintain(self) -> bool:
+        """For a worker thread, every few seconds on PostgreSQL (the console's tick): during an outage, find the
+        server back and write what was held; re-take this console's name when the server restarted (its session
+        lock went with the old connection). True when the database can be used."""
+        if self.unavailable_since is not None and not self._held_writes:
+            try:
+                with self.engine.connect() as c:
+                    c.execute(select(1))
+            except (OperationalError, InterfaceError):
+                return False
+        if not self.write_held():
+            return False
+        self._keep_name()
+        return True
+
+    def _keep_name(self) -> None:
+        lock = self._lock
+        if not isinstance(lock, Connection) or self._held is None:
+            return
+        try:
+            lock.execute(select(1))
+            lock.commit()
+            return
+        except (OperationalError, InterfaceError):
+            pass  # the server restarted: the session, and the name's lock with it, are gone
+        try:
+            lock.invalidate()
+            lock.close()
+        except SQLAlchemyError:
+            pass
+        self._lock = None
+        try:
+            self._hold(self._held)
+            log.warning("the database %s is back: console name %r held again", self.db.shown, self._held)
+        except StorageError as e:
+            log.error("%s (it started while the database was away); the two share one UMAA identity: stop one", e)
+        except (OperationalError, InterfaceError):
+            pass  # away again: the next call tries
+
     def write_held(self) -> bool:
-        """Write what was held during an outage, oldest first (for a worker thread: the console's tick starts it
-        while anything is held); True when nothing is left. Stops at the first write the server still refuses."""
+        """Write what was held during an outage, oldest first (for a worker thread: see `maintain`); True when
+        nothing is left. Stops at the first write the server still refuses."""
         written = 0
         while self._held_writes:
             fn = self._held_writes[0]
@@ -276,7 +351,8 @@ class Database:
                     fn(c)
             except (OperationalError, InterfaceError):
                 return False
-            self._held_writes.popleft()
+            if self._held_writes and self._held_writes[0] is fn:  # unless the loop dropped it meanwhile (the bound)
+                self._held_writes.popleft()
             written += 1
         if self.unavailable_since is not None:
             log.warning("the database %s is back after %.0f s: wrote %d held changes", self.db.shown,
@@ -301,7 +377,7 @@ class Database:
 
     def consoles(self) -> dict[str, uuid.UUID]:
         """Every console name that used this database -> its source GUID."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return {n: uuid.UUID(g) for n, g in c.execute(select(CONSOLES.c.name, CONSOLES.c.guid))}
 
     # ---- commands -----------------------------------------------------------------------
@@ -361,7 +437,7 @@ class Database:
             chosen = COMMANDS.c.session_id.in_(page)
             q = q.where(or_(chosen, COMMANDS.c.cleaned_up.is_(False)) if unfinished else chosen)
             q = q.order_by(COMMANDS.c.created_at.desc())
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
 
     def export_commands(self, provider_id: str | None, since: float | None, until: float | None) -> list[dict[str, Any]]:
@@ -374,7 +450,7 @@ class Database:
             q = q.where(COMMANDS.c.created_at >= since)
         if until is not None:
             q = q.where(COMMANDS.c.created_at <= until)
-        with self.engine.connect() as c:
+        with self._reads() as c:
             return _with_transitions(c, [dict(r) for r in c.execute(q).mappings()])
 
     def clear_commands(self) -> None:
@@ -397,7 +473,7 @@ class Database:
 
     def audit(self, limit: int, offset: int) -> list[dict[str, Any]]:
         """Newest first."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             q = select(*AUDIT.c).order_by(AUDIT.c.id.desc()).limit(limit).offset(offset)
             return [dict(r) for r in c.execute(q).mappings()]
 
@@ -405,7 +481,7 @@ class Database:
     def link_configs(self) -> dict[str, Any]:
         """provider GUID string -> the link configuration an operator set for it (as stored: the caller validates)."""
         out: dict[str, Any] = {}
-        with self.engine.connect() as c:
+        with self._reads() as c:
             for provider, config in c.execute(select(LINK_CONFIG.c.provider_id, LINK_CONFIG.c.config)):
                 try:
                     out[provider] = json.loads(config)
@@ -437,7 +513,10 @@ class Database:
             self._alarm_ids[temporary] = new_id
             ids.append(new_id)
         self._write(write)
-        return ids[0] if ids else temporary
+        if ids:  # written now: no temporary id to map
+            self._alarm_ids.pop(temporary, None)
+            return ids[0]
+        return temporary
 
     def update_alarm(self, alarm: dict[str, Any]) -> None:
         values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
@@ -450,11 +529,26 @@ class Database:
 
     def open_alarms(self) -> list[dict[str, Any]]:
         """This console's alarms not back to normal, oldest first."""
-        with self.engine.connect() as c:
+        with self._reads() as c:
             q = select(*ALARMS.c).where(ALARMS.c.normal_at.is_(None)).order_by(ALARMS.c.id)
             if self.station is not None:
                 q = q.where(ALARMS.c.console == self.station)
             return [dict(r) for r in c.execute(q).mappings()]
+
+    def acked_elsewhere(self, since: dict[str, float]) -> dict[str, tuple[float, str | None]]:
+        """Alarm key -> (when, by whom) another console station acknowledged its alarm of that key, at or after
+        `since[key]` (this console's alarm of the key was raised then): what a reopened listener may have missed."""
+        out: dict[str, tuple[float, str | None]] = {}
+        if not since:
+            return out
+        q = select(ALARMS.c.key, ALARMS.c.acked_at, ALARMS.c.acked_by).where(
+            ALARMS.c.key.in_(list(since)), ALARMS.c.acked_at.is_not(None),
+            or_(ALARMS.c.console.is_(None), ALARMS.c.console != self.station)).order_by(ALARMS.c.acked_at)
+        with self._reads() as c:
+            for key, at, by in c.execute(q):
+                if at >= since[key]:
+                    out[key] = (at, by)
+        return out
 
     def clear_alarms(self) -> None:
         """Forget every alarm (a replay rebuilding its state)."""
@@ -480,26 +574,37 @@ class VehicleWriters:
         self.engine = engine
         self._conn: Connection | None = None
         self._held: set[str] = set()
+        # (table, provider) -> the first UTC second this console writes: a vehicle taken over from a console that
+        # stopped may have a point in the second this console's batch starts in (at most one point a second)
+        self._start: dict[tuple[str, str], float] = {}
 
     def mine(self, providers: set[str]) -> set[str]:
         """The vehicles of `providers` this console writes (it takes those no other console holds)."""
         try:
             if self._conn is None:
-                self._conn, self._held = self.engine.connect(), set()
+                self._conn, self._held, self._start = self.engine.connect(), set(), {}
             for provider in providers - self._held:
                 if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
                     self._held.add(provider)
+                    for t in (TRACK_POINTS, SERIES_POINTS):
+                        last = self._conn.execute(select(func.max(t.c.time)).where(t.c.providerId == provider)).scalar()
+                        if last is not None:
+                            self._start[(t.name, provider)] = math.floor(last) + 1
             self._conn.commit()  # not idle in a transaction between batches
         except (OperationalError, InterfaceError):  # the server restarted or is away: its locks went with it
             self.close()
             raise
         return providers & self._held
 
+    def after_last(self, table_name: str, point: dict[str, Any]) -> bool:
+        """Whether a point of a vehicle this console writes is in a later second than any already written for it."""
+        return bool(point["time"] >= self._start.get((table_name, point["providerId"]), -math.inf))
+
     def close(self) -> None:
         if self._conn is not None:
             self._conn.invalidate()  # a connection whose session held locks is not given to anyone else
             self._conn.close()
-        self._conn, self._held = None, set()
+        self._conn, self._held, self._start = None, set(), {}
 
 
 def _with_transitions(c: Connection, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

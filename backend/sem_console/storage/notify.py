@@ -4,7 +4,9 @@ transitions and flags, a link configuration...) the others hear within a second,
 A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered when it commits; storage/database.py);
 `Listener` is a thread with a connection of its own that waits on LISTEN and hands each payload to a callback
 (the console passes one that goes on to its event loop with call_soon_threadsafe). A lost connection (the server
-restarts, an outage) is reopened, a second apart, until it is back."""
+restarts, an outage) is reopened, a second apart, until it is back; what was sent meanwhile is not delivered
+again, so a reopened connection hands `{"kind": "resync"}` to the callback: the console reads what it may have
+missed from the database."""
 
 from __future__ import annotations
 
@@ -18,6 +20,13 @@ import psycopg
 from sqlalchemy.engine import URL
 
 log = logging.getLogger("sem-console.storage")
+# Every PostgreSQL connection of the console (this listener's, storage/database.py's engine). connect_timeout: the
+# seconds to reach a server (a start fails after it). A server gone without closing its connections (a network cut, a
+# host powered off): without the TCP settings an open connection's next statement waits for TCP's retransmissions
+# (many minutes; on the event loop for a write) and a listening connection never notices; with them a statement fails
+# after about 5 s and the outage path takes over.
+PG_CONNECT_ARGS: dict[str, Any] = {"connect_timeout": 5, "tcp_user_timeout": 5000, "keepalives": 1,
+                                   "keepalives_idle": 5, "keepalives_interval": 2, "keepalives_count": 2}
 CHANNEL = "sem_console"
 RECONNECT = 1.0  # seconds between attempts to reopen a lost listening connection
 
@@ -39,12 +48,16 @@ class Listener:
         self._thread.start()
 
     def _run(self) -> None:
+        listened = False
         while not self._stop.is_set():
             try:
-                with psycopg.connect(self._conninfo, autocommit=True, connect_timeout=5) as conn:
+                with psycopg.connect(self._conninfo, autocommit=True, **PG_CONNECT_ARGS) as conn:
                     self._conn = conn
                     conn.execute(f"LISTEN {CHANNEL}")
                     self.connected.set()
+                    if listened:  # notifications sent while it was away are lost: the console reads the database
+                        self._on_message({"kind": "resync"})
+                    listened = True
                     while not self._stop.is_set():
                         for n in conn.notifies(timeout=1.0):  # returns each second so a stop is seen
                             self._deliver(n.payload)

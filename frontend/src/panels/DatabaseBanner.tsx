@@ -14,6 +14,8 @@ export function DatabaseBanner() {
     <p className="alarm" role="alert" data-testid="database-banner">
       Shared history unavailable since {utc(since)}: this console keeps monitoring and holds its commands, transitions,
       audit and acknowledgements ({data?.databaseWritesHeld ?? 0} held) until the database is back.
+      {data?.databaseWritesDropped ? ` ${data.databaseWritesDropped} of the oldest were dropped (more than 50,000 held): ` +
+        "they are missing from the shared history." : ""}
     </p>
   );
 }

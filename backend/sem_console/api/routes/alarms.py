@@ -15,7 +15,8 @@ from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.schemas import Alarm, AlarmAckRequest
 
 reads = APIRouter(tags=["alarms"])
-AlarmId = Annotated[int, Path(ge=1, description="the alarm's id (`id` in GET /api/alarms)", examples=[1])]
+AlarmId = Annotated[int, Path(description="the alarm's id (`id` in GET /api/alarms); negative for an alarm raised "
+                                          "while the database could not be reached", examples=[1])]
 writes = APIRouter(tags=["alarms"])
 
 

@@ -23,7 +23,7 @@ async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
             "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
             "basemap": settings.basemap is not None, "replay": settings.replay is not None,
             "consoleName": console.station, "databaseUnavailableSince": console.store.unavailable_since,
-            "databaseWritesHeld": console.store.held,
+            "databaseWritesHeld": console.store.held, "databaseWritesDropped": console.store.dropped,
             "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers)}
 
 
