@@ -137,8 +137,9 @@ def free_udp_port() -> int:
     kernel's ephemeral range (32768 up), and in the gap of each 250-port DDS domain block (7400 + 250 d
     uses offsets 0, 1 and 10 + 2 i, 11 + 2 i for participant index i)."""
     rng = random.Random()
+    blocks = [d for d in _OWN_DOMAINS if d < 100]  # this xdist worker's blocks: two workers never pick one port
     for _ in range(200):
-        port = 7400 + 250 * rng.randrange(0, 100) + rng.randrange(150, 245)
+        port = 7400 + 250 * rng.choice(blocks) + rng.randrange(150, 245)
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
             try:
                 s.bind(("127.0.0.1", port))

@@ -22,7 +22,7 @@ import pytest
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 
-from conftest import free_port
+from conftest import free_udp_port
 from consumer import Consumer
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
@@ -328,7 +328,7 @@ def station() -> Any:
 
 
 def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, station) -> None:
-    port = free_port()
+    port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
     sim("--vehicles", "1")
     c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
     surface(c.url)
@@ -373,14 +373,19 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     wait_until(lambda: ws.messages, 5, "the snapshot")
     assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True}
     ask(station, port, judp(me, 0x2421, everything))
-    update = wait_until(lambda: ws.of("gateways"), 5, "a gateways message")[-1]
-    assert next(g for g in update["gateways"] if g["name"] == "jaus")["messagesOut"] > state["messagesOut"]
+    # a gateways message sent before the answer (at most one a second) may still carry the old count: wait for the
+    # one that counts the answer
+    def jaus_out(m: dict[str, Any]) -> int:
+        return int(next(g for g in m["gateways"] if g["name"] == "jaus")["messagesOut"])
+
+    wait_until(lambda: [m for m in ws.of("gateways") if jaus_out(m) > state["messagesOut"]], 5,
+               "a gateways message counting the answer")
     assert ws.errors == []
     ws.close()
 
 
 def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) -> None:
-    port = free_port()
+    port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
     sim("--vehicles", "1")
     c = console("--jaus-port", str(port), "--jaus-subsystem", "42", "--operator-tokens", "alice:secret-1")
     provider_ready(c.url, V1, {"GPSFixReport"})
@@ -417,7 +422,7 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
 
 
 def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> None:
-    port = free_port()
+    port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
     sim("--vehicles", "1")
     c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
     provider_ready(c.url, V1, {"GPSFixReport"})
