@@ -303,7 +303,7 @@ def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
 
 
 def test_backend_restart_resumes_following_the_command(sim, console) -> None:
-    sim("--surface-seconds", "100", "--orphan-grace", "60")  # 5 s to surface
+    sim("--surface-seconds", "300", "--orphan-grace", "60")  # 15 s to surface: the restart, even loaded, is sooner
     first = console()
     console_id = httpx.get(f"{first.url}/api/health").json()["consoleId"]
     session = gps_fix_executing(first.url)
@@ -311,7 +311,7 @@ def test_backend_restart_resumes_following_the_command(sim, console) -> None:
     second = console()
     assert httpx.get(f"{second.url}/api/health").json()["consoleId"] == console_id
     assert command(second.url, session)["status"] == "EXECUTING"
-    done = wait_command(second.url, session, timeout=20)
+    done = wait_command(second.url, session, timeout=45)
     assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == []
 
 
