@@ -53,7 +53,8 @@ async function udpFree(port: number): Promise<boolean> {
  * as backend/tests/conftest.py free_udp_port. `avoid`: ports already chosen. */
 async function freeImcPort(avoid: number[] = []): Promise<number> {
   for (let i = 0; i < 200; i++) {
-    const port = 7400 + 250 * Math.floor(Math.random() * 100) + 150 + Math.floor(Math.random() * 95);
+    // blocks 80..100: pytest, running beside, takes its UDP ports from blocks below 80
+    const port = 7400 + 250 * (80 + Math.floor(Math.random() * 21)) + 150 + Math.floor(Math.random() * 95);
     if (!avoid.includes(port) && (await udpFree(port))) return port;
   }
   throw new Error("no free UDP port for IMC");
@@ -61,9 +62,11 @@ async function freeImcPort(avoid: number[] = []): Promise<number> {
 
 /** A DDS domain nobody on this host uses (its discovery port, 7400 + 250 d, bound by every Cyclone participant of the domain, is free). */
 async function freeDomain(): Promise<number> {
-  const start = 1 + Math.floor(Math.random() * 200);
-  for (let i = 0; i < 230; i++) {
-    const d = ((start + i) % 230) + 1; // 1..230: above, loopback's unicast discovery ports pass 65535
+  const start = Math.floor(Math.random() * 31);
+  for (let i = 0; i < 31; i++) {
+    // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
+    // discovery ports pass 65535
+    const d = 200 + ((start + i) % 31);
     if (await udpFree(7400 + 250 * d)) return d;
   }
   throw new Error("no free DDS domain");

@@ -30,7 +30,9 @@ _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
 _WORKERS = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
 # Cyclone's domain ids go to 232, but near the top the unicast discovery ports of loopback's higher participant
 # indexes (7410 + 250 d + 2 i) pass 65535 ("ddsi_udp_conn_write to udp/127.0.0.1:65536 failed" on 232)
-_OWN_DOMAINS = [d for d in range(1, 231) if (d - 1) % _WORKERS == _WORKER]
+# 200..230 are the Playwright stack's (e2e/stack.ts), which runs beside pytest: a domain checked free by both at
+# the same moment, before either's participant binds it, would mix a test's vehicles into the dashboard's
+_OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
 # A random start per run, then a new domain per test; a domain whose discovery port is taken (7400 + 250 d,
 # bound by every Cyclone participant of the domain: another run on this host) is skipped, so runs never see each other.
 _domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
@@ -137,7 +139,8 @@ def free_udp_port() -> int:
     kernel's ephemeral range (32768 up), and in the gap of each 250-port DDS domain block (7400 + 250 d
     uses offsets 0, 1 and 10 + 2 i, 11 + 2 i for participant index i)."""
     rng = random.Random()
-    blocks = [d for d in _OWN_DOMAINS if d < 100]  # this xdist worker's blocks: two workers never pick one port
+    # this xdist worker's blocks: two workers never pick one port; 80..100 are the Playwright stack's (e2e/stack.ts)
+    blocks = [d for d in _OWN_DOMAINS if d < 80]
     for _ in range(200):
         port = 7400 + 250 * rng.choice(blocks) + rng.randrange(150, 245)
         with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:

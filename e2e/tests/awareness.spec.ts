@@ -47,9 +47,11 @@ async function udpFree(port: number): Promise<boolean> {
 
 /** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
 async function otherFreeDomain(not: number): Promise<number> {
-  const start = 1 + Math.floor(Math.random() * 200);
-  for (let i = 0; i < 230; i++) {
-    const d = ((start + i) % 230) + 1; // 1..230: above, loopback's unicast discovery ports pass 65535
+  const start = Math.floor(Math.random() * 31);
+  for (let i = 0; i < 31; i++) {
+    // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
+    // discovery ports pass 65535
+    const d = 200 + ((start + i) % 31);
     if (d !== not && (await udpFree(7400 + 250 * d))) return d;
   }
   throw new Error("no free DDS domain");
