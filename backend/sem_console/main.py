@@ -73,7 +73,8 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
     app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
-                                          + comap.writes.routes + alarms.writes.routes, settings.audit_refusals_per_minute)
+                                          + comap.writes.routes + alarms.writes.routes + providers.writes.routes,
+                                          settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -114,7 +115,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     reads = Included([Depends(require_reader)], NEEDS_TOKEN) if settings.auth_reads else Included()
     writes = Included([Depends(require_operator)], NEEDS_TOKEN) if operators else Included()
     commands_writes = Included([*writes.dependencies, Depends(require_json)], writes.responses)
-    if settings.replay is not None:  # read-only: commands, recording, link config and CoMap writes are refused (409)
+    if settings.replay is not None:  # read-only: commands, recording, link config, names, CoMap writes are refused (409)
         commands_writes = Included([*commands_writes.dependencies, Depends(refuse_in_replay)],
                                    {**commands_writes.responses, **READ_ONLY})
     replay_controls = Included([*reads.dependencies, Depends(require_json)], reads.responses)
@@ -134,6 +135,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
         (comap.writes, commands_writes),
         (alarms.reads, reads),
         (alarms.writes, commands_writes),
+        (providers.writes, commands_writes),
         (meta.operator_router, writes),
         (meta.health_router, Included()),
         (ws.router, Included()),

@@ -14,6 +14,7 @@ from conftest import ConsoleProcess
 from pg import Cluster
 from test_console import V1, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
 from test_history import at_most_one_per_second
+from test_names import rename_heard
 
 
 def health(c: ConsoleProcess) -> dict[str, Any]:
@@ -141,6 +142,18 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     wait_until(lambda: lost(b), 15, "link-lost on B")
     assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
     wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
+
+
+def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_console_loads_it(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(b.url, V1, {"GPSFixReport"})
+    rename_heard(f"{a.url}/api/providers/{V1}/name", "Bravo", WsClient(b.ws_url))  # on A, heard on B's WebSocket
+    assert httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Bravo"
+    later = console("--database-url", pg_url, "--console-name", "night")
+    assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Bravo"
 
 
 def test_each_vehicles_track_is_written_once_and_handed_over(

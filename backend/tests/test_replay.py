@@ -183,6 +183,7 @@ def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
                httpx.post(f"{r.url}/api/recordings", json={"action": "start"}),
                httpx.put(f"{r.url}/api/providers/{V1}/link-config",
                          json={"commsLostTimeout": 3, "regainedTime": 3, "policy": "STOP_MISSION", "regainedBehavior": 0}),
+               httpx.put(f"{r.url}/api/providers/{V1}/name", json={"name": "Bravo"}),
                httpx.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
                httpx.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
                httpx.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"})]

@@ -64,7 +64,7 @@ def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) 
     again.close()
 
 
-def test_commands_audit_link_configs_and_alarms_round_trip(database_url: str) -> None:
+def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: str) -> None:
     db = open_db(database_url)
     db.audit_max_rows = 3
     try:
@@ -88,6 +88,11 @@ def test_commands_audit_link_configs_and_alarms_round_trip(database_url: str) ->
         db.set_link_config(V1, {"commsLostTimeout": 5})
         db.set_link_config(V1, {"commsLostTimeout": 7})
         assert db.link_configs() == {V1: {"commsLostTimeout": 7}}
+        db.set_vehicle_name(V1, "Alpha", "alice")
+        db.set_vehicle_name(V1, "Bravo", "bob")
+        assert db.vehicle_names() == {V1: "Bravo"}
+        db.set_vehicle_name(V1, None, "bob")
+        assert db.vehicle_names() == {}
         alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
                  "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
                  "acked_by": None, "normal_at": None}

@@ -9,7 +9,7 @@ import uuid
 from datetime import datetime
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
 
 # the models the API shares with the lower rooms are written once, in core/contract.py; this module is the API's whole
 # contract, so it names them again (`X as X`: re-exported)
@@ -40,6 +40,32 @@ class ProviderDetail(ProviderSummary):
 
 CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and commands it anyway; without it a command to a "
                 "lost vehicle is refused with 409")
+
+
+# printable: no control character (C0, DEL, C1) nor line or paragraph separator; the same pattern is in the schema
+# (json_schema_extra, so the OpenAPI document says what is accepted) and checked below (with a message in words)
+PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u2028\u2029]*$"
+
+
+def _trimmed(v: Any) -> Any:
+    """Trimmed; empty is None (back to the configured name)."""
+    return (v.strip() or None) if isinstance(v, str) else v
+
+
+def _printable(v: str) -> str:
+    if not re.match(PRINTABLE, v):
+        raise ValueError("a vehicle name has printable characters only (no control characters or line breaks)")
+    return v
+
+
+class VehicleName(_Model):
+    name: Annotated[Annotated[str, Field(max_length=40, json_schema_extra={"pattern": PRINTABLE}), AfterValidator(_printable)]
+                    | None, BeforeValidator(_trimmed)] = Field(
+        description="1 to 40 printable characters (trimmed); empty or null: back to the --vehicle-names name (or none)")
+
+
+class VehicleNameShown(_Model):
+    name: str | None = Field(description="the vehicle's name now: the one set, else its --vehicle-names name, or null")
 
 
 class InertialSensorRequest(_Model):

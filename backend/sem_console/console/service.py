@@ -94,7 +94,7 @@ class Console:
         self.providers, self.commands = self._fresh_state()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
-        self.alarms = Alarms(self.store, settings.names())  # the ones not back to normal, from the database
+        self.alarms = Alarms(self.store, self.names())  # the ones not back to normal, from the database
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
         self.imc: AsyncNode | None = None
@@ -114,7 +114,7 @@ class Console:
 
     def _fresh_state(self) -> tuple[Providers, Commands]:
         settings = self.settings
-        providers = Providers(settings.comms_lost_timeout, settings.regained_time, settings.names(),
+        providers = Providers(settings.comms_lost_timeout, settings.regained_time, self.names(),
                               stored_link_configs(self.store.link_configs()),
                               settings.jaus_subsystem if settings.jaus_port is not None else None)
         commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
@@ -142,6 +142,9 @@ class Console:
                     self._emit({"type": "command", "command": cmd.to_json()})
             elif message.get("kind") == "link":
                 self._shared_link_config(str(message["provider"]))
+            elif message.get("kind") == "name":
+                provider = str(message["provider"])
+                self._apply_name(uuid.UUID(provider), self.store.vehicle_names().get(provider))
             elif message.get("kind") == "alarm-ack":
                 by = message.get("by")
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
@@ -492,6 +495,30 @@ class Console:
         self.store.set_link_config(str(p.id), config.to_json())
         p.config = config
         self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
+
+    def names(self) -> dict[str, str]:
+        """provider GUID string -> the vehicle's name: the one set from the dashboard (stored, shared), else
+        --vehicle-names'."""
+        return {**self.settings.names(), **self.store.vehicle_names()}
+
+    def set_vehicle_name(self, p: Provider, name: str | None, operator: str | None) -> None:
+        """Name a vehicle (None: back to its --vehicle-names name, or none), kept in the database and shared."""
+        self.store.set_vehicle_name(str(p.id), name, operator)
+        self._apply_name(p.id, name)
+
+    def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
+        """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""
+        key = str(provider_id)
+        name = stored or self.settings.names().get(key)
+        for names in (self.providers.names, self.alarms.names):
+            if name is None:
+                names.pop(key, None)
+            else:
+                names[key] = name
+        p = self.providers.by_id.get(provider_id)
+        if p is not None:
+            p.name = name
+            self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
         return self.commands.issue(service, provider_id, state, operator)

@@ -119,7 +119,8 @@ class Settings(BaseSettings):
     replay_speed: float = Field(1.0, ge=0.25, le=20, description="the replay's speed at start, 0.25 to 20 (default: 1)")
 
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
-    vehicle_names: str = Field("", description="'GUID=name,...': names shown beside vehicle ids")
+    vehicle_names: str = Field("", description="'GUID=name,...': names shown beside vehicle ids (a name set from the "
+                                              "dashboard, stored, is over these)")
 
     # Gateways (each off unless its option is given; see docs/gateways.md)
     aspn_lcm: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(

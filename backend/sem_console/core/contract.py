@@ -51,7 +51,8 @@ class LinkConfig(StrictModel):
 
 class ProviderSummary(StrictModel):
     id: str = Field(description="the provider's source GUID as a UUID string")
-    name: str | None = Field(description="the vehicle's name from the console's --vehicle-names, or null")
+    name: str | None = Field(description="the vehicle's name: the one an operator set (PUT /api/providers/{id}/name), "
+                                         "else the console's --vehicle-names one, or null")
     link: LinkState
     linkConfig: LinkConfig
     jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
@@ -93,7 +94,7 @@ class Command(StrictModel):
 class ProviderMessage(StrictModel):
     type: Literal["provider"]
     event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
-        description="live: a regained provider is back to normal; configured: its linkConfig changed")
+        description="live: a regained provider is back to normal; configured: its linkConfig or name changed")
     provider: ProviderSummary
 
 

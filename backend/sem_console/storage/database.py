@@ -40,6 +40,7 @@ from sem_console.storage.models import (
     SeriesPoint,
     TrackPoint,
     TransitionRecord,
+    VehicleNameRecord,
     table,
 )
 from sem_console.storage.notify import CHANNEL, PG_CONNECT_ARGS, Listener
@@ -63,6 +64,7 @@ HELD_MAX = 50_000
 COMMANDS, TRANSITIONS, AUDIT, ALARMS = table(CommandRecord), table(TransitionRecord), table(AuditRecord), table(AlarmRecord)
 CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkConfigRecord)
 TRACK_POINTS, SERIES_POINTS = table(TrackPoint), table(SeriesPoint)
+VEHICLE_NAMES = table(VehicleNameRecord)
 
 
 class StorageError(Exception):
@@ -496,6 +498,26 @@ class Database:
         def write(c: Connection) -> None:
             c.execute(upsert)
             self._notify(c, "link", provider=provider_id)
+        self._write(write)
+
+    # ---- vehicle names ------------------------------------------------------------------
+    def vehicle_names(self) -> dict[str, str]:
+        """provider GUID string -> the name an operator set for it from the dashboard."""
+        with self.engine.connect() as c:
+            return {p: n for p, n in c.execute(select(VEHICLE_NAMES.c.provider_id, VEHICLE_NAMES.c.name))}
+
+    def set_vehicle_name(self, provider_id: str, name: str | None, by: str | None) -> None:
+        """Store a vehicle's name; None removes it (the configured name applies again)."""
+        if name is None:
+            stmt: Any = delete(VEHICLE_NAMES).where(VEHICLE_NAMES.c.provider_id == provider_id)
+        else:
+            ins = self._insert(VEHICLE_NAMES).values(provider_id=provider_id, name=name, set_by=by, set_at=time.time())
+            stmt = ins.on_conflict_do_update(index_elements=["provider_id"], set_={
+                "name": ins.excluded.name, "set_by": ins.excluded.set_by, "set_at": ins.excluded.set_at})
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
+            self._notify(c, "name", provider=provider_id)
         self._write(write)
 
     # ---- alarms -------------------------------------------------------------------------

@@ -89,6 +89,16 @@ class LinkConfigRecord(SQLModel, table=True):
     config: str
 
 
+class VehicleNameRecord(SQLModel, table=True):
+    """A vehicle's name as an operator set it from the dashboard (over --vehicle-names), who set it and when."""
+
+    __tablename__ = "vehicle_names"
+    provider_id: str = Field(primary_key=True)
+    name: str
+    set_by: str | None = None
+    set_at: float
+
+
 class AlarmRecord(SQLModel, table=True):
     """An alarm (console/alarms.py); normal_at is set when it is back to normal (out of the active set)."""
 

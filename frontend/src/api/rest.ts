@@ -96,6 +96,12 @@ export function setLinkConfig(providerId: string, config: LinkConfig, token: str
   return call<LinkConfig>("PUT", `/api/providers/${encodeURIComponent(providerId)}/link-config`, token, config);
 }
 
+/** Name a vehicle (PUT, operator token, audited; stored and shared with the other consoles): an empty name goes
+ * back to the console's --vehicle-names name. Answered with the name now shown. */
+export function setVehicleName(providerId: string, name: string, token: string | null): Promise<{ name: string | null }> {
+  return call<{ name: string | null }>("PUT", `/api/providers/${encodeURIComponent(providerId)}/name`, token, { name });
+}
+
 /** The vehicle's ASPN-23 messages of the last `seconds` (the console's clock) as an LCM log file, and its file name. */
 export async function aspnLog(providerId: string, seconds: number, token: string | null): Promise<{ blob: Blob; filename: string }> {
   const r = await send("GET", `/api/providers/${encodeURIComponent(providerId)}/aspn-log?seconds=${seconds}`, token);

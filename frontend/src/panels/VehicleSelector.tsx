@@ -1,8 +1,10 @@
+import { Fragment } from "react";
 import { VehicleTag } from "../components/VehicleTag";
 import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
+import { RenameVehicle } from "./RenameVehicle";
 
 function lastSeen(p: ProviderView): number | null {
   const times = Object.values(p.topics).map((t) => t.at);
@@ -34,8 +36,8 @@ export function VehicleSelector() {
         const fix = report(p, "GPSFixStatusReport");
         const ins = report(p, "InertialSensorReport");
         return (
+          <Fragment key={p.id}>
           <button
-            key={p.id}
             className={`vehicle${p.id === selected ? " selected" : ""}`}
             aria-pressed={p.id === selected}
             data-testid="vehicle"
@@ -51,8 +53,11 @@ export function VehicleSelector() {
             </span>
             <span className="vehicle-id muted">{p.id}</span>
           </button>
+          {p.id === selected && <RenameVehicle v={p} />}
+          </Fragment>
         );
       })}
+
     </nav>
   );
 }

@@ -7,17 +7,19 @@ from typing import Any
 
 from fastapi import APIRouter, HTTPException, status
 
-from sem_console.api.deps import ConsoleDep
-from sem_console.api.responses import problem
-from sem_console.api.schemas import ProviderDetail, ProviderSummary
+from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
+from sem_console.api.responses import JSON_BODY, problem
+from sem_console.api.schemas import ProviderDetail, ProviderSummary, VehicleName, VehicleNameShown
 from sem_console.console.providers import Provider
 from sem_console.console.service import Console
 
 router = APIRouter(prefix="/api/providers", tags=["providers"])
+writes = APIRouter(prefix="/api/providers", tags=["providers"])  # operator token, JSON body, audited
 # OpenAPI links: a provider's id is what the per-vehicle routes take (for clients and test tools)
 PROVIDER_LINKS = {name: {"operationId": op, "parameters": {"provider_id": "$response.body#/id"}} for name, op in (
     ("AspnLog", "aspn_log_api_providers__provider_id__aspn_log_get"),
-    ("SetLinkConfig", "set_link_config_api_providers__provider_id__link_config_put"))}
+    ("SetLinkConfig", "set_link_config_api_providers__provider_id__link_config_put"),
+    ("SetName", "set_name_api_providers__provider_id__name_put"))}
 
 
 def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
@@ -37,3 +39,15 @@ async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
     200: {"description": "the provider with its latest reports", "links": PROVIDER_LINKS}, 404: problem("unknown provider")})
 async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     return console.provider_detail(known_provider(console, provider_id), console.clock.monotonic())
+
+
+@writes.put("/{provider_id}/name", response_model=VehicleNameShown, responses={404: problem("unknown provider"), **JSON_BODY})
+async def set_name(provider_id: uuid.UUID, body: VehicleName, console: ConsoleDep, operator: OperatorDep,
+                   audit: AuditDep) -> dict[str, Any]:
+    """Name a vehicle: the name is kept in the console's database, shared with the other consoles on it, and
+    shown wherever the vehicle is named (over --vehicle-names; new alarms' text from now on). An empty or null
+    name goes back to the --vehicle-names name, or none."""
+    p = known_provider(console, provider_id)
+    console.set_vehicle_name(p, body.name, operator)
+    audit(status.HTTP_200_OK, None, operator)
+    return {"name": p.name}
