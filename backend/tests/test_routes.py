@@ -7,7 +7,8 @@ Processes are what tests/test_console.py tests; here only the HTTP answers are."
 from __future__ import annotations
 
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -15,26 +16,43 @@ import pytest
 from fastapi.testclient import TestClient
 
 from conftest import free_domain
+from sem_console.api.auth import FREE_FAILURES
 from sem_console.core.config import Settings
 from sem_console.main import create_app
 from sem_console.sim.provider import vehicle_guid
+from test_security import TOKENS
 
 V1 = str(vehicle_guid(1))
 UNKNOWN = "00000000-0000-4000-8000-000000000000"
 
 
-@pytest.fixture(scope="module")
-def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
-    tmp: Path = tmp_path_factory.mktemp("routes")
+# the timers of tests/conftest.py's ConsoleProcess
+TIMERS: dict[str, Any] = {"comms_lost_timeout": 1, "regained_time": 1, "unanswered_timeout": 2}
+
+
+@contextmanager
+def app_client(tmp: Path, **options: Any) -> Iterator[TestClient]:
+    """The app of `sem-console` with these `Settings` on a fresh domain, once V1 is known."""
     settings = Settings(domain=free_domain(), db_path=tmp / "console.sqlite3", recordings_dir=tmp / "recordings",
-                        console_name="test-console", sim=1)
+                        console_name="test-console", sim=1, **{**TIMERS, **options})
     # an allowed Host (the guard refuses TestClient's default "testserver")
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
-        # a wait for the simulator's first report, not a timed assertion: generous for a loaded machine
-        deadline = time.monotonic() + 60
-        while c.get(f"/api/providers/{V1}").status_code != 200:
-            assert time.monotonic() < deadline, "the embedded simulator's vehicle was not seen"
-            time.sleep(0.1)
+        wait_until(lambda: c.get(f"/api/providers/{V1}").status_code == 200, what="the embedded simulator's vehicle")
+        yield c
+
+
+def wait_until(predicate: Callable[[], Any], timeout: float = 60, what: str = "condition") -> Any:
+    """A wait, not a timed assertion: generous for a loaded machine."""
+    deadline = time.monotonic() + timeout
+    while not (result := predicate()):
+        assert time.monotonic() < deadline, f"no {what} within {timeout} s"
+        time.sleep(0.1)
+    return result
+
+
+@pytest.fixture(scope="module")
+def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
+    with app_client(tmp_path_factory.mktemp("routes")) as c:
         yield c
 
 
@@ -76,3 +94,63 @@ def test_every_route_rejects_bad_input(client: TestClient, method: str, path: st
         kwargs = {"json": body}
     r = client.request(method, path, **kwargs)
     assert r.status_code == code and needle in r.json()["detail"], r.text
+
+
+# ---- security: what only the HTTP answers show (tests/test_security.py keeps what crosses a process) ----
+SLOW = 30  # a first wait long enough that a loaded machine's slow requests still fall inside it
+
+
+def test_an_operators_refused_commands_are_recorded(tmp_path: Path) -> None:
+    """Every command request, accepted or refused: a bad body (422), an unknown vehicle or command
+    (404), a finished command (409), with the operator's name."""
+    # the simulator ten times faster: the INS's 12 s alignment to ON in 1.2 s, which no assertion depends on
+    with app_client(tmp_path, operator_tokens="alice:s3cret", throttle_first_wait=SLOW, sim_time_scale=0.1) as c:
+        alice = {"Authorization": "Bearer s3cret"}
+        done = c.post(f"/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=alice).json()["sessionId"]
+        wait_until(lambda: (lambda x: x["terminal"] and x["cleanedUp"])(c.get(f"/api/commands/{done}").json()),
+                   what=f"command {done} to finish")
+        unknown = "00000000-0000-0000-0000-000000000001"
+        for method, path, body, status in (("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422),
+                                           ("POST", f"/api/providers/{V1}/gps-fix", {"extra": 1}, 422),
+                                           ("POST", f"/api/providers/{unknown}/gps-fix", {}, 404),
+                                           ("DELETE", f"/api/commands/{unknown}", None, 404),
+                                           ("DELETE", f"/api/commands/{done}", None, 409)):
+            r = c.request(method, path, json=body, headers=alice)
+            assert r.status_code == status, (method, path, r.text)
+        trail = list(reversed(c.get("/api/audit").json()))
+        refusals = (("POST", 422), ("POST", 422), ("POST", 404), ("DELETE", 404), ("DELETE", 409))
+        assert [(a["outcome"], a["status"], a["method"], a["operator"]) for a in trail] == [
+            ("accepted", 201, "POST", "alice")] + [("refused", s, m, "alice") for m, s in refusals]
+        assert "body.state" in trail[1]["reason"] and "already finished" in trail[5]["reason"]
+        assert c.get(f"/api/commands/{unknown}").status_code == 404  # a read's 404 is no refusal of a command
+        assert len(c.get("/api/audit").json()) == 6
+
+
+def test_tokens_file_bad_tokens_slowed_down_and_audited(tmp_path: Path) -> None:
+    tokens = tmp_path / "tokens"
+    tokens.write_text(TOKENS)
+    tokens.chmod(0o600)
+    with app_client(tmp_path, operator_tokens_file=tokens, operator_tokens="carol:c4rol", throttle_first_wait=SLOW) as c:
+        url = f"/api/providers/{V1}/gps-fix"
+
+        def post(token: str) -> Any:
+            return c.post(url, json={}, headers={"Authorization": f"Bearer {token}"})
+
+        assert post("s3cret").json()["operator"] == "alice"
+        assert post("t0k:en").json()["operator"] == "bob"  # the name ends at the first colon
+        assert post("c4rol").json()["operator"] == "carol"  # the environment's tokens count too
+        assert c.get("/api/operator", headers={"Authorization": "Bearer t0k:en"}).json() == {"operator": "bob"}
+        for _ in range(FREE_FAILURES - 1):
+            assert post("guess").status_code == 401
+        r = post("guess")  # the FREE_FAILURES-th wrong token: from here on the client waits
+        assert r.status_code == 401
+        r = post("s3cret")
+        assert r.status_code == 429 and int(r.headers["Retry-After"]) >= 1
+        assert "too many wrong operator tokens" in r.json()["detail"]
+        assert c.get("/api/operator", headers={"Authorization": "Bearer s3cret"}).status_code == 429
+        assert c.get("/api/providers").status_code == 200  # reads stay open without --auth-reads
+        trail = c.get("/api/audit").json()
+        refused = [a for a in trail if a["outcome"] == "refused"]
+        assert [(a["status"], a["method"]) for a in refused] == [(429, "GET"), (429, "POST")] + [(401, "POST")] * FREE_FAILURES
+        assert refused[-1]["reason"] == "the operator token is not valid" and refused[-1]["operator"] is None
+        assert [a["operator"] for a in trail if a["outcome"] == "accepted"] == ["carol", "bob", "alice"]
