@@ -6,6 +6,7 @@ Processes are what tests/test_console.py tests; here only the HTTP answers are."
 
 from __future__ import annotations
 
+import logging
 import time
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -31,12 +32,13 @@ TIMERS: dict[str, Any] = {"comms_lost_timeout": 1, "regained_time": 1, "unanswer
 
 
 @contextmanager
-def app_client(tmp: Path, **options: Any) -> Iterator[TestClient]:
-    """The app of `sem-console` with these `Settings` on a fresh domain, once V1 is known."""
+def app_client(tmp: Path, peer: tuple[str, int] = ("testclient", 50000), **options: Any) -> Iterator[TestClient]:
+    """The app of `sem-console` with these `Settings` on a fresh domain, once V1 is known; `peer`: the client's
+    address as the app sees it."""
     settings = Settings(domain=free_domain(), db_path=tmp / "console.sqlite3", recordings_dir=tmp / "recordings",
                         console_name="test-console", sim=1, **{**TIMERS, **options})
     # an allowed Host (the guard refuses TestClient's default "testserver")
-    with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
+    with TestClient(create_app(settings), base_url="http://127.0.0.1", client=peer) as c:
         wait_until(lambda: c.get(f"/api/providers/{V1}").status_code == 200, what="the embedded simulator's vehicle")
         yield c
 
@@ -154,3 +156,25 @@ def test_tokens_file_bad_tokens_slowed_down_and_audited(tmp_path: Path) -> None:
         assert [(a["status"], a["method"]) for a in refused] == [(429, "GET"), (429, "POST")] + [(401, "POST")] * FREE_FAILURES
         assert refused[-1]["reason"] == "the operator token is not valid" and refused[-1]["operator"] is None
         assert [a["operator"] for a in trail if a["outcome"] == "accepted"] == ["carol", "bob", "alice"]
+
+
+def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_route(
+        tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    caplog.set_level(logging.WARNING, logger="sem-console")  # what sem-console --log-level warning prints
+    with app_client(tmp_path, peer=("127.0.0.1", 50000), operator_tokens="alice:s3cret", audit_refusals_per_minute=5,
+                    throttle_first_wait=SLOW) as c:
+        alice = {"Authorization": "Bearer s3cret"}
+        assert c.post(f"/api/providers/{V1}/gps-fix", json={}, headers=alice).status_code == 201
+        assert c.get("/api/operator").status_code == 401  # no token on a read: logged, not recorded
+        assert c.get("/api/operator", headers={"Authorization": "Bearer nope"}).status_code == 401  # the sign-in check
+        for _ in range(30):  # wrong tokens, then the slow-down's 429s: one client
+            r = c.post(f"/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"})
+            assert r.status_code in (401, 429)
+        trail = c.get("/api/audit", headers=alice).json()
+        assert [(a["outcome"], a["status"], a["method"]) for a in reversed(trail)] == [
+            ("accepted", 201, "POST"), ("refused", 401, "GET")] + [("refused", 401, "POST")] * 3 + [("rate-limited", 401, "POST")]
+        assert trail[-2]["path"] == "/api/operator" and trail[-2]["reason"] == "the operator token is not valid"
+        assert "more than 5 refusals from 127.0.0.1 within a minute" in trail[0]["reason"]
+    out = "\n".join(r.getMessage() for r in caplog.records if r.levelno >= logging.WARNING)
+    assert "refused GET '/api/operator' from 127.0.0.1 (origin None): 401 'the operator token is not valid'" in out
+    assert out.count("refused POST") == 4 and "more than 5 refusals from 127.0.0.1 within a minute" in out

@@ -153,30 +153,9 @@ def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
     assert not any(line.startswith("FORGED-LINE") for line in out.splitlines())
 
 
-def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_route(sim, console) -> None:
-    sim()
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", "SEM_AUDIT_REFUSALS_PER_MINUTE": "5", **SLOW})
-    provider_ready(c.url, V1, {"GPSFixReport"})
-    alice = {"Authorization": "Bearer s3cret"}
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).status_code == 201
-    assert httpx.get(f"{c.url}/api/operator").status_code == 401  # no token on a read: logged, not recorded
-    assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer nope"}).status_code == 401  # the sign-in check
-    for _ in range(30):  # wrong tokens, then the slow-down's 429s: one client
-        assert httpx.post(
-            f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"}
-        ).status_code in (401, 429)
-    trail = audit(c, **alice)
-    assert [(a["outcome"], a["status"], a["method"]) for a in reversed(trail)] == \
-        [("accepted", 201, "POST"), ("refused", 401, "GET")] + [("refused", 401, "POST")] * 3 + [("rate-limited", 401, "POST")]
-    assert trail[-2]["path"] == "/api/operator" and trail[-2]["reason"] == "the operator token is not valid"
-    assert "more than 5 refusals from 127.0.0.1 within a minute" in trail[0]["reason"]
-    out = c.stop()
-    assert "refused GET '/api/operator' from 127.0.0.1 (origin None): 401 'the operator token is not valid'" in out
-    assert out.count("refused POST") == 4 and "more than 5 refusals from 127.0.0.1 within a minute" in out
-
-
 # ---- operator tokens ------------------------------------------------------------------------------
-# the refused commands of an operator and the tokens file's slow-down: in tests/test_routes.py, through TestClient
+# the rate limit of refusals, an operator's refused commands and the tokens file's slow-down: in tests/test_routes.py,
+# through TestClient
 def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     """Any local process can send X-Forwarded-For: trusted by default, it would pick its own client
     address past the slow-down of wrong tokens and into the audit."""
