@@ -9,7 +9,7 @@ import socket
 import threading
 import time
 import uuid
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from typing import Any
 
 import httpx
@@ -24,7 +24,6 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
-from conftest import ConsoleProcess, Process, SimProcess, free_domain
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
 from sem_console.dds.topics import Sem
@@ -403,63 +402,7 @@ def live(sim, console):  # type: ignore[no-untyped-def]
     return c
 
 
-@pytest.fixture(scope="module")
-def refusing(tmp_path_factory: pytest.TempPathFactory) -> Iterator[ConsoleProcess]:
-    """One simulator and console for every bad-input case: each case is a request the console refuses,
-    so none changes what the next one sees, and one start-up serves them all."""
-    domain, tmp = free_domain(), tmp_path_factory.mktemp("bad-input")
-    started: list[Process] = [SimProcess(domain, [], tmp / "sim-state.json").start()]
-    try:
-        c = ConsoleProcess(domain, tmp / "console.sqlite3", [], {}).start()
-        started.append(c)
-        provider_ready(c.url, V1, {"GPSFixReport"})
-        yield c
-    finally:
-        for p in started:
-            p.end()
-
-
-UNKNOWN = "00000000-0000-4000-8000-000000000000"
-
-
-@pytest.mark.parametrize("method,path,body,code,needle", [
-    ("GET", "/api/providers/not-a-uuid", None, 422, "provider_id"),
-    ("GET", f"/api/providers/{UNKNOWN}", None, 404, "no provider"),
-    ("POST", "/api/providers/xyz/gps-fix", {}, 422, "provider_id"),
-    ("POST", f"/api/providers/{UNKNOWN}/gps-fix", {}, 404, "no provider"),
-    ("POST", f"/api/providers/{V1}/gps-fix", None, 415, "Content-Type: application/json"),
-    ("POST", f"/api/providers/{V1}/gps-fix", {"force": True}, 422, "body.force"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422, "'OFF', 'ON' or 'RESTARTING'"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": 1}, 422, "body.state"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", {}, 422, "body.state: Field required"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", "{not json", 422, "JSON decode error"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "ON", "extra": 1}, 422, "body.extra"),
-    ("POST", f"/api/providers/{UNKNOWN}/inertial-sensor", {"state": "ON"}, 404, "no provider"),
-    ("DELETE", "/api/commands/42", None, 422, "session_id"),
-    ("DELETE", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
-    ("GET", "/api/commands/42", None, 422, "session_id"),
-    ("GET", "/api/commands?limit=0", None, 422, "query.limit"),
-    ("GET", "/api/commands?offset=-1", None, 422, "query.offset"),
-    ("GET", "/api/commands?limit=many", None, 422, "query.limit"),
-    ("GET", f"/api/commands/{UNKNOWN}", None, 404, "no command"),
-    ("GET", "/api/commands?provider_id=7", None, 422, "query.provider_id"),
-    ("GET", f"/api/providers/{UNKNOWN}/track", None, 404, "no provider"),
-    ("GET", f"/api/providers/{UNKNOWN}/track.gpx", None, 404, "no provider"),
-    ("GET", f"/api/providers/{V1}/track?since=yesterday", None, 422, "query.since"),
-    ("GET", f"/api/providers/{V1}/series?until=2026-13-01T00:00:00Z", None, 422, "query.until"),
-    ("GET", f"/api/providers/{V1}/track.csv?until=1795393808.5", None, 422, "query.until: Value error, expected an ISO 8601"),
-    ("GET", "/api/commands.csv?since=soon", None, 422, "query.since"),
-])
-@pytest.mark.xdist_group("bad-input")  # with pytest-xdist's --dist loadgroup: every case on the worker holding `refusing`
-def test_every_route_rejects_bad_input(refusing: ConsoleProcess, method: str, path: str, body: Any, code: int,
-                                       needle: str) -> None:
-    kwargs: dict[str, Any] = {}
-    if isinstance(body, str):
-        kwargs = {"content": body, "headers": {"content-type": "application/json"}}
-    elif body is not None:
-        kwargs = {"json": body}
-    r = httpx.request(method, refusing.url + path, **kwargs)
-    assert r.status_code == code and needle in r.json()["detail"], r.text
+# the route validation cases (every route rejects bad input) are in tests/test_routes.py, through TestClient
 
 
 def test_websocket_bad_input_gets_an_error_and_keeps_the_connection(live) -> None:

@@ -22,7 +22,7 @@ from sem_console.api.auth import FREE_FAILURES, Operators, Throttle, ws_token
 from sem_console.api.guard import host_name, is_json
 from sem_console.cli import start_warnings
 from sem_console.core.config import Settings
-from test_console import V1, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_console import V1, gps_fix_executing, provider_ready, wait_until
 from test_replay import synthetic_recording
 
 # A first wait long enough that a loaded machine's slow requests still fall inside it.
@@ -153,85 +153,9 @@ def test_refusals_cannot_flood_the_audit_nor_forge_log_lines(console) -> None:
     assert not any(line.startswith("FORGED-LINE") for line in out.splitlines())
 
 
-def test_refusals_per_client_are_rate_limited_and_bad_tokens_recorded_on_any_route(sim, console) -> None:
-    sim()
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", "SEM_AUDIT_REFUSALS_PER_MINUTE": "5", **SLOW})
-    provider_ready(c.url, V1, {"GPSFixReport"})
-    alice = {"Authorization": "Bearer s3cret"}
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).status_code == 201
-    assert httpx.get(f"{c.url}/api/operator").status_code == 401  # no token on a read: logged, not recorded
-    assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer nope"}).status_code == 401  # the sign-in check
-    for _ in range(30):  # wrong tokens, then the slow-down's 429s: one client
-        assert httpx.post(
-            f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={"Authorization": "Bearer guess"}
-        ).status_code in (401, 429)
-    trail = audit(c, **alice)
-    assert [(a["outcome"], a["status"], a["method"]) for a in reversed(trail)] == \
-        [("accepted", 201, "POST"), ("refused", 401, "GET")] + [("refused", 401, "POST")] * 3 + [("rate-limited", 401, "POST")]
-    assert trail[-2]["path"] == "/api/operator" and trail[-2]["reason"] == "the operator token is not valid"
-    assert "more than 5 refusals from 127.0.0.1 within a minute" in trail[0]["reason"]
-    out = c.stop()
-    assert "refused GET '/api/operator' from 127.0.0.1 (origin None): 401 'the operator token is not valid'" in out
-    assert out.count("refused POST") == 4 and "more than 5 refusals from 127.0.0.1 within a minute" in out
-
-
-def test_an_operators_refused_commands_are_recorded(sim, console) -> None:
-    """Every command request, accepted or refused: a bad body (422), an unknown vehicle or command
-    (404), a finished command (409), with the operator's name."""
-    sim()
-    c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
-    provider_ready(c.url, V1, {"InertialSensorReport"})
-    alice = {"Authorization": "Bearer s3cret"}
-    done = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "ON"}, headers=alice).json()["sessionId"]
-    wait_command(c.url, done)
-    unknown = "00000000-0000-0000-0000-000000000001"
-    for method, path, body, status in (("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422),
-                                       ("POST", f"/api/providers/{V1}/gps-fix", {"extra": 1}, 422),
-                                       ("POST", f"/api/providers/{unknown}/gps-fix", {}, 404),
-                                       ("DELETE", f"/api/commands/{unknown}", None, 404),
-                                       ("DELETE", f"/api/commands/{done}", None, 409)):
-        r = httpx.request(method, c.url + path, json=body, headers=alice)
-        assert r.status_code == status, (method, path, r.text)
-    trail = list(reversed(audit(c)))
-    assert [(a["outcome"], a["status"], a["method"], a["operator"]) for a in trail] == [("accepted", 201, "POST", "alice")] + [
-        ("refused", s, m, "alice") for m, s in (("POST", 422), ("POST", 422), ("POST", 404), ("DELETE", 404), ("DELETE", 409))]
-    assert "body.state" in trail[1]["reason"] and "already finished" in trail[5]["reason"]
-    assert httpx.get(f"{c.url}/api/commands/{unknown}").status_code == 404  # a read's 404 is no refusal of a command
-    assert len(audit(c)) == 6
-
-
 # ---- operator tokens ------------------------------------------------------------------------------
-def test_tokens_file_bad_tokens_slowed_down_and_audited(sim, console, tmp_path: Path) -> None:
-    sim()
-    tokens = tmp_path / "tokens"
-    tokens.write_text(TOKENS)
-    tokens.chmod(0o600)
-    c = console("--operator-tokens-file", str(tokens), env={"SEM_OPERATOR_TOKENS": "carol:c4rol", **SLOW})
-    provider_ready(c.url, V1, {"GPSFixReport"})
-    url = f"{c.url}/api/providers/{V1}/gps-fix"
-
-    def post(token: str) -> httpx.Response:
-        return httpx.post(url, json={}, headers={"Authorization": f"Bearer {token}"})
-
-    assert post("s3cret").json()["operator"] == "alice"
-    assert post("t0k:en").json()["operator"] == "bob"  # the name ends at the first colon
-    assert post("c4rol").json()["operator"] == "carol"  # the environment's tokens count too
-    assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer t0k:en"}).json() == {"operator": "bob"}
-    for _ in range(FREE_FAILURES - 1):
-        assert post("guess").status_code == 401
-    r = post("guess")  # the FREE_FAILURES-th wrong token: from here on the client waits
-    assert r.status_code == 401
-    r = post("s3cret")
-    assert r.status_code == 429 and int(r.headers["Retry-After"]) >= 1 and "too many wrong operator tokens" in r.json()["detail"]
-    assert httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer s3cret"}).status_code == 429
-    assert httpx.get(f"{c.url}/api/providers").status_code == 200  # reads stay open without --auth-reads
-    trail = audit(c)
-    refused = [a for a in trail if a["outcome"] == "refused"]
-    assert [(a["status"], a["method"]) for a in refused] == [(429, "GET"), (429, "POST")] + [(401, "POST")] * FREE_FAILURES
-    assert refused[-1]["reason"] == "the operator token is not valid" and refused[-1]["operator"] is None
-    assert [a["operator"] for a in trail if a["outcome"] == "accepted"] == ["carol", "bob", "alice"]
-
-
+# the rate limit of refusals, an operator's refused commands and the tokens file's slow-down: in tests/test_routes.py,
+# through TestClient
 def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     """Any local process can send X-Forwarded-For: trusted by default, it would pick its own client
     address past the slow-down of wrong tokens and into the audit."""
