@@ -302,7 +302,8 @@ def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
 
 
 def test_backend_restart_resumes_following_the_command(sim, console) -> None:
-    sim("--surface-seconds", "300", "--orphan-grace", "60")  # 15 s to surface: the restart, even loaded, is sooner
+    # 12 s to surface (a restart, even loaded, is sooner), within the command timeout (scaled by FAST like the rest)
+    sim("--surface-seconds", "240", "--orphan-grace", "60", "--command-timeout", "3000")
     first = console()
     console_id = httpx.get(f"{first.url}/api/health").json()["consoleId"]
     session = gps_fix_executing(first.url)
