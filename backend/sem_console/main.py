@@ -50,7 +50,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
-        console = Console(settings, store)  # owns the DDS participant (none in a replay)
+        console = Console(settings, store)  # its Source (console/sources.py) owns the DDS participant (none for a recording)
         app.state.console = console
         gateways = Gateways(settings, console.feed)  # subscribed before the first sample arrives
         app.state.gateways = gateways

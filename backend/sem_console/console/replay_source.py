@@ -161,7 +161,7 @@ class Replayed(Protocol):
 
 
 class Replay:
-    """Owned by the console in replay mode; every method runs on the event loop."""
+    """Owned by the console's `RecordingSource` (`console/sources.py`); every method runs on the event loop."""
 
     def __init__(self, console: Replayed, path: Path, speed: float, clock: RecordingClock) -> None:
         self.console, self.path, self.speed, self.clock = console, path, speed, clock

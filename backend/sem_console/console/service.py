@@ -1,21 +1,17 @@
 """The running console: DDS ingest, providers, the UMAA consumer, the WebSocket hub.
 
-Owned by the FastAPI lifespan. Every method here runs on the event loop thread. With
-`settings.replay` the input is a recording instead of DDS (`console/replay_source.py`): no DDS
-participant, the recording's clock, a temporary database, and the same `apply` path.
+Owned by the FastAPI lifespan. Every method here runs on the event loop thread. The input is a
+`Source` (`console/sources.py`), DDS or a recording, chosen once at construction: the console composes
+it and never asks which one it has; a read-only source (a recording) publishes nothing.
 """
 
 from __future__ import annotations
 
 import asyncio
 import logging
-import math
-import tempfile
-import threading
 import time
 import uuid
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 from pydantic import ValidationError
@@ -26,23 +22,21 @@ from sem_console.comap.c2 import C2
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
-from sem_console.console.clock import Clock, RecordingClock
+from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.console.ingest import Ingest
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.replay_source import Replay
+from sem_console.console.sources import Source, open_source
 from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
 from sem_console.core.contract import LinkConfig as LinkConfigModel
-from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.database import Database, Unavailable
 from sem_console.storage.notify import Listener
-from sem_console.storage.url import sqlite_file
 
 log = logging.getLogger("sem-console")
 TICK = 0.2
@@ -74,23 +68,15 @@ class Console:
     def __init__(self, settings: Settings, store: Database | None = None) -> None:
         """`store`: the database `sem-console` opened (and whose name it claimed) before the start; else opened here."""
         self.settings = settings
-        replaying = settings.replay is not None
-        self.clock: Clock = RecordingClock() if replaying else Clock()
-        # a replay keeps its rebuilt state apart, in a temporary database removed when it stops: the live
-        # console's is never touched (the exports read the database on connections of their own, so not
-        # ":memory:"); its track and chart history is kept whatever the recording's age
-        self._replay_dir = tempfile.TemporaryDirectory(prefix="sem-replay-") if replaying else None
-        self.station = "replay" if replaying else settings.station()
-        if self._replay_dir is not None:
-            store = Database(sqlite_file(Path(self._replay_dir.name) / "replay.sqlite3"), settings.audit_max_rows)
-        self.store = store or Database(settings.database(), settings.audit_max_rows)
+        self.source: Source = open_source(settings)  # owns the DDS participant (none for a recording)
+        self.clock: Clock = self.source.clock
+        self.station = self.source.station
+        self.store = self.source.database(store)
         self.id = self.store.claim(self.station)
-        self.history = History(self.store.engine, math.inf if replaying else settings.track_retention_hours, replay=replaying)
-        self.bus = None if replaying else Bus(settings.domain, settings.dds_interface, settings.dds_peers)
+        self.history = History(self.store.engine, self.source.retention_hours, replay=self.source.seeks)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds)
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
-        self.command_writers = {s: self.bus.writer(s.command) for s in Service} if self.bus else {}
         self.providers, self.commands = self._fresh_state()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
@@ -98,15 +84,12 @@ class Console:
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
         self.imc: AsyncNode | None = None
-        self.ingest: Ingest | None = None
-        self.replay: Replay | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
         self._writing_held: asyncio.Task[bool] | None = None  # writing what was held during a database outage
         self._held_tried = 0.0
-        self._sim: tuple[threading.Thread, list[bool]] | None = None
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
         self.started_at = time.monotonic()
@@ -177,29 +160,26 @@ class Console:
             p.config = config[provider_id]
             self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
 
+    @property
+    def replay(self) -> Replay | None:
+        """The playback (api/routes/replay.py); None live."""
+        return self.source.replay
+
     def _write_command(self, service: Service, sample: Any) -> None:
-        writer = self.command_writers.get(service)  # none in a replay: nothing is published
-        if writer is not None:
-            writer.write(sample)
+        self.source.write(service, sample)  # a recording publishes nothing
 
     def _dispose_command(self, service: Service, sample: Any) -> None:
-        writer = self.command_writers.get(service)
-        if writer is not None:
-            writer.dispose(sample)
+        self.source.dispose(service, sample)
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
         loop = self._loop = asyncio.get_running_loop()
         self._history_task = loop.create_task(self.history.run())
-        if self.settings.replay is not None:  # no DDS, no IMC: a replay is read-only
-            assert isinstance(self.clock, RecordingClock)
-            self.replay = Replay(self, self.settings.replay, self.settings.replay_speed, self.clock)
-            await self.replay.open()
+        self.source.attach(self)
+        if self.source.read_only:  # a recording: no other station, no commands to resume, nothing recorded or sent
+            await self.source.start()
             return
-        assert self.bus is not None
         self._listener = self.store.listen(lambda message: loop.call_soon_threadsafe(self._on_shared, message))
-        self.ingest = Ingest(self.bus, loop, self._on_reports, self._on_statuses, self.settings.report_interval, self.recorder,
-                             self.settings.report_burst)
         if self.settings.record is not None:
             try:
                 await asyncio.to_thread(self.recorder.start)
@@ -208,56 +188,38 @@ class Console:
         resumed = self.commands.startup()
         if resumed:
             log.info("resumed following %d commands", len(resumed))
-        self.ingest.start()
+        await self.source.start()
         if self.settings.imc_port is not None:
             node = AsyncNode(Endpoint(self.settings.imc_id, parse_peers(self.settings.imc_peers)), self._on_imc)
             await node.open(self.settings.imc_host, self.settings.imc_port)
             self.imc = node
             log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
-        self._ticker = loop.create_task(self._tick_forever())
-        if self.settings.sim:
-            self._start_sim(self.bus)
+        self._ticker = loop.create_task(self._tick_forever())  # a recording ticks at its own time (Replay)
 
     async def stop(self, answer_wait: float = 3.0) -> None:
         """Consumer Shutdown Sequence: cancel what is incomplete, then leave the bus.
 
         The providers' answers (CANCELED) are awaited for up to `answer_wait` seconds so the
         history records how each command ended; they dispose those statuses right after.
-        A replay has nothing to cancel and no bus to leave.
+        A recording has nothing to cancel and no bus to leave.
         """
-        if self.replay is not None:
-            self.closing = True
-            await self.replay.close()
-            await self._stop_history()
-            self.store.close()
-            if self._replay_dir is not None:
-                self._replay_dir.cleanup()
-            return
         if self._listener is not None:
             await asyncio.to_thread(self._listener.stop)
-        canceled = self.commands.shutdown()
-        await asyncio.to_thread(wait_for_acks, list(self.command_writers.values()), 1.0)
-        deadline = time.monotonic() + answer_wait
-        while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
-            await asyncio.sleep(0.05)
+        if not self.source.read_only:
+            canceled = self.commands.shutdown()
+            await asyncio.to_thread(self.source.wait_for_acks, 1.0)
+            deadline = time.monotonic() + answer_wait
+            while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
+                await asyncio.sleep(0.05)
         self.closing = True  # from here on, samples still queued for the loop are ignored
         if self.imc is not None:
             self.imc.close()
         if self._ticker:
             self._ticker.cancel()
-        if self.ingest:
-            await asyncio.to_thread(self.ingest.stop)
+        await self.source.stop()  # the DDS ingest's threads joined; a playback's task ended
         await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
-        if self._sim:
-            thread, stop = self._sim
-            stop[0] = True
-            await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
-        # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
-        self.command_writers.clear()
-        self.ingest = None
-        if self.bus is not None:
-            self.bus.close()
+        await self.source.close()  # the embedded simulator, the command writers, the bus; a replay's database
         self.store.close()
 
     async def _stop_history(self) -> None:
@@ -265,33 +227,6 @@ class Console:
             self._history_task.cancel()
             await asyncio.gather(self._history_task, return_exceptions=True)
         self.history.close()
-
-    def _start_sim(self, bus: Bus) -> None:
-        from sem_console.sim.provider import InUse, SimOptions, Simulator
-
-        stop = [False]
-        opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
-                          time_scale=self.settings.sim_time_scale)
-
-        def run() -> None:
-            try:
-                sim = Simulator(bus, opts)  # looks for its vehicles on the bus first: off the loop
-            except InUse as e:
-                hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
-                log.error("the embedded simulator did not start: %s%s", e, hint)
-                return
-            twin = False
-            try:
-                sim.run(lambda: stop[0])
-            except InUse as e:
-                twin = True
-                log.error("the embedded simulator stopped: %s", e)
-            finally:
-                sim.shutdown(twin=twin)
-
-        thread = threading.Thread(target=run, name="sem-sim", daemon=True)
-        thread.start()
-        self._sim = (thread, stop)
 
     async def _tick_forever(self) -> None:
         while True:
@@ -313,20 +248,20 @@ class Console:
         self.commands.tick(now)
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
-    # ---- input: DDS (ingest) or a recording (replay), on the loop -------------------------------
+    # ---- input from the source: DDS (ingest) or a recording (replay), on the loop -------------------------------
     def apply(self, item: ReportItem | StatusItem | dict[str, Any]) -> None:
         """One item of a replay: a decoded report or status sample, or a recorded command message's command."""
         if isinstance(item, ReportItem):
-            self._on_reports([item])
+            self.on_reports([item])
         elif isinstance(item, StatusItem):
-            self._on_statuses([item])
+            self.on_statuses([item])
         else:
             try:
                 self.commands.adopt(item)
             except (KeyError, ValueError, TypeError) as e:
                 log.warning("skipped a recorded command that cannot be read: %s", e)
 
-    def _on_reports(self, items: list[ReportItem]) -> None:
+    def on_reports(self, items: list[ReportItem]) -> None:
         if self.closing:
             return
         now = self.clock.monotonic()
@@ -365,7 +300,7 @@ class Console:
             return None
         return {"report": it.report, "invalid": it.invalid, "receivedAt": it.received_at}
 
-    def _on_statuses(self, items: list[StatusItem]) -> None:
+    def on_statuses(self, items: list[StatusItem]) -> None:
         if self.closing:
             return
         now = self.clock.monotonic()
@@ -463,22 +398,15 @@ class Console:
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "gateways": self.gateway_states(),
             "recording": self.recorder.status(),
-            "replay": self.replay.status() if self.replay else None,
+            "replay": self.source.status(),
             "alarms": self.alarms.active(),
         }
 
     def metrics(self) -> dict[str, Any]:
-        decoder = self.ingest.decoder if self.ingest else self.replay.decoder if self.replay else None
         return {
             "uptimeSeconds": round(time.monotonic() - self.started_at, 3),
-            "samplesTaken": self.ingest.taken if self.ingest else 0,
-            "samplesDecoded": self.ingest.decoded if self.ingest else decoder.decoded if decoder else 0,
-            "samplesByReader": dict(self.ingest.by_reader) if self.ingest else {},
-            "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
-            "incompatibleWriters": dict(self.ingest.incompatible) if self.ingest else {},
-            "peerFindings": [f.to_json() for f in self.ingest.findings] if self.ingest else [],
+            **self.source.counters(),
             "reportsApplied": self.reports_applied,
-            "reportWindowWaits": self.ingest.window_waits if self.ingest else 0,
             "wsClients": len(self.hub.clients),
             "wsMessagesPublished": self.hub.published,
             "wsClientsDropped": self.hub.dropped,

@@ -1,0 +1,264 @@
+"""Where the console's input comes from: DDS (live) or a recording (`sem-console --replay FILE.mcap`).
+
+A recording is a data source like DDS: both decode samples with the same `Decoder` and hand them to the
+same console methods (`Console.on_reports`, `on_statuses`, `apply`). What differs is kept here, chosen
+once by `open_source(settings)`: the clock, the database the rebuilt state goes to, whether commands
+can be published (a recording is read-only), the counters /api/metrics shows and the playback status
+of the snapshot. `Console` composes one source and never asks which one it has.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import math
+import tempfile
+import threading
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Protocol
+
+from sem_console.console.clock import Clock, RecordingClock
+from sem_console.console.ingest import Ingest
+from sem_console.console.replay_source import Replay
+from sem_console.core.config import Settings
+from sem_console.dds.bus import Bus, wait_for_acks
+from sem_console.dds.topics import Service
+from sem_console.storage.database import Database
+from sem_console.storage.url import sqlite_file
+
+if TYPE_CHECKING:
+    from sem_console.console.service import Console
+
+log = logging.getLogger("sem-console")
+
+
+class Source(Protocol):
+    @property
+    def clock(self) -> Clock: ...
+
+    @property
+    def read_only(self) -> bool:
+        """Nothing is published: no commands, no recording, no IMC, no other station listened to."""
+        ...
+
+    @property
+    def station(self) -> str:
+        """The console's name in the database."""
+        ...
+
+    @property
+    def retention_hours(self) -> float:
+        """How long track and chart history is kept."""
+        ...
+
+    @property
+    def seeks(self) -> bool:
+        """Time may go backwards (a replay seeking): the history forgets what follows."""
+        ...
+
+    @property
+    def replay(self) -> Replay | None:
+        """The playback and its controls (api/routes/replay.py); None live."""
+        ...
+
+    def database(self, opened: Database | None) -> Database:
+        """The database the console's state is kept in (`opened`: the one `sem-console` opened, if any)."""
+        ...
+
+    def attach(self, console: Console) -> None:
+        """Bind the input to the console (on the loop, before anything is resumed); nothing flows yet."""
+        ...
+
+    async def start(self) -> None: ...
+
+    def write(self, service: Service, sample: Any) -> None: ...
+
+    def dispose(self, service: Service, sample: Any) -> None: ...
+
+    def wait_for_acks(self, timeout: float) -> None:
+        """Until the providers acknowledged every command sample written (blocking: off the loop)."""
+        ...
+
+    async def stop(self) -> None:
+        """No more input reaches the console (the bus stays up)."""
+        ...
+
+    async def close(self) -> None:
+        """Release what the input holds (the DDS participant; a replay's temporary database)."""
+        ...
+
+    def counters(self) -> dict[str, Any]:
+        """The input's counters for /api/metrics."""
+        ...
+
+    def status(self) -> dict[str, Any] | None:
+        """The snapshot's `replay` field: the playback (None live)."""
+        ...
+
+
+def open_source(settings: Settings) -> Source:
+    return DdsSource(settings) if settings.replay is None else RecordingSource(settings, settings.replay)
+
+
+class DdsSource:
+    """Live: the DDS participant, its ingest, the command writers and the embedded simulator (`--sim`)."""
+
+    read_only = False
+    seeks = False
+    replay: Replay | None = None
+
+    def __init__(self, settings: Settings) -> None:
+        self.settings = settings
+        self.clock = Clock()
+        self.station = settings.station()
+        self.retention_hours = settings.track_retention_hours
+        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
+        self.command_writers = {s: self.bus.writer(s.command) for s in Service}
+        self.ingest: Ingest | None = None
+        self._sim: tuple[threading.Thread, list[bool]] | None = None
+
+    def database(self, opened: Database | None) -> Database:
+        return opened or Database(self.settings.database(), self.settings.audit_max_rows)
+
+    def attach(self, console: Console) -> None:
+        self.ingest = Ingest(self.bus, asyncio.get_running_loop(), console.on_reports, console.on_statuses,
+                             self.settings.report_interval, console.recorder, self.settings.report_burst)
+
+    async def start(self) -> None:
+        assert self.ingest is not None, "attach() first"
+        self.ingest.start()
+        if self.settings.sim:
+            self._start_sim()
+
+    def write(self, service: Service, sample: Any) -> None:
+        writer = self.command_writers.get(service)  # none once the bus is left
+        if writer is not None:
+            writer.write(sample)
+
+    def dispose(self, service: Service, sample: Any) -> None:
+        writer = self.command_writers.get(service)
+        if writer is not None:
+            writer.dispose(sample)
+
+    def wait_for_acks(self, timeout: float) -> None:
+        wait_for_acks(list(self.command_writers.values()), timeout)
+
+    async def stop(self) -> None:
+        if self.ingest is not None:
+            await asyncio.to_thread(self.ingest.stop)
+
+    async def close(self) -> None:
+        if self._sim:
+            thread, stop = self._sim
+            stop[0] = True
+            await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
+        # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
+        self.command_writers.clear()
+        self.ingest = None
+        self.bus.close()
+
+    def counters(self) -> dict[str, Any]:
+        ingest = self.ingest
+        return {
+            "samplesTaken": ingest.taken if ingest else 0,
+            "samplesDecoded": ingest.decoded if ingest else 0,
+            "samplesByReader": dict(ingest.by_reader) if ingest else {},
+            "undecodableSamples": sum(ingest.decoder.undecodable.values()) if ingest else 0,
+            "incompatibleWriters": dict(ingest.incompatible) if ingest else {},
+            "peerFindings": [f.to_json() for f in ingest.findings] if ingest else [],
+            "reportWindowWaits": ingest.window_waits if ingest else 0,
+        }
+
+    def status(self) -> dict[str, Any] | None:
+        return None
+
+    def _start_sim(self) -> None:
+        from sem_console.sim.provider import InUse, SimOptions, Simulator
+
+        stop = [False]
+        opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
+                          time_scale=self.settings.sim_time_scale)
+        bus = self.bus
+
+        def run() -> None:
+            try:
+                sim = Simulator(bus, opts)  # looks for its vehicles on the bus first: off the loop
+            except InUse as e:
+                hint = f"; start the console with --sim-first-vehicle {e.free} to run both" if e.free else ""
+                log.error("the embedded simulator did not start: %s%s", e, hint)
+                return
+            twin = False
+            try:
+                sim.run(lambda: stop[0])
+            except InUse as e:
+                twin = True
+                log.error("the embedded simulator stopped: %s", e)
+            finally:
+                sim.shutdown(twin=twin)
+
+        thread = threading.Thread(target=run, name="sem-sim", daemon=True)
+        thread.start()
+        self._sim = (thread, stop)
+
+
+class RecordingSource:
+    """A recording played back (`console/replay_source.py`): no DDS participant, the recording's clock, and the
+    rebuilt state in a temporary database removed when it stops, so the live console's is never touched (the
+    exports read the database on connections of their own, so not ":memory:"). Its track and chart history is
+    kept whatever the recording's age."""
+
+    read_only = True
+    seeks = True
+    station = "replay"
+    retention_hours = math.inf
+
+    def __init__(self, settings: Settings, path: Path) -> None:
+        self.settings, self.path = settings, path
+        self.clock = RecordingClock()
+        self._dir = tempfile.TemporaryDirectory(prefix="sem-replay-")
+        self._store: Database | None = None
+        self.replay: Replay | None = None
+
+    def database(self, opened: Database | None) -> Database:
+        self._store = Database(sqlite_file(Path(self._dir.name) / "replay.sqlite3"), self.settings.audit_max_rows)
+        return self._store
+
+    def attach(self, console: Console) -> None:
+        self.replay = Replay(console, self.path, self.settings.replay_speed, self.clock)
+
+    async def start(self) -> None:
+        assert self.replay is not None, "attach() first"
+        await self.replay.open()
+
+    def write(self, service: Service, sample: Any) -> None:
+        """Nothing is published from a recording."""
+
+    def dispose(self, service: Service, sample: Any) -> None:
+        """Nothing is published from a recording."""
+
+    def wait_for_acks(self, timeout: float) -> None:
+        """Nothing was written."""
+
+    async def stop(self) -> None:
+        if self.replay is not None:
+            await self.replay.close()
+
+    async def close(self) -> None:
+        if self._store is not None:
+            self._store.close()  # before its file goes (closing it again later does nothing)
+        self._dir.cleanup()
+
+    def counters(self) -> dict[str, Any]:
+        decoder = self.replay.decoder if self.replay else None
+        return {
+            "samplesTaken": 0,
+            "samplesDecoded": decoder.decoded if decoder else 0,
+            "samplesByReader": {},
+            "undecodableSamples": sum(decoder.undecodable.values()) if decoder else 0,
+            "incompatibleWriters": {},
+            "peerFindings": [],
+            "reportWindowWaits": 0,
+        }
+
+    def status(self) -> dict[str, Any] | None:
+        return self.replay.status() if self.replay else None
