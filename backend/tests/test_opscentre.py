@@ -112,6 +112,8 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
     try:
         wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
         assert health(a)["databaseWritesHeld"] == 0
+        # B finds the server back at its own next check (every 2 s); until then its reads answer 503
+        wait_until(lambda: health(b)["databaseUnavailableSince"] is None, 20, "B back on the database")
         done = command(b.url, session)  # from the database: everything A did meanwhile
         assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
         assert done["cancelRequested"] and done["console"] == "watch"

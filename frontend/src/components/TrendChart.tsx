@@ -62,7 +62,7 @@ export const TrendChart = memo(function TrendChart({ points, label }: { points: 
   }, [points]);
 
   return (
-    <figure className="trend" role="img" aria-label={label} data-testid="fix-history" data-points={points.length} data-first={points[0]?.t}>
+    <figure className="trend" role="img" aria-label={label} data-testid="fix-history" data-points={points.length} data-first={points[0]?.t} data-last={points.at(-1)?.t}>
       <div ref={box} />
     </figure>
   );
