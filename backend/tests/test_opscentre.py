@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 import httpx
+import psycopg
 
 from conftest import ConsoleProcess
 from pg import Cluster
@@ -91,9 +92,18 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert down["databaseUnavailableSince"] is not None and down["databaseWritesHeld"] > 0, down
         for c in (a, b):  # monitoring goes on
             assert httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] != "lost"
+        for c, name in ((a, "Night A"), (b, "Night B")):  # both rename it: both held, written one after the other
+            assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": name}).json()["name"] == name
     finally:
         pg_cluster.start()
     wait_until(lambda: health(a)["databaseUnavailableSince"] is None, 20, "the held writes written")
+    wait_until(lambda: health(b)["databaseUnavailableSince"] is None, 20, "B's held writes written")
+
+    with psycopg.connect(pg_url) as db:  # the name written last is the one both consoles show
+        stored = db.execute("SELECT name FROM vehicle_names WHERE provider_id = %s", (V1,)).fetchone()
+    assert stored is not None and stored[0] in ("Night A", "Night B"), stored
+    wait_until(lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)), 10,
+               f"{stored[0]!r} on both consoles")
     assert health(a)["databaseWritesHeld"] == 0
     done = command(b.url, session)  # from the database: everything A did meanwhile
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"], done
@@ -129,8 +139,13 @@ def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_conso
     provider_ready(b.url, V1, {"GPSFixReport"})
     rename_heard(f"{a.url}/api/providers/{V1}/name", "Bravo", WsClient(b.ws_url))  # on A, heard on B's WebSocket
     assert httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Bravo"
+    with psycopg.connect(pg_url, autocommit=True) as db:  # the listening connections lost: a rename meanwhile is
+        db.execute("SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE query LIKE 'LISTEN%'")  # not heard
+    assert httpx.put(f"{a.url}/api/providers/{V1}/name", json={"name": "Charlie"}).status_code == 200
+    wait_until(lambda: httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie", 10,
+               "B reloads the names when it listens again")
     later = console("--database-url", pg_url, "--console-name", "night")
-    assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Bravo"
+    assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Charlie"
 
 
 def test_each_vehicles_track_is_written_once_and_handed_over(

@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from pydantic import ValidationError
+from sqlalchemy.exc import SQLAlchemyError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -130,24 +131,31 @@ class Console:
     def _on_shared(self, message: dict[str, Any]) -> None:
         """What another console station on the database changed (storage/notify.py), on the loop: its commands
         reach this console's clients; a link configuration applies here too."""
-        if self.closing or message.get("console") == self.station:
+        if self.closing:
             return
         try:
+            if message.get("kind") == "name":  # this console's own too: the last write to the database is shown
+                # everywhere even when held writes of two consoles land one after the other after an outage
+                provider = str(message["provider"])
+                self._apply_name(uuid.UUID(provider), self.store.vehicle_names().get(provider))
+                return
+            if message.get("kind") == "reconnected":  # notifications sent while not listening are lost: reload
+                self._reload_names()
+                return
+            if message.get("console") == self.station:
+                return
             if message.get("kind") == "command":
                 cmd = self.commands.shared(uuid.UUID(str(message["session"])))
                 if cmd is not None:
                     self._emit({"type": "command", "command": cmd.to_json()})
             elif message.get("kind") == "link":
                 self._shared_link_config(str(message["provider"]))
-            elif message.get("kind") == "name":
-                provider = str(message["provider"])
-                self._apply_name(uuid.UUID(provider), self.store.vehicle_names().get(provider))
             elif message.get("kind") == "alarm-ack":
                 by = message.get("by")
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
                                                       float(message["at"])):
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
-        except (KeyError, ValueError) as e:
+        except (KeyError, ValueError, SQLAlchemyError) as e:  # the database gone again: the next reconnect reloads
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
 
     def _shared_link_config(self, provider_id: str) -> None:
@@ -484,6 +492,14 @@ class Console:
         """Name a vehicle (None: back to its --vehicle-names name, or none), kept in the database and shared."""
         self.store.set_vehicle_name(str(p.id), name, operator)
         self._apply_name(p.id, name)
+
+    def _reload_names(self) -> None:
+        """Every vehicle's stored name again (the listening connection was reopened: renames may have been missed)."""
+        stored = self.store.vehicle_names()
+        for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
+            name = stored.get(key) or self.settings.names().get(key)
+            if self.providers.names.get(key) != name:
+                self._apply_name(uuid.UUID(key), stored.get(key))
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
         """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""

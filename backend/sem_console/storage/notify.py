@@ -39,11 +39,15 @@ class Listener:
         self._thread.start()
 
     def _run(self) -> None:
+        reopened = False
         while not self._stop.is_set():
             try:
                 with psycopg.connect(self._conninfo, autocommit=True, connect_timeout=5) as conn:
                     self._conn = conn
                     conn.execute(f"LISTEN {CHANNEL}")
+                    if reopened:  # what was sent while not listening is lost: the console reloads what it shares
+                        self._on_message({"kind": "reconnected"})
+                    reopened = True
                     self.connected.set()
                     while not self._stop.is_set():
                         for n in conn.notifies(timeout=1.0):  # returns each second so a stop is seen
