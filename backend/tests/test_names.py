@@ -35,7 +35,8 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
     assert provider_ready(c.url, V1, {"GPSFixReport"})["name"] == "Alpha"
     url = f"{c.url}/api/providers/{V1}/name"
     assert httpx.put(url, json={"name": "Bravo"}).status_code == 401
-    for bad, why in (({"name": "x" * 41}, "at most 40"), ({"name": "tab\there"}, "printable"), ({}, "name"),
+    for bad, why in (({"name": "x" * 41}, "at most 40"), ({"name": "tab\there"}, "printable"),
+                     ({"name": "x\u202ex"}, "printable"), ({"name": "\u200b"}, "printable"), ({}, "name"),
                      ({"name": 7}, "name")):
         r = httpx.put(url, json=bad, headers=AUTH)
         assert r.status_code == 422 and why in r.json()["detail"] and "\n" not in r.json()["detail"], r.text
