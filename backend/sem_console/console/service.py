@@ -101,6 +101,8 @@ class Console:
         self.ingest: Ingest | None = None
         self.replay: Replay | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
+        self._names_lock = asyncio.Lock()
+        self._name_reloads: set[asyncio.Task[None]] = set()
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
@@ -134,13 +136,13 @@ class Console:
         if self.closing:
             return
         try:
-            if message.get("kind") == "name":  # this console's own too: the last write to the database is shown
-                # everywhere even when held writes of two consoles land one after the other after an outage
-                provider = str(message["provider"])
-                self._apply_name(uuid.UUID(provider), self.store.vehicle_names().get(provider))
-                return
-            if message.get("kind") == "reconnected":  # notifications sent while not listening are lost: reload
-                self._reload_names()
+            # a name (this console's own too: the last write to the database is shown everywhere even when held
+            # writes of two consoles land one after the other after an outage), or the listener reopened (what was
+            # sent meanwhile is lost): every stored name read again, off the loop
+            if message.get("kind") in ("name", "reconnected"):
+                task = asyncio.get_running_loop().create_task(self._reload_names())
+                self._name_reloads.add(task)
+                task.add_done_callback(self._name_reloads.discard)
                 return
             if message.get("console") == self.station:
                 return
@@ -155,7 +157,7 @@ class Console:
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
                                                       float(message["at"])):
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
-        except (KeyError, ValueError, SQLAlchemyError) as e:  # the database gone again: the next reconnect reloads
+        except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
 
     def _shared_link_config(self, provider_id: str) -> None:
@@ -233,6 +235,8 @@ class Console:
             self.imc.close()
         if self._ticker:
             self._ticker.cancel()
+        if self._name_reloads:  # a read of the vehicle names under way ends before the store closes
+            await asyncio.gather(*self._name_reloads, return_exceptions=True)
         if self.ingest:
             await asyncio.to_thread(self.ingest.stop)
         await self._stop_history()
@@ -493,13 +497,21 @@ class Console:
         self.store.set_vehicle_name(str(p.id), name, operator)
         self._apply_name(p.id, name)
 
-    def _reload_names(self) -> None:
-        """Every vehicle's stored name again (the listening connection was reopened: renames may have been missed)."""
-        stored = self.store.vehicle_names()
-        for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
-            name = stored.get(key) or self.settings.names().get(key)
-            if self.providers.names.get(key) != name:
-                self._apply_name(uuid.UUID(key), stored.get(key))
+    async def _reload_names(self) -> None:
+        """Every vehicle's stored name again, applied where it changed. One read at a time, in the order asked,
+        so an older read never lands after a newer one."""
+        async with self._names_lock:
+            try:
+                stored = await asyncio.to_thread(self.store.vehicle_names)
+            except SQLAlchemyError as e:  # the database gone again: the listener's reconnect reloads them
+                log.warning("could not read the vehicle names: %s", e)
+                return
+            if self.closing:
+                return
+            for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
+                name = stored.get(key) or self.settings.names().get(key)
+                if self.providers.names.get(key) != name:
+                    self._apply_name(uuid.UUID(key), stored.get(key))
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
         """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""
