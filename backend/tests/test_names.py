@@ -35,7 +35,8 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
     assert provider_ready(c.url, V1, {"GPSFixReport"})["name"] == "Alpha"
     url = f"{c.url}/api/providers/{V1}/name"
     assert httpx.put(url, json={"name": "Bravo"}).status_code == 401
-    for bad, why in (({"name": "x" * 41}, "at most 40"), ({"name": "tab\there"}, "printable"), ({}, "name"),
+    for bad, why in (({"name": "x" * 41}, "at most 40"), ({"name": "tab\there"}, "printable"),
+                     ({"name": "x\u202ex"}, "printable"), ({"name": "\u200b"}, "printable"), ({}, "name"),
                      ({"name": 7}, "name")):
         r = httpx.put(url, json=bad, headers=AUTH)
         assert r.status_code == 422 and why in r.json()["detail"] and "\n" not in r.json()["detail"], r.text
@@ -44,7 +45,8 @@ def test_a_name_set_from_the_dashboard_is_stored_shown_and_refused_when_bad(
     rename_heard(url, "Bravo 2", WsClient(c.ws_url), AUTH)
     assert httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == "Bravo 2"
     audit = httpx.get(f"{c.url}/api/audit").json()
-    assert any(a["path"].endswith("/name") and a["outcome"] == "accepted" and a["operator"] == "alice" for a in audit)
+    assert any(a["path"].endswith("/name") and a["outcome"] == "accepted" and a["operator"] == "alice"
+               and a["sessionId"] == "name:Bravo 2" for a in audit)
     assert {401, 404, 422} <= {a["status"] for a in audit if a["path"].endswith("/name") and a["outcome"] == "refused"}
     c.stop()
     again = console(*args)  # a restart: the stored name is over --vehicle-names

@@ -9,6 +9,7 @@ from collections.abc import Callable
 from typing import Any
 
 import httpx
+import psycopg
 
 from conftest import ConsoleProcess
 from pg import Cluster
@@ -107,6 +108,8 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert on_a["id"] < 0, on_a
         r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={})
         assert r.status_code == 200, r.text
+        for c, name in ((a, "Night A"), (b, "Night B")):  # both rename it: both held, written one after the other
+            assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": name}).json()["name"] == name
     finally:
         pg_cluster.start()
     try:
@@ -122,6 +125,11 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         wait_until(lambda: heard(ws_b, session, "CANCELED"), 20, "A's command, made during the outage, on B's WebSocket")
         wait_until(lambda: (x := lost(b)) is not None and x["state"] != "active-unacknowledged", 20, "A's ack on B")
         assert not ws_b.errors, ws_b.errors
+        with psycopg.connect(pg_url) as db:  # the name written last is the one both consoles show
+            stored = db.execute("SELECT name FROM vehicle_names WHERE provider_id = %s", (V1,)).fetchone()
+        assert stored is not None and stored[0] in ("Night A", "Night B"), stored
+        wait_until(lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)), 10,
+                   f"{stored[0]!r} on both consoles")
     finally:
         ws_b.close()
     assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
@@ -154,8 +162,13 @@ def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_conso
     provider_ready(b.url, V1, {"GPSFixReport"})
     rename_heard(f"{a.url}/api/providers/{V1}/name", "Bravo", WsClient(b.ws_url))  # on A, heard on B's WebSocket
     assert httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Bravo"
+    with psycopg.connect(pg_url, autocommit=True) as db:  # the listening connections lost: a rename meanwhile is
+        db.execute("SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE query LIKE 'LISTEN%'")  # not heard
+    assert httpx.put(f"{a.url}/api/providers/{V1}/name", json={"name": "Charlie"}).status_code == 200
+    wait_until(lambda: httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie", 10,
+               "B reloads the names when it listens again")
     later = console("--database-url", pg_url, "--console-name", "night")
-    assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Bravo"
+    assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Charlie"
 
 
 def test_each_vehicles_track_is_written_once_and_handed_over(

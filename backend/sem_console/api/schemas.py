@@ -42,9 +42,11 @@ CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and comma
                 "lost vehicle is refused with 409")
 
 
-# printable: no control character (C0, DEL, C1) nor line or paragraph separator; the same pattern is in the schema
+# printable: no control character (C0, DEL, C1) nor line or paragraph separator, and no invisible or bidirectional
+# format character (zero-width, LRM/RLM, embeddings and overrides, isolates, BOM): a name with U+202E would show the
+# text after it reversed in an alarm or label, and an invisible name names nothing; the same pattern is in the schema
 # (json_schema_extra, so the OpenAPI document says what is accepted) and checked below (with a message in words)
-PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u2028\u2029]*$"
+PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2060-\u206f\ufeff]*$"
 
 
 def _trimmed(v: Any) -> Any:
@@ -54,7 +56,8 @@ def _trimmed(v: Any) -> Any:
 
 def _printable(v: str) -> str:
     if not re.match(PRINTABLE, v):
-        raise ValueError("a vehicle name has printable characters only (no control characters or line breaks)")
+        raise ValueError("a vehicle name has printable characters only (no control, invisible or bidirectional "
+                         "characters, no line breaks)")
     return v
 
 

@@ -15,6 +15,7 @@ from collections.abc import Callable
 from typing import Any
 
 from pydantic import ValidationError
+from sqlalchemy.exc import SQLAlchemyError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
@@ -85,6 +86,8 @@ class Console:
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
         self.imc: AsyncNode | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
+        self._names_lock = asyncio.Lock()
+        self._name_reloads: set[asyncio.Task[None]] = set()
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
@@ -114,21 +117,28 @@ class Console:
     def _on_shared(self, message: dict[str, Any]) -> None:
         """What another console station on the database changed (storage/notify.py), on the loop: its commands
         reach this console's clients; a link configuration applies here too."""
-        if self.closing or message.get("console") == self.station:
+        if self.closing:
             return
+        kind = message.get("kind")
         try:
-            if message.get("kind") == "resync":
+            # a name (this console's own too: the last write to the database is shown everywhere even when held
+            # writes of two consoles land one after the other after an outage), or the listener reopened (what was
+            # sent meanwhile is lost): every stored name read again, off the loop
+            if kind in ("name", "resync"):
+                task = asyncio.get_running_loop().create_task(self._reload_names())
+                self._name_reloads.add(task)
+                task.add_done_callback(self._name_reloads.discard)
+            if kind == "resync":
                 self._resync()
-            elif message.get("kind") == "command":
+            elif kind == "name" or message.get("console") == self.station:
+                return
+            elif kind == "command":
                 cmd = self.commands.shared(uuid.UUID(str(message["session"])))
                 if cmd is not None:
                     self._emit({"type": "command", "command": cmd.to_json()})
-            elif message.get("kind") == "link":
+            elif kind == "link":
                 self._shared_link_config(str(message["provider"]))
-            elif message.get("kind") == "name":
-                provider = str(message["provider"])
-                self._apply_name(uuid.UUID(provider), self.store.vehicle_names().get(provider))
-            elif message.get("kind") == "alarm-ack":
+            elif kind == "alarm-ack":
                 by = message.get("by")
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
                                                       float(message["at"])):
@@ -216,6 +226,8 @@ class Console:
             self.imc.close()
         if self._ticker:
             self._ticker.cancel()
+        if self._name_reloads:  # a read of the vehicle names under way ends before the store closes
+            await asyncio.gather(*self._name_reloads, return_exceptions=True)
         await self.source.stop()  # the DDS ingest's threads joined; a playback's task ended
         await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
@@ -433,6 +445,22 @@ class Console:
         """Name a vehicle (None: back to its --vehicle-names name, or none), kept in the database and shared."""
         self.store.set_vehicle_name(str(p.id), name, operator)
         self._apply_name(p.id, name)
+
+    async def _reload_names(self) -> None:
+        """Every vehicle's stored name again, applied where it changed. One read at a time, in the order asked,
+        so an older read never lands after a newer one."""
+        async with self._names_lock:
+            try:
+                stored = await asyncio.to_thread(self.store.vehicle_names)
+            except SQLAlchemyError as e:  # the database gone again: the listener's reconnect reloads them
+                log.warning("could not read the vehicle names: %s", e)
+                return
+            if self.closing:
+                return
+            for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
+                name = stored.get(key) or self.settings.names().get(key)
+                if self.providers.names.get(key) != name:
+                    self._apply_name(uuid.UUID(key), stored.get(key))
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
         """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""

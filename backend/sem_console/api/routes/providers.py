@@ -49,5 +49,7 @@ async def set_name(provider_id: uuid.UUID, body: VehicleName, console: ConsoleDe
     name goes back to the --vehicle-names name, or none."""
     p = known_provider(console, provider_id)
     console.set_vehicle_name(p, body.name, operator)
-    audit(status.HTTP_200_OK, None, operator)
+    # the audit says which name was set (as comap's writes say what they wrote); the row of vehicle_names keeps
+    # the last only
+    audit(status.HTTP_200_OK, f"name:{body.name}" if body.name else "name:(configured)", operator)
     return {"name": p.name}
