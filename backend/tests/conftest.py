@@ -26,8 +26,9 @@ os.environ.pop("CYCLONEDDS_URI", None)
 
 # pytest-xdist's workers (scripts/test runs pytest with -n): each takes the domain ids of its own residue
 # class, so two workers never pick the same domain; without xdist, one worker with every id.
-_WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw"))
 _WORKERS = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+# a worker that replaces a crashed one is numbered past the count (gw3 of 3): it takes the crashed one's class
+_WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) % _WORKERS
 # Cyclone's domain ids go to 232, but near the top the unicast discovery ports of loopback's higher participant
 # indexes (7410 + 250 d + 2 i) pass 65535 ("ddsi_udp_conn_write to udp/127.0.0.1:65536 failed" on 232)
 # 200..230 are the Playwright stack's (e2e/stack.ts), which runs beside pytest: a domain checked free by both at

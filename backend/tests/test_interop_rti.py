@@ -327,7 +327,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
         wait_until(lambda path=path: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
-            Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 10, "the cleanup dispose in RTI")
+            Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 30, "the cleanup dispose in RTI")
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
     r = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
