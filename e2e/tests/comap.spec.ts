@@ -134,6 +134,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   const row = comap.getByTestId("task").first();
   await expect(row.getByTestId("task-state")).toHaveAttribute("data-state", /ACCEPTED|IN_PROGRESS/, { timeout: 20_000 });
   const taskId = Number(await row.getAttribute("data-task-id"));
+  // the station that assigned it, as every console on the database shows it
+  const { consoleName } = (await (await page.request.get(`${stack.url}/api/health`)).json()) as { consoleName: string };
+  await expect(row.getByTestId("task-station")).toHaveText(` on ${consoleName}`);
 
   // coverage PARTIAL, in the list (text and swatch) and on the map, in the same colour
   await expect(feature).toHaveAttribute("data-coverage", "PARTIAL", { timeout: 30_000 });

@@ -359,7 +359,7 @@ TaskRequest = Annotated[SurveyTaskRequest | MoveTaskRequest, Field(discriminator
 
 
 class Task(_Model):
-    taskId: int = Field(description="the C2's CoMap task id (u16)")
+    taskId: int = Field(description="the CoMap task id (u16), unique among the unfinished tasks of the consoles on one database")
     kind: Literal["survey", "move"]
     vehicle: str = Field(description="the provider GUID")
     imcId: int
@@ -373,6 +373,7 @@ class Task(_Model):
     quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
     synch: Literal["HOLD", "RESUME", "INTERRUPT"] | None = Field(description="the last SynchAdmin sent for this task")
     operator: str | None
+    station: str | None = Field(description="the console station that assigned it (--console-name)")
     createdAt: float
     updatedAt: float
 

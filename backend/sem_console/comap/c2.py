@@ -1,7 +1,10 @@
 """The console as a CoMap C2: the world model, the tasks it assigned and the vehicles' capabilities.
 
 Plain Python on the event loop: `send(message, dst)` puts an IMC message on the wire, `emit(ws)`
-publishes a WebSocket message. Task ids are the C2's (u16, from 1). A task's `state`:
+publishes a WebSocket message, `save` stores a change (the world model, a task) in the database the consoles
+of an operations centre share; `load_world`/`load_task` apply what is stored (another station's change) when
+it is newer than this console's. Task ids are u16 from 1, taken in the database (Database.new_comap_task), so
+no two stations send the same. A task's `state`:
 
     ASSIGNED (TaskAdmin ASSIGN sent) -> ACCEPTED | REJECTED (the vehicle's TaskAdmin ACCEPT/REJECT)
     -> IN_PROGRESS (TaskStatus IN_PROGRESS) -> COMPLETED | ERROR (TaskStatus)
@@ -18,8 +21,8 @@ import math
 import time
 import uuid
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import Any
+from dataclasses import asdict, dataclass, field
+from typing import Any, Protocol
 
 from sem_console.comap.codec import BROADCAST, Header, Message, msg
 from sem_console.comap.geo import Feature, GeoError, collection, coverage_name, features_from_world_model, world_model_message
@@ -56,13 +59,14 @@ class Task:
     created_at: float = field(default_factory=time.time)
     updated_at: float = field(default_factory=time.time)
     last_synch: str | None = None
+    station: str | None = None  # the console station that assigned it
 
     def to_json(self) -> dict[str, Any]:
         return {"taskId": self.task_id, "kind": self.kind, "vehicle": str(self.vehicle), "imcId": self.imc_id,
                 "featureId": self.feature_id, "sensor": self.sensor, "resolution": self.resolution,
                 "deadline": self.deadline, "point": self.point, "state": self.state, "progress": self.progress,
                 "quality": self.quality, "synch": self.last_synch, "operator": self.operator,
-                "createdAt": self.created_at, "updatedAt": self.updated_at}
+                "station": self.station, "createdAt": self.created_at, "updatedAt": self.updated_at}
 
 
 @dataclass
@@ -93,18 +97,31 @@ def _sensor_name(v: int) -> str:
         return f"UNKNOWN({v})"
 
 
+class Saver(Protocol):
+    def world(self, world: dict[str, Any]) -> None: ...
+    def task(self, task: Task) -> None: ...
+
+
+class _NotSaved:
+    def world(self, world: dict[str, Any]) -> None:
+        pass
+
+    def task(self, task: Task) -> None:
+        pass
+
+
 class C2:
     def __init__(self, vehicles: dict[uuid.UUID, int], send: Callable[[Message, int], object],
-                 emit: Callable[[dict[str, Any]], None]) -> None:
-        self.send, self.emit = send, emit
+                 emit: Callable[[dict[str, Any]], None], save: Saver | None = None, station: str | None = None) -> None:
+        self.send, self.emit, self.save, self.station = send, emit, save or _NotSaved(), station
+        self.linked = False  # CoMap on: the console's IMC node is open (a synch is sent only then)
         self.vehicles: dict[int, VehicleInfo] = {i: VehicleInfo(i, g) for g, i in vehicles.items()}
         self.imc_of: dict[uuid.UUID, int] = dict(vehicles)
         self.features: list[Feature] = []
         self.world_updated_at: float | None = None
         self.world_source: str | None = None
         self.tasks: dict[int, Task] = {}
-        self._next_task = 1
-        self._highest_feature = 0  # the highest featureId this console has seen: new features are numbered above it
+        self._highest_feature = 0  # the highest featureId seen (here and, stored, by the other consoles): new ones go above
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
@@ -135,6 +152,29 @@ class C2:
     def _world_changed(self, source: str) -> None:
         self.world_updated_at, self.world_source = time.time(), source
         self.emit({"type": "worldmodel", "worldModel": self.world_model()})
+        self.save.world({"features": [asdict(f) for f in self.features], "updated_at": self.world_updated_at,
+                         "source": source, "highest_feature": self._highest_feature})
+
+    def load_world(self, stored: dict[str, Any] | None) -> None:
+        """The stored world model (Database.comap_world), applied when newer than this console's."""
+        if stored is None:
+            return
+        self._saw_features([stored["highest_feature"]])
+        if self.world_updated_at is not None and stored["updated_at"] <= self.world_updated_at:
+            return
+        self.features = [Feature(f["feature_id"], [(lat, lon) for lat, lon in f["points"]], f["coverage"], f["properties"])
+                         for f in stored["features"]]
+        self.world_updated_at, self.world_source = stored["updated_at"], stored["source"]
+        self.emit({"type": "worldmodel", "worldModel": self.world_model()})
+
+    def load_task(self, row: dict[str, Any]) -> None:
+        """A stored task (Database.comap_tasks), applied when newer than this console's of that id."""
+        task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
+        old = self.tasks.get(task.task_id)
+        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at):
+            return
+        self.tasks[task.task_id] = task
+        self.emit({"type": "task", "task": task.to_json()})
 
     # ---- IMC input ------------------------------------------------------------------------------
     def on_message(self, header: Header, m: Message) -> None:
@@ -198,43 +238,41 @@ class C2:
     def _set(self, task: Task, state: str) -> None:
         task.state, task.updated_at = state, time.time()
         self.emit({"type": "task", "task": task.to_json()})
+        self.save.task(task)
 
     # ---- tasks ------------------------------------------------------------------------------------
-    def assign(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,
-               sensor: str = "ANY", resolution: float = 1.0, deadline: float | None = None,
-               point: dict[str, float] | None = None) -> Task:
+    def plan(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,
+             sensor: str = "ANY", resolution: float = 1.0, deadline: float | None = None,
+             point: dict[str, float] | None = None) -> Task:
+        """A task checked against the vehicle table and the world model, not sent; its id (0 here) is taken in the
+        database (Database.new_comap_task), then `assign` sends it."""
         imc_id = self.imc_of.get(vehicle)
         if imc_id is None:
             raise TaskError(404, f"vehicle {vehicle} has no IMC system id in the console's vehicle table (--imc-vehicles)")
-        deadline = deadline if deadline is not None else time.time() + 3600
-        task_id = self._new_task_id()
-        if kind == "survey":
-            feature = next((f for f in self.features if f.feature_id == feature_id), None)
-            if feature is None:
-                raise TaskError(409, f"no feature {feature_id} in the world model")
-            arg = msg("SurveyTask", task_id=task_id, feature_id=feature_id, sensor=Sensor[sensor].value,
-                      resolution=resolution, deadline=deadline)
+        if kind == "survey" and not any(f.feature_id == feature_id for f in self.features):
+            raise TaskError(409, f"no feature {feature_id} in the world model")
+        survey = kind == "survey"
+        return Task(0, kind, vehicle, imc_id, operator, feature_id if survey else None, sensor if survey else None,
+                    resolution if survey else None, deadline if deadline is not None else time.time() + 3600,
+                    None if survey else point, station=self.station)
+
+    def assign(self, task: Task) -> Task:
+        """Send a planned task, its id taken (TaskAdmin ASSIGN; a survey's world model first)."""
+        if task.kind == "survey":
+            assert task.sensor is not None and task.resolution is not None
+            arg = msg("SurveyTask", task_id=task.task_id, feature_id=task.feature_id, sensor=Sensor[task.sensor].value,
+                      resolution=task.resolution, deadline=task.deadline)
             # the vehicle needs the feature's geometry: the world model goes first
-            self.send(world_model_message(self.features), imc_id)
+            self.send(world_model_message(self.features), task.imc_id)
         else:
-            assert point is not None
-            arg = msg("MoveTask", task_id=task_id, deadline=deadline,
-                      destination=msg("MapPoint", lat=math.radians(point["lat"]), lon=math.radians(point["lon"]), alt=0.0))
-        task = Task(task_id, kind, vehicle, imc_id, operator, feature_id if kind == "survey" else None,
-                    sensor if kind == "survey" else None, resolution if kind == "survey" else None, deadline, point)
-        self.tasks[task_id] = task
-        self.send(msg("TaskAdmin", tid=task_id, op=TaskOp.ASSIGN, arg=arg), imc_id)
+            assert task.point is not None
+            arg = msg("MoveTask", task_id=task.task_id, deadline=task.deadline,
+                      destination=msg("MapPoint", lat=math.radians(task.point["lat"]), lon=math.radians(task.point["lon"]),
+                                      alt=0.0))
+        self.tasks[task.task_id] = task
+        self.send(msg("TaskAdmin", tid=task.task_id, op=TaskOp.ASSIGN, arg=arg), task.imc_id)
         self.emit({"type": "task", "task": task.to_json()})
         return task
-
-    def _new_task_id(self) -> int:
-        for _ in range(0xFFFE):
-            tid, self._next_task = self._next_task, self._next_task % 0xFFFE + 1
-            old = self.tasks.get(tid)
-            if old is None or old.state in FINAL:
-                self.tasks.pop(tid, None)
-                return tid
-        raise TaskError(409, "every task id is taken by an unfinished task")
 
     def synch(self, task_id: int, action: str) -> Task:
         task = self.tasks.get(task_id)
@@ -242,6 +280,12 @@ class C2:
             raise TaskError(404, f"no task {task_id}")
         if task.state in FINAL:
             raise TaskError(409, f"task {task_id} is {task.state}")
+        if not self.linked or self.imc_of.get(task.vehicle) != task.imc_id:
+            why = "CoMap is off (no --imc-port)" if not self.linked else \
+                f"IMC system {task.imc_id} is not in its --imc-vehicles"
+            where = f"on station {task.station!r}, which assigned it" if task.station not in (None, self.station) \
+                else "on a station with a CoMap link to it, or start this one with --imc-port and --imc-vehicles"
+            raise TaskError(409, f"task {task_id} cannot be synched from this console ({why}): synch it {where}")
         self.send(msg("SynchAdmin", op=SynchOp[action].value), task.imc_id)
         task.last_synch = action
         self._set(task, {"HOLD": "HELD", "RESUME": "IN_PROGRESS", "INTERRUPT": "INTERRUPTED"}[action])

@@ -11,7 +11,8 @@ import asyncio
 import logging
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Coroutine
+from dataclasses import asdict
 from typing import Any
 
 from pydantic import ValidationError
@@ -19,7 +20,7 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.comap.c2 import C2
+from sem_console.comap.c2 import C2, FINAL, Task, TaskError
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
@@ -44,6 +45,19 @@ TICK = 0.2
 HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's end found, held writes, the name's lock
 RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
+
+
+class SharedComap:
+    """comap/c2.py's Saver: the world model and task changes go to the database (and from it to the other consoles)."""
+
+    def __init__(self, store: Database) -> None:
+        self.store = store
+
+    def world(self, world: dict[str, Any]) -> None:
+        self.store.set_comap_world(world)
+
+    def task(self, task: Task) -> None:
+        self.store.set_comap_task(asdict(task))
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
@@ -83,20 +97,25 @@ class Console:
                                  settings.record_queue, self._recording_changed)
         self.alarms = Alarms(self.store, self.names())  # the ones not back to normal, from the database
         self.alarms.baseline(self.commands.by_session.values())
-        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit)
+        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store),
+                     self.station)
         self.imc: AsyncNode | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._names_lock = asyncio.Lock()
-        self._name_reloads: set[asyncio.Task[None]] = set()
+        self._names_lock, self._comap_lock = asyncio.Lock(), asyncio.Lock()
+        self._reloads: set[asyncio.Task[None]] = set()  # reads of the database after a notification, off the loop
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
         self._writing_held: asyncio.Task[bool] | None = None  # writing what was held during a database outage
         self._held_tried = 0.0
+        self._resync_pending = False  # a resync found this console's database still away: done when it is back
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
         self.started_at = time.monotonic()
         self.reports_applied = 0
+        self.c2.load_world(self.store.comap_world())  # a restarted console keeps the world model and the tasks
+        for row in self.store.comap_tasks():
+            self.c2.load_task(row)
 
     def _fresh_state(self) -> tuple[Providers, Commands]:
         settings = self.settings
@@ -125,12 +144,14 @@ class Console:
             # writes of two consoles land one after the other after an outage), or the listener reopened (what was
             # sent meanwhile is lost): every stored name read again, off the loop
             if kind in ("name", "resync"):
-                task = asyncio.get_running_loop().create_task(self._reload_names())
-                self._name_reloads.add(task)
-                task.add_done_callback(self._name_reloads.discard)
+                self._reload(self._reload_names())
+            # the CoMap world model and tasks the same way (own changes too: a held write may have been overtaken by
+            # another station's newer one, which the database keeps)
+            if kind in ("task", "worldmodel", "resync"):
+                self._reload(self._reload_comap(str(kind), int(message["id"]) if kind == "task" else None))
             if kind == "resync":
                 self._resync()
-            elif kind == "name" or message.get("console") == self.station:
+            elif kind in ("name", "task", "worldmodel") or message.get("console") == self.station:
                 return
             elif kind == "command":
                 cmd = self.commands.shared(uuid.UUID(str(message["session"])))
@@ -145,8 +166,9 @@ class Console:
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
-        except Unavailable as e:  # away again: the next reopened listener resyncs
-            log.warning("%s", e)
+        except Unavailable as e:  # away again, or this console has not found it back yet (its upkeep every 2 s): what
+            log.warning("%s", e)  # was missed is read when its upkeep finds the database back
+            self._resync_pending = True
 
     def _resync(self) -> None:
         """The listening connection was reopened (the server restarted, an outage): what the other stations
@@ -203,6 +225,7 @@ class Console:
             node = AsyncNode(Endpoint(self.settings.imc_id, parse_peers(self.settings.imc_peers)), self._on_imc)
             await node.open(self.settings.imc_host, self.settings.imc_port)
             self.imc = node
+            self.c2.linked = True
             log.info("CoMap: IMC system %d on UDP %s:%d", self.settings.imc_id, self.settings.imc_host, self.settings.imc_port)
         self._ticker = loop.create_task(self._tick_forever())  # a recording ticks at its own time (Replay)
 
@@ -226,8 +249,8 @@ class Console:
             self.imc.close()
         if self._ticker:
             self._ticker.cancel()
-        if self._name_reloads:  # a read of the vehicle names under way ends before the store closes
-            await asyncio.gather(*self._name_reloads, return_exceptions=True)
+        if self._reloads:  # a read of the vehicle names or CoMap under way ends before the store closes
+            await asyncio.gather(*self._reloads, return_exceptions=True)
         await self.source.stop()  # the DDS ingest's threads joined; a playback's task ended
         await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
@@ -248,13 +271,19 @@ class Console:
             except Exception:  # a bug here must not stop link health or unanswered checks for good
                 log.exception("tick failed")
 
+    def _maintained(self, done: asyncio.Task[bool]) -> None:
+        self._writing_held = None
+        if self._resync_pending and not done.cancelled() and done.exception() is None and done.result():
+            self._resync_pending = False
+            self._on_shared({"kind": "resync"})
+
     def tick(self, now: float) -> None:
         if self.store.db.path is None and self._writing_held is None and now - self._held_tried >= HELD_RETRY:
             # PostgreSQL's upkeep in a worker thread (never a connect timeout on the loop): the end of an outage
             # found and what was held written; this console's name held again after a server restart
             self._held_tried = now
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
-            self._writing_held.add_done_callback(lambda _t: setattr(self, "_writing_held", None))
+            self._writing_held.add_done_callback(self._maintained)
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
         self.commands.tick(now)
@@ -445,6 +474,41 @@ class Console:
         """Name a vehicle (None: back to its --vehicle-names name, or none), kept in the database and shared."""
         self.store.set_vehicle_name(str(p.id), name, operator)
         self._apply_name(p.id, name)
+
+    def _reload(self, read: Coroutine[Any, Any, None]) -> None:
+        task = asyncio.get_running_loop().create_task(read)
+        self._reloads.add(task)
+        task.add_done_callback(self._reloads.discard)
+
+    async def _reload_comap(self, kind: str, task_id: int | None) -> None:
+        """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied
+        where newer than this console's. One read at a time, in the order asked."""
+        def read() -> tuple[dict[str, Any] | None, list[dict[str, Any]]]:
+            world = self.store.comap_world() if kind != "task" else None
+            return world, self.store.comap_tasks(task_id) if kind != "worldmodel" else []
+        async with self._comap_lock:
+            try:
+                world, rows = await asyncio.to_thread(read)
+            except (SQLAlchemyError, Unavailable) as e:  # the database away: read again when it is back
+                log.warning("could not read the CoMap world model and tasks: %s", e)
+                self._resync_pending = True
+                return
+            if self.closing:
+                return
+            self.c2.load_world(world)
+            for row in rows:
+                self.c2.load_task(row)
+
+    async def assign(self, task: Task) -> Task:
+        """Send a planned CoMap task (C2.plan) under an id taken in the database, so no two stations send one id."""
+        try:
+            tid = await asyncio.to_thread(self.store.new_comap_task, asdict(task), frozenset(FINAL))
+        except Unavailable as e:
+            raise TaskError(503, str(e)) from None
+        if tid is None:
+            raise TaskError(409, "every task id is taken by an unfinished task (of the consoles on this database)")
+        task.task_id = tid
+        return self.c2.assign(task)
 
     async def _reload_names(self) -> None:
         """Every vehicle's stored name again, applied where it changed. One read at a time, in the order asked,

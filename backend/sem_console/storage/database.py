@@ -33,6 +33,9 @@ from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQL
 from sem_console.storage.models import (
     AlarmRecord,
     AuditRecord,
+    ComapTaskIds,
+    ComapTaskRecord,
+    ComapWorldRecord,
     CommandRecord,
     ConsoleIdentity,
     LinkConfigRecord,
@@ -65,6 +68,8 @@ COMMANDS, TRANSITIONS, AUDIT, ALARMS = table(CommandRecord), table(TransitionRec
 CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkConfigRecord)
 TRACK_POINTS, SERIES_POINTS = table(TrackPoint), table(SeriesPoint)
 VEHICLE_NAMES = table(VehicleNameRecord)
+COMAP_WORLD, COMAP_TASKS, COMAP_TASK_IDS = table(ComapWorldRecord), table(ComapTaskRecord), table(ComapTaskIds)
+TASK_IDS = 0xFFFE  # CoMap task ids 1..65534 (a u16 on IMC), wrapping
 
 
 class StorageError(Exception):
@@ -520,6 +525,76 @@ class Database:
             self._notify(c, "name", provider=provider_id)
         self._write(write)
 
+    # ---- CoMap: the world model and tasks ------------------------------------------------
+    def comap_world(self) -> dict[str, Any] | None:
+        """The stored world model (its row, features parsed), None before any."""
+        with self._reads() as c:
+            row = c.execute(select(*COMAP_WORLD.c)).mappings().first()
+        return None if row is None else {**row, "features": json.loads(row["features"])}
+
+    def comap_tasks(self, task_id: int | None = None) -> list[dict[str, Any]]:
+        """Every stored task (or the one `task_id`), oldest first, as rows (point parsed)."""
+        q = select(*COMAP_TASKS.c).order_by(COMAP_TASKS.c.created_at)
+        if task_id is not None:
+            q = q.where(COMAP_TASKS.c.task_id == task_id)
+        with self._reads() as c:
+            rows = [dict(r) for r in c.execute(q).mappings()]
+        return [{**r, "point": json.loads(r["point"]) if r["point"] else None} for r in rows]
+
+    def set_comap_world(self, world: dict[str, Any]) -> None:
+        """Store the world model (keys: features, updated_at, source, highest_feature), unless the row holds a newer
+        one (written by another console meanwhile, or before this console's held write after an outage)."""
+        values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.station}
+        self._upsert_newer(COMAP_WORLD, values, "worldmodel")
+
+    def set_comap_task(self, task: dict[str, Any]) -> None:
+        """Store a task's change (keys: ComapTaskRecord's), unless the row holds a newer one."""
+        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", id=task["task_id"])
+
+    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, **fields: Any) -> None:
+        ins = self._insert(t).values(values)
+        key = [c.name for c in t.primary_key]
+        stmt = ins.on_conflict_do_update(index_elements=key, set_={k: ins.excluded[k] for k in values if k not in key},
+                                         where=t.c.updated_at <= ins.excluded.updated_at)
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
+            self._notify(c, kind, **fields)
+        self._write(write)
+
+    def new_comap_task(self, task: dict[str, Any], final: frozenset[str]) -> int | None:
+        """Take a task id for `task` and store it, in one transaction on the locked counter row: ids go up from the
+        last one any console took and wrap at 65534; an id whose task is not in a `final` state is skipped. None:
+        every id is taken by an unfinished task. For a worker thread; Unavailable during an outage (the id could
+        collide with one another console takes meanwhile)."""
+        if self.unavailable_since is not None:
+            raise self._unavailable_for_tasks()
+        try:
+            with self.engine.begin() as c:
+                start = c.execute(select(COMAP_TASK_IDS.c.next_task).where(COMAP_TASK_IDS.c.id == 1)
+                                  .with_for_update()).scalar_one()
+                busy = set(c.execute(select(COMAP_TASKS.c.task_id).where(COMAP_TASKS.c.state.not_in(final))).scalars())
+                order = (((start - 1 + k) % TASK_IDS) + 1 for k in range(TASK_IDS))  # from start, wrapping
+                tid: int | None = next((i for i in order if i not in busy), None)
+                if tid is None:
+                    return None
+                c.execute(delete(COMAP_TASKS).where(COMAP_TASKS.c.task_id == tid))  # a finished task of that id
+                c.execute(insert(COMAP_TASKS).values(_task_row({**task, "task_id": tid})))
+                c.execute(update(COMAP_TASK_IDS).where(COMAP_TASK_IDS.c.id == 1).values(next_task=tid % TASK_IDS + 1))
+                self._notify(c, "task", id=tid)
+                return tid
+        except (OperationalError, InterfaceError) as e:
+            if self.db.path is not None:
+                raise
+            self._went_away(e)
+            raise self._unavailable_for_tasks() from e
+
+    def _unavailable_for_tasks(self) -> Unavailable:
+        since = time.strftime("%Y-%m-%d %H:%M:%SZ", time.gmtime(self.unavailable_since or time.time()))
+        return Unavailable(f"no new CoMap task while the database {self.db.shown} cannot be reached (since {since}): "
+                           "task ids are taken there so that no two stations send the same one; assign it when the "
+                           "database is back (the tasks already assigned go on)")
+
     # ---- alarms -------------------------------------------------------------------------
     def add_alarm(self, alarm: dict[str, Any]) -> int:
         """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
@@ -627,6 +702,11 @@ class VehicleWriters:
             self._conn.invalidate()  # a connection whose session held locks is not given to anyone else
             self._conn.close()
         self._conn, self._held, self._start = None, set(), {}
+
+
+def _task_row(task: dict[str, Any]) -> dict[str, Any]:
+    return {**{k: task[k] for k in (col.name for col in COMAP_TASKS.c)}, "vehicle": str(task["vehicle"]),
+            "point": json.dumps(task["point"]) if task["point"] is not None else None}
 
 
 def _with_transitions(c: Connection, rows: list[dict[str, Any]]) -> list[dict[str, Any]]:

@@ -99,6 +99,51 @@ class VehicleNameRecord(SQLModel, table=True):
     set_at: float
 
 
+class ComapWorldRecord(SQLModel, table=True):
+    """The CoMap world model the consoles of one database share: one row (id 1), the newest change of any of them."""
+
+    __tablename__ = "comap_world"
+    id: int = Field(1, primary_key=True, sa_column_kwargs={"autoincrement": False})
+    features: str = Field(description="JSON list of the features: featureId, points ([lat, lon] degrees), coverage, "
+                                      "properties")
+    updated_at: float = Field(description="UTC seconds of the change (a write older than the row's is not applied)")
+    source: str | None = Field(None, description="operator, coverage or imc:<system id>")
+    highest_feature: int = Field(0, description="the highest featureId seen: a new feature is numbered above it")
+    station: str | None = Field(None, description="the console station that wrote it")
+
+
+class ComapTaskRecord(SQLModel, table=True):
+    """A CoMap task a console station assigned (comap/c2.py's Task), its state as the newest change says."""
+
+    __tablename__ = "comap_tasks"
+    task_id: int = Field(primary_key=True, sa_column_kwargs={"autoincrement": False},
+                         description="the C2's u16 IMC task id, unique among the consoles' unfinished tasks")
+    kind: str
+    vehicle: str = Field(description="the provider GUID")
+    imc_id: int
+    operator: str | None = None
+    feature_id: int | None = None
+    sensor: str | None = None
+    resolution: float | None = None
+    deadline: float | None = None
+    point: str | None = Field(None, description="a move's destination as JSON {lat, lon}")
+    state: str
+    progress: int
+    quality: int | None = None
+    created_at: float
+    updated_at: float = Field(description="UTC seconds of the change (a write older than the row's is not applied)")
+    last_synch: str | None = None
+    station: str | None = Field(None, description="the console station that assigned it")
+
+
+class ComapTaskIds(SQLModel, table=True):
+    """The next CoMap task id to try (one row, id 1, locked while a console takes an id: no two take the same)."""
+
+    __tablename__ = "comap_task_ids"
+    id: int = Field(1, primary_key=True, sa_column_kwargs={"autoincrement": False})
+    next_task: int = Field(1, description="1..65534, wrapping")
+
+
 class AlarmRecord(SQLModel, table=True):
     """An alarm (console/alarms.py); normal_at is set when it is back to normal (out of the active set)."""
 

@@ -386,6 +386,10 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 </td>
                 <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
                 <td>{typeof t.quality === "number" ? `quality ${t.quality}%` : ""}</td>
+                <td className="muted" data-testid="task-by">
+                  {t.operator ? `by ${t.operator}` : ""}
+                  {t.station ? <span data-testid="task-station" title="the console station that assigned it"> on {t.station}</span> : null}
+                </td>
                 <td>
                   {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
                     <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? ", which is lost (asks you to confirm)" : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>

@@ -48,7 +48,8 @@ def _features(body: WorldModelIn) -> list[Feature]:
 
 @reads.get("/api/worldmodel", response_model=WorldModel)
 async def get_world_model(console: ConsoleDep) -> dict[str, Any]:
-    """The console's world model: a GeoJSON FeatureCollection, `properties.featureId` and `properties.coverage` per feature."""
+    """The world model the consoles on this database share: a GeoJSON FeatureCollection, `properties.featureId` and
+    `properties.coverage` per feature."""
     return console.c2.world_model()
 
 
@@ -71,7 +72,7 @@ async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: Ope
 
 @reads.get("/api/tasks", response_model=list[Task])
 async def list_tasks(console: ConsoleDep) -> list[dict[str, Any]]:
-    """Every task this console assigned since it started, newest first."""
+    """Every task of the consoles on this database (stored: kept across restarts), newest first."""
     return [t.to_json() for t in sorted(console.c2.tasks.values(), key=lambda t: t.created_at, reverse=True)]
 
 
@@ -90,6 +91,7 @@ async def get_task(console: ConsoleDep, task_id: int = TaskId) -> dict[str, Any]
                                   ("SynchTask", "synch_task_api_tasks__task_id__synch_post"))}},
                         404: problem("the vehicle has no IMC system id in the console's vehicle table"),
                         409: problem("a survey of a feature the world model does not have, or no free task id" + COMAP_OFF),
+                        503: problem("the database cannot be reached: task ids are taken there"),
                         **JSON_BODY})
 async def assign_task(body: TaskRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Assign a SurveyTask (featureId, sensor, resolution, deadline) or a MoveTask (point, deadline) to a vehicle."""
@@ -100,9 +102,9 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
         d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=UTC)
         deadline = d.timestamp()
     try:
-        task = console.c2.assign(body.kind, body.vehicle, operator, feature_id=body.featureId, sensor=body.sensor,
-                                 resolution=body.resolution, deadline=deadline,
-                                 point=body.point.model_dump() if body.point else None)
+        task = await console.assign(console.c2.plan(body.kind, body.vehicle, operator, feature_id=body.featureId,
+                                                    sensor=body.sensor, resolution=body.resolution, deadline=deadline,
+                                                    point=body.point.model_dump() if body.point else None))
     except TaskError as e:
         raise HTTPException(e.status, str(e)) from None
     audit(status.HTTP_201_CREATED, f"task:{task.task_id}", operator)
@@ -110,12 +112,13 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
 
 
 @writes.post("/api/tasks/{task_id}/synch", response_model=Task,
-             responses={**UNKNOWN_TASK, 409: problem("the task has finished" + COMAP_OFF), **JSON_BODY})
+             responses={**UNKNOWN_TASK, **JSON_BODY, 409: problem(
+                 "the task has finished; or this console has no CoMap link to the task's vehicle (CoMap off, or the "
+                 "vehicle not in its --imc-vehicles): the answer names the station that assigned it")})
 async def synch_task(body: SynchRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep,
                      task_id: int = TaskId) -> dict[str, Any]:
-    """HOLD, RESUME or INTERRUPT the task's vehicle (IMC SynchAdmin)."""
-    if console.imc is None:
-        raise HTTPException(status.HTTP_409_CONFLICT, "CoMap is off: start the console with --imc-port")
+    """HOLD, RESUME or INTERRUPT the task's vehicle (IMC SynchAdmin), whichever station assigned the task: this
+    console sends it when it has a CoMap link to the vehicle."""
     try:
         task = console.c2.synch(task_id, body.action)
     except TaskError as e:
