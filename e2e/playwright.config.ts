@@ -8,6 +8,9 @@ export default defineConfig({
   workers: 1, // one stack, and some tests stop and restart parts of it
   fullyParallel: false,
   timeout: 90_000,
+  // As pytest's --reruns 1 (scripts/test): a test that fails once runs again and the summary lists it as
+  // "flaky", so it stays visible; one that fails twice fails the run.
+  retries: 1,
   expect: { timeout: 20_000 },
   reporter: process.env.CI ? [["list"], ["html", { open: "never" }]] : "list",
   outputDir: "test-results",

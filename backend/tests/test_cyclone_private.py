@@ -5,6 +5,8 @@ cyclonedds: each exists and behaves as the console relies on. A new cyclonedds t
 from __future__ import annotations
 
 import random
+import subprocess
+import sys
 import time
 import tomllib
 from dataclasses import fields
@@ -130,3 +132,36 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
     assert len(taken) == 1 and isinstance(taken[0], InvalidSample)
     assert taken[0].sample_info.instance_state == InstanceState.NotAliveDisposed
     bus.close()
+
+
+_CYCLE_SCRIPT = """
+import gc, sys, time
+from cyclonedds.core import Listener
+from sem_console.dds.bus import Bus
+from sem_console.dds.topics import Sem
+domain = int(sys.argv[1])
+bus = Bus(domain)
+reader = bus.reader(Sem.GPS_FIX_COMMAND_STATUS, listener=Listener(on_subscription_matched=lambda r, s: None))
+holder = {"reader": reader}
+holder["self"] = holder  # the cycle
+reader.holder = holder
+bus.close()
+del reader, holder
+gc.collect()
+other = Bus(domain)
+writer = other.writer(Sem.GPS_FIX_COMMAND_STATUS)  # matched with the reader here, were it left
+time.sleep(1.0)
+print("matched", len(writer.get_matched_subscriptions()))
+other.close()
+other.close()  # closing twice does nothing
+"""
+
+
+def test_closing_a_bus_deletes_readers_held_in_a_reference_cycle(domain: int) -> None:
+    """A reader whose Python object sits in a reference cycle, with a listener (as the console's readers have), is
+    gone from Cyclone once its bus is closed. cyclonedds-python alone never deletes such an entity; a reader left so,
+    its listener's callback freed, crashed the next writer to match it in the process (a child here: a regression
+    fails this test by its exit signal, not the worker running it)."""
+    done = subprocess.run([sys.executable, "-c", _CYCLE_SCRIPT, str(domain)], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
+    assert done.stdout.split() == ["matched", "0"]

@@ -86,7 +86,6 @@ def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
     ("GET", f"/api/providers/{V1}/track.csv?until=1795393808.5", None, 422, "query.until: Value error, expected an ISO 8601"),
     ("GET", "/api/commands.csv?since=soon", None, 422, "query.since"),
 ])
-@pytest.mark.xdist_group("routes")  # with pytest-xdist's --dist loadgroup: every case on the worker holding `client`
 def test_every_route_rejects_bad_input(client: TestClient, method: str, path: str, body: Any, code: int,
                                        needle: str) -> None:
     kwargs: dict[str, Any] = {}

@@ -12,7 +12,7 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
 from sem_console.dds.config import dds_config
-from sem_console.dds.cyclone_private import InvalidSample, take_cdr
+from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import reader_qos, representation, writer_qos
 from sem_console.dds.topics import Sem
@@ -76,9 +76,13 @@ class Bus:
         return DataReader(self.participant, topic, qos=qos, listener=listener)
 
     def close(self) -> None:
+        """Delete the participant, and in Cyclone everything made from it, now (closing twice does nothing)."""
         self._topics.clear()
         self._appendable_topics.clear()
-        self.participant = None  # type: ignore[assignment]  # entities are deleted with the last reference
+        if self.participant is not None:
+            delete_participant(self.participant)
+        self.participant = None  # type: ignore[assignment]
+
 
 
 def all_samples(reader: DataReader[Any]) -> ReadCondition:

@@ -12,6 +12,8 @@ Why each is needed (none has a public equivalent in 11.0.1):
   `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so the C function it wraps is called here.
 - `type_machine` and `machinery`: the tree of "machines" cyclonedds serialises a type with (its layout rules:
   alignment, headers, optional flags), which `console/fastcdr.py` compiles into a decoder per type.
+- `delete_participant`: deletes a participant in Cyclone at once; cyclonedds-python has no public delete and leaves
+  it to `__del__`, which never deletes an entity freed in a reference cycle (the function says why that crashes).
 - `InvalidSample`: what a take returns for a dispose or an instance without writers (a key, no data).
 """
 
@@ -23,6 +25,8 @@ from enum import Enum
 from typing import Any, cast
 
 from cyclonedds._clayer import ddspy_take, ddspy_write_ts
+from cyclonedds.core import Entity
+from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
 from cyclonedds.idl import _machinery as machinery
 from cyclonedds.internal import InvalidSample as InvalidSample
@@ -32,7 +36,8 @@ from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
 __all__ = [
-    "MACHINE_ATTRIBUTES", "InvalidSample", "enum_type", "machinery", "take_cdr", "type_machine", "wait_for_acks", "write_cdr",
+    "MACHINE_ATTRIBUTES", "InvalidSample", "delete_participant", "enum_type", "machinery", "take_cdr", "type_machine",
+    "wait_for_acks", "write_cdr",
 ]
 
 # The machine classes console/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
@@ -88,3 +93,18 @@ def type_machine(cls: type[IdlStruct], v2: bool) -> machinery.Machine:
     idl.populate()
     machine: machinery.Machine = idl.v2_machine if v2 else idl.v1_machine
     return machine
+
+
+def delete_participant(participant: DomainParticipant) -> None:
+    """Delete a participant and its readers, writers, topics and conditions in Cyclone at once.
+
+    Not left to Python's collector: cyclonedds-python deletes an entity in its `__del__` only while its weak
+    registry still holds it, and the cycle collector clears weak references before it calls `__del__`, so an
+    entity freed as part of a reference cycle is never deleted in Cyclone. Such a reader stays matched with its
+    listener's callback freed, and the next writer to match it in this process calls freed memory: a segfault
+    (seen as a pytest worker lost after an in-process console had left a domain id the worker used again). The
+    Python objects of the children stay until collected; deleting their stale handles then does nothing.
+    """
+    ref: int = participant._ref  # noqa: SLF001 (see the module)
+    Entity._entities.pop(ref, None)  # noqa: SLF001 (its own __del__ must not delete the handle again)
+    participant._delete(ref)  # noqa: SLF001 (see the module)
