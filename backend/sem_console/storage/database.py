@@ -15,6 +15,7 @@ import logging
 import math
 import os
 import sqlite3
+import threading
 import time
 import uuid
 from collections import deque
@@ -179,6 +180,7 @@ class Database:
         self.audit_max_rows = audit_max_rows
         self.engine = open_engine(db)
         self._lock: Connection | int | None = None  # what holds this console's name (claim)
+        self._taking_task_id = threading.Lock()  # new_comap_task, from the assigns' worker threads
         self._held: str | None = None
         self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
         self._held_writes: deque[Callable[[Connection], object]] = deque()  # during an outage, oldest first
@@ -569,8 +571,10 @@ class Database:
         collide with one another console takes meanwhile)."""
         if self.unavailable_since is not None:
             raise self._unavailable_for_tasks()
+        # one at a time in this console: SQLite has no FOR UPDATE (two assigns at once read one counter, and the
+        # second deleted the first's task of that id and took it again)
         try:
-            with self.engine.begin() as c:
+            with self._taking_task_id, self.engine.begin() as c:
                 start = c.execute(select(COMAP_TASK_IDS.c.next_task).where(COMAP_TASK_IDS.c.id == 1)
                                   .with_for_update()).scalar_one()
                 busy = set(c.execute(select(COMAP_TASKS.c.task_id).where(COMAP_TASKS.c.state.not_in(final))).scalars())
