@@ -108,7 +108,10 @@ class Console:
         self._listener: Listener | None = None  # the other consoles' changes (PostgreSQL LISTEN)
         self._writing_held: asyncio.Task[bool] | None = None  # writing what was held during a database outage
         self._held_tried = 0.0
-        self._resync_pending = False  # a resync found this console's database still away: done when it is back
+        # a notification or resync not read because this console had not yet found the database back (its upkeep
+        # every 2 s; the listener reopens each second and the other consoles NOTIFY their held writes meanwhile):
+        # a resync when its upkeep does
+        self._resync_pending = False
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
         self.started_at = time.monotonic()
@@ -516,8 +519,9 @@ class Console:
         async with self._names_lock:
             try:
                 stored = await asyncio.to_thread(self.store.vehicle_names)
-            except SQLAlchemyError as e:  # the database gone again: the listener's reconnect reloads them
+            except (SQLAlchemyError, Unavailable) as e:  # the database away: read again when it is back
                 log.warning("could not read the vehicle names: %s", e)
+                self._resync_pending = True
                 return
             if self.closing:
                 return
