@@ -34,7 +34,8 @@ describe("operator labels", () => {
     expect(commandStatusText("EXECUTING")).toBe("In progress");
     expect(commandStatusText("CANCELED")).toBe("Cancelled");
     expect(reasonText("RESOURCE_REJECTED")).toBe("the vehicle refused it");
-    expect(taskStateText("HELD")).toBe("On hold");
+    expect(taskStateText("HELD")).toBe("Hold sent");
+    expect(taskStateText("INTERRUPTED")).toBe("Interrupt sent");
     expect(sensorText("SIDESCAN")).toBe("Side-scan sonar");
     expect(coverageText("PARTIAL")).toBe("Partly covered");
   });

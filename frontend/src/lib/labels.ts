@@ -127,10 +127,10 @@ const TASK_STATE: Words<"ASSIGNED" | "ACCEPTED" | "REJECTED" | "IN_PROGRESS" | "
   ACCEPTED: "Accepted",
   REJECTED: "Refused",
   IN_PROGRESS: "In progress",
-  HELD: "On hold",
+  HELD: "Hold sent", // CoMap has no acknowledgement of a SynchAdmin: what was sent, not what the vehicle did
   COMPLETED: "Completed",
   ERROR: "Error",
-  INTERRUPTED: "Interrupted",
+  INTERRUPTED: "Interrupt sent",
 };
 
 export function taskStateText(v: string | null | undefined): string {

@@ -381,7 +381,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                   <VehicleTag v={owner} />
                   {isLost(t.vehicle) && <span className="tone-bad"> lost</span>}
                 </td>
-                <td data-testid="task-state" data-state={t.state ?? ""} title={imc("task state", t.state)}>
+                <td data-testid="task-state" data-state={t.state ?? ""} title={t.state === "HELD" || t.state === "INTERRUPTED" ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does` : imc("task state", t.state)}>
                   {t.state ? taskStateText(t.state) : "—"}
                 </td>
                 <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
