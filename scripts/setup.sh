@@ -23,4 +23,6 @@ fi
 "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT/backend[test]"
 
 command -v npm >/dev/null || apt_install nodejs npm
-(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build >/dev/null)
+# the build's output only when it fails (tsc writes its type errors to stdout)
+(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error \
+  && { out="$(npm run --silent build 2>&1)" || { printf '%s\n' "$out" >&2; echo "the dashboard's build failed (above)" >&2; exit 1; }; })

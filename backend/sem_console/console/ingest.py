@@ -39,7 +39,7 @@ from collections.abc import Callable
 from enum import Enum
 from typing import Any, Protocol
 
-from cyclonedds.core import Listener, Policy, Qos, WaitSet
+from cyclonedds.core import DDSException, Listener, Policy, Qos, WaitSet
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
@@ -210,6 +210,17 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
+    def _wait(self, ws: WaitSet) -> bool:
+        """Wait for samples (at most 200 ms); False when the loop should end: stopped, or the bus was closed under a
+        thread that outlived stop()'s join (its waitset then refuses; that is the end, not a failure to report)."""
+        try:
+            ws.wait(duration(milliseconds=200))
+        except DDSException:
+            if not self.running:
+                return False
+            raise
+        return self.running
+
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
         """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
         has one (Via.qos). A writer matches the readers of one type only, so `Owners` needs no change: its samples are
@@ -279,7 +290,8 @@ class Ingest:
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
         while self.running:
-            ws.wait(duration(milliseconds=200))
+            if not self._wait(ws):
+                return
             started = time.monotonic()
             try:
                 items: list[ReportItem] = []
@@ -301,7 +313,8 @@ class Ingest:
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]
         while self.running:
-            ws.wait(duration(milliseconds=200))
+            if not self._wait(ws):
+                return
             try:
                 self._status_cycle(conds)
                 self._check_peers(time.monotonic())

@@ -17,6 +17,8 @@ import threading
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Protocol
 
+from cyclonedds.core import DDSException
+
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.ingest import Ingest
 from sem_console.console.replay_source import Replay
@@ -152,6 +154,9 @@ class DdsSource:
             thread, stop = self._sim
             stop[0] = True
             await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
+            if thread.is_alive():
+                log.warning("the embedded simulator did not finish its shutdown in 10 s: the console leaves the bus "
+                            "under it (its vehicles' reports may stay on the bus until they time out)")
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
@@ -193,8 +198,15 @@ class DdsSource:
             except InUse as e:
                 twin = True
                 log.error("the embedded simulator stopped: %s", e)
+            except DDSException as e:
+                if not stop[0]:
+                    raise
+                log.warning("the embedded simulator was stopped by the bus closing under it: %s", e)
             finally:
-                sim.shutdown(twin=twin)
+                try:
+                    sim.shutdown(twin=twin)
+                except DDSException as e:  # the bus closed under it (see close): nothing left to dispose on
+                    log.warning("the embedded simulator's shutdown sequence did not finish: %s", e)
 
         thread = threading.Thread(target=run, name="sem-sim", daemon=True)
         thread.start()
