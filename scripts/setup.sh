@@ -20,12 +20,7 @@ if [ ! -x "$ROOT/.venv/bin/python" ]; then
     "$PY" -m venv "$ROOT/.venv"
   fi
 fi
-# uv (from PyPI, into the venv) installs the backend in about 10 s where pip takes about 30; pip if uv cannot.
-"$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check uv >/dev/null 2>&1 || true
-if ! { [ -x "$ROOT/.venv/bin/uv" ] \
-       && "$ROOT/.venv/bin/uv" pip install -q --python "$ROOT/.venv/bin/python" -e "$ROOT/backend[test]"; }; then
-  "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT/backend[test]"
-fi
+"$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT/backend[test]"
 
 command -v npm >/dev/null || apt_install nodejs npm
 # the build's output only when it fails (tsc writes its type errors to stdout)
