@@ -13,7 +13,7 @@ import time
 import uuid
 from collections.abc import Callable, Coroutine
 from dataclasses import asdict
-from typing import Any
+from typing import Any, TypeVar
 
 from pydantic import ValidationError
 from sqlalchemy.exc import SQLAlchemyError
@@ -41,6 +41,7 @@ from sem_console.storage.database import Database, Unavailable
 from sem_console.storage.notify import Listener
 
 log = logging.getLogger("sem-console")
+T = TypeVar("T")
 TICK = 0.2
 HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's end found, held writes, the name's lock
 RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
@@ -483,24 +484,31 @@ class Console:
         self._reloads.add(task)
         task.add_done_callback(self._reloads.discard)
 
+    async def _read_stored(self, lock: asyncio.Lock, what: str, read: Callable[[], T], apply: Callable[[T], None]) -> None:
+        """`read` the database in a worker thread and `apply` it on the loop; one read at a time per `lock`, in the
+        order asked, so an older read never lands after a newer one. The database away: read again when it is back."""
+        async with lock:
+            try:
+                got = await asyncio.to_thread(read)
+            except (SQLAlchemyError, Unavailable) as e:
+                log.warning("could not read %s: %s", what, e)
+                self._resync_pending = True
+                return
+            if not self.closing:
+                apply(got)
+
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied
-        where newer than this console's. One read at a time, in the order asked."""
+        where newer than this console's."""
         def read() -> tuple[dict[str, Any] | None, list[dict[str, Any]]]:
             world = self.store.comap_world() if kind != "task" else None
             return world, self.store.comap_tasks(task_id) if kind != "worldmodel" else []
-        async with self._comap_lock:
-            try:
-                world, rows = await asyncio.to_thread(read)
-            except (SQLAlchemyError, Unavailable) as e:  # the database away: read again when it is back
-                log.warning("could not read the CoMap world model and tasks: %s", e)
-                self._resync_pending = True
-                return
-            if self.closing:
-                return
-            self.c2.load_world(world)
-            for row in rows:
+
+        def apply(got: tuple[dict[str, Any] | None, list[dict[str, Any]]]) -> None:
+            self.c2.load_world(got[0])
+            for row in got[1]:
                 self.c2.load_task(row)
+        await self._read_stored(self._comap_lock, "the CoMap world model and tasks", read, apply)
 
     async def assign(self, task: Task) -> Task:
         """Send a planned CoMap task (C2.plan) under an id taken in the database, so no two stations send one id."""
@@ -514,21 +522,13 @@ class Console:
         return self.c2.assign(task)
 
     async def _reload_names(self) -> None:
-        """Every vehicle's stored name again, applied where it changed. One read at a time, in the order asked,
-        so an older read never lands after a newer one."""
-        async with self._names_lock:
-            try:
-                stored = await asyncio.to_thread(self.store.vehicle_names)
-            except (SQLAlchemyError, Unavailable) as e:  # the database away: read again when it is back
-                log.warning("could not read the vehicle names: %s", e)
-                self._resync_pending = True
-                return
-            if self.closing:
-                return
+        """Every vehicle's stored name again, applied where it changed."""
+        def apply(stored: dict[str, str]) -> None:
             for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
                 name = stored.get(key) or self.settings.names().get(key)
                 if self.providers.names.get(key) != name:
                     self._apply_name(uuid.UUID(key), stored.get(key))
+        await self._read_stored(self._names_lock, "the vehicle names", self.store.vehicle_names, apply)
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
         """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""
