@@ -1,13 +1,15 @@
 """Interoperability with a second DDS vendor: RTI Connext (its Python Connector) against our Cyclone stack.
 
-RTI keeps its defaults for types and encoding (types from our IDL as RTI's XML type
-representation, appendable, XCDR1; see rti/connector.py). Covered both ways: every topic whose
-type has no @optional member sample for sample, and the full command flow (ISSUED ->
+RTI keeps UMAA's types as they are (our IDL as RTI's XML type representation, no extensibility given:
+RTI's default, appendable; see rti/connector.py) and changes QoS only: the `rti` fixture runs Connext 6.1.2 and
+7.7 on the recipe (the drop-in docs/rti/sem-console-interop.xml, profile AppendableGps; 7.7 with
+NDDS_XTYPES_COMPLIANCE_MASK), other tests name RTI's plain defaults or the drop-in's Default. Covered both ways:
+every topic whose type has no @optional member sample for sample, and the full command flow (ISSUED ->
 COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as the consumer.
 The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
 RTI endpoint left at XCDR1 for them is not matched, and the console and sem-check name the fix. An RTI
-vehicle on the drop-in's AppendableGps profile is read through the console's appendable readers
-(one reader per extensibility); an RTI consumer on that profile reads `sem-sim --gps-extensibility appendable`.
+vehicle on AppendableGps is read through the console's appendable readers (one reader per extensibility);
+an RTI consumer on that profile reads `sem-sim --gps-extensibility appendable`.
 See docs/dds.md, "Other DDS vendors".
 """
 
