@@ -1,13 +1,15 @@
 """Interoperability with a second DDS vendor: RTI Connext (its Python Connector) against our Cyclone stack.
 
-RTI keeps its defaults for types and encoding (types from our IDL as RTI's XML type
-representation, appendable, XCDR1; see rti/connector.py). Covered both ways: every topic whose
-type has no @optional member sample for sample, and the full command flow (ISSUED ->
+RTI keeps UMAA's types as they are (our IDL as RTI's XML type representation, no extensibility given:
+RTI's default, appendable; see rti/connector.py) and changes QoS only: the `rti` fixture runs Connext 6.1.2 and
+7.7 on the recipe (the drop-in docs/rti/sem-console-interop.xml, profile AppendableGps; 7.7 with
+NDDS_XTYPES_COMPLIANCE_MASK), other tests name RTI's plain defaults or the drop-in's Default. Covered both ways:
+every topic whose type has no @optional member sample for sample, and the full command flow (ISSUED ->
 COMPLETED, cancel by dispose, cleanup) with RTI as the vehicle and with RTI as the consumer.
 The two types with @optional members (GPSReport, GPSFixReport) are exchanged in XCDR2 only; an
 RTI endpoint left at XCDR1 for them is not matched, and the console and sem-check name the fix. An RTI
-vehicle on the drop-in's AppendableGps profile is read through the console's appendable readers
-(one reader per extensibility); an RTI consumer on that profile reads `sem-sim --gps-extensibility appendable`.
+vehicle on AppendableGps is read through the console's appendable readers (one reader per extensibility);
+an RTI consumer on that profile reads `sem-sim --gps-extensibility appendable`.
 See docs/dds.md, "Other DDS vendors".
 """
 
@@ -73,33 +75,59 @@ def connext7() -> None:
         pytest.skip(f"Connext 7 unavailable: {e}")
 
 
-def _factory(version: str, request: pytest.FixtureRequest) -> Any:
-    made: list[Any] = []
+class RtiFactory:
+    """Makes RTI participants of one Connext version (closed by the fixture), on a profile of the drop-in unless the test
+    names one (``recipe=None``: RTI's plain defaults). Connext 7 on AppendableGps gets the mask in its environment."""
 
-    def make(domain: int, **kw: Any) -> Any:
-        if version == "7":
-            request.getfixturevalue("connext7")
-            # Connext 7 sends XTypes 1.3 type information that Cyclone cannot use, and then matches
-            # nothing (test_connext7_on_defaults_matches_no_sem_topic): it runs on the drop-in profile
-            # a console of today needs (docs/rti/sem-console-interop.xml, Default: no type information).
-            kw.setdefault("recipe", "Default")
+    def __init__(self, version: str, request: pytest.FixtureRequest, profile: str | None) -> None:
+        self.version, self.profile, self._request = version, profile, request
+        self.made: list[Any] = []
+
+    def __call__(self, domain: int, **kw: Any) -> Any:
+        if self.profile is not None:
+            kw.setdefault("recipe", self.profile)
+        if self.version == "7":
+            self._request.getfixturevalue("connext7")
+            if kw.get("recipe") == "AppendableGps":
+                kw.setdefault("env", RECIPE_ENV)
             p: Any = RemoteParticipant(domain, **kw)
         else:
             kw.pop("env", None)  # 6.1.2 reads no NDDS_XTYPES_COMPLIANCE_MASK
             p = RtiParticipant(domain, **kw)
-        made.append(p)
+        self.made.append(p)
         return p
 
-    return made, make
+    def close(self) -> None:
+        for p in self.made:
+            p.close()
+
+
+def _factory(version: str, request: pytest.FixtureRequest, profile: str | None = None) -> Any:
+    # Connext 7 on its defaults sends XTypes 1.3 type information that Cyclone cannot use, and then matches nothing
+    # (test_connext7_on_defaults_matches_no_sem_topic): unless told otherwise it runs on the drop-in's Default profile
+    # (docs/rti/sem-console-interop.xml: no type information), the least a console of today needs.
+    f = RtiFactory(version, request, profile if profile is not None or version == "6" else "Default")
+    return f.made, f
 
 
 @pytest.fixture(params=["6", "7"], ids=["connext6.1.2", "connext7.7"])
 def rti(request: pytest.FixtureRequest) -> Any:
-    """An RTI participant factory, once with Connext 6.1.2 (in this process) and once with 7.7 (a child process)."""
-    made, make = _factory(request.param, request)
-    yield make
-    for p in made:
-        p.close()
+    """An RTI participant factory on the recipe (the drop-in's AppendableGps profile; Connext 7 with the mask in its
+    environment: docs/dds.md, "Which profile"), once with Connext 6.1.2 (in this process) and once with 7.7 (a child
+    process). ``.version``: "6" or "7"."""
+    f = RtiFactory(request.param, request, "AppendableGps")
+    yield f
+    f.close()
+
+
+@pytest.fixture(params=[("6", None), ("6", "AppendableGps"), ("7", "Default"), ("7", "AppendableGps")],
+                ids=["connext6.1.2-defaults", "connext6.1.2-recipe", "connext7.7-Default", "connext7.7-recipe"])
+def rti_profile(request: pytest.FixtureRequest) -> Any:
+    """As `rti`, on each profile the docs' matrix gives for the eight topics without optional members: Connext 6.1.2 on
+    RTI's defaults and on the recipe, Connext 7.7 on the drop-in's Default (the least it needs) and on the recipe."""
+    f = RtiFactory(request.param[0], request, request.param[1])
+    yield f
+    f.close()
 
 
 @pytest.fixture
@@ -118,10 +146,10 @@ def rti7(request: pytest.FixtureRequest) -> Any:
         p.close()
 
 
-def test_every_plain_topic_from_rti_decodes_in_cyclone(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_every_plain_topic_from_rti_decodes_in_cyclone(rti_profile: Callable[..., RtiParticipant], domain: int) -> None:
     bus = Bus(domain)
     readers = {s: bus.reader(s) for s in PLAIN}
-    p = rti(domain, writers=PLAIN)
+    p = rti_profile(domain, writers=PLAIN)
     rng = random.Random(5)
     sent = {s: [random_sample(s.spec.type, rng) for _ in range(10)] for s in PLAIN}
     for s in PLAIN:
@@ -137,9 +165,9 @@ def test_every_plain_topic_from_rti_decodes_in_cyclone(rti: Callable[..., RtiPar
             assert any(same(to_plain(x), to_plain(g)) for g in got), (s.spec.name, to_plain(x))
 
 
-def test_every_plain_topic_from_cyclone_decodes_in_rti(rti: Callable[..., RtiParticipant], domain: int) -> None:
+def test_every_plain_topic_from_cyclone_decodes_in_rti(rti_profile: Callable[..., RtiParticipant], domain: int) -> None:
     bus = Bus(domain)
-    p = rti(domain, readers=PLAIN)
+    p = rti_profile(domain, readers=PLAIN)
     writers = {s: bus.writer(s) for s in PLAIN}
     rng = random.Random(6)
     sent = {s: [random_sample(s.spec.type, rng) for _ in range(10)] for s in PLAIN}
@@ -185,13 +213,15 @@ class RtiVehicle:
         stamp = {"seconds": int(now), "nanoseconds": int((now % 1) * 1e9)}
         src = list(self.guid.bytes)
         self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
-        if Sem.GPS_FIX_REPORT in self.p.writers:  # RTI's default XCDR1: must not reach the console
+        if Sem.GPS_FIX_REPORT in self.p.writers:  # read on the recipe (XCDR2); RTI's default XCDR1 must not reach the console
             self.p.write(Sem.GPS_FIX_REPORT, {
                 "altitudeMSL": {"altitude": 0.5}, "GPSFixCommandStatus": 2, "GPSLatLongValid": True, "magneticVariation": -0.17,
                 "position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85},
                                                             "geodeticLongitude": {"longitude": -75.98}}, "timeAtPosition": now},
                 "SOG": 2.5, "trueCourse": 1.2, "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
                 "source": src, "timeStamp": stamp})
+        if Sem.GPS_FIX_STATUS_REPORT not in self.p.writers:
+            return
         self.p.write(
             Sem.GPS_FIX_STATUS_REPORT,
             {
@@ -274,7 +304,11 @@ class RtiVehicle:
         return False
 
 
-def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], console: Any, domain: int) -> None:
+def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: int) -> None:
+    """An RTI vehicle on the recipe (Connext 7.7 and 6.1.2): the console shows its reports, its GPSFixReport through
+    the appendable readers, and runs the command flow with it: set (to COMPLETED), cleanup, cancel by dispose. Nothing
+    to tell its operator. (RTI's XCDR1 GPS writers and what the console says of them:
+    test_console_tells_of_rti_writers_it_does_not_read.)"""
     c = console()
     topics = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
               Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK, Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
@@ -284,7 +318,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
     def shown() -> Any:
         v.step()
         r = httpx.get(f"{c.url}/api/providers/{me}")
-        return r.json() if r.status_code == 200 and {"InertialSensorReport", "GPSFixStatusReport"} <= set(
+        return r.json() if r.status_code == 200 and {"InertialSensorReport", "GPSFixStatusReport", "GPSFixReport"} <= set(
             k for k, x in r.json()["reports"].items() if x) else None
 
     detail = wait_until(shown, 15, "the RTI vehicle in the console")
@@ -294,23 +328,11 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         detail["reports"]["GPSFixStatusReport"]["report"]["originPosition"]["geodeticPosition"]["geodeticLatitude"]["latitude"]
         == 36.85
     )
-    # Its default (XCDR1) GPSFixReport and GPSReport writers are not read, and the console says so.
-    optional = {Sem.GPS_FIX_REPORT.spec.name: 1, Sem.GPS_REPORT.spec.name: 1}
-    incompatible = wait_until(lambda: (lambda m: m if m == optional else None)(
-        httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"]), 10, "the refused writers")
-    assert incompatible == optional
-    assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
-    # ... and tells the operator the fix, in RTI's terms, per writer (issue 23, point 4); nothing for the eight
-    # topics it reads.
-    findings = wait_until(lambda: v.report() or (lambda f: f if len(f) == 2 else None)(  # reports: the vehicle stays alive
-        httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]), 10, "the findings on the refused writers")
-    assert [(f["name"], f["vendor"], f["kind"], f["topic"], f["fix"]) for f in findings] == [
-        ("Rti", "RTI", "representation", "GPSFixReport", "set XCDR2 on that writer"),
-        ("Rti", "RTI", "representation", "GPSReport", "set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
-         "environment (Connext 7; Connext 6 cannot write it readably)")]
-    assert findings[1]["message"] == ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and "
-                                      "NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its environment (Connext 7; Connext 6 cannot "
-                                      "write it readably) (docs/dds.md#rti-connext-7)")
+    fix = detail["reports"]["GPSFixReport"]["report"]  # XCDR2, RTI's appendable type: the console's appendable readers
+    assert (fix["SOG"], fix["trueCourse"], fix["magneticVariation"], fix["velocity"]["northSpeed"]) == (2.5, 1.2, -0.17, 2.0)
+    assert fix["position2DWithTime"]["geodeticPosition"]["geodeticLongitude"]["longitude"] == -75.98
+    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    assert (metrics["incompatibleWriters"], metrics["peerFindings"], metrics["undecodableSamples"]) == ({}, [], 0), metrics
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
@@ -348,9 +370,7 @@ def test_console_commands_an_rti_vehicle(rti: Callable[..., RtiParticipant], con
         httpx.get(f"{c.url}/api/commands/{session}").json()), 10, "CANCELED in the console")
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
-    log = c.stop()
-    for f in findings:  # logged once per participant and finding
-        assert log.count(f["message"]) == 1, log[-3000:]
+    assert httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
 
 
 def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
@@ -370,40 +390,60 @@ def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callab
     assert c.stop().count(findings[0]["message"]) == 1
 
 
-def test_console_tells_of_an_rti_writer_it_does_not_match(rti6: Callable[..., RtiParticipant], console: Any,
-                                                         domain: int) -> None:
-    """Issue 23, point 4, the third finding: an RTI writer of a SEM topic that no reader of the console matches, with
-    no incompatible QoS on either side to say why (a partition: Cyclone and RTI drop it in silence). The console names
-    the participant, the topic and the fix, once; its writer in the default partition has no finding."""
+def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiParticipant], rti7: Callable[..., Any],
+                                                       console: Any, domain: int) -> None:
+    """Issue 23, point 4, in /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
+    Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
+    RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
+    (a partition: Cyclone and RTI drop it in silence). The console names each participant, the topic and the fix, once
+    each in the log, and reads the InertialSensorReport of the two in the default partition. (b), type information:
+    test_console_tells_an_rti7_on_defaults_to_stop_type_information."""
     c = console()
-    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA"))
-    here = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT]))
+    gps = [Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
+    plain = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT, *gps], name="Plain612"))
+    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA", name="FleetA612"))
+    default7 = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, *gps], name="Default77"))
+    fix, mask = "set XCDR2 on that writer", ("set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
+                                             "environment (Connext 7; Connext 6 cannot write it readably)")
+    partition = "publish it in the default partition, as the console reads (it is in partition fleetA)"
+    want = [("Default77", "representation", "GPSFixReport", fix), ("Default77", "representation", "GPSReport", mask),
+            ("FleetA612", "unmatched", "InertialSensorReport", partition),
+            ("Plain612", "representation", "GPSFixReport", fix), ("Plain612", "representation", "GPSReport", mask)]
 
     def found() -> Any:
-        for v in (elsewhere, here):
-            v.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": list(v.guid.bytes),
-                                       "timeStamp": {"seconds": int(time.time()), "nanoseconds": 0}})
-        return httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] or None
+        for v in (plain, elsewhere, default7):
+            v.report()
+        f = httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]
+        return f if len(f) >= len(want) else None
 
-    findings = wait_until(found, 15, "a finding")
-    assert [(f["name"], f["vendor"], f["kind"], f["topic"]) for f in findings] == [
-        ("Rti", "RTI", "unmatched", "InertialSensorReport")], findings
-    assert findings[0]["message"] == (
-        "RTI participant Rti has a writer of InertialSensorReport that the console does not match: publish it in the default "
-        "partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)")
-    detail = wait_until(lambda: (lambda r: r.json() if r.status_code == 200 else None)(  # the other one is read
-        httpx.get(f"{c.url}/api/providers/{here.guid}")), 10, "the vehicle in the default partition")
-    assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
+    findings = sorted(wait_until(found, 15, "the findings"), key=lambda f: (f["name"], f["topic"]))
+    assert [(f["name"], f["kind"], f["topic"], f["fix"]) for f in findings] == want, findings
+    assert {f["vendor"] for f in findings} == {"RTI"}
+    assert [f["message"] for f in findings] == [
+        f"RTI participant Default77 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
+        f"RTI participant Default77 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)",
+        "RTI participant FleetA612 has a writer of InertialSensorReport that the console does not match: publish it in the "
+        "default partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)",
+        f"RTI participant Plain612 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
+        f"RTI participant Plain612 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)"]
+    for v in (plain, default7):  # their InertialSensorReport is read, their GPS topics are not
+        detail = wait_until(lambda v=v: v.report() or (lambda r: r.json() if r.status_code == 200 else None)(
+            httpx.get(f"{c.url}/api/providers/{v.guid}")), 10, "a vehicle in the default partition")
+        assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
+        assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
     assert httpx.get(f"{c.url}/api/providers/{elsewhere.guid}").status_code == 404
-    assert c.stop().count(findings[0]["message"]) == 1
+    assert httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {s.spec.name: 2 for s in gps}
+    log = c.stop()
+    for f in findings:  # logged once per participant and finding
+        assert log.count(f["message"]) == 1, (f["message"], log[-3000:])
 
 
-def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: Callable[..., RtiParticipant], domain: int, tmp_path: Path) -> None:
+def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: RtiFactory, domain: int, tmp_path: Path) -> None:
     """Issue 23, point 4, in sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
-    (RTI's default; Connext 7 on the Default profile) fails discovery.GPSReport and discovery.GPSFixReport with the
-    fix in RTI's terms; its other topics pass."""
+    (RTI's default: Connext 6.1.2 on its plain defaults, Connext 7 on the drop-in's Default profile) fails
+    discovery.GPSReport and discovery.GPSFixReport with the fix in RTI's terms; its other topics pass."""
     v = RtiVehicle(rti(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
-                       readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
+                       readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe=None if rti.version == "6" else "Default"))
     v.report()  # transient-local: sem-check finds the vehicle by its reports
     run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--window", "1", "--timeout", "10")
     assert run.code == 1, run.out + run.err
@@ -462,13 +502,23 @@ def _statuses(
     return seen
 
 
-@pytest.mark.parametrize("service,state", [(Service.GPS_FIX, None), (Service.INERTIAL_SENSOR, 2)])
-def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, rti: Callable[..., RtiParticipant],
-                                       sim: Any, domain: int) -> None:
-    sim()
+@pytest.mark.parametrize("service,state,recipe", [(Service.GPS_FIX, None, True), (Service.INERTIAL_SENSOR, 2, False)],
+                         ids=["GPSFix-recipe", "InertialSensor-defaults"])
+def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, recipe: bool, rti: RtiFactory, sim: Any,
+                                       domain: int) -> None:
+    """An RTI consumer runs a command to COMPLETED and cleans up, with sem-sim as the vehicle, in both set-ups the docs
+    give a consumer ("Which profile"): on the recipe (AppendableGps) against `sem-sim --gps-extensibility appendable`,
+    and on the least each version needs (6.1.2 its defaults, 7.7 the drop-in's Default) against sem-sim's default.
+    One service each: the two set-ups differ in GPS topics and readers' representations, not in the command flow."""
+    if recipe:
+        sim("--gps-extensibility", "appendable")
+        p = rti(domain, writers=[COMMANDS[service]], readers=[service.status, service.ack])
+    else:
+        sim()
+        p = rti(domain, writers=[COMMANDS[service]], readers=[service.status, service.ack],
+                recipe=None if rti.version == "6" else "Default")
     vehicle = vehicle_guid(1)
     sem = COMMANDS[service]
-    p = rti(domain, writers=[sem], readers=[service.status, service.ack])
     me = uuid.uuid4()
     p.wait_matched(sem)
     p.wait_matched(service.status)
@@ -486,8 +536,9 @@ def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, rti:
                "the simulator's status dispose")
 
 
-def test_rti_consumer_cancels_by_dispose(rti: Callable[..., RtiParticipant], sim: Any, domain: int) -> None:
-    sim("--fault", "slow")
+def test_rti_consumer_cancels_by_dispose(rti: RtiFactory, sim: Any, domain: int) -> None:
+    """An RTI consumer on the recipe cancels a running command of `sem-sim --gps-extensibility appendable` by disposing it."""
+    sim("--fault", "slow", "--gps-extensibility", "appendable")
     vehicle = vehicle_guid(1)
     p = rti(domain, writers=[Sem.GPS_FIX_COMMAND], readers=[Sem.GPS_FIX_COMMAND_STATUS])
     p.wait_matched(Sem.GPS_FIX_COMMAND)
@@ -751,6 +802,11 @@ def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, r
 
 # --- An RTI consumer of sem-sim on AppendableGps: sem-sim --gps-extensibility appendable --------------------------
 
+def _stamp(sample: dict[str, Any]) -> tuple[int, int]:
+    """A sample's time stamp: which of a sem-sim writer's samples it is."""
+    return int(sample["timeStamp"]["seconds"]), int(sample["timeStamp"]["nanoseconds"])
+
+
 def _taken(readers: dict[Sem, Any], into: dict[Sem, list[Any]]) -> dict[Sem, list[Any]]:
     for s, r in readers.items():
         into[s] += r.take(N=1000, condition=all_samples(r))
@@ -761,10 +817,11 @@ def _taken(readers: dict[Sem, Any], into: dict[Sem, list[Any]]) -> dict[Sem, lis
 def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_report_right: bool, sim: Any, domain: int,
                                                           request: pytest.FixtureRequest) -> None:
     """Issue 23, RTI as consumer: on the drop-in's AppendableGps profile (Connext 7 with the mask in its environment)
-    it reads `sem-sim --gps-extensibility appendable`'s GPSReport and GPSFixReport, at least 20 samples each, every
-    one equal to one a Cyclone reader of the appendable copy took from the same writers, and runs a GPS fix command
-    to COMPLETED. Connext 6.1.2 reads no mask: its GPSFixReport is right, and no GPSReport arrives (matched, dropped by
-    RTI; never misread), as Cyclone drops an RTI 6.1.2 vehicle's (docs/dds.md, the matrix)."""
+    it reads `sem-sim --gps-extensibility appendable`'s GPSReport and GPSFixReport: at least 20 samples each equal to
+    the sample of the same time stamp a Cyclone reader of the appendable copy took from the same writers, none
+    different; and runs a GPS fix command to COMPLETED. Connext 6.1.2 reads no mask: its GPSFixReport is right, and no
+    GPSReport arrives (matched, dropped by RTI; never misread), as Cyclone drops an RTI 6.1.2 vehicle's (docs/dds.md,
+    the matrix)."""
     made, make = _factory(version, request)
     sim("--gps-extensibility", "appendable", "--gps-rate", "10")
     bus = Bus(domain)
@@ -785,16 +842,22 @@ def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_rep
             return all(len(got[s]) >= 20 for s in topics)
 
         wait_until(lambda: rti_took(GPS if gps_report_right else [Sem.GPS_FIX_REPORT]), 20, "20 samples of each GPS topic in RTI")
-        rti_took(GPS)
-        # every sample RTI got, Cyclone got too (sem-sim keeps writing: Cyclone may still be taking the last ones)
+        # Each sample RTI took against the one Cyclone took with the same time stamp (sem-sim's writers keep the last
+        # sample only: on a loaded host either reader may miss one, so samples are paired, not looked up in a list).
         ours: dict[Sem, list[Any]] = {s: [] for s in GPS}
+        need = {Sem.GPS_FIX_REPORT: 20, Sem.GPS_REPORT: 20 if gps_report_right else 0}
 
-        def right() -> dict[Sem, int]:
+        def pairs() -> dict[Sem, list[tuple[Any, Any]]] | None:
+            rti_took(GPS)
             _taken(cyclone, ours)
-            return {s: sum(any(same(to_plain(y), x) for y in ours[s]) for x in got[s]) for s in GPS}
+            stamps = {s: {_stamp(to_plain(y)): to_plain(y) for y in ours[s]} for s in GPS}
+            out = {s: [(x, stamps[s][_stamp(x)]) for x in got[s] if _stamp(x) in stamps[s]] for s in GPS}
+            return out if all(len(out[s]) >= need[s] for s in GPS) else None
 
-        want = {s: len(got[s]) for s in GPS}
-        wait_until(lambda: right() == want, 10, f"RTI's samples equal to Cyclone's: {want}")
+        paired = wait_until(pairs, 20, "20 samples of each GPS topic that RTI and Cyclone both took")
+        for s in GPS:
+            for theirs, ours_ in paired[s]:
+                assert same(ours_, theirs), (s.spec.name, ours_, theirs)
         if not gps_report_right:  # measured: 6.1.2 drops every one (20 sent meanwhile at 10 Hz), none misread
             assert got[Sem.GPS_REPORT] == []
         # the command flow, on the same profile

@@ -30,10 +30,6 @@ RECIPE_XML = Path(__file__).resolve().parents[3] / "docs" / "rti" / "sem-console
 RECIPE_ENV = {"NDDS_XTYPES_COMPLIANCE_MASK": "0x1a9"}
 
 
-def _recipe_library() -> str:
-    text = RECIPE_XML.read_text()
-    return text[text.index("<qos_library"):text.index("</qos_library>") + len("</qos_library>")]
-
 _DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: 32, TopicClass.REPORT: 1}
 
 
@@ -64,10 +60,11 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
 
 def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None,
                extensibility: str | None = None, recipe: str | None = None, type_object_max: int | None = None,
-               partition: str | None = None) -> str:
+               partition: str | None = None, name: str = "Rti") -> str:
     """RTI's XML for one participant. ``partition``: its publisher's; ``recipe``: the profile of the repository's drop-in
-    (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps") its QoS inherits;
-    ``type_object_max``: RTI's type_object_max_serialized_length."""
+    (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps", loaded beside this XML as the file it is) its QoS
+    inherits; ``type_object_max``: RTI's type_object_max_serialized_length; ``name``: the participant's, as discovery
+    shows it."""
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
@@ -88,7 +85,6 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
               f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>")
     return f"""<?xml version="1.0"?>
 <dds>
-{_recipe_library() if recipe else ""}
 <qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{base}>
 <domain_participant_qos>{limits}
   <database><shutdown_cleanup_period><sec>0</sec><nanosec>10000000</nanosec></shutdown_cleanup_period></database>
@@ -98,7 +94,7 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
 </qos_profile></qos_library>
 {types_xml(extensibility=extensibility)}
 <domain_library name="Domains"><domain name="Sem" domain_id="{domain}">{regs}{topics}</domain></domain_library>
-<domain_participant_library name="Participants"><domain_participant name="Rti" domain_ref="Domains::Sem">
+<domain_participant_library name="Participants"><domain_participant name={quoteattr(name)} domain_ref="Domains::Sem">
 <publisher name="pub">{pub_qos}{pubs}</publisher><subscriber name="sub">{subs}</subscriber>
 </domain_participant></domain_participant_library>
 </dds>"""
@@ -109,12 +105,14 @@ class RtiParticipant:
 
     def __init__(self, domain: int, writers: list[Sem] = (), readers: list[Sem] = (),  # type: ignore[assignment]
                  representation: str | None = None, extensibility: str | None = None, recipe: str | None = None,
-                 type_object_max: int | None = None, partition: str | None = None) -> None:
+                 type_object_max: int | None = None, partition: str | None = None, name: str = "Rti") -> None:
         with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
             f.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max,
-                               partition))
+                               partition, name))
         self._file = f
-        self.connector = rti.Connector("Participants::Rti", self._file.name)
+        # the drop-in as an RTI user loads it: the file itself, first of an RTI URL group (files separated by ';')
+        url = f"{RECIPE_XML};{self._file.name}" if recipe else self._file.name
+        self.connector = rti.Connector(f"Participants::{name}", url)
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
         self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}
 
