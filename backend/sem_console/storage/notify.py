@@ -14,10 +14,12 @@ import json
 import logging
 import threading
 from collections.abc import Callable
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import psycopg
 from sqlalchemy.engine import URL
+
+if TYPE_CHECKING:  # imported where a listener runs: a console on SQLite never loads the driver (about 0.08 s a start)
+    import psycopg
 
 log = logging.getLogger("sem-console.storage")
 # Every PostgreSQL connection of the console (this listener's, storage/database.py's engine). connect_timeout: the
@@ -48,6 +50,8 @@ class Listener:
         self._thread.start()
 
     def _run(self) -> None:
+        import psycopg
+
         listened = False
         while not self._stop.is_set():
             try:
