@@ -13,6 +13,13 @@ apt_install() {  # Debian packages, when we can install them
   fi
 }
 
+command -v npm >/dev/null || apt_install nodejs npm
+# The dashboard's packages and build beside the backend's install (each mostly uses one core); their output is
+# printed only when they fail (tsc writes its type errors to stdout).
+dashboard_log="$(mktemp)"
+(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build) >"$dashboard_log" 2>&1 &
+dashboard=$!
+
 if [ ! -x "$ROOT/.venv/bin/python" ]; then
   if ! "$PY" -m venv "$ROOT/.venv" >/dev/null 2>&1; then
     rm -rf "$ROOT/.venv"
@@ -26,7 +33,10 @@ fi
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
   "$ROOT/backend/UMAA_appendable" >/dev/null
 
-command -v npm >/dev/null || apt_install nodejs npm
-# the build's output only when it fails (tsc writes its type errors to stdout)
-(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error \
-  && { out="$(npm run --silent build 2>&1)" || { printf '%s\n' "$out" >&2; echo "the dashboard's build failed (above)" >&2; exit 1; }; })
+if ! wait "$dashboard"; then
+  cat "$dashboard_log" >&2
+  rm -f "$dashboard_log"
+  echo "the dashboard's install or build failed (above)" >&2
+  exit 1
+fi
+rm -f "$dashboard_log"
