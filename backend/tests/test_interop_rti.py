@@ -396,10 +396,14 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
     RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
     (a partition: Cyclone and RTI drop it in silence). The console names each participant, the topic and the fix, once
-    each in the log, and reads the InertialSensorReport of the two in the default partition. (b), type information:
+    each in the log, and reads the InertialSensorReport of the two in the default partition; `incompatibleWriters` counts
+    the RTI writers, not a Cyclone vehicle's final GPS writers beside them. (b), type information:
     test_console_tells_an_rti7_on_defaults_to_stop_type_information."""
     c = console()
     gps = [Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
+    # a Cyclone vehicle's final GPS writers beside them: the console's appendable readers refuse those (type
+    # consistency, read by its final readers), which must not count as writers nothing of the console reads
+    cyclone = {s: Bus(domain).writer(s) for s in gps}  # noqa: F841
     plain = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT, *gps], name="Plain612"))
     elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA", name="FleetA612"))
     default7 = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, *gps], name="Default77"))

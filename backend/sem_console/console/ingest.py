@@ -234,12 +234,19 @@ class Ingest:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
         accepts any reliability, durability and latency budget, so what it refuses is refused by
         all three: in practice a data representation (an XCDR1 writer of a type with @optional
-        members, README "Other DDS vendors"). Logged once per topic and policy."""
+        members, README "Other DDS vendors"). Logged once per topic and policy.
+        A topic with an appendable copy has two best-effort readers. Each counts what it refuses other than for the
+        type (status.total_count counts those too: a writer of the other extensibility, which the other reader reads),
+        and the topic shows the larger count, as a writer both refuse (an XCDR1 GPS writer) is counted by each."""
+        refused = 0
 
         def on(_reader: DataReader[Any], status: Any) -> None:
+            nonlocal refused
             if via is not Via.BEST_EFFORT or (sem.spec.appendable is not None and status.last_policy_id == _TYPE_CONSISTENCY):
                 return  # a writer of the other extensibility: the other reader of the topic reads it
-            self.incompatible[sem.spec.name] = status.total_count
+            with self._counting:  # the two readers' listeners may run in two of Cyclone's threads
+                refused += status.total_count_change
+                self.incompatible[sem.spec.name] = max(self.incompatible.get(sem.spec.name, 0), refused)
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:
                 self._warned.add((sem, policy))
