@@ -395,7 +395,8 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     """Issue 23, point 4, in /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
     Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
     RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
-    (a partition: Cyclone and RTI drop it in silence). The console names each participant, the topic and the fix, once
+    (a partition: Cyclone and RTI drop it in silence), and an RTI command reader there, which the console's commands
+    do not reach. The console names each participant, the topic and the fix, once
     each in the log, and reads the InertialSensorReport of the two in the default partition; `incompatibleWriters` counts
     the RTI writers, not a Cyclone vehicle's final GPS writers beside them. (b), type information:
     test_console_tells_an_rti7_on_defaults_to_stop_type_information."""
@@ -405,12 +406,15 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     # consistency, read by its final readers), which must not count as writers nothing of the console reads
     cyclone = {s: Bus(domain).writer(s) for s in gps}  # noqa: F841
     plain = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT, *gps], name="Plain612"))
-    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA", name="FleetA612"))
+    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], readers=[Sem.GPS_FIX_COMMAND], partition="fleetA",
+                                name="FleetA612"))
     default7 = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, *gps], name="Default77"))
     fix, mask = "set XCDR2 on that writer", ("set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
                                              "environment (Connext 7; Connext 6 cannot write it readably)")
     partition = "publish it in the default partition, as the console reads (it is in partition fleetA)"
+    subscribe = "subscribe to it in the default partition, where the console publishes (it is in partition fleetA)"
     want = [("Default77", "representation", "GPSFixReport", fix), ("Default77", "representation", "GPSReport", mask),
+            ("FleetA612", "unmatchedReader", "GPSFixCommand", subscribe),
             ("FleetA612", "unmatched", "InertialSensorReport", partition),
             ("Plain612", "representation", "GPSFixReport", fix), ("Plain612", "representation", "GPSReport", mask)]
 
@@ -426,6 +430,8 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     assert [f["message"] for f in findings] == [
         f"RTI participant Default77 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
         f"RTI participant Default77 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)",
+        f"RTI participant FleetA612 has a reader of GPSFixCommand that the console's commands do not reach: {subscribe} "
+        "(docs/dds.md#rti-connext-7)",
         "RTI participant FleetA612 has a writer of InertialSensorReport that the console does not match: publish it in the "
         "default partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)",
         f"RTI participant Plain612 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",

@@ -40,6 +40,7 @@ from enum import Enum
 from typing import Any, Protocol
 
 from cyclonedds.core import DDSException, Listener, Policy, Qos, WaitSet
+from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
@@ -167,7 +168,7 @@ class Owners:
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
                  on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None,
-                 report_burst: int = 8) -> None:
+                 report_burst: int = 8, command_writers: dict[Sem, DataWriter[Any]] | None = None) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.pace = Pacer(report_interval, report_burst)
         self.decoder = Decoder()
@@ -180,6 +181,7 @@ class Ingest:
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
         self.peers = PeerWatch(bus.participant)
+        self.command_writers = command_writers or {}  # the console's, by topic: whose readers they reach (dds/vendors.py)
         self.findings: list[Finding] = []  # what other vendors' participants must change (dds/vendors.py), for /api/metrics
         self._logged: set[tuple[str, str, str | None]] = set()
         self._peers_checked = 0.0
@@ -334,7 +336,7 @@ class Ingest:
             return
         self._peers_checked = now
         self.peers.poll(now)
-        findings = self.peers.findings(self.matched_writers, now)
+        findings = self.peers.findings(self.matched_writers, now, self.reached_readers)
         for f in findings:
             if (f.participant, f.kind, f.topic) not in self._logged:
                 self._logged.add((f.participant, f.kind, f.topic))
@@ -345,6 +347,11 @@ class Ingest:
         """The publication handles any reader of ours of this topic matched."""
         return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
                 for h in r.get_matched_publications()}
+
+    def reached_readers(self, sem: Sem) -> set[int] | None:
+        """The subscription handles the console's writer of this topic matched (None: the console writes no such topic)."""
+        writer = self.command_writers.get(sem)
+        return None if writer is None else {h & _U64 for h in writer.get_matched_subscriptions()}
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []
