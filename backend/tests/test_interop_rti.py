@@ -188,8 +188,11 @@ def test_optional_member_topics_are_not_matched_in_xcdr1(rti6: Callable[..., Rti
     optional = [s for s in Sem if s.spec.xcdr2_only]
     readers = {s: Bus(domain).reader(s) for s in optional}  # each in a participant of its own,
     writers = {s: Bus(domain).writer(s) for s in optional}  # so a reader matches our writer only
-    p = rti6(domain, writers=optional, readers=optional)
-    time.sleep(2)  # discovery on loopback takes well under a second (the tests above)
+    ins = Sem.INS_REPORT  # made last on both sides: once its endpoints match both ways, discovery has told each side of
+    plain = (Bus(domain).reader(ins), Bus(domain).writer(ins))  # noqa: F841 - the other's GPS endpoints (SEDP is in order)
+    p = rti6(domain, writers=[*optional, ins], readers=[*optional, ins])
+    wait_until(lambda: len(p.outputs[ins].matched_subscriptions) == 2 and len(p.inputs[ins].matched_publications) == 2, 10,
+               "RTI's InertialSensorReport endpoints matched with ours")
     for s in optional:
         assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
         assert len(writers[s].get_matched_subscriptions()) == 1, s.spec.name  # our own XCDR2 reader
