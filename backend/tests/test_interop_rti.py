@@ -338,6 +338,7 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     assert (metrics["incompatibleWriters"], metrics["peerFindings"], metrics["undecodableSamples"]) == ({}, [], 0), metrics
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
+        v.report()  # the vehicle reports only when the test steps it: a command to a vehicle silent 1 s is refused (lost)
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
@@ -355,7 +356,9 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
             Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 30, "the cleanup dispose in RTI")
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
+    v.report()
     r = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
+    assert r.status_code == 201, r.text
     session = r.json()["sessionId"]
     v.hold.add(uuid.UUID(session).bytes)
     wait_until(lambda: v.step() or getattr(v, "running", None), 10, "the held command")
@@ -374,6 +377,24 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
     assert httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
+
+
+def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, console: Any, domain: int) -> None:
+    """An RTI vehicle on the recipe disposes its GPSFixReport instance (appendable, XCDR2: a key longer than 16 bytes):
+    the console sees the instance end. The drop-in's serialize_key_with_dispose makes that work: on RTI's default the
+    dispose carries only an MD5 key hash, and Cyclone drops it ("keyhash is MD5 and can't be converted to key value")."""
+    c = console()
+    v = RtiVehicle(rti(domain, writers=[Sem.INS_REPORT, Sem.GPS_FIX_REPORT]))
+    me = str(v.guid)
+
+    def topic() -> Any:
+        r = httpx.get(f"{c.url}/api/providers/{me}")
+        return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None
+
+    assert wait_until(lambda: v.report() or topic(), 15, "the RTI vehicle's GPSFixReport in the console")["alive"]
+    v.p.write(Sem.GPS_FIX_REPORT, {"source": list(v.guid.bytes)}, action="dispose")
+    wait_until(lambda: topic()["alive"] is False, 10, "the GPSFixReport instance ended in the console")
+    assert httpx.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
 
 
 def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,

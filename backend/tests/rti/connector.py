@@ -37,13 +37,15 @@ def type_name(sem: Sem) -> str:
     return sem.spec.type.__idl_typename__.replace(".", "::")
 
 
-def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> str:
+def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None, recipe: str | None = None) -> str:
     tag = "datawriter_qos" if writer else "datareader_qos"
     extra = ""
     if representation:
         extra += f"<representation><value><element>{representation}</element></value></representation>"
-    if writer and sem.spec.cls is TopicClass.COMMAND:
-        extra = "<protocol><serialize_key_with_dispose>true</serialize_key_with_dispose></protocol>"
+    if writer and sem.spec.cls is TopicClass.COMMAND and recipe is None:
+        # on RTI's defaults a dispose carries only the key hash, which Cyclone cannot use for a command's key (the
+        # drop-in's profiles set this for every writer; with a recipe the tests take it from there)
+        extra += "<protocol><serialize_key_with_dispose>true</serialize_key_with_dispose></protocol>"
     # Unbounded members (GPSReport's satellites): RTI allocates the largest sample up front unless
     # told to allocate samples over this size on demand.
     side = "writer" if writer else "reader"
@@ -70,12 +72,12 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
     pubs = "".join(
         f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
-        f"{_endpoint_qos(s, True, representation)}</data_writer>"
+        f"{_endpoint_qos(s, True, representation, recipe)}</data_writer>"
         for s in writers
     )
     subs = "".join(
         f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
-        f"{_endpoint_qos(s, False, representation)}</data_reader>"
+        f"{_endpoint_qos(s, False, representation, recipe)}</data_reader>"
         for s in readers
     )
     base = f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""
