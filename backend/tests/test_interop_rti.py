@@ -188,8 +188,11 @@ def test_optional_member_topics_are_not_matched_in_xcdr1(rti6: Callable[..., Rti
     optional = [s for s in Sem if s.spec.xcdr2_only]
     readers = {s: Bus(domain).reader(s) for s in optional}  # each in a participant of its own,
     writers = {s: Bus(domain).writer(s) for s in optional}  # so a reader matches our writer only
-    p = rti6(domain, writers=optional, readers=optional)
-    time.sleep(2)  # discovery on loopback takes well under a second (the tests above)
+    ins = Sem.INS_REPORT  # made last on both sides: once its endpoints match both ways, discovery has told each side of
+    plain = (Bus(domain).reader(ins), Bus(domain).writer(ins))  # noqa: F841 - the other's GPS endpoints (SEDP is in order)
+    p = rti6(domain, writers=[*optional, ins], readers=[*optional, ins])
+    wait_until(lambda: len(p.outputs[ins].matched_subscriptions) == 2 and len(p.inputs[ins].matched_publications) == 2, 10,
+               "RTI's InertialSensorReport endpoints matched with ours")
     for s in optional:
         assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
         assert len(writers[s].get_matched_subscriptions()) == 1, s.spec.name  # our own XCDR2 reader
@@ -335,6 +338,7 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     assert (metrics["incompatibleWriters"], metrics["peerFindings"], metrics["undecodableSamples"]) == ({}, [], 0), metrics
 
     for path, body in (("gps-fix", {}), ("inertial-sensor", {"state": "RESTARTING"})):
+        v.report()  # the vehicle reports only when the test steps it: a command to a vehicle silent 1 s is refused (lost)
         r = httpx.post(f"{c.url}/api/providers/{me}/{path}", json=body)
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
@@ -352,7 +356,9 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
             Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 30, "the cleanup dispose in RTI")
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
+    v.report()
     r = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={})
+    assert r.status_code == 201, r.text
     session = r.json()["sessionId"]
     v.hold.add(uuid.UUID(session).bytes)
     wait_until(lambda: v.step() or getattr(v, "running", None), 10, "the held command")
@@ -371,6 +377,24 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
     assert httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
+
+
+def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, console: Any, domain: int) -> None:
+    """An RTI vehicle on the recipe disposes its GPSFixReport instance (appendable, XCDR2: a key longer than 16 bytes):
+    the console sees the instance end. The drop-in's serialize_key_with_dispose makes that work: on RTI's default the
+    dispose carries only an MD5 key hash, and Cyclone drops it ("keyhash is MD5 and can't be converted to key value")."""
+    c = console()
+    v = RtiVehicle(rti(domain, writers=[Sem.INS_REPORT, Sem.GPS_FIX_REPORT]))
+    me = str(v.guid)
+
+    def topic() -> Any:
+        r = httpx.get(f"{c.url}/api/providers/{me}")
+        return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None
+
+    assert wait_until(lambda: v.report() or topic(), 15, "the RTI vehicle's GPSFixReport in the console")["alive"]
+    v.p.write(Sem.GPS_FIX_REPORT, {"source": list(v.guid.bytes)}, action="dispose")
+    wait_until(lambda: topic()["alive"] is False, 10, "the GPSFixReport instance ended in the console")
+    assert httpx.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
 
 
 def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
@@ -395,18 +419,26 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     """Issue 23, point 4, in /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
     Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
     RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
-    (a partition: Cyclone and RTI drop it in silence). The console names each participant, the topic and the fix, once
-    each in the log, and reads the InertialSensorReport of the two in the default partition. (b), type information:
+    (a partition: Cyclone and RTI drop it in silence), and an RTI command reader there, which the console's commands
+    do not reach. The console names each participant, the topic and the fix, once
+    each in the log, and reads the InertialSensorReport of the two in the default partition; `incompatibleWriters` counts
+    the RTI writers, not a Cyclone vehicle's final GPS writers beside them. (b), type information:
     test_console_tells_an_rti7_on_defaults_to_stop_type_information."""
     c = console()
     gps = [Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
+    # a Cyclone vehicle's final GPS writers beside them: the console's appendable readers refuse those (type
+    # consistency, read by its final readers), which must not count as writers nothing of the console reads
+    cyclone = {s: Bus(domain).writer(s) for s in gps}  # noqa: F841
     plain = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT, *gps], name="Plain612"))
-    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], partition="fleetA", name="FleetA612"))
+    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], readers=[Sem.GPS_FIX_COMMAND], partition="fleetA",
+                                name="FleetA612"))
     default7 = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, *gps], name="Default77"))
     fix, mask = "set XCDR2 on that writer", ("set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
                                              "environment (Connext 7; Connext 6 cannot write it readably)")
     partition = "publish it in the default partition, as the console reads (it is in partition fleetA)"
+    subscribe = "subscribe to it in the default partition, where the console publishes (it is in partition fleetA)"
     want = [("Default77", "representation", "GPSFixReport", fix), ("Default77", "representation", "GPSReport", mask),
+            ("FleetA612", "unmatchedReader", "GPSFixCommand", subscribe),
             ("FleetA612", "unmatched", "InertialSensorReport", partition),
             ("Plain612", "representation", "GPSFixReport", fix), ("Plain612", "representation", "GPSReport", mask)]
 
@@ -422,6 +454,8 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     assert [f["message"] for f in findings] == [
         f"RTI participant Default77 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
         f"RTI participant Default77 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)",
+        f"RTI participant FleetA612 has a reader of GPSFixCommand that the console's commands do not reach: {subscribe} "
+        "(docs/dds.md#rti-connext-7)",
         "RTI participant FleetA612 has a writer of InertialSensorReport that the console does not match: publish it in the "
         "default partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)",
         f"RTI participant Plain612 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
@@ -449,9 +483,10 @@ def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: RtiFactory, domain: int
     assert run.code == 1, run.out + run.err
     fails = failed(run)
     assert set(fails) == {"discovery.GPSReport", "discovery.GPSFixReport"}, fails
-    assert ("RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
-            "in its environment") in run.report.read_text()  # the failure text
-    assert "RTI participant Rti offers GPSFixReport in XCDR1: set XCDR2 on that writer (docs" in run.report.read_text()
+    # the first failure of each, which the run's table shows
+    assert (": RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
+            "in its environment") in fails["discovery.GPSReport"], fails
+    assert ": RTI participant Rti offers GPSFixReport in XCDR1: set XCDR2 on that writer (docs" in fails["discovery.GPSFixReport"]
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
 
 

@@ -150,10 +150,11 @@ class PeerFinding(_Model):
     participant: str = Field(description="the participant's GUID")
     name: str = Field(description="its name as it announces it (RTI: the participant's name in its XML), else its GUID")
     vendor: Literal["RTI"] = Field(description="the vendor, from the GUID's vendor id (RTI Connext: 01.01)")
-    kind: Literal["typeInformation", "representation", "unmatched"] = Field(
+    kind: Literal["typeInformation", "representation", "unmatched", "unmatchedReader"] = Field(
         description="typeInformation: it sends XTypes type information the console cannot use, so none of its SEM topics "
                     "match; representation: a GPSReport or GPSFixReport writer offers XCDR1; unmatched: another SEM "
-                    "writer of it that no reader of the console matches")
+                    "writer of it that no reader of the console matches; unmatchedReader: a command reader of it that "
+                    "the console's command writer does not match (its commands would go nowhere)")
     topic: str | None = Field(description="the SEM topic (short name, e.g. GPSReport); null for the whole participant")
     fix: str = Field(description="what to change, in the vendor's terms")
     message: str = Field(description="the whole finding in one line, as logged: who, what, the fix and the docs")

@@ -40,6 +40,7 @@ from enum import Enum
 from typing import Any, Protocol
 
 from cyclonedds.core import DDSException, Listener, Policy, Qos, WaitSet
+from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
@@ -167,7 +168,7 @@ class Owners:
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
                  on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None,
-                 report_burst: int = 8) -> None:
+                 report_burst: int = 8, command_writers: dict[Sem, DataWriter[Any]] | None = None) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.pace = Pacer(report_interval, report_burst)
         self.decoder = Decoder()
@@ -180,6 +181,7 @@ class Ingest:
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
         self.peers = PeerWatch(bus.participant)
+        self.command_writers = command_writers or {}  # the console's, by topic: whose readers they reach (dds/vendors.py)
         self.findings: list[Finding] = []  # what other vendors' participants must change (dds/vendors.py), for /api/metrics
         self._logged: set[tuple[str, str, str | None]] = set()
         self._peers_checked = 0.0
@@ -234,12 +236,19 @@ class Ingest:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
         accepts any reliability, durability and latency budget, so what it refuses is refused by
         all three: in practice a data representation (an XCDR1 writer of a type with @optional
-        members, README "Other DDS vendors"). Logged once per topic and policy."""
+        members, README "Other DDS vendors"). Logged once per topic and policy.
+        A topic with an appendable copy has two best-effort readers. Each counts what it refuses other than for the
+        type (status.total_count counts those too: a writer of the other extensibility, which the other reader reads),
+        and the topic shows the larger count, as a writer both refuse (an XCDR1 GPS writer) is counted by each."""
+        refused = 0
 
         def on(_reader: DataReader[Any], status: Any) -> None:
+            nonlocal refused
             if via is not Via.BEST_EFFORT or (sem.spec.appendable is not None and status.last_policy_id == _TYPE_CONSISTENCY):
                 return  # a writer of the other extensibility: the other reader of the topic reads it
-            self.incompatible[sem.spec.name] = status.total_count
+            with self._counting:  # the two readers' listeners may run in two of Cyclone's threads
+                refused += status.total_count_change
+                self.incompatible[sem.spec.name] = max(self.incompatible.get(sem.spec.name, 0), refused)
             policy = _POLICY_NAMES.get(status.last_policy_id, f"policy {status.last_policy_id}")
             if (sem, policy) not in self._warned:
                 self._warned.add((sem, policy))
@@ -327,7 +336,7 @@ class Ingest:
             return
         self._peers_checked = now
         self.peers.poll(now)
-        findings = self.peers.findings(self.matched_writers, now)
+        findings = self.peers.findings(self.matched_writers, now, self.reached_readers)
         for f in findings:
             if (f.participant, f.kind, f.topic) not in self._logged:
                 self._logged.add((f.participant, f.kind, f.topic))
@@ -338,6 +347,11 @@ class Ingest:
         """The publication handles any reader of ours of this topic matched."""
         return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
                 for h in r.get_matched_publications()}
+
+    def reached_readers(self, sem: Sem) -> set[int] | None:
+        """The subscription handles the console's writer of this topic matched (None: the console writes no such topic)."""
+        writer = self.command_writers.get(sem)
+        return None if writer is None else {h & _U64 for h in writer.get_matched_subscriptions()}
 
     def _status_cycle(self, conds: list[Any]) -> None:
         items: list[StatusItem] = []

@@ -124,7 +124,8 @@ class DdsSource:
 
     def attach(self, console: Console) -> None:
         self.ingest = Ingest(self.bus, asyncio.get_running_loop(), console.on_reports, console.on_statuses,
-                             self.settings.report_interval, console.recorder, self.settings.report_burst)
+                             self.settings.report_interval, console.recorder, self.settings.report_burst,
+                             {service.command: w for service, w in self.command_writers.items()})
 
     async def start(self) -> None:
         assert self.ingest is not None, "attach() first"

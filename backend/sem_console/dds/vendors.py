@@ -6,7 +6,8 @@ console can see in discovery, none of which shows as a lost or rejected sample:
   then matches none of its SEM topics;
 - a GPSReport or GPSFixReport writer offers XCDR1 (RTI's default): the console accepts XCDR2 only for types with
   @optional members (dds/qos.py);
-- any other SEM writer the console's readers do not match (a QoS, a partition, an extensibility).
+- any other SEM writer the console's readers do not match (a QoS, a partition, an extensibility), and a command reader
+  the console's command writers do not match (its commands would go nowhere).
 The vendor is the first two bytes of the participant's GUID prefix (DDSI-RTPS 9.3.1.5; RTI 01.01, Cyclone 01.10).
 What cannot be seen: NDDS_XTYPES_COMPLIANCE_MASK, so the GPSReport advice names it whatever the writer does.
 """
@@ -40,7 +41,7 @@ MASK = "NDDS_XTYPES_COMPLIANCE_MASK=0x1a9"
 SETTLE = 2.0
 _BY_NAME = {s.spec.name: s for s in Sem}
 
-Kind = Literal["typeInformation", "representation", "unmatched"]
+Kind = Literal["typeInformation", "representation", "unmatched", "unmatchedReader"]
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,7 @@ class Finding:
             "typeInformation": "sends type information this console cannot use (none of its SEM topics match)",
             "representation": f"offers {self.topic} in XCDR1",
             "unmatched": f"has a writer of {self.topic} that the console does not match",
+            "unmatchedReader": f"has a reader of {self.topic} that the console's commands do not reach",
         }[self.kind]
         return f"{self.vendor} participant {self.name} {what}: {self.fix} ({DOCS})"
 
@@ -72,7 +74,8 @@ def vendor_of(guid: uuid.UUID) -> bytes:
 
 
 def _representations(qos: Qos) -> tuple[bool, bool]:
-    """(XCDR1, XCDR2) offered by a writer; a writer that says nothing offers XCDR1 (DDS-XTypes 7.6.3.1.1)."""
+    """(XCDR1, XCDR2) offered by a writer or accepted by a reader; an endpoint that says nothing uses XCDR1 only
+    (DDS-XTypes 7.6.3.1.1)."""
     try:
         rep = qos[Policy.DataRepresentation]
     except (KeyError, TypeError):
@@ -112,7 +115,7 @@ class PeerWatch:
         self._subs = BuiltinDataReader(participant, BuiltinTopicDcpsSubscription)
         self.names: dict[uuid.UUID, str] = {}  # other vendors' participants: GUID -> name
         self.writers: dict[uuid.UUID, tuple[DcpsEndpoint, int, float]] = {}  # key -> (endpoint, handle, seen at)
-        self.readers: dict[uuid.UUID, DcpsEndpoint] = {}
+        self.readers: dict[uuid.UUID, tuple[DcpsEndpoint, int, float]] = {}  # as writers
 
     def poll(self, now: float) -> None:
         """Take what discovery learnt since the last poll (non-blocking)."""
@@ -129,18 +132,21 @@ class PeerWatch:
                 self.writers.pop(e.key, None)
         for e in _take_all(self._subs):
             if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in _BY_NAME and vendor_of(e.key) == RTI:
-                self.readers[e.key] = e
+                old = self.readers.get(e.key)
+                self.readers[e.key] = (e, e.sample_info.instance_handle, old[2] if old else now)
             else:
                 self.readers.pop(e.key, None)
 
-    def findings(self, matched: Callable[[Sem], set[int]], now: float) -> list[Finding]:
+    def findings(self, matched: Callable[[Sem], set[int]], now: float,
+                 reached: Callable[[Sem], set[int] | None] = lambda _: None) -> list[Finding]:
         """What each RTI participant with SEM endpoints must change. `matched(sem)`: the publication handles the
-        console's readers of that topic matched."""
+        console's readers of that topic matched; `reached(sem)`: the subscription handles its writer of that topic
+        matched (None: it writes none)."""
         out: list[Finding] = []
         endpoints: dict[uuid.UUID, list[DcpsEndpoint]] = {}
         for e, _, _ in self.writers.values():
             endpoints.setdefault(e.participant_key, []).append(e)
-        for r in self.readers.values():
+        for r, _, _ in self.readers.values():
             endpoints.setdefault(r.participant_key, []).append(r)
         for guid, ends in sorted(endpoints.items(), key=lambda kv: str(kv[0])):
             name = self.names.get(guid, str(guid))
@@ -172,6 +178,19 @@ class PeerWatch:
                            f"compare its QoS with the drop-in profile {DROP_IN} ({'XCDR1' if xcdr1 else ''}"
                            f"{'+' if xcdr1 and xcdr2 else ''}{'XCDR2' if xcdr2 else ''} offered)")
                     out.append(finding("unmatched", short(sem), fix))
+            readers = [self.readers[e.key] for e in ends if e.key in self.readers]
+            for e, handle, seen in sorted(readers, key=lambda r: r[0].topic_name):
+                sem = _BY_NAME[e.topic_name]
+                handles = reached(sem)
+                if handles is None or handle in handles or now - seen < SETTLE:
+                    continue
+                partitions = _partitions(e.qos)
+                xcdr1, _ = _representations(e.qos)
+                fix = (f"subscribe to it in the default partition, where the console publishes (it is in partition "
+                       f"{', '.join(partitions)})" if partitions else
+                       "accept XCDR_DATA_REPRESENTATION on that reader, which the console writes" if not xcdr1 else
+                       f"compare its QoS with the drop-in profile {DROP_IN}")
+                out.append(finding("unmatchedReader", short(sem), fix))
         return out
 
 

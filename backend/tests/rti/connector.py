@@ -37,13 +37,15 @@ def type_name(sem: Sem) -> str:
     return sem.spec.type.__idl_typename__.replace(".", "::")
 
 
-def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> str:
+def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None, recipe: str | None = None) -> str:
     tag = "datawriter_qos" if writer else "datareader_qos"
     extra = ""
     if representation:
         extra += f"<representation><value><element>{representation}</element></value></representation>"
-    if writer and sem.spec.cls is TopicClass.COMMAND:
-        extra = "<protocol><serialize_key_with_dispose>true</serialize_key_with_dispose></protocol>"
+    if writer and sem.spec.cls is TopicClass.COMMAND and recipe is None:
+        # on RTI's defaults a dispose carries only the key hash, which Cyclone cannot use for a command's key (the
+        # drop-in's profiles set this for every writer; with a recipe the tests take it from there)
+        extra += "<protocol><serialize_key_with_dispose>true</serialize_key_with_dispose></protocol>"
     # Unbounded members (GPSReport's satellites): RTI allocates the largest sample up front unless
     # told to allocate samples over this size on demand.
     side = "writer" if writer else "reader"
@@ -61,26 +63,27 @@ def _endpoint_qos(sem: Sem, writer: bool, representation: str | None = None) -> 
 def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representation: str | None = None,
                extensibility: str | None = None, recipe: str | None = None, type_object_max: int | None = None,
                partition: str | None = None, name: str = "Rti") -> str:
-    """RTI's XML for one participant. ``partition``: its publisher's; ``recipe``: the profile of the repository's drop-in
-    (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps", loaded beside this XML as the file it is) its QoS
-    inherits; ``type_object_max``: RTI's type_object_max_serialized_length; ``name``: the participant's, as discovery
-    shows it."""
+    """RTI's XML for one participant. ``partition``: its publisher's and subscriber's; ``recipe``: the profile of the
+    repository's drop-in (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps", loaded beside this XML as the
+    file it is) its QoS inherits; ``type_object_max``: RTI's type_object_max_serialized_length; ``name``: the
+    participant's, as discovery shows it."""
     sems = list(dict.fromkeys(writers + readers))
     regs = "".join(f"<register_type name={quoteattr(type_name(s))} type_ref={quoteattr(type_name(s))}/>" for s in sems)
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(type_name(s))}/>" for s in sems)
     pubs = "".join(
         f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
-        f"{_endpoint_qos(s, True, representation)}</data_writer>"
+        f"{_endpoint_qos(s, True, representation, recipe)}</data_writer>"
         for s in writers
     )
     subs = "".join(
         f"<data_reader name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
-        f"{_endpoint_qos(s, False, representation)}</data_reader>"
+        f"{_endpoint_qos(s, False, representation, recipe)}</data_reader>"
         for s in readers
     )
     base = f' base_name="SemConsoleInterop::{recipe}"' if recipe else ""
-    pub_qos = ("" if partition is None else
-               f"<publisher_qos><partition><name><element>{partition}</element></name></partition></publisher_qos>")
+    in_partition = f"<partition><name><element>{partition}</element></name></partition>"
+    pub_qos, sub_qos = (f"<publisher_qos>{in_partition}</publisher_qos>", f"<subscriber_qos>{in_partition}</subscriber_qos>") \
+        if partition is not None else ("", "")
     limits = ("" if type_object_max is None else
               f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>")
     return f"""<?xml version="1.0"?>
@@ -95,7 +98,7 @@ def config_xml(domain: int, writers: list[Sem], readers: list[Sem], representati
 {types_xml(extensibility=extensibility)}
 <domain_library name="Domains"><domain name="Sem" domain_id="{domain}">{regs}{topics}</domain></domain_library>
 <domain_participant_library name="Participants"><domain_participant name={quoteattr(name)} domain_ref="Domains::Sem">
-<publisher name="pub">{pub_qos}{pubs}</publisher><subscriber name="sub">{subs}</subscriber>
+<publisher name="pub">{pub_qos}{pubs}</publisher><subscriber name="sub">{sub_qos}{subs}</subscriber>
 </domain_participant></domain_participant_library>
 </dds>"""
 

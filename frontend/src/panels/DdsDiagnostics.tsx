@@ -9,6 +9,7 @@ const WHAT: Record<PeerFinding["kind"], string> = {
   typeInformation: "sends type information this console cannot use: none of its SEM topics match",
   representation: "offers it in XCDR1, which the console does not read",
   unmatched: "has a writer of it that the console does not match",
+  unmatchedReader: "has a reader of it that the console's commands do not reach",
 };
 
 /** The findings as a list: who, what and the exact fix (a pure view, rendered by the test too). */

@@ -26,6 +26,12 @@ const unmatched: PeerFinding = {
   topic: "InertialSensorReport", fix: partitionFix,
   message: `RTI participant FleetA612 has a writer of InertialSensorReport that the console does not match: ${partitionFix} ${DOCS}`,
 };
+const readerFix = "subscribe to it in the default partition, where the console publishes (it is in partition fleetA)";
+const unreached: PeerFinding = {
+  participant: "0101c0a8-0001-0000-0000-0a7d000001c1", name: "FleetA612", vendor: "RTI", kind: "unmatchedReader",
+  topic: "GPSFixCommand", fix: readerFix,
+  message: `RTI participant FleetA612 has a reader of GPSFixCommand that the console's commands do not reach: ${readerFix} ${DOCS}`,
+};
 
 /** Each finding's text as the operator reads it (the markup's tags and React's text separators taken out). */
 function items(findings: PeerFinding[]): string[] {
@@ -36,13 +42,15 @@ function items(findings: PeerFinding[]): string[] {
 
 describe("the DDS diagnostics view", () => {
   it("names each participant, what it does and the exact fix, in the operator's words", () => {
-    expect(items([gps, typed, unmatched])).toEqual([
+    expect(items([gps, typed, unmatched, unreached])).toEqual([
       "RTI participant Plain612 · GPSReport: offers it in XCDR1, which the console does not read Fix: " + maskFix +
         " docs/dds.md, “Connext 7.x, and the recipe for RTI vehicles”",
       "RTI participant Rti: sends type information this console cannot use: none of its SEM topics match Fix: " +
         typedFix.replace(/</g, "&lt;").replace(/>/g, "&gt;") + " docs/dds.md, “Connext 7.x, and the recipe for RTI vehicles”",
       "RTI participant FleetA612 · InertialSensorReport: has a writer of it that the console does not match Fix: " + partitionFix +
         " docs/dds.md, “Connext 7.x, and the recipe for RTI vehicles”",
+      "RTI participant FleetA612 · GPSFixCommand: has a reader of it that the console&#x27;s commands do not reach Fix: " +
+        readerFix + " docs/dds.md, “Connext 7.x, and the recipe for RTI vehicles”",
     ]);
   });
 
