@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from sqlalchemy.engine import URL, make_url
-from sqlalchemy.exc import ArgumentError
+if TYPE_CHECKING:  # SQLAlchemy imported where a URL is made: the simulator reads Settings and needs none (0.09 s a start)
+    from sqlalchemy.engine import URL
 
 DRIVER = "postgresql+psycopg"  # psycopg 3: the one PostgreSQL driver installed (LISTEN/NOTIFY, binary wheels)
 
@@ -27,12 +28,17 @@ class DatabaseUrl:
 
 
 def sqlite_file(path: Path) -> DatabaseUrl:
+    from sqlalchemy.engine import URL
+
     return DatabaseUrl(URL.create("sqlite", database=str(path)), path)
 
 
 def parse_database_url(text: str) -> DatabaseUrl:
     """'postgresql://user:pass@host:port/db' (or postgres://, postgresql+psycopg://), 'sqlite:///PATH', or a path.
     ValueError: one line saying what is accepted."""
+    from sqlalchemy.engine import make_url
+    from sqlalchemy.exc import ArgumentError
+
     text = text.strip()
     if "://" not in text:
         if not text:
