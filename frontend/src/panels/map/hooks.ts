@@ -31,6 +31,7 @@ import { vehicleColor } from "../../lib/vehicle";
 import type { MapTool } from "../CoMap";
 import type { CursorStore } from "./MapCursor";
 import { VEHICLE_DOTS, VEHICLE_HITS, addLayers, fitAll, originOf, source } from "./layers";
+import { setBatched } from "./repaints";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
@@ -295,7 +296,7 @@ function setVehicles(drawn: RefObject<Drawn>, map: MapLibre, id: "vehicles" | "s
   const json = JSON.stringify(fc);
   if (drawn.current.map === map && json === drawn.current[id]) return;
   drawn.current = drawn.current.map === map ? { ...drawn.current, [id]: json } : { map, vehicles: "", selected: "", [id]: json };
-  source(map, id)?.setData(fc);
+  setBatched(map, id, fc);
   countRender(`map:${id}-data`);
 }
 
@@ -313,7 +314,7 @@ export function useTrackLayer(mapRef: MapRef, ready: boolean, providers: Provide
       drawn.current.tracks = tracks;
       const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
       for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-      source(map, "tracks")?.setData(fc);
+      setBatched(map, "tracks", fc);
       countRender("map:tracks-data");
     }
     const origins = providers.flatMap((p) => {
@@ -323,7 +324,7 @@ export function useTrackLayer(mapRef: MapRef, ready: boolean, providers: Provide
     const json = JSON.stringify(origins);
     if (json === drawn.current.origins) return;
     drawn.current.origins = json;
-    source(map, "origins")?.setData({ type: "FeatureCollection", features: origins });
+    setBatched(map, "origins", { type: "FeatureCollection", features: origins });
   }, [mapRef, ready, providers, selected]);
 }
 
