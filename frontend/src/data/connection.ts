@@ -3,7 +3,7 @@
 import type { ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { onFrame } from "./frame";
-import { initialState, reduce, type State } from "./store";
+import { initialState, reduceAll, type State } from "./store";
 
 export type ConnectionState = SourceState;
 
@@ -87,9 +87,7 @@ export class Store {
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;
-    const now = this.clock();
-    let s = this.state;
-    for (const msg of this.queue) s = reduce(s, msg, now);
+    const s = reduceAll(this.state, this.queue, this.clock());
     this.queue = [];
     this.set(s);
   }
