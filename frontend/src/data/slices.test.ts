@@ -60,6 +60,11 @@ describe("slice subscriptions", () => {
     expect(notified).toEqual({ satellites: 0, trails: 0, fix: 10 });
     send(A, "GPSReport");
     expect(notified).toEqual({ satellites: 1, trails: 1, fix: 10 });
+    // the same satellites within a trail's step (t moves 0.1 s a report): a trail gets a point every 5 s, not each report
+    for (let i = 0; i < 10; i++) send(A, "GPSReport");
+    expect(notified).toEqual({ satellites: 11, trails: 1, fix: 10 });
+    for (let i = 0; i < 45; i++) send(A, "GPSReport"); // past 5 s
+    expect(notified.trails).toBe(2);
   });
 
   it("other topics and other vehicles' reports do not notify the selected vehicle's slices", () => {

@@ -116,19 +116,24 @@ function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
 function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeOf<"GPSReport">, now: number): Record<string, TrailPoint[]> {
   const gps = env.report;
   const next: Record<string, TrailPoint[]> = {};
+  let changed = false;
+  let count = 0;
   for (const s of gps.satellites ?? []) {
     if (typeof s.azimuth !== "number" || typeof s.elevation !== "number") continue;
     const key = satelliteLabel(s.satelliteId);
     const old = trails[key] ?? [];
     const last = old[old.length - 1];
+    if (!(key in next)) count++;
     if (last && now - last.t < TRAIL_STEP) {
       next[key] = old;
       continue;
     }
+    changed = true;
     const kept = old.filter((p) => now - p.t <= TRAIL_SECONDS);
     next[key] = [...kept, { az: s.azimuth, el: s.elevation, t: now }];
   }
-  return next;
+  // the same satellites within their step (most reports): the same trails, so the sky plot's trails do not redraw
+  return changed || count !== Object.keys(trails).length ? next : trails;
 }
 
 /** The chart values of a GPSReport received at `t` (as the console computes its series). */
