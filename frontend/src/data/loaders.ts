@@ -53,8 +53,10 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
 }
 
 /** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
- * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(everyMs = 0): ProviderView[] {
+ * when a vehicle appears, on a reload and after a reconnect, once `load`: the map is ready), then the live
+ * GPSFixReport positions. Not before the map: a request per vehicle (50 at once) held up the first screen's (the
+ * map's worker, the selected vehicle's satellites) behind the browser's six connections. */
+export function useTrackedProviders(everyMs = 0, load = true): ProviderView[] {
   const { store, source } = useData();
   const providers = useProvidersOnFrame(undefined, everyMs);
   const idList = providers.map((p) => p.id).join(",");
@@ -63,7 +65,7 @@ export function useTrackedProviders(everyMs = 0): ProviderView[] {
   const token = useToken();
   const instant = useSelector((s) => s.instant);
   const answers = useQueries({
-    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live })),
+    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live && load })),
     combine: (results) => results.map((r) => r.data),
   });
   useEffect(() => {

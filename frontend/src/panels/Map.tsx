@@ -37,7 +37,11 @@ import { fitAll, vehicleMark } from "./map/layers";
 const FLEET_EVERY_MS = 450;
 
 export function MapPanel() {
-  const fleet = useTrackedProviders(FLEET_EVERY_MS);
+  const theme = useTheme();
+  const container = useRef<HTMLDivElement>(null);
+  const [collapsed] = useCollapsed("map-panel");
+  const { mapRef, ready } = useMapInstance(container, collapsed, theme);
+  const fleet = useTrackedProviders(FLEET_EVERY_MS, ready); // the stored tracks once the map is there to draw them
   const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
 
@@ -47,8 +51,6 @@ export function MapPanel() {
   const [useDms, setDms] = useDmsSetting();
   const chartConfigured = useChartConfigured();
   const token = useToken();
-  const theme = useTheme();
-  const container = useRef<HTMLDivElement>(null);
   const [follow, setFollow] = useState(true);
   const [cursor] = useState(() => new CursorStore());
   const [tool, setTool] = useState<MapTool>("select");
@@ -76,8 +78,6 @@ export function MapPanel() {
     [tool, measure, drawn, moveTarget],
   );
 
-  const [collapsed] = useCollapsed("map-panel");
-  const { mapRef, ready } = useMapInstance(container, collapsed, theme);
   const chart = useChart(mapRef, ready, chartConfigured, token);
   const { land, landLoaded } = useLand(mapRef, ready);
   usePointer(mapRef, ready, tool, modelRef, { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });

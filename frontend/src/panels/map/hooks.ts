@@ -1,6 +1,6 @@
 // The map panel's parts, each a hook over the one MapLibre map: the map itself, the pointer and its tools, and
 // one hook per layer. Each reads the map from `mapRef` once it is `ready` (loaded, layers added).
-import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, setWorkerUrl, type MapMouseEvent } from "maplibre-gl";
+import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, prewarm, setWorkerUrl, type MapMouseEvent } from "maplibre-gl";
 import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
 import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
@@ -36,6 +36,9 @@ import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
 setWorkerUrl(workerUrl);
+// its worker fetched and started as the page loads, beside the WebSocket's snapshot, not once the first render made
+// the map (a new client's map was ready 0.3-0.5 s after the panels' values, waiting for it)
+prewarm();
 const pmtiles = new Protocol();
 addProtocol("pmtiles", pmtiles.tile);
 
