@@ -233,7 +233,7 @@ describe("store and connection", () => {
         this.closed = true;
         queueMicrotask(() => this.onclose?.());
       }
-      receive(msg: ServerMessage): void {
+      receive(msg: ServerMessage | ServerMessage[]): void {
         this.onmessage?.({ data: JSON.stringify(msg) });
       }
     }
@@ -275,6 +275,20 @@ describe("store and connection", () => {
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
+
+    it("takes a batch of reports (an array in one frame, /ws?batch=1) as the messages one by one, in order", () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      const store = new Store(P);
+      const conn = new Connection("ws://console/ws?batch=1", store);
+      conn.start();
+      const ws = FakeSocket.all[0];
+      ws.receive(snapshot());
+      const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
+      ws.receive([ins("INIT"), reportMessage("other", "GPSFixStatusReport", { fixValid: true }), ins("OPERATIONAL")]);
+      store.flush();
+      expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL"); // the later one
+      expect(report(store.getState().providers.other, "GPSFixStatusReport")?.fixValid).toBe(true);
     });
   });
 });
