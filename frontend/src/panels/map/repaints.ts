@@ -31,7 +31,8 @@ class RepaintBatch {
     this.timer ??= setTimeout(() => this.release(), HOLD_MAX_MS);
     let done = false;
     const loaded = () => {
-      if (this.map.isSourceLoaded(id)) finish();
+      // a source gone (the map removed meanwhile: a collapsed panel) waits for nothing
+      if (!this.map.getSource(id) || this.map.isSourceLoaded(id)) finish();
     };
     const finish = () => {
       if (done) return;
