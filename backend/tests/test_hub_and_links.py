@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 import json
 import uuid
+from collections.abc import Awaitable, Callable
 
 from sem_console.console.feed import Feed
 from sem_console.console.hub import Hub
@@ -70,6 +71,32 @@ def test_link_lost_when_all_report_writers_go() -> None:
     assert links.tick(0.2) == []
     links.seen("InertialSensorReport", pid, None, 0.2, 0.2, False)
     assert [e for _, e in links.tick(0.3)] == ["lost"]
+
+
+def test_hub_batches_waiting_reports_for_a_client_that_asks_and_sends_a_lone_one_alone() -> None:
+    async def scenario() -> None:
+        hub = Hub()
+        frames: dict[str, list[str]] = {"batch": [], "plain": []}
+
+        def sender(name: str) -> Callable[[str], Awaitable[None]]:
+            async def send(text: str) -> None:
+                frames[name].append(text)
+            return send
+
+        hub.attach(sender("batch"), {"type": "snapshot"}, batch=True)
+        hub.attach(sender("plain"), {"type": "snapshot"})
+        for p in ("a", "b", "c"):  # three vehicles' reports before the senders run: waiting together
+            hub.publish({"type": "report", "providerId": p}, key=(p, "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        hub.publish({"type": "report", "providerId": "a"}, key=("a", "GPSFixReport"))  # sparse: alone, not wrapped
+        await asyncio.sleep(0.01)
+        batch = [json.loads(t) for t in frames["batch"]]
+        assert batch[0] == {"type": "snapshot"}
+        assert [m["providerId"] for m in batch[1]] == ["a", "b", "c"]  # one frame, in order
+        assert batch[2] == {"type": "report", "providerId": "a"}
+        assert [json.loads(t).get("providerId") for t in frames["plain"]] == [None, "a", "b", "c", "a"]
+
+    asyncio.run(scenario())
 
 
 def test_hub_burst_does_not_drop_a_healthy_client() -> None:

@@ -47,7 +47,7 @@ test("the selection survives a reconnect and a backend restart, lives in ?vehicl
   const stack = load();
   const b = stack.vehicles[2];
   const sockets: WebSocketRoute[] = [];
-  await page.routeWebSocket(/\/ws$/, (ws) => {
+  await page.routeWebSocket(/\/ws(\?|$)/, (ws) => {
     ws.connectToServer();
     sockets.push(ws);
   });

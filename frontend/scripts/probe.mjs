@@ -29,8 +29,13 @@ try {
         super(...args);
         this.addEventListener("message", (e) => {
           if (typeof e.data !== "string" || !e.data.includes(probe) || !e.data.includes('"GPSFixReport"')) return;
-          const lat = JSON.parse(e.data).report?.report?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
-          if (typeof lat === "number") arrived.push([lat.toFixed(6), performance.timeOrigin + performance.now()]);
+          const at = performance.timeOrigin + performance.now();
+          const data = JSON.parse(e.data);
+          for (const m of Array.isArray(data) ? data : [data]) { // a batch of reports (/ws?batch=1) or one message
+            if (m.providerId !== probe || m.topic !== "GPSFixReport") continue;
+            const lat = m.report?.report?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
+            if (typeof lat === "number") arrived.push([lat.toFixed(6), at]);
+          }
         });
       }
     };

@@ -6,7 +6,10 @@ client that reads slowly gets fewer reports, not later ones. A client is dropped
 its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
 stopped reading), or when the queue reaches four times `max_queue` whatever it does;
 so no client holds memory without bound nor delays anyone else, and a burst does not
-drop a healthy client. Everything here runs on the event loop thread.
+drop a healthy client. A client that asks for batches (the dashboard: /ws?batch=1) gets the
+reports waiting for it when its sender is free as one JSON array: a lone report goes out alone and
+at once, so only load makes batches (a browser pays about 0.13 ms of its main thread per WebSocket
+message, whatever its size: 30 % of it with 250 vehicles). Everything here runs on the event loop thread.
 """
 
 from __future__ import annotations
@@ -17,6 +20,7 @@ import logging
 import time
 from collections import deque
 from collections.abc import Awaitable, Callable
+from itertools import islice
 from typing import Any
 
 import orjson
@@ -25,6 +29,7 @@ log = logging.getLogger("sem-console.hub")
 
 
 MAX_QUEUED_BYTES = 64 * 1024 * 1024
+BATCH_MAX = 500  # reports in one batch at most (a frame of a few hundred kB)
 
 
 def dumps(message: dict[str, Any]) -> str:
@@ -38,8 +43,9 @@ def dumps(message: dict[str, Any]) -> str:
 
 
 class Client:
-    def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float) -> None:
-        self.send, self.max_queue, self.stall_seconds = send, max_queue, stall_seconds
+    def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
+                 batch: bool = False) -> None:
+        self.send, self.max_queue, self.stall_seconds, self.batch = send, max_queue, stall_seconds, batch
         self.last_sent = time.monotonic()
         self.ordered: deque[str] = deque()
         self.queued_bytes = 0
@@ -90,8 +96,12 @@ class Client:
                 await self.send(text)
                 self.last_sent = time.monotonic()
             while self.reports:
-                key = next(iter(self.reports))
-                await self.send(self.reports.pop(key))
+                if self.batch and len(self.reports) > 1:
+                    keys = list(islice(self.reports, BATCH_MAX))
+                    await self.send("[" + ",".join(self.reports.pop(k) for k in keys) + "]")
+                else:
+                    key = next(iter(self.reports))
+                    await self.send(self.reports.pop(key))
                 self.last_sent = time.monotonic()
 
 
@@ -114,9 +124,10 @@ class Hub:
                 log.warning("dropped a WebSocket client that stopped reading (%d messages behind)", self.max_queue)
                 self.clients.discard(c)
 
-    def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any]) -> Client:
-        """Register a client with `first` (its snapshot) queued ahead of any later event."""
-        client = Client(send, self.max_queue, self.stall_seconds)
+    def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any], batch: bool = False) -> Client:
+        """Register a client with `first` (its snapshot) queued ahead of any later event; `batch`: it takes the
+        reports waiting for it as one JSON array."""
+        client = Client(send, self.max_queue, self.stall_seconds, batch)
         client.push_snapshot(json.dumps(first, separators=(",", ":")))
         self.clients.add(client)
         client.task = asyncio.get_running_loop().create_task(client.run())

@@ -7,8 +7,18 @@ import { countRender } from "../lib/renders";
 
 const HEIGHT = 150;
 const hms = (t: number) => new Date(t * 1000).toISOString().slice(11, 19);
-/** A colour of the theme (styles.css), read when the chart draws: a change of theme shows at its next redraw. */
-const themed = (name: string, fallback: string) => () => getComputedStyle(document.documentElement).getPropertyValue(name).trim() || fallback;
+/** A colour of the theme (styles.css), read when the chart draws: a change of theme shows at its next redraw. Read
+ * once per theme (the root's data-theme): getComputedStyle on each of the axes' draws recalculated the page's style. */
+const colours = new Map<string, string>();
+const themed = (name: string, fallback: string) => () => {
+  const key = `${document.documentElement.dataset.theme ?? ""}|${name}`;
+  let c = colours.get(key);
+  if (c === undefined) {
+    c = getComputedStyle(document.documentElement).getPropertyValue(name).trim() || fallback;
+    colours.set(key, c);
+  }
+  return c;
+};
 const AXIS = { stroke: themed("--muted", "#8a99a9"), grid: { stroke: themed("--line", "#243140"), width: 1 }, ticks: { stroke: themed("--line", "#243140"), width: 1 } };
 
 /** uPlot's columns: times, C/N0, used, in view (null: a gap). */

@@ -3,7 +3,7 @@
 import type { ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { onFrame } from "./frame";
-import { initialState, reduce, type State } from "./store";
+import { initialState, reduceAll, type State } from "./store";
 
 export type ConnectionState = SourceState;
 
@@ -87,9 +87,7 @@ export class Store {
   flush(): void {
     this.scheduled = false;
     if (!this.queue.length) return;
-    const now = this.clock();
-    let s = this.state;
-    for (const msg of this.queue) s = reduce(s, msg, now);
+    const s = reduceAll(this.state, this.queue, this.clock());
     this.queue = [];
     this.set(s);
   }
@@ -184,13 +182,15 @@ export class Connection implements DataSource {
     this.ws = ws;
     ws.onmessage = (ev: MessageEvent<string>) => {
       if (this.ws !== ws) return; // a socket closed by stop() or restart()
-      let msg: ServerMessage;
+      let data: ServerMessage | ServerMessage[];
       try {
-        msg = JSON.parse(ev.data) as ServerMessage;
+        data = JSON.parse(ev.data) as ServerMessage | ServerMessage[];
       } catch {
         return;
       }
-      this.receive(msg);
+      // an array: the reports that waited for the console's sender (?batch=1, defaultUrl), in order
+      if (Array.isArray(data)) for (const msg of data) this.receive(msg);
+      else this.receive(data);
     };
     ws.onclose = () => {
       if (this.ws !== ws || this.stopped) return;
@@ -202,7 +202,9 @@ export class Connection implements DataSource {
   }
 }
 
+/** The console's WebSocket, asking for its reports in batches under load: a browser pays about 0.13 ms of its main
+ * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report. */
 export function defaultUrl(): string {
   const { protocol, host } = window.location;
-  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws`;
+  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1`;
 }

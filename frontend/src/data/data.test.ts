@@ -3,7 +3,7 @@ import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, I
 import { Connection, Store, backoff } from "./connection";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
-import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, report, select, type HistoryPoint, type State } from "./store";
+import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, reduceAll, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 
@@ -35,6 +35,23 @@ function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): S
 }
 
 describe("reducer", () => {
+  it("applies a frame's messages together as one by one, leaving the state it started from as it was", () => {
+    const fix = (id: string, lat: number) => reportMessage(id, "GPSFixReport", { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 1 } } } });
+    const lost = { type: "provider", event: "lost", provider: { ...summary("lost", 5), id: "b" } } as unknown as ServerMessage;
+    const msgs = [fix("a", 1), fix("b", 2), lost, fix("a", 3), reportMessage("c", "InertialSensorReport", { state: "ON", status: "INIT" }), fix("b", 4)];
+    const start = apply([snapshot()]);
+    const frozen = JSON.stringify(start);
+    const one = msgs.reduce((s, m) => reduce(s, m, 1005), start);
+    const all = reduceAll(start, msgs, 1005);
+    expect(all).toEqual(one);
+    expect(JSON.stringify(start)).toBe(frozen);
+    expect(all.providers[P]).toBe(start.providers[P]); // a vehicle without a report keeps its view
+    // a lone vehicle is selected by itself within a run of reports too, as by reduce
+    const first = [fix("a", 1), fix("b", 2)];
+    expect(reduceAll(initialState, first, 1)).toEqual(first.reduce((s, m) => reduce(s, m, 1), initialState));
+    expect(reduceAll(initialState, first, 1).selected).toBe("a");
+  });
+
   it("takes the snapshot as the baseline and selects its lone vehicle (alarms.test.ts: when not)", () => {
     const s = apply([snapshot()]);
     expect(s.consoleId).toBe("c");
@@ -216,7 +233,7 @@ describe("store and connection", () => {
         this.closed = true;
         queueMicrotask(() => this.onclose?.());
       }
-      receive(msg: ServerMessage): void {
+      receive(msg: ServerMessage | ServerMessage[]): void {
         this.onmessage?.({ data: JSON.stringify(msg) });
       }
     }
@@ -258,6 +275,20 @@ describe("store and connection", () => {
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
+
+    it("takes a batch of reports (an array in one frame, /ws?batch=1) as the messages one by one, in order", () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      const store = new Store(P);
+      const conn = new Connection("ws://console/ws?batch=1", store);
+      conn.start();
+      const ws = FakeSocket.all[0];
+      ws.receive(snapshot());
+      const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
+      ws.receive([ins("INIT"), reportMessage("other", "GPSFixStatusReport", { fixValid: true }), ins("OPERATIONAL")]);
+      store.flush();
+      expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL"); // the later one
+      expect(report(store.getState().providers.other, "GPSFixStatusReport")?.fixValid).toBe(true);
     });
   });
 });

@@ -125,17 +125,17 @@ export function useProvidersOnFrame(same?: (a: Record<string, ProviderView>, b: 
 }
 
 /** When two views of every vehicle draw alike in an overview (the fleet bar, the vehicle list): the same
- * vehicles with the same name, link, fix validity and INS state and status, last heard of in the same
- * `seenStep` seconds (the overview shows ages to that step). */
-export function sameOverview(seenStep: number): (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean {
+ * vehicles with the same name, link, fix validity and INS state and status. Not the time of the last report: an age
+ * changes with time, and the clock of ages redraws the overview (every 0.5 or 1 s) from the newest state; keyed by
+ * it too, with 50 vehicles at 10 Hz some vehicle's age crossed a step on nearly every frame, and the whole
+ * overview drew on each. */
+export function sameOverview(): (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean {
   const keys = new WeakMap<ProviderView, string>(); // a view's key, computed once (a frame compares every vehicle)
   const key = (p: ProviderView) => {
     let k = keys.get(p);
     if (k !== undefined) return k;
     const ins = report(p, "InertialSensorReport");
-    let seen = -Infinity;
-    for (const t of Object.values(p.topics)) seen = Math.max(seen, t.at);
-    k = `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}|${Math.floor(seen / seenStep)}`;
+    k = `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}`;
     keys.set(p, k);
     return k;
   };

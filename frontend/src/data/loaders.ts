@@ -5,9 +5,9 @@ import type { FeatureCollection } from "geojson";
 import { useEffect, useMemo } from "react";
 import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
 import { useToken } from "./auth";
-import { useConnectionState, useData, useProvidersOnFrame, useSelector } from "./hooks";
+import { useConnectionState, useData, useSelector } from "./hooks";
 import { capabilitiesQuery, comapStatusQuery, detailQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
-import { detailLoaded, historyLoaded, selectedGpsPartial, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint, type ProviderView } from "./store";
+import { detailLoaded, historyLoaded, selectedGpsPartial, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint } from "./store";
 
 /** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
 export function useConsoleHealth(): Health | null {
@@ -52,18 +52,20 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }
 
-/** Every vehicle's track for the map: the console's stored track (GET /api/providers/{id}/track, loaded
- * when a vehicle appears, on a reload and after a reconnect), then the live GPSFixReport positions. */
-export function useTrackedProviders(everyMs = 0): ProviderView[] {
+/** Every vehicle's stored track (GET /api/providers/{id}/track, loaded when a vehicle appears, on a reload and after
+ * a reconnect, once `load`: the map is ready) merged into the store, whose live GPSFixReport positions extend it;
+ * `idList`: the vehicles' ids, comma-separated. Not before the map: a request per vehicle (50 at once) held up the
+ * first screen's (the map's worker, the selected vehicle's satellites) behind the browser's six connections. For a
+ * component of its own (Map.tsx's StoredTracks): 250 queries compared on each render of the map panel (each fix of
+ * the selected vehicle) were the page's costliest function. */
+export function useStoredTracks(idList: string, load: boolean): void {
   const { store, source } = useData();
-  const providers = useProvidersOnFrame(undefined, everyMs);
-  const idList = providers.map((p) => p.id).join(",");
   const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);
   const answers = useQueries({
-    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live })),
+    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live && load })),
     combine: (results) => results.map((r) => r.data),
   });
   useEffect(() => {
@@ -75,7 +77,6 @@ export function useTrackedProviders(everyMs = 0): ProviderView[] {
       }
     });
   }, [answers, ids, store]);
-  return providers;
 }
 
 const merged = new WeakSet<object>(); // the track answers merged into the store

@@ -116,19 +116,24 @@ function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
 function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeOf<"GPSReport">, now: number): Record<string, TrailPoint[]> {
   const gps = env.report;
   const next: Record<string, TrailPoint[]> = {};
+  let changed = false;
+  let count = 0;
   for (const s of gps.satellites ?? []) {
     if (typeof s.azimuth !== "number" || typeof s.elevation !== "number") continue;
     const key = satelliteLabel(s.satelliteId);
     const old = trails[key] ?? [];
     const last = old[old.length - 1];
+    if (!(key in next)) count++;
     if (last && now - last.t < TRAIL_STEP) {
       next[key] = old;
       continue;
     }
+    changed = true;
     const kept = old.filter((p) => now - p.t <= TRAIL_SECONDS);
     next[key] = [...kept, { az: s.azimuth, el: s.elevation, t: now }];
   }
-  return next;
+  // the same satellites within their step (most reports): the same trails, so the sky plot's trails do not redraw
+  return changed || count !== Object.keys(trails).length ? next : trails;
 }
 
 /** The chart values of a GPSReport received at `t` (as the console computes its series). */
@@ -212,15 +217,20 @@ export function trackLoaded(state: State, providerId: string, points: TrackSampl
   return { ...state, providers: { ...state.providers, [providerId]: { ...before, track } } };
 }
 
-function applyReport(state: State, msg: TypedReportMessage, now: number): State {
+/** A vehicle's view (undefined: not known yet) with report `msg` applied. */
+function reported(before: ProviderView | undefined, msg: TypedReportMessage, now: number): ProviderView {
   const { providerId, topic } = msg;
-  const before = state.providers[providerId] ?? emptyProvider(providerId, "live");
-  const prevView = before.topics[topic];
+  const b = before ?? emptyProvider(providerId, "live");
+  const prevView = b.topics[topic];
   const at = { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
-  let p: ProviderView = { ...before, topics: { ...before.topics, [topic]: { envelope: msg.report, ...at } } };
+  let p: ProviderView = { ...b, topics: { ...b.topics, [topic]: { envelope: msg.report, ...at } } };
   if (msg.topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, msg.report, now), history: updateHistory(p.history, msg.report) };
   if (msg.topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, msg.report) };
-  return { ...state, providers: { ...state.providers, [providerId]: p } };
+  return p;
+}
+
+function applyReport(state: State, msg: TypedReportMessage, now: number): State {
+  return { ...state, providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) } };
 }
 
 function applyCommand(state: State, cmd: Command): State {
@@ -243,6 +253,29 @@ export function reduce(state: State, msg: ServerMessage, now: number): State {
   const next = reduceMessage(state, msg, now);
   // a vehicle is only added with a new providers object: a report of a known one need not look
   return next.selected === null && next.providers !== state.providers ? withLoneSelected(next) : next;
+}
+
+/** `reduce` of each message in turn, the state's map of vehicles copied once for a run of reports rather than once
+ * per report: a frame applies every message since the last (hundreds with 250 vehicles), and a copy per message
+ * was a copy of every vehicle's entry per report. */
+export function reduceAll(state: State, msgs: readonly ServerMessage[], now: number): State {
+  let s = state;
+  let draft: Record<string, ProviderView> | null = null; // s.providers, this call's own copy
+  for (const msg of msgs) {
+    if (msg.type !== "report") {
+      s = reduce(s, msg, now);
+      draft = null; // shared with the state now: copied again for the next report
+      continue;
+    }
+    if (!draft) {
+      draft = { ...s.providers };
+      s = { ...s, providers: draft };
+    }
+    const known = msg.providerId in draft;
+    draft[msg.providerId] = reported(draft[msg.providerId], msg, now);
+    if (!known && s.selected === null) s = withLoneSelected(s);
+  }
+  return s;
 }
 
 function reduceMessage(state: State, msg: ServerMessage, now: number): State {

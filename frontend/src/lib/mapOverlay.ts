@@ -40,6 +40,11 @@ export class VehicleOverlay {
   // transform, which redraws no map (a software-rendered map redrawn ten times a second takes most of a core)
   private readonly ring: HTMLDivElement;
   private selected: VehicleMark | null = null;
+  // the overlay's size, from a ResizeObserver: reading clientWidth where the ring is placed (in React's effects,
+  // after the DOM changed) forced a layout of the page on every fix of the selected vehicle
+  private width = 0;
+  private height = 0;
+  private readonly resized: ResizeObserver;
 
   /** `pick`: the operator clicked the edge arrow of vehicle `id` (select it and bring it into view). */
   constructor(
@@ -59,7 +64,12 @@ export class VehicleOverlay {
     this.ring.hidden = true;
     this.root.append(this.ring);
     map.on("move", this.place);
-    map.on("resize", this.place);
+    this.resized = new ResizeObserver(([entry]) => {
+      this.width = entry.contentRect.width;
+      this.height = entry.contentRect.height;
+      this.place();
+    });
+    this.resized.observe(this.root);
   }
 
   /** The vehicles to label (at the map's update rate): elements made, updated or removed, then placed. */
@@ -97,9 +107,9 @@ export class VehicleOverlay {
     // its name goes with the ring, not with the map's dot (drawn at the fleet's rate): only its label is moved,
     // unless it crossed the map's edge (then every label and edge arrow is placed again)
     const m = mark && this.markers.get(mark.id);
-    if (!mark || !m || !this.root.clientWidth) return;
+    if (!mark || !m || !this.width) return;
     const p = this.map.project([mark.position.lon, mark.position.lat]);
-    const inView = edgeMark(p.x, p.y, this.root.clientWidth, this.root.clientHeight, EDGE_INSET) === null;
+    const inView = edgeMark(p.x, p.y, this.width, this.height, EDGE_INSET) === null;
     if (inView && !m.label.hidden) m.label.style.transform = labelAt(p);
     else if (inView || m.edge.hidden) this.place();
   }
@@ -112,8 +122,8 @@ export class VehicleOverlay {
   private placeRing(): void {
     const mark = this.selected;
     const p = mark ? this.map.project([mark.position.lon, mark.position.lat]) : null;
-    const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.root.clientWidth && p.y <= this.root.clientHeight;
-    this.ring.hidden = !inView;
+    const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.width && p.y <= this.height;
+    if (this.ring.hidden === inView) this.ring.hidden = !inView;
     if (!mark || !p || !inView) return;
     this.ring.style.transform = `translate(${p.x.toFixed(1)}px, ${p.y.toFixed(1)}px)`;
     // the latitude it shows, for the probe benchmark: only a ring on screen, once per position
@@ -155,8 +165,7 @@ export class VehicleOverlay {
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. */
   readonly place = (): void => {
     this.placeRing();
-    const width = this.root.clientWidth;
-    const height = this.root.clientHeight;
+    const { width, height } = this;
     if (!width || !height) return;
     const centre = this.map.getCenter();
     const placed: Box[] = [];
@@ -164,8 +173,9 @@ export class VehicleOverlay {
       const { lon, lat } = this.positionOf(m);
       const p = this.map.project([lon, lat]);
       const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
-      m.label.hidden = edge !== null;
-      m.edge.hidden = edge === null;
+      // written only when changed: 250 vehicles' labels set alike would each restyle
+      if (m.label.hidden !== (edge !== null)) m.label.hidden = edge !== null;
+      if (m.edge.hidden !== (edge === null)) m.edge.hidden = edge === null;
       if (!edge) {
         m.label.style.transform = labelAt(p);
         continue;
@@ -193,7 +203,7 @@ export class VehicleOverlay {
 
   destroy(): void {
     this.map.off("move", this.place);
-    this.map.off("resize", this.place);
+    this.resized.disconnect();
     this.root.remove();
     this.markers.clear();
   }

@@ -74,20 +74,32 @@ function pendingName(p: Pending): string {
   return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
 }
 
+/** `fn` of the state's vehicles, computed once per map of vehicles: a selector is called on every change of the
+ * store (each frame with reports) and each render, and with 250 vehicles these walked and sorted them all each time. */
+function perProviders<T>(fn: (providers: State["providers"]) => T): (s: State) => T {
+  let last: State["providers"] | null = null;
+  let value: T;
+  return (s) => {
+    if (s.providers !== last) {
+      last = s.providers;
+      value = fn(s.providers);
+    }
+    return value;
+  };
+}
+
 /** The ids of the vehicles whose link is lost, as one string (stable while no link changes). */
-function lostVehicles(s: State): string {
-  return Object.values(s.providers)
+const lostVehicles = perProviders((providers) =>
+  Object.values(providers)
     .filter((p) => p.link === "lost")
     .map((p) => p.id)
     .sort()
-    .join("\n");
-}
+    .join("\n"),
+);
 
 /** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves,
  * which change with every report): "id=name\n…". */
-function vehicleNames(s: State): string {
-  return Object.values(s.providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n");
-}
+const vehicleNames = perProviders((providers) => Object.values(providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n"));
 
 const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";
 const COMAP_ABSENT = "CoMap is off: this console has no CoMap (it answers 404).";

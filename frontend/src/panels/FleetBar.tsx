@@ -18,7 +18,7 @@ import "./fleet.css";
 
 /** The bar shows every vehicle, and any of them reports many times a second: it draws (on the frame) only when
  * what it shows of one changed, ages to the second. */
-const SAME_BAR = sameOverview(1);
+const SAME_BAR = sameOverview();
 /** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
 export const STALE_AFTER_S = 3;
 

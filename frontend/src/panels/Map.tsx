@@ -2,13 +2,13 @@
 // with a course arrow (colour by fix validity, stale and lost marked), their tracks, the
 // GPSFixStatusReport origins and the CoMap world model's features by coverage. The map's parts are hooks
 // and components in ./map (the map itself, the pointer and its tools, one hook per layer, the toolbar).
-import { useCallback, useMemo, useRef, useState } from "react";
+import { memo, useCallback, useMemo, useRef, useState } from "react";
 import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useNow, useSelectedTopic, useSelector, useStore } from "../data/hooks";
-import { useChartConfigured, useTrackedProviders, useWorldModel } from "../data/loaders";
+import { useNow, useProvidersOnFrame, useSelectedTopic, useSelector, useStore } from "../data/hooks";
+import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
 import { select } from "../data/store";
 import { bearingDeg, distanceText, pathLengthM, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
@@ -36,8 +36,20 @@ import { fitAll, vehicleMark } from "./map/layers";
  * over the map, no redraw) moves on the frame after each of its fixes. */
 const FLEET_EVERY_MS = 450;
 
+/** The vehicles' stored tracks loaded into the store once the map is `ready` to draw them: rendered only when the
+ * vehicles or the map's readiness change, not on each fix of the selected vehicle as the map panel is. */
+const StoredTracks = memo(function StoredTracks({ idList, ready }: { idList: string; ready: boolean }) {
+  useStoredTracks(idList, ready);
+  return null;
+});
+
 export function MapPanel() {
-  const fleet = useTrackedProviders(FLEET_EVERY_MS);
+  const theme = useTheme();
+  const container = useRef<HTMLDivElement>(null);
+  const [collapsed] = useCollapsed("map-panel");
+  const { mapRef, ready } = useMapInstance(container, collapsed, theme);
+  const fleet = useProvidersOnFrame(undefined, FLEET_EVERY_MS);
+  const idList = fleet.map((p) => p.id).join(",");
   const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
 
@@ -47,8 +59,6 @@ export function MapPanel() {
   const [useDms, setDms] = useDmsSetting();
   const chartConfigured = useChartConfigured();
   const token = useToken();
-  const theme = useTheme();
-  const container = useRef<HTMLDivElement>(null);
   const [follow, setFollow] = useState(true);
   const [cursor] = useState(() => new CursorStore());
   const [tool, setTool] = useState<MapTool>("select");
@@ -76,8 +86,6 @@ export function MapPanel() {
     [tool, measure, drawn, moveTarget],
   );
 
-  const [collapsed] = useCollapsed("map-panel");
-  const { mapRef, ready } = useMapInstance(container, collapsed, theme);
   const chart = useChart(mapRef, ready, chartConfigured, token);
   const { land, landLoaded } = useLand(mapRef, ready);
   usePointer(mapRef, ready, tool, modelRef, { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
@@ -126,6 +134,7 @@ export function MapPanel() {
         />
       }
     >
+      <StoredTracks idList={idList} ready={ready} />
       <div className="map-wrap">
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
         <div className="map-status">

@@ -11,8 +11,8 @@ function lastSeen(p: ProviderView): number | null {
   return times.length ? Math.max(...times) : null;
 }
 
-/** The list draws when a vehicle's name, link, fix or INS changed, or its age by half a second. */
-const SAME_LIST = sameOverview(0.5);
+/** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
+const SAME_LIST = sameOverview();
 
 export function VehicleSelector() {
   const providers = useProvidersOnFrame(SAME_LIST); // on the frame, when what it shows changed

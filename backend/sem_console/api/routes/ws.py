@@ -1,4 +1,4 @@
-"""WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema)."""
+"""WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema); /ws?batch=1 takes reports in arrays."""
 
 from __future__ import annotations
 
@@ -39,7 +39,8 @@ async def websocket(ws: WebSocket) -> None:
             await refuse(ws.scope, ws.send, e.status, e.detail)
             return
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
-    client = console.hub.attach(ws.send_text, console.snapshot())
+    # ?batch=1: the reports waiting when the sender is free go out as one JSON array (the dashboard asks for it)
+    client = console.hub.attach(ws.send_text, console.snapshot(), batch=ws.query_params.get("batch") == "1")
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:
         assert client.task is not None

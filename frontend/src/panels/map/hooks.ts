@@ -1,6 +1,6 @@
 // The map panel's parts, each a hook over the one MapLibre map: the map itself, the pointer and its tools, and
 // one hook per layer. Each reads the map from `mapRef` once it is `ready` (loaded, layers added).
-import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, setWorkerUrl, type MapMouseEvent } from "maplibre-gl";
+import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, prewarm, setWorkerUrl, type MapMouseEvent } from "maplibre-gl";
 import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
 import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
@@ -31,10 +31,14 @@ import { vehicleColor } from "../../lib/vehicle";
 import type { MapTool } from "../CoMap";
 import type { CursorStore } from "./MapCursor";
 import { VEHICLE_DOTS, VEHICLE_HITS, addLayers, fitAll, originOf, source } from "./layers";
+import { setBatched } from "./repaints";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
 setWorkerUrl(workerUrl);
+// its worker fetched and started as the page loads, beside the WebSocket's snapshot, not once the first render made
+// the map (a new client's map was ready 0.3-0.5 s after the panels' values, waiting for it)
+prewarm();
 const pmtiles = new Protocol();
 addProtocol("pmtiles", pmtiles.tile);
 
@@ -295,7 +299,7 @@ function setVehicles(drawn: RefObject<Drawn>, map: MapLibre, id: "vehicles" | "s
   const json = JSON.stringify(fc);
   if (drawn.current.map === map && json === drawn.current[id]) return;
   drawn.current = drawn.current.map === map ? { ...drawn.current, [id]: json } : { map, vehicles: "", selected: "", [id]: json };
-  source(map, id)?.setData(fc);
+  setBatched(map, id, fc);
   countRender(`map:${id}-data`);
 }
 
@@ -313,7 +317,7 @@ export function useTrackLayer(mapRef: MapRef, ready: boolean, providers: Provide
       drawn.current.tracks = tracks;
       const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
       for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-      source(map, "tracks")?.setData(fc);
+      setBatched(map, "tracks", fc);
       countRender("map:tracks-data");
     }
     const origins = providers.flatMap((p) => {
@@ -323,7 +327,7 @@ export function useTrackLayer(mapRef: MapRef, ready: boolean, providers: Provide
     const json = JSON.stringify(origins);
     if (json === drawn.current.origins) return;
     drawn.current.origins = json;
-    source(map, "origins")?.setData({ type: "FeatureCollection", features: origins });
+    setBatched(map, "origins", { type: "FeatureCollection", features: origins });
   }, [mapRef, ready, providers, selected]);
 }
 
