@@ -99,6 +99,38 @@ def test_hub_batches_waiting_reports_for_a_client_that_asks_and_sends_a_lone_one
     asyncio.run(scenario())
 
 
+def test_an_ordered_event_goes_out_next_while_reports_keep_coming() -> None:
+    """Under load the reports never all go out (a new one arrives during each send): an alarm, a lost vehicle or a
+    command published meanwhile must not wait for them, nor go after reports published later."""
+    async def scenario(batch: bool) -> list[str]:
+        hub = Hub()
+        sent: list[str] = []
+        n = 0
+
+        async def send(text: str) -> None:
+            nonlocal n
+            sent.append(text)
+            await asyncio.sleep(0)  # the socket's write: other publishers run meanwhile
+            if text.startswith(("[", '{"type":"report"')) and n < 40:
+                n += 1
+                for v in range(2):  # more reports arrive during each send than one send takes
+                    hub.publish({"type": "report", "n": n, "v": v}, key=(f"{n}-{v}", "GPSFixReport"))
+                if n == 3:
+                    hub.publish({"type": "alarms", "alarms": []})
+
+        hub.attach(send, {"type": "snapshot"}, batch=batch)
+        hub.publish({"type": "report", "n": 0}, key=("0", "GPSFixReport"))
+        for _ in range(400):
+            await asyncio.sleep(0)
+        return sent
+
+    for batch in (False, True):
+        sent = asyncio.run(scenario(batch))
+        alarm = next(i for i, t in enumerate(sent) if t.startswith('{"type":"alarms"'))
+        # published during the third report's send: out right after it (the frame of reports 1-3 are before it)
+        assert alarm == 4, (batch, alarm, len(sent))
+
+
 def test_hub_burst_does_not_drop_a_healthy_client() -> None:
     async def scenario() -> None:
         hub = Hub(max_queue=5, stall_seconds=5.0)

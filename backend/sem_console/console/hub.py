@@ -1,7 +1,7 @@
 """WebSocket fan-out: every client has its own sender task and queues.
 
-Ordered events (commands, transitions, providers) are queued per client and never
-conflated; reports are conflated per client (the latest per provider and topic), so a
+Ordered events (commands, transitions, providers, alarms) are queued per client, never
+conflated, and each goes out before any report waiting; reports are conflated per client (the latest per provider and topic), so a
 client that reads slowly gets fewer reports, not later ones. A client is dropped when
 its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
 stopped reading), or when the queue reaches four times `max_queue` whatever it does;
@@ -88,20 +88,20 @@ class Client:
         while True:
             await self.wake.wait()
             self.wake.clear()
-            while self.ordered:
-                text = self.ordered.popleft()
-                self.queued_bytes -= len(text)
-                if text.startswith('{"type":"snapshot"'):
-                    self.snapshot_pending = False
-                await self.send(text)
-                self.last_sent = time.monotonic()
-            while self.reports:
-                if self.batch and len(self.reports) > 1:
+            # an ordered event goes out next, whatever reports wait: under load more reports arrive during each send
+            # than one send takes, and an alarm, a lost vehicle or a command waiting for them all waited for ever
+            while self.ordered or self.reports:
+                if self.ordered:
+                    text = self.ordered.popleft()
+                    self.queued_bytes -= len(text)
+                    if text.startswith('{"type":"snapshot"'):
+                        self.snapshot_pending = False
+                elif self.batch and len(self.reports) > 1:
                     keys = list(islice(self.reports, BATCH_MAX))
-                    await self.send("[" + ",".join(self.reports.pop(k) for k in keys) + "]")
+                    text = "[" + ",".join(self.reports.pop(k) for k in keys) + "]"
                 else:
-                    key = next(iter(self.reports))
-                    await self.send(self.reports.pop(key))
+                    text = self.reports.pop(next(iter(self.reports)))
+                await self.send(text)
                 self.last_sent = time.monotonic()
 
 
