@@ -568,7 +568,7 @@ def ws_schema() -> dict[str, Any]:
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": "SemConsoleMessages",
         "description": "Messages on /ws: `server` (snapshot first, then deltas) and `client`, each tagged by `type`; "
-                       "a client of /ws?batch=1 gets the `report` messages that waited for its sender as one frame, "
+                       "a client of /ws?batch=1 gets the `report` messages that waited for its sender as one frame (up to 500), "
                        "a JSON array of them in order (a lone one as itself). "
                        "`ReportTypes` gives the JSON of each report topic's `report.report`.",
         **{k: v for k, v in schema.items() if k != "title"},
