@@ -151,10 +151,12 @@ def report_latency(msg: dict[str, Any], now: float) -> float | None:
 
 
 async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
-    """Read a WebSocket for `seconds`, calling on_message(msg, arrival_time) for each message."""
+    """Read the console's WebSocket for `seconds` as the dashboard does (/ws?batch=1: the reports that waited for the
+    sender come as one JSON array), calling on_message(msg, arrival_time) for each message, those of an array with
+    the array's arrival time."""
     import websockets
 
-    async with websockets.connect(url, max_size=2**26) as ws:
+    async with websockets.connect(url + ("&" if "?" in url else "?") + "batch=1", max_size=2**26) as ws:
         deadline = time.monotonic() + seconds
         while True:
             remaining = deadline - time.monotonic()
@@ -165,7 +167,9 @@ async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
             except TimeoutError:
                 return
             now = time.time()  # on arrival, before parsing (as the peer's client does)
-            on_message(json.loads(text), now)
+            msg = json.loads(text)
+            for m in msg if isinstance(msg, list) else [msg]:
+                on_message(m, now)
 
 
 def table(title: str, header: list[str], rows: list[list[Any]]) -> None:

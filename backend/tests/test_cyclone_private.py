@@ -14,8 +14,9 @@ from importlib.metadata import version
 from pathlib import Path
 from typing import Any
 
-from cyclonedds.core import InstanceState
+from cyclonedds.core import InstanceState, WaitSet
 from cyclonedds.idl import IdlStruct
+from cyclonedds.util import duration
 
 from samplegen import random_sample
 from sem_console.dds import cyclone_private
@@ -27,6 +28,7 @@ from sem_console.dds.cyclone_private import (
     take_cdr,
     type_machine,
     wait_for_acks,
+    wait_triggered,
     write_cdr,
 )
 from sem_console.dds.topics import Sem
@@ -131,6 +133,27 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
         time.sleep(0.02)
     assert len(taken) == 1 and isinstance(taken[0], InvalidSample)
     assert taken[0].sample_info.instance_state == InstanceState.NotAliveDisposed
+    bus.close()
+
+
+def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
+    """wait_triggered hands back the attach-order index of each triggered condition, and none on a timeout."""
+    bus = Bus(domain)
+    readers = [bus.reader(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.INS_REPORT, Sem.GPS_REPORT)]
+    waitset = WaitSet(bus.participant)
+    conditions = [all_samples(r) for r in readers]
+    for c in conditions:
+        waitset.attach(c)
+    assert wait_triggered(waitset, duration(milliseconds=1)) == []
+    writer = bus.writer(Sem.INS_REPORT)
+    deadline = time.monotonic() + 10
+    while not writer.get_matched_subscriptions() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    writer.write(random_sample(Sem.INS_REPORT.spec.type, random.Random(2), absent=0.0))
+    assert wait_for_acks([writer], 5.0)
+    assert wait_triggered(waitset, duration(seconds=5)) == [1]
+    assert len(_take_all(readers[1])) == 1
+    assert wait_triggered(waitset, duration(milliseconds=1)) == []  # taken: no longer triggered
     bus.close()
 
 

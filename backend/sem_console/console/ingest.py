@@ -56,7 +56,7 @@ from sem_console.console.decode import (
 )
 from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
-from sem_console.dds.cyclone_private import take_cdr
+from sem_console.dds.cyclone_private import take_cdr, wait_triggered
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import Sem, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
@@ -212,16 +212,18 @@ class Ingest:
         for t in self.threads:
             t.join(timeout=2)
 
-    def _wait(self, ws: WaitSet) -> bool:
-        """Wait for samples (at most 200 ms); False when the loop should end: stopped, or the bus was closed under a
-        thread that outlived stop()'s join (its waitset then refuses; that is the end, not a failure to report)."""
+    def _wait(self, ws: WaitSet) -> list[int] | None:
+        """Wait for samples (at most 200 ms): the indices of the readers that have some (their conditions, in attach
+        order; a sample's copies reach only some of a topic's readers, so only those are taken). None when the loop
+        should end: stopped, or the bus was closed under a thread that outlived stop()'s join (its waitset then
+        refuses; that is the end, not a failure to report)."""
         try:
-            ws.wait(duration(milliseconds=200))
+            ready = wait_triggered(ws, duration(milliseconds=200))
         except DDSException:
             if not self.running:
-                return False
+                return None
             raise
-        return self.running
+        return ready if self.running else None
 
     def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
         """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
@@ -299,13 +301,14 @@ class Ingest:
     def _report_loop(self) -> None:
         ws, conds = self._waitsets["reports"]
         while self.running:
-            if not self._wait(ws):
+            if (ready := self._wait(ws)) is None:
                 return
             started = time.monotonic()
             try:
                 items: list[ReportItem] = []
-                for (sem, via, reader), cond in zip(self.report_readers, conds, strict=True):
-                    items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, ReportItem))
+                for i in ready:
+                    sem, via, reader = self.report_readers[i]
+                    items.extend(it for it in self._take(sem, via, reader, conds[i]) if isinstance(it, ReportItem))
                 if items:
                     # a take counts only when it applied something: a wake by the timeout, or by the copies
                     # of a sample in the topic's other readers (taken and dropped), spends no token
@@ -322,10 +325,10 @@ class Ingest:
     def _status_loop(self) -> None:
         ws, conds = self._waitsets["statuses"]
         while self.running:
-            if not self._wait(ws):
+            if (ready := self._wait(ws)) is None:
                 return
             try:
-                self._status_cycle(conds)
+                self._status_cycle(conds, ready)
                 self._check_peers(time.monotonic())
             except Exception:  # a bug here must not stop every status for good
                 log.exception("status ingest cycle failed")
@@ -353,9 +356,10 @@ class Ingest:
         writer = self.command_writers.get(sem)
         return None if writer is None else {h & _U64 for h in writer.get_matched_subscriptions()}
 
-    def _status_cycle(self, conds: list[Any]) -> None:
+    def _status_cycle(self, conds: list[Any], ready: list[int]) -> None:
         items: list[StatusItem] = []
-        for (sem, via, reader), cond in zip(self.status_readers, conds, strict=True):
-            items.extend(it for it in self._take(sem, via, reader, cond) if isinstance(it, StatusItem))
+        for i in ready:
+            sem, via, reader = self.status_readers[i]
+            items.extend(it for it in self._take(sem, via, reader, conds[i]) if isinstance(it, StatusItem))
         if items:
             self.loop.call_soon_threadsafe(self.on_statuses, items)
