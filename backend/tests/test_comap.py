@@ -8,14 +8,19 @@ import random
 import socket
 import struct
 import time
+import uuid
+from dataclasses import asdict
+from pathlib import Path
 from typing import Any
 
 import httpx
 
 from conftest import free_udp_port
+from sem_console.comap.c2 import C2, Task
 from sem_console.comap.codec import crc16, decode_packet, encode_packet, msg
 from sem_console.comap.geo import Local, contains
 from sem_console.sim.options import vehicle_guid
+from sem_console.storage.database import Database
 from test_console import WsClient, wait_until
 
 V1 = str(vehicle_guid(1))
@@ -322,3 +327,34 @@ def test_new_feature_ids_are_not_reused_after_a_delete() -> None:
     c2.put_world_model([Feature(-1, pt)])
     assert [f.feature_id for f in c2.features] == [10]
     assert len(sent) == 4 and sent[-1].name == "WorldModel"
+
+
+def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) -> None:
+    """Station A (which assigned the task) stores the vehicle's progress while its copy of the task is stale: station B
+    has just stored HOLD. The stored task keeps HELD with A's progress, and A takes it on its next read. Without the
+    rule, A's IN_PROGRESS went over B's HOLD on every station (test_comap_shared saw it under load)."""
+    db = Database(tmp_path / "c.sqlite3")
+    try:
+        vehicle = uuid.uuid4()
+        at_a = Task(1, "move", vehicle, 0x2001, None, point={"lat": 36.8, "lon": -75.7}, state="IN_PROGRESS",
+                    created_at=100.0, updated_at=101.0, station="watch")
+        db.set_comap_task(asdict(at_a))
+        at_b = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "updated_at": 102.0})
+        db.set_comap_task(asdict(at_b))  # B's HOLD
+        progressed = Task(**{**asdict(at_a), "progress": 40, "updated_at": 103.0})  # A's stale copy, newer progress
+        db.set_comap_task(asdict(progressed), state_changed=False)
+        (row,) = db.comap_tasks(1)
+        assert (row["state"], row["progress"], row["updated_at"]) == ("HELD", 40, 103.0)
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 104.0})))
+        assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
+
+        shown: list[dict[str, object]] = []
+        a = C2({vehicle: 0x2001}, lambda m, dst: None, shown.append, station="watch")
+        a.tasks[1] = progressed
+        a.load_task({**row, "point": row["point"]})  # the same time stamp as A's own write, another state: taken
+        assert a.tasks[1].state == "HELD" and shown[-1]["task"]["state"] == "HELD"  # type: ignore[index]
+        shown.clear()
+        a.load_task({**row, "point": row["point"]})  # the same row again: nothing new
+        assert not shown
+    finally:
+        db.close()

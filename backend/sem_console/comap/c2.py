@@ -99,14 +99,14 @@ def _sensor_name(v: int) -> str:
 
 class Saver(Protocol):
     def world(self, world: dict[str, Any]) -> None: ...
-    def task(self, task: Task) -> None: ...
+    def task(self, task: Task, state_changed: bool = True) -> None: ...
 
 
 class _NotSaved:
     def world(self, world: dict[str, Any]) -> None:
         pass
 
-    def task(self, task: Task) -> None:
+    def task(self, task: Task, state_changed: bool = True) -> None:
         pass
 
 
@@ -171,7 +171,10 @@ class C2:
         """A stored task (Database.comap_tasks), applied when newer than this console's of that id."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
         old = self.tasks.get(task.task_id)
-        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at):
+        # the same change as ours, unless its state differs: a progress report of ours stored over another station's
+        # newer state (a HOLD) keeps that state (Database.set_comap_task) and takes our time stamp
+        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at) and not (
+                (old.created_at, old.updated_at) == (task.created_at, task.updated_at) and old.state != task.state):
             return
         self.tasks[task.task_id] = task
         self.emit({"type": "task", "task": task.to_json()})
@@ -236,9 +239,10 @@ class C2:
         self._set(task, state)
 
     def _set(self, task: Task, state: str) -> None:
+        changed = state != task.state
         task.state, task.updated_at = state, time.time()
         self.emit({"type": "task", "task": task.to_json()})
-        self.save.task(task)
+        self.save.task(task, changed)  # a report of progress alone does not store its state over another station's
 
     # ---- tasks ------------------------------------------------------------------------------------
     def plan(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,

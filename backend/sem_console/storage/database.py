@@ -549,14 +549,19 @@ class Database:
         values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.station}
         self._upsert_newer(COMAP_WORLD, values, "worldmodel")
 
-    def set_comap_task(self, task: dict[str, Any]) -> None:
-        """Store a task's change (keys: ComapTaskRecord's), unless the row holds a newer one."""
-        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", id=task["task_id"])
+    def set_comap_task(self, task: dict[str, Any], state_changed: bool = True) -> None:
+        """Store a task's change (keys: ComapTaskRecord's), unless the row holds a newer one. A change of progress
+        alone (`state_changed` False: the vehicle's TaskStatus) leaves the stored state as it is: this console may not
+        yet have read another station's newer state (a HOLD), which its stale one would otherwise overwrite."""
+        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", keep=() if state_changed else ("state",),
+                           id=task["task_id"])
 
-    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, **fields: Any) -> None:
+    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, keep: tuple[str, ...] = (), **fields: Any) -> None:
+        """Insert or update the row of `values`' key unless it holds a newer change; `keep`: columns an update leaves."""
         ins = self._insert(t).values(values)
         key = [c.name for c in t.primary_key]
-        stmt = ins.on_conflict_do_update(index_elements=key, set_={k: ins.excluded[k] for k in values if k not in key},
+        stmt = ins.on_conflict_do_update(index_elements=key,
+                                         set_={k: ins.excluded[k] for k in values if k not in key and k not in keep},
                                          where=t.c.updated_at <= ins.excluded.updated_at)
 
         def write(c: Connection) -> None:
