@@ -16,9 +16,13 @@ apt_install() {  # Debian packages, when we can install them
 command -v npm >/dev/null || apt_install nodejs npm
 # The dashboard's packages and build beside the backend's install (each mostly uses one core); their output is
 # printed only when they fail (tsc writes its type errors to stdout).
+# In a session of its own (setsid), so that a failure below (the venv, pip; `exit` or set -e) or Ctrl-C ends the
+# whole npm tree with this script rather than leaving it writing node_modules and dist beside the next run's.
 dashboard_log="$(mktemp)"
-(cd "$ROOT/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build) >"$dashboard_log" 2>&1 &
+setsid bash -c 'cd "$1/frontend" && npm ci --no-audit --no-fund --loglevel=error && npm run --silent build' _ "$ROOT" \
+  >"$dashboard_log" 2>&1 &
 dashboard=$!
+trap 'kill -TERM -- "-$dashboard" 2>/dev/null; rm -f "$dashboard_log"' EXIT
 
 if [ ! -x "$ROOT/.venv/bin/python" ]; then
   if ! "$PY" -m venv "$ROOT/.venv" >/dev/null 2>&1; then
@@ -31,9 +35,12 @@ fi
 # The backend's own modules compiled once here: the tests start a few hundred consoles and simulators, and with
 # PYTHONDONTWRITEBYTECODE set (as on these machines) each would compile them again (about 0.15 s of CPU each).
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
-  "$ROOT/backend/UMAA_appendable" >/dev/null
+  "$ROOT/backend/UMAA_appendable" >&2  # (-q: only a module that does not compile, named with its error)
 
-if ! wait "$dashboard"; then
+dashboard_rc=0
+wait "$dashboard" || dashboard_rc=$?
+trap - EXIT  # the job is over: the sourcing script's own exit is its business
+if [ "$dashboard_rc" != 0 ]; then
   cat "$dashboard_log" >&2
   rm -f "$dashboard_log"
   echo "the dashboard's install or build failed (above)" >&2

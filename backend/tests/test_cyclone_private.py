@@ -137,7 +137,8 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
 
 
 def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
-    """wait_triggered hands back the attach-order index of each triggered condition, and none on a timeout."""
+    """wait_triggered hands back the attach-order index of each triggered condition (by a sample, a dispose, a writer
+    gone; several at once in attach order), and none on a timeout."""
     bus = Bus(domain)
     readers = [bus.reader(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.INS_REPORT, Sem.GPS_REPORT)]
     waitset = WaitSet(bus.participant)
@@ -154,6 +155,27 @@ def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
     assert wait_triggered(waitset, duration(seconds=5)) == [1]
     assert len(_take_all(readers[1])) == 1
     assert wait_triggered(waitset, duration(milliseconds=1)) == []  # taken: no longer triggered
+    # a dispose and a writer gone (no data, an instance state) trigger the condition too: the console learns of both
+    # only by taking them
+    ins = random_sample(Sem.INS_REPORT.spec.type, random.Random(3), absent=0.0)
+    for change in (writer.dispose, writer.unregister_instance):
+        writer.write(ins)
+        assert wait_for_acks([writer], 5.0)
+        assert wait_triggered(waitset, duration(seconds=5)) == [1]
+        assert len(_take_all(readers[1])) == 1
+        change(ins)
+        assert wait_triggered(waitset, duration(seconds=5)) == [1]
+        (_key, info), = _take_all(readers[1])
+        assert not info.valid_data and info.instance_state != InstanceState.Alive
+    # two conditions at once: both, in attach order
+    others = [bus.writer(sem) for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)]
+    deadline = time.monotonic() + 10
+    while not all(w.get_matched_subscriptions() for w in others) and time.monotonic() < deadline:
+        time.sleep(0.02)
+    for w, sem in zip(others, (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT), strict=True):
+        w.write(random_sample(sem.spec.type, random.Random(4), absent=0.0))
+    assert wait_for_acks(others, 5.0)
+    assert wait_triggered(waitset, duration(seconds=5)) == [0, 2]
     bus.close()
 
 
