@@ -344,7 +344,7 @@ def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) ->
         progressed = Task(**{**asdict(at_a), "progress": 40, "updated_at": 103.0})  # A's stale copy, newer progress
         db.set_comap_task(asdict(progressed), state_changed=False)
         (row,) = db.comap_tasks(1)
-        assert (row["state"], row["progress"], row["updated_at"]) == ("HELD", 40, 103.0)
+        assert (row["state"], row["last_synch"], row["progress"], row["updated_at"]) == ("HELD", "HOLD", 40, 103.0)
         db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 104.0})))
         assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
 
@@ -352,7 +352,8 @@ def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) ->
         a = C2({vehicle: 0x2001}, lambda m, dst: None, shown.append, station="watch")
         a.tasks[1] = progressed
         a.load_task({**row, "point": row["point"]})  # the same time stamp as A's own write, another state: taken
-        assert a.tasks[1].state == "HELD" and shown[-1]["task"]["state"] == "HELD"  # type: ignore[index]
+        assert (a.tasks[1].state, a.tasks[1].last_synch) == ("HELD", "HOLD")
+        assert shown[-1]["task"]["state"] == "HELD"  # type: ignore[index]
         shown.clear()
         a.load_task({**row, "point": row["point"]})  # the same row again: nothing new
         assert not shown

@@ -171,10 +171,11 @@ class C2:
         """A stored task (Database.comap_tasks), applied when newer than this console's of that id."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
         old = self.tasks.get(task.task_id)
-        # the same change as ours, unless its state differs: a progress report of ours stored over another station's
-        # newer state (a HOLD) keeps that state (Database.set_comap_task) and takes our time stamp
+        # the same change as ours, unless its state or synch differs: a progress report of ours stored over another
+        # station's newer HOLD keeps that state and synch (Database.set_comap_task) and takes our time stamp
         if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at) and not (
-                (old.created_at, old.updated_at) == (task.created_at, task.updated_at) and old.state != task.state):
+                (old.created_at, old.updated_at) == (task.created_at, task.updated_at)
+                and (old.state, old.last_synch) != (task.state, task.last_synch)):
             return
         self.tasks[task.task_id] = task
         self.emit({"type": "task", "task": task.to_json()})

@@ -551,9 +551,9 @@ class Database:
 
     def set_comap_task(self, task: dict[str, Any], state_changed: bool = True) -> None:
         """Store a task's change (keys: ComapTaskRecord's), unless the row holds a newer one. A change of progress
-        alone (`state_changed` False: the vehicle's TaskStatus) leaves the stored state as it is: this console may not
-        yet have read another station's newer state (a HOLD), which its stale one would otherwise overwrite."""
-        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", keep=() if state_changed else ("state",),
+        alone (`state_changed` False: the vehicle's TaskStatus) leaves the stored state and synch as they are: this
+        console may not yet have read another station's newer ones (a HOLD), which its stale ones would overwrite."""
+        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", keep=() if state_changed else ("state", "last_synch"),
                            id=task["task_id"])
 
     def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, keep: tuple[str, ...] = (), **fields: Any) -> None:
