@@ -24,11 +24,11 @@ from sem_console.dds.bus import Bus, all_samples, take_each
 from sem_console.dds.cyclone_private import (
     MACHINE_ATTRIBUTES,
     InvalidSample,
+    Triggered,
     machinery,
     take_cdr,
     type_machine,
     wait_for_acks,
-    wait_triggered,
     write_cdr,
 )
 from sem_console.dds.topics import Sem
@@ -136,8 +136,8 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
     bus.close()
 
 
-def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
-    """wait_triggered hands back the attach-order index of each triggered condition (by a sample, a dispose, a writer
+def test_triggered_names_the_conditions_with_samples(domain: int) -> None:
+    """Triggered.wait hands back the attach-order index of each triggered condition (by a sample, a dispose, a writer
     gone; several at once in attach order), and none on a timeout."""
     bus = Bus(domain)
     readers = [bus.reader(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.INS_REPORT, Sem.GPS_REPORT)]
@@ -145,26 +145,27 @@ def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
     conditions = [all_samples(r) for r in readers]
     for c in conditions:
         waitset.attach(c)
-    assert wait_triggered(waitset, duration(milliseconds=1)) == []
+    triggered = Triggered(waitset)
+    assert triggered.wait(duration(milliseconds=1)) == []
     writer = bus.writer(Sem.INS_REPORT)
     deadline = time.monotonic() + 10
     while not writer.get_matched_subscriptions() and time.monotonic() < deadline:
         time.sleep(0.02)
     writer.write(random_sample(Sem.INS_REPORT.spec.type, random.Random(2), absent=0.0))
     assert wait_for_acks([writer], 5.0)
-    assert wait_triggered(waitset, duration(seconds=5)) == [1]
+    assert triggered.wait(duration(seconds=5)) == [1]
     assert len(_take_all(readers[1])) == 1
-    assert wait_triggered(waitset, duration(milliseconds=1)) == []  # taken: no longer triggered
+    assert triggered.wait(duration(milliseconds=1)) == []  # taken: no longer triggered
     # a dispose and a writer gone (no data, an instance state) trigger the condition too: the console learns of both
     # only by taking them
     ins = random_sample(Sem.INS_REPORT.spec.type, random.Random(3), absent=0.0)
     for change in (writer.dispose, writer.unregister_instance):
         writer.write(ins)
         assert wait_for_acks([writer], 5.0)
-        assert wait_triggered(waitset, duration(seconds=5)) == [1]
+        assert triggered.wait(duration(seconds=5)) == [1]
         assert len(_take_all(readers[1])) == 1
         change(ins)
-        assert wait_triggered(waitset, duration(seconds=5)) == [1]
+        assert triggered.wait(duration(seconds=5)) == [1]
         (_key, info), = _take_all(readers[1])
         assert not info.valid_data and info.instance_state != InstanceState.Alive
     # two conditions at once: both, in attach order
@@ -175,7 +176,7 @@ def test_wait_triggered_names_the_conditions_with_samples(domain: int) -> None:
     for w, sem in zip(others, (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT), strict=True):
         w.write(random_sample(sem.spec.type, random.Random(4), absent=0.0))
     assert wait_for_acks(others, 5.0)
-    assert wait_triggered(waitset, duration(seconds=5)) == [0, 2]
+    assert triggered.wait(duration(seconds=5)) == [0, 2]
     bus.close()
 
 

@@ -65,7 +65,7 @@ class Settings(BaseSettings):
     report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "
                                    "this many seconds (conflation window); sparse input is taken as it arrives",
                                    json_schema_extra=ENV_ONLY)
-    report_burst: int = Field(8, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
+    report_burst: int = Field(32, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
                               "window applies (refilled at one per window)", json_schema_extra=ENV_ONLY)
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
                               "nothing for ws_stall_seconds) before it is dropped", json_schema_extra=ENV_ONLY)

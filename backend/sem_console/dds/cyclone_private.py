@@ -14,7 +14,7 @@ Why each is needed (none has a public equivalent in 11.0.1):
   alignment, headers, optional flags), which `console/fastcdr.py` compiles into a decoder per type.
 - `delete_participant`: deletes a participant in Cyclone at once; cyclonedds-python has no public delete and leaves
   it to `__del__`, which never deletes an entity freed in a reference cycle (the function says why that crashes).
-- `wait_triggered`: `WaitSet.wait` returns only how many conditions triggered, not which; the ingest threads take
+- `Triggered`: `WaitSet.wait` returns only how many conditions triggered, not which; the ingest threads take
   only the readers that have samples (a sample's copies reach two or three of a topic's readers, and every report
   topic has three to six, so a take of all of them on every wake cost more than the sample itself).
 - `InvalidSample`: what a take returns for a dispose or an instance without writers (a key, no data).
@@ -40,8 +40,8 @@ from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
 __all__ = [
-    "MACHINE_ATTRIBUTES", "InvalidSample", "delete_participant", "enum_type", "machinery", "take_cdr", "type_machine",
-    "wait_for_acks", "wait_triggered", "write_cdr",
+    "MACHINE_ATTRIBUTES", "InvalidSample", "Triggered", "delete_participant", "enum_type", "machinery", "take_cdr",
+    "type_machine", "wait_for_acks", "write_cdr",
 ]
 
 # The machine classes console/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
@@ -67,16 +67,24 @@ def take_cdr(reader: DataReader[Any], mask: int, n: int) -> list[tuple[bytes, Sa
     return result
 
 
-def wait_triggered(waitset: WaitSet, timeout_ns: int) -> list[int]:
-    """Wait at most `timeout_ns` for any attached condition to trigger; the indices (in attach order) of those that
-    did, none on a timeout. `WaitSet.wait` asks Cyclone for no list; this asks for every attached entity's slot."""
-    attached = waitset.attached  # (entity, its attach argument: a c_int whose address Cyclone hands back)
-    slots = (dds_c_t.attach * len(attached))()
-    n: int = waitset._waitset_wait(waitset._ref, slots, len(attached), timeout_ns)  # noqa: SLF001 (see the module)
-    if n < 0:
-        raise DDSException(n, "Occurred while waiting in a WaitSet")
-    index = {ct.addressof(arg): i for i, (_entity, arg) in enumerate(attached)}
-    return sorted(index[slot] for slot in slots[:n] if slot in index)
+class Triggered:
+    """Which attached conditions triggered: `wait(timeout_ns)` waits at most that long for any of them and returns the
+    indices (in attach order) of those that did, none on a timeout. `WaitSet.wait` asks Cyclone for no list; this asks
+    for every attached entity's slot. The slots and their index are built once, here (the waitset's attachments must
+    not change afterwards): an ingest thread waits once per sample, and what it does after a wake delays that sample."""
+
+    def __init__(self, waitset: WaitSet) -> None:
+        self.waitset = waitset
+        attached = waitset.attached  # (entity, its attach argument: a c_int whose address Cyclone hands back)
+        self._slots = (dds_c_t.attach * len(attached))()
+        self._index = {ct.addressof(arg): i for i, (_entity, arg) in enumerate(attached)}
+
+    def wait(self, timeout_ns: int) -> list[int]:
+        n: int = self.waitset._waitset_wait(self.waitset._ref, self._slots, len(self._slots), timeout_ns)  # noqa: SLF001 (see the module)
+        if n < 0:
+            raise DDSException(n, "Occurred while waiting in a WaitSet")
+        index = self._index
+        return sorted(index[slot] for slot in self._slots[:n] if slot in index)
 
 
 def write_cdr(writer: DataWriter[Any], data: bytes, timestamp_ns: int) -> int:
