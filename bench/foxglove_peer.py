@@ -9,7 +9,6 @@ subscribes to every channel and timestamps arrivals.
 
 from __future__ import annotations
 
-import asyncio
 import dataclasses
 import enum
 import json
@@ -101,12 +100,7 @@ async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, 
 
     async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=2**26) as ws:  # type: ignore[arg-type]
         topic_of: dict[int, str] = {}
-        deadline = time.monotonic() + seconds
-        while (remaining := deadline - time.monotonic()) > 0:
-            try:
-                data = await asyncio.wait_for(ws.recv(), remaining)
-            except TimeoutError:
-                return
+        async for data in common.for_seconds(ws, seconds):
             now = time.time()
             if isinstance(data, str):
                 msg = json.loads(data)
