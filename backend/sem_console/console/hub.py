@@ -9,9 +9,7 @@ so no client holds memory without bound nor delays anyone else, and a burst does
 drop a healthy client. A client that asks for batches (the dashboard: /ws?batch=1) gets the
 reports waiting for it when its sender is free as one JSON array: a lone report goes out alone and
 at once, so only load makes batches (a browser pays about 0.13 ms of its main thread per WebSocket
-message, whatever its size: 30 % of it with 250 vehicles). A message for a client whose sender is idle (nothing
-queued, nothing in flight) is sent at once, in the callback that published it, not by waking the sender task: the
-event loop's turn that wake costs is the sample's latency (`Client.send_now`). Everything here runs on the event loop thread.
+message, whatever its size: 30 % of it with 250 vehicles). Everything here runs on the event loop thread.
 """
 
 from __future__ import annotations
@@ -21,7 +19,7 @@ import json
 import logging
 import time
 from collections import deque
-from collections.abc import Awaitable, Callable, Generator
+from collections.abc import Awaitable, Callable
 from itertools import islice
 from typing import Any
 
@@ -44,27 +42,6 @@ def dumps(message: dict[str, Any]) -> str:
         return json.dumps(message, separators=(",", ":"))
 
 
-class _Rest:
-    """The rest of a send that `Client.send_now` started and that had to wait (a full socket buffer): the sender task
-    awaits it, so it hands the task each future the send waits for, and the send each result or cancellation."""
-
-    def __init__(self, send: Generator[Any, Any, None], waiting: Any) -> None:
-        self.send, self.waiting = send, waiting
-
-    def __await__(self) -> Generator[Any, Any, None]:
-        waiting = self.waiting
-        while True:
-            try:
-                try:
-                    value = yield waiting
-                except BaseException as e:  # the task cancelled (the client dropped or gone): the send ends with it
-                    waiting = self.send.throw(e)
-                else:
-                    waiting = self.send.send(value)
-            except StopIteration:
-                return
-
-
 class Client:
     def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
                  batch: bool = False) -> None:
@@ -77,15 +54,9 @@ class Client:
         self.wake = asyncio.Event()
         self.task: asyncio.Task[None] | None = None
         self.dropped = False
-        self.busy = True  # the sender task has work (or has not started): a message waits in the queues for it
-        self.in_flight: _Rest | None = None  # a send started by send_now that had to wait, for the task to finish
-        self.failed: Exception | None = None  # what a send started by send_now raised, for the task to end with
 
     def push(self, text: str, key: tuple[str, str] | None = None) -> None:
         if self.dropped:
-            return
-        if not self.busy and not self.ordered and not self.reports:
-            self.send_now(text)
             return
         if key is not None:
             self.reports.pop(key, None)  # re-insert: conflated reports go out oldest first
@@ -97,25 +68,6 @@ class Client:
         else:
             self.ordered.append(text)
             self.queued_bytes += len(text)
-        self.wake.set()
-
-    def send_now(self, text: str) -> None:
-        """Send `text` here, with the sender task idle: the send runs in this callback up to its first wait, which a
-        socket that takes the frame never reaches. A send that must wait is finished by the task (and what is pushed
-        meanwhile queues behind it); one that fails ends the task with its error, as a send of the task's would."""
-        if text.startswith('{"type":"snapshot"'):
-            self.snapshot_pending = False  # it is going out: a resync from now on needs another
-        send = self.send(text).__await__()  # its steps: run here until it waits (if it does)
-        try:
-            waiting = send.send(None)
-        except StopIteration:
-            self.last_sent = time.monotonic()
-            return
-        except Exception as e:  # the socket closed under it, say: the task ends with it, as with its own sends
-            self.failed = e
-        else:
-            self.in_flight = _Rest(send, waiting)
-        self.busy = True
         self.wake.set()
 
     def push_snapshot(self, text: str) -> None:
@@ -134,12 +86,8 @@ class Client:
 
     async def run(self) -> None:
         while True:
-            if self.failed is not None:
-                raise self.failed
-            if self.in_flight is not None:
-                rest, self.in_flight = self.in_flight, None
-                await rest
-                self.last_sent = time.monotonic()
+            await self.wake.wait()
+            self.wake.clear()
             # an ordered event goes out next, whatever reports wait: under load more reports arrive during each send
             # than one send takes, and an alarm, a lost vehicle or a command waiting for them all waited for ever
             while self.ordered or self.reports:
@@ -155,10 +103,6 @@ class Client:
                     text = self.reports.pop(next(iter(self.reports)))
                 await self.send(text)
                 self.last_sent = time.monotonic()
-            self.busy = False  # from here until woken, a message is sent by whoever publishes it (send_now)
-            await self.wake.wait()
-            self.wake.clear()
-            self.busy = True
 
 
 class Hub:
