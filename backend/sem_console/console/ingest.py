@@ -331,8 +331,8 @@ class Ingest:
             if (ready := self._wait(ws)) is None:
                 return
             try:
-                self._status_cycle(conds, ready)
                 self._check_peers(time.monotonic())
+                self._status_cycle(conds, ready)  # its hand-off last, as the report thread's
             except Exception:  # a bug here must not stop every status for good
                 log.exception("status ingest cycle failed")
 
