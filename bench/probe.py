@@ -237,9 +237,10 @@ def main() -> None:
     table("The probe's GPSFixReport, write to the page's WebSocket message (ms): all before the dashboard sees it",
           ["vehicles", "p50", "p95", "p99", "load avg"], [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()])
     table("Cost", ["vehicles", "renderer cores", "GPU cores", "renderer ms / drawn sample", "frame p50", "p95", "long tasks",
-                   "longest", "map vehicle updates/s", "full dashboard ms", "snapshot kB"],
+                   "longest", "map fleet updates/s", "map redraws/s", "full dashboard ms", "snapshot kB"],
           [[n, r["renderer_cores"], r["gpu_cores"], r["renderer_ms_per_drawn_sample"], r["frame_p50_ms"], r["frame_p95_ms"],
-            r["long_tasks"], r["long_task_max_ms"], r["map_vehicle_updates_per_s"], r["full_dashboard_ms"], r["snapshot_kb"]]
+            r["long_tasks"], r["long_task_max_ms"], r["map_vehicle_updates_per_s"], r["map_redraws_per_s"],
+            r["full_dashboard_ms"], r["snapshot_kb"]]
            for n, r in runs.items()])
 
     targets: list[dict[str, Any]] = []

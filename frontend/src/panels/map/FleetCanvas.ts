@@ -143,7 +143,8 @@ export class FleetCanvas {
     // the selected vehicle last: on top
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
     this.placed = place(ordered, toScreen, this.map.getBearing());
-    for (const v of this.placed) this.drawVehicle(v);
+    // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
+    for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
     const n = countInView(this.placed, w, h);
     if (n !== this.drawnCount) {
       this.drawnCount = n;
