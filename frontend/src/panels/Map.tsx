@@ -99,12 +99,14 @@ export function MapPanel() {
     },
     [store],
   );
-  useVehicleLayer(mapRef, ready, fleetCanvas, fleetData, selectedMark, pickEdge, setVehiclesDrawn);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);
   // followed at the fleet's rate, a jump (a redraw of the map) only when it leaves the middle: between jumps the ring
   // moves from the middle
-  useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
+  const framed = useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
+  // the fleet drawn from the first view on (the vehicles, with the coast): not for a moment over the whole world at
+  // zoom 1, where they are one pixel and a click or a count there means nothing
+  useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, selectedMark, pickEdge, setVehiclesDrawn);
 
   const measured = pathLengthM(measure);
   const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;

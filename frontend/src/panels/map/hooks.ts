@@ -289,6 +289,7 @@ export function useVehicleLayer(
     return () => {
       o.destroy();
       c.destroy();
+      count.current(0); // nothing drawn until the next map's first view
       if (overlay.current === o) overlay.current = null;
       if (fleetRef.current === c) fleetRef.current = null;
     };
@@ -334,13 +335,19 @@ export function useMeasureLayer(mapRef: MapRef, ready: boolean, points: LonLat[]
  * followed (unless the operator panned away): centred when following starts or another vehicle is selected, then
  * centred again only when it leaves the middle of the map (a jump redraws the basemap: jumping after every metre
  * redrew it at the fleet's rate). */
-export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], follow: boolean, land: RefObject<FeatureCollection | null>, landLoaded: boolean): void {
+export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], follow: boolean, land: RefObject<FeatureCollection | null>, landLoaded: boolean): boolean {
   const framed = useRef<MapLibre | null>(null); // the map that had its first frame: a reopened panel's is framed again
+  const [isFramed, setFramed] = useState(false); // the same, for the render
   const centred = useRef<string | null>(null); // the vehicle centred since following started
   useEffect(() => {
     if (!follow) centred.current = null;
     const map = mapRef.current;
-    if (!ready || !map || !marks.length) return;
+    if (!ready || !map) {
+      framed.current = null;
+      setFramed(false);
+      return;
+    }
+    if (!marks.length) return;
     const sel = marks.find((m) => m.selected);
     if (framed.current !== map) {
       if (!landLoaded) return; // a moment: the coast is part of the first view
@@ -349,6 +356,7 @@ export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], 
       const positions = marks.map((m) => m.position);
       const centre = (follow && sel ? sel.position : middle(positions))!;
       const coast = land.current ? nearestVertex(land.current, centre, COAST_WITHIN_M) : null;
+      map.once("moveend", () => setFramed(true)); // the jump to the first view (fitAll's, without animation)
       fitAll(map, framePoints(positions, coast, centre));
       return;
     }
@@ -362,4 +370,6 @@ export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], 
     centred.current = sel.id;
     map.jumpTo({ center: [sel.position.lon, sel.position.lat] });
   }, [mapRef, ready, marks, follow, land, landLoaded]);
+  // a map removed (a collapsed panel) and made again is framed again: the effect runs with ready false between
+  return ready && isFramed;
 }
