@@ -133,8 +133,8 @@ def main() -> None:
             target = f"{sparse}: <= selected:GPSReport + {SKY_SLACK}"
             verdict = holds(sky_ok(runs[sparse], k))
         rrows.append([k, *cells, target, verdict])
-    table("Per second: renders per panel or part, map:* map source updates and redraws, selected:* changes of the"
-          " selected vehicle's topics", ["name", *runs, "target", ""], rrows)
+    table("Per second: renders per panel or part, map:* the fleet canvas's updates and the map's redraws, selected:* changes"
+          " of the selected vehicle's topics", ["name", *runs, "target", ""], rrows)
 
     d = runs["default"]
     m = runs["map collapsed"]

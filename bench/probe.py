@@ -188,8 +188,10 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         "panels": panels,
         "map_marker": latencies(marker, written, start, end),
         "fix_to_page": q(to_page),  # write to the page's WebSocket message: the console, the socket, the page's queue
-        "map_vehicle_updates_per_s": round(sum(page["renders"].get(f"map:{k}-data", 0) for k in ("vehicles", "selected")), 2),
-        "map_fleet_updates_per_s": page["renders"].get("map:vehicles-data", 0),
+        # the fleet's canvas updates (its dots, arrows, tracks: FleetCanvas.ts, no map redraw) and the map's redraws
+        "map_vehicle_updates_per_s": page["renders"].get("map:fleet-data", 0),
+        "map_fleet_updates_per_s": page["renders"].get("map:fleet-data", 0),
+        "map_redraws_per_s": page["renders"].get("map:frame", 0),
         "frame_p50_ms": round(percentile(frames, 50), 1) if frames else None,
         "frame_p95_ms": round(percentile(frames, 95), 1) if frames else None,
         "frames_per_s": round(len(frames) / page["elapsed"], 1),
@@ -235,9 +237,10 @@ def main() -> None:
     table("The probe's GPSFixReport, write to the page's WebSocket message (ms): all before the dashboard sees it",
           ["vehicles", "p50", "p95", "p99", "load avg"], [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()])
     table("Cost", ["vehicles", "renderer cores", "GPU cores", "renderer ms / drawn sample", "frame p50", "p95", "long tasks",
-                   "longest", "map vehicle updates/s", "full dashboard ms", "snapshot kB"],
+                   "longest", "map fleet updates/s", "map redraws/s", "full dashboard ms", "snapshot kB"],
           [[n, r["renderer_cores"], r["gpu_cores"], r["renderer_ms_per_drawn_sample"], r["frame_p50_ms"], r["frame_p95_ms"],
-            r["long_tasks"], r["long_task_max_ms"], r["map_vehicle_updates_per_s"], r["full_dashboard_ms"], r["snapshot_kb"]]
+            r["long_tasks"], r["long_task_max_ms"], r["map_vehicle_updates_per_s"], r["map_redraws_per_s"],
+            r["full_dashboard_ms"], r["snapshot_kb"]]
            for n, r in runs.items()])
 
     targets: list[dict[str, Any]] = []
@@ -258,7 +261,7 @@ def main() -> None:
     ref = get("20") or get("1")
     if ref is not None:
         targets.append(target("2. map: selected vehicle's marker p50", ref["map_marker"]["per_sample"]["p50"], "ms", "<=", 100))
-        targets.append(target("2. map: vehicle source updates per second (<= frames/s)", ref["map_vehicle_updates_per_s"], "/s",
+        targets.append(target("2. map: fleet updates per second (<= frames/s)", ref["map_vehicle_updates_per_s"], "/s",
                               "<=", ref["frames_per_s"]))
         targets.append(target("2. map: fleet layer updates per second (at least 2)", ref["map_fleet_updates_per_s"], "/s", ">",
                               1.99))

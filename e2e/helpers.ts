@@ -60,8 +60,14 @@ export interface TestMap {
   getCanvas(): HTMLCanvasElement;
 }
 
+/** The fleet's canvas over the map (FleetCanvas.ts's test hook `window.__semFleet`): the tracks it draws. */
+export interface TestFleet {
+  tracks(): { id: string; selected: boolean; points: { lon: number; lat: number }[] }[];
+}
+
 declare global {
   interface Window {
     __semMap?: TestMap;
+    __semFleet?: TestFleet;
   }
 }

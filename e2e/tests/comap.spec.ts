@@ -174,15 +174,13 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
       return pts.filter((p) => inside([p.longitude, p.latitude], ring)).length;
     })
     .toBeGreaterThanOrEqual(3);
-  // and the map draws that track over it: vertices of the vehicle's rendered track line lie inside the polygon
+  // and the map draws that track over it: vertices of the vehicle's drawn track (the fleet's canvas) lie inside the polygon
   const drawnTrack = () =>
     page.evaluate(
       (vid) =>
-        window.__semMap!.queryRenderedFeatures({ layers: ["tracks"] })
-          .filter((f) => f.properties?.id === vid)
-          .flatMap((f) =>
-            f.geometry.type === "LineString" ? (f.geometry.coordinates as number[][]) : f.geometry.type === "MultiLineString" ? (f.geometry.coordinates as number[][][]).flat() : [],
-          ),
+        window.__semFleet!.tracks()
+          .filter((t) => t.id === vid)
+          .flatMap((t) => t.points.map((p) => [p.lon, p.lat])),
       id,
     );
   await expect.poll(async () => (await drawnTrack()).filter((c) => inside([c[0], c[1]], ring)).length).toBeGreaterThanOrEqual(3);

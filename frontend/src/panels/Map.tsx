@@ -16,24 +16,14 @@ import { useTheme } from "../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
 import { CursorStore, MapCursor } from "./map/MapCursor";
 import { MapToolbar } from "./map/MapToolbar";
-import {
-  useChart,
-  useDrawnCounts,
-  useFitAll,
-  useLand,
-  useMapInstance,
-  useMeasureLayer,
-  usePointer,
-  useTrackLayer,
-  useVehicleLayer,
-  useWorldModelLayer,
-} from "./map/hooks";
-import { fitAll, vehicleMark } from "./map/layers";
+import type { FleetCanvas, FleetData } from "./map/FleetCanvas";
+import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
+import { fitAll, originOf, vehicleMark } from "./map/layers";
 
-/** The fleet (every vehicle's mark, tracks and origins) is redrawn on the first frame at least this long after
- * the last (and only when it changed), so at least twice a second while vehicles move: a redraw of the map costs
- * a frame or more without a GPU, and vehicles at sea move a few metres a second. The selected vehicle's ring (HTML
- * over the map, no redraw) moves on the frame after each of its fixes. */
+/** The fleet (every vehicle's mark, tracks and origins, on a canvas over the map) is redrawn on the first frame at
+ * least this long after the last (and only when it changed), so at least twice a second while vehicles move: with
+ * 250 vehicles a redraw of the canvas and the names is a few milliseconds, and vehicles at sea move a few metres a
+ * second. The selected vehicle's ring (HTML over the map) moves on the frame after each of its fixes. */
 const FLEET_EVERY_MS = 450;
 
 /** The vehicles' stored tracks loaded into the store once the map is `ready` to draw them: rendered only when the
@@ -74,21 +64,32 @@ export function MapPanel() {
   // the fleet's marks (drawn by the map, named by the overlay) change at the fleet's rate; the selected vehicle's,
   // with its newest fix, on every frame after one (the overlay's ring, and what the map follows)
   const fleetAll = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [fleet, now, selected]);
-  const fleetMarks = useMemo(() => fleetAll.filter((m) => !m.selected), [fleetAll]);
-  const drawnSelected = useMemo(() => fleetAll.find((m) => m.selected) ?? null, [fleetAll]);
   const selectedMark = useMemo(() => {
     const p = fleet.find((v) => v.id === selected);
     return p ? vehicleMark(selectedFix ? { ...p, topics: { ...p.topics, GPSFixReport: selectedFix } } : p, now, selected) : null;
   }, [fleet, selected, selectedFix, now]);
-  const marks = useMemo(() => (selectedMark ? [...fleetMarks, selectedMark] : fleetMarks), [fleetMarks, selectedMark]);
+  const marks = useMemo(() => (selectedMark ? [...fleetAll.filter((m) => !m.selected), selectedMark] : fleetAll), [fleetAll, selectedMark]);
+  const fleetData = useMemo<FleetData>(
+    () => ({
+      marks: fleetAll,
+      tracks: fleet.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })),
+      origins: fleet.flatMap((p) => {
+        const at = originOf(p);
+        return at ? [{ id: p.id, at }] : [];
+      }),
+    }),
+    [fleet, fleetAll, selected],
+  );
+  const fleetCanvas = useRef<FleetCanvas | null>(null);
+  const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
   const toolPoints = useMemo(
     () => (tool === "measure" ? measure : tool === "draw" ? drawn : tool === "move-target" && moveTarget ? [moveTarget] : []),
     [tool, measure, drawn, moveTarget],
   );
 
   const chart = useChart(mapRef, ready, chartConfigured, token);
-  const { land, landLoaded } = useLand(mapRef, ready);
-  usePointer(mapRef, ready, tool, modelRef, { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
+  const { land, landLoaded, landDrawn } = useLand(mapRef, ready);
+  usePointer(mapRef, ready, tool, modelRef, fleetCanvas, { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
   // an edge arrow: that vehicle selected, in the middle of the map, and followed
   const pickEdge = useCallback(
     (map: MapLibre, m: VehicleMark) => {
@@ -98,13 +99,14 @@ export function MapPanel() {
     },
     [store],
   );
-  useVehicleLayer(mapRef, ready, { fleet: fleetMarks, selected: drawnSelected, all: fleetAll, newest: selectedMark }, pickEdge);
-  useTrackLayer(mapRef, ready, fleet, selected);
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);
-  // followed at the fleet's rate (a jump redraws the map): between jumps the ring moves from the middle
-  useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
-  const { landDrawn, vehiclesDrawn } = useDrawnCounts(mapRef, ready);
+  // followed at the fleet's rate, a jump (a redraw of the map) only when it leaves the middle: between jumps the ring
+  // moves from the middle
+  const framed = useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
+  // the fleet drawn from the first view on (the vehicles, with the coast): not for a moment over the whole world at
+  // zoom 1, where they are one pixel and a click or a count there means nothing
+  useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, selectedMark, pickEdge, setVehiclesDrawn);
 
   const measured = pathLengthM(measure);
   const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;

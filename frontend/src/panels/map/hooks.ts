@@ -6,8 +6,7 @@ import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
 import type { FeatureCollection } from "geojson";
 import type { Store } from "../../data/connection";
-import { cancelFrame, onFrame } from "../../data/frame";
-import { select, type ProviderView } from "../../data/store";
+import { select } from "../../data/store";
 import { PALETTES, loadLand, offlineStyle, setPalette } from "../../lib/basemap";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../../lib/chart";
 import {
@@ -18,8 +17,6 @@ import {
   middle,
   moveVertex,
   nearestVertex,
-  tracksGeoJson,
-  vehiclesGeoJson,
   vertexHandles,
   type LonLat,
   type VehicleMark,
@@ -27,11 +24,11 @@ import {
 import { VehicleOverlay } from "../../lib/mapOverlay";
 import { countRender } from "../../lib/renders";
 import type { Theme } from "../../lib/theme";
-import { vehicleColor } from "../../lib/vehicle";
 import type { MapTool } from "../CoMap";
+import { FleetCanvas, type FleetData } from "./FleetCanvas";
 import type { CursorStore } from "./MapCursor";
-import { VEHICLE_DOTS, VEHICLE_HITS, addLayers, fitAll, originOf, source } from "./layers";
-import { setBatched } from "./repaints";
+import { outsideMiddle } from "./fleet";
+import { addLayers, countLandInView, fitAll, landRings, source } from "./layers";
 import "maplibre-gl/dist/maplibre-gl.css";
 
 // the worker is a file of the build, served by the console like the rest of the dashboard
@@ -99,27 +96,39 @@ export function useMapInstance(container: RefObject<HTMLDivElement | null>, coll
 }
 
 /** The basemap's land, for the first view's coast: loaded into each new map; `landLoaded` once loaded or failed
- * (the first view waits for it). */
-export function useLand(mapRef: MapRef, ready: boolean): { land: RefObject<FeatureCollection | null>; landLoaded: boolean } {
+ * (the first view waits for it). `landDrawn`: how many of its polygons are in view, for the operator's status line and
+ * the tests, counted from the land's own polygons when the camera stops (a search of the map's rendered features,
+ * once a second, was a task of its own). */
+export function useLand(mapRef: MapRef, ready: boolean): { land: RefObject<FeatureCollection | null>; landLoaded: boolean; landDrawn: number } {
   const land = useRef<FeatureCollection | null>(null);
   const [landLoaded, setLandLoaded] = useState(false);
+  const [landDrawn, setLandDrawn] = useState(0);
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
     let alive = true;
+    let rings: ReturnType<typeof landRings> = [];
+    const count = () => {
+      const b = map.getBounds();
+      setLandDrawn(countLandInView(rings, { west: b.getWest(), south: b.getSouth(), east: b.getEast(), north: b.getNorth() }));
+    };
+    map.on("moveend", count);
     loadLand()
       .then((fc) => {
         if (!alive) return;
         land.current = fc;
+        rings = landRings(fc);
         source(map, "land")?.setData(fc);
+        count();
       })
       .catch(() => undefined)
       .finally(() => alive && setLandLoaded(true));
     return () => {
       alive = false;
+      map.off("moveend", count);
     };
   }, [mapRef, ready]);
-  return { land, landLoaded };
+  return { land, landLoaded, landDrawn };
 }
 
 export type ChartState = "none" | "loading" | "shown" | "failed";
@@ -165,7 +174,14 @@ export interface PointerActions {
 
 /** The pointer on the map: its position (the cursor readout), a click by tool (measure, draw, move-target, edit's
  * pick, else select a vehicle), the edit tool's vertex drag over `modelRef`'s model, and the canvas's cursor. */
-export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelRef: RefObject<FeatureCollection | null>, actions: PointerActions): void {
+export function usePointer(
+  mapRef: MapRef,
+  ready: boolean,
+  tool: MapTool,
+  modelRef: RefObject<FeatureCollection | null>,
+  fleetRef: RefObject<FleetCanvas | null>,
+  actions: PointerActions,
+): void {
   const toolRef = useRef<MapTool>(tool);
   const { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft } = actions;
   useEffect(() => {
@@ -187,11 +203,18 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
     };
     // the drag ends when the button is released, over the map or anywhere else
     const endDrag = () => (dragging = null);
+    let overVehicle = false;
     const move = (e: MapMouseEvent) => {
       cursor.set({ lon: e.lngLat.lng, lat: e.lngLat.lat });
       if (dragging && (e.originalEvent.buttons & 1) === 0) dragging = null; // released outside the window
       const model = modelRef.current;
       if (dragging && model) setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
+      // the pointer over a vehicle (the fleet is drawn on a canvas of our own: hit in what it drew)
+      const over = toolRef.current === "select" && fleetRef.current?.hit(e.point) != null;
+      if (over !== overVehicle) {
+        overVehicle = over;
+        canvas.style.cursor = over ? "pointer" : "";
+      }
     };
     const overHandle = () => toolRef.current === "edit" && (canvas.style.cursor = "move");
     const offHandle = () => toolRef.current === "edit" && (canvas.style.cursor = "crosshair");
@@ -206,15 +229,12 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
         const f = map.queryRenderedFeatures(e.point, { layers: ["edit-handle", "wm-point", "wm-line", "wm-fill"] })[0];
         return setPicked(f?.properties?.featureId ?? null);
       }
-      const hit = map.queryRenderedFeatures(e.point, { layers: VEHICLE_HITS })[0];
-      const id = hit?.properties?.id as string | undefined;
+      const id = fleetRef.current?.hit(e.point);
       if (id) {
         store.update((s) => select(s, id));
         setFollow(true);
       }
     };
-    const overVehicle = () => (canvas.style.cursor = "pointer");
-    const offVehicle = () => (canvas.style.cursor = "");
     map.on("mousedown", "edit-handle", startDrag);
     map.on("mouseup", endDrag);
     window.addEventListener("mouseup", endDrag);
@@ -224,8 +244,6 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
     map.on("mouseout", out);
     map.on("dragstart", panned);
     map.on("click", click);
-    map.on("mouseenter", "vehicle-dot", overVehicle);
-    map.on("mouseleave", "vehicle-dot", offVehicle);
     return () => {
       map.off("mousedown", "edit-handle", startDrag);
       map.off("mouseup", endDrag);
@@ -236,99 +254,56 @@ export function usePointer(mapRef: MapRef, ready: boolean, tool: MapTool, modelR
       map.off("mouseout", out);
       map.off("dragstart", panned);
       map.off("click", click);
-      map.off("mouseenter", "vehicle-dot", overVehicle);
-      map.off("mouseleave", "vehicle-dot", offVehicle);
       cursor.set(null);
     };
-  }, [mapRef, ready, modelRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
+  }, [mapRef, ready, modelRef, fleetRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
 }
 
-/** The marks of the vehicle layer: the fleet's at its rate (`fleet` without the selected vehicle, `selected`, `all`),
- * and the selected vehicle's newest (on every frame after its fix). */
-export interface VehicleMarks {
-  fleet: VehicleMark[];
-  selected: VehicleMark | null;
-  all: VehicleMark[];
-  newest: VehicleMark | null;
-}
-
-/** The vehicles: the map's dots and course arrows at the fleet's rate, the fleet's and the selected vehicle's each in
- * a source of its own, updated only when its marks changed; every vehicle's name and edge arrow (an edge arrow's
- * click: `onPick`); and the selected vehicle's ring at its newest position, moved without redrawing the map. */
-export function useVehicleLayer(mapRef: MapRef, ready: boolean, marks: VehicleMarks, onPick: (map: MapLibre, m: VehicleMark) => void): void {
-  const { fleet, selected, all, newest } = marks;
+/** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's
+ * rate; no map redraw), its name and edge arrow (an edge arrow's click: `onPick`), and the selected vehicle's ring at
+ * its `newest` position (on every frame after its fix). `fleetRef` holds the canvas (what a click hits); `onCount`: the
+ * number of vehicles in view. */
+export function useVehicleLayer(
+  mapRef: MapRef,
+  ready: boolean,
+  fleetRef: RefObject<FleetCanvas | null>,
+  data: FleetData,
+  newest: VehicleMark | null,
+  onPick: (map: MapLibre, m: VehicleMark) => void,
+  onCount: (n: number) => void,
+): void {
   const overlay = useRef<VehicleOverlay | null>(null);
-  const drawn = useRef<Drawn>({ map: null, vehicles: "", selected: "" });
   const pick = useRef(onPick);
+  const count = useRef(onCount);
   useEffect(() => {
     pick.current = onPick;
-  }, [onPick]);
+    count.current = onCount;
+  }, [onPick, onCount]);
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
+    const c = new FleetCanvas(map, (n) => count.current(n));
     const o = new VehicleOverlay(map, (m) => pick.current(map, m));
+    fleetRef.current = c;
     overlay.current = o;
     return () => {
       o.destroy();
+      c.destroy();
+      count.current(0); // nothing drawn until the next map's first view
       if (overlay.current === o) overlay.current = null;
+      if (fleetRef.current === c) fleetRef.current = null;
     };
-  }, [mapRef, ready]);
+  }, [mapRef, ready, fleetRef]);
   useEffect(() => {
-    const map = mapRef.current;
-    if (ready && map) setVehicles(drawn, map, "vehicles", fleet);
-  }, [mapRef, ready, fleet]);
-  useEffect(() => {
-    const map = mapRef.current;
-    if (ready && map) setVehicles(drawn, map, "selected", selected ? [selected] : []);
-  }, [mapRef, ready, selected]);
-  // the names and edge arrows, at the same bounded rate as the vehicles' data
-  useEffect(() => {
-    if (ready) overlay.current?.set(all);
-  }, [ready, all]);
+    if (!ready) return;
+    fleetRef.current?.set(data);
+    countRender("map:fleet-data");
+    // the names and edge arrows, at the same rate
+    overlay.current?.set(data.marks);
+  }, [ready, fleetRef, data]);
   useEffect(() => {
     if (ready) overlay.current?.setSelected(newest);
   }, [ready, newest]);
-}
-
-type Drawn = { map: MapLibre | null; vehicles: string; selected: string }; // what the vehicle sources hold now
-
-/** Vehicle source `id` of `map` set to `marks`, only when they moved or changed (no redraw else). */
-function setVehicles(drawn: RefObject<Drawn>, map: MapLibre, id: "vehicles" | "selected", marks: VehicleMark[]): void {
-  const fc = vehiclesGeoJson(marks);
-  for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-  const json = JSON.stringify(fc);
-  if (drawn.current.map === map && json === drawn.current[id]) return;
-  drawn.current = drawn.current.map === map ? { ...drawn.current, [id]: json } : { map, vehicles: "", selected: "", [id]: json };
-  setBatched(map, id, fc);
-  countRender(`map:${id}-data`);
-}
-
-/** The vehicles' tracks (the selected one wider) and their GPSFixStatusReport origins. */
-export function useTrackLayer(mapRef: MapRef, ready: boolean, providers: ProviderView[], selected: string | null): void {
-  const drawn = useRef<{ map: MapLibre | null; tracks: unknown[]; origins: string }>({ map: null, tracks: [], origins: "" });
-  useEffect(() => {
-    const map = mapRef.current;
-    if (!ready || !map) return;
-    if (drawn.current.map !== map) drawn.current = { map, tracks: [], origins: "" }; // a new map holds nothing
-    // a track changes once a second at most; the same arrays and selection need no redraw
-    const tracks = [selected, ...providers.flatMap((p) => [p.id, p.track])];
-    const last = drawn.current.tracks;
-    if (tracks.length !== last.length || tracks.some((t, i) => t !== last[i])) {
-      drawn.current.tracks = tracks;
-      const fc = tracksGeoJson(providers.map((p) => ({ id: p.id, selected: p.id === selected, points: p.track })));
-      for (const f of fc.features) f.properties = { ...f.properties, color: vehicleColor(String(f.properties?.id)) };
-      setBatched(map, "tracks", fc);
-      countRender("map:tracks-data");
-    }
-    const origins = providers.flatMap((p) => {
-      const o = originOf(p);
-      return o ? [{ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: [o.lon, o.lat] }, properties: { id: p.id, color: vehicleColor(p.id) } }] : [];
-    });
-    const json = JSON.stringify(origins);
-    if (json === drawn.current.origins) return;
-    drawn.current.origins = json;
-    setBatched(map, "origins", { type: "FeatureCollection", features: origins });
-  }, [mapRef, ready, providers, selected]);
 }
 
 /** The CoMap world model's features by coverage (the picked one wider) and, in the edit tool, its vertex handles;
@@ -357,49 +332,44 @@ export function useMeasureLayer(mapRef: MapRef, ready: boolean, points: LonLat[]
 }
 
 /** The first frame of each map: every vehicle in view, and the coast when it is near; then the selected vehicle
- * followed (unless the operator panned away). */
-export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], follow: boolean, land: RefObject<FeatureCollection | null>, landLoaded: boolean): void {
+ * followed (unless the operator panned away): centred when following starts or another vehicle is selected, then
+ * centred again only when it leaves the middle of the map (a jump redraws the basemap: jumping after every metre
+ * redrew it at the fleet's rate). */
+export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], follow: boolean, land: RefObject<FeatureCollection | null>, landLoaded: boolean): boolean {
   const framed = useRef<MapLibre | null>(null); // the map that had its first frame: a reopened panel's is framed again
+  const [isFramed, setFramed] = useState(false); // the same, for the render
+  const centred = useRef<string | null>(null); // the vehicle centred since following started
   useEffect(() => {
+    if (!follow) centred.current = null;
     const map = mapRef.current;
-    if (!ready || !map || !marks.length) return;
+    if (!ready || !map) {
+      framed.current = null;
+      setFramed(false);
+      return;
+    }
+    if (!marks.length) return;
+    const sel = marks.find((m) => m.selected);
     if (framed.current !== map) {
       if (!landLoaded) return; // a moment: the coast is part of the first view
       framed.current = map;
+      centred.current = follow && sel ? sel.id : null;
       const positions = marks.map((m) => m.position);
-      const sel = marks.find((m) => m.selected);
       const centre = (follow && sel ? sel.position : middle(positions))!;
       const coast = land.current ? nearestVertex(land.current, centre, COAST_WITHIN_M) : null;
+      map.once("moveend", () => setFramed(true)); // the jump to the first view (fitAll's, without animation)
       fitAll(map, framePoints(positions, coast, centre));
       return;
     }
-    const sel = marks.find((m) => m.selected);
     if (!follow || !sel) return;
-    // a jump, not an animation (an animation redraws the map every frame); none when it has not moved a pixel
+    // a jump, not an animation (an animation redraws the map every frame)
     const at = map.project([sel.position.lon, sel.position.lat]);
-    const mid = map.project(map.getCenter());
-    if (Math.hypot(at.x - mid.x, at.y - mid.y) >= 1) map.jumpTo({ center: [sel.position.lon, sel.position.lat] });
+    // the map's size from its canvas's pixels: reading the container's (a layout) after React's commit forced one
+    const w = map.getCanvas().width / map.getPixelRatio();
+    const h = map.getCanvas().height / map.getPixelRatio();
+    if (centred.current === sel.id && !outsideMiddle(at, w, h)) return;
+    centred.current = sel.id;
+    map.jumpTo({ center: [sel.position.lon, sel.position.lat] });
   }, [mapRef, ready, marks, follow, land, landLoaded]);
-}
-
-/** What is drawn, for the operator's status line and the tests: counted from rendered features once a second, on the
- * frame (a hidden page draws nothing, so it counts nothing: a count of rendered features is a search of them). */
-export function useDrawnCounts(mapRef: MapRef, ready: boolean): { landDrawn: number; vehiclesDrawn: number } {
-  const [landDrawn, setLandDrawn] = useState(0);
-  const [vehiclesDrawn, setVehiclesDrawn] = useState(0);
-  useEffect(() => {
-    const map = mapRef.current;
-    if (!ready || !map) return;
-    const count = () => {
-      if (!map.getLayer("selected-dot")) return; // layers not added yet
-      setLandDrawn(map.queryRenderedFeatures({ layers: ["land"] }).length);
-      setVehiclesDrawn(new Set(map.queryRenderedFeatures({ layers: VEHICLE_DOTS }).map((f) => f.properties?.id)).size);
-    };
-    const every = setInterval(() => onFrame(count), 1000);
-    return () => {
-      clearInterval(every);
-      cancelFrame(count);
-    };
-  }, [mapRef, ready]);
-  return { landDrawn, vehiclesDrawn };
+  // a map removed (a collapsed panel) and made again is framed again: the effect runs with ready false between
+  return ready && isFramed;
 }

@@ -1,5 +1,6 @@
 // The map's sources and layers (MapLibre style), and what the vehicles' reports become on it.
-import { LngLatBounds, type ExpressionSpecification, type GeoJSONSource, type Map as MapLibre } from "maplibre-gl";
+import { LngLatBounds, type GeoJSONSource, type Map as MapLibre } from "maplibre-gl";
+import type { FeatureCollection, Position } from "geojson";
 import { report, type ProviderView } from "../../data/store";
 import { freshness } from "../../lib/freshness";
 import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
@@ -8,8 +9,6 @@ import { shortId } from "../../lib/vehicle";
 
 /** Closest zoom of a frame of the vehicles (a lone vehicle would else fill the map with a few metres of sea). */
 const FRAME_MAX_ZOOM = 14;
-
-const FIX_COLOR: ExpressionSpecification = ["match", ["get", "fix"], "valid", "#4caf50", "invalid", "#e0593f", "#9fb3c8"];
 
 export function vehicleMark(p: ProviderView, now: number, selected: string | null): VehicleMark | null {
   const fix = report(p, "GPSFixReport");
@@ -38,101 +37,81 @@ export function originOf(p: ProviderView): LonLat | null {
   return validPosition(o?.geodeticLatitude?.latitude, o?.geodeticLongitude?.longitude);
 }
 
-/** A course arrow as an SDF image (coloured by the layer), pointing up (north) at rotation 0. */
-function arrowImage(size = 32): ImageData {
-  const c = document.createElement("canvas");
-  c.width = c.height = size;
-  const g = c.getContext("2d")!;
-  g.fillStyle = "#fff";
-  g.beginPath();
-  g.moveTo(size / 2, 1);
-  g.lineTo(size - 5, size - 3);
-  g.lineTo(size / 2, size * 0.7);
-  g.lineTo(5, size - 3);
-  g.closePath();
-  g.fill();
-  return g.getImageData(0, 0, size, size);
-}
-
 export function source(map: MapLibre, id: string): GeoJSONSource | undefined {
   return map.getSource(id) as GeoJSONSource | undefined;
 }
 
+/** The map's own sources and layers: the world model, the tools' points and the edit tool's handles (the fleet is
+ * drawn on a canvas of its own over the map: FleetCanvas.ts). */
 export function addLayers(map: MapLibre): void {
-  for (const id of ["worldmodel", "tracks", "origins", "vehicles", "selected", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
-  map.addImage("course-arrow", arrowImage(), { sdf: true });
+  for (const id of ["worldmodel", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
   map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
   map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] } });
   map.addLayer({ id: "wm-point", type: "circle", source: "worldmodel", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-color": ["get", "color"], "circle-radius": 5 } });
-  map.addLayer({
-    id: "tracks",
-    type: "line",
-    source: "tracks",
-    paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "selected"], 2.5, 1.5], "line-opacity": 0.8 },
-  });
-  map.addLayer({
-    id: "origins",
-    type: "circle",
-    source: "origins",
-    paint: { "circle-radius": 4, "circle-color": "#0000", "circle-stroke-color": ["get", "color"], "circle-stroke-width": 2 },
-  });
-  // the fleet, then the selected vehicle on top, in a source of its own: it moves on every frame after its fix, and
-  // updating a one-feature source does not make MapLibre's worker lay out the whole fleet again
-  addVehicleLayers(map, "vehicle", "vehicles");
-  addVehicleLayers(map, "selected", "selected");
   map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
   map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
   // the edit tool's vertex handles, dragged to move a vertex
   map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
 }
 
-/** The layers that draw `source`'s vehicles: `<prefix>-link` (a ring when stale or lost), `-dot`, `-arrow` (course). */
-function addVehicleLayers(map: MapLibre, prefix: string, source: string): void {
-  map.addLayer({
-    id: `${prefix}-link`,
-    type: "circle",
-    source,
-    filter: ["in", ["get", "link"], ["literal", ["stale", "lost"]]],
-    paint: {
-      "circle-radius": 15,
-      "circle-color": "#0000",
-      "circle-stroke-width": 2,
-      "circle-stroke-color": ["match", ["get", "link"], "lost", "#e0593f", "#f5a623"],
-    },
-  });
-  map.addLayer({
-    id: `${prefix}-dot`,
-    type: "circle",
-    source,
-    paint: {
-      "circle-radius": ["case", ["get", "selected"], 9, 7],
-      "circle-color": FIX_COLOR,
-      "circle-opacity": ["case", ["==", ["get", "link"], "lost"], 0.4, 1],
-      "circle-stroke-color": ["case", ["get", "selected"], "#ffffff", ["get", "color"]],
-      "circle-stroke-width": ["case", ["get", "selected"], 3, 2],
-    },
-  });
-  map.addLayer({
-    id: `${prefix}-arrow`,
-    type: "symbol",
-    source,
-    filter: ["get", "hasCourse"],
-    layout: {
-      "icon-image": "course-arrow",
-      "icon-rotate": ["get", "course"],
-      "icon-rotation-alignment": "map",
-      "icon-allow-overlap": true,
-      "icon-ignore-placement": true,
-      "icon-offset": [0, -20],
-      "icon-size": 0.7,
-    },
-    paint: { "icon-color": FIX_COLOR, "icon-halo-color": "#000", "icon-halo-width": 1 },
+/** A box in degrees (west may exceed east by the map's wrap: a view over the antimeridian). */
+export interface Bounds {
+  west: number;
+  south: number;
+  east: number;
+  north: number;
+}
+
+/** A polygon of the land (its outer ring) and its box. */
+export interface LandRing extends Bounds {
+  ring: Position[];
+}
+
+/** The outer ring and box of each polygon of the land (each part of a multipolygon its own). */
+export function landRings(fc: FeatureCollection): LandRing[] {
+  const rings: Position[][] = [];
+  for (const f of fc.features) {
+    if (f.geometry.type === "Polygon") rings.push(f.geometry.coordinates[0]);
+    else if (f.geometry.type === "MultiPolygon") for (const poly of f.geometry.coordinates) rings.push(poly[0]);
+  }
+  return rings.map((ring) => {
+    const b = { ring, west: Infinity, south: Infinity, east: -Infinity, north: -Infinity };
+    for (const [lon, lat] of ring) {
+      b.west = Math.min(b.west, lon);
+      b.east = Math.max(b.east, lon);
+      b.south = Math.min(b.south, lat);
+      b.north = Math.max(b.north, lat);
+    }
+    return b;
   });
 }
 
-/** The layers a click on a vehicle hits, and that count the vehicles drawn. */
-export const VEHICLE_DOTS = ["vehicle-dot", "selected-dot"];
-export const VEHICLE_HITS = ["vehicle-dot", "vehicle-arrow", "selected-dot", "selected-arrow"];
+/** Whether `ring` (lon, lat) contains point `p` (even-odd rule). */
+function inRing(ring: Position[], lon: number, lat: number): boolean {
+  let inside = false;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) {
+    const [xi, yi] = ring[i];
+    const [xj, yj] = ring[j];
+    if (yi > lat !== yj > lat && lon < ((xj - xi) * (lat - yi)) / (yj - yi) + xi) inside = !inside;
+  }
+  return inside;
+}
+
+/** How many of the land's polygons are in the view (its west and east as the map gives them, unwrapped): one with a
+ * vertex in it, or around its middle (land filling the view). A box alone is not enough: the Americas' spans most of
+ * the Pacific. */
+export function countLandInView(rings: LandRing[], view: Bounds): number {
+  const whole = view.east - view.west >= 360;
+  const midLon = (((((view.west + view.east) / 2 + 180) % 360) + 360) % 360) - 180;
+  const midLat = (view.south + view.north) / 2;
+  const shifts = whole ? [0] : [-360, 0, 360].filter((k) => k + 180 >= view.west && k - 180 <= view.east);
+  const inView = (lon: number, lat: number) => lat >= view.south && lat <= view.north && (whole || shifts.some((k) => lon + k >= view.west && lon + k <= view.east));
+  return rings.filter((r) => {
+    if (r.north < view.south || r.south > view.north) return false;
+    if (!whole && !shifts.some((k) => r.east + k >= view.west && r.west + k <= view.east)) return false;
+    return r.ring.some(([lon, lat]) => inView(lon, lat)) || inRing(r.ring, midLon, midLat);
+  }).length;
+}
 
 /** The view that takes in every point (a jump: an animation would redraw the map every frame). */
 export function fitAll(map: MapLibre, points: LonLat[]): void {

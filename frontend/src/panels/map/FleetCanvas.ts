@@ -1,0 +1,200 @@
+// The fleet (every vehicle's dot, course arrow and link ring, the tracks, the origins) on a 2D canvas over the map, not
+// in MapLibre: MapLibre redraws the whole map, basemap and all, for any change of a source, and a software-rendered
+// (no GPU) map's redraw is 35-70 ms, 33 of it the basemap, so the fleet's updates at two a second and more were most
+// of the page's long tasks. Here a fleet update redraws this canvas alone; the map redraws only when its camera moves
+// (or its tiles, the world model, the tools change). The canvas is redrawn on the map's own `render` (in the same
+// frame as the map, so it stays on the map while it pans and zooms) and on the frame after the fleet changed.
+// A click and the pointer's cursor find their vehicle in what was drawn (`hit`), not in MapLibre's features.
+import type { Map as MapLibre } from "maplibre-gl";
+import { cancelFrame, onFrame } from "../../data/frame";
+import type { LonLat, VehicleMark } from "../../lib/geo";
+import { vehicleColor } from "../../lib/vehicle";
+import { countInView, hitVehicle, mercator, place, similarity, thinned, type Placed, type Point } from "./fleet";
+
+export const FIX_COLORS: Record<VehicleMark["fix"], string> = { valid: "#4caf50", invalid: "#e0593f", unknown: "#9fb3c8" };
+const LINK_COLORS: Partial<Record<VehicleMark["link"], string>> = { lost: "#e0593f", stale: "#f5a623" };
+
+export interface FleetTrack {
+  id: string;
+  selected: boolean;
+  points: LonLat[];
+}
+
+/** What the canvas draws: the vehicles (the selected one on top), their tracks and their origins. */
+export interface FleetData {
+  marks: VehicleMark[];
+  tracks: FleetTrack[];
+  origins: { id: string; at: LonLat }[];
+}
+
+declare global {
+  interface Window {
+    __semFleet?: FleetCanvas; // test hook: Playwright reads the tracks drawn
+  }
+}
+
+/** A course arrow pointing up, its middle at 0,0 (MapLibre's 32 px icon at 0.7). */
+const ARROW: [number, number][] = [
+  [0, -10.5],
+  [7.7, 9.1],
+  [0, 4.5],
+  [-7.7, 9.1],
+];
+
+export class FleetCanvas {
+  private readonly canvas: HTMLCanvasElement;
+  private readonly ctx: CanvasRenderingContext2D;
+  private readonly resized: ResizeObserver;
+  private width = 0;
+  private height = 0;
+  private data: FleetData = { marks: [], tracks: [], origins: [] };
+  private placed: Placed[] = [];
+  private drawnCount = -1;
+  // a track's Mercator points, kept while the store keeps its array (a track changes once a second at most)
+  private readonly mercs = new WeakMap<LonLat[], Point[]>();
+
+  /** `onCount`: the number of vehicles in view changed (the status line's "n of m vehicles drawn"). */
+  constructor(
+    private readonly map: MapLibre,
+    private readonly onCount: (n: number) => void,
+  ) {
+    this.canvas = document.createElement("canvas");
+    this.canvas.className = "map-fleet";
+    this.canvas.dataset.testid = "map-fleet";
+    // over the map's canvas, under the names and edge arrows (VehicleOverlay) and the controls
+    const container = map.getContainer();
+    container.insertBefore(this.canvas, map.getCanvasContainer().nextSibling);
+    this.ctx = this.canvas.getContext("2d")!;
+    map.on("render", this.draw);
+    this.resized = new ResizeObserver(([entry]) => {
+      this.width = entry.contentRect.width;
+      this.height = entry.contentRect.height;
+      const dpr = window.devicePixelRatio || 1;
+      this.canvas.width = Math.round(this.width * dpr);
+      this.canvas.height = Math.round(this.height * dpr);
+      this.draw();
+    });
+    this.resized.observe(this.canvas);
+    window.__semFleet = this;
+  }
+
+  /** The fleet to draw, on the next frame. */
+  set(data: FleetData): void {
+    this.data = data;
+    onFrame(this.draw);
+  }
+
+  /** The vehicle drawn under point `p` of the map (px from its top left), or null. */
+  hit(p: Point): string | null {
+    return hitVehicle(this.placed, p);
+  }
+
+  /** The tracks drawn (for the tests: where a vehicle went). */
+  tracks(): FleetTrack[] {
+    return this.data.tracks;
+  }
+
+  private toScreen() {
+    const { width: w, height: h } = this;
+    const a = this.map.unproject([0, 0]);
+    const b = this.map.unproject([w, h]);
+    return similarity(mercator({ lon: a.lng, lat: a.lat }), { x: 0, y: 0 }, mercator({ lon: b.lng, lat: b.lat }), { x: w, y: h });
+  }
+
+  private merc(points: LonLat[]): Point[] {
+    let m = this.mercs.get(points);
+    if (!m) {
+      m = points.map(mercator);
+      this.mercs.set(points, m);
+    }
+    return m;
+  }
+
+  readonly draw = (): void => {
+    cancelFrame(this.draw);
+    const { width: w, height: h, ctx } = this;
+    if (!w || !h) return;
+    const dpr = this.canvas.width / w;
+    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
+    ctx.clearRect(0, 0, w, h);
+    const toScreen = this.toScreen();
+    const { marks, tracks, origins } = this.data;
+    ctx.lineJoin = ctx.lineCap = "round";
+    ctx.globalAlpha = 0.8;
+    for (const t of tracks) {
+      if (t.points.length < 2) continue;
+      const pts = thinned(this.merc(t.points).map(toScreen), 1);
+      ctx.beginPath();
+      ctx.moveTo(pts[0].x, pts[0].y);
+      for (let i = 1; i < pts.length; i++) ctx.lineTo(pts[i].x, pts[i].y);
+      ctx.lineWidth = t.selected ? 2.5 : 1.5;
+      ctx.strokeStyle = vehicleColor(t.id);
+      ctx.stroke();
+    }
+    ctx.globalAlpha = 1;
+    ctx.lineWidth = 2;
+    for (const o of origins) {
+      const p = toScreen(mercator(o.at));
+      ctx.beginPath();
+      ctx.arc(p.x, p.y, 4, 0, 2 * Math.PI);
+      ctx.strokeStyle = vehicleColor(o.id);
+      ctx.stroke();
+    }
+    // the selected vehicle last: on top
+    const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
+    this.placed = place(ordered, toScreen, this.map.getBearing());
+    // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
+    for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
+    const n = countInView(this.placed, w, h);
+    if (n !== this.drawnCount) {
+      this.drawnCount = n;
+      this.onCount(n);
+    }
+  };
+
+  private drawVehicle({ mark, at, r, arrow, angle }: Placed): void {
+    const { ctx } = this;
+    const fill = FIX_COLORS[mark.fix];
+    const ring = LINK_COLORS[mark.link];
+    if (ring) {
+      ctx.beginPath();
+      ctx.arc(at.x, at.y, 15, 0, 2 * Math.PI);
+      ctx.lineWidth = 2;
+      ctx.strokeStyle = ring;
+      ctx.stroke();
+    }
+    ctx.globalAlpha = mark.link === "lost" ? 0.4 : 1;
+    ctx.beginPath();
+    ctx.arc(at.x, at.y, r, 0, 2 * Math.PI);
+    ctx.fillStyle = fill;
+    ctx.fill();
+    ctx.globalAlpha = 1;
+    ctx.lineWidth = mark.selected ? 3 : 2;
+    ctx.strokeStyle = mark.selected ? "#ffffff" : vehicleColor(mark.id);
+    ctx.stroke();
+    if (!arrow) return;
+    const cos = Math.cos(angle);
+    const sin = Math.sin(angle);
+    ctx.beginPath();
+    for (const [i, [x, y]] of ARROW.entries()) {
+      const px = arrow.x + x * cos - y * sin;
+      const py = arrow.y + x * sin + y * cos;
+      if (i === 0) ctx.moveTo(px, py);
+      else ctx.lineTo(px, py);
+    }
+    ctx.closePath();
+    ctx.fillStyle = fill;
+    ctx.fill();
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = "#000";
+    ctx.stroke();
+  }
+
+  destroy(): void {
+    cancelFrame(this.draw);
+    this.map.off("render", this.draw);
+    this.resized.disconnect();
+    this.canvas.remove();
+    if (window.__semFleet === this) delete window.__semFleet;
+  }
+}

@@ -1,0 +1,92 @@
+import { describe, expect, it } from "vitest";
+import type { VehicleMark } from "../../lib/geo";
+import { countInView, hitVehicle, mercator, outsideMiddle, place, similarity, thinned } from "./fleet";
+import { countLandInView, landRings } from "./layers";
+
+const mark = (id: string, lon: number, lat: number, courseDeg: number | null = null, selected = false): VehicleMark => ({
+  id,
+  label: id,
+  position: { lon, lat },
+  courseDeg,
+  fix: "valid",
+  gpsPosition: true,
+  link: "live",
+  selected,
+});
+
+// a view of 1000 x 500 px, north up, 1 px per 1e-6 of Mercator's unit square, its top left at mercator(0, 0)
+const m0 = mercator({ lon: 0, lat: 0 });
+const northUp = similarity(m0, { x: 0, y: 0 }, { x: m0.x + 1e-3, y: m0.y + 5e-4 }, { x: 1000, y: 500 });
+
+describe("the fleet's canvas", () => {
+  it("projects as Web Mercator: the equator and the antimeridian at the unit square's middle and edge", () => {
+    expect(mercator({ lon: 0, lat: 0 })).toEqual({ x: 0.5, y: 0.5 });
+    expect(mercator({ lon: -180, lat: 0 }).x).toBe(0);
+    expect(mercator({ lon: 0, lat: 85.051129 }).y).toBeCloseTo(0, 6);
+  });
+
+  it("maps Mercator to the screen by two known points, rotation included", () => {
+    expect(northUp({ x: m0.x + 5e-4, y: m0.y + 2.5e-4 })).toMatchObject({ x: expect.closeTo(500, 6), y: expect.closeTo(250, 6) });
+    // a map turned 90° (east up): a point east of A is above it on the screen
+    const east = similarity({ x: 0, y: 0 }, { x: 100, y: 100 }, { x: 1, y: 0 }, { x: 100, y: 0 });
+    expect(east({ x: 0.5, y: 0 })).toMatchObject({ x: expect.closeTo(100, 9), y: expect.closeTo(50, 9) });
+    expect(east({ x: 0, y: 1 })).toMatchObject({ x: expect.closeTo(200, 9), y: expect.closeTo(100, 9) });
+  });
+
+  it("puts a course arrow ahead of its dot along the course, turned with the map", () => {
+    const [v] = place([mark("a", 0, 0, 90)], () => ({ x: 100, y: 100 }), 0);
+    expect(v.arrow).toMatchObject({ x: expect.closeTo(114, 9), y: expect.closeTo(100, 9) }); // east: right
+    const [turned] = place([mark("a", 0, 0, 90)], () => ({ x: 100, y: 100 }), 90);
+    expect(turned.arrow).toMatchObject({ x: expect.closeTo(100, 9), y: expect.closeTo(86, 9) }); // east up: up
+    expect(place([mark("a", 0, 0)], () => ({ x: 0, y: 0 }), 0)[0].arrow).toBeNull();
+  });
+
+  it("hits the vehicle whose dot or arrow the pointer is on, the nearest of two, and none beside them", () => {
+    const placed = place([mark("a", 0, 0, 0), mark("b", 0, 0)], (m) => (m.x === 0.5 ? { x: 100, y: 100 } : { x: 0, y: 0 }), 0);
+    placed[1].at = { x: 110, y: 100 }; // b's dot beside a's
+    expect(hitVehicle(placed, { x: 101, y: 100 })).toBe("a");
+    expect(hitVehicle(placed, { x: 108, y: 101 })).toBe("b");
+    expect(hitVehicle(placed, { x: 100, y: 86 })).toBe("a"); // a's arrow, north of its dot
+    expect(hitVehicle(placed, { x: 100, y: 130 })).toBeNull();
+  });
+
+  it("counts the vehicles whose dot is on the screen", () => {
+    const placed = place([mark("in", 0, 0), mark("edge", 0, 0), mark("out", 0, 0)], () => ({ x: 0, y: 0 }), 0);
+    placed[0].at = { x: 50, y: 50 };
+    placed[1].at = { x: -5, y: 50 }; // half on the screen
+    placed[2].at = { x: 50, y: 600 };
+    expect(countInView(placed, 100, 100)).toBe(2);
+  });
+
+  it("thins a track to points a pixel apart, keeping its ends", () => {
+    const pts = [0, 0.2, 0.4, 1.5, 1.6, 1.7].map((x) => ({ x, y: 0 }));
+    expect(thinned(pts, 1).map((p) => p.x)).toEqual([0, 1.5, 1.7]);
+  });
+
+  it("centres a followed vehicle again only outside the middle half of the map", () => {
+    expect(outsideMiddle({ x: 500, y: 250 }, 1000, 500)).toBe(false);
+    expect(outsideMiddle({ x: 740, y: 360 }, 1000, 500)).toBe(false);
+    expect(outsideMiddle({ x: 760, y: 250 }, 1000, 500)).toBe(true);
+    expect(outsideMiddle({ x: 500, y: 10 }, 1000, 500)).toBe(true);
+  });
+
+  it("counts the land's polygons in view: a vertex in it, or around its middle; each part of a multipolygon its own", () => {
+    const square = (w: number, s: number, size = 1) => [[[w, s], [w + size, s], [w + size, s + size], [w, s + size], [w, s]]];
+    // a C open to the east: its box covers 0..10 x 0..10, its land only the edges
+    const c = [[[0, 0], [10, 0], [10, 2], [2, 2], [2, 8], [10, 8], [10, 10], [0, 10], [0, 0]]];
+    const rings = landRings({
+      type: "FeatureCollection",
+      features: [
+        { type: "Feature", properties: {}, geometry: { type: "Polygon", coordinates: c } },
+        { type: "Feature", properties: {}, geometry: { type: "MultiPolygon", coordinates: [square(-170, 0), square(170, 0)] } },
+        { type: "Feature", properties: {}, geometry: { type: "Polygon", coordinates: square(40, 40, 20) } },
+      ],
+    });
+    expect(rings).toHaveLength(4);
+    expect(countLandInView(rings, { west: 4, south: 4, east: 8, north: 6 })).toBe(0); // the C's bay: sea
+    expect(countLandInView(rings, { west: -1, south: 4, east: 3, north: 6 })).toBe(1); // its back
+    expect(countLandInView(rings, { west: 45, south: 45, east: 50, north: 50 })).toBe(1); // inside a large one
+    expect(countLandInView(rings, { west: 165, south: -5, east: 195, north: 5 })).toBe(2); // over the antimeridian
+    expect(countLandInView(rings, { west: -200, south: -80, east: 200, north: 80 })).toBe(4); // the whole world
+  });
+});
