@@ -1,10 +1,10 @@
 import { QueryClientProvider } from "@tanstack/react-query";
-import { StrictMode } from "react";
+import { StrictMode, useEffect } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
-import { health, type Health } from "./api/rest";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
 import { Connection, Store, defaultUrl } from "./data/connection";
+import { startEarly } from "./data/early";
 import { DataContext } from "./data/hooks";
 import { healthQuery, makeQueryClient } from "./data/queries";
 import { ReplaySource } from "./data/replay";
@@ -38,20 +38,17 @@ root.render(
   </p>,
 );
 
-// Before anything else the console says whether reads need a token (with --auth-reads /ws refuses a client
-// without one) and whether it replays a recording: that decides the data source.
-async function consoleHealth(): Promise<Health> {
-  for (;;) {
-    try {
-      return await health();
-    } catch {
-      await new Promise((r) => setTimeout(r, 2000)); // the console is not up yet
-    }
-  }
+/** Runs `start` once, after the effects of the first render (this component is rendered last). */
+function AfterFirstRender({ start }: { start: () => void }) {
+  useEffect(start, [start]);
+  return null;
 }
 
+// Before anything else the console says whether reads need a token (with --auth-reads /ws refuses a client
+// without one) and whether it replays a recording: that decides the data source. boot.ts asked as the page
+// loaded, and opened the WebSocket the source takes over.
 async function start(): Promise<void> {
-  const h = await consoleHealth();
+  const h = await startEarly();
   store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
   queryClient.setQueryData(healthQuery().queryKey, h); // the panels that read it need not ask again
   const source: DataSource = h.replay
@@ -60,6 +57,16 @@ async function start(): Promise<void> {
   store.clock = source.now;
   const mayConnect = () => !store.getState().readAuthRequired || getToken() !== null;
   onTokenChange(() => (mayConnect() ? source.restart() : source.stop()));
+  // The source starts once the first, empty, render's effects have run: they made the map, whose style, worker and
+  // first frames then proceed beside the snapshot's render. Started before it, the snapshot (at hand from boot.ts)
+  // made the first render the full dashboard's, and the map was made only after it (0.3-0.6 s later).
+  let started = false;
+  const startSource = () => {
+    if (started) return; // StrictMode runs a development build's effects twice
+    started = true;
+    if (mayConnect()) source.start();
+    else source.stop(); // "Not signed in" until the operator signs in
+  };
   root.render(
     <StrictMode>
       <QueryClientProvider client={queryClient}>
@@ -67,9 +74,8 @@ async function start(): Promise<void> {
           <App />
         </DataContext.Provider>
       </QueryClientProvider>
+      <AfterFirstRender start={startSource} />
     </StrictMode>,
   );
-  if (mayConnect()) source.start();
-  else source.stop(); // "Not signed in" until the operator signs in
 }
 void start();
