@@ -1,5 +1,5 @@
 import { QueryClientProvider } from "@tanstack/react-query";
-import { StrictMode, useEffect } from "react";
+import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
@@ -38,12 +38,6 @@ root.render(
   </p>,
 );
 
-/** Runs `start` once, after the effects of the first render (this component is rendered last). */
-function AfterFirstRender({ start }: { start: () => void }) {
-  useEffect(start, [start]);
-  return null;
-}
-
 // Before anything else the console says whether reads need a token (with --auth-reads /ws refuses a client
 // without one) and whether it replays a recording: that decides the data source. boot.ts asked as the page
 // loaded, and opened the WebSocket the source takes over.
@@ -57,16 +51,6 @@ async function start(): Promise<void> {
   store.clock = source.now;
   const mayConnect = () => !store.getState().readAuthRequired || getToken() !== null;
   onTokenChange(() => (mayConnect() ? source.restart() : source.stop()));
-  // The source starts once the first, empty, render's effects have run: they made the map, whose style, worker and
-  // first frames then proceed beside the snapshot's render. Started before it, the snapshot (at hand from boot.ts)
-  // made the first render the full dashboard's, and the map was made only after it (0.3-0.6 s later).
-  let started = false;
-  const startSource = () => {
-    if (started) return; // StrictMode runs a development build's effects twice
-    started = true;
-    if (mayConnect()) source.start();
-    else source.stop(); // "Not signed in" until the operator signs in
-  };
   root.render(
     <StrictMode>
       <QueryClientProvider client={queryClient}>
@@ -74,8 +58,9 @@ async function start(): Promise<void> {
           <App />
         </DataContext.Provider>
       </QueryClientProvider>
-      <AfterFirstRender start={startSource} />
     </StrictMode>,
   );
+  if (mayConnect()) source.start(); // with the messages boot.ts's socket held: the first render has the snapshot
+  else source.stop(); // "Not signed in" until the operator signs in
 }
 void start();
