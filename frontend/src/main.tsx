@@ -2,9 +2,9 @@ import { QueryClientProvider } from "@tanstack/react-query";
 import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
-import { health, type Health } from "./api/rest";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
 import { Connection, Store, defaultUrl } from "./data/connection";
+import { startEarly } from "./data/early";
 import { DataContext } from "./data/hooks";
 import { healthQuery, makeQueryClient } from "./data/queries";
 import { ReplaySource } from "./data/replay";
@@ -39,19 +39,10 @@ root.render(
 );
 
 // Before anything else the console says whether reads need a token (with --auth-reads /ws refuses a client
-// without one) and whether it replays a recording: that decides the data source.
-async function consoleHealth(): Promise<Health> {
-  for (;;) {
-    try {
-      return await health();
-    } catch {
-      await new Promise((r) => setTimeout(r, 2000)); // the console is not up yet
-    }
-  }
-}
-
+// without one) and whether it replays a recording: that decides the data source. boot.ts asked as the page
+// loaded, and opened the WebSocket the source takes over.
 async function start(): Promise<void> {
-  const h = await consoleHealth();
+  const h = await startEarly();
   store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
   queryClient.setQueryData(healthQuery().queryKey, h); // the panels that read it need not ask again
   const source: DataSource = h.replay
@@ -69,7 +60,7 @@ async function start(): Promise<void> {
       </QueryClientProvider>
     </StrictMode>,
   );
-  if (mayConnect()) source.start();
+  if (mayConnect()) source.start(); // with the messages boot.ts's socket held: the first render has the snapshot
   else source.stop(); // "Not signed in" until the operator signs in
 }
 void start();

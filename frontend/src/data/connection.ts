@@ -2,6 +2,7 @@
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
 import type { ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
+import { takeEarly, type EarlySocket } from "./early";
 import { onFrame } from "./frame";
 import { initialState, reduceAll, type State } from "./store";
 
@@ -131,7 +132,7 @@ export class Connection implements DataSource {
   start(): void {
     this.stopped = false;
     this.setState("connecting");
-    this.open();
+    this.open(takeEarly(this.protocols())); // the page's own socket (early.ts), if it is still the right one
   }
 
   /** Sign-out when reads need a token: close, stay closed, and clear the store (nothing of the
@@ -176,11 +177,12 @@ export class Connection implements DataSource {
     this.store.enqueue(msg);
   }
 
-  private open(): void {
+  /** A new socket, or `early`'s with the messages it held. */
+  private open(early: EarlySocket | null = null): void {
     const protocols = this.protocols();
-    const ws = protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url);
+    const ws = early?.ws ?? (protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url));
     this.ws = ws;
-    ws.onmessage = (ev: MessageEvent<string>) => {
+    const onMessage = (ev: MessageEvent<string>) => {
       if (this.ws !== ws) return; // a socket closed by stop() or restart()
       let data: ServerMessage | ServerMessage[];
       try {
@@ -192,6 +194,8 @@ export class Connection implements DataSource {
       if (Array.isArray(data)) for (const msg of data) this.receive(msg);
       else this.receive(data);
     };
+    ws.onmessage = onMessage;
+    for (const ev of early?.held.splice(0) ?? []) onMessage(ev);
     ws.onclose = () => {
       if (this.ws !== ws || this.stopped) return;
       this.failures += 1;
@@ -202,9 +206,4 @@ export class Connection implements DataSource {
   }
 }
 
-/** The console's WebSocket, asking for its reports in batches under load: a browser pays about 0.13 ms of its main
- * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report. */
-export function defaultUrl(): string {
-  const { protocol, host } = window.location;
-  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1`;
-}
+export { defaultUrl } from "./early";

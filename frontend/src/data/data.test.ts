@@ -1,6 +1,7 @@
 import { afterEach, describe, expect, expectTypeOf, it, vi } from "vitest";
 import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, InertialSensorReportType, ReplayStatus, ServerMessage } from "../api/types";
 import { Connection, Store, backoff } from "./connection";
+import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
 import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, reduceAll, report, select, type HistoryPoint, type State } from "./store";
@@ -221,6 +222,8 @@ describe("store and connection", () => {
     // The browser's WebSocket as far as Connection uses it: the test plays the console's side.
     class FakeSocket {
       static all: FakeSocket[] = [];
+      static readonly OPEN = 1;
+      readyState = 0; // CONNECTING
       onmessage: ((ev: { data: string }) => void) | null = null;
       onclose: (() => void) | null = null;
       onerror: (() => void) | null = null;
@@ -231,6 +234,7 @@ describe("store and connection", () => {
       close(): void {
         if (this.closed) return;
         this.closed = true;
+        this.readyState = 3; // CLOSED
         queueMicrotask(() => this.onclose?.());
       }
       receive(msg: ServerMessage | ServerMessage[]): void {
@@ -275,6 +279,36 @@ describe("store and connection", () => {
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
+
+    it("takes over the page's early socket with the messages it held, in order; one of another token is closed", () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      const token = ["sem-console", "bearer.dG9rZW4"];
+      const early = openEarly("ws://console/ws?batch=1", token);
+      const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
+      FakeSocket.all[0].readyState = 1;
+      FakeSocket.all[0].receive(snapshot());
+      FakeSocket.all[0].receive([ins("INIT"), ins("OPERATIONAL")]);
+      expect(early.held).toHaveLength(2);
+      const store = new Store(P);
+      const conn = new Connection("ws://console/ws?batch=1", store, () => token);
+      conn.start();
+      expect(FakeSocket.all).toHaveLength(1); // no second socket
+      expect(conn.getState()).toBe("live");
+      store.flush();
+      expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
+      FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
+      store.flush();
+      expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
+
+      openEarly("ws://console/ws?batch=1", []); // opened before the operator signed in
+      const other = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      other.start();
+      expect(FakeSocket.all[1].closed).toBe(true);
+      expect(FakeSocket.all).toHaveLength(3); // its own, with the token
+      expect(FakeSocket.all[2].protocols).toEqual(token);
+      conn.stop();
+      other.stop();
     });
 
     it("takes a batch of reports (an array in one frame, /ws?batch=1) as the messages one by one, in order", () => {

@@ -1,7 +1,6 @@
 // The map panel's parts, each a hook over the one MapLibre map: the map itself, the pointer and its tools, and
 // one hook per layer. Each reads the map from `mapRef` once it is `ready` (loaded, layers added).
-import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, prewarm, setWorkerUrl, type MapMouseEvent } from "maplibre-gl";
-import workerUrl from "maplibre-gl/dist/maplibre-gl-worker.mjs?url";
+import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, type MapMouseEvent } from "maplibre-gl";
 import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
 import type { FeatureCollection } from "geojson";
@@ -21,6 +20,7 @@ import {
   type LonLat,
   type VehicleMark,
 } from "../../lib/geo";
+import "../../lib/mapWorker"; // its worker started (boot.ts started it already)
 import { VehicleOverlay } from "../../lib/mapOverlay";
 import { countRender } from "../../lib/renders";
 import type { Theme } from "../../lib/theme";
@@ -31,11 +31,6 @@ import { outsideMiddle } from "./fleet";
 import { addLayers, countLandInView, fitAll, landRings, source } from "./layers";
 import "maplibre-gl/dist/maplibre-gl.css";
 
-// the worker is a file of the build, served by the console like the rest of the dashboard
-setWorkerUrl(workerUrl);
-// its worker fetched and started as the page loads, beside the WebSocket's snapshot, not once the first render made
-// the map (a new client's map was ready 0.3-0.5 s after the panels' values, waiting for it)
-prewarm();
 const pmtiles = new Protocol();
 addProtocol("pmtiles", pmtiles.tile);
 
