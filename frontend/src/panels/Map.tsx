@@ -8,16 +8,18 @@ import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
 import { useNow, useProvidersOnFrame, useSelectedTopic, useSelector, useStore } from "../data/hooks";
+import type { ProviderView } from "../data/store";
 import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
 import { select } from "../data/store";
+import type { VehicleOverlay } from "../lib/mapOverlay";
 import { bearingDeg, distanceText, pathLengthM, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
 import { useTheme } from "../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
 import { CursorStore, MapCursor } from "./map/MapCursor";
 import { MapToolbar } from "./map/MapToolbar";
 import type { FleetCanvas, FleetData } from "./map/FleetCanvas";
-import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
+import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
 import { fitAll, originOf, vehicleMark } from "./map/layers";
 
 /** The fleet (every vehicle's mark, tracks and origins, on a canvas over the map) is redrawn on the first frame at
@@ -33,6 +35,16 @@ const StoredTracks = memo(function StoredTracks({ idList, ready }: { idList: str
   return null;
 });
 
+/** The selected vehicle's ring (HTML over the map) at its newest fix: the one part of the map that subscribes to the
+ * selected vehicle's fix, so each fix renders this (nothing of its own to draw) and not the map panel's tree (the
+ * CoMap controls, toolbar, status and legend), which renders at the fleet's rate. */
+const SelectedRing = memo(function SelectedRing({ overlay, vehicle, now, selected }: { overlay: VehicleOverlay | null; vehicle: ProviderView | undefined; now: number; selected: string | null }) {
+  const fix = useSelectedTopic("GPSFixReport");
+  const mark = useMemo(() => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected) : null), [vehicle, fix, now, selected]);
+  useSelectedRing(overlay, mark);
+  return null;
+});
+
 export function MapPanel() {
   const theme = useTheme();
   const container = useRef<HTMLDivElement>(null);
@@ -40,7 +52,6 @@ export function MapPanel() {
   const { mapRef, ready } = useMapInstance(container, collapsed, theme);
   const fleet = useProvidersOnFrame(undefined, FLEET_EVERY_MS);
   const idList = fleet.map((p) => p.id).join(",");
-  const selectedFix = useSelectedTopic("GPSFixReport");
   const selected = useSelector((s) => s.selected);
 
   const store = useStore();
@@ -61,14 +72,10 @@ export function MapPanel() {
   const [draft, setDraft] = useState<FeatureCollection | null>(null);
   const shownModel = useMemo(() => (draft ? withLiveCoverage(draft, worldModel) : worldModel), [draft, worldModel]);
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
-  // the fleet's marks (drawn by the map, named by the overlay) change at the fleet's rate; the selected vehicle's,
-  // with its newest fix, on every frame after one (the overlay's ring, and what the map follows)
+  // the fleet's marks (drawn by the map, named by the overlay, fitted and followed) change at the fleet's rate; the
+  // selected vehicle's ring with its newest fix on every frame after one (SelectedRing)
   const fleetAll = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [fleet, now, selected]);
-  const selectedMark = useMemo(() => {
-    const p = fleet.find((v) => v.id === selected);
-    return p ? vehicleMark(selectedFix ? { ...p, topics: { ...p.topics, GPSFixReport: selectedFix } } : p, now, selected) : null;
-  }, [fleet, selected, selectedFix, now]);
-  const marks = useMemo(() => (selectedMark ? [...fleetAll.filter((m) => !m.selected), selectedMark] : fleetAll), [fleetAll, selectedMark]);
+  const selectedVehicle = useMemo(() => fleet.find((v) => v.id === selected), [fleet, selected]);
   const fleetData = useMemo<FleetData>(
     () => ({
       marks: fleetAll,
@@ -106,7 +113,7 @@ export function MapPanel() {
   const framed = useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
   // the fleet drawn from the first view on (the vehicles, with the coast): not for a moment over the whole world at
   // zoom 1, where they are one pixel and a click or a count there means nothing
-  useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, selectedMark, pickEdge, setVehiclesDrawn);
+  const overlay = useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, pickEdge, setVehiclesDrawn);
 
   const measured = pathLengthM(measure);
   const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;
@@ -119,12 +126,12 @@ export function MapPanel() {
         <MapToolbar
           follow={follow}
           setFollow={setFollow}
-          canFit={marks.length > 0}
+          canFit={fleetAll.length > 0}
           fitAll={() => {
             const map = mapRef.current;
             if (!map) return;
             setFollow(false); // following would take the view back to one vehicle
-            fitAll(map, marks.map((m) => m.position));
+            fitAll(map, fleetAll.map((m) => m.position));
           }}
           measuring={measuring}
           toggleMeasure={() => {
@@ -137,6 +144,7 @@ export function MapPanel() {
       }
     >
       <StoredTracks idList={idList} ready={ready} />
+      <SelectedRing overlay={overlay} vehicle={selectedVehicle} now={now} selected={selected} />
       <div className="map-wrap">
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
         <div className="map-status">

@@ -255,19 +255,20 @@ export function usePointer(
 }
 
 /** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's
- * rate; no map redraw), its name and edge arrow (an edge arrow's click: `onPick`), and the selected vehicle's ring at
- * its `newest` position (on every frame after its fix). `fleetRef` holds the canvas (what a click hits); `onCount`: the
- * number of vehicles in view. */
+ * rate; no map redraw) and its name and edge arrow (an edge arrow's click: `onPick`). `fleetRef` holds the canvas (what
+ * a click hits); `onCount`: the number of vehicles in view. Returns the overlay (null until the map is ready), whose
+ * selected vehicle's ring `useSelectedRing` moves: a component of its own, so that a fix of the selected vehicle
+ * renders that component only, not the map panel. */
 export function useVehicleLayer(
   mapRef: MapRef,
   ready: boolean,
   fleetRef: RefObject<FleetCanvas | null>,
   data: FleetData,
-  newest: VehicleMark | null,
   onPick: (map: MapLibre, m: VehicleMark) => void,
   onCount: (n: number) => void,
-): void {
-  const overlay = useRef<VehicleOverlay | null>(null);
+): VehicleOverlay | null {
+  // state, not a ref: the ring's component (a child, whose effects run before these) is given it once it exists
+  const [overlay, setOverlay] = useState<VehicleOverlay | null>(null);
   const pick = useRef(onPick);
   const count = useRef(onCount);
   useEffect(() => {
@@ -280,12 +281,12 @@ export function useVehicleLayer(
     const c = new FleetCanvas(map, (n) => count.current(n));
     const o = new VehicleOverlay(map, (m) => pick.current(map, m));
     fleetRef.current = c;
-    overlay.current = o;
+    setOverlay(o);
     return () => {
       o.destroy();
       c.destroy();
       count.current(0); // nothing drawn until the next map's first view
-      if (overlay.current === o) overlay.current = null;
+      setOverlay((now) => (now === o ? null : now));
       if (fleetRef.current === c) fleetRef.current = null;
     };
   }, [mapRef, ready, fleetRef]);
@@ -294,11 +295,16 @@ export function useVehicleLayer(
     fleetRef.current?.set(data);
     countRender("map:fleet-data");
     // the names and edge arrows, at the same rate
-    overlay.current?.set(data.marks);
-  }, [ready, fleetRef, data]);
+    overlay?.set(data.marks);
+  }, [ready, fleetRef, data, overlay]);
+  return overlay;
+}
+
+/** The selected vehicle's ring on `overlay` at its `newest` mark (on every frame after its fix). */
+export function useSelectedRing(overlay: VehicleOverlay | null, newest: VehicleMark | null): void {
   useEffect(() => {
-    if (ready) overlay.current?.setSelected(newest);
-  }, [ready, newest]);
+    overlay?.setSelected(newest);
+  }, [overlay, newest]);
 }
 
 /** The CoMap world model's features by coverage (the picked one wider) and, in the edit tool, its vertex handles;
