@@ -9,7 +9,7 @@ import type { Map as MapLibre } from "maplibre-gl";
 import { cancelFrame, onFrame } from "../../data/frame";
 import type { LonLat, VehicleMark } from "../../lib/geo";
 import { vehicleColor } from "../../lib/vehicle";
-import { countInView, hitVehicle, mercator, place, similarity, thinned, type Placed, type Point } from "./fleet";
+import { countInView, hitVehicle, mercator, nearestCopy, place, similarity, thinned, unwrapped, type Placed, type Point } from "./fleet";
 
 export const FIX_COLORS: Record<VehicleMark["fix"], string> = { valid: "#4caf50", invalid: "#e0593f", unknown: "#9fb3c8" };
 const LINK_COLORS: Partial<Record<VehicleMark["link"], string>> = { lost: "#e0593f", stale: "#f5a623" };
@@ -94,17 +94,18 @@ export class FleetCanvas {
     return this.data.tracks;
   }
 
-  private toScreen() {
-    const { width: w, height: h } = this;
-    const a = this.map.unproject([0, 0]);
-    const b = this.map.unproject([w, h]);
-    return similarity(mercator({ lon: a.lng, lat: a.lat }), { x: 0, y: 0 }, mercator({ lon: b.lng, lat: b.lat }), { x: w, y: h });
+  /** Mercator to the map's pixels, fixed by where the map itself puts its centre and a point ~128 px east of it:
+   * both inside the world (a screen corner may be past a pole on a turned map, where Mercator is clamped) and
+   * independent of this canvas's size (the map's may change a frame before or after it). */
+  private toScreen(c: LonLat) {
+    const b = { lon: c.lon + 90 / 2 ** this.map.getZoom(), lat: c.lat };
+    return similarity(mercator(c), this.map.project([c.lon, c.lat]), mercator(b), this.map.project([b.lon, b.lat]));
   }
 
   private merc(points: LonLat[]): Point[] {
     let m = this.mercs.get(points);
     if (!m) {
-      m = points.map(mercator);
+      m = unwrapped(points.map(mercator));
       this.mercs.set(points, m);
     }
     return m;
@@ -117,13 +118,18 @@ export class FleetCanvas {
     const dpr = this.canvas.width / w;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
-    const toScreen = this.toScreen();
+    const centre = this.map.getCenter();
+    const c = { lon: centre.lng, lat: centre.lat };
+    const toScreen = this.toScreen(c);
+    const cx = mercator(c).x; // each vehicle, track and origin drawn at its copy of the world nearest the centre
     const { marks, tracks, origins } = this.data;
     ctx.lineJoin = ctx.lineCap = "round";
     ctx.globalAlpha = 0.8;
     for (const t of tracks) {
       if (t.points.length < 2) continue;
-      const pts = thinned(this.merc(t.points).map(toScreen), 1);
+      const merc = this.merc(t.points);
+      const k = nearestCopy(merc[merc.length - 1], cx).x - merc[merc.length - 1].x; // the track goes with its vehicle
+      const pts = thinned(merc.map((m) => toScreen(k ? { x: m.x + k, y: m.y } : m)), 1);
       ctx.beginPath();
       ctx.moveTo(pts[0].x, pts[0].y);
       for (let i = 1; i < pts.length; i++) ctx.lineTo(pts[i].x, pts[i].y);
@@ -134,7 +140,7 @@ export class FleetCanvas {
     ctx.globalAlpha = 1;
     ctx.lineWidth = 2;
     for (const o of origins) {
-      const p = toScreen(mercator(o.at));
+      const p = toScreen(nearestCopy(mercator(o.at), cx));
       ctx.beginPath();
       ctx.arc(p.x, p.y, 4, 0, 2 * Math.PI);
       ctx.strokeStyle = vehicleColor(o.id);
@@ -142,7 +148,7 @@ export class FleetCanvas {
     }
     // the selected vehicle last: on top
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
-    this.placed = place(ordered, toScreen, this.map.getBearing());
+    this.placed = place(ordered, toScreen, this.map.getBearing(), cx);
     // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
     for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
     const n = countInView(this.placed, w, h);
