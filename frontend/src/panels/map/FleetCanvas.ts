@@ -50,6 +50,7 @@ export class FleetCanvas {
   private data: FleetData = { marks: [], tracks: [], origins: [] };
   private placed: Placed[] = [];
   private drawnCount = -1;
+  private lastView: { toScreen: (m: Point) => Point; cx: number } | null = null; // the transform of the last drawing
   // a track's Mercator points, kept while the store keeps its array (a track changes once a second at most)
   private readonly mercs = new WeakMap<LonLat[], Point[]>();
 
@@ -89,9 +90,22 @@ export class FleetCanvas {
     return hitVehicle(this.placed, p);
   }
 
-  /** The tracks drawn (for the tests: where a vehicle went). */
+  /** The tracks drawn (for the tests: where a vehicle went): of each, the points the last drawing put on the canvas,
+   * so a track given to the canvas but drawn off it, or not drawn at all, shows nothing. */
   tracks(): FleetTrack[] {
-    return this.data.tracks;
+    const view = this.lastView;
+    if (!view) return [];
+    const { toScreen, cx } = view;
+    return this.data.tracks.flatMap((t) => {
+      if (t.points.length < 2) return [];
+      const merc = this.merc(t.points);
+      const k = nearestCopy(merc[merc.length - 1], cx).x - merc[merc.length - 1].x;
+      const points = t.points.filter((_, i) => {
+        const p = toScreen({ x: merc[i].x + k, y: merc[i].y });
+        return p.x >= 0 && p.y >= 0 && p.x <= this.width && p.y <= this.height;
+      });
+      return points.length ? [{ ...t, points }] : [];
+    });
   }
 
   /** Mercator to the map's pixels, fixed by where the map itself puts its centre and a point ~128 px east of it:
@@ -114,6 +128,7 @@ export class FleetCanvas {
   readonly draw = (): void => {
     cancelFrame(this.draw);
     const { width: w, height: h, ctx } = this;
+    this.lastView = null;
     if (!w || !h) return;
     const dpr = this.canvas.width / w;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
@@ -122,6 +137,7 @@ export class FleetCanvas {
     const c = { lon: centre.lng, lat: centre.lat };
     const toScreen = this.toScreen(c);
     const cx = mercator(c).x; // each vehicle, track and origin drawn at its copy of the world nearest the centre
+    this.lastView = { toScreen, cx };
     const { marks, tracks, origins } = this.data;
     ctx.lineJoin = ctx.lineCap = "round";
     ctx.globalAlpha = 0.8;
