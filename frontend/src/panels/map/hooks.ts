@@ -356,8 +356,10 @@ export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], 
       const positions = marks.map((m) => m.position);
       const centre = (follow && sel ? sel.position : middle(positions))!;
       const coast = land.current ? nearestVertex(land.current, centre, COAST_WITHIN_M) : null;
-      map.once("moveend", () => setFramed(true)); // the jump to the first view (fitAll's, without animation)
       fitAll(map, framePoints(positions, coast, centre));
+      // framed now, whether or not the map moved: fitAll jumps at once, and moves nothing when the frame cannot fit
+      // (a map under 120 px either way, its padding): waiting for a moveend there left the fleet undrawn for good
+      queueMicrotask(() => framed.current === map && setFramed(true));
       return;
     }
     if (!follow || !sel) return;
