@@ -27,6 +27,14 @@ export interface FleetData {
   origins: { id: string; at: LonLat }[];
 }
 
+/** The tools' points, drawn again over the fleet (MapLibre draws them too, under this canvas, where a vehicle's dot
+ * hid a measured point or a vertex handle the operator drags): the measured path, the area being drawn or the Move-to
+ * destination (`path`), and the edit tool's vertex handles. */
+export interface ToolMarks {
+  path: LonLat[];
+  handles: LonLat[];
+}
+
 declare global {
   interface Window {
     __semFleet?: FleetCanvas; // test hook: Playwright reads the tracks drawn
@@ -48,6 +56,7 @@ export class FleetCanvas {
   private width = 0;
   private height = 0;
   private data: FleetData = { marks: [], tracks: [], origins: [] };
+  private tools: ToolMarks = { path: [], handles: [] };
   private placed: Placed[] = [];
   private drawnCount = -1;
   private lastView: { toScreen: (m: Point) => Point; cx: number } | null = null; // the transform of the last drawing
@@ -82,6 +91,12 @@ export class FleetCanvas {
   /** The fleet to draw, on the next frame. */
   set(data: FleetData): void {
     this.data = data;
+    onFrame(this.draw);
+  }
+
+  /** The tools' points to draw over the fleet, on the next frame. */
+  setTools(tools: ToolMarks): void {
+    this.tools = tools;
     onFrame(this.draw);
   }
 
@@ -167,12 +182,46 @@ export class FleetCanvas {
     this.placed = place(ordered, toScreen, this.map.getBearing(), cx);
     // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
     for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
+    this.drawTools(toScreen, cx);
     const n = countInView(this.placed, w, h);
     if (n !== this.drawnCount) {
       this.drawnCount = n;
       this.onCount(n);
     }
   };
+
+  /** The tools' points over the vehicles, as the map's layers draw them (layers.ts: measure-*, edit-handle). */
+  private drawTools(toScreen: (m: Point) => Point, cx: number): void {
+    const { ctx } = this;
+    const { path, handles } = this.tools;
+    const at = (p: LonLat) => toScreen(nearestCopy(mercator(p), cx));
+    const merc = unwrapped(path.map(mercator));
+    const k = merc.length ? nearestCopy(merc[0], cx).x - merc[0].x : 0; // the path at its first point's copy
+    const pts = merc.map((m) => toScreen({ x: m.x + k, y: m.y }));
+    ctx.strokeStyle = ctx.fillStyle = "#fff";
+    ctx.lineWidth = 2;
+    if (pts.length >= 2) {
+      ctx.setLineDash([4, 4]);
+      ctx.beginPath();
+      ctx.moveTo(pts[0].x, pts[0].y);
+      for (const p of pts.slice(1)) ctx.lineTo(p.x, p.y);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+    for (const p of pts) {
+      ctx.beginPath();
+      ctx.arc(p.x, p.y, 4, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+    ctx.strokeStyle = "#1e88e5";
+    for (const h of handles) {
+      const p = at(h);
+      ctx.beginPath();
+      ctx.arc(p.x, p.y, 6, 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
 
   private drawVehicle({ mark, at, r, arrow, angle }: Placed): void {
     const { ctx } = this;

@@ -25,7 +25,7 @@ import { VehicleOverlay } from "../../lib/mapOverlay";
 import { countRender } from "../../lib/renders";
 import type { Theme } from "../../lib/theme";
 import type { MapTool } from "../CoMap";
-import { FleetCanvas, type FleetData } from "./FleetCanvas";
+import { FleetCanvas, type FleetData, type ToolMarks } from "./FleetCanvas";
 import type { CursorStore } from "./MapCursor";
 import { outsideMiddle } from "./fleet";
 import { addLayers, countLandInView, fitAll, landRings, source } from "./layers";
@@ -262,7 +262,7 @@ export function usePointer(
 /** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's
  * rate; no map redraw), its name and edge arrow (an edge arrow's click: `onPick`), and the selected vehicle's ring at
  * its `newest` position (on every frame after its fix). `fleetRef` holds the canvas (what a click hits); `onCount`: the
- * number of vehicles in view. */
+ * number of vehicles in view; `tools`: the tools' points, drawn over the fleet. */
 export function useVehicleLayer(
   mapRef: MapRef,
   ready: boolean,
@@ -271,6 +271,7 @@ export function useVehicleLayer(
   newest: VehicleMark | null,
   onPick: (map: MapLibre, m: VehicleMark) => void,
   onCount: (n: number) => void,
+  tools: ToolMarks,
 ): void {
   const overlay = useRef<VehicleOverlay | null>(null);
   const pick = useRef(onPick);
@@ -304,6 +305,10 @@ export function useVehicleLayer(
   useEffect(() => {
     if (ready) overlay.current?.setSelected(newest);
   }, [ready, newest]);
+  // the tools' points over the fleet (a vehicle's dot no longer hides them)
+  useEffect(() => {
+    if (ready) fleetRef.current?.setTools(tools);
+  }, [ready, fleetRef, tools]);
 }
 
 /** The CoMap world model's features by coverage (the picked one wider) and, in the edit tool, its vertex handles;
