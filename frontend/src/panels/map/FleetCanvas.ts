@@ -79,9 +79,6 @@ export class FleetCanvas {
     this.resized = new ResizeObserver(([entry]) => {
       this.width = entry.contentRect.width;
       this.height = entry.contentRect.height;
-      const dpr = window.devicePixelRatio || 1;
-      this.canvas.width = Math.round(this.width * dpr);
-      this.canvas.height = Math.round(this.height * dpr);
       this.draw();
     });
     this.resized.observe(this.canvas);
@@ -145,7 +142,13 @@ export class FleetCanvas {
     const { width: w, height: h, ctx } = this;
     this.lastView = null;
     if (!w || !h) return;
-    const dpr = this.canvas.width / w;
+    // the backing store sized on each drawing, not only on a resize: the device pixel ratio changes without one (the
+    // window moved to another screen), and a canvas left at the old ratio is drawn blurred or too coarse
+    const dpr = window.devicePixelRatio || 1;
+    const cw = Math.round(w * dpr);
+    const ch = Math.round(h * dpr);
+    if (this.canvas.width !== cw) this.canvas.width = cw;
+    if (this.canvas.height !== ch) this.canvas.height = ch;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
     const centre = this.map.getCenter();
