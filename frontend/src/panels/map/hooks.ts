@@ -213,7 +213,8 @@ export function usePointer(
       const over = toolRef.current === "select" && fleetRef.current?.hit(e.point) != null;
       if (over !== overVehicle) {
         overVehicle = over;
-        canvas.style.cursor = over ? "pointer" : "";
+        // off it: the tool's cursor (a tool chosen while over a vehicle: its crosshair, not the select tool's)
+        canvas.style.cursor = over ? "pointer" : toolRef.current === "select" ? "" : "crosshair";
       }
     };
     const overHandle = () => toolRef.current === "edit" && (canvas.style.cursor = "move");
