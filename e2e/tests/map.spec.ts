@@ -41,6 +41,20 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   expect(foreign).toEqual([]);
 });
 
+/** The opacity (0-255) of the fleet's canvas (FleetCanvas.ts) where the map puts `id`'s latest position: above 0 where
+ * its dot is drawn. */
+async function fleetAlphaAt(page: Page, id: string): Promise<number> {
+  const r = await page.request.get(`${load().url}/api/providers/${id}`);
+  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
+  const g = ((await r.json()) as { reports: { GPSFixReport: Fix } }).reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
+  return page.evaluate(([lon, lat]) => {
+    const xy = window.__semMap!.project([lon, lat]);
+    const canvas = document.querySelector<HTMLCanvasElement>("[data-testid=map-fleet]")!;
+    const dpr = canvas.width / canvas.clientWidth;
+    return canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data[3];
+  }, [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+}
+
 test("clicking a vehicle on the map selects it everywhere; the map follows it until the operator pans", async ({ page }) => {
   const foreign = await consoleOnly(page);
   const stack = load();
@@ -48,6 +62,8 @@ test("clicking a vehicle on the map selects it everywhere; the map follows it un
   await expect(page.getByTestId("connection-state")).toHaveText("Live");
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   const id = stack.vehicles[1];
+  // its dot is drawn on the fleet's canvas where the map puts it (the vehicle moves a pixel or two in between)
+  await expect.poll(() => fleetAlphaAt(page, id)).toBeGreaterThan(0);
   const { x, y } = await vehiclePixel(page, id);
   await page.mouse.click(x, y);
   await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
