@@ -41,9 +41,9 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   expect(foreign).toEqual([]);
 });
 
-/** The opacity (0-255) of the fleet's canvas (FleetCanvas.ts) where the map puts `id`'s latest position: above 0 where
- * its dot is drawn. */
-async function fleetAlphaAt(page: Page, id: string): Promise<number> {
+/** The colour (#rrggbbaa) of the fleet's canvas (FleetCanvas.ts) where the map puts `id`'s latest position: a fix's
+ * colour, opaque, where its dot is drawn (its track, under the dot, ends there too, in the vehicle's colour). */
+async function fleetColourAt(page: Page, id: string): Promise<string> {
   const r = await page.request.get(`${load().url}/api/providers/${id}`);
   type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
   const g = ((await r.json()) as { reports: { GPSFixReport: Fix } }).reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
@@ -51,7 +51,8 @@ async function fleetAlphaAt(page: Page, id: string): Promise<number> {
     const xy = window.__semMap!.project([lon, lat]);
     const canvas = document.querySelector<HTMLCanvasElement>("[data-testid=map-fleet]")!;
     const dpr = canvas.width / canvas.clientWidth;
-    return canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data[3];
+    const px = canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data;
+    return "#" + [...px].map((v) => v.toString(16).padStart(2, "0")).join("");
   }, [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
 }
 
@@ -63,7 +64,8 @@ test("clicking a vehicle on the map selects it everywhere; the map follows it un
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   const id = stack.vehicles[1];
   // its dot is drawn on the fleet's canvas where the map puts it (the vehicle moves a pixel or two in between)
-  await expect.poll(() => fleetAlphaAt(page, id)).toBeGreaterThan(0);
+  // (FleetCanvas.ts's FIX_COLORS: valid, invalid, unknown)
+  await expect.poll(() => fleetColourAt(page, id)).toMatch(/^#(4caf50|e0593f|9fb3c8)ff$/);
   const { x, y } = await vehiclePixel(page, id);
   await page.mouse.click(x, y);
   await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
