@@ -34,6 +34,8 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
+  // the status line's count is the land's polygons in view, from its data: the map itself renders them too
+  await expect.poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["land"] }).length)).toBeGreaterThan(0);
   // and nothing where there is only sea (mid-Pacific)
   await page.getByTestId("map-follow").click(); // stop following, so the view stays put
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [-140, -30], zoom: 5 }));
