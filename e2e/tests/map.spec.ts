@@ -34,12 +34,29 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   // zoomed out, the land of the world is drawn from the bundled data (rendered land features, one or more per tile)
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
+  // the status line's count is the land's polygons in view, from its data: the map itself renders them too
+  await expect.poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["land"] }).length)).toBeGreaterThan(0);
   // and nothing where there is only sea (mid-Pacific)
   await page.getByTestId("map-follow").click(); // stop following, so the view stays put
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [-140, -30], zoom: 5 }));
   await expect.poll(() => drawn(page, "data-land")).toBe(0);
   expect(foreign).toEqual([]);
 });
+
+/** The colour (#rrggbbaa) of the fleet's canvas (FleetCanvas.ts) where the map puts `id`'s latest position: a fix's
+ * colour, opaque, where its dot is drawn (its track, under the dot, ends there too, in the vehicle's colour). */
+async function fleetColourAt(page: Page, id: string): Promise<string> {
+  const r = await page.request.get(`${load().url}/api/providers/${id}`);
+  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
+  const g = ((await r.json()) as { reports: { GPSFixReport: Fix } }).reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
+  return page.evaluate(([lon, lat]) => {
+    const xy = window.__semMap!.project([lon, lat]);
+    const canvas = document.querySelector<HTMLCanvasElement>("[data-testid=map-fleet]")!;
+    const dpr = canvas.width / canvas.clientWidth;
+    const px = canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data;
+    return "#" + [...px].map((v) => v.toString(16).padStart(2, "0")).join("");
+  }, [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+}
 
 test("clicking a vehicle on the map selects it everywhere; the map follows it until the operator pans", async ({ page }) => {
   const foreign = await consoleOnly(page);
@@ -48,6 +65,9 @@ test("clicking a vehicle on the map selects it everywhere; the map follows it un
   await expect(page.getByTestId("connection-state")).toHaveText("Live");
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
   const id = stack.vehicles[1];
+  // its dot is drawn on the fleet's canvas where the map puts it (the vehicle moves a pixel or two in between)
+  // (FleetCanvas.ts's FIX_COLORS: valid, invalid, unknown)
+  await expect.poll(() => fleetColourAt(page, id)).toMatch(/^#(4caf50|e0593f|9fb3c8)ff$/);
   const { x, y } = await vehiclePixel(page, id);
   await page.mouse.click(x, y);
   await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");

@@ -31,6 +31,10 @@ const SVG = "http://www.w3.org/2000/svg";
 const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v));
 /** A name's transform: right of its vehicle at screen point `p`, centred on it vertically. */
 const labelAt = (p: { x: number; y: number }) => `translate(${Math.round(p.x + 14)}px, ${Math.round(p.y - 9)}px)`;
+/** Where `map` draws a position: at its copy of the world nearest the map's centre, as the fleet's dots are
+ * (FleetCanvas), not a world away when the view is over the antimeridian. */
+const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) =>
+  map.project([lon + 360 * Math.round((map.getCenter().lng - lon) / 360), lat]);
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
 export class VehicleOverlay {
@@ -108,7 +112,7 @@ export class VehicleOverlay {
     // unless it crossed the map's edge (then every label and edge arrow is placed again)
     const m = mark && this.markers.get(mark.id);
     if (!mark || !m || !this.width) return;
-    const p = this.map.project([mark.position.lon, mark.position.lat]);
+    const p = projectNear(this.map, mark.position);
     const inView = edgeMark(p.x, p.y, this.width, this.height, EDGE_INSET) === null;
     if (inView && !m.label.hidden) m.label.style.transform = labelAt(p);
     else if (inView || m.edge.hidden) this.place();
@@ -121,7 +125,7 @@ export class VehicleOverlay {
 
   private placeRing(): void {
     const mark = this.selected;
-    const p = mark ? this.map.project([mark.position.lon, mark.position.lat]) : null;
+    const p = mark ? projectNear(this.map, mark.position) : null;
     const inView = p !== null && p.x >= 0 && p.y >= 0 && p.x <= this.width && p.y <= this.height;
     if (this.ring.hidden === inView) this.ring.hidden = !inView;
     if (!mark || !p || !inView) return;
@@ -170,8 +174,7 @@ export class VehicleOverlay {
     const centre = this.map.getCenter();
     const placed: Box[] = [];
     for (const m of this.markers.values()) {
-      const { lon, lat } = this.positionOf(m);
-      const p = this.map.project([lon, lat]);
+      const p = projectNear(this.map, this.positionOf(m));
       const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
       // written only when changed: 250 vehicles' labels set alike would each restyle
       if (m.label.hidden !== (edge !== null)) m.label.hidden = edge !== null;

@@ -13,12 +13,12 @@ import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/load
 import { useCollapsed, useDmsSetting } from "../data/settings";
 import { select } from "../data/store";
 import type { VehicleOverlay } from "../lib/mapOverlay";
-import { bearingDeg, distanceText, pathLengthM, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
+import { bearingDeg, distanceText, pathLengthM, vertexHandles, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
 import { useTheme } from "../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
 import { CursorStore, MapCursor } from "./map/MapCursor";
 import { MapToolbar } from "./map/MapToolbar";
-import type { FleetCanvas, FleetData } from "./map/FleetCanvas";
+import type { FleetCanvas, FleetData, ToolMarks } from "./map/FleetCanvas";
 import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
 import { fitAll, originOf, vehicleMark } from "./map/layers";
 
@@ -113,7 +113,15 @@ export function MapPanel() {
   const framed = useFitAll(mapRef, ready, fleetAll, follow, land, landLoaded);
   // the fleet drawn from the first view on (the vehicles, with the coast): not for a moment over the whole world at
   // zoom 1, where they are one pixel and a click or a count there means nothing
-  const overlay = useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, pickEdge, setVehiclesDrawn);
+  // the tools' points drawn again over the fleet's canvas (the map's own layers are under it)
+  const toolMarks = useMemo<ToolMarks>(
+    () => ({
+      path: toolPoints,
+      handles: tool === "edit" ? vertexHandles(shownModel).features.map((f) => ({ lon: f.geometry.coordinates[0], lat: f.geometry.coordinates[1] })) : [],
+    }),
+    [toolPoints, tool, shownModel],
+  );
+  const overlay = useVehicleLayer(mapRef, framed, fleetCanvas, fleetData, pickEdge, setVehiclesDrawn, toolMarks);
 
   const measured = pathLengthM(measure);
   const lastLeg = measure.length >= 2 ? bearingDeg(measure[measure.length - 2], measure[measure.length - 1]) : null;

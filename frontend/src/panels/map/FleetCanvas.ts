@@ -9,7 +9,7 @@ import type { Map as MapLibre } from "maplibre-gl";
 import { cancelFrame, onFrame } from "../../data/frame";
 import type { LonLat, VehicleMark } from "../../lib/geo";
 import { vehicleColor } from "../../lib/vehicle";
-import { countInView, hitVehicle, mercator, place, similarity, thinned, type Placed, type Point } from "./fleet";
+import { countInView, hitVehicle, mercator, nearestCopy, place, similarity, thinned, unwrapped, type Placed, type Point } from "./fleet";
 
 export const FIX_COLORS: Record<VehicleMark["fix"], string> = { valid: "#4caf50", invalid: "#e0593f", unknown: "#9fb3c8" };
 const LINK_COLORS: Partial<Record<VehicleMark["link"], string>> = { lost: "#e0593f", stale: "#f5a623" };
@@ -25,6 +25,14 @@ export interface FleetData {
   marks: VehicleMark[];
   tracks: FleetTrack[];
   origins: { id: string; at: LonLat }[];
+}
+
+/** The tools' points, drawn again over the fleet (MapLibre draws them too, under this canvas, where a vehicle's dot
+ * hid a measured point or a vertex handle the operator drags): the measured path, the area being drawn or the Move-to
+ * destination (`path`), and the edit tool's vertex handles. */
+export interface ToolMarks {
+  path: LonLat[];
+  handles: LonLat[];
 }
 
 declare global {
@@ -48,8 +56,10 @@ export class FleetCanvas {
   private width = 0;
   private height = 0;
   private data: FleetData = { marks: [], tracks: [], origins: [] };
+  private tools: ToolMarks = { path: [], handles: [] };
   private placed: Placed[] = [];
   private drawnCount = -1;
+  private lastView: { toScreen: (m: Point) => Point; cx: number } | null = null; // the transform of the last drawing
   // a track's Mercator points, kept while the store keeps its array (a track changes once a second at most)
   private readonly mercs = new WeakMap<LonLat[], Point[]>();
 
@@ -69,9 +79,6 @@ export class FleetCanvas {
     this.resized = new ResizeObserver(([entry]) => {
       this.width = entry.contentRect.width;
       this.height = entry.contentRect.height;
-      const dpr = window.devicePixelRatio || 1;
-      this.canvas.width = Math.round(this.width * dpr);
-      this.canvas.height = Math.round(this.height * dpr);
       this.draw();
     });
     this.resized.observe(this.canvas);
@@ -84,27 +91,47 @@ export class FleetCanvas {
     onFrame(this.draw);
   }
 
+  /** The tools' points to draw over the fleet, on the next frame. */
+  setTools(tools: ToolMarks): void {
+    this.tools = tools;
+    onFrame(this.draw);
+  }
+
   /** The vehicle drawn under point `p` of the map (px from its top left), or null. */
   hit(p: Point): string | null {
     return hitVehicle(this.placed, p);
   }
 
-  /** The tracks drawn (for the tests: where a vehicle went). */
+  /** The tracks drawn (for the tests: where a vehicle went): of each, the points the last drawing put on the canvas,
+   * so a track given to the canvas but drawn off it, or not drawn at all, shows nothing. */
   tracks(): FleetTrack[] {
-    return this.data.tracks;
+    const view = this.lastView;
+    if (!view) return [];
+    const { toScreen, cx } = view;
+    return this.data.tracks.flatMap((t) => {
+      if (t.points.length < 2) return [];
+      const merc = this.merc(t.points);
+      const k = nearestCopy(merc[merc.length - 1], cx).x - merc[merc.length - 1].x;
+      const points = t.points.filter((_, i) => {
+        const p = toScreen({ x: merc[i].x + k, y: merc[i].y });
+        return p.x >= 0 && p.y >= 0 && p.x <= this.width && p.y <= this.height;
+      });
+      return points.length ? [{ ...t, points }] : [];
+    });
   }
 
-  private toScreen() {
-    const { width: w, height: h } = this;
-    const a = this.map.unproject([0, 0]);
-    const b = this.map.unproject([w, h]);
-    return similarity(mercator({ lon: a.lng, lat: a.lat }), { x: 0, y: 0 }, mercator({ lon: b.lng, lat: b.lat }), { x: w, y: h });
+  /** Mercator to the map's pixels, fixed by where the map itself puts its centre and a point ~128 px east of it:
+   * both inside the world (a screen corner may be past a pole on a turned map, where Mercator is clamped) and
+   * independent of this canvas's size (the map's may change a frame before or after it). */
+  private toScreen(c: LonLat) {
+    const b = { lon: c.lon + 90 / 2 ** this.map.getZoom(), lat: c.lat };
+    return similarity(mercator(c), this.map.project([c.lon, c.lat]), mercator(b), this.map.project([b.lon, b.lat]));
   }
 
   private merc(points: LonLat[]): Point[] {
     let m = this.mercs.get(points);
     if (!m) {
-      m = points.map(mercator);
+      m = unwrapped(points.map(mercator));
       this.mercs.set(points, m);
     }
     return m;
@@ -113,17 +140,30 @@ export class FleetCanvas {
   readonly draw = (): void => {
     cancelFrame(this.draw);
     const { width: w, height: h, ctx } = this;
+    this.lastView = null;
     if (!w || !h) return;
-    const dpr = this.canvas.width / w;
+    // the backing store sized on each drawing, not only on a resize: the device pixel ratio changes without one (the
+    // window moved to another screen), and a canvas left at the old ratio is drawn blurred or too coarse
+    const dpr = window.devicePixelRatio || 1;
+    const cw = Math.round(w * dpr);
+    const ch = Math.round(h * dpr);
+    if (this.canvas.width !== cw) this.canvas.width = cw;
+    if (this.canvas.height !== ch) this.canvas.height = ch;
     ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
     ctx.clearRect(0, 0, w, h);
-    const toScreen = this.toScreen();
+    const centre = this.map.getCenter();
+    const c = { lon: centre.lng, lat: centre.lat };
+    const toScreen = this.toScreen(c);
+    const cx = mercator(c).x; // each vehicle, track and origin drawn at its copy of the world nearest the centre
+    this.lastView = { toScreen, cx };
     const { marks, tracks, origins } = this.data;
     ctx.lineJoin = ctx.lineCap = "round";
     ctx.globalAlpha = 0.8;
     for (const t of tracks) {
       if (t.points.length < 2) continue;
-      const pts = thinned(this.merc(t.points).map(toScreen), 1);
+      const merc = this.merc(t.points);
+      const k = nearestCopy(merc[merc.length - 1], cx).x - merc[merc.length - 1].x; // the track goes with its vehicle
+      const pts = thinned(merc.map((m) => toScreen(k ? { x: m.x + k, y: m.y } : m)), 1);
       ctx.beginPath();
       ctx.moveTo(pts[0].x, pts[0].y);
       for (let i = 1; i < pts.length; i++) ctx.lineTo(pts[i].x, pts[i].y);
@@ -134,7 +174,7 @@ export class FleetCanvas {
     ctx.globalAlpha = 1;
     ctx.lineWidth = 2;
     for (const o of origins) {
-      const p = toScreen(mercator(o.at));
+      const p = toScreen(nearestCopy(mercator(o.at), cx));
       ctx.beginPath();
       ctx.arc(p.x, p.y, 4, 0, 2 * Math.PI);
       ctx.strokeStyle = vehicleColor(o.id);
@@ -142,15 +182,49 @@ export class FleetCanvas {
     }
     // the selected vehicle last: on top
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
-    this.placed = place(ordered, toScreen, this.map.getBearing());
+    this.placed = place(ordered, toScreen, this.map.getBearing(), cx);
     // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
     for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
+    this.drawTools(toScreen, cx);
     const n = countInView(this.placed, w, h);
     if (n !== this.drawnCount) {
       this.drawnCount = n;
       this.onCount(n);
     }
   };
+
+  /** The tools' points over the vehicles, as the map's layers draw them (layers.ts: measure-*, edit-handle). */
+  private drawTools(toScreen: (m: Point) => Point, cx: number): void {
+    const { ctx } = this;
+    const { path, handles } = this.tools;
+    const at = (p: LonLat) => toScreen(nearestCopy(mercator(p), cx));
+    const merc = unwrapped(path.map(mercator));
+    const k = merc.length ? nearestCopy(merc[0], cx).x - merc[0].x : 0; // the path at its first point's copy
+    const pts = merc.map((m) => toScreen({ x: m.x + k, y: m.y }));
+    ctx.strokeStyle = ctx.fillStyle = "#fff";
+    ctx.lineWidth = 2;
+    if (pts.length >= 2) {
+      ctx.setLineDash([4, 4]);
+      ctx.beginPath();
+      ctx.moveTo(pts[0].x, pts[0].y);
+      for (const p of pts.slice(1)) ctx.lineTo(p.x, p.y);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+    for (const p of pts) {
+      ctx.beginPath();
+      ctx.arc(p.x, p.y, 4, 0, 2 * Math.PI);
+      ctx.fill();
+    }
+    ctx.strokeStyle = "#1e88e5";
+    for (const h of handles) {
+      const p = at(h);
+      ctx.beginPath();
+      ctx.arc(p.x, p.y, 6, 0, 2 * Math.PI);
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
 
   private drawVehicle({ mark, at, r, arrow, angle }: Placed): void {
     const { ctx } = this;

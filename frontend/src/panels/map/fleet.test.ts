@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import type { VehicleMark } from "../../lib/geo";
-import { countInView, hitVehicle, mercator, outsideMiddle, place, similarity, thinned } from "./fleet";
+import { countInView, hitVehicle, mercator, nearestCopy, outsideMiddle, place, similarity, thinned, unwrapped } from "./fleet";
 import { countLandInView, landRings } from "./layers";
 
 const mark = (id: string, lon: number, lat: number, courseDeg: number | null = null, selected = false): VehicleMark => ({
@@ -39,6 +39,18 @@ describe("the fleet's canvas", () => {
     const [turned] = place([mark("a", 0, 0, 90)], () => ({ x: 100, y: 100 }), 90);
     expect(turned.arrow).toMatchObject({ x: expect.closeTo(100, 9), y: expect.closeTo(86, 9) }); // east up: up
     expect(place([mark("a", 0, 0)], () => ({ x: 0, y: 0 }), 0)[0].arrow).toBeNull();
+  });
+
+  it("draws a vehicle over the antimeridian at the world's copy nearest the map's centre, and a track the short way", () => {
+    // the map centred on 179°E, 1 px per 1e-6 of the unit square: a vehicle at 179°W is 2° (5556 px) east, not 358° west
+    const c = mercator({ lon: 179, lat: 0 });
+    const toScreen = similarity(c, { x: 0, y: 0 }, { x: c.x + 1, y: c.y }, { x: 1e6, y: 0 });
+    const [v] = place([mark("a", -179, 0)], toScreen, 0, c.x);
+    expect(v.at.x).toBeCloseTo((2 / 360) * 1e6, 3);
+    expect(nearestCopy({ x: 0.2, y: 0.5 }, 0.6)).toEqual({ x: 0.2, y: 0.5 });
+    // a track from 179°E to 179°W: its second point just east of its first
+    const [a, b] = unwrapped([mercator({ lon: 179, lat: 0 }), mercator({ lon: -179, lat: 0 })]);
+    expect(b.x - a.x).toBeCloseTo(2 / 360, 9);
   });
 
   it("hits the vehicle whose dot or arrow the pointer is on, the nearest of two, and none beside them", () => {

@@ -14,6 +14,21 @@ export function mercator(p: LonLat): Point {
   return { x: (p.lon + 180) / 360, y: 0.5 - Math.log((1 + s) / (1 - s)) / (4 * Math.PI) };
 }
 
+/** `m` moved by whole worlds to the copy nearest Mercator x `cx` (the map's centre): the map draws the world again
+ * east and west of itself, so a vehicle at 179°W seen from 179°E is just east of the centre, not a world away. */
+export function nearestCopy(m: Point, cx: number): Point {
+  const k = Math.round(cx - m.x);
+  return k ? { x: m.x + k, y: m.y } : m;
+}
+
+/** A track's points with no jump of more than half a world between two (one over the antimeridian goes the short
+ * way, as the vehicle did, not round the world). */
+export function unwrapped(points: Point[]): Point[] {
+  const out: Point[] = [];
+  for (const p of points) out.push(out.length ? nearestCopy(p, out[out.length - 1].x) : p);
+  return out;
+}
+
 /** The screen point of a Mercator point, for a map without pitch: a scale, a rotation (the bearing) and a shift, so
  * two known pairs fix it. One `map.project` per vehicle and track point was the cost; this is a few multiplications. */
 export type ToScreen = (m: Point) => Point;
@@ -53,10 +68,11 @@ export interface Placed {
   angle: number;
 }
 
-/** The vehicles' places on the screen: `bearingDeg` is the map's rotation (a course is drawn turned with the map). */
-export function place(marks: VehicleMark[], toScreen: ToScreen, bearingDeg: number): Placed[] {
+/** The vehicles' places on the screen: `bearingDeg` is the map's rotation (a course is drawn turned with the map),
+ * each vehicle at its copy of the world nearest the map's centre (Mercator x `cx`). */
+export function place(marks: VehicleMark[], toScreen: ToScreen, bearingDeg: number, cx = 0.5): Placed[] {
   return marks.map((mark) => {
-    const at = toScreen(mercator(mark.position));
+    const at = toScreen(nearestCopy(mercator(mark.position), cx));
     const angle = (((mark.courseDeg ?? 0) - bearingDeg) * Math.PI) / 180;
     const arrow = mark.courseDeg === null ? null : { x: at.x + ARROW_AHEAD * Math.sin(angle), y: at.y - ARROW_AHEAD * Math.cos(angle) };
     return { mark, at, r: mark.selected ? SELECTED_DOT_R : DOT_R, arrow, angle };

@@ -25,7 +25,7 @@ import { VehicleOverlay } from "../../lib/mapOverlay";
 import { countRender } from "../../lib/renders";
 import type { Theme } from "../../lib/theme";
 import type { MapTool } from "../CoMap";
-import { FleetCanvas, type FleetData } from "./FleetCanvas";
+import { FleetCanvas, type FleetData, type ToolMarks } from "./FleetCanvas";
 import type { CursorStore } from "./MapCursor";
 import { outsideMiddle } from "./fleet";
 import { addLayers, countLandInView, fitAll, landRings, source } from "./layers";
@@ -208,7 +208,8 @@ export function usePointer(
       const over = toolRef.current === "select" && fleetRef.current?.hit(e.point) != null;
       if (over !== overVehicle) {
         overVehicle = over;
-        canvas.style.cursor = over ? "pointer" : "";
+        // off it: the tool's cursor (a tool chosen while over a vehicle: its crosshair, not the select tool's)
+        canvas.style.cursor = over ? "pointer" : toolRef.current === "select" ? "" : "crosshair";
       }
     };
     const overHandle = () => toolRef.current === "edit" && (canvas.style.cursor = "move");
@@ -256,7 +257,7 @@ export function usePointer(
 
 /** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's
  * rate; no map redraw) and its name and edge arrow (an edge arrow's click: `onPick`). `fleetRef` holds the canvas (what
- * a click hits); `onCount`: the number of vehicles in view. Returns the overlay (null until the map is ready), whose
+ * a click hits); `onCount`: the number of vehicles in view; `tools`: the tools' points, drawn over the fleet. Returns the overlay (null until the map is ready), whose
  * selected vehicle's ring `useSelectedRing` moves: a component of its own, so that a fix of the selected vehicle
  * renders that component only, not the map panel. */
 export function useVehicleLayer(
@@ -266,6 +267,7 @@ export function useVehicleLayer(
   data: FleetData,
   onPick: (map: MapLibre, m: VehicleMark) => void,
   onCount: (n: number) => void,
+  tools: ToolMarks,
 ): VehicleOverlay | null {
   // state, not a ref: the ring's component (a child, whose effects run before these) is given it once it exists
   const [overlay, setOverlay] = useState<VehicleOverlay | null>(null);
@@ -297,6 +299,11 @@ export function useVehicleLayer(
     // the names and edge arrows, at the same rate
     overlay?.set(data.marks);
   }, [ready, fleetRef, data, overlay]);
+  // the tools' points over the fleet (a vehicle's dot no longer hides them); again on a new map's canvas (`overlay`
+  // is made with it)
+  useEffect(() => {
+    if (ready) fleetRef.current?.setTools(tools);
+  }, [ready, fleetRef, tools, overlay]);
   return overlay;
 }
 
@@ -357,8 +364,10 @@ export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], 
       const positions = marks.map((m) => m.position);
       const centre = (follow && sel ? sel.position : middle(positions))!;
       const coast = land.current ? nearestVertex(land.current, centre, COAST_WITHIN_M) : null;
-      map.once("moveend", () => setFramed(true)); // the jump to the first view (fitAll's, without animation)
       fitAll(map, framePoints(positions, coast, centre));
+      // framed now, whether or not the map moved: fitAll jumps at once, and moves nothing when the frame cannot fit
+      // (a map under 120 px either way, its padding): waiting for a moveend there left the fleet undrawn for good
+      queueMicrotask(() => framed.current === map && setFramed(true));
       return;
     }
     if (!follow || !sel) return;
