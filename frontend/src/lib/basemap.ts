@@ -32,20 +32,23 @@ export async function loadLand(): Promise<FeatureCollection> {
   return topoToGeoJson(topo, "land");
 }
 
-/** The offline style: water background, land fill, coastline; a PMTiles chart (when the console has one) on top. */
+/** The offline style: the water's background alone. Its land (a GeoJSON source, empty until the land is loaded)
+ * is added by addLand once the map has loaded: a source in the style holds the map's `load` back for its round trips
+ * to MapLibre's worker and their frames. */
 export function offlineStyle(palette: Palette = PALETTES.dark): StyleSpecification {
   return {
     version: 8,
     name: "SEM Console offline",
-    sources: {
-      land: { type: "geojson", data: EMPTY, attribution: "Natural Earth" },
-    },
-    layers: [
-      { id: "water", type: "background", paint: { "background-color": palette.water } },
-      { id: "land", type: "fill", source: "land", paint: { "fill-color": palette.land } },
-      { id: "coastline", type: "line", source: "land", paint: { "line-color": palette.coast, "line-width": 0.8 } },
-    ],
+    sources: {},
+    layers: [{ id: "water", type: "background", paint: { "background-color": palette.water } }],
   };
+}
+
+/** The land fill and coastline over the water (a PMTiles chart, when the console has one, goes on top). */
+export function addLand(map: Pick<MapLibre, "addSource" | "addLayer">, palette: Palette): void {
+  map.addSource("land", { type: "geojson", data: EMPTY, attribution: "Natural Earth" });
+  map.addLayer({ id: "land", type: "fill", source: "land", paint: { "fill-color": palette.land } });
+  map.addLayer({ id: "coastline", type: "line", source: "land", paint: { "line-color": palette.coast, "line-width": 0.8 } });
 }
 
 /** Recolour a map drawn with offlineStyle for another theme: three paint properties, no reload of the style or data. */

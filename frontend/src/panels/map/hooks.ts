@@ -6,7 +6,7 @@ import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetSta
 import type { FeatureCollection } from "geojson";
 import type { Store } from "../../data/connection";
 import { select } from "../../data/store";
-import { PALETTES, loadLand, offlineStyle, setPalette } from "../../lib/basemap";
+import { PALETTES, addLand, loadLand, offlineStyle, setPalette } from "../../lib/basemap";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../../lib/chart";
 import {
   EMPTY,
@@ -70,6 +70,7 @@ export function useMapInstance(container: RefObject<HTMLDivElement | null>, coll
     map.addControl(new ScaleControl({ unit: "metric", maxWidth: 120 }), "bottom-left");
     map.addControl(new ScaleControl({ unit: "nautical", maxWidth: 120 }), "bottom-left");
     map.on("load", () => {
+      addLand(map, PALETTES[themeRef.current]);
       addLayers(map);
       setReady(true);
     });
