@@ -2,7 +2,7 @@
 // MapLibre) has arrived and run: the health check, then the WebSocket, whose snapshot is what the first screen
 // draws. main.tsx's source takes the socket over (Connection.start) with the messages it held; before, both waited
 // for the code, and the snapshot came 0.4-0.6 s after navigation. Nothing here may import React or the panels
-// (boot.ts's chunk is this file's imports).
+// (boot.ts's chunk is its imports: this file, api/rest.ts, token.ts, settingStore.ts, themeApply.ts).
 import { health, type Health } from "../api/rest";
 import { getToken, wsProtocols } from "./token";
 
