@@ -304,6 +304,14 @@ describe("store and connection", () => {
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 
+      openEarly("ws://console/ws", token); // another URL's
+      const elsewhere = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      elsewhere.start();
+      expect(FakeSocket.all[1].closed).toBe(true);
+      expect(FakeSocket.all[2].url).toBe("ws://console/ws?batch=1");
+      elsewhere.stop();
+      FakeSocket.all.splice(1, 2); // the indices below as before
+
       openEarly("ws://console/ws?batch=1", []); // opened before the operator signed in
       const other = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
       other.start();
