@@ -14,7 +14,7 @@ import { MapPanel } from "./panels/Map";
 import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
-import "./lib/theme"; // the theme is set before the first paint
+import "./lib/themeApply"; // the theme is set before the first paint
 
 // The panels of each group by test id, in their default order (the operator's order is kept in the
 // settings). On a wide screen the groups are columns: the side column, the selected vehicle's status

@@ -2,7 +2,7 @@
 // while the console answers, in two chunks fetched together: MapLibre, whose worker starts as soon as it has run
 // (mapWorker.ts), and React with the panels (main.tsx).
 import { startEarly } from "./data/early";
-import "./lib/theme"; // the theme is set before the first paint (the style sheet is in the page's head)
+import "./lib/themeApply"; // the theme is set before the first paint (the style sheet is in the page's head)
 import "./styles.css";
 
 void startEarly();

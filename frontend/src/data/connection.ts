@@ -132,7 +132,7 @@ export class Connection implements DataSource {
   start(): void {
     this.stopped = false;
     this.setState("connecting");
-    this.open(takeEarly(this.protocols())); // the page's own socket (early.ts), if it is still the right one
+    this.open(takeEarly(this.url, this.protocols())); // the page's own socket (early.ts), if it is still the right one
   }
 
   /** Sign-out when reads need a token: close, stay closed, and clear the store (nothing of the

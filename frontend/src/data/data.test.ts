@@ -291,15 +291,26 @@ describe("store and connection", () => {
       FakeSocket.all[0].receive([ins("INIT"), ins("OPERATIONAL")]);
       expect(early.held).toHaveLength(2);
       const store = new Store(P);
+      const applied = vi.spyOn(store, "enqueue");
       const conn = new Connection("ws://console/ws?batch=1", store, () => token);
       conn.start();
       expect(FakeSocket.all).toHaveLength(1); // no second socket
+      expect(applied.mock.calls.map(([m]) => m.type)).toEqual(["snapshot", "report", "report"]); // each once
       expect(conn.getState()).toBe("live");
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
       FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
+      expect(applied).toHaveBeenCalledTimes(4);
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
+
+      openEarly("ws://console/ws", token); // another URL's
+      const elsewhere = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      elsewhere.start();
+      expect(FakeSocket.all[1].closed).toBe(true);
+      expect(FakeSocket.all[2].url).toBe("ws://console/ws?batch=1");
+      elsewhere.stop();
+      FakeSocket.all.splice(1, 2); // the indices below as before
 
       openEarly("ws://console/ws?batch=1", []); // opened before the operator signed in
       const other = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
@@ -309,6 +320,26 @@ describe("store and connection", () => {
       expect(FakeSocket.all[2].protocols).toEqual(token);
       conn.stop();
       other.stop();
+    });
+
+    it("does not take over an early socket the console closed before the source started: a new one, and its close is no failure", async () => {
+      vi.stubGlobal("WebSocket", FakeSocket);
+      openEarly("ws://console/ws?batch=1", []);
+      FakeSocket.all[0].readyState = 1;
+      FakeSocket.all[0].receive(snapshot());
+      FakeSocket.all[0].close(); // e.g. the console restarted while the page's code loaded
+      const store = new Store(P);
+      const conn = new Connection("ws://console/ws?batch=1", store);
+      const states: string[] = [];
+      conn.subscribe(() => states.push(conn.getState()));
+      conn.start();
+      await Promise.resolve(); // the closed socket's close event
+      expect(FakeSocket.all).toHaveLength(2);
+      expect(states).toEqual([]); // still "connecting": no "reconnecting" for the old socket's close
+      expect(store.getState().providers).toEqual({}); // nothing from the closed socket
+      FakeSocket.all[1].receive(snapshot());
+      expect(conn.getState()).toBe("live");
+      conn.stop();
     });
 
     it("takes a batch of reports (an array in one frame, /ws?batch=1) as the messages one by one, in order", () => {

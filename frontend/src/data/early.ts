@@ -2,7 +2,7 @@
 // MapLibre) has arrived and run: the health check, then the WebSocket, whose snapshot is what the first screen
 // draws. main.tsx's source takes the socket over (Connection.start) with the messages it held; before, both waited
 // for the code, and the snapshot came 0.4-0.6 s after navigation. Nothing here may import React or the panels
-// (boot.ts's chunk is this file's imports).
+// (boot.ts's chunk is its imports: this file, api/rest.ts, token.ts, settingStore.ts, themeApply.ts).
 import { health, type Health } from "../api/rest";
 import { getToken, wsProtocols } from "./token";
 
@@ -16,6 +16,7 @@ export function defaultUrl(): string {
 /** A socket opened before its source existed, and the messages it received meanwhile (in order). */
 export interface EarlySocket {
   ws: WebSocket;
+  url: string;
   protocols: string[];
   held: MessageEvent<string>[];
 }
@@ -53,16 +54,17 @@ export function openEarly(url: string, protocols: string[]): EarlySocket {
   const ws = protocols.length ? new WebSocket(url, protocols) : new WebSocket(url);
   const held: MessageEvent<string>[] = [];
   ws.onmessage = (ev: MessageEvent<string>) => held.push(ev);
-  early = { ws, protocols, held };
+  early = { ws, url, protocols, held };
   return early;
 }
 
-/** The early socket, once: null if there is none, it closed, or it was opened with other protocols (another token). */
-export function takeEarly(protocols: string[]): EarlySocket | null {
+/** The early socket, once: null if there is none, it closed, or it was opened to another URL or with other
+ * protocols (another token). */
+export function takeEarly(url: string, protocols: string[]): EarlySocket | null {
   const e = early;
   early = null;
   if (!e) return null;
-  if (e.ws.readyState <= WebSocket.OPEN && e.protocols.join() === protocols.join()) return e;
+  if (e.ws.readyState <= WebSocket.OPEN && e.url === url && e.protocols.join() === protocols.join()) return e;
   e.ws.close();
   return null;
 }

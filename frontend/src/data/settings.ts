@@ -2,60 +2,9 @@
 // decimal or DMS coordinates (the Fix panel and the map share it), the panel layout and the theme.
 import { useSyncExternalStore } from "react";
 import { groupOrder, type Group } from "../lib/layout";
+import { THEME, isThemeChoice, readSetting, subscribe, writeSetting, type ThemeChoice } from "./settingStore";
 
-const listeners = new Set<() => void>();
-const cache = new Map<string, unknown>();
-
-function storage(): Storage | null {
-  try {
-    return typeof localStorage !== "undefined" ? localStorage : null;
-  } catch {
-    return null; // storage disabled: settings last for the page only
-  }
-}
-
-export function readSetting<T>(key: string, fallback: T, valid: (v: unknown) => v is T): T {
-  if (cache.has(key)) return cache.get(key) as T;
-  let value = fallback;
-  try {
-    const raw = storage()?.getItem(key);
-    if (raw != null) {
-      const parsed: unknown = JSON.parse(raw);
-      if (valid(parsed)) value = parsed;
-    }
-  } catch {
-    /* not JSON: the default */
-  }
-  cache.set(key, value);
-  return value;
-}
-
-export function writeSetting<T>(key: string, value: T): void {
-  cache.set(key, value);
-  try {
-    storage()?.setItem(key, JSON.stringify(value));
-  } catch {
-    /* full or disabled: kept for the page */
-  }
-  for (const l of listeners) l();
-}
-
-/** Call `l` whenever a setting changes (in this tab or another). */
-export function subscribe(l: () => void): () => void {
-  listeners.add(l);
-  return () => listeners.delete(l);
-}
-
-// another tab of the console changed a setting: read it again, so this tab neither shows a stale
-// layout nor writes its stale copy back over the other tab's change
-if (typeof window !== "undefined") {
-  window.addEventListener("storage", (e: StorageEvent) => {
-    if (e.key === null) cache.clear();
-    else if (!e.key.startsWith("sem-console.")) return;
-    else cache.delete(e.key);
-    for (const l of listeners) l();
-  });
-}
+export { THEME, isThemeChoice, readSetting, subscribe, writeSetting, type ThemeChoice } from "./settingStore";
 
 export function useSetting<T>(key: string, fallback: T, valid: (v: unknown) => v is T): [T, (v: T) => void] {
   const value = useSyncExternalStore(subscribe, () => readSetting(key, fallback, valid));
@@ -95,10 +44,6 @@ export function resetLayout(): void {
   writeSetting(LAYOUT, null);
   writeSetting<string[]>(COLLAPSED, []);
 }
-
-export type ThemeChoice = "system" | "light" | "dark";
-export const THEME = "sem-console.theme";
-export const isThemeChoice = (v: unknown): v is ThemeChoice => v === "system" || v === "light" || v === "dark";
 
 /** The colour theme the operator chose: the system's (light by day if the system says so), light or dark. */
 export function useThemeSetting(): [ThemeChoice, (v: ThemeChoice) => void] {
