@@ -53,16 +53,30 @@ export const TrendChart = memo(function TrendChart({ points, label }: { points: 
   const plot = useRef<uPlot | null>(null);
   countRender("fix-history");
 
+  const latest = useRef(points);
+  latest.current = points;
+
+  // made after the first screen's frame (the fix, INS, satellites and the map come first), then drawn with the newest
   useEffect(() => {
     const el = box.current;
     if (!el) return;
-    const u = new uPlot(options(Math.max(200, el.clientWidth)), [[], [], [], []], el);
-    plot.current = u;
-    const resize = new ResizeObserver(() => u.setSize({ width: Math.max(200, el.clientWidth), height: HEIGHT }));
-    resize.observe(el);
+    let u: uPlot | null = null;
+    let resize: ResizeObserver | null = null;
+    let timer = 0;
+    const frame = requestAnimationFrame(() => {
+      timer = window.setTimeout(() => {
+        const made = new uPlot(options(Math.max(200, el.clientWidth)), chartData(latest.current), el);
+        u = made;
+        plot.current = made;
+        resize = new ResizeObserver(() => made.setSize({ width: Math.max(200, el.clientWidth), height: HEIGHT }));
+        resize.observe(el);
+      });
+    });
     return () => {
-      resize.disconnect();
-      u.destroy();
+      cancelAnimationFrame(frame);
+      clearTimeout(timer);
+      resize?.disconnect();
+      u?.destroy();
       plot.current = null;
     };
   }, []);
