@@ -417,6 +417,31 @@ def test_websocket_bad_input_gets_an_error_and_keeps_the_connection(live) -> Non
     assert ws.errors == []
 
 
+def test_a_client_that_acknowledges_gets_its_reports_within_its_window_conflated(sim, console) -> None:
+    """/ws?ack=1 (the dashboard): beyond the window of unacknowledged bytes the console holds the reports, each
+    replaced by the newer, instead of queueing them in the sockets; ordered messages still go; an ack lets them out."""
+    sim()
+    c = console(env={"SEM_WS_WINDOW_BYTES": "1024"})  # the snapshot alone fills it
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    ws = WsClient(c.ws_url + "?ack=1")
+    wait_until(lambda: ws.of("snapshot"), 10, "the snapshot")
+    time.sleep(1.0)  # the vehicle reports meanwhile (10 fixes a second): held, as nothing is acknowledged
+    ws.ws.send(json.dumps({"type": "ping"}))
+    wait_until(lambda: ws.of("pong"), 5, "a pong (ordered: not held by the window)")
+    assert ws.of("report") == []
+    ws.ws.send(json.dumps({"type": "ack", "frames": len(ws.messages)}))
+    wait_until(lambda: ws.of("report"), 5, "the held reports, once acknowledged")
+    time.sleep(1.0)  # more reports meanwhile: held again once the window is full
+    ws.ws.send(json.dumps({"type": "ping"}))
+    wait_until(lambda: len(ws.of("pong")) == 2, 5, "a second pong")
+    reports = [(m["providerId"], m["topic"]) for m in ws.of("report")]
+    assert len(reports) == len(set(reports)), reports  # conflated: each vehicle's topic once, its newest
+    ws.ws.send(json.dumps({"type": "ack", "frames": -1}))
+    wait_until(lambda: ws.of("error"), 5, "a bad ack refused")
+    assert ws.errors == []
+    ws.close()
+
+
 def test_openapi_and_ws_schema_are_published(live) -> None:
     spec = httpx.get(f"{live.url}/openapi.json").json()
     assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
@@ -425,7 +450,7 @@ def test_openapi_and_ws_schema_are_published(live) -> None:
     kinds = {
         m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})
     }
-    assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync"}
+    assert kinds >= {"snapshot", "report", "provider", "command", "transition", "error", "pong", "ping", "resync", "ack"}
     assert set(schema["$defs"]["ReportTypes"]["properties"]) == REPORTS
     assert schema["$defs"]["GPSSatelliteType"]["required"][0] == "antennaCarrierNoiseDensity"
     assert httpx.get(f"{live.url}/docs").status_code == 200

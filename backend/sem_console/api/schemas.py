@@ -536,7 +536,15 @@ class ResyncMessage(_Model):
     type: Literal["resync"]
 
 
-ClientMessage = Annotated[PingMessage | ResyncMessage, Field(discriminator="type")]
+class AckMessage(_Model):
+    """On `/ws?ack=1`: the client has taken the first `frames` frames of this socket (counted from its first, the
+    snapshot); the console sends reports only while a window of bytes is unacknowledged (`ws_window_bytes`)."""
+
+    type: Literal["ack"]
+    frames: int = Field(ge=0)
+
+
+ClientMessage = Annotated[PingMessage | ResyncMessage | AckMessage, Field(discriminator="type")]
 
 server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
 client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)

@@ -1,6 +1,6 @@
 // The live data source: one WebSocket to the console with explicit states, reconnect with backoff,
 // a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
-import type { ReplayStatus, ServerMessage } from "../api/types";
+import type { ClientMessage, ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { takeEarly, type EarlySocket } from "./early";
 import { onFrame } from "./frame";
@@ -182,8 +182,12 @@ export class Connection implements DataSource {
     const protocols = this.protocols();
     const ws = early?.ws ?? (protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url));
     this.ws = ws;
+    let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
     const onMessage = (ev: MessageEvent<string>) => {
       if (this.ws !== ws) return; // a socket closed by stop() or restart()
+      frames += 1;
+      const ack: ClientMessage = { type: "ack", frames };
+      if (ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(ack));
       let data: ServerMessage | ServerMessage[];
       try {
         data = JSON.parse(ev.data) as ServerMessage | ServerMessage[];

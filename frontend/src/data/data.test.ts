@@ -228,8 +228,12 @@ describe("store and connection", () => {
       onclose: (() => void) | null = null;
       onerror: (() => void) | null = null;
       closed = false;
+      sent: string[] = []; // what the source sent the console (its acks)
       constructor(readonly url: string, readonly protocols?: string[]) {
         FakeSocket.all.push(this);
+      }
+      send(text: string): void {
+        this.sent.push(text);
       }
       close(): void {
         if (this.closed) return;
@@ -290,6 +294,7 @@ describe("store and connection", () => {
       FakeSocket.all[0].receive(snapshot());
       FakeSocket.all[0].receive([ins("INIT"), ins("OPERATIONAL")]);
       expect(early.held).toHaveLength(2);
+      expect(FakeSocket.all[0].sent).toEqual([]); // held, not taken: not acknowledged (the console holds what is newer)
       const store = new Store(P);
       const applied = vi.spyOn(store, "enqueue");
       const conn = new Connection("ws://console/ws?batch=1", store, () => token);
@@ -297,10 +302,13 @@ describe("store and connection", () => {
       expect(FakeSocket.all).toHaveLength(1); // no second socket
       expect(applied.mock.calls.map(([m]) => m.type)).toEqual(["snapshot", "report", "report"]); // each once
       expect(conn.getState()).toBe("live");
+      // each frame taken is acknowledged, counted from the socket's first (?ack=1: the console's window)
+      expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual([{ type: "ack", frames: 1 }, { type: "ack", frames: 2 }]);
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
       FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
       expect(applied).toHaveBeenCalledTimes(4);
+      expect(JSON.parse(FakeSocket.all[0].sent[2])).toEqual({ type: "ack", frames: 3 });
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 

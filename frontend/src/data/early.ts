@@ -6,11 +6,14 @@
 import { health, type Health } from "../api/rest";
 import { getToken, wsProtocols } from "./token";
 
-/** The console's WebSocket, asking for its reports in batches under load: a browser pays about 0.13 ms of its main
- * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report. */
+/** The console's WebSocket, asking for its reports in batches under load (a browser pays about 0.13 ms of its main
+ * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report), and acknowledging
+ * the frames it takes (`ack`, sent by the source): the console then holds reports beyond a window of bytes, where
+ * newer ones replace them, instead of queueing megabytes in the sockets behind which a new fix waited. An early
+ * socket acknowledges nothing until its source takes it over: meanwhile the console holds the reports. */
 export function defaultUrl(): string {
   const { protocol, host } = window.location;
-  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1`;
+  return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1&ack=1`;
 }
 
 /** A socket opened before its source existed, and the messages it received meanwhile (in order). */

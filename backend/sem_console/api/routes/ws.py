@@ -1,4 +1,5 @@
-"""WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema); /ws?batch=1 takes reports in arrays."""
+"""WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema); /ws?batch=1 takes reports in arrays;
+/ws?ack=1 acknowledges the frames it takes (`ack` messages) and gets reports within a window of unacknowledged bytes."""
 
 from __future__ import annotations
 
@@ -39,8 +40,10 @@ async def websocket(ws: WebSocket) -> None:
             await refuse(ws.scope, ws.send, e.status, e.detail)
             return
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
-    # ?batch=1: the reports waiting when the sender is free go out as one JSON array (the dashboard asks for it)
-    client = console.hub.attach(ws.send_text, console.snapshot(), batch=ws.query_params.get("batch") == "1")
+    # ?batch=1: the reports waiting when the sender is free go out as one JSON array; ?ack=1: the client acknowledges
+    # the frames it has taken, and its reports wait at the console, conflated, beyond a window (the dashboard asks both)
+    client = console.hub.attach(ws.send_text, console.snapshot(), batch=ws.query_params.get("batch") == "1",
+                                ack=ws.query_params.get("ack") == "1")
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:
         assert client.task is not None
@@ -70,6 +73,8 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                 continue
             if msg.type == "ping":
                 client.push(json.dumps({"type": "pong", "serverTime": time.time()}))
+            elif msg.type == "ack":
+                client.ack(msg.frames)
             elif msg.type == "resync":
                 client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
 
