@@ -153,8 +153,8 @@ def report_latency(msg: dict[str, Any], now: float) -> float | None:
 
 async def ws_collect(url: str, seconds: float, on_message: Any) -> None:
     """Read the console's WebSocket for `seconds` as the dashboard does (/ws?batch=1: the reports that waited for the
-    sender come as one JSON array), calling on_message(msg, arrival_time) for each message, those of an array with
-    the array's arrival time."""
+    sender come as one JSON array; not its ack=1, whose window never holds a client that keeps up), calling
+    on_message(msg, arrival_time) for each message, those of an array with the array's arrival time."""
     import websockets
 
     async with websockets.connect(url + ("&" if "?" in url else "?") + "batch=1", max_size=2**26) as ws:

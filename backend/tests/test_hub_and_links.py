@@ -168,6 +168,39 @@ def test_resync_storm_queues_one_snapshot() -> None:
     asyncio.run(scenario())
 
 
+def test_the_window_reopens_on_the_acks_of_this_socket_across_a_resync() -> None:
+    """/ws?ack=1: reports wait while the window is full; an ack beyond the frames sent (not this socket's count) is
+    ignored, one of some frames frees theirs only, and a replay's resync keeps the count (the client counts on)."""
+    async def scenario() -> None:
+        hub = Hub(window=100)
+        sent: list[str] = []
+
+        async def send(text: str) -> None:
+            sent.append(text)
+
+        client = hub.attach(send, {"type": "snapshot", "pad": "x" * 200}, ack=True)  # the snapshot alone fills it
+        hub.publish({"type": "report", "n": 1}, key=("a", "GPSFixReport"))
+        hub.publish({"type": "alarms", "alarms": []})  # ordered: not held
+        await asyncio.sleep(0.01)
+        assert [json.loads(t)["type"] for t in sent] == ["snapshot", "alarms"]
+        client.ack(3)  # more than were sent: ignored
+        await asyncio.sleep(0.01)
+        assert len(sent) == 2
+        hub.publish({"type": "report", "n": 2}, key=("a", "GPSFixReport"))  # replaces the held one
+        client.ack(1)  # the snapshot: the window opens
+        await asyncio.sleep(0.01)
+        assert json.loads(sent[2]) == {"type": "report", "n": 2} and len(sent) == 3
+        hub.resync({"type": "snapshot", "pad": "y" * 200})  # a seek: counted on, frames 4
+        hub.publish({"type": "report", "n": 3}, key=("a", "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        assert [json.loads(t)["type"] for t in sent[3:]] == ["snapshot"]  # the window is full again
+        client.ack(4)
+        await asyncio.sleep(0.01)
+        assert json.loads(sent[-1]) == {"type": "report", "n": 3} and client.inflight_bytes == len(sent[-1])
+
+    asyncio.run(scenario())
+
+
 def test_link_thresholds_are_per_vehicle() -> None:
     slow = uuid.uuid4()
     links = Providers(comms_lost_timeout=1.0, regained_time=1.0, configs={str(slow): LinkConfig(5.0, 1.0, "CONTINUE_MISSION", 2)},

@@ -17,8 +17,8 @@ from sem_console.core.config import Settings
 # the options whose name is not --<field> with dashes, and the one option that is no setting
 RENAMED = {"db_path": "--db"}
 CLI_ONLY = {"log_level"}
-ENV_ONLY = {"dds_interface", "dds_peers", "report_interval", "report_burst", "ws_max_queue", "ws_stall_seconds", "ws_window_bytes",
-            "ws_compression", "record_queue", "throttle_first_wait"}
+ENV_ONLY = {"dds_interface", "dds_peers", "report_interval", "report_burst", "ws_max_queue", "ws_stall_seconds",
+            "ws_window_bytes", "ws_compression", "record_queue", "throttle_first_wait"}
 
 
 @pytest.fixture(autouse=True)

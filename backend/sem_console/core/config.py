@@ -69,9 +69,11 @@ class Settings(BaseSettings):
                               "window applies (refilled at one per window)", json_schema_extra=ENV_ONLY)
     ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
                               "nothing for ws_stall_seconds) before it is dropped", json_schema_extra=ENV_ONLY)
-    ws_window_bytes: int = Field(256 * 1024, ge=1024, description="bytes of reports a WebSocket client that acknowledges "
-                                 "(/ws?ack=1, the dashboard) may have unacknowledged; newer reports wait at the console, "
-                                 "conflated, not in the sockets' buffers", json_schema_extra=ENV_ONLY)
+    ws_window_bytes: int = Field(256 * 1024, ge=1024, description="a WebSocket client that acknowledges (/ws?ack=1, the "
+                                 "dashboard) is sent reports only while fewer than this many bytes it was sent (any "
+                                 "message) are unacknowledged; beyond, they wait at the console, conflated, not in the "
+                                 "sockets' buffers (a batch under way may pass it; ordered messages are not held)",
+                                 json_schema_extra=ENV_ONLY)
     ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over "
                                     "ws_max_queue stalled", json_schema_extra=ENV_ONLY)
     ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
