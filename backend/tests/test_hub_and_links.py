@@ -235,3 +235,30 @@ def test_feed_delivers_in_order_and_survives_a_failing_subscriber() -> None:
     stop()
     feed.publish({"type": "report", "n": 3})
     assert got == [0, 1, 2] and feed.errors == {"bad": 4}
+
+
+def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() -> None:
+    """A report updated while it waits goes out in its place with the newest text (a 10 Hz fix is not sent to the back
+    of the queue by each update); a batch stops at the window's room (at least one report)."""
+    async def scenario() -> None:
+        hub = Hub(window=2048)
+        sent: list[str] = []
+
+        async def send(text: str) -> None:
+            sent.append(text)
+
+        client = hub.attach(send, {"type": "snapshot", "pad": "x" * 2100}, batch=True, ack=True)  # fills the window
+        await asyncio.sleep(0.01)
+        for p in ("a", "b", "c", "a"):  # a, updated while it waits
+            hub.publish({"type": "report", "providerId": p, "pad": "y" * 900},
+                        key=(p, "GPSFixReport"))
+        hub.publish({"type": "report", "providerId": "a", "newest": True, "pad": "y" * 900}, key=("a", "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        assert len(sent) == 1  # held by the window
+        client.ack(1)
+        await asyncio.sleep(0.01)
+        first = json.loads(sent[1])
+        assert [m["providerId"] for m in first] == ["a", "b", "c"][: len(first)] and len(first) < 3  # within 2 kB
+        assert first[0].get("newest") is True  # a in its place, with its newest report
+
+    asyncio.run(scenario())

@@ -72,7 +72,8 @@ class Client:
         if self.dropped:
             return
         if key is not None:
-            self.reports.pop(key, None)  # re-insert: conflated reports go out oldest first
+            # a report waiting keeps its place with the newest text: the longest-waiting go out first, and a frequent
+            # one (the selected vehicle's 10 Hz fix) is not sent to the back of the queue by each of its updates
             self.reports[key] = text
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
@@ -98,6 +99,19 @@ class Client:
             self.inflight_bytes -= self.inflight.popleft()
         self.wake.set()
 
+    def _batch(self) -> list[str]:
+        """The reports of the next batch, longest waiting first: at most BATCH_MAX, and within the window's room (at
+        least one), so that one frame does not put megabytes in flight past it."""
+        room = float("inf") if self.window is None else self.window - self.inflight_bytes
+        out: list[str] = []
+        for key in list(islice(self.reports, BATCH_MAX)):
+            if out and len(self.reports[key]) > room:
+                break
+            text = self.reports.pop(key)
+            room -= len(text) + 1
+            out.append(text)
+        return out
+
     def _window_open(self) -> bool:
         return self.window is None or self.inflight_bytes < self.window
 
@@ -122,8 +136,7 @@ class Client:
                     if text.startswith('{"type":"snapshot"'):
                         self.snapshot_pending = False
                 elif self.batch and len(self.reports) > 1:
-                    keys = list(islice(self.reports, BATCH_MAX))
-                    text = "[" + ",".join(self.reports.pop(k) for k in keys) + "]"
+                    text = "[" + ",".join(self._batch()) + "]"
                 else:
                     text = self.reports.pop(next(iter(self.reports)))
                 if self.window is not None:
