@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { Topology } from "topojson-specification";
 import { topoToGeoJson } from "./basemap";
-import { bearingDeg, distanceM, distanceText, edgeMark, framePoints, measureGeoJson, middle, nearestVertex, pathLengthM, positionText, trimTrack, tracksGeoJson, validPosition, vehiclesGeoJson } from "./geo";
+import { bearingDeg, distanceM, distanceText, edgeMark, framePoints, measureGeoJson, middle, nearestVertex, pathLengthM, positionText, trimTrack, validPosition } from "./geo";
 import { dms } from "./units";
 
 describe("distances", () => {
@@ -42,17 +42,9 @@ describe("coordinates", () => {
 });
 
 describe("GeoJSON for the layers", () => {
-  it("vehicles are points lon/lat with the properties the layers style by", () => {
-    const fc = vehiclesGeoJson([{ id: "a", label: "A", position: { lon: 1, lat: 2 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "lost", selected: true }]);
-    expect(fc.features[0].geometry.coordinates).toEqual([1, 2]);
-    expect(fc.features[0].properties).toMatchObject({ id: "a", hasCourse: false, course: 0, fix: "valid", link: "lost", selected: true });
-  });
-  it("tracks keep the last window in time order, one point per time; a single point draws no line", () => {
+  it("tracks keep the last window in time order, one point per time", () => {
     const t = trimTrack([{ lon: 0, lat: 0, t: 5 }, { lon: 1, lat: 0, t: 1 }, { lon: 2, lat: 0, t: 5 }, { lon: 3, lat: 0, t: 9 }], 10, 6);
     expect(t.map((p) => [p.lon, p.t])).toEqual([[2, 5], [3, 9]]);
-    const fc = tracksGeoJson([{ id: "a", selected: false, points: t }, { id: "b", selected: false, points: t.slice(0, 1) }]);
-    expect(fc.features).toHaveLength(1);
-    expect(fc.features[0].geometry.coordinates).toEqual([[2, 0], [3, 0]]);
   });
   it("the measure path is its points and, from two points on, a line", () => {
     expect(measureGeoJson([{ lon: 0, lat: 0 }]).features).toHaveLength(1);

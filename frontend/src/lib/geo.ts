@@ -66,28 +66,6 @@ export interface VehicleMark {
   selected: boolean;
 }
 
-/** Vehicles as GeoJSON points; properties drive colour (fix), marking (link) and the arrow's rotation. */
-export function vehiclesGeoJson(vs: VehicleMark[]): FeatureCollection<Point> {
-  return {
-    type: "FeatureCollection",
-    features: vs.map((v) => ({
-      type: "Feature",
-      id: v.id,
-      geometry: { type: "Point", coordinates: [v.position.lon, v.position.lat] },
-      properties: {
-        id: v.id,
-        label: v.label,
-        course: v.courseDeg ?? 0,
-        hasCourse: v.courseDeg !== null,
-        fix: v.fix,
-        gps: v.gpsPosition,
-        link: v.link,
-        selected: v.selected,
-      },
-    })),
-  };
-}
-
 export interface TrackSample extends LonLat {
   t: number; // seconds since the epoch
 }
@@ -102,20 +80,6 @@ export function trimTrack(points: TrackSample[], now: number, seconds: number): 
     else out.push(p);
   }
   return out;
-}
-
-/** Tracks as GeoJSON lines (a track of fewer than two points draws nothing). */
-export function tracksGeoJson(tracks: { id: string; selected: boolean; points: LonLat[] }[]): FeatureCollection<LineString> {
-  const features: Feature<LineString>[] = [];
-  for (const t of tracks) {
-    if (t.points.length < 2) continue;
-    features.push({
-      type: "Feature",
-      geometry: { type: "LineString", coordinates: t.points.map((p) => [p.lon, p.lat]) },
-      properties: { id: t.id, selected: t.selected },
-    });
-  }
-  return { type: "FeatureCollection", features };
 }
 
 /** The measure tool's path: the line and one point per vertex. */
