@@ -442,6 +442,34 @@ def test_a_client_that_acknowledges_gets_its_reports_within_its_window_conflated
     ws.close()
 
 
+def test_a_client_that_names_its_vehicle_gets_the_others_satellites_only_now_and_then(sim, console) -> None:
+    """`select` (the dashboard): the selected vehicle's GPSReports come whole, the others' without their satellites
+    (`partial`) but once every 5 s; selecting another brings its latest GPSReport whole at once."""
+    sim("--vehicles", "2", "--gps-rate", "0.5")  # a GPSReport every 2 s
+    c = console()
+    provider_ready(c.url, V2, {"GPSReport"})
+    ws = WsClient(c.ws_url)
+    wait_until(lambda: ws.of("snapshot"), 10, "the snapshot")
+
+    def gps(pid: str) -> list[dict]:
+        return [m for m in ws.of("report") if m["topic"] == "GPSReport" and m["providerId"] == pid]
+
+    ws.ws.send(json.dumps({"type": "select", "providerId": V1}))
+    thin = wait_until(lambda: [m for m in gps(V2) if m.get("partial")], 15, "a partial GPSReport of the other vehicle")[0]
+    mark, last = len(gps(V2)), gps(V2)[-1]["report"]["receivedAt"]
+    ws.ws.send(json.dumps({"type": "select", "providerId": V2}))  # its next GPSReport is 2 s away
+    first = wait_until(lambda: gps(V2)[mark:], 10, "the newly selected vehicle's GPSReport")[0]
+    assert thin["report"]["report"]["satellites"] == [] and thin["report"]["report"]["numberSatellitesInView"] > 0
+    assert all(m["report"]["report"]["satellites"] for m in gps(V1) if not m.get("partial"))
+    assert [m for m in gps(V1)[1:] if m.get("partial")] == []  # selected from the start
+    assert not first.get("partial") and first["report"]["report"]["satellites"]
+    assert first["report"]["receivedAt"] == last  # its latest, sent on the select: not its next
+    ws.ws.send(json.dumps({"type": "select", "providerId": "no-such-vehicle"}))
+    wait_until(lambda: ws.of("error"), 5, "a select of no vehicle id refused")
+    assert "providerId" in ws.of("error")[0]["message"] and ws.errors == []
+    ws.close()
+
+
 def test_openapi_and_ws_schema_are_published(live) -> None:
     spec = httpx.get(f"{live.url}/openapi.json").json()
     assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",

@@ -7,6 +7,8 @@ import json
 import uuid
 from collections.abc import Awaitable, Callable
 
+import pytest
+
 from sem_console.console.feed import Feed
 from sem_console.console.hub import Hub
 from sem_console.console.providers import LinkConfig, Providers
@@ -260,5 +262,48 @@ def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() 
         first = json.loads(sent[1])
         assert [m["providerId"] for m in first] == ["a", "b", "c"][: len(first)] and len(first) < 3  # within 2 kB
         assert first[0].get("newest") is True  # a in its place, with its newest report
+
+    asyncio.run(scenario())
+
+
+def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but the first and
+    then one every FULL_EVERY seconds whole (the trails); a client that named none gets every report whole."""
+    import sem_console.console.hub as hub_module
+    now = [1000.0]
+    monkeypatch.setattr(hub_module, "_now", lambda: now[0])  # the hub's clock of whole reports, not the loop's
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: dict[str, list[dict]] = {"dashboard": [], "other": []}
+
+        def sender(name: str) -> Callable[[str], Awaitable[None]]:
+            async def send(text: str) -> None:
+                got[name].append(json.loads(text))
+            return send
+
+        dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"})
+        hub.attach(sender("other"), {"type": "snapshot"})
+        dashboard.select("a")
+
+        async def gps(p: str, n: int) -> None:
+            whole = {"type": "report", "providerId": p, "topic": "GPSReport", "n": n, "report": {"satellites": [1, 2]}}
+            hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
+            await asyncio.sleep(0.01)
+
+        for n in range(3):
+            await gps("a", n)
+            await gps("b", n)
+            now[0] += 2.0
+        await gps("b", 3)  # 6 s after b's first whole one: whole again
+        dashboard.select("b")
+        await gps("b", 4)
+        await gps("a", 4)
+        seen = [(m["providerId"], m["n"], m.get("partial", False)) for m in got["dashboard"] if m["type"] == "report"]
+        assert seen == [("a", 0, False), ("b", 0, False), ("a", 1, False), ("b", 1, True), ("a", 2, False),
+                        ("b", 2, True), ("b", 3, False), ("b", 4, False), ("a", 4, True)]
+        assert all(not m.get("partial") for m in got["other"])
+        assert len([m for m in got["other"] if m["type"] == "report"]) == 9
 
     asyncio.run(scenario())

@@ -29,6 +29,27 @@ test("the dashboard shows the connection, the vehicles, satellites, sky plot, fi
   await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON");
 });
 
+test("another vehicle selected: its satellites at once, though the console sent them only now and then while it was not", async ({ page, request }) => {
+  const selects: unknown[] = []; // what the page tells the console it draws
+  page.on("websocket", (ws) => ws.on("framesent", ({ payload }) => {
+    const msg = JSON.parse(String(payload)) as { type: string; providerId?: string | null };
+    if (msg.type === "select") selects.push(msg.providerId);
+  }));
+  const first = await open(page);
+  await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
+  const second = load().vehicles[1];
+  await expect.poll(() => selects.at(-1)).toBe(first);
+  await page.waitForTimeout(1500); // the other vehicles' GPSReports come without their satellites meanwhile
+  await vehicle(page, second).click();
+  await expect.poll(() => selects.at(-1)).toBe(second);
+  const detail = await (await request.get(`${load().url}/api/providers/${second}`)).json();
+  const listed = detail.reports.GPSReport.report.satellites.length;
+  expect(listed).toBeGreaterThanOrEqual(20);
+  await expect(page.getByTestId("sats-listed")).toHaveText(String(listed));
+  await expect(page.getByTestId("sky-satellite")).toHaveCount(listed);
+  await expect(page.getByTestId("satellite-table").locator("tbody tr")).toHaveCount(listed);
+});
+
 test("Request GPS fix: the timeline walks ISSUED to COMPLETED and the fix becomes valid", async ({ page }) => {
   await open(page);
   await expect(page.getByTestId("fix-valid")).toHaveText("No fix");

@@ -464,6 +464,9 @@ class ReportMessage(_Model):
     providerId: str
     topic: ReportTopic
     report: ReportEnvelope
+    partial: bool = Field(False, description=(
+        "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle (`select`), "
+        "but once every 5 s; the `select` of this vehicle brings its latest whole"))
 
 
 class GatewaysMessage(_Model):
@@ -544,7 +547,16 @@ class AckMessage(_Model):
     frames: int = Field(ge=0)
 
 
-ClientMessage = Annotated[PingMessage | ResyncMessage | AckMessage, Field(discriminator="type")]
+class SelectMessage(_Model):
+    """The vehicle whose satellites the client draws (null: none): every other vehicle's GPSReport then comes `partial`,
+    but once every 5 s, and this vehicle's latest GPSReport comes whole at once. A client that never sends one gets
+    every report whole."""
+
+    type: Literal["select"]
+    providerId: uuid.UUID | None
+
+
+ClientMessage = Annotated[PingMessage | ResyncMessage | AckMessage | SelectMessage, Field(discriminator="type")]
 
 server_messages: TypeAdapter[Any] = TypeAdapter(ServerMessage)
 client_messages: TypeAdapter[Any] = TypeAdapter(ClientMessage)

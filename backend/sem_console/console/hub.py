@@ -31,6 +31,12 @@ log = logging.getLogger("sem-console.hub")
 
 MAX_QUEUED_BYTES = 64 * 1024 * 1024
 BATCH_MAX = 500  # reports in one batch at most (a frame of a few hundred kB)
+FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's satellites this often (the sky plot's
+# trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
+
+
+def _now() -> float:
+    return time.monotonic()
 
 
 def dumps(message: dict[str, Any]) -> str:
@@ -50,7 +56,11 @@ class Client:
     yet acknowledged. What was written waits in the sockets' buffers in order, beyond conflation: with 250 vehicles a
     page that stalled for a moment had megabytes queued there, and the selected vehicle's next fix waited behind all of
     it (p99 0.2 s, seconds on a busy machine). With the window the reports wait here, where each is replaced by the
-    newer. Ordered events (snapshots, alarms, commands) are not held by it."""
+    newer. Ordered events (snapshots, alarms, commands) are not held by it.
+
+    `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
+    GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds; one that never does
+    gets every report whole."""
 
     def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
                  batch: bool = False, window: int | None = None) -> None:
@@ -63,18 +73,23 @@ class Client:
         self.ordered: deque[str] = deque()
         self.queued_bytes = 0
         self.snapshot_pending = False
-        self.reports: dict[tuple[str, str], str] = {}
+        self.reports: dict[tuple[str, str], str | tuple[str, str]] = {}  # the text, or (whole, thin) of a GPSReport
+        self.selecting = False  # it has named the vehicle it draws: others' GPSReports go thin
+        self.selected: str | None = None
+        self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it
         self.wake = asyncio.Event()
         self.task: asyncio.Task[None] | None = None
         self.dropped = False
 
-    def push(self, text: str, key: tuple[str, str] | None = None) -> None:
+    def push(self, text: str, key: tuple[str, str] | None = None, thin: str | None = None) -> None:
+        """Queue an ordered event, or with `key` the newest report of its vehicle and topic (`thin`: the same without
+        what only a client drawing that vehicle needs; which of the two goes out is chosen when it is sent)."""
         if self.dropped:
             return
         if key is not None:
             # a report waiting keeps its place with the newest text: the longest-waiting go out first, and a frequent
             # one (the selected vehicle's 10 Hz fix) is not sent to the back of the queue by each of its updates
-            self.reports[key] = text
+            self.reports[key] = text if thin is None or not self.selecting else (text, thin)
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
             self.drop()
@@ -89,6 +104,28 @@ class Client:
         if not self.snapshot_pending:
             self.snapshot_pending = True
             self.push(text)
+
+    def select(self, provider_id: str | None) -> None:
+        """The client draws this vehicle's satellites now (None: no vehicle's): its GPSReports go out whole."""
+        self.selecting, self.selected = True, provider_id
+
+    def _peek(self, key: tuple[str, str]) -> str:
+        """The text the report waiting for `key` would go out as: whole for the selected vehicle, or when the last whole
+        one of its vehicle to this client is FULL_EVERY seconds old; thin otherwise."""
+        value = self.reports[key]
+        if isinstance(value, str):
+            return value
+        last = self.full_at.get(key[0])
+        due = key[0] == self.selected or last is None or _now() - last >= FULL_EVERY
+        return value[0] if due else value[1]
+
+    def _text(self, key: tuple[str, str]) -> str:
+        """Take the report waiting for `key` (as `_peek` has it)."""
+        text = self._peek(key)
+        value = self.reports.pop(key)
+        if not isinstance(value, str) and text is value[0]:
+            self.full_at[key[0]] = _now()
+        return text
 
     def ack(self, frames: int) -> None:
         """The client has taken the first `frames` frames of this socket: the reports held by the window may go."""
@@ -105,9 +142,9 @@ class Client:
         room = float("inf") if self.window is None else self.window - self.inflight_bytes
         out: list[str] = []
         for key in list(islice(self.reports, BATCH_MAX)):
-            if out and len(self.reports[key]) > room:
+            if out and len(self._peek(key)) > room:
                 break
-            text = self.reports.pop(key)
+            text = self._text(key)
             room -= len(text) + 1
             out.append(text)
         return out
@@ -138,7 +175,7 @@ class Client:
                 elif self.batch and len(self.reports) > 1:
                     text = "[" + ",".join(self._batch()) + "]"
                 else:
-                    text = self.reports.pop(next(iter(self.reports)))
+                    text = self._text(next(iter(self.reports)))
                 if self.window is not None:
                     self.sent_frames += 1
                     self.inflight.append(len(text))
@@ -154,13 +191,17 @@ class Hub:
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
 
-    def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None) -> None:
+    def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None,
+                thin: dict[str, Any] | None = None) -> None:
+        """Send `message` to every client (with `key`: a report, conflated per client; `thin`: the same report without
+        what only a client drawing that vehicle needs, for the clients that draw another)."""
         if not self.clients:
             return
         text = dumps(message)
+        thin_text = dumps(thin) if thin is not None and any(c.selecting for c in self.clients) else None
         self.published += len(self.clients)
         for c in list(self.clients):
-            c.push(text, key)
+            c.push(text, key, thin_text)
             if c.dropped:
                 self.dropped += 1
                 log.warning("dropped a WebSocket client that stopped reading (%d messages behind)", self.max_queue)

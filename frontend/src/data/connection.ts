@@ -12,6 +12,8 @@ export const BACKOFF_MIN_MS = 500;
 export const BACKOFF_MAX_MS = 10_000;
 export const OFFLINE_AFTER_FAILURES = 5;
 
+const UUID = /^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$/i;
+
 export function backoff(failures: number): number {
   return Math.min(BACKOFF_MAX_MS, BACKOFF_MIN_MS * 2 ** Math.max(0, failures - 1));
 }
@@ -110,6 +112,7 @@ export class Connection implements DataSource {
   private timer: ReturnType<typeof setTimeout> | null = null;
   private stopped = false;
   private listeners = new Set<Listener>();
+  private unwatchSelected: (() => void) | null = null;
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
   constructor(private readonly url: string, protected readonly store: Store, private readonly protocols: () => string[] = () => []) {}
@@ -131,6 +134,8 @@ export class Connection implements DataSource {
 
   start(): void {
     this.stopped = false;
+    // the console sends the other vehicles' GPSReports without their satellites (only the selected one's are drawn)
+    this.unwatchSelected ??= this.store.subscribeTo((s) => s.selected, () => this.sendSelected(this.ws));
     this.setState("connecting");
     this.open(takeEarly(this.url, this.protocols())); // the page's own socket (early.ts), if it is still the right one
   }
@@ -163,6 +168,14 @@ export class Connection implements DataSource {
     if (s === this.state) return;
     this.state = s;
     this.notify();
+  }
+
+  /** Tell the console which vehicle's satellites the page draws (`select`; a ?vehicle= that is no vehicle id: none). */
+  private sendSelected(ws: WebSocket | null): void {
+    if (!ws || ws !== this.ws || ws.readyState !== WebSocket.OPEN) return;
+    const selected = this.store.getState().selected;
+    const msg: ClientMessage = { type: "select", providerId: selected && UUID.test(selected) ? selected : null };
+    ws.send(JSON.stringify(msg));
   }
 
   /** One message from the console (a replay source looks at some first). */
@@ -200,6 +213,8 @@ export class Connection implements DataSource {
     };
     ws.onmessage = onMessage;
     for (const ev of early?.held.splice(0) ?? []) onMessage(ev);
+    if (ws.readyState === WebSocket.OPEN) this.sendSelected(ws);
+    else ws.onopen = () => this.sendSelected(ws);
     ws.onclose = () => {
       if (this.ws !== ws || this.stopped) return;
       this.failures += 1;

@@ -7,6 +7,7 @@ import { reportMessage } from "./testing";
 import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, reduceAll, report, select, type HistoryPoint, type State } from "./store";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
+const Q = "0b6a4c1e-2f4d-5e8a-9c3b-7d1e2f3a4b5c";
 
 function env(report: Record<string, unknown>, invalid: string[] = [], receivedAt = 1) {
   return { report, invalid, receivedAt };
@@ -227,6 +228,7 @@ describe("store and connection", () => {
       onmessage: ((ev: { data: string }) => void) | null = null;
       onclose: (() => void) | null = null;
       onerror: (() => void) | null = null;
+      onopen: (() => void) | null = null;
       closed = false;
       sent: string[] = []; // what the source sent the console (its acks)
       constructor(readonly url: string, readonly protocols?: string[]) {
@@ -303,12 +305,18 @@ describe("store and connection", () => {
       expect(applied.mock.calls.map(([m]) => m.type)).toEqual(["snapshot", "report", "report"]); // each once
       expect(conn.getState()).toBe("live");
       // each frame taken is acknowledged, counted from the socket's first (?ack=1: the console's window)
-      expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual([{ type: "ack", frames: 1 }, { type: "ack", frames: 2 }]);
+      // then the vehicle it draws (the console sends the others' GPSReports without their satellites)
+      expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual(
+        [{ type: "ack", frames: 1 }, { type: "ack", frames: 2 }, { type: "select", providerId: P }]);
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
       FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
       expect(applied).toHaveBeenCalledTimes(4);
-      expect(JSON.parse(FakeSocket.all[0].sent[2])).toEqual({ type: "ack", frames: 3 });
+      expect(JSON.parse(FakeSocket.all[0].sent[3])).toEqual({ type: "ack", frames: 3 });
+      store.update((s) => ({ ...s, selected: "not-a-vehicle-id" })); // a ?vehicle= link to nothing: no vehicle's
+      store.update((s) => ({ ...s, selected: Q }));
+      expect(FakeSocket.all[0].sent.slice(4).map((t) => JSON.parse(t) as unknown)).toEqual(
+        [{ type: "select", providerId: null }, { type: "select", providerId: Q }]);
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 
@@ -345,6 +353,10 @@ describe("store and connection", () => {
       expect(FakeSocket.all).toHaveLength(2);
       expect(states).toEqual([]); // still "connecting": no "reconnecting" for the old socket's close
       expect(store.getState().providers).toEqual({}); // nothing from the closed socket
+      expect(FakeSocket.all[1].sent).toEqual([]);
+      FakeSocket.all[1].readyState = 1;
+      FakeSocket.all[1].onopen?.(); // open: the vehicle the page draws, first
+      expect(FakeSocket.all[1].sent.map((t) => JSON.parse(t) as unknown)).toEqual([{ type: "select", providerId: P }]);
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       conn.stop();
@@ -494,5 +506,20 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
     const live = apply([reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 0 }, [], 2)], s);
     expect(selectedGpsPartial(live)).toBe(false); // the next report is whole
     expect(detailLoaded(live, P, full)).toBe(live);
+  });
+
+  it("a live partial GPSReport (another vehicle selected) keeps the satellites it had, the trails and the chart", async () => {
+    const { selectedGpsPartial } = await import("./store");
+    const sats = [{ satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", azimuth: 1, elevation: 0.5, usedInFix: true, antennaCarrierNoiseDensity: 40 }];
+    const whole = apply([snapshot(), reportMessage(P, "GPSReport", { satellites: sats, numberSatellitesInView: 9 }, [], 2)]);
+    const thin = { ...reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 8 }, [], 3), partial: true } as ServerMessage;
+    const s = reduce(whole, thin, 10);
+    expect(selectedGpsPartial(s)).toBe(true); // completed by the console's whole one (or GET /api/providers/{id})
+    expect(report(s.providers[P], "GPSReport")).toEqual({ satellites: sats, numberSatellitesInView: 8 });
+    expect(s.providers[P].trails).toBe(whole.providers[P].trails);
+    expect(s.providers[P].history).toBe(whole.providers[P].history); // no chart point of C/N0 0, 0 used
+    const first = reduce(apply([snapshot()]), thin, 10); // none before: none now
+    expect(report(first.providers[P], "GPSReport")?.satellites).toEqual([]);
+    expect(first.providers[P].history).toEqual([]);
   });
 });

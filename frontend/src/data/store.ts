@@ -13,8 +13,9 @@ export interface TopicView<T extends Topic = Topic> {
   envelope: ReportEnvelopeOf<T>;
   at: number; // client time (s) it arrived
   interval: number | null; // observed seconds between samples
-  // the snapshot's GPSReport, without its satellites (the snapshot is the first screen): the selected vehicle's is
-  // completed by GET /api/providers/{id} (detailLoaded), any by its next report
+  // a GPSReport without its satellites: the snapshot's (the first screen), or a live one of a vehicle the page had not
+  // selected (`partial` reports); it holds the satellites it had before, if any. The selected vehicle's is completed
+  // by the console on the `select` and by GET /api/providers/{id} (detailLoaded), any by its next whole report
   partial?: boolean;
 }
 
@@ -223,6 +224,12 @@ function reported(before: ProviderView | undefined, msg: TypedReportMessage, now
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
   const at = { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  if (msg.topic === "GPSReport" && msg.partial) {
+    // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
+    const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];
+    const envelope = kept.length ? { ...msg.report, report: { ...msg.report.report, satellites: kept } } : msg.report;
+    return { ...b, topics: { ...b.topics, GPSReport: { envelope, ...at, partial: true } } };
+  }
   let p: ProviderView = { ...b, topics: { ...b.topics, [topic]: { envelope: msg.report, ...at } } };
   if (msg.topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, msg.report, now), history: updateHistory(p.history, msg.report) };
   if (msg.topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, msg.report) };

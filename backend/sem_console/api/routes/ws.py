@@ -1,5 +1,6 @@
 """WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema); /ws?batch=1 takes reports in arrays;
-/ws?ack=1 acknowledges the frames it takes (`ack` messages) and gets reports within a window of unacknowledged bytes."""
+/ws?ack=1 acknowledges the frames it takes (`ack` messages) and gets reports within a window of unacknowledged bytes;
+a client that names the vehicle it draws (`select`) gets the others' GPSReports without their satellites."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from sem_console.api import audit
 from sem_console.api.auth import DEVICE_COOKIE, WS_PROTOCOL, AuthError, ws_token
 from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
+from sem_console.console.hub import dumps
 
 router = APIRouter()
 
@@ -75,6 +77,11 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                 client.push(json.dumps({"type": "pong", "serverTime": time.time()}))
             elif msg.type == "ack":
                 client.ack(msg.frames)
+            elif msg.type == "select":
+                pid = None if msg.providerId is None else str(msg.providerId)
+                client.select(pid)
+                if pid is not None and (report := console.selected_report(pid)) is not None:
+                    client.push(dumps(report), key=(pid, "GPSReport"))  # whole: those it had of it were thin
             elif msg.type == "resync":
                 client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
 
