@@ -7,8 +7,6 @@ import json
 import uuid
 from collections.abc import Awaitable, Callable
 
-import pytest
-
 from sem_console.console.feed import Feed
 from sem_console.console.hub import Hub
 from sem_console.console.providers import LinkConfig, Providers
@@ -266,16 +264,13 @@ def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() 
     asyncio.run(scenario())
 
 
-def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds() -> None:
     """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but the first and
     then one every FULL_EVERY seconds whole (the trails); a client that named none gets every report whole."""
-    import sem_console.console.hub as hub_module
-    now = [1000.0]
-    monkeypatch.setattr(hub_module, "_now", lambda: now[0])  # the hub's clock of whole reports, not the loop's
+    now = [1000.0]  # the hub's clock of whole reports (the console's), not the loop's
 
     async def scenario() -> None:
-        hub = Hub()
+        hub = Hub(clock=lambda: now[0])
         got: dict[str, list[dict]] = {"dashboard": [], "other": []}
 
         def sender(name: str) -> Callable[[str], Awaitable[None]]:
@@ -305,5 +300,9 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
                         ("b", 2, True), ("b", 3, False), ("b", 4, False), ("a", 4, True)]
         assert all(not m.get("partial") for m in got["other"])
         assert len([m for m in got["other"] if m["type"] == "report"]) == 9
+        now[0] = 900.0  # a replay seeked back: its clock went back, and each vehicle's next is due at once
+        hub.resync({"type": "snapshot"})
+        await gps("a", 5)
+        assert (got["dashboard"][-1]["n"], got["dashboard"][-1].get("partial", False)) == (5, False)
 
     asyncio.run(scenario())

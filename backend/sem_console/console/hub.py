@@ -35,10 +35,6 @@ FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's s
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
 
 
-def _now() -> float:
-    return time.monotonic()
-
-
 def dumps(message: dict[str, Any]) -> str:
     """Compact JSON, by orjson (a tenth of json.dumps' CPU for a report); json.dumps for what orjson
     refuses (an integer past 64 bits). orjson writes a non-finite float as null, json.dumps as NaN,
@@ -60,11 +56,12 @@ class Client:
 
     `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
     GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds; one that never does
-    gets every report whole."""
+    gets every report whole. `clock`: the console's (a replay's is the recording's time, as the page's trails are)."""
 
     def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
-                 batch: bool = False, window: int | None = None) -> None:
+                 batch: bool = False, window: int | None = None, clock: Callable[[], float] = time.monotonic) -> None:
         self.send, self.max_queue, self.stall_seconds, self.batch = send, max_queue, stall_seconds, batch
+        self.clock = clock
         self.window = window
         self.sent_frames = 0  # frames sent on this socket
         self.inflight: deque[int] = deque()  # the sizes of the frames sent and not yet acknowledged, oldest first
@@ -116,7 +113,7 @@ class Client:
         if isinstance(value, str):
             return value
         last = self.full_at.get(key[0])
-        due = key[0] == self.selected or last is None or _now() - last >= FULL_EVERY
+        due = key[0] == self.selected or last is None or self.clock() - last >= FULL_EVERY
         return value[0] if due else value[1]
 
     def _text(self, key: tuple[str, str]) -> str:
@@ -124,7 +121,7 @@ class Client:
         text = self._peek(key)
         value = self.reports.pop(key)
         if not isinstance(value, str) and text is value[0]:
-            self.full_at[key[0]] = _now()
+            self.full_at[key[0]] = self.clock()
         return text
 
     def ack(self, frames: int) -> None:
@@ -185,8 +182,11 @@ class Client:
 
 
 class Hub:
-    def __init__(self, max_queue: int = 10_000, stall_seconds: float = 5.0, window: int = 256 * 1024) -> None:
-        self.max_queue, self.stall_seconds, self.window = max_queue, stall_seconds, window
+    def __init__(self, max_queue: int = 10_000, stall_seconds: float = 5.0, window: int = 256 * 1024,
+                 clock: Callable[[], float] = time.monotonic) -> None:
+        """`clock`: of the whole GPSReports of vehicles not selected (FULL_EVERY): the console's, a replay's recording
+        time, since the page's trails step in it (at 20x, 5 s of wall time were 100 s of trails)."""
+        self.max_queue, self.stall_seconds, self.window, self.clock = max_queue, stall_seconds, window, clock
         self.clients: set[Client] = set()
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
@@ -212,7 +212,7 @@ class Hub:
         """Register a client with `first` (its snapshot) queued ahead of any later event; `batch`: it takes the
         reports waiting for it as one JSON array; `ack`: it acknowledges the frames it has taken, and its reports go
         out within the hub's window (`Client`)."""
-        client = Client(send, self.max_queue, self.stall_seconds, batch, self.window if ack else None)
+        client = Client(send, self.max_queue, self.stall_seconds, batch, self.window if ack else None, self.clock)
         client.push_snapshot(json.dumps(first, separators=(",", ":")))
         self.clients.add(client)
         client.task = asyncio.get_running_loop().create_task(client.run())
@@ -225,6 +225,7 @@ class Hub:
             c.ordered.clear()
             c.queued_bytes = 0
             c.reports.clear()
+            c.full_at.clear()  # a seek back: the recording's clock went back, and each vehicle's next is due at once
             c.snapshot_pending = False
             c.push_snapshot(text)
         self.published += len(self.clients)

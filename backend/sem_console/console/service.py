@@ -90,7 +90,7 @@ class Console:
         self.store = self.source.database(store)
         self.id = self.store.claim(self.station)
         self.history = History(self.store.engine, self.source.retention_hours, replay=self.source.seeks)
-        self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds, settings.ws_window_bytes)
+        self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds, settings.ws_window_bytes, self.clock.monotonic)
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
         self.providers, self.commands = self._fresh_state()
