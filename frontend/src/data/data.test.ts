@@ -522,4 +522,14 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
     expect(report(first.providers[P], "GPSReport")?.satellites).toEqual([]);
     expect(first.providers[P].history).toEqual([]);
   });
+
+  it("a vehicle not selected: its whole GPSReport of every 5 s gives its trails a point, a few ms early or not", () => {
+    const sat = (az: number) => [{ satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", azimuth: az, elevation: 0.5 }];
+    const whole = (az: number, at: number) => reportMessage(P, "GPSReport", { satellites: sat(az) }, [], at);
+    const thin = (at: number) => ({ ...reportMessage(P, "GPSReport", { satellites: [] }, [], at), partial: true }) as ServerMessage;
+    let s = reduce(apply([snapshot()]), whole(1, 100), 100);
+    for (const t of [101, 102, 103, 104]) s = reduce(s, thin(t), t);
+    s = reduce(s, whole(2, 104.98), 104.98); // the console's 5 s, arriving 20 ms sooner than the last one did
+    expect(s.providers[P].trails.E07.map((p) => p.az)).toEqual([1, 2]);
+  });
 });

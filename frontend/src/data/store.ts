@@ -74,6 +74,9 @@ export interface State {
 
 export const TRAIL_SECONDS = 600;
 export const TRAIL_STEP = 5;
+// a trail's step may be this much short: a vehicle not selected sends its satellites once in every 5 s of the console's
+// clock (hub.py FULL_EVERY), and they arrive a few ms either side of 5 s here: half its points were 10 s apart
+const TRAIL_SLACK = 0.5;
 export const HISTORY_SECONDS = 300;
 export const HISTORY_STEP = 1;
 export const TRACK_SECONDS = 900;
@@ -125,7 +128,7 @@ function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeO
     const old = trails[key] ?? [];
     const last = old[old.length - 1];
     if (!(key in next)) count++;
-    if (last && now - last.t < TRAIL_STEP) {
+    if (last && now - last.t < TRAIL_STEP - TRAIL_SLACK) {
       next[key] = old;
       continue;
     }
