@@ -31,15 +31,23 @@ test("the dashboard shows the connection, the vehicles, satellites, sky plot, fi
 
 test("another vehicle selected: its satellites at once, though the console sent them only now and then while it was not", async ({ page, request }) => {
   const selects: unknown[] = []; // what the page tells the console it draws
-  page.on("websocket", (ws) => ws.on("framesent", ({ payload }) => {
-    const msg = JSON.parse(String(payload)) as { type: string; providerId?: string | null };
-    if (msg.type === "select") selects.push(msg.providerId);
-  }));
+  const partial = new Set<string>(); // the vehicles of which the console sent a GPSReport without its satellites
+  page.on("websocket", (ws) => {
+    ws.on("framesent", ({ payload }) => {
+      const msg = JSON.parse(String(payload)) as { type: string; providerId?: string | null };
+      if (msg.type === "select") selects.push(msg.providerId);
+    });
+    ws.on("framereceived", ({ payload }) => {
+      const data = JSON.parse(String(payload)) as unknown;
+      for (const m of (Array.isArray(data) ? data : [data]) as { type: string; providerId?: string; partial?: boolean }[])
+        if (m.type === "report" && m.partial && m.providerId) partial.add(m.providerId);
+    });
+  });
   const first = await open(page);
   await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
   const second = load().vehicles[1];
   await expect.poll(() => selects.at(-1)).toBe(first);
-  await page.waitForTimeout(1500); // the other vehicles' GPSReports come without their satellites meanwhile
+  await expect.poll(() => partial.has(second)).toBe(true); // the other vehicles' GPSReports come without satellites
   await vehicle(page, second).click();
   await expect.poll(() => selects.at(-1)).toBe(second);
   const detail = await (await request.get(`${load().url}/api/providers/${second}`)).json();
