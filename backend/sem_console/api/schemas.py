@@ -465,8 +465,9 @@ class ReportMessage(_Model):
     topic: ReportTopic
     report: ReportEnvelope
     partial: bool = Field(False, description=(
-        "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle (`select`), "
-        "but once every 5 s; the `select` of this vehicle brings its latest whole"))
+        "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle or none "
+        "(`select`), but once every 5 s (a replay: of the recording's time); the `select` of this vehicle brings its "
+        "latest whole"))
 
 
 class GatewaysMessage(_Model):
