@@ -113,6 +113,7 @@ export class Connection implements DataSource {
   private stopped = false;
   private listeners = new Set<Listener>();
   private unwatchSelected: (() => void) | null = null;
+  private told: { ws: WebSocket; providerId: string | null } | null = null; // the last `select` sent, and its socket
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
   constructor(private readonly url: string, protected readonly store: Store, private readonly protocols: () => string[] = () => []) {}
@@ -174,7 +175,11 @@ export class Connection implements DataSource {
   private sendSelected(ws: WebSocket | null): void {
     if (!ws || ws !== this.ws || ws.readyState !== WebSocket.OPEN) return;
     const selected = this.store.getState().selected;
-    const msg: ClientMessage = { type: "select", providerId: selected && UUID.test(selected) ? selected : null };
+    const providerId = selected && UUID.test(selected) ? selected : null;
+    // once: the early socket's held snapshot may select its lone vehicle (and tell) before the socket's own `select`
+    if (this.told?.ws === ws && this.told.providerId === providerId) return;
+    this.told = { ws, providerId };
+    const msg: ClientMessage = { type: "select", providerId };
     ws.send(JSON.stringify(msg));
   }
 

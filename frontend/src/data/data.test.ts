@@ -320,6 +320,17 @@ describe("store and connection", () => {
       store.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 
+      const lone = new Store(); // no ?vehicle=: the held snapshot selects its lone vehicle, told once
+      openEarly("ws://console/ws?batch=1", token);
+      FakeSocket.all[1].readyState = 1;
+      FakeSocket.all[1].receive(snapshot());
+      const alone = new Connection("ws://console/ws?batch=1", lone, () => token);
+      alone.start();
+      expect(lone.getState().selected).toBe(P);
+      expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toEqual([JSON.stringify({ type: "select", providerId: P })]);
+      alone.stop();
+      FakeSocket.all.splice(1, 1); // the indices below as before
+
       openEarly("ws://console/ws", token); // another URL's
       const elsewhere = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
       elsewhere.start();
