@@ -116,9 +116,10 @@ class Client:
         due = key[0] == self.selected or last is None or self.clock() - last >= FULL_EVERY
         return value[0] if due else value[1]
 
-    def _text(self, key: tuple[str, str]) -> str:
-        """Take the report waiting for `key` (as `_peek` has it)."""
-        text = self._peek(key)
+    def _text(self, key: tuple[str, str], text: str | None = None) -> str:
+        """Take the report waiting for `key` as `text`, what `_peek` said (asked again, the clock may have passed
+        FULL_EVERY: a batch measured thin against the window's room went whole)."""
+        text = self._peek(key) if text is None else text
         value = self.reports.pop(key)
         if not isinstance(value, str) and text is value[0]:
             self.full_at[key[0]] = self.clock()
@@ -139,9 +140,10 @@ class Client:
         room = float("inf") if self.window is None else self.window - self.inflight_bytes
         out: list[str] = []
         for key in list(islice(self.reports, BATCH_MAX)):
-            if out and len(self._peek(key)) > room:
+            text = self._peek(key)
+            if out and len(text) > room:
                 break
-            text = self._text(key)
+            self._text(key, text)
             room -= len(text) + 1
             out.append(text)
         return out
