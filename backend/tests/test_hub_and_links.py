@@ -8,7 +8,7 @@ import uuid
 from collections.abc import Awaitable, Callable
 
 from sem_console.console.feed import Feed
-from sem_console.console.hub import Hub
+from sem_console.console.hub import Client, Hub
 from sem_console.console.providers import LinkConfig, Providers
 
 
@@ -237,18 +237,25 @@ def test_feed_delivers_in_order_and_survives_a_failing_subscriber() -> None:
     assert got == [0, 1, 2] and feed.errors == {"bad": 4}
 
 
+async def held_client(hub: Hub, snapshot_bytes: int) -> tuple[Client, list[str]]:
+    """A client taking batches and acknowledging, whose snapshot alone fills the hub's window (its reports wait until
+    it acknowledges), and the frames sent to it."""
+    sent: list[str] = []
+
+    async def send(text: str) -> None:
+        sent.append(text)
+
+    client = hub.attach(send, {"type": "snapshot", "pad": "x" * snapshot_bytes}, batch=True, ack=True)
+    await asyncio.sleep(0.01)
+    return client, sent
+
+
 def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() -> None:
     """A report updated while it waits goes out in its place with the newest text (a 10 Hz fix is not sent to the back
     of the queue by each update); a batch stops at the window's room (at least one report)."""
     async def scenario() -> None:
         hub = Hub(window=2048)
-        sent: list[str] = []
-
-        async def send(text: str) -> None:
-            sent.append(text)
-
-        client = hub.attach(send, {"type": "snapshot", "pad": "x" * 2100}, batch=True, ack=True)  # fills the window
-        await asyncio.sleep(0.01)
+        client, sent = await held_client(hub, 2100)
         for p in ("a", "b", "c", "a"):  # a, updated while it waits
             hub.publish({"type": "report", "providerId": p, "pad": "y" * 900},
                         key=(p, "GPSFixReport"))
@@ -304,5 +311,24 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
         hub.resync({"type": "snapshot"})
         await gps("a", 5)
         assert (got["dashboard"][-1]["n"], got["dashboard"][-1].get("partial", False)) == (5, False)
+
+    asyncio.run(scenario())
+
+
+def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwhile() -> None:
+    """What goes out is decided when it is sent: a new page's reports wait (its window is full until its code takes
+    the socket over) and its `select` comes meanwhile; they then go thin, not whole."""
+    async def scenario() -> None:
+        hub = Hub(window=1024)
+        client, sent = await held_client(hub, 1100)
+        for p in ("a", "b"):
+            whole = {"type": "report", "providerId": p, "topic": "GPSReport", "report": {"satellites": [1, 2]}}
+            hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
+            client.full_at[p] = hub.clock()  # each had its whole one a moment ago
+        client.select("a")
+        client.ack(1)
+        await asyncio.sleep(0.01)
+        got = {m["providerId"]: m.get("partial", False) for m in json.loads(sent[1])}
+        assert got == {"a": False, "b": True}
 
     asyncio.run(scenario())

@@ -86,7 +86,9 @@ class Client:
         if key is not None:
             # a report waiting keeps its place with the newest text: the longest-waiting go out first, and a frequent
             # one (the selected vehicle's 10 Hz fix) is not sent to the back of the queue by each of its updates
-            self.reports[key] = text if thin is None or not self.selecting else (text, thin)
+            # both kept while it waits: which goes is decided when it is sent (a `select` may come meanwhile: a new
+            # page's reports wait for its code, and went whole though it had named its vehicle by then)
+            self.reports[key] = text if thin is None else (text, thin)
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
             self.drop()
@@ -107,13 +109,14 @@ class Client:
         self.selecting, self.selected = True, provider_id
 
     def _peek(self, key: tuple[str, str]) -> str:
-        """The text the report waiting for `key` would go out as: whole for the selected vehicle, or when the last whole
-        one of its vehicle to this client is FULL_EVERY seconds old; thin otherwise."""
+        """The text the report waiting for `key` would go out as: whole to a client that has named no vehicle yet, for
+        the selected vehicle, or when the last whole one of its vehicle to this client is FULL_EVERY seconds old; thin
+        otherwise."""
         value = self.reports[key]
         if isinstance(value, str):
             return value
         last = self.full_at.get(key[0])
-        due = key[0] == self.selected or last is None or self.clock() - last >= FULL_EVERY
+        due = not self.selecting or key[0] == self.selected or last is None or self.clock() - last >= FULL_EVERY
         return value[0] if due else value[1]
 
     def _text(self, key: tuple[str, str], text: str | None = None) -> str:
@@ -200,7 +203,7 @@ class Hub:
         if not self.clients:
             return
         text = dumps(message)
-        thin_text = dumps(thin) if thin is not None and any(c.selecting for c in self.clients) else None
+        thin_text = None if thin is None else dumps(thin)
         self.published += len(self.clients)
         for c in list(self.clients):
             c.push(text, key, thin_text)

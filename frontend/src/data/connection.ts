@@ -217,6 +217,7 @@ export class Connection implements DataSource {
       else this.receive(data);
     };
     ws.onmessage = onMessage;
+    if (early?.told !== undefined) this.told = { ws, providerId: early.told }; // what the early socket named on open
     for (const ev of early?.held.splice(0) ?? []) onMessage(ev);
     if (ws.readyState === WebSocket.OPEN) this.sendSelected(ws);
     else ws.onopen = () => this.sendSelected(ws);

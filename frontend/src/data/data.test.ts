@@ -331,6 +331,19 @@ describe("store and connection", () => {
       alone.stop();
       FakeSocket.all.splice(1, 1); // the indices below as before
 
+      // open before the code came: the early socket names the link's vehicle at once, and the source does not again
+      vi.stubGlobal("window", { location: { search: `?vehicle=${P}` } });
+      openEarly("ws://console/ws?batch=1", token);
+      FakeSocket.all[1].readyState = 1;
+      FakeSocket.all[1].onopen?.();
+      expect(FakeSocket.all[1].sent).toEqual([JSON.stringify({ type: "select", providerId: P })]);
+      FakeSocket.all[1].receive(snapshot());
+      const linked = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      linked.start();
+      expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toHaveLength(1);
+      linked.stop();
+      FakeSocket.all.splice(1, 1);
+
       openEarly("ws://console/ws", token); // another URL's
       const elsewhere = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
       elsewhere.start();

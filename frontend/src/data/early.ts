@@ -1,10 +1,13 @@
 // A new client's first requests, sent as the page loads, before the dashboard's code (1.5 MB, two thirds of it
-// MapLibre) has arrived and run: the health check, then the WebSocket, whose snapshot is what the first screen
+// MapLibre) has arrived and run: the health check and the WebSocket, whose snapshot is what the first screen
 // draws. main.tsx's source takes the socket over (Connection.start) with the messages it held; before, both waited
 // for the code, and the snapshot came 0.4-0.6 s after navigation. Nothing here may import React or the panels
 // (boot.ts's chunk is its imports: this file, api/rest.ts, token.ts, settingStore.ts, themeApply.ts).
 import { health, type Health } from "../api/rest";
+import type { ClientMessage } from "../api/types";
+import { readSetting, writeSetting } from "./settingStore";
 import { getToken, wsProtocols } from "./token";
+import { vehicleFromUrl } from "../lib/vehicle";
 
 /** The console's WebSocket, asking for its reports in batches under load (a browser pays about 0.13 ms of its main
  * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report), and acknowledging
@@ -16,12 +19,14 @@ export function defaultUrl(): string {
   return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1&ack=1`;
 }
 
-/** A socket opened before its source existed, and the messages it received meanwhile (in order). */
+/** A socket opened before its source existed, and the messages it received meanwhile (in order); `told`: the vehicle
+ * it named to the console (`select`) once open, undefined before. */
 export interface EarlySocket {
   ws: WebSocket;
   url: string;
   protocols: string[];
   held: MessageEvent<string>[];
+  told?: string | null;
 }
 
 /** The console's health; until it answers, asked again every 2 s (the console is not up yet). */
@@ -43,12 +48,22 @@ export function mayRead(h: Health): boolean {
 let early: EarlySocket | null = null;
 let healthAnswer: Promise<Health> | null = null;
 
-/** Start the health check and, once it allows, the WebSocket (a replay's source reads the same socket). */
+const READ_AUTH_KEY = "sem-console.readAuthRequired"; // what the console's last health answer said of reads
+
+/** Start the health check and the WebSocket (a replay's source reads the same socket) together: at once when this
+ * browser last saw the console's reads open (or holds a token), else once the health answer allows. One after the
+ * other, the socket waited for the health answer, 0.1-0.3 s of a new page when the console is busy. */
 export function startEarly(): Promise<Health> {
-  healthAnswer ??= consoleHealth().then((h) => {
-    if (mayRead(h)) openEarly(defaultUrl(), wsProtocols());
-    return h;
-  });
+  if (!healthAnswer) {
+    const known = readSetting(READ_AUTH_KEY, false, (v): v is boolean => typeof v === "boolean");
+    const opened = !known || getToken() !== null ? openEarly(defaultUrl(), wsProtocols()) : null;
+    healthAnswer = consoleHealth().then((h) => {
+      if (h.readAuthRequired !== known) writeSetting(READ_AUTH_KEY, h.readAuthRequired);
+      if (!mayRead(h)) opened?.ws.close(); // reads need a token it has not: the console refuses it anyway
+      else if (!opened) openEarly(defaultUrl(), wsProtocols());
+      return h;
+    });
+  }
   return healthAnswer;
 }
 
@@ -57,7 +72,16 @@ export function openEarly(url: string, protocols: string[]): EarlySocket {
   const ws = protocols.length ? new WebSocket(url, protocols) : new WebSocket(url);
   const held: MessageEvent<string>[] = [];
   ws.onmessage = (ev: MessageEvent<string>) => held.push(ev);
-  early = { ws, url, protocols, held };
+  const e: EarlySocket = { ws, url, protocols, held };
+  // the vehicle the page opens on (its ?vehicle= link; none: null), named at once: the console then sends the other
+  // vehicles' GPSReports without their satellites while the code loads, not whole (40 satellites each, at 10 Hz with
+  // 50 vehicles, and the page's first frames applied them all)
+  ws.onopen = () => {
+    e.told = vehicleFromUrl(window.location.search);
+    const msg: ClientMessage = { type: "select", providerId: e.told };
+    ws.send(JSON.stringify(msg));
+  };
+  early = e;
   return early;
 }
 

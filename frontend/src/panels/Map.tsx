@@ -19,7 +19,7 @@ import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
 import { CursorStore, MapCursor } from "./map/MapCursor";
 import { MapToolbar } from "./map/MapToolbar";
 import type { FleetCanvas, FleetData, ToolMarks } from "./map/FleetCanvas";
-import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
+import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useSettled, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
 import { fitAll, originOf, vehicleMark } from "./map/layers";
 
 /** The fleet (every vehicle's mark, tracks and origins, on a canvas over the map) is redrawn on the first frame at
@@ -28,8 +28,9 @@ import { fitAll, originOf, vehicleMark } from "./map/layers";
  * second. The selected vehicle's ring (HTML over the map) moves on the frame after each of its fixes. */
 const FLEET_EVERY_MS = 450;
 
-/** The vehicles' stored tracks loaded into the store once the map is `ready` to draw them: rendered only when the
- * vehicles or the map's readiness change, not on each fix of the selected vehicle as the map panel is. */
+/** The vehicles' stored tracks loaded into the store once the map has drawn its first screen (`ready`: settled):
+ * rendered only when the vehicles or the map's readiness change, not on each fix of the selected vehicle as the map
+ * panel is. */
 const StoredTracks = memo(function StoredTracks({ idList, ready }: { idList: string; ready: boolean }) {
   useStoredTracks(idList, ready);
   return null;
@@ -50,6 +51,7 @@ export function MapPanel() {
   const container = useRef<HTMLDivElement>(null);
   const [collapsed] = useCollapsed("map-panel");
   const { mapRef, ready } = useMapInstance(container, collapsed, theme);
+  const settled = useSettled(mapRef, ready);
   const fleet = useProvidersOnFrame(undefined, FLEET_EVERY_MS);
   const idList = fleet.map((p) => p.id).join(",");
   const selected = useSelector((s) => s.selected);
@@ -151,7 +153,7 @@ export function MapPanel() {
         />
       }
     >
-      <StoredTracks idList={idList} ready={ready} />
+      {settled && <StoredTracks idList={idList} ready />}
       <SelectedRing overlay={overlay} vehicle={selectedVehicle} now={now} selected={selected} />
       <div className="map-wrap">
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />

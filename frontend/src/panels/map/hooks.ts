@@ -91,6 +91,25 @@ export function useMapInstance(container: RefObject<HTMLDivElement | null>, coll
   return { mapRef, ready };
 }
 
+/** True once the map, `ready`, has drawn and settled (its first `idle`, or a second at most): for what the first
+ * screen can do without (the vehicles' stored tracks, 50 requests and their answers with 50 vehicles), so it waits
+ * for the map's first frames instead of the other way round. */
+export function useSettled(mapRef: MapRef, ready: boolean): boolean {
+  const [settled, setSettled] = useState(false);
+  useEffect(() => {
+    const map = mapRef.current;
+    if (!ready || !map) return setSettled(false);
+    const settle = () => setSettled(true);
+    const timer = setTimeout(settle, 1000);
+    map.once("idle", settle);
+    return () => {
+      clearTimeout(timer);
+      map.off("idle", settle);
+    };
+  }, [mapRef, ready]);
+  return settled;
+}
+
 /** The basemap's land, for the first view's coast: loaded into each new map; `landLoaded` once loaded or failed
  * (the first view waits for it). `landDrawn`: how many of its polygons are in view, for the operator's status line and
  * the tests, counted from the land's own polygons when the camera stops (a search of the map's rendered features,
