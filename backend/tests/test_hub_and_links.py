@@ -328,7 +328,33 @@ def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwh
         client.select("a")
         client.ack(1)
         await asyncio.sleep(0.01)
-        got = {m["providerId"]: m.get("partial", False) for m in json.loads(sent[1])}
+        frames = [json.loads(t) for t in sent[1:]]
+        got = {m["providerId"]: m.get("partial", False) for f in frames for m in (f if isinstance(f, list) else [f])}
         assert got == {"a": False, "b": True}
+
+    asyncio.run(scenario())
+
+
+def test_the_selected_vehicles_reports_go_ahead_of_the_fleets_and_past_the_window() -> None:
+    """The fleet's reports wait for the window; the selected vehicle's go out at once, and first once it opens; a new
+    selection takes its vehicle's waiting reports along, and gives the old one's back to the fleet."""
+    async def scenario() -> None:
+        hub = Hub(window=1024)
+        client, sent = await held_client(hub, 1100)
+        client.select("sel")
+
+        def fix(p: str) -> None:
+            hub.publish({"type": "report", "providerId": p, "topic": "GPSFixReport"}, key=(p, "GPSFixReport"))
+
+        for p in ("a", "b", "sel", "c"):
+            fix(p)
+        await asyncio.sleep(0.01)
+        assert [json.loads(t)["providerId"] for t in sent[1:]] == ["sel"]  # the window is full: only the selected's
+        client.select("b")
+        fix("a")
+        client.ack(2)
+        await asyncio.sleep(0.01)
+        assert [json.loads(t)["providerId"] for t in sent[2:3]] == ["b"]
+        assert [m["providerId"] for m in json.loads(sent[3])] == ["a", "c"]
 
     asyncio.run(scenario())

@@ -1,7 +1,8 @@
 """WebSocket fan-out: every client has its own sender task and queues.
 
 Ordered events (commands, transitions, providers, alarms) are queued per client, never
-conflated, and each goes out before any report waiting; reports are conflated per client (the latest per provider and topic), so a
+conflated, and each goes out before any report waiting; then the reports of the vehicle the client selected (`select`);
+reports are conflated per client (the latest per provider and topic), so a
 client that reads slowly gets fewer reports, not later ones, of those not yet written: what was written waits in
 the sockets' buffers in order (with 250 vehicles, megabytes: the selected vehicle's tail, docs/rendering.md).
 A client is dropped when its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
@@ -52,7 +53,8 @@ class Client:
     yet acknowledged. What was written waits in the sockets' buffers in order, beyond conflation: with 250 vehicles a
     page that stalled for a moment had megabytes queued there, and the selected vehicle's next fix waited behind all of
     it (p99 0.2 s, seconds on a busy machine). With the window the reports wait here, where each is replaced by the
-    newer. Ordered events (snapshots, alarms, commands) are not held by it.
+    newer. Ordered events (snapshots, alarms, commands) are not held by it, nor the selected vehicle's reports (a few
+kB a second, what the operator watches).
 
     `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
     GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds; one that never does
@@ -71,6 +73,7 @@ class Client:
         self.queued_bytes = 0
         self.snapshot_pending = False
         self.reports: dict[tuple[str, str], str | tuple[str, str]] = {}  # the text, or (whole, thin) of a GPSReport
+        self.first: dict[tuple[str, str], str | tuple[str, str]] = {}  # the same, of the selected vehicle: sent first
         self.selecting = False  # it has named the vehicle it draws: others' GPSReports go thin
         self.selected: str | None = None
         self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it
@@ -88,7 +91,8 @@ class Client:
             # one (the selected vehicle's 10 Hz fix) is not sent to the back of the queue by each of its updates
             # both kept while it waits: which goes is decided when it is sent (a `select` may come meanwhile: a new
             # page's reports wait for its code, and went whole though it had named its vehicle by then)
-            self.reports[key] = text if thin is None else (text, thin)
+            # the selected vehicle's (what the operator watches) go out ahead of the fleet's and past the window
+            (self.first if key[0] == self.selected else self.reports)[key] = text if thin is None else (text, thin)
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
             self.drop()
@@ -105,25 +109,30 @@ class Client:
             self.push(text)
 
     def select(self, provider_id: str | None) -> None:
-        """The client draws this vehicle's satellites now (None: no vehicle's): its GPSReports go out whole."""
+        """The client draws this vehicle now (None: none): its GPSReports go out whole, and its reports first."""
         self.selecting, self.selected = True, provider_id
+        for key in [k for k in self.reports if k[0] == provider_id]:
+            self.first[key] = self.reports.pop(key)
+        for key in [k for k in self.first if k[0] != provider_id]:
+            self.reports[key] = self.first.pop(key)
 
-    def _peek(self, key: tuple[str, str]) -> str:
+    def _peek(self, key: tuple[str, str], waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None) -> str:
         """The text the report waiting for `key` would go out as: whole to a client that has named no vehicle yet, for
         the selected vehicle, or when the last whole one of its vehicle to this client is FULL_EVERY seconds old; thin
         otherwise."""
-        value = self.reports[key]
+        value = (self.reports if waiting is None else waiting)[key]
         if isinstance(value, str):
             return value
         last = self.full_at.get(key[0])
         due = not self.selecting or key[0] == self.selected or last is None or self.clock() - last >= FULL_EVERY
         return value[0] if due else value[1]
 
-    def _text(self, key: tuple[str, str], text: str | None = None) -> str:
+    def _text(self, key: tuple[str, str], text: str | None = None,
+              waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None) -> str:
         """Take the report waiting for `key` as `text`, what `_peek` said (asked again, the clock may have passed
         FULL_EVERY: a batch measured thin against the window's room went whole)."""
-        text = self._peek(key) if text is None else text
-        value = self.reports.pop(key)
+        text = self._peek(key, waiting) if text is None else text
+        value = (self.reports if waiting is None else waiting).pop(key)
         if not isinstance(value, str) and text is value[0]:
             self.full_at[key[0]] = self.clock()
         return text
@@ -159,6 +168,7 @@ class Client:
         self.ordered.clear()
         self.queued_bytes = 0
         self.reports.clear()
+        self.first.clear()
         if self.task is not None:
             self.task.cancel()
 
@@ -168,12 +178,17 @@ class Client:
             self.wake.clear()
             # an ordered event goes out next, whatever reports wait: under load more reports arrive during each send
             # than one send takes, and an alarm, a lost vehicle or a command waiting for them all waited for ever
-            while self.ordered or (self.reports and self._window_open()):
+            # then the selected vehicle's reports, not held by the window: under load its fix waited behind the
+            # window's refill with a thousand reports of the fleet ahead of it (250 vehicles: p99 0.1-0.2 s)
+            while self.ordered or self.first or (self.reports and self._window_open()):
                 if self.ordered:
                     text = self.ordered.popleft()
                     self.queued_bytes -= len(text)
                     if text.startswith('{"type":"snapshot"'):
                         self.snapshot_pending = False
+                elif self.first:
+                    texts = [self._text(k, waiting=self.first) for k in list(self.first)[: None if self.batch else 1]]
+                    text = texts[0] if len(texts) == 1 else "[" + ",".join(texts) + "]"
                 elif self.batch and len(self.reports) > 1:
                     text = "[" + ",".join(self._batch()) + "]"
                 else:
@@ -230,6 +245,7 @@ class Hub:
             c.ordered.clear()
             c.queued_bytes = 0
             c.reports.clear()
+            c.first.clear()
             c.full_at.clear()  # a seek back: the recording's clock went back, and each vehicle's next is due at once
             c.snapshot_pending = False
             c.push_snapshot(text)
