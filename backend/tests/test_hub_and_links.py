@@ -7,6 +7,9 @@ import json
 import uuid
 from collections.abc import Awaitable, Callable
 
+import pytest
+
+from sem_console.console import hub as hub_module
 from sem_console.console.feed import Feed
 from sem_console.console.hub import Client, Hub
 from sem_console.console.providers import LinkConfig, Providers
@@ -356,5 +359,29 @@ def test_the_selected_vehicles_reports_go_ahead_of_the_fleets_and_past_the_windo
         await asyncio.sleep(0.01)
         assert [json.loads(t)["providerId"] for t in sent[2:3]] == ["b"]
         assert [m["providerId"] for m in json.loads(sent[3])] == ["a", "c"]
+
+    asyncio.run(scenario())
+
+
+def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_frames_pass_the_bound(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """The selected vehicle's reports pass the window, each counted as in flight until acknowledged: a client that
+    takes them and acknowledges none is dropped at MAX_UNACKED_FRAMES, one that acknowledges is not."""
+    monkeypatch.setattr(hub_module, "MAX_UNACKED_FRAMES", 5)
+
+    async def scenario() -> None:
+        hub = Hub(window=1024)
+        silent, sent = await held_client(hub, 10)
+        acking, acked = await held_client(hub, 10)
+        for c in (silent, acking):
+            c.select("sel")
+        for n in range(10):
+            hub.publish({"type": "report", "providerId": "sel", "topic": "GPSFixReport", "n": n},
+                        key=("sel", "GPSFixReport"))
+            await asyncio.sleep(0.01)
+            acking.ack(len(acked))
+        assert silent.dropped and silent not in hub.clients and hub.dropped == 1
+        assert len(sent) == 5  # the snapshot and four reports: the fifth report passed the bound
+        assert not acking.dropped and len(acked) == 11
 
     asyncio.run(scenario())

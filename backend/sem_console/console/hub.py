@@ -31,6 +31,7 @@ log = logging.getLogger("sem-console.hub")
 
 
 MAX_QUEUED_BYTES = 64 * 1024 * 1024
+MAX_UNACKED_FRAMES = 40_000  # a client on /ws?ack=1 that acknowledges none: 17 minutes of the selected vehicle's frames
 BATCH_MAX = 500  # reports in one batch at most (a frame of a few hundred kB)
 FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's satellites this often (the sky plot's
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
@@ -54,7 +55,8 @@ class Client:
     page that stalled for a moment had megabytes queued there, and the selected vehicle's next fix waited behind all of
     it (p99 0.2 s, seconds on a busy machine). With the window the reports wait here, where each is replaced by the
     newer. Ordered events (snapshots, alarms, commands) are not held by it, nor the selected vehicle's reports (a few
-kB a second, what the operator watches).
+    kB a second, what the operator watches); a client that takes frames and acknowledges none is dropped once
+    MAX_UNACKED_FRAMES or MAX_QUEUED_BYTES are unacknowledged (those pass the window, and each is counted in `inflight`).
 
     `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
     GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds; one that never does
@@ -197,6 +199,11 @@ kB a second, what the operator watches).
                     self.sent_frames += 1
                     self.inflight.append(len(text))
                     self.inflight_bytes += len(text)
+                    if len(self.inflight) > MAX_UNACKED_FRAMES or self.inflight_bytes > MAX_QUEUED_BYTES:
+                        # it reads but never acknowledges: what passes the window (the selected vehicle's reports,
+                        # ordered events) would grow `inflight` and the sockets' buffers without bound
+                        self.drop()
+                        return
                 await self.send(text)
                 self.last_sent = time.monotonic()
 
