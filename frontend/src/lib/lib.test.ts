@@ -23,6 +23,7 @@ describe("vehicle identity", () => {
   it("reads and writes ?vehicle= in the address", () => {
     expect(vehicleFromUrl(`?vehicle=${A.toUpperCase()}`)).toBe(A);
     expect(vehicleFromUrl("?vehicle=<script>")).toBe(null);
+    expect(vehicleFromUrl(`?vehicle=${"0123456789abcdef".repeat(2)}----`)).toBe(null); // 36 of its characters, no UUID
     expect(vehicleFromUrl("")).toBe(null);
     expect(urlWithVehicle("http://h:1/?x=1", A)).toBe(`http://h:1/?x=1&vehicle=${A}`);
     expect(urlWithVehicle(`http://h:1/?vehicle=${A}`, null)).toBe("http://h:1/");

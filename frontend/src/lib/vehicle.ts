@@ -28,10 +28,11 @@ export function vehicleColor(id: string): string {
   return `hsl(${vehicleHue(id)}, 70%, 55%)`;
 }
 
-/** The selected vehicle from the page's address (`?vehicle=<id>`), so a link opens the same vehicle. */
+/** The selected vehicle from the page's address (`?vehicle=<id>`), so a link opens the same vehicle; a UUID's layout
+ * only (the early socket names it to the console, which refuses any other as a bad message). */
 export function vehicleFromUrl(search: string): string | null {
   const v = new URLSearchParams(search).get("vehicle");
-  return v && /^[0-9a-f-]{36}$/i.test(v) ? v.toLowerCase() : null;
+  return v && /^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$/i.test(v) ? v.toLowerCase() : null;
 }
 
 /** The address with `?vehicle=<id>` set (or removed), other parameters kept. */
