@@ -82,6 +82,7 @@ class Client:
         self.wake = asyncio.Event()
         self.task: asyncio.Task[None] | None = None
         self.dropped = False
+        self.dropped_for = ""  # why, for the log
 
     def push(self, text: str, key: tuple[str, str] | None = None, thin: str | None = None) -> None:
         """Queue an ordered event, or with `key` the newest report of its vehicle and topic (`thin`: the same without
@@ -97,7 +98,7 @@ class Client:
             (self.first if key[0] == self.selected else self.reports)[key] = text if thin is None else (text, thin)
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
-            self.drop()
+            self.drop(f"stopped reading ({len(self.ordered)} messages behind)")
             return
         else:
             self.ordered.append(text)
@@ -165,8 +166,8 @@ class Client:
     def _window_open(self) -> bool:
         return self.window is None or self.inflight_bytes < self.window
 
-    def drop(self) -> None:
-        self.dropped = True
+    def drop(self, why: str) -> None:
+        self.dropped, self.dropped_for = True, why
         self.ordered.clear()
         self.queued_bytes = 0
         self.reports.clear()
@@ -202,7 +203,7 @@ class Client:
                     if len(self.inflight) > MAX_UNACKED_FRAMES or self.inflight_bytes > MAX_QUEUED_BYTES:
                         # it reads but never acknowledges: what passes the window (the selected vehicle's reports,
                         # ordered events) would grow `inflight` and the sockets' buffers without bound
-                        self.drop()
+                        self.drop(f"acknowledges none of its frames ({len(self.inflight)} in flight)")
                         return
                 await self.send(text)
                 self.last_sent = time.monotonic()
@@ -231,7 +232,7 @@ class Hub:
             c.push(text, key, thin_text)
             if c.dropped:
                 self.dropped += 1
-                log.warning("dropped a WebSocket client that stopped reading (%d messages behind)", self.max_queue)
+                log.warning("dropped a WebSocket client that %s", c.dropped_for)
                 self.clients.discard(c)
 
     def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any], batch: bool = False,
