@@ -200,7 +200,8 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         "renderer_cores": page["renderer_cores"],
         "gpu_cores": page["gpu_cores"],
         "renderer_ms_per_drawn_sample": round(page["renderer_cores"] * 1000 / drawn_fix, 2) if drawn_fix else None,
-        "full_dashboard_ms": page["full_dashboard_ms"],
+        "full_dashboard_ms": page["full_dashboard_ms"],  # the median of five new clients (each load's below)
+        "full_dashboard_all_ms": page["full_dashboard_all_ms"],
         "snapshot_kb": round(snap / 1000, 1),
         "renders_per_s": page["renders"],
     }
@@ -270,7 +271,8 @@ def main() -> None:
         targets.append(target("2. 50 vehicles: longest task", r50["long_task_max_ms"], "ms", "<=", 50))
         targets.append(target("2. 50 vehicles: renderer cores", r50["renderer_cores"], "cores", "<=", BEFORE["renderer_cores_50"],
                               f"before 0.30-{BEFORE['renderer_cores_50']}"))
-        targets.append(target("4. new client, 50 vehicles: full dashboard", r50["full_dashboard_ms"], "ms", "<=", 800))
+        targets.append(target("4. new client, 50 vehicles: full dashboard (median of 5 loads)", r50["full_dashboard_ms"], "ms",
+                              "<=", 800, "each: " + ", ".join(f"{t:.0f}" for t in r50["full_dashboard_all_ms"])))
         targets.append(target("4. snapshot with 50 vehicles", r50["snapshot_kb"], "kB", "<=", 200))
     if args.fleet and (rf := get(f"fleet {args.fleet}")) is not None:
         targets.append(target(f"3. {args.fleet} vehicles: frame p95", rf["frame_p95_ms"], "ms", "<=", 33))

@@ -275,8 +275,9 @@ def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() 
 
 
 def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds() -> None:
-    """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but the first and
-    then one every FULL_EVERY seconds whole (the trails); a client that named none gets every report whole."""
+    """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but one every
+    FULL_EVERY seconds whole (the trails), the first within FULL_EVERY of its coming at a point spread by the vehicle's
+    id (b's: 1.6 s); a client that named none gets every report whole."""
     now = [1000.0]  # the hub's clock of whole reports (the console's), not the loop's
 
     async def scenario() -> None:
@@ -301,19 +302,22 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
             await gps("a", n)
             await gps("b", n)
             now[0] += 2.0
-        await gps("b", 3)  # 6 s after b's first whole one: whole again
+        now[0] += 1.0
+        await gps("b", 3)  # 5 s after b's first whole one: whole again
         dashboard.select("b")
         await gps("b", 4)
         await gps("a", 4)
         seen = [(m["providerId"], m["n"], m.get("partial", False)) for m in got["dashboard"] if m["type"] == "report"]
-        assert seen == [("a", 0, False), ("b", 0, False), ("a", 1, False), ("b", 1, True), ("a", 2, False),
+        assert seen == [("a", 0, False), ("b", 0, True), ("a", 1, False), ("b", 1, False), ("a", 2, False),
                         ("b", 2, True), ("b", 3, False), ("b", 4, False), ("a", 4, True)]
         assert all(not m.get("partial") for m in got["other"])
         assert len([m for m in got["other"] if m["type"] == "report"]) == 9
-        now[0] = 900.0  # a replay seeked back: its clock went back, and each vehicle's next is due at once
+        now[0] = 900.0  # a replay seeked back: its clock went back, and each vehicle's next is due afresh (a's: 0.47 s)
         hub.resync({"type": "snapshot"})
         await gps("a", 5)
-        assert (got["dashboard"][-1]["n"], got["dashboard"][-1].get("partial", False)) == (5, False)
+        now[0] += 0.5
+        await gps("a", 6)
+        assert [(m["n"], m.get("partial", False)) for m in got["dashboard"][-2:]] == [(5, True), (6, False)]
 
     asyncio.run(scenario())
 
@@ -322,12 +326,11 @@ def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwh
     """What goes out is decided when it is sent: a new page's reports wait (its window is full until its code takes
     the socket over) and its `select` comes meanwhile; they then go thin, not whole."""
     async def scenario() -> None:
-        hub = Hub(window=1024)
+        hub = Hub(window=1024, clock=lambda: 1000.0)  # the console's clock, stopped: none is due (a's at 0.47 s)
         client, sent = await held_client(hub, 1100)
         for p in ("a", "b"):
             whole = {"type": "report", "providerId": p, "topic": "GPSReport", "report": {"satellites": [1, 2]}}
             hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
-            client.full_at[p] = hub.clock()  # each had its whole one a moment ago
         client.select("a")
         client.ack(1)
         await asyncio.sleep(0.01)
