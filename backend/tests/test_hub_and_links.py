@@ -274,11 +274,13 @@ def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() 
     asyncio.run(scenario())
 
 
-def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds() -> None:
+def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds(
+        monkeypatch: pytest.MonkeyPatch) -> None:
     """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but one every
     FULL_EVERY seconds whole (the trails), the first within FULL_EVERY of its coming at a point spread by the vehicle's
     id (b's: 1.6 s); a client that named none gets every report whole."""
     now = [1000.0]  # the hub's clock of whole reports (the console's), not the loop's
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.0)  # each report goes (the rate of the others: below)
 
     async def scenario() -> None:
         hub = Hub(clock=lambda: now[0])
@@ -386,5 +388,40 @@ def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_fra
         assert silent.dropped and silent not in hub.clients and hub.dropped == 1
         assert len(sent) == 5  # the snapshot and four reports: the fifth report passed the bound
         assert not acking.dropped and len(acked) == 11
+
+    asyncio.run(scenario())
+
+
+def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_quarter_second(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A selecting client gets each other vehicle's report of a topic at most once every OTHERS_EVERY, the newest (the
+    ones between are replaced), and the selected vehicle's every one; a client that selects nothing gets every one."""
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 1.0)  # a second, so that a loaded machine sends all five within it
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: dict[str, list[tuple[str, int]]] = {"dashboard": [], "other": []}
+
+        def sender(name: str) -> Callable[[str], Awaitable[None]]:
+            async def send(text: str) -> None:
+                if (m := json.loads(text))["type"] == "report":
+                    got[name].append((m["providerId"], m["n"]))
+            return send
+
+        dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"})
+        hub.attach(sender("other"), {"type": "snapshot"})
+        dashboard.select("sel")
+        await asyncio.sleep(0.01)
+        for n in range(5):
+            for p in ("fleet", "sel"):
+                hub.publish({"type": "report", "providerId": p, "n": n}, key=(p, "GPSFixReport"))
+            await asyncio.sleep(0.01)  # each goes before the next comes (5 in about 0.05 s)
+        deadline = asyncio.get_running_loop().time() + 5
+        while ("fleet", 4) not in got["dashboard"] and asyncio.get_running_loop().time() < deadline:
+            await asyncio.sleep(0.01)
+        assert [n for p, n in got["dashboard"] if p == "fleet"] == [0, 4]  # then the newest, when due
+        assert [n for p, n in got["dashboard"] if p == "sel"] == [0, 1, 2, 3, 4]
+        assert [n for p, n in got["other"] if p == "fleet"] == [0, 1, 2, 3, 4]
+        assert not dashboard.later and dashboard.release is None
 
     asyncio.run(scenario())

@@ -34,6 +34,8 @@ log = logging.getLogger("sem-console.hub")
 MAX_QUEUED_BYTES = 64 * 1024 * 1024
 MAX_UNACKED_FRAMES = 40_000  # a client on /ws?ack=1 that acknowledges none: 17 minutes of the selected vehicle's frames
 BATCH_MAX = 500  # reports in one batch at most (a frame of a few hundred kB)
+OTHERS_EVERY = 0.25  # s: at most one report a topic this often of each vehicle a selecting client does not draw in full
+# (its fleet on the map redraws every 0.45 s, its list with it): 10 Hz vehicles sent whole were the page's most work
 FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's satellites this often (the sky plot's
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
 
@@ -60,8 +62,10 @@ class Client:
     MAX_UNACKED_FRAMES or MAX_QUEUED_BYTES are unacknowledged (those pass the window, and each is counted in `inflight`).
 
     `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
-    GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds; one that never does
-    gets every report whole. `clock`: the console's (a replay's is the recording's time, as the page's trails are)."""
+    GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds, and each other
+    vehicle's reports at most once a topic every OTHERS_EVERY seconds, the newest (`later` holds them meanwhile); one
+    that never does gets every report whole, as it comes. `clock`: the console's (a replay's is the recording's time, as
+    the page's trails are)."""
 
     def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
                  batch: bool = False, window: int | None = None, clock: Callable[[], float] = time.monotonic) -> None:
@@ -81,6 +85,9 @@ class Client:
         self.selected: str | None = None
         self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it
         self.since = clock()  # when it came, or its replay last seeked (`_last_whole`)
+        self.later: dict[tuple[str, str], str | tuple[str, str]] = {}  # other vehicles' reports not yet due to go
+        self.sent_at: dict[tuple[str, str], float] = {}  # when each other vehicle's report of a topic last went
+        self.release: asyncio.TimerHandle | None = None
         self.wake = asyncio.Event()
         self.task: asyncio.Task[None] | None = None
         self.dropped = False
@@ -97,7 +104,17 @@ class Client:
             # both kept while it waits: which goes is decided when it is sent (a `select` may come meanwhile: a new
             # page's reports wait for its code, and went whole though it had named its vehicle by then)
             # the selected vehicle's (what the operator watches) go out ahead of the fleet's and past the window
-            (self.first if key[0] == self.selected else self.reports)[key] = text if thin is None else (text, thin)
+            value = text if thin is None else (text, thin)
+            if key[0] == self.selected:
+                self.first[key] = value
+            elif key in self.later or (self.selecting and key not in self.reports
+                                       and time.monotonic() - self.sent_at.get(key, -OTHERS_EVERY) < OTHERS_EVERY):
+                self.later[key] = value  # another vehicle's, sent a moment ago: the newest goes when it is due
+                if self.release is None:
+                    self.release = asyncio.get_running_loop().call_later(OTHERS_EVERY / 4, self._release)
+                return
+            else:
+                self.reports[key] = value
         elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
                 time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
             self.drop(f"stopped reading ({len(self.ordered)} messages behind)")
@@ -113,9 +130,22 @@ class Client:
             self.snapshot_pending = True
             self.push(text)
 
+    def _release(self) -> None:
+        """Every OTHERS_EVERY / 4 while some wait: the other vehicles' reports now due join the queue."""
+        self.release = None
+        now = time.monotonic()
+        for key in [k for k in self.later if now - self.sent_at.get(k, -OTHERS_EVERY) >= OTHERS_EVERY]:
+            self.reports[key] = self.later.pop(key)
+        if self.reports:
+            self.wake.set()
+        if self.later and not self.dropped:
+            self.release = asyncio.get_running_loop().call_later(OTHERS_EVERY / 4, self._release)
+
     def select(self, provider_id: str | None) -> None:
         """The client draws this vehicle now (None: none): its GPSReports go out whole, and its reports first."""
         self.selecting, self.selected = True, provider_id
+        for key in [k for k in self.later if k[0] == provider_id]:
+            self.first[key] = self.later.pop(key)
         for key in [k for k in self.reports if k[0] == provider_id]:
             self.first[key] = self.reports.pop(key)
         for key in [k for k in self.first if k[0] != provider_id]:
@@ -147,6 +177,8 @@ class Client:
         value = (self.reports if waiting is None else waiting).pop(key)
         if not isinstance(value, str) and text is value[0]:
             self.full_at[key[0]] = self.clock()
+        if self.selecting and key[0] != self.selected:
+            self.sent_at[key] = time.monotonic()
         return text
 
     def ack(self, frames: int) -> None:
@@ -181,6 +213,9 @@ class Client:
         self.queued_bytes = 0
         self.reports.clear()
         self.first.clear()
+        self.later.clear()
+        if self.release is not None:
+            self.release.cancel()
         if self.task is not None:
             self.task.cancel()
 
@@ -263,6 +298,7 @@ class Hub:
             c.queued_bytes = 0
             c.reports.clear()
             c.first.clear()
+            c.later.clear()
             c.full_at.clear()  # a seek back: the recording's clock went back, and each vehicle's next is due afresh
             c.since = self.clock()
             c.snapshot_pending = False
