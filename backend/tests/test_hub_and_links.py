@@ -425,3 +425,40 @@ def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_qua
         assert not dashboard.later and dashboard.release is None
 
     asyncio.run(scenario())
+
+
+def test_a_parked_report_goes_at_once_when_its_vehicle_is_selected_and_stops_with_its_socket(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """Another vehicle's report parked until OTHERS_EVERY (never, here) goes at once when the client selects that
+    vehicle; an ordered message is not held behind it; detaching the client cancels its release timer."""
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 3600.0)  # no parked report comes due during the test
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: list[tuple[str, object]] = []
+
+        async def send(text: str) -> None:
+            m = json.loads(text)
+            got.append((m["type"], m.get("n")))
+
+        client = hub.attach(send, {"type": "snapshot"})
+        client.select("sel")
+        await asyncio.sleep(0.01)
+        hub.publish({"type": "report", "providerId": "fleet", "n": 0}, key=("fleet", "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        hub.publish({"type": "report", "providerId": "fleet", "n": 1}, key=("fleet", "GPSFixReport"))
+        hub.publish({"type": "alarms", "n": 9})
+        await asyncio.sleep(0.01)
+        assert got == [("snapshot", None), ("report", 0), ("alarms", 9)]  # n 1 parked, the alarm not behind it
+        assert ("fleet", "GPSFixReport") in client.later and client.release is not None
+        client.select("fleet")
+        await asyncio.sleep(0.01)
+        assert got[-1] == ("report", 1) and not client.later
+        client.select("sel")
+        hub.publish({"type": "report", "providerId": "fleet", "n": 2}, key=("fleet", "GPSFixReport"))
+        timer = client.release
+        assert client.later and timer is not None
+        hub.detach(client)
+        assert timer.cancelled() and client.release is None and not client.later
+
+    asyncio.run(scenario())

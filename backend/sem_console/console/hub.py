@@ -150,6 +150,8 @@ class Client:
             self.first[key] = self.reports.pop(key)
         for key in [k for k in self.first if k[0] != provider_id]:
             self.reports[key] = self.first.pop(key)
+        if self.first:  # its parked reports (`later`) had woken none, and the window may hold those in `reports`
+            self.wake.set()
 
     def _peek(self, key: tuple[str, str], waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None) -> str:
         """The text the report waiting for `key` would go out as: whole to a client that has named no vehicle yet, for
@@ -213,9 +215,15 @@ class Client:
         self.queued_bytes = 0
         self.reports.clear()
         self.first.clear()
+        self.close()
+
+    def close(self) -> None:
+        """Its sender and its release timer stop (Hub.detach: the socket closed; a timer left pending kept the client
+        alive and moved its parked reports to a queue nobody sends)."""
         self.later.clear()
         if self.release is not None:
             self.release.cancel()
+            self.release = None
         if self.task is not None:
             self.task.cancel()
 
@@ -307,5 +315,4 @@ class Hub:
 
     def detach(self, client: Client) -> None:
         self.clients.discard(client)
-        if client.task is not None:
-            client.task.cancel()
+        client.close()
