@@ -549,9 +549,10 @@ class AckMessage(_Model):
 
 
 class SelectMessage(_Model):
-    """The vehicle whose satellites the client draws (null: none): every other vehicle's GPSReport then comes `partial`,
-    but once every 5 s, and this vehicle's latest GPSReport comes whole at once. A client that never sends one gets
-    every report whole."""
+    """The vehicle the client draws in full (null: none): its reports go out ahead of the others' and its latest
+    GPSReport comes whole at once; every other vehicle's GPSReport then comes `partial` but once every 5 s, and each other
+    vehicle's reports at most once a topic every 0.25 s (the newest). A client that never sends one gets every report
+    whole, as it comes."""
 
     type: Literal["select"]
     providerId: uuid.UUID | None

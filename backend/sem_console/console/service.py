@@ -425,15 +425,12 @@ class Console:
     def provider_detail(self, p: Provider, now: float) -> dict[str, Any]:
         return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
-    def selected_report(self, provider_id: str) -> dict[str, Any] | None:
+    def selected_report(self, provider_id: uuid.UUID) -> dict[str, Any] | None:
         """The vehicle's latest GPSReport as a report message, satellites and all (a client has just selected it: the
         reports it was sent of it were thin), None when it has none or is unknown."""
-        try:
-            p = self.providers.by_id.get(uuid.UUID(provider_id))
-        except ValueError:
-            return None
+        p = self.providers.by_id.get(provider_id)
         env = p.reports.get("GPSReport") if p is not None else None
-        return None if env is None else {"type": "report", "providerId": provider_id, "topic": "GPSReport", "report": env}
+        return None if env is None else {"type": "report", "providerId": str(provider_id), "topic": "GPSReport", "report": env}
 
     def first_screen_detail(self, p: Provider, now: float) -> dict[str, Any]:
         """A vehicle as the snapshot has it: its GPSReport without its satellites, which only the selected vehicle's
@@ -441,7 +438,7 @@ class Console:
         detail = self.provider_detail(p, now)
         gps = detail["reports"].get("GPSReport")
         if gps and gps["report"].get("satellites"):
-            detail["reports"] = {**detail["reports"], "GPSReport": {**gps, "report": {**gps["report"], "satellites": []}}}
+            detail["reports"] = {**detail["reports"], "GPSReport": _without_satellites(gps)}
         return detail
 
     def snapshot(self) -> dict[str, Any]:
@@ -564,4 +561,9 @@ def _thin(message: dict[str, Any]) -> dict[str, Any] | None:
     env = message["report"]
     if message["topic"] != "GPSReport" or not env["report"].get("satellites"):
         return None
-    return {**message, "partial": True, "report": {**env, "report": {**env["report"], "satellites": []}}}
+    return {**message, "partial": True, "report": _without_satellites(env)}
+
+
+def _without_satellites(env: dict[str, Any]) -> dict[str, Any]:
+    """A GPSReport's envelope with an empty satellite list (numberSatellitesInView and the rest as sent)."""
+    return {**env, "report": {**env["report"], "satellites": []}}

@@ -5,14 +5,13 @@ import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type S
 import { takeEarly, type EarlySocket } from "./early";
 import { onFrame } from "./frame";
 import { initialState, reduceAll, type State } from "./store";
+import { isVehicleId } from "../lib/vehicle";
 
 export type ConnectionState = SourceState;
 
 export const BACKOFF_MIN_MS = 500;
 export const BACKOFF_MAX_MS = 10_000;
 export const OFFLINE_AFTER_FAILURES = 5;
-
-const UUID = /^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$/i;
 
 export function backoff(failures: number): number {
   return Math.min(BACKOFF_MAX_MS, BACKOFF_MIN_MS * 2 ** Math.max(0, failures - 1));
@@ -175,7 +174,7 @@ export class Connection implements DataSource {
   private sendSelected(ws: WebSocket | null): void {
     if (!ws || ws !== this.ws || ws.readyState !== WebSocket.OPEN) return;
     const selected = this.store.getState().selected;
-    const providerId = selected && UUID.test(selected) ? selected : null;
+    const providerId = selected && isVehicleId(selected) ? selected : null;
     // once: the early socket's held snapshot may select its lone vehicle (and tell) before the socket's own `select`
     if (this.told?.ws === ws && this.told.providerId === providerId) return;
     this.told = { ws, providerId };

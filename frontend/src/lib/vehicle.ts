@@ -28,11 +28,16 @@ export function vehicleColor(id: string): string {
   return `hsl(${vehicleHue(id)}, 70%, 55%)`;
 }
 
-/** The selected vehicle from the page's address (`?vehicle=<id>`), so a link opens the same vehicle; a UUID's layout
- * only (the early socket names it to the console, which refuses any other as a bad message). */
+/** Whether `v` is laid out as a vehicle id (a UUID): the console refuses any other in a `select` as a bad message. */
+export function isVehicleId(v: string): boolean {
+  return /^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$/i.test(v);
+}
+
+/** The selected vehicle from the page's address (`?vehicle=<id>`), so a link opens the same vehicle; a vehicle id's
+ * layout only (the early socket names it to the console). */
 export function vehicleFromUrl(search: string): string | null {
   const v = new URLSearchParams(search).get("vehicle");
-  return v && /^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$/i.test(v) ? v.toLowerCase() : null;
+  return v && isVehicleId(v) ? v.toLowerCase() : null;
 }
 
 /** The address with `?vehicle=<id>` set (or removed), other parameters kept. */

@@ -78,10 +78,9 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
             elif msg.type == "ack":
                 client.ack(msg.frames)
             elif msg.type == "select":
-                pid = None if msg.providerId is None else str(msg.providerId)
-                client.select(pid)
-                if pid is not None and (report := console.selected_report(pid)) is not None:
-                    client.push(dumps(report), key=(pid, "GPSReport"))  # whole: those it had of it were thin
+                client.select(None if msg.providerId is None else str(msg.providerId))
+                if msg.providerId is not None and (report := console.selected_report(msg.providerId)) is not None:
+                    client.push(dumps(report), key=(report["providerId"], "GPSReport"))  # whole: those it had were thin
             elif msg.type == "resync":
                 client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
 
