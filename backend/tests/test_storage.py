@@ -204,6 +204,30 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         db.close()
 
 
+def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
+    """The console's upkeep (`maintain`, every 2 s) is often the first to meet a stopped server, on the name's own
+    lock connection, before any write has failed: that is an outage too, and the name is taken again when the server
+    is back (it was let go for good: a second console of the same name then started and shared the UMAA identity)."""
+    db = open_db(pg_url)
+    db.claim("watch")
+    try:
+        pg_cluster.stop()
+        try:
+            assert not db.maintain() and db.unavailable_since is not None
+            assert not db.maintain()  # still away
+        finally:
+            pg_cluster.start()
+        assert db.maintain() and db.unavailable_since is None
+        other = open_db(pg_url)
+        try:
+            with pytest.raises(StorageError):
+                other.claim("watch")
+        finally:
+            other.close()
+    finally:
+        db.close()
+
+
 @pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",
                                  "mysql://u:s3cret@h/db"])
 def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url: str) -> None:
