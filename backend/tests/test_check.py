@@ -245,6 +245,15 @@ def test_unwritable_junit_cannot_test_before_the_run(domain: int, tmp_path: Path
     assert len(err.getvalue().splitlines()) == 1
 
 
+def test_record_to_a_directory_cannot_test_before_the_run(domain: int, tmp_path: Path) -> None:
+    """A directory as --record's file: the evidence went into it under the recorder's own name while the run said
+    "samples recorded in DIR"; now exit 2 in one line before anything is sent."""
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--record", str(tmp_path))
+    assert run.code == 2 and list(tmp_path.glob("*.mcap")) == []
+    assert f"cannot record to {tmp_path}: it is a directory" in run.err and len(run.err.splitlines()) == 1
+    assert [(name, outcome) for name, (outcome, _) in run.cases.items()] == [("setup", "error")]
+
+
 def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     """A skip after a failure keeps the failure; the terminal shows whole reasons (their ICD
     reference comes last) and what a pass did not check; the JUnit failure text has what was seen."""
