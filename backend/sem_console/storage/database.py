@@ -698,6 +698,10 @@ class VehicleWriters:
         try:
             if self._conn is None:
                 self._conn, self._held, self._start = self.engine.connect(), set(), {}
+            elif self._held and not providers - self._held:
+                # nothing to take: a statement all the same, or a server restart (and the locks gone with it) would
+                # go unseen, and this console write the vehicles beside the one that took them since
+                self._conn.execute(select(1))
             for provider in providers - self._held:
                 if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
                     self._held.add(provider)
