@@ -240,6 +240,24 @@ def synthetic_recording(directory: Path, seconds: float = 4.0, rate: float = 4.0
     return path
 
 
+def test_a_recording_cut_short_replays_up_to_where_it_stops(console, tmp_path: Path) -> None:
+    """A console killed while recording leaves a file without its summary (`incomplete`). Its time span was read
+    in log time order, which the reader sorts only at the end of the file, never reached: the replay showed
+    0.0 s of recording and nothing. Here a file cut after its last chunk (before its summary), as a kill leaves it."""
+    path = synthetic_recording(tmp_path / "rec")
+    data = path.read_bytes()
+    at = 8  # the magic; then records: opcode (1 byte), length (u64 LE), body
+    while data[at] != 0x0F:  # DataEnd: everything after it is the summary a killed console never writes
+        at += 9 + int.from_bytes(data[at + 1:at + 9], "little")
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[:at])
+    r = console("--replay", str(cut), "--replay-speed", "20")
+    playback = replay_state(r.url)
+    assert playback["start"] > 0 and playback["end"] - playback["start"] > 3  # the 4 s of reports written
+    wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
+    assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
+
+
 def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     r = console("--replay", str(synthetic_recording(tmp_path / "rec")), "--replay-speed", "20")
     wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
