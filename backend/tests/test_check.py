@@ -245,6 +245,15 @@ def test_unwritable_junit_cannot_test_before_the_run(domain: int, tmp_path: Path
     assert len(err.getvalue().splitlines()) == 1
 
 
+def test_record_to_a_directory_cannot_test_before_the_run(domain: int, tmp_path: Path) -> None:
+    """A directory as --record's file: the evidence went into it under the recorder's own name while the run said
+    "samples recorded in DIR"; now exit 2 in one line before anything is sent."""
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--record", str(tmp_path))
+    assert run.code == 2 and list(tmp_path.glob("*.mcap")) == []
+    assert f"cannot record to {tmp_path}: it is a directory" in run.err and len(run.err.splitlines()) == 1
+    assert [(name, outcome) for name, (outcome, _) in run.cases.items()] == [("setup", "error")]
+
+
 def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     """A skip after a failure keeps the failure; the terminal shows whole reasons (their ICD
     reference comes last) and what a pass did not check; the JUnit failure text has what was seen."""
@@ -348,9 +357,11 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
 class BreachAfterCleanup:
     """A Cyclone GPSFixControl provider (with an InertialSensorReport, to be found) that runs each
     command to COMPLETED with its ack, and answers the consumer's cleanup dispose with EXECUTING
-    before disposing its status and ack: a Figure 4 breach after the command ended."""
+    before disposing its status and ack: a Figure 4 breach after the command ended. `leave`: it answers the
+    dispose by unregistering its status and ack instead (as a provider that went away: no writers, no dispose)."""
 
-    def __init__(self, domain: int) -> None:
+    def __init__(self, domain: int, leave: bool = False) -> None:
+        self.leave = leave
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.commands = self.bus.reader(Sem.GPS_FIX_COMMAND)
@@ -379,6 +390,11 @@ class BreachAfterCleanup:
                         self.status.write(self.status_of(s, status))
                 elif info.instance_state == InstanceState.NotAliveDisposed and info.instance_handle in self.running:
                     cmd = self.running.pop(info.instance_handle)
+                    if self.leave:
+                        self.status.unregister_instance(self.status_of(cmd, CmdStatus.COMPLETED))
+                        self.ack.unregister_instance(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid),
+                                                                                        sessionID=cmd.sessionID))
+                        continue
                     self.status.write(self.status_of(cmd, CmdStatus.EXECUTING))  # COMPLETED -> EXECUTING
                     self.status.dispose(self.status_of(cmd, CmdStatus.EXECUTING))
                     self.ack.dispose(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid), sessionID=cmd.sessionID))
@@ -390,18 +406,24 @@ class BreachAfterCleanup:
         self.bus.close()
 
 
-def test_a_breach_after_the_end_fails_the_cleanup(domain: int, tmp_path: Path) -> None:
-    """Every status of a command goes through Figure 4, also those after its test followed it."""
-    p = BreachAfterCleanup(domain)
+@pytest.mark.parametrize(("leave", "reason"), [
+    # every status of a command goes through Figure 4, also those after its test followed it
+    (False, "Figure 4 breach: COMPLETED -> EXECUTING is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
+            "ISSUED/SUCCEEDED"),
+    # Figure 15 wants the provider to dispose its status and ack: one that went away (its instances left with no
+    # writers, as a vehicle stopped mid-run) passed the cleanup test as if it had disposed them
+    (True, "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s"),
+], ids=["breach-after-the-end", "status-lost-its-writer"])
+def test_the_cleanup_fails(leave: bool, reason: str, domain: int, tmp_path: Path) -> None:
+    p = BreachAfterCleanup(domain, leave=leave)
     try:
         run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
-                    "commands.GPSFix.complete,commands.GPSFix.cleanup", "--timeout", "5", "--step-time", "2", "--window", "0.5")
+                    "commands.GPSFix.complete,commands.GPSFix.cleanup", "--timeout", "5", "--step-time", "1", "--window", "0.5")
     finally:
         p.close()
     assert run.cases["commands.GPSFix.complete"] == ("passed", ""), run.out
     assert run.code == 1
-    assert failed(run)["commands.GPSFix.cleanup"].startswith(
-        "Figure 4 breach: COMPLETED -> EXECUTING is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: ISSUED/SUCCEEDED")
+    assert failed(run)["commands.GPSFix.cleanup"].startswith(reason)
 
 
 # ---- a provider that stopped reporting ----------------------------------------------------------

@@ -18,10 +18,16 @@ import httpx
 import pytest
 from cyclonedds.core import InstanceState
 
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as St
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Rs
+from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
+
 from samplegen import random_sample
 from sem_console.console.decode import REPORT_TOPICS
+from sem_console.dds.topics import Sem
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
 from test_console import HAPPY, V1, WsClient, command, provider_ready, wait_command, wait_until
 from test_recording import recorded
 
@@ -234,6 +240,24 @@ def synthetic_recording(directory: Path, seconds: float = 4.0, rate: float = 4.0
     return path
 
 
+def test_a_recording_cut_short_replays_up_to_where_it_stops(console, tmp_path: Path) -> None:
+    """A console killed while recording leaves a file without its summary (`incomplete`). Its time span was read
+    in log time order, which the reader sorts only at the end of the file, never reached: the replay showed
+    0.0 s of recording and nothing. Here a file cut after its last chunk (before its summary), as a kill leaves it."""
+    path = synthetic_recording(tmp_path / "rec")
+    data = path.read_bytes()
+    at = 8  # the magic; then records: opcode (1 byte), length (u64 LE), body
+    while data[at] != 0x0F:  # DataEnd: everything after it is the summary a killed console never writes
+        at += 9 + int.from_bytes(data[at + 1:at + 9], "little")
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(data[:at])
+    r = console("--replay", str(cut), "--replay-speed", "20")
+    playback = replay_state(r.url)
+    assert playback["start"] > 0 and playback["end"] - playback["start"] > 3  # the 4 s of reports written
+    wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
+    assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
+
+
 def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     r = console("--replay", str(synthetic_recording(tmp_path / "rec")), "--replay-speed", "20")
     wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
@@ -242,3 +266,33 @@ def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
     (cmd,) = httpx.get(f"{r.url}/api/commands").json()
     assert cmd["service"] == "GPSFix" and cmd["unanswered"] and cmd["transitions"] == []  # no ISSUED within 2 s
+
+
+def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went(console, tmp_path: Path) -> None:
+    """Another station's command reaches the recording console by the database's notification, after the vehicle's
+    first statuses (long after them when that station's write was held in an outage). The replay applies those
+    statuses when the command comes: FAILED as live, not a command with no status and an 'unanswered' alarm that
+    the live console never raised."""
+    directory = tmp_path / "rec"
+    recorder = Recorder(directory, 1 << 30, 3600)
+    recorder.start()
+    session = uuid.uuid4()
+    t0 = time.time_ns() - 3_000_000_000
+    for i, (status, reason) in enumerate(((St.ISSUED, Rs.SUCCEEDED), (St.FAILED, Rs.RESOURCE_REJECTED))):
+        sample = GPSFixCommandStatusType(source=to_guid(uuid.UUID(V1)), sessionID=to_guid(session), commandStatus=status,
+                                         commandStatusReason=reason, logMessage="rejected", timeStamp=now_datetime())
+        at = t0 + i * 20_000_000
+        recorder.on_samples(Sem.GPS_FIX_COMMAND_STATUS, [(sample.serialize(), True, InstanceState.Alive, at)], at)
+    recorder.on_message({"type": "command", "command": {  # as relief's command reached watch, with what relief saw
+        "sessionId": str(session), "service": "GPSFix", "providerId": V1, "state": None, "operator": None,
+        "createdAt": t0 / 1e9 - 0.01, "status": "FAILED", "terminal": True, "unanswered": False, "cancelRequested": False,
+        "canceledBy": None, "ackedAt": None, "cleanedUp": False, "console": "relief", "violations": [], "transitions": []}})
+    recorder.stop()
+    (path,) = directory.glob("*.mcap")
+    r = console("--replay", str(path), "--replay-speed", "20")
+    wait_until(lambda: replay_state(r.url)["state"] == "paused", 10, "the end of the replay")
+    (cmd,) = httpx.get(f"{r.url}/api/commands").json()
+    assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "FAILED"] and cmd["console"] == "relief"
+    assert not cmd["unanswered"]
+    kinds = [a["kind"] for a in httpx.get(f"{r.url}/api/alarms").json()]  # and link-lost: the recording ends 3 s later
+    assert "command-failed" in kinds and "command-unanswered" not in kinds

@@ -16,13 +16,14 @@ from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
 from sqlalchemy import text
+from sqlalchemy.exc import OperationalError
 from sqlmodel import SQLModel
 
 from pg import Cluster
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
-from sem_console.storage.database import Database, StorageError, Unavailable, head_revision
+from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters, head_revision
 from sem_console.storage.url import parse_database_url
 
 LEGACY = Path(__file__).parent / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
@@ -202,6 +203,55 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
             other.close()
     finally:
         db.close()
+
+
+def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
+    """The console's upkeep (`maintain`, every 2 s) is often the first to meet a stopped server, on the name's own
+    lock connection, before any write has failed: that is an outage too, and the name is taken again when the server
+    is back (it was let go for good: a second console of the same name then started and shared the UMAA identity)."""
+    db = open_db(pg_url)
+    db.claim("watch")
+    try:
+        pg_cluster.stop()
+        try:
+            assert not db.maintain() and db.unavailable_since is not None
+            assert not db.maintain()  # still away
+        finally:
+            pg_cluster.start()
+        assert db.maintain() and db.unavailable_since is None
+        other = open_db(pg_url)
+        try:
+            with pytest.raises(StorageError):
+                other.claim("watch")
+        finally:
+            other.close()
+    finally:
+        db.close()
+
+
+def test_a_vehicles_writer_lets_it_go_when_the_server_restarts(pg_cluster: Cluster, pg_url: str) -> None:
+    """The console that writes a vehicle's track holds a session lock, gone with a server restart. It must find that
+    out at its next batch even when it has no new vehicle to take (no statement would touch its lock connection):
+    it went on writing the vehicle beside the console that took it after the restart, two points a second in the
+    shared track and chart history, and in every GPX and CSV export."""
+    watch, relief = open_db(pg_url), open_db(pg_url)
+    a, b = VehicleWriters(watch.engine), VehicleWriters(relief.engine)
+    try:
+        assert a.mine({V1}) == {V1} and b.mine({V1}) == set()
+        pg_cluster.stop()
+        try:
+            for writers in (a, b):
+                with pytest.raises(OperationalError):
+                    writers.mine({V1})
+        finally:
+            pg_cluster.start()
+        assert b.mine({V1}) == {V1}  # the first after the restart takes it
+        assert a.mine({V1}) == set()
+    finally:
+        a.close()
+        b.close()
+        watch.close()
+        relief.close()
 
 
 @pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",

@@ -147,14 +147,14 @@ class Consumer:
                 t = sent.flow.observe(s.sample.commandStatus, s.sample.commandStatusReason, s.sample.logMessage)
                 if t is not None:
                     sent.at.append(s.received)
-            if not s.alive:
+            if s.disposed:  # a writer that left (no writers) disposed nothing: Figure 15 wants the dispose
                 sent.status_disposed = True
         for a in acks[sent.seen[1]:]:
             if a.source != self.provider:
                 continue
             if a.sample is not None and sent.ack is None:
                 sent.ack, sent.ack_at = a.sample, a.received
-            if not a.alive:
+            if a.disposed:
                 sent.ack_disposed = True
         sent.seen = (len(statuses), len(acks))
 

@@ -61,6 +61,7 @@ class StatusSeen:
     source: uuid.UUID
     sample: Any | None
     alive: bool
+    disposed: bool = False  # by its writer; not alive and not disposed: the instance lost its writer (the provider left)
 
 
 class Observer:
@@ -167,7 +168,8 @@ class Observer:
                     self.reports[sem][item.source].append(Report(now, item.report, item.invalid, item.alive, handle))
                 elif isinstance(item, StatusItem):
                     table = self.statuses if item.kind == "status" else self.acks
-                    table[item.session].append(StatusSeen(now, item.source, item.sample, item.alive))
+                    disposed = info.instance_state == InstanceState.NotAliveDisposed
+                    table[item.session].append(StatusSeen(now, item.source, item.sample, item.alive, disposed))
             if tapped and self.recorder is not None and self.recorder.active:
                 self.recorder.on_samples(sem, tapped, time.time_ns())
             if len(raw) < 256:

@@ -141,6 +141,9 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         if problem:
             print(f"sem-check: cannot write the JUnit report {opts.junit}: {problem}", file=err)
             return COULD_NOT_TEST
+    if opts.record is not None and opts.record.is_dir():  # the file would be moved into it under another name
+        return could_not(f"cannot record to {opts.record}: it is a directory: give a file name (e.g. "
+                         f"{opts.record / 'sem-check.mcap'})")
     unknown = selection.unknown(names)
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")

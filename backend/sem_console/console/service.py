@@ -11,6 +11,7 @@ import asyncio
 import logging
 import time
 import uuid
+from collections import OrderedDict
 from collections.abc import Callable, Coroutine
 from dataclasses import asdict
 from typing import Any, TypeVar
@@ -45,6 +46,7 @@ T = TypeVar("T")
 TICK = 0.2
 HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's end found, held writes, the name's lock
 RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
+EARLY_SESSIONS = 1000  # replay: sessions whose statuses came before their recorded command message, kept (the newest)
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
@@ -94,6 +96,10 @@ class Console:
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
         self.providers, self.commands = self._fresh_state()
+        # replay: statuses and acks of a command not (yet) known, by session. Another station's command reaches the
+        # recording console by the database's notification, which can come after the vehicle's first statuses (always
+        # after them when that station's write was held in an outage): applied when its command message comes
+        self._early: OrderedDict[uuid.UUID, list[StatusItem]] = OrderedDict()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed)
         self.alarms = Alarms(self.store, self.names())  # the ones not back to normal, from the database
@@ -134,6 +140,7 @@ class Console:
         """A replay seeking backwards: forget every provider, report and command (the audit trail stays)."""
         self.store.clear_commands()
         self.providers, self.commands = self._fresh_state()
+        self._early.clear()
         self.alarms.reset()
         self.reports_applied = 0
 
@@ -299,12 +306,19 @@ class Console:
         if isinstance(item, ReportItem):
             self.on_reports([item])
         elif isinstance(item, StatusItem):
+            if item.sample is not None and item.session not in self.commands.by_session:
+                self._early.setdefault(item.session, []).append(item)
+                if len(self._early) > EARLY_SESSIONS:  # other consumers' commands, never in the recording
+                    self._early.popitem(last=False)
             self.on_statuses([item])
         else:
             try:
-                self.commands.adopt(item)
+                cmd = self.commands.adopt(item)
             except (KeyError, ValueError, TypeError) as e:
                 log.warning("skipped a recorded command that cannot be read: %s", e)
+                return
+            for early in self._early.pop(cmd.session_id, []) if cmd is not None else []:
+                self._command_status(early)
 
     def on_reports(self, items: list[ReportItem]) -> None:
         if self.closing:
@@ -360,8 +374,11 @@ class Console:
         p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None)
         if new:
             self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
-        if it.sample is None:
-            return
+        if it.sample is not None:
+            self._command_status(it)
+
+    def _command_status(self, it: StatusItem) -> None:
+        """A status or ack sample (not a dispose) to the command it answers, if this console follows it."""
         if it.kind == "ack":
             self.commands.on_ack(it.service, it.session, it.source)
             return

@@ -48,7 +48,9 @@ def time_range(path: Path) -> tuple[int, int] | None:
         f.seek(0)
         first = last = None
         try:
-            for _schema, _channel, message in NonSeekingReader(f).iter_messages():
+            # in file order: in log time order the reader sorts what it read only at the end, which a file cut
+            # short never reaches (EndOfFile), so not one message was counted
+            for _schema, _channel, message in NonSeekingReader(f).iter_messages(log_time_order=False):
                 first = message.log_time if first is None else min(first, message.log_time)
                 last = message.log_time if last is None else max(last, message.log_time)
         except (McapError, OSError, EOFError, struct.error) as e:

@@ -182,6 +182,7 @@ class Database:
         self._lock: Connection | int | None = None  # what holds this console's name (claim)
         self._taking_task_id = threading.Lock()  # new_comap_task, from the assigns' worker threads
         self._held: str | None = None
+        self._name_lost = False  # another console took the name while the server was away (logged once)
         self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
         self._held_writes: deque[Callable[[Connection], object]] = deque()  # during an outage, oldest first
         self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
@@ -322,32 +323,40 @@ class Database:
                 return False
         if not self.write_held():
             return False
-        self._keep_name()
-        return True
+        return self._keep_name()
 
-    def _keep_name(self) -> None:
+    def _keep_name(self) -> bool:
+        """Hold this console's name on PostgreSQL (see `maintain`): False when the server cannot be reached. The
+        name is let go only while the server is away: it is taken again at the first call that finds it back."""
+        if self.db.path is not None or self._held is None:
+            return True
         lock = self._lock
-        if not isinstance(lock, Connection) or self._held is None:
-            return
-        try:
-            lock.execute(select(1))
-            lock.commit()
-            return
-        except (OperationalError, InterfaceError):
-            pass  # the server restarted: the session, and the name's lock with it, are gone
-        try:
-            lock.invalidate()
-            lock.close()
-        except SQLAlchemyError:
-            pass
-        self._lock = None
+        if isinstance(lock, Connection):
+            try:
+                lock.execute(select(1))
+                lock.commit()
+                return True
+            except (OperationalError, InterfaceError):
+                pass  # the server restarted: the session, and the name's lock with it, are gone
+            try:
+                lock.invalidate()
+                lock.close()
+            except SQLAlchemyError:
+                pass
+            self._lock = None
         try:
             self._hold(self._held)
-            log.warning("the database %s is back: console name %r held again", self.db.shown, self._held)
         except StorageError as e:
-            log.error("%s (it started while the database was away); the two share one UMAA identity: stop one", e)
-        except (OperationalError, InterfaceError):
-            pass  # away again: the next call tries
+            if not self._name_lost:
+                log.error("%s (it started while the database was away); the two share one UMAA identity: stop one", e)
+                self._name_lost = True
+            return True  # tried again at each call: taken as soon as the other console stops
+        except (OperationalError, InterfaceError) as e:  # away (found here before any write): an outage, tried again
+            self._went_away(e)
+            return False
+        log.warning("the database %s is back: console name %r held again", self.db.shown, self._held)
+        self._name_lost = False
+        return True
 
     def write_held(self) -> bool:
         """Write what was held during an outage, oldest first (for a worker thread: see `maintain`); True when
@@ -689,6 +698,10 @@ class VehicleWriters:
         try:
             if self._conn is None:
                 self._conn, self._held, self._start = self.engine.connect(), set(), {}
+            elif self._held and not providers - self._held:
+                # nothing to take: a statement all the same, or a server restart (and the locks gone with it) would
+                # go unseen, and this console write the vehicles beside the one that took them since
+                self._conn.execute(select(1))
             for provider in providers - self._held:
                 if self._conn.execute(select(func.pg_try_advisory_lock(_key(f"track:{provider}")))).scalar():
                     self._held.add(provider)
