@@ -1,4 +1,4 @@
-import { useMemo, useState } from "react";
+import { useMemo, useRef, useState } from "react";
 import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Confirm } from "../components/Confirm";
@@ -207,6 +207,11 @@ export function CommandsPanel() {
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
+  // A command request on its way: the buttons wait for its answer, so a double click or a second Enter does not
+  // send the command twice (the second would supersede the first, which then shows as failed). A ref too: the
+  // second click of a double click can come before the disabled buttons are drawn.
+  const [sending, setSending] = useState(false);
+  const inFlight = useRef(false);
   const unreachable = connection === "reconnecting" || connection === "offline";
   const lost = known?.link === "lost";
   const canCommand = mayCommand && !!known && (!authRequired || !!token) && !unreachable;
@@ -223,12 +228,18 @@ export function CommandsPanel() {
   }
 
   const run = async (target: VehicleIdentity, what: string, fn: () => Promise<Command>) => {
+    if (inFlight.current) return;
+    inFlight.current = true;
+    setSending(true);
     setError(null);
     setNote(null);
     try {
       await fn();
     } catch (e) {
       setError(`${what} on ${vehicleLabel(target)}: ${problemText(e)}`);
+    } finally {
+      inFlight.current = false;
+      setSending(false);
     }
   };
   const act = (a: Action, t: VehicleIdentity) => {
@@ -264,7 +275,7 @@ export function CommandsPanel() {
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target} title={target ? why(a, target) : undefined} onClick={() => target && act(a, target)} data-lost={lost ? "true" : undefined}>
+          <button key={a.label} disabled={!canCommand || !target || sending} aria-busy={sending || undefined} title={target ? why(a, target) : undefined} onClick={() => target && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
             {lost && " (vehicle lost)"}
           </button>
@@ -312,7 +323,7 @@ export function CommandsPanel() {
           key={target.id}
           target={target}
           live={commands}
-          canCommand={canCommand}
+          canCommand={canCommand && !sending}
           onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
         />
       )}
