@@ -226,7 +226,11 @@ function reported(before: ProviderView | undefined, msg: TypedReportMessage, now
   const { providerId, topic } = msg;
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
-  const at = { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  // the sample it already has, sent again (the console sends the latest GPSReport whole to a client that has just
+  // selected the vehicle): it arrived when it first did, or selecting a vehicle silent for minutes, or lost, would
+  // show it heard from just now (its age, "stale", "lost for", a lost command's confirmation)
+  const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
+  const at = again ? { at: prevView.at, interval: prevView.interval } : { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
     const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];
