@@ -78,6 +78,8 @@ describe("the tab title", () => {
     expect(pageTitle(2)).toBe("(2) SEM Console");
     expect(pageTitle(unacknowledged([alarm(1), alarm(2, { state: "cleared-unacknowledged" }), alarm(3, { state: "active-acknowledged" })]).length)).toBe("(2) SEM Console");
     expect(pageTitle(0)).toBe("SEM Console");
+    expect(pageTitle(2, true)).toBe("(2) Replay · SEM Console"); // a replay's alarms never pass for a live console's
+    expect(pageTitle(0, true)).toBe("Replay · SEM Console");
   });
 });
 

@@ -381,8 +381,10 @@ export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
 }
 
 /** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */
-export function pageTitle(unacknowledgedCount: number): string {
-  return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) SEM Console` : "SEM Console";
+export function pageTitle(unacknowledgedCount: number, replay = false): string {
+  // a replay's tab says so first: its alarms are history, and beside a live console's tab it must not pass for one
+  const name = replay ? "Replay · SEM Console" : "SEM Console";
+  return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) ${name}` : name;
 }
 
 /** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */

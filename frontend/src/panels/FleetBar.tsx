@@ -124,13 +124,13 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
 
 /** The tab title counts the unacknowledged alarms; a new one sounds the tone unless muted (not in a replay). */
 function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boolean): void {
-  const { command } = useCapabilities(); // a replay's alarms are history: no sound
+  const { command, playback } = useCapabilities(); // a replay's alarms are history: no sound, and its title says so
   const ready = useSelector((s) => s.consoleId !== null); // the first snapshot is in
   const news = useRef(new NewAlarms());
   useEffect(() => unlockAudioOnGesture(), []);
   useEffect(() => {
-    document.title = pageTitle(unacked);
-  }, [unacked]);
+    document.title = pageTitle(unacked, playback);
+  }, [unacked, playback]);
   useEffect(() => {
     if (!ready) return;
     const fresh = news.current.take(alarms);
