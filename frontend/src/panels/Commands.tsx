@@ -207,9 +207,11 @@ export function CommandsPanel() {
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
-  // A command request on its way: the buttons wait for its answer, so a double click or a second Enter does not
-  // send the command twice (the second would supersede the first, which then shows as failed). A ref too: the
-  // second click of a double click can come before the disabled buttons are drawn.
+  // A double click is one order: its second click (detail 2) is ignored, and while a request is on its way the
+  // buttons wait for its answer, so a second click or Enter does not send the command twice (the second would
+  // supersede the first, which then shows as failed). A ref, read by the handlers: the second click can come before
+  // a render; and the buttons only say so (aria-disabled): a disabled button would drop the keyboard focus of the
+  // operator who just pressed it.
   const [sending, setSending] = useState(false);
   const inFlight = useRef(false);
   const unreachable = connection === "reconnecting" || connection === "offline";
@@ -243,6 +245,7 @@ export function CommandsPanel() {
     }
   };
   const act = (a: Action, t: VehicleIdentity) => {
+    if (inFlight.current) return;
     setNote(null);
     if (a.confirm || lost) setPending({ action: a, target: t, lost });
     else void run(t, a.label, () => a.run(t.id, token, false));
@@ -275,7 +278,7 @@ export function CommandsPanel() {
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target || sending} aria-busy={sending || undefined} title={target ? why(a, target) : undefined} onClick={() => target && act(a, target)} data-lost={lost ? "true" : undefined}>
+          <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
             {lost && " (vehicle lost)"}
           </button>
