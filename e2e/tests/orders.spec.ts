@@ -142,6 +142,9 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await cmd.getByRole("button", { name: "Cancel" }).click();
     await expect.poll(async () => ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean }).cancelRequested).toBe(true);
     await expect(cmd).toContainText("cancel requested");
+    // no "Cancel it" left where there is no Cancel button any more
+    await expect(cmd.getByTestId("unanswered")).toContainText("Cancel requested: it may not hear the cancel either");
+    await expect(cmd.getByTestId("unanswered")).not.toContainText("Cancel it if");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }

@@ -81,7 +81,9 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
       {c.unanswered && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
           <strong>No answer: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
-          hears it, late. Cancel it if it should not run then.
+          hears it, late.{" "}
+          {/* once cancelled (no Cancel button any more), what is left to know: the cancel may not reach it either */}
+          {c.cancelRequested ? "Cancel requested: it may not hear the cancel either; watch it when it answers." : "Cancel it if it should not run then."}
         </li>
       )}
       {c.cancelRequested && !c.terminal && <li className="muted">cancel requested{c.canceledBy ? ` by ${c.canceledBy}` : ""}…</li>}
