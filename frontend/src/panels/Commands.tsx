@@ -275,14 +275,15 @@ export function CommandsPanel() {
       )}
       {target && lost && lostSince !== null && (
         <p className="alarm" role="status" data-testid="command-lost">
-          <LostFor target={target} since={lostSince} />. A command waits until it is heard again; each one asks you to confirm.
+          <LostFor target={target} since={lostSince} />.
+          {mayCommand && " A command waits until it is heard again; each one asks you to confirm."/* a replay sends none */}
         </p>
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
           <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
-            {lost && " (vehicle lost)"}
+            {lost && mayCommand && " (vehicle lost)"}
           </button>
         ))}
       </div>
