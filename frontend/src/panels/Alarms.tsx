@@ -7,7 +7,7 @@ import { ApiError, ackAlarm } from "../api/rest";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useNow, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useNow, useSelector, useStore, useVehicleNames } from "../data/hooks";
 import { select, unacknowledged } from "../data/store";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
@@ -31,6 +31,7 @@ function failure(e: unknown): string {
 
 export function AlarmsPanel() {
   const alarms = useAlarms();
+  const names = useVehicleNames();
   const store = useStore();
   const token = useToken();
   const { command } = useCapabilities(); // a replay acknowledges nothing
@@ -90,8 +91,10 @@ export function AlarmsPanel() {
           {sorted.map((a) => {
             const sev = SEVERITY[a.severity];
             const acked = a.state === "active-acknowledged";
-            // the console names the vehicle: its configured name, else its short id (then it has no name)
-            const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
+            // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
+            // console gave it when raised: its configured name, or its short id (then it had none)
+            const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
+            const vehicle = a.providerId ? { id: a.providerId, name: names.get(a.providerId) ?? raisedAs } : null;
             return (
               <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
                 <button

@@ -10,9 +10,8 @@ import { createTask, problemText, putWorldModel, synchTask, type Capability, typ
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useSelectedVehicle, useSelector } from "../data/hooks";
+import { perProviders, useCapabilities, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
-import type { State } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
@@ -74,20 +73,6 @@ function pendingName(p: Pending): string {
   return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
 }
 
-/** `fn` of the state's vehicles, computed once per map of vehicles: a selector is called on every change of the
- * store (each frame with reports) and each render, and with 250 vehicles these walked and sorted them all each time. */
-function perProviders<T>(fn: (providers: State["providers"]) => T): (s: State) => T {
-  let last: State["providers"] | null = null;
-  let value: T;
-  return (s) => {
-    if (s.providers !== last) {
-      last = s.providers;
-      value = fn(s.providers);
-    }
-    return value;
-  };
-}
-
 /** The ids of the vehicles whose link is lost, as one string (stable while no link changes). */
 const lostVehicles = perProviders((providers) =>
   Object.values(providers)
@@ -96,10 +81,6 @@ const lostVehicles = perProviders((providers) =>
     .sort()
     .join("\n"),
 );
-
-/** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves,
- * which change with every report): "id=name\n…". */
-const vehicleNames = perProviders((providers) => Object.values(providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n"));
 
 const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";
 const COMAP_ABSENT = "CoMap is off: this console has no CoMap (it answers 404).";
@@ -121,7 +102,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
-  const names = useSelector(vehicleNames);
+  const nameOf = useVehicleNames();
   const lostIds = useSelector(lostVehicles);
   const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
@@ -135,7 +116,6 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const [pending, setPending] = useState<Pending | null>(null);
   const taskList = useTasks();
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
-  const nameOf = useMemo(() => new Map(names.split("\n").map((l) => l.split("=") as [string, string])), [names]);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
   const lostSet = useMemo(() => new Set(lostIds.split("\n")), [lostIds]);
   const isLost = (id: string): boolean => lostSet.has(id);
