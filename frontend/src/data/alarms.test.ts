@@ -91,6 +91,9 @@ describe("the tone's new alarms", () => {
     expect(news.take([alarm(2, { state: "cleared-unacknowledged" }), alarm(1)])).toEqual([]);
     expect(news.take([alarm(3, { state: "active-acknowledged" })])).toEqual([]); // acknowledged elsewhere first
     expect(news.take([alarm(4, { severity: "warning" })]).map((a) => a.id)).toEqual([4]);
+    // lost, back (cleared, not acknowledged) and lost again: the console raises the same alarm anew, since moved on
+    expect(news.take([alarm(2, { state: "cleared-unacknowledged", clearedAt: 1010 })])).toEqual([]);
+    expect(news.take([alarm(2, { since: 1020 })]).map((a) => a.id)).toEqual([2]);
   });
 });
 
