@@ -103,6 +103,9 @@ test("a vehicle lost while the page is scrolled to the commands is in the viewpo
     await expect(commands).toBeInViewport(); // nothing scrolled the operator away from the commands
     await expect.poll(() => titleCount(page)).toBeGreaterThanOrEqual(before + stack.vehicles.length);
     await expect(page.getByTestId("fleet-alarms")).toHaveText(/^[1-9]\d* unacknowledged alarms?$/);
+    // and a screen reader is told, in words, as the tone tells the room
+    await expect(page.getByRole("alert").filter({ hasText: "link lost" })).toHaveAttribute("data-testid", "alarm-announcement");
+    await expect(page.getByTestId("alarm-announcement")).toContainText(/^Alarm: .*: link lost, since \d\d:\d\d:\d\d UTC/);
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
