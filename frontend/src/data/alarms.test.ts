@@ -80,6 +80,7 @@ describe("the tab title", () => {
     expect(pageTitle(0)).toBe("SEM Console");
     expect(pageTitle(2, true)).toBe("(2) Replay · SEM Console"); // a replay's alarms never pass for a live console's
     expect(pageTitle(0, true)).toBe("Replay · SEM Console");
+    expect(pageTitle(2, false, true)).toBe("(2) Console unreachable · SEM Console"); // the count may be out of date
   });
 });
 

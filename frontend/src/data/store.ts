@@ -381,9 +381,10 @@ export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
 }
 
 /** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */
-export function pageTitle(unacknowledgedCount: number, replay = false): string {
-  // a replay's tab says so first: its alarms are history, and beside a live console's tab it must not pass for one
-  const name = replay ? "Replay · SEM Console" : "SEM Console";
+export function pageTitle(unacknowledgedCount: number, replay = false, unreachable = false): string {
+  // a replay's tab says so: its alarms are history, and beside a live console's tab it must not pass for one; and a
+  // console out of reach: no alarm nor loss can reach the page, whatever the count says
+  const name = `${unreachable ? "Console unreachable · " : ""}${replay ? "Replay · " : ""}SEM Console`;
   return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) ${name}` : name;
 }
 

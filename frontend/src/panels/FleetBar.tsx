@@ -130,9 +130,11 @@ function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boole
   const news = useRef(new NewAlarms());
   const [said, setSaid] = useState("");
   useEffect(() => unlockAudioOnGesture(), []);
+  const conn = useConnectionState();
+  const unreachable = conn === "reconnecting" || conn === "offline";
   useEffect(() => {
-    document.title = pageTitle(unacked, playback);
-  }, [unacked, playback]);
+    document.title = pageTitle(unacked, playback, unreachable);
+  }, [unacked, playback, unreachable]);
   useEffect(() => {
     if (!ready) return;
     const fresh = news.current.take(alarms);
