@@ -1,7 +1,7 @@
 // The alarm list: the console's active alarm set (derived from state and kept by the server, so a new or
 // reloaded page shows what is active), newest first. Each entry names its vehicle and selects it on click;
 // acknowledging is an operator action the console audits.
-import { useState } from "react";
+import { useEffect, useRef, useState } from "react";
 import type { Alarm } from "../api/generated/ws";
 import { ApiError, ackAlarm } from "../api/rest";
 import { Panel } from "../components/Panel";
@@ -42,8 +42,22 @@ export function AlarmsPanel() {
   const [busy, setBusy] = useState(false);
   const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
   const open = unacknowledged(alarms);
+  // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
+  // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm.
+  const list = useRef<HTMLUListElement>(null);
+  const focusAfter = useRef<number | null>(null); // the place in the list of the Acknowledge pressed
+  useEffect(() => {
+    const at = focusAfter.current;
+    const active = document.activeElement;
+    if (at === null || (active !== null && active !== document.body)) return; // not dropped (yet), or moved on
+    focusAfter.current = null;
+    const entries = [...(list.current?.querySelectorAll<HTMLElement>(".alarm-entry") ?? [])];
+    const next = entries.slice(at).find((e) => e.querySelector(".alarm-ack")) ?? entries[Math.min(at, entries.length - 1)];
+    (next?.querySelector<HTMLElement>(".alarm-ack") ?? next?.querySelector<HTMLElement>(".alarm-main"))?.focus();
+  });
 
   const ack = async (ids: number[]) => {
+    if (busy) return;
     setBusy(true);
     const failed: Record<number, string> = {};
     // one at a time: the console has no "acknowledge all", and each is audited on its own
@@ -54,6 +68,7 @@ export function AlarmsPanel() {
         failed[id] = failure(e);
       }
     }
+    if (Object.keys(failed).length) focusAfter.current = null; // its button stays, and so does the focus
     setErrors((old) => {
       const next = { ...old };
       for (const id of ids) delete next[id];
@@ -87,8 +102,8 @@ export function AlarmsPanel() {
       {sorted.length === 0 ? (
         <p className="muted">No active alarms.</p>
       ) : (
-        <ul className="alarm-list" aria-label="Active alarms">
-          {sorted.map((a) => {
+        <ul className="alarm-list" aria-label="Active alarms" ref={list}>
+          {sorted.map((a, index) => {
             const sev = SEVERITY[a.severity];
             const acked = a.state === "active-acknowledged";
             // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
@@ -117,7 +132,15 @@ export function AlarmsPanel() {
                   </span>
                 </button>
                 {mayAck && !acked && (
-                  <button className="small alarm-ack" disabled={busy} onClick={() => void ack([a.id])} aria-label={`Acknowledge: ${a.text}`}>
+                  <button
+                    className="small alarm-ack"
+                    aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
+                    onClick={() => {
+                      focusAfter.current = index;
+                      void ack([a.id]);
+                    }}
+                    aria-label={`Acknowledge: ${a.text}`}
+                  >
                     Acknowledge
                   </button>
                 )}
