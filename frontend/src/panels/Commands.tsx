@@ -232,7 +232,11 @@ export function CommandsPanel() {
   }
 
   const run = async (target: VehicleIdentity, what: string, fn: () => Promise<Command>) => {
-    if (inFlight.current) return;
+    if (inFlight.current) {
+      // e.g. a confirmation opened before, confirmed while another request is on its way: said, never dropped silently
+      setNote(`${what} for ${vehicleLabel(target)} not sent: another request was on its way. Try again.`);
+      return;
+    }
     inFlight.current = true;
     setSending(true);
     setError(null);
