@@ -138,10 +138,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     if (tool === "move-target" && armed === null) setTool("select");
   }, [tool, armed, setTool]);
 
-  const run = (p: Promise<unknown>) => {
+  // a refusal names the order and its vehicle: the confirmation that named them is gone by the time it comes
+  const run = (what: string, p: Promise<unknown>) => {
     setError(null);
     setNote(null);
-    p.catch((e: unknown) => setError(problemText(e)));
+    p.catch((e: unknown) => setError(`${what} not sent: ${problemText(e)}`));
   };
   // a new feature's id is above every id used so far (a survey's CoverageState for a deleted #n must not colour it)
   const freshId = () => nextFeatureId([model, consoleModel], [...deleted, ...taskList.map((t) => t.featureId)]);
@@ -179,11 +180,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     const to = p.target.id; // the vehicle it was prepared for, whatever is selected now
     if (p.kind === "move") {
       setArmed(null);
-      run(createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
+      run(`Move-to for ${vehicleLabel(p.target)}`, createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
     } else if (p.kind === "survey") {
-      run(createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
+      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
     } else {
-      run(synchTask(p.task.taskId, p.action, token));
+      run(`${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`, synchTask(p.task.taskId, p.action, token));
     }
   };
   const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline }));
@@ -202,7 +203,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     setNote(null);
     // INTERRUPT, and any order to a lost vehicle, waits for the operator's confirmation
     if (action === "INTERRUPT" || isLost(t.vehicle)) setPending({ kind: "synch", target: identity(t.vehicle), lost: isLost(t.vehicle), task: t, action });
-    else run(synchTask(t.taskId, action, token));
+    else run(`${SYNCH_WORDS[action]} of task ${t.taskId} for ${vehicleLabel(identity(t.vehicle))}`, synchTask(t.taskId, action, token));
   };
 
   if (offReason) {
@@ -246,7 +247,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         <a className="button" href={exportHref} download="worldmodel.geojson">
           Export GeoJSON
         </a>
-        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run(putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
+        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run("World model", putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
           Send world model
         </button>
         {dirty && (
