@@ -315,6 +315,8 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
     (["--domain", "x"], "--domain: 'x' is not a number"),
     (["--fault", "explode"], "unknown fault 'explode'"),
     (["--fault", "reject:zero"], "must be a vehicle number"),
+    (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: no vehicle 3 here, this simulator runs vehicles 1..2"),
+    (["--first-vehicle", "4", "--fault", "ins-failure:1"], "no vehicle 1 here, this simulator runs vehicles 4..4"),
     (["--fix-rate", "50"], "--fix-rate: 50 is outside 1..10"),
     (["--nope"], "unrecognized arguments: --nope"),
 ])

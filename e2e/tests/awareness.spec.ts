@@ -103,6 +103,9 @@ test("a vehicle lost while the page is scrolled to the commands is in the viewpo
     await expect(commands).toBeInViewport(); // nothing scrolled the operator away from the commands
     await expect.poll(() => titleCount(page)).toBeGreaterThanOrEqual(before + stack.vehicles.length);
     await expect(page.getByTestId("fleet-alarms")).toHaveText(/^[1-9]\d* unacknowledged alarms?$/);
+    // and a screen reader is told, in words, as the tone tells the room
+    await expect(page.getByRole("alert").filter({ hasText: "link lost" })).toHaveAttribute("data-testid", "alarm-announcement");
+    await expect(page.getByTestId("alarm-announcement")).toContainText(/^Alarm: .*: link lost, since \d\d:\d\d:\d\d UTC/);
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
@@ -159,8 +162,10 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
     await ack.click();
     await expect(entry.getByRole("alert")).toHaveText("Not acknowledged: console unreachable");
     await page.unroute("**/api/alarms/*/ack");
-    await ack.click();
+    await ack.focus(); // by keyboard: the button goes with the acknowledgement, the focus stays in the alarm list
+    await page.keyboard.press("Enter");
     await expect(entry).toHaveAttribute("data-state", "active-acknowledged"); // the INS still fails: active, acknowledged
+    await expect(region.locator(".alarm-list :focus")).toHaveCount(1);
     await expect(entry).toContainText("Acknowledged");
     await expect(entry.getByRole("alert")).toHaveCount(0);
     const kept = (await alarms(request, extra.url)).find((a) => a.kind === "ins-failure" && a.providerId === id);

@@ -73,6 +73,14 @@ test("Move-to armed for Charlie, then another vehicle selected: nothing is armed
   await expect(row).toHaveAttribute("data-vehicle", a);
   await expect(row.getByTestId("task-vehicle")).toContainText(VEHICLE_3_NAME);
   await expect(move).toHaveText("Move to…");
+
+  // an order that does not get through says which order and which vehicle, the confirmation that named them gone
+  await page.route("**/api/tasks", (route) => (route.request().method() === "POST" ? route.abort("connectionrefused") : route.continue()));
+  await armMove(page, labelA);
+  await move.click();
+  await page.getByRole("dialog", { name: "Confirm move-to" }).getByRole("button", { name: "Send move" }).click();
+  await expect(page.getByTestId("comap-error")).toHaveText(`Move-to for ${labelA} not sent: console unreachable`);
+  await page.unroute("**/api/tasks");
 });
 
 test("a command to a lost vehicle says it is lost and is sent only on an explicit confirmation; unanswered, it can be cancelled", async ({ page, request }) => {
@@ -142,6 +150,9 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await cmd.getByRole("button", { name: "Cancel" }).click();
     await expect.poll(async () => ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean }).cancelRequested).toBe(true);
     await expect(cmd).toContainText("cancel requested");
+    // no "Cancel it" left where there is no Cancel button any more
+    await expect(cmd.getByTestId("unanswered")).toContainText("Cancel requested: it may not hear the cancel either");
+    await expect(cmd.getByTestId("unanswered")).not.toContainText("Cancel it if");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }

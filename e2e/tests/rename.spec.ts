@@ -36,7 +36,16 @@ test("rename the selected vehicle: needs the token, Esc cancels, a refusal in wo
     await expect(form).toHaveCount(0);
     await expect(vehicle(page, id).getByTestId("vehicle-tag")).toContainText("Harbour Pilot");
     expect((await (await request.get(`${guarded.url}/api/providers/${id}`)).json()).name).toBe("Harbour Pilot");
+
+    // an alarm raised before a rename names the vehicle by its name now, as the rest of the page does
+    const rejecting = load().vehicles[1]; // --fault reject:2: its command fails, an alarm
+    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(201);
+    const alarm = page.getByTestId("alarm").filter({ hasText: `${rejecting.slice(0, 8)}: GPS fix command failed` }).first();
+    await expect(alarm).toBeVisible();
+    expect((await request.put(`${guarded.url}/api/providers/${rejecting}/name`, { data: { name: "Tug Two" }, headers: auth })).status()).toBe(200);
+    await expect(alarm.getByTestId("vehicle-tag")).toContainText("Tug Two");
   } finally {
+    await request.put(`${guarded.url}/api/providers/${load().vehicles[1]}/name`, { data: { name: null }, headers: auth });
     await request.put(`${guarded.url}/api/providers/${id}/name`, { data: { name: null }, headers: auth }); // the file is shared
     await guarded.stop();
   }

@@ -201,6 +201,7 @@ test.describe.serial("replay of a recording", () => {
     await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
     await expect(page.getByTestId("replay-badge")).toContainText(recorded.file);
     await expect(page.getByTestId("connection-state")).toHaveText("Connected");
+    await expect(page).toHaveTitle(/Replay · SEM Console$/); // beside a live console's tab, never taken for one
     await expect(page.getByTestId("replay-bar")).toBeVisible();
     await expect(page.getByTestId("vehicle")).toHaveCount(3); // the three vehicles on the bus when it was recorded
     await expect(vehicle(page, recorded.vehicleId)).toHaveAttribute("aria-pressed", "true");

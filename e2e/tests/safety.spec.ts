@@ -43,6 +43,18 @@ test("wrong vehicle: INS OFF on A, select B, Confirm is gone and nothing is sent
   await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON", { timeout: 30_000 }); // leave A as it was
 });
 
+test("a double click on a command button sends the command once", async ({ page, request }) => {
+  const a = await open(page, 0);
+  const before = new Set((await history(request)).map((c) => c.sessionId));
+  const statuses = async () => {
+    const all = (await (await request.get(`${load().url}/api/commands?limit=1000`)).json()) as { sessionId: string; providerId: string; status: string | null }[];
+    return all.filter((c) => !before.has(c.sessionId) && c.providerId === a).map((c) => c.status);
+  };
+  await page.getByRole("button", { name: "INS ON", exact: true }).dblclick();
+  // twice sent, the first would be superseded by the second and end FAILED beside it
+  await expect.poll(statuses, { timeout: 30_000 }).toEqual(["COMPLETED"]);
+});
+
 test("the selection survives a reconnect and a backend restart, lives in ?vehicle= and opens from a link", async ({ page }) => {
   const stack = load();
   const b = stack.vehicles[2];

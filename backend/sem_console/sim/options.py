@@ -6,7 +6,7 @@ import uuid
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.config import ENV_ONLY, cli
@@ -90,6 +90,17 @@ class SimOptions(BaseModel):
                 faults.setdefault(target, set()).add(kind)
             return faults
         return value
+
+    @model_validator(mode="after")
+    def _faults_hit_a_vehicle(self) -> SimOptions:
+        """A fault for a vehicle this simulator does not run would inject nothing, and a test scenario relying on it
+        would pass without its fault."""
+        for number in sorted(self.faults):
+            if number and number not in self.numbers:
+                kinds = ", ".join(f"{k}:{number}" for k in sorted(self.faults[number]))
+                raise ValueError(f"--fault {kinds}: no vehicle {number} here, this simulator runs vehicles "
+                                 f"{self.numbers.start}..{self.numbers.stop - 1} (--first-vehicle, --vehicles)")
+        return self
 
     @property
     def numbers(self) -> range:

@@ -78,6 +78,9 @@ describe("the tab title", () => {
     expect(pageTitle(2)).toBe("(2) SEM Console");
     expect(pageTitle(unacknowledged([alarm(1), alarm(2, { state: "cleared-unacknowledged" }), alarm(3, { state: "active-acknowledged" })]).length)).toBe("(2) SEM Console");
     expect(pageTitle(0)).toBe("SEM Console");
+    expect(pageTitle(2, true)).toBe("(2) Replay · SEM Console"); // a replay's alarms never pass for a live console's
+    expect(pageTitle(0, true)).toBe("Replay · SEM Console");
+    expect(pageTitle(2, false, true)).toBe("(2) Console unreachable · SEM Console"); // the count may be out of date
   });
 });
 
@@ -89,6 +92,9 @@ describe("the tone's new alarms", () => {
     expect(news.take([alarm(2, { state: "cleared-unacknowledged" }), alarm(1)])).toEqual([]);
     expect(news.take([alarm(3, { state: "active-acknowledged" })])).toEqual([]); // acknowledged elsewhere first
     expect(news.take([alarm(4, { severity: "warning" })]).map((a) => a.id)).toEqual([4]);
+    // lost, back (cleared, not acknowledged) and lost again: the console raises the same alarm anew, since moved on
+    expect(news.take([alarm(2, { state: "cleared-unacknowledged", clearedAt: 1010 })])).toEqual([]);
+    expect(news.take([alarm(2, { since: 1020 })]).map((a) => a.id)).toEqual([2]);
   });
 });
 

@@ -64,6 +64,16 @@ describe("reducer", () => {
     expect(Object.keys(s.commands)).toEqual(["s1"]);
   });
 
+  it("a GPSReport sent again whole on a select keeps when it arrived: a silent vehicle selected is not heard from now", () => {
+    const s = apply([snapshot()]); // the vehicle's GPSReport arrived 2 s before the snapshot, at 998
+    const again = reportMessage(P, "GPSReport", { satellites: [{ azimuth: 1 }], numberSatellitesInView: 1 }, [], 1); // the same sample
+    const after = reduce(s, again, 1100);
+    expect(after.providers[P].topics.GPSReport!.at).toBe(998);
+    expect(report(after.providers[P], "GPSReport")?.satellites).toHaveLength(1); // its satellites taken all the same
+    const newer = reduce(after, reportMessage(P, "GPSReport", { satellites: [] }, [], 2), 1101);
+    expect(newer.providers[P].topics.GPSReport!.at).toBe(1101); // a new sample arrived now
+  });
+
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
     const other = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
     const appeared = { type: "provider", event: "appeared", provider: { id: "third", name: "Alpha", link: "live", ageSeconds: 0, topics: {} } } as unknown as ServerMessage;

@@ -39,6 +39,30 @@ export function useStore(): Store {
   return useData().store;
 }
 
+/** `fn` of the state's vehicles, computed once per map of vehicles: a selector is called on every change of the
+ * store (each frame with reports) and each render, and with 250 vehicles these walked and sorted them all each time. */
+export function perProviders<T>(fn: (providers: State["providers"]) => T): (s: State) => T {
+  let last: State["providers"] | null = null;
+  let value: T;
+  return (s) => {
+    if (s.providers !== last) {
+      last = s.providers;
+      value = fn(s.providers);
+    }
+    return value;
+  };
+}
+
+/** Every named vehicle's name as one string (stable while no name changes, unlike the providers themselves,
+ * which change with every report): "id=name\n…". */
+const vehicleNames = perProviders((providers) => Object.values(providers).filter((p) => p.name).map((p) => `${p.id}=${p.name}`).sort().join("\n"));
+
+/** Each named vehicle's name now, by id (a rename shows at once wherever a vehicle is named from its id). */
+export function useVehicleNames(): Map<string, string> {
+  const names = useSelector(vehicleNames);
+  return useMemo(() => new Map(names ? names.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1)] as [string, string]) : []), [names]);
+}
+
 export function useSelector<T>(select: (s: State) => T): T {
   const { store } = useData();
   return useSyncExternalStore(store.subscribe, () => select(store.getState()));

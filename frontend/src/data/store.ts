@@ -226,7 +226,11 @@ function reported(before: ProviderView | undefined, msg: TypedReportMessage, now
   const { providerId, topic } = msg;
   const b = before ?? emptyProvider(providerId, "live");
   const prevView = b.topics[topic];
-  const at = { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  // the sample it already has, sent again (the console sends the latest GPSReport whole to a client that has just
+  // selected the vehicle): it arrived when it first did, or selecting a vehicle silent for minutes, or lost, would
+  // show it heard from just now (its age, "stale", "lost for", a lost command's confirmation)
+  const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
+  const at = again ? { at: prevView.at, interval: prevView.interval } : { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
     const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];
@@ -377,8 +381,11 @@ export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
 }
 
 /** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */
-export function pageTitle(unacknowledgedCount: number): string {
-  return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) SEM Console` : "SEM Console";
+export function pageTitle(unacknowledgedCount: number, replay = false, unreachable = false): string {
+  // a replay's tab says so: its alarms are history, and beside a live console's tab it must not pass for one; and a
+  // console out of reach: no alarm nor loss can reach the page, whatever the count says
+  const name = `${unreachable ? "Console unreachable · " : ""}${replay ? "Replay · " : ""}SEM Console`;
+  return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) ${name}` : name;
 }
 
 /** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */

@@ -58,18 +58,21 @@ export function beep(): void {
   }
 }
 
-/** Which alarms are new to this page: an unacknowledged alarm whose id it has not seen before. The first
- * set it is given (the page's first snapshot) is taken as seen: those alarms are on screen when the page
- * opens. An alarm seen once does not sound again (cleared, acknowledged, or after a reconnect). */
+/** Which alarms are new to this page: an unacknowledged alarm it has not seen raised before, by its id and since (a
+ * condition back before it was acknowledged, e.g. a vehicle lost, back and lost again, keeps its id and is raised
+ * anew with a new since: it sounds again). The first set it is given (the page's first snapshot) is taken as seen:
+ * those alarms are on screen when the page opens. An alarm seen once does not sound again (cleared, acknowledged,
+ * or after a reconnect). */
 export class NewAlarms {
-  private seen: Set<number> | null = null;
+  private seen: Set<string> | null = null;
 
   /** The alarms of `alarms` new since the last call (none on the first call). */
   take(alarms: readonly Alarm[]): Alarm[] {
     const first = this.seen === null;
     const seen = (this.seen ??= new Set());
-    const fresh = alarms.filter((a) => !seen.has(a.id) && a.state !== "active-acknowledged");
-    for (const a of alarms) seen.add(a.id);
+    const raised = (a: Alarm) => `${a.id}@${a.since}`;
+    const fresh = alarms.filter((a) => !seen.has(raised(a)) && a.state !== "active-acknowledged");
+    for (const a of alarms) seen.add(raised(a));
     return first ? [] : fresh;
   }
 }

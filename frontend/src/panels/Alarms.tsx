@@ -1,13 +1,13 @@
 // The alarm list: the console's active alarm set (derived from state and kept by the server, so a new or
 // reloaded page shows what is active), newest first. Each entry names its vehicle and selects it on click;
 // acknowledging is an operator action the console audits.
-import { useState } from "react";
+import { useEffect, useRef, useState } from "react";
 import type { Alarm } from "../api/generated/ws";
 import { ApiError, ackAlarm } from "../api/rest";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useNow, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useNow, useSelector, useStore, useVehicleNames } from "../data/hooks";
 import { select, unacknowledged } from "../data/store";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
@@ -31,6 +31,7 @@ function failure(e: unknown): string {
 
 export function AlarmsPanel() {
   const alarms = useAlarms();
+  const names = useVehicleNames();
   const store = useStore();
   const token = useToken();
   const { command } = useCapabilities(); // a replay acknowledges nothing
@@ -41,8 +42,22 @@ export function AlarmsPanel() {
   const [busy, setBusy] = useState(false);
   const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
   const open = unacknowledged(alarms);
+  // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
+  // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm.
+  const list = useRef<HTMLUListElement>(null);
+  const focusAfter = useRef<number | null>(null); // the place in the list of the Acknowledge pressed
+  useEffect(() => {
+    const at = focusAfter.current;
+    const active = document.activeElement;
+    if (at === null || (active !== null && active !== document.body)) return; // not dropped (yet), or moved on
+    focusAfter.current = null;
+    const entries = [...(list.current?.querySelectorAll<HTMLElement>(".alarm-entry") ?? [])];
+    const next = entries.slice(at).find((e) => e.querySelector(".alarm-ack")) ?? entries[Math.min(at, entries.length - 1)];
+    (next?.querySelector<HTMLElement>(".alarm-ack") ?? next?.querySelector<HTMLElement>(".alarm-main"))?.focus();
+  });
 
   const ack = async (ids: number[]) => {
+    if (busy) return;
     setBusy(true);
     const failed: Record<number, string> = {};
     // one at a time: the console has no "acknowledge all", and each is audited on its own
@@ -53,6 +68,7 @@ export function AlarmsPanel() {
         failed[id] = failure(e);
       }
     }
+    if (Object.keys(failed).length) focusAfter.current = null; // its button stays, and so does the focus
     setErrors((old) => {
       const next = { ...old };
       for (const id of ids) delete next[id];
@@ -86,12 +102,14 @@ export function AlarmsPanel() {
       {sorted.length === 0 ? (
         <p className="muted">No active alarms.</p>
       ) : (
-        <ul className="alarm-list" aria-label="Active alarms">
-          {sorted.map((a) => {
+        <ul className="alarm-list" aria-label="Active alarms" ref={list}>
+          {sorted.map((a, index) => {
             const sev = SEVERITY[a.severity];
             const acked = a.state === "active-acknowledged";
-            // the console names the vehicle: its configured name, else its short id (then it has no name)
-            const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
+            // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
+            // console gave it when raised: its configured name, or its short id (then it had none)
+            const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
+            const vehicle = a.providerId ? { id: a.providerId, name: names.get(a.providerId) ?? raisedAs } : null;
             return (
               <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
                 <button
@@ -114,7 +132,15 @@ export function AlarmsPanel() {
                   </span>
                 </button>
                 {mayAck && !acked && (
-                  <button className="small alarm-ack" disabled={busy} onClick={() => void ack([a.id])} aria-label={`Acknowledge: ${a.text}`}>
+                  <button
+                    className="small alarm-ack"
+                    aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
+                    onClick={() => {
+                      focusAfter.current = index;
+                      void ack([a.id]);
+                    }}
+                    aria-label={`Acknowledge: ${a.text}`}
+                  >
                     Acknowledge
                   </button>
                 )}

@@ -10,9 +10,8 @@ import { createTask, problemText, putWorldModel, synchTask, type Capability, typ
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useSelectedVehicle, useSelector } from "../data/hooks";
+import { perProviders, useCapabilities, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
-import type { State } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
@@ -74,20 +73,6 @@ function pendingName(p: Pending): string {
   return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
 }
 
-/** `fn` of the state's vehicles, computed once per map of vehicles: a selector is called on every change of the
- * store (each frame with reports) and each render, and with 250 vehicles these walked and sorted them all each time. */
-function perProviders<T>(fn: (providers: State["providers"]) => T): (s: State) => T {
-  let last: State["providers"] | null = null;
-  let value: T;
-  return (s) => {
-    if (s.providers !== last) {
-      last = s.providers;
-      value = fn(s.providers);
-    }
-    return value;
-  };
-}
-
 /** The ids of the vehicles whose link is lost, as one string (stable while no link changes). */
 const lostVehicles = perProviders((providers) =>
   Object.values(providers)
@@ -96,10 +81,6 @@ const lostVehicles = perProviders((providers) =>
     .sort()
     .join("\n"),
 );
-
-/** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves,
- * which change with every report): "id=name\n…". */
-const vehicleNames = perProviders((providers) => Object.values(providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n"));
 
 const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";
 const COMAP_ABSENT = "CoMap is off: this console has no CoMap (it answers 404).";
@@ -121,7 +102,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
   const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
-  const names = useSelector(vehicleNames);
+  const nameOf = useVehicleNames();
   const lostIds = useSelector(lostVehicles);
   const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
@@ -135,7 +116,6 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const [pending, setPending] = useState<Pending | null>(null);
   const taskList = useTasks();
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
-  const nameOf = useMemo(() => new Map(names.split("\n").map((l) => l.split("=") as [string, string])), [names]);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
   const lostSet = useMemo(() => new Set(lostIds.split("\n")), [lostIds]);
   const isLost = (id: string): boolean => lostSet.has(id);
@@ -158,10 +138,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     if (tool === "move-target" && armed === null) setTool("select");
   }, [tool, armed, setTool]);
 
-  const run = (p: Promise<unknown>) => {
+  // a refusal names the order and its vehicle: the confirmation that named them is gone by the time it comes
+  const run = (what: string, p: Promise<unknown>) => {
     setError(null);
     setNote(null);
-    p.catch((e: unknown) => setError(problemText(e)));
+    p.catch((e: unknown) => setError(`${what} not sent: ${problemText(e)}`));
   };
   // a new feature's id is above every id used so far (a survey's CoverageState for a deleted #n must not colour it)
   const freshId = () => nextFeatureId([model, consoleModel], [...deleted, ...taskList.map((t) => t.featureId)]);
@@ -199,11 +180,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     const to = p.target.id; // the vehicle it was prepared for, whatever is selected now
     if (p.kind === "move") {
       setArmed(null);
-      run(createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
+      run(`Move-to for ${vehicleLabel(p.target)}`, createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
     } else if (p.kind === "survey") {
-      run(createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
+      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
     } else {
-      run(synchTask(p.task.taskId, p.action, token));
+      run(`${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`, synchTask(p.task.taskId, p.action, token));
     }
   };
   const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline }));
@@ -222,7 +203,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     setNote(null);
     // INTERRUPT, and any order to a lost vehicle, waits for the operator's confirmation
     if (action === "INTERRUPT" || isLost(t.vehicle)) setPending({ kind: "synch", target: identity(t.vehicle), lost: isLost(t.vehicle), task: t, action });
-    else run(synchTask(t.taskId, action, token));
+    else run(`${SYNCH_WORDS[action]} of task ${t.taskId} for ${vehicleLabel(identity(t.vehicle))}`, synchTask(t.taskId, action, token));
   };
 
   if (offReason) {
@@ -266,7 +247,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         <a className="button" href={exportHref} download="worldmodel.geojson">
           Export GeoJSON
         </a>
-        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run(putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
+        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run("World model", putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
           Send world model
         </button>
         {dirty && (

@@ -1,4 +1,4 @@
-import { useMemo, useState } from "react";
+import { useMemo, useRef, useState } from "react";
 import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Confirm } from "../components/Confirm";
@@ -81,7 +81,9 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
       {c.unanswered && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
           <strong>No answer: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
-          hears it, late. Cancel it if it should not run then.
+          hears it, late.{" "}
+          {/* once cancelled (no Cancel button any more), what is left to know: the cancel may not reach it either */}
+          {c.cancelRequested ? "Cancel requested: it may not hear the cancel either; watch it when it answers." : "Cancel it if it should not run then."}
         </li>
       )}
       {c.cancelRequested && !c.terminal && <li className="muted">cancel requested{c.canceledBy ? ` by ${c.canceledBy}` : ""}…</li>}
@@ -207,6 +209,13 @@ export function CommandsPanel() {
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
+  // A double click is one order: its second click (detail 2) is ignored, and while a request is on its way the
+  // buttons wait for its answer, so a second click or Enter does not send the command twice (the second would
+  // supersede the first, which then shows as failed). A ref, read by the handlers: the second click can come before
+  // a render; and the buttons only say so (aria-disabled): a disabled button would drop the keyboard focus of the
+  // operator who just pressed it.
+  const [sending, setSending] = useState(false);
+  const inFlight = useRef(false);
   const unreachable = connection === "reconnecting" || connection === "offline";
   const lost = known?.link === "lost";
   const canCommand = mayCommand && !!known && (!authRequired || !!token) && !unreachable;
@@ -223,15 +232,26 @@ export function CommandsPanel() {
   }
 
   const run = async (target: VehicleIdentity, what: string, fn: () => Promise<Command>) => {
+    if (inFlight.current) {
+      // e.g. a confirmation opened before, confirmed while another request is on its way: said, never dropped silently
+      setNote(`${what} for ${vehicleLabel(target)} not sent: another request was on its way. Try again.`);
+      return;
+    }
+    inFlight.current = true;
+    setSending(true);
     setError(null);
     setNote(null);
     try {
       await fn();
     } catch (e) {
       setError(`${what} on ${vehicleLabel(target)}: ${problemText(e)}`);
+    } finally {
+      inFlight.current = false;
+      setSending(false);
     }
   };
   const act = (a: Action, t: VehicleIdentity) => {
+    if (inFlight.current) return;
     setNote(null);
     if (a.confirm || lost) setPending({ action: a, target: t, lost });
     else void run(t, a.label, () => a.run(t.id, token, false));
@@ -259,14 +279,15 @@ export function CommandsPanel() {
       )}
       {target && lost && lostSince !== null && (
         <p className="alarm" role="status" data-testid="command-lost">
-          <LostFor target={target} since={lostSince} />. A command waits until it is heard again; each one asks you to confirm.
+          <LostFor target={target} since={lostSince} />.
+          {mayCommand && " A command waits until it is heard again; each one asks you to confirm."/* a replay sends none */}
         </p>
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target} title={target ? why(a, target) : undefined} onClick={() => target && act(a, target)} data-lost={lost ? "true" : undefined}>
+          <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
-            {lost && " (vehicle lost)"}
+            {lost && mayCommand && " (vehicle lost)"}
           </button>
         ))}
       </div>
@@ -312,7 +333,7 @@ export function CommandsPanel() {
           key={target.id}
           target={target}
           live={commands}
-          canCommand={canCommand}
+          canCommand={canCommand && !sending}
           onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
         />
       )}

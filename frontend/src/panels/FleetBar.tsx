@@ -2,7 +2,7 @@
 // unacknowledged alarms, held at the top of the page, so whatever the operator has scrolled to, a lost
 // vehicle or a new alarm is in view. It also carries the page's alarm annunciation (the tab title and
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
-import { memo, useEffect, useMemo, useRef } from "react";
+import { memo, useEffect, useMemo, useRef, useState } from "react";
 import type { Alarm } from "../api/generated/ws";
 import type { LinkState } from "../api/types";
 import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
@@ -12,7 +12,7 @@ import { pageTitle, report, select, unacknowledged, type ProviderView } from "..
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { umaa } from "../lib/labels";
 import { NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
-import { DASH } from "../lib/units";
+import { DASH, utc } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
 
@@ -122,20 +122,29 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
   );
 });
 
-/** The tab title counts the unacknowledged alarms; a new one sounds the tone unless muted (not in a replay). */
-function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boolean): void {
-  const { command } = useCapabilities(); // a replay's alarms are history: no sound
+/** The tab title counts the unacknowledged alarms; a new one sounds the tone unless muted and is said to a screen
+ * reader (the returned words, for a live region), not in a replay. */
+function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boolean): string {
+  const { command, playback } = useCapabilities(); // a replay's alarms are history: no sound, and its title says so
   const ready = useSelector((s) => s.consoleId !== null); // the first snapshot is in
   const news = useRef(new NewAlarms());
+  const [said, setSaid] = useState("");
   useEffect(() => unlockAudioOnGesture(), []);
+  const conn = useConnectionState();
+  const unreachable = conn === "reconnecting" || conn === "offline";
   useEffect(() => {
-    document.title = pageTitle(unacked);
-  }, [unacked]);
+    document.title = pageTitle(unacked, playback, unreachable);
+  }, [unacked, playback, unreachable]);
   useEffect(() => {
     if (!ready) return;
     const fresh = news.current.take(alarms);
-    if (fresh.length && command && !muted) beep();
+    if (!fresh.length || !command) return;
+    if (!muted) beep();
+    // the tone's words: a screen reader hears no colour, and the tone may be muted or not heard (its "since" makes
+    // an alarm raised again with the same text a change the live region says again)
+    setSaid(fresh.map((a) => `${a.severity === "alarm" ? "Alarm" : "Warning"}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`).join(". "));
   }, [alarms, ready, command, muted]);
+  return said;
 }
 
 const isBool = (v: unknown): v is boolean => typeof v === "boolean";
@@ -179,7 +188,7 @@ export function FleetBar() {
   const now = useNow(1000);
   const [muted, setMuted] = useSetting("sem-console.mute", false, isBool);
   const open = useMemo(() => unacknowledged(alarms), [alarms]);
-  useAnnunciation(alarms, open.length, muted);
+  const announced = useAnnunciation(alarms, open.length, muted);
   const onSelect = useMemo(() => (id: string) => store.update((s) => select(s, id)), [store]);
   const byVehicle = useMemo(() => {
     const m = new Map<string, number>();
@@ -201,6 +210,9 @@ export function FleetBar() {
   };
   return (
     <nav className="fleet-bar" data-testid="fleet-bar" aria-label="Fleet">
+      <div role="alert" className="visually-hidden" data-testid="alarm-announcement">
+        {announced}
+      </div>
       <div className="fleet-counts">
         <span className="fleet-counts" role="status">
           <span className={`fleet-count tone-${live ? "ok" : "muted"}`} data-testid="fleet-live">
