@@ -38,7 +38,7 @@ def main(argv: list[str] | None = None) -> int:
     try:  # the checks between options too: model validators of Settings
         settings = Settings(**given)
     except ValidationError as e:
-        parser.error(model_error(Settings, e))
+        parser.error(model_error(Settings, e, given))  # a value from the environment named by its SEM_* variable
     if settings.basemap is not None and (problem := check_basemap(settings.basemap)):
         parser.error(problem)
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):

@@ -107,6 +107,21 @@ def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixt
         "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
 
 
+@pytest.mark.parametrize("variable, value, line", [
+    ("SEM_REPORT_INTERVAL", "-1", "SEM_REPORT_INTERVAL: -1 is outside 0..10"),  # no option: --report-interval does not exist
+    ("SEM_PORT", "http", "SEM_PORT: Input should be a valid integer"),
+])
+def test_a_bad_environment_variable_of_sem_console_is_named(variable: str, value: str, line: str,
+                                                            monkeypatch: pytest.MonkeyPatch,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """The line named the option of the field (one that does not exist for an environment-only setting)."""
+    monkeypatch.setenv(variable, value)
+    with pytest.raises(SystemExit) as e:
+        cli.main([])
+    assert e.value.code == 2
+    assert capsys.readouterr().err.startswith(f"sem-console: error: {line}")
+
+
 def test_the_other_commands_refuse_a_bad_domain_in_one_line(monkeypatch: pytest.MonkeyPatch,
                                                            capsys: pytest.CaptureFixture[str]) -> None:
     """sem-sim, sem-replay and sem-check read their DDS settings from the environment (from_environment)."""
