@@ -6,7 +6,7 @@ import uuid
 from pathlib import Path
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.config import ENV_ONLY, cli
@@ -90,6 +90,16 @@ class SimOptions(BaseModel):
                 faults.setdefault(target, set()).add(kind)
             return faults
         return value
+
+    @model_validator(mode="after")
+    def _fault_targets(self) -> SimOptions:
+        """A fault for a vehicle this simulator does not run would be injected nowhere, and the operator told nothing."""
+        if missing := sorted(n for n in self.faults if n and n not in self.numbers):
+            last = self.numbers[-1]
+            runs = f"vehicle {last}" if len(self.numbers) == 1 else f"vehicles {self.numbers[0]}..{last}"
+            raise ValueError(f"--fault {sorted(self.faults[missing[0]])[0]}:{missing[0]}: this simulator runs {runs}: "
+                             "name one of them, or change --vehicles or --first-vehicle")
+        return self
 
     @property
     def numbers(self) -> range:
