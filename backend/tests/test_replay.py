@@ -17,9 +17,11 @@ from typing import Any
 import httpx
 import pytest
 from cyclonedds.core import InstanceState
+from mcap.exceptions import McapError
 
 from samplegen import random_sample
 from sem_console.console.decode import REPORT_TOPICS
+from sem_console.recording.reader import iter_messages, time_range
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from test_console import HAPPY, V1, WsClient, command, provider_ready, wait_command, wait_until
@@ -242,3 +244,25 @@ def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     assert httpx.get(f"{r.url}/api/metrics").json()["samplesDecoded"] == 64
     (cmd,) = httpx.get(f"{r.url}/api/commands").json()
     assert cmd["service"] == "GPSFix" and cmd["unanswered"] and cmd["transitions"] == []  # no ISSUED within 2 s
+
+
+def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: Path) -> None:
+    """A chunk whose zstd data is damaged raised ZstdError through the readers: a traceback from sem-replay, and
+    `sem-console --replay` failed its start-up. It ends the reading with one McapError that says so."""
+    path = synthetic_recording(tmp_path / "rec")
+    raw = bytearray(path.read_bytes())
+    frame = raw.index(b"\x28\xb5\x2f\xfd")  # the first chunk's zstd frame
+    raw[frame + 40:frame + 120] = bytes(80)
+    damaged = tmp_path / "damaged.mcap"
+    damaged.write_bytes(raw[:-200])  # without its summary, as after a crash: read from the start
+    with pytest.raises(McapError, match=r"a damaged chunk or record \("):
+        list(iter_messages(damaged, {"sem-console/commands", *(sem.spec.name for sem in REPORT_TOPICS)}))
+    assert time_range(damaged) is None
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(path.read_bytes()[:frame])
+    with pytest.raises(McapError, match="the file is cut short"):
+        list(iter_messages(cut, {"sem-console/commands"}))
+    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", "--domain", str(domain), "--wait", "0",
+                        str(damaged)], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert "the recording ends early: a damaged chunk or record (" in p.stderr
