@@ -234,7 +234,8 @@ def test_a_missing_recording_folder_is_not_made_before_it_is_needed(domain: int,
     assert not (tmp_path / "a").exists()
 
 
-@pytest.mark.parametrize("content, says", [(None, "cannot read"), (b"not a recording", "is not an MCAP file")])
+@pytest.mark.parametrize("content, says", [(None, "cannot read"), (b"not a recording", "is not an MCAP file"),
+                                           (b"", "is not an MCAP file: it ends before an MCAP header")])
 def test_a_replay_file_it_cannot_read_is_one_line(content: bytes | None, says: str, domain: int, tmp_path: Path) -> None:
     recording = tmp_path / "run.mcap"
     if content is not None:

@@ -82,6 +82,8 @@ def check_file(path: Path) -> str | None:
             make_reader(f).get_header()
     except OSError as e:
         return f"cannot read {path}: {e.strerror}"
-    except (McapError, ValueError, EOFError, StopIteration, struct.error) as e:
+    except (EndOfFile, EOFError, StopIteration):  # no message of their own
+        return f"{path} is not an MCAP file: it ends before an MCAP header (empty or cut short)"
+    except (McapError, ValueError, struct.error) as e:
         return f"{path} is not an MCAP file: {e}"
     return None
