@@ -19,6 +19,8 @@ from pydantic import ValidationError
 from sem_console.core.command_line import Parser, add_model_options, model_error
 from sem_console.core.config import Settings
 
+WS_MAX_MESSAGE_BYTES = 64 * 1024  # a bigger message from a WebSocket client closes its socket (1009, message too big)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The options of every field of Settings that has one (core/command_line.add_model_options), then --log-level."""
@@ -105,6 +107,9 @@ def main(argv: list[str] | None = None) -> int:
 
     config = uvicorn.Config(create_app(settings, store), host=settings.host, port=settings.port, log_level=args.log_level,
                             ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
+                            # a client's messages are small (ping, resync, ack, select: under 200 bytes); uvicorn's
+                            # default of 16 MiB let any client have megabytes parsed on the event loop, message after message
+                            ws_max_size=WS_MAX_MESSAGE_BYTES,
                             # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
                             # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)
                             proxy_headers=bool(settings.forwarded_allow_ips.strip()),

@@ -14,7 +14,7 @@ from typing import Any
 
 import httpx
 import pytest
-from websockets.exceptions import InvalidStatus
+from websockets.exceptions import ConnectionClosedError, InvalidStatus
 from websockets.sync.client import connect
 
 from conftest import free_udp_port
@@ -166,6 +166,16 @@ def test_a_huge_body_is_refused_before_it_is_read(console) -> None:
     assert [a["status"] for a in audit(c)] == [413, 413]  # audited as refused command requests
     small = httpx.post(route, json={"state": "ON", "x": "a" * 1000}, headers={"Authorization": "Bearer s3cret"})
     assert small.status_code == 422 and "body.x" in small.json()["detail"]  # read and judged as before
+    # a WebSocket message over 64 KiB closes that socket (uvicorn's default let 16 MiB be parsed, again and again)
+    with connect(c.url.replace("http", "ws") + "/ws") as ws:
+        ws.recv(timeout=10)  # the snapshot
+        ws.send('{"type": "select", "providerId": "' + "a" * (64 * 1024) + '"}')
+        with pytest.raises(ConnectionClosedError) as closed:
+            while True:
+                ws.recv(timeout=10)
+        assert closed.value.rcvd is not None and closed.value.rcvd.code == 1009
+    with connect(c.url.replace("http", "ws") + "/ws") as ws:  # the console serves on
+        assert '"snapshot"' in str(ws.recv(timeout=10))
 
 
 # ---- operator tokens ------------------------------------------------------------------------------
