@@ -65,7 +65,8 @@ def main(argv: list[str] | None = None) -> int:
     # not a traceback from the application's start-up (or uvicorn's "startup complete" and then a bind error)
     database = settings.database()
     if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
-        for problem in (check_database(database.path) if database.path is not None else None,
+        db_option = "--database-url" if settings.database_url is not None else "--db"  # the option the operator gave
+        for problem in (check_database(database.path, db_option) if database.path is not None else None,
                         check_directory("--record", settings.record) if settings.record else None,
                         # a folder given for the record control; the default one only gets a warning below
                         check_directory("--recordings-dir", settings.recordings_dir)
@@ -154,32 +155,32 @@ class StartError(Exception):
     """A port the console cannot listen on: its message is the one line the operator reads."""
 
 
-def check_database(path: Path) -> str | None:
+def check_database(path: Path, option: str = "--db") -> str | None:
     """Why the console cannot keep its history in `path`, or None. SQLite itself reads it (read-only,
     `PRAGMA quick_check`, about 0.3 s for 300 MB): the store would otherwise fail in the application's
     start-up with a long traceback. A missing or empty file is a new database."""
-    fix = "move it aside or pass another --db"
+    fix = f"move it aside or pass another {option}"
     if path.is_dir():
-        return f"--db {path} is a directory, not a database file: pass another --db"
+        return f"{option} {path} is a directory, not a database file: pass another {option}"
     # the store creates the directory, and WAL mode writes -wal and -shm files beside the database
     if problem := writable_directory(path.parent):
-        return f"--db {path}: {problem}: pass another --db"
+        return f"{option} {path}: {problem}: pass another {option}"
     if not path.exists():
         return None
     try:
         with open(path, "r+b"):  # the console writes to it: readable is not enough
             pass
     except OSError as e:
-        return f"--db {path}: cannot open it to read and write ({e.strerror or e}): fix its permissions, or {fix}"
+        return f"{option} {path}: cannot open it to read and write ({e.strerror or e}): fix its permissions, or {fix}"
     try:
         with closing(sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, timeout=10)) as db:
             problems = [str(row[0]) for row in db.execute("PRAGMA quick_check")]
     except sqlite3.DatabaseError as e:
         if getattr(e, "sqlite_errorname", "") in ("SQLITE_BUSY", "SQLITE_LOCKED"):
-            return f"--db {path} is locked by another process: stop it, or pass another --db"
-        return f"--db {path} is not a SQLite database or is damaged ({e}): {fix}"
+            return f"{option} {path} is locked by another process: stop it, or pass another {option}"
+        return f"{option} {path} is not a SQLite database or is damaged ({e}): {fix}"
     if problems != ["ok"]:
-        return f"--db {path} is damaged ({problems[0] if problems else 'no answer to PRAGMA quick_check'}): {fix}"
+        return f"{option} {path} is damaged ({problems[0] if problems else 'no answer to PRAGMA quick_check'}): {fix}"
     return None
 
 

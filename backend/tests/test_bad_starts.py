@@ -93,6 +93,12 @@ def test_a_database_it_cannot_use_is_one_line(make: Callable[[Path], Path], says
         assert "move it aside" in line
 
 
+def test_a_database_given_by_url_is_named_by_that_option(domain: int, tmp_path: Path) -> None:
+    """The line named --db, an option the operator never gave."""
+    line = refused(["--database-url", f"sqlite:///{corrupt(tmp_path)}"], domain)
+    assert f"--database-url {tmp_path / 'db'} is not a SQLite database" in line and "--db" not in line, line
+
+
 def test_a_database_in_place_of_a_file_is_one_line(domain: int, tmp_path: Path) -> None:
     (tmp_path / "file").write_text("not a directory")
     line = refused(["--db", str(tmp_path / "file" / "console.sqlite3")], domain)
