@@ -247,13 +247,20 @@ def parse_imc_id(text: str, where: str = "") -> int:
 
 
 def parse_peers(text: str) -> list[tuple[str, int]]:
-    """'host:port,host:port' -> [(host, port)]; ValueError with the item that is wrong."""
+    """'host:port,host:port' -> [(IPv4 address, port)]; ValueError with the item that is wrong. A host name is resolved
+    here, once: the console's asyncio transport sends only to addresses (a name raised ValueError on every send, a 500
+    from PUT /api/worldmodel and POST /api/tasks), and the IMC sockets are IPv4."""
     out: list[tuple[str, int]] = []
     for item in filter(None, (x.strip() for x in text.split(","))):
         host, sep, port = item.rpartition(":")
         if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
             raise ValueError(f"IMC peer {item!r} is not host:port")
-        out.append((host.strip("[]"), int(port)))
+        try:
+            address = socket.getaddrinfo(host.strip("[]"), int(port), socket.AF_INET, socket.SOCK_DGRAM)[0][4][0]
+        except (socket.gaierror, UnicodeError) as e:
+            raise ValueError(f"IMC peer {item!r}: {host} is not an IPv4 address or a host name this machine resolves "
+                             f"({getattr(e, 'strerror', None) or e})") from None
+        out.append((str(address), int(port)))
     return out
 
 
