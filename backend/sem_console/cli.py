@@ -43,6 +43,10 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(model_error(Settings, e, given))  # a value from the environment named by its SEM_* variable
     if settings.basemap is not None and (problem := check_basemap(settings.basemap)):
         parser.error(problem)
+    if settings.frontend_dir is not None and not (settings.frontend_dir / "index.html").is_file():
+        # the console served no dashboard then, and / answered {"detail": "Not Found"} with nothing said at start
+        parser.error(f"--frontend-dir {settings.frontend_dir} has no index.html: build the dashboard into it "
+                     "(cd frontend && npx vite build --outDir DIR) or pass another --frontend-dir")
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
@@ -130,7 +134,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def start_warnings(settings: Settings) -> list[str]:
+    from sem_console.main import DEFAULT_FRONTEND
+
     out = []
+    if settings.frontend_dir is None and not (DEFAULT_FRONTEND / "index.html").is_file():
+        out.append(f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
+                   "or pass --frontend-dir); the API and /ws work")
     beyond_loopback = settings.host not in ("127.0.0.1", "localhost", "::1")
     if beyond_loopback and not settings.operators():
         out.append(f"listening on {settings.host} with no operator token: anyone who reaches this port can command vehicles")

@@ -250,6 +250,12 @@ def test_a_replay_file_it_cannot_read_is_one_line(content: bytes | None, says: s
     assert str(recording) in line and says in line, line
 
 
+def test_a_frontend_dir_without_a_dashboard_is_one_line(domain: int, tmp_path: Path) -> None:
+    """It started, and / answered {"detail": "Not Found"} with nothing said."""
+    line = refused(["--db", str(tmp_path / "db"), "--frontend-dir", str(tmp_path / "nowhere")], domain)
+    assert f"--frontend-dir {tmp_path / 'nowhere'} has no index.html" in line, line
+
+
 def test_tls_files_that_are_not_a_certificate_and_key_are_one_line(domain: int, tmp_path: Path) -> None:
     pem = tmp_path / "not.pem"
     pem.write_text("-----BEGIN CERTIFICATE-----\nnot base64\n-----END CERTIFICATE-----\n")
@@ -265,6 +271,9 @@ def test_the_default_recording_folder_unwritable_is_only_a_warning(tmp_path: Pat
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv("SEM_RECORDINGS_DIR", raising=False)
+    (tmp_path / "dist").mkdir()
+    (tmp_path / "dist" / "index.html").write_text("<!doctype html>")
+    monkeypatch.setenv("SEM_FRONTEND_DIR", str(tmp_path / "dist"))  # a built dashboard, whether this tree has one or not
     assert start_warnings(Settings()) == []
     (tmp_path / "var").write_text("a file where the folder would go")
     assert start_warnings(Settings()) == [

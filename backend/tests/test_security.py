@@ -296,13 +296,18 @@ def test_start_warnings(tmp_path: Path) -> None:
     tokens = tmp_path / "tokens"
     tokens.write_text(TOKENS)
     tokens.chmod(0o644)
-    assert start_warnings(Settings()) == []
-    assert "no operator token" in start_warnings(Settings(host="0.0.0.0"))[0]
-    warned = start_warnings(Settings(host="10.0.0.5", operator_tokens_file=tokens))
+    (tmp_path / "dist").mkdir()
+    (tmp_path / "dist" / "index.html").write_text("<!doctype html>")
+
+    def settings(**given: Any) -> Settings:  # a built dashboard, whether this tree has one or not
+        return Settings(frontend_dir=tmp_path / "dist", **given)
+    assert start_warnings(settings()) == []
+    assert "no operator token" in start_warnings(settings(host="0.0.0.0"))[0]
+    warned = start_warnings(settings(host="10.0.0.5", operator_tokens_file=tokens))
     assert any("clear text" in w for w in warned) and any("chmod 600" in w for w in warned)
-    assert any("DNS rebinding" in w for w in start_warnings(Settings(allowed_hosts="localhost, *")))
+    assert any("DNS rebinding" in w for w in start_warnings(settings(allowed_hosts="localhost, *")))
     tokens.chmod(0o600)
-    assert start_warnings(Settings(host="10.0.0.5", operator_tokens_file=tokens, tls_certfile=tokens, tls_keyfile=tokens)) == []
+    assert start_warnings(settings(host="10.0.0.5", operator_tokens_file=tokens, tls_certfile=tokens, tls_keyfile=tokens)) == []
 
 
 def test_throttle_backs_off_and_forgets() -> None:
