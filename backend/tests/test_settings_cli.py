@@ -5,6 +5,7 @@ line), and an option and its SEM_* variable make the same Settings. In process: 
 from __future__ import annotations
 
 import argparse
+import uuid
 from pathlib import Path
 
 import pytest
@@ -105,6 +106,15 @@ def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixt
     assert e.value.code == 2
     assert capsys.readouterr().err == (
         "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
+
+
+@pytest.mark.parametrize("name", ["a\u202egnp.exe", "x" * 41, "two\nlines"])
+def test_vehicle_names_follow_the_dashboard_s_rules(name: str) -> None:
+    """A name the dashboard's PUT /api/providers/{id}/name refuses (bidirectional override, over 40, a line break)
+    was taken from --vehicle-names and shown in every label and alarm."""
+    with pytest.raises(ValidationError) as e:
+        Settings(vehicle_names=f"{uuid.UUID(int=1)}={name}")
+    assert "printable characters only" in model_error(Settings, e.value)
 
 
 @pytest.mark.parametrize("variable, value, line", [
