@@ -266,3 +266,13 @@ def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: 
                         str(damaged)], capture_output=True, text=True, timeout=30)
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
     assert "the recording ends early: a damaged chunk or record (" in p.stderr
+
+
+@pytest.mark.parametrize("args, says", [(["--speed", "inf"], "--speed: inf is outside 0.01..1000"),
+                                        (["--wait", "nan"], "--wait: nan is outside 0..3600"),
+                                        (["--domain", "233"], "--domain: 233 is outside 0..232")])
+def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], says: str, tmp_path: Path) -> None:
+    """--speed inf published the whole file at once and --wait nan waited on; both were taken."""
+    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(tmp_path / "x.mcap"), "--domain", "1",
+                        *args], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr
