@@ -19,6 +19,8 @@ from pydantic import ValidationError
 from sem_console.core.command_line import Parser, add_model_options, model_error
 from sem_console.core.config import Settings
 
+WS_MAX_MESSAGE_BYTES = 64 * 1024  # a bigger message from a WebSocket client closes its socket (1009, message too big)
+
 
 def build_parser() -> argparse.ArgumentParser:
     """The options of every field of Settings that has one (core/command_line.add_model_options), then --log-level."""
@@ -38,9 +40,13 @@ def main(argv: list[str] | None = None) -> int:
     try:  # the checks between options too: model validators of Settings
         settings = Settings(**given)
     except ValidationError as e:
-        parser.error(model_error(Settings, e))
+        parser.error(model_error(Settings, e, given))  # a value from the environment named by its SEM_* variable
     if settings.basemap is not None and (problem := check_basemap(settings.basemap)):
         parser.error(problem)
+    if settings.frontend_dir is not None and not (settings.frontend_dir / "index.html").is_file():
+        # the console served no dashboard then, and / answered {"detail": "Not Found"} with nothing said at start
+        parser.error(f"--frontend-dir {settings.frontend_dir} has no index.html: build the dashboard into it "
+                     "(cd frontend && npx vite build --outDir DIR) or pass another --frontend-dir")
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
@@ -63,7 +69,8 @@ def main(argv: list[str] | None = None) -> int:
     # not a traceback from the application's start-up (or uvicorn's "startup complete" and then a bind error)
     database = settings.database()
     if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
-        for problem in (check_database(database.path) if database.path is not None else None,
+        db_option = "--database-url" if settings.database_url is not None else "--db"  # the option the operator gave
+        for problem in (check_database(database.path, db_option) if database.path is not None else None,
                         check_directory("--record", settings.record) if settings.record else None,
                         # a folder given for the record control; the default one only gets a warning below
                         check_directory("--recordings-dir", settings.recordings_dir)
@@ -105,6 +112,9 @@ def main(argv: list[str] | None = None) -> int:
 
     config = uvicorn.Config(create_app(settings, store), host=settings.host, port=settings.port, log_level=args.log_level,
                             ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
+                            # a client's messages are small (ping, resync, ack, select: under 200 bytes); uvicorn's
+                            # default of 16 MiB let any client have megabytes parsed on the event loop, message after message
+                            ws_max_size=WS_MAX_MESSAGE_BYTES,
                             # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
                             # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)
                             proxy_headers=bool(settings.forwarded_allow_ips.strip()),
@@ -124,7 +134,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def start_warnings(settings: Settings) -> list[str]:
+    from sem_console.main import DEFAULT_FRONTEND
+
     out = []
+    if settings.frontend_dir is None and not (DEFAULT_FRONTEND / "index.html").is_file():
+        out.append(f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
+                   "or pass --frontend-dir); the API and /ws work")
     beyond_loopback = settings.host not in ("127.0.0.1", "localhost", "::1")
     if beyond_loopback and not settings.operators():
         out.append(f"listening on {settings.host} with no operator token: anyone who reaches this port can command vehicles")
@@ -149,32 +164,32 @@ class StartError(Exception):
     """A port the console cannot listen on: its message is the one line the operator reads."""
 
 
-def check_database(path: Path) -> str | None:
+def check_database(path: Path, option: str = "--db") -> str | None:
     """Why the console cannot keep its history in `path`, or None. SQLite itself reads it (read-only,
     `PRAGMA quick_check`, about 0.3 s for 300 MB): the store would otherwise fail in the application's
     start-up with a long traceback. A missing or empty file is a new database."""
-    fix = "move it aside or pass another --db"
+    fix = f"move it aside or pass another {option}"
     if path.is_dir():
-        return f"--db {path} is a directory, not a database file: pass another --db"
+        return f"{option} {path} is a directory, not a database file: pass another {option}"
     # the store creates the directory, and WAL mode writes -wal and -shm files beside the database
     if problem := writable_directory(path.parent):
-        return f"--db {path}: {problem}: pass another --db"
+        return f"{option} {path}: {problem}: pass another {option}"
     if not path.exists():
         return None
     try:
         with open(path, "r+b"):  # the console writes to it: readable is not enough
             pass
     except OSError as e:
-        return f"--db {path}: cannot open it to read and write ({e.strerror or e}): fix its permissions, or {fix}"
+        return f"{option} {path}: cannot open it to read and write ({e.strerror or e}): fix its permissions, or {fix}"
     try:
         with closing(sqlite3.connect(f"{path.resolve().as_uri()}?mode=ro", uri=True, timeout=10)) as db:
             problems = [str(row[0]) for row in db.execute("PRAGMA quick_check")]
     except sqlite3.DatabaseError as e:
         if getattr(e, "sqlite_errorname", "") in ("SQLITE_BUSY", "SQLITE_LOCKED"):
-            return f"--db {path} is locked by another process: stop it, or pass another --db"
-        return f"--db {path} is not a SQLite database or is damaged ({e}): {fix}"
+            return f"{option} {path} is locked by another process: stop it, or pass another {option}"
+        return f"{option} {path} is not a SQLite database or is damaged ({e}): {fix}"
     if problems != ["ok"]:
-        return f"--db {path} is damaged ({problems[0] if problems else 'no answer to PRAGMA quick_check'}): {fix}"
+        return f"{option} {path} is damaged ({problems[0] if problems else 'no answer to PRAGMA quick_check'}): {fix}"
     return None
 
 

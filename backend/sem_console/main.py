@@ -34,6 +34,11 @@ from sem_console.storage.database import Database, Unavailable
 log = logging.getLogger("sem-console")
 METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
 DEFAULT_FRONTEND = Path(__file__).resolve().parents[2] / "frontend" / "dist"
+# The largest request body taken (413 beyond, before it is read: a declared Content-Length at once, a chunked body as it
+# arrives): the largest a route takes is a world model of one IMC packet (64 KiB of IMC, a few hundred KiB of GeoJSON).
+# Without it a body of any size was read and parsed on the event loop before the token was checked: 300 MB from anyone
+# reaching the port held the loop 7 s and took 1.6 GB.
+MAX_BODY_BYTES = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -68,6 +73,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
             await gateways.stop()
 
     app = FastAPI(title="SEM Console", version=__version__, lifespan=lifespan,
+                  max_body_size=MAX_BODY_BYTES,
                   description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
                               "WebSocket messages on /ws are described by /api/ws-schema.")
     app.state.settings = settings

@@ -93,6 +93,12 @@ def test_a_database_it_cannot_use_is_one_line(make: Callable[[Path], Path], says
         assert "move it aside" in line
 
 
+def test_a_database_given_by_url_is_named_by_that_option(domain: int, tmp_path: Path) -> None:
+    """The line named --db, an option the operator never gave."""
+    line = refused(["--database-url", f"sqlite:///{corrupt(tmp_path)}"], domain)
+    assert f"--database-url {tmp_path / 'db'} is not a SQLite database" in line and "--db" not in line, line
+
+
 def test_a_database_in_place_of_a_file_is_one_line(domain: int, tmp_path: Path) -> None:
     (tmp_path / "file").write_text("not a directory")
     line = refused(["--db", str(tmp_path / "file" / "console.sqlite3")], domain)
@@ -234,13 +240,20 @@ def test_a_missing_recording_folder_is_not_made_before_it_is_needed(domain: int,
     assert not (tmp_path / "a").exists()
 
 
-@pytest.mark.parametrize("content, says", [(None, "cannot read"), (b"not a recording", "is not an MCAP file")])
+@pytest.mark.parametrize("content, says", [(None, "cannot read"), (b"not a recording", "is not an MCAP file"),
+                                           (b"", "is not an MCAP file: it ends before an MCAP header")])
 def test_a_replay_file_it_cannot_read_is_one_line(content: bytes | None, says: str, domain: int, tmp_path: Path) -> None:
     recording = tmp_path / "run.mcap"
     if content is not None:
         recording.write_bytes(content)
     line = refused(["--replay", str(recording)], domain)
     assert str(recording) in line and says in line, line
+
+
+def test_a_frontend_dir_without_a_dashboard_is_one_line(domain: int, tmp_path: Path) -> None:
+    """It started, and / answered {"detail": "Not Found"} with nothing said."""
+    line = refused(["--db", str(tmp_path / "db"), "--frontend-dir", str(tmp_path / "nowhere")], domain)
+    assert f"--frontend-dir {tmp_path / 'nowhere'} has no index.html" in line, line
 
 
 def test_tls_files_that_are_not_a_certificate_and_key_are_one_line(domain: int, tmp_path: Path) -> None:
@@ -258,6 +271,9 @@ def test_the_default_recording_folder_unwritable_is_only_a_warning(tmp_path: Pat
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.delenv("SEM_RECORDINGS_DIR", raising=False)
+    (tmp_path / "dist").mkdir()
+    (tmp_path / "dist" / "index.html").write_text("<!doctype html>")
+    monkeypatch.setenv("SEM_FRONTEND_DIR", str(tmp_path / "dist"))  # a built dashboard, whether this tree has one or not
     assert start_warnings(Settings()) == []
     (tmp_path / "var").write_text("a file where the folder would go")
     assert start_warnings(Settings()) == [

@@ -289,6 +289,21 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
     assert decode_packet(good)[1]["state"] == 2
 
 
+def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
+    """--imc-peers localhost:N: every send raised ValueError in the event loop's transport (it takes addresses
+    only), so PUT /api/worldmodel answered 500 and nothing was sent or counted."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as vehicle:
+        vehicle.bind(("127.0.0.1", 0))
+        vehicle.settimeout(10)
+        port = vehicle.getsockname()[1]
+        c = console("--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-peers", f"localhost:{port}")
+        model = {"type": "FeatureCollection", "features": [polygon_feature(square((36.8, -75.7), 0, 100), 1)]}
+        r = httpx.put(f"{c.url}/api/worldmodel", json=model)
+        assert r.status_code == 200, r.text
+        assert decode_packet(vehicle.recvfrom(65535)[0])[1].name == "WorldModel"
+    assert httpx.get(f"{c.url}/api/comap").json()["peers"] == [f"127.0.0.1:{port}"]
+
+
 def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
     import subprocess
     import sys
@@ -299,6 +314,7 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
         (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
         (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
         (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
+        (["-m", "sem_console.cli", "--imc-peers", "no-such-host.invalid:6002"], "is not an IPv4 address or a host name"),
     ]
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)

@@ -81,3 +81,16 @@ def test_uri_pointing_elsewhere_is_not_replaced_by_loopback(domain: int, tmp_pat
     assert proc.returncode == 2
     assert "sem-no-such-interface" in trace.read_text(errors="replace")
     assert "CYCLONEDDS_URI" in proc.stderr and "Traceback" not in proc.stderr + proc.stdout
+
+
+@pytest.mark.parametrize("peers, says", [("192.0.2.300", "'192.0.2.300' is not an IPv4 address"),
+                                         ("127.0.0.1,0.0.0.0", "'0.0.0.0' is the unspecified address"),
+                                         ("127.0.0.1:0", "the port must be 1..65535"), ("::1", "'::1' is not an IPv4")])
+def test_a_peer_cyclone_cannot_use_is_one_line(peers: str, says: str, domain: int, tmp_path: Path) -> None:
+    """Cyclone aborted the process on such a peer (SIGABRT, a segfault on 0.0.0.0), with no line naming the setting."""
+    proc = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
+                           str(tmp_path / "state.json"), *FAST], env={**os.environ, "SEM_DDS_PEERS": peers},
+                          capture_output=True, text=True, timeout=30)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stderr.splitlines() == [proc.stderr.strip()] and proc.stderr.startswith("sem-sim: SEM_DDS_PEERS: ")
+    assert says in proc.stderr

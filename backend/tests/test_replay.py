@@ -17,6 +17,7 @@ from typing import Any
 import httpx
 import pytest
 from cyclonedds.core import InstanceState
+from mcap.exceptions import McapError
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as St
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Rs
@@ -25,6 +26,7 @@ from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 from samplegen import random_sample
 from sem_console.console.decode import REPORT_TOPICS
 from sem_console.dds.topics import Sem
+from sem_console.recording.reader import iter_messages, time_range
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
@@ -296,3 +298,36 @@ def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went
     assert not cmd["unanswered"]
     kinds = [a["kind"] for a in httpx.get(f"{r.url}/api/alarms").json()]  # and link-lost: the recording ends 3 s later
     assert "command-failed" in kinds and "command-unanswered" not in kinds
+
+
+def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: Path) -> None:
+    """A chunk whose zstd data is damaged raised ZstdError through the readers: a traceback from sem-replay, and
+    `sem-console --replay` failed its start-up. It ends the reading with one McapError that says so."""
+    path = synthetic_recording(tmp_path / "rec")
+    raw = bytearray(path.read_bytes())
+    frame = raw.index(b"\x28\xb5\x2f\xfd")  # the first chunk's zstd frame
+    raw[frame + 40:frame + 120] = bytes(80)
+    damaged = tmp_path / "damaged.mcap"
+    damaged.write_bytes(raw[:-200])  # without its summary, as after a crash: read from the start
+    with pytest.raises(McapError, match=r"a damaged chunk or record \("):
+        list(iter_messages(damaged, {"sem-console/commands", *(sem.spec.name for sem in REPORT_TOPICS)}))
+    whole, read = time_range(path), time_range(damaged)  # what reads before the damage (file order), if anything
+    assert whole is not None and (read is None or whole[0] <= read[0] <= read[1] <= whole[1])
+    cut = tmp_path / "cut.mcap"
+    cut.write_bytes(path.read_bytes()[:frame])
+    with pytest.raises(McapError, match="the file is cut short"):
+        list(iter_messages(cut, {"sem-console/commands"}))
+    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", "--domain", str(domain), "--wait", "0",
+                        str(damaged)], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
+    assert "the recording ends early: a damaged chunk or record (" in p.stderr
+
+
+@pytest.mark.parametrize("args, says", [(["--speed", "inf"], "--speed: inf is outside 0.01..1000"),
+                                        (["--wait", "nan"], "--wait: nan is outside 0..3600"),
+                                        (["--domain", "233"], "--domain: 233 is outside 0..232")])
+def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], says: str, tmp_path: Path) -> None:
+    """--speed inf published the whole file at once and --wait nan waited on; both were taken."""
+    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(tmp_path / "x.mcap"), "--domain", "1",
+                        *args], capture_output=True, text=True, timeout=30)
+    assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr

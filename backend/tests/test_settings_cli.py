@@ -5,6 +5,7 @@ line), and an option and its SEM_* variable make the same Settings. In process: 
 from __future__ import annotations
 
 import argparse
+import uuid
 from pathlib import Path
 
 import pytest
@@ -105,6 +106,30 @@ def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixt
     assert e.value.code == 2
     assert capsys.readouterr().err == (
         "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
+
+
+@pytest.mark.parametrize("name", ["a\u202egnp.exe", "x" * 41, "two\nlines"])
+def test_vehicle_names_follow_the_dashboard_s_rules(name: str) -> None:
+    """A name the dashboard's PUT /api/providers/{id}/name refuses (bidirectional override, over 40, a line break)
+    was taken from --vehicle-names and shown in every label and alarm."""
+    with pytest.raises(ValidationError) as e:
+        Settings(vehicle_names=f"{uuid.UUID(int=1)}={name}")
+    assert "printable characters only" in model_error(Settings, e.value)
+
+
+@pytest.mark.parametrize("variable, value, line", [
+    ("SEM_REPORT_INTERVAL", "-1", "SEM_REPORT_INTERVAL: -1 is outside 0..10"),  # no option: --report-interval does not exist
+    ("SEM_PORT", "http", "SEM_PORT: Input should be a valid integer"),
+])
+def test_a_bad_environment_variable_of_sem_console_is_named(variable: str, value: str, line: str,
+                                                            monkeypatch: pytest.MonkeyPatch,
+                                                            capsys: pytest.CaptureFixture[str]) -> None:
+    """The line named the option of the field (one that does not exist for an environment-only setting)."""
+    monkeypatch.setenv(variable, value)
+    with pytest.raises(SystemExit) as e:
+        cli.main([])
+    assert e.value.code == 2
+    assert capsys.readouterr().err.startswith(f"sem-console: error: {line}")
 
 
 def test_the_other_commands_refuse_a_bad_domain_in_one_line(monkeypatch: pytest.MonkeyPatch,

@@ -315,10 +315,13 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
     (["--domain", "x"], "--domain: 'x' is not a number"),
     (["--fault", "explode"], "unknown fault 'explode'"),
     (["--fault", "reject:zero"], "must be a vehicle number"),
-    (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: no vehicle 3 here, this simulator runs vehicles 1..2"),
-    (["--first-vehicle", "4", "--fault", "ins-failure:1"], "no vehicle 1 here, this simulator runs vehicles 4..4"),
+    (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: this simulator runs vehicles 1..2"),
+    (["--first-vehicle", "4", "--fault", "ins-failure:1"], "--fault ins-failure:1: this simulator runs vehicle 4"),
     (["--fix-rate", "50"], "--fix-rate: 50 is outside 1..10"),
     (["--nope"], "unrecognized arguments: --nope"),
+    # a fault for a vehicle it does not run was injected nowhere, silently; a health file it cannot write, never written
+    (["--vehicles", "2", "--first-vehicle", "3", "--fault", "reject:2"], "--fault reject:2: this simulator runs vehicles 3..4"),
+    (["--health-file", "/nonexistent/sem-sim.alive"], "--health-file /nonexistent/sem-sim.alive: cannot write it"),
 ])
 def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
     out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", *args], capture_output=True, text=True, timeout=30)

@@ -13,6 +13,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 # the models the API shares with the lower rooms are written once, in core/contract.py; this module is the API's whole
 # contract, so it names them again (`X as X`: re-exported)
+from sem_console.core.config import MAX_NAME, NOT_PRINTABLE, PRINTABLE
 from sem_console.core.contract import Command as Command
 from sem_console.core.contract import CommandMessage as CommandMessage
 from sem_console.core.contract import InsStateName as InsStateName
@@ -42,13 +43,6 @@ CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and comma
                 "lost vehicle is refused with 409")
 
 
-# printable: no control character (C0, DEL, C1) nor line or paragraph separator, and no invisible or bidirectional
-# format character (zero-width, LRM/RLM, embeddings and overrides, isolates, BOM): a name with U+202E would show the
-# text after it reversed in an alarm or label, and an invisible name names nothing; the same pattern is in the schema
-# (json_schema_extra, so the OpenAPI document says what is accepted) and checked below (with a message in words)
-PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2060-\u206f\ufeff]*$"
-
-
 def _trimmed(v: Any) -> Any:
     """Trimmed; empty is None (back to the configured name)."""
     return (v.strip() or None) if isinstance(v, str) else v
@@ -56,14 +50,13 @@ def _trimmed(v: Any) -> Any:
 
 def _printable(v: str) -> str:
     if not re.match(PRINTABLE, v):
-        raise ValueError("a vehicle name has printable characters only (no control, invisible or bidirectional "
-                         "characters, no line breaks)")
+        raise ValueError(NOT_PRINTABLE)
     return v
 
 
 class VehicleName(_Model):
-    name: Annotated[Annotated[str, Field(max_length=40, json_schema_extra={"pattern": PRINTABLE}), AfterValidator(_printable)]
-                    | None, BeforeValidator(_trimmed)] = Field(
+    name: Annotated[Annotated[str, Field(max_length=MAX_NAME, json_schema_extra={"pattern": PRINTABLE}),
+                              AfterValidator(_printable)] | None, BeforeValidator(_trimmed)] = Field(
         description="1 to 40 printable characters (trimmed); empty or null: back to the --vehicle-names name (or none)")
 
 

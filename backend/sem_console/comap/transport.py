@@ -98,7 +98,7 @@ class AsyncNode:
                 if self.transport is not None:
                     self.transport.sendto(data, addr)
                     sent += 1
-            except OSError as e:
+            except (OSError, ValueError) as e:  # ValueError: uvloop's for an address it cannot send to as given
                 self.endpoint.counters["sendErrors"] += 1
                 log.warning("could not send IMC %s to %s: %s", m.name, addr, e)
         self.endpoint.counters["sent"] += sent

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from pathlib import Path
 from types import UnionType
 from typing import Any, Literal, NoReturn, TypeVar, Union, get_args, get_origin
@@ -86,14 +86,19 @@ def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel],
         parser.add_argument(flag, dest=name, default=None, help=field.description, **options)
 
 
-def model_error(model: type[BaseModel], error: ValidationError) -> str:
+def model_error(model: type[BaseModel], error: ValidationError, given: Collection[str] | None = None) -> str:
     """The first problem of a validation error as one line: `--port: Input should be less than or equal to 65535`,
-    or a check between fields as it is worded (`--tls-certfile and --tls-keyfile go together`)."""
+    or a check between fields as it is worded (`--tls-certfile and --tls-keyfile go together`). With `given` (the
+    fields the command line set), a field outside it is named by the SEM_* variable it came from: `SEM_PORT: ...`
+    (an environment-only setting has no option to name)."""
     first = error.errors()[0]
     message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
-    if first["type"] in BOUNDS and first["loc"]:  # a number out of range: say the whole range, as `ranged` does
-        message = _out_of_range(model, str(first["loc"][0]), first["input"]) or message
-    return f"{flag_of(model, str(first['loc'][0]))}: {message}" if first["loc"] else message
+    if not first["loc"]:
+        return message
+    name = str(first["loc"][0])
+    if first["type"] in BOUNDS:  # a number out of range: say the whole range, as `ranged` does
+        message = _out_of_range(model, name, first["input"]) or message
+    return f"{flag_of(model, name) if given is None or name in given else 'SEM_' + name.upper()}: {message}"
 
 
 BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")
@@ -117,8 +122,5 @@ def from_environment(prog: str, model: type[M]) -> M:
     try:
         return model()
     except ValidationError as e:
-        line, loc = model_error(model, e), e.errors()[0]["loc"]
-        if loc:  # the variable, not the option, that was given
-            line = f"SEM_{str(loc[0]).upper()}: " + line.removeprefix(flag_of(model, str(loc[0])) + ": ")
-        print(f"{prog}: error: {line}", file=sys.stderr)
+        print(f"{prog}: error: {model_error(model, e, given=())}", file=sys.stderr)
         raise SystemExit(2) from None

@@ -7,6 +7,7 @@ gets them too."""
 
 from __future__ import annotations
 
+import re
 import socket
 import uuid
 from pathlib import Path
@@ -16,6 +17,15 @@ from pydantic import Field, PrivateAttr, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from sem_console.storage.url import DatabaseUrl, parse_database_url, sqlite_file
+
+# printable: no control character (C0, DEL, C1) nor line or paragraph separator, and no invisible or bidirectional
+# format character (zero-width, LRM/RLM, embeddings and overrides, isolates, BOM): a name with U+202E would show the
+# text after it reversed in an alarm or label, and an invisible name names nothing; the same pattern is in the schema
+# (json_schema_extra, so the OpenAPI document says what is accepted) and checked with a message in words, by
+# api/schemas.py's VehicleName (the dashboard's names) and by Settings' --vehicle-names
+PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2060-\u206f\ufeff]*$"
+NOT_PRINTABLE = "a vehicle name has printable characters only (no control, invisible or bidirectional characters, no line breaks)"
+MAX_NAME = 40  # characters of a vehicle name, from the dashboard or --vehicle-names
 
 ENV_ONLY: dict[str, Any] = {"cli": None}  # json_schema_extra of a setting without a command-line option
 
@@ -228,9 +238,13 @@ class Settings(BaseSettings):
             if not sep or not name.strip():
                 raise ValueError(f"vehicle name {item!r}: expected GUID=name")
             try:
-                out[str(uuid.UUID(guid.strip()))] = name.strip()
+                key = str(uuid.UUID(guid.strip()))
             except ValueError:
                 raise ValueError(f"vehicle name {item!r}: {guid.strip()!r} is not a GUID") from None
+            # the rules of a name set from the dashboard (PUT /api/providers/{id}/name), which these were spared
+            if len(name.strip()) > MAX_NAME or not re.match(PRINTABLE, name):
+                raise ValueError(f"vehicle name {item!r}: {NOT_PRINTABLE}, at most {MAX_NAME} of them")
+            out[key] = name.strip()
         return out
 
 
@@ -247,13 +261,20 @@ def parse_imc_id(text: str, where: str = "") -> int:
 
 
 def parse_peers(text: str) -> list[tuple[str, int]]:
-    """'host:port,host:port' -> [(host, port)]; ValueError with the item that is wrong."""
+    """'host:port,host:port' -> [(IPv4 address, port)]; ValueError with the item that is wrong. A host name is resolved
+    here, once: the console's asyncio transport sends only to addresses (a name raised ValueError on every send, a 500
+    from PUT /api/worldmodel and POST /api/tasks), and the IMC sockets are IPv4."""
     out: list[tuple[str, int]] = []
     for item in filter(None, (x.strip() for x in text.split(","))):
         host, sep, port = item.rpartition(":")
         if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
             raise ValueError(f"IMC peer {item!r} is not host:port")
-        out.append((host.strip("[]"), int(port)))
+        try:
+            address = socket.getaddrinfo(host.strip("[]"), int(port), socket.AF_INET, socket.SOCK_DGRAM)[0][4][0]
+        except (socket.gaierror, UnicodeError) as e:
+            raise ValueError(f"IMC peer {item!r}: {host} is not an IPv4 address or a host name this machine resolves "
+                             f"({getattr(e, 'strerror', None) or e})") from None
+        out.append((str(address), int(port)))
     return out
 
 

@@ -11,7 +11,7 @@ from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
-from sem_console.dds.config import dds_config
+from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import reader_qos, representation, writer_qos
@@ -28,7 +28,10 @@ class DdsConfigError(RuntimeError):
 def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> Domain:
     """The process's Domain for this id, created from CYCLONEDDS_URI or the interface and peers settings."""
     if domain_id not in _domains:
-        source = "CYCLONEDDS_URI" if os.environ.get("CYCLONEDDS_URI", "").strip() else f"interface {interface!r}, peers {peers!r}"
+        uri = bool(os.environ.get("CYCLONEDDS_URI", "").strip())
+        if not uri and (problem := peers_problem(peers)):  # Cyclone would abort the process on it
+            raise DdsConfigError(problem)
+        source = "CYCLONEDDS_URI" if uri else f"interface {interface!r}, peers {peers!r}"
         try:
             _domains[domain_id] = Domain(domain_id, dds_config(interface, peers))
         except (DDSException, UnicodeEncodeError) as e:

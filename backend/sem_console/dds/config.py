@@ -17,7 +17,9 @@ Two modes, from the interface and peers settings (SEM_DDS_INTERFACE, SEM_DDS_PEE
 
 from __future__ import annotations
 
+import ipaddress
 import os
+import socket
 from xml.sax.saxutils import quoteattr
 
 MAX_PARTICIPANT_INDEX = 100
@@ -38,6 +40,33 @@ def loopback_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
         f"<Peers>{peer_xml}</Peers></Discovery>"
         "</Domain></CycloneDDS>"
     )
+
+
+def peer_problem(peer: str) -> str | None:
+    """Why Cyclone could not use `peer` (host, host:port or udp/host:port, IPv4 as the config's transport), or None.
+    Cyclone 11 aborts the whole process on such a peer (SIGABRT after "add_peer_address: ...: unknown address",
+    a segfault on 0.0.0.0) instead of failing the domain, so the peers are checked before it sees them."""
+    host, sep, port = peer.removeprefix("udp/").rpartition(":")
+    if not sep:
+        host, port = port, ""
+    elif not (port.isascii() and port.isdigit() and 0 < int(port) < 65536):
+        return f"peer {peer!r}: the port must be 1..65535"
+    try:
+        addresses = {info[4][0] for info in socket.getaddrinfo(host, None, socket.AF_INET, socket.SOCK_DGRAM)}
+    except (socket.gaierror, UnicodeError) as e:
+        return f"peer {peer!r} is not an IPv4 address or a host name this machine resolves ({e})"
+    if any(ipaddress.ip_address(a).is_unspecified for a in addresses):
+        return f"peer {peer!r} is the unspecified address: name the host of a peer"
+    return None
+
+
+def peers_problem(peers: str) -> str | None:
+    """The first problem of the peers setting, as one line naming SEM_DDS_PEERS and its fix, or None."""
+    for peer in (p.strip() for p in peers.split(",")):
+        if peer and (problem := peer_problem(peer)):
+            return (f"SEM_DDS_PEERS: {problem}: give IPv4 addresses or host names, comma separated "
+                    "(or empty for multicast discovery)")
+    return None
 
 
 def dds_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:

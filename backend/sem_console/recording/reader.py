@@ -6,11 +6,11 @@ from __future__ import annotations
 
 import logging
 import struct
-from collections.abc import Collection, Generator
+from collections.abc import Collection, Generator, Iterator
 from pathlib import Path
 from typing import Any
 
-from mcap.exceptions import McapError
+from mcap.exceptions import EndOfFile, McapError
 from mcap.reader import NonSeekingReader, make_reader
 
 log = logging.getLogger("sem-console.recording")
@@ -21,7 +21,7 @@ INSTANCES = "sem-console/instances"  # the JSON channel of disposes and lost wri
 def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, Any], None, None]:
     """(channel topic, message) of the channels named in `topics`, in log time order; a file without a summary
     (the console stopped on an error or was killed) is read from the start in file order, up to where it is cut
-    short (the iterator then raises McapError, OSError or EOFError)."""
+    short or damaged (the iterator then raises McapError or OSError)."""
     with open(path, "rb") as f:
         try:
             complete = make_reader(f).get_summary() is not None
@@ -29,9 +29,28 @@ def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, A
             complete = False
         f.seek(0)
         reader = make_reader(f) if complete else NonSeekingReader(f)
-        for _schema, channel, message in reader.iter_messages(log_time_order=complete):
+        for _schema, channel, message in _records(reader.iter_messages(log_time_order=complete)):
             if channel.topic in topics:
                 yield channel.topic, message
+
+
+def _records(records: Iterator[tuple[Any, Any, Any]]) -> Generator[tuple[Any, Any, Any], None, None]:
+    """`records` of an mcap reader, with what its parsing raises on a file cut short or damaged as one McapError
+    that says which: mcap's EndOfFile and EOFError, without a message, and zstd's, lz4's, struct's or a KeyError
+    from a damaged chunk (every reader of a recording stops there on McapError and OSError, the replay of what
+    came before kept)."""
+    while True:
+        try:
+            record = next(records)
+        except StopIteration:
+            return
+        except (EndOfFile, EOFError):  # neither has a message
+            raise McapError("the file is cut short (the recording was not closed)") from None
+        except (McapError, OSError):
+            raise
+        except Exception as e:  # nothing but the file's bytes is parsed here
+            raise McapError(f"a damaged chunk or record ({type(e).__name__}: {e})") from None
+        yield record
 
 
 def time_range(path: Path) -> tuple[int, int] | None:
@@ -50,10 +69,10 @@ def time_range(path: Path) -> tuple[int, int] | None:
         try:
             # in file order: in log time order the reader sorts what it read only at the end, which a file cut
             # short never reaches (EndOfFile), so not one message was counted
-            for _schema, _channel, message in NonSeekingReader(f).iter_messages(log_time_order=False):
+            for _schema, _channel, message in _records(NonSeekingReader(f).iter_messages(log_time_order=False)):
                 first = message.log_time if first is None else min(first, message.log_time)
                 last = message.log_time if last is None else max(last, message.log_time)
-        except (McapError, OSError, EOFError, struct.error) as e:
+        except (McapError, OSError) as e:
             log.warning("%s ends early: %s", path, e)
     return None if first is None or last is None else (first, last)
 
@@ -65,6 +84,8 @@ def check_file(path: Path) -> str | None:
             make_reader(f).get_header()
     except OSError as e:
         return f"cannot read {path}: {e.strerror}"
-    except (McapError, ValueError, EOFError, StopIteration, struct.error) as e:
+    except (EndOfFile, EOFError, StopIteration):  # no message of their own
+        return f"{path} is not an MCAP file: it ends before an MCAP header (empty or cut short)"
+    except (McapError, ValueError, struct.error) as e:
         return f"{path} is not an MCAP file: {e}"
     return None

@@ -29,7 +29,7 @@ from typing import Any
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
-from sem_console.core.command_line import Parser, from_environment
+from sem_console.core.command_line import Parser, from_environment, ranged
 from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
@@ -48,14 +48,16 @@ def build_parser() -> argparse.ArgumentParser:
         "Republish a sem-console recording (MCAP) on DDS: every SEM sample with its original keys, "
         "timing and source timestamps; disposes as disposes."))
     p.add_argument("file", type=Path, help="the recording (.mcap)")
-    p.add_argument("--domain", type=int, required=True, help="DDS domain id to publish on, 0..232")
-    p.add_argument("--speed", type=float, default=1.0, help="playback speed, e.g. 2 for twice as fast (default: 1)")
+    p.add_argument("--domain", type=ranged(int, 0, 232), required=True, help="DDS domain id to publish on, 0..232")
+    # ranged: nan and inf were taken (inf published the whole file at once, a nan or negative --wait waited on)
+    p.add_argument("--speed", type=ranged(float, 0.01, 1000), default=1.0, help=(
+        "playback speed, e.g. 2 for twice as fast (default: 1)"))
     p.add_argument("--loop", action="store_true", help="start again at the end, until interrupted")
     p.add_argument("--commands", action="store_true",
                    help="republish the recorded commands too (a vehicle on that domain would carry them out)")
     p.add_argument("--retime", action="store_true",
                    help="stamp samples with the replay's time instead of their recorded source timestamps")
-    p.add_argument("--wait", type=float, default=5.0, metavar="SECONDS",
+    p.add_argument("--wait", type=ranged(float, 0, 3600), default=5.0, metavar="SECONDS",
                    help="wait up to this long for a reader on the bus before the first sample (default: 5; 0: start at once)")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
@@ -156,10 +158,6 @@ class Replay:
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    if not 0 <= args.domain <= 232:
-        parser.error("--domain: must be 0..232")
-    if not args.speed > 0:
-        parser.error("--speed: must be more than 0")
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     problem = check_file(args.file)
     if problem:

@@ -92,14 +92,13 @@ class SimOptions(BaseModel):
         return value
 
     @model_validator(mode="after")
-    def _faults_hit_a_vehicle(self) -> SimOptions:
-        """A fault for a vehicle this simulator does not run would inject nothing, and a test scenario relying on it
-        would pass without its fault."""
-        for number in sorted(self.faults):
-            if number and number not in self.numbers:
-                kinds = ", ".join(f"{k}:{number}" for k in sorted(self.faults[number]))
-                raise ValueError(f"--fault {kinds}: no vehicle {number} here, this simulator runs vehicles "
-                                 f"{self.numbers.start}..{self.numbers.stop - 1} (--first-vehicle, --vehicles)")
+    def _fault_targets(self) -> SimOptions:
+        """A fault for a vehicle this simulator does not run would be injected nowhere, and the operator told nothing."""
+        if missing := sorted(n for n in self.faults if n and n not in self.numbers):
+            last = self.numbers[-1]
+            runs = f"vehicle {last}" if len(self.numbers) == 1 else f"vehicles {self.numbers[0]}..{last}"
+            raise ValueError(f"--fault {sorted(self.faults[missing[0]])[0]}:{missing[0]}: this simulator runs {runs}: "
+                             "name one of them, or change --vehicles or --first-vehicle")
         return self
 
     @property

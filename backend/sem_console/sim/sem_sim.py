@@ -83,6 +83,13 @@ def main(argv: list[str] | None = None) -> int:
             imc = f" imc {opts.imc_id_of(n)} (0x{opts.imc_id_of(n):04X})" if opts.imc_port is not None else ""
             print(f"vehicle {n}: {vehicle_guid(n)}{imc}")
         return 0
+    if opts.health_file is not None:  # touched every second, its errors ignored then: a healthcheck would only see it stale
+        try:
+            opts.health_file.touch()
+        except OSError as e:
+            print(f"sem-sim: error: --health-file {opts.health_file}: cannot write it ({e.strerror or e}): "
+                  "pass another --health-file", file=sys.stderr)
+            return 2
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     settings = from_environment("sem-sim", BusSettings)
     stopping = False
