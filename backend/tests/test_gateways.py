@@ -82,7 +82,7 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     fixes = {nsec(r): r for r in consumer.reports[Sem.GPS_FIX_REPORT][uuid.UUID(V1)]}
     gps = {nsec(r): r for r in consumer.reports[Sem.GPS_REPORT][uuid.UUID(V1)]}
     events = read_log(log_file)
-    assert {ch for ch, _ in events} == {f"fleet/{V1}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    assert {ch for ch, _ in events} == {f"fleet/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
     # the dashboard's recording holds the same messages (a window of them)
     recorded_events = read_log(tmp_path / "recorded.lcm")
     assert recorded_events and {ch for ch, _ in recorded_events} <= {ch for ch, _ in events}
@@ -168,6 +168,37 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     submerged = [t for t, r in fixes.items() if not r.GPSLatLongValid]
     altitudes_at = {m.time_of_validity.elapsed_nsec for ch, m in events if ch.endswith("/measurement_altitude")}
     assert any(t in altitudes_at for t in submerged) and not positions_at & set(submerged)
+
+
+def test_aspn_over_udp_multicast_sends_every_measurement(sim, console, tmp_path: Path) -> None:
+    """LCM over UDP (the listeners' usual transport, unlike a log file) refuses a channel name over 63 characters: with
+    the vehicle's whole GUID in it, position, altitude, velocity and direction of motion were never sent (only speed and
+    satnav). A real LCM subscriber on the multicast group gets all six, decoded by the published aspn23_lcm types."""
+    url = f"udpm://239.255.76.67:{free_udp_port()}?ttl=0"
+    got: dict[str, Any] = {}
+    listener = lcm.LCM(url)
+    listener.subscribe("nav/.*", lambda ch, data: got.setdefault(ch, getattr(aspn23_lcm, ch.rsplit("/", 1)[1]).decode(data)))
+    sim("--vehicles", "1")
+    c = console("--aspn-lcm", url, "--aspn-prefix", "nav")
+    surface(c.url)  # a valid position
+    wanted = {f"nav/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    deadline = time.monotonic() + 30
+    while not wanted <= set(got) and time.monotonic() < deadline:
+        listener.handle_timeout(100)
+    assert set(got) == wanted, sorted(set(got))
+    assert {m.header.device_id for m in got.values()} == {int(uuid.UUID(V1).hex[:16], 16) >> 1}
+    state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
+    assert state["aspn"]["lastError"] is None, state["aspn"]
+
+
+
+def test_every_aspn_channel_fits_lcm_over_udp() -> None:
+    """Whatever the vehicle and measurement, a channel stays within LCM's 63 characters with the longest prefix the
+    settings take (core/config.py: 11)."""
+    from sem_console.gateways.aspn.encode import CONTEXT_IDS
+    from sem_console.gateways.aspn.gateway import LCM_MAX_CHANNEL, channel_vehicle
+
+    assert max(len(f"{'p' * 11}/{channel_vehicle(uuid.uuid4())}/{m}") for m in CONTEXT_IDS) <= LCM_MAX_CHANNEL
 
 
 def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) -> None:

@@ -141,8 +141,9 @@ class Settings(BaseSettings):
     aspn_lcm: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(
         "publish each vehicle's navigation as ASPN-23 over LCM at URL "
         "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default"))
-    aspn_prefix: str = Field("aspn23", pattern=r"^[A-Za-z0-9_.\-/]{1,64}$", description=(
-        "first part of the ASPN channel names <prefix>/<vehicle>/<measurement> (default: aspn23)"))
+    aspn_prefix: str = Field("aspn23", description=(
+        "first part of the ASPN channel names <prefix>/<vehicle>/<measurement>, at most 11 characters (LCM over UDP "
+        "takes channel names of up to 63) (default: aspn23)"))
     aspn_log_seconds: float = Field(300.0, gt=0, le=86_400, description="seconds of ASPN messages kept per vehicle for "
                                                                         "Record ASPN log (default: 300)")
     jaus_port: int | None = Field(None, ge=0, le=65535, json_schema_extra=cli(nargs="?", const=3794, metavar="N"),
@@ -167,6 +168,15 @@ class Settings(BaseSettings):
     frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist)")
 
     _operators: dict[str, str] | None = PrivateAttr(None)
+
+    @field_validator("aspn_prefix")
+    @classmethod
+    def _aspn_prefix(cls, v: str) -> str:
+        """Channels <prefix>/<16 hex digits>/<measurement> stay within LCM's 63 characters (gateways/aspn/gateway.py)."""
+        if not re.fullmatch(r"[A-Za-z0-9_.\-/]{1,11}", v):
+            raise ValueError(f"{v!r}: give 1 to 11 letters, digits or _ . - / (LCM over UDP takes channel names of up "
+                             "to 63 characters)")
+        return v
 
     @field_validator("imc_id", mode="before")
     @classmethod
