@@ -12,6 +12,7 @@ from fastapi import APIRouter, HTTPException, Query, Response, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, GatewaysDep, OperatorDep
 from sem_console.api.responses import JSON_BODY, Responses, problem
+from sem_console.api.routes.history import SINCE_DOC, IsoTime, epoch
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import GatewayState, LinkConfig
 from sem_console.console.providers import LinkConfig as ProviderLinkConfig
@@ -37,8 +38,7 @@ async def gateway_states(gateways: GatewaysDep) -> list[dict[str, Any]]:
 @reads.get("/api/providers/{provider_id}/aspn-log", response_class=Response,
            responses={**LCM_LOG, 404: problem("unknown provider"), 409: problem("the ASPN gateway is off (--aspn-lcm)")})
 async def aspn_log(provider_id: uuid.UUID, console: ConsoleDep, gateways: GatewaysDep,
-                   since: Annotated[float | None, Query(ge=0, le=1e11, description="from this UTC time (seconds since "
-                                                        "the epoch): a recording started then")] = None,
+                   since: Annotated[IsoTime, Query(description=SINCE_DOC + ": a recording started then")] = None,
                    seconds: Annotated[float | None, Query(gt=0, le=86_400, description="only the last this many seconds")] = None
                    ) -> Response:
     """The vehicle's ASPN-23 messages the console kept (the last --aspn-log-seconds, at most 8 MiB), as a `.lcm` log
@@ -46,7 +46,7 @@ async def aspn_log(provider_id: uuid.UUID, console: ConsoleDep, gateways: Gatewa
     known_provider(console, provider_id)
     if not gateways.aspn.enabled:
         raise HTTPException(status.HTTP_409_CONFLICT, "the ASPN gateway is off: start the console with --aspn-lcm URL")
-    events = gateways.aspn.events(provider_id, since, seconds)
+    events = gateways.aspn.events(provider_id, epoch("since", since), seconds)
     data = await asyncio.to_thread(write_log, events)
     stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
     return Response(data, media_type="application/octet-stream",

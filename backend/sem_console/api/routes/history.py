@@ -52,7 +52,7 @@ class TimeRange:
     until: float | None
 
 
-def _epoch(name: str, value: datetime | None) -> float | None:
+def epoch(name: str, value: datetime | None) -> float | None:
     if value is None:
         return None
     try:
@@ -73,7 +73,7 @@ UNTIL_DOC = "up to this time (ISO 8601; without an offset: UTC); before `since`:
 
 async def time_range(since: Annotated[IsoTime, Query(description=SINCE_DOC)] = None,
                      until: Annotated[IsoTime, Query(description=UNTIL_DOC)] = None) -> TimeRange:
-    return TimeRange(_epoch("since", since), _epoch("until", until))
+    return TimeRange(epoch("since", since), epoch("until", until))
 
 
 Range = Annotated[TimeRange, Depends(time_range)]
