@@ -169,6 +169,14 @@ class Settings(BaseSettings):
 
     _operators: dict[str, str] | None = PrivateAttr(None)
 
+    @field_validator("allowed_hosts")
+    @classmethod
+    def _some_host(cls, v: str) -> str:
+        """An empty list refused every request (403) with nothing said at start."""
+        if not any(x.strip() for x in v.split(",")):
+            raise ValueError(f"{v!r} names no host: give the host names the console is reached by, comma separated, or '*'")
+        return v
+
     @field_validator("aspn_prefix")
     @classmethod
     def _aspn_prefix(cls, v: str) -> str:
