@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -327,6 +328,18 @@ def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
     out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", *args], capture_output=True, text=True, timeout=30)
     assert out.returncode == 2
     assert out.stdout == "" and out.stderr.count("\n") == 1 and message in out.stderr, out.stderr
+
+
+def test_a_busy_imc_port_is_one_line_exit_2(domain: int) -> None:
+    """The line had no 'error:' and no fix, unlike every other refusal of sem-sim."""
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as busy:
+        busy.bind(("127.0.0.1", 0))
+        port = busy.getsockname()[1]
+        out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--imc-port", str(port),
+                              "--imc-host", "127.0.0.1"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
+    assert out.stderr.startswith(f"sem-sim: error: cannot listen for IMC on 127.0.0.1:{port}: ")
+    assert "another --imc-port" in out.stderr
 
 
 def test_help_documents_every_option() -> None:

@@ -108,7 +108,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         sim = Simulator(bus, opts)
     except OSError as e:
-        print(f"sem-sim: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}", file=sys.stderr)
+        print(f"sem-sim: error: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}: give "
+              "another --imc-port (or stop what holds it)", file=sys.stderr)
         return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
