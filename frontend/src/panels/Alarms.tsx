@@ -109,7 +109,8 @@ export function AlarmsPanel() {
             // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
             // console gave it when raised: its configured name, or its short id (then it had none)
             const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
-            const vehicle = a.providerId ? { id: a.providerId, name: names.get(a.providerId) ?? raisedAs } : null;
+            const current = a.providerId ? names.get(a.providerId) : undefined; // "": known, with no name now
+            const vehicle = a.providerId ? { id: a.providerId, name: current === undefined ? raisedAs : current || null } : null;
             return (
               <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
                 <button
