@@ -114,8 +114,9 @@ function CommandCard({ c, target, expected, canCommand, onCancel, open }: {
         {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && <Elapsed c={c} expected={expected} />}
+        {/* a double click is one cancel: its second click would otherwise say "not sent" of the one that was */}
         {!c.terminal && !c.cancelRequested && (
-          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), onCancel(c))}>
+          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), e.detail < 2 && onCancel(c))}>
             Cancel
           </button>
         )}
