@@ -44,6 +44,12 @@ test("rename the selected vehicle: needs the token, Esc cancels, a refusal in wo
     await expect(alarm).toBeVisible();
     expect((await request.put(`${guarded.url}/api/providers/${rejecting}/name`, { data: { name: "Tug Two" }, headers: auth })).status()).toBe(200);
     await expect(alarm.getByTestId("vehicle-tag")).toContainText("Tug Two");
+    // and one raised while it was named, once its name is taken away: by its id, not by the name it no longer has
+    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(201);
+    const named = page.getByTestId("alarm").filter({ hasText: "Tug Two: GPS fix command failed" }).first();
+    await expect(named.getByTestId("vehicle-tag")).toContainText("Tug Two");
+    expect((await request.put(`${guarded.url}/api/providers/${rejecting}/name`, { data: { name: null }, headers: auth })).status()).toBe(200);
+    await expect(named.getByTestId("vehicle-tag")).toHaveText(`Vehicle ${rejecting.slice(0, 8)}`);
   } finally {
     await request.put(`${guarded.url}/api/providers/${load().vehicles[1]}/name`, { data: { name: null }, headers: auth });
     await request.put(`${guarded.url}/api/providers/${id}/name`, { data: { name: null }, headers: auth }); // the file is shared

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { Alarm } from "../api/generated/ws";
 import type { ServerMessage } from "../api/types";
-import { NewAlarms } from "../lib/tone";
+import { NewAlarms, SAID_AT_MOST, alarmWords } from "../lib/tone";
 import { Store } from "./connection";
 import { reportMessage } from "./testing";
 import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
@@ -95,6 +95,18 @@ describe("the tone's new alarms", () => {
     // lost, back (cleared, not acknowledged) and lost again: the console raises the same alarm anew, since moved on
     expect(news.take([alarm(2, { state: "cleared-unacknowledged", clearedAt: 1010 })])).toEqual([]);
     expect(news.take([alarm(2, { since: 1020 })]).map((a) => a.id)).toEqual([2]);
+  });
+});
+
+describe("the live region's words for new alarms", () => {
+  it("names each of a few, and a burst (a fleet lost at once) in one sentence with its newest", () => {
+    expect(alarmWords([alarm(1), alarm(2, { severity: "warning" })])).toBe(
+      `Alarm: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:41 UTC. Warning: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:42 UTC`,
+    );
+    const fleet = Array.from({ length: 250 }, (_, i) => alarm(i + 1, { text: `Vehicle ${i + 1}: link lost` }));
+    const said = alarmWords(fleet);
+    expect(said).toBe("Alarm: Vehicle 250: link lost, since 00:20:50 UTC. Alarm: Vehicle 249: link lost, since 00:20:49 UTC. And 248 more new alarms: see the alarm list");
+    expect(said.split("link lost")).toHaveLength(SAID_AT_MOST); // never read on for the whole fleet
   });
 });
 

@@ -53,11 +53,12 @@ export function perProviders<T>(fn: (providers: State["providers"]) => T): (s: S
   };
 }
 
-/** Every named vehicle's name as one string (stable while no name changes, unlike the providers themselves,
- * which change with every report): "id=name\n…". */
-const vehicleNames = perProviders((providers) => Object.values(providers).filter((p) => p.name).map((p) => `${p.id}=${p.name}`).sort().join("\n"));
+/** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves, which change
+ * with every report): "id=name\n…", the name empty for a vehicle without one. */
+const vehicleNames = perProviders((providers) => Object.values(providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n"));
 
-/** Each named vehicle's name now, by id (a rename shows at once wherever a vehicle is named from its id). */
+/** Each known vehicle's name now, by id, "" for one without a name (its name taken away is news too: it is known
+ * by its id now); a rename shows at once wherever a vehicle is named from its id. */
 export function useVehicleNames(): Map<string, string> {
   const names = useSelector(vehicleNames);
   return useMemo(() => new Map(names ? names.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1)] as [string, string]) : []), [names]);

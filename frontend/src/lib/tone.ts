@@ -2,6 +2,7 @@
 // each new unacknowledged alarm, and the operator's mute. Audio is a help, never a requirement: where it
 // is unavailable or not yet allowed, nothing throws and the screen still shows the alarm.
 import type { Alarm } from "../api/generated/ws";
+import { utc } from "./units";
 
 let context: AudioContext | null = null;
 
@@ -75,4 +76,14 @@ export class NewAlarms {
     for (const a of alarms) seen.add(raised(a));
     return first ? [] : fresh;
   }
+}
+
+/** New alarms in words for the live region: each named, but a burst (a fleet of 250 lost at once) in one sentence
+ * with its newest few named first, or the screen reader would read on for minutes and hide whatever comes next. */
+export const SAID_AT_MOST = 3;
+export function alarmWords(fresh: readonly Alarm[]): string {
+  const one = (a: Alarm) => `${a.severity === "alarm" ? "Alarm" : "Warning"}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`;
+  if (fresh.length <= SAID_AT_MOST) return fresh.map(one).join(". ");
+  const newest = [...fresh].sort((a, b) => b.since - a.since || b.id - a.id);
+  return `${newest.slice(0, SAID_AT_MOST - 1).map(one).join(". ")}. And ${fresh.length - (SAID_AT_MOST - 1)} more new alarms: see the alarm list`;
 }

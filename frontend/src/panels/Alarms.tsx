@@ -45,12 +45,20 @@ export function AlarmsPanel() {
   // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
   // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm.
   const list = useRef<HTMLUListElement>(null);
-  const focusAfter = useRef<number | null>(null); // the place in the list of the Acknowledge pressed
+  // the place in the list of the Acknowledge pressed, and the button: only its going takes the focus on, once; the
+  // operator's focus anywhere else (or later dropped by anything else) is never taken
+  const focusAfter = useRef<{ at: number; button: HTMLElement } | null>(null);
   useEffect(() => {
-    const at = focusAfter.current;
-    const active = document.activeElement;
-    if (at === null || (active !== null && active !== document.body)) return; // not dropped (yet), or moved on
+    const pressed = focusAfter.current;
+    if (pressed === null) return;
+    if (pressed.button.isConnected) {
+      if (document.activeElement !== pressed.button) focusAfter.current = null; // the operator moved on meanwhile
+      return;
+    }
     focusAfter.current = null;
+    const active = document.activeElement;
+    if (active !== null && active !== document.body) return; // the focus went somewhere already
+    const at = pressed.at;
     const entries = [...(list.current?.querySelectorAll<HTMLElement>(".alarm-entry") ?? [])];
     const next = entries.slice(at).find((e) => e.querySelector(".alarm-ack")) ?? entries[Math.min(at, entries.length - 1)];
     (next?.querySelector<HTMLElement>(".alarm-ack") ?? next?.querySelector<HTMLElement>(".alarm-main"))?.focus();
@@ -109,7 +117,8 @@ export function AlarmsPanel() {
             // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
             // console gave it when raised: its configured name, or its short id (then it had none)
             const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
-            const vehicle = a.providerId ? { id: a.providerId, name: names.get(a.providerId) ?? raisedAs } : null;
+            const current = a.providerId ? names.get(a.providerId) : undefined; // "": known, with no name now
+            const vehicle = a.providerId ? { id: a.providerId, name: current === undefined ? raisedAs : current || null } : null;
             return (
               <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
                 <button
@@ -135,8 +144,9 @@ export function AlarmsPanel() {
                   <button
                     className="small alarm-ack"
                     aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
-                    onClick={() => {
-                      focusAfter.current = index;
+                    onClick={(e) => {
+                      if (busy) return; // aria-disabled while another is acknowledged: a press does nothing, and moves no focus later
+                      focusAfter.current = { at: index, button: e.currentTarget };
                       void ack([a.id]);
                     }}
                     aria-label={`Acknowledge: ${a.text}`}

@@ -114,8 +114,9 @@ function CommandCard({ c, target, expected, canCommand, onCancel, open }: {
         {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && <Elapsed c={c} expected={expected} />}
+        {/* a double click is one cancel: its second click would otherwise say "not sent" of the one that was */}
         {!c.terminal && !c.cancelRequested && (
-          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), onCancel(c))}>
+          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), e.detail < 2 && onCancel(c))}>
             Cancel
           </button>
         )}
@@ -209,14 +210,25 @@ export function CommandsPanel() {
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
+  const unreachable = connection === "reconnecting" || connection === "offline";
   // A double click is one order: its second click (detail 2) is ignored, and while a request is on its way the
   // buttons wait for its answer, so a second click or Enter does not send the command twice (the second would
   // supersede the first, which then shows as failed). A ref, read by the handlers: the second click can come before
   // a render; and the buttons only say so (aria-disabled): a disabled button would drop the keyboard focus of the
   // operator who just pressed it.
-  const [sending, setSending] = useState(false);
-  const inFlight = useRef(false);
-  const unreachable = connection === "reconnecting" || connection === "offline";
+  // Each time the console goes out of reach the wait ends: the answer of a request on its way may never come (a
+  // connection gone silent), and the buttons must not wait for it past the reconnect; if it comes after all, it still
+  // says what became of its command.
+  const [outages, setOutages] = useState(0);
+  const [wasUnreachable, setWasUnreachable] = useState(unreachable);
+  if (unreachable !== wasUnreachable) {
+    setWasUnreachable(unreachable);
+    if (unreachable) setOutages(outages + 1);
+  }
+  const [sendingIn, setSendingIn] = useState<number | null>(null); // the outage count its request was sent in
+  const sending = sendingIn === outages;
+  const inFlight = useRef<{ outages: number } | null>(null);
+  const waiting = () => inFlight.current !== null && inFlight.current.outages === outages;
   const lost = known?.link === "lost";
   const canCommand = mayCommand && !!known && (!authRequired || !!token) && !unreachable;
 
@@ -232,13 +244,14 @@ export function CommandsPanel() {
   }
 
   const run = async (target: VehicleIdentity, what: string, fn: () => Promise<Command>) => {
-    if (inFlight.current) {
+    if (waiting()) {
       // e.g. a confirmation opened before, confirmed while another request is on its way: said, never dropped silently
       setNote(`${what} for ${vehicleLabel(target)} not sent: another request was on its way. Try again.`);
       return;
     }
-    inFlight.current = true;
-    setSending(true);
+    const mine = { outages };
+    inFlight.current = mine;
+    setSendingIn(outages);
     setError(null);
     setNote(null);
     try {
@@ -246,12 +259,15 @@ export function CommandsPanel() {
     } catch (e) {
       setError(`${what} on ${vehicleLabel(target)}: ${problemText(e)}`);
     } finally {
-      inFlight.current = false;
-      setSending(false);
+      if (inFlight.current === mine) {
+        // else a later request's, sent after an outage ended this one's wait: not this one's to lift
+        inFlight.current = null;
+        setSendingIn(null);
+      }
     }
   };
   const act = (a: Action, t: VehicleIdentity) => {
-    if (inFlight.current) return;
+    if (waiting()) return; // aria-disabled, as the button says (a second Enter of the same order)
     setNote(null);
     if (a.confirm || lost) setPending({ action: a, target: t, lost });
     else void run(t, a.label, () => a.run(t.id, token, false));

@@ -11,8 +11,8 @@ import { useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { umaa } from "../lib/labels";
-import { NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
-import { DASH, utc } from "../lib/units";
+import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
+import { DASH } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
 
@@ -142,7 +142,7 @@ function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boole
     if (!muted) beep();
     // the tone's words: a screen reader hears no colour, and the tone may be muted or not heard (its "since" makes
     // an alarm raised again with the same text a change the live region says again)
-    setSaid(fresh.map((a) => `${a.severity === "alarm" ? "Alarm" : "Warning"}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`).join(". "));
+    setSaid(alarmWords(fresh));
   }, [alarms, ready, command, muted]);
   return said;
 }
