@@ -159,6 +159,8 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     for topic in JSON_TOPICS:
         schema, channel = channels[topic]
         assert channel.message_encoding == "json" and schema.encoding == "jsonschema" and json.loads(schema.data)["properties"]
+    # the recording console's station, for a replay to tell its commands from other stations' (test_replay.py)
+    assert channels["sem-console/commands"][1].metadata == {"station": httpx.get(f"{c.url}/api/health").json()["consoleName"]}
 
     # the raw CDR from the wire: an encapsulation header, a receive time and the writer's source timestamp
     fix_reports = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]

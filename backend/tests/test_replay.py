@@ -26,7 +26,7 @@ from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 from samplegen import random_sample
 from sem_console.console.decode import REPORT_TOPICS
 from sem_console.dds.topics import Sem
-from sem_console.recording.reader import iter_messages, time_range
+from sem_console.recording.reader import iter_messages, recorded_station, time_range
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
@@ -270,13 +270,17 @@ def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
     assert cmd["service"] == "GPSFix" and cmd["unanswered"] and cmd["transitions"] == []  # no ISSUED within 2 s
 
 
-def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went(console, tmp_path: Path) -> None:
+@pytest.mark.parametrize("recorded_by", ["watch", "relief", None])
+def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went(console, tmp_path: Path,
+                                                                                recorded_by: str | None) -> None:
     """Another station's command reaches the recording console by the database's notification, after the vehicle's
     first statuses (long after them when that station's write was held in an outage). The replay applies those
     statuses when the command comes: FAILED as live, not a command with no status and an 'unanswered' alarm that
-    the live console never raised."""
+    the live console never raised. Its alarm ('command-failed') only where the live console had it: a replay of
+    watch's recording raised alarms for relief's commands, which watch showed but never alarmed on; the file names
+    its station (a file without one, from before: every command counts as the recording console's)."""
     directory = tmp_path / "rec"
-    recorder = Recorder(directory, 1 << 30, 3600)
+    recorder = Recorder(directory, 1 << 30, 3600, station=recorded_by)
     recorder.start()
     session = uuid.uuid4()
     t0 = time.time_ns() - 3_000_000_000
@@ -297,7 +301,8 @@ def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "FAILED"] and cmd["console"] == "relief"
     assert not cmd["unanswered"]
     kinds = [a["kind"] for a in httpx.get(f"{r.url}/api/alarms").json()]  # and link-lost: the recording ends 3 s later
-    assert "command-failed" in kinds and "command-unanswered" not in kinds
+    assert ("command-failed" in kinds) == (recorded_by != "watch") and "command-unanswered" not in kinds
+    assert recorded_station(path) == recorded_by
 
 
 def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: Path) -> None:

@@ -37,7 +37,7 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.recording.reader import INSTANCES, iter_messages, time_range
+from sem_console.recording.reader import INSTANCES, iter_messages, recorded_station, time_range
 
 log = logging.getLogger("sem-console.replay")
 
@@ -165,6 +165,7 @@ class Replay:
 
     def __init__(self, console: Replayed, path: Path, speed: float, clock: RecordingClock) -> None:
         self.console, self.path, self.speed, self.clock = console, path, speed, clock
+        self.station: str | None = None  # the recording console's (--console-name); None before 2026-11-26's recorder
         self.playing = True
         self.start = self.end = self.position = 0.0
         self.decoder = Decoder()
@@ -179,6 +180,7 @@ class Replay:
     # ---- lifecycle -------------------------------------------------------------------------
     async def open(self) -> None:
         span = await asyncio.to_thread(time_range, self.path)
+        self.station = await asyncio.to_thread(recorded_station, self.path)
         first, last = span if span is not None else (0, 0)
         self.start, self.end, self._end_ns = first / 1e9, last / 1e9, last
         self._rewind()

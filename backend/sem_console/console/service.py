@@ -8,6 +8,7 @@ it and never asks which one it has; a read-only source (a recording) publishes n
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import time
 import uuid
@@ -100,8 +101,11 @@ class Console:
         # recording console by the database's notification, which can come after the vehicle's first statuses (always
         # after them when that station's write was held in an outage): applied when its command message comes
         self._early: OrderedDict[uuid.UUID, list[StatusItem]] = OrderedDict()
+        # replay: the commands of other stations than the one that recorded (shown, as they reached it, but not its
+        # to raise alarms for: the live console raised none for them)
+        self._others: set[uuid.UUID] = set()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
-                                 settings.record_queue, self._recording_changed)
+                                 settings.record_queue, self._recording_changed, self.station)
         self.alarms = Alarms(self.store, self.names())  # the ones not back to normal, from the database
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store),
@@ -141,6 +145,7 @@ class Console:
         self.store.clear_commands()
         self.providers, self.commands = self._fresh_state()
         self._early.clear()
+        self._others.clear()
         self.alarms.reset()
         self.reports_applied = 0
 
@@ -312,6 +317,10 @@ class Console:
                     self._early.popitem(last=False)
             self.on_statuses([item])
         else:
+            recorded_by = self.source.replay.station if self.source.replay else None
+            if recorded_by is not None and item.get("console") not in (None, recorded_by):
+                with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
+                    self._others.add(uuid.UUID(item["sessionId"]))  # before adopt() emits it
             try:
                 cmd = self.commands.adopt(item)
             except (KeyError, ValueError, TypeError) as e:
@@ -408,7 +417,7 @@ class Console:
         self.recorder.on_message(message)
         if message["type"] in ALARM_INPUTS:
             changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"])) if "command" in message else None
-            self._update_alarms([changed] if changed is not None else [])
+            self._update_alarms([changed] if changed is not None and changed.session_id not in self._others else [])
 
     def _update_alarms(self, changed: list[Command] | None = None) -> None:
         """Re-derive the alarms (looking again at the `changed` commands); publish the set when it changed."""

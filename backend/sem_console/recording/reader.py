@@ -12,6 +12,8 @@ from typing import Any
 
 from mcap.exceptions import EndOfFile, McapError
 from mcap.reader import NonSeekingReader, make_reader
+from mcap.records import Channel, Message
+from mcap.stream_reader import StreamReader
 
 log = logging.getLogger("sem-console.recording")
 
@@ -32,6 +34,21 @@ def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, A
         for _schema, channel, message in _records(reader.iter_messages(log_time_order=complete)):
             if channel.topic in topics:
                 yield channel.topic, message
+
+
+def recorded_station(path: Path, channel: str = "sem-console/commands") -> str | None:
+    """The station (--console-name) of the console that recorded the file, from its commands' channel (recorder.py);
+    None for a file of a release before it, or one that cannot be read that far."""
+    try:
+        with open(path, "rb") as f:
+            for record in StreamReader(f).records:
+                if isinstance(record, Channel) and record.topic == channel:
+                    return record.metadata.get("station") or None
+                if isinstance(record, Message):  # the recorder registers its channels before any message
+                    return None
+    except Exception:  # nothing but the file's bytes is parsed here: a file the replay then reports on its own
+        return None
+    return None
 
 
 def _records(records: Iterator[tuple[Any, Any, Any]]) -> Generator[tuple[Any, Any, Any], None, None]:

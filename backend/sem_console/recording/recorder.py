@@ -68,9 +68,10 @@ class InstanceEvent(BaseModel):
     sessionId: str | None = Field(description="the key's sessionID (command, status and ack topics)")
 
 
+COMMANDS_CHANNEL = "sem-console/commands"
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
 JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
-    "sem-console/commands": ("command", CommandMessage),
+    COMMANDS_CHANNEL: ("command", CommandMessage),
     "sem-console/transitions": ("transition", TransitionMessage),
     "sem-console/links": ("provider", ProviderMessage),
     "sem-console/instances": ("instance", InstanceEvent),
@@ -95,7 +96,7 @@ class RecordingError(Exception):
 class _File:
     """One MCAP file being written, with a channel for every SEM topic and JSON channel."""
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, station: str | None = None) -> None:
         self.path = path
         self.stream: BinaryIO = open(path, "xb")  # noqa: SIM115 (closed in close())
         self.writer = McapWriter(self.stream, profile=PROFILE, library=f"sem-console {__version__}")
@@ -108,7 +109,10 @@ class _File:
             self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema)
         for channel, (_kind, model) in JSON_CHANNELS.items():
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
-            self.channels[channel] = self.writer.register_channel(channel, "json", schema)
+            # the commands' channel names the recording console's station: a replay tells its own commands (its
+            # alarms) from other stations' on the same database, which reached it only to be shown (reader.recorded_station)
+            metadata = {"station": station} if channel == COMMANDS_CHANNEL and station else None
+            self.channels[channel] = self.writer.register_channel(channel, "json", schema, metadata)
         self.opened = time.monotonic()
 
     def appendable(self, sem: Sem) -> tuple[Sem, str]:
@@ -161,8 +165,9 @@ class Recorder:
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
     def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
-                 on_change: Callable[[dict[str, Any]], None] | None = None) -> None:
+                 on_change: Callable[[dict[str, Any]], None] | None = None, station: str | None = None) -> None:
         self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
+        self.station = station  # the console's name, in each file (the commands' channel)
         self.queue_size = queue_size
         self.on_change = on_change
         self.active = False
@@ -249,7 +254,7 @@ class Recorder:
         path, n = self.directory / name, 0
         while True:
             try:
-                return _File(path)
+                return _File(path, self.station)
             except FileExistsError:
                 n += 1
                 path = self.directory / name.replace(".mcap", f"-{n}.mcap")
