@@ -15,7 +15,7 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
-from sqlalchemy import text
+from sqlalchemy import Connection, text
 from sqlalchemy.exc import OperationalError
 from sqlmodel import SQLModel
 
@@ -252,6 +252,24 @@ def test_a_vehicles_writer_lets_it_go_when_the_server_restarts(pg_cluster: Clust
         b.close()
         watch.close()
         relief.close()
+
+
+def test_the_sessions_that_hold_locks_are_ended_by_the_server_soon_after_a_network_cut(pg_url: str) -> None:
+    """A network cut (not a restart) left the server the sessions holding the console's name and its vehicles: with
+    its default keepalives (two hours idle) the name was refused as another console's and no console wrote those
+    vehicles' tracks for hours after the console reconnected. Those sessions ask the server to probe them soon."""
+    db = open_db(pg_url)
+    writers = VehicleWriters(db.engine)
+    try:
+        db.claim("watch")
+        assert writers.mine({V1}) == {V1}
+        for c in (db._lock, writers._conn):  # the name's session, the vehicles' session (over TCP: 127.0.0.1)
+            assert isinstance(c, Connection)
+            assert [c.execute(text(f"SHOW tcp_keepalives_{s}")).scalar() for s in ("idle", "interval", "count")] \
+                == ["5", "2", "2"]
+    finally:
+        writers.close()
+        db.close()
 
 
 @pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import logging
+import os
 import signal
 import sys
 
@@ -90,6 +92,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"sem-sim: error: --health-file {opts.health_file}: cannot write it ({e.strerror or e}): "
                   "pass another --health-file", file=sys.stderr)
             return 2
+        with contextlib.suppress(OSError):  # stale until the running simulator touches it: not healthy while starting
+            os.utime(opts.health_file, (0, 0))
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     settings = from_environment("sem-sim", BusSettings)
     stopping = False

@@ -62,6 +62,7 @@ MIGRATION_LOCK = 0x53454D_0001  # pg advisory lock key: one console upgrades the
 # oldest held writes are dropped (counted in `dropped`, logged): at a few writes a second (commands, transitions,
 # audit, alarms) that is hours of an outage, and memory stays bounded.
 HELD_MAX = 50_000
+NAME_REFUSED_GRACE = 15.0  # seconds the name is refused before that is an error (see Database._name_refused)
 
 
 # the Core tables: statements below are on their columns
@@ -84,6 +85,17 @@ class Unavailable(Exception):
 def _key(text_: str) -> int:
     """A stable signed 64-bit key (PostgreSQL advisory locks) of a name."""
     return int.from_bytes(hashlib.sha256(text_.encode()).digest()[:8], "big", signed=True)
+
+
+def lock_session(c: Connection) -> Connection:
+    """`c`, a PostgreSQL connection whose session is to hold advisory locks (the console's name, its vehicles), with
+    the server's TCP keepalives set short for it. A network cut (not a restart) leaves the server the session, and its
+    locks, after the console gave up on it: with the server's defaults (two hours of idle before a probe) no console
+    could take those locks again for hours (the name seen as another console's, a vehicle's track written by none)."""
+    c.execute(select(func.set_config("tcp_keepalives_idle", "5", False),
+                     func.set_config("tcp_keepalives_interval", "2", False),
+                     func.set_config("tcp_keepalives_count", "2", False)))
+    return c
 
 
 def open_engine(db: DatabaseUrl) -> Engine:
@@ -182,7 +194,10 @@ class Database:
         self._lock: Connection | int | None = None  # what holds this console's name (claim)
         self._taking_task_id = threading.Lock()  # new_comap_task, from the assigns' worker threads
         self._held: str | None = None
-        self._name_lost = False  # another console took the name while the server was away (logged once)
+        # monotonic seconds the name has been refused since (another console took it while the server was away), and
+        # whether that was said: not at the first refusal, which can be this console's own session from before a
+        # network cut until the server ends it (`lock_session`: within about 10 s)
+        self._name_refused: tuple[float, bool] | None = None
         self.station: str | None = None  # the name claimed: sent with each notification, so a console skips its own
         self._held_writes: deque[Callable[[Connection], object]] = deque()  # during an outage, oldest first
         self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
@@ -230,8 +245,13 @@ class Database:
                              "--console-name")
         if self.db.path is None:  # a session advisory lock: the server lets it go when this console's connection ends
             c = self.engine.connect()
-            held = c.execute(select(func.pg_try_advisory_lock(_key(f"console:{name}")))).scalar()
-            c.commit()  # not idle in a transaction for the console's lifetime
+            try:
+                held = lock_session(c).execute(select(func.pg_try_advisory_lock(_key(f"console:{name}")))).scalar()
+                c.commit()  # not idle in a transaction for the console's lifetime
+            except SQLAlchemyError:  # the server went away meanwhile (the upkeep tries again): not left checked out
+                c.invalidate()
+                c.close()
+                raise
             if not held:
                 c.close()
                 raise taken
@@ -337,7 +357,7 @@ class Database:
                 lock.commit()
                 return True
             except (OperationalError, InterfaceError):
-                pass  # the server restarted: the session, and the name's lock with it, are gone
+                pass  # the server restarted (the session, and the name's lock with it, are gone) or cannot be reached
             try:
                 lock.invalidate()
                 lock.close()
@@ -347,15 +367,17 @@ class Database:
         try:
             self._hold(self._held)
         except StorageError as e:
-            if not self._name_lost:
+            since, said = self._name_refused or (time.monotonic(), False)
+            if not said and time.monotonic() - since >= NAME_REFUSED_GRACE:
                 log.error("%s (it started while the database was away); the two share one UMAA identity: stop one", e)
-                self._name_lost = True
+                said = True
+            self._name_refused = (since, said)
             return True  # tried again at each call: taken as soon as the other console stops
         except (OperationalError, InterfaceError) as e:  # away (found here before any write): an outage, tried again
             self._went_away(e)
             return False
         log.warning("the database %s is back: console name %r held again", self.db.shown, self._held)
-        self._name_lost = False
+        self._name_refused = None
         return True
 
     def write_held(self) -> bool:
@@ -698,6 +720,7 @@ class VehicleWriters:
         try:
             if self._conn is None:
                 self._conn, self._held, self._start = self.engine.connect(), set(), {}
+                lock_session(self._conn)
             elif self._held and not providers - self._held:
                 # nothing to take: a statement all the same, or a server restart (and the locks gone with it) would
                 # go unseen, and this console write the vehicles beside the one that took them since
