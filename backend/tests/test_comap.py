@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 
 from conftest import free_udp_port
 from sem_console.comap.c2 import C2, Task
@@ -314,11 +315,24 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
         (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
         (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
         (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
-        (["-m", "sem_console.cli", "--imc-peers", "no-such-host.invalid:6002"], "is not an IPv4 address or a host name"),
+        (["-m", "sem_console.cli", "--imc-port", "6002", "--imc-peers", "no-such-host.invalid:6002"],
+         "is not an IPv4 address or a host name"),
     ]
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
         assert p.returncode == 2 and text in p.stderr and len(p.stderr.strip().splitlines()) <= 2, (args, p.stderr)
+
+
+def test_imc_peers_of_a_console_without_comap_are_not_resolved() -> None:
+    """Without --imc-port nothing is sent to them: a name that does not resolve (a vehicle's, off the network) must
+    not stop a console that does not use CoMap; their form is still checked."""
+    from sem_console.core.config import Settings
+
+    assert Settings(imc_peers="no-such-host.invalid:6002").imc_peers == "no-such-host.invalid:6002"
+    with pytest.raises(ValueError, match="is not an IPv4 address or a host name"):
+        Settings(imc_peers="no-such-host.invalid:6002", imc_port=6002)
+    with pytest.raises(ValueError, match="is not host:port"):
+        Settings(imc_peers="no-such-host.invalid")
 
 
 def test_new_feature_ids_are_not_reused_after_a_delete() -> None:

@@ -198,7 +198,7 @@ class Settings(BaseSettings):
         self.operators()
         self.names()
         parse_imc_vehicles(self.imc_vehicles)
-        parse_peers(self.imc_peers)
+        parse_peers(self.imc_peers, resolve=self.imc_port is not None)  # names resolved only where CoMap is on
         if self.auth_reads and not self.operators():
             raise ValueError("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
         if self.database_url is not None:
@@ -278,15 +278,19 @@ def parse_imc_id(text: str, where: str = "") -> int:
     return value
 
 
-def parse_peers(text: str) -> list[tuple[str, int]]:
+def parse_peers(text: str, resolve: bool = True) -> list[tuple[str, int]]:
     """'host:port,host:port' -> [(IPv4 address, port)]; ValueError with the item that is wrong. A host name is resolved
     here, once: the console's asyncio transport sends only to addresses (a name raised ValueError on every send, a 500
-    from PUT /api/worldmodel and POST /api/tasks), and the IMC sockets are IPv4."""
+    from PUT /api/worldmodel and POST /api/tasks), and the IMC sockets are IPv4. `resolve=False`: the form only (peers
+    of a console without CoMap, never sent to: a name that does not resolve there must not stop it)."""
     out: list[tuple[str, int]] = []
     for item in filter(None, (x.strip() for x in text.split(","))):
         host, sep, port = item.rpartition(":")
         if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
             raise ValueError(f"IMC peer {item!r} is not host:port")
+        if not resolve:
+            out.append((host.strip("[]"), int(port)))
+            continue
         try:
             address = socket.getaddrinfo(host.strip("[]"), int(port), socket.AF_INET, socket.SOCK_DGRAM)[0][4][0]
         except (socket.gaierror, UnicodeError) as e:
