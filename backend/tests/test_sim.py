@@ -340,6 +340,11 @@ def test_a_busy_imc_port_is_one_line_exit_2(domain: int) -> None:
     assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
     assert out.stderr.startswith(f"sem-sim: error: cannot listen for IMC on 127.0.0.1:{port}: ")
     assert "another --imc-port" in out.stderr
+    # an address not of this machine (TEST-NET-1) is not a busy port: the fix names --imc-host, not another port
+    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--imc-port", "6099",
+                          "--imc-host", "192.0.2.1"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
+    assert "--imc-host address of this machine" in out.stderr and "another --imc-port" not in out.stderr, out.stderr
 
 
 def test_help_documents_every_option() -> None:

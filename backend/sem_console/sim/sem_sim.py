@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import errno
 import logging
 import os
 import signal
@@ -111,9 +112,12 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     try:
         sim = Simulator(bus, opts)
-    except OSError as e:
-        print(f"sem-sim: error: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}: give "
-              "another --imc-port (or stop what holds it)", file=sys.stderr)
+    except OSError as e:  # the fix depends on why: "give another --imc-port" for an address not of this machine misled
+        fix = {errno.EADDRINUSE: "give another --imc-port (or stop what holds it)",
+               errno.EADDRNOTAVAIL: "give an --imc-host address of this machine (or 0.0.0.0)",
+               errno.EACCES: "give an --imc-port above 1023 (or run with the right to bind it)"}
+        print(f"sem-sim: error: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}: "
+              f"{fix.get(e.errno or 0, 'check --imc-host and --imc-port')}", file=sys.stderr)
         return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
