@@ -473,11 +473,14 @@ def test_sem_replay_republishes_an_appendable_writers_sample_as_it_was_sent(doma
 
 
 def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
-    """The size limit, on the recorder alone (no DDS here: its tap is fed as the ingest threads feed it)."""
+    """The size limit, on the recorder alone (no DDS here: its tap is fed as the ingest threads feed it). Every file
+    names the recording console's station (a replay of any one of them tells its commands from other stations'),
+    also read from a file cut short, and a file cut before its first chunk is no station, not an exception."""
+    from sem_console.recording.reader import recorded_station
     from sem_console.recording.recorder import Recorder
 
     limit = 65_536  # the least --record-max-bytes; a file's schemas alone are about 30 kB
-    r = Recorder(tmp_path, max_bytes=limit, max_seconds=3600)
+    r = Recorder(tmp_path, max_bytes=limit, max_seconds=3600, station="watch")
     r.start()
     sent = 0
     for _batch in range(20):
@@ -504,4 +507,11 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
             summary = reader.get_summary()
             assert summary is not None and {c.topic for c in summary.channels.values()} == set(SEM_TOPICS) | JSON_TOPICS
             got += sum(1 for _ in reader.iter_messages(topics=["UMAA::SEM::GPSFixStatus::GPSFixReport"]))
+        assert recorded_station(path) == "watch", path.name
+        cut = tmp_path / "cut" / path.name
+        cut.parent.mkdir(exist_ok=True)
+        cut.write_bytes(raw[:summary_start])  # the data section only: the recording was not closed
+        assert recorded_station(cut) == "watch", path.name
+        cut.write_bytes(raw[:100])  # the header only
+        assert recorded_station(cut) is None
     assert got == sent
