@@ -85,8 +85,8 @@ def test_options_and_environment_make_the_same_settings(monkeypatch: pytest.Monk
     ({"imc_id": "0xZZ"}, "--imc-id: '0xZZ' is not an IMC system id (decimal or 0x hex)"),
     ({"port": 70000}, "--port: 70000 is outside 0..65535"),
     ({"db_path": 5.5}, "--db: Input is not a valid path"),
-    # LCM over UDP refuses a channel name over 63 characters: nothing was sent on those (docs/gateways.md)
     ({"allowed_hosts": " , "}, "--allowed-hosts: ' , ' names no host"),  # every request was a 403, nothing said
+    # LCM over UDP refuses a channel name over 63 characters: nothing was sent on those (docs/gateways.md)
     ({"aspn_prefix": "navigation-1"}, "--aspn-prefix: 'navigation-1': give 1 to 11 letters, digits or _ . - /"),
 ])
 def test_a_check_fails_as_one_line_from_options_and_environment(
