@@ -37,11 +37,10 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.recording.reader import INSTANCES, iter_messages, recorded_station, time_range
+from sem_console.recording.reader import COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
 
 log = logging.getLogger("sem-console.replay")
 
-COMMANDS = "sem-console/commands"
 SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
 TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS}
 STEP = 0.05  # wall seconds between steps while playing

@@ -18,6 +18,7 @@ from mcap.stream_reader import StreamReader
 log = logging.getLogger("sem-console.recording")
 
 INSTANCES = "sem-console/instances"  # the JSON channel of disposes and lost writers (recorder.py)
+COMMANDS = "sem-console/commands"  # the JSON channel of the console's commands; its metadata names the station
 
 
 def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, Any], None, None]:
@@ -36,7 +37,7 @@ def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, A
                 yield channel.topic, message
 
 
-def recorded_station(path: Path, channel: str = "sem-console/commands") -> str | None:
+def recorded_station(path: Path, channel: str = COMMANDS) -> str | None:
     """The station (--console-name) of the console that recorded the file, from its commands' channel (recorder.py);
     None for a file of a release before it, or one that cannot be read that far."""
     try:

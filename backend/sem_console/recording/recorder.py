@@ -45,6 +45,7 @@ from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
+from sem_console.recording.reader import COMMANDS
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -68,10 +69,9 @@ class InstanceEvent(BaseModel):
     sessionId: str | None = Field(description="the key's sessionID (command, status and ack topics)")
 
 
-COMMANDS_CHANNEL = "sem-console/commands"
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
 JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
-    COMMANDS_CHANNEL: ("command", CommandMessage),
+    COMMANDS: ("command", CommandMessage),
     "sem-console/transitions": ("transition", TransitionMessage),
     "sem-console/links": ("provider", ProviderMessage),
     "sem-console/instances": ("instance", InstanceEvent),
@@ -111,7 +111,7 @@ class _File:
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
             # the commands' channel names the recording console's station: a replay tells its own commands (its
             # alarms) from other stations' on the same database, which reached it only to be shown (reader.recorded_station)
-            metadata = {"station": station} if channel == COMMANDS_CHANNEL and station else None
+            metadata = {"station": station} if channel == COMMANDS and station else None
             self.channels[channel] = self.writer.register_channel(channel, "json", schema, metadata)
         self.opened = time.monotonic()
 
