@@ -38,8 +38,8 @@ def _imc_id(text: str) -> int:
 
 
 def _peers(text: str) -> list[tuple[str, int]]:
-    try:
-        return parse_peers(text)
+    try:  # names as given: the simulator's plain socket resolves them at each send (and follows an address that changes)
+        return parse_peers(text, resolve=False)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from None
 
