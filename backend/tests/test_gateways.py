@@ -4,6 +4,7 @@ field-type table (README, "Gateways"), never by the console's code."""
 
 from __future__ import annotations
 
+import hashlib
 import math
 import random
 import socket
@@ -44,6 +45,11 @@ def read_log(path: Path) -> list[tuple[str, Any]]:
         measurement = event.channel.rsplit("/", 1)[1]
         out.append((event.channel, getattr(aspn23_lcm, measurement).decode(event.data)))
     return out
+
+
+def lcm_vehicle(vehicle: str) -> str:
+    """A vehicle's part of its ASPN channel names, by the recipe of docs/gateways.md (not the console's code)."""
+    return hashlib.blake2b(uuid.UUID(vehicle).bytes, digest_size=8).hexdigest()
 
 
 def surface(base: str) -> None:
@@ -88,7 +94,7 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     fixes = {nsec(r): r for r in consumer.reports[Sem.GPS_FIX_REPORT][uuid.UUID(V1)]}
     gps = {nsec(r): r for r in consumer.reports[Sem.GPS_REPORT][uuid.UUID(V1)]}
     events = read_log(log_file)
-    assert {ch for ch, _ in events} == {f"fleet/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    assert {ch for ch, _ in events} == {f"fleet/{lcm_vehicle(V1)}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
     # the dashboard's recording holds the same messages (a window of them)
     recorded_events = read_log(tmp_path / "recorded.lcm")
     assert recorded_events and {ch for ch, _ in recorded_events} <= {ch for ch, _ in events}
@@ -187,12 +193,12 @@ def test_aspn_over_udp_multicast_sends_every_measurement(sim, console, tmp_path:
     sim("--vehicles", "1")
     c = console("--aspn-lcm", url, "--aspn-prefix", "nav")
     surface(c.url)  # a valid position
-    wanted = {f"nav/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    wanted = {f"nav/{lcm_vehicle(V1)}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
     deadline = time.monotonic() + 30
     while not wanted <= set(got) and time.monotonic() < deadline:
         listener.handle_timeout(100)
     assert set(got) == wanted, sorted(set(got))
-    assert {m.header.device_id for m in got.values()} == {int(uuid.UUID(V1).hex[:16], 16) >> 1}
+    assert {m.header.device_id for m in got.values()} == {int(lcm_vehicle(V1), 16) >> 1}
     state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
     assert state["aspn"]["lastError"] is None, state["aspn"]
 
@@ -545,6 +551,32 @@ def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: 
     finally:
         held.go.set()
         gw.close()
+
+
+def test_aspn_vehicles_whose_guids_share_their_first_half_stay_apart() -> None:
+    """GUIDs given by hand or by a counter share their first 64 bits: with those as the channel's vehicle part and the
+    device_id, two such vehicles were one device on one channel to an LCM listener (sequence ids interleaved)."""
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn.gateway import AspnGateway
+
+    url = f"udpm://239.255.76.67:{free_udp_port()}?ttl=0"
+    got: list[tuple[str, Any]] = []
+    listener = lcm.LCM(url)
+    listener.subscribe("aspn23/.*", lambda ch, data: got.append((ch, aspn23_lcm.measurement_speed.decode(data))))
+    feed = Feed()
+    gw = AspnGateway(feed, url)
+    v1, v2 = uuid.UUID(int=1), uuid.UUID(int=2)
+    try:
+        feed.publish(_speed_report(v1, 1))
+        feed.publish(_speed_report(v2, 2))
+        deadline = time.monotonic() + 10
+        while len(got) < 2 and time.monotonic() < deadline:
+            listener.handle_timeout(100)
+    finally:
+        gw.close()
+    by_speed = {m.speed: (ch, m.header.device_id, m.header.sequence_id) for ch, m in got}
+    assert by_speed == {1.0: (f"aspn23/{lcm_vehicle(str(v1))}/measurement_speed", int(lcm_vehicle(str(v1)), 16) >> 1, 0),
+                        2.0: (f"aspn23/{lcm_vehicle(str(v2))}/measurement_speed", int(lcm_vehicle(str(v2)), 16) >> 1, 0)}
 
 
 def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
