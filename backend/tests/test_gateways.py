@@ -464,6 +464,24 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
     assert config() == (8, 1, 1, 2, 3)  # kept in the database
 
 
+def test_jaus_answers_every_message_of_a_packed_datagram(sim, console, station) -> None:
+    """AS5669A lets a station pack several messages after one version byte (JUDP stacks that batch their sends do):
+    the gateway took the datagram's size for one message's, counted it `malformed: wrong size` and answered nothing."""
+    port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
+    sim("--vehicles", "1")
+    c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    me = (1, 1, 42)
+    packed = b"\x02" + judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))[1:] + judp(me, 0x2C03, b"", seq=2)[1:] + \
+        judp((9, 1, 42), 0x2C03, b"", seq=3)[1:]  # the third for a component no vehicle has
+    station.sendto(packed, ("127.0.0.1", port))
+    answers = [unjudp(station.recvfrom(65536)[0]) for _ in range(2)]
+    assert [(dest, src, message_id) for dest, src, message_id, _ in answers] == [(ME, me, 0x4421), (ME, me, 0x4C03)]
+    state = wait_until(lambda: (lambda s: s if s["messagesOut"] == 2 else None)(
+        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]), 5, "both answers counted")
+    assert state["counters"] == {"received": 1, "malformed": 1, "malformed: no such component": 1}
+
+
 def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> None:
     port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
     sim("--vehicles", "1")
@@ -635,6 +653,7 @@ def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(
 def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
     from sem_console.console.feed import Feed
     from sem_console.gateways.jaus.gateway import JausGateway, report_navigation
+    from sem_console.gateways.jaus.judp import parse
 
     everything = (0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF)
     now = 1_700_000_000.25
@@ -653,7 +672,7 @@ def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
     gw = JausGateway(Feed(), 1, 42)  # answer() alone: no socket is opened without start()
     vehicle = uuid.uuid4()
     gw.vehicles[1], gw.fixes[vehicle] = vehicle, fix(2**32 + 5)
-    gw.answer(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))
+    gw.answer(parse(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))[0])
     assert gw.stats.counters["report time outside u32: console time sent"] == 1
     gw.close()
 

@@ -158,25 +158,35 @@ class JausGateway(asyncio.DatagramProtocol):
 
     # ---- JUDP ------------------------------------------------------------------------
     def datagram_received(self, data: bytes, addr: Any) -> None:
+        """Each message of the datagram is answered in a datagram of its own; a malformed datagram (its framing) is
+        counted once and nothing in it answered, a malformed message (e.g. for no such component) once each."""
         self.stats.count("received")
         try:
-            reply = self.answer(data)
+            packets = judp.parse(data)
         except Malformed as e:
-            self.stats.count("malformed")
-            self.stats.count(f"malformed: {e}")
+            self._malformed(e)
             return
-        except Exception as e:  # a bug here must not stop the gateway
-            self.stats.error(f"could not answer a datagram from {addr[0]}: {e!r}")
-            return
-        if reply is not None and self.transport is not None:
-            self.transport.sendto(reply, addr)
-            self.stats.sent()
+        for p in packets:
+            try:
+                reply = self.answer(p)
+            except Malformed as e:
+                self._malformed(e)
+                continue
+            except Exception as e:  # a bug here must not stop the gateway
+                self.stats.error(f"could not answer a datagram from {addr[0]}: {e!r}")
+                continue
+            if self.transport is not None:
+                self.transport.sendto(reply, addr)
+                self.stats.sent()
+
+    def _malformed(self, e: Malformed) -> None:
+        self.stats.count("malformed")
+        self.stats.count(f"malformed: {e}")
 
     def error_received(self, exc: Exception) -> None:
         self.stats.error(f"UDP: {exc}")
 
-    def answer(self, data: bytes) -> bytes | None:
-        p = judp.parse(data)
+    def answer(self, p: judp.Packet) -> bytes:
         me = p.destination
         if me.subsystem != self.subsystem or me.node != NODE or me.component not in self.vehicles:
             raise Malformed("no such component")
