@@ -2,8 +2,9 @@
 QueryCommsLostConfiguration over JUDP from what the console's feed says.
 
 A vehicle is component S.1.C, C being its order of appearance on the bus (the console's `jausId`).
-Malformed input (short, wrong size or version, unknown message id, a body of the wrong length, a
-component we do not have) is counted by reason and dropped; nothing a peer sends raises.
+Malformed input (short, wrong size or version, a body of the wrong length, a component we do not have) is counted by
+reason and dropped; a well-formed message we do not answer (QueryIdentification, QueryServices ...) is counted as
+unsupported, not as malformed; nothing a peer sends raises.
 """
 
 from __future__ import annotations
@@ -111,6 +112,10 @@ def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
                        seconds(config["regainedTime"]), int(config["regainedBehavior"]) & 0xFF)
 
 
+class Unsupported(Exception):
+    """A well-formed message of a kind the gateway does not answer (a legal JAUS message, not a malformed one)."""
+
+
 class JausGateway(asyncio.DatagramProtocol):
     def __init__(self, feed: Feed, port: int | None, subsystem: int, host: str = "127.0.0.1") -> None:
         self.port, self.subsystem, self.host = port, subsystem, host
@@ -169,6 +174,9 @@ class JausGateway(asyncio.DatagramProtocol):
         for p in packets:
             try:
                 reply = self.answer(p)
+            except Unsupported:
+                self.stats.count("unsupported message id")
+                continue
             except Malformed as e:
                 self._malformed(e)
                 continue
@@ -204,6 +212,6 @@ class JausGateway(asyncio.DatagramProtocol):
                 raise Malformed("wrong body size")
             message_id, body = judp.REPORT_COMMS_LOST_CONFIGURATION, report_comms_lost_configuration(self.configs[vehicle])
         else:
-            raise Malformed("unknown message id")
+            raise Unsupported(f"message id 0x{p.message_id:04X}")
         self.sequence = (self.sequence + 1) & 0xFFFF
         return judp.packet(p.flags & 0x03, p.source, JausId(self.subsystem, NODE, me.component), message_id, body, self.sequence)
