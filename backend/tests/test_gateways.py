@@ -4,6 +4,7 @@ field-type table (README, "Gateways"), never by the console's code."""
 
 from __future__ import annotations
 
+import hashlib
 import math
 import random
 import socket
@@ -44,6 +45,11 @@ def read_log(path: Path) -> list[tuple[str, Any]]:
         measurement = event.channel.rsplit("/", 1)[1]
         out.append((event.channel, getattr(aspn23_lcm, measurement).decode(event.data)))
     return out
+
+
+def lcm_vehicle(vehicle: str) -> str:
+    """A vehicle's part of its ASPN channel names, by the recipe of docs/gateways.md (not the console's code)."""
+    return hashlib.blake2b(uuid.UUID(vehicle).bytes, digest_size=8).hexdigest()
 
 
 def surface(base: str) -> None:
@@ -88,7 +94,7 @@ def test_aspn_log_matches_the_umaa_reports(sim, console, consumer, tmp_path: Pat
     fixes = {nsec(r): r for r in consumer.reports[Sem.GPS_FIX_REPORT][uuid.UUID(V1)]}
     gps = {nsec(r): r for r in consumer.reports[Sem.GPS_REPORT][uuid.UUID(V1)]}
     events = read_log(log_file)
-    assert {ch for ch, _ in events} == {f"fleet/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    assert {ch for ch, _ in events} == {f"fleet/{lcm_vehicle(V1)}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
     # the dashboard's recording holds the same messages (a window of them)
     recorded_events = read_log(tmp_path / "recorded.lcm")
     assert recorded_events and {ch for ch, _ in recorded_events} <= {ch for ch, _ in events}
@@ -187,12 +193,12 @@ def test_aspn_over_udp_multicast_sends_every_measurement(sim, console, tmp_path:
     sim("--vehicles", "1")
     c = console("--aspn-lcm", url, "--aspn-prefix", "nav")
     surface(c.url)  # a valid position
-    wanted = {f"nav/{uuid.UUID(V1).hex[:16]}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
+    wanted = {f"nav/{lcm_vehicle(V1)}/{m}" for m in FIX_MEASUREMENTS | {"measurement_satnav"}}
     deadline = time.monotonic() + 30
     while not wanted <= set(got) and time.monotonic() < deadline:
         listener.handle_timeout(100)
     assert set(got) == wanted, sorted(set(got))
-    assert {m.header.device_id for m in got.values()} == {int(uuid.UUID(V1).hex[:16], 16) >> 1}
+    assert {m.header.device_id for m in got.values()} == {int(lcm_vehicle(V1), 16) >> 1}
     state = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}
     assert state["aspn"]["lastError"] is None, state["aspn"]
 
@@ -458,6 +464,24 @@ def test_jaus_comms_lost_configuration_follows_the_api(sim, console, station) ->
     assert config() == (8, 1, 1, 2, 3)  # kept in the database
 
 
+def test_jaus_answers_every_message_of_a_packed_datagram(sim, console, station) -> None:
+    """AS5669A lets a station pack several messages after one version byte (JUDP stacks that batch their sends do):
+    the gateway took the datagram's size for one message's, counted it `malformed: wrong size` and answered nothing."""
+    port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
+    sim("--vehicles", "1")
+    c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    me = (1, 1, 42)
+    packed = b"\x02" + judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))[1:] + judp(me, 0x2C03, b"", seq=2)[1:] + \
+        judp((9, 1, 42), 0x2C03, b"", seq=3)[1:]  # the third for a component no vehicle has
+    station.sendto(packed, ("127.0.0.1", port))
+    answers = [unjudp(station.recvfrom(65536)[0]) for _ in range(2)]
+    assert [(dest, src, message_id) for dest, src, message_id, _ in answers] == [(ME, me, 0x4421), (ME, me, 0x4C03)]
+    state = wait_until(lambda: (lambda s: s if s["messagesOut"] == 2 else None)(
+        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]), 5, "both answers counted")
+    assert state["counters"] == {"received": 1, "malformed": 1, "malformed: no such component": 1}
+
+
 def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> None:
     port = free_udp_port()  # a UDP port in the DDS gaps of this worker, not an ephemeral one
     sim("--vehicles", "1")
@@ -466,7 +490,7 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
     me = (1, 1, 42)
     query = judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))
     bad = [b"", b"\x02", query[:10], b"\x01" + query[1:], query[:1] + b"\x01" + query[2:], query + b"\x00",
-           query[:-3] + query[-2:], judp(me, 0x9999, b""), judp(me, 0x2421, b"\x00\x00"), judp((2, 1, 42), 0x2421, b"\0" * 8),
+           query[:-3] + query[-2:], judp(me, 0x2421, b"\x00\x00"), judp((2, 1, 42), 0x2421, b"\0" * 8),
            judp((1, 1, 43), 0x2C03, b""), judp(me, 0x2C03, b"x"), judp(me, 0x2421, b"\0" * 8, flags=0x40)]
     rng = random.Random(13)
     bad += [bytes(rng.randrange(256) for _ in range(rng.randrange(0, 80))) for _ in range(200)]
@@ -495,11 +519,18 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
         {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]), 5, "every datagram counted")
     counters = state["counters"]
     assert counters["received"] == sent_bad + 1
-    assert counters["malformed"] == sent_bad - answered
-    for reason in ("short", "wrong version", "header compression", "wrong size", "unknown message id", "wrong body size",
+    unsupported = counters.get("unsupported message id", 0)  # a bit flipped in a message id: legal, not answered
+    assert counters["malformed"] + unsupported == sent_bad - answered
+    for reason in ("short", "wrong version", "header compression", "wrong size", "wrong body size",
                    "no such component", "multi-packet"):
         assert counters[f"malformed: {reason}"] >= 1, reason
     assert httpx.get(f"{c.url}/api/health").status_code == 200
+    # a legal JAUS message the gateway does not answer (QueryIdentification, QueryServices) is not malformed
+    for message_id in (0x2B00, 0x2B03):
+        station.sendto(judp(me, message_id, b"\x02" if message_id == 0x2B00 else b""), ("127.0.0.1", port))
+    after = wait_until(lambda: (lambda s: s if s.get("unsupported message id") == unsupported + 2 else None)(
+        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]["counters"]), 5, "both counted")
+    assert after["malformed"] == counters["malformed"]
 
 
 class _HeldLcm:
@@ -545,6 +576,32 @@ def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: 
     finally:
         held.go.set()
         gw.close()
+
+
+def test_aspn_vehicles_whose_guids_share_their_first_half_stay_apart() -> None:
+    """GUIDs given by hand or by a counter share their first 64 bits: with those as the channel's vehicle part and the
+    device_id, two such vehicles were one device on one channel to an LCM listener (sequence ids interleaved)."""
+    from sem_console.console.feed import Feed
+    from sem_console.gateways.aspn.gateway import AspnGateway
+
+    url = f"udpm://239.255.76.67:{free_udp_port()}?ttl=0"
+    got: list[tuple[str, Any]] = []
+    listener = lcm.LCM(url)
+    listener.subscribe("aspn23/.*", lambda ch, data: got.append((ch, aspn23_lcm.measurement_speed.decode(data))))
+    feed = Feed()
+    gw = AspnGateway(feed, url)
+    v1, v2 = uuid.UUID(int=1), uuid.UUID(int=2)
+    try:
+        feed.publish(_speed_report(v1, 1))
+        feed.publish(_speed_report(v2, 2))
+        deadline = time.monotonic() + 10
+        while len(got) < 2 and time.monotonic() < deadline:
+            listener.handle_timeout(100)
+    finally:
+        gw.close()
+    by_speed = {m.speed: (ch, m.header.device_id, m.header.sequence_id) for ch, m in got}
+    assert by_speed == {1.0: (f"aspn23/{lcm_vehicle(str(v1))}/measurement_speed", int(lcm_vehicle(str(v1)), 16) >> 1, 0),
+                        2.0: (f"aspn23/{lcm_vehicle(str(v2))}/measurement_speed", int(lcm_vehicle(str(v2)), 16) >> 1, 0)}
 
 
 def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
@@ -603,6 +660,7 @@ def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(
 def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
     from sem_console.console.feed import Feed
     from sem_console.gateways.jaus.gateway import JausGateway, report_navigation
+    from sem_console.gateways.jaus.judp import parse
 
     everything = (0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF)
     now = 1_700_000_000.25
@@ -621,7 +679,7 @@ def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
     gw = JausGateway(Feed(), 1, 42)  # answer() alone: no socket is opened without start()
     vehicle = uuid.uuid4()
     gw.vehicles[1], gw.fixes[vehicle] = vehicle, fix(2**32 + 5)
-    gw.answer(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))
+    gw.answer(parse(judp((1, 1, 42), 0x2421, struct.pack("<HHHH", *everything)))[0])
     assert gw.stats.counters["report time outside u32: console time sent"] == 1
     gw.close()
 

@@ -13,6 +13,7 @@ conversions turn a None into 0.0, so `guard` replaces every None with NaN before
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 import uuid
 from collections.abc import Callable
@@ -87,9 +88,16 @@ SIGNALS: list[tuple[Sys, float, float, Signal]] = [
 ]
 
 
+def vehicle_key(vehicle: uuid.UUID) -> int:
+    """64 bits that stand for the vehicle on LCM (its channels, its device_id): BLAKE2b-64 of its whole GUID, stable
+    across restarts. Not the GUID's first 64 bits: GUIDs given by hand or by a counter (…-000000000001, …-000000000002)
+    share those, and their vehicles would be one device on one channel to a listener."""
+    return int.from_bytes(hashlib.blake2b(vehicle.bytes, digest_size=8).digest(), "big")
+
+
 def device_id(vehicle: uuid.UUID) -> int:
-    """The vehicle's device_id: the first 63 bits of its GUID (stable across restarts, positive int64)."""
-    return int.from_bytes(vehicle.bytes[:8], "big") >> 1
+    """The vehicle's device_id: its key's first 63 bits (`vehicle_key`; a positive int64)."""
+    return vehicle_key(vehicle) >> 1
 
 
 def signal_of(system: Sys, frequency_hz: float) -> Signal | None:

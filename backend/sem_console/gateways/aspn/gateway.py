@@ -1,6 +1,6 @@
 """The ASPN gateway: the console's feed in, ASPN-23 messages out on LCM channels <prefix>/<vehicle>/<measurement>, where
-<vehicle> is the first 16 hex digits of the vehicle's GUID (`channel_vehicle`): LCM over UDP refuses a channel name over
-63 characters, and with the whole GUID most measurements' names were longer (nothing was sent on them).
+<vehicle> is 16 hex digits digested from the vehicle's whole GUID (`channel_vehicle`): LCM over UDP refuses a channel name
+over 63 characters, and with the whole GUID most measurements' names were longer (nothing was sent on them).
 
 It also keeps each vehicle's last `log_seconds` of messages (at most `MAX_LOG_BYTES` of memory each,
 per-message overhead included; a vehicle quiet for longer is forgotten), from which
@@ -26,16 +26,16 @@ import lcm
 
 from sem_console.console.feed import Feed
 from sem_console.gateways import Stats
-from sem_console.gateways.aspn.encode import Encoder, encode
+from sem_console.gateways.aspn.encode import Encoder, encode, vehicle_key
 
 MAX_LOG_BYTES = 8 * 1024 * 1024
 LCM_MAX_CHANNEL = 63  # characters: LCM over UDP refuses longer channel names (so --aspn-prefix takes at most 11)
 
 
 def channel_vehicle(vehicle: uuid.UUID) -> str:
-    """The vehicle's part of its channel names: its GUID's first 64 bits in hex (the first 16 hex digits of the GUID as
-    written, without its dash; its ASPN device_id is the same bits shifted right by one)."""
-    return vehicle.hex[:16]
+    """The vehicle's part of its channel names: its 64-bit key (`vehicle_key`, from the whole GUID) in 16 hex digits;
+    its ASPN device_id is the same bits shifted right by one."""
+    return f"{vehicle_key(vehicle):016x}"
 QUEUE_SIZE = 1000  # reports waiting for the worker; more are dropped and counted ("dropped: queue full")
 TOPICS = ("GPSFixReport", "GPSReport")
 log = logging.getLogger("sem-console.gateways")

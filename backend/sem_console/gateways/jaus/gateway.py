@@ -2,8 +2,9 @@
 QueryCommsLostConfiguration over JUDP from what the console's feed says.
 
 A vehicle is component S.1.C, C being its order of appearance on the bus (the console's `jausId`).
-Malformed input (short, wrong size or version, unknown message id, a body of the wrong length, a
-component we do not have) is counted by reason and dropped; nothing a peer sends raises.
+Malformed input (short, wrong size or version, a body of the wrong length, a component we do not have) is counted by
+reason and dropped; a well-formed message we do not answer (QueryIdentification, QueryServices ...) is counted as
+unsupported, not as malformed; nothing a peer sends raises.
 """
 
 from __future__ import annotations
@@ -111,6 +112,10 @@ def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
                        seconds(config["regainedTime"]), int(config["regainedBehavior"]) & 0xFF)
 
 
+class Unsupported(Exception):
+    """A well-formed message of a kind the gateway does not answer (a legal JAUS message, not a malformed one)."""
+
+
 class JausGateway(asyncio.DatagramProtocol):
     def __init__(self, feed: Feed, port: int | None, subsystem: int, host: str = "127.0.0.1") -> None:
         self.port, self.subsystem, self.host = port, subsystem, host
@@ -158,25 +163,38 @@ class JausGateway(asyncio.DatagramProtocol):
 
     # ---- JUDP ------------------------------------------------------------------------
     def datagram_received(self, data: bytes, addr: Any) -> None:
+        """Each message of the datagram is answered in a datagram of its own; a malformed datagram (its framing) is
+        counted once and nothing in it answered, a malformed message (e.g. for no such component) once each."""
         self.stats.count("received")
         try:
-            reply = self.answer(data)
+            packets = judp.parse(data)
         except Malformed as e:
-            self.stats.count("malformed")
-            self.stats.count(f"malformed: {e}")
+            self._malformed(e)
             return
-        except Exception as e:  # a bug here must not stop the gateway
-            self.stats.error(f"could not answer a datagram from {addr[0]}: {e!r}")
-            return
-        if reply is not None and self.transport is not None:
-            self.transport.sendto(reply, addr)
-            self.stats.sent()
+        for p in packets:
+            try:
+                reply = self.answer(p)
+            except Unsupported:
+                self.stats.count("unsupported message id")
+                continue
+            except Malformed as e:
+                self._malformed(e)
+                continue
+            except Exception as e:  # a bug here must not stop the gateway
+                self.stats.error(f"could not answer a datagram from {addr[0]}: {e!r}")
+                continue
+            if self.transport is not None:
+                self.transport.sendto(reply, addr)
+                self.stats.sent()
+
+    def _malformed(self, e: Malformed) -> None:
+        self.stats.count("malformed")
+        self.stats.count(f"malformed: {e}")
 
     def error_received(self, exc: Exception) -> None:
         self.stats.error(f"UDP: {exc}")
 
-    def answer(self, data: bytes) -> bytes | None:
-        p = judp.parse(data)
+    def answer(self, p: judp.Packet) -> bytes:
         me = p.destination
         if me.subsystem != self.subsystem or me.node != NODE or me.component not in self.vehicles:
             raise Malformed("no such component")
@@ -194,6 +212,6 @@ class JausGateway(asyncio.DatagramProtocol):
                 raise Malformed("wrong body size")
             message_id, body = judp.REPORT_COMMS_LOST_CONFIGURATION, report_comms_lost_configuration(self.configs[vehicle])
         else:
-            raise Malformed("unknown message id")
+            raise Unsupported(f"message id 0x{p.message_id:04X}")
         self.sequence = (self.sequence + 1) & 0xFFFF
         return judp.packet(p.flags & 0x03, p.source, JausId(self.subsystem, NODE, me.component), message_id, body, self.sequence)

@@ -1,13 +1,13 @@
 """JAUS over JUDP (AS5669A): the transport header, our field-type table, and the records we write.
 
-JUDP packet, little-endian, one message per datagram:
+JUDP datagram, little-endian: the version byte 0x02, then one or more messages one after the other (AS5669A lets a
+sender pack several into one datagram; we send one). Each message (offsets from its start):
 
-    byte 0       version, 0x02
-    byte 1       message type / header-compression flags, 0
-    bytes 2-3    size u16: everything after the version byte (14 + message id + body)
-    byte 4       flags: priority bits 0-1, broadcast bits 2-3, ack/nak bits 4-5, packet flags bits 6-7
-    bytes 5-8    destination id; bytes 9-12 source id (each: component u8, node u8, subsystem u16)
-    13-14        message id u16, then the body, then a sequence number u16
+    byte 0       message type / header-compression flags, 0
+    bytes 1-2    size u16: the whole message, this header included (14 + message id + body)
+    byte 3       flags: priority bits 0-1, broadcast bits 2-3, ack/nak bits 4-5, packet flags bits 6-7
+    bytes 4-7    destination id; bytes 8-11 source id (each: component u8, node u8, subsystem u16)
+    12-13        message id u16, then the body, then a sequence number u16
 
 A record's presence vector has bit i set when its i-th optional field is present (from bit 0).
 """
@@ -132,22 +132,30 @@ class Packet(NamedTuple):
     sequence: int
 
 
-def parse(data: bytes) -> Packet:
+def parse(data: bytes) -> list[Packet]:
+    """Every message of a datagram, in order; Malformed when any of them is (its framing then cannot be trusted)."""
     if len(data) < MIN_PACKET:
         raise Malformed("short")
-    version, kind, size, flags, dc, dn, ds, sc, sn, ss = HEADER.unpack_from(data)
-    if version != VERSION:
+    if data[0] != VERSION:
         raise Malformed("wrong version")
-    if kind != 0:
-        raise Malformed("header compression")
-    if size != len(data) - 1:
-        raise Malformed("wrong size")
-    if flags >> 6:
-        raise Malformed("multi-packet")
-    (message_id,) = MESSAGE_ID.unpack_from(data, HEADER.size)
-    body = data[HEADER.size + MESSAGE_ID.size:-SEQUENCE.size]
-    (sequence,) = SEQUENCE.unpack_from(data, len(data) - SEQUENCE.size)
-    return Packet(flags, JausId(ds, dn, dc), JausId(ss, sn, sc), message_id, body, sequence)
+    out, at = [], 1
+    while at < len(data):
+        if len(data) - at < MIN_PACKET - 1:
+            raise Malformed("short")
+        _, kind, size, flags, dc, dn, ds, sc, sn, ss = HEADER.unpack_from(data, at - 1)  # the version byte is skipped
+        if kind != 0:
+            raise Malformed("header compression")
+        if not MIN_PACKET - 1 <= size <= len(data) - at:
+            raise Malformed("wrong size")
+        if flags >> 6:
+            raise Malformed("multi-packet")
+        end = at + size
+        (message_id,) = MESSAGE_ID.unpack_from(data, at - 1 + HEADER.size)
+        body = data[at - 1 + HEADER.size + MESSAGE_ID.size:end - SEQUENCE.size]
+        (sequence,) = SEQUENCE.unpack_from(data, end - SEQUENCE.size)
+        out.append(Packet(flags, JausId(ds, dn, dc), JausId(ss, sn, sc), message_id, body, sequence))
+        at = end
+    return out
 
 
 def packet(flags: int, destination: JausId, source: JausId, message_id: int, body: bytes, sequence: int) -> bytes:
