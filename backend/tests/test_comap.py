@@ -290,6 +290,22 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
     assert decode_packet(good)[1]["state"] == 2
 
 
+def test_a_world_model_that_cannot_be_used_is_counted_not_taken_for_accepted(console) -> None:
+    """A well-formed WorldModel whose feature has no vertices (or one out of range) was ignored with a log line only:
+    /api/comap counted it `accepted` and nothing said the model was refused."""
+    from sem_console.comap.geo import Feature, world_model_message
+
+    port = free_udp_port()
+    c = console("--imc-port", str(port), "--imc-host", "127.0.0.1")
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        s.sendto(encode_packet(world_model_message([Feature(4, [])]), src=5), ("127.0.0.1", port))
+        s.sendto(encode_packet(world_model_message([Feature(5, [(95.0, 0.0)])]), src=5), ("127.0.0.1", port))
+    counters = wait_until(lambda: (lambda x: x if x.get("accepted") == 2 else None)(
+        httpx.get(f"{c.url}/api/comap").json()["counters"]), 10, "both datagrams")
+    assert counters["refusedWorldModels"] == 2, counters
+    assert httpx.get(f"{c.url}/api/worldmodel").json()["features"] == []  # no model taken from them
+
+
 def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
     """--imc-peers localhost:N: every send raised ValueError in the event loop's transport (it takes addresses
     only), so PUT /api/worldmodel answered 500 and nothing was sent or counted."""

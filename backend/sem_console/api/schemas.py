@@ -400,7 +400,9 @@ class ComapStatus(_Model):
     port: int | None
     peers: list[str]
     counters: dict[str, int] = Field(description="datagrams received, accepted, sent; dropped ones per reason: truncated, "
-                                     "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs")
+                                     "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs; refusedWorldModels: "
+                                     "WorldModels accepted as datagrams whose model was not used (a feature without "
+                                     "vertices, a vertex out of range; the log names it)")
     vehicles: list[ComapVehicle]
 
 

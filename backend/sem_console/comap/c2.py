@@ -122,6 +122,7 @@ class C2:
         self.world_source: str | None = None
         self.tasks: dict[int, Task] = {}
         self._highest_feature = 0  # the highest featureId seen (here and, stored, by the other consoles): new ones go above
+        self.refused_world_models = 0  # WorldModels from peers that could not be used (a feature without vertices...)
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
@@ -189,7 +190,8 @@ class C2:
         if m.name == "WorldModel":
             try:
                 self.features = features_from_world_model(m)
-            except GeoError as e:
+            except GeoError as e:  # the datagram was well formed (accepted), its model is not: counted apart
+                self.refused_world_models += 1
                 log.warning("ignored a WorldModel from IMC system %d: %s", header.src, e)
                 return
             self._saw_features(f.feature_id for f in self.features)

@@ -407,7 +407,7 @@ class Console:
         ep = self.imc.endpoint if self.imc is not None else None
         return {"enabled": ep is not None, "imcId": self.settings.imc_id, "port": self.settings.imc_port,
                 "peers": [f"{h}:{p}" for h, p in ep.peers] if ep else [],
-                "counters": dict(ep.counters) if ep else {},
+                "counters": {**ep.counters, "refusedWorldModels": self.c2.refused_world_models} if ep else {},
                 "vehicles": [v.to_json() for v in self.c2.vehicles.values()]}
 
     def _emit(self, message: dict[str, Any]) -> None:
