@@ -7,7 +7,7 @@ import type { Alarm } from "../api/generated/ws";
 import type { LinkState } from "../api/types";
 import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
-import { useSetting } from "../data/settings";
+import { useCollapsed, useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { umaa } from "../lib/labels";
@@ -200,13 +200,23 @@ export function FleetBar() {
   // a vehicle silent for seconds (or all of them, with the console unreachable) is not counted live
   const stale = all.filter((c) => c.link === "stale").length;
   const live = all.length - lost.length - stale;
-  // lost vehicles first: with many, the bar scrolls inside itself, and a lost one must not be out of sight
-  const chips = lost.length ? [...lost, ...all.filter((c) => c.link !== "lost")] : all;
+  // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
+  // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
+  const alarmed = all.filter((c) => c.link !== "lost" && byVehicle.has(c.p.id));
+  const chips = lost.length || alarmed.length ? [...lost, ...alarmed, ...all.filter((c) => c.link !== "lost" && !byVehicle.has(c.p.id))] : all;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
+  const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
+  // Show the alarm list: opened if it was collapsed, scrolled into view (below the top bars: the page's scroll
+  // padding) and the focus on its first alarm, so a keyboard operator acknowledges next rather than tabbing through
+  // every vehicle of the fleet to get there.
   const showAlarms = () => {
-    const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
-    region?.scrollIntoView({ block: "nearest" });
+    if (alarmsFolded) setAlarmsFolded(false);
+    requestAnimationFrame(() => {
+      const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
+      region?.scrollIntoView({ block: "nearest" });
+      (region?.querySelector<HTMLElement>(".alarm-ack") ?? region?.querySelector<HTMLElement>(".alarm-main"))?.focus({ preventScroll: true });
+    });
   };
   return (
     <nav className="fleet-bar" data-testid="fleet-bar" aria-label="Fleet">
