@@ -179,7 +179,7 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
   }
 });
 
-test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, and the alarm count opens them", async ({ page, request }) => {
+test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, and the alarm count opens the alarms", async ({ page, request }) => {
   // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
   await page.setViewportSize({ width: 1280, height: 720 });
   const stack = load();
@@ -201,6 +201,17 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
     const region = page.getByRole("region", { name: "Alarms" });
     const box = (await region.boundingBox())!;
     expect(box.y + 40).toBeLessThan(720);
+
+    // a vehicle picked in the fleet bar is brought into the list's view (the list scrolls, the page does not)
+    await page.getByTestId("fleet-vehicle").last().click();
+    const list = page.getByTestId("vehicles");
+    const row = list.locator('[data-testid="vehicle"][aria-pressed="true"]');
+    await expect(row).toHaveCount(1);
+    await expect.poll(async () => {
+      const [l, r] = [(await list.boundingBox())!, (await row.boundingBox())!];
+      return r.y >= l.y - 1 && r.y + r.height <= l.y + l.height + 1;
+    }).toBe(true);
+    expect(await page.evaluate(() => window.scrollY)).toBe(0);
 
     // collapsed and scrolled to just under the top bars, the count opens it below the bars, the focus in its list
     await page.getByTestId("alarms-panel-collapse").click();
