@@ -179,7 +179,7 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
   }
 });
 
-test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, and the alarm count opens the alarms", async ({ page, request }) => {
+test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, the chips are one Tab stop, and the alarm count opens the alarms", async ({ page, request }) => {
   // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
   await page.setViewportSize({ width: 1280, height: 720 });
   const stack = load();
@@ -212,6 +212,17 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
       return r.y >= l.y - 1 && r.y + r.height <= l.y + l.height + 1;
     }).toBe(true);
     expect(await page.evaluate(() => window.scrollY)).toBe(0);
+
+    // by keyboard the chips are one Tab stop, the arrow keys going through them
+    const chips = page.getByTestId("fleet-vehicle");
+    await chips.first().focus();
+    await page.keyboard.press("ArrowRight");
+    await expect(chips.nth(1)).toBeFocused();
+    await page.keyboard.press("End");
+    await expect(chips.last()).toBeFocused();
+    await page.keyboard.press("Tab");
+    await expect(page.locator(".fleet-chip:focus")).toHaveCount(0);
+    await expect(page.locator(":focus")).toHaveCount(1);
 
     // collapsed and scrolled to just under the top bars, the count opens it below the bars, the focus in its list
     await page.getByTestId("alarms-panel-collapse").click();
