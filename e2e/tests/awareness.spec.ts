@@ -178,3 +178,63 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
     await extra.stop();
   }
 });
+
+test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, the chips are one Tab stop, and the alarm count opens the alarms", async ({ page, request }) => {
+  // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
+  await page.setViewportSize({ width: 1280, height: 720 });
+  const stack = load();
+  const domain = await otherFreeDomain(stack.domain);
+  const extra = await startGuardedConsole("fleet-token", ["--domain", String(domain), "--db", join(stack.dir, "fleet.sqlite3")]);
+  const ids = execFileSync(SEM_SIM, ["--list", "--vehicles", "12"], { encoding: "utf8" }).trim().split("\n").map((l) => l.split(": ")[1]);
+  const failed = ids[10];
+  expect([...ids].sort()[0]).not.toBe(failed);
+  const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "12", "--fault", "ins-failure:11",
+    "--state-file", join(stack.dir, "fleet-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  try {
+    await expect.poll(async () => (await alarms(request, extra.url)).some((a) => a.kind === "ins-failure" && a.providerId === failed), { timeout: 30_000 }).toBe(true);
+    await page.goto(extra.url);
+    await expect(page.getByTestId("vehicle")).toHaveCount(12, { timeout: 30_000 });
+    // the vehicle with an alarm is not hidden behind the well ones in the bar's scroll
+    await expect(page.getByTestId("fleet-vehicle").first()).toContainText(failed.slice(0, 8));
+    await expect(page.getByTestId("fleet-vehicle").first()).toContainText("1 alarm");
+    // the vehicle list scrolls within itself: the alarms under it are on the first screen
+    const region = page.getByRole("region", { name: "Alarms" });
+    const box = (await region.boundingBox())!;
+    expect(box.y + 40).toBeLessThan(720);
+
+    // a vehicle picked in the fleet bar is brought into the list's view (the list scrolls, the page does not)
+    await page.getByTestId("fleet-vehicle").last().click();
+    const list = page.getByTestId("vehicles");
+    const row = list.locator('[data-testid="vehicle"][aria-pressed="true"]');
+    await expect(row).toHaveCount(1);
+    await expect.poll(async () => {
+      const [l, r] = [(await list.boundingBox())!, (await row.boundingBox())!];
+      return r.y >= l.y - 1 && r.y + r.height <= l.y + l.height + 1;
+    }).toBe(true);
+    expect(await page.evaluate(() => window.scrollY)).toBe(0);
+
+    // by keyboard the chips are one Tab stop, the arrow keys going through them
+    const chips = page.getByTestId("fleet-vehicle");
+    await chips.first().focus();
+    await page.keyboard.press("ArrowRight");
+    await expect(chips.nth(1)).toBeFocused();
+    await page.keyboard.press("End");
+    await expect(chips.last()).toBeFocused();
+    await page.keyboard.press("Tab");
+    await expect(page.locator(".fleet-chip:focus")).toHaveCount(0);
+    await expect(page.locator(":focus")).toHaveCount(1);
+
+    // collapsed and scrolled to just under the top bars, the count opens it below the bars, the focus in its list
+    await page.getByTestId("alarms-panel-collapse").click();
+    const bars = (await page.locator(".top-bars").boundingBox())!;
+    await page.evaluate((y) => window.scrollTo(0, y), box.y - bars.height + 60);
+    await page.getByTestId("fleet-alarms").focus();
+    await page.keyboard.press("Enter");
+    await expect(page.getByTestId("alarms-panel-collapse")).toHaveAttribute("aria-expanded", "true");
+    await expect(region.locator(".alarm-list :focus")).toHaveCount(1);
+    await expect.poll(async () => (await region.boundingBox())!.y).toBeGreaterThanOrEqual(bars.y + bars.height);
+  } finally {
+    await stopChild(sim);
+    await extra.stop();
+  }
+});

@@ -14,6 +14,7 @@ import { MapPanel } from "./panels/Map";
 import { ReplayBar } from "./panels/Replay";
 import { SatellitesPanel } from "./panels/Satellites";
 import { VehicleSelector } from "./panels/VehicleSelector";
+import { useEffect, useRef } from "react";
 import "./lib/themeApply"; // the theme is set before the first paint
 
 // The panels of each group by test id, in their default order (the operator's order is kept in the
@@ -32,11 +33,26 @@ const MAIN = {
   "export-panel": { node: <ExportPanel />, wide: true },
 };
 
+/** Keeps the height of the top bars (which grows with the fleet bar's rows) in `--top-bars`, the page's scroll
+ * padding: a panel scrolled to, or an element reached with Tab, is shown below the bars rather than under them. */
+function useTopBarsHeight() {
+  const ref = useRef<HTMLDivElement>(null);
+  useEffect(() => {
+    const bars = ref.current;
+    if (!bars) return;
+    const observer = new ResizeObserver(() => document.documentElement.style.setProperty("--top-bars", `${bars.offsetHeight}px`));
+    observer.observe(bars);
+    return () => observer.disconnect();
+  }, []);
+  return ref;
+}
+
 export function App() {
+  const topBars = useTopBarsHeight();
   return (
     <div className="app">
       {/* the header and the fleet bar stay at the top together, whatever is scrolled */}
-      <div className="top-bars">
+      <div className="top-bars" ref={topBars}>
         <Header />
         <DatabaseBanner />
         <ErrorBoundary name="Fleet">

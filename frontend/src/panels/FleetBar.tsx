@@ -2,12 +2,12 @@
 // unacknowledged alarms, held at the top of the page, so whatever the operator has scrolled to, a lost
 // vehicle or a new alarm is in view. It also carries the page's alarm annunciation (the tab title and
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
-import { memo, useEffect, useMemo, useRef, useState } from "react";
+import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
 import type { Alarm } from "../api/generated/ws";
 import type { LinkState } from "../api/types";
 import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
-import { useSetting } from "../data/settings";
+import { useCollapsed, useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { umaa } from "../lib/labels";
@@ -85,11 +85,12 @@ interface ChipProps {
   insStatus: InsStatus;
   alarms: number;
   selected: boolean;
+  tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
   onSelect: (id: string) => void;
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, selected, onSelect }: ChipProps) {
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, selected, tabbable, onSelect }: ChipProps) {
   const l = LINK[link];
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
@@ -101,6 +102,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
       data-link={link}
       data-vehicle={id}
       aria-pressed={selected}
+      tabIndex={tabbable ? 0 : -1}
       title={id}
       onClick={() => onSelect(id)}
     >
@@ -200,13 +202,23 @@ export function FleetBar() {
   // a vehicle silent for seconds (or all of them, with the console unreachable) is not counted live
   const stale = all.filter((c) => c.link === "stale").length;
   const live = all.length - lost.length - stale;
-  // lost vehicles first: with many, the bar scrolls inside itself, and a lost one must not be out of sight
-  const chips = lost.length ? [...lost, ...all.filter((c) => c.link !== "lost")] : all;
+  // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
+  // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
+  const alarmed = all.filter((c) => c.link !== "lost" && byVehicle.has(c.p.id));
+  const chips = lost.length || alarmed.length ? [...lost, ...alarmed, ...all.filter((c) => c.link !== "lost" && !byVehicle.has(c.p.id))] : all;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
+  const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
+  // Show the alarm list: opened if it was collapsed, scrolled into view (below the top bars: the page's scroll
+  // padding) and the focus on its first alarm, so a keyboard operator acknowledges next rather than tabbing through
+  // every vehicle of the fleet to get there.
   const showAlarms = () => {
-    const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
-    region?.scrollIntoView({ block: "nearest" });
+    if (alarmsFolded) setAlarmsFolded(false);
+    requestAnimationFrame(() => {
+      const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
+      region?.scrollIntoView({ block: "nearest" });
+      (region?.querySelector<HTMLElement>(".alarm-ack") ?? region?.querySelector<HTMLElement>(".alarm-main"))?.focus({ preventScroll: true });
+    });
   };
   return (
     <nav className="fleet-bar" data-testid="fleet-bar" aria-label="Fleet">
@@ -251,7 +263,7 @@ export function FleetBar() {
       {providers.length === 0 ? (
         <NoVehicleHelp />
       ) : (
-        <div className="fleet-chips" role="group" aria-label="Vehicles in the fleet">
+        <div className="fleet-chips" role="toolbar" aria-label="Vehicles in the fleet" onKeyDown={moveAmongChips}>
           {chips.map(({ p, link }) => (
             <Chip
               key={p.id}
@@ -263,6 +275,7 @@ export function FleetBar() {
               insStatus={report(p, "InertialSensorReport")?.status}
               alarms={byVehicle.get(p.id) ?? 0}
               selected={p.id === selected}
+              tabbable={p.id === (chips.some((c) => c.p.id === selected) ? selected : chips[0].p.id)}
               onSelect={onSelect}
             />
           ))}
@@ -270,6 +283,20 @@ export function FleetBar() {
       )}
     </nav>
   );
+}
+
+const KEY_STEP: Record<string, number> = { ArrowRight: 1, ArrowDown: 1, ArrowLeft: -1, ArrowUp: -1, Home: -Infinity, End: Infinity };
+
+/** The chips are one Tab stop (a fleet of 250 would otherwise be 250 Tabs between the header and the panels): the
+ * arrow keys, Home and End move the focus among them (a toolbar's keys). */
+function moveAmongChips(e: KeyboardEvent<HTMLDivElement>) {
+  const step = KEY_STEP[e.key];
+  if (step === undefined || !(e.target instanceof HTMLElement)) return;
+  const chips = [...e.currentTarget.querySelectorAll<HTMLElement>(".fleet-chip")];
+  const at = chips.indexOf(e.target);
+  if (at < 0) return;
+  e.preventDefault();
+  chips[Math.max(0, Math.min(chips.length - 1, at + step))]?.focus();
 }
 
 /** What a vehicle panel says instead of its data when no vehicle is selected. */

@@ -1,4 +1,4 @@
-import { Fragment } from "react";
+import { Fragment, useEffect, useRef } from "react";
 import { VehicleTag } from "../components/VehicleTag";
 import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
@@ -20,8 +20,23 @@ export function VehicleSelector() {
   const store = useStore();
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
+  const list = useRef<HTMLElement>(null);
+  const shown = providers.some((p) => p.id === selected);
+  // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
+  // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
+  useEffect(() => {
+    const nav = list.current;
+    const row = nav?.querySelector<HTMLElement>('.vehicle[aria-pressed="true"]');
+    if (!nav || !row) return;
+    const after = row.nextElementSibling;
+    const end = after instanceof HTMLElement && !after.classList.contains("vehicle") ? after : row; // its Rename
+    const top = row.offsetTop; // the list is positioned: offsets are within it
+    const bottom = end.offsetTop + end.offsetHeight;
+    if (top < nav.scrollTop) nav.scrollTop = top;
+    else if (bottom > nav.scrollTop + nav.clientHeight) nav.scrollTop = Math.min(top, bottom - nav.clientHeight);
+  }, [selected, shown]);
   return (
-    <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles">
+    <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
       {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
       {selected && !providers.some((p) => p.id === selected) && (
