@@ -407,5 +407,18 @@ def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) ->
         shown.clear()
         a.load_task({**row, "point": row["point"]})  # the same row again: nothing new
         assert not shown
+
+        # A's copy already newer than the row (its vehicle reports faster than the notifications come: each progress
+        # report stamped anew before the row was read): B's HOLD is taken all the same, A's newer progress kept
+        a.tasks[1] = Task(**{**asdict(progressed), "progress": 55, "updated_at": 105.0})
+        a.load_task({**row, "point": row["point"]})
+        assert (a.tasks[1].state, a.tasks[1].last_synch, a.tasks[1].progress) == ("HELD", "HOLD", 55)
+        # but not over a state A decided after that row was stamped (its own RESUME)
+        a.linked = True
+        a.tasks[1].state = "IN_PROGRESS"
+        a.tasks[1].last_synch = None
+        a.synch(1, "RESUME")
+        a.load_task({**row, "point": row["point"]})
+        assert (a.tasks[1].state, a.tasks[1].last_synch) == ("IN_PROGRESS", "RESUME")
     finally:
         db.close()

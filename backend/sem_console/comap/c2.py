@@ -123,6 +123,9 @@ class C2:
         self.tasks: dict[int, Task] = {}
         self._highest_feature = 0  # the highest featureId seen (here and, stored, by the other consoles): new ones go above
         self.refused_world_models = 0  # WorldModels from peers that could not be used (a feature without vertices...)
+        # task id -> when this console last decided its state (a synch, a state its vehicle reported): a stored state
+        # stamped later is another station's (or ours carried over by a progress write), and is taken (load_task)
+        self._state_at: dict[int, float] = {}
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
@@ -172,12 +175,16 @@ class C2:
         """A stored task (Database.comap_tasks), applied when newer than this console's of that id."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
         old = self.tasks.get(task.task_id)
-        # the same change as ours, unless its state or synch differs: a progress report of ours stored over another
-        # station's newer HOLD keeps that state and synch (Database.set_comap_task) and takes our time stamp
-        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at) and not (
-                (old.created_at, old.updated_at) == (task.created_at, task.updated_at)
-                and (old.state, old.last_synch) != (task.state, task.last_synch)):
-            return
+        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at):
+            # ours is as new or newer (its vehicle's progress reports, each stamped as it comes), but the stored state
+            # and synch are another station's decided after ours (a HOLD): a progress write keeps the stored state
+            # (Database.set_comap_task), so with the vehicle reporting faster than the notifications came, the
+            # comparison of the whole change never let the other station's HOLD in (seen: B held, A showed IN_PROGRESS)
+            if old.created_at != task.created_at or (old.state, old.last_synch) == (task.state, task.last_synch) \
+                    or task.updated_at < self._state_at.get(task.task_id, 0.0):
+                return
+            old.state, old.last_synch = task.state, task.last_synch
+            task = old
         self.tasks[task.task_id] = task
         self.emit({"type": "task", "task": task.to_json()})
 
@@ -244,6 +251,8 @@ class C2:
     def _set(self, task: Task, state: str) -> None:
         changed = state != task.state
         task.state, task.updated_at = state, time.time()
+        if changed:
+            self._state_at[task.task_id] = task.updated_at
         self.emit({"type": "task", "task": task.to_json()})
         self.save.task(task, changed)  # a report of progress alone does not store its state over another station's
 
@@ -296,6 +305,7 @@ class C2:
         self.send(msg("SynchAdmin", op=SynchOp[action].value), task.imc_id)
         task.last_synch = action
         self._set(task, {"HOLD": "HELD", "RESUME": "IN_PROGRESS", "INTERRUPT": "INTERRUPTED"}[action])
+        self._state_at[task.task_id] = task.updated_at  # a synch decides the state, whether or not it changed
         return task
 
     def capabilities_of(self, provider: uuid.UUID) -> VehicleInfo | None:
