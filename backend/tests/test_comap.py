@@ -353,6 +353,13 @@ def test_imc_peers_of_a_console_without_comap_are_not_resolved() -> None:
     from sem_console.sim.sem_sim import _peers
 
     assert _peers("no-such-host.invalid:6002") == [("no-such-host.invalid", 6002)]
+    # with CoMap on it would be sent to: one line at the start (its sends failed unseen, counted in sendErrors only)
+    from sem_console.sim.sem_sim import build_parser, options_from
+
+    assert options_from(build_parser().parse_args(["--imc-peers", "no-such-host.invalid:6002"])).imc_peers
+    with pytest.raises(SystemExit) as stopped:
+        options_from(build_parser().parse_args(["--imc-port", "6003", "--imc-peers", "no-such-host.invalid:6002"]))
+    assert stopped.value.code == 2
 
 
 def test_new_feature_ids_are_not_reused_after_a_delete() -> None:
@@ -420,5 +427,17 @@ def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) ->
         a.synch(1, "RESUME")
         a.load_task({**row, "point": row["point"]})
         assert (a.tasks[1].state, a.tasks[1].last_synch) == ("IN_PROGRESS", "RESUME")
+
+        # nor over a state A's vehicle reported after that row was stamped (its COMPLETED: C2._set notes it too)
+        from sem_console.comap.codec import Header
+        from sem_console.comap.messages import TaskStatusEnum
+
+        c = C2({vehicle: 0x2001}, lambda m, dst: None, lambda ws: None, station="watch")
+        c.tasks[1] = Task(**asdict(progressed))
+        c.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
+                     msg("TaskStatus", task_id=1, status=TaskStatusEnum.COMPLETED.value, progress=100, quality=100))
+        stale = {**row, "point": row["point"], "updated_at": c.tasks[1].updated_at - 0.001}  # read before it came
+        c.load_task(stale)
+        assert c.tasks[1].state == "COMPLETED"
     finally:
         db.close()

@@ -38,7 +38,7 @@ def _imc_id(text: str) -> int:
 
 
 def _peers(text: str) -> list[tuple[str, int]]:
-    try:  # names as given: the simulator's plain socket resolves them at each send (and follows an address that changes)
+    try:  # names as given: the plain socket resolves them at each send (checked in options_from when CoMap is on)
         return parse_peers(text, resolve=False)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from None
@@ -72,10 +72,17 @@ def options_from(args: argparse.Namespace) -> SimOptions:
     one line and exit 2, as argparse's own errors."""
     given = {name: getattr(args, name) for name in cli_options(SimOptions) if getattr(args, name) is not None}
     try:
-        return SimOptions(**given)
+        opts = SimOptions(**given)
     except ValidationError as e:
         print(f"sem-sim: error: {model_error(SimOptions, e)}", file=sys.stderr)
         raise SystemExit(2) from None
+    if opts.imc_port is not None:  # CoMap on: a name that does not resolve is one line now, not every send failing unseen
+        try:
+            parse_peers(",".join(f"{h}:{p}" for h, p in opts.imc_peers))
+        except ValueError as e:
+            print(f"sem-sim: error: --imc-peers: {e}", file=sys.stderr)
+            raise SystemExit(2) from None
+    return opts
 
 
 def main(argv: list[str] | None = None) -> int:
