@@ -45,7 +45,7 @@ from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
-from sem_console.recording.reader import COMMANDS
+from sem_console.recording.reader import COMMANDS, INSTANCES
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -74,7 +74,7 @@ JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
     COMMANDS: ("command", CommandMessage),
     "sem-console/transitions": ("transition", TransitionMessage),
     "sem-console/links": ("provider", ProviderMessage),
-    "sem-console/instances": ("instance", InstanceEvent),
+    INSTANCES: ("instance", InstanceEvent),
 }
 _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
 
@@ -347,7 +347,7 @@ class Recorder:
             for raw, valid, instance_state, source_ns in data:
                 if instance_state != _ALIVE:
                     event = _instance_event(key, raw, valid, instance_state)
-                    f.add("sem-console/instances", json.dumps(event).encode(), log_ns, max(source_ns, 0))
+                    f.add(INSTANCES, json.dumps(event).encode(), log_ns, max(source_ns, 0))
                     self.messages += 1
         else:
             f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, log_ns)
