@@ -111,8 +111,8 @@ def world_model_message(features: list[Feature]) -> Message:
 
 
 def features_from_world_model(m: Message) -> list[Feature]:
-    """The features of a received WorldModel; a feature without points or with a non-finite or
-    out-of-range vertex is left out (GeoError when any is)."""
+    """The features of a received WorldModel; GeoError when a feature has no points or a non-finite or out-of-range
+    vertex (the whole model is then refused: C2 counts it in refused_world_models)."""
     out: dict[int, Feature] = {}
     for g in m["geo_features"]:
         pts = [(math.degrees(p["lat"]), math.degrees(p["lon"])) for p in g["points"]]

@@ -191,7 +191,7 @@ class Commands:
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
-    def adopt(self, c: dict[str, Any]) -> Command | None:
+    def adopt(self, c: dict[str, Any]) -> Command:
         """Replay: a command the recorded console issued or changed (its `command` message, as on the
         WebSocket). A new one is followed from here on like one issued here, but never published; for
         a known one, a cancel request is taken over. Statuses and acks come from the recorded samples."""

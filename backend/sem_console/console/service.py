@@ -326,7 +326,7 @@ class Console:
             except (KeyError, ValueError, TypeError) as e:
                 log.warning("skipped a recorded command that cannot be read: %s", e)
                 return
-            for early in self._early.pop(cmd.session_id, []) if cmd is not None else []:
+            for early in self._early.pop(cmd.session_id, []):
                 self._command_status(early)
 
     def on_reports(self, items: list[ReportItem]) -> None:
