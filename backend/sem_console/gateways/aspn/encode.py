@@ -168,6 +168,11 @@ class Encoder:
         return int(seconds) * 1_000_000_000 + int(nanos)
 
     def fix_report(self, vehicle: uuid.UUID, report: dict[str, Any], invalid: list[str]) -> list[tuple[str, Any]]:
+        if report.get("GPSLatLongValid") is not True:
+            # the ICD: "if not, INS position is used", and so are the report's other values. ASPN measurements feed a
+            # fusion engine, which would count the INS's own solution twice if it came back as a GPS measurement
+            self._skip("GPSFixReport: GPSLatLongValid is false (the INS's solution, not a GPS measurement)")
+            return []
         t = self._time(report, invalid)
         if t is None:
             return []
@@ -179,9 +184,7 @@ class Encoder:
         out: list[tuple[str, Any]] = []
         lat = n("position2DWithTime.geodeticPosition.geodeticLatitude.latitude")
         lon = n("position2DWithTime.geodeticPosition.geodeticLongitude.longitude")
-        if report.get("GPSLatLongValid") is not True:
-            self._skip("position: GPSLatLongValid is false")
-        elif lat is None or lon is None:
+        if lat is None or lon is None:
             self._skip("position: latitude or longitude invalid")
         else:  # height left out: UMAA gives MSL, ASPN's term3 is height above the ellipsoid
             out.append(("measurement_position", MeasurementPosition(
