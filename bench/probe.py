@@ -223,7 +223,7 @@ def main() -> None:
     ap.add_argument("--vehicles", default="1,20,50", help="the runs at 10 Hz, comma-separated")
     args = ap.parse_args()
     runs: dict[str, dict[str, Any]] = {}
-    for n in (int(x) for x in args.vehicles.split(",")):
+    for n in (int(x) for x in args.vehicles.split(",") if x):
         runs[str(n)] = run(n, args.seconds) | {"load": load()}
     if args.fleet:
         runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False) | {"load": load()}
