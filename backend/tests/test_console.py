@@ -411,9 +411,11 @@ def test_websocket_bad_input_gets_an_error_and_keeps_the_connection(live) -> Non
     ws = WsClient(live.ws_url)
     ws.ws.send("not json")
     ws.ws.send(json.dumps({"type": "launch-missiles"}))
+    ws.ws.send(json.dumps({"type": "ack", "frames": 10**6}))  # more frames than were sent: not a count of this socket's
     ws.ws.send(json.dumps({"type": "ping"}))
-    wait_until(lambda: len(ws.of("error")) == 2 and ws.of("pong"), 5, "two errors and a pong")
+    wait_until(lambda: len(ws.of("error")) == 3 and ws.of("pong"), 5, "three errors and a pong")
     assert "bad message" in ws.of("error")[0]["message"]
+    assert "acknowledge the frames received" in ws.of("error")[2]["message"]
     assert ws.errors == []
 
 

@@ -184,14 +184,16 @@ class Client:
             self.sent_at[key] = time.monotonic()
         return text
 
-    def ack(self, frames: int) -> None:
-        """The client has taken the first `frames` frames of this socket: the reports held by the window may go."""
+    def ack(self, frames: int) -> bool:
+        """The client has taken the first `frames` frames of this socket: the reports held by the window may go.
+        False, and the window stays as it was, for a count that is not one of this socket's (more than were sent)."""
         unacked = self.sent_frames - frames
         if frames < 0 or unacked < 0:
-            return  # not a count of this socket's frames: ignored (the window stays as it was)
+            return False
         while len(self.inflight) > unacked:
             self.inflight_bytes -= self.inflight.popleft()
         self.wake.set()
+        return True
 
     def _batch(self) -> list[str]:
         """The reports of the next batch, longest waiting first: at most BATCH_MAX, and within the window's room (at

@@ -75,8 +75,9 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                 continue
             if msg.type == "ping":
                 client.push(json.dumps({"type": "pong", "serverTime": time.time()}))
-            elif msg.type == "ack":
-                client.ack(msg.frames)
+            elif msg.type == "ack" and not client.ack(msg.frames):
+                client.push(json.dumps({"type": "error", "message": f"bad message: ack of {msg.frames} frames, but "
+                                        f"{client.sent_frames} were sent on this socket: acknowledge the frames received"}))
             elif msg.type == "select":
                 client.select(None if msg.providerId is None else str(msg.providerId))
                 if msg.providerId is not None and (report := console.selected_report(msg.providerId)) is not None:
