@@ -10,7 +10,6 @@ import struct
 import time
 import uuid
 from dataclasses import asdict
-from pathlib import Path
 from typing import Any
 
 import httpx
@@ -22,6 +21,7 @@ from sem_console.comap.codec import crc16, decode_packet, encode_packet, msg
 from sem_console.comap.geo import Local, contains
 from sem_console.sim.options import vehicle_guid
 from sem_console.storage.database import Database
+from sem_console.storage.url import parse_database_url
 from test_console import WsClient, wait_until
 
 V1 = str(vehicle_guid(1))
@@ -386,30 +386,30 @@ def test_new_feature_ids_are_not_reused_after_a_delete() -> None:
     assert len(sent) == 4 and sent[-1].name == "WorldModel"
 
 
-def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) -> None:
+def test_a_progress_report_keeps_another_stations_newer_state(database_url: str) -> None:
     """Station A (which assigned the task) stores the vehicle's progress while its copy of the task is stale: station B
     has just stored HOLD. The stored task keeps HELD with A's progress, and A takes it on its next read. Without the
     rule, A's IN_PROGRESS went over B's HOLD on every station (test_comap_shared saw it under load)."""
-    db = Database(tmp_path / "c.sqlite3")
+    db = Database(parse_database_url(database_url))
     try:
+        db.claim("watch", hold=False)
         vehicle = uuid.uuid4()
         at_a = Task(1, "move", vehicle, 0x2001, None, point={"lat": 36.8, "lon": -75.7}, state="IN_PROGRESS",
-                    created_at=100.0, updated_at=101.0, station="watch")
+                    created_at=100.0, updated_at=101.0, station="watch", state_at=101.0)
         db.set_comap_task(asdict(at_a))
-        at_b = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "updated_at": 102.0})
+        at_b = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "updated_at": 102.0, "state_at": 102.0})
         db.set_comap_task(asdict(at_b))  # B's HOLD
         progressed = Task(**{**asdict(at_a), "progress": 40, "updated_at": 103.0})  # A's stale copy, newer progress
-        db.set_comap_task(asdict(progressed), state_changed=False)
+        db.set_comap_task(asdict(progressed))
         (row,) = db.comap_tasks(1)
-        assert (row["state"], row["last_synch"], row["progress"], row["updated_at"]) == ("HELD", "HOLD", 40, 103.0)
-        db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 104.0})))
-        assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
+        assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
+            "HELD", "HOLD", 40, 103.0, 102.0)
 
         shown: list[dict[str, object]] = []
         a = C2({vehicle: 0x2001}, lambda m, dst: None, shown.append, station="watch")
         a.tasks[1] = progressed
-        a.load_task({**row, "point": row["point"]})  # the same time stamp as A's own write, another state: taken
-        assert (a.tasks[1].state, a.tasks[1].last_synch) == ("HELD", "HOLD")
+        a.load_task({**row, "point": row["point"]})  # the same progress as A's own, a state decided after A's: taken
+        assert (a.tasks[1].state, a.tasks[1].last_synch, a.tasks[1].progress) == ("HELD", "HOLD", 40)
         assert shown[-1]["task"]["state"] == "HELD"  # type: ignore[index]
         shown.clear()
         a.load_task({**row, "point": row["point"]})  # the same row again: nothing new
@@ -428,7 +428,23 @@ def test_a_progress_report_keeps_another_stations_newer_state(tmp_path: Path) ->
         a.load_task({**row, "point": row["point"]})
         assert (a.tasks[1].state, a.tasks[1].last_synch) == ("IN_PROGRESS", "RESUME")
 
-        # nor over a state A's vehicle reported after that row was stamped (its COMPLETED: C2._set notes it too)
+        # a HOLD held through an outage (B's database connection lost at 104) is stored when B's write comes at last,
+        # though A stored newer progress meanwhile (110); that progress stays. One stamp for both (updated_at) lost it
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "progress": 80, "updated_at": 110.0})))
+        held = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "progress": 60, "updated_at": 104.0,
+                       "state_at": 104.0})
+        db.set_comap_task(asdict(held))
+        (row,) = db.comap_tasks(1)
+        assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
+            "HELD", "HOLD", 80, 110.0, 104.0)
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 111.0, "state_at": 111.0})))
+        assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
+        # never over another task of that id (a stale station's write of the finished task the id had before)
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "created_at": 50.0, "state": "ERROR", "updated_at": 200.0,
+                                         "state_at": 200.0})))
+        assert db.comap_tasks(1)[0]["state"] == "COMPLETED"
+
+        # nor over a state A's vehicle reported after that row was stamped (its COMPLETED: C2._set stamps it)
         from sem_console.comap.codec import Header
         from sem_console.comap.messages import TaskStatusEnum
 

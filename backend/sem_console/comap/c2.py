@@ -60,6 +60,10 @@ class Task:
     updated_at: float = field(default_factory=time.time)
     last_synch: str | None = None
     station: str | None = None  # the console station that assigned it
+    # when the state and synch were decided (a synch, a state the vehicle reported): apart from updated_at, which
+    # progress reports move on too, so that a station's HOLD is not lost to progress stored after it (load_task,
+    # Database.set_comap_task)
+    state_at: float = field(default_factory=time.time)
 
     def to_json(self) -> dict[str, Any]:
         return {"taskId": self.task_id, "kind": self.kind, "vehicle": str(self.vehicle), "imcId": self.imc_id,
@@ -99,14 +103,14 @@ def _sensor_name(v: int) -> str:
 
 class Saver(Protocol):
     def world(self, world: dict[str, Any]) -> None: ...
-    def task(self, task: Task, state_changed: bool = True) -> None: ...
+    def task(self, task: Task) -> None: ...
 
 
 class _NotSaved:
     def world(self, world: dict[str, Any]) -> None:
         pass
 
-    def task(self, task: Task, state_changed: bool = True) -> None:
+    def task(self, task: Task) -> None:
         pass
 
 
@@ -123,9 +127,6 @@ class C2:
         self.tasks: dict[int, Task] = {}
         self._highest_feature = 0  # the highest featureId seen (here and, stored, by the other consoles): new ones go above
         self.refused_world_models = 0  # WorldModels from peers that could not be used (a feature without vertices...)
-        # task id -> when this console last decided its state (a synch, a state its vehicle reported): a stored state
-        # stamped later is another station's (or ours carried over by a progress write), and is taken (load_task)
-        self._state_at: dict[int, float] = {}
 
     # ---- world model ------------------------------------------------------------------------
     def world_model(self) -> dict[str, Any]:
@@ -172,18 +173,23 @@ class C2:
         self.emit({"type": "worldmodel", "worldModel": self.world_model()})
 
     def load_task(self, row: dict[str, Any]) -> None:
-        """A stored task (Database.comap_tasks), applied when newer than this console's of that id."""
+        """A stored task (Database.comap_tasks), applied where newer than this console's of that id: its state and synch
+        when decided after ours (`state_at`: another station's HOLD), its progress when stored after ours. Each by its own
+        stamp: the vehicle's progress, stamped as each report comes, moves `updated_at` on faster than the notifications
+        come, and comparing the whole change never let the other station's HOLD in (seen: B held, A showed IN_PROGRESS)."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
         old = self.tasks.get(task.task_id)
-        if old is not None and (old.created_at, old.updated_at) >= (task.created_at, task.updated_at):
-            # ours is as new or newer (its vehicle's progress reports, each stamped as it comes), but the stored state
-            # and synch are another station's decided after ours (a HOLD): a progress write keeps the stored state
-            # (Database.set_comap_task), so with the vehicle reporting faster than the notifications came, the
-            # comparison of the whole change never let the other station's HOLD in (seen: B held, A showed IN_PROGRESS)
-            if old.created_at != task.created_at or (old.state, old.last_synch) == (task.state, task.last_synch) \
-                    or task.updated_at < self._state_at.get(task.task_id, 0.0):
+        if old is not None and old.created_at > task.created_at:
+            return  # a finished task of that id, which ours replaced
+        if old is not None and old.created_at == task.created_at:
+            state = task.state_at > old.state_at
+            progress = task.updated_at > old.updated_at
+            if not state and not progress:
                 return
-            old.state, old.last_synch = task.state, task.last_synch
+            if state:
+                old.state, old.last_synch, old.state_at = task.state, task.last_synch, task.state_at
+            if progress:
+                old.progress, old.quality, old.updated_at = task.progress, task.quality, task.updated_at
             task = old
         self.tasks[task.task_id] = task
         self.emit({"type": "task", "task": task.to_json()})
@@ -248,13 +254,16 @@ class C2:
                 state = "IN_PROGRESS"
         self._set(task, state)
 
-    def _set(self, task: Task, state: str) -> None:
-        changed = state != task.state
-        task.state, task.updated_at = state, time.time()
-        if changed:
-            self._state_at[task.task_id] = task.updated_at
+    def _set(self, task: Task, state: str, decided: bool = False) -> None:
+        """The task's state now (a report of progress alone gives the one it has); `decided`: a synch, which decides
+        the state whether or not it changed. Only a decision stamps `state_at`: a progress report keeps the stamp of
+        the state it was read with, and so never stores a stale state over another station's newer one."""
+        now = time.time()
+        if decided or state != task.state:
+            task.state_at = now
+        task.state, task.updated_at = state, now
         self.emit({"type": "task", "task": task.to_json()})
-        self.save.task(task, changed)  # a report of progress alone does not store its state over another station's
+        self.save.task(task)
 
     # ---- tasks ------------------------------------------------------------------------------------
     def plan(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,
@@ -304,8 +313,7 @@ class C2:
             raise TaskError(409, f"task {task_id} cannot be synched from this console ({why}): synch it {where}")
         self.send(msg("SynchAdmin", op=SynchOp[action].value), task.imc_id)
         task.last_synch = action
-        self._set(task, {"HOLD": "HELD", "RESUME": "IN_PROGRESS", "INTERRUPT": "INTERRUPTED"}[action])
-        self._state_at[task.task_id] = task.updated_at  # a synch decides the state, whether or not it changed
+        self._set(task, {"HOLD": "HELD", "RESUME": "IN_PROGRESS", "INTERRUPT": "INTERRUPTED"}[action], decided=True)
         return task
 
     def capabilities_of(self, provider: uuid.UUID) -> VehicleInfo | None:

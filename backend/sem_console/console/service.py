@@ -60,8 +60,8 @@ class SharedComap:
     def world(self, world: dict[str, Any]) -> None:
         self.store.set_comap_world(world)
 
-    def task(self, task: Task, state_changed: bool = True) -> None:
-        self.store.set_comap_task(asdict(task), state_changed)
+    def task(self, task: Task) -> None:
+        self.store.set_comap_task(asdict(task))
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:

@@ -27,7 +27,7 @@ from alembic import command
 from alembic.config import Config
 from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
-from sqlalchemy import Connection, Engine, create_engine, delete, event, func, insert, inspect, or_, select, update
+from sqlalchemy import Connection, Engine, case, create_engine, delete, event, func, insert, inspect, or_, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQLAlchemyError
 
@@ -580,19 +580,35 @@ class Database:
         values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.station}
         self._upsert_newer(COMAP_WORLD, values, "worldmodel")
 
-    def set_comap_task(self, task: dict[str, Any], state_changed: bool = True) -> None:
-        """Store a task's change (keys: ComapTaskRecord's), unless the row holds a newer one. A change of progress
-        alone (`state_changed` False: the vehicle's TaskStatus) leaves the stored state and synch as they are: this
-        console may not yet have read another station's newer ones (a HOLD), which its stale ones would overwrite."""
-        self._upsert_newer(COMAP_TASKS, _task_row(task), "task", keep=() if state_changed else ("state", "last_synch"),
-                           id=task["task_id"])
+    def set_comap_task(self, task: dict[str, Any]) -> None:
+        """Store a task's change (keys: ComapTaskRecord's). Its state and synch are written where decided after the
+        row's (`state_at`), its progress and quality where newer than the row's (`updated_at`), each by its own stamp:
+        a station's progress write carries the stamp of the state it read, so it never stores that state over another
+        station's newer one (a HOLD), and a HOLD held through an outage is stored after it even though the vehicle's
+        progress, stored by another station meanwhile, is newer. Never over another task of that id."""
+        t = COMAP_TASKS
+        ins = self._insert(t).values(_task_row(task))
+        new = ins.excluded
 
-    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, keep: tuple[str, ...] = (), **fields: Any) -> None:
-        """Insert or update the row of `values`' key unless it holds a newer change; `keep`: columns an update leaves."""
+        def newest(column: Any, stamp: str) -> Any:
+            return case((t.c[stamp] <= new[stamp], new[column.name]), else_=column)
+        stmt = ins.on_conflict_do_update(
+            index_elements=[t.c.task_id],
+            set_={**{c.name: newest(c, "state_at") for c in (t.c.state, t.c.last_synch, t.c.state_at)},
+                  **{c.name: newest(c, "updated_at") for c in (t.c.progress, t.c.quality, t.c.updated_at)}},
+            where=(t.c.created_at == new.created_at) & ((t.c.state_at <= new.state_at) | (t.c.updated_at <= new.updated_at)))
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
+            self._notify(c, "task", id=task["task_id"])
+        self._write(write)
+
+    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, **fields: Any) -> None:
+        """Insert or update the row of `values`' key unless it holds a newer change."""
         ins = self._insert(t).values(values)
         key = [c.name for c in t.primary_key]
         stmt = ins.on_conflict_do_update(index_elements=key,
-                                         set_={k: ins.excluded[k] for k in values if k not in key and k not in keep},
+                                         set_={k: ins.excluded[k] for k in values if k not in key},
                                          where=t.c.updated_at <= ins.excluded.updated_at)
 
         def write(c: Connection) -> None:
@@ -750,6 +766,7 @@ class VehicleWriters:
 
 
 def _task_row(task: dict[str, Any]) -> dict[str, Any]:
+    task = {"state_at": task["updated_at"], **task}  # a task of before state_at: its last change decided its state
     return {**{k: task[k] for k in (col.name for col in COMAP_TASKS.c)}, "vehicle": str(task["vehicle"]),
             "point": json.dumps(task["point"]) if task["point"] is not None else None}
 
