@@ -138,8 +138,12 @@ def start_warnings(settings: Settings) -> list[str]:
 
     out = []
     if settings.frontend_dir is None and not (DEFAULT_FRONTEND / "index.html").is_file():
-        out.append(f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
-                   "or pass --frontend-dir); the API and /ws work")
+        if DEFAULT_FRONTEND.parent.is_dir():  # a source checkout: the dashboard is not built yet
+            out.append(f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
+                       "or pass --frontend-dir); the API and /ws work")
+        else:  # installed from a wheel: the dashboard is not in the package, and the checkout's path means nothing here
+            out.append("this installation has no dashboard: / answers 404 (pass --frontend-dir DIR, a build of the "
+                       "project's frontend/: npm run build writes frontend/dist); the API and /ws work")
     beyond_loopback = settings.host not in ("127.0.0.1", "localhost", "::1")
     if beyond_loopback and not settings.operators():
         out.append(f"listening on {settings.host} with no operator token: anyone who reaches this port can command vehicles")

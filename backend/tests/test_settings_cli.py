@@ -159,3 +159,17 @@ def test_the_console_s_own_settings_never_stop_the_other_commands(env: dict[str,
     for name, value in env.items():
         monkeypatch.setenv(name, value)
     assert sem_sim.build_parser().parse_args([]).domain == 7
+
+
+def test_the_missing_dashboard_warning_names_a_path_that_exists_here(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """In a checkout without a build it names frontend/dist and how to build it; installed from a wheel (no checkout
+    beside the package) it names --frontend-dir, not a path under site-packages that means nothing there."""
+    from sem_console import main
+
+    (tmp_path / "frontend").mkdir()
+    monkeypatch.setattr(main, "DEFAULT_FRONTEND", tmp_path / "frontend" / "dist")
+    (checkout,) = [w for w in cli.start_warnings(Settings()) if "dashboard" in w]
+    assert str(tmp_path / "frontend" / "dist") in checkout and "npm run build" in checkout
+    monkeypatch.setattr(main, "DEFAULT_FRONTEND", tmp_path / "site-packages" / "frontend" / "dist")
+    (wheel,) = [w for w in cli.start_warnings(Settings()) if "dashboard" in w]
+    assert "site-packages" not in wheel and "--frontend-dir DIR" in wheel
