@@ -5,11 +5,15 @@
 // vehicles' data changes (at the map's bounded update rate); the selected vehicle's ring and name on the frame
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
-import { distanceM, distanceText, edgeMark, type VehicleMark } from "./geo";
+import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
 import { vehicleColor } from "./vehicle";
 
 /** How far inside the map's border the edge arrows sit (px): clear of the border, under the controls. */
 const EDGE_INSET = 22;
+/** How many places an edge arrow may be moved along its side to clear the others (place). */
+const MAX_STACK = 3;
+/** The "+N more" note's place (styles.css .map-edge-more), kept clear of the arrows. */
+const NOTE_BOX: Box = { x: 0, y: 0, w: 190, h: 26 };
 
 interface Marker {
   mark: VehicleMark;
@@ -20,7 +24,7 @@ interface Marker {
   size: { w: number; h: number } | null; // the edge arrow's box, measured once per text
 }
 
-interface Box {
+export interface Box {
   x: number;
   y: number;
   w: number;
@@ -37,6 +41,22 @@ const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) 
   map.project([lon + 360 * Math.round((map.getCenter().lng - lon) / 360), lat]);
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
+/** Where the edge arrows go (the overlay's `place`), in order: each at its edge point, or moved along its side towards
+ * the middle by at most MAX_STACK places to clear those before it and the "+N more" note; null for one that finds no
+ * place within the map (counted in the note). `w`, `h`: each arrow's size. */
+export function edgeBoxes(arrows: { edge: EdgeMark; w: number; h: number }[], width: number, height: number): (Box | null)[] {
+  const placed: Box[] = [NOTE_BOX];
+  return arrows.map(({ edge, w, h }) => {
+    const right = edge.x > width / 2;
+    const box = { x: clamp(right ? edge.x - w : edge.x, 2, width - w - 2), y: clamp(edge.y - h / 2, 2, height - h - 2), w, h };
+    const step = box.y + h / 2 < height / 2 ? h + 2 : -(h + 2);
+    for (let i = 0; i < MAX_STACK && placed.some((b) => overlaps(b, box)); i++) box.y += step;
+    if (placed.some((b) => overlaps(b, box)) || box.y < 2 || box.y + h > height - 2) return null;
+    placed.push(box);
+    return box;
+  });
+}
+
 export class VehicleOverlay {
   private readonly root: HTMLDivElement;
   private readonly markers = new Map<string, Marker>();
@@ -44,6 +64,8 @@ export class VehicleOverlay {
   // transform, which redraws no map (a software-rendered map redrawn ten times a second takes most of a core)
   private readonly ring: HTMLDivElement;
   private selected: VehicleMark | null = null;
+  // the count of the arrows that found no place (place), at the map's top left corner
+  private readonly more: HTMLDivElement;
   // the overlay's size, from a ResizeObserver: reading clientWidth where the ring is placed (in React's effects,
   // after the DOM changed) forced a layout of the page on every fix of the selected vehicle
   private width = 0;
@@ -67,6 +89,11 @@ export class VehicleOverlay {
     this.ring.dataset.testid = "map-selected";
     this.ring.hidden = true;
     this.root.append(this.ring);
+    this.more = document.createElement("div");
+    this.more.className = "map-edge-more";
+    this.more.dataset.testid = "map-edge-more";
+    this.more.hidden = true;
+    this.root.append(this.more);
     map.on("move", this.place);
     this.resized = new ResizeObserver(([entry]) => {
       this.width = entry.contentRect.width;
@@ -166,33 +193,46 @@ export class VehicleOverlay {
     return m;
   }
 
-  /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. */
+  /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. Arrows that would
+   * cover one another are stacked towards the middle of their side, by at most MAX_STACK places: one moved further
+   * would point from nowhere near its vehicle (with 250 vehicles and the map zoomed in, 247 arrows stood in two
+   * columns over the map). Those left over are counted in a "+N more" note in the map's top left corner, which no
+   * arrow covers. The selected vehicle's arrow and the lost vehicles' are placed first: never the ones left out. */
   readonly place = (): void => {
     this.placeRing();
     const { width, height } = this;
     if (!width || !height) return;
     const centre = this.map.getCenter();
-    const placed: Box[] = [];
+    const outside: [Marker, EdgeMark][] = [];
     for (const m of this.markers.values()) {
       const p = projectNear(this.map, this.positionOf(m));
       const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
       // written only when changed: 250 vehicles' labels set alike would each restyle
       if (m.label.hidden !== (edge !== null)) m.label.hidden = edge !== null;
-      if (m.edge.hidden !== (edge === null)) m.edge.hidden = edge === null;
-      if (!edge) {
+      if (edge) outside.push([m, edge]);
+      else {
+        if (!m.edge.hidden) m.edge.hidden = true;
         m.label.style.transform = labelAt(p);
+      }
+    }
+    const rank = (m: Marker) => (m.mark.selected ? 0 : m.mark.link === "lost" ? 1 : 2);
+    outside.sort(([a], [b]) => rank(a) - rank(b)); // stable: the others in the fleet's order
+    const boxes = edgeBoxes(outside.map(([m, edge]) => {
+      m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
+      if (m.size === null) {
+        m.edge.hidden = false; // measured shown: a hidden one has no size
+        m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
+      }
+      return { edge, ...m.size };
+    }), width, height);
+    let more = 0;
+    for (const [i, [m, edge]] of outside.entries()) {
+      const box = boxes[i];
+      if (m.edge.hidden !== !box) m.edge.hidden = !box; // written only when changed, as the labels
+      if (!box) {
+        more += 1;
         continue;
       }
-      // the arrow at the edge point, its name on the side towards the middle of the map; arrows that
-      // would cover one another are stacked (towards the middle of that side)
-      const right = edge.x > width / 2;
-      m.edge.classList.toggle("from-right", right);
-      m.size ??= { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
-      const { w, h } = m.size;
-      const box = { x: clamp(right ? edge.x - w : edge.x, 2, width - w - 2), y: clamp(edge.y - h / 2, 2, height - h - 2), w, h };
-      const step = box.y + h / 2 < height / 2 ? h + 2 : -(h + 2);
-      for (let i = 0; i < this.markers.size && placed.some((b) => overlaps(b, box)); i++) box.y += step;
-      placed.push(box);
       m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
       m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
       const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, this.positionOf(m)));
@@ -201,6 +241,12 @@ export class VehicleOverlay {
         m.edge.setAttribute("aria-label", said);
         m.edge.title = `${said} and select it`;
       }
+    }
+    if (this.more.hidden !== (more === 0)) this.more.hidden = more === 0;
+    const text = `+${more} more outside the map`;
+    if (more > 0 && this.more.textContent !== text) {
+      this.more.textContent = text;
+      this.more.title = `${more} more ${more === 1 ? "vehicle" : "vehicles"} outside the map without an arrow: Fit all shows every vehicle`;
     }
   };
 

@@ -1,0 +1,36 @@
+import { describe, expect, it } from "vitest";
+import { edgeMark } from "./geo";
+import { edgeBoxes, type Box } from "./mapOverlay";
+
+const W = 800;
+const H = 500;
+const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+
+describe("edge arrows", () => {
+  it("a few arrows all get a place, none moved", () => {
+    const arrows = [[2000, 100], [2000, 400], [-900, 250]].map(([x, y]) => ({ edge: edgeMark(x, y, W, H, 22)!, w: 120, h: 20 }));
+    const boxes = edgeBoxes(arrows, W, H);
+    expect(boxes.every((b) => b !== null)).toBe(true);
+  });
+
+  it("with a fleet outside the view, each arrow stays near its edge point and clear of the others; the rest are left out, the first in order kept", () => {
+    // 250 vehicles far to the east, nearly in one direction (the map zoomed in on one of them): 250 arrows at one point
+    const arrows = Array.from({ length: 250 }, (_, i) => ({ edge: edgeMark(5000, 260 + (i % 5), W, H, 22)!, w: 140, h: 20 }));
+    const boxes = edgeBoxes(arrows, W, H);
+    const placed = boxes.filter((b): b is Box => b !== null);
+    expect(boxes[0]).not.toBeNull(); // the first (the selected vehicle's, then the lost ones': place sorts them first)
+    expect(placed.length).toBeGreaterThan(1);
+    expect(placed.length).toBeLessThanOrEqual(4); // its own place and three stacked: never a column over the map
+    for (const [i, b] of boxes.entries()) {
+      if (!b) continue;
+      expect(Math.abs(b.y + b.h / 2 - arrows[i].edge.y)).toBeLessThanOrEqual(3 * 22 + 1);
+      expect(b.x >= 0 && b.y >= 0 && b.x + b.w <= W && b.y + b.h <= H).toBe(true);
+    }
+    for (const [i, a] of placed.entries()) for (const b of placed.slice(i + 1)) expect(overlap(a, b)).toBe(false);
+  });
+
+  it("no arrow covers the '+N more' note in the top left corner", () => {
+    const arrows = Array.from({ length: 10 }, () => ({ edge: edgeMark(-3000, -3000, W, H, 22)!, w: 140, h: 20 }));
+    for (const b of edgeBoxes(arrows, W, H)) if (b) expect(overlap(b, { x: 0, y: 0, w: 190, h: 26 })).toBe(false);
+  });
+});
