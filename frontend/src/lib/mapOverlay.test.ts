@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 import { edgeMark } from "./geo";
-import { edgeBoxes, type Box } from "./mapOverlay";
+import { clearOf, edgeBoxes, type Box } from "./mapOverlay";
 
 const W = 800;
 const H = 500;
@@ -32,5 +32,18 @@ describe("edge arrows", () => {
   it("no arrow covers the '+N more' note in the top left corner", () => {
     const arrows = Array.from({ length: 10 }, () => ({ edge: edgeMark(-3000, -3000, W, H, 22)!, w: 140, h: 20 }));
     for (const b of edgeBoxes(arrows, W, H)) if (b) expect(overlap(b, { x: 0, y: 0, w: 190, h: 26 })).toBe(false);
+  });
+});
+
+describe("names on the map", () => {
+  it("a name that would cover one shown before it is left out; those clear of the others all shown", () => {
+    // a coast of vehicles 10 px apart, names 80 px wide: one in eight shown, and the first (the selected) always
+    const names = Array.from({ length: 40 }, (_, i) => ({ x: 100 + i * 10, y: 200, w: 80, h: 18 }));
+    const shown = clearOf(names);
+    expect(shown[0]).toBe(true);
+    expect(shown.filter(Boolean)).toHaveLength(5);
+    const kept = names.filter((_, i) => shown[i]);
+    for (const [i, a] of kept.entries()) for (const b of kept.slice(i + 1)) expect(overlap(a, b)).toBe(false);
+    expect(clearOf([{ x: 0, y: 0, w: 50, h: 18 }, { x: 0, y: 20, w: 50, h: 18 }])).toEqual([true, true]);
   });
 });

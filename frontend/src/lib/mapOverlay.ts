@@ -22,6 +22,7 @@ interface Marker {
   edgeName: HTMLSpanElement;
   arrow: SVGSVGElement;
   size: { w: number; h: number } | null; // the edge arrow's box, measured once per text
+  labelSize: { w: number; h: number } | null; // the name's box likewise
 }
 
 export interface Box {
@@ -40,6 +41,16 @@ const labelAt = (p: { x: number; y: number }) => `translate(${Math.round(p.x + 1
 const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) =>
   map.project([lon + 360 * Math.round((map.getCenter().lng - lon) / 360), lat]);
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+
+/** Which names are shown (the overlay's `place`), in order: each unless it would cover one shown before it. */
+export function clearOf(boxes: Box[]): boolean[] {
+  const shown: Box[] = [];
+  return boxes.map((box) => {
+    if (shown.some((b) => overlaps(b, box))) return false;
+    shown.push(box);
+    return true;
+  });
+}
 
 /** Where the edge arrows go (the overlay's `place`), in order: each at its edge point, or moved along its side towards
  * the middle by at most MAX_STACK places to clear those before it and the "+N more" note; null for one that finds no
@@ -112,7 +123,10 @@ export class VehicleOverlay {
       m.mark = mark;
       const lost = mark.link === "lost";
       const text = lost ? `${mark.label} · lost` : mark.label;
-      if (m.label.textContent !== text) m.label.textContent = text;
+      if (m.label.textContent !== text) {
+        m.label.textContent = text;
+        m.labelSize = null;
+      }
       m.label.classList.toggle("selected", mark.selected);
       m.label.classList.toggle("lost", lost);
       m.edge.classList.toggle("selected", mark.selected);
@@ -186,7 +200,7 @@ export class VehicleOverlay {
     arrow.append(head);
     const edgeName = document.createElement("span");
     edge.append(arrow, edgeName);
-    const m: Marker = { mark, label, edge, edgeName, arrow, size: null };
+    const m: Marker = { mark, label, edge, edgeName, arrow, size: null, labelSize: null };
     edge.addEventListener("click", () => this.pick(m.mark));
     this.root.append(label, edge);
     this.markers.set(mark.id, m);
@@ -204,26 +218,40 @@ export class VehicleOverlay {
     if (!width || !height) return;
     const centre = this.map.getCenter();
     const outside: [Marker, EdgeMark][] = [];
+    const inside: [Marker, { x: number; y: number }][] = [];
     for (const m of this.markers.values()) {
       const p = projectNear(this.map, this.positionOf(m));
       const edge = edgeMark(p.x, p.y, width, height, EDGE_INSET);
-      // written only when changed: 250 vehicles' labels set alike would each restyle
-      if (m.label.hidden !== (edge !== null)) m.label.hidden = edge !== null;
-      if (edge) outside.push([m, edge]);
-      else {
+      if (edge) {
+        if (!m.label.hidden) m.label.hidden = true; // written only when changed: 250 alike would each restyle
+        outside.push([m, edge]);
+      } else {
         if (!m.edge.hidden) m.edge.hidden = true;
-        m.label.style.transform = labelAt(p);
+        inside.push([m, p]);
       }
     }
-    const rank = (m: Marker) => (m.mark.selected ? 0 : m.mark.link === "lost" ? 1 : 2);
-    outside.sort(([a], [b]) => rank(a) - rank(b)); // stable: the others in the fleet's order
+    const rank = ([m]: [Marker, unknown]) => (m.mark.selected ? 0 : m.mark.link === "lost" ? 1 : 2);
+    // stable: the others in the fleet's order, so that the same names stay shown as the map moves
+    inside.sort((a, b) => rank(a) - rank(b));
+    outside.sort((a, b) => rank(a) - rank(b));
+    // names that would cover one another: the first shown, the others left to their dots (along a coast, most of
+    // 250 names could not be read); the selected vehicle's and the lost ones' come first
+    // the names and arrows not measured yet (a new text): all shown first, then all read, so that the page is laid
+    // out once, not once per element (a hidden one has no size)
+    const newNames = inside.filter(([m]) => m.labelSize === null);
+    const newArrows = outside.filter(([m]) => m.size === null);
+    for (const [m] of newNames) m.label.hidden = false;
+    for (const [m] of newArrows) m.edge.hidden = false;
+    for (const [m] of newNames) m.labelSize = { w: m.label.offsetWidth, h: m.label.offsetHeight };
+    for (const [m] of newArrows) m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
+    const shown = clearOf(inside.map(([m, p]) => ({ x: p.x + 14, y: p.y - 9, ...m.labelSize! })));
+    for (const [i, [m, p]] of inside.entries()) {
+      if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
+      if (shown[i]) m.label.style.transform = labelAt(p);
+    }
     const boxes = edgeBoxes(outside.map(([m, edge]) => {
       m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
-      if (m.size === null) {
-        m.edge.hidden = false; // measured shown: a hidden one has no size
-        m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
-      }
-      return { edge, ...m.size };
+      return { edge, ...m.size! };
     }), width, height);
     let more = 0;
     for (const [i, [m, edge]] of outside.entries()) {
