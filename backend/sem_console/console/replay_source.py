@@ -26,6 +26,7 @@ import contextlib
 import json
 import logging
 import struct
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -55,6 +56,19 @@ class ReplayError(Exception):
     """A replay request that cannot be carried out (a position outside the recording)."""
 
 
+@dataclass
+class RecordedCommand:
+    """A message of `sem-console/commands`: the command as the recording console sent it to its clients, and whether
+    that console followed it as its own (issued it or took it over: it raised its alarms); None in a file recorded
+    before 2026-11-26, which does not say."""
+
+    command: dict[str, Any]
+    followed: bool | None
+
+
+Played = Item | RecordedCommand  # what the cursor reads and the console applies
+
+
 class Cursor:
     """Reads a recording from its start, in log time order, and decodes each message. Used from one
     worker thread at a time."""
@@ -67,11 +81,11 @@ class Cursor:
         self.skipped = 0
         self._watched: dict[tuple[str, Any], Any] = {}  # (topic, source) -> the value the alarms watch, as last read
 
-    def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Item | dict[str, Any]]]:
+    def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Played]]:
         """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them. With
         `rebuild` (a seek: nothing is sent to clients on the way) only the last report of each provider and topic
         is converted to JSON; the ones before it count for link health only (a report with no JSON, alive)."""
-        out: list[tuple[int, Item | dict[str, Any]]] = []
+        out: list[tuple[int, Played]] = []
         while len(out) < limit and not self.done:
             if self._pending is None:
                 try:
@@ -105,7 +119,7 @@ class Cursor:
                     item.sample = None
         return out
 
-    def _watched_changes(self, out: list[tuple[int, Item | dict[str, Any]]]) -> list[ReportItem]:
+    def _watched_changes(self, out: list[tuple[int, Played]]) -> list[ReportItem]:
         """The reports of `out` whose field the alarms watch (`console.alarms.WATCHED`) differs from the
         report before it of the same provider and topic."""
         changes: list[ReportItem] = []
@@ -123,14 +137,15 @@ class Cursor:
                 changes.append(item)
         return changes
 
-    def _decode(self, topic: str, message: Any, convert: bool) -> Item | dict[str, Any] | None:
+    def _decode(self, topic: str, message: Any, convert: bool) -> Played | None:
         at = message.log_time / 1e9
         if topic in SEM_TOPICS:
             return self.decoder.decode(SEM_TOPICS[topic], message.data, True, InstanceState.Alive, at, convert)
         try:
             event = json.loads(message.data)
             if topic == COMMANDS:
-                return dict(event["command"])
+                followed = event.get("followed")
+                return RecordedCommand(dict(event["command"]), followed if isinstance(followed, bool) else None)
             sem = SEM_TOPICS.get(event["topic"])
             if sem is None:  # a command topic's dispose: the console follows its own commands from COMMANDS
                 return None
@@ -155,7 +170,7 @@ class Replayed(Protocol):
 
     def reset(self) -> None: ...
     def snapshot(self) -> dict[str, Any]: ...
-    def apply(self, item: Item | dict[str, Any]) -> None: ...
+    def apply(self, item: Played) -> None: ...
     def tick(self, now: float) -> None: ...
 
 

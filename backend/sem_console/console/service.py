@@ -33,7 +33,7 @@ from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
-from sem_console.console.replay_source import Replay
+from sem_console.console.replay_source import RecordedCommand, Replay
 from sem_console.console.sources import Source, open_source
 from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
 from sem_console.core.contract import LinkConfig as LinkConfigModel
@@ -306,8 +306,8 @@ class Console:
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
     # ---- input from the source: DDS (ingest) or a recording (replay), on the loop -------------------------------
-    def apply(self, item: ReportItem | StatusItem | dict[str, Any]) -> None:
-        """One item of a replay: a decoded report or status sample, or a recorded command message's command."""
+    def apply(self, item: ReportItem | StatusItem | RecordedCommand) -> None:
+        """One item of a replay: a decoded report or status sample, or a recorded command message."""
         if isinstance(item, ReportItem):
             self.on_reports([item])
         elif isinstance(item, StatusItem):
@@ -317,12 +317,19 @@ class Console:
                     self._early.popitem(last=False)
             self.on_statuses([item])
         else:
-            recorded_by = self.source.replay.station if self.source.replay else None
-            if recorded_by is not None and item.get("console") not in (None, recorded_by):
-                with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
-                    self._others.add(uuid.UUID(item["sessionId"]))  # before adopt() emits it
+            followed = item.followed
+            if followed is None:  # a file recorded before the marker: the recording console's commands by their station
+                recorded_by = self.source.replay.station if self.source.replay else None
+                followed = recorded_by is None or item.command.get("console") in (None, recorded_by)
+            with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
+                # before adopt() emits it; a command taken over from another station is followed from then on
+                session = uuid.UUID(item.command["sessionId"])
+                if followed:
+                    self._others.discard(session)
+                else:
+                    self._others.add(session)
             try:
-                cmd = self.commands.adopt(item)
+                cmd = self.commands.adopt(item.command)
             except (KeyError, ValueError, TypeError) as e:
                 log.warning("skipped a recorded command that cannot be read: %s", e)
                 return
@@ -414,7 +421,12 @@ class Console:
         if not self.quiet:
             self.hub.publish(message)
             self.feed.publish(message)
-        self.recorder.on_message(message)
+        # a command message says whether this console follows the command (issued it, or took it over from another
+        # station): its alarms are this console's (below), and a replay of the recording raises them as it did
+        followed = None
+        if message["type"] == "command" and self.recorder.active:
+            followed = uuid.UUID(message["command"]["sessionId"]) in self.commands.by_session
+        self.recorder.on_message(message, followed)
         if message["type"] in ALARM_INPUTS:
             changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"])) if "command" in message else None
             self._update_alarms([changed] if changed is not None and changed.session_id not in self._others else [])
