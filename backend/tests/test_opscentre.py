@@ -15,7 +15,7 @@ import psycopg
 
 from conftest import ConsoleProcess
 from pg import Cluster
-from test_console import V1, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_console import V1, V2, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
 from test_history import at_most_one_per_second
 from test_names import rename_heard
 from test_recording import read, recorded
@@ -186,6 +186,41 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     wait_until(lambda: lost(b), 15, "link-lost on B")
     assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
     wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
+
+
+def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and_the_other(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
+    """Relief records; bob acknowledges on watch its alarm of one lost vehicle (so relief's is acknowledged too),
+    relief's own operator relief's of the other. A replay derives the alarms again: it showed every one as never
+    acknowledged, as if nobody had seen them; it shows them acknowledged when, by whom and where they were."""
+    vehicles = sim("--vehicles", "2")
+    a = console("--database-url", pg_url, "--console-name", "watch", env={"SEM_OPERATOR_TOKENS": "bob:t0ken"})
+    b = console("--database-url", pg_url, "--console-name", "relief", "--record", str(tmp_path / "rec"))
+    for c, v in ((a, V1), (b, V1), (b, V2)):
+        provider_ready(c.url, v, {"GPSFixReport"})
+    vehicles.kill()
+
+    def lost_of(c: ConsoleProcess, v: str) -> dict[str, Any] | None:
+        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v),
+                    None)
+    on_a = wait_until(lambda: lost_of(a, V1), 15, "V1's link-lost on watch")
+    for v in (V1, V2):
+        wait_until(lambda v=v: lost_of(b, v), 15, f"{v}'s link-lost on relief")
+    r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}, headers={"Authorization": "Bearer t0ken"})
+    assert r.status_code == 200, r.text
+    wait_until(lambda: (x := lost_of(b, V1)) is not None and x["ackedBy"] == "bob", 10, "bob's ack on relief")
+    own = lost_of(b, V2)
+    assert own is not None and httpx.post(f"{b.url}/api/alarms/{own['id']}/ack", json={}).status_code == 200
+    live = {v: lost_of(b, v) for v in (V1, V2)}
+    path = recorded(b.url, tmp_path)
+    acks = [json.loads(m.data) for m in read(path)[1]["sem-console/alarm-acks"]]
+    assert [(x["providerId"], x["ackedBy"], x["station"]) for x in acks] == [(V1, "bob", "watch"), (V2, None, "relief")]
+    replay = console("--replay", str(path), "--replay-speed", "20")
+    wait_until(lambda: httpx.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
+    for v in (V1, V2):
+        shown, was = lost_of(replay, v), live[v]
+        assert shown is not None and was is not None
+        assert (shown["state"], shown["ackedAt"], shown["ackedBy"]) == ("active-acknowledged", was["ackedAt"], was["ackedBy"])
 
 
 def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_console_loads_it(

@@ -33,7 +33,8 @@ from sem_console.dds.topics import Sem
 from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
-JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances"}
+JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances",
+               "sem-console/alarm-acks"}
 
 
 def post(base: str, action: str) -> dict[str, Any]:

@@ -38,12 +38,12 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.recording.reader import COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
+from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
 
 log = logging.getLogger("sem-console.replay")
 
 SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
-TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS}
+TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS}
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
 BATCH = 2_000  # decoded messages per worker-thread read while playing
@@ -66,7 +66,18 @@ class RecordedCommand:
     followed: bool | None
 
 
-Played = Item | RecordedCommand  # what the cursor reads and the console applies
+@dataclass
+class RecordedAck:
+    """A message of `sem-console/alarm-acks`: the recording console's alarm of `key` acknowledged at `at` by `by` (an
+    operator, or None) on `station` (None: not known)."""
+
+    key: str
+    at: float
+    by: str | None
+    station: str | None
+
+
+Played = Item | RecordedCommand | RecordedAck  # what the cursor reads and the console applies
 
 
 class Cursor:
@@ -146,6 +157,10 @@ class Cursor:
             if topic == COMMANDS:
                 followed = event.get("followed")
                 return RecordedCommand(dict(event["command"]), followed if isinstance(followed, bool) else None)
+            if topic == ALARM_ACKS:
+                by, station = event.get("ackedBy"), event.get("station")
+                return RecordedAck(str(event["key"]), float(event["ackedAt"]), by if isinstance(by, str) else None,
+                                   station if isinstance(station, str) else None)
             sem = SEM_TOPICS.get(event["topic"])
             if sem is None:  # a command topic's dispose: the console follows its own commands from COMMANDS
                 return None

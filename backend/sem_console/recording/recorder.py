@@ -9,7 +9,9 @@
 - **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
   `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
   events), holding the WebSocket messages of the same names (`core/contract.py`); a command's says too whether the
-  console followed it as its own (`RecordedCommandMessage.followed`: its alarms, for a replay).
+  console followed it as its own (`RecordedCommandMessage.followed`: its alarms, for a replay); and
+  `sem-console/alarm-acks`, each alarm acknowledgement the console applied (`AlarmAckEvent`: a replay derives the alarms
+  again and acknowledges them from these).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
@@ -46,7 +48,7 @@ from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
-from sem_console.recording.reader import COMMANDS, INSTANCES
+from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -80,12 +82,30 @@ class RecordedCommandMessage(CommandMessage):
         "only shown; absent in files recorded before 2026-11-26 (a replay then goes by the issuing station)"))
 
 
+class AlarmAckEvent(BaseModel):
+    """An alarm of the console's active set acknowledged, here or on another station (channel `sem-console/alarm-acks`):
+    the alarms are derived again in a replay, and these acknowledge them there as they were."""
+
+    model_config = ConfigDict(extra="forbid")
+    type: str = Field(description="'alarm-ack'")
+    key: str = Field(description="the alarm's key (kind|provider|session|detail), the same in a replay that derives it again")
+    kind: str
+    providerId: str | None
+    sessionId: str | None
+    ackedAt: float = Field(description="when it was acknowledged, UTC seconds")
+    ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in)")
+    station: str | None = Field(description="the console station it was acknowledged on (--console-name): the recording "
+                                            "console's, or another's of its database; null: not known (another station's, "
+                                            "read again after a lost database connection)")
+
+
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
 JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
     COMMANDS: ("command", RecordedCommandMessage),
     "sem-console/transitions": ("transition", TransitionMessage),
     "sem-console/links": ("provider", ProviderMessage),
     INSTANCES: ("instance", InstanceEvent),
+    ALARM_ACKS: ("alarm-ack", AlarmAckEvent),
 }
 _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
 
