@@ -4,8 +4,10 @@ WebSocket through LISTEN/NOTIFY; a command issued on one can be canceled from th
 
 from __future__ import annotations
 
+import json
 import signal
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any
 
 import httpx
@@ -13,9 +15,10 @@ import psycopg
 
 from conftest import ConsoleProcess
 from pg import Cluster
-from test_console import V1, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_console import V1, V2, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
 from test_history import at_most_one_per_second
 from test_names import rename_heard
+from test_recording import read, recorded
 
 
 def health(c: ConsoleProcess) -> dict[str, Any]:
@@ -72,6 +75,37 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
     done = wait_command(b.url, session, done=lambda x: x["terminal"])
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+
+
+def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
+    """Relief records; it shows watch's command, raising no alarm for it, then takes it over (to cancel it) and from
+    then on raises its alarms: here the Figure 4 violation of a vehicle that skips COMMANDED. A replay of relief's
+    recording raised none: the file did not say which commands were taken over, so this one counted as watch's."""
+    sim("--surface-seconds", "400", "--fault", "skip-commanded")  # ISSUED -> EXECUTING, and EXECUTING until canceled
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief", "--record", str(tmp_path / "rec"))
+    ws_b = WsClient(b.ws_url)
+    try:
+        session = gps_fix_executing(a.url)
+        wait_until(lambda: heard(ws_b, session, "EXECUTING"), 10, "A's command on B's WebSocket")
+    finally:
+        ws_b.close()
+
+    def violations(c: ConsoleProcess) -> list[dict[str, Any]]:
+        return [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "flow-violation" and x["sessionId"] == session]
+    assert violations(a) and not violations(b)  # watch's own; relief only shows it
+    r = httpx.delete(f"{b.url}/api/commands/{session}")  # relief takes it over to cancel it
+    assert r.status_code == 200 and r.json()["cancelRequested"], r.text
+    wait_command(b.url, session, done=lambda x: x["terminal"])
+    assert violations(b)  # from the take-over on, relief's too
+    path = recorded(b.url, tmp_path)
+    followed = [json.loads(m.data)["followed"] for m in read(path)[1]["sem-console/commands"]]
+    assert followed[0] is False and followed[-1] is True, followed  # shown, then taken over
+    replay = console("--replay", str(path), "--replay-speed", "20")
+    wait_until(lambda: httpx.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
+    (shown,) = violations(replay)
+    assert shown["vehicle"] is not None and shown["state"] == "active-unacknowledged"
 
 
 def test_a_database_outage_loses_nothing_and_stops_no_console(
@@ -152,6 +186,41 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     wait_until(lambda: lost(b), 15, "link-lost on B")
     assert httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}).status_code == 200
     wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
+
+
+def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and_the_other(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
+    """Relief records; bob acknowledges on watch its alarm of one lost vehicle (so relief's is acknowledged too),
+    relief's own operator relief's of the other. A replay derives the alarms again: it showed every one as never
+    acknowledged, as if nobody had seen them; it shows them acknowledged when, by whom and where they were."""
+    vehicles = sim("--vehicles", "2")
+    a = console("--database-url", pg_url, "--console-name", "watch", env={"SEM_OPERATOR_TOKENS": "bob:t0ken"})
+    b = console("--database-url", pg_url, "--console-name", "relief", "--record", str(tmp_path / "rec"))
+    for c, v in ((a, V1), (b, V1), (b, V2)):
+        provider_ready(c.url, v, {"GPSFixReport"})
+    vehicles.kill()
+
+    def lost_of(c: ConsoleProcess, v: str) -> dict[str, Any] | None:
+        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v),
+                    None)
+    on_a = wait_until(lambda: lost_of(a, V1), 15, "V1's link-lost on watch")
+    for v in (V1, V2):
+        wait_until(lambda v=v: lost_of(b, v), 15, f"{v}'s link-lost on relief")
+    r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={}, headers={"Authorization": "Bearer t0ken"})
+    assert r.status_code == 200, r.text
+    wait_until(lambda: (x := lost_of(b, V1)) is not None and x["ackedBy"] == "bob", 10, "bob's ack on relief")
+    own = lost_of(b, V2)
+    assert own is not None and httpx.post(f"{b.url}/api/alarms/{own['id']}/ack", json={}).status_code == 200
+    live = {v: lost_of(b, v) for v in (V1, V2)}
+    path = recorded(b.url, tmp_path)
+    acks = [json.loads(m.data) for m in read(path)[1]["sem-console/alarm-acks"]]
+    assert [(x["providerId"], x["ackedBy"], x["station"]) for x in acks] == [(V1, "bob", "watch"), (V2, None, "relief")]
+    replay = console("--replay", str(path), "--replay-speed", "20")
+    wait_until(lambda: httpx.get(f"{replay.url}/api/replay").json()["state"] == "paused", 30, "the end of the replay")
+    for v in (V1, V2):
+        shown, was = lost_of(replay, v), live[v]
+        assert shown is not None and was is not None
+        assert (shown["state"], shown["ackedAt"], shown["ackedBy"]) == ("active-acknowledged", was["ackedAt"], was["ackedBy"])
 
 
 def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_console_loads_it(

@@ -33,7 +33,8 @@ from sem_console.dds.topics import Sem
 from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
-JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances"}
+JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances",
+               "sem-console/alarm-acks"}
 
 
 def post(base: str, action: str) -> dict[str, Any]:
@@ -201,6 +202,7 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     assert [t["transition"]["status"] for t in transitions if t["sessionId"] == session] == HAPPY
     assert all(t["transition"]["violation"] is None for t in transitions)
     assert any(json.loads(m.data)["command"]["sessionId"] == session for m in messages["sem-console/commands"])
+    assert all(json.loads(m.data)["followed"] is True for m in messages["sem-console/commands"])  # its own: its alarms
     assert any(json.loads(m.data)["event"] == "appeared" for m in messages["sem-console/links"])
     # the cleanup's disposes: the console's command, then the provider's status and ack
     disposed = [json.loads(m.data) for m in messages["sem-console/instances"]]

@@ -220,6 +220,14 @@ test.describe.serial("replay of a recording", () => {
     expect(labels.every((l) => SATELLITE.test(l))).toBe(true);
     await expect(page.getByTestId("sky-satellite")).toHaveCount(recorded.gps.report.satellites.length);
 
+    // no badge says "Live": each vehicle's link and each panel's freshness is the recording's, in words
+    const RECORDED = /^Recorded: (live|regained|stale|lost)$/;
+    await expect(page.getByTestId("fleet-link")).toHaveText([RECORDED, RECORDED, RECORDED]);
+    await expect(page.getByTestId("vehicle-link")).toHaveText([RECORDED, RECORDED, RECORDED]);
+    await expect(page.getByTestId("fleet-live")).toHaveText(/^Recorded: \d live$/);
+    await expect(page.getByTestId("satellites-panel-freshness")).toHaveText(/^Recorded: (live|stale|lost) · /);
+    await expect(page.getByText(/^live\b/i)).toHaveCount(0);
+
     // the command timeline, as the live console recorded it
     const cmd = page.getByTestId("commands-panel").getByTestId("command").first();
     await expect(cmd).toHaveAttribute("data-session", recorded.session);

@@ -30,7 +30,7 @@ condition; it looks at a command only when that command changed (`changed`).
 from __future__ import annotations
 
 import uuid
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -134,9 +134,11 @@ class Found:
 
 
 class Alarms:
-    def __init__(self, store: Database, names: Mapping[str, str] | None = None) -> None:
+    def __init__(self, store: Database, names: Mapping[str, str] | None = None,
+                 on_ack: Callable[[Alarm, str | None], None] | None = None) -> None:
         self.store = store
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
+        self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
         self._load()
 
     def _load(self) -> None:
@@ -229,8 +231,8 @@ class Alarms:
                 changed = True
         return changed
 
-    def acknowledge(self, alarm_id: int, operator: str | None, now: float) -> Alarm | None:
-        """The operator has seen it. None: no such alarm in the active set. An acknowledged event, or a
+    def acknowledge(self, alarm_id: int, operator: str | None, now: float, station: str | None = None) -> Alarm | None:
+        """The operator has seen it (on `station`). None: no such alarm in the active set. An acknowledged event, or a
         condition that has cleared, returns to normal; acknowledging again changes nothing."""
         a = next((x for x in self.open.values() if x.id == alarm_id), None)
         if a is None or a.acked_at is not None:
@@ -241,14 +243,17 @@ class Alarms:
             a.normal_at = now
             del self.open[a.key]
         self._save(a)
+        if self.on_ack is not None:
+            self.on_ack(a, station)
         return a
 
-    def acknowledged_elsewhere(self, key: str, operator: str | None, at: float) -> bool:
-        """Another console station acknowledged its alarm of this key: so is this one's (whether it changed)."""
+    def acknowledged_elsewhere(self, key: str, operator: str | None, at: float, station: str | None = None) -> bool:
+        """Another console station (`station`, if known) acknowledged its alarm of this key, or a replay's recording
+        says it was acknowledged: so is this one's (whether it changed)."""
         a = self.open.get(key)
         if a is None or a.acked_at is not None:
             return False
-        self.acknowledge(a.id, operator, at)
+        self.acknowledge(a.id, operator, at, station)
         return True
 
     def active(self) -> list[dict[str, Any]]:

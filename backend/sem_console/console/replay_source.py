@@ -26,6 +26,7 @@ import contextlib
 import json
 import logging
 import struct
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
 
@@ -37,12 +38,12 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.recording.reader import COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
+from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
 
 log = logging.getLogger("sem-console.replay")
 
 SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
-TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS}
+TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS}
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
 BATCH = 2_000  # decoded messages per worker-thread read while playing
@@ -53,6 +54,30 @@ MIN_SPEED, MAX_SPEED = 0.25, 20.0
 
 class ReplayError(Exception):
     """A replay request that cannot be carried out (a position outside the recording)."""
+
+
+@dataclass
+class RecordedCommand:
+    """A message of `sem-console/commands`: the command as the recording console sent it to its clients, and whether
+    that console followed it as its own (issued it or took it over: it raised its alarms); None in a file recorded
+    before 2026-11-26, which does not say."""
+
+    command: dict[str, Any]
+    followed: bool | None
+
+
+@dataclass
+class RecordedAck:
+    """A message of `sem-console/alarm-acks`: the recording console's alarm of `key` acknowledged at `at` by `by` (an
+    operator, or None) on `station` (None: not known)."""
+
+    key: str
+    at: float
+    by: str | None
+    station: str | None
+
+
+Played = Item | RecordedCommand | RecordedAck  # what the cursor reads and the console applies
 
 
 class Cursor:
@@ -67,11 +92,11 @@ class Cursor:
         self.skipped = 0
         self._watched: dict[tuple[str, Any], Any] = {}  # (topic, source) -> the value the alarms watch, as last read
 
-    def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Item | dict[str, Any]]]:
+    def read_until(self, until_ns: int, limit: int = BATCH, rebuild: bool = False) -> list[tuple[int, Played]]:
         """(log time, item) of the next messages logged at or before `until_ns`, at most `limit` of them. With
         `rebuild` (a seek: nothing is sent to clients on the way) only the last report of each provider and topic
         is converted to JSON; the ones before it count for link health only (a report with no JSON, alive)."""
-        out: list[tuple[int, Item | dict[str, Any]]] = []
+        out: list[tuple[int, Played]] = []
         while len(out) < limit and not self.done:
             if self._pending is None:
                 try:
@@ -105,7 +130,7 @@ class Cursor:
                     item.sample = None
         return out
 
-    def _watched_changes(self, out: list[tuple[int, Item | dict[str, Any]]]) -> list[ReportItem]:
+    def _watched_changes(self, out: list[tuple[int, Played]]) -> list[ReportItem]:
         """The reports of `out` whose field the alarms watch (`console.alarms.WATCHED`) differs from the
         report before it of the same provider and topic."""
         changes: list[ReportItem] = []
@@ -123,14 +148,19 @@ class Cursor:
                 changes.append(item)
         return changes
 
-    def _decode(self, topic: str, message: Any, convert: bool) -> Item | dict[str, Any] | None:
+    def _decode(self, topic: str, message: Any, convert: bool) -> Played | None:
         at = message.log_time / 1e9
         if topic in SEM_TOPICS:
             return self.decoder.decode(SEM_TOPICS[topic], message.data, True, InstanceState.Alive, at, convert)
         try:
             event = json.loads(message.data)
             if topic == COMMANDS:
-                return dict(event["command"])
+                followed = event.get("followed")
+                return RecordedCommand(dict(event["command"]), followed if isinstance(followed, bool) else None)
+            if topic == ALARM_ACKS:
+                by, station = event.get("ackedBy"), event.get("station")
+                return RecordedAck(str(event["key"]), float(event["ackedAt"]), by if isinstance(by, str) else None,
+                                   station if isinstance(station, str) else None)
             sem = SEM_TOPICS.get(event["topic"])
             if sem is None:  # a command topic's dispose: the console follows its own commands from COMMANDS
                 return None
@@ -155,7 +185,7 @@ class Replayed(Protocol):
 
     def reset(self) -> None: ...
     def snapshot(self) -> dict[str, Any]: ...
-    def apply(self, item: Item | dict[str, Any]) -> None: ...
+    def apply(self, item: Played) -> None: ...
     def tick(self, now: float) -> None: ...
 
 

@@ -33,7 +33,7 @@ from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
-from sem_console.console.replay_source import Replay
+from sem_console.console.replay_source import RecordedAck, RecordedCommand, Replay
 from sem_console.console.sources import Source, open_source
 from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
 from sem_console.core.contract import LinkConfig as LinkConfigModel
@@ -106,7 +106,9 @@ class Console:
         self._others: set[uuid.UUID] = set()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
                                  settings.record_queue, self._recording_changed, self.station)
-        self.alarms = Alarms(self.store, self.names())  # the ones not back to normal, from the database
+        # the ones not back to normal, from the database; each acknowledgement is recorded (a replay derives the alarms
+        # again, and acknowledges them from the recording)
+        self.alarms = Alarms(self.store, self.names(), self._record_ack)
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store),
                      self.station)
@@ -177,8 +179,9 @@ class Console:
                 self._shared_link_config(str(message["provider"]))
             elif kind == "alarm-ack":
                 by = message.get("by")
+                station = message.get("console")
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
-                                                      float(message["at"])):
+                                                      float(message["at"]), station if isinstance(station, str) else None):
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
@@ -306,10 +309,16 @@ class Console:
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
     # ---- input from the source: DDS (ingest) or a recording (replay), on the loop -------------------------------
-    def apply(self, item: ReportItem | StatusItem | dict[str, Any]) -> None:
-        """One item of a replay: a decoded report or status sample, or a recorded command message's command."""
+    def apply(self, item: ReportItem | StatusItem | RecordedCommand | RecordedAck) -> None:
+        """One item of a replay: a decoded report or status sample, a recorded command message or alarm
+        acknowledgement."""
         if isinstance(item, ReportItem):
             self.on_reports([item])
+        elif isinstance(item, RecordedAck):
+            if self.alarms.acknowledged_elsewhere(item.key, item.by, item.at, item.station):
+                self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            else:  # derived again, the alarm is not (or no longer) in the active set at that instant
+                log.info("a recorded acknowledgement of alarm %s matches no unacknowledged alarm of the replay", item.key)
         elif isinstance(item, StatusItem):
             if item.sample is not None and item.session not in self.commands.by_session:
                 self._early.setdefault(item.session, []).append(item)
@@ -317,12 +326,19 @@ class Console:
                     self._early.popitem(last=False)
             self.on_statuses([item])
         else:
-            recorded_by = self.source.replay.station if self.source.replay else None
-            if recorded_by is not None and item.get("console") not in (None, recorded_by):
-                with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
-                    self._others.add(uuid.UUID(item["sessionId"]))  # before adopt() emits it
+            followed = item.followed
+            if followed is None:  # a file recorded before the marker: the recording console's commands by their station
+                recorded_by = self.source.replay.station if self.source.replay else None
+                followed = recorded_by is None or item.command.get("console") in (None, recorded_by)
+            with contextlib.suppress(KeyError, ValueError, TypeError, AttributeError):
+                # before adopt() emits it; a command taken over from another station is followed from then on
+                session = uuid.UUID(item.command["sessionId"])
+                if followed:
+                    self._others.discard(session)
+                else:
+                    self._others.add(session)
             try:
-                cmd = self.commands.adopt(item)
+                cmd = self.commands.adopt(item.command)
             except (KeyError, ValueError, TypeError) as e:
                 log.warning("skipped a recorded command that cannot be read: %s", e)
                 return
@@ -414,7 +430,12 @@ class Console:
         if not self.quiet:
             self.hub.publish(message)
             self.feed.publish(message)
-        self.recorder.on_message(message)
+        # a command message says whether this console follows the command (issued it, or took it over from another
+        # station): its alarms are this console's (below), and a replay of the recording raises them as it did
+        followed = None
+        if message["type"] == "command" and self.recorder.active:
+            followed = uuid.UUID(message["command"]["sessionId"]) in self.commands.by_session
+        self.recorder.on_message(message, followed)
         if message["type"] in ALARM_INPUTS:
             changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"])) if "command" in message else None
             self._update_alarms([changed] if changed is not None and changed.session_id not in self._others else [])
@@ -429,10 +450,16 @@ class Console:
     def acknowledge(self, alarm_id: int, operator: str | None) -> Alarm | None:
         """An operator acknowledges an alarm of the active set (None: there is none with that id)."""
         before = self.alarms.active()
-        alarm = self.alarms.acknowledge(alarm_id, operator, self.clock.wall())
+        alarm = self.alarms.acknowledge(alarm_id, operator, self.clock.wall(), self.station)
         if alarm is not None and self.alarms.active() != before:
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
         return alarm
+
+    def _record_ack(self, alarm: Alarm, station: str | None) -> None:
+        """An alarm just acknowledged, here or on another station: in the recording (`recorder.AlarmAckEvent`)."""
+        self.recorder.on_message({"type": "alarm-ack", "key": alarm.key, "kind": alarm.kind, "providerId": alarm.provider_id,
+                                  "sessionId": alarm.session_id, "ackedAt": alarm.acked_at, "ackedBy": alarm.acked_by,
+                                  "station": station})
 
     def _recording_changed(self, status: dict[str, Any]) -> None:
         """From any thread: the recording started, stopped, rolled over or failed."""

@@ -8,7 +8,10 @@
   to record: they go to the JSON channel `sem-console/instances` (topic, key CDR, source, sessionId).
 - **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
   `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
-  events), holding the WebSocket messages of the same names (`core/contract.py`).
+  events), holding the WebSocket messages of the same names (`core/contract.py`); a command's says too whether the
+  console followed it as its own (`RecordedCommandMessage.followed`: its alarms, for a replay); and
+  `sem-console/alarm-acks`, each alarm acknowledgement the console applied (`AlarmAckEvent`: a replay derives the alarms
+  again and acknowledges them from these).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
@@ -45,7 +48,7 @@ from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
-from sem_console.recording.reader import COMMANDS, INSTANCES
+from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -69,12 +72,40 @@ class InstanceEvent(BaseModel):
     sessionId: str | None = Field(description="the key's sessionID (command, status and ack topics)")
 
 
+class RecordedCommandMessage(CommandMessage):
+    """A `command` WebSocket message as recorded (channel `sem-console/commands`), with whether the recording console
+    followed the command as its own."""
+
+    followed: bool | None = Field(None, description=(
+        "the recording console followed this command as its own when it sent this message: it issued it, or took it "
+        "over from another station (to cancel it), so it raised the command's alarms; false: another station's command, "
+        "only shown; absent in files recorded before 2026-11-26 (a replay then goes by the issuing station)"))
+
+
+class AlarmAckEvent(BaseModel):
+    """An alarm of the console's active set acknowledged, here or on another station (channel `sem-console/alarm-acks`):
+    the alarms are derived again in a replay, and these acknowledge them there as they were."""
+
+    model_config = ConfigDict(extra="forbid")
+    type: str = Field(description="'alarm-ack'")
+    key: str = Field(description="the alarm's key (kind|provider|session|detail), the same in a replay that derives it again")
+    kind: str
+    providerId: str | None
+    sessionId: str | None
+    ackedAt: float = Field(description="when it was acknowledged, UTC seconds")
+    ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in)")
+    station: str | None = Field(description="the console station it was acknowledged on (--console-name): the recording "
+                                            "console's, or another's of its database; null: not known (another station's, "
+                                            "read again after a lost database connection)")
+
+
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
 JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
-    COMMANDS: ("command", CommandMessage),
+    COMMANDS: ("command", RecordedCommandMessage),
     "sem-console/transitions": ("transition", TransitionMessage),
     "sem-console/links": ("provider", ProviderMessage),
     INSTANCES: ("instance", InstanceEvent),
+    ALARM_ACKS: ("alarm-ack", AlarmAckEvent),
 }
 _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
 
@@ -188,10 +219,13 @@ class Recorder:
         """One take of a topic (ingest.Tap): one queue item, however many samples."""
         self._put((sem, samples, received_ns, len(samples)))
 
-    def on_message(self, message: dict[str, Any]) -> None:
-        """A console WebSocket message; commands, transitions and provider events are recorded."""
+    def on_message(self, message: dict[str, Any], followed: bool | None = None) -> None:
+        """A console WebSocket message; commands, transitions and provider events are recorded. `followed`, for a
+        command: whether this console follows it as its own (RecordedCommandMessage.followed)."""
         channel = _CHANNEL_OF_TYPE.get(message.get("type", ""))
         if channel is not None and self.active:
+            if followed is not None and channel == COMMANDS:
+                message = {**message, "followed": followed}
             self._put((channel, message, time.time_ns(), 1))
 
     def _put(self, item: tuple[Any, Any, int, int]) -> None:

@@ -1,8 +1,8 @@
 import type { ReactNode } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
-import { freshness, type Freshness } from "../lib/freshness";
-import { useFrameValue, useNow, useSelectedLink } from "../data/hooks";
+import { RECORDED_TITLE, freshness, stateWords, type Freshness } from "../lib/freshness";
+import { useCapabilities, useFrameValue, useNow, useSelectedLink } from "../data/hooks";
 import { selectedTopic, type State, type TopicView } from "../data/store";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
@@ -25,6 +25,7 @@ interface Props {
 export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
   countRender(testId);
   const [collapsed, setCollapsed] = useCollapsed(testId);
+  const recorded = useCapabilities().playback; // a replay: the recording's freshness, not the vehicle's now
   return (
     <section className={`panel ${className ?? ""}${collapsed ? " collapsed" : ""}`} data-testid={testId} aria-label={title}>
       <header className="panel-head">
@@ -41,8 +42,8 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
         </button>
         <h2>{title}</h2>
         {freshness && freshness !== "none" && (
-          <span className={`fresh fresh-${freshness}`} data-testid={`${testId}-freshness`} title="age of the latest data">
-            {freshness === "live" ? "live" : freshness} · {age(ageSeconds ?? null)}
+          <span className={`fresh fresh-${freshness}${recorded ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recorded ? `age of the latest data: ${RECORDED_TITLE}` : "age of the latest data"}>
+            {stateWords(freshness, recorded)} · {age(ageSeconds ?? null)}
           </span>
         )}
         {!collapsed && actions}

@@ -18,6 +18,15 @@ export function freshness(ageSeconds: number | null, topic: Topic, observedInter
   return ageSeconds > staleAfter(topic, observedInterval) ? "stale" : "live";
 }
 
+/** What a replay's link and freshness badges say beside their words: the recording's state at the instant shown. */
+export const RECORDED_TITLE = "the recording's state at the instant shown, not the vehicle now";
+
+/** A vehicle's link or freshness in words. In a replay (`recorded`) it is what the recording said, never worded as
+ * the vehicle now: "Recorded: live", not "Live" (the words, not only a colour, for a screen reader too). */
+export function stateWords(words: string, recorded: boolean): string {
+  return recorded ? `Recorded: ${words.toLowerCase()}` : words;
+}
+
 /** Exponentially weighted mean of inter-arrival times, ignoring gaps (a gap is not the rate). */
 export function nextInterval(previous: number | null, gap: number): number | null {
   if (!(gap > 0) || !Number.isFinite(gap)) return previous;

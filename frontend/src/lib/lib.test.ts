@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import { mergeCommands } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
-import { freshness, nextInterval, staleAfter } from "./freshness";
+import { freshness, nextInterval, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
@@ -103,6 +103,14 @@ describe("freshness", () => {
   it("allows three observed intervals for slow topics", () => {
     expect(staleAfter("InertialSensorReport", 2)).toBe(6);
     expect(staleAfter("InertialSensorReport", null)).toBe(1.5);
+  });
+  it("says a replay's state is the recording's: no badge says Live in a replay, live words unchanged", () => {
+    for (const words of ["Live", "live", "Regained", "stale", "Lost", "3 live"]) {
+      expect(stateWords(words, false)).toBe(words);
+      expect(stateWords(words, true)).toMatch(/^Recorded: /);
+      expect(stateWords(words, true)).not.toMatch(/^live/i);
+    }
+    expect(stateWords("Live", true)).toBe("Recorded: live");
   });
   it("learns the interval but not from gaps", () => {
     expect(nextInterval(null, 0.1)).toBe(0.1);

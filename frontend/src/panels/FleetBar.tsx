@@ -10,6 +10,7 @@ import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
+import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { umaa } from "../lib/labels";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
 import { DASH } from "../lib/units";
@@ -84,13 +85,14 @@ interface ChipProps {
   insState: InsState;
   insStatus: InsStatus;
   alarms: number;
+  recorded: boolean; // a replay: the link is the recording's
   selected: boolean;
   tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
   onSelect: (id: string) => void;
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, selected, tabbable, onSelect }: ChipProps) {
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, recorded, selected, tabbable, onSelect }: ChipProps) {
   const l = LINK[link];
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
@@ -110,8 +112,8 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
         {label}
       </span>
-      <span className={`fleet-word tone-${l.tone}`} title={l.title} data-testid="fleet-link">
-        {l.text}
+      <span className={`fleet-word tone-${l.tone}${recorded ? " recorded" : ""}`} title={recorded ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
+        {stateWords(l.text, recorded)}
       </span>
       <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>
         {fix.text}
@@ -188,6 +190,7 @@ export function FleetBar() {
   const alarms = useAlarms();
   const store = useStore();
   const now = useNow(1000);
+  const recorded = useCapabilities().playback; // a replay: the links and counts are the recording's
   const [muted, setMuted] = useSetting("sem-console.mute", false, isBool);
   const open = useMemo(() => unacknowledged(alarms), [alarms]);
   const announced = useAnnunciation(alarms, open.length, muted);
@@ -227,8 +230,8 @@ export function FleetBar() {
       </div>
       <div className="fleet-counts">
         <span className="fleet-counts" role="status">
-          <span className={`fleet-count tone-${live ? "ok" : "muted"}`} data-testid="fleet-live">
-            {live} live
+          <span className={`fleet-count tone-${live ? "ok" : "muted"}${recorded ? " recorded" : ""}`} data-testid="fleet-live" title={recorded ? RECORDED_TITLE : undefined}>
+            {stateWords(`${live} live`, recorded)}
           </span>
           {stale > 0 && (
             <span className="fleet-count tone-warn" data-testid="fleet-stale" title={`no report for over ${STALE_AFTER_S} s`}>
@@ -274,6 +277,7 @@ export function FleetBar() {
               insState={report(p, "InertialSensorReport")?.state}
               insStatus={report(p, "InertialSensorReport")?.status}
               alarms={byVehicle.get(p.id) ?? 0}
+              recorded={recorded}
               selected={p.id === selected}
               tabbable={p.id === (chips.some((c) => c.p.id === selected) ? selected : chips[0].p.id)}
               onSelect={onSelect}

@@ -1,7 +1,8 @@
 import { Fragment, useEffect, useRef } from "react";
 import { VehicleTag } from "../components/VehicleTag";
-import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
+import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
+import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
 import { RenameVehicle } from "./RenameVehicle";
@@ -20,6 +21,7 @@ export function VehicleSelector() {
   const store = useStore();
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
+  const recorded = useCapabilities().playback; // a replay: the links are the recording's
   const list = useRef<HTMLElement>(null);
   const shown = providers.some((p) => p.id === selected);
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
@@ -62,7 +64,9 @@ export function VehicleSelector() {
             <span className="vehicle-name">
               <VehicleTag v={p} />
             </span>
-            <span className={`link link-${link}`} data-testid="vehicle-link">{link}</span>
+            <span className={`link link-${link}${recorded ? " recorded" : ""}`} data-testid="vehicle-link" title={recorded ? RECORDED_TITLE : undefined}>
+              {stateWords(link, recorded)}
+            </span>
             <span className="vehicle-meta">
               {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span> · {age(ageS)}
             </span>
