@@ -1,4 +1,4 @@
-import type { ReactNode } from "react";
+import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
 import { freshness, type Freshness } from "../lib/freshness";
@@ -17,12 +17,14 @@ interface Props {
   actions?: ReactNode;
   children: ReactNode;
   className?: string;
+  /** the title, focusable by script (tabIndex -1, not a Tab stop): where the focus goes when what had it went away */
+  titleRef?: Ref<HTMLHeadingElement>;
 }
 
 /** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel),
  * and, in an arrangeable group, move it by its ⠿ handle or ↑ ↓ buttons.
  * A collapsed panel's content is not rendered, so it costs nothing while folded. */
-export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
+export function Panel({ title, testId, freshness, ageSeconds, actions, children, className, titleRef }: Props) {
   countRender(testId);
   const [collapsed, setCollapsed] = useCollapsed(testId);
   return (
@@ -39,7 +41,9 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
         >
           {collapsed ? "▸" : "▾"}
         </button>
-        <h2>{title}</h2>
+        <h2 ref={titleRef} tabIndex={titleRef ? -1 : undefined}>
+          {title}
+        </h2>
         {freshness && freshness !== "none" && (
           <span className={`fresh fresh-${freshness}`} data-testid={`${testId}-freshness`} title="age of the latest data">
             {freshness === "live" ? "live" : freshness} · {age(ageSeconds ?? null)}
