@@ -248,6 +248,32 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
     }).toBe(true);
     expect(await page.evaluate(() => window.scrollY)).toBe(0);
 
+    // found by a part of its id or of its name: the list shows the matches, the count is said; Esc or Clear: all again
+    const find = page.getByRole("searchbox", { name: "Find" });
+    const count = page.getByRole("status").and(page.getByTestId("find-vehicle-count"));
+    await find.fill(failed.slice(2, 8).toUpperCase());
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    await expect(page.getByTestId("vehicle")).toContainText(failed);
+    await expect(count).toHaveText("1 of 12 vehicles");
+    await find.press("Escape");
+    await expect(find).toHaveValue("");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await expect(count).toHaveText("");
+    await find.fill("no such vehicle");
+    await expect(page.getByTestId("vehicle")).toHaveCount(0);
+    await expect(page.getByTestId("find-vehicle-none")).toBeVisible();
+    await expect(count).toHaveText("0 of 12 vehicles");
+    await page.getByRole("button", { name: "Clear the vehicle search" }).click();
+    await expect(find).toBeFocused(); // its Clear gone, the focus back where the operator types
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await find.fill(ids[0].slice(9, 18)); // across a dash of the id, as it is written in the list
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    await page.getByTestId("vehicle").press("Enter"); // the list's keys as before: a match selected
+    await expect(page.getByTestId("vehicle")).toHaveAttribute("aria-pressed", "true");
+    await find.press("Escape");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    expect((await region.boundingBox())!.y + 40).toBeLessThan(720); // the search keeps the alarms on the first screen
+
     // by keyboard the chips are one Tab stop, the arrow keys going through them
     const chips = page.getByTestId("fleet-vehicle");
     await chips.first().focus();

@@ -1,9 +1,10 @@
-import { Fragment, useEffect, useRef } from "react";
+import { Fragment, useDeferredValue, useEffect, useMemo, useRef, useState } from "react";
 import { VehicleTag } from "../components/VehicleTag";
 import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
+import { vehicleMatcher } from "../lib/vehicle";
 import { RenameVehicle } from "./RenameVehicle";
 
 function lastSeen(p: ProviderView): number | null {
@@ -14,6 +15,43 @@ function lastSeen(p: ProviderView): number | null {
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
 const SAME_LIST = sameOverview();
 
+/** Find a vehicle in a fleet by a part of its name or id: the list shows the matches as typed (the list behind the
+ * field: each key is drawn in the field at once, the list's redraw, 250 rows, may follow a frame later), Esc or Clear
+ * brings back the whole fleet, and the count of matches is said politely. */
+function FindVehicle({ query, setQuery, matches, total }: { query: string; setQuery: (q: string) => void; matches: number; total: number }) {
+  const field = useRef<HTMLInputElement>(null);
+  return (
+    <div className="find-vehicle" role="search" aria-label="Find a vehicle">
+      <label>
+        Find{" "}
+        <input
+          ref={field}
+          type="search"
+          value={query}
+          placeholder="name or id"
+          autoComplete="off"
+          spellCheck={false}
+          onChange={(e) => setQuery(e.target.value)}
+          onKeyDown={(e) => {
+            if (e.key !== "Escape" || !query) return;
+            e.preventDefault(); // cleared here, not by anything else Esc closes
+            setQuery("");
+          }}
+          data-testid="find-vehicle"
+        />
+      </label>
+      {query && (
+        <button type="button" className="small" onClick={() => (setQuery(""), field.current?.focus())} aria-label="Clear the vehicle search">
+          Clear
+        </button>
+      )}
+      <span className="muted find-count" role="status" data-testid="find-vehicle-count">
+        {query.trim() ? `${matches} of ${total} ${total === 1 ? "vehicle" : "vehicles"}` : ""}
+      </span>
+    </div>
+  );
+}
+
 export function VehicleSelector() {
   const providers = useProvidersOnFrame(SAME_LIST); // on the frame, when what it shows changed
   const selected = useSelector((s) => s.selected);
@@ -21,7 +59,11 @@ export function VehicleSelector() {
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
   const list = useRef<HTMLElement>(null);
-  const shown = providers.some((p) => p.id === selected);
+  const [query, setQuery] = useState("");
+  // the list, the cost of a keystroke with a fleet, follows the field when the browser has time (typing never waits)
+  const typed = useDeferredValue(query);
+  const matching = useMemo(() => providers.filter(vehicleMatcher(typed)), [providers, typed]);
+  const shown = matching.some((p) => p.id === selected);
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
   // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
   useEffect(() => {
@@ -34,17 +76,24 @@ export function VehicleSelector() {
     const bottom = end.offsetTop + end.offsetHeight;
     if (top < nav.scrollTop) nav.scrollTop = top;
     else if (bottom > nav.scrollTop + nav.clientHeight) nav.scrollTop = Math.min(top, bottom - nav.clientHeight);
-  }, [selected, shown]);
+  }, [selected, shown, typed]); // and when the search has changed the rows above it
   return (
+    <>
+    {(providers.length > 1 || query) && <FindVehicle query={query} setQuery={setQuery} matches={matching.length} total={providers.length} />}
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
       {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
+      {providers.length > 0 && matching.length === 0 && (
+        <p className="muted" data-testid="find-vehicle-none">
+          No vehicle's name or id has “{typed.trim()}”.
+        </p>
+      )}
       {selected && !providers.some((p) => p.id === selected) && (
         <p className="vehicle selected missing" data-testid="selected-missing">
           <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
         </p>
       )}
-      {providers.map((p) => {
+      {matching.map((p) => {
         const seen = lastSeen(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = p.link === "live" && ageS !== null && ageS > 3 ? "stale" : p.link;
@@ -74,5 +123,6 @@ export function VehicleSelector() {
       })}
 
     </nav>
+    </>
   );
 }
