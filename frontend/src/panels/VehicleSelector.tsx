@@ -1,4 +1,4 @@
-import { Fragment, useDeferredValue, useEffect, useMemo, useRef, useState } from "react";
+import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { VehicleTag } from "../components/VehicleTag";
 import { useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
@@ -15,11 +15,13 @@ function lastSeen(p: ProviderView): number | null {
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
 const SAME_LIST = sameOverview();
 
-/** Find a vehicle in a fleet by a part of its name or id: the list shows the matches as typed (the list behind the
- * field: each key is drawn in the field at once, the list's redraw, 250 rows, may follow a frame later), Esc or Clear
- * brings back the whole fleet, and the count of matches is said politely. */
-function FindVehicle({ query, setQuery, matches, total }: { query: string; setQuery: (q: string) => void; matches: number; total: number }) {
+/** Find a vehicle in a fleet by a part of its name or id: the list shows the matches as typed, Esc or Clear brings back
+ * the whole fleet, and the count of matches (of `filter`, the query the list shows) is said politely. A key redraws
+ * the field alone at once; the list (250 rows) follows in a transition, which the next key interrupts. */
+function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onFilter: (q: string) => void; matches: number; total: number }) {
   const field = useRef<HTMLInputElement>(null);
+  const [query, setQuery] = useState(filter);
+  const clear = () => (setQuery(""), onFilter(""));
   return (
     <div className="find-vehicle" role="search" aria-label="Find a vehicle">
       <label>
@@ -31,22 +33,26 @@ function FindVehicle({ query, setQuery, matches, total }: { query: string; setQu
           placeholder="name or id"
           autoComplete="off"
           spellCheck={false}
-          onChange={(e) => setQuery(e.target.value)}
+          onChange={(e) => {
+            const q = e.target.value;
+            setQuery(q);
+            startTransition(() => onFilter(q));
+          }}
           onKeyDown={(e) => {
             if (e.key !== "Escape" || !query) return;
             e.preventDefault(); // cleared here, not by anything else Esc closes
-            setQuery("");
+            clear();
           }}
           data-testid="find-vehicle"
         />
       </label>
       {query && (
-        <button type="button" className="small" onClick={() => (setQuery(""), field.current?.focus())} aria-label="Clear the vehicle search">
+        <button type="button" className="small" onClick={() => (clear(), field.current?.focus())} aria-label="Clear the vehicle search">
           Clear
         </button>
       )}
       <span className="muted find-count" role="status" data-testid="find-vehicle-count">
-        {query.trim() ? `${matches} of ${total} ${total === 1 ? "vehicle" : "vehicles"}` : ""}
+        {filter.trim() ? `${matches} of ${total} ${total === 1 ? "vehicle" : "vehicles"}` : ""}
       </span>
     </div>
   );
@@ -59,10 +65,8 @@ export function VehicleSelector() {
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
   const list = useRef<HTMLElement>(null);
-  const [query, setQuery] = useState("");
-  // the list, the cost of a keystroke with a fleet, follows the field when the browser has time (typing never waits)
-  const typed = useDeferredValue(query);
-  const matching = useMemo(() => providers.filter(vehicleMatcher(typed)), [providers, typed]);
+  const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
+  const matching = useMemo(() => providers.filter(vehicleMatcher(filter)), [providers, filter]);
   const shown = matching.some((p) => p.id === selected);
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
   // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
@@ -76,16 +80,16 @@ export function VehicleSelector() {
     const bottom = end.offsetTop + end.offsetHeight;
     if (top < nav.scrollTop) nav.scrollTop = top;
     else if (bottom > nav.scrollTop + nav.clientHeight) nav.scrollTop = Math.min(top, bottom - nav.clientHeight);
-  }, [selected, shown, typed]); // and when the search has changed the rows above it
+  }, [selected, shown, filter]); // and when the search has changed the rows above it
   return (
     <>
-    {(providers.length > 1 || query) && <FindVehicle query={query} setQuery={setQuery} matches={matching.length} total={providers.length} />}
+    {(providers.length > 1 || filter) && <FindVehicle filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />}
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
       {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
       {providers.length > 0 && matching.length === 0 && (
         <p className="muted" data-testid="find-vehicle-none">
-          No vehicle's name or id has “{typed.trim()}”.
+          No vehicle's name or id has “{filter.trim()}”.
         </p>
       )}
       {selected && !providers.some((p) => p.id === selected) && (
