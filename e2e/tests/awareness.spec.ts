@@ -251,8 +251,10 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
     // found by a part of its id or of its name: the list shows the matches, the count is said; Esc or Clear: all again
     const find = page.getByRole("searchbox", { name: "Find" });
     const count = page.getByRole("status").and(page.getByTestId("find-vehicle-count"));
+    const listTop = (await list.boundingBox())!.y;
     await find.fill(failed.slice(2, 8).toUpperCase());
     await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    expect((await list.boundingBox())!.y).toBe(listTop); // its Clear and count did not push the list down
     await expect(page.getByTestId("vehicle")).toContainText(failed);
     await expect(count).toHaveText("1 of 12 vehicles");
     await find.press("Escape");

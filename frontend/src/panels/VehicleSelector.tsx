@@ -46,11 +46,11 @@ function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onF
           data-testid="find-vehicle"
         />
       </label>
-      {query && (
-        <button type="button" className="small" onClick={() => (clear(), field.current?.focus())} aria-label="Clear the vehicle search">
-          Clear
-        </button>
-      )}
+      {/* always laid out, hidden without a query: the list under it does not move as the operator starts typing */}
+      <button type="button" className="small" style={{ visibility: query ? "visible" : "hidden" }} onClick={() => (clear(), field.current?.focus())}
+        aria-label="Clear the vehicle search">
+        Clear
+      </button>
       <span className="muted find-count" role="status" data-testid="find-vehicle-count">
         {filter.trim() ? `${matches} of ${total} ${total === 1 ? "vehicle" : "vehicles"}` : ""}
       </span>
