@@ -310,3 +310,36 @@ def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, con
     snapshot = wait_until(lambda: ws.messages and ws.messages[0], 10, "the snapshot")
     assert snapshot["type"] == "snapshot" and alarm in snapshot["alarms"] and ws.errors == []
     ws.close()
+
+
+def test_a_renamed_vehicles_alarms_name_it_as_it_is_named_now_and_the_rows_keep_what_was_said(domain: int,
+                                                                                               tmp_path: Path) -> None:
+    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings",
+                        operator_tokens="alice:s3cret", vehicle_names=f"{CHARLIE}=Charlie")
+    auth = {"Authorization": "Bearer s3cret"}
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+
+        def heard_a_minute_ago() -> None:
+            now, wall = console.clock.monotonic(), console.clock.wall()
+            console.providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60,
+                                   wall - 60, True)
+            console.tick(now)
+
+        client.portal.call(heard_a_minute_ago)
+        [lost] = client.get("/api/alarms").json()
+        assert (lost["kind"], lost["vehicle"], lost["text"]) == ("link-lost", "Charlie", "Charlie: link lost")
+        with client.websocket_connect("ws://localhost/ws") as ws:
+            ws.receive_json()  # the snapshot
+            r = client.put(f"/api/providers/{CHARLIE}/name", json={"name": "Delta"}, headers=auth)
+            assert r.status_code == 200, r.text
+            assert [(a["vehicle"], a["text"]) for a in client.get("/api/alarms").json()] == [("Delta", "Delta: link lost")]
+            message = ws.receive_json()
+            while message["type"] != "alarms":  # the set is sent again, not only the provider's new name
+                message = ws.receive_json()
+            assert [(a["vehicle"], a["text"]) for a in message["alarms"]] == [("Delta", "Delta: link lost")]
+        with console.store.engine.connect() as c:  # what was said when raised stays as recorded
+            [row] = c.execute(text("SELECT vehicle, text FROM alarms")).mappings().all()
+        assert (row["vehicle"], row["text"]) == ("Charlie", "Charlie: link lost")
+        client.put(f"/api/providers/{CHARLIE}/name", json={"name": None}, headers=auth)  # back to --vehicle-names
+        assert client.get("/api/alarms").json()[0]["text"] == "Charlie: link lost"

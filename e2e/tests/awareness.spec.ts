@@ -179,6 +179,41 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
   }
 });
 
+test("Acknowledge all by keyboard: said in words, and the focus goes to the alarm list's title, not the page's top", async ({ page, request }) => {
+  const stack = load();
+  const domain = await otherFreeDomain(stack.domain);
+  const token = "ack-all-token";
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "ack-all.sqlite3")]);
+  const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "2", "--first-vehicle", "7", "--fault", "ins-failure",
+    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
+    "--state-file", join(stack.dir, "ack-all-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  try {
+    await expect.poll(async () => (await alarms(request, extra.url)).filter((a) => a.kind === "ins-failure").length, { timeout: 30_000 }).toBe(2);
+    await page.goto(extra.url);
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toBeVisible();
+    const region = page.getByRole("region", { name: "Alarms" });
+    const all = region.getByRole("button", { name: "Acknowledge all" });
+    const said = region.getByRole("status").and(page.getByTestId("alarms-acknowledged"));
+    // the console does not answer: its button stays, the focus with it, and the region says none was acknowledged
+    await page.route("**/api/alarms/*/ack", (route) => route.abort("connectionrefused"));
+    await all.focus();
+    await page.keyboard.press("Enter");
+    await expect(said).toHaveText("0 alarms of 2 acknowledged; 2 not: see their entries.");
+    await expect(all).toBeFocused();
+    await page.unroute("**/api/alarms/*/ack");
+    await page.keyboard.press("Enter");
+    await expect(said).toHaveText("2 alarms acknowledged.");
+    await expect(all).toHaveCount(0); // gone with the last unacknowledged alarm
+    await expect(region.getByRole("heading", { name: "Alarms" })).toBeFocused();
+    await expect(region.getByTestId("alarm").and(page.locator('[data-state="active-acknowledged"]'))).toHaveCount(2);
+  } finally {
+    await stopChild(sim);
+    await extra.stop();
+  }
+});
+
 test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, the chips are one Tab stop, and the alarm count opens the alarms", async ({ page, request }) => {
   // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
   await page.setViewportSize({ width: 1280, height: 720 });
@@ -212,6 +247,34 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
       return r.y >= l.y - 1 && r.y + r.height <= l.y + l.height + 1;
     }).toBe(true);
     expect(await page.evaluate(() => window.scrollY)).toBe(0);
+
+    // found by a part of its id or of its name: the list shows the matches, the count is said; Esc or Clear: all again
+    const find = page.getByRole("searchbox", { name: "Find" });
+    const count = page.getByRole("status").and(page.getByTestId("find-vehicle-count"));
+    const listTop = (await list.boundingBox())!.y;
+    await find.fill(failed.slice(2, 8).toUpperCase());
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    expect((await list.boundingBox())!.y).toBe(listTop); // its Clear and count did not push the list down
+    await expect(page.getByTestId("vehicle")).toContainText(failed);
+    await expect(count).toHaveText("1 of 12 vehicles");
+    await find.press("Escape");
+    await expect(find).toHaveValue("");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await expect(count).toHaveText("");
+    await find.fill("no such vehicle");
+    await expect(page.getByTestId("vehicle")).toHaveCount(0);
+    await expect(page.getByTestId("find-vehicle-none")).toBeVisible();
+    await expect(count).toHaveText("0 of 12 vehicles");
+    await page.getByRole("button", { name: "Clear the vehicle search" }).click();
+    await expect(find).toBeFocused(); // its Clear gone, the focus back where the operator types
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await find.fill(ids[0].slice(9, 18)); // across a dash of the id, as it is written in the list
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    await page.getByTestId("vehicle").press("Enter"); // the list's keys as before: a match selected
+    await expect(page.getByTestId("vehicle")).toHaveAttribute("aria-pressed", "true");
+    await find.press("Escape");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    expect((await region.boundingBox())!.y + 40).toBeLessThan(720); // the search keeps the alarms on the first screen
 
     // by keyboard the chips are one Tab stop, the arrow keys going through them
     const chips = page.getByTestId("fleet-vehicle");

@@ -95,8 +95,12 @@ test("cancel a running command: CANCELED appears", async ({ page }) => {
   const cmd = latestCommand(page);
   await expect(cmd.getByText("INS ON", { exact: true })).toBeVisible();
   await expect(cmd).toHaveAttribute("data-status", "EXECUTING");
-  await cmd.getByRole("button", { name: "Cancel" }).click();
+  // by keyboard: the Cancel pressed goes once the console has the cancel, and the focus stays on the command, its row
+  await cmd.getByRole("button", { name: "Cancel" }).focus();
+  await page.keyboard.press("Enter");
   await expect(cmd).toHaveAttribute("data-status", "CANCELED");
+  await expect(cmd.getByRole("button", { name: "Cancel" })).toHaveCount(0);
+  await expect(cmd.getByTestId("command-summary")).toBeFocused();
   expect(await statuses(cmd)).toEqual(["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]);
   await expect(cmd.getByTestId("transition").last()).toHaveAttribute("data-status", "CANCELED");
 });

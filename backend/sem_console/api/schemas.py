@@ -424,9 +424,11 @@ class Alarm(_Model):
     kind: AlarmKind
     severity: Literal["alarm", "warning"] = Field(description="alarm: act now; warning: look when you can")
     providerId: str | None = Field(description="the vehicle's source GUID; null for the console's own (recording)")
-    vehicle: str | None = Field(description="the vehicle as the operator knows it: its configured name, else its short id")
+    vehicle: str | None = Field(description="the vehicle as the operator knows it now: its name (set from the dashboard "
+                                "or configured), else its short id; a rename sends the set again")
     sessionId: str | None = Field(description="the command the alarm is about, if any")
-    text: str = Field(description="one line in the operator's words, naming the vehicle")
+    text: str = Field(description="one line in the operator's words, naming the vehicle as `vehicle` does (the "
+                      "console's database keeps the text as it was when raised)")
     since: float = Field(description="when it became active, UTC seconds")
     state: AlarmState
     clearedAt: float | None = Field(description="when its condition cleared, UTC seconds")

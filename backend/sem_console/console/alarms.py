@@ -86,9 +86,9 @@ class Alarm:
     kind: str
     severity: str
     provider_id: str | None
-    vehicle: str | None
+    vehicle: str | None  # as the vehicle was named when raised (sent: as it is named now, `to_json`)
     session_id: str | None
-    text: str
+    text: str  # as said when raised, naming `vehicle`
     since: float
     cleared_at: float | None = None
     acked_at: float | None = None
@@ -101,9 +101,19 @@ class Alarm:
             return "cleared-unacknowledged"
         return "active-acknowledged" if self.acked_at is not None else "active-unacknowledged"
 
-    def to_json(self) -> dict[str, Any]:
+    def text_naming(self, vehicle: str | None) -> str:
+        """The text with the vehicle as it is named now (`vehicle`): raised, it named the vehicle as `self.vehicle`,
+        which the row keeps, as what was said then; a rename since must not leave "Alpha: link lost" beside Bravo."""
+        said = f"{self.vehicle}: "
+        if vehicle is None or self.vehicle is None or not self.text.startswith(said):
+            return self.text
+        return f"{vehicle}: {self.text.removeprefix(said)}"
+
+    def to_json(self, vehicle: str | None = None) -> dict[str, Any]:
+        """What clients are sent; `vehicle`: the vehicle's name now (None: as raised)."""
         return {"id": self.id, "kind": self.kind, "severity": self.severity, "providerId": self.provider_id,
-                "vehicle": self.vehicle, "sessionId": self.session_id, "text": self.text, "since": self.since,
+                "vehicle": vehicle or self.vehicle, "sessionId": self.session_id, "text": self.text_naming(vehicle),
+                "since": self.since,
                 "state": self.state, "clearedAt": self.cleared_at, "ackedAt": self.acked_at, "ackedBy": self.acked_by}
 
     def row(self) -> dict[str, Any]:
@@ -125,7 +135,7 @@ class Found:
     kind: str
     provider_id: str | None
     session_id: str | None
-    text: str
+    what: str  # the text without the vehicle, named when raised (`Alarms._raise`) and as it is named now when sent
     detail: str = ""  # part of the key only (recording-failed: which failure)
 
     @property
@@ -257,8 +267,9 @@ class Alarms:
         return True
 
     def active(self) -> list[dict[str, Any]]:
-        """The active set, newest first."""
-        return [a.to_json() for a in sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)]
+        """The active set, newest first, each naming its vehicle as it is named now."""
+        newest_first = sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)
+        return [a.to_json(self._vehicle(a.provider_id) if a.provider_id else None) for a in newest_first]
 
     # ---- derivation ---------------------------------------------------------------------
     def _vehicle(self, provider_id: str) -> str:
@@ -270,7 +281,7 @@ class Alarms:
         self._sessions.add(sid)
         key = (pid, c.service)
         self._newest[key] = max(self._newest.get(key, c.created_at), c.created_at)
-        f = Found("command-unanswered", pid, sid, f"{self._vehicle(pid)}: {command_words(c)} unanswered")
+        f = Found("command-unanswered", pid, sid, f"{command_words(c)} unanswered")
         if c.unanswered and not c.cancel_requested and not c.flow.terminal and not c.cleaned_up:
             self._unanswered[f.key] = f
         else:
@@ -283,21 +294,21 @@ class Alarms:
     def _events(self, c: Command) -> list[Found]:
         """What has happened to the command that is an alarm (raised once each: see `_raised`)."""
         pid, sid = str(c.provider_id), str(c.session_id)
-        who, what = self._vehicle(pid), command_words(c)
+        what = command_words(c)
         out: list[Found] = []
         if c.flow.violations:
-            out.append(Found("flow-violation", pid, sid, f"{who}: {what}: the vehicle reported an invalid status sequence"))
+            out.append(Found("flow-violation", pid, sid, f"{what}: the vehicle reported an invalid status sequence"))
         if c.flow.status is Status.FAILED:
             reason = next((t.reason for t in reversed(c.flow.transitions) if t.status is Status.FAILED), None)
             if reason is not Reason.INTERRUPTED:
                 words = REASON_WORDS.get(reason, "failed") if isinstance(reason, Reason) else "failed"
-                out.append(Found("command-failed", pid, sid, f"{who}: {what} failed: {words}"))
+                out.append(Found("command-failed", pid, sid, f"{what} failed: {words}"))
             elif not self._superseded(c):
                 out.append(Found("command-interrupted", pid, sid,
-                                 f"{who}: {what} interrupted by a command not from this console"))
+                                 f"{what} interrupted by a command not from this console"))
         late = c.answered_late_after
         if late is not None and c.flow.transitions and c.flow.transitions[0].status in TOOK_UP:
-            out.append(Found("executed-late", pid, sid, f"{who}: {what} executed late (unanswered for {late:.0f} s)"))
+            out.append(Found("executed-late", pid, sid, f"{what} executed late (unanswered for {late:.0f} s)"))
         return out
 
     def _superseded(self, c: Command) -> bool:
@@ -314,20 +325,19 @@ class Alarms:
         fix_valid: dict[str, Any] = {}
         for p in providers.values():
             pid = str(p.id)
-            who = self._vehicle(pid)
             found: list[Found] = []
             if p.link == "lost":
-                found.append(Found("link-lost", pid, None, f"{who}: link lost"))
+                found.append(Found("link-lost", pid, None, "link lost"))
             ins = p.reports.get("InertialSensorReport")
             if ins is not None and ins["report"].get("status") == INS_FAILURE:
-                found.append(Found("ins-failure", pid, None, f"{who}: inertial sensor failure"))
+                found.append(Found("ins-failure", pid, None, "inertial sensor failure"))
             status = p.reports.get("GPSFixStatusReport")
             valid = status["report"].get("fixValid") if status is not None else None
             fix_valid[pid] = valid
             if valid is True:
                 self._had_fix.add(pid)
             elif valid is False and pid in self._had_fix:
-                found.append(Found("fix-lost", pid, None, f"{who}: GPS fix lost"))
+                found.append(Found("fix-lost", pid, None, "GPS fix lost"))
             holding.update((f.key, f) for f in found)
         for pid, c in self._latest_fix.items():
             if c.flow.status is not Status.COMPLETED or not c.times:
@@ -338,7 +348,7 @@ class Alarms:
             elif fix_valid.get(pid) is False and sid not in self._fix_followed:
                 completed_at = c.times[-1][1]
                 if now - completed_at >= NO_FIX_GRACE:
-                    text = f"{self._vehicle(pid)}: no valid GPS fix {now - completed_at:.0f} s after the fix command completed"
+                    text = f"no valid GPS fix {now - completed_at:.0f} s after the fix command completed"
                     f = Found("no-fix-after-command", pid, str(c.session_id), text)
                     holding[f.key] = f
         return holding
@@ -359,8 +369,9 @@ class Alarms:
 
     # ---- storage ------------------------------------------------------------------------
     def _raise(self, f: Found, now: float) -> Alarm:
-        a = Alarm(0, f.key, f.kind, SEVERITY[f.kind], f.provider_id, self._vehicle(f.provider_id) if f.provider_id else None,
-                  f.session_id, f.text, now)
+        who = self._vehicle(f.provider_id) if f.provider_id else None
+        a = Alarm(0, f.key, f.kind, SEVERITY[f.kind], f.provider_id, who, f.session_id, f"{who}: {f.what}" if who else f.what,
+                  now)
         a.id = self.store.add_alarm(a.row())
         self.open[a.key] = a
         return a

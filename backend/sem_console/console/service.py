@@ -591,7 +591,8 @@ class Console:
         await self._read_stored(self._names_lock, "the vehicle names", self.store.vehicle_names, apply)
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
-        """A vehicle's stored name (None: removed) from here on: its summary, new alarms' text, clients."""
+        """A vehicle's stored name (None: removed) from here on: its summary, its alarms' text (as sent: each row
+        keeps what it said when raised), clients."""
         key = str(provider_id)
         name = stored or self.settings.names().get(key)
         for names in (self.providers.names, self.alarms.names):
@@ -603,6 +604,8 @@ class Console:
         if p is not None:
             p.name = name
             self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
+        if any(a.provider_id == key for a in self.alarms.open.values()):
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
 
     def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
         return self.commands.issue(service, provider_id, state, operator)

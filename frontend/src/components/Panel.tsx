@@ -1,4 +1,4 @@
-import type { ReactNode } from "react";
+import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
 import { RECORDED_TITLE, freshness, stateWords, type Freshness } from "../lib/freshness";
@@ -17,12 +17,14 @@ interface Props {
   actions?: ReactNode;
   children: ReactNode;
   className?: string;
+  /** the title, focusable by script (tabIndex -1, not a Tab stop): where the focus goes when what had it went away */
+  titleRef?: Ref<HTMLHeadingElement>;
 }
 
 /** A titled panel; the operator can collapse it to its title bar (remembered across reloads, per panel),
  * and, in an arrangeable group, move it by its ⠿ handle or ↑ ↓ buttons.
  * A collapsed panel's content is not rendered, so it costs nothing while folded. */
-export function Panel({ title, testId, freshness, ageSeconds, actions, children, className }: Props) {
+export function Panel({ title, testId, freshness, ageSeconds, actions, children, className, titleRef }: Props) {
   countRender(testId);
   const [collapsed, setCollapsed] = useCollapsed(testId);
   const recorded = useCapabilities().playback; // a replay: the recording's freshness, not the vehicle's now
@@ -40,7 +42,9 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
         >
           {collapsed ? "▸" : "▾"}
         </button>
-        <h2>{title}</h2>
+        <h2 ref={titleRef} tabIndex={titleRef ? -1 : undefined}>
+          {title}
+        </h2>
         {freshness && freshness !== "none" && (
           <span className={`fresh fresh-${freshness}${recorded ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recorded ? `age of the latest data: ${RECORDED_TITLE}` : "age of the latest data"}>
             {stateWords(freshness, recorded)} · {age(ageSeconds ?? null)}

@@ -5,7 +5,7 @@ import { freshness, nextInterval, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
-import { urlWithVehicle, vehicleColor, vehicleFromUrl, vehicleHue, vehicleLabel } from "./vehicle";
+import { shortId, urlWithVehicle, vehicleColor, vehicleFromUrl, vehicleHue, vehicleLabel, vehicleMatcher } from "./vehicle";
 
 describe("vehicle identity", () => {
   const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -27,6 +27,19 @@ describe("vehicle identity", () => {
     expect(vehicleFromUrl("")).toBe(null);
     expect(urlWithVehicle("http://h:1/?x=1", A)).toBe(`http://h:1/?x=1&vehicle=${A}`);
     expect(urlWithVehicle(`http://h:1/?vehicle=${A}`, null)).toBe("http://h:1/");
+  });
+  it("finds a vehicle by a part of its name or of its id, any case, with or without the id's dashes", () => {
+    const fleet = [{ id: A, name: "Alpha" }, { id: B, name: null }, { id: "0a0b0c0d-0000-4000-8000-000000000077", name: "Charlie 77" }];
+    const found = (q: string) => fleet.filter(vehicleMatcher(q)).map((v) => v.name ?? shortId(v.id));
+    expect(found("")).toEqual(["Alpha", "1c7e3a29", "Charlie 77"]);
+    expect(found("  ")).toHaveLength(3);
+    expect(found("alp")).toEqual(["Alpha"]);
+    expect(found(" CHAR ")).toEqual(["Charlie 77"]);
+    expect(found("77")).toEqual(["Alpha", "Charlie 77"]); // A's id starts 77b2, Charlie has 77 in its name
+    expect(found("77B2CEB8")).toEqual(["Alpha"]);
+    expect(found("ceb85afe")).toEqual(["Alpha"]); // across a dash
+    expect(found("3a29-34")).toEqual(["1c7e3a29"]);
+    expect(found("zulu")).toEqual([]);
   });
 });
 

@@ -1,9 +1,10 @@
 // The alarm list: the console's active alarm set (derived from state and kept by the server, so a new or
 // reloaded page shows what is active), newest first. Each entry names its vehicle and selects it on click;
 // acknowledging is an operator action the console audits.
-import { useEffect, useRef, useState } from "react";
+import { useRef, useState } from "react";
 import type { Alarm } from "../api/generated/ws";
 import { ApiError, ackAlarm } from "../api/rest";
+import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
@@ -29,6 +30,13 @@ function failure(e: unknown): string {
   return e instanceof ApiError ? `Not acknowledged: ${e.message}` : "Not acknowledged: console unreachable";
 }
 
+/** What Acknowledge all of `n` alarms did, `failed` of them not acknowledged (each says why in its entry). */
+function allSaid(n: number, failed: number): string {
+  const alarms = (k: number) => (k === 1 ? "1 alarm" : `${k} alarms`);
+  if (!failed) return `${alarms(n)} acknowledged.`;
+  return `${alarms(n - failed)} of ${n} acknowledged; ${failed} not: see ${failed === 1 ? "its entry" : "their entries"}.`;
+}
+
 export function AlarmsPanel() {
   const alarms = useAlarms();
   const names = useVehicleNames();
@@ -43,30 +51,23 @@ export function AlarmsPanel() {
   const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
   const open = unacknowledged(alarms);
   // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
-  // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm.
+  // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm. After
+  // Acknowledge all (gone with the last unacknowledged alarm) it goes to the panel's title, where the list starts.
   const list = useRef<HTMLUListElement>(null);
-  // the place in the list of the Acknowledge pressed, and the button: only its going takes the focus on, once; the
-  // operator's focus anywhere else (or later dropped by anything else) is never taken
-  const focusAfter = useRef<{ at: number; button: HTMLElement } | null>(null);
-  useEffect(() => {
-    const pressed = focusAfter.current;
-    if (pressed === null) return;
-    if (pressed.button.isConnected) {
-      if (document.activeElement !== pressed.button) focusAfter.current = null; // the operator moved on meanwhile
-      return;
-    }
-    focusAfter.current = null;
-    const active = document.activeElement;
-    if (active !== null && active !== document.body) return; // the focus went somewhere already
-    const at = pressed.at;
+  const title = useRef<HTMLHeadingElement>(null);
+  const focus = useFocusWhenGone();
+  const nextAlarm = (at: number): HTMLElement | null | undefined => {
     const entries = [...(list.current?.querySelectorAll<HTMLElement>(".alarm-entry") ?? [])];
     const next = entries.slice(at).find((e) => e.querySelector(".alarm-ack")) ?? entries[Math.min(at, entries.length - 1)];
-    (next?.querySelector<HTMLElement>(".alarm-ack") ?? next?.querySelector<HTMLElement>(".alarm-main"))?.focus();
-  });
+    return next?.querySelector<HTMLElement>(".alarm-ack") ?? next?.querySelector<HTMLElement>(".alarm-main") ?? title.current;
+  };
+  // what Acknowledge all did, said to a screen reader (its button has gone, and the list changed under the focus)
+  const [said, setSaid] = useState("");
 
-  const ack = async (ids: number[]) => {
+  const ack = async (ids: number[], all = false) => {
     if (busy) return;
     setBusy(true);
+    if (all) setSaid(""); // the same words again are a new announcement
     const failed: Record<number, string> = {};
     // one at a time: the console has no "acknowledge all", and each is audited on its own
     for (const id of ids) {
@@ -76,7 +77,9 @@ export function AlarmsPanel() {
         failed[id] = failure(e);
       }
     }
-    if (Object.keys(failed).length) focusAfter.current = null; // its button stays, and so does the focus
+    const notAcked = Object.keys(failed).length;
+    if (notAcked) focus.forget(); // its button stays, and so does the focus
+    if (all) setSaid(allSaid(ids.length, notAcked));
     setErrors((old) => {
       const next = { ...old };
       for (const id of ids) delete next[id];
@@ -89,6 +92,7 @@ export function AlarmsPanel() {
     <Panel
       title="Alarms"
       testId="alarms-panel"
+      titleRef={title}
       actions={
         <>
           <span className={`alarm-count tone-${open.length ? "bad" : "muted"}`} data-testid="alarm-count">
@@ -100,13 +104,24 @@ export function AlarmsPanel() {
             </span>
           )}
           {mayAck && open.length > 0 && (
-            <button className="small" disabled={busy} onClick={() => void ack(open.map((a) => a.id))}>
+            <button
+              className="small"
+              aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
+              onClick={(e) => {
+                if (busy) return;
+                focus.pressed(e.currentTarget, () => title.current);
+                void ack(open.map((a) => a.id), true);
+              }}
+            >
               Acknowledge all
             </button>
           )}
         </>
       }
     >
+      <p role="status" className="visually-hidden" data-testid="alarms-acknowledged">
+        {said}
+      </p>
       {sorted.length === 0 ? (
         <p className="muted">No active alarms.</p>
       ) : (
@@ -114,8 +129,8 @@ export function AlarmsPanel() {
           {sorted.map((a, index) => {
             const sev = SEVERITY[a.severity];
             const acked = a.state === "active-acknowledged";
-            // the vehicle by its name now (renamed since, the alarm's own text keeps the name it had), else the name the
-            // console gave it when raised: its configured name, or its short id (then it had none)
+            // the vehicle by its name now (the console sends the text and `vehicle` so too, and again on a rename), else
+            // the alarm's `vehicle`: its name, or its short id (then it had none)
             const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
             const current = a.providerId ? names.get(a.providerId) : undefined; // "": known, with no name now
             const vehicle = a.providerId ? { id: a.providerId, name: current === undefined ? raisedAs : current || null } : null;
@@ -146,7 +161,7 @@ export function AlarmsPanel() {
                     aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
                     onClick={(e) => {
                       if (busy) return; // aria-disabled while another is acknowledged: a press does nothing, and moves no focus later
-                      focusAfter.current = { at: index, button: e.currentTarget };
+                      focus.pressed(e.currentTarget, () => nextAlarm(index));
                       void ack([a.id]);
                     }}
                     aria-label={`Acknowledge: ${a.text}`}

@@ -2,6 +2,7 @@ import { useMemo, useRef, useState } from "react";
 import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Confirm } from "../components/Confirm";
+import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
@@ -101,12 +102,16 @@ function Elapsed({ c, expected }: { c: Command; expected: number | null }) {
   );
 }
 
-function CommandCard({ c, target, expected, canCommand, onCancel, open }: {
-  c: Command; target: VehicleIdentity; expected: number | null; canCommand: boolean; onCancel: (c: Command) => void; open: boolean;
+function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open }: {
+  c: Command; target: VehicleIdentity; expected: number | null; canCommand: boolean; waiting: boolean; onCancel: (c: Command) => void; open: boolean;
 }) {
+  // Cancel goes once the console has the cancel: the focus of the operator who pressed it goes to the command's row
+  // (its status), not to the page's top
+  const row = useRef<HTMLElement>(null);
+  const focus = useFocusWhenGone();
   return (
     <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
-      <summary>
+      <summary ref={row} data-testid="command-summary">
         <span className="c-title">{title(c)}</span>
         <span className="c-status" data-testid="command-status" title={c.unanswered ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
           {c.unanswered ? "No answer" : c.status ? commandStatusText(c.status) : "Sent"}
@@ -116,7 +121,18 @@ function CommandCard({ c, target, expected, canCommand, onCancel, open }: {
         {!c.terminal && <Elapsed c={c} expected={expected} />}
         {/* a double click is one cancel: its second click would otherwise say "not sent" of the one that was */}
         {!c.terminal && !c.cancelRequested && (
-          <button className="small danger" disabled={!canCommand} title={`Cancel ${title(c)} on ${vehicleLabel(target)}`} onClick={(e) => (e.preventDefault(), e.detail < 2 && onCancel(c))}>
+          <button
+            className="small danger"
+            disabled={!canCommand}
+            aria-disabled={waiting || undefined} // while a request is on its way: not disabled, which would drop the focus
+            title={`Cancel ${title(c)} on ${vehicleLabel(target)}`}
+            onClick={(e) => {
+              e.preventDefault(); // a button in a summary: the press is not a toggle of the details
+              if (e.detail >= 2 || waiting) return;
+              focus.pressed(e.currentTarget, () => row.current);
+              onCancel(c);
+            }}
+          >
             Cancel
           </button>
         )}
@@ -132,7 +148,9 @@ const FETCH = 100; // commands asked of the console per request
 
 /** The selected vehicle's commands, newest first: the live ones, then older pages from the console's
  * history (GET /api/commands) on demand. Keyed by the vehicle, so its pages never show beside another. */
-function CommandList({ target, live, canCommand, onCancel }: { target: VehicleIdentity; live: Command[]; canCommand: boolean; onCancel: (c: Command) => void }) {
+function CommandList({ target, live, canCommand, waiting, onCancel }: {
+  target: VehicleIdentity; live: Command[]; canCommand: boolean; waiting: boolean; onCancel: (c: Command) => void;
+}) {
   const token = useToken();
   const [older, setOlder] = useState<Command[]>([]);
   const [fetched, setFetched] = useState(0); // rows of the history read so far (from the newest)
@@ -175,7 +193,7 @@ function CommandList({ target, live, canCommand, onCancel }: { target: VehicleId
       <div className="command-list" data-testid="command-list">
         {all.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
         {shown.map((c, i) => (
-          <CommandCard key={c.sessionId} c={c} target={target} expected={c.terminal ? null : expectedDuration(c, all)} canCommand={canCommand} open={i < 3 || !c.terminal} onCancel={onCancel} />
+          <CommandCard key={c.sessionId} c={c} target={target} expected={c.terminal ? null : expectedDuration(c, all)} canCommand={canCommand} waiting={waiting} open={i < 3 || !c.terminal} onCancel={onCancel} />
         ))}
       </div>
       {(all.length > 0 || older.length > 0) && (
@@ -349,7 +367,8 @@ export function CommandsPanel() {
           key={target.id}
           target={target}
           live={commands}
-          canCommand={canCommand && !sending}
+          canCommand={canCommand}
+          waiting={sending}
           onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
         />
       )}

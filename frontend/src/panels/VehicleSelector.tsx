@@ -1,10 +1,11 @@
-import { Fragment, useEffect, useRef } from "react";
+import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { VehicleTag } from "../components/VehicleTag";
 import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
+import { vehicleMatcher } from "../lib/vehicle";
 import { RenameVehicle } from "./RenameVehicle";
 
 function lastSeen(p: ProviderView): number | null {
@@ -15,6 +16,49 @@ function lastSeen(p: ProviderView): number | null {
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
 const SAME_LIST = sameOverview();
 
+/** Find a vehicle in a fleet by a part of its name or id: the list shows the matches as typed, Esc or Clear brings back
+ * the whole fleet, and the count of matches (of `filter`, the query the list shows) is said politely. A key redraws
+ * the field alone at once; the list (250 rows) follows in a transition, which the next key interrupts. */
+function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onFilter: (q: string) => void; matches: number; total: number }) {
+  const field = useRef<HTMLInputElement>(null);
+  const [query, setQuery] = useState(filter);
+  const clear = () => (setQuery(""), onFilter(""));
+  return (
+    <div className="find-vehicle" role="search" aria-label="Find a vehicle">
+      <label>
+        Find{" "}
+        <input
+          ref={field}
+          type="search"
+          value={query}
+          placeholder="name or id"
+          autoComplete="off"
+          spellCheck={false}
+          onChange={(e) => {
+            const q = e.target.value;
+            setQuery(q);
+            startTransition(() => onFilter(q));
+          }}
+          onKeyDown={(e) => {
+            if (e.key !== "Escape" || !query) return;
+            e.preventDefault(); // cleared here, not by anything else Esc closes
+            clear();
+          }}
+          data-testid="find-vehicle"
+        />
+      </label>
+      {/* always laid out, hidden without a query: the list under it does not move as the operator starts typing */}
+      <button type="button" className="small" style={{ visibility: query ? "visible" : "hidden" }} onClick={() => (clear(), field.current?.focus())}
+        aria-label="Clear the vehicle search">
+        Clear
+      </button>
+      <span className="muted find-count" role="status" data-testid="find-vehicle-count">
+        {filter.trim() ? `${matches} of ${total} ${total === 1 ? "vehicle" : "vehicles"}` : ""}
+      </span>
+    </div>
+  );
+}
+
 export function VehicleSelector() {
   const providers = useProvidersOnFrame(SAME_LIST); // on the frame, when what it shows changed
   const selected = useSelector((s) => s.selected);
@@ -23,7 +67,9 @@ export function VehicleSelector() {
   const signedOut = useConnectionState() === "signed-out";
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
   const list = useRef<HTMLElement>(null);
-  const shown = providers.some((p) => p.id === selected);
+  const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
+  const matching = useMemo(() => providers.filter(vehicleMatcher(filter)), [providers, filter]);
+  const shown = matching.some((p) => p.id === selected);
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
   // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
   useEffect(() => {
@@ -36,17 +82,24 @@ export function VehicleSelector() {
     const bottom = end.offsetTop + end.offsetHeight;
     if (top < nav.scrollTop) nav.scrollTop = top;
     else if (bottom > nav.scrollTop + nav.clientHeight) nav.scrollTop = Math.min(top, bottom - nav.clientHeight);
-  }, [selected, shown]);
+  }, [selected, shown, filter]); // and when the search has changed the rows above it
   return (
+    <>
+    {(providers.length > 1 || filter) && <FindVehicle filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />}
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
       {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
+      {providers.length > 0 && matching.length === 0 && (
+        <p className="muted" data-testid="find-vehicle-none">
+          No vehicle's name or id has “{filter.trim()}”.
+        </p>
+      )}
       {selected && !providers.some((p) => p.id === selected) && (
         <p className="vehicle selected missing" data-testid="selected-missing">
           <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
         </p>
       )}
-      {providers.map((p) => {
+      {matching.map((p) => {
         const seen = lastSeen(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = p.link === "live" && ageS !== null && ageS > 3 ? "stale" : p.link;
@@ -78,5 +131,6 @@ export function VehicleSelector() {
       })}
 
     </nav>
+    </>
   );
 }
