@@ -518,3 +518,38 @@ def test_a_finished_task_stays_finished_whatever_a_stale_station_decides_after(d
         assert stored(tid) == ("COMPLETED", None, 100)
     finally:
         db.close()
+
+
+def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(database_url: str) -> None:
+    """A database of schema 0005 with a task HELD on it: upgraded (migration 0006), the task's state is stamped when
+    its last change was (its `updated_at`, the best known), so the assigning station's progress report, which carries
+    the older stamp of the IN_PROGRESS it had read, does not undo the HOLD; a state decided after it is stored."""
+    from alembic import command
+    from sqlalchemy import text
+
+    from sem_console.storage.database import alembic_config, open_engine
+
+    url = parse_database_url(database_url)
+    engine = open_engine(url)
+    try:
+        with engine.begin() as c:
+            command.upgrade(alembic_config(c), "0005")
+            c.execute(text("INSERT INTO comap_tasks (task_id, kind, vehicle, imc_id, state, progress, created_at, "
+                           "updated_at, last_synch, station) VALUES (7, 'move', :v, 8193, 'HELD', 40, 100.0, 102.0, "
+                           "'HOLD', 'relief')"), {"v": V1})
+    finally:
+        engine.dispose()
+    db = Database(url)
+    try:
+        (row,) = db.comap_tasks(7)
+        assert (row["state"], row["state_at"], row["updated_at"]) == ("HELD", 102.0, 102.0)
+        watch = Task(7, "move", uuid.UUID(V1), 0x2001, None, state="IN_PROGRESS", progress=60, created_at=100.0,
+                     updated_at=103.0, state_at=101.0, station="watch")  # its copy from before the HOLD
+        db.set_comap_task(asdict(watch), FIN)
+        (row,) = db.comap_tasks(7)
+        assert (row["state"], row["last_synch"], row["progress"]) == ("HELD", "HOLD", 60)
+        db.set_comap_task(asdict(Task(**{**asdict(watch), "state": "IN_PROGRESS", "last_synch": "RESUME",
+                                         "state_at": 104.0})), FIN)
+        assert db.comap_tasks(7)[0]["state"] == "IN_PROGRESS"
+    finally:
+        db.close()
