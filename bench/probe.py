@@ -216,14 +216,26 @@ def load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
+def vehicle_counts(text: str) -> list[int]:
+    """--vehicles: '1,20,50' -> [1, 20, 50]; '' -> none. Read before any run: a bad count found after the first run
+    lost that run's minutes of results to a traceback."""
+    try:
+        counts = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a comma-separated list of vehicle counts (e.g. 1,20,50)") from None
+    if any(n < 1 for n in counts):
+        raise argparse.ArgumentTypeError(f"{text!r}: each count is 1 or more")
+    return counts
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--fleet", type=int, default=250, help="the fleet run's vehicles (0: none)")
-    ap.add_argument("--vehicles", default="1,20,50", help="the runs at 10 Hz, comma-separated")
+    ap.add_argument("--vehicles", type=vehicle_counts, default="1,20,50", help="the runs at 10 Hz, comma-separated ('': none)")
     args = ap.parse_args()
     runs: dict[str, dict[str, Any]] = {}
-    for n in (int(x) for x in args.vehicles.split(",") if x):
+    for n in args.vehicles:
         runs[str(n)] = run(n, args.seconds) | {"load": load()}
     if args.fleet:
         runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False) | {"load": load()}

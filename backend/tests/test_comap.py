@@ -16,7 +16,7 @@ import httpx
 import pytest
 
 from conftest import free_udp_port
-from sem_console.comap.c2 import C2, Task
+from sem_console.comap.c2 import C2, FINAL, Task
 from sem_console.comap.codec import crc16, decode_packet, encode_packet, msg
 from sem_console.comap.geo import Local, contains
 from sem_console.sim.options import vehicle_guid
@@ -25,6 +25,7 @@ from sem_console.storage.url import parse_database_url
 from test_console import WsClient, wait_until
 
 V1 = str(vehicle_guid(1))
+FIN = frozenset(FINAL)
 
 
 def comap_pair(sim: Any, console: Any, *sim_args: str) -> tuple[Any, int, int]:
@@ -396,11 +397,11 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
         vehicle = uuid.uuid4()
         at_a = Task(1, "move", vehicle, 0x2001, None, point={"lat": 36.8, "lon": -75.7}, state="IN_PROGRESS",
                     created_at=100.0, updated_at=101.0, station="watch", state_at=101.0)
-        db.set_comap_task(asdict(at_a))
+        db.set_comap_task(asdict(at_a), FIN)
         at_b = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "updated_at": 102.0, "state_at": 102.0})
-        db.set_comap_task(asdict(at_b))  # B's HOLD
+        db.set_comap_task(asdict(at_b), FIN)  # B's HOLD
         progressed = Task(**{**asdict(at_a), "progress": 40, "updated_at": 103.0})  # A's stale copy, newer progress
-        db.set_comap_task(asdict(progressed))
+        db.set_comap_task(asdict(progressed), FIN)
         (row,) = db.comap_tasks(1)
         assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
             "HELD", "HOLD", 40, 103.0, 102.0)
@@ -430,18 +431,18 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
 
         # a HOLD held through an outage (B's database connection lost at 104) is stored when B's write comes at last,
         # though A stored newer progress meanwhile (110); that progress stays. One stamp for both (updated_at) lost it
-        db.set_comap_task(asdict(Task(**{**asdict(at_a), "progress": 80, "updated_at": 110.0})))
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "progress": 80, "updated_at": 110.0})), FIN)
         held = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "progress": 60, "updated_at": 104.0,
                        "state_at": 104.0})
-        db.set_comap_task(asdict(held))
+        db.set_comap_task(asdict(held), FIN)
         (row,) = db.comap_tasks(1)
         assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
             "HELD", "HOLD", 80, 110.0, 104.0)
-        db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 111.0, "state_at": 111.0})))
+        db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 111.0, "state_at": 111.0})), FIN)
         assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
         # never over another task of that id (a stale station's write of the finished task the id had before)
         db.set_comap_task(asdict(Task(**{**asdict(at_a), "created_at": 50.0, "state": "ERROR", "updated_at": 200.0,
-                                         "state_at": 200.0})))
+                                         "state_at": 200.0})), FIN)
         assert db.comap_tasks(1)[0]["state"] == "COMPLETED"
 
         # nor over a state A's vehicle reported after that row was stamped (its COMPLETED: C2._set stamps it)
@@ -455,5 +456,100 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
         stale = {**row, "point": row["point"], "updated_at": c.tasks[1].updated_at - 0.001}  # read before it came
         c.load_task(stale)
         assert c.tasks[1].state == "COMPLETED"
+    finally:
+        db.close()
+
+
+def test_a_finished_task_stays_finished_whatever_a_stale_station_decides_after(database_url: str) -> None:
+    """Watch's vehicle completes its task; relief, which has not read that yet (the notification on its way, or its
+    database connection lost), sends a HOLD. The task stays COMPLETED at 100 %, in the database and on both consoles:
+    HELD, stamped after it, left a completed task held on every station for good (the vehicle reports nothing more,
+    and its id was never free again), and relief's write, stamped as progress too, put its stale progress over the
+    vehicle's last. The same when watch's writes, held through an outage of its own, come after relief's HOLD."""
+    from sem_console.comap.codec import Header
+    from sem_console.comap.messages import TaskStatusEnum
+    from sem_console.console.service import SharedComap
+
+    db = Database(parse_database_url(database_url))
+    try:
+        db.claim("watch", hold=False)
+        vehicle = uuid.uuid4()
+        held_writes: list[Task] = []
+
+        class Held:  # watch's writes during its outage, written when the database is back
+            def world(self, world: dict[str, Any]) -> None: ...
+            def task(self, task: Task) -> None: held_writes.append(Task(**asdict(task)))
+
+        def station(name: str, save: Any = None) -> C2:
+            c = C2({vehicle: 0x2001}, lambda m, dst: None, lambda ws: None, save or SharedComap(db), station=name)
+            c.linked = True
+            return c
+
+        def status(c: C2, tid: int, state: TaskStatusEnum, progress: int) -> None:
+            c.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
+                         msg("TaskStatus", task_id=tid, status=state.value, progress=progress, quality=90))
+
+        def stored(tid: int) -> tuple[str, str | None, int]:
+            (row,) = db.comap_tasks(tid)
+            return row["state"], row["last_synch"], row["progress"]
+
+        for outage in (False, True):
+            watch, relief = station("watch", Held() if outage else None), station("relief")
+            planned = watch.plan("move", vehicle, None, point={"lat": 36.8, "lon": -75.7})
+            tid = db.new_comap_task(asdict(planned), FIN)
+            assert tid is not None
+            planned.task_id = tid
+            watch.assign(planned)
+            status(watch, tid, TaskStatusEnum.IN_PROGRESS, 40)
+            relief.load_task(db.comap_tasks(tid)[0])  # relief has read the task at 40 %
+            status(watch, tid, TaskStatusEnum.IN_PROGRESS, 80)
+            status(watch, tid, TaskStatusEnum.COMPLETED, 100)
+            relief.synch(tid, "HOLD")  # before it read the COMPLETED
+            for t in held_writes:  # watch's database back: its writes after relief's
+                db.set_comap_task(asdict(t), FIN)
+            assert stored(tid) == ("COMPLETED", None, 100), outage
+            for c in (watch, relief):
+                c.load_task(db.comap_tasks(tid)[0])
+                assert (c.tasks[tid].state, c.tasks[tid].progress) == ("COMPLETED", 100), (outage, c.station)
+
+        # of two final states the first decided stands (a stale INTERRUPT of a task its vehicle had completed)
+        row = db.comap_tasks(tid)[0]
+        db.set_comap_task({**row, "state": "INTERRUPTED", "last_synch": "INTERRUPT", "state_at": row["state_at"] + 5}, FIN)
+        assert stored(tid) == ("COMPLETED", None, 100)
+    finally:
+        db.close()
+
+
+def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(database_url: str) -> None:
+    """A database of schema 0005 with a task HELD on it: upgraded (migration 0006), the task's state is stamped when
+    its last change was (its `updated_at`, the best known), so the assigning station's progress report, which carries
+    the older stamp of the IN_PROGRESS it had read, does not undo the HOLD; a state decided after it is stored."""
+    from alembic import command
+    from sqlalchemy import text
+
+    from sem_console.storage.database import alembic_config, open_engine
+
+    url = parse_database_url(database_url)
+    engine = open_engine(url)
+    try:
+        with engine.begin() as c:
+            command.upgrade(alembic_config(c), "0005")
+            c.execute(text("INSERT INTO comap_tasks (task_id, kind, vehicle, imc_id, state, progress, created_at, "
+                           "updated_at, last_synch, station) VALUES (7, 'move', :v, 8193, 'HELD', 40, 100.0, 102.0, "
+                           "'HOLD', 'relief')"), {"v": V1})
+    finally:
+        engine.dispose()
+    db = Database(url)
+    try:
+        (row,) = db.comap_tasks(7)
+        assert (row["state"], row["state_at"], row["updated_at"]) == ("HELD", 102.0, 102.0)
+        watch = Task(7, "move", uuid.UUID(V1), 0x2001, None, state="IN_PROGRESS", progress=60, created_at=100.0,
+                     updated_at=103.0, state_at=101.0, station="watch")  # its copy from before the HOLD
+        db.set_comap_task(asdict(watch), FIN)
+        (row,) = db.comap_tasks(7)
+        assert (row["state"], row["last_synch"], row["progress"]) == ("HELD", "HOLD", 60)
+        db.set_comap_task(asdict(Task(**{**asdict(watch), "state": "IN_PROGRESS", "last_synch": "RESUME",
+                                         "state_at": 104.0})), FIN)
+        assert db.comap_tasks(7)[0]["state"] == "IN_PROGRESS"
     finally:
         db.close()

@@ -33,6 +33,17 @@ FINAL = {"REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"}
 CAPABILITY_KINDS = {"CapabilityAreaSurvey": "AREA_SURVEY", "CapabilityPointSurvey": "POINT_SURVEY", "CapabilityMove": "MOVE"}
 
 
+def decided_over(state: str, at: float, other: str, other_at: float) -> bool:
+    """Whether a task's `state`, decided at `at`, replaces its `other` state decided at `other_at` (on another station,
+    or held through a database outage): the one decided later, except that a finished task (FINAL) is never made
+    unfinished again, and of two final states the first stands (the vehicle finished it before any later word reached
+    it). A HOLD sent by a station that had not yet read its vehicle's COMPLETED left the task HELD on every station,
+    for good: the vehicle reports nothing more, and its id was never free again (Database.new_comap_task)."""
+    if state in FINAL:
+        return other not in FINAL or at < other_at
+    return other not in FINAL and at > other_at
+
+
 class TaskError(ValueError):
     """status: the HTTP status the route answers with."""
 
@@ -174,7 +185,8 @@ class C2:
 
     def load_task(self, row: dict[str, Any]) -> None:
         """A stored task (Database.comap_tasks), applied where newer than this console's of that id: its state and synch
-        when decided after ours (`state_at`: another station's HOLD), its progress when stored after ours. Each by its own
+        when decided over ours (`state_at`, `decided_over`: another station's HOLD), its progress when reported after
+        ours. Each by its own
         stamp: the vehicle's progress, stamped as each report comes, moves `updated_at` on faster than the notifications
         come, and comparing the whole change never let the other station's HOLD in (seen: B held, A showed IN_PROGRESS)."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
@@ -182,7 +194,7 @@ class C2:
         if old is not None and old.created_at > task.created_at:
             return  # a finished task of that id, which ours replaced
         if old is not None and old.created_at == task.created_at:
-            state = task.state_at > old.state_at
+            state = decided_over(task.state, task.state_at, old.state, old.state_at)
             progress = task.updated_at > old.updated_at
             if not state and not progress:
                 return
@@ -252,16 +264,21 @@ class C2:
                 state = "ERROR"
             elif status == TaskStatusEnum.IN_PROGRESS and task.state in ("ASSIGNED", "ACCEPTED"):
                 state = "IN_PROGRESS"
-        self._set(task, state)
+        self._set(task, state, progressed=True)
 
-    def _set(self, task: Task, state: str, decided: bool = False) -> None:
+    def _set(self, task: Task, state: str, decided: bool = False, progressed: bool = False) -> None:
         """The task's state now (a report of progress alone gives the one it has); `decided`: a synch, which decides
-        the state whether or not it changed. Only a decision stamps `state_at`: a progress report keeps the stamp of
-        the state it was read with, and so never stores a stale state over another station's newer one."""
+        the state whether or not it changed; `progressed`: a TaskStatus set its progress and quality. Only a decision
+        stamps `state_at`, and only a progress report `updated_at`: a progress report keeps the stamp of the state it
+        was read with, and so never stores a stale state over another station's newer one, and a synch keeps the
+        stamp of the progress it was read with, and so never stores a stale progress over the assigning station's
+        newer one (a HOLD stamped as progress, written after an outage, left a task COMPLETED at 0 % everywhere)."""
         now = time.time()
         if decided or state != task.state:
             task.state_at = now
-        task.state, task.updated_at = state, now
+        if progressed:
+            task.updated_at = now
+        task.state = state
         self.emit({"type": "task", "task": task.to_json()})
         self.save.task(task)
 

@@ -186,7 +186,11 @@ class Client:
 
     def ack(self, frames: int) -> bool:
         """The client has taken the first `frames` frames of this socket: the reports held by the window may go.
-        False, and the window stays as it was, for a count that is not one of this socket's (more than were sent)."""
+        False, and the window stays as it was, for a count that is not one of this socket's (more than were sent).
+        On a socket without a window (not /ws?ack=1) an ack changes nothing, and is no error: its frames are not
+        counted (an error there said "0 were sent" of a socket that had sent thousands)."""
+        if self.window is None:
+            return True
         unacked = self.sent_frames - frames
         if frames < 0 or unacked < 0:
             return False

@@ -61,7 +61,7 @@ class SharedComap:
         self.store.set_comap_world(world)
 
     def task(self, task: Task) -> None:
-        self.store.set_comap_task(asdict(task))
+        self.store.set_comap_task(asdict(task), frozenset(FINAL))
 
 
 def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:

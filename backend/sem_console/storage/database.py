@@ -27,7 +27,7 @@ from alembic import command
 from alembic.config import Config
 from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
-from sqlalchemy import Connection, Engine, case, create_engine, delete, event, func, insert, inspect, or_, select, update
+from sqlalchemy import Connection, Engine, and_, case, create_engine, delete, event, func, insert, inspect, or_, select, update
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQLAlchemyError
 
@@ -580,23 +580,29 @@ class Database:
         values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.station}
         self._upsert_newer(COMAP_WORLD, values, "worldmodel")
 
-    def set_comap_task(self, task: dict[str, Any]) -> None:
+    def set_comap_task(self, task: dict[str, Any], final: frozenset[str]) -> None:
         """Store a task's change (keys: ComapTaskRecord's). Its state and synch are written where decided after the
         row's (`state_at`), its progress and quality where newer than the row's (`updated_at`), each by its own stamp:
         a station's progress write carries the stamp of the state it read, so it never stores that state over another
         station's newer one (a HOLD), and a HOLD held through an outage is stored after it even though the vehicle's
-        progress, stored by another station meanwhile, is newer. Never over another task of that id."""
+        progress, stored by another station meanwhile, is newer. A `final` state stored is never replaced by one that
+        is not, nor by a final one decided after it (comap.c2.decided_over: the same rule on each console). Never over
+        another task of that id."""
         t = COMAP_TASKS
         ins = self._insert(t).values(_task_row(task))
         new = ins.excluded
+        stored_final, new_final = t.c.state.in_(final), new.state.in_(final)
+        state_wins = or_(and_(new_final, or_(~stored_final, new.state_at < t.c.state_at)),
+                         and_(~new_final, ~stored_final, t.c.state_at <= new.state_at))
+        progress_wins = t.c.updated_at <= new.updated_at
 
-        def newest(column: Any, stamp: str) -> Any:
-            return case((t.c[stamp] <= new[stamp], new[column.name]), else_=column)
+        def newest(column: Any, wins: Any) -> Any:
+            return case((wins, new[column.name]), else_=column)
         stmt = ins.on_conflict_do_update(
             index_elements=[t.c.task_id],
-            set_={**{c.name: newest(c, "state_at") for c in (t.c.state, t.c.last_synch, t.c.state_at)},
-                  **{c.name: newest(c, "updated_at") for c in (t.c.progress, t.c.quality, t.c.updated_at)}},
-            where=(t.c.created_at == new.created_at) & ((t.c.state_at <= new.state_at) | (t.c.updated_at <= new.updated_at)))
+            set_={**{c.name: newest(c, state_wins) for c in (t.c.state, t.c.last_synch, t.c.state_at)},
+                  **{c.name: newest(c, progress_wins) for c in (t.c.progress, t.c.quality, t.c.updated_at)}},
+            where=(t.c.created_at == new.created_at) & (state_wins | progress_wins))
 
         def write(c: Connection) -> None:
             c.execute(stmt)

@@ -131,12 +131,14 @@ class ComapTaskRecord(SQLModel, table=True):
     progress: int
     quality: int | None = None
     created_at: float
-    updated_at: float = Field(description="UTC seconds of the newest change (progress and quality follow the newest)")
+    updated_at: float = Field(description="UTC seconds of the newest progress report (progress and quality follow the "
+                                            "newest)")
     last_synch: str | None = None
     station: str | None = Field(None, description="the console station that assigned it")
     state_at: float = Field(0.0, sa_column_kwargs={"server_default": "0"},
                             description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
-                                        "reported): they follow the newest decision, whatever progress came after it")
+                                        "reported): they follow the newest decision, whatever progress came after it, "
+                                        "but a final state is never replaced (comap.c2.decided_over)")
 
 
 class ComapTaskIds(SQLModel, table=True):

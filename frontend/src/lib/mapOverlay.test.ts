@@ -46,4 +46,11 @@ describe("names on the map", () => {
     for (const [i, a] of kept.entries()) for (const b of kept.slice(i + 1)) expect(overlap(a, b)).toBe(false);
     expect(clearOf([{ x: 0, y: 0, w: 50, h: 18 }, { x: 0, y: 20, w: 50, h: 18 }])).toEqual([true, true]);
   });
+
+  it("no name covers the '+N more' note but the selected vehicle's", () => {
+    const note = { x: 0, y: 0, w: 190, h: 26 };
+    const names = [{ x: 20, y: 5, w: 80, h: 18 }, { x: 120, y: 10, w: 80, h: 18 }, { x: 300, y: 10, w: 80, h: 18 }];
+    expect(clearOf(names, [note])).toEqual([false, false, true]); // both under the note left to their dots
+    expect(clearOf(names, [note], 1)).toEqual([true, false, true]); // the first the selected's: shown all the same
+  });
 });

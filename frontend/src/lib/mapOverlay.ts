@@ -42,11 +42,13 @@ const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) 
   map.project([lon + 360 * Math.round((map.getCenter().lng - lon) / 360), lat]);
 const overlaps = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
-/** Which names are shown (the overlay's `place`), in order: each unless it would cover one shown before it. */
-export function clearOf(boxes: Box[]): boolean[] {
+/** Which names are shown (the overlay's `place`), in order: each unless it would cover one shown before it, or one of
+ * `taken` (the "+N more" note, which a name drawn over it hid), except the first `keep` (the selected vehicle's name,
+ * never left out). */
+export function clearOf(boxes: Box[], taken: Box[] = [], keep = 0): boolean[] {
   const shown: Box[] = [];
-  return boxes.map((box) => {
-    if (shown.some((b) => overlaps(b, box))) return false;
+  return boxes.map((box, i) => {
+    if (shown.some((b) => overlaps(b, box)) || (i >= keep && taken.some((b) => overlaps(b, box)))) return false;
     shown.push(box);
     return true;
   });
@@ -244,15 +246,17 @@ export class VehicleOverlay {
     for (const [m] of newArrows) m.edge.hidden = false;
     for (const [m] of newNames) m.labelSize = { w: m.label.offsetWidth, h: m.label.offsetHeight };
     for (const [m] of newArrows) m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
-    const shown = clearOf(inside.map(([m, p]) => ({ x: p.x + 14, y: p.y - 9, ...m.labelSize! })));
-    for (const [i, [m, p]] of inside.entries()) {
-      if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
-      if (shown[i]) m.label.style.transform = labelAt(p);
-    }
     const boxes = edgeBoxes(outside.map(([m, edge]) => {
       m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
       return { edge, ...m.size! };
     }), width, height);
+    const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
+    const keep = inside.length > 0 && rank(inside[0]) === 0 ? 1 : 0;
+    const shown = clearOf(inside.map(([m, p]) => ({ x: p.x + 14, y: p.y - 9, ...m.labelSize! })), note, keep);
+    for (const [i, [m, p]] of inside.entries()) {
+      if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
+      if (shown[i]) m.label.style.transform = labelAt(p);
+    }
     let more = 0;
     for (const [i, [m, edge]] of outside.entries()) {
       const box = boxes[i];
