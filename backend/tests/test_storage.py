@@ -47,6 +47,19 @@ def test_a_new_database_has_the_models_schema(database_url: str) -> None:
         db.close()
 
 
+def test_a_database_of_a_newer_release_is_refused_in_one_line(database_url: str) -> None:
+    """A console of an older release on a database a newer one upgraded: one line naming the revision and the fix, the
+    database left as it was (no backup copy, no traceback from Alembic's unknown revision)."""
+    db = open_db(database_url)
+    with db.engine.begin() as c:
+        c.execute(text("UPDATE alembic_version SET version_num = '9999'"))
+    db.close()
+    with pytest.raises(StorageError) as e:
+        open_db(database_url)
+    assert "revision 9999, newer than this sem-console's" in str(e.value) and "\n" not in str(e.value)
+    assert "run the sem-console release that wrote it" in str(e.value)
+
+
 def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) -> None:
     a = open_db(database_url)
     first = a.claim("watch")

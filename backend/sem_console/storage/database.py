@@ -156,6 +156,11 @@ def migrate(engine: Engine, db: DatabaseUrl) -> None:
             current = MigrationContext.configure(c).get_current_revision()
             if current == head:
                 return
+            if current is not None and current not in {r.revision for r in ScriptDirectory.from_config(
+                    alembic_config(c)).walk_revisions()}:
+                where = f"--database-url {db.shown}" if db.path is None else f"--db {db.path}"
+                raise StorageError(f"{where}: its schema is at revision {current}, newer than this sem-console's {head}: "
+                                   "run the sem-console release that wrote it (the consoles of one database run one release)")
             tables = set(inspect(c).get_table_names())
             c.commit()
             if db.path is not None and tables - {"alembic_version"}:
@@ -206,6 +211,9 @@ class Database:
         self._alarm_ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
         try:
             migrate(self.engine, db)
+        except StorageError:
+            self.engine.dispose()
+            raise
         except (SQLAlchemyError, sqlite3.Error, OSError) as e:
             self.engine.dispose()
             raise StorageError(problem(db, e)) from e
