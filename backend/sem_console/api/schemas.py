@@ -369,7 +369,11 @@ class Task(_Model):
     operator: str | None
     station: str | None = Field(description="the console station that assigned it (--console-name)")
     createdAt: float
-    updatedAt: float
+    updatedAt: float = Field(description="UTC seconds of the newest progress (the vehicle's TaskStatus); the task's "
+                                         "creation before any")
+    stateAt: float = Field(description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
+                                       "reported): a client merging copies of a task takes state and synch from the "
+                                       "one with the later stateAt, progress and quality from the later updatedAt")
 
 
 class SynchRequest(_Model):

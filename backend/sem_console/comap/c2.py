@@ -81,7 +81,8 @@ class Task:
                 "featureId": self.feature_id, "sensor": self.sensor, "resolution": self.resolution,
                 "deadline": self.deadline, "point": self.point, "state": self.state, "progress": self.progress,
                 "quality": self.quality, "synch": self.last_synch, "operator": self.operator,
-                "station": self.station, "createdAt": self.created_at, "updatedAt": self.updated_at}
+                "station": self.station, "createdAt": self.created_at, "updatedAt": self.updated_at,
+                "stateAt": self.state_at}
 
 
 @dataclass

@@ -179,8 +179,9 @@ describe("reducer", () => {
 describe("CoMap world model and tasks", () => {
   const fc = (coverage: string | null) => ({ type: "FeatureCollection", updatedAt: 1, source: "put",
     features: [{ type: "Feature", geometry: { type: "Point", coordinates: [1, 2] }, properties: { featureId: 1, coverage } }] });
-  const task = (state: string, updatedAt: number, taskId = 1) => ({ taskId, kind: "survey", vehicle: P, imcId: 8193, featureId: 1, sensor: "SIDESCAN",
-    resolution: 1, deadline: null, point: null, state, progress: 0, quality: null, synch: null, operator: null, createdAt: taskId, updatedAt });
+  const task = (state: string, updatedAt: number, taskId = 1, more: object = {}) => ({ taskId, kind: "survey", vehicle: P, imcId: 8193, featureId: 1, sensor: "SIDESCAN",
+    resolution: 1, deadline: null, point: null, state, progress: 0, quality: null, synch: null, operator: null, createdAt: taskId, updatedAt,
+    stateAt: updatedAt, ...more });
   it("takes the world model and tasks from the WebSocket; a REST answer older than a message does not undo it", async () => {
     const { tasksLoaded, worldModelLoaded } = await import("./store");
     let s = reduce(initialState, { type: "worldmodel", worldModel: fc(null) } as unknown as ServerMessage, 1);
@@ -198,6 +199,11 @@ describe("CoMap world model and tasks", () => {
     expect(kept.tasks[1].state).toBe("ACCEPTED");
     expect(kept.tasks[2].state).toBe("COMPLETED");
     expect(tasksLoaded(kept, [task("ASSIGNED", 10) as never])).toBe(kept); // nothing newer: the same state
+    // a HOLD (state decided at 40, progress as it was) came as a message; a GET answered before it, read after, has
+    // newer progress (35) but the older state: the HOLD stays, the progress is taken
+    const held = reduce(kept, { type: "task", task: task("HELD", 30, 2, { stateAt: 40, synch: "HOLD", progress: 20 }) } as unknown as ServerMessage, 4);
+    const merged = tasksLoaded(held, [task("IN_PROGRESS", 35, 2, { stateAt: 31, progress: 60 }) as never]).tasks[2];
+    expect([merged.state, merged.synch, merged.progress, merged.stateAt, merged.updatedAt]).toEqual(["HELD", "HOLD", 60, 40, 35]);
   });
   it("the REST load per connection says which tasks exist: a restarted console's old tasks go", async () => {
     const { tasksReplaced } = await import("./store");

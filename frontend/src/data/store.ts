@@ -349,13 +349,20 @@ export function worldModelLoaded(state: State, model: FeatureCollection | null, 
   return state.worldModelSeq !== seq || state.worldModel === model ? state : { ...state, worldModel: model };
 }
 
-/** Tasks (GET /api/tasks or a `task` message) merged by id; a task's newer state (updatedAt) wins. */
+/** Tasks (GET /api/tasks or a `task` message) merged by id, as the consoles merge them: state and synch from the copy
+ * decided later (stateAt), progress and quality from the copy with the newer progress (updatedAt). A GET answered
+ * before a HOLD but read after its `task` message does not undo the HOLD (a synch moves stateAt only). */
 export function tasksLoaded(state: State, tasks: Task[]): State {
   let next: Record<number, Task> | null = null;
   for (const t of tasks) {
     const old = (next ?? state.tasks)[t.taskId];
-    if (old && old.updatedAt > t.updatedAt) continue;
-    next = { ...(next ?? state.tasks), [t.taskId]: t };
+    let merged = t;
+    if (old && old.createdAt === t.createdAt) {
+      if (old.stateAt >= t.stateAt && old.updatedAt >= t.updatedAt) continue; // nothing newer
+      if (old.stateAt > t.stateAt) merged = { ...merged, state: old.state, synch: old.synch, stateAt: old.stateAt };
+      if (old.updatedAt > t.updatedAt) merged = { ...merged, progress: old.progress, quality: old.quality, updatedAt: old.updatedAt };
+    } else if (old && old.createdAt > t.createdAt) continue; // a finished task of that id, which this one replaced
+    next = { ...(next ?? state.tasks), [t.taskId]: merged };
   }
   return next ? { ...state, tasks: next } : state;
 }
