@@ -272,6 +272,20 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
     await expect(page.getByTestId("vehicle")).toHaveCount(1);
     await page.getByTestId("vehicle").press("Enter"); // the list's keys as before: a match selected
     await expect(page.getByTestId("vehicle")).toHaveAttribute("aria-pressed", "true");
+    await expect(page.getByTestId("selected-hidden")).toHaveCount(0);
+    // a vehicle selected elsewhere that the search hides: the list says which is selected, and shows it on a press
+    await page.getByTestId("fleet-vehicle").filter({ hasText: failed.slice(0, 8) }).click();
+    const hidden = page.getByTestId("selected-hidden");
+    await expect(hidden).toContainText(`${failed.slice(0, 8)} selected, not among the matches of the search`);
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    await hidden.getByRole("button", { name: "Show all vehicles" }).press("Enter");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await expect(find).toHaveValue("");
+    await expect(count).toHaveText("");
+    await expect(row).toContainText(failed);
+    await expect(row).toBeFocused(); // the button pressed gone, the focus on the row it showed
+    await find.fill(ids[0].slice(9, 18));
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
     await find.press("Escape");
     await expect(page.getByTestId("vehicle")).toHaveCount(12);
     expect((await region.boundingBox())!.y + 40).toBeLessThan(720); // the search keeps the alarms on the first screen
