@@ -185,7 +185,7 @@ test("Acknowledge all by keyboard: said in words, and the focus goes to the alar
   const token = "ack-all-token";
   const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "ack-all.sqlite3")]);
   const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "2", "--first-vehicle", "7", "--fault", "ins-failure",
-    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
+    "--fault", "reject", "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
     "--state-file", join(stack.dir, "ack-all-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
   try {
     await expect.poll(async () => (await alarms(request, extra.url)).filter((a) => a.kind === "ins-failure").length, { timeout: 30_000 }).toBe(2);
@@ -208,6 +208,33 @@ test("Acknowledge all by keyboard: said in words, and the focus goes to the alar
     await expect(all).toHaveCount(0); // gone with the last unacknowledged alarm
     await expect(region.getByRole("heading", { name: "Alarms" })).toBeFocused();
     await expect(region.getByTestId("alarm").and(page.locator('[data-state="active-acknowledged"]'))).toHaveCount(2);
+
+    // one of them acknowledged elsewhere meanwhile (another station's operator, the same alarm there): the console
+    // answers 404 for it, which is no failure to report, and the focus still goes to the title
+    const auth = { Authorization: `Bearer ${token}` };
+    for (const v of new Set((await alarms(request, extra.url)).map((a) => a.providerId))) {
+      expect((await request.post(`${extra.url}/api/providers/${v}/gps-fix`, { data: {}, headers: auth })).status()).toBe(201);
+    }
+    const failedCommands = async () => (await alarms(request, extra.url)).filter((a) => a.kind === "command-failed");
+    await expect.poll(async () => (await failedCommands()).length, { timeout: 30_000 }).toBe(2);
+    await expect(region.getByTestId("alarm").and(page.locator('[data-state="active-unacknowledged"]'))).toHaveCount(2);
+    let first = true;
+    await page.route("**/api/alarms/*/ack", async (route) => {
+      if (first) {
+        first = false;
+        const pressed = Number(new URL(route.request().url()).pathname.split("/").at(-2));
+        const [other] = (await failedCommands()).filter((a) => a.id !== pressed);
+        expect((await request.post(`${extra.url}/api/alarms/${other.id}/ack`, { data: {}, headers: auth })).status()).toBe(200);
+      }
+      await route.continue();
+    });
+    await all.focus();
+    await page.keyboard.press("Enter");
+    await expect(said).toHaveText("1 alarm acknowledged; 1 already acknowledged elsewhere.");
+    await expect(all).toHaveCount(0);
+    await expect(region.getByRole("heading", { name: "Alarms" })).toBeFocused();
+    await expect(region.getByText("Not acknowledged")).toHaveCount(0);
+    expect(first).toBe(false);
   } finally {
     await stopChild(sim);
     await extra.stop();
@@ -272,6 +299,20 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
     await expect(page.getByTestId("vehicle")).toHaveCount(1);
     await page.getByTestId("vehicle").press("Enter"); // the list's keys as before: a match selected
     await expect(page.getByTestId("vehicle")).toHaveAttribute("aria-pressed", "true");
+    await expect(page.getByTestId("selected-hidden")).toHaveCount(0);
+    // a vehicle selected elsewhere that the search hides: the list says which is selected, and shows it on a press
+    await page.getByTestId("fleet-vehicle").filter({ hasText: failed.slice(0, 8) }).click();
+    const hidden = page.getByTestId("selected-hidden");
+    await expect(hidden).toContainText(`${failed.slice(0, 8)} selected, not among the matches of the search`);
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
+    await hidden.getByRole("button", { name: "Show all vehicles" }).press("Enter");
+    await expect(page.getByTestId("vehicle")).toHaveCount(12);
+    await expect(find).toHaveValue("");
+    await expect(count).toHaveText("");
+    await expect(row).toContainText(failed);
+    await expect(row).toBeFocused(); // the button pressed gone, the focus on the row it showed
+    await find.fill(ids[0].slice(9, 18));
+    await expect(page.getByTestId("vehicle")).toHaveCount(1);
     await find.press("Escape");
     await expect(page.getByTestId("vehicle")).toHaveCount(12);
     expect((await region.boundingBox())!.y + 40).toBeLessThan(720); // the search keeps the alarms on the first screen

@@ -40,6 +40,8 @@ describe("vehicle identity", () => {
     expect(found("ceb85afe")).toEqual(["Alpha"]); // across a dash
     expect(found("3a29-34")).toEqual(["1c7e3a29"]);
     expect(found("zulu")).toEqual([]);
+    expect(found("Vehicle 1c7e")).toEqual(["1c7e3a29"]); // an unnamed one as the list names it
+    expect(found("vehicle")).toEqual(["1c7e3a29"]);
   });
 });
 

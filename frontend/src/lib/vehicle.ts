@@ -48,11 +48,12 @@ export function urlWithVehicle(href: string, id: string | null): string {
   return url.toString();
 }
 
-/** A vehicle search's test: `query` (trimmed, any case) in the vehicle's name or in its id, dashes or none ("77b2ceb8",
- * "b2ce-", "a1b2c3d4e5f6"). Made once per query: each vehicle then costs a few `includes`. */
+/** A vehicle search's test: `query` (trimmed, any case) in the vehicle's name as the page shows it (`vehicleLabel`: an
+ * unnamed one is "Vehicle 77b2ceb8") or in its id, dashes or none ("77b2ceb8", "b2ce-", "a1b2c3d4e5f6"). Made once per
+ * query: each vehicle then costs a few `includes`. */
 export function vehicleMatcher(query: string): (v: VehicleIdentity) => boolean {
   const q = query.trim().toLowerCase();
   if (!q) return () => true;
   const bare = q.replaceAll("-", "");
-  return (v) => (v.name?.toLowerCase().includes(q) ?? false) || v.id.includes(q) || (bare !== "" && v.id.replaceAll("-", "").includes(bare));
+  return (v) => vehicleLabel(v).toLowerCase().includes(q) || v.id.includes(q) || (bare !== "" && v.id.replaceAll("-", "").includes(bare));
 }

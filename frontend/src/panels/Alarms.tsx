@@ -30,11 +30,15 @@ function failure(e: unknown): string {
   return e instanceof ApiError ? `Not acknowledged: ${e.message}` : "Not acknowledged: console unreachable";
 }
 
-/** What Acknowledge all of `n` alarms did, `failed` of them not acknowledged (each says why in its entry). */
-function allSaid(n: number, failed: number): string {
+/** What Acknowledge all of `n` alarms did: `gone` of them had left the active set meanwhile (acknowledged on another
+ * station or page), `failed` not acknowledged (each says why in its entry). */
+function allSaid(n: number, failed: number, gone: number): string {
   const alarms = (k: number) => (k === 1 ? "1 alarm" : `${k} alarms`);
-  if (!failed) return `${alarms(n)} acknowledged.`;
-  return `${alarms(n - failed)} of ${n} acknowledged; ${failed} not: see ${failed === 1 ? "its entry" : "their entries"}.`;
+  const done = alarms(n - failed - gone);
+  const said = [failed ? `${done} of ${n} acknowledged` : `${done} acknowledged`];
+  if (gone) said.push(`${gone} already acknowledged elsewhere`);
+  if (failed) said.push(`${failed} not: see ${failed === 1 ? "its entry" : "their entries"}`);
+  return `${said.join("; ")}.`;
 }
 
 export function AlarmsPanel() {
@@ -69,17 +73,21 @@ export function AlarmsPanel() {
     setBusy(true);
     if (all) setSaid(""); // the same words again are a new announcement
     const failed: Record<number, string> = {};
+    let gone = 0;
     // one at a time: the console has no "acknowledge all", and each is audited on its own
     for (const id of ids) {
       try {
         await ackAlarm(id, token);
       } catch (e) {
-        failed[id] = failure(e);
+        // 404: no longer in the active set, so acknowledged meanwhile (another station's operator, with the same
+        // alarm there): nothing failed, and its entry (where an error would be said) has gone
+        if (e instanceof ApiError && e.status === 404) gone++;
+        else failed[id] = failure(e);
       }
     }
     const notAcked = Object.keys(failed).length;
     if (notAcked) focus.forget(); // its button stays, and so does the focus
-    if (all) setSaid(allSaid(ids.length, notAcked));
+    if (all) setSaid(allSaid(ids.length, notAcked, gone));
     setErrors((old) => {
       const next = { ...old };
       for (const id of ids) delete next[id];

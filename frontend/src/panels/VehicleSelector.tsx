@@ -1,4 +1,5 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
+import { useFocusWhenGone } from "../components/focus";
 import { VehicleTag } from "../components/VehicleTag";
 import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { report, select, type ProviderView } from "../data/store";
@@ -68,13 +69,22 @@ export function VehicleSelector() {
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
   const list = useRef<HTMLElement>(null);
   const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
+  const [searches, setSearches] = useState(0); // a new search field (empty) each time the list clears it
   const matching = useMemo(() => providers.filter(vehicleMatcher(filter)), [providers, filter]);
   const shown = matching.some((p) => p.id === selected);
+  // the selected vehicle (from a chip, the map, an alarm) hidden by the search: said in the list, with its way back
+  const hidden = shown ? undefined : providers.find((p) => p.id === selected);
+  const focus = useFocusWhenGone();
+  const showAll = (button: HTMLElement) => {
+    focus.pressed(button, () => list.current?.querySelector<HTMLElement>(".vehicle.selected"));
+    setFilter("");
+    setSearches((n) => n + 1);
+  };
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
   // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
   useEffect(() => {
     const nav = list.current;
-    const row = nav?.querySelector<HTMLElement>('.vehicle[aria-pressed="true"]');
+    const row = nav?.querySelector<HTMLElement>(".vehicle.selected"); // its row, or what the list says of it
     if (!nav || !row) return;
     const after = row.nextElementSibling;
     const end = after instanceof HTMLElement && !after.classList.contains("vehicle") ? after : row; // its Rename
@@ -85,7 +95,7 @@ export function VehicleSelector() {
   }, [selected, shown, filter]); // and when the search has changed the rows above it
   return (
     <>
-    {(providers.length > 1 || filter) && <FindVehicle filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />}
+    {(providers.length > 1 || filter) && <FindVehicle key={searches} filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />}
     <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
       {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
       {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
@@ -97,6 +107,16 @@ export function VehicleSelector() {
       {selected && !providers.some((p) => p.id === selected) && (
         <p className="vehicle selected missing" data-testid="selected-missing">
           <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
+        </p>
+      )}
+      {hidden && (
+        <p className="vehicle selected missing" data-testid="selected-hidden">
+          <span>
+            <VehicleTag v={hidden} /> selected, not among the matches of the search
+          </span>
+          <button type="button" className="small" onClick={(e) => showAll(e.currentTarget)}>
+            Show all vehicles
+          </button>
         </p>
       )}
       {matching.map((p) => {

@@ -45,7 +45,7 @@ async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str,
 async def set_name(provider_id: uuid.UUID, body: VehicleName, console: ConsoleDep, operator: OperatorDep,
                    audit: AuditDep) -> dict[str, Any]:
     """Name a vehicle: the name is kept in the console's database, shared with the other consoles on it, and
-    shown wherever the vehicle is named (over --vehicle-names; new alarms' text from now on). An empty or null
+    shown wherever the vehicle is named (over --vehicle-names; its alarms' text, raised before or after). An empty or null
     name goes back to the --vehicle-names name, or none."""
     p = known_provider(console, provider_id)
     console.set_vehicle_name(p, body.name, operator)
