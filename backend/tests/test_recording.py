@@ -34,7 +34,7 @@ from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
 JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances",
-               "sem-console/alarm-acks"}
+               "sem-console/alarm-acks", "sem-console/names"}
 
 
 def post(base: str, action: str) -> dict[str, Any]:

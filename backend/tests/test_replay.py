@@ -5,6 +5,7 @@ state when seeking, follow the speed, and refuse anything that would command or 
 
 from __future__ import annotations
 
+import json
 import math
 import random
 import subprocess
@@ -30,8 +31,8 @@ from sem_console.recording.reader import iter_messages, recorded_station, time_r
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
-from test_console import HAPPY, V1, WsClient, command, provider_ready, wait_command, wait_until
-from test_recording import recorded
+from test_console import HAPPY, V1, V2, WsClient, command, provider_ready, wait_command, wait_until
+from test_recording import read, recorded
 
 JSON = {"Content-Type": "application/json"}
 
@@ -336,3 +337,95 @@ def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], sa
     p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(tmp_path / "x.mcap"), "--domain", "1",
                         *args], capture_output=True, text=True, timeout=30)
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr
+
+
+
+def names_recorded(path: Path) -> list[tuple[int, dict[str, Any]]]:
+    """(log time, message) of the file's `sem-console/names`, read with the mcap library."""
+    return [(m.log_time, json.loads(m.data)) for m in read(path)[1]["sem-console/names"]]
+
+
+def recorded_messages(base: str) -> int:
+    return int(httpx.get(f"{base}/api/recordings/status").json()["messages"])
+
+
+def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, tmp_path: Path) -> None:
+    """A replay named the vehicles by the replaying console's own --vehicle-names only: the names an operator set from
+    the dashboard (before the recording started, or while it ran) were not in the file, so a live 'Tug Two: link lost'
+    replayed as '<short id>: link lost'. The file holds the names in force at its start and each rename; a replay
+    applies them at their instants (a seek gives the names of the instant sought), over its own --vehicle-names."""
+    first = sim()
+    sim("--first-vehicle", "2", "--state-file", str(tmp_path / "sim2.json"))  # V2 goes on when V1 is lost
+    c = console("--vehicle-names", f"{V1}=Alpha")
+    provider_ready(c.url, V1)
+    provider_ready(c.url, V2)
+    assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug One"}).json()["name"] == "Tug One"
+    assert httpx.post(f"{c.url}/api/recordings", json={"action": "start"}).json()["state"] == "recording"
+    wait_until(lambda: recorded_messages(c.url) > 50, 15, "samples recorded")
+    before_rename = time.time()
+    assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug Two"}).json()["name"] == "Tug Two"
+    first.kill()
+    lost = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "link-lost"], 15,
+                      "V1's link lost")
+    assert [a["text"] for a in lost] == ["Tug Two: link lost"]
+    then = recorded_messages(c.url)  # V2's samples a while longer: the replay's tick finds V1 lost before the end
+    wait_until(lambda: recorded_messages(c.url) > then + 100, 15, "more samples recorded")
+    path = recorded(c.url, tmp_path)
+    c.stop()
+    names = names_recorded(path)
+    assert [(n["providerId"], n["name"], n["initial"]) for _at, n in names] == [(V1, "Tug One", True), (V1, "Tug Two", False)]
+    assert names[0][0] < before_rename * 1e9 < names[1][0]
+
+    r = console("--replay", str(path), "--vehicle-names", f"{V1}=Zulu,{V2}=Yankee")
+    control(r.url, {"action": "pause"})
+    ws = WsClient(r.ws_url)
+
+    def shown() -> tuple[dict[str, Any], list[str]]:
+        return ({v: httpx.get(f"{r.url}/api/providers/{v}").json()["name"] for v in (V1, V2)},
+                [a["text"] for a in httpx.get(f"{r.url}/api/alarms").json()])
+    control(r.url, {"action": "seek", "position": before_rename})
+    assert shown() == ({V1: "Tug One", V2: "Yankee"}, [])  # V2 has no name in the recording: the replay's own
+    end = replay_state(r.url)["end"]
+    control(r.url, {"action": "seek", "position": end})
+    assert shown() == ({V1: "Tug Two", V2: "Yankee"}, ["Tug Two: link lost"])
+    snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if m["replay"]["position"] == end], 5, "the end's snapshot")
+    assert {p["id"]: p["name"] for p in snapshot[-1]["providers"]} == {V1: "Tug Two", V2: "Yankee"}
+    control(r.url, {"action": "seek", "position": before_rename})  # back: the names of that instant again
+    assert shown() == ({V1: "Tug One", V2: "Yankee"}, [])
+    assert ws.errors == []
+    ws.close()
+
+
+def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> None:
+    """A file the recording rolled over to starts with the names in force then (those at the start and the renames
+    since), so that it replays alone with them; a recording without names (a file of before) replays as before."""
+    names = {V1: "Tug One", V2: "Barge"}
+    recorder = Recorder(tmp_path / "rec", 1 << 30, 0.5, names=lambda: names)
+    recorder.start()
+    rng = random.Random(5)
+
+    def files() -> list[Path]:
+        return sorted((tmp_path / "rec").glob("*.mcap"))
+
+    def report(n: int) -> None:  # a GPSFixReport of V1: a vehicle to name in the replay
+        sample = random_sample(Sem.GPS_FIX_REPORT.spec.type, rng)
+        sample.source = to_guid(uuid.UUID(V1))
+        at = time.time_ns()
+        recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive, at)], at)
+
+    report(0)
+    recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
+    recorder.on_message({"type": "vehicle-name", "providerId": V2, "name": None, "initial": False})
+    wait_until(lambda: len(files()) >= 3, 10, "two rollovers")
+    report(1)
+    recorder.stop()
+    first, *_ = files()
+    last = next(f for f in reversed(files()) if read(f)[1][Sem.GPS_FIX_REPORT.spec.name])  # the one with report(1)
+    assert last != first
+    assert [(n["providerId"], n["name"], n["initial"]) for _at, n in names_recorded(first)] == [
+        *((v, name, True) for v, name in sorted(names.items())), (V1, "Tug Two", False), (V2, None, False)]
+    assert [(n["providerId"], n["name"], n["initial"]) for _at, n in names_recorded(last)] == [(V1, "Tug Two", True)]
+
+    r = console("--replay", str(last), "--vehicle-names", f"{V1}=Zulu")
+    control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
+    assert httpx.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"

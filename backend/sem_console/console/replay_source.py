@@ -26,6 +26,7 @@ import contextlib
 import json
 import logging
 import struct
+import uuid
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Protocol
@@ -38,12 +39,20 @@ from sem_console.console.clock import RecordingClock
 from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
-from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, iter_messages, recorded_station, time_range
+from sem_console.recording.reader import (
+    ALARM_ACKS,
+    COMMANDS,
+    INSTANCES,
+    NAMES,
+    iter_messages,
+    recorded_station,
+    time_range,
+)
 
 log = logging.getLogger("sem-console.replay")
 
 SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
-TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS}
+TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS, NAMES}
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
 BATCH = 2_000  # decoded messages per worker-thread read while playing
@@ -77,7 +86,16 @@ class RecordedAck:
     station: str | None
 
 
-Played = Item | RecordedCommand | RecordedAck  # what the cursor reads and the console applies
+@dataclass
+class RecordedName:
+    """A message of `sem-console/names`: the recording console named vehicle `provider_id` `name` from this instant on
+    (None: no name there; the replaying console's --vehicle-names name, if any, then applies)."""
+
+    provider_id: uuid.UUID
+    name: str | None
+
+
+Played = Item | RecordedCommand | RecordedAck | RecordedName  # what the cursor reads and the console applies
 
 
 class Cursor:
@@ -161,6 +179,9 @@ class Cursor:
                 by, station = event.get("ackedBy"), event.get("station")
                 return RecordedAck(str(event["key"]), float(event["ackedAt"]), by if isinstance(by, str) else None,
                                    station if isinstance(station, str) else None)
+            if topic == NAMES:
+                name = event["name"]
+                return RecordedName(uuid.UUID(event["providerId"]), name if isinstance(name, str) and name else None)
             sem = SEM_TOPICS.get(event["topic"])
             if sem is None:  # a command topic's dispose: the console follows its own commands from COMMANDS
                 return None

@@ -33,7 +33,7 @@ from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
-from sem_console.console.replay_source import RecordedAck, RecordedCommand, Replay
+from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
 from sem_console.console.sources import Source, open_source
 from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
 from sem_console.core.contract import LinkConfig as LinkConfigModel
@@ -105,7 +105,8 @@ class Console:
         # to raise alarms for: the live console raised none for them)
         self._others: set[uuid.UUID] = set()
         self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
-                                 settings.record_queue, self._recording_changed, self.station)
+                                 settings.record_queue, self._recording_changed, self.station,
+                                 lambda: self.providers.names)
         # the ones not back to normal, from the database; each acknowledgement is recorded (a replay derives the alarms
         # again, and acknowledges them from the recording)
         self.alarms = Alarms(self.store, self.names(), self._record_ack)
@@ -146,6 +147,7 @@ class Console:
         """A replay seeking backwards: forget every provider, report and command (the audit trail stays)."""
         self.store.clear_commands()
         self.providers, self.commands = self._fresh_state()
+        self.alarms.names = self.names()  # as the providers': the recorded names are applied again from the start
         self._early.clear()
         self._others.clear()
         self.alarms.reset()
@@ -309,11 +311,13 @@ class Console:
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
     # ---- input from the source: DDS (ingest) or a recording (replay), on the loop -------------------------------
-    def apply(self, item: ReportItem | StatusItem | RecordedCommand | RecordedAck) -> None:
-        """One item of a replay: a decoded report or status sample, a recorded command message or alarm
-        acknowledgement."""
+    def apply(self, item: ReportItem | StatusItem | RecordedCommand | RecordedAck | RecordedName) -> None:
+        """One item of a replay: a decoded report or status sample, a recorded command message, alarm
+        acknowledgement or vehicle name."""
         if isinstance(item, ReportItem):
             self.on_reports([item])
+        elif isinstance(item, RecordedName):  # the recording station's name over this console's --vehicle-names
+            self._apply_name(item.provider_id, item.name)
         elif isinstance(item, RecordedAck):
             if self.alarms.acknowledged_elsewhere(item.key, item.by, item.at, item.station):
                 self._emit({"type": "alarms", "alarms": self.alarms.active()})
@@ -600,6 +604,8 @@ class Console:
                 names.pop(key, None)
             else:
                 names[key] = name
+        # in the recording (a replay names the vehicle so from here on); each file starts with those in force
+        self.recorder.on_message({"type": "vehicle-name", "providerId": key, "name": name, "initial": False})
         p = self.providers.by_id.get(provider_id)
         if p is not None:
             p.name = name

@@ -20,6 +20,7 @@ log = logging.getLogger("sem-console.recording")
 INSTANCES = "sem-console/instances"  # the JSON channel of disposes and lost writers (recorder.py)
 COMMANDS = "sem-console/commands"  # the JSON channel of the console's commands; its metadata names the station
 ALARM_ACKS = "sem-console/alarm-acks"  # the JSON channel of the alarm acknowledgements the console applied (recorder.py)
+NAMES = "sem-console/names"  # the JSON channel of the vehicles' names: those in force at each file's start, each rename
 
 
 def iter_messages(path: Path, topics: Collection[str]) -> Generator[tuple[str, Any], None, None]:

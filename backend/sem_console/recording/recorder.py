@@ -11,7 +11,9 @@
   events), holding the WebSocket messages of the same names (`core/contract.py`); a command's says too whether the
   console followed it as its own (`RecordedCommandMessage.followed`: its alarms, for a replay); and
   `sem-console/alarm-acks`, each alarm acknowledgement the console applied (`AlarmAckEvent`: a replay derives the alarms
-  again and acknowledges them from these).
+  again and acknowledges them from these); and `sem-console/names`, the vehicles' names as the console showed them
+  (`VehicleNameEvent`): every one in force when a file starts, at its start, then each rename (a replay names the
+  vehicles as the recording station did, not by its own --vehicle-names).
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
@@ -35,7 +37,7 @@ import threading
 import time
 import uuid
 from collections import deque
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, BinaryIO
 
@@ -48,7 +50,7 @@ from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
 from sem_console.dds.topics import Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
-from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES
+from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, NAMES
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
 
 log = logging.getLogger("sem-console.recording")
@@ -99,6 +101,19 @@ class AlarmAckEvent(BaseModel):
                                             "read again after a lost database connection)")
 
 
+class VehicleNameEvent(BaseModel):
+    """A vehicle's name as the recording console showed it (channel `sem-console/names`): a replay names the vehicle so
+    from this instant on, over its own --vehicle-names."""
+
+    model_config = ConfigDict(extra="forbid")
+    type: str = Field(description="'vehicle-name'")
+    providerId: str = Field(description="the vehicle's source GUID as a UUID string")
+    name: str | None = Field(description="its name: the one set from the dashboard, else the recording console's "
+                                         "--vehicle-names name; null: it has none from here on (renamed back to none)")
+    initial: bool = Field(description="true: in force when the file started (one message per named vehicle, at the "
+                                      "file's first instant); false: renamed while recording")
+
+
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
 JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
     COMMANDS: ("command", RecordedCommandMessage),
@@ -106,6 +121,7 @@ JSON_CHANNELS: dict[str, tuple[str, type[BaseModel]]] = {
     "sem-console/links": ("provider", ProviderMessage),
     INSTANCES: ("instance", InstanceEvent),
     ALARM_ACKS: ("alarm-ack", AlarmAckEvent),
+    NAMES: ("vehicle-name", VehicleNameEvent),
 }
 _CHANNEL_OF_TYPE = {kind: channel for channel, (kind, _model) in JSON_CHANNELS.items()}
 
@@ -145,6 +161,8 @@ class _File:
             metadata = {"station": station} if channel == COMMANDS and station else None
             self.channels[channel] = self.writer.register_channel(channel, "json", schema, metadata)
         self.opened = time.monotonic()
+        self.opened_ns = time.time_ns()
+        self.named = False  # the names in force at its start written (Recorder._write_names)
 
     def appendable(self, sem: Sem) -> tuple[Sem, str]:
         """The channel key of the samples of `sem` that an appendable writer sent (an RTI vehicle's GPSReport and
@@ -196,9 +214,12 @@ class Recorder:
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
     def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
-                 on_change: Callable[[dict[str, Any]], None] | None = None, station: str | None = None) -> None:
+                 on_change: Callable[[dict[str, Any]], None] | None = None, station: str | None = None,
+                 names: Callable[[], Mapping[str, str]] | None = None) -> None:
         self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
         self.station = station  # the console's name, in each file (the commands' channel)
+        self.names = names  # the vehicles' names in force (provider GUID string -> name), read when a recording starts
+        self._names: dict[str, str] = {}  # the writer thread's: those at the start, with every rename written since
         self.queue_size = queue_size
         self.on_change = on_change
         self.active = False
@@ -251,6 +272,9 @@ class Recorder:
             self.started_at = time.time()
             self._buffer, self._stopping = deque(), threading.Event()
             self.active = True
+            # read after `active`: a rename from here on is queued as well (and written after these), none is missed;
+            # a copy of the loop's dict, which dict() makes at once (holding the GIL)
+            self._names = dict(self.names()) if self.names is not None else {}
             self._thread = threading.Thread(target=self._run, args=(self._buffer, self._stopping), name="sem-recorder",
                                             daemon=True)
             self._thread.start()
@@ -341,8 +365,11 @@ class Recorder:
                 self.writer_cpu = time.thread_time() - cpu0
                 # what was queued in the last BATCH_SECONDS, at once: a thread wake per take costs more than the write
                 stop = stopping.wait(BATCH_SECONDS)
-                for _ in range(len(buffer)):
-                    self._write(f, *buffer.popleft())
+                items = [buffer.popleft() for _ in range(len(buffer))]
+                if not f.named:
+                    self._write_names(f, items)
+                for item in items:
+                    self._write(f, *item)
                 if stop:
                     break
                 now = time.monotonic()
@@ -386,6 +413,22 @@ class Recorder:
         else:
             f.add(key, json.dumps(data, separators=(",", ":")).encode(), log_ns, log_ns)
             self.messages += 1
+            if key == NAMES:  # what the next file starts with
+                if data["name"] is None:
+                    self._names.pop(data["providerId"], None)
+                else:
+                    self._names[data["providerId"]] = data["name"]
+
+    def _write_names(self, f: _File, items: Sequence[tuple[Any, Any, int, int]]) -> None:
+        """The names in force at the start of file `f`, before its first batch `items`: at the earliest of its
+        opening and their log times (a take is timed before it is queued, so one can be a little older than the file),
+        so that a replay names each vehicle from its first message."""
+        at = min([f.opened_ns, *(item[2] for item in items)])
+        for provider_id, name in sorted(self._names.items()):
+            event = {"type": "vehicle-name", "providerId": provider_id, "name": name, "initial": True}
+            f.add(NAMES, json.dumps(event, separators=(",", ":")).encode(), at, at)
+            self.messages += 1
+        f.named = True
 
     def _changed_from_thread(self) -> None:
         if self.on_change is not None:
