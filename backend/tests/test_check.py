@@ -167,7 +167,7 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
     assert not wrong, "\n".join(wrong)
 
     # A CI job canceled while a command waits for its answer (SIGTERM): sem-check still disposes the
-    # command it sent (ICD 4.1.6.2), seen by an independent reader, and exits 2.
+    # command it sent (ICD 4.1.6.2), seen by an independent reader, and exits 128 + SIGTERM.
     bus = Bus(domain)
     reader = bus.reader(Sem.GPS_FIX_COMMAND)
     p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--provider",
@@ -179,8 +179,8 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
             break
     p.send_signal(signal.SIGTERM)
     _, err = p.communicate(timeout=30)
-    assert p.returncode == 2, err
-    assert "sem-check: terminated" in err
+    assert p.returncode == 128 + signal.SIGTERM, err
+    assert "sem-check: stopped by SIGTERM" in err
     states: list[int] = []
     deadline = time.monotonic() + 10
     while InstanceState.NotAliveDisposed not in states and time.monotonic() < deadline:
@@ -188,6 +188,69 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
         time.sleep(0.05)
     bus.close()
     assert InstanceState.NotAliveDisposed in states, states
+
+
+def stop_check(sig: int, when: str, *args: str, then: Callable[[], object] = lambda: None) -> tuple[int, str, str]:
+    """sem-check in a process of its own, sent `sig` once its output shows `when` and `then` returned:
+    (exit code, stdout, stderr)."""
+    p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True)
+    assert p.stdout is not None
+    seen = []
+    for line in p.stdout:
+        seen.append(line)
+        if when in line:
+            break
+    then()
+    p.send_signal(sig)
+    out, err = p.communicate(timeout=60)
+    return p.returncode, "".join(seen) + out, err
+
+
+def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """A CI job's time limit (SIGTERM) or Ctrl-C: the finished cases keep their results, the one running is an
+    error, the rest are skipped as not run, in a valid JUnit report and the summary; the recording is a whole
+    MCAP file; the exit code is 128 + the signal, not 1 (a failed vehicle) nor 2. It wrote nothing at all before."""
+    sim("--fault", "no-answer")  # the GPSFix command waits for its answer until it is stopped
+    wait_for_providers(domain, 1)
+    report, evidence = tmp_path / "junit.xml", tmp_path / "evidence.mcap"
+    bus = Bus(domain)
+    commands = bus.reader(Sem.GPS_FIX_COMMAND)
+
+    def command_on_the_bus() -> None:  # "sending" is printed before the command is written
+        deadline = time.monotonic() + 30
+        while not take_each(commands)[0] and time.monotonic() < deadline:
+            time.sleep(0.05)
+
+    try:
+        code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand", "--domain", str(domain), "--commands",
+                                    "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
+                                    "--junit", str(report), "--record", str(evidence), then=command_on_the_bus)
+    finally:
+        bus.close()
+    assert code == 128 + signal.SIGTERM, err
+    assert "sem-check: stopped by SIGTERM: the tests not finished are reported as such" in err
+    cases = junit_cases(report)
+    assert {n: o for n, (o, _) in cases.items() if n.startswith("discovery.")} == {
+        n: "passed" for n in cases if n.startswith("discovery.")} and len(cases) == 17
+    assert cases["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
+    assert {cases[n] for n in cases if n.startswith("commands.") and n != "commands.GPSFix.complete"} == {
+        ("skipped", "not run: the run was stopped by SIGTERM")}
+    assert "17 tests: 10 passed, 0 failed, 6 skipped, 1 stopped in " in out
+    with open(evidence, "rb") as fh:
+        recorded = make_reader(fh).get_summary()
+    assert recorded is not None
+    topics = {recorded.channels[c].topic: n for c, n in recorded.statistics.channel_message_counts.items()}
+    assert topics[Sem.GPS_FIX_COMMAND.spec.name] == 1
+    # Ctrl-C while it watches the reports: no test ran; the report says so in the `setup` case.
+    code, out, err = stop_check(signal.SIGINT, "watching its reports", "--domain", str(domain), "--window", "60",
+                                "--junit", str(report))
+    assert code == 128 + signal.SIGINT, err
+    cases = junit_cases(report)
+    assert cases.pop("setup") == ("error", "stopped by SIGINT while watching the provider's reports (60 s), before any "
+                                           "test ran")
+    assert set(cases.values()) == {("skipped", "not run: the run was stopped by SIGINT")} and len(cases) == 25
+    assert "26 tests: 0 passed, 0 failed, 25 skipped, 1 stopped in " in out
 
 
 def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:

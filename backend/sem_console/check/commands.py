@@ -32,7 +32,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.check import icd
 from sem_console.check.observe import Observer
-from sem_console.check.results import Case, Timer
+from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import Sem, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
@@ -92,8 +92,9 @@ class Sent:
 class Consumer:
     """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
 
-    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO) -> None:
-        self.observer, self.provider, self.limits, self.out = observer, provider, limits, out
+    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO,
+                 progress: Progress | None = None) -> None:
+        self.observer, self.provider, self.limits, self.out, self.progress = observer, provider, limits, out, progress
         self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
         self.writers: dict[Service, DataWriter[Any]] = {}
         self.sent: list[Sent] = []
@@ -283,7 +284,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
     finished: Sent | None = None
     answered = True
     if selected(complete.name) or selected(clean.name):
-        with Timer(complete):
+        with Timer(complete, consumer.progress):
             sent = consumer.send(Service.GPS_FIX, writer)
             answered = follow(consumer, sent, complete)
             check_end(sent, complete)
@@ -294,7 +295,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
             finished = sent if sent.flow.terminal else None
         cases.append(complete)
     if selected(cancel.name):
-        with Timer(cancel):
+        with Timer(cancel, consumer.progress):
             if not answered:
                 cancel.skip("the provider did not answer the previous GPSFix command")
             else:
@@ -304,7 +305,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
                 breaches(sent, cancel)
         cases.append(cancel)
     if selected(clean.name):
-        with Timer(clean):
+        with Timer(clean, consumer.progress):
             if finished is None:
                 clean.skip("needs a command that finished: see commands.GPSFix.complete")
             else:
@@ -385,7 +386,7 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
         case = Case(f"commands.InertialSensor.{state.name}")
         if not selected(case.name):
             continue
-        with Timer(case):
+        with Timer(case, consumer.progress):
             if not answered:
                 case.skip("the provider did not answer the previous InertialSensor command")
             else:

@@ -16,7 +16,9 @@ name, so CI servers group the cases by discovery, reports and commands. A failur
 its one-line reason and its text the reason followed by what was seen (the status sequence, the
 other problems), which is what a CI's test view shows under the failure. A run that could not
 test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its
-message, the whole message (e.g. the list of providers to choose from) as its text.
+message, the whole message (e.g. the list of providers to choose from) as its text. A run stopped
+by SIGTERM or SIGINT lists every selected test: those finished as they ended, the one running with
+an <error type="stopped"> (`sem-check.setup` when no test had started), the rest <skipped>.
 """
 
 from __future__ import annotations
@@ -32,9 +34,9 @@ from sem_console.check.results import Case, Outcome, counts
 SUITE = "sem-check"
 
 
-def _attrs(cases: list[Case], errors: int, seconds: float, skipped: bool = True) -> dict[str, str]:
+def _attrs(cases: list[Case], error: bool, seconds: float, skipped: bool = True) -> dict[str, str]:
     n = counts(cases)
-    return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(errors),
+    return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(n[Outcome.ERROR] + error),
             **({"skipped": str(n[Outcome.SKIPPED])} if skipped else {}), "time": f"{seconds:.3f}"}
 
 
@@ -43,11 +45,10 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
     """The report of a run; `error` (could not test) makes it a single errored case."""
     if error is not None:
         cases = [Case("setup")]
-    errors = 1 if error is not None else 0
-    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, errors, seconds, skipped=False)})
+    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, error is not None, seconds, skipped=False)})
     started = started or dt.datetime.now(dt.UTC)
     suite = ET.SubElement(root, "testsuite", {
-        "name": SUITE, **_attrs(cases, errors, seconds),
+        "name": SUITE, **_attrs(cases, error is not None, seconds),
         "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(), "hostname": socket.gethostname()})
     props = ET.SubElement(suite, "properties")
     for k, v in properties.items():
@@ -62,7 +63,9 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
             ET.SubElement(case, "failure", {"message": c.reason, "type": "nonconformance"}).text = "\n".join([c.reason, *c.notes])
         elif c.outcome is Outcome.SKIPPED:
             ET.SubElement(case, "skipped", {"message": c.reason})
-        if c.notes and c.outcome is not Outcome.FAILED:
+        elif c.outcome is Outcome.ERROR:
+            ET.SubElement(case, "error", {"message": c.reason, "type": "stopped"}).text = "\n".join([c.reason, *c.notes])
+        if c.notes and c.outcome not in (Outcome.FAILED, Outcome.ERROR):
             ET.SubElement(case, "system-out").text = "\n".join(c.notes)
     ET.indent(root)
     return ET.ElementTree(root)

@@ -21,7 +21,7 @@ from typing import Any
 
 from sem_console.check import icd
 from sem_console.check.observe import REPORTS, Observer, Report
-from sem_console.check.results import Case, Timer
+from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.topics import Sem
 
 MAX_PROBLEMS = 5  # distinct problems quoted per case; the rest are counted
@@ -187,7 +187,7 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
 
 
 def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
-        selected: Callable[[str], bool]) -> list[Case]:
+        selected: Callable[[str], bool], progress: Progress | None = None) -> list[Case]:
     cases = []
     undecodable = observer.decoder.undecodable
     for sem in REPORTS:
@@ -197,7 +197,7 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
             if not selected(test):
                 continue
             case = Case(test)
-            with Timer(case):
+            with Timer(case, progress):
                 if service not in offered and not samples:
                     case.skip(f"the provider does not offer the {service} service")
                 elif check == "timing":

@@ -3,13 +3,15 @@
 Exit codes: 0 every selected test passed (skipped ones included), 1 a test failed, 2 the run could
 not test (no provider within the timeout, several and no --provider, a DDS configuration Cyclone
 refused, a --only/--skip that selects nothing, every selected test skipped, a --junit or --record
-file that cannot be written, an internal error: cli.main).
+file that cannot be written, an internal error: cli.main), 128 + the signal a run stopped by SIGTERM
+(143) or SIGINT (130), which still reports what it did.
 """
 
 from __future__ import annotations
 
 import datetime as dt
 import shutil
+import signal
 import sys
 import tempfile
 import time
@@ -21,7 +23,7 @@ from typing import TextIO
 from sem_console import __version__
 from sem_console.check import commands, discovery, icd, junit, reports
 from sem_console.check.observe import REPORTS, TICK, Observer
-from sem_console.check.results import Case, Outcome, Selection, summary
+from sem_console.check.results import Case, Outcome, Progress, Selection, Stopped, summary
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.dds.config import describe
 from sem_console.dds.topics import Sem
@@ -30,6 +32,7 @@ from sem_console.recording.recorder import Recorder, RecordingError
 SETTLE = 1.0  # s to keep looking for more providers after the first one is found
 
 OK, FAILED, COULD_NOT_TEST = 0, 1, 2
+STOPPED = 128  # + the signal's number (143 SIGTERM, 130 SIGINT), as a shell reports a job a signal ended
 
 
 @dataclass
@@ -119,8 +122,48 @@ class Evidence:
             shutil.rmtree(self.dir, ignore_errors=True)
 
 
+class StopSignals:
+    """SIGTERM (a CI job canceled or out of time) and SIGINT (Ctrl-C) raise Stopped in the main thread, once: a
+    second signal while the run disposes its commands and writes its reports is noted, not raised (it would cut
+    the recording and the reports short). A SIGINT ignored when started (a shell's background job) stays ignored."""
+
+    SIGNALS = (signal.SIGTERM, signal.SIGINT)
+
+    def __init__(self, err: TextIO) -> None:
+        self.err = err
+        self.raising = True
+
+    def __enter__(self) -> StopSignals:
+        self.previous = {s: signal.getsignal(s) for s in self.SIGNALS}
+        for s in self.SIGNALS:
+            if self.previous[s] is not signal.SIG_IGN:
+                signal.signal(s, self._handle)
+        return self
+
+    def __exit__(self, *_exc: object) -> None:
+        for s, handler in self.previous.items():
+            signal.signal(s, handler)
+
+    def hold(self) -> None:
+        """From here on the run only finishes: a signal no longer stops it."""
+        self.raising = False
+
+    def _handle(self, signum: int, _frame: object) -> None:
+        if not self.raising:
+            print(f"sem-check: {signal.Signals(signum).name}: stopping already (disposing the commands sent, "
+                  "writing the reports)", file=self.err, flush=True)
+            return
+        self.raising = False
+        raise Stopped(signum)
+
+
 def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
     out, err = out or sys.stdout, err or sys.stderr
+    with StopSignals(err) as signals:
+        return _run(opts, out, err, signals)
+
+
+def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     started, t0 = dt.datetime.now(dt.UTC), time.monotonic()
     selection = Selection(opts.only, opts.skip)
     names = all_names()
@@ -148,18 +191,25 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
     net = describe(opts.interface, opts.peers)
-    try:
-        bus = Bus(opts.domain, opts.interface, opts.peers)
-    except DdsConfigError as e:
-        return could_not(str(e))
+    progress = Progress()
+    progress.setup("starting DDS")
+    stopped: Stopped | None = None
     evidence: Evidence | None = None
+    bus: Bus | None = None
+    observer: Observer | None = None
+    cases: list[Case] = []
     try:
+        try:
+            bus = Bus(opts.domain, opts.interface, opts.peers)
+        except DdsConfigError as e:
+            return could_not(str(e))
         if opts.record is not None:
             try:
                 evidence = Evidence(opts.record)
             except (OSError, RecordingError) as e:
                 return could_not(f"cannot record to {opts.record}: {e}")
         observer = Observer(bus, evidence.recorder if evidence else None)
+        progress.setup("looking for the provider")
         try:
             provider = find_provider(observer, opts, net)
         except CouldNotTest as e:
@@ -173,16 +223,19 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         timing = any(selection(n) for n in names if n.startswith("reports.") and n.endswith(".timing"))
         window = max(opts.window, 2 * opts.max_gap) if timing else opts.window
         print(f"sem-check: watching its reports for {window:g} s", file=out, flush=True)
+        progress.setup(f"watching the provider's reports ({window:g} s)")
         window_start = observer.alive_sources[provider]
         observer.idle(max(0.0, window_start + window - time.time()))
         window_end = time.time()
+        progress.running = None
         offered = discovery.offered_services(observer, provider)
-        cases = discovery.run(observer, provider, selection)
+        cases += discovery.run(observer, provider, selection, progress)
         limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
-        cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection)
+        cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection, progress)
+        progress.add(cases)
         if opts.commands:
             command_limits = commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time)
-            consumer = commands.Consumer(observer, provider, command_limits, out)
+            consumer = commands.Consumer(observer, provider, command_limits, out, progress)
             lines = commands.plan(consumer, offered, selection)
             if lines:
                 print(f"sem-check: sending to provider {provider}:", file=out)
@@ -193,26 +246,37 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         else:
             cases += [Case(n).skip("read-only run: --commands sends commands (a real vehicle's INS may be switched off)")
                       for n in commands.names() if selection(n)]
-        seconds = time.monotonic() - t0
-        summary(cases, seconds, out)
-        if opts.junit is not None:
-            try:
-                junit.write(opts.junit, cases, seconds, properties, started=started)
-            except OSError as e:
-                print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
-                return COULD_NOT_TEST
-            print(f"sem-check: JUnit report {opts.junit}", file=out)
-        if any(c.outcome is Outcome.FAILED for c in cases):
-            return FAILED
-        if all(c.outcome is Outcome.SKIPPED for c in cases):  # a green CI run must mean something was tested
-            print("sem-check: nothing was tested: every selected test was skipped (the reasons are above)", file=err)
-            return COULD_NOT_TEST
-        return OK
+    except Stopped as e:  # every command sent is disposed by now (commands.run)
+        stopped = e
+        cases = progress.stopped([n for n in names if selection(n)], e.name)
     finally:
+        signals.hold()  # a second signal must not cut the recording short
         if evidence is not None:
+            if observer is not None:  # the last samples: the disposes of the commands sent (commands.run), the
+                observer.pump()  # command itself when the run was stopped right after sending it
             problem = evidence.finish()
             if problem:
                 print(f"sem-check: recording not written: {problem}", file=err)
             else:
                 print(f"sem-check: samples recorded in {opts.record}", file=out)
-        bus.close()
+        if bus is not None:
+            bus.close()
+    seconds = time.monotonic() - t0
+    summary(cases, seconds, out)
+    if stopped is not None:
+        print(f"sem-check: stopped by {stopped.name}: the tests not finished are reported as such", file=err, flush=True)
+    if opts.junit is not None:
+        try:
+            junit.write(opts.junit, cases, seconds, properties, started=started)
+        except OSError as e:
+            print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
+            return COULD_NOT_TEST
+        print(f"sem-check: JUnit report {opts.junit}", file=out)
+    if stopped is not None:
+        return STOPPED + stopped.signum
+    if any(c.outcome is Outcome.FAILED for c in cases):
+        return FAILED
+    if all(c.outcome is Outcome.SKIPPED for c in cases):  # a green CI run must mean something was tested
+        print("sem-check: nothing was tested: every selected test was skipped (the reasons are above)", file=err)
+        return COULD_NOT_TEST
+    return OK
