@@ -317,6 +317,30 @@ def test_record_to_a_directory_cannot_test_before_the_run(domain: int, tmp_path:
     assert [(name, outcome) for name, (outcome, _) in run.cases.items()] == [("setup", "error")]
 
 
+def test_record_and_junit_into_a_new_directory(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
+    """`--record out/` made a FILE named out: a name ending in / is a directory, made when missing, that gets a
+    file named by the run's start; a directory whose parent is missing is one line naming it and the fix."""
+    missing = tmp_path / "no" / "such"
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["--domain", str(domain), "--record", f"{missing}/"])
+    assert code == 2 and not (tmp_path / "no").exists()
+    assert err.getvalue() == (f"sem-check: cannot record to {missing}/: the directory {missing.parent} does not exist: "
+                              f"create it first (mkdir -p {missing}/)\n")
+    p = tiny()
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(["--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5",
+                     "--record", f"{tmp_path / 'evidence'}/", "--junit", f"{tmp_path / 'reports'}/"])
+    assert code == 0, out.getvalue() + err.getvalue()
+    [recording] = (tmp_path / "evidence").glob("sem-check-*.mcap")
+    [report] = (tmp_path / "reports").glob("sem-check-*.xml")
+    assert f"samples recorded in {recording}" in out.getvalue() and f"JUnit report {report}" in out.getvalue()
+    with open(recording, "rb") as fh:
+        assert make_reader(fh).get_summary() is not None
+    assert set(junit_cases(report).values()) >= {("passed", "")}
+
+
 def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     """A skip after a failure keeps the failure; the terminal shows whole reasons (their ICD
     reference comes last) and what a pass did not check; the JUnit failure text has what was seen."""

@@ -7,7 +7,6 @@ import argparse
 import sys
 import traceback
 import uuid
-from pathlib import Path
 
 from sem_console.check.results import Stopped
 from sem_console.check.runner import COULD_NOT_TEST, STOPPED, Options, all_names, run
@@ -46,15 +45,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--commands", action="store_true", help=(
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
         "commands; what will be sent is printed first. Without it no command writer is created"))
-    p.add_argument("--junit", type=Path, default=None, metavar="FILE", help="write a JUnit XML report to FILE")
+    p.add_argument("--junit", default=None, metavar="FILE", help=(
+        "write a JUnit XML report to FILE; a name ending in / is a directory (made if missing) to write "
+        "sem-check-<start, UTC>.xml in"))
     p.add_argument("--timeout", type=ranged(float, 0.1, 3600), default=d.timeout, metavar="S", help=(
         "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
     p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
         "run only these tests: comma separated names, dotted prefixes (reports, commands.GPSFix) or globs (*.values)"))
     p.add_argument("--skip", type=_names, action="append", default=[], metavar="NAMES",
                    help="leave these tests out (same forms as --only)")
-    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap",
-                   help="record every sample of the run to an MCAP file as evidence")
+    p.add_argument("--record", default=None, metavar="FILE.mcap", help=(
+        "record every sample of the run to an MCAP file as evidence; a name ending in / is a directory (made if "
+        "missing) to write sem-check-<start, UTC>.mcap in"))
     p.add_argument("--window", type=ranged(float, 0.5, 3600), default=d.window, metavar="S",
                    help="seconds of reports watched before they are judged (default: %(default)s)")
     p.add_argument("--max-gap", type=ranged(float, 0.01, 3600), default=d.max_gap, metavar="S",

@@ -10,6 +10,7 @@ file that cannot be written, an internal error: cli.main), 128 + the signal a ru
 from __future__ import annotations
 
 import datetime as dt
+import os
 import shutil
 import signal
 import sys
@@ -40,11 +41,11 @@ class Options:
     domain: int = 0
     provider: uuid.UUID | None = None
     commands: bool = False
-    junit: Path | None = None
+    junit: str | None = None  # a file, or a directory when it ends in / (`output`)
     timeout: float = 10.0  # finding the provider; a command's first status
     only: list[str] = field(default_factory=list)
     skip: list[str] = field(default_factory=list)
-    record: Path | None = None
+    record: str | None = None  # as junit
     window: float = 5.0  # s of reports watched before they are judged (at least 2 x max_gap for the timing tests: see run)
     max_gap: float = 5.0
     clock_offset: float = 1.0
@@ -62,6 +63,22 @@ def all_names() -> list[str]:
 
 class CouldNotTest(Exception):
     """Why the run could not test, in one line (or a line and a list)."""
+
+
+def output(text: str, suffix: str, started: dt.datetime) -> Path:
+    """The file of --junit or --record: `text`, or when it ends in / (a directory, made when missing: its parent
+    must exist, as for mkdir) a file in it named by the run's start, so runs into one directory keep their files."""
+    path = Path(text)
+    if not text.endswith(("/", os.sep)):
+        return path
+    if not path.is_dir():
+        if not path.parent.is_dir():
+            raise CouldNotTest(f"{text}: the directory {path.parent} does not exist: create it first (mkdir -p {text})")
+        try:
+            path.mkdir()
+        except OSError as e:
+            raise CouldNotTest(f"{text}: cannot make the directory: {e.strerror}") from None
+    return path / f"sem-check-{started:%Y%m%dT%H%M%SZ}.{suffix}"
 
 
 def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
@@ -170,23 +187,36 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
                   "version": __version__}
 
+    report: Path | None = None  # --junit's file, once known
+
     def could_not(message: str) -> int:
         print(f"sem-check: {message}", file=err, flush=True)
-        if opts.junit is not None:
+        if report is not None:
             try:
-                junit.write(opts.junit, [], time.monotonic() - t0, properties, error=message, started=started)
+                junit.write(report, [], time.monotonic() - t0, properties, error=message, started=started)
             except OSError as e:
-                print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
+                print(f"sem-check: cannot write the JUnit report {report}: {e}", file=err)
         return COULD_NOT_TEST
 
     if opts.junit is not None:  # found out before a long run (or commands sent), not after it
-        problem = junit.unwritable(opts.junit)
+        try:
+            path = output(opts.junit, "xml", started)
+        except CouldNotTest as e:
+            return could_not(f"cannot write the JUnit report {e}")
+        problem = junit.unwritable(path)
         if problem:
-            print(f"sem-check: cannot write the JUnit report {opts.junit}: {problem}", file=err)
+            print(f"sem-check: cannot write the JUnit report {path}: {problem}", file=err)
             return COULD_NOT_TEST
-    if opts.record is not None and opts.record.is_dir():  # the file would be moved into it under another name
-        return could_not(f"cannot record to {opts.record}: it is a directory: give a file name (e.g. "
-                         f"{opts.record / 'sem-check.mcap'})")
+        report = path
+    record: Path | None = None
+    if opts.record is not None:
+        try:
+            record = output(opts.record, "mcap", started)
+        except CouldNotTest as e:
+            return could_not(f"cannot record to {e}")
+        if record.is_dir():  # the file would be moved into it under another name
+            return could_not(f"cannot record to {record}: it is a directory: give a file name (e.g. "
+                             f"{record / 'sem-check.mcap'}), or {record}/ to record into it")
     unknown = selection.unknown(names)
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
@@ -203,11 +233,11 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             bus = Bus(opts.domain, opts.interface, opts.peers)
         except DdsConfigError as e:
             return could_not(str(e))
-        if opts.record is not None:
+        if record is not None:
             try:
-                evidence = Evidence(opts.record)
+                evidence = Evidence(record)
             except (OSError, RecordingError) as e:
-                return could_not(f"cannot record to {opts.record}: {e}")
+                return could_not(f"cannot record to {record}: {e}")
         observer = Observer(bus, evidence.recorder if evidence else None)
         progress.setup("looking for the provider")
         try:
@@ -258,20 +288,20 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             if problem:
                 print(f"sem-check: recording not written: {problem}", file=err)
             else:
-                print(f"sem-check: samples recorded in {opts.record}", file=out)
+                print(f"sem-check: samples recorded in {record}", file=out)
         if bus is not None:
             bus.close()
     seconds = time.monotonic() - t0
     summary(cases, seconds, out)
     if stopped is not None:
         print(f"sem-check: stopped by {stopped.name}: the tests not finished are reported as such", file=err, flush=True)
-    if opts.junit is not None:
+    if report is not None:
         try:
-            junit.write(opts.junit, cases, seconds, properties, started=started)
+            junit.write(report, cases, seconds, properties, started=started)
         except OSError as e:
-            print(f"sem-check: cannot write the JUnit report {opts.junit}: {e}", file=err)
+            print(f"sem-check: cannot write the JUnit report {report}: {e}", file=err)
             return COULD_NOT_TEST
-        print(f"sem-check: JUnit report {opts.junit}", file=out)
+        print(f"sem-check: JUnit report {report}", file=out)
     if stopped is not None:
         return STOPPED + stopped.signum
     if any(c.outcome is Outcome.FAILED for c in cases):
