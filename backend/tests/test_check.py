@@ -513,6 +513,39 @@ def test_the_cleanup_fails(leave: bool, reason: str, domain: int, tmp_path: Path
     assert failed(run)["commands.GPSFix.cleanup"].startswith(reason)
 
 
+class FailsWithLogMessage(BreachAfterCleanup):
+    """A GPSFixControl provider that fails each command (ISSUED, then FAILED/RESOURCE_FAILED) with `log` as its
+    logMessage: a vehicle's own text, which may hold characters XML cannot (a terminal colour, a bell)."""
+
+    def __init__(self, domain: int, log: str) -> None:
+        self.log = log
+        super().__init__(domain)
+
+    def loop(self) -> None:
+        while not self.stop.is_set():
+            for s in self.commands.take(N=16):
+                info = s.sample_info
+                if info.valid_data and info.instance_state == InstanceState.Alive and from_guid(s.destination) == self.guid:
+                    self.status.write(self.status_of(s, CmdStatus.ISSUED))
+                    failed = self.status_of(s, CmdStatus.FAILED)
+                    failed.commandStatusReason, failed.logMessage = CmdReason.RESOURCE_FAILED, self.log
+                    self.status.write(failed)
+            time.sleep(0.02)
+
+
+def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int, tmp_path: Path) -> None:
+    """ElementTree wrote a logMessage's ESC and BEL as they were: no CI could read the report (not well-formed)."""
+    p = FailsWithLogMessage(domain, "\x1b[31mGPS jammed\x07\x1b[0m")
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
+                    "commands.GPSFix.complete", "--timeout", "5", "--step-time", "1", "--window", "0.5")
+    finally:
+        p.close()
+    assert run.code == 1, run.out + run.err
+    assert failed(run) == {"commands.GPSFix.complete": "the provider failed the command: FAILED/RESOURCE_FAILED "
+                                                       "\"\\x1b[31mGPS jammed\\x07\\x1b[0m\" (ICD 4.1.4.3)"}
+
+
 # ---- a provider that stopped reporting ----------------------------------------------------------
 
 def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int,

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import datetime as dt
 import os
+import re
 import socket
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -32,6 +33,14 @@ from pathlib import Path
 from sem_console.check.results import Case, Outcome, counts
 
 SUITE = "sem-check"
+# What XML 1.0 cannot hold (control characters but tab and newline, lone surrogates): a vehicle's logMessage, type
+# or participant name may carry them, and ElementTree writes them as they are, which no CI's parser then reads.
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
+
+
+def _xml_safe(text: str) -> str:
+    """`text` with each character XML cannot hold shown as its Python escape (ESC as \\x1b)."""
+    return _NOT_XML.sub(lambda m: repr(m.group())[1:-1], text)
 
 
 def _attrs(cases: list[Case], error: bool, seconds: float, skipped: bool = True) -> dict[str, str]:
@@ -67,6 +76,9 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
             ET.SubElement(case, "error", {"message": c.reason, "type": "stopped"}).text = "\n".join([c.reason, *c.notes])
         if c.notes and c.outcome not in (Outcome.FAILED, Outcome.ERROR):
             ET.SubElement(case, "system-out").text = "\n".join(c.notes)
+    for el in root.iter():
+        el.attrib = {k: _xml_safe(v) for k, v in el.attrib.items()}
+        el.text = el.text and _xml_safe(el.text)
     ET.indent(root)
     return ET.ElementTree(root)
 
