@@ -306,6 +306,13 @@ def test_unwritable_junit_cannot_test_before_the_run(domain: int, tmp_path: Path
     assert code == 2
     assert err.getvalue().startswith(f"sem-check: cannot write the JUnit report {a_file / 'junit.xml'}: ")
     assert len(err.getvalue().splitlines()) == 1
+    # where the permission bits do not tell (root on /proc, as on NFS or FUSE): found by opening it, not after the run
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err):
+        code = main(["--domain", str(domain), "--timeout", "1", "--junit", "/proc/sem-check.xml"])
+    assert code == 2
+    assert err.getvalue().startswith("sem-check: cannot write the JUnit report /proc/sem-check.xml: ")
+    assert len(err.getvalue().splitlines()) == 1
 
 
 def test_record_to_a_directory_cannot_test_before_the_run(domain: int, tmp_path: Path) -> None:
