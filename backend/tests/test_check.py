@@ -37,7 +37,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from sem_console.check import junit
 from sem_console.check.cli import main
 from sem_console.check.results import Case, Outcome, summary
-from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.bus import Bus, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, representation, writer_qos
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.options import SimOptions, vehicle_guid
@@ -520,24 +520,36 @@ def test_the_cleanup_fails(leave: bool, reason: str, domain: int, tmp_path: Path
     assert failed(run)["commands.GPSFix.cleanup"].startswith(reason)
 
 
-class FailsWithLogMessage(BreachAfterCleanup):
-    """A GPSFixControl provider that fails each command (ISSUED, then FAILED/RESOURCE_FAILED) with `log` as its
-    logMessage: a vehicle's own text, which may hold characters XML cannot (a terminal colour, a bell)."""
+class AnswersEachCommand(BreachAfterCleanup):
+    """A GPSFixControl provider that answers each new GPSFix command with `answer` (its last when that is False)."""
 
-    def __init__(self, domain: int, log: str) -> None:
-        self.log = log
-        super().__init__(domain)
+    def answer(self, cmd: Any) -> bool:
+        raise NotImplementedError
 
     def loop(self) -> None:
         while not self.stop.is_set():
             for s in self.commands.take(N=16):
                 info = s.sample_info
-                if info.valid_data and info.instance_state == InstanceState.Alive and from_guid(s.destination) == self.guid:
-                    self.status.write(self.status_of(s, CmdStatus.ISSUED))
-                    failed = self.status_of(s, CmdStatus.FAILED)
-                    failed.commandStatusReason, failed.logMessage = CmdReason.RESOURCE_FAILED, self.log
-                    self.status.write(failed)
+                mine = info.valid_data and info.instance_state == InstanceState.Alive and from_guid(s.destination) == self.guid
+                if mine and not self.answer(s):
+                    return
             time.sleep(0.02)
+
+
+class FailsWithLogMessage(AnswersEachCommand):
+    """Fails each command (ISSUED, then FAILED/RESOURCE_FAILED) with `log` as its logMessage: a vehicle's own text,
+    which may hold characters XML cannot (a terminal colour, a bell)."""
+
+    def __init__(self, domain: int, log: str) -> None:
+        self.log = log
+        super().__init__(domain)
+
+    def answer(self, cmd: Any) -> bool:
+        self.status.write(self.status_of(cmd, CmdStatus.ISSUED))
+        failed = self.status_of(cmd, CmdStatus.FAILED)
+        failed.commandStatusReason, failed.logMessage = CmdReason.RESOURCE_FAILED, self.log
+        self.status.write(failed)
+        return True
 
 
 def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int, tmp_path: Path) -> None:
@@ -551,6 +563,40 @@ def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int,
     assert run.code == 1, run.out + run.err
     assert failed(run) == {"commands.GPSFix.complete": "the provider failed the command: FAILED/RESOURCE_FAILED "
                                                        "\"\\x1b[31mGPS jammed\\x07\\x1b[0m\" (ICD 4.1.4.3)"}
+
+
+class LeavesAfterIssued(AnswersEachCommand):
+    """Offers InertialSensorControl too, answers the first GPSFix command with ISSUED and leaves the domain (its
+    participant deleted): a vehicle that stops or drops off the network mid-run."""
+
+    def __init__(self, domain: int) -> None:
+        super().__init__(domain)
+        self.ins_commands = self.bus.reader(Sem.INS_COMMAND)
+        self.ins_status = self.bus.writer(Sem.INS_COMMAND_STATUS)
+
+    def answer(self, cmd: Any) -> bool:
+        self.status.write(self.status_of(cmd, CmdStatus.ISSUED))
+        wait_for_acks([self.status], 5.0)
+        self.bus.close()
+        return False
+
+
+def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
+    """The InertialSensor tests failed after 10 s each as if the provider's command reader did not match its QoS
+    ("see discovery.InertialSensorCommand"): the test it left in says so, the later ones are skipped as not testable."""
+    p = LeavesAfterIssued(domain)
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only", "commands",
+                    "--timeout", "5", "--step-time", "5", "--window", "0.5")
+    finally:
+        p.close()
+    assert run.code == 1, run.out + run.err
+    left = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
+    complete = failed(run)["commands.GPSFix.complete"]
+    assert complete.startswith("no COMMANDED after ISSUED") and complete.endswith(f"; {left}"), complete
+    assert set(failed(run)) == {"commands.GPSFix.complete"}, run.out
+    assert {n: c for n, c in run.cases.items() if n.startswith("commands.InertialSensor")} == {
+        f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "cleanup")}
 
 
 # ---- a provider that stopped reporting ----------------------------------------------------------

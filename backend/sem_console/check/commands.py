@@ -48,6 +48,7 @@ class CommandLimits:
 
 
 SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
+LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
 
 # Where the ICD has the provider take a step of the successful path after ISSUED
 STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
@@ -166,6 +167,10 @@ class Consumer:
 
         return self.observer.wait(fed, seconds)
 
+    def left(self) -> str:
+        """What to add to a command test's failure when the provider is no longer on the domain: the cause."""
+        return "" if self.observer.present(self.provider) else f"; {LEFT}"
+
     def close(self) -> None:
         """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
         for sent in self.sent:
@@ -181,7 +186,7 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
     if not answered:
         waited = time.time() - sent.sent_at
         case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
-                  "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)")
+                  f"ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command){consumer.left()}")
         return False
     # A provider that keeps publishing transitions (each a Figure 4 breach) must not keep the checker forever.
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
@@ -209,7 +214,7 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
             return len(sent.flow.transitions) > n
 
         if not consumer.wait(sent, moved, max(remaining, 0.0)):
-            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}")
+            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}{consumer.left()}")
             break
     breaches(sent, case)
     case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
@@ -261,7 +266,8 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
         left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
                                           (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
         case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
-                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)")
+                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)"
+                  f"{consumer.left()}")
     else:
         case.note(f"{sent.session}: status and ack disposed after the consumer's dispose")
     breaches(sent, case)
@@ -275,11 +281,13 @@ def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str,
 def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
     cases = []
     complete, cancel, clean = (Case(n) for n in names()[:3])
+    if not consumer.observer.present(consumer.provider):  # the test before saw it leave: waiting tells nothing
+        return [c.skip(LEFT) for c in (complete, cancel, clean) if selected(c.name)]
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
         reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
-                  "see discovery.GPSFixCommand)")
+                  f"see discovery.GPSFixCommand){consumer.left()}")
         return [c.fail(reason) if c.name != clean.name else c.skip(reason) for c in (complete, cancel, clean) if selected(c.name)]
     finished: Sent | None = None
     answered = True
@@ -298,6 +306,8 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
         with Timer(cancel, consumer.progress):
             if not answered:
                 cancel.skip("the provider did not answer the previous GPSFix command")
+            elif not consumer.observer.present(consumer.provider):
+                cancel.skip(LEFT)
             else:
                 sent = consumer.send(Service.GPS_FIX, writer)
                 follow(consumer, sent, cancel, cancel_at=Status.EXECUTING)
@@ -374,11 +384,13 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
     cases: list[Case] = []
     all_names = names()[3:]
     clean = Case(all_names[-1])
+    if not consumer.observer.present(consumer.provider):  # the test before saw it leave: waiting tells nothing
+        return [Case(n).skip(LEFT) for n in all_names if selected(n)]
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
         reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
-                  "see discovery.InertialSensorCommand)")
+                  f"see discovery.InertialSensorCommand){consumer.left()}")
         return [Case(n).fail(reason) if n != clean.name else Case(n).skip(reason) for n in all_names if selected(n)]
     answered = True
     finished: list[Sent] = []
@@ -389,6 +401,8 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
         with Timer(case, consumer.progress):
             if not answered:
                 case.skip("the provider did not answer the previous InertialSensor command")
+            elif not consumer.observer.present(consumer.provider):
+                case.skip(LEFT)
             else:
                 sent = consumer.send(Service.INERTIAL_SENSOR, writer, state)
                 answered = follow(consumer, sent, case)
