@@ -190,20 +190,25 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
     assert InstanceState.NotAliveDisposed in states, states
 
 
-def stop_check(sig: int, when: str, *args: str, then: Callable[[], object] = lambda: None) -> tuple[int, str, str]:
+def stop_check(sig: int, when: str, *args: str, then: Callable[[], object] = lambda: None,
+               tee_dies: bool = False) -> tuple[int, str, str]:
     """sem-check in a process of its own, sent `sig` once its output shows `when` and `then` returned:
-    (exit code, stdout, stderr)."""
+    (exit code, stdout, stderr). `tee_dies`: the reader of its stdout goes first, as `sem-check | tee` stopped."""
     p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
-    assert p.stdout is not None
+    assert p.stdout is not None and p.stderr is not None
     seen = []
     for line in p.stdout:
         seen.append(line)
         if when in line:
             break
     then()
+    if tee_dies:
+        p.stdout.close()
     p.send_signal(sig)
-    out, err = p.communicate(timeout=60)
+    out = "" if tee_dies else p.stdout.read()
+    err = p.stderr.read()
+    p.wait(timeout=60)
     return p.returncode, "".join(seen) + out, err
 
 
@@ -242,6 +247,14 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     assert recorded is not None
     topics = {recorded.channels[c].topic: n for c, n in recorded.statistics.channel_message_counts.items()}
     assert topics[Sem.GPS_FIX_COMMAND.spec.name] == 1
+    # `sem-check ... | tee log`, stopped: tee goes first. The report was lost to a BrokenPipeError (a traceback, exit 2).
+    report.unlink()
+    code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand", "--domain", str(domain), "--commands",
+                                "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
+                                "--junit", str(report), tee_dies=True)
+    assert (code, err) == (128 + signal.SIGTERM, "sem-check: stopped by SIGTERM: the tests not finished are reported as "
+                                                 "such\n")
+    assert junit_cases(report)["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
     # Ctrl-C while it watches the reports: no test ran; the report says so in the `setup` case.
     code, out, err = stop_check(signal.SIGINT, "watching its reports", "--domain", str(domain), "--window", "60",
                                 "--junit", str(report))

@@ -9,7 +9,9 @@ file that cannot be written, an internal error: cli.main), 128 + the signal a ru
 
 from __future__ import annotations
 
+import contextlib
 import datetime as dt
+import io
 import os
 import shutil
 import signal
@@ -19,7 +21,7 @@ import time
 import uuid
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TextIO
+from typing import TextIO, cast
 
 from sem_console import __version__
 from sem_console.check import commands, discovery, icd, junit, reports
@@ -174,8 +176,41 @@ class StopSignals:
         raise Stopped(signum)
 
 
+class Unbroken(io.TextIOBase):
+    """A stream the run prints to that a reader gone away does not stop: `sem-check ... | tee log` in a CI job that
+    is canceled or out of time, where tee gets the signal too and goes first. What cannot be printed is dropped and
+    the run goes on to its JUnit report and exit code; the file descriptor is pointed at /dev/null, as Python's
+    documentation advises (signal, "Note on SIGPIPE"), so the interpreter's last flush does not fail either."""
+
+    def __init__(self, stream: TextIO) -> None:
+        self.stream = stream
+        self.broken = False
+
+    def write(self, text: str) -> int:
+        if not self.broken:
+            try:
+                self.stream.write(text)
+            except BrokenPipeError:
+                self._gone()
+        return len(text)
+
+    def flush(self) -> None:
+        if not self.broken:
+            try:
+                self.stream.flush()
+            except BrokenPipeError:
+                self._gone()
+
+    def _gone(self) -> None:
+        self.broken = True
+        with contextlib.suppress(OSError, ValueError, io.UnsupportedOperation):  # a stream with no descriptor
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, self.stream.fileno())
+            os.close(devnull)
+
+
 def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
-    out, err = out or sys.stdout, err or sys.stderr
+    out, err = cast("TextIO", Unbroken(out or sys.stdout)), cast("TextIO", Unbroken(err or sys.stderr))
     with StopSignals(err) as signals:
         return _run(opts, out, err, signals)
 
