@@ -566,7 +566,8 @@ class FailsWithLogMessage(AnswersEachCommand):
 
 
 def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int, tmp_path: Path) -> None:
-    """ElementTree wrote a logMessage's ESC and BEL as they were: no CI could read the report (not well-formed)."""
+    """ElementTree wrote a logMessage's ESC and BEL as they were: no CI could read the report (not well-formed);
+    the terminal's table printed them too."""
     p = FailsWithLogMessage(domain, "\x1b[31mGPS jammed\x07\x1b[0m")
     try:
         run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
@@ -574,8 +575,11 @@ def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int,
     finally:
         p.close()
     assert run.code == 1, run.out + run.err
-    assert failed(run) == {"commands.GPSFix.complete": "the provider failed the command: FAILED/RESOURCE_FAILED "
-                                                       "\"\\x1b[31mGPS jammed\\x07\\x1b[0m\" (ICD 4.1.4.3)"}
+    reason = "the provider failed the command: FAILED/RESOURCE_FAILED \"\\x1b[31mGPS jammed\\x07\\x1b[0m\" (ICD 4.1.4.3)"
+    assert failed(run) == {"commands.GPSFix.complete": reason}
+    # nor do they recolour, ring or split the terminal's table
+    [line] = [line for line in run.out.splitlines() if line.startswith("commands.GPSFix.complete ")]
+    assert line.endswith(f"s  {reason}") and "\x1b" not in run.out and "\x07" not in run.out
 
 
 class LeavesAfterIssued(AnswersEachCommand):

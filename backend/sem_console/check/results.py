@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import fnmatch
+import re
 import signal
 import time
 from dataclasses import dataclass, field
@@ -154,6 +155,15 @@ def counts(cases: list[Case]) -> dict[Outcome, int]:
     return {o: sum(c.outcome is o for c in cases) for o in Outcome}
 
 
+# Control characters in a reason (a vehicle's logMessage may hold a terminal colour, a bell, a newline) would
+# recolour, hide or split the table's lines: shown as their escapes (ESC as \x1b), as the JUnit report shows them.
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f]")
+
+
+def printable(text: str) -> str:
+    return _CONTROL.sub(lambda m: repr(m.group())[1:-1], text)
+
+
 _MARK = {Outcome.PASSED: "pass", Outcome.FAILED: "FAIL", Outcome.SKIPPED: "skip", Outcome.ERROR: "ERROR"}
 
 
@@ -163,7 +173,7 @@ def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
     name_w = max([len(c.name) for c in cases] + [4])
     print(f"{'TEST':<{name_w}}  {'RESULT':<6}  {'TIME':>6}  REASON", file=out)
     for c in cases:
-        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {c.reason}".rstrip(), file=out)
+        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {printable(c.reason)}".rstrip(), file=out)
     n = counts(cases)
     errors = f", {n[Outcome.ERROR]} stopped" if n[Outcome.ERROR] else ""
     print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped{errors} "
