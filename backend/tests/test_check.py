@@ -255,6 +255,14 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     assert (code, err) == (128 + signal.SIGTERM, "sem-check: stopped by SIGTERM: the tests not finished are reported as "
                                                  "such\n")
     assert junit_cases(report)["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
+    # Killed outright (SIGKILL after a CI's grace time, out of memory): an earlier run's report, kept in a runner's
+    # workspace, was left to pass for this run's; now the report written at the start says it did not finish.
+    junit.write(report, [Case("discovery.GPSReport")], 1.0, {})
+    code, out, err = stop_check(signal.SIGKILL, "watching its reports", "--domain", str(domain), "--window", "60",
+                                "--junit", str(report))
+    assert code == -signal.SIGKILL
+    assert [(n, o, r.split(":")[0]) for n, (o, r) in junit_cases(report).items()] == [
+        ("setup", "error", "sem-check did not finish")]
     # Ctrl-C while it watches the reports: no test ran; the report says so in the `setup` case.
     code, out, err = stop_check(signal.SIGINT, "watching its reports", "--domain", str(domain), "--window", "60",
                                 "--junit", str(report))

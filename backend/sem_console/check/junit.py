@@ -82,23 +82,21 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
     return ET.ElementTree(root)
 
 
-def unwritable(path: Path) -> str | None:
-    """Why the report could not be written to `path` (None: it can), asked before the run by opening it as the
-    report will be: permission bits (os.access) do not tell root on /proc, NFS or FUSE, where CI jobs often run."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        return str(e)
+UNFINISHED = ("sem-check did not finish: it was killed (SIGKILL, out of memory) or crashed before it wrote its "
+              "results; this report was written when it started")
+
+
+def start(path: Path, properties: dict[str, str], started: dt.datetime) -> str | None:
+    """Before the run: write the report of a run that did not finish in `path`, which the run's own report
+    replaces; why it cannot be written (None: it can). A run killed outright (a CI's SIGKILL after its grace
+    time) leaves that report, not an earlier run's, which a runner that keeps its workspace would show as this
+    run's. Written, not asked of the permission bits, which do not tell root on /proc, NFS or FUSE."""
     if path.is_dir():
         return "it is a directory"
-    existed = path.exists()
     try:
-        with path.open("a"):
-            pass
+        write(path, [], 0.0, properties, error=UNFINISHED, started=started)
     except OSError as e:
         return e.strerror or str(e)
-    if not existed:
-        path.unlink()
     return None
 
 

@@ -238,7 +238,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             path = output(opts.junit, "xml", started)
         except CouldNotTest as e:
             return could_not(f"cannot write the JUnit report {e}")
-        problem = junit.unwritable(path)
+        problem = junit.start(path, properties, started)
         if problem:
             print(f"sem-check: cannot write the JUnit report {path}: {problem}", file=err)
             return COULD_NOT_TEST
