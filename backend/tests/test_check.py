@@ -315,6 +315,11 @@ def test_unknown_test_name_cannot_test(domain: int, tmp_path: Path) -> None:
     run = check(tmp_path, "--domain", str(domain), "--only", "discovery.GPSFixReprot")
     assert run.code == 2
     assert "--only/--skip discovery.GPSFixReprot selects no test" in run.err
+    # each selects some, together none: found before the run (it looked for the provider, then called it all skipped)
+    run = check(tmp_path, "--domain", str(domain), "--only", "discovery", "--skip", "discovery.*")
+    assert run.code == 2
+    assert run.err == "sem-check: --only discovery --skip discovery.* leaves no test to run (sem-check --list shows them)\n"
+    assert [(n, o) for n, (o, _) in run.cases.items()] == [("setup", "error")]
 
 
 def test_unwritable_junit_cannot_test_before_the_run(domain: int, tmp_path: Path) -> None:

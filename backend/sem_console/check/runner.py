@@ -255,6 +255,9 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     unknown = selection.unknown(names)
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
+    if not any(selection(n) for n in names):  # each pattern selects some, but --skip takes away all --only gives
+        return could_not(f"--only {','.join(opts.only)} --skip {','.join(opts.skip)} leaves no test to run "
+                         "(sem-check --list shows them)")
     net = describe(opts.interface, opts.peers)
     progress = Progress()
     progress.setup("starting DDS")
