@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import shutil
 import signal
 import subprocess
 import sys
@@ -372,6 +373,25 @@ def test_record_and_junit_into_a_new_directory(tiny: Callable[..., TinyProvider]
     with open(recording, "rb") as fh:
         assert make_reader(fh).get_summary() is not None
     assert set(junit_cases(report).values()) >= {("passed", "")}
+
+
+def test_a_recording_lost_in_the_run_is_no_pass(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
+    """The evidence asked for was lost during the run (here its directory removed): it said so on stderr and exited 0,
+    a green CI job with no recording; now exit 2, as for a JUnit report that cannot be written."""
+    p = tiny()
+    evidence = tmp_path / "evidence"
+    proc = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--provider",
+                             str(p.guid), "--only", "discovery", "--window", "3", "--record", f"{evidence}/"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert proc.stdout is not None
+    for line in proc.stdout:
+        if "watching its reports" in line:
+            break
+    shutil.rmtree(evidence)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 2, out + err
+    assert "sem-check: recording not written: the recording in " in err
+    assert "10 tests: " in out and " 0 failed" in out
 
 
 def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:

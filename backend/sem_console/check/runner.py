@@ -3,7 +3,7 @@
 Exit codes: 0 every selected test passed (skipped ones included), 1 a test failed, 2 the run could
 not test (no provider within the timeout, several and no --provider, a DDS configuration Cyclone
 refused, a --only/--skip that selects nothing, every selected test skipped, a --junit or --record
-file that cannot be written, an internal error: cli.main), 128 + the signal a run stopped by SIGTERM
+file that cannot be written or was not, an internal error: cli.main), 128 + the signal a run stopped by SIGTERM
 (143) or SIGINT (130), which still reports what it did.
 """
 
@@ -265,6 +265,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     evidence: Evidence | None = None
     bus: Bus | None = None
     observer: Observer | None = None
+    lost: str | None = None  # why the --record file was not written
     cases: list[Case] = []
     try:
         try:
@@ -322,9 +323,9 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         if evidence is not None:
             if observer is not None:  # the last samples: the disposes of the commands sent (commands.run), the
                 observer.pump()  # command itself when the run was stopped right after sending it
-            problem = evidence.finish()
-            if problem:
-                print(f"sem-check: recording not written: {problem}", file=err)
+            lost = evidence.finish()
+            if lost:
+                print(f"sem-check: recording not written: {lost}", file=err)
             else:
                 print(f"sem-check: samples recorded in {record}", file=out)
         if bus is not None:
@@ -342,6 +343,10 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         print(f"sem-check: JUnit report {report}", file=out)
     if stopped is not None:
         return STOPPED + stopped.signum
+    if lost:  # the evidence asked for is missing: as a report that cannot be written, not a pass
+        print("sem-check: exit code 2: the recording asked for (--record) was not written (the results above stand)",
+              file=err)
+        return COULD_NOT_TEST
     if any(c.outcome is Outcome.FAILED for c in cases):
         return FAILED
     if all(c.outcome is Outcome.SKIPPED for c in cases):  # a green CI run must mean something was tested
