@@ -649,6 +649,49 @@ def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
         f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "cleanup")}
 
 
+class InsOffOnly(BreachAfterCleanup):
+    """An InertialSensorControl provider that runs OFF commands to COMPLETED, its report then showing OFF, and
+    never answers another: a run stopped while it waits for ON leaves the inertial sensor off."""
+
+    def __init__(self, domain: int) -> None:
+        self.ins_commands: Any = None
+        super().__init__(domain)
+        self.ins_status = self.bus.writer(Sem.INS_COMMAND_STATUS)
+        self.ins_ack = self.bus.writer(Sem.INS_COMMAND_ACK)
+        self.ins_commands = self.bus.reader(Sem.INS_COMMAND)
+
+    def loop(self) -> None:
+        while not self.stop.is_set():
+            for s in self.ins_commands.take(N=16) if self.ins_commands is not None else []:
+                info = s.sample_info
+                if info.valid_data and info.instance_state == InstanceState.Alive and s.state == InsState.OFF:
+                    self.ins_ack.write(Sem.INS_COMMAND_ACK.spec.type(state=s.state, source=to_guid(self.guid),
+                                                                    sessionID=s.sessionID))
+                    for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
+                        self.ins_status.write(Sem.INS_COMMAND_STATUS.spec.type(
+                            source=to_guid(self.guid), sessionID=s.sessionID, commandStatus=status,
+                            commandStatusReason=CmdReason.SUCCEEDED, logMessage="", timeStamp=now_datetime()))
+                    self.ins.write(Sem.INS_REPORT.spec.type(state=InsState.OFF, status=OpStatus.OPERATIONAL,
+                                                            source=to_guid(self.guid), timeStamp=now_datetime()))
+            time.sleep(0.02)
+
+
+def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> None:
+    """Stopped between InertialSensor OFF and ON (a CI time limit): the vehicle was left with its INS off, and
+    nothing said so; now a warning names the state to set it back to."""
+    p = InsOffOnly(domain)
+    try:
+        code, out, err = stop_check(signal.SIGTERM, "sending InertialSensorCommand ON", "--domain", str(domain),
+                                    "--provider", str(p.guid), "--commands", "--only", "commands.InertialSensor",
+                                    "--timeout", "60", "--window", "0.5")
+    finally:
+        p.close()
+    assert code == 128 + signal.SIGTERM, out + err
+    assert "InertialSensorCommand: OFF, then ON, then RESTARTING (the inertial sensor is left ON, as it reports now)" in out
+    assert ("sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
+            "set it back to ON") in err
+
+
 # ---- a provider that stopped reporting ----------------------------------------------------------
 
 def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int,

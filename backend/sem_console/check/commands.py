@@ -373,6 +373,21 @@ def ins_state(consumer: Consumer) -> str | None:
     return last[-1].get("state") if last else None
 
 
+def ins_changed(consumer: Consumer, before: str | None) -> str | None:
+    """What to tell the person running it when the inertial sensor reports another state than before the run's
+    InertialSensor commands (a run stopped between them, a subset of them, a provider that failed one): a
+    vehicle must not be left with its INS off unawares. A restart ends ON, as the plan says."""
+    if before is None or not any(s.service is Service.INERTIAL_SENSOR for s in consumer.sent):
+        return None
+    consumer.observer.pump()
+    now = ins_state(consumer)
+    settled = {"RESTARTING": "ON"}
+    if settled.get(now or "", now) == settled.get(before, before):
+        return None
+    return (f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "
+            f"commands: set it back to {settled.get(before, before)}")
+
+
 def ins_plan(consumer: Consumer) -> list[InsState]:
     """OFF, ON, RESTARTING; from ON, RESTARTING, OFF when the INS reports OFF: it ends as found."""
     if ins_state(consumer) == "OFF":

@@ -266,6 +266,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     bus: Bus | None = None
     observer: Observer | None = None
     lost: str | None = None  # why the --record file was not written
+    consumer: commands.Consumer | None = None
+    ins_before: str | None = None  # the inertial sensor's state before the command tests
     cases: list[Case] = []
     try:
         try:
@@ -305,6 +307,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         if opts.commands:
             command_limits = commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time)
             consumer = commands.Consumer(observer, provider, command_limits, out, progress)
+            ins_before = commands.ins_state(consumer)
             lines = commands.plan(consumer, offered, selection)
             if lines:
                 print(f"sem-check: sending to provider {provider}:", file=out)
@@ -320,6 +323,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         cases = progress.stopped([n for n in names if selection(n)], e.name)
     finally:
         signals.hold()  # a second signal must not cut the recording short
+        changed = commands.ins_changed(consumer, ins_before) if consumer is not None else None
         if evidence is not None:
             if observer is not None:  # the last samples: the disposes of the commands sent (commands.run), the
                 observer.pump()  # command itself when the run was stopped right after sending it
@@ -332,6 +336,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             bus.close()
     seconds = time.monotonic() - t0
     summary(cases, seconds, out)
+    if changed:
+        print(f"sem-check: warning: {changed}", file=err, flush=True)
     if stopped is not None:
         print(f"sem-check: stopped by {stopped.name}: the tests not finished are reported as such", file=err, flush=True)
     if report is not None:
