@@ -680,13 +680,18 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     """Stopped between InertialSensor OFF and ON (a CI time limit): the vehicle was left with its INS off, and
     nothing said so; now a warning names the state to set it back to."""
     p = InsOffOnly(domain)
+    report = tmp_path / "junit.xml"
     try:
         code, out, err = stop_check(signal.SIGTERM, "sending InertialSensorCommand ON", "--domain", str(domain),
                                     "--provider", str(p.guid), "--commands", "--only", "commands.InertialSensor",
-                                    "--timeout", "60", "--window", "0.5")
+                                    "--timeout", "60", "--step-time", "1", "--window", "0.5", "--junit", str(report))
     finally:
         p.close()
     assert code == 128 + signal.SIGTERM, out + err
+    # the failure found before the stop stays (OFF's status and ack were never disposed): it was reported "not run"
+    cases = junit_cases(report)
+    assert cases["commands.InertialSensor.cleanup"][1].startswith("the provider did not dispose its InertialSensorCommandStatus")
+    assert cases["commands.InertialSensor.ON"] == ("error", "stopped by SIGTERM before it finished")
     assert "InertialSensorCommand: OFF, then ON, then RESTARTING (the inertial sensor is left ON, as it reports now)" in out
     assert ("sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
             "set it back to ON") in err

@@ -32,7 +32,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.check import icd
 from sem_console.check.observe import Observer
-from sem_console.check.results import Case, Progress, Timer
+from sem_console.check.results import Case, Outcome, Progress, Timer
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import Sem, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
@@ -430,6 +430,8 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                     finished.append(sent)
                     # clean up now: the next command must not find this one on the bus
                     cleanup(consumer, sent, clean)
+                    if clean.outcome is Outcome.FAILED and consumer.progress is not None:
+                        consumer.progress.add([clean])  # a run stopped later still reports this failure
         cases.append(case)
     if selected(clean.name):
         if not finished:
