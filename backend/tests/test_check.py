@@ -259,9 +259,11 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     # Killed outright (SIGKILL after a CI's grace time, out of memory): an earlier run's report, kept in a runner's
     # workspace, was left to pass for this run's; now the report written at the start says it did not finish.
     junit.write(report, [Case("discovery.GPSReport")], 1.0, {})
+    evidence.write_bytes(b"an earlier run's recording")
     code, out, err = stop_check(signal.SIGKILL, "watching its reports", "--domain", str(domain), "--window", "60",
-                                "--junit", str(report))
+                                "--junit", str(report), "--record", str(evidence))
     assert code == -signal.SIGKILL
+    assert not evidence.exists()
     assert [(n, o, r.split(":")[0]) for n, (o, r) in junit_cases(report).items()] == [
         ("setup", "error", "sem-check did not finish")]
     # Ctrl-C while it watches the reports: no test ran; the report says so in the `setup` case.

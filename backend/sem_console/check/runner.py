@@ -124,6 +124,8 @@ class Evidence:
     def __init__(self, target: Path) -> None:
         self.target = target
         self.target.parent.mkdir(parents=True, exist_ok=True)
+        # An earlier run's file must not pass for this run's when this one is killed before it moves its own in place
+        self.target.unlink(missing_ok=True)
         self.dir = Path(tempfile.mkdtemp(prefix=".sem-check-", dir=self.target.parent))
         self.recorder = Recorder(self.dir, max_bytes=2**62, max_seconds=1e9, queue_size=100_000)
         self.recorder.start()
