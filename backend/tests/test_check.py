@@ -699,6 +699,35 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
             "set it back to ON") in err
 
 
+class AnswersAsAnother(AnswersEachCommand):
+    """Answers each GPSFix command with ISSUED .. COMPLETED as another source than its reports': a vehicle whose
+    command handler has a GUID of its own."""
+
+    def answer(self, cmd: Any) -> bool:
+        for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
+            sample = self.status_of(cmd, status)
+            sample.source = to_guid(OTHER_SOURCE)
+            self.status.write(sample)
+        return True
+
+
+OTHER_SOURCE = uuid.UUID("0d9ca6b5-2f4e-5b3a-9c61-1b7c1f7f2a10")
+
+
+def test_statuses_from_another_source_are_not_called_unanswered(domain: int, tmp_path: Path) -> None:
+    """It said "unanswered: no status" (look at the network) for a provider that answered as another source."""
+    p = AnswersAsAnother(domain)
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
+                    "commands.GPSFix.complete", "--timeout", "2", "--window", "0.5")
+    finally:
+        p.close()
+    assert run.code == 1
+    assert failed(run)["commands.GPSFix.complete"] == (
+        f"the command's statuses came from source {OTHER_SOURCE}, not from the provider's {p.guid} (its reports' "
+        "source) within 2 s (ICD 4.1.4 step 3: the provider publishes ISSUED, as itself)")
+
+
 # ---- a provider that stopped reporting ----------------------------------------------------------
 
 def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int,

@@ -185,6 +185,13 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
     answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
     if not answered:
         waited = time.time() - sent.sent_at
+        others = sorted({str(s.source) for s in consumer.observer.statuses.get(sent.session, [])
+                         if s.source != consumer.provider})
+        if others:  # answered, but not as the provider: say so, not "unanswered" (the network is fine)
+            case.fail(f"the command's statuses came from source {', '.join(others)}, not from the provider's "
+                      f"{consumer.provider} (its reports' source) within {limits.answer:g} s (ICD 4.1.4 step 3: the "
+                      "provider publishes ISSUED, as itself)")
+            return False
         case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
                   f"ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command){consumer.left()}")
         return False
