@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import re
 import shutil
 import signal
 import subprocess
@@ -742,6 +743,49 @@ def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., Tiny
     assert set(failed(run)) == {"reports.InertialSensorReport.timing"}
     assert "more than the stated 1 s" in failed(run)["reports.InertialSensorReport.timing"]
     assert "ICD 4.2.1.1: the provider publishes its updated reports)" in failed(run)["reports.InertialSensorReport.timing"]
+
+
+class SkewedClock:
+    """A provider of InertialSensorReports every 0.05 s, each stamped 3 s ahead of the clock: a vehicle whose
+    clock is off."""
+
+    def __init__(self, domain: int) -> None:
+        self.bus = Bus(domain)
+        self.guid = uuid.uuid4()
+        self.writer = self.bus.writer(Sem.INS_REPORT)
+        self.stop = threading.Event()
+        self.thread = threading.Thread(target=self.loop, daemon=True)
+        self.thread.start()
+
+    def loop(self) -> None:
+        while not self.stop.is_set():
+            ahead = now_datetime()
+            ahead.seconds += 3
+            self.writer.write(Sem.INS_REPORT.spec.type(state=InsState.ON, status=OpStatus.OPERATIONAL,
+                                                       source=to_guid(self.guid), timeStamp=ahead))
+            time.sleep(0.05)
+
+    def close(self) -> None:
+        self.stop.set()
+        self.thread.join()
+        self.bus.close()
+
+
+def test_a_clock_off_fails_timing_once(domain: int, tmp_path: Path) -> None:
+    """A line per sample ("also: ... +3.001 s ...", hundreds in a long window) buried the timing failure; now one,
+    with the worst offset and how many samples had it."""
+    p = SkewedClock(domain)
+    try:
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only",
+                    "reports.InertialSensorReport.timing", "--window", "1", "--max-gap", "0.5")
+    finally:
+        p.close()
+    assert run.code == 1
+    reason = failed(run)["reports.InertialSensorReport.timing"]
+    assert re.fullmatch(r"InertialSensorReport timeStamp \+[23]\.\d{3} s from the checker's clock on arrival \((\d+) of \1 "
+                        r"samples\), beyond the stated 1 s \(ICD 5\.2\.6: UTC\)", reason), reason
+    failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
+    assert failure is not None and len(str(failure.text).splitlines()) == 2  # the reason, and what was seen
 
 
 # ---- RTI Connext ---------------------------------------------------------------------------------
