@@ -701,13 +701,20 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
 
 
 class AnswersAsAnother(AnswersEachCommand):
-    """Answers each GPSFix command with ISSUED .. COMPLETED as another source than its reports': a vehicle whose
-    command handler has a GUID of its own."""
+    """Answers each GPSFix command with its ack and ISSUED .. COMPLETED, the statuses (or the ack only) as another
+    source than its reports': a vehicle whose command handler has a GUID of its own."""
+
+    def __init__(self, domain: int, ack_only: bool) -> None:
+        self.ack_only = ack_only
+        super().__init__(domain)
 
     def answer(self, cmd: Any) -> bool:
+        self.ack.write(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(OTHER_SOURCE if self.ack_only else self.guid),
+                                                         sessionID=cmd.sessionID))
         for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
             sample = self.status_of(cmd, status)
-            sample.source = to_guid(OTHER_SOURCE)
+            if not self.ack_only:
+                sample.source = to_guid(OTHER_SOURCE)
             self.status.write(sample)
         return True
 
@@ -715,16 +722,21 @@ class AnswersAsAnother(AnswersEachCommand):
 OTHER_SOURCE = uuid.UUID("0d9ca6b5-2f4e-5b3a-9c61-1b7c1f7f2a10")
 
 
-def test_statuses_from_another_source_are_not_called_unanswered(domain: int, tmp_path: Path) -> None:
-    """It said "unanswered: no status" (look at the network) for a provider that answered as another source."""
-    p = AnswersAsAnother(domain)
+@pytest.mark.parametrize("ack_only", [False, True], ids=["statuses", "ack"])
+def test_answers_from_another_source_are_not_called_missing(ack_only: bool, domain: int, tmp_path: Path) -> None:
+    """It said "unanswered: no status" or "no GPSFixCommandAckReport" (look at the network) for a provider that
+    answered as another source."""
+    p = AnswersAsAnother(domain, ack_only)
     try:
         run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
-                    "commands.GPSFix.complete", "--timeout", "2", "--window", "0.5")
+                    "commands.GPSFix.complete", "--timeout", "2", "--step-time", "1", "--window", "0.5")
     finally:
         p.close()
     assert run.code == 1
     assert failed(run)["commands.GPSFix.complete"] == (
+        f"no GPSFixCommandAckReport for the command within 1 s of its last status (one came from source {OTHER_SOURCE}, "
+        f"not from the provider's {p.guid}) (ICD 4.1.4.1 step 1: the provider publishes the ack of the command it "
+        "processes)" if ack_only else
         f"the command's statuses came from source {OTHER_SOURCE}, not from the provider's {p.guid} (its reports' "
         "source) within 2 s (ICD 4.1.4 step 3: the provider publishes ISSUED, as itself)")
 

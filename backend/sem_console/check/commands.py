@@ -31,7 +31,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.check import icd
-from sem_console.check.observe import Observer
+from sem_console.check.observe import Observer, StatusSeen
 from sem_console.check.results import Case, Outcome, Progress, Timer
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import Sem, Service
@@ -178,6 +178,11 @@ class Consumer:
         wait_for_acks(self.writers.values(), 2.0)
 
 
+def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], sent: Sent) -> str:
+    """The sources other than the provider that answered the command (its statuses or acks), or ""."""
+    return ", ".join(sorted({str(s.source) for s in table.get(sent.session, []) if s.source != consumer.provider}))
+
+
 def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None = None) -> bool:
     """Follow a command to a terminal status within the stated times (disposing it on reaching
     `cancel_at`); the Figure 4 verdict of every transition goes to the case. False when unanswered."""
@@ -185,12 +190,11 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
     answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
     if not answered:
         waited = time.time() - sent.sent_at
-        others = sorted({str(s.source) for s in consumer.observer.statuses.get(sent.session, [])
-                         if s.source != consumer.provider})
+        others = other_sources(consumer, consumer.observer.statuses, sent)
         if others:  # answered, but not as the provider: say so, not "unanswered" (the network is fine)
-            case.fail(f"the command's statuses came from source {', '.join(others)}, not from the provider's "
-                      f"{consumer.provider} (its reports' source) within {limits.answer:g} s (ICD 4.1.4 step 3: the "
-                      "provider publishes ISSUED, as itself)")
+            case.fail(f"the command's statuses came from source {others}, not from the provider's {consumer.provider} "
+                      f"(its reports' source) within {limits.answer:g} s (ICD 4.1.4 step 3: the provider publishes "
+                      "ISSUED, as itself)")
             return False
         case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
                   f"ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command){consumer.left()}")
@@ -253,7 +257,9 @@ def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
         return  # rejected or failed before running: no ack is due
     ack_topic = icd.short(sent.service.ack)
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
-        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status "
+        others = other_sources(consumer, consumer.observer.acks, sent)
+        also = f" (one came from source {others}, not from the provider's {consumer.provider})" if others else ""
+        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status{also} "
                   "(ICD 4.1.4.1 step 1: the provider publishes the ack of the command it processes)")
         return
     if sent.service is Service.INERTIAL_SENSOR and sent.ack.state is not sent.sample.state:
