@@ -484,6 +484,25 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
 
 
+def test_a_control_service_in_a_process_of_its_own_is_tested(tiny: Callable[..., TinyProvider], domain: int,
+                                                             tmp_path: Path) -> None:
+    """A vehicle whose GPSFixControl runs in a participant of its own, which writes statuses only in answer to a
+    command: no sample tied it to the provider, so its service was "not offered" and its tests skipped (a pass)."""
+    p = tiny()
+    control = Bus(domain)
+    try:
+        endpoints = [control.reader(Sem.GPS_FIX_COMMAND), control.writer(Sem.GPS_FIX_COMMAND_STATUS),  # noqa: F841
+                     control.writer(Sem.GPS_FIX_COMMAND_ACK)]  # kept: a DataWriter no one holds is deleted
+        # a window long enough for the discovery of a participant that sends no data, on a loaded machine too
+        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery.GPSFixCommand*",
+                    "--window", "2")
+    finally:
+        control.close()
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {f"discovery.GPSFixCommand{t}": ("passed", "") for t in ("", "Status", "AckReport")}
+    assert "which writes command statuses but has sent none yet" in run.out
+
+
 def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
     p = tiny(wrong_ins_key=True)
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")

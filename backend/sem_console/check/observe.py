@@ -179,6 +179,15 @@ class Observer:
     def providers(self) -> set[uuid.UUID]:
         return set(self.alive_sources)
 
+    def unclaimed_controls(self) -> set[uuid.UUID]:
+        """Participants with a writer of command statuses or acks none of whose samples named a source yet: a
+        vehicle's control service in a process of its own writes only in answer to a command, so no sample ties
+        it to its provider before the command tests (consumers never write statuses)."""
+        self._take_endpoints()
+        claimed = set().union(*self.source_participants.values())
+        return {e.participant_key for e in self.publications.values()
+                if SEM_TOPICS[e.topic_name].spec.cls is TopicClass.STATUS} - claimed
+
     def present(self, source: uuid.UUID) -> bool:
         """Whether a DDS endpoint of the provider's participants remains (False: it left the domain, stopped or
         off the network; a participant that went without a word goes when its lease runs out)."""

@@ -301,6 +301,12 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         observer.idle(max(0.0, window_start + window - time.time()))
         window_end = time.time()
         progress.running = None
+        unclaimed = observer.unclaimed_controls()
+        if unclaimed and len(observer.providers()) == 1:  # on a domain of several, whose they are is a guess
+            observer.source_participants[provider] |= unclaimed
+            print(f"sem-check: taken as the provider's, the only one on the domain: participant "
+                  f"{', '.join(sorted(map(str, unclaimed)))}, which writes command statuses but has sent none yet",
+                  file=out, flush=True)
         offered = discovery.offered_services(observer, provider)
         cases += discovery.run(observer, provider, selection, progress)
         limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
