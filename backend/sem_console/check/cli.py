@@ -4,13 +4,12 @@ JUnit report for CI. See docs/sem-check.md."""
 from __future__ import annotations
 
 import argparse
-import signal
 import sys
 import traceback
 import uuid
-from pathlib import Path
 
-from sem_console.check.runner import COULD_NOT_TEST, Options, all_names, run
+from sem_console.check.results import Stopped
+from sem_console.check.runner import COULD_NOT_TEST, STOPPED, Options, all_names, run
 from sem_console.core.command_line import Parser, from_environment, ranged
 from sem_console.core.config import BusSettings
 
@@ -38,23 +37,26 @@ def build_parser() -> argparse.ArgumentParser:
         "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
         "the topics it serves (types, keys, QoS), its reports and, with --commands, the command flow of "
         "section 4.1 and Figure 4. Read-only unless --commands is given. Exit code 0: all passed, 1: a test "
-        "failed, 2: could not test. DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say "
-        "otherwise."))
+        "failed, 2: could not test, 143/130: stopped by SIGTERM/SIGINT (the reports say "
+        "what was done). DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say otherwise."))
     p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
     p.add_argument("--provider", type=_guid, default=None,
                    help="the provider's source GUID; needed when several providers are on the domain")
     p.add_argument("--commands", action="store_true", help=(
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
         "commands; what will be sent is printed first. Without it no command writer is created"))
-    p.add_argument("--junit", type=Path, default=None, metavar="FILE", help="write a JUnit XML report to FILE")
+    p.add_argument("--junit", default=None, metavar="FILE", help=(
+        "write a JUnit XML report to FILE; a name ending in / is a directory (made if missing) to write "
+        "sem-check-<start, UTC>.xml in"))
     p.add_argument("--timeout", type=ranged(float, 0.1, 3600), default=d.timeout, metavar="S", help=(
         "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
     p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
         "run only these tests: comma separated names, dotted prefixes (reports, commands.GPSFix) or globs (*.values)"))
     p.add_argument("--skip", type=_names, action="append", default=[], metavar="NAMES",
                    help="leave these tests out (same forms as --only)")
-    p.add_argument("--record", type=Path, default=None, metavar="FILE.mcap",
-                   help="record every sample of the run to an MCAP file as evidence")
+    p.add_argument("--record", default=None, metavar="FILE.mcap", help=(
+        "record every sample of the run to an MCAP file as evidence; a name ending in / is a directory (made if "
+        "missing) to write sem-check-<start, UTC>.mcap in"))
     p.add_argument("--window", type=ranged(float, 0.5, 3600), default=d.window, metavar="S",
                    help="seconds of reports watched before they are judged (default: %(default)s)")
     p.add_argument("--max-gap", type=ranged(float, 0.01, 3600), default=d.max_gap, metavar="S",
@@ -70,11 +72,6 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _terminated(_signum: int, _frame: object) -> None:
-    print("sem-check: terminated: nothing more is tested", file=sys.stderr, flush=True)
-    raise SystemExit(COULD_NOT_TEST)
-
-
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.list:
@@ -87,17 +84,17 @@ def main(argv: list[str] | None = None) -> int:
         skip=[n for group in args.skip for n in group], record=args.record, window=args.window, max_gap=args.max_gap,
         clock_offset=args.clock_offset, step_time=args.step_time, execute_time=args.execute_time,
         interface=settings.dds_interface, peers=settings.dds_peers)
-    # A CI job that is canceled or times out gets SIGTERM: leave as on Ctrl-C, through the finally
-    # blocks, so every command sent is disposed (Service Consumer Shutdown, ICD 4.1.6.2).
-    previous = signal.signal(signal.SIGTERM, _terminated)
+    # SIGTERM (a CI job canceled or out of time) and Ctrl-C stop the run through its finally blocks, so every
+    # command sent is disposed (Service Consumer Shutdown, ICD 4.1.6.2), and it reports what it did (runner.run).
     try:
         return run(opts)
+    except Stopped as e:  # before the run had anything to report
+        print(f"sem-check: stopped by {e.name}", file=sys.stderr)
+        return STOPPED + e.signum
     except Exception:  # a crash is not a test failure: exit 1 would tell CI the vehicle failed
         traceback.print_exc()
         print("sem-check: could not test: internal error (above)", file=sys.stderr)
         return COULD_NOT_TEST
-    finally:
-        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

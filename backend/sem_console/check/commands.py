@@ -31,8 +31,8 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.check import icd
-from sem_console.check.observe import Observer
-from sem_console.check.results import Case, Timer
+from sem_console.check.observe import Observer, StatusSeen
+from sem_console.check.results import Case, Outcome, Progress, Timer
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import Sem, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
@@ -48,6 +48,7 @@ class CommandLimits:
 
 
 SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
+LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
 
 # Where the ICD has the provider take a step of the successful path after ISSUED
 STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
@@ -92,8 +93,9 @@ class Sent:
 class Consumer:
     """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
 
-    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO) -> None:
-        self.observer, self.provider, self.limits, self.out = observer, provider, limits, out
+    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO,
+                 progress: Progress | None = None) -> None:
+        self.observer, self.provider, self.limits, self.out, self.progress = observer, provider, limits, out, progress
         self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
         self.writers: dict[Service, DataWriter[Any]] = {}
         self.sent: list[Sent] = []
@@ -165,11 +167,20 @@ class Consumer:
 
         return self.observer.wait(fed, seconds)
 
+    def left(self) -> str:
+        """What to add to a command test's failure when the provider is no longer on the domain: the cause."""
+        return "" if self.observer.present(self.provider) else f"; {LEFT}"
+
     def close(self) -> None:
         """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
         for sent in self.sent:
             self.dispose(sent)
         wait_for_acks(self.writers.values(), 2.0)
+
+
+def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], sent: Sent) -> str:
+    """The sources other than the provider that answered the command (its statuses or acks), or ""."""
+    return ", ".join(sorted({str(s.source) for s in table.get(sent.session, []) if s.source != consumer.provider}))
 
 
 def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None = None) -> bool:
@@ -179,8 +190,14 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
     answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
     if not answered:
         waited = time.time() - sent.sent_at
+        others = other_sources(consumer, consumer.observer.statuses, sent)
+        if others:  # answered, but not as the provider: say so, not "unanswered" (the network is fine)
+            case.fail(f"the command's statuses came from source {others}, not from the provider's {consumer.provider} "
+                      f"(its reports' source) within {limits.answer:g} s (ICD 4.1.4 step 3: the provider publishes "
+                      "ISSUED, as itself)")
+            return False
         case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
-                  "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)")
+                  f"ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command){consumer.left()}")
         return False
     # A provider that keeps publishing transitions (each a Figure 4 breach) must not keep the checker forever.
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
@@ -208,7 +225,7 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
             return len(sent.flow.transitions) > n
 
         if not consumer.wait(sent, moved, max(remaining, 0.0)):
-            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}")
+            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}{consumer.left()}")
             break
     breaches(sent, case)
     case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
@@ -240,7 +257,9 @@ def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
         return  # rejected or failed before running: no ack is due
     ack_topic = icd.short(sent.service.ack)
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
-        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status "
+        others = other_sources(consumer, consumer.observer.acks, sent)
+        also = f" (one came from source {others}, not from the provider's {consumer.provider})" if others else ""
+        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status{also} "
                   "(ICD 4.1.4.1 step 1: the provider publishes the ack of the command it processes)")
         return
     if sent.service is Service.INERTIAL_SENSOR and sent.ack.state is not sent.sample.state:
@@ -260,7 +279,8 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
         left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
                                           (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
         case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
-                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)")
+                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)"
+                  f"{consumer.left()}")
     else:
         case.note(f"{sent.session}: status and ack disposed after the consumer's dispose")
     breaches(sent, case)
@@ -274,16 +294,18 @@ def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str,
 def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
     cases = []
     complete, cancel, clean = (Case(n) for n in names()[:3])
+    if not consumer.observer.present(consumer.provider):  # the test before saw it leave: waiting tells nothing
+        return [c.skip(LEFT) for c in (complete, cancel, clean) if selected(c.name)]
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
         reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
-                  "see discovery.GPSFixCommand)")
+                  f"see discovery.GPSFixCommand){consumer.left()}")
         return [c.fail(reason) if c.name != clean.name else c.skip(reason) for c in (complete, cancel, clean) if selected(c.name)]
     finished: Sent | None = None
     answered = True
     if selected(complete.name) or selected(clean.name):
-        with Timer(complete):
+        with Timer(complete, consumer.progress):
             sent = consumer.send(Service.GPS_FIX, writer)
             answered = follow(consumer, sent, complete)
             check_end(sent, complete)
@@ -294,9 +316,11 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
             finished = sent if sent.flow.terminal else None
         cases.append(complete)
     if selected(cancel.name):
-        with Timer(cancel):
+        with Timer(cancel, consumer.progress):
             if not answered:
                 cancel.skip("the provider did not answer the previous GPSFix command")
+            elif not consumer.observer.present(consumer.provider):
+                cancel.skip(LEFT)
             else:
                 sent = consumer.send(Service.GPS_FIX, writer)
                 follow(consumer, sent, cancel, cancel_at=Status.EXECUTING)
@@ -304,7 +328,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
                 breaches(sent, cancel)
         cases.append(cancel)
     if selected(clean.name):
-        with Timer(clean):
+        with Timer(clean, consumer.progress):
             if finished is None:
                 clean.skip("needs a command that finished: see commands.GPSFix.complete")
             else:
@@ -362,6 +386,21 @@ def ins_state(consumer: Consumer) -> str | None:
     return last[-1].get("state") if last else None
 
 
+def ins_changed(consumer: Consumer, before: str | None) -> str | None:
+    """What to tell the person running it when the inertial sensor reports another state than before the run's
+    InertialSensor commands (a run stopped between them, a subset of them, a provider that failed one): a
+    vehicle must not be left with its INS off unawares. A restart ends ON, as the plan says."""
+    if before is None or not any(s.service is Service.INERTIAL_SENSOR for s in consumer.sent):
+        return None
+    consumer.observer.pump()
+    now = ins_state(consumer)
+    settled = {"RESTARTING": "ON"}
+    if settled.get(now or "", now) == settled.get(before, before):
+        return None
+    return (f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "
+            f"commands: set it back to {settled.get(before, before)}")
+
+
 def ins_plan(consumer: Consumer) -> list[InsState]:
     """OFF, ON, RESTARTING; from ON, RESTARTING, OFF when the INS reports OFF: it ends as found."""
     if ins_state(consumer) == "OFF":
@@ -373,11 +412,13 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
     cases: list[Case] = []
     all_names = names()[3:]
     clean = Case(all_names[-1])
+    if not consumer.observer.present(consumer.provider):  # the test before saw it leave: waiting tells nothing
+        return [Case(n).skip(LEFT) for n in all_names if selected(n)]
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
         reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
-                  "see discovery.InertialSensorCommand)")
+                  f"see discovery.InertialSensorCommand){consumer.left()}")
         return [Case(n).fail(reason) if n != clean.name else Case(n).skip(reason) for n in all_names if selected(n)]
     answered = True
     finished: list[Sent] = []
@@ -385,9 +426,11 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
         case = Case(f"commands.InertialSensor.{state.name}")
         if not selected(case.name):
             continue
-        with Timer(case):
+        with Timer(case, consumer.progress):
             if not answered:
                 case.skip("the provider did not answer the previous InertialSensor command")
+            elif not consumer.observer.present(consumer.provider):
+                case.skip(LEFT)
             else:
                 sent = consumer.send(Service.INERTIAL_SENSOR, writer, state)
                 answered = follow(consumer, sent, case)
@@ -400,6 +443,8 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                     finished.append(sent)
                     # clean up now: the next command must not find this one on the bus
                     cleanup(consumer, sent, clean)
+                    if clean.outcome is Outcome.FAILED and consumer.progress is not None:
+                        consumer.progress.add([clean])  # a run stopped later still reports this failure
         cases.append(case)
     if selected(clean.name):
         if not finished:

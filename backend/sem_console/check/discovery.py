@@ -20,7 +20,7 @@ from cyclonedds.util import duration
 
 from sem_console.check import icd
 from sem_console.check.observe import Observer
-from sem_console.check.results import Case, Timer
+from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem
 
@@ -157,7 +157,7 @@ class TypeCheck:
         return problems
 
 
-def run(observer: Observer, provider: uuid.UUID, selected: Any) -> list[Case]:
+def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progress | None = None) -> list[Case]:
     participants = observer.source_participants.get(provider, set())
     types = TypeCheck(observer)
     cases = []
@@ -168,7 +168,7 @@ def run(observer: Observer, provider: uuid.UUID, selected: Any) -> list[Case]:
             if not selected(name(sem)):
                 continue
             case = Case(name(sem))
-            with Timer(case):
+            with Timer(case, progress):
                 _check_topic(observer, types, sem, service, offered, case)
             cases.append(case)
     return cases

@@ -16,13 +16,15 @@ name, so CI servers group the cases by discovery, reports and commands. A failur
 its one-line reason and its text the reason followed by what was seen (the status sequence, the
 other problems), which is what a CI's test view shows under the failure. A run that could not
 test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its
-message, the whole message (e.g. the list of providers to choose from) as its text.
+message, the whole message (e.g. the list of providers to choose from) as its text. A run stopped
+by SIGTERM or SIGINT lists every selected test: those finished as they ended, the one running with
+an <error type="stopped"> (`sem-check.setup` when no test had started), the rest <skipped>.
 """
 
 from __future__ import annotations
 
 import datetime as dt
-import os
+import re
 import socket
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -30,11 +32,19 @@ from pathlib import Path
 from sem_console.check.results import Case, Outcome, counts
 
 SUITE = "sem-check"
+# What XML 1.0 cannot hold (control characters but tab and newline, lone surrogates): a vehicle's logMessage, type
+# or participant name may carry them, and ElementTree writes them as they are, which no CI's parser then reads.
+_NOT_XML = re.compile("[^\t\n\r\x20-\ud7ff\ue000-\ufffd\U00010000-\U0010ffff]")
 
 
-def _attrs(cases: list[Case], errors: int, seconds: float, skipped: bool = True) -> dict[str, str]:
+def _xml_safe(text: str) -> str:
+    """`text` with each character XML cannot hold shown as its Python escape (ESC as \\x1b)."""
+    return _NOT_XML.sub(lambda m: repr(m.group())[1:-1], text)
+
+
+def _attrs(cases: list[Case], error: bool, seconds: float, skipped: bool = True) -> dict[str, str]:
     n = counts(cases)
-    return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(errors),
+    return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(n[Outcome.ERROR] + error),
             **({"skipped": str(n[Outcome.SKIPPED])} if skipped else {}), "time": f"{seconds:.3f}"}
 
 
@@ -43,11 +53,10 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
     """The report of a run; `error` (could not test) makes it a single errored case."""
     if error is not None:
         cases = [Case("setup")]
-    errors = 1 if error is not None else 0
-    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, errors, seconds, skipped=False)})
+    root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, error is not None, seconds, skipped=False)})
     started = started or dt.datetime.now(dt.UTC)
     suite = ET.SubElement(root, "testsuite", {
-        "name": SUITE, **_attrs(cases, errors, seconds),
+        "name": SUITE, **_attrs(cases, error is not None, seconds),
         "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(), "hostname": socket.gethostname()})
     props = ET.SubElement(suite, "properties")
     for k, v in properties.items():
@@ -62,22 +71,32 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
             ET.SubElement(case, "failure", {"message": c.reason, "type": "nonconformance"}).text = "\n".join([c.reason, *c.notes])
         elif c.outcome is Outcome.SKIPPED:
             ET.SubElement(case, "skipped", {"message": c.reason})
-        if c.notes and c.outcome is not Outcome.FAILED:
+        elif c.outcome is Outcome.ERROR:
+            ET.SubElement(case, "error", {"message": c.reason, "type": "stopped"}).text = "\n".join([c.reason, *c.notes])
+        if c.notes and c.outcome not in (Outcome.FAILED, Outcome.ERROR):
             ET.SubElement(case, "system-out").text = "\n".join(c.notes)
+    for el in root.iter():
+        el.attrib = {k: _xml_safe(v) for k, v in el.attrib.items()}
+        el.text = el.text and _xml_safe(el.text)
     ET.indent(root)
     return ET.ElementTree(root)
 
 
-def unwritable(path: Path) -> str | None:
-    """Why the report could not be written to `path` (None: it can), asked before the run."""
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        return str(e)
+UNFINISHED = ("sem-check did not finish: it was killed (SIGKILL, out of memory) or crashed before it wrote its "
+              "results; this report was written when it started")
+
+
+def start(path: Path, properties: dict[str, str], started: dt.datetime) -> str | None:
+    """Before the run: write the report of a run that did not finish in `path`, which the run's own report
+    replaces; why it cannot be written (None: it can). A run killed outright (a CI's SIGKILL after its grace
+    time) leaves that report, not an earlier run's, which a runner that keeps its workspace would show as this
+    run's. Written, not asked of the permission bits, which do not tell root on /proc, NFS or FUSE."""
     if path.is_dir():
         return "it is a directory"
-    if not os.access(path if path.exists() else path.parent, os.W_OK):
-        return "permission denied"
+    try:
+        write(path, [], 0.0, properties, error=UNFINISHED, started=started)
+    except OSError as e:
+        return e.strerror or str(e)
     return None
 
 

@@ -179,6 +179,22 @@ class Observer:
     def providers(self) -> set[uuid.UUID]:
         return set(self.alive_sources)
 
+    def unclaimed_controls(self) -> set[uuid.UUID]:
+        """Participants with a writer of command statuses or acks none of whose samples named a source yet: a
+        vehicle's control service in a process of its own writes only in answer to a command, so no sample ties
+        it to its provider before the command tests (consumers never write statuses)."""
+        self._take_endpoints()
+        claimed = set().union(*self.source_participants.values())
+        return {e.participant_key for e in self.publications.values()
+                if SEM_TOPICS[e.topic_name].spec.cls is TopicClass.STATUS} - claimed
+
+    def present(self, source: uuid.UUID) -> bool:
+        """Whether a DDS endpoint of the provider's participants remains (False: it left the domain, stopped or
+        off the network; a participant that went without a word goes when its lease runs out)."""
+        self._take_endpoints()
+        participants = self.source_participants.get(source, set())
+        return any(e.participant_key in participants for t in (self.publications, self.subscriptions) for e in t.values())
+
     def endpoints(self, participants: set[uuid.UUID], sem: Sem, writers: bool) -> list[DcpsEndpoint]:
         """The provider's writers (or readers) of a topic, found by its participants."""
         table = self.publications if writers else self.subscriptions

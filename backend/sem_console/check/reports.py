@@ -21,7 +21,7 @@ from typing import Any
 
 from sem_console.check import icd
 from sem_console.check.observe import REPORTS, Observer, Report
-from sem_console.check.results import Case, Timer
+from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.topics import Sem
 
 MAX_PROBLEMS = 5  # distinct problems quoted per case; the rest are counted
@@ -63,22 +63,34 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
     rate = (len(arrivals) - 2) / max(end - start, 1e-9)
     offsets: list[float] = []
     last: dict[int, float] = {}
+    # Each kind of problem once, with its worst and how many samples had it: a vehicle whose clock is off has it in
+    # every sample, and a line per sample buried the report (thousands of lines in a long window).
+    problems: dict[str, list[float]] = {}
     for r in live:
         t, bad = stamp(r.body or {})
         if bad:
-            case.fail(f"{topic} {bad}")
+            problems.setdefault(bad, []).append(0.0)
             continue
         assert t is not None
         offset = t - r.received
         if r.writer in last and t < last[r.writer]:
-            case.fail(f"{topic} timeStamp went back {last[r.writer] - t:.3f} s (ICD 5.2.1: the time the data was derived)")
+            problems.setdefault("went back", []).append(last[r.writer] - t)
         first = r.writer not in last
         last[r.writer] = t
         if offset > limits.clock_offset or (not first and offset < -limits.clock_offset):
-            case.fail(f"{topic} timeStamp {offset:+.3f} s from the checker's clock on arrival, beyond the stated "
-                      f"{limits.clock_offset:g} s (ICD 5.2.6: UTC)")
+            problems.setdefault("offset", []).append(offset)
         if not first:
             offsets.append(offset)
+    for kind, seen in problems.items():
+        times = f" ({len(seen)} of {len(live)} samples)" if len(seen) > 1 else ""
+        if kind == "went back":
+            case.fail(f"{topic} timeStamp went back {max(seen):.3f} s{times} (ICD 5.2.1: the time the data was derived)")
+        elif kind == "offset":
+            worst = max(seen, key=abs)
+            case.fail(f"{topic} timeStamp {worst:+.3f} s from the checker's clock on arrival{times}, beyond the stated "
+                      f"{limits.clock_offset:g} s (ICD 5.2.6: UTC)")
+        else:
+            case.fail(f"{topic} {kind}{times}")
     if gap > limits.max_gap:
         case.fail(f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
                   "ICD 4.2.1.1: the provider publishes its updated reports)")
@@ -187,7 +199,7 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
 
 
 def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
-        selected: Callable[[str], bool]) -> list[Case]:
+        selected: Callable[[str], bool], progress: Progress | None = None) -> list[Case]:
     cases = []
     undecodable = observer.decoder.undecodable
     for sem in REPORTS:
@@ -197,7 +209,7 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
             if not selected(test):
                 continue
             case = Case(test)
-            with Timer(case):
+            with Timer(case, progress):
                 if service not in offered and not samples:
                     case.skip(f"the provider does not offer the {service} service")
                 elif check == "timing":

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import fnmatch
+import re
+import signal
 import time
 from dataclasses import dataclass, field
 from enum import Enum
@@ -13,6 +15,7 @@ class Outcome(str, Enum):
     PASSED = "passed"
     FAILED = "failed"
     SKIPPED = "skipped"
+    ERROR = "error"  # the run was stopped (SIGTERM, Ctrl-C) while the case ran: neither passed nor failed
 
 
 @dataclass
@@ -30,21 +33,25 @@ class Case:
     def group(self) -> str:
         return self.name.split(".", 1)[0]
 
-    def fail(self, reason: str) -> Case:
-        """The first failure stays the reason (later ones become notes): it is usually the cause."""
+    def _end(self, outcome: Outcome, reason: str, after_failure: str) -> Case:
+        """A failure already found stays the outcome and reason (it is usually the cause): what came after it
+        becomes a note."""
         if self.outcome is Outcome.FAILED:
-            self.notes.append(f"also: {reason}")
+            self.notes.append(after_failure)
         else:
-            self.outcome, self.reason = Outcome.FAILED, reason
+            self.outcome, self.reason = outcome, reason
         return self
 
+    def fail(self, reason: str) -> Case:
+        return self._end(Outcome.FAILED, reason, f"also: {reason}")
+
     def skip(self, reason: str) -> Case:
-        """A failure already found stays the outcome: skipping the rest must not hide it."""
-        if self.outcome is Outcome.FAILED:
-            self.notes.append(f"then not tested further: {reason}")
-        else:
-            self.outcome, self.reason = Outcome.SKIPPED, reason
-        return self
+        """Skipping the rest must not hide a failure."""
+        return self._end(Outcome.SKIPPED, reason, f"then not tested further: {reason}")
+
+    def stop(self, reason: str) -> Case:
+        """The run was stopped while this case ran: an error, unless it had already failed."""
+        return self._end(Outcome.ERROR, reason, f"then {reason}")
 
     def caveat(self, text: str) -> Case:
         """Part of the test could not be done (the case can still pass): shown as its reason on the
@@ -59,18 +66,68 @@ class Case:
         return self
 
 
-class Timer:
-    """Times a case: `with Timer(case): ...`."""
+class Stopped(BaseException):
+    """SIGTERM (a CI job canceled or out of time) or SIGINT (Ctrl-C) stopped the run. A BaseException, as
+    KeyboardInterrupt: the `except Exception` of a step (a reader that just left) must not swallow it."""
 
-    def __init__(self, case: Case) -> None:
-        self.case = case
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+        self.name = signal.Signals(signum).name
+
+
+@dataclass
+class Progress:
+    """The cases as they finish and the one running: what a run stopped before its end reports."""
+
+    finished: dict[str, Case] = field(default_factory=dict)
+    running: Case | None = None
+    since: float = 0.0  # time.monotonic() when `running` started
+    doing: str = ""  # what the run does when no test case runs (`running` is then the case `setup`)
+
+    def add(self, cases: list[Case]) -> None:
+        self.finished.update((c.name, c) for c in cases)
+
+    def setup(self, doing: str) -> None:
+        """Between test cases: looking for the provider, watching its reports."""
+        self.running, self.since, self.doing = Case("setup"), time.monotonic(), doing
+
+    def stopped(self, names: list[str], signal_name: str) -> list[Case]:
+        """Every selected test (`names`) as it stands: those finished as they ended, the one running (else the
+        first not run) an error, the rest skipped. The case running comes first when it is not selected (`setup`,
+        or a command test run for the cleanup test after it)."""
+        running = self.running if self.running is not None and self.running.name not in self.finished else None
+        order = names if running is None or running.name in names else [running.name, *names]
+        cases = [running if running is not None and n == running.name else self.finished.get(n) or Case(n) for n in order]
+        if running is not None:
+            running.seconds += time.monotonic() - self.since
+        unfinished = [c for c in cases if c.name not in self.finished]
+        for c in unfinished[1:]:
+            c.skip(f"not run: the run was stopped by {signal_name}")
+        if unfinished:
+            doing = f"while {self.doing}, before any test ran" if unfinished[0].name == "setup" else "before it finished"
+            unfinished[0].stop(f"stopped by {signal_name} {doing}")
+        return cases
+
+
+class Timer:
+    """Times a case: `with Timer(case, progress): ...`; `progress` learns which case runs and which finished."""
+
+    def __init__(self, case: Case, progress: Progress | None = None) -> None:
+        self.case, self.progress = case, progress
 
     def __enter__(self) -> Case:
         self.start = time.monotonic()
+        if self.progress is not None:
+            self.progress.running, self.progress.since = self.case, self.start
         return self.case
 
-    def __exit__(self, *_exc: object) -> None:
+    def __exit__(self, exc_type: type[BaseException] | None, *_exc: object) -> None:
+        if self.progress is not None and exc_type is Stopped:
+            return  # the case did not finish: Progress.stopped times it and reports it stopped
         self.case.seconds += time.monotonic() - self.start
+        if self.progress is not None and exc_type is None:
+            self.progress.add([self.case])
 
 
 def matches(name: str, pattern: str) -> bool:
@@ -98,7 +155,16 @@ def counts(cases: list[Case]) -> dict[Outcome, int]:
     return {o: sum(c.outcome is o for c in cases) for o in Outcome}
 
 
-_MARK = {Outcome.PASSED: "pass", Outcome.FAILED: "FAIL", Outcome.SKIPPED: "skip"}
+# Control characters in a reason (a vehicle's logMessage may hold a terminal colour, a bell, a newline) would
+# recolour, hide or split the table's lines: shown as their escapes (ESC as \x1b), as the JUnit report shows them.
+_CONTROL = re.compile("[\x00-\x1f\x7f-\x9f]")
+
+
+def printable(text: str) -> str:
+    return _CONTROL.sub(lambda m: repr(m.group())[1:-1], text)
+
+
+_MARK = {Outcome.PASSED: "pass", Outcome.FAILED: "FAIL", Outcome.SKIPPED: "skip", Outcome.ERROR: "ERROR"}
 
 
 def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
@@ -107,7 +173,8 @@ def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
     name_w = max([len(c.name) for c in cases] + [4])
     print(f"{'TEST':<{name_w}}  {'RESULT':<6}  {'TIME':>6}  REASON", file=out)
     for c in cases:
-        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {c.reason}".rstrip(), file=out)
+        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {printable(c.reason)}".rstrip(), file=out)
     n = counts(cases)
-    print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped "
+    errors = f", {n[Outcome.ERROR]} stopped" if n[Outcome.ERROR] else ""
+    print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped{errors} "
           f"in {seconds:.1f} s", file=out)
