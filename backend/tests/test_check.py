@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import os
 import re
 import shutil
 import signal
@@ -196,8 +197,11 @@ def stop_check(sig: int, when: str, *args: str, then: Callable[[], object] = lam
                tee_dies: bool = False) -> tuple[int, str, str]:
     """sem-check in a process of its own, sent `sig` once its output shows `when` and `then` returned:
     (exit code, stdout, stderr). `tee_dies`: the reader of its stdout goes first, as `sem-check | tee` stopped."""
+    # As in a CI job: the output buffered (PYTHONUNBUFFERED, set here, hid an interpreter's last flush into the pipe
+    # tee left, which failed with exit 120)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
     p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True)
+                         stderr=subprocess.PIPE, text=True, env=env)
     assert p.stdout is not None and p.stderr is not None
     seen = []
     for line in p.stdout:

@@ -213,8 +213,12 @@ class Unbroken(io.TextIOBase):
 
 def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> int:
     out, err = cast("TextIO", Unbroken(out or sys.stdout)), cast("TextIO", Unbroken(err or sys.stderr))
-    with StopSignals(err) as signals:
-        return _run(opts, out, err, signals)
+    try:
+        with StopSignals(err) as signals:
+            return _run(opts, out, err, signals)
+    finally:  # what is still buffered, now: a pipe's reader gone makes the interpreter's flush at exit fail (exit 120)
+        out.flush()
+        err.flush()
 
 
 def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
@@ -295,8 +299,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         # reports every 1.5 x max-gap may show one report mid-window, with shorter gaps either side).
         timing = any(selection(n) for n in names if n.startswith("reports.") and n.endswith(".timing"))
         window = max(opts.window, 2 * opts.max_gap) if timing else opts.window
+        progress.setup(f"watching the provider's reports ({window:g} s)")  # before it is said: a signal may follow
         print(f"sem-check: watching its reports for {window:g} s", file=out, flush=True)
-        progress.setup(f"watching the provider's reports ({window:g} s)")
         window_start = observer.alive_sources[provider]
         observer.idle(max(0.0, window_start + window - time.time()))
         window_end = time.time()
