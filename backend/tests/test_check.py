@@ -39,7 +39,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.check import junit
 from sem_console.check.cli import main
-from sem_console.check.results import Case, Outcome, summary
+from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
 from sem_console.dds.bus import Bus, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, representation, writer_qos
 from sem_console.dds.topics import Sem, Service
@@ -420,6 +420,25 @@ def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     assert junit_cases(report) == {"commands.GPSFix.cancel": ("failed", reason), "discovery.GPSFixCommand": ("passed", "")}
     failure = ET.parse(report).getroot().find("testsuite/testcase/failure")
     assert failure is not None and "then not tested further: the command COMPLETED" in str(failure.text)
+
+
+def test_a_stop_blames_the_case_running() -> None:
+    """A run stopped in an InertialSensor command after GPSFix tests that ended without running (the service not
+    offered) reported commands.GPSFix.complete as the one stopped and the InertialSensor command as not run."""
+    progress = Progress()
+    with Timer(Case("discovery.GPSReport"), progress):
+        pass
+    progress.add([Case("commands.GPSFix.complete").skip("the provider does not offer the GPSFixControl service")])
+    with contextlib.suppress(Stopped), Timer(Case("commands.InertialSensor.OFF"), progress):
+        raise Stopped(signal.SIGTERM)
+    names = ["discovery.GPSReport", "commands.GPSFix.complete", "commands.GPSFix.cancel", "commands.InertialSensor.OFF",
+             "commands.InertialSensor.ON"]
+    assert {c.name: (c.outcome.value, c.reason) for c in progress.stopped(names, "SIGTERM")} == {
+        "discovery.GPSReport": ("passed", ""),
+        "commands.GPSFix.complete": ("skipped", "the provider does not offer the GPSFixControl service"),
+        "commands.GPSFix.cancel": ("skipped", "not run: the run was stopped by SIGTERM"),
+        "commands.InertialSensor.OFF": ("error", "stopped by SIGTERM before it finished"),
+        "commands.InertialSensor.ON": ("skipped", "not run: the run was stopped by SIGTERM")}
 
 
 # ---- tiny Cyclone providers with one topic wrong ------------------------------------------------

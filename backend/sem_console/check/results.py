@@ -102,11 +102,15 @@ class Progress:
         if running is not None:
             running.seconds += time.monotonic() - self.since
         unfinished = [c for c in cases if c.name not in self.finished]
-        for c in unfinished[1:]:
-            c.skip(f"not run: the run was stopped by {signal_name}")
-        if unfinished:
-            doing = f"while {self.doing}, before any test ran" if unfinished[0].name == "setup" else "before it finished"
-            unfinished[0].stop(f"stopped by {signal_name} {doing}")
+        # the case running is the one stopped, wherever it is in the order (earlier cases may have ended without a
+        # Timer); none running (between two cases): the first not finished
+        first = running or (unfinished[0] if unfinished else None)
+        for c in unfinished:
+            if c is not first:
+                c.skip(f"not run: the run was stopped by {signal_name}")
+        if first is not None:
+            doing = f"while {self.doing}, before any test ran" if first.name == "setup" else "before it finished"
+            first.stop(f"stopped by {signal_name} {doing}")
         return cases
 
 
