@@ -32,7 +32,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.check import icd
 from sem_console.check.observe import Observer, StatusSeen
-from sem_console.check.results import Case, Outcome, Progress, Timer
+from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import Sem, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
@@ -173,9 +173,13 @@ class Consumer:
 
     def close(self) -> None:
         """Service Consumer Shutdown Sequence (ICD 4.1.6.2): dispose every command still on the bus."""
-        for sent in self.sent:
-            self.dispose(sent)
-        wait_for_acks(self.writers.values(), 2.0)
+        try:
+            for sent in self.sent:
+                self.dispose(sent)
+            wait_for_acks(self.writers.values(), 2.0)
+        except Stopped:  # the first SIGTERM or Ctrl-C came as the tests ended: the commands are disposed all the same
+            self.close()  # (a second signal is only noted: runner.StopSignals)
+            raise
 
 
 def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], sent: Sent) -> str:
