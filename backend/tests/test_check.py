@@ -37,7 +37,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.check import junit
+from sem_console.check import junit, runner
 from sem_console.check.cli import main
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
 from sem_console.dds.bus import Bus, take_each, wait_for_acks
@@ -439,6 +439,19 @@ def test_a_stop_blames_the_case_running() -> None:
         "commands.GPSFix.cancel": ("skipped", "not run: the run was stopped by SIGTERM"),
         "commands.InertialSensor.OFF": ("error", "stopped by SIGTERM before it finished"),
         "commands.InertialSensor.ON": ("skipped", "not run: the run was stopped by SIGTERM")}
+
+
+def test_a_recorder_that_cannot_start_leaves_no_temporary_directory(tmp_path: Path,
+                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+    """--record made a hidden .sem-check-* directory beside the file and left it when the recorder could not start
+    (the run's one line, exit 2): an error that root's permissions cannot bring about, so raised here."""
+    def refuse(_self: object) -> None:
+        raise runner.RecordingError("cannot record into it: No space left on device")
+
+    monkeypatch.setattr(runner.Recorder, "start", refuse)
+    with pytest.raises(runner.RecordingError):
+        runner.Evidence(tmp_path / "evidence.mcap")
+    assert list(tmp_path.iterdir()) == []
 
 
 # ---- tiny Cyclone providers with one topic wrong ------------------------------------------------

@@ -127,8 +127,12 @@ class Evidence:
         # An earlier run's file must not pass for this run's when this one is killed before it moves its own in place
         self.target.unlink(missing_ok=True)
         self.dir = Path(tempfile.mkdtemp(prefix=".sem-check-", dir=self.target.parent))
-        self.recorder = Recorder(self.dir, max_bytes=2**62, max_seconds=1e9, queue_size=100_000)
-        self.recorder.start()
+        try:
+            self.recorder = Recorder(self.dir, max_bytes=2**62, max_seconds=1e9, queue_size=100_000)
+            self.recorder.start()
+        except BaseException:  # the recorder's error, or a signal: the run cannot finish() it, and must not leave it
+            shutil.rmtree(self.dir, ignore_errors=True)
+            raise
 
     def finish(self) -> str | None:
         """Close the file and move it into place; an error message, or None."""
@@ -139,6 +143,8 @@ class Evidence:
                 return status.get("error") or f"the recording in {self.dir} was not written"
             shutil.move(str(files[0]), self.target)
             return None
+        except OSError as e:  # the target's directory went, or a directory took its name: the run still reports
+            return f"cannot move it to {self.target}: {e.strerror or e}"
         finally:
             shutil.rmtree(self.dir, ignore_errors=True)
 
