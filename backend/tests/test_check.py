@@ -37,8 +37,9 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.check import junit, runner
+from sem_console.check import commands, junit, runner
 from sem_console.check.cli import main
+from sem_console.check.observe import Observer
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
 from sem_console.dds.bus import Bus, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, representation, writer_qos
@@ -705,6 +706,22 @@ def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
     assert set(failed(run)) == {"commands.GPSFix.complete"}, run.out
     assert {n: c for n, c in run.cases.items() if n.startswith("commands.InertialSensor")} == {
         f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "cleanup")}
+
+
+def test_a_provider_gone_before_the_command_tests_is_no_pass(domain: int) -> None:
+    """A provider that left between its reports and the command tests (or between two of them) had every command
+    test skipped: with the reports passed, exit 0, a green CI run on a vehicle that answered nothing. The first test
+    it kept from running fails, the rest are skipped."""
+    bus = Bus(domain)
+    try:
+        consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 1.0, 1.0), io.StringIO())
+        cases = commands.run(consumer, {"GPSFixControl", "InertialSensorControl"}, lambda _name: True)
+    finally:
+        bus.close()
+    left = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
+    assert {c.name: (c.outcome.value, c.reason) for c in cases} == {
+        n: ("failed" if n == "commands.GPSFix.complete" else "skipped", left) for n in commands.names()}
+    assert consumer.writers == {}  # nothing was sent
 
 
 class InsOffOnly(BreachAfterCleanup):
