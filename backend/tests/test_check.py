@@ -6,6 +6,7 @@ validated against the common JUnit layout (tests/data/junit.xsd)."""
 from __future__ import annotations
 
 import contextlib
+import datetime as dt
 import io
 import os
 import re
@@ -381,6 +382,15 @@ def test_record_and_junit_into_a_new_directory(tiny: Callable[..., TinyProvider]
     with open(recording, "rb") as fh:
         assert make_reader(fh).get_summary() is not None
     assert set(junit_cases(report).values()) >= {("passed", "")}
+    assert recording.stem == report.stem  # the run's two files, named alike
+
+
+def test_runs_into_one_directory_in_the_same_second_keep_their_files(tmp_path: Path) -> None:
+    """Named by the second a run started, two runs into one directory (a CI matrix, a script's `&`) wrote one file,
+    the second run's report and recording replacing the first's."""
+    started = dt.datetime.now(dt.UTC)
+    first, second = (runner.output(f"{tmp_path / 'reports'}/", "xml", runner.run_name(started)) for _ in range(2))
+    assert first != second and first.parent == second.parent == tmp_path / "reports"
 
 
 def test_a_recording_lost_in_the_run_is_no_pass(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:

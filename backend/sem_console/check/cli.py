@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
         "commands; what will be sent is printed first. Without it no command writer is created"))
     p.add_argument("--junit", default=None, metavar="FILE", help=(
         "write a JUnit XML report to FILE; a name ending in / is a directory (made if missing) to write "
-        "sem-check-<start, UTC>.xml in"))
+        "sem-check-<start, UTC>-<random>.xml in"))
     p.add_argument("--timeout", type=ranged(float, 0.1, 3600), default=d.timeout, metavar="S", help=(
         "seconds to wait for the provider, and for the first status (ISSUED) of each command (default: %(default)s)"))
     p.add_argument("--only", type=_names, action="append", default=[], metavar="NAMES", help=(
@@ -56,7 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="leave these tests out (same forms as --only)")
     p.add_argument("--record", default=None, metavar="FILE.mcap", help=(
         "record every sample of the run to an MCAP file as evidence; a name ending in / is a directory (made if "
-        "missing) to write sem-check-<start, UTC>.mcap in"))
+        "missing) to write sem-check-<start, UTC>-<random>.mcap in"))
     p.add_argument("--window", type=ranged(float, 0.5, 3600), default=d.window, metavar="S",
                    help="seconds of reports watched before they are judged (default: %(default)s)")
     p.add_argument("--max-gap", type=ranged(float, 0.01, 3600), default=d.max_gap, metavar="S",

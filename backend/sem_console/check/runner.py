@@ -13,6 +13,7 @@ import contextlib
 import datetime as dt
 import io
 import os
+import secrets
 import shutil
 import signal
 import sys
@@ -67,9 +68,15 @@ class CouldNotTest(Exception):
     """Why the run could not test, in one line (or a line and a list)."""
 
 
-def output(text: str, suffix: str, started: dt.datetime) -> Path:
+def run_name(started: dt.datetime) -> str:
+    """The name of a run's files in an --junit or --record directory: its start, then a random part, so runs into
+    one directory keep their files, also those started in the same second (a CI matrix, a script's `&`)."""
+    return f"sem-check-{started:%Y%m%dT%H%M%SZ}-{secrets.token_hex(3)}"
+
+
+def output(text: str, suffix: str, name: str) -> Path:
     """The file of --junit or --record: `text`, or when it ends in / (a directory, made when missing: its parent
-    must exist, as for mkdir) a file in it named by the run's start, so runs into one directory keep their files."""
+    must exist, as for mkdir) the file `name`.`suffix` in it (`run_name`)."""
     path = Path(text)
     if not text.endswith(("/", os.sep)):
         return path
@@ -77,10 +84,10 @@ def output(text: str, suffix: str, started: dt.datetime) -> Path:
         if not path.parent.is_dir():
             raise CouldNotTest(f"{text}: the directory {path.parent} does not exist: create it first (mkdir -p {text})")
         try:
-            path.mkdir()
+            path.mkdir(exist_ok=True)  # another run into it may make it first
         except OSError as e:
             raise CouldNotTest(f"{text}: cannot make the directory: {e.strerror}") from None
-    return path / f"sem-check-{started:%Y%m%dT%H%M%SZ}.{suffix}"
+    return path / f"{name}.{suffix}"
 
 
 def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
@@ -229,6 +236,7 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
 
 def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     started, t0 = dt.datetime.now(dt.UTC), time.monotonic()
+    name = run_name(started)  # of its --junit and --record files in a directory: the same for both
     selection = Selection(opts.only, opts.skip)
     names = all_names()
     properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
@@ -247,7 +255,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
 
     if opts.junit is not None:  # found out before a long run (or commands sent), not after it
         try:
-            path = output(opts.junit, "xml", started)
+            path = output(opts.junit, "xml", name)
         except CouldNotTest as e:
             return could_not(f"cannot write the JUnit report {e}")
         problem = junit.start(path, properties, started)
@@ -258,7 +266,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     record: Path | None = None
     if opts.record is not None:
         try:
-            record = output(opts.record, "mcap", started)
+            record = output(opts.record, "mcap", name)
         except CouldNotTest as e:
             return could_not(f"cannot record to {e}")
         if record.is_dir():  # the file would be moved into it under another name
