@@ -38,9 +38,9 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.check import commands, junit, runner
+from sem_console.check import commands, junit, reports, runner
 from sem_console.check.cli import main
-from sem_console.check.observe import Observer
+from sem_console.check.observe import Observer, Report
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
 from sem_console.dds.bus import Bus, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, representation, writer_qos
@@ -880,6 +880,20 @@ def test_a_clock_off_fails_timing_once(domain: int, tmp_path: Path) -> None:
                         r"samples\), beyond the stated 1 s \(ICD 5\.2\.6: UTC\)", reason), reason
     failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
     assert failure is not None and len(str(failure.text).splitlines()) == 2  # the reason, and what was seen
+
+
+def test_timestamps_that_are_no_datetime_fail_timing_once() -> None:
+    """Each sample's bad timeStamp (its nanoseconds out of range, a different value in each) was a failure line of
+    its own: a line per sample again, as for the clock's offset before."""
+    now = time.time()
+    samples = [Report(now + i * 0.1, {"timeStamp": {"seconds": int(now), "nanoseconds": 1_000_000_000 + i}}, [], True, 1)
+               for i in range(10)]
+    case = Case("reports.InertialSensorReport.timing")
+    reports.check_timing(Sem.INS_REPORT, samples, now, now + 1.0, reports.ReportLimits(1.0, 5.0, 1.0), case)
+    assert (case.outcome, case.reason) == (Outcome.FAILED, (
+        f"InertialSensorReport timeStamp {int(now)} s 1000000000 ns is not a DateTime (seconds >= 0, nanoseconds "
+        "0..999999999: ICD 5.2.6, Table 26; Table 45) (10 of 10 samples)"))
+    assert not [n for n in case.notes if n.startswith("also:")]
 
 
 # ---- RTI Connext ---------------------------------------------------------------------------------

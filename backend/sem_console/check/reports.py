@@ -38,15 +38,16 @@ def names(sem: Sem) -> tuple[str, str]:
     return f"reports.{icd.short(sem)}.timing", f"reports.{icd.short(sem)}.values"
 
 
-def stamp(body: dict[str, Any]) -> tuple[float | None, str | None]:
-    """The report's timeStamp in seconds, or what makes it no DateTime (ICD 5.2.6, Table 26)."""
+def stamp(body: dict[str, Any]) -> tuple[float | None, tuple[str, str] | None]:
+    """The report's timeStamp in seconds, or what makes it no DateTime (ICD 5.2.6, Table 26): its kind, and the
+    sample's own text (its values differ from sample to sample; the kind does not)."""
     ts = body.get("timeStamp") or {}
     s, ns = ts.get("seconds"), ts.get("nanoseconds")
     if not isinstance(s, int) or not isinstance(ns, int):
-        return None, "timeStamp missing or unreadable (ICD 5.2.1, Table 21: every report has its timeStamp)"
+        return None, ("missing", "timeStamp missing or unreadable (ICD 5.2.1, Table 21: every report has its timeStamp)")
     if s < 0 or not 0 <= ns <= 999_999_999:
-        return None, (f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds 0..999999999: ICD 5.2.6, "
-                      "Table 26; Table 45)")
+        return None, ("no DateTime", f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds "
+                      "0..999999999: ICD 5.2.6, Table 26; Table 45)")
     return s + ns / 1e9, None
 
 
@@ -66,10 +67,13 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
     # Each kind of problem once, with its worst and how many samples had it: a vehicle whose clock is off has it in
     # every sample, and a line per sample buried the report (thousands of lines in a long window).
     problems: dict[str, list[float]] = {}
+    unreadable: dict[str, str] = {}  # a bad timeStamp's kind -> the first such sample's text
     for r in live:
         t, bad = stamp(r.body or {})
         if bad:
-            problems.setdefault(bad, []).append(0.0)
+            kind, text = bad
+            unreadable.setdefault(kind, text)
+            problems.setdefault(kind, []).append(0.0)
             continue
         assert t is not None
         offset = t - r.received
@@ -90,7 +94,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
             case.fail(f"{topic} timeStamp {worst:+.3f} s from the checker's clock on arrival{times}, beyond the stated "
                       f"{limits.clock_offset:g} s (ICD 5.2.6: UTC)")
         else:
-            case.fail(f"{topic} {kind}{times}")
+            case.fail(f"{topic} {unreadable[kind]}{times}")
     if gap > limits.max_gap:
         case.fail(f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
                   "ICD 4.2.1.1: the provider publishes its updated reports)")
