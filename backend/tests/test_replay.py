@@ -339,7 +339,6 @@ def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], sa
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr
 
 
-
 def names_recorded(path: Path) -> list[tuple[int, dict[str, Any]]]:
     """(log time, message) of the file's `sem-console/names`, read with the mcap library."""
     return [(m.log_time, json.loads(m.data)) for m in read(path)[1]["sem-console/names"]]
@@ -429,3 +428,18 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
     r = console("--replay", str(last), "--vehicle-names", f"{V1}=Zulu")
     control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
     assert httpx.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"
+
+
+def test_a_rename_is_recorded_even_with_the_buffer_full(tmp_path: Path) -> None:
+    """A full buffer drops takes (counted in `dropped`); it dropped a rename as well, and a replay then named the vehicle
+    as before it for the rest of the recording (each file the recording rolled over to started so too). A rename is
+    never dropped."""
+    recorder = Recorder(tmp_path / "rec", 1 << 30, 3600, queue_size=0)  # full from the start: every take is dropped
+    recorder.start()
+    sample = random_sample(Sem.GPS_FIX_REPORT.spec.type, random.Random(3))
+    at = time.time_ns()
+    recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive, at)], at)
+    recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
+    assert recorder.stop()["dropped"] == 1
+    path, = (tmp_path / "rec").glob("*.mcap")
+    assert [(n["providerId"], n["name"]) for _at, n in names_recorded(path)] == [(V1, "Tug Two")]
