@@ -25,7 +25,8 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
 from samplegen import random_sample
-from sem_console.console.decode import REPORT_TOPICS
+from sem_console.console.decode import REPORT_TOPICS, Decoder
+from sem_console.console.replay_source import Cursor, RecordedName
 from sem_console.dds.topics import Sem
 from sem_console.recording.reader import iter_messages, recorded_station, time_range
 from sem_console.recording.recorder import Recorder
@@ -443,3 +444,21 @@ def test_a_rename_is_recorded_even_with_the_buffer_full(tmp_path: Path) -> None:
     assert recorder.stop()["dropped"] == 1
     path, = (tmp_path / "rec").glob("*.mcap")
     assert [(n["providerId"], n["name"]) for _at, n in names_recorded(path)] == [(V1, "Tug Two")]
+
+
+def test_a_recorded_name_of_the_wrong_shape_is_skipped(tmp_path: Path) -> None:
+    """A names message whose providerId is not a string (a file another tool wrote) raised an AttributeError out of the
+    replay's read: the batch read with it was lost while playing, and a seek answered 500. It is skipped, counted and
+    logged, as a message of the wrong shape on the other JSON channels is."""
+    recorder = Recorder(tmp_path / "rec", 1 << 30, 3600)
+    recorder.start()
+    recorder.on_message({"type": "vehicle-name", "providerId": 5, "name": "Tug One", "initial": False})
+    recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
+    recorder.stop()
+    path, = (tmp_path / "rec").glob("*.mcap")
+    cursor = Cursor(path, Decoder())
+    try:
+        read_items = [item for _at, item in cursor.read_until(2**63)]
+    finally:
+        cursor.close()
+    assert read_items == [RecordedName(uuid.UUID(V1), "Tug Two")] and cursor.skipped == 1

@@ -187,7 +187,7 @@ class Cursor:
                 return None
             state = InstanceState.NotAliveDisposed if event["state"] == "disposed" else InstanceState.NotAliveNoWriters
             return self.decoder.decode(sem, base64.b64decode(event["key"]), False, state, at)
-        except (ValueError, KeyError, TypeError) as e:
+        except (ValueError, KeyError, TypeError, AttributeError) as e:  # AttributeError: not a dict, a UUID not a str
             self.skipped += 1
             log.warning("skipped a message on %s at %d: %s", topic, message.log_time, e)
             return None
