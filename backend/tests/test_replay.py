@@ -25,7 +25,8 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
 from samplegen import random_sample
-from sem_console.console.decode import REPORT_TOPICS
+from sem_console.console.decode import REPORT_TOPICS, Decoder
+from sem_console.console.replay_source import Cursor, RecordedName
 from sem_console.dds.topics import Sem
 from sem_console.recording.reader import iter_messages, recorded_station, time_range
 from sem_console.recording.recorder import Recorder
@@ -339,7 +340,6 @@ def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], sa
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr
 
 
-
 def names_recorded(path: Path) -> list[tuple[int, dict[str, Any]]]:
     """(log time, message) of the file's `sem-console/names`, read with the mcap library."""
     return [(m.log_time, json.loads(m.data)) for m in read(path)[1]["sem-console/names"]]
@@ -398,7 +398,7 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
 
 def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> None:
     """A file the recording rolled over to starts with the names in force then (those at the start and the renames
-    since), so that it replays alone with them; a recording without names (a file of before) replays as before."""
+    since), so that it replays alone with them."""
     names = {V1: "Tug One", V2: "Barge"}
     recorder = Recorder(tmp_path / "rec", 1 << 30, 0.5, names=lambda: names)
     recorder.start()
@@ -429,3 +429,82 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
     r = console("--replay", str(last), "--vehicle-names", f"{V1}=Zulu")
     control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
     assert httpx.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"
+
+
+def test_a_name_before_the_vehicle_appeared_a_recorded_null_and_a_file_without_names(console, tmp_path: Path) -> None:
+    """A vehicle named before it appeared is named so when it does; a recorded null (renamed back to no name) leaves it
+    to the replaying console's --vehicle-names from that instant; a file without names (recorded before 2026-11-26)
+    names the vehicles by --vehicle-names only."""
+    rng = random.Random(7)
+
+    def recording(directory: Path, names: dict[str, str] | None) -> tuple[Path, int]:
+        """V2 reported, renamed back to no name, reported again; the file and the first report's log time."""
+        recorder = Recorder(directory, 1 << 30, 3600, names=None if names is None else lambda: names)
+        recorder.start()
+        times = []
+        for n in range(2):
+            sample = random_sample(Sem.GPS_FIX_REPORT.spec.type, rng)
+            sample.source = to_guid(uuid.UUID(V2))
+            times.append(time.time_ns())
+            recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive,
+                                                      times[-1])], times[-1])
+            time.sleep(0.01)  # the rename apart from both reports, so that a seek between them falls between
+            if n == 0 and names is not None:
+                recorder.on_message({"type": "vehicle-name", "providerId": V2, "name": None, "initial": False})
+                time.sleep(0.01)
+        recorder.stop()
+        path, = directory.glob("*.mcap")
+        return path, times[0]
+
+    def name(r: Any) -> Any:
+        return httpx.get(f"{r.url}/api/providers/{V2}").json()["name"]
+
+    path, first = recording(tmp_path / "named", {V2: "Barge"})
+    (_start, initial), (renamed_at, renamed) = names_recorded(path)
+    assert (initial["name"], initial["initial"], renamed["name"], renamed["initial"]) == ("Barge", True, None, False)
+    r = console("--replay", str(path), "--vehicle-names", f"{V2}=Yankee")
+    control(r.url, {"action": "pause"})
+    control(r.url, {"action": "seek", "position": (first + renamed_at) / 2e9})  # V2 seen, not yet renamed
+    assert name(r) == "Barge"
+    control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
+    assert name(r) == "Yankee"
+    r.stop()
+
+    old, _first = recording(tmp_path / "old", None)
+    assert names_recorded(old) == []
+    r = console("--replay", str(old), "--vehicle-names", f"{V2}=Yankee")
+    control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
+    assert name(r) == "Yankee"
+
+
+def test_a_rename_is_recorded_even_with_the_buffer_full(tmp_path: Path) -> None:
+    """A full buffer drops takes (counted in `dropped`); it dropped a rename as well, and a replay then named the vehicle
+    as before it for the rest of the recording (each file the recording rolled over to started so too). A rename is
+    never dropped."""
+    recorder = Recorder(tmp_path / "rec", 1 << 30, 3600, queue_size=0)  # full from the start: every take is dropped
+    recorder.start()
+    sample = random_sample(Sem.GPS_FIX_REPORT.spec.type, random.Random(3))
+    at = time.time_ns()
+    recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive, at)], at)
+    recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
+    assert recorder.stop()["dropped"] == 1
+    path, = (tmp_path / "rec").glob("*.mcap")
+    assert [(n["providerId"], n["name"]) for _at, n in names_recorded(path)] == [(V1, "Tug Two")]
+
+
+def test_a_recorded_name_of_the_wrong_shape_is_skipped(tmp_path: Path) -> None:
+    """A names message whose providerId is not a string (a file another tool wrote) raised an AttributeError out of the
+    replay's read: the batch read with it was lost while playing, and a seek answered 500. It is skipped, counted and
+    logged, as a message of the wrong shape on the other JSON channels is."""
+    recorder = Recorder(tmp_path / "rec", 1 << 30, 3600)
+    recorder.start()
+    recorder.on_message({"type": "vehicle-name", "providerId": 5, "name": "Tug One", "initial": False})
+    recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
+    recorder.stop()
+    path, = (tmp_path / "rec").glob("*.mcap")
+    cursor = Cursor(path, Decoder())
+    try:
+        read_items = [item for _at, item in cursor.read_until(2**63)]
+    finally:
+        cursor.close()
+    assert read_items == [RecordedName(uuid.UUID(V1), "Tug Two")] and cursor.skipped == 1

@@ -7,7 +7,7 @@ import { MessageReader } from "@foxglove/omgidl-serialization";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
 import { decompress } from "fzstd";
 import { vehicle } from "../helpers";
-import { load, startReplayConsole } from "../stack";
+import { VEHICLE_3_NAME, load, startReplayConsole } from "../stack";
 
 const HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"];
 const SATELLITE = /^[GERCSJIU]\d+$/;
@@ -205,6 +205,10 @@ test.describe.serial("replay of a recording", () => {
     await expect(page.getByTestId("replay-bar")).toBeVisible();
     await expect(page.getByTestId("vehicle")).toHaveCount(3); // the three vehicles on the bus when it was recorded
     await expect(vehicle(page, recorded.vehicleId)).toHaveAttribute("aria-pressed", "true");
+    // named as the recording console named them (sem-console/names): the third vehicle by that console's
+    // --vehicle-names, which this one (started without it) does not have; the first has no name there
+    await expect(vehicle(page, recorded.insVehicleId).getByTestId("vehicle-tag")).toContainText(VEHICLE_3_NAME);
+    await expect(vehicle(page, recorded.vehicleId).getByTestId("vehicle-tag")).toHaveText(`Vehicle ${recorded.vehicleId.slice(0, 8)}`);
 
     // the instant the live console took its last GPSReport: the same satellites
     const { end } = await pause(page); // paused on the server before the seek, so no step of play lands after it

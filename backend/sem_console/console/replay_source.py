@@ -3,7 +3,8 @@
 The recorded CDR of each report, status and ack topic goes through the same `Decoder` the DDS
 ingest uses and is applied by the same console methods; disposes and lost writers come from the
 `sem-console/instances` channel, the commands the recording console issued (and cancel requests)
-from `sem-console/commands`. Everything else is computed again as a live console computes it:
+from `sem-console/commands`, the alarm acknowledgements from `sem-console/alarm-acks` and the vehicles' names from
+`sem-console/names`. Everything else is computed again as a live console computes it (the alarms too):
 transitions with their Figure 4 verdicts from the recorded statuses, acks, link health (the
 console's tick, run at every TICK of recording time), unanswered commands. The console's clock
 is the recording's time (`RecordingClock`), so ages, receive times and timeouts are those of the
@@ -187,7 +188,7 @@ class Cursor:
                 return None
             state = InstanceState.NotAliveDisposed if event["state"] == "disposed" else InstanceState.NotAliveNoWriters
             return self.decoder.decode(sem, base64.b64decode(event["key"]), False, state, at)
-        except (ValueError, KeyError, TypeError) as e:
+        except (ValueError, KeyError, TypeError, AttributeError) as e:  # AttributeError: not a dict, a UUID not a str
             self.skipped += 1
             log.warning("skipped a message on %s at %d: %s", topic, message.log_time, e)
             return None

@@ -135,7 +135,8 @@ class Settings(BaseSettings):
 
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
     vehicle_names: str = Field("", description="'GUID=name,...': names shown beside vehicle ids (a name set from the "
-                                              "dashboard, stored, is over these)")
+                                              "dashboard, stored, is over these; in a replay, a name the recording "
+                                              "holds)")
 
     # Gateways (each off unless its option is given; see docs/gateways.md)
     aspn_lcm: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(

@@ -17,7 +17,7 @@
 
 Files `DIR/<UTC start>.mcap` roll over at `max_bytes` or `max_seconds`. Recording never blocks
 ingest: the ingest threads (one item per take of a topic) and the event loop only put items on
-a bounded buffer (a deque: no lock; full, the item is dropped and its samples counted); one
+a bounded buffer (a deque: no lock; full, the item is dropped and its samples counted, a rename never); one
 writer thread per recording writes what was queued every BATCH_SECONDS (a thread wake costs
 about 0.1 ms of CPU in the running console, more than writing a take). Any OSError (a full
 disk: ENOSPC) stops the recording with the error in its status and in the log; the console
@@ -247,7 +247,11 @@ class Recorder:
         if channel is not None and self.active:
             if followed is not None and channel == COMMANDS:
                 message = {**message, "followed": followed}
-            self._put((channel, message, time.time_ns(), 1))
+            item = (channel, message, time.time_ns(), 1)
+            if channel == NAMES:  # never dropped: a lost rename misnamed the vehicle in a replay for the rest of the
+                self._buffer.append(item)  # recording, each later file's start too (rare: operators' renames)
+            else:
+                self._put(item)
 
     def _put(self, item: tuple[Any, Any, int, int]) -> None:
         buffer = self._buffer

@@ -9,8 +9,8 @@ type written in XCDR1) is decoded and written again in the writer's. Disposes an
 that lost their writers (channel `sem-console/instances`) are republished as disposes and
 unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand) are left out unless
 `--commands`: a provider on the target domain would carry them out. The console's own channels (commands,
-transitions, links, alarm acknowledgements) are not DDS topics and are not republished. An integrator can test
-their own UMAA consumer against a trial this way.
+transitions, links, alarm acknowledgements, vehicle names) are not DDS topics and are not republished. An integrator
+can test their own UMAA consumer against a trial this way.
 """
 
 from __future__ import annotations
