@@ -14,6 +14,13 @@ apt_install() {  # Debian packages, when we can install them
 }
 
 command -v npm >/dev/null || apt_install nodejs npm
+# The dashboard's build tool (Vite 8) needs Node 20.19+ or 22.12+ (its package's "engines"); Debian 12's own nodejs is
+# 18, on which the build fails deep in a log: one line instead.
+node -e 'const [a, b] = process.versions.node.split(".").map(Number);
+  process.exit((a === 20 && b >= 19) || (a === 22 && b >= 12) || a > 22 ? 0 : 1)' || {
+  echo "Node $(node --version) cannot build the dashboard (Vite needs Node 20.19+ or 22.12+): install a newer Node, e.g. from NodeSource or nvm" >&2
+  exit 1
+}
 # The dashboard's packages and build beside the backend's install (each mostly uses one core); their output is
 # printed only when they fail (tsc writes its type errors to stdout).
 # In a session of its own (setsid), so that a failure below (the venv, pip; `exit` or set -e) or Ctrl-C ends the
