@@ -13,7 +13,7 @@ from typing import Any
 from fastapi import APIRouter, HTTPException, Path, status
 
 from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
-from sem_console.api.responses import JSON_BODY, Responses, problem
+from sem_console.api.responses import BODY_TOO_LARGE, JSON_BODY, Responses, problem
 from sem_console.api.schemas import ComapStatus, ComapVehicle, SynchRequest, Task, TaskRequest, WorldModel, WorldModelIn
 from sem_console.comap.c2 import TaskError
 from sem_console.comap.codec import MAX_PAYLOAD, encode_payload
@@ -56,7 +56,8 @@ async def get_world_model(console: ConsoleDep) -> dict[str, Any]:
 @writes.put("/api/worldmodel", response_model=WorldModel,
             responses={**JSON_BODY, 409: problem("geometry CoMap cannot carry: a polygon that crosses itself or has fewer "
                                                 "than 3 distinct vertices, a featureId given twice"),
-                       413: problem("the world model does not fit one IMC packet (65535 bytes of payload)")})
+                       413: {**BODY_TOO_LARGE, "description": "the world model does not fit one IMC packet (65535 bytes of "
+                                                              "payload), or the request body is over 1 MiB"}})
 async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Replace the world model and send it (IMC WorldModel) to every IMC peer. Features without a
     featureId are numbered; a closed polygon ring and an open one are the same polygon."""

@@ -14,7 +14,7 @@ from fastapi import APIRouter, HTTPException, Query, status
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.api.deps import AuditDep, ConsoleDep, Limit, Offset, OperatorDep
-from sem_console.api.responses import JSON_BODY, Responses, problem
+from sem_console.api.responses import DATABASE_READ, JSON_BODY, Responses, problem
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
 from sem_console.console.alarms import vehicle_label
@@ -25,7 +25,8 @@ from sem_console.dds.topics import Service
 writes = APIRouter(tags=["commands"])
 reads = APIRouter(tags=["commands"])
 UNKNOWN_PROVIDER: Responses = {404: problem("unknown provider")}
-UNKNOWN_COMMAND: Responses = {404: problem("unknown command")}
+# a command not among the running and newest finished ones is looked up in the database
+UNKNOWN_COMMAND: Responses = {404: problem("unknown command"), **DATABASE_READ}
 LOST: Responses = {409: problem("the vehicle's link is lost: send confirmLost true to command it anyway (a replay, read-only, "
                      "refuses every command with 409)")}
 # OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
@@ -85,7 +86,7 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
 
 @reads.get("/api/commands", response_model=list[Command], responses={200: {"description": "commands, newest first", "links": {
     "GetNewestCommand": {"operationId": "get_command_api_commands__session_id__get",
-                         "parameters": {"session_id": "$response.body#/0/sessionId"}}}}})
+                         "parameters": {"session_id": "$response.body#/0/sessionId"}}}}, **DATABASE_READ})
 async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset = 0,
                         provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
                         ) -> list[dict[str, Any]]:

@@ -23,12 +23,12 @@ from pydantic import BeforeValidator
 
 from sem_console import __version__
 from sem_console.api.deps import ConsoleDep
-from sem_console.api.responses import Responses, problem
+from sem_console.api.responses import DATABASE_READ, Responses, problem
 from sem_console.api.schemas import iso_only
 from sem_console.console.service import Console
 from sem_console.storage.models import SeriesPoint, TrackPoint
 
-router = APIRouter(tags=["history"])
+router = APIRouter(tags=["history"], responses=DATABASE_READ)  # every route reads the database
 EXT_NS = "urn:sem-console:gpx-extensions:1"  # namespace of the course/SOG extensions (a name, not a location)
 UNKNOWN_PROVIDER: Responses = {404: problem("no such provider on the bus nor in the history")}
 

@@ -9,6 +9,7 @@ from fastapi.responses import FileResponse
 
 from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
+from sem_console.api.responses import DATABASE_READ
 from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
 from sem_console.dds.config import describe
 
@@ -50,7 +51,7 @@ async def basemap(settings: SettingsDep) -> FileResponse:
     return FileResponse(settings.basemap, media_type=PMTILES)
 
 
-@reads.get("/audit", response_model=list[AuditEntry])
+@reads.get("/audit", response_model=list[AuditEntry], responses=DATABASE_READ)
 async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
     # one line: the docstring is the route's description in the published OpenAPI document
