@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import math
 import signal
@@ -26,6 +28,7 @@ from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
+from sem_console.check.cli import main as check_main
 from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
@@ -357,6 +360,18 @@ def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp
     second = console("--sim", "1", "--sim-first-vehicle", "2", "--sim-time-scale", "0.05", env=state)
     provider_ready(second.url, V2, {"InertialSensorReport"})
     assert running.proc is not None and running.proc.poll() is None
+
+
+def test_the_embedded_simulator_passes_sem_check_as_sem_sim_does(console, tmp_path) -> None:
+    """The README's `scripts/run` (the console with --sim 1) then `sem-check --domain 0`: the embedded simulator is a
+    participant of its own, as a vehicle is. On the console's, sem-check took the console's own readers of the command
+    topics (a VOLATILE one among them) for the vehicle's and failed discovery.GPSFixCommand and InertialSensorCommand."""
+    c = console("--sim", "1", "--sim-time-scale", "0.05", env={"XDG_STATE_HOME": str(tmp_path)})
+    provider_ready(c.url, V1, {"InertialSensorReport"})
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(out):
+        code = check_main(["--domain", str(c.domain), "--only", "discovery"])
+    assert code == 0, out.getvalue()
 
 
 def test_stalled_websocket_client_does_not_stop_another(sim, console) -> None:

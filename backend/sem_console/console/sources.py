@@ -184,9 +184,17 @@ class DdsSource:
         stop = [False]
         opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
                           time_scale=self.settings.sim_time_scale)
-        bus = self.bus
 
         def run() -> None:
+            # A participant of its own, as a vehicle's: on the console's, a Service Consumer (sem-check) took the
+            # console's readers of the command topics (a VOLATILE one among them) for the vehicle's.
+            bus = Bus(self.settings.domain, self.settings.dds_interface, self.settings.dds_peers)
+            try:
+                simulate(bus)
+            finally:
+                bus.close()
+
+        def simulate(bus: Bus) -> None:
             try:
                 sim = Simulator(bus, opts)  # looks for its vehicles on the bus first: off the loop
             except InUse as e:
