@@ -214,7 +214,7 @@ class DdsSource:
             finally:
                 try:
                     sim.shutdown(twin=twin)
-                except DDSException as e:  # the bus closed under it (see close): nothing left to dispose on
+                except DDSException as e:  # its participant went under it (the process leaving): nothing to dispose on
                     log.warning("the embedded simulator's shutdown sequence did not finish: %s", e)
 
         thread = threading.Thread(target=run, name="sem-sim", daemon=True)
