@@ -550,7 +550,8 @@ class _HeldLcm:
 
 
 def _speed_report(vehicle: uuid.UUID, seconds: int) -> dict[str, Any]:
-    report = {"timeStamp": {"seconds": seconds, "nanoseconds": 0}, "SOG": float(seconds)}
+    # GPSLatLongValid: a surfaced vehicle's fix (a submerged one's, the INS's solution, sends nothing)
+    report = {"timeStamp": {"seconds": seconds, "nanoseconds": 0}, "SOG": float(seconds), "GPSLatLongValid": True}
     return {"type": "report", "topic": "GPSFixReport", "providerId": str(vehicle), "report": {"report": report, "invalid": []}}
 
 
