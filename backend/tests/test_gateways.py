@@ -628,6 +628,8 @@ def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
         check_url(f"file://{tmp_path}/no/such/dir/x.lcm")
     with pytest.raises(RuntimeError):
         check_url(f"file://{tmp_path}")
+    with pytest.raises(RuntimeError, match=r"on the line above\): give e.g. udpm://"):  # liblcm's reason is on stderr
+        check_url("bogus://x")
 
 
 def test_aspn_kept_messages_are_bounded_in_memory_and_forgotten_when_quiet(
