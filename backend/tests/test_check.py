@@ -106,13 +106,16 @@ def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.U
 
 
 def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
-    sim("--time-scale", "0.1")
+    # a GPS fix slow enough that the cancel reaches it while EXECUTING, and a gap beyond a stall of the simulator, on a
+    # machine loaded by the rest of the suite and the browser tests (at 0.1 and 1 s: once the fix COMPLETED first and
+    # the cancel was skipped, once a report came 1.45 s after the one before)
+    sim("--time-scale", "0.2")
     wait_for_providers(domain, 1)
     evidence = tmp_path / "evidence.mcap"
-    run = check(tmp_path, "--domain", str(domain), "--commands", "--window", "1.5", "--max-gap", "1", "--record", str(evidence))
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--window", "1.5", "--max-gap", "3", "--record", str(evidence))
     assert run.code == 0, run.out + run.err
     assert failed(run) == {}
-    assert all(o == "passed" for o, _ in run.cases.values()), run.cases
+    assert {k: v for k, v in run.cases.items() if v[0] != "passed"} == {}, run.out
     assert len(run.cases) == 25
     # What will be sent is said before anything is sent.
     assert run.out.index("sending to provider") < run.out.index("sending GPSFixCommand")
