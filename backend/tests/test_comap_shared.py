@@ -130,7 +130,7 @@ def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
         two.claim("relief", hold=False)
         row = {"task_id": 0, "kind": "move", "vehicle": V1, "imc_id": 0x2001, "operator": None, "feature_id": None,
                "sensor": None, "resolution": None, "deadline": 1e10, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED",
-               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "last_synch": None}
+               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "state_at": 1.0, "last_synch": None}
         final = frozenset(FINAL)
         assert one.new_comap_task({**row, "station": "watch"}, final) == 1
         assert two.new_comap_task({**row, "station": "relief"}, final) == 2
@@ -193,7 +193,8 @@ def test_task_ids_taken_at_once_by_one_console_on_sqlite(tmp_path: Any) -> None:
         db.claim("watch", hold=False)
         row = {"task_id": 0, "kind": "move", "vehicle": V1, "imc_id": 0x2001, "operator": None, "feature_id": None,
                "sensor": None, "resolution": None, "deadline": 1e10, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED",
-               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "last_synch": None, "station": "watch"}
+               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "state_at": 1.0, "last_synch": None,
+               "station": "watch"}
         with concurrent.futures.ThreadPoolExecutor(8) as pool:
             ids = list(pool.map(lambda _i: db.new_comap_task(row, frozenset(FINAL)), range(40)))
         assert sorted(ids) == list(range(1, 41))  # type: ignore[type-var]

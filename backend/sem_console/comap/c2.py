@@ -187,9 +187,9 @@ class C2:
     def load_task(self, row: dict[str, Any]) -> None:
         """A stored task (Database.comap_tasks), applied where newer than this console's of that id: its state and synch
         when decided over ours (`state_at`, `decided_over`: another station's HOLD), its progress when reported after
-        ours. Each by its own
-        stamp: the vehicle's progress, stamped as each report comes, moves `updated_at` on faster than the notifications
-        come, and comparing the whole change never let the other station's HOLD in (seen: B held, A showed IN_PROGRESS)."""
+        ours. Each by its own stamp: the vehicle's progress, stamped as each report comes, moves `updated_at` on faster
+        than the notifications come, and comparing the whole change never let the other station's HOLD in (seen: B
+        held, A showed IN_PROGRESS)."""
         task = Task(**{**row, "vehicle": uuid.UUID(row["vehicle"])})
         old = self.tasks.get(task.task_id)
         if old is not None and old.created_at > task.created_at:

@@ -115,9 +115,14 @@ def open_engine(db: DatabaseUrl) -> Engine:
     return engine
 
 
+def _option(db: DatabaseUrl) -> str:
+    """The option that named the database, as an error names it."""
+    return f"--database-url {db.shown}" if db.path is None else f"--db {db.path}"
+
+
 def problem(db: DatabaseUrl, e: Exception) -> str:
     """One line for an error reaching or reading the database: what is wrong and what to do."""
-    where = f"--database-url {db.shown}" if db.path is None else f"--db {db.path}"
+    where = _option(db)
     message = str(getattr(e, "orig", None) or e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
     lower = message.lower()
     if db.path is not None:
@@ -158,8 +163,7 @@ def migrate(engine: Engine, db: DatabaseUrl) -> None:
                 return
             if current is not None and current not in {r.revision for r in ScriptDirectory.from_config(
                     alembic_config(c)).walk_revisions()}:
-                where = f"--database-url {db.shown}" if db.path is None else f"--db {db.path}"
-                raise StorageError(f"{where}: its schema is at revision {current}, newer than this sem-console's {head}: "
+                raise StorageError(f"{_option(db)}: its schema is at revision {current}, newer than this sem-console's {head}: "
                                    "run the sem-console release that wrote it (the consoles of one database run one release)")
             tables = set(inspect(c).get_table_names())
             c.commit()
@@ -585,8 +589,16 @@ class Database:
     def set_comap_world(self, world: dict[str, Any]) -> None:
         """Store the world model (keys: features, updated_at, source, highest_feature), unless the row holds a newer
         one (written by another console meanwhile, or before this console's held write after an outage)."""
+        t = COMAP_WORLD
         values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.station}
-        self._upsert_newer(COMAP_WORLD, values, "worldmodel")
+        ins = self._insert(t).values(values)
+        stmt = ins.on_conflict_do_update(index_elements=[t.c.id], set_={k: ins.excluded[k] for k in values if k != "id"},
+                                         where=t.c.updated_at <= ins.excluded.updated_at)
+
+        def write(c: Connection) -> None:
+            c.execute(stmt)
+            self._notify(c, "worldmodel")
+        self._write(write)
 
     def set_comap_task(self, task: dict[str, Any], final: frozenset[str]) -> None:
         """Store a task's change (keys: ComapTaskRecord's). Its state and synch are written where decided after the
@@ -615,19 +627,6 @@ class Database:
         def write(c: Connection) -> None:
             c.execute(stmt)
             self._notify(c, "task", id=task["task_id"])
-        self._write(write)
-
-    def _upsert_newer(self, t: Any, values: dict[str, Any], kind: str, **fields: Any) -> None:
-        """Insert or update the row of `values`' key unless it holds a newer change."""
-        ins = self._insert(t).values(values)
-        key = [c.name for c in t.primary_key]
-        stmt = ins.on_conflict_do_update(index_elements=key,
-                                         set_={k: ins.excluded[k] for k in values if k not in key},
-                                         where=t.c.updated_at <= ins.excluded.updated_at)
-
-        def write(c: Connection) -> None:
-            c.execute(stmt)
-            self._notify(c, kind, **fields)
         self._write(write)
 
     def new_comap_task(self, task: dict[str, Any], final: frozenset[str]) -> int | None:
@@ -780,7 +779,6 @@ class VehicleWriters:
 
 
 def _task_row(task: dict[str, Any]) -> dict[str, Any]:
-    task = {"state_at": task["updated_at"], **task}  # a task of before state_at: its last change decided its state
     return {**{k: task[k] for k in (col.name for col in COMAP_TASKS.c)}, "vehicle": str(task["vehicle"]),
             "point": json.dumps(task["point"]) if task["point"] is not None else None}
 
