@@ -34,8 +34,13 @@ export interface Box {
 
 const SVG = "http://www.w3.org/2000/svg";
 const clamp = (v: number, lo: number, hi: number) => Math.max(lo, Math.min(hi, v));
-/** A name's transform: right of its vehicle at screen point `p`, centred on it vertically. */
-const labelAt = (p: { x: number; y: number }) => `translate(${Math.round(p.x + 14)}px, ${Math.round(p.y - 9)}px)`;
+/** Where a name's box starts: right of its vehicle at screen point `p`, centred on it vertically. */
+const labelOrigin = (p: { x: number; y: number }) => ({ x: p.x + 14, y: p.y - 9 });
+/** A name's transform, to its box's start. */
+const labelAt = (p: { x: number; y: number }) => {
+  const o = labelOrigin(p);
+  return `translate(${Math.round(o.x)}px, ${Math.round(o.y)}px)`;
+};
 /** Where `map` draws a position: at its copy of the world nearest the map's centre, as the fleet's dots are
  * (FleetCanvas), not a world away when the view is over the antimeridian. */
 const projectNear = (map: MapLibre, { lon, lat }: { lon: number; lat: number }) =>
@@ -252,7 +257,7 @@ export class VehicleOverlay {
     }), width, height);
     const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
     const keep = inside.length > 0 && rank(inside[0]) === 0 ? 1 : 0;
-    const shown = clearOf(inside.map(([m, p]) => ({ x: p.x + 14, y: p.y - 9, ...m.labelSize! })), note, keep);
+    const shown = clearOf(inside.map(([m, p]) => ({ ...labelOrigin(p), ...m.labelSize! })), note, keep);
     for (const [i, [m, p]] of inside.entries()) {
       if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
       if (shown[i]) m.label.style.transform = labelAt(p);
