@@ -201,9 +201,15 @@ describe("CoMap world model and tasks", () => {
     expect(tasksLoaded(kept, [task("ASSIGNED", 10) as never])).toBe(kept); // nothing newer: the same state
     // a HOLD (state decided at 40, progress as it was) came as a message; a GET answered before it, read after, has
     // newer progress (35) but the older state: the HOLD stays, the progress is taken
-    const held = reduce(kept, { type: "task", task: task("HELD", 30, 2, { stateAt: 40, synch: "HOLD", progress: 20 }) } as unknown as ServerMessage, 4);
-    const merged = tasksLoaded(held, [task("IN_PROGRESS", 35, 2, { stateAt: 31, progress: 60 }) as never]).tasks[2];
+    const running = reduce(kept, { type: "task", task: task("IN_PROGRESS", 30, 3, { progress: 20 }) } as unknown as ServerMessage, 4);
+    const held = reduce(running, { type: "task", task: task("HELD", 30, 3, { stateAt: 40, synch: "HOLD", progress: 20 }) } as unknown as ServerMessage, 5);
+    const merged = tasksLoaded(held, [task("IN_PROGRESS", 35, 3, { stateAt: 30, progress: 60 }) as never]).tasks[3];
     expect([merged.state, merged.synch, merged.progress, merged.stateAt, merged.updatedAt]).toEqual(["HELD", "HOLD", 60, 40, 35]);
+    // the vehicle COMPLETED it (at 38) before another station's HOLD (at 40) reached it: the console keeps it COMPLETED
+    // (comap.c2.decided_over) and says so; the page does not keep the later HOLD over it
+    const done = reduce(held, { type: "task", task: task("COMPLETED", 38, 3, { stateAt: 38, progress: 100 }) } as unknown as ServerMessage, 6);
+    expect([done.tasks[3].state, done.tasks[3].progress]).toEqual(["COMPLETED", 100]);
+    expect(tasksLoaded(done, [task("HELD", 30, 3, { stateAt: 40, synch: "HOLD" }) as never]).tasks[3].state).toBe("COMPLETED");
   });
   it("the REST load per connection says which tasks exist: a restarted console's old tasks go", async () => {
     const { tasksReplaced } = await import("./store");

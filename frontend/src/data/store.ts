@@ -349,18 +349,32 @@ export function worldModelLoaded(state: State, model: FeatureCollection | null, 
   return state.worldModelSeq !== seq || state.worldModel === model ? state : { ...state, worldModel: model };
 }
 
+/** A CoMap task's states that end it (the console's comap.c2.FINAL). */
+export const FINISHED = new Set(["REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"]);
+
+/** Whether a task's `state`, decided at `at`, replaces its `other` decided at `otherAt`: the console's rule
+ * (comap.c2.decided_over): the one decided later, except that a finished task is never made unfinished again, and of
+ * two finished states the first stands. */
+export function decidedOver(state: string, at: number, other: string, otherAt: number): boolean {
+  if (FINISHED.has(state)) return !FINISHED.has(other) || at < otherAt;
+  return !FINISHED.has(other) && at > otherAt;
+}
+
 /** Tasks (GET /api/tasks or a `task` message) merged by id, as the consoles merge them: state and synch from the copy
- * decided later (stateAt), progress and quality from the copy with the newer progress (updatedAt). A GET answered
- * before a HOLD but read after its `task` message does not undo the HOLD (a synch moves stateAt only). */
+ * decided over the other (`decidedOver`, by stateAt), progress and quality from the copy with the newer progress
+ * (updatedAt). A GET answered before a HOLD but read after its `task` message does not undo the HOLD (a synch moves
+ * stateAt only), and a task its vehicle finished stays finished. */
 export function tasksLoaded(state: State, tasks: Task[]): State {
   let next: Record<number, Task> | null = null;
   for (const t of tasks) {
     const old = (next ?? state.tasks)[t.taskId];
     let merged = t;
     if (old && old.createdAt === t.createdAt) {
-      if (old.stateAt >= t.stateAt && old.updatedAt >= t.updatedAt) continue; // nothing newer
-      if (old.stateAt > t.stateAt) merged = { ...merged, state: old.state, synch: old.synch, stateAt: old.stateAt };
-      if (old.updatedAt > t.updatedAt) merged = { ...merged, progress: old.progress, quality: old.quality, updatedAt: old.updatedAt };
+      const decided = decidedOver(t.state, t.stateAt, old.state, old.stateAt);
+      const progressed = t.updatedAt > old.updatedAt;
+      if (!decided && !progressed) continue; // nothing newer
+      if (!decided) merged = { ...merged, state: old.state, synch: old.synch, stateAt: old.stateAt };
+      if (!progressed) merged = { ...merged, progress: old.progress, quality: old.quality, updatedAt: old.updatedAt };
     } else if (old && old.createdAt > t.createdAt) continue; // a finished task of that id, which this one replaced
     next = { ...(next ?? state.tasks), [t.taskId]: merged };
   }

@@ -12,6 +12,7 @@ import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { perProviders, useCapabilities, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
+import { FINISHED } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
@@ -35,7 +36,6 @@ interface Props {
 
 type Sensor = Task["sensor"] & string;
 const SENSORS: Sensor[] = ["ANY", "SIDESCAN", "MULTIBEAM", "CAMERA", "MAGNETOMETER"];
-const FINISHED = new Set(["REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"]);
 const SYNCH_WORDS: Record<SynchAction, string> = { HOLD: "Hold", RESUME: "Resume", INTERRUPT: "Interrupt" };
 const GEOMETRY_WORDS: Record<string, string> = { Polygon: "Polygon", LineString: "Line", Point: "Point" };
 
