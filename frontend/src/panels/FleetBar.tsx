@@ -209,6 +209,8 @@ export function FleetBar() {
   // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
   const alarmed = all.filter((c) => c.link !== "lost" && byVehicle.has(c.p.id));
   const chips = lost.length || alarmed.length ? [...lost, ...alarmed, ...all.filter((c) => c.link !== "lost" && !byVehicle.has(c.p.id))] : all;
+  // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip: 250 chips by 250)
+  const tabStop = chips.some((c) => c.p.id === selected) ? selected : chips[0]?.p.id;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
   const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
@@ -279,7 +281,7 @@ export function FleetBar() {
               alarms={byVehicle.get(p.id) ?? 0}
               recorded={recorded}
               selected={p.id === selected}
-              tabbable={p.id === (chips.some((c) => c.p.id === selected) ? selected : chips[0].p.id)}
+              tabbable={p.id === tabStop}
               onSelect={onSelect}
             />
           ))}
