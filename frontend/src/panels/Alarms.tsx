@@ -8,7 +8,7 @@ import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useNow, useSelector, useStore, useVehicleNames } from "../data/hooks";
+import { useAlarms, useCapabilities, useNow, useSelector, useStore } from "../data/hooks";
 import { select, unacknowledged } from "../data/store";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
@@ -43,7 +43,6 @@ function allSaid(n: number, failed: number, gone: number): string {
 
 export function AlarmsPanel() {
   const alarms = useAlarms();
-  const names = useVehicleNames();
   const store = useStore();
   const token = useToken();
   const { command } = useCapabilities(); // a replay acknowledges nothing
@@ -139,9 +138,9 @@ export function AlarmsPanel() {
             const acked = a.state === "active-acknowledged";
             // the vehicle by its name now (the console sends the text and `vehicle` so too, and again on a rename), else
             // the alarm's `vehicle`: its name, or its short id (then it had none)
-            const raisedAs = a.vehicle && a.providerId && a.vehicle !== shortId(a.providerId) ? a.vehicle : null;
-            const current = a.providerId ? names.get(a.providerId) : undefined; // "": known, with no name now
-            const vehicle = a.providerId ? { id: a.providerId, name: current === undefined ? raisedAs : current || null } : null;
+            // the console names the vehicle as it is named now (a rename sends the alarms again): its configured name,
+            // else its short id (then it has no name)
+            const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
             return (
               <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
                 <button
