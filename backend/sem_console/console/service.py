@@ -35,7 +35,7 @@ from sem_console.console.hub import Hub
 from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
 from sem_console.console.sources import Source, open_source
-from sem_console.core.config import Settings, parse_imc_vehicles, parse_peers
+from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.topics import Service
 from sem_console.recording.recorder import Recorder, RecordingError
@@ -243,7 +243,7 @@ class Console:
             log.info("resumed following %d commands", len(resumed))
         await self.source.start()
         if self.settings.imc_port is not None:
-            node = AsyncNode(Endpoint(self.settings.imc_id, parse_peers(self.settings.imc_peers)), self._on_imc)
+            node = AsyncNode(Endpoint(self.settings.imc_id, self.settings.imc_peer_addresses()), self._on_imc)
             await node.open(self.settings.imc_host, self.settings.imc_port)
             self.imc = node
             self.c2.linked = True

@@ -169,6 +169,7 @@ class Settings(BaseSettings):
     frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist)")
 
     _operators: dict[str, str] | None = PrivateAttr(None)
+    _imc_peers: list[tuple[str, int]] = PrivateAttr(default_factory=list)
 
     @field_validator("allowed_hosts")
     @classmethod
@@ -199,7 +200,8 @@ class Settings(BaseSettings):
         self.operators()
         self.names()
         parse_imc_vehicles(self.imc_vehicles)
-        parse_peers(self.imc_peers, resolve=self.imc_port is not None)  # names resolved only where CoMap is on
+        # names resolved only where CoMap is on, once, here: the console's IMC node sends to these addresses
+        self._imc_peers = parse_peers(self.imc_peers, resolve=self.imc_port is not None)
         if self.auth_reads and not self.operators():
             raise ValueError("--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)")
         if self.database_url is not None:
@@ -214,6 +216,10 @@ class Settings(BaseSettings):
             if self.imc_port is not None:
                 raise ValueError("--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)")
         return self
+
+    def imc_peer_addresses(self) -> list[tuple[str, int]]:
+        """--imc-peers as (address, port): resolved when the settings were made (with CoMap on)."""
+        return self._imc_peers
 
     def operators(self) -> dict[str, str]:
         """token -> operator name, from operator_tokens and operator_tokens_file (read once).

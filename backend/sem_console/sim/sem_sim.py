@@ -38,7 +38,7 @@ def _imc_id(text: str) -> int:
 
 
 def _peers(text: str) -> list[tuple[str, int]]:
-    try:  # names as given: the plain socket resolves them at each send (checked in options_from when CoMap is on)
+    try:  # names as given: resolved in options_from when CoMap is on (a name that does not resolve stops nothing else)
         return parse_peers(text, resolve=False)
     except ValueError as e:
         raise argparse.ArgumentTypeError(str(e)) from None
@@ -77,8 +77,8 @@ def options_from(args: argparse.Namespace) -> SimOptions:
         print(f"sem-sim: error: {model_error(SimOptions, e)}", file=sys.stderr)
         raise SystemExit(2) from None
     if opts.imc_port is not None:  # CoMap on: a name that does not resolve is one line now, not every send failing unseen
-        try:
-            parse_peers(",".join(f"{h}:{p}" for h, p in opts.imc_peers))
+        try:  # resolved once, here: sent to by address, not looked up again on every send
+            opts = opts.model_copy(update={"imc_peers": parse_peers(",".join(f"{h}:{p}" for h, p in opts.imc_peers))})
         except ValueError as e:
             print(f"sem-sim: error: --imc-peers: {e}", file=sys.stderr)
             raise SystemExit(2) from None
