@@ -60,8 +60,7 @@ class StatusSeen:
     received: float
     source: uuid.UUID
     sample: Any | None
-    alive: bool
-    disposed: bool = False  # by its writer; not alive and not disposed: the instance lost its writer (the provider left)
+    disposed: bool = False  # by its writer; no sample and not disposed: the instance lost its writer (the provider left)
 
 
 class Observer:
@@ -169,7 +168,7 @@ class Observer:
                 elif isinstance(item, StatusItem):
                     table = self.statuses if item.kind == "status" else self.acks
                     disposed = info.instance_state == InstanceState.NotAliveDisposed
-                    table[item.session].append(StatusSeen(now, item.source, item.sample, item.alive, disposed))
+                    table[item.session].append(StatusSeen(now, item.source, item.sample, disposed))
             if tapped and self.recorder is not None and self.recorder.active:
                 self.recorder.on_samples(sem, tapped, time.time_ns())
             if len(raw) < 256:
