@@ -144,16 +144,21 @@ def alembic_config(connection: Connection) -> Config:
     return cfg
 
 
-def head_revision() -> str | None:
+def _scripts() -> ScriptDirectory:
     cfg = Config()
     cfg.set_main_option("script_location", str(MIGRATIONS))
-    return ScriptDirectory.from_config(cfg).get_current_head()
+    return ScriptDirectory.from_config(cfg)
+
+
+def head_revision() -> str | None:
+    return _scripts().get_current_head()
 
 
 def migrate(engine: Engine, db: DatabaseUrl) -> None:
     """Upgrade the schema to the newest revision. A SQLite file with tables at an older revision (or of the
     first release, without Alembic's table) is copied beside itself first, with a name that says why."""
-    head = head_revision()
+    scripts = _scripts()
+    head = scripts.get_current_head()
     with engine.connect() as c:
         if db.path is None:  # two consoles starting together: one upgrades, the other then finds it done
             c.execute(select(func.pg_advisory_lock(MIGRATION_LOCK)))
@@ -161,8 +166,7 @@ def migrate(engine: Engine, db: DatabaseUrl) -> None:
             current = MigrationContext.configure(c).get_current_revision()
             if current == head:
                 return
-            if current is not None and current not in {r.revision for r in ScriptDirectory.from_config(
-                    alembic_config(c)).walk_revisions()}:
+            if current is not None and current not in {r.revision for r in scripts.walk_revisions()}:
                 raise StorageError(f"{_option(db)}: its schema is at revision {current}, newer than this sem-console's {head}: "
                                    "run the sem-console release that wrote it (the consoles of one database run one release)")
             tables = set(inspect(c).get_table_names())
