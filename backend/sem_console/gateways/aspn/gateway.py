@@ -36,6 +36,8 @@ def channel_vehicle(vehicle: uuid.UUID) -> str:
     """The vehicle's part of its channel names: its 64-bit key (`vehicle_key`, from the whole GUID) in 16 hex digits;
     its ASPN device_id is the same bits shifted right by one."""
     return f"{vehicle_key(vehicle):016x}"
+
+
 QUEUE_SIZE = 1000  # reports waiting for the worker; more are dropped and counted ("dropped: queue full")
 TOPICS = ("GPSFixReport", "GPSReport")
 log = logging.getLogger("sem-console.gateways")
