@@ -6,6 +6,8 @@ import type { ReplayStatus } from "../api/types";
 /** connecting → live; a dropped socket: reconnecting, then offline after repeated failures (still retrying);
  * signed-out: stopped because reads need a token and there is none (the store holds no vehicle data then). */
 export type SourceState = "connecting" | "live" | "reconnecting" | "offline" | "signed-out";
+/** The console cannot be reached: the connection was lost and is being tried again, or the browser is offline. */
+export const unreachable = (state: SourceState): boolean => state === "reconnecting" || state === "offline";
 
 export interface Capabilities {
   command: boolean; // commands and cancels can be sent

@@ -12,6 +12,7 @@ import { expectedDuration, mergeCommands } from "../lib/commands";
 import { commandStatusText, lostText, reasonText, umaa } from "../lib/labels";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
+import { unreachable as isUnreachable } from "../data/source";
 
 type Action = { label: string; noun: string; confirm: string | null; run: (provider: string, token: string | null, confirmLost: boolean) => Promise<Command> };
 
@@ -228,7 +229,7 @@ export function CommandsPanel() {
   const [pending, setPending] = useState<Pending | null>(null);
   const [error, setError] = useState<string | null>(null);
   const [note, setNote] = useState<string | null>(null);
-  const unreachable = connection === "reconnecting" || connection === "offline";
+  const unreachable = isUnreachable(connection);
   // A double click is one order: its second click (detail 2) is ignored, and while a request is on its way the
   // buttons wait for its answer, so a second click or Enter does not send the command twice (the second would
   // supersede the first, which then shows as failed). A ref, read by the handlers: the second click can come before

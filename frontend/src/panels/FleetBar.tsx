@@ -16,6 +16,7 @@ import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
 import { DASH } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
+import { unreachable as isUnreachable } from "../data/source";
 
 /** The bar shows every vehicle, and any of them reports many times a second: it draws (on the frame) only when
  * what it shows of one changed, ages to the second. */
@@ -135,7 +136,7 @@ function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boole
   const [said, setSaid] = useState("");
   useEffect(() => unlockAudioOnGesture(), []);
   const conn = useConnectionState();
-  const unreachable = conn === "reconnecting" || conn === "offline";
+  const unreachable = isUnreachable(conn);
   useEffect(() => {
     document.title = pageTitle(unacked, playback, unreachable);
   }, [unacked, playback, unreachable]);
