@@ -5,16 +5,22 @@ through the ICD 4.1 flow, each status sequence followed by the console's Figure 
 - `commands.GPSFix.complete`: ISSUED -> COMMANDED -> EXECUTING -> COMPLETED, each step within the
   stated time, with the ack report (ICD 4.1.4, 4.1.4.1, 4.1.4.2) and, when the provider serves
   GPSFixReport, a valid position reported by then;
-- `commands.GPSFix.cancel`: disposed while EXECUTING -> CANCELED, then status and ack disposed
-  (ICD 4.1.4.4, Figure 14);
+- `commands.GPSFix.cancel`: disposed while EXECUTING -> CANCELED, or COMPLETED for a command that
+  cannot be canceled, then status and ack disposed (ICD 4.1.4.4, Figure 14). A command that
+  completes before the checker could dispose it is followed by a second, disposed at its first
+  status; each is disposed and its status and ack must go (ICD 4.1.5);
 - `commands.InertialSensor.OFF|ON|RESTARTING`: each through the flow, the InertialSensorReport
-  following the commanded state;
+  following the commanded state; `commands.InertialSensor.same`: a command for the state the
+  sensor is in, answered as any other (ICD 4.1: the provider responds to every command);
 - `commands.<Service>.cleanup`: after the consumer disposes a finished command the provider
-  disposes its status and ack (ICD 4.1.5, Figure 15).
+  disposes its status and ack (ICD 4.1.5, Figure 15);
+- `commands.<Service>.destination`: a command addressed to another GUID, sent before the service's
+  other commands, gets no status or ack from the provider (ICD 4.1: `destination`).
 
-Any status sequence that breaks Figure 4 fails its test, quoting the transition; a command with
-no status within the answer time fails as unanswered, with the time waited, and the service's
-next commands are skipped. Every command is disposed before the checker leaves (ICD 4.1.6.2).
+Any status sequence that breaks Figure 4 fails its test, quoting the transition, also when it comes
+after the test (after the cleanup: every command is watched until --step-time after its dispose);
+a command with no status within the answer time fails as unanswered, with the time waited, and the
+service's next commands are skipped. Every command is disposed before the checker leaves (ICD 4.1.6.2).
 """
 
 from __future__ import annotations
@@ -49,15 +55,19 @@ class CommandLimits:
 
 SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
 LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
+GPS_NAMES = [f"commands.GPSFix.{t}" for t in ("complete", "cancel", "cleanup", "destination")]
+INS_NAMES = [f"commands.InertialSensor.{t}" for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")]
+ACTIVE = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING})
+SETTLED = {"RESTARTING": "ON"}  # the state an inertial sensor reporting this one ends in
 
 # Where the ICD has the provider take a step of the successful path after ISSUED
 STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
+DESTINATION_REF = "ICD 4.1: a command's destination directs it at one Service Provider, which responds to the commands " \
+                  "addressed to its ID"
 
 
 def names() -> list[str]:
-    return ["commands.GPSFix.complete", "commands.GPSFix.cancel", "commands.GPSFix.cleanup",
-            *(f"commands.InertialSensor.{s.name}" for s in (InsState.OFF, InsState.ON, InsState.RESTARTING)),
-            "commands.InertialSensor.cleanup"]
+    return GPS_NAMES + INS_NAMES
 
 
 @dataclass
@@ -68,6 +78,8 @@ class Sent:
     session: uuid.UUID
     sample: Any
     sent_at: float  # the checker's clock, UTC seconds
+    case: Case | None = None  # the test a status of the command counts for (the cleanup test once it disposed it)
+    foreign: bool = False  # addressed to another GUID than the provider's: it must not answer
     flow: CommandFlow = field(default_factory=CommandFlow)
     at: list[float] = field(default_factory=list)  # when each transition of `flow` arrived
     ack: Any = None
@@ -75,6 +87,7 @@ class Sent:
     status_disposed: bool = False
     ack_disposed: bool = False
     disposed_at: float | None = None  # when the checker disposed the command
+    disposed_in: Status | None = None  # the command's status then
     seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
     breaches_reported: int = 0  # of flow.violations, those already failed a case
 
@@ -120,24 +133,27 @@ class Consumer:
 
         return w if self.observer.wait(matched, self.limits.answer) else None
 
-    def send(self, service: Service, writer: DataWriter[Any], state: InsState | None = None) -> Sent:
+    def send(self, service: Service, writer: DataWriter[Any], state: InsState | None = None, case: Case | None = None,
+             destination: uuid.UUID | None = None) -> Sent:
+        """A command to the provider (or, `destination`, to another GUID); its statuses count for `case`."""
         session = uuid.uuid4()
-        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(self.provider),
+        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(destination or self.provider),
                                       sessionID=to_guid(session), timeStamp=now_datetime())
         if service is Service.INERTIAL_SENSOR:
             values["state"] = state
         sample = service.command.spec.type(**values)
         what = f"{icd.short(service.command)}" + (f" {state.name}" if state is not None else "")
-        sent = Sent(service, session, sample, time.time())
+        sent = Sent(service, session, sample, time.time(), case, foreign=destination is not None)
         self.sent.append(sent)  # before it is written: a SIGTERM or Ctrl-C from here on still disposes it (close)
-        print(f"  sending {what} (session {session})", file=self.out, flush=True)
+        to = f" addressed to {destination}, not to the provider" if destination is not None else ""
+        print(f"  sending {what}{to} (session {session})", file=self.out, flush=True)
         writer.write(sample)
         return sent
 
     def dispose(self, sent: Sent) -> None:
         if sent.disposed_at is None:
             self.writers[sent.service].dispose(sent.sample)
-            sent.disposed_at = time.time()
+            sent.disposed_at, sent.disposed_in = time.time(), sent.flow.status
 
     def update(self, sent: Sent) -> None:
         """Feed the provider's new statuses and acks of the command to its flow."""
@@ -193,15 +209,27 @@ class Consumer:
             self.close()  # (a second signal is only noted: runner.StopSignals)
             raise
 
+    def settle(self) -> None:
+        """After the command tests: every command is watched until --step-time after the consumer disposed it, and
+        what came after its test (a status after the cleanup, an answer to a command for another destination)
+        fails the test it counts for."""
+        ends = [s.disposed_at + self.limits.step for s in self.sent if s.disposed_at is not None]
+        if ends:
+            self.observer.idle(max(0.0, max(ends) - time.time()))
+        for sent in self.sent:
+            self.update(sent)
+            if sent.case is not None:
+                (check_silent if sent.foreign else breaches)(sent, sent.case)
+
 
 def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], sent: Sent) -> str:
     """The sources other than the provider that answered the command (its statuses or acks), or ""."""
     return ", ".join(sorted({str(s.source) for s in table.get(sent.session, []) if s.source != consumer.provider}))
 
 
-def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None = None) -> bool:
-    """Follow a command to a terminal status within the stated times (disposing it on reaching
-    `cancel_at`); the Figure 4 verdict of every transition goes to the case. False when unanswered."""
+def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[Status] = frozenset()) -> bool:
+    """Follow a command to a terminal status within the stated times (disposing it on reaching a status of
+    `cancel_when`); the Figure 4 verdict of every transition goes to the case. False when unanswered."""
     limits = consumer.limits
     answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
     if not answered:
@@ -223,25 +251,33 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
                       f"follows Figure 4 to its end); statuses: {sent.story()}")
             break
         status = sent.flow.status
-        if cancel_at is not None and status is cancel_at and sent.disposed_at is None:
+        if status in cancel_when and sent.disposed_at is None:
             consumer.dispose(sent)
         n = len(sent.flow.transitions)
-        if sent.disposed_at is not None:
-            limit, since, what = limits.step, sent.disposed_at, "CANCELED after the consumer's dispose (ICD 4.1.4.4)"
+        if sent.disposed_at is not None and status is Status.EXECUTING \
+                and sent.at[-1] + limits.execute > sent.disposed_at + limits.step:
+            # a command that cannot be canceled may run to COMPLETED (ICD 4.1.4.4)
+            deadline = sent.at[-1] + limits.execute
+            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose, nor COMPLETED within "
+                       f"the stated {limits.execute:g} s of EXECUTING (ICD 4.1.4.4)")
+        elif sent.disposed_at is not None:
+            deadline = sent.disposed_at + limits.step
+            missing = f"no CANCELED after the consumer's dispose (ICD 4.1.4.4) within the stated {limits.step:g} s"
         elif status is Status.EXECUTING:
-            limit, since, what = (limits.execute, sent.at[-1],
-                                  "COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2)")
+            deadline = sent.at[-1] + limits.execute
+            missing = (f"no COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2) within the stated "
+                       f"{limits.execute:g} s")
         else:
             step = SUCCESS_NEXT.get(status)
-            ref = STEP_REF.get(step, "ICD 4.1, Figure 4")
-            limit, since, what = limits.step, sent.at[-1], f"{name(step)} after {name(status)} ({ref})"
-        remaining = since + limit - time.time()
+            deadline = sent.at[-1] + limits.step
+            missing = (f"no {name(step)} after {name(status)} ({STEP_REF.get(step, 'ICD 4.1, Figure 4')}) within the "
+                       f"stated {limits.step:g} s")
 
         def moved(n: int = n) -> bool:
             return len(sent.flow.transitions) > n
 
-        if not consumer.wait(sent, moved, max(remaining, 0.0)):
-            case.fail(f"no {what} within the stated {limit:g} s; statuses: {sent.story()}{consumer.left()}")
+        if not consumer.wait(sent, moved, max(deadline - time.time(), 0.0)):
+            case.fail(f"{missing}; statuses: {sent.story()}{consumer.left()}")
             break
     breaches(sent, case)
     case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
@@ -250,7 +286,8 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_at: Status | None 
 
 def breaches(sent: Sent, case: Case) -> None:
     """Fail the case for each Figure 4 breach of the command not reported yet: statuses keep coming
-    after `follow` (during the ack, report, cancel and cleanup checks), and each is checked too."""
+    after `follow` (during the ack, report, cancel and cleanup checks, and after: Consumer.settle), and
+    each is checked too."""
     for v in sent.flow.violations[sent.breaches_reported:]:
         case.fail(f"Figure 4 breach: {v} (ICD 4.1, Figure 4); statuses: {sent.story()}")
     sent.breaches_reported = len(sent.flow.violations)
@@ -283,9 +320,21 @@ def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
     case.note(f"{ack_topic} +{(sent.ack_at or sent.sent_at) - sent.sent_at:.2f} s")
 
 
-def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
-    """Dispose a finished command; the provider disposes its status and ack (ICD 4.1.5, Figure 15)."""
-    consumer.dispose(sent)
+def check_silent(sent: Sent, case: Case) -> None:
+    """A command addressed to another GUID: the provider published no status nor ack of it."""
+    if case.outcome is Outcome.FAILED or not (sent.flow.transitions or sent.ack is not None):
+        return
+    answered = [f"statuses {sent.story()}" if sent.flow.transitions else "", "an ack" if sent.ack is not None else ""]
+    case.fail(f"the provider answered the {icd.short(sent.service.command)} addressed to {_destination(sent)}, not to it "
+              f"({' and '.join(a for a in answered if a)}; {DESTINATION_REF})")
+
+
+def _destination(sent: Sent) -> str:
+    return str(uuid.UUID(bytes=bytes(sent.sample.destination)))
+
+
+def await_disposes(consumer: Consumer, sent: Sent, case: Case, after: str, ref: str) -> None:
+    """The provider disposes the command's status and ack (its ack when it sent one) within --step-time."""
     need_ack = sent.ack is not None
 
     def done() -> bool:
@@ -294,12 +343,55 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
     if not consumer.wait(sent, done, consumer.limits.step):
         left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
                                           (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
-        case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of the "
-                  f"consumer disposing the {name(sent.flow.status)} command {sent.session} (ICD 4.1.5, Figure 15)"
-                  f"{consumer.left()}")
+        case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of {after} "
+                  f"({ref}){consumer.left()}")
     else:
-        case.note(f"{sent.session}: status and ack disposed after the consumer's dispose")
+        case.note(f"{sent.session}: status and ack disposed after {after}")
+
+
+def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
+    """Dispose a finished command; the provider disposes its status and ack (ICD 4.1.5, Figure 15). What it
+    publishes from then on counts for `case`."""
+    consumer.dispose(sent)
+    sent.case = case
+    await_disposes(consumer, sent, case, f"the consumer disposing the {name(sent.flow.status)} command {sent.session}",
+                   "ICD 4.1.5, Figure 15")
     breaches(sent, case)
+
+
+def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, offered: set[str],
+                     state: InsState | None = None) -> Sent:
+    """One command through the flow to its end: the Figure 4 verdicts, how it ended, its ack and the report that
+    shows its effect (ICD 4.1.4)."""
+    sent = consumer.send(service, writer, state, case)
+    if follow(consumer, sent, case):
+        check_end(sent, case)
+        if sent.flow.status is Status.COMPLETED:
+            check_ack(consumer, sent, case)
+            (_check_fix_report if service is Service.GPS_FIX else _check_ins_report)(consumer, sent, offered, case)
+    breaches(sent, case)
+    return sent
+
+
+def send_foreign(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case,
+                 state: InsState | None = None) -> Sent:
+    """The destination test's command: addressed to a GUID no provider on the domain has."""
+    other = uuid.uuid4()
+    while other in consumer.observer.providers():
+        other = uuid.uuid4()
+    return consumer.send(service, writer, state, case, destination=other)
+
+
+def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
+    """No status nor ack of the command for another destination: by --step-time after the provider answered a
+    later command of the service (it has read the foreign one by then), else within --timeout of sending it."""
+    later = [s.at[0] for s in consumer.sent if s.service is foreign.service and not s.foreign and s.at
+             and s.sent_at > foreign.sent_at]
+    until = min(later) + consumer.limits.step if later else foreign.sent_at + consumer.limits.answer
+    consumer.wait(foreign, lambda: bool(foreign.flow.transitions) or foreign.ack is not None, max(until - time.time(), 0.0))
+    check_silent(foreign, case)
+    if case.outcome is Outcome.PASSED:
+        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in {until - foreign.sent_at:.1f} s")
 
 
 def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
@@ -309,26 +401,23 @@ def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str,
 
 def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
     cases = []
-    complete, cancel, clean = (Case(n) for n in names()[:3])
+    complete, cancel, clean, destination = (Case(n) for n in GPS_NAMES)
+    every = (complete, cancel, clean, destination)
     if not consumer.observer.present(consumer.provider):  # it left (in the test before, or between): waiting tells nothing
-        return [consumer.gone(c) for c in (complete, cancel, clean) if selected(c.name)]
+        return [consumer.gone(c) for c in every if selected(c.name)]
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
         reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
                   f"see discovery.GPSFixCommand){consumer.left()}")
-        return [c.fail(reason) if c.name != clean.name else c.skip(reason) for c in (complete, cancel, clean) if selected(c.name)]
+        return [c.fail(reason) if c.name in GPS_NAMES[:2] else c.skip(reason) for c in every if selected(c.name)]
+    foreign = send_foreign(consumer, Service.GPS_FIX, writer, destination) if selected(destination.name) else None
     finished: Sent | None = None
     answered = True
     if selected(complete.name) or selected(clean.name):
         with Timer(complete, consumer.progress):
-            sent = consumer.send(Service.GPS_FIX, writer)
-            answered = follow(consumer, sent, complete)
-            check_end(sent, complete)
-            if sent.flow.status is Status.COMPLETED:
-                check_ack(consumer, sent, complete)
-                _check_fix_report(consumer, sent, offered, complete)
-            breaches(sent, complete)
+            sent = run_command_case(consumer, Service.GPS_FIX, writer, complete, offered)
+            answered = bool(sent.flow.transitions)
             finished = sent if sent.flow.terminal else None
         cases.append(complete)
     if selected(cancel.name):
@@ -338,10 +427,7 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
             elif not consumer.observer.present(consumer.provider):
                 consumer.gone(cancel)
             else:
-                sent = consumer.send(Service.GPS_FIX, writer)
-                follow(consumer, sent, cancel, cancel_at=Status.EXECUTING)
-                _check_cancel(consumer, sent, cancel)
-                breaches(sent, cancel)
+                _cancel(consumer, writer, cancel)
         cases.append(cancel)
     if selected(clean.name):
         with Timer(clean, consumer.progress):
@@ -350,6 +436,10 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
             else:
                 cleanup(consumer, finished, clean)
         cases.append(clean)
+    if foreign is not None:
+        with Timer(destination, consumer.progress):
+            judge_foreign(consumer, foreign, destination)
+        cases.append(destination)
     return [c for c in cases if selected(c.name)]
 
 
@@ -367,39 +457,61 @@ def _check_fix_report(consumer: Consumer, sent: Sent, offered: set[str], case: C
                   "after (ICD 5.1.1.3: the platform surfaces to update its GPS position)")
 
 
-def _check_cancel(consumer: Consumer, sent: Sent, case: Case) -> None:
+def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case) -> None:
+    """A command disposed while EXECUTING; when it completes before that, a second one disposed at its first status."""
+    for when in (frozenset({Status.EXECUTING}), ACTIVE):
+        sent = consumer.send(Service.GPS_FIX, writer, case=case)
+        follow(consumer, sent, case, cancel_when=when)
+        canceled = _check_cancel(consumer, sent, case)
+        breaches(sent, case)
+        if canceled:
+            return
+        case.note(f"{sent.session} COMPLETED before the checker could dispose it at "
+                  + ", ".join(sorted(s.name for s in when)))
+    case.skip("both commands COMPLETED before the checker could dispose them; cancel not tested (each one's status "
+              "and ack were disposed after its dispose, ICD 4.1.5)")
+
+
+def _check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
+    """What the provider did after the consumer's dispose (ICD 4.1.4.4). False: the command COMPLETED before the
+    dispose, and is cleaned up instead (ICD 4.1.5)."""
     if not sent.flow.transitions:
-        return  # unanswered: already failed
+        return True  # unanswered: already failed
     status = sent.flow.status
     if sent.disposed_at is None:
         if status is Status.COMPLETED:
-            case.skip("the command COMPLETED before it reached EXECUTING long enough to be canceled; cancel not tested")
-        else:
-            check_end(sent, case)
-        return
-    if status is Status.COMPLETED:
-        case.skip("the command COMPLETED after the consumer's dispose, which ICD 4.1.4.4 allows for a command that "
-                  "cannot be canceled; cancel not tested")
-        return
+            cleanup(consumer, sent, case)
+            return False
+        check_end(sent, case)
+        return True
+    last = sent.flow.transitions[-1]
     if status is Status.CANCELED:
-        last = sent.flow.transitions[-1]
         case.note(f"CANCELED/{name(last.reason)} +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose")
+    elif status is Status.COMPLETED:
+        case.note(f"COMPLETED +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose: the provider did not cancel it, "
+                  "which ICD 4.1.4.4 allows for a command that cannot be canceled")
     else:
         check_end(sent, case, canceled=True)
     check_ack(consumer, sent, case)
-
-    def done() -> bool:
-        return sent.status_disposed and (sent.ack_disposed or sent.ack is None)
-
-    if sent.flow.terminal and not consumer.wait(sent, done, consumer.limits.step):
-        case.fail(f"{name(status)}, but the provider did not dispose its status and ack within {consumer.limits.step:g} s "
-                  "(ICD 4.1.4.4, Figure 14)")
+    if sent.flow.terminal:
+        await_disposes(consumer, sent, case, f"{name(status)}, the consumer having disposed the command at "
+                       f"{name(sent.disposed_in)}",
+                       "ICD 4.1.4.4, Figure 14: CANCELED, or COMPLETED when it cannot be canceled, then the provider "
+                       "disposes the command's status and ack")
+    return True
 
 
 def ins_state(consumer: Consumer) -> str | None:
     """The state the provider's InertialSensorReport shows now (None: it sent none)."""
     last = _reports_since(consumer, Sem.INS_REPORT, 0.0)
     return last[-1].get("state") if last else None
+
+
+def settled_state(consumer: Consumer) -> InsState | None:
+    """The state the inertial sensor is in, or ends in (a restart ends ON), by its report; None: unknown."""
+    now = ins_state(consumer) or ""
+    now = SETTLED.get(now, now)
+    return InsState[now] if now in InsState.__members__ else None
 
 
 def ins_changed(consumer: Consumer, before: str | None) -> str | None:
@@ -410,11 +522,10 @@ def ins_changed(consumer: Consumer, before: str | None) -> str | None:
         return None
     consumer.observer.pump()
     now = ins_state(consumer)
-    settled = {"RESTARTING": "ON"}
-    if settled.get(now or "", now) == settled.get(before, before):
+    if SETTLED.get(now or "", now) == SETTLED.get(before, before):
         return None
     return (f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "
-            f"commands: set it back to {settled.get(before, before)}")
+            f"commands: set it back to {SETTLED.get(before, before)}")
 
 
 def ins_plan(consumer: Consumer) -> list[InsState]:
@@ -426,35 +537,39 @@ def ins_plan(consumer: Consumer) -> list[InsState]:
 
 def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
     cases: list[Case] = []
-    all_names = names()[3:]
-    clean = Case(all_names[-1])
+    clean, destination = Case(INS_NAMES[-2]), Case(INS_NAMES[-1])
     if not consumer.observer.present(consumer.provider):  # it left (in the test before, or between): waiting tells nothing
-        return [consumer.gone(Case(n)) for n in all_names if selected(n)]
+        return [consumer.gone(Case(n)) for n in INS_NAMES if selected(n)]
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
         reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
                   f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
                   f"see discovery.InertialSensorCommand){consumer.left()}")
-        return [Case(n).fail(reason) if n != clean.name else Case(n).skip(reason) for n in all_names if selected(n)]
+        return [Case(n).fail(reason) if n not in (clean.name, destination.name) else Case(n).skip(reason)
+                for n in INS_NAMES if selected(n)]
+    # addressed elsewhere, for the state the sensor is in: a provider that answers it anyway changes nothing
+    now = settled_state(consumer)
+    foreign = (send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, InsState.ON if now is None else now)
+               if selected(destination.name) else None)
     answered = True
     finished: list[Sent] = []
-    for state in ins_plan(consumer):
-        case = Case(f"commands.InertialSensor.{state.name}")
+    for state in [*ins_plan(consumer), None]:
+        case = Case(f"commands.InertialSensor.{state.name if state is not None else 'same'}")
         if not selected(case.name):
             continue
         with Timer(case, consumer.progress):
+            # the same test: a command for the state the sensor is in (its report, or the last command's)
+            target = state if state is not None else _same(consumer, finished)
             if not answered:
                 case.skip("the provider did not answer the previous InertialSensor command")
             elif not consumer.observer.present(consumer.provider):
                 consumer.gone(case)
+            elif target is None:
+                case.skip("the state the inertial sensor is in is unknown: it serves no InertialSensorReport, and no "
+                          "InertialSensor command of this run finished")
             else:
-                sent = consumer.send(Service.INERTIAL_SENSOR, writer, state)
-                answered = follow(consumer, sent, case)
-                check_end(sent, case)
-                if sent.flow.status is Status.COMPLETED:
-                    check_ack(consumer, sent, case)
-                    _check_ins_report(consumer, sent, offered, case)
-                breaches(sent, case)
+                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target)
+                answered = bool(sent.flow.transitions)
                 if sent.flow.terminal:
                     finished.append(sent)
                     # clean up now: the next command must not find this one on the bus
@@ -466,7 +581,21 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
         if not finished:
             clean.skip("needs a command that finished: see the commands.InertialSensor tests")
         cases.append(clean)
+    if foreign is not None:
+        with Timer(destination, consumer.progress):
+            judge_foreign(consumer, foreign, destination)
+        cases.append(destination)
     return cases
+
+
+def _same(consumer: Consumer, finished: list[Sent]) -> InsState | None:
+    """The state the inertial sensor is in: as it reports, else as the last InertialSensor command that COMPLETED
+    left it."""
+    now = settled_state(consumer)
+    done = [s.sample.state for s in finished if s.flow.status is Status.COMPLETED]
+    if now is not None or not done:
+        return now
+    return InsState[SETTLED.get(done[-1].name, done[-1].name)]
 
 
 def _check_ins_report(consumer: Consumer, sent: Sent, offered: set[str], case: Case) -> None:
@@ -495,38 +624,50 @@ def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) 
         if "GPSFixControl" in offered:
             cases += gps_fix(consumer, offered, selected)
         else:
-            cases += [Case(n).skip("the provider does not offer the GPSFixControl service")
-                      for n in names()[:3] if selected(n)]
+            cases += [Case(n).skip("the provider does not offer the GPSFixControl service") for n in GPS_NAMES if selected(n)]
         if consumer.progress is not None:  # some ended without a Timer: a run stopped later reports them as they are
             consumer.progress.add(cases)
         if "InertialSensorControl" in offered:
             cases += inertial_sensor(consumer, offered, selected)
         else:
             cases += [Case(n).skip("the provider does not offer the InertialSensorControl service")
-                      for n in names()[3:] if selected(n)]
+                      for n in INS_NAMES if selected(n)]
     finally:
         consumer.close()
+    consumer.settle()
     return cases
 
 
 def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[str]:
     """What --commands will send, said before anything is sent."""
     lines = []
-    gps = [n for n in names()[:2] if selected(n)]
-    if "GPSFixControl" in offered and (gps or selected(names()[2])):
-        lines.append("GPSFixCommand: the vehicle surfaces for a GPS fix"
-                     + (" (a second command is canceled while executing)" if selected(names()[1]) else ""))
+    gps = [n for n in GPS_NAMES if selected(n)]
+    foreign = "first one addressed to another GUID, which the vehicle must not answer"
+    if "GPSFixControl" in offered and gps:
+        text = "the vehicle surfaces for a GPS fix" if set(gps) & set(GPS_NAMES[:3]) else ""
+        if GPS_NAMES[1] in gps:
+            text += " (a second command is canceled while executing; a third when the second completes first)"
+        if GPS_NAMES[3] in gps:
+            text = f"{text}; {foreign}" if text else foreign.removeprefix("first ")
+        lines.append(f"GPSFixCommand: {text}")
     ins = [s.name for s in ins_plan(consumer) if selected(f"commands.InertialSensor.{s.name}")]
-    if "InertialSensorControl" in offered and ins:
+    same, elsewhere = selected(INS_NAMES[3]), selected(INS_NAMES[5])
+    if "InertialSensorControl" in offered and (ins or same or elsewhere):
         # The full plan ends as found; a --only/--skip subset may not, and the person running it must know.
         now = ins_state(consumer)
-        left = "OFF" if ins[-1] == "OFF" else "ON"  # a restart ends ON
+        settled = SETTLED.get(now or "", now)
+        left = ("OFF" if ins[-1] == "OFF" else "ON") if ins else settled
         if now is None:
             tail = "; it reports no state now"
-        elif left == ("OFF" if now == "OFF" else "ON"):
+        elif left == settled:
             tail = ", as it reports now"
         else:
             tail = f"; it reports {now} now"
-        lines.append(f"InertialSensorCommand: {', then '.join(ins)} (the inertial sensor is left {left}{tail})")
+        sends = ins + ([f"{left} again"] if same and left else [])
+        text = f"{', then '.join(sends)} (the inertial sensor is left {left or 'as it is'}{tail})" if sends else ""
+        if elsewhere:
+            other = f"{foreign.removesuffix(', which the vehicle must not answer')}, for {settled or 'ON'}, which the " \
+                    "vehicle must not answer"
+            text = f"{text}; {other}" if text else other.removeprefix("first ")
+        lines.append(f"InertialSensorCommand: {text}")
     return lines
-
