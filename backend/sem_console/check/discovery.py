@@ -1,6 +1,7 @@
 """Discovery tests, one per SEM topic (`discovery.<Topic>`): does the provider serve the topic, with
-the UMAA 3.0.1 IDL's type name, members and keys, and with a QoS a consumer on the ICD's QoS
-(dds/qos.py: reliable, transient-local) matches?
+the UMAA 3.0.1 IDL's type name, members and keys (ICD rules), and with a QoS a consumer on the
+project's QoS profile (dds/qos.py: reliable, transient-local) matches? ICD 3.0.1 sets no QoS: a
+failure of the QoS checks is marked as the profile's (`Case.profile`), not the ICD's.
 
 The provider's endpoints are those of its participants (the participants whose writers carry its
 source GUID). A service counts as offered when any of its topics is; then every topic of it is
@@ -27,6 +28,7 @@ from sem_console.dds.topics import Sem
 # How long a peer's type object may take to arrive (XTypes type lookup). Cyclone takes a
 # dds_duration_t, in nanoseconds: a bare 3000 would be 3 us, and a remote type would go unchecked.
 RESOLVE_TIMEOUT = duration(seconds=3)
+PROFILE = "a choice of the project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule"
 
 
 def name(sem: Sem) -> str:
@@ -44,11 +46,11 @@ def _policy(qos: Qos, policy: Any) -> Any:
 def _common_problems(qos: Qos, ref: str) -> list[str]:
     problems = []
     if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
-        problems.append(f"EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it ({ref})")
+        problems.append(f"EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it ({PROFILE}; {ref})")
     partition = _policy(qos, Policy.Partition)
     if partition is not None and [p for p in partition.partitions if p]:
         problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it "
-                        f"({ref})")
+                        f"({PROFILE}; {ref})")
     return problems
 
 
@@ -62,21 +64,22 @@ def delivery_ref(sem: Sem) -> str:
 
 
 def writer_problems(sem: Sem, qos: Qos) -> list[str]:
-    """Why a consumer on the ICD QoS would not (reliably, durably) receive this writer's samples."""
+    """Why a consumer on the project's QoS profile would not (reliably, durably) receive this writer's samples."""
     problems = []
     what = "report" if sem.spec.cls is TopicClass.REPORT else "status"
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
-        problems.append(f"BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it ({delivery_ref(sem)})")
+        problems.append(f"BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it "
+                        f"({PROFILE}; {delivery_ref(sem)})")
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
         ref = "ICD 4.2.1.1" if sem.spec.cls is TopicClass.REPORT else "ICD 4.1.2"
-        problems.append(f"VOLATILE durability: a consumer on the ICD QoS (TRANSIENT_LOCAL) does not match it, and one that "
-                        f"starts later never gets the {what} already published ({ref})")
+        problems.append(f"VOLATILE durability: a consumer on the project's QoS profile (TRANSIENT_LOCAL) does not match it, "
+                        f"and one that starts later never gets the {what} already published ({PROFILE}; {ref})")
     problems += _common_problems(qos, delivery_ref(sem))
     rep = _policy(qos, Policy.DataRepresentation)
     if sem.spec.xcdr2_only and (rep is None or rep.use_cdrv0_representation or not rep.use_xcdrv2_representation):
         problems.append("XCDR1 data representation for a type with @optional members: a consumer accepts XCDR2 only for "
-                        "it (vendors lay out optional members differently in XCDR1; " + delivery_ref(sem) + ")")
+                        f"it (vendors lay out optional members differently in XCDR1; {PROFILE}; {delivery_ref(sem)})")
     return problems
 
 
@@ -84,24 +87,24 @@ def reader_problems(sem: Sem, qos: Qos) -> list[str]:
     """Why a consumer's command writer (dds/qos.py writer_qos) would not reliably reach this reader."""
     problems = []
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
-        problems.append("BEST_EFFORT reliability: the provider can lose a command the consumer then waits on "
-                        "(ICD 4.1: the provider responds to every command addressed to it)")
+        problems.append(f"BEST_EFFORT reliability: the provider can lose a command the consumer then waits on ({PROFILE}; "
+                        "ICD 4.1: the provider responds to every command addressed to it)")
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
-        problems.append("VOLATILE durability: commands already on the bus when the provider starts never reach it "
-                        "(ICD 4.1.2.1: the provider handles persisted commands)")
+        problems.append(f"VOLATILE durability: commands already on the bus when the provider starts never reach it ({PROFILE}; "
+                        "ICD 4.1.2.1: the provider handles persisted commands)")
     elif durability in (Policy.Durability.Transient, Policy.Durability.Persistent):
         problems.append(f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it "
-                        f"({delivery_ref(sem)})")
+                        f"({PROFILE}; {delivery_ref(sem)})")
     problems += _common_problems(qos, delivery_ref(sem))
     deadline = _policy(qos, Policy.Deadline)
     if deadline is not None and 0 <= deadline.deadline < 2**63 - 1:
         problems.append(f"a deadline of {deadline.deadline / 1e9:g} s requested: a consumer's command writer (no deadline) "
-                        f"does not match it ({delivery_ref(sem)})")
+                        f"does not match it ({PROFILE}; {delivery_ref(sem)})")
     rep = _policy(qos, Policy.DataRepresentation)
     if rep is not None and not sem.spec.xcdr2_only and not rep.use_cdrv0_representation:
         problems.append("XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member; "
-                        f"{delivery_ref(sem)})")
+                        f"{PROFILE}; {delivery_ref(sem)})")
     return problems
 
 
@@ -189,17 +192,20 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: Sem, service: icd.Se
         return
     findings = observer.peer_findings()  # what another vendor's operator must change, in their terms (dds/vendors.py)
     for e in endpoints:
-        # another vendor's fix in its terms first: the run's table shows a test's first failure only
-        problems = [f.message for f in findings if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)]
-        problems += types.check(sem, e, role, case)
-        problems += reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos)
+        # (problem, a choice of the project's QoS profile rather than an ICD rule); another vendor's fix in its terms
+        # first (its QoS and type information, to match the profile): the run's table shows a test's first failure only
+        problems = [(f.message, True) for f in findings
+                    if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)]
+        problems += [(p, False) for p in types.check(sem, e, role, case)]
+        problems += [(p, True) for p in (reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos))]
         if not command and not problems and not observer.matched_by_consumer(sem, e):
-            problems.append("a consumer on the ICD QoS did not match it (its type is not assignable to the UMAA 3.0.1 IDL's: "
-                            f"{icd.TOPIC_REF[sem]})")
-        for p in problems:
-            case.fail(f"{role} {e.key}: {p}")
+            problems.append(("a consumer on the project's QoS profile did not match it (its type is not assignable to the "
+                             f"UMAA 3.0.1 IDL's: {icd.TOPIC_REF[sem]})", False))
+        for p, profile in problems:
+            case.fail(f"{role} {e.key}: {p}", profile=profile)
         if not problems:
-            case.note(f"{role} {e.key}: QoS fits " + ("a consumer's command writer" if command else "a consumer on the ICD QoS"))
+            case.note(f"{role} {e.key}: QoS fits " + ("a consumer's command writer" if command
+                                                      else "a consumer on the project's QoS profile"))
 
 
 def offered_services(observer: Observer, provider: uuid.UUID) -> set[str]:

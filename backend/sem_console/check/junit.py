@@ -4,7 +4,8 @@
       <testsuite name tests failures errors skipped time timestamp hostname>
         <properties><property name value/>...</properties>
         <testcase name classname time>
-          <failure message type>reason, then what was seen</failure> | <error message type>..</error> | <skipped message/>
+          <failure message type="icd|profile">reason, then what was seen</failure>
+            | <error message type>..</error> | <skipped message/>
           <system-out>what was seen (passed and skipped cases)</system-out>
         </testcase>
       </testsuite>
@@ -14,7 +15,10 @@
 allow it there.) A case's classname is `sem-check.<group>` and its name the rest of its dotted
 name, so CI servers group the cases by discovery, reports and commands. A failure's message is
 its one-line reason and its text the reason followed by what was seen (the status sequence, the
-other problems), which is what a CI's test view shows under the failure. A run that could not
+other problems), which is what a CI's test view shows under the failure; its type is `icd` when the reason breaks an
+ICD 3.0.1 rule and `profile` when it breaks a choice of the project's QoS profile (docs/dds.md:
+reliability, durability, ownership, partition, deadline, data representation), which the ICD
+leaves open (the common schema has no properties per test case; the type is what CIs show). A run that could not
 test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its
 message, the whole message (e.g. the list of providers to choose from) as its text. A run stopped
 by SIGTERM or SIGINT lists every selected test: those finished as they ended, the one running with
@@ -68,7 +72,8 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
         if error is not None:
             ET.SubElement(case, "error", {"message": error.splitlines()[0], "type": "could-not-test"}).text = error
         elif c.outcome is Outcome.FAILED:
-            ET.SubElement(case, "failure", {"message": c.reason, "type": "nonconformance"}).text = "\n".join([c.reason, *c.notes])
+            ET.SubElement(case, "failure", {"message": c.reason, "type": "profile" if c.profile else "icd"}).text = "\n".join(
+                [c.reason, *c.notes])
         elif c.outcome is Outcome.SKIPPED:
             ET.SubElement(case, "skipped", {"message": c.reason})
         elif c.outcome is Outcome.ERROR:

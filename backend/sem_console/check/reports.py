@@ -6,13 +6,14 @@
 - `reports.<Topic>.values`: every value within its ICD range, enum ordinals the ICD lists, GUIDs
   RFC 4122, optional members well-formed when present, and the satellite counts consistent.
 
-Only what a consumer on the ICD QoS received counts (observe.py). The ranges and enum checks of
+Only what a consumer on the project's QoS profile received counts (observe.py). The ranges and enum checks of
 the console's decoder (console/convert.py) apply, with the stricter ones of the ICD added here.
 """
 
 from __future__ import annotations
 
 import math
+import re
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -24,7 +25,8 @@ from sem_console.check.observe import REPORTS, Observer, Report
 from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.topics import Sem
 
-MAX_PROBLEMS = 5  # distinct problems quoted per case; the rest are counted
+MAX_PROBLEMS = 5  # kinds of problem quoted per case; the rest are counted
+MAX_VALUES = 3  # values quoted per kind of problem
 
 
 @dataclass
@@ -178,7 +180,7 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
     if not live:
         case.fail(f"no {topic} from the provider to check (see reports.{topic}.timing)")
         return
-    problems: dict[str, None] = {}
+    problems: list[str] = []
     bad_samples = 0
     for r in live:
         assert r.body is not None
@@ -189,10 +191,9 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
             found += extra(r.body, r, limits)
         kept = [p for p in found if p]
         bad_samples += bool(kept)
-        for p in kept:
-            problems.setdefault(p, None)
+        problems += kept
     if problems:
-        listed = list(problems)
+        listed = group(problems)
         case.fail(f"{topic} {listed[0]}")
         for p in listed[1:MAX_PROBLEMS]:
             case.note(f"also: {p}")
@@ -200,6 +201,55 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
         case.note(f"{bad_samples} of {len(live)} samples had problems" + (f"; {more} more kinds not listed" if more > 0 else ""))
     else:
         case.note(f"{len(live)} {topic} samples, every value within the ICD")
+
+
+# A problem's text is "path: value rest" or "path: unknown <enum> ordinal value rest" (console/convert.py, _range,
+# _guid_problem): its kind is the path without its indices and the rest, the same for every sample that has it.
+_INDEX = re.compile(r"\[\d+\]")
+_VALUE_FIRST = re.compile(r"(?P<path>[^:]+): (?P<value>\S+) (?P<rest>(?:outside|is not|elements,) .*)")
+_VALUE_LAST = re.compile(r"(?P<path>[^:]+): (?P<head>unknown \w+ ordinal) (?P<value>\S+)(?P<rest>.*)")
+
+
+def _kind(problem: str) -> tuple[str, str, str]:
+    """(kind, what the line says of the kind, the value of this occurrence) of a problem; its ICD reference stays
+    last in what the line says."""
+    m = _VALUE_FIRST.fullmatch(problem)
+    if m is not None:
+        path, value, said = m["path"], m["value"], m["rest"]
+    elif (m := _VALUE_LAST.fullmatch(problem)) is not None:
+        path, value, said = m["path"], m["value"], m["head"] + m["rest"]
+    else:
+        kind = _INDEX.sub("[]", problem)
+        return kind, kind, ""
+    general = _INDEX.sub("[]", path)
+    kind = f"{general}: {said}"
+    return kind, kind, value if general == path else f"{path} {value}"
+
+
+def group(problems: list[str]) -> list[str]:
+    """One line per kind of problem, in the order first seen: a problem seen once as it is, a repeated one with how
+    often and its first values (an angle in degrees was a line for each satellite of each sample, hundreds)."""
+    kinds: dict[str, tuple[str, list[str], dict[str, None], str]] = {}  # kind -> (says, occurrences, values, first)
+    for p in problems:
+        kind, says, value = _kind(p)
+        entry = kinds.setdefault(kind, (says, [], {}, p))
+        entry[1].append(p)
+        if value:
+            entry[2].setdefault(value, None)
+    lines = []
+    for says, seen, values, first in kinds.values():
+        if len(seen) == 1:
+            lines.append(first)
+            continue
+        head, ref = says, ""
+        if " (ICD " in says:
+            at = says.rindex(" (ICD ")
+            head, ref = says[:at], says[at:]
+        shown = list(values)[:MAX_VALUES]
+        more = ", …" if len(values) > MAX_VALUES else ""
+        example = f": {', '.join(shown)}{more}" if shown else ""
+        lines.append(f"{head}, {len(seen)} times{example}{ref}")
+    return lines
 
 
 def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
