@@ -38,6 +38,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from icd_provider import IcdProvider
 from sem_console.check import commands, junit, reports, runner
 from sem_console.check.cli import main
 from sem_console.check.observe import Observer, Report
@@ -91,6 +92,12 @@ def failed(run: Run) -> dict[str, str]:
     return {n: r for n, (o, r) in run.cases.items() if o == "failed"}
 
 
+def failure_types(run: Run) -> dict[str, str]:
+    """The JUnit failures' types: icd (an ICD rule) or profile (a choice of the project's QoS profile)."""
+    return {f"{tc.get('classname', '').removeprefix('sem-check.')}.{tc.get('name')}": str(f.get("type"))
+            for tc in ET.parse(run.report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
+
+
 def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.UUID]:
     """The sources of n providers' InertialSensorReports (a reader only: nothing is written)."""
     bus = Bus(domain)
@@ -116,7 +123,7 @@ def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_pat
     assert run.code == 0, run.out + run.err
     assert failed(run) == {}
     assert {k: v for k, v in run.cases.items() if v[0] != "passed"} == {}, run.out
-    assert len(run.cases) == 25
+    assert len(run.cases) == 28
     # What will be sent is said before anything is sent.
     assert run.out.index("sending to provider") < run.out.index("sending GPSFixCommand")
     assert "InertialSensorCommand: OFF, then ON, then RESTARTING" in run.out
@@ -125,8 +132,9 @@ def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_pat
         summary = make_reader(fh).get_summary()
     assert summary is not None
     counts = {summary.channels[c].topic: n for c, n in summary.statistics.channel_message_counts.items()}
-    assert counts[Sem.GPS_FIX_COMMAND.spec.name] == 2  # complete and cancel
-    assert counts[Sem.INS_COMMAND.spec.name] == 3
+    # the one for another destination, complete and cancel (and a second cancel when the first completed first)
+    assert counts[Sem.GPS_FIX_COMMAND.spec.name] in (3, 4)
+    assert counts[Sem.INS_COMMAND.spec.name] == 5  # another destination's, OFF, ON, RESTARTING, and ON again
     assert counts[Sem.INS_COMMAND_STATUS.spec.name] >= 12  # ISSUED .. COMPLETED for each
     assert counts[Sem.GPS_REPORT.spec.name] > 0
 
@@ -239,7 +247,7 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
             time.sleep(0.05)
 
     try:
-        code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand", "--domain", str(domain), "--commands",
+        code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand (", "--domain", str(domain), "--commands",
                                     "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
                                     "--junit", str(report), "--record", str(evidence), then=command_on_the_bus)
     finally:
@@ -248,19 +256,19 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     assert "sem-check: stopped by SIGTERM: the tests not finished are reported as such" in err
     cases = junit_cases(report)
     assert {n: o for n, (o, _) in cases.items() if n.startswith("discovery.")} == {
-        n: "passed" for n in cases if n.startswith("discovery.")} and len(cases) == 17
+        n: "passed" for n in cases if n.startswith("discovery.")} and len(cases) == 20
     assert cases["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
     assert {cases[n] for n in cases if n.startswith("commands.") and n != "commands.GPSFix.complete"} == {
         ("skipped", "not run: the run was stopped by SIGTERM")}
-    assert "17 tests: 10 passed, 0 failed, 6 skipped, 1 stopped in " in out
+    assert "20 tests: 10 passed, 0 failed, 9 skipped, 1 stopped in " in out
     with open(evidence, "rb") as fh:
         recorded = make_reader(fh).get_summary()
     assert recorded is not None
     topics = {recorded.channels[c].topic: n for c, n in recorded.statistics.channel_message_counts.items()}
-    assert topics[Sem.GPS_FIX_COMMAND.spec.name] == 1
+    assert topics[Sem.GPS_FIX_COMMAND.spec.name] == 2  # the one for another destination, then complete's
     # `sem-check ... | tee log`, stopped: tee goes first. The report was lost to a BrokenPipeError (a traceback, exit 2).
     report.unlink()
-    code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand", "--domain", str(domain), "--commands",
+    code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand (", "--domain", str(domain), "--commands",
                                 "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
                                 "--junit", str(report), tee_dies=True)
     assert (code, err) == (128 + signal.SIGTERM, "sem-check: stopped by SIGTERM: the tests not finished are reported as "
@@ -283,8 +291,8 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     cases = junit_cases(report)
     assert cases.pop("setup") == ("error", "stopped by SIGINT while watching the provider's reports (60 s), before any "
                                            "test ran")
-    assert set(cases.values()) == {("skipped", "not run: the run was stopped by SIGINT")} and len(cases) == 25
-    assert "26 tests: 0 passed, 0 failed, 25 skipped, 1 stopped in " in out
+    assert set(cases.values()) == {("skipped", "not run: the run was stopped by SIGINT")} and len(cases) == 28
+    assert "29 tests: 0 passed, 0 failed, 28 skipped, 1 stopped in " in out
 
 
 def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
@@ -303,7 +311,7 @@ def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, t
     assert Sem.INS_REPORT.spec.name in writers  # the simulator's writers were seen ...
     assert not set(writers) & {sem.spec.name for sem in COMMAND_TOPICS}  # ... and no command writer, ever
     skipped = {n: r for n, (o, r) in run.cases.items() if o == "skipped"}
-    assert set(skipped) == {n for n in run.cases if n.startswith("commands.")} and len(skipped) == 7
+    assert set(skipped) == {n for n in run.cases if n.startswith("commands.")} and len(skipped) == 10
     assert all("read-only run" in r for r in skipped.values())
     bus.close()
     # Only the command tests, read-only: nothing is tested, which is no pass.
@@ -527,8 +535,10 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
     assert run.code == 1
     bad = failed(run)
-    assert ("BEST_EFFORT reliability: a consumer on the ICD QoS (RELIABLE) does not match it (ICD 4.2.1"
-            in bad["discovery.GPSFixStatusReport"])
+    assert ("BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it (a choice of the "
+            "project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule; ICD 4.2.1" in bad["discovery.GPSFixStatusReport"])
+    # marked as the profile's in the JUnit report, as a type or key problem is marked as the ICD's (test_wrong_key...)
+    assert failure_types(run) == {"discovery.GPSFixStatusReport": "profile"}
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
@@ -561,6 +571,7 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert set(bad) == {"discovery.InertialSensorReport"}, bad
     assert ("key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members "
             "marked *)") in bad["discovery.InertialSensorReport"]
+    assert failure_types(run) == {"discovery.InertialSensorReport": "icd"}
     assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
 
 
@@ -718,7 +729,8 @@ def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
     assert complete.startswith("no COMMANDED after ISSUED") and complete.endswith(f"; {left}"), complete
     assert set(failed(run)) == {"commands.GPSFix.complete"}, run.out
     assert {n: c for n, c in run.cases.items() if n.startswith("commands.InertialSensor")} == {
-        f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "cleanup")}
+        f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")}
+    assert run.cases["commands.GPSFix.destination"] == ("skipped", left)  # its silence tells nothing
 
 
 def test_a_provider_gone_before_the_command_tests_is_no_pass(domain: int) -> None:
@@ -770,7 +782,7 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     p = InsOffOnly(domain)
     report = tmp_path / "junit.xml"
     try:
-        code, out, err = stop_check(signal.SIGTERM, "sending InertialSensorCommand ON", "--domain", str(domain),
+        code, out, err = stop_check(signal.SIGTERM, "sending InertialSensorCommand ON (", "--domain", str(domain),
                                     "--provider", str(p.guid), "--commands", "--only", "commands.InertialSensor",
                                     "--timeout", "60", "--step-time", "1", "--window", "0.5", "--junit", str(report))
     finally:
@@ -780,7 +792,8 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     cases = junit_cases(report)
     assert cases["commands.InertialSensor.cleanup"][1].startswith("the provider did not dispose its InertialSensorCommandStatus")
     assert cases["commands.InertialSensor.ON"] == ("error", "stopped by SIGTERM before it finished")
-    assert "InertialSensorCommand: OFF, then ON, then RESTARTING (the inertial sensor is left ON, as it reports now)" in out
+    assert ("InertialSensorCommand: OFF, then ON, then RESTARTING, then ON again (the inertial sensor is left ON, as it reports "
+            "now); first one addressed to another GUID, for ON, which the vehicle must not answer") in out
     assert ("sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
             "set it back to ON") in err
 
@@ -897,6 +910,99 @@ def test_timestamps_that_are_no_datetime_fail_timing_once() -> None:
         f"InertialSensorReport timeStamp {int(now)} s 1000000000 ns is not a DateTime (seconds >= 0, nanoseconds "
         "0..999999999: ICD 5.2.6, Table 26; Table 45) (10 of 10 samples)"))
     assert not [n for n in case.notes if n.startswith("also:")]
+
+
+def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
+    """Satellite azimuths in degrees: a line per satellite and sample (a reason of 222 "kinds"); now one line for the
+    kind, with how often and its first values, and the ICD reference last."""
+    now = time.time()
+    samples = [Report(now + i * 0.1, {"satellites": [{"azimuth": 100.0 + n} for n in range(30)]}, [], True, 1)
+               for i in range(10)]
+    case = Case("reports.GPSReport.values")
+    reports.check_values(Sem.GPS_REPORT, samples, reports.ReportLimits(1.0, 5.0, 1.0), case)
+    assert (case.outcome, case.reason) == (Outcome.FAILED, (
+        "GPSReport satellites[].azimuth: outside -3.14159..3.14159, 300 times: satellites[0].azimuth 100.0, "
+        "satellites[1].azimuth 101.0, satellites[2].azimuth 102.0, … (ICD 5.4, Table 45: Angle is -pi..pi)"))
+    assert case.notes == ["10 of 10 samples had problems"]
+
+
+# ---- a provider written from the ICD, with one breach switched on -------------------------------
+
+@pytest.fixture
+def icd_provider(domain: int) -> Iterator[Callable[..., IcdProvider]]:
+    made: list[IcdProvider] = []
+
+    def make(breach: str | None = None, execute: float = 0.4) -> IcdProvider:
+        made.append(IcdProvider(domain, breach, execute))
+        return made[-1]
+
+    yield make
+    for p in made:
+        p.close()
+
+
+COMMANDS = ("--commands", "--timeout", "2", "--step-time", "1", "--window", "0.5")
+
+
+def test_the_icd_provider_passes_every_test(icd_provider: Callable[..., IcdProvider], domain: int, tmp_path: Path) -> None:
+    """With no breach switched on, the provider the breach tests run against passes every test of the services it
+    offers; one whose GPS fix completes at once is still canceled (the second command, disposed at its first status)."""
+    p = icd_provider()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--max-gap", "0.5")
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    assert {n: c for n, c in run.cases.items() if n.startswith("commands.")} == {n: ("passed", "") for n in commands.names()}
+    fast = icd_provider(execute=0.0)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(fast.guid), *COMMANDS, "--only", "commands.GPSFix.cancel")
+    assert run.cases == {"commands.GPSFix.cancel": ("passed", "")}, run.out
+    cancel = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
+    assert cancel is not None and "COMPLETED before the checker could dispose it at EXECUTING" in str(cancel.text)
+    assert "CANCELED/CANCELED" in str(cancel.text)
+
+
+# breach -> (the tests run, the test that fails, the start of its reason)
+BREACHES = {
+    # The provider ignores the consumer's dispose while executing, runs to COMPLETED and never disposes its status and
+    # ack: the cancel test was skipped ("COMPLETED after the consumer's dispose, which ICD 4.1.4.4 allows").
+    "ignore-cancel": ("commands.GPSFix.cancel", "commands.GPSFix.cancel", (
+        "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s of COMPLETED, the "
+        "consumer having disposed the command at ")),
+    # An InertialSensor command for the state the sensor is in went unanswered: no test sent one.
+    "silent-same-state": ("commands.InertialSensor.same", "commands.InertialSensor.same", (
+        "unanswered: no status within 2 s of sending the command (waited 2.")),
+    # Commands addressed to another GUID were answered: no test sent one.
+    "answer-any-destination": ("commands.InertialSensor.destination", "commands.InertialSensor.destination",
+                               "the provider answered the InertialSensorCommand addressed to "),
+    # FAILED after COMPLETED, a moment after the cleanup: caught for GPSFix, missed for every InertialSensor command
+    # (each cleaned up at once, and its statuses no longer read).
+    "fail-after-cleanup": ("commands.InertialSensor.OFF,commands.InertialSensor.ON,commands.InertialSensor.RESTARTING,"
+                           "commands.InertialSensor.cleanup", "commands.InertialSensor.cleanup",
+                           "Figure 4 breach: COMPLETED -> FAILED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "),
+}
+REFS = {"ignore-cancel": "(ICD 4.1.4.4, Figure 14: CANCELED, or COMPLETED when it cannot be canceled, then the provider "
+                         "disposes the command's status and ack)",
+        "silent-same-state": "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)",
+        "answer-any-destination": "ICD 4.1: a command's destination directs it at one Service Provider, which responds "
+                                  "to the commands addressed to its ID)",
+        "fail-after-cleanup": ", FAILED/TIMEOUT +"}
+
+
+@pytest.mark.parametrize(("breach", "execute"), [*((b, 0.4) for b in BREACHES), ("ignore-cancel", 0.0)],
+                         ids=[*BREACHES, "ignore-cancel-completing-first"])
+def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: Callable[..., IcdProvider], domain: int,
+                                    tmp_path: Path) -> None:
+    """Four ICD breaches an independent provider showed sem-check let pass; `ignore-cancel-completing-first`: a GPS
+    fix that completes before the checker could dispose it (the cancel was skipped) is canceled on a second command."""
+    only, test, reason = BREACHES[breach]
+    p = icd_provider(breach, execute)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
+    assert run.code == 1, run.out + run.err
+    assert set(failed(run)) == {test}, run.out
+    assert failed(run)[test].startswith(reason) and REFS[breach] in failed(run)[test], failed(run)[test]
+    assert failure_types(run) == {test: "icd"}
+    if breach == "fail-after-cleanup":  # each InertialSensor command's
+        failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
+        assert failure is not None and str(failure.text).count("Figure 4 breach: COMPLETED -> FAILED") == 3, failure.text
 
 
 # ---- RTI Connext ---------------------------------------------------------------------------------

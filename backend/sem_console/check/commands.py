@@ -390,7 +390,9 @@ def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
     until = min(later) + consumer.limits.step if later else foreign.sent_at + consumer.limits.answer
     consumer.wait(foreign, lambda: bool(foreign.flow.transitions) or foreign.ack is not None, max(until - time.time(), 0.0))
     check_silent(foreign, case)
-    if case.outcome is Outcome.PASSED:
+    if case.outcome is Outcome.PASSED and not consumer.observer.present(consumer.provider):
+        consumer.gone(case)  # its silence tells nothing
+    elif case.outcome is Outcome.PASSED:
         case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in {until - foreign.sent_at:.1f} s")
 
 
