@@ -35,16 +35,17 @@ def build_parser() -> argparse.ArgumentParser:
     d = Options()
     p = Parser(prog="sem-check", description=(
         "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
-        "the topics it serves (types, keys, QoS), its reports and, with --commands, the command flow of "
-        "section 4.1 and Figure 4. Read-only unless --commands is given. Exit code 0: all passed, 1: a test "
-        "failed, 2: could not test, 143/130: stopped by SIGTERM/SIGINT (the reports say "
+        "the topics it serves (types and keys; QoS against the project's profile), its reports and, with "
+        "--commands, the command flow of section 4.1 and Figure 4. Read-only unless --commands is given. Exit code "
+        "0: all passed, 1: a test failed, 2: could not test, 143/130: stopped by SIGTERM/SIGINT (the reports say "
         "what was done). DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say otherwise."))
     p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
     p.add_argument("--provider", type=_guid, default=None,
                    help="the provider's source GUID; needed when several providers are on the domain")
     p.add_argument("--commands", action="store_true", help=(
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
-        "commands; what will be sent is printed first. Without it no command writer is created"))
+        "commands, and one of each addressed to another GUID; what will be sent is printed first. Without it no "
+        "command writer is created"))
     p.add_argument("--junit", default=None, metavar="FILE", help=(
         "write a JUnit XML report to FILE; a name ending in / is a directory (made if missing) to write "
         "sem-check-<start, UTC>-<random>.xml in"))
@@ -65,7 +66,7 @@ def build_parser() -> argparse.ArgumentParser:
         "largest difference between a report's timeStamp and the checker's clock on arrival (default: %(default)s)"))
     p.add_argument("--step-time", type=ranged(float, 0.01, 3600), default=d.step_time, metavar="S", help=(
         "seconds allowed for each command step after ISSUED (COMMANDED, EXECUTING, the ack, CANCELED after a cancel, "
-        "the disposes of the cleanup) (default: %(default)s)"))
+        "the disposes of the cleanup); every command is watched this long after its dispose (default: %(default)s)"))
     p.add_argument("--execute-time", type=ranged(float, 0.01, 86400), default=d.execute_time, metavar="S", help=(
         "seconds allowed from EXECUTING to COMPLETED (surfacing, INS alignment) (default: %(default)s)"))
     p.add_argument("--list", action="store_true", help="print the test names and exit")
