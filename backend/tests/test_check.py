@@ -1,7 +1,8 @@
 """`sem-check` against implementations that are not the checker: `sem-sim` (clean and with each
-fault kind), a provider written from the ICD with one breach at a time (icd_provider.py), tiny Cyclone providers with a wrong QoS or a wrong key, that stopped reporting or that
-breaks Figure 4 after a command ended, RTI Connext, and an empty domain. The JUnit report is
-validated against the common JUnit layout (tests/data/junit.xsd)."""
+fault kind), a provider written from the ICD with one breach at a time (icd_provider.py), tiny
+Cyclone providers with a wrong QoS or a wrong key, that stopped reporting or that breaks Figure 4
+after a command ended, RTI Connext, and an empty domain. The JUnit report is validated against the
+common JUnit layout (tests/data/junit.xsd)."""
 
 from __future__ import annotations
 
