@@ -794,7 +794,7 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     assert cases["commands.InertialSensor.cleanup"][1].startswith("the provider did not dispose its InertialSensorCommandStatus")
     assert cases["commands.InertialSensor.ON"] == ("error", "stopped by SIGTERM before it finished")
     assert ("InertialSensorCommand: OFF, then ON, then RESTARTING, then ON again (the inertial sensor is left ON, as it reports "
-            "now); first one addressed to another GUID, for ON, which the vehicle must not answer") in out
+            "now); first one for ON addressed to another GUID, which the vehicle must not answer") in out
     assert ("sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
             "set it back to ON") in err
 

@@ -62,8 +62,8 @@ SETTLED = {"RESTARTING": "ON"}  # the state an inertial sensor reporting this on
 
 # Where the ICD has the provider take a step of the successful path after ISSUED
 STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
-DESTINATION_REF = "ICD 4.1: a command's destination directs it at one Service Provider, which responds to the commands " \
-                  "addressed to its ID"
+DESTINATION_REF = ("ICD 4.1: a command's destination directs it at one Service Provider, which responds to the commands "
+                   "addressed to its ID")
 
 
 def names() -> list[str]:
@@ -254,8 +254,8 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
         if status in cancel_when and sent.disposed_at is None:
             consumer.dispose(sent)
         n = len(sent.flow.transitions)
-        if sent.disposed_at is not None and status is Status.EXECUTING \
-                and sent.at[-1] + limits.execute > sent.disposed_at + limits.step:
+        if (sent.disposed_at is not None and status is Status.EXECUTING
+                and sent.at[-1] + limits.execute > sent.disposed_at + limits.step):
             # a command that cannot be canceled may run to COMPLETED (ICD 4.1.4.4)
             deadline = sent.at[-1] + limits.execute
             missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose, nor COMPLETED within "
@@ -643,18 +643,20 @@ def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) 
 def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[str]:
     """What --commands will send, said before anything is sent."""
     lines = []
+
+    def elsewhere(text: str, what: str) -> str:  # the destination test's command
+        other = f"one{what} addressed to another GUID, which the vehicle must not answer"
+        return f"{text}; first {other}" if text else other
+
     gps = [n for n in GPS_NAMES if selected(n)]
-    foreign = "first one addressed to another GUID, which the vehicle must not answer"
     if "GPSFixControl" in offered and gps:
         text = "the vehicle surfaces for a GPS fix" if set(gps) & set(GPS_NAMES[:3]) else ""
         if GPS_NAMES[1] in gps:
             text += " (a second command is canceled while executing; a third when the second completes first)"
-        if GPS_NAMES[3] in gps:
-            text = f"{text}; {foreign}" if text else foreign.removeprefix("first ")
-        lines.append(f"GPSFixCommand: {text}")
+        lines.append(f"GPSFixCommand: {elsewhere(text, '') if GPS_NAMES[3] in gps else text}")
     ins = [s.name for s in ins_plan(consumer) if selected(f"commands.InertialSensor.{s.name}")]
-    same, elsewhere = selected(INS_NAMES[3]), selected(INS_NAMES[5])
-    if "InertialSensorControl" in offered and (ins or same or elsewhere):
+    same = selected(INS_NAMES[3])
+    if "InertialSensorControl" in offered and (ins or same or selected(INS_NAMES[5])):
         # The full plan ends as found; a --only/--skip subset may not, and the person running it must know.
         now = ins_state(consumer)
         settled = SETTLED.get(now or "", now)
@@ -667,9 +669,7 @@ def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool])
             tail = f"; it reports {now} now"
         sends = ins + ([f"{left} again"] if same and left else [])
         text = f"{', then '.join(sends)} (the inertial sensor is left {left or 'as it is'}{tail})" if sends else ""
-        if elsewhere:
-            other = f"{foreign.removesuffix(', which the vehicle must not answer')}, for {settled or 'ON'}, which the " \
-                    "vehicle must not answer"
-            text = f"{text}; {other}" if text else other.removeprefix("first ")
+        if selected(INS_NAMES[5]):
+            text = elsewhere(text, f" for {settled or 'ON'}")
         lines.append(f"InertialSensorCommand: {text}")
     return lines
