@@ -1,6 +1,7 @@
 import { useNow, useSlice } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
-import { lastHeardText } from "../lib/labels";
+import { lastHeardText, lostText } from "../lib/labels";
+import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 /** "Last heard 2 min 10 s ago" of a lost vehicle last heard at `since` (the source's clock; null: never), counting
  * each second: the one leaf that draws with the clock of ages (useNow's one shared timer), not the chip, row or panel
@@ -20,8 +21,14 @@ export function SelectedLost() {
   const since = useSlice(selectedLostSince);
   if (since === null) return null;
   return (
-    <p className="alarm selected-lost" role="status" data-testid="selected-lost">
+    <p className="selected-lost" role="status" data-testid="selected-lost">
       Lost · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
     </p>
   );
+}
+
+/** "Alpha (77b2ceb8) is lost: last heard 12 s ago", counting; `since` 0 or null: no report of it received. */
+export function LostFor({ target, since }: { target: VehicleIdentity; since: number | null }) {
+  const now = useNow(1000);
+  return <>{lostText(vehicleLabel(target), since ? now - since : null)}</>;
 }

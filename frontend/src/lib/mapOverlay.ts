@@ -240,7 +240,7 @@ export class VehicleOverlay {
     if (d.radius !== radius) d.radius = radius;
   }
 
-  /** A lost vehicle's projection label: "projected" beside its dead-reckoned position, or under the vehicle's own
+  /** A lost vehicle's projection label: "projected" left of its dead-reckoned position, or under the vehicle's own
    * name the reason it has none; hidden out of view and for a vehicle not lost. */
   private placeProjection(m: Marker): void {
     const pr = m.mark.projection;
@@ -248,8 +248,10 @@ export class VehicleOverlay {
     const show = p !== null && edgeMark(p.x, p.y, this.width, this.height, 0) === null;
     if (m.projected.hidden === show) m.projected.hidden = !show;
     if (!show || !p) return;
+    // left of the ghost (the vehicle's name is right of its dot, which the ghost starts on), or under the name
     const o = labelOrigin(p);
-    m.projected.style.transform = `translate(${Math.round(o.x)}px, ${Math.round(pr?.kind === "projected" ? o.y : o.y + 20)}px)`;
+    m.projected.style.transform =
+      pr?.kind === "projected" ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)` : `translate(${Math.round(o.x)}px, ${Math.round(o.y + 20)}px)`;
   }
 
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. Arrows that would

@@ -9,7 +9,8 @@ import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
 import { expectedDuration, mergeCommands } from "../lib/commands";
-import { commandStatusText, lostText, reasonText, umaa } from "../lib/labels";
+import { commandStatusText, reasonText, umaa } from "../lib/labels";
+import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 import { unreachable as isUnreachable } from "../data/source";
@@ -26,12 +27,6 @@ const ACTIONS: Action[] = [
 /** A confirmation is bound to the vehicle it was prepared for, and to whether that vehicle was lost then
  * (a lost vehicle's command says so and is sent with confirmLost). */
 type Pending = { action: Action; target: VehicleIdentity; lost: boolean };
-
-/** "Alpha (77b2ceb8) is lost: last heard 12 s ago", counting. */
-function LostFor({ target, since }: { target: VehicleIdentity; since: number }) {
-  const now = useNow(1000);
-  return <>{lostText(vehicleLabel(target), since > 0 ? now - since : null)}</>;
-}
 
 function title(c: Command): string {
   if (c.service === "GPSFix") return "GPS fix";

@@ -1,10 +1,11 @@
-// The fleet (every vehicle's dot, course arrow and link ring, a lost one's projection, the tracks, the origins) on a 2D canvas over the map, not
+// The fleet (every vehicle's dot, course arrow and link ring, the tracks, the origins) on a 2D canvas over the map, not
 // in MapLibre: MapLibre redraws the whole map, basemap and all, for any change of a source, and a software-rendered
 // (no GPU) map's redraw is 35-70 ms, 33 of it the basemap, so the fleet's updates at two a second and more were most
 // of the page's long tasks. Here a fleet update redraws this canvas alone; the map redraws only when its camera moves
 // (or its tiles, the world model, the tools change). The canvas is redrawn on the map's own `render` (in the same
 // frame as the map, so it stays on the map while it pans and zooms) and on the frame after the fleet changed.
 // A click and the pointer's cursor find their vehicle in what was drawn (`hit`), not in MapLibre's features.
+// A lost vehicle's projection, a guess, is drawn dashed and faint under every vehicle (drawProjection).
 import type { Map as MapLibre } from "maplibre-gl";
 import { cancelFrame, onFrame } from "../../data/frame";
 import type { LonLat, VehicleMark } from "../../lib/geo";
