@@ -60,14 +60,15 @@ async function freeImcPort(avoid: number[] = []): Promise<number> {
   throw new Error("no free UDP port for IMC");
 }
 
-/** A DDS domain nobody on this host uses (its discovery port, 7400 + 250 d, bound by every Cyclone participant of the domain, is free). */
-async function freeDomain(): Promise<number> {
+/** A DDS domain nobody on this host uses (its discovery port, 7400 + 250 d, bound by every Cyclone participant of the
+ * domain, is free), and none of `avoid` (the stack's, for a console of a test's own beside it). */
+export async function freeDomain(avoid: number[] = []): Promise<number> {
   const start = Math.floor(Math.random() * 31);
   for (let i = 0; i < 31; i++) {
     // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
     // discovery ports pass 65535
     const d = 200 + ((start + i) % 31);
-    if (await udpFree(7400 + 250 * d)) return d;
+    if (!avoid.includes(d) && (await udpFree(7400 + 250 * d))) return d;
   }
   throw new Error("no free DDS domain");
 }

@@ -1,12 +1,11 @@
 // Operator awareness (issue 19): the console's alarms (kept on the server) on the page, the fleet bar in
 // view whatever is scrolled, the tab title's count, and an honest first screen.
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
-import { createSocket } from "node:dgram";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
 import { vehicle } from "../helpers";
-import { VEHICLE_3_NAME, load, restartSim, startGuardedConsole, stopSim } from "../stack";
+import { VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 
@@ -35,26 +34,6 @@ async function stopChild(child: ChildProcess): Promise<void> {
 /** The tab title's count of unacknowledged alarms ("(3) SEM Console"), 0 for none. */
 async function titleCount(page: Page): Promise<number> {
   return Number(/^\((\d+)\) SEM Console$/.exec(await page.title())?.[1] ?? 0);
-}
-
-async function udpFree(port: number): Promise<boolean> {
-  return new Promise((resolve) => {
-    const s = createSocket("udp4");
-    s.once("error", () => resolve(false));
-    s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
-  });
-}
-
-/** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
-async function otherFreeDomain(not: number): Promise<number> {
-  const start = Math.floor(Math.random() * 31);
-  for (let i = 0; i < 31; i++) {
-    // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
-    // discovery ports pass 65535
-    const d = 200 + ((start + i) % 31);
-    if (d !== not && (await udpFree(7400 + 250 * d))) return d;
-  }
-  throw new Error("no free DDS domain");
 }
 
 test("with several vehicles and none selected, the panels say so; a chip of the fleet bar selects one", async ({ page }) => {
@@ -125,7 +104,7 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
   // Its own domain and console (with an operator token): a vehicle stopped at the end stays on a console as
   // lost, and the stack's console must keep its three vehicles for the other specs.
   const stack = load();
-  const domain = await otherFreeDomain(stack.domain);
+  const domain = await freeDomain([stack.domain]);
   const token = "awareness-token";
   const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "awareness.sqlite3")]);
   const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "9"], { encoding: "utf8" }).trim().split(": ")[1];
@@ -181,7 +160,7 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
 
 test("Acknowledge all by keyboard: said in words, and the focus goes to the alarm list's title, not the page's top", async ({ page, request }) => {
   const stack = load();
-  const domain = await otherFreeDomain(stack.domain);
+  const domain = await freeDomain([stack.domain]);
   const token = "ack-all-token";
   const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "ack-all.sqlite3")]);
   const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "2", "--first-vehicle", "7", "--fault", "ins-failure",
@@ -245,7 +224,7 @@ test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are
   // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
   await page.setViewportSize({ width: 1280, height: 720 });
   const stack = load();
-  const domain = await otherFreeDomain(stack.domain);
+  const domain = await freeDomain([stack.domain]);
   const extra = await startGuardedConsole("fleet-token", ["--domain", String(domain), "--db", join(stack.dir, "fleet.sqlite3")]);
   const ids = execFileSync(SEM_SIM, ["--list", "--vehicles", "12"], { encoding: "utf8" }).trim().split("\n").map((l) => l.split(": ")[1]);
   const failed = ids[10];

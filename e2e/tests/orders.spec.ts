@@ -92,7 +92,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   await expect(fix).toBeEnabled();
   await stopSim();
   try {
-    await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: no reports for`);
+    await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: last heard`);
     const lostFix = page.getByRole("button", { name: "Request GPS fix (vehicle lost)", exact: true });
     await expect(lostFix).toBeVisible();
     await expect(page.getByRole("button", { name: "INS OFF (vehicle lost)", exact: true })).toBeVisible();
@@ -106,7 +106,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     const dialog = page.getByRole("dialog", { name: "Confirm command" });
     await expect(dialog).toBeFocused();
     await expect(dialog).toHaveAttribute("data-vehicle", id);
-    await expect(dialog.getByTestId("confirm-lost")).toContainText(`${label} is lost: no reports for`);
+    await expect(dialog.getByTestId("confirm-lost")).toContainText(`${label} is lost: last heard`);
     await expect(dialog.getByTestId("confirm-lost")).toContainText("Send a GPS fix request anyway?");
     await page.keyboard.press("Escape");
     await expect(dialog).toHaveCount(0);

@@ -7,6 +7,7 @@ import { frameSource, onFrame } from "./frame";
 import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
 import {
   allProviders,
+  lastHeardAt,
   report,
   selectedJausId,
   selectedKnown,
@@ -62,6 +63,24 @@ const vehicleNames = perProviders((providers) => Object.values(providers).map((p
 export function useVehicleNames(): Map<string, string> {
   const names = useSelector(vehicleNames);
   return useMemo(() => new Map(names ? names.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1)] as [string, string]) : []), [names]);
+}
+
+/** The lost vehicles as "id=lastHeardAt" lines (stable while no link or last-heard time changes). */
+const lostVehicles = perProviders((providers) =>
+  Object.values(providers)
+    .filter((p) => p.link === "lost")
+    .map((p) => `${p.id}=${lastHeardAt(p) ?? ""}`)
+    .sort()
+    .join("\n"),
+);
+
+/** Each lost vehicle's last-heard time by id (the source's clock; null: never heard): what names a vehicle says so. */
+export function useLostVehicles(): Map<string, number | null> {
+  const lost = useSelector(lostVehicles);
+  return useMemo(
+    () => new Map(lost ? lost.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1) === "" ? null : Number(l.slice(l.indexOf("=") + 1))] as [string, number | null]) : []),
+    [lost],
+  );
 }
 
 export function useSelector<T>(select: (s: State) => T): T {

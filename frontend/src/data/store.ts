@@ -103,6 +103,14 @@ export function report<T extends Topic>(p: ProviderView | undefined, topic: T): 
   return viewReport<T>(p?.topics[topic] ?? null);
 }
 
+/** When the vehicle was last heard: the arrival (the source's clock, s) of its newest report of any topic; null: no
+ * report of it received. */
+export function lastHeardAt(p: ProviderView): number | null {
+  let latest: number | null = null;
+  for (const t of Object.values(p.topics)) if (latest === null || t.at > latest) latest = t.at;
+  return latest;
+}
+
 /** The report a view of topic T holds (null: none), e.g. viewReport<"GPSReport">(view). */
 export function viewReport<T extends Topic>(view: TopicView<T> | null | undefined): ReportTypes[T] | null {
   return view ? view.envelope.report : null;
@@ -446,6 +454,13 @@ export const selectedTrails = (s: State): Record<string, TrailPoint[]> => select
 
 /** The selected vehicle's link state (null: none selected, or not on the bus). */
 export const selectedLink = (s: State): LinkState | null => selectedView(s)?.link ?? null;
+
+/** When the selected vehicle was last heard (the source's clock, s), while its link is lost; null when it is not
+ * lost, 0 when no report of it was received. A number: a subscriber draws again only when it changes. */
+export const selectedLostSince = (s: State): number | null => {
+  const p = selectedView(s);
+  return p?.link === "lost" ? (lastHeardAt(p) ?? 0) : null;
+};
 
 /** The selected vehicle's name, null when it has none or is not known. */
 export const selectedName = (s: State): string | null => selectedView(s)?.name ?? null;

@@ -1,5 +1,6 @@
 // Pure geometry for the map: distances, coordinate text, and the GeoJSON the map layers draw.
 import type { Feature, FeatureCollection, LineString, Point, Polygon } from "geojson";
+import type { Projection } from "./projection";
 import { DASH, dms, isNum, latLon } from "./units";
 
 export const EARTH_RADIUS_M = 6_371_008.8; // mean Earth radius (IUGG)
@@ -33,6 +34,18 @@ export function bearingDeg(a: LonLat, b: LonLat): number {
   return ((Math.atan2(y, x) * 180) / Math.PI + 360) % 360;
 }
 
+/** The point `distance` metres from `from` along the great circle that starts at `courseDeg` (true, from north): the
+ * direct problem on the mean sphere (as distanceM and bearingDeg), the longitude in -180..180. */
+export function destination(from: LonLat, courseDeg: number, distance: number): LonLat {
+  const d = distance / EARTH_RADIUS_M;
+  const c = rad(courseDeg);
+  const lat1 = rad(from.lat);
+  const lat2 = Math.asin(Math.min(1, Math.max(-1, Math.sin(lat1) * Math.cos(d) + Math.cos(lat1) * Math.sin(d) * Math.cos(c))));
+  const lon2 = rad(from.lon) + Math.atan2(Math.sin(c) * Math.sin(d) * Math.cos(lat1), Math.cos(d) - Math.sin(lat1) * Math.sin(lat2));
+  const lon = ((((lon2 * 180) / Math.PI + 180) % 360) + 360) % 360 - 180;
+  return { lon, lat: (lat2 * 180) / Math.PI };
+}
+
 /** "850 m", "12.35 km", with nautical miles beside: "12.35 km (6.67 NM)". */
 export function distanceText(m: number): string {
   if (!isNum(m)) return DASH;
@@ -64,6 +77,8 @@ export interface VehicleMark {
   gpsPosition: boolean | null; // GPSLatLongValid (false: INS position)
   link: "live" | "stale" | "lost" | "regained";
   selected: boolean;
+  /** a lost vehicle's dead-reckoned position (or why there is none); null while it is not lost */
+  projection: Projection | null;
 }
 
 export interface TrackSample extends LonLat {

@@ -58,9 +58,9 @@ describe("operator labels", () => {
   it("reads a position aloud and names a lost vehicle with how long it has been silent", () => {
     expect(positionText(42.12344, -70.56781)).toBe("42.1234 N, 70.5678 W");
     expect(positionText(-33.9, 151.2)).toBe("33.9000 S, 151.2000 E");
-    expect(lostText("Alpha (77b2ceb8)", 12.4)).toBe("Alpha (77b2ceb8) is lost: no reports for 12 s");
-    expect(lostText("Alpha (77b2ceb8)", 600)).toBe("Alpha (77b2ceb8) is lost: no reports for 10 min");
-    expect(lostText("Alpha (77b2ceb8)", null)).toBe("Alpha (77b2ceb8) is lost: no reports since this page opened");
+    expect(lostText("Alpha (77b2ceb8)", 12.4)).toBe("Alpha (77b2ceb8) is lost: last heard 12 s ago");
+    expect(lostText("Alpha (77b2ceb8)", 600)).toBe("Alpha (77b2ceb8) is lost: last heard 10 min 0 s ago");
+    expect(lostText("Alpha (77b2ceb8)", null)).toBe("Alpha (77b2ceb8) is lost: no report of it received");
   });
 });
 

@@ -3,7 +3,7 @@
 // comparing the screen with a log. A literal this table does not know (a newer ICD, another vendor's
 // value) is shown as it is rather than hidden.
 import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType } from "../api/types";
-import { DASH, age } from "./units";
+import { DASH, elapsedText } from "./units";
 
 type Words<T extends string> = Record<T, string>;
 
@@ -167,9 +167,12 @@ export function positionText(lat: number, lon: number): string {
   return `${Math.abs(lat).toFixed(4)} ${lat >= 0 ? "N" : "S"}, ${Math.abs(lon).toFixed(4)} ${lon >= 0 ? "E" : "W"}`;
 }
 
-/** "Alpha (77b2ceb8) is lost: no reports for 12 s"; `seconds` null: none heard since the page opened. */
+/** "Last heard 2 min 10 s ago" (`seconds` since the vehicle's last report); null: no report of it received. */
+export function lastHeardText(seconds: number | null): string {
+  return seconds === null ? "No report received" : `Last heard ${elapsedText(seconds)} ago`;
+}
+
+/** "Alpha (77b2ceb8) is lost: last heard 12 s ago"; `seconds` null: no report of it received. */
 export function lostText(vehicle: string, seconds: number | null): string {
-  if (seconds === null) return `${vehicle} is lost: no reports since this page opened`;
-  const s = Math.max(0, seconds);
-  return `${vehicle} is lost: no reports for ${s < 120 ? `${Math.round(s)} s` : age(s)}`;
+  return `${vehicle} is lost: ${seconds === null ? "no report of it received" : lastHeardText(seconds).toLowerCase()}`;
 }

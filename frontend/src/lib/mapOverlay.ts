@@ -6,6 +6,7 @@
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
+import { projectionText } from "./projection";
 import { vehicleColor } from "./vehicle";
 
 /** How far inside the map's border the edge arrows sit (px): clear of the border, under the controls. */
@@ -18,6 +19,7 @@ const NOTE_BOX: Box = { x: 0, y: 0, w: 190, h: 26 };
 interface Marker {
   mark: VehicleMark;
   label: HTMLDivElement;
+  projected: HTMLDivElement; // a lost vehicle's "projected" label at its dead-reckoned position (or why there is none)
   edge: HTMLButtonElement;
   edgeName: HTMLSpanElement;
   arrow: SVGSVGElement;
@@ -142,11 +144,13 @@ export class VehicleOverlay {
         m.edgeName.textContent = text;
         m.size = null;
       }
+      this.describeProjection(m);
     }
     for (const [id, m] of this.markers) {
       if (seen.has(id)) continue;
       m.label.remove();
       m.edge.remove();
+      m.projected.remove();
       this.markers.delete(id);
     }
     this.place();
@@ -207,11 +211,47 @@ export class VehicleOverlay {
     arrow.append(head);
     const edgeName = document.createElement("span");
     edge.append(arrow, edgeName);
-    const m: Marker = { mark, label, edge, edgeName, arrow, size: null, labelSize: null };
+    const projected = document.createElement("div");
+    projected.className = "map-projection";
+    projected.dataset.testid = "map-projection";
+    projected.dataset.vehicle = mark.id;
+    projected.hidden = true;
+    const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null };
     edge.addEventListener("click", () => this.pick(m.mark));
-    this.root.append(label, edge);
+    this.root.append(projected, label, edge);
     this.markers.set(mark.id, m);
     return m;
+  }
+
+  /** A lost vehicle's projection in words ("projected · within 127 m", or why there is none), with where it is (the
+   * tests read it), written only when changed. */
+  private describeProjection(m: Marker): void {
+    const pr = m.mark.projection;
+    const text = pr ? projectionText(pr) : "";
+    if (m.projected.textContent !== text) m.projected.textContent = text;
+    const d = m.projected.dataset;
+    const kind = pr?.kind ?? "";
+    if (d.kind !== kind) d.kind = kind;
+    const lat = pr?.kind === "projected" ? pr.at.lat.toFixed(6) : "";
+    const lon = pr?.kind === "projected" ? pr.at.lon.toFixed(6) : "";
+    const radius = pr?.kind === "projected" ? pr.radiusM.toFixed(0) : "";
+    if (d.lat !== lat) d.lat = lat;
+    if (d.lon !== lon) d.lon = lon;
+    if (d.radius !== radius) d.radius = radius;
+  }
+
+  /** A lost vehicle's projection label: "projected" left of its dead-reckoned position, or under the vehicle's own
+   * name the reason it has none; hidden out of view and for a vehicle not lost. */
+  private placeProjection(m: Marker): void {
+    const pr = m.mark.projection;
+    const p = pr ? projectNear(this.map, pr.kind === "projected" ? pr.at : this.positionOf(m)) : null;
+    const show = p !== null && edgeMark(p.x, p.y, this.width, this.height, 0) === null;
+    if (m.projected.hidden === show) m.projected.hidden = !show;
+    if (!show || !p) return;
+    // left of the ghost (the vehicle's name is right of its dot, which the ghost starts on), or under the name
+    const o = labelOrigin(p);
+    m.projected.style.transform =
+      pr?.kind === "projected" ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)` : `translate(${Math.round(o.x)}px, ${Math.round(o.y + 20)}px)`;
   }
 
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. Arrows that would
@@ -262,6 +302,7 @@ export class VehicleOverlay {
       if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
       if (shown[i]) m.label.style.transform = labelAt(p);
     }
+    for (const m of this.markers.values()) this.placeProjection(m);
     let more = 0;
     for (const [i, [m, edge]] of outside.entries()) {
       const box = boxes[i];

@@ -67,6 +67,14 @@ export function age(seconds: number | null | undefined): string {
   return `${(seconds / 60).toFixed(0)} min`;
 }
 
+/** A duration in words, to the second: "45 s", "2 min 10 s", "1 h 5 min" (from an hour on, to the minute). */
+export function elapsedText(seconds: number): string {
+  const s = Math.max(0, Math.floor(seconds));
+  if (s < 60) return `${s} s`;
+  if (s < 3600) return `${Math.floor(s / 60)} min ${s % 60} s`;
+  return `${Math.floor(s / 3600)} h ${Math.floor((s % 3600) / 60)} min`;
+}
+
 /** A duration as m:ss or h:mm:ss (floored to the second): "03:07", "1:02:09". */
 export function clockDuration(seconds: number): string {
   const s = Math.max(0, Math.floor(seconds));

@@ -8,7 +8,8 @@ import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useNow, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useStore } from "../data/hooks";
+import { LastHeard } from "../components/LastHeard";
 import { select, unacknowledged } from "../data/store";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
@@ -49,6 +50,7 @@ export function AlarmsPanel() {
   const authRequired = useSelector((s) => s.authRequired);
   const mayAck = command && (!authRequired || token !== null); // acknowledging is an operator's action
   const now = useNow(1000);
+  const lost = useLostVehicles(); // an alarm naming a lost vehicle says when it was last heard
   const [errors, setErrors] = useState<Record<number, string>>({});
   const [busy, setBusy] = useState(false);
   const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
@@ -157,6 +159,7 @@ export function AlarmsPanel() {
                     </span>
                   </span>
                   <span className="alarm-text">{a.text}</span>
+                  {a.providerId && lost.has(a.providerId) && <LastHeard since={lost.get(a.providerId) ?? null} className="tone-bad" />}
                   <span className="alarm-since muted">
                     since {utc(a.since, false).slice(0, 8)} UTC ({age(Math.max(0, now - a.since))} ago)
                     {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false).slice(0, 8)} UTC${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}

@@ -4,13 +4,14 @@
 // Shown only when the console has CoMap (GET /api/worldmodel answers, GET /api/comap says enabled); otherwise
 // CoMapOff says why. Every order is bound to the vehicle selected when it was prepared (a Move-to armed,
 // a confirmation open) and void once another vehicle is selected, as the UMAA command confirmations.
-import { useEffect, useMemo, useState } from "react";
+import { useEffect, useState } from "react";
 import type { FeatureCollection } from "geojson";
 import { createTask, problemText, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { perProviders, useCapabilities, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
+import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
+import { LastHeard, LostFor } from "../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import { FINISHED } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
@@ -73,15 +74,6 @@ function pendingName(p: Pending): string {
   return p.kind === "move" ? "Move-to" : p.kind === "survey" ? "Survey" : SYNCH_WORDS[p.action];
 }
 
-/** The ids of the vehicles whose link is lost, as one string (stable while no link changes). */
-const lostVehicles = perProviders((providers) =>
-  Object.values(providers)
-    .filter((p) => p.link === "lost")
-    .map((p) => p.id)
-    .sort()
-    .join("\n"),
-);
-
 const COMAP_OFF = "CoMap is off: this console was started without --imc-port, so no vehicle can be tasked from here.";
 const COMAP_ABSENT = "CoMap is off: this console has no CoMap (it answers 404).";
 
@@ -103,7 +95,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const selected = useSelector((s) => s.selected);
   const vehicle = useSelectedVehicle();
   const nameOf = useVehicleNames();
-  const lostIds = useSelector(lostVehicles);
+  const lost = useLostVehicles(); // by id, when each was last heard
   const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
   const [error, setError] = useState<string | null>(null);
@@ -117,8 +109,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const taskList = useTasks();
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
-  const lostSet = useMemo(() => new Set(lostIds.split("\n")), [lostIds]);
-  const isLost = (id: string): boolean => lostSet.has(id);
+  const isLost = (id: string): boolean => lost.has(id);
 
   // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
   if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
@@ -328,7 +319,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           <p>{pendingText(pending)}</p>
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
-              <strong>{vehicleLabel(pending.target)} is lost: no reports within the link timeout. Send anyway?</strong> It may reach the vehicle late, or
+              <strong><LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} />. Send anyway?</strong> It may reach the vehicle late, or
               not at all.
             </p>
           )}
@@ -372,7 +363,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
                 <td data-testid="task-vehicle">
                   <VehicleTag v={owner} />
-                  {isLost(t.vehicle) && <span className="tone-bad"> lost</span>}
+                  {isLost(t.vehicle) && <span className="tone-bad"> lost · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
                 </td>
                 <td data-testid="task-state" data-state={t.state ?? ""} title={t.state === "HELD" || t.state === "INTERRUPTED" ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does` : imc("task state", t.state)}>
                   {t.state ? taskStateText(t.state) : "—"}

@@ -7,9 +7,10 @@ import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
-import type { State } from "../data/store";
+import { selectedLostSince } from "../data/store";
 import { expectedDuration, mergeCommands } from "../lib/commands";
-import { commandStatusText, lostText, reasonText, umaa } from "../lib/labels";
+import { commandStatusText, reasonText, umaa } from "../lib/labels";
+import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 import { unreachable as isUnreachable } from "../data/source";
@@ -26,21 +27,6 @@ const ACTIONS: Action[] = [
 /** A confirmation is bound to the vehicle it was prepared for, and to whether that vehicle was lost then
  * (a lost vehicle's command says so and is sent with confirmLost). */
 type Pending = { action: Action; target: VehicleIdentity; lost: boolean };
-
-/** When the selected vehicle was last heard (client seconds), while its link is lost; null when it is not
- * lost, 0 when nothing was heard since the page opened. A number: the panel re-renders only when it changes. */
-function selectedLostSince(s: State): number | null {
-  const p = s.selected ? s.providers[s.selected] : undefined;
-  if (!p || p.link !== "lost") return null;
-  const times = Object.values(p.topics).map((t) => t?.at ?? 0);
-  return times.length ? Math.max(...times) : 0;
-}
-
-/** "Alpha (77b2ceb8) is lost: no reports for 12 s", counting. */
-function LostFor({ target, since }: { target: VehicleIdentity; since: number }) {
-  const now = useNow(1000);
-  return <>{lostText(vehicleLabel(target), since > 0 ? now - since : null)}</>;
-}
 
 function title(c: Command): string {
   if (c.service === "GPSFix") return "GPS fix";

@@ -3,6 +3,7 @@ import { TrendChart } from "../components/TrendChart";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
 import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
+import { SelectedLost } from "../components/LastHeard";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
@@ -58,6 +59,7 @@ function FixBody() {
         <p className="muted">No GPS fix reports yet.</p>
       ) : (
         <>
+          <SelectedLost />
           <div className="badges">
             <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid">
               {st?.fixValid ? "Fix valid" : st?.fixValid === false ? "No fix" : DASH}

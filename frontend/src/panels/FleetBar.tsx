@@ -8,10 +8,11 @@ import type { LinkState } from "../api/types";
 import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
-import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
+import { lastHeardAt, pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { umaa } from "../lib/labels";
+import { LastHeard } from "../components/LastHeard";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
 import { DASH } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
@@ -34,15 +35,9 @@ export interface Word {
   title?: string;
 }
 
-function lastSeen(p: ProviderView): number | null {
-  let latest: number | null = null;
-  for (const t of Object.values(p.topics)) if (latest === null || t.at > latest) latest = t.at;
-  return latest;
-}
-
 /** The console's link state, or "stale" for a live vehicle that has been silent a few seconds. */
 export function fleetLink(p: ProviderView, now: number): FleetLink {
-  const seen = lastSeen(p);
+  const seen = lastHeardAt(p);
   return p.link === "live" && seen !== null && now - seen > STALE_AFTER_S ? "stale" : p.link;
 }
 
@@ -86,6 +81,7 @@ interface ChipProps {
   insState: InsState;
   insStatus: InsStatus;
   alarms: number;
+  heardAt: number | null | undefined; // a lost vehicle's last-heard time (null: never heard); undefined: not lost
   recorded: boolean; // a replay: the link is the recording's
   selected: boolean;
   tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
@@ -93,7 +89,7 @@ interface ChipProps {
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, recorded, selected, tabbable, onSelect }: ChipProps) {
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, heardAt, recorded, selected, tabbable, onSelect }: ChipProps) {
   const l = LINK[link];
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
@@ -116,6 +112,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
       <span className={`fleet-word tone-${l.tone}${recorded ? " recorded" : ""}`} title={recorded ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
         {stateWords(l.text, recorded)}
       </span>
+      {heardAt !== undefined && <LastHeard since={heardAt} className="fleet-word tone-bad" />}
       <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>
         {fix.text}
       </span>
@@ -280,6 +277,7 @@ export function FleetBar() {
               insState={report(p, "InertialSensorReport")?.state}
               insStatus={report(p, "InertialSensorReport")?.status}
               alarms={byVehicle.get(p.id) ?? 0}
+              heardAt={link === "lost" ? lastHeardAt(p) : undefined}
               recorded={recorded}
               selected={p.id === selected}
               tabbable={p.id === tabStop}

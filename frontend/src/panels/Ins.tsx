@@ -2,6 +2,7 @@ import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Foldable, Panel } from "../components/Panel";
 import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
+import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
 import { freshness } from "../lib/freshness";
 import { alignmentStepText, insStateText, insStatusText, umaa } from "../lib/labels";
@@ -54,6 +55,7 @@ function InsBody() {
         <p className="muted">No InertialSensorReport yet.</p>
       ) : (
         <>
+          <SelectedLost />
           <div className="badges">
             <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={umaa("state", ins.state)}>INS {insStateText(ins.state).toLowerCase()}</span>
             <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>{insStatusText(ins.status)}</span>

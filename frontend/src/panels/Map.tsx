@@ -1,5 +1,5 @@
 // The map: MapLibre GL over the built-in offline basemap. Vehicles at their GPSFixReport positions
-// with a course arrow (colour by fix validity, stale and lost marked), their tracks, the
+// with a course arrow (colour by fix validity, stale and lost marked; a lost one's projection dashed), their tracks, the
 // GPSFixStatusReport origins and the CoMap world model's features by coverage. The map's parts are hooks
 // and components in ./map (the map itself, the pointer and its tools, one hook per layer, the toolbar).
 import { memo, useCallback, useMemo, useRef, useState } from "react";
@@ -189,7 +189,7 @@ export function MapPanel() {
         <CoMapOff />
       )}
       <p className="map-legend muted">
-        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin
+        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin · dashed: a lost vehicle's projected position (dead reckoning, not a report) and the circle it is probably within
         {worldModel ? " · areas: covered (green), partial (amber), not (red)" : ""}
       </p>
     </Panel>

@@ -2,17 +2,13 @@ import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from 
 import { useFocusWhenGone } from "../components/focus";
 import { VehicleTag } from "../components/VehicleTag";
 import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
-import { report, select, type ProviderView } from "../data/store";
+import { lastHeardAt, report, select } from "../data/store";
+import { LastHeard } from "../components/LastHeard";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { insStatusText } from "../lib/labels";
 import { age } from "../lib/units";
 import { vehicleMatcher } from "../lib/vehicle";
 import { RenameVehicle } from "./RenameVehicle";
-
-function lastSeen(p: ProviderView): number | null {
-  const times = Object.values(p.topics).map((t) => t.at);
-  return times.length ? Math.max(...times) : null;
-}
 
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
 const SAME_LIST = sameOverview();
@@ -120,7 +116,7 @@ export function VehicleSelector() {
         </p>
       )}
       {matching.map((p) => {
-        const seen = lastSeen(p);
+        const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = p.link === "live" && ageS !== null && ageS > 3 ? "stale" : p.link;
         const fix = report(p, "GPSFixStatusReport");
@@ -141,7 +137,8 @@ export function VehicleSelector() {
               {stateWords(link, recorded)}
             </span>
             <span className="vehicle-meta">
-              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span> · {age(ageS)}
+              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span>
+              {link === "lost" ? <> · <LastHeard since={seen} /></> : ` · ${age(ageS)}`}
             </span>
             <span className="vehicle-id muted">{p.id}</span>
           </button>

@@ -5,11 +5,12 @@
 // (or its tiles, the world model, the tools change). The canvas is redrawn on the map's own `render` (in the same
 // frame as the map, so it stays on the map while it pans and zooms) and on the frame after the fleet changed.
 // A click and the pointer's cursor find their vehicle in what was drawn (`hit`), not in MapLibre's features.
+// A lost vehicle's projection, a guess, is drawn dashed and faint under every vehicle (drawProjection).
 import type { Map as MapLibre } from "maplibre-gl";
 import { cancelFrame, onFrame } from "../../data/frame";
 import type { LonLat, VehicleMark } from "../../lib/geo";
 import { vehicleColor } from "../../lib/vehicle";
-import { countInView, hitVehicle, mercator, nearestCopy, place, similarity, thinned, unwrapped, type Placed, type Point } from "./fleet";
+import { PROJECTED_R, countInView, hitVehicle, mercator, nearestCopy, place, placeProjection, similarity, thinned, unwrapped, type Placed, type Point, type Projected, type ToScreen } from "./fleet";
 
 export const FIX_COLORS: Record<VehicleMark["fix"], string> = { valid: "#4caf50", invalid: "#e0593f", unknown: "#9fb3c8" };
 const LINK_COLORS: Partial<Record<VehicleMark["link"], string>> = { lost: "#e0593f", stale: "#f5a623" };
@@ -180,6 +181,8 @@ export class FleetCanvas {
       ctx.strokeStyle = vehicleColor(o.id);
       ctx.stroke();
     }
+    // lost vehicles' projections under every vehicle: a guess never hides a report
+    for (const m of marks) if (m.projection?.kind === "projected") this.drawProjection(m.id, m.projection, toScreen, cx);
     // the selected vehicle last: on top
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
     this.placed = place(ordered, toScreen, this.map.getBearing(), cx);
@@ -224,6 +227,36 @@ export class FleetCanvas {
       ctx.fill();
       ctx.stroke();
     }
+  }
+
+  /** A lost vehicle's dead-reckoned position as a guess, never as a report: a dashed line from its last report, a
+   * hollow dashed ghost where it may be, and the circle it is probably within (faint fill, dashed edge). */
+  private drawProjection(id: string, p: Projected, toScreen: ToScreen, cx: number): void {
+    const { ctx } = this;
+    const { from, at: to, r } = placeProjection(p, toScreen, cx, PROJECTED_R);
+    const colour = vehicleColor(id);
+    ctx.save();
+    ctx.setLineDash([5, 4]);
+    ctx.lineWidth = 1.5;
+    ctx.strokeStyle = colour;
+    ctx.fillStyle = colour;
+    ctx.beginPath();
+    ctx.arc(to.x, to.y, r, 0, 2 * Math.PI);
+    ctx.globalAlpha = 0.12;
+    ctx.fill();
+    ctx.globalAlpha = 0.8;
+    ctx.stroke();
+    ctx.beginPath();
+    ctx.moveTo(from.x, from.y);
+    ctx.lineTo(to.x, to.y);
+    ctx.stroke();
+    ctx.setLineDash([3, 3]);
+    ctx.lineWidth = 2;
+    ctx.globalAlpha = 1;
+    ctx.beginPath();
+    ctx.arc(to.x, to.y, PROJECTED_R, 0, 2 * Math.PI);
+    ctx.stroke();
+    ctx.restore();
   }
 
   private drawVehicle({ mark, at, r, arrow, angle }: Placed): void {

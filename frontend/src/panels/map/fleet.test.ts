@@ -1,6 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { VehicleMark } from "../../lib/geo";
-import { countInView, hitVehicle, mercator, nearestCopy, outsideMiddle, place, similarity, thinned, unwrapped } from "./fleet";
+import { countInView, hitVehicle, mercator, nearestCopy, outsideMiddle, place, placeProjection, similarity, thinned, unwrapped } from "./fleet";
+import { destination } from "../../lib/geo";
 import { countLandInView, landRings } from "./layers";
 
 const mark = (id: string, lon: number, lat: number, courseDeg: number | null = null, selected = false): VehicleMark => ({
@@ -12,6 +13,7 @@ const mark = (id: string, lon: number, lat: number, courseDeg: number | null = n
   gpsPosition: true,
   link: "live",
   selected,
+  projection: null,
 });
 
 // a view of 1000 x 500 px, north up, 1 px per 1e-6 of Mercator's unit square, its top left at mercator(0, 0)
@@ -100,5 +102,28 @@ describe("the fleet's canvas", () => {
     expect(countLandInView(rings, { west: 45, south: 45, east: 50, north: 50 })).toBe(1); // inside a large one
     expect(countLandInView(rings, { west: 165, south: -5, east: 195, north: 5 })).toBe(2); // over the antimeridian
     expect(countLandInView(rings, { west: -200, south: -80, east: 200, north: 80 })).toBe(4); // the whole world
+  });
+});
+
+describe("a lost vehicle's projection on the screen", () => {
+  // the view above: 1 px is 1e-6 of the world's 2πR = 40,030,174 m round the equator, 40.03 m
+  const PX_M = 40.030174;
+  it("goes from the last report to the projected point, its circle's radius in px at the map's scale", () => {
+    const from = { lon: 0, lat: 0 };
+    const at = destination(from, 90, 100 * PX_M);
+    const p = placeProjection({ kind: "projected", from, at, radiusM: 10 * PX_M, seconds: 60 }, northUp, 0.5, 7);
+    expect(p.from.x).toBeCloseTo(0, 6);
+    expect(p.at.x).toBeCloseTo(100, 3);
+    expect(p.at.y).toBeCloseTo(0, 6);
+    expect(p.r).toBeCloseTo(10, 3);
+    // a circle smaller than the ghost is drawn at the ghost's size
+    expect(placeProjection({ kind: "projected", from, at, radiusM: PX_M, seconds: 1 }, northUp, 0.5, 7).r).toBe(7);
+  });
+  it("across the antimeridian the line goes the short way, not round the world", () => {
+    const from = { lon: 179.9999, lat: 0 };
+    const at = destination(from, 90, 50 * PX_M); // past 180°: at about -179.9997°
+    expect(at.lon).toBeLessThan(0);
+    const p = placeProjection({ kind: "projected", from, at, radiusM: 10 * PX_M, seconds: 60 }, northUp, 1, 7);
+    expect(p.at.x - p.from.x).toBeCloseTo(50, 3);
   });
 });

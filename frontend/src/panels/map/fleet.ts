@@ -1,6 +1,7 @@
 // The fleet as drawn on the 2D canvas over the map (FleetCanvas.ts): where each vehicle's dot and course arrow go on
 // the screen, which vehicle a pointer is over, and how many are in view. Pure geometry, no canvas or map.
-import type { LonLat, VehicleMark } from "../../lib/geo";
+import { destination, type LonLat, type VehicleMark } from "../../lib/geo";
+import type { Projection } from "../../lib/projection";
 
 export interface Point {
   x: number;
@@ -114,4 +115,22 @@ export function thinned(points: Point[], minPx: number): Point[] {
  * followed vehicle there is centred again. */
 export function outsideMiddle(p: Point, width: number, height: number): boolean {
   return Math.abs(p.x - width / 2) > width / 4 || Math.abs(p.y - height / 2) > height / 4;
+}
+
+/** A projection drawn: its ghost's radius (px), the least its circle of uncertainty is drawn at. */
+export const PROJECTED_R = 7;
+
+export type Projected = Extract<Projection, { kind: "projected" }>;
+
+/** Where a lost vehicle's projection goes on the screen: its last report (`from`, at its copy of the world nearest the
+ * map's centre, as its dot), the projected position (`at`, at its copy nearest that: the line between goes the short
+ * way) and the circle's radius in px (its edge due north of `at`: Mercator keeps a small circle round), at least
+ * `minR`. */
+export function placeProjection(p: Projected, toScreen: ToScreen, cx: number, minR: number): { from: Point; at: Point; r: number } {
+  const mFrom = nearestCopy(mercator(p.from), cx);
+  const mAt = nearestCopy(mercator(p.at), mFrom.x);
+  const mEdge = nearestCopy(mercator(destination(p.at, 0, p.radiusM)), mAt.x);
+  const at = toScreen(mAt);
+  const edge = toScreen(mEdge);
+  return { from: toScreen(mFrom), at, r: Math.max(minR, Math.hypot(edge.x - at.x, edge.y - at.y)) };
 }

@@ -4,7 +4,9 @@ import type { FeatureCollection, Position } from "geojson";
 import { report, type ProviderView } from "../../data/store";
 import { freshness } from "../../lib/freshness";
 import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
-import { radToDeg } from "../../lib/units";
+import { deadReckon } from "../../lib/projection";
+import { isNum, radToDeg } from "../../lib/units";
+import { invalidFor } from "../../components/Panel";
 import { shortId } from "../../lib/vehicle";
 
 /** Closest zoom of a frame of the vehicles (a lone vehicle would else fill the map with a few metres of sea). */
@@ -20,15 +22,24 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
   const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link) : "none";
   const link = p.link === "lost" || f === "lost" ? "lost" : f === "stale" ? "stale" : p.link === "regained" ? "regained" : "live";
   const course = typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse) ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360 : null;
+  const fixValid = st?.fixValid === true;
+  // lost: where it may be now, from its last fix (a speed or course the vehicle flagged invalid is not used)
+  const invalid = view?.envelope.invalid;
+  const speed = isNum(fix?.SOG) && !invalidFor(invalid, "SOG") ? fix.SOG : null;
+  const projection =
+    link === "lost" && view
+      ? deadReckon({ at: position, speedMps: speed, courseDeg: invalidFor(invalid, "trueCourse") ? null : course, gpsFix: fixValid && fix?.GPSLatLongValid === true }, now - view.at)
+      : null;
   return {
     id: p.id,
     label: p.name ?? shortId(p.id), // on the map: the name, or the short id of a vehicle without one
     position,
     courseDeg: course,
-    fix: st?.fixValid === true ? "valid" : st?.fixValid === false ? "invalid" : "unknown",
+    fix: fixValid ? "valid" : st?.fixValid === false ? "invalid" : "unknown",
     gpsPosition: fix?.GPSLatLongValid ?? null,
     link,
     selected: p.id === selected,
+    projection,
   };
 }
 

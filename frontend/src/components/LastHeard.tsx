@@ -1,0 +1,34 @@
+import { useNow, useSlice } from "../data/hooks";
+import { selectedLostSince } from "../data/store";
+import { lastHeardText, lostText } from "../lib/labels";
+import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
+
+/** "Last heard 2 min 10 s ago" of a lost vehicle last heard at `since` (the source's clock; null: never), counting
+ * each second: the one leaf that draws with the clock of ages (useNow's one shared timer), not the chip, row or panel
+ * that names the vehicle. */
+export function LastHeard({ since, className }: { since: number | null; className?: string }) {
+  const now = useNow(1000);
+  return (
+    <span className={`last-heard${className ? ` ${className}` : ""}`} data-testid="last-heard">
+      {lastHeardText(since === null ? null : now - since)}
+    </span>
+  );
+}
+
+/** The selected vehicle's panels, while it is lost: when it was last heard, and that what they show is what it last
+ * reported. */
+export function SelectedLost() {
+  const since = useSlice(selectedLostSince);
+  if (since === null) return null;
+  return (
+    <p className="selected-lost" role="status" data-testid="selected-lost">
+      Lost · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
+    </p>
+  );
+}
+
+/** "Alpha (77b2ceb8) is lost: last heard 12 s ago", counting; `since` 0 or null: no report of it received. */
+export function LostFor({ target, since }: { target: VehicleIdentity; since: number | null }) {
+  const now = useNow(1000);
+  return <>{lostText(vehicleLabel(target), since ? now - since : null)}</>;
+}
