@@ -122,7 +122,8 @@ def test_vehicle_names_follow_the_dashboard_s_rules(name: str) -> None:
 
 @pytest.mark.parametrize("variable, value, line", [
     ("SEM_REPORT_INTERVAL", "-1", "SEM_REPORT_INTERVAL: -1 is outside 0..10"),  # no option: --report-interval does not exist
-    ("SEM_PORT", "http", "SEM_PORT: Input should be a valid integer"),
+    ("SEM_PORT", "http", "SEM_PORT: 'http' is not a whole number"),
+    ("SEM_DOMAIN", "xyz", "SEM_DOMAIN: 'xyz' is not a whole number"),  # as --domain abc says it (test_bad_starts.py)
 ])
 def test_a_bad_environment_variable_of_sem_console_is_named(variable: str, value: str, line: str,
                                                             monkeypatch: pytest.MonkeyPatch,
