@@ -91,7 +91,8 @@ class Command(StrictModel):
         "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "
         "was not heard within --cancel-unheard-bound of the cancel. Such a command is terminal with a null status"))
     closedAt: float | None = Field(None, description="when the console ended it so (closedUnheard), UTC seconds")
-    ackedAt: float | None = Field(description="when the provider first reported executing it (its CommandAckReport), UTC seconds")
+    ackedAt: float | None = Field(description="when the provider first acknowledged it (its CommandAckReport, published as it "
+                                                  "starts to process the command), UTC seconds")
     cleanedUp: bool
     console: str | None = Field(None, description="the console station that issued it (its --console-name); null: a "
                                             "command of a release before station names")
