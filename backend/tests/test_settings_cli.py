@@ -51,7 +51,8 @@ def test_every_field_has_its_option_or_is_environment_only() -> None:
         if kind is bool:
             assert action.nargs == 0 and action.const is True, name
         elif name != "imc_id":  # text: decimal or 0x hex, parsed by the model
-            assert (action.type or str) is kind, name
+            # a number through `number` (its one-line refusal), of the field's kind
+            assert (action.type or str) is kind or (kind in (int, float) and type(action.type("7")) is kind), name
     # the fields' order is the order --help lists the options in
     assert [d for d in parsed if d not in CLI_ONLY] == [n for n in Settings.model_fields if n not in ENV_ONLY]
 

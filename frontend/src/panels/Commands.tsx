@@ -51,7 +51,7 @@ function statusClass(c: Command): string {
   if (c.violations.length || c.unanswered) return "alarm";
   if (c.status === "FAILED") return "bad";
   if (c.status === "COMPLETED") return "ok";
-  if (c.status === "CANCELED") return "muted";
+  if (c.status === "CANCELED" || c.closedUnheard) return "muted";
   return "active";
 }
 
