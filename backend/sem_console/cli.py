@@ -70,7 +70,8 @@ def main(argv: list[str] | None = None) -> int:
     database = settings.database()
     if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
         db_option = "--database-url" if settings.database_url is not None else "--db"  # the option the operator gave
-        for problem in (check_database(database.path, db_option) if database.path is not None else None,
+        named = settings.database_url is not None or "db_path" in settings.model_fields_set  # else the default file
+        for problem in (check_database(database.path, db_option, named) if database.path is not None else None,
                         check_directory("--record", settings.record) if settings.record else None,
                         # a folder given for the record control; the default one only gets a warning below
                         check_directory("--recordings-dir", settings.recordings_dir)
@@ -89,6 +90,7 @@ def main(argv: list[str] | None = None) -> int:
 
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
     store = None
+    new_file = database.path is not None and not (database.path.exists() and database.path.stat().st_size)
     if settings.replay is None:
         try:  # reached, upgraded and this console's name held here: a problem is one line, not a lifespan traceback
             store = Database(database, settings.audit_max_rows)
@@ -98,6 +100,8 @@ def main(argv: list[str] | None = None) -> int:
                 store.close()
             parser.error(str(e))
         logging.getLogger("sem-console").info("database %s, console name %r", database.shown, settings.station())
+        if new_file:  # a typo in --db would otherwise start an empty history unnoticed
+            logging.getLogger("sem-console").warning("new database %s: no history there before this start", database.shown)
     for warning in start_warnings(settings):
         logging.getLogger("sem-console").warning(warning)
     if settings.replay is None:
@@ -168,13 +172,17 @@ class StartError(Exception):
     """A port the console cannot listen on: its message is the one line the operator reads."""
 
 
-def check_database(path: Path, option: str = "--db") -> str | None:
+def check_database(path: Path, option: str = "--db", given: bool = True) -> str | None:
     """Why the console cannot keep its history in `path`, or None. SQLite itself reads it (read-only,
     `PRAGMA quick_check`, about 0.3 s for 300 MB): the store would otherwise fail in the application's
-    start-up with a long traceback. A missing or empty file is a new database."""
+    start-up with a long traceback. A missing or empty file is a new database; its folder must exist when the
+    operator named the file (`given`: a typo is not a new history), else it is made (the default file)."""
     fix = f"move it aside or pass another {option}"
     if path.is_dir():
         return f"{option} {path} is a directory, not a database file: pass another {option}"
+    if given and not path.parent.exists():
+        return (f"{option} {path}: the folder {path.parent} does not exist: create it (mkdir -p {path.parent}) or fix "
+                f"the path")
     # the store creates the directory, and WAL mode writes -wal and -shm files beside the database
     if problem := writable_directory(path.parent):
         return f"{option} {path}: {problem}: pass another {option}"

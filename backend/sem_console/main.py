@@ -21,7 +21,7 @@ from starlette.routing import Match, Mount
 from sem_console import __version__
 from sem_console.api.audit import Auditor
 from sem_console.api.auth import Operators
-from sem_console.api.deps import refuse_in_replay, require_operator, require_reader
+from sem_console.api.deps import refuse_in_replay, require_operator, require_reader, token_operator
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY, Responses
 from sem_console.api.routes import alarms, comap, commands, history, meta, providers, recordings, replay, ws
@@ -47,6 +47,16 @@ class Included:
 
     dependencies: list[Any] = field(default_factory=list)
     responses: Responses = field(default_factory=dict)
+
+
+def problem_line(e: Any) -> str:
+    """One problem of a request as a line: `body.state: Input should be 'OFF', 'ON' or 'RESTARTING'`; a body that is
+    no JSON at all, `the body is not valid JSON (at character 10)` (counted from 1)."""
+    loc = e["loc"]
+    if e["type"] == "json_invalid":
+        at = loc[1] if len(loc) > 1 and isinstance(loc[1], int) else None
+        return "the body is not valid JSON" + (f" (at character {at + 1})" if at is not None else "")
+    return f"{'.'.join(str(x) for x in loc)}: {e['msg']}"
 
 
 def create_app(settings: Settings | None = None, store: Database | None = None) -> FastAPI:
@@ -85,9 +95,9 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
         """422 with one readable line per problem, e.g. "body.state: Input should be 'OFF', 'ON' or 'RESTARTING'"."""
-        problems = [f"{'.'.join(str(x) for x in e['loc'])}: {e['msg']}" for e in exc.errors()]
+        problems = [problem_line(e) for e in exc.errors()]
         if auditor.is_command(request.scope):  # an operator's refused command is what the audit is for
-            auditor.refused(request.scope, 422, "; ".join(problems), operator=getattr(request.state, "operator", None))
+            auditor.refused(request.scope, 422, "; ".join(problems), operator=token_operator(request))
         return JSONResponse(status_code=422, content={"detail": "; ".join(problems), "errors": problems})
 
     @app.exception_handler(HTTPException)
@@ -95,7 +105,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
         """Refused command requests (401, 404, 409, 415, 429 ...) and 401/429 anywhere: logged and recorded (api/audit.py)."""
         if exc.status_code in (401, 429) or auditor.is_command(request.scope):
             auditor.refused(request.scope, exc.status_code, str(exc.detail), audit=getattr(exc, "audit", False),
-                            operator=getattr(request.state, "operator", None))
+                            operator=token_operator(request))
         return await http_exception_handler(request, exc)
 
     @app.exception_handler(Unavailable)

@@ -64,7 +64,7 @@ class World:
 
     def update(self) -> list[dict[str, Any]]:
         self.providers.tick(self.clock.at)
-        self.commands.tick(self.clock.at)
+        self.commands.tick(self.clock.at, lambda p: (x.last_seen() if (x := self.providers.by_id.get(p)) else None))
         self.alarms.update(self.clock.at, self.providers.by_id, self.commands.by_session.values(), self.recording_error)
         return self.alarms.active()
 

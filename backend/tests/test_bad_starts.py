@@ -163,9 +163,59 @@ def test_a_second_console_of_the_same_name_on_one_database_is_one_line(backend: 
     url = str(tmp_path / "console.sqlite3") if backend == "sqlite" else request.getfixturevalue("pg_url")
     console("--database-url", url, "--console-name", "watch")
     line = refused(["--database-url", url, "--console-name", "watch"], domain)
-    shown = url if backend == "sqlite" else "postgresql+psycopg://postgres:***@"
-    assert f"another console named 'watch' is running on {shown}" in line and "another --console-name" in line, line
+    if backend == "sqlite":
+        assert f"another console ('watch') is running on {url}" in line and "--database-url" in line, line
+    else:
+        shown = "postgresql+psycopg://postgres:***@"
+        assert f"another console named 'watch' is running on {shown}" in line and "another --console-name" in line, line
     assert PASSWORD not in line
+
+
+def test_a_second_console_on_one_sqlite_file_is_refused_whatever_its_name(domain: int, tmp_path: Path,
+                                                                          console: Callable[..., ConsoleProcess]) -> None:
+    """SQLite tells a console nothing of another's commands, alarms or names: two on one file looked shared and were not."""
+    path = tmp_path / "console.sqlite3"
+    first = console("--database-url", str(path), "--console-name", "watch")
+    line = refused(["--db", str(path), "--console-name", "relief"], domain)
+    assert f"another console ('watch') is running on {path}" in line, line
+    assert "consoles cannot share a SQLite file" in line and "--database-url" in line, line
+    lock = path.with_name(path.name + ".lock")
+    assert lock.exists()
+    first.stop()
+    assert not lock.exists(), sorted(p.name for p in tmp_path.iterdir())  # a clean stop leaves no lock file behind
+    assert not [p for p in tmp_path.iterdir() if ".lock" in p.name]
+
+
+def test_a_db_in_a_folder_that_does_not_exist_is_one_line(domain: int, tmp_path: Path) -> None:
+    """A typo in the folder made it, and a new empty history in it, unsaid."""
+    path = tmp_path / "typo" / "deeper" / "x.sqlite3"
+    for option in ("--db", "--database-url"):
+        line = refused([option, str(path)], domain)
+        assert f"{option} {path}: the folder {path.parent} does not exist" in line, line
+        assert f"mkdir -p {path.parent}" in line, line
+    assert not (tmp_path / "typo").exists()
+
+
+def test_a_new_database_file_is_said_in_one_line_at_start(tmp_path: Path, console: Callable[..., ConsoleProcess]) -> None:
+    path = tmp_path / "new.sqlite3"
+    out = console("--database-url", str(path)).stop()
+    said = [line for line in out.splitlines() if "new database" in line]
+    assert len(said) == 1 and f"new database {path}: no history there before this start" in said[0], out
+    again = console("--database-url", str(path)).stop()  # the same file again: nothing to say
+    assert "new database" not in again, again
+
+
+@pytest.mark.parametrize("args, env, line", [
+    (["--domain", "abc"], {}, "sem-console: error: --domain: 'abc' is not a whole number"),
+    ([], {"SEM_DOMAIN": "xyz"}, "sem-console: error: SEM_DOMAIN: 'xyz' is not a whole number"),
+    (["--unanswered-timeout", "soon"], {}, "sem-console: error: --unanswered-timeout: 'soon' is not a number"),
+    (["--domain", "999"], {}, "sem-console: error: --domain: 999 is outside 0..232"),  # the style they follow
+])
+def test_a_value_that_is_no_number_is_one_line_in_the_style_of_the_others(args: list[str], env: dict[str, str],
+                                                                         line: str, tmp_path: Path) -> None:
+    p = subprocess.run([str(EXE), "--db", str(tmp_path / "db"), *args], capture_output=True, text=True, timeout=15,
+                       env={**os.environ, **env})
+    assert (p.returncode, p.stdout, p.stderr) == (2, "", line + "\n")
 
 
 # ---- ports ------------------------------------------------------------------------------------------------------

@@ -248,7 +248,8 @@ def test_task_routes_refuse_bad_requests(console) -> None:
     assert sum(
         1 for a in audit if a["outcome"] == "refused" and a["path"] in ("/api/tasks", "/api/worldmodel", "/api/tasks/99/synch")
     ) == len(cases)
-    off = console("--console-name", "comap-off")  # a second console on the same database: a name of its own
+    c.stop()  # one console per SQLite file
+    off = console("--console-name", "comap-off")  # a console without CoMap on the same database
     assert (
         httpx.post(f"{off.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 1, "lon": 2}}).status_code == 409
     )

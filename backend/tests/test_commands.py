@@ -74,11 +74,37 @@ def test_unknown_ordinal_is_recorded_as_a_violation_and_survives_restart(tmp_pat
 def test_unanswered_then_late_answer_is_persisted(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus(), timeout=1.0)
     cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
-    c.tick(cmd.issued_by_deadline + 0.1)
+    c.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)
     assert cmd.unanswered
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
     assert not cmd.unanswered
     assert not consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].unanswered
+
+
+def test_a_cancel_never_answered_ends_once_the_vehicle_is_heard_for_the_unanswered_timeout(tmp_path: Path) -> None:
+    bus = Bus()
+    c = consumer(tmp_path / "db", bus, timeout=2.0)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    c.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
+    c.cancel(cmd.session_id, "bob")
+    heard: list[float | None] = [cmd.cancel_mono - 5]  # last heard before the cancel: not heard since
+    c.tick(0, lambda _p: heard[0])
+    heard[0] = cmd.cancel_mono + 1  # back
+    c.tick(0, lambda _p: heard[0])
+    heard[0] = cmd.cancel_mono + 2.9  # heard for less than the unanswered timeout: it may still answer
+    c.tick(0, lambda _p: heard[0])
+    assert not cmd.terminal
+    heard[0] = cmd.cancel_mono + 3.1
+    c.tick(0, lambda _p: heard[0])
+    assert cmd.terminal and cmd.closed_unheard == "heard" and cmd.cleaned_up
+    assert bus.emitted[-1]["command"]["closedUnheard"] == "heard" and bus.emitted[-1]["command"]["terminal"]
+    reloaded = consumer(tmp_path / "db", Bus()).by_session[cmd.session_id]  # after a restart: ended, not running
+    assert reloaded.terminal and reloaded.cleaned_up and reloaded.to_json()["canceledBy"] == "bob"
+    # it answers after all: what it says stands, the console's ending is withdrawn
+    c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.CANCELED, R.CANCELED, "", 1.0)
+    assert cmd.closed_unheard is None and cmd.flow.status is S.CANCELED and cmd.terminal
+    stored = c.get(cmd.session_id)
+    assert stored is not None and stored.to_json()["closedUnheard"] is None
 
 
 def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:

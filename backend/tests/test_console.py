@@ -26,6 +26,7 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
+from conftest import ConsoleProcess, SimProcess
 from consumer import Consumer
 from sem_console.api.schemas import server_messages
 from sem_console.check.cli import main as check_main
@@ -277,6 +278,60 @@ def test_cancel_gives_canceled(sim, console) -> None:
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert done["transitions"][-1]["reason"] == "CANCELED"
     assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 409
+
+
+def lost_vehicle_command_canceled_unanswered(c: ConsoleProcess, vehicle: SimProcess) -> str:
+    """A GPS fix sent to vehicle 1 once it is lost (confirmed), gone unanswered, then canceled; its sessionId."""
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    vehicle.kill()
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
+    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={"confirmLost": True})
+    assert r.status_code == 201, r.text
+    session = str(r.json()["sessionId"])
+    wait_command(c.url, session, done=lambda x: x["unanswered"])
+    assert httpx.delete(f"{c.url}/api/commands/{session}").json()["cancelRequested"]
+    return session
+
+
+def test_a_command_canceled_unanswered_ends_once_the_vehicle_is_heard_again_without_it(sim, console) -> None:
+    """It counted up for ever (terminal false, status null, among the running commands), even after the vehicle came
+    back without ever running it and the console restarted."""
+    first = console()
+    session = lost_vehicle_command_canceled_unanswered(first, sim())
+    time.sleep(3)  # past the unanswered timeout (2 s): the vehicle unheard, the command is not ended for that
+    pending = command(first.url, session)
+    assert not pending["terminal"] and pending["closedUnheard"] is None, pending
+    first.stop()
+    c = console()  # restarted meanwhile
+    assert not command(c.url, session)["terminal"]
+    ws = WsClient(c.ws_url)
+    try:
+        sim()  # the vehicle back, without the command (the cancel disposed it)
+        done = wait_command(c.url, session, done=lambda x: x["terminal"], timeout=20)
+        assert (done["closedUnheard"], done["status"], done["transitions"], done["cleanedUp"]) == ("heard", None, [], True)
+        assert done["closedAt"] >= done["canceledAt"]
+        wait_until(lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"]
+                               for m in ws.of("command")), 10, "the end on the WebSocket")
+        assert not ws.errors, ws.errors
+    finally:
+        ws.close()
+    c.stop()
+    again = console()  # not among the running commands any more
+    snapshot = WsClient(again.ws_url)
+    try:
+        first_message = wait_until(lambda: snapshot.of("snapshot"), 10, "the snapshot")[0]
+        running = [x for x in first_message["commands"] if not x["terminal"]]
+        assert session not in [x["sessionId"] for x in running], running
+    finally:
+        snapshot.close()
+
+
+def test_a_command_canceled_unanswered_ends_at_the_bound_if_the_vehicle_is_never_heard(sim, console) -> None:
+    c = console("--cancel-unheard-bound", "4")
+    session = lost_vehicle_command_canceled_unanswered(c, sim())
+    done = wait_command(c.url, session, done=lambda x: x["terminal"], timeout=20)
+    assert (done["closedUnheard"], done["status"], done["cleanedUp"]) == ("bound", None, True), done
+    assert 4 <= done["closedAt"] - done["canceledAt"] < 8, done
 
 
 @pytest.mark.parametrize("fault,expect", [

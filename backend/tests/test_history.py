@@ -155,8 +155,8 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
     for s, v in zip(sessions, (V1, V2, V1), strict=True):
         mine = by_session[s]
         assert [x["status"] for x in mine] == HAPPY and [x["seq"] for x in mine] == ["1", "2", "3", "4"]
-        assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"]) for x in mine} == \
-               {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"])}  # the command's columns repeated
+        assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"], x["station"]) for x in mine} == \
+               {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"], "test-console")}  # the command's columns repeated
         received = [parse_utc(x["received_utc"]) for x in mine]
         assert received == sorted(received) and parse_utc(mine[0]["created_utc"]) <= received[0]
 

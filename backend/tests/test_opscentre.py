@@ -4,8 +4,11 @@ WebSocket through LISTEN/NOTIFY; a command issued on one can be canceled from th
 
 from __future__ import annotations
 
+import csv
+import io
 import json
 import signal
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -60,6 +63,76 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
     a.stop()
     again = console("--database-url", pg_url, "--console-name", "watch")
     assert health(again)["consoleId"] == id_a  # a restart keeps its identity
+
+
+def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and_the_csv(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    """Bob on relief cancels Alice's command from watch: both stations, their histories and their CSV exports say who
+    cancelled it and where, not only while the cancel is on its way (the API had the operator, no station)."""
+    sim("--surface-seconds", "400")
+    a = console("--database-url", pg_url, "--console-name", "watch", "--operator-tokens", "alice:tok-a")
+    b = console("--database-url", pg_url, "--console-name", "relief", "--operator-tokens", "bob:tok-b")
+    alice, bob = {"Authorization": "Bearer tok-a"}, {"Authorization": "Bearer tok-b"}
+    ws_a = WsClient(a.ws_url)
+    try:
+        provider_ready(a.url, V1, {"GPSFixReport"})
+        session = httpx.post(f"{a.url}/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["sessionId"]
+        wait_command(a.url, session, done=lambda x: x["status"] == "EXECUTING")
+        asked = time.time()
+        r = httpx.delete(f"{b.url}/api/commands/{session}", headers=bob)
+        assert r.status_code == 200 and (r.json()["canceledBy"], r.json()["canceledOn"]) == ("bob", "relief"), r.text
+        for c in (a, b):
+            done = wait_command(c.url, session, done=lambda x: x["terminal"] and x["status"] == "CANCELED")
+            assert (done["operator"], done["console"], done["canceledBy"], done["canceledOn"]) == \
+                   ("alice", "watch", "bob", "relief"), done
+            assert abs(done["canceledAt"] - asked) < 5
+            listed = next(x for x in httpx.get(f"{c.url}/api/commands").json() if x["sessionId"] == session)
+            assert (listed["canceledBy"], listed["canceledOn"]) == ("bob", "relief")  # the history page
+            rows = [x for x in csv.DictReader(io.StringIO(httpx.get(f"{c.url}/api/commands.csv").text))
+                    if x["session_id"] == session]
+            assert {(x["operator"], x["station"], x["canceled_by"], x["canceled_on"]) for x in rows} == \
+                   {("alice", "watch", "bob", "relief")}, rows
+        # Alice's own WebSocket: the finished command as her station's clients have it
+        on_a = wait_until(lambda: heard(ws_a, session, "CANCELED"), 10, "CANCELED on A's WebSocket")
+        assert (on_a["canceledBy"], on_a["canceledOn"]) == ("bob", "relief"), on_a
+    finally:
+        ws_a.close()
+    a.stop()
+    again = console("--database-url", pg_url, "--console-name", "watch", "--operator-tokens", "alice:tok-a")
+    reloaded = command(again.url, session)  # after a restart, from the database
+    assert (reloaded["canceledBy"], reloaded["canceledOn"]) == ("bob", "relief"), reloaded
+
+
+def test_the_database_banner_s_message_comes_within_2_s_of_the_console_knowing(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    """The dashboard asked GET /api/health every 15 s: the banner came about 12 s after the console knew. The console
+    now pushes a `database` message at the tick that finds the outage (and its end), as it does an alarm."""
+    sim()
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    provider_ready(a.url, V1)
+    sockets = [WsClient(a.ws_url), WsClient(b.ws_url)]
+    try:
+        for ws in sockets:
+            snapshot = wait_until(lambda ws=ws: ws.of("snapshot"), 10, "the snapshot")[0]
+            assert snapshot["database"] == {"unavailableSince": None, "writesHeld": 0, "writesDropped": 0}
+        pg_cluster.stop()
+        try:
+            for ws in sockets:
+                def down(ws: WsClient = ws) -> tuple[float, dict[str, Any]] | None:
+                    m = next((m for m in ws.of("database") if m["database"]["unavailableSince"] is not None), None)
+                    return (time.time(), m["database"]) if m else None
+                seen, state = wait_until(down, 20, "the outage on the WebSocket")
+                assert seen - state["unavailableSince"] < 2.0, (seen, state)
+        finally:
+            pg_cluster.start()
+        for ws in sockets:
+            wait_until(lambda ws=ws: (x := ws.of("database")) and x[-1]["database"]["unavailableSince"] is None, 20,
+                       "the end of the outage on the WebSocket")
+            assert not ws.errors, ws.errors
+    finally:
+        for ws in sockets:
+            ws.close()
 
 
 def test_a_command_of_a_console_that_stopped_is_canceled_from_another(

@@ -68,7 +68,8 @@ def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
     ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "SIDEWAYS"}, 422, "'OFF', 'ON' or 'RESTARTING'"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": 1}, 422, "body.state"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {}, 422, "body.state: Field required"),
-    ("POST", f"/api/providers/{V1}/inertial-sensor", "{not json", 422, "JSON decode error"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", "{not json", 422, "the body is not valid JSON (at character 2)"),
+    ("POST", f"/api/providers/{V1}/inertial-sensor", '{"state": }', 422, "the body is not valid JSON (at character 11)"),
     ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "ON", "extra": 1}, 422, "body.extra"),
     ("POST", f"/api/providers/{UNKNOWN}/inertial-sensor", {"state": "ON"}, 404, "no provider"),
     ("DELETE", "/api/commands/42", None, 422, "session_id"),
@@ -115,16 +116,27 @@ def test_an_operators_refused_commands_are_recorded(tmp_path: Path) -> None:
                                            ("POST", f"/api/providers/{V1}/gps-fix", {"extra": 1}, 422),
                                            ("POST", f"/api/providers/{unknown}/gps-fix", {}, 404),
                                            ("DELETE", f"/api/commands/{unknown}", None, 404),
-                                           ("DELETE", f"/api/commands/{done}", None, 409)):
-            r = c.request(method, path, json=body, headers=alice)
-            assert r.status_code == status, (method, path, r.text)
+                                           ("DELETE", f"/api/commands/{done}", None, 409),
+                                           # refused before the token check ran (the body is read first): the
+                                           # operator of the valid token it carries, not null
+                                           ("POST", f"/api/providers/{V1}/gps-fix", b"{nope", 422),
+                                           ("POST", f"/api/providers/{V1}/gps-fix", b"[" + b"0," * (1 << 20) + b"0]", 413)):
+            raw = {"content": body, "headers": {**alice, "content-type": "application/json"}} if isinstance(body, bytes) \
+                else {"json": body, "headers": alice}
+            r = c.request(method, path, **raw)
+            assert r.status_code == status, (method, path, r.text[:200])
         trail = list(reversed(c.get("/api/audit").json()))
-        refusals = (("POST", 422), ("POST", 422), ("POST", 404), ("DELETE", 404), ("DELETE", 409))
+        refusals = (("POST", 422), ("POST", 422), ("POST", 404), ("DELETE", 404), ("DELETE", 409), ("POST", 422),
+                    ("POST", 413))
         assert [(a["outcome"], a["status"], a["method"], a["operator"]) for a in trail] == [
             ("accepted", 201, "POST", "alice")] + [("refused", s, m, "alice") for m, s in refusals]
         assert "body.state" in trail[1]["reason"] and "already finished" in trail[5]["reason"]
+        assert trail[6]["reason"] == "the body is not valid JSON (at character 2)"
+        wrong = c.post(f"/api/providers/{V1}/gps-fix", content=b"{nope", headers={"Authorization": "Bearer guess",
+                                                                                   "content-type": "application/json"})
+        assert wrong.status_code == 422 and c.get("/api/audit").json()[0]["operator"] is None  # a wrong token names no one
         assert c.get(f"/api/commands/{unknown}").status_code == 404  # a read's 404 is no refusal of a command
-        assert len(c.get("/api/audit").json()) == 6
+        assert len(c.get("/api/audit").json()) == 9
 
 
 def test_tokens_file_bad_tokens_slowed_down_and_audited(tmp_path: Path) -> None:

@@ -313,7 +313,7 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
 
 @pytest.mark.parametrize("args,message", [
     (["--vehicles", "0"], "--vehicles: 0 is outside 1..500"),
-    (["--domain", "x"], "--domain: 'x' is not a number"),
+    (["--domain", "x"], "sem-sim: error: --domain: 'x' is not a whole number"),
     (["--fault", "explode"], "unknown fault 'explode'"),
     (["--fault", "reject:zero"], "must be a vehicle number"),
     (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: this simulator runs vehicles 1..2"),

@@ -67,14 +67,26 @@ def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) 
     other = open_db(database_url)
     with pytest.raises(StorageError) as refused:  # the same name, running
         other.claim("watch")
-    assert "another console named 'watch' is running on" in str(refused.value) and "--console-name" in str(refused.value)
     assert "pg-test-s3cret" not in str(refused.value)  # the URL is shown with its password hidden
-    relief = other.claim("relief")
-    assert relief != first
+    if a.db.path is None:
+        assert "another console named 'watch' is running on" in str(refused.value) and "--console-name" in str(refused.value)
+        relief = other.claim("relief")
+        assert relief != first
+    else:  # SQLite shares nothing live between consoles: a second one is refused whatever its name, and told of PostgreSQL
+        with pytest.raises(StorageError) as second:
+            other.claim("relief")
+        for refusal in (refused, second):
+            assert f"another console ('watch') is running on {a.db.path}" in str(refusal.value), refusal.value
+            assert "--database-url" in str(refusal.value) and "\n" not in str(refusal.value)
+        lock = a.lock_path()
+        assert lock.exists()
     a.close()
     other.close()
+    if a.db.path is not None:
+        assert not lock.exists()  # a clean stop leaves no lock file behind
     again = open_db(database_url)  # a restart: the same name, the same GUID
-    assert again.claim("watch") == first and again.consoles() == {"watch": first, "relief": relief}
+    assert again.claim("watch") == first
+    assert again.consoles() == ({"watch": first} if a.db.path is not None else {"watch": first, "relief": relief})
     again.close()
 
 
@@ -88,11 +100,12 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         for seq, status in enumerate(("ISSUED", "COMMANDED", "COMMANDED"), start=1):
             db.add_transition(session, min(seq, 2), {"status": status, "reason": "SUCCEEDED", "logMessage": "",
                                                      "violation": None, "providerTime": 1.0, "receivedAt": 2.0})
-        db.set_canceled(session, "bob")
+        db.set_canceled(session, "bob", "relief", 101.5)
         db.set_flag(session, "cleaned_up")
         [row] = db.commands(session_id=session)
         assert [t["seq"] for t in row["transitions"]] == [1, 2]  # a repeated (session, seq) is ignored
         assert row["cancel_requested"] is True and row["canceled_by"] == "bob" and row["cleaned_up"] is True
+        assert (row["canceled_on"], row["canceled_at"]) == ("relief", 101.5)
         assert row["console"] == "watch" and row["command"] == {"timeStamp": [100, 0]}
         assert db.commands(limit=10, unfinished=True, console="relief") == []
         for n in range(5):

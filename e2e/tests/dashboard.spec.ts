@@ -182,6 +182,41 @@ test("with an operator token: commands are refused until sign-in", async ({ page
   }
 });
 
+test("a finished cancel names who asked it and on which station; the timeline is in time order; GPS fix on one line", async ({ page }) => {
+  const token = "e2e-canceller";
+  const guarded = await startGuardedConsole(token, ["--console-name", "watch"]);
+  try {
+    await page.setViewportSize({ width: 360, height: 900 }); // a narrow screen: the running card's title stays one line
+    await page.goto(guarded.url);
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    await vehicle(page, load().vehicles[0]).click();
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toBeVisible();
+    await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
+    const cmd = latestCommand(page);
+    await expect(cmd).toHaveAttribute("data-status", "EXECUTING", { timeout: 20_000 });
+    const title = cmd.locator(".c-title");
+    await expect(title).toHaveText("GPS fix");
+    const lines = await title.evaluate((el) => el.getBoundingClientRect().height / parseFloat(getComputedStyle(el).fontSize));
+    expect(lines).toBeLessThan(2); // one line of text is about 1.2 font sizes high, two about 2.4
+    // the acknowledgement (published with ISSUED) comes after "Received", not before it
+    const order = await cmd.getByTestId("timeline").locator("li").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
+    expect(order.indexOf("ack")).toBeGreaterThan(order.indexOf("ISSUED"));
+    await expect(cmd.getByTestId("ack")).toContainText("the vehicle reports taking it up");
+    await cmd.getByRole("button", { name: "Cancel" }).click();
+    await expect(cmd).toHaveAttribute("data-status", "CANCELED");
+    // finished, the card still says who asked for the cancel and where ("as asked" alone read as the requester's)
+    await expect(cmd.getByTestId("command-canceller")).toHaveText("cancel asked by e2e-operator on watch");
+    await expect(cmd.getByTestId("transition").last()).toContainText("Cancelled as asked by e2e-operator on watch");
+    await expect(cmd.getByTestId("cancel-asked")).toContainText("Cancel asked by e2e-operator on watch");
+    const done = await cmd.getByTestId("timeline").locator("li").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
+    expect(done.indexOf("cancel-asked")).toBeLessThan(done.indexOf("CANCELED")); // asked, then the vehicle's answer
+  } finally {
+    await guarded.stop();
+  }
+});
+
 test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, link thresholds saved", async ({ page, request }) => {
   const id = await open(page);
   const panel = page.getByTestId("gateways-panel");

@@ -79,7 +79,8 @@ test("the command pager shows older commands of the selected vehicle from the co
 
   const list = page.getByTestId("commands-panel").getByTestId("command");
   await expect(list).toHaveCount(20);
-  await expect(page.getByTestId("command-count")).toHaveText(`20 of ${total}+ commands`);
+  expect(total).toBeLessThan(100); // the history's first page (100) holds them all: the count is known before any press
+  await expect(page.getByTestId("command-count")).toHaveText(`20 of ${total} commands`);
   await page.getByRole("button", { name: "Older commands" }).click(); // past what the page holds: read from GET /api/commands
   await expect(page.getByTestId("command-count")).toHaveText(`${Math.min(40, total)} of ${total} commands`);
   await expect(list).toHaveCount(Math.min(40, total));

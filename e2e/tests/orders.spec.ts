@@ -1,7 +1,7 @@
 // Every order bound to its vehicle (issue 19): a CoMap Move-to armed for one vehicle is void once another is
 // selected, and nothing reaches the other; a command to a lost vehicle needs an explicit confirmation that says
 // it is lost; confirmations take the focus and close on Esc; CoMap controls say why when CoMap is off.
-import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
+import { expect, test, type APIRequestContext, type Locator, type Page } from "@playwright/test";
 import { history, latestCommand, open, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, load, restartSim, startGuardedConsole, stopSim } from "../stack";
 
@@ -83,7 +83,7 @@ test("Move-to armed for Charlie, then another vehicle selected: nothing is armed
   await page.unroute("**/api/tasks");
 });
 
-test("a command to a lost vehicle says it is lost and is sent only on an explicit confirmation; unanswered, it can be cancelled", async ({ page, request }) => {
+test("a command to a lost vehicle says it is lost and is sent only on an explicit confirmation; unanswered, it can be cancelled, and ends when the vehicle is back without it", async ({ page, request }) => {
   test.setTimeout(120_000);
   const stack = load();
   const id = await open(page, 0);
@@ -91,6 +91,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   const fix = page.getByRole("button", { name: "Request GPS fix", exact: true });
   await expect(fix).toBeEnabled();
   await stopSim();
+  let cmd: Locator | undefined;
   try {
     await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: last heard`);
     const lostFix = page.getByRole("button", { name: "Request GPS fix (vehicle lost)", exact: true });
@@ -142,20 +143,24 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await expect(page.getByTestId("command-error")).toHaveCount(0);
 
     // nobody answers it: it says so in words, and Cancel takes it back (DELETE /api/commands/{id})
-    const cmd = latestCommand(page);
+    cmd = latestCommand(page);
     await expect(cmd.getByTestId("command-status")).toHaveText("No answer", { timeout: 20_000 });
     await expect(cmd.getByTestId("unanswered")).toContainText(`${label} has not confirmed receiving this command`);
     await expect(cmd.getByTestId("command-elapsed")).toContainText("expected");
     const session = (await cmd.getAttribute("data-session"))!;
     await cmd.getByRole("button", { name: "Cancel" }).click();
     await expect.poll(async () => ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean }).cancelRequested).toBe(true);
-    await expect(cmd).toContainText("cancel requested");
+    await expect(cmd.getByTestId("cancel-asked")).toBeVisible();
     // no "Cancel it" left where there is no Cancel button any more
     await expect(cmd.getByTestId("unanswered")).toContainText("Cancel requested: it may not hear the cancel either");
     await expect(cmd.getByTestId("unanswered")).not.toContainText("Cancel it if");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
+  // back without ever hearing it (the cancel withdrew it): the command ends, it no longer counts up
+  expect(cmd).toBeDefined();
+  await expect(cmd!.getByTestId("command-status")).toHaveText("Cancelled before the vehicle heard it", { timeout: 30_000 });
+  await expect(cmd!.getByTestId("command-elapsed")).toHaveCount(0);
   await expect(page.getByTestId("command-lost")).toHaveCount(0, { timeout: 30_000 });
   await expect(fix).toBeEnabled();
   for (const v of stack.vehicles) {

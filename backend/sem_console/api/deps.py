@@ -61,6 +61,17 @@ async def require_operator(request: Request, response: Response, credentials: Be
     request.state.operator = _authenticate(request, response, credentials)
 
 
+def token_operator(request: Request) -> str | None:
+    """Who sent a request, for its audit row: the operator its token check found, else (refused before that check ran:
+    a body too large or not JSON, read first) the operator of the valid bearer token it carries, if any."""
+    checked: str | None = getattr(request.state, "operator", None)
+    if checked is not None:
+        return checked
+    scheme, _, token = request.headers.get("authorization", "").partition(" ")
+    operators: Operators = request.app.state.operators
+    return operators.lookup(token.strip()) if scheme.lower() == "bearer" and token.strip() else None
+
+
 async def require_reader(request: Request, response: Response, credentials: BearerDep) -> None:
     """Router dependency of the read routes with --auth-reads."""
     _authenticate(request, response, credentials)

@@ -445,6 +445,14 @@ class AlarmAckRequest(_Model):
 
 
 # ---- WebSocket: server -> client ---------------------------------------------------------
+class DatabaseState(_Model):
+    """Whether the console's database can be reached (as GET /api/health has it)."""
+
+    unavailableSince: float | None = Field(description=Health.model_fields["databaseUnavailableSince"].description)
+    writesHeld: int = Field(description=Health.model_fields["databaseWritesHeld"].description)
+    writesDropped: int = Field(description=Health.model_fields["databaseWritesDropped"].description)
+
+
 class SnapshotMessage(_Model):
     type: Literal["snapshot"]
     consoleId: str
@@ -458,6 +466,7 @@ class SnapshotMessage(_Model):
     recording: RecordingStatus
     replay: ReplayStatus | None = Field(description="the replay's playback (sem-console --replay); null for a live console")
     alarms: list[Alarm] = Field(description="the active alarm set (every alarm not returned to normal), newest first")
+    database: DatabaseState | None = Field(None, description="the database's reach (null in a replay: its own file)")
 
 
 class ReportMessage(_Model):
@@ -513,6 +522,14 @@ class AlarmsMessage(_Model):
     alarms: list[Alarm]
 
 
+class DatabaseMessage(_Model):
+    """The database became unreachable or reachable again, or what is held for it changed (at most once a second
+    while only the count of held writes moves)."""
+
+    type: Literal["database"]
+    database: DatabaseState
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -525,7 +542,7 @@ class PongMessage(_Model):
 
 ServerMessage = Annotated[
     SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage | ReplayMessage
-    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | ErrorMessage | PongMessage,
+    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | DatabaseMessage | ErrorMessage | PongMessage,
     Field(discriminator="type"),
 ]
 

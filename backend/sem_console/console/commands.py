@@ -3,7 +3,10 @@
 Plain Python: DDS writes go through the `write` and `dispose` callables given to it.
 Each command gets a fresh RFC 4122 sessionID; every status is checked against Figure 4
 (umaa.flow); cancel is a dispose; cleanup disposes the command once it is COMPLETED or
-FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswered.
+FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswered. A canceled command the
+vehicle never answered is ended by the console (`closed_unheard`): once the vehicle is heard again for the
+unanswered timeout without a status of it (it never heard the command: the cancel disposed it first), or when the
+vehicle is not heard within `cancel_unheard_bound` of the cancel.
 """
 
 from __future__ import annotations
@@ -12,7 +15,7 @@ import logging
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -28,6 +31,8 @@ from sem_console.umaa.samples import datetime_to_float, now_datetime
 
 log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
+Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard)
+ClosedUnheard = Literal["heard", "bound"]
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 
 
@@ -45,6 +50,12 @@ class Command:
     unanswered: bool = False
     cancel_requested: bool = False
     canceled_by: str | None = None
+    canceled_on: str | None = None  # the station its cancel was asked on
+    canceled_at: float | None = None  # wall seconds
+    closed_unheard: ClosedUnheard | None = None
+    closed_at: float | None = None
+    heard_from: float | None = None  # canceled, unanswered: its vehicle's first sample since the cancel (monotonic)
+    cancel_mono: float = 0.0  # monotonic seconds of the cancel (or of the console's start, for one loaded)
     cleaned_up: bool = False
     acked_at: float | None = None
     issued_by_deadline: float = 0.0
@@ -53,6 +64,11 @@ class Command:
     # Loaded from history: the statuses already recorded, which the provider's transient-local
     # history delivers again after a restart (in order, perhaps only the last few).
     replay: list[tuple[Status | int, Reason | int, float | None]] = field(default_factory=list)
+
+    @property
+    def terminal(self) -> bool:
+        """Finished: a final status, or ended by the console, canceled and never answered."""
+        return self.flow.terminal or self.closed_unheard is not None
 
     def to_json(self) -> dict[str, Any]:
         return {
@@ -63,10 +79,14 @@ class Command:
             "operator": self.operator,
             "createdAt": self.created_at,
             "status": name(self.flow.status) if self.flow.status else None,
-            "terminal": self.flow.terminal,
+            "terminal": self.terminal,
             "unanswered": self.unanswered,
             "cancelRequested": self.cancel_requested,
             "canceledBy": self.canceled_by,
+            "canceledOn": self.canceled_on,
+            "canceledAt": self.canceled_at,
+            "closedUnheard": self.closed_unheard,
+            "closedAt": self.closed_at,
             "cleanedUp": self.cleaned_up,
             "console": self.console,
             "ackedAt": self.acked_at,
@@ -98,11 +118,12 @@ class Commands:
         unanswered_timeout: float,
         clock: Clock | None = None,
         station: str | None = None,
+        cancel_unheard_bound: float = 3600.0,
     ) -> None:
         self.station = station  # this console's name: the commands it issued are its own to follow and clean up
         self.source, self.store, self._write, self._dispose, self.emit = source, store, write, dispose, emit
         self.clock = clock or Clock()
-        self.unanswered_timeout = unanswered_timeout
+        self.unanswered_timeout, self.cancel_unheard_bound = unanswered_timeout, cancel_unheard_bound
         self.by_session: dict[uuid.UUID, Command] = {}
         self._load_history()
 
@@ -121,8 +142,10 @@ class Commands:
         cmd = Command(session, service, provider, state if isinstance(state, InsState) else None, row["operator"],
                       row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"], source),
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
-                      canceled_by=row["canceled_by"], cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"],
-                      console=row.get("console"))
+                      canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
+                      canceled_at=row.get("canceled_at"), closed_unheard=row.get("closed_unheard"),
+                      closed_at=row.get("closed_at"), cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"],
+                      console=row.get("console"), cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
             if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
@@ -207,8 +230,9 @@ class Commands:
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
             self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
         elif c.get("cancelRequested") and not cmd.cancel_requested:
-            cmd.cancel_requested, cmd.canceled_by = True, c.get("canceledBy")
-            self.store.set_canceled(str(session), cmd.canceled_by)
+            self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall())
+        elif c.get("closedUnheard") and cmd.closed_unheard is None:
+            self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall())
         else:
             return cmd
         self.emit({"type": "command", "command": cmd.to_json()})
@@ -223,11 +247,22 @@ class Commands:
                 f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})"
             )
         if not cmd.cancel_requested:
-            cmd.cancel_requested, cmd.canceled_by = True, operator
-            self.store.set_canceled(str(session), operator)
+            self._canceled(cmd, operator, self.station, self.clock.wall())
             self._dispose(cmd.service, cmd.sample)
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
+
+    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float) -> None:
+        cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
+        cmd.cancel_mono = self.clock.monotonic()
+        self.store.set_canceled(str(cmd.session_id), operator, station, at)
+
+    def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float) -> None:
+        """End a canceled command the vehicle never answered (its dispose, the cancel, was published already)."""
+        cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = why, at, True
+        self.store.set_closed_unheard(str(cmd.session_id), why, at)
+        self.emit({"type": "command", "command": cmd.to_json()})
+        self._forget_old()
 
     def _take_over(self, session: uuid.UUID) -> Command | None:
         """Hand-over: a running command another console station on this database issued, taken into this
@@ -241,7 +276,7 @@ class Commands:
         if source is None:
             return None
         cmd = self.from_row(rows[0], source)
-        if cmd.flow.terminal:
+        if cmd.terminal:
             return None
         cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
         self.by_session[session] = cmd
@@ -262,6 +297,9 @@ class Commands:
             return stored
         if stored.cancel_requested and not mine.cancel_requested:
             mine.cancel_requested, mine.canceled_by = True, stored.canceled_by
+            mine.canceled_on, mine.canceled_at = stored.canceled_on, stored.canceled_at
+        if stored.closed_unheard is not None and mine.closed_unheard is None and not mine.flow.transitions:
+            mine.closed_unheard, mine.closed_at, mine.cleaned_up = stored.closed_unheard, stored.closed_at, True
         return mine
 
     def cleanup(self, cmd: Command) -> None:
@@ -291,6 +329,9 @@ class Commands:
         cmd.times.append((provider_time, received))
         seq = len(cmd.flow.transitions)
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
+        if cmd.closed_unheard is not None:  # ended as never heard, and it answers after all: what it says stands
+            cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False
+            self.store.set_closed_unheard(str(session), None, None)
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
@@ -306,13 +347,29 @@ class Commands:
         if cmd.flow.terminal:
             self.cleanup(cmd)
 
-    def tick(self, now: float) -> None:
-        for cmd in self.by_session.values():
-            if not cmd.flow.transitions and not cmd.unanswered and not cmd.cancel_requested and not cmd.cleaned_up \
-                    and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
+    def tick(self, now: float, heard: Heard) -> None:
+        """`now`: monotonic seconds; `heard`: when a provider was last heard."""
+        for cmd in list(self.by_session.values()):
+            if cmd.flow.transitions or cmd.cleaned_up:
+                continue
+            if cmd.cancel_requested:
+                self._unheard_cancel(cmd, heard(cmd.provider_id))
+            elif not cmd.unanswered and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
                 cmd.unanswered = True
                 self.store.set_flag(str(cmd.session_id), "unanswered")
                 self.emit({"type": "command", "command": cmd.to_json()})
+
+    def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
+        """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since
+        the cancel without a word of it, or once the bound since the cancel has passed."""
+        if seen is not None and seen >= cmd.cancel_mono:
+            if cmd.heard_from is None:
+                cmd.heard_from = seen
+            elif seen - cmd.heard_from >= self.unanswered_timeout:
+                self._close_unheard(cmd, "heard", self.clock.wall())
+                return
+        if self.clock.wall() - (cmd.canceled_at or cmd.created_at) >= self.cancel_unheard_bound:
+            self._close_unheard(cmd, "bound", self.clock.wall())
 
     def shutdown(self) -> list[Command]:
         """Consumer Shutdown Sequence: cancel every incomplete command; returns them."""

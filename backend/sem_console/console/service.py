@@ -126,6 +126,7 @@ class Console:
         # every 2 s; the listener reopens each second and the other consoles NOTIFY their held writes meanwhile):
         # a resync when its upkeep does
         self._resync_pending = False
+        self._database_sent: tuple[Any, ...] = (None, 0, 0, 0.0)  # (unavailable since, held, dropped, monotonic sent)
         self.closing = False
         self.quiet = False  # a replay seeking: state changes are not sent to clients (a snapshot follows)
         self.started_at = time.monotonic()
@@ -140,7 +141,8 @@ class Console:
                               stored_link_configs(self.store.link_configs()),
                               settings.jaus_subsystem if settings.jaus_port is not None else None)
         commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
-                            self.settings.unanswered_timeout, self.clock, self.station)
+                            self.settings.unanswered_timeout, self.clock, self.station,
+                            self.settings.cancel_unheard_bound)
         return providers, commands
 
     def reset(self) -> None:
@@ -218,6 +220,10 @@ class Console:
         """The playback (api/routes/replay.py); None live."""
         return self.source.replay
 
+    def _heard(self, provider_id: uuid.UUID) -> float | None:
+        p = self.providers.by_id.get(provider_id)
+        return None if p is None else p.last_seen()
+
     def _write_command(self, service: Service, sample: Any) -> None:
         self.source.write(service, sample)  # a recording publishes nothing
 
@@ -263,7 +269,7 @@ class Console:
             canceled = self.commands.shutdown()
             await asyncio.to_thread(self.source.wait_for_acks, 1.0)
             deadline = time.monotonic() + answer_wait
-            while any(not c.flow.terminal for c in canceled) and time.monotonic() < deadline:
+            while any(not c.terminal for c in canceled) and time.monotonic() < deadline:
                 await asyncio.sleep(0.05)
         self.closing = True  # from here on, samples still queued for the loop are ignored
         if self.imc is not None:
@@ -307,7 +313,8 @@ class Console:
             self._writing_held.add_done_callback(self._maintained)
         for p, event in self.providers.tick(now):
             self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
-        self.commands.tick(now)
+        self.commands.tick(now, self._heard)
+        self._database_changed(now)
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
 
     # ---- input from the source: DDS (ingest) or a recording (replay), on the loop -------------------------------
@@ -498,6 +505,26 @@ class Console:
             detail["reports"] = {**detail["reports"], "GPSReport": _without_satellites(gps)}
         return detail
 
+    def database_state(self) -> dict[str, Any] | None:
+        """The database's reach, for the clients (None in a replay: its own temporary file)."""
+        if self.source.read_only:
+            return None
+        store = self.store
+        return {"unavailableSince": store.unavailable_since, "writesHeld": store.held, "writesDropped": store.dropped}
+
+    def _database_changed(self, now: float) -> None:
+        """A `database` message when the database went away or came back (at the tick that finds it: the banner within
+        a fraction of a second, as an alarm), or what is held for it changed (at most once a second)."""
+        state = self.database_state()
+        if state is None:
+            return
+        since, held, dropped, sent = self._database_sent
+        if state["unavailableSince"] == since and state["writesDropped"] == dropped and (
+                state["writesHeld"] == held or now - sent < 1.0):
+            return
+        self._database_sent = (state["unavailableSince"], state["writesHeld"], state["writesDropped"], now)
+        self._emit({"type": "database", "database": state})
+
     def snapshot(self) -> dict[str, Any]:
         now = self.clock.monotonic()
         return {
@@ -509,6 +536,7 @@ class Console:
             "recording": self.recorder.status(),
             "replay": self.source.status(),
             "alarms": self.alarms.active(),
+            "database": self.database_state(),
         }
 
     def metrics(self) -> dict[str, Any]:

@@ -20,16 +20,30 @@ class Parser(argparse.ArgumentParser):
     """A bad argument is one line and exit status 2: `prog: error: message`, without the usage block."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
+        # argparse's own "argument --x: ..." worded as the other problems of an option are: "--x: ..."
+        self.exit(2, f"{self.prog}: error: {message.removeprefix('argument ')}\n")
+
+
+def not_a_number(kind: type, text: object) -> str:
+    """`'abc' is not a whole number` (int) or `'abc' is not a number`: how an option or variable that is no number
+    of its kind is refused, on the command line and from the environment alike."""
+    return f"{text!r} is not a {'whole number' if kind is int else 'number'}"
+
+
+def number(kind: Callable[[str], N]) -> Callable[[str], N]:
+    """An argument type: `kind` (int or float) of the text, else a one-line error (`not_a_number`)."""
+    def parse(text: str) -> N:
+        try:
+            return kind(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(not_a_number(kind, text)) from None  # type: ignore[arg-type]
+    return parse
 
 
 def ranged(kind: Callable[[str], N], lo: float, hi: float) -> Callable[[str], N]:
     """An argument type: `kind` of the text, within lo..hi, else a one-line error naming the range."""
     def parse(text: str) -> N:
-        try:
-            value = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError(f"{text!r} is not a number") from None
+        value = number(kind)(text)
         if not lo <= value <= hi:
             raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
         return value
@@ -81,6 +95,8 @@ def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel],
             kind = str
         if kind is bool:
             options["action"] = "store_true"
+        elif kind in (int, float):
+            options["type"] = number(kind)
         elif kind is not str:
             options["type"] = kind
         parser.add_argument(flag, dest=name, default=None, help=field.description, **options)
@@ -93,6 +109,8 @@ def model_error(model: type[BaseModel], error: ValidationError, given: Collectio
     (an environment-only setting has no option to name)."""
     first = error.errors()[0]
     message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
+    if first["type"] in ("int_parsing", "float_parsing"):  # as the command line says it (`number`)
+        message = not_a_number(int if first["type"] == "int_parsing" else float, first["input"])
     if not first["loc"]:
         return message
     name = str(first["loc"][0])

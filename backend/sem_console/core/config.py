@@ -70,6 +70,9 @@ class Settings(BaseSettings):
                                                         "(default: 3)")
     unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered "
                                                              "(default: 5)")
+    cancel_unheard_bound: float = Field(3600.0, gt=0, description="seconds after its cancel when a canceled command "
+                                        "the vehicle never answered ends, if the vehicle is not heard again before "
+                                        "(default: 3600)")
     track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
                                          "vehicle (default: 24)")
     report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "

@@ -83,7 +83,16 @@ class Command(StrictModel):
     unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
     cancelRequested: bool
     canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
-    ackedAt: float | None = Field(description="when the provider first reported executing it (its CommandAckReport), UTC seconds")
+    canceledOn: str | None = Field(None, description="the console station its cancel was asked on (its --console-name); "
+                                                     "null: not canceled, or before stations were recorded with a cancel")
+    canceledAt: float | None = Field(None, description="when its cancel was asked, UTC seconds")
+    closedUnheard: Literal["heard", "bound"] | None = Field(None, description=(
+        "a canceled command the vehicle never answered (no status at all), ended by the console: heard, the vehicle was "
+        "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "
+        "was not heard within --cancel-unheard-bound of the cancel. Such a command is terminal with a null status"))
+    closedAt: float | None = Field(None, description="when the console ended it so (closedUnheard), UTC seconds")
+    ackedAt: float | None = Field(description="when the provider first acknowledged it (its CommandAckReport, published as it "
+                                                  "starts to process the command), UTC seconds")
     cleanedUp: bool
     console: str | None = Field(None, description="the console station that issued it (its --console-name); null: a "
                                             "command of a release before station names")

@@ -7,6 +7,7 @@ the exports and the track and chart history in worker threads)."""
 
 from __future__ import annotations
 
+import contextlib
 import fcntl
 import hashlib
 import itertools
@@ -273,17 +274,28 @@ class Database:
                 raise taken
             self._lock = c
             return
-        # SQLite: an flock on a file beside the database, one per name, let go when the process ends
-        lock = self.db.path.with_name(f"{self.db.path.name}.console-{hashlib.sha256(name.encode()).hexdigest()[:12]}.lock")
+        # SQLite: an flock on a file beside the database, let go when the process ends, removed at a clean stop. One
+        # console per file, whatever its name: SQLite tells a console nothing of another's changes (no live sharing)
+        if isinstance(self._lock, int):  # this console's already (a name claimed again, in one process)
+            return
+        lock = self.lock_path()
         fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
+            holder = os.read(fd, 200).decode(errors="replace").strip()
             os.close(fd)
-            raise taken from None
+            raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
+                               "consoles cannot share a SQLite file; stop it, pass another --db, or share a PostgreSQL "
+                               "database with --database-url") from None
         os.ftruncate(fd, 0)
-        os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is
+        os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is, and the refusal of a second
         self._lock = fd
+
+    def lock_path(self) -> Path:
+        """The SQLite file's lock: held by the one console running on it."""
+        assert self.db.path is not None
+        return self.db.path.with_name(f"{self.db.path.name}.lock")
 
     # ---- writes, and what happens to them during an outage -----------------------------------
     def _write(self, fn: Callable[[Connection], object]) -> None:
@@ -465,8 +477,12 @@ class Database:
     def set_acked(self, session_id: str, at: float) -> None:
         self._update_command(session_id, acked_at=at)
 
-    def set_canceled(self, session_id: str, operator: str | None) -> None:
-        self._update_command(session_id, cancel_requested=True, canceled_by=operator)
+    def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float) -> None:
+        self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at)
+
+    def set_closed_unheard(self, session_id: str, why: str | None, at: float | None) -> None:
+        """A cancelled command the vehicle never answered, ended by the console (`why`), or answered after all (None)."""
+        self._update_command(session_id, closed_unheard=why, closed_at=at, cleaned_up=why is not None)
 
     def _update_command(self, session_id: str, **values: Any) -> None:
         def write(c: Connection) -> None:
@@ -729,6 +745,8 @@ class Database:
         if isinstance(self._lock, Connection):
             self._lock.close()
         elif isinstance(self._lock, int):
+            with contextlib.suppress(FileNotFoundError):  # removed while held: no other console can hold it now
+                self.lock_path().unlink()
             os.close(self._lock)
         self._lock = None
         self.engine.dispose()

@@ -47,6 +47,11 @@ class CommandRecord(SQLModel, table=True):
     cleaned_up: bool = False
     acked_at: float | None = None
     console: str | None = Field(None, description="name of the console station that issued it (null: before names)")
+    canceled_on: str | None = Field(None, description="name of the console station its cancel was asked on")
+    canceled_at: float | None = Field(None, description="UTC seconds since the epoch when its cancel was asked")
+    closed_unheard: str | None = Field(None, description="how the console ended it, cancelled and never answered: heard "
+                                       "(the vehicle heard again without it) or bound (not heard within the bound)")
+    closed_at: float | None = Field(None, description="UTC seconds since the epoch when the console ended it so")
 
 
 class TransitionRecord(SQLModel, table=True):

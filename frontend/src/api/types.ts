@@ -1,6 +1,7 @@
 // The console's message and report types, all generated from the backend's schema (see scripts/gen-types.mjs).
 import type {
   Command,
+  DatabaseState,
   GPSConstellationEnumType,
   ReportEnvelope,
   ReportMessage,
@@ -18,6 +19,7 @@ import type {
 } from "./generated/ws";
 
 export type {
+  DatabaseState,
   GatewayState,
   LinkConfig,
   Command,

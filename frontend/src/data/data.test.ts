@@ -54,6 +54,13 @@ describe("reducer", () => {
     expect(reduceAll(initialState, first, 1).selected).toBe("a");
   });
 
+  it("keeps the database's reach from the snapshot and each database message (the banner's)", () => {
+    const away = { unavailableSince: 1_700_000_000, writesHeld: 3, writesDropped: 0 };
+    const s = apply([snapshot(), { type: "database", database: away }]);
+    expect(s.database).toEqual(away);
+    expect(apply([{ type: "database", database: { ...away, unavailableSince: null } }], s).database?.unavailableSince).toBeNull();
+  });
+
   it("takes the snapshot as the baseline and selects its lone vehicle (alarms.test.ts: when not)", () => {
     const s = apply([snapshot()]);
     expect(s.consoleId).toBe("c");

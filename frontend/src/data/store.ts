@@ -3,7 +3,7 @@
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
 import type { Alarm } from "../api/generated/ws";
-import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TopicReports, TypedReportMessage } from "../api/types";
+import type { Command, DatabaseState, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TopicReports, TypedReportMessage } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
 import { satelliteLabel } from "../lib/satellites";
@@ -56,6 +56,8 @@ export interface State {
   // from state and keeps it, so a new or reloaded page shows what is active, not what it happened to see.
   alarms: Alarm[];
   recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
+  // whether the console's database can be reached (snapshot and `database` messages; null: not known, or a replay)
+  database: DatabaseState | null;
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet); only while
   // none is chosen, a lone vehicle on the bus is selected (withLoneSelected).
@@ -90,6 +92,7 @@ export const initialState: State = {
   gateways: [],
   alarms: [],
   recording: null,
+  database: null,
   selected: null,
   worldModel: null,
   worldModelSeq: 0,
@@ -319,7 +322,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [] };
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [], database: msg.database ?? null };
     }
     case "report":
       return applyReport(state, msg, now);
@@ -337,6 +340,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, recording: msg.recording };
     case "alarms":
       return { ...state, alarms: msg.alarms };
+    case "database":
+      return { ...state, database: msg.database };
     case "worldmodel":
       return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task": {

@@ -27,3 +27,9 @@ export function expectedDuration(c: Command, all: Command[]): number | null {
   const mid = Math.floor(took.length / 2);
   return took.length % 2 ? took[mid] : (took[mid - 1] + took[mid]) / 2;
 }
+
+/** A command timeline's lines in the order they happened; stable, so at one instant a status stays before the
+ * acknowledgement the vehicle publishes after it. A line without a recorded time (Infinity) goes last. */
+export function inTimeOrder<T extends { at: number }>(lines: T[]): T[] {
+  return lines.map((l, i) => ({ l, i })).sort((a, b) => (a.l.at === b.l.at ? 0 : a.l.at - b.l.at) || a.i - b.i).map(({ l }) => l);
+}

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { mergeCommands } from "./commands";
+import { inTimeOrder, mergeCommands } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
 import { freshness, nextInterval, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
@@ -175,5 +175,19 @@ describe("command pager", () => {
     const c = (sessionId: string, createdAt: number, status: string) => ({ sessionId, createdAt, status }) as never;
     const merged = mergeCommands([c("b", 2, "EXECUTING"), c("c", 3, "ISSUED")], [c("b", 2, "ISSUED"), c("a", 1, "COMPLETED")]);
     expect(merged.map((x) => `${x.sessionId}:${x.status}`)).toEqual(["c:ISSUED", "b:EXECUTING", "a:COMPLETED"]);
+  });
+});
+
+describe("command timeline", () => {
+  it("puts its lines in the order they happened: the acknowledgement after the status before it, untimed ones last", () => {
+    const lines = [
+      { at: 10, what: "Requested" },
+      { at: 11, what: "Received" },
+      { at: 14, what: "Failed" },
+      { at: 11, what: "Acknowledged" }, // came with Received, after it
+      { at: Infinity, what: "Cancel asked (time not recorded)" },
+      { at: 12, what: "Cancel asked" },
+    ];
+    expect(inTimeOrder(lines).map((l) => l.what)).toEqual(["Requested", "Received", "Acknowledged", "Cancel asked", "Failed", "Cancel asked (time not recorded)"]);
   });
 });

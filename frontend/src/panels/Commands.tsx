@@ -1,4 +1,4 @@
-import { useMemo, useRef, useState } from "react";
+import { useEffect, useMemo, useRef, useState, type ReactNode } from "react";
 import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
 import type { Command } from "../api/types";
 import { Confirm } from "../components/Confirm";
@@ -8,7 +8,7 @@ import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
-import { expectedDuration, mergeCommands } from "../lib/commands";
+import { expectedDuration, inTimeOrder, mergeCommands } from "../lib/commands";
 import { commandStatusText, reasonText, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
@@ -37,35 +37,85 @@ function statusClass(c: Command): string {
   if (c.violations.length || c.unanswered) return "alarm";
   if (c.status === "FAILED") return "bad";
   if (c.status === "COMPLETED") return "ok";
-  if (c.status === "CANCELED") return "muted";
+  if (c.status === "CANCELED" || c.closedUnheard) return "muted";
   return "active";
 }
 
+/** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known). */
+function cancellerText(c: Command): string {
+  const who = c.canceledBy ? `by ${c.canceledBy}` : "";
+  const where = c.canceledOn ? `on ${c.canceledOn}` : "";
+  return [who, where].filter(Boolean).join(" ");
+}
+
+/** What the status line says: the vehicle's last status; a cancel the vehicle never answered, ended by the console. */
+function statusText(c: Command): string {
+  if (c.closedUnheard === "heard") return "Cancelled before the vehicle heard it";
+  if (c.closedUnheard === "bound") return "Cancelled, never answered";
+  if (c.unanswered) return "No answer";
+  return c.status ? commandStatusText(c.status) : "Sent";
+}
+
+/** The reason words of a transition: a cancel the operator asked for names who asked it and where. */
+function transitionReason(c: Command, status: string, reason: string): string {
+  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c)) return `as asked ${cancellerText(c)}`;
+  return reasonText(reason);
+}
+
+type Line = { at: number; node: ReactNode };
+
 function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
-  return (
-    <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${title(c)}`}>
-      <li className="muted">
+  const lines: Line[] = [
+    { at: c.createdAt, node: (
+      <li key="requested" className="muted">
         <span className="t-status">Requested</span> <span className="t-time">{utc(c.createdAt, false)}</span>
         {c.operator ? <span> by {c.operator}</span> : null}
         {c.console ? <span data-testid="station"> on {c.console}</span> : null}
       </li>
-      {c.ackedAt !== null && (
-        <li className="muted" data-testid="ack">
-          <span className="t-status" title="UMAA CommandAckReport">Acknowledged</span> the vehicle reports executing it <span className="t-time">{utc(c.ackedAt, false)}</span>
-        </li>
-      )}
-      {c.transitions.map((t) => (
-        <li key={t.seq} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status} data-reason={t.reason}>
-          <span className="t-status" title={umaa("commandStatus", t.status)}>{commandStatusText(t.status)}</span>{" "}
-          <span className="t-reason" title={umaa("reason", t.reason)}>{reasonText(t.reason)}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>
-          {t.logMessage && <span className="t-log">“{t.logMessage}”</span>}
-          {t.violation && (
-            <strong className="t-violation" role="alert" data-testid="violation" title={`UMAA flow violation: ${t.violation}`}>
-              Out of sequence: the vehicle skipped a step or went back
-            </strong>
-          )}
-        </li>
-      ))}
+    ) },
+    ...c.transitions.map((t) => ({ at: t.receivedAt, node: (
+      <li key={`t${t.seq}`} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status} data-reason={t.reason}>
+        <span className="t-status" title={umaa("commandStatus", t.status)}>{commandStatusText(t.status)}</span>{" "}
+        <span className="t-reason" title={umaa("reason", t.reason)}>{transitionReason(c, t.status, t.reason)}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>
+        {t.logMessage && <span className="t-log">“{t.logMessage}”</span>}
+        {t.violation && (
+          <strong className="t-violation" role="alert" data-testid="violation" title={`UMAA flow violation: ${t.violation}`}>
+            Out of sequence: the vehicle skipped a step or went back
+          </strong>
+        )}
+      </li>
+    ) })),
+  ];
+  if (c.ackedAt !== null) {
+    lines.push({ at: c.ackedAt, node: (
+      <li key="ack" className="muted" data-testid="ack">
+        <span className="t-status" title="UMAA CommandAckReport: the vehicle publishes it as it starts to process the command">Acknowledged</span> the vehicle reports taking it up <span className="t-time">{utc(c.ackedAt, false)}</span>
+      </li>
+    ) });
+  }
+  if (c.cancelRequested) {
+    const at = c.canceledAt ?? null;
+    lines.push({ at: at ?? Infinity, node: (
+      <li key="cancel" className="muted" data-testid="cancel-asked">
+        <span className="t-status">Cancel asked</span> {cancellerText(c)} {at !== null && <span className="t-time">{utc(at, false)}</span>}
+      </li>
+    ) });
+  }
+  if (c.closedUnheard) {
+    const at = c.closedAt ?? null;
+    lines.push({ at: at ?? Infinity, node: (
+      <li key="closed" data-testid="closed-unheard">
+        <span className="t-status">Ended by the console:</span>{" "}
+        {c.closedUnheard === "heard"
+          ? "the vehicle was heard again without answering it; it never heard the command, which the cancel withdrew"
+          : `the vehicle was not heard for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel; the cancel withdrew the command if it had not heard it`}{" "}
+        {at !== null && <span className="t-time">{utc(at, false)}</span>}
+      </li>
+    ) });
+  }
+  return (
+    <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${title(c)}`}>
+      {inTimeOrder(lines).map((l) => l.node)}
       {c.unanswered && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
           <strong>No answer: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
@@ -74,7 +124,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
           {c.cancelRequested ? "Cancel requested: it may not hear the cancel either; watch it when it answers." : "Cancel it if it should not run then."}
         </li>
       )}
-      {c.cancelRequested && !c.terminal && <li className="muted">cancel requested{c.canceledBy ? ` by ${c.canceledBy}` : ""}…</li>}
+      {c.cancelRequested && !c.terminal && <li className="muted">waiting for the vehicle to answer the cancel…</li>}
     </ol>
   );
 }
@@ -101,8 +151,9 @@ function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open 
       <summary ref={row} data-testid="command-summary">
         <span className="c-title">{title(c)}</span>
         <span className="c-status" data-testid="command-status" title={c.unanswered ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
-          {c.unanswered ? "No answer" : c.status ? commandStatusText(c.status) : "Sent"}
+          {statusText(c)}
         </span>
+        {c.cancelRequested && cancellerText(c) && <span className="c-canceller muted" data-testid="command-canceller">cancel asked {cancellerText(c)}</span>}
         {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && <Elapsed c={c} expected={expected} />}
@@ -145,7 +196,23 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
   const [visible, setVisible] = useState(PAGE);
   const [loading, setLoading] = useState(false);
   const [error, setError] = useState<string | null>(null);
+  const [counted, setCounted] = useState(false); // the first page of the history was read: the total is known, or its floor
   const all = useMemo(() => mergeCommands(live, older), [live, older]);
+  useEffect(() => {
+    // the history's first page at once, so the count says how many there are (the live list holds only what this
+    // console follows and recently finished); a failure leaves the count as "shown" until Older commands is pressed
+    let gone = false;
+    commandPage(target.id, FETCH, 0, token).then((page) => {
+      if (gone) return;
+      setOlder((o) => (o.length ? o : page));
+      setFetched((f) => Math.max(f, page.length));
+      setDone((d) => d || page.length < FETCH);
+      setCounted(true);
+    }, () => undefined);
+    return () => {
+      gone = true;
+    };
+  }, [target.id, token]);
   const shown = all.filter((c, i) => i < visible || !c.terminal); // running commands always
 
   const showOlder = async () => {
@@ -171,6 +238,7 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
       setOlder(got);
       setFetched(offset);
       setDone(end);
+      setCounted(true);
       setLoading(false);
     }
   };
@@ -186,7 +254,7 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
       {(all.length > 0 || older.length > 0) && (
         <div className="pager" data-testid="command-pager">
           <span className="muted" data-testid="command-count">
-            {shown.length} of {done ? all.length : `${all.length}+`} commands
+            {!counted && !done ? `${shown.length} shown` : `${shown.length} of ${done ? "" : "at least "}${all.length} commands`}
           </span>
           <button className="small" onClick={() => void showOlder()} disabled={loading || (done && shown.length >= all.length)}>
             {loading ? "Loading…" : "Older commands"}

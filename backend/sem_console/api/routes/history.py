@@ -189,8 +189,9 @@ async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     return CsvResponse(body, headers=_attachment(_filename(provider_id, when, "csv")))
 
 
-COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "operator", "created_utc", "acked_utc",
-                       "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by", "cleaned_up",
+COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "operator", "station", "created_utc",
+                       "acked_utc", "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by",
+                       "canceled_on", "canceled_utc", "closed_unheard", "closed_utc", "cleaned_up",
                        "seq", "status", "reason", "log_message", "violation", "provider_time_utc", "received_utc")
 
 
@@ -199,9 +200,10 @@ def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
     row with the transition columns empty."""
     def rows() -> Iterable[list[Any]]:
         for c in commands:
-            head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], _utc(c["createdAt"]),
-                    _utc(c["ackedAt"]), c["status"], c["terminal"], c["unanswered"], c["cancelRequested"], c["canceledBy"],
-                    c["cleanedUp"]]
+            head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], c["console"],
+                    _utc(c["createdAt"]), _utc(c["ackedAt"]), c["status"], c["terminal"], c["unanswered"],
+                    c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["closedUnheard"],
+                    _utc(c["closedAt"]), c["cleanedUp"]]
             for t in c["transitions"] or [None]:
                 yield head + ([None] * 7 if t is None else
                               [t["seq"], t["status"], t["reason"], t["logMessage"], t["violation"], _utc(t["providerTime"]),
