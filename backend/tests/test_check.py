@@ -933,8 +933,8 @@ def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
 def icd_provider(domain: int) -> Iterator[Callable[..., IcdProvider]]:
     made: list[IcdProvider] = []
 
-    def make(breach: str | None = None, execute: float = 0.4) -> IcdProvider:
-        made.append(IcdProvider(domain, breach, execute))
+    def make(breach: str | None = None, **options: Any) -> IcdProvider:
+        made.append(IcdProvider(domain, breach, **options))
         return made[-1]
 
     yield make
@@ -959,6 +959,33 @@ def test_the_icd_provider_passes_every_test(icd_provider: Callable[..., IcdProvi
     cancel = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
     assert cancel is not None and "COMPLETED before the checker could dispose it at EXECUTING" in str(cancel.text)
     assert "CANCELED/CANCELED" in str(cancel.text)
+
+
+def test_a_command_that_cannot_be_canceled_runs_on_after_an_early_dispose(icd_provider: Callable[..., IcdProvider],
+                                                                         domain: int) -> None:
+    """ICD 4.1.4.4: a provider that cannot cancel a command runs it on to COMPLETED, each step in its time, then
+    disposes its status and ack. Disposed at ISSUED (the cancel test's command after one that completed first), such a
+    command failed as no CANCELED within --step-time of the dispose, though COMMANDED and EXECUTING each came within
+    --step-time of the status before."""
+    p = icd_provider(step=0.6, cancelable=False)
+    bus = Bus(domain)
+    try:
+        observer = Observer(bus)
+        assert observer.wait(lambda: observer.present(p.guid), 10)
+        consumer = commands.Consumer(observer, p.guid, commands.CommandLimits(2.0, 1.0, 2.0), io.StringIO())
+        writer = consumer.writer(Service.GPS_FIX)
+        assert writer is not None
+        case = Case("commands.GPSFix.cancel")
+        sent = consumer.send(Service.GPS_FIX, writer, case=case)
+        commands.follow(consumer, sent, case, cancel_when=commands.ACTIVE)
+        commands.check_cancel(consumer, sent, case)
+        consumer.close()
+    finally:
+        bus.close()
+    assert (case.outcome, case.reason) == (Outcome.PASSED, ""), case.notes
+    assert sent.disposed_in is CmdStatus.ISSUED
+    assert [t.status for t in sent.flow.transitions] == [CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING,
+                                                         CmdStatus.COMPLETED]
 
 
 # breach -> (the tests run, the test that fails, the start of its reason)
@@ -995,7 +1022,7 @@ def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: C
     """Four ICD breaches an independent provider showed sem-check let pass; `ignore-cancel-completing-first`: a GPS
     fix that completes before the checker could dispose it (the cancel was skipped) is canceled on a second command."""
     only, test, reason = BREACHES[breach]
-    p = icd_provider(breach, execute)
+    p = icd_provider(breach, execute=execute)
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
     assert run.code == 1, run.out + run.err
     assert set(failed(run)) == {test}, run.out
