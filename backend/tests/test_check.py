@@ -93,10 +93,10 @@ def failed(run: Run) -> dict[str, str]:
     return {n: r for n, (o, r) in run.cases.items() if o == "failed"}
 
 
-def failure_types(run: Run) -> dict[str, str]:
+def failure_types(report: Path) -> dict[str, str]:
     """The JUnit failures' types: icd (an ICD rule) or profile (a choice of the project's QoS profile)."""
     return {f"{tc.get('classname', '').removeprefix('sem-check.')}.{tc.get('name')}": str(f.get("type"))
-            for tc in ET.parse(run.report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
+            for tc in ET.parse(report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
 
 
 def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.UUID]:
@@ -445,6 +445,22 @@ def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     assert failure is not None and "then not tested further: the command COMPLETED" in str(failure.text)
 
 
+def test_a_failure_is_marked_profile_only_when_every_failure_of_its_test_is_one(tmp_path: Path) -> None:
+    """A discovery test whose first failure was a QoS profile choice (another vendor's QoS fix, or one writer's
+    BEST_EFFORT) and a later one an ICD rule (another writer's keys) was marked `profile`: an integrator who sets the
+    profile's failures aside shipped the ICD breach."""
+    qos = "writer 1: BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it"
+    key = "writer 2: key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23)"
+    both = Case("discovery.InertialSensorReport").fail(qos, profile=True).fail(key)
+    profile = Case("discovery.GPSFixStatusReport").fail(qos, profile=True).fail(qos.replace("1", "2"), profile=True)
+    icd = Case("discovery.GPSFixCommandStatus").fail(key).fail(qos, profile=True)
+    report = tmp_path / "junit.xml"
+    junit.write(report, [both, profile, icd], 1.0, {})
+    assert {n: o for n, (o, _) in junit_cases(report).items()} == {c.name: "failed" for c in (both, profile, icd)}
+    assert failure_types(report) == {"discovery.InertialSensorReport": "icd", "discovery.GPSFixStatusReport": "profile",
+                                     "discovery.GPSFixCommandStatus": "icd"}
+
+
 def test_a_stop_blames_the_case_running() -> None:
     """A run stopped in an InertialSensor command after GPSFix tests that ended without running (the service not
     offered) reported commands.GPSFix.complete as the one stopped and the InertialSensor command as not run."""
@@ -539,7 +555,7 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert ("BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it (a choice of the "
             "project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule; ICD 4.2.1" in bad["discovery.GPSFixStatusReport"])
     # marked as the profile's in the JUnit report, as a type or key problem is marked as the ICD's (test_wrong_key...)
-    assert failure_types(run) == {"discovery.GPSFixStatusReport": "profile"}
+    assert failure_types(run.report) == {"discovery.GPSFixStatusReport": "profile"}
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
@@ -572,7 +588,7 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert set(bad) == {"discovery.InertialSensorReport"}, bad
     assert ("key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members "
             "marked *)") in bad["discovery.InertialSensorReport"]
-    assert failure_types(run) == {"discovery.InertialSensorReport": "icd"}
+    assert failure_types(run.report) == {"discovery.InertialSensorReport": "icd"}
     assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
 
 
@@ -1027,7 +1043,7 @@ def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: C
     assert run.code == 1, run.out + run.err
     assert set(failed(run)) == {test}, run.out
     assert failed(run)[test].startswith(reason) and REFS[breach] in failed(run)[test], failed(run)[test]
-    assert failure_types(run) == {test: "icd"}
+    assert failure_types(run.report) == {test: "icd"}
     if breach == "fail-after-cleanup":  # each InertialSensor command's
         failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
         assert failure is not None and str(failure.text).count("Figure 4 breach: COMPLETED -> FAILED") == 3, failure.text
