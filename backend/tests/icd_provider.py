@@ -7,7 +7,9 @@ EXECUTING a step apart (4.1.4.1 steps 2 and 3), COMPLETED `execute` seconds late
 command's state shows in the InertialSensorReport from EXECUTING (a restart as RESTARTING, then ON). The consumer's
 dispose before the end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.4), or, a provider whose
 commands cannot be canceled (`cancelable=False`), runs it on to COMPLETED and then disposes them (4.1.4.4); after the
-end it cleans up: status and ack disposed (4.1.5). `step` is the time between ISSUED, COMMANDED and EXECUTING.
+end it cleans up: status and ack disposed (4.1.5). `step` is the time between ISSUED, COMMANDED and EXECUTING. A
+provider that rejects an InertialSensor command for the state the sensor is in (`reject_same_state=True`) answers it
+ISSUED, then FAILED/RESOURCE_REJECTED (4.1.4.3: a provider may reject a command).
 
 The breaches, each one an ICD rule a vehicle was seen to break:
 - `ignore-cancel`: a dispose before the end is ignored; the command runs to COMPLETED and its status and ack are
@@ -56,9 +58,10 @@ class Command:
 
 class IcdProvider:
     def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
-                 cancelable: bool = True) -> None:
+                 cancelable: bool = True, reject_same_state: bool = False) -> None:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step, self.cancelable = breach, execute, step, cancelable
+        self.reject_same_state = reject_same_state
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.status = {s: self.bus.writer(s.status) for s in Service}
@@ -113,19 +116,22 @@ class IcdProvider:
     def start(self, service: Service, s: Any, handle: int, now: float) -> None:
         if from_guid(s.destination) != self.guid and self.breach != "answer-any-destination":
             return
-        if service is Service.INERTIAL_SENSOR and s.state == self.state and self.breach == "silent-same-state":
+        same = service is Service.INERTIAL_SENSOR and s.state == self.state
+        if same and self.breach == "silent-same-state":
             return
         session = from_guid(s.sessionID)
         self.sessions[handle] = session
         cmd = Command(service, s, [(now + self.step, Status.COMMANDED), (now + 2 * self.step, Status.EXECUTING),
                                    (now + 2 * self.step + self.execute, Status.COMPLETED)])
+        if same and self.reject_same_state:
+            cmd.due = [(now + self.step, Status.FAILED)]
         self.running[session] = cmd
         self.status[service].write(self.status_sample(cmd, Status.ISSUED, Reason.SUCCEEDED))
         self.ack[service].write(self.ack_sample(cmd))
 
     def end(self, session: uuid.UUID, cmd: Command, now: float) -> None:
         """The consumer disposed the command: cancel it (ICD 4.1.4.4), or clean it up (ICD 4.1.5)."""
-        if cmd.status is not Status.COMPLETED:
+        if cmd.status not in (Status.COMPLETED, Status.FAILED):
             if self.breach == "ignore-cancel" or not self.cancelable:
                 cmd.disposed_early = True
                 return
@@ -140,7 +146,7 @@ class IcdProvider:
 
     def publish(self, cmd: Command, status: Status) -> None:
         cmd.status = status
-        reason = {Status.CANCELED: Reason.CANCELED}.get(status, Reason.SUCCEEDED)
+        reason = {Status.CANCELED: Reason.CANCELED, Status.FAILED: Reason.RESOURCE_REJECTED}.get(status, Reason.SUCCEEDED)
         if cmd.service is Service.INERTIAL_SENSOR and status is Status.EXECUTING:
             self.set_state(cmd.sample.state)
         if cmd.service is Service.INERTIAL_SENSOR and status is Status.COMPLETED and self.state is InsState.RESTARTING:

@@ -1004,6 +1004,19 @@ def test_a_command_that_cannot_be_canceled_runs_on_after_an_early_dispose(icd_pr
                                                          CmdStatus.COMPLETED]
 
 
+def test_a_command_for_the_state_the_sensor_is_in_may_be_rejected(icd_provider: Callable[..., IcdProvider], domain: int,
+                                                                   tmp_path: Path) -> None:
+    """The same test asks that the provider answers (ICD 4.1); rejecting the command, ISSUED then FAILED with a failure
+    reason, is an answer ICD 4.1.4.3 allows, and failed the test as the provider failing the command."""
+    p = icd_provider(reject_same_state=True)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "commands.InertialSensor.same,commands.InertialSensor.cleanup")
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {"commands.InertialSensor.same": ("passed", ""), "commands.InertialSensor.cleanup": ("passed", "")}
+    same = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
+    assert same is not None and "ISSUED/SUCCEEDED +" in str(same.text) and "FAILED/RESOURCE_REJECTED +" in str(same.text)
+
+
 # breach -> (the tests run, the test that fails, the start of its reason)
 BREACHES = {
     # The provider ignores the consumer's dispose while executing, runs to COMPLETED and never disposes its status and

@@ -11,7 +11,8 @@ through the ICD 4.1 flow, each status sequence followed by the console's Figure 
   status; each is disposed and its status and ack must go (ICD 4.1.5);
 - `commands.InertialSensor.OFF|ON|RESTARTING`: each through the flow, the InertialSensorReport
   following the commanded state; `commands.InertialSensor.same`: a command for the state the
-  sensor is in, answered as any other (ICD 4.1: the provider responds to every command);
+  sensor is in, answered through the flow to COMPLETED or, rejected, FAILED (ICD 4.1: the provider
+  responds to every command; 4.1.4.3);
 - `commands.<Service>.cleanup`: after the consumer disposes a finished command the provider
   disposes its status and ack (ICD 4.1.5, Figure 15);
 - `commands.<Service>.destination`: a command addressed to another GUID, sent before the service's
@@ -289,12 +290,15 @@ def breaches(sent: Sent, case: Case) -> None:
     sent.breaches_reported = len(sent.flow.violations)
 
 
-def check_end(sent: Sent, case: Case, canceled: bool = False) -> None:
-    """How the command ended, against how it should have."""
+def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool = False) -> None:
+    """How the command ended, against how it should have; `rejectable`: a command the provider may reject."""
     last = sent.flow.transitions[-1] if sent.flow.transitions else None
     if last is None or not sent.flow.terminal:
         return
-    if sent.flow.status is Status.FAILED:
+    if sent.flow.status is Status.FAILED and rejectable:
+        case.note(f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer (ICD 4.1.4.3: the provider may "
+                  "reject a command)")
+    elif sent.flow.status is Status.FAILED:
         case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" (ICD 4.1.4.3)")
     elif sent.flow.status is Status.CANCELED and not canceled:
         case.fail("CANCELED, though the consumer did not cancel it (ICD 4.1.4.4: CANCELED answers the consumer's dispose)")
@@ -356,12 +360,12 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
 
 
 def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, offered: set[str],
-                     state: InsState | None = None) -> Sent:
+                     state: InsState | None = None, rejectable: bool = False) -> Sent:
     """One command through the flow to its end: the Figure 4 verdicts, how it ended, its ack and the report that
     shows its effect (ICD 4.1.4)."""
     sent = consumer.send(service, writer, state, case)
     if follow(consumer, sent, case):
-        check_end(sent, case)
+        check_end(sent, case, rejectable=rejectable)
         if sent.flow.status is Status.COMPLETED:
             check_ack(consumer, sent, case)
             (_check_fix_report if service is Service.GPS_FIX else _check_ins_report)(consumer, sent, offered, case)
@@ -566,7 +570,9 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                 case.skip("the state the inertial sensor is in is unknown: it serves no InertialSensorReport, and no "
                           "InertialSensor command of this run finished")
             else:
-                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target)
+                # the same test asks for an answer: a provider may reject a command for the state the sensor is in
+                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target,
+                                        rejectable=state is None)
                 answered = bool(sent.flow.transitions)
                 if sent.flow.terminal:
                     finished.append(sent)
