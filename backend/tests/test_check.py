@@ -1017,6 +1017,37 @@ def test_a_command_for_the_state_the_sensor_is_in_may_be_rejected(icd_provider: 
     assert same is not None and "ISSUED/SUCCEEDED +" in str(same.text) and "FAILED/RESOURCE_REJECTED +" in str(same.text)
 
 
+def test_the_destination_test_waits_for_no_answer_it_looks_for_again(icd_provider: Callable[..., IcdProvider], domain: int,
+                                                                     tmp_path: Path) -> None:
+    """commands.GPSFix.destination waited until --step-time after the provider answered the next GPSFix command,
+    though the command tests look again at their end (Consumer.settle), --step-time after that command's dispose: a
+    run waited it out twice. A provider that answers the command is still caught (test_each_breach_fails_its_test)."""
+    p = icd_provider()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--timeout", "2", "--step-time",
+                "3", "--window", "0.5", "--only", "commands.GPSFix")
+    assert run.code == 0, run.out + run.err
+    seconds = {tc.get("name"): float(tc.get("time", "")) for tc in ET.parse(run.report).getroot().iter("testcase")}
+    assert seconds["GPSFix.destination"] < 1.0, seconds
+    bad = icd_provider("answer-any-destination")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(bad.guid), *COMMANDS, "--only", "commands.GPSFix")
+    assert set(failed(run)) == {"commands.GPSFix.destination"}, run.out
+
+
+def test_the_end_of_the_command_tests_waits_for_no_provider_that_left(domain: int) -> None:
+    """Every command is watched until --step-time after its dispose, for a status after it; a provider that left the
+    domain sends none, and the run waited --step-time for nothing."""
+    bus = Bus(domain)
+    try:
+        consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 5.0, 1.0), io.StringIO())
+        consumer.sent.append(commands.Sent(Service.GPS_FIX, uuid.uuid4(), None, time.time(), Case("commands.GPSFix.complete"),
+                                           disposed_at=time.time()))
+        start = time.monotonic()
+        consumer.settle()
+        assert time.monotonic() - start < 2.0
+    finally:
+        bus.close()
+
+
 # breach -> (the tests run, the test that fails, the start of its reason)
 BREACHES = {
     # The provider ignores the consumer's dispose while executing, runs to COMPLETED and never disposes its status and

@@ -19,7 +19,7 @@ through the ICD 4.1 flow, each status sequence followed by the console's Figure 
   other commands, gets no status or ack from the provider (ICD 4.1: `destination`).
 
 Any status sequence that breaks Figure 4 fails its test, quoting the transition, also when it comes
-after the test (after the cleanup: every command is watched until --step-time after its dispose);
+after the test (after the cleanup: every command to the provider is watched until --step-time after its dispose);
 a command with no status within the answer time fails as unanswered, with the time waited, and the
 service's next commands are skipped. Every command is disposed before the checker leaves (ICD 4.1.6.2).
 """
@@ -211,11 +211,11 @@ class Consumer:
             raise
 
     def settle(self) -> None:
-        """After the command tests: every command is watched until --step-time after the consumer disposed it, and
-        what came after its test (a status after the cleanup, an answer to a command for another destination)
-        fails the test it counts for."""
-        ends = [s.disposed_at + self.limits.step for s in self.sent if s.disposed_at is not None]
-        if ends:
+        """After the command tests: every command to the provider is watched until --step-time after the consumer
+        disposed it (unless the provider left), and what came after its test (a status after the cleanup, an answer
+        to a command for another destination) fails the test it counts for."""
+        ends = [s.disposed_at + self.limits.step for s in self.sent if s.disposed_at is not None and not s.foreign]
+        if ends and self.observer.present(self.provider):
             self.observer.idle(max(0.0, max(ends) - time.time()))
         for sent in self.sent:
             self.update(sent)
@@ -383,17 +383,19 @@ def send_foreign(consumer: Consumer, service: Service, writer: DataWriter[Any], 
 
 
 def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
-    """No status nor ack of the command for another destination: by --step-time after the provider answered a
-    later command of the service (it has read the foreign one by then), else within --timeout of sending it."""
-    later = [s.at[0] for s in consumer.sent if s.service is foreign.service and not s.foreign and s.at
-             and s.sent_at > foreign.sent_at]
-    until = min(later) + consumer.limits.step if later else foreign.sent_at + consumer.limits.answer
+    """No status nor ack of the command for another destination so far, and none until Consumer.settle looks
+    again, --step-time after the dispose of the service's later commands (the provider has read the foreign one by
+    then: it came first). When the provider answered no later command of the service, within --timeout of sending."""
+    later = any(s.service is foreign.service and not s.foreign and s.at and s.sent_at > foreign.sent_at
+                for s in consumer.sent)
+    until = time.time() if later else foreign.sent_at + consumer.limits.answer
     consumer.wait(foreign, lambda: bool(foreign.flow.transitions) or foreign.ack is not None, max(until - time.time(), 0.0))
     check_silent(foreign, case)
     if case.outcome is Outcome.PASSED and not consumer.observer.present(consumer.provider):
         consumer.gone(case)  # its silence tells nothing
     elif case.outcome is Outcome.PASSED:
-        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in {until - foreign.sent_at:.1f} s")
+        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in the "
+                  f"{time.time() - foreign.sent_at:.1f} s after sending it")
 
 
 def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
