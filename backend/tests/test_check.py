@@ -1048,6 +1048,21 @@ def test_the_end_of_the_command_tests_waits_for_no_provider_that_left(domain: in
         bus.close()
 
 
+def test_the_plan_has_no_empty_line(domain: int) -> None:
+    """--only commands.InertialSensor.same on a provider that reports no inertial sensor state sends nothing (the
+    test is skipped: the state is unknown); the plan said `InertialSensorCommand: ` with nothing after it."""
+    bus = Bus(domain)
+    try:
+        consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 1.0, 1.0), io.StringIO())
+        offered = {"GPSFixControl", "InertialSensorControl"}
+        assert commands.plan(consumer, offered, lambda n: n == "commands.InertialSensor.same") == []
+        assert commands.plan(consumer, offered, lambda n: n.endswith((".same", ".destination"))) == [
+            "GPSFixCommand: one addressed to another GUID, which the vehicle must not answer",
+            "InertialSensorCommand: one for ON addressed to another GUID, which the vehicle must not answer"]
+    finally:
+        bus.close()
+
+
 # breach -> (the tests run, the test that fails, the start of its reason)
 BREACHES = {
     # The provider ignores the consumer's dispose while executing, runs to COMPLETED and never disposes its status and

@@ -675,5 +675,6 @@ def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool])
         text = f"{', then '.join(sends)} (the inertial sensor is left {left or 'as it is'}{tail})" if sends else ""
         if selected(INS_NAMES[5]):
             text = elsewhere(text, f" for {settled or 'ON'}")
-        lines.append(f"InertialSensorCommand: {text}")
+        if text:  # none: only the same test, for a state not known (it is skipped)
+            lines.append(f"InertialSensorCommand: {text}")
     return lines
