@@ -943,6 +943,17 @@ def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
     assert case.notes == ["10 of 10 samples had problems"]
 
 
+def test_a_grouped_problem_keeps_its_icd_reference_last() -> None:
+    """A source GUID that is not RFC 4122 in every sample, one line with its count and value: the ICD reference,
+    `(variant 2: ICD 3.7, ...)`, came before them, not last."""
+    guid = "12345678-1234-1234-1234-123456789abc"  # variant 0 (NCS)
+    samples = [Report(time.time(), {"source": guid}, [], True, 1) for _ in range(4)]
+    case = Case("reports.InertialSensorReport.values")
+    reports.check_values(Sem.INS_REPORT, samples, reports.ReportLimits(1.0, 5.0, 1.0), case)
+    assert case.reason == (f"InertialSensorReport source: is not an RFC 4122 GUID, 4 times: {guid} (variant 2: ICD 3.7, "
+                           "Table 45 NumericGUID)")
+
+
 # ---- a provider written from the ICD, with one breach switched on -------------------------------
 
 @pytest.fixture
