@@ -2,14 +2,14 @@
 serves GPSFixControl, InertialSensorControl and InertialSensorStatus on a participant of its own, and can break the
 ICD in one of `BREACHES` at a time.
 
-Per command addressed to it (ICD 4.1: `destination`): ISSUED (4.1.4 step 3), the ack (4.1.4.1 step 1), COMMANDED and
-EXECUTING a step apart (4.1.4.1 steps 2 and 3), COMPLETED `execute` seconds later (4.1.4.2); an InertialSensor
-command's state shows in the InertialSensorReport from EXECUTING (a restart as RESTARTING, then ON). The consumer's
-dispose before the end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.4), or, a provider whose
-commands cannot be canceled (`cancelable=False`), runs it on to COMPLETED and then disposes them (4.1.4.4); after the
-end it cleans up: status and ack disposed (4.1.5). `step` is the time between ISSUED, COMMANDED and EXECUTING. A
-provider that rejects an InertialSensor command for the state the sensor is in (`reject_same_state=True`) answers it
-ISSUED, then FAILED/RESOURCE_REJECTED (4.1.4.3: a provider may reject a command).
+Per command addressed to it (ICD 4.1: `destination`): ISSUED (4.1.4 step 3); a step later, as it starts processing
+it, the ack (4.1.4.1 step 1) and COMMANDED, then EXECUTING a step after (4.1.4.1 steps 2 and 3); COMPLETED `execute`
+seconds later (4.1.4.2); an InertialSensor command's state shows in the InertialSensorReport from EXECUTING (a restart
+as RESTARTING, then ON). The consumer's dispose before the end cancels it: CANCELED/CANCELED, then its status and ack
+disposed (4.1.4.4), or, a provider whose commands cannot be canceled (`cancelable=False`), runs it on to COMPLETED and
+then disposes them (4.1.4.4); after the end it cleans up: status and ack disposed (4.1.5). `step` is the time between
+ISSUED, COMMANDED and EXECUTING. A provider that rejects an InertialSensor command for the state the sensor is in
+(`reject_same_state=True`) answers it ISSUED, then FAILED/RESOURCE_REJECTED (4.1.4.3: a provider may reject a command).
 
 The breaches, each one an ICD rule a vehicle was seen to break:
 - `ignore-cancel`: a dispose before the end is ignored; the command runs to COMPLETED and its status and ack are
@@ -53,6 +53,7 @@ class Command:
     due: list[tuple[float, Status]]  # the statuses still to publish, and when
     status: Status = Status.ISSUED
     disposed_early: bool = False  # the consumer disposed it before COMPLETED, and it was not canceled
+    acked: bool = False  # its ack was published: it started processing it
     late: list[float] = field(default_factory=list)  # when to publish FAILED after the cleanup
 
 
@@ -127,7 +128,6 @@ class IcdProvider:
             cmd.due = [(now + self.step, Status.FAILED)]
         self.running[session] = cmd
         self.status[service].write(self.status_sample(cmd, Status.ISSUED, Reason.SUCCEEDED))
-        self.ack[service].write(self.ack_sample(cmd))
 
     def end(self, session: uuid.UUID, cmd: Command, now: float) -> None:
         """The consumer disposed the command: cancel it (ICD 4.1.4.4), or clean it up (ICD 4.1.5)."""
@@ -138,13 +138,17 @@ class IcdProvider:
             cmd.due.clear()
             self.publish(cmd, Status.CANCELED)
         self.status[cmd.service].dispose(self.status_sample(cmd, cmd.status, Reason.SUCCEEDED))
-        self.ack[cmd.service].dispose(self.ack_sample(cmd))
+        if cmd.acked:
+            self.ack[cmd.service].dispose(self.ack_sample(cmd))
         del self.running[session]
         if self.breach == "fail-after-cleanup" and cmd.status is Status.COMPLETED:
             cmd.late.append(now + LATE)
             self.cleaned[session] = cmd
 
     def publish(self, cmd: Command, status: Status) -> None:
+        if status is Status.COMMANDED:
+            self.ack[cmd.service].write(self.ack_sample(cmd))
+            cmd.acked = True
         cmd.status = status
         reason = {Status.CANCELED: Reason.CANCELED, Status.FAILED: Reason.RESOURCE_REJECTED}.get(status, Reason.SUCCEEDED)
         if cmd.service is Service.INERTIAL_SENSOR and status is Status.EXECUTING:

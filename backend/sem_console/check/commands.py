@@ -306,8 +306,8 @@ def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool =
 
 def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
     """The ack report of a command the provider ran (ICD 4.1.4.1 step 1)."""
-    if sent.flow.status is Status.FAILED and sent.when(Status.EXECUTING) is None:
-        return  # rejected or failed before running: no ack is due
+    if sent.flow.status in (Status.FAILED, Status.CANCELED) and sent.when(Status.EXECUTING) is None:
+        return  # rejected, failed or canceled before running: no ack is due
     ack_topic = icd.short(sent.service.ack)
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
         others = other_sources(consumer, consumer.observer.acks, sent)
