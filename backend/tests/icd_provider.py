@@ -2,11 +2,14 @@
 serves GPSFixControl, InertialSensorControl and InertialSensorStatus on a participant of its own, and can break the
 ICD in one of `BREACHES` at a time.
 
-Per command addressed to it (ICD 4.1: `destination`): ISSUED (4.1.4 step 3), the ack (4.1.4.1 step 1), COMMANDED and
-EXECUTING a step apart (4.1.4.1 steps 2 and 3), COMPLETED `execute` seconds later (4.1.4.2); an InertialSensor
-command's state shows in the InertialSensorReport from EXECUTING (a restart as RESTARTING, then ON). The consumer's
-dispose before the end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.4); after the end it
-cleans up: status and ack disposed (4.1.5).
+Per command addressed to it (ICD 4.1: `destination`): ISSUED (4.1.4 step 3); a step later, as it starts processing
+it, the ack (4.1.4.1 step 1) and COMMANDED, then EXECUTING a step after (4.1.4.1 steps 2 and 3); COMPLETED `execute`
+seconds later (4.1.4.2); an InertialSensor command's state shows in the InertialSensorReport from EXECUTING (a restart
+as RESTARTING, then ON). The consumer's dispose before the end cancels it: CANCELED/CANCELED, then its status and ack
+disposed (4.1.4.4), or, a provider whose commands cannot be canceled (`cancelable=False`), runs it on to COMPLETED and
+then disposes them (4.1.4.4); after the end it cleans up: status and ack disposed (4.1.5). `step` is the time between
+ISSUED, COMMANDED and EXECUTING. A provider that rejects an InertialSensor command for the state the sensor is in
+(`reject_same_state=True`) answers it ISSUED, then FAILED/RESOURCE_REJECTED (4.1.4.3: a provider may reject a command).
 
 The breaches, each one an ICD rule a vehicle was seen to break:
 - `ignore-cancel`: a dispose before the end is ignored; the command runs to COMPLETED and its status and ack are
@@ -39,7 +42,6 @@ from sem_console.umaa.guid import from_guid, to_guid
 from sem_console.umaa.samples import now_datetime
 
 BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup")
-STEP = 0.05  # s between ISSUED, COMMANDED and EXECUTING
 REPORT_PERIOD = 0.1  # s between InertialSensorReports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 
@@ -50,14 +52,17 @@ class Command:
     sample: Any
     due: list[tuple[float, Status]]  # the statuses still to publish, and when
     status: Status = Status.ISSUED
-    canceled_ignored: bool = False
+    disposed_early: bool = False  # the consumer disposed it before COMPLETED, and it was not canceled
+    acked: bool = False  # its ack was published: it started processing it
     late: list[float] = field(default_factory=list)  # when to publish FAILED after the cleanup
 
 
 class IcdProvider:
-    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4) -> None:
+    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
+                 cancelable: bool = True, reject_same_state: bool = False) -> None:
         assert breach is None or breach in BREACHES, breach
-        self.breach, self.execute = breach, execute
+        self.breach, self.execute, self.step, self.cancelable = breach, execute, step, cancelable
+        self.reject_same_state = reject_same_state
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.status = {s: self.bus.writer(s.status) for s in Service}
@@ -87,8 +92,11 @@ class IcdProvider:
             for session, cmd in list(self.running.items()):
                 while cmd.due and cmd.due[0][0] <= now:
                     self.publish(cmd, cmd.due.pop(0)[1])
-                if cmd.status is Status.COMPLETED and cmd.canceled_ignored:
-                    del self.running[session]  # ignore-cancel: its status and ack stay on the bus
+                if cmd.status is Status.COMPLETED and cmd.disposed_early:
+                    if self.breach == "ignore-cancel":
+                        del self.running[session]  # its status and ack stay on the bus
+                    else:
+                        self.end(session, cmd, now)  # it could not be canceled: COMPLETED, then disposed (4.1.4.4)
             for session, cmd in list(self.cleaned.items()):
                 if cmd.late[0] <= now:
                     self.status[cmd.service].write(self.status_sample(cmd, Status.FAILED, Reason.TIMEOUT))
@@ -109,34 +117,40 @@ class IcdProvider:
     def start(self, service: Service, s: Any, handle: int, now: float) -> None:
         if from_guid(s.destination) != self.guid and self.breach != "answer-any-destination":
             return
-        if service is Service.INERTIAL_SENSOR and s.state == self.state and self.breach == "silent-same-state":
+        same = service is Service.INERTIAL_SENSOR and s.state == self.state
+        if same and self.breach == "silent-same-state":
             return
         session = from_guid(s.sessionID)
         self.sessions[handle] = session
-        cmd = Command(service, s, [(now + STEP, Status.COMMANDED), (now + 2 * STEP, Status.EXECUTING),
-                                   (now + 2 * STEP + self.execute, Status.COMPLETED)])
+        cmd = Command(service, s, [(now + self.step, Status.COMMANDED), (now + 2 * self.step, Status.EXECUTING),
+                                   (now + 2 * self.step + self.execute, Status.COMPLETED)])
+        if same and self.reject_same_state:
+            cmd.due = [(now + self.step, Status.FAILED)]
         self.running[session] = cmd
         self.status[service].write(self.status_sample(cmd, Status.ISSUED, Reason.SUCCEEDED))
-        self.ack[service].write(self.ack_sample(cmd))
 
     def end(self, session: uuid.UUID, cmd: Command, now: float) -> None:
         """The consumer disposed the command: cancel it (ICD 4.1.4.4), or clean it up (ICD 4.1.5)."""
-        if cmd.status is not Status.COMPLETED:
-            if self.breach == "ignore-cancel":
-                cmd.canceled_ignored = True
+        if cmd.status not in (Status.COMPLETED, Status.FAILED):
+            if self.breach == "ignore-cancel" or not self.cancelable:
+                cmd.disposed_early = True
                 return
             cmd.due.clear()
             self.publish(cmd, Status.CANCELED)
         self.status[cmd.service].dispose(self.status_sample(cmd, cmd.status, Reason.SUCCEEDED))
-        self.ack[cmd.service].dispose(self.ack_sample(cmd))
+        if cmd.acked:
+            self.ack[cmd.service].dispose(self.ack_sample(cmd))
         del self.running[session]
         if self.breach == "fail-after-cleanup" and cmd.status is Status.COMPLETED:
             cmd.late.append(now + LATE)
             self.cleaned[session] = cmd
 
     def publish(self, cmd: Command, status: Status) -> None:
+        if status is Status.COMMANDED:
+            self.ack[cmd.service].write(self.ack_sample(cmd))
+            cmd.acked = True
         cmd.status = status
-        reason = {Status.CANCELED: Reason.CANCELED}.get(status, Reason.SUCCEEDED)
+        reason = {Status.CANCELED: Reason.CANCELED, Status.FAILED: Reason.RESOURCE_REJECTED}.get(status, Reason.SUCCEEDED)
         if cmd.service is Service.INERTIAL_SENSOR and status is Status.EXECUTING:
             self.set_state(cmd.sample.state)
         if cmd.service is Service.INERTIAL_SENSOR and status is Status.COMPLETED and self.state is InsState.RESTARTING:

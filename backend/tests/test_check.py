@@ -93,10 +93,10 @@ def failed(run: Run) -> dict[str, str]:
     return {n: r for n, (o, r) in run.cases.items() if o == "failed"}
 
 
-def failure_types(run: Run) -> dict[str, str]:
+def failure_types(report: Path) -> dict[str, str]:
     """The JUnit failures' types: icd (an ICD rule) or profile (a choice of the project's QoS profile)."""
     return {f"{tc.get('classname', '').removeprefix('sem-check.')}.{tc.get('name')}": str(f.get("type"))
-            for tc in ET.parse(run.report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
+            for tc in ET.parse(report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
 
 
 def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.UUID]:
@@ -445,6 +445,22 @@ def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     assert failure is not None and "then not tested further: the command COMPLETED" in str(failure.text)
 
 
+def test_a_failure_is_marked_profile_only_when_every_failure_of_its_test_is_one(tmp_path: Path) -> None:
+    """A discovery test whose first failure was a QoS profile choice (another vendor's QoS fix, or one writer's
+    BEST_EFFORT) and a later one an ICD rule (another writer's keys) was marked `profile`: an integrator who sets the
+    profile's failures aside shipped the ICD breach."""
+    qos = "writer 1: BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it"
+    key = "writer 2: key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23)"
+    both = Case("discovery.InertialSensorReport").fail(qos, profile=True).fail(key)
+    profile = Case("discovery.GPSFixStatusReport").fail(qos, profile=True).fail(qos.replace("1", "2"), profile=True)
+    icd = Case("discovery.GPSFixCommandStatus").fail(key).fail(qos, profile=True)
+    report = tmp_path / "junit.xml"
+    junit.write(report, [both, profile, icd], 1.0, {})
+    assert {n: o for n, (o, _) in junit_cases(report).items()} == {c.name: "failed" for c in (both, profile, icd)}
+    assert failure_types(report) == {"discovery.InertialSensorReport": "icd", "discovery.GPSFixStatusReport": "profile",
+                                     "discovery.GPSFixCommandStatus": "icd"}
+
+
 def test_a_stop_blames_the_case_running() -> None:
     """A run stopped in an InertialSensor command after GPSFix tests that ended without running (the service not
     offered) reported commands.GPSFix.complete as the one stopped and the InertialSensor command as not run."""
@@ -539,7 +555,7 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert ("BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it (a choice of the "
             "project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule; ICD 4.2.1" in bad["discovery.GPSFixStatusReport"])
     # marked as the profile's in the JUnit report, as a type or key problem is marked as the ICD's (test_wrong_key...)
-    assert failure_types(run) == {"discovery.GPSFixStatusReport": "profile"}
+    assert failure_types(run.report) == {"discovery.GPSFixStatusReport": "profile"}
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
@@ -572,7 +588,7 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert set(bad) == {"discovery.InertialSensorReport"}, bad
     assert ("key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members "
             "marked *)") in bad["discovery.InertialSensorReport"]
-    assert failure_types(run) == {"discovery.InertialSensorReport": "icd"}
+    assert failure_types(run.report) == {"discovery.InertialSensorReport": "icd"}
     assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
 
 
@@ -927,14 +943,25 @@ def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
     assert case.notes == ["10 of 10 samples had problems"]
 
 
+def test_a_grouped_problem_keeps_its_icd_reference_last() -> None:
+    """A source GUID that is not RFC 4122 in every sample, one line with its count and value: the ICD reference,
+    `(variant 2: ICD 3.7, ...)`, came before them, not last."""
+    guid = "12345678-1234-1234-1234-123456789abc"  # variant 0 (NCS)
+    samples = [Report(time.time(), {"source": guid}, [], True, 1) for _ in range(4)]
+    case = Case("reports.InertialSensorReport.values")
+    reports.check_values(Sem.INS_REPORT, samples, reports.ReportLimits(1.0, 5.0, 1.0), case)
+    assert case.reason == (f"InertialSensorReport source: is not an RFC 4122 GUID, 4 times: {guid} (variant 2: ICD 3.7, "
+                           "Table 45 NumericGUID)")
+
+
 # ---- a provider written from the ICD, with one breach switched on -------------------------------
 
 @pytest.fixture
 def icd_provider(domain: int) -> Iterator[Callable[..., IcdProvider]]:
     made: list[IcdProvider] = []
 
-    def make(breach: str | None = None, execute: float = 0.4) -> IcdProvider:
-        made.append(IcdProvider(domain, breach, execute))
+    def make(breach: str | None = None, **options: Any) -> IcdProvider:
+        made.append(IcdProvider(domain, breach, **options))
         return made[-1]
 
     yield make
@@ -959,6 +986,93 @@ def test_the_icd_provider_passes_every_test(icd_provider: Callable[..., IcdProvi
     cancel = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
     assert cancel is not None and "COMPLETED before the checker could dispose it at EXECUTING" in str(cancel.text)
     assert "CANCELED/CANCELED" in str(cancel.text)
+
+
+@pytest.mark.parametrize("cancelable", [False, True])
+def test_a_command_disposed_at_issued(cancelable: bool, icd_provider: Callable[..., IcdProvider], domain: int) -> None:
+    """The cancel test's command after one that completed first is disposed at ISSUED (ICD 4.1.4.4). A provider that
+    cannot cancel it runs it on to COMPLETED, each step in its time, then disposes its status and ack: it failed as no
+    CANCELED within --step-time of the dispose, though COMMANDED and EXECUTING each came within --step-time of the
+    status before. One that cancels it before processing it publishes no ack (ICD 4.1.4.1 step 1: the ack of the
+    command it starts to process): it failed as no ack."""
+    p = icd_provider(step=0.6, cancelable=cancelable)
+    bus = Bus(domain)
+    try:
+        observer = Observer(bus)
+        assert observer.wait(lambda: observer.present(p.guid), 10)
+        consumer = commands.Consumer(observer, p.guid, commands.CommandLimits(2.0, 1.0, 2.0), io.StringIO())
+        writer = consumer.writer(Service.GPS_FIX)
+        assert writer is not None
+        case = Case("commands.GPSFix.cancel")
+        sent = consumer.send(Service.GPS_FIX, writer, case=case)
+        commands.follow(consumer, sent, case, cancel_when=commands.ACTIVE)
+        commands.check_cancel(consumer, sent, case)
+        consumer.close()
+    finally:
+        bus.close()
+    assert (case.outcome, case.reason) == (Outcome.PASSED, ""), case.notes
+    assert sent.disposed_in is CmdStatus.ISSUED
+    assert [t.status for t in sent.flow.transitions] == ([CmdStatus.ISSUED, CmdStatus.CANCELED] if cancelable else [
+        CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED])
+
+
+def test_a_command_for_the_state_the_sensor_is_in_may_be_rejected(icd_provider: Callable[..., IcdProvider], domain: int,
+                                                                   tmp_path: Path) -> None:
+    """The same test asks that the provider answers (ICD 4.1); rejecting the command, ISSUED then FAILED with a failure
+    reason, is an answer ICD 4.1.4.3 allows, and failed the test as the provider failing the command."""
+    p = icd_provider(reject_same_state=True)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "commands.InertialSensor.same,commands.InertialSensor.cleanup")
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {"commands.InertialSensor.same": ("passed", ""), "commands.InertialSensor.cleanup": ("passed", "")}
+    same = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
+    assert same is not None and "ISSUED/SUCCEEDED +" in str(same.text) and "FAILED/RESOURCE_REJECTED +" in str(same.text)
+
+
+def test_the_destination_test_waits_for_no_answer_it_looks_for_again(icd_provider: Callable[..., IcdProvider], domain: int,
+                                                                     tmp_path: Path) -> None:
+    """commands.GPSFix.destination waited until --step-time after the provider answered the next GPSFix command,
+    though the command tests look again at their end (Consumer.settle), --step-time after that command's dispose: a
+    run waited it out twice. A provider that answers the command is still caught (test_each_breach_fails_its_test)."""
+    p = icd_provider()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--timeout", "2", "--step-time",
+                "2", "--window", "0.5", "--only", "commands.GPSFix")
+    assert run.code == 0, run.out + run.err
+    seconds = {tc.get("name"): float(tc.get("time", "")) for tc in ET.parse(run.report).getroot().iter("testcase")}
+    assert seconds["GPSFix.destination"] < 0.5, seconds  # not until --step-time after the complete test's ISSUED
+    bad = icd_provider("answer-any-destination")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(bad.guid), *COMMANDS, "--only", "commands.GPSFix")
+    assert set(failed(run)) == {"commands.GPSFix.destination"}, run.out
+
+
+def test_the_end_of_the_command_tests_waits_for_no_provider_that_left(domain: int) -> None:
+    """Every command is watched until --step-time after its dispose, for a status after it; a provider that left the
+    domain sends none, and the run waited --step-time for nothing."""
+    bus = Bus(domain)
+    try:
+        consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 5.0, 1.0), io.StringIO())
+        consumer.sent.append(commands.Sent(Service.GPS_FIX, uuid.uuid4(), None, time.time(), Case("commands.GPSFix.complete"),
+                                           disposed_at=time.time()))
+        start = time.monotonic()
+        consumer.settle()
+        assert time.monotonic() - start < 2.0
+    finally:
+        bus.close()
+
+
+def test_the_plan_has_no_empty_line(domain: int) -> None:
+    """--only commands.InertialSensor.same on a provider that reports no inertial sensor state sends nothing (the
+    test is skipped: the state is unknown); the plan said `InertialSensorCommand: ` with nothing after it."""
+    bus = Bus(domain)
+    try:
+        consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 1.0, 1.0), io.StringIO())
+        offered = {"GPSFixControl", "InertialSensorControl"}
+        assert commands.plan(consumer, offered, lambda n: n == "commands.InertialSensor.same") == []
+        assert commands.plan(consumer, offered, lambda n: n.endswith((".same", ".destination"))) == [
+            "GPSFixCommand: one addressed to another GUID, which the vehicle must not answer",
+            "InertialSensorCommand: one for ON addressed to another GUID, which the vehicle must not answer"]
+    finally:
+        bus.close()
 
 
 # breach -> (the tests run, the test that fails, the start of its reason)
@@ -995,12 +1109,12 @@ def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: C
     """Four ICD breaches an independent provider showed sem-check let pass; `ignore-cancel-completing-first`: a GPS
     fix that completes before the checker could dispose it (the cancel was skipped) is canceled on a second command."""
     only, test, reason = BREACHES[breach]
-    p = icd_provider(breach, execute)
+    p = icd_provider(breach, execute=execute)
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
     assert run.code == 1, run.out + run.err
     assert set(failed(run)) == {test}, run.out
     assert failed(run)[test].startswith(reason) and REFS[breach] in failed(run)[test], failed(run)[test]
-    assert failure_types(run) == {test: "icd"}
+    assert failure_types(run.report) == {test: "icd"}
     if breach == "fail-after-cleanup":  # each InertialSensor command's
         failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
         assert failure is not None and str(failure.text).count("Figure 4 breach: COMPLETED -> FAILED") == 3, failure.text

@@ -66,7 +66,8 @@ def build_parser() -> argparse.ArgumentParser:
         "largest difference between a report's timeStamp and the checker's clock on arrival (default: %(default)s)"))
     p.add_argument("--step-time", type=ranged(float, 0.01, 3600), default=d.step_time, metavar="S", help=(
         "seconds allowed for each command step after ISSUED (COMMANDED, EXECUTING, the ack, CANCELED after a cancel, "
-        "the disposes of the cleanup); every command is watched this long after its dispose (default: %(default)s)"))
+        "the disposes of the cleanup); every command to the provider is watched this long after its dispose "
+        "(default: %(default)s)"))
     p.add_argument("--execute-time", type=ranged(float, 0.01, 86400), default=d.execute_time, metavar="S", help=(
         "seconds allowed from EXECUTING to COMPLETED (surfacing, INS alignment) (default: %(default)s)"))
     p.add_argument("--list", action="store_true", help="print the test names and exit")

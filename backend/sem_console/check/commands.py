@@ -11,14 +11,15 @@ through the ICD 4.1 flow, each status sequence followed by the console's Figure 
   status; each is disposed and its status and ack must go (ICD 4.1.5);
 - `commands.InertialSensor.OFF|ON|RESTARTING`: each through the flow, the InertialSensorReport
   following the commanded state; `commands.InertialSensor.same`: a command for the state the
-  sensor is in, answered as any other (ICD 4.1: the provider responds to every command);
+  sensor is in, answered through the flow to COMPLETED or, rejected, FAILED (ICD 4.1: the provider
+  responds to every command; 4.1.4.3);
 - `commands.<Service>.cleanup`: after the consumer disposes a finished command the provider
   disposes its status and ack (ICD 4.1.5, Figure 15);
 - `commands.<Service>.destination`: a command addressed to another GUID, sent before the service's
   other commands, gets no status or ack from the provider (ICD 4.1: `destination`).
 
 Any status sequence that breaks Figure 4 fails its test, quoting the transition, also when it comes
-after the test (after the cleanup: every command is watched until --step-time after its dispose);
+after the test (after the cleanup: every command to the provider is watched until --step-time after its dispose);
 a command with no status within the answer time fails as unanswered, with the time waited, and the
 service's next commands are skipped. Every command is disposed before the checker leaves (ICD 4.1.6.2).
 """
@@ -210,11 +211,11 @@ class Consumer:
             raise
 
     def settle(self) -> None:
-        """After the command tests: every command is watched until --step-time after the consumer disposed it, and
-        what came after its test (a status after the cleanup, an answer to a command for another destination)
-        fails the test it counts for."""
-        ends = [s.disposed_at + self.limits.step for s in self.sent if s.disposed_at is not None]
-        if ends:
+        """After the command tests: every command to the provider is watched until --step-time after the consumer
+        disposed it (unless the provider left), and what came after its test (a status after the cleanup, an answer
+        to a command for another destination) fails the test it counts for."""
+        ends = [s.disposed_at + self.limits.step for s in self.sent if s.disposed_at is not None and not s.foreign]
+        if ends and self.observer.present(self.provider):
             self.observer.idle(max(0.0, max(ends) - time.time()))
         for sent in self.sent:
             self.update(sent)
@@ -254,16 +255,7 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
         if status in cancel_when and sent.disposed_at is None:
             consumer.dispose(sent)
         n = len(sent.flow.transitions)
-        if (sent.disposed_at is not None and status is Status.EXECUTING
-                and sent.at[-1] + limits.execute > sent.disposed_at + limits.step):
-            # a command that cannot be canceled may run to COMPLETED (ICD 4.1.4.4)
-            deadline = sent.at[-1] + limits.execute
-            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose, nor COMPLETED within "
-                       f"the stated {limits.execute:g} s of EXECUTING (ICD 4.1.4.4)")
-        elif sent.disposed_at is not None:
-            deadline = sent.disposed_at + limits.step
-            missing = f"no CANCELED after the consumer's dispose (ICD 4.1.4.4) within the stated {limits.step:g} s"
-        elif status is Status.EXECUTING:
+        if status is Status.EXECUTING:
             deadline = sent.at[-1] + limits.execute
             missing = (f"no COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2) within the stated "
                        f"{limits.execute:g} s")
@@ -272,6 +264,11 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
             deadline = sent.at[-1] + limits.step
             missing = (f"no {name(step)} after {name(status)} ({STEP_REF.get(step, 'ICD 4.1, Figure 4')}) within the "
                        f"stated {limits.step:g} s")
+        if sent.disposed_at is not None:
+            # CANCELED answers the dispose; a command that cannot be canceled runs on to COMPLETED (ICD 4.1.4.4)
+            deadline = max(deadline, sent.disposed_at + limits.step)
+            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose (ICD 4.1.4.4), "
+                       f"nor {missing.removeprefix('no ')}")
 
         def moved(n: int = n) -> bool:
             return len(sent.flow.transitions) > n
@@ -293,12 +290,15 @@ def breaches(sent: Sent, case: Case) -> None:
     sent.breaches_reported = len(sent.flow.violations)
 
 
-def check_end(sent: Sent, case: Case, canceled: bool = False) -> None:
-    """How the command ended, against how it should have."""
+def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool = False) -> None:
+    """How the command ended, against how it should have; `rejectable`: a command the provider may reject."""
     last = sent.flow.transitions[-1] if sent.flow.transitions else None
     if last is None or not sent.flow.terminal:
         return
-    if sent.flow.status is Status.FAILED:
+    if sent.flow.status is Status.FAILED and rejectable:
+        case.note(f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer (ICD 4.1.4.3: the provider may "
+                  "reject a command)")
+    elif sent.flow.status is Status.FAILED:
         case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" (ICD 4.1.4.3)")
     elif sent.flow.status is Status.CANCELED and not canceled:
         case.fail("CANCELED, though the consumer did not cancel it (ICD 4.1.4.4: CANCELED answers the consumer's dispose)")
@@ -306,8 +306,8 @@ def check_end(sent: Sent, case: Case, canceled: bool = False) -> None:
 
 def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
     """The ack report of a command the provider ran (ICD 4.1.4.1 step 1)."""
-    if sent.flow.status is Status.FAILED and sent.when(Status.EXECUTING) is None:
-        return  # rejected or failed before running: no ack is due
+    if sent.flow.status in (Status.FAILED, Status.CANCELED) and sent.when(Status.EXECUTING) is None:
+        return  # rejected, failed or canceled before running: no ack is due
     ack_topic = icd.short(sent.service.ack)
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
         others = other_sources(consumer, consumer.observer.acks, sent)
@@ -360,12 +360,12 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
 
 
 def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, offered: set[str],
-                     state: InsState | None = None) -> Sent:
+                     state: InsState | None = None, rejectable: bool = False) -> Sent:
     """One command through the flow to its end: the Figure 4 verdicts, how it ended, its ack and the report that
     shows its effect (ICD 4.1.4)."""
     sent = consumer.send(service, writer, state, case)
     if follow(consumer, sent, case):
-        check_end(sent, case)
+        check_end(sent, case, rejectable=rejectable)
         if sent.flow.status is Status.COMPLETED:
             check_ack(consumer, sent, case)
             (_check_fix_report if service is Service.GPS_FIX else _check_ins_report)(consumer, sent, offered, case)
@@ -383,17 +383,19 @@ def send_foreign(consumer: Consumer, service: Service, writer: DataWriter[Any], 
 
 
 def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
-    """No status nor ack of the command for another destination: by --step-time after the provider answered a
-    later command of the service (it has read the foreign one by then), else within --timeout of sending it."""
-    later = [s.at[0] for s in consumer.sent if s.service is foreign.service and not s.foreign and s.at
-             and s.sent_at > foreign.sent_at]
-    until = min(later) + consumer.limits.step if later else foreign.sent_at + consumer.limits.answer
+    """No status nor ack of the command for another destination so far, and none until Consumer.settle looks
+    again, --step-time after the dispose of the service's later commands (the provider has read the foreign one by
+    then: it came first). When the provider answered no later command of the service, within --timeout of sending."""
+    later = any(s.service is foreign.service and not s.foreign and s.at and s.sent_at > foreign.sent_at
+                for s in consumer.sent)
+    until = time.time() if later else foreign.sent_at + consumer.limits.answer
     consumer.wait(foreign, lambda: bool(foreign.flow.transitions) or foreign.ack is not None, max(until - time.time(), 0.0))
     check_silent(foreign, case)
     if case.outcome is Outcome.PASSED and not consumer.observer.present(consumer.provider):
         consumer.gone(case)  # its silence tells nothing
     elif case.outcome is Outcome.PASSED:
-        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in {until - foreign.sent_at:.1f} s")
+        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in the "
+                  f"{time.time() - foreign.sent_at:.1f} s after sending it")
 
 
 def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
@@ -464,7 +466,7 @@ def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case) -> None:
     for when in (frozenset({Status.EXECUTING}), ACTIVE):
         sent = consumer.send(Service.GPS_FIX, writer, case=case)
         follow(consumer, sent, case, cancel_when=when)
-        canceled = _check_cancel(consumer, sent, case)
+        canceled = check_cancel(consumer, sent, case)
         breaches(sent, case)
         if canceled:
             return
@@ -474,7 +476,7 @@ def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case) -> None:
               "and ack were disposed after its dispose, ICD 4.1.5)")
 
 
-def _check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
+def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
     """What the provider did after the consumer's dispose (ICD 4.1.4.4). False: the command COMPLETED before the
     dispose, and is cleaned up instead (ICD 4.1.5)."""
     if not sent.flow.transitions:
@@ -570,7 +572,9 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                 case.skip("the state the inertial sensor is in is unknown: it serves no InertialSensorReport, and no "
                           "InertialSensor command of this run finished")
             else:
-                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target)
+                # the same test asks for an answer: a provider may reject a command for the state the sensor is in
+                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target,
+                                        rejectable=state is None)
                 answered = bool(sent.flow.transitions)
                 if sent.flow.terminal:
                     finished.append(sent)
@@ -671,5 +675,6 @@ def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool])
         text = f"{', then '.join(sends)} (the inertial sensor is left {left or 'as it is'}{tail})" if sends else ""
         if selected(INS_NAMES[5]):
             text = elsewhere(text, f" for {settled or 'ON'}")
-        lines.append(f"InertialSensorCommand: {text}")
+        if text:  # none: only the same test, for a state not known (it is skipped)
+            lines.append(f"InertialSensorCommand: {text}")
     return lines

@@ -15,8 +15,8 @@
 allow it there.) A case's classname is `sem-check.<group>` and its name the rest of its dotted
 name, so CI servers group the cases by discovery, reports and commands. A failure's message is
 its one-line reason and its text the reason followed by what was seen (the status sequence, the
-other problems), which is what a CI's test view shows under the failure; its type is `icd` when the reason breaks an
-ICD 3.0.1 rule and `profile` when it breaks a choice of the project's QoS profile (docs/dds.md:
+other problems), which is what a CI's test view shows under the failure; its type is `icd` when a failure of the case
+breaks an ICD 3.0.1 rule and `profile` when each breaks a choice of the project's QoS profile (docs/dds.md:
 reliability, durability, ownership, partition, deadline, data representation), which the ICD
 leaves open (the common schema has no properties per test case; the type is what CIs show). A run that could not
 test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its

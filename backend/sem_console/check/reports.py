@@ -242,8 +242,8 @@ def group(problems: list[str]) -> list[str]:
             lines.append(first)
             continue
         head, ref = says, ""
-        if " (ICD " in says:
-            at = says.rindex(" (ICD ")
+        if says.endswith(")") and " (" in says:  # the ICD reference, which stays last
+            at = says.rindex(" (")
             head, ref = says[:at], says[at:]
         shown = list(values)[:MAX_VALUES]
         more = ", …" if len(values) > MAX_VALUES else ""

@@ -28,7 +28,7 @@ class Case:
     # case, what it could not check (`caveat`)
     notes: list[str] = field(default_factory=list)  # what was seen (JUnit system-out)
     seconds: float = 0.0
-    profile: bool = False  # its failure (the reason) breaks a choice of the project's QoS profile, not an ICD rule
+    profile: bool = False  # each of its failures breaks a choice of the project's QoS profile, none an ICD rule
 
     @property
     def group(self) -> str:
@@ -45,8 +45,7 @@ class Case:
 
     def fail(self, reason: str, profile: bool = False) -> Case:
         """`profile`: the reason is a choice of the project's QoS profile (docs/dds.md), not an ICD rule."""
-        if self.outcome is not Outcome.FAILED:
-            self.profile = profile
+        self.profile = profile and (self.profile or self.outcome is not Outcome.FAILED)
         return self._end(Outcome.FAILED, reason, f"also: {reason}")
 
     def skip(self, reason: str) -> Case:
