@@ -66,6 +66,13 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     await expect(alarm.getByTestId("last-heard")).toHaveText(/^Last heard \d+ s ago$/);
     for (const panel of ["ins-panel", "fix-panel"]) await expect(page.getByTestId(panel).getByTestId("selected-lost")).toContainText(/Lost · Last heard \d+ s ago/);
     await expect(page.getByTestId("command-lost")).toContainText(/is lost: last heard \d+ s ago/);
+    // none of them in a live region: a screen reader would say the count again every second
+    const live = await page.evaluate(() =>
+      [...document.querySelectorAll("[data-testid=last-heard], [data-testid=selected-lost], [data-testid=command-lost]")]
+        .filter((e) => e.closest("[role=status], [role=alert], [role=log], [role=marquee], [aria-live=polite], [aria-live=assertive]"))
+        .map((e) => e.getAttribute("data-testid")),
+    );
+    expect(live).toEqual([]);
 
     // the map: its projection, labelled so, along its last course at its last speed for the time since it was heard
     const proj = page.getByTestId("map-projection");

@@ -16,12 +16,13 @@ export function LastHeard({ since, className }: { since: number | null; classNam
 }
 
 /** The selected vehicle's panels, while it is lost: when it was last heard, and that what they show is what it last
- * reported. */
+ * reported. No live region: its count changes every second, and a screen reader would say it every second (the loss
+ * itself is announced with its alarm). */
 export function SelectedLost() {
   const since = useSlice(selectedLostSince);
   if (since === null) return null;
   return (
-    <p className="selected-lost" role="status" data-testid="selected-lost">
+    <p className="selected-lost" data-testid="selected-lost">
       Lost · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
     </p>
   );
