@@ -73,6 +73,8 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
         .map((e) => e.getAttribute("data-testid")),
     );
     expect(live).toEqual([]);
+    // and its name on the map
+    await expect(page.getByTestId("map-label")).toHaveText(/ · lost · last heard \d+ s ago$/);
 
     // the map: its projection, labelled so, along its last course at its last speed for the time since it was heard
     const proj = page.getByTestId("map-projection");
