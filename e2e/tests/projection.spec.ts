@@ -81,6 +81,8 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     await expect(proj).toBeVisible();
     await expect(proj).toHaveAttribute("data-kind", "projected");
     await expect(proj).toHaveText(/^projected · within \d+ m$/);
+    // read right after its vehicle's name, not before it (where it would pass for the previous vehicle's)
+    expect(await proj.evaluate((p) => p.previousElementSibling?.getAttribute("data-testid"))).toBe("map-label");
     const at = async () => ({ lat: Number(await proj.getAttribute("data-lat")), lon: Number(await proj.getAttribute("data-lon")), radius: Number(await proj.getAttribute("data-radius")), heard: await heardSeconds(heard) });
     const a = await at();
     await expect.poll(async () => (await at()).radius).toBeGreaterThan(a.radius); // the circle grows with time

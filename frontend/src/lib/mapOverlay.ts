@@ -221,7 +221,8 @@ export class VehicleOverlay {
     projected.hidden = true;
     const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null };
     edge.addEventListener("click", () => this.pick(m.mark));
-    this.root.append(projected, label, edge);
+    // read after its vehicle's name (a screen reader goes in the page's order; drawn under the names: styles.css)
+    this.root.append(label, projected, edge);
     this.markers.set(mark.id, m);
     return m;
   }
