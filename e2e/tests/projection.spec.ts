@@ -5,7 +5,7 @@ import { execFileSync, spawn } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Locator } from "@playwright/test";
-import { freeDomain, load, startGuardedConsole } from "../stack";
+import { freeDomain, load, startGuardedConsole, startReplayConsole } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 const R = 6_371_008.8; // the mean Earth radius the dashboard's geometry uses
@@ -121,6 +121,46 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     expect(await fillAlpha(await at())).toBeLessThan(100);
   } finally {
     sim.kill("SIGKILL");
+    await extra.stop();
+  }
+});
+
+test("in a replay, the selected vehicle lost in the recording is said lost there, not now", async ({ page, request }) => {
+  test.setTimeout(120_000);
+  const stack = load();
+  const domain = await freeDomain([stack.domain]);
+  const token = "replay-lost-token";
+  const auth = { Authorization: `Bearer ${token}` };
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "replay-lost.sqlite3")]);
+  const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "12"], { encoding: "utf8" }).trim().split(": ")[1];
+  const simOf = (n: number) => spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "1", "--first-vehicle", String(n),
+    "--state-file", join(stack.dir, `replay-lost-sim-${n}.json`), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  const sim = simOf(12);
+  const other = simOf(13); // heard to the end: the recording goes on past the loss, and the replay's console calls it lost
+  const link = async () => ((await (await request.get(`${extra.url}/api/providers/${id}`)).json()) as { link?: string }).link;
+  let replay: { url: string; stop: () => Promise<void> } | null = null;
+  try {
+    await expect.poll(link, { timeout: 30_000 }).toBe("live");
+    expect((await request.post(`${extra.url}/api/recordings`, { headers: auth, data: { action: "start" } })).ok()).toBe(true);
+    await page.waitForTimeout(2000);
+    sim.kill("SIGKILL");
+    await expect.poll(link, { timeout: 30_000 }).toBe("lost");
+    await page.waitForTimeout(4000);
+    const stopped = await request.post(`${extra.url}/api/recordings`, { headers: auth, data: { action: "stop" } });
+    const { file } = (await stopped.json()) as { file: string };
+    replay = await startReplayConsole(file);
+    // the recording's last instant, paused: the vehicle lost there
+    const { end } = (await (await request.get(`${replay.url}/api/replay`)).json()) as { end: number };
+    await request.post(`${replay.url}/api/replay`, { data: { action: "pause" } });
+    await request.post(`${replay.url}/api/replay`, { data: { action: "seek", position: end } });
+    await page.goto(`${replay.url}/?vehicle=${id}`);
+    await expect(page.getByTestId("fleet-vehicle").and(page.locator(`[data-vehicle="${id}"]`))).toHaveAttribute("data-link", "lost");
+    for (const panel of ["ins-panel", "fix-panel"])
+      await expect(page.getByTestId(panel).getByTestId("selected-lost")).toHaveText(/^Recorded: lost · Last heard \d+ s ago · shown: what it last reported$/);
+  } finally {
+    sim.kill("SIGKILL");
+    other.kill("SIGKILL");
+    await replay?.stop();
     await extra.stop();
   }
 });
