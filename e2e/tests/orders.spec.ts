@@ -92,6 +92,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   await expect(fix).toBeEnabled();
   await stopSim();
   let cmd: Locator | undefined;
+  let restarted = false;
   try {
     await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: last heard`);
     const lostFix = page.getByRole("button", { name: "Request GPS fix (vehicle lost)", exact: true });
@@ -154,8 +155,23 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     // no "Cancel it" left where there is no Cancel button any more
     await expect(cmd.getByTestId("unanswered")).toContainText("Cancel requested: it may not hear the cancel either");
     await expect(cmd.getByTestId("unanswered")).not.toContainText("Cancel it if");
+
+    // heard again while a CoMap order's lost confirmation is open: it says the vehicle was lost, not that it is
+    if ((await move.textContent())?.startsWith("Move to")) {
+      await move.click();
+      await page.getByTestId("map").click();
+    }
+    await expect(move).toHaveText(`Send move of ${label}…`);
+    await move.click();
+    await expect(moveDialog.getByTestId("comap-confirm-lost")).toContainText(`${label} is lost: last heard`);
+    await restartSim();
+    restarted = true;
+    await expect(page.getByTestId("command-lost")).toHaveCount(0, { timeout: 30_000 });
+    await expect(moveDialog.getByTestId("comap-confirm-lost")).toHaveText(`${label} was lost. Send anyway? It may reach the vehicle late, or not at all.`);
+    await page.keyboard.press("Escape");
+    await expect(moveDialog).toHaveCount(0);
   } finally {
-    await restartSim(); // the next tests need the vehicles, whatever happened here
+    if (!restarted) await restartSim(); // the next tests need the vehicles, whatever happened here
   }
   // back without ever hearing it (the cancel withdrew it): the command ends, it no longer counts up
   expect(cmd).toBeDefined();

@@ -5,7 +5,7 @@ import { execFileSync, spawn } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Locator } from "@playwright/test";
-import { freeDomain, load, startGuardedConsole } from "../stack";
+import { freeDomain, load, startGuardedConsole, startReplayConsole } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 const R = 6_371_008.8; // the mean Earth radius the dashboard's geometry uses
@@ -66,12 +66,23 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     await expect(alarm.getByTestId("last-heard")).toHaveText(/^Last heard \d+ s ago$/);
     for (const panel of ["ins-panel", "fix-panel"]) await expect(page.getByTestId(panel).getByTestId("selected-lost")).toContainText(/Lost · Last heard \d+ s ago/);
     await expect(page.getByTestId("command-lost")).toContainText(/is lost: last heard \d+ s ago/);
+    // none of them in a live region: a screen reader would say the count again every second
+    const live = await page.evaluate(() =>
+      [...document.querySelectorAll("[data-testid=last-heard], [data-testid=selected-lost], [data-testid=command-lost]")]
+        .filter((e) => e.closest("[role=status], [role=alert], [role=log], [role=marquee], [aria-live=polite], [aria-live=assertive]"))
+        .map((e) => e.getAttribute("data-testid")),
+    );
+    expect(live).toEqual([]);
+    // and its name on the map
+    await expect(page.getByTestId("map-label")).toHaveText(/ · lost · last heard \d+ s ago$/);
 
     // the map: its projection, labelled so, along its last course at its last speed for the time since it was heard
     const proj = page.getByTestId("map-projection");
     await expect(proj).toBeVisible();
     await expect(proj).toHaveAttribute("data-kind", "projected");
     await expect(proj).toHaveText(/^projected · within \d+ m$/);
+    // read right after its vehicle's name, not before it (where it would pass for the previous vehicle's)
+    expect(await proj.evaluate((p) => p.previousElementSibling?.getAttribute("data-testid"))).toBe("map-label");
     const at = async () => ({ lat: Number(await proj.getAttribute("data-lat")), lon: Number(await proj.getAttribute("data-lon")), radius: Number(await proj.getAttribute("data-radius")), heard: await heardSeconds(heard) });
     const a = await at();
     await expect.poll(async () => (await at()).radius).toBeGreaterThan(a.radius); // the circle grows with time
@@ -110,6 +121,46 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     expect(await fillAlpha(await at())).toBeLessThan(100);
   } finally {
     sim.kill("SIGKILL");
+    await extra.stop();
+  }
+});
+
+test("in a replay, the selected vehicle lost in the recording is said lost there, not now", async ({ page, request }) => {
+  test.setTimeout(120_000);
+  const stack = load();
+  const domain = await freeDomain([stack.domain]);
+  const token = "replay-lost-token";
+  const auth = { Authorization: `Bearer ${token}` };
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "replay-lost.sqlite3")]);
+  const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "12"], { encoding: "utf8" }).trim().split(": ")[1];
+  const simOf = (n: number) => spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "1", "--first-vehicle", String(n),
+    "--state-file", join(stack.dir, `replay-lost-sim-${n}.json`), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  const sim = simOf(12);
+  const other = simOf(13); // heard to the end: the recording goes on past the loss, and the replay's console calls it lost
+  const link = async () => ((await (await request.get(`${extra.url}/api/providers/${id}`)).json()) as { link?: string }).link;
+  let replay: { url: string; stop: () => Promise<void> } | null = null;
+  try {
+    await expect.poll(link, { timeout: 30_000 }).toBe("live");
+    expect((await request.post(`${extra.url}/api/recordings`, { headers: auth, data: { action: "start" } })).ok()).toBe(true);
+    await page.waitForTimeout(2000);
+    sim.kill("SIGKILL");
+    await expect.poll(link, { timeout: 30_000 }).toBe("lost");
+    await page.waitForTimeout(4000);
+    const stopped = await request.post(`${extra.url}/api/recordings`, { headers: auth, data: { action: "stop" } });
+    const { file } = (await stopped.json()) as { file: string };
+    replay = await startReplayConsole(file);
+    // the recording's last instant, paused: the vehicle lost there
+    const { end } = (await (await request.get(`${replay.url}/api/replay`)).json()) as { end: number };
+    await request.post(`${replay.url}/api/replay`, { data: { action: "pause" } });
+    await request.post(`${replay.url}/api/replay`, { data: { action: "seek", position: end } });
+    await page.goto(`${replay.url}/?vehicle=${id}`);
+    await expect(page.getByTestId("fleet-vehicle").and(page.locator(`[data-vehicle="${id}"]`))).toHaveAttribute("data-link", "lost");
+    for (const panel of ["ins-panel", "fix-panel"])
+      await expect(page.getByTestId(panel).getByTestId("selected-lost")).toHaveText(/^Recorded: lost · Last heard \d+ s ago · shown: what it last reported$/);
+  } finally {
+    sim.kill("SIGKILL");
+    other.kill("SIGKILL");
+    await replay?.stop();
     await extra.stop();
   }
 });

@@ -1,5 +1,6 @@
-import { useNow, useSlice } from "../data/hooks";
+import { useCapabilities, useNow, useSlice } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
+import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { lastHeardText, lostText } from "../lib/labels";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -16,13 +17,15 @@ export function LastHeard({ since, className }: { since: number | null; classNam
 }
 
 /** The selected vehicle's panels, while it is lost: when it was last heard, and that what they show is what it last
- * reported. */
+ * reported. No live region: its count changes every second, and a screen reader would say it every second (the loss
+ * itself is announced with its alarm). */
 export function SelectedLost() {
   const since = useSlice(selectedLostSince);
+  const recorded = useCapabilities().playback; // a replay: lost in the recording, not now
   if (since === null) return null;
   return (
-    <p className="selected-lost" role="status" data-testid="selected-lost">
-      Lost · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
+    <p className="selected-lost" data-testid="selected-lost" title={recorded ? RECORDED_TITLE : undefined}>
+      {stateWords("Lost", recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
     </p>
   );
 }

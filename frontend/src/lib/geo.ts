@@ -79,6 +79,8 @@ export interface VehicleMark {
   selected: boolean;
   /** a lost vehicle's dead-reckoned position (or why there is none); null while it is not lost */
   projection: Projection | null;
+  /** seconds since a lost vehicle's newest report of any topic arrived (its "last heard"); null while it is not lost */
+  heardS: number | null;
 }
 
 export interface TrackSample extends LonLat {

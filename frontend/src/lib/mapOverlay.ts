@@ -6,6 +6,7 @@
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
+import { lastHeardText } from "./labels";
 import { projectionText } from "./projection";
 import { vehicleColor } from "./vehicle";
 
@@ -132,8 +133,10 @@ export class VehicleOverlay {
       m.mark = mark;
       const lost = mark.link === "lost";
       const text = lost ? `${mark.label} · lost` : mark.label;
-      if (m.label.textContent !== text) {
-        m.label.textContent = text;
+      // a lost vehicle's name says when it was last heard (its arrow at the edge stays short)
+      const named = lost && mark.heardS !== null ? `${text} · ${lastHeardText(mark.heardS).toLowerCase()}` : text;
+      if (m.label.textContent !== named) {
+        m.label.textContent = named;
         m.labelSize = null;
       }
       m.label.classList.toggle("selected", mark.selected);
@@ -218,7 +221,8 @@ export class VehicleOverlay {
     projected.hidden = true;
     const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null };
     edge.addEventListener("click", () => this.pick(m.mark));
-    this.root.append(projected, label, edge);
+    // read after its vehicle's name (a screen reader goes in the page's order; drawn under the names: styles.css)
+    this.root.append(label, projected, edge);
     this.markers.set(mark.id, m);
     return m;
   }

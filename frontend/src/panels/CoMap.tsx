@@ -319,8 +319,10 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           <p>{pendingText(pending)}</p>
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
-              <strong><LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} />. Send anyway?</strong> It may reach the vehicle late, or
-              not at all.
+              <strong>
+                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
+              </strong>{" "}
+              It may reach the vehicle late, or not at all.
             </p>
           )}
           {pending.kind === "synch" && pending.action === "INTERRUPT" && <p>It stops the task for good: a new task is needed to go on.</p>}

@@ -366,8 +366,9 @@ export function CommandsPanel() {
       ) : (
         <p className="muted" data-testid="command-target">Select a vehicle to command it.</p>
       )}
+      {/* no live region: its "last heard" counts every second */}
       {target && lost && lostSince !== null && (
-        <p className="alarm" role="status" data-testid="command-lost">
+        <p className="alarm" data-testid="command-lost">
           <LostFor target={target} since={lostSince} />.
           {mayCommand && " A command waits until it is heard again; each one asks you to confirm."/* a replay sends none */}
         </p>

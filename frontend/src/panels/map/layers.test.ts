@@ -44,6 +44,13 @@ describe("the map's marks", () => {
     expect(pr!.lat).toBeCloseTo(0, 9);
   });
 
+  it("says when a lost vehicle was last heard: its newest report of any topic, not its fix's", () => {
+    // its fix at 100 s, its INS report at 101 s
+    const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 0 }], [P, "InertialSensorReport", { state: "ON" }]);
+    expect(vehicleMark(p, 230, null)!.heardS).toBeNull(); // not lost
+    expect(vehicleMark({ ...p, link: "lost" }, 230, null)!.heardS).toBe(129);
+  });
+
   it("does not project from a speed or course the vehicle flagged invalid, nor from an INS position's small circle", () => {
     const fix = { position2DWithTime: at(0, 0), SOG: 2, trueCourse: 0, GPSLatLongValid: false };
     const flagged = vehicle([P, "GPSFixReport", fix, ["SOG: not a number"]]);

@@ -1,7 +1,7 @@
 // The map's sources and layers (MapLibre style), and what the vehicles' reports become on it.
 import { LngLatBounds, type GeoJSONSource, type Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection, Position } from "geojson";
-import { report, type ProviderView } from "../../data/store";
+import { lastHeardAt, report, type ProviderView } from "../../data/store";
 import { freshness } from "../../lib/freshness";
 import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
 import { deadReckon } from "../../lib/projection";
@@ -40,6 +40,7 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
     link,
     selected: p.id === selected,
     projection,
+    heardS: link === "lost" ? Math.max(0, now - (lastHeardAt(p) ?? now)) : null,
   };
 }
 
