@@ -126,25 +126,25 @@ test("injected faults: FAILED with its reason, and a state-machine violation fla
 test("the simulator is stopped: the vehicle shows lost; restarted: regained", async ({ page }) => {
   const id = await open(page);
   const link = vehicle(page, id).getByTestId("vehicle-link");
-  await expect(link).toHaveText("live");
+  await expect(link).toHaveText("Live");
   const lostAlarm = page.locator('[data-testid="alarm"][data-kind="link-lost"]').filter({ hasText: id.slice(0, 8) });
   // a collapsed panel draws no reports, but its title bar still says how fresh they are
   await page.getByTestId("fix-panel-collapse").click();
   await expect(page.getByTestId("fix-panel").locator(".field")).toHaveCount(0);
-  await expect(page.getByTestId("fix-panel-freshness")).toContainText("live");
+  await expect(page.getByTestId("fix-panel-freshness")).toContainText("Live");
   await stopSim();
   try {
-    await expect(link).toHaveText("lost");
+    await expect(link).toHaveText("Lost");
     await expect(lostAlarm).toHaveAttribute("data-state", "active-unacknowledged");
-    await expect(page.getByTestId("satellites-panel-freshness")).toContainText("lost");
-    await expect(page.getByTestId("fix-panel-freshness")).toContainText("lost");
+    await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Lost");
+    await expect(page.getByTestId("fix-panel-freshness")).toContainText("Lost");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
   // regained: the alarm's condition cleared, and it waits for the operator's acknowledgement
   await expect(lostAlarm).toHaveAttribute("data-state", "cleared-unacknowledged", { timeout: 30_000 });
-  await expect(link).toHaveText(/regained|live/);
-  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+  await expect(link).toHaveText(/Regained|Live/);
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Live");
 });
 
 test("the backend restarts: the page reconnects by itself and shows live data again", async ({ page }) => {
@@ -154,7 +154,7 @@ test("the backend restarts: the page reconnects by itself and shows live data ag
   await restartConsole();
   await expect(page.getByTestId("connection-state")).toHaveText("Live", { timeout: 30_000 });
   await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
-  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Live");
 });
 
 test("with an operator token: commands are refused until sign-in", async ({ page, request }) => {

@@ -64,6 +64,7 @@ export interface VehicleMark {
   gpsPosition: boolean | null; // GPSLatLongValid (false: INS position)
   link: "live" | "stale" | "lost" | "regained";
   selected: boolean;
+  alarmed: boolean; // an unacknowledged alarm about it
 }
 
 export interface TrackSample extends LonLat {
