@@ -7,8 +7,9 @@ import pkgutil
 from typing import get_args
 
 import pytest
-import UMAA.Common.MaritimeEnumeration as maritime
 from cyclonedds.idl import IdlEnum
+
+import UMAA.Common.MaritimeEnumeration as maritime
 
 from sem_console.api.schemas import AlarmKind
 from sem_console.console.alarms import SEVERITY

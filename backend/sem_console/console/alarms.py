@@ -39,8 +39,8 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command
-from sem_console.core.words import inline, word
 from sem_console.console.providers import Provider
+from sem_console.core.words import inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
 
@@ -376,8 +376,9 @@ class Alarms:
         self.store.update_alarm(a.row())
 
 
-def _status_words(status: Status, reason: Reason | None) -> str:
-    """'failed: the equipment failed', as the command's card says it (`core/words.py`)."""
+def _status_words(status: Status, reason: object) -> str:
+    """'failed: the equipment failed', as the command's card says it (`core/words.py`); a reason not of UMAA's literals
+    (undecodable) leaves the status alone."""
     said = inline(word("CommandStatusEnumType", status.name))
     return f"{said}: {inline(word('CommandStatusReasonEnumType', reason.name))}" if isinstance(reason, Reason) else said
 
