@@ -6,6 +6,7 @@
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
+import { inline, linkText } from "./labels";
 import { vehicleColor } from "./vehicle";
 
 /** How far inside the map's border the edge arrows sit (px): clear of the border, under the controls. */
@@ -280,7 +281,7 @@ export class VehicleOverlay {
       m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
       m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
       const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, this.positionOf(m)));
-      const said = `${m.mark.label}${m.mark.link === "lost" ? " (lost)" : ""}: outside the map, ${away} from its middle. Show it`;
+      const said = `${m.mark.label}${m.mark.link === "lost" ? ` (${inline(linkText("lost"))})` : ""}: outside the map, ${away} from its middle. Show it`;
       if (m.edge.getAttribute("aria-label") !== said) {
         m.edge.setAttribute("aria-label", said);
         m.edge.title = `${said} and select it`;

@@ -10,7 +10,7 @@ import { useCollapsed, useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, stateWords, type PageLink } from "../lib/freshness";
-import { fixWord, inline, insWord, linkText, umaa, type Word } from "../lib/labels";
+import { fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
@@ -39,7 +39,7 @@ export function fleetLink(p: ProviderView, now: number, receiving: boolean): Fle
 
 const UNREACHABLE_TITLE = "the console cannot be reached: the last state it sent, not updating";
 const LINK: Record<FleetLink, Word> = {
-  live: { text: linkText("live"), tone: "ok", title: umaa("link", "live") },
+  live: { text: linkText("live"), tone: "ok", title: "reports arriving" },
   regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
   stale: { text: linkText("stale"), tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
   lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
