@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import csv
 import importlib
+import io
 import pkgutil
 from typing import get_args
 
@@ -11,6 +13,7 @@ from cyclonedds.idl import IdlEnum
 
 import UMAA.Common.MaritimeEnumeration as maritime
 
+from sem_console.api.routes.history import commands_csv
 from sem_console.api.schemas import AlarmKind
 from sem_console.console.alarms import SEVERITY
 from sem_console.core.words import WORDS, inline, word
@@ -47,3 +50,16 @@ def test_words_inside_a_phrase() -> None:
     assert inline("GPS 3D") == "GPS 3D"
     assert inline("INS failed") == "INS failed"
     assert word("InertialSensorStateEnumType", "SOMETHING_NEWER") == "SOMETHING_NEWER"
+
+
+def test_the_commands_export_says_each_transition_in_the_operators_words() -> None:
+    command = {"sessionId": "s1", "service": "InertialSensor", "providerId": "p1", "state": "OFF", "operator": "alice",
+               "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True, "unanswered": False,
+               "cancelRequested": False, "canceledBy": None, "cleanedUp": True,
+               "transitions": [{"seq": 0, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
+                                "providerTime": 1.2, "receivedAt": 1.2},
+                               {"seq": 1, "status": "FAILED", "reason": "RESOURCE_FAILED", "logMessage": "", "violation": None,
+                                "providerTime": 1.3, "receivedAt": 1.3}]}
+    rows = list(csv.DictReader(io.StringIO(commands_csv([command]))))
+    assert [(r["status"], r["status_words"], r["reason"], r["reason_words"]) for r in rows] == [
+        ("ISSUED", "Received", "SUCCEEDED", "Succeeded"), ("FAILED", "Failed", "RESOURCE_FAILED", "The equipment failed")]
