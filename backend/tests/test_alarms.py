@@ -167,7 +167,7 @@ def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_pat
     assert w.at(1).update() == []
     [unanswered] = w.at(3).update()
     assert (unanswered["kind"], unanswered["severity"], unanswered["text"]) == (
-        "command-unanswered", "warning", "Alpha: INS RESTART unanswered")
+        "command-unanswered", "warning", "Alpha: INS RESTART: no answer")
     w.commands.cancel(cmd.session_id, "alice")  # an UNANSWERED command can be canceled: it is disposed
     assert w.disposed == [cmd.sample] and cmd.cancel_requested
     assert kinds(w.update()) == [("command-unanswered", "cleared-unacknowledged")]
@@ -268,7 +268,7 @@ def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(doma
         client.portal.call(lambda: console.tick(console.clock.monotonic() + 3))  # past the unanswered timeout
         unanswered, lost = client.get("/api/alarms").json()
         assert (unanswered["kind"], unanswered["text"], unanswered["sessionId"]) == (
-            "command-unanswered", "Charlie: GPS fix command unanswered", session)
+            "command-unanswered", "Charlie: GPS fix command: no answer", session)
         assert (lost["kind"], lost["text"], lost["state"]) == ("link-lost", "Charlie: link lost", "active-unacknowledged")
 
         r = client.delete(f"/api/commands/{session}", headers=auth)  # an UNANSWERED command can be canceled

@@ -278,7 +278,7 @@ class Alarms:
         self._sessions.add(sid)
         key = (pid, c.service)
         self._newest[key] = max(self._newest.get(key, c.created_at), c.created_at)
-        f = Found("command-unanswered", pid, sid, f"{command_words(c)} unanswered")
+        f = Found("command-unanswered", pid, sid, f"{command_words(c)}: {inline(word('command', 'unanswered'))}")
         if c.unanswered and not c.cancel_requested and not c.flow.terminal and not c.cleaned_up:
             self._unanswered[f.key] = f
         else:
