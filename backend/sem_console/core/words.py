@@ -41,6 +41,12 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "OPERATIONAL": "Operational",
         "INERTIAL_SENSOR_FAILURE": "Failed",
     },
+    # the INS panel's alignment steps: a stage, stationary or GPS-aided (the status says which)
+    "insAlignmentStep": {
+        "INIT": "Starting up", "COURSE_STATIONARY_ALIGNMENT": "Coarse alignment",
+        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment", "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Fine alignment done",
+        "OPERATIONAL": "Operational",
+    },
     "CommandStatusEnumType": {
         "ISSUED": "Received", "COMMANDED": "Accepted", "EXECUTING": "In progress", "COMPLETED": "Completed",
         "FAILED": "Failed", "CANCELED": "Cancelled",

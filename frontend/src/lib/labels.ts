@@ -92,11 +92,12 @@ export function fixWord(fixValid: boolean | null | undefined): Word {
   return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
 }
 
-/** The alignment steps as the INS panel lists them (the stationary names, GPS-aided stages map onto them). */
-export function alignmentStepText(v: InertialSensorOpStatusEnumType): string {
-  if (v === "COURSE_STATIONARY_ALIGNMENT") return "Coarse alignment";
-  if (v === "FINE_STATIONARY_ALIGNMENT_STARTED") return "Fine alignment";
-  return lookup(INS_STATUS, v);
+/** The alignment steps as the INS panel lists them: stages, which the stationary and GPS-aided statuses both go through
+ * (the status badge says which). */
+export type AlignmentStep = "INIT" | "COURSE_STATIONARY_ALIGNMENT" | "FINE_STATIONARY_ALIGNMENT_STARTED" | "FINE_STATIONARY_ALIGNMENT_COMPLETE" | "OPERATIONAL";
+const ALIGNMENT_STEP: Words<AlignmentStep> = WORDS.insAlignmentStep;
+export function alignmentStepText(v: AlignmentStep): string {
+  return lookup(ALIGNMENT_STEP, v);
 }
 
 /** GPSFixReport.GPSFixCommandStatus: the receiver's own fix state, reported whether or not a fix was commanded. */

@@ -4,10 +4,10 @@ import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectionGa
 import { SelectionGap } from "./FleetBar";
 import { viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentStepText, inline, insStateText, insStatusText, umaa } from "../lib/labels";
+import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
 
-export const STEPS: readonly InertialSensorOpStatusEnumType[] = [
+export const STEPS: readonly AlignmentStep[] = [
   "INIT",
   "COURSE_STATIONARY_ALIGNMENT",
   "FINE_STATIONARY_ALIGNMENT_STARTED",
@@ -24,7 +24,7 @@ const GPS_STEPS: Partial<Record<InertialSensorOpStatusEnumType, number>> = {
  * INS that is off, whose INIT is no step of an alignment (`insStatusText`). */
 export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined, state?: string | null): number {
   if (!status || insStatusText(status, state) === null) return -1;
-  const i = STEPS.indexOf(status);
+  const i = (STEPS as readonly string[]).indexOf(status);
   return i >= 0 ? i : (GPS_STEPS[status] ?? -1);
 }
 
