@@ -14,7 +14,7 @@ from cyclonedds.idl import IdlEnum
 import UMAA.Common.MaritimeEnumeration as maritime
 
 from sem_console.api.routes.history import commands_csv
-from sem_console.api.schemas import AlarmKind
+from sem_console.api.schemas import AlarmKind, AlarmState
 from sem_console.console.alarms import SEVERITY
 from sem_console.core.words import WORDS, inline, word
 
@@ -43,6 +43,8 @@ def test_every_alarm_kind_has_words_and_a_severity() -> None:
     assert kinds == set(WORDS["alarmKind"]), "an alarm kind without words (or words for no kind) in core/words.py"
     assert kinds == set(SEVERITY), "an alarm kind without a severity in console/alarms.py"
     assert all(w.strip() for w in WORDS["alarmKind"].values())
+    assert set(get_args(AlarmState)) == set(WORDS["alarmState"]), "an alarm state without words in core/words.py"
+    assert set(SEVERITY.values()) == set(WORDS["alarmSeverity"]), "an alarm severity without words in core/words.py"
 
 
 def test_words_inside_a_phrase() -> None:

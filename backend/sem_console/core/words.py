@@ -84,6 +84,12 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "executed-late": "Command executed late",
         "recording-failed": "Recording failed",
     },
+    # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
+    "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},
+    "alarmState": {
+        "active-unacknowledged": "Unacknowledged", "active-acknowledged": "Acknowledged",
+        "cleared-unacknowledged": "Cleared, unacknowledged",
+    },
     # ---- CoMap (IMC) ----
     "taskState": {
         "ASSIGNED": "Sent", "ACCEPTED": "Accepted", "REJECTED": "Refused", "IN_PROGRESS": "In progress",

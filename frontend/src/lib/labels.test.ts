@@ -7,6 +7,8 @@ import {
   alignmentStepText,
   commandStatusText,
   coverageText,
+  ALARM_SEVERITY,
+  ALARM_STATE,
   alarmKindText,
   fixStateBadge,
   fixStateText,
@@ -41,9 +43,11 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     }
   });
 
-  it("has words for every alarm kind", () => {
-    const kinds = schemaDefs.Alarm.properties!.kind.enum!;
-    for (const kind of kinds) expect(alarmKindText(kind), kind).not.toBe(kind);
+  it("has words for every alarm kind, severity and state", () => {
+    const alarm = schemaDefs.Alarm.properties!;
+    for (const kind of alarm.kind.enum!) expect(alarmKindText(kind), kind).not.toBe(kind);
+    for (const severity of alarm.severity.enum!) expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
+    for (const state of alarm.state.enum!) expect((ALARM_STATE as Record<string, string>)[state]?.trim(), state).toBeTruthy();
   });
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {

@@ -10,7 +10,7 @@ import { useCollapsed, useSetting } from "../data/settings";
 import { pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, stateWords, type PageLink } from "../lib/freshness";
-import { fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
+import { ALARM_SEVERITY, fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
@@ -247,7 +247,7 @@ export function FleetBar() {
           }}
           title="newest unacknowledged alarm: show it"
         >
-          {newest.severity === "alarm" ? "Alarm" : "Warning"}: {newest.text}
+          {ALARM_SEVERITY[newest.severity]}: {newest.text}
           {newest.state === "cleared-unacknowledged" && " (cleared)"}
         </button>
       )}
