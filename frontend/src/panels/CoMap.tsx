@@ -288,7 +288,8 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
             </option>
           ))}
         </select>
-        <input aria-label={`Resolution (${RESOLUTION_UNIT})`} type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <input aria-label={`Resolution (${RESOLUTION_UNIT})`} title="survey resolution, in the unit of the vehicles' capabilities" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <span className="muted">{RESOLUTION_UNIT}</span>
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button
           className="small"
