@@ -71,6 +71,8 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     "link": {"live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating"},
     # GPSFixStatusReport.fixValid
     "fixValid": {"true": "Fix valid", "false": "No fix"},
+    # GPSFixReport.GPSLatLongValid: whether the position is the receiver's, else the INS's
+    "GPSLatLongValid": {"true": "GPS position", "false": "INS position"},
     # the alarm kinds (`api.schemas.AlarmKind`): what the alarm is about, as a heading ("Link lost: 20 vehicles")
     "alarmKind": {
         "link-lost": "Link lost",

@@ -21,6 +21,7 @@ import {
   insStatusText,
   lostText,
   navSolutionText,
+  positionSourceText,
   positionText,
   reasonText,
   sensorText,
@@ -56,6 +57,8 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(insWord("ON", "INERTIAL_SENSOR_FAILURE").text).toBe("INS failed"); // as the alarm: "Alpha: INS failed"
     expect(insWord("OFF", "INIT").text).toBe("INS off");
     expect(fixWord(true)).toMatchObject({ text: "Fix valid", title: "UMAA fixValid: true" });
+    expect(positionSourceText(false)).toBe("INS position");
+    expect(positionSourceText(undefined)).toBe("—"); // no report: not said to be the INS's
     expect(linkText("unreachable")).toBe("Not updating");
     expect(inline("GPS 3D")).toBe("GPS 3D");
   });

@@ -21,6 +21,7 @@ export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
 export const LINK: Words<LinkState | "stale" | "unreachable"> = WORDS.link;
 export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
+export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
 export const ALARM_SEVERITY: Words<Alarm["severity"]> = WORDS.alarmSeverity;
 export const ALARM_STATE: Words<Alarm["state"]> = WORDS.alarmState;
@@ -92,6 +93,11 @@ export function fixWord(fixValid: boolean | null | undefined): Word {
   if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: "no GPS fix status yet" };
   const literal = fixValid ? "true" : "false";
   return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
+}
+
+/** GPSFixReport.GPSLatLongValid: whose position it is ("GPS position", "INS position"). */
+export function positionSourceText(valid: boolean | null | undefined): string {
+  return typeof valid === "boolean" ? POSITION_SOURCE[valid ? "true" : "false"] : DASH;
 }
 
 /** The alignment steps as the INS panel lists them: stages, which the stationary and GPS-aided statuses both go through

@@ -6,7 +6,7 @@ import { SelectionGap } from "./FleetBar";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, timeOutText, umaa } from "../lib/labels";
+import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, positionSourceText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
 export function FixPanel() {
@@ -63,8 +63,8 @@ function FixBody() {
             <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid).title}>
               {typeof st?.fixValid === "boolean" ? fixWord(st.fixValid).text : DASH}
             </span>
-            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}>
-              {fix?.GPSLatLongValid ? "GPS position" : "INS position"}
+            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} title={umaa("GPSLatLongValid", typeof fix?.GPSLatLongValid === "boolean" ? String(fix.GPSLatLongValid) : null)}>
+              {positionSourceText(fix?.GPSLatLongValid)}
             </span>
             <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={fixStateTitle(fix?.GPSFixCommandStatus)}>{fixStateBadge(fix?.GPSFixCommandStatus)}</span>
             <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
