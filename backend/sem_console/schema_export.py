@@ -1,8 +1,8 @@
 """Write the console's published schemas for the frontend's type generation.
 
-`python -m sem_console.schema_export` writes frontend/schema/openapi.json and ws-schema.json;
-the dashboard's build generates its TypeScript types from them, and the test suite fails
-when they no longer match the code.
+`python -m sem_console.schema_export` writes frontend/schema/openapi.json and ws-schema.json, from which
+the dashboard's build generates its TypeScript types, and words.json, the operator's words the dashboard
+shows (`core/words.py`); the test suite fails when they no longer match the code.
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from sem_console.api.schemas import ws_schema
+from sem_console.core.words import WORDS
 
 SCHEMA_DIR = Path(__file__).resolve().parents[2] / "frontend" / "schema"
 
@@ -20,7 +21,7 @@ SCHEMA_DIR = Path(__file__).resolve().parents[2] / "frontend" / "schema"
 def schemas() -> dict[str, dict[str, Any]]:
     from sem_console.main import create_app
 
-    return {"openapi.json": create_app().openapi(), "ws-schema.json": ws_schema()}
+    return {"openapi.json": create_app().openapi(), "ws-schema.json": ws_schema(), "words.json": WORDS}
 
 
 def render(doc: dict[str, Any]) -> str:

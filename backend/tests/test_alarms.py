@@ -103,7 +103,7 @@ def test_a_cleared_alarm_waits_for_acknowledge_and_comes_back_active(tmp_path: P
     assert w.update() == []
     assert w.at(1).report(ALPHA, "InertialSensorReport", status="INERTIAL_SENSOR_FAILURE")
     [failed] = w.update()
-    assert (failed["kind"], failed["severity"], failed["text"]) == ("ins-failure", "alarm", "Alpha: inertial sensor failure")
+    assert (failed["kind"], failed["severity"], failed["text"]) == ("ins-failure", "alarm", "Alpha: INS failed")
     w.at(2).report(ALPHA, "InertialSensorReport", status="OPERATIONAL")
     assert kinds(w.update()) == [("ins-failure", "cleared-unacknowledged")] and w.alarms.active()[0]["clearedAt"] == T0 + 2
     w.at(3).report(ALPHA, "InertialSensorReport", status="INERTIAL_SENSOR_FAILURE")
@@ -167,7 +167,7 @@ def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_pat
     assert w.at(1).update() == []
     [unanswered] = w.at(3).update()
     assert (unanswered["kind"], unanswered["severity"], unanswered["text"]) == (
-        "command-unanswered", "warning", "Alpha: INS RESTART unanswered")
+        "command-unanswered", "warning", "Alpha: INS RESTART: no answer")
     w.commands.cancel(cmd.session_id, "alice")  # an UNANSWERED command can be canceled: it is disposed
     assert w.disposed == [cmd.sample] and cmd.cancel_requested
     assert kinds(w.update()) == [("command-unanswered", "cleared-unacknowledged")]
@@ -185,7 +185,8 @@ def test_failed_command_is_latched_until_acknowledged_then_never_raised_again(tm
     [failed] = w.at(1).update()
     assert (failed["kind"], failed["severity"], failed["state"], failed["clearedAt"]) == (
         "command-failed", "alarm", "active-unacknowledged", None)
-    assert failed["text"] == "3f2a9c01: GPS fix command failed: validation failed"
+    # the reason in the words the command's card says it (core/words.py)
+    assert failed["text"] == "3f2a9c01: GPS fix command failed: the vehicle found the request invalid"
     assert kinds(w.at(30).update()) == [("command-failed", "active-unacknowledged")]  # it does not clear by itself
     assert w.ack(failed["id"]) and w.update() == []
     assert w.at(40).update() == []  # the command is still FAILED in memory: not raised twice
@@ -227,6 +228,7 @@ def test_a_restart_keeps_the_alarms_not_back_to_normal(tmp_path: Path) -> None:
     w.status(old, (S.ISSUED, OK), (S.FAILED, R.RESOURCE_FAILED))
     w.at(1).update()
     acked = w.alarms.active()[0]
+    assert acked["text"] == "Alpha: GPS fix command failed: the equipment failed"  # as its card says it
     assert acked["kind"] == "command-failed" and w.ack(acked["id"])  # back to normal: gone for good
     cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, None)
     w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.TIMEOUT))
@@ -266,7 +268,7 @@ def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(doma
         client.portal.call(lambda: console.tick(console.clock.monotonic() + 3))  # past the unanswered timeout
         unanswered, lost = client.get("/api/alarms").json()
         assert (unanswered["kind"], unanswered["text"], unanswered["sessionId"]) == (
-            "command-unanswered", "Charlie: GPS fix command unanswered", session)
+            "command-unanswered", "Charlie: GPS fix command: no answer", session)
         assert (lost["kind"], lost["text"], lost["state"]) == ("link-lost", "Charlie: link lost", "active-unacknowledged")
 
         r = client.delete(f"/api/commands/{session}", headers=auth)  # an UNANSWERED command can be canceled
@@ -305,7 +307,7 @@ def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, con
     [alarm] = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10,
                          "an ins-failure alarm")
     assert (alarm["text"], alarm["providerId"], alarm["severity"], alarm["state"]) == (
-        "Alpha: inertial sensor failure", V1, "alarm", "active-unacknowledged")
+        "Alpha: INS failed", V1, "alarm", "active-unacknowledged")
     ws = WsClient(c.ws_url)
     snapshot = wait_until(lambda: ws.messages and ws.messages[0], 10, "the snapshot")
     assert snapshot["type"] == "snapshot" and alarm in snapshot["alarms"] and ws.errors == []

@@ -45,7 +45,7 @@ test("axe finds no violation with the selected vehicle lost (its last values sho
   await stopSim();
   try {
     await expect(page.getByTestId("fleet-lost")).toHaveText(`${load().vehicles.length} lost`, { timeout: 30_000 });
-    await expect(page.getByTestId("fix-panel-freshness")).toContainText("lost");
+    await expect(page.getByTestId("fix-panel-freshness")).toContainText("Lost");
     await expect(page.getByTestId("alarm").first()).toBeVisible();
     for (const theme of ["light", "dark"] as const) {
       await page.emulateMedia({ colorScheme: theme });

@@ -1,13 +1,10 @@
 // Operator awareness (issue 19): the console's alarms (kept on the server) on the page, the fleet bar in
 // view whatever is scrolled, the tab title's count, and an honest first screen.
-import { execFileSync, spawn, type ChildProcess } from "node:child_process";
-import { dirname, join } from "node:path";
-import { fileURLToPath } from "node:url";
+import { execFileSync, spawn } from "node:child_process";
+import { join } from "node:path";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
-import { vehicle } from "../helpers";
+import { SEM_SIM, stopChild, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
-
-const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 
 interface AlarmRecord {
   id: number;
@@ -19,16 +16,6 @@ interface AlarmRecord {
 
 async function alarms(request: APIRequestContext, url: string): Promise<AlarmRecord[]> {
   return (await (await request.get(`${url}/api/alarms`)).json()) as AlarmRecord[];
-}
-
-/** Stop a process this spec started and wait for it to exit (SIGKILL after 15 s). */
-async function stopChild(child: ChildProcess): Promise<void> {
-  if (child.exitCode !== null || child.signalCode !== null) return;
-  const exited = new Promise<void>((resolve) => child.once("exit", () => resolve()));
-  child.kill("SIGINT");
-  const timer = setTimeout(() => child.kill("SIGKILL"), 15_000);
-  await exited;
-  clearTimeout(timer);
 }
 
 /** The tab title's count of unacknowledged alarms ("(3) SEM Console"), 0 for none. */

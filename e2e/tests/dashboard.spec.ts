@@ -61,6 +61,11 @@ test("another vehicle selected: its satellites at once, though the console sent 
 test("Request GPS fix: the timeline walks ISSUED to COMPLETED and the fix becomes valid", async ({ page }) => {
   await open(page);
   await expect(page.getByTestId("fix-valid")).toHaveText("No fix");
+  // the receiver's own state, which the vehicle reports with no command sent too: said as what it reports, never as
+  // a command's progress ("GPS fix starting")
+  const fixState = page.getByTestId("gps-fix-state");
+  await expect(fixState).toHaveText(/^Receiver: (initiating a fix|performing a fix|fix stable)$/);
+  await expect(fixState).toHaveAttribute("title", /^UMAA GPSFixCommandStatus: [A-Z]+ \(the receiver's state as the vehicle reports it, whether or not a fix was commanded\)$/);
   await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
   const cmd = latestCommand(page);
   await expect(cmd).toHaveAttribute("data-status", "COMPLETED", { timeout: 30_000 });
@@ -84,13 +89,21 @@ test("INS RESTART: RESTARTING, then alignment to OPERATIONAL, and the command co
 });
 
 test("cancel a running command: CANCELED appears", async ({ page }) => {
-  await open(page);
+  const id = await open(page);
   await page.getByRole("button", { name: "INS OFF", exact: true }).click();
   await page.getByRole("dialog", { name: "Confirm command" }).getByRole("button", { name: "Confirm" }).click();
   // the INS OFF card itself (not the previous test's command) completed, and the sensor is off
   await expect(latestCommand(page).getByText("INS OFF", { exact: true })).toBeVisible();
   await expect(latestCommand(page)).toHaveAttribute("data-status", "COMPLETED");
   await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "OFF");
+  // off, in the same words everywhere: not "Starting up" beside it (an INS off reports INIT: UMAA has no off status),
+  // and no alignment step is under way
+  await expect(page.getByTestId("ins-state")).toHaveText("INS off");
+  await expect(page.getByTestId("ins-status")).toHaveCount(0);
+  await expect(page.getByRole("list", { name: "Alignment" }).locator('[aria-current="step"]')).toHaveCount(0);
+  await expect(vehicle(page, id)).toContainText("INS off");
+  await expect(vehicle(page, id)).not.toContainText("Starting up");
+  await expect(page.getByTestId("fleet-vehicle").and(page.locator(`[data-vehicle="${id}"]`))).toContainText("INS off");
   await page.getByRole("button", { name: "INS ON", exact: true }).click(); // six seconds of alignment to cancel in
   const cmd = latestCommand(page);
   await expect(cmd.getByText("INS ON", { exact: true })).toBeVisible();
@@ -126,25 +139,25 @@ test("injected faults: FAILED with its reason, and a state-machine violation fla
 test("the simulator is stopped: the vehicle shows lost; restarted: regained", async ({ page }) => {
   const id = await open(page);
   const link = vehicle(page, id).getByTestId("vehicle-link");
-  await expect(link).toHaveText("live");
+  await expect(link).toHaveText("Live");
   const lostAlarm = page.locator('[data-testid="alarm"][data-kind="link-lost"]').filter({ hasText: id.slice(0, 8) });
   // a collapsed panel draws no reports, but its title bar still says how fresh they are
   await page.getByTestId("fix-panel-collapse").click();
   await expect(page.getByTestId("fix-panel").locator(".field")).toHaveCount(0);
-  await expect(page.getByTestId("fix-panel-freshness")).toContainText("live");
+  await expect(page.getByTestId("fix-panel-freshness")).toContainText("Live");
   await stopSim();
   try {
-    await expect(link).toHaveText("lost");
+    await expect(link).toHaveText("Lost");
     await expect(lostAlarm).toHaveAttribute("data-state", "active-unacknowledged");
-    await expect(page.getByTestId("satellites-panel-freshness")).toContainText("lost");
-    await expect(page.getByTestId("fix-panel-freshness")).toContainText("lost");
+    await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Lost");
+    await expect(page.getByTestId("fix-panel-freshness")).toContainText("Lost");
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
   // regained: the alarm's condition cleared, and it waits for the operator's acknowledgement
   await expect(lostAlarm).toHaveAttribute("data-state", "cleared-unacknowledged", { timeout: 30_000 });
-  await expect(link).toHaveText(/regained|live/);
-  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+  await expect(link).toHaveText(/Regained|Live/);
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Live");
 });
 
 test("the backend restarts: the page reconnects by itself and shows live data again", async ({ page }) => {
@@ -154,7 +167,7 @@ test("the backend restarts: the page reconnects by itself and shows live data ag
   await restartConsole();
   await expect(page.getByTestId("connection-state")).toHaveText("Live", { timeout: 30_000 });
   await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
-  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("live");
+  await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Live");
 });
 
 test("with an operator token: commands are refused until sign-in", async ({ page, request }) => {

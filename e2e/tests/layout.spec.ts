@@ -4,7 +4,7 @@
 // one with the ↑ ↓ buttons or the keyboard, the order survives a reload, Reset layout brings back the
 // default, a stored layout of another build still shows every panel, and a rearranged layout fits 1280×720.
 import { expect, test, type Locator, type Page } from "@playwright/test";
-import { open } from "../helpers";
+import { open, vehicle } from "../helpers";
 
 const STATUS = ["ins-panel", "commands-panel", "fix-panel"];
 const MAIN = ["map-panel", "satellites-panel", "export-panel"];
@@ -184,4 +184,22 @@ test("at 1280x720 a rearranged layout fits the width and the satellite table's l
   const th = (await page.getByTestId("satellite-table").locator("thead th").last().boundingBox())!;
   const box = (await wrap.boundingBox())!;
   expect(th.x + th.width).toBeLessThanOrEqual(box.x + box.width + 1);
+});
+
+test("at 768 px the vehicle list is one column of vehicles, Rename right under the selected one", async ({ page }) => {
+  await page.setViewportSize({ width: 768, height: 1024 });
+  const id = await open(page);
+  const rows = await page.getByTestId("vehicle").all();
+  expect(rows.length).toBeGreaterThan(1);
+  const boxes = await Promise.all(rows.map(async (r) => (await r.boundingBox())!));
+  for (const b of boxes.slice(1)) {
+    expect(b.x).toBe(boxes[0].x); // one column: none beside another
+    expect(b.width).toBe(boxes[0].width);
+  }
+  const selected = (await vehicle(page, id).boundingBox())!;
+  const rename = (await page.getByTestId("vehicles").getByRole("button", { name: "Rename", exact: true }).boundingBox())!;
+  expect(rename.y).toBeGreaterThanOrEqual(selected.y + selected.height - 1);
+  expect(rename.y - (selected.y + selected.height)).toBeLessThan(12);
+  expect(Math.abs(rename.x - selected.x)).toBeLessThan(12);
+  expect(await scrollsSideways(page)).toBe(false);
 });

@@ -40,6 +40,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 
 from sem_console.console.commands import Command
 from sem_console.console.providers import Provider
+from sem_console.core.words import inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
 
@@ -52,12 +53,8 @@ SEVERITY = {
     "executed-late": "alarm", "recording-failed": "warning",
 }
 INS_FAILURE = "INERTIAL_SENSOR_FAILURE"
+INS_STATUS = "InertialSensorOpStatusEnumType"
 WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
-REASON_WORDS = {
-    Reason.VALIDATION_FAILED: "validation failed", Reason.OBJECTIVE_FAILED: "objective not reached",
-    Reason.SERVICE_FAILED: "service failed", Reason.RESOURCE_FAILED: "resource failed",
-    Reason.RESOURCE_REJECTED: "rejected by the vehicle", Reason.INTERRUPTED: "interrupted", Reason.TIMEOUT: "timed out",
-}
 TOOK_UP = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING, Status.COMPLETED})
 _MISSING = object()
 
@@ -281,7 +278,7 @@ class Alarms:
         self._sessions.add(sid)
         key = (pid, c.service)
         self._newest[key] = max(self._newest.get(key, c.created_at), c.created_at)
-        f = Found("command-unanswered", pid, sid, f"{command_words(c)} unanswered")
+        f = Found("command-unanswered", pid, sid, f"{command_words(c)}: {inline(word('command', 'unanswered'))}")
         if c.unanswered and not c.cancel_requested and not c.flow.terminal and not c.cleaned_up:
             self._unanswered[f.key] = f
         else:
@@ -301,8 +298,7 @@ class Alarms:
         if c.flow.status is Status.FAILED:
             reason = next((t.reason for t in reversed(c.flow.transitions) if t.status is Status.FAILED), None)
             if reason is not Reason.INTERRUPTED:
-                words = REASON_WORDS.get(reason, "failed") if isinstance(reason, Reason) else "failed"
-                out.append(Found("command-failed", pid, sid, f"{what} failed: {words}"))
+                out.append(Found("command-failed", pid, sid, f"{what} {_status_words(Status.FAILED, reason)}"))
             elif not self._superseded(c):
                 out.append(Found("command-interrupted", pid, sid,
                                  f"{what} interrupted by a command not from this console"))
@@ -327,17 +323,17 @@ class Alarms:
             pid = str(p.id)
             found: list[Found] = []
             if p.link == "lost":
-                found.append(Found("link-lost", pid, None, "link lost"))
+                found.append(Found("link-lost", pid, None, f"link {inline(word('link', 'lost'))}"))
             ins = p.reports.get("InertialSensorReport")
             if ins is not None and ins["report"].get("status") == INS_FAILURE:
-                found.append(Found("ins-failure", pid, None, "inertial sensor failure"))
+                found.append(Found("ins-failure", pid, None, f"INS {inline(word(INS_STATUS, INS_FAILURE))}"))
             status = p.reports.get("GPSFixStatusReport")
             valid = status["report"].get("fixValid") if status is not None else None
             fix_valid[pid] = valid
             if valid is True:
                 self._had_fix.add(pid)
             elif valid is False and pid in self._had_fix:
-                found.append(Found("fix-lost", pid, None, "GPS fix lost"))
+                found.append(Found("fix-lost", pid, None, inline(word("alarmKind", "fix-lost"))))
             holding.update((f.key, f) for f in found)
         for pid, c in self._latest_fix.items():
             if c.flow.status is not Status.COMPLETED or not c.times:
@@ -378,6 +374,13 @@ class Alarms:
 
     def _save(self, a: Alarm) -> None:
         self.store.update_alarm(a.row())
+
+
+def _status_words(status: Status, reason: object) -> str:
+    """'failed: the equipment failed', as the command's card says it (`core/words.py`); a reason not of UMAA's literals
+    (undecodable) leaves the status alone."""
+    said = inline(word("CommandStatusEnumType", status.name))
+    return f"{said}: {inline(word('CommandStatusReasonEnumType', reason.name))}" if isinstance(reason, Reason) else said
 
 
 def _recording_reason(error: str) -> str:

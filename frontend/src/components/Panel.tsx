@@ -1,8 +1,8 @@
 import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
-import { RECORDED_TITLE, freshness, stateWords, type Freshness } from "../lib/freshness";
-import { useCapabilities, useFrameValue, useNow, useSelectedLink } from "../data/hooks";
+import { RECORDED_TITLE, freshness, freshnessText, type Freshness } from "../lib/freshness";
+import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink } from "../data/hooks";
 import { selectedTopic, type State, type TopicView } from "../data/store";
 import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
@@ -46,8 +46,8 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
           {title}
         </h2>
         {freshness && freshness !== "none" && (
-          <span className={`fresh fresh-${freshness}${recorded ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recorded ? `age of the latest data: ${RECORDED_TITLE}` : "age of the latest data"}>
-            {stateWords(freshness, recorded)} · {age(ageSeconds ?? null)}
+          <span className={`fresh fresh-${freshness}${recorded ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recorded ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : "age of the latest data"}>
+            {freshnessText(freshness, recorded)} · {age(ageSeconds ?? null)}
           </span>
         )}
         {!collapsed && actions}
@@ -73,10 +73,11 @@ const sameSecond = (a: TopicView | null, b: TopicView | null): boolean => a === 
 function Folded({ title, testId, topic, className }: { title: string; testId: string; topic: Topic; className?: string }) {
   const view = useFrameValue(selectedTopic(topic) as (s: State) => TopicView | null, sameSecond);
   const link = useSelectedLink();
+  const receiving = useReceiving();
   const now = useNow();
   const ageS = view ? Math.max(0, now - view.at) : null;
   return (
-    <Panel title={title} testId={testId} className={className} freshness={freshness(ageS, topic, view?.interval ?? null, link)} ageSeconds={ageS}>
+    <Panel title={title} testId={testId} className={className} freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving)} ageSeconds={ageS}>
       {null}
     </Panel>
   );

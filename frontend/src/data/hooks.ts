@@ -4,7 +4,7 @@ import type { Alarm } from "../api/generated/ws";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import type { Store } from "./connection";
 import { frameSource, onFrame } from "./frame";
-import type { Capabilities, DataSource, PlaybackControls, SourceState } from "./source";
+import { unreachable, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import {
   allProviders,
   lastHeardAt,
@@ -16,6 +16,7 @@ import {
   selectedName,
   selectedTopic,
   selectedTrails,
+  unacknowledged,
   type ProviderView,
   type State,
   type TopicView,
@@ -196,6 +197,11 @@ export function useConnectionState(): SourceState {
   return useSyncExternalStore(source.subscribe, source.getState);
 }
 
+/** Whether the page hears the console: false at once when its connection drops (nothing shown is current then). */
+export function useReceiving(): boolean {
+  return !unreachable(useConnectionState());
+}
+
 /** What the data source can do: send commands, record, play back. */
 export function useCapabilities(): Capabilities {
   return useData().source.capabilities;
@@ -229,6 +235,12 @@ export function useRecording(): RecordingStatus | null {
 /** The console's active alarm set, newest first. */
 export function useAlarms(): Alarm[] {
   return useSelector((s) => s.alarms);
+}
+
+/** The vehicles with an unacknowledged alarm (a new set only when the alarms change). */
+export function useAlarmed(): ReadonlySet<string> {
+  const alarms = useAlarms();
+  return useMemo(() => new Set(unacknowledged(alarms).flatMap((a) => (a.providerId ? [a.providerId] : []))), [alarms]);
 }
 
 const providerCount = (s: State): number => Object.keys(s.providers).length;

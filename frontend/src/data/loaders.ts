@@ -6,12 +6,17 @@ import { useEffect, useMemo } from "react";
 import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
 import { useToken } from "./auth";
 import { useConnectionState, useData, useSelector } from "./hooks";
-import { capabilitiesQuery, comapStatusQuery, detailQuery, healthQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
+import { capabilitiesQuery, comapStatusQuery, detailQuery, healthQuery, operatorQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
 import { detailLoaded, historyLoaded, selectedGpsPartial, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint } from "./store";
 
 /** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
 export function useConsoleHealth(): Health | null {
   return useQuery(healthQuery()).data ?? null; // unreachable: nothing to say of its network
+}
+
+/** The signed-in operator's name (GET /api/operator), null until the console answers or with no token. */
+export function useOperatorName(): string | null {
+  return useQuery(operatorQuery(useToken())).data ?? null;
 }
 
 const NO_HISTORY: HistoryPoint[] = [];

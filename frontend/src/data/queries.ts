@@ -3,7 +3,7 @@
 // Every key holds the operator's token, so a sign-in or sign-out asks again and never shows another's answer.
 import { QueryClient, queryOptions } from "@tanstack/react-query";
 import type { FeatureCollection } from "geojson";
-import { ApiError, comapStatus, health, peerFindings, providerDetail, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
+import { ApiError, checkToken, comapStatus, health, peerFindings, providerDetail, series, tasks, track, vehicleCapabilities, worldModel, type ComapStatus, type Task } from "../api/rest";
 import type { TopicReports } from "../api/types";
 import type { TrackSample } from "../lib/geo";
 import { HISTORY_SECONDS, TRACK_SECONDS, type HistoryPoint } from "./store";
@@ -19,6 +19,11 @@ const isoSecondsAgo = (now: number, seconds: number) => new Date((now - seconds)
 /** GET /api/health: what the console is (auth, replay, basemap, DDS network). It does not change while the page
  * is open: asked once, shared by every reader (main.tsx seeds it with the answer it starts with). */
 export const healthQuery = () => queryOptions({ queryKey: ["health"], queryFn: () => health(), staleTime: Infinity });
+
+/** GET /api/operator: the name the operator's token belongs to (the header says who is signed in); asked once per
+ * token. */
+export const operatorQuery = (token: string | null) =>
+  queryOptions({ queryKey: ["operator", token], queryFn: () => checkToken(token!), enabled: token !== null, staleTime: Infinity });
 
 /** Other vendors' participants the console sees but cannot read, with the fix (GET /api/metrics): asked every
  * PEER_FINDINGS_MS, as the console itself looks at discovery every second; not pushed over the WebSocket. */

@@ -1,7 +1,9 @@
 // Freshness: a value is stale once its topic has been silent for longer than its expected
-// interval allows, and lost when the backend says the provider is lost. Displays never show
-// a stale value as if it were live.
+// interval allows, lost when the backend says the provider is lost, and "unreachable" at once when the
+// page no longer hears the console (nothing it shows is current then, however recent). Displays never
+// show a stale value as if it were live.
 import type { LinkState, Topic } from "../api/types";
+import { linkText } from "./labels";
 
 /** The longest a topic may be silent before its values are stale, in seconds. */
 export function staleAfter(topic: Topic, observedInterval: number | null): number {
@@ -10,12 +12,31 @@ export function staleAfter(topic: Topic, observedInterval: number | null): numbe
   return Math.max(floor, 3 * observedInterval);
 }
 
-export type Freshness = "live" | "stale" | "lost" | "none";
+export type Freshness = "live" | "stale" | "lost" | "none" | "unreachable";
 
-export function freshness(ageSeconds: number | null, topic: Topic, observedInterval: number | null, link: LinkState | null): Freshness {
+/** `receiving`: the page hears the console (its data source is connected); false: "unreachable", whatever the age. */
+export function freshness(ageSeconds: number | null, topic: Topic, observedInterval: number | null, link: LinkState | null, receiving: boolean): Freshness {
   if (ageSeconds === null) return "none";
+  if (!receiving) return "unreachable";
   if (link === "lost") return "lost";
   return ageSeconds > staleAfter(topic, observedInterval) ? "stale" : "live";
+}
+
+/** Data shown but not current (greyed): stale, of a lost vehicle, or with the console unreachable. */
+export const notCurrent = (f: Freshness): boolean => f === "stale" || f === "lost" || f === "unreachable";
+
+/** A vehicle's link as the page can vouch for it: the console's (`link`), "stale" for a live vehicle silent longer
+ * than `staleAfterS`, "unreachable" whenever the page does not hear the console (a lost one stays lost: the worse of
+ * what it may be now). The fleet bar, the vehicle list and the map say it. */
+export type PageLink = LinkState | "stale" | "unreachable";
+export function pageLink(link: LinkState, silentS: number | null, staleAfterS: number, receiving: boolean): PageLink {
+  if (!receiving && link !== "lost") return "unreachable";
+  return link === "live" && silentS !== null && silentS > staleAfterS ? "stale" : link;
+}
+
+/** A freshness in words ("Live", "Not updating"); `recorded`: a replay's (`stateWords`). */
+export function freshnessText(f: Exclude<Freshness, "none">, recorded: boolean): string {
+  return stateWords(linkText(f), recorded);
 }
 
 /** What a replay's link and freshness badges say beside their words: the recording's state at the instant shown. */

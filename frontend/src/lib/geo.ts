@@ -77,6 +77,7 @@ export interface VehicleMark {
   gpsPosition: boolean | null; // GPSLatLongValid (false: INS position)
   link: "live" | "stale" | "lost" | "regained";
   selected: boolean;
+  alarmed: boolean; // an unacknowledged alarm about it
   /** a lost vehicle's dead-reckoned position (or why there is none); null while it is not lost */
   projection: Projection | null;
   /** seconds since a lost vehicle's newest report of any topic arrived (its "last heard"); null while it is not lost */

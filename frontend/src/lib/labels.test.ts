@@ -2,15 +2,26 @@ import { describe, expect, it } from "vitest";
 import type { Command } from "../api/types";
 import { durationOf, expectedDuration } from "./commands";
 import { exportFileName } from "./exports";
+import wsSchema from "../../schema/ws-schema.json";
 import {
   alignmentStepText,
   commandStatusText,
   coverageText,
-  fixCommandText,
+  ALARM_SEVERITY,
+  ALARM_STATE,
+  alarmKindText,
+  fixStateBadge,
+  fixStateText,
+  fixWord,
+  inline,
+  insWord,
+  linkText,
+  UMAA_WORDS,
   insStateText,
   insStatusText,
   lostText,
   navSolutionText,
+  positionSourceText,
   positionText,
   reasonText,
   sensorText,
@@ -18,6 +29,51 @@ import {
   timeOutText,
   umaa,
 } from "./labels";
+
+/** The UMAA enumerations the console's WebSocket schema has, with their literals, and the alarm kinds. */
+const schemaDefs = (wsSchema as { $defs: Record<string, { enum?: string[]; properties?: Record<string, { enum?: string[] }> }> }).$defs;
+const umaaEnums = Object.entries(schemaDefs).flatMap(([name, d]) => (d.enum && name.endsWith("EnumType") ? [[name, d.enum] as const] : []));
+
+describe("the words table (backend/sem_console/core/words.py, published as schema/words.json)", () => {
+  it("has words for every literal of every UMAA enumeration the console sends", () => {
+    expect(umaaEnums.map(([name]) => name)).toEqual(expect.arrayContaining(["GPSFixEnumType", "InertialSensorOpStatusEnumType", "InertialSensorStateEnumType"]));
+    for (const [name, literals] of umaaEnums) {
+      const table = UMAA_WORDS[name];
+      expect(table, `no words table for ${name}`).toBeDefined();
+      for (const literal of literals) expect(table[literal]?.trim(), `${name}.${literal} has no words`).toBeTruthy();
+    }
+  });
+
+  it("has words for every alarm kind, severity and state", () => {
+    const alarm = schemaDefs.Alarm.properties!;
+    for (const kind of alarm.kind.enum!) expect(alarmKindText(kind), kind).not.toBe(kind);
+    for (const severity of alarm.severity.enum!) expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
+    for (const state of alarm.state.enum!) expect((ALARM_STATE as Record<string, string>)[state]?.trim(), state).toBeTruthy();
+  });
+
+  it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {
+    expect(insWord("ON", "OPERATIONAL").text).toBe(`INS ${inline(insStatusText("OPERATIONAL")!)}`);
+    expect(insWord("ON", "OPERATIONAL")).toMatchObject({ text: "INS operational", title: "UMAA state: ON; UMAA status: OPERATIONAL" });
+    expect(insWord("ON", "INERTIAL_SENSOR_FAILURE").text).toBe("INS failed"); // as the alarm: "Alpha: INS failed"
+    expect(insWord("OFF", "INIT").text).toBe("INS off");
+    expect(fixWord(true)).toMatchObject({ text: "Fix valid", title: "UMAA fixValid: true" });
+    expect(positionSourceText(false)).toBe("INS position");
+    expect(positionSourceText(undefined)).toBe("—"); // no report: not said to be the INS's
+    expect(linkText("unreachable")).toBe("Not updating");
+    expect(inline("GPS 3D")).toBe("GPS 3D");
+  });
+
+  it("never says an INS that is off is starting up (an INS off reports INIT: UMAA has no off status)", () => {
+    expect(insStatusText("INIT", "OFF")).toBeNull();
+    expect(insStatusText("INIT", "RESTARTING")).toBe("Starting up");
+    expect(insStatusText("INERTIAL_SENSOR_FAILURE", "OFF")).toBe("Failed");
+  });
+
+  it("says the receiver's fix state as what the vehicle reports, never as a command's progress", () => {
+    expect(fixStateBadge("INITIATING")).toBe("Receiver: initiating a fix");
+    expect(fixStateBadge("STABLE")).toBe("Receiver: fix stable");
+  });
+});
 
 describe("operator labels", () => {
   it("says UMAA literals in plain words and keeps the literal for the tooltip", () => {
@@ -28,12 +84,13 @@ describe("operator labels", () => {
     expect(umaa("navSolution", null)).toBeUndefined();
     expect(insStateText("RESTARTING")).toBe("Restarting");
     expect(insStatusText("COURSE_STATIONARY_ALIGNMENT")).toBe("Coarse alignment, stationary");
-    expect(insStatusText("INERTIAL_SENSOR_FAILURE")).toBe("Sensor failure");
+    expect(insStatusText("INERTIAL_SENSOR_FAILURE")).toBe("Failed");
     expect(alignmentStepText("FINE_STATIONARY_ALIGNMENT_STARTED")).toBe("Fine alignment");
-    expect(fixCommandText("STABLE")).toBe("Stable");
+    expect(fixStateText("STABLE")).toBe("Fix stable");
     expect(commandStatusText("EXECUTING")).toBe("In progress");
     expect(commandStatusText("CANCELED")).toBe("Cancelled");
     expect(reasonText("RESOURCE_REJECTED")).toBe("the vehicle refused it");
+    expect(reasonText("RESOURCE_FAILED")).toBe("the equipment failed"); // as the alarm says it (the backend's table)
     expect(taskStateText("HELD")).toBe("Hold sent");
     expect(taskStateText("INTERRUPTED")).toBe("Interrupt sent");
     expect(sensorText("SIDESCAN")).toBe("Side-scan sonar");

@@ -1,15 +1,56 @@
-// Operator words for the UMAA (and CoMap) literals the panels show. An operator at sea reads "Dead
-// reckoning", not GPS_DEAD_RECK; the literal stays available in a tooltip (`umaa`), for the engineer
-// comparing the screen with a log. A literal this table does not know (a newer ICD, another vendor's
-// value) is shown as it is rather than hidden.
-import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType } from "../api/types";
+// Operator words for the UMAA (and CoMap) literals and the console's own states, from the one table the backend
+// owns and publishes (backend/sem_console/core/words.py -> schema/words.json; the backend's alarm texts say the same
+// words). An operator at sea reads "Dead reckoning", not GPS_DEAD_RECK; the literal stays available in a tooltip
+// (`umaa`), for the engineer comparing the screen with a log. A literal the table does not know (a newer ICD, another
+// vendor's value) is shown as it is rather than hidden. Every place that names a state takes its words from here.
+import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState } from "../api/types";
+import type { Alarm, GPSFixEnumType, GPSNavigationSolutionEnumType } from "../api/generated/ws";
+import WORDS from "../../schema/words.json";
 import { DASH, elapsedText } from "./units";
 
-type Words<T extends string> = Record<T, string>;
+// Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
+type Words<T extends string> = Readonly<Record<T, string>>;
+type CommandStatus = "ISSUED" | "COMMANDED" | "EXECUTING" | "COMPLETED" | "FAILED" | "CANCELED";
+type CommandReason = "SUCCEEDED" | "CANCELED" | "VALIDATION_FAILED" | "OBJECTIVE_FAILED" | "SERVICE_FAILED" | "RESOURCE_FAILED" | "RESOURCE_REJECTED" | "INTERRUPTED" | "TIMEOUT";
+export const FIX_STATE: Words<GPSFixEnumType> = WORDS.GPSFixEnumType;
+export const NAV_SOLUTION: Words<GPSNavigationSolutionEnumType> = WORDS.GPSNavigationSolutionEnumType;
+export const CONSTELLATION: Words<GPSConstellationEnumType> = WORDS.GPSConstellationEnumType;
+export const INS_STATE: Words<InertialSensorStateEnumType> = WORDS.InertialSensorStateEnumType;
+export const INS_STATUS: Words<InertialSensorOpStatusEnumType> = WORDS.InertialSensorOpStatusEnumType;
+export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
+export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
+export const LINK: Words<LinkState | "stale" | "unreachable"> = WORDS.link;
+export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
+export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
+export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
+export const ALARM_SEVERITY: Words<Alarm["severity"]> = WORDS.alarmSeverity;
+export const ALARM_STATE: Words<Alarm["state"]> = WORDS.alarmState;
+const TASK_STATE: Words<"ASSIGNED" | "ACCEPTED" | "REJECTED" | "IN_PROGRESS" | "HELD" | "COMPLETED" | "ERROR" | "INTERRUPTED"> = WORDS.taskState;
+const TASK_KIND: Words<"survey" | "move"> = WORDS.taskKind;
+const SENSOR: Words<"ANY" | "SIDESCAN" | "MULTIBEAM" | "CAMERA" | "MAGNETOMETER"> = WORDS.sensor;
+const COVERAGE: Words<"NONE" | "PARTIAL" | "COMPLETED"> = WORDS.coverage;
+
+/** The tables of the UMAA enumerations, by the enumeration's name (labels.test.ts checks every literal the console's
+ * schema has against them). */
+export const UMAA_WORDS: Readonly<Record<string, Readonly<Record<string, string>>>> = {
+  GPSFixEnumType: FIX_STATE,
+  GPSNavigationSolutionEnumType: NAV_SOLUTION,
+  GPSConstellationEnumType: CONSTELLATION,
+  InertialSensorStateEnumType: INS_STATE,
+  InertialSensorOpStatusEnumType: INS_STATUS,
+  CommandStatusEnumType: COMMAND_STATUS,
+  CommandStatusReasonEnumType: REASON,
+};
 
 function lookup<T extends string>(words: Words<T>, v: string | null | undefined): string {
   if (v === null || v === undefined || v === "") return DASH;
   return (words as Record<string, string>)[v] ?? v;
+}
+
+/** A word inside a phrase: its first letter lowered, unless it starts an abbreviation ("GPS 3D"); as the backend's
+ * `words.inline`. */
+export function inline(words: string): string {
+  return words.length > 1 && words[1] === words[1].toUpperCase() && words[1] !== words[1].toLowerCase() ? words : words.slice(0, 1).toLowerCase() + words.slice(1);
 }
 
 /** The tooltip that keeps the protocol's word: "UMAA navSolution: GPS_DEAD_RECK". */
@@ -17,52 +58,71 @@ export function umaa(field: string, literal: string | null | undefined): string 
   return literal === null || literal === undefined || literal === "" ? undefined : `UMAA ${field}: ${literal}`;
 }
 
-const INS_STATE: Words<InertialSensorStateEnumType> = { OFF: "Off", ON: "On", RESTARTING: "Restarting" };
-
 export function insStateText(v: string | null | undefined): string {
   return lookup(INS_STATE, v);
 }
 
-const INS_STATUS: Words<InertialSensorOpStatusEnumType> = {
-  INIT: "Starting up",
-  COURSE_STATIONARY_ALIGNMENT: "Coarse alignment, stationary",
-  COURSE_GPS_ALIGNMENT: "Coarse alignment, GPS-aided",
-  FINE_STATIONARY_ALIGNMENT_STARTED: "Fine alignment, stationary",
-  FINE_GPS_ALIGNMENT_STARTED: "Fine alignment, GPS-aided",
-  FINE_STATIONARY_ALIGNMENT_COMPLETE: "Fine alignment done",
-  FINE_GPS_ALIGNMENT_COMPLETE: "Fine alignment done, GPS-aided",
-  OPERATIONAL: "Operational",
-  INERTIAL_SENSOR_FAILURE: "Sensor failure",
-};
-
-export function insStatusText(v: string | null | undefined): string {
+/** The INS's status in words, or null when it says nothing beside its state: an INS that is off reports INIT (UMAA
+ * has no "off" status), which is no "Starting up". */
+export function insStatusText(v: string | null | undefined, state?: string | null): string | null {
+  if (state === "OFF" && v === "INIT") return null;
   return lookup(INS_STATUS, v);
 }
 
-/** The alignment steps as the INS panel lists them (the stationary names, GPS-aided stages map onto them). */
-export function alignmentStepText(v: InertialSensorOpStatusEnumType): string {
-  if (v === "COURSE_STATIONARY_ALIGNMENT") return "Coarse alignment";
-  if (v === "FINE_STATIONARY_ALIGNMENT_STARTED") return "Fine alignment";
-  return insStatusText(v);
+/** A state in words, the tone of its colour (colour is never the only cue) and its tooltip (the literal). */
+export type Tone = "ok" | "warn" | "bad" | "info" | "muted";
+export interface Word {
+  text: string;
+  tone: Tone;
+  title?: string;
 }
 
-const FIX_COMMAND: Words<"INITIATING" | "PERFORMING" | "STABLE"> = { INITIATING: "Starting", PERFORMING: "In progress", STABLE: "Stable" };
-
-/** GPSFixReport.GPSFixCommandStatus: where the receiver is with a commanded fix. */
-export function fixCommandText(v: string | null | undefined): string {
-  return lookup(FIX_COMMAND, v);
+/** The INS in one phrase, as the fleet bar and the vehicle list say it: its state when that is not ON ("INS off",
+ * "INS restarting"), else its status ("INS operational", "INS coarse alignment, stationary", "INS failed"). */
+export function insWord(state: string | null | undefined, status: string | null | undefined): Word {
+  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: "no inertial sensor report yet" };
+  const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
+  if (status === "INERTIAL_SENSOR_FAILURE") return { text: `INS ${inline(INS_STATUS.INERTIAL_SENSOR_FAILURE)}`, tone: "bad", title };
+  if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
+  const said = insStatusText(status, state);
+  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: status === "OPERATIONAL" ? "ok" : "warn", title };
 }
 
-const NAV_SOLUTION: Words<"GPS_1" | "GPS_2" | "GPS_2D" | "GPS_3" | "GPS_3D" | "GPS_4" | "GPS_DEAD_RECK" | "NO_NAV"> = {
-  GPS_1: "GPS, 1 satellite",
-  GPS_2: "GPS, 2 satellites",
-  GPS_2D: "GPS 2D",
-  GPS_3: "GPS, 3 satellites",
-  GPS_3D: "GPS 3D",
-  GPS_4: "GPS, 4 satellites",
-  GPS_DEAD_RECK: "Dead reckoning",
-  NO_NAV: "No navigation",
-};
+/** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
+export function fixWord(fixValid: boolean | null | undefined): Word {
+  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: "no GPS fix status yet" };
+  const literal = fixValid ? "true" : "false";
+  return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
+}
+
+/** GPSFixReport.GPSLatLongValid: whose position it is ("GPS position", "INS position"). */
+export function positionSourceText(valid: boolean | null | undefined): string {
+  return typeof valid === "boolean" ? POSITION_SOURCE[valid ? "true" : "false"] : DASH;
+}
+
+/** The alignment steps as the INS panel lists them: stages, which the stationary and GPS-aided statuses both go through
+ * (the status badge says which). */
+export type AlignmentStep = "INIT" | "COURSE_STATIONARY_ALIGNMENT" | "FINE_STATIONARY_ALIGNMENT_STARTED" | "FINE_STATIONARY_ALIGNMENT_COMPLETE" | "OPERATIONAL";
+const ALIGNMENT_STEP: Words<AlignmentStep> = WORDS.insAlignmentStep;
+export function alignmentStepText(v: AlignmentStep): string {
+  return lookup(ALIGNMENT_STEP, v);
+}
+
+/** GPSFixReport.GPSFixCommandStatus: the receiver's own fix state, reported whether or not a fix was commanded. */
+export function fixStateText(v: string | null | undefined): string {
+  return lookup(FIX_STATE, v);
+}
+
+/** The fix state as the Fix panel's badge says it: what the vehicle reports of its receiver ("Receiver: initiating a
+ * fix"), never worded as a command's progress: it reports this with no command sent too. */
+export function fixStateBadge(v: string | null | undefined): string {
+  return `Receiver: ${inline(fixStateText(v))}`;
+}
+
+export function fixStateTitle(v: string | null | undefined): string | undefined {
+  const literal = umaa("GPSFixCommandStatus", v);
+  return literal && `${literal} (the receiver's state as the vehicle reports it, whether or not a fix was commanded)`;
+}
 
 export function navSolutionText(v: string | null | undefined): string {
   return lookup(NAV_SOLUTION, v);
@@ -73,89 +133,43 @@ export function timeOutText(v: boolean | null | undefined): string {
   return v === true ? "Timed out, no fix in time" : v === false ? "Not timed out" : DASH;
 }
 
-const CONSTELLATION: Words<GPSConstellationEnumType> = {
-  UNKNOWN: "Unknown",
-  BEIDOU: "BeiDou",
-  GALILEO: "Galileo",
-  GLONASS: "GLONASS",
-  GPS: "GPS",
-  IRNSS: "NavIC",
-  QZSS: "QZSS",
-  SBAS: "SBAS",
-};
-
 export function constellationText(v: string | null | undefined): string {
   return lookup(CONSTELLATION, v);
 }
-
-// UMAA CommandStatusEnumType and CommandStatusReasonEnumType (ICD Figure 4)
-const COMMAND_STATUS: Words<"ISSUED" | "COMMANDED" | "EXECUTING" | "COMPLETED" | "FAILED" | "CANCELED"> = {
-  ISSUED: "Received",
-  COMMANDED: "Accepted",
-  EXECUTING: "In progress",
-  COMPLETED: "Completed",
-  FAILED: "Failed",
-  CANCELED: "Cancelled",
-};
 
 export function commandStatusText(v: string | null | undefined): string {
   return lookup(COMMAND_STATUS, v);
 }
 
-const REASON: Words<"SUCCEEDED" | "CANCELED" | "VALIDATION_FAILED" | "OBJECTIVE_FAILED" | "SERVICE_FAILED" | "RESOURCE_FAILED" | "RESOURCE_REJECTED" | "INTERRUPTED" | "TIMEOUT" | "UPDATED"> = {
-  SUCCEEDED: "",
-  CANCELED: "as asked",
-  VALIDATION_FAILED: "the vehicle found the request invalid",
-  OBJECTIVE_FAILED: "the goal could not be reached",
-  SERVICE_FAILED: "the vehicle's service failed",
-  RESOURCE_FAILED: "the equipment failed",
-  RESOURCE_REJECTED: "the vehicle refused it",
-  INTERRUPTED: "another command took over",
-  TIMEOUT: "timed out",
-  UPDATED: "updated",
-};
-
-/** A transition's reason in words; "" when it says nothing more than the status (SUCCEEDED). */
+/** A transition's reason in words, inside a phrase ("the equipment failed"); "" when it says nothing more than the
+ * status (SUCCEEDED). */
 export function reasonText(v: string | null | undefined): string {
-  if (v === null || v === undefined || v === "") return "";
-  return lookup(REASON, v);
+  if (v === null || v === undefined || v === "" || v === "SUCCEEDED") return "";
+  return inline(lookup(REASON, v));
+}
+
+/** A vehicle's link in a word ("Live", "Stale", "Lost"). */
+export function linkText(v: LinkState | "stale" | "unreachable"): string {
+  return lookup(LINK, v);
+}
+
+/** What an alarm is about, as a heading ("Link lost"). */
+export function alarmKindText(v: string): string {
+  return lookup(ALARM_KIND, v);
 }
 
 // CoMap (IMC) tasks
-const TASK_STATE: Words<"ASSIGNED" | "ACCEPTED" | "REJECTED" | "IN_PROGRESS" | "HELD" | "COMPLETED" | "ERROR" | "INTERRUPTED"> = {
-  ASSIGNED: "Sent",
-  ACCEPTED: "Accepted",
-  REJECTED: "Refused",
-  IN_PROGRESS: "In progress",
-  HELD: "Hold sent", // CoMap has no acknowledgement of a SynchAdmin: what was sent, not what the vehicle did
-  COMPLETED: "Completed",
-  ERROR: "Error",
-  INTERRUPTED: "Interrupt sent",
-};
-
 export function taskStateText(v: string | null | undefined): string {
   return lookup(TASK_STATE, v);
 }
-
-const TASK_KIND: Words<"survey" | "move"> = { survey: "Survey", move: "Move" };
 
 export function taskKindText(v: string | null | undefined): string {
   return lookup(TASK_KIND, v);
 }
 
-const SENSOR: Words<"ANY" | "SIDESCAN" | "MULTIBEAM" | "CAMERA" | "MAGNETOMETER"> = {
-  ANY: "Any sensor",
-  SIDESCAN: "Side-scan sonar",
-  MULTIBEAM: "Multibeam sonar",
-  CAMERA: "Camera",
-  MAGNETOMETER: "Magnetometer",
-};
-
 export function sensorText(v: string | null | undefined): string {
   return lookup(SENSOR, v);
 }
-
-const COVERAGE: Words<"NONE" | "PARTIAL" | "COMPLETED"> = { NONE: "Not covered", PARTIAL: "Partly covered", COMPLETED: "Covered" };
 
 /** A world-model feature's coverage; null: no survey has reported on it. */
 export function coverageText(v: string | null | undefined): string {

@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import { inTimeOrder, mergeCommands } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
-import { freshness, nextInterval, staleAfter, stateWords } from "./freshness";
+import { freshness, freshnessText, nextInterval, pageLink, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
@@ -108,12 +108,21 @@ describe("unit formatting", () => {
 
 describe("freshness", () => {
   it("is live within the allowance, stale after, lost when the link is lost", () => {
-    expect(freshness(0.5, "GPSFixReport", 0.1, "live")).toBe("live");
-    expect(freshness(2.0, "GPSFixReport", 0.1, "live")).toBe("stale");
-    expect(freshness(2.0, "GPSReport", 1.0, "live")).toBe("live");
-    expect(freshness(3.5, "GPSReport", 1.0, "regained")).toBe("stale");
-    expect(freshness(0.1, "GPSReport", 1.0, "lost")).toBe("lost");
-    expect(freshness(null, "GPSReport", null, "live")).toBe("none");
+    expect(freshness(0.5, "GPSFixReport", 0.1, "live", true)).toBe("live");
+    expect(freshness(2.0, "GPSFixReport", 0.1, "live", true)).toBe("stale");
+    expect(freshness(2.0, "GPSReport", 1.0, "live", true)).toBe("live");
+    expect(freshness(3.5, "GPSReport", 1.0, "regained", true)).toBe("stale");
+    expect(freshness(0.1, "GPSReport", 1.0, "lost", true)).toBe("lost");
+    expect(freshness(null, "GPSReport", null, "live", true)).toBe("none");
+  });
+  it("says at once that nothing is current when the page does not hear the console, however recent the data", () => {
+    expect(freshness(0.1, "GPSFixReport", 0.1, "live", false)).toBe("unreachable");
+    expect(freshnessText("unreachable", false)).toBe("Not updating");
+    expect(pageLink("live", 0.1, 3, false)).toBe("unreachable");
+    expect(pageLink("regained", 0.1, 3, false)).toBe("unreachable");
+    expect(pageLink("lost", 30, 3, false)).toBe("lost"); // the worse of what it may be now
+    expect(pageLink("live", 0.1, 3, true)).toBe("live");
+    expect(pageLink("live", 4, 3, true)).toBe("stale");
   });
   it("allows three observed intervals for slow topics", () => {
     expect(staleAfter("InertialSensorReport", 2)).toBe(6);

@@ -1,10 +1,25 @@
 import { describe, expect, it } from "vitest";
 import { edgeMark } from "./geo";
-import { clearOf, edgeBoxes, type Box } from "./mapOverlay";
+import type { VehicleMark } from "./geo";
+import { clearOf, edgeBoxes, labelRank, type Box } from "./mapOverlay";
 
 const W = 800;
 const H = 500;
 const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+
+describe("whose name wins where names overlap", () => {
+  const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
+    id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, ...over,
+  });
+  it("the selected vehicle's first, then those in alarm or lost, then the others in the fleet's order", () => {
+    const fleet = [mark("well"), mark("alarmed", { alarmed: true }), mark("lost", { link: "lost" }), mark("selected", { selected: true })];
+    const placed = [...fleet].sort((a, b) => labelRank(a) - labelRank(b)).map((m) => m.id);
+    expect(placed).toEqual(["selected", "alarmed", "lost", "well"]);
+    // placed first, an alarmed vehicle's name is the one shown where it would cover a well one's
+    const box = { x: 10, y: 10, w: 80, h: 16 };
+    expect(clearOf([box, box])).toEqual([true, false]);
+  });
+});
 
 describe("edge arrows", () => {
   it("a few arrows all get a place, none moved", () => {

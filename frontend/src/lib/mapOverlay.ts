@@ -6,7 +6,7 @@
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
-import { lastHeardText } from "./labels";
+import { inline, lastHeardText, linkText } from "./labels";
 import { projectionText } from "./projection";
 import { vehicleColor } from "./vehicle";
 
@@ -76,6 +76,12 @@ export function edgeBoxes(arrows: { edge: EdgeMark; w: number; h: number }[], wi
     placed.push(box);
     return box;
   });
+}
+
+/** Whose name is placed first where names would cover one another, and whose edge arrow: the selected vehicle's (0),
+ * then those of vehicles lost or in alarm (1), then the others (2). */
+export function labelRank(mark: VehicleMark): number {
+  return mark.selected ? 0 : mark.link === "lost" || mark.alarmed ? 1 : 2;
 }
 
 export class VehicleOverlay {
@@ -262,7 +268,8 @@ export class VehicleOverlay {
    * cover one another are stacked towards the middle of their side, by at most MAX_STACK places: one moved further
    * would point from nowhere near its vehicle (with 250 vehicles and the map zoomed in, 247 arrows stood in two
    * columns over the map). Those left over are counted in a "+N more" note in the map's top left corner, which no
-   * arrow covers. The selected vehicle's arrow and the lost vehicles' are placed first: never the ones left out. */
+   * arrow covers. The selected vehicle's arrow, then those of the vehicles lost or in alarm, are placed first (`labelRank`):
+   * never the ones left out. */
   readonly place = (): void => {
     this.placeRing();
     const { width, height } = this;
@@ -281,12 +288,12 @@ export class VehicleOverlay {
         inside.push([m, p]);
       }
     }
-    const rank = ([m]: [Marker, unknown]) => (m.mark.selected ? 0 : m.mark.link === "lost" ? 1 : 2);
+    const rank = ([m]: [Marker, unknown]) => labelRank(m.mark);
     // stable: the others in the fleet's order, so that the same names stay shown as the map moves
     inside.sort((a, b) => rank(a) - rank(b));
     outside.sort((a, b) => rank(a) - rank(b));
     // names that would cover one another: the first shown, the others left to their dots (along a coast, most of
-    // 250 names could not be read); the selected vehicle's and the lost ones' come first
+    // 250 names could not be read); the selected vehicle's, then those lost or in alarm, come first
     // the names and arrows not measured yet (a new text): all shown first, then all read, so that the page is laid
     // out once, not once per element (a hidden one has no size)
     const newNames = inside.filter(([m]) => m.labelSize === null);
@@ -318,7 +325,7 @@ export class VehicleOverlay {
       m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
       m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
       const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, this.positionOf(m)));
-      const said = `${m.mark.label}${m.mark.link === "lost" ? " (lost)" : ""}: outside the map, ${away} from its middle. Show it`;
+      const said = `${m.mark.label}${m.mark.link === "lost" ? ` (${inline(linkText("lost"))})` : ""}: outside the map, ${away} from its middle. Show it`;
       if (m.edge.getAttribute("aria-label") !== said) {
         m.edge.setAttribute("aria-label", said);
         m.edge.title = `${said} and select it`;

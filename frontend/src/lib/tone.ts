@@ -3,6 +3,7 @@
 // is unavailable or not yet allowed, nothing throws and the screen still shows the alarm.
 import type { Alarm } from "../api/generated/ws";
 import { utc } from "./units";
+import { ALARM_SEVERITY } from "./labels";
 
 let context: AudioContext | null = null;
 
@@ -82,7 +83,7 @@ export class NewAlarms {
  * with its newest few named first, or the screen reader would read on for minutes and hide whatever comes next. */
 export const SAID_AT_MOST = 3;
 export function alarmWords(fresh: readonly Alarm[]): string {
-  const one = (a: Alarm) => `${a.severity === "alarm" ? "Alarm" : "Warning"}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`;
+  const one = (a: Alarm) => `${ALARM_SEVERITY[a.severity]}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`;
   if (fresh.length <= SAID_AT_MOST) return fresh.map(one).join(". ");
   const newest = [...fresh].sort((a, b) => b.since - a.since || b.id - a.id);
   return `${newest.slice(0, SAID_AT_MOST - 1).map(one).join(". ")}. And ${fresh.length - (SAID_AT_MOST - 1)} more new alarms: see the alarm list`;

@@ -84,6 +84,14 @@ export function clockDuration(seconds: number): string {
   return hh ? `${hh}:${mm}:${ss}` : `${mm}:${ss}`;
 }
 
+/** CoMap's (IMC's) survey resolution unit, of a vehicle's capabilities and of a SurveyTask alike. */
+export const RESOLUTION_UNIT = "px/m²";
+
+/** A survey resolution: "4 px/m²". */
+export function resolution(v: number | null | undefined): string {
+  return isNum(v) ? `${v} ${RESOLUTION_UNIT}` : DASH;
+}
+
 export function yesNo(v: boolean | null | undefined): string {
   return v === true ? "yes" : v === false ? "no" : DASH;
 }

@@ -11,20 +11,17 @@ import { useToken } from "../data/auth";
 import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useStore } from "../data/hooks";
 import { LastHeard } from "../components/LastHeard";
 import { select, unacknowledged } from "../data/store";
+import { ALARM_SEVERITY, ALARM_STATE } from "../lib/labels";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
 import "./fleet.css";
 
 const SEVERITY: Record<Alarm["severity"], { text: string; tone: string }> = {
-  alarm: { text: "Alarm", tone: "bad" },
-  warning: { text: "Warning", tone: "warn" },
+  alarm: { text: ALARM_SEVERITY.alarm, tone: "bad" },
+  warning: { text: ALARM_SEVERITY.warning, tone: "warn" },
 };
 
-const STATE: Record<Alarm["state"], string> = {
-  "active-unacknowledged": "Unacknowledged",
-  "active-acknowledged": "Acknowledged",
-  "cleared-unacknowledged": "Cleared, unacknowledged",
-};
+const STATE: Record<Alarm["state"], string> = ALARM_STATE;
 
 /** An acknowledge that failed, in words: the console's answer, or "console unreachable" when none came. */
 function failure(e: unknown): string {

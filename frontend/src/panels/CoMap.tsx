@@ -15,6 +15,7 @@ import { LastHeard, LostFor } from "../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import { FINISHED } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
+import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -46,10 +47,10 @@ function imc(field: string, literal: string | null | undefined): string | undefi
 }
 
 /** One VehicleCapabilities entry as the operator reads it. */
-function capabilityText(c: Capability): string {
+export function capabilityText(c: Capability): string {
   const parts: string[] = [c.kind === "AREA_SURVEY" ? "area survey" : c.kind === "POINT_SURVEY" ? "point survey" : "move"];
   if (c.sensor) parts.push(sensorText(c.sensor).toLowerCase());
-  if (typeof c.resolution === "number") parts.push(`${c.resolution} px/m²`);
+  if (typeof c.resolution === "number") parts.push(resolutionText(c.resolution));
   if (typeof c.coverageRate === "number") parts.push(`${c.coverageRate} m²/s`);
   if (typeof c.duration === "number") parts.push(`${c.duration} s`);
   if (typeof c.speed === "number") parts.push(`${c.speed} m/s`);
@@ -58,15 +59,15 @@ function capabilityText(c: Capability): string {
 
 /** What waits for the operator's Confirm, bound to the vehicle it was prepared for, and to whether that
  * vehicle was lost then (the confirmation then says so, as the UMAA commands' do). */
-type Pending = { target: VehicleIdentity; lost: boolean } & (
+export type Pending = { target: VehicleIdentity; lost: boolean } & (
   | { kind: "move"; point: LonLat }
   | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: string }
   | { kind: "synch"; task: Task; action: SynchAction }
 );
 
-function pendingText(p: Pending): string {
+export function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
-  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, ${p.resolution} m resolution${p.deadline ? `, by ${p.deadline.replace("T", " ")} UTC` : ""}?`;
+  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline ? `, by ${p.deadline.replace("T", " ")} UTC` : ""}?`;
   return `${SYNCH_WORDS[p.action]} task ${p.task.taskId} (${taskKindText(p.task.kind).toLowerCase()}) of ${vehicleLabel(p.target)}?`;
 }
 
@@ -278,7 +279,8 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
             </option>
           ))}
         </select>
-        <input aria-label="Resolution (m)" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <input aria-label={`Resolution (${RESOLUTION_UNIT})`} title="survey resolution, in the unit of the vehicles' capabilities" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <span className="muted">{RESOLUTION_UNIT}</span>
         <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button
           className="small"

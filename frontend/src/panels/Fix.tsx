@@ -1,13 +1,13 @@
 import { Field, Foldable, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
 import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
-import { freshness } from "../lib/freshness";
-import { fixCommandText, navSolutionText, timeOutText, umaa } from "../lib/labels";
+import { freshness, notCurrent } from "../lib/freshness";
+import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, positionSourceText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
 export function FixPanel() {
@@ -22,6 +22,7 @@ function FixBody() {
   const selected = useSelector((s) => s.selected);
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const link = useSelectedLink();
+  const receiving = useReceiving();
   const now = useNow();
   const history = useHistory(link ? selected : null);
   const [useDms, setDms] = useDmsSetting();
@@ -31,10 +32,10 @@ function FixBody() {
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
   const stAge = statusView ? Math.max(0, now - statusView.at) : null;
-  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link);
-  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link);
-  const sFix = fFix === "stale" || fFix === "lost";
-  const sSt = fSt === "stale" || fSt === "lost";
+  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving);
+  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving);
+  const sFix = notCurrent(fFix);
+  const sSt = notCurrent(fSt);
   const inv = (path: string) => invalidFor(fixView?.envelope.invalid, path);
   const invS = (path: string) => invalidFor(statusView?.envelope.invalid, path);
   const lat = fix?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
@@ -61,13 +62,13 @@ function FixBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid">
-              {st?.fixValid ? "Fix valid" : st?.fixValid === false ? "No fix" : DASH}
+            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid).title}>
+              {typeof st?.fixValid === "boolean" ? fixWord(st.fixValid).text : DASH}
             </span>
-            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}>
-              {fix?.GPSLatLongValid ? "GPS position" : "INS position"}
+            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} title={umaa("GPSLatLongValid", typeof fix?.GPSLatLongValid === "boolean" ? String(fix.GPSLatLongValid) : null)}>
+              {positionSourceText(fix?.GPSLatLongValid)}
             </span>
-            <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={umaa("GPSFixCommandStatus", fix?.GPSFixCommandStatus)}>GPS fix {fixCommandText(fix?.GPSFixCommandStatus).toLowerCase()}</span>
+            <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={fixStateTitle(fix?.GPSFixCommandStatus)}>{fixStateBadge(fix?.GPSFixCommandStatus)}</span>
             <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
           </div>
           <div className="fields">

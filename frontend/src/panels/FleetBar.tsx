@@ -4,17 +4,15 @@
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
 import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
 import type { Alarm } from "../api/generated/ws";
-import type { LinkState } from "../api/types";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
 import { lastHeardAt, pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
-import { RECORDED_TITLE, stateWords } from "../lib/freshness";
-import { umaa } from "../lib/labels";
+import { RECORDED_TITLE, pageLink, stateWords, type PageLink } from "../lib/freshness";
+import { ALARM_SEVERITY, fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
 import { LastHeard } from "../components/LastHeard";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
-import { DASH } from "../lib/units";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
 import { unreachable as isUnreachable } from "../data/source";
@@ -25,48 +23,27 @@ const SAME_BAR = sameOverview();
 /** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
 export const STALE_AFTER_S = 3;
 
-export type FleetLink = LinkState | "stale";
-export type Tone = "ok" | "warn" | "bad" | "info" | "muted";
+export type FleetLink = PageLink;
 
-/** A state in words with its colour: colour is never the only cue. */
-export interface Word {
-  text: string;
-  tone: Tone;
-  title?: string;
-}
-
-/** The console's link state, or "stale" for a live vehicle that has been silent a few seconds. */
-export function fleetLink(p: ProviderView, now: number): FleetLink {
+/** The vehicle's link as the page can vouch for it (`pageLink`): "stale" for a live vehicle silent a few seconds,
+ * "unreachable" at once when the page does not hear the console. */
+export function fleetLink(p: ProviderView, now: number, receiving: boolean): FleetLink {
   const seen = lastHeardAt(p);
-  return p.link === "live" && seen !== null && now - seen > STALE_AFTER_S ? "stale" : p.link;
+  return pageLink(p.link, seen === null ? null : now - seen, STALE_AFTER_S, receiving);
 }
 
+const UNREACHABLE_TITLE = "the console cannot be reached: the last state it sent, not updating";
 const LINK: Record<FleetLink, Word> = {
-  live: { text: "Live", tone: "ok" },
-  regained: { text: "Regained", tone: "info", title: "back after a loss, not yet steady" },
-  stale: { text: "Stale", tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
-  lost: { text: "Lost", tone: "bad", title: "no report within the link timeout" },
+  live: { text: linkText("live"), tone: "ok", title: "reports arriving" },
+  regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
+  stale: { text: linkText("stale"), tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
+  lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
+  unreachable: { text: linkText("unreachable"), tone: "muted", title: UNREACHABLE_TITLE },
 };
 
 type FixValid = GPSFixStatusReportType["fixValid"] | undefined; // undefined: no report yet
-
-export function fixWord(fixValid: FixValid): Word {
-  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: "no GPS fix status yet" };
-  return fixValid ? { text: "Fix", tone: "ok", title: umaa("fixValid", "true") } : { text: "No fix", tone: "warn", title: umaa("fixValid", "false") };
-}
-
 type InsState = InertialSensorReportType["state"] | undefined;
 type InsStatus = InertialSensorReportType["status"] | undefined;
-
-export function insWord(state: InsState, status: InsStatus): Word {
-  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: "no inertial sensor report yet" };
-  const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
-  if (status === "INERTIAL_SENSOR_FAILURE") return { text: "INS failed", tone: "bad", title };
-  if (state === "OFF") return { text: "INS off", tone: "warn", title };
-  if (state === "RESTARTING") return { text: "INS restarting", tone: "warn", title };
-  if (status === "OPERATIONAL") return { text: "INS ready", tone: "ok", title };
-  return { text: "INS aligning", tone: "warn", title };
-}
 
 function name(p: { id: string; name: string | null }): string {
   return p.name ?? shortId(p.id);
@@ -93,7 +70,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
   const l = LINK[link];
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
-  const old = link === "lost" ? " (last known)" : "";
+  const old = link === "lost" || link === "unreachable" ? " (last known)" : "";
   return (
     <button
       className={`fleet-chip fleet-${l.tone}${selected ? " selected" : ""}`}
@@ -198,11 +175,13 @@ export function FleetBar() {
     for (const a of open) if (a.providerId) m.set(a.providerId, (m.get(a.providerId) ?? 0) + 1);
     return m;
   }, [open]);
-  const all = providers.map((p) => ({ p, link: fleetLink(p, now) }));
+  const receiving = useReceiving();
+  const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
   const lost = all.filter((c) => c.link === "lost");
-  // a vehicle silent for seconds (or all of them, with the console unreachable) is not counted live
+  // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
   const stale = all.filter((c) => c.link === "stale").length;
-  const live = all.length - lost.length - stale;
+  const notUpdating = all.filter((c) => c.link === "unreachable").length;
+  const live = all.length - lost.length - stale - notUpdating;
   // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
   // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
   const alarmed = all.filter((c) => c.link !== "lost" && byVehicle.has(c.p.id));
@@ -230,16 +209,22 @@ export function FleetBar() {
       </div>
       <div className="fleet-counts">
         <span className="fleet-counts" role="status">
-          <span className={`fleet-count tone-${live ? "ok" : "muted"}${recorded ? " recorded" : ""}`} data-testid="fleet-live" title={recorded ? RECORDED_TITLE : undefined}>
-            {stateWords(`${live} live`, recorded)}
-          </span>
+          {notUpdating > 0 ? (
+            <span className="fleet-count tone-muted" data-testid="fleet-not-updating" title={UNREACHABLE_TITLE}>
+              {notUpdating} {inline(linkText("unreachable"))}
+            </span>
+          ) : (
+            <span className={`fleet-count tone-${live ? "ok" : "muted"}${recorded ? " recorded" : ""}`} data-testid="fleet-live" title={recorded ? RECORDED_TITLE : undefined}>
+              {stateWords(`${live} ${inline(linkText("live"))}`, recorded)}
+            </span>
+          )}
           {stale > 0 && (
             <span className="fleet-count tone-warn" data-testid="fleet-stale" title={`no report for over ${STALE_AFTER_S} s`}>
-              {stale} stale
+              {stale} {inline(linkText("stale"))}
             </span>
           )}
           <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
-            {lost.length} lost
+            {lost.length} {inline(linkText("lost"))}
           </span>
         </span>
         <button className={`fleet-count fleet-alarms tone-${open.length ? "bad" : "muted"}`} data-testid="fleet-alarms" onClick={showAlarms} title="show the alarm list">
@@ -259,7 +244,7 @@ export function FleetBar() {
           }}
           title="newest unacknowledged alarm: show it"
         >
-          {newest.severity === "alarm" ? "Alarm" : "Warning"}: {newest.text}
+          {ALARM_SEVERITY[newest.severity]}: {newest.text}
           {newest.state === "cleared-unacknowledged" && " (cleared)"}
         </button>
       )}

@@ -4,6 +4,7 @@ import { setToken, useToken } from "../data/auth";
 import { resetLayout, useThemeSetting, isThemeChoice } from "../data/settings";
 import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
+import { useOperatorName } from "../data/loaders";
 import { RecordControl } from "./Recording";
 
 const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
@@ -16,6 +17,7 @@ export function Header() {
   const authRequired = useSelector((s) => s.authRequired);
   const readAuthRequired = useSelector((s) => s.readAuthRequired);
   const token = useToken();
+  const operator = useOperatorName();
   const now = useNow(1000);
   const [draft, setDraft] = useState("");
   const [refused, setRefused] = useState<string | null>(null);
@@ -51,7 +53,7 @@ export function Header() {
       {((authRequired && command) || readAuthRequired) && // a replay commands nothing: a token matters only to read
         (token ? (
           <span className="signin" data-testid="signed-in">
-            Operator signed in <button onClick={() => setToken(null)}>Sign out</button>
+            {operator ? <>Signed in as <b data-testid="operator-name">{operator}</b></> : "Signed in"} <button onClick={() => setToken(null)}>Sign out</button>
           </span>
         ) : (
           <form

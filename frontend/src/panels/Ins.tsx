@@ -1,14 +1,14 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Foldable, Panel } from "../components/Panel";
-import { useNow, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
-import { freshness } from "../lib/freshness";
-import { alignmentStepText, insStateText, insStatusText, umaa } from "../lib/labels";
+import { freshness, notCurrent } from "../lib/freshness";
+import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
 
-export const STEPS: readonly InertialSensorOpStatusEnumType[] = [
+export const STEPS: readonly AlignmentStep[] = [
   "INIT",
   "COURSE_STATIONARY_ALIGNMENT",
   "FINE_STATIONARY_ALIGNMENT_STARTED",
@@ -21,10 +21,11 @@ const GPS_STEPS: Partial<Record<InertialSensorOpStatusEnumType, number>> = {
   FINE_GPS_ALIGNMENT_COMPLETE: 3,
 };
 
-/** Index of a status in the alignment steps (GPS-aided stages map to their stationary peers), -1 if none. */
-export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined): number {
-  if (!status) return -1;
-  const i = STEPS.indexOf(status);
+/** Index of a status in the alignment steps (GPS-aided stages map to their stationary peers), -1 if none: also for an
+ * INS that is off, whose INIT is no step of an alignment (`insStatusText`). */
+export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined, state?: string | null): number {
+  if (!status || insStatusText(status, state) === null) return -1;
+  const i = (STEPS as readonly string[]).indexOf(status);
   return i >= 0 ? i : (GPS_STEPS[status] ?? -1);
 }
 
@@ -39,14 +40,16 @@ export function InsPanel() {
 function InsBody() {
   const view = useSelectedTopic("InertialSensorReport"); // drawn on the frame after it changed
   const link = useSelectedLink();
+  const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
   const ins = viewReport(view);
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link);
-  const stale = fresh === "stale" || fresh === "lost";
+  const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving);
+  const stale = notCurrent(fresh);
   const failed = ins?.status === "INERTIAL_SENSOR_FAILURE";
-  const current = stepIndex(ins?.status);
+  const current = stepIndex(ins?.status, ins?.state);
+  const status = insStatusText(ins?.status, ins?.state);
   return (
     <Panel title="Inertial sensor" testId="ins-panel" freshness={fresh} ageSeconds={ageS}>
       {gap ? (
@@ -57,8 +60,14 @@ function InsBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={umaa("state", ins.state)}>INS {insStateText(ins.state).toLowerCase()}</span>
-            <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>{insStatusText(ins.status)}</span>
+            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={[umaa("state", ins.state), status === null && umaa("status", ins.status)].filter(Boolean).join("; ")}>
+              INS {inline(insStateText(ins.state))}
+            </span>
+            {status !== null && (
+              <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
+                {status}
+              </span>
+            )}
             <span className="muted" data-testid="ins-time">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
           </div>
           {failed && (

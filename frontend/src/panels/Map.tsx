@@ -7,7 +7,7 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useNow, useProvidersOnFrame, useSelectedTopic, useSelector, useStore } from "../data/hooks";
+import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useStore } from "../data/hooks";
 import type { ProviderView } from "../data/store";
 import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
@@ -41,7 +41,12 @@ const StoredTracks = memo(function StoredTracks({ idList, ready }: { idList: str
  * CoMap controls, toolbar, status and legend), which renders at the fleet's rate. */
 const SelectedRing = memo(function SelectedRing({ overlay, vehicle, now, selected }: { overlay: VehicleOverlay | null; vehicle: ProviderView | undefined; now: number; selected: string | null }) {
   const fix = useSelectedTopic("GPSFixReport");
-  const mark = useMemo(() => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected) : null), [vehicle, fix, now, selected]);
+  const alarmed = useAlarmed();
+  const receiving = useReceiving();
+  const mark = useMemo(
+    () => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected, alarmed, receiving) : null),
+    [vehicle, fix, now, selected, alarmed, receiving],
+  );
   useSelectedRing(overlay, mark);
   return null;
 });
@@ -76,7 +81,12 @@ export function MapPanel() {
   const modelRef = useRef<FeatureCollection | null>(null); // what the edit tool moves vertices of
   // the fleet's marks (drawn by the map, named by the overlay, fitted and followed) change at the fleet's rate; the
   // selected vehicle's ring with its newest fix on every frame after one (SelectedRing)
-  const fleetAll = useMemo(() => fleet.map((p) => vehicleMark(p, now, selected)).filter((v): v is VehicleMark => v !== null), [fleet, now, selected]);
+  const alarmed = useAlarmed();
+  const receiving = useReceiving();
+  const fleetAll = useMemo(
+    () => fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving)).filter((v): v is VehicleMark => v !== null),
+    [fleet, now, selected, alarmed, receiving],
+  );
   const selectedVehicle = useMemo(() => fleet.find((v) => v.id === selected), [fleet, selected]);
   const fleetData = useMemo<FleetData>(
     () => ({

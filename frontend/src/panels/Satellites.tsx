@@ -1,11 +1,11 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
 import type { GPSSatelliteType } from "../api/types";
 import { Field, Foldable, Panel } from "../components/Panel";
-import { useNow, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
 import { useSelectedSatellitesLoaded } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { viewReport, type TrailPoint } from "../data/store";
-import { freshness } from "../lib/freshness";
+import { freshness, notCurrent } from "../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
 import { countRender } from "../lib/renders";
 import { constellationText } from "../lib/labels";
@@ -222,13 +222,14 @@ function SatellitesBody() {
   const view = useSelectedTopic("GPSReport");
   const trails = useSelectedTrails();
   const link = useSelectedLink();
+  const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
   const gps = viewReport(view);
   const sats = gps?.satellites ?? NO_SATELLITES;
   const ageS = view ? Math.max(0, now - view.at) : null;
-  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link);
-  const stale = fresh === "stale" || fresh === "lost";
+  const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving);
+  const stale = notCurrent(fresh);
   const used = sats.filter((s) => s.usedInFix === true).length;
   const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(([, n]) => n);
   const clock = gps?.clock;

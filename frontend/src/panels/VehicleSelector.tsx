@@ -1,13 +1,14 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { useFocusWhenGone } from "../components/focus";
 import { VehicleTag } from "../components/VehicleTag";
-import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, sameOverview, useSelector, useStore } from "../data/hooks";
+import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useStore } from "../data/hooks";
 import { lastHeardAt, report, select } from "../data/store";
 import { LastHeard } from "../components/LastHeard";
-import { RECORDED_TITLE, stateWords } from "../lib/freshness";
-import { insStatusText } from "../lib/labels";
+import { RECORDED_TITLE, pageLink, stateWords } from "../lib/freshness";
+import { fixWord, inline, insWord, linkText } from "../lib/labels";
 import { age } from "../lib/units";
 import { vehicleMatcher } from "../lib/vehicle";
+import { STALE_AFTER_S } from "./FleetBar";
 import { RenameVehicle } from "./RenameVehicle";
 
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
@@ -63,6 +64,7 @@ export function VehicleSelector() {
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
+  const receiving = useReceiving();
   const list = useRef<HTMLElement>(null);
   const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
   const [searches, setSearches] = useState(0); // a new search field (empty) each time the list clears it
@@ -118,9 +120,10 @@ export function VehicleSelector() {
       {matching.map((p) => {
         const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
-        const link = p.link === "live" && ageS !== null && ageS > 3 ? "stale" : p.link;
-        const fix = report(p, "GPSFixStatusReport");
+        const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
+        const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid);
         const ins = report(p, "InertialSensorReport");
+        const insSaid = insWord(ins?.state, ins?.status);
         return (
           <Fragment key={p.id}>
           <button
@@ -134,10 +137,10 @@ export function VehicleSelector() {
               <VehicleTag v={p} />
             </span>
             <span className={`link link-${link}${recorded ? " recorded" : ""}`} data-testid="vehicle-link" title={recorded ? RECORDED_TITLE : undefined}>
-              {stateWords(link, recorded)}
+              {stateWords(linkText(link), recorded)}
             </span>
             <span className="vehicle-meta">
-              {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span>
+              <span title={fix.title}>{inline(fix.text)}</span> · <span title={insSaid.title}>{insSaid.text}</span>
               {link === "lost" ? <> · <LastHeard since={seen} /></> : ` · ${age(ageS)}`}
             </span>
             <span className="vehicle-id muted">{p.id}</span>

@@ -26,6 +26,7 @@ from sem_console.api.deps import ConsoleDep
 from sem_console.api.responses import DATABASE_READ, Responses, problem
 from sem_console.api.schemas import iso_only
 from sem_console.console.service import Console
+from sem_console.core.words import word
 from sem_console.storage.models import SeriesPoint, TrackPoint
 
 router = APIRouter(tags=["history"], responses=DATABASE_READ)  # every route reads the database
@@ -192,12 +193,14 @@ async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range
 COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "operator", "station", "created_utc",
                        "acked_utc", "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by",
                        "canceled_on", "canceled_utc", "closed_unheard", "closed_utc", "cleaned_up",
-                       "seq", "status", "reason", "log_message", "violation", "provider_time_utc", "received_utc")
+                       "seq", "status", "status_words", "reason", "reason_words", "log_message", "violation",
+                       "provider_time_utc", "received_utc")
 
 
 def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
     """One row per transition, the command's columns repeated; a command with no transition yet has one
-    row with the transition columns empty."""
+    row with the transition columns empty. The transition's status and reason are also in the operator's words, as the
+    dashboard says them (`core/words.py`)."""
     def rows() -> Iterable[list[Any]]:
         for c in commands:
             head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], c["console"],
@@ -205,9 +208,10 @@ def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
                     c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["closedUnheard"],
                     _utc(c["closedAt"]), c["cleanedUp"]]
             for t in c["transitions"] or [None]:
-                yield head + ([None] * 7 if t is None else
-                              [t["seq"], t["status"], t["reason"], t["logMessage"], t["violation"], _utc(t["providerTime"]),
-                               _utc(t["receivedAt"])])
+                yield head + ([None] * 9 if t is None else
+                              [t["seq"], t["status"], word("CommandStatusEnumType", t["status"]), t["reason"],
+                               word("CommandStatusReasonEnumType", t["reason"]), t["logMessage"], t["violation"],
+                               _utc(t["providerTime"]), _utc(t["receivedAt"])])
     return _csv(COMMANDS_CSV_HEADER, rows())
 
 

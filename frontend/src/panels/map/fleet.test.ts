@@ -13,6 +13,7 @@ const mark = (id: string, lon: number, lat: number, courseDeg: number | null = n
   gpsPosition: true,
   link: "live",
   selected,
+  alarmed: false,
   projection: null,
   heardS: null,
 });

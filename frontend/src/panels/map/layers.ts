@@ -12,15 +12,17 @@ import { shortId } from "../../lib/vehicle";
 /** Closest zoom of a frame of the vehicles (a lone vehicle would else fill the map with a few metres of sea). */
 const FRAME_MAX_ZOOM = 14;
 
-export function vehicleMark(p: ProviderView, now: number, selected: string | null): VehicleMark | null {
+/** `alarmed`: the vehicles with an unacknowledged alarm; `receiving`: the page hears the console (else nothing is
+ * current: drawn stale). */
+export function vehicleMark(p: ProviderView, now: number, selected: string | null, alarmed: ReadonlySet<string>, receiving: boolean): VehicleMark | null {
   const fix = report(p, "GPSFixReport");
   const st = report(p, "GPSFixStatusReport");
   const g = fix?.position2DWithTime?.geodeticPosition;
   const position = validPosition(g?.geodeticLatitude?.latitude, g?.geodeticLongitude?.longitude);
   if (!position) return null;
   const view = p.topics.GPSFixReport;
-  const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link) : "none";
-  const link = p.link === "lost" || f === "lost" ? "lost" : f === "stale" ? "stale" : p.link === "regained" ? "regained" : "live";
+  const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link, receiving) : "none";
+  const link = p.link === "lost" || f === "lost" ? "lost" : f === "stale" || f === "unreachable" ? "stale" : p.link === "regained" ? "regained" : "live";
   const course = typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse) ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360 : null;
   const fixValid = st?.fixValid === true;
   // lost: where it may be now, from its last fix (a speed or course the vehicle flagged invalid is not used)
@@ -39,6 +41,7 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
     gpsPosition: fix?.GPSLatLongValid ?? null,
     link,
     selected: p.id === selected,
+    alarmed: alarmed.has(p.id),
     projection,
     heardS: link === "lost" ? Math.max(0, now - (lastHeardAt(p) ?? now)) : null,
   };

@@ -1,0 +1,120 @@
+"""The operator's words: one name for each state, reason and alarm kind the console shows, wherever it shows it.
+
+One table for the backend and the dashboard. The backend composes its alarm texts from it (`console/alarms.py`); the
+dashboard reads it as `frontend/schema/words.json` (written by `python -m sem_console.schema_export`, kept current by
+`tests/test_schema_export.py`) through `frontend/src/lib/labels.ts`, for the fleet bar, the vehicle list and the panels.
+Wherever a word is shown, its literal (the UMAA one, for the engineer comparing the screen with a log) is in a tooltip.
+
+A word is written as it starts a line ("Operational"); the places that put it inside a phrase lower its first letter
+(`inline`): "INS operational", "Alpha: link lost".
+
+To add a state, a reason or an alarm kind, add its entry here and run `python -m sem_console.schema_export`:
+`tests/test_words.py` fails for a literal of a UMAA enumeration the console shows, or for an alarm kind
+(`api.schemas.AlarmKind`), that has no words here.
+"""
+
+from __future__ import annotations
+
+from typing import Final
+
+WORDS: Final[dict[str, dict[str, str]]] = {
+    # ---- UMAA enumerations (UMAA::Common::MaritimeEnumeration), every literal ----
+    # GPSFixReport.GPSFixCommandStatus: the receiver's own state, reported whether or not a fix was commanded
+    "GPSFixEnumType": {"INITIATING": "Initiating a fix", "PERFORMING": "Performing a fix", "STABLE": "Fix stable"},
+    "GPSNavigationSolutionEnumType": {
+        "GPS_1": "GPS, 1 satellite", "GPS_2": "GPS, 2 satellites", "GPS_2D": "GPS 2D", "GPS_3": "GPS, 3 satellites",
+        "GPS_3D": "GPS 3D", "GPS_4": "GPS, 4 satellites", "GPS_DEAD_RECK": "Dead reckoning", "NO_NAV": "No navigation",
+    },
+    "GPSConstellationEnumType": {
+        "UNKNOWN": "Unknown", "BEIDOU": "BeiDou", "GALILEO": "Galileo", "GLONASS": "GLONASS", "GPS": "GPS",
+        "IRNSS": "NavIC", "QZSS": "QZSS", "SBAS": "SBAS",
+    },
+    "InertialSensorStateEnumType": {"OFF": "Off", "ON": "On", "RESTARTING": "Restarting"},
+    "InertialSensorOpStatusEnumType": {
+        "INIT": "Starting up",
+        "COURSE_STATIONARY_ALIGNMENT": "Coarse alignment, stationary",
+        "COURSE_GPS_ALIGNMENT": "Coarse alignment, GPS-aided",
+        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment, stationary",
+        "FINE_GPS_ALIGNMENT_STARTED": "Fine alignment, GPS-aided",
+        "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Fine alignment done, stationary",
+        "FINE_GPS_ALIGNMENT_COMPLETE": "Fine alignment done, GPS-aided",
+        "OPERATIONAL": "Operational",
+        "INERTIAL_SENSOR_FAILURE": "Failed",
+    },
+    # the INS panel's alignment steps: a stage, stationary or GPS-aided (the status says which)
+    "insAlignmentStep": {
+        "INIT": "Starting up", "COURSE_STATIONARY_ALIGNMENT": "Coarse alignment",
+        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment", "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Fine alignment done",
+        "OPERATIONAL": "Operational",
+    },
+    "CommandStatusEnumType": {
+        "ISSUED": "Received", "COMMANDED": "Accepted", "EXECUTING": "In progress", "COMPLETED": "Completed",
+        "FAILED": "Failed", "CANCELED": "Cancelled",
+    },
+    # a command's status reason, said after its status: "Failed: the equipment failed"
+    "CommandStatusReasonEnumType": {
+        "SUCCEEDED": "Succeeded",
+        "CANCELED": "On request",
+        "VALIDATION_FAILED": "The vehicle found the request invalid",
+        "OBJECTIVE_FAILED": "The goal could not be reached",
+        "SERVICE_FAILED": "The vehicle's service failed",
+        "RESOURCE_FAILED": "The equipment failed",
+        "RESOURCE_REJECTED": "The vehicle refused it",
+        "INTERRUPTED": "Another command took over",
+        "TIMEOUT": "Timed out",
+    },
+    # ---- the console's own states ----
+    # a command the vehicle has not acknowledged (no ISSUED) within the unanswered timeout
+    "command": {"unanswered": "No answer"},
+    # the link to a vehicle and the freshness of its data (`Provider.link`; the dashboard's "stale": live but silent a
+    # few seconds, and "unreachable": the page no longer hears the console, so nothing it shows is current)
+    "link": {"live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating"},
+    # GPSFixStatusReport.fixValid
+    "fixValid": {"true": "Fix valid", "false": "No fix"},
+    # GPSFixReport.GPSLatLongValid: whether the position is the receiver's, else the INS's
+    "GPSLatLongValid": {"true": "GPS position", "false": "INS position"},
+    # the alarm kinds (`api.schemas.AlarmKind`): what the alarm is about, as a heading ("Link lost: 20 vehicles")
+    "alarmKind": {
+        "link-lost": "Link lost",
+        "ins-failure": "INS failed",
+        "fix-lost": "GPS fix lost",
+        "no-fix-after-command": "No GPS fix after a fix command",
+        "command-unanswered": "Command unanswered",
+        "command-failed": "Command failed",
+        "command-interrupted": "Command interrupted",
+        "flow-violation": "Invalid status sequence",
+        "executed-late": "Command executed late",
+        "recording-failed": "Recording failed",
+    },
+    # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
+    "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},
+    "alarmState": {
+        "active-unacknowledged": "Unacknowledged", "active-acknowledged": "Acknowledged",
+        "cleared-unacknowledged": "Cleared, unacknowledged",
+    },
+    # ---- CoMap (IMC) ----
+    "taskState": {
+        "ASSIGNED": "Sent", "ACCEPTED": "Accepted", "REJECTED": "Refused", "IN_PROGRESS": "In progress",
+        # CoMap has no acknowledgement of a SynchAdmin: what was sent, not what the vehicle did
+        "HELD": "Hold sent", "COMPLETED": "Completed", "ERROR": "Error", "INTERRUPTED": "Interrupt sent",
+    },
+    "taskKind": {"survey": "Survey", "move": "Move"},
+    "sensor": {
+        "ANY": "Any sensor", "SIDESCAN": "Side-scan sonar", "MULTIBEAM": "Multibeam sonar", "CAMERA": "Camera",
+        "MAGNETOMETER": "Magnetometer",
+    },
+    "coverage": {"NONE": "Not covered", "PARTIAL": "Partly covered", "COMPLETED": "Covered"},
+}
+
+
+def word(table: str, literal: str) -> str:
+    """The operator's word for `literal` of `table`; a literal the table does not know (a newer ICD, another vendor's
+    value) is said as it is rather than hidden."""
+    return WORDS[table].get(literal, literal)
+
+
+def inline(words: str) -> str:
+    """A word inside a phrase: its first letter lowered, unless it starts an abbreviation ("GPS 3D", "INS")."""
+    if len(words) > 1 and words[1].isupper():
+        return words
+    return words[:1].lower() + words[1:]

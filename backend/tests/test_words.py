@@ -1,0 +1,67 @@
+"""The operator's words (`core/words.py`): every state the console shows has them, and the alarms say them."""
+
+from __future__ import annotations
+
+import csv
+import importlib
+import io
+import pkgutil
+from typing import get_args
+
+import pytest
+from cyclonedds.idl import IdlEnum
+
+import UMAA.Common.MaritimeEnumeration as maritime
+
+from sem_console.api.routes.history import commands_csv
+from sem_console.api.schemas import AlarmKind, AlarmState
+from sem_console.console.alarms import SEVERITY
+from sem_console.core.words import WORDS, inline, word
+
+
+def _umaa_enums() -> list[type[IdlEnum]]:
+    """Every enumeration of UMAA::Common::MaritimeEnumeration the console's generated types hold."""
+    found = []
+    for m in pkgutil.iter_modules(maritime.__path__):
+        enum = getattr(importlib.import_module(f"{maritime.__name__}.{m.name}"), m.name)
+        assert issubclass(enum, IdlEnum)
+        found.append(enum)
+    return found
+
+
+@pytest.mark.parametrize("enum", _umaa_enums(), ids=lambda e: e.__name__)
+def test_every_umaa_literal_has_words(enum: type[IdlEnum]) -> None:
+    table = WORDS.get(enum.__name__)
+    assert table is not None, f"core/words.py has no table {enum.__name__}"
+    missing = [m.name for m in enum if not table.get(m.name, "").strip()]
+    assert not missing, f"core/words.py has no words for {enum.__name__} {missing}"
+    assert set(table) <= {m.name for m in enum}, f"{enum.__name__}: words for literals UMAA does not have"
+
+
+def test_every_alarm_kind_has_words_and_a_severity() -> None:
+    kinds = set(get_args(AlarmKind))
+    assert kinds == set(WORDS["alarmKind"]), "an alarm kind without words (or words for no kind) in core/words.py"
+    assert kinds == set(SEVERITY), "an alarm kind without a severity in console/alarms.py"
+    assert all(w.strip() for w in WORDS["alarmKind"].values())
+    assert set(get_args(AlarmState)) == set(WORDS["alarmState"]), "an alarm state without words in core/words.py"
+    assert set(SEVERITY.values()) == set(WORDS["alarmSeverity"]), "an alarm severity without words in core/words.py"
+
+
+def test_words_inside_a_phrase() -> None:
+    assert inline("Operational") == "operational"
+    assert inline("GPS 3D") == "GPS 3D"
+    assert inline("INS failed") == "INS failed"
+    assert word("InertialSensorStateEnumType", "SOMETHING_NEWER") == "SOMETHING_NEWER"
+
+
+def test_the_commands_export_says_each_transition_in_the_operators_words() -> None:
+    command = {"sessionId": "s1", "service": "InertialSensor", "providerId": "p1", "state": "OFF", "operator": "alice",
+               "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True, "unanswered": False,
+               "cancelRequested": False, "canceledBy": None, "cleanedUp": True,
+               "transitions": [{"seq": 0, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
+                                "providerTime": 1.2, "receivedAt": 1.2},
+                               {"seq": 1, "status": "FAILED", "reason": "RESOURCE_FAILED", "logMessage": "", "violation": None,
+                                "providerTime": 1.3, "receivedAt": 1.3}]}
+    rows = list(csv.DictReader(io.StringIO(commands_csv([command]))))
+    assert [(r["status"], r["status_words"], r["reason"], r["reason_words"]) for r in rows] == [
+        ("ISSUED", "Received", "SUCCEEDED", "Succeeded"), ("FAILED", "Failed", "RESOURCE_FAILED", "The equipment failed")]

@@ -1,0 +1,83 @@
+// What the page says is true: who is signed in, nothing said live once the console cannot be reached, and a vehicle in
+// alarm keeps its name on the map where names would cover one another.
+import { execFileSync, spawn } from "node:child_process";
+import { join } from "node:path";
+import { expect, test } from "@playwright/test";
+import { SEM_SIM, stopChild, vehicle } from "../helpers";
+import { freeDomain, load, startGuardedConsole } from "../stack";
+
+test("the header names the signed-in operator; once the console cannot be reached, nothing says live, at once", async ({ page }) => {
+  const stack = load();
+  const token = "words-token";
+  const extra = await startGuardedConsole(token, ["--db", join(stack.dir, "words.sqlite3")]);
+  let running = true;
+  try {
+    await page.goto(extra.url);
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toContainText("Signed in as e2e-operator");
+    await expect(page.getByTestId("operator-name")).toHaveText("e2e-operator");
+    await page.reload(); // the token is kept: the name is asked again
+    await expect(page.getByTestId("operator-name")).toHaveText("e2e-operator");
+
+    const n = stack.vehicles.length;
+    await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 30_000 });
+    await vehicle(page, stack.vehicles[0]).click();
+    await expect(page.getByTestId("ins-panel-freshness")).toContainText("Live");
+    await extra.stop();
+    running = false;
+    // within the time the page takes to see its socket closed, not after the vehicles' staleness runs out
+    const soon = { timeout: 2_000 };
+    await expect(page.getByTestId("connection-state")).not.toHaveText("Live", soon);
+    await expect(page.getByTestId("fleet-not-updating")).toHaveText(`${n} not updating`, soon);
+    await expect(page.getByTestId("fleet-live")).toHaveCount(0);
+    await expect(page.getByTestId("fleet-link")).toHaveText(Array(n).fill("Not updating"));
+    await expect(page.getByTestId("vehicle-link")).toHaveText(Array(n).fill("Not updating"));
+    await expect(page.getByTestId("ins-panel-freshness")).toContainText("Not updating");
+    await expect(page.getByTestId("fleet-bar").getByText(/\blive\b/i)).toHaveCount(0);
+    await expect(page.getByTestId("vehicles").getByText(/\blive\b/i)).toHaveCount(0);
+  } finally {
+    if (running) await extra.stop();
+  }
+});
+
+test("where names on the map would cover one another, a vehicle in alarm keeps its name", async ({ page, request }) => {
+  const stack = load();
+  const domain = await freeDomain([stack.domain]);
+  const token = "words-map-token";
+  const auth = { Authorization: `Bearer ${token}` };
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "words-map.sqlite3")]);
+  const ids = execFileSync(SEM_SIM, ["--list", "--vehicles", "3", "--first-vehicle", "20"], { encoding: "utf8" }).trim().split("\n").map((l) => l.split(": ")[1]);
+  const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "3", "--first-vehicle", "20", "--fault", "ins-failure",
+    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
+    "--state-file", join(stack.dir, "words-map-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  type AlarmRecord = { id: number; kind: string; providerId: string | null };
+  const alarms = async () => ((await (await request.get(`${extra.url}/api/alarms`)).json()) as AlarmRecord[]).filter((a) => a.kind === "ins-failure");
+  try {
+    await expect.poll(async () => (await alarms()).length, { timeout: 30_000 }).toBe(3);
+    await page.goto(extra.url); // none selected: no name is kept for being the selected one's
+    await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
+    await expect(page.getByTestId("map-label")).toHaveCount(3, { timeout: 30_000 });
+    // the fleet's order, as the list and the map take it: the last in it would lose its name to the first
+    const order = await page.getByTestId("vehicle").evaluateAll((rows, all) => rows.map((r) => all.find((id) => r.textContent?.includes(id.slice(0, 8)))!), ids);
+    const [first, , last] = order;
+    for (const a of await alarms()) {
+      if (a.providerId !== last) expect((await request.post(`${extra.url}/api/alarms/${a.id}/ack`, { headers: auth, data: {} })).ok()).toBe(true);
+    }
+    await expect(page.getByTestId("fleet-alarms")).toHaveText("1 unacknowledged alarm");
+    // zoomed out over the fleet (2 km apart): the three names fall on one another
+    await page.getByTestId("map-follow").click();
+    const at = (await (await request.get(`${extra.url}/api/providers/${first}`)).json()) as {
+      reports: { GPSFixReport: { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } } };
+    };
+    const g = at.reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
+    await page.evaluate(([lon, lat]) => window.__semMap!.jumpTo({ center: [lon, lat], zoom: 5 }), [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+    const label = (id: string) => page.getByTestId("map-label").and(page.locator(`[data-vehicle="${id}"]`));
+    await expect(label(last)).toBeVisible();
+    await expect(label(first)).toBeHidden();
+  } finally {
+    await stopChild(sim);
+    await extra.stop();
+  }
+});
