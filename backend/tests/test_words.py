@@ -56,12 +56,17 @@ def test_words_inside_a_phrase() -> None:
 
 def test_the_commands_export_says_each_transition_in_the_operators_words() -> None:
     command = {"sessionId": "s1", "service": "InertialSensor", "providerId": "p1", "state": "OFF", "operator": "alice",
-               "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True, "unanswered": False,
-               "cancelRequested": False, "canceledBy": None, "cleanedUp": True,
+               "console": "watch", "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True,
+               "unanswered": False, "cancelRequested": False, "canceledBy": None, "canceledOn": None, "canceledAt": None,
+               "closedUnheard": None, "closedAt": None, "cleanedUp": True,
                "transitions": [{"seq": 0, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
                                 "providerTime": 1.2, "receivedAt": 1.2},
                                {"seq": 1, "status": "FAILED", "reason": "RESOURCE_FAILED", "logMessage": "", "violation": None,
                                 "providerTime": 1.3, "receivedAt": 1.3}]}
-    rows = list(csv.DictReader(io.StringIO(commands_csv([command]))))
+    reader = csv.DictReader(io.StringIO(commands_csv([command])))
+    assert reader.fieldnames is not None
+    names = list(reader.fieldnames)  # each literal with its words beside it
+    assert names[names.index("status") + 1] == "status_words" and names[names.index("reason") + 1] == "reason_words"
+    rows = list(reader)
     assert [(r["status"], r["status_words"], r["reason"], r["reason_words"]) for r in rows] == [
         ("ISSUED", "Received", "SUCCEEDED", "Succeeded"), ("FAILED", "Failed", "RESOURCE_FAILED", "The equipment failed")]

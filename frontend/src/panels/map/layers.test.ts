@@ -38,8 +38,8 @@ describe("the map's marks", () => {
   it("projects a lost vehicle from its last fix (time since its arrival, SOG, true course), and only a lost one", () => {
     // a valid GPS fix at 100 s, heading east (π/2) at 2 m/s; lost, looked at 130 s after its fix
     const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 2, trueCourse: Math.PI / 2, GPSLatLongValid: true }], [P, "GPSFixStatusReport", { fixValid: true }]);
-    expect(vehicleMark(p, 230, null)!.projection).toBeNull(); // stale, not lost: no guess
-    const m = vehicleMark({ ...p, link: "lost" }, 230, null)!;
+    expect(vehicleMark(p, 230, null, NONE, true)!.projection).toBeNull(); // stale, not lost: no guess
+    const m = vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true)!;
     expect(m.position).toEqual({ lat: 0, lon: 0 }); // the mark stays at the report
     expect(m.projection).toMatchObject({ kind: "projected", from: { lat: 0, lon: 0 }, seconds: 130, radiusM: 127 });
     const pr = m.projection!.kind === "projected" ? m.projection!.at : null;
@@ -50,15 +50,15 @@ describe("the map's marks", () => {
   it("says when a lost vehicle was last heard: its newest report of any topic, not its fix's", () => {
     // its fix at 100 s, its INS report at 101 s
     const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 0 }], [P, "InertialSensorReport", { state: "ON" }]);
-    expect(vehicleMark(p, 230, null)!.heardS).toBeNull(); // not lost
-    expect(vehicleMark({ ...p, link: "lost" }, 230, null)!.heardS).toBe(129);
+    expect(vehicleMark(p, 230, null, NONE, true)!.heardS).toBeNull(); // not lost
+    expect(vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true)!.heardS).toBe(129);
   });
 
   it("does not project from a speed or course the vehicle flagged invalid, nor from an INS position's small circle", () => {
     const fix = { position2DWithTime: at(0, 0), SOG: 2, trueCourse: 0, GPSLatLongValid: false };
     const flagged = vehicle([P, "GPSFixReport", fix, ["SOG: not a number"]]);
-    expect(vehicleMark({ ...flagged, link: "lost" }, 110, null)!.projection?.kind).toBe("no-motion");
+    expect(vehicleMark({ ...flagged, link: "lost" }, 110, null, NONE, true)!.projection?.kind).toBe("no-motion");
     const ins = vehicle([P, "GPSFixReport", fix], [P, "GPSFixStatusReport", { fixValid: true }]);
-    expect(vehicleMark({ ...ins, link: "lost" }, 110, null)!.projection).toMatchObject({ kind: "projected", radiusM: 100 + 0.9 * 10 });
+    expect(vehicleMark({ ...ins, link: "lost" }, 110, null, NONE, true)!.projection).toMatchObject({ kind: "projected", radiusM: 100 + 0.9 * 10 });
   });
 });
