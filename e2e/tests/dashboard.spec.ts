@@ -219,9 +219,10 @@ test("a finished cancel names who asked it and on which station; the timeline is
     await expect(cmd.getByTestId("ack")).toContainText("the vehicle reports taking it up");
     await cmd.getByRole("button", { name: "Cancel" }).click();
     await expect(cmd).toHaveAttribute("data-status", "CANCELED");
-    // finished, the card still says who asked for the cancel and where ("as asked" alone read as the requester's)
+    // finished, the card still says who asked for the cancel and where (the table's reason word alone, "on request",
+    // does not say whose request), in the words table's status and reason words
     await expect(cmd.getByTestId("command-canceller")).toHaveText("cancel asked by e2e-operator on watch");
-    await expect(cmd.getByTestId("transition").last()).toContainText("Cancelled as asked by e2e-operator on watch");
+    await expect(cmd.getByTestId("transition").last()).toContainText("Cancelled on request by e2e-operator on watch");
     await expect(cmd.getByTestId("cancel-asked")).toContainText("Cancel asked by e2e-operator on watch");
     const done = await cmd.getByTestId("timeline").locator("li").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
     expect(done.indexOf("cancel-asked")).toBeLessThan(done.indexOf("CANCELED")); // asked, then the vehicle's answer

@@ -1,7 +1,7 @@
 import { useCapabilities, useNow, useSlice } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
-import { lastHeardText, lostText } from "../lib/labels";
+import { lastHeardText, linkText, lostText } from "../lib/labels";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 /** "Last heard 2 min 10 s ago" of a lost vehicle last heard at `since` (the source's clock; null: never), counting
@@ -25,7 +25,7 @@ export function SelectedLost() {
   if (since === null) return null;
   return (
     <p className="selected-lost" data-testid="selected-lost" title={recorded ? RECORDED_TITLE : undefined}>
-      {stateWords("Lost", recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
+      {stateWords(linkText("lost"), recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
     </p>
   );
 }

@@ -1,5 +1,6 @@
-// The commands panel's list: live commands (WebSocket) merged with older pages (REST).
+// The commands panel: live commands (WebSocket) merged with older pages (REST), and the words of its cards.
 import type { Command } from "../api/types";
+import { COMMAND, COMMAND_STATUS, commandStatusText, reasonText } from "./labels";
 
 /** Both lists without repeats, newest first; a live command wins over its REST copy (it is newer). */
 export function mergeCommands(live: Command[], older: Command[]): Command[] {
@@ -32,4 +33,26 @@ export function expectedDuration(c: Command, all: Command[]): number | null {
  * acknowledgement the vehicle publishes after it. A line without a recorded time (Infinity) goes last. */
 export function inTimeOrder<T extends { at: number }>(lines: T[]): T[] {
   return lines.map((l, i) => ({ l, i })).sort((a, b) => (a.l.at === b.l.at ? 0 : a.l.at - b.l.at) || a.i - b.i).map(({ l }) => l);
+}
+
+/** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known). */
+export function cancellerText(c: Command): string {
+  const who = c.canceledBy ? `by ${c.canceledBy}` : "";
+  const where = c.canceledOn ? `on ${c.canceledOn}` : "";
+  return [who, where].filter(Boolean).join(" ");
+}
+
+/** What the status line says: the vehicle's last status; a cancel the vehicle never answered, ended by the console. */
+export function statusText(c: Command): string {
+  if (c.closedUnheard === "heard") return `${COMMAND_STATUS.CANCELED} before the vehicle heard it`;
+  if (c.closedUnheard === "bound") return `${COMMAND_STATUS.CANCELED}, never answered`;
+  if (c.unanswered) return COMMAND.unanswered;
+  return c.status ? commandStatusText(c.status) : "Sent";
+}
+
+/** The reason words of a transition: a cancel the operator asked for names who asked it and where ("on request by bob
+ * on relief"). */
+export function transitionReason(c: Command, status: string, reason: string): string {
+  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c)) return `${reasonText(reason)} ${cancellerText(c)}`;
+  return reasonText(reason);
 }

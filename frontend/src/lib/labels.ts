@@ -20,6 +20,7 @@ export const INS_STATUS: Words<InertialSensorOpStatusEnumType> = WORDS.InertialS
 export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
 export const LINK: Words<LinkState | "stale" | "unreachable"> = WORDS.link;
+export const COMMAND: Words<"unanswered"> = WORDS.command;
 export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
 export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
@@ -188,5 +189,5 @@ export function lastHeardText(seconds: number | null): string {
 
 /** "Alpha (77b2ceb8) is lost: last heard 12 s ago"; `seconds` null: no report of it received. */
 export function lostText(vehicle: string, seconds: number | null): string {
-  return `${vehicle} is lost: ${seconds === null ? "no report of it received" : lastHeardText(seconds).toLowerCase()}`;
+  return `${vehicle} is ${inline(LINK.lost)}: ${seconds === null ? "no report of it received" : inline(lastHeardText(seconds))}`;
 }

@@ -1,5 +1,7 @@
 import { describe, expect, it } from "vitest";
-import { inTimeOrder, mergeCommands } from "./commands";
+import type { Command } from "../api/types";
+import WORDS from "../../schema/words.json";
+import { inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
 import { freshness, freshnessText, nextInterval, pageLink, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
@@ -198,5 +200,26 @@ describe("command timeline", () => {
       { at: 12, what: "Cancel asked" },
     ];
     expect(inTimeOrder(lines).map((l) => l.what)).toEqual(["Requested", "Received", "Acknowledged", "Cancel asked", "Failed", "Cancel asked (time not recorded)"]);
+  });
+});
+
+describe("a command card's words", () => {
+  const cmd = (over: Partial<Command> = {}): Command => ({
+    sessionId: "s1", service: "GPSFix", providerId: "p1", state: null, operator: "alice", createdAt: 1, status: null, terminal: false,
+    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, console: "watch", ackedAt: null, violations: [], transitions: [], ...over,
+  });
+  it("says a cancel with the words table's status and reason, and who asked it where", () => {
+    const canceled = cmd({ status: "CANCELED", terminal: true, cancelRequested: true, canceledBy: "bob", canceledOn: "relief" });
+    expect(statusText(canceled)).toBe(WORDS.CommandStatusEnumType.CANCELED);
+    expect(transitionReason(canceled, "CANCELED", "CANCELED")).toBe("on request by bob on relief");
+    // a cancel nobody at a console asked for: the reason word alone
+    expect(transitionReason(cmd({ status: "CANCELED" }), "CANCELED", "CANCELED")).toBe("on request");
+    expect(transitionReason(canceled, "FAILED", "RESOURCE_FAILED")).toBe("the equipment failed");
+  });
+  it("says a command the vehicle never answered in the table's words", () => {
+    expect(statusText(cmd({ unanswered: true }))).toBe(WORDS.command.unanswered);
+    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "heard" }))).toBe("Cancelled before the vehicle heard it");
+    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "bound" }))).toBe("Cancelled, never answered");
+    expect(statusText(cmd())).toBe("Sent");
   });
 });

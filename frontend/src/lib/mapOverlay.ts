@@ -138,9 +138,9 @@ export class VehicleOverlay {
       const m = this.markers.get(mark.id) ?? this.add(mark);
       m.mark = mark;
       const lost = mark.link === "lost";
-      const text = lost ? `${mark.label} · lost` : mark.label;
+      const text = lost ? `${mark.label} · ${inline(linkText("lost"))}` : mark.label;
       // a lost vehicle's name says when it was last heard (its arrow at the edge stays short)
-      const named = lost && mark.heardS !== null ? `${text} · ${lastHeardText(mark.heardS).toLowerCase()}` : text;
+      const named = lost && mark.heardS !== null ? `${text} · ${inline(lastHeardText(mark.heardS))}` : text;
       if (m.label.textContent !== named) {
         m.label.textContent = named;
         m.labelSize = null;

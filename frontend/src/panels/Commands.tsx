@@ -8,8 +8,8 @@ import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
-import { expectedDuration, inTimeOrder, mergeCommands } from "../lib/commands";
-import { commandStatusText, reasonText, umaa } from "../lib/labels";
+import { cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
+import { COMMAND, commandStatusText, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -39,27 +39,6 @@ function statusClass(c: Command): string {
   if (c.status === "COMPLETED") return "ok";
   if (c.status === "CANCELED" || c.closedUnheard) return "muted";
   return "active";
-}
-
-/** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known). */
-function cancellerText(c: Command): string {
-  const who = c.canceledBy ? `by ${c.canceledBy}` : "";
-  const where = c.canceledOn ? `on ${c.canceledOn}` : "";
-  return [who, where].filter(Boolean).join(" ");
-}
-
-/** What the status line says: the vehicle's last status; a cancel the vehicle never answered, ended by the console. */
-function statusText(c: Command): string {
-  if (c.closedUnheard === "heard") return "Cancelled before the vehicle heard it";
-  if (c.closedUnheard === "bound") return "Cancelled, never answered";
-  if (c.unanswered) return "No answer";
-  return c.status ? commandStatusText(c.status) : "Sent";
-}
-
-/** The reason words of a transition: a cancel the operator asked for names who asked it and where. */
-function transitionReason(c: Command, status: string, reason: string): string {
-  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c)) return `as asked ${cancellerText(c)}`;
-  return reasonText(reason);
 }
 
 type Line = { at: number; node: ReactNode };
@@ -118,7 +97,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
       {inTimeOrder(lines).map((l) => l.node)}
       {c.unanswered && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
-          <strong>No answer: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
+          <strong>{COMMAND.unanswered}: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
           hears it, late.{" "}
           {/* once cancelled (no Cancel button any more), what is left to know: the cancel may not reach it either */}
           {c.cancelRequested ? "Cancel requested: it may not hear the cancel either; watch it when it answers." : "Cancel it if it should not run then."}
