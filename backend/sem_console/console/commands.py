@@ -252,10 +252,13 @@ class Commands:
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
-    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float) -> None:
+    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
+                  record: bool = True) -> None:
+        """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`)."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
         cmd.cancel_mono = self.clock.monotonic()
-        self.store.set_canceled(str(cmd.session_id), operator, station, at)
+        if record:
+            self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall())
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already)."""
@@ -295,9 +298,8 @@ class Commands:
         mine = self.by_session.get(stored.session_id)
         if mine is None:
             return stored
-        if stored.cancel_requested and not mine.cancel_requested:
-            mine.cancel_requested, mine.canceled_by = True, stored.canceled_by
-            mine.canceled_on, mine.canceled_at = stored.canceled_on, stored.canceled_at
+        if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
+            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, record=False)
         if stored.closed_unheard is not None and mine.closed_unheard is None and not mine.flow.transitions:
             mine.closed_unheard, mine.closed_at, mine.cleaned_up = stored.closed_unheard, stored.closed_at, True
         return mine
