@@ -4,6 +4,7 @@ the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where
 from __future__ import annotations
 
 import asyncio
+import fcntl
 import math
 import shutil
 import sqlite3
@@ -88,6 +89,28 @@ def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) 
     assert again.claim("watch") == first
     assert again.consoles() == ({"watch": first} if a.db.path is not None else {"watch": first, "relief": relief})
     again.close()
+
+
+def test_a_console_stopping_as_another_starts_on_a_sqlite_file_leaves_one_holder(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The lock file is removed at a clean stop: a console that opened it just before (and locks it just after) held
+    the removed file's lock, and a third then took a new file's: two consoles on one SQLite file."""
+    url = str(tmp_path / "console.sqlite3")
+    first, second, third = open_db(url), open_db(url), open_db(url)
+    first.claim("watch")
+    lock = fcntl.flock
+
+    def first_stops_meanwhile(fd: int, operation: int) -> None:  # between the second's open and its lock
+        monkeypatch.setattr(fcntl, "flock", lock)
+        first.close()
+        lock(fd, operation)
+
+    monkeypatch.setattr(fcntl, "flock", first_stops_meanwhile)
+    second.claim("relief")
+    with pytest.raises(StorageError, match=r"another console \('relief'\) is running"):
+        third.claim("night")
+    second.close()
+    third.close()
 
 
 def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: str) -> None:

@@ -83,6 +83,14 @@ class Unavailable(Exception):
     """A read of the shared database during an outage: the message is the one line a client reads (503)."""
 
 
+def _same_file(fd: int, path: Path) -> bool:
+    """Whether `path` still names the file open as `fd` (a lock file removed or replaced meanwhile does not)."""
+    try:
+        return os.path.samestat(os.fstat(fd), os.stat(path))
+    except FileNotFoundError:
+        return False
+
+
 def _key(text_: str) -> int:
     """A stable signed 64-bit key (PostgreSQL advisory locks) of a name."""
     return int.from_bytes(hashlib.sha256(text_.encode()).digest()[:8], "big", signed=True)
@@ -279,15 +287,19 @@ class Database:
         if isinstance(self._lock, int):  # this console's already (a name claimed again, in one process)
             return
         lock = self.lock_path()
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.read(fd, 200).decode(errors="replace").strip()
-            os.close(fd)
-            raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
-                               "consoles cannot share a SQLite file; stop it, pass another --db, or share a PostgreSQL "
-                               "database with --database-url") from None
+        while True:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.read(fd, 200).decode(errors="replace").strip()
+                os.close(fd)
+                raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
+                                   "consoles cannot share a SQLite file; stop it, pass another --db, or share a "
+                                   "PostgreSQL database with --database-url") from None
+            if _same_file(fd, lock):
+                break
+            os.close(fd)  # removed by the console that held it as it stopped, after this one opened it: a new one
         os.ftruncate(fd, 0)
         os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is, and the refusal of a second
         self._lock = fd
