@@ -128,6 +128,26 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     assert cmd.closed_unheard == "heard"
 
 
+def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: Path) -> None:
+    """A recording that starts (or rolls over) after the cancel: the first message of the command carries its cancel
+    and the console's ending; the replay showed it running ("Sent", then "No answer") for ever."""
+    recorded = consumer(tmp_path / "recorded", Bus(), timeout=1.0)
+    cmd = recorded.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    recorded.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)
+    recorded.cancel(cmd.session_id, "bob")
+    recorded.tick(0, lambda _p: cmd.cancel_mono + 0.1)
+    recorded.tick(0, lambda _p: cmd.cancel_mono + 1.2)
+    message = cmd.to_json()
+    assert message["closedUnheard"] == "heard" and message["cancelRequested"]
+    bus = Bus()
+    replay = consumer(tmp_path / "replay", bus)
+    again = replay.adopt(message)
+    assert again.terminal and again.cleaned_up and (again.canceled_by, again.closed_unheard) == ("bob", "heard")
+    assert (again.canceled_at, again.closed_at) == (cmd.canceled_at, cmd.closed_at)
+    assert [m["command"]["terminal"] for m in bus.emitted] == [True]  # one message, the command as recorded
+    assert replay.get(cmd.session_id) is again and replay.store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] == "heard"
+
+
 def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus())
     cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)

@@ -216,10 +216,12 @@ class Commands:
 
     def adopt(self, c: dict[str, Any]) -> Command:
         """Replay: a command the recorded console issued or changed (its `command` message, as on the
-        WebSocket). A new one is followed from here on like one issued here, but never published; for
-        a known one, a cancel request is taken over. Statuses and acks come from the recorded samples."""
+        WebSocket). A new one is followed from here on like one issued here, but never published; its cancel
+        request and the console's ending of it unanswered are taken over. Statuses and acks come from the recorded
+        samples."""
         session = uuid.UUID(c["sessionId"])
         cmd = self.by_session.get(session)
+        changed = cmd is None
         if cmd is None:
             service, provider = Service(c["service"]), uuid.UUID(c["providerId"])
             state = InsState[c["state"]] if c.get("state") else None
@@ -229,13 +231,15 @@ class Commands:
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
             self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
-        elif c.get("cancelRequested") and not cmd.cancel_requested:
+        # a message carries the whole command: the first one of a file may be of one already canceled, or ended
+        if c.get("cancelRequested") and not cmd.cancel_requested:
             self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall())
-        elif c.get("closedUnheard") and cmd.closed_unheard is None:
-            self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall())
-        else:
-            return cmd
-        self.emit({"type": "command", "command": cmd.to_json()})
+            changed = True
+        if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
+            self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
+            changed = True
+        if changed:
+            self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
@@ -260,11 +264,12 @@ class Commands:
         if record:
             self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall())
 
-    def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float) -> None:
+    def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already)."""
         cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = why, at, True
         self.store.set_closed_unheard(str(cmd.session_id), why, at)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        if emit:
+            self.emit({"type": "command", "command": cmd.to_json()})
         self._forget_old()
 
     def _take_over(self, session: uuid.UUID) -> Command | None:
