@@ -128,6 +128,20 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     assert cmd.closed_unheard == "heard"
 
 
+def test_a_cancel_never_answered_is_not_ended_by_a_vehicle_heard_a_moment_then_lost(tmp_path: Path) -> None:
+    """A flaky link: heard once after the cancel, lost a minute, back: its answer comes with the link, so the first
+    sample back does not end the command as never heard."""
+    c = consumer(tmp_path / "db", Bus(), timeout=2.0)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    c.cancel(cmd.session_id, "bob")
+    c.tick(0, lambda _p: cmd.cancel_mono + 0.5)  # heard a moment
+    c.tick(0, lambda _p: None)  # lost
+    c.tick(0, lambda _p: cmd.cancel_mono + 60)  # back
+    assert not cmd.terminal
+    c.tick(0, lambda _p: cmd.cancel_mono + 62.1)  # heard for the unanswered timeout since
+    assert cmd.closed_unheard == "heard"
+
+
 def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: Path) -> None:
     """A recording that starts (or rolls over) after the cancel: the first message of the command carries its cancel
     and the console's ending; the replay showed it running ("Sent", then "No answer") for ever."""

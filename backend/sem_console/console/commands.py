@@ -31,7 +31,7 @@ from sem_console.umaa.samples import datetime_to_float, now_datetime
 
 log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
-Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard)
+Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
 ClosedUnheard = Literal["heard", "bound"]
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 
@@ -368,8 +368,11 @@ class Commands:
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
         """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since
-        the cancel without a word of it, or once the bound since the cancel has passed."""
-        if seen is not None and seen >= cmd.cancel_mono:
+        the cancel without a word of it (a loss of its link meanwhile starts that again: its answer comes when the link
+        is back), or once the bound since the cancel has passed."""
+        if seen is None:
+            cmd.heard_from = None
+        elif seen >= cmd.cancel_mono:
             if cmd.heard_from is None:
                 cmd.heard_from = seen
             elif seen - cmd.heard_from >= self.unanswered_timeout:
