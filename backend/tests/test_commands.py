@@ -159,7 +159,8 @@ def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: 
     assert again.terminal and again.cleaned_up and (again.canceled_by, again.closed_unheard) == ("bob", "heard")
     assert (again.canceled_at, again.closed_at) == (cmd.canceled_at, cmd.closed_at)
     assert [m["command"]["terminal"] for m in bus.emitted] == [True]  # one message, the command as recorded
-    assert replay.get(cmd.session_id) is again and replay.store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] == "heard"
+    assert replay.get(cmd.session_id) is again
+    assert replay.store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] == "heard"
 
 
 def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:
