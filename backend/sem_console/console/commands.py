@@ -337,8 +337,7 @@ class Commands:
         seq = len(cmd.flow.transitions)
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
         if cmd.closed_unheard is not None:  # ended as never heard, and it answers after all: what it says stands
-            cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False
-            self.store.set_closed_unheard(str(session), None, None)
+            cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False  # as add_transition stored it
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at

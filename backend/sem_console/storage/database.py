@@ -479,6 +479,9 @@ class Database:
 
         def write(c: Connection) -> None:
             c.execute(stmt)
+            # the vehicle answered after all: what it says stands, whatever station ended the command as never heard
+            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, COMMANDS.c.closed_unheard.is_not(None))
+                      .values(closed_unheard=None, closed_at=None, cleaned_up=False))
             self._notify(c, "command", session=session_id)
         self._write(write)
 
@@ -492,13 +495,16 @@ class Database:
     def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float) -> None:
         self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at)
 
-    def set_closed_unheard(self, session_id: str, why: str | None, at: float | None) -> None:
-        """A cancelled command the vehicle never answered, ended by the console (`why`), or answered after all (None)."""
-        self._update_command(session_id, closed_unheard=why, closed_at=at, cleaned_up=why is not None)
+    def set_closed_unheard(self, session_id: str, why: str, at: float) -> None:
+        """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
+        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before)."""
+        answered = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id).exists()
+        self._update_command(session_id, where=~answered, closed_unheard=why, closed_at=at, cleaned_up=True)
 
-    def _update_command(self, session_id: str, **values: Any) -> None:
+    def _update_command(self, session_id: str, where: Any = None, **values: Any) -> None:
         def write(c: Connection) -> None:
-            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
+            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, *([] if where is None else [where]))
+                      .values(**values))
             self._notify(c, "command", session=session_id)
         self._write(write)
 
