@@ -107,6 +107,62 @@ def test_a_cancel_never_answered_ends_once_the_vehicle_is_heard_for_the_unanswer
     assert stored is not None and stored.to_json()["closedUnheard"] is None
 
 
+def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle_is_heard_after_it(tmp_path: Path) -> None:
+    """The station that issued it learns the cancel from the shared database: a vehicle last heard long before (lost)
+    is not "heard again without it" at its first sample back, which may well be followed by its answer."""
+    bus = Bus()
+    store = Database(tmp_path / "db")
+    a = Commands(store.claim("alpha", hold=False), store, lambda _s, x: bus.written.append(x),
+                 lambda _s, x: bus.disposed.append(x), bus.emitted.append, 2.0, station="alpha")
+    cmd = a.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    last_heard = a.clock.monotonic() - 60  # lost a minute ago
+    a.tick(cmd.issued_by_deadline + 0.1, lambda _p: last_heard)
+    assert cmd.unanswered
+    store.set_canceled(str(cmd.session_id), "bob", "bravo", a.clock.wall())  # bob cancels it on station bravo
+    assert a.shared(cmd.session_id) is cmd and (cmd.canceled_by, cmd.canceled_on) == ("bob", "bravo")
+    a.tick(0, lambda _p: last_heard)  # still lost
+    back = a.clock.monotonic() + 0.1
+    a.tick(0, lambda _p: back)  # its first sample back
+    assert not cmd.terminal and cmd.closed_unheard is None
+    a.tick(0, lambda _p: back + 2.1)  # heard for the unanswered timeout without a word of it
+    assert cmd.closed_unheard == "heard"
+
+
+def test_a_cancel_never_answered_is_not_ended_by_a_vehicle_heard_a_moment_then_lost(tmp_path: Path) -> None:
+    """A flaky link: heard once after the cancel, lost a minute, back: its answer comes with the link, so the first
+    sample back does not end the command as never heard."""
+    c = consumer(tmp_path / "db", Bus(), timeout=2.0)
+    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    c.cancel(cmd.session_id, "bob")
+    c.tick(0, lambda _p: cmd.cancel_mono + 0.5)  # heard a moment
+    c.tick(0, lambda _p: None)  # lost
+    c.tick(0, lambda _p: cmd.cancel_mono + 60)  # back
+    assert not cmd.terminal
+    c.tick(0, lambda _p: cmd.cancel_mono + 62.1)  # heard for the unanswered timeout since
+    assert cmd.closed_unheard == "heard"
+
+
+def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: Path) -> None:
+    """A recording that starts (or rolls over) after the cancel: the first message of the command carries its cancel
+    and the console's ending; the replay showed it running ("Sent", then "No answer") for ever."""
+    recorded = consumer(tmp_path / "recorded", Bus(), timeout=1.0)
+    cmd = recorded.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    recorded.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)
+    recorded.cancel(cmd.session_id, "bob")
+    recorded.tick(0, lambda _p: cmd.cancel_mono + 0.1)
+    recorded.tick(0, lambda _p: cmd.cancel_mono + 1.2)
+    message = cmd.to_json()
+    assert message["closedUnheard"] == "heard" and message["cancelRequested"]
+    bus = Bus()
+    replay = consumer(tmp_path / "replay", bus)
+    again = replay.adopt(message)
+    assert again.terminal and again.cleaned_up and (again.canceled_by, again.closed_unheard) == ("bob", "heard")
+    assert (again.canceled_at, again.closed_at) == (cmd.canceled_at, cmd.closed_at)
+    assert [m["command"]["terminal"] for m in bus.emitted] == [True]  # one message, the command as recorded
+    assert replay.get(cmd.session_id) is again
+    assert replay.store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] == "heard"
+
+
 def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus())
     cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)

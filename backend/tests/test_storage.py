@@ -4,6 +4,7 @@ the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where
 from __future__ import annotations
 
 import asyncio
+import fcntl
 import math
 import shutil
 import sqlite3
@@ -88,6 +89,52 @@ def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) 
     assert again.claim("watch") == first
     assert again.consoles() == ({"watch": first} if a.db.path is not None else {"watch": first, "relief": relief})
     again.close()
+
+
+def test_a_console_stopping_as_another_starts_on_a_sqlite_file_leaves_one_holder(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The lock file is removed at a clean stop: a console that opened it just before (and locks it just after) held
+    the removed file's lock, and a third then took a new file's: two consoles on one SQLite file."""
+    url = str(tmp_path / "console.sqlite3")
+    first, second, third = open_db(url), open_db(url), open_db(url)
+    first.claim("watch")
+    lock = fcntl.flock
+
+    def first_stops_meanwhile(fd: int, operation: int) -> None:  # between the second's open and its lock
+        monkeypatch.setattr(fcntl, "flock", lock)
+        first.close()
+        lock(fd, operation)
+
+    monkeypatch.setattr(fcntl, "flock", first_stops_meanwhile)
+    second.claim("relief")
+    with pytest.raises(StorageError, match=r"another console \('relief'\) is running"):
+        third.claim("night")
+    second.close()
+    third.close()
+
+
+def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_together(database_url: str) -> None:
+    """The vehicle answers just as a station ends its cancelled command as never heard, or two stations race: whatever
+    the order of their writes, a stored status withdraws the ending (one transaction: no crash leaves both)."""
+    db = open_db(database_url)
+    try:
+        session = str(uuid.uuid4())
+        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
+                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        db.set_canceled(session, "bob", "relief", 101.0)
+        db.set_closed_unheard(session, "heard", 108.0)
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["cleaned_up"]) == ("heard", True)
+        canceled = {"status": "CANCELED", "reason": "CANCELED", "logMessage": "", "violation": None,
+                    "providerTime": 1.0, "receivedAt": 109.0}
+        db.add_transition(session, 1, canceled)  # the vehicle answered after all
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
+        db.set_closed_unheard(session, "heard", 110.0)  # another station's ending, written after that answer
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["cleaned_up"], len(row["transitions"])) == (None, False, 1), row
+    finally:
+        db.close()
 
 
 def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: str) -> None:

@@ -93,6 +93,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   await stopSim();
   let cmd: Locator | undefined;
   let restarted = false;
+  let session = "";
   try {
     await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: last heard`);
     const lostFix = page.getByRole("button", { name: "Request GPS fix (vehicle lost)", exact: true });
@@ -148,7 +149,7 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await expect(cmd.getByTestId("command-status")).toHaveText("No answer", { timeout: 20_000 });
     await expect(cmd.getByTestId("unanswered")).toContainText(`${label} has not confirmed receiving this command`);
     await expect(cmd.getByTestId("command-elapsed")).toContainText("expected");
-    const session = (await cmd.getAttribute("data-session"))!;
+    session = (await cmd.getAttribute("data-session"))!;
     await cmd.getByRole("button", { name: "Cancel" }).click();
     await expect.poll(async () => ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean }).cancelRequested).toBe(true);
     await expect(cmd.getByTestId("cancel-asked")).toBeVisible();
@@ -177,6 +178,10 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   expect(cmd).toBeDefined();
   await expect(cmd!.getByTestId("command-status")).toHaveText("Cancelled before the vehicle heard it", { timeout: 30_000 });
   await expect(cmd!.getByTestId("command-elapsed")).toHaveCount(0);
+  // finished, it no longer says "No answer … it may still run it": its record keeps unanswered, the card does not
+  expect(((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { unanswered: boolean }).unanswered).toBe(true);
+  await expect(cmd!.getByTestId("unanswered")).toHaveCount(0);
+  await expect(cmd!).toHaveClass(/\bmuted\b/);
   await expect(page.getByTestId("command-lost")).toHaveCount(0, { timeout: 30_000 });
   await expect(fix).toBeEnabled();
   for (const v of stack.vehicles) {

@@ -31,7 +31,7 @@ from sem_console.umaa.samples import datetime_to_float, now_datetime
 
 log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
-Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard)
+Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
 ClosedUnheard = Literal["heard", "bound"]
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 
@@ -216,10 +216,12 @@ class Commands:
 
     def adopt(self, c: dict[str, Any]) -> Command:
         """Replay: a command the recorded console issued or changed (its `command` message, as on the
-        WebSocket). A new one is followed from here on like one issued here, but never published; for
-        a known one, a cancel request is taken over. Statuses and acks come from the recorded samples."""
+        WebSocket). A new one is followed from here on like one issued here, but never published; its cancel
+        request and the console's ending of it unanswered are taken over. Statuses and acks come from the recorded
+        samples."""
         session = uuid.UUID(c["sessionId"])
         cmd = self.by_session.get(session)
+        changed = cmd is None
         if cmd is None:
             service, provider = Service(c["service"]), uuid.UUID(c["providerId"])
             state = InsState[c["state"]] if c.get("state") else None
@@ -229,13 +231,15 @@ class Commands:
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
             self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
-        elif c.get("cancelRequested") and not cmd.cancel_requested:
+        # a message carries the whole command: the first one of a file may be of one already canceled, or ended
+        if c.get("cancelRequested") and not cmd.cancel_requested:
             self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall())
-        elif c.get("closedUnheard") and cmd.closed_unheard is None:
-            self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall())
-        else:
-            return cmd
-        self.emit({"type": "command", "command": cmd.to_json()})
+            changed = True
+        if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
+            self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
+            changed = True
+        if changed:
+            self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
@@ -252,16 +256,20 @@ class Commands:
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
-    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float) -> None:
+    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
+                  record: bool = True) -> None:
+        """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`)."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
         cmd.cancel_mono = self.clock.monotonic()
-        self.store.set_canceled(str(cmd.session_id), operator, station, at)
+        if record:
+            self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall())
 
-    def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float) -> None:
+    def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already)."""
         cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = why, at, True
         self.store.set_closed_unheard(str(cmd.session_id), why, at)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        if emit:
+            self.emit({"type": "command", "command": cmd.to_json()})
         self._forget_old()
 
     def _take_over(self, session: uuid.UUID) -> Command | None:
@@ -295,9 +303,8 @@ class Commands:
         mine = self.by_session.get(stored.session_id)
         if mine is None:
             return stored
-        if stored.cancel_requested and not mine.cancel_requested:
-            mine.cancel_requested, mine.canceled_by = True, stored.canceled_by
-            mine.canceled_on, mine.canceled_at = stored.canceled_on, stored.canceled_at
+        if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
+            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, record=False)
         if stored.closed_unheard is not None and mine.closed_unheard is None and not mine.flow.transitions:
             mine.closed_unheard, mine.closed_at, mine.cleaned_up = stored.closed_unheard, stored.closed_at, True
         return mine
@@ -330,8 +337,7 @@ class Commands:
         seq = len(cmd.flow.transitions)
         self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
         if cmd.closed_unheard is not None:  # ended as never heard, and it answers after all: what it says stands
-            cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False
-            self.store.set_closed_unheard(str(session), None, None)
+            cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False  # as add_transition stored it
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
@@ -361,8 +367,11 @@ class Commands:
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
         """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since
-        the cancel without a word of it, or once the bound since the cancel has passed."""
-        if seen is not None and seen >= cmd.cancel_mono:
+        the cancel without a word of it (a loss of its link meanwhile starts that again: its answer comes when the link
+        is back), or once the bound since the cancel has passed."""
+        if seen is None:
+            cmd.heard_from = None
+        elif seen >= cmd.cancel_mono:
             if cmd.heard_from is None:
                 cmd.heard_from = seen
             elif seen - cmd.heard_from >= self.unanswered_timeout:

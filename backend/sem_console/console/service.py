@@ -221,8 +221,9 @@ class Console:
         return self.source.replay
 
     def _heard(self, provider_id: uuid.UUID) -> float | None:
+        """When a vehicle was last heard, while its link is up (None: never heard, or lost)."""
         p = self.providers.by_id.get(provider_id)
-        return None if p is None else p.last_seen()
+        return None if p is None or p.link == "lost" else p.last_seen()
 
     def _write_command(self, service: Service, sample: Any) -> None:
         self.source.write(service, sample)  # a recording publishes nothing

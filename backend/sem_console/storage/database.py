@@ -83,6 +83,14 @@ class Unavailable(Exception):
     """A read of the shared database during an outage: the message is the one line a client reads (503)."""
 
 
+def _same_file(fd: int, path: Path) -> bool:
+    """Whether `path` still names the file open as `fd` (a lock file removed or replaced meanwhile does not)."""
+    try:
+        return os.path.samestat(os.fstat(fd), os.stat(path))
+    except FileNotFoundError:
+        return False
+
+
 def _key(text_: str) -> int:
     """A stable signed 64-bit key (PostgreSQL advisory locks) of a name."""
     return int.from_bytes(hashlib.sha256(text_.encode()).digest()[:8], "big", signed=True)
@@ -279,15 +287,19 @@ class Database:
         if isinstance(self._lock, int):  # this console's already (a name claimed again, in one process)
             return
         lock = self.lock_path()
-        fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
-        try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except BlockingIOError:
-            holder = os.read(fd, 200).decode(errors="replace").strip()
-            os.close(fd)
-            raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
-                               "consoles cannot share a SQLite file; stop it, pass another --db, or share a PostgreSQL "
-                               "database with --database-url") from None
+        while True:
+            fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                holder = os.read(fd, 200).decode(errors="replace").strip()
+                os.close(fd)
+                raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
+                                   "consoles cannot share a SQLite file; stop it, pass another --db, or share a "
+                                   "PostgreSQL database with --database-url") from None
+            if _same_file(fd, lock):
+                break
+            os.close(fd)  # removed by the console that held it as it stopped, after this one opened it: a new one
         os.ftruncate(fd, 0)
         os.write(fd, f"{name}\n".encode())  # for an operator wondering what the file is, and the refusal of a second
         self._lock = fd
@@ -467,6 +479,9 @@ class Database:
 
         def write(c: Connection) -> None:
             c.execute(stmt)
+            # the vehicle answered after all: what it says stands, whatever station ended the command as never heard
+            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, COMMANDS.c.closed_unheard.is_not(None))
+                      .values(closed_unheard=None, closed_at=None, cleaned_up=False))
             self._notify(c, "command", session=session_id)
         self._write(write)
 
@@ -480,13 +495,16 @@ class Database:
     def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float) -> None:
         self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at)
 
-    def set_closed_unheard(self, session_id: str, why: str | None, at: float | None) -> None:
-        """A cancelled command the vehicle never answered, ended by the console (`why`), or answered after all (None)."""
-        self._update_command(session_id, closed_unheard=why, closed_at=at, cleaned_up=why is not None)
+    def set_closed_unheard(self, session_id: str, why: str, at: float) -> None:
+        """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
+        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before)."""
+        answered = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id).exists()
+        self._update_command(session_id, where=~answered, closed_unheard=why, closed_at=at, cleaned_up=True)
 
-    def _update_command(self, session_id: str, **values: Any) -> None:
+    def _update_command(self, session_id: str, where: Any = None, **values: Any) -> None:
         def write(c: Connection) -> None:
-            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
+            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, *([] if where is None else [where]))
+                      .values(**values))
             self._notify(c, "command", session=session_id)
         self._write(write)
 

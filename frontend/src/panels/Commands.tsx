@@ -33,8 +33,14 @@ function title(c: Command): string {
   return c.state === "RESTARTING" ? "INS RESTART" : `INS ${c.state ?? ""}`;
 }
 
+/** Unanswered and not ended: a cancelled command the console ended as never heard keeps `unanswered` in its record,
+ * but nothing is left to wait for or to watch. */
+function awaitingAnswer(c: Command): boolean {
+  return c.unanswered && !c.terminal;
+}
+
 function statusClass(c: Command): string {
-  if (c.violations.length || c.unanswered) return "alarm";
+  if (c.violations.length || awaitingAnswer(c)) return "alarm";
   if (c.status === "FAILED") return "bad";
   if (c.status === "COMPLETED") return "ok";
   if (c.status === "CANCELED" || c.closedUnheard) return "muted";
@@ -95,7 +101,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
   return (
     <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${title(c)}`}>
       {inTimeOrder(lines).map((l) => l.node)}
-      {c.unanswered && (
+      {awaitingAnswer(c) && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
           <strong>{COMMAND.unanswered}: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
           hears it, late.{" "}
@@ -129,7 +135,7 @@ function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open 
     <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
       <summary ref={row} data-testid="command-summary">
         <span className="c-title">{title(c)}</span>
-        <span className="c-status" data-testid="command-status" title={c.unanswered ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
+        <span className="c-status" data-testid="command-status" title={awaitingAnswer(c) ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
           {statusText(c)}
         </span>
         {c.cancelRequested && cancellerText(c) && <span className="c-canceller muted" data-testid="command-canceller">cancel asked {cancellerText(c)}</span>}
