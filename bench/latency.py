@@ -6,7 +6,7 @@ A writer (a process of its own) publishes InertialSensorReport and GPSFixReport 
 (5 sources x 2 topics at 10 Hz, written together every 100 ms: sparse input, so every sample is
 shown); a WebSocket client of the console, a Foxglove WebSocket client of the peer and a plain
 cyclonedds-python reader record arrival. Run with the default conflation window (report_interval
-5 ms) and with 50 ms. Targets (issue 24): overhead over the floor p50 < 1 ms and p99 < 5 ms; the
+5 ms) and with 50 ms. Targets: overhead over the floor p50 < 1 ms and p99 < 5 ms; the
 console beats the peer by at least 25 % at p50 and p99 (below 0.75 x the peer's, in the same run).
 Usage: python bench/latency.py [--seconds 12]
 """

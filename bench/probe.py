@@ -9,7 +9,7 @@ change, how old the value shown is; "drawn": the share of samples that were on s
 Runs 1, 20 and 50 vehicles (the simulator's at 10 Hz with 40 satellites) and a fleet of --fleet vehicles at the
 simulator's default rates; with 50, a new client's time to the full dashboard and the snapshot's size.
 The probe's GPSFixReports are stamped as they reach the page's WebSocket too: what comes before the dashboard.
-Every figure is printed beside its target (issue 24's list), then one JSON line with the date, the machine and
+Every figure is printed beside its target, then one JSON line with the date, the machine and
 its load average.
 Usage: python bench/probe.py [--seconds 20] [--fleet 250]
 """
@@ -43,7 +43,7 @@ RATE_HZ = 10.0
 PROBE = uuid.uuid5(uuid.NAMESPACE_URL, "sem-console/bench/probe")
 LAT0, LAT_STEP = 36.8, 1e-5
 SATS_BASE, SATS_MOD = 100, 900
-# issue 24's figures of the timer-driven dashboard (quiet machine), shown beside today's
+# the baseline: a dashboard that draws on a timer (quiet machine), printed beside the figures measured
 BEFORE = {"renderer_cores_1": 0.124, "renderer_cores_50": 0.34, "fix_p50_20": 135.0, "fix_p99_20": 334.0}
 
 
@@ -266,7 +266,7 @@ def main() -> None:
         least = min(p["drawn"] for p in r20["panels"].values())
         targets.append(target("1. 20 vehicles: samples drawn (least panel)", least, "share", ">", 0.98))
     if (r1 := get("1")) is not None:
-        # before: 0.124 cores drawing 40 % of the fix's 10 samples a second, 31 ms of renderer CPU per drawn sample
+        # the baseline: 0.124 cores drawing 40 % of the fix's 10 samples a second, 31 ms of renderer CPU per drawn sample
         before_ms = round(BEFORE["renderer_cores_1"] * 1000 / (RATE_HZ * 0.4), 1)
         targets.append(target("1. 1 vehicle: renderer CPU per drawn sample", r1["renderer_ms_per_drawn_sample"], "ms", "<=",
                               before_ms,

@@ -1,21 +1,25 @@
-"""Writes the docs' configuration page (docs/configuration.md): every option of every command that
-backend/pyproject.toml installs ([project.scripts]), read from the command's own argparse parser
-(the `build_parser()` beside its `main`), with the defaults and SEM_* environment variables of
-`Settings`. Run it after changing an option or a setting:
+"""Writes the docs' generated pages. Run it after changing an option, a setting, a route or a REST model:
 
     .venv/bin/python -m sem_console.docs_gen
 
-tests/test_docs.py fails while the page differs from what this writes.
+- docs/configuration.md: every option of every command that backend/pyproject.toml installs ([project.scripts]), read
+  from the command's own argparse parser (the `build_parser()` beside its `main`), with the defaults and SEM_*
+  environment variables of `Settings`.
+- docs/rest.md: every REST route and model of the console's OpenAPI document (what `/openapi.json` serves), with the
+  responses that only a console with operator tokens, with --auth-reads, or replaying a recording gives.
+
+tests/test_docs.py fails while a page differs from what this writes.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import json
 import os
 import sys
 import tomllib
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -26,6 +30,7 @@ from sem_console.core.config import Settings
 
 BACKEND = Path(__file__).resolve().parents[1]
 PAGE = BACKEND.parent / "docs" / "configuration.md"
+REST_PAGE = BACKEND.parent / "docs" / "rest.md"
 
 # sem-console builds its Settings from every option it parses (cli.main: Settings(**options)), so each
 # of its options is also the environment variable SEM_<NAME>. The other commands read Settings only
@@ -150,9 +155,220 @@ def render() -> str:
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
+# ---- the REST reference (docs/rest.md) ------------------------------------------------------
+TOKENS = "docs:any-token"  # which routes need a token is all that matters here, not the token
+# The consoles whose OpenAPI documents list more responses than a plain console's, in the order the page names them:
+# a response a route gives only on such a console is marked with its label.
+VARIANTS: tuple[tuple[str, dict[str, Any]], ...] = (
+    ("with operator tokens", {"operator_tokens": TOKENS}),
+    ("with --auth-reads", {"operator_tokens": TOKENS, "auth_reads": True}),
+    ("in a replay", {"replay": Path("recording.mcap")}),
+)
+METHOD_ORDER = ("get", "post", "put", "patch", "delete")
+Operation = tuple[str, str]  # (path, method)
+
+
+def openapi(**settings: Any) -> dict[str, Any]:
+    """The OpenAPI document a console with these settings serves (a fresh shell's environment, nothing started)."""
+    from sem_console.main import create_app
+
+    with clean_environment():
+        doc: dict[str, Any] = create_app(Settings(**settings)).openapi()
+    return doc
+
+
+def operations(doc: dict[str, Any]) -> dict[Operation, dict[str, Any]]:
+    """Every operation of the document, in the order the app registers its routes."""
+    return {(path, method): op for path, item in doc["paths"].items()
+            for method in sorted(item, key=METHOD_ORDER.index) for op in (item[method],)}
+
+
+def md(value: str) -> str:
+    """Text of the OpenAPI document (Markdown: its code spans) on one line of the page: outside code spans nothing is
+    HTML, and no `|` ends a table cell."""
+    parts = value.split("`")
+    for i in range(0, len(parts), 2):
+        parts[i] = parts[i].replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
+    return "`".join(parts).replace("|", "\\|").replace("\n", " ").strip()
+
+
+def anchor(method: str, path: str) -> str:
+    """`GET /api/providers/{provider_id}` -> get-api-providers-provider_id: stable while the route is."""
+    return method + "-" + "-".join(filter(None, (part.strip("{}").replace(".", "-") for part in path.split("/"))))
+
+
+def model_link(ref: str) -> str:
+    name = ref.rsplit("/", 1)[-1]
+    return f"[`{name}`](#{name.lower()})"
+
+
+def _number(value: Any) -> str:
+    return str(int(value)) if isinstance(value, float) and value.is_integer() else str(value)
+
+
+def _bounds(schema: dict[str, Any], low: str, high: str, unit: str = "") -> str:
+    lo, hi = schema.get(low), schema.get(high)
+    if lo is not None and hi is not None:
+        return f"{_number(lo)} to {_number(hi)}{unit}"
+    if lo is not None:
+        return f"at least {_number(lo)}{unit}"
+    return f"at most {_number(hi)}{unit}" if hi is not None else ""
+
+
+def kind(schema: dict[str, Any]) -> str:
+    """A schema as the page writes its type: `integer (1 to 1000)`, `list of [Command](#command)`, `"ON" or "OFF"`."""
+    if "$ref" in schema:
+        return model_link(schema["$ref"])
+    if "const" in schema:
+        return f"`{json.dumps(schema['const'])}`"
+    if "enum" in schema:
+        return " or ".join(f"`{json.dumps(v)}`" for v in schema["enum"])
+    for key in ("oneOf", "anyOf"):
+        if key in schema:
+            return " or ".join(kind(s) for s in schema[key])
+    t = schema.get("type", "any")
+    notes = []
+    if t == "array":
+        if "prefixItems" in schema:
+            return "[" + ", ".join(kind(s) for s in schema["prefixItems"]) + "]"
+        text = f"list of {kind(schema.get('items', {}))}"
+        notes.append(_bounds(schema, "minItems", "maxItems", " items"))
+    elif t == "object":
+        values = schema.get("additionalProperties")
+        if not isinstance(values, dict):
+            return "object"
+        text = f"map of {kind(schema.get('propertyNames', {'type': 'string'}))} to {kind(values)}"
+    else:
+        text = str(t)
+        notes.append(schema.get("format", ""))
+        notes.append(_bounds(schema, "minimum", "maximum"))
+        notes.append(_bounds(schema, "minLength", "maxLength", " characters"))
+        if "exclusiveMinimum" in schema:
+            notes.append(f"over {_number(schema['exclusiveMinimum'])}")
+        if "pattern" in schema:
+            notes.append(f"`{schema['pattern']}`")
+    notes = [n for n in notes if n]
+    return f"{text} ({', '.join(notes)})" if notes else text
+
+
+def default_of(schema: dict[str, Any], required: bool) -> str:
+    if required:
+        return "required"
+    return f"`{json.dumps(schema['default'])}`" if "default" in schema else "—"
+
+
+def conditional(base: dict[Operation, dict[str, Any]], variants: list[tuple[str, dict[str, Any]]]
+                ) -> dict[Operation, dict[str, tuple[str, dict[str, Any]]]]:
+    """Per operation, each response only a variant console gives: status -> (the variant's label, the response)."""
+    out: dict[Operation, dict[str, tuple[str, dict[str, Any]]]] = {}
+    for label, doc in variants:
+        for key, op in operations(doc).items():
+            extra = out.setdefault(key, {})
+            for code, response in op.get("responses", {}).items():
+                if code not in base.get(key, {}).get("responses", {}) and code not in extra:
+                    extra[code] = (label, response)
+    return out
+
+
+def common_responses(ops: dict[Operation, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """The responses every route gives, each as most routes describe it: the page lists them once, and at a route only
+    where it says more."""
+    out: dict[str, dict[str, Any]] = {}
+    for code in set.intersection(*(set(op["responses"]) for op in ops.values())):
+        told = [json.dumps(op["responses"][code], sort_keys=True) for op in ops.values()]
+        out[code] = json.loads(max(told, key=told.count))
+    return dict(sorted(out.items()))
+
+
+def body_kind(response: dict[str, Any]) -> str:
+    content = response.get("content", {})
+    if not content:
+        return "—"
+    return " or ".join(kind(c.get("schema", {})) if media == "application/json" else f"`{media}`"
+                       for media, c in content.items())
+
+
+def response_rows(responses: dict[str, tuple[str, dict[str, Any]]]) -> list[str]:
+    rows = ["| status | what | body |", "|---|---|---|"]
+    for code in sorted(responses):
+        label, r = responses[code]
+        what = md(r.get("description", ""))
+        rows.append(f"| {code} | {f'*{label}:* ' if label else ''}{what} | {body_kind(r)} |")
+    return rows
+
+
+def operation_section(path: str, method: str, op: dict[str, Any], responses: dict[str, tuple[str, dict[str, Any]]]
+                      ) -> list[str]:
+    lines = [f"### `{method.upper()} {path}` {{#{anchor(method, path)}}}", "", f"**{md(op.get('summary', ''))}.**"
+             + (f" {md(op['description'])}" if op.get("description") else ""), ""]
+    params = op.get("parameters", [])
+    if params:
+        lines += ["| parameter | in | type | default | what |", "|---|---|---|---|---|"]
+        lines += [f"| `{p['name']}` | {p['in']} | {kind(p.get('schema', {}))} | "
+                  f"{default_of(p.get('schema', {}), p.get('required', False))} | {md(p.get('description', '—'))} |"
+                  for p in params]
+        lines.append("")
+    body = op.get("requestBody")
+    if body is not None:
+        lines += [f"Request body: {body_kind(body)}.", ""]
+    return [*lines, *response_rows(responses), ""]
+
+
+def model_section(name: str, schema: dict[str, Any]) -> list[str]:
+    lines = [f"### `{name}` {{#{name.lower()}}}", ""]
+    if schema.get("description"):
+        lines += [md(schema["description"]), ""]
+    fields = schema.get("properties", {})
+    if not fields:
+        return [*lines, "No fields: `{}`." if schema.get("type") == "object" else f"{kind(schema)}.", ""]
+    required = set(schema.get("required", ()))
+    lines += ["| field | type | default | what |", "|---|---|---|---|"]
+    lines += [f"| `{field}` | {kind(s)} | {default_of(s, field in required)} | {md(s.get('description', ''))} |"
+              for field, s in fields.items()]
+    return [*lines, ""]
+
+
+def render_rest() -> str:
+    doc = openapi()
+    ops = operations(doc)
+    extra = conditional(ops, [(label, openapi(**settings)) for label, settings in VARIANTS])
+    common = common_responses(ops)
+    lines = ["# REST reference", "",
+             "<!-- Generated by `python -m sem_console.docs_gen` from the console's OpenAPI document (the routes of "
+             "backend/sem_console/api/routes/ and the models of api/schemas.py). Do not edit: tests/test_docs.py fails "
+             "when this page is stale. -->", "",
+             "Every REST route of the console and every model it takes or answers, as its OpenAPI document says "
+             "(served at `/openapi.json`). What the routes have in common (times, exports, errors, tokens) and the "
+             "WebSocket are on the [API](api.md) page. A response marked *with operator tokens*, *with --auth-reads* "
+             "or *in a replay* is given only by a console started so.", "",
+             "## Every route", "", "Besides its own responses, every route may answer:", "",
+             *response_rows({code: ("", r) for code, r in common.items()}), ""]
+    tags: dict[str, list[Operation]] = {}
+    for key, op in ops.items():
+        tags.setdefault(op.get("tags", ["other"])[0], []).append(key)
+    lines += ["| route | summary |", "|---|---|"]
+    lines += [f"| [`{m.upper()} {p}`](#{anchor(m, p)}) | {md(ops[(p, m)].get('summary', ''))} |"
+              for keys in tags.values() for p, m in keys]
+    lines.append("")
+    for tag, keys in tags.items():
+        lines += [f"## {tag[:1].upper()}{tag[1:]}", ""]
+        for path, method in keys:
+            op = ops[(path, method)]
+            own = {code: ("", r) for code, r in op.get("responses", {}).items() if common.get(code) != r}
+            lines += operation_section(path, method, op, {**own, **extra.get((path, method), {})})
+    lines += ["## Models", ""]
+    for name, schema in sorted(doc.get("components", {}).get("schemas", {}).items()):
+        lines += model_section(name, schema)
+    return "\n".join(lines).rstrip("\n") + "\n"
+
+
+PAGES: dict[Path, Callable[[], str]] = {PAGE: render, REST_PAGE: render_rest}
+
+
 def main() -> int:
-    PAGE.write_text(render(), encoding="utf-8")
-    print(f"wrote {PAGE}", file=sys.stderr)
+    for page, write in PAGES.items():
+        page.write_text(write(), encoding="utf-8")
+        print(f"wrote {page}", file=sys.stderr)
     return 0
 
 

@@ -36,8 +36,8 @@ METHODS = ("GET", "HEAD", "POST", "PUT", "PATCH", "DELETE")
 DEFAULT_FRONTEND = Path(__file__).resolve().parents[2] / "frontend" / "dist"
 # The largest request body taken (413 beyond, before it is read: a declared Content-Length at once, a chunked body as it
 # arrives): the largest a route takes is a world model of one IMC packet (64 KiB of IMC, a few hundred KiB of GeoJSON).
-# Without it a body of any size was read and parsed on the event loop before the token was checked: 300 MB from anyone
-# reaching the port held the loop 7 s and took 1.6 GB.
+# Without it a body of any size is read and parsed on the event loop before the token is checked: 300 MB from anyone
+# reaching the port holds the loop about 7 s and takes 1.6 GB.
 MAX_BODY_BYTES = 1 << 20
 
 

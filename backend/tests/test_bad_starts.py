@@ -1,4 +1,4 @@
-"""Bad starts of a real `sem-console` (issue 19, point 9): a database, port, chart, recording folder, replay
+"""Bad starts of a real `sem-console`: a database, port, chart, recording folder, replay
 file or TLS pair it cannot use is one line on stderr naming it and what to do, exit code 2, before DDS or
 the application starts (no traceback, nothing from uvicorn)."""
 

@@ -206,7 +206,7 @@ other.close()  # closing twice does nothing
 def test_closing_a_bus_deletes_readers_held_in_a_reference_cycle(domain: int) -> None:
     """A reader whose Python object sits in a reference cycle, with a listener (as the console's readers have), is
     gone from Cyclone once its bus is closed. cyclonedds-python alone never deletes such an entity; a reader left so,
-    its listener's callback freed, crashed the next writer to match it in the process (a child here: a regression
+    its listener's callback freed, crashes the next writer to match it in the process (a child here: that crash
     fails this test by its exit signal, not the worker running it)."""
     done = subprocess.run([sys.executable, "-c", _CYCLE_SCRIPT, str(domain)], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, (done.returncode, done.stderr[-2000:])

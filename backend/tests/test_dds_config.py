@@ -72,7 +72,7 @@ def test_console_and_sim_configured_by_uri_find_each_other(console, domain: int,
 
 
 def test_uri_pointing_elsewhere_is_not_replaced_by_loopback(domain: int, tmp_path: Path) -> None:
-    """A URI that names another interface is used as given (it used to fall back to Cyclone's defaults)."""
+    """A URI that names another interface is used as given, not Cyclone's defaults."""
     trace = tmp_path / "other.log"
     xml = traced(trace).replace('name="lo"', 'name="sem-no-such-interface"')
     proc = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",

@@ -1,5 +1,6 @@
 """The docs: the generated configuration page is current and names every option each command's
-`--help` prints; the README stays short and its links lead somewhere."""
+`--help` prints; the generated REST reference is current and has every route and the responses of a console with
+tokens or replaying; the README stays short and its links lead somewhere."""
 
 from __future__ import annotations
 
@@ -21,6 +22,39 @@ README_MAX_BYTES = 15 * 1024
 def test_configuration_page_is_what_the_generator_writes_now() -> None:
     assert docs_gen.PAGE.read_text(encoding="utf-8") == docs_gen.render(), (
         "docs/configuration.md is stale: run .venv/bin/python -m sem_console.docs_gen")
+
+
+def test_rest_reference_is_what_the_generator_writes_now() -> None:
+    assert docs_gen.REST_PAGE.read_text(encoding="utf-8") == docs_gen.render_rest(), (
+        "docs/rest.md is stale: run .venv/bin/python -m sem_console.docs_gen")
+
+
+def _route_section(page: str, method: str, path: str) -> str:
+    start = page.index(f"### `{method} {path}`")
+    return page[start:page.index("\n### ", start + 1)]
+
+
+def test_rest_reference_has_every_route_with_what_only_some_consoles_answer() -> None:
+    page = docs_gen.render_rest()
+    ops = docs_gen.operations(docs_gen.openapi())
+    common = docs_gen.common_responses(ops)
+    assert set(common) == {"403", "413", "422"}  # listed once, under "Every route"
+    for (path, method), op in ops.items():
+        section = _route_section(page, method.upper(), path)
+        assert f"**{op['summary']}.**" in section
+        for code, response in op["responses"].items():
+            assert f"\n| {code} |" in section or common.get(code) == response, (method, path, code)
+    # a command route: a token's refusals only with operator tokens, 409 only in a replay (the plain document has none)
+    recording = _route_section(page, "POST", "/api/recordings")
+    assert "| 401 | *with operator tokens:* no operator token" in recording
+    assert "| 409 | *in a replay:* read-only" in recording
+    # a read: a token's refusals only with --auth-reads; health never asks one
+    assert "| 401 | *with --auth-reads:* " in _route_section(page, "GET", "/api/providers")
+    assert "| 401 |" not in _route_section(page, "GET", "/api/health")
+    # the request body's model is linked and has its fields
+    assert "Request body: [`InertialSensorRequest`](#inertialsensorrequest)." in _route_section(
+        page, "POST", "/api/providers/{provider_id}/inertial-sensor")
+    assert "| `state` | `\"OFF\"` or `\"ON\"` or `\"RESTARTING\"` | required |" in page
 
 
 def help_options(text: str) -> list[str]:

@@ -399,7 +399,7 @@ def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, con
 
 def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
                                                                     domain: int) -> None:
-    """Issue 23, point 4: Connext 7 on its defaults sends type information Cyclone cannot add, and nothing
+    """Connext 7 on its defaults sends type information Cyclone cannot add, and nothing
     of it matches (test_connext7_on_defaults_matches_no_sem_topic). The console names the participant and
     the one setting that fixes it, once for the participant (not per topic)."""
     c = console()
@@ -416,7 +416,7 @@ def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callab
 
 def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiParticipant], rti7: Callable[..., Any],
                                                        console: Any, domain: int) -> None:
-    """Issue 23, point 4, in /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
+    """In /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
     Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
     RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
     (a partition: Cyclone and RTI drop it in silence), and an RTI command reader there, which the console's commands
@@ -473,7 +473,7 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
 
 
 def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: RtiFactory, domain: int, tmp_path: Path) -> None:
-    """Issue 23, point 4, in sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
+    """In sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
     (RTI's default: Connext 6.1.2 on its plain defaults, Connext 7 on the drop-in's Default profile) fails
     discovery.GPSReport and discovery.GPSFixReport with the fix in RTI's terms; its other topics pass."""
     v = RtiVehicle(rti(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
@@ -621,7 +621,7 @@ def _rti_matches(rti7: Callable[..., Any], domain: int, **kw: Any) -> dict[Sem, 
 
 
 def test_connext7_on_defaults_matches_no_sem_topic(rti7: Callable[..., Any], domain: int) -> None:
-    """Issue 23, point 1. Connext 7.7 on its defaults announces XTypes 1.3 type information; Cyclone
+    """Connext 7.7 on its defaults announces XTypes 1.3 type information; Cyclone
     fetches the type object over TypeLookup, fails to add it, and matches no SEM topic either way.
     (The next test but one is the same set-up expected to match: it flips when that is fixed.)"""
     assert _rti_matches(rti7, domain, recipe=None, env={}) == {s: (0, 0) for s in Sem}
@@ -678,7 +678,7 @@ ALL_RIGHT = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone
                          ids=["connext7.7-recipe", "connext7.7-recipe-without-mask", "connext6.1.2-recipe"])
 def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_right: bool, appendable_umaa: Path,
                                           domain: int, request: pytest.FixtureRequest) -> None:
-    """Issue 23, point 4: RTI on the drop-in profile (XCDR2 writers for the two types, readers accepting
+    """RTI on the drop-in profile (XCDR2 writers for the two types, readers accepting
     XCDR and XCDR2, no type information) and Cyclone with GPSReport, GPSFixReport and their nested types
     appendable: 20 random samples each way, values compared. GPSReport needs
     NDDS_XTYPES_COMPLIANCE_MASK (Connext 7 only; 6.1.2 does not read it): without it RTI leaves out the
@@ -694,7 +694,7 @@ def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_ri
 
 
 def test_appendable_gps_types_do_not_match_plain_cyclone_types(appendable_umaa: Path, domain: int) -> None:
-    """Issue 23, point 3 (a): Cyclone endpoints of the appendable GPSReport/GPSFixReport and of idlc's
+    """Cyclone endpoints of the appendable GPSReport/GPSFixReport and of idlc's
     default (final, as a vehicle built from the plain UMAA IDL has, and as sem-sim has today) do not
     match either way: both send type information and XTypes does not assign final to appendable."""
     final = {s: (Bus(domain).reader(s), Bus(domain).writer(s)) for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)}  # noqa: F841
@@ -717,7 +717,7 @@ def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
 @pytest.mark.parametrize("version", ["7", "6"], ids=["connext7.7", "connext6.1.2"])
 def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
                                                                    request: pytest.FixtureRequest) -> None:
-    """Issue 23, point 3: one reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
+    """One reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
     RTI vehicle on the drop-in's AppendableGps profile (XCDR2, RTI's appendable types; Connext 7 with the mask in its
     environment) through its appendable readers, and from a Cyclone vehicle on plain idlc types (final, as sem-sim's)
     through its final readers, at once; 5 random samples per topic and vehicle, values compared, each decoded once.
@@ -788,7 +788,7 @@ RTI7_INS_REPORT_MINIMAL = bytes.fromhex(
 
 
 def test_why_cyclone_refuses_connext7_type_objects() -> None:
-    """Issue 23, point 2, in bytes (no RTI needed). RTI's type identifier is the MD5 of RTI's own
+    """In bytes (no RTI needed): RTI's type identifier is the MD5 of RTI's own
     serialization of the type object, which writes each MinimalStructMember's DHEADER as 26 (0x1a)
     where the member is 25 bytes (member_id 4, member_flags 2, TypeIdentifier 15, name_hash 4), with
     one byte of what is alignment padding inside it, and the sequence and object DHEADERs to match.
@@ -812,7 +812,7 @@ def test_why_cyclone_refuses_connext7_type_objects() -> None:
 
 @pytest.mark.parametrize("force", [False, True], ids=["plain-reader", "force_type_validation"])
 def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, rti7: Callable[..., Any], domain: int) -> None:
-    """The building block of one reader per extensibility (issue 23, point 3): the console's final
+    """The building block of one reader per extensibility: the console's final
     GPSReport/GPSFixReport reader, as sem-sim and a plain-IDL Cyclone vehicle write them, must not
     also take an RTI vehicle's appendable samples (it would misread them: test_recipe_with_appendable_gps_types
     with final types). RTI on the recipe sends no type information and matches by name, unless the
@@ -851,7 +851,7 @@ def _taken(readers: dict[Sem, Any], into: dict[Sem, list[Any]]) -> dict[Sem, lis
 @pytest.mark.parametrize("version,gps_report_right", [("7", True), ("6", False)], ids=["connext7.7", "connext6.1.2"])
 def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_report_right: bool, sim: Any, domain: int,
                                                           request: pytest.FixtureRequest) -> None:
-    """Issue 23, RTI as consumer: on the drop-in's AppendableGps profile (Connext 7 with the mask in its environment)
+    """RTI as consumer: on the drop-in's AppendableGps profile (Connext 7 with the mask in its environment)
     it reads `sem-sim --gps-extensibility appendable`'s GPSReport and GPSFixReport: at least 20 samples each equal to
     the sample of the same time stamp a Cyclone reader of the appendable copy took from the same writers, none
     different; and runs a GPS fix command to COMPLETED. Connext 6.1.2 reads no mask: its GPSFixReport is right, and no

@@ -120,7 +120,7 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
     for i in (1, 2):
         p.report(base + i * S)
         wait_until(lambda i=i: i * S in shown(), 30, f"sparse report {i}")
-    # taken as they came: no take waited for the window (the old thread slept it after every take)
+    # taken as they came: no take waited for the window
     assert httpx.get(f"{c.url}/api/metrics").json()["reportWindowWaits"] == 0
     before = len(shown())
     for i in range(3, 203):  # 200 reports 2 ms apart: each wakes the thread until the bucket is empty, then the window applies

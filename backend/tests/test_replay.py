@@ -433,7 +433,7 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
 
 def test_a_name_before_the_vehicle_appeared_a_recorded_null_and_a_file_without_names(console, tmp_path: Path) -> None:
     """A vehicle named before it appeared is named so when it does; a recorded null (renamed back to no name) leaves it
-    to the replaying console's --vehicle-names from that instant; a file without names (recorded before 2026-11-26)
+    to the replaying console's --vehicle-names from that instant; a file without names (its recorder wrote none)
     names the vehicles by --vehicle-names only."""
     rng = random.Random(7)
 

@@ -1,4 +1,4 @@
-"""`sem-console`'s options are generated from `Settings` (issue 20, point 3): every field has its option or is
+"""`sem-console`'s options are generated from `Settings`: every field has its option or is
 marked environment-only, the checks between fields are model validators (so the environment gets them too, as one
 line), and an option and its SEM_* variable make the same Settings. In process: no console is started."""
 

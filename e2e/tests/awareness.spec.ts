@@ -1,4 +1,4 @@
-// Operator awareness (issue 19): the console's alarms (kept on the server) on the page, the fleet bar in
+// Operator awareness: the console's alarms (kept on the server) on the page, the fleet bar in
 // view whatever is scrolled, the tab title's count, and an honest first screen.
 import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";

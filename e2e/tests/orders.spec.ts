@@ -1,4 +1,4 @@
-// Every order bound to its vehicle (issue 19): a CoMap Move-to armed for one vehicle is void once another is
+// Every order bound to its vehicle: a CoMap Move-to armed for one vehicle is void once another is
 // selected, and nothing reaches the other; a command to a lost vehicle needs an explicit confirmation that says
 // it is lost; confirmations take the focus and close on Esc; CoMap controls say why when CoMap is off.
 import { expect, test, type APIRequestContext, type Locator, type Page } from "@playwright/test";

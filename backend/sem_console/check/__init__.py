@@ -1,4 +1,4 @@
-"""`sem-check`: a headless UMAA SEM conformance runner (issue 22).
+"""`sem-check`: a headless UMAA SEM conformance runner.
 
 It tests one Service Provider on a DDS domain against ICD 3.0.1 as a Service Consumer would
 see it: which SEM topics it serves with which types, keys and QoS (`discovery`), what its

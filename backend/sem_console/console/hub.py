@@ -56,7 +56,7 @@ class Client:
 
     `window`: with acknowledgements (`/ws?ack=1`), reports go out only while fewer than this many bytes are sent and not
     yet acknowledged. What was written waits in the sockets' buffers in order, beyond conflation: with 250 vehicles a
-    page that stalled for a moment had megabytes queued there, and the selected vehicle's next fix waited behind all of
+    page that stalls for a moment has megabytes queued there, and the selected vehicle's next fix waits behind all of
     it (p99 0.2 s, seconds on a busy machine). With the window the reports wait here, where each is replaced by the
     newer. Ordered events (snapshots, alarms, commands) are not held by it, nor the selected vehicle's reports (a few
     kB a second, what the operator watches); a client that takes frames and acknowledges none is dropped once

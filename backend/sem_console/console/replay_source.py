@@ -69,8 +69,8 @@ class ReplayError(Exception):
 @dataclass
 class RecordedCommand:
     """A message of `sem-console/commands`: the command as the recording console sent it to its clients, and whether
-    that console followed it as its own (issued it or took it over: it raised its alarms); None in a file recorded
-    before 2026-11-26, which does not say."""
+    that console followed it as its own (issued it or took it over: it raised its alarms); None in a file whose recorder
+    did not say."""
 
     command: dict[str, Any]
     followed: bool | None
@@ -216,7 +216,7 @@ class Replay:
 
     def __init__(self, console: Replayed, path: Path, speed: float, clock: RecordingClock) -> None:
         self.console, self.path, self.speed, self.clock = console, path, speed, clock
-        self.station: str | None = None  # the recording console's (--console-name); None before 2026-11-26's recorder
+        self.station: str | None = None  # the recording console's (--console-name); None when the file does not say
         self.playing = True
         self.start = self.end = self.position = 0.0
         self.decoder = Decoder()

@@ -15,23 +15,32 @@ import math
 import tempfile
 import threading
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Protocol
+from typing import Any, Protocol
 
 from cyclonedds.core import DDSException
 
 from sem_console.console.clock import Clock, RecordingClock
-from sem_console.console.ingest import Ingest
-from sem_console.console.replay_source import Replay
+from sem_console.console.ingest import Ingest, ReportItem, StatusItem, Tap
+from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
 from sem_console.storage.url import sqlite_file
 
-if TYPE_CHECKING:
-    from sem_console.console.service import Console
-
 log = logging.getLogger("sem-console")
+
+
+class ConsoleSink(Replayed, Protocol):
+    """What a source drives: the console (`service.Console`), which hands itself in to `attach`. Declared here, so
+    that the sources never import the console that composes them."""
+
+    @property
+    def recorder(self) -> Tap: ...
+
+    def on_reports(self, items: list[ReportItem]) -> None: ...
+
+    def on_statuses(self, items: list[StatusItem]) -> None: ...
 
 
 class Source(Protocol):
@@ -67,7 +76,7 @@ class Source(Protocol):
         """The database the console's state is kept in (`opened`: the one `sem-console` opened, if any)."""
         ...
 
-    def attach(self, console: Console) -> None:
+    def attach(self, console: ConsoleSink) -> None:
         """Bind the input to the console (on the loop, before anything is resumed); nothing flows yet."""
         ...
 
@@ -122,7 +131,7 @@ class DdsSource:
     def database(self, opened: Database | None) -> Database:
         return opened or Database(self.settings.database(), self.settings.audit_max_rows)
 
-    def attach(self, console: Console) -> None:
+    def attach(self, console: ConsoleSink) -> None:
         self.ingest = Ingest(self.bus, asyncio.get_running_loop(), console.on_reports, console.on_statuses,
                              self.settings.report_interval, console.recorder, self.settings.report_burst,
                              {service.command: w for service, w in self.command_writers.items()})
@@ -244,7 +253,7 @@ class RecordingSource:
         self._store = Database(sqlite_file(Path(self._dir.name) / "replay.sqlite3"), self.settings.audit_max_rows)
         return self._store
 
-    def attach(self, console: Console) -> None:
+    def attach(self, console: ConsoleSink) -> None:
         self.replay = Replay(console, self.path, self.settings.replay_speed, self.clock)
 
     async def start(self) -> None:

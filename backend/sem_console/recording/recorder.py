@@ -81,7 +81,7 @@ class RecordedCommandMessage(CommandMessage):
     followed: bool | None = Field(None, description=(
         "the recording console followed this command as its own when it sent this message: it issued it, or took it "
         "over from another station (to cancel it), so it raised the command's alarms; false: another station's command, "
-        "only shown; absent in files recorded before 2026-11-26 (a replay then goes by the issuing station)"))
+        "only shown; absent in files of recorders that did not write it (a replay then goes by the issuing station)"))
 
 
 class AlarmAckEvent(BaseModel):

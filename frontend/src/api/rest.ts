@@ -161,7 +161,7 @@ export async function worldModel(token: string | null): Promise<import("geojson"
   }
 }
 
-// CoMap C2 (issue 12): the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
+// CoMap C2: the contract the console's CoMap routes follow (GET/PUT /api/worldmodel, /api/tasks).
 export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
 
 /** A SurveyTask or MoveTask to assign (POST /api/tasks), and a task as the console follows it: the backend's models. */

@@ -62,7 +62,7 @@ export interface State {
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet); only while
   // none is chosen, a lone vehicle on the bus is selected (withLoneSelected).
   selected: string | null;
-  // CoMap (issue 12): the console's world model (null: none known; a console without CoMap answers 404)
+  // CoMap: the console's world model (null: none known; a console without CoMap answers 404)
   // and its tasks by id, from the WebSocket's `worldmodel` and `task` messages after one REST load per connection
   worldModel: FeatureCollection | null;
   worldModelSeq: number; // `worldmodel` messages received: a REST answer older than one of them is dropped

@@ -22,7 +22,8 @@ writes = APIRouter(tags=["alarms"])
 
 @reads.get("/api/alarms", response_model=list[Alarm])
 async def list_alarms(console: ConsoleDep) -> list[dict[str, Any]]:
-    """The active alarm set (every alarm not back to normal), newest first; the same as the WebSocket's `alarms`."""
+    """The active alarm set (every alarm not back to normal, in its ISA-18.2 state), newest first; the same as the
+    WebSocket's `alarms`."""
     return console.alarms.active()
 
 
@@ -33,7 +34,8 @@ async def acknowledge_alarm(alarm_id: AlarmId, body: AlarmAckRequest, console: C
                             audit: AuditDep) -> list[dict[str, Any]]:
     """Acknowledge an alarm (the body is `{}`). An event alarm, or a condition alarm
     whose condition has cleared, then returns to normal and leaves the set; an active condition alarm stays as
-    active-acknowledged. Acknowledging an acknowledged alarm again changes nothing. Every client gets the new set."""
+    active-acknowledged. Acknowledging an acknowledged alarm again changes nothing. Audited with the operator, like a
+    command. Every client gets the new set."""
     if console.acknowledge(alarm_id, operator) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no alarm {alarm_id} in the active set")
     audit(status.HTTP_200_OK, None, operator)

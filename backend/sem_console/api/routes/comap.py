@@ -19,8 +19,8 @@ from sem_console.comap.c2 import TaskError
 from sem_console.comap.codec import MAX_PAYLOAD, encode_payload
 from sem_console.comap.geo import Feature, GeoError, feature_from_geojson, world_model_message
 
-writes = APIRouter(tags=["comap"])
-reads = APIRouter(tags=["comap"])
+writes = APIRouter(tags=["CoMap"])
+reads = APIRouter(tags=["CoMap"])
 TaskId = Path(ge=0, le=0xFFFF, description="the CoMap task id", examples=[1])
 COMAP_OFF = "; or CoMap is off (the console was started without --imc-port)"
 UNKNOWN_TASK: Responses = {404: problem("unknown task")}
@@ -73,12 +73,14 @@ async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: Ope
 
 @reads.get("/api/tasks", response_model=list[Task])
 async def list_tasks(console: ConsoleDep) -> list[dict[str, Any]]:
-    """Every task of the consoles on this database (stored: kept across restarts), newest first."""
+    """Every task of the consoles on this database (stored: kept across restarts), newest first, with its state,
+    progress, quality and the station that assigned it."""
     return [t.to_json() for t in sorted(console.c2.tasks.values(), key=lambda t: t.created_at, reverse=True)]
 
 
 @reads.get("/api/tasks/{task_id}", response_model=Task, responses=UNKNOWN_TASK)
 async def get_task(console: ConsoleDep, task_id: int = TaskId) -> dict[str, Any]:
+    """One task, as the list has it."""
     task = console.c2.tasks.get(task_id)
     if task is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no task {task_id}")

@@ -27,8 +27,8 @@ reads = APIRouter(tags=["commands"])
 UNKNOWN_PROVIDER: Responses = {404: problem("unknown provider")}
 # a command not among the running and newest finished ones is looked up in the database
 UNKNOWN_COMMAND: Responses = {404: problem("unknown command"), **DATABASE_READ}
-LOST: Responses = {409: problem("the vehicle's link is lost: send confirmLost true to command it anyway (a replay, read-only, "
-                     "refuses every command with 409)")}
+LOST: Responses = {409: problem("the vehicle's link is lost: the answer names it and how long it has been silent; send "
+                                "confirmLost true to command it anyway (a replay, read-only, refuses every command with 409)")}
 # OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
 CREATED: Responses = {201: {"description": "the command, published on the bus", "links": {
     name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
@@ -73,7 +73,8 @@ def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: b
                responses={**UNKNOWN_COMMAND, 409: problem("the command has finished")})
 async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep,
                          audit: AuditDep) -> dict[str, Any]:
-    """Cancel a running command: the console disposes it, the provider answers CANCELED."""
+    """Cancel a running command, an UNANSWERED one too: the console disposes it, the provider answers CANCELED. The
+    command stays in the history."""
     if console.commands.get(session_id) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     try:
@@ -96,6 +97,8 @@ async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset 
 
 @reads.get("/api/commands/{session_id}", response_model=Command, responses=UNKNOWN_COMMAND)
 async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+    """One command with every status transition: from memory, or from the database once it is no longer among the
+    running and newest finished ones."""
     cmd = console.commands.get(session_id)
     if cmd is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")

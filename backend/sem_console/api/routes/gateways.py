@@ -59,7 +59,8 @@ async def set_link_config(provider_id: uuid.UUID, body: LinkConfig, console: Con
                           audit: AuditDep) -> dict[str, Any]:
     """Set a vehicle's link thresholds (comms-lost timeout, regained time) and record its comms-lost policy and
     regained behaviour. Link health follows the new thresholds at once; the JAUS gateway reports them
-    (ReportCommsLostConfiguration); the setting is kept in the console's database."""
+    (ReportCommsLostConfiguration); the setting is kept in the console's database. Audited like a command. Returns
+    the new configuration."""
     p = known_provider(console, provider_id)
     console.set_link_config(p, ProviderLinkConfig(**body.model_dump()))
     audit(status.HTTP_200_OK, None, operator)

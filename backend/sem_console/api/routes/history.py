@@ -171,7 +171,9 @@ def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPo
             responses={**_document("application/gpx+xml", "GPX 1.1: the track in time order, elevation MSL (m), "
                                    "course (degrees) and speed (m/s) as extensions"), **UNKNOWN_PROVIDER})
 async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> Response:
-    """The track as a GPX 1.1 file (a download)."""
+    """The track as a GPX 1.1 file (a download, made with gpxpy): one track, one segment, the points in time order
+    with `<time>` (UTC), `<ele>` (altitude MSL, m) and `<desc>` (fix valid, GPS or INS position); course (degrees)
+    and speed (m/s) as `<sem:course>` and `<sem:speed>` extensions."""
     await known(console, provider_id)
     points = await console.history.track(provider_id, when.since, when.until)
     p = console.provider(provider_id)
@@ -220,8 +222,11 @@ def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
 async def get_commands_csv(console: ConsoleDep, when: Range,
                            provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
                            ) -> Response:
-    """The command history, oldest first, one row per status transition with the command's columns repeated,
-    times UTC ISO 8601; `since`/`until` select by the time the command was created (a download)."""
+    """The command history, oldest first, one row per status transition with the command's columns repeated
+    (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`;
+    `closed_unheard`, `closed_utc`); a command with no status yet is one row, its transition columns empty. Each
+    status and reason is given as its UMAA literal and, beside it, in the dashboard's words (`status_words`,
+    `reason_words`). Times UTC ISO 8601; `since`/`until` select by the time the command was created (a download)."""
     def build() -> str:
         rows = console.store.export_commands(None if provider_id is None else str(provider_id), when.since, when.until)
         return commands_csv([console.commands.from_row(r).to_json() for r in rows])

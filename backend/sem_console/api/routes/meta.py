@@ -20,6 +20,9 @@ operator_router = APIRouter(prefix="/api", tags=["meta"])  # needs a token when 
 
 @health_router.get("/health", response_model=Health)
 async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
+    """The console itself: its id and station name, its DDS domain and network, whether commands and reads need a
+    token, whether it has a chart or replays a recording, and its database's state. Always open, even with
+    --auth-reads."""
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
             "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
             "basemap": settings.basemap is not None, "replay": settings.replay is not None,
@@ -45,7 +48,8 @@ _BYTES = {"schema": {"type": "string", "format": "binary"}}
     404: {"description": "the console has no basemap (no --basemap)", "model": Problem},
     416: {"description": "the range is outside the file", "content": {"text/plain": {"schema": {"type": "string"}}}}})
 async def basemap(settings: SettingsDep) -> FileResponse:
-    """The offline chart given with --basemap, for the map; HTTP range requests (206) are how it is read."""
+    """The offline chart given with --basemap, for the map; HTTP range requests (`Range: bytes=a-b`, answered 206
+    with `Accept-Ranges: bytes`) are how it is read."""
     if settings.basemap is None:
         raise HTTPException(404, "no basemap: start the console with --basemap FILE.pmtiles")
     return FileResponse(settings.basemap, media_type=PMTILES)
@@ -54,12 +58,13 @@ async def basemap(settings: SettingsDep) -> FileResponse:
 @reads.get("/audit", response_model=list[AuditEntry], responses=DATABASE_READ)
 async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
-    # one line: the docstring is the route's description in the published OpenAPI document
-    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first (bounded: README, Security)."""  # noqa: E501
+    """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first. Refusals
+    are bounded per client address and minute (--audit-refusals-per-minute), the trail by --audit-max-rows."""
     return [entry_json(r) for r in console.store.audit(limit, offset)]
 
 
 @operator_router.get("/operator", response_model=Operator)
 async def operator(name: OperatorDep) -> dict[str, Any]:
-    """The operator the token belongs to: the dashboard's sign-in check."""
+    """The operator the token belongs to: the dashboard's sign-in check. On a console without operator tokens
+    `{"operator": null}`, whatever is sent."""
     return {"operator": name}

@@ -31,6 +31,8 @@ def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
 
 @router.get("", response_model=list[ProviderSummary])
 async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
+    """Every provider seen on the bus: its id, name, link state and link configuration, JAUS id, and the age of its
+    last sample per topic."""
     now = console.clock.monotonic()
     return [p.summary(now) for p in console.providers.by_id.values()]
 
@@ -38,6 +40,8 @@ async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
 @router.get("/{provider_id}", response_model=ProviderDetail, responses={
     200: {"description": "the provider with its latest reports", "links": PROVIDER_LINKS}, 404: problem("unknown provider")})
 async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+    """One provider as the list has it, plus its latest GPSReport (with every satellite), GPSFixReport,
+    GPSFixStatusReport and InertialSensorReport (null before any)."""
     return console.provider_detail(known_provider(console, provider_id), console.clock.monotonic())
 
 
@@ -45,8 +49,10 @@ async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str,
 async def set_name(provider_id: uuid.UUID, body: VehicleName, console: ConsoleDep, operator: OperatorDep,
                    audit: AuditDep) -> dict[str, Any]:
     """Name a vehicle: the name is kept in the console's database, shared with the other consoles on it, and
-    shown wherever the vehicle is named (over --vehicle-names; its alarms' text, raised before or after). An empty or null
-    name goes back to the --vehicle-names name, or none."""
+    shown wherever the vehicle is named (over --vehicle-names; its alarms' text, raised before or after). A name is 1 to 40
+    printable characters (no control, invisible or bidirectional format characters), trimmed; an empty or null name goes
+    back to the --vehicle-names name, or none. Audited like a command. Returns the name as now shown, and every client
+    gets a `provider` message (`configured`)."""
     p = known_provider(console, provider_id)
     console.set_vehicle_name(p, body.name, operator)
     # the audit says which name was set (as comap's writes say what they wrote); the row of vehicle_names keeps

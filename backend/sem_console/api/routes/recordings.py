@@ -52,7 +52,7 @@ async def list_recordings(console: ConsoleDep) -> list[dict[str, Any]]:
 
 @reads.get("/recordings/{name}", response_class=FileResponse,
            responses={200: {"content": {"application/octet-stream": {}}, "description": "the MCAP file"},
-                      404: problem("no such recording"),
+                      404: problem("no such recording (a path is never a recording's name)"),
                       409: problem("the file is being recorded: stop the recording (or wait for it to roll over)")})
 async def download_recording(name: RecordingName, console: ConsoleDep) -> FileResponse:
     """Download one recording (MCAP). A name that is not a recording's (`<UTC start>.mcap`) is a 422: never a path."""

@@ -34,7 +34,8 @@ async def replay_status(console: ConsoleDep) -> dict[str, Any] | None:
 async def control_replay(body: ReplayRequest, console: ConsoleDep) -> dict[str, Any]:
     """`{"action": "play"}`, `{"action": "pause"}`, `{"action": "seek", "position": <UTC seconds>}` (the state at
     that instant is rebuilt and every client gets a fresh snapshot; answered once it is) or
-    `{"action": "speed", "speed": 0.25..20}`. Returns the playback's state."""
+    `{"action": "speed", "speed": 0.25..20}`. Returns the playback's state. No operator token: a token only with
+    --auth-reads, as for every read."""
     replay: Replay | None = console.replay
     if replay is None:
         raise HTTPException(status.HTTP_409_CONFLICT, NOT_REPLAYING)
