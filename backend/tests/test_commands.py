@@ -128,6 +128,41 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     assert cmd.closed_unheard == "heard"
 
 
+def test_another_station_s_cancel_never_answered_is_ended_here_and_only_once(tmp_path: Path) -> None:
+    """Station alpha cancels a command its lost vehicle never answered, then stops for good: it counted up for ever on
+    the stations sharing the database. Bravo (started after, from the database) and charlie (running, from the
+    notification) end it by the same rule; the first ending stored stands, and the other station shows it."""
+    store = Database(tmp_path / "db")
+    emitted: dict[str, list[dict[str, Any]]] = {"alpha": [], "bravo": [], "charlie": [], "delta": []}
+
+    def station(name: str) -> Commands:
+        return Commands(store.claim(name, hold=False), store, lambda _s, _x: None, lambda _s, _x: None,
+                        emitted[name].append, 2.0, station=name)
+    alpha, charlie = station("alpha"), station("charlie")
+    cmd = alpha.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    alpha.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
+    alpha.cancel(cmd.session_id, "alice")
+    shown = charlie.shared(cmd.session_id)  # charlie hears of the cancel
+    assert shown is not None and shown.cancel_requested and not shown.terminal
+    bravo = station("bravo")  # started after the cancel
+    assert set(bravo.others) == set(charlie.others) == {cmd.session_id}
+    back = bravo.clock.monotonic() + 0.1  # alpha stopped for good; the vehicle back
+    for s in (bravo, charlie):
+        s.tick(0, lambda _p: back)
+    bravo.tick(0, lambda _p: back + 1.9)  # heard for less than the unanswered timeout: it may still answer
+    assert store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] is None
+    bravo.tick(0, lambda _p: back + 2.1)
+    ended = emitted["bravo"][-1]["command"]
+    assert (ended["closedUnheard"], ended["terminal"], ended["canceledBy"]) == ("heard", True, "alice")
+    assert bravo.others == {}
+    stored = store.commands(session_id=str(cmd.session_id))[0]
+    assert (stored["closed_unheard"], stored["closed_at"], stored["cleaned_up"]) == ("heard", ended["closedAt"], True)
+    charlie.tick(0, lambda _p: back + 3.0)  # charlie would end it too, later: refused, it shows the stored ending
+    assert emitted["charlie"][-1]["command"]["closedAt"] == ended["closedAt"]
+    assert store.commands(session_id=str(cmd.session_id))[0]["closed_at"] == ended["closedAt"]
+    assert charlie.others == {} and station("delta").others == {}
+
+
 def test_a_cancel_never_answered_is_not_ended_by_a_vehicle_heard_a_moment_then_lost(tmp_path: Path) -> None:
     """A flaky link: heard once after the cancel, lost a minute, back: its answer comes with the link, so the first
     sample back does not end the command as never heard."""

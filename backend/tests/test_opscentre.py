@@ -18,7 +18,17 @@ import psycopg
 
 from conftest import ConsoleProcess
 from pg import Cluster
-from test_console import V1, V2, WsClient, command, gps_fix_executing, provider_ready, wait_command, wait_until
+from test_console import (
+    V1,
+    V2,
+    WsClient,
+    command,
+    gps_fix_executing,
+    lost_vehicle_command_canceled_unanswered,
+    provider_ready,
+    wait_command,
+    wait_until,
+)
 from test_history import at_most_one_per_second
 from test_names import rename_heard
 from test_recording import read, recorded
@@ -148,6 +158,29 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
     done = wait_command(b.url, session, done=lambda x: x["terminal"])
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+
+
+def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by_another(
+        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    """Watch cancels a command its lost vehicle never answered, then stops for good: relief showed it counting up for
+    ever, in its history and on its dashboard. Relief ends it once it has heard the vehicle back without a word of it."""
+    a = console("--database-url", pg_url, "--console-name", "watch")
+    b = console("--database-url", pg_url, "--console-name", "relief")
+    session = lost_vehicle_command_canceled_unanswered(a, sim())
+    a.stop()
+    ws_b = WsClient(b.ws_url)
+    try:
+        assert not command(b.url, session)["terminal"]
+        sim()  # the vehicle back, without the command (the cancel disposed it)
+        done = wait_command(b.url, session, done=lambda x: x["terminal"], timeout=30)
+        assert (done["closedUnheard"], done["status"], done["transitions"], done["cleanedUp"]) == ("heard", None, [], True)
+        listed = next(x for x in httpx.get(f"{b.url}/api/commands").json() if x["sessionId"] == session)  # history
+        assert (listed["terminal"], listed["closedUnheard"], listed["closedAt"]) == (True, "heard", done["closedAt"])
+        wait_until(lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"]
+                               for m in ws_b.of("command")), 10, "the end on relief's WebSocket")
+        assert not ws_b.errors, ws_b.errors
+    finally:
+        ws_b.close()
 
 
 def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(

@@ -122,15 +122,17 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
         db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
                         "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
         db.set_canceled(session, "bob", "relief", 101.0)
-        db.set_closed_unheard(session, "heard", 108.0)
+        assert db.set_closed_unheard(session, "heard", 108.0) is True
+        # another station ends it too, later: refused, the first ending stands (each station shows the stored one)
+        assert db.set_closed_unheard(session, "bound", 109.0) is False
         [row] = db.commands(session_id=session)
-        assert (row["closed_unheard"], row["cleaned_up"]) == ("heard", True)
+        assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("heard", 108.0, True)
         canceled = {"status": "CANCELED", "reason": "CANCELED", "logMessage": "", "violation": None,
                     "providerTime": 1.0, "receivedAt": 109.0}
         db.add_transition(session, 1, canceled)  # the vehicle answered after all
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
-        db.set_closed_unheard(session, "heard", 110.0)  # another station's ending, written after that answer
+        assert db.set_closed_unheard(session, "heard", 110.0) is False  # another station's, after that answer
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["cleaned_up"], len(row["transitions"])) == (None, False, 1), row
     finally:

@@ -6,7 +6,9 @@ Each command gets a fresh RFC 4122 sessionID; every status is checked against Fi
 FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswered. A canceled command the
 vehicle never answered is ended by the console (`closed_unheard`): once the vehicle is heard again for the
 unanswered timeout without a status of it (it never heard the command: the cancel disposed it first), or when the
-vehicle is not heard within `cancel_unheard_bound` of the cancel.
+vehicle is not heard within `cancel_unheard_bound` of the cancel. Another station's canceled command with no status
+is ended here by the same rule (`others`), whether or not that station still runs: the first ending stored stands, and
+every station shows it.
 """
 
 from __future__ import annotations
@@ -125,6 +127,9 @@ class Commands:
         self.clock = clock or Clock()
         self.unanswered_timeout, self.cancel_unheard_bound = unanswered_timeout, cancel_unheard_bound
         self.by_session: dict[uuid.UUID, Command] = {}
+        # other stations' canceled commands with no status, which this station ends too if the vehicle never answers
+        # (`_watch`): from the database at start, then from the other stations' notifications
+        self.others: dict[uuid.UUID, Command] = {}
         self._load_history()
 
     # ---- history --------------------------------------------------------------------
@@ -133,6 +138,8 @@ class Commands:
             cmd = self.from_row(row)
             cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
             self.by_session[cmd.session_id] = cmd
+        for row in self.store.commands(limit=0, unfinished=True):
+            self._watch(self.from_row(row))
 
     def from_row(self, row: dict[str, Any], source: uuid.UUID | None = None) -> Command:
         """The command of a database row; `source`: the GUID of the console that issued it when not this one."""
@@ -265,9 +272,13 @@ class Commands:
             self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall())
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
-        """End a canceled command the vehicle never answered (its dispose, the cancel, was published already)."""
+        """End a canceled command the vehicle never answered (its dispose, the cancel, was published already); refused
+        by the database once a status of it is stored or another station ended it first: what is stored stands."""
         cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = why, at, True
-        self.store.set_closed_unheard(str(cmd.session_id), why, at)
+        if self.store.set_closed_unheard(str(cmd.session_id), why, at) is False:
+            rows = self.store.commands(session_id=str(cmd.session_id))
+            if rows:
+                self._take_stored(cmd, self.from_row(rows[0]))
         if emit:
             self.emit({"type": "command", "command": cmd.to_json()})
         self._forget_old()
@@ -302,12 +313,31 @@ class Commands:
         stored = self.from_row(row)
         mine = self.by_session.get(stored.session_id)
         if mine is None:
+            self._watch(stored)
             return stored
         if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
             self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, record=False)
-        if stored.closed_unheard is not None and mine.closed_unheard is None and not mine.flow.transitions:
-            mine.closed_unheard, mine.closed_at, mine.cleaned_up = stored.closed_unheard, stored.closed_at, True
+        if stored.closed_unheard is not None and not mine.flow.transitions:
+            self._take_stored(mine, stored)  # the one ending stored, whichever station's
         return mine
+
+    def _take_stored(self, cmd: Command, stored: Command) -> None:
+        """What the database has of a command this station ended, or was about to end, as never heard: the ending
+        another station stored first, or the statuses another station recorded (repeated by the vehicle, skipped)."""
+        cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = stored.closed_unheard, stored.closed_at, stored.cleaned_up
+        if stored.flow.transitions and not cmd.flow.transitions:
+            cmd.flow, cmd.times = stored.flow, stored.times
+            cmd.replay = [(t.status, t.reason, pt) for t, (pt, _rt) in zip(cmd.flow.transitions, cmd.times, strict=True)]
+
+    def _watch(self, stored: Command) -> None:
+        """Another station's command as stored: followed here while it is canceled with no status (`tick` ends it if
+        the vehicle never answers), whether or not that station still runs (it may have stopped for good)."""
+        if stored.console == self.station or stored.session_id in self.by_session:
+            return
+        if stored.terminal or stored.cleaned_up or not stored.cancel_requested or stored.flow.transitions:
+            self.others.pop(stored.session_id, None)
+        else:
+            self.others.setdefault(stored.session_id, stored)  # one already followed keeps when its vehicle was heard
 
     def cleanup(self, cmd: Command) -> None:
         """Command Cleanup: dispose a COMPLETED or FAILED command (CANCELED was disposed to cancel it)."""
@@ -320,7 +350,7 @@ class Commands:
 
     def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status | int, reason: Reason | int,
                   log_message: str, provider_time: float | None) -> None:
-        cmd = self.by_session.get(session)
+        cmd = self.by_session.get(session) or self.others.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id:
             return  # not ours (another consumer's command, or a provider it was not sent to)
         if cmd.replay:  # after our restart: skip what the provider's history repeats of what we recorded
@@ -355,7 +385,7 @@ class Commands:
 
     def tick(self, now: float, heard: Heard) -> None:
         """`now`: monotonic seconds; `heard`: when a provider was last heard."""
-        for cmd in list(self.by_session.values()):
+        for cmd in [*self.by_session.values(), *self.others.values()]:
             if cmd.flow.transitions or cmd.cleaned_up:
                 continue
             if cmd.cancel_requested:
@@ -364,6 +394,7 @@ class Commands:
                 cmd.unanswered = True
                 self.store.set_flag(str(cmd.session_id), "unanswered")
                 self.emit({"type": "command", "command": cmd.to_json()})
+        self.others = {s: c for s, c in self.others.items() if not c.terminal and not c.cleaned_up}
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
         """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since

@@ -495,11 +495,22 @@ class Database:
     def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float) -> None:
         self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at)
 
-    def set_closed_unheard(self, session_id: str, why: str, at: float) -> None:
+    def set_closed_unheard(self, session_id: str, why: str, at: float) -> bool | None:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
-        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before)."""
+        stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before), nor once
+        another station ended it (every station shows the one stored ending). True: stored; False: refused (the
+        caller reads what is stored); None: held in an outage."""
         answered = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id).exists()
-        self._update_command(session_id, where=~answered, closed_unheard=why, closed_at=at, cleaned_up=True)
+        stored: list[bool] = []
+
+        def write(c: Connection) -> None:
+            done = c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, ~answered,
+                                                    COMMANDS.c.closed_unheard.is_(None))
+                             .values(closed_unheard=why, closed_at=at, cleaned_up=True))
+            stored.append(done.rowcount > 0)
+            self._notify(c, "command", session=session_id)
+        self._write(write)
+        return stored[-1] if stored else None
 
     def _update_command(self, session_id: str, where: Any = None, **values: Any) -> None:
         def write(c: Connection) -> None:
