@@ -382,6 +382,8 @@ def test_console_shutdown_cancels_incomplete_commands(sim, console) -> None:
     second = console()
     done = wait_command(second.url, session, done=lambda x: x["terminal"], timeout=20)
     assert done["cancelRequested"] and done["transitions"][-1]["status"] == "CANCELED"
+    # the station's shutdown asked it, no one on watch: said so, not as an operator's cancel
+    assert (done["cancelCause"], done["canceledBy"], done["canceledOn"]) == ("shutdown", None, "test-console"), done
 
 
 def test_simulator_killed_is_lost_then_regained(sim, console) -> None:

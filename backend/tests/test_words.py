@@ -58,6 +58,7 @@ def test_the_commands_export_says_each_transition_in_the_operators_words() -> No
     command = {"sessionId": "s1", "service": "InertialSensor", "providerId": "p1", "state": "OFF", "operator": "alice",
                "console": "watch", "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True,
                "unanswered": False, "cancelRequested": False, "canceledBy": None, "canceledOn": None, "canceledAt": None,
+               "cancelCause": None,
                "closedUnheard": None, "closedAt": None, "cleanedUp": True,
                "transitions": [{"seq": 0, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
                                 "providerTime": 1.2, "receivedAt": 1.2},

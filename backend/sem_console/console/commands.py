@@ -35,6 +35,7 @@ log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
 Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
 ClosedUnheard = Literal["heard", "bound"]
+CancelCause = Literal["operator", "shutdown"]  # an operator asked it; its station's shutdown cancelled it
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
 
 
@@ -54,6 +55,7 @@ class Command:
     canceled_by: str | None = None
     canceled_on: str | None = None  # the station its cancel was asked on
     canceled_at: float | None = None  # wall seconds
+    cancel_cause: CancelCause | None = None  # None: not canceled, or canceled before the cause was recorded
     closed_unheard: ClosedUnheard | None = None
     closed_at: float | None = None
     heard_from: float | None = None  # canceled, unanswered: its vehicle's first sample since the cancel (monotonic)
@@ -87,6 +89,7 @@ class Command:
             "canceledBy": self.canceled_by,
             "canceledOn": self.canceled_on,
             "canceledAt": self.canceled_at,
+            "cancelCause": self.cancel_cause,
             "closedUnheard": self.closed_unheard,
             "closedAt": self.closed_at,
             "cleanedUp": self.cleaned_up,
@@ -150,9 +153,10 @@ class Commands:
                       row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"], source),
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
-                      canceled_at=row.get("canceled_at"), closed_unheard=row.get("closed_unheard"),
-                      closed_at=row.get("closed_at"), cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"],
-                      console=row.get("console"), cancel_mono=self.clock.monotonic())
+                      canceled_at=row.get("canceled_at"), cancel_cause=row.get("cancel_cause"),
+                      closed_unheard=row.get("closed_unheard"), closed_at=row.get("closed_at"),
+                      cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
+                      cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
             if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
@@ -240,7 +244,8 @@ class Commands:
             self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
         # a message carries the whole command: the first one of a file may be of one already canceled, or ended
         if c.get("cancelRequested") and not cmd.cancel_requested:
-            self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall())
+            self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(),
+                           c.get("cancelCause"))
             changed = True
         if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
@@ -249,7 +254,7 @@ class Commands:
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
-    def cancel(self, session: uuid.UUID, operator: str | None = None) -> Command:
+    def cancel(self, session: uuid.UUID, operator: str | None = None, cause: CancelCause = "operator") -> Command:
         cmd = self.by_session.get(session) or self._take_over(session)
         if cmd is None:  # not in memory: unknown, or finished long ago
             raise CommandError(f"command {session} is not running")
@@ -258,18 +263,18 @@ class Commands:
                 f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})"
             )
         if not cmd.cancel_requested:
-            self._canceled(cmd, operator, self.station, self.clock.wall())
+            self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
             self._dispose(cmd.service, cmd.sample)
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
     def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
-                  record: bool = True) -> None:
+                  cause: CancelCause | None, record: bool = True) -> None:
         """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`)."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
-        cmd.cancel_mono = self.clock.monotonic()
+        cmd.cancel_cause, cmd.cancel_mono = cause, self.clock.monotonic()
         if record:
-            self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall())
+            self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall(), cause)
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already); refused
@@ -316,7 +321,8 @@ class Commands:
             self._watch(stored)
             return stored
         if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
-            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, record=False)
+            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, stored.cancel_cause,
+                           record=False)
         if stored.closed_unheard is not None and not mine.flow.transitions:
             self._take_stored(mine, stored)  # the one ending stored, whichever station's
         return mine
@@ -412,11 +418,11 @@ class Commands:
             self._close_unheard(cmd, "bound", self.clock.wall())
 
     def shutdown(self) -> list[Command]:
-        """Consumer Shutdown Sequence: cancel every incomplete command; returns them."""
+        """Consumer Shutdown Sequence: cancel every incomplete command (asked by no operator); returns them."""
         canceled = [c for c in self.by_session.values() if not c.flow.terminal and not c.cleaned_up]
         for cmd in canceled:
             if not cmd.cancel_requested:
-                self.cancel(cmd.session_id)
+                self.cancel(cmd.session_id, None, "shutdown")
         return canceled
 
 

@@ -86,6 +86,10 @@ class Command(StrictModel):
     canceledOn: str | None = Field(None, description="the console station its cancel was asked on (its --console-name); "
                                                      "null: not canceled, or before stations were recorded with a cancel")
     canceledAt: float | None = Field(None, description="when its cancel was asked, UTC seconds")
+    cancelCause: Literal["operator", "shutdown"] | None = Field(None, description=(
+        "why it was cancelled: operator, an operator asked it (canceledBy, when signed in); shutdown, the console station "
+        "canceledOn cancelled it as it stopped (its Consumer Shutdown Sequence; canceledBy null). Null: not cancelled, "
+        "or cancelled before the cause was recorded"))
     closedUnheard: Literal["heard", "bound"] | None = Field(None, description=(
         "a canceled command the vehicle never answered (no status at all), ended by the console: heard, the vehicle was "
         "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "

@@ -66,6 +66,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # ---- the console's own states ----
     # a command the vehicle has not acknowledged (no ISSUED) within the unanswered timeout
     "command": {"unanswered": "No answer"},
+    # why a command was cancelled (`Command.cancelCause`): an operator asked it, or its station's shutdown cancelled what
+    # it had running
+    "cancelCause": {"operator": "Cancel asked", "shutdown": "Station stopped"},
     # the link to a vehicle and the freshness of its data (`Provider.link`; the dashboard's "stale": live but silent a
     # few seconds, and "unreachable": the page no longer hears the console, so nothing it shows is current)
     "link": {"live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating"},

@@ -492,8 +492,10 @@ class Database:
     def set_acked(self, session_id: str, at: float) -> None:
         self._update_command(session_id, acked_at=at)
 
-    def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float) -> None:
-        self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at)
+    def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float,
+                     cause: str | None = "operator") -> None:
+        self._update_command(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at,
+                             cancel_cause=cause)
 
     def set_closed_unheard(self, session_id: str, why: str, at: float) -> bool | None:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is

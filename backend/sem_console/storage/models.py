@@ -52,6 +52,8 @@ class CommandRecord(SQLModel, table=True):
     closed_unheard: str | None = Field(None, description="how the console ended it, cancelled and never answered: heard "
                                        "(the vehicle heard again without it) or bound (not heard within the bound)")
     closed_at: float | None = Field(None, description="UTC seconds since the epoch when the console ended it so")
+    cancel_cause: str | None = Field(None, description="why it was cancelled: operator (an operator asked it) or "
+                                     "shutdown (its station's shutdown); null: not cancelled, or before causes")
 
 
 class TransitionRecord(SQLModel, table=True):

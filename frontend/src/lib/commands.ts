@@ -1,6 +1,6 @@
 // The commands panel: live commands (WebSocket) merged with older pages (REST), and the words of its cards.
 import type { Command } from "../api/types";
-import { COMMAND, COMMAND_STATUS, commandStatusText, reasonText } from "./labels";
+import { CANCEL_CAUSE, COMMAND, COMMAND_STATUS, commandStatusText, reasonText } from "./labels";
 
 /** Both lists without repeats, newest first; a live command wins over its REST copy (it is newer). */
 export function mergeCommands(live: Command[], older: Command[]): Command[] {
@@ -35,11 +35,21 @@ export function inTimeOrder<T extends { at: number }>(lines: T[]): T[] {
   return lines.map((l, i) => ({ l, i })).sort((a, b) => (a.l.at === b.l.at ? 0 : a.l.at - b.l.at) || a.i - b.i).map(({ l }) => l);
 }
 
-/** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known). */
+/** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known); a station's shutdown
+ * (no one asked it): "watch cancelled it as it stopped". */
 export function cancellerText(c: Command): string {
+  if (c.cancelCause === "shutdown") return `${c.canceledOn ?? "its station"} cancelled it as it stopped`;
   const who = c.canceledBy ? `by ${c.canceledBy}` : "";
   const where = c.canceledOn ? `on ${c.canceledOn}` : "";
   return [who, where].filter(Boolean).join(" ");
+}
+
+/** The cancel's line: "Cancel asked by bob on relief", or "Station stopped: watch cancelled it as it stopped" (the
+ * words table's cause); null when there is nothing to say beyond the status (a cancel of no known operator or station). */
+export function cancelText(c: Command): string | null {
+  if (!c.cancelRequested) return null;
+  if (c.cancelCause === "shutdown") return `${CANCEL_CAUSE.shutdown}: ${cancellerText(c)}`;
+  return cancellerText(c) ? `${CANCEL_CAUSE.operator} ${cancellerText(c)}` : null;
 }
 
 /** What the status line says: the vehicle's last status; a cancel the vehicle never answered, ended by the console. */
@@ -51,8 +61,9 @@ export function statusText(c: Command): string {
 }
 
 /** The reason words of a transition: a cancel the operator asked for names who asked it and where ("on request by bob
- * on relief"). */
+ * on relief"); one a station's shutdown asked says so ("on request of watch as it stopped"). */
 export function transitionReason(c: Command, status: string, reason: string): string {
+  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && c.cancelCause === "shutdown") return `${reasonText(reason)} of ${c.canceledOn ?? "its station"} as it stopped`;
   if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c)) return `${reasonText(reason)} ${cancellerText(c)}`;
   return reasonText(reason);
 }

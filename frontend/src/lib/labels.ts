@@ -21,6 +21,7 @@ export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
 export const LINK: Words<LinkState | "stale" | "unreachable"> = WORDS.link;
 export const COMMAND: Words<"unanswered"> = WORDS.command;
+export const CANCEL_CAUSE: Words<"operator" | "shutdown"> = WORDS.cancelCause;
 export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
 export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;

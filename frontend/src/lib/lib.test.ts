@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 import type { Command } from "../api/types";
 import WORDS from "../../schema/words.json";
-import { inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
+import { cancelText, inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
 import { freshness, freshnessText, nextInterval, pageLink, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
@@ -215,6 +215,15 @@ describe("a command card's words", () => {
     // a cancel nobody at a console asked for: the reason word alone
     expect(transitionReason(cmd({ status: "CANCELED" }), "CANCELED", "CANCELED")).toBe("on request");
     expect(transitionReason(canceled, "FAILED", "RESOURCE_FAILED")).toBe("the equipment failed");
+  });
+  it("says a cancel of a station's shutdown as such, not as if someone on watch asked it", () => {
+    const stopped = cmd({ status: "CANCELED", terminal: true, cancelRequested: true, canceledBy: null, canceledOn: "watch", cancelCause: "shutdown" });
+    expect(cancelText(stopped)).toBe(`${WORDS.cancelCause.shutdown}: watch cancelled it as it stopped`);
+    expect(transitionReason(stopped, "CANCELED", "CANCELED")).toBe("on request of watch as it stopped");
+    const asked = cmd({ cancelRequested: true, canceledBy: null, canceledOn: "watch", cancelCause: "operator" });
+    expect(cancelText(asked)).toBe(`${WORDS.cancelCause.operator} on watch`);
+    expect(cancelText(cmd({ cancelRequested: true }))).toBeNull();
+    expect(cancelText(cmd())).toBeNull();
   });
   it("says a command the vehicle never answered in the table's words", () => {
     expect(statusText(cmd({ unanswered: true }))).toBe(WORDS.command.unanswered);

@@ -8,8 +8,8 @@ import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince } from "../data/store";
-import { cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
-import { COMMAND, commandStatusText, umaa } from "../lib/labels";
+import { cancelText, cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -82,7 +82,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
     const at = c.canceledAt ?? null;
     lines.push({ at: at ?? Infinity, node: (
       <li key="cancel" className="muted" data-testid="cancel-asked">
-        <span className="t-status">Cancel asked</span> {cancellerText(c)} {at !== null && <span className="t-time">{utc(at, false)}</span>}
+        <span className="t-status">{CANCEL_CAUSE[c.cancelCause ?? "operator"]}{c.cancelCause === "shutdown" ? ":" : ""}</span> {cancellerText(c)} {at !== null && <span className="t-time">{utc(at, false)}</span>}
       </li>
     ) });
   }
@@ -138,7 +138,7 @@ function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open 
         <span className="c-status" data-testid="command-status" title={awaitingAnswer(c) ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
           {statusText(c)}
         </span>
-        {c.cancelRequested && cancellerText(c) && <span className="c-canceller muted" data-testid="command-canceller">cancel asked {cancellerText(c)}</span>}
+        {cancelText(c) && <span className="c-canceller muted" data-testid="command-canceller">{inline(cancelText(c) ?? "")}</span>}
         {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && <Elapsed c={c} expected={expected} />}

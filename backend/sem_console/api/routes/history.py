@@ -194,7 +194,7 @@ async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range
 
 COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "operator", "station", "created_utc",
                        "acked_utc", "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by",
-                       "canceled_on", "canceled_utc", "closed_unheard", "closed_utc", "cleaned_up",
+                       "canceled_on", "canceled_utc", "cancel_cause", "closed_unheard", "closed_utc", "cleaned_up",
                        "seq", "status", "status_words", "reason", "reason_words", "log_message", "violation",
                        "provider_time_utc", "received_utc")
 
@@ -207,7 +207,8 @@ def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
         for c in commands:
             head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], c["console"],
                     _utc(c["createdAt"]), _utc(c["ackedAt"]), c["status"], c["terminal"], c["unanswered"],
-                    c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["closedUnheard"],
+                    c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["cancelCause"],
+                    c["closedUnheard"],
                     _utc(c["closedAt"]), c["cleanedUp"]]
             for t in c["transitions"] or [None]:
                 yield head + ([None] * 9 if t is None else
@@ -223,7 +224,7 @@ async def get_commands_csv(console: ConsoleDep, when: Range,
                            provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
                            ) -> Response:
     """The command history, oldest first, one row per status transition with the command's columns repeated
-    (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`;
+    (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`, `cancel_cause`;
     `closed_unheard`, `closed_utc`); a command with no status yet is one row, its transition columns empty. Each
     status and reason is given as its UMAA literal and, beside it, in the dashboard's words (`status_words`,
     `reason_words`). Times UTC ISO 8601; `since`/`until` select by the time the command was created (a download)."""
