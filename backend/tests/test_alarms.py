@@ -174,7 +174,7 @@ def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_pat
     w.at(12).status(cmd, (S.ISSUED, OK))  # the vehicle comes back and takes it up anyway
     late, cleared = w.update()
     assert (late["kind"], late["severity"], late["state"]) == ("executed-late", "alarm", "active-unacknowledged")
-    assert late["text"] == "Alpha: INS RESTART executed late (unanswered for 12 s)" and cleared["kind"] == "command-unanswered"
+    assert late["text"] == "Alpha: INS RESTART executed late (no answer for 12 s)" and cleared["kind"] == "command-unanswered"
 
 
 # ---- events ------------------------------------------------------------------------------------
@@ -297,7 +297,7 @@ def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(doma
             client.portal.call(console.commands.on_status, Service.GPS_FIX, uuid.UUID(session), CHARLIE, st, reason, "", None)
         late = client.get("/api/alarms").json()[0]
         assert (late["kind"], late["sessionId"]) == ("executed-late", session)
-        assert late["text"].startswith("Charlie: GPS fix command executed late (unanswered for ")
+        assert late["text"].startswith("Charlie: GPS fix command executed late (no answer for ")
 
 
 def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, console) -> None:

@@ -17,6 +17,7 @@ from sem_console.api.routes.history import commands_csv
 from sem_console.api.schemas import AlarmKind, AlarmState
 from sem_console.console.alarms import SEVERITY
 from sem_console.core.words import WORDS, inline, word
+from sem_console.schema_export import schemas
 
 
 def _umaa_enums() -> list[type[IdlEnum]]:
@@ -45,6 +46,54 @@ def test_every_alarm_kind_has_words_and_a_severity() -> None:
     assert all(w.strip() for w in WORDS["alarmKind"].values())
     assert set(get_args(AlarmState)) == set(WORDS["alarmState"]), "an alarm state without words in core/words.py"
     assert set(SEVERITY.values()) == set(WORDS["alarmSeverity"]), "an alarm severity without words in core/words.py"
+
+
+# Every enumeration the console publishes (its REST and WebSocket schemas), by schema and property: the words table that
+# names its literals wherever the console shows them ...
+SAID_BY = {
+    ("Alarm", "kind"): "alarmKind", ("Alarm", "severity"): "alarmSeverity", ("Alarm", "state"): "alarmState",
+    ("ProviderSummary", "link"): "link", ("ProviderDetail", "link"): "link", ("FeatureProperties", "coverage"): "coverage",
+    ("Task", "state"): "taskState", ("Task", "kind"): "taskKind", ("Task", "sensor"): "sensor",
+    ("MoveTaskRequest", "sensor"): "sensor", ("SurveyTaskRequest", "sensor"): "sensor",
+}
+# ... or none, for one that is no state the console names: what a request asks (an action, a command's target state
+# "INS OFF", as its button says it), a name (a service, a topic, a gateway, a capability), or a state said by a
+# control or a phrase of its own (recording, replay, audit, diagnostics)
+NO_STATE = {
+    ("AuditEntry", "outcome"), ("Capability", "kind"), ("Command", "closedUnheard"), ("Command", "service"),
+    ("Command", "state"), ("GatewayState", "name"), ("InertialSensorRequest", "state"), ("LinkConfig", "policy"),
+    ("PeerFinding", "kind"), ("ProviderMessage", "event"), ("RecordingFile", "state"), ("RecordingRequest", "action"),
+    ("RecordingStatus", "state"), ("ReplayStatus", "state"), ("ReportMessage", "topic"), ("SynchRequest", "action"),
+    ("Task", "synch"),
+}
+
+
+def _published_enums() -> dict[tuple[str, str | None], list[str]]:
+    """Every enumeration of the published schemas: (schema, property) for a property's, (name, None) for a named one."""
+    docs = schemas()
+    defs = {**docs["openapi.json"]["components"]["schemas"], **docs["ws-schema.json"]["$defs"]}
+    found: dict[tuple[str, str | None], list[str]] = {}
+    for name, d in defs.items():
+        if "enum" in d:
+            found[(name, None)] = d["enum"]
+        for prop, p in d.get("properties", {}).items():
+            for alt in [p, p.get("items", {}), *p.get("anyOf", [])]:
+                if "enum" in alt:
+                    found[(name, prop)] = alt["enum"]
+    return found
+
+
+def test_every_published_literal_the_console_names_has_words() -> None:
+    enums = _published_enums()
+    undecided = sorted(f"{n}.{p}" for n, p in enums if p is not None and (n, p) not in SAID_BY | dict.fromkeys(NO_STATE))
+    assert not undecided, f"published enumerations with no words table named for them in test_words.py: {undecided}"
+    for (name, prop), literals in enums.items():
+        table = WORDS.get(name) if prop is None else WORDS.get(SAID_BY.get((name, prop), ""))
+        if prop is not None and (name, prop) in NO_STATE:
+            continue
+        assert table is not None, f"core/words.py has no table for {name}"
+        missing = [lit for lit in literals if not table.get(lit, "").strip()]
+        assert not missing, f"core/words.py has no words for {name}{'.' + prop if prop else ''} {missing}"
 
 
 def test_words_inside_a_phrase() -> None:

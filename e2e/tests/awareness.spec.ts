@@ -113,6 +113,9 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
     const chip = page.getByTestId("fleet-bar").getByTestId("fleet-vehicle");
     await expect(chip).toHaveAttribute("aria-pressed", "true");
     await expect(chip).toContainText("INS failed");
+    // the INS panel says it in the same words as the chip and the alarm (the words table), not a name of its own
+    await expect(entry).toContainText("INS failed");
+    await expect(page.getByTestId("ins-failure")).toHaveText("INS failed: navigation cannot rely on it");
 
     await page.reload();
     await expect(entry).toBeVisible();

@@ -2,7 +2,7 @@
 // alarm keeps its name on the map where names would cover one another.
 import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
-import { expect, test } from "@playwright/test";
+import { expect, test, type WebSocketRoute } from "@playwright/test";
 import { SEM_SIM, stopChild, vehicle } from "../helpers";
 import { freeDomain, load, startGuardedConsole } from "../stack";
 
@@ -40,6 +40,26 @@ test("the header names the signed-in operator; once the console cannot be reache
   } finally {
     if (running) await extra.stop();
   }
+});
+
+test("'Not updating' comes the moment the page's socket drops and goes once the console's snapshot is back", async ({ page }) => {
+  const stack = load();
+  const n = stack.vehicles.length;
+  const sockets: WebSocketRoute[] = [];
+  await page.routeWebSocket(/\/ws(\?|$)/, (ws) => {
+    if (sockets.length === 0) ws.connectToServer(); // the reconnect waits for the test: the page hears nothing meanwhile
+    sockets.push(ws);
+  });
+  await page.goto(stack.url);
+  await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 30_000 });
+  await sockets[0].close({ code: 1012, reason: "test: connection dropped" });
+  await expect(page.getByTestId("fleet-not-updating")).toHaveText(`${n} not updating`, { timeout: 2_000 });
+  await expect.poll(() => sockets.length).toBe(2); // its reconnect is open, and still nothing comes: not updating
+  await expect(page.getByTestId("fleet-link")).toHaveText(Array(n).fill("Not updating"));
+  sockets[1].connectToServer();
+  await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 10_000 });
+  await expect(page.getByTestId("fleet-not-updating")).toHaveCount(0);
+  await expect(page.getByTestId("vehicle-link")).toHaveText(Array(n).fill("Live"));
 });
 
 test("where names on the map would cover one another, a vehicle in alarm keeps its name", async ({ page, request }) => {

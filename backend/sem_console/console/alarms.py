@@ -304,7 +304,8 @@ class Alarms:
                                  f"{what} interrupted by a command not from this console"))
         late = c.answered_late_after
         if late is not None and c.flow.transitions and c.flow.transitions[0].status in TOOK_UP:
-            out.append(Found("executed-late", pid, sid, f"{what} executed late (unanswered for {late:.0f} s)"))
+            unanswered = inline(word("command", "unanswered"))
+            out.append(Found("executed-late", pid, sid, f"{what} executed late ({unanswered} for {late:.0f} s)"))
         return out
 
     def _superseded(self, c: Command) -> bool:

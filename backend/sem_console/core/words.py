@@ -9,8 +9,9 @@ A word is written as it starts a line ("Operational"); the places that put it in
 (`inline`): "INS operational", "Alpha: link lost".
 
 To add a state, a reason or an alarm kind, add its entry here and run `python -m sem_console.schema_export`:
-`tests/test_words.py` fails for a literal of a UMAA enumeration the console shows, or for an alarm kind
-(`api.schemas.AlarmKind`), that has no words here.
+`tests/test_words.py` fails for a literal of a UMAA enumeration the console shows, or of any enumeration of its published
+schemas (an alarm kind, a link, a task state...) that has no words here; a new enumeration there must be named in it,
+with its table or as no state the console names.
 """
 
 from __future__ import annotations

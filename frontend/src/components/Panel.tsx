@@ -1,7 +1,7 @@
 import type { ReactNode, Ref } from "react";
 import { ErrorBoundary } from "./ErrorBoundary";
 import type { Topic } from "../api/types";
-import { RECORDED_TITLE, freshness, freshnessText, type Freshness } from "../lib/freshness";
+import { RECORDED_TITLE, freshness, freshnessText, recordedState, type Freshness } from "../lib/freshness";
 import { useCapabilities, useFrameValue, useNow, useReceiving, useSelectedLink } from "../data/hooks";
 import { selectedTopic, type State, type TopicView } from "../data/store";
 import { age } from "../lib/units";
@@ -46,7 +46,7 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
           {title}
         </h2>
         {freshness && freshness !== "none" && (
-          <span className={`fresh fresh-${freshness}${recorded ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recorded ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : "age of the latest data"}>
+          <span className={`fresh fresh-${freshness}${recordedState(freshness, recorded) ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recordedState(freshness, recorded) ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : "age of the latest data"}>
             {freshnessText(freshness, recorded)} · {age(ageSeconds ?? null)}
           </span>
         )}

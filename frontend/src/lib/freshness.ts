@@ -3,7 +3,7 @@
 // page no longer hears the console (nothing it shows is current then, however recent). Displays never
 // show a stale value as if it were live.
 import type { LinkState, Topic } from "../api/types";
-import { linkText } from "./labels";
+import { inline, linkText } from "./labels";
 
 /** The longest a topic may be silent before its values are stale, in seconds. */
 export function staleAfter(topic: Topic, observedInterval: number | null): number {
@@ -34,18 +34,24 @@ export function pageLink(link: LinkState, silentS: number | null, staleAfterS: n
   return link === "live" && silentS !== null && silentS > staleAfterS ? "stale" : link;
 }
 
-/** A freshness in words ("Live", "Not updating"); `recorded`: a replay's (`stateWords`). */
+/** A freshness in words ("Live", "Not updating"); `recorded`: a replay's (`recordedState`, `stateWords`). */
 export function freshnessText(f: Exclude<Freshness, "none">, recorded: boolean): string {
-  return stateWords(linkText(f), recorded);
+  return stateWords(linkText(f), recordedState(f, recorded));
 }
 
 /** What a replay's link and freshness badges say beside their words: the recording's state at the instant shown. */
 export const RECORDED_TITLE = "the recording's state at the instant shown, not the vehicle now";
 
+/** Whether a replay's (`recorded`) link or freshness is the recording's: every one but "unreachable", the page's own
+ * state now (it does not hear the console that replays), which no recording said. */
+export function recordedState(link: PageLink | Exclude<Freshness, "none">, recorded: boolean): boolean {
+  return recorded && link !== "unreachable";
+}
+
 /** A vehicle's link or freshness in words. In a replay (`recorded`) it is what the recording said, never worded as
  * the vehicle now: "Recorded: live", not "Live" (the words, not only a colour, for a screen reader too). */
 export function stateWords(words: string, recorded: boolean): string {
-  return recorded ? `Recorded: ${words.toLowerCase()}` : words;
+  return recorded ? `Recorded: ${inline(words)}` : words;
 }
 
 /** Exponentially weighted mean of inter-arrival times, ignoring gaps (a gap is not the rate). */

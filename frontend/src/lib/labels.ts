@@ -4,7 +4,7 @@
 // (`umaa`), for the engineer comparing the screen with a log. A literal the table does not know (a newer ICD, another
 // vendor's value) is shown as it is rather than hidden. Every place that names a state takes its words from here.
 import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState } from "../api/types";
-import type { Alarm, GPSFixEnumType, GPSNavigationSolutionEnumType } from "../api/generated/ws";
+import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, Task } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
 import { DASH, elapsedText } from "./units";
 
@@ -27,10 +27,10 @@ export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
 export const ALARM_SEVERITY: Words<Alarm["severity"]> = WORDS.alarmSeverity;
 export const ALARM_STATE: Words<Alarm["state"]> = WORDS.alarmState;
-const TASK_STATE: Words<"ASSIGNED" | "ACCEPTED" | "REJECTED" | "IN_PROGRESS" | "HELD" | "COMPLETED" | "ERROR" | "INTERRUPTED"> = WORDS.taskState;
-const TASK_KIND: Words<"survey" | "move"> = WORDS.taskKind;
-const SENSOR: Words<"ANY" | "SIDESCAN" | "MULTIBEAM" | "CAMERA" | "MAGNETOMETER"> = WORDS.sensor;
-const COVERAGE: Words<"NONE" | "PARTIAL" | "COMPLETED"> = WORDS.coverage;
+const TASK_STATE: Words<NonNullable<Task["state"]>> = WORDS.taskState;
+const TASK_KIND: Words<Task["kind"]> = WORDS.taskKind;
+const SENSOR: Words<NonNullable<Task["sensor"]>> = WORDS.sensor;
+const COVERAGE: Words<NonNullable<FeatureProperties["coverage"]>> = WORDS.coverage;
 
 /** The tables of the UMAA enumerations, by the enumeration's name (labels.test.ts checks every literal the console's
  * schema has against them). */

@@ -3,7 +3,7 @@ import type { Command } from "../api/types";
 import WORDS from "../../schema/words.json";
 import { cancelText, inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
-import { freshness, freshnessText, nextInterval, pageLink, staleAfter, stateWords } from "./freshness";
+import { freshness, freshnessText, nextInterval, pageLink, recordedState, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
@@ -137,6 +137,14 @@ describe("freshness", () => {
       expect(stateWords(words, true)).not.toMatch(/^live/i);
     }
     expect(stateWords("Live", true)).toBe("Recorded: live");
+  });
+  it("says a replay's console unreachable as the page's state now, not the recording's", () => {
+    expect(freshnessText("unreachable", true)).toBe("Not updating");
+    expect(recordedState("unreachable", true)).toBe(false);
+    expect(recordedState("lost", true)).toBe(true);
+    expect(recordedState("live", false)).toBe(false);
+    expect(freshnessText("lost", true)).toBe("Recorded: lost");
+    expect(stateWords("GPS 3D", true)).toBe("Recorded: GPS 3D"); // lowered inside a phrase as the table says (`inline`)
   });
   it("learns the interval but not from gaps", () => {
     expect(nextInterval(null, 0.1)).toBe(0.1);

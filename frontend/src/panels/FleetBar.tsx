@@ -9,7 +9,7 @@ import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
 import { lastHeardAt, pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
-import { RECORDED_TITLE, pageLink, stateWords, type PageLink } from "../lib/freshness";
+import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
 import { ALARM_SEVERITY, fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
 import { LastHeard } from "../components/LastHeard";
 import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
@@ -68,6 +68,7 @@ interface ChipProps {
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
 const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, heardAt, recorded, selected, tabbable, onSelect }: ChipProps) {
   const l = LINK[link];
+  const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
   const old = link === "lost" || link === "unreachable" ? " (last known)" : "";
@@ -86,8 +87,8 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
         {label}
       </span>
-      <span className={`fleet-word tone-${l.tone}${recorded ? " recorded" : ""}`} title={recorded ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
-        {stateWords(l.text, recorded)}
+      <span className={`fleet-word tone-${l.tone}${rec ? " recorded" : ""}`} title={rec ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
+        {stateWords(l.text, rec)}
       </span>
       {heardAt !== undefined && <LastHeard since={heardAt} className="fleet-word tone-bad" />}
       <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>

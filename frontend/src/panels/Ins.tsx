@@ -5,7 +5,7 @@ import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, umaa } from "../lib/labels";
+import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, insWord, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
 
 export const STEPS: readonly AlignmentStep[] = [
@@ -72,7 +72,7 @@ function InsBody() {
           </div>
           {failed && (
             <div className="alarm" role="alert" data-testid="ins-failure">
-              Inertial sensor failure: navigation cannot rely on it
+              {insWord(ins.state, ins.status).text}: navigation cannot rely on it
             </div>
           )}
           <ol className={`steps${stale ? " stale" : ""}`} aria-label="Alignment">

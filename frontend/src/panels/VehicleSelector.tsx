@@ -4,7 +4,7 @@ import { VehicleTag } from "../components/VehicleTag";
 import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useStore } from "../data/hooks";
 import { lastHeardAt, report, select } from "../data/store";
 import { LastHeard } from "../components/LastHeard";
-import { RECORDED_TITLE, pageLink, stateWords } from "../lib/freshness";
+import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../lib/freshness";
 import { fixWord, inline, insWord, linkText } from "../lib/labels";
 import { age } from "../lib/units";
 import { vehicleMatcher } from "../lib/vehicle";
@@ -121,6 +121,7 @@ export function VehicleSelector() {
         const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
+        const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
         const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid);
         const ins = report(p, "InertialSensorReport");
         const insSaid = insWord(ins?.state, ins?.status);
@@ -136,8 +137,8 @@ export function VehicleSelector() {
             <span className="vehicle-name">
               <VehicleTag v={p} />
             </span>
-            <span className={`link link-${link}${recorded ? " recorded" : ""}`} data-testid="vehicle-link" title={recorded ? RECORDED_TITLE : undefined}>
-              {stateWords(linkText(link), recorded)}
+            <span className={`link link-${link}${rec ? " recorded" : ""}`} data-testid="vehicle-link" title={rec ? RECORDED_TITLE : undefined}>
+              {stateWords(linkText(link), rec)}
             </span>
             <span className="vehicle-meta">
               <span title={fix.title}>{inline(fix.text)}</span> · <span title={insSaid.title}>{insSaid.text}</span>
