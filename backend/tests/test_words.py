@@ -54,7 +54,7 @@ SAID_BY = {
     ("Alarm", "kind"): "alarmKind", ("Alarm", "severity"): "alarmSeverity", ("Alarm", "state"): "alarmState",
     ("ProviderSummary", "link"): "link", ("ProviderDetail", "link"): "link", ("FeatureProperties", "coverage"): "coverage",
     ("Task", "state"): "taskState", ("Task", "kind"): "taskKind", ("Task", "sensor"): "sensor",
-    ("MoveTaskRequest", "sensor"): "sensor", ("SurveyTaskRequest", "sensor"): "sensor",
+    ("MoveTaskRequest", "sensor"): "sensor", ("SurveyTaskRequest", "sensor"): "sensor", ("Command", "cancelCause"): "cancelCause",
 }
 # ... or none, for one that is no state the console names: what a request asks (an action, a command's target state
 # "INS OFF", as its button says it), a name (a service, a topic, a gateway, a capability), or a state said by a
