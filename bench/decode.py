@@ -1,4 +1,4 @@
-"""Decode cost per SEM topic, µs per sample: the console's generated decoder (console/fastcdr.py) beside
+"""Decode cost per SEM topic, µs per sample: the console's generated decoder (codec/fastcdr.py) beside
 cyclonedds' own deserializer, in the same run, on the same bytes. Reports are the simulator's (a
 GPSReport of 40 satellites, every optional member present, as sem-sim sends them); status, ack and
 command samples are random (backend/tests/samplegen.py). Each topic in every encoding its writers may
@@ -27,9 +27,9 @@ from common import ROOT, emit, table
 sys.path.insert(0, str(ROOT / "backend" / "tests"))
 
 from samplegen import random_sample
-from sem_console.console import fastcdr
-from sem_console.console.convert import to_json
-from sem_console.console.decode import REPORT_TOPICS
+from sem_console.codec import fastcdr
+from sem_console.codec.convert import to_json
+from sem_console.codec.decode import REPORT_TOPICS
 from sem_console.dds.topics import Sem
 from sem_console.sim.options import SimOptions
 from sem_console.sim.reports import Sensors

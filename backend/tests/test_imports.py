@@ -170,3 +170,26 @@ def test_lower_rooms_do_not_import_the_api() -> None:
         if _in(target, "sem_console.api")
     )
     assert offenders == []
+
+
+def test_the_codec_is_below_its_users() -> None:
+    """The wire codec (codec/) is shared by the console, sem-check, the API and the benchmarks: it imports none of
+    them, and sem-check reaches the decoder without importing the console."""
+    users = ("sem_console.console", "sem_console.check", "sem_console.api", "sem_console.recording")
+    graph = import_graph()
+    offenders = sorted(
+        f"{module} imports {target}"
+        for module, targets in graph.items()
+        if _in(module, "sem_console.codec")
+        for target in targets
+        if any(_in(target, user) for user in users)
+    )
+    offenders += sorted(
+        f"{module} imports {target}"
+        for module, targets in graph.items()
+        if _in(module, "sem_console.check")
+        for target in targets
+        if _in(target, "sem_console.console")
+    )
+    assert offenders == []
+    assert "sem_console.codec.decode" in graph["sem_console.check.observe"]

@@ -7,7 +7,7 @@
   RFC 4122, optional members well-formed when present, and the satellite counts consistent.
 
 Only what a consumer on the ICD QoS received counts (observe.py). The ranges and enum checks of
-the console's decoder (console/convert.py) apply, with the stricter ones of the ICD added here.
+the console's decoder (codec/convert.py) apply, with the stricter ones of the ICD added here.
 """
 
 from __future__ import annotations
@@ -105,7 +105,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
 def _icd_ref(problem: str) -> str:
     if "unknown" in problem and "ordinal" in problem:
         return f"{problem} (ICD 5.3)"
-    if "elements, more than" in problem:  # console/convert.py's cap: the sequence is unbounded in the IDL
+    if "elements, more than" in problem:  # codec/convert.py's cap: the sequence is unbounded in the IDL
         return f"{problem} (ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)"
     return f"{problem} (ICD 5.4, Table 45)"
 

@@ -44,7 +44,7 @@ from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-from sem_console.console.decode import (
+from sem_console.codec.decode import (
     ACK_TOPICS,
     COMMAND_TOPICS,
     REPORT_TOPICS,

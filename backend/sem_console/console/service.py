@@ -22,13 +22,13 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from sem_console.codec.decode import ReportItem, StatusItem
 from sem_console.comap.c2 import C2, FINAL, Task, TaskError
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
-from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub

@@ -13,7 +13,7 @@ from typing import Any
 
 from cyclonedds.idl import IdlStruct
 
-from sem_console.console.convert import GUID_MEMBERS
+from sem_console.codec.convert import GUID_MEMBERS
 
 
 def _schema(hint: Any, name: str, defs: dict[str, Any]) -> dict[str, Any]:
@@ -61,7 +61,7 @@ def struct_schema(cls: type[IdlStruct], defs: dict[str, Any]) -> None:
 
 def report_schemas() -> dict[str, Any]:
     """$defs for the four report types (and everything they use), keyed by IDL type name."""
-    from sem_console.console.ingest import REPORT_TOPICS
+    from sem_console.codec.decode import REPORT_TOPICS
 
     defs: dict[str, Any] = {}
     for sem in REPORT_TOPICS:

@@ -25,7 +25,7 @@ cyclonedds itself, so every input decodes as before. A malformed sample raises (
 `IndexError`, `ValueError`, `UnicodeDecodeError`); callers count it and drop it. Where cyclonedds
 reads a truncated sample leniently (a GUID cut short) this decoder refuses it; wherever it
 returns a value, the value is cyclonedds' (tests/test_fastcdr.py pins both modes to cyclonedds on
-random samples of every SEM type). `python -m sem_console.console.fastcdr TYPE` prints the
+random samples of every SEM type). `python -m sem_console.codec.fastcdr TYPE` prints the
 generated source.
 """
 
@@ -42,7 +42,7 @@ from typing import Any
 
 from cyclonedds.idl import IdlStruct
 
-from sem_console.console import convert
+from sem_console.codec import convert
 from sem_console.dds.cyclone_private import enum_type, type_machine
 from sem_console.dds.cyclone_private import machinery as mc
 

@@ -7,7 +7,7 @@ topics). The DDS ingest threads call it for every sample taken from its owner re
 (`console/replay_source.py`) calls it for every recorded message. A sample that cannot be decoded is
 counted per topic and logged, never raised.
 
-Samples are decoded by the code `console/fastcdr.py` generates per type (a report straight to its
+Samples are decoded by the code `codec/fastcdr.py` generates per type (a report straight to its
 JSON, the same as `convert.to_json` of cyclonedds' sample, a status to the same sample cyclonedds
 builds); a key (disposes, lost writers) by cyclonedds.
 """
@@ -23,7 +23,7 @@ from typing import Any
 from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
-from sem_console.console import fastcdr
+from sem_console.codec import fastcdr
 from sem_console.dds.topics import Sem, Service, delimited
 
 log = logging.getLogger("sem-console.ingest")
