@@ -331,3 +331,9 @@ def test_6_0_golden_bytes(qualified: str) -> None:
     assert type(sample) is gen_class_6_0(qualified)
     assert sample.serialize().hex() == golden.hex()
     assert type(sample).deserialize(golden) == sample
+
+
+def test_the_6_0_topic_table_is_the_layout_table() -> None:
+    from sem_console.dds.topics import Sem60
+
+    assert {s.spec.name: s.spec.type for s in Sem60} == {t: gen_class_6_0(t) for t in TOPIC_TYPES_6_0}

@@ -35,7 +35,7 @@ RANGES: dict[str, tuple[float, float]] = {
     "eastSpeed": (-10_000.0, 10_000.0),
     "northSpeed": (-10_000.0, 10_000.0),
 }
-GUID_MEMBERS = {"source", "destination", "sessionID", "satelliteId"}
+GUID_MEMBERS = {"source", "destination", "sessionID", "satelliteId", "id", "parentID"}  # id, parentID: UMAA 6.0's IdentifierType
 
 
 def to_json(sample: Any) -> tuple[dict[str, Any], list[str]]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import logging
 import threading
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -24,7 +25,8 @@ from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
 from sem_console.codec import fastcdr
-from sem_console.dds.topics import Sem, Service, delimited
+from sem_console.dds.topics import AnySem, Sem, Service, delimited
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
 
 log = logging.getLogger("sem-console.ingest")
 
@@ -35,6 +37,10 @@ REPORT_TOPICS = {
 STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
 ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
 COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
+# The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
+REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
+# Every topic name a vehicle's report samples count under for its link (provider health)
+REPORT_HEALTH_TOPICS = (*REPORT_TOPICS.values(), *(r.topic for r in umaa_6_0.REPORTS.values() if r.model is None))
 
 
 @dataclass
@@ -46,6 +52,7 @@ class ReportItem:
     alive: bool
     received_at: float
     sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
+    version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
 
 
 @dataclass
@@ -62,10 +69,20 @@ Item = ReportItem | StatusItem
 
 
 def guid(raw: Any) -> uuid.UUID | None:
+    """A NumericGUID as a UUID; of an identifier (UMAA 6.0's IdentifierType), its `id`."""
+    raw = getattr(raw, "id", raw)
     try:
         return uuid.UUID(bytes=bytes(raw))
     except (TypeError, ValueError):
         return None
+
+
+def _source(report: dict[str, Any]) -> Any:
+    return report.get("source")
+
+
+def _same(report: dict[str, Any]) -> dict[str, Any]:
+    return report
 
 
 @dataclass(frozen=True)
@@ -78,20 +95,26 @@ class _Route:
     report: str | None  # the report's topic name (report topics)
     service: Service | None  # status and ack topics
     kind: str  # "report" | "status" | "ack"
+    version: UmaaVersion = UMAA_3_0_1
+    source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
+    model: Callable[[dict[str, Any]], dict[str, Any]] | None = _same  # a report's JSON as the model's; None: health only
 
 
-_ROUTES: dict[Sem, _Route] = {
+_ROUTES: dict[AnySem, _Route] = {
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), topic, None, "report")
        for sem, topic in REPORT_TOPICS.items()},
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "status")
        for sem, service in STATUS_TOPICS.items()},
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
        for sem, service in ACK_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
+                   umaa_6_0.source_of, r.model)
+       for sem, r in umaa_6_0.REPORTS.items()},
 }
 # The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
 # delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
 # any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
-_APPENDABLE_ROUTES: dict[Sem, _Route] = {
+_APPENDABLE_ROUTES: dict[AnySem, _Route] = {
     sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
     for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
 _ALIVE = InstanceState.Alive
@@ -107,7 +130,7 @@ class Decoder:
         with self._counting:
             self.undecodable[name] = self.undecodable.get(name, 0) + 1
 
-    def decode(self, sem: Sem, data: bytes, valid: bool, instance_state: int, received_at: float,
+    def decode(self, sem: AnySem, data: bytes, valid: bool, instance_state: int, received_at: float,
                convert: bool = True) -> Item | None:
         """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
         `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
@@ -126,8 +149,12 @@ class Decoder:
                 source = guid(getattr(sample, "source", None))
             elif route.report is not None:
                 report = route.fast.json(data)
-                text = report[0].get("source")
+                text = route.source(report[0])
                 source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
+                if route.model is None:
+                    report = None  # counted for the link, not part of the model
+                elif route.model is not _same:
+                    report = (route.model(report[0]), report[1])
             else:
                 sample = route.fast.sample(data)
                 source = guid(getattr(sample, "source", None))
@@ -143,10 +170,10 @@ class Decoder:
         alive = instance_state == _ALIVE
         if route.report is not None:
             if report is None:
-                return ReportItem(route.report, source, None, [], False, received_at)
+                return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version)
             if convert:
-                return ReportItem(route.report, source, report[0], report[1], alive, received_at)
-            return ReportItem(route.report, source, None, [], alive, received_at, report)
+                return ReportItem(route.report, source, report[0], report[1], alive, received_at, version=route.version)
+            return ReportItem(route.report, source, None, [], alive, received_at, report, route.version)
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None

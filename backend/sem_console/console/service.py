@@ -355,7 +355,7 @@ class Console:
         now = self.clock.monotonic()
         alarming = False
         for it in items:
-            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
+            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:
