@@ -141,6 +141,11 @@ export function VehicleSelector() {
               {stateWords(link, recorded)}
             </span>
             <span className="vehicle-meta">
+              {p.umaaVersion && (
+                <span className="umaa-version" data-testid="vehicle-umaa" title="the UMAA version of the topics the vehicle reports on">
+                  UMAA {p.umaaVersion}
+                </span>
+              )}{" "}
               {fix ? (fix.fixValid ? "fix" : "no fix") : "—"} · INS <span title={ins?.status ?? undefined}>{ins ? insStatusText(ins.status) : "—"}</span> · {age(ageS)}
             </span>
             <span className="vehicle-id muted">{p.id}</span>
