@@ -10,6 +10,7 @@ import httpx
 from cyclonedds.core import InstanceState
 
 from sem_console.codec.decode import Decoder
+from sem_console.codec.jsonschema import report_schemas
 from sem_console.dds.topics import Sem60
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
@@ -69,7 +70,12 @@ def test_6_0_reports_decode_into_the_model() -> None:
     report = item.report  # type: ignore[union-attr]
     assert report["source"] == str(uuid.UUID(bytes=bytes(sample.source.id)))
     assert satellite_label(uuid.UUID(report["satellites"][0]["satelliteId"]).bytes) == "E17"
-    assert report["clock"]["biasUncertianty"] == 7
+    assert report["clock"]["biasUncertianty"] == 7 and report["clock"]["timeUncertainty"] is None
+    # member for member the model's GPSReport, as the WebSocket schema has it (every member required, nullable)
+    defs = report_schemas()
+    for value, struct in ((report, "GPSReportType"), (report["clock"], "GPSClockType"),
+                          (report["satellites"][0], "GPSSatelliteType")):
+        assert list(value) == defs[struct]["required"], struct
     for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT):
         sample, data = GOLDEN_6_0[sem.spec.name]()
         item = decoder.decode(sem, data, True, ALIVE, 0.0)

@@ -3,7 +3,7 @@
 - `UMAA::SEM::GPSStatus::GPSReportType` feeds the model's GPSReport: the clock and every satellite, member for member.
   A 6.0 satellite's `satelliteID` is a number; the model's `satelliteId` is the console's satellite GUID made of the
   constellation and that number (`umaa/guid.py`), so the dashboard labels it as it labels a 3.0.1 satellite (G17).
-  The clock's `timeFigureOfMerit` has no member in the model yet and is left out.
+  The clock's `timeFigureOfMerit` has no member in the model yet and is left out; its `timeUncertainty` is null.
 - `UMAA::SA::GlobalPoseStatus::GlobalPoseReportType` and `UMAA::SEM::InertialSensorStatus::InertialSensorReportType`
   count for the vehicle's link (their samples, their instances) under their own topic names; their position and
   alignment stage have no place in the model yet (`model` None).
@@ -21,9 +21,11 @@ from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstell
 from sem_console.dds.topics import Sem60
 from sem_console.umaa.guid import satellite_guid
 
-# The 6.0 clock member the model names differently (the 3.0.1 IDL's spelling)
+# The 6.0 clock member the model names differently (the 3.0.1 IDL's spelling); the one the model has and 6.0 does
+# not (null: not reported; 6.0 reports the time's quality as a figure of merit instead, which the model lacks)
 _CLOCK_NAMES = {"biasUncertainty": "biasUncertianty"}
 _CLOCK_LEFT_OUT = {"timeFigureOfMerit"}
+_CLOCK_NOT_REPORTED = {"timeUncertainty": None}
 _SATELLITE_NAMES = {"satelliteID": "satelliteId"}
 
 
@@ -45,7 +47,7 @@ def gps_report(report: dict[str, Any]) -> dict[str, Any]:
     satellites = [{_SATELLITE_NAMES.get(k, k): (_satellite_id(s) if k == "satelliteID" else v) for k, v in s.items()}
                   for s in report.get("satellites") or []]
     return {
-        "clock": {_CLOCK_NAMES.get(k, k): v for k, v in clock.items() if k not in _CLOCK_LEFT_OUT},
+        "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items() if k not in _CLOCK_LEFT_OUT}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
         "satellites": satellites,
         "source": source_of(report),
