@@ -103,6 +103,21 @@ def global_pose(fix: Any) -> GlobalPoseReportType:
         positionCovariance=None, timeStamp=_time(fix.timeStamp), source=_identifier(fix.source))
 
 
+def ins_report(r: Any, aligned: dict[uuid.UUID, str]) -> InertialSensorReportType:
+    """A 3.0.1 InertialSensorReport as 6.0's; `aligned`: per vehicle, the stage its last alignment completed with (kept
+    here), what an aligned 6.0 INS reports where 3.0.1 says OPERATIONAL."""
+    status = r.status.name
+    vehicle = uuid.UUID(bytes=bytes(r.source))
+    if status.endswith("_ALIGNMENT_COMPLETE"):
+        aligned[vehicle] = status
+    elif status == "OPERATIONAL":
+        status = aligned.get(vehicle, "FINE_GPS_ALIGNMENT_COMPLETE")
+    if r.state.name != "ON" and status != "INERTIAL_SENSOR_FAILURE":
+        status = "INIT"
+    return InertialSensorReportType(status=OpStatus[_OP_STATUS.get(status, status)], timeStamp=_time(r.timeStamp),
+                                    source=_identifier(r.source))
+
+
 class Writer60:
     """Writes the vehicles' 3.0.1 samples as their 6.0 counterparts (the module's docstring)."""
 
@@ -113,16 +128,7 @@ class Writer60:
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with
 
     def ins_report(self, r: Any) -> InertialSensorReportType:
-        status = r.status.name
-        vehicle = uuid.UUID(bytes=bytes(r.source))
-        if status.endswith("_ALIGNMENT_COMPLETE"):
-            self._aligned[vehicle] = status
-        elif status == "OPERATIONAL":
-            status = self._aligned.get(vehicle, "FINE_GPS_ALIGNMENT_COMPLETE")
-        if r.state.name != "ON" and status != "INERTIAL_SENSOR_FAILURE":
-            status = "INIT"
-        return InertialSensorReportType(status=OpStatus[_OP_STATUS.get(status, status)], timeStamp=_time(r.timeStamp),
-                                        source=_identifier(r.source))
+        return ins_report(r, self._aligned)
 
     def _as_6_0(self, sem: Sem, sample: Any) -> tuple[Sem60, Any] | None:
         if sem is Sem.GPS_REPORT:

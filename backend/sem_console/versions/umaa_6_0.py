@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -26,12 +27,12 @@ from sem_console.umaa.guid import satellite_guid
 _CLOCK_NAMES = {"biasUncertainty": "biasUncertianty"}
 _CLOCK_LEFT_OUT = {"timeFigureOfMerit"}
 _CLOCK_NOT_REPORTED = {"timeUncertainty": None}
-_SATELLITE_NAMES = {"satelliteID": "satelliteId"}
 
 
-def _satellite_id(satellite: dict[str, Any]) -> str | None:
-    """The console's GUID for a 6.0 satellite: its constellation and its number (None when either is not usable)."""
-    number, constellation = satellite.get("satelliteID"), satellite.get("constellationType")
+@functools.cache
+def _satellite_id(number: Any, constellation: Any) -> str | None:
+    """The console's GUID for a 6.0 satellite: its constellation and its number (None when either is not usable).
+    Cached: a receiver sees a few dozen satellites, reported every second."""
     if not isinstance(number, float | int) or not float(number).is_integer() or not isinstance(constellation, str) \
             or constellation not in Constellation.__members__:
         return None
@@ -41,15 +42,19 @@ def _satellite_id(satellite: dict[str, Any]) -> str | None:
         return None
 
 
+def _satellite(s: dict[str, Any]) -> dict[str, Any]:
+    """A 6.0 satellite (its JSON, fresh from the decoder) made the model's in place: satelliteID as satelliteId."""
+    s["satelliteId"] = _satellite_id(s.pop("satelliteID", None), s.get("constellationType"))
+    return s
+
+
 def gps_report(report: dict[str, Any]) -> dict[str, Any]:
     """A 6.0 GPSReportType (its JSON, `codec`) as the model's GPSReport."""
     clock = report.get("clock") or {}
-    satellites = [{_SATELLITE_NAMES.get(k, k): (_satellite_id(s) if k == "satelliteID" else v) for k, v in s.items()}
-                  for s in report.get("satellites") or []]
     return {
         "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items() if k not in _CLOCK_LEFT_OUT}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
-        "satellites": satellites,
+        "satellites": [_satellite(s) for s in report.get("satellites") or []],
         "source": source_of(report),
         "timeStamp": report.get("timeStamp"),
     }
