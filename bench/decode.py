@@ -1,4 +1,4 @@
-"""Decode cost per SEM topic, µs per sample: the console's generated decoder (console/fastcdr.py) beside
+"""Decode cost per SEM topic, µs per sample: the console's generated decoder (codec/fastcdr.py) beside
 cyclonedds' own deserializer, in the same run, on the same bytes. Reports are the simulator's (a
 GPSReport of 40 satellites, every optional member present, as sem-sim sends them); status, ack and
 command samples are random (backend/tests/samplegen.py). Each topic in every encoding its writers may
@@ -6,8 +6,10 @@ use: XCDR2 for the types with @optional members, XCDR1 (what writers offer) and 
 
 Columns: cyclonedds = `T.deserialize`; cyclonedds+json = that and `convert.to_json` (the console's
 path before the generated decoder); console = what the console runs now (a report straight to its
-JSON, a status to its sample). The last row is the decode cost per vehicle-second at the ingest
-benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz). CPU time, best of several rounds.
+JSON, a status to its sample). The rows marked (6.0) are the same vehicle's reports as a UMAA 6.0 vehicle
+writes them, the console's cost including the version's adapter to its model. The last row is the decode cost per
+vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz).
+CPU time, best of several rounds.
 Usage: python bench/decode.py [--rounds 5]
 """
 
@@ -27,12 +29,14 @@ from common import ROOT, emit, table
 sys.path.insert(0, str(ROOT / "backend" / "tests"))
 
 from samplegen import random_sample
-from sem_console.console import fastcdr
-from sem_console.console.convert import to_json
-from sem_console.console.decode import REPORT_TOPICS
-from sem_console.dds.topics import Sem
+from sem_console.codec import fastcdr
+from sem_console.codec.convert import to_json
+from sem_console.codec.decode import REPORT_TOPICS
+from sem_console.dds.topics import Sem, Sem60
+from sem_console.sim import umaa_6_0 as sim60
 from sem_console.sim.options import SimOptions
 from sem_console.sim.reports import Sensors
+from sem_console.versions import umaa_6_0
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 
@@ -48,6 +52,22 @@ def samples() -> dict[Sem, Any]:
     for sem in Sem:
         out.setdefault(sem, random_sample(sem.spec.type, rng))
     return out
+
+
+def samples_6_0() -> dict[Sem60, Any]:
+    """The same vehicle's reports as a UMAA 6.0 vehicle writes them (`sem-sim --umaa 6.0`)."""
+    s = Sensors(SimOptions(vehicles=1, satellites=40), 1, uuid.UUID(int=1), set())
+    now = time.monotonic()
+    sats = s.satellites(now)
+    fix, _status = s.fix_reports(now, sats)
+    return {Sem60.GPS_REPORT: sim60.gps_report(s.gps_report(now, sats)), Sem60.GLOBAL_POSE_REPORT: sim60.global_pose(fix),
+            Sem60.INS_REPORT: sim60.ins_report(s.ins_report(now), {})}
+
+
+def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
+    """What the console runs for a 6.0 report: its JSON, then the version's adapter to the model (codec/decode.py)."""
+    fast, model = fastcdr.decoder(sem.spec.type).json, umaa_6_0.REPORTS[sem].model
+    return fast if model is None else (lambda d: model(fast(d)[0]))
 
 
 def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:
@@ -91,6 +111,17 @@ def main() -> None:
             if sem in RATES and v2 == sem.spec.xcdr2_only:
                 per_vehicle["cyclonedds_json"] += RATES[sem] * before
                 per_vehicle["console"] += RATES[sem] * console
+    for sem, sample in samples_6_0().items():
+        t, v2 = sem.spec.type, sem.spec.xcdr2_only  # as the simulator's 6.0 writers send them
+        data = t.serialize(sample, use_version_2=v2)
+        cdds, console = cpu_us(t.deserialize, data, args.rounds), cpu_us(console_6_0(sem), data, args.rounds)
+        cdds_json = cpu_us(lambda d, t=t: to_json(t.deserialize(d)), data, args.rounds)
+        r = {"topic": f"{sem.spec.name.rsplit('::', 1)[1]} (6.0)", "encoding": "XCDR2" if v2 else "XCDR1", "bytes": len(data),
+             "cyclonedds_us": round(cdds, 1), "cyclonedds_json_us": round(cdds_json, 1), "console_us": round(console, 1),
+             "console_mode": "json+model", "speedup_vs_cyclonedds": round(cdds / console, 1),
+             "speedup_vs_before": round(cdds_json / console, 1)}
+        figures.append(r)
+        rows.append(list(r.values()))
     keys = list(figures[0])
     rows.append(
         [

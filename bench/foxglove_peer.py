@@ -45,7 +45,7 @@ def main() -> None:
     from cyclonedds.core import WaitSet
     from cyclonedds.util import duration
 
-    from sem_console.console.decode import REPORT_TOPICS
+    from sem_console.codec.decode import REPORT_TOPICS
     from sem_console.dds.bus import Bus, all_samples
     from sem_console.dds.qos import reader_qos
 

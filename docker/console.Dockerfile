@@ -10,7 +10,10 @@ FROM python:3.11-slim-bookworm
 WORKDIR /app
 COPY idl/ idl/
 COPY backend/ backend/
-RUN pip install --no-cache-dir ./backend
+# the UMAA types are generated from idl/ (never committed; sem_console.idlgen) before the backend is installed
+RUN pip install --no-cache-dir "$(grep -o 'cyclonedds==[0-9.]*' backend/pyproject.toml)" \
+ && PYTHONPATH=backend python -m sem_console.idlgen \
+ && pip install --no-cache-dir ./backend
 COPY --from=dashboard /src/frontend/dist /app/frontend/dist
 # the database a URL (not SEM_DB_PATH): an operations centre station replaces it with its postgresql:// one
 ENV SEM_FRONTEND_DIR=/app/frontend/dist SEM_HOST=0.0.0.0 SEM_PORT=8000 SEM_DATABASE_URL=/data/sem-console.sqlite3

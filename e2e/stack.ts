@@ -193,3 +193,21 @@ export async function stopStack(): Promise<void> {
   const stack = load();
   await Promise.all([stopPid(stack.consolePid, "SIGINT"), stopPid(stack.simPid, "SIGINT")]);
 }
+
+/** A mixed fleet of its own, apart from the stack's domain: a console and two simulators on a fresh domain, vehicle 1
+ * on UMAA 3.0.1 and vehicle 2 on UMAA 6.0 (`sem-sim --umaa 6.0`). Returns the console's URL, the vehicles' GUIDs and a
+ * stop function. */
+export async function startMixedFleet(): Promise<{ url: string; vehicles: string[]; stop: () => Promise<void> }> {
+  const stack = load();
+  const domain = await freeDomain();
+  const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "2"], { encoding: "utf8" })
+    .trim().split("\n").map((l) => l.split(": ")[1]);
+  const sims = [
+    launch("sem-sim", ["--domain", String(domain), "--state-file", join(stack.dir, "mixed-3.0.1.json"), "--log-level", "warning"]),
+    launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, "mixed-6.0.json"),
+      "--log-level", "warning"]),
+  ];
+  const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, "mixed.sqlite3"),
+    "--recordings-dir", join(stack.dir, "recordings")]);
+  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
+}

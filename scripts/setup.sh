@@ -38,11 +38,16 @@ if [ ! -x "$ROOT/.venv/bin/python" ]; then
     "$PY" -m venv "$ROOT/.venv"
   fi
 fi
+# The UMAA types are generated from idl/ (never committed) before the backend is installed, so that its install finds
+# their packages: idlgen needs only cyclonedds (the backend's pinned version), and regenerates only when idl/ changed.
+"$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check \
+  "$(grep -o 'cyclonedds==[0-9.]*' "$ROOT/backend/pyproject.toml")"
+PYTHONPATH="$ROOT/backend" "$ROOT/.venv/bin/python" -m sem_console.idlgen --if-stale
 "$ROOT/.venv/bin/python" -m pip install -q --disable-pip-version-check -e "$ROOT/backend[test]"
 # The backend's own modules compiled once here: the tests start a few hundred consoles and simulators, and with
 # PYTHONDONTWRITEBYTECODE set (as on these machines) each would compile them again (about 0.15 s of CPU each).
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
-  "$ROOT/backend/UMAA_appendable" >&2  # (-q: only a module that does not compile, named with its error)
+  "$ROOT/backend/UMAA_appendable" "$ROOT/backend/UMAA_6_0" >&2  # (-q: only a module that does not compile, named with its error)
 
 dashboard_rc=0
 wait "$dashboard" || dashboard_rc=$?

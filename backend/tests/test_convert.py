@@ -9,7 +9,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
-from sem_console.console.convert import to_json
+from sem_console.codec.convert import to_json
 
 
 def test_unknown_enum_ordinal_from_the_wire_is_flagged() -> None:
@@ -27,6 +27,6 @@ def test_nan_and_out_of_range() -> None:
     sample = InertialSensorReportType(state=Ins.ON, status=Op.INIT, source=bytes(range(16)), timeStamp=DateTime(1, 2_000_000_000))
     _report, invalid = to_json(sample)
     assert invalid == ["timeStamp.nanoseconds: 2000000000 outside 0..1e+09"]
-    from sem_console.console.convert import _value
+    from sem_console.codec.convert import _value
     bad: list[str] = []
     assert _value(math.inf, "SOG", bad) is None and bad == ["SOG: inf is not a number"]

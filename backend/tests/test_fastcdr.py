@@ -1,4 +1,4 @@
-"""The generated decoder (console/fastcdr.py) against cyclonedds' own deserializer, on random samples of
+"""The generated decoder (codec/fastcdr.py) against cyclonedds' own deserializer, on random samples of
 every SEM type in both encodings the topics use (XCDR1 for types without @optional members, XCDR2 for
 all), optional members present and absent: the sample it builds equals cyclonedds' and its JSON equals
 `convert.to_json` of cyclonedds' sample, invalid-value messages included. Malformed input (cut short,
@@ -17,9 +17,9 @@ from cyclonedds.core import InstanceState
 from cyclonedds.idl._support import Endianness
 
 from samplegen import random_sample
-from sem_console.console import fastcdr
-from sem_console.console.convert import to_json
-from sem_console.console.decode import REPORT_TOPICS, Decoder
+from sem_console.codec import fastcdr
+from sem_console.codec.convert import to_json
+from sem_console.codec.decode import REPORT_TOPICS, Decoder
 from sem_console.dds.topics import Sem
 
 SEMS = list(Sem)

@@ -1,32 +1,47 @@
-"""The committed Python types are what idlc makes of idl/ today."""
+"""The generated Python types are built from idl/, never committed: what is built is what idlc makes of idl/ today."""
 
 from __future__ import annotations
 
+import subprocess
 from pathlib import Path
+
+import pytest
 
 from sem_console import idlgen
 
 BACKEND = Path(__file__).resolve().parents[1]
 
 
-def test_generated_types_are_fresh(tmp_path: Path) -> None:
-    written = idlgen.generate(tmp_path)
-    fresh = {p.relative_to(tmp_path): p.read_text() for p in written}
-    committed = {p.relative_to(BACKEND): p.read_text() for p in (BACKEND / "UMAA").rglob("*.py")}
-    assert sorted(fresh) == sorted(committed), "generated files differ: run `python -m sem_console.idlgen`"
-    stale = [str(p) for p in fresh if fresh[p] != committed[p]]
+def _texts(root: Path, files: list[Path]) -> dict[Path, str]:
+    return {p.relative_to(root): p.read_text() for p in files}
+
+
+@pytest.mark.parametrize("package", idlgen.PACKAGES)
+def test_built_types_are_fresh(tmp_path: Path, package: str) -> None:
+    fresh = _texts(tmp_path, idlgen.generate_all(tmp_path)[package])
+    built = _texts(BACKEND, list((BACKEND / package).rglob("*.py")))
+    assert sorted(fresh) == sorted(built), "generated files differ: run `python -m sem_console.idlgen`"
+    stale = [str(p) for p in fresh if fresh[p] != built[p]]
     assert not stale, f"stale generated code, run `python -m sem_console.idlgen`: {stale}"
 
 
-def test_appendable_copies_are_fresh(tmp_path: Path) -> None:
-    written = idlgen.generate_appendable(tmp_path)
-    fresh = {p.relative_to(tmp_path): p.read_text() for p in written}
-    committed = {p.relative_to(BACKEND): p.read_text() for p in (BACKEND / idlgen.APPENDABLE).rglob("*.py")}
-    assert fresh == committed, "stale appendable copies: run `python -m sem_console.idlgen`"
+def test_no_generated_file_is_committed() -> None:
+    tracked = subprocess.run(["git", "ls-files", "--", *idlgen.PACKAGES, idlgen.STAMP], cwd=BACKEND,
+                             capture_output=True, text=True, check=True).stdout.split()
+    assert tracked == [], f"generated files are in git (they are built by scripts/setup.sh): git rm --cached {tracked}"
+
+
+def test_if_stale_regenerates_only_on_change(tmp_path: Path) -> None:
+    assert idlgen.main(["--out", str(tmp_path), "--if-stale"]) == 0
+    first = (tmp_path / "UMAA_6_0" / "__init__.py").stat().st_mtime_ns
+    assert idlgen.up_to_date(tmp_path)
+    assert idlgen.main(["--out", str(tmp_path), "--if-stale"]) == 0
+    assert (tmp_path / "UMAA_6_0" / "__init__.py").stat().st_mtime_ns == first
+    (tmp_path / idlgen.STAMP).write_text("an older idl/")
+    assert not idlgen.up_to_date(tmp_path)
 
 
 def test_patched_idlc_runs(tmp_path: Path) -> None:
-    import subprocess
     idlc = idlgen.working_idlc(tmp_path)
     _orig, libs, _plugin = idlgen._wheel_paths()
     out = subprocess.run([str(idlc), "-v"], env={"LD_LIBRARY_PATH": str(libs)}, capture_output=True, text=True)

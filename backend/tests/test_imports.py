@@ -1,7 +1,8 @@
 """The backend's import graph keeps the contracts of backend/pyproject.toml ([tool.importlinter]): each room imports only
 rooms below it, only the layers above `api` import it, no package has an import cycle between its modules or
-subpackages, and sem-check and the API's contract do not take the wire codec from console/. Imports under
-`if TYPE_CHECKING:` count: a cycle the interpreter never runs is still one a reader has to untangle.
+subpackages, sem-check and the API's contract do not take the wire codec from console/, and the codec imports none of
+its users. Imports under `if TYPE_CHECKING:` count: a cycle the interpreter never runs is still one a reader has to
+untangle.
 """
 
 from __future__ import annotations

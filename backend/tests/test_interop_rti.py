@@ -37,8 +37,8 @@ from cyclonedds.core import Policy, Qos
 from rti.connector import RECIPE_ENV, RtiParticipant
 from rti.connext7 import RemoteParticipant, connector7
 from samplegen import random_sample, to_plain
-from sem_console.console.convert import to_json
-from sem_console.console.decode import REPORT_TOPICS
+from sem_console.codec.convert import to_json
+from sem_console.codec.decode import REPORT_TOPICS
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import TopicClass, reader_qos
 from sem_console.dds.topics import Sem, Service, final_type_qos

@@ -25,7 +25,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
 from samplegen import random_sample
-from sem_console.console.decode import REPORT_TOPICS, Decoder
+from sem_console.codec.decode import REPORT_TOPICS, Decoder
 from sem_console.console.replay_source import Cursor, RecordedName
 from sem_console.dds.topics import Sem
 from sem_console.recording.reader import iter_messages, recorded_station, time_range

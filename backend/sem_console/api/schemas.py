@@ -590,7 +590,7 @@ class _Messages(_Model):
 def ws_schema() -> dict[str, Any]:
     """One JSON Schema document: both message unions, and the JSON form of each report type
     (derived from the generated IDL types) with `ReportTypes` mapping topic to type."""
-    from sem_console.console.jsonschema import report_schemas
+    from sem_console.codec.jsonschema import report_schemas
 
     schema = _Messages.model_json_schema(ref_template="#/$defs/{model}")
     defs = schema.setdefault("$defs", {})

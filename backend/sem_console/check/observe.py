@@ -28,7 +28,7 @@ from cyclonedds.builtin_types import DcpsEndpoint
 from cyclonedds.core import InstanceState, Qos, ReadCondition
 from cyclonedds.sub import DataReader
 
-from sem_console.console.decode import Decoder, ReportItem, StatusItem
+from sem_console.codec.decode import Decoder, ReportItem, StatusItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
@@ -47,7 +47,7 @@ class Report:
     """One report sample as the consumer-QoS reader received it."""
 
     received: float  # the checker's clock (UTC seconds) when taken
-    body: dict[str, Any] | None  # the report as JSON (console/convert.py); None for a dispose or a lost writer
+    body: dict[str, Any] | None  # the report as JSON (codec/convert.py); None for a dispose or a lost writer
     invalid: list[str]  # what the decoder flagged: unknown enum ordinals, NaN, values out of their ICD range
     alive: bool
     writer: int  # publication handle

@@ -7,7 +7,7 @@
   RFC 4122, optional members well-formed when present, and the satellite counts consistent.
 
 Only what a consumer on the project's QoS profile received counts (observe.py). The ranges and enum checks of
-the console's decoder (console/convert.py) apply, with the stricter ones of the ICD added here.
+the console's decoder (codec/convert.py) apply, with the stricter ones of the ICD added here.
 """
 
 from __future__ import annotations
@@ -107,7 +107,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
 def _icd_ref(problem: str) -> str:
     if "unknown" in problem and "ordinal" in problem:
         return f"{problem} (ICD 5.3)"
-    if "elements, more than" in problem:  # console/convert.py's cap: the sequence is unbounded in the IDL
+    if "elements, more than" in problem:  # codec/convert.py's cap: the sequence is unbounded in the IDL
         return f"{problem} (ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)"
     return f"{problem} (ICD 5.4, Table 45)"
 
@@ -203,7 +203,7 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
         case.note(f"{len(live)} {topic} samples, every value within the ICD")
 
 
-# A problem's text is "path: value rest" or "path: unknown <enum> ordinal value rest" (console/convert.py, _range,
+# A problem's text is "path: value rest" or "path: unknown <enum> ordinal value rest" (codec/convert.py, _range,
 # _guid_problem): its kind is the path without its indices and the rest, the same for every sample that has it.
 _INDEX = re.compile(r"\[\d+\]")
 _VALUE_FIRST = re.compile(r"(?P<path>[^:]+): (?P<value>\S+) (?P<rest>(?:outside|is not|elements,) .*)")

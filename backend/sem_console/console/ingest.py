@@ -35,7 +35,7 @@ import asyncio
 import logging
 import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from enum import Enum
 from typing import Any, Protocol
 
@@ -44,10 +44,11 @@ from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
-from sem_console.console.decode import (
+from sem_console.codec.decode import (
     ACK_TOPICS,
     COMMAND_TOPICS,
     REPORT_TOPICS,
+    REPORT_TOPICS_6_0,
     STATUS_TOPICS,
     Decoder,
     Item,
@@ -58,7 +59,7 @@ from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import Triggered, take_cdr
 from sem_console.dds.qos import any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem, final_type_qos
+from sem_console.dds.topics import AnySem, Sem, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
@@ -71,7 +72,7 @@ class Tap(Protocol):
 
     active: bool
 
-    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+    def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic: (data, valid, instance state, source timestamp in ns) per sample, where data is
         the sample's CDR with its encapsulation header (only the key when not valid)."""
 
@@ -83,7 +84,7 @@ class Via(str, Enum):
     RELIABLE_VOLATILE = "reliableVolatile"
     BEST_EFFORT = "bestEffort"
 
-    def qos(self, sem: Sem, appendable: bool = False) -> Qos:
+    def qos(self, sem: AnySem, appendable: bool = False) -> Qos:
         """The reader's QoS. A topic with an appendable copy (TopicSpec.appendable) is read by a reader of each type:
         the final one validates the writer's type (`force_type_validation`: a writer that sends no type information, as
         RTI on the recipe, is refused, not matched by name and misread), the appendable one matches by name."""
@@ -174,7 +175,7 @@ class Ingest:
         self.decoder = Decoder()
         self.undecodable = self.decoder.undecodable
         self.incompatible: dict[str, int] = {}  # topic -> writers no reader of ours matches (see _on_incompatible)
-        self._warned: set[tuple[Sem, str]] = set()
+        self._warned: set[tuple[AnySem, str]] = set()
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
@@ -187,7 +188,7 @@ class Ingest:
         self._peers_checked = 0.0
         self._counting = threading.Lock()
         self.running = False
-        self.report_readers = self._readers(bus, list(REPORT_TOPICS))
+        self.report_readers = self._readers(bus, [*REPORT_TOPICS, *REPORT_TOPICS_6_0])
         self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS) + COMMAND_TOPICS)
         self.threads: list[threading.Thread] = []
         self._waitsets: dict[str, tuple[Triggered, list[Any]]] = {}
@@ -225,7 +226,7 @@ class Ingest:
             raise
         return ready if self.running else None
 
-    def _readers(self, bus: Bus, sems: list[Sem]) -> list[tuple[Sem, Via, DataReader[Any]]]:
+    def _readers(self, bus: Bus, sems: Sequence[AnySem]) -> list[tuple[AnySem, Via, DataReader[Any]]]:
         """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
         has one (Via.qos). A writer matches the readers of one type only, so `Owners` needs no change: its samples are
         taken from its owner among them, and `Decoder` tells the two types apart by the encapsulation header."""
@@ -234,7 +235,7 @@ class Ingest:
                 for sem in sems for appendable in (False, True) if not appendable or sem.spec.appendable is not None
                 for via in Via]
 
-    def _on_incompatible(self, sem: Sem, via: Via) -> Callable[[DataReader[Any], Any], None]:
+    def _on_incompatible(self, sem: AnySem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
         accepts any reliability, durability and latency budget, so what it refuses is refused by
         all three: in practice a data representation (an XCDR1 writer of a type with @optional
@@ -263,7 +264,7 @@ class Ingest:
 
         return on
 
-    def _take(self, sem: Sem, via: Via, reader: DataReader[Any], condition: Any) -> list[Item]:
+    def _take(self, sem: AnySem, via: Via, reader: DataReader[Any], condition: Any) -> list[Item]:
         """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
         path a replay takes too): a sample that cannot be decoded costs only itself, and the copies
         other readers own are dropped undecoded, so each sample is decoded and applied once."""
@@ -349,14 +350,14 @@ class Ingest:
                 log.warning("%s", f.message)
         self.findings = findings  # replaced whole: /api/metrics reads it from the loop
 
-    def matched_writers(self, sem: Sem) -> set[int]:
+    def matched_writers(self, sem: AnySem) -> set[int]:
         """The publication handles any reader of ours of this topic matched."""
         return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
                 for h in r.get_matched_publications()}
 
-    def reached_readers(self, sem: Sem) -> set[int] | None:
+    def reached_readers(self, sem: AnySem) -> set[int] | None:
         """The subscription handles the console's writer of this topic matched (None: the console writes no such topic)."""
-        writer = self.command_writers.get(sem)
+        writer = next((w for s, w in self.command_writers.items() if s is sem), None)
         return None if writer is None else {h & _U64 for h in writer.get_matched_subscriptions()}
 
     def _status_cycle(self, conds: list[Any], ready: list[int]) -> None:

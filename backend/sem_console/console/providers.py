@@ -14,7 +14,10 @@ import uuid
 from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
-REPORTS = ("GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport")
+from sem_console.codec.decode import REPORT_HEALTH_TOPICS, REPORT_TOPICS
+from sem_console.versions import UMAA_3_0_1, UmaaVersion
+
+REPORTS = tuple(REPORT_TOPICS.values())  # the model's report topics (core/contract.ReportTopic)
 Policy = Literal["STOP_MISSION", "CONTINUE_MISSION"]
 MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
 
@@ -53,6 +56,7 @@ class Provider:
     link: str = "live"  # live | lost | regained
     regaining_since: float | None = None
     regained_at: float | None = None
+    umaa_version: UmaaVersion = UMAA_3_0_1  # of the report topics its samples come on
 
     def last_seen(self) -> float:
         return max((h.last_seen for h in self.health.values()), default=self.first_seen)
@@ -62,6 +66,7 @@ class Provider:
             "id": str(self.id),
             "name": self.name,
             "link": self.link,
+            "umaaVersion": self.umaa_version,
             "linkConfig": self.config.to_json(),
             "jausId": self.jaus_id(),
             "ageSeconds": round(now - self.last_seen(), 3),
@@ -89,15 +94,18 @@ class Providers:
         return LinkConfig(self.comms_lost_timeout, self.regained_time)
 
     def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
-             alive: bool) -> tuple[Provider, bool]:
+             alive: bool, version: UmaaVersion | None = None) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
-        (disposed, or no writers). Returns (provider, whether it is new)."""
+        (disposed, or no writers). `version`: the UMAA version of a report topic (None for a status or an ack).
+        Returns (provider, whether it is new)."""
         p = self.by_id.get(source)
         new = p is None
         if p is None:
             key = str(source)
             p = self.by_id[source] = Provider(source, now, self.configs.get(key) or self.default_config(),
                                               self.names.get(key), len(self.by_id) + 1, self.jaus_subsystem)
+        if version is not None:
+            p.umaa_version = version
         h = p.health.get(topic)
         if report is None and not alive:
             if h:
@@ -120,7 +128,7 @@ class Providers:
         for p in self.by_id.values():
             lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
             silent = now - p.last_seen() > lost_after
-            reports = [h for t, h in p.health.items() if t in REPORTS]
+            reports = [h for t, h in p.health.items() if t in REPORT_HEALTH_TOPICS]
             gone = bool(reports) and not any(h.alive for h in reports)
             if p.link != "lost" and (silent or gone):
                 p.link, p.regaining_since = "lost", None

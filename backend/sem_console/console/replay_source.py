@@ -35,9 +35,9 @@ from typing import Any, Protocol
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
 
+from sem_console.codec.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.alarms import WATCHED
 from sem_console.console.clock import RecordingClock
-from sem_console.console.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
 from sem_console.recording.reader import (

@@ -22,13 +22,13 @@ from sqlalchemy.exc import SQLAlchemyError
 
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
+from sem_console.codec.decode import ReportItem, StatusItem
 from sem_console.comap.c2 import C2, FINAL, Task, TaskError
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
-from sem_console.console.decode import ReportItem, StatusItem
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
@@ -363,7 +363,7 @@ class Console:
         now = self.clock.monotonic()
         alarming = False
         for it in items:
-            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive)
+            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             if it.report is not None:

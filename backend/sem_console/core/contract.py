@@ -14,6 +14,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
 InsStateName = Literal["OFF", "ON", "RESTARTING"]
+UmaaVersion = Literal["3.0.1", "6.0"]
 
 
 class StrictModel(BaseModel):
@@ -54,6 +55,8 @@ class ProviderSummary(StrictModel):
     name: str | None = Field(description="the vehicle's name: the one an operator set (PUT /api/providers/{id}/name), "
                                          "else the console's --vehicle-names one, or null")
     link: LinkState
+    umaaVersion: UmaaVersion = Field(description="the UMAA version the vehicle speaks: that of the report topics its "
+                                                 "samples come on (3.0.1 until one is seen)")
     linkConfig: LinkConfig
     jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
                                            "is on, else null")

@@ -15,7 +15,7 @@ from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import reader_qos, representation, writer_qos
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import AnySem
 
 # One Domain object per domain id per process: Cyclone keeps the first config it was given.
 _domains: dict[int, Domain] = {}
@@ -47,22 +47,22 @@ class Bus:
         open_domain(domain_id, interface, peers)
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
-        self._topics: dict[Sem, Topic[Any]] = {}
-        self._appendable_topics: dict[Sem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)
+        self._topics: dict[AnySem, Topic[Any]] = {}
+        self._appendable_topics: dict[AnySem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)
 
-    def topic(self, sem: Sem) -> Topic[Any]:
+    def topic(self, sem: AnySem) -> Topic[Any]:
         if sem not in self._topics:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
 
-    def writer(self, sem: Sem, appendable: bool = False) -> DataWriter[Any]:
+    def writer(self, sem: AnySem, appendable: bool = False) -> DataWriter[Any]:
         """A writer with the topic class's QoS and the type's data representation; `appendable`: of the type's
         appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
         return DataWriter(self.participant, topic,
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
-    def _appendable_topic(self, sem: Sem) -> Topic[Any]:
+    def _appendable_topic(self, sem: AnySem) -> Topic[Any]:
         cls = sem.spec.appendable
         if cls is None:
             raise ValueError(f"{sem.spec.name} has no appendable copy")
@@ -70,7 +70,7 @@ class Bus:
             self._appendable_topics[sem] = Topic(self.participant, sem.spec.name, cls)
         return self._appendable_topics[sem]
 
-    def reader(self, sem: Sem, qos: Qos | None = None, listener: Listener | None = None,
+    def reader(self, sem: AnySem, qos: Qos | None = None, listener: Listener | None = None,
                appendable: bool = False) -> DataReader[Any]:
         """A reader with the given QoS (else the topic class's), always with the type's data representation;
         `appendable`: of the type's appendable copy (TopicSpec.appendable)."""

@@ -3,7 +3,7 @@ backend/pyproject.toml). `tests/test_cyclone_private.py` pins each of them again
 cyclonedds that moves or changes one fails there, by name, instead of somewhere in the console.
 
 Why each is needed (none has a public equivalent in 11.0.1):
-- `take_cdr`: `DataReader.take` without its decode, so the console decodes each sample itself (`console/decode.py`:
+- `take_cdr`: `DataReader.take` without its decode, so the console decodes each sample itself (`codec/decode.py`:
   one sample Python cannot decode costs only itself; the copies of a sample other readers own are dropped
   undecoded) and the recorder keeps the CDR as it came off the wire.
 - `write_cdr`: `DataWriter.write` of bytes already serialised, with their source timestamp (`sem-replay`
@@ -11,7 +11,7 @@ Why each is needed (none has a public equivalent in 11.0.1):
 - `wait_for_acks`: `DataWriter.wait_for_acks` raises AttributeError on a timeout in 11.0.1 (it compares with
   `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so the C function it wraps is called here.
 - `type_machine` and `machinery`: the tree of "machines" cyclonedds serialises a type with (its layout rules:
-  alignment, headers, optional flags), which `console/fastcdr.py` compiles into a decoder per type.
+  alignment, headers, optional flags), which `codec/fastcdr.py` compiles into a decoder per type.
 - `delete_participant`: deletes a participant in Cyclone at once; cyclonedds-python has no public delete and leaves
   it to `__del__`, which never deletes an entity freed in a reference cycle (the function says why that crashes).
 - `Triggered`: `WaitSet.wait` returns only how many conditions triggered, not which; the ingest threads take
@@ -44,7 +44,7 @@ __all__ = [
     "type_machine", "wait_for_acks", "write_cdr",
 ]
 
-# The machine classes console/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
+# The machine classes codec/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
 MACHINE_ATTRIBUTES: dict[type, tuple[str, ...]] = {
     machinery.InstanceMachine: ("type", "use_version_2"),
     machinery.StructMachine: ("type", "members_machines"),

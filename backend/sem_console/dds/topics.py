@@ -1,4 +1,5 @@
-"""Every SEM topic: its UMAA name, generated type and QoS class, in one table."""
+"""Every SEM topic: its UMAA name, generated type and QoS class, in one table per UMAA version (`Sem`: 3.0.1,
+`Sem60`: 6.0)."""
 
 from __future__ import annotations
 
@@ -22,6 +23,12 @@ from UMAA.SEM.InertialSensorControl import (
     InertialSensorCommandType,
 )
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
+from UMAA_6_0.SA.GlobalPoseStatus import GlobalPoseReportType as GlobalPoseReportType60
+from UMAA_6_0.SEM.GPSStatus import GPSReportType as GPSReportType60
+from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandAckReportType as InertialSensorCommandAckReportType60
+from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandStatusType as InertialSensorCommandStatusType60
+from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType as InertialSensorCommandType60
+from UMAA_6_0.SEM.InertialSensorStatus import InertialSensorReportType as InertialSensorReportType60
 from UMAA_appendable.SEM.GPSFixStatus import GPSFixReportType as AppendableGPSFixReportType
 from UMAA_appendable.SEM.GPSStatus import GPSReportType as AppendableGPSReportType
 
@@ -85,6 +92,29 @@ class Sem(Enum):
         return self.value
 
 
+def _named_after_type(t: type[IdlStruct], cls: TopicClass) -> TopicSpec:
+    """A UMAA 6.0 topic: named after its type's full name (UMAA::SEM::GPSStatus::GPSReportType)."""
+    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls)
+
+
+class Sem60(Enum):
+    """The UMAA 6.0 topics the console serves (tests/data/umaa-6.0-wire-layout.toml)."""
+
+    GPS_REPORT = _named_after_type(GPSReportType60, TopicClass.REPORT)
+    GLOBAL_POSE_REPORT = _named_after_type(GlobalPoseReportType60, TopicClass.REPORT)
+    INS_REPORT = _named_after_type(InertialSensorReportType60, TopicClass.REPORT)
+    INS_COMMAND = _named_after_type(InertialSensorCommandType60, TopicClass.COMMAND)
+    INS_COMMAND_STATUS = _named_after_type(InertialSensorCommandStatusType60, TopicClass.STATUS)
+    INS_COMMAND_ACK = _named_after_type(InertialSensorCommandAckReportType60, TopicClass.STATUS)
+
+    @property
+    def spec(self) -> TopicSpec:
+        return self.value
+
+
+AnySem = Sem | Sem60
+
+
 class Service(str, Enum):
     """The two commandable SEM services and their command, status and ack topics."""
 
@@ -131,7 +161,7 @@ def to_appendable(value: Any) -> Any:
     return value
 
 
-def final_type_qos(sem: Sem) -> Qos:
+def final_type_qos(sem: AnySem) -> Qos:
     """What a reader of a topic's final type adds when the topic also has an appendable copy: it validates the
     writer's type (`force_type_validation`), so a writer that sends no type information (RTI on the recipe) is
     refused, not matched by name and misread; that writer is read by a reader of the appendable copy."""

@@ -48,7 +48,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
-from sem_console.dds.topics import Sem, delimited
+from sem_console.dds.topics import AnySem, Sem, delimited
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, NAMES
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
@@ -236,8 +236,10 @@ class Recorder:
         self._lock = threading.Lock()  # start/stop against each other
 
     # ---- input (ingest threads, event loop): never blocks ---------------------------------
-    def on_samples(self, sem: Sem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
+    def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic (ingest.Tap): one queue item, however many samples."""
+        if not isinstance(sem, Sem):
+            return  # a UMAA 6.0 topic: recordings have no 6.0 channels yet
         self._put((sem, samples, received_ns, len(samples)))
 
     def on_message(self, message: dict[str, Any], followed: bool | None = None) -> None:

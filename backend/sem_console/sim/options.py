@@ -10,6 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.config import ENV_ONLY, cli
+from sem_console.core.contract import UmaaVersion
 from sem_console.umaa.guid import stable_guid
 
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
@@ -46,6 +47,10 @@ class SimOptions(BaseModel):
         "seconds a command may have no live writer before it is treated as canceled (default: 10)"))
     command_timeout: float = Field(300.0, ge=0.1, le=86400, description=(
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
+    umaa: UmaaVersion = Field("3.0.1", description=(
+        "the UMAA version the vehicles speak. 6.0: their GPSReportType, GlobalPoseReportType and InertialSensorReportType "
+        "on the 6.0 topics, with RTI UMAAQoSLib's report QoS (best-effort, keep-last-1); they answer no command yet "
+        "(default: 3.0.1)"))
     gps_extensibility: Literal["final", "appendable"] = Field("final", description=(
         "the types GPSReport and GPSFixReport are written with. final: the console's types (idlc's default, as a "
         "vehicle built from the plain UMAA IDL); appendable: UMAA's types appendable in XCDR2, for RTI Connext consumers "

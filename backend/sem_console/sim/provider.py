@@ -31,6 +31,7 @@ from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
 from sem_console.sim.provider_flow import ProviderFlow
 from sem_console.sim.reports import Sensors
+from sem_console.sim.umaa_6_0 import Writer60
 from sem_console.umaa.guid import from_guid
 
 __all__ = ["FAULTS", "InUse", "SimOptions", "Simulator", "Vehicle", "vehicle_guid"]
@@ -88,20 +89,24 @@ class Simulator:
         # --gps-extensibility appendable: GPSReport and GPSFixReport written with their appendable copies, which RTI
         # consumers on the AppendableGps profile read right (the console reads either: one reader per extensibility)
         self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
+        # --umaa 6.0: the reports written on the 6.0 topics instead (sim/umaa_6_0.py)
+        self.writer60 = Writer60(bus) if opts.umaa == "6.0" else None
         self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable)
-                        for sem in Sem if sem.spec.cls is not TopicClass.COMMAND}
+                        for sem in Sem if sem.spec.cls is not TopicClass.COMMAND and self.writer60 is None}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
             self.comap = ComapVehicles(opts, [v.sensors for v in self.vehicles.values()])
         # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
-        self.command_readers = {s: bus.reader(s.command) for s in Service}
-        self.status_readers = {s: bus.reader(s.status) for s in Service}
+        services = list(Service) if self.writer60 is None else []  # a 6.0 vehicle answers no 3.0.1 command
+        self.command_readers = {s: bus.reader(s.command) for s in services}
+        self.status_readers = {s: bus.reader(s.status) for s in services}
         self.conditions = {s: all_samples(r) for s, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
-        self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT))
-        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64
+        self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) \
+            if self.writer60 is None else None
+        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self.writer60 is None else 0
         self._twin_at = 0.0
         self._health_at = 0.0
         self.last = time.monotonic()
@@ -125,9 +130,15 @@ class Simulator:
                        ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, self.write, self.dispose))
 
     def write(self, sem: Sem, sample: Any) -> None:
+        if self.writer60 is not None:
+            self.writer60.write(sem, sample)
+            return
         self.writers[sem].write(to_appendable(sample) if sem in self.appendable else sample)
 
     def dispose(self, sem: Sem, sample: Any) -> None:
+        if self.writer60 is not None:
+            self.writer60.dispose(sem, sample)
+            return
         self.writers[sem].dispose(to_appendable(sample) if sem in self.appendable else sample)
 
     def startup(self, window: float = 1.0) -> None:
@@ -197,7 +208,7 @@ class Simulator:
         greater GUID leaves (without disposing the vehicle's reports, which the other still
         publishes), so exactly one stays."""
         now = time.monotonic()
-        if now - self._twin_at < every:
+        if now - self._twin_at < every or self._twin_reader is None:
             return
         self._twin_at = now
         mine = self.writers[Sem.INS_REPORT].guid
@@ -250,5 +261,5 @@ class Simulator:
         for v in self.vehicles.values():
             v.commands.shutdown()
             v.sensors.dispose(self.dispose)
-        wait_for_acks(self.writers.values(), ack_timeout)
+        wait_for_acks([*self.writers.values(), *(self.writer60.writers.values() if self.writer60 else [])], ack_timeout)
         self.journal.close()

@@ -111,7 +111,7 @@ def _files_in_order(root: Path) -> list[Path]:
             visit(root / inc)
         done.append(p)
 
-    for p in sorted(root.rglob("*.idl")):
+    for p in sorted((root / "UMAA").rglob("*.idl")):  # one version's tree: idl/ (3.0.1) or idl/umaa-6.0/
         visit(p)
     return done
 

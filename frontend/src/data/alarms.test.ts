@@ -17,7 +17,7 @@ function alarm(id: number, over: Partial<Alarm> = {}): Alarm {
 }
 
 const provider = (id: string) => ({
-  id, name: null, link: "live", ageSeconds: 0, topics: {}, linkConfig: null, jausId: null,
+  id, name: null, link: "live", ageSeconds: 0, topics: {}, linkConfig: null, jausId: null, umaaVersion: "3.0.1",
   reports: { GPSReport: null, GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null },
 });
 

@@ -30,7 +30,7 @@ function snapshot(): ServerMessage {
 }
 
 const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
-const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({ id: P, name: null, link, ageSeconds, topics: {}, linkConfig: CONFIG, jausId: null });
+const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({ id: P, name: null, link, ageSeconds, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const });
 
 function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): State {
   return msgs.reduce((s, m, i) => reduce(s, m, t0 + i), start);
@@ -173,6 +173,11 @@ describe("reducer", () => {
     expect(s.providers[P].linkConfig?.commsLostTimeout).toBe(9);
     expect(s.providers[P].jausId).toBe("5.1.1");
     expect(s.alarms).toEqual([]); // a new configuration is no alarm
+  });
+
+  it("keeps the UMAA version each vehicle speaks", () => {
+    const s = apply([snapshot(), { type: "provider", event: "appeared", provider: { ...summary("live"), umaaVersion: "6.0" } }]);
+    expect(s.providers[P].umaaVersion).toBe("6.0");
   });
 
   it("ignores errors, pongs and replay playback messages", () => {

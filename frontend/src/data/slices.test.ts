@@ -13,7 +13,7 @@ const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", r
 
 function snapshot(): ServerMessage {
   const provider = (id: string) => ({
-    id, name: "Alpha", link: "live", ageSeconds: 0, topics: {}, linkConfig: CONFIG, jausId: null,
+    id, name: "Alpha", link: "live", ageSeconds: 0, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1",
     reports: { GPSReport: null, GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null },
   });
   return {
@@ -81,7 +81,7 @@ describe("slice subscriptions", () => {
     const { store, notified, send } = setup({ name: selectedName, link: selectedLink, config: selectedLinkConfig, known: selectedKnown, all: allProviders });
     for (const topic of ["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"] as Topic[]) send(A, topic);
     expect(notified).toEqual({ name: 0, link: 0, config: 0, known: 0, all: 4 }); // the overview of every vehicle sees each
-    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null } } as unknown as ServerMessage);
+    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
     store.flush();
     expect(notified.link).toBe(1);
     store.update((s) => ({ ...s, selected: B }));
@@ -235,7 +235,7 @@ describe("an overview's slice", () => {
     expect(before).not.toBe(store.getState().providers);
     expect(same(before, store.getState().providers)).toBe(true);
     const a = store.getState().providers;
-    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null } } as unknown as ServerMessage);
+    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
     store.flush();
     expect(same(a, store.getState().providers)).toBe(false);
   });

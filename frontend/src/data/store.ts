@@ -39,6 +39,7 @@ export interface ProviderView {
   link: LinkState;
   linkConfig: LinkConfig | null; // per-vehicle thresholds and comms-lost configuration
   jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
+  umaaVersion: ProviderSummary["umaaVersion"] | null; // the UMAA version it speaks (null before the console said)
   topics: { [T in Topic]?: TopicView<T> };
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
@@ -120,12 +121,12 @@ export function viewReport<T extends Topic>(view: TopicView<T> | null | undefine
 }
 
 function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
-  return { id, name, link, linkConfig: null, jausId: null, topics: {}, trails: {}, history: [], track: [] };
+  return { id, name, link, linkConfig: null, jausId: null, umaaVersion: null, topics: {}, trails: {}, history: [], track: [] };
 }
 
-/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id). */
+/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id, UMAA version). */
 function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
-  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId };
+  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId, umaaVersion: s.umaaVersion };
 }
 
 function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeOf<"GPSReport">, now: number): Record<string, TrailPoint[]> {

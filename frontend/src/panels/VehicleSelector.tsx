@@ -141,6 +141,11 @@ export function VehicleSelector() {
               {stateWords(linkText(link), rec)}
             </span>
             <span className="vehicle-meta">
+              {p.umaaVersion && (
+                <span className="umaa-version" data-testid="vehicle-umaa" title="the UMAA version of the topics the vehicle reports on">
+                  UMAA {p.umaaVersion}
+                </span>
+              )}{" "}
               <span title={fix.title}>{inline(fix.text)}</span> · <span title={insSaid.title}>{insSaid.text}</span>
               {link === "lost" ? <> · <LastHeard since={seen} /></> : ` · ${age(ageS)}`}
             </span>

@@ -1,0 +1,188 @@
+"""Raw SEM samples -> what the console applies: the one decode path of live DDS and of a replay.
+
+`Decoder.decode` takes a sample as it came off the wire (its CDR with the encapsulation header,
+or only the key for a dispose or an instance that lost its writers) and turns it into a
+`ReportItem` (report topics, converted to JSON) or a `StatusItem` (command status and ack
+topics). The DDS ingest threads call it for every sample taken from its owner reader; a replay
+(`console/replay_source.py`) calls it for every recorded message. A sample that cannot be decoded is
+counted per topic and logged, never raised.
+
+Samples are decoded by the code `codec/fastcdr.py` generates per type (a report straight to its
+JSON, the same as `convert.to_json` of cyclonedds' sample, a status to the same sample cyclonedds
+builds); a key (disposes, lost writers) by cyclonedds.
+"""
+
+from __future__ import annotations
+
+import logging
+import threading
+import uuid
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+from cyclonedds.core import InstanceState
+from cyclonedds.idl import IdlStruct
+
+from sem_console.codec import fastcdr
+from sem_console.dds.topics import AnySem, Sem, Service, delimited
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
+
+log = logging.getLogger("sem-console.ingest")
+
+REPORT_TOPICS = {
+    Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
+    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
+}
+STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
+ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
+COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
+# The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
+REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
+# Every topic name a vehicle's report samples count under for its link (provider health)
+REPORT_HEALTH_TOPICS = (*REPORT_TOPICS.values(), *(r.topic for r in umaa_6_0.REPORTS.values() if r.model is None))
+
+
+@dataclass
+class ReportItem:
+    topic: str
+    source: uuid.UUID
+    report: dict[str, Any] | None  # None: the instance was disposed or lost its writers
+    invalid: list[str]
+    alive: bool
+    received_at: float
+    sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
+    version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
+
+
+@dataclass
+class StatusItem:
+    service: Service
+    kind: str  # "status" | "ack"
+    source: uuid.UUID
+    session: uuid.UUID
+    sample: Any  # None when disposed
+    alive: bool
+
+
+Item = ReportItem | StatusItem
+
+
+def guid(raw: Any) -> uuid.UUID | None:
+    """A NumericGUID as a UUID; of an identifier (UMAA 6.0's IdentifierType), its `id`."""
+    raw = getattr(raw, "id", raw)
+    try:
+        return uuid.UUID(bytes=bytes(raw))
+    except (TypeError, ValueError):
+        return None
+
+
+def _source(report: dict[str, Any]) -> Any:
+    return report.get("source")
+
+
+def _same(report: dict[str, Any]) -> dict[str, Any]:
+    return report
+
+
+@dataclass(frozen=True)
+class _Route:
+    """What `Decoder.decode` needs of a topic, looked up once per sample."""
+
+    name: str
+    type: type[IdlStruct]
+    fast: fastcdr.TypeDecoder
+    report: str | None  # the report's topic name (report topics)
+    service: Service | None  # status and ack topics
+    kind: str  # "report" | "status" | "ack"
+    version: UmaaVersion = UMAA_3_0_1
+    source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
+    model: Callable[[dict[str, Any]], dict[str, Any]] | None = _same  # a report's JSON as the model's; None: health only
+
+
+_ROUTES: dict[AnySem, _Route] = {
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), topic, None, "report")
+       for sem, topic in REPORT_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "status")
+       for sem, service in STATUS_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
+       for sem, service in ACK_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
+                   umaa_6_0.source_of, r.model)
+       for sem, r in umaa_6_0.REPORTS.items()},
+}
+# The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
+# delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
+# any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
+_APPENDABLE_ROUTES: dict[AnySem, _Route] = {
+    sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
+    for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
+_ALIVE = InstanceState.Alive
+
+
+class Decoder:
+    def __init__(self) -> None:
+        self.undecodable: dict[str, int] = {}
+        self.decoded = 0
+        self._counting = threading.Lock()  # both DDS ingest threads decode
+
+    def _bad(self, name: str) -> None:
+        with self._counting:
+            self.undecodable[name] = self.undecodable.get(name, 0) + 1
+
+    def decode(self, sem: AnySem, data: bytes, valid: bool, instance_state: int, received_at: float,
+               convert: bool = True) -> Item | None:
+        """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
+        `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
+        taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic.
+        With `convert` False a report keeps its JSON aside (`convert` applies it): a replay rebuilding
+        its state applies only the reports that are not superseded on the way."""
+        route = _ROUTES.get(sem)
+        if route is None:
+            return None
+        if sem in _APPENDABLE_ROUTES and delimited(data):
+            route = _APPENDABLE_ROUTES[sem]
+        report = sample = None
+        try:
+            if not valid:
+                sample = route.type.deserialize_key(data)
+                source = guid(getattr(sample, "source", None))
+            elif route.report is not None:
+                report = route.fast.json(data)
+                text = route.source(report[0])
+                source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
+                if route.model is None:
+                    report = None  # counted for the link, not part of the model
+                elif route.model is not _same:
+                    report = (route.model(report[0]), report[1])
+            else:
+                sample = route.fast.sample(data)
+                source = guid(getattr(sample, "source", None))
+        except Exception as e:
+            self._bad(route.name)
+            log.warning("undecodable sample on %s: %s", route.name, e)
+            return None
+        with self._counting:
+            self.decoded += 1
+        if source is None:
+            self._bad(route.name)
+            return None
+        alive = instance_state == _ALIVE
+        if route.report is not None:
+            if report is None:
+                return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version)
+            if convert:
+                return ReportItem(route.report, source, report[0], report[1], alive, received_at, version=route.version)
+            return ReportItem(route.report, source, None, [], alive, received_at, report, route.version)
+        session = guid(getattr(sample, "sessionID", None))
+        if session is None:
+            return None
+        assert route.service is not None
+        return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive)
+
+    @staticmethod
+    def convert(item: ReportItem) -> ReportItem:
+        """The report's JSON, decoded with the sample, applied to the item."""
+        item.report, item.invalid = item.sample
+        item.sample = None
+        return item
