@@ -2,7 +2,7 @@
 // Unchanged parts keep their identity, so panels that select them do not re-render.
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
-import type { Alarm } from "../api/generated/ws";
+import type { Alarm, PlannedSilence } from "../api/generated/ws";
 import type { Command, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TopicReports, TypedReportMessage } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
@@ -55,6 +55,8 @@ export interface State {
   // The console's active alarm set (snapshot and `alarms` messages), newest first: the server derives it
   // from state and keeps it, so a new or reloaded page shows what is active, not what it happened to see.
   alarms: Alarm[];
+  // The planned silences in force ("out of comms until"), shared by the stations (snapshot and `silences` messages)
+  silences: PlannedSilence[];
   recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
   // The vehicle the operator chose (or the page's ?vehicle= link). Nothing else changes it: not a
   // report, not a reconnect, not a snapshot that lacks it (it may not have reported yet); only while
@@ -89,6 +91,7 @@ export const initialState: State = {
   commands: {},
   gateways: [],
   alarms: [],
+  silences: [],
   recording: null,
   selected: null,
   worldModel: null,
@@ -311,7 +314,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [] };
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [], silences: msg.silences ?? [] };
     }
     case "report":
       return applyReport(state, msg, now);
@@ -329,6 +332,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, recording: msg.recording };
     case "alarms":
       return { ...state, alarms: msg.alarms };
+    case "silences":
+      return { ...state, silences: msg.silences };
     case "worldmodel":
       return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task": {
@@ -396,9 +401,14 @@ export function forNewInstant(state: State): State {
   return { ...state, providers: {}, commands: {}, instant: state.instant + 1 };
 }
 
-/** Alarms the operator has yet to acknowledge: active or already cleared. */
+/** Alarms in view the operator has yet to acknowledge: active or already cleared, and not shelved. */
 export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
-  return alarms.filter((a) => a.state !== "active-acknowledged");
+  return alarms.filter((a) => a.state !== "active-acknowledged" && !a.shelf);
+}
+
+/** Alarms shelved by an operator: out of view, counted apart ("2 shelved"). */
+export function shelved(alarms: readonly Alarm[]): Alarm[] {
+  return alarms.filter((a) => a.shelf);
 }
 
 /** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */
