@@ -1,6 +1,42 @@
 // Locators and steps shared by the specs.
+import type { ChildProcess } from "node:child_process";
+import { createSocket } from "node:dgram";
+import { dirname, join } from "node:path";
+import { fileURLToPath } from "node:url";
 import { expect, type APIRequestContext, type Locator, type Page } from "@playwright/test";
 import { load } from "./stack";
+
+export const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", ".venv", "bin", "sem-sim");
+
+/** Stop a process a spec started and wait for it to exit (SIGKILL after 15 s). */
+export async function stopChild(child: ChildProcess): Promise<void> {
+  if (child.exitCode !== null || child.signalCode !== null) return;
+  const exited = new Promise<void>((resolve) => child.once("exit", () => resolve()));
+  child.kill("SIGINT");
+  const timer = setTimeout(() => child.kill("SIGKILL"), 15_000);
+  await exited;
+  clearTimeout(timer);
+}
+
+async function udpFree(port: number): Promise<boolean> {
+  return new Promise((resolve) => {
+    const s = createSocket("udp4");
+    s.once("error", () => resolve(false));
+    s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
+  });
+}
+
+/** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
+export async function otherFreeDomain(not: number): Promise<number> {
+  const start = Math.floor(Math.random() * 31);
+  for (let i = 0; i < 31; i++) {
+    // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
+    // discovery ports pass 65535
+    const d = 200 + ((start + i) % 31);
+    if (d !== not && (await udpFree(7400 + 250 * d))) return d;
+  }
+  throw new Error("no free DDS domain");
+}
 
 export function vehicle(page: Page, id: string): Locator {
   return page.getByTestId("vehicle").filter({ hasText: id.slice(0, 8) });

@@ -1,14 +1,10 @@
 // Operator awareness (issue 19): the console's alarms (kept on the server) on the page, the fleet bar in
 // view whatever is scrolled, the tab title's count, and an honest first screen.
-import { execFileSync, spawn, type ChildProcess } from "node:child_process";
-import { createSocket } from "node:dgram";
-import { dirname, join } from "node:path";
-import { fileURLToPath } from "node:url";
+import { execFileSync, spawn } from "node:child_process";
+import { join } from "node:path";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
-import { vehicle } from "../helpers";
+import { SEM_SIM, otherFreeDomain, stopChild, vehicle } from "../helpers";
 import { VEHICLE_3_NAME, load, restartSim, startGuardedConsole, stopSim } from "../stack";
-
-const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 
 interface AlarmRecord {
   id: number;
@@ -22,40 +18,11 @@ async function alarms(request: APIRequestContext, url: string): Promise<AlarmRec
   return (await (await request.get(`${url}/api/alarms`)).json()) as AlarmRecord[];
 }
 
-/** Stop a process this spec started and wait for it to exit (SIGKILL after 15 s). */
-async function stopChild(child: ChildProcess): Promise<void> {
-  if (child.exitCode !== null || child.signalCode !== null) return;
-  const exited = new Promise<void>((resolve) => child.once("exit", () => resolve()));
-  child.kill("SIGINT");
-  const timer = setTimeout(() => child.kill("SIGKILL"), 15_000);
-  await exited;
-  clearTimeout(timer);
-}
-
 /** The tab title's count of unacknowledged alarms ("(3) SEM Console"), 0 for none. */
 async function titleCount(page: Page): Promise<number> {
   return Number(/^\((\d+)\) SEM Console$/.exec(await page.title())?.[1] ?? 0);
 }
 
-async function udpFree(port: number): Promise<boolean> {
-  return new Promise((resolve) => {
-    const s = createSocket("udp4");
-    s.once("error", () => resolve(false));
-    s.bind(port, "127.0.0.1", () => s.close(() => resolve(true)));
-  });
-}
-
-/** A DDS domain nobody on this host uses, other than the stack's (as stack.ts picks its own). */
-async function otherFreeDomain(not: number): Promise<number> {
-  const start = Math.floor(Math.random() * 31);
-  for (let i = 0; i < 31; i++) {
-    // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
-    // discovery ports pass 65535
-    const d = 200 + ((start + i) % 31);
-    if (d !== not && (await udpFree(7400 + 250 * d))) return d;
-  }
-  throw new Error("no free DDS domain");
-}
 
 test("with several vehicles and none selected, the panels say so; a chip of the fleet bar selects one", async ({ page }) => {
   const stack = load();

@@ -504,9 +504,8 @@ class PlannedSilence(_Model):
 
 
 class SilenceRequest(_Model):
-    until: float = Field(ge=0, le=LAST_TIME, description="when the vehicle is expected back, UTC seconds: in the future, "
-                         "within 24 h",
-                         examples=[1_800_000_000])
+    until: float = Field(ge=0, le=LAST_TIME, description="when the vehicle is expected back, UTC seconds: in the future",
+                         examples=[4_102_444_800])
     reason: Reason = Field(description="why (diving, over the horizon, a relay down), 1 to 200 characters")
 
 

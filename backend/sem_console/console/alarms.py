@@ -80,7 +80,6 @@ BACK_UNSHELVED = "back from shelving: unshelved by {by}"
 BACK_WORSE = "back from shelving at once, worse: {what}"
 WORSE = "worse"  # a shelf's end_reason when a new alarm ended it: "worse: <that alarm's text>"
 OVERDUE = "not heard by {until} UTC, the end of its planned silence ({grace:g} s grace)"
-SILENCE_MAX_HOURS = 24.0  # the furthest ahead a planned silence may end
 INS_FAILURE = "INERTIAL_SENSOR_FAILURE"
 WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
 REASON_WORDS = {
@@ -173,9 +172,11 @@ class Found:
         return "|".join((self.kind, self.provider_id or "", self.session_id or "", self.detail))
 
 
-def clock_time(t: float) -> str:
-    """14:20 (UTC) of UTC seconds `t`."""
-    return time.strftime("%H:%M", time.gmtime(t))
+def clock_time(t: float, now: float | None = None) -> str:
+    """14:20 (UTC) of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now)."""
+    day = time.strftime("%Y-%m-%d", time.gmtime(t))
+    hhmm = time.strftime("%H:%M", time.gmtime(t))
+    return hhmm if day == time.strftime("%Y-%m-%d", time.gmtime(time.time() if now is None else now)) else f"{day} {hhmm}"
 
 
 @dataclass
@@ -462,7 +463,7 @@ class Alarms:
                 p = providers.get(uuid.UUID(pid))
                 heard = p is not None and p.link != "lost"
                 if not heard:
-                    self._overdue[pid] = OVERDUE.format(until=clock_time(silence.until), grace=self.silence_grace)
+                    self._overdue[pid] = OVERDUE.format(until=clock_time(silence.until, now), grace=self.silence_grace)
                 self._end_silence(pid, now, None, "heard" if heard else "overdue")
         return changed
 

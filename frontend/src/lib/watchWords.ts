@@ -30,7 +30,7 @@ export const CHATTERING = "Chattering";
 export const CHATTERING_TITLE = "it cleared and came back again and again: it is not sounded again until acknowledged";
 
 /** A flood: many alarms of one cause at once, shown as one group ("Link lost: 20 vehicles"). */
-export const FLOOD_AT = 3;
+export const FLOOD_AT = 5;
 export const GROUP_WORDS = (cause: string, n: number): string => `${cause}: ${n} ${n === 1 ? "vehicle" : "vehicles"}`;
 export const GROUP_SHOW = "Show each";
 export const GROUP_HIDE = "Hide each";
