@@ -481,8 +481,8 @@ LAST_TIME = 32_503_680_000  # UTC seconds of the year 3000: a time beyond is no 
 
 class ShelveRequest(_Model):
     reason: Reason = Field(description="why it is shelved, for the other stations and the record (1 to 200 characters)")
-    minutes: float = Field(gt=0, le=MAX_SHELF_MINUTES, description="how long, minutes: within the console's bounds (shelve_min_minutes to "
-                                             "shelve_max_minutes, by default 15 to 480)", examples=[60])
+    minutes: float = Field(gt=0, le=MAX_SHELF_MINUTES, examples=[60], description=(
+        "how long, minutes: within the console's bounds (shelve_min_minutes to shelve_max_minutes, by default 15 to 480)"))
 
 
 class UnshelveRequest(_Model):

@@ -113,10 +113,10 @@ class Settings(BaseSettings):
                                            "audited per minute; further ones that minute are only counted (default: 30)")
 
     # Alarm management for a watch (see docs/console.md#alarms)
-    shelve_min_minutes: float = Field(15.0, gt=0, le=MAX_SHELF_MINUTES, description="the shortest time an operator may shelve an alarm for, "
-                                      "minutes (default: 15)")
-    shelve_max_minutes: float = Field(480.0, gt=0, le=MAX_SHELF_MINUTES, description="the longest time an operator may shelve an alarm for, "
-                                      "minutes (default: 480, 8 h)")
+    shelve_min_minutes: float = Field(15.0, gt=0, le=MAX_SHELF_MINUTES, description=(
+        "the shortest time an operator may shelve an alarm for, minutes (default: 15)"))
+    shelve_max_minutes: float = Field(480.0, gt=0, le=MAX_SHELF_MINUTES, description=(
+        "the longest time an operator may shelve an alarm for, minutes (default: 480, 8 h)"))
     silence_grace: float = Field(120.0, ge=0, description="seconds after the end of a vehicle's planned silence ('out of "
                                  "comms until') before, still not heard, it is an alarm (default: 120)")
     chatter_count: int = Field(3, ge=2, le=100, description="an alarm that clears and returns this many times within "
