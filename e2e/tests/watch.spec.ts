@@ -4,7 +4,7 @@
 import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
 import { expect, test } from "@playwright/test";
-import { SEM_SIM, otherFreeDomain, stopChild } from "../helpers";
+import { SEM_SIM, otherFreeDomain, stopChild, violations } from "../helpers";
 import { load, startGuardedConsole } from "../stack";
 
 /** HH:MM UTC `minutes` from now. */
@@ -85,6 +85,9 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
     const text = (await first.locator(".alarm-text").textContent())!;
     await first.getByRole("button", { name: `Shelve: ${text}` }).click();
     const shelveForm = first.getByRole("form", { name: `Shelve: ${text}` });
+    // what this changes of the page (the map's edge arrows, 21 vehicles out of its view, are another matter)
+    const watched = ['[data-testid="fleet-bar"]', '[data-testid="alarms-panel"]'];
+    expect(await violations(page, ...watched)).toEqual([]); // the group open, a shelve form open
     await shelveForm.getByLabel("Why shelve it").fill("relay down, known");
     await shelveForm.getByLabel("For").selectOption("1 h");
     await shelveForm.getByRole("button", { name: "Shelve alarm" }).click();
@@ -94,6 +97,7 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
     await region.getByTestId("alarms-shelved").click();
     const shelvedEntry = region.getByTestId("shelved-alarm");
     await expect(shelvedEntry).toContainText(text);
+    expect(await violations(page, ...watched)).toEqual([]); // the shelved list open
     await expect(shelvedEntry.getByTestId("shelf-words")).toHaveText(new RegExp(`^shelved by e2e-operator on \\S+ until ${utcIn(60).slice(0, 2)}:\\d\\d UTC: relay down, known$`));
 
     // unshelved: back in view, saying why

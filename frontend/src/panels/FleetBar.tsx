@@ -97,7 +97,8 @@ interface ChipProps {
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
 const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, silence, recorded, selected, tabbable, onSelect }: ChipProps) {
   // a vehicle lost during its planned silence: expected, said so rather than "Lost"
-  const l: Word = silence && link === "lost" ? { text: SILENCE_WORD(silence.until), tone: "info", title: silence.title } : LINK[link];
+  const planned = silence !== null && link === "lost";
+  const l: Word = planned ? { text: SILENCE_WORD(silence.until), tone: "info", title: silence.title } : LINK[link];
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
   const old = link === "lost" ? " (last known)" : "";
@@ -116,7 +117,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
         {label}
       </span>
-      <span className={`fleet-word tone-${l.tone}${recorded ? " recorded" : ""}`} title={recorded ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
+      <span className={`fleet-word tone-${l.tone}${planned ? " fleet-planned" : ""}${recorded ? " recorded" : ""}`} title={recorded ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
         {stateWords(l.text, recorded)}
       </span>
       <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>
@@ -126,7 +127,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         {ins.text}
       </span>
       {silence && link !== "lost" && (
-        <span className="fleet-word tone-info" title={silence.title} data-testid="fleet-silence">
+        <span className="fleet-word fleet-planned" title={silence.title} data-testid="fleet-silence">
           {SILENCE_WORD(silence.until)}
         </span>
       )}
@@ -265,7 +266,7 @@ export function FleetBar() {
             {lost.length} lost
           </span>
           {planned > 0 && (
-            <span className="fleet-count tone-info" data-testid="fleet-planned">
+            <span className="fleet-count fleet-planned" data-testid="fleet-planned">
               {SILENCE_COUNT(planned)}
             </span>
           )}
