@@ -63,7 +63,11 @@ export function AlarmsPanel() {
   const [shelving, setShelving] = useState<number | null>(null); // the alarm whose shelve form is open
   // a flood: the causes with many alarms in view, each shown as one group
   const perCause = new Map<string, Alarm[]>();
-  for (const a of sorted) perCause.set(a.cause, [...(perCause.get(a.cause) ?? []), a]);
+  for (const a of sorted) {
+    const same = perCause.get(a.cause);
+    if (same) same.push(a);
+    else perCause.set(a.cause, [a]);
+  }
   const flooded = (a: Alarm) => (perCause.get(a.cause)?.length ?? 0) >= W.FLOOD_AT;
   // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
   // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm. After
