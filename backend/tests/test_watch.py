@@ -11,9 +11,11 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 from sqlalchemy import text
 
 from conftest import ConsoleProcess
+from sem_console import cli
 from sem_console.console.alarms import BACK_EXPIRED, Alarms
 from sem_console.sim.provider import vehicle_guid
 from test_alarms import ALPHA, CHARLIE, NAMES, T0, World
@@ -254,3 +256,12 @@ def test_two_stations_share_shelves_and_planned_silences(sim: Callable[..., Any]
     assert httpx.post(f"{b.url}/api/alarms/{on_b['id']}/unshelve", json={}, headers=AUTH).status_code == 200
     back = wait_until(lambda: (x := alarm_of(a, "link-lost")) and x["shelf"] is None and x, 2, "the unshelve on A")
     assert back["returned"] == "back from shelving: unshelved by alice"
+
+
+def test_shelving_bounds_the_wrong_way_round_stop_sem_console_with_one_line(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as e:
+        cli.main(["--shelve-min-minutes", "600"])
+    assert e.value.code == 2
+    assert capsys.readouterr().err == (
+        "sem-console: error: --shelve-min-minutes 600 is above --shelve-max-minutes 480: the shortest shelf must not be "
+        "longer than the longest\n")
