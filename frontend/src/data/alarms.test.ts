@@ -2,6 +2,7 @@ import { describe, expect, it, vi } from "vitest";
 import type { Alarm } from "../api/generated/ws";
 import type { ServerMessage } from "../api/types";
 import { Burst, NewAlarms, SAID_AT_MOST, alarmWords } from "../lib/tone";
+import { clockTime } from "../lib/watchWords";
 import { Store } from "./connection";
 import { reportMessage } from "./testing";
 import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
@@ -159,5 +160,13 @@ describe("the lone vehicle", () => {
     expect(linked.getState().selected).toBe("from-a-link");
     const chosen = apply([snapshot([B])], select(initialState, A)); // A chosen, then only B on the bus
     expect(chosen.selected).toBe(A);
+  });
+});
+
+describe("a watch's times", () => {
+  it("are HH:MM UTC today, with the date on another day (a glider out of comms for days)", () => {
+    const now = Date.UTC(2026, 10, 28, 22, 0) / 1000;
+    expect(clockTime(now + 20 * 60, now)).toBe("22:20");
+    expect(clockTime(now + 3 * 3600, now)).toBe("2026-11-29 01:00");
   });
 });

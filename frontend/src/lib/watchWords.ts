@@ -2,9 +2,11 @@
 // dashboard says them from here only. The alarms' own text and causes come from the console (console/alarms.py).
 import { utc } from "./units";
 
-/** HH:MM of UTC seconds, as the watch says a time ("until 14:20"). */
-export function clockTime(t: number): string {
-  return utc(t, false).slice(0, 5);
+/** HH:MM of UTC seconds, as the watch says a time ("until 14:20"), with the date when it is not today's (UTC). */
+export function clockTime(t: number, now = Date.now() / 1000): string {
+  const hhmm = utc(t, false).slice(0, 5);
+  const day = (s: number) => new Date(s * 1000).toISOString().slice(0, 10);
+  return day(t) === day(now) ? hhmm : `${day(t)} ${hhmm}`;
 }
 
 export const SHELVED_COUNT = (n: number): string => `${n} shelved`;
