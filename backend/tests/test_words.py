@@ -15,7 +15,7 @@ import UMAA.Common.MaritimeEnumeration as maritime
 
 from sem_console.api.routes.history import commands_csv
 from sem_console.api.schemas import AlarmKind, AlarmState
-from sem_console.console.alarms import SEVERITY
+from sem_console.console.alarms import RETURNS, SEVERITY
 from sem_console.core.words import WORDS, inline, word
 
 
@@ -45,6 +45,15 @@ def test_every_alarm_kind_has_words_and_a_severity() -> None:
     assert all(w.strip() for w in WORDS["alarmKind"].values())
     assert set(get_args(AlarmState)) == set(WORDS["alarmState"]), "an alarm state without words in core/words.py"
     assert set(SEVERITY.values()) == set(WORDS["alarmSeverity"]), "an alarm severity without words in core/words.py"
+
+
+def test_every_watch_state_has_words() -> None:
+    """Alarm management on a watch: an alarm's marks (shelved, chattering), each way a shelf ends that brings its alarm
+    back (`Alarm.returned`), and a vehicle lost in its planned silence."""
+    assert set(RETURNS) == set(WORDS["alarmReturned"]), "a shelf ending that brings an alarm back, without words"
+    assert set(WORDS["alarmMark"]) == {"shelved", "chattering"}
+    said = [*WORDS["alarmReturned"].values(), *WORDS["alarmMark"].values(), WORDS["link"].get("planned", "")]
+    assert all(w.strip() for w in said), "a watch state without words in core/words.py"
 
 
 def test_words_inside_a_phrase() -> None:
