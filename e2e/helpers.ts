@@ -2,6 +2,7 @@
 import type { ChildProcess } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
+import AxeBuilder from "@axe-core/playwright";
 import { expect, type APIRequestContext, type Locator, type Page } from "@playwright/test";
 import { load } from "./stack";
 
@@ -86,4 +87,13 @@ declare global {
     __semMap?: TestMap;
     __semFleet?: TestFleet;
   }
+}
+
+/** axe's violations, each as its rule and the elements it found, so a failure says what to fix; of the elements
+ * `within` (CSS selectors) when given, else of the page. */
+export async function violations(page: Page, ...within: string[]): Promise<string[]> {
+  const axe = new AxeBuilder({ page });
+  for (const selector of within) axe.include(selector);
+  const { violations } = await axe.analyze();
+  return violations.map((v) => `${v.id} (${v.impact}): ${v.help}: ${v.nodes.map((n) => `${n.target.join(" ")}${n.failureSummary ? ` [${n.failureSummary.replace(/\s+/g, " ")}]` : ""}`).join("; ")}`);
 }

@@ -24,7 +24,7 @@ from sem_console.api.auth import Operators
 from sem_console.api.deps import refuse_in_replay, require_operator, require_reader, token_operator
 from sem_console.api.guard import Guard, require_json
 from sem_console.api.responses import EVERY_ROUTE, NEEDS_TOKEN, READ_ONLY, Responses
-from sem_console.api.routes import alarms, comap, commands, history, meta, providers, recordings, replay, ws
+from sem_console.api.routes import alarms, comap, commands, history, meta, providers, recordings, replay, silences, ws
 from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
@@ -89,7 +89,8 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
     app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
-                                          + comap.writes.routes + alarms.writes.routes + providers.writes.routes,
+                                          + comap.writes.routes + alarms.writes.routes + providers.writes.routes
+                                          + silences.writes.routes,
                                           settings.audit_refusals_per_minute)
 
     @app.exception_handler(RequestValidationError)
@@ -151,6 +152,8 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
         (comap.writes, commands_writes),
         (alarms.reads, reads),
         (alarms.writes, commands_writes),
+        (silences.reads, reads),
+        (silences.writes, commands_writes),
         (providers.writes, commands_writes),
         (meta.operator_router, writes),
         (meta.health_router, Included()),

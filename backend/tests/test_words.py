@@ -15,7 +15,7 @@ import UMAA.Common.MaritimeEnumeration as maritime
 
 from sem_console.api.routes.history import commands_csv
 from sem_console.api.schemas import AlarmKind, AlarmState
-from sem_console.console.alarms import SEVERITY
+from sem_console.console.alarms import RETURNS, SEVERITY
 from sem_console.core.words import WORDS, inline, word
 from sem_console.schema_export import schemas
 
@@ -64,7 +64,7 @@ NO_STATE = {
     ("Command", "state"), ("GatewayState", "name"), ("InertialSensorRequest", "state"), ("LinkConfig", "policy"),
     ("PeerFinding", "kind"), ("ProviderMessage", "event"), ("RecordingFile", "state"), ("RecordingRequest", "action"),
     ("RecordingStatus", "state"), ("ReplayStatus", "state"), ("ReportMessage", "topic"), ("SynchRequest", "action"),
-    ("Task", "synch"),
+    ("Task", "synch"), ("ProviderSummary", "umaaVersion"), ("ProviderDetail", "umaaVersion"),
 }
 
 
@@ -94,6 +94,15 @@ def test_every_published_literal_the_console_names_has_words() -> None:
         assert table is not None, f"core/words.py has no table for {name}"
         missing = [lit for lit in literals if not table.get(lit, "").strip()]
         assert not missing, f"core/words.py has no words for {name}{'.' + prop if prop else ''} {missing}"
+
+
+def test_every_watch_state_has_words() -> None:
+    """Alarm management on a watch: an alarm's marks (shelved, chattering), each way a shelf ends that brings its alarm
+    back (`Alarm.returned`), and a vehicle lost in its planned silence."""
+    assert set(RETURNS) == set(WORDS["alarmReturned"]), "a shelf ending that brings an alarm back, without words"
+    assert set(WORDS["alarmMark"]) == {"shelved", "chattering"}
+    said = [*WORDS["alarmReturned"].values(), *WORDS["alarmMark"].values(), WORDS["link"].get("planned", "")]
+    assert all(w.strip() for w in said), "a watch state without words in core/words.py"
 
 
 def test_words_inside_a_phrase() -> None:

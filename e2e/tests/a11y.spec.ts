@@ -2,9 +2,8 @@
 // names, landmarks, ids, ...) on the dashboard in the light and the dark theme with the vehicles streaming
 // and one selected; the theme follows the system's preference until the operator picks one in the header,
 // and the choice survives a reload.
-import AxeBuilder from "@axe-core/playwright";
 import { expect, test, type Page } from "@playwright/test";
-import { open } from "../helpers";
+import { open, violations } from "../helpers";
 import { load, restartSim, stopSim } from "../stack";
 
 /** The dashboard with live data in every panel of the selected vehicle and the vehicles on the map. */
@@ -17,12 +16,6 @@ async function streaming(page: Page): Promise<void> {
   await expect(page.getByTestId("map-label")).toHaveCount(load().vehicles.length, { timeout: 30_000 });
   // the map's first frame waits for the land: over once land is drawn, so a later jump is not undone
   await expect.poll(async () => Number((await page.getByTestId("map").getAttribute("data-land")) ?? "0")).toBeGreaterThan(0);
-}
-
-/** axe's violations, each as its rule and the elements it found, so a failure says what to fix. */
-async function violations(page: Page): Promise<string[]> {
-  const { violations } = await new AxeBuilder({ page }).analyze();
-  return violations.map((v) => `${v.id} (${v.impact}): ${v.help}: ${v.nodes.map((n) => `${n.target.join(" ")}${n.failureSummary ? ` [${n.failureSummary.replace(/\s+/g, " ")}]` : ""}`).join("; ")}`);
 }
 
 for (const theme of ["light", "dark"] as const) {

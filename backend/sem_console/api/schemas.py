@@ -13,7 +13,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 
 # the models the API shares with the lower rooms are written once, in core/contract.py; this module is the API's whole
 # contract, so it names them again (`X as X`: re-exported)
-from sem_console.core.config import MAX_NAME, NOT_PRINTABLE, PRINTABLE
+from sem_console.core.config import MAX_NAME, MAX_SHELF_MINUTES, NOT_PRINTABLE, PRINTABLE
 from sem_console.core.contract import Command as Command
 from sem_console.core.contract import CommandMessage as CommandMessage
 from sem_console.core.contract import InsStateName as InsStateName
@@ -46,6 +46,20 @@ CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and comma
 def _trimmed(v: Any) -> Any:
     """Trimmed; empty is None (back to the configured name)."""
     return (v.strip() or None) if isinstance(v, str) else v
+
+
+_VISIBLE = r"\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2060-\u206f\ufeff"  # PRINTABLE's excluded characters
+# printable (PRINTABLE), with at least one character that is not a space: what an operator writes as a reason
+WORDS = rf"^[^{_VISIBLE}]*[^\s{_VISIBLE}][^{_VISIBLE}]*$"
+
+
+def _words(v: str) -> str:
+    if not re.match(WORDS, v):
+        raise ValueError("write the reason in printable words (not only spaces, no control characters)")
+    return v.strip()
+
+
+Reason = Annotated[str, Field(min_length=1, max_length=200, json_schema_extra={"pattern": WORDS}), AfterValidator(_words)]
 
 
 def _printable(v: str) -> str:
@@ -412,8 +426,20 @@ class ComapStatus(_Model):
 
 # ---- Alarms (ISA-18.2 states, derived on the server from the console's state) ------------------------
 AlarmKind = Literal["link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "command-failed",
-                    "command-interrupted", "flow-violation", "executed-late", "recording-failed"]
+                    "command-interrupted", "flow-violation", "executed-late", "recording-failed", "silence-overdue"]
 AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-unacknowledged"]
+
+
+class AlarmShelf(_Model):
+    """An alarm shelved by an operator: out of view (no tone, not counted unacknowledged) until `until`, on every
+    station of the database; it comes back at once when it gets worse (a new alarm of its vehicle at least as severe)."""
+
+    id: str
+    reason: str
+    by: str | None = Field(description="the operator who shelved it (null: no sign-in on that console)")
+    station: str | None = Field(description="the console station it was shelved on")
+    at: float = Field(description="when it was shelved, UTC seconds")
+    until: float = Field(description="when it comes back by itself, UTC seconds")
 
 
 class Alarm(_Model):
@@ -438,10 +464,49 @@ class Alarm(_Model):
     clearedAt: float | None = Field(description="when its condition cleared, UTC seconds")
     ackedAt: float | None
     ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in on this console)")
+    cause: str = Field(description="its kind in words ('Link lost'): many alarms at once are grouped by it")
+    chattering: bool = Field(description="it cleared and came back `chatter_count` times within `chatter_minutes`: "
+                                         "it is not sounded again until acknowledged")
+    shelf: AlarmShelf | None = Field(description="its shelf, while shelved (null: in view)")
+    returned: str | None = Field(description="why it is back in view after a shelf (its time ended, unshelved, worse), "
+                                             "until acknowledged")
 
 
 class AlarmAckRequest(_Model):
     """Acknowledge takes no parameters: the body is `{}` (JSON, like every command request)."""
+
+
+LAST_TIME = 32_503_680_000  # UTC seconds of the year 3000: a time beyond is no planned return
+
+
+class ShelveRequest(_Model):
+    reason: Reason = Field(description="why it is shelved, for the other stations and the record (1 to 200 characters)")
+    minutes: float = Field(gt=0, le=MAX_SHELF_MINUTES, examples=[60], description=(
+        "how long, minutes: within the console's bounds (shelve_min_minutes to shelve_max_minutes, by default 15 to 480)"))
+
+
+class UnshelveRequest(_Model):
+    """Unshelve takes no parameters: the body is `{}`."""
+
+
+class PlannedSilence(_Model):
+    """A vehicle's planned link gap ("out of comms until"): its loss raises no alarm until `until` and the console's
+    grace (silence_grace) after it; still not heard then, that is a silence-overdue alarm."""
+
+    id: str
+    providerId: str
+    vehicle: str = Field(description="the vehicle as the operator knows it now")
+    reason: str
+    by: str | None
+    station: str | None
+    at: float = Field(description="when it was declared, UTC seconds")
+    until: float = Field(description="when the vehicle is expected back, UTC seconds")
+
+
+class SilenceRequest(_Model):
+    until: float = Field(ge=0, le=LAST_TIME, description="when the vehicle is expected back, UTC seconds: in the future",
+                         examples=[4_102_444_800])
+    reason: Reason = Field(description="why (diving, over the horizon, a relay down), 1 to 200 characters")
 
 
 # ---- WebSocket: server -> client ---------------------------------------------------------
@@ -466,6 +531,7 @@ class SnapshotMessage(_Model):
     recording: RecordingStatus
     replay: ReplayStatus | None = Field(description="the replay's playback (sem-console --replay); null for a live console")
     alarms: list[Alarm] = Field(description="the active alarm set (every alarm not returned to normal), newest first")
+    silences: list[PlannedSilence] = Field(description="the planned silences in force, the soonest to end first")
     database: DatabaseState | None = Field(None, description="the database's reach (null in a replay: its own file)")
 
 
@@ -530,6 +596,13 @@ class DatabaseMessage(_Model):
     database: DatabaseState
 
 
+class SilencesMessage(_Model):
+    """A planned silence was declared, cancelled or ended: every one in force, the soonest to end first."""
+
+    type: Literal["silences"]
+    silences: list[PlannedSilence]
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -542,7 +615,8 @@ class PongMessage(_Model):
 
 ServerMessage = Annotated[
     SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage | ReplayMessage
-    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | DatabaseMessage | ErrorMessage | PongMessage,
+    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | SilencesMessage | DatabaseMessage | ErrorMessage
+    | PongMessage,
     Field(discriminator="type"),
 ]
 

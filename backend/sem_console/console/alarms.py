@@ -22,6 +22,17 @@ command of the same service to the same vehicle; sem-sim logs "superseded by com
 information, not an alarm. An INTERRUPTED that nothing of ours explains (another operator's command)
 is command-interrupted.
 
+Managing them on a watch (after ISA-18.2; docs/console.md#alarms):
+- shelving: an operator takes an alarm out of view for a bounded time, with a reason (`Shelf`, kept in the database and
+  shared by every station by the alarm's key). It comes back when the time ends, when unshelved, or at once when it gets
+  worse (`worse_than`): a new alarm of its vehicle (the console, for the console's own) at least as severe as it was.
+- planned silence: an operator declares a vehicle out of comms until a time (`Silence`); its link loss raises no alarm
+  until then and `silence_grace` seconds after. Still lost then, that is a silence-overdue alarm (instead of link-lost)
+  until it is heard again.
+- chattering: an alarm activated again `chatter[0]` times within `chatter[1]` seconds (it cleared and came back) is
+  marked `chattering` (the dashboard stops sounding it again) until acknowledged.
+- floods: every alarm carries its `cause` (its kind in words), by which the dashboard groups many at once.
+
 Cost: `report_changed` is on the report path (thousands of samples a second): one dict lookup and
 a comparison. `update` runs on the console's tick (5 Hz) and after the events that change a
 condition; it looks at a command only when that command changed (`changed`).
@@ -29,9 +40,11 @@ condition; it looks at a command only when that command changed (`changed`).
 
 from __future__ import annotations
 
+import time
 import uuid
+from collections import deque
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
@@ -45,13 +58,20 @@ from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
-CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered"})
+CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered",
+                        "silence-overdue"})
 EVENTS = frozenset({"command-failed", "command-interrupted", "flow-violation", "executed-late", "recording-failed"})
 SEVERITY = {
     "link-lost": "alarm", "ins-failure": "alarm", "fix-lost": "warning", "no-fix-after-command": "warning",
     "command-unanswered": "warning", "command-failed": "alarm", "command-interrupted": "alarm", "flow-violation": "alarm",
-    "executed-late": "alarm", "recording-failed": "warning",
+    "executed-late": "alarm", "recording-failed": "warning", "silence-overdue": "alarm",
 }
+RANK = {"warning": 1, "alarm": 2}
+# how a shelf ends that brings its alarm back in view, each with its words (`alarmReturned` of core/words.py); a shelf
+# ended by a new alarm keeps it in its end_reason: "worse: <that alarm's text>"
+WORSE = "worse"
+RETURNS = ("expired", "unshelved", WORSE)
+OVERDUE = "not heard by {until} UTC, the end of its planned silence ({grace:g} s grace)"
 INS_FAILURE = "INERTIAL_SENSOR_FAILURE"
 INS_STATUS = "InertialSensorOpStatusEnumType"
 WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
@@ -140,12 +160,80 @@ class Found:
         return "|".join((self.kind, self.provider_id or "", self.session_id or "", self.detail))
 
 
+def returned_words(why: str, by: str | None = None, what: str = "") -> str:
+    """Why a shelved alarm is back in view, by how its shelf ended (`RETURNS`): "back from shelving: its time ended",
+    "... unshelved by alice", "... worse: Alpha: INS failed"."""
+    said = inline(word("alarmReturned", why))
+    if why == "unshelved":
+        return f"{said} by {by or 'an operator'}"
+    return f"{said}: {what}" if why == WORSE else said
+
+
+def clock_time(t: float, now: float | None = None) -> str:
+    """14:20 (UTC) of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now)."""
+    day = time.strftime("%Y-%m-%d", time.gmtime(t))
+    hhmm = time.strftime("%H:%M", time.gmtime(t))
+    return hhmm if day == time.strftime("%Y-%m-%d", time.gmtime(time.time() if now is None else now)) else f"{day} {hhmm}"
+
+
+@dataclass
+class Shelf:
+    """An alarm shelved by an operator (storage: AlarmShelfRecord): every station's alarm of `key` is out of view."""
+
+    id: str
+    key: str
+    kind: str
+    provider_id: str | None
+    session_id: str | None
+    severity: str  # the alarm's when shelved: a new alarm of its vehicle at least this severe is worse
+    text: str
+    reason: str
+    shelved_by: str | None
+    station: str | None
+    shelved_at: float
+    until: float
+    ended_at: float | None = None
+    ended_by: str | None = None
+    end_reason: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"id": self.id, "reason": self.reason, "by": self.shelved_by, "station": self.station,
+                "at": self.shelved_at, "until": self.until}
+
+
+@dataclass
+class Silence:
+    """A vehicle's planned link gap, "out of comms until" (storage: PlannedSilenceRecord)."""
+
+    id: str
+    provider_id: str
+    reason: str
+    set_by: str | None
+    station: str | None
+    set_at: float
+    until: float
+    ended_at: float | None = None
+    ended_by: str | None = None
+    end_reason: str | None = None
+
+    def to_json(self, vehicle: str) -> dict[str, Any]:
+        return {"id": self.id, "providerId": self.provider_id, "vehicle": vehicle, "reason": self.reason,
+                "by": self.set_by, "station": self.station, "at": self.set_at, "until": self.until}
+
+
+def _fields(cls: type[Shelf] | type[Silence], row: Mapping[str, Any]) -> dict[str, Any]:
+    return {k: row[k] for k in cls.__dataclass_fields__ if k in row}
+
+
 class Alarms:
     def __init__(self, store: Database, names: Mapping[str, str] | None = None,
-                 on_ack: Callable[[Alarm, str | None], None] | None = None) -> None:
+                 on_ack: Callable[[Alarm, str | None], None] | None = None, silence_grace: float = 120.0,
+                 chatter: tuple[int, float] = (3, 600.0)) -> None:
         self.store = store
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
+        self.silence_grace = silence_grace
+        self.chatter = chatter  # (returns, seconds): an alarm back this often is chattering
         self._load()
 
     def _load(self) -> None:
@@ -165,6 +253,25 @@ class Alarms:
         self._fix_followed: set[str] = set()
         self._newest: dict[tuple[str, Service], float] = {}  # (provider, service) -> its newest command's creation
         self._sessions: set[str] = set()
+        self._load_watch()
+        # a vehicle not heard by the end of its planned silence -> the overdue alarm's words (kept across a restart)
+        self._overdue: dict[str, str] = {a.provider_id: "" for a in self.open.values()
+                                         if a.kind == "silence-overdue" and a.provider_id}
+        self._activations: dict[str, deque[float]] = {}  # key -> when it became active, within the chatter window
+        self._chattering: set[str] = set()
+        self._returned: dict[str, str] = {}  # key -> why a shelved alarm is back in view, until acknowledged
+        self.silences_changed = False  # a planned silence began or ended (the console sends them again)
+
+    def _load_watch(self) -> None:
+        """The shelves and planned silences not ended, from the database (at start, and after a resync)."""
+        self.shelves: dict[str, Shelf] = {}
+        for r in self.store.shelves():
+            shelf = Shelf(**_fields(Shelf, r))
+            self.shelves[shelf.key] = shelf
+        self.silences: dict[str, Silence] = {}
+        for r in self.store.silences():
+            silence = Silence(**_fields(Silence, r))
+            self.silences[silence.provider_id] = silence
 
     def reset(self) -> None:
         """A replay seeking backwards: forget every alarm (its state is rebuilt from the start)."""
@@ -200,7 +307,6 @@ class Alarms:
                recording_error: str | None = None) -> bool:
         """Re-derive the active set at `now` (UTC seconds), looking again at `commands` (the ones that changed;
         new ones first). Returns whether the active set changed."""
-        changed = False
         commands = list(commands)
         for c in commands:
             self._track(c)
@@ -208,6 +314,7 @@ class Alarms:
         if recording_error:
             events.append(Found("recording-failed", None, None, f"Recording failed: {_recording_reason(recording_error)}",
                                 recording_error))
+        changed = self._end_in_time(now, providers)
         for f in events:
             if f.key not in self._raised:
                 self._raised.add(f.key)
@@ -220,6 +327,7 @@ class Alarms:
             if key in holding:
                 if a.cleared_at is not None:  # back again before it was acknowledged: active once more
                     a.cleared_at, a.since = None, now
+                    self._activated(key, now)
                     self._save(a)
                     changed = True
             elif self._can_judge(a, providers):
@@ -245,6 +353,9 @@ class Alarms:
         if a is None or a.acked_at is not None:
             return a
         a.acked_at, a.acked_by = now, operator
+        self._activations.pop(a.key, None)  # seen: a chattering alarm sounds again when it next returns
+        self._chattering.discard(a.key)
+        self._returned.pop(a.key, None)
         if a.kind in EVENTS or a.cleared_at is not None:
             a.cleared_at = a.cleared_at or now
             a.normal_at = now
@@ -264,9 +375,154 @@ class Alarms:
         return True
 
     def active(self) -> list[dict[str, Any]]:
-        """The active set, newest first, each naming its vehicle as it is named now."""
+        """The active set, newest first, each naming its vehicle as it is named now, with its cause, whether it is
+        chattering, its shelf (null: in view) and why it is back in view after a shelf."""
         newest_first = sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)
-        return [a.to_json(self._vehicle(a.provider_id) if a.provider_id else None) for a in newest_first]
+        out = []
+        for a in newest_first:
+            shelf = self.shelves.get(a.key)
+            out.append({**a.to_json(self._vehicle(a.provider_id) if a.provider_id else None), "cause": word("alarmKind", a.kind),
+                        "chattering": a.key in self._chattering, "shelf": shelf.to_json() if shelf else None,
+                        "returned": None if shelf else self._returned.get(a.key)})
+        return out
+
+    def planned_silences(self) -> list[dict[str, Any]]:
+        """The planned silences in force, the soonest to end first."""
+        return [s.to_json(self._vehicle(s.provider_id)) for s in sorted(self.silences.values(), key=lambda s: s.until)]
+
+    # ---- shelving and planned silence ---------------------------------------------------------
+    def _find(self, alarm_id: int) -> Alarm | None:
+        return next((x for x in self.open.values() if x.id == alarm_id), None)
+
+    def shelve(self, alarm_id: int, reason: str, seconds: float, operator: str | None, now: float,
+               station: str | None = None) -> Alarm | None:
+        """Take the alarm out of view for `seconds` (None: no such alarm in the active set); a shelved one is shelved
+        again from now (its old shelf ended)."""
+        a = self._find(alarm_id)
+        if a is None:
+            return None
+        if a.key in self.shelves:
+            self._end_shelf(a.key, now, operator, "reshelved", None)
+        vehicle = self._vehicle(a.provider_id) if a.provider_id else None
+        shelf = Shelf(str(uuid.uuid4()), a.key, a.kind, a.provider_id, a.session_id, a.severity, a.text_naming(vehicle),
+                      reason, operator, station, now, now + seconds)
+        self.store.add_shelf(asdict(shelf))
+        self.shelves[a.key] = shelf
+        self._returned.pop(a.key, None)
+        return a
+
+    def unshelve(self, alarm_id: int, operator: str | None, now: float) -> Alarm | None:
+        """Back in view at once (None: no such alarm; whether it was shelved: `shelves` before)."""
+        a = self._find(alarm_id)
+        if a is not None and a.key in self.shelves:
+            self._end_shelf(a.key, now, operator, "unshelved", returned_words("unshelved", by=operator))
+        return a
+
+    def _end_shelf(self, key: str, now: float, by: str | None, why: str, back: str | None) -> None:
+        shelf = self.shelves.pop(key)
+        self.store.end_shelf(shelf.id, now, by, why)
+        if back is not None:
+            self._returned[key] = back
+
+    def silence(self, provider_id: str, until: float, reason: str, operator: str | None, now: float,
+                station: str | None = None) -> Silence:
+        """Declare the vehicle out of comms until `until` (one at a time: a new one replaces the one in force)."""
+        if provider_id in self.silences:
+            self._end_silence(provider_id, now, operator, "replaced")
+        silence = Silence(str(uuid.uuid4()), provider_id, reason, operator, station, now, until)
+        self.store.add_silence(asdict(silence))
+        self.silences[provider_id] = silence
+        self.silences_changed = True
+        return silence
+
+    def cancel_silence(self, provider_id: str, operator: str | None, now: float) -> Silence | None:
+        """End the vehicle's planned silence now (None: it has none): its loss is an alarm again."""
+        silence = self.silences.get(provider_id)
+        if silence is not None:
+            self._end_silence(provider_id, now, operator, "cancelled")
+        return silence
+
+    def _end_silence(self, provider_id: str, now: float, by: str | None, why: str) -> None:
+        silence = self.silences.pop(provider_id)
+        self.store.end_silence(silence.id, now, by, why)
+        self.silences_changed = True
+
+    def _end_in_time(self, now: float, providers: Mapping[uuid.UUID, Provider]) -> bool:
+        """End the shelves whose time is up and the silences past their grace: a vehicle still lost (or not heard
+        since a restart) is then overdue."""
+        changed = False
+        for key, shelf in list(self.shelves.items()):
+            if now >= shelf.until:
+                self._end_shelf(key, now, None, "expired", returned_words("expired"))
+                changed = changed or key in self.open
+        for pid, silence in list(self.silences.items()):
+            if now >= silence.until + self.silence_grace:
+                p = providers.get(uuid.UUID(pid))
+                heard = p is not None and p.link != "lost"
+                if not heard:
+                    self._overdue[pid] = OVERDUE.format(until=clock_time(silence.until, now), grace=self.silence_grace)
+                self._end_silence(pid, now, None, "heard" if heard else "overdue")
+        return changed
+
+    def shared_shelf(self, row: Mapping[str, Any]) -> bool:
+        """Another station shelved an alarm or ended a shelf (the notification's row): whether this one's set shows it."""
+        if "key" in row:
+            shelf = Shelf(**_fields(Shelf, row))
+            self.shelves[shelf.key] = shelf
+            self._returned.pop(shelf.key, None)
+            return shelf.key in self.open
+        key = next((k for k, s in self.shelves.items() if s.id == row.get("id")), None)
+        if key is None:
+            return False
+        del self.shelves[key]
+        why = row.get("end_reason")
+        if why == "unshelved":
+            self._returned[key] = returned_words("unshelved", by=row.get("ended_by"))
+        elif why == "expired":
+            self._returned[key] = returned_words("expired")
+        elif isinstance(why, str) and why.startswith(f"{WORSE}: "):
+            self._returned[key] = returned_words(WORSE, what=why.removeprefix(f"{WORSE}: "))
+        return key in self.open
+
+    def shared_silence(self, row: Mapping[str, Any]) -> None:
+        """Another station declared or ended a planned silence."""
+        if "provider_id" in row:
+            silence = Silence(**_fields(Silence, row))
+            self.silences[silence.provider_id] = silence
+        else:
+            pid = next((p for p, s in self.silences.items() if s.id == row.get("id")), None)
+            if pid is not None:
+                del self.silences[pid]
+        self.silences_changed = True
+
+    def reload_shared(self) -> None:
+        """A resync: the shelves and silences as the database has them (what the other stations did meanwhile)."""
+        before = set(self.shelves)
+        self._load_watch()
+        for key in before - set(self.shelves):
+            self._returned.setdefault(key, returned_words("expired"))
+        self.silences_changed = True
+
+    def _activated(self, key: str, now: float) -> None:
+        """An alarm became active (raised, or back after it cleared): chattering when that is the chatter count's
+        return within the window."""
+        returns, window = self.chatter
+        times = self._activations.setdefault(key, deque())
+        times.append(now)
+        while times and times[0] < now - window:
+            times.popleft()
+        if len(times) - 1 >= returns:
+            self._chattering.add(key)
+
+    def _worse(self, f: Found, now: float) -> None:
+        """A new alarm of a vehicle (the console, for its own) ends the shelves of its other alarms that were no more
+        severe: they come back at once."""
+        rank = RANK[SEVERITY[f.kind]]
+        for key, shelf in list(self.shelves.items()):
+            if key != f.key and shelf.provider_id == f.provider_id and RANK[shelf.severity] <= rank:
+                who = self._vehicle(f.provider_id) if f.provider_id else None
+                what = f"{who}: {f.what}" if who else f.what
+                self._end_shelf(key, now, None, f"{WORSE}: {what}", returned_words(WORSE, what=what))
 
     # ---- derivation ---------------------------------------------------------------------
     def _vehicle(self, provider_id: str) -> str:
@@ -323,7 +579,11 @@ class Alarms:
         for p in providers.values():
             pid = str(p.id)
             found: list[Found] = []
-            if p.link == "lost":
+            if p.link != "lost":
+                self._overdue.pop(pid, None)  # heard again: no longer overdue
+            elif pid in self._overdue:
+                found.append(Found("silence-overdue", pid, None, self._overdue[pid]))
+            elif pid not in self.silences:  # a planned silence: the loss is expected
                 found.append(Found("link-lost", pid, None, f"link {inline(word('link', 'lost'))}"))
             ins = p.reports.get("InertialSensorReport")
             if ins is not None and ins["report"].get("status") == INS_FAILURE:
@@ -336,6 +596,10 @@ class Alarms:
             elif valid is False and pid in self._had_fix:
                 found.append(Found("fix-lost", pid, None, inline(word("alarmKind", "fix-lost"))))
             holding.update((f.key, f) for f in found)
+        for pid, what in self._overdue.items():  # not heard since a restart either
+            if uuid.UUID(pid) not in providers and what:
+                f = Found("silence-overdue", pid, None, what)
+                holding[f.key] = f
         for pid, c in self._latest_fix.items():
             if c.flow.status is not Status.COMPLETED or not c.times:
                 continue
@@ -371,6 +635,8 @@ class Alarms:
                   now)
         a.id = self.store.add_alarm(a.row())
         self.open[a.key] = a
+        self._activated(a.key, now)
+        self._worse(f, now)
         return a
 
     def _save(self, a: Alarm) -> None:

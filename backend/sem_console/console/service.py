@@ -109,7 +109,8 @@ class Console:
                                  lambda: self.providers.names)
         # the ones not back to normal, from the database; each acknowledgement is recorded (a replay derives the alarms
         # again, and acknowledges them from the recording)
-        self.alarms = Alarms(self.store, self.names(), self._record_ack)
+        self.alarms = Alarms(self.store, self.names(), self._record_ack, settings.silence_grace,
+                             (settings.chatter_count, settings.chatter_minutes * 60))
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store),
                      self.station)
@@ -181,6 +182,12 @@ class Console:
                     self._emit({"type": "command", "command": cmd.to_json()})
             elif kind == "link":
                 self._shared_link_config(str(message["provider"]))
+            elif kind == "shelf":
+                if self.alarms.shared_shelf(dict(message["row"])):
+                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            elif kind == "silence":
+                self.alarms.shared_silence(dict(message["row"]))
+                self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
             elif kind == "alarm-ack":
                 by = message.get("by")
                 station = message.get("console")
@@ -202,6 +209,8 @@ class Console:
         rows = self.store.link_configs()
         for provider_id in rows:
             self._shared_link_config(provider_id, rows)
+        self.alarms.reload_shared()
+        self._emit({"type": "alarms", "alarms": self.alarms.active()})
         missed = self.store.acked_elsewhere({k: a.since for k, a in self.alarms.open.items() if a.acked_at is None})
         if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in missed.items()]):
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
@@ -458,6 +467,9 @@ class Console:
             return
         if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error):
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        if self.alarms.silences_changed:
+            self.alarms.silences_changed = False
+            self._emit({"type": "silences", "silences": self.alarms.planned_silences()})
 
     def acknowledge(self, alarm_id: int, operator: str | None) -> Alarm | None:
         """An operator acknowledges an alarm of the active set (None: there is none with that id)."""
@@ -466,6 +478,31 @@ class Console:
         if alarm is not None and self.alarms.active() != before:
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
         return alarm
+
+    def shelve(self, alarm_id: int, reason: str, minutes: float, operator: str | None) -> Alarm | None:
+        """An operator shelves an alarm of the active set for `minutes` (None: there is none with that id)."""
+        alarm = self.alarms.shelve(alarm_id, reason, minutes * 60, operator, self.clock.wall(), self.station)
+        if alarm is not None:
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        return alarm
+
+    def unshelve(self, alarm_id: int, operator: str | None) -> Alarm | None:
+        alarm = self.alarms.unshelve(alarm_id, operator, self.clock.wall())
+        if alarm is not None:
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        return alarm
+
+    def plan_silence(self, p: Provider, until: float, reason: str, operator: str | None) -> None:
+        """Declare the vehicle out of comms until `until` (UTC seconds): its loss raises no alarm until then and the
+        grace after it."""
+        self.alarms.silence(str(p.id), until, reason, operator, self.clock.wall(), self.station)
+        self._update_alarms()
+
+    def cancel_silence(self, provider_id: uuid.UUID, operator: str | None) -> bool:
+        """End the vehicle's planned silence now (False: it has none)."""
+        ended = self.alarms.cancel_silence(str(provider_id), operator, self.clock.wall()) is not None
+        self._update_alarms()
+        return ended
 
     def _record_ack(self, alarm: Alarm, station: str | None) -> None:
         """An alarm just acknowledged, here or on another station: in the recording (`recorder.AlarmAckEvent`)."""
@@ -538,6 +575,7 @@ class Console:
             "replay": self.source.status(),
             "alarms": self.alarms.active(),
             "database": self.database_state(),
+            "silences": self.alarms.planned_silences(),
         }
 
     def metrics(self) -> dict[str, Any]:

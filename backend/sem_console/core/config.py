@@ -26,6 +26,7 @@ from sem_console.storage.url import DatabaseUrl, parse_database_url, sqlite_file
 PRINTABLE = r"^[^\x00-\x1f\x7f-\x9f\u200b-\u200f\u2028-\u202e\u2060-\u206f\ufeff]*$"
 NOT_PRINTABLE = "a vehicle name has printable characters only (no control, invisible or bidirectional characters, no line breaks)"
 MAX_NAME = 40  # characters of a vehicle name, from the dashboard or --vehicle-names
+MAX_SHELF_MINUTES = 7 * 24 * 60  # no console shelves an alarm for more than a week
 
 ENV_ONLY: dict[str, Any] = {"cli": None}  # json_schema_extra of a setting without a command-line option
 
@@ -113,6 +114,18 @@ class Settings(BaseSettings):
                                                             "(default: 100000)")
     audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
                                            "audited per minute; further ones that minute are only counted (default: 30)")
+
+    # Alarm management for a watch (see docs/console.md#alarms)
+    shelve_min_minutes: float = Field(15.0, gt=0, le=MAX_SHELF_MINUTES, description=(
+        "the shortest time an operator may shelve an alarm for, minutes (default: 15)"))
+    shelve_max_minutes: float = Field(480.0, gt=0, le=MAX_SHELF_MINUTES, description=(
+        "the longest time an operator may shelve an alarm for, minutes (default: 480, 8 h)"))
+    silence_grace: float = Field(120.0, ge=0, description="seconds after the end of a vehicle's planned silence ('out of "
+                                 "comms until') before, still not heard, it is an alarm (default: 120)")
+    chatter_count: int = Field(3, ge=2, le=100, description="an alarm that clears and returns this many times within "
+                               "--chatter-minutes is chattering: it stops sounding again until acknowledged (default: 3)")
+    chatter_minutes: float = Field(10.0, gt=0, le=24 * 60, description="the window of --chatter-count, minutes "
+                                   "(default: 10)")
 
     # Recording to MCAP (see docs/recording.md)
     record: Path | None = Field(None, json_schema_extra=cli(metavar="DIR"), description=(
@@ -213,6 +226,9 @@ class Settings(BaseSettings):
             parse_database_url(self.database_url)
         if (self.tls_certfile is None) != (self.tls_keyfile is None):
             raise ValueError("--tls-certfile and --tls-keyfile go together")
+        if self.shelve_min_minutes > self.shelve_max_minutes:
+            raise ValueError(f"--shelve-min-minutes {self.shelve_min_minutes:g} is above --shelve-max-minutes "
+                             f"{self.shelve_max_minutes:g}: the shortest shelf must not be longer than the longest")
         if self.replay is not None:
             if self.sim or self.record is not None:
                 raise ValueError("--replay is read-only: it does not go with --sim or --record")

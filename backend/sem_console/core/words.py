@@ -71,8 +71,12 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # it had running
     "cancelCause": {"operator": "Cancel asked", "shutdown": "Station stopped"},
     # the link to a vehicle and the freshness of its data (`Provider.link`; the dashboard's "stale": live but silent a
-    # few seconds, and "unreachable": the page no longer hears the console, so nothing it shows is current)
-    "link": {"live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating"},
+    # few seconds, and "unreachable": the page no longer hears the console, so nothing it shows is current; "planned":
+    # lost during the vehicle's planned silence, expected: "Out of comms (planned) until 14:20")
+    "link": {
+        "live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating",
+        "planned": "Out of comms (planned)",
+    },
     # GPSFixStatusReport.fixValid
     "fixValid": {"true": "Fix valid", "false": "No fix"},
     # GPSFixReport.GPSLatLongValid: whether the position is the receiver's, else the INS's
@@ -89,12 +93,21 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "flow-violation": "Invalid status sequence",
         "executed-late": "Command executed late",
         "recording-failed": "Recording failed",
+        "silence-overdue": "Not heard after a planned silence",
     },
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},
     "alarmState": {
         "active-unacknowledged": "Unacknowledged", "active-acknowledged": "Acknowledged",
         "cleared-unacknowledged": "Cleared, unacknowledged",
+    },
+    # alarm management on a watch: an alarm out of view (`Alarm.shelf`) or marked chattering (`Alarm.chattering`)
+    "alarmMark": {"shelved": "Shelved", "chattering": "Chattering"},
+    # why a shelved alarm is back in view (`Alarm.returned`), by how its shelf ended (`console.alarms.RETURNS`):
+    # "back from shelving: unshelved by alice", "back from shelving at once, worse: Alpha: INS failed"
+    "alarmReturned": {
+        "expired": "Back from shelving: its time ended", "unshelved": "Back from shelving: unshelved",
+        "worse": "Back from shelving at once, worse",
     },
     # ---- CoMap (IMC) ----
     "taskState": {

@@ -34,6 +34,7 @@ from sqlalchemy.exc import IntegrityError, InterfaceError, OperationalError, SQL
 
 from sem_console.storage.models import (
     AlarmRecord,
+    AlarmShelfRecord,
     AuditRecord,
     ComapTaskIds,
     ComapTaskRecord,
@@ -42,6 +43,7 @@ from sem_console.storage.models import (
     ConsoleIdentity,
     LinkConfigRecord,
     Meta,
+    PlannedSilenceRecord,
     SeriesPoint,
     TrackPoint,
     TransitionRecord,
@@ -72,6 +74,7 @@ CONSOLES, META, LINK_CONFIG = table(ConsoleIdentity), table(Meta), table(LinkCon
 TRACK_POINTS, SERIES_POINTS = table(TrackPoint), table(SeriesPoint)
 VEHICLE_NAMES = table(VehicleNameRecord)
 COMAP_WORLD, COMAP_TASKS, COMAP_TASK_IDS = table(ComapWorldRecord), table(ComapTaskRecord), table(ComapTaskIds)
+SHELVES, SILENCES = table(AlarmShelfRecord), table(PlannedSilenceRecord)
 TASK_IDS = 0xFFFE  # CoMap task ids 1..65534 (a u16 on IMC), wrapping
 
 
@@ -767,10 +770,56 @@ class Database:
                     out[key] = (at, by)
         return out
 
+    # ---- shelves and planned silences (shared by the stations: storage/notify.py kinds "shelf" and "silence") -----
+    def add_shelf(self, shelf: dict[str, Any]) -> None:
+        """A new shelf (keys: AlarmShelfRecord's); the other stations hear it with the row."""
+        self._add_shared(SHELVES, "shelf", shelf)
+
+    def end_shelf(self, shelf_id: str, at: float, by: str | None, why: str) -> None:
+        """End a shelf, unless it has ended already (another station, or its time, ended it first)."""
+        self._end_shared(SHELVES, "shelf", shelf_id, at, by, why)
+
+    def add_silence(self, silence: dict[str, Any]) -> None:
+        """A new planned silence (keys: PlannedSilenceRecord's)."""
+        self._add_shared(SILENCES, "silence", silence)
+
+    def end_silence(self, silence_id: str, at: float, by: str | None, why: str) -> None:
+        self._end_shared(SILENCES, "silence", silence_id, at, by, why)
+
+    def shelves(self) -> list[dict[str, Any]]:
+        """The shelves not ended, oldest first."""
+        return self._open_rows(SHELVES, SHELVES.c.shelved_at)
+
+    def silences(self) -> list[dict[str, Any]]:
+        """The planned silences not ended, oldest first."""
+        return self._open_rows(SILENCES, SILENCES.c.set_at)
+
+    def _add_shared(self, t: Any, kind: str, values: dict[str, Any]) -> None:
+        row = {c.name: values.get(c.name) for c in t.c}
+
+        def write(c: Connection) -> None:
+            c.execute(insert(t).values(row))
+            self._notify(c, kind, row=row)
+        self._write(write)
+
+    def _end_shared(self, t: Any, kind: str, row_id: str, at: float, by: str | None, why: str) -> None:
+        def write(c: Connection) -> None:
+            ended = c.execute(update(t).where(t.c.id == row_id, t.c.ended_at.is_(None))
+                              .values(ended_at=at, ended_by=by, end_reason=why)).rowcount
+            if ended:
+                self._notify(c, kind, row={"id": row_id, "ended_at": at, "ended_by": by, "end_reason": why})
+        self._write(write)
+
+    def _open_rows(self, t: Any, order: Any) -> list[dict[str, Any]]:
+        with self._reads() as c:
+            return [dict(r) for r in c.execute(select(*t.c).where(t.c.ended_at.is_(None)).order_by(order)).mappings()]
+
     def clear_alarms(self) -> None:
         """Forget every alarm (a replay rebuilding its state)."""
         with self.engine.begin() as c:
             c.execute(delete(ALARMS))
+            c.execute(delete(SHELVES))
+            c.execute(delete(SILENCES))
 
     def close(self) -> None:
         if isinstance(self._lock, Connection):

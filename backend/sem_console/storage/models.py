@@ -177,6 +177,47 @@ class AlarmRecord(SQLModel, table=True):
     console: str | None = Field(None, description="the console station whose alarm it is (null: before station names)")
 
 
+class AlarmShelfRecord(SQLModel, table=True):
+    """An alarm shelved by an operator (console/alarms.py): every station's alarm of `key` is out of view until
+    `until`, or until it ends sooner (unshelved, or the alarm got worse); shared by the consoles of one database."""
+
+    __tablename__ = "alarm_shelves"
+    __table_args__ = (Index("alarm_shelves_open", "ended_at"),)
+    id: str = Field(primary_key=True, description="a UUID")
+    key: str = Field(description="the alarm's key: kind, vehicle, command, detail")
+    kind: str
+    provider_id: str | None = None
+    session_id: str | None = None
+    severity: str = Field(description="the alarm's severity when shelved (a more severe alarm of its vehicle ends it)")
+    text: str = Field(description="the alarm's text when shelved")
+    reason: str
+    shelved_by: str | None = None
+    station: str | None = None
+    shelved_at: float
+    until: float = Field(description="UTC seconds the shelf ends by itself")
+    ended_at: float | None = None
+    ended_by: str | None = None
+    end_reason: str | None = Field(None, description="expired, unshelved, reshelved, or 'worse: <the new alarm>'")
+
+
+class PlannedSilenceRecord(SQLModel, table=True):
+    """A vehicle's planned link gap ("out of comms until"): its loss raises no alarm until `until` and the grace after
+    it (Settings.silence_grace); still lost then, it is an alarm. Shared by the consoles of one database."""
+
+    __tablename__ = "planned_silences"
+    __table_args__ = (Index("planned_silences_open", "ended_at"),)
+    id: str = Field(primary_key=True, description="a UUID")
+    provider_id: str
+    reason: str
+    set_by: str | None = None
+    station: str | None = None
+    set_at: float
+    until: float = Field(description="UTC seconds the vehicle is expected back by")
+    ended_at: float | None = None
+    ended_by: str | None = None
+    end_reason: str | None = Field(None, description="cancelled, heard (back by its time) or overdue (not heard by it)")
+
+
 class TrackPoint(SQLModel, table=True):
     """One position of a vehicle's track, from its GPSFixReport (at most one per vehicle and UTC second)."""
 

@@ -199,3 +199,25 @@ export type ComapStatus = components["schemas"]["ComapStatus"];
 export function comapStatus(token: string | null): Promise<ComapStatus> {
   return call<ComapStatus>("GET", "/api/comap", token);
 }
+
+/** Shelve an alarm for `minutes` with a reason (POST, operator token, audited; shared by every station). */
+export function shelveAlarm(alarmId: number, reason: string, minutes: number, token: string | null): Promise<Alarm[]> {
+  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/shelve`, token, { reason, minutes });
+}
+
+/** Bring a shelved alarm back into view at once. */
+export function unshelveAlarm(alarmId: number, token: string | null): Promise<Alarm[]> {
+  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/unshelve`, token, {});
+}
+
+type PlannedSilence = components["schemas"]["PlannedSilence"];
+
+/** Declare a vehicle out of comms until `until` (UTC seconds), with a reason (PUT, operator token, audited). */
+export function planSilence(providerId: string, until: number, reason: string, token: string | null): Promise<PlannedSilence[]> {
+  return call<PlannedSilence[]>("PUT", `/api/providers/${encodeURIComponent(providerId)}/silence`, token, { until, reason });
+}
+
+/** End a vehicle's planned silence now. */
+export function cancelSilence(providerId: string, token: string | null): Promise<PlannedSilence[]> {
+  return call<PlannedSilence[]>("DELETE", `/api/providers/${encodeURIComponent(providerId)}/silence`, token);
+}

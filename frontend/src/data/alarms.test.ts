@@ -1,7 +1,8 @@
-import { describe, expect, it } from "vitest";
+import { describe, expect, it, vi } from "vitest";
 import type { Alarm } from "../api/generated/ws";
 import type { ServerMessage } from "../api/types";
-import { NewAlarms, SAID_AT_MOST, alarmWords } from "../lib/tone";
+import { Burst, NewAlarms, SAID_AT_MOST, alarmWords } from "../lib/tone";
+import { clockTime } from "../lib/units";
 import { Store } from "./connection";
 import { reportMessage } from "./testing";
 import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
@@ -12,7 +13,8 @@ const B = "0c1f3a52-2d6e-5f0e-9a43-6f1b1d2a9e11";
 function alarm(id: number, over: Partial<Alarm> = {}): Alarm {
   return {
     id, kind: "ins-failure", severity: "alarm", providerId: A, vehicle: A.slice(0, 8), sessionId: null, text: `Inertial sensor failure on ${A.slice(0, 8)}`,
-    since: 1000 + id, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, ...over,
+    since: 1000 + id, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "INS failure",
+    chattering: false, shelf: null, returned: null, ...over,
   };
 }
 
@@ -96,6 +98,35 @@ describe("the tone's new alarms", () => {
     expect(news.take([alarm(2, { state: "cleared-unacknowledged", clearedAt: 1010 })])).toEqual([]);
     expect(news.take([alarm(2, { since: 1020 })]).map((a) => a.id)).toEqual([2]);
   });
+
+  it("does not sound for a shelved alarm, sounds when it comes back, and not again for a chattering one", () => {
+    const news = new NewAlarms();
+    news.take([]);
+    const shelf = { id: "s", reason: "relay down", by: "alice", station: "watch", at: 1000, until: 2000 };
+    expect(news.take([alarm(1, { shelf })])).toEqual([]);
+    expect(news.take([alarm(1, { returned: "back from shelving: its time ended" })]).map((a) => a.id)).toEqual([1]);
+    expect(news.take([alarm(2)]).map((a) => a.id)).toEqual([2]);
+    expect(news.take([alarm(2, { since: 1100, chattering: true })])).toEqual([]); // back once more: no tone
+  });
+});
+
+describe("a burst of new alarms", () => {
+  it("sounds once at its start and is said once, when it has been quiet, naming the whole flood by its cause", () => {
+    vi.useFakeTimers();
+    const said: string[] = [];
+    const burst = new Burst((w) => said.push(w), 1000, 3000);
+    const lost = (i: number) => alarm(i, { kind: "link-lost", cause: "Link lost", text: `V${i}: link lost` });
+    expect(burst.add([lost(1), lost(2)], 0)).toBe(true); // the tone
+    vi.advanceTimersByTime(500);
+    expect(burst.add(Array.from({ length: 18 }, (_, i) => lost(i + 3)), 500)).toBe(false); // no second tone
+    expect(said).toEqual([]);
+    vi.advanceTimersByTime(1000);
+    expect(said).toEqual(["Alarm: Link lost: 20 vehicles: see the alarm list"]);
+    expect(burst.add([lost(21)], 5000)).toBe(true); // a later one is a burst of its own
+    vi.advanceTimersByTime(1000);
+    expect(said[1]).toBe("Alarm: V21: link lost, since 00:17:01 UTC");
+    vi.useRealTimers();
+  });
 });
 
 describe("the live region's words for new alarms", () => {
@@ -103,7 +134,7 @@ describe("the live region's words for new alarms", () => {
     expect(alarmWords([alarm(1), alarm(2, { severity: "warning" })])).toBe(
       `Alarm: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:41 UTC. Warning: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:42 UTC`,
     );
-    const fleet = Array.from({ length: 250 }, (_, i) => alarm(i + 1, { text: `Vehicle ${i + 1}: link lost` }));
+    const fleet = Array.from({ length: 250 }, (_, i) => alarm(i + 1, { text: `Vehicle ${i + 1}: link lost`, cause: i % 2 ? "Link lost" : "INS failure" }));
     const said = alarmWords(fleet);
     expect(said).toBe("Alarm: Vehicle 250: link lost, since 00:20:50 UTC. Alarm: Vehicle 249: link lost, since 00:20:49 UTC. And 248 more new alarms: see the alarm list");
     expect(said.split("link lost")).toHaveLength(SAID_AT_MOST); // never read on for the whole fleet
@@ -129,5 +160,13 @@ describe("the lone vehicle", () => {
     expect(linked.getState().selected).toBe("from-a-link");
     const chosen = apply([snapshot([B])], select(initialState, A)); // A chosen, then only B on the bus
     expect(chosen.selected).toBe(A);
+  });
+});
+
+describe("a watch's times", () => {
+  it("are HH:MM UTC today, with the date on another day (a glider out of comms for days)", () => {
+    const now = Date.UTC(2026, 10, 28, 22, 0) / 1000;
+    expect(clockTime(now + 20 * 60, now)).toBe("22:20");
+    expect(clockTime(now + 3 * 3600, now)).toBe("2026-11-29 01:00");
   });
 });

@@ -510,7 +510,7 @@ describe("data sources", () => {
     deliver(replay, gpsReport);
     store.flush();
     deliver(replay, { type: "alarms", alarms: [{ id: 1, kind: "link-lost", severity: "alarm", providerId: P, vehicle: P.slice(0, 8), sessionId: null,
-      text: "lost", since: 1049, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null }] });
+      text: "lost", since: 1049, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "Link lost", chattering: false, shelf: null, returned: null }] });
     store.flush();
     expect(store.getState().providers[P].trails.E07).toHaveLength(1);
     expect(store.getState().alarms).toHaveLength(1);

@@ -1,6 +1,6 @@
 // The only way panels read state: hooks over the store and the connection (REST loading: loaders.ts).
 import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
-import type { Alarm } from "../api/generated/ws";
+import type { Alarm, PlannedSilence } from "../api/generated/ws";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
 import type { Store } from "./connection";
 import { frameSource, onFrame } from "./frame";
@@ -241,6 +241,10 @@ export function useAlarms(): Alarm[] {
 export function useAlarmed(): ReadonlySet<string> {
   const alarms = useAlarms();
   return useMemo(() => new Set(unacknowledged(alarms).flatMap((a) => (a.providerId ? [a.providerId] : []))), [alarms]);
+}
+
+export function useSilences(): PlannedSilence[] {
+  return useSelector((s) => s.silences);
 }
 
 const providerCount = (s: State): number => Object.keys(s.providers).length;

@@ -2,7 +2,7 @@
 // Unchanged parts keep their identity, so panels that select them do not re-render.
 import type { FeatureCollection } from "geojson";
 import type { Task } from "../api/rest";
-import type { Alarm } from "../api/generated/ws";
+import type { Alarm, PlannedSilence } from "../api/generated/ws";
 import type { Command, DatabaseState, GatewayState, LinkConfig, LinkState, ProviderSummary, RecordingStatus, ReportEnvelopeOf, ReportTypes, ServerMessage, Topic, TopicReports, TypedReportMessage } from "../api/types";
 import { nextInterval } from "../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../lib/geo";
@@ -56,6 +56,8 @@ export interface State {
   // The console's active alarm set (snapshot and `alarms` messages), newest first: the server derives it
   // from state and keeps it, so a new or reloaded page shows what is active, not what it happened to see.
   alarms: Alarm[];
+  // The planned silences in force ("out of comms until"), shared by the stations (snapshot and `silences` messages)
+  silences: PlannedSilence[];
   recording: RecordingStatus | null; // the console's recording to MCAP (null before the first snapshot)
   // whether the console's database can be reached (snapshot and `database` messages; null: not known, or a replay)
   database: DatabaseState | null;
@@ -92,6 +94,7 @@ export const initialState: State = {
   commands: {},
   gateways: [],
   alarms: [],
+  silences: [],
   recording: null,
   database: null,
   selected: null,
@@ -323,7 +326,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [], database: msg.database ?? null };
+      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [], silences: msg.silences ?? [], database: msg.database ?? null };
     }
     case "report":
       return applyReport(state, msg, now);
@@ -343,6 +346,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, alarms: msg.alarms };
     case "database":
       return { ...state, database: msg.database };
+    case "silences":
+      return { ...state, silences: msg.silences };
     case "worldmodel":
       return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task": {
@@ -410,9 +415,17 @@ export function forNewInstant(state: State): State {
   return { ...state, providers: {}, commands: {}, instant: state.instant + 1 };
 }
 
-/** Alarms the operator has yet to acknowledge: active or already cleared. */
+/** Alarms in view the operator has yet to acknowledge: active or already cleared, and not shelved. */
 export function unacknowledged(alarms: readonly Alarm[]): Alarm[] {
-  return alarms.filter((a) => a.state !== "active-acknowledged");
+  return alarms.filter((a) => a.state !== "active-acknowledged" && !a.shelf);
+}
+
+/** A flood: this many alarms in view of one cause at once are shown, sounded and said as one group. */
+export const FLOOD_AT = 5;
+
+/** Alarms shelved by an operator: out of view, counted apart ("2 shelved"). */
+export function shelved(alarms: readonly Alarm[]): Alarm[] {
+  return alarms.filter((a) => a.shelf);
 }
 
 /** The tab's title: the count of unacknowledged alarms first, so it shows on a tab in the background. */

@@ -7,8 +7,16 @@ import {
   alignmentStepText,
   commandStatusText,
   coverageText,
+  ALARM_MARK,
+  ALARM_RETURNED,
   ALARM_SEVERITY,
   ALARM_STATE,
+  floodText,
+  plannedCount,
+  plannedEntry,
+  plannedText,
+  shelvedCount,
+  shelvedText,
   alarmKindText,
   fixStateBadge,
   fixStateText,
@@ -49,6 +57,25 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     for (const kind of alarm.kind.enum!) expect(alarmKindText(kind), kind).not.toBe(kind);
     for (const severity of alarm.severity.enum!) expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
     for (const state of alarm.state.enum!) expect((ALARM_STATE as Record<string, string>)[state]?.trim(), state).toBeTruthy();
+  });
+
+  it("has words for a watch's states: an alarm shelved or chattering, why it is back, a vehicle out of comms as planned", () => {
+    const alarm = schemaDefs.Alarm.properties!;
+    expect(Object.keys(alarm)).toEqual(expect.arrayContaining(["shelf", "chattering", "returned", "cause"]));
+    for (const [literal, words] of Object.entries({ ...ALARM_MARK, ...ALARM_RETURNED })) expect(words.trim(), literal).toBeTruthy();
+    expect(linkText("planned")).toBe("Out of comms (planned)");
+  });
+
+  it("says a watch's phrases with the table's words", () => {
+    const now = Date.parse("2026-11-28T22:00:00Z") / 1000;
+    const soon = now + 20 * 60;
+    expect(plannedText(soon)).toMatch(/^Out of comms \(planned\) until (2026-11-28 )?22:20$/);
+    expect(plannedCount(2)).toBe("2 out of comms (planned)");
+    expect(plannedEntry("Alpha", soon, "dive", "alice")).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice\)$/);
+    expect(shelvedCount(3)).toBe("3 shelved");
+    expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
+    expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");
+    expect(floodText(alarmKindText("silence-overdue"), 1)).toBe("Not heard after a planned silence: 1 vehicle");
   });
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {

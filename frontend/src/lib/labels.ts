@@ -6,7 +6,7 @@
 import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState } from "../api/types";
 import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, Task } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
-import { DASH, elapsedText } from "./units";
+import { DASH, clockTime, elapsedText } from "./units";
 
 // Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
 type Words<T extends string> = Readonly<Record<T, string>>;
@@ -19,7 +19,7 @@ export const INS_STATE: Words<InertialSensorStateEnumType> = WORDS.InertialSenso
 export const INS_STATUS: Words<InertialSensorOpStatusEnumType> = WORDS.InertialSensorOpStatusEnumType;
 export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
-export const LINK: Words<LinkState | "stale" | "unreachable"> = WORDS.link;
+export const LINK: Words<LinkState | "stale" | "unreachable" | "planned"> = WORDS.link;
 export const COMMAND: Words<"unanswered"> = WORDS.command;
 export const CANCEL_CAUSE: Words<"operator" | "shutdown"> = WORDS.cancelCause;
 export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
@@ -27,6 +27,8 @@ export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
 export const ALARM_SEVERITY: Words<Alarm["severity"]> = WORDS.alarmSeverity;
 export const ALARM_STATE: Words<Alarm["state"]> = WORDS.alarmState;
+export const ALARM_MARK: Words<"shelved" | "chattering"> = WORDS.alarmMark;
+export const ALARM_RETURNED: Words<"expired" | "unshelved" | "worse"> = WORDS.alarmReturned;
 const TASK_STATE: Words<NonNullable<Task["state"]>> = WORDS.taskState;
 const TASK_KIND: Words<Task["kind"]> = WORDS.taskKind;
 const SENSOR: Words<NonNullable<Task["sensor"]>> = WORDS.sensor;
@@ -151,7 +153,7 @@ export function reasonText(v: string | null | undefined): string {
 }
 
 /** A vehicle's link in a word ("Live", "Stale", "Lost"). */
-export function linkText(v: LinkState | "stale" | "unreachable"): string {
+export function linkText(v: LinkState | "stale" | "unreachable" | "planned"): string {
   return lookup(LINK, v);
 }
 
@@ -191,4 +193,43 @@ export function lastHeardText(seconds: number | null): string {
 /** "Alpha (77b2ceb8) is lost: last heard 12 s ago"; `seconds` null: no report of it received. */
 export function lostText(vehicle: string, seconds: number | null): string {
   return `${vehicle} is ${inline(LINK.lost)}: ${seconds === null ? "no report of it received" : inline(lastHeardText(seconds))}`;
+}
+
+// Alarm management on a watch: shelves, chattering, floods and planned silences, said with the table's words.
+
+/** "3 shelved": the alarms out of view. */
+export function shelvedCount(n: number): string {
+  return `${n} ${inline(ALARM_MARK.shelved)}`;
+}
+
+/** "shelved by alice on watch until 14:20 UTC: relay down, known". */
+export function shelvedText(by: string | null, station: string | null, until: number, reason: string): string {
+  return `${inline(ALARM_MARK.shelved)}${by ? ` by ${by}` : ""}${station ? ` on ${station}` : ""} until ${clockTime(until)} UTC: ${reason}`;
+}
+
+export const CHATTERING_TITLE = "it cleared and came back again and again: it is not sounded again until acknowledged";
+
+/** A flood, many alarms of one cause at once, as one heading: "Link lost: 20 vehicles" (`cause`: the kind's words). */
+export function floodText(cause: string, n: number): string {
+  return `${cause}: ${n} ${n === 1 ? "vehicle" : "vehicles"}`;
+}
+
+/** A vehicle in its planned silence: "Out of comms (planned) until 14:20". */
+export function plannedText(until: number): string {
+  return `${LINK.planned} until ${clockTime(until)}`;
+}
+
+/** "2 out of comms (planned)": the vehicles lost in their planned silence. */
+export function plannedCount(n: number): string {
+  return `${n} ${inline(LINK.planned)}`;
+}
+
+/** A planned silence as the list of them says it: "Alpha: out of comms (planned) until 14:20 UTC: dive (declared by
+ * alice)". */
+export function plannedEntry(vehicle: string, until: number, reason: string, by: string | null): string {
+  return `${vehicle}: ${inline(LINK.planned)} until ${clockTime(until)} UTC: ${reason}${by ? ` (declared by ${by})` : ""}`;
+}
+
+export function plannedTitle(reason: string, by: string | null): string {
+  return `planned silence${by ? ` declared by ${by}` : ""}: ${reason}; a loss raises no alarm until then and the console's grace after it`;
 }

@@ -3,7 +3,7 @@
 // is unavailable or not yet allowed, nothing throws and the screen still shows the alarm.
 import type { Alarm } from "../api/generated/ws";
 import { utc } from "./units";
-import { ALARM_SEVERITY } from "./labels";
+import { ALARM_SEVERITY, floodText } from "./labels";
 
 let context: AudioContext | null = null;
 
@@ -68,12 +68,13 @@ export function beep(): void {
 export class NewAlarms {
   private seen: Set<string> | null = null;
 
-  /** The alarms of `alarms` new since the last call (none on the first call). */
+  /** The alarms of `alarms` new since the last call (none on the first call). A shelved alarm is not new (out of view)
+   * and sounds when it comes back (`returned`); a chattering one does not sound again until acknowledged. */
   take(alarms: readonly Alarm[]): Alarm[] {
     const first = this.seen === null;
     const seen = (this.seen ??= new Set());
-    const raised = (a: Alarm) => `${a.id}@${a.since}`;
-    const fresh = alarms.filter((a) => !seen.has(raised(a)) && a.state !== "active-acknowledged");
+    const raised = (a: Alarm) => `${a.id}@${a.since}@${a.returned ?? ""}`;
+    const fresh = alarms.filter((a) => !seen.has(raised(a)) && a.state !== "active-acknowledged" && !a.shelf && !a.chattering);
     for (const a of alarms) seen.add(raised(a));
     return first ? [] : fresh;
   }
@@ -85,6 +86,49 @@ export const SAID_AT_MOST = 3;
 export function alarmWords(fresh: readonly Alarm[]): string {
   const one = (a: Alarm) => `${ALARM_SEVERITY[a.severity]}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`;
   if (fresh.length <= SAID_AT_MOST) return fresh.map(one).join(". ");
+  // a flood of one cause (a relay down: 20 vehicles lost) is one sentence naming the cause and the count
+  const causes = new Set(fresh.map((a) => a.cause));
+  const [cause] = causes;
+  if (causes.size === 1 && cause !== undefined) {
+    const severity = ALARM_SEVERITY[fresh.some((a) => a.severity === "alarm") ? "alarm" : "warning"];
+    return `${severity}: ${floodText(cause, fresh.length)}: see the alarm list`;
+  }
   const newest = [...fresh].sort((a, b) => b.since - a.since || b.id - a.id);
   return `${newest.slice(0, SAID_AT_MOST - 1).map(one).join(". ")}. And ${fresh.length - (SAID_AT_MOST - 1)} more new alarms: see the alarm list`;
+}
+
+/** One tone and one announcement for a burst of new alarms (a flood comes over a second or two, in several `alarms`
+ * messages): the tone at the burst's first alarm, the words once it has been quiet for `quietMs` (or `longestMs` after
+ * its start), naming every alarm of the burst. */
+export class Burst {
+  private fresh: Alarm[] = [];
+  private started = 0;
+  private timer: ReturnType<typeof setTimeout> | null = null;
+
+  constructor(private readonly say: (words: string) => void, private readonly quietMs = 1000, private readonly longestMs = 3000) {}
+
+  /** New alarms: true when they start a burst (sound the tone). */
+  add(fresh: readonly Alarm[], now = Date.now()): boolean {
+    if (!fresh.length) return false;
+    const first = this.timer === null;
+    if (first) this.started = now;
+    this.fresh.push(...fresh);
+    if (this.timer !== null) clearTimeout(this.timer);
+    this.timer = setTimeout(() => this.flush(), Math.max(0, Math.min(this.quietMs, this.started + this.longestMs - now)));
+    return first;
+  }
+
+  flush(): void {
+    if (this.timer !== null) clearTimeout(this.timer);
+    this.timer = null;
+    const fresh = this.fresh;
+    this.fresh = [];
+    if (fresh.length) this.say(alarmWords(fresh));
+  }
+
+  stop(): void {
+    if (this.timer !== null) clearTimeout(this.timer);
+    this.timer = null;
+    this.fresh = [];
+  }
 }

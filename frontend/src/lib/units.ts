@@ -55,6 +55,13 @@ export function utc(epochSeconds: number | null | undefined, withDate = true): s
   return withDate ? iso.replace("T", " ") : iso.slice(11);
 }
 
+/** HH:MM of UTC seconds, as the watch says a time ("until 14:20"), with the date when it is not today's (UTC). */
+export function clockTime(t: number, now = Date.now() / 1000): string {
+  const hhmm = utc(t, false).slice(0, 5);
+  const day = (s: number) => new Date(s * 1000).toISOString().slice(0, 10);
+  return day(t) === day(now) ? hhmm : `${day(t)} ${hhmm}`;
+}
+
 export function hertz(hz: number | null | undefined): string {
   if (!isNum(hz)) return DASH;
   return hz >= 1e6 ? `${(hz / 1e6).toFixed(3)} MHz` : `${hz.toFixed(0)} Hz`;

@@ -1,19 +1,21 @@
 // The alarm list: the console's active alarm set (derived from state and kept by the server, so a new or
 // reloaded page shows what is active), newest first. Each entry names its vehicle and selects it on click;
-// acknowledging is an operator action the console audits.
-import { useRef, useState } from "react";
+// acknowledging, shelving and a vehicle's planned silence are operator actions the console audits. Many alarms of
+// one cause at once (a flood) are one group, expandable; shelved alarms are counted apart, listed on demand.
+import { useRef, useState, type ReactNode } from "react";
 import type { Alarm } from "../api/generated/ws";
-import { ApiError, ackAlarm } from "../api/rest";
+import { ApiError, ackAlarm, shelveAlarm, unshelveAlarm } from "../api/rest";
 import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useStore } from "../data/hooks";
 import { LastHeard } from "../components/LastHeard";
-import { select, unacknowledged } from "../data/store";
-import { ALARM_SEVERITY, ALARM_STATE } from "../lib/labels";
+import { FLOOD_AT, select, unacknowledged } from "../data/store";
+import { ALARM_MARK, ALARM_SEVERITY, ALARM_STATE, CHATTERING_TITLE, floodText, shelvedCount, shelvedText } from "../lib/labels";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
+import { PlannedSilences } from "./PlannedSilences";
 import "./fleet.css";
 
 const SEVERITY: Record<Alarm["severity"], { text: string; tone: string }> = {
@@ -22,6 +24,16 @@ const SEVERITY: Record<Alarm["severity"], { text: string; tone: string }> = {
 };
 
 const STATE: Record<Alarm["state"], string> = ALARM_STATE;
+
+/** The shelving times offered (minutes); the console refuses one outside its bounds (15 min to 8 h by default). */
+const SHELVE_MINUTES: readonly { minutes: number; text: string }[] = [
+  { minutes: 15, text: "15 min" },
+  { minutes: 30, text: "30 min" },
+  { minutes: 60, text: "1 h" },
+  { minutes: 120, text: "2 h" },
+  { minutes: 240, text: "4 h" },
+  { minutes: 480, text: "8 h" },
+];
 
 /** An acknowledge that failed, in words: the console's answer, or "console unreachable" when none came. */
 function failure(e: unknown): string {
@@ -50,8 +62,21 @@ export function AlarmsPanel() {
   const lost = useLostVehicles(); // an alarm naming a lost vehicle says when it was last heard
   const [errors, setErrors] = useState<Record<number, string>>({});
   const [busy, setBusy] = useState(false);
-  const sorted = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
+  const all = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
+  const sorted = all.filter((a) => !a.shelf); // in view
+  const onShelf = all.filter((a) => a.shelf);
   const open = unacknowledged(alarms);
+  const [showShelved, setShowShelved] = useState(false);
+  const [expanded, setExpanded] = useState<Record<string, boolean>>({});
+  const [shelving, setShelving] = useState<number | null>(null); // the alarm whose shelve form is open
+  // a flood: the causes with many alarms in view, each shown as one group
+  const perCause = new Map<string, Alarm[]>();
+  for (const a of sorted) {
+    const same = perCause.get(a.cause);
+    if (same) same.push(a);
+    else perCause.set(a.cause, [a]);
+  }
+  const flooded = (a: Alarm) => (perCause.get(a.cause)?.length ?? 0) >= FLOOD_AT;
   // A keyboard operator acknowledging one alarm after another: the button pressed goes with the acknowledgement (or
   // its whole entry, back to normal), and the focus would fall to the page's top; it goes on to the next alarm. After
   // Acknowledge all (gone with the last unacknowledged alarm) it goes to the panel's title, where the list starts.
@@ -94,6 +119,131 @@ export function AlarmsPanel() {
     setBusy(false);
   };
 
+  /** Shelve or unshelve (one alarm): its error said in its entry, as an acknowledgement's. */
+  const act = async (id: number, call: () => Promise<unknown>, what: string) => {
+    if (busy) return;
+    setBusy(true);
+    try {
+      await call();
+      setErrors((old) => Object.fromEntries(Object.entries(old).filter(([k]) => Number(k) !== id)));
+      setShelving(null);
+    } catch (e) {
+      setErrors((old) => ({ ...old, [id]: `${what}: ${e instanceof ApiError && e.status ? e.message : "console unreachable"}` }));
+    }
+    setBusy(false);
+  };
+
+  const entry = (a: Alarm, index: number): ReactNode => {
+    const sev = SEVERITY[a.severity];
+    const acked = a.state === "active-acknowledged";
+    // the console names the vehicle as it is named now (a rename sends the alarms again): its configured name,
+    // else its short id (then it has no name)
+    const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
+    return (
+      <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
+        <button
+          className="alarm-main"
+          onClick={() => a.providerId && store.update((s) => select(s, a.providerId))}
+          disabled={!a.providerId}
+          title={a.providerId ? "select this vehicle" : "the console's own alarm"}
+        >
+          <span className="alarm-head">
+            <span className={`alarm-severity tone-${sev.tone}`}>{sev.text}</span>
+            {vehicle ? <VehicleTag v={vehicle} /> : <span className="vehicle-tag">Console</span>}
+            <span className="alarm-state" data-testid="alarm-state">
+              {STATE[a.state]}
+            </span>
+            {a.chattering && (
+              <span className="alarm-state tone-warn" title={CHATTERING_TITLE} data-testid="alarm-chattering">
+                {ALARM_MARK.chattering}
+              </span>
+            )}
+          </span>
+          <span className="alarm-text">{a.text}</span>
+          {a.providerId && lost.has(a.providerId) && <LastHeard since={lost.get(a.providerId) ?? null} className="tone-bad" />}
+          <span className="alarm-since muted">
+            since {utc(a.since, false).slice(0, 8)} UTC ({age(Math.max(0, now - a.since))} ago)
+            {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false).slice(0, 8)} UTC${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}
+          </span>
+          {a.returned && (
+            <span className="alarm-since" data-testid="alarm-returned">
+              {a.returned}
+            </span>
+          )}
+        </button>
+        {mayAck && (
+          <span className="alarm-actions">
+            {!acked && (
+              <button
+                className="small alarm-ack"
+                aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
+                onClick={(e) => {
+                  if (busy) return; // aria-disabled while another is acknowledged: a press does nothing, and moves no focus later
+                  focus.pressed(e.currentTarget, () => nextAlarm(index));
+                  void ack([a.id]);
+                }}
+                aria-label={`Acknowledge: ${a.text}`}
+              >
+                Acknowledge
+              </button>
+            )}
+            <button className="small" aria-expanded={shelving === a.id} onClick={() => setShelving(shelving === a.id ? null : a.id)} aria-label={`Shelve: ${a.text}`}>
+              Shelve
+            </button>
+          </span>
+        )}
+        {shelving === a.id && <ShelveForm alarm={a} busy={busy} onShelve={(reason, minutes) => void act(a.id, () => shelveAlarm(a.id, reason, minutes, token), "Not shelved")} onCancel={() => setShelving(null)} />}
+        {errors[a.id] && (
+          <p className="error alarm-error" role="alert">
+            {errors[a.id]}
+          </p>
+        )}
+      </li>
+    );
+  };
+
+  // the list in view: each alarm, but a flooded cause as one group at the place of its newest alarm
+  const rows: ReactNode[] = [];
+  const grouped = new Set<string>();
+  sorted.forEach((a, index) => {
+    if (!flooded(a)) {
+      rows.push(entry(a, index));
+      return;
+    }
+    if (grouped.has(a.cause)) return;
+    grouped.add(a.cause);
+    const members = perCause.get(a.cause) ?? [];
+    const worst = members.some((m) => m.severity === "alarm") ? SEVERITY.alarm : SEVERITY.warning;
+    const unacked = unacknowledged(members).length;
+    const isOpen = expanded[a.cause] ?? false;
+    rows.push(
+      <li key={`group-${a.cause}`} className={`alarm-entry alarm-group alarm-${worst.tone}`} data-testid="alarm-group" data-cause={a.cause}>
+        <span className="alarm-head">
+          <span className={`alarm-severity tone-${worst.tone}`}>{worst.text}</span>
+          <span className="alarm-text" data-testid="alarm-group-title">
+            {floodText(a.cause, members.length)}
+          </span>
+          <span className="alarm-state">{unacked} unacknowledged</span>
+        </span>
+        <span className="alarm-actions">
+          <button className="small" aria-expanded={isOpen} onClick={() => setExpanded({ ...expanded, [a.cause]: !isOpen })}>
+            {isOpen ? "Hide each" : "Show each"}
+          </button>
+          {mayAck && unacked > 0 && (
+            <button className="small" aria-disabled={busy || undefined} onClick={() => !busy && void ack(unacknowledged(members).map((m) => m.id), true)}>
+              Acknowledge these {unacked}
+            </button>
+          )}
+        </span>
+        {isOpen && (
+          <ul className="alarm-list alarm-members" aria-label={floodText(a.cause, members.length)}>
+            {members.map((m) => entry(m, sorted.indexOf(m)))}
+          </ul>
+        )}
+      </li>,
+    );
+  });
+
   return (
     <Panel
       title="Alarms"
@@ -129,63 +279,81 @@ export function AlarmsPanel() {
         {said}
       </p>
       {sorted.length === 0 ? (
-        <p className="muted">No active alarms.</p>
+        <p className="muted">{onShelf.length ? "No alarm in view." : "No active alarms."}</p>
       ) : (
         <ul className="alarm-list" aria-label="Active alarms" ref={list}>
-          {sorted.map((a, index) => {
-            const sev = SEVERITY[a.severity];
-            const acked = a.state === "active-acknowledged";
-            // the vehicle by its name now (the console sends the text and `vehicle` so too, and again on a rename), else
-            // the alarm's `vehicle`: its name, or its short id (then it had none)
-            // the console names the vehicle as it is named now (a rename sends the alarms again): its configured name,
-            // else its short id (then it has no name)
-            const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
-            return (
-              <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
-                <button
-                  className="alarm-main"
-                  onClick={() => a.providerId && store.update((s) => select(s, a.providerId))}
-                  disabled={!a.providerId}
-                  title={a.providerId ? "select this vehicle" : "the console's own alarm"}
-                >
-                  <span className="alarm-head">
-                    <span className={`alarm-severity tone-${sev.tone}`}>{sev.text}</span>
-                    {vehicle ? <VehicleTag v={vehicle} /> : <span className="vehicle-tag">Console</span>}
-                    <span className="alarm-state" data-testid="alarm-state">
-                      {STATE[a.state]}
-                    </span>
-                  </span>
-                  <span className="alarm-text">{a.text}</span>
-                  {a.providerId && lost.has(a.providerId) && <LastHeard since={lost.get(a.providerId) ?? null} className="tone-bad" />}
-                  <span className="alarm-since muted">
-                    since {utc(a.since, false).slice(0, 8)} UTC ({age(Math.max(0, now - a.since))} ago)
-                    {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false).slice(0, 8)} UTC${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}
-                  </span>
-                </button>
-                {mayAck && !acked && (
-                  <button
-                    className="small alarm-ack"
-                    aria-disabled={busy || undefined} // not disabled: that would drop the focus of the operator pressing it
-                    onClick={(e) => {
-                      if (busy) return; // aria-disabled while another is acknowledged: a press does nothing, and moves no focus later
-                      focus.pressed(e.currentTarget, () => nextAlarm(index));
-                      void ack([a.id]);
-                    }}
-                    aria-label={`Acknowledge: ${a.text}`}
-                  >
-                    Acknowledge
-                  </button>
-                )}
-                {errors[a.id] && (
-                  <p className="error alarm-error" role="alert">
-                    {errors[a.id]}
-                  </p>
-                )}
-              </li>
-            );
-          })}
+          {rows}
         </ul>
       )}
+      {onShelf.length > 0 && (
+        <div className="alarm-shelved">
+          <button className="small" aria-expanded={showShelved} onClick={() => setShowShelved(!showShelved)} data-testid="alarms-shelved">
+            {shelvedCount(onShelf.length)}
+          </button>
+          {showShelved && (
+            <ul className="alarm-list" aria-label="Shelved alarms">
+              {onShelf.map((a) => (
+                <li key={a.id} className="alarm-entry" data-testid="shelved-alarm" data-kind={a.kind}>
+                  <span className="alarm-text">{a.text}</span>
+                  {a.shelf && (
+                    <span className="alarm-since muted" data-testid="shelf-words">
+                      {shelvedText(a.shelf.by, a.shelf.station, a.shelf.until, a.shelf.reason)}
+                    </span>
+                  )}
+                  {mayAck && (
+                    <button className="small" aria-disabled={busy || undefined} onClick={() => void act(a.id, () => unshelveAlarm(a.id, token), "Not unshelved")} aria-label={`Unshelve: ${a.text}`}>
+                      Unshelve
+                    </button>
+                  )}
+                  {errors[a.id] && (
+                    <p className="error alarm-error" role="alert">
+                      {errors[a.id]}
+                    </p>
+                  )}
+                </li>
+              ))}
+            </ul>
+          )}
+        </div>
+      )}
+      <PlannedSilences mayAct={mayAck} token={token} />
     </Panel>
+  );
+}
+
+/** Shelve one alarm: a reason (required) and a time among the offered ones. */
+function ShelveForm({ alarm, busy, onShelve, onCancel }: { alarm: Alarm; busy: boolean; onShelve: (reason: string, minutes: number) => void; onCancel: () => void }) {
+  const [reason, setReason] = useState("");
+  const [minutes, setMinutes] = useState(60);
+  return (
+    <form
+      className="alarm-form"
+      aria-label={`Shelve: ${alarm.text}`}
+      onSubmit={(e) => {
+        e.preventDefault();
+        if (!busy && reason.trim()) onShelve(reason.trim(), minutes);
+      }}
+    >
+      <label>
+        Why shelve it
+        <input value={reason} onChange={(e) => setReason(e.target.value)} maxLength={200} required />
+      </label>
+      <label>
+        For
+        <select value={minutes} onChange={(e) => setMinutes(Number(e.target.value))}>
+          {SHELVE_MINUTES.map((o) => (
+            <option key={o.minutes} value={o.minutes}>
+              {o.text}
+            </option>
+          ))}
+        </select>
+      </label>
+      <button className="small" type="submit" aria-disabled={busy || !reason.trim() || undefined}>
+        Shelve alarm
+      </button>
+      <button className="small" type="button" onClick={onCancel}>
+        Cancel
+      </button>
+    </form>
   );
 }

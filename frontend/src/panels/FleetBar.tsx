@@ -4,15 +4,15 @@
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
 import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
 import type { Alarm } from "../api/generated/ws";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
-import { lastHeardAt, pageTitle, report, select, unacknowledged, type ProviderView } from "../data/store";
+import { FLOOD_AT, lastHeardAt, pageTitle, report, select, shelved, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
-import { ALARM_SEVERITY, fixWord, inline, insWord, linkText, type Word } from "../lib/labels";
+import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type Word } from "../lib/labels";
 import { LastHeard } from "../components/LastHeard";
-import { NewAlarms, alarmWords, beep, unlockAudioOnGesture } from "../lib/tone";
+import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
 import { shortId, vehicleColor } from "../lib/vehicle";
 import "./fleet.css";
 import { unreachable as isUnreachable } from "../data/source";
@@ -59,6 +59,7 @@ interface ChipProps {
   insStatus: InsStatus;
   alarms: number;
   heardAt: number | null | undefined; // a lost vehicle's last-heard time (null: never heard); undefined: not lost
+  silence: { until: number; title: string } | null; // a planned silence ("out of comms until")
   recorded: boolean; // a replay: the link is the recording's
   selected: boolean;
   tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
@@ -66,8 +67,10 @@ interface ChipProps {
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, heardAt, recorded, selected, tabbable, onSelect }: ChipProps) {
-  const l = LINK[link];
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, heardAt, silence, recorded, selected, tabbable, onSelect }: ChipProps) {
+  // a vehicle lost during its planned silence: expected, said so rather than "Lost"
+  const planned = silence !== null && link === "lost";
+  const l: Word = planned ? { text: plannedText(silence.until), tone: "info", title: silence.title } : LINK[link];
   const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
   const fix = fixWord(fixValid);
   const ins = insWord(insState, insStatus);
@@ -87,7 +90,7 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
         {label}
       </span>
-      <span className={`fleet-word tone-${l.tone}${rec ? " recorded" : ""}`} title={rec ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
+      <span className={`fleet-word tone-${l.tone}${planned ? " fleet-planned" : ""}${rec ? " recorded" : ""}`} title={rec ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
         {stateWords(l.text, rec)}
       </span>
       {heardAt !== undefined && <LastHeard since={heardAt} className="fleet-word tone-bad" />}
@@ -97,6 +100,11 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
       <span className={`fleet-word tone-${ins.tone}${old ? " fleet-old" : ""}`} title={(ins.title ?? "") + old}>
         {ins.text}
       </span>
+      {silence && link !== "lost" && (
+        <span className="fleet-word fleet-planned" title={silence.title} data-testid="fleet-silence">
+          {plannedText(silence.until)}
+        </span>
+      )}
       {alarms > 0 && <span className="fleet-word tone-bad">{alarms === 1 ? "1 alarm" : `${alarms} alarms`}</span>}
     </button>
   );
@@ -109,6 +117,10 @@ function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boole
   const ready = useSelector((s) => s.consoleId !== null); // the first snapshot is in
   const news = useRef(new NewAlarms());
   const [said, setSaid] = useState("");
+  // a flood (a relay down: 20 vehicles lost over a second or two) sounds once and is said once, by its cause
+  const burst = useRef<Burst | null>(null);
+  burst.current ??= new Burst(setSaid);
+  useEffect(() => () => burst.current?.stop(), []);
   useEffect(() => unlockAudioOnGesture(), []);
   const conn = useConnectionState();
   const unreachable = isUnreachable(conn);
@@ -119,10 +131,9 @@ function useAnnunciation(alarms: readonly Alarm[], unacked: number, muted: boole
     if (!ready) return;
     const fresh = news.current.take(alarms);
     if (!fresh.length || !command) return;
-    if (!muted) beep();
     // the tone's words: a screen reader hears no colour, and the tone may be muted or not heard (its "since" makes
     // an alarm raised again with the same text a change the live region says again)
-    setSaid(alarmWords(fresh));
+    if (burst.current?.add(fresh) && !muted) beep();
   }, [alarms, ready, command, muted]);
   return said;
 }
@@ -169,6 +180,9 @@ export function FleetBar() {
   const recorded = useCapabilities().playback; // a replay: the links and counts are the recording's
   const [muted, setMuted] = useSetting("sem-console.mute", false, isBool);
   const open = useMemo(() => unacknowledged(alarms), [alarms]);
+  const shelvedCountNow = useMemo(() => shelved(alarms).length, [alarms]);
+  const silences = useSilences();
+  const silenceOf = useMemo(() => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by) }])), [silences]);
   const announced = useAnnunciation(alarms, open.length, muted);
   const onSelect = useMemo(() => (id: string) => store.update((s) => select(s, id)), [store]);
   const byVehicle = useMemo(() => {
@@ -178,19 +192,25 @@ export function FleetBar() {
   }, [open]);
   const receiving = useReceiving();
   const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
-  const lost = all.filter((c) => c.link === "lost");
+  const lostAll = all.filter((c) => c.link === "lost");
+  // lost during a planned silence: expected, counted apart
+  const planned = lostAll.filter((c) => silenceOf.has(c.p.id)).length;
+  const lost = lostAll.filter((c) => !silenceOf.has(c.p.id));
   // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
   const stale = all.filter((c) => c.link === "stale").length;
   const notUpdating = all.filter((c) => c.link === "unreachable").length;
-  const live = all.length - lost.length - stale - notUpdating;
+  const live = all.length - lostAll.length - stale - notUpdating;
   // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
   // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
-  const alarmed = all.filter((c) => c.link !== "lost" && byVehicle.has(c.p.id));
-  const chips = lost.length || alarmed.length ? [...lost, ...alarmed, ...all.filter((c) => c.link !== "lost" && !byVehicle.has(c.p.id))] : all;
+  const alarmed = all.filter((c) => (c.link !== "lost" || silenceOf.has(c.p.id)) && byVehicle.has(c.p.id));
+  const first = new Set([...lost, ...alarmed]);
+  const chips = first.size ? [...lost, ...alarmed, ...all.filter((c) => !first.has(c))] : all;
   // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip: 250 chips by 250)
   const tabStop = chips.some((c) => c.p.id === selected) ? selected : chips[0]?.p.id;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
+  // in a flood the newest is one of many of its cause: the bar names the cause and the count instead
+  const flood = newest ? open.filter((a) => a.cause === newest.cause).length : 0;
   const [alarmsFolded, setAlarmsFolded] = useCollapsed("alarms-panel");
   // Show the alarm list: opened if it was collapsed, scrolled into view (below the top bars: the page's scroll
   // padding) and the focus on its first alarm, so a keyboard operator acknowledges next rather than tabbing through
@@ -227,10 +247,20 @@ export function FleetBar() {
           <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
             {lost.length} {inline(linkText("lost"))}
           </span>
+          {planned > 0 && (
+            <span className="fleet-count fleet-planned" data-testid="fleet-planned">
+              {plannedCount(planned)}
+            </span>
+          )}
         </span>
         <button className={`fleet-count fleet-alarms tone-${open.length ? "bad" : "muted"}`} data-testid="fleet-alarms" onClick={showAlarms} title="show the alarm list">
           {open.length === 1 ? "1 unacknowledged alarm" : `${open.length} unacknowledged alarms`}
         </button>
+        {shelvedCountNow > 0 && (
+          <button className="fleet-count tone-muted" data-testid="fleet-shelved" onClick={showAlarms} title="alarms shelved by an operator: show them">
+            {shelvedCount(shelvedCountNow)}
+          </button>
+        )}
         <button className="fleet-mute" aria-pressed={muted} data-testid="mute" onClick={() => setMuted(!muted)} title={muted ? "the alarm tone is off" : "the alarm tone is on"}>
           <SpeakerIcon muted={muted} /> Mute tone
         </button>
@@ -245,8 +275,8 @@ export function FleetBar() {
           }}
           title="newest unacknowledged alarm: show it"
         >
-          {ALARM_SEVERITY[newest.severity]}: {newest.text}
-          {newest.state === "cleared-unacknowledged" && " (cleared)"}
+          {ALARM_SEVERITY[newest.severity]}: {flood >= FLOOD_AT ? floodText(newest.cause, flood) : newest.text}
+          {flood < FLOOD_AT && newest.state === "cleared-unacknowledged" && " (cleared)"}
         </button>
       )}
       {providers.length === 0 ? (
@@ -264,6 +294,7 @@ export function FleetBar() {
               insStatus={report(p, "InertialSensorReport")?.status}
               alarms={byVehicle.get(p.id) ?? 0}
               heardAt={link === "lost" ? lastHeardAt(p) : undefined}
+              silence={silenceOf.get(p.id) ?? null}
               recorded={recorded}
               selected={p.id === selected}
               tabbable={p.id === tabStop}

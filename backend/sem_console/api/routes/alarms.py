@@ -1,7 +1,8 @@
-"""Alarms: the active set derived on the server (console/alarms.py), read (`reads`) and acknowledged (`writes`).
+"""Alarms: the active set derived on the server (console/alarms.py), read (`reads`), acknowledged, shelved and
+unshelved (`writes`).
 
-Acknowledge is an operator action: it takes the operator token when the console has any, is refused in
-a replay, and is audited like a command (the operator's name is recorded).
+Acknowledge, shelve and unshelve are operator actions: they take the operator token when the console has any, are
+refused in a replay, and are audited like a command (the operator's name is recorded; a shelf's reason too).
 """
 
 from __future__ import annotations
@@ -10,9 +11,9 @@ from typing import Annotated, Any
 
 from fastapi import APIRouter, HTTPException, Path, status
 
-from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep
+from sem_console.api.deps import AuditDep, ConsoleDep, OperatorDep, SettingsDep
 from sem_console.api.responses import JSON_BODY, problem
-from sem_console.api.schemas import Alarm, AlarmAckRequest
+from sem_console.api.schemas import Alarm, AlarmAckRequest, ShelveRequest, UnshelveRequest
 
 reads = APIRouter(tags=["alarms"])
 AlarmId = Annotated[int, Path(description="the alarm's id (`id` in GET /api/alarms); negative for an alarm raised "
@@ -38,5 +39,45 @@ async def acknowledge_alarm(alarm_id: AlarmId, body: AlarmAckRequest, console: C
     command. Every client gets the new set."""
     if console.acknowledge(alarm_id, operator) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no alarm {alarm_id} in the active set")
+    audit(status.HTTP_200_OK, None, operator)
+    return console.alarms.active()
+
+
+NOT_ACTIVE = problem("no such alarm in the active set (unknown, or already back to normal)")
+
+
+@writes.post("/api/alarms/{alarm_id}/shelve", response_model=list[Alarm],
+             responses={200: {"description": "the active alarm set after shelving, newest first"}, 404: NOT_ACTIVE,
+                        409: problem("`minutes` is outside the console's shelving bounds (shelve_min_minutes to "
+                                     "shelve_max_minutes)"), **JSON_BODY})
+async def shelve_alarm(alarm_id: AlarmId, body: ShelveRequest, console: ConsoleDep, settings: SettingsDep,
+                       operator: OperatorDep, audit: AuditDep) -> list[dict[str, Any]]:
+    """Shelve an alarm: out of view (no tone, not counted unacknowledged, listed as shelved) on every station of the
+    database for `minutes`, within the console's bounds. It comes back when the time ends, when unshelved, or at once
+    when it gets worse: a new alarm of its vehicle at least as severe. Shelving a shelved alarm shelves it again from
+    now. Audited with its reason; every client gets the new set."""
+    low, high = settings.shelve_min_minutes, settings.shelve_max_minutes
+    if not low <= body.minutes <= high:
+        raise HTTPException(status.HTTP_409_CONFLICT,
+                            f"{body.minutes:g} minutes is outside this console's shelving bounds, {low:g} to {high:g} "
+                            "minutes: shelve for a time within them")
+    if console.shelve(alarm_id, body.reason, body.minutes, operator) is None:
+        raise HTTPException(status.HTTP_404_NOT_FOUND, f"no alarm {alarm_id} in the active set")
+    audit(status.HTTP_200_OK, f"shelved for {body.minutes:g} min: {body.reason}", operator)
+    return console.alarms.active()
+
+
+@writes.post("/api/alarms/{alarm_id}/unshelve", response_model=list[Alarm],
+             responses={200: {"description": "the active alarm set after unshelving, newest first"}, 404: NOT_ACTIVE,
+                        409: problem("the alarm is not shelved"), **JSON_BODY})
+async def unshelve_alarm(alarm_id: AlarmId, body: UnshelveRequest, console: ConsoleDep, operator: OperatorDep,
+                         audit: AuditDep) -> list[dict[str, Any]]:
+    """Bring a shelved alarm back into view at once, on every station (the body is `{}`)."""
+    alarm = next((a for a in console.alarms.open.values() if a.id == alarm_id), None)
+    if alarm is None:
+        raise HTTPException(status.HTTP_404_NOT_FOUND, f"no alarm {alarm_id} in the active set")
+    if alarm.key not in console.alarms.shelves:
+        raise HTTPException(status.HTTP_409_CONFLICT, f"alarm {alarm_id} is not shelved")
+    console.unshelve(alarm_id, operator)
     audit(status.HTTP_200_OK, None, operator)
     return console.alarms.active()

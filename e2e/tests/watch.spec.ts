@@ -1,0 +1,127 @@
+// Alarm management for a watch: a planned silence, a flood of 20 vehicles lost at once grouped by its cause with one
+// tone and one announcement, and shelving, on the screen of a console of its own (its own domain and 21 vehicles, so
+// the stack's console keeps its three for the other specs).
+import { execFileSync, spawn } from "node:child_process";
+import { join } from "node:path";
+import { expect, test } from "@playwright/test";
+import { SEM_SIM, stopChild, violations } from "../helpers";
+import { freeDomain, load, startGuardedConsole } from "../stack";
+
+/** HH:MM UTC `minutes` from now. */
+function utcIn(minutes: number): string {
+  return new Date(Date.now() + minutes * 60_000).toISOString().slice(11, 16);
+}
+
+/** How the dashboard says the next UTC `hhmm` to come: "14:20" today, else with its date. */
+function said(hhmm: string): string {
+  const today = new Date().toISOString().slice(0, 10);
+  let t = Date.parse(`${today}T${hhmm}:00Z`);
+  if (t <= Date.now()) t += 86_400_000;
+  const day = new Date(t).toISOString().slice(0, 10);
+  return day === today ? hhmm : `${day} ${hhmm}`;
+}
+
+test("a planned silence, a flood of 20 vehicles grouped with one tone and one announcement, and a shelf", async ({ page }) => {
+  test.setTimeout(180_000);
+  const stack = load();
+  const domain = await freeDomain([stack.domain]);
+  const token = "watch-token";
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "watch.sqlite3")]);
+  const ids = execFileSync(SEM_SIM, ["--list", "--vehicles", "21", "--first-vehicle", "30"], { encoding: "utf8" }).trim().split("\n").map((l) => l.split(": ")[1]);
+  const sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "21", "--first-vehicle", "30", "--state-file", join(stack.dir, "watch-sim.json"),
+    "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  // the tone, counted: a stand-in for the Web Audio API whose oscillators are counted (two per tone)
+  await page.addInitScript(() => {
+    const w = window as unknown as { __oscillators: number; AudioContext: unknown };
+    w.__oscillators = 0;
+    const node = { connect: (n: unknown) => n, gain: { setValueAtTime() {}, exponentialRampToValueAtTime() {} } };
+    w.AudioContext = class {
+      state = "running";
+      currentTime = 0;
+      destination = {};
+      resume() { return Promise.resolve(); }
+      createGain() { return node; }
+      createOscillator() {
+        w.__oscillators++;
+        return { ...node, type: "sine", frequency: { value: 0 }, start() {}, stop() {} };
+      }
+    };
+  });
+  const tones = async () => (await page.evaluate(() => (window as unknown as { __oscillators: number }).__oscillators)) / 2;
+  try {
+    await page.goto(extra.url);
+    await page.getByLabel("Operator token").fill(token);
+    await page.getByRole("button", { name: "Sign in" }).click();
+    await expect(page.getByTestId("signed-in")).toBeVisible();
+    const chips = page.getByTestId("fleet-bar").getByTestId("fleet-vehicle");
+    await expect(chips).toHaveCount(21, { timeout: 60_000 });
+    await expect(page.getByTestId("fleet-live")).toHaveText("21 live", { timeout: 30_000 });
+
+    // the 21st vehicle will dive: its planned silence, declared on screen
+    const diver = ids[20];
+    const diverChip = chips.filter({ hasText: diver.slice(0, 8) });
+    await diverChip.click();
+    const region = page.getByRole("region", { name: "Alarms" });
+    const until = utcIn(30);
+    const form = region.getByRole("form", { name: `Out of comms until: ${diver.slice(0, 8)}` });
+    await form.getByLabel("Until (UTC)").fill(until);
+    await form.getByLabel(/^Why/).fill("dive to 40 m");
+    await form.getByRole("button", { name: "Declare planned silence" }).click();
+    await expect(region.getByTestId("planned-silence")).toHaveText(new RegExp(`^${diver.slice(0, 8)}: out of comms \\(planned\\) until ${said(until)} UTC: dive to 40 m \\(declared by e2e-operator\\)`));
+    await expect(diverChip.getByTestId("fleet-silence")).toHaveText(`Out of comms (planned) until ${said(until)}`);
+
+    // the relay fails: every vehicle lost at once
+    const before = await tones();
+    await stopChild(sim);
+    await expect(page.getByTestId("fleet-lost")).toHaveText("20 lost", { timeout: 30_000 });
+    await expect(page.getByTestId("fleet-planned")).toHaveText("1 out of comms (planned)");
+    await expect(diverChip.getByTestId("fleet-link")).toHaveText(`Out of comms (planned) until ${said(until)}`);
+    const group = region.getByTestId("alarm-group");
+    await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 20 vehicles");
+    await expect(region.getByTestId("alarm")).toHaveCount(0); // one line, not twenty: the first screen stays readable
+    await expect(page.getByTestId("fleet-newest-alarm")).toHaveText("Alarm: Link lost: 20 vehicles");
+    await expect(page.getByTestId("alarm-announcement")).toHaveText("Alarm: Link lost: 20 vehicles: see the alarm list");
+    await page.waitForTimeout(2000); // anything late of the flood would have sounded by now
+    expect((await tones()) - before).toBe(1);
+    await expect(page.getByTestId("fleet-alarms")).toHaveText("20 unacknowledged alarms");
+
+    // expandable: each vehicle's alarm
+    await group.getByRole("button", { name: "Show each" }).click();
+    await expect(group.getByTestId("alarm")).toHaveCount(20);
+
+    // shelve one, with a reason: counted apart, out of the group and the count, shown with who, why and until
+    const first = group.getByTestId("alarm").first();
+    const text = (await first.locator(".alarm-text").textContent())!;
+    await first.getByRole("button", { name: `Shelve: ${text}` }).click();
+    const shelveForm = first.getByRole("form", { name: `Shelve: ${text}` });
+    // what this changes of the page (the map's edge arrows, 21 vehicles out of its view, are another matter)
+    const watched = ['[data-testid="fleet-bar"]', '[data-testid="alarms-panel"]'];
+    expect(await violations(page, ...watched)).toEqual([]); // the group open, a shelve form open
+    await shelveForm.getByLabel("Why shelve it").fill("relay down, known");
+    await shelveForm.getByLabel("For").selectOption("1 h");
+    await shelveForm.getByRole("button", { name: "Shelve alarm" }).click();
+    await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 19 vehicles");
+    await expect(page.getByTestId("fleet-shelved")).toHaveText("1 shelved");
+    await expect(page.getByTestId("fleet-alarms")).toHaveText("19 unacknowledged alarms");
+    await region.getByTestId("alarms-shelved").click();
+    const shelvedEntry = region.getByTestId("shelved-alarm");
+    await expect(shelvedEntry).toContainText(text);
+    expect(await violations(page, ...watched)).toEqual([]); // the shelved list open
+    await expect(shelvedEntry.getByTestId("shelf-words")).toHaveText(/^shelved by e2e-operator on \S+ until (\d{4}-\d\d-\d\d )?\d\d:\d\d UTC: relay down, known$/);
+
+    // unshelved: back in view, saying why
+    await shelvedEntry.getByRole("button", { name: `Unshelve: ${text}` }).click();
+    await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 20 vehicles");
+    await expect(page.getByTestId("fleet-shelved")).toHaveCount(0);
+    await expect(group.getByTestId("alarm").filter({ hasText: text }).getByTestId("alarm-returned")).toHaveText("back from shelving: unshelved by e2e-operator");
+
+    // the planned silence cancelled: the diver's loss is an alarm at once
+    await region.getByRole("button", { name: `Cancel silence: ${diver.slice(0, 8)}` }).click();
+    await expect(region.getByTestId("planned-silence")).toHaveCount(0);
+    await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 21 vehicles");
+    await expect(page.getByTestId("fleet-lost")).toHaveText("21 lost");
+  } finally {
+    await stopChild(sim);
+    await extra.stop();
+  }
+});
