@@ -15,6 +15,7 @@ import {
   fixWord,
   inline,
   insWord,
+  notReported,
   linkText,
   UMAA_WORDS,
   insStateText,
@@ -49,6 +50,17 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     for (const kind of alarm.kind.enum!) expect(alarmKindText(kind), kind).not.toBe(kind);
     for (const severity of alarm.severity.enum!) expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
     for (const state of alarm.state.enum!) expect((ALARM_STATE as Record<string, string>)[state]?.trim(), state).toBeTruthy();
+  });
+
+  it("says a UMAA 6.0 vehicle's missing fix status and INS status are its version's, not a report still to come", () => {
+    expect(fixWord(undefined, "6.0")).toMatchObject({ text: "Fix —", tone: "muted" });
+    expect(fixWord(undefined, "6.0").title).toContain("UMAA 6.0 has no GPS fix service");
+    expect(insWord(undefined, undefined, "6.0").title).toContain("UMAA 6.0 inertial sensor");
+    expect(notReported("6.0", "GPSFixReport")).toContain("no GPS fix service");
+    expect(notReported("6.0", "GPSReport")).toBeNull(); // its GPSReport feeds the view
+    expect(fixWord(undefined, "3.0.1").title).toBe("no GPS fix status yet");
+    expect(insWord(undefined, undefined, null).title).toBe("no inertial sensor report yet");
+    expect(fixWord(true, "6.0").text).toBe("Fix valid");
   });
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {
