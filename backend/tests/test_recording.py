@@ -422,6 +422,9 @@ def test_a_recording_says_once_that_it_skips_the_umaa_6_0_topics(tmp_path: Path,
         r.stop()
         assert r.messages == 0
     said = [m for m in caplog.messages if "not recorded" in m]
+    from sem_console.core.config import Settings
+
+    assert "UMAA 3.0.1" in str(Settings.model_fields["record"].description)  # --record's help says what it holds
     assert said == [f"recording: the UMAA 6.0 samples on {Sem60.GPS_REPORT.spec.name} are not recorded (recordings hold "
                     "the UMAA 3.0.1 topics only)"] * 2, said
 
