@@ -403,6 +403,32 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
         assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5
 
 
+def test_a_recording_says_once_that_it_skips_the_umaa_6_0_topics(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
+    """Recordings hold the 3.0.1 topics only: a 6.0 vehicle's samples are not in the file, and the operator is told so
+    (once per topic and recording) rather than finding the vehicle missing from the replay."""
+    from samplegen import random_sample
+    from sem_console.dds.topics import Sem60
+    from sem_console.recording.recorder import Recorder
+
+    r = Recorder(tmp_path, max_bytes=1 << 30, max_seconds=3600)
+    now = time.time_ns()
+    take = [(random_sample(Sem60.GPS_REPORT.spec.type, random.Random(1)).serialize(), True, 16, now)]
+    r.on_samples(Sem60.GPS_REPORT, take, now)  # not recording: nothing to say
+    assert not [m for m in caplog.messages if "not recorded" in m]
+    for _ in range(2):
+        r.start()
+        r.on_samples(Sem60.GPS_REPORT, take, now)
+        r.on_samples(Sem60.GPS_REPORT, take, now)
+        r.stop()
+        assert r.messages == 0
+    said = [m for m in caplog.messages if "not recorded" in m]
+    from sem_console.core.config import Settings
+
+    assert "UMAA 3.0.1" in str(Settings.model_fields["record"].description)  # --record's help says what it holds
+    assert said == [f"recording: the UMAA 6.0 samples on {Sem60.GPS_REPORT.spec.name} are not recorded (recordings hold "
+                    "the UMAA 3.0.1 topics only)"] * 2, said
+
+
 @pytest.mark.parametrize("sem", [s for s in Sem if s.spec.appendable is not None], ids=lambda s: s.name)
 def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: Sem, tmp_path: Path) -> None:
     """An RTI vehicle's GPSReport and GPSFixReport are appendable (delimited XCDR2: a DHEADER before each struct). The

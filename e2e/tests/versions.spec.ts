@@ -12,6 +12,11 @@ test("a mixed fleet: each vehicle shows the UMAA version it speaks", async ({ pa
     await expect(vehicle(page, old).getByTestId("vehicle-umaa")).toHaveText("UMAA 3.0.1", { timeout: 30_000 });
     await expect(vehicle(page, six).getByTestId("vehicle-umaa")).toHaveText("UMAA 6.0", { timeout: 30_000 });
     await expect(vehicle(page, six)).toHaveAttribute("data-link", "live");
+    // a 6.0 vehicle has no GPS fix service: its missing fix reports are said as its version's, not awaited
+    await vehicle(page, six).click();
+    await expect(page.getByTestId("fix-panel").getByTestId("fix-none")).toContainText("UMAA 6.0 has no GPS fix service");
+    await expect(page.getByTestId("ins-panel").getByTestId("ins-none")).toContainText("UMAA 6.0 inertial sensor's status");
+    await expect(page.getByTestId("fix-panel")).not.toContainText("No GPS fix reports yet");
   } finally {
     await fleet.stop();
   }

@@ -234,12 +234,17 @@ class Recorder:
         self._stopping = threading.Event()
         self._thread: threading.Thread | None = None
         self._lock = threading.Lock()  # start/stop against each other
+        self._unrecorded: set[AnySem] = set()  # the UMAA 6.0 topics this recording skipped, said once each
 
     # ---- input (ingest threads, event loop): never blocks ---------------------------------
     def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic (ingest.Tap): one queue item, however many samples."""
         if not isinstance(sem, Sem):
-            return  # a UMAA 6.0 topic: recordings have no 6.0 channels yet
+            if self.active and sem not in self._unrecorded:
+                self._unrecorded.add(sem)
+                log.warning("recording: the UMAA 6.0 samples on %s are not recorded (recordings hold the UMAA 3.0.1 "
+                            "topics only)", sem.spec.name)
+            return
         self._put((sem, samples, received_ns, len(samples)))
 
     def on_message(self, message: dict[str, Any], followed: bool | None = None) -> None:
@@ -276,7 +281,7 @@ class Recorder:
                 raise RecordingError(f"cannot record into {self.directory}: {e.strerror or e}") from None
             self._file, self.error, self.dropped, self.messages, self.writer_cpu = first, None, 0, 0, 0.0
             self.started_at = time.time()
-            self._buffer, self._stopping = deque(), threading.Event()
+            self._buffer, self._stopping, self._unrecorded = deque(), threading.Event(), set()
             self.active = True
             # read after `active`: a rename from here on is queued as well (and written after these), none is missed;
             # a copy of the loop's dict, which dict() makes at once (holding the GIL)

@@ -214,6 +214,11 @@ export function usePlayback(): { status: ReplayStatus; controls: PlaybackControl
   return useMemo(() => (status && source.playback ? { status, controls: source.playback } : null), [status, source]);
 }
 
+/** The UMAA version the selected vehicle speaks (null: none selected, or not said yet). */
+export function useSelectedUmaaVersion(): ProviderView["umaaVersion"] {
+  return useSelector((s) => (s.selected ? (s.providers[s.selected]?.umaaVersion ?? null) : null));
+}
+
 /** The selected vehicle's whole view: it changes with each of its reports. A panel that draws one topic
  * wants useSelectedTopic, and one that names the vehicle useSelectedVehicle. */
 export function useSelectedProvider(): ProviderView | null {

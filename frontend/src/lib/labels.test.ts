@@ -23,6 +23,7 @@ import {
   fixWord,
   inline,
   insWord,
+  notReported,
   linkText,
   UMAA_WORDS,
   insStateText,
@@ -76,6 +77,17 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
     expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");
     expect(floodText(alarmKindText("silence-overdue"), 1)).toBe("Not heard after a planned silence: 1 vehicle");
+  });
+
+  it("says a UMAA 6.0 vehicle's missing fix status and INS status are its version's, not a report still to come", () => {
+    expect(fixWord(undefined, "6.0")).toMatchObject({ text: "Fix —", tone: "muted" });
+    expect(fixWord(undefined, "6.0").title).toContain("UMAA 6.0 has no GPS fix service");
+    expect(insWord(undefined, undefined, "6.0").title).toContain("UMAA 6.0 inertial sensor");
+    expect(notReported("6.0", "GPSFixReport")).toContain("no GPS fix service");
+    expect(notReported("6.0", "GPSReport")).toBeNull(); // its GPSReport feeds the view
+    expect(fixWord(undefined, "3.0.1").title).toBe("no GPS fix status yet");
+    expect(insWord(undefined, undefined, null).title).toBe("no inertial sensor report yet");
+    expect(fixWord(true, "6.0").text).toBe("Fix valid");
   });
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {

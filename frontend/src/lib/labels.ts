@@ -3,7 +3,7 @@
 // words). An operator at sea reads "Dead reckoning", not GPS_DEAD_RECK; the literal stays available in a tooltip
 // (`umaa`), for the engineer comparing the screen with a log. A literal the table does not know (a newer ICD, another
 // vendor's value) is shown as it is rather than hidden. Every place that names a state takes its words from here.
-import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState } from "../api/types";
+import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState, ProviderSummary, Topic } from "../api/types";
 import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, Task } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
 import { DASH, clockTime, elapsedText } from "./units";
@@ -81,10 +81,29 @@ export interface Word {
   title?: string;
 }
 
+export type UmaaVersion = ProviderSummary["umaaVersion"];
+
+const NO_FIX_SERVICE = "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports its position in GlobalPoseReport, which the console does not show yet";
+/** The console's report topics a vehicle of a UMAA version never fills, and why: a missing report of one is no report
+ * to wait for, nor a fault. */
+const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, string>>>>> = {
+  "3.0.1": {},
+  "6.0": {
+    GPSFixReport: NO_FIX_SERVICE,
+    GPSFixStatusReport: NO_FIX_SERVICE,
+    InertialSensorReport: "the console does not show a UMAA 6.0 inertial sensor's status yet",
+  },
+};
+
+/** Why a vehicle of `version` has no `topic` report, when its version never fills that topic (null: one may come). */
+export function notReported(version: UmaaVersion | null | undefined, topic: Topic): string | null {
+  return (version && NOT_REPORTED[version][topic]) || null;
+}
+
 /** The INS in one phrase, as the fleet bar and the vehicle list say it: its state when that is not ON ("INS off",
  * "INS restarting"), else its status ("INS operational", "INS coarse alignment, stationary", "INS failed"). */
-export function insWord(state: string | null | undefined, status: string | null | undefined): Word {
-  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: "no inertial sensor report yet" };
+export function insWord(state: string | null | undefined, status: string | null | undefined, version?: UmaaVersion | null): Word {
+  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: notReported(version, "InertialSensorReport") ?? "no inertial sensor report yet" };
   const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
   if (status === "INERTIAL_SENSOR_FAILURE") return { text: `INS ${inline(INS_STATUS.INERTIAL_SENSOR_FAILURE)}`, tone: "bad", title };
   if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
@@ -93,8 +112,8 @@ export function insWord(state: string | null | undefined, status: string | null 
 }
 
 /** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
-export function fixWord(fixValid: boolean | null | undefined): Word {
-  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: "no GPS fix status yet" };
+export function fixWord(fixValid: boolean | null | undefined, version?: UmaaVersion | null): Word {
+  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: notReported(version, "GPSFixStatusReport") ?? "no GPS fix status yet" };
   const literal = fixValid ? "true" : "false";
   return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
 }

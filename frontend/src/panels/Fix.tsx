@@ -1,13 +1,13 @@
 import { Field, Foldable, Panel, invalidFor } from "../components/Panel";
 import { TrendChart } from "../components/TrendChart";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectionGap, useSelector } from "../data/hooks";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap, useSelector } from "../data/hooks";
 import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, positionSourceText, timeOutText, umaa } from "../lib/labels";
+import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, notReported, positionSourceText, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
 
 export function FixPanel() {
@@ -28,6 +28,7 @@ function FixBody() {
   const [useDms, setDms] = useDmsSetting();
   const fixView = useSelectedTopic("GPSFixReport");
   const statusView = useSelectedTopic("GPSFixStatusReport");
+  const version = useSelectedUmaaVersion();
   const fix = viewReport(fixView);
   const st = viewReport(statusView);
   const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
@@ -57,7 +58,7 @@ function FixBody() {
       {gap ? (
         <SelectionGap gap={gap} />
       ) : !fix && !st ? (
-        <p className="muted">No GPS fix reports yet.</p>
+        <p className="muted" data-testid="fix-none">{notReported(version, "GPSFixReport") ?? "No GPS fix reports yet."}</p>
       ) : (
         <>
           <SelectedLost />

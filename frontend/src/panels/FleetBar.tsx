@@ -10,7 +10,7 @@ import { useCollapsed, useSetting } from "../data/settings";
 import { FLOOD_AT, lastHeardAt, pageTitle, report, select, shelved, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
-import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type Word } from "../lib/labels";
+import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../lib/labels";
 import { LastHeard } from "../components/LastHeard";
 import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
 import { shortId, vehicleColor } from "../lib/vehicle";
@@ -57,6 +57,7 @@ interface ChipProps {
   fixValid: FixValid;
   insState: InsState;
   insStatus: InsStatus;
+  umaaVersion: UmaaVersion | null; // what its reports can say (a 6.0 vehicle has no GPS fix status)
   alarms: number;
   heardAt: number | null | undefined; // a lost vehicle's last-heard time (null: never heard); undefined: not lost
   silence: { until: number; title: string } | null; // a planned silence ("out of comms until")
@@ -67,13 +68,13 @@ interface ChipProps {
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, alarms, heardAt, silence, recorded, selected, tabbable, onSelect }: ChipProps) {
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, umaaVersion, alarms, heardAt, silence, recorded, selected, tabbable, onSelect }: ChipProps) {
   // a vehicle lost during its planned silence: expected, said so rather than "Lost"
   const planned = silence !== null && link === "lost";
   const l: Word = planned ? { text: plannedText(silence.until), tone: "info", title: silence.title } : LINK[link];
   const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
-  const fix = fixWord(fixValid);
-  const ins = insWord(insState, insStatus);
+  const fix = fixWord(fixValid, umaaVersion);
+  const ins = insWord(insState, insStatus, umaaVersion);
   const old = link === "lost" || link === "unreachable" ? " (last known)" : "";
   return (
     <button
@@ -292,6 +293,7 @@ export function FleetBar() {
               fixValid={report(p, "GPSFixStatusReport")?.fixValid}
               insState={report(p, "InertialSensorReport")?.state}
               insStatus={report(p, "InertialSensorReport")?.status}
+              umaaVersion={p.umaaVersion}
               alarms={byVehicle.get(p.id) ?? 0}
               heardAt={link === "lost" ? lastHeardAt(p) : undefined}
               silence={silenceOf.get(p.id) ?? null}

@@ -1,11 +1,11 @@
 import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Foldable, Panel } from "../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectionGap } from "../data/hooks";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, insWord, umaa } from "../lib/labels";
+import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
 
 export const STEPS: readonly AlignmentStep[] = [
@@ -40,6 +40,7 @@ export function InsPanel() {
 function InsBody() {
   const view = useSelectedTopic("InertialSensorReport"); // drawn on the frame after it changed
   const link = useSelectedLink();
+  const version = useSelectedUmaaVersion();
   const receiving = useReceiving();
   const gap = useSelectionGap(); // none selected: say so, not "no reports"
   const now = useNow();
@@ -55,7 +56,7 @@ function InsBody() {
       {gap ? (
         <SelectionGap gap={gap} />
       ) : !ins ? (
-        <p className="muted">No InertialSensorReport yet.</p>
+        <p className="muted" data-testid="ins-none">{notReported(version, "InertialSensorReport") ?? "No InertialSensorReport yet."}</p>
       ) : (
         <>
           <SelectedLost />

@@ -122,9 +122,9 @@ export function VehicleSelector() {
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
         const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
-        const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid);
+        const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid, p.umaaVersion);
         const ins = report(p, "InertialSensorReport");
-        const insSaid = insWord(ins?.state, ins?.status);
+        const insSaid = insWord(ins?.state, ins?.status, p.umaaVersion);
         return (
           <Fragment key={p.id}>
           <button
