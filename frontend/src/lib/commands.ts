@@ -2,10 +2,13 @@
 import type { Command } from "../api/types";
 import { CANCEL_CAUSE, COMMAND, COMMAND_STATUS, commandStatusText, reasonText } from "./labels";
 
-/** Both lists without repeats, newest first; a live command wins over its REST copy (it is newer). */
-export function mergeCommands(live: Command[], older: Command[]): Command[] {
+/** Both lists without repeats, newest first; a live command wins over its REST copy (it is newer). `until`: a
+ * replay's instant (UTC seconds), whose history holds the whole recording: its rows of commands requested after that
+ * instant are left out, as the page shows the recording as it was then; null for a live console. */
+export function mergeCommands(live: Command[], older: Command[], until: number | null = null): Command[] {
   const seen = new Map<string, Command>();
-  for (const c of [...live, ...older]) if (!seen.has(c.sessionId)) seen.set(c.sessionId, c);
+  const past = until === null ? older : older.filter((c) => c.createdAt <= until);
+  for (const c of [...live, ...past]) if (!seen.has(c.sessionId)) seen.set(c.sessionId, c);
   return [...seen.values()].sort((a, b) => b.createdAt - a.createdAt);
 }
 

@@ -195,6 +195,14 @@ describe("command pager", () => {
     const merged = mergeCommands([c("b", 2, "EXECUTING"), c("c", 3, "ISSUED")], [c("b", 2, "ISSUED"), c("a", 1, "COMPLETED")]);
     expect(merged.map((x) => `${x.sessionId}:${x.status}`)).toEqual(["c:ISSUED", "b:EXECUTING", "a:COMPLETED"]);
   });
+
+  it("in a replay leaves out the history's commands requested after the instant shown (the history holds the whole recording)", () => {
+    const c = (sessionId: string, createdAt: number) => ({ sessionId, createdAt, status: "COMPLETED" }) as never;
+    const history = [c("later", 20), c("then", 10), c("before", 5)];
+    expect(mergeCommands([], history, 10).map((x) => x.sessionId)).toEqual(["then", "before"]);
+    expect(mergeCommands([], history, 4)).toEqual([]);
+    expect(mergeCommands([], history, null).map((x) => x.sessionId)).toEqual(["later", "then", "before"]);
+  });
 });
 
 describe("command timeline", () => {

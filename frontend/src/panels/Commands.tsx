@@ -182,7 +182,10 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
   const [loading, setLoading] = useState(false);
   const [error, setError] = useState<string | null>(null);
   const [counted, setCounted] = useState(false); // the first page of the history was read: the total is known, or its floor
-  const all = useMemo(() => mergeCommands(live, older), [live, older]);
+  const { playback } = useCapabilities();
+  const now = useNow(1000);
+  const until = playback ? now : null; // a replay's history holds commands requested after the instant shown
+  const all = useMemo(() => mergeCommands(live, older, until), [live, older, until]);
   useEffect(() => {
     // the history's first page at once, so the count says how many there are (the live list holds only what this
     // console follows and recently finished); a failure leaves the count as "shown" until Older commands is pressed
@@ -210,7 +213,7 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
     setLoading(true);
     let got = older, offset = fetched, end = false;
     try {
-      while (mergeCommands(live, got).length < want && !end) {
+      while (mergeCommands(live, got, until).length < want && !end) {
         const page = await commandPage(target.id, FETCH, offset, token);
         got = [...got, ...page];
         offset += page.length;
