@@ -50,6 +50,8 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
   const tones = async () => (await page.evaluate(() => (window as unknown as { __oscillators: number }).__oscillators)) / 2;
   try {
     await page.goto(extra.url);
+    const { consoleName } = (await (await page.request.get(`${extra.url}/api/health`)).json()) as { consoleName: string };
+    await expect(page.getByTestId("console-station")).toHaveText(`station ${consoleName}`); // its name; the GUID in a tooltip
     await page.getByLabel("Operator token").fill(token);
     await page.getByRole("button", { name: "Sign in" }).click();
     await expect(page.getByTestId("signed-in")).toBeVisible();
@@ -67,15 +69,21 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
     await form.getByLabel("Until (UTC)").fill(until);
     await form.getByLabel(/^Why/).fill("dive to 40 m");
     await form.getByRole("button", { name: "Declare planned silence" }).click();
-    await expect(region.getByTestId("planned-silence")).toHaveText(new RegExp(`^${diver.slice(0, 8)}: out of comms \\(planned\\) until ${said(until)} UTC: dive to 40 m \\(declared by e2e-operator\\)`));
-    await expect(diverChip.getByTestId("fleet-silence")).toHaveText(`Out of comms (planned) until ${said(until)}`);
+    await expect(region.getByTestId("planned-silence")).toHaveText(new RegExp(`^${diver.slice(0, 8)}: out of comms \\(planned\\) until ${said(until)} UTC: dive to 40 m \\(declared by e2e-operator on ${consoleName}\\)`));
+    await expect(diverChip.getByTestId("fleet-silence")).toHaveText(`Out of comms (planned) until ${said(until)} UTC`);
 
     // the relay fails: every vehicle lost at once
     const before = await tones();
     await stopChild(sim);
     await expect(page.getByTestId("fleet-lost")).toHaveText("20 lost", { timeout: 30_000 });
     await expect(page.getByTestId("fleet-planned")).toHaveText("1 out of comms (planned)");
-    await expect(diverChip.getByTestId("fleet-link")).toHaveText(`Out of comms (planned) until ${said(until)}`);
+    // one name on the whole page: the chip, the vehicle list, the INS and GPS panels, the Commands panel (no red box)
+    const planned = `Out of comms (planned) until ${said(until)} UTC`;
+    await expect(diverChip.getByTestId("fleet-link")).toHaveText(planned);
+    await expect(page.getByTestId("vehicle").filter({ hasText: diver }).getByTestId("vehicle-link")).toHaveText(planned);
+    await expect(page.getByTestId("selected-lost").first()).toContainText(planned);
+    await expect(page.getByTestId("command-lost")).toContainText(`is out of comms (planned) until ${said(until)} UTC: last heard`);
+    await expect(page.getByTestId("command-lost")).not.toHaveClass(/alarm/);
     const group = region.getByTestId("alarm-group");
     await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 20 vehicles");
     await expect(region.getByTestId("alarm")).toHaveCount(0); // one line, not twenty: the first screen stays readable

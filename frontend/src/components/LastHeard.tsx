@@ -1,7 +1,7 @@
 import { useCapabilities, useNow, useSlice } from "../data/hooks";
-import { selectedLostSince } from "../data/store";
+import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
-import { lastHeardText, linkText, lostText } from "../lib/labels";
+import { lastHeardText, linkOrPlanned, lostText } from "../lib/labels";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 /** "Last heard 2 min 10 s ago" of a lost vehicle last heard at `since` (the source's clock; null: never), counting
@@ -21,17 +21,19 @@ export function LastHeard({ since, className }: { since: number | null; classNam
  * itself is announced with its alarm). */
 export function SelectedLost() {
   const since = useSlice(selectedLostSince);
+  const until = useSlice(selectedPlannedUntil); // lost in its planned silence: named so, not lost
   const recorded = useCapabilities().playback; // a replay: lost in the recording, not now
   if (since === null) return null;
   return (
-    <p className="selected-lost" data-testid="selected-lost" title={recorded ? RECORDED_TITLE : undefined}>
-      {stateWords(linkText("lost"), recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
+    <p className={`selected-lost${until !== null ? " planned" : ""}`} data-testid="selected-lost" title={recorded ? RECORDED_TITLE : undefined}>
+      {stateWords(linkOrPlanned("lost", until), recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
     </p>
   );
 }
 
-/** "Alpha (77b2ceb8) is lost: last heard 12 s ago", counting; `since` 0 or null: no report of it received. */
-export function LostFor({ target, since }: { target: VehicleIdentity; since: number | null }) {
+/** "Alpha (77b2ceb8) is lost: last heard 12 s ago" (or "is out of comms (planned) until 14:20 UTC" while lost in its
+ * planned silence, `until` its end), counting; `since` 0 or null: no report of it received. */
+export function LostFor({ target, since, until = null }: { target: VehicleIdentity; since: number | null; until?: number | null }) {
   const now = useNow(1000);
-  return <>{lostText(vehicleLabel(target), since ? now - since : null)}</>;
+  return <>{lostText(vehicleLabel(target), since ? now - since : null, until)}</>;
 }

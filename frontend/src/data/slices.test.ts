@@ -5,7 +5,7 @@ import { Store } from "./connection";
 import { frameSource, onFrame } from "./frame";
 import { sameOverview } from "./hooks";
 import { reportMessage, type DeepPartial } from "./testing";
-import { allProviders, selectedKnown, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State, type TopicView } from "./store";
+import { allProviders, plannedUntil, selectedKnown, selectedPlannedUntil, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State, type TopicView } from "./store";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -89,6 +89,21 @@ describe("slice subscriptions", () => {
     expect(notified.known).toBe(0); // B is on the bus too
     send(A, "GPSFixReport"); // A is no longer shown
     expect(notified.link).toBe(2);
+  });
+
+  it("names the selected vehicle out of comms (planned) only while it is lost in a planned silence in force", () => {
+    const { store } = setup({});
+    const silence = { id: "s1", providerId: A, vehicle: "Alpha", until: 5000, reason: "dive", at: 0, by: "alice", station: "watch" };
+    store.enqueue({ type: "silences", silences: [silence] } as unknown as ServerMessage);
+    store.flush();
+    expect(selectedPlannedUntil(store.getState())).toBeNull(); // heard: its silence says nothing of its link
+    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    store.flush();
+    expect(selectedPlannedUntil(store.getState())).toBe(5000);
+    expect(plannedUntil(store.getState().silences, B, "lost")).toBeNull(); // lost without a silence: lost
+    store.enqueue({ type: "silences", silences: [] } as unknown as ServerMessage);
+    store.flush();
+    expect(selectedPlannedUntil(store.getState())).toBeNull();
   });
 });
 

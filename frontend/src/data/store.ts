@@ -481,6 +481,18 @@ export const selectedLostSince = (s: State): number | null => {
   return p?.link === "lost" ? (lastHeardAt(p) ?? 0) : null;
 };
 
+/** When a vehicle's planned silence ends, while it is lost in it (the link lost, a silence in force for it); null
+ * otherwise. The one rule by which the page names a lost vehicle "out of comms (planned)" rather than lost. */
+export function plannedUntil(silences: readonly PlannedSilence[], providerId: string, link: string): number | null {
+  return link === "lost" ? (silences.find((x) => x.providerId === providerId)?.until ?? null) : null;
+}
+
+/** The end of the selected vehicle's planned silence while it is lost in it (plannedUntil), else null. */
+export const selectedPlannedUntil = (s: State): number | null => {
+  const p = selectedView(s);
+  return p ? plannedUntil(s.silences, p.id, p.link) : null;
+};
+
 /** The selected vehicle's name, null when it has none or is not known. */
 export const selectedName = (s: State): string | null => selectedView(s)?.name ?? null;
 

@@ -82,6 +82,8 @@ export interface VehicleMark {
   projection: Projection | null;
   /** seconds since a lost vehicle's newest report of any topic arrived (its "last heard"); null while it is not lost */
   heardS: number | null;
+  /** lost in its planned silence: when the silence ends (named "out of comms (planned) until", not lost); else null */
+  plannedUntil: number | null;
 }
 
 export interface TrackSample extends LonLat {

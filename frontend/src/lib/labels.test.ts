@@ -14,6 +14,8 @@ import {
   floodText,
   plannedCount,
   plannedEntry,
+  plannedTitle,
+  linkOrPlanned,
   plannedText,
   shelvedCount,
   shelvedText,
@@ -70,9 +72,16 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   it("says a watch's phrases with the table's words", () => {
     const now = Date.parse("2026-11-28T22:00:00Z") / 1000;
     const soon = now + 20 * 60;
-    expect(plannedText(soon)).toMatch(/^Out of comms \(planned\) until (2026-11-28 )?22:20$/);
+    expect(plannedText(soon)).toMatch(/^Out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/);
     expect(plannedCount(2)).toBe("2 out of comms (planned)");
-    expect(plannedEntry("Alpha", soon, "dive", "alice")).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice\)$/);
+    expect(plannedEntry("Alpha", soon, "dive", "alice", "watch")).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice on watch\)$/);
+    expect(plannedEntry("Alpha", soon, "dive", null, null)).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive$/);
+    expect(plannedTitle("dive", "alice", "watch")).toMatch(/^planned silence declared by alice on watch: dive;/);
+    // a lost vehicle in its planned silence has one name wherever it is said: the chip's, the list's, the panels'
+    expect(linkOrPlanned("lost", soon)).toBe(plannedText(soon));
+    expect(linkOrPlanned("lost", null)).toBe("Lost");
+    expect(lostText("Alpha", 12, soon)).toMatch(/^Alpha is out of comms \(planned\) until .*22:20 UTC: last heard 12 s ago$/);
+    expect(lostText("Alpha", 12)).toBe("Alpha is lost: last heard 12 s ago");
     expect(shelvedCount(3)).toBe("3 shelved");
     expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
     expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");

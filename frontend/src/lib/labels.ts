@@ -209,9 +209,10 @@ export function lastHeardText(seconds: number | null): string {
   return seconds === null ? "No report received" : `Last heard ${elapsedText(seconds)} ago`;
 }
 
-/** "Alpha (77b2ceb8) is lost: last heard 12 s ago"; `seconds` null: no report of it received. */
-export function lostText(vehicle: string, seconds: number | null): string {
-  return `${vehicle} is ${inline(LINK.lost)}: ${seconds === null ? "no report of it received" : inline(lastHeardText(seconds))}`;
+/** "Alpha (77b2ceb8) is lost: last heard 12 s ago", or in its planned silence (`until`, its end) "Alpha (77b2ceb8) is
+ * out of comms (planned) until 14:20 UTC: last heard 12 s ago"; `seconds` null: no report of it received. */
+export function lostText(vehicle: string, seconds: number | null, until: number | null = null): string {
+  return `${vehicle} is ${inline(linkOrPlanned("lost", until))}: ${seconds === null ? "no report of it received" : inline(lastHeardText(seconds))}`;
 }
 
 // Alarm management on a watch: shelves, chattering, floods and planned silences, said with the table's words.
@@ -233,9 +234,9 @@ export function floodText(cause: string, n: number): string {
   return `${cause}: ${n} ${n === 1 ? "vehicle" : "vehicles"}`;
 }
 
-/** A vehicle in its planned silence: "Out of comms (planned) until 14:20". */
+/** A vehicle lost in its planned silence: "Out of comms (planned) until 14:20 UTC", wherever it is named. */
 export function plannedText(until: number): string {
-  return `${LINK.planned} until ${clockTime(until)}`;
+  return `${LINK.planned} until ${clockTime(until)} UTC`;
 }
 
 /** "2 out of comms (planned)": the vehicles lost in their planned silence. */
@@ -244,11 +245,18 @@ export function plannedCount(n: number): string {
 }
 
 /** A planned silence as the list of them says it: "Alpha: out of comms (planned) until 14:20 UTC: dive (declared by
- * alice)". */
-export function plannedEntry(vehicle: string, until: number, reason: string, by: string | null): string {
-  return `${vehicle}: ${inline(LINK.planned)} until ${clockTime(until)} UTC: ${reason}${by ? ` (declared by ${by})` : ""}`;
+ * alice on watch)". */
+export function plannedEntry(vehicle: string, until: number, reason: string, by: string | null, station: string | null): string {
+  const who = by || station ? ` (declared${by ? ` by ${by}` : ""}${station ? ` on ${station}` : ""})` : "";
+  return `${vehicle}: ${inline(plannedText(until))}: ${reason}${who}`;
 }
 
-export function plannedTitle(reason: string, by: string | null): string {
-  return `planned silence${by ? ` declared by ${by}` : ""}: ${reason}; a loss raises no alarm until then and the console's grace after it`;
+/** A vehicle's link in a word, its planned silence's words when it is lost in one (`plannedUntil`, see the store's
+ * plannedUntil): "Lost", or "Out of comms (planned) until 14:20 UTC". */
+export function linkOrPlanned(link: LinkState | "stale" | "unreachable", until: number | null): string {
+  return until !== null ? plannedText(until) : linkText(link);
+}
+
+export function plannedTitle(reason: string, by: string | null, station: string | null): string {
+  return `planned silence${by ? ` declared by ${by}` : ""}${station ? ` on ${station}` : ""}: ${reason}; a loss raises no alarm until then and the console's grace after it`;
 }

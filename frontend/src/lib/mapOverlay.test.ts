@@ -9,7 +9,7 @@ const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < 
 
 describe("whose name wins where names overlap", () => {
   const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
-    id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, projection: null, heardS: null, ...over,
+    id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, projection: null, heardS: null, plannedUntil: null, ...over,
   });
   it("the selected vehicle's first, then those in alarm or lost, then the others in the fleet's order", () => {
     const fleet = [mark("well"), mark("alarmed", { alarmed: true }), mark("lost", { link: "lost" }), mark("selected", { selected: true })];

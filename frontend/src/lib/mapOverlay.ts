@@ -6,7 +6,7 @@
 // after each of its fixes. No React render at all.
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
-import { inline, lastHeardText, linkText } from "./labels";
+import { inline, lastHeardText, linkOrPlanned } from "./labels";
 import { projectionText } from "./projection";
 import { vehicleColor } from "./vehicle";
 
@@ -137,18 +137,21 @@ export class VehicleOverlay {
       seen.add(mark.id);
       const m = this.markers.get(mark.id) ?? this.add(mark);
       m.mark = mark;
-      const lost = mark.link === "lost";
-      const text = lost ? `${mark.label} · ${inline(linkText("lost"))}` : mark.label;
+      const planned = mark.plannedUntil !== null; // lost in its planned silence: named so, as everywhere
+      const lost = mark.link === "lost" && !planned;
+      const text = mark.link === "lost" ? `${mark.label} · ${inline(linkOrPlanned("lost", mark.plannedUntil))}` : mark.label;
       // a lost vehicle's name says when it was last heard (its arrow at the edge stays short)
-      const named = lost && mark.heardS !== null ? `${text} · ${inline(lastHeardText(mark.heardS))}` : text;
+      const named = mark.link === "lost" && mark.heardS !== null ? `${text} · ${inline(lastHeardText(mark.heardS))}` : text;
       if (m.label.textContent !== named) {
         m.label.textContent = named;
         m.labelSize = null;
       }
       m.label.classList.toggle("selected", mark.selected);
       m.label.classList.toggle("lost", lost);
+      m.label.classList.toggle("planned", planned);
       m.edge.classList.toggle("selected", mark.selected);
       m.edge.classList.toggle("lost", lost);
+      m.edge.classList.toggle("planned", planned);
       if (m.edgeName.textContent !== text) {
         m.edgeName.textContent = text;
         m.size = null;
@@ -325,7 +328,7 @@ export class VehicleOverlay {
       m.edge.style.transform = `translate(${Math.round(box.x)}px, ${Math.round(box.y)}px)`;
       m.arrow.style.transform = `rotate(${Math.round(edge.angleDeg)}deg)`;
       const away = distanceText(distanceM({ lon: centre.lng, lat: centre.lat }, this.positionOf(m)));
-      const said = `${m.mark.label}${m.mark.link === "lost" ? ` (${inline(linkText("lost"))})` : ""}: outside the map, ${away} from its middle. Show it`;
+      const said = `${m.mark.label}${m.mark.link === "lost" ? ` (${inline(linkOrPlanned("lost", m.mark.plannedUntil))})` : ""}: outside the map, ${away} from its middle. Show it`;
       if (m.edge.getAttribute("aria-label") !== said) {
         m.edge.setAttribute("aria-label", said);
         m.edge.title = `${said} and select it`;

@@ -10,10 +10,10 @@ import { createTask, problemText, putWorldModel, synchTask, type Capability, typ
 import { Confirm } from "../components/Confirm";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useVehicleNames } from "../data/hooks";
+import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useSilences, useVehicleNames } from "../data/hooks";
 import { LastHeard, LostFor } from "../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
-import { FINISHED } from "../data/store";
+import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
 import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
@@ -97,6 +97,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const vehicle = useSelectedVehicle();
   const nameOf = useVehicleNames();
   const lost = useLostVehicles(); // by id, when each was last heard
+  const silences = useSilences();
   const status = useComapStatus();
   const [deleted, setDeleted] = useState<unknown[]>([]); // ids deleted this session: never given again
   const [error, setError] = useState<string | null>(null);
@@ -322,7 +323,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
               <strong>
-                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
+                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={plannedUntil(silences, pending.target.id, "lost")} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
               </strong>{" "}
               It may reach the vehicle late, or not at all.
             </p>

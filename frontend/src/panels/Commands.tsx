@@ -7,9 +7,9 @@ import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
-import { selectedLostSince } from "../data/store";
+import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { cancelText, cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, umaa } from "../lib/labels";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -265,6 +265,7 @@ export function CommandsPanel() {
   const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);
   const lostSince = useSelector(selectedLostSince);
+  const until = useSelector(selectedPlannedUntil); // lost in its planned silence: out of comms as planned, no alarm
   const token = useToken();
   const connection = useConnectionState();
   const { command: mayCommand } = useCapabilities();
@@ -335,7 +336,7 @@ export function CommandsPanel() {
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
   const why = (a: Action, t: VehicleIdentity): string =>
-    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is lost: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${inline(linkOrPlanned("lost", until))}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
 
   return (
     <Panel title="Commands" testId="commands-panel">
@@ -356,8 +357,8 @@ export function CommandsPanel() {
       )}
       {/* no live region: its "last heard" counts every second */}
       {target && lost && lostSince !== null && (
-        <p className="alarm" data-testid="command-lost">
-          <LostFor target={target} since={lostSince} />.
+        <p className={until !== null ? "command-planned" : "alarm"} data-testid="command-lost">
+          <LostFor target={target} since={lostSince} until={until} />.
           {mayCommand && " A command waits until it is heard again; each one asks you to confirm."/* a replay sends none */}
         </p>
       )}
@@ -365,7 +366,7 @@ export function CommandsPanel() {
         {ACTIONS.map((a) => (
           <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
-            {lost && mayCommand && " (vehicle lost)"}
+            {lost && mayCommand && (until !== null ? " (out of comms)" : " (vehicle lost)")}
           </button>
         ))}
       </div>
@@ -398,7 +399,7 @@ export function CommandsPanel() {
           {shown.lost && (
             <p className="confirm-lost" data-testid="confirm-lost">
               <strong>
-                {lostSince !== null ? <LostFor target={shown.target} since={lostSince} /> : `${vehicleLabel(shown.target)} was lost`}. Send {shown.action.noun} anyway?
+                {lostSince !== null ? <LostFor target={shown.target} since={lostSince} until={until} /> : `${vehicleLabel(shown.target)} was lost`}. Send {shown.action.noun} anyway?
               </strong>{" "}
               It runs when the vehicle hears it, maybe much later.
             </p>

@@ -7,7 +7,7 @@ import type { Alarm } from "../api/generated/ws";
 import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useStore } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
-import { FLOOD_AT, lastHeardAt, pageTitle, report, select, shelved, unacknowledged, type ProviderView } from "../data/store";
+import { FLOOD_AT, lastHeardAt, pageTitle, plannedUntil, report, select, shelved, unacknowledged, type ProviderView } from "../data/store";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
 import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../lib/labels";
@@ -61,6 +61,7 @@ interface ChipProps {
   alarms: number;
   heardAt: number | null | undefined; // a lost vehicle's last-heard time (null: never heard); undefined: not lost
   silence: { until: number; title: string } | null; // a planned silence ("out of comms until")
+  until: number | null; // lost in its planned silence: when it ends (plannedUntil)
   recorded: boolean; // a replay: the link is the recording's
   selected: boolean;
   tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
@@ -68,10 +69,10 @@ interface ChipProps {
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, umaaVersion, alarms, heardAt, silence, recorded, selected, tabbable, onSelect }: ChipProps) {
+const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, umaaVersion, alarms, heardAt, silence, until, recorded, selected, tabbable, onSelect }: ChipProps) {
   // a vehicle lost during its planned silence: expected, said so rather than "Lost"
-  const planned = silence !== null && link === "lost";
-  const l: Word = planned ? { text: plannedText(silence.until), tone: "info", title: silence.title } : LINK[link];
+  const planned = until !== null;
+  const l: Word = planned ? { text: plannedText(until), tone: "info", title: silence?.title } : LINK[link];
   const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
   const fix = fixWord(fixValid, umaaVersion);
   const ins = insWord(insState, insStatus, umaaVersion);
@@ -183,7 +184,7 @@ export function FleetBar() {
   const open = useMemo(() => unacknowledged(alarms), [alarms]);
   const shelvedCountNow = useMemo(() => shelved(alarms).length, [alarms]);
   const silences = useSilences();
-  const silenceOf = useMemo(() => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by) }])), [silences]);
+  const silenceOf = useMemo(() => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by, x.station) }])), [silences]);
   const announced = useAnnunciation(alarms, open.length, muted);
   const onSelect = useMemo(() => (id: string) => store.update((s) => select(s, id)), [store]);
   const byVehicle = useMemo(() => {
@@ -195,15 +196,15 @@ export function FleetBar() {
   const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
   const lostAll = all.filter((c) => c.link === "lost");
   // lost during a planned silence: expected, counted apart
-  const planned = lostAll.filter((c) => silenceOf.has(c.p.id)).length;
-  const lost = lostAll.filter((c) => !silenceOf.has(c.p.id));
+  const planned = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) !== null).length;
+  const lost = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) === null);
   // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
   const stale = all.filter((c) => c.link === "stale").length;
   const notUpdating = all.filter((c) => c.link === "unreachable").length;
   const live = all.length - lostAll.length - stale - notUpdating;
   // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
   // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
-  const alarmed = all.filter((c) => (c.link !== "lost" || silenceOf.has(c.p.id)) && byVehicle.has(c.p.id));
+  const alarmed = all.filter((c) => !lost.includes(c) && byVehicle.has(c.p.id));
   const first = new Set([...lost, ...alarmed]);
   const chips = first.size ? [...lost, ...alarmed, ...all.filter((c) => !first.has(c))] : all;
   // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip: 250 chips by 250)
@@ -297,6 +298,7 @@ export function FleetBar() {
               alarms={byVehicle.get(p.id) ?? 0}
               heardAt={link === "lost" ? lastHeardAt(p) : undefined}
               silence={silenceOf.get(p.id) ?? null}
+              until={plannedUntil(silences, p.id, link)}
               recorded={recorded}
               selected={p.id === selected}
               tabbable={p.id === tabStop}

@@ -4,7 +4,7 @@ import { setToken, useToken } from "../data/auth";
 import { resetLayout, useThemeSetting, isThemeChoice } from "../data/settings";
 import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
 import { utc } from "../lib/units";
-import { useOperatorName } from "../data/loaders";
+import { useConsoleHealth, useOperatorName } from "../data/loaders";
 import { RecordControl } from "./Recording";
 
 const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
@@ -14,6 +14,7 @@ export function Header() {
   const playback = usePlayback();
   const { command } = useCapabilities();
   const consoleId = useSelector((s) => s.consoleId);
+  const station = useConsoleHealth()?.consoleName ?? null; // this station's name, as the shelves and silences say it
   const authRequired = useSelector((s) => s.authRequired);
   const readAuthRequired = useSelector((s) => s.readAuthRequired);
   const token = useToken();
@@ -42,7 +43,9 @@ export function Header() {
           Replay <span className="replay-file">{playback.status.file}</span>
         </span>
       )}
-      <span className="muted" title="console source GUID">{consoleId ? `console ${consoleId.slice(0, 8)}` : ""}</span>
+      <span className="muted" data-testid="console-station" title={consoleId ? `console source GUID ${consoleId}` : "console source GUID"}>
+        {station ? `station ${station}` : consoleId ? `console ${consoleId.slice(0, 8)}` : ""}
+      </span>
       <span className="spacer" />
       <RecordControl />
       {readAuthRequired && !token && (

@@ -7,7 +7,7 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useStore } from "../data/hooks";
+import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useStore } from "../data/hooks";
 import type { ProviderView } from "../data/store";
 import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
@@ -43,9 +43,10 @@ const SelectedRing = memo(function SelectedRing({ overlay, vehicle, now, selecte
   const fix = useSelectedTopic("GPSFixReport");
   const alarmed = useAlarmed();
   const receiving = useReceiving();
+  const silences = useSilences();
   const mark = useMemo(
-    () => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected, alarmed, receiving) : null),
-    [vehicle, fix, now, selected, alarmed, receiving],
+    () => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected, alarmed, receiving, silences) : null),
+    [vehicle, fix, now, selected, alarmed, receiving, silences],
   );
   useSelectedRing(overlay, mark);
   return null;
@@ -83,9 +84,10 @@ export function MapPanel() {
   // selected vehicle's ring with its newest fix on every frame after one (SelectedRing)
   const alarmed = useAlarmed();
   const receiving = useReceiving();
+  const silences = useSilences();
   const fleetAll = useMemo(
-    () => fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving)).filter((v): v is VehicleMark => v !== null),
-    [fleet, now, selected, alarmed, receiving],
+    () => fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving, silences)).filter((v): v is VehicleMark => v !== null),
+    [fleet, now, selected, alarmed, receiving, silences],
   );
   const selectedVehicle = useMemo(() => fleet.find((v) => v.id === selected), [fleet, selected]);
   const fleetData = useMemo<FleetData>(

@@ -49,7 +49,7 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
         <ul className="alarm-list" aria-label="Planned silences">
           {silences.map((x) => (
             <li key={x.id} className="alarm-entry" data-testid="planned-silence">
-              <span className="alarm-text">{plannedEntry(x.vehicle, x.until, x.reason, x.by)}</span>
+              <span className="alarm-text">{plannedEntry(x.vehicle, x.until, x.reason, x.by, x.station)}</span>
               {mayAct && (
                 <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${x.vehicle}`}>
                   Cancel silence

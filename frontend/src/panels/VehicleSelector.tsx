@@ -1,11 +1,11 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { useFocusWhenGone } from "../components/focus";
 import { VehicleTag } from "../components/VehicleTag";
-import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useStore } from "../data/hooks";
-import { lastHeardAt, report, select } from "../data/store";
+import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useStore } from "../data/hooks";
+import { lastHeardAt, plannedUntil, report, select } from "../data/store";
 import { LastHeard } from "../components/LastHeard";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../lib/freshness";
-import { fixWord, inline, insWord, linkText } from "../lib/labels";
+import { fixWord, inline, insWord, linkOrPlanned } from "../lib/labels";
 import { age } from "../lib/units";
 import { vehicleMatcher } from "../lib/vehicle";
 import { STALE_AFTER_S } from "./FleetBar";
@@ -65,6 +65,7 @@ export function VehicleSelector() {
   const signedOut = useConnectionState() === "signed-out";
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
   const receiving = useReceiving();
+  const silences = useSilences();
   const list = useRef<HTMLElement>(null);
   const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
   const [searches, setSearches] = useState(0); // a new search field (empty) each time the list clears it
@@ -121,6 +122,7 @@ export function VehicleSelector() {
         const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
         const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
+        const until = plannedUntil(silences, p.id, link); // lost in its planned silence: named so, not lost
         const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
         const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid, p.umaaVersion);
         const ins = report(p, "InertialSensorReport");
@@ -137,8 +139,8 @@ export function VehicleSelector() {
             <span className="vehicle-name">
               <VehicleTag v={p} />
             </span>
-            <span className={`link link-${link}${rec ? " recorded" : ""}`} data-testid="vehicle-link" title={rec ? RECORDED_TITLE : undefined}>
-              {stateWords(linkText(link), rec)}
+            <span className={`link link-${until !== null ? "planned" : link}${rec ? " recorded" : ""}`} data-testid="vehicle-link" title={rec ? RECORDED_TITLE : undefined}>
+              {stateWords(linkOrPlanned(link, until), rec)}
             </span>
             <span className="vehicle-meta">
               {p.umaaVersion && (

@@ -16,6 +16,7 @@ const mark = (id: string, lon: number, lat: number, courseDeg: number | null = n
   alarmed: false,
   projection: null,
   heardS: null,
+  plannedUntil: null,
 });
 
 // a view of 1000 x 500 px, north up, 1 px per 1e-6 of Mercator's unit square, its top left at mercator(0, 0)

@@ -1,7 +1,8 @@
 // The map's sources and layers (MapLibre style), and what the vehicles' reports become on it.
 import { LngLatBounds, type GeoJSONSource, type Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection, Position } from "geojson";
-import { lastHeardAt, report, type ProviderView } from "../../data/store";
+import type { PlannedSilence } from "../../api/generated/ws";
+import { lastHeardAt, plannedUntil, report, type ProviderView } from "../../data/store";
 import { freshness } from "../../lib/freshness";
 import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
 import { deadReckon } from "../../lib/projection";
@@ -13,8 +14,8 @@ import { shortId } from "../../lib/vehicle";
 const FRAME_MAX_ZOOM = 14;
 
 /** `alarmed`: the vehicles with an unacknowledged alarm; `receiving`: the page hears the console (else nothing is
- * current: drawn stale). */
-export function vehicleMark(p: ProviderView, now: number, selected: string | null, alarmed: ReadonlySet<string>, receiving: boolean): VehicleMark | null {
+ * current: drawn stale); `silences`: the planned silences in force. */
+export function vehicleMark(p: ProviderView, now: number, selected: string | null, alarmed: ReadonlySet<string>, receiving: boolean, silences: readonly PlannedSilence[]): VehicleMark | null {
   const fix = report(p, "GPSFixReport");
   const st = report(p, "GPSFixStatusReport");
   const g = fix?.position2DWithTime?.geodeticPosition;
@@ -44,6 +45,7 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
     alarmed: alarmed.has(p.id),
     projection,
     heardS: link === "lost" ? Math.max(0, now - (lastHeardAt(p) ?? now)) : null,
+    plannedUntil: plannedUntil(silences, p.id, link),
   };
 }
 
