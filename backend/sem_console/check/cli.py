@@ -9,7 +9,7 @@ import traceback
 import uuid
 
 from sem_console.check.results import Stopped
-from sem_console.check.runner import COULD_NOT_TEST, STOPPED, Options, all_names, run
+from sem_console.check.runner import COULD_NOT_TEST, STOPPED, UMAA_VERSIONS, Options, all_names, run
 from sem_console.core.command_line import Parser, from_environment, ranged
 from sem_console.core.config import BusSettings
 
@@ -34,9 +34,10 @@ def _names(text: str) -> list[str]:
 def build_parser() -> argparse.ArgumentParser:
     d = Options()
     p = Parser(prog="sem-check", description=(
-        "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1: "
-        "the topics it serves (types and keys; QoS against the project's profile), its reports and, with "
-        "--commands, the command flow of section 4.1 and Figure 4. Read-only unless --commands is given. Exit code "
+        "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1 or, a UMAA 6.0 "
+        "provider, the 6.0 ICDs: the topics it serves (types and keys; QoS against the project's profile, or for 6.0 "
+        "against RTI's UMAAQoSLib, a warning), its reports and, with --commands, the command flow of section 4.1. "
+        "Read-only unless --commands is given. Exit code "
         "0: all passed, 1: a test failed, 2: could not test, 143/130: stopped by SIGTERM/SIGINT (the reports say "
         "what was done). DDS runs on loopback unless CYCLONEDDS_URI or SEM_DDS_INTERFACE/SEM_DDS_PEERS say otherwise."))
     p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
@@ -44,8 +45,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="the provider's source GUID; needed when several providers are on the domain")
     p.add_argument("--commands", action="store_true", help=(
         "run the command tests: sends GPSFix commands (the vehicle surfaces) and InertialSensor OFF/ON/RESTARTING "
-        "commands, and one of each addressed to another GUID; what will be sent is printed first. Without it no "
-        "command writer is created"))
+        "commands, and one of each addressed to another GUID (UMAA 6.0: InertialSensor INIT, each alignment, a cancel, "
+        "an update, GPS_ALIGN); what will be sent is printed first. Without it no command writer is created"))
+    p.add_argument("--umaa", choices=UMAA_VERSIONS, default=None, help=(
+        "test the provider as this UMAA version (default: the version of the topics its samples come on)"))
     p.add_argument("--junit", default=None, metavar="FILE", help=(
         "write a JUnit XML report to FILE; a name ending in / is a directory (made if missing) to write "
         "sem-check-<start, UTC>-<random>.xml in"))
@@ -85,7 +88,7 @@ def main(argv: list[str] | None = None) -> int:
         junit=args.junit, timeout=args.timeout, only=[n for group in args.only for n in group],
         skip=[n for group in args.skip for n in group], record=args.record, window=args.window, max_gap=args.max_gap,
         clock_offset=args.clock_offset, step_time=args.step_time, execute_time=args.execute_time,
-        interface=settings.dds_interface, peers=settings.dds_peers)
+        interface=settings.dds_interface, peers=settings.dds_peers, umaa=args.umaa)
     # SIGTERM (a CI job canceled or out of time) and Ctrl-C stop the run through its finally blocks, so every
     # command sent is disposed (Service Consumer Shutdown, ICD 4.1.6.2), and it reports what it did (runner.run).
     try:

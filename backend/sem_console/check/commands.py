@@ -18,6 +18,10 @@ through the ICD 4.1 flow, each status sequence followed by the console's Figure 
 - `commands.<Service>.destination`: a command addressed to another GUID, sent before the service's
   other commands, gets no status or ack from the provider (ICD 4.1: `destination`).
 
+A UMAA 6.0 provider's InertialSensor is tested with the 6.0 commands (`inertial_sensor_6_0`: each
+InertialSensorCmdEnumType command, a cancel, an update, the same alignment again, the cleanup and another
+destination), each failure naming its ICD 6.0 section; its samples are built by `umaa_6_0.py`.
+
 Any status sequence that breaks Figure 4 fails its test, quoting the transition, also when it comes
 after the test (after the cleanup: every command to the provider is watched until --step-time after its dispose);
 a command with no status within the answer time fails as unanswered, with the time waited, and the
@@ -35,13 +39,15 @@ from typing import Any, TextIO
 from cyclonedds.pub import DataWriter
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
 
-from sem_console.check import icd
+from sem_console.check import icd, umaa_6_0
 from sem_console.check.observe import Observer, StatusSeen
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer
 from sem_console.dds.bus import wait_for_acks
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import AnySem, Sem, Sem60, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
@@ -58,17 +64,22 @@ SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
 LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
 GPS_NAMES = [f"commands.GPSFix.{t}" for t in ("complete", "cancel", "cleanup", "destination")]
 INS_NAMES = [f"commands.InertialSensor.{t}" for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")]
+INS_NAMES_6_0 = [f"commands.InertialSensor.{t}" for t in
+                 (*(c.name for c in umaa_6_0.PLAN), "cancel", "update", umaa_6_0.LAST.name, "same", "cleanup", "destination")]
 ACTIVE = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING})
 SETTLED = {"RESTARTING": "ON"}  # the state an inertial sensor reporting this one ends in
 
-# Where the ICD has the provider take a step of the successful path after ISSUED
-STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "ICD 4.1.4.1 step 2", Status.EXECUTING: "ICD 4.1.4.1 step 3"}
-DESTINATION_REF = ("ICD 4.1: a command's destination directs it at one Service Provider, which responds to the commands "
+# Where the ICD has the provider take a step of the successful path after ISSUED (Version.flow's keys)
+STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "commanded", Status.EXECUTING: "executing"}
+DESTINATION_REF = (": a command's destination directs it at one Service Provider, which responds to the commands "
                    "addressed to its ID")
 
 
-def names() -> list[str]:
-    return GPS_NAMES + INS_NAMES
+def names(version: icd.Version | None = None) -> list[str]:
+    """The command tests of a UMAA version (None: of every version, each name once)."""
+    if version is None:
+        return list(dict.fromkeys(GPS_NAMES + INS_NAMES + INS_NAMES_6_0))
+    return INS_NAMES_6_0 if version.name == umaa_6_0.V6_0.name else GPS_NAMES + INS_NAMES
 
 
 @dataclass
@@ -79,6 +90,8 @@ class Sent:
     session: uuid.UUID
     sample: Any
     sent_at: float  # the checker's clock, UTC seconds
+    to: uuid.UUID  # its destination
+    version: icd.Version
     case: Case | None = None  # the test a status of the command counts for (the cleanup test once it disposed it)
     foreign: bool = False  # addressed to another GUID than the provider's: it must not answer
     flow: CommandFlow = field(default_factory=CommandFlow)
@@ -90,7 +103,31 @@ class Sent:
     disposed_at: float | None = None  # when the checker disposed the command
     disposed_in: Status | None = None  # the command's status then
     seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
-    breaches_reported: int = 0  # of flow.violations, those already failed a case
+    breaches_reported: int = 0  # of `violations`, those already failed a case
+    updated_at: float | None = None  # when the checker updated it (UMAA 6.0: a newer timeStamp, ICD 6.0 4.1.4.2)
+    earlier: list[str] = field(default_factory=list)  # the story of each flow an update restarted
+    past: list[str] = field(default_factory=list)  # the violations of those flows, and of UPDATED out of place
+    counted: int = 0  # the transitions of those flows
+
+    @property
+    def refs(self) -> dict[str, str]:
+        return dict(self.version.flow)
+
+    @property
+    def violations(self) -> list[str]:
+        return self.past + self.flow.violations
+
+    @property
+    def transitions(self) -> int:
+        """Every transition seen, those of flows an update restarted included."""
+        return self.counted + len(self.flow.transitions)
+
+    def restart(self) -> None:
+        """ISSUED/UPDATED: the flow restarts at ISSUED (ICD 6.0 4.1.4.2); the story keeps what came before."""
+        self.earlier.append(self.story())
+        self.past += self.flow.violations
+        self.counted += len(self.flow.transitions)
+        self.flow, self.at = CommandFlow(), []
 
     def when(self, status: Status) -> float | None:
         for t, at in zip(self.flow.transitions, self.at, strict=True):
@@ -101,15 +138,20 @@ class Sent:
     def story(self) -> str:
         steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s"
                  for t, at in zip(self.flow.transitions, self.at, strict=True)]
-        return ", ".join(steps) or "no status"
+        if self.earlier and steps:  # the first status of a restarted flow is ISSUED/UPDATED on the wire
+            steps[0] = steps[0].replace("ISSUED/SUCCEEDED", "ISSUED/UPDATED", 1)
+        now = ", ".join(steps) or "no status"
+        return ", then ".join([*self.earlier, now]) if self.earlier else now
 
 
 class Consumer:
     """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
 
     def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO,
-                 progress: Progress | None = None) -> None:
+                 progress: Progress | None = None, version: icd.Version = icd.V3_0_1) -> None:
         self.observer, self.provider, self.limits, self.out, self.progress = observer, provider, limits, out, progress
+        self.version = version
+        self.six = version.name == umaa_6_0.V6_0.name
         self.source = uuid.uuid4()  # this run's consumer GUID (RFC 4122 version 4)
         self.writers: dict[Service, DataWriter[Any]] = {}
         self.sent: list[Sent] = []
@@ -118,7 +160,7 @@ class Consumer:
     def writer(self, service: Service) -> DataWriter[Any] | None:
         """The service's command writer, once it matched a reader of the provider's participants."""
         if service not in self.writers:
-            self.writers[service] = self.observer.bus.writer(service.command)
+            self.writers[service] = self.observer.bus.writer(self.topic(service, "command"))
         w = self.writers[service]
         participants = self.observer.source_participants.get(self.provider, set())
 
@@ -134,22 +176,43 @@ class Consumer:
 
         return w if self.observer.wait(matched, self.limits.answer) else None
 
-    def send(self, service: Service, writer: DataWriter[Any], state: InsState | None = None, case: Case | None = None,
-             destination: uuid.UUID | None = None) -> Sent:
+    def topic(self, service: Service, kind: str) -> AnySem:
+        """The service's command, status or ack topic in the provider's UMAA version."""
+        if self.six:
+            return {"command": Sem60.INS_COMMAND, "status": Sem60.INS_COMMAND_STATUS, "ack": Sem60.INS_COMMAND_ACK}[kind]
+        return {"command": service.command, "status": service.status, "ack": service.ack}[kind]
+
+    def send(self, service: Service, writer: DataWriter[Any], state: InsState | InsCmd | None = None,
+             case: Case | None = None, destination: uuid.UUID | None = None) -> Sent:
         """A command to the provider (or, `destination`, to another GUID); its statuses count for `case`."""
         session = uuid.uuid4()
-        values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(destination or self.provider),
-                                      sessionID=to_guid(session), timeStamp=now_datetime())
-        if service is Service.INERTIAL_SENSOR:
-            values["state"] = state
-        sample = service.command.spec.type(**values)
-        what = f"{icd.short(service.command)}" + (f" {state.name}" if state is not None else "")
-        sent = Sent(service, session, sample, time.time(), case, foreign=destination is not None)
+        to = destination or self.provider
+        sample: Any
+        if self.six:
+            assert isinstance(state, InsCmd)
+            sample = umaa_6_0.command(state, self.source, to, session)
+        else:
+            values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(to),
+                                          sessionID=to_guid(session), timeStamp=now_datetime())
+            if service is Service.INERTIAL_SENSOR:
+                values["state"] = state
+            sample = service.command.spec.type(**values)
+        what = f"{icd.short(self.topic(service, 'command'))}" + (f" {state.name}" if state is not None else "")
+        sent = Sent(service, session, sample, time.time(), to, self.version, case, foreign=destination is not None)
         self.sent.append(sent)  # before it is written: a SIGTERM or Ctrl-C from here on still disposes it (close)
-        to = f" addressed to {destination}, not to the provider" if destination is not None else ""
-        print(f"  sending {what}{to} (session {session})", file=self.out, flush=True)
+        elsewhere = f" addressed to {destination}, not to the provider" if destination is not None else ""
+        print(f"  sending {what}{elsewhere} (session {session})", file=self.out, flush=True)
         writer.write(sample)
         return sent
+
+    def update_command(self, sent: Sent) -> None:
+        """UMAA 6.0: write the command again with a newer timeStamp, the same source and sessionID: an update (ICD 6.0
+        4.1.4.2)."""
+        sent.sample = umaa_6_0.updated(sent.sample)
+        sent.updated_at = time.time()
+        print(f"  updating {icd.short(self.topic(sent.service, 'command'))} {sent.sample.state.name} (session "
+              f"{sent.session}): a newer timeStamp", file=self.out, flush=True)
+        self.writers[sent.service].write(sent.sample)
 
     def dispose(self, sent: Sent) -> None:
         if sent.disposed_at is None:
@@ -163,7 +226,9 @@ class Consumer:
         for s in statuses[sent.seen[0]:]:
             if s.source != self.provider:
                 continue
-            if s.sample is not None:
+            if s.sample is not None and self.six:
+                self._observe_6_0(sent, s.sample, s.received)
+            elif s.sample is not None:
                 t = sent.flow.observe(s.sample.commandStatus, s.sample.commandStatusReason, s.sample.logMessage)
                 if t is not None:
                     sent.at.append(s.received)
@@ -172,11 +237,37 @@ class Consumer:
         for a in acks[sent.seen[1]:]:
             if a.source != self.provider:
                 continue
-            if a.sample is not None and sent.ack is None:
-                sent.ack, sent.ack_at = a.sample, a.received
+            if a.sample is not None:  # the last one: a provider acks an updated command again (ICD 6.0 4.1.4.2)
+                sent.ack, sent.ack_at = a.sample, sent.ack_at or a.received
             if a.disposed:
                 sent.ack_disposed = True
         sent.seen = (len(statuses), len(acks))
+
+    def _observe_6_0(self, sent: Sent, sample: Any, received: float) -> None:
+        """A UMAA 6.0 status: its literals as the flow monitor's; ISSUED/UPDATED restarts the flow when it answers the
+        consumer's update of a running command, and is a breach otherwise (ICD 6.0 4.1.4.2; Figure 15)."""
+        status, reason = umaa_6_0.flow_status(sample)
+        last = sent.flow.transitions[-1] if sent.flow.transitions else None
+        if reason != umaa_6_0.UPDATED:
+            assert not isinstance(reason, str)
+            if sent.flow.observe(status, reason, sample.logMessage) is not None:
+                sent.at.append(received)
+            return
+        if last is not None and sent.earlier and last.status is Status.ISSUED and len(sent.flow.transitions) == 1:
+            return  # a repeat of the ISSUED/UPDATED already seen
+        story = sent.story()
+        if status is not Status.ISSUED:
+            sent.past.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
+        elif sent.updated_at is None:
+            sent.past.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
+                             "4.1.4.2: an update is a command with the same source and sessionID and a newer timeStamp)")
+        elif sent.flow.terminal:
+            sent.past.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
+                             "updated (ICD 6.0 4.1.4.2)")
+        else:
+            sent.restart()
+            sent.flow.observe(Status.ISSUED, Reason.SUCCEEDED, sample.logMessage)
+            sent.at.append(received)
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
         def fed() -> bool:
@@ -228,56 +319,67 @@ def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], 
     return ", ".join(sorted({str(s.source) for s in table.get(sent.session, []) if s.source != consumer.provider}))
 
 
-def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[Status] = frozenset()) -> bool:
+def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[Status] = frozenset(),
+           update_when: frozenset[Status] = frozenset()) -> bool:
     """Follow a command to a terminal status within the stated times (disposing it on reaching a status of
-    `cancel_when`); the Figure 4 verdict of every transition goes to the case. False when unanswered."""
+    `cancel_when`, updating it on reaching one of `update_when`); the Figure 4 verdict of every transition goes to the
+    case. False when unanswered."""
     limits = consumer.limits
+    ref = sent.refs
     answered = consumer.wait(sent, lambda: bool(sent.flow.transitions), limits.answer)
     if not answered:
         waited = time.time() - sent.sent_at
         others = other_sources(consumer, consumer.observer.statuses, sent)
         if others:  # answered, but not as the provider: say so, not "unanswered" (the network is fine)
             case.fail(f"the command's statuses came from source {others}, not from the provider's {consumer.provider} "
-                      f"(its reports' source) within {limits.answer:g} s (ICD 4.1.4 step 3: the provider publishes "
+                      f"(its reports' source) within {limits.answer:g} s ({ref['start']}: the provider publishes "
                       "ISSUED, as itself)")
             return False
         case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
-                  f"ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command){consumer.left()}")
+                  f"{ref['start']}: the provider publishes ISSUED when it receives a command){consumer.left()}")
         return False
     # A provider that keeps publishing transitions (each a Figure 4 breach) must not keep the checker forever.
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
     while not sent.flow.terminal:
         if time.time() > overall:
-            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command (ICD 4.1.4: every command "
-                      f"follows Figure 4 to its end); statuses: {sent.story()}")
+            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command ({ref['start'][:-7]}: "
+                      f"every command follows {ref['flow'].split(', ')[-1]} to its end); statuses: {sent.story()}")
             break
         status = sent.flow.status
         if status in cancel_when and sent.disposed_at is None:
             consumer.dispose(sent)
-        n = len(sent.flow.transitions)
+        if status in update_when and sent.updated_at is None:
+            consumer.update_command(sent)
+            overall = max(overall, time.time() + limits.answer + 3 * limits.step + limits.execute)
+        n = sent.transitions
         if status is Status.EXECUTING:
             deadline = sent.at[-1] + limits.execute
-            missing = (f"no COMPLETED (or another terminal status) after EXECUTING (ICD 4.1.4.2) within the stated "
+            missing = (f"no COMPLETED (or another terminal status) after EXECUTING ({ref['complete']}) within the stated "
                        f"{limits.execute:g} s")
         else:
             step = SUCCESS_NEXT.get(status)
             deadline = sent.at[-1] + limits.step
-            missing = (f"no {name(step)} after {name(status)} ({STEP_REF.get(step, 'ICD 4.1, Figure 4')}) within the "
+            missing = (f"no {name(step)} after {name(status)} ({ref[STEP_REF.get(step, 'flow')]}) within the "
                        f"stated {limits.step:g} s")
         if sent.disposed_at is not None:
             # CANCELED answers the dispose; a command that cannot be canceled runs on to COMPLETED (ICD 4.1.4.4)
             deadline = max(deadline, sent.disposed_at + limits.step)
-            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose (ICD 4.1.4.4), "
+            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose ({ref['cancel']}), "
                        f"nor {missing.removeprefix('no ')}")
 
+        if sent.updated_at is not None and not sent.earlier:  # the update is answered ISSUED/UPDATED
+            deadline = sent.updated_at + limits.step
+            missing = (f"no ISSUED/UPDATED within the stated {limits.step:g} s of the consumer's update of the "
+                       f"{name(status)} command (the same source and sessionID, a newer timeStamp: {ref['update']})")
+
         def moved(n: int = n) -> bool:
-            return len(sent.flow.transitions) > n
+            return sent.transitions > n
 
         if not consumer.wait(sent, moved, max(deadline - time.time(), 0.0)):
             case.fail(f"{missing}; statuses: {sent.story()}{consumer.left()}")
             break
     breaches(sent, case)
-    case.note(f"{icd.short(sent.service.command)} {sent.session}: {sent.story()}")
+    case.note(f"{icd.short(consumer.topic(sent.service, 'command'))} {sent.session}: {sent.story()}")
     return True
 
 
@@ -285,9 +387,10 @@ def breaches(sent: Sent, case: Case) -> None:
     """Fail the case for each Figure 4 breach of the command not reported yet: statuses keep coming
     after `follow` (during the ack, report, cancel and cleanup checks, and after: Consumer.settle), and
     each is checked too."""
-    for v in sent.flow.violations[sent.breaches_reported:]:
-        case.fail(f"Figure 4 breach: {v} (ICD 4.1, Figure 4); statuses: {sent.story()}")
-    sent.breaches_reported = len(sent.flow.violations)
+    figure = sent.refs["flow"].split(", ")[-1]
+    for v in sent.violations[sent.breaches_reported:]:
+        case.fail(f"{figure} breach: {v.replace('Figure 4', figure)} ({sent.refs['flow']}); statuses: {sent.story()}")
+    sent.breaches_reported = len(sent.violations)
 
 
 def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool = False) -> None:
@@ -296,28 +399,49 @@ def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool =
     if last is None or not sent.flow.terminal:
         return
     if sent.flow.status is Status.FAILED and rejectable:
-        case.note(f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer (ICD 4.1.4.3: the provider may "
-                  "reject a command)")
+        case.note(f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer ({sent.refs['failed']}: the "
+                  "provider may reject a command)")
     elif sent.flow.status is Status.FAILED:
-        case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" (ICD 4.1.4.3)")
+        case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" ({sent.refs['failed']})")
     elif sent.flow.status is Status.CANCELED and not canceled:
-        case.fail("CANCELED, though the consumer did not cancel it (ICD 4.1.4.4: CANCELED answers the consumer's dispose)")
+        case.fail(f"CANCELED, though the consumer did not cancel it ({sent.refs['cancel']}: CANCELED answers the consumer's "
+                  "dispose)")
 
 
 def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
     """The ack report of a command the provider ran (ICD 4.1.4.1 step 1)."""
     if sent.flow.status in (Status.FAILED, Status.CANCELED) and sent.when(Status.EXECUTING) is None:
         return  # rejected, failed or canceled before running: no ack is due
-    ack_topic = icd.short(sent.service.ack)
+    ack_topic = icd.short(consumer.topic(sent.service, "ack"))
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
         others = other_sources(consumer, consumer.observer.acks, sent)
         also = f" (one came from source {others}, not from the provider's {consumer.provider})" if others else ""
         case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status{also} "
-                  "(ICD 4.1.4.1 step 1: the provider publishes the ack of the command it processes)")
+                  f"({sent.refs['ack']}: the provider publishes the ack of the command it processes)")
         return
-    if sent.service is Service.INERTIAL_SENSOR and sent.ack.state is not sent.sample.state:
-        case.fail(f"{ack_topic} state {name(sent.ack.state)}, the command's is {sent.sample.state.name} (ICD 5.1.4.1, Table 16)")
+    if consumer.six:
+        _check_ack_6_0(consumer, sent, case, ack_topic)
+    elif sent.service is Service.INERTIAL_SENSOR and sent.ack.state is not sent.sample.state:
+        case.fail(f"{ack_topic} state {name(sent.ack.state)}, the command's is {sent.sample.state.name} ({sent.refs['ins ack']})")
     case.note(f"{ack_topic} +{(sent.ack_at or sent.sent_at) - sent.sent_at:.2f} s")
+
+
+def _check_ack_6_0(consumer: Consumer, sent: Sent, case: Case, ack_topic: str) -> None:
+    """A 6.0 ack carries the command it acknowledges (Table 11): its state, and after an update the updated command
+    (its timeStamp), acked again as the flow restarts (ICD 6.0 4.1.4.2, 4.1.4.1 step 1)."""
+    def current() -> bool:
+        c = umaa_6_0.ack_command(sent.ack)
+        return (c.timeStamp.seconds, c.timeStamp.nanoseconds) == (sent.sample.timeStamp.seconds,
+                                                                    sent.sample.timeStamp.nanoseconds)
+
+    command = umaa_6_0.ack_command(sent.ack)
+    if command.state is not sent.sample.state:
+        case.fail(f"{ack_topic} command.state {name(command.state)}, the command's is {sent.sample.state.name} "
+                  f"({sent.refs['ins ack']})")
+    elif sent.updated_at is not None and not consumer.wait(sent, current, consumer.limits.step):
+        case.fail(f"{ack_topic} still carries the command as it was before the consumer's update (its timeStamp) "
+                  f"{consumer.limits.step:g} s after the updated command's last status ({sent.refs['update']}: the flow "
+                  f"restarts through 4.1.4; {sent.refs['ack']}: the ack of the command it processes)")
 
 
 def check_silent(sent: Sent, case: Case) -> None:
@@ -325,12 +449,9 @@ def check_silent(sent: Sent, case: Case) -> None:
     if case.outcome is Outcome.FAILED or not (sent.flow.transitions or sent.ack is not None):
         return
     answered = [f"statuses {sent.story()}" if sent.flow.transitions else "", "an ack" if sent.ack is not None else ""]
-    case.fail(f"the provider answered the {icd.short(sent.service.command)} addressed to {_destination(sent)}, not to it "
-              f"({' and '.join(a for a in answered if a)}; {DESTINATION_REF})")
-
-
-def _destination(sent: Sent) -> str:
-    return str(uuid.UUID(bytes=bytes(sent.sample.destination)))
+    topic = icd.short(Sem60.INS_COMMAND) if sent.version.name == umaa_6_0.V6_0.name else icd.short(sent.service.command)
+    case.fail(f"the provider answered the {topic} addressed to {sent.to}, not to it "
+              f"({' and '.join(a for a in answered if a)}; {sent.refs['destination']}{DESTINATION_REF})")
 
 
 def await_disposes(consumer: Consumer, sent: Sent, case: Case, after: str, ref: str) -> None:
@@ -341,8 +462,8 @@ def await_disposes(consumer: Consumer, sent: Sent, case: Case, after: str, ref: 
         return sent.status_disposed and (sent.ack_disposed or not need_ack)
 
     if not consumer.wait(sent, done, consumer.limits.step):
-        left = [icd.short(t) for t, d in ((sent.service.status, sent.status_disposed),
-                                          (sent.service.ack, sent.ack_disposed or not need_ack)) if not d]
+        left = [icd.short(consumer.topic(sent.service, t)) for t, d in (("status", sent.status_disposed),
+                                                                        ("ack", sent.ack_disposed or not need_ack)) if not d]
         case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of {after} "
                   f"({ref}){consumer.left()}")
     else:
@@ -355,12 +476,12 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
     consumer.dispose(sent)
     sent.case = case
     await_disposes(consumer, sent, case, f"the consumer disposing the {name(sent.flow.status)} command {sent.session}",
-                   "ICD 4.1.5, Figure 15")
+                   sent.refs["cleanup"])
     breaches(sent, case)
 
 
 def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, offered: set[str],
-                     state: InsState | None = None, rejectable: bool = False) -> Sent:
+                     state: InsState | InsCmd | None = None, rejectable: bool = False) -> Sent:
     """One command through the flow to its end: the Figure 4 verdicts, how it ended, its ack and the report that
     shows its effect (ICD 4.1.4)."""
     sent = consumer.send(service, writer, state, case)
@@ -368,13 +489,15 @@ def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[An
         check_end(sent, case, rejectable=rejectable)
         if sent.flow.status is Status.COMPLETED:
             check_ack(consumer, sent, case)
-            (_check_fix_report if service is Service.GPS_FIX else _check_ins_report)(consumer, sent, offered, case)
+            check_report = (_check_fix_report if service is Service.GPS_FIX
+                            else _check_ins_report_6_0 if consumer.six else _check_ins_report)
+            check_report(consumer, sent, offered, case)
     breaches(sent, case)
     return sent
 
 
 def send_foreign(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case,
-                 state: InsState | None = None) -> Sent:
+                 state: InsState | InsCmd | None = None) -> Sent:
     """The destination test's command: addressed to a GUID no provider on the domain has."""
     other = uuid.uuid4()
     while other in consumer.observer.providers():
@@ -394,11 +517,11 @@ def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
     if case.outcome is Outcome.PASSED and not consumer.observer.present(consumer.provider):
         consumer.gone(case)  # its silence tells nothing
     elif case.outcome is Outcome.PASSED:
-        case.note(f"no status nor ack of the command addressed to {_destination(foreign)} in the "
+        case.note(f"no status nor ack of the command addressed to {foreign.to} in the "
                   f"{time.time() - foreign.sent_at:.1f} s after sending it")
 
 
-def _reports_since(consumer: Consumer, sem: Sem, since: float) -> list[dict[str, Any]]:
+def _reports_since(consumer: Consumer, sem: AnySem, since: float) -> list[dict[str, Any]]:
     return [r.body for r in consumer.observer.reports.get(sem, {}).get(consumer.provider, [])
             if r.alive and r.body is not None and r.received >= since]
 
@@ -412,7 +535,8 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
         reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
+                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+                  "command topic; "
                   f"see discovery.GPSFixCommand){consumer.left()}")
         return [c.fail(reason) if c.name in GPS_NAMES[:2] else c.skip(reason) for c in every if selected(c.name)]
     foreign = send_foreign(consumer, Service.GPS_FIX, writer, destination) if selected(destination.name) else None
@@ -461,10 +585,11 @@ def _check_fix_report(consumer: Consumer, sent: Sent, offered: set[str], case: C
                   "after (ICD 5.1.1.3: the platform surfaces to update its GPS position)")
 
 
-def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case) -> None:
+def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case, service: Service = Service.GPS_FIX,
+            state: InsCmd | None = None) -> None:
     """A command disposed while EXECUTING; when it completes before that, a second one disposed at its first status."""
     for when in (frozenset({Status.EXECUTING}), ACTIVE):
-        sent = consumer.send(Service.GPS_FIX, writer, case=case)
+        sent = consumer.send(service, writer, state, case=case)
         follow(consumer, sent, case, cancel_when=when)
         canceled = check_cancel(consumer, sent, case)
         breaches(sent, case)
@@ -473,7 +598,7 @@ def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case) -> None:
         case.note(f"{sent.session} COMPLETED before the checker could dispose it at "
                   + ", ".join(sorted(s.name for s in when)))
     case.skip("both commands COMPLETED before the checker could dispose them; cancel not tested (each one's status "
-              "and ack were disposed after its dispose, ICD 4.1.5)")
+              f"and ack were disposed after its dispose, {sent.refs['cleanup'].split(',')[0]})")
 
 
 def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
@@ -493,14 +618,15 @@ def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
         case.note(f"CANCELED/{name(last.reason)} +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose")
     elif status is Status.COMPLETED:
         case.note(f"COMPLETED +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose: the provider did not cancel it, "
-                  "which ICD 4.1.4.4 allows for a command that cannot be canceled")
+                  f"which {sent.refs['cancel']} allows for a command that cannot be canceled")
     else:
         check_end(sent, case, canceled=True)
     check_ack(consumer, sent, case)
     if sent.flow.terminal:
         await_disposes(consumer, sent, case, f"{name(status)}, the consumer having disposed the command at "
                        f"{name(sent.disposed_in)}",
-                       "ICD 4.1.4.4, Figure 14: CANCELED, or COMPLETED when it cannot be canceled, then the provider "
+                       f"{sent.refs['cancel']}, {sent.refs['cancel figure']}: CANCELED, or COMPLETED when it cannot be "
+                       "canceled, then the provider "
                        "disposes the command's status and ack")
     return True
 
@@ -547,7 +673,8 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
         reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s (ICD 4.1.2.1: the provider subscribes to the command topic; "
+                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+                  "command topic; "
                   f"see discovery.InertialSensorCommand){consumer.left()}")
         return [Case(n).fail(reason) if n not in (clean.name, destination.name) else Case(n).skip(reason)
                 for n in INS_NAMES if selected(n)]
@@ -624,8 +751,130 @@ def _check_ins_report(consumer: Consumer, sent: Sent, offered: set[str], case: C
                   "ICD 5.1.4.3 and 5.1.5.1)")
 
 
+def _check_ins_report_6_0(consumer: Consumer, sent: Sent, offered: set[str], case: Case) -> None:
+    """The InertialSensorReportType shows the command's effect from EXECUTING: INIT, or a stage of the commanded kind
+    of alignment (ICD 6.0 5.1.2.3, Table 13; 5.1.3.1, Table 15; 5.3.3, 5.3.4)."""
+    if "InertialSensorStatus" not in offered:
+        case.note("the provider does not serve InertialSensorReportType: the reported status not checked")
+        return
+    target: InsCmd = sent.sample.state
+    executing = sent.when(Status.EXECUTING) or sent.sent_at
+
+    def seen() -> bool:
+        return any(umaa_6_0.shows(target, b) for b in _reports_since(consumer, Sem60.INS_REPORT, executing))
+
+    if not consumer.wait(sent, seen, consumer.limits.step):
+        shown = [b.get("status") for b in _reports_since(consumer, Sem60.INS_REPORT, executing)]
+        what = "INIT" if target is InsCmd.INIT else f"a stage of its {target.name} alignment"
+        case.fail(f"COMPLETED, but the InertialSensorReportType did not show {what} from EXECUTING to "
+                  f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
+                  "ICD 6.0 5.1.2.3, Table 13; 5.1.3.1, Table 15; 5.3.3, Table 27; 5.3.4, Table 28)")
+
+
+def _update(consumer: Consumer, writer: DataWriter[Any], case: Case, clean: Case, offered: set[str]) -> Sent | None:
+    """UMAA 6.0: a GPS_ALIGN updated (the same source and sessionID, a newer timeStamp) while EXECUTING, or, when it
+    completes before that, a second one at its first status: ISSUED/UPDATED, then the flow again to its end, the ack of
+    the updated command, its report, and the cleanup (ICD 6.0 4.1.4.2). The finished command, or None."""
+    for when in (frozenset({Status.EXECUTING}), ACTIVE):
+        sent = consumer.send(Service.INERTIAL_SENSOR, writer, umaa_6_0.LAST, case)
+        if not follow(consumer, sent, case, update_when=when):
+            return None
+        if sent.updated_at is not None and sent.earlier:
+            check_end(sent, case)
+            if sent.flow.status is Status.COMPLETED:
+                check_ack(consumer, sent, case)
+                _check_ins_report_6_0(consumer, sent, offered, case)
+            breaches(sent, case)
+            return sent
+        ended = sent.at[-1] if sent.at else sent.sent_at
+        if sent.updated_at is not None and ended > sent.updated_at + consumer.limits.step:
+            case.fail(f"the provider ran the command on to {name(sent.flow.status)} without answering the consumer's "
+                      f"update ISSUED/UPDATED ({sent.refs['update']}); statuses: {sent.story()}")
+            return sent
+        case.note(f"{sent.session} {name(sent.flow.status)} before the checker could update it (or the provider "
+                  "could read the update) at " + ", ".join(sorted(s.name for s in when)))
+        breaches(sent, case)
+        cleanup(consumer, sent, clean)
+    case.skip("both commands ended before the checker could update them; update not tested")
+    return None
+
+
+def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
+    """UMAA 6.0's InertialSensorControl: each InertialSensorCmdEnumType command through the flow (umaa_6_0.PLAN, then
+    GPS_ALIGN last), a cancel, an update, GPS_ALIGN again (the alignment it is in: answered, or rejected), the cleanup
+    after each, and first a command to another destination, which the provider must not answer."""
+    cases: list[Case] = []
+    by = {n: Case(n) for n in INS_NAMES_6_0}
+    clean, destination = by["commands.InertialSensor.cleanup"], by["commands.InertialSensor.destination"]
+    if not consumer.observer.present(consumer.provider):
+        return [consumer.gone(c) for c in by.values() if selected(c.name)]
+    writer = consumer.writer(Service.INERTIAL_SENSOR)
+    if writer is None:
+        reason = (f"the provider's InertialSensorCommandType reader did not match the checker's command writer within "
+                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+                  f"command topic; see discovery.InertialSensorCommandType){consumer.left()}")
+        return [c.skip(reason) if c in (clean, destination) else c.fail(reason) for c in by.values() if selected(c.name)]
+    foreign = (send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, umaa_6_0.LAST)
+               if selected(destination.name) else None)
+    answered = True
+    finished: list[Sent] = []
+    steps: list[InsCmd | str] = [*umaa_6_0.PLAN, "cancel", "update", umaa_6_0.LAST, "same"]
+    for step in steps:
+        case = by[f"commands.InertialSensor.{step if isinstance(step, str) else step.name}"]
+        target = umaa_6_0.LAST if isinstance(step, str) else step  # same: the alignment the last GPS_ALIGN left
+        if not selected(case.name):
+            continue
+        with Timer(case, consumer.progress):
+            if not answered:
+                case.skip("the provider did not answer the previous InertialSensor command")
+            elif not consumer.observer.present(consumer.provider):
+                consumer.gone(case)
+            elif step == "cancel":
+                _cancel(consumer, writer, case, Service.INERTIAL_SENSOR, umaa_6_0.LAST)
+            elif step == "update":
+                done = _update(consumer, writer, case, clean, offered)
+                if done is not None and done.flow.terminal:
+                    finished.append(done)
+                    cleanup(consumer, done, clean)
+            else:
+                # same: a provider may reject it (ICD 6.0 4.1.4.4)
+                if step == "same" and not any(s.sample.state is target and s.flow.status is Status.COMPLETED
+                                              for s in finished):
+                    case.skip(f"needs a {target.name} that COMPLETED: see commands.InertialSensor.{target.name}")
+                else:
+                    rejectable = step == "same" or step in umaa_6_0.REJECTABLE
+                    sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target, rejectable)
+                    answered = bool(sent.flow.transitions)
+                    if sent.flow.terminal:
+                        finished.append(sent)
+                        cleanup(consumer, sent, clean)
+        if clean.outcome is Outcome.FAILED and consumer.progress is not None:
+            consumer.progress.add([clean])
+        cases.append(case)
+    if selected(clean.name):
+        if not finished:
+            clean.skip("needs a command that finished: see the commands.InertialSensor tests")
+        cases.append(clean)
+    if foreign is not None:
+        with Timer(destination, consumer.progress):
+            judge_foreign(consumer, foreign, destination)
+        cases.append(destination)
+    return cases
+
+
 def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
     cases: list[Case] = []
+    if consumer.six:
+        try:
+            if "InertialSensorControl" in offered:
+                cases += inertial_sensor_6_0(consumer, offered, selected)
+            else:
+                cases += [Case(n).skip("the provider does not offer the InertialSensorControl service")
+                          for n in INS_NAMES_6_0 if selected(n)]
+        finally:
+            consumer.close()
+        consumer.settle()
+        return cases
     try:
         if "GPSFixControl" in offered:
             cases += gps_fix(consumer, offered, selected)
@@ -644,8 +893,29 @@ def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) 
     return cases
 
 
+def plan_6_0(offered: set[str], selected: Callable[[str], bool]) -> list[str]:
+    """What --commands will send to a UMAA 6.0 provider."""
+    if "InertialSensorControl" not in offered:
+        return []
+    sends = [c.name for c in umaa_6_0.PLAN if selected(f"commands.InertialSensor.{c.name}")]
+    last = umaa_6_0.LAST.name
+    sends += [last] if selected(f"commands.InertialSensor.{last}") else []
+    sends += [f"{last} again (the alignment it is in)"] if selected("commands.InertialSensor.same") and last in sends else []
+    text = ", then ".join(sends)
+    extra = [what for test, what in (("cancel", f"one {last} canceled while executing (another when it completes first)"),
+                                     ("update", f"one {last} updated (a newer timeStamp) while executing"),
+                                     ("destination", "first one addressed to another GUID, which the vehicle must not answer"))
+             if selected(f"commands.InertialSensor.{test}")]
+    if sends:
+        text += f" (the inertial sensor is left aligned by {last})" if sends[-1].startswith(last) else ""
+    text = "; ".join(t for t in [text, *extra] if t)
+    return [f"InertialSensorCommandType: {text}"] if text else []
+
+
 def plan(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[str]:
     """What --commands will send, said before anything is sent."""
+    if consumer.six:
+        return plan_6_0(offered, selected)
     lines = []
 
     def elsewhere(text: str, what: str) -> str:  # the destination test's command

@@ -7,6 +7,10 @@ The provider's endpoints are those of its participants (the participants whose w
 source GUID). A service counts as offered when any of its topics is; then every topic of it is
 required (the service's operations table), and a service not offered at all is skipped: ICD
 compliance is per service (ICD 3.2).
+
+A UMAA 6.0 provider's topics are checked the same way against the UMAA 6.0 IDL (`umaa_6_0.V6_0`); 6.0 mandates
+no QoS, so its endpoints' QoS is compared with RTI's UMAAQoSLib, and each difference is a warning
+(`Case.warn`), not a failure.
 """
 
 from __future__ import annotations
@@ -19,11 +23,11 @@ from cyclonedds.core import DDSException, Policy, Qos
 from cyclonedds.dynamic import get_types_for_typeid
 from cyclonedds.util import duration
 
-from sem_console.check import icd
+from sem_console.check import icd, umaa_6_0
 from sem_console.check.observe import Observer
 from sem_console.check.results import Case, Progress, Timer
 from sem_console.dds.qos import TopicClass
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import AnySem, Sem
 
 # How long a peer's type object may take to arrive (XTypes type lookup). Cyclone takes a
 # dds_duration_t, in nanoseconds: a bare 3000 would be 3 us, and a remote type would go unchecked.
@@ -31,7 +35,7 @@ RESOLVE_TIMEOUT = duration(seconds=3)
 PROFILE = "a choice of the project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule"
 
 
-def name(sem: Sem) -> str:
+def name(sem: AnySem) -> str:
     return f"discovery.{icd.short(sem)}"
 
 
@@ -129,11 +133,12 @@ class TypeCheck:
                 self._resolved[key] = f"its type object could not be resolved ({e})"
         return self._resolved[key]
 
-    def check(self, sem: Sem, endpoint: DcpsEndpoint, role: str, case: Case) -> list[str]:
+    def check(self, sem: AnySem, endpoint: DcpsEndpoint, role: str, case: Case, version: icd.Version = icd.V3_0_1) -> list[str]:
         problems = []
         expected = icd.type_name(sem)
+        ref, idl = version.topic_ref[sem], f"the {version.idl}"
         if endpoint.type_name != expected:
-            problems.append(f"type name {endpoint.type_name}; the UMAA 3.0.1 IDL names it {expected} ({icd.TOPIC_REF[sem]})")
+            problems.append(f"type name {endpoint.type_name}; {idl} names it {expected} ({ref})")
         if endpoint.type_id is None:
             case.caveat(f"members and keys not checked: {role} {endpoint.key} sent no type information")
             return problems
@@ -144,27 +149,28 @@ class TypeCheck:
         ours, theirs = icd.members(sem.spec.type), list(getattr(t, "__annotations__", {}))
         missing, extra = [m for m in ours if m not in theirs], [m for m in theirs if m not in ours]
         if missing or extra:
-            problems.append("members differ from the UMAA 3.0.1 IDL:" + (f" missing {', '.join(missing)}" if missing else "")
+            problems.append(f"members differ from {idl}:" + (f" missing {', '.join(missing)}" if missing else "")
                             + (";" if missing and extra else "") + (f" extra {', '.join(extra)}" if extra else "")
-                            + f" ({icd.TOPIC_REF[sem]})")
+                            + f" ({ref})")
         elif theirs != ours:
-            problems.append(f"members in another order than the UMAA 3.0.1 IDL ({', '.join(theirs)}): the order is the wire "
-                            f"layout ({icd.TOPIC_REF[sem]})")
+            problems.append(f"members in another order than {idl} ({', '.join(theirs)}): the order is the wire "
+                            f"layout ({ref})")
         want, have = icd.keys(sem.spec.type), icd.keys(t)
         if want != have:
-            problems.append(f"key members {{{', '.join(sorted(have)) or 'none'}}}; the UMAA 3.0.1 IDL keys "
-                            f"{{{', '.join(sorted(want))}}} ({icd.key_ref(sem)}: the members marked *)")
+            problems.append(f"key members {{{', '.join(sorted(have)) or 'none'}}}; {idl} keys "
+                            f"{{{', '.join(sorted(want))}}} ({version.key_ref(sem)}: the members marked *)")
         extensibility = getattr(t, "__idl_annotations__", {}).get("extensibility")
         case.note(f"{role} {endpoint.key}: type {endpoint.type_name}, keys {{{', '.join(sorted(have))}}}"
                   + (f", {extensibility}" if extensibility else ""))
         return problems
 
 
-def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progress | None = None) -> list[Case]:
+def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progress | None = None,
+        version: icd.Version = icd.V3_0_1) -> list[Case]:
     participants = observer.source_participants.get(provider, set())
     types = TypeCheck(observer)
     cases = []
-    for service in icd.SERVICES:
+    for service in version.services:
         offered = {sem: observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)
                    for sem in service.topics}
         for sem in service.topics:
@@ -172,13 +178,13 @@ def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progre
                 continue
             case = Case(name(sem))
             with Timer(case, progress):
-                _check_topic(observer, types, sem, service, offered, case)
+                _check_topic(observer, types, sem, service, offered, case, version)
             cases.append(case)
     return cases
 
 
-def _check_topic(observer: Observer, types: TypeCheck, sem: Sem, service: icd.ServiceDef,
-                 offered: dict[Sem, list[DcpsEndpoint]], case: Case) -> None:
+def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd.ServiceDef,
+                 offered: dict[AnySem, list[DcpsEndpoint]], case: Case, version: icd.Version = icd.V3_0_1) -> None:
     command = sem.spec.cls is TopicClass.COMMAND
     role = "reader" if command else "writer"
     if not any(offered.values()):
@@ -196,20 +202,28 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: Sem, service: icd.Se
         # first (its QoS and type information, to match the profile): the run's table shows a test's first failure only
         problems = [(f.message, True) for f in findings
                     if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)]
-        problems += [(p, False) for p in types.check(sem, e, role, case)]
-        problems += [(p, True) for p in (reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos))]
+        problems += [(p, False) for p in types.check(sem, e, role, case, version)]
+        if version.qos_reference is not None:  # no QoS mandated: a difference from the reference is a warning
+            for w in version.qos_reference(sem, e.qos, command):
+                case.warn(f"{role} {e.key}: {w}")
+        elif isinstance(sem, Sem):
+            problems += [(p, True) for p in (reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos))]
         if not command and not problems and not observer.matched_by_consumer(sem, e):
-            problems.append(("a consumer on the project's QoS profile did not match it (its type is not assignable to the "
-                             f"UMAA 3.0.1 IDL's: {icd.TOPIC_REF[sem]})", False))
+            consumer = ("a consumer on the project's QoS profile" if version.qos_reference is None
+                        else "a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2)")
+            problems.append((f"{consumer} did not match it (its type is not assignable to the {version.idl}'s: "
+                             f"{version.topic_ref[sem]})", False))
         for p, profile in problems:
             case.fail(f"{role} {e.key}: {p}", profile=profile)
-        if not problems:
+        if not problems and version.qos_reference is None:
             case.note(f"{role} {e.key}: QoS fits " + ("a consumer's command writer" if command
                                                       else "a consumer on the project's QoS profile"))
+        elif not problems and not case.warnings:
+            case.note(f"{role} {e.key}: QoS as RTI's UMAAQoSLib::{umaa_6_0.profile(sem)}")
 
 
-def offered_services(observer: Observer, provider: uuid.UUID) -> set[str]:
+def offered_services(observer: Observer, provider: uuid.UUID, version: icd.Version = icd.V3_0_1) -> set[str]:
     """The services of which the provider has any endpoint (see the module docstring)."""
     participants = observer.source_participants.get(provider, set())
-    return {s.name for s in icd.SERVICES for sem in s.topics
+    return {s.name for s in version.services for sem in s.topics
             if observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)}

@@ -7,6 +7,7 @@
           <failure message type="icd|profile">reason, then what was seen</failure>
             | <error message type>..</error> | <skipped message/>
           <system-out>what was seen (passed and skipped cases)</system-out>
+          <system-err>warning: ... (one line per warning: a UMAA 6.0 QoS that differs from RTI's UMAAQoSLib)</system-err>
         </testcase>
       </testsuite>
     </testsuites>
@@ -18,7 +19,9 @@ its one-line reason and its text the reason followed by what was seen (the statu
 other problems), which is what a CI's test view shows under the failure; its type is `icd` when a failure of the case
 breaks an ICD 3.0.1 rule and `profile` when each breaks a choice of the project's QoS profile (docs/dds.md:
 reliability, durability, ownership, partition, deadline, data representation), which the ICD
-leaves open (the common schema has no properties per test case; the type is what CIs show). A run that could not
+leaves open (the common schema has no properties per test case; the type is what CIs show). A UMAA 6.0
+provider's QoS is compared with RTI's UMAAQoSLib, since 6.0 mandates none: a difference is a warning, not a failure,
+one `warning: ...` line each in the case's <system-err>, which CIs show beside a passed test. A run that could not
 test (exit code 2) is one case, `sem-check.setup`, with an <error>: the first line as its
 message, the whole message (e.g. the list of providers to choose from) as its text. A run stopped
 by SIGTERM or SIGINT lists every selected test: those finished as they ended, the one running with
@@ -80,6 +83,8 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
             ET.SubElement(case, "error", {"message": c.reason, "type": "stopped"}).text = "\n".join([c.reason, *c.notes])
         if c.notes and c.outcome not in (Outcome.FAILED, Outcome.ERROR):
             ET.SubElement(case, "system-out").text = "\n".join(c.notes)
+        if c.warnings:  # a difference from a reference no rule mandates (UMAA 6.0 QoS): the case still passes
+            ET.SubElement(case, "system-err").text = "\n".join(f"warning: {w}" for w in c.warnings)
     for el in root.iter():
         el.attrib = {k: _xml_safe(v) for k, v in el.attrib.items()}
         el.text = el.text and _xml_safe(el.text)

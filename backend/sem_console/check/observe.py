@@ -10,6 +10,12 @@ discovery test says why it does not match. The command topics are read only for 
 
 Samples are taken raw (their CDR as received) and decoded by the console's `Decoder`, the one
 decode path of the console and its replays; the raw samples also go to the recorder (`--record`).
+
+UMAA 6.0 topics (`Sem60`) are read too: each report topic by a best-effort volatile reader, which matches
+any writer (6.0 mandates no QoS; RTI's UMAAQoSLib writes reports best-effort), the command status and ack
+by a reliable volatile reader, as RTI's CommandQoS writes them. Their samples are decoded as the 6.0 IDL
+has them (`umaa_6_0.decode`), not as the console's model; each source's UMAA versions are noted from the
+topics its samples came on (`versions`).
 Endpoints come from Cyclone's built-in DCPSPublication and DCPSSubscription topics: topic and
 type name, QoS and, where the peer sends it, the XTypes type identifier.
 """
@@ -28,16 +34,18 @@ from cyclonedds.builtin_types import DcpsEndpoint
 from cyclonedds.core import InstanceState, Qos, ReadCondition
 from cyclonedds.sub import DataReader
 
+from sem_console.check import umaa_6_0
 from sem_console.codec.decode import Decoder, ReportItem, StatusItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem, Service, final_type_qos
+from sem_console.dds.topics import AnySem, Sem, Sem60, Service, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 from sem_console.recording.recorder import Recorder
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
-SEM_TOPICS = {sem.spec.name: sem for sem in Sem}
+SEM_TOPICS: dict[str, AnySem] = {sem.spec.name: sem for sem in [*Sem, *Sem60]}
 REPORTS = [sem for sem in Sem if sem.spec.cls is TopicClass.REPORT]
 TICK = 0.02  # s between takes while waiting
 
@@ -75,13 +83,16 @@ class Observer:
             readers = [bus.reader(sem, qos + final_type_qos(sem))]
             return readers + ([bus.reader(sem, qos, appendable=True)] if sem.spec.appendable is not None else [])
 
-        self.readers: list[tuple[Sem, DataReader[Any], bool]] = [
+        self.readers: list[tuple[AnySem, DataReader[Any], bool]] = [
             (sem, r, True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND for r in both(sem, reader_qos(sem.spec.cls))]
         self.readers += [(sem, r, False) for sem in REPORTS for r in both(sem, any_writer_reader_qos(sem.spec.cls))]
         if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
             self.readers += [(s.command, bus.reader(s.command), True) for s in Service]
+        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls) if sem.spec.cls is TopicClass.REPORT
+                                          else reader_qos(sem.spec.cls, durable=False)), True)
+                         for sem in Sem60 if sem.spec.cls is not TopicClass.COMMAND]
         self._conditions = [all_samples(r) for _, r, _ in self.readers]
-        self.consumer_readers: dict[Sem, list[DataReader[Any]]] = {}
+        self.consumer_readers: dict[AnySem, list[DataReader[Any]]] = {}
         for sem, r, consumer in self.readers:
             if consumer:
                 self.consumer_readers.setdefault(sem, []).append(r)
@@ -89,10 +100,11 @@ class Observer:
         self._subs = BuiltinDataReader(bus.participant, BuiltinTopicDcpsSubscription)
         self.publications: dict[uuid.UUID, DcpsEndpoint] = {}
         self.subscriptions: dict[uuid.UUID, DcpsEndpoint] = {}
-        self.reports: dict[Sem, dict[uuid.UUID, list[Report]]] = defaultdict(lambda: defaultdict(list))
+        self.reports: dict[AnySem, dict[uuid.UUID, list[Report]]] = defaultdict(lambda: defaultdict(list))
         self.statuses: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)  # by sessionID
         self.acks: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)
         self.alive_sources: dict[uuid.UUID, float] = {}  # provider source -> when first seen alive
+        self.versions: dict[uuid.UUID, set[UmaaVersion]] = defaultdict(set)  # of the topics its samples came on
         self.source_participants: dict[uuid.UUID, set[uuid.UUID]] = defaultdict(set)
         self._writer_participant: dict[int, uuid.UUID] = {}
         self.peers = PeerWatch(bus.participant)  # other vendors' participants: what their operator must change
@@ -142,7 +154,7 @@ class Observer:
             self._writer_participant[handle] = data.participant_key
         return self._writer_participant[handle]
 
-    def _take(self, sem: Sem, reader: DataReader[Any], consumer: bool, cond: ReadCondition) -> None:
+    def _take(self, sem: AnySem, reader: DataReader[Any], consumer: bool, cond: ReadCondition) -> None:
         while True:
             raw = take_cdr(reader, cond.mask, 256)  # raw CDR, as console/ingest.py takes it
             if isinstance(raw, int) or not raw:
@@ -151,13 +163,18 @@ class Observer:
             tapped: list[tuple[bytes, bool, int, int]] = []
             for data, info in raw:
                 handle = info.publication_handle & _U64
-                if consumer and self.recorder is not None and self.recorder.active:
+                six = isinstance(sem, Sem60)
+                if consumer and not six and self.recorder is not None and self.recorder.active:
                     tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
-                item = self.decoder.decode(sem, data, info.valid_data, info.instance_state, now)
+                item = (umaa_6_0.decode(sem, data, info.valid_data, info.instance_state, now) if isinstance(sem, Sem60)
+                        else self.decoder.decode(sem, data, info.valid_data, info.instance_state, now))
                 if item is None:
+                    if six:
+                        self.decoder.undecodable[sem.spec.name] = self.decoder.undecodable.get(sem.spec.name, 0) + 1
                     continue  # undecodable (counted by the decoder) or a command topic (recorded only)
                 if item.alive:
                     self.alive_sources.setdefault(item.source, now)
+                    self.versions[item.source].add(UMAA_6_0 if six else UMAA_3_0_1)
                     participant = self._participant_of(reader, handle)
                     if participant is not None:
                         self.source_participants[item.source].add(participant)
@@ -169,7 +186,7 @@ class Observer:
                     table = self.statuses if item.kind == "status" else self.acks
                     disposed = info.instance_state == InstanceState.NotAliveDisposed
                     table[item.session].append(StatusSeen(now, item.source, item.sample, disposed))
-            if tapped and self.recorder is not None and self.recorder.active:
+            if tapped and isinstance(sem, Sem) and self.recorder is not None and self.recorder.active:
                 self.recorder.on_samples(sem, tapped, time.time_ns())
             if len(raw) < 256:
                 return
@@ -194,7 +211,11 @@ class Observer:
         participants = self.source_participants.get(source, set())
         return any(e.participant_key in participants for t in (self.publications, self.subscriptions) for e in t.values())
 
-    def endpoints(self, participants: set[uuid.UUID], sem: Sem, writers: bool) -> list[DcpsEndpoint]:
+    def version(self, source: uuid.UUID) -> UmaaVersion:
+        """The UMAA version a provider speaks, by the topics its samples came on: 6.0 when any came on a 6.0 topic."""
+        return UMAA_6_0 if UMAA_6_0 in self.versions.get(source, set()) else UMAA_3_0_1
+
+    def endpoints(self, participants: set[uuid.UUID], sem: AnySem, writers: bool) -> list[DcpsEndpoint]:
         """The provider's writers (or readers) of a topic, found by its participants."""
         table = self.publications if writers else self.subscriptions
         return [e for e in table.values() if e.participant_key in participants and e.topic_name == sem.spec.name]
@@ -206,7 +227,7 @@ class Observer:
     def _matched_writers(self, sem: Sem) -> set[int]:
         return {h & _U64 for s, r, _ in self.readers if s is sem for h in r.get_matched_publications()}
 
-    def matched_by_consumer(self, sem: Sem, endpoint: DcpsEndpoint) -> bool:
+    def matched_by_consumer(self, sem: AnySem, endpoint: DcpsEndpoint) -> bool:
         """Whether one of the checker's consumer-QoS readers of the topic matched this writer."""
         return any(self._matched_by(reader, endpoint) for reader in self.consumer_readers.get(sem, []))
 

@@ -7,7 +7,9 @@
   RFC 4122, optional members well-formed when present, and the satellite counts consistent.
 
 Only what a consumer on the project's QoS profile received counts (observe.py). The ranges and enum checks of
-the console's decoder (codec/convert.py) apply, with the stricter ones of the ICD added here.
+the console's decoder (codec/convert.py) apply, with the stricter ones of the ICD added here. A UMAA 6.0
+provider's reports (GPSReportType, GlobalPoseReportType, InertialSensorReportType) are judged by the 6.0 ICDs'
+rules (`umaa_6_0.py`), each finding naming its 6.0 section.
 """
 
 from __future__ import annotations
@@ -21,9 +23,9 @@ from itertools import pairwise
 from typing import Any
 
 from sem_console.check import icd
-from sem_console.check.observe import REPORTS, Observer, Report
+from sem_console.check.observe import Observer, Report
 from sem_console.check.results import Case, Progress, Timer
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import AnySem, Sem
 
 MAX_PROBLEMS = 5  # kinds of problem quoted per case; the rest are counted
 MAX_VALUES = 3  # values quoted per kind of problem
@@ -36,30 +38,38 @@ class ReportLimits:
     clock_offset: float  # s a timeStamp may differ from the checker's clock on arrival
 
 
-def names(sem: Sem) -> tuple[str, str]:
+def names(sem: AnySem) -> tuple[str, str]:
     return f"reports.{icd.short(sem)}.timing", f"reports.{icd.short(sem)}.values"
 
 
-def stamp(body: dict[str, Any]) -> tuple[float | None, tuple[str, str] | None]:
+# Where the ICD has the rules of the timing test (UMAA 6.0's: umaa_6_0.TIMING_REFS)
+TIMING_REFS = {"stamp": "ICD 5.2.1, Table 21", "datetime": "ICD 5.2.6, Table 26; Table 45", "utc": "ICD 5.2.6",
+               "publish": "ICD 4.2.1", "update": "ICD 4.2.1.1", "seconds": "seconds >= 0, "}
+
+
+def stamp(body: dict[str, Any], refs: dict[str, str] = TIMING_REFS) -> tuple[float | None, tuple[str, str] | None]:
     """The report's timeStamp in seconds, or what makes it no DateTime (ICD 5.2.6, Table 26): its kind, and the
     sample's own text (its values differ from sample to sample; the kind does not)."""
     ts = body.get("timeStamp") or {}
     s, ns = ts.get("seconds"), ts.get("nanoseconds")
     if not isinstance(s, int) or not isinstance(ns, int):
-        return None, ("missing", "timeStamp missing or unreadable (ICD 5.2.1, Table 21: every report has its timeStamp)")
-    if s < 0 or not 0 <= ns <= 999_999_999:
-        return None, ("no DateTime", f"timeStamp {s} s {ns} ns is not a DateTime (seconds >= 0, nanoseconds "
-                      "0..999999999: ICD 5.2.6, Table 26; Table 45)")
+        return None, ("missing", f"timeStamp missing or unreadable ({refs['stamp']}: every report has its timeStamp)")
+    if (s < 0 and refs["seconds"]) or not 0 <= ns <= 999_999_999:
+        return None, ("no DateTime", f"timeStamp {s} s {ns} ns is not a DateTime ({refs['seconds']}nanoseconds "
+                      f"0..999999999: {refs['datetime']})")
     return s + ns / 1e9, None
 
 
-def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limits: ReportLimits, case: Case) -> None:
+def check_timing(sem: AnySem, samples: list[Report], start: float, end: float, limits: ReportLimits, case: Case,
+                 version: icd.Version = icd.V3_0_1) -> None:
+    refs: dict[str, str] = version.extra.get("timing", TIMING_REFS)
     topic = icd.short(sem)
     live = [r for r in samples if r.alive and r.body is not None]
     if any(not r.alive for r in samples):
         case.note(f"the provider disposed its {topic} (or its writer left) during the run")
     if not live:
-        case.fail(f"no {topic} from the provider within {end - start:.1f} s (ICD 4.2.1: the provider publishes its reports)")
+        case.fail(f"no {topic} from the provider within {end - start:.1f} s ({refs['publish']}: the provider publishes its "
+                  "reports)")
         return
     arrivals = [start] + [r.received for r in live if r.received <= end] + [end]
     gap = max(b - a for a, b in pairwise(arrivals))
@@ -71,7 +81,7 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
     problems: dict[str, list[float]] = {}
     unreadable: dict[str, str] = {}  # a bad timeStamp's kind -> the first such sample's text
     for r in live:
-        t, bad = stamp(r.body or {})
+        t, bad = stamp(r.body or {}, refs)
         if bad:
             kind, text = bad
             unreadable.setdefault(kind, text)
@@ -90,16 +100,17 @@ def check_timing(sem: Sem, samples: list[Report], start: float, end: float, limi
     for kind, seen in problems.items():
         times = f" ({len(seen)} of {len(live)} samples)" if len(seen) > 1 else ""
         if kind == "went back":
-            case.fail(f"{topic} timeStamp went back {max(seen):.3f} s{times} (ICD 5.2.1: the time the data was derived)")
+            case.fail(f"{topic} timeStamp went back {max(seen):.3f} s{times} ({refs['stamp'].split(',')[0]}: the time the "
+                      "data was derived)")
         elif kind == "offset":
             worst = max(seen, key=abs)
             case.fail(f"{topic} timeStamp {worst:+.3f} s from the checker's clock on arrival{times}, beyond the stated "
-                      f"{limits.clock_offset:g} s (ICD 5.2.6: UTC)")
+                      f"{limits.clock_offset:g} s ({refs['utc']}: UTC)")
         else:
             case.fail(f"{topic} {unreadable[kind]}{times}")
     if gap > limits.max_gap:
         case.fail(f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
-                  "ICD 4.2.1.1: the provider publishes its updated reports)")
+                  f"{refs['update']}: the provider publishes its updated reports)")
     spread = f", timeStamp {min(offsets):+.3f}..{max(offsets):+.3f} s from the checker's clock" if offsets else ""
     case.note(f"{len(live)} {topic} samples, {rate:.2f}/s over {end - start:.1f} s, longest gap {gap:.2f} s{spread}")
 
@@ -174,7 +185,15 @@ _MORE: dict[Sem, Callable[[dict[str, Any], Report, ReportLimits], list[str | Non
 }
 
 
-def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Case) -> None:
+def _source_problem(source: Any) -> str | None:
+    """The report's source: a NumericGUID (3.0.1), or UMAA 6.0's IdentifierType, whose `id` is one."""
+    if isinstance(source, dict):
+        return _guid_problem(source.get("id"), "source.id")
+    return _guid_problem(source, "source")
+
+
+def check_values(sem: AnySem, samples: list[Report], limits: ReportLimits, case: Case,
+                 version: icd.Version = icd.V3_0_1) -> None:
     topic = icd.short(sem)
     live = [r for r in samples if r.alive and r.body is not None]
     if not live:
@@ -184,9 +203,10 @@ def check_values(sem: Sem, samples: list[Report], limits: ReportLimits, case: Ca
     bad_samples = 0
     for r in live:
         assert r.body is not None
-        found: list[str | None] = [_icd_ref(p) for p in r.invalid]
-        found.append(_guid_problem(r.body.get("source"), "source"))
-        extra = _MORE.get(sem)
+        finding = version.extra.get("decoder_finding", _icd_ref)
+        found: list[str | None] = [finding(p) for p in r.invalid]
+        found.append(_source_problem(r.body.get("source")))
+        extra = _MORE.get(sem) if isinstance(sem, Sem) else version.value_checks.get(sem)
         if extra is not None:
             found += extra(r.body, r, limits)
         kept = [p for p in found if p]
@@ -253,11 +273,11 @@ def group(problems: list[str]) -> list[str]:
 
 
 def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
-        selected: Callable[[str], bool], progress: Progress | None = None) -> list[Case]:
+        selected: Callable[[str], bool], progress: Progress | None = None, version: icd.Version = icd.V3_0_1) -> list[Case]:
     cases = []
     undecodable = observer.decoder.undecodable
-    for sem in REPORTS:
-        service = icd.SERVICE_OF[sem].name
+    for sem in version.reports:
+        service = version.service_of[sem].name
         samples = observer.reports.get(sem, {}).get(provider, [])
         for test, check in zip(names(sem), ("timing", "values"), strict=True):
             if not selected(test):
@@ -267,11 +287,11 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
                 if service not in offered and not samples:
                     case.skip(f"the provider does not offer the {service} service")
                 elif check == "timing":
-                    check_timing(sem, samples, start, end, limits, case)
+                    check_timing(sem, samples, start, end, limits, case, version)
                 else:
                     if undecodable.get(sem.spec.name):
                         case.note(f"{undecodable[sem.spec.name]} {icd.short(sem)} samples on the bus (any provider) could "
-                                  "not be decoded as the UMAA 3.0.1 IDL type")
-                    check_values(sem, samples, limits, case)
+                                  f"not be decoded as the {version.idl} type")
+                    check_values(sem, samples, limits, case, version)
             cases.append(case)
     return cases

@@ -29,6 +29,7 @@ class Case:
     notes: list[str] = field(default_factory=list)  # what was seen (JUnit system-out)
     seconds: float = 0.0
     profile: bool = False  # each of its failures breaks a choice of the project's QoS profile, none an ICD rule
+    warnings: list[str] = field(default_factory=list)  # what differs from a reference no rule mandates (UMAA 6.0 QoS)
 
     @property
     def group(self) -> str:
@@ -66,6 +67,14 @@ class Case:
 
     def note(self, text: str) -> Case:
         self.notes.append(text)
+        return self
+
+    def warn(self, text: str) -> Case:
+        """A difference from a reference that no rule mandates (UMAA 6.0's QoS against RTI's UMAAQoSLib): the case
+        still passes; the first warning is its reason on the terminal, and the JUnit report lists them all."""
+        self.warnings.append(text)
+        if self.outcome is Outcome.PASSED and not self.reason:
+            self.reason = f"warning: {text}"
         return self
 
 
@@ -180,8 +189,12 @@ def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
     name_w = max([len(c.name) for c in cases] + [4])
     print(f"{'TEST':<{name_w}}  {'RESULT':<6}  {'TIME':>6}  REASON", file=out)
     for c in cases:
-        print(f"{c.name:<{name_w}}  {_MARK[c.outcome]:<6}  {c.seconds:>5.1f}s  {printable(c.reason)}".rstrip(), file=out)
+        mark = "warn" if c.outcome is Outcome.PASSED and c.warnings else _MARK[c.outcome]
+        more = f" (+{len(c.warnings) - 1} more warnings)" if c.outcome is Outcome.PASSED and len(c.warnings) > 1 else ""
+        print(f"{c.name:<{name_w}}  {mark:<6}  {c.seconds:>5.1f}s  {printable(c.reason)}{more}".rstrip(), file=out)
     n = counts(cases)
     errors = f", {n[Outcome.ERROR]} stopped" if n[Outcome.ERROR] else ""
-    print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped{errors} "
-          f"in {seconds:.1f} s", file=out)
+    warned = sum(1 for c in cases if c.outcome is Outcome.PASSED and c.warnings)
+    warnings = f" ({warned} with warnings)" if warned else ""
+    print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed{warnings}, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped"
+          f"{errors} in {seconds:.1f} s", file=out)

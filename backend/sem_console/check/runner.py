@@ -25,12 +25,12 @@ from pathlib import Path
 from typing import TextIO, cast
 
 from sem_console import __version__
-from sem_console.check import commands, discovery, icd, junit, reports
-from sem_console.check.observe import REPORTS, TICK, Observer
+from sem_console.check import commands, discovery, icd, junit, reports, umaa_6_0
+from sem_console.check.observe import TICK, Observer
 from sem_console.check.results import Case, Outcome, Progress, Selection, Stopped, summary
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.dds.config import describe
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, Sem60
 from sem_console.recording.recorder import Recorder, RecordingError
 
 SETTLE = 1.0  # s to keep looking for more providers after the first one is found
@@ -56,12 +56,23 @@ class Options:
     execute_time: float = 300.0
     interface: str = "lo"
     peers: str = "127.0.0.1"
+    umaa: str | None = None  # the UMAA version to test the provider as; None: the version of its topics
+
+
+VERSIONS = {v.name: v for v in (icd.V3_0_1, umaa_6_0.V6_0)}
+UMAA_VERSIONS = list(VERSIONS)
+
+
+def version_names(version: icd.Version) -> list[str]:
+    """The tests of a UMAA version, in the order they run."""
+    out = [discovery.name(sem) for s in version.services for sem in s.topics]
+    out += [n for sem in version.reports for n in reports.names(sem)]
+    return out + commands.names(version)
 
 
 def all_names() -> list[str]:
-    out = [discovery.name(sem) for s in icd.SERVICES for sem in s.topics]
-    out += [n for sem in REPORTS for n in reports.names(sem)]
-    return out + commands.names()
+    """Every test of every UMAA version, each name once (`--list`; what --only and --skip may name)."""
+    return list(dict.fromkeys(n for v in VERSIONS.values() for n in version_names(v)))
 
 
 class CouldNotTest(Exception):
@@ -122,7 +133,7 @@ def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
 
 
 def _topics_of(observer: Observer, source: uuid.UUID) -> list[str]:
-    return [icd.short(sem) for sem in Sem if source in observer.reports.get(sem, {})] or ["no report read yet"]
+    return [icd.short(sem) for sem in [*Sem, *Sem60] if source in observer.reports.get(sem, {})] or ["no report read yet"]
 
 
 class Evidence:
@@ -239,6 +250,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     name = run_name(started)  # of its --junit and --record files in a directory: the same for both
     selection = Selection(opts.only, opts.skip)
     names = all_names()
+    # the tests a stop reports: the version's once the provider is found (until then 3.0.1's, or --umaa's)
+    run_names = version_names(VERSIONS[opts.umaa or icd.V3_0_1.name])
     properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
                   "version": __version__}
 
@@ -306,12 +319,16 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         except CouldNotTest as e:
             return could_not(str(e))
         properties["provider"] = str(provider)
-        print(f"sem-check: provider {provider} on domain {opts.domain} ({net})", file=out)
+        version = VERSIONS[opts.umaa or observer.version(provider)]
+        properties["umaa"] = version.name
+        run_names = version_names(version)
+        how = "as --umaa says" if opts.umaa else "by the topics it serves"
+        print(f"sem-check: provider {provider} on domain {opts.domain} ({net}), UMAA {version.name} ({how})", file=out)
         print("sem-check: " + ("--commands: the command tests send commands to the provider" if opts.commands else
                                "read-only: no command is sent (--commands runs the command tests)"), file=out, flush=True)
         # A gap longer than --max-gap shows for sure only in a window of twice that (a provider that
         # reports every 1.5 x max-gap may show one report mid-window, with shorter gaps either side).
-        timing = any(selection(n) for n in names if n.startswith("reports.") and n.endswith(".timing"))
+        timing = any(selection(n) for n in run_names if n.startswith("reports.") and n.endswith(".timing"))
         window = max(opts.window, 2 * opts.max_gap) if timing else opts.window
         progress.setup(f"watching the provider's reports ({window:g} s)")  # before it is said: a signal may follow
         print(f"sem-check: watching its reports for {window:g} s", file=out, flush=True)
@@ -325,14 +342,14 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             print(f"sem-check: taken as the provider's, the only one on the domain: participant "
                   f"{', '.join(sorted(map(str, unclaimed)))}, which writes command statuses but has sent none yet",
                   file=out, flush=True)
-        offered = discovery.offered_services(observer, provider)
-        cases += discovery.run(observer, provider, selection, progress)
+        offered = discovery.offered_services(observer, provider, version)
+        cases += discovery.run(observer, provider, selection, progress, version)
         limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
-        cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection, progress)
+        cases += reports.run(observer, provider, offered, window_start, window_end, limits, selection, progress, version)
         progress.add(cases)
         if opts.commands:
             command_limits = commands.CommandLimits(opts.timeout, opts.step_time, opts.execute_time)
-            consumer = commands.Consumer(observer, provider, command_limits, out, progress)
+            consumer = commands.Consumer(observer, provider, command_limits, out, progress, version)
             ins_before = commands.ins_state(consumer)
             lines = commands.plan(consumer, offered, selection)
             if lines:
@@ -343,10 +360,10 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
             cases += commands.run(consumer, offered, selection)
         else:
             cases += [Case(n).skip("read-only run: --commands sends commands (a real vehicle's INS may be switched off)")
-                      for n in commands.names() if selection(n)]
+                      for n in commands.names(version) if selection(n)]
     except Stopped as e:  # every command sent is disposed by now (commands.run)
         stopped = e
-        cases = progress.stopped([n for n in names if selection(n)], e.name)
+        cases = progress.stopped([n for n in run_names if selection(n)], e.name)
     finally:
         signals.hold()  # a second signal must not cut the recording short
         changed = commands.ins_changed(consumer, ins_before) if consumer is not None else None

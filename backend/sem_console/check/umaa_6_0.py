@@ -1,0 +1,321 @@
+"""What `sem-check` knows of UMAA 6.0 (the SEM ICD 6.0 of 6 June 2024 and the SA ICD 6.0 for GlobalPoseStatus), as
+data: the services, their topics (named after their full type names) with the section and table of each, the rules
+for the values of the three reports, the QoS reference (RTI's UMAAQoSLib, since 6.0 mandates no QoS), the decoding
+of the samples a checker reads, and the building of the InertialSensor commands it sends.
+
+The command flow of 6.0 is 3.0.1's (the Figure 14 state machine is 3.0.1's Figure 4 under another number, and the
+literals keep their names though their ordinals are alphabetical now), plus UPDATED (ICD 6.0 4.1.4.2): a command of
+the same source and sessionID with a newer timeStamp restarts the flow at ISSUED/UPDATED. `flow_status` gives a
+status's literals as the flow monitor's, and says UPDATED apart.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import uuid
+from typing import Any
+
+from cyclonedds.core import InstanceState, Policy, Qos
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+from UMAA_6_0.Common import IdentifierType
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
+from UMAA_6_0.Common.Measurement import DateTime
+from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType
+
+from sem_console.check.icd import ServiceDef, Version
+from sem_console.codec import fastcdr
+from sem_console.codec.decode import Item, ReportItem, StatusItem, guid
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import AnySem, Sem60, Service
+from sem_console.umaa.samples import make, now_datetime
+from sem_console.versions import UMAA_6_0, umaa_6_0
+
+NIL = bytes(16)
+UPDATED = "UPDATED"  # the 6.0 reason 3.0.1 has not: the flow restarts at ISSUED (ICD 6.0 4.1.4.2)
+
+SERVICES = (
+    ServiceDef("GPSStatus", "ICD 6.0 5.1.1, Table 8", (Sem60.GPS_REPORT,)),
+    ServiceDef("InertialSensorControl", "ICD 6.0 5.1.2, Table 10",
+               (Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)),
+    ServiceDef("InertialSensorStatus", "ICD 6.0 5.1.3, Table 14", (Sem60.INS_REPORT,)),
+    ServiceDef("GlobalPoseStatus", "SA ICD 6.0 6.1.6, Table 18", (Sem60.GLOBAL_POSE_REPORT,)),
+)
+TOPIC_REF: dict[AnySem, str] = {
+    Sem60.GPS_REPORT: "ICD 6.0 5.1.1.1, Table 9", Sem60.INS_COMMAND_ACK: "ICD 6.0 5.1.2.1, Table 11",
+    Sem60.INS_COMMAND_STATUS: "ICD 6.0 5.1.2.2, Table 12", Sem60.INS_COMMAND: "ICD 6.0 5.1.2.3, Table 13",
+    Sem60.INS_REPORT: "ICD 6.0 5.1.3.1, Table 15", Sem60.GLOBAL_POSE_REPORT: "SA ICD 6.0 6.1.6.1, Table 19",
+}
+FLOW_REFS = {
+    "flow": "ICD 6.0 4.1, Figure 14", "start": "ICD 6.0 4.1.4 step 3", "ack": "ICD 6.0 4.1.4.1 step 1",
+    "commanded": "ICD 6.0 4.1.4.1 step 2", "executing": "ICD 6.0 4.1.4.1 step 3", "complete": "ICD 6.0 4.1.4.3",
+    "failed": "ICD 6.0 4.1.4.4", "cancel": "ICD 6.0 4.1.4.5", "cancel figure": "Figure 26",
+    "cleanup": "ICD 6.0 4.1.5, Figure 27", "subscribe": "ICD 6.0 4.1.2.1", "destination": "ICD 6.0 4.1",
+    "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command", "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
+    "update": "ICD 6.0 4.1.4.2",
+}
+# The test commands, in the order they are sent: INIT first (it also stops a running alignment), GPS_ALIGN, the
+# standard alignment, last (with the cancel and update tests before it), so the sensor is left aligned by GPS.
+PLAN = (InsCmd.INIT, InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN, InsCmd.TRANSFER_ALIGN)
+LAST = InsCmd.GPS_ALIGN
+# Alignments a provider may reject (a vehicle at sea cannot align stationary, a snap or transfer alignment needs a
+# feed the command does not carry): FAILED with its reason is an answer (ICD 6.0 4.1.4.4)
+REJECTABLE = frozenset({InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN, InsCmd.TRANSFER_ALIGN})
+# the InertialSensorOpStatusEnumType literals of each alignment kind (ICD 6.0 5.3.4, Table 28)
+_KIND = {InsCmd.BEST_ALIGN: "BEST_ALIGNMENT", InsCmd.GPS_ALIGN: "GPS_ALIGNMENT", InsCmd.SNAP_ALIGN: "SNAP_ALIGNMENT",
+         InsCmd.STATIONARY_ALIGN: "STATIONARY_ALIGNMENT", InsCmd.TRANSFER_ALIGN: "TRANSFER_ALIGNMENT"}
+
+
+def key_ref(sem: AnySem) -> str:
+    if sem.spec.cls is TopicClass.COMMAND:
+        return "ICD 6.0 5.2.2, Table 17 (UMAACommand)"
+    if sem.spec.cls is TopicClass.STATUS:
+        return "ICD 6.0 5.2.4, Table 19 (UMAACommandStatusBase)"
+    return "ICD 6.0 5.2.3, Table 18 (UMAAStatus)"
+
+
+# ---- the QoS reference: RTI's UMAAQoSLib (qos/umaa_qos_lib.xml of RTI's UMAA kit) -----------------------------------
+QOS_REFERENCE = "RTI's UMAAQoSLib, the reference sem-check compares with: UMAA 6.0 mandates no QoS"
+LIVELINESS = {True: 10.0, False: 5.0}  # CommandQoS's lease: a reader's 10 s, a writer's 5 s
+
+
+def profile(sem: AnySem) -> str:
+    """The UMAAQoSLib profile RTI's AssignerQoS gives the topic."""
+    return "TelemetryQoS" if sem.spec.cls is TopicClass.REPORT else "CommandQoS"
+
+
+def _policy(qos: Qos, policy: Any) -> Any:
+    try:
+        return qos[policy]
+    except (KeyError, TypeError):
+        return None
+
+
+def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
+    """How an endpoint's QoS differs from UMAAQoSLib's profile for its topic (AssignerQoS: *ReportType TelemetryQoS,
+    best-effort; *CommandType, *CommandStatusType and *CommandAckReportType CommandQoS, reliable, keep-all, with a
+    liveliness lease of 5 s for a writer and 10 s for a reader; both volatile)."""
+    name = profile(sem)
+    said = f"UMAAQoSLib::{name} has"
+    out = []
+    reliable = isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable)
+    if name == "TelemetryQoS" and reliable:
+        out.append(f"RELIABLE reliability; {said} BEST_EFFORT")
+    if name == "CommandQoS" and not reliable:
+        out.append(f"BEST_EFFORT reliability; {said} RELIABLE")
+    durability = _policy(qos, Policy.Durability)
+    if durability is not None and durability != Policy.Durability.Volatile:
+        out.append(f"{durability} durability; {said} VOLATILE")
+    if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
+        out.append(f"EXCLUSIVE ownership; {said} SHARED")
+    partition = _policy(qos, Policy.Partition)
+    if partition is not None and [p for p in partition.partitions if p]:
+        out.append(f"partition {', '.join(partition.partitions)}; {said} the default partition")
+    if name == "CommandQoS":
+        lease = _policy(qos, Policy.Liveliness)
+        seconds = getattr(lease, "lease_duration", None)
+        want = LIVELINESS[reader]
+        if not isinstance(seconds, int) or abs(seconds / 1e9 - want) > 1e-6:
+            have = "infinite" if not isinstance(seconds, int) or seconds >= 2**63 - 1 else f"{seconds / 1e9:g} s"
+            out.append(f"a liveliness lease of {have}; {said} {want:g} s for a {'reader' if reader else 'writer'}")
+    return [f"{d} ({QOS_REFERENCE})" for d in out]
+
+
+# ---- decoding what the checker reads -------------------------------------------------------------------------------
+def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: float) -> Item | None:
+    """A 6.0 sample as the checker judges it: a report as the 6.0 IDL's JSON (not the console's model), a status or ack
+    as its sample. None when it cannot be decoded."""
+    t = sem.spec.type
+    try:
+        if not valid:
+            invalid: list[str] = []
+            sample, body = t.deserialize_key(data), None
+            source = guid(getattr(sample, "source", None))
+        elif sem.spec.cls is TopicClass.REPORT:
+            body, invalid = fastcdr.decoder(t).json(data)
+            text = umaa_6_0.source_of(body)
+            source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
+            sample = None
+        else:
+            sample, body = fastcdr.decoder(t).sample(data), None
+            source = guid(getattr(sample, "source", None))
+    except Exception:  # any failure means: not decodable
+        return None
+    if source is None:
+        return None
+    alive = instance_state == InstanceState.Alive
+    if sem.spec.cls is TopicClass.REPORT:
+        return ReportItem(sem.spec.name, source, body, invalid, alive and valid, received, version=UMAA_6_0)
+    session = guid(getattr(sample, "sessionID", None))
+    if session is None:
+        return None
+    kind = "status" if sem is Sem60.INS_COMMAND_STATUS else "ack"
+    return StatusItem(Service.INERTIAL_SENSOR, kind, source, session, sample if valid else None, alive)
+
+
+def flow_status(sample: Any) -> tuple[Status | int, Reason | int | str]:
+    """A 6.0 status's commandStatus and commandStatusReason as the flow monitor's literals (their names are the same;
+    an ordinal the 6.0 enum has not stays an int); UPDATED as `UPDATED`."""
+    status, reason = sample.commandStatus, sample.commandStatusReason
+    s = Status[status.name] if hasattr(status, "name") else int(status)
+    if getattr(reason, "name", None) == UPDATED:
+        return s, UPDATED
+    return s, Reason[reason.name] if hasattr(reason, "name") else int(reason)
+
+
+# ---- the commands the checker sends --------------------------------------------------------------------------------
+def identifier(g: uuid.UUID) -> IdentifierType:
+    return make(IdentifierType, id=g.bytes, parentID=NIL)
+
+
+def now() -> DateTime:
+    t = now_datetime()
+    return DateTime(seconds=t.seconds, nanoseconds=t.nanoseconds)
+
+
+def command(state: InsCmd, source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID) -> InertialSensorCommandType:
+    """An InertialSensorCommandType (ICD 6.0 5.1.2.3, Table 13; UMAACommand, Table 17): the consumer's identifier
+    without a parent (its parentID the nil UUID, Table 24)."""
+    return make(InertialSensorCommandType, timeStamp=now(), source=identifier(source),
+                destination=identifier(destination), sessionID=session.bytes, state=state)
+
+
+def updated(sample: InertialSensorCommandType) -> InertialSensorCommandType:
+    """The same command with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
+    t, old = now(), sample.timeStamp
+    if (t.seconds, t.nanoseconds) <= (old.seconds, old.nanoseconds):
+        t = DateTime(seconds=old.seconds, nanoseconds=old.nanoseconds + 1) if old.nanoseconds < 999_999_999 \
+            else DateTime(seconds=old.seconds + 1, nanoseconds=0)
+    return make(InertialSensorCommandType, timeStamp=t, source=sample.source, destination=sample.destination,
+                sessionID=sample.sessionID, state=sample.state)
+
+
+def destination(sample: Any) -> uuid.UUID:
+    return uuid.UUID(bytes=bytes(sample.destination.id))
+
+
+def ack_command(ack: Any) -> Any:
+    """The command an InertialSensorCommandAckReportType carries (Table 11: the source command)."""
+    return ack.command
+
+
+def shows(state: InsCmd, body: dict[str, Any]) -> bool:
+    """Whether an InertialSensorReportType shows the commanded state: INIT for INIT, a stage of the commanded kind of
+    alignment for an alignment (ICD 6.0 5.3.3, Table 27; 5.3.4, Table 28), not its failure."""
+    status = str(body.get("status") or "")
+    if state is InsCmd.INIT:
+        return status == "INIT"
+    return _KIND[state] in status and not status.endswith("FAILURE")
+
+
+# ---- the values of the reports -------------------------------------------------------------------------------------
+SEM_TYPES = "ICD 6.0 5.4, Table 31"
+_SENT = re.compile(r"satellites: (\d+) elements")
+SA_TYPES = "SA ICD 6.0 6.4, Table 67"
+
+
+def _range(v: Any, lo: float, hi: float, path: str, ref: str) -> str | None:
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and not lo <= v <= hi:
+        return f"{path}: {v} outside {lo:g}..{hi:g} ({ref})"
+    return None
+
+
+def _identifier(body: dict[str, Any]) -> list[str | None]:
+    """The source's parentID: the nil UUID or an RFC 4122 GUID (ICD 6.0 5.2.9, Table 24)."""
+    parent = (body.get("source") or {}).get("parentID")
+    if parent is None or parent == str(uuid.UUID(int=0)):
+        return []
+    g = uuid.UUID(str(parent))
+    if g.variant != uuid.RFC_4122:
+        return [f"source.parentID: {g} is neither the nil UUID nor an RFC 4122 GUID (ICD 6.0 5.2.9, Table 24)"]
+    return []
+
+
+def gps_values(b: dict[str, Any], r: Any, _limits: Any) -> list[str | None]:
+    sats = b.get("satellites") or []
+    n = b.get("numberSatellitesInView")
+    out: list[str | None] = [*_identifier(b)]
+    # the decoder keeps the first 256 satellites and says how many came
+    count = max([len(sats)] + [int(m[1]) for p in r.invalid if (m := _SENT.match(p))])
+    if count > 300:
+        out.append(f"satellites: {count} elements, more than 300 ({TOPIC_REF[Sem60.GPS_REPORT]}: max size = 300)")
+    used = sum(1 for s in sats if s and s.get("usedInFix"))
+    if isinstance(n, int) and n < 0:
+        out.append(f"numberSatellitesInView {n} is negative ({TOPIC_REF[Sem60.GPS_REPORT]})")
+    elif isinstance(n, int) and used > n:
+        out.append(f"{used} satellites usedInFix but numberSatellitesInView is {n} ({TOPIC_REF[Sem60.GPS_REPORT]})")
+    for i, s in enumerate(sats):
+        if not s:
+            continue
+        p = f"satellites[{i}]"
+        out.append(_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", f"{SEM_TYPES}: Angle is -pi..pi"))
+        out.append(_range(s.get("elevation"), -math.pi, math.pi, f"{p}.elevation", f"{SEM_TYPES}: Angle is -pi..pi"))
+        out.append(_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", f"{SEM_TYPES}: RadioFrequencyHertz"))
+        number = s.get("satelliteID")
+        if isinstance(number, (int, float)) and (number < 0 or not float(number).is_integer()):
+            out.append(f"{p}.satelliteID: {number} is not a non-negative integer ({SEM_TYPES}: NaturalNumberCount)")
+    clock = b.get("clock") or {}
+    out.append(_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
+                      f"{SEM_TYPES}: RadioFrequencyHertz"))
+    return out
+
+
+def pose_values(b: dict[str, Any], _r: Any, _limits: Any) -> list[str | None]:
+    ref = TOPIC_REF[Sem60.GLOBAL_POSE_REPORT]
+    position = b.get("position") or {}
+    attitude = b.get("attitude") or {}
+    two_pi = 6.28318530718
+    out: list[str | None] = [
+        *_identifier(b),
+        _range(position.get("geodeticLatitude"), -90, 90, "position.geodeticLatitude", f"{SA_TYPES}: GeodeticLatitude"),
+        _range(position.get("geodeticLongitude"), -180, 180, "position.geodeticLongitude",
+               f"{SA_TYPES}: GeodeticLongitude"),
+        _range(b.get("course"), -two_pi, two_pi, "course", f"{SA_TYPES}: CourseTrueNorth"),
+        _range((attitude.get("pitch") or {}).get("pitch"), -math.pi / 2, math.pi / 2, "attitude.pitch.pitch",
+               f"{SA_TYPES}: PitchHalfAngle"),
+        _range((attitude.get("roll") or {}).get("roll"), -two_pi, two_pi, "attitude.roll.roll", f"{SA_TYPES}: RollAngle"),
+        _range((attitude.get("yaw") or {}).get("yaw"), -two_pi, two_pi, "attitude.yaw.yaw",
+               "the 6.0 IDL's YawAngle, Measurements.idl"),
+        # the optional members, when present (SA ICD 6.0 Table 19: †)
+        _range(b.get("altitude"), 0, math.inf, "altitude", f"{SA_TYPES}: MSLAltitude"),
+        _range(b.get("altitudeAGL"), 0, math.inf, "altitudeAGL", f"{SA_TYPES}: DistanceAGL"),
+        _range(b.get("altitudeASF"), 0, 401_056_000, "altitudeASF", f"{SA_TYPES}: DistanceASF"),
+        _range(b.get("altitudeGeodetic"), -10_000, 700_000, "altitudeGeodetic", f"{SA_TYPES}: GeodeticAltitude"),
+        _range(b.get("depth"), 0, 10_000, "depth", f"{SA_TYPES}: DistanceBSL"),
+    ]
+    for member, kind in (("attitudeCovariance", "CovarOrientationNED"), ("positionCovariance", "CovarPosNED")):
+        for k, v in (b.get(member) or {}).items():
+            out.append(_range(v, -10_000, 10_000, f"{member}.{k}", f"{SA_TYPES}: {kind}"))
+    if b.get("altitude") is not None and b.get("depth") is not None and b["altitude"] > 0 and b["depth"] > 0:
+        out.append(f"altitude {b['altitude']} m above and depth {b['depth']} m below the sea at once ({ref})")
+    return out
+
+
+def ins_values(b: dict[str, Any], _r: Any, _limits: Any) -> list[str | None]:
+    return [*_identifier(b)]
+
+
+def decoder_finding(problem: str) -> str | None:
+    """A decoder's finding with the 6.0 section that states the rule; None for the console's cap of 256 satellites,
+    which 6.0's bound of 300 allows (gps_values checks that bound)."""
+    if "unknown" in problem and "ordinal" in problem:
+        return f"{problem} (ICD 6.0 5.3; SA ICD 6.0 6.3)"
+    if "elements, more than" in problem:
+        return None
+    return f"{problem} ({SEM_TYPES}; {SA_TYPES})"
+
+
+# The timing test's references (reports.TIMING_REFS): 6.0's DateTime has signed seconds (DateTimeSeconds, Table 31)
+TIMING_REFS = {"stamp": "ICD 6.0 5.2.1, Table 16", "datetime": "ICD 6.0 5.2.6, Table 21; Table 31", "utc": "ICD 6.0 5.2.6",
+               "publish": "ICD 6.0 4.2: a Service Provider replies to every request; 4.2.1",
+               "update": "ICD 6.0 4.2.1: the service is always providing the current data to the bus", "seconds": ""}
+
+V6_0 = Version(
+    "6.0", "UMAA 6.0 IDL", SERVICES, TOPIC_REF, key_ref,
+    (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT), FLOW_REFS, "ICD 6.0 5.3", SEM_TYPES,
+    qos_reference=qos_differences,
+    value_checks={Sem60.GPS_REPORT: gps_values, Sem60.GLOBAL_POSE_REPORT: pose_values, Sem60.INS_REPORT: ins_values},
+    extra={"decoder_finding": decoder_finding, "timing": TIMING_REFS},
+)
