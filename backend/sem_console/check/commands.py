@@ -64,8 +64,8 @@ SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
 LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
 GPS_NAMES = [f"commands.GPSFix.{t}" for t in ("complete", "cancel", "cleanup", "destination")]
 INS_NAMES = [f"commands.InertialSensor.{t}" for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")]
-INS_NAMES_6_0 = [f"commands.InertialSensor.{t}" for t in
-                 (*(c.name for c in umaa_6_0.PLAN), "cancel", "update", umaa_6_0.LAST.name, "same", "cleanup", "destination")]
+INS_NAMES_6_0 = [f"commands.InertialSensor.{t if isinstance(t, str) else t.name}"
+                 for t in (*umaa_6_0.TESTS, "cleanup", "destination")]
 ACTIVE = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING})
 SETTLED = {"RESTARTING": "ON"}  # the state an inertial sensor reporting this one ends in
 
@@ -160,7 +160,9 @@ class Consumer:
     def writer(self, service: Service) -> DataWriter[Any] | None:
         """The service's command writer, once it matched a reader of the provider's participants."""
         if service not in self.writers:
-            self.writers[service] = self.observer.bus.writer(self.topic(service, "command"))
+            bus = self.observer.bus
+            self.writers[service] = (DataWriter(bus.participant, bus.topic(Sem60.INS_COMMAND), umaa_6_0.command_writer_qos())
+                                     if self.six else bus.writer(service.command))
         w = self.writers[service]
         participants = self.observer.source_participants.get(self.provider, set())
 
@@ -779,6 +781,8 @@ def _update(consumer: Consumer, writer: DataWriter[Any], case: Case, clean: Case
         sent = consumer.send(Service.INERTIAL_SENSOR, writer, umaa_6_0.LAST, case)
         if not follow(consumer, sent, case, update_when=when):
             return None
+        if case.outcome is Outcome.FAILED:  # the update went unanswered, or the flow broke
+            return sent
         if sent.updated_at is not None and sent.earlier:
             check_end(sent, case)
             if sent.flow.status is Status.COMPLETED:
@@ -800,9 +804,9 @@ def _update(consumer: Consumer, writer: DataWriter[Any], case: Case, clean: Case
 
 
 def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
-    """UMAA 6.0's InertialSensorControl: each InertialSensorCmdEnumType command through the flow (umaa_6_0.PLAN, then
-    GPS_ALIGN last), a cancel, an update, GPS_ALIGN again (the alignment it is in: answered, or rejected), the cleanup
-    after each, and first a command to another destination, which the provider must not answer."""
+    """UMAA 6.0's InertialSensorControl (umaa_6_0.TESTS): each InertialSensorCmdEnumType command through the flow,
+    GPS_ALIGN again (the alignment it is in: answered, or rejected), a cancel, an update, the cleanup after each, and
+    first a command to another destination, which the provider must not answer."""
     cases: list[Case] = []
     by = {n: Case(n) for n in INS_NAMES_6_0}
     clean, destination = by["commands.InertialSensor.cleanup"], by["commands.InertialSensor.destination"]
@@ -818,8 +822,7 @@ def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callabl
                if selected(destination.name) else None)
     answered = True
     finished: list[Sent] = []
-    steps: list[InsCmd | str] = [*umaa_6_0.PLAN, "cancel", "update", umaa_6_0.LAST, "same"]
-    for step in steps:
+    for step in umaa_6_0.TESTS:
         case = by[f"commands.InertialSensor.{step if isinstance(step, str) else step.name}"]
         target = umaa_6_0.LAST if isinstance(step, str) else step  # same: the alignment the last GPS_ALIGN left
         if not selected(case.name):
@@ -897,18 +900,22 @@ def plan_6_0(offered: set[str], selected: Callable[[str], bool]) -> list[str]:
     """What --commands will send to a UMAA 6.0 provider."""
     if "InertialSensorControl" not in offered:
         return []
-    sends = [c.name for c in umaa_6_0.PLAN if selected(f"commands.InertialSensor.{c.name}")]
     last = umaa_6_0.LAST.name
-    sends += [last] if selected(f"commands.InertialSensor.{last}") else []
-    sends += [f"{last} again (the alignment it is in)"] if selected("commands.InertialSensor.same") and last in sends else []
+    said = {"same": f"{last} again (the alignment it is in)",
+            "cancel": f"{last} canceled while executing (another when it completes first)",
+            "update": f"{last} updated (a newer timeStamp) while executing"}
+    tests = [t if isinstance(t, str) else t.name for t in umaa_6_0.TESTS]
+    sends = [said.get(t, t) for t in tests if selected(f"commands.InertialSensor.{t}")]
+    if "same" in tests and selected("commands.InertialSensor.same") and not selected(f"commands.InertialSensor.{last}"):
+        sends.remove(said["same"])  # it needs the GPS_ALIGN test's (it is skipped)
+    ran = [t for t in tests if selected(f"commands.InertialSensor.{t}") and t not in ("same", "cancel")]
     text = ", then ".join(sends)
-    extra = [what for test, what in (("cancel", f"one {last} canceled while executing (another when it completes first)"),
-                                     ("update", f"one {last} updated (a newer timeStamp) while executing"),
-                                     ("destination", "first one addressed to another GUID, which the vehicle must not answer"))
-             if selected(f"commands.InertialSensor.{test}")]
-    if sends:
-        text += f" (the inertial sensor is left aligned by {last})" if sends[-1].startswith(last) else ""
-    text = "; ".join(t for t in [text, *extra] if t)
+    if ran:
+        left = last if ran[-1] in ("update", last) else ran[-1]
+        text += f" (the inertial sensor is left {'initializing' if left == 'INIT' else 'aligned by ' + left})"
+    if selected("commands.InertialSensor.destination"):
+        other = "first one addressed to another GUID, which the vehicle must not answer"
+        text = f"{text}; {other}" if text else other
     return [f"InertialSensorCommandType: {text}"] if text else []
 
 

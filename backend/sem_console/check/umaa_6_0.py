@@ -17,6 +17,7 @@ import uuid
 from typing import Any
 
 from cyclonedds.core import InstanceState, Policy, Qos
+from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -28,7 +29,7 @@ from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType
 from sem_console.check.icd import ServiceDef, Version
 from sem_console.codec import fastcdr
 from sem_console.codec.decode import Item, ReportItem, StatusItem, guid
-from sem_console.dds.qos import TopicClass
+from sem_console.dds.qos import TopicClass, representation, writer_qos
 from sem_console.dds.topics import AnySem, Sem60, Service
 from sem_console.umaa.samples import make, now_datetime
 from sem_console.versions import UMAA_6_0, umaa_6_0
@@ -56,10 +57,13 @@ FLOW_REFS = {
     "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command", "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
     "update": "ICD 6.0 4.1.4.2",
 }
-# The test commands, in the order they are sent: INIT first (it also stops a running alignment), GPS_ALIGN, the
-# standard alignment, last (with the cancel and update tests before it), so the sensor is left aligned by GPS.
-PLAN = (InsCmd.INIT, InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN, InsCmd.TRANSFER_ALIGN)
-LAST = InsCmd.GPS_ALIGN
+# The InertialSensor tests, in the order they run: INIT first (it also stops a running alignment), each alignment,
+# GPS_ALIGN again (`same`: the alignment it has just completed), TRANSFER_ALIGN (so that the cancel's and the update's
+# GPS_ALIGN do not ask for the alignment it is in), and the update last: its GPS_ALIGN, the standard alignment, leaves
+# the sensor aligned by GPS.
+TESTS: tuple[InsCmd | str, ...] = (InsCmd.INIT, InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN,
+                                   InsCmd.GPS_ALIGN, "same", InsCmd.TRANSFER_ALIGN, "cancel", "update")
+LAST = InsCmd.GPS_ALIGN  # the command of the same, cancel and update tests
 # Alignments a provider may reject (a vehicle at sea cannot align stationary, a snap or transfer alignment needs a
 # feed the command does not carry): FAILED with its reason is an answer (ICD 6.0 4.1.4.4)
 REJECTABLE = frozenset({InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN, InsCmd.TRANSFER_ALIGN})
@@ -121,6 +125,13 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
             have = "infinite" if not isinstance(seconds, int) or seconds >= 2**63 - 1 else f"{seconds / 1e9:g} s"
             out.append(f"a liveliness lease of {have}; {said} {want:g} s for a {'reader' if reader else 'writer'}")
     return [f"{d} ({QOS_REFERENCE})" for d in out]
+
+
+def command_writer_qos() -> Qos:
+    """The checker's InertialSensorCommandType writer: the project's command writer (reliable, transient-local) with
+    CommandQoS's 5 s liveliness lease, without which a reader on CommandQoS (a 10 s lease requested) does not match it."""
+    return (writer_qos(TopicClass.COMMAND) + Qos(Policy.Liveliness.Automatic(duration(seconds=LIVELINESS[False])))
+            + representation(Sem60.INS_COMMAND.spec.xcdr2_only, writer=True))
 
 
 # ---- decoding what the checker reads -------------------------------------------------------------------------------
