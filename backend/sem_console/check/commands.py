@@ -75,10 +75,8 @@ DESTINATION_REF = (": a command's destination directs it at one Service Provider
                    "addressed to its ID")
 
 
-def names(version: icd.Version | None = None) -> list[str]:
-    """The command tests of a UMAA version (None: of every version, each name once)."""
-    if version is None:
-        return list(dict.fromkeys(GPS_NAMES + INS_NAMES + INS_NAMES_6_0))
+def names(version: icd.Version = icd.V3_0_1) -> list[str]:
+    """The command tests of a UMAA version."""
     return INS_NAMES_6_0 if version.name == umaa_6_0.V6_0.name else GPS_NAMES + INS_NAMES
 
 

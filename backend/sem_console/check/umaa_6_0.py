@@ -111,7 +111,9 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
         out.append(f"BEST_EFFORT reliability; {said} RELIABLE")
     durability = _policy(qos, Policy.Durability)
     if durability is not None and durability != Policy.Durability.Volatile:
-        out.append(f"{durability} durability; {said} VOLATILE")
+        kind = {Policy.Durability.TransientLocal: "TRANSIENT_LOCAL", Policy.Durability.Transient: "TRANSIENT",
+                Policy.Durability.Persistent: "PERSISTENT"}.get(durability, str(durability))
+        out.append(f"{kind} durability; {said} VOLATILE")
     if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
         out.append(f"EXCLUSIVE ownership; {said} SHARED")
     partition = _policy(qos, Policy.Partition)

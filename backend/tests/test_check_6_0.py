@@ -1,0 +1,160 @@
+"""`sem-check` on UMAA 6.0 providers: a provider written from the 6.0 ICDs (icd_provider_6_0.py) with one breach at a
+time, `sem-sim --umaa 6.0`'s reports, a QoS other than RTI's UMAAQoSLib (a warning), and a bus of both versions. Each
+run is short (small --timeout, --step-time and --window; a breach's run selects the tests it needs)."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from icd_provider_6_0 import IcdProvider60
+from sem_console.check import commands, runner, umaa_6_0
+from sem_console.check.observe import Report
+from test_check import check, failed, failure_types, wait_for_providers
+
+COMMANDS = ("--commands", "--timeout", "2", "--step-time", "1", "--window", "0.5", "--max-gap", "0.5")
+V6 = runner.version_names(umaa_6_0.V6_0)
+
+
+@pytest.fixture
+def provider60(domain: int) -> Iterator[Callable[..., IcdProvider60]]:
+    made: list[IcdProvider60] = []
+
+    def make(breach: str | None = None, **options: Any) -> IcdProvider60:
+        made.append(IcdProvider60(domain, breach, **options))
+        return made[-1]
+
+    yield make
+    for p in made:
+        p.close()
+
+
+def test_the_6_0_provider_passes_every_test(provider60: Callable[..., IcdProvider60], domain: int, tmp_path: Path) -> None:
+    """Found as a 6.0 provider by its topics, it passes every 6.0 test, and only 6.0 tests run; its QoS is
+    UMAAQoSLib's, so no warning."""
+    p = provider60()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS)
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {n: ("passed", "") for n in V6}, run.out
+    assert "UMAA 6.0 (by the topics it serves)" in run.out
+    assert "warn" not in run.out.split("TEST", 1)[1]
+    root = ET.parse(run.report).getroot()
+    assert {e.get("name"): e.get("value") for e in root.iter("property")}["umaa"] == "6.0"
+    update = next(tc for tc in root.iter("testcase") if tc.get("name") == "InertialSensor.update").find("system-out")
+    assert update is not None and ", then ISSUED/UPDATED +" in str(update.text), ET.tostring(root)
+
+
+# breach -> (--only, the test that fails, the start of its reason, the 6.0 section it names, the provider's execute time)
+BREACHES: dict[str, tuple[str, str, str, str, float]] = {
+    "ignore-cancel": ("commands.InertialSensor.cancel", "commands.InertialSensor.cancel",
+                      "the provider did not dispose its InertialSensorCommandStatusType and "
+                      "InertialSensorCommandAckReportType within 1 s of COMPLETED",
+                      "(ICD 6.0 4.1.4.5, Figure 26: CANCELED, or COMPLETED when it cannot be canceled", 0.4),
+    "silent-same-state": ("commands.InertialSensor.INIT,commands.InertialSensor.GPS_ALIGN,commands.InertialSensor.same",
+                          "commands.InertialSensor.same",
+                          "unanswered: no status within 2 s of sending the command",
+                          "ICD 6.0 4.1.4 step 3: the provider publishes ISSUED when it receives a command)", 0.4),
+    "answer-any-destination": ("commands.InertialSensor.INIT,commands.InertialSensor.destination",
+                               "commands.InertialSensor.destination",
+                               "the provider answered the InertialSensorCommandType addressed to ",
+                               "ICD 6.0 4.1: a command's destination directs it at one Service Provider", 0.4),
+    "fail-after-cleanup": ("commands.InertialSensor.INIT,commands.InertialSensor.cleanup", "commands.InertialSensor.cleanup",
+                           "Figure 14 breach: COMPLETED -> FAILED is not a Figure 14 transition (ICD 6.0 4.1, Figure 14)",
+                           ", FAILED/TIMEOUT +", 0.4),
+    "ignore-update": ("commands.InertialSensor.update", "commands.InertialSensor.update",
+                      "no ISSUED/UPDATED within the stated 1 s of the consumer's update of the EXECUTING command",
+                      "(the same source and sessionID, a newer timeStamp: ICD 6.0 4.1.4.2)", 1.2),
+    "attitude-in-degrees": ("reports.GlobalPoseReportType.values", "reports.GlobalPoseReportType.values",
+                            "GlobalPoseReportType attitude.pitch.pitch: outside -1.5708..1.5708",
+                            "(SA ICD 6.0 6.4, Table 67: PitchHalfAngle)", 0.4),
+}
+
+
+@pytest.mark.parametrize("breach", list(BREACHES))
+def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., IcdProvider60], domain: int,
+                                        tmp_path: Path) -> None:
+    """Issue 35's four breaches in their 6.0 form, an update ignored, and a report value out of its 6.0 range: each
+    fails its test alone, with the 6.0 reason and section."""
+    only, test, reason, section, execute = BREACHES[breach]
+    p = provider60(breach, execute=execute)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
+    assert run.code == 1, run.out + run.err
+    assert set(failed(run)) == {test}, run.out
+    assert failed(run)[test].startswith(reason) and section in failed(run)[test], failed(run)[test]
+    assert failure_types(run.report) == {test: "icd"}
+
+
+def test_a_qos_other_than_umaaqoslib_is_a_warning(provider60: Callable[..., IcdProvider60], domain: int,
+                                                  tmp_path: Path) -> None:
+    """6.0 mandates no QoS: reliable, transient-local report writers pass, each with a warning naming RTI's UMAAQoSLib
+    as the reference, on the terminal and in the JUnit report (system-err), and the run exits 0."""
+    p = provider60("reliable-reports")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--timeout", "2",
+                "--window", "0.5")
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    reports = ("discovery.GPSReportType", "discovery.GlobalPoseReportType", "discovery.InertialSensorReportType")
+    lines = {line.split()[0]: line for line in run.out.splitlines() if line.startswith("discovery.")}
+    for name in reports:
+        assert lines[name].split()[1] == "warn", run.out
+        assert "RELIABLE reliability; UMAAQoSLib::TelemetryQoS has BEST_EFFORT (RTI's UMAAQoSLib, the reference " \
+               "sem-check compares with: UMAA 6.0 mandates no QoS)" in lines[name]
+    assert lines["discovery.InertialSensorCommandType"].split()[1] == "pass"
+    assert "(3 with warnings)" in run.out
+    err = {tc.get("name"): tc.findtext("system-err") or "" for tc in ET.parse(run.report).getroot().iter("testcase")}
+    assert "warning: writer " in err["GPSReportType"] and "TRANSIENT_LOCAL durability; UMAAQoSLib::TelemetryQoS has " \
+           "VOLATILE" in err["GPSReportType"], err
+    assert err["InertialSensorCommandType"] == ""
+
+
+def test_sem_sim_6_0_reports_pass(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """A `sem-sim --umaa 6.0` vehicle passes discovery and the report tests of the services it serves."""
+    sim("--umaa", "6.0")
+    run = check(tmp_path, "--domain", str(domain), "--timeout", "20", "--window", "0.5", "--max-gap", "1.5")
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    served = [n for n in V6 if n.startswith("reports.") or n.split(".")[1] in
+              ("GPSReportType", "GlobalPoseReportType", "InertialSensorReportType")]
+    assert all(run.cases[n] == ("passed", "") for n in served), run.out
+
+
+def test_a_mixed_bus_checks_each_provider_in_its_version(sim: Callable[..., Any],
+                                                          provider60: Callable[..., IcdProvider60], domain: int,
+                                                          tmp_path: Path) -> None:
+    """A 3.0.1 `sem-sim` vehicle and a 6.0 provider on one domain: both are listed, and each passes in its own version;
+    --umaa forces a version (the 6.0 provider tested as 3.0.1 offers none of its services: nothing tested, exit 2)."""
+    sim()
+    (three,) = wait_for_providers(domain, 1)
+    p = provider60()
+    several = check(tmp_path, "--domain", str(domain), "--timeout", "20", "--only", "discovery")
+    assert several.code == 2 and str(p.guid) in several.err and str(three) in several.err, several.err
+    old = check(tmp_path, "--domain", str(domain), "--provider", str(three), "--only", "discovery,reports", "--window", "0.5",
+                "--max-gap", "1.5")
+    assert old.code == 0 and "UMAA 3.0.1 (by the topics it serves)" in old.out, old.out
+    assert set(old.cases) == set(runner.version_names(runner.VERSIONS["3.0.1"])) - set(commands.names()), old.out
+    new = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS)
+    assert new.code == 0 and new.cases == {n: ("passed", "") for n in V6}, new.out
+    forced = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--umaa", "3.0.1", "--only",
+                   "discovery,reports", "--window", "0.5")
+    assert forced.code == 2 and "UMAA 3.0.1 (as --umaa says)" in forced.out, forced.out + forced.err
+    assert {o for o, _ in forced.cases.values()} == {"skipped"}
+
+
+def test_6_0_satellites_are_bounded_at_300_not_at_the_consoles_256() -> None:
+    """The decoder keeps 256 satellites and says how many came: 280 are within 6.0's bound, 301 are not (ICD 6.0
+    5.1.1.1, Table 9)."""
+    sats = [{"azimuth": 0.0, "elevation": 0.1, "carrierFrequency": 1.5e9, "satelliteID": 1.0, "usedInFix": False}] * 256
+    body = {"satellites": sats, "numberSatellitesInView": 256, "clock": {}, "source": {"parentID": None}}
+
+    def problems(n: int) -> list[str]:
+        invalid = [f"satellites: {n} elements, more than 256; the first 256 kept"]
+        found = [umaa_6_0.decoder_finding(p) for p in invalid]
+        found += umaa_6_0.gps_values(body, Report(0.0, body, invalid, True, 0), None)
+        return [p for p in found if p]
+
+    assert problems(280) == []
+    assert problems(301) == ["satellites: 301 elements, more than 300 (ICD 6.0 5.1.1.1, Table 9: max size = 300)"]
