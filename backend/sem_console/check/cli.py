@@ -34,8 +34,8 @@ def _names(text: str) -> list[str]:
 def build_parser() -> argparse.ArgumentParser:
     d = Options()
     p = Parser(prog="sem-check", description=(
-        "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1 or, a UMAA 6.0 "
-        "provider, the 6.0 ICDs: the topics it serves (types and keys; QoS against the project's profile, or for 6.0 "
+        "Test one UMAA SEM Service Provider (a vehicle or a simulator) on a DDS domain against ICD 3.0.1, or a UMAA 6.0 "
+        "provider against the 6.0 ICDs: the topics it serves (types and keys; QoS against the project's profile, or for 6.0 "
         "against RTI's UMAAQoSLib, a warning), its reports and, with --commands, the command flow of section 4.1. "
         "Read-only unless --commands is given. Exit code "
         "0: all passed, 1: a test failed, 2: could not test, 143/130: stopped by SIGTERM/SIGINT (the reports say "
