@@ -90,6 +90,7 @@ class Sent:
     sent_at: float  # the checker's clock, UTC seconds
     to: uuid.UUID  # its destination
     version: icd.Version
+    topic: str  # its command topic's short name
     case: Case | None = None  # the test a status of the command counts for (the cleanup test once it disposed it)
     foreign: bool = False  # addressed to another GUID than the provider's: it must not answer
     flow: CommandFlow = field(default_factory=CommandFlow)
@@ -197,8 +198,9 @@ class Consumer:
             if service is Service.INERTIAL_SENSOR:
                 values["state"] = state
             sample = service.command.spec.type(**values)
-        what = f"{icd.short(self.topic(service, 'command'))}" + (f" {state.name}" if state is not None else "")
-        sent = Sent(service, session, sample, time.time(), to, self.version, case, foreign=destination is not None)
+        topic = icd.short(self.topic(service, "command"))
+        what = topic + (f" {state.name}" if state is not None else "")
+        sent = Sent(service, session, sample, time.time(), to, self.version, topic, case, foreign=destination is not None)
         self.sent.append(sent)  # before it is written: a SIGTERM or Ctrl-C from here on still disposes it (close)
         elsewhere = f" addressed to {destination}, not to the provider" if destination is not None else ""
         print(f"  sending {what}{elsewhere} (session {session})", file=self.out, flush=True)
@@ -342,8 +344,8 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
     while not sent.flow.terminal:
         if time.time() > overall:
-            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command ({ref['start'][:-7]}: "
-                      f"every command follows {ref['flow'].split(', ')[-1]} to its end); statuses: {sent.story()}")
+            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command ({ref['every']}: "
+                      f"every command follows {ref['figure']} to its end); statuses: {sent.story()}")
             break
         status = sent.flow.status
         if status in cancel_when and sent.disposed_at is None:
@@ -387,7 +389,7 @@ def breaches(sent: Sent, case: Case) -> None:
     """Fail the case for each Figure 4 breach of the command not reported yet: statuses keep coming
     after `follow` (during the ack, report, cancel and cleanup checks, and after: Consumer.settle), and
     each is checked too."""
-    figure = sent.refs["flow"].split(", ")[-1]
+    figure = sent.refs["figure"]
     for v in sent.violations[sent.breaches_reported:]:
         case.fail(f"{figure} breach: {v.replace('Figure 4', figure)} ({sent.refs['flow']}); statuses: {sent.story()}")
     sent.breaches_reported = len(sent.violations)
@@ -449,8 +451,7 @@ def check_silent(sent: Sent, case: Case) -> None:
     if case.outcome is Outcome.FAILED or not (sent.flow.transitions or sent.ack is not None):
         return
     answered = [f"statuses {sent.story()}" if sent.flow.transitions else "", "an ack" if sent.ack is not None else ""]
-    topic = icd.short(Sem60.INS_COMMAND) if sent.version.name == umaa_6_0.V6_0.name else icd.short(sent.service.command)
-    case.fail(f"the provider answered the {topic} addressed to {sent.to}, not to it "
+    case.fail(f"the provider answered the {sent.topic} addressed to {sent.to}, not to it "
               f"({' and '.join(a for a in answered if a)}; {sent.refs['destination']}{DESTINATION_REF})")
 
 

@@ -62,7 +62,7 @@ def stamp(body: dict[str, Any], refs: dict[str, str] = TIMING_REFS) -> tuple[flo
 
 def check_timing(sem: AnySem, samples: list[Report], start: float, end: float, limits: ReportLimits, case: Case,
                  version: icd.Version = icd.V3_0_1) -> None:
-    refs: dict[str, str] = version.extra.get("timing", TIMING_REFS)
+    refs = dict(version.timing or TIMING_REFS)
     topic = icd.short(sem)
     live = [r for r in samples if r.alive and r.body is not None]
     if any(not r.alive for r in samples):
@@ -203,7 +203,7 @@ def check_values(sem: AnySem, samples: list[Report], limits: ReportLimits, case:
     bad_samples = 0
     for r in live:
         assert r.body is not None
-        finding = version.extra.get("decoder_finding", _icd_ref)
+        finding = version.decoder_finding or _icd_ref
         found: list[str | None] = [finding(p) for p in r.invalid]
         found.append(_source_problem(r.body.get("source")))
         extra = _MORE.get(sem) if isinstance(sem, Sem) else version.value_checks.get(sem)

@@ -359,8 +359,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
                 out.flush()
             cases += commands.run(consumer, offered, selection)
         else:
-            cases += [Case(n).skip("read-only run: --commands sends commands (a real vehicle's INS may be switched off, or realigned)")
-                      for n in commands.names(version) if selection(n)]
+            reason = "read-only run: --commands sends commands (a real vehicle's INS may be switched off, or realigned)"
+            cases += [Case(n).skip(reason) for n in commands.names(version) if selection(n)]
     except Stopped as e:  # every command sent is disposed by now (commands.run)
         stopped = e
         cases = progress.stopped([n for n in run_names if selection(n)], e.name)

@@ -50,7 +50,8 @@ TOPIC_REF: dict[AnySem, str] = {
     Sem60.INS_REPORT: "ICD 6.0 5.1.3.1, Table 15", Sem60.GLOBAL_POSE_REPORT: "SA ICD 6.0 6.1.6.1, Table 19",
 }
 FLOW_REFS = {
-    "flow": "ICD 6.0 4.1, Figure 14", "start": "ICD 6.0 4.1.4 step 3", "ack": "ICD 6.0 4.1.4.1 step 1",
+    "flow": "ICD 6.0 4.1, Figure 14", "figure": "Figure 14", "every": "ICD 6.0 4.1.4",
+    "start": "ICD 6.0 4.1.4 step 3", "ack": "ICD 6.0 4.1.4.1 step 1",
     "commanded": "ICD 6.0 4.1.4.1 step 2", "executing": "ICD 6.0 4.1.4.1 step 3", "complete": "ICD 6.0 4.1.4.3",
     "failed": "ICD 6.0 4.1.4.4", "cancel": "ICD 6.0 4.1.4.5", "cancel figure": "Figure 26",
     "cleanup": "ICD 6.0 4.1.5, Figure 27", "subscribe": "ICD 6.0 4.1.2.1", "destination": "ICD 6.0 4.1",
@@ -330,5 +331,5 @@ V6_0 = Version(
     (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT), FLOW_REFS, "ICD 6.0 5.3", SEM_TYPES,
     qos_reference=qos_differences,
     value_checks={Sem60.GPS_REPORT: gps_values, Sem60.GLOBAL_POSE_REPORT: pose_values, Sem60.INS_REPORT: ins_values},
-    extra={"decoder_finding": decoder_finding, "timing": TIMING_REFS},
+    decoder_finding=decoder_finding, timing=TIMING_REFS,
 )
