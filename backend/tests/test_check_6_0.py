@@ -144,6 +144,18 @@ def test_a_mixed_bus_checks_each_provider_in_its_version(sim: Callable[..., Any]
     assert {o for o, _ in forced.cases.values()} == {"skipped"}
 
 
+def test_a_6_0_run_that_leaves_the_sensor_unaligned_says_so(provider60: Callable[..., IcdProvider60], domain: int,
+                                                             tmp_path: Path) -> None:
+    """INIT alone leaves a GPS-aligned sensor initializing: the plan says so before anything is sent, and the run ends
+    with a warning naming the command that sets it back."""
+    p = provider60()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", "commands.InertialSensor.INIT")
+    assert run.code == 0, run.out + run.err
+    assert "InertialSensorCommandType: INIT (the inertial sensor is left initializing)" in run.out
+    assert ("sem-check: warning: the inertial sensor reports INIT now; it reported FINE_GPS_ALIGNMENT_COMPLETE before the "
+            "InertialSensor commands: command GPS_ALIGN to set it back") in run.err
+
+
 def test_6_0_satellites_are_bounded_at_300_not_at_the_consoles_256() -> None:
     """The decoder keeps 256 satellites and says how many came: 280 are within 6.0's bound, 301 are not (ICD 6.0
     5.1.1.1, Table 9)."""

@@ -633,9 +633,11 @@ def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
 
 
 def ins_state(consumer: Consumer) -> str | None:
-    """The state the provider's InertialSensorReport shows now (None: it sent none)."""
-    last = _reports_since(consumer, Sem.INS_REPORT, 0.0)
-    return last[-1].get("state") if last else None
+    """The state the provider's InertialSensorReport shows now, a UMAA 6.0 provider's InertialSensorReportType its
+    status (None: it sent none)."""
+    sem, member = (Sem60.INS_REPORT, "status") if consumer.six else (Sem.INS_REPORT, "state")
+    last = _reports_since(consumer, sem, 0.0)
+    return last[-1].get(member) if last else None
 
 
 def settled_state(consumer: Consumer) -> InsState | None:
@@ -653,6 +655,12 @@ def ins_changed(consumer: Consumer, before: str | None) -> str | None:
         return None
     consumer.observer.pump()
     now = ins_state(consumer)
+    if consumer.six:  # an alignment of the kind it had before, whatever its stage now, is as found
+        was = umaa_6_0.kind(before)
+        if was is None or was is umaa_6_0.kind(now or ""):
+            return None
+        return (f"the inertial sensor reports {now or 'no status'} now; it reported {before} before the InertialSensor "
+                f"commands: command {was.name} to set it back")
     if SETTLED.get(now or "", now) == SETTLED.get(before, before):
         return None
     return (f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "

@@ -215,13 +215,20 @@ def ack_command(ack: Any) -> Any:
     return ack.command
 
 
+def kind(status: str) -> InsCmd | None:
+    """The command of which an InertialSensorOpStatusEnumType literal is a stage (INIT for INIT); None for a failure
+    or a literal of no kind."""
+    if status == "INIT":
+        return InsCmd.INIT
+    if status.endswith("FAILURE"):
+        return None
+    return next((c for c, k in _KIND.items() if k in status), None)
+
+
 def shows(state: InsCmd, body: dict[str, Any]) -> bool:
     """Whether an InertialSensorReportType shows the commanded state: INIT for INIT, a stage of the commanded kind of
     alignment for an alignment (ICD 6.0 5.3.3, Table 27; 5.3.4, Table 28), not its failure."""
-    status = str(body.get("status") or "")
-    if state is InsCmd.INIT:
-        return status == "INIT"
-    return _KIND[state] in status and not status.endswith("FAILURE")
+    return kind(str(body.get("status") or "")) is state
 
 
 # ---- the values of the reports -------------------------------------------------------------------------------------
