@@ -77,7 +77,7 @@ BREACHES: dict[str, tuple[str, str, str, str, float]] = {
 @pytest.mark.parametrize("breach", list(BREACHES))
 def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., IcdProvider60], domain: int,
                                         tmp_path: Path) -> None:
-    """Issue 35's four breaches in their 6.0 form, an update ignored, and a report value out of its 6.0 range: each
+    """The four breaches of the 3.0.1 command tests in their 6.0 form, an update ignored, and a report value out of its 6.0 range: each
     fails its test alone, with the 6.0 reason and section."""
     only, test, reason, section, execute = BREACHES[breach]
     p = provider60(breach, execute=execute)
