@@ -77,8 +77,8 @@ BREACHES: dict[str, tuple[str, str, str, str, float]] = {
 @pytest.mark.parametrize("breach", list(BREACHES))
 def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., IcdProvider60], domain: int,
                                         tmp_path: Path) -> None:
-    """The four breaches of the 3.0.1 command tests in their 6.0 form, an update ignored, and a report value out of its 6.0 range: each
-    fails its test alone, with the 6.0 reason and section."""
+    """The four breaches of the 3.0.1 command tests in their 6.0 form, an update ignored, and a report value out of its
+    6.0 range: each fails its test alone, with the 6.0 reason and section."""
     only, test, reason, section, execute = BREACHES[breach]
     p = provider60(breach, execute=execute)
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
