@@ -67,7 +67,7 @@ def samples_6_0() -> dict[Sem60, Any]:
 def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
     """What the console runs for a 6.0 report: its JSON, then the version's adapter to the model (codec/decode.py)."""
     fast, model = fastcdr.decoder(sem.spec.type).json, umaa_6_0.REPORTS[sem].model
-    return fast if model is None else (lambda d: model(fast(d)[0]))
+    return lambda d: model(*fast(d))
 
 
 def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:

@@ -39,8 +39,9 @@ ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack:
 COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
 # The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
 REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
-# Every topic name a vehicle's report samples count under for its link (provider health)
-REPORT_HEALTH_TOPICS = (*REPORT_TOPICS.values(), *(r.topic for r in umaa_6_0.REPORTS.values() if r.model is None))
+# Every topic name a vehicle's report samples count under for its link (provider health): the model's, whatever the
+# version
+REPORT_HEALTH_TOPICS = tuple(REPORT_TOPICS.values())
 
 
 @dataclass
@@ -81,8 +82,8 @@ def _source(report: dict[str, Any]) -> Any:
     return report.get("source")
 
 
-def _same(report: dict[str, Any]) -> dict[str, Any]:
-    return report
+def _same(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
+    return report, invalid
 
 
 @dataclass(frozen=True)
@@ -97,7 +98,7 @@ class _Route:
     kind: str  # "report" | "status" | "ack"
     version: UmaaVersion = UMAA_3_0_1
     source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
-    model: Callable[[dict[str, Any]], dict[str, Any]] | None = _same  # a report's JSON as the model's; None: health only
+    model: umaa_6_0.Adapter = _same  # a report's JSON and invalid values as the model's (its version's adapter)
 
 
 _ROUTES: dict[AnySem, _Route] = {
@@ -151,10 +152,8 @@ class Decoder:
                 report = route.fast.json(data)
                 text = route.source(report[0])
                 source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
-                if route.model is None:
-                    report = None  # counted for the link, not part of the model
-                elif route.model is not _same:
-                    report = (route.model(report[0]), report[1])
+                if route.model is not _same:
+                    report = route.model(*report)
             else:
                 sample = route.fast.sample(data)
                 source = guid(getattr(sample, "source", None))
