@@ -10,8 +10,8 @@ import httpx
 from cyclonedds.core import InstanceState
 
 from sem_console.codec.decode import Decoder, ReportItem
-from sem_console.console.history import track_point
 from sem_console.codec.jsonschema import report_schemas
+from sem_console.console.history import track_point
 from sem_console.dds.topics import Sem60
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom

@@ -72,7 +72,8 @@ RANK = {"warning": 1, "alarm": 2}
 WORSE = "worse"
 RETURNS = ("expired", "unshelved", WORSE)
 OVERDUE = "not heard by {until} UTC, the end of its planned silence ({grace:g} s grace)"
-INS_FAILURE = "_FAILURE"  # the INS statuses that say it or its alignment failed: INERTIAL_SENSOR_FAILURE, GPS_ALIGNMENT_FAILURE...
+# the ending of the INS statuses that say it or its alignment failed: INERTIAL_SENSOR_FAILURE, GPS_ALIGNMENT_FAILURE...
+INS_FAILURE = "_FAILURE"
 INS_STATUS = "InertialSensorOpStatusEnumType"
 WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
 TOOK_UP = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING, Status.COMPLETED})
