@@ -31,12 +31,11 @@ sys.path.insert(0, str(ROOT / "backend" / "tests"))
 from samplegen import random_sample
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
-from sem_console.codec.decode import REPORT_TOPICS
+from sem_console.codec.decode import REPORT_TOPICS, report_json
 from sem_console.dds.topics import Sem, Sem60
 from sem_console.sim import umaa_6_0 as sim60
 from sem_console.sim.options import SimOptions
 from sem_console.sim.reports import Sensors
-from sem_console.versions import umaa_6_0
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 
@@ -65,9 +64,8 @@ def samples_6_0() -> dict[Sem60, Any]:
 
 
 def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
-    """What the console runs for a 6.0 report: its JSON, then the version's adapter to the model (codec/decode.py)."""
-    fast, model = fastcdr.decoder(sem.spec.type).json, umaa_6_0.REPORTS[sem].model
-    return lambda d: model(*fast(d))
+    """What the console runs for a 6.0 report: its JSON as the version's model (codec/decode.py)."""
+    return report_json(sem)
 
 
 def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:

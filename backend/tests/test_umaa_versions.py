@@ -9,6 +9,8 @@ from typing import Any
 import httpx
 from cyclonedds.core import InstanceState
 
+from sem_console.codec import fastcdr
+from sem_console.codec.convert import to_json
 from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
 from sem_console.console.history import track_point
@@ -16,6 +18,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
+from sem_console.versions import umaa_6_0
 from test_console import WsClient, wait_until
 from test_wire_layout import GOLDEN_6_0
 
@@ -148,3 +151,32 @@ def test_a_6_0_position_flagged_invalid_is_named_by_the_models_path() -> None:
 def test_time_figure_of_merit() -> None:
     assert [tfom(x).name for x in (None, 0.5, 1, 1.5, 10, 20, 100, 101, 1e7, 1e9)] == [
         "TFOM_1", "TFOM_1", "TFOM_1", "TFOM_2", "TFOM_2", "TFOM_3", "TFOM_3", "TFOM_4", "TFOM_8", "TFOM_9"]
+
+
+def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
+    """A 6.0 report said as data (versions/shape.py) is decoded by the generated code straight to the model's JSON,
+    and one cyclonedds decodes (the fallback) is adapted to the same JSON: the same members, values and invalid
+    values, for the golden samples and a sample with impossible values and every optional member present."""
+    for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT):
+        r = umaa_6_0.REPORTS[sem]
+        assert r.spec is not None
+        sample, golden = GOLDEN_6_0[sem.spec.name]()
+        datas = [golden]
+        if sem is Sem60.GLOBAL_POSE_REPORT:
+            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -1.0, 5.0, 2.0
+            sample.altitudeAGL, sample.altitudeASF = 7.0, 8.0
+            sample.attitudeCovariance = _attitude_covariance()
+            datas.append(type(sample).serialize(sample, use_version_2=True))
+        for data in datas:
+            generated = fastcdr.decoder(sem.spec.type, r.spec, umaa_6_0.model_path, r.model).json(data)
+            assert generated == r.model(*to_json(sem.spec.type.deserialize(data)))
+        if sem is Sem60.GLOBAL_POSE_REPORT:
+            pose = generated
+    assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
+                               "trueCourse: -1.0 outside 0..6.28319"]
+    assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
+
+
+def _attitude_covariance() -> Any:
+    from UMAA_6_0.Common.Measurement import CovarianceOrientationNEDType
+    return CovarianceOrientationNEDType(rpRp=0.01, rpRy=None, rrRp=0.002, rrRr=0.02, rrRy=None, ryRy=0.03)

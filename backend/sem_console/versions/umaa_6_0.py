@@ -22,7 +22,6 @@ from __future__ import annotations
 import functools
 import re
 import uuid
-from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 from typing import Any, get_type_hints
@@ -34,21 +33,23 @@ from UMAA_6_0.SEM.GPSStatus import GPSClockType
 
 from sem_console.dds.topics import Sem60
 from sem_console.umaa.guid import satellite_guid
+from sem_console.versions.shape import Adapter, Lookup, Seconds, Spec, Src, Unless, apply
 
 # The 6.0 clock member the model names differently (the 3.0.1 IDL's spelling); the one the model has and 6.0 does
 # not (null: not reported; 6.0 says the time's quality as its figure of merit instead)
 _CLOCK_NAMES = {"biasUncertainty": "biasUncertianty"}
 _CLOCK_NOT_REPORTED = {"timeUncertainty": None}
-# GlobalPoseReportType's members the model has under another path, for the invalid values the decoder names
-_POSE_PATHS = {
+# The 6.0 members the model has under another path, for the invalid values the decoder names (6.0's member names are
+# unique across its three reports)
+_PATHS = {
     "position.geodeticLatitude": "position2DWithTime.geodeticPosition.geodeticLatitude.latitude",
     "position.geodeticLongitude": "position2DWithTime.geodeticPosition.geodeticLongitude.longitude",
     "course": "trueCourse", "altitude": "altitudeMSL.altitude", "source.id": "source",
+    "clock.biasUncertainty": "clock.biasUncertianty",
 }
+_SATELLITE_ID = re.compile(r"^(satellites\[[^\]]+\])\.satelliteID")
 _POSE_ADDS = ("altitudeAGL", "altitudeASF", "altitudeGeodetic", "attitude", "attitudeCovariance", "depth",
               "navigationSolution", "positionCovariance")
-_GPS_PATHS = {"clock.biasUncertainty": "clock.biasUncertianty", "source.id": "source"}
-_SATELLITE_ID = re.compile(r"^(satellites\[\d+\])\.satelliteID")
 MEASURED = {"MEASURED": True, "GROUND_TRUTH": True, "ESTIMATED": False}  # navigationSolution -> GPSLatLongValid
 
 MODEL_MEMBERS: dict[str, dict[str, Any]] = {
@@ -62,13 +63,17 @@ MODEL_LITERALS: dict[str, type[Enum]] = {"InertialSensorOpStatusEnumType": OpSta
 """The literals 6.0 adds to an enumeration of the model, by its name: the model's INS status is either version's."""
 
 
-def _renamed(invalid: list[str], paths: dict[str, str]) -> list[str]:
+def model_path(path: str) -> str:
+    """The model's path of a wire report's member, as an invalid value is named ("course" -> "trueCourse")."""
+    return _SATELLITE_ID.sub(r"\1.satelliteId", _PATHS.get(path, path))
+
+
+def _renamed(invalid: list[str]) -> list[str]:
     """The decoder's invalid-value messages ("path: why") with each path the model's."""
     out = []
     for message in invalid:
         path, sep, why = message.partition(": ")
-        path = _SATELLITE_ID.sub(r"\1.satelliteId", paths.get(path, path))
-        out.append(path + sep + why)
+        out.append(model_path(path) + sep + why)
     return out
 
 
@@ -100,41 +105,35 @@ def gps_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, An
         "satellites": [_satellite(s) for s in report.get("satellites") or []],
         "source": source_of(report),
         "timeStamp": report.get("timeStamp"),
-    }, _renamed(invalid, _GPS_PATHS) if invalid else invalid
+    }, _renamed(invalid) if invalid else invalid
 
 
-def _seconds(t: Any) -> float | None:
-    if not isinstance(t, dict) or t.get("seconds") is None:
-        return None
-    return float(t["seconds"]) + (t.get("nanoseconds") or 0) / 1e9
+GLOBAL_POSE: Spec = {
+    "altitudeMSL": Unless("altitude", {"altitude": Src("altitude")}),
+    "GPSFixCommandStatus": None,
+    "GPSLatLongValid": Lookup("navigationSolution", MEASURED),
+    "magneticVariation": None,
+    "position2DWithTime": {
+        "geodeticPosition": {"geodeticLatitude": {"latitude": Src("position.geodeticLatitude")},
+                             "geodeticLongitude": {"longitude": Src("position.geodeticLongitude")}},
+        "timeAtPosition": Seconds("timeStamp")},
+    "SOG": None,
+    "trueCourse": Src("course"),
+    "velocity": None,
+    "source": Src("source.id"),
+    "timeStamp": Src("timeStamp"),
+    **{name: Src(name) for name in _POSE_ADDS},
+}
+"""A 6.0 GlobalPoseReportType as the model's position report (GPSFixReport)."""
+INS_REPORT: Spec = {"state": None, "status": Src("status"), "source": Src("source.id"), "timeStamp": Src("timeStamp")}
+"""A 6.0 InertialSensorReportType as the model's InertialSensorReport: its status; no power state (null)."""
 
 
-def global_pose(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
-    """A 6.0 GlobalPoseReportType (its JSON and invalid values) as the model's position report (GPSFixReport)."""
-    position = report.get("position") or {}
-    altitude = report.get("altitude")
-    return {
-        "altitudeMSL": None if altitude is None else {"altitude": altitude},
-        "GPSFixCommandStatus": None,
-        "GPSLatLongValid": MEASURED.get(report.get("navigationSolution") or ""),
-        "magneticVariation": None,
-        "position2DWithTime": {
-            "geodeticPosition": {"geodeticLatitude": {"latitude": position.get("geodeticLatitude")},
-                                 "geodeticLongitude": {"longitude": position.get("geodeticLongitude")}},
-            "timeAtPosition": _seconds(report.get("timeStamp"))},
-        "SOG": None,
-        "trueCourse": report.get("course"),
-        "velocity": None,
-        "source": source_of(report),
-        "timeStamp": report.get("timeStamp"),
-        **{n: report.get(n) for n in _POSE_ADDS},
-    }, _renamed(invalid, _POSE_PATHS) if invalid else invalid
-
-
-def ins_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
-    """A 6.0 InertialSensorReportType as the model's InertialSensorReport: its status; no power state (null)."""
-    return {"state": None, "status": report.get("status"), "source": source_of(report),
-            "timeStamp": report.get("timeStamp")}, _renamed(invalid, {"source.id": "source"}) if invalid else invalid
+def _applied(spec: Spec) -> Adapter:
+    """The adapter of a report said by `spec`, for its JSON as cyclonedds decodes it."""
+    def adapt(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
+        return apply(spec, report), _renamed(invalid) if invalid else invalid
+    return adapt
 
 
 def source_of(report: dict[str, Any]) -> str | None:
@@ -143,19 +142,17 @@ def source_of(report: dict[str, Any]) -> str | None:
     return source.get("id") if isinstance(source, dict) else None
 
 
-Adapter = Callable[[dict[str, Any], list[str]], tuple[dict[str, Any], list[str]]]
-
-
 @dataclass(frozen=True)
 class Report:
     """What the console makes of one 6.0 report topic."""
 
     topic: str  # the model's report topic it feeds (the vehicle's link health counts it under that name)
     model: Adapter  # its JSON and invalid values as the model's
+    spec: Spec = None  # the same as data, when it can be said so: the generated decoder returns the model's JSON
 
 
 REPORTS: dict[Sem60, Report] = {
     Sem60.GPS_REPORT: Report("GPSReport", gps_report),
-    Sem60.GLOBAL_POSE_REPORT: Report("GPSFixReport", global_pose),
-    Sem60.INS_REPORT: Report("InertialSensorReport", ins_report),
+    Sem60.GLOBAL_POSE_REPORT: Report("GPSFixReport", _applied(GLOBAL_POSE), GLOBAL_POSE),
+    Sem60.INS_REPORT: Report("InertialSensorReport", _applied(INS_REPORT), INS_REPORT),
 }
