@@ -98,7 +98,7 @@ function FixBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid).title}>
+            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid, version).title}>
               {typeof st?.fixValid === "boolean" ? fixWord(st.fixValid).text : DASH}
             </span>
             <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} data-testid="position-kind" title={positionKind(fix).title}>
