@@ -7,8 +7,9 @@ use: XCDR2 for the types with @optional members, XCDR1 (what writers offer) and 
 Columns: cyclonedds = `T.deserialize`; cyclonedds+json = that and `convert.to_json` (the console's
 path before the generated decoder); console = what the console runs now (a report straight to its
 JSON, a status to its sample). The rows marked (6.0) are the same vehicle's reports as a UMAA 6.0 vehicle
-writes them, the console's cost including the version's adapter to its model. The last row is the decode cost per
-vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz).
+writes them, the console's cost including the version's adapter to its model. The last two rows are the decode cost per
+vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz), and
+of the same vehicle as 6.0 (GPSReport at 1 Hz, GlobalPose and InertialSensorReport at 10 Hz; no fix status).
 CPU time, best of several rounds.
 Usage: python bench/decode.py [--rounds 5]
 """
@@ -31,14 +32,14 @@ sys.path.insert(0, str(ROOT / "backend" / "tests"))
 from samplegen import random_sample
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
-from sem_console.codec.decode import REPORT_TOPICS
+from sem_console.codec.decode import REPORT_TOPICS, report_json
 from sem_console.dds.topics import Sem, Sem60
 from sem_console.sim import umaa_6_0 as sim60
 from sem_console.sim.options import SimOptions
 from sem_console.sim.reports import Sensors
-from sem_console.versions import umaa_6_0
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
+RATES_6_0 = {Sem60.GPS_REPORT: 1, Sem60.GLOBAL_POSE_REPORT: 10, Sem60.INS_REPORT: 10}  # the same vehicle, as 6.0
 
 
 def samples() -> dict[Sem, Any]:
@@ -65,9 +66,8 @@ def samples_6_0() -> dict[Sem60, Any]:
 
 
 def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
-    """What the console runs for a 6.0 report: its JSON, then the version's adapter to the model (codec/decode.py)."""
-    fast, model = fastcdr.decoder(sem.spec.type).json, umaa_6_0.REPORTS[sem].model
-    return fast if model is None else (lambda d: model(fast(d)[0]))
+    """What the console runs for a 6.0 report: its JSON as the version's model (codec/decode.py)."""
+    return report_json(sem)
 
 
 def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:
@@ -89,7 +89,7 @@ def main() -> None:
     ap.add_argument("--rounds", type=int, default=5)
     args = ap.parse_args()
     rows, figures = [], []
-    per_vehicle = {"cyclonedds_json": 0.0, "console": 0.0}
+    per_vehicle = {"cyclonedds_json": 0.0, "console": 0.0, "console_6_0": 0.0}
     for sem, sample in samples().items():
         t = sem.spec.type
         dec = fastcdr.decoder(t)
@@ -122,6 +122,7 @@ def main() -> None:
              "speedup_vs_before": round(cdds_json / console, 1)}
         figures.append(r)
         rows.append(list(r.values()))
+        per_vehicle["console_6_0"] += RATES_6_0[sem] * console
     keys = list(figures[0])
     rows.append(
         [
@@ -136,6 +137,7 @@ def main() -> None:
             round(per_vehicle["cyclonedds_json"] / max(per_vehicle["console"], 1e-9), 1),
         ]
     )
+    rows.append(["per vehicle-second (ms), 6.0", "as sent", "", "", "", round(per_vehicle["console_6_0"] / 1000, 3), "", "", ""])
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},

@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import text
 
@@ -77,6 +78,26 @@ def kinds(active: list[dict[str, Any]]) -> list[tuple[str, str]]:
 
 
 # ---- conditions --------------------------------------------------------------------------------
+def test_each_failed_alignment_of_a_6_0_ins_is_an_ins_failure_in_its_words(tmp_path: Path) -> None:
+    """UMAA 6.0 says which alignment failed: each raises the INS alarm, its text the status's words."""
+    w = World(tmp_path / "db")
+    said = {}
+    for t, status in enumerate(("GPS_ALIGNMENT_FAILURE", "STATIONARY_ALIGNMENT_FAILURE", "BEST_ALIGNMENT_FAILURE",
+                                "TRANSFER_ALIGNMENT_FAILURE", "SNAP_ALIGNMENT_FAILURE")):
+        w.at(2 * t).report(ALPHA, "InertialSensorReport", status=status)
+        [failed] = w.update()
+        assert (failed["kind"], failed["severity"], failed["state"]) == ("ins-failure", "alarm", "active-unacknowledged")
+        said[status] = failed["text"]
+        w.at(2 * t + 1).report(ALPHA, "InertialSensorReport", status="FINE_GPS_ALIGNMENT_COMPLETE")  # aligned: it clears
+        assert kinds(w.update()) == [("ins-failure", "cleared-unacknowledged")]
+        w.ack(failed["id"])
+        assert w.update() == []
+    assert said["GPS_ALIGNMENT_FAILURE"] == "Alpha: INS GPS-aided alignment failed"
+    assert said["SNAP_ALIGNMENT_FAILURE"] == "Alpha: INS snap alignment failed"
+    w.report(ALPHA, "InertialSensorReport", status="COARSE_GPS_ALIGNMENT")  # a stage is no failure
+    assert w.update() == []
+
+
 def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     w.report(CHARLIE, "GPSReport")
@@ -300,8 +321,9 @@ def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(doma
         assert late["text"].startswith("Charlie: GPS fix command executed late (no answer for ")
 
 
-def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, console) -> None:
-    sim("--fault", "ins-failure")
+@pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
+def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, console, umaa: str) -> None:
+    sim("--fault", "ins-failure", "--umaa", umaa)
     c = console("--vehicle-names", f"{V1}=Alpha")
     provider_ready(c.url, V1, {"InertialSensorReport"})
     [alarm] = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10,

@@ -554,3 +554,20 @@ def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(databas
         assert db.comap_tasks(7)[0]["state"] == "IN_PROGRESS"
     finally:
         db.close()
+
+
+def test_a_6_0_vehicle_moves_for_comap_and_its_position_follows(sim, console) -> None:
+    """A UMAA 6.0 vehicle (sem-sim --umaa 6.0) under CoMap: its position, from its GlobalPose through the console's one
+    model, is CoMap's vehicle position and the track's; a move task takes it to the point, as a 3.0.1 vehicle."""
+    c, _c_port, _s_port = comap_pair(sim, console, "--umaa", "6.0", "--survey-speed", "1")
+    here = last_position(c.url)
+    assert httpx.get(f"{c.url}/api/providers/{V1}").json()["umaaVersion"] == "6.0"
+    capabilities(c.url)
+    dest = Local(*here).latlon(-60.0, -40.0)
+    m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
+    wait_until(lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+               40, "the move task to complete")
+    wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
+    pose = httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixReport"]["report"]
+    at = pose["position2DWithTime"]["geodeticPosition"]
+    assert math.hypot(*Local(*dest).xy(at["geodeticLatitude"]["latitude"], at["geodeticLongitude"]["longitude"])) < 1.0

@@ -707,3 +707,61 @@ def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> 
     assert len(warnings) == 1 and all(
         k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json")
     )
+
+
+def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: int, station, tmp_path: Path) -> None:
+    """A UMAA 6.0 vehicle's GlobalPose reaches the gateways through the console's one model, as a 3.0.1 vehicle's
+    GPSFixReport does: ASPN-23's position and direction of motion; JAUS's ReportNavigation with the position, course,
+    attitude, depth and horizontal position error 6.0 adds. Written with the 3.0.1 ICD's report QoS (reliable,
+    transient-local), which the console's 6.0 readers match as they match RTI's best-effort writers (sem-sim)."""
+    from UMAA_6_0.Common import IdentifierType
+    from UMAA_6_0.Common.MaritimeEnumeration.NavigationSolutionEnumModule import NavigationSolutionEnumType
+    from UMAA_6_0.Common.Measurement import CovariancePositionNEDType, DateTime, GeoPosition2D
+    from UMAA_6_0.Common.Orientation import Orientation3DNEDType, PitchYNEDType, RollXNEDType, YawZNEDType
+    from UMAA_6_0.SA.GlobalPoseStatus import GlobalPoseReportType
+
+    from sem_console.dds.topics import Sem60
+
+    port = free_udp_port()
+    c = console("--aspn-lcm", f"file://{tmp_path / 'aspn.lcm'}", "--jaus-port", str(port), "--jaus-subsystem", "42")
+    bus = Consumer(domain, name="a-6.0-vehicle").bus
+    vehicle = uuid.uuid4()
+    stamp = now_datetime()
+    pose = GlobalPoseReportType(
+        altitude=None, altitudeAGL=None, altitudeASF=12.0, altitudeGeodetic=None,
+        attitude=Orientation3DNEDType(pitch=PitchYNEDType(0.05), roll=RollXNEDType(-0.1), yaw=YawZNEDType(4.0)),
+        attitudeCovariance=None, course=4.2, depth=3.5, navigationSolution=NavigationSolutionEnumType.MEASURED,
+        position=GeoPosition2D(geodeticLatitude=36.85, geodeticLongitude=-75.98),
+        positionCovariance=CovariancePositionNEDType(pdPd=None, pePd=None, pePe=9.0, pnPd=None, pnPe=None, pnPn=16.0),
+        timeStamp=DateTime(seconds=stamp.seconds, nanoseconds=stamp.nanoseconds),
+        source=IdentifierType(id=to_guid(vehicle), parentID=bytes(16)))
+    writer = bus.writer(Sem60.GLOBAL_POSE_REPORT)  # alive until the test ends
+    writer.write(pose)
+    detail = provider_ready(c.url, str(vehicle), {"GPSFixReport"})
+    assert detail["umaaVersion"] == "6.0"
+
+    def log() -> dict[str, Any] | None:
+        r = httpx.get(f"{c.url}/api/providers/{vehicle}/aspn-log")
+        if r.status_code != 200 or not r.content:
+            return None
+        (tmp_path / "got.lcm").write_bytes(r.content)
+        got = {ch.rsplit("/", 1)[1]: m for ch, m in read_log(tmp_path / "got.lcm")}
+        return got if "measurement_position" in got else None
+    got = wait_until(log, 10, "the 6.0 vehicle's ASPN position")
+    position = got["measurement_position"]
+    assert (position.term1, position.term2) == (math.radians(36.85), math.radians(-75.98))
+    assert position.time_of_validity.elapsed_nsec == stamp.seconds * 10**9 + stamp.nanoseconds
+    assert got["measurement_direction_of_motion_2d"].obs == 4.2
+    assert "measurement_speed" not in got and "measurement_velocity" not in got  # GlobalPose has none: nothing made up
+
+    me = (1, 1, 42)
+    nav = decode_navigation(unjudp(ask(station, port, judp(me, 0x2421, struct.pack("<HHHH", 0xFFFF, 0, 0xFFFF, 0))))[3])
+    g = nav["global"]
+    assert set(g) == {"Latitude", "Longitude", "AltitudeASF", "Depth", "XYPositionRMS", "Roll", "Pitch", "Heading", "Course",
+                      "TimeSeconds", "TimeNanoSeconds"}
+    assert abs(g["Latitude"] - 36.85) <= step("Latitude") and abs(g["Longitude"] + 75.98) <= step("Longitude")
+    assert abs(g["Depth"] - 3.5) <= step("Depth") and abs(g["AltitudeASF"] - 12.0) <= step("AltitudeASF")
+    assert abs(g["XYPositionRMS"] - 5.0) <= step("XYPositionRMS")  # sqrt(16 + 9)
+    assert abs(g["Roll"] + 0.1) <= step("Roll") and abs(g["Pitch"] - 0.05) <= step("Pitch")
+    assert abs(g["Heading"] - (4.0 - 2 * math.pi)) <= step("Heading") and abs(g["Course"] - (4.2 - 2 * math.pi)) <= step("Course")
+    assert nav["statePv"] == sum(1 << VSTATE.index(k) for k in ("TimeSeconds", "TimeNanoSeconds"))  # no speed reported

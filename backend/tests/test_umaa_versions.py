@@ -9,18 +9,22 @@ from typing import Any
 import httpx
 from cyclonedds.core import InstanceState
 
-from sem_console.codec.decode import Decoder
+from sem_console.codec import fastcdr
+from sem_console.codec.convert import to_json
+from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
+from sem_console.console.history import track_point
 from sem_console.dds.topics import Sem60
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
+from sem_console.versions import umaa_6_0
 from test_console import WsClient, wait_until
 from test_wire_layout import GOLDEN_6_0
 
 V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
 ALIVE = int(InstanceState.Alive)
-HEALTH_6_0 = {"GPSReport", "GlobalPoseReportType", "InertialSensorReportType"}
+HEALTH_6_0 = {"GPSReport", "GPSFixReport", "InertialSensorReport"}  # the model's topics, whatever the version
 
 
 def _detail(base: str, pid: str, topics: set[str]) -> dict[str, Any]:
@@ -35,7 +39,7 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     six = sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--state-file", str(tmp_path / "sim-6.0.json"))
     c = console()
     ws = WsClient(c.ws_url)
-    old = _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})
+    old = _detail(c.url, V1, {"GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"})
     new = _detail(c.url, V2, HEALTH_6_0)
     assert old["umaaVersion"] == "3.0.1" and new["umaaVersion"] == "6.0"
     assert {p["id"]: p["umaaVersion"] for p in httpx.get(f"{c.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
@@ -45,45 +49,134 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     assert gps["source"] == V2 and gps["numberSatellitesInView"] == len(gps["satellites"]) >= 20
     assert set(gps["satellites"][0]) == set(old["reports"]["GPSReport"]["report"]["satellites"][0])
     assert all(satellite_label(uuid.UUID(s["satelliteId"]).bytes)[0] in "GERCSJI" for s in gps["satellites"])
-    assert gps["clock"]["biasUncertianty"] == 15 and "timeFigureOfMerit" not in gps["clock"]
+    assert gps["clock"]["biasUncertianty"] == 15
+    # time quality: each version what it reports (3.0.1 its time uncertainty, 6.0 its figure of merit)
+    assert gps["clock"]["timeFigureOfMerit"] == tfom(old["reports"]["GPSReport"]["report"]["clock"]["timeUncertainty"]).name
+    assert gps["clock"]["timeUncertainty"] is None and "timeFigureOfMerit" not in old["reports"]["GPSReport"]["report"]["clock"]
     assert new["reports"]["GPSReport"]["invalid"] == []
+    # its GlobalPose: the model's position report, as a 3.0.1 vehicle's GPSFixReport, with what 6.0 adds
+    pose, fix = new["reports"]["GPSFixReport"]["report"], old["reports"]["GPSFixReport"]["report"]
+    assert set(fix) < set(pose) and pose["source"] == V2 and new["reports"]["GPSFixReport"]["invalid"] == []
+    at = pose["position2DWithTime"]["geodeticPosition"]
+    assert -90 <= at["geodeticLatitude"]["latitude"] <= 90 and -180 <= at["geodeticLongitude"]["longitude"] <= 180
+    assert 0 <= pose["trueCourse"] < 7 and pose["attitude"]["yaw"]["yaw"] == pose["trueCourse"]
+    assert pose["navigationSolution"] in ("MEASURED", "ESTIMATED")
+    assert pose["GPSLatLongValid"] is (pose["navigationSolution"] == "MEASURED") and pose["SOG"] is None
+    # its INS: the model's InertialSensorReport, the status a 6.0 literal, no power state
+    ins = new["reports"]["InertialSensorReport"]["report"]
+    assert ins["state"] is None and ins["status"] in report_schemas()["InertialSensorOpStatusEnumType"]["enum"]
+    assert ins["status"] not in ("OPERATIONAL", "COURSE_GPS_ALIGNMENT", "COURSE_STATIONARY_ALIGNMENT")
+    assert "GPSFixStatusReport" not in new["reports"] or new["reports"]["GPSFixStatusReport"] is None
+    # its track: the map's and the exports' history take its positions as a 3.0.1 vehicle's
+    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V2}/track").json(), 10, "the 6.0 vehicle's track")
     assert all(new["topics"][t]["alive"] and new["topics"][t]["samples"] > 0 for t in HEALTH_6_0)
     assert new["link"] == "live" and set(new["topics"]) == HEALTH_6_0
     # the WebSocket says each vehicle's version too (the snapshot and the provider events)
     wait_until(lambda: {p["provider"]["id"]: p["provider"]["umaaVersion"] for p in ws.of("provider")}.get(V2) == "6.0"
                or {p["id"]: p["umaaVersion"] for p in ws.messages[0]["providers"]}.get(V2) == "6.0", 10, "6.0 on the WebSocket")
+    # and its reports in the model's topics, each valid against the published schema (WsClient checks every message)
+    wait_until(lambda: {"GPSFixReport", "InertialSensorReport", "GPSReport"} <= {
+        m["topic"] for m in ws.of("report") if m["providerId"] == V2}, 10, "the 6.0 vehicle's reports on the WebSocket")
     assert ws.errors == []
     ws.close()
     six.stop()  # its shutdown disposes its reports: the 6.0 vehicle's link is lost at once
     wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V2}").json()["link"] == "lost", 10, "the 6.0 vehicle lost")
 
 
-def test_6_0_reports_decode_into_the_model() -> None:
-    """The golden 6.0 GPSReportType (tests/test_wire_layout.py) through the one decode path: the model's GPSReport,
-    the satellite named by its constellation and number; the 6.0 reports the model has no place for yet count for the
-    link only."""
+def _model(sem: Sem60, data: bytes | None = None) -> tuple[Any, dict[str, Any], list[str]]:
+    """A golden 6.0 sample (tests/test_wire_layout.py), or `data` on its topic, through the one decode path."""
     decoder = Decoder()
-    sample, data = GOLDEN_6_0["UMAA::SEM::GPSStatus::GPSReportType"]()
-    item = decoder.decode(Sem60.GPS_REPORT, data, True, ALIVE, 0.0)
-    assert item is not None and item.topic == "GPSReport" and item.version == "6.0"  # type: ignore[union-attr]
-    assert item.source == uuid.UUID(bytes=bytes(sample.source.id))
-    report = item.report  # type: ignore[union-attr]
-    assert report["source"] == str(uuid.UUID(bytes=bytes(sample.source.id)))
-    assert satellite_label(uuid.UUID(report["satellites"][0]["satelliteId"]).bytes) == "E17"
-    assert report["clock"]["biasUncertianty"] == 7 and report["clock"]["timeUncertainty"] is None
-    # member for member the model's GPSReport, as the WebSocket schema has it (every member required, nullable)
+    sample, golden = GOLDEN_6_0[sem.spec.name]()
+    item = decoder.decode(sem, golden if data is None else data, True, ALIVE, 0.0)
+    assert isinstance(item, ReportItem) and item.version == "6.0" and item.report is not None
+    assert item.source == uuid.UUID(bytes=bytes(sample.source.id)) and decoder.undecodable == {}
+    assert item.report["source"] == str(item.source)
+    return sample, item.report, item.invalid
+
+
+def _schema_members(value: dict[str, Any], struct: str, defs: dict[str, Any]) -> None:
+    """`value` is the model's `struct` member for member, as the WebSocket schema has it: every required member, and
+    no member the schema lacks (those 6.0 adds are optional)."""
+    assert set(defs[struct]["required"]) <= set(value) <= set(defs[struct]["properties"]), struct
+
+
+def test_6_0_reports_decode_into_the_model() -> None:
+    """The golden 6.0 reports through the one decode path into the console's one model: the GPSReport (the satellite
+    named by its constellation and number, the clock's time figure of merit), the position report from GlobalPose
+    (position, course, attitude, navigation solution, the optional members present or null) and the INS status."""
     defs = report_schemas()
-    for value, struct in ((report, "GPSReportType"), (report["clock"], "GPSClockType"),
-                          (report["satellites"][0], "GPSSatelliteType")):
-        assert sorted(value) == sorted(defs[struct]["required"]), struct
-    for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT):
-        sample, data = GOLDEN_6_0[sem.spec.name]()
-        item = decoder.decode(sem, data, True, ALIVE, 0.0)
-        assert item is not None and item.report is None and item.alive  # type: ignore[union-attr]
-        assert item.topic == sem.spec.name.rsplit("::", 1)[1]  # type: ignore[union-attr]
-    assert decoder.undecodable == {}
+    _, gps, invalid = _model(Sem60.GPS_REPORT)
+    assert satellite_label(uuid.UUID(gps["satellites"][0]["satelliteId"]).bytes) == "E17" and invalid == []
+    assert gps["clock"]["biasUncertianty"] == 7 and gps["clock"]["timeUncertainty"] is None
+    assert gps["clock"]["timeFigureOfMerit"] == "TFOM_3"
+    for value, struct in ((gps, "GPSReportType"), (gps["clock"], "GPSClockType"), (gps["satellites"][0], "GPSSatelliteType")):
+        _schema_members(value, struct, defs)
+
+    _, pose, invalid = _model(Sem60.GLOBAL_POSE_REPORT)
+    assert invalid == []
+    assert pose["position2DWithTime"] == {
+        "geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
+        "timeAtPosition": 1_790_000_004.00000025}
+    assert pose["trueCourse"] == 3.0 and pose["GPSLatLongValid"] is True and pose["navigationSolution"] == "MEASURED"
+    assert pose["attitude"] == {"pitch": {"pitch": 0.1}, "roll": {"roll": -0.2}, "yaw": {"yaw": 1.5}}
+    assert pose["positionCovariance"] == {"pdPd": None, "pePd": None, "pePe": 2.0, "pnPd": None, "pnPe": 0.5, "pnPn": 3.0}
+    assert pose["altitudeGeodetic"] == 12.5 and pose["altitudeMSL"] is None and pose["depth"] is None
+    assert pose["attitudeCovariance"] is None and pose["altitudeAGL"] is None and pose["altitudeASF"] is None
+    # what GlobalPose does not report is null, not made up
+    assert pose["SOG"] is None and pose["velocity"] is None and pose["magneticVariation"] is None
+    assert pose["GPSFixCommandStatus"] is None
+    _schema_members(pose, "GPSFixReportType", defs)
+
+    _, ins, invalid = _model(Sem60.INS_REPORT)
+    assert ins == {"state": None, "status": "FINE_GPS_ALIGNMENT_STARTED", "source": ins["source"],
+                   "timeStamp": {"seconds": 1, "nanoseconds": 2}} and invalid == []
+    assert "FINE_GPS_ALIGNMENT_STARTED" in defs["InertialSensorOpStatusEnumType"]["enum"]
+    _schema_members(ins, "InertialSensorReportType", defs)
+
+
+def test_a_6_0_position_flagged_invalid_is_named_by_the_models_path() -> None:
+    """An impossible latitude and an estimated position: the model's track and gateways read the flag by the model's
+    path, and an estimated position is no measurement (GPSLatLongValid false, as a 3.0.1 INS position)."""
+    sample, _ = GOLDEN_6_0["UMAA::SA::GlobalPoseStatus::GlobalPoseReportType"]()
+    sample.position.geodeticLatitude = 95.0
+    sample.course = float("nan")
+    sample.navigationSolution = type(sample.navigationSolution)["ESTIMATED"]
+    _, pose, invalid = _model(Sem60.GLOBAL_POSE_REPORT, type(sample).serialize(sample, use_version_2=True))
+    assert sorted(invalid) == ["position2DWithTime.geodeticPosition.geodeticLatitude.latitude: 95.0 outside -90..90",
+                               "trueCourse: nan is not a number"]
+    assert pose["GPSLatLongValid"] is False and pose["navigationSolution"] == "ESTIMATED" and pose["trueCourse"] is None
+    assert track_point(pose["source"], 0.0, pose, invalid, None) is None  # no valid position, no track point
 
 
 def test_time_figure_of_merit() -> None:
     assert [tfom(x).name for x in (None, 0.5, 1, 1.5, 10, 20, 100, 101, 1e7, 1e9)] == [
         "TFOM_1", "TFOM_1", "TFOM_1", "TFOM_2", "TFOM_2", "TFOM_3", "TFOM_3", "TFOM_4", "TFOM_8", "TFOM_9"]
+
+
+def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
+    """A 6.0 report said as data (versions/shape.py) is decoded by the generated code straight to the model's JSON,
+    and one cyclonedds decodes (the fallback) is adapted to the same JSON: the same members, values and invalid
+    values, for the golden samples and a sample with impossible values and every optional member present."""
+    for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT):
+        r = umaa_6_0.REPORTS[sem]
+        assert r.spec is not None
+        sample, golden = GOLDEN_6_0[sem.spec.name]()
+        datas = [golden]
+        if sem is Sem60.GLOBAL_POSE_REPORT:
+            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -1.0, 5.0, 2.0
+            sample.altitudeAGL, sample.altitudeASF = 7.0, 8.0
+            sample.attitudeCovariance = _attitude_covariance()
+            datas.append(type(sample).serialize(sample, use_version_2=True))
+        for data in datas:
+            generated = fastcdr.decoder(sem.spec.type, r.spec, umaa_6_0.model_path, r.model).json(data)
+            assert generated == r.model(*to_json(sem.spec.type.deserialize(data)))
+        if sem is Sem60.GLOBAL_POSE_REPORT:
+            pose = generated
+    assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
+                               "trueCourse: -1.0 outside 0..6.28319"]
+    assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
+
+
+def _attitude_covariance() -> Any:
+    from UMAA_6_0.Common.Measurement import CovarianceOrientationNEDType
+    return CovarianceOrientationNEDType(rpRp=0.01, rpRy=None, rrRp=0.002, rrRr=0.02, rrRy=None, ryRy=0.03)

@@ -12,11 +12,22 @@ test("a mixed fleet: each vehicle shows the UMAA version it speaks", async ({ pa
     await expect(vehicle(page, old).getByTestId("vehicle-umaa")).toHaveText("UMAA 3.0.1", { timeout: 30_000 });
     await expect(vehicle(page, six).getByTestId("vehicle-umaa")).toHaveText("UMAA 6.0", { timeout: 30_000 });
     await expect(vehicle(page, six)).toHaveAttribute("data-link", "live");
-    // a 6.0 vehicle has no GPS fix service: its missing fix reports are said as its version's, not awaited
+    // a 6.0 vehicle's GlobalPose is its position on screen, as a 3.0.1 vehicle's fix: where it is, what kind of
+    // position (its navigation solution, the literal in the tooltip) and its attitude; no fix status (no GPS fix service)
     await vehicle(page, six).click();
-    await expect(page.getByTestId("fix-panel").getByTestId("fix-none")).toContainText("UMAA 6.0 has no GPS fix service");
-    await expect(page.getByTestId("ins-panel").getByTestId("ins-none")).toContainText("UMAA 6.0 inertial sensor's status");
-    await expect(page.getByTestId("fix-panel")).not.toContainText("No GPS fix reports yet");
+    const fix = page.getByTestId("fix-panel");
+    await expect(fix.getByTestId("latitude")).toHaveText(/^36\.8\d+° N$/, { timeout: 15_000 });
+    await expect(fix.getByTestId("position-kind")).toHaveText(/^(Measured|Estimated) position$/);
+    await expect(fix.getByTestId("position-kind")).toHaveAttribute("title", /^UMAA navigationSolution: (MEASURED|ESTIMATED)$/);
+    await expect(fix.getByTestId("attitude")).toHaveText(/^0\.0° \/ 0\.0° \/ \d+\.\d°$/);
+    await expect(fix.getByTestId("fix-valid")).toHaveAttribute("title", /UMAA 6.0 has no GPS fix service/);
+    // its INS: the alignment kind and stage in words, the 6.0 literal in the tooltip, its step on the bar
+    const ins = page.getByTestId("ins-panel");
+    await expect(ins.getByTestId("ins-status")).toHaveText("Fine alignment done, stationary", { timeout: 30_000 });
+    await expect(ins.getByTestId("ins-status")).toHaveAttribute("title", "UMAA status: FINE_STATIONARY_ALIGNMENT_COMPLETE");
+    await expect(ins.locator("[aria-current=step]")).toHaveText("Alignment done");
+    await expect(ins.getByTestId("ins-state")).toHaveCount(0); // 6.0 reports no power state: none said
+    await expect(vehicle(page, six)).toContainText("INS fine alignment done, stationary");
   } finally {
     await fleet.stop();
   }

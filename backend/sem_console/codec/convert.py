@@ -22,9 +22,12 @@ MAX_SATELLITES = 256
 RANGES: dict[str, tuple[float, float]] = {
     "latitude": (-90.0, 90.0),
     "longitude": (-180.0, 180.0),
+    "geodeticLatitude": (-90.0, 90.0),  # UMAA 6.0's GeoPosition2D
+    "geodeticLongitude": (-180.0, 180.0),
     "azimuth": (-math.pi, 2 * math.pi),  # Angle is -pi..pi; some receivers send 0..2pi
     "elevation": (-math.pi / 2, math.pi / 2),
     "trueCourse": (0.0, 2 * math.pi),
+    "course": (0.0, 2 * math.pi),  # UMAA 6.0's GlobalPoseReportType
     "magneticVariation": (-math.pi, math.pi),
     "SOG": (0.0, 200.0),
     "antennaCarrierNoiseDensity": (0.0, 1_000_000.0),

@@ -27,6 +27,7 @@ from cyclonedds.idl import IdlStruct
 from sem_console.codec import fastcdr
 from sem_console.dds.topics import AnySem, Sem, Service, delimited
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
+from sem_console.versions.shape import Adapter
 
 log = logging.getLogger("sem-console.ingest")
 
@@ -39,8 +40,9 @@ ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack:
 COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
 # The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
 REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
-# Every topic name a vehicle's report samples count under for its link (provider health)
-REPORT_HEALTH_TOPICS = (*REPORT_TOPICS.values(), *(r.topic for r in umaa_6_0.REPORTS.values() if r.model is None))
+# Every topic name a vehicle's report samples count under for its link (provider health): the model's, whatever the
+# version
+REPORT_HEALTH_TOPICS = tuple(REPORT_TOPICS.values())
 
 
 @dataclass
@@ -81,9 +83,8 @@ def _source(report: dict[str, Any]) -> Any:
     return report.get("source")
 
 
-def _same(report: dict[str, Any]) -> dict[str, Any]:
-    return report
-
+def _same(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
+    return report, invalid
 
 @dataclass(frozen=True)
 class _Route:
@@ -97,7 +98,7 @@ class _Route:
     kind: str  # "report" | "status" | "ack"
     version: UmaaVersion = UMAA_3_0_1
     source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
-    model: Callable[[dict[str, Any]], dict[str, Any]] | None = _same  # a report's JSON as the model's; None: health only
+    model: Adapter = _same  # a report's JSON and invalid values as the model's (its version's adapter)
 
 
 _ROUTES: dict[AnySem, _Route] = {
@@ -107,8 +108,11 @@ _ROUTES: dict[AnySem, _Route] = {
        for sem, service in STATUS_TOPICS.items()},
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
        for sem, service in ACK_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
-                   umaa_6_0.source_of, r.model)
+    # a 6.0 report said as data (`Report.spec`) is decoded straight to the model's JSON; another is adapted after
+    **{sem: _Route(sem.spec.name, sem.spec.type,
+                   fastcdr.decoder(sem.spec.type, r.spec, umaa_6_0.model_path, r.model) if r.spec is not None
+                   else fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
+                   _source if r.spec is not None else umaa_6_0.source_of, _same if r.spec is not None else r.model)
        for sem, r in umaa_6_0.REPORTS.items()},
 }
 # The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
@@ -118,6 +122,16 @@ _APPENDABLE_ROUTES: dict[AnySem, _Route] = {
     sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
     for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
 _ALIVE = InstanceState.Alive
+
+
+def report_json(sem: AnySem) -> Callable[[bytes], tuple[dict[str, Any], list[str]]]:
+    """What `Decoder.decode` runs for a sample of report topic `sem` (its final type): the CDR to the model's JSON and
+    invalid values, through its version's adapter (the benchmarks time it)."""
+    route = _ROUTES[sem]
+    if route.model is _same:
+        return route.fast.json
+    fast, model = route.fast.json, route.model
+    return lambda data: model(*fast(data))
 
 
 class Decoder:
@@ -151,10 +165,8 @@ class Decoder:
                 report = route.fast.json(data)
                 text = route.source(report[0])
                 source = fastcdr.guid_uuid(text) if isinstance(text, str) else None
-                if route.model is None:
-                    report = None  # counted for the link, not part of the model
-                elif route.model is not _same:
-                    report = (route.model(report[0]), report[1])
+                if route.model is not _same:
+                    report = route.model(*report)
             else:
                 sample = route.fast.sample(data)
                 source = guid(getattr(sample, "source", None))

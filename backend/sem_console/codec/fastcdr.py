@@ -45,6 +45,8 @@ from cyclonedds.idl import IdlStruct
 from sem_console.codec import convert
 from sem_console.dds.cyclone_private import enum_type, type_machine
 from sem_console.dds.cyclone_private import machinery as mc
+from sem_console.versions import shape
+from sem_console.versions.shape import Adapter, Spec
 
 log = logging.getLogger("sem-console.ingest")
 MAX_ELEMENTS = convert.MAX_SATELLITES
@@ -109,8 +111,10 @@ def _too_many(n: int, path: str, invalid: list[str]) -> None:
 class _Gen:
     """Generates one function `decode(b)` for one type, encoding version, byte order and mode."""
 
-    def __init__(self, v2: bool, little: bool, json: bool) -> None:
+    def __init__(self, v2: bool, little: bool, json: bool, rename: Callable[[str], str] | None = None) -> None:
         self.v2, self.json = v2, json
+        self.rename = rename  # a member's path as the JSON's reader names it (a version's model, `shape`)
+        self.trees: dict[str, dict[str, str]] = {}  # a struct's JSON expression -> its members' expressions
         self.endian = "<" if little else ">"
         self.amax = 4 if v2 else 8
         self.lines: list[str] = []
@@ -196,6 +200,8 @@ class _Gen:
     def value(self, mach: Any, path: str, name: str, enum_member: bool = False) -> str:
         """Emit the reads of one value; returns the expression of its decoded value (valid once flushed).
         `path` is the body of an f-string naming the value (as convert.to_json names it)."""
+        if self.rename is not None:
+            path = self.rename(path)
         if isinstance(mach, mc.InstanceMachine):
             return self.value(type_machine(mach.type, mach.use_version_2), path, name, enum_member)
         if isinstance(mach, mc.StructMachine):
@@ -265,7 +271,9 @@ class _Gen:
         enums = convert._enum_members(cls) if self.json else {}  # noqa: SLF001
         exprs = [self.value(mm, f"{path}.{n}" if path else n, n, n in enums) for n, mm in mach.members_machines.items()]
         if self.json:
-            return "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs, strict=True)) + "}"
+            expr = "{" + ", ".join(f"{n!r}: {e}" for n, e in zip(names, exprs, strict=True)) + "}"
+            self.trees[expr] = dict(zip(names, exprs, strict=True))
+            return expr
         return f"{self.const(cls, 'T')}({', '.join(exprs)})"
 
     def optional(self, mach: Any, path: str, name: str, enum_member: bool) -> str:
@@ -469,11 +477,19 @@ class _Gen:
         return out
 
 
-def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool) -> tuple[str, dict[str, Any]]:
-    """The source of `decode(b)` for `cls` and the names it uses."""
-    g = _Gen(v2, little, json)
+def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spec = None,
+             rename: Callable[[str], str] | None = None) -> tuple[str, dict[str, Any]]:
+    """The source of `decode(b)` for `cls` and the names it uses. With a `spec` (JSON mode) it returns the JSON of a
+    version's model (`versions/shape.py`), an invalid value named by `rename` of its path."""
+    g = _Gen(v2, little, json, rename if json and spec is not None else None)
     expr = g.value(type_machine(cls, v2), "", "")
     g.flush()
+    if json and spec is not None:
+        def member(path: str, top: str = expr) -> str:
+            for part in path.split("."):
+                top = g.trees[top][part]
+            return top
+        expr = shape.source(spec, member, g.const)
     head = ["def decode(b):", "    p = 4"] + (["    inv = []"] if json else [])
     tail = [f"    return {expr}, inv" if json else f"    return {expr}"]
     return "\n".join(head + g.lines + tail) + "\n", g.ns
@@ -485,8 +501,11 @@ _FALLBACK: Any = object()
 class TypeDecoder:
     """The generated decoders of one type, built on first use per encoding, byte order and mode."""
 
-    def __init__(self, cls: type[IdlStruct]) -> None:
+    def __init__(self, cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None,
+                 adapt: Adapter | None = None) -> None:
         self.cls = cls
+        # a version's report as its model (`versions/`): `spec` for the generated code, `adapt` for cyclonedds' JSON
+        self.spec, self.rename, self.adapt = spec, rename, adapt
         self._fns: dict[tuple[bool, bool, bool], Any] = {}
         self._lock = threading.Lock()
 
@@ -504,7 +523,7 @@ class TypeDecoder:
     def _build(self, v2: bool, little: bool, json: bool) -> Any:
         name = f"{self.cls.__name__} {'xcdr2' if v2 else 'xcdr1'} {'le' if little else 'be'}{' json' if json else ''}"
         try:
-            source, ns = generate(self.cls, v2, little, json)
+            source, ns = generate(self.cls, v2, little, json, self.spec, self.rename)
             exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # our own generated source
             return ns["decode"]
         except Unsupported:
@@ -517,7 +536,8 @@ class TypeDecoder:
         """`convert.to_json(cls.deserialize(data))`, faster."""
         fn = self._fn(data, True)
         if fn is _FALLBACK:
-            return convert.to_json(self.cls.deserialize(data))
+            decoded_by_cyclonedds = convert.to_json(self.cls.deserialize(data))
+            return decoded_by_cyclonedds if self.adapt is None else self.adapt(*decoded_by_cyclonedds)
         decoded: tuple[dict[str, Any], list[str]] = fn(data)  # the generated decode(b), JSON mode
         return decoded
 
@@ -529,13 +549,17 @@ class TypeDecoder:
         return fn(data)
 
 
-_decoders: dict[type[IdlStruct], TypeDecoder] = {}
+_decoders: dict[tuple[type[IdlStruct], int], TypeDecoder] = {}
 
 
-def decoder(cls: type[IdlStruct]) -> TypeDecoder:
-    d = _decoders.get(cls)
+def decoder(cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None,
+            adapt: Adapter | None = None) -> TypeDecoder:
+    """The decoders of `cls`; with a `spec` (and its `rename` and `adapt`, `TypeDecoder`), of its JSON as a version's
+    model."""
+    key = (cls, id(spec))
+    d = _decoders.get(key)
     if d is None:
-        d = _decoders.setdefault(cls, TypeDecoder(cls))
+        d = _decoders.setdefault(key, TypeDecoder(cls, spec, rename, adapt))
     return d
 
 

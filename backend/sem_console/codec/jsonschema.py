@@ -14,6 +14,7 @@ from typing import Any
 from cyclonedds.idl import IdlStruct
 
 from sem_console.codec.convert import GUID_MEMBERS
+from sem_console.versions import umaa_6_0
 
 
 def _schema(hint: Any, name: str, defs: dict[str, Any]) -> dict[str, Any]:
@@ -60,10 +61,19 @@ def struct_schema(cls: type[IdlStruct], defs: dict[str, Any]) -> None:
 
 
 def report_schemas() -> dict[str, Any]:
-    """$defs for the four report types (and everything they use), keyed by IDL type name."""
+    """$defs for the four report types of the console's model (and everything they use), keyed by IDL type name: the
+    UMAA 3.0.1 types, with the members and literals UMAA 6.0 adds to the model (`versions/umaa_6_0.py`), a member
+    optional (absent from a 3.0.1 vehicle's report)."""
     from sem_console.codec.decode import REPORT_TOPICS
 
     defs: dict[str, Any] = {}
     for sem in REPORT_TOPICS:
         struct_schema(sem.spec.type, defs)
+    for struct, members in umaa_6_0.MODEL_MEMBERS.items():
+        defs[struct]["properties"].update(
+            {n: {"anyOf": [_schema(h, n, defs), {"type": "null"}]} for n, h in members.items()})
+        defs[struct]["description"] += " (and the members UMAA 6.0 adds, absent from a UMAA 3.0.1 vehicle's report)"
+    for enum, added in umaa_6_0.MODEL_LITERALS.items():
+        literals = defs[enum]["enum"]
+        literals.extend(e.name for e in added if e.name not in literals)
     return defs

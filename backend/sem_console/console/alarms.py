@@ -72,7 +72,8 @@ RANK = {"warning": 1, "alarm": 2}
 WORSE = "worse"
 RETURNS = ("expired", "unshelved", WORSE)
 OVERDUE = "not heard by {until} UTC, the end of its planned silence ({grace:g} s grace)"
-INS_FAILURE = "INERTIAL_SENSOR_FAILURE"
+# the ending of the INS statuses that say it or its alignment failed: INERTIAL_SENSOR_FAILURE, GPS_ALIGNMENT_FAILURE...
+INS_FAILURE = "_FAILURE"
 INS_STATUS = "InertialSensorOpStatusEnumType"
 WATCHED = {"InertialSensorReport": "status", "GPSFixStatusReport": "fixValid"}  # the report fields alarms depend on
 TOOK_UP = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING, Status.COMPLETED})
@@ -586,8 +587,9 @@ class Alarms:
             elif pid not in self.silences:  # a planned silence: the loss is expected
                 found.append(Found("link-lost", pid, None, f"link {inline(word('link', 'lost'))}"))
             ins = p.reports.get("InertialSensorReport")
-            if ins is not None and ins["report"].get("status") == INS_FAILURE:
-                found.append(Found("ins-failure", pid, None, f"INS {inline(word(INS_STATUS, INS_FAILURE))}"))
+            ins_status = ins["report"].get("status") if ins is not None else None
+            if isinstance(ins_status, str) and ins_status.endswith(INS_FAILURE):
+                found.append(Found("ins-failure", pid, None, f"INS {inline(word(INS_STATUS, ins_status))}"))
             status = p.reports.get("GPSFixStatusReport")
             valid = status["report"].get("fixValid") if status is not None else None
             fix_valid[pid] = valid

@@ -41,11 +41,38 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "FINE_GPS_ALIGNMENT_COMPLETE": "Fine alignment done, GPS-aided",
         "OPERATIONAL": "Operational",
         "INERTIAL_SENSOR_FAILURE": "Failed",
+        # ---- UMAA 6.0's INS statuses: the stage of each kind of alignment, or its failure (6.0 spells coarse
+        # "COARSE"; it has no OPERATIONAL: an aligned 6.0 INS reports the completed stage) ----
+        "COARSE_STATIONARY_ALIGNMENT": "Coarse alignment, stationary",
+        "COARSE_GPS_ALIGNMENT": "Coarse alignment, GPS-aided",
+        "COARSE_BEST_ALIGNMENT": "Coarse alignment, best available",
+        "COARSE_TRANSFER_ALIGNMENT": "Coarse alignment, transfer",
+        "FINE_BEST_ALIGNMENT_STARTED": "Fine alignment, best available",
+        "FINE_TRANSFER_ALIGNMENT_STARTED": "Fine alignment, transfer",
+        "FINE_BEST_ALIGNMENT_COMPLETE": "Fine alignment done, best available",
+        "FINE_TRANSFER_ALIGNMENT_COMPLETE": "Fine alignment done, transfer",
+        "SNAP_ALIGNMENT_COMPLETE": "Snap alignment done",
+        "STATIONARY_ALIGNMENT_FAILURE": "Stationary alignment failed",
+        "GPS_ALIGNMENT_FAILURE": "GPS-aided alignment failed",
+        "BEST_ALIGNMENT_FAILURE": "Best available alignment failed",
+        "TRANSFER_ALIGNMENT_FAILURE": "Transfer alignment failed",
+        "SNAP_ALIGNMENT_FAILURE": "Snap alignment failed",
+    },
+    # ---- UMAA 6.0's position and clock (GlobalPoseReportType.navigationSolution, GPSClockType.timeFigureOfMerit) ----
+    # whether the position is measured or estimated (a 3.0.1 vehicle says it as GPSLatLongValid: GPS or INS position)
+    "NavigationSolutionEnumType": {
+        "MEASURED": "Measured position", "ESTIMATED": "Estimated position", "GROUND_TRUTH": "Ground truth position",
+    },
+    # the time's estimated error to UTC (1 sigma), in the classes the figure of merit names
+    "TFOMEnumType": {
+        "TFOM_1": "Time within 1 ns", "TFOM_2": "Time within 10 ns", "TFOM_3": "Time within 100 ns",
+        "TFOM_4": "Time within 1 µs", "TFOM_5": "Time within 10 µs", "TFOM_6": "Time within 100 µs",
+        "TFOM_7": "Time within 1 ms", "TFOM_8": "Time within 10 ms", "TFOM_9": "Time off by over 10 ms",
     },
     # the INS panel's alignment steps: a stage, stationary or GPS-aided (the status says which)
     "insAlignmentStep": {
         "INIT": "Starting up", "COURSE_STATIONARY_ALIGNMENT": "Coarse alignment",
-        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment", "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Fine alignment done",
+        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment", "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Alignment done",
         "OPERATIONAL": "Operational",
     },
     "CommandStatusEnumType": {
@@ -63,6 +90,8 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "RESOURCE_REJECTED": "The vehicle refused it",
         "INTERRUPTED": "Another command took over",
         "TIMEOUT": "Timed out",
+        # UMAA 6.0: the consumer sent the command again with a newer time stamp; it starts over at ISSUED
+        "UPDATED": "Updated by a newer command",
     },
     # ---- the console's own states ----
     # a command the vehicle has not acknowledged (no ISSUED) within the unanswered timeout

@@ -3,30 +3,78 @@
 - `UMAA::SEM::GPSStatus::GPSReportType` feeds the model's GPSReport: the clock and every satellite, member for member.
   A 6.0 satellite's `satelliteID` is a number; the model's `satelliteId` is the console's satellite GUID made of the
   constellation and that number (`umaa/guid.py`), so the dashboard labels it as it labels a 3.0.1 satellite (G17).
-  The clock's `timeFigureOfMerit` has no member in the model yet and is left out; its `timeUncertainty` is null.
-- `UMAA::SA::GlobalPoseStatus::GlobalPoseReportType` and `UMAA::SEM::InertialSensorStatus::InertialSensorReportType`
-  count for the vehicle's link (their samples, their instances) under their own topic names; their position and
-  alignment stage have no place in the model yet (`model` None).
+  The clock's time quality is its `timeFigureOfMerit` (a member 6.0 adds to the model); its `timeUncertainty` is null.
+- `UMAA::SA::GlobalPoseStatus::GlobalPoseReportType` feeds the model's position report (GPSFixReport): its position
+  (at its timeStamp), course (trueCourse) and MSL altitude (altitudeMSL); whether the position is measured
+  (GPSLatLongValid: true when MEASURED or GROUND_TRUTH, false when ESTIMATED, as a 3.0.1 position from the INS); and
+  the members 6.0 adds to the model (`MODEL_MEMBERS`): attitude, navigation solution, the other altitudes, depth and the
+  covariances, null when the vehicle leaves them out. It reports no speed over ground, magnetic variation, velocity or
+  receiver fix state: those are null.
+- `UMAA::SEM::InertialSensorStatus::InertialSensorReportType` feeds the model's InertialSensorReport: its `status` (the
+  stage of each kind of alignment, or a failure; literals 6.0 adds to the model's, `MODEL_LITERALS`). 6.0 reports no
+  power state: `state` is null.
+
+An invalid value the decoder flagged is named by the model's path ("position2DWithTime.geodeticPosition....").
 """
 
 from __future__ import annotations
 
 import functools
+import re
 import uuid
-from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from enum import Enum
+from typing import Any, get_type_hints
 
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorOpStatusEnumModule import InertialSensorOpStatusEnumType as OpStatus
+from UMAA_6_0.SA.GlobalPoseStatus import GlobalPoseReportType
+from UMAA_6_0.SEM.GPSStatus import GPSClockType
 
 from sem_console.dds.topics import Sem60
 from sem_console.umaa.guid import satellite_guid
+from sem_console.versions.shape import Adapter, Lookup, Seconds, Spec, Src, Unless, apply
 
 # The 6.0 clock member the model names differently (the 3.0.1 IDL's spelling); the one the model has and 6.0 does
-# not (null: not reported; 6.0 reports the time's quality as a figure of merit instead, which the model lacks)
+# not (null: not reported; 6.0 says the time's quality as its figure of merit instead)
 _CLOCK_NAMES = {"biasUncertainty": "biasUncertianty"}
-_CLOCK_LEFT_OUT = {"timeFigureOfMerit"}
 _CLOCK_NOT_REPORTED = {"timeUncertainty": None}
+# The 6.0 members the model has under another path, for the invalid values the decoder names (6.0's member names are
+# unique across its three reports)
+_PATHS = {
+    "position.geodeticLatitude": "position2DWithTime.geodeticPosition.geodeticLatitude.latitude",
+    "position.geodeticLongitude": "position2DWithTime.geodeticPosition.geodeticLongitude.longitude",
+    "course": "trueCourse", "altitude": "altitudeMSL.altitude", "source.id": "source",
+    "clock.biasUncertainty": "clock.biasUncertianty",
+}
+_SATELLITE_ID = re.compile(r"^(satellites\[[^\]]+\])\.satelliteID")
+_POSE_ADDS = ("altitudeAGL", "altitudeASF", "altitudeGeodetic", "attitude", "attitudeCovariance", "depth",
+              "navigationSolution", "positionCovariance")
+MEASURED = {"MEASURED": True, "GROUND_TRUTH": True, "ESTIMATED": False}  # navigationSolution -> GPSLatLongValid
+
+MODEL_MEMBERS: dict[str, dict[str, Any]] = {
+    "GPSFixReportType": {n: h for n, h in get_type_hints(GlobalPoseReportType, include_extras=True).items()
+                         if n in _POSE_ADDS},
+    "GPSClockType": {"timeFigureOfMerit": get_type_hints(GPSClockType, include_extras=True)["timeFigureOfMerit"]},
+}
+"""The members 6.0 adds to the console's model, by the model's struct: optional there (absent from a 3.0.1 vehicle's
+report, null when a 6.0 vehicle leaves an optional member out)."""
+MODEL_LITERALS: dict[str, type[Enum]] = {"InertialSensorOpStatusEnumType": OpStatus}
+"""The literals 6.0 adds to an enumeration of the model, by its name: the model's INS status is either version's."""
+
+
+def model_path(path: str) -> str:
+    """The model's path of a wire report's member, as an invalid value is named ("course" -> "trueCourse")."""
+    return _SATELLITE_ID.sub(r"\1.satelliteId", _PATHS.get(path, path))
+
+
+def _renamed(invalid: list[str]) -> list[str]:
+    """The decoder's invalid-value messages ("path: why") with each path the model's."""
+    out = []
+    for message in invalid:
+        path, sep, why = message.partition(": ")
+        out.append(model_path(path) + sep + why)
+    return out
 
 
 @functools.cache
@@ -48,16 +96,44 @@ def _satellite(s: dict[str, Any]) -> dict[str, Any]:
     return s
 
 
-def gps_report(report: dict[str, Any]) -> dict[str, Any]:
-    """A 6.0 GPSReportType (its JSON, `codec`) as the model's GPSReport."""
+def gps_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
+    """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport."""
     clock = report.get("clock") or {}
     return {
-        "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items() if k not in _CLOCK_LEFT_OUT}, **_CLOCK_NOT_REPORTED},
+        "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items()}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
         "satellites": [_satellite(s) for s in report.get("satellites") or []],
         "source": source_of(report),
         "timeStamp": report.get("timeStamp"),
-    }
+    }, _renamed(invalid) if invalid else invalid
+
+
+GLOBAL_POSE: Spec = {
+    "altitudeMSL": Unless("altitude", {"altitude": Src("altitude")}),
+    "GPSFixCommandStatus": None,
+    "GPSLatLongValid": Lookup("navigationSolution", MEASURED),
+    "magneticVariation": None,
+    "position2DWithTime": {
+        "geodeticPosition": {"geodeticLatitude": {"latitude": Src("position.geodeticLatitude")},
+                             "geodeticLongitude": {"longitude": Src("position.geodeticLongitude")}},
+        "timeAtPosition": Seconds("timeStamp")},
+    "SOG": None,
+    "trueCourse": Src("course"),
+    "velocity": None,
+    "source": Src("source.id"),
+    "timeStamp": Src("timeStamp"),
+    **{name: Src(name) for name in _POSE_ADDS},
+}
+"""A 6.0 GlobalPoseReportType as the model's position report (GPSFixReport)."""
+INS_REPORT: Spec = {"state": None, "status": Src("status"), "source": Src("source.id"), "timeStamp": Src("timeStamp")}
+"""A 6.0 InertialSensorReportType as the model's InertialSensorReport: its status; no power state (null)."""
+
+
+def _applied(spec: Spec) -> Adapter:
+    """The adapter of a report said by `spec`, for its JSON as cyclonedds decodes it."""
+    def adapt(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
+        return apply(spec, report), _renamed(invalid) if invalid else invalid
+    return adapt
 
 
 def source_of(report: dict[str, Any]) -> str | None:
@@ -70,12 +146,13 @@ def source_of(report: dict[str, Any]) -> str | None:
 class Report:
     """What the console makes of one 6.0 report topic."""
 
-    topic: str  # the topic the vehicle's link health counts it under: the model's topic when it feeds one
-    model: Callable[[dict[str, Any]], dict[str, Any]] | None  # its JSON as the model's report; None: health only
+    topic: str  # the model's report topic it feeds (the vehicle's link health counts it under that name)
+    model: Adapter  # its JSON and invalid values as the model's
+    spec: Spec = None  # the same as data, when it can be said so: the generated decoder returns the model's JSON
 
 
 REPORTS: dict[Sem60, Report] = {
     Sem60.GPS_REPORT: Report("GPSReport", gps_report),
-    Sem60.GLOBAL_POSE_REPORT: Report("GlobalPoseReportType", None),
-    Sem60.INS_REPORT: Report("InertialSensorReportType", None),
+    Sem60.GLOBAL_POSE_REPORT: Report("GPSFixReport", _applied(GLOBAL_POSE), GLOBAL_POSE),
+    Sem60.INS_REPORT: Report("InertialSensorReport", _applied(INS_REPORT), INS_REPORT),
 }

@@ -3,8 +3,13 @@ import type { Command } from "../api/types";
 import { durationOf, expectedDuration } from "./commands";
 import { exportFileName } from "./exports";
 import wsSchema from "../../schema/ws-schema.json";
+import type { InertialSensorOpStatusEnumType } from "../api/types";
+import { STEPS, stepIndex } from "../panels/Ins";
 import {
   alignmentStepText,
+  insFailed,
+  positionKind,
+  timeQuality,
   commandStatusText,
   coverageText,
   ALARM_MARK,
@@ -88,12 +93,13 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(floodText(alarmKindText("silence-overdue"), 1)).toBe("Not heard after a planned silence: 1 vehicle");
   });
 
-  it("says a UMAA 6.0 vehicle's missing fix status and INS status are its version's, not a report still to come", () => {
+  it("says a UMAA 6.0 vehicle's missing fix status is its version's, not a report still to come", () => {
     expect(fixWord(undefined, "6.0")).toMatchObject({ text: "Fix —", tone: "muted" });
     expect(fixWord(undefined, "6.0").title).toContain("UMAA 6.0 has no GPS fix service");
-    expect(insWord(undefined, undefined, "6.0").title).toContain("UMAA 6.0 inertial sensor");
-    expect(notReported("6.0", "GPSFixReport")).toContain("no GPS fix service");
-    expect(notReported("6.0", "GPSReport")).toBeNull(); // its GPSReport feeds the view
+    expect(notReported("6.0", "GPSFixStatusReport")).toContain("no GPS fix service");
+    // its GPSReport, GlobalPose (the position report) and INS status feed the view: one may come
+    for (const topic of ["GPSReport", "GPSFixReport", "InertialSensorReport"] as const) expect(notReported("6.0", topic)).toBeNull();
+    expect(insWord(undefined, undefined, "6.0").title).toBe("no inertial sensor report yet");
     expect(fixWord(undefined, "3.0.1").title).toBe("no GPS fix status yet");
     expect(insWord(undefined, undefined, null).title).toBe("no inertial sensor report yet");
     expect(fixWord(true, "6.0").text).toBe("Fix valid");
@@ -109,6 +115,32 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(positionSourceText(undefined)).toBe("—"); // no report: not said to be the INS's
     expect(linkText("unreachable")).toBe("Not updating");
     expect(inline("GPS 3D")).toBe("GPS 3D");
+  });
+
+  it("says a UMAA 6.0 INS's alignment kind and stage, and its failures, in the table's words (the literal in the tooltip)", () => {
+    expect(insWord(null, "COARSE_GPS_ALIGNMENT", "6.0")).toMatchObject({ text: "INS coarse alignment, GPS-aided", tone: "warn", title: "UMAA status: COARSE_GPS_ALIGNMENT" });
+    expect(insWord(null, "FINE_TRANSFER_ALIGNMENT_STARTED").text).toBe("INS fine alignment, transfer");
+    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
+    expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
+    // each failure is a failure, said by its kind, as the INS alarm says it ("Alpha: INS GPS-aided alignment failed")
+    expect(insWord(null, "GPS_ALIGNMENT_FAILURE")).toMatchObject({ text: "INS GPS-aided alignment failed", tone: "bad" });
+    expect(insWord(null, "STATIONARY_ALIGNMENT_FAILURE").text).toBe("INS stationary alignment failed");
+    expect(insWord(null, "INERTIAL_SENSOR_FAILURE").text).toBe("INS failed");
+    expect(insFailed("SNAP_ALIGNMENT_FAILURE") && insFailed("INERTIAL_SENSOR_FAILURE") && !insFailed("INIT")).toBe(true);
+    // the INS panel's step bar: each kind's stage at its step (3.0.1's COURSE and 6.0's COARSE alike)
+    expect(["INIT", "COARSE_TRANSFER_ALIGNMENT", "COURSE_GPS_ALIGNMENT", "FINE_BEST_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE", "SNAP_ALIGNMENT_COMPLETE", "OPERATIONAL", "BEST_ALIGNMENT_FAILURE"]
+      .map((s) => stepIndex(s as InertialSensorOpStatusEnumType))).toEqual([0, 1, 1, 2, 3, 3, 4, -1]);
+    expect(alignmentStepText(STEPS[stepIndex("SNAP_ALIGNMENT_COMPLETE")])).toBe("Alignment done");
+  });
+
+  it("says what kind of position it is and the clock's time quality, each version what it reports", () => {
+    expect(positionKind({ navigationSolution: "ESTIMATED", GPSLatLongValid: false })).toMatchObject({ text: "Estimated position", tone: "bad", title: "UMAA navigationSolution: ESTIMATED" });
+    expect(positionKind({ navigationSolution: "MEASURED", GPSLatLongValid: true }).text).toBe("Measured position");
+    expect(positionKind({ GPSLatLongValid: true })).toMatchObject({ text: "GPS position", title: "UMAA GPSLatLongValid: true" });
+    expect(timeQuality({ timeFigureOfMerit: "TFOM_3" })).toMatchObject({ text: "Time within 100 ns", title: "UMAA timeFigureOfMerit: TFOM_3" });
+    expect(timeQuality({ timeFigureOfMerit: "TFOM_9", timeUncertainty: null }).text).toBe("Time off by over 10 ms");
+    expect(timeQuality({ timeUncertainty: 12.25 }).text).toBe("± 12.3 ns");
+    expect(timeQuality({}).text).toBe("—"); // nothing reported, nothing made up
   });
 
   it("never says an INS that is off is starting up (an INS off reports INIT: UMAA has no off status)", () => {

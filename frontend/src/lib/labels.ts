@@ -4,7 +4,7 @@
 // (`umaa`), for the engineer comparing the screen with a log. A literal the table does not know (a newer ICD, another
 // vendor's value) is shown as it is rather than hidden. Every place that names a state takes its words from here.
 import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState, ProviderSummary, Topic } from "../api/types";
-import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, Task } from "../api/generated/ws";
+import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, NavigationSolutionEnumType, TFOMEnumType, Task } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
 import { DASH, clockTime, elapsedText } from "./units";
 
@@ -17,6 +17,8 @@ export const NAV_SOLUTION: Words<GPSNavigationSolutionEnumType> = WORDS.GPSNavig
 export const CONSTELLATION: Words<GPSConstellationEnumType> = WORDS.GPSConstellationEnumType;
 export const INS_STATE: Words<InertialSensorStateEnumType> = WORDS.InertialSensorStateEnumType;
 export const INS_STATUS: Words<InertialSensorOpStatusEnumType> = WORDS.InertialSensorOpStatusEnumType;
+export const POSITION_SOLUTION: Words<NavigationSolutionEnumType> = WORDS.NavigationSolutionEnumType;
+export const TIME_MERIT: Words<TFOMEnumType> = WORDS.TFOMEnumType;
 export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
 export const LINK: Words<LinkState | "stale" | "unreachable" | "planned"> = WORDS.link;
@@ -42,6 +44,8 @@ export const UMAA_WORDS: Readonly<Record<string, Readonly<Record<string, string>
   GPSConstellationEnumType: CONSTELLATION,
   InertialSensorStateEnumType: INS_STATE,
   InertialSensorOpStatusEnumType: INS_STATUS,
+  NavigationSolutionEnumType: POSITION_SOLUTION,
+  TFOMEnumType: TIME_MERIT,
   CommandStatusEnumType: COMMAND_STATUS,
   CommandStatusReasonEnumType: REASON,
 };
@@ -83,15 +87,12 @@ export interface Word {
 
 export type UmaaVersion = ProviderSummary["umaaVersion"];
 
-const NO_FIX_SERVICE = "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports its position in GlobalPoseReport, which the console does not show yet";
 /** The console's report topics a vehicle of a UMAA version never fills, and why: a missing report of one is no report
  * to wait for, nor a fault. */
 const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, string>>>>> = {
   "3.0.1": {},
   "6.0": {
-    GPSFixReport: NO_FIX_SERVICE,
-    GPSFixStatusReport: NO_FIX_SERVICE,
-    InertialSensorReport: "the console does not show a UMAA 6.0 inertial sensor's status yet",
+    GPSFixStatusReport: "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports no fix status (its position comes in its GlobalPoseReport)",
   },
 };
 
@@ -100,15 +101,28 @@ export function notReported(version: UmaaVersion | null | undefined, topic: Topi
   return (version && NOT_REPORTED[version][topic]) || null;
 }
 
+/** Whether an INS status says the INS or its alignment failed: INERTIAL_SENSOR_FAILURE, and (UMAA 6.0) the failure
+ * of each kind of alignment (GPS_ALIGNMENT_FAILURE...), as the backend's INS alarm has it. */
+export function insFailed(status: string | null | undefined): boolean {
+  return typeof status === "string" && status.endsWith("_FAILURE");
+}
+
+/** Whether an INS status says it is aligned: OPERATIONAL, or a completed alignment (UMAA 6.0 has no OPERATIONAL: an
+ * aligned 6.0 INS reports the stage its alignment completed with). */
+export function insAligned(status: string | null | undefined): boolean {
+  return status === "OPERATIONAL" || (typeof status === "string" && status.endsWith("_COMPLETE"));
+}
+
 /** The INS in one phrase, as the fleet bar and the vehicle list say it: its state when that is not ON ("INS off",
- * "INS restarting"), else its status ("INS operational", "INS coarse alignment, stationary", "INS failed"). */
+ * "INS restarting"), else its status ("INS operational", "INS coarse alignment, stationary", "INS failed", "INS
+ * GPS-aided alignment failed"); a vehicle that reports no power state (UMAA 6.0) by its status. */
 export function insWord(state: string | null | undefined, status: string | null | undefined, version?: UmaaVersion | null): Word {
   if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: notReported(version, "InertialSensorReport") ?? "no inertial sensor report yet" };
   const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
-  if (status === "INERTIAL_SENSOR_FAILURE") return { text: `INS ${inline(INS_STATUS.INERTIAL_SENSOR_FAILURE)}`, tone: "bad", title };
+  if (insFailed(status)) return { text: `INS ${inline(lookup(INS_STATUS, status))}`, tone: "bad", title };
   if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
   const said = insStatusText(status, state);
-  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: status === "OPERATIONAL" ? "ok" : "warn", title };
+  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: insAligned(status) ? "ok" : "warn", title };
 }
 
 /** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
@@ -123,8 +137,29 @@ export function positionSourceText(valid: boolean | null | undefined): string {
   return typeof valid === "boolean" ? POSITION_SOURCE[valid ? "true" : "false"] : DASH;
 }
 
-/** The alignment steps as the INS panel lists them: stages, which the stationary and GPS-aided statuses both go through
- * (the status badge says which). */
+/** What kind of position it is, as the vehicle says it: its navigation solution when it reports one ("Measured
+ * position", UMAA 6.0's GlobalPose), else whose it is ("GPS position", UMAA 3.0.1's GPSLatLongValid); the literal in
+ * the tooltip. */
+export function positionKind(fix: { navigationSolution?: string | null; GPSLatLongValid?: boolean | null } | null | undefined): Word {
+  const solution = fix?.navigationSolution;
+  const valid = fix?.GPSLatLongValid;
+  if (solution) return { text: lookup(POSITION_SOLUTION, solution), tone: valid ? "ok" : "bad", title: umaa("navigationSolution", solution) };
+  return { text: positionSourceText(valid), tone: valid ? "ok" : "bad", title: umaa("GPSLatLongValid", typeof valid === "boolean" ? String(valid) : null) };
+}
+
+/** The GPS clock's time quality, as the vehicle reports it: its time uncertainty ("12.5 ns", UMAA 3.0.1) or its time
+ * figure of merit ("Time within 100 ns", UMAA 6.0, the literal in the tooltip); nothing reported: a dash. */
+export function timeQuality(clock: { timeUncertainty?: number | null; timeFigureOfMerit?: string | null } | null | undefined): Word {
+  const merit = clock?.timeFigureOfMerit;
+  if (merit) return { text: lookup(TIME_MERIT, merit), tone: "info", title: umaa("timeFigureOfMerit", merit) };
+  const ns = clock?.timeUncertainty;
+  return typeof ns === "number" && Number.isFinite(ns)
+    ? { text: `± ${ns.toFixed(1)} ns`, tone: "info", title: "UMAA timeUncertainty (ns)" }
+    : { text: DASH, tone: "muted" };
+}
+
+/** The alignment steps as the INS panel lists them: stages, which every kind of alignment goes through (stationary,
+ * GPS-aided, best available, transfer; the status badge says which). */
 export type AlignmentStep = "INIT" | "COURSE_STATIONARY_ALIGNMENT" | "FINE_STATIONARY_ALIGNMENT_STARTED" | "FINE_STATIONARY_ALIGNMENT_COMPLETE" | "OPERATIONAL";
 const ALIGNMENT_STEP: Words<AlignmentStep> = WORDS.insAlignmentStep;
 export function alignmentStepText(v: AlignmentStep): string {

@@ -7,8 +7,43 @@ import { SelectedLost } from "../components/LastHeard";
 import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, notReported, positionSourceText, timeOutText, umaa } from "../lib/labels";
-import { DASH, degrees, dms, fixed, latLon, speed, utc, yesNo } from "../lib/units";
+import type { GPSFixReportType } from "../api/types";
+import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../lib/labels";
+import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../lib/units";
+
+/** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
+function sigma(v: number | null | undefined): number | null {
+  return isNum(v) && v >= 0 ? Math.sqrt(v) : null;
+}
+
+/** What a vehicle reports beside its position only in some versions (UMAA 6.0's GlobalPose: attitude, other altitudes,
+ * depth, covariances), each shown when it is reported. */
+function PoseFields({ fix, stale, inv }: { fix: GPSFixReportType; stale: boolean; inv: (path: string) => string | null }) {
+  const a = fix.attitude;
+  const pc = fix.positionCovariance;
+  const ac = fix.attitudeCovariance;
+  const m = (v: number | null | undefined) => fixed(v, 1, "m");
+  const deg = (v: number | null) => (v === null ? DASH : degrees(v, 2));
+  return (
+    <>
+      {a && <Field label="Roll / pitch / yaw" value={`${degrees(a.roll?.roll)} / ${degrees(a.pitch?.pitch)} / ${degrees(a.yaw?.yaw, 1, true)}`} stale={stale} invalid={inv("attitude")} testId="attitude" />}
+      {isNum(fix.depth) && <Field label="Depth" value={m(fix.depth)} stale={stale} invalid={inv("depth")} testId="depth" />}
+      {isNum(fix.altitudeGeodetic) && <Field label="Altitude HAE" value={m(fix.altitudeGeodetic)} stale={stale} invalid={inv("altitudeGeodetic")} />}
+      {isNum(fix.altitudeAGL) && <Field label="Above ground" value={m(fix.altitudeAGL)} stale={stale} invalid={inv("altitudeAGL")} />}
+      {isNum(fix.altitudeASF) && <Field label="Above sea floor" value={m(fix.altitudeASF)} stale={stale} invalid={inv("altitudeASF")} />}
+      {pc && (
+        <span style={{ display: "contents" }} title={`UMAA positionCovariance (m²): pnPn ${pc.pnPn ?? DASH}, pePe ${pc.pePe ?? DASH}, pdPd ${pc.pdPd ?? DASH}`}>
+          <Field label="Position σ N / E / D" value={`${m(sigma(pc.pnPn))} / ${m(sigma(pc.pePe))} / ${m(sigma(pc.pdPd))}`} stale={stale} invalid={inv("positionCovariance")} testId="position-sigma" />
+        </span>
+      )}
+      {ac && (
+        <span style={{ display: "contents" }} title={`UMAA attitudeCovariance (rad²): rrRr ${ac.rrRr ?? DASH}, rpRp ${ac.rpRp ?? DASH}, ryRy ${ac.ryRy ?? DASH}`}>
+          <Field label="Attitude σ roll / pitch / yaw" value={`${deg(sigma(ac.rrRr))} / ${deg(sigma(ac.rpRp))} / ${deg(sigma(ac.ryRy))}`} stale={stale} invalid={inv("attitudeCovariance")} />
+        </span>
+      )}
+    </>
+  );
+}
 
 export function FixPanel() {
   return (
@@ -63,11 +98,11 @@ function FixBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid).title}>
+            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid, version).title}>
               {typeof st?.fixValid === "boolean" ? fixWord(st.fixValid).text : DASH}
             </span>
-            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} title={umaa("GPSLatLongValid", typeof fix?.GPSLatLongValid === "boolean" ? String(fix.GPSLatLongValid) : null)}>
-              {positionSourceText(fix?.GPSLatLongValid)}
+            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} data-testid="position-kind" title={positionKind(fix).title}>
+              {positionKind(fix).text}
             </span>
             <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={fixStateTitle(fix?.GPSFixCommandStatus)}>{fixStateBadge(fix?.GPSFixCommandStatus)}</span>
             <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
@@ -81,6 +116,7 @@ function FixBody() {
             <Field label="True course" value={degrees(fix?.trueCourse, 1, true)} stale={sFix} invalid={inv("trueCourse")} />
             <Field label="Magnetic variation" value={degrees(fix?.magneticVariation)} stale={sFix} invalid={inv("magneticVariation")} />
             <Field label="Velocity N / E / D" value={fix?.velocity ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s` : DASH} stale={sFix} invalid={inv("velocity")} />
+            {fix && <PoseFields fix={fix} stale={sFix} inv={inv} />}
             <Field label="Origin" value={origin ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}` : DASH} stale={sSt} invalid={invS("originPosition")} />
             <Field label="Countdown" value={fixed(st?.countDown, 0, "s")} stale={sSt} />
             <Field label="P-code" value={yesNo(st?.pCode)} stale={sSt} />

@@ -5,7 +5,7 @@ import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentStepText, inline, type AlignmentStep, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
+import { alignmentStepText, inline, type AlignmentStep, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
 
 export const STEPS: readonly AlignmentStep[] = [
@@ -15,18 +15,26 @@ export const STEPS: readonly AlignmentStep[] = [
   "FINE_STATIONARY_ALIGNMENT_COMPLETE",
   "OPERATIONAL",
 ];
-const GPS_STEPS: Partial<Record<InertialSensorOpStatusEnumType, number>> = {
-  COURSE_GPS_ALIGNMENT: 1,
-  FINE_GPS_ALIGNMENT_STARTED: 2,
-  FINE_GPS_ALIGNMENT_COMPLETE: 3,
+/** The step of each INS status, of either UMAA version: every kind of alignment (stationary, GPS-aided, best
+ * available, transfer; snap, which is done at once) at its stage; a failure is no step (-1). UMAA 6.0 has no
+ * OPERATIONAL: its aligned INS stays at its completed stage. */
+const STEP_OF: Readonly<Record<InertialSensorOpStatusEnumType, number>> = {
+  INIT: 0,
+  COURSE_STATIONARY_ALIGNMENT: 1, COURSE_GPS_ALIGNMENT: 1,
+  COARSE_STATIONARY_ALIGNMENT: 1, COARSE_GPS_ALIGNMENT: 1, COARSE_BEST_ALIGNMENT: 1, COARSE_TRANSFER_ALIGNMENT: 1,
+  FINE_STATIONARY_ALIGNMENT_STARTED: 2, FINE_GPS_ALIGNMENT_STARTED: 2, FINE_BEST_ALIGNMENT_STARTED: 2, FINE_TRANSFER_ALIGNMENT_STARTED: 2,
+  FINE_STATIONARY_ALIGNMENT_COMPLETE: 3, FINE_GPS_ALIGNMENT_COMPLETE: 3, FINE_BEST_ALIGNMENT_COMPLETE: 3, FINE_TRANSFER_ALIGNMENT_COMPLETE: 3,
+  SNAP_ALIGNMENT_COMPLETE: 3,
+  OPERATIONAL: 4,
+  INERTIAL_SENSOR_FAILURE: -1, STATIONARY_ALIGNMENT_FAILURE: -1, GPS_ALIGNMENT_FAILURE: -1, BEST_ALIGNMENT_FAILURE: -1,
+  TRANSFER_ALIGNMENT_FAILURE: -1, SNAP_ALIGNMENT_FAILURE: -1,
 };
 
-/** Index of a status in the alignment steps (GPS-aided stages map to their stationary peers), -1 if none: also for an
- * INS that is off, whose INIT is no step of an alignment (`insStatusText`). */
+/** Index of a status in the alignment steps (each kind's stages map to the step of that stage), -1 if none: also for
+ * an INS that is off, whose INIT is no step of an alignment (`insStatusText`). */
 export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined, state?: string | null): number {
   if (!status || insStatusText(status, state) === null) return -1;
-  const i = (STEPS as readonly string[]).indexOf(status);
-  return i >= 0 ? i : (GPS_STEPS[status] ?? -1);
+  return STEP_OF[status] ?? -1;
 }
 
 export function InsPanel() {
@@ -48,7 +56,7 @@ function InsBody() {
   const ageS = view ? Math.max(0, now - view.at) : null;
   const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving);
   const stale = notCurrent(fresh);
-  const failed = ins?.status === "INERTIAL_SENSOR_FAILURE";
+  const failed = insFailed(ins?.status);
   const current = stepIndex(ins?.status, ins?.state);
   const status = insStatusText(ins?.status, ins?.state);
   return (
@@ -61,11 +69,13 @@ function InsBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state ?? ""} title={[umaa("state", ins.state), status === null && umaa("status", ins.status)].filter(Boolean).join("; ")}>
-              INS {inline(insStateText(ins.state))}
-            </span>
+            {ins.state && (
+              <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state} title={[umaa("state", ins.state), status === null && umaa("status", ins.status)].filter(Boolean).join("; ")}>
+                INS {inline(insStateText(ins.state))}
+              </span>
+            )}
             {status !== null && (
-              <span className={`badge${ins.status === "OPERATIONAL" ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
+              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
                 {status}
               </span>
             )}

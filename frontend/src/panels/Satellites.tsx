@@ -8,7 +8,7 @@ import { viewReport, type TrailPoint } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
 import { countRender } from "../lib/renders";
-import { constellationText } from "../lib/labels";
+import { constellationText, timeQuality } from "../lib/labels";
 import { project, trailPath } from "../lib/skyplot";
 import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
 
@@ -274,7 +274,9 @@ function SatellitesBody() {
                 <Field label="Full bias" value={fixed(clock.fullBias, 0, "ns")} />
                 <Field label="Elapsed real time" value={fixed(clock.elapsedRealtime, 0, "ns")} />
                 <Field label="Leap second" value={fixed(clock.leapSecond, 0, "s")} />
-                <Field label="Time uncertainty" value={fixed(clock.timeUncertainty, 1, "ns")} />
+                <span style={{ display: "contents" }} title={timeQuality(clock).title}>
+                  <Field label="Time quality" value={timeQuality(clock).text} testId="time-quality" />
+                </span>
                 <Field label="Reference frequency" value={hertz(clock.referenceCarrierFrequency)} />
                 <Field label="Reference code" value={clock.referenceCodeTypeFor ?? DASH} />
                 <Field label="Reference constellation" value={constellationText(clock.referenceConstellationType)} />

@@ -58,11 +58,18 @@ def navigation_values(
         lon = _valid(fix, "position2DWithTime.geodeticPosition.geodeticLongitude.longitude")
         if lat is not None and lon is not None:
             pose.update(Latitude=lat, Longitude=lon)
-    for name, path in (("AltitudeMSL", "altitudeMSL.altitude"),):
+    for name, path in (("AltitudeMSL", "altitudeMSL.altitude"), ("AltitudeAGL", "altitudeAGL"),
+                       ("AltitudeASF", "altitudeASF"), ("Depth", "depth")):
         if (v := _valid(fix, path)) is not None:
             pose[name] = v
-    if (course := _angle(_valid(fix, "trueCourse"))) is not None:
-        pose["Course"] = course
+    for name, path in (("Roll", "attitude.roll.roll"), ("Pitch", "attitude.pitch.pitch"), ("Heading", "attitude.yaw.yaw"),
+                       ("Course", "trueCourse")):
+        if (angle := _angle(_valid(fix, path))) is not None:
+            pose[name] = angle
+    # the horizontal position error (DRMS) from the position's covariance, when the vehicle reports it
+    north, east = _valid(fix, "positionCovariance.pnPn"), _valid(fix, "positionCovariance.pePe")
+    if north is not None and east is not None and north >= 0 and east >= 0:
+        pose["XYPositionRMS"] = math.sqrt(north + east)
     pose.update(times)
     ned = {
         k: v
