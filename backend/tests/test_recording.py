@@ -456,6 +456,42 @@ def test_umaa_6_0_samples_are_recorded_under_the_6_0_schemas(tmp_path: Path) -> 
     assert disposed["source"] == str(uuid.UUID(bytes=bytes(gone.source.id))) and disposed["sessionId"] is None
 
 
+def test_the_umaa_6_0_command_flow_topics_on_the_bus_are_recorded(console, domain: int, tmp_path: Path) -> None:
+    """The 6.0 InertialSensorControl command, status and ack a consumer and a vehicle write on the bus are in the
+    console's recording (read for it, whatever the console follows), decoded from the file with the schema's types;
+    the status's dispose is an instance event naming the vehicle and the session."""
+    from samplegen import random_sample
+    from sem_console.dds.bus import Bus, wait_for_acks
+
+    c = console("--record", str(tmp_path / "rec"))
+    flow = (Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)
+    written = {sem: random_sample(sem.spec.type, random.Random(i)) for i, sem in enumerate(flow)}
+    bus = Bus(domain)
+    try:
+        writers = {sem: bus.writer(sem) for sem in flow}
+        wait_until(lambda: all(w.get_matched_subscriptions() for w in writers.values()), 10, "the console's readers")
+        for sem, w in writers.items():
+            w.write(written[sem])
+        status = written[Sem60.INS_COMMAND_STATUS]
+        writers[Sem60.INS_COMMAND_STATUS].dispose(status)
+        wait_for_acks(list(writers.values()), 5.0)
+        wait_until(lambda: httpx.get(f"{c.url}/api/recordings/status").json()["messages"] >= 4, 5, "the samples recorded")
+    finally:
+        bus.close()
+    path = recorded(c.url, tmp_path)
+    channels, messages = read(path)
+    for sem in flow:
+        schema, channel = channels[sem.spec.name]
+        assert channel.metadata == {"umaaVersion": "6.0"} and len(messages[sem.spec.name]) == 1, sem.name
+        got = decode_with_schema(schema.name, schema.data.decode(), sem.spec.name, path, tmp_path)
+        assert got == json.loads(json.dumps([_plain(written[sem])])), sem.name
+    events = [json.loads(m.data) for m in messages["sem-console/instances"]]  # the dispose; the writers' end (noWriters)
+    [disposed] = [e for e in events if e["state"] == "disposed"]
+    assert disposed["topic"] == Sem60.INS_COMMAND_STATUS.spec.name
+    assert disposed["source"] == str(uuid.UUID(bytes=bytes(status.source.id)))
+    assert disposed["sessionId"] == str(uuid.UUID(bytes=bytes(status.sessionID)))
+
+
 @pytest.mark.parametrize("sem", [s for s in Sem if s.spec.appendable is not None], ids=lambda s: s.name)
 def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: Sem, tmp_path: Path) -> None:
     """An RTI vehicle's GPSReport and GPSFixReport are appendable (delimited XCDR2: a DHEADER before each struct). The
