@@ -22,6 +22,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
+from sem_console.versions import umaa_6_0
 from test_console import WsClient, wait_until
 from test_wire_layout import GOLDEN_6_0
 
@@ -106,12 +107,15 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     from test_replay import control, replay_state
 
     sim("--vehicles", "1")
-    sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--state-file", str(tmp_path / "sim-6.0.json"))
+    six = sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--state-file", str(tmp_path / "sim-6.0.json"))
     c = console("--record", str(tmp_path / "rec"))
     _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})
     _detail(c.url, V2, HEALTH_6_0)
     time.sleep(1.0)
     live = {pid: httpx.get(f"{c.url}/api/providers/{pid}").json() for pid in (V1, V2)}
+    six.stop()  # its shutdown disposes its reports: recorded as 6.0 instance events
+    lost = wait_until(lambda: (d := httpx.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10,
+                      "the 6.0 vehicle lost")
     path = recorded(c.url, tmp_path)
     c.stop()
 
@@ -134,6 +138,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     assert (pose["altitude"] is None) != (pose["depth"] is None) and pose["positionCovariance"] is None
     assert -90 <= pose["position"]["geodeticLatitude"] <= 90
     assert messages["UMAA::SEM::GPSStatus::GPSReport"]  # the 3.0.1 vehicle beside it
+    events = [json.loads(m.data) for m in messages["sem-console/instances"]]
+    assert {(s.spec.name, V2) for s in umaa_6_0.REPORTS} <= {(e["topic"], e["source"]) for e in events
+                                                             if e["state"] == "disposed"}
 
     # the console replaying it: at the instant the live console last took each GPSReport, that very report
     r = console("--replay", str(path))
@@ -152,6 +159,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     control(r.url, {"action": "seek", "position": state["start"]})  # back to before either vehicle, then to the end
     assert httpx.get(f"{r.url}/api/providers/{V2}").status_code == 404
     control(r.url, {"action": "seek", "position": state["end"]})
+    at_end = httpx.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
+    assert at_end["link"] == lost["link"] == "lost"
+    assert {t: h["alive"] for t, h in at_end["topics"].items()} == {t: h["alive"] for t, h in lost["topics"].items()}
     snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if any(p["id"] == V2 for p in m["providers"])], 5,
                           "a snapshot with the 6.0 vehicle")[-1]
     assert {p["id"]: p["umaaVersion"] for p in snapshot["providers"]} == {V1: "3.0.1", V2: "6.0"}
