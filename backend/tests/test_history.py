@@ -18,7 +18,7 @@ import httpx
 from test_console import HAPPY, V1, V2, provider_ready, wait_command, wait_until
 
 TRACK_HEADER = ["time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m", "course_deg", "sog_mps", "fix_valid",
-                "gps_lat_long_valid", "position_time_utc"]
+                "gps_lat_long_valid", "position_time_utc", "umaa_version"]
 
 
 def iso(t: float) -> str:
@@ -103,6 +103,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     assert r.headers["content-disposition"].startswith("attachment; filename=")
     gpx = gpxpy.parse(r.text)
     assert gpx.version == "1.1" and len(gpx.tracks) == 1 and len(gpx.tracks[0].segments) == 1
+    assert gpx.tracks[0].description.startswith("a UMAA 3.0.1 vehicle; ")
     points = gpx.tracks[0].segments[0].points
     assert len(points) == len(track)
     times = [p.time.timestamp() for p in points]
@@ -126,6 +127,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
                (t["latitude"], t["longitude"], t["altitudeMsl"])
         assert (float(rec["course_deg"]), float(rec["sog_mps"])) == (t["course"], t["sog"])
         assert rec["fix_valid"] in ("true", "false", "") and rec["gps_lat_long_valid"] == str(t["latLongValid"]).lower()
+        assert rec["umaa_version"] == "3.0.1"  # the vehicle's version, as REST says it
 
     # an empty range is an empty file, not an error
     empty = httpx.get(f"{c.url}/api/providers/{V1}/track.gpx", params={"until": "2001-01-01T00:00:00Z"})
@@ -155,8 +157,8 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
     for s, v in zip(sessions, (V1, V2, V1), strict=True):
         mine = by_session[s]
         assert [x["status"] for x in mine] == HAPPY and [x["seq"] for x in mine] == ["1", "2", "3", "4"]
-        assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"], x["station"]) for x in mine} == \
-               {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"], "test-console")}  # the command's columns repeated
+        assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"], x["station"], x["umaa_version"])
+                for x in mine} == {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"], "test-console", "3.0.1")}
         received = [parse_utc(x["received_utc"]) for x in mine]
         assert received == sorted(received) and parse_utc(mine[0]["created_utc"]) <= received[0]
 

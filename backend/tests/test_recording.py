@@ -29,10 +29,11 @@ from mcap.reader import make_reader
 
 from conftest import ConsoleProcess, free_domain
 from sem_console import idlgen
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, Sem60
 from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait_until
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
+BOTH_VERSIONS = {s.spec.name for s in (*Sem, *Sem60)}  # every file has a channel of each, recorded or not
 JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances",
                "sem-console/alarm-acks", "sem-console/names"}
 
@@ -151,7 +152,7 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
 
     channels, messages = read(path)
     # a channel per SEM topic, named by the DDS topic, with the OMG IDL of its type; the console's own JSON channels
-    assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
+    assert set(channels) == BOTH_VERSIONS | JSON_TOPICS
     for topic, sem in SEM_TOPICS.items():
         schema, channel = channels[topic]
         assert channel.message_encoding == "cdr" and schema.encoding == "omgidl"
@@ -399,34 +400,96 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
     assert all(f["state"] == "complete" for f in files) and len({f["name"] for f in files}) == len(files)
     for f in files[1:-1]:  # the middle ones: a whole second each, with every channel and its schema
         channels, messages = read(tmp_path / "rec" / f["name"])
-        assert set(channels) == set(SEM_TOPICS) | JSON_TOPICS
+        assert set(channels) == BOTH_VERSIONS | JSON_TOPICS
         assert messages["UMAA::SEM::GPSFixStatus::GPSFixReport"] and 0.5 <= f["end"] - f["start"] <= 2.5
 
 
-def test_a_recording_says_once_that_it_skips_the_umaa_6_0_topics(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
-    """Recordings hold the 3.0.1 topics only: a 6.0 vehicle's samples are not in the file, and the operator is told so
-    (once per topic and recording) rather than finding the vehicle missing from the replay."""
+def test_umaa_6_0_samples_are_recorded_under_the_6_0_schemas(tmp_path: Path) -> None:
+    """Every UMAA 6.0 topic has its channel, named by the topic (the type's full name), with the 6.0 IDL as its schema
+    and `umaaVersion` 6.0, beside the 3.0.1 channels: read back with the mcap library (CRCs checked) and decoded with
+    types idlc builds from the schema text alone, each sample comes back member for member, GlobalPose's optional
+    members all present, all absent and at random. A disposed 6.0 instance names its vehicle (the `id` of its
+    IdentifierType source). On the recorder alone, its tap fed as the ingest feeds it."""
     from samplegen import random_sample
-    from sem_console.dds.topics import Sem60
     from sem_console.recording.recorder import Recorder
 
+    samples: dict[Sem60, list[Any]] = {
+        sem: [random_sample(sem.spec.type, random.Random(seed), absent=absent)
+              for seed, absent in ((1, 0.0), (2, 1.0), (3, 0.5), (4, 0.5))] for sem in Sem60}
+    pose = samples[Sem60.GLOBAL_POSE_REPORT]
+    assert pose[0].depth is not None and pose[0].positionCovariance is not None  # every optional member present
+    assert pose[1].altitude is None and pose[1].attitudeCovariance is None  # every one absent
     r = Recorder(tmp_path, max_bytes=1 << 30, max_seconds=3600)
+    r.start()
     now = time.time_ns()
-    take = [(random_sample(Sem60.GPS_REPORT.spec.type, random.Random(1)).serialize(), True, 16, now)]
-    r.on_samples(Sem60.GPS_REPORT, take, now)  # not recording: nothing to say
-    assert not [m for m in caplog.messages if "not recorded" in m]
-    for _ in range(2):
-        r.start()
-        r.on_samples(Sem60.GPS_REPORT, take, now)
-        r.on_samples(Sem60.GPS_REPORT, take, now)
-        r.stop()
-        assert r.messages == 0
-    said = [m for m in caplog.messages if "not recorded" in m]
-    from sem_console.core.config import Settings
+    for sem, values in samples.items():
+        r.on_samples(sem, [(v.serialize(use_version_2=sem.spec.xcdr2_only), True, int(InstanceState.Alive), now)
+                           for v in values], now)
+    gone = pose[2]
+    r.on_samples(Sem60.GLOBAL_POSE_REPORT, [(gone.serialize_key(), False, int(InstanceState.NotAliveDisposed), now)], now)
+    r.stop()
+    assert r.status()["state"] == "off" and r.messages == 4 * len(Sem60) + 1
 
-    assert "UMAA 3.0.1" in str(Settings.model_fields["record"].description)  # --record's help says what it holds
-    assert said == [f"recording: the UMAA 6.0 samples on {Sem60.GPS_REPORT.spec.name} are not recorded (recordings hold "
-                    "the UMAA 3.0.1 topics only)"] * 2, said
+    [path] = tmp_path.glob("*.mcap")
+    with open(path, "rb") as f:
+        summary = make_reader(f, validate_crcs=True).get_summary()
+    assert summary is not None
+    channels = {c.topic: c for c in summary.channels.values()}
+    assert set(channels) == BOTH_VERSIONS | JSON_TOPICS
+    assert {channels[t].metadata["umaaVersion"] for t in SEM_TOPICS} == {"3.0.1"}
+    for sem, values in samples.items():
+        channel = channels[sem.spec.name]
+        schema = summary.schemas[channel.schema_id]
+        assert sem.spec.name == schema.name == str(sem.spec.type.__idl_typename__).replace(".", "::")
+        assert channel.metadata == {"umaaVersion": "6.0"} and channel.message_encoding == "cdr"
+        assert schema.encoding == "omgidl" and "#include" not in schema.data.decode()
+        got = decode_with_schema(schema.name, schema.data.decode(), sem.spec.name, path, tmp_path)
+        assert got == json.loads(json.dumps([_plain(v) for v in values])), sem.name
+    # 3.0.1's GPSReportType has the same name: its own schema, the 3.0.1 IDL
+    old = summary.schemas[channels[Sem.GPS_REPORT.spec.name].schema_id]
+    new = summary.schemas[channels[Sem60.GPS_REPORT.spec.name].schema_id]
+    assert old.name == new.name and old.id != new.id and "timeFigureOfMerit" in new.data.decode() \
+        and "timeFigureOfMerit" not in old.data.decode()
+    _, messages = read(path)
+    [disposed] = [json.loads(m.data) for m in messages["sem-console/instances"]]
+    assert disposed["topic"] == Sem60.GLOBAL_POSE_REPORT.spec.name and disposed["state"] == "disposed"
+    assert disposed["source"] == str(uuid.UUID(bytes=bytes(gone.source.id))) and disposed["sessionId"] is None
+
+
+def test_the_umaa_6_0_command_flow_topics_on_the_bus_are_recorded(console, domain: int, tmp_path: Path) -> None:
+    """The 6.0 InertialSensorControl command, status and ack a consumer and a vehicle write on the bus are in the
+    console's recording (read for it, whatever the console follows), decoded from the file with the schema's types;
+    the status's dispose is an instance event naming the vehicle and the session."""
+    from samplegen import random_sample
+    from sem_console.dds.bus import Bus, wait_for_acks
+
+    c = console("--record", str(tmp_path / "rec"))
+    flow = (Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)
+    written = {sem: random_sample(sem.spec.type, random.Random(i)) for i, sem in enumerate(flow)}
+    bus = Bus(domain)
+    try:
+        writers = {sem: bus.writer(sem) for sem in flow}
+        wait_until(lambda: all(w.get_matched_subscriptions() for w in writers.values()), 10, "the console's readers")
+        for sem, w in writers.items():
+            w.write(written[sem])
+        status = written[Sem60.INS_COMMAND_STATUS]
+        writers[Sem60.INS_COMMAND_STATUS].dispose(status)
+        wait_for_acks(list(writers.values()), 5.0)
+        wait_until(lambda: httpx.get(f"{c.url}/api/recordings/status").json()["messages"] >= 4, 5, "the samples recorded")
+    finally:
+        bus.close()
+    path = recorded(c.url, tmp_path)
+    channels, messages = read(path)
+    for sem in flow:
+        schema, channel = channels[sem.spec.name]
+        assert channel.metadata == {"umaaVersion": "6.0"} and len(messages[sem.spec.name]) == 1, sem.name
+        got = decode_with_schema(schema.name, schema.data.decode(), sem.spec.name, path, tmp_path)
+        assert got == json.loads(json.dumps([_plain(written[sem])])), sem.name
+    events = [json.loads(m.data) for m in messages["sem-console/instances"]]  # the dispose; the writers' end (noWriters)
+    [disposed] = [e for e in events if e["state"] == "disposed"]
+    assert disposed["topic"] == Sem60.INS_COMMAND_STATUS.spec.name
+    assert disposed["source"] == str(uuid.UUID(bytes=bytes(status.source.id)))
+    assert disposed["sessionId"] == str(uuid.UUID(bytes=bytes(status.sessionID)))
 
 
 @pytest.mark.parametrize("sem", [s for s in Sem if s.spec.appendable is not None], ids=lambda s: s.name)
@@ -507,7 +570,7 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
     from sem_console.recording.reader import recorded_station
     from sem_console.recording.recorder import Recorder
 
-    limit = 65_536  # the least --record-max-bytes; a file's schemas alone are about 30 kB
+    limit = 65_536  # the least --record-max-bytes; a file's schemas alone are about 50 kB (both UMAA versions)
     r = Recorder(tmp_path, max_bytes=limit, max_seconds=3600, station="watch")
     r.start()
     sent = 0
@@ -533,7 +596,7 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
         with open(path, "rb") as f:
             reader = make_reader(f, validate_crcs=True)
             summary = reader.get_summary()
-            assert summary is not None and {c.topic for c in summary.channels.values()} == set(SEM_TOPICS) | JSON_TOPICS
+            assert summary is not None and {c.topic for c in summary.channels.values()} == BOTH_VERSIONS | JSON_TOPICS
             got += sum(1 for _ in reader.iter_messages(topics=["UMAA::SEM::GPSFixStatus::GPSFixReport"]))
         assert recorded_station(path) == "watch", path.name
         cut = tmp_path / "cut" / path.name

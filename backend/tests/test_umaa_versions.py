@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import csv
+import io
+import json
+import subprocess
+import sys
+import time
 import uuid
 from pathlib import Path
 from typing import Any
 
+import gpxpy
 import httpx
 from cyclonedds.core import InstanceState
 
@@ -180,3 +187,97 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
 def _attitude_covariance() -> Any:
     from UMAA_6_0.Common.Measurement import CovarianceOrientationNEDType
     return CovarianceOrientationNEDType(rpRp=0.01, rpRy=None, rrRp=0.002, rrRr=0.02, rrRy=None, ryRy=0.03)
+
+
+def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: int, tmp_path: Path) -> None:
+    """A 3.0.1 and a 6.0 `sem-sim` vehicle on one bus, recorded by the console: the file holds both versions' channels,
+    the 6.0 samples decoded with types idlc builds from their schema text alone. `sem-console --replay` then shows each
+    vehicle as the live console did (the same report at the same instant, its version, its link), sought back and
+    forth; `sem-replay` puts the 6.0 vehicle back on another domain, where a console sees it as 6.0."""
+    from conftest import ConsoleProcess, free_domain
+    from test_recording import _plain, decode_with_schema, read, recorded
+    from test_replay import control, replay_state
+
+    sim("--vehicles", "1")
+    six = sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--state-file", str(tmp_path / "sim-6.0.json"))
+    c = console("--record", str(tmp_path / "rec"))
+    _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})
+    _detail(c.url, V2, HEALTH_6_0)
+    time.sleep(1.0)
+    live = {pid: httpx.get(f"{c.url}/api/providers/{pid}").json() for pid in (V1, V2)}
+    six.stop()  # its shutdown disposes its reports: recorded as 6.0 instance events
+    lost = wait_until(lambda: (d := httpx.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10,
+                      "the 6.0 vehicle lost")
+    path = recorded(c.url, tmp_path)
+    c.stop()
+
+    # the file: each vehicle on its version's channels
+    channels, messages = read(path)
+    for sem in Sem60:
+        assert channels[sem.spec.name][1].metadata == {"umaaVersion": "6.0"}
+    assert all(m.data[:2] == b"\x00\x01" for m in messages[Sem60.GPS_REPORT.spec.name])  # XCDR1
+    assert all(m.data[:2] == b"\x00\x07" for m in messages[Sem60.GLOBAL_POSE_REPORT.spec.name])  # XCDR2: optional members
+    for sem in (Sem60.GPS_REPORT, Sem60.INS_REPORT):
+        assert len(messages[sem.spec.name]) >= 3, sem.name
+    # the one with optional members decoded with the schema's own types (each 6.0 schema: test_recording.py), member
+    # for member what the console's 6.0 types read from the same bytes
+    name = Sem60.GLOBAL_POSE_REPORT.spec.name
+    poses = decode_with_schema(channels[name][0].name, channels[name][0].data.decode(), name, path, tmp_path)
+    assert len(poses) == len(messages[name]) >= 3 and {str(uuid.UUID(hex=x["source"]["id"])) for x in poses} == {V2}
+    assert poses == json.loads(json.dumps([_plain(Sem60.GLOBAL_POSE_REPORT.spec.type.deserialize(m.data))
+                                           for m in messages[name]]))
+    pose = poses[-1]  # the simulator's: the altitude above or the depth below the surface, no covariance
+    assert (pose["altitude"] is None) != (pose["depth"] is None) and pose["positionCovariance"] is None
+    assert -90 <= pose["position"]["geodeticLatitude"] <= 90
+    assert messages["UMAA::SEM::GPSStatus::GPSReport"]  # the 3.0.1 vehicle beside it
+    events = [json.loads(m.data) for m in messages["sem-console/instances"]]
+    assert {(s.spec.name, V2) for s in umaa_6_0.REPORTS} <= {(e["topic"], e["source"]) for e in events
+                                                             if e["state"] == "disposed"}
+
+    # the console replaying it: at the instant the live console last took each GPSReport, that very report
+    r = console("--replay", str(path))
+    ws = WsClient(r.ws_url)
+    state = replay_state(r.url)
+    control(r.url, {"action": "pause"})
+    for pid in (V2, V1):
+        at = live[pid]["reports"]["GPSReport"]["receivedAt"]
+        assert state["start"] <= at <= state["end"]
+        control(r.url, {"action": "seek", "position": min(state["end"], at + 0.0005)})
+        shown = httpx.get(f"{r.url}/api/providers/{pid}").json()
+        assert shown["reports"]["GPSReport"] == live[pid]["reports"]["GPSReport"], pid
+        assert shown["umaaVersion"] == live[pid]["umaaVersion"] and set(shown["topics"]) == set(live[pid]["topics"])
+        assert shown["link"] == live[pid]["link"] == "live"
+    assert {p["id"]: p["umaaVersion"] for p in httpx.get(f"{r.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
+    control(r.url, {"action": "seek", "position": state["start"]})  # back to before either vehicle, then to the end
+    assert httpx.get(f"{r.url}/api/providers/{V2}").status_code == 404
+    control(r.url, {"action": "seek", "position": state["end"]})
+    at_end = httpx.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
+    assert at_end["link"] == lost["link"] == "lost"
+    assert {t: h["alive"] for t, h in at_end["topics"].items()} == {t: h["alive"] for t, h in lost["topics"].items()}
+    snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if any(p["id"] == V2 for p in m["providers"])], 5,
+                          "a snapshot with the 6.0 vehicle")[-1]
+    assert {p["id"]: p["umaaVersion"] for p in snapshot["providers"]} == {V1: "3.0.1", V2: "6.0"}
+    assert ws.errors == []
+    ws.close()
+    # the exports say each vehicle's version
+    for pid, version in ((V1, "3.0.1"), (V2, "6.0")):
+        gpx = gpxpy.parse(httpx.get(f"{r.url}/api/providers/{pid}/track.gpx").text)
+        assert gpx.tracks[0].description.startswith(f"a UMAA {version} vehicle; "), pid
+        rows = list(csv.DictReader(io.StringIO(httpx.get(f"{r.url}/api/providers/{pid}/track.csv").text)))
+        assert {row["umaa_version"] for row in rows} <= {version} and (rows or pid == V2), pid
+
+    # sem-replay: the recorded 6.0 samples back on DDS, read by a console as a 6.0 vehicle
+    other = free_domain(taken=domain)
+    second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
+    try:
+        out = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
+                              "--speed", "4"], capture_output=True, text=True, timeout=60)
+        assert out.returncode == 0, out.stderr
+        again = _detail(second.url, V2, HEALTH_6_0)
+        assert again["umaaVersion"] == "6.0"
+        last = Decoder().decode(Sem60.GPS_REPORT, messages[Sem60.GPS_REPORT.spec.name][-1].data, True, ALIVE, 0.0)
+        assert last is not None
+        wait_until(lambda: httpx.get(f"{second.url}/api/providers/{V2}").json()["reports"]["GPSReport"]["report"]
+                   == last.report, 10, "the last recorded 6.0 GPSReport on the second console")  # type: ignore[union-attr]
+    finally:
+        second.stop()

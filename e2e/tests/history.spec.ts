@@ -50,9 +50,9 @@ test("export links download the vehicle's track as GPX and CSV, and the command 
 
   const csv = await downloaded(page, "export-csv");
   const lines = csv.text.trim().split(/\r?\n/);
-  expect(lines[0]).toBe("time_utc,latitude_deg,longitude_deg,altitude_msl_m,course_deg,sog_mps,fix_valid,gps_lat_long_valid,position_time_utc");
+  expect(lines[0]).toBe("time_utc,latitude_deg,longitude_deg,altitude_msl_m,course_deg,sog_mps,fix_valid,gps_lat_long_valid,position_time_utc,umaa_version");
   expect(lines.length).toBeGreaterThan(3);
-  expect(lines[1]).toMatch(/^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z,/);
+  expect(lines[1]).toMatch(/^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z,.*,3\.0\.1$/);
 
   const commands = await downloaded(page, "export-commands-all");
   expect(commands.name).toMatch(/^all-vehicles-commands-\d{4}-\d{2}-\d{2}T\d{4}Z\.csv$/);

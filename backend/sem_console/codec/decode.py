@@ -115,6 +115,7 @@ _ROUTES: dict[AnySem, _Route] = {
                    _source if r.spec is not None else umaa_6_0.source_of, _same if r.spec is not None else r.model)
        for sem, r in umaa_6_0.REPORTS.items()},
 }
+DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder decodes, of both UMAA versions
 # The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
 # delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
 # any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.

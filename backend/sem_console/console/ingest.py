@@ -25,8 +25,8 @@ RTI vehicles; a writer matches the readers of one extensibility only (Via.qos, d
 "One reader per extensibility").
 
 A `Tap` (the recorder) gets every sample taken from its owner reader as the raw CDR from the
-wire, before it is decoded; the command topics are read for it alone (the console's own
-commands and any other consumer's), never decoded here.
+wire, before it is decoded; the command topics of both UMAA versions are read for it alone (the console's own
+commands and any other consumer's), never decoded here, and the UMAA 6.0 status and ack topics for it at least.
 """
 
 from __future__ import annotations
@@ -58,11 +58,13 @@ from sem_console.codec.decode import (
 from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import Triggered, take_cdr
-from sem_console.dds.qos import any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import AnySem, Sem, final_type_qos
+from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
+from sem_console.dds.topics import AnySem, Sem, Sem60, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
+# The UMAA 6.0 command, status and ack topics: read for the recorder (Tap) whether or not the decoder follows them
+COMMAND_FLOW_6_0 = [sem for sem in Sem60 if sem.spec.cls is not TopicClass.REPORT]
 __all__ = ["REPORT_TOPICS", "Ingest", "ReportItem", "StatusItem", "Tap", "Via", "owner_of"]
 
 
@@ -189,7 +191,8 @@ class Ingest:
         self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, [*REPORT_TOPICS, *REPORT_TOPICS_6_0])
-        self.status_readers = self._readers(bus, list(STATUS_TOPICS) + list(ACK_TOPICS) + COMMAND_TOPICS)
+        self.status_readers = self._readers(bus, list(dict.fromkeys([*STATUS_TOPICS, *ACK_TOPICS, *COMMAND_TOPICS,
+                                                                      *COMMAND_FLOW_6_0])))
         self.threads: list[threading.Thread] = []
         self._waitsets: dict[str, tuple[Triggered, list[Any]]] = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
@@ -268,7 +271,7 @@ class Ingest:
         """Take raw samples and decode those of writers this reader owns, one by one (`Decoder`, the
         path a replay takes too): a sample that cannot be decoded costs only itself, and the copies
         other readers own are dropped undecoded, so each sample is decoded and applied once."""
-        decode = sem not in COMMAND_TOPICS
+        decode = sem.spec.cls is not TopicClass.COMMAND
         out: list[Item] = []
         while True:
             raw = take_cdr(reader, condition.mask, 256)

@@ -1,7 +1,8 @@
 """`sem-console --replay FILE.mcap`: the console's state rebuilt from a recording instead of DDS.
 
-The recorded CDR of each report, status and ack topic goes through the same `Decoder` the DDS
-ingest uses and is applied by the same console methods; disposes and lost writers come from the
+The recorded CDR of each report, status and ack topic of either UMAA version goes through the same `Decoder` the DDS
+ingest uses (a 6.0 report through its version's adapter, as live) and is applied by the same console methods;
+disposes and lost writers come from the
 `sem-console/instances` channel, the commands the recording console issued (and cancel requests)
 from `sem-console/commands`, the alarm acknowledgements from `sem-console/alarm-acks` and the vehicles' names from
 `sem-console/names`. Everything else is computed again as a live console computes it (the alarms too):
@@ -35,7 +36,7 @@ from typing import Any, Protocol
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
 
-from sem_console.codec.decode import ACK_TOPICS, REPORT_TOPICS, STATUS_TOPICS, Decoder, Item, ReportItem
+from sem_console.codec.decode import DECODED_TOPICS, Decoder, Item, ReportItem
 from sem_console.console.alarms import WATCHED
 from sem_console.console.clock import RecordingClock
 from sem_console.console.history import History
@@ -52,7 +53,7 @@ from sem_console.recording.reader import (
 
 log = logging.getLogger("sem-console.replay")
 
-SEM_TOPICS = {s.spec.name: s for s in (*REPORT_TOPICS, *STATUS_TOPICS, *ACK_TOPICS)}
+SEM_TOPICS = {s.spec.name: s for s in DECODED_TOPICS}  # both UMAA versions' (topic names differ between them)
 TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS, NAMES}
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing

@@ -129,7 +129,7 @@ class Settings(BaseSettings):
 
     # Recording to MCAP (see docs/recording.md)
     record: Path | None = Field(None, json_schema_extra=cli(metavar="DIR"), description=(
-        "record every UMAA 3.0.1 SEM sample (no 6.0 topic yet) to DIR/<UTC start>.mcap from the start "
+        "record every SEM sample, UMAA 3.0.1 and 6.0, to DIR/<UTC start>.mcap from the start "
         "(the dashboard's record control and POST /api/recordings record there too)"))
     recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go without --record "
                                                                      "(default: var/recordings)")

@@ -1,10 +1,11 @@
 """Recording to MCAP: every SEM sample the console takes, raw, plus the console's own view.
 
-- **SEM topics**: one channel per DDS topic (named by the topic, e.g.
-  `UMAA::SEM::GPSStatus::GPSReport`), message encoding `cdr`: each message is the sample's CDR as
+- **SEM topics**: one channel per DDS topic of either UMAA version (named by the topic, e.g.
+  `UMAA::SEM::GPSStatus::GPSReport` in 3.0.1, `UMAA::SEM::GPSStatus::GPSReportType` in 6.0; channel metadata
+  `umaaVersion`), message encoding `cdr`: each message is the sample's CDR as
   it came off the wire, with its 4-byte encapsulation header; `log_time` is when the console took
   it, `publish_time` the writer's source timestamp (ns since the epoch). Schemas: `omgidl`, named
-  by the UMAA type (`schema.py`). Disposes and instances that lost their writers have no sample
+  by the UMAA type, the IDL of the topic's version (`schema.py`). Disposes and instances that lost their writers have no sample
   to record: they go to the JSON channel `sem-console/instances` (topic, key CDR, source, sessionId).
 - **The console's view**: JSON channels (`jsonschema` schemas) `sem-console/commands`,
   `sem-console/transitions` (each with its Figure 4 verdict) and `sem-console/links` (provider
@@ -39,7 +40,7 @@ import uuid
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
-from typing import Any, BinaryIO
+from typing import Any, BinaryIO, Literal
 
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -48,16 +49,18 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
-from sem_console.dds.topics import AnySem, Sem, delimited
+from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, NAMES
-from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, idl_text, type_name
+from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, topic_idl, type_name, version_of
 
 log = logging.getLogger("sem-console.recording")
 
 FLUSH_SECONDS = 2.0
 BATCH_SECONDS = 0.2  # the writer thread writes what was queued at most this often: a wake costs ~0.1 ms of CPU
-APPENDABLE = "appendable"  # the extensibility of a channel of samples an appendable writer sent (_File.appendable)
+# the extensibility of a channel of samples an appendable writer sent (_File.appendable)
+APPENDABLE: Literal["appendable"] = "appendable"
+SEM_TOPICS: tuple[AnySem, ...] = (*Sem, *Sem60)  # every SEM topic of both UMAA versions: a channel each in every file
 PROFILE = ""  # MCAP profile: none of the well-known ones (ros1, ros2...) applies
 _ALIVE = InstanceState.Alive
 NAME = re.compile(r"^\d{8}T\d{6}\.\d{3}Z(-\d+)?\.mcap$")
@@ -149,11 +152,10 @@ class _File:
         self.writer = McapWriter(self.stream, profile=PROFILE, library=f"sem-console {__version__}")
         self.channels: dict[Any, int] = {}
         self.sequence: dict[int, int] = {}
-        for sem in Sem:
-            schema = self.writer.register_schema(
-                type_name(sem.spec.type), SCHEMA_ENCODING, idl_text(type_name(sem.spec.type)).encode()
-            )
-            self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema)
+        for sem in SEM_TOPICS:
+            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING, topic_idl(sem).encode())
+            self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema,
+                                                              {"umaaVersion": version_of(sem)})
         for channel, (_kind, model) in JSON_CHANNELS.items():
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
             # the commands' channel names the recording console's station: a replay tells its own commands (its
@@ -164,17 +166,17 @@ class _File:
         self.opened_ns = time.time_ns()
         self.named = False  # the names in force at its start written (Recorder._write_names)
 
-    def appendable(self, sem: Sem) -> tuple[Sem, str]:
+    def appendable(self, sem: AnySem) -> tuple[AnySem, str]:
         """The channel key of the samples of `sem` that an appendable writer sent (an RTI vehicle's GPSReport and
         GPSFixReport: delimited XCDR2, TopicSpec.appendable). Their own channel, on the same topic, whose schema is the
         IDL with every struct appendable, so a reader of the file decodes them as they are laid out; registered at the
         first such sample, so a recording without one has none."""
         key = (sem, APPENDABLE)
         if key not in self.channels:
-            name = type_name(sem.spec.type)
-            schema = self.writer.register_schema(name, SCHEMA_ENCODING, idl_text(name, extensibility=APPENDABLE).encode())
+            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING,
+                                                 topic_idl(sem, extensibility=APPENDABLE).encode())
             self.channels[key] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema,
-                                                              {"extensibility": APPENDABLE})
+                                                              {"umaaVersion": version_of(sem), "extensibility": APPENDABLE})
         return key
 
     def add(self, key: Any, data: bytes, log_ns: int, publish_ns: int) -> None:
@@ -182,7 +184,7 @@ class _File:
         seq = self.sequence[cid] = self.sequence.get(cid, 0) + 1
         self.writer.add_message(cid, log_ns, data, publish_ns, seq)
 
-    def add_samples(self, key: Sem | tuple[Sem, str], samples: list[tuple[bytes, bool, int, int]], log_ns: int) -> int:
+    def add_samples(self, key: AnySem | tuple[AnySem, str], samples: list[tuple[bytes, bool, int, int]], log_ns: int) -> int:
         """The valid samples of one take, in order; returns how many. The hot path: one call per sample."""
         add, cid = self.writer.add_message, self.channels[key]
         seq = self.sequence.get(cid, 0)
@@ -234,17 +236,10 @@ class Recorder:
         self._stopping = threading.Event()
         self._thread: threading.Thread | None = None
         self._lock = threading.Lock()  # start/stop against each other
-        self._unrecorded: set[AnySem] = set()  # the UMAA 6.0 topics this recording skipped, said once each
 
     # ---- input (ingest threads, event loop): never blocks ---------------------------------
     def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic (ingest.Tap): one queue item, however many samples."""
-        if not isinstance(sem, Sem):
-            if self.active and sem not in self._unrecorded:
-                self._unrecorded.add(sem)
-                log.warning("recording: the UMAA 6.0 samples on %s are not recorded (recordings hold the UMAA 3.0.1 "
-                            "topics only)", sem.spec.name)
-            return
         self._put((sem, samples, received_ns, len(samples)))
 
     def on_message(self, message: dict[str, Any], followed: bool | None = None) -> None:
@@ -281,7 +276,7 @@ class Recorder:
                 raise RecordingError(f"cannot record into {self.directory}: {e.strerror or e}") from None
             self._file, self.error, self.dropped, self.messages, self.writer_cpu = first, None, 0, 0, 0.0
             self.started_at = time.time()
-            self._buffer, self._stopping, self._unrecorded = deque(), threading.Event(), set()
+            self._buffer, self._stopping = deque(), threading.Event()
             self.active = True
             # read after `active`: a rename from here on is queued as well (and written after these), none is missed;
             # a copy of the loop's dict, which dict() makes at once (holding the GIL)
@@ -410,7 +405,7 @@ class Recorder:
             self._changed_from_thread()
 
     def _write(self, f: _File, key: Any, data: Any, log_ns: int, _count: int) -> None:
-        if isinstance(key, Sem):
+        if isinstance(key, Sem | Sem60):
             if key.spec.appendable is not None and any(delimited(s[0]) for s in data):  # from an appendable writer
                 self.messages += f.add_samples(f.appendable(key), [s for s in data if delimited(s[0])], log_ns)
                 self.messages += f.add_samples(key, [s for s in data if not delimited(s[0])], log_ns)
@@ -446,7 +441,7 @@ class Recorder:
             self.on_change(self.status())
 
 
-def _instance_event(sem: Sem, data: bytes, valid: bool, instance_state: int) -> dict[str, Any]:
+def _instance_event(sem: AnySem, data: bytes, valid: bool, instance_state: int) -> dict[str, Any]:
     # an appendable writer's (delimited XCDR2) with the appendable copy: the final type misreads it, and sem-replay
     # disposes such a key with a writer of that copy
     dtype = sem.spec.appendable if sem.spec.appendable is not None and delimited(data) else sem.spec.type
@@ -461,6 +456,8 @@ def _instance_event(sem: Sem, data: bytes, valid: bool, instance_state: int) -> 
 
 
 def _uuid(raw: Any) -> str | None:
+    """A NumericGUID as a UUID string; of an identifier (UMAA 6.0's IdentifierType, a `source`), its `id`."""
+    raw = getattr(raw, "id", raw)
     try:
         return str(uuid.UUID(bytes=bytes(raw)))
     except (TypeError, ValueError):

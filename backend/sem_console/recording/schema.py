@@ -1,7 +1,8 @@
 """The schemas of a recording's channels.
 
 A SEM topic's schema is OMG IDL (MCAP schema encoding `omgidl`): the text of the topic type's
-file in `idl/` and of every file it includes, in dependency order (an included file before
+file in its UMAA version's IDL (`idl/` for 3.0.1, `idl/umaa-6.0/` for 6.0) and of every file it includes,
+in dependency order (an included file before
 the file that includes it, each once), with the preprocessor lines (`#include`, the include
 guards) left out, so the text stands alone. The files' modules are merged: each module is
 opened once and holds the declarations of every file in it, in that order (plain
@@ -26,7 +27,12 @@ from typing import Literal
 
 from cyclonedds.idl import IdlStruct
 
+from sem_console.dds.topics import AnySem, Sem60
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
+
 IDL_DIR = Path(__file__).resolve().parent / "idl"
+# Each UMAA version's IDL: 3.0.1 in idl/ itself, 6.0 in its own folder (the layout `idlgen` generates the types from)
+IDL_DIRS: dict[UmaaVersion, Path] = {UMAA_3_0_1: IDL_DIR, UMAA_6_0: IDL_DIR / "umaa-6.0"}
 SCHEMA_ENCODING = "omgidl"
 MESSAGE_ENCODING = "cdr"
 _INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]([^">]+)[">]', re.MULTILINE)
@@ -36,6 +42,16 @@ _STRUCT = re.compile(r"^(\s*)struct\s", re.MULTILINE)
 def type_name(dtype: type[IdlStruct]) -> str:
     """The fully qualified UMAA type name of a generated type, e.g. UMAA::SEM::GPSStatus::GPSReportType."""
     return dtype.__idl_typename__.replace(".", "::")
+
+
+def version_of(sem: AnySem) -> UmaaVersion:
+    """The UMAA version of a SEM topic: its table (`dds/topics.py`)."""
+    return UMAA_6_0 if isinstance(sem, Sem60) else UMAA_3_0_1
+
+
+def topic_idl(sem: AnySem, extensibility: Literal["final", "appendable"] = "final") -> str:
+    """The schema text of a SEM topic's channel: its type's IDL from its version's folder."""
+    return idl_text(type_name(sem.spec.type), IDL_DIRS[version_of(sem)], extensibility)
 
 
 def _file_of(name: str) -> str:

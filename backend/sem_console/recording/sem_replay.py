@@ -1,13 +1,13 @@
 """`sem-replay FILE.mcap --domain N [--speed X] [--loop]`: republish a recording on DDS.
 
-Every SEM sample of the recording is written again on its topic, in the order and with the
+Every SEM sample of the recording, of either UMAA version, is written again on its topic, in the order and with the
 spacing it was received (`log_time`, divided by `--speed`), as the CDR it was recorded with
 (its keys, so its vehicle's source GUID and a command's sessionID, are the original ones) and,
 unless `--retime`, with its original source timestamp. Writers use the project's QoS per topic
 class. A sample recorded in a data representation the writer does not use (e.g. XCDR2 for a
 type written in XCDR1) is decoded and written again in the writer's. Disposes and instances
 that lost their writers (channel `sem-console/instances`) are republished as disposes and
-unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand) are left out unless
+unregistrations. Recorded commands (GPSFixCommand, InertialSensorCommand, 6.0's InertialSensorCommandType) are left out unless
 `--commands`: a provider on the target domain would carry them out. The console's own channels (commands,
 transitions, links, alarm acknowledgements, vehicle names) are not DDS topics and are not republished. An integrator
 can test their own UMAA consumer against a trial this way.
@@ -33,12 +33,12 @@ from sem_console.core.command_line import Parser, from_environment, ranged
 from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
-from sem_console.dds.topics import Sem, Service, delimited
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.recording.reader import INSTANCES, check_file, iter_messages
 
 log = logging.getLogger("sem-replay")
-BY_TOPIC = {s.spec.name: s for s in Sem}
-COMMANDS = {s.command for s in Service}
+BY_TOPIC: dict[str, AnySem] = {s.spec.name: s for s in (*Sem, *Sem60)}  # both UMAA versions' topics
 # CDR encapsulation identifiers (first two bytes, big endian) of final types: XCDR1 and XCDR2
 PLAIN_CDR, PLAIN_CDR2 = {0x0000, 0x0001}, {0x0006, 0x0007}
 
@@ -66,18 +66,18 @@ def build_parser() -> argparse.ArgumentParser:
 class Replay:
     def __init__(self, bus: Bus, path: Path, speed: float, retime: bool, commands: bool = False) -> None:
         self.bus, self.path, self.speed, self.retime = bus, path, speed, retime
-        self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem not in COMMANDS}
-        self.writers: dict[Sem, DataWriter[Any]] = {}
-        self.appendable_writers: dict[Sem, DataWriter[Any]] = {}  # made at an appendable writer's first sample
+        self.topics = {name: sem for name, sem in BY_TOPIC.items() if commands or sem.spec.cls is not TopicClass.COMMAND}
+        self.writers: dict[AnySem, DataWriter[Any]] = {}
+        self.appendable_writers: dict[AnySem, DataWriter[Any]] = {}  # made at an appendable writer's first sample
         self.samples = self.disposes = self.unregisters = self.reencoded = self.skipped = 0
         self.stopping = False
 
-    def writer(self, sem: Sem) -> DataWriter[Any]:
+    def writer(self, sem: AnySem) -> DataWriter[Any]:
         if sem not in self.writers:
             self.writers[sem] = self.bus.writer(sem)
         return self.writers[sem]
 
-    def appendable_writer(self, sem: Sem) -> DataWriter[Any]:
+    def appendable_writer(self, sem: AnySem) -> DataWriter[Any]:
         """A writer of the topic's appendable copy, made at an appendable writer's first sample or key."""
         if sem not in self.appendable_writers:
             self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
@@ -121,7 +121,7 @@ class Replay:
                 self.skipped += 1
                 log.warning("skipped a message on %s at %d: %s", topic, m.log_time, e)
 
-    def sample(self, sem: Sem, data: bytes, ts: int) -> None:
+    def sample(self, sem: AnySem, data: bytes, ts: int) -> None:
         if sem.spec.appendable is not None and delimited(data):
             # an appendable writer's sample (an RTI vehicle's, delimited XCDR2): republished as it was sent, by a writer
             # of the appendable copy, which the console's readers of that copy match (the final type would misread it)

@@ -4,7 +4,7 @@ import { useToken } from "../data/auth";
 import { useCapabilities, useNow, useRecording, useSelector } from "../data/hooks";
 import { clockDuration } from "../lib/units";
 
-/** The header's record/stop control: records every UMAA 3.0.1 SEM sample the console receives to MCAP (no 6.0 topic). */
+/** The header's record/stop control: records every SEM sample the console receives, UMAA 3.0.1 and 6.0, to MCAP. */
 export function RecordControl() {
   const rec = useRecording();
   const { record } = useCapabilities();
@@ -34,7 +34,7 @@ export function RecordControl() {
         </>
       ) : (
         <button className="small" disabled={busy || !allowed} onClick={() => run("start")}
-          title={allowed ? `Record every UMAA 3.0.1 SEM sample to ${rec.directory} (UMAA 6.0 vehicles are not recorded yet)` : "Sign in to record"}>
+          title={allowed ? `Record every SEM sample (UMAA 3.0.1 and 6.0) to ${rec.directory}` : "Sign in to record"}>
           ● Record
         </button>
       )}

@@ -133,23 +133,31 @@ def _attachment(name: str) -> dict[str, str]:
 
 
 TRACK_CSV_HEADER = ("time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m", "course_deg", "sog_mps",
-                    "fix_valid", "gps_lat_long_valid", "position_time_utc")
+                    "fix_valid", "gps_lat_long_valid", "position_time_utc", "umaa_version")
 
 
-def track_csv(points: Sequence[TrackPoint]) -> str:
+def umaa_versions(console: Console) -> dict[str, str]:
+    """The UMAA version of every vehicle the console knows (provider GUID string -> "3.0.1" or "6.0"), read on the loop:
+    the exports say it, as a vehicle's reports and commands read by its version's standard (a vehicle not seen since
+    the console started: not known, left empty)."""
+    return {str(k): p.umaa_version for k, p in console.providers.by_id.items()}
+
+
+def track_csv(points: Sequence[TrackPoint], version: str | None = None) -> str:
     return _csv(TRACK_CSV_HEADER, ((_utc(p.time), p.latitude, p.longitude, p.altitudeMsl, p.course, p.sog, p.fixValid,
-                                    p.latLongValid, _utc(p.positionTime)) for p in points))
+                                    p.latLongValid, _utc(p.positionTime), version) for p in points))
 
 
-def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPoint]) -> str:
+def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPoint], version: str | None = None) -> str:
     """GPX 1.1: one track, one segment, the points in time order; course (degrees) and speed (m/s) in an
-    extension of our namespace; <desc> says where each point came from."""
+    extension of our namespace; <desc> says where each point came from, and the track's the vehicle's UMAA version."""
     gpx = gpxpy.gpx.GPX()
     gpx.creator = f"SEM Console {__version__}"
     gpx.nsmap["sem"] = EXT_NS
     label = f"{name} ({provider_id})" if name else str(provider_id)
-    track = gpxpy.gpx.GPXTrack(name=f"Track of {label}",
-                               description="GPSFixReport positions at most once per second; time: when the console received them")
+    speaks = f"a UMAA {version} vehicle; " if version else ""
+    track = gpxpy.gpx.GPXTrack(name=f"Track of {label}", description=(
+        f"{speaks}its position reports at most once per second; time: when the console received them"))
     segment = gpxpy.gpx.GPXTrackSegment()
     for p in points:
         pt = gpxpy.gpx.GPXTrackPoint(p.latitude, p.longitude, elevation=p.altitudeMsl,
@@ -177,7 +185,7 @@ async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     await known(console, provider_id)
     points = await console.history.track(provider_id, when.since, when.until)
     p = console.provider(provider_id)
-    body = await asyncio.to_thread(track_gpx, provider_id, p.name if p else None, points)
+    body = await asyncio.to_thread(track_gpx, provider_id, p.name if p else None, points, p.umaa_version if p else None)
     return GpxResponse(body, headers=_attachment(_filename(provider_id, when, "gpx")))
 
 
@@ -185,10 +193,12 @@ async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range
             responses={**_document("text/csv", f"CSV (RFC 4180), units in the header: {','.join(TRACK_CSV_HEADER)}"),
                        **UNKNOWN_PROVIDER})
 async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> Response:
-    """The track as CSV, one row per point in time order, times UTC ISO 8601 (a download)."""
+    """The track as CSV, one row per point in time order, times UTC ISO 8601, with the vehicle's UMAA version
+    (`umaa_version`; empty: a vehicle the console has not seen since it started) (a download)."""
     await known(console, provider_id)
     points = await console.history.track(provider_id, when.since, when.until)
-    body = await asyncio.to_thread(track_csv, points)
+    p = console.provider(provider_id)
+    body = await asyncio.to_thread(track_csv, points, p.umaa_version if p else None)
     return CsvResponse(body, headers=_attachment(_filename(provider_id, when, "csv")))
 
 
@@ -196,13 +206,15 @@ COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "ope
                        "acked_utc", "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by",
                        "canceled_on", "canceled_utc", "cancel_cause", "closed_unheard", "closed_utc", "cleaned_up",
                        "seq", "status", "status_words", "reason", "reason_words", "log_message", "violation",
-                       "provider_time_utc", "received_utc")
+                       "provider_time_utc", "received_utc", "umaa_version")
 
 
-def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
+def commands_csv(commands: Sequence[dict[str, Any]], versions: dict[str, str] | None = None) -> str:
     """One row per transition, the command's columns repeated; a command with no transition yet has one
     row with the transition columns empty. The transition's status and reason are also in the operator's words, as the
-    dashboard says them (`core/words.py`)."""
+    dashboard says them (`core/words.py`); `versions`: the vehicles' UMAA versions (`umaa_versions`)."""
+    versions = versions or {}
+
     def rows() -> Iterable[list[Any]]:
         for c in commands:
             head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], c["console"],
@@ -214,7 +226,7 @@ def commands_csv(commands: Sequence[dict[str, Any]]) -> str:
                 yield head + ([None] * 9 if t is None else
                               [t["seq"], t["status"], word("CommandStatusEnumType", t["status"]), t["reason"],
                                word("CommandStatusReasonEnumType", t["reason"]), t["logMessage"], t["violation"],
-                               _utc(t["providerTime"]), _utc(t["receivedAt"])])
+                               _utc(t["providerTime"]), _utc(t["receivedAt"])]) + [versions.get(c["providerId"])]
     return _csv(COMMANDS_CSV_HEADER, rows())
 
 
@@ -227,10 +239,14 @@ async def get_commands_csv(console: ConsoleDep, when: Range,
     (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`, `cancel_cause`;
     `closed_unheard`, `closed_utc`); a command with no status yet is one row, its transition columns empty. Each
     status and reason is given as its UMAA literal and, beside it, in the dashboard's words (`status_words`,
-    `reason_words`). Times UTC ISO 8601; `since`/`until` select by the time the command was created (a download)."""
+    `reason_words`); `umaa_version`, the UMAA version of the vehicle commanded, by whose standard its state, statuses
+    and reasons read (empty: a vehicle the console has not seen since it started). Times UTC ISO 8601; `since`/`until`
+    select by the time the command was created (a download)."""
+    versions = umaa_versions(console)
+
     def build() -> str:
         rows = console.store.export_commands(None if provider_id is None else str(provider_id), when.since, when.until)
-        return commands_csv([console.commands.from_row(r).to_json() for r in rows])
+        return commands_csv([console.commands.from_row(r).to_json() for r in rows], versions)
     body = await asyncio.to_thread(build)
     name = f"commands{f'_{provider_id}' if provider_id else ''}.csv"
     return CsvResponse(body, headers=_attachment(name))

@@ -26,7 +26,7 @@ reads = APIRouter(prefix="/api", tags=["recordings"])
              responses={**JSON_BODY, 503: problem("the recording cannot start: its directory cannot be made or written")})
 async def control_recording(body: RecordingRequest, request: Request, console: ConsoleDep,
                             operator: OperatorDep) -> dict[str, Any]:
-    """Start recording every UMAA 3.0.1 SEM sample (no 6.0 topic yet) to `<directory>/<UTC start>.mcap`, or stop.
+    """Start recording every SEM sample, UMAA 3.0.1 and 6.0, to `<directory>/<UTC start>.mcap`, or stop.
     Starting a running recording, or stopping a stopped one, changes nothing. Returns the recording's status."""
     recorder = console.recorder
     try:
