@@ -32,7 +32,7 @@ from sem_console.codec.decode import Decoder, ReportItem, StatusItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import Sem, Service, final_type_qos
+from sem_console.dds.topics import AnySem, Sem, Service, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 from sem_console.recording.recorder import Recorder
 
@@ -203,7 +203,7 @@ class Observer:
         """What other vendors' participants on the bus must change for a consumer to read them (dds/vendors.py)."""
         return self.peers.findings(self._matched_writers, time.monotonic())
 
-    def _matched_writers(self, sem: Sem) -> set[int]:
+    def _matched_writers(self, sem: AnySem) -> set[int]:
         return {h & _U64 for s, r, _ in self.readers if s is sem for h in r.get_matched_publications()}
 
     def matched_by_consumer(self, sem: Sem, endpoint: DcpsEndpoint) -> bool:
