@@ -47,7 +47,7 @@ PYTHONPATH="$ROOT/backend" "$ROOT/.venv/bin/python" -m sem_console.idlgen --if-s
 # The backend's own modules compiled once here: the tests start a few hundred consoles and simulators, and with
 # PYTHONDONTWRITEBYTECODE set (as on these machines) each would compile them again (about 0.15 s of CPU each).
 PYTHONDONTWRITEBYTECODE= "$ROOT/.venv/bin/python" -m compileall -q "$ROOT/backend/sem_console" "$ROOT/backend/UMAA" \
-  "$ROOT/backend/UMAA_appendable" "$ROOT/backend/UMAA_6_0" >&2  # (-q: only a module that does not compile, named with its error)
+  "$ROOT/backend/UMAA_appendable" "$ROOT/backend/UMAA_6_0" "$ROOT/backend/UMAA_6_0_appendable" >&2  # (-q: only a module that does not compile, named with its error)
 
 dashboard_rc=0
 wait "$dashboard" || dashboard_rc=$?

@@ -5,7 +5,8 @@ in its annotation, so the package name is in the generated code):
 
 - ``UMAA``: UMAA 3.0.1 (``idl/UMAA``), every struct final (idlc's ``-x final``), the console's own types;
 - ``UMAA_appendable``: the same types appendable, what an RTI Connext 3.0.1 vehicle writes;
-- ``UMAA_6_0``: UMAA 6.0 (``idl/umaa-6.0/UMAA``), final.
+- ``UMAA_6_0``: UMAA 6.0 (``idl/umaa-6.0/UMAA``), final;
+- ``UMAA_6_0_appendable``: the 6.0 types appendable, what a vehicle on RTI's UMAA kit writes.
 
 Each keeps UMAA's wire type names (``UMAA::...``); only the Python package differs, so all load in one process.
 ``scripts/setup.sh`` and the Docker images run ``python -m sem_console.idlgen`` before installing the backend; it
@@ -153,7 +154,8 @@ def generate(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
 
 APPENDABLE = "UMAA_appendable"
 UMAA_6_0 = "UMAA_6_0"
-PACKAGES = ("UMAA", APPENDABLE, UMAA_6_0)
+APPENDABLE_6_0 = "UMAA_6_0_appendable"
+PACKAGES = ("UMAA", APPENDABLE, UMAA_6_0, APPENDABLE_6_0)
 
 
 def generate_as(package: str, out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
@@ -191,10 +193,17 @@ def generate_6_0(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_6
     return generate_as(UMAA_6_0, out_dir, cache, idl_dir)
 
 
+def generate_6_0_appendable(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_6_0) -> list[Path]:
+    """The UMAA 6.0 types with every struct appendable, as the package ``UMAA_6_0_appendable`` in ``out_dir``: the
+    copies the console reads GlobalPoseReportType with from a vehicle on RTI's UMAA kit (XCDR2, RTI's types
+    appendable; docs/umaa-versions.md, "RTI Connext")."""
+    return generate_as(APPENDABLE_6_0, out_dir, cache, idl_dir, extensibility="appendable")
+
+
 def generate_all(out_dir: Path, cache: Path | None = None) -> dict[str, list[Path]]:
     """Every generated package in ``out_dir``, by package name."""
     return {"UMAA": generate(out_dir, cache), APPENDABLE: generate_appendable(out_dir, cache),
-            UMAA_6_0: generate_6_0(out_dir, cache)}
+            UMAA_6_0: generate_6_0(out_dir, cache), APPENDABLE_6_0: generate_6_0_appendable(out_dir, cache)}
 
 
 def inputs_digest() -> str:

@@ -11,6 +11,7 @@ import socket
 import ssl
 import subprocess
 import sys
+import tarfile
 import time
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -226,3 +227,15 @@ def console(domain: int, tmp_path: Path) -> Iterator[Callable[..., ConsoleProces
     yield start
     for c in started:
         c.end()
+
+
+@pytest.fixture(scope="session")
+def connext7() -> None:
+    """Connext 7.x for the RTI interop tests (the npm Connector's native libraries, tests/rti/connext7.py), fetched
+    once; skipped when it cannot be had."""
+    from rti.connext7 import connector7  # here: the module loads RTI's Connector, which only these tests need
+
+    try:
+        connector7()
+    except (RuntimeError, OSError, subprocess.SubprocessError, tarfile.TarError, IndexError) as e:
+        pytest.skip(f"Connext 7 unavailable: {e}")

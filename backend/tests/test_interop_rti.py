@@ -22,7 +22,6 @@ import os
 import random
 import subprocess
 import sys
-import tarfile
 import threading
 import time
 import uuid
@@ -35,7 +34,7 @@ import pytest
 from cyclonedds.core import Policy, Qos
 
 from rti.connector import RECIPE_ENV, RtiParticipant
-from rti.connext7 import RemoteParticipant, connector7
+from rti.connext7 import RemoteParticipant
 from samplegen import random_sample, to_plain
 from sem_console.codec.convert import to_json
 from sem_console.codec.decode import REPORT_TOPICS
@@ -64,15 +63,6 @@ def same(a: Any, b: Any) -> bool:
     if isinstance(a, float):
         return isinstance(b, (int, float)) and (math.isclose(a, b, rel_tol=1e-14) or (math.isnan(a) and math.isnan(b)))
     return a == b
-
-
-@pytest.fixture(scope="session")
-def connext7() -> None:
-    """Connext 7.x (the npm Connector's native libraries), fetched once; skipped when it cannot be had."""
-    try:
-        connector7()
-    except (RuntimeError, OSError, subprocess.SubprocessError, tarfile.TarError, IndexError) as e:
-        pytest.skip(f"Connext 7 unavailable: {e}")
 
 
 class RtiFactory:

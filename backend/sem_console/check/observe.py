@@ -224,7 +224,7 @@ class Observer:
         """What other vendors' participants on the bus must change for a consumer to read them (dds/vendors.py)."""
         return self.peers.findings(self._matched_writers, time.monotonic())
 
-    def _matched_writers(self, sem: Sem) -> set[int]:
+    def _matched_writers(self, sem: AnySem) -> set[int]:
         return {h & _U64 for s, r, _ in self.readers if s is sem for h in r.get_matched_publications()}
 
     def matched_by_consumer(self, sem: AnySem, endpoint: DcpsEndpoint) -> bool:

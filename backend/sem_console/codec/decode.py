@@ -18,7 +18,7 @@ import logging
 import threading
 import uuid
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from cyclonedds.core import InstanceState
@@ -120,8 +120,8 @@ DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder d
 # delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
 # any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
 _APPENDABLE_ROUTES: dict[AnySem, _Route] = {
-    sem: _Route(sem.spec.name, sem.spec.appendable, fastcdr.decoder(sem.spec.appendable), topic, None, "report")
-    for sem, topic in REPORT_TOPICS.items() if sem.spec.appendable is not None}
+    sem: replace(route, type=sem.spec.appendable, fast=fastcdr.decoder(sem.spec.appendable))
+    for sem, route in _ROUTES.items() if sem.spec.appendable is not None}
 _ALIVE = InstanceState.Alive
 
 

@@ -183,7 +183,6 @@ class Ingest:
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
-        self.peers = PeerWatch(bus.participant)
         self.command_writers = command_writers or {}  # the console's, by topic: whose readers they reach (dds/vendors.py)
         self.findings: list[Finding] = []  # what other vendors' participants must change (dds/vendors.py), for /api/metrics
         self._logged: set[tuple[str, str, str | None]] = set()
@@ -193,6 +192,9 @@ class Ingest:
         self.report_readers = self._readers(bus, [*REPORT_TOPICS, *REPORT_TOPICS_6_0])
         self.status_readers = self._readers(bus, list(dict.fromkeys([*STATUS_TOPICS, *ACK_TOPICS, *COMMAND_TOPICS,
                                                                       *COMMAND_FLOW_6_0])))
+        # other vendors' endpoints of the topics it reads or writes (dds/vendors.py)
+        self.peers = PeerWatch(bus.participant, [*{s for s, _v, _r in self.report_readers + self.status_readers},
+                                                 *self.command_writers])
         self.threads: list[threading.Thread] = []
         self._waitsets: dict[str, tuple[Triggered, list[Any]]] = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):

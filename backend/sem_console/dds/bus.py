@@ -7,14 +7,14 @@ from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
 from cyclonedds.domain import Domain, DomainParticipant
-from cyclonedds.pub import DataWriter
+from cyclonedds.pub import DataWriter, Publisher
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
 from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
-from sem_console.dds.qos import reader_qos, representation, writer_qos
+from sem_console.dds.qos import PUBLISHER, reader_qos, representation, writer_qos
 from sem_console.dds.topics import AnySem
 
 # One Domain object per domain id per process: Cyclone keeps the first config it was given.
@@ -47,10 +47,14 @@ class Bus:
         open_domain(domain_id, interface, peers)
         self.domain_id = domain_id
         self.participant = DomainParticipant(domain_id)
+        self.publisher = Publisher(self.participant, qos=PUBLISHER)  # every writer's (qos.PUBLISHER: RTI's UMAA kit)
         self._topics: dict[AnySem, Topic[Any]] = {}
         self._appendable_topics: dict[AnySem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)
 
-    def topic(self, sem: AnySem) -> Topic[Any]:
+    def topic(self, sem: AnySem, appendable: bool = False) -> Topic[Any]:
+        """The topic of the type, or of its appendable copy (TopicSpec.appendable)."""
+        if appendable:
+            return self._appendable_topic(sem)
         if sem not in self._topics:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
@@ -59,7 +63,7 @@ class Bus:
         """A writer with the topic class's QoS and the type's data representation; `appendable`: of the type's
         appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
-        return DataWriter(self.participant, topic,
+        return DataWriter(self.publisher, topic,
                           qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
 
     def _appendable_topic(self, sem: AnySem) -> Topic[Any]:

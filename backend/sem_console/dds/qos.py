@@ -45,6 +45,13 @@ def writer_qos(cls: TopicClass) -> Qos:
                Policy.WriterDataLifecycle(autodispose=False))
 
 
+# What a publisher of the console's offers: TOPIC presentation with ordered access, which a subscriber of RTI's UMAA kit
+# requests (its participant profile asks it of every subscriber, for the ICDs' ordering across a topic's instances); a
+# publisher offering less (DDS's default, INSTANCE) is not matched by its readers. A writer sends its samples in the
+# order written, and one publisher of ours holds one writer per topic, so the offer is kept; readers asking less match.
+PUBLISHER = Qos(Policy.PresentationAccessScope.Topic(coherent_access=False, ordered_access=True))
+
+
 def representation(xcdr2_only: bool, writer: bool) -> Qos:
     """The DataRepresentation of an endpoint: XCDR2 only for types with @optional members; otherwise
     writers offer XCDR1 and readers accept XCDR1 and XCDR2."""

@@ -29,6 +29,7 @@ from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandAckReportTyp
 from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandStatusType as InertialSensorCommandStatusType60
 from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType as InertialSensorCommandType60
 from UMAA_6_0.SEM.InertialSensorStatus import InertialSensorReportType as InertialSensorReportType60
+from UMAA_6_0_appendable.SA.GlobalPoseStatus import GlobalPoseReportType as AppendableGlobalPoseReportType60
 from UMAA_appendable.SEM.GPSFixStatus import GPSFixReportType as AppendableGPSFixReportType
 from UMAA_appendable.SEM.GPSStatus import GPSReportType as AppendableGPSReportType
 
@@ -53,9 +54,9 @@ class TopicSpec:
     name: str
     type: type[IdlStruct]
     cls: TopicClass
-    # The same type appendable, with the types nested in it (UMAA_appendable, generated): what an RTI Connext
-    # vehicle writes (RTI's default for IDL that does not say). The console reads such a topic with a reader of each
-    # (docs/dds.md, "One reader per extensibility"). Only for the two types RTI and Cyclone exchange in XCDR2.
+    # The same type appendable, with the types nested in it (UMAA_appendable, UMAA_6_0_appendable, generated): what an
+    # RTI Connext vehicle writes (RTI's default for IDL that does not say). The console reads such a topic with a reader
+    # of each (docs/dds.md, "One reader per extensibility"). Only for the types RTI and Cyclone exchange in XCDR2.
     appendable: builtins.type[IdlStruct] | None = None  # (`type` is the field above)
 
     @property
@@ -92,16 +93,16 @@ class Sem(Enum):
         return self.value
 
 
-def _named_after_type(t: type[IdlStruct], cls: TopicClass) -> TopicSpec:
+def _named_after_type(t: type[IdlStruct], cls: TopicClass, appendable: type[IdlStruct] | None = None) -> TopicSpec:
     """A UMAA 6.0 topic: named after its type's full name (UMAA::SEM::GPSStatus::GPSReportType)."""
-    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls)
+    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls, appendable)
 
 
 class Sem60(Enum):
     """The UMAA 6.0 topics the console serves (tests/data/umaa-6.0-wire-layout.toml)."""
 
     GPS_REPORT = _named_after_type(GPSReportType60, TopicClass.REPORT)
-    GLOBAL_POSE_REPORT = _named_after_type(GlobalPoseReportType60, TopicClass.REPORT)
+    GLOBAL_POSE_REPORT = _named_after_type(GlobalPoseReportType60, TopicClass.REPORT, AppendableGlobalPoseReportType60)
     INS_REPORT = _named_after_type(InertialSensorReportType60, TopicClass.REPORT)
     INS_COMMAND = _named_after_type(InertialSensorCommandType60, TopicClass.COMMAND)
     INS_COMMAND_STATUS = _named_after_type(InertialSensorCommandStatusType60, TopicClass.STATUS)
@@ -144,8 +145,10 @@ def delimited(data: bytes) -> bool:
 
 
 def _appendable_class(cls: type) -> Any:
-    """The class of the same name in UMAA_appendable (sem_console.idlgen writes it at the same module path)."""
-    return getattr(importlib.import_module(cls.__module__.replace("UMAA.", "UMAA_appendable.", 1)), cls.__name__)
+    """The class of the same name in the appendable copy of its package (UMAA_appendable, UMAA_6_0_appendable:
+    sem_console.idlgen writes it at the same module path)."""
+    package, rest = cls.__module__.split(".", 1)
+    return getattr(importlib.import_module(f"{package}_appendable.{rest}"), cls.__name__)
 
 
 def to_appendable(value: Any) -> Any:

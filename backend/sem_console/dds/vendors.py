@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -30,16 +30,16 @@ from cyclonedds.builtin_types import DcpsEndpoint
 from cyclonedds.core import InstanceState, Policy, Qos
 from cyclonedds.domain import DomainParticipant
 
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import AnySem, Sem, Sem60
 
 RTI = b"\x01\x01"  # RTI Connext's vendor id
 DOCS = "docs/dds.md#rti-connext-7"
-DROP_IN = "docs/rti/sem-console-interop.xml"
+# the drop-in QoS profiles for an RTI participant, by the UMAA version of its SEM topics (their table)
+DROP_IN: dict[type[AnySem], str] = {Sem: "docs/rti/sem-console-interop.xml", Sem60: "docs/rti/umaa-6.0-interop.xml"}
 MASK = "NDDS_XTYPES_COMPLIANCE_MASK=0x1a9"
 # A writer is judged unmatched only this long after it was discovered: Cyclone matches it with the console's
 # readers as it discovers it, but the builtin topic may show it a moment before.
 SETTLE = 2.0
-_BY_NAME = {s.spec.name: s for s in Sem}
 
 Kind = Literal["typeInformation", "representation", "unmatched", "unmatchedReader"]
 
@@ -102,14 +102,16 @@ def _name(qos: Qos, guid: uuid.UUID) -> str:
     return entity.name if entity is not None and entity.name else str(guid)
 
 
-def short(sem: Sem) -> str:
+def short(sem: AnySem) -> str:
     return sem.spec.name.rsplit("::", 1)[-1]
 
 
 class PeerWatch:
-    """What the builtin topics say of other vendors' SEM endpoints, kept up to date by `poll`."""
+    """What the builtin topics say of other vendors' endpoints of the given SEM topics (those its owner reads or writes,
+    of either UMAA version), kept up to date by `poll`."""
 
-    def __init__(self, participant: DomainParticipant) -> None:
+    def __init__(self, participant: DomainParticipant, topics: Iterable[AnySem] = Sem) -> None:
+        self.topics = {s.spec.name: s for s in topics}
         self._participants = BuiltinDataReader(participant, BuiltinTopicDcpsParticipant)
         self._pubs = BuiltinDataReader(participant, BuiltinTopicDcpsPublication)
         self._subs = BuiltinDataReader(participant, BuiltinTopicDcpsSubscription)
@@ -125,20 +127,20 @@ class PeerWatch:
             else:
                 self.names.pop(p.key, None)
         for e in _take_all(self._pubs):
-            if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in _BY_NAME and vendor_of(e.key) == RTI:
+            if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in self.topics and vendor_of(e.key) == RTI:
                 old = self.writers.get(e.key)
                 self.writers[e.key] = (e, e.sample_info.instance_handle, old[2] if old else now)
             else:
                 self.writers.pop(e.key, None)
         for e in _take_all(self._subs):
-            if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in _BY_NAME and vendor_of(e.key) == RTI:
+            if e.sample_info.instance_state == InstanceState.Alive and e.topic_name in self.topics and vendor_of(e.key) == RTI:
                 old = self.readers.get(e.key)
                 self.readers[e.key] = (e, e.sample_info.instance_handle, old[2] if old else now)
             else:
                 self.readers.pop(e.key, None)
 
-    def findings(self, matched: Callable[[Sem], set[int]], now: float,
-                 reached: Callable[[Sem], set[int] | None] = lambda _: None) -> list[Finding]:
+    def findings(self, matched: Callable[[AnySem], set[int]], now: float,
+                 reached: Callable[[AnySem], set[int] | None] = lambda _: None) -> list[Finding]:
         """What each RTI participant with SEM endpoints must change. `matched(sem)`: the publication handles the
         console's readers of that topic matched; `reached(sem)`: the subscription handles its writer of that topic
         matched (None: it writes none)."""
@@ -155,17 +157,18 @@ class PeerWatch:
                 return Finding(str(guid), name, "RTI", kind, topic, fix)
 
             writers = [self.writers[e.key] for e in ends if e.key in self.writers]
-            unmatched = [(e, seen) for e, handle, seen in writers if handle not in matched(_BY_NAME[e.topic_name])]
+            unmatched = [(e, seen) for e, handle, seen in writers if handle not in matched(self.topics[e.topic_name])]
             typed = any(e.type_id is not None for e in ends)
             if typed and len(unmatched) == len(writers):
                 # a writer is matched as it is discovered, but the builtin topic may show it a moment before: said (and
                 # logged, once for good) only once its writers stayed unmatched SETTLE s
                 if all(now - seen >= SETTLE for _, seen in unmatched):
+                    drop_in = DROP_IN[type(self.topics[ends[0].topic_name])]
                     out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> "
-                                       f"to 0 in its participant QoS (the drop-in profile {DROP_IN} does)"))
+                                       f"to 0 in its participant QoS (the drop-in profile {drop_in} does)"))
                 continue  # nothing of it matches until then: the rest would only repeat it
             for e, seen in sorted(unmatched, key=lambda u: u[0].topic_name):
-                sem = _BY_NAME[e.topic_name]
+                sem = self.topics[e.topic_name]
                 xcdr1, xcdr2 = _representations(e.qos)
                 if sem.spec.xcdr2_only and not xcdr2:
                     mask = f" and {MASK} in its environment (Connext 7; Connext 6 cannot write it readably)" \
@@ -175,12 +178,12 @@ class PeerWatch:
                     partitions = _partitions(e.qos)  # the one thing that fails silently, no incompatible QoS on either side
                     fix = (f"publish it in the default partition, as the console reads (it is in partition "
                            f"{', '.join(partitions)})" if partitions else
-                           f"compare its QoS with the drop-in profile {DROP_IN} ({'XCDR1' if xcdr1 else ''}"
+                           f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]} ({'XCDR1' if xcdr1 else ''}"
                            f"{'+' if xcdr1 and xcdr2 else ''}{'XCDR2' if xcdr2 else ''} offered)")
                     out.append(finding("unmatched", short(sem), fix))
             readers = [self.readers[e.key] for e in ends if e.key in self.readers]
             for e, handle, seen in sorted(readers, key=lambda r: r[0].topic_name):
-                sem = _BY_NAME[e.topic_name]
+                sem = self.topics[e.topic_name]
                 handles = reached(sem)
                 if handles is None or handle in handles or now - seen < SETTLE:
                     continue
@@ -189,7 +192,7 @@ class PeerWatch:
                 fix = (f"subscribe to it in the default partition, where the console publishes (it is in partition "
                        f"{', '.join(partitions)})" if partitions else
                        "accept XCDR_DATA_REPRESENTATION on that reader, which the console writes" if not xcdr1 else
-                       f"compare its QoS with the drop-in profile {DROP_IN}")
+                       f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]}")
                 out.append(finding("unmatchedReader", short(sem), fix))
         return out
 

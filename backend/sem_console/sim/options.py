@@ -49,12 +49,13 @@ class SimOptions(BaseModel):
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
     umaa: UmaaVersion = Field("3.0.1", description=(
         "the UMAA version the vehicles speak. 6.0: their GPSReportType, GlobalPoseReportType and InertialSensorReportType "
-        "on the 6.0 topics, with RTI UMAAQoSLib's report QoS (best-effort, keep-last-1); they answer no command yet "
+        "on the 6.0 topics, reliable and transient-local (what the readers of RTI's UMAA kit ask); they answer no command yet "
         "(default: 3.0.1)"))
     gps_extensibility: Literal["final", "appendable"] = Field("final", description=(
         "the types GPSReport and GPSFixReport are written with. final: the console's types (idlc's default, as a "
         "vehicle built from the plain UMAA IDL); appendable: UMAA's types appendable in XCDR2, for RTI Connext consumers "
-        "on the drop-in's AppendableGps profile (docs/dds.md); the console reads either (default: final)"))
+        "on the drop-in's AppendableGps profile (docs/dds.md); with --umaa 6.0 GlobalPoseReportType likewise, for RTI "
+        "consumers on RTI's UMAA kit (docs/umaa-versions.md); the console reads either (default: final)"))
     state_file: Path | None = Field(None, description=(
         "where command states are journaled so a restarted simulator can recover them; one simulator at a time "
         "(default: $XDG_STATE_HOME/sem-sim/domain-N.json, domain-N-from-F.json with --first-vehicle F)"))

@@ -90,7 +90,7 @@ class Simulator:
         # consumers on the AppendableGps profile read right (the console reads either: one reader per extensibility)
         self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
         # --umaa 6.0: the reports written on the 6.0 topics instead (sim/umaa_6_0.py)
-        self.writer60 = Writer60(bus) if opts.umaa == "6.0" else None
+        self.writer60 = Writer60(bus, opts.gps_extensibility == "appendable") if opts.umaa == "6.0" else None
         self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable)
                         for sem in Sem if sem.spec.cls is not TopicClass.COMMAND and self.writer60 is None}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}

@@ -1,8 +1,9 @@
 """`sem-sim --umaa 6.0`: the simulated vehicles' reports as a UMAA 6.0 vehicle writes them.
 
 The vehicles' models (`reports.py`) make 3.0.1 samples; `Writer60` writes each as its 6.0 counterpart, on the 6.0
-topics (named after their types) with the report QoS of RTI's UMAAQoSLib (TelemetryQoS: best-effort, keep-last-1),
-as a vehicle built on RTI's UMAA kit writes them:
+topics (named after their types), as a vehicle built on RTI's UMAA kit writes them, with the console's report QoS
+(reliable, transient-local, keep-last-1: it matches the readers of the kit's UMAAQoSLib, whose AssignerQoS as shipped
+makes every endpoint reliable and transient-local, and those of its TelemetryQoS, best-effort):
 
 - GPSReport -> UMAA::SEM::GPSStatus::GPSReportType (every clock and satellite member present; a satellite's number
   is its PRN; the clock's time uncertainty as its time figure of merit);
@@ -11,6 +12,9 @@ as a vehicle built on RTI's UMAA kit writes them:
 - InertialSensorReport -> UMAA::SEM::InertialSensorStatus::InertialSensorReportType (the alignment stage; an INS
   that is off or restarting reports INIT, an aligned one the completed stage of its alignment);
 - GPSFixStatusReport has no 6.0 counterpart and is not written.
+
+With `--gps-extensibility appendable` GlobalPoseReportType, the one of them with optional members, is written with its
+appendable copy (as RTI's UMAA types are; XCDR2), for RTI consumers (docs/umaa-versions.md, "RTI Connext").
 """
 
 from __future__ import annotations
@@ -18,9 +22,6 @@ from __future__ import annotations
 import math
 import uuid
 from typing import Any
-
-from cyclonedds.core import Policy, Qos
-from cyclonedds.pub import DataWriter
 
 from UMAA_6_0.Common import IdentifierType
 from UMAA_6_0.Common.MaritimeEnumeration.GPSConstellationEnumModule import GPSConstellationEnumType as Constellation
@@ -34,13 +35,10 @@ from UMAA_6_0.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA_6_0.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.bus import Bus
-from sem_console.dds.qos import representation
-from sem_console.dds.topics import Sem, Sem60
+from sem_console.dds.topics import Sem, Sem60, to_appendable
 from sem_console.umaa.samples import make
 
 NIL = bytes(16)
-# RTI UMAAQoSLib's TelemetryQoS writer (qos/umaa_qos_lib.xml in RTI's UMAA kit): best-effort, volatile, keep-last-1
-TELEMETRY = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepLast(1))
 # The 3.0.1 alignment stages as 6.0 names them (3.0.1 spells coarse "COURSE"); 6.0 has no OPERATIONAL
 _OP_STATUS = {"COURSE_GPS_ALIGNMENT": "COARSE_GPS_ALIGNMENT", "COURSE_STATIONARY_ALIGNMENT": "COARSE_STATIONARY_ALIGNMENT"}
 
@@ -121,10 +119,12 @@ def ins_report(r: Any, aligned: dict[uuid.UUID, str]) -> InertialSensorReportTyp
 class Writer60:
     """Writes the vehicles' 3.0.1 samples as their 6.0 counterparts (the module's docstring)."""
 
-    def __init__(self, bus: Bus) -> None:
-        self.writers = {sem: DataWriter(bus.participant, bus.topic(sem),
-                                        qos=TELEMETRY + representation(sem.spec.xcdr2_only, writer=True))
-                        for sem in (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)}
+    def __init__(self, bus: Bus, appendable: bool = False) -> None:
+        # appendable (--gps-extensibility appendable): the type with optional members, GlobalPoseReportType, written with
+        # its appendable copy in XCDR2, as RTI's UMAA types are, for an RTI consumer (docs/umaa-versions.md)
+        sems = (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)
+        self.appendable = {s for s in sems if appendable and s.spec.appendable is not None}
+        self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with
 
     def ins_report(self, r: Any) -> InertialSensorReportType:
@@ -142,9 +142,9 @@ class Writer60:
     def write(self, sem: Sem, sample: Any) -> None:
         out = self._as_6_0(sem, sample)
         if out is not None:
-            self.writers[out[0]].write(out[1])
+            self.writers[out[0]].write(to_appendable(out[1]) if out[0] in self.appendable else out[1])
 
     def dispose(self, sem: Sem, sample: Any) -> None:
         out = self._as_6_0(sem, sample)
         if out is not None:
-            self.writers[out[0]].dispose(out[1])
+            self.writers[out[0]].dispose(to_appendable(out[1]) if out[0] in self.appendable else out[1])

@@ -27,6 +27,8 @@ import tempfile
 from pathlib import Path
 from typing import Any
 
+from .connector import sem_key
+
 NPM_VERSION = "1.5.0"  # Connext 7.7.0
 CONNEXT7 = "7.7.0"
 _PLATFORM = {"x86_64": "linux-x64", "aarch64": "linux-arm64"}
@@ -129,7 +131,7 @@ class RemoteParticipant:
                                          stdout=subprocess.PIPE, text=True, cwd=_TESTS,
                                          env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
         self.writers = set(kw.get("writers", ()))
-        kw = {k: ([s.name for s in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
+        kw = {k: ([sem_key(s) for s in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
         try:
             self.version = self._call("start", domain, **kw)
         except BaseException:
@@ -149,17 +151,17 @@ class RemoteParticipant:
         return value
 
     def wait_matched(self, sem: Any, timeout: float = 10.0) -> None:
-        if not self._call("wait_matched", sem.name, timeout):
+        if not self._call("wait_matched", sem_key(sem), timeout):
             raise TimeoutError(f"RTI 7 {sem.spec.name} matched nothing")
 
     def matched(self, sem: Any, writer: bool) -> list[Any]:
-        return self._call("matched", sem.name, writer)
+        return self._call("matched", sem_key(sem), writer)
 
     def write(self, sem: Any, sample: dict[str, Any], action: str = "write") -> None:
-        self._call("write", sem.name, sample, action)
+        self._call("write", sem_key(sem), sample, action)
 
     def take(self, sem: Any) -> list[tuple[dict[str, Any] | None, str]]:
-        return [tuple(x) for x in self._call("take", sem.name)]  # type: ignore[misc]
+        return [tuple(x) for x in self._call("take", sem_key(sem))]  # type: ignore[misc]
 
     def close(self) -> None:
         if self.proc.poll() is not None:

@@ -10,8 +10,7 @@ import sys
 import traceback
 from typing import Any
 
-from rti.connector import RtiParticipant
-from sem_console.dds.topics import Sem
+from rti.connector import RtiParticipant, sem_of
 
 
 def main() -> None:
@@ -24,7 +23,7 @@ def main() -> None:
         op, args, kw = json.loads(line)
         try:
             if op == "start":
-                kw = {k: ([Sem[n] for n in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
+                kw = {k: ([sem_of(n) for n in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
                 p = RtiParticipant(*args, **kw)
                 value: Any = p.version
             elif op == "close":
@@ -34,20 +33,20 @@ def main() -> None:
             elif op == "wait_matched":
                 assert p is not None
                 try:
-                    p.wait_matched(Sem[args[0]], args[1])
+                    p.wait_matched(sem_of(args[0]), args[1])
                     value = True
                 except TimeoutError:
                     value = False
             elif op == "matched":
                 assert p is not None
-                value = p.matched(Sem[args[0]], args[1])
+                value = p.matched(sem_of(args[0]), args[1])
             elif op == "write":
                 assert p is not None
-                p.write(Sem[args[0]], args[1], args[2])
+                p.write(sem_of(args[0]), args[1], args[2])
                 value = None
             elif op == "take":
                 assert p is not None
-                value = p.take(Sem[args[0]])
+                value = p.take(sem_of(args[0]))
             else:
                 raise ValueError(op)
             out.write(json.dumps([True, value]) + "\n")
