@@ -78,7 +78,7 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
     await expect(region.getByTestId("planned-silence")).toHaveCount(0);
     await form.getByLabel("Until (UTC)").fill(until);
     await form.getByRole("button", { name: "Declare planned silence" }).click();
-    await expect(region.getByTestId("planned-silence")).toHaveText(new RegExp(`^${diver.slice(0, 8)}: out of comms \\(planned\\) until ${said(until)} UTC: dive to 40 m \\(declared by e2e-operator on ${consoleName}\\)`));
+    await expect(region.getByTestId("planned-silence")).toHaveText(new RegExp(`^Vehicle ${diver.slice(0, 8)}: out of comms \\(planned\\) until ${said(until)} UTC: dive to 40 m \\(declared by e2e-operator on ${consoleName}\\)`));
     await expect(diverChip.getByTestId("fleet-silence")).toHaveText(`Out of comms (planned) until ${said(until)} UTC`);
     // silenced: the form offers to change its end or end it, not to declare it again
     await expect(form.getByTestId("silence-form-title")).toHaveText(`Vehicle ${diver.slice(0, 8)}: planned silence until ${said(until)} UTC`);
@@ -138,7 +138,7 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
     await expect(group.getByTestId("alarm").filter({ hasText: text }).getByTestId("alarm-returned")).toHaveText("back from shelving: unshelved by e2e-operator");
 
     // the planned silence cancelled: the diver's loss is an alarm at once
-    await region.getByRole("button", { name: `Cancel silence: ${diver.slice(0, 8)}` }).click();
+    await region.getByRole("button", { name: `Cancel silence: Vehicle ${diver.slice(0, 8)}` }).click();
     await expect(region.getByTestId("planned-silence")).toHaveCount(0);
     await expect(group.getByTestId("alarm-group-title")).toHaveText("Link lost: 21 vehicles");
     await expect(page.getByTestId("fleet-lost")).toHaveText("21 lost");

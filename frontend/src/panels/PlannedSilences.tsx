@@ -3,7 +3,7 @@
 // alarm; still not heard at its end (and the console's grace after it), the console raises one.
 import { useState } from "react";
 import { ApiError, cancelSilence, planSilence } from "../api/rest";
-import { useSelectedVehicle, useSilences } from "../data/hooks";
+import { useSelectedVehicle, useSilences, useVehicleNames } from "../data/hooks";
 import { vehicleLabel } from "../lib/vehicle";
 import { plannedEntry } from "../lib/labels";
 import { clockTime } from "../lib/units";
@@ -28,6 +28,8 @@ function said(e: unknown): string {
 export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: string | null }) {
   const silences = useSilences();
   const vehicle = useSelectedVehicle();
+  const names = useVehicleNames();
+  const labelOf = (id: string) => vehicleLabel({ id, name: names.get(id) || null }); // named as everywhere on the page
   const [until, setUntil] = useState("");
   const [reason, setReason] = useState("");
   const [error, setError] = useState("");
@@ -55,9 +57,9 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
         <ul className="alarm-list" aria-label="Planned silences">
           {silences.map((x) => (
             <li key={x.id} className="alarm-entry" data-testid="planned-silence">
-              <span className="alarm-text">{plannedEntry(x.vehicle, x.until, x.reason, x.by, x.station)}</span>
+              <span className="alarm-text">{plannedEntry(labelOf(x.providerId), x.until, x.reason, x.by, x.station)}</span>
               {mayAct && (
-                <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${x.vehicle}`}>
+                <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${labelOf(x.providerId)}`}>
                   Cancel silence
                 </button>
               )}
