@@ -259,6 +259,12 @@ export function linkOrPlanned(link: LinkState | "stale" | "unreachable", until: 
   return until !== null ? plannedText(until) : linkText(link);
 }
 
+/** What an order's button adds while its vehicle is lost: " (vehicle lost)", or in its planned silence (`until`:
+ * plannedUntil) " (out of comms)": the Commands and CoMap panels alike. */
+export function lostButtonNote(until: number | null): string {
+  return until !== null ? " (out of comms)" : " (vehicle lost)";
+}
+
 /** A confirmation left unsent because its vehicle was lost while it was open, named by the same rule as everywhere
  * (`until`: plannedUntil): "INS OFF for Alpha (77b2ceb8) not sent: the vehicle is now lost.", or "… is now out of
  * comms (planned) until 14:20 UTC.". */

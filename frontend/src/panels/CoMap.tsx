@@ -16,7 +16,7 @@ import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loader
 import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
-import { coverageText, inline, linkOrPlanned, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
+import { coverageText, lostButtonNote, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -166,7 +166,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
   const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
-  const targetLost = target !== null && isLost(target.id) ? ` (${inline(linkOrPlanned("lost", plannedUntil(silences, target.id, "lost")))})` : "";
+  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(plannedUntil(silences, target.id, "lost")) : "";
 
   const send = (p: Pending) => {
     setPending(null);
