@@ -2,7 +2,7 @@
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { createSocket } from "node:dgram";
-import { mkdtempSync, readFileSync, writeFileSync } from "node:fs";
+import { chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
@@ -169,7 +169,7 @@ export async function restartConsole(): Promise<void> {
 }
 
 /** Another console beside the stack's; returns its URL and a stop function. */
-async function startExtraConsole(args: string[], env: Record<string, string> = {}): Promise<{ url: string; stop: () => Promise<void> }> {
+export async function startExtraConsole(args: string[], env: Record<string, string> = {}): Promise<{ url: string; stop: () => Promise<void> }> {
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
   const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
@@ -210,4 +210,49 @@ export async function startMixedFleet(): Promise<{ url: string; vehicles: string
   const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, "mixed.sqlite3"),
     "--recordings-dir", join(stack.dir, "recordings")]);
   return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
+}
+
+/** A real PostgreSQL for a spec's operations centre (Debian's postgresql, which scripts/setup.sh installs), started as
+ * backend/tests/pg.py starts the pytest one: a cluster in a temporary directory, by initdb and pg_ctl run as the
+ * `postgres` user when the tests run as root, on a free port of 127.0.0.1. `url`: its database for the consoles;
+ * `stop` and `start` for an outage; `close` stops it and removes its directory. */
+export async function startPostgres(): Promise<{ url: string; stop: () => void; start: () => void; close: () => void }> {
+  const bin = (name: string) => {
+    const versions = existsSync("/usr/lib/postgresql") ? readdirSync("/usr/lib/postgresql").sort((a, b) => Number(a) - Number(b)) : [];
+    const found = versions.map((v) => `/usr/lib/postgresql/${v}/bin/${name}`).filter((p) => existsSync(p)).at(-1);
+    if (!found) throw new Error(`PostgreSQL's ${name} is not installed: apt-get install -y postgresql (scripts/setup.sh does)`);
+    return found;
+  };
+  const root = mkdtempSync(join(tmpdir(), "sem-e2e-pg-"));
+  const data = join(root, "data");
+  const sockets = join(root, "sockets");
+  mkdirSync(sockets);
+  const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root
+  const pgUid = asPostgres ? Number(execFileSync("id", ["-u", "postgres"], { encoding: "utf8" })) : 0;
+  const pgGid = asPostgres ? Number(execFileSync("id", ["-g", "postgres"], { encoding: "utf8" })) : 0;
+  const password = "e2e-pg-s3cret";
+  const pwfile = join(root, "pw");
+  writeFileSync(pwfile, `${password}\n`);
+  if (asPostgres) for (const p of [root, sockets, pwfile]) chownSync(p, pgUid, pgGid);
+  const run = (cmd: string, ...args: string[]) =>
+    execFileSync(asPostgres ? "runuser" : cmd, asPostgres ? ["-u", "postgres", "--", cmd, ...args] : args, { stdio: "pipe", timeout: 120_000 });
+  run(bin("initdb"), "-D", data, "-U", "postgres", "--auth-local=trust", "--auth-host=scram-sha-256", `--pwfile=${pwfile}`, "-E", "UTF8", "--no-sync");
+  rmSync(pwfile);
+  const port = await freePort();
+  const start = () => run(bin("pg_ctl"), "-D", data, "-o", `-p ${port} -k ${sockets} -c listen_addresses=127.0.0.1 -c fsync=off`, "-l", join(root, "server.log"), "-w", "start");
+  const stop = () => run(bin("pg_ctl"), "-D", data, "-m", "fast", "-w", "stop");
+  start();
+  return {
+    url: `postgresql://postgres:${password}@127.0.0.1:${port}/postgres`,
+    stop: () => void stop(),
+    start: () => void start(),
+    close: () => {
+      try {
+        stop();
+      } catch {
+        /* stopped already */
+      }
+      rmSync(root, { recursive: true, force: true });
+    },
+  };
 }

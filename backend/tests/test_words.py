@@ -16,7 +16,7 @@ import UMAA_6_0.Common.MaritimeEnumeration as maritime_6_0
 
 from sem_console.api.routes.history import commands_csv
 from sem_console.api.schemas import AlarmKind, AlarmState
-from sem_console.console.alarms import RETURNS, SEVERITY
+from sem_console.console.alarms import RETURNS, SEVERITY, overdue_text
 from sem_console.core.words import WORDS, inline, word
 from sem_console.schema_export import schemas
 
@@ -120,6 +120,16 @@ def test_every_watch_state_has_words() -> None:
     assert set(WORDS["alarmMark"]) == {"shelved", "chattering"}
     said = [*WORDS["alarmReturned"].values(), *WORDS["alarmMark"].values(), WORDS["link"].get("planned", "")]
     assert all(w.strip() for w in said), "a watch state without words in core/words.py"
+
+
+def test_the_silence_overdue_sentence_is_the_words_tables(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The overdue alarm's sentence is written in core/words.py, not in console/alarms.py: a change of the table's words
+    changes what the alarm says."""
+    t = 1_800_000_000.0  # 2027-01-15 08:00 UTC
+    assert overdue_text(t + 20 * 60, 30, t) == "not heard by 08:20 UTC, the end of its planned silence (30 s grace)"
+    assert overdue_text(t + 86_400, 2.5, t) == "not heard by 2027-01-16 08:00 UTC, the end of its planned silence (2.5 s grace)"
+    monkeypatch.setitem(WORDS["alarmText"], "silence-overdue", "Still silent at {until} ({grace} s grace)")
+    assert overdue_text(t + 20 * 60, 30, t) == "still silent at 08:20 UTC (30 s grace)"
 
 
 def test_words_inside_a_phrase() -> None:

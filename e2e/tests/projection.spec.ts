@@ -65,6 +65,18 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
     const alarm = page.getByTestId("alarm").and(page.locator('[data-kind="link-lost"]'));
     await expect(alarm.getByTestId("last-heard")).toHaveText(/^Last heard \d+ s ago$/);
     for (const panel of ["ins-panel", "fix-panel"]) await expect(page.getByTestId(panel).getByTestId("selected-lost")).toContainText(/Lost · Last heard \d+ s ago/);
+    // one age of one fact: each panel's badge says the seconds its "Last heard" line says, read in the same instant
+    const ages = () =>
+      page.evaluate(() =>
+        ["ins-panel", "fix-panel"].map((p) => {
+          const panel = document.querySelector(`[data-testid=${p}]`)!;
+          return [panel.querySelector(`[data-testid=${p}-freshness]`)!.textContent, panel.querySelector("[data-testid=last-heard]")!.textContent];
+        }),
+      );
+    for (let i = 0; i < 6; i++) {
+      for (const [badge, line] of await ages()) expect(`Lost · ${/^Last heard (.*) ago$/.exec(line ?? "")?.[1]}`).toBe(badge);
+      await page.waitForTimeout(400);
+    }
     await expect(page.getByTestId("command-lost")).toContainText(/is lost: last heard \d+ s ago/);
     // none of them in a live region: a screen reader would say the count again every second
     const live = await page.evaluate(() =>

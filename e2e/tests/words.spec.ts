@@ -1,8 +1,10 @@
 // What the page says is true: who is signed in, nothing said live once the console cannot be reached, and a vehicle in
 // alarm keeps its name on the map where names would cover one another.
 import { execFileSync, spawn } from "node:child_process";
-import { join } from "node:path";
-import { expect, test, type WebSocketRoute } from "@playwright/test";
+import { readFileSync } from "node:fs";
+import { dirname, join } from "node:path";
+import { fileURLToPath } from "node:url";
+import { expect, test, type Page, type WebSocketRoute } from "@playwright/test";
 import { SEM_SIM, stopChild, vehicle } from "../helpers";
 import { freeDomain, load, startGuardedConsole } from "../stack";
 
@@ -62,6 +64,42 @@ test("'Not updating' comes the moment the page's socket drops and goes once the 
   await expect(page.getByTestId("vehicle-link")).toHaveText(Array(n).fill("Live"));
 });
 
+/** The text of every element whose case CSS changes (text-transform), the panels' titles (headings, no state's words)
+ * left aside: a word of the words table is shown as the table writes it. */
+const caseChanged = (page: Page) =>
+  page.evaluate(() => [...document.querySelectorAll("body *")].filter((e) => getComputedStyle(e).textTransform !== "none" && !e.matches(".panel-head h2")).map((e) => e.textContent));
+
+test("the words table's words as written (no CSS case change); a link gone silent, its socket open, says 'Not updating' as a closed one", async ({ page }) => {
+  const stack = load();
+  const n = stack.vehicles.length;
+  let silent = false;
+  await page.routeWebSocket(/\/ws(\?|$)/, (ws) => {
+    const server = ws.connectToServer();
+    server.onMessage((m) => {
+      if (!silent) ws.send(m); // then the console's frames stop coming, and the socket stays open
+    });
+  });
+  await page.goto(stack.url);
+  await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 30_000 });
+  await vehicle(page, stack.vehicles[0]).click();
+  // the INS panel's alignment steps, on screen exactly as the words table says them
+  const words = JSON.parse(readFileSync(join(dirname(fileURLToPath(import.meta.url)), "..", "..", "frontend", "schema", "words.json"), "utf8")) as Record<string, Record<string, string>>;
+  const steps = page.getByTestId("ins-panel").getByRole("list", { name: "Alignment" }).getByRole("listitem");
+  const stages = ["INIT", "COURSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "OPERATIONAL"];
+  await expect(steps).toHaveText(stages.map((x) => words.insAlignmentStep[x]), { useInnerText: true });
+  expect(await caseChanged(page)).toEqual([]);
+
+  await expect(page.getByTestId("ins-panel-freshness")).toContainText("Live");
+  silent = true;
+  // the page's pings go unanswered: within its silence bound (4 s) and a ping, the words of a closed socket, not "Stale"
+  await expect(page.getByTestId("fleet-not-updating")).toHaveText(`${n} not updating`, { timeout: 7_000 });
+  await expect(page.getByTestId("connection-state")).not.toHaveText("Live");
+  await expect(page.getByTestId("ins-panel-freshness")).toContainText("Not updating");
+  await expect(page.getByTestId("fleet-stale")).toHaveCount(0);
+  silent = false; // its next socket is heard again
+  await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 15_000 });
+});
+
 test("where names on the map would cover one another, a vehicle in alarm keeps its name", async ({ page, request }) => {
   const stack = load();
   const domain = await freeDomain([stack.domain]);
@@ -96,6 +134,7 @@ test("where names on the map would cover one another, a vehicle in alarm keeps i
     const label = (id: string) => page.getByTestId("map-label").and(page.locator(`[data-vehicle="${id}"]`));
     await expect(label(last)).toBeVisible();
     await expect(label(first)).toBeHidden();
+    expect(await caseChanged(page)).toEqual([]); // the alarm's severity ("Alarm") too, as the words table writes it
   } finally {
     await stopChild(sim);
     await extra.stop();

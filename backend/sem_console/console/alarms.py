@@ -71,7 +71,6 @@ RANK = {"warning": 1, "alarm": 2}
 # ended by a new alarm keeps it in its end_reason: "worse: <that alarm's text>"
 WORSE = "worse"
 RETURNS = ("expired", "unshelved", WORSE)
-OVERDUE = "not heard by {until} UTC, the end of its planned silence ({grace:g} s grace)"
 # the ending of the INS statuses that say it or its alignment failed: INERTIAL_SENSOR_FAILURE, GPS_ALIGNMENT_FAILURE...
 INS_FAILURE = "_FAILURE"
 INS_STATUS = "InertialSensorOpStatusEnumType"
@@ -171,10 +170,18 @@ def returned_words(why: str, by: str | None = None, what: str = "") -> str:
 
 
 def clock_time(t: float, now: float | None = None) -> str:
-    """14:20 (UTC) of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now)."""
+    """"14:20 UTC" of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now): the
+    house style of a time the operator reads, as the dashboard's `clockTime`."""
     day = time.strftime("%Y-%m-%d", time.gmtime(t))
     hhmm = time.strftime("%H:%M", time.gmtime(t))
-    return hhmm if day == time.strftime("%Y-%m-%d", time.gmtime(time.time() if now is None else now)) else f"{day} {hhmm}"
+    same = day == time.strftime("%Y-%m-%d", time.gmtime(time.time() if now is None else now))
+    return f"{hhmm} UTC" if same else f"{day} {hhmm} UTC"
+
+
+def overdue_text(until: float, grace: float, now: float | None = None) -> str:
+    """The silence-overdue alarm's sentence, in the words table's words: "not heard by 14:20 UTC, the end of its
+    planned silence (30 s grace)"."""
+    return inline(word("alarmText", "silence-overdue")).format(until=clock_time(until, now), grace=f"{grace:g}")
 
 
 @dataclass
@@ -461,7 +468,7 @@ class Alarms:
                 p = providers.get(uuid.UUID(pid))
                 heard = p is not None and p.link != "lost"
                 if not heard:
-                    self._overdue[pid] = OVERDUE.format(until=clock_time(silence.until, now), grace=self.silence_grace)
+                    self._overdue[pid] = overdue_text(silence.until, self.silence_grace, now)
                 self._end_silence(pid, now, None, "heard" if heard else "overdue")
         return changed
 

@@ -124,6 +124,11 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "recording-failed": "Recording failed",
         "silence-overdue": "Not heard after a planned silence",
     },
+    # the sentence of an alarm kind whose text says more than its state, by kind; `{until}` "14:20 UTC" (its date when
+    # not today's), `{grace}` seconds: "Charlie: not heard by 14:20 UTC, the end of its planned silence (30 s grace)"
+    "alarmText": {
+        "silence-overdue": "Not heard by {until}, the end of its planned silence ({grace} s grace)",
+    },
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},
     "alarmState": {

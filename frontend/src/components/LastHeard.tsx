@@ -2,6 +2,7 @@ import { useCapabilities, useNow, useSlice } from "../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { lastHeardText, linkOrPlanned, lostText } from "../lib/labels";
+import { DASH, elapsedText } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
 /** "Last heard 2 min 10 s ago" of a lost vehicle last heard at `since` (the source's clock; null: never), counting
@@ -36,4 +37,14 @@ export function SelectedLost() {
 export function LostFor({ target, since, until = null }: { target: VehicleIdentity; since: number | null; until?: number | null }) {
   const now = useNow(1000);
   return <>{lostText(vehicleLabel(target), since ? now - since : null, until)}</>;
+}
+
+/** A panel's freshness badge while the selected vehicle is lost: "Lost · 13 s" (or "Out of comms (planned) until 14:20
+ * UTC · 13 s"), its age the one "Last heard 13 s ago" says beside it: the same instant (the vehicle's newest report of
+ * any topic), the same clock (useNow's one timer of a second) and the same rule (elapsedText). */
+export function LostBadge({ recorded }: { recorded: boolean }) {
+  const since = useSlice(selectedLostSince);
+  const until = useSlice(selectedPlannedUntil);
+  const now = useNow(1000);
+  return <>{stateWords(linkOrPlanned("lost", until), recorded)} · {since ? elapsedText(now - since) : DASH}</>;
 }

@@ -8,6 +8,7 @@ import { age } from "../lib/units";
 import { useCollapsed } from "../data/settings";
 import { DragHandle, MoveButtons } from "./Arrange";
 import { countRender } from "../lib/renders";
+import { LostBadge } from "./LastHeard";
 
 interface Props {
   title: string;
@@ -46,8 +47,8 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
           {title}
         </h2>
         {freshness && freshness !== "none" && (
-          <span className={`fresh fresh-${freshness}${recordedState(freshness, recorded) ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recordedState(freshness, recorded) ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : "age of the latest data"}>
-            {freshnessText(freshness, recorded)} · {age(ageSeconds ?? null)}
+          <span className={`fresh fresh-${freshness}${recordedState(freshness, recorded) ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recordedState(freshness, recorded) ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : freshness === "lost" ? "time since the vehicle was last heard (its newest report of any topic)" : "age of the latest data"}>
+            {freshness === "lost" ? <LostBadge recorded={recorded} /> : `${freshnessText(freshness, recorded)} · ${age(ageSeconds ?? null)}`}
           </span>
         )}
         {!collapsed && actions}

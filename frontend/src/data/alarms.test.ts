@@ -166,7 +166,7 @@ describe("the lone vehicle", () => {
 describe("a watch's times", () => {
   it("are HH:MM UTC today, with the date on another day (a glider out of comms for days)", () => {
     const now = Date.UTC(2026, 10, 28, 22, 0) / 1000;
-    expect(clockTime(now + 20 * 60, now)).toBe("22:20");
-    expect(clockTime(now + 3 * 3600, now)).toBe("2026-11-29 01:00");
+    expect(clockTime(now + 20 * 60, now)).toBe("22:20 UTC");
+    expect(clockTime(now + 3 * 3600, now)).toBe("2026-11-29 01:00 UTC");
   });
 });

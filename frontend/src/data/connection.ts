@@ -13,6 +13,14 @@ export const BACKOFF_MIN_MS = 500;
 export const BACKOFF_MAX_MS = 10_000;
 export const OFFLINE_AFTER_FAILURES = 5;
 
+/** How often the page pings the console while its socket is open: the console answers each with a pong, so a socket
+ * that works brings a frame at least this often, vehicles or none. */
+export const PING_EVERY_MS = 1000;
+/** A socket that brings nothing for this long (not even the pong of a ping), or does not open in it, is taken as
+ * gone, as one the console closed: the page says "Not updating" by that one rule (the socket dropped, the console
+ * stopped, or the link went silent with its socket still open) and connects again. */
+export const SILENT_AFTER_MS = 4000;
+
 export function backoff(failures: number): number {
   return Math.min(BACKOFF_MAX_MS, BACKOFF_MIN_MS * 2 ** Math.max(0, failures - 1));
 }
@@ -109,6 +117,7 @@ export class Connection implements DataSource {
   private ws: WebSocket | null = null;
   private failures = 0;
   private timer: ReturnType<typeof setTimeout> | null = null;
+  private watchdog: ReturnType<typeof setInterval> | null = null;
   private stopped = false;
   private listeners = new Set<Listener>();
   private unwatchSelected: (() => void) | null = null;
@@ -145,6 +154,7 @@ export class Connection implements DataSource {
   stop(): void {
     this.stopped = true;
     if (this.timer) clearTimeout(this.timer);
+    this.stopWatchdog();
     const old = this.ws;
     this.ws = null;
     old?.close();
@@ -155,6 +165,7 @@ export class Connection implements DataSource {
   /** Connect afresh at once (e.g. with a new token); the old socket's close is ignored. */
   restart(): void {
     if (this.timer) clearTimeout(this.timer);
+    this.stopWatchdog();
     const old = this.ws;
     this.ws = null;
     old?.close();
@@ -200,8 +211,10 @@ export class Connection implements DataSource {
     const ws = early?.ws ?? (protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url));
     this.ws = ws;
     let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
+    let heard = Date.now(); // when this socket last brought a frame (or was made)
     const onMessage = (ev: MessageEvent<string>) => {
-      if (this.ws !== ws) return; // a socket closed by stop() or restart()
+      if (this.ws !== ws) return; // a socket closed by stop() or restart(), or dropped as silent
+      heard = Date.now();
       frames += 1;
       const ack: ClientMessage = { type: "ack", frames };
       if (ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(ack));
@@ -220,13 +233,35 @@ export class Connection implements DataSource {
     for (const ev of early?.held.splice(0) ?? []) onMessage(ev);
     if (ws.readyState === WebSocket.OPEN) this.sendSelected(ws);
     else ws.onopen = () => this.sendSelected(ws);
-    ws.onclose = () => {
-      if (this.ws !== ws || this.stopped) return;
-      this.failures += 1;
-      this.setState(this.failures >= OFFLINE_AFTER_FAILURES ? "offline" : "reconnecting");
-      this.timer = setTimeout(() => this.open(), backoff(this.failures));
-    };
+    ws.onclose = () => this.dropped(ws);
     ws.onerror = () => ws.close();
+    // a ping a second; a socket silent for SILENT_AFTER_MS is dropped at once (its close may wait for a console that
+    // answers nothing)
+    this.stopWatchdog();
+    this.watchdog = setInterval(() => {
+      if (Date.now() - heard > SILENT_AFTER_MS) {
+        ws.close();
+        this.dropped(ws);
+      } else if (ws.readyState === WebSocket.OPEN) {
+        const ping: ClientMessage = { type: "ping" };
+        ws.send(JSON.stringify(ping));
+      }
+    }, PING_EVERY_MS);
+  }
+
+  /** The socket `ws` is gone (closed, or silent): "reconnecting" (or "offline"), and a new one after the backoff. */
+  private dropped(ws: WebSocket): void {
+    if (this.ws !== ws || this.stopped) return;
+    this.ws = null;
+    this.stopWatchdog();
+    this.failures += 1;
+    this.setState(this.failures >= OFFLINE_AFTER_FAILURES ? "offline" : "reconnecting");
+    this.timer = setTimeout(() => this.open(), backoff(this.failures));
+  }
+
+  private stopWatchdog(): void {
+    if (this.watchdog) clearInterval(this.watchdog);
+    this.watchdog = null;
   }
 }
 

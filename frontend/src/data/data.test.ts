@@ -1,6 +1,7 @@
 import { afterEach, describe, expect, expectTypeOf, it, vi } from "vitest";
 import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, InertialSensorReportType, ReplayStatus, ServerMessage } from "../api/types";
-import { Connection, Store, backoff } from "./connection";
+import { Connection, PING_EVERY_MS, SILENT_AFTER_MS, Store, backoff } from "./connection";
+import { unreachable } from "./source";
 import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
@@ -319,6 +320,43 @@ describe("store and connection", () => {
       FakeSocket.all[1].receive(snapshot());
       expect(conn.getState()).toBe("live");
       expect(states).toEqual(["live", "signed-out", "connecting", "live"]);
+    });
+
+    it("a socket that brings nothing (no pong of its pings) is taken as dropped, as a closed one: not updating, and a new one", () => {
+      vi.useFakeTimers();
+      try {
+        vi.stubGlobal("WebSocket", FakeSocket);
+        const conn = new Connection("ws://console/ws", new Store(P));
+        conn.start();
+        const ws = FakeSocket.all[0];
+        ws.readyState = 1;
+        ws.receive(snapshot());
+        expect(conn.getState()).toBe("live");
+        for (let i = 0; i < 8; i++) {
+          vi.advanceTimersByTime(PING_EVERY_MS);
+          ws.receive({ type: "pong", serverTime: i }); // the console answers: however long, still live
+        }
+        expect(conn.getState()).toBe("live");
+        expect(ws.sent.filter((m) => JSON.parse(m).type === "ping").length).toBe(8);
+        // the link goes silent, the socket not closed: within SILENT_AFTER_MS and a ping, what a closed socket says
+        vi.advanceTimersByTime(SILENT_AFTER_MS + PING_EVERY_MS);
+        expect(conn.getState()).toBe("reconnecting");
+        expect(unreachable(conn.getState())).toBe(true);
+        expect(ws.closed).toBe(true);
+        vi.advanceTimersByTime(backoff(1));
+        expect(FakeSocket.all).toHaveLength(2); // connecting again
+        // one that never opens (a console that accepts, then answers nothing) is given up the same way
+        vi.advanceTimersByTime(SILENT_AFTER_MS + PING_EVERY_MS);
+        expect(FakeSocket.all[1].closed).toBe(true);
+        vi.advanceTimersByTime(backoff(2));
+        expect(FakeSocket.all).toHaveLength(3);
+        FakeSocket.all[2].readyState = 1;
+        FakeSocket.all[2].receive(snapshot());
+        expect(conn.getState()).toBe("live");
+        conn.stop();
+      } finally {
+        vi.useRealTimers();
+      }
     });
 
     it("takes over the page's early socket with the messages it held, in order; one of another token is closed", () => {

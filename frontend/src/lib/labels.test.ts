@@ -35,6 +35,8 @@ import {
   UMAA_WORDS,
   insStateText,
   insStatusText,
+  lostButtonNote,
+  lostMeanwhileText,
   lostText,
   navSolutionText,
   positionSourceText,
@@ -78,7 +80,9 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     const now = Date.parse("2026-11-28T22:00:00Z") / 1000;
     const soon = now + 20 * 60;
     expect(plannedText(soon)).toMatch(/^Out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/);
-    expect(plannedCount(2)).toBe("2 out of comms (planned)");
+    // the fleet bar's count says when: the end of one, the soonest end of several
+    expect(plannedCount([soon])).toMatch(/^1 out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/);
+    expect(plannedCount([soon + 600, soon])).toMatch(/^2 out of comms \(planned\), the soonest until (2026-11-28 )?22:20 UTC$/);
     expect(plannedEntry("Alpha", soon, "dive", "alice", "watch")).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice on watch\)$/);
     expect(plannedEntry("Alpha", soon, "dive", null, null)).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive$/);
     expect(plannedTitle("dive", "alice", "watch")).toMatch(/^planned silence declared by alice on watch: dive;/);
@@ -87,6 +91,11 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(linkOrPlanned("lost", null)).toBe("Lost");
     expect(lostText("Alpha", 12, soon)).toMatch(/^Alpha is out of comms \(planned\) until .*22:20 UTC: last heard 12 s ago$/);
     expect(lostText("Alpha", 12)).toBe("Alpha is lost: last heard 12 s ago");
+    // a confirmation left unsent as its vehicle went out of reach: named by the same rule (plannedUntil)
+    expect(lostButtonNote(null)).toBe(" (vehicle lost)");
+    expect(lostButtonNote(soon)).toBe(" (out of comms)");
+    expect(lostMeanwhileText("INS OFF", "Alpha", null)).toBe("INS OFF for Alpha not sent: the vehicle is now lost.");
+    expect(lostMeanwhileText("INS OFF", "Alpha", soon)).toMatch(/^INS OFF for Alpha not sent: the vehicle is now out of comms \(planned\) until .*22:20 UTC\.$/);
     expect(shelvedCount(3)).toBe("3 shelved");
     expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
     expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");

@@ -259,7 +259,7 @@ export function shelvedCount(n: number): string {
 
 /** "shelved by alice on watch until 14:20 UTC: relay down, known". */
 export function shelvedText(by: string | null, station: string | null, until: number, reason: string): string {
-  return `${inline(ALARM_MARK.shelved)}${by ? ` by ${by}` : ""}${station ? ` on ${station}` : ""} until ${clockTime(until)} UTC: ${reason}`;
+  return `${inline(ALARM_MARK.shelved)}${by ? ` by ${by}` : ""}${station ? ` on ${station}` : ""} until ${clockTime(until)}: ${reason}`;
 }
 
 export const CHATTERING_TITLE = "it cleared and came back again and again: it is not sounded again until acknowledged";
@@ -271,12 +271,14 @@ export function floodText(cause: string, n: number): string {
 
 /** A vehicle lost in its planned silence: "Out of comms (planned) until 14:20 UTC", wherever it is named. */
 export function plannedText(until: number): string {
-  return `${LINK.planned} until ${clockTime(until)} UTC`;
+  return `${LINK.planned} until ${clockTime(until)}`;
 }
 
-/** "2 out of comms (planned)": the vehicles lost in their planned silence. */
-export function plannedCount(n: number): string {
-  return `${n} ${inline(LINK.planned)}`;
+/** The vehicles lost in their planned silence, by when each silence ends (`ends`, one per vehicle): "1 out of comms
+ * (planned) until 14:20 UTC", "3 out of comms (planned), the soonest until 14:20 UTC". */
+export function plannedCount(ends: readonly number[]): string {
+  const soonest = clockTime(Math.min(...ends));
+  return ends.length === 1 ? `1 ${inline(plannedText(ends[0]))}` : `${ends.length} ${inline(LINK.planned)}, the soonest until ${soonest}`;
 }
 
 /** A planned silence as the list of them says it: "Alpha: out of comms (planned) until 14:20 UTC: dive (declared by
@@ -290,6 +292,19 @@ export function plannedEntry(vehicle: string, until: number, reason: string, by:
  * plannedUntil): "Lost", or "Out of comms (planned) until 14:20 UTC". */
 export function linkOrPlanned(link: LinkState | "stale" | "unreachable", until: number | null): string {
   return until !== null ? plannedText(until) : linkText(link);
+}
+
+/** What an order's button adds while its vehicle is lost: " (vehicle lost)", or in its planned silence (`until`:
+ * plannedUntil) " (out of comms)": the Commands and CoMap panels alike. */
+export function lostButtonNote(until: number | null): string {
+  return until !== null ? " (out of comms)" : " (vehicle lost)";
+}
+
+/** A confirmation left unsent because its vehicle was lost while it was open, named by the same rule as everywhere
+ * (`until`: plannedUntil): "INS OFF for Alpha (77b2ceb8) not sent: the vehicle is now lost.", or "… is now out of
+ * comms (planned) until 14:20 UTC.". */
+export function lostMeanwhileText(what: string, vehicle: string, until: number | null): string {
+  return `${what} for ${vehicle} not sent: the vehicle is now ${inline(linkOrPlanned("lost", until))}.`;
 }
 
 export function plannedTitle(reason: string, by: string | null, station: string | null): string {

@@ -6,7 +6,7 @@ import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
 import { freshness, freshnessText, nextInterval, pageLink, recordedState, staleAfter, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
-import { DASH, age, degrees, dms, fixed, latLon, speed, utc } from "./units";
+import { DASH, age, clockTime, degrees, dms, fixed, latLon, speed, utc } from "./units";
 import { shortId, urlWithVehicle, vehicleColor, vehicleFromUrl, vehicleHue, vehicleLabel, vehicleMatcher } from "./vehicle";
 
 describe("vehicle identity", () => {
@@ -102,9 +102,13 @@ describe("unit formatting", () => {
     expect(dms(-75.5, false)).toBe("75° 30′ 00.00″ W");
     expect(dms(10.999999, true)).toBe("11° 00′ 00.00″ N");
   });
-  it("formats UTC times", () => {
-    expect(utc(0)).toBe("1970-01-01 00:00:00.000Z");
-    expect(utc(90061.5, false)).toBe("01:01:01.500Z");
+  it("writes every time on screen one way: 'UTC' after it, never 'Z'", () => {
+    expect(utc(0)).toBe("1970-01-01 00:00:00.000 UTC");
+    expect(utc(90061.5, false)).toBe("01:01:01.500 UTC");
+    expect(utc(90061.5, false, "s")).toBe("01:01:01 UTC");
+    expect(utc(90061.56, true, "ds")).toBe("1970-01-02 01:01:01.5 UTC");
+    expect(clockTime(90061.5, 90000)).toBe("01:01 UTC"); // today's: the time alone
+    expect(clockTime(90061.5, 0)).toBe("1970-01-02 01:01 UTC"); // another day's: with its date
   });
 });
 

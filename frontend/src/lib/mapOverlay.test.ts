@@ -1,16 +1,17 @@
 import { describe, expect, it } from "vitest";
 import { edgeMark } from "./geo";
 import type { VehicleMark } from "./geo";
-import { clearOf, edgeBoxes, labelRank, type Box } from "./mapOverlay";
+import { clearOf, edgeBoxes, labelRank, markName, projectionBox, shownByRank, type Box } from "./mapOverlay";
 
 const W = 800;
 const H = 500;
 const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
+const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
+  id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, projection: null, heardS: null, plannedUntil: null, ...over,
+});
+
 describe("whose name wins where names overlap", () => {
-  const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
-    id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, projection: null, heardS: null, plannedUntil: null, ...over,
-  });
   it("the selected vehicle's first, then those in alarm or lost, then the others in the fleet's order", () => {
     const fleet = [mark("well"), mark("alarmed", { alarmed: true }), mark("lost", { link: "lost" }), mark("selected", { selected: true })];
     const placed = [...fleet].sort((a, b) => labelRank(a) - labelRank(b)).map((m) => m.id);
@@ -67,5 +68,43 @@ describe("names on the map", () => {
     const names = [{ x: 20, y: 5, w: 80, h: 18 }, { x: 120, y: 10, w: 80, h: 18 }, { x: 300, y: 10, w: 80, h: 18 }];
     expect(clearOf(names, [note])).toEqual([false, false, true]); // both under the note left to their dots
     expect(clearOf(names, [note], 1)).toEqual([true, false, true]); // the first the selected's: shown all the same
+  });
+});
+
+describe("the lost vehicles' projection labels", () => {
+  const size = { w: 150, h: 16 };
+  const lost = (id: string, over: Partial<VehicleMark> = {}) => mark(id, { link: "lost", heardS: 30, ...over });
+  it("by the names' rule: where they would cover one another, the one in alarm wins over one in its planned silence", () => {
+    // three lost at one place (a relay down: their ghosts together), one far away
+    const at = { x: 400, y: 200 };
+    const items = [
+      { mark: lost("planned", { plannedUntil: 1e9 }), box: projectionBox("projected", at, size) },
+      { mark: lost("acked"), box: projectionBox("projected", { x: 405, y: 204 }, size) },
+      { mark: lost("alarmed", { alarmed: true }), box: projectionBox("projected", { x: 410, y: 196 }, size) },
+      { mark: lost("far", { plannedUntil: 1e9 }), box: projectionBox("projected", { x: 700, y: 400 }, size) },
+    ];
+    expect(shownByRank(items)).toEqual([false, false, true, true]);
+    // the selected vehicle's is shown, whatever it covers: no alarm outranks it
+    items[0].mark = lost("planned", { plannedUntil: 1e9, selected: true });
+    expect(shownByRank(items)).toEqual([true, false, false, true]);
+    // and none over the "+N more" note but the selected's
+    expect(shownByRank([{ mark: lost("corner", { alarmed: true }), box: projectionBox("projected", { x: 170, y: 10 }, size) }], [{ x: 0, y: 0, w: 190, h: 26 }])).toEqual([false]);
+  });
+  it("a projection's box is left of its ghost; a reason for none, under the vehicle's name", () => {
+    expect(projectionBox("projected", { x: 400, y: 200 }, size)).toEqual({ x: 238, y: 192, w: 150, h: 16 });
+    expect(projectionBox("too-old", { x: 400, y: 200 }, size)).toEqual({ x: 414, y: 211, w: 150, h: 16 });
+  });
+});
+
+describe("a vehicle's name on the map", () => {
+  const now = Date.parse("2026-11-28T22:00:00Z") / 1000;
+  it("names a vehicle lost in its planned silence by the page's one rule, with when it was last heard; lost, as lost", () => {
+    const until = now + 20 * 60;
+    const planned = mark("Alpha (77b2ceb8)", { link: "lost", heardS: 12, plannedUntil: until });
+    expect(markName(planned)).toMatch(/^Alpha \(77b2ceb8\) · out of comms \(planned\) until (2026-11-28 )?22:20 UTC · last heard 12 s ago$/);
+    expect(markName(planned, true)).toMatch(/^Alpha \(77b2ceb8\) · out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/); // its edge arrow: short
+    expect(markName(mark("Alpha (77b2ceb8)", { link: "lost", heardS: 12 }))).toBe("Alpha (77b2ceb8) · lost · last heard 12 s ago");
+    expect(markName(mark("Alpha (77b2ceb8)", { link: "lost", heardS: null }))).toBe("Alpha (77b2ceb8) · lost"); // never heard
+    expect(markName(mark("Alpha (77b2ceb8)", { plannedUntil: null }))).toBe("Alpha (77b2ceb8)"); // live: the name alone
   });
 });

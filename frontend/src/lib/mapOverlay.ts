@@ -7,7 +7,7 @@
 import type { Map as MapLibre } from "maplibre-gl";
 import { distanceM, distanceText, edgeMark, type EdgeMark, type VehicleMark } from "./geo";
 import { inline, lastHeardText, linkOrPlanned } from "./labels";
-import { projectionText } from "./projection";
+import { projectionText, type Projection } from "./projection";
 import { vehicleColor } from "./vehicle";
 
 /** How far inside the map's border the edge arrows sit (px): clear of the border, under the controls. */
@@ -26,6 +26,7 @@ interface Marker {
   arrow: SVGSVGElement;
   size: { w: number; h: number } | null; // the edge arrow's box, measured once per text
   labelSize: { w: number; h: number } | null; // the name's box likewise
+  projectedSize: { w: number; h: number } | null; // the projection label's box likewise
 }
 
 export interface Box {
@@ -62,6 +63,36 @@ export function clearOf(boxes: Box[], taken: Box[] = [], keep = 0): boolean[] {
   });
 }
 
+/** Which of `items` (each a vehicle's label and its box) are shown where they would cover one another: placed in the
+ * order of `labelRank` (the selected vehicle's first, never left out; then those in alarm; then the lost; then the
+ * others, each in the fleet's order), each unless it covers one placed before it or one of `taken` (clearOf). The one
+ * rule of the vehicles' names and of the lost vehicles' projection labels. */
+export function shownByRank(items: readonly { mark: VehicleMark; box: Box }[], taken: Box[] = []): boolean[] {
+  const order = items.map((_, i) => i).sort((a, b) => labelRank(items[a].mark) - labelRank(items[b].mark)); // stable
+  const keep = order.length > 0 && labelRank(items[order[0]].mark) === 0 ? 1 : 0;
+  const shown = clearOf(order.map((i) => items[i].box), taken, keep);
+  const out: boolean[] = new Array<boolean>(items.length);
+  for (const [k, i] of order.entries()) out[i] = shown[k];
+  return out;
+}
+
+/** The box of a lost vehicle's projection label of size `size` (placeProjection): left of its dead-reckoned position
+ * `p` ("projected · within 127 m"), or under the vehicle's name at `p`, its position, the reason it has none. */
+export function projectionBox(kind: Projection["kind"], p: { x: number; y: number }, size: { w: number; h: number }): Box {
+  if (kind === "projected") return { x: p.x - 12 - size.w, y: p.y - 8, ...size };
+  const o = labelOrigin(p);
+  return { x: o.x, y: o.y + 20, ...size };
+}
+
+/** A vehicle's name on the map (`atEdge`: on its edge arrow, kept short): a lost one's says so by the page's one rule
+ * (`plannedUntil`: "out of comms (planned) until 14:20 UTC" in its planned silence, else "lost"), and, on the map,
+ * when it was last heard. */
+export function markName(mark: VehicleMark, atEdge = false): string {
+  if (mark.link !== "lost") return mark.label;
+  const text = `${mark.label} · ${inline(linkOrPlanned("lost", mark.plannedUntil))}`;
+  return atEdge || mark.heardS === null ? text : `${text} · ${inline(lastHeardText(mark.heardS))}`;
+}
+
 /** Where the edge arrows go (the overlay's `place`), in order: each at its edge point, or moved along its side towards
  * the middle by at most MAX_STACK places to clear those before it and the "+N more" note; null for one that finds no
  * place within the map (counted in the note). `w`, `h`: each arrow's size. */
@@ -78,10 +109,11 @@ export function edgeBoxes(arrows: { edge: EdgeMark; w: number; h: number }[], wi
   });
 }
 
-/** Whose name is placed first where names would cover one another, and whose edge arrow: the selected vehicle's (0),
- * then those of vehicles lost or in alarm (1), then the others (2). */
+/** Whose label is placed first where labels would cover one another (a name, a projection), and whose edge arrow: the
+ * selected vehicle's (0), then those of vehicles in alarm (1), then those lost (2: in their planned silence, or their
+ * alarm acknowledged), then the others (3). */
 export function labelRank(mark: VehicleMark): number {
-  return mark.selected ? 0 : mark.link === "lost" || mark.alarmed ? 1 : 2;
+  return mark.selected ? 0 : mark.alarmed ? 1 : mark.link === "lost" ? 2 : 3;
 }
 
 export class VehicleOverlay {
@@ -139,9 +171,8 @@ export class VehicleOverlay {
       m.mark = mark;
       const planned = mark.plannedUntil !== null; // lost in its planned silence: named so, as everywhere
       const lost = mark.link === "lost" && !planned;
-      const text = mark.link === "lost" ? `${mark.label} · ${inline(linkOrPlanned("lost", mark.plannedUntil))}` : mark.label;
-      // a lost vehicle's name says when it was last heard (its arrow at the edge stays short)
-      const named = mark.link === "lost" && mark.heardS !== null ? `${text} · ${inline(lastHeardText(mark.heardS))}` : text;
+      const text = markName(mark, true);
+      const named = markName(mark);
       if (m.label.textContent !== named) {
         m.label.textContent = named;
         m.labelSize = null;
@@ -228,7 +259,7 @@ export class VehicleOverlay {
     projected.dataset.testid = "map-projection";
     projected.dataset.vehicle = mark.id;
     projected.hidden = true;
-    const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null };
+    const m: Marker = { mark, label, projected, edge, edgeName, arrow, size: null, labelSize: null, projectedSize: null };
     edge.addEventListener("click", () => this.pick(m.mark));
     // read after its vehicle's name (a screen reader goes in the page's order; drawn under the names: styles.css)
     this.root.append(label, projected, edge);
@@ -241,7 +272,10 @@ export class VehicleOverlay {
   private describeProjection(m: Marker): void {
     const pr = m.mark.projection;
     const text = pr ? projectionText(pr) : "";
-    if (m.projected.textContent !== text) m.projected.textContent = text;
+    if (m.projected.textContent !== text) {
+      m.projected.textContent = text;
+      m.projectedSize = null;
+    }
     const d = m.projected.dataset;
     const kind = pr?.kind ?? "";
     if (d.kind !== kind) d.kind = kind;
@@ -253,25 +287,27 @@ export class VehicleOverlay {
     if (d.radius !== radius) d.radius = radius;
   }
 
-  /** A lost vehicle's projection label: "projected" left of its dead-reckoned position, or under the vehicle's own
-   * name the reason it has none; hidden out of view and for a vehicle not lost. */
-  private placeProjection(m: Marker): void {
+  /** Where a lost vehicle's projection label would go (its dead-reckoned position, or its own when it has none), when
+   * that is in view; null for a vehicle not lost, or out of view (its label hidden). */
+  private projectionAt(m: Marker): { x: number; y: number } | null {
     const pr = m.mark.projection;
     const p = pr ? projectNear(this.map, pr.kind === "projected" ? pr.at : this.positionOf(m)) : null;
-    const show = p !== null && edgeMark(p.x, p.y, this.width, this.height, 0) === null;
-    if (m.projected.hidden === show) m.projected.hidden = !show;
-    if (!show || !p) return;
-    // left of the ghost (the vehicle's name is right of its dot, which the ghost starts on), or under the name
-    const o = labelOrigin(p);
+    return p !== null && edgeMark(p.x, p.y, this.width, this.height, 0) === null ? p : null;
+  }
+
+  /** A lost vehicle's projection label: "projected" left of its dead-reckoned position `p` (the vehicle's name is right
+   * of its dot, which the ghost starts on), or under the vehicle's own name the reason it has none. */
+  private placeProjection(m: Marker, p: { x: number; y: number }): void {
+    const b = projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!);
     m.projected.style.transform =
-      pr?.kind === "projected" ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)` : `translate(${Math.round(o.x)}px, ${Math.round(o.y + 20)}px)`;
+      m.mark.projection?.kind === "projected" ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)` : `translate(${Math.round(b.x)}px, ${Math.round(b.y)}px)`;
   }
 
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. Arrows that would
    * cover one another are stacked towards the middle of their side, by at most MAX_STACK places: one moved further
    * would point from nowhere near its vehicle (with 250 vehicles and the map zoomed in, 247 arrows stood in two
    * columns over the map). Those left over are counted in a "+N more" note in the map's top left corner, which no
-   * arrow covers. The selected vehicle's arrow, then those of the vehicles lost or in alarm, are placed first (`labelRank`):
+   * arrow covers. The selected vehicle's arrow, then those of the vehicles in alarm, then the lost, are placed first (`labelRank`):
    * never the ones left out. */
   readonly place = (): void => {
     this.placeRing();
@@ -292,31 +328,43 @@ export class VehicleOverlay {
       }
     }
     const rank = ([m]: [Marker, unknown]) => labelRank(m.mark);
-    // stable: the others in the fleet's order, so that the same names stay shown as the map moves
-    inside.sort((a, b) => rank(a) - rank(b));
+    // stable: the others in the fleet's order, so that the same arrows stay shown as the map moves
     outside.sort((a, b) => rank(a) - rank(b));
+    const projections: [Marker, { x: number; y: number }][] = [];
+    for (const m of this.markers.values()) {
+      const p = this.projectionAt(m);
+      if (p) projections.push([m, p]);
+      else if (!m.projected.hidden) m.projected.hidden = true;
+    }
     // names that would cover one another: the first shown, the others left to their dots (along a coast, most of
-    // 250 names could not be read); the selected vehicle's, then those lost or in alarm, come first
+    // 250 names could not be read); the selected vehicle's, then those in alarm, then the lost, come first (shownByRank)
     // the names and arrows not measured yet (a new text): all shown first, then all read, so that the page is laid
     // out once, not once per element (a hidden one has no size)
     const newNames = inside.filter(([m]) => m.labelSize === null);
     const newArrows = outside.filter(([m]) => m.size === null);
+    const newProjections = projections.filter(([m]) => m.projectedSize === null);
     for (const [m] of newNames) m.label.hidden = false;
     for (const [m] of newArrows) m.edge.hidden = false;
+    for (const [m] of newProjections) m.projected.hidden = false;
     for (const [m] of newNames) m.labelSize = { w: m.label.offsetWidth, h: m.label.offsetHeight };
     for (const [m] of newArrows) m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
+    for (const [m] of newProjections) m.projectedSize = { w: m.projected.offsetWidth, h: m.projected.offsetHeight };
     const boxes = edgeBoxes(outside.map(([m, edge]) => {
       m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
       return { edge, ...m.size! };
     }), width, height);
     const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
-    const keep = inside.length > 0 && rank(inside[0]) === 0 ? 1 : 0;
-    const shown = clearOf(inside.map(([m, p]) => ({ ...labelOrigin(p), ...m.labelSize! })), note, keep);
+    const shown = shownByRank(inside.map(([m, p]) => ({ mark: m.mark, box: { ...labelOrigin(p), ...m.labelSize! } })), note);
     for (const [i, [m, p]] of inside.entries()) {
       if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
       if (shown[i]) m.label.style.transform = labelAt(p);
     }
-    for (const m of this.markers.values()) this.placeProjection(m);
+    // the lost vehicles' projection labels, by the same rule: many lost at once do not pile up their "projected"
+    const projectedShown = shownByRank(projections.map(([m, p]) => ({ mark: m.mark, box: projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!) })), note);
+    for (const [i, [m, p]] of projections.entries()) {
+      if (m.projected.hidden === projectedShown[i]) m.projected.hidden = !projectedShown[i];
+      if (projectedShown[i]) this.placeProjection(m, p);
+    }
     let more = 0;
     for (const [i, [m, edge]] of outside.entries()) {
       const box = boxes[i];

@@ -84,7 +84,7 @@ export class NewAlarms {
  * with its newest few named first, or the screen reader would read on for minutes and hide whatever comes next. */
 export const SAID_AT_MOST = 3;
 export function alarmWords(fresh: readonly Alarm[]): string {
-  const one = (a: Alarm) => `${ALARM_SEVERITY[a.severity]}: ${a.text}, since ${utc(a.since, false).slice(0, 8)} UTC`;
+  const one = (a: Alarm) => `${ALARM_SEVERITY[a.severity]}: ${a.text}, since ${utc(a.since, false, "s")}`;
   if (fresh.length <= SAID_AT_MOST) return fresh.map(one).join(". ");
   // a flood of one cause (a relay down: 20 vehicles lost) is one sentence naming the cause and the count
   const causes = new Set(fresh.map((a) => a.cause));

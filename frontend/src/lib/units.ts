@@ -48,18 +48,22 @@ export function dms(deg: number | null | undefined, isLat: boolean): string {
   return `${d}° ${String(m).padStart(2, "0")}′ ${s.toFixed(2).padStart(5, "0")}″ ${hemi}`;
 }
 
-/** UTC time of an epoch in seconds, e.g. 2026-11-22 21:03:04.123Z. */
-export function utc(epochSeconds: number | null | undefined, withDate = true): string {
+/** To what a time is written: the minute, the second, the tenth or the thousandth of a second. */
+export type TimeTo = "min" | "s" | "ds" | "ms";
+const TIME_END: Readonly<Record<TimeTo, number>> = { min: 16, s: 19, ds: 21, ms: 23 };
+
+/** A UTC time of an epoch in seconds, as the page writes every time it shows (the house style, "UTC" after it, never
+ * "Z"): "2026-11-22 21:03:04.123 UTC", or without its date "21:03:04.123 UTC", to `to`. Exports keep ISO 8601. */
+export function utc(epochSeconds: number | null | undefined, withDate = true, to: TimeTo = "ms"): string {
   if (!isNum(epochSeconds)) return DASH;
   const iso = new Date(epochSeconds * 1000).toISOString(); // 2026-11-22T21:03:04.123Z
-  return withDate ? iso.replace("T", " ") : iso.slice(11);
+  return `${iso.slice(withDate ? 0 : 11, TIME_END[to]).replace("T", " ")} UTC`;
 }
 
-/** HH:MM of UTC seconds, as the watch says a time ("until 14:20"), with the date when it is not today's (UTC). */
+/** HH:MM UTC of UTC seconds, as the watch says a time ("until 14:20 UTC"), with the date when it is not today's (UTC). */
 export function clockTime(t: number, now = Date.now() / 1000): string {
-  const hhmm = utc(t, false).slice(0, 5);
   const day = (s: number) => new Date(s * 1000).toISOString().slice(0, 10);
-  return day(t) === day(now) ? hhmm : `${day(t)} ${hhmm}`;
+  return utc(t, day(t) !== day(now), "min");
 }
 
 export function hertz(hz: number | null | undefined): string {

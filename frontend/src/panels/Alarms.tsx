@@ -162,8 +162,8 @@ export function AlarmsPanel() {
           <span className="alarm-text">{a.text}</span>
           {a.providerId && lost.has(a.providerId) && <LastHeard since={lost.get(a.providerId) ?? null} className="tone-bad" />}
           <span className="alarm-since muted">
-            since {utc(a.since, false).slice(0, 8)} UTC ({age(Math.max(0, now - a.since))} ago)
-            {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false).slice(0, 8)} UTC${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}
+            since {utc(a.since, false, "s")} ({age(Math.max(0, now - a.since))} ago)
+            {a.ackedAt !== null && ` · acknowledged ${utc(a.ackedAt, false, "s")}${a.ackedBy ? ` by ${a.ackedBy}` : ""}`}
           </span>
           {a.returned && (
             <span className="alarm-since" data-testid="alarm-returned">

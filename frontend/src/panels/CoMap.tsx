@@ -16,7 +16,7 @@ import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loader
 import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
-import { coverageText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
+import { coverageText, lostButtonNote, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -121,7 +121,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     setPending(null);
   } else if (pending && !pending.lost && isLost(pending.target.id)) {
     // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
-    setNote(`${pendingName(pending)} for ${vehicleLabel(pending.target)} not sent: the vehicle was lost meanwhile.`);
+    setNote(lostMeanwhileText(pendingName(pending), vehicleLabel(pending.target), plannedUntil(silences, pending.target.id, "lost")));
     setPending(null);
   } else if (armed && tool !== "move-target" && pending?.kind !== "move") {
     setArmed(null); // another map tool taken meanwhile (measure, draw): Move-to is put down
@@ -166,7 +166,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
   const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
-  const targetLost = target !== null && isLost(target.id) ? " (vehicle lost)" : "";
+  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(plannedUntil(silences, target.id, "lost")) : "";
 
   const send = (p: Pending) => {
     setPending(null);

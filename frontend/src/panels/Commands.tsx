@@ -9,7 +9,7 @@ import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { cancelText, cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, umaa } from "../lib/labels";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, lostButtonNote, lostMeanwhileText, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -301,7 +301,7 @@ export function CommandsPanel() {
     setPending(null);
   } else if (pending !== null && !pending.lost && lost) {
     // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
-    setNote(`${pending.action.label} for ${vehicleLabel(pending.target)} not sent: the vehicle was lost meanwhile.`);
+    setNote(lostMeanwhileText(pending.action.label, vehicleLabel(pending.target), until));
     setPending(null);
   }
 
@@ -366,7 +366,7 @@ export function CommandsPanel() {
         {ACTIONS.map((a) => (
           <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
             {a.label}
-            {lost && mayCommand && (until !== null ? " (out of comms)" : " (vehicle lost)")}
+            {lost && mayCommand && lostButtonNote(until)}
           </button>
         ))}
       </div>

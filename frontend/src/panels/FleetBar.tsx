@@ -14,6 +14,7 @@ import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedC
 import { LastHeard } from "../components/LastHeard";
 import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
 import { shortId, vehicleColor } from "../lib/vehicle";
+import { clockTime } from "../lib/units";
 import "./fleet.css";
 import { unreachable as isUnreachable } from "../data/source";
 
@@ -196,7 +197,10 @@ export function FleetBar() {
   const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
   const lostAll = all.filter((c) => c.link === "lost");
   // lost during a planned silence: expected, counted apart
-  const planned = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) !== null).length;
+  const planned = lostAll.flatMap((c) => {
+    const until = plannedUntil(silences, c.p.id, c.link);
+    return until === null ? [] : [{ c, until }];
+  });
   const lost = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) === null);
   // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
   const stale = all.filter((c) => c.link === "stale").length;
@@ -249,9 +253,9 @@ export function FleetBar() {
           <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
             {lost.length} {inline(linkText("lost"))}
           </span>
-          {planned > 0 && (
-            <span className="fleet-count fleet-planned" data-testid="fleet-planned">
-              {plannedCount(planned)}
+          {planned.length > 0 && (
+            <span className="fleet-count fleet-planned" data-testid="fleet-planned" title={planned.map(({ c, until }) => `${name(c.p)}: until ${clockTime(until)}`).join("; ")}>
+              {plannedCount(planned.map((x) => x.until))}
             </span>
           )}
         </span>

@@ -80,7 +80,7 @@ export function Header() {
       <button className="small" onClick={resetLayout} title="the default panel order, nothing collapsed" data-testid="reset-layout">
         Reset layout
       </button>
-      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now).slice(0, 19)} UTC</span>
+      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now, true, "s")}</span>
     </header>
   );
 }

@@ -3,13 +3,18 @@
 // alarm; still not heard at its end (and the console's grace after it), the console raises one.
 import { useState } from "react";
 import { ApiError, cancelSilence, planSilence } from "../api/rest";
-import { useSelectedVehicle, useSilences } from "../data/hooks";
-import { shortId } from "../lib/vehicle";
+import { useSelectedVehicle, useSilences, useVehicleNames } from "../data/hooks";
+import { vehicleLabel } from "../lib/vehicle";
 import { plannedEntry } from "../lib/labels";
+import { clockTime } from "../lib/units";
 
-/** The next UTC time of day `hhmm` ("14:20") after `now` (UTC seconds): today's, else tomorrow's. */
+/** What the time field says of a time it cannot take. */
+export const BAD_UNTIL = "Until: write a UTC time of day as HH:MM, 24-hour (14:20)";
+
+/** The next UTC time of day `hhmm` ("14:20", 24-hour) after `now` (UTC seconds): today's, else tomorrow's; null for
+ * anything else (a 12-hour "2:20 PM", "24:00", "14:60"). */
 export function nextUtc(hhmm: string, now: number): number | null {
-  const m = /^(\d{2}):(\d{2})$/.exec(hhmm);
+  const m = /^([01]\d|2[0-3]):([0-5]\d)$/.exec(hhmm.trim());
   if (!m) return null;
   const day = Math.floor(now / 86400) * 86400;
   const t = day + Number(m[1]) * 3600 + Number(m[2]) * 60;
@@ -23,6 +28,8 @@ function said(e: unknown): string {
 export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: string | null }) {
   const silences = useSilences();
   const vehicle = useSelectedVehicle();
+  const names = useVehicleNames();
+  const labelOf = (id: string) => vehicleLabel({ id, name: names.get(id) || null }); // named as everywhere on the page
   const [until, setUntil] = useState("");
   const [reason, setReason] = useState("");
   const [error, setError] = useState("");
@@ -40,7 +47,8 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
     }
     setBusy(false);
   };
-  const name = vehicle ? (vehicle.name ?? shortId(vehicle.id)) : null;
+  const name = vehicle ? vehicleLabel(vehicle) : null;
+  const current = vehicle ? (silences.find((x) => x.providerId === vehicle.id) ?? null) : null; // one in force: change or end it
 
   return (
     <section className="alarm-silences" aria-label="Planned silences" data-testid="planned-silences">
@@ -49,9 +57,9 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
         <ul className="alarm-list" aria-label="Planned silences">
           {silences.map((x) => (
             <li key={x.id} className="alarm-entry" data-testid="planned-silence">
-              <span className="alarm-text">{plannedEntry(x.vehicle, x.until, x.reason, x.by, x.station)}</span>
+              <span className="alarm-text">{plannedEntry(labelOf(x.providerId), x.until, x.reason, x.by, x.station)}</span>
               {mayAct && (
-                <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${x.vehicle}`}>
+                <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${labelOf(x.providerId)}`}>
                   Cancel silence
                 </button>
               )}
@@ -64,27 +72,35 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
           <form
             className="alarm-form"
             aria-label={`Out of comms until: ${name}`}
+            noValidate
             onSubmit={(e) => {
               e.preventDefault();
+              if (busy) return;
               const t = nextUtc(until, Date.now() / 1000);
-              if (t === null || !reason.trim() || busy) return;
-              void run(() => planSilence(vehicle.id, t, reason.trim(), token), "Not declared");
+              if (t === null) return setError(BAD_UNTIL);
+              if (!reason.trim()) return setError("Why: say why it will be out of comms");
+              void run(() => planSilence(vehicle.id, t, reason.trim(), token), current ? "End not changed" : "Not declared");
             }}
           >
-            <span className="alarm-text">
-              Out of comms until: {name}
+            <span className="alarm-text" data-testid="silence-form-title">
+              {current ? `${name}: planned silence until ${clockTime(current.until)}` : `Out of comms until: ${name}`}
             </span>
             <label>
-              Until (UTC)
-              <input type="time" value={until} onChange={(e) => setUntil(e.target.value)} required />
+              {current ? "New end (UTC)" : "Until (UTC)"}
+              <input type="text" inputMode="numeric" placeholder="HH:MM" pattern="([01][0-9]|2[0-3]):[0-5][0-9]" maxLength={5} size={5} value={until} onChange={(e) => setUntil(e.target.value)} required />
             </label>
             <label>
               Why (diving, over the horizon, a relay down)
               <input value={reason} onChange={(e) => setReason(e.target.value)} maxLength={200} required />
             </label>
             <button className="small" type="submit" aria-disabled={busy || undefined}>
-              Declare planned silence
+              {current ? "Change end" : "Declare planned silence"}
             </button>
+            {current && (
+              <button className="small" type="button" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(vehicle.id, token), "Not ended")}>
+                End silence now
+              </button>
+            )}
           </form>
         ) : (
           <p className="muted">Select a vehicle to declare its planned silence.</p>

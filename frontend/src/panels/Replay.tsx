@@ -84,7 +84,7 @@ export function ReplayBar() {
         {clockDuration(status.end - status.start)}
       </span>
       <span className="replay-time" data-testid="replay-time" title="the instant shown (UTC)">
-        {utc(position).slice(0, 21)} UTC
+        {utc(position, true, "ds")}
       </span>
       {error && (
         <span className="error" role="alert" data-testid="replay-error">

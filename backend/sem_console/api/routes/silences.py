@@ -37,9 +37,9 @@ async def plan_silence(provider_id: VehicleId, body: SilenceRequest, console: Co
     p = known_provider(console, provider_id)
     now = console.clock.wall()
     if body.until <= now:
-        raise HTTPException(status.HTTP_409_CONFLICT, f"until {clock_time(body.until)} UTC has passed: give a time to come")
+        raise HTTPException(status.HTTP_409_CONFLICT, f"until {clock_time(body.until)} has passed: give a time to come")
     console.plan_silence(p, body.until, body.reason, operator)
-    audit(status.HTTP_200_OK, f"out of comms until {clock_time(body.until)} UTC: {body.reason}", operator)
+    audit(status.HTTP_200_OK, f"out of comms until {clock_time(body.until)}: {body.reason}", operator)
     return console.alarms.planned_silences()
 
 
