@@ -25,7 +25,9 @@ The breaches:
 - `ignore-update`: an update is taken for the command already running: no ISSUED/UPDATED (4.1.4.2);
 - `attitude-in-degrees`: GlobalPoseReportType's attitude in degrees (SA ICD 6.0 Table 67: PitchHalfAngle, radians);
 - `reliable-reports`: its report writers reliable and transient-local, which UMAAQoSLib's TelemetryQoS is not (no
-  rule: a warning, not a failure).
+  rule: a warning, not a failure);
+- `best-effort-statuses`: its status and ack writers best-effort, which UMAAQoSLib's CommandQoS is not (no rule: a
+  warning, not a failure).
 """
 
 from __future__ import annotations
@@ -60,7 +62,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.umaa.samples import make
 
 BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup", "ignore-update",
-            "attitude-in-degrees", "reliable-reports")
+            "attitude-in-degrees", "reliable-reports", "best-effort-statuses")
 REPORT_PERIOD = 0.1  # s between reports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 NIL = bytes(16)
@@ -70,6 +72,8 @@ RELIABLE_REPORTS = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.
                        Policy.History.KeepLast(1))
 COMMAND_WRITER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
                      Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
+BEST_EFFORT_COMMAND_WRITER = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepAll,
+                                 Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
 COMMAND_READER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
                      Policy.Liveliness.Automatic(duration(seconds=10)))
 # What a command's EXECUTING and COMPLETED show in the InertialSensorReportType (ICD 6.0 5.3.4, Table 28)
@@ -112,7 +116,8 @@ class IcdProvider60:
 
         self.gps, self.pose, self.report = (writer(s, reports) for s in
                                             (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT))
-        self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, COMMAND_WRITER), writer(Sem60.INS_COMMAND_ACK, COMMAND_WRITER)
+        statuses = BEST_EFFORT_COMMAND_WRITER if breach == "best-effort-statuses" else COMMAND_WRITER
+        self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, statuses), writer(Sem60.INS_COMMAND_ACK, statuses)
         self.reader: DataReader[Any] = DataReader(p, self.bus.topic(Sem60.INS_COMMAND), COMMAND_READER
                                                   + representation(False, writer=False))
         self.op = Op.FINE_GPS_ALIGNMENT_COMPLETE

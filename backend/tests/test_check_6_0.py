@@ -111,6 +111,22 @@ def test_a_qos_other_than_umaaqoslib_is_a_warning(provider60: Callable[..., IcdP
     assert err["InertialSensorCommandType"] == ""
 
 
+def test_best_effort_statuses_are_a_warning_and_still_read(provider60: Callable[..., IcdProvider60], domain: int,
+                                                          tmp_path: Path) -> None:
+    """Best-effort status and ack writers (UMAAQoSLib's CommandQoS is reliable; 6.0 mandates none) pass discovery with a
+    warning naming the reference, and the checker still follows the command through them."""
+    p = provider60("best-effort-statuses")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "discovery,commands.InertialSensor.INIT")
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    lines = {line.split()[0]: line for line in run.out.splitlines() if line.startswith(("discovery.", "commands."))}
+    for name in ("discovery.InertialSensorCommandStatusType", "discovery.InertialSensorCommandAckReportType"):
+        assert lines[name].split()[1] == "warn", run.out
+        assert "BEST_EFFORT reliability; UMAAQoSLib::CommandQoS has RELIABLE (RTI's UMAAQoSLib" in lines[name], run.out
+    assert run.cases["commands.InertialSensor.INIT"] == ("passed", ""), run.out
+
+
 def test_sem_sim_6_0_reports_pass(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """A `sem-sim --umaa 6.0` vehicle passes discovery and the report tests of the services it serves."""
     sim("--umaa", "6.0")
