@@ -23,6 +23,8 @@ The breaches:
 - `fail-after-cleanup`: a moment after disposing a finished command's status and ack it publishes FAILED/TIMEOUT for
   it (Figure 14: nothing follows COMPLETED);
 - `ignore-update`: an update is taken for the command already running: no ISSUED/UPDATED (4.1.4.2);
+- `wrong-failure-reason`: BEST_ALIGN rejected at once with FAILED/RESOURCE_REJECTED, a reason Figure 15 allows after
+  COMMANDED only;
 - `attitude-in-degrees`: GlobalPoseReportType's attitude in degrees (SA ICD 6.0 Table 67: PitchHalfAngle, radians);
 - `reliable-reports`: its report writers reliable and transient-local, which UMAAQoSLib's TelemetryQoS is not (no
   rule: a warning, not a failure);
@@ -62,7 +64,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.umaa.samples import make
 
 BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup", "ignore-update",
-            "attitude-in-degrees", "reliable-reports", "best-effort-statuses")
+            "wrong-failure-reason", "attitude-in-degrees", "reliable-reports", "best-effort-statuses")
 REPORT_PERIOD = 0.1  # s between reports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 NIL = bytes(16)
@@ -178,6 +180,10 @@ class IcdProvider60:
         cmd = Command(s, self.schedule(now))
         self.running[session] = cmd
         self.status.write(self.status_sample(cmd, Status.ISSUED, Reason.SUCCEEDED))
+        if self.breach == "wrong-failure-reason" and s.state is Cmd.BEST_ALIGN:
+            cmd.due.clear()
+            cmd.status = Status.FAILED
+            self.status.write(self.status_sample(cmd, Status.FAILED, Reason.RESOURCE_REJECTED))
 
     def update(self, cmd: Command, s: Any, now: float) -> None:
         """The same source and sessionID with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""

@@ -252,7 +252,10 @@ class Consumer:
         last = sent.flow.transitions[-1] if sent.flow.transitions else None
         if reason != umaa_6_0.UPDATED:
             assert not isinstance(reason, str)
-            if sent.flow.observe(status, reason, sample.logMessage) is not None:
+            before = sent.flow.status
+            t = sent.flow.observe(status, reason, sample.logMessage)
+            if t is not None:
+                t.violation = t.violation or umaa_6_0.failed_reason(before, status, reason)
                 sent.at.append(received)
             return
         if last is not None and sent.earlier and last.status is Status.ISSUED and len(sent.flow.transitions) == 1:

@@ -56,7 +56,7 @@ FLOW_REFS = {
     "failed": "ICD 6.0 4.1.4.4", "cancel": "ICD 6.0 4.1.4.5", "cancel figure": "Figure 26",
     "cleanup": "ICD 6.0 4.1.5, Figure 27", "subscribe": "ICD 6.0 4.1.2.1", "destination": "ICD 6.0 4.1",
     "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command", "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
-    "update": "ICD 6.0 4.1.4.2",
+    "update": "ICD 6.0 4.1.4.2", "reasons": "ICD 6.0 4.1, Figure 15",
 }
 # The InertialSensor tests, in the order they run: INIT first (it also stops a running alignment), each alignment,
 # GPS_ALIGN again (`same`: the alignment it has just completed), TRANSFER_ALIGN (so that the cancel's and the update's
@@ -167,6 +167,27 @@ def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: 
         return None
     kind = "status" if sem is Sem60.INS_COMMAND_STATUS else "ack"
     return StatusItem(Service.INERTIAL_SENSOR, kind, source, session, sample if valid else None, alive)
+
+
+# Figure 15: the reasons of FAILED from each state; the first status FAILED/SERVICE_FAILED (4.1.2.1)
+FAILED_REASONS: dict[Status | None, frozenset[Reason]] = {
+    None: frozenset({Reason.SERVICE_FAILED}),
+    Status.ISSUED: frozenset({Reason.VALIDATION_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
+                              Reason.SERVICE_FAILED}),
+    Status.COMMANDED: frozenset({Reason.RESOURCE_REJECTED, Reason.INTERRUPTED, Reason.TIMEOUT, Reason.SERVICE_FAILED}),
+    Status.EXECUTING: frozenset({Reason.OBJECTIVE_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
+                                 Reason.SERVICE_FAILED}),
+}
+
+
+def failed_reason(before: Status | None, status: Status | int, reason: Reason | int) -> str | None:
+    """What Figure 15 finds wrong with a FAILED's reason after the state before; None: nothing."""
+    allowed = FAILED_REASONS.get(before)
+    if status is not Status.FAILED or allowed is None or not isinstance(reason, Reason) or reason in allowed:
+        return None
+    state = before.name if before is not None else "(no status)"
+    return (f"reason {reason.name} is not valid for {state} -> FAILED ({FLOW_REFS['reasons']}: "
+            f"{', '.join(sorted(r.name for r in allowed))})")
 
 
 def flow_status(sample: Any) -> tuple[Status | int, Reason | int | str]:
