@@ -165,6 +165,17 @@ def test_a_mixed_bus_checks_each_provider_in_its_version(sim: Callable[..., Any]
     assert {o for o, _ in forced.cases.values()} == {"skipped"}
 
 
+def test_only_tests_of_the_other_version_is_one_clear_line(provider60: Callable[..., IcdProvider60], domain: int,
+                                                            tmp_path: Path) -> None:
+    """--only naming 3.0.1 tests only, on a 6.0 provider: nothing to test, said as such (exit 2), not as skipped tests."""
+    p = provider60()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "commands.GPSFix", "--window", "0.5")
+    assert run.code == 2, run.out + run.err
+    assert run.err.strip().splitlines()[-1] == (
+        "sem-check: --only/--skip select no UMAA 6.0 test, and the provider is tested as UMAA 6.0 (by the topics it "
+        "serves): sem-check --list shows the tests of each version"), run.err
+
+
 def test_a_6_0_run_that_leaves_the_sensor_unaligned_says_so(provider60: Callable[..., IcdProvider60], domain: int,
                                                              tmp_path: Path) -> None:
     """INIT alone leaves a GPS-aligned sensor initializing: the plan says so before anything is sent, and the run ends
