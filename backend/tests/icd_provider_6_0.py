@@ -10,7 +10,9 @@ Per InertialSensorCommandType addressed to it (ICD 6.0 4.1: `destination`, its `
 (4.1.4.1); COMPLETED `execute` seconds later (4.1.4.3). From EXECUTING the InertialSensorReportType shows INIT, or the
 coarse stage of the commanded kind of alignment, and at COMPLETED its completed stage (5.3.3, 5.3.4). The same command
 again with a newer timeStamp while it runs is an update: ISSUED/UPDATED, and the flow again from the start with the
-ack of the updated command (4.1.4.2); an update of a finished command is ignored. The consumer's dispose before the
+ack of the updated command (4.1.4.2); an update of a finished command is ignored (4.1.4.2's first paragraph), or with
+`terminal_update="fail"` answered FAILED/VALIDATION_FAILED (its step 2). With `busy` it reads no command while one is
+EXECUTING, so that an update sent at EXECUTING reaches a command that has completed. The consumer's dispose before the
 end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.5); after the end it cleans up: status and
 ack disposed (4.1.5).
 
@@ -104,9 +106,11 @@ class Command:
 
 
 class IcdProvider60:
-    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05) -> None:
+    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
+                 terminal_update: str = "ignore", busy: bool = False) -> None:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step = breach, execute, step
+        self.terminal_update, self.busy = terminal_update, busy
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.source = make(IdentifierType, id=self.guid.bytes, parentID=NIL)
@@ -139,7 +143,8 @@ class IcdProvider60:
     def loop(self) -> None:
         while not self.stop.is_set():
             now = time.monotonic()
-            for s in self.reader.take(N=16):
+            executing = any(c.status is Status.EXECUTING for c in self.running.values())
+            for s in [] if self.busy and executing else self.reader.take(N=16):
                 self.on_sample(s, now)
             for session, cmd in list(self.running.items()):
                 while cmd.due and cmd.due[0][0] <= now:
@@ -189,7 +194,11 @@ class IcdProvider60:
         """The same source and sessionID with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
         newer = (s.timeStamp.seconds, s.timeStamp.nanoseconds) > (cmd.sample.timeStamp.seconds,
                                                                    cmd.sample.timeStamp.nanoseconds)
-        if not newer or cmd.status in (Status.COMPLETED, Status.FAILED, Status.CANCELED) or self.breach == "ignore-update":
+        terminal = cmd.status in (Status.COMPLETED, Status.FAILED, Status.CANCELED)
+        if newer and terminal and self.terminal_update == "fail" and cmd.status is not Status.FAILED:
+            cmd.status = Status.FAILED
+            self.status.write(self.status_sample(cmd, Status.FAILED, Reason.VALIDATION_FAILED))
+        if not newer or terminal or self.breach == "ignore-update":
             return
         cmd.sample, cmd.due, cmd.acked = s, self.schedule(now), False
         cmd.status = Status.ISSUED

@@ -93,6 +93,26 @@ def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., I
     assert failure_types(run.report) == {test: "icd"}
 
 
+@pytest.mark.parametrize("terminal_update", ["ignore", "fail"])
+def test_an_update_that_crosses_the_end_is_ignored_or_failed(terminal_update: str,
+                                                             provider60: Callable[..., IcdProvider60], domain: int,
+                                                             tmp_path: Path) -> None:
+    """ICD 6.0 4.1.4.2 has an update of a command in a terminal state ignored (its first paragraph) and answered FAILED
+    (its step 2). A provider that reads the update sent at EXECUTING only after COMPLETED passes either way; the
+    FAILED is noted with the step it follows, and the second command, updated at ISSUED, is the one tested."""
+    p = provider60(execute=0.3, terminal_update=terminal_update, busy=True)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "commands.InertialSensor.update,commands.InertialSensor.cleanup")
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {"commands.InertialSensor.update": ("passed", ""),
+                         "commands.InertialSensor.cleanup": ("passed", "")}, run.out
+    notes = {tc.get("name"): tc.findtext("system-out") or "" for tc in ET.parse(run.report).getroot().iter("testcase")}
+    assert "COMPLETED before the checker could update it" in notes["InertialSensor.update"], notes
+    step_2 = "FAILED/VALIDATION_FAILED after COMPLETED: the answer to the consumer's update that crossed the end of the " \
+             "command, as ICD 6.0 4.1.4.2 step 2 has it"
+    assert (step_2 in notes["InertialSensor.update"] + notes["InertialSensor.cleanup"]) == (terminal_update == "fail"), notes
+
+
 def test_a_qos_other_than_umaaqoslib_is_a_warning(provider60: Callable[..., IcdProvider60], domain: int,
                                                   tmp_path: Path) -> None:
     """6.0 mandates no QoS: reliable, transient-local report writers pass, each with a warning naming RTI's UMAAQoSLib

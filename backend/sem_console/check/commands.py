@@ -104,6 +104,7 @@ class Sent:
     seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
     breaches_reported: int = 0  # of `violations`, those already failed a case
     updated_at: float | None = None  # when the checker updated it (UMAA 6.0: a newer timeStamp, ICD 6.0 4.1.4.2)
+    update_failed: bool = False  # the provider failed the update that crossed the command's end (ICD 6.0 4.1.4.2 step 2)
     earlier: list[str] = field(default_factory=list)  # the story of each flow an update restarted
     past: list[str] = field(default_factory=list)  # the violations of those flows, and of UPDATED out of place
     counted: int = 0  # the transitions of those flows
@@ -252,6 +253,13 @@ class Consumer:
         last = sent.flow.transitions[-1] if sent.flow.transitions else None
         if reason != umaa_6_0.UPDATED:
             assert not isinstance(reason, str)
+            if status is Status.FAILED and self._update_crossed_end(sent) and not sent.update_failed:
+                sent.update_failed = True
+                if sent.case is not None:
+                    sent.case.note(f"FAILED/{name(reason)} after {name(sent.flow.status)}: the answer to the consumer's "
+                                   f"update that crossed the end of the command, as {sent.refs['update']} step 2 has it "
+                                   "(its first paragraph has the update ignored; either is taken)")
+                return
             before = sent.flow.status
             t = sent.flow.observe(status, reason, sample.logMessage)
             if t is not None:
@@ -273,6 +281,13 @@ class Consumer:
             sent.restart()
             sent.flow.observe(Status.ISSUED, Reason.SUCCEEDED, sample.logMessage)
             sent.at.append(received)
+
+    @staticmethod
+    def _update_crossed_end(sent: Sent) -> bool:
+        """The consumer's update went out while the command ran, and the provider's terminal status came after it, with
+        no ISSUED/UPDATED: the update reached a command in a terminal state."""
+        return (sent.updated_at is not None and not sent.earlier and sent.flow.terminal and bool(sent.at)
+                and sent.at[-1] >= sent.updated_at)
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
         def fed() -> bool:
