@@ -737,6 +737,12 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                     if clean.outcome is Outcome.FAILED and consumer.progress is not None:
                         consumer.progress.add([clean])  # a run stopped later still reports this failure
         cases.append(case)
+    return _last_cases(consumer, cases, clean, destination, foreign, finished, selected)
+
+
+def _last_cases(consumer: Consumer, cases: list[Case], clean: Case, destination: Case, foreign: Sent | None,
+                finished: list[Sent], selected: Callable[[str], bool]) -> list[Case]:
+    """The InertialSensor tests' last: the cleanup (skipped when no command finished) and the destination test."""
     if selected(clean.name):
         if not finished:
             clean.skip("needs a command that finished: see the commands.InertialSensor tests")
@@ -879,15 +885,7 @@ def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callabl
         if clean.outcome is Outcome.FAILED and consumer.progress is not None:
             consumer.progress.add([clean])
         cases.append(case)
-    if selected(clean.name):
-        if not finished:
-            clean.skip("needs a command that finished: see the commands.InertialSensor tests")
-        cases.append(clean)
-    if foreign is not None:
-        with Timer(destination, consumer.progress):
-            judge_foreign(consumer, foreign, destination)
-        cases.append(destination)
-    return cases
+    return _last_cases(consumer, cases, clean, destination, foreign, finished, selected)
 
 
 def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:

@@ -94,11 +94,11 @@ class Observer:
         # 6.0 mandates no QoS: a status or ack writer the reliable reader cannot match (a best-effort one) is read by a
         # best-effort reader, which takes the samples of the writers the reliable one has not matched only
         self._primary: dict[int, DataReader[Any]] = {}
-        for sem in Sem60:
-            if sem.spec.cls is TopicClass.STATUS:
-                reliable, any_writer = bus.reader(sem, reader_qos(sem.spec.cls, durable=False)), bus.reader(
-                    sem, any_writer_reader_qos(sem.spec.cls))
-                self.readers += [(sem, reliable, True), (sem, any_writer, True)]
+        for topic in Sem60:
+            if topic.spec.cls is TopicClass.STATUS:
+                reliable = bus.reader(topic, reader_qos(topic.spec.cls, durable=False))
+                any_writer = bus.reader(topic, any_writer_reader_qos(topic.spec.cls))
+                self.readers += [(topic, reliable, True), (topic, any_writer, True)]
                 self._primary[id(any_writer)] = reliable
         self._conditions = [all_samples(r) for _, r, _ in self.readers]
         self.consumer_readers: dict[AnySem, list[DataReader[Any]]] = {}
