@@ -4,16 +4,26 @@ run is short (small --timeout, --step-time and --window; a breach's run selects 
 
 from __future__ import annotations
 
+import io
+import uuid
 import xml.etree.ElementTree as ET
+from collections import defaultdict
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from types import SimpleNamespace
+from typing import Any, cast
 
 import pytest
 
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusEnumModule import CommandStatusEnumType as Status
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusReasonEnumModule import CommandStatusReasonEnumType as Reason
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as Cmd
+
 from icd_provider_6_0 import IcdProvider60
 from sem_console.check import commands, runner, umaa_6_0
-from sem_console.check.observe import Report
+from sem_console.check.observe import Report, StatusSeen
+from sem_console.check.results import Case
+from sem_console.dds.topics import Sem60, Service
 from test_check import check, failed, failure_types, wait_for_providers
 
 COMMANDS = ("--commands", "--timeout", "2", "--step-time", "1", "--window", "0.5", "--max-gap", "0.5")
@@ -222,3 +232,33 @@ def test_6_0_satellites_are_bounded_at_300_not_at_the_consoles_256() -> None:
 
     assert problems(280) == []
     assert problems(301) == ["satellites: 301 elements, more than 300 (ICD 6.0 5.1.1.1, Table 9: max size = 300)"]
+
+
+def test_each_6_0_breach_of_a_command_fails_its_test_once() -> None:
+    """An ISSUED/UPDATED the consumer did not cause, after a Figure 14 breach already reported, is reported in its turn,
+    and the earlier breach is not reported again."""
+    statuses: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)
+    observer = SimpleNamespace(statuses=statuses, acks={})  # what Consumer.update reads of the bus
+    provider, session = uuid.uuid4(), uuid.uuid4()
+    consumer = commands.Consumer(cast(Any, observer), provider, commands.CommandLimits(1, 1, 1), io.StringIO(),
+                                 version=umaa_6_0.V6_0)
+    sample = umaa_6_0.command(Cmd.GPS_ALIGN, consumer.source, provider, session)
+    sent = commands.Sent(Service.INERTIAL_SENSOR, session, sample, 0.0, provider, umaa_6_0.V6_0, "InertialSensorCommandType")
+    case = Case("commands.InertialSensor.GPS_ALIGN")
+
+    def publish(status: Status, reason: Reason) -> None:
+        status_type = Sem60.INS_COMMAND_STATUS.spec.type
+        statuses[session].append(StatusSeen(len(statuses[session]), provider, status_type(
+            timeStamp=sample.timeStamp, source=umaa_6_0.identifier(provider), sessionID=session.bytes,
+            commandStatus=status, commandStatusReason=reason, logMessage="")))
+        consumer.update(sent)
+        commands.breaches(sent, case)
+
+    publish(Status.ISSUED, Reason.SUCCEEDED)
+    publish(Status.EXECUTING, Reason.SUCCEEDED)
+    publish(Status.ISSUED, Reason.UPDATED)
+    assert case.reason.startswith("Figure 14 breach: ISSUED -> EXECUTING is not a Figure 14 transition"), case.reason
+    also = [n for n in case.notes if n.startswith("also: ")]
+    assert len(also) == 1 and also[0].startswith("also: Figure 14 breach: ISSUED/UPDATED after ISSUED/SUCCEEDED +0.00 s, "
+                                                 "EXECUTING/SUCCEEDED +1.00 s, though the consumer did not update the "
+                                                 "command (ICD 6.0 4.1.4.2"), also

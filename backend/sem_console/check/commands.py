@@ -106,7 +106,7 @@ class Sent:
     updated_at: float | None = None  # when the checker updated it (UMAA 6.0: a newer timeStamp, ICD 6.0 4.1.4.2)
     update_failed: bool = False  # the provider failed the update that crossed the command's end (ICD 6.0 4.1.4.2 step 2)
     earlier: list[str] = field(default_factory=list)  # the story of each flow an update restarted
-    past: list[str] = field(default_factory=list)  # the violations of those flows, and of UPDATED out of place
+    found: list[str] = field(default_factory=list)  # UMAA 6.0: every breach in the order seen (UPDATED out of place too)
     counted: int = 0  # the transitions of those flows
 
     @property
@@ -115,7 +115,7 @@ class Sent:
 
     @property
     def violations(self) -> list[str]:
-        return self.past + self.flow.violations
+        return self.found if self.version.name == umaa_6_0.V6_0.name else self.flow.violations
 
     @property
     def transitions(self) -> int:
@@ -125,7 +125,6 @@ class Sent:
     def restart(self) -> None:
         """ISSUED/UPDATED: the flow restarts at ISSUED (ICD 6.0 4.1.4.2); the story keeps what came before."""
         self.earlier.append(self.story())
-        self.past += self.flow.violations
         self.counted += len(self.flow.transitions)
         self.flow, self.at = CommandFlow(), []
 
@@ -264,18 +263,19 @@ class Consumer:
             t = sent.flow.observe(status, reason, sample.logMessage)
             if t is not None:
                 t.violation = t.violation or umaa_6_0.failed_reason(before, status, reason)
+                sent.found += [t.violation] if t.violation else []
                 sent.at.append(received)
             return
         if last is not None and sent.earlier and last.status is Status.ISSUED and len(sent.flow.transitions) == 1:
             return  # a repeat of the ISSUED/UPDATED already seen
         story = sent.story()
         if status is not Status.ISSUED:
-            sent.past.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
+            sent.found.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
         elif sent.updated_at is None:
-            sent.past.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
+            sent.found.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
                              "4.1.4.2: an update is a command with the same source and sessionID and a newer timeStamp)")
         elif sent.flow.terminal:
-            sent.past.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
+            sent.found.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
                              "updated (ICD 6.0 4.1.4.2)")
         else:
             sent.restart()
