@@ -30,6 +30,7 @@ The breaches:
 - `attitude-in-degrees`: GlobalPoseReportType's attitude in degrees (SA ICD 6.0 Table 67: PitchHalfAngle, radians);
 - `reliable-reports`: its report writers reliable and transient-local, which UMAAQoSLib's TelemetryQoS is not (no
   rule: a warning, not a failure);
+- `exclusive-gps`: its GPSReportType writer of EXCLUSIVE ownership, which no reader of SHARED ownership matches;
 - `best-effort-statuses`: its status and ack writers best-effort, which UMAAQoSLib's CommandQoS is not (no rule: a
   warning, not a failure).
 """
@@ -66,7 +67,8 @@ from sem_console.dds.topics import Sem60
 from sem_console.umaa.samples import make
 
 BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup", "ignore-update",
-            "wrong-failure-reason", "attitude-in-degrees", "reliable-reports", "best-effort-statuses")
+            "wrong-failure-reason", "attitude-in-degrees", "reliable-reports", "exclusive-gps",
+            "best-effort-statuses")
 REPORT_PERIOD = 0.1  # s between reports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 NIL = bytes(16)
@@ -120,8 +122,8 @@ class IcdProvider60:
         def writer(sem: Sem60, qos: Qos) -> DataWriter[Any]:
             return DataWriter(p, self.bus.topic(sem), qos + representation(sem.spec.xcdr2_only, writer=True))
 
-        self.gps, self.pose, self.report = (writer(s, reports) for s in
-                                            (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT))
+        self.gps = writer(Sem60.GPS_REPORT, reports + Qos(Policy.Ownership.Exclusive) if breach == "exclusive-gps" else reports)
+        self.pose, self.report = writer(Sem60.GLOBAL_POSE_REPORT, reports), writer(Sem60.INS_REPORT, reports)
         statuses = BEST_EFFORT_COMMAND_WRITER if breach == "best-effort-statuses" else COMMAND_WRITER
         self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, statuses), writer(Sem60.INS_COMMAND_ACK, statuses)
         self.reader: DataReader[Any] = DataReader(p, self.bus.topic(Sem60.INS_COMMAND), COMMAND_READER

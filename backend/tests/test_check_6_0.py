@@ -162,6 +162,19 @@ def test_best_effort_statuses_are_a_warning_and_still_read(provider60: Callable[
     assert run.cases["commands.InertialSensor.INIT"] == ("passed", ""), run.out
 
 
+def test_a_writer_no_reader_of_the_checker_can_match_says_why(provider60: Callable[..., IcdProvider60], domain: int,
+                                                               tmp_path: Path) -> None:
+    """A GPSReportType writer of EXCLUSIVE ownership: a warning (no rule), and a failure that names the ownership, not
+    the type, as what keeps the checker's readers from it."""
+    p = provider60("exclusive-gps")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery.GPSReportType",
+                "--timeout", "5", "--window", "0.5")
+    assert run.code == 1, run.out + run.err
+    reason = failed(run)["discovery.GPSReportType"]
+    assert reason.endswith("a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2) did not match it (its "
+                           "EXCLUSIVE ownership: the checker's readers are SHARED, in the default partition)"), reason
+
+
 def test_sem_sim_6_0_reports_pass(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """A `sem-sim --umaa 6.0` vehicle passes discovery and the report tests of the services it serves."""
     sim("--umaa", "6.0")
