@@ -10,7 +10,9 @@ Per InertialSensorCommandType addressed to it (ICD 6.0 4.1: `destination`, its `
 (4.1.4.1); COMPLETED `execute` seconds later (4.1.4.3). From EXECUTING the InertialSensorReportType shows INIT, or the
 coarse stage of the commanded kind of alignment, and at COMPLETED its completed stage (5.3.3, 5.3.4). The same command
 again with a newer timeStamp while it runs is an update: ISSUED/UPDATED, and the flow again from the start with the
-ack of the updated command (4.1.4.2); an update of a finished command is ignored. The consumer's dispose before the
+ack of the updated command (4.1.4.2); an update of a finished command is ignored (4.1.4.2's first paragraph), or with
+`terminal_update="fail"` answered FAILED/VALIDATION_FAILED (its step 2). With `busy` it reads no command while one is
+EXECUTING, so that an update sent at EXECUTING reaches a command that has completed. The consumer's dispose before the
 end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.5); after the end it cleans up: status and
 ack disposed (4.1.5).
 
@@ -23,9 +25,14 @@ The breaches:
 - `fail-after-cleanup`: a moment after disposing a finished command's status and ack it publishes FAILED/TIMEOUT for
   it (Figure 14: nothing follows COMPLETED);
 - `ignore-update`: an update is taken for the command already running: no ISSUED/UPDATED (4.1.4.2);
+- `wrong-failure-reason`: BEST_ALIGN rejected at once with FAILED/RESOURCE_REJECTED, a reason Figure 15 allows after
+  COMMANDED only;
 - `attitude-in-degrees`: GlobalPoseReportType's attitude in degrees (SA ICD 6.0 Table 67: PitchHalfAngle, radians);
 - `reliable-reports`: its report writers reliable and transient-local, which UMAAQoSLib's TelemetryQoS is not (no
-  rule: a warning, not a failure).
+  rule: a warning, not a failure);
+- `exclusive-gps`: its GPSReportType writer of EXCLUSIVE ownership, which no reader of SHARED ownership matches;
+- `best-effort-statuses`: its status and ack writers best-effort, which UMAAQoSLib's CommandQoS is not (no rule: a
+  warning, not a failure).
 """
 
 from __future__ import annotations
@@ -60,7 +67,8 @@ from sem_console.dds.topics import Sem60
 from sem_console.umaa.samples import make
 
 BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup", "ignore-update",
-            "attitude-in-degrees", "reliable-reports")
+            "wrong-failure-reason", "attitude-in-degrees", "reliable-reports", "exclusive-gps",
+            "best-effort-statuses")
 REPORT_PERIOD = 0.1  # s between reports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 NIL = bytes(16)
@@ -70,6 +78,8 @@ RELIABLE_REPORTS = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.
                        Policy.History.KeepLast(1))
 COMMAND_WRITER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
                      Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
+BEST_EFFORT_COMMAND_WRITER = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepAll,
+                                 Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
 COMMAND_READER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
                      Policy.Liveliness.Automatic(duration(seconds=10)))
 # What a command's EXECUTING and COMPLETED show in the InertialSensorReportType (ICD 6.0 5.3.4, Table 28)
@@ -98,9 +108,11 @@ class Command:
 
 
 class IcdProvider60:
-    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05) -> None:
+    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
+                 terminal_update: str = "ignore", busy: bool = False) -> None:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step = breach, execute, step
+        self.terminal_update, self.busy = terminal_update, busy
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.source = make(IdentifierType, id=self.guid.bytes, parentID=NIL)
@@ -110,9 +122,10 @@ class IcdProvider60:
         def writer(sem: Sem60, qos: Qos) -> DataWriter[Any]:
             return DataWriter(p, self.bus.topic(sem), qos + representation(sem.spec.xcdr2_only, writer=True))
 
-        self.gps, self.pose, self.report = (writer(s, reports) for s in
-                                            (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT))
-        self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, COMMAND_WRITER), writer(Sem60.INS_COMMAND_ACK, COMMAND_WRITER)
+        self.gps = writer(Sem60.GPS_REPORT, reports + Qos(Policy.Ownership.Exclusive) if breach == "exclusive-gps" else reports)
+        self.pose, self.report = writer(Sem60.GLOBAL_POSE_REPORT, reports), writer(Sem60.INS_REPORT, reports)
+        statuses = BEST_EFFORT_COMMAND_WRITER if breach == "best-effort-statuses" else COMMAND_WRITER
+        self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, statuses), writer(Sem60.INS_COMMAND_ACK, statuses)
         self.reader: DataReader[Any] = DataReader(p, self.bus.topic(Sem60.INS_COMMAND), COMMAND_READER
                                                   + representation(False, writer=False))
         self.op = Op.FINE_GPS_ALIGNMENT_COMPLETE
@@ -132,7 +145,8 @@ class IcdProvider60:
     def loop(self) -> None:
         while not self.stop.is_set():
             now = time.monotonic()
-            for s in self.reader.take(N=16):
+            executing = any(c.status is Status.EXECUTING for c in self.running.values())
+            for s in [] if self.busy and executing else self.reader.take(N=16):
                 self.on_sample(s, now)
             for session, cmd in list(self.running.items()):
                 while cmd.due and cmd.due[0][0] <= now:
@@ -173,12 +187,20 @@ class IcdProvider60:
         cmd = Command(s, self.schedule(now))
         self.running[session] = cmd
         self.status.write(self.status_sample(cmd, Status.ISSUED, Reason.SUCCEEDED))
+        if self.breach == "wrong-failure-reason" and s.state is Cmd.BEST_ALIGN:
+            cmd.due.clear()
+            cmd.status = Status.FAILED
+            self.status.write(self.status_sample(cmd, Status.FAILED, Reason.RESOURCE_REJECTED))
 
     def update(self, cmd: Command, s: Any, now: float) -> None:
         """The same source and sessionID with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
         newer = (s.timeStamp.seconds, s.timeStamp.nanoseconds) > (cmd.sample.timeStamp.seconds,
                                                                    cmd.sample.timeStamp.nanoseconds)
-        if not newer or cmd.status in (Status.COMPLETED, Status.FAILED, Status.CANCELED) or self.breach == "ignore-update":
+        terminal = cmd.status in (Status.COMPLETED, Status.FAILED, Status.CANCELED)
+        if newer and terminal and self.terminal_update == "fail" and cmd.status is not Status.FAILED:
+            cmd.status = Status.FAILED
+            self.status.write(self.status_sample(cmd, Status.FAILED, Reason.VALIDATION_FAILED))
+        if not newer or terminal or self.breach == "ignore-update":
             return
         cmd.sample, cmd.due, cmd.acked = s, self.schedule(now), False
         cmd.status = Status.ISSUED

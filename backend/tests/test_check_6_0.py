@@ -4,16 +4,26 @@ run is short (small --timeout, --step-time and --window; a breach's run selects 
 
 from __future__ import annotations
 
+import io
+import uuid
 import xml.etree.ElementTree as ET
+from collections import defaultdict
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from typing import Any
+from types import SimpleNamespace
+from typing import Any, cast
 
 import pytest
 
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusEnumModule import CommandStatusEnumType as Status
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusReasonEnumModule import CommandStatusReasonEnumType as Reason
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as Cmd
+
 from icd_provider_6_0 import IcdProvider60
 from sem_console.check import commands, runner, umaa_6_0
-from sem_console.check.observe import Report
+from sem_console.check.observe import Report, StatusSeen
+from sem_console.check.results import Case
+from sem_console.dds.topics import Sem60, Service
 from test_check import check, failed, failure_types, wait_for_providers
 
 COMMANDS = ("--commands", "--timeout", "2", "--step-time", "1", "--window", "0.5", "--max-gap", "0.5")
@@ -68,6 +78,10 @@ BREACHES: dict[str, tuple[str, str, str, str, float]] = {
     "ignore-update": ("commands.InertialSensor.update", "commands.InertialSensor.update",
                       "no ISSUED/UPDATED within the stated 1 s of the consumer's update of the EXECUTING command",
                       "(the same source and sessionID, a newer timeStamp: ICD 6.0 4.1.4.2)", 1.2),
+    "wrong-failure-reason": ("commands.InertialSensor.BEST_ALIGN", "commands.InertialSensor.BEST_ALIGN",
+                             "Figure 14 breach: reason RESOURCE_REJECTED is not valid for ISSUED -> FAILED (ICD 6.0 4.1, "
+                             "Figure 15: INTERRUPTED, RESOURCE_FAILED, SERVICE_FAILED, TIMEOUT, VALIDATION_FAILED)",
+                             "ISSUED/SUCCEEDED +", 0.4),
     "attitude-in-degrees": ("reports.GlobalPoseReportType.values", "reports.GlobalPoseReportType.values",
                             "GlobalPoseReportType attitude.pitch.pitch: outside -1.5708..1.5708",
                             "(SA ICD 6.0 6.4, Table 67: PitchHalfAngle)", 0.4),
@@ -77,8 +91,9 @@ BREACHES: dict[str, tuple[str, str, str, str, float]] = {
 @pytest.mark.parametrize("breach", list(BREACHES))
 def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., IcdProvider60], domain: int,
                                         tmp_path: Path) -> None:
-    """The four breaches of the 3.0.1 command tests in their 6.0 form, an update ignored, and a report value out of its
-    6.0 range: each fails its test alone, with the 6.0 reason and section."""
+    """The four breaches of the 3.0.1 command tests in their 6.0 form, an update ignored, a FAILED reason Figure 15
+    does not list for its transition, and a report value out of its 6.0 range: each fails its test alone, with the 6.0
+    reason and section."""
     only, test, reason, section, execute = BREACHES[breach]
     p = provider60(breach, execute=execute)
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only", only)
@@ -86,6 +101,26 @@ def test_each_6_0_breach_fails_its_test(breach: str, provider60: Callable[..., I
     assert set(failed(run)) == {test}, run.out
     assert failed(run)[test].startswith(reason) and section in failed(run)[test], failed(run)[test]
     assert failure_types(run.report) == {test: "icd"}
+
+
+@pytest.mark.parametrize("terminal_update", ["ignore", "fail"])
+def test_an_update_that_crosses_the_end_is_ignored_or_failed(terminal_update: str,
+                                                             provider60: Callable[..., IcdProvider60], domain: int,
+                                                             tmp_path: Path) -> None:
+    """ICD 6.0 4.1.4.2 has an update of a command in a terminal state ignored (its first paragraph) and answered FAILED
+    (its step 2). A provider that reads the update sent at EXECUTING only after COMPLETED passes either way; the
+    FAILED is noted with the step it follows, and the second command, updated at ISSUED, is the one tested."""
+    p = provider60(execute=0.3, terminal_update=terminal_update, busy=True)
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "commands.InertialSensor.update,commands.InertialSensor.cleanup")
+    assert run.code == 0, run.out + run.err
+    assert run.cases == {"commands.InertialSensor.update": ("passed", ""),
+                         "commands.InertialSensor.cleanup": ("passed", "")}, run.out
+    notes = {tc.get("name"): tc.findtext("system-out") or "" for tc in ET.parse(run.report).getroot().iter("testcase")}
+    assert "COMPLETED before the checker could update it" in notes["InertialSensor.update"], notes
+    step_2 = "FAILED/VALIDATION_FAILED after COMPLETED: the answer to the consumer's update that crossed the end of the " \
+             "command, as ICD 6.0 4.1.4.2 step 2 has it"
+    assert (step_2 in notes["InertialSensor.update"] + notes["InertialSensor.cleanup"]) == (terminal_update == "fail"), notes
 
 
 def test_a_qos_other_than_umaaqoslib_is_a_warning(provider60: Callable[..., IcdProvider60], domain: int,
@@ -109,6 +144,35 @@ def test_a_qos_other_than_umaaqoslib_is_a_warning(provider60: Callable[..., IcdP
     assert "warning: writer " in err["GPSReportType"] and "TRANSIENT_LOCAL durability; UMAAQoSLib::TelemetryQoS has " \
            "VOLATILE" in err["GPSReportType"], err
     assert err["InertialSensorCommandType"] == ""
+
+
+def test_best_effort_statuses_are_a_warning_and_still_read(provider60: Callable[..., IcdProvider60], domain: int,
+                                                          tmp_path: Path) -> None:
+    """Best-effort status and ack writers (UMAAQoSLib's CommandQoS is reliable; 6.0 mandates none) pass discovery with a
+    warning naming the reference, and the checker still follows the command through them."""
+    p = provider60("best-effort-statuses")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
+                "discovery,commands.InertialSensor.INIT")
+    assert run.code == 0, run.out + run.err
+    assert failed(run) == {}
+    lines = {line.split()[0]: line for line in run.out.splitlines() if line.startswith(("discovery.", "commands."))}
+    for name in ("discovery.InertialSensorCommandStatusType", "discovery.InertialSensorCommandAckReportType"):
+        assert lines[name].split()[1] == "warn", run.out
+        assert "BEST_EFFORT reliability; UMAAQoSLib::CommandQoS has RELIABLE (RTI's UMAAQoSLib" in lines[name], run.out
+    assert run.cases["commands.InertialSensor.INIT"] == ("passed", ""), run.out
+
+
+def test_a_writer_no_reader_of_the_checker_can_match_says_why(provider60: Callable[..., IcdProvider60], domain: int,
+                                                               tmp_path: Path) -> None:
+    """A GPSReportType writer of EXCLUSIVE ownership: a warning (no rule), and a failure that names the ownership, not
+    the type, as what keeps the checker's readers from it."""
+    p = provider60("exclusive-gps")
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery.GPSReportType",
+                "--timeout", "5", "--window", "0.5")
+    assert run.code == 1, run.out + run.err
+    reason = failed(run)["discovery.GPSReportType"]
+    assert reason.endswith("a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2) did not match it (its "
+                           "EXCLUSIVE ownership: the checker's readers are SHARED, in the default partition)"), reason
 
 
 def test_sem_sim_6_0_reports_pass(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
@@ -144,6 +208,17 @@ def test_a_mixed_bus_checks_each_provider_in_its_version(sim: Callable[..., Any]
     assert {o for o, _ in forced.cases.values()} == {"skipped"}
 
 
+def test_only_tests_of_the_other_version_is_one_clear_line(provider60: Callable[..., IcdProvider60], domain: int,
+                                                            tmp_path: Path) -> None:
+    """--only naming 3.0.1 tests only, on a 6.0 provider: nothing to test, said as such (exit 2), not as skipped tests."""
+    p = provider60()
+    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "commands.GPSFix", "--window", "0.5")
+    assert run.code == 2, run.out + run.err
+    assert run.err.strip().splitlines()[-1] == (
+        "sem-check: --only/--skip select no UMAA 6.0 test, and the provider is tested as UMAA 6.0 (by the topics it "
+        "serves): sem-check --list shows the tests of each version"), run.err
+
+
 def test_a_6_0_run_that_leaves_the_sensor_unaligned_says_so(provider60: Callable[..., IcdProvider60], domain: int,
                                                              tmp_path: Path) -> None:
     """INIT alone leaves a GPS-aligned sensor initializing: the plan says so before anything is sent, and the run ends
@@ -170,3 +245,33 @@ def test_6_0_satellites_are_bounded_at_300_not_at_the_consoles_256() -> None:
 
     assert problems(280) == []
     assert problems(301) == ["satellites: 301 elements, more than 300 (ICD 6.0 5.1.1.1, Table 9: max size = 300)"]
+
+
+def test_each_6_0_breach_of_a_command_fails_its_test_once() -> None:
+    """An ISSUED/UPDATED the consumer did not cause, after a Figure 14 breach already reported, is reported in its turn,
+    and the earlier breach is not reported again."""
+    statuses: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)
+    observer = SimpleNamespace(statuses=statuses, acks={})  # what Consumer.update reads of the bus
+    provider, session = uuid.uuid4(), uuid.uuid4()
+    consumer = commands.Consumer(cast(Any, observer), provider, commands.CommandLimits(1, 1, 1), io.StringIO(),
+                                 version=umaa_6_0.V6_0)
+    sample = umaa_6_0.command(Cmd.GPS_ALIGN, consumer.source, provider, session)
+    sent = commands.Sent(Service.INERTIAL_SENSOR, session, sample, 0.0, provider, umaa_6_0.V6_0, "InertialSensorCommandType")
+    case = Case("commands.InertialSensor.GPS_ALIGN")
+
+    def publish(status: Status, reason: Reason) -> None:
+        status_type = Sem60.INS_COMMAND_STATUS.spec.type
+        statuses[session].append(StatusSeen(len(statuses[session]), provider, status_type(
+            timeStamp=sample.timeStamp, source=umaa_6_0.identifier(provider), sessionID=session.bytes,
+            commandStatus=status, commandStatusReason=reason, logMessage="")))
+        consumer.update(sent)
+        commands.breaches(sent, case)
+
+    publish(Status.ISSUED, Reason.SUCCEEDED)
+    publish(Status.EXECUTING, Reason.SUCCEEDED)
+    publish(Status.ISSUED, Reason.UPDATED)
+    assert case.reason.startswith("Figure 14 breach: ISSUED -> EXECUTING is not a Figure 14 transition"), case.reason
+    also = [n for n in case.notes if n.startswith("also: ")]
+    assert len(also) == 1 and also[0].startswith("also: Figure 14 breach: ISSUED/UPDATED after ISSUED/SUCCEEDED +0.00 s, "
+                                                 "EXECUTING/SUCCEEDED +1.00 s, though the consumer did not update the "
+                                                 "command (ICD 6.0 4.1.4.2"), also

@@ -104,8 +104,9 @@ class Sent:
     seen: tuple[int, int] = (0, 0)  # statuses and acks of the session already looked at
     breaches_reported: int = 0  # of `violations`, those already failed a case
     updated_at: float | None = None  # when the checker updated it (UMAA 6.0: a newer timeStamp, ICD 6.0 4.1.4.2)
+    update_failed: bool = False  # the provider failed the update that crossed the command's end (ICD 6.0 4.1.4.2 step 2)
     earlier: list[str] = field(default_factory=list)  # the story of each flow an update restarted
-    past: list[str] = field(default_factory=list)  # the violations of those flows, and of UPDATED out of place
+    found: list[str] = field(default_factory=list)  # UMAA 6.0: every breach in the order seen (UPDATED out of place too)
     counted: int = 0  # the transitions of those flows
 
     @property
@@ -114,7 +115,7 @@ class Sent:
 
     @property
     def violations(self) -> list[str]:
-        return self.past + self.flow.violations
+        return self.found if self.version.name == umaa_6_0.V6_0.name else self.flow.violations
 
     @property
     def transitions(self) -> int:
@@ -124,7 +125,6 @@ class Sent:
     def restart(self) -> None:
         """ISSUED/UPDATED: the flow restarts at ISSUED (ICD 6.0 4.1.4.2); the story keeps what came before."""
         self.earlier.append(self.story())
-        self.past += self.flow.violations
         self.counted += len(self.flow.transitions)
         self.flow, self.at = CommandFlow(), []
 
@@ -252,24 +252,42 @@ class Consumer:
         last = sent.flow.transitions[-1] if sent.flow.transitions else None
         if reason != umaa_6_0.UPDATED:
             assert not isinstance(reason, str)
-            if sent.flow.observe(status, reason, sample.logMessage) is not None:
+            if status is Status.FAILED and self._update_crossed_end(sent) and not sent.update_failed:
+                sent.update_failed = True
+                if sent.case is not None:
+                    sent.case.note(f"FAILED/{name(reason)} after {name(sent.flow.status)}: the answer to the consumer's "
+                                   f"update that crossed the end of the command, as {sent.refs['update']} step 2 has it "
+                                   "(its first paragraph has the update ignored; either is taken)")
+                return
+            before = sent.flow.status
+            t = sent.flow.observe(status, reason, sample.logMessage)
+            if t is not None:
+                t.violation = t.violation or umaa_6_0.failed_reason(before, status, reason)
+                sent.found += [t.violation] if t.violation else []
                 sent.at.append(received)
             return
         if last is not None and sent.earlier and last.status is Status.ISSUED and len(sent.flow.transitions) == 1:
             return  # a repeat of the ISSUED/UPDATED already seen
         story = sent.story()
         if status is not Status.ISSUED:
-            sent.past.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
+            sent.found.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
         elif sent.updated_at is None:
-            sent.past.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
+            sent.found.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
                              "4.1.4.2: an update is a command with the same source and sessionID and a newer timeStamp)")
         elif sent.flow.terminal:
-            sent.past.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
+            sent.found.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
                              "updated (ICD 6.0 4.1.4.2)")
         else:
             sent.restart()
             sent.flow.observe(Status.ISSUED, Reason.SUCCEEDED, sample.logMessage)
             sent.at.append(received)
+
+    @staticmethod
+    def _update_crossed_end(sent: Sent) -> bool:
+        """The consumer's update went out while the command ran, and the provider's terminal status came after it, with
+        no ISSUED/UPDATED: the update reached a command in a terminal state."""
+        return (sent.updated_at is not None and not sent.earlier and sent.flow.terminal and bool(sent.at)
+                and sent.at[-1] >= sent.updated_at)
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
         def fed() -> bool:
@@ -719,6 +737,12 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
                     if clean.outcome is Outcome.FAILED and consumer.progress is not None:
                         consumer.progress.add([clean])  # a run stopped later still reports this failure
         cases.append(case)
+    return _last_cases(consumer, cases, clean, destination, foreign, finished, selected)
+
+
+def _last_cases(consumer: Consumer, cases: list[Case], clean: Case, destination: Case, foreign: Sent | None,
+                finished: list[Sent], selected: Callable[[str], bool]) -> list[Case]:
+    """The InertialSensor tests' last: the cleanup (skipped when no command finished) and the destination test."""
     if selected(clean.name):
         if not finished:
             clean.skip("needs a command that finished: see the commands.InertialSensor tests")
@@ -861,15 +885,7 @@ def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callabl
         if clean.outcome is Outcome.FAILED and consumer.progress is not None:
             consumer.progress.add([clean])
         cases.append(case)
-    if selected(clean.name):
-        if not finished:
-            clean.skip("needs a command that finished: see the commands.InertialSensor tests")
-        cases.append(clean)
-    if foreign is not None:
-        with Timer(destination, consumer.progress):
-            judge_foreign(consumer, foreign, destination)
-        cases.append(destination)
-    return cases
+    return _last_cases(consumer, cases, clean, destination, foreign, finished, selected)
 
 
 def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:

@@ -203,16 +203,21 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd
         problems = [(f.message, True) for f in findings
                     if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)]
         problems += [(p, False) for p in types.check(sem, e, role, case, version)]
+        warned: list[str] = []
         if version.qos_reference is not None:  # no QoS mandated: a difference from the reference is a warning
-            for w in version.qos_reference(sem, e.qos, command):
+            warned = version.qos_reference(sem, e.qos, command)
+            for w in warned:
                 case.warn(f"{role} {e.key}: {w}")
         elif isinstance(sem, Sem):
             problems += [(p, True) for p in (reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos))]
         if not command and not problems and not observer.matched_by_consumer(sem, e):
             consumer = ("a consumer on the project's QoS profile" if version.qos_reference is None
                         else "a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2)")
-            problems.append((f"{consumer} did not match it (its type is not assignable to the {version.idl}'s: "
-                             f"{version.topic_ref[sem]})", False))
+            # what no reader of the default partition and SHARED ownership matches, whatever its type
+            apart = [w.split(";")[0] for w in warned if w.startswith(("EXCLUSIVE ownership", "partition "))]
+            why = (f"its {' and its '.join(apart)}: the checker's readers are SHARED, in the default partition"
+                   if apart else f"its type is not assignable to the {version.idl}'s: {version.topic_ref[sem]}")
+            problems.append((f"{consumer} did not match it ({why})", False))
         for p, profile in problems:
             case.fail(f"{role} {e.key}: {p}", profile=profile)
         if not problems and version.qos_reference is None:

@@ -13,7 +13,8 @@ decode path of the console and its replays; the raw samples also go to the recor
 
 UMAA 6.0 topics (`Sem60`) are read too: each report topic by a best-effort volatile reader, which matches
 any writer (6.0 mandates no QoS; RTI's UMAAQoSLib writes reports best-effort), the command status and ack
-by a reliable volatile reader, as RTI's CommandQoS writes them. Their samples are decoded as the 6.0 IDL
+by a reliable volatile reader, as RTI's CommandQoS writes them, and by a best-effort one for the writers the
+reliable one cannot match. Their samples are decoded as the 6.0 IDL
 has them (`umaa_6_0.decode`), not as the console's model; each source's UMAA versions are noted from the
 topics its samples came on (`versions`).
 Endpoints come from Cyclone's built-in DCPSPublication and DCPSSubscription topics: topic and
@@ -88,9 +89,17 @@ class Observer:
         self.readers += [(sem, r, False) for sem in REPORTS for r in both(sem, any_writer_reader_qos(sem.spec.cls))]
         if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
             self.readers += [(s.command, bus.reader(s.command), True) for s in Service]
-        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls) if sem.spec.cls is TopicClass.REPORT
-                                          else reader_qos(sem.spec.cls, durable=False)), True)
-                         for sem in Sem60 if sem.spec.cls is not TopicClass.COMMAND]
+        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), True)
+                         for sem in Sem60 if sem.spec.cls is TopicClass.REPORT]
+        # 6.0 mandates no QoS: a status or ack writer the reliable reader cannot match (a best-effort one) is read by a
+        # best-effort reader, which takes the samples of the writers the reliable one has not matched only
+        self._primary: dict[int, DataReader[Any]] = {}
+        for topic in Sem60:
+            if topic.spec.cls is TopicClass.STATUS:
+                reliable = bus.reader(topic, reader_qos(topic.spec.cls, durable=False))
+                any_writer = bus.reader(topic, any_writer_reader_qos(topic.spec.cls))
+                self.readers += [(topic, reliable, True), (topic, any_writer, True)]
+                self._primary[id(any_writer)] = reliable
         self._conditions = [all_samples(r) for _, r, _ in self.readers]
         self.consumer_readers: dict[AnySem, list[DataReader[Any]]] = {}
         for sem, r, consumer in self.readers:
@@ -161,8 +170,12 @@ class Observer:
                 return
             now = time.time()
             tapped: list[tuple[bytes, bool, int, int]] = []
+            primary = self._primary.get(id(reader))
+            theirs = {h & _U64 for h in primary.get_matched_publications()} if primary is not None else set()
             for data, info in raw:
                 handle = info.publication_handle & _U64
+                if handle in theirs:
+                    continue  # the reliable reader's
                 six = isinstance(sem, Sem60)
                 if consumer and not six and self.recorder is not None and self.recorder.active:
                     tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))

@@ -25,6 +25,7 @@ from typing import Any
 from sem_console.check import icd
 from sem_console.check.observe import Observer, Report
 from sem_console.check.results import Case, Progress, Timer
+from sem_console.check.values import in_range, satellite_counts
 from sem_console.dds.topics import AnySem, Sem
 
 MAX_PROBLEMS = 5  # kinds of problem quoted per case; the rest are counted
@@ -135,30 +136,19 @@ def _guid_problem(text: Any, path: str) -> str | None:
     return None
 
 
-def _range(v: Any, lo: float, hi: float, path: str, ref: str) -> str | None:
-    if isinstance(v, (int, float)) and not isinstance(v, bool) and not lo <= v <= hi:
-        return f"{path}: {v} outside {lo:g}..{hi:g} ({ref})"
-    return None
-
-
 def _gps_report(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[str | None]:
     sats = b.get("satellites") or []
-    n = b.get("numberSatellitesInView")
-    used = sum(1 for s in sats if s and s.get("usedInFix"))
-    out: list[str | None] = []
-    if isinstance(n, int) and n < 0:
-        out.append(f"numberSatellitesInView {n} is negative (ICD 5.1.3.1, Table 14)")
-    elif isinstance(n, int) and used > n:
-        out.append(f"{used} satellites usedInFix but numberSatellitesInView is {n} (ICD 5.1.3.1, Table 14)")
+    out: list[str | None] = [satellite_counts(b, "ICD 5.1.3.1, Table 14")]
     for i, s in enumerate(sats):
         if not s:
             continue
         p = f"satellites[{i}]"
-        out.append(_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", "ICD 5.4, Table 45: Angle is -pi..pi"))
-        out.append(_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", "ICD 5.4, Table 45: RadioFrequency_Hertz"))
+        out.append(in_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", "ICD 5.4, Table 45: Angle is -pi..pi"))
+        out.append(in_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency",
+                            "ICD 5.4, Table 45: RadioFrequency_Hertz"))
         out.append(_guid_problem(s.get("satelliteId"), f"{p}.satelliteId"))
     clock = b.get("clock") or {}
-    out.append(_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
+    out.append(in_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
                       "ICD 5.4, Table 45: RadioFrequency_Hertz"))
     return out
 
@@ -167,7 +157,7 @@ def _fix_status(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[st
     # carrierToNoise is a sequence<Size_Numeral> (Table 12), "nonnegative", -1e12..1e12 (Table 45); the 0..1e6 dB-Hz
     # of CarrierToNoiseDensityRatio is the satellites' C/N0 type, checked by the decoder.
     cn0 = b.get("carrierToNoise") or []
-    return [_range(v, 0, 1e12, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12; Table 45: Size_Numeral, nonnegative")
+    return [in_range(v, 0, 1e12, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12; Table 45: Size_Numeral, nonnegative")
             for i, v in enumerate(cn0)]
 
 
@@ -223,7 +213,7 @@ def check_values(sem: AnySem, samples: list[Report], limits: ReportLimits, case:
         case.note(f"{len(live)} {topic} samples, every value within the ICD")
 
 
-# A problem's text is "path: value rest" or "path: unknown <enum> ordinal value rest" (codec/convert.py, _range,
+# A problem's text is "path: value rest" or "path: unknown <enum> ordinal value rest" (codec/convert.py, in_range,
 # _guid_problem): its kind is the path without its indices and the rest, the same for every sample that has it.
 _INDEX = re.compile(r"\[\d+\]")
 _VALUE_FIRST = re.compile(r"(?P<path>[^:]+): (?P<value>\S+) (?P<rest>(?:outside|is not|elements,) .*)")

@@ -324,6 +324,9 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         run_names = version_names(version)
         how = "as --umaa says" if opts.umaa else "by the topics it serves"
         print(f"sem-check: provider {provider} on domain {opts.domain} ({net}), UMAA {version.name} ({how})", file=out)
+        if not any(selection(n) for n in run_names):  # the patterns name tests of the other version only
+            return could_not(f"--only/--skip select no UMAA {version.name} test, and the provider is tested as UMAA "
+                             f"{version.name} ({how}): sem-check --list shows the tests of each version")
         print("sem-check: " + ("--commands: the command tests send commands to the provider" if opts.commands else
                                "read-only: no command is sent (--commands runs the command tests)"), file=out, flush=True)
         # A gap longer than --max-gap shows for sure only in a window of twice that (a provider that

@@ -27,6 +27,7 @@ from UMAA_6_0.Common.Measurement import DateTime
 from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType
 
 from sem_console.check.icd import ServiceDef, Version
+from sem_console.check.values import in_range, satellite_counts
 from sem_console.codec import fastcdr
 from sem_console.codec.decode import Item, ReportItem, StatusItem, guid
 from sem_console.dds.qos import TopicClass, representation, writer_qos
@@ -56,7 +57,7 @@ FLOW_REFS = {
     "failed": "ICD 6.0 4.1.4.4", "cancel": "ICD 6.0 4.1.4.5", "cancel figure": "Figure 26",
     "cleanup": "ICD 6.0 4.1.5, Figure 27", "subscribe": "ICD 6.0 4.1.2.1", "destination": "ICD 6.0 4.1",
     "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command", "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
-    "update": "ICD 6.0 4.1.4.2",
+    "update": "ICD 6.0 4.1.4.2", "reasons": "ICD 6.0 4.1, Figure 15",
 }
 # The InertialSensor tests, in the order they run: INIT first (it also stops a running alignment), each alignment,
 # GPS_ALIGN again (`same`: the alignment it has just completed), TRANSFER_ALIGN (so that the cancel's and the update's
@@ -169,6 +170,27 @@ def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: 
     return StatusItem(Service.INERTIAL_SENSOR, kind, source, session, sample if valid else None, alive)
 
 
+# Figure 15: the reasons of FAILED from each state; the first status FAILED/SERVICE_FAILED (4.1.2.1)
+FAILED_REASONS: dict[Status | None, frozenset[Reason]] = {
+    None: frozenset({Reason.SERVICE_FAILED}),
+    Status.ISSUED: frozenset({Reason.VALIDATION_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
+                              Reason.SERVICE_FAILED}),
+    Status.COMMANDED: frozenset({Reason.RESOURCE_REJECTED, Reason.INTERRUPTED, Reason.TIMEOUT, Reason.SERVICE_FAILED}),
+    Status.EXECUTING: frozenset({Reason.OBJECTIVE_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
+                                 Reason.SERVICE_FAILED}),
+}
+
+
+def failed_reason(before: Status | None, status: Status | int, reason: Reason | int) -> str | None:
+    """What Figure 15 finds wrong with a FAILED's reason after the state before; None: nothing."""
+    allowed = FAILED_REASONS.get(before)
+    if status is not Status.FAILED or allowed is None or not isinstance(reason, Reason) or reason in allowed:
+        return None
+    state = before.name if before is not None else "(no status)"
+    return (f"reason {reason.name} is not valid for {state} -> FAILED ({FLOW_REFS['reasons']}: "
+            f"{', '.join(sorted(r.name for r in allowed))})")
+
+
 def flow_status(sample: Any) -> tuple[Status | int, Reason | int | str]:
     """A 6.0 status's commandStatus and commandStatusReason as the flow monitor's literals (their names are the same;
     an ordinal the 6.0 enum has not stays an int); UPDATED as `UPDATED`."""
@@ -237,12 +259,6 @@ _SENT = re.compile(r"satellites: (\d+) elements")
 SA_TYPES = "SA ICD 6.0 6.4, Table 67"
 
 
-def _range(v: Any, lo: float, hi: float, path: str, ref: str) -> str | None:
-    if isinstance(v, (int, float)) and not isinstance(v, bool) and not lo <= v <= hi:
-        return f"{path}: {v} outside {lo:g}..{hi:g} ({ref})"
-    return None
-
-
 def _identifier(body: dict[str, Any]) -> list[str | None]:
     """The source's parentID: the nil UUID or an RFC 4122 GUID (ICD 6.0 5.2.9, Table 24)."""
     parent = (body.get("source") or {}).get("parentID")
@@ -256,29 +272,24 @@ def _identifier(body: dict[str, Any]) -> list[str | None]:
 
 def gps_values(b: dict[str, Any], r: Any, _limits: Any) -> list[str | None]:
     sats = b.get("satellites") or []
-    n = b.get("numberSatellitesInView")
     out: list[str | None] = [*_identifier(b)]
     # the decoder keeps the first 256 satellites and says how many came
     count = max([len(sats)] + [int(m[1]) for p in r.invalid if (m := _SENT.match(p))])
     if count > 300:
         out.append(f"satellites: {count} elements, more than 300 ({TOPIC_REF[Sem60.GPS_REPORT]}: max size = 300)")
-    used = sum(1 for s in sats if s and s.get("usedInFix"))
-    if isinstance(n, int) and n < 0:
-        out.append(f"numberSatellitesInView {n} is negative ({TOPIC_REF[Sem60.GPS_REPORT]})")
-    elif isinstance(n, int) and used > n:
-        out.append(f"{used} satellites usedInFix but numberSatellitesInView is {n} ({TOPIC_REF[Sem60.GPS_REPORT]})")
+    out.append(satellite_counts(b, TOPIC_REF[Sem60.GPS_REPORT]))
     for i, s in enumerate(sats):
         if not s:
             continue
         p = f"satellites[{i}]"
-        out.append(_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", f"{SEM_TYPES}: Angle is -pi..pi"))
-        out.append(_range(s.get("elevation"), -math.pi, math.pi, f"{p}.elevation", f"{SEM_TYPES}: Angle is -pi..pi"))
-        out.append(_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", f"{SEM_TYPES}: RadioFrequencyHertz"))
+        out.append(in_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", f"{SEM_TYPES}: Angle is -pi..pi"))
+        out.append(in_range(s.get("elevation"), -math.pi, math.pi, f"{p}.elevation", f"{SEM_TYPES}: Angle is -pi..pi"))
+        out.append(in_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", f"{SEM_TYPES}: RadioFrequencyHertz"))
         number = s.get("satelliteID")
         if isinstance(number, (int, float)) and (number < 0 or not float(number).is_integer()):
             out.append(f"{p}.satelliteID: {number} is not a non-negative integer ({SEM_TYPES}: NaturalNumberCount)")
     clock = b.get("clock") or {}
-    out.append(_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
+    out.append(in_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
                       f"{SEM_TYPES}: RadioFrequencyHertz"))
     return out
 
@@ -290,25 +301,25 @@ def pose_values(b: dict[str, Any], _r: Any, _limits: Any) -> list[str | None]:
     two_pi = 6.28318530718
     out: list[str | None] = [
         *_identifier(b),
-        _range(position.get("geodeticLatitude"), -90, 90, "position.geodeticLatitude", f"{SA_TYPES}: GeodeticLatitude"),
-        _range(position.get("geodeticLongitude"), -180, 180, "position.geodeticLongitude",
+        in_range(position.get("geodeticLatitude"), -90, 90, "position.geodeticLatitude", f"{SA_TYPES}: GeodeticLatitude"),
+        in_range(position.get("geodeticLongitude"), -180, 180, "position.geodeticLongitude",
                f"{SA_TYPES}: GeodeticLongitude"),
-        _range(b.get("course"), -two_pi, two_pi, "course", f"{SA_TYPES}: CourseTrueNorth"),
-        _range((attitude.get("pitch") or {}).get("pitch"), -math.pi / 2, math.pi / 2, "attitude.pitch.pitch",
+        in_range(b.get("course"), -two_pi, two_pi, "course", f"{SA_TYPES}: CourseTrueNorth"),
+        in_range((attitude.get("pitch") or {}).get("pitch"), -math.pi / 2, math.pi / 2, "attitude.pitch.pitch",
                f"{SA_TYPES}: PitchHalfAngle"),
-        _range((attitude.get("roll") or {}).get("roll"), -two_pi, two_pi, "attitude.roll.roll", f"{SA_TYPES}: RollAngle"),
-        _range((attitude.get("yaw") or {}).get("yaw"), -two_pi, two_pi, "attitude.yaw.yaw",
+        in_range((attitude.get("roll") or {}).get("roll"), -two_pi, two_pi, "attitude.roll.roll", f"{SA_TYPES}: RollAngle"),
+        in_range((attitude.get("yaw") or {}).get("yaw"), -two_pi, two_pi, "attitude.yaw.yaw",
                "the 6.0 IDL's YawAngle, Measurements.idl"),
         # the optional members, when present (SA ICD 6.0 Table 19: †)
-        _range(b.get("altitude"), 0, math.inf, "altitude", f"{SA_TYPES}: MSLAltitude"),
-        _range(b.get("altitudeAGL"), 0, math.inf, "altitudeAGL", f"{SA_TYPES}: DistanceAGL"),
-        _range(b.get("altitudeASF"), 0, 401_056_000, "altitudeASF", f"{SA_TYPES}: DistanceASF"),
-        _range(b.get("altitudeGeodetic"), -10_000, 700_000, "altitudeGeodetic", f"{SA_TYPES}: GeodeticAltitude"),
-        _range(b.get("depth"), 0, 10_000, "depth", f"{SA_TYPES}: DistanceBSL"),
+        in_range(b.get("altitude"), 0, math.inf, "altitude", f"{SA_TYPES}: MSLAltitude"),
+        in_range(b.get("altitudeAGL"), 0, math.inf, "altitudeAGL", f"{SA_TYPES}: DistanceAGL"),
+        in_range(b.get("altitudeASF"), 0, 401_056_000, "altitudeASF", f"{SA_TYPES}: DistanceASF"),
+        in_range(b.get("altitudeGeodetic"), -10_000, 700_000, "altitudeGeodetic", f"{SA_TYPES}: GeodeticAltitude"),
+        in_range(b.get("depth"), 0, 10_000, "depth", f"{SA_TYPES}: DistanceBSL"),
     ]
     for member, kind in (("attitudeCovariance", "CovarOrientationNED"), ("positionCovariance", "CovarPosNED")):
         for k, v in (b.get(member) or {}).items():
-            out.append(_range(v, -10_000, 10_000, f"{member}.{k}", f"{SA_TYPES}: {kind}"))
+            out.append(in_range(v, -10_000, 10_000, f"{member}.{k}", f"{SA_TYPES}: {kind}"))
     if b.get("altitude") is not None and b.get("depth") is not None and b["altitude"] > 0 and b["depth"] > 0:
         out.append(f"altitude {b['altitude']} m above and depth {b['depth']} m below the sea at once ({ref})")
     return out
