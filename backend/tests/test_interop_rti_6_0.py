@@ -24,11 +24,12 @@ from rti.connext7 import RemoteParticipant
 from samplegen import random_sample, to_plain
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
-from sem_console.codec.decode import Decoder
+from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.topics import Sem60
 from sem_console.umaa.guid import satellite_label
+from sem_console.versions import umaa_6_0
 from test_console import wait_until
 from test_interop_rti import same
 
@@ -39,6 +40,8 @@ POSE = Sem60.GLOBAL_POSE_REPORT
 MASK = RECIPE_ENV  # NDDS_XTYPES_COMPLIANCE_MASK=0x1a9, as the kit's start_component.sh exports it
 ALIVE = int(InstanceState.Alive)
 NIL = [0] * 16
+ATTITUDE = {"pitch": {"pitch": 0.01}, "roll": {"roll": -0.02}, "yaw": {"yaw": 1.2}}
+HEALTH = {"GPSReport", "GPSFixReport", "InertialSensorReport"}  # the model's topics a 6.0 vehicle's reports count under
 
 
 @pytest.fixture
@@ -89,9 +92,23 @@ class KitVehicle:
         self.p.write(Sem60.GPS_REPORT, {"clock": CLOCK, "numberSatellitesInView": 2, "satellites": SATELLITES,
                                         "timeStamp": stamp, "source": self.source})
         self.p.write(Sem60.INS_REPORT, {"status": 7, "timeStamp": stamp, "source": self.source})  # FINE_GPS_ALIGNMENT_COMPLETE
-        self.p.write(POSE, {"altitude": 0.5, "attitude": {"pitch": {"pitch": 0.01}, "roll": {"roll": -0.02}, "yaw": {"yaw": 1.2}},
-                            "course": 1.2, "navigationSolution": 2, "position": {"geodeticLatitude": 36.85,
-                            "geodeticLongitude": -75.98}, "timeStamp": stamp, "source": self.source})
+        self.p.write(POSE, {"altitude": 0.5, "attitude": ATTITUDE, "course": 1.2, "navigationSolution": 2,  # MEASURED
+                            "position": {"geodeticLatitude": 36.85, "geodeticLongitude": -75.98}, "timeStamp": stamp,
+                            "source": self.source})
+
+    def model(self, detail: dict[str, Any]) -> None:
+        """`detail` (REST) has this vehicle's GlobalPose as the model's position report and its INS status."""
+        reports = detail["reports"]
+        pose, ins = reports["GPSFixReport"]["report"], reports["InertialSensorReport"]["report"]
+        assert reports["GPSFixReport"]["invalid"] == reports["InertialSensorReport"]["invalid"] == []
+        assert pose["source"] == ins["source"] == str(self.guid)
+        assert pose["position2DWithTime"]["geodeticPosition"] == {
+            "geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}}
+        assert pose["position2DWithTime"]["timeAtPosition"] > 1.7e9
+        assert (pose["trueCourse"], pose["altitudeMSL"], pose["attitude"]) == (1.2, {"altitude": 0.5}, ATTITUDE)
+        assert (pose["navigationSolution"], pose["GPSLatLongValid"]) == ("MEASURED", True)
+        assert pose["SOG"] is None and pose["depth"] is None and pose["positionCovariance"] is None
+        assert (ins["status"], ins["state"]) == ("FINE_GPS_ALIGNMENT_COMPLETE", None)
 
 
 def _detail(c: Any, v: KitVehicle, topics: set[str]) -> dict[str, Any]:
@@ -104,12 +121,14 @@ def _detail(c: Any, v: KitVehicle, topics: set[str]) -> dict[str, Any]:
 
 def test_console_reads_an_rti_kit_vehicle_on_the_drop_in(rti60: Callable[..., Any], console: Any, domain: int) -> None:
     """(a) An RTI 6.0 vehicle on the kit with the drop-in's profiles: the console lists it as UMAA 6.0 with its
-    GPSReportType member for member (the clock and both satellites, as the 6.0 adapter maps them), and its GlobalPose
-    and InertialSensor reports live (the model has no place for their values yet); nothing undecodable, nothing to
-    tell its operator."""
+    GPSReportType member for member (the clock and both satellites, as the 6.0 adapter maps them), its GlobalPose
+    (RTI's appendable type) as the model's position report with its attitude, and its INS status; nothing
+    undecodable, nothing to tell its operator."""
     c = console()
     v = KitVehicle(rti60(domain, writers=REPORTS, umaa=DROP_IN, name="Kit60"))
-    detail = _detail(c, v, {"GPSReport", "GlobalPoseReportType", "InertialSensorReportType"})
+    detail = _detail(c, v, HEALTH)
+    assert set(detail["topics"]) == HEALTH
+    v.model(detail)
     assert detail["umaaVersion"] == "6.0" and detail["link"] == "live"
     gps = detail["reports"]["GPSReport"]["report"]
     assert gps["source"] == str(v.guid) and gps["numberSatellitesInView"] == 2
@@ -130,7 +149,9 @@ def test_console_reads_an_rti_kit_vehicle_on_the_drop_in(rti60: Callable[..., An
 def test_rti_globalpose_decodes_in_the_console(env: dict[str, str], rti60: Callable[..., Any], domain: int) -> None:
     """GlobalPoseReportType from an RTI vehicle on the drop-in (XCDR2, RTI's appendable type), random samples with
     the optional members present and absent: the console's reader of the appendable copy matches it (the final reader
-    refuses it), and the console's decoder reads each sample member for member, from its source."""
+    refuses it), and the console's decoder reads each sample member for member, from its source, into the model's
+    position report: the same as the sample sent, as cyclonedds' decoding of it, and as the same sample in the final
+    type."""
     bus = Bus(domain)
     appendable, final = bus.reader(POSE, appendable=True), bus.reader(POSE, final_qos())
     p = rti60(domain, writers=[POSE], umaa=DROP_IN, env=env)
@@ -142,12 +163,19 @@ def test_rti_globalpose_decodes_in_the_console(env: dict[str, str], rti60: Calla
     got: list[tuple[bytes, Any]] = []
     wait_until(lambda: got.extend(_cdr(appendable)) or len(got) >= len(sent), 10, "RTI's GlobalPose samples")
     assert final.get_matched_publications() == []
-    fast = fastcdr.decoder(POSE.spec.appendable)  # type: ignore[arg-type]
+    assert POSE.spec.appendable is not None
+    fast, adapt = fastcdr.decoder(POSE.spec.appendable), umaa_6_0.REPORTS[POSE].model
     decoder = Decoder()
     for x, (data, _info) in zip(sent, got, strict=True):
         assert same(fast.json(data)[0], to_json(x)[0]), (to_json(x)[0], fast.json(data)[0])
         item = decoder.decode(POSE, data, True, ALIVE, 0.0)
-        assert item is not None and item.source == uuid.UUID(bytes=bytes(x.source.id))
+        assert isinstance(item, ReportItem) and item.source == uuid.UUID(bytes=bytes(x.source.id))
+        assert (item.topic, item.version) == ("GPSFixReport", "6.0")
+        model = adapt(*to_json(x))
+        assert same(item.report, model[0]) and item.invalid == model[1], (model, item.report)
+        assert (item.report, item.invalid) == adapt(*to_json(POSE.spec.appendable.deserialize(data)))
+        final = decoder.decode(POSE, POSE.spec.type.serialize(x, use_version_2=True), True, ALIVE, 0.0)
+        assert isinstance(final, ReportItem) and (final.report, final.invalid) == model
     assert decoder.undecodable == {}
 
 
@@ -188,12 +216,15 @@ def test_console_tells_an_rti_kit_vehicle_as_shipped_to_stop_type_information(rt
 def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(rti60: Callable[..., Any], console: Any,
                                                                      domain: int) -> None:
     """The kit with its type information off, nothing else changed: RTI writes every type in XCDR1, the console reads
-    GPSReportType and InertialSensorReportType, and tells the operator the fix for GlobalPoseReportType (optional
-    members: XCDR2 only), which it counts as a writer it does not read."""
+    GPSReportType and InertialSensorReportType (its INS status in the model), and tells the operator the fix for
+    GlobalPoseReportType (optional members: XCDR2 only), which it counts as a writer it does not read: the model has
+    no position report of it."""
     c = console()
     v = KitVehicle(rti60(domain, writers=REPORTS, name="Kit60", type_object_max=0))
-    detail = _detail(c, v, {"GPSReport", "InertialSensorReportType"})
-    assert "GlobalPoseReportType" not in detail["topics"]
+    detail = _detail(c, v, {"GPSReport", "InertialSensorReport"})
+    assert "GPSFixReport" not in detail["topics"] and detail["reports"].get("GPSFixReport") is None
+    ins = detail["reports"]["InertialSensorReport"]["report"]
+    assert (ins["status"], ins["state"], ins["source"]) == ("FINE_GPS_ALIGNMENT_COMPLETE", None, str(v.guid))
     findings = _findings(c, 1)
     assert [(f["name"], f["kind"], f["topic"], f["message"]) for f in findings] == [
         ("Kit60", "representation", "GlobalPoseReportType", "RTI participant Kit60 offers GlobalPoseReportType in XCDR1: set "
@@ -213,7 +244,7 @@ def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(drop_in: bool, rti60
 
     def topic() -> Any:
         r = httpx.get(f"{c.url}/api/providers/{v.guid}")
-        return r.json()["topics"].get("GlobalPoseReportType") if r.status_code == 200 else None
+        return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None  # GlobalPose: the model's
 
     stamp = _stamp()
     pose = {"attitude": {"pitch": {"pitch": 0.0}, "roll": {"roll": 0.0}, "yaw": {"yaw": 0.0}}, "course": 0.0,

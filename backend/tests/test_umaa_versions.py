@@ -21,7 +21,7 @@ from sem_console.codec.convert import to_json
 from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
 from sem_console.console.history import track_point
-from sem_console.dds.topics import Sem60
+from sem_console.dds.topics import Sem60, delimited, to_appendable
 from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
@@ -182,6 +182,25 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
     assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
                                "trueCourse: -1.0 outside 0..6.28319"]
     assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
+
+
+def test_a_6_0_report_from_an_appendable_writer_decodes_into_the_same_model() -> None:
+    """A 6.0 report as an appendable writer sends it (an RTI vehicle, `sem-sim --gps-extensibility appendable`):
+    the one decode path gives the same model as for the final type, and cyclonedds' decoding of the appendable copy,
+    adapted, the same again."""
+    sems = [sem for sem in umaa_6_0.REPORTS if sem.spec.appendable is not None]
+    assert Sem60.GLOBAL_POSE_REPORT in sems
+    for sem in sems:
+        sample, golden = GOLDEN_6_0[sem.spec.name]()
+        data = to_appendable(sample).serialize(use_version_2=True)
+        assert delimited(data) and not delimited(golden)
+        final, appendable = (Decoder().decode(sem, d, True, ALIVE, 0.0) for d in (golden, data))
+        assert isinstance(final, ReportItem) and isinstance(appendable, ReportItem) and final.report is not None
+        assert (appendable.topic, appendable.source, appendable.version) == (final.topic, final.source, "6.0")
+        assert (appendable.report, appendable.invalid) == (final.report, final.invalid)
+        assert sem.spec.appendable is not None
+        cyclonedds = to_json(sem.spec.appendable.deserialize(data))
+        assert umaa_6_0.REPORTS[sem].model(*cyclonedds) == (final.report, final.invalid)
 
 
 def _attitude_covariance() -> Any:

@@ -25,7 +25,7 @@ from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
 from sem_console.codec import fastcdr
-from sem_console.dds.topics import AnySem, Sem, Service, delimited
+from sem_console.dds.topics import AnySem, Sem, Sem60, Service, delimited
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
 from sem_console.versions.shape import Adapter
 
@@ -101,17 +101,24 @@ class _Route:
     model: Adapter = _same  # a report's JSON and invalid values as the model's (its version's adapter)
 
 
+def _decoder(sem: AnySem, cls: type[IdlStruct]) -> fastcdr.TypeDecoder:
+    """The generated decoder of topic `sem`'s samples of type `cls`, its final type or its appendable copy: a 6.0
+    report said as data (`Report.spec`) is decoded straight to the model's JSON, whichever type it came in."""
+    r = umaa_6_0.REPORTS.get(sem) if isinstance(sem, Sem60) else None
+    if r is None or r.spec is None:
+        return fastcdr.decoder(cls)
+    return fastcdr.decoder(cls, r.spec, umaa_6_0.model_path, r.model)
+
+
 _ROUTES: dict[AnySem, _Route] = {
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), topic, None, "report")
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), topic, None, "report")
        for sem, topic in REPORT_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "status")
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, service, "status")
        for sem, service in STATUS_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, service, "ack")
        for sem, service in ACK_TOPICS.items()},
-    # a 6.0 report said as data (`Report.spec`) is decoded straight to the model's JSON; another is adapted after
-    **{sem: _Route(sem.spec.name, sem.spec.type,
-                   fastcdr.decoder(sem.spec.type, r.spec, umaa_6_0.model_path, r.model) if r.spec is not None
-                   else fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
+    # a 6.0 report not said as data is adapted after its decoder
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), r.topic, None, "report", UMAA_6_0,
                    _source if r.spec is not None else umaa_6_0.source_of, _same if r.spec is not None else r.model)
        for sem, r in umaa_6_0.REPORTS.items()},
 }
@@ -120,7 +127,7 @@ DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder d
 # delimited XCDR2 (D_CDR2, DDS-XTypes 7.6.3.1.2), what an appendable writer sends, is decoded with the appendable copy;
 # any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
 _APPENDABLE_ROUTES: dict[AnySem, _Route] = {
-    sem: replace(route, type=sem.spec.appendable, fast=fastcdr.decoder(sem.spec.appendable))
+    sem: replace(route, type=sem.spec.appendable, fast=_decoder(sem, sem.spec.appendable))
     for sem, route in _ROUTES.items() if sem.spec.appendable is not None}
 _ALIVE = InstanceState.Alive
 
