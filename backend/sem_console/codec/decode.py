@@ -24,9 +24,16 @@ from typing import Any
 from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+
 from sem_console.codec import fastcdr
 from sem_console.dds.topics import AnySem, Sem, Service, delimited
+from sem_console.umaa.flow import AnyReason
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
+from sem_console.versions.commands import ACK_TOPICS as ACKS
+from sem_console.versions.commands import COMMAND_TOPICS as COMMANDS
+from sem_console.versions.commands import STATUS_TOPICS as STATUSES
+from sem_console.versions.commands import Commanding
 
 log = logging.getLogger("sem-console.ingest")
 
@@ -34,9 +41,10 @@ REPORT_TOPICS = {
     Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
     Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
 }
-STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
-ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
-COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
+# The command status and ack topics of every version (versions/commands.py), and the service each answers
+STATUS_TOPICS = {sem: c.service for sem, c in STATUSES.items()}
+ACK_TOPICS = {sem: c.service for sem, c in ACKS.items()}
+COMMAND_TOPICS = COMMANDS  # recorded, never decoded: the console follows its own commands
 # The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
 REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
 # Every topic name a vehicle's report samples count under for its link (provider health)
@@ -63,6 +71,9 @@ class StatusItem:
     session: uuid.UUID
     sample: Any  # None when disposed
     alive: bool
+    # a status sample's status and reason in the model (`umaa/flow.py`), whatever the version's enumerations
+    status: Status | int | None = None
+    reason: AnyReason | int | None = None
 
 
 Item = ReportItem | StatusItem
@@ -96,6 +107,7 @@ class _Route:
     service: Service | None  # status and ack topics
     kind: str  # "report" | "status" | "ack"
     version: UmaaVersion = UMAA_3_0_1
+    commanding: Commanding | None = None  # status and ack topics: the version's commanding
     source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
     model: Callable[[dict[str, Any]], dict[str, Any]] | None = _same  # a report's JSON as the model's; None: health only
 
@@ -103,12 +115,12 @@ class _Route:
 _ROUTES: dict[AnySem, _Route] = {
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), topic, None, "report")
        for sem, topic in REPORT_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "status")
-       for sem, service in STATUS_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, service, "ack")
-       for sem, service in ACK_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, c.service, "status", c.version, c)
+       for sem, c in STATUSES.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), None, c.service, "ack", c.version, c)
+       for sem, c in ACKS.items()},
     **{sem: _Route(sem.spec.name, sem.spec.type, fastcdr.decoder(sem.spec.type), r.topic, None, "report", UMAA_6_0,
-                   umaa_6_0.source_of, r.model)
+                   source=umaa_6_0.source_of, model=r.model)
        for sem, r in umaa_6_0.REPORTS.items()},
 }
 # The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
@@ -177,7 +189,10 @@ class Decoder:
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None
-        assert route.service is not None
+        assert route.service is not None and route.commanding is not None
+        if route.kind == "status" and valid:
+            status, reason = route.commanding.read_status(sample)
+            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason)
         return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive)
 
     @staticmethod
