@@ -183,7 +183,7 @@ def test_a_6_0_alignment_that_fails_shows_its_kind_s_failure_and_the_command_fai
 def test_the_6_0_commands_and_the_update_have_words() -> None:
     assert set(WORDS["InertialSensorCmdEnumType"]) == set(InsCmd.__members__) == set(ALIGN)
     assert all(w.strip() for w in WORDS["InertialSensorCmdEnumType"].values())
-    assert word("CommandStatusReasonEnumType", "UPDATED").startswith("Updated")
+    assert word("CommandStatusReasonEnumType", "UPDATED") == "Again, updated: it starts over"
     assert {m.name for m in Reason60} <= set(WORDS["CommandStatusReasonEnumType"])
 
 

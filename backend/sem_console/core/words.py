@@ -63,8 +63,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "RESOURCE_REJECTED": "The vehicle refused it",
         "INTERRUPTED": "Another command took over",
         "TIMEOUT": "Timed out",
-        # UMAA 6.0 (its ICD 4.1.4.2): the consumer sent the command again, newer, and the vehicle starts it over
-        "UPDATED": "Updated: started over with the newer command",
+        # UMAA 6.0 (its ICD 4.1.4.2): the consumer sent the command again, newer; the vehicle starts it over, ISSUED:
+        # "Received again, updated: it starts over"
+        "UPDATED": "Again, updated: it starts over",
     },
     # ---- UMAA 6.0 commanding ----
     # InertialSensorCommandType.state: the alignment (or start-up) the operator asks of a UMAA 6.0 inertial sensor
