@@ -49,7 +49,8 @@ class SimOptions(BaseModel):
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
     umaa: UmaaVersion = Field("3.0.1", description=(
         "the UMAA version the vehicles speak. 6.0: their GPSReportType, GlobalPoseReportType and InertialSensorReportType "
-        "on the 6.0 topics, with RTI UMAAQoSLib's report QoS (best-effort, keep-last-1); they answer no command yet "
+        "on the 6.0 topics, with RTI UMAAQoSLib's report QoS (best-effort, keep-last-1); they answer "
+        "InertialSensorCommandType, their INS walking the stages of the alignment commanded "
         "(default: 3.0.1)"))
     gps_extensibility: Literal["final", "appendable"] = Field("final", description=(
         "the types GPSReport and GPSFixReport are written with. final: the console's types (idlc's default, as a "
