@@ -33,7 +33,7 @@ from sem_console.main import create_app
 from sem_console.sim.umaa_6_0 import STAGES
 from sem_console.umaa.flow import UPDATED, CommandFlow
 from test_console import HAPPY, V1, WsClient, wait_command, wait_until
-from test_umaa_versions import HEALTH_6_0, _detail
+from test_umaa_versions import HEALTH_6_0, V2, _detail
 
 ALIGN = ["BEST_ALIGN", "GPS_ALIGN", "INIT", "SNAP_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN"]
 
@@ -237,3 +237,22 @@ def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(
         r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "ON"})
         assert r.status_code == 201 and r.json()["state"] == "ON", r.text
         assert [c["state"] for c in client.get("/api/commands").json()] == ["ON", "GPS_ALIGN"]
+
+
+def test_a_mixed_fleet_is_commanded_each_vehicle_in_its_version(sim, console, tmp_path: Path) -> None:
+    """A 3.0.1 and a 6.0 `sem-sim` on one bus, one console: each vehicle takes its version's command, at once."""
+    sim("--vehicles", "1", "--align-seconds", "30")
+    sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--align-seconds", "30",
+        "--state-file", str(tmp_path / "sim-6.0.json"))
+    c = console()
+    _detail(c.url, V1, {"InertialSensorReport"})
+    _detail(c.url, V2, HEALTH_6_0)
+    old = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "RESTARTING"})
+    six = httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "GPS_ALIGN"})
+    assert old.status_code == six.status_code == 201, (old.text, six.text)
+    for r in (old, six):
+        done = wait_command(c.url, r.json()["sessionId"], timeout=20)
+        assert [t["status"] for t in done["transitions"]] == HAPPY and done["violations"] == [] and done["ackedAt"]
+    # and neither takes the other's: the console refuses before anything reaches the bus
+    assert httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "ON"}).status_code == 422
+    assert httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "INIT"}).status_code == 422
