@@ -239,14 +239,14 @@ def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(
         assert [c["state"] for c in client.get("/api/commands").json()] == ["ON", "GPS_ALIGN"]
 
 
-def test_a_mixed_fleet_is_commanded_each_vehicle_in_its_version(sim, console, tmp_path: Path) -> None:
-    """A 3.0.1 and a 6.0 `sem-sim` on one bus, one console: each vehicle takes its version's command, at once."""
-    sim("--vehicles", "1", "--align-seconds", "30")
-    sim("--umaa", "6.0", "--first-vehicle", "2", "--vehicles", "1", "--align-seconds", "30",
-        "--state-file", str(tmp_path / "sim-6.0.json"))
+def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(sim, console) -> None:
+    """One `sem-sim` of a 3.0.1 and a 6.0 vehicle (--umaa-6-0-vehicles), one console: each vehicle reports on its
+    version's topics and takes its version's command, at once."""
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--align-seconds", "30")
     c = console()
-    _detail(c.url, V1, {"InertialSensorReport"})
-    _detail(c.url, V2, HEALTH_6_0)
+    assert _detail(c.url, V1, {"GPSReport", "GPSFixReport", "InertialSensorReport"})["umaaVersion"] == "3.0.1"
+    six_detail = _detail(c.url, V2, HEALTH_6_0)
+    assert six_detail["umaaVersion"] == "6.0" and set(six_detail["topics"]) == HEALTH_6_0  # none of the 3.0.1 topics
     old = httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "RESTARTING"})
     six = httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "GPS_ALIGN"})
     assert old.status_code == six.status_code == 201, (old.text, six.text)

@@ -31,9 +31,10 @@ from sem_console.sim.comap_vehicle import ComapVehicles
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
 from sem_console.sim.provider_flow import ProviderFlow
-from sem_console.sim.reports import Sensors
+from sem_console.sim.reports import Out, Sensors
 from sem_console.sim.umaa_6_0 import Writer60
 from sem_console.umaa.guid import from_guid
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
 from sem_console.versions.commands import COMMANDING, Commanding
 
 __all__ = ["FAULTS", "InUse", "SimOptions", "Simulator", "Vehicle", "vehicle_guid"]
@@ -52,6 +53,9 @@ class Vehicle:
     faults: set[str]
     sensors: Sensors
     commands: ProviderFlow
+    version: UmaaVersion  # what it speaks (--umaa, --umaa-6-0-vehicles)
+    write: Out  # its samples, as its version writes them
+    dispose: Out
 
 
 def providers_on_bus(bus: Bus, wait: float, longest: float = 3.0) -> set[uuid.UUID]:
@@ -91,25 +95,27 @@ class Simulator:
         # --gps-extensibility appendable: GPSReport and GPSFixReport written with their appendable copies, which RTI
         # consumers on the AppendableGps profile read right (the console reads either: one reader per extensibility)
         self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
-        # --umaa 6.0: the reports written on the 6.0 topics instead (sim/umaa_6_0.py)
-        self.writer60 = Writer60(bus, opts.scaled(opts.align_seconds)) if opts.umaa == "6.0" else None
+        # --umaa 6.0 or --umaa-6-0-vehicles: those vehicles' samples written on the 6.0 topics (sim/umaa_6_0.py)
+        versions = {opts.version_of(n) for n in opts.numbers}
+        self.writer60 = Writer60(bus, opts.scaled(opts.align_seconds)) if UMAA_6_0 in versions else None
         self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable)
-                        for sem in Sem if sem.spec.cls is not TopicClass.COMMAND and self.writer60 is None}
+                                                       for sem in Sem if sem.spec.cls is not TopicClass.COMMAND
+                                                       and UMAA_3_0_1 in versions}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
             self.comap = ComapVehicles(opts, [v.sensors for v in self.vehicles.values()])
         # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
-        # the commands of the vehicles' version (versions/commands.py): a 6.0 vehicle answers no 3.0.1 command
-        commandings = [c for c in COMMANDING.values() if c.version == opts.umaa]
+        # the commands of the vehicles' versions (versions/commands.py): each vehicle answers its own version's only
+        commandings = [c for c in COMMANDING.values() if c.version in versions]
         self.command_readers = {c: bus.reader(c.command) for c in commandings}
         self.status_readers = {c: bus.reader(c.status) for c in commandings}
         self.conditions = {c: all_samples(r) for c, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
         self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) \
-            if self.writer60 is None else None
-        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self.writer60 is None else 0
+            if Sem.INS_REPORT in self.writers else None
+        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self._twin_reader else 0
         self._twin_at = 0.0
         self._health_at = 0.0
         self.last = time.monotonic()
@@ -129,20 +135,20 @@ class Simulator:
     def _vehicle(self, number: int) -> Vehicle:
         guid, faults = vehicle_guid(number), self.opts.faults_for(number)
         sensors = Sensors(self.opts, number, guid, faults)
+        version = self.opts.version_of(number)
+        if version == UMAA_6_0 and self.writer60 is not None:
+            write, dispose, ins = self.writer60.write, self.writer60.dispose, self.writer60.alignments
+        else:
+            write, dispose, ins = self.write, self.dispose, None
         return Vehicle(number, guid, faults, sensors,
-                       ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, self.write, self.dispose,
-                                    self.writer60.alignments if self.writer60 is not None else None))
+                       ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, write, dispose, ins),
+                       version, write, dispose)
 
     def write(self, sem: AnySem, sample: Any) -> None:
-        if self.writer60 is not None:
-            self.writer60.write(sem, sample)
-            return
+        """A 3.0.1 vehicle's sample."""
         self.writers[sem].write(to_appendable(sample) if sem in self.appendable else sample)
 
     def dispose(self, sem: AnySem, sample: Any) -> None:
-        if self.writer60 is not None:
-            self.writer60.dispose(sem, sample)
-            return
         self.writers[sem].dispose(to_appendable(sample) if sem in self.appendable else sample)
 
     def startup(self, window: float = 1.0) -> None:
@@ -190,8 +196,8 @@ class Simulator:
         except (TypeError, ValueError):
             return
         vehicle = self.vehicles.get(dest)
-        if vehicle is None:
-            return  # addressed to another provider
+        if vehicle is None or vehicle.version != commanding.version:
+            return  # addressed to another provider (or in a version this vehicle does not speak)
         flow = vehicle.commands
         if not isinstance(s, InvalidSample):
             last = self.last_status(vehicle, service, session) if startup else None
@@ -248,7 +254,7 @@ class Simulator:
         for v in self.vehicles.values():
             v.sensors.step(now, dt)
             v.commands.step(now)
-            v.sensors.publish(now, self.write)
+            v.sensors.publish(now, v.write)
 
     def run(self, stop: Callable[[], bool]) -> None:
         if not self.started:
@@ -268,6 +274,6 @@ class Simulator:
             return
         for v in self.vehicles.values():
             v.commands.shutdown()
-            v.sensors.dispose(self.dispose)
+            v.sensors.dispose(v.dispose)
         wait_for_acks([*self.writers.values(), *(self.writer60.writers.values() if self.writer60 else [])], ack_timeout)
         self.journal.close()
