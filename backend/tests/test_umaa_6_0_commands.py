@@ -178,6 +178,10 @@ def test_a_6_0_alignment_that_fails_shows_its_kind_s_failure_and_the_command_fai
     assert [(t["status"], t["reason"]) for t in done["transitions"]][-1] == ("FAILED", "RESOURCE_FAILED")
     assert done["violations"] == []
     wait_until(lambda: stages.take() and stages.seen[-1] == "GPS_ALIGNMENT_FAILURE", 5, "GPS_ALIGNMENT_FAILURE")
+    # the alarm names the command in the operator's words
+    alarms = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "command-failed"], 5,
+                        "the command-failed alarm")
+    assert "INS GPS-aided alignment failed" in alarms[0]["text"], alarms
 
 
 def test_the_6_0_commands_and_the_update_have_words() -> None:
