@@ -50,7 +50,7 @@ class Included:
 
 
 def problem_line(e: Any) -> str:
-    """One problem of a request as a line: `body.state: Input should be 'OFF', 'ON' or 'RESTARTING'`; a body that is
+    """One problem of a request as a line: `body.confirmLost: Input should be a valid boolean`; a body that is
     no JSON at all, `the body is not valid JSON (at character 10)` (counted from 1)."""
     loc = e["loc"]
     if e["type"] == "json_invalid":
@@ -95,7 +95,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
-        """422 with one readable line per problem, e.g. "body.state: Input should be 'OFF', 'ON' or 'RESTARTING'"."""
+        """422 with one readable line per problem, e.g. "body.confirmLost: Input should be a valid boolean"."""
         problems = [problem_line(e) for e in exc.errors()]
         if auditor.is_command(request.scope):  # an operator's refused command is what the audit is for
             auditor.refused(request.scope, 422, "; ".join(problems), operator=token_operator(request))

@@ -16,7 +16,6 @@ from sqlalchemy import text
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 
 from sem_console.console.alarms import NO_FIX_GRACE, Alarms
 from sem_console.console.clock import RecordingClock
@@ -26,12 +25,15 @@ from sem_console.core.config import Settings
 from sem_console.dds.topics import Service
 from sem_console.main import create_app
 from sem_console.storage.database import Database
+from sem_console.versions.commands import COMMANDING
 from test_console import V1, WsClient, provider_ready, wait_until
 
 OK = R.SUCCEEDED
 ALPHA, CHARLIE, UNNAMED = uuid.uuid4(), uuid.uuid4(), uuid.UUID("3f2a9c01-0000-4000-8000-000000000000")
 NAMES = {str(ALPHA): "Alpha", str(CHARLIE): "Charlie"}
 T0 = 1_800_000_000.0
+
+GPS_FIX_3_0_1, INS_3_0_1 = COMMANDING["3.0.1", Service.GPS_FIX], COMMANDING["3.0.1", Service.INERTIAL_SENSOR]
 
 
 class World:
@@ -153,7 +155,7 @@ def test_fix_lost_only_after_a_valid_fix(tmp_path: Path) -> None:
 def test_no_fix_a_few_seconds_after_a_completed_gps_fix_command(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     w.report(ALPHA, "GPSFixStatusReport", fixValid=False)
-    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, "alice")
+    cmd = w.commands.issue(GPS_FIX_3_0_1, ALPHA, None, "alice")
     w.status(cmd, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.COMPLETED, OK))
     w.at(NO_FIX_GRACE - 2).report(ALPHA, "GPSFixStatusReport", fixValid=False)  # the vehicle keeps reporting
     assert w.at(NO_FIX_GRACE - 1).update() == []
@@ -167,7 +169,7 @@ def test_no_fix_a_few_seconds_after_a_completed_gps_fix_command(tmp_path: Path) 
 def test_a_fix_that_came_and_went_after_the_command_is_fix_lost_only_also_after_a_restart(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     w.report(ALPHA, "GPSFixStatusReport", fixValid=False)
-    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, "alice")
+    cmd = w.commands.issue(GPS_FIX_3_0_1, ALPHA, None, "alice")
     w.status(cmd, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
     w.at(1).report(ALPHA, "GPSFixStatusReport", fixValid=True)
     w.status(cmd, (S.COMPLETED, OK))
@@ -184,7 +186,7 @@ def test_a_fix_that_came_and_went_after_the_command_is_fix_lost_only_also_after_
 
 def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
-    cmd = w.commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.RESTARTING, "alice")
+    cmd = w.commands.issue(INS_3_0_1, ALPHA, "RESTARTING", "alice")
     assert w.at(1).update() == []
     [unanswered] = w.at(3).update()
     assert (unanswered["kind"], unanswered["severity"], unanswered["text"]) == (
@@ -201,7 +203,7 @@ def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_pat
 # ---- events ------------------------------------------------------------------------------------
 def test_failed_command_is_latched_until_acknowledged_then_never_raised_again(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
-    cmd = w.commands.issue(Service.GPS_FIX, UNNAMED, None, "alice")
+    cmd = w.commands.issue(GPS_FIX_3_0_1, UNNAMED, None, "alice")
     w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.VALIDATION_FAILED, "timeStamp out of range"))
     [failed] = w.at(1).update()
     assert (failed["kind"], failed["severity"], failed["state"], failed["clearedAt"]) == (
@@ -215,9 +217,9 @@ def test_failed_command_is_latched_until_acknowledged_then_never_raised_again(tm
 
 def test_own_supersession_is_not_an_alarm_another_operators_interruption_is(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
-    first = w.commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.OFF, "alice")
+    first = w.commands.issue(INS_3_0_1, ALPHA, "OFF", "alice")
     w.status(first, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
-    second = w.at(1).commands.issue(Service.INERTIAL_SENSOR, ALPHA, Ins.RESTARTING, "alice")
+    second = w.at(1).commands.issue(INS_3_0_1, ALPHA, "RESTARTING", "alice")
     w.status(first, (S.FAILED, R.INTERRUPTED, f"superseded by command {second.session_id}"))
     w.status(second, (S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK))
     assert w.update() == []
@@ -230,7 +232,7 @@ def test_own_supersession_is_not_an_alarm_another_operators_interruption_is(tmp_
 
 def test_flow_violation_and_recording_failure(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
-    cmd = w.commands.issue(Service.GPS_FIX, CHARLIE, None, None)
+    cmd = w.commands.issue(GPS_FIX_3_0_1, CHARLIE, None, None)
     w.status(cmd, (S.ISSUED, OK), (S.EXECUTING, OK))  # COMMANDED skipped
     w.recording_error = "recording stopped: the disk is full (/var/recordings/x.mcap)"
     recording, violation = w.at(1).update()
@@ -245,13 +247,13 @@ def test_flow_violation_and_recording_failure(tmp_path: Path) -> None:
 def test_a_restart_keeps_the_alarms_not_back_to_normal(tmp_path: Path) -> None:
     w = World(tmp_path / "db")
     w.report(CHARLIE, "GPSReport")
-    old = w.commands.issue(Service.GPS_FIX, ALPHA, None, None)
+    old = w.commands.issue(GPS_FIX_3_0_1, ALPHA, None, None)
     w.status(old, (S.ISSUED, OK), (S.FAILED, R.RESOURCE_FAILED))
     w.at(1).update()
     acked = w.alarms.active()[0]
     assert acked["text"] == "Alpha: GPS fix command failed: the equipment failed"  # as its card says it
     assert acked["kind"] == "command-failed" and w.ack(acked["id"])  # back to normal: gone for good
-    cmd = w.commands.issue(Service.GPS_FIX, ALPHA, None, None)
+    cmd = w.commands.issue(GPS_FIX_3_0_1, ALPHA, None, None)
     w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.TIMEOUT))
     before = w.at(5).update()
     assert kinds(before) == [("link-lost", "active-unacknowledged"), ("command-failed", "active-unacknowledged")]

@@ -8,15 +8,17 @@ from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as R
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 
 from sem_console.console import commands as commands_module
 from sem_console.console.commands import Commands
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
+from sem_console.versions.commands import COMMANDING
 
 OK = R.SUCCEEDED
 VEHICLE = uuid.uuid4()
+
+GPS_FIX_3_0_1, INS_3_0_1 = COMMANDING["3.0.1", Service.GPS_FIX], COMMANDING["3.0.1", Service.INERTIAL_SENSOR]
 
 
 class Bus:
@@ -35,7 +37,7 @@ def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
 def test_every_transition_recorded_even_with_equal_provider_times(tmp_path: Path) -> None:
     bus = Bus()
     c = consumer(tmp_path / "db", bus)
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     for st in (S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED):
         c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, st, OK, "", 1000.0)  # a provider with a coarse clock
     assert [t.status for t in cmd.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
@@ -46,7 +48,7 @@ def test_every_transition_recorded_even_with_equal_provider_times(tmp_path: Path
 def test_restart_ignores_replayed_history_and_keeps_following(tmp_path: Path) -> None:
     bus = Bus()
     first = consumer(tmp_path / "db", bus)
-    cmd = first.issue(Service.INERTIAL_SENSOR, VEHICLE, Ins.RESTARTING, None)
+    cmd = first.issue(INS_3_0_1, VEHICLE, "RESTARTING", None)
     for i, st in enumerate((S.ISSUED, S.COMMANDED, S.EXECUTING)):
         first.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, OK, "", 10.0 + i)
     second = consumer(tmp_path / "db", Bus())
@@ -57,12 +59,12 @@ def test_restart_ignores_replayed_history_and_keeps_following(tmp_path: Path) ->
         second.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, OK, "", 10.0 + i)
     second.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, S.COMPLETED, OK, "", 13.0)
     assert [t.status for t in again.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
-    assert again.flow.violations == [] and again.state is Ins.RESTARTING
+    assert again.flow.violations == [] and again.state == "RESTARTING"
 
 
 def test_unknown_ordinal_is_recorded_as_a_violation_and_survives_restart(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus())
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, 99, OK, "", 2.0)
     assert cmd.to_json()["transitions"][1]["status"] == "UNKNOWN(99)"
@@ -73,7 +75,7 @@ def test_unknown_ordinal_is_recorded_as_a_violation_and_survives_restart(tmp_pat
 
 def test_unanswered_then_late_answer_is_persisted(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus(), timeout=1.0)
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     c.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)
     assert cmd.unanswered
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
@@ -84,7 +86,7 @@ def test_unanswered_then_late_answer_is_persisted(tmp_path: Path) -> None:
 def test_a_cancel_never_answered_ends_once_the_vehicle_is_heard_for_the_unanswered_timeout(tmp_path: Path) -> None:
     bus = Bus()
     c = consumer(tmp_path / "db", bus, timeout=2.0)
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     c.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
     c.cancel(cmd.session_id, "bob")
     heard: list[float | None] = [cmd.cancel_mono - 5]  # last heard before the cancel: not heard since
@@ -114,7 +116,7 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     store = Database(tmp_path / "db")
     a = Commands(store.claim("alpha", hold=False), store, lambda _s, x: bus.written.append(x),
                  lambda _s, x: bus.disposed.append(x), bus.emitted.append, 2.0, station="alpha")
-    cmd = a.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = a.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     last_heard = a.clock.monotonic() - 60  # lost a minute ago
     a.tick(cmd.issued_by_deadline + 0.1, lambda _p: last_heard)
     assert cmd.unanswered
@@ -139,7 +141,7 @@ def test_another_station_s_cancel_never_answered_is_ended_here_and_only_once(tmp
         return Commands(store.claim(name, hold=False), store, lambda _s, _x: None, lambda _s, _x: None,
                         emitted[name].append, 2.0, station=name)
     alpha, charlie = station("alpha"), station("charlie")
-    cmd = alpha.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = alpha.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     alpha.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
     alpha.cancel(cmd.session_id, "alice")
     shown = charlie.shared(cmd.session_id)  # charlie hears of the cancel
@@ -167,7 +169,7 @@ def test_a_cancel_never_answered_is_not_ended_by_a_vehicle_heard_a_moment_then_l
     """A flaky link: heard once after the cancel, lost a minute, back: its answer comes with the link, so the first
     sample back does not end the command as never heard."""
     c = consumer(tmp_path / "db", Bus(), timeout=2.0)
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     c.cancel(cmd.session_id, "bob")
     c.tick(0, lambda _p: cmd.cancel_mono + 0.5)  # heard a moment
     c.tick(0, lambda _p: None)  # lost
@@ -181,7 +183,7 @@ def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: 
     """A recording that starts (or rolls over) after the cancel: the first message of the command carries its cancel
     and the console's ending; the replay showed it running ("Sent", then "No answer") for ever."""
     recorded = consumer(tmp_path / "recorded", Bus(), timeout=1.0)
-    cmd = recorded.issue(Service.GPS_FIX, VEHICLE, None, "alice")
+    cmd = recorded.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     recorded.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)
     recorded.cancel(cmd.session_id, "bob")
     recorded.tick(0, lambda _p: cmd.cancel_mono + 0.1)
@@ -200,7 +202,7 @@ def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: 
 
 def test_statuses_from_another_provider_or_for_other_sessions_are_ignored(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus())
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     c.on_status(Service.GPS_FIX, cmd.session_id, uuid.uuid4(), S.ISSUED, OK, "", 1.0)
     c.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
     c.on_status(Service.GPS_FIX, uuid.uuid4(), VEHICLE, S.ISSUED, OK, "", 1.0)
@@ -212,7 +214,7 @@ def test_memory_keeps_active_and_recent_commands_history_pages_from_the_database
     c = consumer(tmp_path / "db", Bus())
     sessions = []
     for i in range(6):
-        cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+        cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
         sessions.append(cmd.session_id)
         if i < 5:
             for st in (S.ISSUED, S.FAILED):
@@ -228,7 +230,7 @@ def test_memory_keeps_active_and_recent_commands_history_pages_from_the_database
 def test_ack_recorded(tmp_path: Path) -> None:
     bus = Bus()
     c = consumer(tmp_path / "db", bus)
-    cmd = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     c.on_ack(Service.GPS_FIX, cmd.session_id, VEHICLE)
     assert cmd.acked_at is not None and bus.emitted[-1]["command"]["ackedAt"] == cmd.acked_at
     assert consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].acked_at == cmd.acked_at
@@ -241,15 +243,15 @@ def _statuses(c: Commands, cmd: Any, *steps: tuple[S, R, float]) -> None:
 
 def test_statuses_with_tied_or_backward_provider_times_are_all_applied_in_arrival_order(tmp_path: Path) -> None:
     c = consumer(tmp_path / "db", Bus())
-    tied = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    tied = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     _statuses(c, tied, (S.ISSUED, OK, 50.0), (S.FAILED, R.RESOURCE_REJECTED, 50.0))  # one millisecond, one stamp
     assert [(t.status, t.reason) for t in tied.flow.transitions] == [(S.ISSUED, OK), (S.FAILED, R.RESOURCE_REJECTED)]
-    backward = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    backward = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     _statuses(c, backward, (S.ISSUED, OK, 40.0), (S.COMMANDED, OK, 39.0), (S.EXECUTING, OK, 20.0), (S.COMPLETED, OK, 1.0))
     assert [t.status for t in backward.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
     assert backward.flow.violations == [] and backward.cleaned_up
     # a broken provider repeating an earlier status with the same stamp: recorded as the violation it is
-    repeat = c.issue(Service.GPS_FIX, VEHICLE, None, None)
+    repeat = c.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     _statuses(c, repeat, (S.ISSUED, OK, 5.0), (S.COMMANDED, OK, 5.0), (S.ISSUED, OK, 5.0))
     assert [t.status for t in repeat.flow.transitions] == [S.ISSUED, S.COMMANDED, S.ISSUED]
     assert repeat.flow.violations == ["COMMANDED -> ISSUED is not a Figure 4 transition"]
@@ -258,7 +260,7 @@ def test_statuses_with_tied_or_backward_provider_times_are_all_applied_in_arriva
 def test_restart_skips_a_replay_of_only_the_last_statuses(tmp_path: Path) -> None:
     """A provider whose status history keeps one sample replays only its last status after our restart."""
     first = consumer(tmp_path / "db", Bus())
-    cmd = first.issue(Service.GPS_FIX, VEHICLE, None, None)
+    cmd = first.issue(GPS_FIX_3_0_1, VEHICLE, None, None)
     _statuses(first, cmd, (S.ISSUED, OK, 7.0), (S.COMMANDED, OK, 7.0), (S.EXECUTING, OK, 7.0))
     second = consumer(tmp_path / "db", Bus())
     second.startup()

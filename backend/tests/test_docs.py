@@ -54,7 +54,8 @@ def test_rest_reference_has_every_route_with_what_only_some_consoles_answer() ->
     # the request body's model is linked and has its fields
     assert "Request body: [`InertialSensorRequest`](#inertialsensorrequest)." in _route_section(
         page, "POST", "/api/providers/{provider_id}/inertial-sensor")
-    assert "| `state` | `\"OFF\"` or `\"ON\"` or `\"RESTARTING\"` | required |" in page
+    assert "| `state` | `\"OFF\"` or `\"ON\"` or `\"RESTARTING\"` or `\"BEST_ALIGN\"` or `\"GPS_ALIGN\"` or `\"INIT\"` or " \
+           "`\"SNAP_ALIGN\"` or `\"STATIONARY_ALIGN\"` or `\"TRANSFER_ALIGN\"` | required | a state of the vehicle's UMAA" in page
 
 
 def help_options(text: str) -> list[str]:

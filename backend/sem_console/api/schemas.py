@@ -16,6 +16,7 @@ from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Fie
 from sem_console.core.config import MAX_NAME, MAX_SHELF_MINUTES, NOT_PRINTABLE, PRINTABLE
 from sem_console.core.contract import Command as Command
 from sem_console.core.contract import CommandMessage as CommandMessage
+from sem_console.core.contract import InsCommandName as InsCommandName
 from sem_console.core.contract import InsStateName as InsStateName
 from sem_console.core.contract import LinkConfig as LinkConfig
 from sem_console.core.contract import LinkState as LinkState
@@ -79,7 +80,9 @@ class VehicleNameShown(_Model):
 
 
 class InertialSensorRequest(_Model):
-    state: InsStateName
+    state: Literal[InsStateName, InsCommandName] = Field(description=(
+        "a state of the vehicle's UMAA version (its umaaVersion): 3.0.1, OFF, ON or RESTARTING; 6.0, BEST_ALIGN, "
+        "GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN; one of the other version is refused (422)"))
     confirmLost: bool = Field(False, strict=True, description=CONFIRM_LOST)
 
 

@@ -24,9 +24,16 @@ from typing import Any
 from cyclonedds.core import InstanceState
 from cyclonedds.idl import IdlStruct
 
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
+
 from sem_console.codec import fastcdr
 from sem_console.dds.topics import AnySem, Sem, Sem60, Service, delimited
+from sem_console.umaa.flow import AnyReason
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
+from sem_console.versions.commands import ACK_TOPICS as ACKS
+from sem_console.versions.commands import COMMAND_TOPICS as COMMANDS
+from sem_console.versions.commands import STATUS_TOPICS as STATUSES
+from sem_console.versions.commands import Commanding
 from sem_console.versions.shape import Adapter
 
 log = logging.getLogger("sem-console.ingest")
@@ -35,9 +42,10 @@ REPORT_TOPICS = {
     Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
     Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
 }
-STATUS_TOPICS = {Service.GPS_FIX.status: Service.GPS_FIX, Service.INERTIAL_SENSOR.status: Service.INERTIAL_SENSOR}
-ACK_TOPICS = {Service.GPS_FIX.ack: Service.GPS_FIX, Service.INERTIAL_SENSOR.ack: Service.INERTIAL_SENSOR}
-COMMAND_TOPICS = [s.command for s in Service]  # recorded, never decoded: the console follows its own commands
+# The command status and ack topics of every version (versions/commands.py), and the service each answers
+STATUS_TOPICS = {sem: c.service for sem, c in STATUSES.items()}
+ACK_TOPICS = {sem: c.service for sem, c in ACKS.items()}
+COMMAND_TOPICS = COMMANDS  # recorded, never decoded: the console follows its own commands
 # The UMAA 6.0 report topics the console reads, and what each feeds (versions/umaa_6_0.py)
 REPORT_TOPICS_6_0 = list(umaa_6_0.REPORTS)
 # Every topic name a vehicle's report samples count under for its link (provider health): the model's, whatever the
@@ -65,6 +73,9 @@ class StatusItem:
     session: uuid.UUID
     sample: Any  # None when disposed
     alive: bool
+    # a status sample's status and reason in the model (`umaa/flow.py`), whatever the version's enumerations
+    status: Status | int | None = None
+    reason: AnyReason | int | None = None
 
 
 Item = ReportItem | StatusItem
@@ -97,6 +108,7 @@ class _Route:
     service: Service | None  # status and ack topics
     kind: str  # "report" | "status" | "ack"
     version: UmaaVersion = UMAA_3_0_1
+    commanding: Commanding | None = None  # status and ack topics: the version's commanding
     source: Callable[[dict[str, Any]], Any] = _source  # the vehicle's GUID text in a report's JSON
     model: Adapter = _same  # a report's JSON and invalid values as the model's (its version's adapter)
 
@@ -113,13 +125,14 @@ def _decoder(sem: AnySem, cls: type[IdlStruct]) -> fastcdr.TypeDecoder:
 _ROUTES: dict[AnySem, _Route] = {
     **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), topic, None, "report")
        for sem, topic in REPORT_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, service, "status")
-       for sem, service in STATUS_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, service, "ack")
-       for sem, service in ACK_TOPICS.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "status", c.version, c)
+       for sem, c in STATUSES.items()},
+    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "ack", c.version, c)
+       for sem, c in ACKS.items()},
     # a 6.0 report not said as data is adapted after its decoder
     **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), r.topic, None, "report", UMAA_6_0,
-                   _source if r.spec is not None else umaa_6_0.source_of, _same if r.spec is not None else r.model)
+                   source=_source if r.spec is not None else umaa_6_0.source_of,
+                   model=_same if r.spec is not None else r.model)
        for sem, r in umaa_6_0.REPORTS.items()},
 }
 DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder decodes, of both UMAA versions
@@ -197,7 +210,10 @@ class Decoder:
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None
-        assert route.service is not None
+        assert route.service is not None and route.commanding is not None
+        if route.kind == "status" and valid:
+            status, reason = route.commanding.read_status(sample)
+            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason)
         return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive)
 
     @staticmethod

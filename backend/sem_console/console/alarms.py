@@ -49,11 +49,10 @@ from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
 from sem_console.console.commands import Command
 from sem_console.console.providers import Provider
-from sem_console.core.words import inline, word
+from sem_console.core.words import WORDS, inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
 
@@ -89,10 +88,13 @@ def vehicle_label(provider_id: uuid.UUID | str, name: str | None) -> str:
 
 
 def command_words(cmd: Command) -> str:
-    """'GPS fix command', 'INS OFF', 'INS ON', 'INS RESTART'."""
+    """'GPS fix command', 'INS OFF', 'INS ON', 'INS RESTART'; a UMAA 6.0 alignment in its words, 'INS GPS-aided
+    alignment'."""
     if cmd.service is Service.GPS_FIX:
         return "GPS fix command"
-    state = cmd.state.name if isinstance(cmd.state, InsState) else "?"
+    state = cmd.state or "?"
+    if state in WORDS["InertialSensorCmdEnumType"]:
+        return f"INS {inline(word('InertialSensorCmdEnumType', state))}"
     return f"INS {'RESTART' if state == 'RESTARTING' else state}"
 
 

@@ -20,16 +20,13 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
-from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
-from UMAA.Common.Measurement import DateTime
 
 from sem_console.console.clock import Clock
-from sem_console.dds.topics import Service
+from sem_console.dds.topics import AnySem, Service
 from sem_console.storage.database import Database
-from sem_console.umaa.flow import CommandFlow, name, parse
-from sem_console.umaa.guid import to_guid
+from sem_console.umaa.flow import AnyReason, CommandFlow, name, parse, parse_reason
 from sem_console.umaa.samples import datetime_to_float, now_datetime
+from sem_console.versions.commands import Commanding, of_command
 
 log = logging.getLogger("sem-console.commands")
 Emit = Callable[[dict[str, Any]], None]
@@ -44,10 +41,11 @@ class Command:
     session_id: uuid.UUID
     service: Service
     provider_id: uuid.UUID
-    state: InsState | None
+    state: str | None  # the commanded state's literal (InertialSensor), of its vehicle's version
     operator: str | None
     created_at: float
     sample: Any
+    commanding: Commanding  # its version's topics and samples (versions/commands.py)
     flow: CommandFlow = field(default_factory=CommandFlow)
     times: list[tuple[float | None, float]] = field(default_factory=list)  # (provider time, received) per transition
     unanswered: bool = False
@@ -67,7 +65,7 @@ class Command:
     answered_late_after: float | None = None  # seconds it was unanswered, when a status came after all (not stored)
     # Loaded from history: the statuses already recorded, which the provider's transient-local
     # history delivers again after a restart (in order, perhaps only the last few).
-    replay: list[tuple[Status | int, Reason | int, float | None]] = field(default_factory=list)
+    replay: list[tuple[Status | int, AnyReason | int, float | None]] = field(default_factory=list)
 
     @property
     def terminal(self) -> bool:
@@ -79,7 +77,7 @@ class Command:
             "sessionId": str(self.session_id),
             "service": self.service.value,
             "providerId": str(self.provider_id),
-            "state": name(self.state) if self.state is not None else None,
+            "state": self.state,
             "operator": self.operator,
             "createdAt": self.created_at,
             "status": name(self.flow.status) if self.flow.status else None,
@@ -117,8 +115,8 @@ class Commands:
         self,
         source: uuid.UUID,
         store: Database,
-        write: Callable[[Service, Any], None],
-        dispose: Callable[[Service, Any], None],
+        write: Callable[[AnySem, Any], None],  # a command sample on its topic
+        dispose: Callable[[AnySem, Any], None],
         emit: Emit,
         unanswered_timeout: float,
         clock: Clock | None = None,
@@ -147,10 +145,11 @@ class Commands:
     def from_row(self, row: dict[str, Any], source: uuid.UUID | None = None) -> Command:
         """The command of a database row; `source`: the GUID of the console that issued it when not this one."""
         service = Service(row["service"])
-        state = parse(InsState, row["state"]) if row["state"] else None
+        state: str | None = row["state"] or None
         provider, session = uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"])
-        cmd = Command(session, service, provider, state if isinstance(state, InsState) else None, row["operator"],
-                      row["created_at"], self._sample(service, provider, session, state, row["command"]["timeStamp"], source),
+        commanding = of_command(service, state)
+        cmd = Command(session, service, provider, state, row["operator"], row["created_at"],
+                      self._sample(commanding, provider, session, state, row["command"]["timeStamp"], source), commanding,
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
                       canceled_at=row.get("canceled_at"), cancel_cause=row.get("cancel_cause"),
@@ -158,7 +157,7 @@ class Commands:
                       cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
                       cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
-            if cmd.flow.observe(parse(Status, t["status"]), parse(Reason, t["reason"]), t["log_message"]) is not None:
+            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
@@ -180,14 +179,16 @@ class Commands:
             for c in sorted(finished, key=lambda c: c.created_at)[: len(finished) - KEEP_FINISHED]:
                 del self.by_session[c.session_id]
 
-    def _sample(self, service: Service, provider: uuid.UUID, session: uuid.UUID, state: InsState | int | None,
+    def _sample(self, commanding: Commanding, provider: uuid.UUID, session: uuid.UUID, state: str | None,
                 stamp: tuple[int, int] | list[int], source: uuid.UUID | None = None) -> Any:
-        values: dict[str, Any] = dict(source=to_guid(source or self.source), destination=to_guid(provider),
-                                      sessionID=to_guid(session),
-                                      timeStamp=DateTime(seconds=int(stamp[0]), nanoseconds=int(stamp[1])))
-        if service is Service.INERTIAL_SENSOR:
-            values["state"] = state
-        return service.command.spec.type(**values)
+        """The command sample, as its vehicle's version writes it (`source`: another station's, when not ours)."""
+        return commanding.build(source or self.source, provider, session, state, (int(stamp[0]), int(stamp[1])))
+
+    def _publish(self, cmd: Command) -> None:
+        self._write(cmd.commanding.command, cmd.sample)
+
+    def _withdraw(self, cmd: Command) -> None:
+        self._dispose(cmd.commanding.command, cmd.sample)
 
     # ---- consumer flow --------------------------------------------------------------
     def on_ack(self, service: Service, session: uuid.UUID, source: uuid.UUID) -> None:
@@ -205,7 +206,7 @@ class Commands:
         for c in resumed:
             c.issued_by_deadline = self.clock.monotonic() + self.unanswered_timeout
             try:
-                self._write(c.service, c.sample)  # the same immutable command: a provider that has it sees no change
+                self._publish(c)  # the same immutable command: a provider that has it sees no change
             except Exception as e:  # a bad row must not stop the others
                 log.warning("cannot publish command %s again: %s", c.session_id, e)
         for c in self.by_session.values():
@@ -213,15 +214,16 @@ class Commands:
                 self.cleanup(c)
         return resumed
 
-    def issue(self, service: Service, provider: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
+    def issue(self, commanding: Commanding, provider: uuid.UUID, state: str | None, operator: str | None) -> Command:
+        """Publish a command of `commanding` (the vehicle's version's) with the `state` literal of its choices."""
         session = uuid.uuid4()
         stamp = now_datetime()
-        cmd = Command(session, service, provider, state, operator, self.clock.wall(),
-                      self._sample(service, provider, session, state, (stamp.seconds, stamp.nanoseconds)),
+        cmd = Command(session, commanding.service, provider, state, operator, self.clock.wall(),
+                      self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds)), commanding,
                       issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
         self.by_session[session] = cmd
         self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
-        self._write(service, cmd.sample)
+        self._publish(cmd)
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
@@ -235,10 +237,11 @@ class Commands:
         changed = cmd is None
         if cmd is None:
             service, provider = Service(c["service"]), uuid.UUID(c["providerId"])
-            state = InsState[c["state"]] if c.get("state") else None
+            state = c.get("state") or None
+            commanding = of_command(service, state)
             stamp = (int(c["createdAt"]), int(c["createdAt"] % 1 * 1e9))
             cmd = Command(session, service, provider, state, c.get("operator"), float(c["createdAt"]),
-                          self._sample(service, provider, session, state, stamp),
+                          self._sample(commanding, provider, session, state, stamp), commanding,
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
             self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
@@ -264,7 +267,7 @@ class Commands:
             )
         if not cmd.cancel_requested:
             self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
-            self._dispose(cmd.service, cmd.sample)
+            self._withdraw(cmd)
             self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
 
@@ -349,12 +352,12 @@ class Commands:
         """Command Cleanup: dispose a COMPLETED or FAILED command (CANCELED was disposed to cancel it)."""
         if not cmd.cleaned_up:
             if not cmd.cancel_requested:
-                self._dispose(cmd.service, cmd.sample)
+                self._withdraw(cmd)
             cmd.cleaned_up = True
             self.store.set_flag(str(cmd.session_id), "cleaned_up")
             self._forget_old()
 
-    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status | int, reason: Reason | int,
+    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status | int, reason: AnyReason | int,
                   log_message: str, provider_time: float | None) -> None:
         cmd = self.by_session.get(session) or self.others.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id:

@@ -59,7 +59,7 @@ from sem_console.console.pace import Pacer
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import Triggered, take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
-from sem_console.dds.topics import AnySem, Sem, Sem60, final_type_qos
+from sem_console.dds.topics import AnySem, Sem60, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
 
 log = logging.getLogger("sem-console.ingest")
@@ -171,7 +171,7 @@ class Owners:
 class Ingest:
     def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
                  on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None,
-                 report_burst: int = 32, command_writers: dict[Sem, DataWriter[Any]] | None = None) -> None:
+                 report_burst: int = 32, command_writers: dict[AnySem, DataWriter[Any]] | None = None) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.pace = Pacer(report_interval, report_burst)
         self.decoder = Decoder()

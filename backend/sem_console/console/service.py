@@ -20,8 +20,6 @@ from typing import Any, TypeVar
 from pydantic import ValidationError
 from sqlalchemy.exc import SQLAlchemyError
 
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
-
 from sem_console.codec.decode import ReportItem, StatusItem
 from sem_console.comap.c2 import C2, FINAL, Task, TaskError
 from sem_console.comap.codec import BROADCAST, Header, Message
@@ -37,10 +35,11 @@ from sem_console.console.replay_source import RecordedAck, RecordedCommand, Reco
 from sem_console.console.sources import Source, open_source
 from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig as LinkConfigModel
-from sem_console.dds.topics import Service
+from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.database import Database, Unavailable
 from sem_console.storage.notify import Listener
+from sem_console.versions.commands import Commanding
 
 log = logging.getLogger("sem-console")
 T = TypeVar("T")
@@ -234,11 +233,11 @@ class Console:
         p = self.providers.by_id.get(provider_id)
         return None if p is None or p.link == "lost" else p.last_seen()
 
-    def _write_command(self, service: Service, sample: Any) -> None:
-        self.source.write(service, sample)  # a recording publishes nothing
+    def _write_command(self, topic: AnySem, sample: Any) -> None:
+        self.source.write(topic, sample)  # a recording publishes nothing
 
-    def _dispose_command(self, service: Service, sample: Any) -> None:
-        self.source.dispose(service, sample)
+    def _dispose_command(self, topic: AnySem, sample: Any) -> None:
+        self.source.dispose(topic, sample)
 
     # ---- lifecycle ------------------------------------------------------------------
     async def start(self) -> None:
@@ -429,8 +428,8 @@ class Console:
             self.commands.on_ack(it.service, it.session, it.source)
             return
         s = it.sample
-        self.commands.on_status(it.service, it.session, it.source, s.commandStatus, s.commandStatusReason,
-                                s.logMessage, provider_time(s))
+        assert it.status is not None and it.reason is not None  # a status sample's, in the model (codec/decode.py)
+        self.commands.on_status(it.service, it.session, it.source, it.status, it.reason, s.logMessage, provider_time(s))
 
     # ---- CoMap over IMC (on the loop) ---------------------------------------------------------
     def _on_imc(self, header: Header, m: Message, _addr: Addr) -> None:
@@ -680,8 +679,9 @@ class Console:
         if any(a.provider_id == key for a in self.alarms.open.values()):
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
 
-    def issue(self, service: Service, provider_id: uuid.UUID, state: InsState | None, operator: str | None) -> Command:
-        return self.commands.issue(service, provider_id, state, operator)
+    def issue(self, commanding: Commanding, provider_id: uuid.UUID, state: str | None, operator: str | None) -> Command:
+        """A command to a vehicle, as its version commands it (`commanding`: versions/commands.py)."""
+        return self.commands.issue(commanding, provider_id, state, operator)
 
 
 def _thin(message: dict[str, Any]) -> dict[str, Any] | None:

@@ -24,9 +24,10 @@ from sem_console.console.ingest import Ingest, ReportItem, StatusItem, Tap
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, wait_for_acks
-from sem_console.dds.topics import Service
+from sem_console.dds.topics import AnySem
 from sem_console.storage.database import Database
 from sem_console.storage.url import sqlite_file
+from sem_console.versions.commands import COMMAND_TOPICS
 
 log = logging.getLogger("sem-console")
 
@@ -82,9 +83,10 @@ class Source(Protocol):
 
     async def start(self) -> None: ...
 
-    def write(self, service: Service, sample: Any) -> None: ...
+    def write(self, topic: AnySem, sample: Any) -> None:
+        """Publish a command on its topic (that of its vehicle's version: versions/commands.py)."""
 
-    def dispose(self, service: Service, sample: Any) -> None: ...
+    def dispose(self, topic: AnySem, sample: Any) -> None: ...
 
     def wait_for_acks(self, timeout: float) -> None:
         """Until the providers acknowledged every command sample written (blocking: off the loop)."""
@@ -124,7 +126,7 @@ class DdsSource:
         self.station = settings.station()
         self.retention_hours = settings.track_retention_hours
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
-        self.command_writers = {s: self.bus.writer(s.command) for s in Service}
+        self.command_writers = {topic: self.bus.writer(topic) for topic in COMMAND_TOPICS}  # every version's
         self.ingest: Ingest | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
 
@@ -134,7 +136,7 @@ class DdsSource:
     def attach(self, console: ConsoleSink) -> None:
         self.ingest = Ingest(self.bus, asyncio.get_running_loop(), console.on_reports, console.on_statuses,
                              self.settings.report_interval, console.recorder, self.settings.report_burst,
-                             {service.command: w for service, w in self.command_writers.items()})
+                             dict(self.command_writers))
 
     async def start(self) -> None:
         assert self.ingest is not None, "attach() first"
@@ -142,13 +144,13 @@ class DdsSource:
         if self.settings.sim:
             self._start_sim()
 
-    def write(self, service: Service, sample: Any) -> None:
-        writer = self.command_writers.get(service)  # none once the bus is left
+    def write(self, topic: AnySem, sample: Any) -> None:
+        writer = self.command_writers.get(topic)  # none once the bus is left
         if writer is not None:
             writer.write(sample)
 
-    def dispose(self, service: Service, sample: Any) -> None:
-        writer = self.command_writers.get(service)
+    def dispose(self, topic: AnySem, sample: Any) -> None:
+        writer = self.command_writers.get(topic)
         if writer is not None:
             writer.dispose(sample)
 
@@ -260,10 +262,10 @@ class RecordingSource:
         assert self.replay is not None, "attach() first"
         await self.replay.open()
 
-    def write(self, service: Service, sample: Any) -> None:
+    def write(self, topic: AnySem, sample: Any) -> None:
         """Nothing is published from a recording."""
 
-    def dispose(self, service: Service, sample: Any) -> None:
+    def dispose(self, topic: AnySem, sample: Any) -> None:
         """Nothing is published from a recording."""
 
     def wait_for_acks(self, timeout: float) -> None:

@@ -13,7 +13,9 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
-InsStateName = Literal["OFF", "ON", "RESTARTING"]
+InsStateName = Literal["OFF", "ON", "RESTARTING"]  # UMAA 3.0.1: InertialSensorStateEnumType
+# UMAA 6.0: InertialSensorCmdEnumType, what its InertialSensorCommandType's state takes
+InsCommandName = Literal["BEST_ALIGN", "GPS_ALIGN", "INIT", "SNAP_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN"]
 UmaaVersion = Literal["3.0.1", "6.0"]
 
 
@@ -78,7 +80,9 @@ class Command(StrictModel):
     sessionId: str
     service: Literal["GPSFix", "InertialSensor"]
     providerId: str
-    state: InsStateName | None = Field(description="the commanded INS state (InertialSensor only)")
+    state: Literal[InsStateName, InsCommandName] | None = Field(description=(
+        "the commanded INS state (InertialSensor only), a literal of its vehicle's UMAA version: 3.0.1, OFF, ON or "
+        "RESTARTING; 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN"))
     operator: str | None
     createdAt: float
     status: str | None = Field(description="the last commandStatus, null before ISSUED")

@@ -90,8 +90,15 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "RESOURCE_REJECTED": "The vehicle refused it",
         "INTERRUPTED": "Another command took over",
         "TIMEOUT": "Timed out",
-        # UMAA 6.0: the consumer sent the command again with a newer time stamp; it starts over at ISSUED
-        "UPDATED": "Updated by a newer command",
+        # UMAA 6.0 (its ICD 4.1.4.2): the consumer sent the command again, newer; the vehicle starts it over, ISSUED:
+        # "Received again, updated: it starts over"
+        "UPDATED": "Again, updated: it starts over",
+    },
+    # ---- UMAA 6.0 commanding ----
+    # InertialSensorCommandType.state: the alignment (or start-up) the operator asks of a UMAA 6.0 inertial sensor
+    "InertialSensorCmdEnumType": {
+        "BEST_ALIGN": "Best alignment available", "GPS_ALIGN": "GPS-aided alignment", "INIT": "Initialise",
+        "SNAP_ALIGN": "Snap alignment", "STATIONARY_ALIGN": "Stationary alignment", "TRANSFER_ALIGN": "Transfer alignment",
     },
     # ---- the console's own states ----
     # a command the vehicle has not acknowledged (no ISSUED) within the unanswered timeout

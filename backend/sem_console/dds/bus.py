@@ -14,7 +14,7 @@ from cyclonedds.topic import Topic
 from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
-from sem_console.dds.qos import PUBLISHER, reader_qos, representation, writer_qos
+from sem_console.dds.qos import PUBLISHER, reader_qos, representation, umaa_command_qos, writer_qos
 from sem_console.dds.topics import AnySem
 
 # One Domain object per domain id per process: Cyclone keeps the first config it was given.
@@ -63,8 +63,8 @@ class Bus:
         """A writer with the topic class's QoS and the type's data representation; `appendable`: of the type's
         appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
-        return DataWriter(self.publisher, topic,
-                          qos=writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True))
+        qos = writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True)
+        return DataWriter(self.publisher, topic, qos=qos + umaa_command_qos(True) if sem.spec.command_qos_lib else qos)
 
     def _appendable_topic(self, sem: AnySem) -> Topic[Any]:
         cls = sem.spec.appendable
@@ -76,9 +76,11 @@ class Bus:
 
     def reader(self, sem: AnySem, qos: Qos | None = None, listener: Listener | None = None,
                appendable: bool = False) -> DataReader[Any]:
-        """A reader with the given QoS (else the topic class's), always with the type's data representation;
-        `appendable`: of the type's appendable copy (TopicSpec.appendable)."""
-        qos = (qos or reader_qos(sem.spec.cls)) + representation(sem.spec.xcdr2_only, writer=False)
+        """A reader with the given QoS (else the topic class's, with RTI's CommandQoS on a topic that takes it),
+        always with the type's data representation; `appendable`: of the type's appendable copy (TopicSpec.appendable)."""
+        if qos is None:
+            qos = reader_qos(sem.spec.cls) + umaa_command_qos(False) if sem.spec.command_qos_lib else reader_qos(sem.spec.cls)
+        qos = qos + representation(sem.spec.xcdr2_only, writer=False)
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
         return DataReader(self.participant, topic, qos=qos, listener=listener)
 

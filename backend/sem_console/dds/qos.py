@@ -11,6 +11,12 @@ Why: a command is immutable, one sample per sessionID; a provider that starts or
 that joins late sees where each command stands. A consumer that starts after the provider shows the last report at
 once; newer reports replace older ones.
 
+UMAA 6.0 mandates no QoS. Its command, status and ack topics take RTI's UMAAQoSLib CommandQoS (the de facto
+reference, `qos/umaa_qos_lib.xml` of RTI's UMAA kit) over the classes above (`umaa_command_qos`): keep-all history,
+and the writer's liveliness automatic with a 5 s lease. Reliability and transient-local durability stay, as the 3.0.1
+ICD asks (a provider that starts later still finds the command). Readers request no liveliness (RTI's reader asks 10 s,
+which a writer of any shorter lease meets), so they match any writer.
+
 The data representation follows from the type, not the topic (`representation`): a type with
 no @optional member travels in XCDR1, which every vendor's default reader accepts (RTI
 Connext's accepts nothing else); a type with @optional members travels in XCDR2 only, because
@@ -50,6 +56,16 @@ def writer_qos(cls: TopicClass) -> Qos:
 # publisher offering less (DDS's default, INSTANCE) is not matched by its readers. A writer sends its samples in the
 # order written, and one publisher of ours holds one writer per topic, so the offer is kept; readers asking less match.
 PUBLISHER = Qos(Policy.PresentationAccessScope.Topic(coherent_access=False, ordered_access=True))
+
+
+_LEASE = duration(seconds=5)
+
+
+def umaa_command_qos(writer: bool) -> Qos:
+    """RTI UMAAQoSLib's CommandQoS as taken over on a UMAA 6.0 command, status and ack topic (the module docstring)."""
+    if writer:
+        return Qos(Policy.History.KeepAll, Policy.Liveliness.Automatic(lease_duration=_LEASE))
+    return Qos(Policy.History.KeepAll)
 
 
 def representation(xcdr2_only: bool, writer: bool) -> Qos:

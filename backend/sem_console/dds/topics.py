@@ -58,6 +58,8 @@ class TopicSpec:
     # RTI Connext vehicle writes (RTI's default for IDL that does not say). The console reads such a topic with a reader
     # of each (docs/dds.md, "One reader per extensibility"). Only for the types RTI and Cyclone exchange in XCDR2.
     appendable: builtins.type[IdlStruct] | None = None  # (`type` is the field above)
+    # RTI UMAAQoSLib's CommandQoS over the class's QoS (qos.umaa_command_qos): the UMAA 6.0 command, status and ack topics
+    command_qos_lib: bool = False
 
     @property
     def xcdr2_only(self) -> bool:
@@ -95,7 +97,8 @@ class Sem(Enum):
 
 def _named_after_type(t: type[IdlStruct], cls: TopicClass, appendable: type[IdlStruct] | None = None) -> TopicSpec:
     """A UMAA 6.0 topic: named after its type's full name (UMAA::SEM::GPSStatus::GPSReportType)."""
-    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls, appendable)
+    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls, appendable,
+                     command_qos_lib=cls is not TopicClass.REPORT)
 
 
 class Sem60(Enum):

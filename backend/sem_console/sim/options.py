@@ -49,8 +49,13 @@ class SimOptions(BaseModel):
         "an executing command that has not finished after this many seconds fails with TIMEOUT (default: 300)"))
     umaa: UmaaVersion = Field("3.0.1", description=(
         "the UMAA version the vehicles speak. 6.0: their GPSReportType, GlobalPoseReportType and InertialSensorReportType "
-        "on the 6.0 topics, reliable and transient-local (what the readers of RTI's UMAA kit ask); they answer no command yet "
+        "on the 6.0 topics, reliable and transient-local (what the readers of RTI's UMAA kit ask); they answer "
+        "InertialSensorCommandType, their INS walking the stages of the alignment commanded "
         "(default: 3.0.1)"))
+    umaa_6_0_vehicles: set[int] = Field(default_factory=set, json_schema_extra=cli(type="numbers", metavar="N,M,..."),
+                                        description=(
+        "these vehicle numbers speak UMAA 6.0 whatever --umaa says: one simulator then runs a mixed fleet "
+        "(default: none)"))
     gps_extensibility: Literal["final", "appendable"] = Field("final", description=(
         "the types GPSReport and GPSFixReport are written with. final: the console's types (idlc's default, as a "
         "vehicle built from the plain UMAA IDL); appendable: UMAA's types appendable in XCDR2, for RTI Connext consumers "
@@ -106,6 +111,18 @@ class SimOptions(BaseModel):
             raise ValueError(f"--fault {sorted(self.faults[missing[0]])[0]}:{missing[0]}: this simulator runs {runs}: "
                              "name one of them, or change --vehicles or --first-vehicle")
         return self
+
+    @model_validator(mode="after")
+    def _umaa_6_0_targets(self) -> SimOptions:
+        """A vehicle number this simulator does not run would speak 6.0 nowhere, and the operator told nothing."""
+        if missing := sorted(set(self.umaa_6_0_vehicles) - set(self.numbers)):
+            raise ValueError(f"--umaa-6-0-vehicles {missing[0]}: this simulator runs vehicles {self.numbers[0]}.."
+                             f"{self.numbers[-1]}: name one of them, or change --vehicles or --first-vehicle")
+        return self
+
+    def version_of(self, number: int) -> UmaaVersion:
+        """The UMAA version vehicle `number` speaks."""
+        return "6.0" if number in self.umaa_6_0_vehicles else self.umaa
 
     @property
     def numbers(self) -> range:

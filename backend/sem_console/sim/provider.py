@@ -19,20 +19,23 @@ from dataclasses import dataclass
 from typing import Any
 
 from cyclonedds.core import InstanceState
+from cyclonedds.pub import DataWriter
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.dds.bus import Bus, all_samples, take_each, wait_for_acks
 from sem_console.dds.cyclone_private import InvalidSample
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos
-from sem_console.dds.topics import Sem, Service, to_appendable
+from sem_console.dds.topics import AnySem, Sem, Service, to_appendable
 from sem_console.sim.comap_vehicle import ComapVehicles
 from sem_console.sim.journal import InUse, Journal, default_state_file
 from sem_console.sim.options import FAULTS, MAX_VEHICLE, SimOptions, vehicle_guid
 from sem_console.sim.provider_flow import ProviderFlow
-from sem_console.sim.reports import Sensors
+from sem_console.sim.reports import Out, Sensors
 from sem_console.sim.umaa_6_0 import Writer60
 from sem_console.umaa.guid import from_guid
+from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
+from sem_console.versions.commands import COMMANDING, Commanding
 
 __all__ = ["FAULTS", "InUse", "SimOptions", "Simulator", "Vehicle", "vehicle_guid"]
 
@@ -50,6 +53,9 @@ class Vehicle:
     faults: set[str]
     sensors: Sensors
     commands: ProviderFlow
+    version: UmaaVersion  # what it speaks (--umaa, --umaa-6-0-vehicles)
+    write: Out  # its samples, as its version writes them
+    dispose: Out
 
 
 def providers_on_bus(bus: Bus, wait: float, longest: float = 3.0) -> set[uuid.UUID]:
@@ -89,24 +95,28 @@ class Simulator:
         # --gps-extensibility appendable: GPSReport and GPSFixReport written with their appendable copies, which RTI
         # consumers on the AppendableGps profile read right (the console reads either: one reader per extensibility)
         self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
-        # --umaa 6.0: the reports written on the 6.0 topics instead (sim/umaa_6_0.py)
-        self.writer60 = Writer60(bus, opts.gps_extensibility == "appendable") if opts.umaa == "6.0" else None
-        self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable)
-                        for sem in Sem if sem.spec.cls is not TopicClass.COMMAND and self.writer60 is None}
+        # --umaa 6.0 or --umaa-6-0-vehicles: those vehicles' samples written on the 6.0 topics (sim/umaa_6_0.py)
+        versions = {opts.version_of(n) for n in opts.numbers}
+        appendable60 = opts.gps_extensibility == "appendable"
+        self.writer60 = Writer60(bus, opts.scaled(opts.align_seconds), appendable60) if UMAA_6_0 in versions else None
+        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable)
+                                                       for sem in Sem if sem.spec.cls is not TopicClass.COMMAND
+                                                       and UMAA_3_0_1 in versions}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
             self.comap = ComapVehicles(opts, [v.sensors for v in self.vehicles.values()])
         # ... then subscribe to commands; at startup the status readers tell where a persisted command stood.
-        services = list(Service) if self.writer60 is None else []  # a 6.0 vehicle answers no 3.0.1 command
-        self.command_readers = {s: bus.reader(s.command) for s in services}
-        self.status_readers = {s: bus.reader(s.status) for s in services}
-        self.conditions = {s: all_samples(r) for s, r in self.command_readers.items()}
+        # the commands of the vehicles' versions (versions/commands.py): each vehicle answers its own version's only
+        commandings = [c for c in COMMANDING.values() if c.version in versions]
+        self.command_readers = {c: bus.reader(c.command) for c in commandings}
+        self.status_readers = {c: bus.reader(c.status) for c in commandings}
+        self.conditions = {c: all_samples(r) for c, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
         self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) \
-            if self.writer60 is None else None
-        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self.writer60 is None else 0
+            if Sem.INS_REPORT in self.writers else None
+        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self._twin_reader else 0
         self._twin_at = 0.0
         self._health_at = 0.0
         self.last = time.monotonic()
@@ -126,19 +136,20 @@ class Simulator:
     def _vehicle(self, number: int) -> Vehicle:
         guid, faults = vehicle_guid(number), self.opts.faults_for(number)
         sensors = Sensors(self.opts, number, guid, faults)
+        version = self.opts.version_of(number)
+        if version == UMAA_6_0 and self.writer60 is not None:
+            write, dispose, ins = self.writer60.write, self.writer60.dispose, self.writer60.alignments
+        else:
+            write, dispose, ins = self.write, self.dispose, None
         return Vehicle(number, guid, faults, sensors,
-                       ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, self.write, self.dispose))
+                       ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, write, dispose, ins),
+                       version, write, dispose)
 
-    def write(self, sem: Sem, sample: Any) -> None:
-        if self.writer60 is not None:
-            self.writer60.write(sem, sample)
-            return
+    def write(self, sem: AnySem, sample: Any) -> None:
+        """A 3.0.1 vehicle's sample."""
         self.writers[sem].write(to_appendable(sample) if sem in self.appendable else sample)
 
-    def dispose(self, sem: Sem, sample: Any) -> None:
-        if self.writer60 is not None:
-            self.writer60.dispose(sem, sample)
-            return
+    def dispose(self, sem: AnySem, sample: Any) -> None:
         self.writers[sem].dispose(to_appendable(sample) if sem in self.appendable else sample)
 
     def startup(self, window: float = 1.0) -> None:
@@ -157,37 +168,41 @@ class Simulator:
         self.started = True
 
     def _take_bus_statuses(self) -> None:
-        for reader in self.status_readers.values():
+        for c, reader in self.status_readers.items():
             for s in take_each(reader)[0]:
-                if not isinstance(s, InvalidSample) and from_guid(s.source) in self.vehicles:
-                    self._bus_status[(from_guid(s.source), from_guid(s.sessionID))] = s.commandStatus
+                if isinstance(s, InvalidSample) or c.source(s) not in self.vehicles:
+                    continue
+                status = c.read_status(s)[0]
+                if isinstance(status, Status):
+                    self._bus_status[(c.source(s), from_guid(s.sessionID))] = status
 
     def last_status(self, vehicle: Vehicle, service: Service, session: uuid.UUID) -> Status | None:
         return self.journal.get(vehicle.guid, service, session) or self._bus_status.get((vehicle.guid, session))
 
     def poll_commands(self, startup: bool = False) -> None:
         now = time.monotonic()
-        for service, reader in self.command_readers.items():
-            samples, bad = take_each(reader, self.conditions[service])
+        for c, reader in self.command_readers.items():
+            samples, bad = take_each(reader, self.conditions[c])
             if bad:  # a sample Python cannot decode costs only itself
-                log.warning("%d undecodable %s command(s)", bad, service.value)
+                log.warning("%d undecodable %s command(s)", bad, c.service.value)
             for s in samples:
-                self.handle(service, s, now, startup)
+                self.handle(c, s, now, startup)
 
-    def handle(self, service: Service, s: Any, now: float, startup: bool) -> None:
+    def handle(self, commanding: Commanding, s: Any, now: float, startup: bool) -> None:
         state = s.sample_info.instance_state
         cmd: Any = s.key_sample if isinstance(s, InvalidSample) else s  # a generated command struct
+        service = commanding.service
         try:
-            dest, session = from_guid(cmd.destination), from_guid(cmd.sessionID)
+            dest, session = commanding.destination(cmd), from_guid(cmd.sessionID)
         except (TypeError, ValueError):
             return
         vehicle = self.vehicles.get(dest)
-        if vehicle is None:
-            return  # addressed to another provider
+        if vehicle is None or vehicle.version != commanding.version:
+            return  # addressed to another provider (or in a version this vehicle does not speak)
         flow = vehicle.commands
         if not isinstance(s, InvalidSample):
             last = self.last_status(vehicle, service, session) if startup else None
-            flow.on_command(service, s, now, startup, last)
+            flow.on_command(commanding, s, now, startup, last)
         # A dispose that follows an unread sample shows only in that sample's instance state.
         ex = flow.executions.get((service, session))
         if ex is None:
@@ -240,7 +255,7 @@ class Simulator:
         for v in self.vehicles.values():
             v.sensors.step(now, dt)
             v.commands.step(now)
-            v.sensors.publish(now, self.write)
+            v.sensors.publish(now, v.write)
 
     def run(self, stop: Callable[[], bool]) -> None:
         if not self.started:
@@ -260,6 +275,6 @@ class Simulator:
             return
         for v in self.vehicles.values():
             v.commands.shutdown()
-            v.sensors.dispose(self.dispose)
+            v.sensors.dispose(v.dispose)
         wait_for_acks([*self.writers.values(), *(self.writer60.writers.values() if self.writer60 else [])], ack_timeout)
         self.journal.close()

@@ -27,13 +27,13 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import AnySem, Sem
 from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Pilot, Track, make_sky
 from sem_console.sim.options import SimOptions
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
 
-Out = Callable[[Sem, Any], None]  # a writer's write or dispose
+Out = Callable[[AnySem, Any], None]  # a writer's write or dispose
 
 
 class Sensors:

@@ -30,6 +30,14 @@ def _fault(text: str) -> tuple[str, int]:
     return kind, int(target)
 
 
+def _numbers(text: str) -> set[int]:
+    """'2,5': vehicle numbers from 1."""
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if not parts or not all(p.isdigit() and int(p) >= 1 for p in parts):
+        raise argparse.ArgumentTypeError(f"{text!r} must be vehicle numbers from 1, comma separated (e.g. 2,5)")
+    return {int(p) for p in parts}
+
+
 def _imc_id(text: str) -> int:
     try:
         return parse_imc_id(text, "--imc-id")
@@ -60,7 +68,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--domain", type=ranged(int, 0, 232), default=from_environment("sem-sim", BusSettings).domain, help=(
         "DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"))
     # the simulator's own options: one per field of SimOptions (sim/options.py), in its order
-    add_model_options(p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors})
+    add_model_options(p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors,
+                                   "numbers": _numbers})
     p.add_argument("--list", action="store_true", help="print each vehicle's source GUID and exit")
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info", help=(
         "log level (default: %(default)s)"))

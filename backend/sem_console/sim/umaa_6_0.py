@@ -13,6 +13,15 @@ makes every endpoint reliable and transient-local, and those of its TelemetryQoS
   that is off or restarting reports INIT, an aligned one the completed stage of its alignment);
 - GPSFixStatusReport has no 6.0 counterpart and is not written.
 
+Its vehicles answer InertialSensorCommandType (`Alignments`, the INS side of the provider flow, `provider_flow.py`):
+the INS walks the stages of the commanded alignment, a stage each `--align-seconds`/3: coarse, fine started, fine
+complete (GPS_ALIGN: COARSE_GPS_ALIGNMENT, FINE_GPS_ALIGNMENT_STARTED, FINE_GPS_ALIGNMENT_COMPLETE; likewise
+STATIONARY, TRANSFER and BEST); SNAP_ALIGN reports SNAP_ALIGNMENT_COMPLETE after one stage; INIT reports INIT at once
+(initialised, not aligned) and stays there until an alignment is commanded. The `fail-midway` fault fails the
+alignment halfway with its kind's failure (GPS_ALIGNMENT_FAILURE...; INIT: INERTIAL_SENSOR_FAILURE); a canceled
+alignment stays at the stage it reached. Their statuses and acks go on the 6.0 topics with RTI UMAAQoSLib's CommandQoS
+(`dds/qos.py`).
+
 With `--gps-extensibility appendable` GlobalPoseReportType, the one of them with optional members, is written with its
 appendable copy (as RTI's UMAA types are; XCDR2), for RTI consumers (docs/umaa-versions.md, "RTI Connext").
 """
@@ -20,8 +29,11 @@ appendable copy (as RTI's UMAA types are; XCDR2), for RTI consumers (docs/umaa-v
 from __future__ import annotations
 
 import math
+import time
 import uuid
 from typing import Any
+
+from cyclonedds.pub import DataWriter
 
 from UMAA_6_0.Common import IdentifierType
 from UMAA_6_0.Common.MaritimeEnumeration.GPSConstellationEnumModule import GPSConstellationEnumType as Constellation
@@ -35,7 +47,7 @@ from UMAA_6_0.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA_6_0.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.bus import Bus
-from sem_console.dds.topics import Sem, Sem60, to_appendable
+from sem_console.dds.topics import AnySem, Sem, Sem60, to_appendable
 from sem_console.umaa.samples import make
 
 NIL = bytes(16)
@@ -101,11 +113,83 @@ def global_pose(fix: Any) -> GlobalPoseReportType:
         positionCovariance=None, timeStamp=_time(fix.timeStamp), source=_identifier(fix.source))
 
 
-def ins_report(r: Any, aligned: dict[uuid.UUID, str]) -> InertialSensorReportType:
+# per commanded kind (InertialSensorCmdEnumType), the stages its INS reports in turn; the last one is the aim
+STAGES: dict[str, tuple[str, ...]] = {
+    **{f"{kind}_ALIGN": (f"COARSE_{kind}_ALIGNMENT", f"FINE_{kind}_ALIGNMENT_STARTED", f"FINE_{kind}_ALIGNMENT_COMPLETE")
+       for kind in ("BEST", "GPS", "STATIONARY", "TRANSFER")},
+    "SNAP_ALIGN": ("INIT", "SNAP_ALIGNMENT_COMPLETE"),
+    "INIT": ("INIT",),
+}
+FAILURE = {**{kind: f"{kind.removesuffix('_ALIGN')}_ALIGNMENT_FAILURE" for kind in STAGES if kind != "INIT"},
+           "INIT": "INERTIAL_SENSOR_FAILURE"}
+
+
+class Alignment:
+    """One vehicle's commanded alignment: its kind, since when (sensor seconds), where it stopped or failed."""
+
+    def __init__(self, kind: str, since: float, stage_seconds: float) -> None:
+        self.kind, self.since, self.stage_seconds = kind, since, stage_seconds
+        self.stopped: str | None = None  # the stage a canceled or updated alignment stays at, or its failure
+
+    def status(self, t: float) -> str:
+        if self.stopped is not None:
+            return self.stopped
+        stages = STAGES[self.kind]
+        step = int((t - self.since) / self.stage_seconds) if self.stage_seconds > 0 else len(stages)
+        return stages[min(max(step, 0), len(stages) - 1)]
+
+    def done(self, t: float) -> bool:
+        return self.stopped is None and self.status(t) == STAGES[self.kind][-1]
+
+
+class Alignments:
+    """The INS side of a 6.0 vehicle's InertialSensorCommandType (provider_flow.InsEffects), for every vehicle of the
+    simulator; `Writer60` reports each vehicle's stage."""
+
+    def __init__(self, align_seconds: float) -> None:
+        self.stage_seconds = align_seconds / 3  # coarse, fine started, fine complete
+        self.by_vehicle: dict[uuid.UUID, tuple[Alignment, Any]] = {}  # with the sensors whose time it runs on
+
+    def start(self, sensors: Any, command: Any, t: float) -> None:
+        self.by_vehicle[uuid.UUID(bytes=bytes(sensors.source))] = (Alignment(command.state.name, t, self.stage_seconds),
+                                                                   sensors)
+
+    def _of(self, sensors: Any) -> Alignment | None:
+        entry = self.by_vehicle.get(uuid.UUID(bytes=bytes(sensors.source)))
+        return entry[0] if entry else None
+
+    def done(self, sensors: Any, command: Any, t: float) -> bool:
+        a = self._of(sensors)
+        return a is not None and a.kind == command.state.name and a.done(t)
+
+    def fail(self, sensors: Any, command: Any, t: float) -> None:
+        a = self._of(sensors)
+        if a is not None:
+            a.stopped = FAILURE[a.kind]
+
+    def stop(self, sensors: Any, command: Any, t: float) -> None:
+        a = self._of(sensors)
+        if a is not None and a.stopped is None:
+            a.stopped = a.status(t)
+
+    def status(self, vehicle: uuid.UUID) -> str | None:
+        """The stage a vehicle's commanded alignment reports now; None: none commanded."""
+        entry = self.by_vehicle.get(vehicle)
+        if entry is None:
+            return None
+        a, sensors = entry
+        return a.status(sensors.t(time.monotonic()))
+
+
+def ins_report(r: Any, aligned: dict[uuid.UUID, str], commanded: str | None = None) -> InertialSensorReportType:
     """A 3.0.1 InertialSensorReport as 6.0's; `aligned`: per vehicle, the stage its last alignment completed with (kept
-    here), what an aligned 6.0 INS reports where 3.0.1 says OPERATIONAL."""
+    here), what an aligned 6.0 INS reports where 3.0.1 says OPERATIONAL; `commanded`: the stage of the alignment a
+    command started (`Alignments`), which it reports unless the INS failed."""
     status = r.status.name
     vehicle = uuid.UUID(bytes=bytes(r.source))
+    if commanded is not None and status != "INERTIAL_SENSOR_FAILURE":
+        return InertialSensorReportType(status=OpStatus[commanded], timeStamp=_time(r.timeStamp),
+                                        source=_identifier(r.source))
     if status.endswith("_ALIGNMENT_COMPLETE"):
         aligned[vehicle] = status
     elif status == "OPERATIONAL":
@@ -119,16 +203,20 @@ def ins_report(r: Any, aligned: dict[uuid.UUID, str]) -> InertialSensorReportTyp
 class Writer60:
     """Writes the vehicles' 3.0.1 samples as their 6.0 counterparts (the module's docstring)."""
 
-    def __init__(self, bus: Bus, appendable: bool = False) -> None:
+    def __init__(self, bus: Bus, align_seconds: float, appendable: bool = False) -> None:
         # appendable (--gps-extensibility appendable): the type with optional members, GlobalPoseReportType, written with
         # its appendable copy in XCDR2, as RTI's UMAA types are, for an RTI consumer (docs/umaa-versions.md)
         sems = (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)
         self.appendable = {s for s in sems if appendable and s.spec.appendable is not None}
-        self.writers = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
+        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable)
+                                                       for sem in sems}
+        # the command flow's statuses and acks: reliable, transient-local, with RTI UMAAQoSLib's CommandQoS (bus.writer)
+        self.writers.update({sem: bus.writer(sem) for sem in (Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)})
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with
+        self.alignments = Alignments(align_seconds)
 
     def ins_report(self, r: Any) -> InertialSensorReportType:
-        return ins_report(r, self._aligned)
+        return ins_report(r, self._aligned, self.alignments.status(uuid.UUID(bytes=bytes(r.source))))
 
     def _as_6_0(self, sem: Sem, sample: Any) -> tuple[Sem60, Any] | None:
         if sem is Sem.GPS_REPORT:
@@ -139,12 +227,13 @@ class Writer60:
             return Sem60.INS_REPORT, self.ins_report(sample)
         return None  # GPSFixStatusReport: no 6.0 counterpart
 
-    def write(self, sem: Sem, sample: Any) -> None:
-        out = self._as_6_0(sem, sample)
+    def write(self, sem: AnySem, sample: Any) -> None:
+        """A 3.0.1 report as its 6.0 counterpart; a 6.0 sample (a command's status or ack) as it is."""
+        out = self._as_6_0(sem, sample) if isinstance(sem, Sem) else (sem, sample)
         if out is not None:
             self.writers[out[0]].write(to_appendable(out[1]) if out[0] in self.appendable else out[1])
 
-    def dispose(self, sem: Sem, sample: Any) -> None:
-        out = self._as_6_0(sem, sample)
+    def dispose(self, sem: AnySem, sample: Any) -> None:
+        out = self._as_6_0(sem, sample) if isinstance(sem, Sem) else (sem, sample)
         if out is not None:
             self.writers[out[0]].dispose(to_appendable(out[1]) if out[0] in self.appendable else out[1])

@@ -9,6 +9,14 @@ One addition to the figure, from the provider startup sequence (ICD 4.1.2.1): a
 restarted provider that will not resume a persisted command fails it with
 SERVICE_FAILED, which a consumer may see as the first status from that provider.
 A status equal to the current one (same state and reason) is a repeat, not a transition.
+
+One model for every UMAA version: UMAA 6.0 adds the reason UPDATED (its ICD 4.1.4.2, Figure 15): a command with the
+same source and sessionID and a newer time stamp is an update, and its status goes back to ISSUED from any of
+ISSUED, COMMANDED and EXECUTING:
+
+    ISSUED | COMMANDED | EXECUTING --ISSUED/UPDATED--> ISSUED
+
+UMAA 3.0.1 has no such reason; its vehicles never send it. The model's reasons are UMAA 3.0.1's and `Updated`.
 """
 
 from __future__ import annotations
@@ -21,6 +29,16 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 
 E = TypeVar("E", bound=Enum)
+
+
+class Updated(Enum):
+    """The model's reason beyond UMAA 3.0.1's (the module's docstring)."""
+
+    UPDATED = "UPDATED"
+
+
+UPDATED = Updated.UPDATED
+AnyReason = Reason | Updated
 TERMINAL = frozenset({Status.COMPLETED, Status.FAILED, Status.CANCELED})
 FAILURE_REASONS = frozenset({
     Reason.VALIDATION_FAILED, Reason.OBJECTIVE_FAILED, Reason.SERVICE_FAILED, Reason.RESOURCE_FAILED,
@@ -45,7 +63,9 @@ SUCCESS_NEXT: dict[Status | None, Status] = {
 }
 
 
-def reason_allowed(status: Status, reason: Reason, first: bool = False) -> bool:
+def reason_allowed(status: Status, reason: AnyReason, first: bool = False) -> bool:
+    if reason is UPDATED:
+        return status is Status.ISSUED and not first
     if status is Status.FAILED:
         return reason is Reason.SERVICE_FAILED if first else reason in FAILURE_REASONS
     if status is Status.CANCELED:
@@ -69,12 +89,19 @@ def parse(enum: type[E], text: str) -> E | int:
     raise ValueError(f"{text!r} is not a {enum.__name__}")
 
 
-def check_transition(prev: Status | None, status: Status | int, reason: Reason | int) -> str | None:
-    """None when prev -> (status, reason) follows Figure 4, else what is wrong with it."""
+def parse_reason(text: str) -> AnyReason | int:
+    """`parse` for a reason of the model (UMAA 3.0.1's, or UPDATED)."""
+    return UPDATED if text == UPDATED.name else parse(Reason, text)
+
+
+def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int) -> str | None:
+    """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it."""
     if not isinstance(status, Status):
         return f"unknown commandStatus ordinal {status!r}"
-    if not isinstance(reason, Reason):
+    if not isinstance(reason, AnyReason):
         return f"unknown commandStatusReason ordinal {reason!r}"
+    if reason is UPDATED and prev in _ACTIVE and status is Status.ISSUED:
+        return None
     if status not in NEXT[prev]:
         before = prev.name if prev is not None else "(no status)"
         return f"{before} -> {status.name} is not a Figure 4 transition"
@@ -86,7 +113,7 @@ def check_transition(prev: Status | None, status: Status | int, reason: Reason |
 @dataclass
 class Transition:
     status: Status | int  # an int only for an ordinal the enum does not have (always a violation)
-    reason: Reason | int
+    reason: AnyReason | int
     log_message: str
     violation: str | None = None
 
@@ -101,7 +128,7 @@ class CommandFlow:
     def status(self) -> Status | None:
         """The last valid status (an unknown ordinal does not move the state machine)."""
         for t in reversed(self.transitions):
-            if isinstance(t.status, Status) and isinstance(t.reason, Reason):
+            if isinstance(t.status, Status) and isinstance(t.reason, AnyReason):
                 return t.status
         return None
 
@@ -113,7 +140,7 @@ class CommandFlow:
     def violations(self) -> list[str]:
         return [t.violation for t in self.transitions if t.violation]
 
-    def observe(self, status: Status | int, reason: Reason | int, log_message: str = "") -> Transition | None:
+    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "") -> Transition | None:
         """Feed a received status; returns the new transition, or None for a repeat."""
         last = self.transitions[-1] if self.transitions else None
         if last is not None and last.status is status and last.reason is reason:

@@ -14,6 +14,10 @@
   stage of each kind of alignment, or a failure; literals 6.0 adds to the model's, `MODEL_LITERALS`). 6.0 reports no
   power state: `state` is null.
 
+- Commanding (`versions/commands.py` takes it): InertialSensorCommandType built from the console's command
+  (`ins_command`: source and destination as IdentifierType), and a CommandStatusType read into the model's one command
+  status (`command_status`); a provider's status and ack (`ins_status`, `ins_ack`: the ack carries the whole command).
+
 An invalid value the decoder flagged is named by the model's path ("position2DWithTime.geodeticPosition....").
 """
 
@@ -26,13 +30,26 @@ from dataclasses import dataclass
 from enum import Enum
 from typing import Any, get_type_hints
 
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
+from UMAA_6_0.Common import IdentifierType
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusEnumModule import CommandStatusEnumType as Status60
+from UMAA_6_0.Common.MaritimeEnumeration.CommandStatusReasonEnumModule import CommandStatusReasonEnumType as Reason60
+from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
 from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorOpStatusEnumModule import InertialSensorOpStatusEnumType as OpStatus
+from UMAA_6_0.Common.Measurement import DateTime
 from UMAA_6_0.SA.GlobalPoseStatus import GlobalPoseReportType
 from UMAA_6_0.SEM.GPSStatus import GPSClockType
+from UMAA_6_0.SEM.InertialSensorControl import (
+    InertialSensorCommandAckReportType,
+    InertialSensorCommandStatusType,
+    InertialSensorCommandType,
+)
 
 from sem_console.dds.topics import Sem60
+from sem_console.umaa.flow import AnyReason, parse_reason
 from sem_console.umaa.guid import satellite_guid
+from sem_console.umaa.samples import make
 from sem_console.versions.shape import Adapter, Lookup, Seconds, Spec, Src, Unless, apply
 
 # The 6.0 clock member the model names differently (the 3.0.1 IDL's spelling); the one the model has and 6.0 does
@@ -156,3 +173,48 @@ REPORTS: dict[Sem60, Report] = {
     Sem60.GLOBAL_POSE_REPORT: Report("GPSFixReport", _applied(GLOBAL_POSE), GLOBAL_POSE),
     Sem60.INS_REPORT: Report("InertialSensorReport", _applied(INS_REPORT), INS_REPORT),
 }
+
+
+# ---- commanding: InertialSensorControl (UMAA 6.0 SEM ICD 4.1) -------------------------------------------------------
+NIL_GUID = bytes(16)  # a parentID: the console and the simulated vehicles have no parent
+
+
+def identifier(guid: uuid.UUID) -> IdentifierType:
+    """A vehicle's or a console's UMAA::Common::IdentifierType: its GUID as `id`, no parent."""
+    return make(IdentifierType, id=list(guid.bytes), parentID=list(NIL_GUID))
+
+
+INS_COMMAND_STATES: tuple[str, ...] = tuple(InsCmd.__members__)  # BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, ...
+
+
+def ins_command(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
+                stamp: tuple[int, int]) -> InertialSensorCommandType:
+    """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`); `state` a literal of
+    INS_COMMAND_STATES (KeyError otherwise)."""
+    return make(InertialSensorCommandType, state=InsCmd[state or ""],
+                timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
+                sessionID=list(session.bytes), destination=identifier(destination))
+
+
+def command_status(sample: Any) -> tuple[Status | int, AnyReason | int]:
+    """A CommandStatusType's status and reason in the model (`umaa/flow.py`): the same literals, by name (6.0's
+    enumerations are alphabetical, 3.0.1's are not), UPDATED the model's own; an ordinal neither has stays a number."""
+    status, reason = sample.commandStatus, sample.commandStatusReason
+    return (Status[status.name] if isinstance(status, Enum) else status,
+            (parse_reason(reason.name) if isinstance(reason, Enum) else reason))
+
+
+def ins_status(source: uuid.UUID, command: Any, status: Status, reason: AnyReason, message: str,
+               stamp: tuple[int, int]) -> InertialSensorCommandStatusType:
+    """A provider's InertialSensorCommandStatusType for `command` (its InertialSensorCommandType): the model's status
+    and reason as 6.0's literals of the same names."""
+    return make(InertialSensorCommandStatusType,
+                timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
+                sessionID=command.sessionID, commandStatus=Status60[status.name], commandStatusReason=Reason60[reason.name],
+                logMessage=message[:4095])
+
+
+def ins_ack(source: uuid.UUID, command: Any, stamp: tuple[int, int]) -> InertialSensorCommandAckReportType:
+    """A provider's InertialSensorCommandAckReportType: the command it executes, whole."""
+    return InertialSensorCommandAckReportType(command=command, timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+                                              source=identifier(source), sessionID=command.sessionID)

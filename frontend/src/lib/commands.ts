@@ -1,6 +1,52 @@
 // The commands panel: live commands (WebSocket) merged with older pages (REST), and the words of its cards.
 import type { Command } from "../api/types";
-import { CANCEL_CAUSE, COMMAND, COMMAND_STATUS, commandStatusText, reasonText } from "./labels";
+import { CANCEL_CAUSE, COMMAND, COMMAND_STATUS, INS_COMMAND, commandStatusText, inline, reasonText, type InsCommand, type UmaaVersion } from "./labels";
+
+/** A command the panel offers: its service, the state it asks (InertialSensor), its button's words, how a sentence
+ * names it, and the question it asks first (null: sent at once). */
+export interface CommandChoice {
+  service: Command["service"];
+  state: NonNullable<Command["state"]> | null;
+  label: string;
+  noun: string;
+  confirm: string | null;
+}
+
+const REALIGN = "It must align again before it is operational.";
+const CHOICES_3_0_1: CommandChoice[] = [
+  { service: "GPSFix", state: null, label: "Request GPS fix", noun: "a GPS fix request", confirm: null },
+  { service: "InertialSensor", state: "ON", label: "INS ON", noun: "INS ON", confirm: null },
+  { service: "InertialSensor", state: "OFF", label: "INS OFF", noun: "INS OFF", confirm: "Switch its inertial sensor off? Navigation falls back to GPS only." },
+  { service: "InertialSensor", state: "RESTARTING", label: "INS RESTART", noun: "INS RESTART", confirm: `Restart its inertial sensor? ${REALIGN}` },
+];
+const INS_6_0: InsCommand[] = ["GPS_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN", "BEST_ALIGN", "SNAP_ALIGN", "INIT"];
+
+/** A UMAA 6.0 inertial sensor command's title, "INS GPS-aided alignment"; null for a state of no 6.0 command. */
+function insCommandTitle(state: string | null | undefined): string | null {
+  return state && state in INS_COMMAND ? `INS ${inline(INS_COMMAND[state as InsCommand])}` : null;
+}
+
+/** The commands a vehicle of `version` takes (the backend refuses the others with a 422): UMAA 3.0.1, a GPS fix and
+ * the INS ON, OFF or RESTART; UMAA 6.0, the alignments of its inertial sensor (it has no GPS fix service). */
+export function commandChoices(version: UmaaVersion | null | undefined): CommandChoice[] {
+  if (version !== "6.0") return CHOICES_3_0_1;
+  return INS_6_0.map((state) => {
+    const title = insCommandTitle(state) ?? state;
+    return { service: "InertialSensor", state, label: title, noun: title, confirm: state === "INIT" ? `Initialise its inertial sensor? ${REALIGN}` : null };
+  });
+}
+
+/** Why a vehicle of `version` is offered no GPS fix, or null when it is. */
+export function noGpsFix(version: UmaaVersion | null | undefined): string | null {
+  return version === "6.0" ? "UMAA 6.0 has no GPS fix service" : null;
+}
+
+/** A command card's title: "GPS fix", "INS RESTART", "INS ON", "INS GPS-aided alignment". */
+export function commandTitle(c: Pick<Command, "service" | "state">): string {
+  if (c.service === "GPSFix") return "GPS fix";
+  if (c.state === "RESTARTING") return "INS RESTART";
+  return insCommandTitle(c.state) ?? `INS ${c.state ?? ""}`;
+}
 
 /** Both lists without repeats, newest first; a live command wins over its REST copy (it is newer). `until`: a
  * replay's instant (UTC seconds), whose history holds the whole recording: its rows of commands requested after that

@@ -11,7 +11,9 @@ import { DASH, clockTime, elapsedText } from "./units";
 // Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
 type Words<T extends string> = Readonly<Record<T, string>>;
 type CommandStatus = "ISSUED" | "COMMANDED" | "EXECUTING" | "COMPLETED" | "FAILED" | "CANCELED";
-type CommandReason = "SUCCEEDED" | "CANCELED" | "VALIDATION_FAILED" | "OBJECTIVE_FAILED" | "SERVICE_FAILED" | "RESOURCE_FAILED" | "RESOURCE_REJECTED" | "INTERRUPTED" | "TIMEOUT";
+type CommandReason = "SUCCEEDED" | "CANCELED" | "VALIDATION_FAILED" | "OBJECTIVE_FAILED" | "SERVICE_FAILED" | "RESOURCE_FAILED" | "RESOURCE_REJECTED" | "INTERRUPTED" | "TIMEOUT" | "UPDATED";
+/** UMAA 6.0's InertialSensorCmdEnumType: what a 6.0 InertialSensorCommandType asks (the Command's state of a 6.0 vehicle). */
+export type InsCommand = "BEST_ALIGN" | "GPS_ALIGN" | "INIT" | "SNAP_ALIGN" | "STATIONARY_ALIGN" | "TRANSFER_ALIGN";
 export const FIX_STATE: Words<GPSFixEnumType> = WORDS.GPSFixEnumType;
 export const NAV_SOLUTION: Words<GPSNavigationSolutionEnumType> = WORDS.GPSNavigationSolutionEnumType;
 export const CONSTELLATION: Words<GPSConstellationEnumType> = WORDS.GPSConstellationEnumType;
@@ -21,6 +23,7 @@ export const POSITION_SOLUTION: Words<NavigationSolutionEnumType> = WORDS.Naviga
 export const TIME_MERIT: Words<TFOMEnumType> = WORDS.TFOMEnumType;
 export const COMMAND_STATUS: Words<CommandStatus> = WORDS.CommandStatusEnumType;
 export const REASON: Words<CommandReason> = WORDS.CommandStatusReasonEnumType;
+export const INS_COMMAND: Words<InsCommand> = WORDS.InertialSensorCmdEnumType;
 export const LINK: Words<LinkState | "stale" | "unreachable" | "planned"> = WORDS.link;
 export const COMMAND: Words<"unanswered"> = WORDS.command;
 export const CANCEL_CAUSE: Words<"operator" | "shutdown"> = WORDS.cancelCause;
@@ -48,6 +51,7 @@ export const UMAA_WORDS: Readonly<Record<string, Readonly<Record<string, string>
   TFOMEnumType: TIME_MERIT,
   CommandStatusEnumType: COMMAND_STATUS,
   CommandStatusReasonEnumType: REASON,
+  InertialSensorCmdEnumType: INS_COMMAND,
 };
 
 function lookup<T extends string>(words: Words<T>, v: string | null | undefined): string {

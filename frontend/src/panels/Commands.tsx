@@ -6,32 +6,28 @@ import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
+import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../data/store";
-import { cancelText, cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, lostButtonNote, lostMeanwhileText, umaa } from "../lib/labels";
+import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../lib/commands";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, lostButtonNote, lostMeanwhileText, umaa, type UmaaVersion } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 import { unreachable as isUnreachable } from "../data/source";
 
-type Action = { label: string; noun: string; confirm: string | null; run: (provider: string, token: string | null, confirmLost: boolean) => Promise<Command> };
+type Action = CommandChoice & { run: (provider: string, token: string | null, confirmLost: boolean) => Promise<Command> };
 
-const ACTIONS: Action[] = [
-  { label: "Request GPS fix", noun: "a GPS fix request", confirm: null, run: (p, t, l) => requestGpsFix(p, t, l) },
-  { label: "INS ON", noun: "INS ON", confirm: null, run: (p, t, l) => setInertialSensor(p, "ON", t, l) },
-  { label: "INS OFF", noun: "INS OFF", confirm: "Switch its inertial sensor off? Navigation falls back to GPS only.", run: (p, t, l) => setInertialSensor(p, "OFF", t, l) },
-  { label: "INS RESTART", noun: "INS RESTART", confirm: "Restart its inertial sensor? It must align again before it is operational.", run: (p, t, l) => setInertialSensor(p, "RESTARTING", t, l) },
-];
+/** The selected vehicle's commands, as its UMAA version takes them (lib/commands.ts), each with the request it sends. */
+function actionsFor(version: UmaaVersion | null): Action[] {
+  return commandChoices(version).map((c) => ({
+    ...c,
+    run: (p, t, l) => (c.state === null ? requestGpsFix(p, t, l) : setInertialSensor(p, c.state, t, l)),
+  }));
+}
 
 /** A confirmation is bound to the vehicle it was prepared for, and to whether that vehicle was lost then
  * (a lost vehicle's command says so and is sent with confirmLost). */
 type Pending = { action: Action; target: VehicleIdentity; lost: boolean };
-
-function title(c: Command): string {
-  if (c.service === "GPSFix") return "GPS fix";
-  return c.state === "RESTARTING" ? "INS RESTART" : `INS ${c.state ?? ""}`;
-}
 
 /** Unanswered and not ended: a cancelled command the console ended as never heard keeps `unanswered` in its record,
  * but nothing is left to wait for or to watch. */
@@ -99,7 +95,7 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
     ) });
   }
   return (
-    <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${title(c)}`}>
+    <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${commandTitle(c)}`}>
       {inTimeOrder(lines).map((l) => l.node)}
       {awaitingAnswer(c) && (
         <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
@@ -134,7 +130,7 @@ function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open 
   return (
     <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
       <summary ref={row} data-testid="command-summary">
-        <span className="c-title">{title(c)}</span>
+        <span className="c-title">{commandTitle(c)}</span>
         <span className="c-status" data-testid="command-status" title={awaitingAnswer(c) ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
           {statusText(c)}
         </span>
@@ -148,7 +144,7 @@ function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open 
             className="small danger"
             disabled={!canCommand}
             aria-disabled={waiting || undefined} // while a request is on its way: not disabled, which would drop the focus
-            title={`Cancel ${title(c)} on ${vehicleLabel(target)}`}
+            title={`Cancel ${commandTitle(c)} on ${vehicleLabel(target)}`}
             onClick={(e) => {
               e.preventDefault(); // a button in a summary: the press is not a toggle of the details
               if (e.detail >= 2 || waiting) return;
@@ -261,6 +257,8 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
 export function CommandsPanel() {
   const selected = useSelector((s) => s.selected);
   const known = useSelectedVehicle();
+  const version = useSelectedUmaaVersion();
+  const actions = useMemo(() => actionsFor(version), [version]);
   const target: VehicleIdentity | null = selected ? { id: selected, name: known?.name ?? null } : null;
   const commands = useCommands(selected);
   const authRequired = useSelector((s) => s.authRequired);
@@ -335,8 +333,12 @@ export function CommandsPanel() {
     else void run(t, a.label, () => a.run(t.id, token, false));
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
-  const why = (a: Action, t: VehicleIdentity): string =>
-    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${inline(linkOrPlanned("lost", until))}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+  const why = (a: Action, t: VehicleIdentity): string => {
+    const said = unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${inline(linkOrPlanned("lost", until))}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+    const literal = umaa("state", a.state); // the UMAA literal it sends, for the engineer comparing with a log
+    return literal ? `${said} (${literal})` : said;
+  };
+  const noFix = target ? noGpsFix(version) : null;
 
   return (
     <Panel title="Commands" testId="commands-panel">
@@ -363,13 +365,18 @@ export function CommandsPanel() {
         </p>
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
-        {ACTIONS.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined}>
+        {actions.map((a) => (
+          <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined} data-state={a.state ?? undefined}>
             {a.label}
             {lost && mayCommand && lostButtonNote(until)}
           </button>
         ))}
       </div>
+      {noFix && (
+        <p className="muted" data-testid="command-no-gps-fix">
+          {noFix}: no GPS fix to request.
+        </p>
+      )}
       {error && (
         <p className="error" role="alert" data-testid="command-error">
           {error}
@@ -414,7 +421,7 @@ export function CommandsPanel() {
           live={commands}
           canCommand={canCommand}
           waiting={sending}
-          onCancel={(x) => void run(target, `Cancel ${title(x)}`, () => cancelCommand(x.sessionId, token))}
+          onCancel={(x) => void run(target, `Cancel ${commandTitle(x)}`, () => cancelCommand(x.sessionId, token))}
         />
       )}
     </Panel>

@@ -10,8 +10,7 @@ import uuid
 from typing import Annotated, Any
 
 from fastapi import APIRouter, HTTPException, Query, status
-
-from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+from fastapi.exceptions import RequestValidationError
 
 from sem_console.api.deps import AuditDep, ConsoleDep, Limit, Offset, OperatorDep
 from sem_console.api.responses import DATABASE_READ, JSON_BODY, Responses, problem
@@ -19,8 +18,10 @@ from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
 from sem_console.console.alarms import vehicle_label
 from sem_console.console.commands import CommandError
+from sem_console.console.providers import Provider
 from sem_console.console.service import Console
 from sem_console.dds.topics import Service
+from sem_console.versions.commands import Commanding, commanding, refusal
 
 writes = APIRouter(tags=["commands"])
 reads = APIRouter(tags=["commands"])
@@ -40,9 +41,10 @@ CREATED: Responses = {201: {"description": "the command, published on the bus", 
              responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep,
                           audit: AuditDep) -> dict[str, Any]:
-    """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId."""
-    reachable_provider(console, provider_id, body.confirmLost)
-    cmd = console.issue(Service.GPS_FIX, provider_id, None, operator)
+    """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId.
+    A UMAA 6.0 vehicle has no GPS fix service: 422."""
+    p = reachable_provider(console, provider_id, body.confirmLost)
+    cmd = console.issue(version_commanding(p, Service.GPS_FIX, None, ("path", "provider_id")), provider_id, None, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
@@ -51,14 +53,28 @@ async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: 
              responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
                               operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
-    """Set the inertial sensor OFF, ON or RESTARTING (InertialSensorCommand)."""
-    reachable_provider(console, provider_id, body.confirmLost)
-    cmd = console.issue(Service.INERTIAL_SENSOR, provider_id, InsState[body.state], operator)
+    """Command the inertial sensor with a state of the vehicle's UMAA version (its `umaaVersion`): 3.0.1, OFF, ON or
+    RESTARTING (InertialSensorCommand); 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or
+    TRANSFER_ALIGN (InertialSensorCommandType). A state of the other version: 422, naming the vehicle's version and its
+    choices."""
+    p = reachable_provider(console, provider_id, body.confirmLost)
+    cmd = console.issue(version_commanding(p, Service.INERTIAL_SENSOR, body.state, ("body", "state")), provider_id,
+                        body.state, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
 
-def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: bool) -> None:
+def version_commanding(p: Provider, service: Service, state: str | None, where: tuple[str, ...]) -> Commanding:
+    """How the vehicle's version commands `service`; a 422 (a validation problem at `where`) naming its version and
+    its choices when it cannot take this command."""
+    refused = refusal(p.umaa_version, service, state, vehicle_label(p.id, p.name))
+    found = commanding(p.umaa_version, service)
+    if refused is not None or found is None:
+        raise RequestValidationError([{"loc": where, "msg": refused, "type": "value_error"}])
+    return found
+
+
+def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: bool) -> Provider:
     """A known provider; one whose link is lost only with the operator's explicit confirmation (409 otherwise):
     the command would wait on the bus and may run whenever the vehicle comes back."""
     p = known_provider(console, provider_id)
@@ -67,6 +83,7 @@ def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: b
         raise HTTPException(status.HTTP_409_CONFLICT,
                             f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
                             "the command could run whenever it comes back; send confirmLost true to command it anyway")
+    return p
 
 
 @writes.delete("/api/commands/{session_id}", response_model=Command,
