@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import time
 import uuid
 from pathlib import Path
 from typing import Any
@@ -15,7 +16,11 @@ from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
 from sem_console.console.history import track_point
 from sem_console.dds.topics import Sem60
+from sem_console.sim import umaa_6_0 as sim60
+from sem_console.sim.models import SUBMERGED_DEPTH_M
+from sem_console.sim.options import SimOptions
 from sem_console.sim.provider import vehicle_guid
+from sem_console.sim.reports import Sensors
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
 from sem_console.versions import umaa_6_0
@@ -60,8 +65,10 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     at = pose["position2DWithTime"]["geodeticPosition"]
     assert -90 <= at["geodeticLatitude"]["latitude"] <= 90 and -180 <= at["geodeticLongitude"]["longitude"] <= 180
     assert 0 <= pose["trueCourse"] < 7 and pose["attitude"]["yaw"]["yaw"] == pose["trueCourse"]
-    assert pose["navigationSolution"] in ("MEASURED", "ESTIMATED")
-    assert pose["GPSLatLongValid"] is (pose["navigationSolution"] == "MEASURED") and pose["SOG"] is None
+    # on the surface (6.0 has no GPS fix command to surface it): a measured position, as a working 6.0 vehicle's
+    assert pose["navigationSolution"] == "MEASURED" and pose["GPSLatLongValid"] is True and pose["SOG"] is None
+    assert pose["altitudeMSL"] == {"altitude": 0.0} and pose["depth"] is None
+    assert any(s["usedInFix"] for s in gps["satellites"])
     # its INS: the model's InertialSensorReport, the status a 6.0 literal, no power state
     ins = new["reports"]["InertialSensorReport"]["report"]
     assert ins["state"] is None and ins["status"] in report_schemas()["InertialSensorOpStatusEnumType"]["enum"]
@@ -146,6 +153,20 @@ def test_a_6_0_position_flagged_invalid_is_named_by_the_models_path() -> None:
                                "trueCourse: nan is not a number"]
     assert pose["GPSLatLongValid"] is False and pose["navigationSolution"] == "ESTIMATED" and pose["trueCourse"] is None
     assert track_point(pose["source"], 0.0, pose, invalid, None) is None  # no valid position, no track point
+
+
+def test_a_6_0_sim_vehicle_reports_a_measured_position_on_the_surface() -> None:
+    """UMAA 6.0 has no GPS fix command to surface a vehicle: a 6.0 sem-sim vehicle is on the surface, its GlobalPose
+    MEASURED and its satellites used in the fix; under water its position would be ESTIMATED, with its depth."""
+    sensors = Sensors(SimOptions(umaa="6.0"), 1, vehicle_guid(1), set())
+    now = time.monotonic()
+    sats = sensors.satellites(now)
+    pose = sim60.global_pose(sensors.fix_reports(now, sats)[0])
+    assert pose.navigationSolution.name == "MEASURED" and pose.altitude == 0.0 and pose.depth is None
+    assert any(s.usedInFix for s in sim60.gps_report(sensors.gps_report(now, sats)).satellites)
+    sensors.depth = SUBMERGED_DEPTH_M
+    pose = sim60.global_pose(sensors.fix_reports(now, sensors.satellites(now))[0])
+    assert pose.navigationSolution.name == "ESTIMATED" and pose.depth == -SUBMERGED_DEPTH_M and pose.altitude is None
 
 
 def test_time_figure_of_merit() -> None:
