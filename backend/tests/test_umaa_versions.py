@@ -169,6 +169,17 @@ def test_a_6_0_sim_vehicle_reports_a_measured_position_on_the_surface() -> None:
     assert pose.navigationSolution.name == "ESTIMATED" and pose.depth == -SUBMERGED_DEPTH_M and pose.altitude is None
 
 
+def test_a_6_0_course_west_of_north_is_valid() -> None:
+    """UMAA 6.0's course (CourseTrueNorth, SA ICD 6.0) is -2 pi..2 pi, where 3.0.1's is 0..2 pi: a 6.0 vehicle reporting
+    -1 rad is on course 302.7°, not an invalid course the track, the map and the gateways leave out."""
+    sample, _ = GOLDEN_6_0["UMAA::SA::GlobalPoseStatus::GlobalPoseReportType"]()
+    sample.course = -1.0
+    _, pose, invalid = _model(Sem60.GLOBAL_POSE_REPORT, type(sample).serialize(sample, use_version_2=True))
+    assert invalid == [] and pose["trueCourse"] == -1.0
+    point = track_point(pose["source"], 0.0, pose, invalid, None)
+    assert point is not None and round(point["course"], 1) == 302.7
+
+
 def test_time_figure_of_merit() -> None:
     assert [tfom(x).name for x in (None, 0.5, 1, 1.5, 10, 20, 100, 101, 1e7, 1e9)] == [
         "TFOM_1", "TFOM_1", "TFOM_1", "TFOM_2", "TFOM_2", "TFOM_3", "TFOM_3", "TFOM_4", "TFOM_8", "TFOM_9"]
@@ -184,7 +195,7 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
         sample, golden = GOLDEN_6_0[sem.spec.name]()
         datas = [golden]
         if sem is Sem60.GLOBAL_POSE_REPORT:
-            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -1.0, 5.0, 2.0
+            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -7.0, 5.0, 2.0
             sample.altitudeAGL, sample.altitudeASF = 7.0, 8.0
             sample.attitudeCovariance = _attitude_covariance()
             datas.append(type(sample).serialize(sample, use_version_2=True))
@@ -194,7 +205,7 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
         if sem is Sem60.GLOBAL_POSE_REPORT:
             pose = generated
     assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
-                               "trueCourse: -1.0 outside 0..6.28319"]
+                               "trueCourse: -7.0 outside -6.28319..6.28319"]
     assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
 
 
