@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import time
 import uuid
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -167,6 +168,18 @@ def test_a_6_0_sim_vehicle_reports_a_measured_position_on_the_surface() -> None:
     sensors.depth = SUBMERGED_DEPTH_M
     pose = sim60.global_pose(sensors.fix_reports(now, sensors.satellites(now))[0])
     assert pose.navigationSolution.name == "ESTIMATED" and pose.depth == -SUBMERGED_DEPTH_M and pose.altitude is None
+
+
+def test_a_6_0_satellite_number_no_satellite_has_is_flagged() -> None:
+    """A 6.0 satellite's number becomes the console's satellite GUID; one no satellite has (17.5, 300) cannot, and is
+    listed as invalid, as a 3.0.1 satellite GUID of the wrong length is, not left null unsaid."""
+    sample, _ = GOLDEN_6_0["UMAA::SEM::GPSStatus::GPSReportType"]()
+    first = sample.satellites[0]
+    sample.satellites = [replace(first, satelliteID=17.5), replace(first, satelliteID=300.0), first]
+    _, gps, invalid = _model(Sem60.GPS_REPORT, type(sample).serialize(sample))
+    assert [s["satelliteId"] is None for s in gps["satellites"]] == [True, True, False]
+    assert invalid == ["satellites[0].satelliteId: 17.5 is no satellite number (a whole number 1..255)",
+                       "satellites[1].satelliteId: 300.0 is no satellite number (a whole number 1..255)"]
 
 
 def test_a_6_0_course_west_of_north_is_valid() -> None:
