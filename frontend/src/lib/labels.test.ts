@@ -119,8 +119,13 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   it("says a UMAA 6.0 INS's alignment kind and stage, and its failures, in the table's words (the literal in the tooltip)", () => {
     expect(insWord(null, "COARSE_GPS_ALIGNMENT", "6.0")).toMatchObject({ text: "INS coarse alignment, GPS-aided", tone: "warn", title: "UMAA status: COARSE_GPS_ALIGNMENT" });
     expect(insWord(null, "FINE_TRANSFER_ALIGNMENT_STARTED").text).toBe("INS fine alignment, transfer");
-    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
-    expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
+    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
+    expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
+    // aligned is the last step of the vehicle's own alignment: a 3.0.1 INS whose fine alignment is done is not yet
+    // OPERATIONAL; a 6.0 INS (no OPERATIONAL) is aligned at the completed stage
+    expect(insWord("ON", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "3.0.1").tone).toBe("warn");
+    expect(insWord("ON", "OPERATIONAL", "3.0.1").tone).toBe("ok");
+    expect(insWord(null, "FINE_STATIONARY_ALIGNMENT_COMPLETE", "6.0").tone).toBe("ok");
     // each failure is a failure, said by its kind, as the INS alarm says it ("Alpha: INS GPS-aided alignment failed")
     expect(insWord(null, "GPS_ALIGNMENT_FAILURE")).toMatchObject({ text: "INS GPS-aided alignment failed", tone: "bad" });
     expect(insWord(null, "STATIONARY_ALIGNMENT_FAILURE").text).toBe("INS stationary alignment failed");

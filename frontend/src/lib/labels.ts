@@ -107,10 +107,12 @@ export function insFailed(status: string | null | undefined): boolean {
   return typeof status === "string" && status.endsWith("_FAILURE");
 }
 
-/** Whether an INS status says it is aligned: OPERATIONAL, or a completed alignment (UMAA 6.0 has no OPERATIONAL: an
- * aligned 6.0 INS reports the stage its alignment completed with). */
-export function insAligned(status: string | null | undefined): boolean {
-  return status === "OPERATIONAL" || (typeof status === "string" && status.endsWith("_COMPLETE"));
+/** Whether an INS status says it is aligned: at the last step of its alignment as its UMAA version has it (3.0.1:
+ * OPERATIONAL, after its fine alignment is done; 6.0, which has no OPERATIONAL: the stage its alignment completed
+ * with). */
+export function insAligned(status: string | null | undefined, version: UmaaVersion | null | undefined): boolean {
+  const bar = alignmentBar(version, status);
+  return bar.current >= 0 && bar.current === bar.steps.length - 1;
 }
 
 /** The INS in one phrase, as the fleet bar and the vehicle list say it: its state when that is not ON ("INS off",
@@ -122,7 +124,7 @@ export function insWord(state: string | null | undefined, status: string | null 
   if (insFailed(status)) return { text: `INS ${inline(lookup(INS_STATUS, status))}`, tone: "bad", title };
   if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
   const said = insStatusText(status, state);
-  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: insAligned(status) ? "ok" : "warn", title };
+  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: insAligned(status, version) ? "ok" : "warn", title };
 }
 
 /** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
@@ -207,9 +209,10 @@ export interface AlignmentBarStep {
  * status naming none, INIT or a sensor failure: the stages its version's alignments share) and the one it is at
  * (-1: none, a failure or an INS that is off, whose INIT is no step of an alignment, `insStatusText`). */
 export function alignmentBar(version: UmaaVersion | null | undefined, status: string | null | undefined, state?: string | null): { steps: AlignmentBarStep[]; current: number } {
-  const alignments = ALIGNMENTS[version ?? "3.0.1"];
   const s = status as OpStatus | null | undefined;
   const named = s ? (FAILED_ALIGNMENT[s] ?? s) : null;
+  // a version not known: the first that has the status (a status both have: 3.0.1's, which ends at OPERATIONAL)
+  const alignments = version ? ALIGNMENTS[version] : (Object.values(ALIGNMENTS).find((v) => v.some((a) => named !== null && a.includes(named))) ?? ALIGNMENTS["3.0.1"]);
   const own = alignments.find((a) => named !== null && named !== "INIT" && named !== "OPERATIONAL" && a.includes(named));
   const steps = (own ?? alignments[0]).map((x) => ({ step: stepOf(x), status: own || x === "INIT" || x === "OPERATIONAL" ? x : null }));
   const off = !s || insStatusText(s, state) === null;

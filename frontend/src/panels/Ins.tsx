@@ -45,7 +45,7 @@ function InsBody() {
               </span>
             )}
             {status !== null && (
-              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
+              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status, version) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
                 {status}
               </span>
             )}
