@@ -753,6 +753,10 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
     assert position.time_of_validity.elapsed_nsec == stamp.seconds * 10**9 + stamp.nanoseconds
     assert got["measurement_direction_of_motion_2d"].obs == 4.2
     assert "measurement_speed" not in got and "measurement_velocity" not in got  # GlobalPose has none: nothing made up
+    # ... and counted as not reported, not as invalid
+    counters = {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["aspn"]["counters"]
+    assert counters["left out: speed: SOG not reported"] >= 1 and counters["left out: velocity: not reported"] >= 1
+    assert counters["left out: altitude: not reported"] >= 1 and not any(k.endswith("invalid") for k in counters)
 
     me = (1, 1, 42)
     nav = decode_navigation(unjudp(ask(station, port, judp(me, 0x2421, struct.pack("<HHHH", 0xFFFF, 0, 0xFFFF, 0))))[3])

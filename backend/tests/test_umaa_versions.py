@@ -9,6 +9,7 @@ import subprocess
 import sys
 import time
 import uuid
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -22,7 +23,11 @@ from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
 from sem_console.console.history import track_point
 from sem_console.dds.topics import Sem60, delimited, to_appendable
+from sem_console.sim import umaa_6_0 as sim60
+from sem_console.sim.models import SUBMERGED_DEPTH_M
+from sem_console.sim.options import SimOptions
 from sem_console.sim.provider import vehicle_guid
+from sem_console.sim.reports import Sensors
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
 from sem_console.versions import umaa_6_0
@@ -67,8 +72,10 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     at = pose["position2DWithTime"]["geodeticPosition"]
     assert -90 <= at["geodeticLatitude"]["latitude"] <= 90 and -180 <= at["geodeticLongitude"]["longitude"] <= 180
     assert 0 <= pose["trueCourse"] < 7 and pose["attitude"]["yaw"]["yaw"] == pose["trueCourse"]
-    assert pose["navigationSolution"] in ("MEASURED", "ESTIMATED")
-    assert pose["GPSLatLongValid"] is (pose["navigationSolution"] == "MEASURED") and pose["SOG"] is None
+    # on the surface (6.0 has no GPS fix command to surface it): a measured position, as a working 6.0 vehicle's
+    assert pose["navigationSolution"] == "MEASURED" and pose["GPSLatLongValid"] is True and pose["SOG"] is None
+    assert pose["altitudeMSL"] == {"altitude": 0.0} and pose["depth"] is None
+    assert any(s["usedInFix"] for s in gps["satellites"])
     # its INS: the model's InertialSensorReport, the status a 6.0 literal, no power state
     ins = new["reports"]["InertialSensorReport"]["report"]
     assert ins["state"] is None and ins["status"] in report_schemas()["InertialSensorOpStatusEnumType"]["enum"]
@@ -155,6 +162,43 @@ def test_a_6_0_position_flagged_invalid_is_named_by_the_models_path() -> None:
     assert track_point(pose["source"], 0.0, pose, invalid, None) is None  # no valid position, no track point
 
 
+def test_a_6_0_sim_vehicle_reports_a_measured_position_on_the_surface() -> None:
+    """UMAA 6.0 has no GPS fix command to surface a vehicle: a 6.0 sem-sim vehicle is on the surface, its GlobalPose
+    MEASURED and its satellites used in the fix; under water its position would be ESTIMATED, with its depth."""
+    sensors = Sensors(SimOptions(umaa="6.0"), 1, vehicle_guid(1), set())
+    now = time.monotonic()
+    sats = sensors.satellites(now)
+    pose = sim60.global_pose(sensors.fix_reports(now, sats)[0])
+    assert pose.navigationSolution.name == "MEASURED" and pose.altitude == 0.0 and pose.depth is None
+    assert any(s.usedInFix for s in sim60.gps_report(sensors.gps_report(now, sats)).satellites)
+    sensors.depth = SUBMERGED_DEPTH_M
+    pose = sim60.global_pose(sensors.fix_reports(now, sensors.satellites(now))[0])
+    assert pose.navigationSolution.name == "ESTIMATED" and pose.depth == -SUBMERGED_DEPTH_M and pose.altitude is None
+
+
+def test_a_6_0_satellite_number_no_satellite_has_is_flagged() -> None:
+    """A 6.0 satellite's number becomes the console's satellite GUID; one no satellite has (17.5, 300) cannot, and is
+    listed as invalid, as a 3.0.1 satellite GUID of the wrong length is, not left null unsaid."""
+    sample, _ = GOLDEN_6_0["UMAA::SEM::GPSStatus::GPSReportType"]()
+    first = sample.satellites[0]
+    sample.satellites = [replace(first, satelliteID=17.5), replace(first, satelliteID=300.0), first]
+    _, gps, invalid = _model(Sem60.GPS_REPORT, type(sample).serialize(sample))
+    assert [s["satelliteId"] is None for s in gps["satellites"]] == [True, True, False]
+    assert invalid == ["satellites[0].satelliteId: 17.5 is no satellite number (a whole number 1..255)",
+                       "satellites[1].satelliteId: 300.0 is no satellite number (a whole number 1..255)"]
+
+
+def test_a_6_0_course_west_of_north_is_valid() -> None:
+    """UMAA 6.0's course (CourseTrueNorth, SA ICD 6.0) is -2 pi..2 pi, where 3.0.1's is 0..2 pi: a 6.0 vehicle reporting
+    -1 rad is on course 302.7°, not an invalid course the track, the map and the gateways leave out."""
+    sample, _ = GOLDEN_6_0["UMAA::SA::GlobalPoseStatus::GlobalPoseReportType"]()
+    sample.course = -1.0
+    _, pose, invalid = _model(Sem60.GLOBAL_POSE_REPORT, type(sample).serialize(sample, use_version_2=True))
+    assert invalid == [] and pose["trueCourse"] == -1.0
+    point = track_point(pose["source"], 0.0, pose, invalid, None)
+    assert point is not None and round(point["course"], 1) == 302.7
+
+
 def test_time_figure_of_merit() -> None:
     assert [tfom(x).name for x in (None, 0.5, 1, 1.5, 10, 20, 100, 101, 1e7, 1e9)] == [
         "TFOM_1", "TFOM_1", "TFOM_1", "TFOM_2", "TFOM_2", "TFOM_3", "TFOM_3", "TFOM_4", "TFOM_8", "TFOM_9"]
@@ -170,7 +214,7 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
         sample, golden = GOLDEN_6_0[sem.spec.name]()
         datas = [golden]
         if sem is Sem60.GLOBAL_POSE_REPORT:
-            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -1.0, 5.0, 2.0
+            sample.position.geodeticLongitude, sample.course, sample.altitude, sample.depth = 181.0, -7.0, 5.0, 2.0
             sample.altitudeAGL, sample.altitudeASF = 7.0, 8.0
             sample.attitudeCovariance = _attitude_covariance()
             datas.append(type(sample).serialize(sample, use_version_2=True))
@@ -180,7 +224,7 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
         if sem is Sem60.GLOBAL_POSE_REPORT:
             pose = generated
     assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
-                               "trueCourse: -1.0 outside 0..6.28319"]
+                               "trueCourse: -7.0 outside -6.28319..6.28319"]
     assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
 
 

@@ -27,7 +27,7 @@ RANGES: dict[str, tuple[float, float]] = {
     "azimuth": (-math.pi, 2 * math.pi),  # Angle is -pi..pi; some receivers send 0..2pi
     "elevation": (-math.pi / 2, math.pi / 2),
     "trueCourse": (0.0, 2 * math.pi),
-    "course": (0.0, 2 * math.pi),  # UMAA 6.0's GlobalPoseReportType
+    "course": (-2 * math.pi, 2 * math.pi),  # UMAA 6.0's GlobalPoseReportType: CourseTrueNorth (SA ICD 6.0)
     "magneticVariation": (-math.pi, math.pi),
     "SOG": (0.0, 200.0),
     "antennaCarrierNoiseDensity": (0.0, 1_000_000.0),
@@ -58,8 +58,10 @@ def _enum_members(cls: type) -> dict[str, type]:
     return out
 
 
-def _value(v: Any, path: str, invalid: list[str]) -> Any:
-    name = path.rsplit(".", 1)[-1].split("[")[0]
+def _value(v: Any, path: str, invalid: list[str], name: str | None = None) -> Any:
+    """`v` as JSON, an invalid value listed by `path`; its range is its member's, `name` (the wire type's member, which
+    a version's model may name otherwise in `path`), else the last member of `path`."""
+    name = name or path.rsplit(".", 1)[-1].split("[")[0]
     if v is None:
         return None
     if isinstance(v, Enum):

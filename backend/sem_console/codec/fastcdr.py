@@ -210,10 +210,10 @@ class _Gen:
             v = self.fixed(mach.code, mach.size, mach.alignment)
             if self.json:
                 if mach.code in "fd":
-                    self.checks.append(f'if {_float_fails(v, name)}: {v} = _value({v}, f"{path}", inv)')
+                    self.checks.append(f'if {_float_fails(v, name)}: {v} = _value({v}, f"{path}", inv, {name!r})')
                 elif mach.code != "?" and name in convert.RANGES:
                     lo, hi = convert.RANGES[name]
-                    self.checks.append(f'if not ({lo!r} <= {v} <= {hi!r}): _value({v}, f"{path}", inv)')
+                    self.checks.append(f'if not ({lo!r} <= {v} <= {hi!r}): _value({v}, f"{path}", inv, {name!r})')
             return v
         if isinstance(mach, (mc.EnumMachine, mc.BitBoundEnumMachine)):
             code, size = ("I", 4) if isinstance(mach, mc.EnumMachine) else (mach.code, mach.size)

@@ -69,10 +69,10 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "TFOM_4": "Time within 1 µs", "TFOM_5": "Time within 10 µs", "TFOM_6": "Time within 100 µs",
         "TFOM_7": "Time within 1 ms", "TFOM_8": "Time within 10 ms", "TFOM_9": "Time off by over 10 ms",
     },
-    # the INS panel's alignment steps: a stage, stationary or GPS-aided (the status says which)
+    # the INS panel's alignment steps: the stages of the kind of alignment its status names (the status says which);
+    # DONE: the alignment complete (a 3.0.1 INS then reports OPERATIONAL; a 6.0 INS has no OPERATIONAL)
     "insAlignmentStep": {
-        "INIT": "Starting up", "COURSE_STATIONARY_ALIGNMENT": "Coarse alignment",
-        "FINE_STATIONARY_ALIGNMENT_STARTED": "Fine alignment", "FINE_STATIONARY_ALIGNMENT_COMPLETE": "Alignment done",
+        "INIT": "Starting up", "COARSE": "Coarse alignment", "FINE": "Fine alignment", "DONE": "Alignment done",
         "OPERATIONAL": "Operational",
     },
     "CommandStatusEnumType": {

@@ -8,7 +8,8 @@ makes every endpoint reliable and transient-local, and those of its TelemetryQoS
 - GPSReport -> UMAA::SEM::GPSStatus::GPSReportType (every clock and satellite member present; a satellite's number
   is its PRN; the clock's time uncertainty as its time figure of merit);
 - GPSFixReport -> UMAA::SA::GlobalPoseStatus::GlobalPoseReportType (position, course, a level attitude heading along
-  the course, the altitude above or the depth below the surface, MEASURED with a fix, else ESTIMATED);
+  the course, the altitude above or the depth below the surface, MEASURED with a fix, else ESTIMATED; a 6.0 vehicle
+  is on the surface, `reports.Sensors`: 6.0 has no GPS fix command to surface it);
 - InertialSensorReport -> UMAA::SEM::InertialSensorStatus::InertialSensorReportType (the alignment stage; an INS
   that is off or restarting reports INIT, an aligned one the completed stage of its alignment);
 - GPSFixStatusReport has no 6.0 counterpart and is not written.

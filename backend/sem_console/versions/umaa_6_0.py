@@ -107,22 +107,29 @@ def _satellite_id(number: Any, constellation: Any) -> str | None:
         return None
 
 
-def _satellite(s: dict[str, Any]) -> dict[str, Any]:
-    """A 6.0 satellite (its JSON, fresh from the decoder) made the model's in place: satelliteID as satelliteId."""
-    s["satelliteId"] = _satellite_id(s.pop("satelliteID", None), s.get("constellationType"))
+def _satellite(s: dict[str, Any], i: int, invalid: list[str]) -> dict[str, Any]:
+    """A 6.0 satellite (its JSON, fresh from the decoder) made the model's in place: satelliteID as satelliteId; a number
+    no satellite has (not a whole number 1..255) is null and listed in `invalid`, as the decoder lists a value a
+    sensor cannot mean."""
+    number = s.pop("satelliteID", None)
+    s["satelliteId"] = _satellite_id(number, s.get("constellationType"))
+    if s["satelliteId"] is None and number is not None and s.get("constellationType") is not None:
+        invalid.append(f"satellites[{i}].satelliteId: {number!r} is no satellite number (a whole number 1..255)")
     return s
 
 
 def gps_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
     """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport."""
     clock = report.get("clock") or {}
+    unnamed: list[str] = []
+    satellites = [_satellite(s, i, unnamed) for i, s in enumerate(report.get("satellites") or [])]
     return {
         "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items()}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
-        "satellites": [_satellite(s) for s in report.get("satellites") or []],
+        "satellites": satellites,
         "source": source_of(report),
         "timeStamp": report.get("timeStamp"),
-    }, _renamed(invalid) if invalid else invalid
+    }, (_renamed(invalid) if invalid else invalid) + unnamed
 
 
 GLOBAL_POSE: Spec = {

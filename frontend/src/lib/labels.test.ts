@@ -3,9 +3,8 @@ import type { Command } from "../api/types";
 import { durationOf, expectedDuration } from "./commands";
 import { exportFileName } from "./exports";
 import wsSchema from "../../schema/ws-schema.json";
-import type { InertialSensorOpStatusEnumType } from "../api/types";
-import { STEPS, stepIndex } from "../panels/Ins";
 import {
+  alignmentBar,
   alignmentStepText,
   insFailed,
   positionKind,
@@ -129,17 +128,43 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   it("says a UMAA 6.0 INS's alignment kind and stage, and its failures, in the table's words (the literal in the tooltip)", () => {
     expect(insWord(null, "COARSE_GPS_ALIGNMENT", "6.0")).toMatchObject({ text: "INS coarse alignment, GPS-aided", tone: "warn", title: "UMAA status: COARSE_GPS_ALIGNMENT" });
     expect(insWord(null, "FINE_TRANSFER_ALIGNMENT_STARTED").text).toBe("INS fine alignment, transfer");
-    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
-    expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
+    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
+    expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
+    // aligned is the last step of the vehicle's own alignment: a 3.0.1 INS whose fine alignment is done is not yet
+    // OPERATIONAL; a 6.0 INS (no OPERATIONAL) is aligned at the completed stage
+    expect(insWord("ON", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "3.0.1").tone).toBe("warn");
+    expect(insWord("ON", "OPERATIONAL", "3.0.1").tone).toBe("ok");
+    expect(insWord(null, "FINE_STATIONARY_ALIGNMENT_COMPLETE", "6.0").tone).toBe("ok");
     // each failure is a failure, said by its kind, as the INS alarm says it ("Alpha: INS GPS-aided alignment failed")
     expect(insWord(null, "GPS_ALIGNMENT_FAILURE")).toMatchObject({ text: "INS GPS-aided alignment failed", tone: "bad" });
     expect(insWord(null, "STATIONARY_ALIGNMENT_FAILURE").text).toBe("INS stationary alignment failed");
     expect(insWord(null, "INERTIAL_SENSOR_FAILURE").text).toBe("INS failed");
     expect(insFailed("SNAP_ALIGNMENT_FAILURE") && insFailed("INERTIAL_SENSOR_FAILURE") && !insFailed("INIT")).toBe(true);
-    // the INS panel's step bar: each kind's stage at its step (3.0.1's COURSE and 6.0's COARSE alike)
-    expect(["INIT", "COARSE_TRANSFER_ALIGNMENT", "COURSE_GPS_ALIGNMENT", "FINE_BEST_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE", "SNAP_ALIGNMENT_COMPLETE", "OPERATIONAL", "BEST_ALIGNMENT_FAILURE"]
-      .map((s) => stepIndex(s as InertialSensorOpStatusEnumType))).toEqual([0, 1, 1, 2, 3, 3, 4, -1]);
-    expect(alignmentStepText(STEPS[stepIndex("SNAP_ALIGNMENT_COMPLETE")])).toBe("Alignment done");
+  });
+
+  it("shows on the INS step bar the stages of the vehicle's own kind of alignment, each version's, none pending once aligned", () => {
+    const words = (bar: ReturnType<typeof alignmentBar>) => bar.steps.map((x) => alignmentStepText(x.step));
+    const literals = (bar: ReturnType<typeof alignmentBar>) => bar.steps.map((x) => x.status);
+    // UMAA 6.0 has no OPERATIONAL: an aligned 6.0 INS is at its last step, none left pending
+    const aligned = alignmentBar("6.0", "FINE_STATIONARY_ALIGNMENT_COMPLETE");
+    expect(words(aligned)).toEqual(["Starting up", "Coarse alignment", "Fine alignment", "Alignment done"]);
+    expect(aligned.current).toBe(aligned.steps.length - 1);
+    // each step's tooltip the literal of the kind the vehicle runs (6.0 spells coarse COARSE)
+    expect(literals(alignmentBar("6.0", "COARSE_GPS_ALIGNMENT"))).toEqual(["INIT", "COARSE_GPS_ALIGNMENT", "FINE_GPS_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE"]);
+    expect(alignmentBar("6.0", "FINE_TRANSFER_ALIGNMENT_STARTED").current).toBe(2);
+    // a snap alignment has no coarse or fine stage: none is shown done
+    const snap = alignmentBar("6.0", "SNAP_ALIGNMENT_COMPLETE");
+    expect([words(snap), snap.current]).toEqual([["Starting up", "Alignment done"], 1]);
+    // a failure is no step, on the bar of the kind that failed; a status naming no kind names no kind's literal
+    expect(alignmentBar("6.0", "BEST_ALIGNMENT_FAILURE")).toMatchObject({ current: -1, steps: [{ status: "INIT" }, { status: "COARSE_BEST_ALIGNMENT" }, {}, {}] });
+    expect([literals(alignmentBar("6.0", "INIT")), alignmentBar("6.0", "INIT").current]).toEqual([["INIT", null, null, null], 0]);
+    // UMAA 3.0.1: its alignment done, then OPERATIONAL
+    const old = alignmentBar("3.0.1", "FINE_GPS_ALIGNMENT_COMPLETE");
+    expect(words(old)).toEqual(["Starting up", "Coarse alignment", "Fine alignment", "Alignment done", "Operational"]);
+    expect([old.current, literals(old)[1]]).toEqual([3, "COURSE_GPS_ALIGNMENT"]);
+    expect([alignmentBar("3.0.1", "OPERATIONAL").current, literals(alignmentBar("3.0.1", "OPERATIONAL"))]).toEqual([4, ["INIT", null, null, null, "OPERATIONAL"]]);
+    expect(alignmentBar("3.0.1", "INIT", "OFF").current).toBe(-1); // an INS that is off is at no step
+    expect(alignmentBar("3.0.1", "INERTIAL_SENSOR_FAILURE").current).toBe(-1);
   });
 
   it("says what kind of position it is and the clock's time quality, each version what it reports", () => {
@@ -174,7 +199,7 @@ describe("operator labels", () => {
     expect(insStateText("RESTARTING")).toBe("Restarting");
     expect(insStatusText("COURSE_STATIONARY_ALIGNMENT")).toBe("Coarse alignment, stationary");
     expect(insStatusText("INERTIAL_SENSOR_FAILURE")).toBe("Failed");
-    expect(alignmentStepText("FINE_STATIONARY_ALIGNMENT_STARTED")).toBe("Fine alignment");
+    expect(alignmentStepText("FINE")).toBe("Fine alignment");
     expect(fixStateText("STABLE")).toBe("Fix stable");
     expect(commandStatusText("EXECUTING")).toBe("In progress");
     expect(commandStatusText("CANCELED")).toBe("Cancelled");

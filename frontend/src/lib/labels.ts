@@ -111,10 +111,12 @@ export function insFailed(status: string | null | undefined): boolean {
   return typeof status === "string" && status.endsWith("_FAILURE");
 }
 
-/** Whether an INS status says it is aligned: OPERATIONAL, or a completed alignment (UMAA 6.0 has no OPERATIONAL: an
- * aligned 6.0 INS reports the stage its alignment completed with). */
-export function insAligned(status: string | null | undefined): boolean {
-  return status === "OPERATIONAL" || (typeof status === "string" && status.endsWith("_COMPLETE"));
+/** Whether an INS status says it is aligned: at the last step of its alignment as its UMAA version has it (3.0.1:
+ * OPERATIONAL, after its fine alignment is done; 6.0, which has no OPERATIONAL: the stage its alignment completed
+ * with). */
+export function insAligned(status: string | null | undefined, version: UmaaVersion | null | undefined): boolean {
+  const bar = alignmentBar(version, status);
+  return bar.current >= 0 && bar.current === bar.steps.length - 1;
 }
 
 /** The INS in one phrase, as the fleet bar and the vehicle list say it: its state when that is not ON ("INS off",
@@ -126,7 +128,7 @@ export function insWord(state: string | null | undefined, status: string | null 
   if (insFailed(status)) return { text: `INS ${inline(lookup(INS_STATUS, status))}`, tone: "bad", title };
   if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
   const said = insStatusText(status, state);
-  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: insAligned(status) ? "ok" : "warn", title };
+  return { text: `INS ${said === null ? DASH : inline(said)}`, tone: insAligned(status, version) ? "ok" : "warn", title };
 }
 
 /** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
@@ -162,12 +164,63 @@ export function timeQuality(clock: { timeUncertainty?: number | null; timeFigure
     : { text: DASH, tone: "muted" };
 }
 
-/** The alignment steps as the INS panel lists them: stages, which every kind of alignment goes through (stationary,
- * GPS-aided, best available, transfer; the status badge says which). */
-export type AlignmentStep = "INIT" | "COURSE_STATIONARY_ALIGNMENT" | "FINE_STATIONARY_ALIGNMENT_STARTED" | "FINE_STATIONARY_ALIGNMENT_COMPLETE" | "OPERATIONAL";
+/** A stage of an alignment, as the INS panel's step bar names it (the table's words). */
+export type AlignmentStep = "INIT" | "COARSE" | "FINE" | "DONE" | "OPERATIONAL";
 const ALIGNMENT_STEP: Words<AlignmentStep> = WORDS.insAlignmentStep;
 export function alignmentStepText(v: AlignmentStep): string {
   return lookup(ALIGNMENT_STEP, v);
+}
+
+type OpStatus = InertialSensorOpStatusEnumType;
+/** Each kind of alignment as a vehicle of each UMAA version reports it: its status at each stage, in order. UMAA 3.0.1
+ * aligns stationary or GPS-aided (coarse spelled COURSE) and then reports OPERATIONAL; 6.0 adds best available,
+ * transfer and snap (done at once) and has no OPERATIONAL: its aligned INS reports the stage its alignment completed
+ * with. */
+const ALIGNMENTS: Readonly<Record<UmaaVersion, readonly (readonly OpStatus[])[]>> = {
+  "3.0.1": [
+    ["INIT", "COURSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "OPERATIONAL"],
+    ["INIT", "COURSE_GPS_ALIGNMENT", "FINE_GPS_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE", "OPERATIONAL"],
+  ],
+  "6.0": [
+    ["INIT", "COARSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE"],
+    ["INIT", "COARSE_GPS_ALIGNMENT", "FINE_GPS_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE"],
+    ["INIT", "COARSE_BEST_ALIGNMENT", "FINE_BEST_ALIGNMENT_STARTED", "FINE_BEST_ALIGNMENT_COMPLETE"],
+    ["INIT", "COARSE_TRANSFER_ALIGNMENT", "FINE_TRANSFER_ALIGNMENT_STARTED", "FINE_TRANSFER_ALIGNMENT_COMPLETE"],
+    ["INIT", "SNAP_ALIGNMENT_COMPLETE"],
+  ],
+};
+/** The kind of alignment each failure of one names (UMAA 6.0), by its alignment's stage after INIT. */
+const FAILED_ALIGNMENT: Partial<Readonly<Record<OpStatus, OpStatus>>> = {
+  STATIONARY_ALIGNMENT_FAILURE: "COARSE_STATIONARY_ALIGNMENT", GPS_ALIGNMENT_FAILURE: "COARSE_GPS_ALIGNMENT",
+  BEST_ALIGNMENT_FAILURE: "COARSE_BEST_ALIGNMENT", TRANSFER_ALIGNMENT_FAILURE: "COARSE_TRANSFER_ALIGNMENT",
+  SNAP_ALIGNMENT_FAILURE: "SNAP_ALIGNMENT_COMPLETE",
+};
+
+function stepOf(status: OpStatus): AlignmentStep {
+  if (status === "INIT" || status === "OPERATIONAL") return status;
+  if (status.startsWith("COURSE_") || status.startsWith("COARSE_")) return "COARSE";
+  return status.endsWith("_STARTED") ? "FINE" : "DONE";
+}
+
+/** One step of the INS panel's bar: its stage and the status the vehicle reports at it (null when that depends on
+ * the kind of alignment, which its status does not say: the tooltip names no literal it might not send). */
+export interface AlignmentBarStep {
+  step: AlignmentStep;
+  status: OpStatus | null;
+}
+
+/** The INS panel's step bar for a vehicle of `version` reporting `status`: the stages of its kind of alignment (a
+ * status naming none, INIT or a sensor failure: the stages its version's alignments share) and the one it is at
+ * (-1: none, a failure or an INS that is off, whose INIT is no step of an alignment, `insStatusText`). */
+export function alignmentBar(version: UmaaVersion | null | undefined, status: string | null | undefined, state?: string | null): { steps: AlignmentBarStep[]; current: number } {
+  const s = status as OpStatus | null | undefined;
+  const named = s ? (FAILED_ALIGNMENT[s] ?? s) : null;
+  // a version not known: the first that has the status (a status both have: 3.0.1's, which ends at OPERATIONAL)
+  const alignments = version ? ALIGNMENTS[version] : (Object.values(ALIGNMENTS).find((v) => v.some((a) => named !== null && a.includes(named))) ?? ALIGNMENTS["3.0.1"]);
+  const own = alignments.find((a) => named !== null && named !== "INIT" && named !== "OPERATIONAL" && a.includes(named));
+  const steps = (own ?? alignments[0]).map((x) => ({ step: stepOf(x), status: own || x === "INIT" || x === "OPERATIONAL" ? x : null }));
+  const off = !s || insStatusText(s, state) === null;
+  return { steps, current: off ? -1 : steps.findIndex((x) => x.status === s) };
 }
 
 /** GPSFixReport.GPSFixCommandStatus: the receiver's own fix state, reported whether or not a fix was commanded. */

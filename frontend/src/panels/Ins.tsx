@@ -1,41 +1,11 @@
-import type { InertialSensorOpStatusEnumType } from "../api/types";
 import { Foldable, Panel } from "../components/Panel";
 import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap } from "../data/hooks";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentStepText, inline, type AlignmentStep, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
+import { alignmentBar, alignmentStepText, inline, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
 import { utc } from "../lib/units";
-
-export const STEPS: readonly AlignmentStep[] = [
-  "INIT",
-  "COURSE_STATIONARY_ALIGNMENT",
-  "FINE_STATIONARY_ALIGNMENT_STARTED",
-  "FINE_STATIONARY_ALIGNMENT_COMPLETE",
-  "OPERATIONAL",
-];
-/** The step of each INS status, of either UMAA version: every kind of alignment (stationary, GPS-aided, best
- * available, transfer; snap, which is done at once) at its stage; a failure is no step (-1). UMAA 6.0 has no
- * OPERATIONAL: its aligned INS stays at its completed stage. */
-const STEP_OF: Readonly<Record<InertialSensorOpStatusEnumType, number>> = {
-  INIT: 0,
-  COURSE_STATIONARY_ALIGNMENT: 1, COURSE_GPS_ALIGNMENT: 1,
-  COARSE_STATIONARY_ALIGNMENT: 1, COARSE_GPS_ALIGNMENT: 1, COARSE_BEST_ALIGNMENT: 1, COARSE_TRANSFER_ALIGNMENT: 1,
-  FINE_STATIONARY_ALIGNMENT_STARTED: 2, FINE_GPS_ALIGNMENT_STARTED: 2, FINE_BEST_ALIGNMENT_STARTED: 2, FINE_TRANSFER_ALIGNMENT_STARTED: 2,
-  FINE_STATIONARY_ALIGNMENT_COMPLETE: 3, FINE_GPS_ALIGNMENT_COMPLETE: 3, FINE_BEST_ALIGNMENT_COMPLETE: 3, FINE_TRANSFER_ALIGNMENT_COMPLETE: 3,
-  SNAP_ALIGNMENT_COMPLETE: 3,
-  OPERATIONAL: 4,
-  INERTIAL_SENSOR_FAILURE: -1, STATIONARY_ALIGNMENT_FAILURE: -1, GPS_ALIGNMENT_FAILURE: -1, BEST_ALIGNMENT_FAILURE: -1,
-  TRANSFER_ALIGNMENT_FAILURE: -1, SNAP_ALIGNMENT_FAILURE: -1,
-};
-
-/** Index of a status in the alignment steps (each kind's stages map to the step of that stage), -1 if none: also for
- * an INS that is off, whose INIT is no step of an alignment (`insStatusText`). */
-export function stepIndex(status: InertialSensorOpStatusEnumType | null | undefined, state?: string | null): number {
-  if (!status || insStatusText(status, state) === null) return -1;
-  return STEP_OF[status] ?? -1;
-}
 
 export function InsPanel() {
   return (
@@ -57,7 +27,7 @@ function InsBody() {
   const fresh = freshness(ageS, "InertialSensorReport", view?.interval ?? null, link, receiving);
   const stale = notCurrent(fresh);
   const failed = insFailed(ins?.status);
-  const current = stepIndex(ins?.status, ins?.state);
+  const bar = alignmentBar(version, ins?.status, ins?.state);
   const status = insStatusText(ins?.status, ins?.state);
   return (
     <Panel title="Inertial sensor" testId="ins-panel" freshness={fresh} ageSeconds={ageS}>
@@ -75,7 +45,7 @@ function InsBody() {
               </span>
             )}
             {status !== null && (
-              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
+              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status, version) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
                 {status}
               </span>
             )}
@@ -87,9 +57,9 @@ function InsBody() {
             </div>
           )}
           <ol className={`steps${stale ? " stale" : ""}`} aria-label="Alignment">
-            {STEPS.map((s, i) => (
-              <li key={s} className={i < current ? "done" : i === current ? "current" : ""} aria-current={i === current ? "step" : undefined}>
-                <span title={umaa("status", s)}>{alignmentStepText(s)}</span>
+            {bar.steps.map(({ step, status: literal }, i) => (
+              <li key={step} className={i < bar.current ? "done" : i === bar.current ? "current" : ""} aria-current={i === bar.current ? "step" : undefined}>
+                <span title={umaa("status", literal)}>{alignmentStepText(step)}</span>
               </li>
             ))}
           </ol>

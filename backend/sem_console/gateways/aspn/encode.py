@@ -181,6 +181,9 @@ class Encoder:
         def n(path: str) -> float | None:
             return number(report, invalid, path)
 
+        def why(path: str) -> str:  # a value left out: flagged invalid, or not in the report (UMAA 6.0's GlobalPose)
+            return "invalid" if any(x.startswith((f"{path}:", f"{path}.")) for x in invalid) else "not reported"
+
         out: list[tuple[str, Any]] = []
         lat = n("position2DWithTime.geodeticPosition.geodeticLatitude.latitude")
         lon = n("position2DWithTime.geodeticPosition.geodeticLongitude.longitude")
@@ -194,12 +197,12 @@ class Encoder:
                 error_model_params=NO_PARAMS, integrity=[])))
         alt = n("altitudeMSL.altitude")
         if alt is None:
-            self._skip("altitude: invalid")
+            self._skip(f"altitude: {why('altitudeMSL.altitude')}")
         else:
             out.append(self._scalar(vehicle, "measurement_altitude", when, MeasurementAltitudeReference.MSL, alt))
         ned = [n(f"velocity.{c}") for c in ("northSpeed", "eastSpeed", "downSpeed")]
         if all(v is None for v in ned):
-            self._skip("velocity: invalid")
+            self._skip(f"velocity: {why('velocity')}")
         else:
             out.append(("measurement_velocity", MeasurementVelocity(
                 header=self.header(vehicle, "measurement_velocity"), time_of_validity=when,
@@ -208,12 +211,12 @@ class Encoder:
                 error_model_params=NO_PARAMS, integrity=[])))
         sog = n("SOG")
         if sog is None:
-            self._skip("speed: SOG invalid")
+            self._skip(f"speed: SOG {why('SOG')}")
         else:
             out.append(self._scalar(vehicle, "measurement_speed", when, MeasurementSpeedReference.GROUND, sog))
         course = n("trueCourse")
         if course is None:
-            self._skip("direction of motion: trueCourse invalid")
+            self._skip(f"direction of motion: trueCourse {why('trueCourse')}")
         else:
             out.append(self._scalar(vehicle, "measurement_direction_of_motion_2d", when,
                                     MeasurementDirectionOfMotion2DReference.NE, course))
