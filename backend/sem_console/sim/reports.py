@@ -49,7 +49,7 @@ class Sensors:
         self.ins = Ins(opts.scaled(opts.align_seconds), failed="ins-failure" in faults)
         # a 3.0.1 vehicle starts submerged and surfaces on a GPSFix command; UMAA 6.0 has no GPS fix service, so a 6.0
         # vehicle is on the surface, its position measured (under water it would be ESTIMATED, sim/umaa_6_0.py)
-        self.depth = 0.0 if opts.umaa == "6.0" else SUBMERGED_DEPTH_M
+        self.depth = 0.0 if opts.version_of(number) == "6.0" else SUBMERGED_DEPTH_M
         self.surfacing = False
         self.fix_state = FixState.INITIATING
         self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap_vehicle.py)
