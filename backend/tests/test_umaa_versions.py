@@ -175,7 +175,7 @@ def test_a_6_0_sim_vehicle_reports_a_measured_position_on_the_surface() -> None:
     pose = sim60.global_pose(sensors.fix_reports(now, sensors.satellites(now))[0])
     assert pose.navigationSolution.name == "ESTIMATED" and pose.depth == -SUBMERGED_DEPTH_M and pose.altitude is None
     # one simulator's mixed fleet: its 6.0 vehicles on the surface, its 3.0.1 ones submerged until a GPS fix
-    mixed = SimOptions(umaa_6_0_vehicles={2})
+    mixed = SimOptions(vehicles=2, umaa_6_0_vehicles={2})
     assert Sensors(mixed, 2, vehicle_guid(2), set()).depth == 0.0
     assert Sensors(mixed, 1, vehicle_guid(1), set()).depth == SUBMERGED_DEPTH_M
 
