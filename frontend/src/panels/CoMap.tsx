@@ -16,7 +16,7 @@ import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loader
 import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
 import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
-import { coverageText, lostButtonNote, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
+import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -112,6 +112,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
   const isLost = (id: string): boolean => lost.has(id);
+  const untilOf = (id: string): number | null => plannedUntil(silences, id, "lost"); // lost in its planned silence: its end
 
   // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
   if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
@@ -121,7 +122,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     setPending(null);
   } else if (pending && !pending.lost && isLost(pending.target.id)) {
     // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
-    setNote(lostMeanwhileText(pendingName(pending), vehicleLabel(pending.target), plannedUntil(silences, pending.target.id, "lost")));
+    setNote(lostMeanwhileText(pendingName(pending), vehicleLabel(pending.target), untilOf(pending.target.id)));
     setPending(null);
   } else if (armed && tool !== "move-target" && pending?.kind !== "move") {
     setArmed(null); // another map tool taken meanwhile (measure, draw): Move-to is put down
@@ -166,7 +167,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
   const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
-  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(plannedUntil(silences, target.id, "lost")) : "";
+  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(untilOf(target.id)) : "";
 
   const send = (p: Pending) => {
     setPending(null);
@@ -323,7 +324,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
               <strong>
-                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={plannedUntil(silences, pending.target.id, "lost")} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
+                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={untilOf(pending.target.id)} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
               </strong>{" "}
               It may reach the vehicle late, or not at all.
             </p>
@@ -368,7 +369,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
                 <td data-testid="task-vehicle">
                   <VehicleTag v={owner} />
-                  {isLost(t.vehicle) && <span className="tone-bad"> lost · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
+                  {isLost(t.vehicle) && <span className={untilOf(t.vehicle) !== null ? "fleet-planned" : "tone-bad"} data-testid="task-lost"> {lostClause(untilOf(t.vehicle))} · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
                 </td>
                 <td data-testid="task-state" data-state={t.state ?? ""} title={t.state === "HELD" || t.state === "INTERRUPTED" ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does` : imc("task state", t.state)}>
                   {t.state ? taskStateText(t.state) : "—"}
@@ -381,7 +382,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 </td>
                 <td>
                   {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? ", which is lost (asks you to confirm)" : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
+                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? `, which is ${lostClause(untilOf(t.vehicle))} (asks you to confirm)` : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
                       {SYNCH_WORDS[a]}
                     </button>
                   ))}

@@ -9,7 +9,7 @@ import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { cancelText, cancellerText, expectedDuration, inTimeOrder, mergeCommands, statusText, transitionReason } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, lostButtonNote, lostMeanwhileText, umaa } from "../lib/labels";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -336,7 +336,7 @@ export function CommandsPanel() {
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
   const why = (a: Action, t: VehicleIdentity): string =>
-    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${inline(linkOrPlanned("lost", until))}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+    unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${lostClause(until)}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
 
   return (
     <Panel title="Commands" testId="commands-panel">
