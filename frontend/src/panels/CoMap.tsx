@@ -15,7 +15,7 @@ import { LastHeard, LostFor } from "../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
-import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
+import { RESOLUTION_UNIT, clockTime, resolution as resolutionText, utcWhen } from "../lib/units";
 import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -61,13 +61,16 @@ export function capabilityText(c: Capability): string {
  * vehicle was lost then (the confirmation then says so, as the UMAA commands' do). */
 export type Pending = { target: VehicleIdentity; lost: boolean } & (
   | { kind: "move"; point: LonLat }
-  | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: string }
+  | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: number | null }
   | { kind: "synch"; task: Task; action: SynchAction }
 );
 
+/** What the deadline field says of a time it cannot take. */
+export const BAD_DEADLINE = "Deadline: write a UTC time, 24-hour, as HH:MM or YYYY-MM-DD HH:MM (or nothing for none)";
+
 export function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
-  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline ? `, by ${p.deadline.replace("T", " ")} UTC` : ""}?`;
+  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline !== null ? `, by ${clockTime(p.deadline)}` : ""}?`;
   return `${SYNCH_WORDS[p.action]} task ${p.task.taskId} (${taskKindText(p.task.kind).toLowerCase()}) of ${vehicleLabel(p.target)}?`;
 }
 
@@ -176,12 +179,18 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       setArmed(null);
       run(`Move-to for ${vehicleLabel(p.target)}`, createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
     } else if (p.kind === "survey") {
-      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
+      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline !== null ? { deadline: new Date(p.deadline * 1000).toISOString() } : {}) }, token));
     } else {
       run(`${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`, synchTask(p.task.taskId, p.action, token));
     }
   };
-  const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline }));
+  const survey = () => {
+    if (!target || featureId === "" || dirty) return;
+    const by = deadline.trim() ? utcWhen(deadline, Date.now() / 1000) : null;
+    if (deadline.trim() && by === null) return setNote(BAD_DEADLINE);
+    setNote(null);
+    setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline: by });
+  };
   const moveButton = () => {
     setNote(null);
     if (armed && moveTarget) setPending({ kind: "move", target: armed, lost: isLost(armed.id), point: moveTarget });
@@ -283,7 +292,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         </select>
         <input aria-label={`Resolution (${RESOLUTION_UNIT})`} title="survey resolution, in the unit of the vehicles' capabilities" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <span className="muted">{RESOLUTION_UNIT}</span>
-        <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
+        <input aria-label="Deadline (UTC)" title="none, or a 24-hour UTC time: HH:MM (the next one) or YYYY-MM-DD HH:MM" type="text" placeholder="deadline HH:MM UTC" maxLength={16} size={16} value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button
           className="small"
           disabled={cannotTask !== null || featureId === "" || dirty}
