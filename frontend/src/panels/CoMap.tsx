@@ -68,6 +68,11 @@ export type Pending = { target: VehicleIdentity; lost: boolean } & (
 /** What the deadline field says of a time it cannot take. */
 export const BAD_DEADLINE = "Deadline: write a UTC time, 24-hour, as HH:MM or YYYY-MM-DD HH:MM (or nothing for none)";
 
+/** The survey's deadline as written (empty: none), in UTC seconds; "bad" for what is no 24-hour UTC time. */
+function deadlineOf(text: string): number | null | "bad" {
+  return text.trim() ? (utcWhen(text, Date.now() / 1000) ?? "bad") : null;
+}
+
 export function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
   if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline !== null ? `, by ${clockTime(p.deadline)}` : ""}?`;
@@ -186,8 +191,8 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   };
   const survey = () => {
     if (!target || featureId === "" || dirty) return;
-    const by = deadline.trim() ? utcWhen(deadline, Date.now() / 1000) : null;
-    if (deadline.trim() && by === null) return setNote(BAD_DEADLINE);
+    const by = deadlineOf(deadline);
+    if (by === "bad") return setNote(BAD_DEADLINE);
     setNote(null);
     setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline: by });
   };
