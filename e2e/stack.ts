@@ -2,7 +2,7 @@
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { createSocket } from "node:dgram";
-import { chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
+import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
@@ -192,6 +192,7 @@ export async function startReplayConsole(recording: string, args: string[] = [])
 export async function stopStack(): Promise<void> {
   const stack = load();
   await Promise.all([stopPid(stack.consolePid, "SIGINT"), stopPid(stack.simPid, "SIGINT")]);
+  closePostgresLeft();
 }
 
 /** A mixed fleet of its own, apart from the stack's domain: a console and two simulators on a fresh domain, vehicle 1
@@ -212,35 +213,61 @@ export async function startMixedFleet(): Promise<{ url: string; vehicles: string
   return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
 }
 
+const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root
+
+function pgBin(name: string): string {
+  const versions = existsSync("/usr/lib/postgresql") ? readdirSync("/usr/lib/postgresql").sort((a, b) => Number(a) - Number(b)) : [];
+  const found = versions.map((v) => `/usr/lib/postgresql/${v}/bin/${name}`).filter((p) => existsSync(p)).at(-1);
+  if (!found) throw new Error(`PostgreSQL's ${name} is not installed: apt-get install -y postgresql (scripts/setup.sh does)`);
+  return found;
+}
+
+function pgRun(cmd: string, ...args: string[]): void {
+  execFileSync(asPostgres ? "runuser" : cmd, asPostgres ? ["-u", "postgres", "--", cmd, ...args] : args, { stdio: "pipe", timeout: 120_000 });
+}
+
+/** The clusters this run's specs started (one directory a line), for the stack's teardown. */
+const pgClusters = () => join(load().dir, "postgres-clusters");
+
+/** Stops every PostgreSQL a spec of this run started and did not close (a spec that failed in its beforeAll, a worker
+ * killed or interrupted), and removes its directory: none is left running after the run. */
+export function closePostgresLeft(): void {
+  const list = pgClusters();
+  if (!existsSync(list)) return;
+  for (const root of readFileSync(list, "utf8").split("\n").filter(Boolean)) {
+    if (existsSync(join(root, "data", "postmaster.pid"))) {
+      try {
+        pgRun(pgBin("pg_ctl"), "-D", join(root, "data"), "-m", "immediate", "-w", "stop");
+      } catch {
+        /* stopped meanwhile */
+      }
+    }
+    rmSync(root, { recursive: true, force: true });
+  }
+  rmSync(list, { force: true });
+}
+
 /** A real PostgreSQL for a spec's operations centre (Debian's postgresql, which scripts/setup.sh installs), started as
  * backend/tests/pg.py starts the pytest one: a cluster in a temporary directory, by initdb and pg_ctl run as the
  * `postgres` user when the tests run as root, on a free port of 127.0.0.1. `url`: its database for the consoles;
  * `stop` and `start` for an outage; `close` stops it and removes its directory. */
 export async function startPostgres(): Promise<{ url: string; stop: () => void; start: () => void; close: () => void }> {
-  const bin = (name: string) => {
-    const versions = existsSync("/usr/lib/postgresql") ? readdirSync("/usr/lib/postgresql").sort((a, b) => Number(a) - Number(b)) : [];
-    const found = versions.map((v) => `/usr/lib/postgresql/${v}/bin/${name}`).filter((p) => existsSync(p)).at(-1);
-    if (!found) throw new Error(`PostgreSQL's ${name} is not installed: apt-get install -y postgresql (scripts/setup.sh does)`);
-    return found;
-  };
   const root = mkdtempSync(join(tmpdir(), "sem-e2e-pg-"));
+  appendFileSync(pgClusters(), `${root}\n`); // stopped by the stack's teardown if the spec's own close never runs
   const data = join(root, "data");
   const sockets = join(root, "sockets");
   mkdirSync(sockets);
-  const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root
   const pgUid = asPostgres ? Number(execFileSync("id", ["-u", "postgres"], { encoding: "utf8" })) : 0;
   const pgGid = asPostgres ? Number(execFileSync("id", ["-g", "postgres"], { encoding: "utf8" })) : 0;
   const password = "e2e-pg-s3cret";
   const pwfile = join(root, "pw");
   writeFileSync(pwfile, `${password}\n`);
   if (asPostgres) for (const p of [root, sockets, pwfile]) chownSync(p, pgUid, pgGid);
-  const run = (cmd: string, ...args: string[]) =>
-    execFileSync(asPostgres ? "runuser" : cmd, asPostgres ? ["-u", "postgres", "--", cmd, ...args] : args, { stdio: "pipe", timeout: 120_000 });
-  run(bin("initdb"), "-D", data, "-U", "postgres", "--auth-local=trust", "--auth-host=scram-sha-256", `--pwfile=${pwfile}`, "-E", "UTF8", "--no-sync");
+  pgRun(pgBin("initdb"), "-D", data, "-U", "postgres", "--auth-local=trust", "--auth-host=scram-sha-256", `--pwfile=${pwfile}`, "-E", "UTF8", "--no-sync");
   rmSync(pwfile);
   const port = await freePort();
-  const start = () => run(bin("pg_ctl"), "-D", data, "-o", `-p ${port} -k ${sockets} -c listen_addresses=127.0.0.1 -c fsync=off`, "-l", join(root, "server.log"), "-w", "start");
-  const stop = () => run(bin("pg_ctl"), "-D", data, "-m", "fast", "-w", "stop");
+  const start = () => pgRun(pgBin("pg_ctl"), "-D", data, "-o", `-p ${port} -k ${sockets} -c listen_addresses=127.0.0.1 -c fsync=off`, "-l", join(root, "server.log"), "-w", "start");
+  const stop = () => pgRun(pgBin("pg_ctl"), "-D", data, "-m", "fast", "-w", "stop");
   start();
   return {
     url: `postgresql://postgres:${password}@127.0.0.1:${port}/postgres`,

@@ -60,8 +60,9 @@ test("export links download the vehicle's track as GPX and CSV, and the command 
 
   // a reversed range sends nothing and says why
   await page.getByRole("combobox", { name: "Export range" }).selectOption({ label: "Between… (UTC)" });
-  await page.getByLabel("From (UTC)").fill("2026-11-22T10:00");
-  await page.getByLabel("To (UTC)").fill("2026-11-22T09:00");
+  await page.getByLabel("From (UTC)").fill("2026-11-22 10:00"); // typed as written everywhere: 24-hour UTC, no browser locale
+  await page.getByLabel("To (UTC)").fill("2026-11-22 09:00");
+  await expect(page.getByLabel("From (UTC)")).toHaveValue("2026-11-22 10:00"); // shown as typed, not in a locale's picker
   await expect(page.getByTestId("export-panel").getByRole("alert")).toHaveText("From is after To");
   await expect(page.getByTestId("export-gpx")).toHaveAttribute("aria-disabled", "true");
 });

@@ -73,10 +73,12 @@ test("the words table's words as written (no CSS case change); a link gone silen
   const stack = load();
   const n = stack.vehicles.length;
   let silent = false;
+  const held: (() => void)[] = []; // what the silent link holds, as a network does, and brings when it is back
   await page.routeWebSocket(/\/ws(\?|$)/, (ws) => {
     const server = ws.connectToServer();
     server.onMessage((m) => {
-      if (!silent) ws.send(m); // then the console's frames stop coming, and the socket stays open
+      if (silent) held.push(() => ws.send(m)); // the console's frames stop coming, and the socket stays open
+      else ws.send(m);
     });
   });
   await page.goto(stack.url);
@@ -96,7 +98,8 @@ test("the words table's words as written (no CSS case change); a link gone silen
   await expect(page.getByTestId("connection-state")).not.toHaveText("Live");
   await expect(page.getByTestId("ins-panel-freshness")).toContainText("Not updating");
   await expect(page.getByTestId("fleet-stale")).toHaveCount(0);
-  silent = false; // its next socket is heard again
+  silent = false; // the link is back: what it held comes, and the page's socket is heard again
+  for (const send of held.splice(0)) send();
   await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 15_000 });
 });
 

@@ -362,8 +362,12 @@ class Database:
         self._went_away(e)
         return self._unavailable()
 
+    def _since(self) -> str:
+        """When the database went away, as the operator reads every time: "2026-11-29 01:20:05 UTC"."""
+        return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime(self.unavailable_since or time.time()))
+
     def _unavailable(self) -> Unavailable:
-        since = time.strftime("%Y-%m-%d %H:%M:%SZ", time.gmtime(self.unavailable_since or time.time()))
+        since = self._since()
         return Unavailable(f"shared history unavailable since {since}: the database {self.db.shown} cannot be reached; "
                            "live monitoring goes on and changes are held here until it is back")
 
@@ -713,7 +717,7 @@ class Database:
             raise self._unavailable_for_tasks() from e
 
     def _unavailable_for_tasks(self) -> Unavailable:
-        since = time.strftime("%Y-%m-%d %H:%M:%SZ", time.gmtime(self.unavailable_since or time.time()))
+        since = self._since()
         return Unavailable(f"no new CoMap task while the database {self.db.shown} cannot be reached (since {since}): "
                            "task ids are taken there so that no two stations send the same one; assign it when the "
                            "database is back (the tasks already assigned go on)")

@@ -16,9 +16,10 @@ export const OFFLINE_AFTER_FAILURES = 5;
 /** How often the page pings the console while its socket is open: the console answers each with a pong, so a socket
  * that works brings a frame at least this often, vehicles or none. */
 export const PING_EVERY_MS = 1000;
-/** A socket that brings nothing for this long (not even the pong of a ping), or does not open in it, is taken as
+/** A socket that answers nothing this long after it was asked (its opening, or a ping: not even a pong) is taken as
  * gone, as one the console closed: the page says "Not updating" by that one rule (the socket dropped, the console
- * stopped, or the link went silent with its socket still open) and connects again. */
+ * stopped, or the link went silent with its socket still open) and connects again. The time runs from the question, not
+ * from the last frame: a hidden tab's timers may wake once a minute, and its pings go as seldom, answered all the same. */
 export const SILENT_AFTER_MS = 4000;
 
 export function backoff(failures: number): number {
@@ -211,10 +212,10 @@ export class Connection implements DataSource {
     const ws = early?.ws ?? (protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url));
     this.ws = ws;
     let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
-    let heard = Date.now(); // when this socket last brought a frame (or was made)
+    let asked: number | null = Date.now(); // when the oldest question this socket has not answered was asked (null: none)
     const onMessage = (ev: MessageEvent<string>) => {
       if (this.ws !== ws) return; // a socket closed by stop() or restart(), or dropped as silent
-      heard = Date.now();
+      asked = null;
       frames += 1;
       const ack: ClientMessage = { type: "ack", frames };
       if (ws.readyState === WebSocket.OPEN) ws.send(JSON.stringify(ack));
@@ -235,16 +236,18 @@ export class Connection implements DataSource {
     else ws.onopen = () => this.sendSelected(ws);
     ws.onclose = () => this.dropped(ws);
     ws.onerror = () => ws.close();
-    // a ping a second; a socket silent for SILENT_AFTER_MS is dropped at once (its close may wait for a console that
-    // answers nothing)
+    // a ping a second; a socket that leaves one unanswered SILENT_AFTER_MS is dropped at once (its close may wait for
+    // a console that answers nothing)
     this.stopWatchdog();
     this.watchdog = setInterval(() => {
-      if (Date.now() - heard > SILENT_AFTER_MS) {
+      const now = Date.now();
+      if (asked !== null && now - asked >= SILENT_AFTER_MS) {
         ws.close();
         this.dropped(ws);
       } else if (ws.readyState === WebSocket.OPEN) {
         const ping: ClientMessage = { type: "ping" };
         ws.send(JSON.stringify(ping));
+        asked ??= now;
       }
     }, PING_EVERY_MS);
   }

@@ -359,6 +359,39 @@ describe("store and connection", () => {
       }
     });
 
+    it("a hidden tab whose timers wake once a minute stays live while its pings are answered, and a silent socket is still dropped", () => {
+      vi.useFakeTimers();
+      try {
+        vi.stubGlobal("WebSocket", FakeSocket);
+        const conn = new Connection("ws://console/ws", new Store(P));
+        conn.start();
+        const ws = FakeSocket.all[0];
+        ws.readyState = 1;
+        ws.receive(snapshot());
+        // the browser throttles the hidden tab: the watchdog's timer runs once a minute, each ping answered at once
+        const minute = () => {
+          vi.setSystemTime(Date.now() + 60_000 - PING_EVERY_MS);
+          vi.advanceTimersByTime(PING_EVERY_MS);
+        };
+        for (let i = 0; i < 3; i++) {
+          minute();
+          expect(conn.getState()).toBe("live");
+          ws.receive({ type: "pong", serverTime: i });
+        }
+        expect(ws.closed).toBe(false);
+        expect(ws.sent.filter((m) => JSON.parse(m).type === "ping").length).toBe(3);
+        // a ping left unanswered a minute is a silent socket, hidden tab or not
+        minute();
+        expect(conn.getState()).toBe("live");
+        minute();
+        expect(conn.getState()).toBe("reconnecting");
+        expect(ws.closed).toBe(true);
+        conn.stop();
+      } finally {
+        vi.useRealTimers();
+      }
+    });
+
     it("takes over the page's early socket with the messages it held, in order; one of another token is closed", () => {
       vi.stubGlobal("WebSocket", FakeSocket);
       const token = ["sem-console", "bearer.dG9rZW4"];

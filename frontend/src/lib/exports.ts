@@ -3,7 +3,7 @@
 export type ExportRange =
   | { kind: "last"; hours: number } // the last `hours` up to now
   | { kind: "all" } // everything the console keeps
-  | { kind: "between"; since: string; until: string }; // UTC, as an <input type="datetime-local"> gives it (YYYY-MM-DDTHH:MM)
+  | { kind: "between"; since: string; until: string }; // UTC, 24-hour, as the operator writes it (YYYY-MM-DD HH:MM)
 
 export type ExportKind = "gpx" | "csv" | "commands";
 
@@ -23,8 +23,8 @@ export function rangeQuery(range: ExportRange, nowMs: number): { since?: string;
   if (range.kind === "last") return { since: utcParam(new Date(nowMs - range.hours * 3_600_000))! };
   const since = range.since ? utcParam(range.since) : undefined;
   const until = range.until ? utcParam(range.until) : undefined;
-  if (since === null) return { error: "From is not a valid date and time" };
-  if (until === null) return { error: "To is not a valid date and time" };
+  if (since === null) return { error: "From: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" };
+  if (until === null) return { error: "To: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" };
   if (since && until && since > until) return { error: "From is after To" };
   return { ...(since ? { since } : {}), ...(until ? { until } : {}) };
 }

@@ -35,6 +35,7 @@ import {
   insStateText,
   insStatusText,
   lostButtonNote,
+  lostClause,
   lostMeanwhileText,
   lostText,
   navSolutionText,
@@ -91,6 +92,8 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(lostText("Alpha", 12, soon)).toMatch(/^Alpha is out of comms \(planned\) until .*22:20 UTC: last heard 12 s ago$/);
     expect(lostText("Alpha", 12)).toBe("Alpha is lost: last heard 12 s ago");
     // a confirmation left unsent as its vehicle went out of reach: named by the same rule (plannedUntil)
+    expect(lostClause(null)).toBe("lost");
+    expect(lostClause(soon)).toMatch(/^out of comms \(planned\) until .*22:20 UTC$/);
     expect(lostButtonNote(null)).toBe(" (vehicle lost)");
     expect(lostButtonNote(soon)).toBe(" (out of comms)");
     expect(lostMeanwhileText("INS OFF", "Alpha", null)).toBe("INS OFF for Alpha not sent: the vehicle is now lost.");

@@ -351,6 +351,12 @@ export function linkOrPlanned(link: LinkState | "stale" | "unreachable", until: 
   return until !== null ? plannedText(until) : linkText(link);
 }
 
+/** A lost vehicle's state inside a sentence, by the same rule (`until`: plannedUntil): "lost", or "out of comms
+ * (planned) until 14:20 UTC": an order's tooltip, a CoMap task's row, an order left unsent. */
+export function lostClause(until: number | null): string {
+  return inline(linkOrPlanned("lost", until));
+}
+
 /** What an order's button adds while its vehicle is lost: " (vehicle lost)", or in its planned silence (`until`:
  * plannedUntil) " (out of comms)": the Commands and CoMap panels alike. */
 export function lostButtonNote(until: number | null): string {
@@ -361,7 +367,7 @@ export function lostButtonNote(until: number | null): string {
  * (`until`: plannedUntil): "INS OFF for Alpha (77b2ceb8) not sent: the vehicle is now lost.", or "… is now out of
  * comms (planned) until 14:20 UTC.". */
 export function lostMeanwhileText(what: string, vehicle: string, until: number | null): string {
-  return `${what} for ${vehicle} not sent: the vehicle is now ${inline(linkOrPlanned("lost", until))}.`;
+  return `${what} for ${vehicle} not sent: the vehicle is now ${lostClause(until)}.`;
 }
 
 export function plannedTitle(reason: string, by: string | null, station: string | null): string {

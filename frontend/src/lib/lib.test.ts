@@ -178,7 +178,8 @@ describe("exports", () => {
     expect(rangeQuery({ kind: "all" }, now)).toEqual({});
     expect(rangeQuery({ kind: "between", since: "2026-11-22T08:00", until: "" }, now)).toEqual({ since: "2026-11-22T08:00:00Z" });
     expect(rangeQuery({ kind: "between", since: "2026-11-22T09:00", until: "2026-11-22T08:00" }, now)).toEqual({ error: "From is after To" });
-    expect(rangeQuery({ kind: "between", since: "soon", until: "" }, now)).toEqual({ error: "From is not a valid date and time" });
+    expect(rangeQuery({ kind: "between", since: "soon", until: "" }, now)).toEqual({ error: "From: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" });
+    expect(rangeQuery({ kind: "between", since: "2026-11-22 08:00", until: "11/22/2026, 09:00 AM" }, now)).toEqual({ error: "To: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" });
     expect(utcParam("2026-02-30T08:00")).toBe(null);
     expect(utcParam("2026-11-22 08:00:30")).toBe("2026-11-22T08:00:30Z");
   });

@@ -1,5 +1,7 @@
 // Formatting of numbers with units. Every function returns "—" for a value that is missing or not finite.
 
+import { utcParam } from "./exports";
+
 export const DASH = "—";
 const KNOTS_PER_MPS = 3600 / 1852;
 
@@ -64,6 +66,23 @@ export function utc(epochSeconds: number | null | undefined, withDate = true, to
 export function clockTime(t: number, now = Date.now() / 1000): string {
   const day = (s: number) => new Date(s * 1000).toISOString().slice(0, 10);
   return utc(t, day(t) !== day(now), "min");
+}
+
+/** The next UTC time of day `hhmm` ("14:20", 24-hour) after `now` (UTC seconds): today's, else tomorrow's (at 23:30,
+ * "01:00" is tomorrow's); null for anything else (a 12-hour "2:20 PM", "24:00", "14:60"). */
+export function nextUtc(hhmm: string, now: number): number | null {
+  const m = /^([01]\d|2[0-3]):([0-5]\d)$/.exec(hhmm.trim());
+  if (!m) return null;
+  const day = Math.floor(now / 86400) * 86400;
+  const t = day + Number(m[1]) * 3600 + Number(m[2]) * 60;
+  return t > now ? t : t + 86400;
+}
+
+/** A UTC time as the operator writes it, 24-hour: "14:20" (the next one, as nextUtc) or "2026-11-29 14:20" (that
+ * day's, as an export's range takes it); null for anything else (a 12-hour time, a day that does not exist). */
+export function utcWhen(text: string, now: number): number | null {
+  const iso = utcParam(text);
+  return iso !== null ? Date.parse(iso) / 1000 : nextUtc(text, now);
 }
 
 export function hertz(hz: number | null | undefined): string {

@@ -15,8 +15,8 @@ import { LastHeard, LostFor } from "../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
 import { FINISHED, plannedUntil } from "../data/store";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
-import { RESOLUTION_UNIT, resolution as resolutionText } from "../lib/units";
-import { coverageText, lostButtonNote, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
+import { RESOLUTION_UNIT, clockTime, resolution as resolutionText, utcWhen } from "../lib/units";
+import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
 import { countRender } from "../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
 
@@ -61,13 +61,21 @@ export function capabilityText(c: Capability): string {
  * vehicle was lost then (the confirmation then says so, as the UMAA commands' do). */
 export type Pending = { target: VehicleIdentity; lost: boolean } & (
   | { kind: "move"; point: LonLat }
-  | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: string }
+  | { kind: "survey"; featureId: number; sensor: Sensor; resolution: number; deadline: number | null }
   | { kind: "synch"; task: Task; action: SynchAction }
 );
 
+/** What the deadline field says of a time it cannot take. */
+export const BAD_DEADLINE = "Deadline: write a UTC time, 24-hour, as HH:MM or YYYY-MM-DD HH:MM (or nothing for none)";
+
+/** The survey's deadline as written (empty: none), in UTC seconds; "bad" for what is no 24-hour UTC time. */
+function deadlineOf(text: string): number | null | "bad" {
+  return text.trim() ? (utcWhen(text, Date.now() / 1000) ?? "bad") : null;
+}
+
 export function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
-  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline ? `, by ${p.deadline.replace("T", " ")} UTC` : ""}?`;
+  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline !== null ? `, by ${clockTime(p.deadline)}` : ""}?`;
   return `${SYNCH_WORDS[p.action]} task ${p.task.taskId} (${taskKindText(p.task.kind).toLowerCase()}) of ${vehicleLabel(p.target)}?`;
 }
 
@@ -112,6 +120,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const caps = useVehicleCapabilities(vehicle?.id ?? null);
   const identity = (id: string): VehicleIdentity => ({ id, name: nameOf.get(id) || null });
   const isLost = (id: string): boolean => lost.has(id);
+  const untilOf = (id: string): number | null => plannedUntil(silences, id, "lost"); // lost in its planned silence: its end
 
   // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
   if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
@@ -121,7 +130,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     setPending(null);
   } else if (pending && !pending.lost && isLost(pending.target.id)) {
     // its vehicle lost meanwhile: what the operator is confirming no longer says what would happen
-    setNote(lostMeanwhileText(pendingName(pending), vehicleLabel(pending.target), plannedUntil(silences, pending.target.id, "lost")));
+    setNote(lostMeanwhileText(pendingName(pending), vehicleLabel(pending.target), untilOf(pending.target.id)));
     setPending(null);
   } else if (armed && tool !== "move-target" && pending?.kind !== "move") {
     setArmed(null); // another map tool taken meanwhile (measure, draw): Move-to is put down
@@ -166,7 +175,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
   const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
-  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(plannedUntil(silences, target.id, "lost")) : "";
+  const targetLost = target !== null && isLost(target.id) ? lostButtonNote(untilOf(target.id)) : "";
 
   const send = (p: Pending) => {
     setPending(null);
@@ -175,12 +184,18 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       setArmed(null);
       run(`Move-to for ${vehicleLabel(p.target)}`, createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
     } else if (p.kind === "survey") {
-      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline ? { deadline: new Date(`${p.deadline}Z`).toISOString() } : {}) }, token));
+      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline !== null ? { deadline: new Date(p.deadline * 1000).toISOString() } : {}) }, token));
     } else {
       run(`${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`, synchTask(p.task.taskId, p.action, token));
     }
   };
-  const survey = () => target && featureId !== "" && !dirty && (setNote(null), setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline }));
+  const survey = () => {
+    if (!target || featureId === "" || dirty) return;
+    const by = deadlineOf(deadline);
+    if (by === "bad") return setNote(BAD_DEADLINE);
+    setNote(null);
+    setPending({ kind: "survey", target, lost: isLost(target.id), featureId, sensor, resolution, deadline: by });
+  };
   const moveButton = () => {
     setNote(null);
     if (armed && moveTarget) setPending({ kind: "move", target: armed, lost: isLost(armed.id), point: moveTarget });
@@ -282,7 +297,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         </select>
         <input aria-label={`Resolution (${RESOLUTION_UNIT})`} title="survey resolution, in the unit of the vehicles' capabilities" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
         <span className="muted">{RESOLUTION_UNIT}</span>
-        <input aria-label="Deadline (UTC)" type="datetime-local" value={deadline} onChange={(e) => setDeadline(e.target.value)} />
+        <input aria-label="Deadline (UTC)" title="none, or a 24-hour UTC time: HH:MM (the next one) or YYYY-MM-DD HH:MM" type="text" placeholder="deadline HH:MM UTC" maxLength={16} size={16} value={deadline} onChange={(e) => setDeadline(e.target.value)} />
         <button
           className="small"
           disabled={cannotTask !== null || featureId === "" || dirty}
@@ -323,7 +338,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
               <strong>
-                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={plannedUntil(silences, pending.target.id, "lost")} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
+                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={untilOf(pending.target.id)} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
               </strong>{" "}
               It may reach the vehicle late, or not at all.
             </p>
@@ -368,7 +383,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
                 <td data-testid="task-vehicle">
                   <VehicleTag v={owner} />
-                  {isLost(t.vehicle) && <span className="tone-bad"> lost · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
+                  {isLost(t.vehicle) && <span className={untilOf(t.vehicle) !== null ? "fleet-planned" : "tone-bad"} data-testid="task-lost"> {lostClause(untilOf(t.vehicle))} · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
                 </td>
                 <td data-testid="task-state" data-state={t.state ?? ""} title={t.state === "HELD" || t.state === "INTERRUPTED" ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does` : imc("task state", t.state)}>
                   {t.state ? taskStateText(t.state) : "—"}
@@ -381,7 +396,7 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
                 </td>
                 <td>
                   {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? ", which is lost (asks you to confirm)" : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
+                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? `, which is ${lostClause(untilOf(t.vehicle))} (asks you to confirm)` : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
                       {SYNCH_WORDS[a]}
                     </button>
                   ))}

@@ -9,7 +9,7 @@ import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../data/store";
 import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, linkOrPlanned, lostButtonNote, lostMeanwhileText, umaa, type UmaaVersion } from "../lib/labels";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa, type UmaaVersion } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";
 import { clockDuration, utc } from "../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
@@ -334,7 +334,7 @@ export function CommandsPanel() {
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
   const why = (a: Action, t: VehicleIdentity): string => {
-    const said = unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${inline(linkOrPlanned("lost", until))}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+    const said = unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${lostClause(until)}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
     const literal = umaa("state", a.state); // the UMAA literal it sends, for the engineer comparing with a log
     return literal ? `${said} (${literal})` : said;
   };

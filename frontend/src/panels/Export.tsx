@@ -76,10 +76,10 @@ export function ExportPanel() {
         {choice === "between" && (
           <>
             <label>
-              From <input type="datetime-local" value={since} onChange={(e) => setSince(e.target.value)} aria-label="From (UTC)" />
+              From <input type="text" placeholder="YYYY-MM-DD HH:MM" title="a 24-hour UTC date and time" maxLength={19} size={16} value={since} onChange={(e) => setSince(e.target.value)} aria-label="From (UTC)" />
             </label>
             <label>
-              To <input type="datetime-local" value={until} onChange={(e) => setUntil(e.target.value)} aria-label="To (UTC)" />
+              To <input type="text" placeholder="YYYY-MM-DD HH:MM" title="a 24-hour UTC date and time" maxLength={19} size={16} value={until} onChange={(e) => setUntil(e.target.value)} aria-label="To (UTC)" />
             </label>
           </>
         )}

@@ -6,20 +6,10 @@ import { ApiError, cancelSilence, planSilence } from "../api/rest";
 import { useSelectedVehicle, useSilences, useVehicleNames } from "../data/hooks";
 import { vehicleLabel } from "../lib/vehicle";
 import { plannedEntry } from "../lib/labels";
-import { clockTime } from "../lib/units";
+import { clockTime, nextUtc } from "../lib/units";
 
 /** What the time field says of a time it cannot take. */
 export const BAD_UNTIL = "Until: write a UTC time of day as HH:MM, 24-hour (14:20)";
-
-/** The next UTC time of day `hhmm` ("14:20", 24-hour) after `now` (UTC seconds): today's, else tomorrow's; null for
- * anything else (a 12-hour "2:20 PM", "24:00", "14:60"). */
-export function nextUtc(hhmm: string, now: number): number | null {
-  const m = /^([01]\d|2[0-3]):([0-5]\d)$/.exec(hhmm.trim());
-  if (!m) return null;
-  const day = Math.floor(now / 86400) * 86400;
-  const t = day + Number(m[1]) * 3600 + Number(m[2]) * 60;
-  return t > now ? t : t + 86400;
-}
 
 function said(e: unknown): string {
   return e instanceof ApiError && e.status ? e.message : "console unreachable";
