@@ -9,6 +9,7 @@ docs/rti/umaa-6.0-interop.xml (SemConsoleUmaa60); each is measured here (docs/um
 
 from __future__ import annotations
 
+import io
 import random
 import time
 import uuid
@@ -27,7 +28,7 @@ from sem_console.codec.convert import to_json
 from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.cyclone_private import take_cdr
-from sem_console.dds.topics import Sem60
+from sem_console.dds.topics import Sem60, Service
 from sem_console.umaa.guid import satellite_label
 from sem_console.versions import umaa_6_0
 from test_console import wait_until
@@ -262,17 +263,39 @@ def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(drop_in: bool, rti60
 
 def test_the_console_writers_reach_an_rti_kit_reader(rti60: Callable[..., Any], domain: int) -> None:
     """A subscriber of the kit asks TOPIC presentation with ordered access (DefaultUMAAParticipant): the console's
-    writers (dds/bus.py, the command writers among them) and sem-sim's 6.0 report writers offer it, so an RTI
-    reader on the kit, its type information off and nothing else changed, matches them."""
+    writers (dds/bus.py, the command writers among them) and sem-sim's 6.0 report, status and ack writers offer it, so
+    an RTI reader on the kit, its type information off and nothing else changed, matches them. A reader on the kit's
+    CommandQoS also asks a writer's liveliness lease of 10 s at most: the console's command writer and sem-sim's status
+    and ack writers (CommandQoS's automatic 5 s) meet it, and a writer of the command class's QoS alone (an infinite
+    lease) does not."""
+    from cyclonedds.pub import DataWriter
+
+    from sem_console.check import umaa_6_0 as check_6_0
+    from sem_console.check.commands import CommandLimits, Consumer
+    from sem_console.check.observe import Observer
+    from sem_console.dds.qos import TopicClass, writer_qos
     from sem_console.sim.umaa_6_0 import Writer60
 
     bus = Bus(domain)
     command = bus.writer(Sem60.INS_COMMAND)
-    reports = Writer60(bus).writers
+    sim = Writer60(bus, align_seconds=30).writers
     p = rti60(domain, readers=[Sem60.INS_COMMAND, Sem60.GPS_REPORT, Sem60.INS_REPORT], type_object_max=0)
     wait_until(lambda: command.get_matched_subscriptions() and all(p.matched(s, False) for s in (Sem60.GPS_REPORT,
                Sem60.INS_REPORT)), 10, "the kit's readers matched")
-    assert len(reports[Sem60.GPS_REPORT].get_matched_subscriptions()) == 1
+    assert len(sim[Sem60.GPS_REPORT].get_matched_subscriptions()) == 1
+    command_qos = ("UMAAQoSLib::DefaultUMAAParticipant", "UMAAQoSLib::CommandQoS")
+    flow = [Sem60.INS_COMMAND, CMD_STATUS, CMD_ACK]
+    q = rti60(domain, readers=flow, type_object_max=0, umaa=command_qos)
+    wait_until(lambda: all(len(q.matched(s, False)) == 1 for s in flow), 10,
+               "the console's command writer and sem-sim's status and ack writers matched by CommandQoS readers")
+    unleased = DataWriter(bus.publisher, bus.topic(Sem60.INS_COMMAND), writer_qos(TopicClass.COMMAND))
+    time.sleep(1)
+    assert len(q.matched(Sem60.INS_COMMAND, False)) == 1 and len(unleased.get_matched_subscriptions()) == 1  # p's only
+    # sem-check --umaa 6.0 commanding an RTI vehicle: its command writer reaches the kit's readers as the console's does
+    checker = Consumer(Observer(bus), uuid.uuid4(), CommandLimits(0.5, 1, 1), io.StringIO(), version=check_6_0.V6_0)
+    checker.writer(Service.INERTIAL_SENSOR)  # made at once; None: no provider of that GUID here to match
+    wait_until(lambda: len(q.matched(Sem60.INS_COMMAND, False)) == 2, 10, "sem-check's command writer matched")
+    assert len(checker.writers[Service.INERTIAL_SENSOR].get_matched_subscriptions()) == 2
 
 
 def _by_stamp(samples: list[dict[str, Any]]) -> dict[tuple[int, int], dict[str, Any]]:
@@ -308,3 +331,172 @@ def test_rti_kit_consumer_reads_sem_sims_6_0_reports(rti60: Callable[..., Any], 
     for s in REPORTS:
         for rti, cyc in paired[s]:
             assert same(cyc, rti), (s.spec.name, cyc, rti)
+
+
+# ---- commanding: InertialSensorControl (UMAA 6.0 SEM ICD 4.1), as an RTI application writes it ----------------------
+# the 6.0 IDL's ordinals (CommandStatusEnumType, CommandStatusReasonEnumType), which RTI's Connector takes and gives
+STATUS60 = {"CANCELED": 0, "COMMANDED": 1, "COMPLETED": 2, "EXECUTING": 3, "FAILED": 4, "ISSUED": 5}
+STATUS60_NAME = {v: k for k, v in STATUS60.items()}
+REASON60 = {"CANCELED": 0, "SUCCEEDED": 6, "UPDATED": 8}
+REASON60_NAME = {v: k for k, v in REASON60.items()}
+GPS_ALIGN = 1  # InertialSensorCmdEnumType: BEST_ALIGN, GPS_ALIGN, ...
+CMD_STATUS, CMD_ACK = Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK
+HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+
+
+def _ident(guid: uuid.UUID) -> dict[str, list[int]]:
+    return {"id": list(guid.bytes), "parentID": NIL}
+
+
+class KitProvider(KitVehicle):
+    """The 6.0 vehicle on RTI as the InertialSensorControl provider of the ICD: a new command gets ISSUED, its ack
+    (the whole command), COMMANDED, EXECUTING and COMPLETED, unless held EXECUTING to be canceled."""
+
+    def __init__(self, p: Any) -> None:
+        super().__init__(p)
+        self.commands: dict[bytes, dict[str, Any]] = {}  # by sessionID, as received
+        self.disposed: list[dict[str, Any]] = []  # the disposes of commands, as RTI has them (their key members)
+        self.hold: set[bytes] = set()
+
+    def status(self, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
+        self.p.write(CMD_STATUS, {"source": self.source, "sessionID": cmd["sessionID"], "commandStatus": STATUS60[status],
+                                  "commandStatusReason": REASON60[reason], "logMessage": f"rti {status.lower()}",
+                                  "timeStamp": _stamp()})
+
+    def step(self) -> None:
+        self.report()
+        for cmd, _state, valid in self.p.take_with_keys(Sem60.INS_COMMAND):
+            session = bytes(cmd["sessionID"])
+            if not valid:
+                self.disposed.append(cmd)
+                if session in self.hold:
+                    self.hold.discard(session)
+                    self.status(self.commands[session], "CANCELED", "CANCELED")
+                continue
+            if session in self.commands or cmd["destination"] != self.source:
+                continue
+            self.commands[session] = cmd
+            self.status(cmd, "ISSUED")
+            self.p.write(CMD_ACK, {"command": cmd, "source": self.source, "sessionID": cmd["sessionID"],
+                                   "timeStamp": _stamp()})
+            for s in ("COMMANDED", "EXECUTING"):
+                self.status(cmd, s)
+            if session not in self.hold:
+                self.status(cmd, "COMPLETED")
+
+
+def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console: Any, domain: int) -> None:
+    """(a) The console commands an RTI 6.0 vehicle on the kit with the drop-in: GPS_ALIGN through REST reaches it as
+    InertialSensorCommandType (state GPS_ALIGN, source and destination IdentifierTypes); its answer in 6.0 values
+    (ISSUED, the ack with the whole command, COMMANDED, EXECUTING, COMPLETED) is the flow to COMPLETED in REST and on
+    the WebSocket; the cleanup dispose reaches it. A second command held EXECUTING is canceled by the console's
+    dispose, which RTI receives with the command's key members (Cyclone serializes the key with a dispose: nothing
+    to set on RTI's reader), and its CANCELED shows."""
+    from test_console import WsClient
+
+    c = console()
+    v = KitProvider(rti60(domain, writers=[*REPORTS, CMD_STATUS, CMD_ACK], readers=[Sem60.INS_COMMAND], umaa=DROP_IN,
+                          name="Kit60"))
+    _detail(c, v, HEALTH)
+    ws = WsClient(c.ws_url)
+
+    def post() -> str:
+        v.report()  # a command to a vehicle silent 1 s is refused
+        r = httpx.post(f"{c.url}/api/providers/{v.guid}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        assert r.status_code == 201, r.text
+        return str(r.json()["sessionId"])
+
+    def shown(session: str, last: str) -> dict[str, Any] | None:
+        v.step()
+        cmd = httpx.get(f"{c.url}/api/commands/{session}").json()
+        return cmd if [t["status"] for t in cmd["transitions"]][-1:] == [last] else None
+
+    session = post()
+    done = wait_until(lambda: shown(session, "COMPLETED"), 15, "COMPLETED in the console")
+    assert [(t["status"], t["reason"]) for t in done["transitions"]] == [(s, "SUCCEEDED") for s in HAPPY]
+    assert done["violations"] == [] and done["ackedAt"] and done["state"] == "GPS_ALIGN"
+    sent = v.commands[uuid.UUID(session).bytes]
+    assert (sent["state"], sent["destination"], sent["source"]["parentID"]) == (GPS_ALIGN, v.source, NIL)
+    wait_until(lambda: ws.transitions(session) == HAPPY, 5, "every transition on the WebSocket")
+    wait_until(lambda: v.step() or [d for d in v.disposed if d["sessionID"] == sent["sessionID"]], 30,
+               "the console's cleanup dispose in RTI")
+
+    session = post()
+    v.hold.add(uuid.UUID(session).bytes)
+    wait_until(lambda: shown(session, "EXECUTING"), 15, "EXECUTING in the console")
+    assert httpx.delete(f"{c.url}/api/commands/{session}").status_code == 200
+    done = wait_until(lambda: shown(session, "CANCELED"), 15, "CANCELED in the console")
+    assert [(t["status"], t["reason"]) for t in done["transitions"]][-1] == ("CANCELED", "CANCELED")
+    assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+    held = v.commands[uuid.UUID(session).bytes]
+    assert [{k: d[k] for k in ("source", "sessionID", "destination")} for d in v.disposed][-1] == {
+        k: held[k] for k in ("source", "sessionID", "destination")}
+    assert done["violations"] == [] and ws.errors == []
+    metrics = httpx.get(f"{c.url}/api/metrics").json()
+    assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, []), metrics
+
+
+def _statuses60(p: Any, session: list[int], seen: list[tuple[str | None, str | None, str]]) -> list[Any]:
+    """The statuses of `session` RTI took, added to `seen` as (status, reason, valid data); a dispose as (None, None,
+    False)."""
+    for x, _state, valid in p.take_with_keys(CMD_STATUS):
+        if x["sessionID"] == session:
+            seen.append((STATUS60_NAME[x["commandStatus"]], REASON60_NAME.get(x["commandStatusReason"]), True)
+                        if valid else (None, None, False))
+    return seen
+
+
+def _command60(me: uuid.UUID, vehicle: uuid.UUID) -> dict[str, Any]:
+    return {"state": GPS_ALIGN, "source": _ident(me), "destination": _ident(vehicle), "sessionID": list(uuid.uuid4().bytes),
+            "timeStamp": _stamp()}
+
+
+def test_rti_kit_consumer_commands_sem_sim_6_0(rti60: Callable[..., Any], sim: Any, domain: int) -> None:
+    """(b) An RTI consumer on the kit with the drop-in commands `sem-sim --umaa 6.0`: GPS_ALIGN runs to COMPLETED in
+    6.0 values (statuses ISSUED, COMMANDED, EXECUTING, COMPLETED as the IDL's ordinals, reason SUCCEEDED), the ack
+    carries the command RTI wrote, whole, from the vehicle's IdentifierType; RTI's cleanup dispose of the command has
+    the simulator dispose its status."""
+    from sem_console.sim.provider import vehicle_guid
+
+    sim("--umaa", "6.0", "--align-seconds", "30")
+    vehicle = vehicle_guid(1)
+    p = rti60(domain, writers=[Sem60.INS_COMMAND], readers=[CMD_STATUS, CMD_ACK], umaa=DROP_IN)
+    for s in (Sem60.INS_COMMAND, CMD_STATUS, CMD_ACK):
+        p.wait_matched(s)
+    cmd = _command60(uuid.uuid4(), vehicle)
+    p.write(Sem60.INS_COMMAND, cmd)
+    seen: list[Any] = []
+    wait_until(lambda: ("COMPLETED", "SUCCEEDED", True) in _statuses60(p, cmd["sessionID"], seen), 20, "COMPLETED in RTI")
+    assert seen == [(s, "SUCCEEDED", True) for s in HAPPY]
+    acks = [x for x, _ in p.take(CMD_ACK) if x and x["sessionID"] == cmd["sessionID"]]
+    assert [(a["source"], a["command"]) for a in acks] == [(_ident(vehicle), cmd)]
+    p.write(Sem60.INS_COMMAND, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
+    wait_until(lambda: any(s is None for s, _r, _st in _statuses60(p, cmd["sessionID"], [])), 10,
+               "the simulator's status dispose")
+
+
+@pytest.mark.parametrize("drop_in", [True, False], ids=["drop-in", "without-serialize_key_with_dispose"])
+def test_rti_kit_consumer_cancels_sem_sim_6_0_by_dispose(drop_in: bool, rti60: Callable[..., Any], sim: Any,
+                                                       domain: int) -> None:
+    """An RTI consumer on the kit cancels a running GPS_ALIGN of `sem-sim --umaa 6.0` by disposing it: with the
+    drop-in's serialize_key_with_dispose the simulator answers CANCELED (reason CANCELED); without it the dispose
+    carries only the MD5 key hash of the 80-byte key, which Cyclone drops, and the command runs on."""
+    from sem_console.sim.provider import vehicle_guid
+
+    sim("--umaa", "6.0", "--align-seconds", "600")  # 10 s a stage: still aligning when canceled
+    vehicle = vehicle_guid(1)
+    kw: dict[str, Any] = {"umaa": DROP_IN} if drop_in else {"type_object_max": 0}
+    p = rti60(domain, writers=[Sem60.INS_COMMAND], readers=[CMD_STATUS], **kw)
+    p.wait_matched(Sem60.INS_COMMAND)
+    p.wait_matched(CMD_STATUS)
+    cmd = _command60(uuid.uuid4(), vehicle)
+    p.write(Sem60.INS_COMMAND, cmd)
+    seen: list[Any] = []
+    wait_until(lambda: ("EXECUTING", "SUCCEEDED", True) in _statuses60(p, cmd["sessionID"], seen), 20, "EXECUTING")
+    p.write(Sem60.INS_COMMAND, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
+    if drop_in:
+        wait_until(lambda: any(s == "CANCELED" for s, _r, _st in _statuses60(p, cmd["sessionID"], seen)), 10, "CANCELED")
+        assert [(s, r) for s, r, _st in seen if s] == [*[(s, "SUCCEEDED") for s in HAPPY[:3]], ("CANCELED", "CANCELED")]
+    else:
+        time.sleep(3)
+        assert [s for s, _r, _st in _statuses60(p, cmd["sessionID"], seen)] == HAPPY[:3]

@@ -159,9 +159,7 @@ class Consumer:
     def writer(self, service: Service) -> DataWriter[Any] | None:
         """The service's command writer, once it matched a reader of the provider's participants."""
         if service not in self.writers:
-            bus = self.observer.bus
-            self.writers[service] = (DataWriter(bus.participant, bus.topic(Sem60.INS_COMMAND), umaa_6_0.command_writer_qos())
-                                     if self.six else bus.writer(service.command))
+            self.writers[service] = self.observer.bus.writer(self.topic(service, "command"))
         w = self.writers[service]
         participants = self.observer.source_participants.get(self.provider, set())
 

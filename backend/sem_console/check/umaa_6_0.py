@@ -17,7 +17,6 @@ import uuid
 from typing import Any
 
 from cyclonedds.core import InstanceState, Policy, Qos
-from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -30,7 +29,7 @@ from sem_console.check.icd import ServiceDef, Version
 from sem_console.check.values import in_range, satellite_counts
 from sem_console.codec import fastcdr
 from sem_console.codec.decode import Item, ReportItem, StatusItem, guid
-from sem_console.dds.qos import TopicClass, representation, writer_qos
+from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem60, Service
 from sem_console.umaa.samples import make, now_datetime
 from sem_console.versions import UMAA_6_0, umaa_6_0
@@ -129,13 +128,6 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
             have = "infinite" if not isinstance(seconds, int) or seconds >= 2**63 - 1 else f"{seconds / 1e9:g} s"
             out.append(f"a liveliness lease of {have}; {said} {want:g} s for a {'reader' if reader else 'writer'}")
     return [f"{d} ({QOS_REFERENCE})" for d in out]
-
-
-def command_writer_qos() -> Qos:
-    """The checker's InertialSensorCommandType writer: the project's command writer (reliable, transient-local) with
-    CommandQoS's 5 s liveliness lease, without which a reader on CommandQoS (a 10 s lease requested) does not match it."""
-    return (writer_qos(TopicClass.COMMAND) + Qos(Policy.Liveliness.Automatic(duration(seconds=LIVELINESS[False])))
-            + representation(Sem60.INS_COMMAND.spec.xcdr2_only, writer=True))
 
 
 # ---- decoding what the checker reads -------------------------------------------------------------------------------

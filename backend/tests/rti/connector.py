@@ -193,6 +193,13 @@ class RtiParticipant:
             out.append((s.get_dictionary() if s.valid_data else None, state))
         return out
 
+    def take_with_keys(self, sem: AnySem) -> list[tuple[dict[str, Any], str, bool]]:
+        """(sample, instance state, valid data) for each sample RTI's reader has; a dispose (not valid data) as the
+        members RTI has of it: its key members as the dispose carried them, the others zero."""
+        inp = self.inputs[sem]
+        inp.take()
+        return [(s.get_dictionary(), s.info["instance_state"], s.valid_data) for s in inp.samples]
+
     def close(self) -> None:
         self.connector.close()
         Path(self._file.name).unlink(missing_ok=True)

@@ -163,6 +163,9 @@ class RemoteParticipant:
     def take(self, sem: Any) -> list[tuple[dict[str, Any] | None, str]]:
         return [tuple(x) for x in self._call("take", sem_key(sem))]  # type: ignore[misc]
 
+    def take_with_keys(self, sem: Any) -> list[tuple[dict[str, Any], str, bool]]:
+        return [tuple(x) for x in self._call("take_with_keys", sem_key(sem))]  # type: ignore[misc]
+
     def close(self) -> None:
         if self.proc.poll() is not None:
             return

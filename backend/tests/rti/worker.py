@@ -47,6 +47,9 @@ def main() -> None:
             elif op == "take":
                 assert p is not None
                 value = p.take(sem_of(args[0]))
+            elif op == "take_with_keys":
+                assert p is not None
+                value = p.take_with_keys(sem_of(args[0]))
             else:
                 raise ValueError(op)
             out.write(json.dumps([True, value]) + "\n")
