@@ -63,6 +63,22 @@ def domain() -> int:
     return free_domain()
 
 
+# The markers (backend/pyproject.toml) that follow from a test's fixtures; a test that starts a process by itself, or
+# runs another implementation, carries its marker in its own file.
+_PROCESS_FIXTURES = {"sim", "console", "pg_cluster"}
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        names = set(getattr(item, "fixturenames", ()))
+        callspec = getattr(item, "callspec", None)
+        postgres = "pg_cluster" in names or (callspec is not None and callspec.params.get("database_url") == "postgresql")
+        if postgres:
+            item.add_marker(pytest.mark.postgres)
+        if postgres or names & _PROCESS_FIXTURES:
+            item.add_marker(pytest.mark.process)
+
+
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
 
 

@@ -9,6 +9,9 @@ import sys
 from pathlib import Path
 
 import httpx
+import pytest
+
+pytestmark = pytest.mark.process
 
 
 def test_the_basemap_is_served_with_range_requests(console, tmp_path: Path) -> None:

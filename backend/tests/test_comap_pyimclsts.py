@@ -20,6 +20,8 @@ from conftest import free_udp_port
 from sem_console.comap.codec import decode_packet, encode_packet, msg
 from test_console import wait_until
 
+pytestmark = [pytest.mark.interop, pytest.mark.process]
+
 HERE = Path(__file__).parent
 
 

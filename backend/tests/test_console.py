@@ -293,6 +293,7 @@ def lost_vehicle_command_canceled_unanswered(c: ConsoleProcess, vehicle: SimProc
     return session
 
 
+@pytest.mark.slow
 def test_a_command_canceled_unanswered_ends_once_the_vehicle_is_heard_again_without_it(sim, console) -> None:
     """It counted up for ever (terminal false, status null, among the running commands), even after the vehicle came
     back without ever running it and the console restarted."""
@@ -359,6 +360,7 @@ def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
         assert done["violations"] == []
 
 
+@pytest.mark.slow
 def test_backend_restart_resumes_following_the_command(sim, console) -> None:
     # 24 s to surface (a restart is sooner: 12 s was not, once, on a machine at load 22), within the command timeout
     # (scaled by FAST like the rest)

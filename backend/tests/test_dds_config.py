@@ -19,6 +19,8 @@ from conftest import FAST
 from sem_console.dds.config import loopback_config
 from test_console import wait_until
 
+pytestmark = pytest.mark.process
+
 
 def traced(path: Path) -> str:
     """The loopback config with Cyclone's tracing written to `path`."""

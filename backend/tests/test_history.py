@@ -14,6 +14,7 @@ from typing import Any
 
 import gpxpy
 import httpx
+import pytest
 
 from test_console import HAPPY, V1, V2, provider_ready, wait_command, wait_until
 
@@ -43,6 +44,7 @@ def at_most_one_per_second(points: list[dict[str, Any]]) -> None:
     assert len(set(seconds)) == len(seconds), "two points in one UTC second"  # so over n seconds, at most n + 1
 
 
+@pytest.mark.slow
 def test_track_and_series_at_most_1_hz_survive_a_restart(sim, console) -> None:
     vehicle = sim("--vehicles", "2")  # GPSFixReport at 10 Hz, GPSReport at 4 Hz (conftest FAST)
     first = console()

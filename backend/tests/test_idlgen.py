@@ -9,6 +9,8 @@ import pytest
 
 from sem_console import idlgen
 
+pytestmark = pytest.mark.process
+
 BACKEND = Path(__file__).resolve().parents[1]
 
 

@@ -46,6 +46,8 @@ from sem_console.sim.provider import vehicle_guid
 from test_check import check, failed
 from test_console import wait_until
 
+pytestmark = pytest.mark.interop
+
 PLAIN = [s for s in Sem if not s.spec.xcdr2_only]  # exchanged in XCDR1, RTI's default
 COMMANDS = {Service.GPS_FIX: Sem.GPS_FIX_COMMAND, Service.INERTIAL_SENSOR: Sem.INS_COMMAND}
 STATUS = {"FAILED": 0, "COMPLETED": 1, "ISSUED": 2, "COMMANDED": 3, "EXECUTING": 4, "CANCELED": 5}

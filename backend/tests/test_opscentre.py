@@ -15,6 +15,7 @@ from typing import Any
 
 import httpx
 import psycopg
+import pytest
 
 from conftest import ConsoleProcess
 from pg import Cluster
@@ -46,6 +47,7 @@ def heard(ws: WsClient, session: str, status: str) -> dict[str, Any] | None:
     return None
 
 
+@pytest.mark.slow
 def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     sim("--surface-seconds", "400")  # a GPS fix stays EXECUTING until canceled
@@ -75,6 +77,7 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
     assert health(again)["consoleId"] == id_a  # a restart keeps its identity
 
 
+@pytest.mark.slow
 def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and_the_csv(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     """Bob on relief cancels Alice's command from watch: both stations, their histories and their CSV exports say who
@@ -160,6 +163,7 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
 
 
+@pytest.mark.slow
 def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by_another(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     """Watch cancels a command its lost vehicle never answered, then stops for good: relief showed it counting up for
@@ -183,6 +187,7 @@ def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by
         ws_b.close()
 
 
+@pytest.mark.slow
 def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
     """Relief records; it shows watch's command, raising no alarm for it, then takes it over (to cancel it) and from
@@ -214,6 +219,7 @@ def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
     assert shown["vehicle"] is not None and shown["state"] == "active-unacknowledged"
 
 
+@pytest.mark.slow
 def test_a_database_outage_loses_nothing_and_stops_no_console(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
     """PostgreSQL stopped: both consoles keep monitoring, A commands and cancels, its health says since when the
@@ -280,6 +286,7 @@ def lost(c: ConsoleProcess) -> dict[str, Any] | None:
     return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"), None)
 
 
+@pytest.mark.slow
 def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     vehicle = sim()
@@ -294,6 +301,7 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
     wait_until(lambda: (x := lost(b)) is not None and x["state"] == "active-acknowledged", 10, "the ack on B")
 
 
+@pytest.mark.slow
 def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and_the_other(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
     """Relief records; bob acknowledges on watch its alarm of one lost vehicle (so relief's is acknowledged too),

@@ -349,6 +349,7 @@ def recorded_messages(base: str) -> int:
     return int(httpx.get(f"{base}/api/recordings/status").json()["messages"])
 
 
+@pytest.mark.slow
 def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, tmp_path: Path) -> None:
     """A replay named the vehicles by the replaying console's own --vehicle-names only: the names an operator set from
     the dashboard (before the recording started, or while it ran) were not in the file, so a live 'Tug Two: link lost'
@@ -396,6 +397,7 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
     ws.close()
 
 
+@pytest.mark.slow
 def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> None:
     """A file the recording rolled over to starts with the names in force then (those at the start and the renames
     since), so that it replays alone with them."""
@@ -431,6 +433,7 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
     assert httpx.get(f"{r.url}/api/providers/{V1}").json()["name"] == "Tug Two"
 
 
+@pytest.mark.slow
 def test_a_name_before_the_vehicle_appeared_a_recorded_null_and_a_file_without_names(console, tmp_path: Path) -> None:
     """A vehicle named before it appeared is named so when it does; a recorded null (renamed back to no name) leaves it
     to the replaying console's --vehicle-names from that instant; a file without names (its recorder wrote none)

@@ -181,6 +181,7 @@ def test_a_huge_body_is_refused_before_it_is_read(console) -> None:
 # ---- operator tokens ------------------------------------------------------------------------------
 # the rate limit of refusals, an operator's refused commands and the tokens file's slow-down: in tests/test_routes.py,
 # through TestClient
+@pytest.mark.slow
 def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     """Any local process can send X-Forwarded-For: trusted by default, it would pick its own client
     address past the slow-down of wrong tokens and into the audit."""
@@ -199,6 +200,7 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     assert audit(c)[0]["client"] == "10.9.9.9"
 
 
+@pytest.mark.slow
 def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_address(sim, console) -> None:
     """Every local process is 127.0.0.1: wrong tokens from one of them slow down that address, but
     not a client that signed in with a good token before (its device cookie)."""
@@ -389,6 +391,7 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
 
 
 # ---- the contract ---------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tmp_path: Path) -> None:
     """Every check of schemathesis against the live OpenAPI document, deterministic and bounded, with
     --auth-reads so every route checks its token. One check is left out: use_after_free expects a

@@ -140,6 +140,7 @@ def alarm_of(c: ConsoleProcess, kind: str) -> dict[str, Any] | None:
     return next((a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == kind), None)
 
 
+@pytest.mark.slow
 def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelved(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess]) -> None:
     env = {**OPERATOR, "SEM_SHELVE_MIN_MINUTES": "0.1"}
@@ -185,6 +186,7 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     assert (f"/api/alarms/{lost['id']}/unshelve", "accepted", 200, "alice", None) in audit
 
 
+@pytest.mark.slow
 def test_a_planned_silence_is_kept_over_a_restart_and_ends_in_an_alarm_when_the_vehicle_is_not_back(
         sim: Callable[..., Any], console: Callable[..., ConsoleProcess]) -> None:
     env = {**OPERATOR, "SEM_SILENCE_GRACE": "2"}
@@ -232,6 +234,7 @@ def test_a_flood_of_20_vehicles_lost_at_once_shares_one_cause(sim: Callable[...,
     assert not any(a["chattering"] or a["shelf"] for a in flood)
 
 
+@pytest.mark.slow
 def test_two_stations_share_shelves_and_planned_silences(sim: Callable[..., Any], console: Callable[..., ConsoleProcess],
                                                          pg_url: str) -> None:
     vehicle = sim()
