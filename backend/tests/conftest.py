@@ -17,9 +17,9 @@ from pathlib import Path
 
 import pytest
 
-from consumer import Consumer
+from support.consumer import Consumer
 
-pytest_plugins = ["pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures (tests/pg.py)
+pytest_plugins = ["support.pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures
 
 # Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
 os.environ.pop("CYCLONEDDS_URI", None)

@@ -15,7 +15,7 @@ from cyclonedds.idl import IdlEnum, IdlStruct
 
 from sem_console.dds.topics import Sem
 
-LAYOUT = tomllib.loads((Path(__file__).parent / "data" / "umaa-3.0.1-wire-layout.toml").read_text())
+LAYOUT = tomllib.loads((Path(__file__).parents[1] / "data" / "umaa-3.0.1-wire-layout.toml").read_text())
 STRUCTS = {s["name"]: s for s in LAYOUT["struct"]}
 FLAGS = {"key": "k", "optional": "o", "": None}
 
@@ -118,14 +118,14 @@ def test_common_types() -> None:
 
 
 def test_no_extensibility_annotation_in_idl() -> None:
-    idl = Path(__file__).resolve().parents[2] / "idl"
+    idl = Path(__file__).resolve().parents[3] / "idl"
     for f in idl.rglob("*.idl"):
         assert not re.search(r"@(final|appendable|mutable|extensibility)", f.read_text()), f
 
 
 # --- UMAA 6.0 (tests/data/umaa-6.0-wire-layout.toml, the package UMAA_6_0) ------------------------------------------
 
-LAYOUT_6_0 = tomllib.loads((Path(__file__).parent / "data" / "umaa-6.0-wire-layout.toml").read_text())
+LAYOUT_6_0 = tomllib.loads((Path(__file__).parents[1] / "data" / "umaa-6.0-wire-layout.toml").read_text())
 STRUCTS_6_0 = {s["name"]: s for s in LAYOUT_6_0["struct"]}
 TOPIC_TYPES_6_0 = [name for name, s in STRUCTS_6_0.items() if "topic" in s]
 

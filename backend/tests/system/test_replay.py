@@ -24,7 +24,6 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Rs
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
-from samplegen import random_sample
 from sem_console.codec.decode import REPORT_TOPICS, Decoder
 from sem_console.console.replay_source import Cursor, RecordedName
 from sem_console.dds.topics import Sem
@@ -32,6 +31,7 @@ from sem_console.recording.reader import iter_messages, recorded_station, time_r
 from sem_console.recording.recorder import Recorder
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
+from support.samplegen import random_sample
 from test_console import HAPPY, V1, V2, WsClient, command, provider_ready, wait_command, wait_until
 from test_recording import read, recorded
 

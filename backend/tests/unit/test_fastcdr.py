@@ -16,11 +16,11 @@ import pytest
 from cyclonedds.core import InstanceState
 from cyclonedds.idl._support import Endianness
 
-from samplegen import random_sample
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
 from sem_console.codec.decode import REPORT_TOPICS, Decoder
 from sem_console.dds.topics import Sem
+from support.samplegen import random_sample
 
 SEMS = list(Sem)
 N = 150

@@ -24,10 +24,10 @@ from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstell
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 
 from conftest import free_udp_port
-from consumer import Consumer
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
+from support.consumer import Consumer
 from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
 
 FIX_MEASUREMENTS = {"measurement_position", "measurement_altitude", "measurement_velocity", "measurement_speed",

@@ -15,7 +15,7 @@ from mcap.records import Channel, Footer, Header, SummaryOffset
 from sem_console.recording import mcap_private
 from sem_console.recording.mcap_private import record_bytes
 
-PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"
+PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
 
 
 def _string(s: str) -> bytes:

@@ -10,8 +10,8 @@ import sys
 import traceback
 from typing import Any
 
-from rti.connector import RtiParticipant
 from sem_console.dds.topics import Sem
+from support.rti.connector import RtiParticipant
 
 
 def main() -> None:

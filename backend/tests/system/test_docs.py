@@ -15,7 +15,7 @@ import pytest
 
 from sem_console import docs_gen
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 README_MAX_BYTES = 15 * 1024
 
 

@@ -22,14 +22,14 @@ from test_console import wait_until
 
 pytestmark = [pytest.mark.interop, pytest.mark.process]
 
-HERE = Path(__file__).parent
+TESTS = Path(__file__).parents[1]
 
 
 @pytest.fixture(scope="module")
 def peer(tmp_path_factory: pytest.TempPathFactory) -> Path:
     work = tmp_path_factory.mktemp("pyimclsts")
-    shutil.copy(HERE / "data" / "comap-imc.xml", work / "IMC.xml")
-    shutil.copy(HERE / "pyimclsts_peer.py", work / "peer.py")
+    shutil.copy(TESTS / "data" / "comap-imc.xml", work / "IMC.xml")
+    shutil.copy(TESTS / "support" / "pyimclsts_peer.py", work / "peer.py")
     subprocess.run([sys.executable, "-m", "pyimclsts.extract"], cwd=work, check=True, capture_output=True, timeout=60)
     return work
 

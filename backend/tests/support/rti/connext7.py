@@ -30,7 +30,7 @@ from typing import Any
 NPM_VERSION = "1.5.0"  # Connext 7.7.0
 CONNEXT7 = "7.7.0"
 _PLATFORM = {"x86_64": "linux-x64", "aarch64": "linux-arm64"}
-_TESTS = Path(__file__).resolve().parents[1]
+_TESTS = Path(__file__).resolve().parents[2]
 _BACKEND = _TESTS.parent
 
 
@@ -125,7 +125,7 @@ class RemoteParticipant:
             self.proc = idle.pop()
         else:
             pythonpath = os.pathsep.join([str(root), str(_TESTS), str(_BACKEND)])
-            self.proc = subprocess.Popen([sys.executable, "-m", "rti.worker"], stdin=subprocess.PIPE,
+            self.proc = subprocess.Popen([sys.executable, "-m", "support.rti.worker"], stdin=subprocess.PIPE,
                                          stdout=subprocess.PIPE, text=True, cwd=_TESTS,
                                          env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
         self.writers = set(kw.get("writers", ()))

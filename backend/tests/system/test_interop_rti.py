@@ -34,15 +34,15 @@ import httpx
 import pytest
 from cyclonedds.core import Policy, Qos
 
-from rti.connector import RECIPE_ENV, RtiParticipant
-from rti.connext7 import RemoteParticipant, connector7
-from samplegen import random_sample, to_plain
 from sem_console.codec.convert import to_json
 from sem_console.codec.decode import REPORT_TOPICS
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import TopicClass, reader_qos
 from sem_console.dds.topics import Sem, Service, final_type_qos
 from sem_console.sim.provider import vehicle_guid
+from support.rti.connector import RECIPE_ENV, RtiParticipant
+from support.rti.connext7 import RemoteParticipant, connector7
+from support.samplegen import random_sample, to_plain
 from test_check import check, failed
 from test_console import wait_until
 
@@ -652,7 +652,7 @@ def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., 
 # types in a child process whose UMAA package is generated appendable (sem_console.idlgen), to
 # measure the recipe before the console changes: rti/appendable_peer.py.
 
-_TESTS = Path(__file__).resolve().parent
+_TESTS = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="session")
@@ -665,9 +665,9 @@ def appendable_umaa(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def _peer(umaa: Path, *args: Any) -> dict[str, Any]:
-    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(umaa), str(_TESTS), str(_TESTS.parent)])}
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(umaa), str(_TESTS), str(_TESTS / "system"), str(_TESTS.parent)])}
     # cwd: not backend/, whose final UMAA package would come first on sys.path
-    r = subprocess.run([sys.executable, "-m", "rti.appendable_peer", *map(str, args)], cwd=umaa, env=env,
+    r = subprocess.run([sys.executable, "-m", "support.rti.appendable_peer", *map(str, args)], cwd=umaa, env=env,
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 0, r.stderr[-2000:]
     return json.loads(r.stdout.strip().splitlines()[-1])

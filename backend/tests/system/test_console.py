@@ -27,13 +27,13 @@ from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from conftest import ConsoleProcess, SimProcess
-from consumer import Consumer
 from sem_console.api.schemas import server_messages
 from sem_console.check.cli import main as check_main
 from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import make, now_datetime
+from support.consumer import Consumer
 
 V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
 HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]

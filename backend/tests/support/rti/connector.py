@@ -26,7 +26,7 @@ from sem_console.dds.topics import Sem
 
 from .idl2xml import types_xml
 
-RECIPE_XML = Path(__file__).resolve().parents[3] / "docs" / "rti" / "sem-console-interop.xml"
+RECIPE_XML = Path(__file__).resolve().parents[4] / "docs" / "rti" / "sem-console-interop.xml"
 RECIPE_ENV = {"NDDS_XTYPES_COMPLIANCE_MASK": "0x1a9"}
 
 

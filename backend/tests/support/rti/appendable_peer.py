@@ -4,8 +4,8 @@ idlgen's extensibility "appendable") and an RTI participant on the repository's 
 profile. Prints one JSON line: per topic, whether each side matched the other and how many of 20
 random samples arrived right each way.
 
-Usage: python -m rti.appendable_peer DOMAIN VERSION(6|7) MASK(mask|nomask) [force] [-v]
-       python -m rti.appendable_peer DOMAIN cyclone   (no RTI: what Cyclone endpoints of other types match)
+Usage: python -m support.rti.appendable_peer DOMAIN VERSION(6|7) MASK(mask|nomask) [force] [-v]
+       python -m support.rti.appendable_peer DOMAIN cyclone   (no RTI: what Cyclone endpoints of other types match)
 (`force`: Cyclone's reader sets force_type_validation, i.e. refuses writers without type information.)
 """
 
@@ -19,12 +19,12 @@ from typing import Any
 
 from cyclonedds.core import Policy, Qos
 
-from rti.connector import RECIPE_ENV, RtiParticipant
-from rti.connext7 import RemoteParticipant
-from samplegen import random_sample, to_plain
 from sem_console.dds.bus import Bus, all_samples
 from sem_console.dds.qos import reader_qos
 from sem_console.dds.topics import Sem
+from support.rti.connector import RECIPE_ENV, RtiParticipant
+from support.rti.connext7 import RemoteParticipant
+from support.samplegen import random_sample, to_plain
 from test_interop_rti import same
 
 TOPICS = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT]

@@ -11,7 +11,7 @@ import pytest
 
 pytestmark = pytest.mark.process
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 
 
 def compose() -> list[str] | None:

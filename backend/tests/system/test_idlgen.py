@@ -11,7 +11,7 @@ from sem_console import idlgen
 
 pytestmark = pytest.mark.process
 
-BACKEND = Path(__file__).resolve().parents[1]
+BACKEND = Path(__file__).resolve().parents[2]
 
 
 def _texts(root: Path, files: list[Path]) -> dict[Path, str]:

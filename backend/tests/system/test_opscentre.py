@@ -18,7 +18,7 @@ import psycopg
 import pytest
 
 from conftest import ConsoleProcess
-from pg import Cluster
+from support.pg import Cluster
 from test_console import (
     V1,
     V2,

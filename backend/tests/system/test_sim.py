@@ -23,10 +23,10 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import Inert
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
 
-from consumer import Consumer
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import from_guid, satellite_label
+from support.consumer import Consumer
 
 V1, V2 = vehicle_guid(1), vehicle_guid(2)
 HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
@@ -388,8 +388,8 @@ def test_shutdown_with_a_vanished_reader_is_clean(sim, consumer: Consumer, domai
     p = sim("--surface-seconds", "400")
     wait_reports(consumer, V1)
     crashed = subprocess.Popen([sys.executable, "-c", (
-        "import sys, time; sys.path.insert(0, 'tests'); from consumer import Consumer; "
-        f"c = Consumer({domain}, name='crashes'); time.sleep(30)")], cwd=str(__import__('pathlib').Path(__file__).parents[1]))
+        "import sys, time; sys.path.insert(0, 'tests'); from support.consumer import Consumer; "
+        f"c = Consumer({domain}, name='crashes'); time.sleep(30)")], cwd=str(__import__('pathlib').Path(__file__).parents[2]))
     time.sleep(2.0)  # it has matched the simulator's writers
     session = consumer.command(Service.GPS_FIX, V1)
     consumer.wait_status(session, S.EXECUTING)
@@ -434,8 +434,8 @@ def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: 
 
     from cyclonedds._clayer import ddspy_write
 
-    from samplegen import random_sample
     from sem_console.dds.bus import Bus
+    from support.samplegen import random_sample
 
     bus = Bus(domain)
     w = bus.writer(Sem.GPS_REPORT)

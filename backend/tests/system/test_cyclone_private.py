@@ -18,7 +18,6 @@ from cyclonedds.core import InstanceState, WaitSet
 from cyclonedds.idl import IdlStruct
 from cyclonedds.util import duration
 
-from samplegen import random_sample
 from sem_console.dds import cyclone_private
 from sem_console.dds.bus import Bus, all_samples, take_each
 from sem_console.dds.cyclone_private import (
@@ -32,8 +31,9 @@ from sem_console.dds.cyclone_private import (
     write_cdr,
 )
 from sem_console.dds.topics import Sem
+from support.samplegen import random_sample
 
-PYPROJECT = Path(__file__).resolve().parents[1] / "pyproject.toml"
+PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
 
 
 def test_the_pinned_version_is_installed() -> None:

@@ -406,9 +406,9 @@ def test_files_roll_over_and_each_stands_alone(sim, console, tmp_path: Path) -> 
 def test_a_recording_says_once_that_it_skips_the_umaa_6_0_topics(tmp_path: Path, caplog: pytest.LogCaptureFixture) -> None:
     """Recordings hold the 3.0.1 topics only: a 6.0 vehicle's samples are not in the file, and the operator is told so
     (once per topic and recording) rather than finding the vehicle missing from the replay."""
-    from samplegen import random_sample
     from sem_console.dds.topics import Sem60
     from sem_console.recording.recorder import Recorder
+    from support.samplegen import random_sample
 
     r = Recorder(tmp_path, max_bytes=1 << 30, max_seconds=3600)
     now = time.time_ns()
@@ -436,8 +436,8 @@ def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: 
     file that goes by the schema (here idlc's types built from the schema text alone) reads them right; the final
     writer's samples stay on the topic's channel with the @final IDL. On the recorder alone: its tap is fed as the
     ingest feeds it (a take of both writers at once)."""
-    from samplegen import random_sample
     from sem_console.recording.recorder import Recorder
+    from support.samplegen import random_sample
 
     assert sem.spec.appendable is not None
     finals = [random_sample(sem.spec.type, random.Random(seed)) for seed in range(5)]
@@ -471,12 +471,12 @@ def test_sem_replay_republishes_an_appendable_writers_sample_as_it_was_sent(doma
     """sem-replay of an RTI vehicle's GPSFixReport (delimited XCDR2): written by a writer of the appendable copy, so
     the console's reader of that copy gets the same values, and its final reader (force_type_validation) nothing;
     re-encoding it with the final type would misread it. Its dispose the same way (the recorder's instance event)."""
-    from samplegen import random_sample
     from sem_console.dds.bus import Bus
     from sem_console.dds.qos import reader_qos
     from sem_console.dds.topics import final_type_qos
     from sem_console.recording.recorder import _instance_event
     from sem_console.recording.sem_replay import Replay
+    from support.samplegen import random_sample
 
     sem = Sem.GPS_FIX_REPORT
     assert sem.spec.appendable is not None

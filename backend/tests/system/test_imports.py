@@ -19,7 +19,7 @@ import pytest
 
 pytestmark = pytest.mark.process
 
-BACKEND = Path(__file__).resolve().parents[1]
+BACKEND = Path(__file__).resolve().parents[2]
 LINT_IMPORTS = Path(sys.executable).parent / "lint-imports"
 
 

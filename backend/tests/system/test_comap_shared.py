@@ -11,10 +11,10 @@ import httpx
 import psycopg
 
 from conftest import ConsoleProcess, free_udp_port
-from pg import Cluster
 from sem_console.comap.c2 import FINAL
 from sem_console.storage.database import Database
 from sem_console.storage.url import parse_database_url
+from support.pg import Cluster
 from test_comap import V1, capabilities, last_position, polygon_feature, square
 from test_console import WsClient, wait_until
 

@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from conftest import ConsoleProcess, free_port
-from pg import PASSWORD, Cluster
+from support.pg import PASSWORD, Cluster
 
 EXE = Path(sys.executable).parent / "sem-console"
 PMTILES_V3 = b"PMTiles\x03" + bytes(119)  # a whole v3 header: magic, version, then offsets and bounds (zeros here)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-IDL_ROOT = Path(__file__).resolve().parents[3] / "idl"
+IDL_ROOT = Path(__file__).resolve().parents[4] / "idl"
 
 _BASIC = {"double": "float64", "float": "float32", "long long": "int64", "long": "int32", "short": "int16",
           "unsigned long": "uint32", "unsigned short": "uint16", "octet": "uint8", "boolean": "boolean"}

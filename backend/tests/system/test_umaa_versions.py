@@ -16,7 +16,7 @@ from sem_console.sim.provider import vehicle_guid
 from sem_console.sim.umaa_6_0 import tfom
 from sem_console.umaa.guid import satellite_label
 from test_console import WsClient, wait_until
-from test_wire_layout import GOLDEN_6_0
+from unit.test_wire_layout import GOLDEN_6_0
 
 V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
 ALIVE = int(InstanceState.Alive)

@@ -39,7 +39,6 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from icd_provider import IcdProvider
 from sem_console.check import commands, junit, reports, runner
 from sem_console.check.cli import main
 from sem_console.check.observe import Observer, Report
@@ -51,8 +50,9 @@ from sem_console.sim.options import SimOptions, vehicle_guid
 from sem_console.sim.reports import Sensors
 from sem_console.umaa.guid import from_guid, to_guid
 from sem_console.umaa.samples import now_datetime
+from support.icd_provider import IcdProvider
 
-XSD = xmlschema.XMLSchema(Path(__file__).parent / "data" / "junit.xsd")
+XSD = xmlschema.XMLSchema(Path(__file__).parents[1] / "data" / "junit.xsd")
 COMMAND_TOPICS = [s.command for s in Service]
 
 
@@ -1132,7 +1132,7 @@ RTI_SERVES = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STA
 @pytest.mark.interop
 def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path) -> None:
     try:
-        from rti.connector import RtiParticipant
+        from support.rti.connector import RtiParticipant
         from test_interop_rti import RtiVehicle
     except Exception as e:  # the connector's native library may not load here
         pytest.skip(f"RTI Connext's connector cannot load: {e}")

@@ -20,14 +20,14 @@ from sqlalchemy import Connection, text
 from sqlalchemy.exc import OperationalError
 from sqlmodel import SQLModel
 
-from pg import Cluster
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
 from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters, head_revision
 from sem_console.storage.url import parse_database_url
+from support.pg import Cluster
 
-LEGACY = Path(__file__).parent / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
+LEGACY = Path(__file__).parents[1] / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
 LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
 V1 = "77b2ceb8-5afe-554e-8450-93db17c48923"
 
