@@ -1,7 +1,7 @@
 """Decode cost per SEM topic, µs per sample: the console's generated decoder (codec/fastcdr.py) beside
 cyclonedds' own deserializer, in the same run, on the same bytes. Reports are the simulator's (a
 GPSReport of 40 satellites, every optional member present, as sem-sim sends them); status, ack and
-command samples are random (backend/tests/samplegen.py). Each topic in every encoding its writers may
+command samples are random (backend/tests/support/samplegen.py). Each topic in every encoding its writers may
 use: XCDR2 for the types with @optional members, XCDR1 (what writers offer) and XCDR2 for the others.
 
 Columns: cyclonedds = `T.deserialize`; cyclonedds+json = that and `convert.to_json` (the console's
@@ -29,7 +29,6 @@ from common import ROOT, emit, table
 
 sys.path.insert(0, str(ROOT / "backend" / "tests"))
 
-from samplegen import random_sample
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
 from sem_console.codec.decode import REPORT_TOPICS, report_json
@@ -37,6 +36,7 @@ from sem_console.dds.topics import Sem, Sem60
 from sem_console.sim import umaa_6_0 as sim60
 from sem_console.sim.options import SimOptions
 from sem_console.sim.reports import Sensors
+from support.samplegen import random_sample
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 RATES_6_0 = {Sem60.GPS_REPORT: 1, Sem60.GLOBAL_POSE_REPORT: 10, Sem60.INS_REPORT: 10}  # the same vehicle, as 6.0

@@ -1,5 +1,5 @@
 """Operations centre: two consoles on one DDS domain and one PostgreSQL database (a cluster of its own in a
-temporary directory, as the tests start it: backend/tests/pg.py), with --vehicles simulated vehicles.
+temporary directory, as the tests start it: backend/tests/support/pg.py), with --vehicles simulated vehicles.
 Console A issues GPS fix commands round the fleet; for each transition, the time from its `transition` message on
 A's WebSocket to the `command` message with that status on B's (the NOTIFY path: A's write, PostgreSQL, B's
 listener, B's loop and hub): p50/p99. Over the window, the database's write load (transactions committed per
@@ -22,7 +22,7 @@ import common
 from common import BIN, Proc, emit, free_domain, free_port, ms, percentile, table, wait_http
 
 sys.path.insert(0, str(common.ROOT / "backend" / "tests"))
-from pg import PASSWORD, Cluster  # the tests' own PostgreSQL cluster
+from support.pg import PASSWORD, Cluster  # the tests' own PostgreSQL cluster
 
 SIM = ["--step-seconds", "0.2", "--surface-seconds", "0", "--fix-rate", "1", "--gps-rate", "1", "--ins-rate", "1"]
 

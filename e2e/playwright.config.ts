@@ -8,19 +8,18 @@ export default defineConfig({
   workers: 1, // one stack, and some tests stop and restart parts of it
   fullyParallel: false,
   timeout: 90_000,
-  // As pytest's --reruns 1 (scripts/test): a test that fails once runs again and the summary lists it as
-  // "flaky", so it stays visible; one that fails twice fails the run.
-  retries: 1,
+  // No retries, as pytest (scripts/test): a test that fails once fails the run; a flaky test is fixed at its root.
+  retries: 0,
   expect: { timeout: 20_000 },
   reporter: process.env.CI ? [["list"], ["html", { open: "never" }]] : "list",
   outputDir: "test-results",
   use: {
     viewport: { width: 1440, height: 900 },
     screenshot: "only-on-failure",
-    // A trace of the retry only: recording one for every test (its screencast and snapshots) cost about a quarter of
-    // the suite's CPU (measured: dashboard.spec 79 CPU-seconds with, 59.5 without), and the suite shares two cores
-    // with pytest. A failure's first attempt keeps its screenshot; its retry records the trace.
-    trace: "on-first-retry",
+    // No trace: recording one for every test (its screencast and snapshots) cost about a quarter of the suite's CPU
+    // (measured: dashboard.spec 79 CPU-seconds with, 59.5 without), and the suite shares two cores with pytest. A
+    // failure keeps its screenshot; `npx playwright test --trace on tests/x.spec.ts` records one for a failing test.
+    trace: "off",
     // --disable-gpu leaves WebGL (the map, MapLibre GL) to SwiftShader, the software renderer. Chromium
     // still falls back to it by itself but has deprecated that fallback; --enable-unsafe-swiftshader
     // keeps it explicitly ("unsafe" only for pages of untrusted origins, and these tests load our console).

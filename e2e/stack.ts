@@ -248,7 +248,7 @@ export function closePostgresLeft(): void {
 }
 
 /** A real PostgreSQL for a spec's operations centre (Debian's postgresql, which scripts/setup.sh installs), started as
- * backend/tests/pg.py starts the pytest one: a cluster in a temporary directory, by initdb and pg_ctl run as the
+ * backend/tests/support/pg.py starts the pytest one: a cluster in a temporary directory, by initdb and pg_ctl run as the
  * `postgres` user when the tests run as root, on a free port of 127.0.0.1. `url`: its database for the consoles;
  * `stop` and `start` for an outage; `close` stops it and removes its directory. */
 export async function startPostgres(): Promise<{ url: string; stop: () => void; start: () => void; close: () => void }> {

@@ -18,9 +18,9 @@ from pathlib import Path
 
 import pytest
 
-from consumer import Consumer
+from support.consumer import Consumer
 
-pytest_plugins = ["pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures (tests/pg.py)
+pytest_plugins = ["support.pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures
 
 # Tests run on loopback whatever the shell says; those about CYCLONEDDS_URI set it themselves.
 os.environ.pop("CYCLONEDDS_URI", None)
@@ -62,6 +62,22 @@ def free_domain(taken: int | None = None) -> int:
 @pytest.fixture
 def domain() -> int:
     return free_domain()
+
+
+# The markers (backend/pyproject.toml) that follow from a test's fixtures; a test that starts a process by itself, or
+# runs another implementation, carries its marker in its own file.
+_PROCESS_FIXTURES = {"sim", "console", "pg_cluster"}
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    for item in items:
+        names = set(getattr(item, "fixturenames", ()))
+        callspec = getattr(item, "callspec", None)
+        postgres = "pg_cluster" in names or (callspec is not None and callspec.params.get("database_url") == "postgresql")
+        if postgres:
+            item.add_marker(pytest.mark.postgres)
+        if postgres or names & _PROCESS_FIXTURES:
+            item.add_marker(pytest.mark.process)
 
 
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]
@@ -231,9 +247,9 @@ def console(domain: int, tmp_path: Path) -> Iterator[Callable[..., ConsoleProces
 
 @pytest.fixture(scope="session")
 def connext7() -> None:
-    """Connext 7.x for the RTI interop tests (the npm Connector's native libraries, tests/rti/connext7.py), fetched
+    """Connext 7.x for the RTI interop tests (the npm Connector's native libraries, tests/support/rti/connext7.py), fetched
     once; skipped when it cannot be had."""
-    from rti.connext7 import connector7  # here: the module loads RTI's Connector, which only these tests need
+    from support.rti.connext7 import connector7  # here: the module loads RTI's Connector, which only these tests need
 
     try:
         connector7()

@@ -24,7 +24,7 @@ neither offers nor accepts for these types, or a construct no SEM type uses) is 
 cyclonedds itself, so every input decodes as before. A malformed sample raises (`struct.error`,
 `IndexError`, `ValueError`, `UnicodeDecodeError`); callers count it and drop it. Where cyclonedds
 reads a truncated sample leniently (a GUID cut short) this decoder refuses it; wherever it
-returns a value, the value is cyclonedds' (tests/test_fastcdr.py pins both modes to cyclonedds on
+returns a value, the value is cyclonedds' (tests/unit/test_fastcdr.py pins both modes to cyclonedds on
 random samples of every SEM type). `python -m sem_console.codec.fastcdr TYPE` prints the
 generated source.
 """

@@ -2,14 +2,14 @@
 
 One table for the backend and the dashboard. The backend composes its alarm texts from it (`console/alarms.py`); the
 dashboard reads it as `frontend/schema/words.json` (written by `python -m sem_console.schema_export`, kept current by
-`tests/test_schema_export.py`) through `frontend/src/lib/labels.ts`, for the fleet bar, the vehicle list and the panels.
+`tests/unit/test_schema_export.py`) through `frontend/src/lib/labels.ts`, for the fleet bar, the vehicle list and the panels.
 Wherever a word is shown, its literal (the UMAA one, for the engineer comparing the screen with a log) is in a tooltip.
 
 A word is written as it starts a line ("Operational"); the places that put it inside a phrase lower its first letter
 (`inline`): "INS operational", "Alpha: link lost".
 
 To add a state, a reason or an alarm kind, add its entry here and run `python -m sem_console.schema_export`:
-`tests/test_words.py` fails for a literal of a UMAA enumeration the console shows, or of any enumeration of its published
+`tests/system/test_words.py` fails for a literal of a UMAA enumeration the console shows, or of any enumeration of its published
 schemas (an alarm kind, a link, a task state...) that has no words here; a new enumeration there must be named in it,
 with its table or as no state the console names.
 """

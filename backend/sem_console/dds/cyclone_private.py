@@ -1,5 +1,5 @@
 """Every private part of cyclonedds-python the project uses, in this one module (cyclonedds==11.0.1, pinned in
-backend/pyproject.toml). `tests/test_cyclone_private.py` pins each of them against the installed version: a new
+backend/pyproject.toml). `tests/system/test_cyclone_private.py` pins each of them against the installed version: a new
 cyclonedds that moves or changes one fails there, by name, instead of somewhere in the console.
 
 Why each is needed (none has a public equivalent in 11.0.1):

@@ -1,5 +1,5 @@
 """The one private part of the mcap library the project uses, in this one module (mcap>=1.6,<2, pinned in
-backend/pyproject.toml). `tests/test_mcap_private.py` pins it against the installed version.
+backend/pyproject.toml). `tests/unit/test_mcap_private.py` pins it against the installed version.
 
 `mcap_writer.py` writes MCAP faster than `mcap.writer.Writer` can (see there), but serialises every record but
 messages and message indexes with the library's own record classes: `McapRecord.write` into the library's

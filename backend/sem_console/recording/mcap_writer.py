@@ -13,7 +13,7 @@ The layout: schemas and channels in the data section, outside chunks, as they ar
 (the mcap library puts them in the chunk in progress; the specification allows both), chunks
 (zstd) each followed by one message index per channel, then a summary with the schemas,
 channels, statistics and chunk indexes, summary offsets, and a footer with the summary CRC.
-`tests/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs validated) and
+`tests/unit/test_mcap_writer.py` reads it back with the mcap library's readers (CRCs validated) and
 checks a message record against bytes worked out from the specification.
 """
 

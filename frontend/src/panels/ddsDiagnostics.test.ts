@@ -4,7 +4,7 @@ import { describe, expect, it } from "vitest";
 import type { PeerFinding } from "../api/rest";
 import { PeerFindings } from "./DdsDiagnostics";
 
-// What the console's /api/metrics gives, word for word (backend/tests/test_interop_rti.py checks these texts against real
+// What the console's /api/metrics gives, word for word (backend/tests/system/test_interop_rti.py checks these texts against real
 // RTI Connext participants: test_console_tells_of_rti_writers_it_does_not_read and
 // test_console_tells_an_rti7_on_defaults_to_stop_type_information).
 const DOCS = "(docs/dds.md#rti-connext-7)";

@@ -1,0 +1,1 @@
+"""The helpers of the tests: a PostgreSQL cluster, DDS peers and consumers, sample generators."""

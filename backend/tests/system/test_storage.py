@@ -1,0 +1,359 @@
+"""The console's storage (sem_console/storage): Alembic migrations, console identities and the shipped database of
+the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where a case applies to one console."""
+
+from __future__ import annotations
+
+import asyncio
+import fcntl
+import math
+import re
+import shutil
+import sqlite3
+import time
+import uuid
+from pathlib import Path
+
+import pytest
+from alembic.autogenerate import compare_metadata
+from alembic.runtime.migration import MigrationContext
+from fastapi.testclient import TestClient
+from sqlalchemy import Connection, text
+from sqlalchemy.exc import OperationalError
+from sqlmodel import SQLModel
+
+from sem_console.console.history import History
+from sem_console.core.config import Settings
+from sem_console.main import create_app
+from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters, head_revision
+from sem_console.storage.url import parse_database_url
+from support.pg import Cluster
+
+LEGACY = Path(__file__).parents[1] / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
+LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
+V1 = "77b2ceb8-5afe-554e-8450-93db17c48923"
+
+
+def open_db(url: str) -> Database:
+    return Database(parse_database_url(url))
+
+
+def test_a_new_database_has_the_models_schema(database_url: str) -> None:
+    """The migrations make what the models say (no column, index or constraint of one missing in the other)."""
+    db = open_db(database_url)
+    try:
+        with db.engine.connect() as c:
+            context = MigrationContext.configure(c)
+            assert context.get_current_revision() == head_revision()
+            assert compare_metadata(context, SQLModel.metadata) == []
+    finally:
+        db.close()
+
+
+def test_a_database_of_a_newer_release_is_refused_in_one_line(database_url: str) -> None:
+    """A console of an older release on a database a newer one upgraded: one line naming the revision and the fix, the
+    database left as it was (no backup copy, no traceback from Alembic's unknown revision)."""
+    db = open_db(database_url)
+    with db.engine.begin() as c:
+        c.execute(text("UPDATE alembic_version SET version_num = '9999'"))
+    db.close()
+    with pytest.raises(StorageError) as e:
+        open_db(database_url)
+    assert "revision 9999, newer than this sem-console's" in str(e.value) and "\n" not in str(e.value)
+    assert "run the sem-console release that wrote it" in str(e.value)
+
+
+def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) -> None:
+    a = open_db(database_url)
+    first = a.claim("watch")
+    assert a.claim("watch") == first
+    other = open_db(database_url)
+    with pytest.raises(StorageError) as refused:  # the same name, running
+        other.claim("watch")
+    assert "pg-test-s3cret" not in str(refused.value)  # the URL is shown with its password hidden
+    if a.db.path is None:
+        assert "another console named 'watch' is running on" in str(refused.value) and "--console-name" in str(refused.value)
+        relief = other.claim("relief")
+        assert relief != first
+    else:  # SQLite shares nothing live between consoles: a second one is refused whatever its name, and told of PostgreSQL
+        with pytest.raises(StorageError) as second:
+            other.claim("relief")
+        for refusal in (refused, second):
+            assert f"another console ('watch') is running on {a.db.path}" in str(refusal.value), refusal.value
+            assert "--database-url" in str(refusal.value) and "\n" not in str(refusal.value)
+        lock = a.lock_path()
+        assert lock.exists()
+    a.close()
+    other.close()
+    if a.db.path is not None:
+        assert not lock.exists()  # a clean stop leaves no lock file behind
+    again = open_db(database_url)  # a restart: the same name, the same GUID
+    assert again.claim("watch") == first
+    assert again.consoles() == ({"watch": first} if a.db.path is not None else {"watch": first, "relief": relief})
+    again.close()
+
+
+def test_a_console_stopping_as_another_starts_on_a_sqlite_file_leaves_one_holder(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The lock file is removed at a clean stop: a console that opened it just before (and locks it just after) held
+    the removed file's lock, and a third then took a new file's: two consoles on one SQLite file."""
+    url = str(tmp_path / "console.sqlite3")
+    first, second, third = open_db(url), open_db(url), open_db(url)
+    first.claim("watch")
+    lock = fcntl.flock
+
+    def first_stops_meanwhile(fd: int, operation: int) -> None:  # between the second's open and its lock
+        monkeypatch.setattr(fcntl, "flock", lock)
+        first.close()
+        lock(fd, operation)
+
+    monkeypatch.setattr(fcntl, "flock", first_stops_meanwhile)
+    second.claim("relief")
+    with pytest.raises(StorageError, match=r"another console \('relief'\) is running"):
+        third.claim("night")
+    second.close()
+    third.close()
+
+
+def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_together(database_url: str) -> None:
+    """The vehicle answers just as a station ends its cancelled command as never heard, or two stations race: whatever
+    the order of their writes, a stored status withdraws the ending (one transaction: no crash leaves both)."""
+    db = open_db(database_url)
+    try:
+        session = str(uuid.uuid4())
+        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
+                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        db.set_canceled(session, "bob", "relief", 101.0)
+        assert db.set_closed_unheard(session, "heard", 108.0) is True
+        # another station ends it too, later: refused, the first ending stands (each station shows the stored one)
+        assert db.set_closed_unheard(session, "bound", 109.0) is False
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("heard", 108.0, True)
+        canceled = {"status": "CANCELED", "reason": "CANCELED", "logMessage": "", "violation": None,
+                    "providerTime": 1.0, "receivedAt": 109.0}
+        db.add_transition(session, 1, canceled)  # the vehicle answered after all
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
+        assert db.set_closed_unheard(session, "heard", 110.0) is False  # another station's, after that answer
+        [row] = db.commands(session_id=session)
+        assert (row["closed_unheard"], row["cleaned_up"], len(row["transitions"])) == (None, False, 1), row
+    finally:
+        db.close()
+
+
+def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: str) -> None:
+    db = open_db(database_url)
+    db.audit_max_rows = 3
+    try:
+        session = str(uuid.uuid4())
+        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
+                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        for seq, status in enumerate(("ISSUED", "COMMANDED", "COMMANDED"), start=1):
+            db.add_transition(session, min(seq, 2), {"status": status, "reason": "SUCCEEDED", "logMessage": "",
+                                                     "violation": None, "providerTime": 1.0, "receivedAt": 2.0})
+        db.set_canceled(session, "bob", "relief", 101.5)
+        db.set_flag(session, "cleaned_up")
+        [row] = db.commands(session_id=session)
+        assert [t["seq"] for t in row["transitions"]] == [1, 2]  # a repeated (session, seq) is ignored
+        assert row["cancel_requested"] is True and row["canceled_by"] == "bob" and row["cleaned_up"] is True
+        assert (row["canceled_on"], row["canceled_at"]) == ("relief", 101.5)
+        assert row["console"] == "watch" and row["command"] == {"timeStamp": [100, 0]}
+        assert db.commands(limit=10, unfinished=True, console="relief") == []
+        for n in range(5):
+            db.add_audit({"at": float(n), "outcome": "accepted", "status": 200, "method": "POST", "path": f"/{n}",
+                          "reason": "accepted"})
+        assert [e["path"] for e in db.audit(10, 0)] == ["/4", "/3", "/2"]  # the newest audit_max_rows
+        db.set_link_config(V1, {"commsLostTimeout": 5})
+        db.set_link_config(V1, {"commsLostTimeout": 7})
+        assert db.link_configs() == {V1: {"commsLostTimeout": 7}}
+        db.set_vehicle_name(V1, "Alpha", "alice")
+        db.set_vehicle_name(V1, "Bravo", "bob")
+        assert db.vehicle_names() == {V1: "Bravo"}
+        db.set_vehicle_name(V1, None, "bob")
+        assert db.vehicle_names() == {}
+        alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+                 "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+                 "acked_by": None, "normal_at": None}
+        first = db.add_alarm(alarm)
+        assert db.add_alarm(alarm) == first + 1
+        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
+        assert [a["id"] for a in db.open_alarms()] == [first + 1]
+    finally:
+        db.close()
+
+
+def test_track_points_written_once_read_in_order(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24)
+    provider = uuid.UUID(V1)
+    fix = {"position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 0.5},
+                                                       "geodeticLongitude": {"longitude": 0.25}}},
+           "GPSLatLongValid": True}
+
+    async def run() -> list[float]:
+        now = math.floor(time.time()) + 0.25
+        for t in (now, now + 0.5, now + 1, now + 2):  # at most one point a second: the second one is not taken
+            history.on_fix(provider, t, fix, [], True)
+        await history.flush()
+        history._track.append({**(await history.track(provider, None, None))[0].model_dump()})  # the same point again
+        await history.flush()
+        return [p.time for p in await history.track(provider, None, None)]
+
+    try:
+        times = asyncio.run(run())
+        assert len(times) == 3 and times == sorted(times)
+    finally:
+        db.close()
+
+
+def test_the_first_releases_file_opens_with_its_history_and_identity(tmp_path: Path) -> None:
+    """The file a console of 8592e59 wrote is upgraded in place, a copy kept beside it first; its commands with
+    their transitions, audit, link configuration, alarm and track are there; its source GUID is the first name's."""
+    path = tmp_path / "sem-console.sqlite3"
+    shutil.copy(LEGACY, path)
+    db = Database(path)  # upgraded here: the track is read before a console's retention could prune it
+    with db.engine.connect() as c:
+        assert c.execute(text("SELECT count(*) FROM track")).scalar() == 28
+    db.close()
+    settings = Settings(db_path=path, console_name="station-1", recordings_dir=tmp_path / "recordings", domain=231)
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+        assert console.id == LEGACY_GUID
+        commands = client.get("/api/commands").json()
+        assert {c["service"]: c["status"] for c in commands} == {"GPSFix": "COMPLETED", "InertialSensor": "CANCELED"}
+        assert [t["status"] for t in commands[1]["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
+        assert commands[0]["cancelRequested"] and commands[0]["canceledBy"] == "alice"
+        audit = client.get("/api/audit").json()
+        assert len(audit) == 6 and {e["outcome"] for e in audit} == {"accepted", "refused"}
+        [alarm] = client.get("/api/alarms").json()
+        assert alarm["kind"] == "link-lost" and alarm["ackedBy"] == "alice"
+        assert console.store.link_configs()[V1]["policy"] == "CONTINUE_MISSION"
+    [backup] = tmp_path.glob("sem-console.before-upgrade-from-first-release-*.sqlite3")
+    with sqlite3.connect(backup) as old:  # the copy is the file as it was: no Alembic table, the same rows
+        tables = {r[0] for r in old.execute("SELECT name FROM sqlite_master WHERE type='table'")}
+        assert "alembic_version" not in tables and old.execute("SELECT count(*) FROM transitions").fetchone()[0] == 6
+    old.close()
+    db = Database(path)  # a second station on the file gets an identity of its own; the first keeps the old one
+    try:
+        assert db.claim("station-2", hold=False) != LEGACY_GUID
+        assert db.consoles()["station-1"] == LEGACY_GUID
+    finally:
+        db.close()
+    assert len(list(tmp_path.glob("*.before-upgrade-*"))) == 1  # upgraded once: no copy at the next start
+
+
+def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluster: Cluster, pg_url: str) -> None:
+    """PostgreSQL stopped: writes are held in order (an alarm gets a temporary id), reads fail at once in one line
+    (no connect attempt on the caller's thread); started again: `maintain` writes what was held (the alarm's
+    acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
+    db = open_db(pg_url)
+    db.claim("watch")
+    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+             "acked_by": None, "normal_at": None}
+    try:
+        pg_cluster.stop()
+        try:
+            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a",
+                          "reason": "accepted"})
+            temporary = db.add_alarm(alarm)
+            assert temporary < 0 and db.unavailable_since is not None and db.held == 2
+            db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
+            assert db.held == 3
+            started = time.monotonic()
+            with pytest.raises(Unavailable) as refused:
+                db.audit(10, 0)
+            assert time.monotonic() - started < 1  # not a connect timeout
+            assert "pg-test-s3cret" not in str(refused.value)
+            # its time as every time the operator reads: "… since 2026-11-29 01:20:05 UTC: …", never "…Z"
+            assert re.match(r"shared history unavailable since \d{4}-\d\d-\d\d \d\d:\d\d:\d\d UTC: ", str(refused.value))
+            assert not db.maintain()  # still away
+        finally:
+            pg_cluster.start()
+        assert db.maintain() and db.held == 0 and db.unavailable_since is None
+        assert [e["path"] for e in db.audit(10, 0)] == ["/a"]
+        [row] = db.open_alarms()
+        assert row["acked_by"] == "alice" and row["acked_at"] == 2.0  # the held update found the row written late
+        other = open_db(pg_url)
+        try:
+            with pytest.raises(StorageError):  # the name's lock went with the old server; maintain took it again
+                other.claim("watch")
+        finally:
+            other.close()
+    finally:
+        db.close()
+
+
+def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
+    """The console's upkeep (`maintain`, every 2 s) is often the first to meet a stopped server, on the name's own
+    lock connection, before any write has failed: that is an outage too, and the name is taken again when the server
+    is back (it was let go for good: a second console of the same name then started and shared the UMAA identity)."""
+    db = open_db(pg_url)
+    db.claim("watch")
+    try:
+        pg_cluster.stop()
+        try:
+            assert not db.maintain() and db.unavailable_since is not None
+            assert not db.maintain()  # still away
+        finally:
+            pg_cluster.start()
+        assert db.maintain() and db.unavailable_since is None
+        other = open_db(pg_url)
+        try:
+            with pytest.raises(StorageError):
+                other.claim("watch")
+        finally:
+            other.close()
+    finally:
+        db.close()
+
+
+def test_a_vehicles_writer_lets_it_go_when_the_server_restarts(pg_cluster: Cluster, pg_url: str) -> None:
+    """The console that writes a vehicle's track holds a session lock, gone with a server restart. It must find that
+    out at its next batch even when it has no new vehicle to take (no statement would touch its lock connection):
+    it went on writing the vehicle beside the console that took it after the restart, two points a second in the
+    shared track and chart history, and in every GPX and CSV export."""
+    watch, relief = open_db(pg_url), open_db(pg_url)
+    a, b = VehicleWriters(watch.engine), VehicleWriters(relief.engine)
+    try:
+        assert a.mine({V1}) == {V1} and b.mine({V1}) == set()
+        pg_cluster.stop()
+        try:
+            for writers in (a, b):
+                with pytest.raises(OperationalError):
+                    writers.mine({V1})
+        finally:
+            pg_cluster.start()
+        assert b.mine({V1}) == {V1}  # the first after the restart takes it
+        assert a.mine({V1}) == set()
+    finally:
+        a.close()
+        b.close()
+        watch.close()
+        relief.close()
+
+
+def test_the_sessions_that_hold_locks_are_ended_by_the_server_soon_after_a_network_cut(pg_url: str) -> None:
+    """A network cut (not a restart) left the server the sessions holding the console's name and its vehicles: with
+    its default keepalives (two hours idle) the name was refused as another console's and no console wrote those
+    vehicles' tracks for hours after the console reconnected. Those sessions ask the server to probe them soon."""
+    db = open_db(pg_url)
+    writers = VehicleWriters(db.engine)
+    try:
+        db.claim("watch")
+        assert writers.mine({V1}) == {V1}
+        for c in (db._lock, writers._conn):  # the name's session, the vehicles' session (over TCP: 127.0.0.1)
+            assert isinstance(c, Connection)
+            assert [c.execute(text(f"SHOW tcp_keepalives_{s}")).scalar() for s in ("idle", "interval", "count")] \
+                == ["5", "2", "2"]
+    finally:
+        writers.close()
+        db.close()
+
+
+@pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",
+                                 "mysql://u:s3cret@h/db"])
+def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url: str) -> None:
+    with pytest.raises(ValueError) as refused:
+        parse_database_url(url)
+    line = str(refused.value)
+    assert line.startswith("--database-url") and "\n" not in line and "s3cret" not in line, line
