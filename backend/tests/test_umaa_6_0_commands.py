@@ -99,6 +99,15 @@ def test_every_6_0_command_completes_through_the_flow_and_the_ins_walks_its_stag
     assert ws.errors == []
 
 
+def test_a_6_0_ins_aligned_at_once_reports_the_stationary_alignment_it_did(sim, stages) -> None:
+    # --align-seconds 0: the simulated INS is aligned from the start, never seen completing a stage; it aligns
+    # stationary, and says so, not a GPS-aided alignment it never did
+    sim("--umaa", "6.0", "--align-seconds", "0")
+    wait_until(stages.take, 10, "an INS report")
+    time.sleep(0.5)
+    assert set(stages.take()) == {"FINE_STATIONARY_ALIGNMENT_COMPLETE"}, stages.seen
+
+
 def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
     """The console's InertialSensorCommandType of `session`, as it is on the bus (transient-local)."""
     bus = Bus(domain)
