@@ -245,6 +245,20 @@ def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(
         assert r.status_code == 422 and r.json()["detail"] == (
             "path.provider_id: Six speaks UMAA 6.0, which has no GPS fix service (GPSFixControl)"), r.text
         assert client.get("/api/commands").json() == []  # nothing was published
+        # a lost vehicle: a command its version has not is refused as such, not held for a confirmation it could not use
+        def lose(lost: bool) -> None:
+            for v in (six, old):
+                console.providers.by_id[v].link = "lost" if lost else "live"
+
+        client.portal.call(lose, True)
+        r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "ON"})
+        assert r.status_code == 422 and r.json()["detail"].startswith("body.state: Six speaks UMAA 6.0: "), r.text
+        r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "GPS_ALIGN", "confirmLost": False})
+        assert r.status_code == 422 and r.json()["detail"].startswith("body.state: Old speaks UMAA 3.0.1: "), r.text
+        assert client.post(f"/api/providers/{six}/gps-fix", json={}).status_code == 422
+        r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        assert r.status_code == 409 and r.json()["detail"].startswith("Six is lost (nothing heard for "), r.text
+        client.portal.call(lose, False)
         r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201 and r.json()["state"] == "GPS_ALIGN", r.text
         r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "ON"})
