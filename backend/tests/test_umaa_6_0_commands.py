@@ -4,6 +4,7 @@ REST answers to a command of the other version."""
 
 from __future__ import annotations
 
+import ast
 import threading
 import time
 import uuid
@@ -283,3 +284,22 @@ def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(
     # and neither takes the other's: the console refuses before anything reaches the bus
     assert httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "ON"}).status_code == 422
     assert httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "INIT"}).status_code == 422
+
+
+# ---- the versions room ----------------------------------------------------------------------------------------------
+def test_nothing_outside_the_versions_room_asks_which_version_a_vehicle_speaks() -> None:
+    """The versions room (`versions/`) and the simulator's 6.0 writer (`sim/umaa_6_0.py`) know what each version has;
+    elsewhere none compares a version (sem-check's detector, `check/observe.py`, names the one it found)."""
+    import sem_console
+    root = Path(sem_console.__file__).parent
+    allowed = {"versions", "sim/umaa_6_0.py", "check/observe.py"}
+
+    def a_version(n: ast.expr) -> bool:
+        return (isinstance(n, ast.Constant) and n.value in ("3.0.1", "6.0")) or \
+            (isinstance(n, ast.Name) and n.id in ("UMAA_3_0_1", "UMAA_6_0"))
+
+    asked = [f"{f.relative_to(root)}:{n.lineno}: {ast.unparse(n)}" for f in sorted(root.rglob("*.py"))
+             if not any(str(f.relative_to(root)).startswith(a) for a in allowed)
+             for n in ast.walk(ast.parse(f.read_text())) if isinstance(n, ast.Compare) and
+             any(a_version(x) for x in (n.left, *n.comparators))]
+    assert asked == []
