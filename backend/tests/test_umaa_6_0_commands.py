@@ -33,6 +33,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.main import create_app
 from sem_console.sim.umaa_6_0 import STAGES
 from sem_console.umaa.flow import UPDATED, CommandFlow
+from sem_console.versions import umaa_6_0
 from test_console import HAPPY, V1, WsClient, wait_command, wait_until
 from test_umaa_versions import HEALTH_6_0, V2, _detail
 
@@ -107,6 +108,22 @@ def test_a_6_0_ins_aligned_at_once_reports_the_stationary_alignment_it_did(sim, 
     wait_until(stages.take, 10, "an INS report")
     time.sleep(0.5)
     assert set(stages.take()) == {"FINE_STATIONARY_ALIGNMENT_COMPLETE"}, stages.seen
+
+
+def test_a_6_0_vehicle_first_heard_on_its_command_status_speaks_6_0(console, domain: int) -> None:
+    # a status on the bus (transient-local) before the vehicle's first report: the vehicle is a 6.0 one from the start
+    vehicle = uuid.uuid4()
+    bus = Bus(domain)
+    try:
+        command = umaa_6_0.ins_command(uuid.uuid4(), vehicle, uuid.uuid4(), "GPS_ALIGN", (1, 0))
+        writer = bus.writer(Sem60.INS_COMMAND_STATUS)  # kept: the status stays on the bus while it lives
+        writer.write(umaa_6_0.ins_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
+        c = console()
+        seen = wait_until(lambda: (r := httpx.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
+                          15, "the vehicle of the status")
+        assert seen["umaaVersion"] == "6.0", seen
+    finally:
+        bus.close()
 
 
 def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
