@@ -5,6 +5,8 @@ REST answers to a command of the other version."""
 from __future__ import annotations
 
 import ast
+import csv
+import io
 import threading
 import time
 import uuid
@@ -282,6 +284,10 @@ def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(
         r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "ON"})
         assert r.status_code == 201 and r.json()["state"] == "ON", r.text
         assert [c["state"] for c in client.get("/api/commands").json()] == ["ON", "GPS_ALIGN"]
+    # the console restarted, neither vehicle heard since: the commands CSV still says each command's version
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        rows = list(csv.DictReader(io.StringIO(client.get("/api/commands.csv").text)))
+        assert [(r["ins_state"], r["umaa_version"]) for r in rows] == [("GPS_ALIGN", "6.0"), ("ON", "3.0.1")], rows
 
 
 def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(sim, console) -> None:
