@@ -76,6 +76,7 @@ class StatusItem:
     # a status sample's status and reason in the model (`umaa/flow.py`), whatever the version's enumerations
     status: Status | int | None = None
     reason: AnyReason | int | None = None
+    version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
 
 
 Item = ReportItem | StatusItem
@@ -213,8 +214,9 @@ class Decoder:
         assert route.service is not None and route.commanding is not None
         if route.kind == "status" and valid:
             status, reason = route.commanding.read_status(sample)
-            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason)
-        return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive)
+            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason, route.version)
+        return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive,
+                          version=route.version)
 
     @staticmethod
     def convert(item: ReportItem) -> ReportItem:

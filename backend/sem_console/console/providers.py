@@ -96,7 +96,7 @@ class Providers:
     def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
              alive: bool, version: UmaaVersion | None = None) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
-        (disposed, or no writers). `version`: the UMAA version of a report topic (None for a status or an ack).
+        (disposed, or no writers). `version`: the UMAA version of the topic (a report, a command status or an ack).
         Returns (provider, whether it is new)."""
         p = self.by_id.get(source)
         new = p is None

@@ -416,7 +416,10 @@ class Console:
 
     def _on_status(self, it: StatusItem, now: float) -> None:
         topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
-        p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None)
+        # a vehicle first heard on its command status or ack (transient-local, before its first report) speaks that
+        # topic's version
+        p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None,
+                                     it.version)
         if new:
             self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
         if it.sample is not None:

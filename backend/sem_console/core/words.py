@@ -115,6 +115,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     },
     # GPSFixStatusReport.fixValid
     "fixValid": {"true": "Fix valid", "false": "No fix"},
+    # a vehicle whose UMAA version has no GPS fix service (6.0): it reports no fix status; how good its position is, its
+    # navigation solution says (GlobalPoseReportType.navigationSolution: "Position quality: measured position")
+    "fixService": {"none": "No fix service", "quality": "Position quality"},
     # GPSFixReport.GPSLatLongValid: whether the position is the receiver's, else the INS's
     "GPSLatLongValid": {"true": "GPS position", "false": "INS position"},
     # the alarm kinds (`api.schemas.AlarmKind`): what the alarm is about, as a heading ("Link lost: 20 vehicles")

@@ -136,6 +136,13 @@ class Pilot:
             self.speed = speed
 
 
+# The stages of the simulated INS's own alignment, after power-on or a restart: it aligns stationary
+STATIONARY_STAGES: tuple[OpStatus, ...] = (
+    OpStatus.INIT, OpStatus.COURSE_STATIONARY_ALIGNMENT,
+    OpStatus.FINE_STATIONARY_ALIGNMENT_STARTED, OpStatus.FINE_STATIONARY_ALIGNMENT_COMPLETE,
+)
+
+
 @dataclass
 class Ins:
     """Inertial sensor: power state and alignment, driven by commands and time."""
@@ -144,10 +151,7 @@ class Ins:
     state: InsState = InsState.ON
     since: float = 0.0  # time the current state began
     failed: bool = False
-    stages: tuple[OpStatus, ...] = field(default=(
-        OpStatus.INIT, OpStatus.COURSE_STATIONARY_ALIGNMENT,
-        OpStatus.FINE_STATIONARY_ALIGNMENT_STARTED, OpStatus.FINE_STATIONARY_ALIGNMENT_COMPLETE,
-    ))
+    stages: tuple[OpStatus, ...] = STATIONARY_STAGES
 
     def set(self, state: InsState, t: float) -> None:
         self.state, self.since = state, t

@@ -34,7 +34,7 @@ from sem_console.sim.provider_flow import ProviderFlow
 from sem_console.sim.reports import Out, Sensors
 from sem_console.sim.umaa_6_0 import Writer60
 from sem_console.umaa.guid import from_guid
-from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
+from sem_console.versions import UmaaVersion
 from sem_console.versions.commands import COMMANDING, Commanding
 
 __all__ = ["FAULTS", "InUse", "SimOptions", "Simulator", "Vehicle", "vehicle_guid"]
@@ -97,11 +97,10 @@ class Simulator:
         self.appendable = {s for s in Sem if s.spec.appendable is not None} if opts.gps_extensibility == "appendable" else set()
         # --umaa 6.0 or --umaa-6-0-vehicles: those vehicles' samples written on the 6.0 topics (sim/umaa_6_0.py)
         versions = {opts.version_of(n) for n in opts.numbers}
-        appendable60 = opts.gps_extensibility == "appendable"
-        self.writer60 = Writer60(bus, opts.scaled(opts.align_seconds), appendable60) if UMAA_6_0 in versions else None
-        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable)
-                                                       for sem in Sem if sem.spec.cls is not TopicClass.COMMAND
-                                                       and UMAA_3_0_1 in versions}
+        self.writer60 = Writer60.of_fleet(bus, opts)
+        self.writers: dict[AnySem, DataWriter[Any]] = {
+            sem: bus.writer(sem, appendable=sem in self.appendable) for sem in Sem
+            if sem.spec.cls is not TopicClass.COMMAND and not all(Writer60.speaks(opts, n) for n in opts.numbers)}
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
@@ -137,7 +136,7 @@ class Simulator:
         guid, faults = vehicle_guid(number), self.opts.faults_for(number)
         sensors = Sensors(self.opts, number, guid, faults)
         version = self.opts.version_of(number)
-        if version == UMAA_6_0 and self.writer60 is not None:
+        if self.writer60 is not None and Writer60.speaks(self.opts, number):
             write, dispose, ins = self.writer60.write, self.writer60.dispose, self.writer60.alignments
         else:
             write, dispose, ins = self.write, self.dispose, None

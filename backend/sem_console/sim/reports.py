@@ -27,11 +27,12 @@ from UMAA.SEM.GPSFixStatus import GPSFixReportType, GPSFixStatusReportType
 from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
-from sem_console.dds.topics import AnySem, Sem
+from sem_console.dds.topics import AnySem, Sem, Service
 from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Pilot, Track, make_sky
 from sem_console.sim.options import SimOptions
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
+from sem_console.versions.commands import commanding
 
 Out = Callable[[AnySem, Any], None]  # a writer's write or dispose
 
@@ -47,9 +48,9 @@ class Sensors:
                            course0=self.rng.uniform(0, 2 * math.pi))
         self.t0 = time.monotonic()
         self.ins = Ins(opts.scaled(opts.align_seconds), failed="ins-failure" in faults)
-        # a 3.0.1 vehicle starts submerged and surfaces on a GPSFix command; UMAA 6.0 has no GPS fix service, so a 6.0
-        # vehicle is on the surface, its position measured (under water it would be ESTIMATED, sim/umaa_6_0.py)
-        self.depth = 0.0 if opts.version_of(number) == "6.0" else SUBMERGED_DEPTH_M
+        # a vehicle starts submerged and surfaces on a GPSFix command; one whose version has no GPS fix service (UMAA
+        # 6.0) is on the surface, its position measured (under water it would be ESTIMATED, sim/umaa_6_0.py)
+        self.depth = SUBMERGED_DEPTH_M if commanding(opts.version_of(number), Service.GPS_FIX) else 0.0
         self.surfacing = False
         self.fix_state = FixState.INITIATING
         self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap_vehicle.py)

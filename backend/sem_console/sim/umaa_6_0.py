@@ -49,11 +49,17 @@ from UMAA_6_0.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.bus import Bus
 from sem_console.dds.topics import AnySem, Sem, Sem60, to_appendable
+from sem_console.sim.models import STATIONARY_STAGES
+from sem_console.sim.options import SimOptions
 from sem_console.umaa.samples import make
+from sem_console.versions import UMAA_6_0
 
 NIL = bytes(16)
 # The 3.0.1 alignment stages as 6.0 names them (3.0.1 spells coarse "COURSE"); 6.0 has no OPERATIONAL
 _OP_STATUS = {"COURSE_GPS_ALIGNMENT": "COARSE_GPS_ALIGNMENT", "COURSE_STATIONARY_ALIGNMENT": "COARSE_STATIONARY_ALIGNMENT"}
+# What an INS reports aligned when it reached OPERATIONAL without a completed stage seen (--align-seconds 0): the
+# completed stage of its own alignment, stationary (`models.Ins`)
+_ALIGNED = STATIONARY_STAGES[-1].name
 
 
 def tfom(uncertainty_ns: float | None) -> Tfom:
@@ -194,7 +200,7 @@ def ins_report(r: Any, aligned: dict[uuid.UUID, str], commanded: str | None = No
     if status.endswith("_ALIGNMENT_COMPLETE"):
         aligned[vehicle] = status
     elif status == "OPERATIONAL":
-        status = aligned.get(vehicle, "FINE_GPS_ALIGNMENT_COMPLETE")
+        status = aligned.get(vehicle, _ALIGNED)
     if r.state.name != "ON" and status != "INERTIAL_SENSOR_FAILURE":
         status = "INIT"
     return InertialSensorReportType(status=OpStatus[_OP_STATUS.get(status, status)], timeStamp=_time(r.timeStamp),
@@ -203,6 +209,18 @@ def ins_report(r: Any, aligned: dict[uuid.UUID, str], commanded: str | None = No
 
 class Writer60:
     """Writes the vehicles' 3.0.1 samples as their 6.0 counterparts (the module's docstring)."""
+
+    @staticmethod
+    def speaks(opts: SimOptions, number: int) -> bool:
+        """Whether vehicle `number` speaks UMAA 6.0 (--umaa 6.0, --umaa-6-0-vehicles): its samples go through here."""
+        return opts.version_of(number) == UMAA_6_0
+
+    @classmethod
+    def of_fleet(cls, bus: Bus, opts: SimOptions) -> Writer60 | None:
+        """The writer of the simulator's 6.0 vehicles; None when it runs none."""
+        if not any(cls.speaks(opts, n) for n in opts.numbers):
+            return None
+        return cls(bus, opts.scaled(opts.align_seconds), opts.gps_extensibility == "appendable")
 
     def __init__(self, bus: Bus, align_seconds: float, appendable: bool = False) -> None:
         # appendable (--gps-extensibility appendable): the type with optional members, GlobalPoseReportType, written with

@@ -4,6 +4,9 @@ REST answers to a command of the other version."""
 
 from __future__ import annotations
 
+import ast
+import csv
+import io
 import threading
 import time
 import uuid
@@ -32,6 +35,7 @@ from sem_console.dds.topics import Sem60
 from sem_console.main import create_app
 from sem_console.sim.umaa_6_0 import STAGES
 from sem_console.umaa.flow import UPDATED, CommandFlow
+from sem_console.versions import umaa_6_0
 from test_console import HAPPY, V1, WsClient, wait_command, wait_until
 from test_umaa_versions import HEALTH_6_0, V2, _detail
 
@@ -97,6 +101,31 @@ def test_every_6_0_command_completes_through_the_flow_and_the_ins_walks_its_stag
         walked = [x for x in stages.seen if x in STAGES[state]]
         assert walked[-len(STAGES[state]):] == list(STAGES[state]) or state == "SNAP_ALIGN", (state, stages.seen)
     assert ws.errors == []
+
+
+def test_a_6_0_ins_aligned_at_once_reports_the_stationary_alignment_it_did(sim, stages) -> None:
+    # --align-seconds 0: the simulated INS is aligned from the start, never seen completing a stage; it aligns
+    # stationary, and says so, not a GPS-aided alignment it never did
+    sim("--umaa", "6.0", "--align-seconds", "0")
+    wait_until(stages.take, 10, "an INS report")
+    time.sleep(0.5)
+    assert set(stages.take()) == {"FINE_STATIONARY_ALIGNMENT_COMPLETE"}, stages.seen
+
+
+def test_a_6_0_vehicle_first_heard_on_its_command_status_speaks_6_0(console, domain: int) -> None:
+    # a status on the bus (transient-local) before the vehicle's first report: the vehicle is a 6.0 one from the start
+    vehicle = uuid.uuid4()
+    bus = Bus(domain)
+    try:
+        command = umaa_6_0.ins_command(uuid.uuid4(), vehicle, uuid.uuid4(), "GPS_ALIGN", (1, 0))
+        writer = bus.writer(Sem60.INS_COMMAND_STATUS)  # kept: the status stays on the bus while it lives
+        writer.write(umaa_6_0.ins_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
+        c = console()
+        seen = wait_until(lambda: (r := httpx.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
+                          15, "the vehicle of the status")
+        assert seen["umaaVersion"] == "6.0", seen
+    finally:
+        bus.close()
 
 
 def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
@@ -236,11 +265,29 @@ def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(
         assert r.status_code == 422 and r.json()["detail"] == (
             "path.provider_id: Six speaks UMAA 6.0, which has no GPS fix service (GPSFixControl)"), r.text
         assert client.get("/api/commands").json() == []  # nothing was published
+        # a lost vehicle: a command its version has not is refused as such, not held for a confirmation it could not use
+        def lose(lost: bool) -> None:
+            for v in (six, old):
+                console.providers.by_id[v].link = "lost" if lost else "live"
+
+        client.portal.call(lose, True)
+        r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "ON"})
+        assert r.status_code == 422 and r.json()["detail"].startswith("body.state: Six speaks UMAA 6.0: "), r.text
+        r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "GPS_ALIGN", "confirmLost": False})
+        assert r.status_code == 422 and r.json()["detail"].startswith("body.state: Old speaks UMAA 3.0.1: "), r.text
+        assert client.post(f"/api/providers/{six}/gps-fix", json={}).status_code == 422
+        r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        assert r.status_code == 409 and r.json()["detail"].startswith("Six is lost (nothing heard for "), r.text
+        client.portal.call(lose, False)
         r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201 and r.json()["state"] == "GPS_ALIGN", r.text
         r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "ON"})
         assert r.status_code == 201 and r.json()["state"] == "ON", r.text
         assert [c["state"] for c in client.get("/api/commands").json()] == ["ON", "GPS_ALIGN"]
+    # the console restarted, neither vehicle heard since: the commands CSV still says each command's version
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        rows = list(csv.DictReader(io.StringIO(client.get("/api/commands.csv").text)))
+        assert [(r["ins_state"], r["umaa_version"]) for r in rows] == [("GPS_ALIGN", "6.0"), ("ON", "3.0.1")], rows
 
 
 def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(sim, console) -> None:
@@ -260,3 +307,22 @@ def test_one_simulator_runs_a_mixed_fleet_each_vehicle_commanded_in_its_version(
     # and neither takes the other's: the console refuses before anything reaches the bus
     assert httpx.post(f"{c.url}/api/providers/{V2}/inertial-sensor", json={"state": "ON"}).status_code == 422
     assert httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": "INIT"}).status_code == 422
+
+
+# ---- the versions room ----------------------------------------------------------------------------------------------
+def test_nothing_outside_the_versions_room_asks_which_version_a_vehicle_speaks() -> None:
+    """The versions room (`versions/`) and the simulator's 6.0 writer (`sim/umaa_6_0.py`) know what each version has;
+    elsewhere none compares a version (sem-check's detector, `check/observe.py`, names the one it found)."""
+    import sem_console
+    root = Path(sem_console.__file__).parent
+    allowed = {"versions", "sim/umaa_6_0.py", "check/observe.py"}
+
+    def a_version(n: ast.expr) -> bool:
+        return (isinstance(n, ast.Constant) and n.value in ("3.0.1", "6.0")) or \
+            (isinstance(n, ast.Name) and n.id in ("UMAA_3_0_1", "UMAA_6_0"))
+
+    asked = [f"{f.relative_to(root)}:{n.lineno}: {ast.unparse(n)}" for f in sorted(root.rglob("*.py"))
+             if not any(str(f.relative_to(root)).startswith(a) for a in allowed)
+             for n in ast.walk(ast.parse(f.read_text())) if isinstance(n, ast.Compare) and
+             any(a_version(x) for x in (n.left, *n.comparators))]
+    assert asked == []

@@ -26,6 +26,7 @@ import {
   alarmKindText,
   fixStateBadge,
   fixStateText,
+  fixBadge,
   fixWord,
   inline,
   insWord,
@@ -114,6 +115,17 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(fixWord(undefined, "3.0.1").title).toBe("no GPS fix status yet");
     expect(insWord(undefined, undefined, null).title).toBe("no inertial sensor report yet");
     expect(fixWord(true, "6.0").text).toBe("Fix valid");
+  });
+
+  it("says on the fix panel that a UMAA 6.0 vehicle has no fix service, not a fix lost, and its position's quality", () => {
+    const measured = { navigationSolution: "MEASURED" as const };
+    expect(fixBadge(undefined, "6.0", measured)).toMatchObject({ text: "No fix service", tone: "muted" });
+    expect(fixBadge(undefined, "6.0", measured).title).toMatch(/^UMAA 6\.0 has no GPS fix service: .*\. Position quality: measured position$/);
+    expect(fixBadge(undefined, "6.0", null).title).toMatch(/\. Position quality: —$/);
+    // a 3.0.1 vehicle: its fix status, green or red; none yet, a dash, not red
+    expect(fixBadge(true, "3.0.1", null)).toMatchObject({ text: "Fix valid", tone: "ok" });
+    expect(fixBadge(false, "3.0.1", null)).toMatchObject({ text: "No fix", tone: "bad" });
+    expect(fixBadge(undefined, "3.0.1", null)).toMatchObject({ text: "—", tone: "muted", title: "no GPS fix status yet" });
   });
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {

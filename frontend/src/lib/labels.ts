@@ -28,6 +28,7 @@ export const LINK: Words<LinkState | "stale" | "unreachable" | "planned"> = WORD
 export const COMMAND: Words<"unanswered"> = WORDS.command;
 export const CANCEL_CAUSE: Words<"operator" | "shutdown"> = WORDS.cancelCause;
 export const FIX_VALID: Words<"true" | "false"> = WORDS.fixValid;
+const FIX_SERVICE: Words<"none" | "quality"> = WORDS.fixService;
 export const POSITION_SOURCE: Words<"true" | "false"> = WORDS.GPSLatLongValid;
 export const ALARM_KIND: Words<Alarm["kind"]> = WORDS.alarmKind;
 export const ALARM_SEVERITY: Words<Alarm["severity"]> = WORDS.alarmSeverity;
@@ -136,6 +137,20 @@ export function fixWord(fixValid: boolean | null | undefined, version?: UmaaVers
   if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: notReported(version, "GPSFixStatusReport") ?? "no GPS fix status yet" };
   const literal = fixValid ? "true" : "false";
   return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
+}
+
+/** The GPS fix panel's fix badge: the fix status ("Fix valid" green, "No fix" red); a vehicle whose version has no GPS
+ * fix service (UMAA 6.0) "No fix service", not a fix lost, its position's quality its navigation solution ("Position
+ * quality: measured position") in the tooltip; no status yet a dash. */
+export function fixBadge(fixValid: boolean | null | undefined, version: UmaaVersion | null | undefined,
+  fix: Parameters<typeof positionKind>[0]): Word {
+  const none = notReported(version, "GPSFixStatusReport");
+  if (typeof fixValid !== "boolean" && none) {
+    const quality = fix?.navigationSolution ? `${FIX_SERVICE.quality}: ${inline(positionKind(fix).text)}` : `${FIX_SERVICE.quality}: ${DASH}`;
+    return { text: FIX_SERVICE.none, tone: "muted", title: `${none}. ${quality}` };
+  }
+  const word = fixWord(fixValid, version);
+  return typeof fixValid === "boolean" ? { ...word, tone: fixValid ? "ok" : "bad" } : { ...word, text: DASH, tone: "muted" };
 }
 
 /** GPSFixReport.GPSLatLongValid: whose position it is ("GPS position", "INS position"). */

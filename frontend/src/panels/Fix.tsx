@@ -8,7 +8,7 @@ import { useDmsSetting } from "../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../data/store";
 import { freshness, notCurrent } from "../lib/freshness";
 import type { GPSFixReportType } from "../api/types";
-import { fixStateBadge, fixStateTitle, fixWord, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../lib/labels";
+import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../lib/labels";
 import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../lib/units";
 
 /** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
@@ -77,6 +77,7 @@ function FixBody() {
   const lat = fix?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
   const lon = fix?.position2DWithTime?.geodeticPosition?.geodeticLongitude?.longitude;
   const origin = st?.originPosition;
+  const fixSaid = fixBadge(st?.fixValid, version, fix);
   const fmt = useDms ? dms : latLon;
   return (
     <Panel
@@ -98,8 +99,8 @@ function FixBody() {
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge ${st?.fixValid ? "ok" : "bad"}${sSt ? " stale" : ""}`} data-testid="fix-valid" title={fixWord(st?.fixValid, version).title}>
-              {typeof st?.fixValid === "boolean" ? fixWord(st.fixValid).text : DASH}
+            <span className={`badge ${fixSaid.tone}${sSt ? " stale" : ""}`} data-testid="fix-valid" data-tone={fixSaid.tone} title={fixSaid.title}>
+              {fixSaid.text}
             </span>
             <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} data-testid="position-kind" title={positionKind(fix).title}>
               {positionKind(fix).text}

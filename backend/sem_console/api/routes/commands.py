@@ -18,7 +18,6 @@ from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorRequest
 from sem_console.console.alarms import vehicle_label
 from sem_console.console.commands import CommandError
-from sem_console.console.providers import Provider
 from sem_console.console.service import Console
 from sem_console.dds.topics import Service
 from sem_console.versions.commands import Commanding, commanding, refusal
@@ -43,8 +42,8 @@ async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: 
                           audit: AuditDep) -> dict[str, Any]:
     """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId.
     A UMAA 6.0 vehicle has no GPS fix service: 422."""
-    p = reachable_provider(console, provider_id, body.confirmLost)
-    cmd = console.issue(version_commanding(p, Service.GPS_FIX, None, ("path", "provider_id")), provider_id, None, operator)
+    c = reachable_commanding(console, provider_id, Service.GPS_FIX, None, ("path", "provider_id"), body.confirmLost)
+    cmd = console.issue(c, provider_id, None, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
@@ -57,33 +56,30 @@ async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorReques
     RESTARTING (InertialSensorCommand); 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or
     TRANSFER_ALIGN (InertialSensorCommandType). A state of the other version: 422, naming the vehicle's version and its
     choices."""
-    p = reachable_provider(console, provider_id, body.confirmLost)
-    cmd = console.issue(version_commanding(p, Service.INERTIAL_SENSOR, body.state, ("body", "state")), provider_id,
-                        body.state, operator)
+    c = reachable_commanding(console, provider_id, Service.INERTIAL_SENSOR, body.state, ("body", "state"),
+                             body.confirmLost)
+    cmd = console.issue(c, provider_id, body.state, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
 
-def version_commanding(p: Provider, service: Service, state: str | None, where: tuple[str, ...]) -> Commanding:
-    """How the vehicle's version commands `service`; a 422 (a validation problem at `where`) naming its version and
-    its choices when it cannot take this command."""
+def reachable_commanding(console: Console, provider_id: uuid.UUID, service: Service, state: str | None,
+                         where: tuple[str, ...], confirm_lost: bool) -> Commanding:
+    """How a known vehicle's version commands `service`: a 422 (a validation problem at `where`) naming its version
+    and its choices when it cannot take this command, whether or not it is lost (no confirmation asked for a command
+    that would be refused); then, a vehicle whose link is lost only with the operator's explicit confirmation (409
+    otherwise): the command would wait on the bus and may run whenever the vehicle comes back."""
+    p = known_provider(console, provider_id)
     refused = refusal(p.umaa_version, service, state, vehicle_label(p.id, p.name))
     found = commanding(p.umaa_version, service)
     if refused is not None or found is None:
         raise RequestValidationError([{"loc": where, "msg": refused, "type": "value_error"}])
-    return found
-
-
-def reachable_provider(console: Console, provider_id: uuid.UUID, confirm_lost: bool) -> Provider:
-    """A known provider; one whose link is lost only with the operator's explicit confirmation (409 otherwise):
-    the command would wait on the bus and may run whenever the vehicle comes back."""
-    p = known_provider(console, provider_id)
     if p.link == "lost" and not confirm_lost:
         silent = console.clock.monotonic() - p.last_seen()
         raise HTTPException(status.HTTP_409_CONFLICT,
                             f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
                             "the command could run whenever it comes back; send confirmLost true to command it anyway")
-    return p
+    return found
 
 
 @writes.delete("/api/commands/{session_id}", response_model=Command,

@@ -136,13 +136,6 @@ TRACK_CSV_HEADER = ("time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m
                     "fix_valid", "gps_lat_long_valid", "position_time_utc", "umaa_version")
 
 
-def umaa_versions(console: Console) -> dict[str, str]:
-    """The UMAA version of every vehicle the console knows (provider GUID string -> "3.0.1" or "6.0"), read on the loop:
-    the exports say it, as a vehicle's reports and commands read by its version's standard (a vehicle not seen since
-    the console started: not known, left empty)."""
-    return {str(k): p.umaa_version for k, p in console.providers.by_id.items()}
-
-
 def track_csv(points: Sequence[TrackPoint], version: str | None = None) -> str:
     return _csv(TRACK_CSV_HEADER, ((_utc(p.time), p.latitude, p.longitude, p.altitudeMsl, p.course, p.sog, p.fixValid,
                                     p.latLongValid, _utc(p.positionTime), version) for p in points))
@@ -212,7 +205,8 @@ COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "ope
 def commands_csv(commands: Sequence[dict[str, Any]], versions: dict[str, str] | None = None) -> str:
     """One row per transition, the command's columns repeated; a command with no transition yet has one
     row with the transition columns empty. The transition's status and reason are also in the operator's words, as the
-    dashboard says them (`core/words.py`); `versions`: the vehicles' UMAA versions (`umaa_versions`)."""
+    dashboard says them (`core/words.py`); `versions`: the UMAA version each command was issued in, by its sessionId
+    (its commanding's, `versions/commands.py`)."""
     versions = versions or {}
 
     def rows() -> Iterable[list[Any]]:
@@ -226,7 +220,7 @@ def commands_csv(commands: Sequence[dict[str, Any]], versions: dict[str, str] | 
                 yield head + ([None] * 9 if t is None else
                               [t["seq"], t["status"], word("CommandStatusEnumType", t["status"]), t["reason"],
                                word("CommandStatusReasonEnumType", t["reason"]), t["logMessage"], t["violation"],
-                               _utc(t["providerTime"]), _utc(t["receivedAt"])]) + [versions.get(c["providerId"])]
+                               _utc(t["providerTime"]), _utc(t["receivedAt"])]) + [versions.get(c["sessionId"])]
     return _csv(COMMANDS_CSV_HEADER, rows())
 
 
@@ -239,14 +233,14 @@ async def get_commands_csv(console: ConsoleDep, when: Range,
     (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`, `cancel_cause`;
     `closed_unheard`, `closed_utc`); a command with no status yet is one row, its transition columns empty. Each
     status and reason is given as its UMAA literal and, beside it, in the dashboard's words (`status_words`,
-    `reason_words`); `umaa_version`, the UMAA version of the vehicle commanded, by whose standard its state, statuses
-    and reasons read (empty: a vehicle the console has not seen since it started). Times UTC ISO 8601; `since`/`until`
-    select by the time the command was created (a download)."""
-    versions = umaa_versions(console)
-
+    `reason_words`); `umaa_version`, the UMAA version the command was issued in (its vehicle's), by whose standard its
+    state, statuses and reasons read. Times UTC ISO 8601; `since`/`until` select by the time the command was created
+    (a download)."""
     def build() -> str:
         rows = console.store.export_commands(None if provider_id is None else str(provider_id), when.since, when.until)
-        return commands_csv([console.commands.from_row(r).to_json() for r in rows], versions)
+        commands = [console.commands.from_row(r) for r in rows]
+        return commands_csv([c.to_json() for c in commands],
+                            {str(c.session_id): c.commanding.version for c in commands})
     body = await asyncio.to_thread(build)
     name = f"commands{f'_{provider_id}' if provider_id else ''}.csv"
     return CsvResponse(body, headers=_attachment(name))
