@@ -34,7 +34,7 @@ import time
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, TextIO
+from typing import Any, TextIO, cast
 
 from cyclonedds.pub import DataWriter
 
@@ -46,11 +46,12 @@ from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import Iner
 from sem_console.check import icd, umaa_6_0
 from sem_console.check.observe import Observer, StatusSeen
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer
+from sem_console.core.contract import UmaaVersion
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import AnySem, Sem, Sem60, Service
-from sem_console.umaa.flow import SUCCESS_NEXT, CommandFlow, name
-from sem_console.umaa.guid import to_guid
+from sem_console.umaa.flow import SUCCESS_NEXT, UPDATED, CommandFlow, name
 from sem_console.umaa.samples import now_datetime
+from sem_console.versions.commands import Commanding, commanding
 
 
 @dataclass
@@ -143,6 +144,11 @@ class Sent:
         return ", then ".join([*self.earlier, now]) if self.earlier else now
 
 
+def _newer(seconds: int, nanoseconds: int) -> tuple[int, int]:
+    """The time stamp one nanosecond after (seconds, nanoseconds): the least an update's timeStamp must be."""
+    return (seconds, nanoseconds + 1) if nanoseconds < 999_999_999 else (seconds + 1, 0)
+
+
 class Consumer:
     """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
 
@@ -177,25 +183,24 @@ class Consumer:
 
     def topic(self, service: Service, kind: str) -> AnySem:
         """The service's command, status or ack topic in the provider's UMAA version."""
-        if self.six:
-            return {"command": Sem60.INS_COMMAND, "status": Sem60.INS_COMMAND_STATUS, "ack": Sem60.INS_COMMAND_ACK}[kind]
-        return {"command": service.command, "status": service.status, "ack": service.ack}[kind]
+        c = self.commanding(service)
+        return {"command": c.command, "status": c.status, "ack": c.ack}[kind]
+
+    def commanding(self, service: Service) -> Commanding:
+        """How the provider's UMAA version commands `service` (`versions/commands.py`: its topics, command and status)."""
+        c = commanding(cast(UmaaVersion, self.version.name), service)
+        if c is None:
+            raise ValueError(f"UMAA {self.version.name} has no {service.value} service")
+        return c
 
     def send(self, service: Service, writer: DataWriter[Any], state: InsState | InsCmd | None = None,
              case: Case | None = None, destination: uuid.UUID | None = None) -> Sent:
         """A command to the provider (or, `destination`, to another GUID); its statuses count for `case`."""
         session = uuid.uuid4()
         to = destination or self.provider
-        sample: Any
-        if self.six:
-            assert isinstance(state, InsCmd)
-            sample = umaa_6_0.command(state, self.source, to, session)
-        else:
-            values: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(to),
-                                          sessionID=to_guid(session), timeStamp=now_datetime())
-            if service is Service.INERTIAL_SENSOR:
-                values["state"] = state
-            sample = service.command.spec.type(**values)
+        stamp = now_datetime()
+        sample = self.commanding(service).build(self.source, to, session, state.name if state is not None else None,
+                                                (stamp.seconds, stamp.nanoseconds))
         topic = icd.short(self.topic(service, "command"))
         what = topic + (f" {state.name}" if state is not None else "")
         sent = Sent(service, session, sample, time.time(), to, self.version, topic, case, foreign=destination is not None)
@@ -208,7 +213,9 @@ class Consumer:
     def update_command(self, sent: Sent) -> None:
         """UMAA 6.0: write the command again with a newer timeStamp, the same source and sessionID: an update (ICD 6.0
         4.1.4.2)."""
-        sent.sample = umaa_6_0.updated(sent.sample)
+        old, t = sent.sample, now_datetime()
+        stamp = max((t.seconds, t.nanoseconds), _newer(old.timeStamp.seconds, old.timeStamp.nanoseconds))
+        sent.sample = self.commanding(sent.service).build(self.source, sent.to, sent.session, old.state.name, stamp)
         sent.updated_at = time.time()
         print(f"  updating {icd.short(self.topic(sent.service, 'command'))} {sent.sample.state.name} (session "
               f"{sent.session}): a newer timeStamp", file=self.out, flush=True)
@@ -246,10 +253,9 @@ class Consumer:
     def _observe_6_0(self, sent: Sent, sample: Any, received: float) -> None:
         """A UMAA 6.0 status: its literals as the flow monitor's; ISSUED/UPDATED restarts the flow when it answers the
         consumer's update of a running command, and is a breach otherwise (ICD 6.0 4.1.4.2; Figure 15)."""
-        status, reason = umaa_6_0.flow_status(sample)
+        status, reason = self.commanding(sent.service).read_status(sample)
         last = sent.flow.transitions[-1] if sent.flow.transitions else None
-        if reason != umaa_6_0.UPDATED:
-            assert not isinstance(reason, str)
+        if reason is not UPDATED:
             if status is Status.FAILED and self._update_crossed_end(sent) and not sent.update_failed:
                 sent.update_failed = True
                 if sent.case is not None:
@@ -448,11 +454,11 @@ def _check_ack_6_0(consumer: Consumer, sent: Sent, case: Case, ack_topic: str) -
     """A 6.0 ack carries the command it acknowledges (Table 11): its state, and after an update the updated command
     (its timeStamp), acked again as the flow restarts (ICD 6.0 4.1.4.2, 4.1.4.1 step 1)."""
     def current() -> bool:
-        c = umaa_6_0.ack_command(sent.ack)
+        c = sent.ack.command
         return (c.timeStamp.seconds, c.timeStamp.nanoseconds) == (sent.sample.timeStamp.seconds,
                                                                     sent.sample.timeStamp.nanoseconds)
 
-    command = umaa_6_0.ack_command(sent.ack)
+    command = sent.ack.command
     if command.state is not sent.sample.state:
         case.fail(f"{ack_topic} command.state {name(command.state)}, the command's is {sent.sample.state.name} "
                   f"({sent.refs['ins ack']})")

@@ -1,12 +1,13 @@
 """What `sem-check` knows of UMAA 6.0 (the SEM ICD 6.0 of 6 June 2024 and the SA ICD 6.0 for GlobalPoseStatus), as
 data: the services, their topics (named after their full type names) with the section and table of each, the rules
 for the values of the three reports, the QoS reference (RTI's UMAAQoSLib, since 6.0 mandates no QoS), the decoding
-of the samples a checker reads, and the building of the InertialSensor commands it sends.
+of the samples a checker reads, and the InertialSensor tests it runs. Its commands are built, and their statuses
+read, by the console's own 6.0 commanding (`versions/commands.py`, `versions/umaa_6_0.py`).
 
 The command flow of 6.0 is 3.0.1's (the Figure 14 state machine is 3.0.1's Figure 4 under another number, and the
 literals keep their names though their ordinals are alphabetical now), plus UPDATED (ICD 6.0 4.1.4.2): a command of
-the same source and sessionID with a newer timeStamp restarts the flow at ISSUED/UPDATED. `flow_status` gives a
-status's literals as the flow monitor's, and says UPDATED apart.
+the same source and sessionID with a newer timeStamp restarts the flow at ISSUED/UPDATED. What 6.0 adds to the
+checks: the reasons Figure 15 allows for each transition to FAILED (`failed_reason`).
 """
 
 from __future__ import annotations
@@ -20,10 +21,7 @@ from cyclonedds.core import InstanceState, Policy, Qos
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
-from UMAA_6_0.Common import IdentifierType
 from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
-from UMAA_6_0.Common.Measurement import DateTime
-from UMAA_6_0.SEM.InertialSensorControl import InertialSensorCommandType
 
 from sem_console.check.icd import ServiceDef, Version
 from sem_console.check.values import in_range, satellite_counts
@@ -31,11 +29,7 @@ from sem_console.codec import fastcdr
 from sem_console.codec.decode import Item, ReportItem, StatusItem, guid
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem60, Service
-from sem_console.umaa.samples import make, now_datetime
 from sem_console.versions import UMAA_6_0, umaa_6_0
-
-NIL = bytes(16)
-UPDATED = "UPDATED"  # the 6.0 reason 3.0.1 has not: the flow restarts at ISSUED (ICD 6.0 4.1.4.2)
 
 SERVICES = (
     ServiceDef("GPSStatus", "ICD 6.0 5.1.1, Table 8", (Sem60.GPS_REPORT,)),
@@ -183,52 +177,7 @@ def failed_reason(before: Status | None, status: Status | int, reason: Reason | 
             f"{', '.join(sorted(r.name for r in allowed))})")
 
 
-def flow_status(sample: Any) -> tuple[Status | int, Reason | int | str]:
-    """A 6.0 status's commandStatus and commandStatusReason as the flow monitor's literals (their names are the same;
-    an ordinal the 6.0 enum has not stays an int); UPDATED as `UPDATED`."""
-    status, reason = sample.commandStatus, sample.commandStatusReason
-    s = Status[status.name] if hasattr(status, "name") else int(status)
-    if getattr(reason, "name", None) == UPDATED:
-        return s, UPDATED
-    return s, Reason[reason.name] if hasattr(reason, "name") else int(reason)
-
-
-# ---- the commands the checker sends --------------------------------------------------------------------------------
-def identifier(g: uuid.UUID) -> IdentifierType:
-    return make(IdentifierType, id=g.bytes, parentID=NIL)
-
-
-def now() -> DateTime:
-    t = now_datetime()
-    return DateTime(seconds=t.seconds, nanoseconds=t.nanoseconds)
-
-
-def command(state: InsCmd, source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID) -> InertialSensorCommandType:
-    """An InertialSensorCommandType (ICD 6.0 5.1.2.3, Table 13; UMAACommand, Table 17): the consumer's identifier
-    without a parent (its parentID the nil UUID, Table 24)."""
-    return make(InertialSensorCommandType, timeStamp=now(), source=identifier(source),
-                destination=identifier(destination), sessionID=session.bytes, state=state)
-
-
-def updated(sample: InertialSensorCommandType) -> InertialSensorCommandType:
-    """The same command with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
-    t, old = now(), sample.timeStamp
-    if (t.seconds, t.nanoseconds) <= (old.seconds, old.nanoseconds):
-        t = DateTime(seconds=old.seconds, nanoseconds=old.nanoseconds + 1) if old.nanoseconds < 999_999_999 \
-            else DateTime(seconds=old.seconds + 1, nanoseconds=0)
-    return make(InertialSensorCommandType, timeStamp=t, source=sample.source, destination=sample.destination,
-                sessionID=sample.sessionID, state=sample.state)
-
-
-def destination(sample: Any) -> uuid.UUID:
-    return uuid.UUID(bytes=bytes(sample.destination.id))
-
-
-def ack_command(ack: Any) -> Any:
-    """The command an InertialSensorCommandAckReportType carries (Table 11: the source command)."""
-    return ack.command
-
-
+# ---- what the checker reads of its InertialSensor commands' effect -----------------------------------------------
 def kind(status: str) -> InsCmd | None:
     """The command of which an InertialSensorOpStatusEnumType literal is a stage (INIT for INIT); None for a failure
     or a literal of no kind."""

@@ -67,7 +67,8 @@ class SimOptions(BaseModel):
     health_file: Path | None = Field(None, description="touch this file every second while running (for healthchecks)")
     faults: dict[int, set[str]] = Field(default_factory=dict, json_schema_extra=cli(
         flag="--fault", type="fault", action="append", metavar="KIND[:VEHICLE]"), description=(
-        "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED), "
+        "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED: after "
+        "ISSUED in 3.0.1, after COMMANDED in 6.0, the only state its Figure 15 allows it after), "
         "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
         "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
         "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))  # vehicle number (0 = all) -> faults

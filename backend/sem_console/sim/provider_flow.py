@@ -160,14 +160,21 @@ class ProviderFlow:
         if error:
             self.publish_status(ex, Status.FAILED, Reason.VALIDATION_FAILED, error)
             return
-        if "reject" in self.faults:
-            self.publish_status(ex, Status.FAILED, Reason.RESOURCE_REJECTED, "resource rejected the command (injected fault)")
+        if self.reject(ex):
             return
         for other in self.executions.values():  # a newer command of a service supersedes the running one
             if other is not ex and other.service is ex.service and other.status not in TERMINAL and other.status is not None:
                 self.publish_status(other, Status.FAILED, Reason.INTERRUPTED, f"superseded by command {ex.session}")
         self.write(ex.commanding.ack, self.ack_sample(ex))
         ex.next_at = now + self.step_delay()
+
+    def reject(self, ex: Execution) -> bool:
+        """The `reject` fault: the resource rejects the command, FAILED/RESOURCE_REJECTED, after the status its version
+        allows that reason after (`Commanding.rejected_after`: 3.0.1 ISSUED, 6.0 COMMANDED)."""
+        if "reject" not in self.faults or ex.status is not ex.commanding.rejected_after:
+            return False
+        self.publish_status(ex, Status.FAILED, Reason.RESOURCE_REJECTED, "resource rejected the command (injected fault)")
+        return True
 
     def update(self, ex: Execution, cmd: Any, now: float) -> None:
         """Updating a Command (UMAA 6.0 ICD 4.1.4.2): a running command sent again with a newer time stamp starts over,
@@ -227,6 +234,8 @@ class ProviderFlow:
 
     def advance(self, ex: Execution, now: float) -> None:
         if ex.status in TERMINAL or ex.status is None or now < ex.next_at or "no-answer" in self.faults:
+            return
+        if self.reject(ex):
             return
         step = SUCCESS_NEXT[ex.status]
         if step is Status.COMMANDED:

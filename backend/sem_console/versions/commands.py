@@ -58,6 +58,9 @@ class Commanding:
     build_status: BuildStatus
     build_ack: BuildAck
     updates: bool  # a command sent again with a newer time stamp is an update (UMAA 6.0 ICD 4.1.4.2), else a repeat
+    # the status a provider's resource rejects a command after (FAILED/RESOURCE_REJECTED): 3.0.1's ICD (4.1.4.3) ties
+    # no reason to a transition, so at once after ISSUED; 6.0's Figure 15 allows RESOURCE_REJECTED after COMMANDED only
+    rejected_after: Status = Status.ISSUED
 
     def destination(self, command: Any) -> uuid.UUID:
         """The provider a command sample is addressed to (ValueError, TypeError: not a GUID)."""
@@ -117,7 +120,7 @@ COMMANDING: dict[tuple[UmaaVersion, Service], Commanding] = {
     (UMAA_6_0, Service.INERTIAL_SENSOR): Commanding(
         UMAA_6_0, Service.INERTIAL_SENSOR, Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK,
         umaa_6_0.INS_COMMAND_STATES, umaa_6_0.ins_command, umaa_6_0.command_status, umaa_6_0.ins_status,
-        umaa_6_0.ins_ack, True),
+        umaa_6_0.ins_ack, True, Status.COMMANDED),
 }
 SERVICE_NAMES = {Service.GPS_FIX: "GPS fix", Service.INERTIAL_SENSOR: "inertial sensor"}
 

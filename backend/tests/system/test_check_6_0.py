@@ -23,11 +23,15 @@ from sem_console.check import commands, runner, umaa_6_0
 from sem_console.check.observe import Report, StatusSeen
 from sem_console.check.results import Case
 from sem_console.dds.topics import Sem60, Service
+from sem_console.sim.options import vehicle_guid
+from sem_console.versions import umaa_6_0 as versions_6_0
 from support.icd_provider_6_0 import IcdProvider60
 from test_check import check, failed, failure_types, wait_for_providers
 
 COMMANDS = ("--commands", "--timeout", "2", "--step-time", "1", "--window", "0.5", "--max-gap", "0.5")
 V6 = runner.version_names(umaa_6_0.V6_0)
+# against sem-sim (its --time-scale 0.05: an alignment in 0.6 s): a longer first wait, for its vehicle to be found
+SIM_COMMANDS = ("--commands", "--timeout", "10", "--step-time", "1", "--window", "0.5", "--max-gap", "1.5")
 
 
 @pytest.fixture
@@ -175,15 +179,58 @@ def test_a_writer_no_reader_of_the_checker_can_match_says_why(provider60: Callab
                            "EXCLUSIVE ownership: the checker's readers are SHARED, in the default partition)"), reason
 
 
-def test_sem_sim_6_0_reports_pass(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
-    """A `sem-sim --umaa 6.0` vehicle passes discovery and the report tests of the services it serves."""
+def test_sem_sim_6_0_passes_every_6_0_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """A `sem-sim --umaa 6.0` vehicle passes every 6.0 test, its InertialSensorControl flow included (each alignment,
+    the update, cancel and cleanup), and only 6.0 tests run."""
     sim("--umaa", "6.0")
-    run = check(tmp_path, "--domain", str(domain), "--timeout", "20", "--window", "0.5", "--max-gap", "1.5")
+    run = check(tmp_path, "--domain", str(domain), *SIM_COMMANDS)
     assert run.code == 0, run.out + run.err
-    assert failed(run) == {}
-    served = [n for n in V6 if n.startswith("reports.") or n.split(".")[1] in
-              ("GPSReportType", "GlobalPoseReportType", "InertialSensorReportType")]
-    assert all(run.cases[n] == ("passed", "") for n in served), run.out
+    assert run.cases == {n: ("passed", "") for n in V6}, run.out
+    assert "UMAA 6.0 (by the topics it serves)" in run.out
+
+
+def test_a_mixed_sem_sim_checks_each_vehicle_in_its_version(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
+    """One `sem-sim --vehicles 2 --umaa-6-0-vehicles 2`: vehicle 1 passes every 3.0.1 test, vehicle 2 every 6.0 test,
+    each found by the topics it serves."""
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    new = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(2)), *SIM_COMMANDS)
+    assert new.code == 0 and "UMAA 6.0 (by the topics it serves)" in new.out, new.out + new.err
+    assert new.cases == {n: ("passed", "") for n in V6}, new.out
+    old = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(1)), *SIM_COMMANDS)
+    assert old.code == 0 and "UMAA 3.0.1 (by the topics it serves)" in old.out, old.out + old.err
+    assert old.cases == {n: ("passed", "") for n in runner.version_names(runner.VERSIONS["3.0.1"])}, old.out
+
+
+# sem-sim fault -> the start of the reason commands.InertialSensor.GPS_ALIGN fails with, and the 6.0 section it names
+SIM_FAULTS: dict[str, tuple[str, str]] = {
+    "reject": ('the provider failed the command: FAILED/RESOURCE_REJECTED "resource rejected the command', "(ICD 6.0 4.1.4.4)"),
+    "fail-midway": ('the provider failed the command: FAILED/RESOURCE_FAILED "resource failed during execution',
+                    "(ICD 6.0 4.1.4.4)"),
+    "no-answer": ("unanswered: no status within 5 s of sending the command",
+                  "ICD 6.0 4.1.4 step 3: the provider publishes ISSUED when it receives a command"),
+    "slow": ("no COMMANDED after ISSUED (ICD 6.0 4.1.4.1 step 2) within the stated 1 s", "ICD 6.0 4.1.4.1 step 2"),
+    "skip-commanded": ("Figure 14 breach: ISSUED -> EXECUTING is not a Figure 14 transition", "(ICD 6.0 4.1, Figure 14)"),
+    "ins-failure": ('the provider failed the command: FAILED/RESOURCE_FAILED "inertial sensor failure"', "(ICD 6.0 4.1.4.4)"),
+}
+
+
+@pytest.mark.parametrize("fault", list(SIM_FAULTS))
+def test_each_sem_sim_fault_fails_the_6_0_test_with_its_reason(fault: str, sim: Callable[..., Any], domain: int,
+                                                               tmp_path: Path) -> None:
+    """Each fault of `sem-sim --umaa 6.0` fails the GPS_ALIGN command test (an alignment: it runs long enough to fail
+    midway) with the 6.0 reason and ICD 6.0 section; discovery and reports are not blamed. A rejection comes after
+    COMMANDED, the one state Figure 15 allows RESOURCE_REJECTED after, so it is a failed command, not a breach."""
+    sim("--umaa", "6.0", "--fault", fault, "--slow-factor", "200")  # slow: 5 s a step
+    run = check(tmp_path, "--domain", str(domain), "--commands", "--timeout", "5", "--step-time", "1", "--window", "0.5",
+                "--max-gap", "1.5", "--only", "discovery,reports,commands.InertialSensor.GPS_ALIGN")
+    reason, section = SIM_FAULTS[fault]
+    assert run.code == 1, run.out + run.err
+    assert set(failed(run)) == {"commands.InertialSensor.GPS_ALIGN"}, run.out
+    got = failed(run)["commands.InertialSensor.GPS_ALIGN"]
+    assert got.startswith(reason) and section in got, got
+    if fault == "reject":  # after COMMANDED, where Figure 15 allows RESOURCE_REJECTED: no breach of the flow
+        assert "breach" not in got, got
+    assert failure_types(run.report) == {"commands.InertialSensor.GPS_ALIGN": "icd"}
 
 
 def test_a_mixed_bus_checks_each_provider_in_its_version(sim: Callable[..., Any],
@@ -255,14 +302,15 @@ def test_each_6_0_breach_of_a_command_fails_its_test_once() -> None:
     provider, session = uuid.uuid4(), uuid.uuid4()
     consumer = commands.Consumer(cast(Any, observer), provider, commands.CommandLimits(1, 1, 1), io.StringIO(),
                                  version=umaa_6_0.V6_0)
-    sample = umaa_6_0.command(Cmd.GPS_ALIGN, consumer.source, provider, session)
+    sample = consumer.commanding(Service.INERTIAL_SENSOR).build(consumer.source, provider, session, Cmd.GPS_ALIGN.name,
+                                                                (1, 0))
     sent = commands.Sent(Service.INERTIAL_SENSOR, session, sample, 0.0, provider, umaa_6_0.V6_0, "InertialSensorCommandType")
     case = Case("commands.InertialSensor.GPS_ALIGN")
 
     def publish(status: Status, reason: Reason) -> None:
         status_type = Sem60.INS_COMMAND_STATUS.spec.type
         statuses[session].append(StatusSeen(len(statuses[session]), provider, status_type(
-            timeStamp=sample.timeStamp, source=umaa_6_0.identifier(provider), sessionID=session.bytes,
+            timeStamp=sample.timeStamp, source=versions_6_0.identifier(provider), sessionID=session.bytes,
             commandStatus=status, commandStatusReason=reason, logMessage="")))
         consumer.update(sent)
         commands.breaches(sent, case)
