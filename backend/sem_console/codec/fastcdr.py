@@ -13,6 +13,9 @@ function that:
 - for a struct of @optional members (a GPS satellite), first tries the layout with every member
   present in one unpack and checks the presence flags, and reads member by member only when one
   is absent;
+- for a type of fixed-size members with @optional ones (a position report), learns the presence
+  patterns of the samples it reads member by member (`PATTERNS_MAX` per encoding) and reads a
+  sample of a learned pattern in one unpack, its presence flags checked;
 - in JSON mode (`json`) builds `convert.to_json`'s output directly, with its checks (non-finite
   and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, at most MAX_SATELLITES
   elements) inlined where the member's name and type make them known, and `convert`'s own
