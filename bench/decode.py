@@ -10,7 +10,9 @@ JSON, a status to its sample). The rows marked (6.0) are the same vehicle's repo
 writes them, the console's cost including the version's adapter to its model. The last two rows are the decode cost per
 vehicle-second of a 3.0.1 vehicle at the ingest benchmark's rates (GPSReport at 1 Hz, the other reports at 10 Hz), and
 of the same vehicle as 6.0 (GPSReport at 1 Hz, GlobalPose and InertialSensorReport at 10 Hz; no fix status).
-CPU time, best of several rounds.
+CPU time, best of several rounds. Then each 6.0 report beside the 3.0.1 report it stands for (GlobalPose for
+GPSFixReport), timed in turns in the same rounds so the machine's load weighs on both alike, with the cost per value
+of the model's JSON it returns (every leaf, nulls included) and per byte of the sample.
 Usage: python bench/decode.py [--rounds 5]
 """
 
@@ -40,6 +42,8 @@ from support.samplegen import random_sample
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 RATES_6_0 = {Sem60.GPS_REPORT: 1, Sem60.GLOBAL_POSE_REPORT: 10, Sem60.INS_REPORT: 10}  # the same vehicle, as 6.0
+COUNTERPARTS = {Sem60.GPS_REPORT: Sem.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT: Sem.GPS_FIX_REPORT,
+                Sem60.INS_REPORT: Sem.INS_REPORT}  # the 3.0.1 report each 6.0 one feeds in the model
 
 
 def samples() -> dict[Sem, Any]:
@@ -70,18 +74,57 @@ def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
     return report_json(sem)
 
 
+def values(json: Any) -> int:
+    """The leaf values of a JSON value (nulls included)."""
+    if isinstance(json, dict):
+        return sum(values(v) for v in json.values())
+    if isinstance(json, list):
+        return sum(values(v) for v in json)
+    return 1
+
+
+def in_turns(runs: list[tuple[Callable[[bytes], Any], bytes]], rounds: int) -> list[float]:
+    """CPU µs per call of each run, the best of `rounds` rounds that time every run in turn (about 50 ms each)."""
+    ns = []
+    for fn, data in runs:
+        t0 = time.process_time()
+        fn(data)
+        ns.append(max(1, int(0.05 / max(time.process_time() - t0, 1e-6))))
+    best = [float("inf")] * len(runs)
+    for _ in range(rounds):
+        for k, ((fn, data), n) in enumerate(zip(runs, ns, strict=True)):
+            t0 = time.process_time()
+            for _ in range(n):
+                fn(data)
+            best[k] = min(best[k], (time.process_time() - t0) / n)
+    return [b * 1e6 for b in best]
+
+
 def cpu_us(fn: Callable[[bytes], Any], data: bytes, rounds: int) -> float:
     """CPU µs per call, the best of `rounds` rounds of about 50 ms each."""
-    t0 = time.process_time()
-    fn(data)
-    n = max(1, int(0.05 / max(time.process_time() - t0, 1e-6)))
-    best = float("inf")
-    for _ in range(rounds):
-        t0 = time.process_time()
-        for _ in range(n):
-            fn(data)
-        best = min(best, (time.process_time() - t0) / n)
-    return best * 1e6
+    return in_turns([(fn, data)], rounds)[0]
+
+
+def compare_6_0(rounds: int) -> list[dict[str, Any]]:
+    """Each 6.0 report beside its 3.0.1 counterpart, timed in turns, as the simulator sends them."""
+    old, new = samples(), samples_6_0()
+    out = []
+    for sem60, sem in COUNTERPARTS.items():
+        runs = []
+        for s, sample in ((sem, old[sem]), (sem60, new[sem60])):
+            data = s.spec.type.serialize(sample, use_version_2=s.spec.xcdr2_only)
+            fn = report_json(s)
+            fn(data)  # a presence pattern is learned on the first sample
+            runs.append((fn, data))
+        us = in_turns(runs, rounds)
+        row: dict[str, Any] = {"topic_6_0": sem60.spec.name.rsplit("::", 1)[1], "topic_3_0_1": sem.spec.name.rsplit("::", 1)[1]}
+        for key, (fn, data), t in zip(("3_0_1", "6_0"), runs, us, strict=True):
+            n = values(fn(data)[0])
+            row |= {f"bytes_{key}": len(data), f"values_{key}": n, f"us_{key}": round(t, 2),
+                    f"ns_per_value_{key}": round(t * 1000 / n, 1), f"ns_per_byte_{key}": round(t * 1000 / len(data), 1)}
+        row["ratio"] = round(us[1] / us[0], 2)
+        out.append(row)
+    return out
 
 
 def main() -> None:
@@ -139,9 +182,12 @@ def main() -> None:
     )
     rows.append(["per vehicle-second (ms), 6.0", "as sent", "", "", "", round(per_vehicle["console_6_0"] / 1000, 3), "", "", ""])
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
+    pairs = compare_6_0(args.rounds * 2)
+    table("6.0 beside 3.0.1, timed in turns: console µs per sample, ns per value of the model's JSON and per byte",
+          list(pairs[0]), [list(r.values()) for r in pairs])
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
-                    "load_average": round(os.getloadavg()[0], 2)})
+                    "versions_in_turns": pairs, "load_average": round(os.getloadavg()[0], 2)})
 
 
 if __name__ == "__main__":

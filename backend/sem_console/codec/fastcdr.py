@@ -13,6 +13,9 @@ function that:
 - for a struct of @optional members (a GPS satellite), first tries the layout with every member
   present in one unpack and checks the presence flags, and reads member by member only when one
   is absent;
+- for a type of fixed-size members with @optional ones (a position report), learns the presence
+  patterns of the samples it reads member by member (`PATTERNS_MAX` per encoding) and reads a
+  sample of a learned pattern in one unpack, its presence flags checked;
 - in JSON mode (`json`) builds `convert.to_json`'s output directly, with its checks (non-finite
   and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, at most MAX_SATELLITES
   elements) inlined where the member's name and type make them known, and `convert`'s own
@@ -32,7 +35,9 @@ generated source.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import logging
+import re
 import struct
 import sys
 import threading
@@ -51,6 +56,7 @@ from sem_console.versions.shape import Adapter, Spec
 log = logging.getLogger("sem-console.ingest")
 MAX_ELEMENTS = convert.MAX_SATELLITES
 _GUID_CACHE_MAX = 65_536
+DICT_LITERAL_MAX = 12  # a JSON object of more members is built from a template (`_Gen.dict_of`)
 _guid_text: dict[bytes, str] = {}
 _guid_uuid: dict[str, uuid.UUID] = {}
 
@@ -125,6 +131,10 @@ class _Gen:
         self.k = 0
         self.run: list[tuple[str, str | None]] = []  # pending fixed-size reads: (struct code, variable or None for padding)
         self.checks: list[str] = []  # statements to emit once the pending run is read
+        self.pure: dict[str, str] = {}  # a variable -> the statement that only computes it (dropped when unused)
+        self.pattern: list[bool] | None = None  # the presence of each @optional member, in order: no branch on them
+        self.expect: list[str] = []  # with a pattern: the conditions its presence flags meet
+        self.record = False  # the presence flags read go to the list `fl` (what `TypeDecoder` learns patterns from)
         self.phase = (self.amax, 0)  # (m, r): the position after the header is r modulo m
 
     # ---- plumbing --------------------------------------------------------------------------
@@ -196,6 +206,26 @@ class _Gen:
         self.indent -= 1
         return out, self.phase
 
+    def dict_of(self, items: list[tuple[str, str]]) -> str:
+        """A dict of these names and expressions: a literal, or, one of many names, a copy of its template (None
+        throughout) with the other values set, which costs a third as much to build."""
+        if len(items) <= DICT_LITERAL_MAX:
+            return "{" + ", ".join(f"{n!r}: {e}" for n, e in items) + "}"
+        d = self.var("d")
+        self.emit(f"{d} = {self.const(dict.fromkeys(n for n, _ in items), 'D')}.copy()")
+        for n, e in items:
+            if e != "None":
+                self.emit(f"{d}[{n!r}] = {e}")
+        return d
+
+    def drop_unused(self, expr: str) -> None:
+        """Drop the statements that only compute a value nothing reads (a member the version's model leaves out,
+        such as an identifier's parentID)."""
+        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
+            line for line in self.lines if line.strip() not in self.pure.values())))
+        unused = {line for v, line in self.pure.items() if v not in used}
+        self.lines = [line for line in self.lines if line.strip() not in unused]
+
     # ---- values ----------------------------------------------------------------------------
     def value(self, mach: Any, path: str, name: str, enum_member: bool = False) -> str:
         """Emit the reads of one value; returns the expression of its decoded value (valid once flushed).
@@ -205,7 +235,9 @@ class _Gen:
         if isinstance(mach, mc.InstanceMachine):
             return self.value(type_machine(mach.type, mach.use_version_2), path, name, enum_member)
         if isinstance(mach, mc.StructMachine):
-            return self.speculative(mach, path) if self.v2 and self._speculable(mach) else self.struct(mach, path)
+            if self.v2 and self.pattern is None and self._speculable(mach):
+                return self.speculative(mach, path)
+            return self.struct(mach, path)
         if isinstance(mach, mc.PrimitiveMachine):
             v = self.fixed(mach.code, mach.size, mach.alignment)
             if self.json:
@@ -236,7 +268,8 @@ class _Gen:
                 return v
             if name in convert.GUID_MEMBERS and mach.size == 16:
                 out = self.var()
-                self.checks.append(f"{out} = _guids.get({v}) or guid_text({v})")
+                self.pure[out] = f"{out} = _guids.get({v}) or guid_text({v})"
+                self.checks.append(self.pure[out])
                 return out
             return self.generic(v, path)
         if isinstance(mach, mc.OptionalMachine):
@@ -280,7 +313,15 @@ class _Gen:
         if not mach.use_version_2:
             raise Unsupported("an XCDR1 @optional member")
         flag = self.fixed("B", 1, 1)
+        if self.pattern is not None:
+            if not self.pattern:
+                raise Unsupported("a presence pattern too short")
+            here = self.pattern.pop(0)
+            self.expect.append(flag if here else f"not {flag}")
+            return self.value(mach.submachine, path, name, enum_member) if here else "None"
         self.flush()
+        if self.record:
+            self.emit(f"fl.append({flag})")
         out = self.var()
         before = self.phase
 
@@ -454,6 +495,8 @@ class _Gen:
             self.emit(f"if {' and '.join(flags)}:")
             self.indent += 1
             self.emit(f"p += {s.size}")
+            if self.record:
+                self.emit(f"fl += {(True,) * len(flags)!r}")
             for c in checks:
                 self.emit(c)
             if self.json:
@@ -477,25 +520,92 @@ class _Gen:
         return out
 
 
+def _flat(mach: Any) -> bool:
+    """A type of fixed-size members only (through @optional members and nested structs): with its members' presence
+    known, one `struct.Struct` reads all of it."""
+    if isinstance(mach, mc.InstanceMachine):
+        return _flat(type_machine(mach.type, mach.use_version_2))
+    if isinstance(mach, mc.StructMachine):
+        return all(_flat(m) for m in mach.members_machines.values())
+    if isinstance(mach, mc.OptionalMachine):
+        return _flat(mach.submachine)
+    return isinstance(mach, (mc.PrimitiveMachine, mc.EnumMachine, mc.BitBoundEnumMachine, mc.ByteArrayMachine))
+
+
+def _has_optional(mach: Any) -> bool:
+    if isinstance(mach, mc.InstanceMachine):
+        return _has_optional(type_machine(mach.type, mach.use_version_2))
+    if isinstance(mach, mc.StructMachine):
+        return any(_has_optional(m) for m in mach.members_machines.values())
+    return isinstance(mach, mc.OptionalMachine)
+
+
+def learnable(cls: type[IdlStruct], v2: bool, json: bool) -> bool:
+    """Whether `TypeDecoder` learns the presence patterns of `cls`'s samples (XCDR2, JSON mode): a type of fixed-size
+    members with @optional ones, which a known pattern reads in one unpack."""
+    top = type_machine(cls, v2)
+    return v2 and json and _flat(top) and _has_optional(top)
+
+
 def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spec = None,
-             rename: Callable[[str], str] | None = None) -> tuple[str, dict[str, Any]]:
+             rename: Callable[[str], str] | None = None, patterns: tuple[tuple[bool, ...], ...] = (),
+             learn: Callable[[list[int]], None] | None = None) -> tuple[str, dict[str, Any]]:
     """The source of `decode(b)` for `cls` and the names it uses. With a `spec` (JSON mode) it returns the JSON of a
-    version's model (`versions/shape.py`), an invalid value named by `rename` of its path."""
+    version's model (`versions/shape.py`), an invalid value named by `rename` of its path. Each of `patterns` (the
+    presence of every @optional member, in the order they are read) is tried first: one unpack, its presence flags
+    checked; a sample of none of them is read member by member, its presence flags given to `learn` when set."""
     g = _Gen(v2, little, json, rename if json and spec is not None else None)
-    expr = g.value(type_machine(cls, v2), "", "")
+    top = type_machine(cls, v2)
+
+    def returned(expr: str) -> str:
+        if json and spec is not None:
+            def member(path: str, top: str = expr) -> str:
+                for part in path.split("."):
+                    top = g.trees[top][part]
+                return top
+            expr = shape.source(spec, member, g.const, g.dict_of)
+        return f"return {expr}, inv" if json else f"return {expr}"
+
+    body: list[str] = []
+    for pattern in patterns:
+        g.pattern, g.expect, g.phase = list(pattern), [], (g.amax, 0)
+        expr = g.value(top, "", "")
+        if g.pattern or g.lines:
+            raise Unsupported("a presence pattern that does not fit the type")
+        fmt = g.endian + "".join(c for c, _ in g.run)
+        names = [v for _, v in g.run if v]
+        g.emit("try:")
+        g.emit(f"    {', '.join(names)}, = {g.const(struct.Struct(fmt), 'S')}.unpack_from(b, 4)")
+        g.emit("except error:")
+        g.emit("    pass")
+        g.emit("else:")
+        g.emit(f"    if {' and '.join(g.expect) or 'True'}:")
+        g.indent += 2
+        for line in g.checks:
+            g.emit(line)
+        g.emit(returned(expr))
+        g.indent -= 2
+        g.run, g.checks, g.pattern = [], [], None
+        body += g.lines
+        g.lines = []
+    g.phase, g.record = (g.amax, 0), learn is not None
+    if learn is not None:
+        g.ns["_learn"] = learn
+        g.emit("fl = []")
+    expr = g.value(top, "", "")
     g.flush()
-    if json and spec is not None:
-        def member(path: str, top: str = expr) -> str:
-            for part in path.split("."):
-                top = g.trees[top][part]
-            return top
-        expr = shape.source(spec, member, g.const)
+    if learn is not None:
+        g.emit("_learn(fl)")
+    g.lines = body + g.lines
+    tail = returned(expr)
+    g.drop_unused(tail)
     head = ["def decode(b):", "    p = 4"] + (["    inv = []"] if json else [])
-    tail = [f"    return {expr}, inv" if json else f"    return {expr}"]
-    return "\n".join(head + g.lines + tail) + "\n", g.ns
+    return "\n".join(head + g.lines + ["    " + tail]) + "\n", g.ns
 
 
 _FALLBACK: Any = object()
+PATTERNS_MAX = 4
+"""The presence patterns a decoder learns per encoding (a fleet's vehicles leave out a few sets of members)."""
 
 
 class TypeDecoder:
@@ -507,6 +617,7 @@ class TypeDecoder:
         # a version's report as its model (`versions/`): `spec` for the generated code, `adapt` for cyclonedds' JSON
         self.spec, self.rename, self.adapt = spec, rename, adapt
         self._fns: dict[tuple[bool, bool, bool], Any] = {}
+        self._patterns: dict[tuple[bool, bool, bool], tuple[tuple[bool, ...], ...]] = {}
         self._lock = threading.Lock()
 
     def _fn(self, data: bytes, json: bool) -> Any:
@@ -520,10 +631,29 @@ class TypeDecoder:
                     fn = self._fns[key] = self._build(*key)
         return fn
 
+    @property
+    def patterns(self) -> dict[tuple[bool, bool, bool], tuple[tuple[bool, ...], ...]]:
+        """The presence patterns learned, by (XCDR2, little-endian, JSON mode)."""
+        return dict(self._patterns)
+
+    def _learn(self, key: tuple[bool, bool, bool], flags: list[int]) -> None:
+        """A sample read member by member had these presence flags: its pattern is tried first from now on."""
+        pattern = tuple(bool(f) for f in flags)
+        with self._lock:
+            patterns = self._patterns.get(key, ())
+            if pattern not in patterns and len(patterns) < PATTERNS_MAX:
+                self._patterns[key] = (*patterns, pattern)
+                self._fns[key] = self._build(*key)
+
     def _build(self, v2: bool, little: bool, json: bool) -> Any:
         name = f"{self.cls.__name__} {'xcdr2' if v2 else 'xcdr1'} {'le' if little else 'be'}{' json' if json else ''}"
         try:
-            source, ns = generate(self.cls, v2, little, json, self.spec, self.rename)
+            key = (v2, little, json)
+            patterns = self._patterns.get(key, ())
+            learn = None
+            if len(patterns) < PATTERNS_MAX and learnable(self.cls, v2, json):
+                learn = functools.partial(self._learn, key)
+            source, ns = generate(self.cls, v2, little, json, self.spec, self.rename, patterns, learn)
             exec(compile(source, f"<fastcdr {name}>", "exec"), ns)  # our own generated source
             return ns["decode"]
         except Unsupported:

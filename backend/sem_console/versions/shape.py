@@ -73,17 +73,23 @@ def apply(spec: Spec, report: dict[str, Any]) -> Any:
     return None if _at(report, spec.path) is None else apply(spec.then, report)
 
 
-def source(spec: Spec, member: Callable[[str], str], const: Callable[[Any], str]) -> str:
+def source(spec: Spec, member: Callable[[str], str], const: Callable[[Any], str],
+           build: Callable[[list[tuple[str, str]]], str] | None = None) -> str:
     """The Python expression of the model's value that `spec` says: `member(path)` is the expression of the wire
-    report's member at `path` in the generated decoder, `const(obj)` the name of a constant it holds."""
+    report's member at `path` in the generated decoder, `const(obj)` the name of a constant it holds, `build(items)`
+    (when given) the expression of a dict of those names and expressions (a dict literal otherwise)."""
     if spec is None:
         return "None"
     if isinstance(spec, dict):
-        return "{" + ", ".join(f"{name!r}: {source(s, member, const)}" for name, s in spec.items()) + "}"
+        items = [(name, source(s, member, const, build)) for name, s in spec.items()]
+        return build(items) if build is not None else "{" + ", ".join(f"{n!r}: {e}" for n, e in items) + "}"
     if isinstance(spec, Src):
         return member(spec.path)
     if isinstance(spec, Lookup):
         return f"{const(spec.table)}.get({member(spec.path)})"
     if isinstance(spec, Seconds):
         return f"({member(f'{spec.path}.seconds')} + {member(f'{spec.path}.nanoseconds')} / 1e9)"
-    return f"(None if {member(spec.path)} is None else {source(spec.then, member, const)})"
+    present = member(spec.path)
+    if present == "None":
+        return "None"
+    return f"(None if {present} is None else {source(spec.then, member, const)})"

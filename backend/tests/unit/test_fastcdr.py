@@ -11,6 +11,7 @@ import math
 import random
 import struct
 from collections.abc import Iterator
+from typing import Any
 
 import pytest
 from cyclonedds.core import InstanceState
@@ -19,7 +20,8 @@ from cyclonedds.idl._support import Endianness
 from sem_console.codec import fastcdr
 from sem_console.codec.convert import to_json
 from sem_console.codec.decode import REPORT_TOPICS, Decoder
-from sem_console.dds.topics import Sem
+from sem_console.dds.topics import Sem, Sem60
+from sem_console.versions import umaa_6_0
 from support.samplegen import random_sample
 
 SEMS = list(Sem)
@@ -243,3 +245,35 @@ def test_decoder_reads_an_appendable_writers_sample_with_the_appendable_copy(sem
             assert item is not None and (item.report, item.invalid) == want, (seed, data[:4].hex())
         assert appendable.serialize(use_version_2=True)[1] == 0x09 and final.serialize(use_version_2=True)[1] == 0x07
     assert decoder.undecodable == {}
+
+
+LEARNING = [(s.spec.type, None) for s in SEMS if fastcdr.learnable(s.spec.type, True, True)] + [
+    (s.spec.type, umaa_6_0.REPORTS[s]) for s in Sem60 if s in umaa_6_0.REPORTS and umaa_6_0.REPORTS[s].spec is not None
+    and fastcdr.learnable(s.spec.type, True, True)]
+
+
+@pytest.mark.parametrize(("t", "report"), LEARNING, ids=[t.__name__ for t, _ in LEARNING])
+def test_learned_presence_patterns_decode_as_cyclonedds(t: Any, report: Any) -> None:
+    """A type of fixed-size members with @optional ones learns the presence patterns of the samples it reads (one
+    unpack each after that); whichever pattern a sample has, learned or not, its JSON is cyclonedds' (a 6.0 report's
+    adapted to the model), invalid values included."""
+    rng = random.Random(t.__name__)
+    dec = fastcdr.TypeDecoder(t) if report is None else fastcdr.TypeDecoder(t, report.spec, umaa_6_0.model_path,
+                                                                          report.model)
+    samples = [random_sample(t, rng, absent=(0.0, 1.0, 0.1, 0.5)[i % 4]) for i in range(40)]
+    for i, sample in enumerate(samples * 3):
+        if i % 7 == 0:
+            _values_out_of_range(sample, rng)
+        for endian in (Endianness.Little, Endianness.Big):
+            data = t.serialize(sample, use_version_2=True, endianness=endian)
+            ref = to_json(t.deserialize(data))
+            assert same(dec.json(data), ref if report is None else report.model(*ref)), (i, data.hex())
+    learned = dec.patterns
+    assert learned and all(0 < len(p) <= fastcdr.PATTERNS_MAX for p in learned.values())
+
+
+def test_a_value_the_model_leaves_out_is_not_decoded() -> None:
+    """A 6.0 report's source is an identifier whose parentID the model leaves out: no GUID text is made of it."""
+    r = umaa_6_0.REPORTS[Sem60.INS_REPORT]
+    source, _ = fastcdr.generate(Sem60.INS_REPORT.spec.type, False, True, True, r.spec, umaa_6_0.model_path)
+    assert source.count("guid_text(") == 1
