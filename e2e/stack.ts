@@ -201,14 +201,15 @@ export async function stopStack(): Promise<void> {
 export async function startMixedFleet(): Promise<{ url: string; vehicles: string[]; stop: () => Promise<void> }> {
   const stack = load();
   const domain = await freeDomain();
+  const run = `mixed-${domain}`; // each fleet its own state files and database: a spec starts from nothing
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "2"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);
   const sims = [
-    launch("sem-sim", ["--domain", String(domain), "--state-file", join(stack.dir, "mixed-3.0.1.json"), "--log-level", "warning"]),
-    launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, "mixed-6.0.json"),
+    launch("sem-sim", ["--domain", String(domain), "--state-file", join(stack.dir, `${run}-3.0.1.json`), "--log-level", "warning"]),
+    launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, `${run}-6.0.json`),
       "--log-level", "warning"]),
   ];
-  const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, "mixed.sqlite3"),
+  const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, `${run}.sqlite3`),
     "--recordings-dir", join(stack.dir, "recordings")]);
   return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
 }

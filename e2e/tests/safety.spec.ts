@@ -17,7 +17,7 @@ test("wrong vehicle: INS OFF on A, select B, Confirm is gone and nothing is sent
   const before = new Set((await history(request)).map((c) => c.sessionId));
 
   await expect(page.getByTestId("command-target")).toContainText(`Vehicle ${a.slice(0, 8)}`);
-  await expect(page.getByRole("button", { name: "INS OFF", exact: true })).toHaveAttribute("title", `INS OFF on Vehicle ${a.slice(0, 8)}`);
+  await expect(page.getByRole("button", { name: "INS OFF", exact: true })).toHaveAttribute("title", `INS OFF on Vehicle ${a.slice(0, 8)} (UMAA state: OFF)`);
   await page.getByRole("button", { name: "INS OFF", exact: true }).click();
   const dialog = page.getByRole("dialog", { name: "Confirm command" });
   await expect(dialog).toContainText(`INS OFF on Vehicle ${a.slice(0, 8)}`);

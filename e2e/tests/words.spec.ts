@@ -87,7 +87,7 @@ test("the words table's words as written (no CSS case change); a link gone silen
   // the INS panel's alignment steps, on screen exactly as the words table says them
   const words = JSON.parse(readFileSync(join(dirname(fileURLToPath(import.meta.url)), "..", "..", "frontend", "schema", "words.json"), "utf8")) as Record<string, Record<string, string>>;
   const steps = page.getByTestId("ins-panel").getByRole("list", { name: "Alignment" }).getByRole("listitem");
-  const stages = ["INIT", "COURSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "OPERATIONAL"];
+  const stages = ["INIT", "COARSE", "FINE", "DONE", "OPERATIONAL"]; // a 3.0.1 INS's steps, by stage
   await expect(steps).toHaveText(stages.map((x) => words.insAlignmentStep[x]), { useInnerText: true });
   expect(await caseChanged(page)).toEqual([]);
 

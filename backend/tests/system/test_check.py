@@ -39,7 +39,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as OpStatus
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 
-from sem_console.check import commands, junit, reports, runner
+from sem_console.check import commands, icd, junit, reports, runner
 from sem_console.check.cli import main
 from sem_console.check.observe import Observer, Report
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
@@ -1054,8 +1054,8 @@ def test_the_end_of_the_command_tests_waits_for_no_provider_that_left(domain: in
     bus = Bus(domain)
     try:
         consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 5.0, 1.0), io.StringIO())
-        consumer.sent.append(commands.Sent(Service.GPS_FIX, uuid.uuid4(), None, time.time(), Case("commands.GPSFix.complete"),
-                                           disposed_at=time.time()))
+        consumer.sent.append(commands.Sent(Service.GPS_FIX, uuid.uuid4(), None, time.time(), uuid.uuid4(), icd.V3_0_1,
+                                           "GPSFixCommand", Case("commands.GPSFix.complete"), disposed_at=time.time()))
         start = time.monotonic()
         consumer.settle()
         assert time.monotonic() - start < 2.0
