@@ -57,6 +57,7 @@ class Provider:
     regaining_since: float | None = None
     regained_at: float | None = None
     umaa_version: UmaaVersion = UMAA_3_0_1  # of the report topics its samples come on
+    version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
 
     def last_seen(self) -> float:
         return max((h.last_seen for h in self.health.values()), default=self.first_seen)
@@ -104,8 +105,9 @@ class Providers:
             key = str(source)
             p = self.by_id[source] = Provider(source, now, self.configs.get(key) or self.default_config(),
                                               self.names.get(key), len(self.by_id) + 1, self.jaus_subsystem)
-        if version is not None:
+        if version is not None and version != p.umaa_version:
             p.umaa_version = version
+            p.version_changed = not new
         h = p.health.get(topic)
         if report is None and not alive:
             if h:

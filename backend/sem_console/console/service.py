@@ -374,6 +374,8 @@ class Console:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+            elif p.version_changed:
+                self._version_changed(p, now)
             if it.report is not None:
                 alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
                 self.reports_applied += 1
@@ -422,8 +424,17 @@ class Console:
                                      it.version)
         if new:
             self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+        elif p.version_changed:
+            self._version_changed(p, now)
         if it.sample is not None:
             self._command_status(it)
+
+    def _version_changed(self, p: Provider, now: float) -> None:
+        """A vehicle now heard on the topics of another UMAA version than before: every station shows its new version
+        (a summary the dashboard applies as it does a rename's)."""
+        p.version_changed = False
+        log.info("vehicle %s now speaks UMAA %s", str(p.id)[:8], p.umaa_version)
+        self._emit({"type": "provider", "event": "configured", "provider": p.summary(now)})
 
     def _command_status(self, it: StatusItem) -> None:
         """A status or ack sample (not a dispose) to the command it answers, if this console follows it."""

@@ -114,7 +114,7 @@ class Command(StrictModel):
 class ProviderMessage(StrictModel):
     type: Literal["provider"]
     event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
-        description="live: a regained provider is back to normal; configured: its linkConfig or name changed")
+        description="live: a regained provider is back to normal; configured: its linkConfig, name or UMAA version changed")
     provider: ProviderSummary
 
 

@@ -128,6 +128,32 @@ def test_a_6_0_vehicle_first_heard_on_its_command_status_speaks_6_0(console, dom
         bus.close()
 
 
+def test_a_vehicle_heard_on_the_other_versions_topics_is_shown_in_its_new_version(console, domain: int) -> None:
+    """A vehicle first heard on a 3.0.1 topic and then on 6.0 ones: every station is told its new version at once (a
+    `configured` provider message, which the dashboard applies), not only a page opened after it."""
+    from sem_console.dds.topics import Service
+    from sem_console.versions.commands import commanding
+
+    vehicle, console_id = uuid.uuid4(), uuid.uuid4()
+    c = console()
+    ws = WsClient(c.ws_url)
+    bus = Bus(domain)
+    try:
+        for version in ("3.0.1", "6.0"):
+            found = commanding(version, Service.INERTIAL_SENSOR)
+            assert found is not None
+            command = found.build(console_id, vehicle, uuid.uuid4(), found.states[0], (1, 0))
+            bus.writer(found.status).write(found.build_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
+            wait_until(lambda v=version: any(m["provider"]["id"] == str(vehicle) and m["provider"]["umaaVersion"] == v
+                                              for m in ws.of("provider")), 15, f"the vehicle shown as UMAA {version}")
+        told = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == str(vehicle)]
+        assert told[:1] == ["appeared"] and "configured" in told, told
+        assert httpx.get(f"{c.url}/api/providers/{vehicle}").json()["umaaVersion"] == "6.0"
+    finally:
+        ws.close()
+        bus.close()
+
+
 def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
     """The console's InertialSensorCommandType of `session`, as it is on the bus (transient-local)."""
     bus = Bus(domain)
