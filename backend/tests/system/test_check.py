@@ -45,7 +45,7 @@ from sem_console.check.observe import Observer, Report
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer, summary
 from sem_console.dds.bus import Bus, take_each, wait_for_acks
 from sem_console.dds.qos import TopicClass, representation, writer_qos
-from sem_console.dds.topics import Sem, Service
+from sem_console.dds.topics import AnySem, Sem, Service
 from sem_console.sim.options import SimOptions, vehicle_guid
 from sem_console.sim.reports import Sensors
 from sem_console.umaa.guid import from_guid, to_guid
@@ -99,14 +99,15 @@ def failure_types(report: Path) -> dict[str, str]:
             for tc in ET.parse(report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
 
 
-def wait_for_providers(domain: int, n: int, timeout: float = 20.0) -> set[uuid.UUID]:
-    """The sources of n providers' InertialSensorReports (a reader only: nothing is written)."""
+def wait_for_providers(domain: int, n: int, timeout: float = 20.0, sem: AnySem = Sem.INS_REPORT) -> set[uuid.UUID]:
+    """The sources of n providers' InertialSensorReports (a reader only: nothing is written); `sem` Sem60.INS_REPORT:
+    of UMAA 6.0 providers (their source an IdentifierType: its `id`)."""
     bus = Bus(domain)
-    reader = bus.reader(Sem.INS_REPORT)
+    reader = bus.reader(sem)
     seen: set[uuid.UUID] = set()
     deadline = time.monotonic() + timeout
     while len(seen) < n and time.monotonic() < deadline:
-        seen |= {from_guid(s.source) for s in take_each(reader)[0] if hasattr(s, "source")}
+        seen |= {from_guid(getattr(s.source, "id", s.source)) for s in take_each(reader)[0] if hasattr(s, "source")}
         time.sleep(0.05)
     bus.close()
     assert len(seen) >= n, f"{len(seen)} of {n} providers up"

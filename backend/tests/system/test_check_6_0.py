@@ -183,6 +183,7 @@ def test_sem_sim_6_0_passes_every_6_0_test(sim: Callable[..., Any], domain: int,
     """A `sem-sim --umaa 6.0` vehicle passes every 6.0 test, its InertialSensorControl flow included (each alignment,
     the update, cancel and cleanup), and only 6.0 tests run."""
     sim("--umaa", "6.0")
+    wait_for_providers(domain, 1, sem=Sem60.INS_REPORT)
     run = check(tmp_path, "--domain", str(domain), *SIM_COMMANDS)
     assert run.code == 0, run.out + run.err
     assert run.cases == {n: ("passed", "") for n in V6}, run.out
@@ -193,6 +194,8 @@ def test_a_mixed_sem_sim_checks_each_vehicle_in_its_version(sim: Callable[..., A
     """One `sem-sim --vehicles 2 --umaa-6-0-vehicles 2`: vehicle 1 passes every 3.0.1 test, vehicle 2 every 6.0 test,
     each found by the topics it serves."""
     sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    wait_for_providers(domain, 1)
+    wait_for_providers(domain, 1, sem=Sem60.INS_REPORT)
     new = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(2)), *SIM_COMMANDS)
     assert new.code == 0 and "UMAA 6.0 (by the topics it serves)" in new.out, new.out + new.err
     assert new.cases == {n: ("passed", "") for n in V6}, new.out
@@ -221,6 +224,7 @@ def test_each_sem_sim_fault_fails_the_6_0_test_with_its_reason(fault: str, sim: 
     midway) with the 6.0 reason and ICD 6.0 section; discovery and reports are not blamed. A rejection comes after
     COMMANDED, the one state Figure 15 allows RESOURCE_REJECTED after, so it is a failed command, not a breach."""
     sim("--umaa", "6.0", "--fault", fault, "--slow-factor", "200")  # slow: 5 s a step
+    wait_for_providers(domain, 1, sem=Sem60.INS_REPORT)  # started: the check's own --timeout is for its discovery
     run = check(tmp_path, "--domain", str(domain), "--commands", "--timeout", "5", "--step-time", "1", "--window", "0.5",
                 "--max-gap", "1.5", "--only", "discovery,reports,commands.InertialSensor.GPS_ALIGN")
     reason, section = SIM_FAULTS[fault]
