@@ -138,12 +138,14 @@ def test_a_vehicle_heard_on_the_other_versions_topics_is_shown_in_its_new_versio
     c = console()
     ws = WsClient(c.ws_url)
     bus = Bus(domain)
+    writers = []  # kept: a status stays on the bus (transient-local) while its writer lives
     try:
         for version in ("3.0.1", "6.0"):
             found = commanding(version, Service.INERTIAL_SENSOR)
             assert found is not None
             command = found.build(console_id, vehicle, uuid.uuid4(), found.states[0], (1, 0))
-            bus.writer(found.status).write(found.build_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
+            writers.append(bus.writer(found.status))
+            writers[-1].write(found.build_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
             wait_until(lambda v=version: any(m["provider"]["id"] == str(vehicle) and m["provider"]["umaaVersion"] == v
                                               for m in ws.of("provider")), 15, f"the vehicle shown as UMAA {version}")
         told = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == str(vehicle)]
