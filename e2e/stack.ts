@@ -60,15 +60,24 @@ async function freeImcPort(avoid: number[] = []): Promise<number> {
   throw new Error("no free UDP port for IMC");
 }
 
-/** A DDS domain nobody on this host uses (its discovery port, 7400 + 250 d, bound by every Cyclone participant of the
- * domain, is free), and none of `avoid` (the stack's, for a console of a test's own beside it). */
+/** Whether no Cyclone participant on this host is in DDS domain `d`: with multicast its discovery port (7400 + 250 d)
+ * is bound; on loopback's unicast peers (our configuration) a participant binds only its own unicast discovery port,
+ * 7410 + 250 d + 2 i for participant index i (0 for the first, then up), so the first indexes are looked at too. */
+async function domainFree(d: number): Promise<boolean> {
+  const ports = [7400 + 250 * d, ...Array.from({ length: 10 }, (_, i) => 7410 + 250 * d + 2 * i)];
+  for (const port of ports) if (!(await udpFree(port))) return false;
+  return true;
+}
+
+/** A DDS domain nobody on this host uses (`domainFree`), and none of `avoid` (the stack's, for a console of a test's
+ * own beside it). */
 export async function freeDomain(avoid: number[] = []): Promise<number> {
   const start = Math.floor(Math.random() * 31);
   for (let i = 0; i < 31; i++) {
     // 200..230: pytest, running beside, takes 1..199 (backend/tests/conftest.py); above 230 loopback's unicast
     // discovery ports pass 65535
     const d = 200 + ((start + i) % 31);
-    if (!avoid.includes(d) && (await udpFree(7400 + 250 * d))) return d;
+    if (!avoid.includes(d) && (await domainFree(d))) return d;
   }
   throw new Error("no free DDS domain");
 }
@@ -200,7 +209,7 @@ export async function stopStack(): Promise<void> {
  * stop function. */
 export async function startMixedFleet(): Promise<{ url: string; vehicles: string[]; stop: () => Promise<void> }> {
   const stack = load();
-  const domain = await freeDomain();
+  const domain = await freeDomain([stack.domain]); // the stack's sim runs vehicles 1..3 (3.0.1): vehicle 2 there too
   const run = `mixed-${domain}`; // each fleet its own state files and database: a spec starts from nothing
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "2"], { encoding: "utf8" })
     .trim().split("\n").map((l) => l.split(": ")[1]);

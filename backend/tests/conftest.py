@@ -35,8 +35,8 @@ _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) %
 # 200..230 are the Playwright stack's (e2e/stack.ts), which runs beside pytest: a domain checked free by both at
 # the same moment, before either's participant binds it, would mix a test's vehicles into the dashboard's
 _OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
-# A random start per run, then a new domain per test; a domain whose discovery port is taken (7400 + 250 d,
-# bound by every Cyclone participant of the domain: another run on this host) is skipped, so runs never see each other.
+# A random start per run, then a new domain per test; a domain a participant on this host is in (another run's, or
+# a process of an earlier test still there: `_domain_free`) is skipped, so runs and tests never see each other.
 _domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
             for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS))))
 
@@ -50,11 +50,18 @@ def _port_free(port: int) -> bool:
             return False
 
 
+def _domain_free(d: int) -> bool:
+    """No Cyclone participant on this host in domain `d`: with multicast its discovery port (7400 + 250 d) is bound;
+    on loopback's unicast peers (our configuration) only a participant's own unicast discovery port is,
+    7410 + 250 d + 2 i for participant index i (0 for the first), so the first indexes are looked at too."""
+    return all(_port_free(port) for port in [7400 + 250 * d, *(7410 + 250 * d + 2 * i for i in range(10))])
+
+
 def free_domain(taken: int | None = None) -> int:
     """A DDS domain id of this worker's that no one on this host uses, other than `taken`."""
     for _ in range(len(_OWN_DOMAINS)):
         d = next(_domains)
-        if d != taken and _port_free(7400 + 250 * d):
+        if d != taken and _domain_free(d):
             return d
     raise RuntimeError("no free DDS domain id on this host")
 
