@@ -24,6 +24,9 @@ from typing import Any
 ROOT = Path(__file__).resolve().parents[1]
 BIN = ROOT / ".venv" / "bin"
 sys.path.insert(0, str(ROOT / "backend"))
+sys.path.insert(0, str(ROOT / "backend" / "tests"))
+
+from support.domains import domain_free  # noqa: E402
 
 CLK_TCK = os.sysconf("SC_CLK_TCK")
 PAGE = os.sysconf("SC_PAGE_SIZE")
@@ -35,22 +38,13 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def _udp_free(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.bind(("127.0.0.1", port))
-            return True
-        except OSError:
-            return False
-
-
 def free_domain() -> int:
     """A DDS domain no participant on this host is in: on loopback's unicast peers a Cyclone participant binds only
     its own unicast discovery port (7410 + 250 d + 2 i, participant index i), with multicast 7400 + 250 d too."""
     start = random.randrange(1, 200)
     for i in range(230):
         d = (start + i) % 230 + 1  # 1..230: above, loopback's unicast discovery ports pass 65535
-        if all(_udp_free(p) for p in [7400 + 250 * d, *(7410 + 250 * d + 2 * k for k in range(10))]):
+        if domain_free(d):
             return d
     raise RuntimeError("no free DDS domain")
 

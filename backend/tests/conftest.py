@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from support.consumer import Consumer
+from support.domains import domain_free, udp_free
 
 pytest_plugins = ["support.pg"]  # a real PostgreSQL server: the pg_cluster, pg_url and database_url fixtures
 
@@ -36,32 +37,16 @@ _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) %
 # the same moment, before either's participant binds it, would mix a test's vehicles into the dashboard's
 _OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
 # A random start per run, then a new domain per test; a domain a participant on this host is in (another run's, or
-# a process of an earlier test still there: `_domain_free`) is skipped, so runs and tests never see each other.
+# a process of an earlier test still there: `support.domains`) is skipped, so runs and tests never see each other.
 _domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
             for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS))))
-
-
-def _port_free(port: int) -> bool:
-    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-        try:
-            s.bind(("127.0.0.1", port))
-            return True
-        except OSError:
-            return False
-
-
-def _domain_free(d: int) -> bool:
-    """No Cyclone participant on this host in domain `d`: with multicast its discovery port (7400 + 250 d) is bound;
-    on loopback's unicast peers (our configuration) only a participant's own unicast discovery port is,
-    7410 + 250 d + 2 i for participant index i (0 for the first), so the first indexes are looked at too."""
-    return all(_port_free(port) for port in [7400 + 250 * d, *(7410 + 250 * d + 2 * i for i in range(10))])
 
 
 def free_domain(taken: int | None = None) -> int:
     """A DDS domain id of this worker's that no one on this host uses, other than `taken`."""
     for _ in range(len(_OWN_DOMAINS)):
         d = next(_domains)
-        if d != taken and _domain_free(d):
+        if d != taken and domain_free(d):
             return d
     raise RuntimeError("no free DDS domain id on this host")
 
@@ -168,11 +153,7 @@ def free_udp_port() -> int:
     blocks = [d for d in _OWN_DOMAINS if d < 80]
     for _ in range(200):
         port = 7400 + 250 * rng.choice(blocks) + rng.randrange(150, 245)
-        with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
-            try:
-                s.bind(("127.0.0.1", port))
-            except OSError:
-                continue
+        if udp_free(port):
             return port
     raise RuntimeError("no free UDP port in the DDS gaps")
 

@@ -101,11 +101,11 @@ def test_a_peer_cyclone_cannot_use_is_one_line(peers: str, says: str, domain: in
 def test_a_domain_with_a_participant_on_loopback_is_not_taken_for_free(domain: int) -> None:
     """The tests' (and e2e's) free-domain check sees a participant on our unicast loopback configuration: it binds
     only its own unicast discovery port (7410 + 250 d + 2 i), not the multicast one (7400 + 250 d) the check once
-    looked at, which let the e2e's mixed fleet start on the stack's own domain (vehicle 2 heard on both versions)."""
-    from conftest import _domain_free
+    looked at."""
     from sem_console.dds.bus import Bus
+    from support.domains import domain_free
 
-    assert _domain_free(domain)
+    assert domain_free(domain)
     bus = Bus(domain)
     assert bus.domain_id == domain
-    assert not _domain_free(domain)
+    assert not domain_free(domain)
