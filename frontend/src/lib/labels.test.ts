@@ -106,7 +106,8 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   });
 
   it("says a UMAA 6.0 vehicle's missing fix status is its version's, not a report still to come", () => {
-    expect(fixWord(undefined, "6.0")).toMatchObject({ text: "Fix —", tone: "muted" });
+    expect(fixWord(undefined, "6.0")).toMatchObject({ text: "No fix service", tone: "muted" });
+    expect(fixWord(undefined, "3.0.1")).toMatchObject({ text: "Fix —", tone: "muted" });
     expect(fixWord(undefined, "6.0").title).toContain("UMAA 6.0 has no GPS fix service");
     expect(notReported("6.0", "GPSFixStatusReport")).toContain("no GPS fix service");
     // its GPSReport, GlobalPose (the position report) and INS status feed the view: one may come

@@ -134,7 +134,11 @@ export function insWord(state: string | null | undefined, status: string | null 
 
 /** GPSFixStatusReport.fixValid in one word ("Fix", "No fix"). */
 export function fixWord(fixValid: boolean | null | undefined, version?: UmaaVersion | null): Word {
-  if (fixValid === null || fixValid === undefined) return { text: `Fix ${DASH}`, tone: "muted", title: notReported(version, "GPSFixStatusReport") ?? "no GPS fix status yet" };
+  if (fixValid === null || fixValid === undefined) {
+    // a version without the fix service says so (the fix panel's words), not a dash that reads as "not known yet"
+    const none = notReported(version, "GPSFixStatusReport");
+    return { text: none ? FIX_SERVICE.none : `Fix ${DASH}`, tone: "muted", title: none ?? "no GPS fix status yet" };
+  }
   const literal = fixValid ? "true" : "false";
   return { text: FIX_VALID[literal], tone: fixValid ? "ok" : "warn", title: umaa("fixValid", literal) };
 }
