@@ -9,9 +9,9 @@ import { useFocusWhenGone } from "../components/focus";
 import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../data/hooks";
 import { LastHeard } from "../components/LastHeard";
-import { FLOOD_AT, select, unacknowledged } from "../data/store";
+import { FLOOD_AT, unacknowledged } from "../data/slices/alarms";
 import { ALARM_MARK, ALARM_SEVERITY, ALARM_STATE, CHATTERING_TITLE, floodText, shelvedCount, shelvedText } from "../lib/labels";
 import { age, utc } from "../lib/units";
 import { shortId } from "../lib/vehicle";
@@ -53,7 +53,7 @@ function allSaid(n: number, failed: number, gone: number): string {
 
 export function AlarmsPanel() {
   const alarms = useAlarms();
-  const store = useStore();
+  const selectVehicle = useSelectVehicle();
   const token = useToken();
   const { command } = useCapabilities(); // a replay acknowledges nothing
   const authRequired = useSelector((s) => s.authRequired);
@@ -143,7 +143,7 @@ export function AlarmsPanel() {
       <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
         <button
           className="alarm-main"
-          onClick={() => a.providerId && store.update((s) => select(s, a.providerId))}
+          onClick={() => a.providerId && selectVehicle(a.providerId)}
           disabled={!a.providerId}
           title={a.providerId ? "select this vehicle" : "the console's own alarm"}
         >

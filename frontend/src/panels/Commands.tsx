@@ -7,7 +7,7 @@ import { Panel } from "../components/Panel";
 import { VehicleTag } from "../components/VehicleTag";
 import { useToken } from "../data/auth";
 import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../data/hooks";
-import { selectedLostSince, selectedPlannedUntil } from "../data/store";
+import { selectedLostSince, selectedPlannedUntil } from "../data/slices/vehicles";
 import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../lib/commands";
 import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa, type UmaaVersion } from "../lib/labels";
 import { LostFor } from "../components/LastHeard";

@@ -5,7 +5,7 @@ import { useHistory } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
 import { SelectedLost } from "../components/LastHeard";
 import { useDmsSetting } from "../data/settings";
-import { HISTORY_SECONDS, viewReport } from "../data/store";
+import { HISTORY_SECONDS, viewReport } from "../data/slices/vehicles";
 import { freshness, notCurrent } from "../lib/freshness";
 import type { GPSFixReportType } from "../api/types";
 import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../lib/labels";

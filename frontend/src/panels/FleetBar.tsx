@@ -4,10 +4,11 @@
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
 import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
 import type { Alarm } from "../api/generated/ws";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useStore } from "../data/hooks";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
 import { useConsoleHealth } from "../data/loaders";
 import { useCollapsed, useSetting } from "../data/settings";
-import { FLOOD_AT, lastHeardAt, pageTitle, plannedUntil, report, select, shelved, unacknowledged, type ProviderView } from "../data/store";
+import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../data/slices/alarms";
+import { lastHeardAt, report, type ProviderView } from "../data/slices/vehicles";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
 import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../lib/labels";
@@ -178,7 +179,7 @@ export function FleetBar() {
   const providers = useProvidersOnFrame(SAME_BAR);
   const selected = useSelector((s) => s.selected);
   const alarms = useAlarms();
-  const store = useStore();
+  const onSelect = useSelectVehicle();
   const now = useNow(1000);
   const recorded = useCapabilities().playback; // a replay: the links and counts are the recording's
   const [muted, setMuted] = useSetting("sem-console.mute", false, isBool);
@@ -187,7 +188,6 @@ export function FleetBar() {
   const silences = useSilences();
   const silenceOf = useMemo(() => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by, x.station) }])), [silences]);
   const announced = useAnnunciation(alarms, open.length, muted);
-  const onSelect = useMemo(() => (id: string) => store.update((s) => select(s, id)), [store]);
   const byVehicle = useMemo(() => {
     const m = new Map<string, number>();
     for (const a of open) if (a.providerId) m.set(a.providerId, (m.get(a.providerId) ?? 0) + 1);

@@ -7,11 +7,10 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../components/Panel";
 import { useToken } from "../data/auth";
-import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useStore } from "../data/hooks";
-import type { ProviderView } from "../data/store";
+import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
+import type { ProviderView } from "../data/slices/vehicles";
 import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
 import { useCollapsed, useDmsSetting } from "../data/settings";
-import { select } from "../data/store";
 import type { VehicleOverlay } from "../lib/mapOverlay";
 import { bearingDeg, distanceText, pathLengthM, vertexHandles, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
 import { useTheme } from "../lib/theme";
@@ -62,7 +61,7 @@ export function MapPanel() {
   const idList = fleet.map((p) => p.id).join(",");
   const selected = useSelector((s) => s.selected);
 
-  const store = useStore();
+  const selectVehicle = useSelectVehicle();
   const now = useNow(1000);
   const worldModel = useWorldModel();
   const [useDms, setDms] = useDmsSetting();
@@ -110,15 +109,15 @@ export function MapPanel() {
 
   const chart = useChart(mapRef, ready, chartConfigured, token);
   const { land, landLoaded, landDrawn } = useLand(mapRef, ready);
-  usePointer(mapRef, ready, tool, modelRef, fleetCanvas, { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
+  usePointer(mapRef, ready, tool, modelRef, fleetCanvas, { selectVehicle, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
   // an edge arrow: that vehicle selected, in the middle of the map, and followed
   const pickEdge = useCallback(
     (map: MapLibre, m: VehicleMark) => {
-      store.update((s) => select(s, m.id));
+      selectVehicle(m.id);
       map.jumpTo({ center: [m.position.lon, m.position.lat] });
       setFollow(true);
     },
-    [store],
+    [selectVehicle],
   );
   useWorldModelLayer(mapRef, ready, shownModel, tool, picked, modelRef);
   useMeasureLayer(mapRef, ready, toolPoints);

@@ -4,7 +4,7 @@ import { Field, Foldable, Panel } from "../components/Panel";
 import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
 import { useSelectedSatellitesLoaded } from "../data/loaders";
 import { SelectionGap } from "./FleetBar";
-import { viewReport, type TrailPoint } from "../data/store";
+import { viewReport, type TrailPoint } from "../data/slices/vehicles";
 import { freshness, notCurrent } from "../lib/freshness";
 import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
 import { countRender } from "../lib/renders";

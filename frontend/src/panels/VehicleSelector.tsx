@@ -1,8 +1,9 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { useFocusWhenGone } from "../components/focus";
 import { VehicleTag } from "../components/VehicleTag";
-import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useStore } from "../data/hooks";
-import { lastHeardAt, plannedUntil, report, select } from "../data/store";
+import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
+import { lastHeardAt, report } from "../data/slices/vehicles";
+import { plannedUntil } from "../data/slices/alarms";
 import { LastHeard } from "../components/LastHeard";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../lib/freshness";
 import { fixWord, inline, insWord, linkOrPlanned } from "../lib/labels";
@@ -60,7 +61,7 @@ function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onF
 export function VehicleSelector() {
   const providers = useProvidersOnFrame(SAME_LIST); // on the frame, when what it shows changed
   const selected = useSelector((s) => s.selected);
-  const store = useStore();
+  const selectVehicle = useSelectVehicle();
   const now = useNow();
   const signedOut = useConnectionState() === "signed-out";
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
@@ -134,7 +135,7 @@ export function VehicleSelector() {
             aria-pressed={p.id === selected}
             data-testid="vehicle"
             data-link={link}
-            onClick={() => store.update((s) => select(s, p.id))}
+            onClick={() => selectVehicle(p.id)}
           >
             <span className="vehicle-name">
               <VehicleTag v={p} />

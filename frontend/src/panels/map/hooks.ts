@@ -4,8 +4,6 @@ import { Map as MapLibre, NavigationControl, ScaleControl, addProtocol, type Map
 import { FetchSource, PMTiles, Protocol } from "pmtiles";
 import { useEffect, useRef, useState, type Dispatch, type RefObject, type SetStateAction } from "react";
 import type { FeatureCollection } from "geojson";
-import type { Store } from "../../data/connection";
-import { select } from "../../data/store";
 import { PALETTES, addLand, loadLand, offlineStyle, setPalette } from "../../lib/basemap";
 import { CHART_PATH, CHART_SOURCE, chartStyle } from "../../lib/chart";
 import {
@@ -177,7 +175,7 @@ export function useChart(mapRef: MapRef, ready: boolean, chartConfigured: boolea
 
 /** What a click, a drag and the pointer do on the map, by tool. */
 export interface PointerActions {
-  store: Store;
+  selectVehicle: (providerId: string) => void;
   cursor: CursorStore;
   setFollow: Dispatch<SetStateAction<boolean>>;
   setMeasure: Dispatch<SetStateAction<LonLat[]>>;
@@ -198,7 +196,7 @@ export function usePointer(
   actions: PointerActions,
 ): void {
   const toolRef = useRef<MapTool>(tool);
-  const { store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft } = actions;
+  const { selectVehicle, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft } = actions;
   useEffect(() => {
     toolRef.current = tool;
     const map = mapRef.current;
@@ -247,7 +245,7 @@ export function usePointer(
       }
       const id = fleetRef.current?.hit(e.point);
       if (id) {
-        store.update((s) => select(s, id));
+        selectVehicle(id);
         setFollow(true);
       }
     };
@@ -272,7 +270,7 @@ export function usePointer(
       map.off("click", click);
       cursor.set(null);
     };
-  }, [mapRef, ready, modelRef, fleetRef, store, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
+  }, [mapRef, ready, modelRef, fleetRef, selectVehicle, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
 }
 
 /** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's

@@ -1,5 +1,6 @@
 import { describe, expect, it } from "vitest";
-import { initialState, reduce, type ProviderView } from "../../data/store";
+import { initialState, reduce } from "../../data/state";
+import { type ProviderView } from "../../data/slices/vehicles";
 import { reportMessage } from "../../data/testing";
 import { originOf, vehicleMark } from "./layers";
 

@@ -2,7 +2,8 @@
 import { LngLatBounds, type GeoJSONSource, type Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection, Position } from "geojson";
 import type { PlannedSilence } from "../../api/generated/ws";
-import { lastHeardAt, plannedUntil, report, type ProviderView } from "../../data/store";
+import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
+import { plannedUntil } from "../../data/slices/alarms";
 import { freshness } from "../../lib/freshness";
 import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/geo";
 import { deadReckon } from "../../lib/projection";
