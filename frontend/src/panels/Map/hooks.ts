@@ -22,7 +22,7 @@ import "../../lib/mapWorker"; // its worker started (boot.ts started it already)
 import { VehicleOverlay } from "../../lib/mapOverlay";
 import { countRender } from "../../lib/renders";
 import type { Theme } from "../../lib/theme";
-import type { MapTool } from "../CoMap";
+import type { MapTool } from "../CoMap/CoMap";
 import { FleetCanvas, type FleetData, type ToolMarks } from "./FleetCanvas";
 import type { CursorStore } from "./MapCursor";
 import { outsideMiddle } from "./fleet";

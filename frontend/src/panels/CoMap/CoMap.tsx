@@ -6,20 +6,20 @@
 // a confirmation open) and void once another vehicle is selected, as the UMAA command confirmations.
 import { useEffect, useState } from "react";
 import type { FeatureCollection } from "geojson";
-import { createTask, problemText, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../api/rest";
-import { Confirm } from "../components/Confirm";
-import { VehicleTag } from "../components/VehicleTag";
-import { useToken } from "../data/auth";
-import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useSilences, useVehicleNames } from "../data/hooks";
-import { LastHeard, LostFor } from "../components/LastHeard";
-import { useComapStatus, useTasks, useVehicleCapabilities } from "../data/loaders";
-import { FINISHED } from "../data/slices/comap";
-import { plannedUntil } from "../data/slices/alarms";
-import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../lib/geo";
-import { RESOLUTION_UNIT, clockTime, resolution as resolutionText, utcWhen } from "../lib/units";
-import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../lib/labels";
-import { countRender } from "../lib/renders";
-import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
+import { createTask, problemText, putWorldModel, synchTask, type Capability, type SynchAction, type Task } from "../../api/rest";
+import { Confirm } from "../../components/Confirm";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useToken } from "../../data/auth";
+import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useSilences, useVehicleNames } from "../../data/hooks";
+import { LastHeard, LostFor } from "../../components/LastHeard";
+import { useComapStatus, useTasks, useVehicleCapabilities } from "../../data/loaders";
+import { FINISHED } from "../../data/slices/comap";
+import { plannedUntil } from "../../data/slices/alarms";
+import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../../lib/geo";
+import { RESOLUTION_UNIT, clockTime, resolution as resolutionText, utcWhen } from "../../lib/units";
+import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../../lib/labels";
+import { countRender } from "../../lib/renders";
+import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
 
 export type MapTool = "select" | "measure" | "draw" | "edit" | "move-target";
 

@@ -1,16 +1,16 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
-import { useFocusWhenGone } from "../components/focus";
-import { VehicleTag } from "../components/VehicleTag";
-import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
-import { lastHeardAt, report } from "../data/slices/vehicles";
-import { plannedUntil } from "../data/slices/alarms";
-import { LastHeard } from "../components/LastHeard";
-import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../lib/freshness";
-import { fixWord, inline, insWord, linkOrPlanned } from "../lib/labels";
-import { age } from "../lib/units";
-import { vehicleMatcher } from "../lib/vehicle";
-import { STALE_AFTER_S } from "./FleetBar";
-import { RenameVehicle } from "./RenameVehicle";
+import { useFocusWhenGone } from "../../components/focus";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import { lastHeardAt, report } from "../../data/slices/vehicles";
+import { plannedUntil } from "../../data/slices/alarms";
+import { LastHeard } from "../../components/LastHeard";
+import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../../lib/freshness";
+import { fixWord, inline, insWord, linkOrPlanned } from "../../lib/labels";
+import { age } from "../../lib/units";
+import { vehicleMatcher } from "../../lib/vehicle";
+import { STALE_AFTER_S } from "../FleetBar/FleetBar";
+import { RenameVehicle } from "../RenameVehicle/RenameVehicle";
 
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
 const SAME_LIST = sameOverview();

@@ -1,12 +1,12 @@
 import { useState, type ChangeEvent } from "react";
-import { aspnLog, problemText, setLinkConfig } from "../api/rest";
-import type { GatewayState, LinkConfig } from "../api/types";
-import { Field, Panel } from "../components/Panel";
-import { VehicleTag } from "../components/VehicleTag";
-import { useToken } from "../data/auth";
-import { useCapabilities, useGateways, useNow, useSelectedVehicle, useSelector } from "../data/hooks";
-import { utc } from "../lib/units";
-import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
+import { aspnLog, problemText, setLinkConfig } from "../../api/rest";
+import type { GatewayState, LinkConfig } from "../../api/types";
+import { Field, Panel } from "../../components/Panel";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useToken } from "../../data/auth";
+import { useCapabilities, useGateways, useNow, useSelectedVehicle, useSelector } from "../../data/hooks";
+import { utc } from "../../lib/units";
+import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
 
 const TITLES: Record<GatewayState["name"], string> = { aspn: "ASPN-23 over LCM", jaus: "JAUS over JUDP" };
 

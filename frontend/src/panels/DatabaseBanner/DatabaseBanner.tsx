@@ -1,5 +1,5 @@
-import { useSelector } from "../data/hooks";
-import { utc } from "../lib/units";
+import { useSelector } from "../../data/hooks";
+import { utc } from "../../lib/units";
 
 // The console's database unreachable (an operations centre's PostgreSQL stopped or cut off): the console keeps
 // monitoring and holds what it writes meanwhile. Pushed on the WebSocket (`database`) at the console's tick that finds

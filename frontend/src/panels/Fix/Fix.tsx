@@ -1,15 +1,15 @@
-import { Field, Foldable, Panel, invalidFor } from "../components/Panel";
-import { TrendChart } from "../components/TrendChart";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap, useSelector } from "../data/hooks";
-import { useHistory } from "../data/loaders";
-import { SelectionGap } from "./FleetBar";
-import { SelectedLost } from "../components/LastHeard";
-import { useDmsSetting } from "../data/settings";
-import { HISTORY_SECONDS, viewReport } from "../data/slices/vehicles";
-import { freshness, notCurrent } from "../lib/freshness";
-import type { GPSFixReportType } from "../api/types";
-import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../lib/labels";
-import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../lib/units";
+import { Field, Foldable, Panel, invalidFor } from "../../components/Panel";
+import { TrendChart } from "../../components/TrendChart";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap, useSelector } from "../../data/hooks";
+import { useHistory } from "../../data/loaders";
+import { SelectionGap } from "../FleetBar/FleetBar";
+import { SelectedLost } from "../../components/LastHeard";
+import { useDmsSetting } from "../../data/settings";
+import { HISTORY_SECONDS, viewReport } from "../../data/slices/vehicles";
+import { freshness, notCurrent } from "../../lib/freshness";
+import type { GPSFixReportType } from "../../api/types";
+import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../../lib/labels";
+import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
 
 /** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
 function sigma(v: number | null | undefined): number | null {

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { RESOLUTION_UNIT, resolution, utcWhen } from "../lib/units";
+import { RESOLUTION_UNIT, resolution, utcWhen } from "../../lib/units";
 import { capabilityText, pendingText } from "./CoMap";
 
 describe("CoMap's survey resolution", () => {

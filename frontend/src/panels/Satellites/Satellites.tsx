@@ -1,16 +1,16 @@
 import { memo, useMemo, useState, type CSSProperties } from "react";
-import type { GPSSatelliteType } from "../api/types";
-import { Field, Foldable, Panel } from "../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../data/hooks";
-import { useSelectedSatellitesLoaded } from "../data/loaders";
-import { SelectionGap } from "./FleetBar";
-import { viewReport, type TrailPoint } from "../data/slices/vehicles";
-import { freshness, notCurrent } from "../lib/freshness";
-import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../lib/satellites";
-import { countRender } from "../lib/renders";
-import { constellationText, timeQuality } from "../lib/labels";
-import { project, trailPath } from "../lib/skyplot";
-import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../lib/units";
+import type { GPSSatelliteType } from "../../api/types";
+import { Field, Foldable, Panel } from "../../components/Panel";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedTrails, useSelectionGap } from "../../data/hooks";
+import { useSelectedSatellitesLoaded } from "../../data/loaders";
+import { SelectionGap } from "../FleetBar/FleetBar";
+import { viewReport, type TrailPoint } from "../../data/slices/vehicles";
+import { freshness, notCurrent } from "../../lib/freshness";
+import { COLOR, CONSTELLATIONS, SHAPE, constellationOf, satelliteLabel, type Shape } from "../../lib/satellites";
+import { countRender } from "../../lib/renders";
+import { constellationText, timeQuality } from "../../lib/labels";
+import { project, trailPath } from "../../lib/skyplot";
+import { DASH, degrees, fixed, hertz, radToDeg, yesNo } from "../../lib/units";
 
 const R = 120;
 

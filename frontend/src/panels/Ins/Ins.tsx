@@ -1,11 +1,11 @@
-import { Foldable, Panel } from "../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap } from "../data/hooks";
-import { SelectionGap } from "./FleetBar";
-import { SelectedLost } from "../components/LastHeard";
-import { viewReport } from "../data/slices/vehicles";
-import { freshness, notCurrent } from "../lib/freshness";
-import { alignmentBar, alignmentStepText, inline, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../lib/labels";
-import { utc } from "../lib/units";
+import { Foldable, Panel } from "../../components/Panel";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap } from "../../data/hooks";
+import { SelectionGap } from "../FleetBar/FleetBar";
+import { SelectedLost } from "../../components/LastHeard";
+import { viewReport } from "../../data/slices/vehicles";
+import { freshness, notCurrent } from "../../lib/freshness";
+import { alignmentBar, alignmentStepText, inline, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../../lib/labels";
+import { utc } from "../../lib/units";
 
 export function InsPanel() {
   return (

@@ -1,8 +1,8 @@
 import { useEffect, useRef, useState } from "react";
-import { problemText } from "../api/rest";
-import { useNow, usePlayback } from "../data/hooks";
-import { SPEEDS } from "../data/source";
-import { clockDuration, utc } from "../lib/units";
+import { problemText } from "../../api/rest";
+import { useNow, usePlayback } from "../../data/hooks";
+import { SPEEDS } from "../../data/source";
+import { clockDuration, utc } from "../../lib/units";
 
 /** Play, pause, speed and a seek bar with time labels: shown only when the data source is a replay. */
 export function ReplayBar() {

@@ -1,8 +1,8 @@
 import { useState } from "react";
-import { problemText, setVehicleName } from "../api/rest";
-import { useToken } from "../data/auth";
-import { useCapabilities, useSelector } from "../data/hooks";
-import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
+import { problemText, setVehicleName } from "../../api/rest";
+import { useToken } from "../../data/auth";
+import { useCapabilities, useSelector } from "../../data/hooks";
+import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
 
 export const MAX_NAME = 40; // the console's limit (PUT /api/providers/{id}/name)
 

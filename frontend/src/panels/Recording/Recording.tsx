@@ -1,8 +1,8 @@
 import { useMutation } from "@tanstack/react-query";
-import { ApiError, controlRecording } from "../api/rest";
-import { useToken } from "../data/auth";
-import { useCapabilities, useNow, useRecording, useSelector } from "../data/hooks";
-import { clockDuration } from "../lib/units";
+import { ApiError, controlRecording } from "../../api/rest";
+import { useToken } from "../../data/auth";
+import { useCapabilities, useNow, useRecording, useSelector } from "../../data/hooks";
+import { clockDuration } from "../../lib/units";
 
 /** The header's record/stop control: records every SEM sample the console receives, UMAA 3.0.1 and 6.0, to MCAP. */
 export function RecordControl() {

@@ -5,21 +5,21 @@
 import { memo, useCallback, useMemo, useRef, useState } from "react";
 import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
-import { Panel } from "../components/Panel";
-import { useToken } from "../data/auth";
-import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
-import type { ProviderView } from "../data/slices/vehicles";
-import { useChartConfigured, useStoredTracks, useWorldModel } from "../data/loaders";
-import { useCollapsed, useDmsSetting } from "../data/settings";
-import type { VehicleOverlay } from "../lib/mapOverlay";
-import { bearingDeg, distanceText, pathLengthM, vertexHandles, withLiveCoverage, type LonLat, type VehicleMark } from "../lib/geo";
-import { useTheme } from "../lib/theme";
-import { CoMapControls, CoMapOff, type MapTool } from "./CoMap";
-import { CursorStore, MapCursor } from "./map/MapCursor";
-import { MapToolbar } from "./map/MapToolbar";
-import type { FleetCanvas, FleetData, ToolMarks } from "./map/FleetCanvas";
-import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useSettled, useVehicleLayer, useWorldModelLayer } from "./map/hooks";
-import { fitAll, originOf, vehicleMark } from "./map/layers";
+import { Panel } from "../../components/Panel";
+import { useToken } from "../../data/auth";
+import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import type { ProviderView } from "../../data/slices/vehicles";
+import { useChartConfigured, useStoredTracks, useWorldModel } from "../../data/loaders";
+import { useCollapsed, useDmsSetting } from "../../data/settings";
+import type { VehicleOverlay } from "../../lib/mapOverlay";
+import { bearingDeg, distanceText, pathLengthM, vertexHandles, withLiveCoverage, type LonLat, type VehicleMark } from "../../lib/geo";
+import { useTheme } from "../../lib/theme";
+import { CoMapControls, CoMapOff, type MapTool } from "../CoMap/CoMap";
+import { CursorStore, MapCursor } from "./MapCursor";
+import { MapToolbar } from "./MapToolbar";
+import type { FleetCanvas, FleetData, ToolMarks } from "./FleetCanvas";
+import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useSettled, useVehicleLayer, useWorldModelLayer } from "./hooks";
+import { fitAll, originOf, vehicleMark } from "./layers";
 
 /** The fleet (every vehicle's mark, tracks and origins, on a canvas over the map) is redrawn on the first frame at
  * least this long after the last (and only when it changed), so at least twice a second while vehicles move: with

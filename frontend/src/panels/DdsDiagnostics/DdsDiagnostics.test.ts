@@ -1,7 +1,7 @@
 import { createElement } from "react";
 import { renderToStaticMarkup } from "react-dom/server";
 import { describe, expect, it } from "vitest";
-import type { PeerFinding } from "../api/rest";
+import type { PeerFinding } from "../../api/rest";
 import { PeerFindings } from "./DdsDiagnostics";
 
 // What the console's /api/metrics gives, word for word (backend/tests/system/test_interop_rti.py checks these texts against real

@@ -1,5 +1,5 @@
 import { describe, expect, it } from "vitest";
-import { nextUtc } from "../lib/units";
+import { nextUtc } from "../../lib/units";
 
 describe("the planned silence's end, as the operator writes it", () => {
   const now = Date.parse("2026-11-28T22:00:00Z") / 1000;

@@ -1,11 +1,11 @@
 import { useState } from "react";
-import { ApiError, checkToken } from "../api/rest";
-import { setToken, useToken } from "../data/auth";
-import { resetLayout, useThemeSetting, isThemeChoice } from "../data/settings";
-import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../data/hooks";
-import { utc } from "../lib/units";
-import { useConsoleHealth, useOperatorName } from "../data/loaders";
-import { RecordControl } from "./Recording";
+import { ApiError, checkToken } from "../../api/rest";
+import { setToken, useToken } from "../../data/auth";
+import { resetLayout, useThemeSetting, isThemeChoice } from "../../data/settings";
+import { useCapabilities, useConnectionState, useNow, usePlayback, useSelector } from "../../data/hooks";
+import { utc } from "../../lib/units";
+import { useConsoleHealth, useOperatorName } from "../../data/loaders";
+import { RecordControl } from "../Recording/Recording";
 
 const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
 

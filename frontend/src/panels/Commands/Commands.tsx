@@ -1,19 +1,19 @@
 import { useEffect, useMemo, useRef, useState, type ReactNode } from "react";
-import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../api/rest";
-import type { Command } from "../api/types";
-import { Confirm } from "../components/Confirm";
-import { useFocusWhenGone } from "../components/focus";
-import { Panel } from "../components/Panel";
-import { VehicleTag } from "../components/VehicleTag";
-import { useToken } from "../data/auth";
-import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../data/hooks";
-import { selectedLostSince, selectedPlannedUntil } from "../data/slices/vehicles";
-import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa, type UmaaVersion } from "../lib/labels";
-import { LostFor } from "../components/LastHeard";
-import { clockDuration, utc } from "../lib/units";
-import { vehicleLabel, type VehicleIdentity } from "../lib/vehicle";
-import { unreachable as isUnreachable } from "../data/source";
+import { UNREACHABLE, cancelCommand, commandPage, problemText, requestGpsFix, setInertialSensor } from "../../api/rest";
+import type { Command } from "../../api/types";
+import { Confirm } from "../../components/Confirm";
+import { useFocusWhenGone } from "../../components/focus";
+import { Panel } from "../../components/Panel";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useToken } from "../../data/auth";
+import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../../data/hooks";
+import { selectedLostSince, selectedPlannedUntil } from "../../data/slices/vehicles";
+import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../../lib/commands";
+import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa, type UmaaVersion } from "../../lib/labels";
+import { LostFor } from "../../components/LastHeard";
+import { clockDuration, utc } from "../../lib/units";
+import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
+import { unreachable as isUnreachable } from "../../data/source";
 
 type Action = CommandChoice & { run: (provider: string, token: string | null, confirmLost: boolean) => Promise<Command> };
 

@@ -1,10 +1,10 @@
 import { useState, type MouseEvent } from "react";
-import { download, problemText } from "../api/rest";
-import { Panel } from "../components/Panel";
-import { VehicleTag } from "../components/VehicleTag";
-import { useToken } from "../data/auth";
-import { useNow, useSelector } from "../data/hooks";
-import { exportFileName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../lib/exports";
+import { download, problemText } from "../../api/rest";
+import { Panel } from "../../components/Panel";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useToken } from "../../data/auth";
+import { useNow, useSelector } from "../../data/hooks";
+import { exportFileName, exportUrl, rangeQuery, type ExportKind, type ExportRange } from "../../lib/exports";
 
 const CHOICES: { value: string; label: string; range: ExportRange | null }[] = [
   { value: "1", label: "Last hour", range: { kind: "last", hours: 1 } },

@@ -1,8 +1,8 @@
 import { useQuery } from "@tanstack/react-query";
-import type { PeerFinding } from "../api/rest";
-import { useToken } from "../data/auth";
-import { useCapabilities } from "../data/hooks";
-import { peerFindingsQuery } from "../data/queries";
+import type { PeerFinding } from "../../api/rest";
+import { useToken } from "../../data/auth";
+import { useCapabilities } from "../../data/hooks";
+import { peerFindingsQuery } from "../../data/queries";
 
 /** What each kind of finding means, in the operator's words (the console's log line has the same). */
 const WHAT: Record<PeerFinding["kind"], string> = {

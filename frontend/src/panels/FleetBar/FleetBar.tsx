@@ -3,21 +3,21 @@
 // vehicle or a new alarm is in view. It also carries the page's alarm annunciation (the tab title and
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
 import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
-import type { Alarm } from "../api/generated/ws";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../data/hooks";
-import { useConsoleHealth } from "../data/loaders";
-import { useCollapsed, useSetting } from "../data/settings";
-import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../data/slices/alarms";
-import { lastHeardAt, report, type ProviderView } from "../data/slices/vehicles";
-import type { GPSFixStatusReportType, InertialSensorReportType } from "../api/types";
-import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../lib/freshness";
-import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../lib/labels";
-import { LastHeard } from "../components/LastHeard";
-import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../lib/tone";
-import { shortId, vehicleColor } from "../lib/vehicle";
-import { clockTime } from "../lib/units";
-import "./fleet.css";
-import { unreachable as isUnreachable } from "../data/source";
+import type { Alarm } from "../../api/generated/ws";
+import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import { useConsoleHealth } from "../../data/loaders";
+import { useCollapsed, useSetting } from "../../data/settings";
+import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../../data/slices/alarms";
+import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
+import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api/types";
+import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../../lib/freshness";
+import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../../lib/labels";
+import { LastHeard } from "../../components/LastHeard";
+import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../../lib/tone";
+import { shortId, vehicleColor } from "../../lib/vehicle";
+import { clockTime } from "../../lib/units";
+import "../fleet.css";
+import { unreachable as isUnreachable } from "../../data/source";
 
 /** The bar shows every vehicle, and any of them reports many times a second: it draws (on the frame) only when
  * what it shows of one changed, ages to the second. */

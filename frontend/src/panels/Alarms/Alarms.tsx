@@ -3,20 +3,20 @@
 // acknowledging, shelving and a vehicle's planned silence are operator actions the console audits. Many alarms of
 // one cause at once (a flood) are one group, expandable; shelved alarms are counted apart, listed on demand.
 import { useRef, useState, type ReactNode } from "react";
-import type { Alarm } from "../api/generated/ws";
-import { ApiError, ackAlarm, shelveAlarm, unshelveAlarm } from "../api/rest";
-import { useFocusWhenGone } from "../components/focus";
-import { Panel } from "../components/Panel";
-import { VehicleTag } from "../components/VehicleTag";
-import { useToken } from "../data/auth";
-import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../data/hooks";
-import { LastHeard } from "../components/LastHeard";
-import { FLOOD_AT, unacknowledged } from "../data/slices/alarms";
-import { ALARM_MARK, ALARM_SEVERITY, ALARM_STATE, CHATTERING_TITLE, floodText, shelvedCount, shelvedText } from "../lib/labels";
-import { age, utc } from "../lib/units";
-import { shortId } from "../lib/vehicle";
-import { PlannedSilences } from "./PlannedSilences";
-import "./fleet.css";
+import type { Alarm } from "../../api/generated/ws";
+import { ApiError, ackAlarm, shelveAlarm, unshelveAlarm } from "../../api/rest";
+import { useFocusWhenGone } from "../../components/focus";
+import { Panel } from "../../components/Panel";
+import { VehicleTag } from "../../components/VehicleTag";
+import { useToken } from "../../data/auth";
+import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../../data/hooks";
+import { LastHeard } from "../../components/LastHeard";
+import { FLOOD_AT, unacknowledged } from "../../data/slices/alarms";
+import { ALARM_MARK, ALARM_SEVERITY, ALARM_STATE, CHATTERING_TITLE, floodText, shelvedCount, shelvedText } from "../../lib/labels";
+import { age, utc } from "../../lib/units";
+import { shortId } from "../../lib/vehicle";
+import { PlannedSilences } from "../PlannedSilences/PlannedSilences";
+import "../fleet.css";
 
 const SEVERITY: Record<Alarm["severity"], { text: string; tone: string }> = {
   alarm: { text: ALARM_SEVERITY.alarm, tone: "bad" },

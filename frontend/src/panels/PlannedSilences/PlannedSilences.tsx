@@ -2,11 +2,11 @@
 // cancellable, and the form that declares one for the selected vehicle. During one the vehicle's loss raises no
 // alarm; still not heard at its end (and the console's grace after it), the console raises one.
 import { useState } from "react";
-import { ApiError, cancelSilence, planSilence } from "../api/rest";
-import { useSelectedVehicle, useSilences, useVehicleNames } from "../data/hooks";
-import { vehicleLabel } from "../lib/vehicle";
-import { plannedEntry } from "../lib/labels";
-import { clockTime, nextUtc } from "../lib/units";
+import { ApiError, cancelSilence, planSilence } from "../../api/rest";
+import { useSelectedVehicle, useSilences, useVehicleNames } from "../../data/hooks";
+import { vehicleLabel } from "../../lib/vehicle";
+import { plannedEntry } from "../../lib/labels";
+import { clockTime, nextUtc } from "../../lib/units";
 
 /** What the time field says of a time it cannot take. */
 export const BAD_UNTIL = "Until: write a UTC time of day as HH:MM, 24-hour (14:20)";
