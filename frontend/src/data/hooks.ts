@@ -36,10 +36,6 @@ export function useData(): DataContextValue {
   return ctx;
 }
 
-export function useStateStore(): StateStore {
-  return useData().store;
-}
-
 /** The operator's choice of vehicle (a click in the fleet bar, the list, the map or an alarm). */
 export function useSelectVehicle(): (providerId: string | null) => void {
   const { store } = useData();

@@ -7,9 +7,9 @@ import type { ReactNode } from "react";
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Task } from "../api/rest";
 import { DataContext } from "./hooks";
-import { useTasks, useWorldModel } from "./loaders";
+import { useStoredTracks, useTasks, useWorldModel } from "./loaders";
 import { makeQueryClient } from "./queries";
-import { TestSource, snapshotMessage } from "./testing";
+import { TestSource, snapshotMessage, vehicle } from "./testing";
 
 const task = (taskId: number, state: Task["state"], stateAt: number): Task => ({
   taskId, createdAt: 1, deadline: null, featureId: null, imcId: 7, kind: "move", operator: null, point: null, progress: 0, quality: null,
@@ -70,5 +70,16 @@ describe("REST loads merged into the store", () => {
     act(() => answer());
     await new Promise((r) => setTimeout(r, 20));
     expect(result.current?.features).toEqual([]); // the message's, not the older answer's
+  });
+
+  it("asks each vehicle's stored track once, a vehicle that appears its own only, and merges it into the store", async () => {
+    const asked = fakeConsole((path) => [{ time: 990, latitude: path.includes("/a/") ? 1 : 2, longitude: 3 }]);
+    const source = new TestSource();
+    act(() => source.send(snapshotMessage({ providers: [vehicle("a")] })));
+    renderHook(() => useStoredTracks(true), { wrapper: wrapper(source) });
+    await waitFor(() => expect(source.store.getState().providers.a.track).toEqual([{ t: 990, lat: 1, lon: 3 }]));
+    act(() => source.send({ type: "provider", event: "appeared", provider: vehicle("b") }));
+    await waitFor(() => expect(source.store.getState().providers.b.track).toEqual([{ t: 990, lat: 2, lon: 3 }]));
+    expect(Object.fromEntries(asked)).toEqual({ "/api/providers/a/track": 1, "/api/providers/b/track": 1 });
   });
 });

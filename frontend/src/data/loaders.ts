@@ -8,7 +8,8 @@ import { useEffect, useMemo, useRef } from "react";
 import { providerDetail, series, tasks, track, worldModel, type ComapStatus, type ComapVehicle, type Health, type Task } from "../api/rest";
 import type { TrackSample } from "../lib/geo";
 import { useToken } from "./auth";
-import { useConnectionState, useData, useSelector } from "./hooks";
+import { useShallow } from "zustand/react/shallow";
+import { perProviders, useConnectionState, useData, useSelector } from "./hooks";
 import { capabilitiesQuery, comapStatusQuery, healthQuery, operatorQuery } from "./queries";
 import { tasksReplaced, worldModelLoaded } from "./slices/comap";
 import { HISTORY_SECONDS, TRACK_SECONDS, detailLoaded, historyLoaded, selectedGpsPartial, trackLoaded, type HistoryPoint } from "./slices/vehicles";
@@ -91,14 +92,16 @@ export function useHistory(providerId: string | null): HistoryPoint[] {
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }
 
+const vehicleIds = perProviders((providers) => Object.keys(providers));
+
 /** Every vehicle's stored track (GET /api/providers/{id}/track, loaded when a vehicle appears, on a reload and after
- * a reconnect, once `load`: the map is ready) merged into the store, whose live GPSFixReport positions extend it;
- * `idList`: the vehicles' ids, comma-separated. Not before the map: a request per vehicle (50 at once) held up the
+ * a reconnect, once `load`: the map is ready) merged into the store, whose live GPSFixReport positions extend it. Not
+ * before the map: a request per vehicle (50 at once) held up the
  * first screen's (the map's worker, the selected vehicle's satellites) behind the browser's six connections. For a
  * component of its own (Map.tsx's StoredTracks), not to run on each render of the map panel. */
-export function useStoredTracks(idList: string, load: boolean): void {
+export function useStoredTracks(load: boolean): void {
   const { store, source } = useData();
-  const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
+  const ids = useSelector(useShallow(vehicleIds)); // the same array while no vehicle comes or goes
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);

@@ -30,8 +30,8 @@ const FLEET_EVERY_MS = 450;
 /** The vehicles' stored tracks loaded into the store once the map has drawn its first screen (`ready`: settled):
  * rendered only when the vehicles or the map's readiness change, not on each fix of the selected vehicle as the map
  * panel is. */
-const StoredTracks = memo(function StoredTracks({ idList, ready }: { idList: string; ready: boolean }) {
-  useStoredTracks(idList, ready);
+const StoredTracks = memo(function StoredTracks({ ready }: { ready: boolean }) {
+  useStoredTracks(ready);
   return null;
 });
 
@@ -58,7 +58,6 @@ export function MapPanel() {
   const { mapRef, ready } = useMapInstance(container, collapsed, theme);
   const settled = useSettled(mapRef, ready);
   const fleet = useProvidersOnFrame(undefined, FLEET_EVERY_MS);
-  const idList = fleet.map((p) => p.id).join(",");
   const selected = useSelector((s) => s.selected);
 
   const selectVehicle = useSelectVehicle();
@@ -164,7 +163,7 @@ export function MapPanel() {
         />
       }
     >
-      {settled && <StoredTracks idList={idList} ready />}
+      {settled && <StoredTracks ready />}
       <SelectedRing overlay={overlay} vehicle={selectedVehicle} now={now} selected={selected} />
       <div className="map-wrap">
         <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
