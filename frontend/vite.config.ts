@@ -43,5 +43,5 @@ export default defineConfig({
     },
   },
   build: { outDir: "dist", sourcemap: true },
-  test: { environment: "node", include: ["src/**/*.test.ts"] },
+  test: { environment: "node", include: ["src/**/*.test.ts", "src/**/*.test.tsx"], setupFiles: ["src/panels/setup.ts"] },
 });

@@ -1,19 +1,19 @@
 import { ArrangeableGroup } from "./components/Arrange";
 import { ErrorBoundary } from "./components/ErrorBoundary";
-import { AlarmsPanel } from "./panels/Alarms";
-import { CommandsPanel } from "./panels/Commands";
-import { DatabaseBanner } from "./panels/DatabaseBanner";
-import { DdsDiagnostics } from "./panels/DdsDiagnostics";
-import { ExportPanel } from "./panels/Export";
-import { FleetBar } from "./panels/FleetBar";
-import { FixPanel } from "./panels/Fix";
-import { GatewaysPanel } from "./panels/Gateways";
-import { Header } from "./panels/Header";
-import { InsPanel } from "./panels/Ins";
-import { MapPanel } from "./panels/Map";
-import { ReplayBar } from "./panels/Replay";
-import { SatellitesPanel } from "./panels/Satellites";
-import { VehicleSelector } from "./panels/VehicleSelector";
+import { AlarmsPanel } from "./panels/Alarms/Alarms";
+import { CommandsPanel } from "./panels/Commands/Commands";
+import { DatabaseBanner } from "./panels/DatabaseBanner/DatabaseBanner";
+import { DdsDiagnostics } from "./panels/DdsDiagnostics/DdsDiagnostics";
+import { ExportPanel } from "./panels/Export/Export";
+import { FleetBar } from "./panels/FleetBar/FleetBar";
+import { FixPanel } from "./panels/Fix/Fix";
+import { GatewaysPanel } from "./panels/Gateways/Gateways";
+import { Header } from "./panels/Header/Header";
+import { InsPanel } from "./panels/Ins/Ins";
+import { MapPanel } from "./panels/Map/Map";
+import { ReplayBar } from "./panels/Replay/Replay";
+import { SatellitesPanel } from "./panels/Satellites/Satellites";
+import { VehicleSelector } from "./panels/VehicleSelector/VehicleSelector";
 import { useEffect, useRef } from "react";
 import "./lib/themeApply"; // the theme is set before the first paint
 

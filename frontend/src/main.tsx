@@ -3,7 +3,7 @@ import { StrictMode } from "react";
 import { createRoot } from "react-dom/client";
 import { App } from "./App";
 import { getToken, onTokenChange, wsProtocols } from "./data/auth";
-import { Connection, Store, defaultUrl } from "./data/connection";
+import { Connection, defaultUrl } from "./data/connection";
 import { startEarly } from "./data/early";
 import { DataContext } from "./data/hooks";
 import { healthQuery, makeQueryClient } from "./data/queries";
@@ -12,21 +12,20 @@ import type { DataSource } from "./data/source";
 import { urlWithVehicle, vehicleFromUrl } from "./lib/vehicle";
 import { countRender, countingRenders } from "./lib/renders";
 import { TOPICS } from "./api/types";
-import { selectedTopic } from "./data/store";
+import { selectedTopic } from "./data/slices/vehicles";
+import { Inbox, createStateStore, update } from "./data/store";
 import "./styles.css";
 
 // The selection lives in the address (?vehicle=<id>): a link or a reload opens the same vehicle.
-const store = new Store(vehicleFromUrl(window.location.search));
-let shown = store.getState().selected;
-store.subscribe(() => {
-  const selected = store.getState().selected;
-  if (selected === shown) return;
-  shown = selected;
-  window.history.replaceState(window.history.state, "", urlWithVehicle(window.location.href, selected));
-});
+const store = createStateStore(vehicleFromUrl(window.location.search));
+store.subscribe(
+  (s) => s.selected,
+  (selected) => window.history.replaceState(window.history.state, "", urlWithVehicle(window.location.href, selected)),
+);
+const inbox = new Inbox(store); // the data source's messages, applied to the store once a frame
 
 // with ?renders (bench/browser.py): how often each topic of the selected vehicle changed, beside the renders
-if (countingRenders) for (const t of TOPICS) store.subscribeTo(selectedTopic(t), () => countRender(`selected:${t}`));
+if (countingRenders) for (const t of TOPICS) store.subscribe(selectedTopic(t), () => countRender(`selected:${t}`));
 
 // REST loading and caching (TanStack Query); the WebSocket is the live source (the store)
 const queryClient = makeQueryClient();
@@ -43,12 +42,12 @@ root.render(
 // loaded, and opened the WebSocket the source takes over.
 async function start(): Promise<void> {
   const h = await startEarly();
-  store.update((s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
+  update(store, (s) => ({ ...s, authRequired: h.authRequired, readAuthRequired: h.readAuthRequired }));
   queryClient.setQueryData(healthQuery().queryKey, h); // the panels that read it need not ask again
   const source: DataSource = h.replay
-    ? new ReplaySource(defaultUrl(), store, () => wsProtocols())
-    : new Connection(defaultUrl(), store, () => wsProtocols());
-  store.clock = source.now;
+    ? new ReplaySource(defaultUrl(), inbox, () => wsProtocols())
+    : new Connection(defaultUrl(), inbox, () => wsProtocols());
+  inbox.clock = source.now;
   const mayConnect = () => !store.getState().readAuthRequired || getToken() !== null;
   onTokenChange(() => (mayConnect() ? source.restart() : source.stop()));
   root.render(

@@ -1,4 +1,7 @@
-// REST calls for commands, typed from the console's OpenAPI document.
+// The console's REST API through openapi-fetch on the paths generated from its OpenAPI document (generated/openapi.ts):
+// a path, its parameters, its body and its answer are all the backend's own types, checked by tsc.
+import createClient from "openapi-fetch";
+import type { FeatureCollection } from "geojson";
 import type { components, paths } from "./generated/openapi";
 import type { Alarm } from "./generated/ws";
 import type { Command, LinkConfig, RecordingStatus, ReplayStatus, TypedProviderDetail } from "./types";
@@ -20,48 +23,49 @@ export function problemText(e: unknown): string {
   return e instanceof Error && e.message ? e.message : String(e);
 }
 
-/** fetch, with a request that gets no answer (fetch's TypeError "Failed to fetch") turned into ApiError(0, UNREACHABLE). */
-async function reach(path: string, init: RequestInit): Promise<Response> {
+// fetch looked up at each call (not once here), so that a test's stand-in answers
+const client = createClient<paths>({ fetch: (request) => globalThis.fetch(request) });
+
+/** What every call carries: the console that served the page, and the operator's token when there is one. */
+function on(token: string | null): { baseUrl: string; headers: Record<string, string> } {
+  return { baseUrl: location.origin, headers: token ? { Authorization: `Bearer ${token}` } : {} };
+}
+
+interface Answer<T> {
+  data?: T;
+  error?: unknown;
+  response: Response;
+}
+
+/** A call's answer; a refusal as ApiError(status, the console's `detail`), a request that got no answer (fetch's
+ * TypeError "Failed to fetch") as ApiError(0, UNREACHABLE). */
+async function answer<T>(call: Promise<Answer<T>>): Promise<T> {
+  let r: Answer<T>;
   try {
-    return await fetch(path, init);
+    r = await call;
   } catch (e) {
     if (e instanceof DOMException && e.name === "AbortError") throw e;
     throw new ApiError(0, UNREACHABLE);
   }
-}
-
-async function send(method: string, path: string, token: string | null, body?: unknown): Promise<Response> {
-  const headers: Record<string, string> = {};
-  if (token) headers.Authorization = `Bearer ${token}`;
-  if (body !== undefined) headers["Content-Type"] = "application/json";
-  const r = await reach(path, { method, headers, body: body === undefined ? undefined : JSON.stringify(body) });
-  if (!r.ok) {
-    let detail = r.statusText;
-    try {
-      const j = (await r.json()) as { detail?: unknown };
-      if (typeof j.detail === "string") detail = j.detail;
-    } catch {
-      /* not JSON */
-    }
-    throw new ApiError(r.status, detail);
+  if (!r.response.ok) {
+    const detail = (r.error as { detail?: unknown } | undefined)?.detail;
+    throw new ApiError(r.response.status, typeof detail === "string" ? detail : r.response.statusText);
   }
-  return r;
+  return r.data as T;
 }
 
-async function call<T = Command>(method: string, path: string, token: string | null, body?: unknown): Promise<T> {
-  return (await (await send(method, path, token, body)).json()) as T;
-}
+const provider = (provider_id: string) => ({ path: { provider_id } });
 
 /** The operator a token belongs to (GET /api/operator): the sign-in check. */
 export async function checkToken(token: string): Promise<string | null> {
-  return (await call<{ operator: string | null }>("GET", "/api/operator", token)).operator;
+  return (await answer(client.GET("/api/operator", on(token)))).operator;
 }
 
 export type Health = components["schemas"]["Health"];
 export type ReplayRequest = paths["/api/replay"]["post"]["requestBody"]["content"]["application/json"];
 
-export async function health(): Promise<Health> {
-  return call<Health>("GET", "/api/health", null);
+export function health(): Promise<Health> {
+  return answer(client.GET("/api/health", on(null)));
 }
 
 /** What another vendor's participant must change for the console to read it (docs/dds.md, "Other DDS vendors"). */
@@ -69,92 +73,98 @@ export type PeerFinding = components["schemas"]["PeerFinding"];
 
 /** GET /api/metrics' findings on other vendors' participants (an RTI vehicle on XCDR1, sending type information…). */
 export async function peerFindings(token: string | null): Promise<PeerFinding[]> {
-  return (await call<components["schemas"]["Metrics"]>("GET", "/api/metrics", token)).peerFindings;
+  return (await answer(client.GET("/api/metrics", on(token)))).peerFindings;
 }
 
 /** `confirmLost`: the operator confirmed commanding a vehicle whose link is lost (the console refuses it with 409 otherwise). */
 export function requestGpsFix(providerId: string, token: string | null, confirmLost = false): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/gps-fix`, token, confirmLost ? { confirmLost } : {});
+  return answer(client.POST("/api/providers/{provider_id}/gps-fix", { ...on(token), params: provider(providerId), body: { confirmLost } }));
 }
 
 export function setInertialSensor(providerId: string, state: InsState, token: string | null, confirmLost = false): Promise<Command> {
-  return call("POST", `/api/providers/${encodeURIComponent(providerId)}/inertial-sensor`, token, confirmLost ? { state, confirmLost } : { state });
+  return answer(client.POST("/api/providers/{provider_id}/inertial-sensor", { ...on(token), params: provider(providerId), body: { state, confirmLost } }));
 }
 
 export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
-  return call("DELETE", `/api/commands/${encodeURIComponent(sessionId)}`, token);
+  return answer(client.DELETE("/api/commands/{session_id}", { ...on(token), params: { path: { session_id: sessionId } } }));
 }
 
 /** Acknowledge an alarm (POST /api/alarms/{id}/ack): an operator action, audited with the operator's name.
  * Answered with the active set after it (the WebSocket's `alarms` message brings the same to every page). */
 export function ackAlarm(alarmId: number, token: string | null): Promise<Alarm[]> {
-  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/ack`, token, {});
+  return answer(client.POST("/api/alarms/{alarm_id}/ack", { ...on(token), params: { path: { alarm_id: alarmId } }, body: {} }));
 }
 
 /** Set a vehicle's link thresholds and comms-lost configuration (PUT, operator token, audited). */
 export function setLinkConfig(providerId: string, config: LinkConfig, token: string | null): Promise<LinkConfig> {
-  return call<LinkConfig>("PUT", `/api/providers/${encodeURIComponent(providerId)}/link-config`, token, config);
+  return answer(client.PUT("/api/providers/{provider_id}/link-config", { ...on(token), params: provider(providerId), body: config }));
 }
 
 /** Name a vehicle (PUT, operator token, audited; stored and shared with the other consoles): an empty name goes
  * back to the console's --vehicle-names name. Answered with the name now shown. */
 export function setVehicleName(providerId: string, name: string, token: string | null): Promise<{ name: string | null }> {
-  return call<{ name: string | null }>("PUT", `/api/providers/${encodeURIComponent(providerId)}/name`, token, { name });
+  return answer(client.PUT("/api/providers/{provider_id}/name", { ...on(token), params: provider(providerId), body: { name } }));
 }
 
 /** The vehicle's ASPN-23 messages of the last `seconds` (the console's clock) as an LCM log file, and its file name. */
 export async function aspnLog(providerId: string, seconds: number, token: string | null): Promise<{ blob: Blob; filename: string }> {
-  const r = await send("GET", `/api/providers/${encodeURIComponent(providerId)}/aspn-log?seconds=${seconds}`, token);
-  const named = /filename="([^"]+)"/.exec(r.headers.get("Content-Disposition") ?? "");
-  return { blob: await r.blob(), filename: named ? named[1] : "aspn.lcm" };
+  const call = client.GET("/api/providers/{provider_id}/aspn-log", { ...on(token), params: { path: { provider_id: providerId }, query: { seconds } }, parseAs: "blob" });
+  const blob = await answer(call);
+  const named = /filename="([^"]+)"/.exec((await call).response.headers.get("Content-Disposition") ?? "");
+  return { blob, filename: named ? named[1] : "aspn.lcm" };
 }
 
 /** Start or stop the console's recording to MCAP (POST /api/recordings); needs an operator token when commands do. */
 export function controlRecording(action: "start" | "stop", token: string | null): Promise<RecordingStatus> {
-  return call<RecordingStatus>("POST", "/api/recordings", token, { action });
+  return answer(client.POST("/api/recordings", { ...on(token), body: { action } }));
 }
 
 /** Play, pause, seek or set the speed of a replay (POST /api/replay); answered with the playback once done. */
 export function controlReplay(request: ReplayRequest, token: string | null): Promise<ReplayStatus> {
-  return call<ReplayStatus>("POST", "/api/replay", token, request);
+  return answer(client.POST("/api/replay", { ...on(token), body: request }));
 }
 
-type SeriesPoint = paths["/api/providers/{provider_id}/series"]["get"]["responses"][200]["content"]["application/json"][number];
+type SeriesPoint = components["schemas"]["SeriesPoint"];
 
 /** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
-export function series(providerId: string, since: string, token: string | null): Promise<SeriesPoint[]> {
-  return call<SeriesPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/series?since=${encodeURIComponent(since)}`, token);
+export function series(providerId: string, since: string, token: string | null, signal?: AbortSignal): Promise<SeriesPoint[]> {
+  return answer(client.GET("/api/providers/{provider_id}/series", { ...on(token), params: { path: { provider_id: providerId }, query: { since } }, signal }));
 }
 
 /** A vehicle with its latest reports, in full (GET /api/providers/{id}): the snapshot leaves out the satellites. */
-export function providerDetail(providerId: string, token: string | null): Promise<TypedProviderDetail> {
-  return call<TypedProviderDetail>("GET", `/api/providers/${encodeURIComponent(providerId)}`, token);
+export async function providerDetail(providerId: string, token: string | null, signal?: AbortSignal): Promise<TypedProviderDetail> {
+  // the document types `reports` per topic as the WebSocket schema's ReportTypes only in words: typed here
+  return (await answer(client.GET("/api/providers/{provider_id}", { ...on(token), params: provider(providerId), signal }))) as TypedProviderDetail;
 }
 
 /** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */
 export function commandPage(providerId: string, limit: number, offset: number, token: string | null): Promise<Command[]> {
-  const q = new URLSearchParams({ provider_id: providerId, limit: String(limit), offset: String(offset) });
-  return call<Command[]>("GET", `/api/commands?${q}`, token);
+  return answer(client.GET("/api/commands", { ...on(token), params: { query: { provider_id: providerId, limit, offset } } }));
 }
 
-/** A file from the console (an export), fetched with the token when reads need one. */
+/** A file from the console (an export, at a URL lib/exports.ts builds), fetched with the token when reads need one. */
 export async function download(url: string, token: string | null): Promise<Blob> {
-  const r = await reach(url, { headers: token ? { Authorization: `Bearer ${token}` } : {} });
+  let r: Response;
+  try {
+    r = await fetch(url, { headers: on(token).headers });
+  } catch {
+    throw new ApiError(0, UNREACHABLE);
+  }
   if (!r.ok) throw new ApiError(r.status, r.statusText);
   return r.blob();
 }
 
-export type TrackPoint = paths["/api/providers/{provider_id}/track"]["get"]["responses"][200]["content"]["application/json"][number];
+export type TrackPoint = components["schemas"]["TrackPoint"];
 
 /** The console's stored track of a vehicle from `since` (GET /api/providers/{id}/track). */
-export function track(providerId: string, since: string, token: string | null): Promise<TrackPoint[]> {
-  return call<TrackPoint[]>("GET", `/api/providers/${encodeURIComponent(providerId)}/track?since=${encodeURIComponent(since)}`, token);
+export function track(providerId: string, since: string, token: string | null, signal?: AbortSignal): Promise<TrackPoint[]> {
+  return answer(client.GET("/api/providers/{provider_id}/track", { ...on(token), params: { path: { provider_id: providerId }, query: { since } }, signal }));
 }
 
 /** The CoMap world model (GET /api/worldmodel): null when the console has none (404, CoMap not built in or off). */
-export async function worldModel(token: string | null): Promise<import("geojson").FeatureCollection | null> {
+export async function worldModel(token: string | null, signal?: AbortSignal): Promise<FeatureCollection | null> {
   try {
-    return await call<import("geojson").FeatureCollection>("GET", "/api/worldmodel", token);
+    return (await answer(client.GET("/api/worldmodel", { ...on(token), signal }))) as FeatureCollection;
   } catch (e) {
     if (e instanceof ApiError && e.status === 404) return null;
     throw e;
@@ -167,22 +177,25 @@ export type SynchAction = "HOLD" | "RESUME" | "INTERRUPT";
 /** A SurveyTask or MoveTask to assign (POST /api/tasks), and a task as the console follows it: the backend's models. */
 export type TaskRequest = components["schemas"]["SurveyTaskRequest"] | components["schemas"]["MoveTaskRequest"];
 export type Task = components["schemas"]["Task"];
+type WorldModelBody = paths["/api/worldmodel"]["put"]["requestBody"]["content"]["application/json"];
 
-export function putWorldModel(model: import("geojson").FeatureCollection, token: string | null): Promise<unknown> {
+export function putWorldModel(model: FeatureCollection, token: string | null): Promise<unknown> {
   // the features only: what the console adds to its model (updatedAt, source) is not part of a PUT
-  return call<unknown>("PUT", "/api/worldmodel", token, { type: "FeatureCollection", features: model.features });
+  // (GeoJSON's own types are wider than the console's model, which checks what it is given)
+  const body = { type: "FeatureCollection", features: model.features } as WorldModelBody;
+  return answer(client.PUT("/api/worldmodel", { ...on(token), body }));
 }
 
 export function createTask(task: TaskRequest, token: string | null): Promise<Task> {
-  return call<Task>("POST", "/api/tasks", token, task);
+  return answer(client.POST("/api/tasks", { ...on(token), body: task }));
 }
 
-export function tasks(token: string | null): Promise<Task[]> {
-  return call<Task[]>("GET", "/api/tasks", token);
+export function tasks(token: string | null, signal?: AbortSignal): Promise<Task[]> {
+  return answer(client.GET("/api/tasks", { ...on(token), signal }));
 }
 
-export function synchTask(id: string | number, action: SynchAction, token: string | null): Promise<unknown> {
-  return call<unknown>("POST", `/api/tasks/${encodeURIComponent(String(id))}/synch`, token, { action });
+export function synchTask(id: number, action: SynchAction, token: string | null): Promise<unknown> {
+  return answer(client.POST("/api/tasks/{task_id}/synch", { ...on(token), params: { path: { task_id: id } }, body: { action } }));
 }
 
 export type ComapVehicle = components["schemas"]["ComapVehicle"];
@@ -190,34 +203,34 @@ export type Capability = components["schemas"]["Capability"];
 
 /** A vehicle's CoMap side: its IMC id and last VehicleCapabilities (GET /api/providers/{id}/capabilities). */
 export function vehicleCapabilities(providerId: string, token: string | null): Promise<ComapVehicle> {
-  return call<ComapVehicle>("GET", `/api/providers/${encodeURIComponent(providerId)}/capabilities`, token);
+  return answer(client.GET("/api/providers/{provider_id}/capabilities", { ...on(token), params: provider(providerId) }));
 }
 
 export type ComapStatus = components["schemas"]["ComapStatus"];
 
 /** The console's IMC node (GET /api/comap): `enabled` false when it was started without --imc-port (CoMap off). */
 export function comapStatus(token: string | null): Promise<ComapStatus> {
-  return call<ComapStatus>("GET", "/api/comap", token);
+  return answer(client.GET("/api/comap", on(token)));
 }
 
 /** Shelve an alarm for `minutes` with a reason (POST, operator token, audited; shared by every station). */
 export function shelveAlarm(alarmId: number, reason: string, minutes: number, token: string | null): Promise<Alarm[]> {
-  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/shelve`, token, { reason, minutes });
+  return answer(client.POST("/api/alarms/{alarm_id}/shelve", { ...on(token), params: { path: { alarm_id: alarmId } }, body: { reason, minutes } }));
 }
 
 /** Bring a shelved alarm back into view at once. */
 export function unshelveAlarm(alarmId: number, token: string | null): Promise<Alarm[]> {
-  return call<Alarm[]>("POST", `/api/alarms/${alarmId}/unshelve`, token, {});
+  return answer(client.POST("/api/alarms/{alarm_id}/unshelve", { ...on(token), params: { path: { alarm_id: alarmId } }, body: {} }));
 }
 
 type PlannedSilence = components["schemas"]["PlannedSilence"];
 
 /** Declare a vehicle out of comms until `until` (UTC seconds), with a reason (PUT, operator token, audited). */
 export function planSilence(providerId: string, until: number, reason: string, token: string | null): Promise<PlannedSilence[]> {
-  return call<PlannedSilence[]>("PUT", `/api/providers/${encodeURIComponent(providerId)}/silence`, token, { until, reason });
+  return answer(client.PUT("/api/providers/{provider_id}/silence", { ...on(token), params: provider(providerId), body: { until, reason } }));
 }
 
 /** End a vehicle's planned silence now. */
 export function cancelSilence(providerId: string, token: string | null): Promise<PlannedSilence[]> {
-  return call<PlannedSilence[]>("DELETE", `/api/providers/${encodeURIComponent(providerId)}/silence`, token);
+  return answer(client.DELETE("/api/providers/{provider_id}/silence", { ...on(token), params: provider(providerId) }));
 }

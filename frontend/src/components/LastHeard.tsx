@@ -1,5 +1,5 @@
-import { useCapabilities, useNow, useSlice } from "../data/hooks";
-import { selectedLostSince, selectedPlannedUntil } from "../data/store";
+import { useCapabilities, useNow, useSelector } from "../data/hooks";
+import { selectedLostSince, selectedPlannedUntil } from "../data/slices/vehicles";
 import { RECORDED_TITLE, stateWords } from "../lib/freshness";
 import { lastHeardText, linkOrPlanned, lostText } from "../lib/labels";
 import { DASH, elapsedText } from "../lib/units";
@@ -21,8 +21,8 @@ export function LastHeard({ since, className }: { since: number | null; classNam
  * reported. No live region: its count changes every second, and a screen reader would say it every second (the loss
  * itself is announced with its alarm). */
 export function SelectedLost() {
-  const since = useSlice(selectedLostSince);
-  const until = useSlice(selectedPlannedUntil); // lost in its planned silence: named so, not lost
+  const since = useSelector(selectedLostSince);
+  const until = useSelector(selectedPlannedUntil); // lost in its planned silence: named so, not lost
   const recorded = useCapabilities().playback; // a replay: lost in the recording, not now
   if (since === null) return null;
   return (
@@ -43,8 +43,8 @@ export function LostFor({ target, since, until = null }: { target: VehicleIdenti
  * UTC · 13 s"), its age the one "Last heard 13 s ago" says beside it: the same instant (the vehicle's newest report of
  * any topic), the same clock (useNow's one timer of a second) and the same rule (elapsedText). */
 export function LostBadge({ recorded }: { recorded: boolean }) {
-  const since = useSlice(selectedLostSince);
-  const until = useSlice(selectedPlannedUntil);
+  const since = useSelector(selectedLostSince);
+  const until = useSelector(selectedPlannedUntil);
   const now = useNow(1000);
   return <>{stateWords(linkOrPlanned("lost", until), recorded)} · {since ? elapsedText(now - since) : DASH}</>;
 }

@@ -2,7 +2,7 @@
 import { memo, useEffect, useRef } from "react";
 import uPlot from "uplot";
 import "uplot/dist/uPlot.min.css";
-import type { HistoryPoint } from "../data/store";
+import type { HistoryPoint } from "../data/slices/vehicles";
 import { countRender } from "../lib/renders";
 
 const HEIGHT = 150;

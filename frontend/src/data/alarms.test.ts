@@ -3,9 +3,11 @@ import type { Alarm } from "../api/generated/ws";
 import type { ServerMessage } from "../api/types";
 import { Burst, NewAlarms, SAID_AT_MOST, alarmWords } from "../lib/tone";
 import { clockTime } from "../lib/units";
-import { Store } from "./connection";
+import { Inbox, createStateStore } from "./store";
 import { reportMessage } from "./testing";
-import { initialState, pageTitle, reduce, select, unacknowledged, type State } from "./store";
+import { initialState, reduce, type State } from "./state";
+import { pageTitle, unacknowledged } from "./slices/alarms";
+import { select } from "./slices/vehicles";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0c1f3a52-2d6e-5f0e-9a43-6f1b1d2a9e11";
@@ -59,18 +61,19 @@ describe("the console's alarms in the store", () => {
   });
 
   it("derives none from reports or link changes, and wakes only subscribers of the alarms when they change", () => {
-    const store = new Store();
-    store.enqueue(snapshot([A, B], [alarm(1)]));
-    store.flush();
+    const inbox = new Inbox(createStateStore());
+    const store = inbox.store;
+    inbox.enqueue(snapshot([A, B], [alarm(1)]));
+    inbox.flush();
     let woken = 0;
-    store.subscribeTo((s) => s.alarms, () => woken++);
-    store.enqueue(report(A));
-    store.enqueue({ type: "provider", event: "lost", provider: { ...provider(B), link: "lost" } } as unknown as ServerMessage);
-    store.flush();
+    store.subscribe((s) => s.alarms, () => woken++);
+    inbox.enqueue(report(A));
+    inbox.enqueue({ type: "provider", event: "lost", provider: { ...provider(B), link: "lost" } } as unknown as ServerMessage);
+    inbox.flush();
     expect(woken).toBe(0);
     expect(store.getState().alarms).toEqual([alarm(1)]);
-    store.enqueue({ type: "alarms", alarms: [] });
-    store.flush();
+    inbox.enqueue({ type: "alarms", alarms: [] });
+    inbox.flush();
     expect(woken).toBe(1);
   });
 });
@@ -154,9 +157,10 @@ describe("the lone vehicle", () => {
   });
 
   it("does not override the operator's choice or the page's ?vehicle= link", () => {
-    const linked = new Store("from-a-link");
-    linked.enqueue(snapshot([A]));
-    linked.flush();
+    const linkedInbox = new Inbox(createStateStore("from-a-link"));
+    const linked = linkedInbox.store;
+    linkedInbox.enqueue(snapshot([A]));
+    linkedInbox.flush();
     expect(linked.getState().selected).toBe("from-a-link");
     const chosen = apply([snapshot([B])], select(initialState, A)); // A chosen, then only B on the bus
     expect(chosen.selected).toBe(A);

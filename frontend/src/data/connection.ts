@@ -1,10 +1,9 @@
 // The live data source: one WebSocket to the console with explicit states, reconnect with backoff,
-// a fresh snapshot on every (re)connect, and messages applied to the store once per frame.
+// a fresh snapshot on every (re)connect, and messages handed to the store's inbox (applied once per frame).
 import type { ClientMessage, ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { takeEarly, type EarlySocket } from "./early";
-import { onFrame } from "./frame";
-import { initialState, reduceAll, type State } from "./store";
+import type { Inbox } from "./store";
 import { isVehicleId } from "../lib/vehicle";
 
 export type ConnectionState = SourceState;
@@ -28,88 +27,6 @@ export function backoff(failures: number): number {
 
 type Listener = () => void;
 
-/** Holds the state; everything a panel shows is read from here through the hooks. */
-export class Store {
-  private state: State;
-  private listeners = new Set<Listener>();
-  private queue: ServerMessage[] = [];
-  private scheduled = false;
-  /** The data source's clock (UTC seconds): when each batch of messages is applied. */
-  clock: () => number = () => Date.now() / 1000;
-
-  /** `selected`: the vehicle to show first (the page's ?vehicle= link), null for none. */
-  constructor(selected: string | null = null) {
-    this.state = { ...initialState, selected };
-    // hidden with a frame asked for: the browser runs no frames, so the queue is applied on the timer instead
-    if (typeof document !== "undefined" && typeof document.addEventListener === "function")
-      document.addEventListener("visibilitychange", () => document.hidden && this.scheduled && setTimeout(this.flushJob, 50));
-  }
-
-  getState = (): State => this.state;
-
-  subscribe = (l: Listener): (() => void) => {
-    this.listeners.add(l);
-    return () => this.listeners.delete(l);
-  };
-
-  /** Subscribe to one slice of the state: `onChange` is called only when `select`'s value changes
-   * (Object.is), not on every change of the store (a GPSFixReport does not wake the sky plot). */
-  subscribeTo<T>(select: (s: State) => T, onChange: Listener): () => void {
-    let last = select(this.state);
-    return this.subscribe(() => {
-      const next = select(this.state);
-      if (Object.is(next, last)) return;
-      last = next;
-      onChange();
-    });
-  }
-
-  /** Apply a local change (select a vehicle, dismiss an alert). */
-  update(fn: (s: State) => State): void {
-    this.set(fn(this.state));
-  }
-
-  /** Queue a server message; queued messages are applied together on the next frame. */
-  enqueue(msg: ServerMessage): void {
-    this.queue.push(msg);
-    if (this.scheduled) return;
-    this.scheduled = true;
-    // on the frame, before the panels it wakes draw in that same frame (frame.ts); a hidden page has no frames,
-    // and its state stays current for the tab's title and the alarm tone
-    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) onFrame(this.flushJob);
-    else setTimeout(this.flushJob, 50);
-  }
-
-  /** Forget everything the console sent (on sign-out when reads need a token); the operator's
-   * selection and what /api/health said stay. */
-  clear(): void {
-    this.queue = [];
-    const { selected, authRequired, readAuthRequired } = this.state;
-    this.set({ ...initialState, selected, authRequired, readAuthRequired });
-  }
-
-  /** Drop the messages not yet applied (a replay's new instant: they were from before it). */
-  discardQueued(): void {
-    this.queue = [];
-  }
-
-  private flushJob = (): void => this.flush();
-
-  flush(): void {
-    this.scheduled = false;
-    if (!this.queue.length) return;
-    const s = reduceAll(this.state, this.queue, this.clock());
-    this.queue = [];
-    this.set(s);
-  }
-
-  private set(s: State): void {
-    if (s === this.state) return;
-    this.state = s;
-    for (const l of this.listeners) l();
-  }
-}
-
 export class Connection implements DataSource {
   readonly kind: "live" | "replay" = "live";
   readonly capabilities: Capabilities = LIVE;
@@ -125,7 +42,7 @@ export class Connection implements DataSource {
   private told: { ws: WebSocket; providerId: string | null } | null = null; // the last `select` sent, and its socket
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
-  constructor(private readonly url: string, protected readonly store: Store, private readonly protocols: () => string[] = () => []) {}
+  constructor(private readonly url: string, protected readonly inbox: Inbox, private readonly protocols: () => string[] = () => []) {}
 
   subscribe = (l: Listener): (() => void) => {
     this.listeners.add(l);
@@ -145,7 +62,7 @@ export class Connection implements DataSource {
   start(): void {
     this.stopped = false;
     // the console sends the other vehicles' GPSReports without their satellites (only the selected one's are drawn)
-    this.unwatchSelected ??= this.store.subscribeTo((s) => s.selected, () => this.sendSelected(this.ws));
+    this.unwatchSelected ??= this.inbox.store.subscribe((s) => s.selected, () => this.sendSelected(this.ws));
     this.setState("connecting");
     this.open(takeEarly(this.url, this.protocols())); // the page's own socket (early.ts), if it is still the right one
   }
@@ -159,7 +76,7 @@ export class Connection implements DataSource {
     const old = this.ws;
     this.ws = null;
     old?.close();
-    this.store.clear();
+    this.inbox.clear();
     this.setState("signed-out");
   }
 
@@ -185,7 +102,7 @@ export class Connection implements DataSource {
   /** Tell the console which vehicle's satellites the page draws (`select`; a ?vehicle= that is no vehicle id: none). */
   private sendSelected(ws: WebSocket | null): void {
     if (!ws || ws !== this.ws || ws.readyState !== WebSocket.OPEN) return;
-    const selected = this.store.getState().selected;
+    const selected = this.inbox.store.getState().selected;
     const providerId = selected && isVehicleId(selected) ? selected : null;
     // once: the early socket's held snapshot may select its lone vehicle (and tell) before the socket's own `select`
     if (this.told?.ws === ws && this.told.providerId === providerId) return;
@@ -198,12 +115,12 @@ export class Connection implements DataSource {
   protected receive(msg: ServerMessage): void {
     if (msg.type === "snapshot") {
       this.failures = 0;
-      this.store.enqueue(msg);
-      this.store.flush(); // the snapshot is the baseline: apply it at once
+      this.inbox.enqueue(msg);
+      this.inbox.flush(); // the snapshot is the baseline: apply it at once
       this.setState("live");
       return;
     }
-    this.store.enqueue(msg);
+    this.inbox.enqueue(msg);
   }
 
   /** A new socket, or `early`'s with the messages it held. */

@@ -1,11 +1,13 @@
 import { afterEach, describe, expect, expectTypeOf, it, vi } from "vitest";
 import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, InertialSensorReportType, ReplayStatus, ServerMessage } from "../api/types";
-import { Connection, PING_EVERY_MS, SILENT_AFTER_MS, Store, backoff } from "./connection";
+import { Connection, PING_EVERY_MS, SILENT_AFTER_MS, backoff } from "./connection";
+import { Inbox, createStateStore, update } from "./store";
 import { unreachable } from "./source";
 import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
-import { HISTORY_SECONDS, historyLoaded, historyPoint, initialState, mergeHistory, reduce, reduceAll, report, select, type HistoryPoint, type State } from "./store";
+import { HISTORY_SECONDS, historyLoaded, historyPoint, mergeHistory, report, select, type HistoryPoint } from "./slices/vehicles";
+import { initialState, reduce, reduceAll, type State } from "./state";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const Q = "0b6a4c1e-2f4d-5e8a-9c3b-7d1e2f3a4b5c";
@@ -196,7 +198,7 @@ describe("CoMap world model and tasks", () => {
     resolution: 1, deadline: null, point: null, state, progress: 0, quality: null, synch: null, operator: null, createdAt: taskId, updatedAt,
     stateAt: updatedAt, ...more });
   it("takes the world model and tasks from the WebSocket; a REST answer older than a message does not undo it", async () => {
-    const { tasksLoaded, worldModelLoaded } = await import("./store");
+    const { tasksLoaded, worldModelLoaded } = await import("./slices/comap");
     let s = reduce(initialState, { type: "worldmodel", worldModel: fc(null) } as unknown as ServerMessage, 1);
     const seqBefore = s.worldModelSeq; // a GET /api/worldmodel starts here...
     s = reduce(s, { type: "worldmodel", worldModel: fc("PARTIAL") } as unknown as ServerMessage, 2); // ...a message overtakes it
@@ -225,7 +227,7 @@ describe("CoMap world model and tasks", () => {
     expect(tasksLoaded(done, [task("HELD", 30, 3, { stateAt: 40, synch: "HOLD" }) as never]).tasks[3].state).toBe("COMPLETED");
   });
   it("the REST load per connection says which tasks exist: a restarted console's old tasks go", async () => {
-    const { tasksReplaced } = await import("./store");
+    const { tasksReplaced } = await import("./slices/comap");
     let s = reduce(initialState, { type: "task", task: task("EXECUTING", 10, 1) } as unknown as ServerMessage, 1);
     s = reduce(s, { type: "task", task: task("EXECUTING", 10, 2) } as unknown as ServerMessage, 1);
     const seq = s.taskSeq; // the console restarts, the page reconnects and asks GET /api/tasks here...
@@ -239,13 +241,14 @@ describe("CoMap world model and tasks", () => {
 
 describe("store and connection", () => {
   it("applies queued messages together and notifies once", () => {
-    const store = new Store();
+    const inbox = new Inbox(createStateStore());
+    const store = inbox.store;
     let calls = 0;
     store.subscribe(() => calls++);
-    store.enqueue(snapshot());
-    store.enqueue(reportMessage(P, "InertialSensorReport", { state: "ON" }));
+    inbox.enqueue(snapshot());
+    inbox.enqueue(reportMessage(P, "InertialSensorReport", { state: "ON" }));
     expect(calls).toBe(0);
-    store.flush();
+    inbox.flush();
     expect(calls).toBe(1);
     expect(report(store.getState().providers[P], "InertialSensorReport")?.state).toBe("ON");
   });
@@ -289,9 +292,10 @@ describe("store and connection", () => {
 
     it("stops in a clear state, keeps the selection and shows nothing of the vehicles, even from a late message", async () => {
       vi.stubGlobal("WebSocket", FakeSocket);
-      const store = new Store(P);
-      store.update((s) => ({ ...s, readAuthRequired: true, authRequired: true }));
-      const conn = new Connection("ws://console/ws", store, () => ["sem-console", "bearer.dG9rZW4"]);
+      const inbox = new Inbox(createStateStore(P));
+      const store = inbox.store;
+      update(store, (s) => ({ ...s, readAuthRequired: true, authRequired: true }));
+      const conn = new Connection("ws://console/ws", inbox, () => ["sem-console", "bearer.dG9rZW4"]);
       const states: string[] = [];
       conn.subscribe(() => states.push(conn.getState()));
       conn.start();
@@ -303,7 +307,7 @@ describe("store and connection", () => {
 
       conn.stop(); // the operator signed out
       ws.receive(snapshot()); // still in flight on the closed socket
-      store.flush();
+      inbox.flush();
       await Promise.resolve(); // the close event
       expect(ws.closed).toBe(true);
       expect(conn.getState()).toBe("signed-out");
@@ -326,7 +330,7 @@ describe("store and connection", () => {
       vi.useFakeTimers();
       try {
         vi.stubGlobal("WebSocket", FakeSocket);
-        const conn = new Connection("ws://console/ws", new Store(P));
+        const conn = new Connection("ws://console/ws", new Inbox(createStateStore(P)));
         conn.start();
         const ws = FakeSocket.all[0];
         ws.readyState = 1;
@@ -363,7 +367,7 @@ describe("store and connection", () => {
       vi.useFakeTimers();
       try {
         vi.stubGlobal("WebSocket", FakeSocket);
-        const conn = new Connection("ws://console/ws", new Store(P));
+        const conn = new Connection("ws://console/ws", new Inbox(createStateStore(P)));
         conn.start();
         const ws = FakeSocket.all[0];
         ws.readyState = 1;
@@ -402,9 +406,10 @@ describe("store and connection", () => {
       FakeSocket.all[0].receive([ins("INIT"), ins("OPERATIONAL")]);
       expect(early.held).toHaveLength(2);
       expect(FakeSocket.all[0].sent).toEqual([]); // held, not taken: not acknowledged (the console holds what is newer)
-      const store = new Store(P);
-      const applied = vi.spyOn(store, "enqueue");
-      const conn = new Connection("ws://console/ws?batch=1", store, () => token);
+      const inbox = new Inbox(createStateStore(P));
+      const store = inbox.store;
+      const applied = vi.spyOn(inbox, "enqueue");
+      const conn = new Connection("ws://console/ws?batch=1", inbox, () => token);
       conn.start();
       expect(FakeSocket.all).toHaveLength(1); // no second socket
       expect(applied.mock.calls.map(([m]) => m.type)).toEqual(["snapshot", "report", "report"]); // each once
@@ -413,23 +418,25 @@ describe("store and connection", () => {
       // then the vehicle it draws (the console sends the others' GPSReports without their satellites)
       expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual(
         [{ type: "ack", frames: 1 }, { type: "ack", frames: 2 }, { type: "select", providerId: P }]);
-      store.flush();
+      inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
       FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
       expect(applied).toHaveBeenCalledTimes(4);
       expect(JSON.parse(FakeSocket.all[0].sent[3])).toEqual({ type: "ack", frames: 3 });
-      store.update((s) => ({ ...s, selected: "not-a-vehicle-id" })); // a ?vehicle= link to nothing: no vehicle's
-      store.update((s) => ({ ...s, selected: Q }));
+      update(store, (s) => ({ ...s, selected: "not-a-vehicle-id" })); // a ?vehicle= link to nothing: no vehicle's
+      update(store, (s) => ({ ...s, selected: Q }));
       expect(FakeSocket.all[0].sent.slice(4).map((t) => JSON.parse(t) as unknown)).toEqual(
         [{ type: "select", providerId: null }, { type: "select", providerId: Q }]);
-      store.flush();
+      inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 
-      const lone = new Store(); // no ?vehicle=: the held snapshot selects its lone vehicle, told once
+      const loneInbox = new Inbox(createStateStore());
+
+      const lone = loneInbox.store; // no ?vehicle=: the held snapshot selects its lone vehicle, told once
       openEarly("ws://console/ws?batch=1", token);
       FakeSocket.all[1].readyState = 1;
       FakeSocket.all[1].receive(snapshot());
-      const alone = new Connection("ws://console/ws?batch=1", lone, () => token);
+      const alone = new Connection("ws://console/ws?batch=1", loneInbox, () => token);
       alone.start();
       expect(lone.getState().selected).toBe(P);
       expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toEqual([JSON.stringify({ type: "select", providerId: P })]);
@@ -443,14 +450,14 @@ describe("store and connection", () => {
       FakeSocket.all[1].onopen?.();
       expect(FakeSocket.all[1].sent).toEqual([JSON.stringify({ type: "select", providerId: P })]);
       FakeSocket.all[1].receive(snapshot());
-      const linked = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      const linked = new Connection("ws://console/ws?batch=1", new Inbox(createStateStore(P)), () => token);
       linked.start();
       expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toHaveLength(1);
       linked.stop();
       FakeSocket.all.splice(1, 1);
 
       openEarly("ws://console/ws", token); // another URL's
-      const elsewhere = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      const elsewhere = new Connection("ws://console/ws?batch=1", new Inbox(createStateStore(P)), () => token);
       elsewhere.start();
       expect(FakeSocket.all[1].closed).toBe(true);
       expect(FakeSocket.all[2].url).toBe("ws://console/ws?batch=1");
@@ -458,7 +465,7 @@ describe("store and connection", () => {
       FakeSocket.all.splice(1, 2); // the indices below as before
 
       openEarly("ws://console/ws?batch=1", []); // opened before the operator signed in
-      const other = new Connection("ws://console/ws?batch=1", new Store(P), () => token);
+      const other = new Connection("ws://console/ws?batch=1", new Inbox(createStateStore(P)), () => token);
       other.start();
       expect(FakeSocket.all[1].closed).toBe(true);
       expect(FakeSocket.all).toHaveLength(3); // its own, with the token
@@ -473,8 +480,9 @@ describe("store and connection", () => {
       FakeSocket.all[0].readyState = 1;
       FakeSocket.all[0].receive(snapshot());
       FakeSocket.all[0].close(); // e.g. the console restarted while the page's code loaded
-      const store = new Store(P);
-      const conn = new Connection("ws://console/ws?batch=1", store);
+      const inbox = new Inbox(createStateStore(P));
+      const store = inbox.store;
+      const conn = new Connection("ws://console/ws?batch=1", inbox);
       const states: string[] = [];
       conn.subscribe(() => states.push(conn.getState()));
       conn.start();
@@ -493,14 +501,15 @@ describe("store and connection", () => {
 
     it("takes a batch of reports (an array in one frame, /ws?batch=1) as the messages one by one, in order", () => {
       vi.stubGlobal("WebSocket", FakeSocket);
-      const store = new Store(P);
-      const conn = new Connection("ws://console/ws?batch=1", store);
+      const inbox = new Inbox(createStateStore(P));
+      const store = inbox.store;
+      const conn = new Connection("ws://console/ws?batch=1", inbox);
       conn.start();
       const ws = FakeSocket.all[0];
       ws.receive(snapshot());
       const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
       ws.receive([ins("INIT"), reportMessage("other", "GPSFixStatusReport", { fixValid: true }), ins("OPERATIONAL")]);
-      store.flush();
+      inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL"); // the later one
       expect(report(store.getState().providers.other, "GPSFixStatusReport")?.fixValid).toBe(true);
     });
@@ -511,7 +520,7 @@ describe("the map's track", () => {
   const fix = (lat: number, lon: number, t: number) =>
     reportMessage(P, "GPSFixReport", { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t);
   it("takes at most one valid position a second from GPSFixReports, then merges the console's stored track", async () => {
-    const { trackLoaded, TRACK_SECONDS } = await import("./store");
+    const { trackLoaded, TRACK_SECONDS } = await import("./slices/vehicles");
     let s = apply([snapshot(), fix(1, 2, 5000.1), fix(1.1, 2, 5000.6), fix(200, 2, 5001.2), fix(1.2, 2, 5002.0)]);
     expect(s.providers[P].track).toEqual([{ lat: 1, lon: 2, t: 5000.1 }, { lat: 1.2, lon: 2, t: 5002.0 }]); // 1.1 same second, 200 invalid
     s = trackLoaded(s, P, [{ lat: 0, lon: 0, t: 5002.0 - TRACK_SECONDS - 1 }, { lat: 0.5, lon: 2, t: 4990 }, { lat: 9, lon: 9, t: 5000.3 }]);
@@ -534,7 +543,7 @@ describe("data sources", () => {
 
   it("the live source commands and records, has no playback, and its clock is the wall clock", () => {
     vi.useFakeTimers({ now: 1_700_000_000_000 });
-    const live = new Connection("ws://x/ws", new Store());
+    const live = new Connection("ws://x/ws", new Inbox(createStateStore()));
     expect(live.capabilities).toEqual({ command: true, record: true, playback: false });
     expect(live.playback).toBe(null);
     expect(live.getPlayback()).toBe(null);
@@ -543,8 +552,9 @@ describe("data sources", () => {
 
   it("the replay source's clock is the recording's: at the speed while playing, still when paused, never past the end", () => {
     vi.useFakeTimers({ now: 1_700_000_000_000 });
-    const store = new Store();
-    const replay = new ReplaySource("ws://x/ws", store);
+    const inbox = new Inbox(createStateStore());
+    const store = inbox.store;
+    const replay = new ReplaySource("ws://x/ws", inbox);
     expect(replay.capabilities).toEqual({ command: false, record: false, playback: true });
     let heard = 0;
     replay.subscribe(() => heard++);
@@ -560,29 +570,30 @@ describe("data sources", () => {
     vi.advanceTimersByTime(5000);
     expect(replay.now()).toBe(1042);
     // a store driven by it stamps what it applies with the recording's time
-    store.clock = replay.now;
+    inbox.clock = replay.now;
     deliver(replay, { ...snapshot(), replay: playback("paused", 1042, 4) } as ServerMessage);
     expect(store.getState().providers[P].topics.GPSReport!.at).toBe(1040); // 2 s old at the instant shown
   });
 
   /** A replay source on a store with P selected, at `position` of the recording. */
-  function replayAt(state: "playing" | "paused", position: number): { store: Store; replay: ReplaySource } {
+  function replayAt(state: "playing" | "paused", position: number): { inbox: Inbox; store: Inbox["store"]; replay: ReplaySource } {
     vi.useFakeTimers({ now: 1_700_000_000_000 });
-    const store = new Store(P);
-    const replay = new ReplaySource("ws://x/ws", store);
-    store.clock = replay.now;
+    const inbox = new Inbox(createStateStore(P));
+    const store = inbox.store;
+    const replay = new ReplaySource("ws://x/ws", inbox);
+    inbox.clock = replay.now;
     deliver(replay, { ...snapshot(), replay: playback(state, position, 1) } as ServerMessage);
-    return { store, replay };
+    return { inbox, store, replay };
   }
   const gpsReport = reportMessage(P, "GPSReport", { satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] });
 
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
-    const { store, replay } = replayAt("paused", 1050);
+    const { inbox, store, replay } = replayAt("paused", 1050);
     deliver(replay, gpsReport);
-    store.flush();
+    inbox.flush();
     deliver(replay, { type: "alarms", alarms: [{ id: 1, kind: "link-lost", severity: "alarm", providerId: P, vehicle: P.slice(0, 8), sessionId: null,
       text: "lost", since: 1049, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "Link lost", chattering: false, shelf: null, returned: null }] });
-    store.flush();
+    inbox.flush();
     expect(store.getState().providers[P].trails.E07).toHaveLength(1);
     expect(store.getState().alarms).toHaveLength(1);
     deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage); // seek back
@@ -596,12 +607,12 @@ describe("data sources", () => {
   });
 
   it("a seek drops the reports still queued from before it, and moves the instant on (history reloads)", () => {
-    const { store, replay } = replayAt("playing", 1050);
+    const { inbox, store, replay } = replayAt("playing", 1050);
     const instant = store.getState().instant;
     deliver(replay, gpsReport);
     // not applied yet (the next frame), when the seek back's snapshot comes
     deliver(replay, { ...snapshot(), commands: [], replay: playback("paused", 1010, 1) } as ServerMessage);
-    store.flush();
+    inbox.flush();
     vi.advanceTimersByTime(1000);
     expect(store.getState().providers[P].trails).toEqual({});
     expect(store.getState().instant).toBe(instant + 1);
@@ -610,7 +621,7 @@ describe("data sources", () => {
 
 describe("report payloads typed per topic", () => {
   it("a report message's topic narrows its report; a topic's view holds that topic's report", async () => {
-    const { selectedTopic, viewReport } = await import("./store");
+    const { selectedTopic, viewReport } = await import("./slices/vehicles");
     const msg = reportMessage(P, "GPSFixStatusReport", { fixValid: true });
     if (msg.type === "report" && msg.topic === "GPSFixStatusReport") expectTypeOf(msg.report.report).toEqualTypeOf<GPSFixStatusReportType>();
     const s = apply([snapshot(), msg]);
@@ -623,7 +634,7 @@ describe("report payloads typed per topic", () => {
 
 describe("the first screen: the snapshot's GPSReport without its satellites", () => {
   it("is completed by the vehicle's REST detail, unless a report came since", async () => {
-    const { detailLoaded, selectedGpsPartial } = await import("./store");
+    const { detailLoaded, selectedGpsPartial } = await import("./slices/vehicles");
     const sats = [{ satelliteId: "s3", azimuth: 1, elevation: 0.5 }];
     const full = { GPSReport: env({ satellites: sats, numberSatellitesInView: 1 }, [], 1) } as never;
     const s = apply([snapshot()]);
@@ -638,7 +649,7 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
   });
 
   it("a live partial GPSReport (another vehicle selected) keeps the satellites it had, the trails and the chart", async () => {
-    const { selectedGpsPartial } = await import("./store");
+    const { selectedGpsPartial } = await import("./slices/vehicles");
     const sats = [{ satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", azimuth: 1, elevation: 0.5, usedInFix: true, antennaCarrierNoiseDensity: 40 }];
     const whole = apply([snapshot(), reportMessage(P, "GPSReport", { satellites: sats, numberSatellitesInView: 9 }, [], 2)]);
     const thin = { ...reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 8 }, [], 3), partial: true } as ServerMessage;

@@ -33,6 +33,7 @@ async function load(local: Map<string, string>, readAuthRequired: boolean, token
   FakeSocket.all = [];
   vi.stubGlobal("WebSocket", FakeSocket);
   vi.stubGlobal("window", { location: { protocol: "http:", host: "console", search: "" }, addEventListener: () => undefined });
+  vi.stubGlobal("location", { origin: "http://console" });
   vi.stubGlobal("localStorage", storage(local));
   vi.stubGlobal("sessionStorage", storage(new Map(token ? [["sem-console-token", token]] : [])));
   let answer: (r: Response) => void = () => undefined;

@@ -2,8 +2,8 @@
 // A change of what a panel draws asks for the next frame; the frame draws whatever is newest then, once. The
 // browser runs no animation frame for a hidden page, so nothing draws while it is hidden, and the first frame
 // after it shows draws the newest state.
-import type { Store } from "./connection";
-import type { State } from "./store";
+import type { State } from "./state";
+import type { StateStore } from "./store";
 
 type Job = () => void;
 
@@ -65,7 +65,7 @@ export function cancelFrame(job: Job): void {
  * last draw (the map's fleet: a software-rendered map cannot redraw every frame), still on a frame, asked for by a
  * timer at the end of the period. */
 export function frameSource<T>(
-  store: Store,
+  store: StateStore,
   select: (s: State) => T,
   same: (a: T, b: T) => boolean = Object.is,
   everyMs = 0,
@@ -93,7 +93,7 @@ export function frameSource<T>(
         drawnAt = now;
         onChange();
       };
-      const off = store.subscribeTo(select, () => onFrame(draw));
+      const off = store.subscribe(select, () => onFrame(draw));
       return () => {
         off();
         cancelFrame(draw);

@@ -1,31 +1,30 @@
-// The only way panels read state: hooks over the store and the connection (REST loading: loaders.ts).
-import { createContext, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+// The only way panels read state: hooks over the store (zustand, store.ts) and the data source (REST: loaders.ts).
+import { createContext, useCallback, useContext, useEffect, useMemo, useState, useSyncExternalStore } from "react";
+import { useStore } from "zustand";
+import { useShallow } from "zustand/react/shallow";
 import type { Alarm, PlannedSilence } from "../api/generated/ws";
 import type { Command, GatewayState, RecordingStatus, ReplayStatus } from "../api/types";
-import type { Store } from "./connection";
 import { frameSource, onFrame } from "./frame";
 import { unreachable, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
+import { unacknowledged } from "./slices/alarms";
 import {
   allProviders,
   lastHeardAt,
   report,
-  selectedJausId,
-  selectedKnown,
+  select,
   selectedLink,
-  selectedLinkConfig,
-  selectedName,
   selectedTopic,
   selectedTrails,
-  unacknowledged,
   type ProviderView,
-  type State,
   type TopicView,
   type TrailPoint,
-} from "./store";
+} from "./slices/vehicles";
+import type { State } from "./state";
+import { update, type StateStore } from "./store";
 import type { LinkConfig, LinkState, Topic } from "../api/types";
 
 export interface DataContextValue {
-  store: Store;
+  store: StateStore;
   source: DataSource; // live or replay: panels do not know which
 }
 
@@ -37,12 +36,21 @@ export function useData(): DataContextValue {
   return ctx;
 }
 
-export function useStore(): Store {
-  return useData().store;
+/** The operator's choice of vehicle (a click in the fleet bar, the list, the map or an alarm). */
+export function useSelectVehicle(): (providerId: string | null) => void {
+  const { store } = useData();
+  return useCallback((providerId) => update(store, (s) => select(s, providerId)), [store]);
+}
+
+/** A slice of the state by a selector, at once on each change of its value (Object.is; a selector that builds an
+ * object or array each time is wrapped in useShallow): for what the operator's own actions and the console's rarer
+ * messages change; what reports change is drawn on the frame (useFrameValue). */
+export function useSelector<T>(select: (s: State) => T): T {
+  return useStore(useData().store, select);
 }
 
 /** `fn` of the state's vehicles, computed once per map of vehicles: a selector is called on every change of the
- * store (each frame with reports) and each render, and with 250 vehicles these walked and sorted them all each time. */
+ * store (each frame with reports) and each render, and with 250 vehicles these walked them all each time. */
 export function perProviders<T>(fn: (providers: State["providers"]) => T): (s: State) => T {
   let last: State["providers"] | null = null;
   let value: T;
@@ -55,38 +63,30 @@ export function perProviders<T>(fn: (providers: State["providers"]) => T): (s: S
   };
 }
 
-/** Every vehicle's name as one string (stable while no name changes, unlike the providers themselves, which change
- * with every report): "id=name\n…", the name empty for a vehicle without one. */
-const vehicleNames = perProviders((providers) => Object.values(providers).map((p) => `${p.id}=${p.name ?? ""}`).sort().join("\n"));
+/** Every vehicle's name by id, "" for one without a name: a new object with each report, the same values while no
+ * name changes (compared shallowly). */
+const vehicleNames = perProviders((providers) => Object.fromEntries(Object.values(providers).map((p) => [p.id, p.name ?? ""])));
 
 /** Each known vehicle's name now, by id, "" for one without a name (its name taken away is news too: it is known
  * by its id now); a rename shows at once wherever a vehicle is named from its id. */
 export function useVehicleNames(): Map<string, string> {
-  const names = useSelector(vehicleNames);
-  return useMemo(() => new Map(names ? names.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1)] as [string, string]) : []), [names]);
+  const names = useSelector(useShallow(vehicleNames));
+  return useMemo(() => new Map(Object.entries(names)), [names]);
 }
 
-/** The lost vehicles as "id=lastHeardAt" lines (stable while no link or last-heard time changes). */
+/** Each lost vehicle's last-heard time by id (null: never heard), the same values while no link or time changes. */
 const lostVehicles = perProviders((providers) =>
-  Object.values(providers)
-    .filter((p) => p.link === "lost")
-    .map((p) => `${p.id}=${lastHeardAt(p) ?? ""}`)
-    .sort()
-    .join("\n"),
+  Object.fromEntries(
+    Object.values(providers)
+      .filter((p) => p.link === "lost")
+      .map((p) => [p.id, lastHeardAt(p)]),
+  ),
 );
 
 /** Each lost vehicle's last-heard time by id (the source's clock; null: never heard): what names a vehicle says so. */
 export function useLostVehicles(): Map<string, number | null> {
-  const lost = useSelector(lostVehicles);
-  return useMemo(
-    () => new Map(lost ? lost.split("\n").map((l) => [l.slice(0, l.indexOf("=")), l.slice(l.indexOf("=") + 1) === "" ? null : Number(l.slice(l.indexOf("=") + 1))] as [string, number | null]) : []),
-    [lost],
-  );
-}
-
-export function useSelector<T>(select: (s: State) => T): T {
-  const { store } = useData();
-  return useSyncExternalStore(store.subscribe, () => select(store.getState()));
+  const lost = useSelector(useShallow(lostVehicles));
+  return useMemo(() => new Map(Object.entries(lost)), [lost]);
 }
 
 /** Milliseconds to the next multiple of `ms` of the clock: age timers of the same period fall on the same
@@ -99,20 +99,6 @@ function toBoundary(ms: number): number {
 function atBoundary(ms: number, fn: () => void): () => void {
   const t = setTimeout(fn, toBoundary(ms));
   return () => clearTimeout(t);
-}
-
-/** A slice of the state as an external store for useSyncExternalStore, notified on every change of it. */
-export function sliceSource<T>(store: Store, select: (s: State) => T): { subscribe: (onChange: () => void) => () => void; getSnapshot: () => T } {
-  return { subscribe: (onChange) => store.subscribeTo(select, onChange), getSnapshot: () => select(store.getState()) };
-}
-
-/** A slice of the state by a stable selector (a module-level function such as store.ts's
- * selectedTopic("GPSReport")), at once on each change: for what the operator's own actions change (the
- * selection); what reports change is drawn on the frame (useFrameValue). */
-export function useSlice<T>(select: (s: State) => T): T {
-  const { store } = useData();
-  const src = useMemo(() => sliceSource(store, select), [store, select]);
-  return useSyncExternalStore(src.subscribe, src.getSnapshot);
 }
 
 /** The rendering model (frame.ts): the slice `select` (a stable selector) drawn on the animation frame after it
@@ -136,7 +122,7 @@ export function useSelectedTrails(): Record<string, TrailPoint[]> {
 
 /** The selected vehicle's link state (null: none selected or not on the bus). */
 export function useSelectedLink(): LinkState | null {
-  return useSlice(selectedLink);
+  return useSelector(selectedLink);
 }
 
 /** What the console knows of the selected vehicle apart from its reports (changes with the console's
@@ -149,14 +135,13 @@ export interface SelectedVehicle {
   jausId: string | null;
 }
 
+const selectedVehicle = (s: State): SelectedVehicle | null => {
+  const p = s.selected ? s.providers[s.selected] : undefined;
+  return p ? { id: p.id, name: p.name, link: p.link, linkConfig: p.linkConfig, jausId: p.jausId } : null;
+};
+
 export function useSelectedVehicle(): SelectedVehicle | null {
-  const id = useSlice(selectedId);
-  const known = useSlice(selectedKnown);
-  const name = useSlice(selectedName);
-  const link = useSlice(selectedLink);
-  const linkConfig = useSlice(selectedLinkConfig);
-  const jausId = useSlice(selectedJausId);
-  return useMemo(() => (id && known && link ? { id, name, link, linkConfig, jausId } : null), [id, known, name, link, linkConfig, jausId]);
+  return useSelector(useShallow(selectedVehicle));
 }
 
 const selectedId = (s: State): string | null => s.selected;
@@ -257,8 +242,8 @@ const providerCount = (s: State): number => Object.keys(s.providers).length;
 /** Why the selected vehicle's panels have nothing to show: "no-vehicle" (none on the bus), "select"
  * (vehicles, none selected); null when one is selected (even one not on the bus yet, from a link). */
 export function useSelectionGap(): "no-vehicle" | "select" | null {
-  const selected = useSlice(selectedId);
-  const count = useSlice(providerCount);
+  const selected = useSelector(selectedId);
+  const count = useSelector(providerCount);
   return selected !== null ? null : count === 0 ? "no-vehicle" : "select";
 }
 

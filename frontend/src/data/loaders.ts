@@ -1,13 +1,20 @@
-// The hooks that load over REST (TanStack Query, definitions in queries.ts): what the console holds now, loaded on a
-// connection, a selection or a replay's seek and merged into the store, which the WebSocket keeps current.
-import { useQueries, useQuery, type UseQueryResult } from "@tanstack/react-query";
+// The hooks that load over REST. What the page shows as the console answered it is read through TanStack Query
+// (queries.ts). What the WebSocket keeps current once loaded (a vehicle's history, track and satellites, the world
+// model, the tasks) is loaded on a connection, a selection or a replay's seek and merged into the store, which holds
+// it: an answer is merged once, and the request of a key left before it answered is aborted.
+import { useQuery } from "@tanstack/react-query";
 import type { FeatureCollection } from "geojson";
-import { useEffect, useMemo } from "react";
-import type { ComapStatus, ComapVehicle, Health, Task } from "../api/rest";
+import { useEffect, useMemo, useRef } from "react";
+import { providerDetail, series, tasks, track, worldModel, type ComapStatus, type ComapVehicle, type Health, type Task } from "../api/rest";
+import type { TrackSample } from "../lib/geo";
 import { useToken } from "./auth";
-import { useConnectionState, useData, useSelector } from "./hooks";
-import { capabilitiesQuery, comapStatusQuery, detailQuery, healthQuery, operatorQuery, seriesQuery, tasksQuery, trackQuery, worldModelQuery } from "./queries";
-import { detailLoaded, historyLoaded, selectedGpsPartial, tasksReplaced, trackLoaded, worldModelLoaded, type HistoryPoint } from "./store";
+import { useShallow } from "zustand/react/shallow";
+import { perProviders, useConnectionState, useData, useSelector } from "./hooks";
+import { capabilitiesQuery, comapStatusQuery, healthQuery, operatorQuery } from "./queries";
+import { tasksReplaced, worldModelLoaded } from "./slices/comap";
+import { HISTORY_SECONDS, TRACK_SECONDS, detailLoaded, historyLoaded, selectedGpsPartial, trackLoaded, type HistoryPoint } from "./slices/vehicles";
+import type { State } from "./state";
+import { update } from "./store";
 
 /** GET /api/health, asked once (null until it answers): the DDS domain and network the console listens on. */
 export function useConsoleHealth(): Health | null {
@@ -19,81 +26,128 @@ export function useOperatorName(): string | null {
   return useQuery(operatorQuery(useToken())).data ?? null;
 }
 
-const NO_HISTORY: HistoryPoint[] = [];
+const isoSecondsAgo = (now: number, seconds: number) => new Date((now - seconds) * 1000).toISOString();
+
+/** A vehicle's chart history (GET /api/providers/{id}/series) of the HISTORY_SECONDS before `now`. */
+export async function loadSeries(providerId: string, token: string | null, now: number, signal?: AbortSignal): Promise<HistoryPoint[]> {
+  const points = await series(providerId, isoSecondsAgo(now, HISTORY_SECONDS), token, signal);
+  return points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
+}
+
+/** A vehicle's stored track (GET /api/providers/{id}/track) of the TRACK_SECONDS before `now`. */
+export async function loadTrack(providerId: string, token: string | null, now: number, signal?: AbortSignal): Promise<TrackSample[]> {
+  const points = await track(providerId, isoSecondsAgo(now, TRACK_SECONDS), token, signal);
+  return points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
+}
+
+/** Load once for each `key` (null: nothing to load now) and merge the answer into the store with `merge`; the request
+ * of a key left before it answered is aborted, and a failed one leaves the live data to fill in. `key` holds all that
+ * `load` depends on. */
+function useLoadInto<T>(key: string | null, load: (signal: AbortSignal) => Promise<T>, merge: (s: State, answer: T) => State): void {
+  const { store } = useData();
+  useEffect(() => {
+    if (key === null) return;
+    const asked = new AbortController();
+    load(asked.signal).then(
+      (answer) => asked.signal.aborted || update(store, (s) => merge(s, answer)),
+      () => undefined,
+    );
+    return () => asked.abort();
+  }, [key, store]); // eslint-disable-line react-hooks/exhaustive-deps -- `key` holds what `load` and `merge` depend on
+}
 
 /** The selected vehicle's satellites when its GPSReport is still the snapshot's (which leaves them out): asked over
  * REST at once rather than waiting for its next GPSReport (a real receiver may report every few seconds). */
 export function useSelectedSatellitesLoaded(): void {
-  const { store } = useData();
   const selected = useSelector((s) => s.selected);
   const partial = useSelector(selectedGpsPartial);
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);
-  const loaded = useQuery({ ...detailQuery(selected ?? "", token, instant), enabled: !!selected && partial && live });
-  useEachAnswer(loaded, (reports) => selected && store.update((s) => detailLoaded(s, selected, reports)));
+  const key = selected && partial && live ? JSON.stringify([selected, token, instant]) : null;
+  useLoadInto(
+    key,
+    async (signal) => (await providerDetail(selected!, token, signal)).reports,
+    (s, reports) => detailLoaded(s, selected!, reports),
+  );
 }
 
-/** Runs `apply` once for each new answer of a query (the current key's only: an answer for an earlier key, such as
- * a replay's earlier instant, is never given). */
-function useEachAnswer<T>(result: UseQueryResult<T>, apply: (data: T) => void): void {
-  const { data } = result;
-  useEffect(() => {
-    if (data !== undefined) apply(data);
-  }, [data]); // eslint-disable-line react-hooks/exhaustive-deps -- once per answer, whatever `apply` closes over
-}
+const NO_HISTORY: HistoryPoint[] = [];
 
 /** A vehicle's chart history: what the console kept (loaded over REST when the vehicle is selected,
  * shown or reconnected, so a reload does not start empty), then the live points appended. */
 export function useHistory(providerId: string | null): HistoryPoint[] {
-  const { store, source } = useData();
+  const { source } = useData();
   const known = useSelector((s) => (providerId ? providerId in s.providers : false));
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant); // a replay's seek: the history up to the new instant
-  const loaded = useQuery({ ...seriesQuery(providerId ?? "", token, instant, source.now), enabled: !!providerId && known && live });
+  const key = providerId && known && live ? JSON.stringify([providerId, token, instant]) : null;
   // no history (yet), an error: the chart fills from live data
-  useEachAnswer(loaded, (points) => providerId && store.update((s) => historyLoaded(s, providerId, points)));
+  useLoadInto(
+    key,
+    (signal) => loadSeries(providerId!, token, source.now(), signal),
+    (s, points) => historyLoaded(s, providerId!, points),
+  );
   return useSelector((s) => (providerId ? (s.providers[providerId]?.history ?? NO_HISTORY) : NO_HISTORY));
 }
 
+const vehicleIds = perProviders((providers) => Object.keys(providers));
+
 /** Every vehicle's stored track (GET /api/providers/{id}/track, loaded when a vehicle appears, on a reload and after
- * a reconnect, once `load`: the map is ready) merged into the store, whose live GPSFixReport positions extend it;
- * `idList`: the vehicles' ids, comma-separated. Not before the map: a request per vehicle (50 at once) held up the
+ * a reconnect, once `load`: the map is ready) merged into the store, whose live GPSFixReport positions extend it. Not
+ * before the map: a request per vehicle (50 at once) held up the
  * first screen's (the map's worker, the selected vehicle's satellites) behind the browser's six connections. For a
- * component of its own (Map.tsx's StoredTracks): 250 queries compared on each render of the map panel (each fix of
- * the selected vehicle) were the page's costliest function. */
-export function useStoredTracks(idList: string, load: boolean): void {
+ * component of its own (Map.tsx's StoredTracks), not to run on each render of the map panel. */
+export function useStoredTracks(load: boolean): void {
   const { store, source } = useData();
-  const ids = useMemo(() => (idList ? idList.split(",") : []), [idList]);
+  const ids = useSelector(useShallow(vehicleIds)); // the same array while no vehicle comes or goes
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);
-  const answers = useQueries({
-    queries: ids.map((id) => ({ ...trackQuery(id, token, instant, source.now), enabled: live && load })),
-    combine: (results) => results.map((r) => r.data),
-  });
+  const session = live && load ? JSON.stringify([token, instant]) : null; // each vehicle's track asked once in each
+  const loads = useRef<{ session: string; asked: Set<string>; abort: AbortController } | null>(null);
   useEffect(() => {
-    // each answer once (an answer is a new array): no stored track (yet), an error: the map draws the live one
-    answers.forEach((points, i) => {
-      if (points && !merged.has(points)) {
-        merged.add(points);
-        store.update((s) => trackLoaded(s, ids[i], points));
-      }
-    });
-  }, [answers, ids, store]);
+    if (loads.current?.session !== session) {
+      loads.current?.abort.abort();
+      loads.current = session === null ? null : { session, asked: new Set(), abort: new AbortController() };
+    }
+    const l = loads.current;
+    if (!l) return;
+    for (const id of ids) {
+      if (l.asked.has(id)) continue;
+      l.asked.add(id);
+      // no stored track (yet), an error: the map draws the live one
+      loadTrack(id, token, source.now(), l.abort.signal).then(
+        (points) => l.abort.signal.aborted || update(store, (s) => trackLoaded(s, id, points)),
+        () => undefined,
+      );
+    }
+  }, [ids, session, token, store, source]);
+  useEffect(
+    () => () => {
+      loads.current?.abort.abort();
+      loads.current = null;
+    },
+    [],
+  );
 }
 
-const merged = new WeakSet<object>(); // the track answers merged into the store
-
 /** The CoMap world model (WebSocket `worldmodel` messages, after one REST load per connection); null while the
- * console has none (404: CoMap is off). */
+ * console has none (404: CoMap is off). A `worldmodel` message that came while it was asked is newer: the answer is
+ * dropped (worldModelLoaded). */
 export function useWorldModel(): FeatureCollection | null {
   const { store } = useData();
   const token = useToken();
   const live = useConnectionState() === "live";
-  const loaded = useQuery({ ...worldModelQuery(token, () => store.getState().worldModelSeq), enabled: live });
-  useEachAnswer(loaded, ({ value, seq }) => store.update((s) => worldModelLoaded(s, value, seq)));
+  useLoadInto(
+    live ? JSON.stringify([token]) : null,
+    async (signal) => {
+      const seq = store.getState().worldModelSeq;
+      return { model: await worldModel(token, signal), seq };
+    },
+    (s, { model, seq }) => worldModelLoaded(s, model, seq),
+  );
   return useSelector((s) => s.worldModel);
 }
 
@@ -102,8 +156,14 @@ export function useTasks(): Task[] {
   const { store } = useData();
   const token = useToken();
   const live = useConnectionState() === "live";
-  const loaded = useQuery({ ...tasksQuery(token, () => store.getState().taskSeq), enabled: live });
-  useEachAnswer(loaded, ({ value, seq }) => store.update((s) => tasksReplaced(s, value, seq)));
+  useLoadInto(
+    live ? JSON.stringify([token]) : null,
+    async (signal) => {
+      const seq = store.getState().taskSeq;
+      return { value: await tasks(token, signal), seq };
+    },
+    (s, { value, seq }) => tasksReplaced(s, value, seq),
+  );
   const byId = useSelector((s) => s.tasks);
   return useMemo(() => Object.values(byId).sort((a, b) => b.createdAt - a.createdAt), [byId]);
 }

@@ -6,7 +6,8 @@ import type { ReplayStatus, ServerMessage } from "../api/types";
 import { getToken } from "./auth";
 import { Connection } from "./connection";
 import { REPLAY, type Capabilities, type PlaybackControls } from "./source";
-import { forNewInstant } from "./store";
+import { forNewInstant } from "./state";
+import { update } from "./store";
 
 export class ReplaySource extends Connection {
   override readonly kind = "replay" as const;
@@ -39,8 +40,8 @@ export class ReplaySource extends Connection {
       // a seek (or a reconnect): the state of another instant, so trails, charts and alerts start again from it;
       // reports still queued for the next frame are from before it (a hidden tab applies them only every second)
       this.setStatus(msg.replay);
-      this.store.discardQueued();
-      this.store.update(forNewInstant);
+      this.inbox.discardQueued();
+      update(this.inbox.store, forNewInstant);
     }
     super.receive(msg);
   }

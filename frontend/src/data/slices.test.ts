@@ -1,11 +1,13 @@
 // Panels subscribe to the slices they draw: a report of one topic wakes only the subscriptions to it.
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { ReportTypes, ServerMessage, Topic } from "../api/types";
-import { Store } from "./connection";
+import { Inbox, createStateStore, update } from "./store";
 import { frameSource, onFrame } from "./frame";
 import { sameOverview } from "./hooks";
 import { reportMessage, type DeepPartial } from "./testing";
-import { allProviders, plannedUntil, selectedKnown, selectedPlannedUntil, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type State, type TopicView } from "./store";
+import { allProviders, selectedKnown, selectedPlannedUntil, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type TopicView } from "./slices/vehicles";
+import { plannedUntil } from "./slices/alarms";
+import { type State } from "./state";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -37,20 +39,21 @@ function reportMsg(providerId: string, topic: Topic): ServerMessage {
 
 /** A store with vehicles A and B, A selected, and a counter of notifications per slice. */
 function setup(slices: Record<string, (s: State) => unknown>) {
-  const store = new Store(A);
-  store.clock = () => t;
-  store.enqueue(snapshot());
-  store.flush();
+  const inbox = new Inbox(createStateStore(A));
+  const store = inbox.store;
+  inbox.clock = () => t;
+  inbox.enqueue(snapshot());
+  inbox.flush();
   const notified: Record<string, number> = {};
   for (const [name, select] of Object.entries(slices)) {
     notified[name] = 0;
-    store.subscribeTo(select, () => notified[name]++);
+    store.subscribe(select, () => notified[name]++);
   }
   const send = (providerId: string, topic: Topic) => {
-    store.enqueue(reportMsg(providerId, topic));
-    store.flush(); // one frame per message: each could wake a panel
+    inbox.enqueue(reportMsg(providerId, topic));
+    inbox.flush(); // one frame per message: each could wake a panel
   };
-  return { store, notified, send };
+  return { inbox, store, notified, send };
 }
 
 describe("slice subscriptions", () => {
@@ -78,13 +81,13 @@ describe("slice subscriptions", () => {
   });
 
   it("what a panel shows of the vehicle itself (name, link, configuration) is not notified by its reports", () => {
-    const { store, notified, send } = setup({ name: selectedName, link: selectedLink, config: selectedLinkConfig, known: selectedKnown, all: allProviders });
+    const { inbox, store, notified, send } = setup({ name: selectedName, link: selectedLink, config: selectedLinkConfig, known: selectedKnown, all: allProviders });
     for (const topic of ["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"] as Topic[]) send(A, topic);
     expect(notified).toEqual({ name: 0, link: 0, config: 0, known: 0, all: 4 }); // the overview of every vehicle sees each
-    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
-    store.flush();
+    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.flush();
     expect(notified.link).toBe(1);
-    store.update((s) => ({ ...s, selected: B }));
+    update(store, (s) => ({ ...s, selected: B }));
     expect(notified.link).toBe(2); // B is live
     expect(notified.known).toBe(0); // B is on the bus too
     send(A, "GPSFixReport"); // A is no longer shown
@@ -92,17 +95,17 @@ describe("slice subscriptions", () => {
   });
 
   it("names the selected vehicle out of comms (planned) only while it is lost in a planned silence in force", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const silence = { id: "s1", providerId: A, vehicle: "Alpha", until: 5000, reason: "dive", at: 0, by: "alice", station: "watch" };
-    store.enqueue({ type: "silences", silences: [silence] } as unknown as ServerMessage);
-    store.flush();
+    inbox.enqueue({ type: "silences", silences: [silence] } as unknown as ServerMessage);
+    inbox.flush();
     expect(selectedPlannedUntil(store.getState())).toBeNull(); // heard: its silence says nothing of its link
-    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
-    store.flush();
+    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.flush();
     expect(selectedPlannedUntil(store.getState())).toBe(5000);
     expect(plannedUntil(store.getState().silences, B, "lost")).toBeNull(); // lost without a silence: lost
-    store.enqueue({ type: "silences", silences: [] } as unknown as ServerMessage);
-    store.flush();
+    inbox.enqueue({ type: "silences", silences: [] } as unknown as ServerMessage);
+    inbox.flush();
     expect(selectedPlannedUntil(store.getState())).toBeNull();
   });
 });
@@ -132,38 +135,38 @@ describe("the rendering model: a panel draws on the animation frame", () => {
   });
 
   it("draws at most once per frame, the newest sample, in the frame the store applies it", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const { frame, pending } = frames();
     const src = frameSource(store, selectedTopic("GPSFixReport"));
     let draws = 0;
     src.subscribe(() => draws++);
-    for (let i = 0; i < 5; i++) store.enqueue(reportMsg(A, "GPSFixReport"));
+    for (let i = 0; i < 5; i++) inbox.enqueue(reportMsg(A, "GPSFixReport"));
     expect(draws).toBe(0); // nothing before the frame
     expect(pending()).toBe(1); // one frame asked for, not one per sample
     frame();
     expect(draws).toBe(1);
     expect(latitude(src.getSnapshot())).toBe(latitude(store.getState().providers[A].topics.GPSFixReport!));
     expect(pending()).toBe(0); // drawn in the frame that applied the samples: no frame more
-    store.enqueue(reportMsg(B, "GPSFixReport")); // another vehicle: not this panel's
+    inbox.enqueue(reportMsg(B, "GPSFixReport")); // another vehicle: not this panel's
     frame();
     expect(draws).toBe(1);
   });
 
   it("a sample arriving after the last one drawn is drawn, even within the frame that drew", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const { frame, pending } = frames();
     const src = frameSource(store, selectedTopic("GPSFixReport"));
     let draws = 0;
     // a sample applied later in the frame of the second draw (after the panel drew)...
     const late = () => {
-      store.enqueue(reportMsg(A, "GPSFixReport"));
-      store.flush();
+      inbox.enqueue(reportMsg(A, "GPSFixReport"));
+      inbox.flush();
     };
     src.subscribe(() => ++draws === 2 && onFrame(late));
-    store.enqueue(reportMsg(A, "GPSFixReport"));
+    inbox.enqueue(reportMsg(A, "GPSFixReport"));
     frame();
     expect(draws).toBe(1);
-    store.enqueue(reportMsg(A, "GPSFixReport"));
+    inbox.enqueue(reportMsg(A, "GPSFixReport"));
     frame();
     expect(draws).toBe(2); // ...is not a second draw in that frame...
     const newest = store.getState().providers[A].topics.GPSFixReport!;
@@ -175,14 +178,14 @@ describe("the rendering model: a panel draws on the animation frame", () => {
   });
 
   it("nothing draws while the page is hidden; its first frame draws the newest", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const { frame } = frames(true);
     const src = frameSource(store, selectedTopic("GPSFixReport"));
     let draws = 0;
     src.subscribe(() => draws++);
     for (let i = 0; i < 3; i++) {
-      store.enqueue(reportMsg(A, "GPSFixReport"));
-      store.flush(); // a hidden page applies messages on a timer (the tab's title, the alarm tone)
+      inbox.enqueue(reportMsg(A, "GPSFixReport"));
+      inbox.flush(); // a hidden page applies messages on a timer (the tab's title, the alarm tone)
     }
     expect(draws).toBe(0);
     frame(); // shown again: the browser runs frames
@@ -191,18 +194,18 @@ describe("the rendering model: a panel draws on the animation frame", () => {
   });
 
   it("a rate-limited slice (the map's fleet) draws on the first frame after its period, with the newest", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const { frame, pending } = frames();
     vi.useFakeTimers({ toFake: ["setTimeout", "clearTimeout", "performance"] });
     const src = frameSource(store, allProviders, Object.is, 500);
     let draws = 0;
     src.subscribe(() => draws++);
-    store.enqueue(reportMsg(A, "GPSFixReport"));
+    inbox.enqueue(reportMsg(A, "GPSFixReport"));
     frame();
     expect(draws).toBe(1);
     for (let i = 0; i < 10; i++) {
       vi.advanceTimersByTime(40);
-      store.enqueue(reportMsg(B, "GPSFixReport"));
+      inbox.enqueue(reportMsg(B, "GPSFixReport"));
       frame();
     }
     expect(draws).toBe(1); // 400 ms: not yet
@@ -224,16 +227,16 @@ describe("an overview's slice", () => {
   });
 
   it("skips a frame that draws alike, yet a render for another reason (the clock of ages) reads the newest", () => {
-    const { store } = setup({});
+    const { inbox, store } = setup({});
     const { frame } = frames();
     const src = frameSource(store, allProviders, sameOverview()); // the samples below show alike
     let draws = 0;
     src.subscribe(() => draws++);
-    store.enqueue(reportMsg(A, "GPSFixStatusReport")); // its fix valid: drawn
+    inbox.enqueue(reportMsg(A, "GPSFixStatusReport")); // its fix valid: drawn
     frame();
     expect(draws).toBe(1);
     const drawn = src.getSnapshot();
-    store.enqueue(reportMsg(A, "GPSFixReport")); // a position and a newer age: drawn alike
+    inbox.enqueue(reportMsg(A, "GPSFixReport")); // a position and a newer age: drawn alike
     frame();
     expect(draws).toBe(1);
     expect(src.getSnapshot()).not.toBe(drawn); // an age computed from it is the newest report's
@@ -242,7 +245,7 @@ describe("an overview's slice", () => {
 
 
   it("draws alike when no shown field changed (a newer report: its age is the clock's to draw), not when a link did", () => {
-    const { store, send } = setup({});
+    const { inbox, store, send } = setup({});
     const same = sameOverview();
     send(A, "GPSFixReport");
     const before = store.getState().providers;
@@ -250,8 +253,8 @@ describe("an overview's slice", () => {
     expect(before).not.toBe(store.getState().providers);
     expect(same(before, store.getState().providers)).toBe(true);
     const a = store.getState().providers;
-    store.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
-    store.flush();
+    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.flush();
     expect(same(a, store.getState().providers)).toBe(false);
   });
 });

@@ -1,0 +1,47 @@
+// @vitest-environment jsdom
+import { act, cleanup, screen, waitFor } from "@testing-library/react";
+import { afterEach, describe, expect, it, vi } from "vitest";
+import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { renderWith } from "../testing";
+import { FixPanel } from "./Fix";
+
+// the history chart draws on a canvas (uPlot), which jsdom has not
+vi.mock("../../components/TrendChart", () => ({ TrendChart: () => null }));
+
+const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+
+function shown(umaaVersion: "3.0.1" | "6.0" = "3.0.1"): TestSource {
+  const source = new TestSource(A);
+  renderWith(source, <FixPanel />);
+  act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha", umaaVersion })] })));
+  return source;
+}
+
+const position = (lat: number) => ({ GPSLatLongValid: true, position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 10 } } } });
+
+describe("FixPanel", () => {
+  afterEach(cleanup);
+
+  it("says no fix report has come yet", async () => {
+    shown();
+    await waitFor(() => expect(screen.getByTestId("fix-none").textContent).toBe("No GPS fix reports yet."));
+  });
+
+  it("shows whether the fix is valid in words, and the position of the selected vehicle's newest report", async () => {
+    const source = shown();
+    act(() => source.send(reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000), reportMessage(A, "GPSFixReport", position(59.5), [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("fix-valid").textContent).toBe("Fix valid"));
+    expect(screen.getByTestId("fix-valid").dataset.tone).toBe("ok");
+    expect(screen.getByTestId("latitude").textContent).toContain("59.5");
+    act(() => source.send(reportMessage(A, "GPSFixStatusReport", { fixValid: false }, [], 1001)));
+    await waitFor(() => expect(screen.getByTestId("fix-valid").textContent).toBe("No fix"));
+    expect(screen.getByTestId("fix-valid").dataset.tone).toBe("bad");
+  });
+
+  it("does not call a UMAA 6.0 vehicle's missing fix status a fix lost", async () => {
+    const source = shown("6.0");
+    act(() => source.send(reportMessage(A, "GPSFixReport", position(59.5), [], 1000)));
+    await waitFor(() => expect(screen.getByTestId("fix-valid").textContent).toBe("No fix service"));
+    expect(screen.getByTestId("fix-valid").dataset.tone).toBe("muted");
+  });
+});

@@ -1,0 +1,135 @@
+import { Field, Foldable, Panel, invalidFor } from "../../components/Panel";
+import { TrendChart } from "../../components/TrendChart";
+import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap, useSelector } from "../../data/hooks";
+import { useHistory } from "../../data/loaders";
+import { SelectionGap } from "../FleetBar/FleetBar";
+import { SelectedLost } from "../../components/LastHeard";
+import { useDmsSetting } from "../../data/settings";
+import { HISTORY_SECONDS, viewReport } from "../../data/slices/vehicles";
+import { freshness, notCurrent } from "../../lib/freshness";
+import type { GPSFixReportType } from "../../api/types";
+import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../../lib/labels";
+import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
+
+/** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
+function sigma(v: number | null | undefined): number | null {
+  return isNum(v) && v >= 0 ? Math.sqrt(v) : null;
+}
+
+/** What a vehicle reports beside its position only in some versions (UMAA 6.0's GlobalPose: attitude, other altitudes,
+ * depth, covariances), each shown when it is reported. */
+function PoseFields({ fix, stale, inv }: { fix: GPSFixReportType; stale: boolean; inv: (path: string) => string | null }) {
+  const a = fix.attitude;
+  const pc = fix.positionCovariance;
+  const ac = fix.attitudeCovariance;
+  const m = (v: number | null | undefined) => fixed(v, 1, "m");
+  const deg = (v: number | null) => (v === null ? DASH : degrees(v, 2));
+  return (
+    <>
+      {a && <Field label="Roll / pitch / yaw" value={`${degrees(a.roll?.roll)} / ${degrees(a.pitch?.pitch)} / ${degrees(a.yaw?.yaw, 1, true)}`} stale={stale} invalid={inv("attitude")} testId="attitude" />}
+      {isNum(fix.depth) && <Field label="Depth" value={m(fix.depth)} stale={stale} invalid={inv("depth")} testId="depth" />}
+      {isNum(fix.altitudeGeodetic) && <Field label="Altitude HAE" value={m(fix.altitudeGeodetic)} stale={stale} invalid={inv("altitudeGeodetic")} />}
+      {isNum(fix.altitudeAGL) && <Field label="Above ground" value={m(fix.altitudeAGL)} stale={stale} invalid={inv("altitudeAGL")} />}
+      {isNum(fix.altitudeASF) && <Field label="Above sea floor" value={m(fix.altitudeASF)} stale={stale} invalid={inv("altitudeASF")} />}
+      {pc && (
+        <span style={{ display: "contents" }} title={`UMAA positionCovariance (m²): pnPn ${pc.pnPn ?? DASH}, pePe ${pc.pePe ?? DASH}, pdPd ${pc.pdPd ?? DASH}`}>
+          <Field label="Position σ N / E / D" value={`${m(sigma(pc.pnPn))} / ${m(sigma(pc.pePe))} / ${m(sigma(pc.pdPd))}`} stale={stale} invalid={inv("positionCovariance")} testId="position-sigma" />
+        </span>
+      )}
+      {ac && (
+        <span style={{ display: "contents" }} title={`UMAA attitudeCovariance (rad²): rrRr ${ac.rrRr ?? DASH}, rpRp ${ac.rpRp ?? DASH}, ryRy ${ac.ryRy ?? DASH}`}>
+          <Field label="Attitude σ roll / pitch / yaw" value={`${deg(sigma(ac.rrRr))} / ${deg(sigma(ac.rpRp))} / ${deg(sigma(ac.ryRy))}`} stale={stale} invalid={inv("attitudeCovariance")} />
+        </span>
+      )}
+    </>
+  );
+}
+
+export function FixPanel() {
+  return (
+    <Foldable title="GPS fix" testId="fix-panel" topic="GPSFixReport">
+      <FixBody />
+    </Foldable>
+  );
+}
+
+function FixBody() {
+  const selected = useSelector((s) => s.selected);
+  const gap = useSelectionGap(); // none selected: say so, not "no reports"
+  const link = useSelectedLink();
+  const receiving = useReceiving();
+  const now = useNow();
+  const history = useHistory(link ? selected : null);
+  const [useDms, setDms] = useDmsSetting();
+  const fixView = useSelectedTopic("GPSFixReport");
+  const statusView = useSelectedTopic("GPSFixStatusReport");
+  const version = useSelectedUmaaVersion();
+  const fix = viewReport(fixView);
+  const st = viewReport(statusView);
+  const fixAge = fixView ? Math.max(0, now - fixView.at) : null;
+  const stAge = statusView ? Math.max(0, now - statusView.at) : null;
+  const fFix = freshness(fixAge, "GPSFixReport", fixView?.interval ?? null, link, receiving);
+  const fSt = freshness(stAge, "GPSFixStatusReport", statusView?.interval ?? null, link, receiving);
+  const sFix = notCurrent(fFix);
+  const sSt = notCurrent(fSt);
+  const inv = (path: string) => invalidFor(fixView?.envelope.invalid, path);
+  const invS = (path: string) => invalidFor(statusView?.envelope.invalid, path);
+  const lat = fix?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
+  const lon = fix?.position2DWithTime?.geodeticPosition?.geodeticLongitude?.longitude;
+  const origin = st?.originPosition;
+  const fixSaid = fixBadge(st?.fixValid, version, fix);
+  const fmt = useDms ? dms : latLon;
+  return (
+    <Panel
+      title="GPS fix"
+      testId="fix-panel"
+      freshness={fFix}
+      ageSeconds={fixAge}
+      actions={
+        <button className="small" onClick={() => setDms(!useDms)} aria-pressed={useDms}>
+          {useDms ? "DMS" : "Decimal"}
+        </button>
+      }
+    >
+      {gap ? (
+        <SelectionGap gap={gap} />
+      ) : !fix && !st ? (
+        <p className="muted" data-testid="fix-none">{notReported(version, "GPSFixReport") ?? "No GPS fix reports yet."}</p>
+      ) : (
+        <>
+          <SelectedLost />
+          <div className="badges">
+            <span className={`badge ${fixSaid.tone}${sSt ? " stale" : ""}`} data-testid="fix-valid" data-tone={fixSaid.tone} title={fixSaid.title}>
+              {fixSaid.text}
+            </span>
+            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} data-testid="position-kind" title={positionKind(fix).title}>
+              {positionKind(fix).text}
+            </span>
+            <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={fixStateTitle(fix?.GPSFixCommandStatus)}>{fixStateBadge(fix?.GPSFixCommandStatus)}</span>
+            <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
+          </div>
+          <div className="fields">
+            <Field label="Latitude" value={fmt(lat, true)} stale={sFix} invalid={inv("position2DWithTime.geodeticPosition.geodeticLatitude")} testId="latitude" />
+            <Field label="Longitude" value={fmt(lon, false)} stale={sFix} invalid={inv("position2DWithTime.geodeticPosition.geodeticLongitude")} />
+            <Field label="Time at position" value={`${utc(fix?.position2DWithTime?.timeAtPosition)}`} stale={sFix} />
+            <Field label="Altitude MSL" value={fixed(fix?.altitudeMSL?.altitude, 1, "m")} stale={sFix} invalid={inv("altitudeMSL")} />
+            <Field label="SOG" value={speed(fix?.SOG)} stale={sFix} invalid={inv("SOG")} />
+            <Field label="True course" value={degrees(fix?.trueCourse, 1, true)} stale={sFix} invalid={inv("trueCourse")} />
+            <Field label="Magnetic variation" value={degrees(fix?.magneticVariation)} stale={sFix} invalid={inv("magneticVariation")} />
+            <Field label="Velocity N / E / D" value={fix?.velocity ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s` : DASH} stale={sFix} invalid={inv("velocity")} />
+            {fix && <PoseFields fix={fix} stale={sFix} inv={inv} />}
+            <Field label="Origin" value={origin ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}` : DASH} stale={sSt} invalid={invS("originPosition")} />
+            <Field label="Countdown" value={fixed(st?.countDown, 0, "s")} stale={sSt} />
+            <Field label="P-code" value={yesNo(st?.pCode)} stale={sSt} />
+            <Field label="Low backup battery" value={yesNo(st?.lowBkupBattery)} stale={sSt} />
+            <span style={{ display: "contents" }} title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}>
+              <Field label="Fix search" value={timeOutText(st?.timeOut)} stale={sSt} testId="fix-timeout" />
+            </span>
+            <Field label="Carrier-to-noise" value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH} stale={sSt} invalid={invS("carrierToNoise")} />
+          </div>
+          <TrendChart points={history} label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`} />
+        </>
+      )}
+    </Panel>
+  );
+}

@@ -1,0 +1,68 @@
+// @vitest-environment jsdom
+import { act, cleanup, fireEvent, screen, waitFor, within } from "@testing-library/react";
+import { afterEach, describe, expect, it } from "vitest";
+import { TestSource, alarm, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { renderWith } from "../testing";
+import { FleetBar } from "./FleetBar";
+
+const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
+
+/** Alpha live with a valid fix and its INS operational, Bravo lost with an alarm. */
+function fleet(): TestSource {
+  const source = new TestSource();
+  renderWith(source, <FleetBar />);
+  act(() =>
+    source.send(
+      snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })], alarms: [alarm(1, B)] }),
+      reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000),
+      reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000),
+    ),
+  );
+  return source;
+}
+
+const chip = (name: string) => screen.getAllByTestId("fleet-vehicle").find((c) => c.textContent?.includes(name))!;
+
+describe("FleetBar", () => {
+  afterEach(cleanup);
+
+  it("counts the live and lost vehicles and the unacknowledged alarms, the lost one first, each with its words", async () => {
+    fleet();
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+    expect(screen.getByTestId("fleet-lost").textContent).toBe("1 lost");
+    expect(screen.getByTestId("fleet-alarms").textContent).toBe("1 unacknowledged alarm");
+    expect(screen.getAllByTestId("fleet-link").map((l) => l.textContent)).toEqual(["Lost", "Live"]);
+    expect(within(chip("Alpha")).getByText("Fix valid")).toBeTruthy();
+    expect(within(chip("Alpha")).getByText("INS operational")).toBeTruthy();
+    expect(within(chip("Bravo")).getByText("1 alarm")).toBeTruthy();
+    expect(screen.getByTestId("fleet-newest-alarm").textContent).toBe("Alarm: link lost");
+  });
+
+  it("says nothing is live once the console cannot be reached, and live again once it is", async () => {
+    const source = fleet();
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+    act(() => source.setState("reconnecting"));
+    await waitFor(() => expect(screen.getByTestId("fleet-not-updating").textContent).toBe("1 not updating"));
+    expect(screen.queryByTestId("fleet-live")).toBeNull();
+    expect(screen.getAllByTestId("fleet-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]);
+    act(() => source.setState("live"));
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+  });
+
+  it("selects the vehicle of the chip pressed", async () => {
+    const source = fleet();
+    await waitFor(() => expect(chip("Alpha")).toBeTruthy());
+    fireEvent.click(chip("Alpha"));
+    expect(source.store.getState().selected).toBe(A);
+    await waitFor(() => expect(chip("Alpha").getAttribute("aria-pressed")).toBe("true"));
+  });
+
+  it("explains an empty bus", async () => {
+    const source = new TestSource();
+    renderWith(source, <FleetBar />);
+    act(() => source.send(snapshotMessage()));
+    await waitFor(() => expect(screen.getByTestId("no-vehicle-help")).toBeTruthy());
+    expect(screen.queryAllByTestId("fleet-vehicle")).toHaveLength(0);
+  });
+});
