@@ -249,7 +249,7 @@ class Alarms:
     def _load(self) -> None:
         self.open: dict[str, Alarm] = {}
         for r in self.store.open_alarms():
-            a = Alarm.from_row(r)
+            a = Alarm.from_row(r.model_dump())
             self.open[a.key] = a
         self._raised: set[str] = {k for k, a in self.open.items() if a.kind in EVENTS}  # events never raised twice
         # a vehicle with an open fix-lost alarm had a valid fix (kept across a restart)
@@ -276,11 +276,11 @@ class Alarms:
         """The shelves and planned silences not ended, from the database (at start, and after a resync)."""
         self.shelves: dict[str, Shelf] = {}
         for r in self.store.shelves():
-            shelf = Shelf(**_fields(Shelf, r))
+            shelf = Shelf(**_fields(Shelf, r.model_dump()))
             self.shelves[shelf.key] = shelf
         self.silences: dict[str, Silence] = {}
-        for r in self.store.silences():
-            silence = Silence(**_fields(Silence, r))
+        for s in self.store.silences():
+            silence = Silence(**_fields(Silence, s.model_dump()))
             self.silences[silence.provider_id] = silence
 
     def reset(self) -> None:

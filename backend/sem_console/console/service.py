@@ -37,6 +37,7 @@ from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
+from sem_console.storage.comap import TaskRow, WorldRow
 from sem_console.storage.database import Database, Unavailable
 from sem_console.storage.notify import Listener
 from sem_console.versions.commands import Commanding
@@ -644,11 +645,11 @@ class Console:
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied
         where newer than this console's."""
-        def read() -> tuple[dict[str, Any] | None, list[dict[str, Any]]]:
+        def read() -> tuple[WorldRow | None, list[TaskRow]]:
             world = self.store.comap_world() if kind != "task" else None
             return world, self.store.comap_tasks(task_id) if kind != "worldmodel" else []
 
-        def apply(got: tuple[dict[str, Any] | None, list[dict[str, Any]]]) -> None:
+        def apply(got: tuple[WorldRow | None, list[TaskRow]]) -> None:
             self.c2.load_world(got[0])
             for row in got[1]:
                 self.c2.load_task(row)
