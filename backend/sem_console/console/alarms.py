@@ -55,6 +55,7 @@ from sem_console.console.providers import Provider
 from sem_console.core.words import WORDS, inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
+from sem_console.storage.models import AlarmShelfRecord, PlannedSilenceRecord
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
 CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered",
@@ -272,14 +273,16 @@ class Alarms:
         self._returned: dict[str, str] = {}  # key -> why a shelved alarm is back in view, until acknowledged
         self.silences_changed = False  # a planned silence began or ended (the console sends them again)
 
-    def _load_watch(self) -> None:
-        """The shelves and planned silences not ended, from the database (at start, and after a resync)."""
+    def _load_watch(self, shelves: list[AlarmShelfRecord] | None = None,
+                    silences: list[PlannedSilenceRecord] | None = None) -> None:
+        """The shelves and planned silences not ended, as read from the database (at start: read here; after a
+        resync: read in a worker thread)."""
         self.shelves: dict[str, Shelf] = {}
-        for r in self.store.shelves():
+        for r in self.store.shelves() if shelves is None else shelves:
             shelf = Shelf(**_fields(Shelf, r.model_dump()))
             self.shelves[shelf.key] = shelf
         self.silences: dict[str, Silence] = {}
-        for s in self.store.silences():
+        for s in self.store.silences() if silences is None else silences:
             silence = Silence(**_fields(Silence, s.model_dump()))
             self.silences[silence.provider_id] = silence
 
@@ -505,10 +508,10 @@ class Alarms:
                 del self.silences[pid]
         self.silences_changed = True
 
-    def reload_shared(self) -> None:
+    def reload_shared(self, shelves: list[AlarmShelfRecord], silences: list[PlannedSilenceRecord]) -> None:
         """A resync: the shelves and silences as the database has them (what the other stations did meanwhile)."""
         before = set(self.shelves)
-        self._load_watch()
+        self._load_watch(shelves, silences)
         for key in before - set(self.shelves):
             self._returned.setdefault(key, returned_words("expired"))
         self.silences_changed = True
