@@ -18,8 +18,6 @@ from sqlalchemy import Engine, event
 
 from test_routes import UNKNOWN, V1, app_client
 
-pytestmark = pytest.mark.process
-
 HOLD = 10.0  # seconds a slowed statement waits at most: far beyond an answer of /api/health on a free loop
 # every path parameter of the read routes: a known vehicle, a command no one issued, a task, a recording
 PARAMETERS = {"provider_id": V1, "session_id": UNKNOWN, "task_id": "1", "name": "none.mcap"}
