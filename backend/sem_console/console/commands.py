@@ -328,6 +328,14 @@ class Commands:
         rows = self.store.commands(session_id=str(session))
         return self.merge_shared(rows[0]) if rows else None
 
+    def canceled_elsewhere(self, session: uuid.UUID, changed: dict[str, Any]) -> None:
+        """Another station asked to cancel a command this one follows (the columns it stored, as notified): taken over
+        at once, as the vehicle's answer to that cancel may come before the row is read."""
+        mine = self.by_session.get(session)
+        if mine is not None and changed.get("cancel_requested") and not mine.cancel_requested:
+            self._canceled(mine, changed.get("canceled_by"), changed.get("canceled_on"), changed.get("canceled_at"),
+                           changed.get("cancel_cause"), record=False)
+
     def merge_shared(self, row: CommandRow) -> Command:
         """The command of a shared database row (see `shared`)."""
         stored = self.from_row(row)

@@ -188,8 +188,11 @@ class Console:
                 self._reload(self._resync())
             elif kind in ("name", "task", "worldmodel") or message.get("console") == self.station:
                 return
-            elif kind == "command":  # read off the loop, applied on it in the order notified
+            elif kind == "command":  # a cancel applied at once; the row read off the loop, applied in order
                 session = str(uuid.UUID(str(message["session"])))
+                changed = message.get("changed")
+                if isinstance(changed, dict):
+                    self.commands.canceled_elsewhere(uuid.UUID(session), changed)
                 self._reload(self._read_stored(self._shared_lock, "a command of another console",
                                                lambda: self.store.commands(session_id=session), self._shared_command))
             elif kind == "link":

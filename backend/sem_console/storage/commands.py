@@ -80,10 +80,11 @@ class Commands:
         self.ctx.writes.write(write)
 
     def update(self, session_id: str, **values: Any) -> None:
-        """Set columns of a command (its flags, its acknowledgement, its cancel)."""
+        """Set columns of a command (its flags, its acknowledgement, its cancel); the other stations are told the
+        columns with the command (`changed`), so that they apply a cancel at once, before they read the row."""
         def write(c: Connection) -> None:
             c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
-            self.ctx.notify(c, "command", session=session_id)
+            self.ctx.notify(c, "command", session=session_id, changed=values)
         self.ctx.writes.write(write)
 
     def close_unheard(self, session_id: str, why: str, at: float) -> bool | None:

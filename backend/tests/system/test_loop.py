@@ -1,22 +1,26 @@
-"""No route blocks the event loop on the database. The app of `sem-console` in this process (tests/system/test_routes.py's
-`app_client`: real Cyclone DDS, the embedded simulator, a SQLite database), with its database made slow: a statement
-of the route under test waits in the thread that runs it. A route that reads the database on the event loop stops
-every other request with it; one that reads it in a worker thread leaves the loop to answer /api/health meanwhile."""
+"""No route, nor another console's notification, blocks the event loop on the database. The app of `sem-console`
+in this process (tests/system/test_routes.py's `app_client`: real Cyclone DDS, the embedded simulator, a SQLite or
+PostgreSQL database), with its database made slow: a statement of the request under test waits in the thread that
+runs it. A request that reads the database on the event loop stops every other request with it; one that reads it
+in a worker thread leaves the loop to answer /api/health meanwhile."""
 
 from __future__ import annotations
 
+import json
 import re
 import threading
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 from typing import Any
 
+import psycopg
 import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import Engine, event
 
-from test_routes import UNKNOWN, V1, app_client
+from test_routes import UNKNOWN, V1, app_client, wait_until
 
 HOLD = 10.0  # seconds a slowed statement waits at most: far beyond an answer of /api/health on a free loop
 # every path parameter of the read routes: a known vehicle, a command no one issued, a task, a recording
@@ -119,3 +123,26 @@ def test_the_loop_answers_while_a_route_waits_on_a_slow_database(client: TestCli
     print(f"{method} {path}: /api/health answered in {answered * 1000:.1f} ms while the database was held")
     assert slow.released_in_time == [True], f"/api/health waited for {method} {path} ({answered:.1f} s): it blocked the loop"
     assert answered < HOLD / 2
+
+
+def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: str) -> None:
+    """On PostgreSQL another console's change comes as a notification (storage/notify.py): the command it names is read
+    in a worker thread, and the loop answers /api/health while that read waits."""
+    with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
+        slow = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
+        try:
+            slow.hold("commands")
+            message = json.dumps({"kind": "command", "console": "relief", "session": UNKNOWN})
+            # sent again until heard: the console's listener may not be listening yet
+            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
+                       what="the notification's read of the command")
+            started = time.monotonic()
+            health = client.get("/api/health")
+            answered = time.monotonic() - started
+            slow.released.set()
+            assert health.status_code == 200
+            print(f"notified command: /api/health answered in {answered * 1000:.1f} ms while the database was held")
+            assert slow.released_in_time == [True], f"/api/health waited for the notification's read ({answered:.1f} s)"
+        finally:
+            slow.released.set()
+            slow.close()
