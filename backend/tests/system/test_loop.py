@@ -29,7 +29,8 @@ PARAMETERS = {"provider_id": V1, "session_id": UNKNOWN, "task_id": "1", "name": 
 
 class SlowDatabase:
     """Statements on `table` wait in their thread, once armed, until `release` or HOLD: a slow database server.
-    Records the thread of every SELECT, and whether each held statement was released (not timed out)."""
+    Records the thread of every SELECT, and whether each held statement was released (not timed out). Listens for
+    the engine's life (a listener removed while another thread runs a statement breaks that statement)."""
 
     def __init__(self, engine: Engine) -> None:
         self.engine, self.table = engine, ""
@@ -53,8 +54,12 @@ class SlowDatabase:
         self.released.clear()
         self.released_in_time.clear()
 
-    def close(self) -> None:
-        event.remove(self.engine, "before_cursor_execute", self._statement)
+    def release(self) -> list[bool]:
+        """Let the held statement go on; whether it was released in time (not by the HOLD timeout)."""
+        self.released.set()
+        if self.entered.is_set():
+            wait_until(lambda: self.released_in_time, HOLD + 5, "the held statement to go on")
+        return self.released_in_time
 
 
 @pytest.fixture(scope="module")
@@ -63,12 +68,16 @@ def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
         yield c
 
 
+@pytest.fixture(scope="module")
+def slowed(client: TestClient) -> SlowDatabase:
+    return SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
+
+
 @pytest.fixture
-def slow(client: TestClient) -> Iterator[SlowDatabase]:
-    database = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
-    yield database
-    database.released.set()
-    database.close()
+def slow(slowed: SlowDatabase) -> Iterator[SlowDatabase]:
+    yield slowed
+    slowed.hold("")
+    slowed.released.set()
 
 
 def loop_thread(client: TestClient) -> int:
@@ -117,11 +126,11 @@ def test_the_loop_answers_while_a_route_waits_on_a_slow_database(client: TestCli
         started = time.monotonic()
         health = client.get("/api/health")
         answered = time.monotonic() - started
-        slow.released.set()
+        released = slow.release()
         assert health.status_code == 200
         assert pending.result(timeout=60).status_code in (200, 404)
     print(f"{method} {path}: /api/health answered in {answered * 1000:.1f} ms while the database was held")
-    assert slow.released_in_time == [True], f"/api/health waited for {method} {path} ({answered:.1f} s): it blocked the loop"
+    assert released == [True], f"/api/health waited for {method} {path} ({answered:.1f} s): it blocked the loop"
     assert answered < HOLD / 2
 
 
@@ -139,10 +148,9 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
             started = time.monotonic()
             health = client.get("/api/health")
             answered = time.monotonic() - started
-            slow.released.set()
+            released = slow.release()
             assert health.status_code == 200
             print(f"notified command: /api/health answered in {answered * 1000:.1f} ms while the database was held")
-            assert slow.released_in_time == [True], f"/api/health waited for the notification's read ({answered:.1f} s)"
+            assert released == [True], f"/api/health waited for the notification's read ({answered:.1f} s)"
         finally:
             slow.released.set()
-            slow.close()
