@@ -32,6 +32,8 @@ from starlette.datastructures import Headers
 from starlette.routing import BaseRoute, Match
 from starlette.types import Scope
 
+from sem_console.storage.models import AuditRecord
+
 log = logging.getLogger("sem-console.audit")
 CLIP = 200
 WINDOW = 60.0
@@ -130,7 +132,7 @@ def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str |
         log.warning("audit entry not recorded (%s): %s", e, entry)
 
 
-def entry_json(row: dict[str, Any]) -> dict[str, Any]:
-    return {"id": row["id"], "at": row["at"], "outcome": row["outcome"], "status": row["status"], "method": row["method"],
-            "path": row["path"], "client": row["client"], "origin": row["origin"], "operator": row["operator"],
-            "sessionId": row["session_id"], "reason": row["reason"]}
+def entry_json(row: AuditRecord) -> dict[str, Any]:
+    return {"id": row.id, "at": row.at, "outcome": row.outcome, "status": row.status, "method": row.method,
+            "path": row.path, "client": row.client, "origin": row.origin, "operator": row.operator,
+            "sessionId": row.session_id, "reason": row.reason}

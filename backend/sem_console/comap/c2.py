@@ -20,7 +20,7 @@ import logging
 import math
 import time
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any, Protocol
 
@@ -172,7 +172,7 @@ class C2:
         self.save.world({"features": [asdict(f) for f in self.features], "updated_at": self.world_updated_at,
                          "source": source, "highest_feature": self._highest_feature})
 
-    def load_world(self, stored: dict[str, Any] | None) -> None:
+    def load_world(self, stored: Mapping[str, Any] | None) -> None:
         """The stored world model (Database.comap_world), applied when newer than this console's."""
         if stored is None:
             return
@@ -184,7 +184,7 @@ class C2:
         self.world_updated_at, self.world_source = stored["updated_at"], stored["source"]
         self.emit({"type": "worldmodel", "worldModel": self.world_model()})
 
-    def load_task(self, row: dict[str, Any]) -> None:
+    def load_task(self, row: Mapping[str, Any]) -> None:
         """A stored task (Database.comap_tasks), applied where newer than this console's of that id: its state and synch
         when decided over ours (`state_at`, `decided_over`: another station's HOLD), its progress when reported after
         ours. Each by its own stamp: the vehicle's progress, stamped as each report comes, moves `updated_at` on faster

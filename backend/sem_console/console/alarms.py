@@ -55,6 +55,7 @@ from sem_console.console.providers import Provider
 from sem_console.core.words import WORDS, inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
+from sem_console.storage.models import AlarmShelfRecord, PlannedSilenceRecord
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
 CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered",
@@ -249,7 +250,7 @@ class Alarms:
     def _load(self) -> None:
         self.open: dict[str, Alarm] = {}
         for r in self.store.open_alarms():
-            a = Alarm.from_row(r)
+            a = Alarm.from_row(r.model_dump())
             self.open[a.key] = a
         self._raised: set[str] = {k for k, a in self.open.items() if a.kind in EVENTS}  # events never raised twice
         # a vehicle with an open fix-lost alarm had a valid fix (kept across a restart)
@@ -272,15 +273,17 @@ class Alarms:
         self._returned: dict[str, str] = {}  # key -> why a shelved alarm is back in view, until acknowledged
         self.silences_changed = False  # a planned silence began or ended (the console sends them again)
 
-    def _load_watch(self) -> None:
-        """The shelves and planned silences not ended, from the database (at start, and after a resync)."""
+    def _load_watch(self, shelves: list[AlarmShelfRecord] | None = None,
+                    silences: list[PlannedSilenceRecord] | None = None) -> None:
+        """The shelves and planned silences not ended, as read from the database (at start: read here; after a
+        resync: read in a worker thread)."""
         self.shelves: dict[str, Shelf] = {}
-        for r in self.store.shelves():
-            shelf = Shelf(**_fields(Shelf, r))
+        for r in self.store.shelves() if shelves is None else shelves:
+            shelf = Shelf(**_fields(Shelf, r.model_dump()))
             self.shelves[shelf.key] = shelf
         self.silences: dict[str, Silence] = {}
-        for r in self.store.silences():
-            silence = Silence(**_fields(Silence, r))
+        for s in self.store.silences() if silences is None else silences:
+            silence = Silence(**_fields(Silence, s.model_dump()))
             self.silences[silence.provider_id] = silence
 
     def reset(self) -> None:
@@ -505,10 +508,10 @@ class Alarms:
                 del self.silences[pid]
         self.silences_changed = True
 
-    def reload_shared(self) -> None:
+    def reload_shared(self, shelves: list[AlarmShelfRecord], silences: list[PlannedSilenceRecord]) -> None:
         """A resync: the shelves and silences as the database has them (what the other stations did meanwhile)."""
         before = set(self.shelves)
-        self._load_watch()
+        self._load_watch(shelves, silences)
         for key in before - set(self.shelves):
             self._returned.setdefault(key, returned_words("expired"))
         self.silences_changed = True

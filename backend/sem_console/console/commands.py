@@ -13,16 +13,18 @@ every station shows it.
 
 from __future__ import annotations
 
+import asyncio
 import logging
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import Any, Literal, cast
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.console.clock import Clock
 from sem_console.dds.topics import AnySem, Service
+from sem_console.storage.commands import CommandRow
 from sem_console.storage.database import Database
 from sem_console.umaa.flow import AnyReason, CommandFlow, name, parse, parse_reason
 from sem_console.umaa.samples import datetime_to_float, now_datetime
@@ -142,7 +144,7 @@ class Commands:
         for row in self.store.commands(limit=0, unfinished=True):
             self._watch(self.from_row(row))
 
-    def from_row(self, row: dict[str, Any], source: uuid.UUID | None = None) -> Command:
+    def from_row(self, row: CommandRow, source: uuid.UUID | None = None) -> Command:
         """The command of a database row; `source`: the GUID of the console that issued it when not this one."""
         service = Service(row["service"])
         state: str | None = row["state"] or None
@@ -152,8 +154,8 @@ class Commands:
                       self._sample(commanding, provider, session, state, row["command"]["timeStamp"], source), commanding,
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
-                      canceled_at=row.get("canceled_at"), cancel_cause=row.get("cancel_cause"),
-                      closed_unheard=row.get("closed_unheard"), closed_at=row.get("closed_at"),
+                      canceled_at=row.get("canceled_at"), cancel_cause=cast(CancelCause | None, row.get("cancel_cause")),
+                      closed_unheard=cast(ClosedUnheard | None, row.get("closed_unheard")), closed_at=row.get("closed_at"),
                       cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
                       cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
@@ -162,14 +164,15 @@ class Commands:
         return cmd
 
     def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:
-        """Newest first, from the database (memory holds only active and recent commands)."""
+        """Newest first, from the database (memory holds only active and recent commands); for a worker thread."""
         rows = self.store.commands(limit=limit, offset=offset, provider_id=None if provider_id is None else str(provider_id))
         return [self.from_row(r).to_json() for r in rows]
 
-    def get(self, session: uuid.UUID) -> Command | None:
+    async def get(self, session: uuid.UUID) -> Command | None:
+        """From memory, else from the database (read in a worker thread: never on the event loop)."""
         if session in self.by_session:
             return self.by_session[session]
-        rows = self.store.commands(session_id=str(session))
+        rows = await asyncio.to_thread(self.store.commands, session_id=str(session))
         return self.from_row(rows[0]) if rows else None
 
     def _forget_old(self) -> None:
@@ -258,8 +261,8 @@ class Commands:
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None, cause: CancelCause = "operator") -> Command:
-        cmd = self.by_session.get(session) or self._take_over(session)
-        if cmd is None:  # not in memory: unknown, or finished long ago
+        cmd = self.by_session.get(session)
+        if cmd is None:  # not in memory: unknown, finished long ago, or another station's not taken over
             raise CommandError(f"command {session} is not running")
         if cmd.flow.terminal or cmd.cleaned_up:
             raise CommandError(
@@ -291,15 +294,24 @@ class Commands:
             self.emit({"type": "command", "command": cmd.to_json()})
         self._forget_old()
 
-    def _take_over(self, session: uuid.UUID) -> Command | None:
+    async def take_over(self, session: uuid.UUID) -> Command | None:
         """Hand-over: a running command another console station on this database issued, taken into this
         console's care (to cancel it, whether or not that station still runs): its sample keeps that
         station's source GUID, so the dispose reaches the vehicle's instance of it; its statuses are
-        followed and recorded from here on as well (a transition both record is stored once)."""
-        rows = self.store.commands(session_id=str(session))
+        followed and recorded from here on as well (a transition both record is stored once). The database is
+        read in a worker thread."""
+        if session in self.by_session:
+            return self.by_session[session]
+
+        def read() -> tuple[list[CommandRow], dict[str, uuid.UUID]]:
+            rows = self.store.commands(session_id=str(session))
+            return rows, self.store.consoles() if rows else {}
+        rows, consoles = await asyncio.to_thread(read)
+        if session in self.by_session:  # taken meanwhile (another request, a notification)
+            return self.by_session[session]
         if not rows or rows[0]["console"] in (None, self.station) or rows[0]["cleaned_up"]:
             return None
-        source = self.store.consoles().get(rows[0]["console"])
+        source = consoles.get(rows[0]["console"] or "")
         if source is None:
             return None
         cmd = self.from_row(rows[0], source)
@@ -316,7 +328,15 @@ class Commands:
         rows = self.store.commands(session_id=str(session))
         return self.merge_shared(rows[0]) if rows else None
 
-    def merge_shared(self, row: dict[str, Any]) -> Command:
+    def canceled_elsewhere(self, session: uuid.UUID, changed: dict[str, Any]) -> None:
+        """Another station asked to cancel a command this one follows (the columns it stored, as notified): taken over
+        at once, as the vehicle's answer to that cancel may come before the row is read."""
+        mine = self.by_session.get(session)
+        if mine is not None and changed.get("cancel_requested") and not mine.cancel_requested:
+            self._canceled(mine, changed.get("canceled_by"), changed.get("canceled_on"), changed.get("canceled_at"),
+                           changed.get("cancel_cause"), record=False)
+
+    def merge_shared(self, row: CommandRow) -> Command:
         """The command of a shared database row (see `shared`)."""
         stored = self.from_row(row)
         mine = self.by_session.get(stored.session_id)

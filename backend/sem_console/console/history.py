@@ -20,7 +20,7 @@ from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
 from sqlmodel import Session, col, delete, func, select
 
-from sem_console.storage.database import VehicleWriters
+from sem_console.storage.locks import VehicleWriters
 from sem_console.storage.models import SeriesPoint, TrackPoint
 
 log = logging.getLogger("sem-console.history")

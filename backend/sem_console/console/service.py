@@ -15,7 +15,7 @@ import uuid
 from collections import OrderedDict
 from collections.abc import Callable, Coroutine
 from dataclasses import asdict
-from typing import Any, TypeVar
+from typing import Any, NamedTuple, TypeVar
 
 from pydantic import ValidationError
 from sqlalchemy.exc import SQLAlchemyError
@@ -37,7 +37,10 @@ from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig as LinkConfigModel
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
+from sem_console.storage.comap import TaskRow, WorldRow
+from sem_console.storage.commands import CommandRow
 from sem_console.storage.database import Database, Unavailable
+from sem_console.storage.models import AlarmShelfRecord, PlannedSilenceRecord
 from sem_console.storage.notify import Listener
 from sem_console.versions.commands import Commanding
 
@@ -48,6 +51,16 @@ HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's e
 RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
 EARLY_SESSIONS = 1000  # replay: sessions whose statuses came before their recorded command message, kept (the newest)
 ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
+
+
+class Resynced(NamedTuple):
+    """What a resync reads of the database (Console._resync)."""
+
+    commands: list[CommandRow]
+    links: dict[str, Any]
+    shelves: list[AlarmShelfRecord]
+    silences: list[PlannedSilenceRecord]
+    acked: dict[str, tuple[float, str | None]]
 
 
 class SharedComap:
@@ -115,7 +128,7 @@ class Console:
                      self.station)
         self.imc: AsyncNode | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
-        self._names_lock, self._comap_lock = asyncio.Lock(), asyncio.Lock()
+        self._names_lock, self._comap_lock, self._shared_lock = asyncio.Lock(), asyncio.Lock(), asyncio.Lock()
         self._reloads: set[asyncio.Task[None]] = set()  # reads of the database after a notification, off the loop
         self._ticker: asyncio.Task[None] | None = None
         self._history_task: asyncio.Task[None] | None = None
@@ -172,15 +185,20 @@ class Console:
             if kind in ("task", "worldmodel", "resync"):
                 self._reload(self._reload_comap(str(kind), int(message["id"]) if kind == "task" else None))
             if kind == "resync":
-                self._resync()
+                self._reload(self._resync())
             elif kind in ("name", "task", "worldmodel") or message.get("console") == self.station:
                 return
-            elif kind == "command":
-                cmd = self.commands.shared(uuid.UUID(str(message["session"])))
-                if cmd is not None:
-                    self._emit({"type": "command", "command": cmd.to_json()})
+            elif kind == "command":  # a cancel applied at once; the row read off the loop, applied in order
+                session = str(uuid.UUID(str(message["session"])))
+                changed = message.get("changed")
+                if isinstance(changed, dict):
+                    self.commands.canceled_elsewhere(uuid.UUID(session), changed)
+                self._reload(self._read_stored(self._shared_lock, "a command of another console",
+                                               lambda: self.store.commands(session_id=session), self._shared_command))
             elif kind == "link":
-                self._shared_link_config(str(message["provider"]))
+                provider = str(message["provider"])
+                self._reload(self._read_stored(self._shared_lock, "the link configurations", self.store.link_configs,
+                                               lambda rows: self._shared_link_config(provider, rows)))
             elif kind == "shelf":
                 if self.alarms.shared_shelf(dict(message["row"])):
                     self._emit({"type": "alarms", "alarms": self.alarms.active()})
@@ -199,24 +217,35 @@ class Console:
             log.warning("%s", e)  # was missed is read when its upkeep finds the database back
             self._resync_pending = True
 
-    def _resync(self) -> None:
+    async def _resync(self) -> None:
         """The listening connection was reopened (the server restarted, an outage): what the other stations
-        changed meanwhile was not heard, so it is read from the database and sent to this console's clients."""
-        for row in self.store.commands(limit=RESYNC_COMMANDS, unfinished=True):
-            if row["console"] != self.station:
-                self._emit({"type": "command", "command": self.commands.merge_shared(row).to_json()})
-        rows = self.store.link_configs()
-        for provider_id in rows:
-            self._shared_link_config(provider_id, rows)
-        self.alarms.reload_shared()
-        self._emit({"type": "alarms", "alarms": self.alarms.active()})
-        missed = self.store.acked_elsewhere({k: a.since for k, a in self.alarms.open.items() if a.acked_at is None})
-        if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in missed.items()]):
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
-        log.info("listening to the other consoles again: resynced from the database")
+        changed meanwhile was not heard, so it is read from the database (in a worker thread) and sent to this
+        console's clients."""
+        since = {k: a.since for k, a in self.alarms.open.items() if a.acked_at is None}
 
-    def _shared_link_config(self, provider_id: str, rows: dict[str, Any] | None = None) -> None:
-        rows = self.store.link_configs() if rows is None else rows
+        def read() -> Resynced:
+            return Resynced(self.store.commands(limit=RESYNC_COMMANDS, unfinished=True), self.store.link_configs(),
+                            self.store.shelves(), self.store.silences(), self.store.acked_elsewhere(since))
+
+        def apply(got: Resynced) -> None:
+            for row in got.commands:
+                if row["console"] != self.station:
+                    self._emit({"type": "command", "command": self.commands.merge_shared(row).to_json()})
+            for provider_id in got.links:
+                self._shared_link_config(provider_id, got.links)
+            self.alarms.reload_shared(got.shelves, got.silences)
+            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in got.acked.items()]):
+                self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            log.info("listening to the other consoles again: resynced from the database")
+        await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
+
+    def _shared_command(self, rows: list[CommandRow]) -> None:
+        """Another station's command as stored (see Commands.merge_shared), to this console's clients."""
+        if rows:
+            self._emit({"type": "command", "command": self.commands.merge_shared(rows[0]).to_json()})
+
+    def _shared_link_config(self, provider_id: str, rows: dict[str, Any]) -> None:
         config = stored_link_configs({k: v for k, v in rows.items() if k == provider_id})
         p = self.providers.by_id.get(uuid.UUID(provider_id))
         if p is not None and provider_id in config:
@@ -644,11 +673,11 @@ class Console:
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied
         where newer than this console's."""
-        def read() -> tuple[dict[str, Any] | None, list[dict[str, Any]]]:
+        def read() -> tuple[WorldRow | None, list[TaskRow]]:
             world = self.store.comap_world() if kind != "task" else None
             return world, self.store.comap_tasks(task_id) if kind != "worldmodel" else []
 
-        def apply(got: tuple[dict[str, Any] | None, list[dict[str, Any]]]) -> None:
+        def apply(got: tuple[WorldRow | None, list[TaskRow]]) -> None:
             self.c2.load_world(got[0])
             for row in got[1]:
                 self.c2.load_task(row)

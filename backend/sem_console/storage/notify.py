@@ -1,7 +1,7 @@
 """PostgreSQL LISTEN/NOTIFY between the consoles of one database: what one console writes (a command, its
 transitions and flags, a link configuration...) the others hear within a second, without polling.
 
-A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered when it commits; storage/database.py);
+A write sends `pg_notify(CHANNEL, payload)` in its own transaction (delivered when it commits; `notify`);
 `Listener` is a thread with a connection of its own that waits on LISTEN and hands each payload to a callback
 (the console passes one that goes on to its event loop with call_soon_threadsafe). A lost connection (the server
 restarts, an outage) is reopened, a second apart, until it is back; what was sent meanwhile is not delivered
@@ -16,13 +16,14 @@ import threading
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from sqlalchemy import Connection, func, select
 from sqlalchemy.engine import URL
 
 if TYPE_CHECKING:  # imported where a listener runs: a console on SQLite never loads the driver (about 0.08 s a start)
     import psycopg
 
 log = logging.getLogger("sem-console.storage")
-# Every PostgreSQL connection of the console (this listener's, storage/database.py's engine). connect_timeout: the
+# Every PostgreSQL connection of the console (this listener's, storage/engine.py). connect_timeout: the
 # seconds to reach a server (a start fails after it). A server gone without closing its connections (a network cut, a
 # host powered off): without the TCP settings an open connection's next statement waits for TCP's retransmissions
 # (many minutes; on the event loop for a write) and a listening connection never notices; with them a statement fails
@@ -36,6 +37,11 @@ RECONNECT = 1.0  # seconds between attempts to reopen a lost listening connectio
 def conninfo(url: URL) -> str:
     """The libpq URI of a SQLAlchemy postgresql+psycopg URL (with its password: never logged)."""
     return url.set(drivername="postgresql").render_as_string(hide_password=False)
+
+
+def notify(c: Connection, message: dict[str, Any]) -> None:
+    """Send `message` to the listening consoles, when `c`'s transaction commits."""
+    c.execute(select(func.pg_notify(CHANNEL, json.dumps(message))))
 
 
 class Listener:

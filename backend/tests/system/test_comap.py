@@ -528,7 +528,7 @@ def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(databas
     from alembic import command
     from sqlalchemy import text
 
-    from sem_console.storage.database import alembic_config, open_engine
+    from sem_console.storage.engine import alembic_config, open_engine
 
     url = parse_database_url(database_url)
     engine = open_engine(url)

@@ -34,9 +34,10 @@ TIMERS: dict[str, Any] = {"comms_lost_timeout": 1, "regained_time": 1, "unanswer
 @contextmanager
 def app_client(tmp: Path, peer: tuple[str, int] = ("testclient", 50000), **options: Any) -> Iterator[TestClient]:
     """The app of `sem-console` with these `Settings` on a fresh domain, once V1 is known; `peer`: the client's
-    address as the app sees it."""
-    settings = Settings(domain=free_domain(), db_path=tmp / "console.sqlite3", recordings_dir=tmp / "recordings",
-                        console_name="test-console", sim=1, **{**TIMERS, **options})
+    address as the app sees it; a SQLite file in `tmp` unless `database_url` is given."""
+    database = {} if "database_url" in options else {"db_path": tmp / "console.sqlite3"}
+    settings = Settings(domain=free_domain(), recordings_dir=tmp / "recordings", console_name="test-console", sim=1,
+                        **{**database, **TIMERS, **options})
     # an allowed Host (the guard refuses TestClient's default "testserver")
     with TestClient(create_app(settings), base_url="http://127.0.0.1", client=peer) as c:
         wait_until(lambda: c.get(f"/api/providers/{V1}").status_code == 200, what="the embedded simulator's vehicle")

@@ -24,7 +24,8 @@ from sqlmodel import SQLModel
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
-from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters, head_revision
+from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters
+from sem_console.storage.engine import head_revision
 from sem_console.storage.url import parse_database_url
 from support.pg import Cluster
 
@@ -142,7 +143,7 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
 
 def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: str) -> None:
     db = open_db(database_url)
-    db.audit_max_rows = 3
+    db.audit_trail.max_rows = 3
     try:
         session = str(uuid.uuid4())
         db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
@@ -161,7 +162,7 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         for n in range(5):
             db.add_audit({"at": float(n), "outcome": "accepted", "status": 200, "method": "POST", "path": f"/{n}",
                           "reason": "accepted"})
-        assert [e["path"] for e in db.audit(10, 0)] == ["/4", "/3", "/2"]  # the newest audit_max_rows
+        assert [e.path for e in db.audit(10, 0)] == ["/4", "/3", "/2"]  # the newest audit_max_rows
         db.set_link_config(V1, {"commsLostTimeout": 5})
         db.set_link_config(V1, {"commsLostTimeout": 7})
         assert db.link_configs() == {V1: {"commsLostTimeout": 7}}
@@ -176,7 +177,7 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         first = db.add_alarm(alarm)
         assert db.add_alarm(alarm) == first + 1
         db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
-        assert [a["id"] for a in db.open_alarms()] == [first + 1]
+        assert [a.id for a in db.open_alarms()] == [first + 1]
     finally:
         db.close()
 
@@ -270,9 +271,9 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         finally:
             pg_cluster.start()
         assert db.maintain() and db.held == 0 and db.unavailable_since is None
-        assert [e["path"] for e in db.audit(10, 0)] == ["/a"]
+        assert [e.path for e in db.audit(10, 0)] == ["/a"]
         [row] = db.open_alarms()
-        assert row["acked_by"] == "alice" and row["acked_at"] == 2.0  # the held update found the row written late
+        assert row.acked_by == "alice" and row.acked_at == 2.0  # the held update found the row written late
         other = open_db(pg_url)
         try:
             with pytest.raises(StorageError):  # the name's lock went with the old server; maintain took it again
@@ -341,7 +342,7 @@ def test_the_sessions_that_hold_locks_are_ended_by_the_server_soon_after_a_netwo
     try:
         db.claim("watch")
         assert writers.mine({V1}) == {V1}
-        for c in (db._lock, writers._conn):  # the name's session, the vehicles' session (over TCP: 127.0.0.1)
+        for c in (db.name_lock.lock, writers._conn):  # the name's session, the vehicles' session (over TCP: 127.0.0.1)
             assert isinstance(c, Connection)
             assert [c.execute(text(f"SHOW tcp_keepalives_{s}")).scalar() for s in ("idle", "interval", "count")] \
                 == ["5", "2", "2"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import uuid
 from pathlib import Path
 from typing import Any
@@ -105,7 +106,7 @@ def test_a_cancel_never_answered_ends_once_the_vehicle_is_heard_for_the_unanswer
     # it answers after all: what it says stands, the console's ending is withdrawn
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.CANCELED, R.CANCELED, "", 1.0)
     assert cmd.closed_unheard is None and cmd.flow.status is S.CANCELED and cmd.terminal
-    stored = c.get(cmd.session_id)
+    stored = asyncio.run(c.get(cmd.session_id))
     assert stored is not None and stored.to_json()["closedUnheard"] is None
 
 
@@ -196,7 +197,7 @@ def test_a_recorded_command_first_heard_canceled_and_ended_replays_so(tmp_path: 
     assert again.terminal and again.cleaned_up and (again.canceled_by, again.closed_unheard) == ("bob", "heard")
     assert (again.canceled_at, again.closed_at) == (cmd.canceled_at, cmd.closed_at)
     assert [m["command"]["terminal"] for m in bus.emitted] == [True]  # one message, the command as recorded
-    assert replay.get(cmd.session_id) is again
+    assert asyncio.run(replay.get(cmd.session_id)) is again
     assert replay.store.commands(session_id=str(cmd.session_id))[0]["closed_unheard"] == "heard"
 
 
@@ -222,7 +223,7 @@ def test_memory_keeps_active_and_recent_commands_history_pages_from_the_database
     assert set(c.by_session) == set(sessions[2:])  # the running one and the three newest finished
     page = c.history(limit=2, offset=0)
     assert [p["sessionId"] for p in page] == [str(s) for s in sessions[::-1][:2]]
-    old = c.get(sessions[0])
+    old = asyncio.run(c.get(sessions[0]))
     assert old is not None and [t.status for t in old.flow.transitions] == [S.ISSUED, S.FAILED]
     assert len(c.history(limit=100, offset=0)) == 6
 

@@ -1,11 +1,13 @@
 """Commands: issue GPSFix and InertialSensor commands, cancel them (`writes`), read their history (`reads`).
 
 Every route is `async def`: it runs on the event loop, the one thread that owns the
-console's state (a plain `def` would run in a worker thread).
+console's state (a plain `def` would run in a worker thread); the database is read in a worker thread, never on the
+loop (tests/system/test_loop.py).
 """
 
 from __future__ import annotations
 
+import asyncio
 import uuid
 from typing import Annotated, Any
 
@@ -88,8 +90,9 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
                          audit: AuditDep) -> dict[str, Any]:
     """Cancel a running command, an UNANSWERED one too: the console disposes it, the provider answers CANCELED. The
     command stays in the history."""
-    if console.commands.get(session_id) is None:
+    if await console.commands.get(session_id) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
+    await console.commands.take_over(session_id)  # another station's running command, cancelled from here
     try:
         cmd = console.commands.cancel(session_id, operator)
     except CommandError as e:
@@ -105,14 +108,14 @@ async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset 
                         provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
                         ) -> list[dict[str, Any]]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
-    return console.commands.history(limit, offset, provider_id)
+    return await asyncio.to_thread(console.commands.history, limit, offset, provider_id)
 
 
 @reads.get("/api/commands/{session_id}", response_model=Command, responses=UNKNOWN_COMMAND)
 async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     """One command with every status transition: from memory, or from the database once it is no longer among the
     running and newest finished ones."""
-    cmd = console.commands.get(session_id)
+    cmd = await console.commands.get(session_id)
     if cmd is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     return cmd.to_json()

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 from typing import Any
 
 from fastapi import APIRouter, HTTPException
@@ -60,7 +61,7 @@ async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
     """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first. Refusals
     are bounded per client address and minute (--audit-refusals-per-minute), the trail by --audit-max-rows."""
-    return [entry_json(r) for r in console.store.audit(limit, offset)]
+    return [entry_json(r) for r in await asyncio.to_thread(console.store.audit, limit, offset)]
 
 
 @operator_router.get("/operator", response_model=Operator)

@@ -1,4 +1,4 @@
-"""Alembic's environment: run in code by storage.database.migrate on a connection it passes in
+"""Alembic's environment: run in code by storage.engine.migrate on a connection it passes in
 (config.attributes["connection"]); never from the alembic command line with an ini file."""
 
 from __future__ import annotations

@@ -1,0 +1,125 @@
+"""Alarms, and the shelves and planned silences the stations share (notification kinds "alarm-ack", "shelf" and
+"silence"). Each console station writes its own alarms; an acknowledgement reaches the other stations' alarm of the
+same key."""
+
+from __future__ import annotations
+
+import itertools
+from typing import Any
+
+from sqlalchemy import Connection, Table, delete, insert, or_, select, update
+
+from sem_console.storage.context import Context
+from sem_console.storage.models import AlarmRecord, AlarmShelfRecord, PlannedSilenceRecord, table
+
+ALARMS, SHELVES, SILENCES = table(AlarmRecord), table(AlarmShelfRecord), table(PlannedSilenceRecord)
+ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
+ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
+                 "acked_by", "normal_at")
+
+
+class Alarms:
+    def __init__(self, ctx: Context) -> None:
+        self.ctx = ctx
+        self._temporary_ids = itertools.count(-1, -1)  # alarms raised during an outage, until written
+        self._ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
+
+    def add(self, alarm: dict[str, Any]) -> int:
+        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
+        During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
+        updates go to the row written for it."""
+        row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.ctx.station}
+        temporary = next(self._temporary_ids)
+        ids: list[int] = []
+
+        def write(c: Connection) -> None:
+            new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
+            c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
+            self._ids[temporary] = new_id
+            ids.append(new_id)
+        self.ctx.writes.write(write)
+        if ids:  # written now: no temporary id to map
+            self._ids.pop(temporary, None)
+            return ids[0]
+        return temporary
+
+    def update(self, alarm: dict[str, Any]) -> None:
+        values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
+
+        def write(c: Connection) -> None:
+            c.execute(update(ALARMS).where(ALARMS.c.id == self._ids.get(alarm["id"], alarm["id"])).values(values))
+            if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
+                self.ctx.notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
+        self.ctx.writes.write(write)
+
+    def open(self) -> list[AlarmRecord]:
+        """This console's alarms not back to normal, oldest first."""
+        q = select(*ALARMS.c).where(ALARMS.c.normal_at.is_(None)).order_by(ALARMS.c.id)
+        if self.ctx.station is not None:
+            q = q.where(ALARMS.c.console == self.ctx.station)
+        with self.ctx.writes.reads() as c:
+            return [AlarmRecord(**r) for r in c.execute(q).mappings()]
+
+    def acked_elsewhere(self, since: dict[str, float]) -> dict[str, tuple[float, str | None]]:
+        """Alarm key -> (when, by whom) another console station acknowledged its alarm of that key, at or after
+        `since[key]` (this console's alarm of the key was raised then): what a reopened listener may have missed."""
+        out: dict[str, tuple[float, str | None]] = {}
+        if not since:
+            return out
+        q = select(ALARMS.c.key, ALARMS.c.acked_at, ALARMS.c.acked_by).where(
+            ALARMS.c.key.in_(list(since)), ALARMS.c.acked_at.is_not(None),
+            or_(ALARMS.c.console.is_(None), ALARMS.c.console != self.ctx.station)).order_by(ALARMS.c.acked_at)
+        with self.ctx.writes.reads() as c:
+            for key, at, by in c.execute(q):
+                if at >= since[key]:
+                    out[key] = (at, by)
+        return out
+
+    def add_shelf(self, shelf: dict[str, Any]) -> None:
+        """A new shelf (keys: AlarmShelfRecord's); the other stations hear it with the row."""
+        self._add_shared(SHELVES, "shelf", shelf)
+
+    def end_shelf(self, shelf_id: str, at: float, by: str | None, why: str) -> None:
+        """End a shelf, unless it has ended already (another station, or its time, ended it first)."""
+        self._end_shared(SHELVES, "shelf", shelf_id, at, by, why)
+
+    def add_silence(self, silence: dict[str, Any]) -> None:
+        """A new planned silence (keys: PlannedSilenceRecord's)."""
+        self._add_shared(SILENCES, "silence", silence)
+
+    def end_silence(self, silence_id: str, at: float, by: str | None, why: str) -> None:
+        self._end_shared(SILENCES, "silence", silence_id, at, by, why)
+
+    def shelves(self) -> list[AlarmShelfRecord]:
+        """The shelves not ended, oldest first."""
+        with self.ctx.writes.reads() as c:
+            q = select(*SHELVES.c).where(SHELVES.c.ended_at.is_(None)).order_by(SHELVES.c.shelved_at)
+            return [AlarmShelfRecord(**r) for r in c.execute(q).mappings()]
+
+    def silences(self) -> list[PlannedSilenceRecord]:
+        """The planned silences not ended, oldest first."""
+        with self.ctx.writes.reads() as c:
+            q = select(*SILENCES.c).where(SILENCES.c.ended_at.is_(None)).order_by(SILENCES.c.set_at)
+            return [PlannedSilenceRecord(**r) for r in c.execute(q).mappings()]
+
+    def _add_shared(self, t: Table, kind: str, values: dict[str, Any]) -> None:
+        row = {c.name: values.get(c.name) for c in t.c}
+
+        def write(c: Connection) -> None:
+            c.execute(insert(t).values(row))
+            self.ctx.notify(c, kind, row=row)
+        self.ctx.writes.write(write)
+
+    def _end_shared(self, t: Table, kind: str, row_id: str, at: float, by: str | None, why: str) -> None:
+        def write(c: Connection) -> None:
+            ended = c.execute(update(t).where(t.c.id == row_id, t.c.ended_at.is_(None))
+                              .values(ended_at=at, ended_by=by, end_reason=why)).rowcount
+            if ended:
+                self.ctx.notify(c, kind, row={"id": row_id, "ended_at": at, "ended_by": by, "end_reason": why})
+        self.ctx.writes.write(write)
+
+    def clear(self) -> None:
+        """Forget every alarm, shelf and silence (a replay rebuilding its state)."""
+        with self.ctx.engine.begin() as c:
+            for t in (ALARMS, SHELVES, SILENCES):
+                c.execute(delete(t))

@@ -1,0 +1,156 @@
+"""No route, nor another console's notification, blocks the event loop on the database. The app of `sem-console`
+in this process (tests/system/test_routes.py's `app_client`: real Cyclone DDS, the embedded simulator, a SQLite or
+PostgreSQL database), with its database made slow: a statement of the request under test waits in the thread that
+runs it. A request that reads the database on the event loop stops every other request with it; one that reads it
+in a worker thread leaves the loop to answer /api/health meanwhile."""
+
+from __future__ import annotations
+
+import json
+import re
+import threading
+import time
+from collections.abc import Iterator
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+import psycopg
+import pytest
+from fastapi.testclient import TestClient
+from sqlalchemy import Engine, event
+
+from test_routes import UNKNOWN, V1, app_client, wait_until
+
+HOLD = 10.0  # seconds a slowed statement waits at most: far beyond an answer of /api/health on a free loop
+# every path parameter of the read routes: a known vehicle, a command no one issued, a task, a recording
+PARAMETERS = {"provider_id": V1, "session_id": UNKNOWN, "task_id": "1", "name": "none.mcap"}
+
+
+class SlowDatabase:
+    """Statements on `table` wait in their thread, once armed, until `release` or HOLD: a slow database server.
+    Records the thread of every SELECT, and whether each held statement was released (not timed out). Listens for
+    the engine's life (a listener removed while another thread runs a statement breaks that statement)."""
+
+    def __init__(self, engine: Engine) -> None:
+        self.engine, self.table = engine, ""
+        self.threads: set[int] = set()
+        self.entered, self.released = threading.Event(), threading.Event()
+        self.released_in_time: list[bool] = []
+        event.listen(engine, "before_cursor_execute", self._statement)
+
+    def _statement(self, _conn: Any, _cursor: Any, statement: str, *_args: Any) -> None:
+        if not statement.lstrip().upper().startswith("SELECT"):
+            return
+        self.threads.add(threading.get_ident())
+        if self.table and re.search(rf"\bFROM {self.table}\b", statement):
+            self.table = ""  # the first such statement only
+            self.entered.set()
+            self.released_in_time.append(self.released.wait(HOLD))
+
+    def hold(self, table: str) -> None:
+        self.table, self.threads = table, set()
+        self.entered.clear()
+        self.released.clear()
+        self.released_in_time.clear()
+
+    def release(self) -> list[bool]:
+        """Let the held statement go on; whether it was released in time (not by the HOLD timeout)."""
+        self.released.set()
+        if self.entered.is_set():
+            wait_until(lambda: self.released_in_time, HOLD + 5, "the held statement to go on")
+        return self.released_in_time
+
+
+@pytest.fixture(scope="module")
+def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
+    with app_client(tmp_path_factory.mktemp("loop")) as c:
+        yield c
+
+
+@pytest.fixture(scope="module")
+def slowed(client: TestClient) -> SlowDatabase:
+    return SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
+
+
+@pytest.fixture
+def slow(slowed: SlowDatabase) -> Iterator[SlowDatabase]:
+    yield slowed
+    slowed.hold("")
+    slowed.released.set()
+
+
+def loop_thread(client: TestClient) -> int:
+    """The thread of the app's event loop (TestClient runs it in a thread of its own)."""
+    ident: int = client.portal.call(threading.get_ident)  # type: ignore[union-attr]
+    return ident
+
+
+def read_routes(client: TestClient) -> list[tuple[str, str]]:
+    """(method, path) of every GET and DELETE route of the app's OpenAPI document, its path parameters filled in."""
+    paths: dict[str, dict[str, Any]] = client.app.openapi()["paths"]  # type: ignore[attr-defined]
+    return [(method.upper(), re.sub(r"\{(\w+)\}", lambda m: PARAMETERS[m.group(1)], path))
+            for path, operations in paths.items() for method in operations if method in ("get", "delete")]
+
+
+def test_no_read_route_runs_a_statement_on_the_event_loop(client: TestClient, slow: SlowDatabase) -> None:
+    """Every GET and DELETE route, once, with the thread of each SELECT it runs recorded: none is the loop's."""
+    loop = loop_thread(client)
+    routes = read_routes(client)
+    assert ("GET", "/api/commands") in routes and ("GET", "/api/audit") in routes
+    on_loop = []
+    for method, path in routes:
+        slow.hold("")
+        client.request(method, path)
+        if loop in slow.threads:
+            on_loop.append(f"{method} {path}")
+    assert on_loop == [], f"routes that read the database on the event loop: {on_loop}"
+
+
+@pytest.mark.parametrize("method,path,table", [
+    ("GET", "/api/commands", "commands"),
+    ("GET", f"/api/commands/{UNKNOWN}", "commands"),
+    ("DELETE", f"/api/commands/{UNKNOWN}", "commands"),
+    ("GET", "/api/audit", "audit"),
+    ("GET", "/api/commands.csv", "commands"),
+    ("GET", f"/api/providers/{V1}/track", "track"),
+])
+def test_the_loop_answers_while_a_route_waits_on_a_slow_database(client: TestClient, slow: SlowDatabase, method: str,
+                                                                  path: str, table: str) -> None:
+    """While the route's statement waits (at most HOLD s), /api/health is asked: it is answered while the statement
+    still waits (it is released by that answer, not by the HOLD timeout), within a small part of HOLD."""
+    slow.hold(table)
+    with ThreadPoolExecutor(1) as pool:
+        pending = pool.submit(client.request, method, path)
+        assert slow.entered.wait(30), f"{method} {path} read no {table}"
+        started = time.monotonic()
+        health = client.get("/api/health")
+        answered = time.monotonic() - started
+        released = slow.release()
+        assert health.status_code == 200
+        assert pending.result(timeout=60).status_code in (200, 404)
+    print(f"{method} {path}: /api/health answered in {answered * 1000:.1f} ms while the database was held")
+    assert released == [True], f"/api/health waited for {method} {path} ({answered:.1f} s): it blocked the loop"
+    assert answered < HOLD / 2
+
+
+def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: str) -> None:
+    """On PostgreSQL another console's change comes as a notification (storage/notify.py): the command it names is read
+    in a worker thread, and the loop answers /api/health while that read waits."""
+    with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
+        slow = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
+        try:
+            slow.hold("commands")
+            message = json.dumps({"kind": "command", "console": "relief", "session": UNKNOWN})
+            # sent again until heard: the console's listener may not be listening yet
+            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
+                       what="the notification's read of the command")
+            started = time.monotonic()
+            health = client.get("/api/health")
+            answered = time.monotonic() - started
+            released = slow.release()
+            assert health.status_code == 200
+            print(f"notified command: /api/health answered in {answered * 1000:.1f} ms while the database was held")
+            assert released == [True], f"/api/health waited for the notification's read ({answered:.1f} s)"
+        finally:
+            slow.released.set()
