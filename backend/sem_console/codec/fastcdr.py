@@ -42,7 +42,7 @@ import struct
 import sys
 import threading
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from cyclonedds.idl import IdlStruct
@@ -132,6 +132,9 @@ class _Gen:
         self.run: list[tuple[str, str | None]] = []  # pending fixed-size reads: (struct code, variable or None for padding)
         self.checks: list[str] = []  # statements to emit once the pending run is read
         self.pure: dict[str, str] = {}  # a variable -> the statement that only computes it (dropped when unused)
+        self.unpacks: list[tuple[str, list[tuple[str, str | None]]]] = []  # (its Struct's name, its run): `drop_unused`
+        self.absent: set[str] = set()  # with a pattern: the presence flags of the members it says are absent
+        self.enum_names: dict[str, tuple[str, ...]] = {}  # JSON mode: a variable holding an enum's name (or None)
         self.pattern: list[bool] | None = None  # the presence of each @optional member, in order: no branch on them
         self.expect: list[str] = []  # with a pattern: the conditions its presence flags meet
         self.record = False  # the presence flags read go to the list `fl` (what `TypeDecoder` learns patterns from)
@@ -188,7 +191,7 @@ class _Gen:
             if fmt[1:] == "B" and names:  # a presence flag alone: indexing is cheaper than an unpack
                 self.emit(f"{names[0]} = b[p]")
             elif names:
-                self.emit(f"{', '.join(names)}, = {self.const(s, 'S')}.unpack_from(b, p)")
+                self.emit(self.unpack(self.run, "p"))
             self.emit(f"p += {s.size}")
             self.run = []
         for line in self.checks:
@@ -218,13 +221,70 @@ class _Gen:
                 self.emit(f"{d}[{n!r}] = {e}")
         return d
 
+    def unpack(self, run: list[tuple[str, str | None]], at: str) -> str:
+        """The statement that reads `run` (struct codes and variables, None for padding) at offset `at` in one unpack;
+        a read nothing uses becomes padding (`drop_unused`)."""
+        name = self.const(struct.Struct(self.endian + "".join(c for c, _ in run)), "S")
+        self.unpacks.append((name, list(run)))
+        return self._unpack_line(name, run, at)
+
+    @staticmethod
+    def _unpack_line(name: str, run: list[tuple[str, str | None]], at: str) -> str:
+        names = [v for _, v in run if v]
+        return f"{', '.join(names)}, = {name}.unpack_from(b, {at})" if names else f"{name}.unpack_from(b, {at})"
+
+    def merge_absent(self) -> None:
+        """With a pattern: each run of adjacent presence flags of absent members read as one unsigned integer (or a
+        few), one zero test for them all instead of one per flag."""
+        out: list[tuple[str, str | None]] = []
+        i = 0
+        while i < len(self.run):
+            j = i
+            while j < len(self.run) and self.run[j][1] in self.absent:
+                j += 1
+            if j == i:
+                out.append(self.run[i])
+                i += 1
+                continue
+            for _, v in self.run[i:j]:
+                self.expect.remove(f"not {v}")
+            n = j - i
+            for size, code in ((8, "Q"), (4, "I"), (2, "H"), (1, "B")):
+                while n >= size:
+                    v = self.var()
+                    out.append((code, v))
+                    self.expect.append(f"not {v}")
+                    n -= size
+            i = j
+        self.run = out
+
+    def lookup(self, table: Mapping[Any, Any], expr: str) -> str:
+        """`table.get(expr)`: of an enum's name (or None), a subscript of the table made whole over them, cheaper."""
+        names = self.enum_names.get(expr)
+        if names is None:
+            return f"{self.const(table)}.get({expr})"
+        return f"{self.const({**{n: table.get(n) for n in names}, None: None})}[{expr}]"
+
     def drop_unused(self, expr: str) -> None:
         """Drop the statements that only compute a value nothing reads (a member the version's model leaves out,
-        such as an identifier's parentID)."""
+        such as an identifier's parentID), and read such a value as padding: no object is made for it."""
         used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
             line for line in self.lines if line.strip() not in self.pure.values())))
         unused = {line for v, line in self.pure.items() if v not in used}
         self.lines = [line for line in self.lines if line.strip() not in unused]
+        lines = {self._unpack_line(name, run, at): (name, run, at) for name, run in self.unpacks for at in ("p", "4")}
+        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
+            line for line in self.lines if line.strip() not in lines)))
+        for k, line in enumerate(self.lines):
+            found = lines.get(line.strip())
+            if found is None:
+                continue
+            name, run, at = found
+            if all(v is None or v in used for _, v in run):
+                continue
+            kept = [(c, v) if v is None or v in used else (f"{struct.calcsize(self.endian + c)}x", None) for c, v in run]
+            self.ns[name] = struct.Struct(self.endian + "".join(c for c, _ in kept))
+            self.lines[k] = line[:len(line) - len(line.lstrip())] + self._unpack_line(name, kept, at)
 
     # ---- values ----------------------------------------------------------------------------
     def value(self, mach: Any, path: str, name: str, enum_member: bool = False) -> str:
@@ -258,6 +318,7 @@ class _Gen:
                 names = {value: m.name for value, m in members.items()}
                 self.checks.append(f"{out} = {self.const(names, 'N')}.get({v})")
                 self.checks.append(f'if {out} is None: _bad_enum({self.const(mach.enum, "T")}, {v}, f"{path}", inv)')
+                self.enum_names[out] = tuple(names.values())
             else:  # an enum not declared as a struct member's type: convert gives the name or the number as it is
                 names = {value: m.name for value, m in members.items()}
                 self.checks.append(f"{out} = {self.const(names, 'N')}.get({v}, {v})")
@@ -318,6 +379,8 @@ class _Gen:
                 raise Unsupported("a presence pattern too short")
             here = self.pattern.pop(0)
             self.expect.append(flag if here else f"not {flag}")
+            if not here:
+                self.absent.add(flag)
             return self.value(mach.submachine, path, name, enum_member) if here else "None"
         self.flush()
         if self.record:
@@ -563,7 +626,7 @@ def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spe
                 for part in path.split("."):
                     top = g.trees[top][part]
                 return top
-            expr = shape.source(spec, member, g.const, g.dict_of)
+            expr = shape.source(spec, member, g.const, g.dict_of, g.lookup)
         return f"return {expr}, inv" if json else f"return {expr}"
 
     body: list[str] = []
@@ -572,10 +635,9 @@ def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spe
         expr = g.value(top, "", "")
         if g.pattern or g.lines:
             raise Unsupported("a presence pattern that does not fit the type")
-        fmt = g.endian + "".join(c for c, _ in g.run)
-        names = [v for _, v in g.run if v]
+        g.merge_absent()
         g.emit("try:")
-        g.emit(f"    {', '.join(names)}, = {g.const(struct.Struct(fmt), 'S')}.unpack_from(b, 4)")
+        g.emit(f"    {g.unpack(g.run, '4')}")
         g.emit("except error:")
         g.emit("    pass")
         g.emit("else:")

@@ -277,3 +277,26 @@ def test_a_value_the_model_leaves_out_is_not_decoded() -> None:
     r = umaa_6_0.REPORTS[Sem60.INS_REPORT]
     source, _ = fastcdr.generate(Sem60.INS_REPORT.spec.type, False, True, True, r.spec, umaa_6_0.model_path)
     assert source.count("guid_text(") == 1
+
+
+def test_a_read_the_model_leaves_out_makes_no_value() -> None:
+    """The parentID of a 6.0 report's source is read as padding (no bytes object made for it), in the learned pattern's
+    one unpack as member by member."""
+    r = umaa_6_0.REPORTS[Sem60.GLOBAL_POSE_REPORT]
+    t = Sem60.GLOBAL_POSE_REPORT.spec.type
+    pattern = (False,) * 4 + (False, True, False)  # no altitudes, no attitude covariance, depth, no position covariance
+    _, ns = fastcdr.generate(t, True, True, True, r.spec, umaa_6_0.model_path, (pattern,))
+    formats = [s.format for s in ns.values() if isinstance(s, struct.Struct)]
+    assert sum(f.count("16s") for f in formats) == 2  # the source's id, in the pattern's unpack and member by member
+    assert sum(f.count("16x") for f in formats) == 2  # its parentID
+
+
+def test_adjacent_absent_members_are_one_test() -> None:
+    """A learned pattern checks the presence flags of adjacent absent members (GlobalPose's four altitudes) as one
+    integer: one test, not four."""
+    r = umaa_6_0.REPORTS[Sem60.GLOBAL_POSE_REPORT]
+    pattern = (False,) * 4 + (False, True, False)
+    source, _ = fastcdr.generate(Sem60.GLOBAL_POSE_REPORT.spec.type, True, True, True, r.spec, umaa_6_0.model_path,
+                                 (pattern,))
+    condition = next(line for line in source.splitlines() if line.strip().startswith("if ") and " and " in line)
+    assert condition.count("not ") == 3 and condition.count(" and ") == 3, condition
