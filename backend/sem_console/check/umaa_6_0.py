@@ -125,6 +125,15 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
 
 
 # ---- decoding what the checker reads -------------------------------------------------------------------------------
+def parent_in(body: dict[str, Any] | None) -> uuid.UUID | None:
+    """The parent a 6.0 report's source says its provider has (its IDL JSON's `source.parentID`); None: not a GUID."""
+    parent = ((body or {}).get("source") or {}).get("parentID")
+    try:
+        return uuid.UUID(parent) if isinstance(parent, str) else None
+    except ValueError:
+        return None
+
+
 def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: float) -> Item | None:
     """A 6.0 sample as the checker judges it: a report as the 6.0 IDL's JSON (not the console's model), a status or ack
     as its sample. None when it cannot be decoded."""

@@ -183,24 +183,26 @@ REPORTS: dict[Sem60, Report] = {
 
 
 # ---- commanding: InertialSensorControl (UMAA 6.0 SEM ICD 4.1) -------------------------------------------------------
-NIL_GUID = bytes(16)  # a parentID: the console and the simulated vehicles have no parent
+NIL_GUID = bytes(16)  # a parentID: the console and the simulated vehicles have no parent (ICD 6.0 5.2.9, Table 24)
 
 
-def identifier(guid: uuid.UUID) -> IdentifierType:
-    """A vehicle's or a console's UMAA::Common::IdentifierType: its GUID as `id`, no parent."""
-    return make(IdentifierType, id=list(guid.bytes), parentID=list(NIL_GUID))
+def identifier(guid: uuid.UUID, parent: uuid.UUID | None = None) -> IdentifierType:
+    """A vehicle's or a console's UMAA::Common::IdentifierType: its GUID as `id`, its parent's as `parentID` (the nil
+    UUID when it has none: the root of its tree, ICD 6.0 5.2.9)."""
+    return make(IdentifierType, id=list(guid.bytes), parentID=list(parent.bytes if parent is not None else NIL_GUID))
 
 
 INS_COMMAND_STATES: tuple[str, ...] = tuple(InsCmd.__members__)  # BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, ...
 
 
 def ins_command(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-                stamp: tuple[int, int]) -> InertialSensorCommandType:
-    """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`); `state` a literal of
-    INS_COMMAND_STATES (KeyError otherwise)."""
+                stamp: tuple[int, int], parent: uuid.UUID | None = None) -> InertialSensorCommandType:
+    """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`, whose identifier has the
+    `parent` it reports in its own source: a command's destination is the provider's identifier, ICD 6.0 4.1 and 5.2.9);
+    `state` a literal of INS_COMMAND_STATES (KeyError otherwise)."""
     return make(InertialSensorCommandType, state=InsCmd[state or ""],
                 timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
-                sessionID=list(session.bytes), destination=identifier(destination))
+                sessionID=list(session.bytes), destination=identifier(destination, parent))
 
 
 def command_status(sample: Any) -> tuple[Status | int, AnyReason | int]:

@@ -268,3 +268,29 @@ def test_restart_skips_a_replay_of_only_the_last_statuses(tmp_path: Path) -> Non
     _statuses(second, again, (S.EXECUTING, OK, 7.0), (S.COMPLETED, OK, 7.0))  # the replay, then a new status, same stamp
     assert [t.status for t in again.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
     assert again.flow.violations == [] and again.cleaned_up
+
+
+def test_sem_check_addresses_a_6_0_command_to_the_providers_identifier_its_parent_too() -> None:
+    """sem-check's command to a 6.0 provider carries the parentID the provider's reports give its source (ICD 6.0 4.1,
+    5.2.9), and its update keeps it (the destination is a key of the command)."""
+    import io
+    import types
+
+    from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
+
+    from sem_console.check import umaa_6_0 as check60
+    from sem_console.check.commands import CommandLimits, Consumer
+
+    provider, parent = uuid.uuid4(), uuid.uuid4()
+    written: list[object] = []
+    writer = types.SimpleNamespace(write=written.append)
+    observer = types.SimpleNamespace(parents={provider: parent})
+    consumer = Consumer(observer, provider, CommandLimits(1, 1, 1), io.StringIO(), version=check60.V6_0)  # type: ignore[arg-type]
+    sent = consumer.send(Service.INERTIAL_SENSOR, writer, InsCmd.GPS_ALIGN)  # type: ignore[arg-type]
+    consumer.writers[Service.INERTIAL_SENSOR] = writer  # type: ignore[assignment]
+    consumer.update_command(sent)
+    assert len(written) == 2
+    for sample in written:
+        destination = sample.destination  # type: ignore[attr-defined]
+        assert uuid.UUID(bytes=bytes(destination.id)) == provider
+        assert uuid.UUID(bytes=bytes(destination.parentID)) == parent
