@@ -162,7 +162,8 @@ class Commands:
                       cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
                       cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
-            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"]) is not None:
+            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"],
+                                t["provider_time"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
@@ -379,7 +380,7 @@ class Commands:
                 del cmd.replay[: cmd.replay.index(seen) + 1]
                 return
             cmd.replay.clear()  # the first status we had not recorded: the replay is over
-        t = cmd.flow.observe(status, reason, log_message)
+        t = cmd.flow.observe(status, reason, log_message, provider_time)
         if t is None:
             return
         received = self.clock.wall()

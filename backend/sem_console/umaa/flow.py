@@ -8,7 +8,8 @@
 One addition to the figure, from the provider startup sequence (ICD 4.1.2.1): a
 restarted provider that will not resume a persisted command fails it with
 SERVICE_FAILED, which a consumer may see as the first status from that provider.
-A status equal to the current one (same state and reason) is a repeat, not a transition.
+A status equal to the current one (same state and reason) is a repeat, not a transition; but each ISSUED/UPDATED with a
+time stamp of its own is a new update (a command can be updated again before it moves on).
 
 One model for every UMAA version: UMAA 6.0 adds the reason UPDATED (its ICD 4.1.4.2, Figure 15): a command with the
 same source and sessionID and a newer time stamp is an update, and its status goes back to ISSUED from any of
@@ -116,6 +117,7 @@ class Transition:
     reason: AnyReason | int
     log_message: str
     violation: str | None = None
+    stamp: float | None = None  # the status sample's timeStamp (seconds), when known
 
 
 @dataclass
@@ -140,11 +142,14 @@ class CommandFlow:
     def violations(self) -> list[str]:
         return [t.violation for t in self.transitions if t.violation]
 
-    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "") -> Transition | None:
-        """Feed a received status; returns the new transition, or None for a repeat."""
+    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "",
+                stamp: float | None = None) -> Transition | None:
+        """Feed a received status (`stamp`: its timeStamp in seconds); returns the new transition, or None for a repeat:
+        the last status again, unless it is an update (UPDATED) stamped otherwise, which is the next update."""
         last = self.transitions[-1] if self.transitions else None
-        if last is not None and last.status is status and last.reason is reason:
+        if last is not None and last.status is status and last.reason is reason and (
+                reason is not UPDATED or stamp is None or stamp == last.stamp):
             return None
-        t = Transition(status, reason, log_message, check_transition(self.status, status, reason))
+        t = Transition(status, reason, log_message, check_transition(self.status, status, reason), stamp)
         self.transitions.append(t)
         return t

@@ -294,3 +294,23 @@ def test_sem_check_addresses_a_6_0_command_to_the_providers_identifier_its_paren
         destination = sample.destination  # type: ignore[attr-defined]
         assert uuid.UUID(bytes=bytes(destination.id)) == provider
         assert uuid.UUID(bytes=bytes(destination.parentID)) == parent
+
+
+def test_two_updates_in_a_row_are_two_transitions_kept_after_a_restart(tmp_path: Path) -> None:
+    """A 6.0 command updated twice before it moved on: two ISSUED/UPDATED statuses, each a transition, stored, on the
+    WebSocket and read back after a restart; the same status again is a repeat."""
+    from sem_console.umaa.flow import UPDATED
+
+    bus = Bus()
+    c = consumer(tmp_path / "db", bus)
+    ins60 = COMMANDING["6.0", Service.INERTIAL_SENSOR]
+    cmd = c.issue(ins60, VEHICLE, "GPS_ALIGN", None)
+    for i, (st, r) in enumerate([(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.ISSUED, UPDATED),
+                                 (S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]):
+        c.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, r, "", 10.0 + min(i, 4))
+    want = ["ISSUED", "COMMANDED", "EXECUTING", "ISSUED", "ISSUED"]
+    assert [t["status"] for t in cmd.to_json()["transitions"]] == want and cmd.flow.violations == []
+    assert [t["reason"] for t in cmd.to_json()["transitions"]][-2:] == ["UPDATED", "UPDATED"]
+    assert [m["type"] for m in bus.emitted].count("transition") == 5
+    again = consumer(tmp_path / "db", Bus()).by_session[cmd.session_id]
+    assert [t["status"] for t in again.to_json()["transitions"]] == want
