@@ -110,6 +110,9 @@ class Sent:
     found: list[str] = field(default_factory=list)  # UMAA 6.0: every breach in the order seen (UPDATED out of place too)
     counted: int = 0  # the transitions of those flows
 
+    def __post_init__(self) -> None:
+        self.flow.figure = self.refs["figure"]  # its breaches name its version's figure (6.0: Figure 14)
+
     @property
     def refs(self) -> dict[str, str]:
         return dict(self.version.flow)
@@ -127,7 +130,7 @@ class Sent:
         """ISSUED/UPDATED: the flow restarts at ISSUED (ICD 6.0 4.1.4.2); the story keeps what came before."""
         self.earlier.append(self.story())
         self.counted += len(self.flow.transitions)
-        self.flow, self.at = CommandFlow(), []
+        self.flow, self.at = CommandFlow(figure=self.refs["figure"]), []
 
     def when(self, status: Status) -> float | None:
         for t, at in zip(self.flow.transitions, self.at, strict=True):
@@ -416,7 +419,7 @@ def breaches(sent: Sent, case: Case) -> None:
     each is checked too."""
     figure = sent.refs["figure"]
     for v in sent.violations[sent.breaches_reported:]:
-        case.fail(f"{figure} breach: {v.replace('Figure 4', figure)} ({sent.refs['flow']}); statuses: {sent.story()}")
+        case.fail(f"{figure} breach: {v} ({sent.refs['flow']}); statuses: {sent.story()}")
     sent.breaches_reported = len(sent.violations)
 
 

@@ -67,6 +67,9 @@ class Command:
     # history delivers again after a restart (in order, perhaps only the last few).
     replay: list[tuple[Status | int, AnyReason | int, float | None]] = field(default_factory=list)
 
+    def __post_init__(self) -> None:
+        self.flow.figure = self.commanding.figure  # its violations name its version's figure
+
     @property
     def terminal(self) -> bool:
         """Finished: a final status, or ended by the console, canceled and never answered."""

@@ -95,8 +95,10 @@ def parse_reason(text: str) -> AnyReason | int:
     return UPDATED if text == UPDATED.name else parse(Reason, text)
 
 
-def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int) -> str | None:
-    """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it."""
+def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int,
+                     figure: str = "Figure 4") -> str | None:
+    """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it,
+    naming the state machine as `figure` (its number in the vehicle's ICD: UMAA 6.0's is Figure 14)."""
     if not isinstance(status, Status):
         return f"unknown commandStatus ordinal {status!r}"
     if not isinstance(reason, AnyReason):
@@ -105,7 +107,7 @@ def check_transition(prev: Status | None, status: Status | int, reason: AnyReaso
         return None
     if status not in NEXT[prev]:
         before = prev.name if prev is not None else "(no status)"
-        return f"{before} -> {status.name} is not a Figure 4 transition"
+        return f"{before} -> {status.name} is not a {figure} transition"
     if not reason_allowed(status, reason, first=prev is None):
         return f"reason {reason.name} is not valid for {status.name}"
     return None
@@ -125,6 +127,7 @@ class CommandFlow:
     """Follows one command's statuses; records each transition and any violation."""
 
     transitions: list[Transition] = field(default_factory=list)
+    figure: str = "Figure 4"  # the state machine's figure in the ICD of the command's version (versions/commands.py)
 
     @property
     def status(self) -> Status | None:
@@ -150,6 +153,6 @@ class CommandFlow:
         if last is not None and last.status is status and last.reason is reason and (
                 reason is not UPDATED or stamp is None or stamp == last.stamp):
             return None
-        t = Transition(status, reason, log_message, check_transition(self.status, status, reason), stamp)
+        t = Transition(status, reason, log_message, check_transition(self.status, status, reason, self.figure), stamp)
         self.transitions.append(t)
         return t

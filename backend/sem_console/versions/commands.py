@@ -68,6 +68,8 @@ class Commanding:
     # the status a provider's resource rejects a command after (FAILED/RESOURCE_REJECTED): 3.0.1's ICD (4.1.4.3) ties
     # no reason to a transition, so at once after ISSUED; 6.0's Figure 15 allows RESOURCE_REJECTED after COMMANDED only
     rejected_after: Status = Status.ISSUED
+    # the command state machine's figure in the version's ICD (4.1): 3.0.1's Figure 4, 6.0's Figure 14
+    figure: str = "Figure 4"
 
     def destination(self, command: Any) -> uuid.UUID:
         """The provider a command sample is addressed to (ValueError, TypeError: not a GUID)."""
@@ -142,7 +144,7 @@ COMMANDING: dict[tuple[UmaaVersion, Service], Commanding] = {
     (UMAA_6_0, Service.INERTIAL_SENSOR): Commanding(
         UMAA_6_0, Service.INERTIAL_SENSOR, Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK,
         umaa_6_0.INS_COMMAND_STATES, umaa_6_0.ins_command, umaa_6_0.command_status, umaa_6_0.ins_status,
-        umaa_6_0.ins_ack, True, Status.COMMANDED),
+        umaa_6_0.ins_ack, True, Status.COMMANDED, "Figure 14"),
 }
 SERVICE_NAMES = {Service.GPS_FIX: "GPS fix", Service.INERTIAL_SENSOR: "inertial sensor"}
 

@@ -314,3 +314,23 @@ def test_two_updates_in_a_row_are_two_transitions_kept_after_a_restart(tmp_path:
     assert [m["type"] for m in bus.emitted].count("transition") == 5
     again = consumer(tmp_path / "db", Bus()).by_session[cmd.session_id]
     assert [t["status"] for t in again.to_json()["transitions"]] == want
+
+
+def test_a_6_0_breach_names_the_6_0_icds_figure(tmp_path: Path) -> None:
+    """A 6.0 vehicle that skips COMMANDED (sem-sim's skip-commanded fault) breaks its ICD's Figure 14 (ICD 6.0 4.1), not
+    3.0.1's Figure 4: the console's monitor and the simulator's own flow say so; a 3.0.1 command still names Figure 4."""
+    from sem_console.sim.provider_flow import Execution
+
+    c = consumer(tmp_path / "db", Bus())
+    ins60 = COMMANDING["6.0", Service.INERTIAL_SENSOR]
+    cmd = c.issue(ins60, VEHICLE, "GPS_ALIGN", None)
+    old = c.issue(INS_3_0_1, VEHICLE, "ON", None)
+    for command, service in ((cmd, Service.INERTIAL_SENSOR), (old, Service.INERTIAL_SENSOR)):
+        c.on_status(service, command.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
+        c.on_status(service, command.session_id, VEHICLE, S.EXECUTING, OK, "", 2.0)
+    assert cmd.flow.violations == ["ISSUED -> EXECUTING is not a Figure 14 transition"]
+    assert old.flow.violations == ["ISSUED -> EXECUTING is not a Figure 4 transition"]
+    ex = Execution(ins60, cmd.sample, 0.0)
+    ex.flow.observe(S.ISSUED, OK)
+    breach = ex.flow.observe(S.EXECUTING, OK)
+    assert breach is not None and breach.violation == "ISSUED -> EXECUTING is not a Figure 14 transition"
