@@ -17,8 +17,8 @@ function that:
   patterns of the samples it reads member by member (`PATTERNS_MAX` per encoding) and reads a
   sample of a learned pattern in one unpack, its presence flags checked;
 - in JSON mode (`json`) builds `convert.to_json`'s output directly, with its checks (non-finite
-  and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, at most MAX_SATELLITES
-  elements) inlined where the member's name and type make them known, and `convert`'s own
+  and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, a sequence's elements up to its bound, or
+  MAX_SATELLITES when it has none) inlined where the member's name and type make them known, and `convert`'s own
   functions called for the message when a check fails, so values and messages are the same;
 - in sample mode (`sample`) builds the generated dataclass, equal to cyclonedds' `deserialize`.
 
@@ -110,8 +110,8 @@ def _bad_enum(enum: type, v: int, path: str, invalid: list[str]) -> None:
     invalid.append(convert.unknown_ordinal(enum, v, path))
 
 
-def _too_many(n: int, path: str, invalid: list[str]) -> None:
-    invalid.append(convert.too_many(n, path))
+def _too_many(n: int, path: str, invalid: list[str], limit: int = MAX_ELEMENTS) -> None:
+    invalid.append(convert.too_many(n, path, limit))
 
 
 class _Gen:
@@ -431,7 +431,8 @@ class _Gen:
         if not self.json:
             return v
         if mach.code in "fd" and name not in convert.RANGES:
-            self.emit(f"if {n} > {MAX_ELEMENTS}: _too_many({n}, f\"{path}\", inv); del {v}[{MAX_ELEMENTS}:]")
+            limit = mach.max_length or MAX_ELEMENTS
+            self.emit(f"if {n} > {limit}: _too_many({n}, f\"{path}\", inv, {limit}); del {v}[{limit}:]")
             self.emit(f"if sum({v}) * 0.0: {v} = [_value(x, f\"{path}[{{j}}]\", inv) for j, x in enumerate({v})]")
             return v
         out = self.var()
@@ -443,6 +444,7 @@ class _Gen:
         n = self.fixed("I", 4, 4)
         self.flush()
         lst, i, end = self.var("l"), self.var("i"), self.var("e")
+        limit = mach.maxlen or MAX_ELEMENTS  # a bounded sequence keeps its bound (UMAA 6.0's satellites: 300)
         if dheader:
             self.emit(f"{end} = p - 4 + {dheader}")
         # every element takes at least one byte: a count past the end is refused before the loop
@@ -451,7 +453,7 @@ class _Gen:
         json = self.json
         if json:
             keep = self.var("k")
-            self.emit(f"if {n} > {MAX_ELEMENTS}: _too_many({n}, f\"{path}\", inv)")
+            self.emit(f"if {n} > {limit}: _too_many({n}, f\"{path}\", inv, {limit})")
             self.emit(f"{keep} = inv")
         before = self.phase
         start = before
@@ -461,7 +463,7 @@ class _Gen:
 
             def body() -> None:
                 if json:
-                    self.emit(f"if {i} == {MAX_ELEMENTS}: inv = []  # elements past the limit are dropped, unflagged")
+                    self.emit(f"if {i} == {limit}: inv = []  # elements past the limit are dropped, unflagged")
                 e = self.element(mach.submachine, f"{path}[{{{i}}}]", name)
                 self.flush()
                 self.emit(f"{lst}.append({e})")
@@ -476,7 +478,7 @@ class _Gen:
             raise Unsupported("no stable phase for a sequence")
         if json:
             self.emit(f"inv = {keep}")
-            self.emit(f"del {lst}[{MAX_ELEMENTS}:]")
+            self.emit(f"del {lst}[{limit}:]")
         if dheader:
             self.emit(f"p = {end}")
             self.phase = (1, 0)

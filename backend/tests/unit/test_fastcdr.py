@@ -300,3 +300,35 @@ def test_adjacent_absent_members_are_one_test() -> None:
                                  (pattern,))
     condition = next(line for line in source.splitlines() if line.strip().startswith("if ") and " and " in line)
     assert condition.count("not ") == 3 and condition.count(" and ") == 3, condition
+
+
+def test_each_versions_satellites_keep_their_own_bound() -> None:
+    """A 6.0 GPSReport keeps its 300 satellites (its type bounds them at 300); a 301st (which no 6.0 writer may send,
+    made here by hand) is cut and said, as 3.0.1's unbounded satellites are past the console's 256; the 6.0 model's
+    report keeps the 300 too. The generated decoder and convert agree."""
+    from sem_console.codec.decode import report_json
+
+    t = Sem60.GPS_REPORT.spec.type
+    rng = random.Random(300)
+    sample = random_sample(t, rng)
+    one = random_sample(_satellite_type(t), rng, absent=0.0)
+    sample.satellites = [one] * 299
+    fewer = t.serialize(sample, use_version_2=False)
+    sample.satellites = [one] * 300
+    full = t.serialize(sample, use_version_2=False)
+    size = len(full) - len(fewer)  # one satellite (its size a multiple of its alignment)
+    at = next(k for k in range(len(full)) if full[k] != fewer[k])  # the count
+    assert struct.unpack_from("<I", full, at)[0] == 300
+    over = full[:at] + struct.pack("<I", 301) + full[at + 4:at + 4 + size] + full[at + 4:]
+    for data, kept, said in ((full, 300, []), (over, 300, ["satellites: 301 elements, more than 300; the first 300 kept"])):
+        got, ref = fastcdr.decoder(t).json(data), to_json(t.deserialize(data))
+        assert got == ref
+        assert len(got[0]["satellites"]) == kept and [m for m in got[1] if "elements" in m] == said
+        model, invalid = report_json(Sem60.GPS_REPORT)(data)
+        assert len(model["satellites"]) == kept and [m for m in invalid if "elements" in m] == said
+
+
+def _satellite_type(t: Any) -> Any:
+    import typing
+
+    return typing.get_args(typing.get_args(typing.get_type_hints(t, include_extras=True)["satellites"])[0])[0]
