@@ -107,22 +107,18 @@ def _satellite_id(number: Any, constellation: Any) -> str | None:
         return None
 
 
-def _satellite(s: dict[str, Any], i: int, invalid: list[str]) -> dict[str, Any]:
-    """A 6.0 satellite (its JSON, fresh from the decoder) made the model's in place: satelliteID as satelliteId; a number
-    no satellite has (not a whole number 1..255) is null and listed in `invalid`, as the decoder lists a value a
-    sensor cannot mean."""
-    number = s.pop("satelliteID", None)
-    s["satelliteId"] = _satellite_id(number, s.get("constellationType"))
-    if s["satelliteId"] is None and number is not None and s.get("constellationType") is not None:
-        invalid.append(f"satellites[{i}].satelliteId: {number!r} is no satellite number (a whole number 1..255)")
-    return s
-
-
 def gps_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
-    """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport."""
+    """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport. Each satellite (its JSON,
+    fresh from the decoder) is made the model's in place: satelliteID as satelliteId; a number no satellite has (not a
+    whole number 1..255) is null and listed in `invalid`, as the decoder lists a value a sensor cannot mean."""
     clock = report.get("clock") or {}
     unnamed: list[str] = []
-    satellites = [_satellite(s, i, unnamed) for i, s in enumerate(report.get("satellites") or [])]
+    satellites = report.get("satellites") or []
+    for i, sat in enumerate(satellites):  # a loop, not a call per satellite: a report has dozens, every second
+        number, constellation = sat.pop("satelliteID", None), sat.get("constellationType")
+        sat["satelliteId"] = sid = _satellite_id(number, constellation)
+        if sid is None and number is not None and constellation is not None:
+            unnamed.append(f"satellites[{i}].satelliteId: {number!r} is no satellite number (a whole number 1..255)")
     return {
         "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items()}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
