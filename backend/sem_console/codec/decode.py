@@ -162,8 +162,9 @@ class Decoder:
     def __init__(self) -> None:
         self.undecodable: dict[str, int] = {}
         self.decoded = 0
-        # a UMAA 6.0 vehicle's parent (its source's parentID), read from its first report: the model's report leaves
-        # the parent out, and an identifier's parent is part of what it is
+        # a vehicle's parent (its source's parentID, UMAA 6.0's IdentifierType; None for a NumericGUID, which has none),
+        # read from its first report: the model's report leaves the parent out, and an identifier's parent is part of
+        # what it is
         self._parents: dict[uuid.UUID, uuid.UUID | None] = {}
         self._counting = threading.Lock()  # both DDS ingest threads decode
 
@@ -208,7 +209,7 @@ class Decoder:
             return None
         alive = instance_state == _ALIVE
         if route.report is not None:
-            parent = self._parent(route, source, data) if valid and route.version == UMAA_6_0 else None
+            parent = self._parent(route, source, data) if valid else None
             if report is None:
                 return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version,
                                   parent=parent)
@@ -229,7 +230,7 @@ class Decoder:
                           version=route.version, parent=parent)
 
     def _parent(self, route: _Route, source: uuid.UUID, data: bytes) -> uuid.UUID | None:
-        """A 6.0 vehicle's parent, from the first report of it decoded whole (once per vehicle)."""
+        """A vehicle's parent, from the first report of it decoded whole (once per vehicle)."""
         if source in self._parents:
             return self._parents[source]
         try:
