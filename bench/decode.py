@@ -27,7 +27,7 @@ import uuid
 from collections.abc import Callable
 from typing import Any
 
-from common import ROOT, emit, table
+from common import ROOT, emit, table, target
 
 sys.path.insert(0, str(ROOT / "backend" / "tests"))
 
@@ -186,8 +186,14 @@ def main() -> None:
     table("6.0 beside 3.0.1, timed in turns: console µs per sample, ns per value of the model's JSON and per byte",
           list(pairs[0]), [list(r.values()) for r in pairs])
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+    targets = []
+    for r in pairs:
+        new, old = r["topic_6_0"].removesuffix("Type"), r["topic_3_0_1"]
+        print(f"ratio   {new} (6.0) / {old} (3.0.1) per sample: {r['ratio']}")
+        targets.append(target(f"{new} per sample <= {old} per sample", r["us_6_0"], "µs", "<=", r["us_3_0_1"],
+                              f"{old}'s in the same rounds"))
     emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
-                    "versions_in_turns": pairs, "load_average": round(os.getloadavg()[0], 2)})
+                    "versions_in_turns": pairs, "targets": targets, "load_average": round(os.getloadavg()[0], 2)})
 
 
 if __name__ == "__main__":

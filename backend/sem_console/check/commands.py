@@ -51,7 +51,7 @@ from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import AnySem, Sem, Sem60, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, UPDATED, CommandFlow, name
 from sem_console.umaa.samples import now_datetime
-from sem_console.versions.commands import Commanding, commanding
+from sem_console.versions.commands import Commanding, commanding, parent_of
 
 
 @dataclass
@@ -110,6 +110,9 @@ class Sent:
     found: list[str] = field(default_factory=list)  # UMAA 6.0: every breach in the order seen (UPDATED out of place too)
     counted: int = 0  # the transitions of those flows
 
+    def __post_init__(self) -> None:
+        self.flow.figure = self.refs["figure"]  # its breaches name its version's figure (6.0: Figure 14)
+
     @property
     def refs(self) -> dict[str, str]:
         return dict(self.version.flow)
@@ -127,7 +130,7 @@ class Sent:
         """ISSUED/UPDATED: the flow restarts at ISSUED (ICD 6.0 4.1.4.2); the story keeps what came before."""
         self.earlier.append(self.story())
         self.counted += len(self.flow.transitions)
-        self.flow, self.at = CommandFlow(), []
+        self.flow, self.at = CommandFlow(figure=self.refs["figure"]), []
 
     def when(self, status: Status) -> float | None:
         for t, at in zip(self.flow.transitions, self.at, strict=True):
@@ -199,8 +202,10 @@ class Consumer:
         session = uuid.uuid4()
         to = destination or self.provider
         stamp = now_datetime()
+        # to the provider's identifier as its reports say it (UMAA 6.0: its parent too, ICD 6.0 5.2.9)
+        parent = self.observer.parents.get(to)
         sample = self.commanding(service).build(self.source, to, session, state.name if state is not None else None,
-                                                (stamp.seconds, stamp.nanoseconds))
+                                                (stamp.seconds, stamp.nanoseconds), parent)
         topic = icd.short(self.topic(service, "command"))
         what = topic + (f" {state.name}" if state is not None else "")
         sent = Sent(service, session, sample, time.time(), to, self.version, topic, case, foreign=destination is not None)
@@ -215,7 +220,8 @@ class Consumer:
         4.1.4.2)."""
         old, t = sent.sample, now_datetime()
         stamp = max((t.seconds, t.nanoseconds), _newer(old.timeStamp.seconds, old.timeStamp.nanoseconds))
-        sent.sample = self.commanding(sent.service).build(self.source, sent.to, sent.session, old.state.name, stamp)
+        sent.sample = self.commanding(sent.service).build(self.source, sent.to, sent.session, old.state.name, stamp,
+                                                          parent_of(old.destination))
         sent.updated_at = time.time()
         print(f"  updating {icd.short(self.topic(sent.service, 'command'))} {sent.sample.state.name} (session "
               f"{sent.session}): a newer timeStamp", file=self.out, flush=True)
@@ -413,7 +419,7 @@ def breaches(sent: Sent, case: Case) -> None:
     each is checked too."""
     figure = sent.refs["figure"]
     for v in sent.violations[sent.breaches_reported:]:
-        case.fail(f"{figure} breach: {v.replace('Figure 4', figure)} ({sent.refs['flow']}); statuses: {sent.story()}")
+        case.fail(f"{figure} breach: {v} ({sent.refs['flow']}); statuses: {sent.story()}")
     sent.breaches_reported = len(sent.violations)
 
 

@@ -114,6 +114,7 @@ class Observer:
         self.acks: dict[uuid.UUID, list[StatusSeen]] = defaultdict(list)
         self.alive_sources: dict[uuid.UUID, float] = {}  # provider source -> when first seen alive
         self.versions: dict[uuid.UUID, set[UmaaVersion]] = defaultdict(set)  # of the topics its samples came on
+        self.parents: dict[uuid.UUID, uuid.UUID] = {}  # a 6.0 provider's parent, as its reports' source says
         self.source_participants: dict[uuid.UUID, set[uuid.UUID]] = defaultdict(set)
         self._writer_participant: dict[int, uuid.UUID] = {}
         self.peers = PeerWatch(bus.participant)  # other vendors' participants: what their operator must change
@@ -195,6 +196,9 @@ class Observer:
                     continue
                 if isinstance(item, ReportItem):
                     self.reports[sem][item.source].append(Report(now, item.report, item.invalid, item.alive, handle))
+                    parent = umaa_6_0.parent_in(item.report) if six else None
+                    if parent is not None:
+                        self.parents[item.source] = parent
                 elif isinstance(item, StatusItem):
                     table = self.statuses if item.kind == "status" else self.acks
                     disposed = info.instance_state == InstanceState.NotAliveDisposed

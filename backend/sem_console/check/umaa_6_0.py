@@ -125,6 +125,15 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
 
 
 # ---- decoding what the checker reads -------------------------------------------------------------------------------
+def parent_in(body: dict[str, Any] | None) -> uuid.UUID | None:
+    """The parent a 6.0 report's source says its provider has (its IDL JSON's `source.parentID`); None: not a GUID."""
+    parent = ((body or {}).get("source") or {}).get("parentID")
+    try:
+        return uuid.UUID(parent) if isinstance(parent, str) else None
+    except ValueError:
+        return None
+
+
 def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: float) -> Item | None:
     """A 6.0 sample as the checker judges it: a report as the 6.0 IDL's JSON (not the console's model), a status or ack
     as its sample. None when it cannot be decoded."""
@@ -214,7 +223,7 @@ def _identifier(body: dict[str, Any]) -> list[str | None]:
 def gps_values(b: dict[str, Any], r: Any, _limits: Any) -> list[str | None]:
     sats = b.get("satellites") or []
     out: list[str | None] = [*_identifier(b)]
-    # the decoder keeps the first 256 satellites and says how many came
+    # the decoder keeps the first 300 satellites (the type's bound) and says how many came
     count = max([len(sats)] + [int(m[1]) for p in r.invalid if (m := _SENT.match(p))])
     if count > 300:
         out.append(f"satellites: {count} elements, more than 300 ({TOPIC_REF[Sem60.GPS_REPORT]}: max size = 300)")
@@ -271,8 +280,8 @@ def ins_values(b: dict[str, Any], _r: Any, _limits: Any) -> list[str | None]:
 
 
 def decoder_finding(problem: str) -> str | None:
-    """A decoder's finding with the 6.0 section that states the rule; None for the console's cap of 256 satellites,
-    which 6.0's bound of 300 allows (gps_values checks that bound)."""
+    """A decoder's finding with the 6.0 section that states the rule; None for satellites past the bound of 300 (the
+    decoder keeps 300), which gps_values reports with its section."""
     if "unknown" in problem and "ordinal" in problem:
         return f"{problem} (ICD 6.0 5.3; SA ICD 6.0 6.3)"
     if "elements, more than" in problem:

@@ -16,7 +16,7 @@ from enum import Enum
 from functools import cache
 from typing import Any
 
-MAX_SATELLITES = 256
+MAX_SATELLITES = 256  # the elements kept of an unbounded sequence (UMAA 3.0.1's satellites); a bounded one keeps its bound
 
 # member name -> (min, max) for values whose range the ICD fixes
 RANGES: dict[str, tuple[float, float]] = {
@@ -47,6 +47,17 @@ def to_json(sample: Any) -> tuple[dict[str, Any], list[str]]:
 
 
 @cache
+def bounds(cls: type) -> dict[str, int]:
+    """The bound of each bounded sequence member of a generated struct (UMAA 6.0's satellites: 300)."""
+    out = {}
+    for name, hint in typing.get_type_hints(cls, include_extras=True).items():
+        for a in typing.get_args(hint):
+            if isinstance(getattr(a, "max_length", None), int):
+                out[name] = a.max_length
+    return out
+
+
+@cache
 def _enum_members(cls: type) -> dict[str, type]:
     """Members of a generated struct whose declared type is an enum."""
     out = {}
@@ -58,16 +69,17 @@ def _enum_members(cls: type) -> dict[str, type]:
     return out
 
 
-def _value(v: Any, path: str, invalid: list[str], name: str | None = None) -> Any:
+def _value(v: Any, path: str, invalid: list[str], name: str | None = None, limit: int = MAX_SATELLITES) -> Any:
     """`v` as JSON, an invalid value listed by `path`; its range is its member's, `name` (the wire type's member, which
-    a version's model may name otherwise in `path`), else the last member of `path`."""
+    a version's model may name otherwise in `path`), else the last member of `path`; a sequence keeps `limit` elements
+    (its member's bound, or MAX_SATELLITES)."""
     name = name or path.rsplit(".", 1)[-1].split("[")[0]
     if v is None:
         return None
     if isinstance(v, Enum):
         return v.name
     if is_dataclass(v) and not isinstance(v, type):  # a sample (not a class)
-        enums = _enum_members(type(v))
+        enums, bound = _enum_members(type(v)), bounds(type(v))
         out: dict[str, Any] = {}
         for f in fields(v):
             member, sub = getattr(v, f.name), f"{path}.{f.name}" if path else f.name
@@ -75,7 +87,7 @@ def _value(v: Any, path: str, invalid: list[str], name: str | None = None) -> An
                 invalid.append(unknown_ordinal(enums[f.name], member, sub))
                 out[f.name] = None
             else:
-                out[f.name] = _value(member, sub, invalid)
+                out[f.name] = _value(member, sub, invalid, None, bound.get(f.name, MAX_SATELLITES))
         return out
     if name in GUID_MEMBERS and isinstance(v, (bytes, bytearray, list, tuple)):
         raw = bytes(v)
@@ -98,9 +110,9 @@ def _value(v: Any, path: str, invalid: list[str], name: str | None = None) -> An
     if isinstance(v, str):
         return v
     if isinstance(v, (list, tuple)):
-        if len(v) > MAX_SATELLITES:
-            invalid.append(too_many(len(v), path))
-            v = v[:MAX_SATELLITES]
+        if len(v) > limit:
+            invalid.append(too_many(len(v), path, limit))
+            v = v[:limit]
         return [_value(x, f"{path}[{i}]", invalid) for i, x in enumerate(v)]
     invalid.append(f"{path}: unreadable value {type(v).__name__}")
     return None
@@ -110,8 +122,8 @@ def unknown_ordinal(enum: type, value: Any, path: str) -> str:
     return f"{path}: unknown {enum.__name__} ordinal {value!r}"
 
 
-def too_many(n: int, path: str) -> str:
-    return f"{path}: {n} elements, more than {MAX_SATELLITES}; the first {MAX_SATELLITES} kept"
+def too_many(n: int, path: str, limit: int = MAX_SATELLITES) -> str:
+    return f"{path}: {n} elements, more than {limit}; the first {limit} kept"
 
 
 def _check_range(name: str, v: float, path: str, invalid: list[str]) -> None:

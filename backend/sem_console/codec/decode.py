@@ -33,7 +33,7 @@ from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion, umaa_6_0
 from sem_console.versions.commands import ACK_TOPICS as ACKS
 from sem_console.versions.commands import COMMAND_TOPICS as COMMANDS
 from sem_console.versions.commands import STATUS_TOPICS as STATUSES
-from sem_console.versions.commands import Commanding
+from sem_console.versions.commands import Commanding, parent_of
 from sem_console.versions.shape import Adapter
 
 log = logging.getLogger("sem-console.ingest")
@@ -63,6 +63,7 @@ class ReportItem:
     received_at: float
     sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
     version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
+    parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0's IdentifierType; the nil UUID: none)
 
 
 @dataclass
@@ -77,6 +78,7 @@ class StatusItem:
     status: Status | int | None = None
     reason: AnyReason | int | None = None
     version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
+    parent: uuid.UUID | None = None  # as ReportItem's
 
 
 Item = ReportItem | StatusItem
@@ -160,6 +162,10 @@ class Decoder:
     def __init__(self) -> None:
         self.undecodable: dict[str, int] = {}
         self.decoded = 0
+        # a vehicle's parent (its source's parentID, UMAA 6.0's IdentifierType; None for a NumericGUID, which has none),
+        # read from its first report: the model's report leaves the parent out, and an identifier's parent is part of
+        # what it is
+        self._parents: dict[uuid.UUID, uuid.UUID | None] = {}
         self._counting = threading.Lock()  # both DDS ingest threads decode
 
     def _bad(self, name: str) -> None:
@@ -203,20 +209,36 @@ class Decoder:
             return None
         alive = instance_state == _ALIVE
         if route.report is not None:
+            parent = self._parent(route, source, data) if valid else None
             if report is None:
-                return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version)
+                return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version,
+                                  parent=parent)
             if convert:
-                return ReportItem(route.report, source, report[0], report[1], alive, received_at, version=route.version)
-            return ReportItem(route.report, source, None, [], alive, received_at, report, route.version)
+                return ReportItem(route.report, source, report[0], report[1], alive, received_at, version=route.version,
+                                  parent=parent)
+            return ReportItem(route.report, source, None, [], alive, received_at, report, route.version, parent)
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
             return None
         assert route.service is not None and route.commanding is not None
+        parent = parent_of(getattr(sample, "source", None))
         if route.kind == "status" and valid:
             status, reason = route.commanding.read_status(sample)
-            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason, route.version)
+            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason, route.version,
+                              parent)
         return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive,
-                          version=route.version)
+                          version=route.version, parent=parent)
+
+    def _parent(self, route: _Route, source: uuid.UUID, data: bytes) -> uuid.UUID | None:
+        """A vehicle's parent, from the first report of it decoded whole (once per vehicle)."""
+        if source in self._parents:
+            return self._parents[source]
+        try:
+            parent = parent_of(route.fast.sample(data).source)
+        except Exception:  # the report itself decoded: its parent is not known, and is asked again on the next one
+            return None
+        self._parents[source] = parent
+        return parent
 
     @staticmethod
     def convert(item: ReportItem) -> ReportItem:

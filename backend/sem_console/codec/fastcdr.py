@@ -17,8 +17,8 @@ function that:
   patterns of the samples it reads member by member (`PATTERNS_MAX` per encoding) and reads a
   sample of a learned pattern in one unpack, its presence flags checked;
 - in JSON mode (`json`) builds `convert.to_json`'s output directly, with its checks (non-finite
-  and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, at most MAX_SATELLITES
-  elements) inlined where the member's name and type make them known, and `convert`'s own
+  and out-of-range numbers, unknown enum ordinals, GUIDs as UUID strings, a sequence's elements up to its bound, or
+  MAX_SATELLITES when it has none) inlined where the member's name and type make them known, and `convert`'s own
   functions called for the message when a check fails, so values and messages are the same;
 - in sample mode (`sample`) builds the generated dataclass, equal to cyclonedds' `deserialize`.
 
@@ -42,7 +42,7 @@ import struct
 import sys
 import threading
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from cyclonedds.idl import IdlStruct
@@ -110,8 +110,8 @@ def _bad_enum(enum: type, v: int, path: str, invalid: list[str]) -> None:
     invalid.append(convert.unknown_ordinal(enum, v, path))
 
 
-def _too_many(n: int, path: str, invalid: list[str]) -> None:
-    invalid.append(convert.too_many(n, path))
+def _too_many(n: int, path: str, invalid: list[str], limit: int = MAX_ELEMENTS) -> None:
+    invalid.append(convert.too_many(n, path, limit))
 
 
 class _Gen:
@@ -132,6 +132,9 @@ class _Gen:
         self.run: list[tuple[str, str | None]] = []  # pending fixed-size reads: (struct code, variable or None for padding)
         self.checks: list[str] = []  # statements to emit once the pending run is read
         self.pure: dict[str, str] = {}  # a variable -> the statement that only computes it (dropped when unused)
+        self.unpacks: list[tuple[str, list[tuple[str, str | None]]]] = []  # (its Struct's name, its run): `drop_unused`
+        self.absent: set[str] = set()  # with a pattern: the presence flags of the members it says are absent
+        self.enum_names: dict[str, tuple[str, ...]] = {}  # JSON mode: a variable holding an enum's name (or None)
         self.pattern: list[bool] | None = None  # the presence of each @optional member, in order: no branch on them
         self.expect: list[str] = []  # with a pattern: the conditions its presence flags meet
         self.record = False  # the presence flags read go to the list `fl` (what `TypeDecoder` learns patterns from)
@@ -188,7 +191,7 @@ class _Gen:
             if fmt[1:] == "B" and names:  # a presence flag alone: indexing is cheaper than an unpack
                 self.emit(f"{names[0]} = b[p]")
             elif names:
-                self.emit(f"{', '.join(names)}, = {self.const(s, 'S')}.unpack_from(b, p)")
+                self.emit(self.unpack(self.run, "p"))
             self.emit(f"p += {s.size}")
             self.run = []
         for line in self.checks:
@@ -218,13 +221,70 @@ class _Gen:
                 self.emit(f"{d}[{n!r}] = {e}")
         return d
 
+    def unpack(self, run: list[tuple[str, str | None]], at: str) -> str:
+        """The statement that reads `run` (struct codes and variables, None for padding) at offset `at` in one unpack;
+        a read nothing uses becomes padding (`drop_unused`)."""
+        name = self.const(struct.Struct(self.endian + "".join(c for c, _ in run)), "S")
+        self.unpacks.append((name, list(run)))
+        return self._unpack_line(name, run, at)
+
+    @staticmethod
+    def _unpack_line(name: str, run: list[tuple[str, str | None]], at: str) -> str:
+        names = [v for _, v in run if v]
+        return f"{', '.join(names)}, = {name}.unpack_from(b, {at})" if names else f"{name}.unpack_from(b, {at})"
+
+    def merge_absent(self) -> None:
+        """With a pattern: each run of adjacent presence flags of absent members read as one unsigned integer (or a
+        few), one zero test for them all instead of one per flag."""
+        out: list[tuple[str, str | None]] = []
+        i = 0
+        while i < len(self.run):
+            j = i
+            while j < len(self.run) and self.run[j][1] in self.absent:
+                j += 1
+            if j == i:
+                out.append(self.run[i])
+                i += 1
+                continue
+            for _, v in self.run[i:j]:
+                self.expect.remove(f"not {v}")
+            n = j - i
+            for size, code in ((8, "Q"), (4, "I"), (2, "H"), (1, "B")):
+                while n >= size:
+                    v = self.var()
+                    out.append((code, v))
+                    self.expect.append(f"not {v}")
+                    n -= size
+            i = j
+        self.run = out
+
+    def lookup(self, table: Mapping[Any, Any], expr: str) -> str:
+        """`table.get(expr)`: of an enum's name (or None), a subscript of the table made whole over them, cheaper."""
+        names = self.enum_names.get(expr)
+        if names is None:
+            return f"{self.const(table)}.get({expr})"
+        return f"{self.const({**{n: table.get(n) for n in names}, None: None})}[{expr}]"
+
     def drop_unused(self, expr: str) -> None:
         """Drop the statements that only compute a value nothing reads (a member the version's model leaves out,
-        such as an identifier's parentID)."""
+        such as an identifier's parentID), and read such a value as padding: no object is made for it."""
         used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
             line for line in self.lines if line.strip() not in self.pure.values())))
         unused = {line for v, line in self.pure.items() if v not in used}
         self.lines = [line for line in self.lines if line.strip() not in unused]
+        lines = {self._unpack_line(name, run, at): (name, run, at) for name, run in self.unpacks for at in ("p", "4")}
+        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
+            line for line in self.lines if line.strip() not in lines)))
+        for k, line in enumerate(self.lines):
+            found = lines.get(line.strip())
+            if found is None:
+                continue
+            name, run, at = found
+            if all(v is None or v in used for _, v in run):
+                continue
+            kept = [(c, v) if v is None or v in used else (f"{struct.calcsize(self.endian + c)}x", None) for c, v in run]
+            self.ns[name] = struct.Struct(self.endian + "".join(c for c, _ in kept))
+            self.lines[k] = line[:len(line) - len(line.lstrip())] + self._unpack_line(name, kept, at)
 
     # ---- values ----------------------------------------------------------------------------
     def value(self, mach: Any, path: str, name: str, enum_member: bool = False) -> str:
@@ -258,6 +318,7 @@ class _Gen:
                 names = {value: m.name for value, m in members.items()}
                 self.checks.append(f"{out} = {self.const(names, 'N')}.get({v})")
                 self.checks.append(f'if {out} is None: _bad_enum({self.const(mach.enum, "T")}, {v}, f"{path}", inv)')
+                self.enum_names[out] = tuple(names.values())
             else:  # an enum not declared as a struct member's type: convert gives the name or the number as it is
                 names = {value: m.name for value, m in members.items()}
                 self.checks.append(f"{out} = {self.const(names, 'N')}.get({v}, {v})")
@@ -318,6 +379,8 @@ class _Gen:
                 raise Unsupported("a presence pattern too short")
             here = self.pattern.pop(0)
             self.expect.append(flag if here else f"not {flag}")
+            if not here:
+                self.absent.add(flag)
             return self.value(mach.submachine, path, name, enum_member) if here else "None"
         self.flush()
         if self.record:
@@ -368,7 +431,8 @@ class _Gen:
         if not self.json:
             return v
         if mach.code in "fd" and name not in convert.RANGES:
-            self.emit(f"if {n} > {MAX_ELEMENTS}: _too_many({n}, f\"{path}\", inv); del {v}[{MAX_ELEMENTS}:]")
+            limit = mach.max_length or MAX_ELEMENTS
+            self.emit(f"if {n} > {limit}: _too_many({n}, f\"{path}\", inv, {limit}); del {v}[{limit}:]")
             self.emit(f"if sum({v}) * 0.0: {v} = [_value(x, f\"{path}[{{j}}]\", inv) for j, x in enumerate({v})]")
             return v
         out = self.var()
@@ -380,6 +444,7 @@ class _Gen:
         n = self.fixed("I", 4, 4)
         self.flush()
         lst, i, end = self.var("l"), self.var("i"), self.var("e")
+        limit = mach.maxlen or MAX_ELEMENTS  # a bounded sequence keeps its bound (UMAA 6.0's satellites: 300)
         if dheader:
             self.emit(f"{end} = p - 4 + {dheader}")
         # every element takes at least one byte: a count past the end is refused before the loop
@@ -388,7 +453,7 @@ class _Gen:
         json = self.json
         if json:
             keep = self.var("k")
-            self.emit(f"if {n} > {MAX_ELEMENTS}: _too_many({n}, f\"{path}\", inv)")
+            self.emit(f"if {n} > {limit}: _too_many({n}, f\"{path}\", inv, {limit})")
             self.emit(f"{keep} = inv")
         before = self.phase
         start = before
@@ -398,7 +463,7 @@ class _Gen:
 
             def body() -> None:
                 if json:
-                    self.emit(f"if {i} == {MAX_ELEMENTS}: inv = []  # elements past the limit are dropped, unflagged")
+                    self.emit(f"if {i} == {limit}: inv = []  # elements past the limit are dropped, unflagged")
                 e = self.element(mach.submachine, f"{path}[{{{i}}}]", name)
                 self.flush()
                 self.emit(f"{lst}.append({e})")
@@ -413,7 +478,7 @@ class _Gen:
             raise Unsupported("no stable phase for a sequence")
         if json:
             self.emit(f"inv = {keep}")
-            self.emit(f"del {lst}[{MAX_ELEMENTS}:]")
+            self.emit(f"del {lst}[{limit}:]")
         if dheader:
             self.emit(f"p = {end}")
             self.phase = (1, 0)
@@ -563,7 +628,7 @@ def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spe
                 for part in path.split("."):
                     top = g.trees[top][part]
                 return top
-            expr = shape.source(spec, member, g.const, g.dict_of)
+            expr = shape.source(spec, member, g.const, g.dict_of, g.lookup)
         return f"return {expr}, inv" if json else f"return {expr}"
 
     body: list[str] = []
@@ -572,10 +637,9 @@ def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spe
         expr = g.value(top, "", "")
         if g.pattern or g.lines:
             raise Unsupported("a presence pattern that does not fit the type")
-        fmt = g.endian + "".join(c for c, _ in g.run)
-        names = [v for _, v in g.run if v]
+        g.merge_absent()
         g.emit("try:")
-        g.emit(f"    {', '.join(names)}, = {g.const(struct.Struct(fmt), 'S')}.unpack_from(b, 4)")
+        g.emit(f"    {g.unpack(g.run, '4')}")
         g.emit("except error:")
         g.emit("    pass")
         g.emit("else:")

@@ -69,6 +69,9 @@ class Command:
     # history delivers again after a restart (in order, perhaps only the last few).
     replay: list[tuple[Status | int, AnyReason | int, float | None]] = field(default_factory=list)
 
+    def __post_init__(self) -> None:
+        self.flow.figure = self.commanding.figure  # its violations name its version's figure
+
     @property
     def terminal(self) -> bool:
         """Finished: a final status, or ended by the console, canceled and never answered."""
@@ -106,6 +109,10 @@ class Command:
 def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> dict[str, Any]:
     return {"seq": seq, "status": name(t.status), "reason": name(t.reason), "logMessage": t.log_message, "violation": t.violation,
             "providerTime": provider_time, "receivedAt": received_at}
+
+
+def _uuid_or_none(text: Any) -> uuid.UUID | None:
+    return uuid.UUID(text) if isinstance(text, str) else None
 
 
 class CommandError(Exception):
@@ -151,7 +158,8 @@ class Commands:
         provider, session = uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"])
         commanding = of_command(service, state)
         cmd = Command(session, service, provider, state, row["operator"], row["created_at"],
-                      self._sample(commanding, provider, session, state, row["command"]["timeStamp"], source), commanding,
+                      self._sample(commanding, provider, session, state, row["command"]["timeStamp"], source,
+                                   _uuid_or_none(row["command"].get("destinationParent"))), commanding,
                       unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
                       canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
                       canceled_at=row.get("canceled_at"), cancel_cause=cast(CancelCause | None, row.get("cancel_cause")),
@@ -159,7 +167,8 @@ class Commands:
                       cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
                       cancel_mono=self.clock.monotonic())
         for t in row["transitions"]:
-            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"]) is not None:
+            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"],
+                                t["provider_time"]) is not None:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
@@ -183,9 +192,10 @@ class Commands:
                 del self.by_session[c.session_id]
 
     def _sample(self, commanding: Commanding, provider: uuid.UUID, session: uuid.UUID, state: str | None,
-                stamp: tuple[int, int] | list[int], source: uuid.UUID | None = None) -> Any:
-        """The command sample, as its vehicle's version writes it (`source`: another station's, when not ours)."""
-        return commanding.build(source or self.source, provider, session, state, (int(stamp[0]), int(stamp[1])))
+                stamp: tuple[int, int] | list[int], source: uuid.UUID | None = None, parent: uuid.UUID | None = None) -> Any:
+        """The command sample, as its vehicle's version writes it (`source`: another station's, when not ours;
+        `parent`: the provider's, UMAA 6.0)."""
+        return commanding.build(source or self.source, provider, session, state, (int(stamp[0]), int(stamp[1])), parent)
 
     def _publish(self, cmd: Command) -> None:
         self._write(cmd.commanding.command, cmd.sample)
@@ -217,15 +227,20 @@ class Commands:
                 self.cleanup(c)
         return resumed
 
-    def issue(self, commanding: Commanding, provider: uuid.UUID, state: str | None, operator: str | None) -> Command:
-        """Publish a command of `commanding` (the vehicle's version's) with the `state` literal of its choices."""
+    def issue(self, commanding: Commanding, provider: uuid.UUID, state: str | None, operator: str | None,
+              parent: uuid.UUID | None = None) -> Command:
+        """Publish a command of `commanding` (the vehicle's version's) with the `state` literal of its choices, to the
+        provider's identifier (`parent`: the parent it reports, UMAA 6.0)."""
         session = uuid.uuid4()
         stamp = now_datetime()
         cmd = Command(session, commanding.service, provider, state, operator, self.clock.wall(),
-                      self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds)), commanding,
-                      issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
+                      self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds), None, parent),
+                      commanding, issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
         self.by_session[session] = cmd
-        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
+        sent: dict[str, Any] = {"timeStamp": [stamp.seconds, stamp.nanoseconds]}
+        if parent is not None:
+            sent["destinationParent"] = str(parent)  # the command's key: the same instance when it is disposed later
+        self.store.add_command(cmd.to_json(), sent, self.station)
         self._publish(cmd)
         self.emit({"type": "command", "command": cmd.to_json()})
         return cmd
@@ -388,7 +403,7 @@ class Commands:
                 del cmd.replay[: cmd.replay.index(seen) + 1]
                 return
             cmd.replay.clear()  # the first status we had not recorded: the replay is over
-        t = cmd.flow.observe(status, reason, log_message)
+        t = cmd.flow.observe(status, reason, log_message, provider_time)
         if t is None:
             return
         received = self.clock.wall()

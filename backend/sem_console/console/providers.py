@@ -57,6 +57,7 @@ class Provider:
     regaining_since: float | None = None
     regained_at: float | None = None
     umaa_version: UmaaVersion = UMAA_3_0_1  # of the report topics its samples come on
+    parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0): a command's destination carries it
     version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
 
     def last_seen(self) -> float:
@@ -95,7 +96,7 @@ class Providers:
         return LinkConfig(self.comms_lost_timeout, self.regained_time)
 
     def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
-             alive: bool, version: UmaaVersion | None = None) -> tuple[Provider, bool]:
+             alive: bool, version: UmaaVersion | None = None, parent: uuid.UUID | None = None) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
         (disposed, or no writers). `version`: the UMAA version of the topic (a report, a command status or an ack).
         Returns (provider, whether it is new)."""
@@ -108,6 +109,8 @@ class Providers:
         if version is not None and version != p.umaa_version:
             p.umaa_version = version
             p.version_changed = not new
+        if parent is not None:
+            p.parent = parent
         h = p.health.get(topic)
         if report is None and not alive:
             if h:

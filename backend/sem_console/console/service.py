@@ -400,7 +400,8 @@ class Console:
         now = self.clock.monotonic()
         alarming = False
         for it in items:
-            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version)
+            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version,
+                                         it.parent)
             if new:
                 self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
             elif p.version_changed:
@@ -450,7 +451,7 @@ class Console:
         # a vehicle first heard on its command status or ack (transient-local, before its first report) speaks that
         # topic's version
         p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None,
-                                     it.version)
+                                     it.version, it.parent)
         if new:
             self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
         elif p.version_changed:
@@ -723,8 +724,10 @@ class Console:
             self._emit({"type": "alarms", "alarms": self.alarms.active()})
 
     def issue(self, commanding: Commanding, provider_id: uuid.UUID, state: str | None, operator: str | None) -> Command:
-        """A command to a vehicle, as its version commands it (`commanding`: versions/commands.py)."""
-        return self.commands.issue(commanding, provider_id, state, operator)
+        """A command to a vehicle, as its version commands it (`commanding`: versions/commands.py), addressed to its
+        identifier as it reports it (its parent too)."""
+        p = self.providers.by_id.get(provider_id)
+        return self.commands.issue(commanding, provider_id, state, operator, p.parent if p is not None else None)
 
 
 def _thin(message: dict[str, Any]) -> dict[str, Any] | None:

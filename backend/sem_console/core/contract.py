@@ -71,7 +71,8 @@ class Transition(StrictModel):
     status: str
     reason: str
     logMessage: str
-    violation: str | None = Field(description="why this transition breaks ICD Figure 4, or null")
+    violation: str | None = Field(description="why this transition breaks the command state machine (its ICD's figure: "
+                                              "3.0.1's Figure 4, 6.0's Figure 14), or null")
     providerTime: float | None = Field(description="the status sample's timeStamp, UTC seconds")
     receivedAt: float
 

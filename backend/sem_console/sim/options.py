@@ -70,7 +70,8 @@ class SimOptions(BaseModel):
         "inject a fault, for all vehicles or vehicle number N; repeatable. KIND: reject (FAILED/RESOURCE_REJECTED: after "
         "ISSUED in 3.0.1, after COMMANDED in 6.0, the only state its Figure 15 allows it after), "
         "fail-midway (FAILED/RESOURCE_FAILED while executing), no-answer (never answers), slow (every step "
-        "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a Figure 4 violation), "
+        "--slow-factor times slower), skip-commanded (ISSUED -> EXECUTING, a breach of the command state machine: "
+        "the 3.0.1 ICD's Figure 4, the 6.0 ICD's Figure 14), "
         "ins-failure (INS reports INERTIAL_SENSOR_FAILURE)"))  # vehicle number (0 = all) -> faults
     slow_factor: float = Field(10.0, ge=1, le=1000, description="slow-down of the 'slow' fault (default: 10)")
     start_lat: float = Field(36.80, json_schema_extra=ENV_ONLY)

@@ -88,6 +88,9 @@ class Execution:
     reached: bool = False  # the commanded state was reached and reported
     ended: bool = False  # status and ack disposed
 
+    def __post_init__(self) -> None:
+        self.flow.figure = self.commanding.figure  # its violations name its version's figure (6.0: Figure 14)
+
     @property
     def service(self) -> Service:
         return self.commanding.service
@@ -208,7 +211,7 @@ class ProviderFlow:
         t = ex.flow.observe(status, reason, message)
         if t is not None and t.violation and "skip-commanded" not in self.faults:
             log.warning(
-                "vehicle %d %s %s: publishing a Figure 4 violation: %s", self.number, ex.service.value, ex.session, t.violation
+                "vehicle %d %s %s: publishing a violation: %s", self.number, ex.service.value, ex.session, t.violation
             )
         self.journal.set(self.guid, ex.service, ex.session, status)
         self.write(ex.commanding.status, self.status_sample(ex, status, reason, message))
@@ -239,7 +242,9 @@ class ProviderFlow:
             return
         step = SUCCESS_NEXT[ex.status]
         if step is Status.COMMANDED:
-            if "skip-commanded" in self.faults:  # break Figure 4 on purpose
+            if "skip-commanded" in self.faults:  # break the state machine on purpose
+                log.warning("vehicle %d %s %s: skipping COMMANDED (injected fault), a breach of the %s state machine "
+                            "(%s)", self.number, ex.service.value, ex.session, ex.commanding.version, ex.flow.figure)
                 self.publish_status(ex, Status.EXECUTING, Reason.SUCCEEDED, "executing (COMMANDED skipped: injected fault)")
                 self.start_effect(ex, now)
             else:

@@ -8,7 +8,8 @@
 One addition to the figure, from the provider startup sequence (ICD 4.1.2.1): a
 restarted provider that will not resume a persisted command fails it with
 SERVICE_FAILED, which a consumer may see as the first status from that provider.
-A status equal to the current one (same state and reason) is a repeat, not a transition.
+A status equal to the current one (same state and reason) is a repeat, not a transition; but each ISSUED/UPDATED with a
+time stamp of its own is a new update (a command can be updated again before it moves on).
 
 One model for every UMAA version: UMAA 6.0 adds the reason UPDATED (its ICD 4.1.4.2, Figure 15): a command with the
 same source and sessionID and a newer time stamp is an update, and its status goes back to ISSUED from any of
@@ -94,8 +95,10 @@ def parse_reason(text: str) -> AnyReason | int:
     return UPDATED if text == UPDATED.name else parse(Reason, text)
 
 
-def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int) -> str | None:
-    """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it."""
+def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int,
+                     figure: str = "Figure 4") -> str | None:
+    """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it,
+    naming the state machine as `figure` (its number in the vehicle's ICD: UMAA 6.0's is Figure 14)."""
     if not isinstance(status, Status):
         return f"unknown commandStatus ordinal {status!r}"
     if not isinstance(reason, AnyReason):
@@ -104,7 +107,7 @@ def check_transition(prev: Status | None, status: Status | int, reason: AnyReaso
         return None
     if status not in NEXT[prev]:
         before = prev.name if prev is not None else "(no status)"
-        return f"{before} -> {status.name} is not a Figure 4 transition"
+        return f"{before} -> {status.name} is not a {figure} transition"
     if not reason_allowed(status, reason, first=prev is None):
         return f"reason {reason.name} is not valid for {status.name}"
     return None
@@ -116,6 +119,7 @@ class Transition:
     reason: AnyReason | int
     log_message: str
     violation: str | None = None
+    stamp: float | None = None  # the status sample's timeStamp (seconds), when known
 
 
 @dataclass
@@ -123,6 +127,7 @@ class CommandFlow:
     """Follows one command's statuses; records each transition and any violation."""
 
     transitions: list[Transition] = field(default_factory=list)
+    figure: str = "Figure 4"  # the state machine's figure in the ICD of the command's version (versions/commands.py)
 
     @property
     def status(self) -> Status | None:
@@ -140,11 +145,14 @@ class CommandFlow:
     def violations(self) -> list[str]:
         return [t.violation for t in self.transitions if t.violation]
 
-    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "") -> Transition | None:
-        """Feed a received status; returns the new transition, or None for a repeat."""
+    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "",
+                stamp: float | None = None) -> Transition | None:
+        """Feed a received status (`stamp`: its timeStamp in seconds); returns the new transition, or None for a repeat:
+        the last status again, unless it is an update (UPDATED) stamped otherwise, which is the next update."""
         last = self.transitions[-1] if self.transitions else None
-        if last is not None and last.status is status and last.reason is reason:
+        if last is not None and last.status is status and last.reason is reason and (
+                reason is not UPDATED or stamp is None or stamp == last.stamp):
             return None
-        t = Transition(status, reason, log_message, check_transition(self.status, status, reason))
+        t = Transition(status, reason, log_message, check_transition(self.status, status, reason, self.figure), stamp)
         self.transitions.append(t)
         return t

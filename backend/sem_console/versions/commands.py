@@ -22,7 +22,7 @@ from __future__ import annotations
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Protocol
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -35,8 +35,15 @@ from sem_console.umaa.flow import AnyReason
 from sem_console.umaa.guid import to_guid
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, umaa_6_0
 
-# (source, destination, sessionID, state literal or None, time stamp (seconds, nanoseconds)) -> the command sample
-Build = Callable[[uuid.UUID, uuid.UUID, uuid.UUID, str | None, tuple[int, int]], Any]
+
+class Build(Protocol):
+    """(source, destination, sessionID, state literal or None, time stamp (seconds, nanoseconds), the destination's
+    parent as it reports it in its own `source` (UMAA 6.0's IdentifierType; None: none known)) -> the command sample."""
+
+    def __call__(self, source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
+                 stamp: tuple[int, int], parent: uuid.UUID | None = None) -> Any: ...
+
+
 # a provider's status: (its source, the command sample, status, reason, log message, time stamp) -> the status sample
 BuildStatus = Callable[[uuid.UUID, Any, Status, AnyReason, str, tuple[int, int]], Any]
 # a provider's ack: (its source, the command sample, time stamp) -> the ack sample
@@ -61,6 +68,8 @@ class Commanding:
     # the status a provider's resource rejects a command after (FAILED/RESOURCE_REJECTED): 3.0.1's ICD (4.1.4.3) ties
     # no reason to a transition, so at once after ISSUED; 6.0's Figure 15 allows RESOURCE_REJECTED after COMMANDED only
     rejected_after: Status = Status.ISSUED
+    # the command state machine's figure in the version's ICD (4.1): 3.0.1's Figure 4, 6.0's Figure 14
+    figure: str = "Figure 4"
 
     def destination(self, command: Any) -> uuid.UUID:
         """The provider a command sample is addressed to (ValueError, TypeError: not a GUID)."""
@@ -70,6 +79,21 @@ class Commanding:
         """The source of a command, status or ack sample (ValueError, TypeError: not a GUID)."""
         return _guid(sample.source)
 
+    @staticmethod
+    def parent(sample: Any) -> uuid.UUID | None:
+        """The parent its source says it has (UMAA 6.0's IdentifierType.parentID); None: 3.0.1's NumericGUID has none."""
+        return parent_of(sample.source)
+
+
+def parent_of(source: Any) -> uuid.UUID | None:
+    """The `parentID` of a UMAA 6.0 IdentifierType as a UUID (the nil UUID: no parent); None for a 3.0.1 NumericGUID
+    or a value that is not a GUID."""
+    raw = getattr(source, "parentID", None)
+    try:
+        return None if raw is None else uuid.UUID(bytes=bytes(raw))
+    except (TypeError, ValueError):
+        return None
+
 
 def _guid(raw: Any) -> uuid.UUID:
     """A NumericGUID, or the `id` of an IdentifierType (UMAA 6.0), as a UUID."""
@@ -78,7 +102,7 @@ def _guid(raw: Any) -> uuid.UUID:
 
 def _command_3_0_1(service: Service) -> Build:
     def build(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-              stamp: tuple[int, int]) -> Any:
+              stamp: tuple[int, int], parent: uuid.UUID | None = None) -> Any:  # 3.0.1's destination is a NumericGUID
         values: dict[str, Any] = dict(source=to_guid(source), destination=to_guid(destination),
                                       sessionID=to_guid(session), timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]))
         if service is Service.INERTIAL_SENSOR:
@@ -120,7 +144,7 @@ COMMANDING: dict[tuple[UmaaVersion, Service], Commanding] = {
     (UMAA_6_0, Service.INERTIAL_SENSOR): Commanding(
         UMAA_6_0, Service.INERTIAL_SENSOR, Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK,
         umaa_6_0.INS_COMMAND_STATES, umaa_6_0.ins_command, umaa_6_0.command_status, umaa_6_0.ins_status,
-        umaa_6_0.ins_ack, True, Status.COMMANDED),
+        umaa_6_0.ins_ack, True, Status.COMMANDED, "Figure 14"),
 }
 SERVICE_NAMES = {Service.GPS_FIX: "GPS fix", Service.INERTIAL_SENSOR: "inertial sensor"}
 

@@ -74,22 +74,25 @@ def apply(spec: Spec, report: dict[str, Any]) -> Any:
 
 
 def source(spec: Spec, member: Callable[[str], str], const: Callable[[Any], str],
-           build: Callable[[list[tuple[str, str]]], str] | None = None) -> str:
+           build: Callable[[list[tuple[str, str]]], str] | None = None,
+           lookup: Callable[[Mapping[Any, Any], str], str] | None = None) -> str:
     """The Python expression of the model's value that `spec` says: `member(path)` is the expression of the wire
     report's member at `path` in the generated decoder, `const(obj)` the name of a constant it holds, `build(items)`
-    (when given) the expression of a dict of those names and expressions (a dict literal otherwise)."""
+    (when given) the expression of a dict of those names and expressions (a dict literal otherwise), `lookup(table,
+    expr)` (when given) that of `table.get(expr)`."""
     if spec is None:
         return "None"
     if isinstance(spec, dict):
-        items = [(name, source(s, member, const, build)) for name, s in spec.items()]
+        items = [(name, source(s, member, const, build, lookup)) for name, s in spec.items()]
         return build(items) if build is not None else "{" + ", ".join(f"{n!r}: {e}" for n, e in items) + "}"
     if isinstance(spec, Src):
         return member(spec.path)
     if isinstance(spec, Lookup):
-        return f"{const(spec.table)}.get({member(spec.path)})"
+        expr = member(spec.path)
+        return lookup(spec.table, expr) if lookup is not None else f"{const(spec.table)}.get({expr})"
     if isinstance(spec, Seconds):
         return f"({member(f'{spec.path}.seconds')} + {member(f'{spec.path}.nanoseconds')} / 1e9)"
     present = member(spec.path)
     if present == "None":
         return "None"
-    return f"(None if {present} is None else {source(spec.then, member, const)})"
+    return f"(None if {present} is None else {source(spec.then, member, const, None, lookup)})"

@@ -107,22 +107,18 @@ def _satellite_id(number: Any, constellation: Any) -> str | None:
         return None
 
 
-def _satellite(s: dict[str, Any], i: int, invalid: list[str]) -> dict[str, Any]:
-    """A 6.0 satellite (its JSON, fresh from the decoder) made the model's in place: satelliteID as satelliteId; a number
-    no satellite has (not a whole number 1..255) is null and listed in `invalid`, as the decoder lists a value a
-    sensor cannot mean."""
-    number = s.pop("satelliteID", None)
-    s["satelliteId"] = _satellite_id(number, s.get("constellationType"))
-    if s["satelliteId"] is None and number is not None and s.get("constellationType") is not None:
-        invalid.append(f"satellites[{i}].satelliteId: {number!r} is no satellite number (a whole number 1..255)")
-    return s
-
-
 def gps_report(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
-    """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport."""
+    """A 6.0 GPSReportType (its JSON and invalid values, `codec`) as the model's GPSReport. Each satellite (its JSON,
+    fresh from the decoder) is made the model's in place: satelliteID as satelliteId; a number no satellite has (not a
+    whole number 1..255) is null and listed in `invalid`, as the decoder lists a value a sensor cannot mean."""
     clock = report.get("clock") or {}
     unnamed: list[str] = []
-    satellites = [_satellite(s, i, unnamed) for i, s in enumerate(report.get("satellites") or [])]
+    satellites = report.get("satellites") or []
+    for i, sat in enumerate(satellites):  # a loop, not a call per satellite: a report has dozens, every second
+        number, constellation = sat.pop("satelliteID", None), sat.get("constellationType")
+        sat["satelliteId"] = sid = _satellite_id(number, constellation)
+        if sid is None and number is not None and constellation is not None:
+            unnamed.append(f"satellites[{i}].satelliteId: {number!r} is no satellite number (a whole number 1..255)")
     return {
         "clock": {**{_CLOCK_NAMES.get(k, k): v for k, v in clock.items()}, **_CLOCK_NOT_REPORTED},
         "numberSatellitesInView": report.get("numberSatellitesInView"),
@@ -183,24 +179,26 @@ REPORTS: dict[Sem60, Report] = {
 
 
 # ---- commanding: InertialSensorControl (UMAA 6.0 SEM ICD 4.1) -------------------------------------------------------
-NIL_GUID = bytes(16)  # a parentID: the console and the simulated vehicles have no parent
+NIL_GUID = bytes(16)  # a parentID: the console and the simulated vehicles have no parent (ICD 6.0 5.2.9, Table 24)
 
 
-def identifier(guid: uuid.UUID) -> IdentifierType:
-    """A vehicle's or a console's UMAA::Common::IdentifierType: its GUID as `id`, no parent."""
-    return make(IdentifierType, id=list(guid.bytes), parentID=list(NIL_GUID))
+def identifier(guid: uuid.UUID, parent: uuid.UUID | None = None) -> IdentifierType:
+    """A vehicle's or a console's UMAA::Common::IdentifierType: its GUID as `id`, its parent's as `parentID` (the nil
+    UUID when it has none: the root of its tree, ICD 6.0 5.2.9)."""
+    return make(IdentifierType, id=list(guid.bytes), parentID=list(parent.bytes if parent is not None else NIL_GUID))
 
 
 INS_COMMAND_STATES: tuple[str, ...] = tuple(InsCmd.__members__)  # BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, ...
 
 
 def ins_command(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-                stamp: tuple[int, int]) -> InertialSensorCommandType:
-    """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`); `state` a literal of
-    INS_COMMAND_STATES (KeyError otherwise)."""
+                stamp: tuple[int, int], parent: uuid.UUID | None = None) -> InertialSensorCommandType:
+    """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`, whose identifier has the
+    `parent` it reports in its own source: a command's destination is the provider's identifier, ICD 6.0 4.1 and 5.2.9);
+    `state` a literal of INS_COMMAND_STATES (KeyError otherwise)."""
     return make(InertialSensorCommandType, state=InsCmd[state or ""],
                 timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
-                sessionID=list(session.bytes), destination=identifier(destination))
+                sessionID=list(session.bytes), destination=identifier(destination, parent))
 
 
 def command_status(sample: Any) -> tuple[Status | int, AnyReason | int]:

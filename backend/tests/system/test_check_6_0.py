@@ -282,20 +282,20 @@ def test_a_6_0_run_that_leaves_the_sensor_unaligned_says_so(provider60: Callable
             "InertialSensor commands: command GPS_ALIGN to set it back") in run.err
 
 
-def test_6_0_satellites_are_bounded_at_300_not_at_the_consoles_256() -> None:
-    """The decoder keeps 256 satellites and says how many came: 280 are within 6.0's bound, 301 are not (ICD 6.0
-    5.1.1.1, Table 9)."""
-    sats = [{"azimuth": 0.0, "elevation": 0.1, "carrierFrequency": 1.5e9, "satelliteID": 1.0, "usedInFix": False}] * 256
-    body = {"satellites": sats, "numberSatellitesInView": 256, "clock": {}, "source": {"parentID": None}}
+def test_6_0_satellites_are_bounded_at_300() -> None:
+    """The decoder keeps a 6.0 report's satellites up to its type's bound, 300, and says how many came past it: 300 are
+    within 6.0's bound, 301 are not (ICD 6.0 5.1.1.1, Table 9)."""
+    sats = [{"azimuth": 0.0, "elevation": 0.1, "carrierFrequency": 1.5e9, "satelliteID": 1.0, "usedInFix": False}] * 300
+    body = {"satellites": sats, "numberSatellitesInView": 300, "clock": {}, "source": {"parentID": None}}
 
-    def problems(n: int) -> list[str]:
-        invalid = [f"satellites: {n} elements, more than 256; the first 256 kept"]
+    def problems(invalid: list[str]) -> list[str]:
         found = [umaa_6_0.decoder_finding(p) for p in invalid]
         found += umaa_6_0.gps_values(body, Report(0.0, body, invalid, True, 0), None)
         return [p for p in found if p]
 
-    assert problems(280) == []
-    assert problems(301) == ["satellites: 301 elements, more than 300 (ICD 6.0 5.1.1.1, Table 9: max size = 300)"]
+    assert problems([]) == []
+    assert problems(["satellites: 301 elements, more than 300; the first 300 kept"]) == [
+        "satellites: 301 elements, more than 300 (ICD 6.0 5.1.1.1, Table 9: max size = 300)"]
 
 
 def test_each_6_0_breach_of_a_command_fails_its_test_once() -> None:

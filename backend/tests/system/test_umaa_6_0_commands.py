@@ -165,6 +165,35 @@ def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
     return bus, found
 
 
+def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(console, domain: int) -> None:
+    """A 6.0 command's destination is the provider's IdentifierType as the provider reports it in its source, parentID
+    included (ICD 6.0 4.1: a provider answers the commands whose destination is its identifier; 5.2.9: parentID is its
+    parent's, the nil UUID only when it has none), not the vehicle's id with a nil parent."""
+    from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorOpStatusEnumModule import InertialSensorOpStatusEnumType
+
+    vehicle, parent = uuid.uuid4(), uuid.uuid4()
+    c = console()
+    bus = Bus(domain)
+    try:
+        report = Sem60.INS_REPORT.spec.type(status=InertialSensorOpStatusEnumType.INIT,
+                                            timeStamp=DateTime(seconds=1, nanoseconds=0),
+                                            source=umaa_6_0.identifier(vehicle, parent))
+        writer = bus.writer(Sem60.INS_REPORT)  # kept: the vehicle lives while its writer does
+        writer.write(report)
+        wait_until(lambda: httpx.get(f"{c.url}/api/providers/{vehicle}").status_code == 200, 15, "the vehicle")
+        r = httpx.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        assert r.status_code == 201, r.text
+        reader = bus.reader(Sem60.INS_COMMAND)
+        session = r.json()["sessionId"]
+        command = wait_until(lambda: next((s for s in take_each(reader)[0] if not isinstance(s, InvalidSample)
+                                           and str(uuid.UUID(bytes=bytes(s.sessionID))) == session), None), 10, "the command")
+        assert uuid.UUID(bytes=bytes(command.destination.id)) == vehicle
+        assert uuid.UUID(bytes=bytes(command.destination.parentID)) == parent
+        assert bytes(command.source.parentID) == bytes(16)  # the console has no parent: the nil UUID
+    finally:
+        bus.close()
+
+
 def test_a_6_0_command_updated_starts_over_and_the_monitor_follows(sim, console, domain: int) -> None:
     sim("--umaa", "6.0", "--align-seconds", "600")  # 10 s a stage: still aligning when updated
     c = console()

@@ -269,3 +269,69 @@ def test_restart_skips_a_replay_of_only_the_last_statuses(tmp_path: Path) -> Non
     _statuses(second, again, (S.EXECUTING, OK, 7.0), (S.COMPLETED, OK, 7.0))  # the replay, then a new status, same stamp
     assert [t.status for t in again.flow.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
     assert again.flow.violations == [] and again.cleaned_up
+
+
+def test_sem_check_addresses_a_6_0_command_to_the_providers_identifier_its_parent_too() -> None:
+    """sem-check's command to a 6.0 provider carries the parentID the provider's reports give its source (ICD 6.0 4.1,
+    5.2.9), and its update keeps it (the destination is a key of the command)."""
+    import io
+    import types
+
+    from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import InertialSensorCmdEnumType as InsCmd
+
+    from sem_console.check import umaa_6_0 as check60
+    from sem_console.check.commands import CommandLimits, Consumer
+
+    provider, parent = uuid.uuid4(), uuid.uuid4()
+    written: list[object] = []
+    writer = types.SimpleNamespace(write=written.append)
+    observer = types.SimpleNamespace(parents={provider: parent})
+    consumer = Consumer(observer, provider, CommandLimits(1, 1, 1), io.StringIO(), version=check60.V6_0)  # type: ignore[arg-type]
+    sent = consumer.send(Service.INERTIAL_SENSOR, writer, InsCmd.GPS_ALIGN)  # type: ignore[arg-type]
+    consumer.writers[Service.INERTIAL_SENSOR] = writer  # type: ignore[assignment]
+    consumer.update_command(sent)
+    assert len(written) == 2
+    for sample in written:
+        destination = sample.destination  # type: ignore[attr-defined]
+        assert uuid.UUID(bytes=bytes(destination.id)) == provider
+        assert uuid.UUID(bytes=bytes(destination.parentID)) == parent
+
+
+def test_two_updates_in_a_row_are_two_transitions_kept_after_a_restart(tmp_path: Path) -> None:
+    """A 6.0 command updated twice before it moved on: two ISSUED/UPDATED statuses, each a transition, stored, on the
+    WebSocket and read back after a restart; the same status again is a repeat."""
+    from sem_console.umaa.flow import UPDATED
+
+    bus = Bus()
+    c = consumer(tmp_path / "db", bus)
+    ins60 = COMMANDING["6.0", Service.INERTIAL_SENSOR]
+    cmd = c.issue(ins60, VEHICLE, "GPS_ALIGN", None)
+    for i, (st, r) in enumerate([(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.ISSUED, UPDATED),
+                                 (S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]):
+        c.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, r, "", 10.0 + min(i, 4))
+    want = ["ISSUED", "COMMANDED", "EXECUTING", "ISSUED", "ISSUED"]
+    assert [t["status"] for t in cmd.to_json()["transitions"]] == want and cmd.flow.violations == []
+    assert [t["reason"] for t in cmd.to_json()["transitions"]][-2:] == ["UPDATED", "UPDATED"]
+    assert [m["type"] for m in bus.emitted].count("transition") == 5
+    again = consumer(tmp_path / "db", Bus()).by_session[cmd.session_id]
+    assert [t["status"] for t in again.to_json()["transitions"]] == want
+
+
+def test_a_6_0_breach_names_the_6_0_icds_figure(tmp_path: Path) -> None:
+    """A 6.0 vehicle that skips COMMANDED (sem-sim's skip-commanded fault) breaks its ICD's Figure 14 (ICD 6.0 4.1), not
+    3.0.1's Figure 4: the console's monitor and the simulator's own flow say so; a 3.0.1 command still names Figure 4."""
+    from sem_console.sim.provider_flow import Execution
+
+    c = consumer(tmp_path / "db", Bus())
+    ins60 = COMMANDING["6.0", Service.INERTIAL_SENSOR]
+    cmd = c.issue(ins60, VEHICLE, "GPS_ALIGN", None)
+    old = c.issue(INS_3_0_1, VEHICLE, "ON", None)
+    for command, service in ((cmd, Service.INERTIAL_SENSOR), (old, Service.INERTIAL_SENSOR)):
+        c.on_status(service, command.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
+        c.on_status(service, command.session_id, VEHICLE, S.EXECUTING, OK, "", 2.0)
+    assert cmd.flow.violations == ["ISSUED -> EXECUTING is not a Figure 14 transition"]
+    assert old.flow.violations == ["ISSUED -> EXECUTING is not a Figure 4 transition"]
+    ex = Execution(ins60, cmd.sample, 0.0)
+    ex.flow.observe(S.ISSUED, OK)
+    breach = ex.flow.observe(S.EXECUTING, OK)
+    assert breach is not None and breach.violation == "ISSUED -> EXECUTING is not a Figure 14 transition"

@@ -277,3 +277,58 @@ def test_a_value_the_model_leaves_out_is_not_decoded() -> None:
     r = umaa_6_0.REPORTS[Sem60.INS_REPORT]
     source, _ = fastcdr.generate(Sem60.INS_REPORT.spec.type, False, True, True, r.spec, umaa_6_0.model_path)
     assert source.count("guid_text(") == 1
+
+
+def test_a_read_the_model_leaves_out_makes_no_value() -> None:
+    """The parentID of a 6.0 report's source is read as padding (no bytes object made for it), in the learned pattern's
+    one unpack as member by member."""
+    r = umaa_6_0.REPORTS[Sem60.GLOBAL_POSE_REPORT]
+    t = Sem60.GLOBAL_POSE_REPORT.spec.type
+    pattern = (False,) * 4 + (False, True, False)  # no altitudes, no attitude covariance, depth, no position covariance
+    _, ns = fastcdr.generate(t, True, True, True, r.spec, umaa_6_0.model_path, (pattern,))
+    formats = [s.format for s in ns.values() if isinstance(s, struct.Struct)]
+    assert sum(f.count("16s") for f in formats) == 2  # the source's id, in the pattern's unpack and member by member
+    assert sum(f.count("16x") for f in formats) == 2  # its parentID
+
+
+def test_adjacent_absent_members_are_one_test() -> None:
+    """A learned pattern checks the presence flags of adjacent absent members (GlobalPose's four altitudes) as one
+    integer: one test, not four."""
+    r = umaa_6_0.REPORTS[Sem60.GLOBAL_POSE_REPORT]
+    pattern = (False,) * 4 + (False, True, False)
+    source, _ = fastcdr.generate(Sem60.GLOBAL_POSE_REPORT.spec.type, True, True, True, r.spec, umaa_6_0.model_path,
+                                 (pattern,))
+    condition = next(line for line in source.splitlines() if line.strip().startswith("if ") and " and " in line)
+    assert condition.count("not ") == 3 and condition.count(" and ") == 3, condition
+
+
+def test_each_versions_satellites_keep_their_own_bound() -> None:
+    """A 6.0 GPSReport keeps its 300 satellites (its type bounds them at 300); a 301st (which no 6.0 writer may send,
+    made here by hand) is cut and said, as 3.0.1's unbounded satellites are past the console's 256; the 6.0 model's
+    report keeps the 300 too. The generated decoder and convert agree."""
+    from sem_console.codec.decode import report_json
+
+    t = Sem60.GPS_REPORT.spec.type
+    rng = random.Random(300)
+    sample = random_sample(t, rng)
+    one = random_sample(_satellite_type(t), rng, absent=0.0)
+    sample.satellites = [one] * 299
+    fewer = t.serialize(sample, use_version_2=False)
+    sample.satellites = [one] * 300
+    full = t.serialize(sample, use_version_2=False)
+    size = len(full) - len(fewer)  # one satellite (its size a multiple of its alignment)
+    at = next(k for k in range(len(full)) if full[k] != fewer[k])  # the count
+    assert struct.unpack_from("<I", full, at)[0] == 300
+    over = full[:at] + struct.pack("<I", 301) + full[at + 4:at + 4 + size] + full[at + 4:]
+    for data, kept, said in ((full, 300, []), (over, 300, ["satellites: 301 elements, more than 300; the first 300 kept"])):
+        got, ref = fastcdr.decoder(t).json(data), to_json(t.deserialize(data))
+        assert got == ref
+        assert len(got[0]["satellites"]) == kept and [m for m in got[1] if "elements" in m] == said
+        model, invalid = report_json(Sem60.GPS_REPORT)(data)
+        assert len(model["satellites"]) == kept and [m for m in invalid if "elements" in m] == said
+
+
+def _satellite_type(t: Any) -> Any:
+    import typing
+
+    return typing.get_args(typing.get_args(typing.get_type_hints(t, include_extras=True)["satellites"])[0])[0]

@@ -62,3 +62,18 @@ def test_unknown_ordinals_are_violations_and_do_not_move_the_state() -> None:
     assert flow.status is S.ISSUED
     assert flow.observe(S.COMMANDED, OK).violation is None  # type: ignore[union-attr]
     assert name(99) == "UNKNOWN(99)" and parse(S, "UNKNOWN(99)") == 99 and parse(R, "TIMEOUT") is R.TIMEOUT
+
+
+def test_each_update_is_a_new_step_and_a_redelivered_one_a_repeat() -> None:
+    """ISSUED/UPDATED twice in a row, stamped apart: two updates (the command was updated again before it moved on);
+    the same status again (its stamp too) is a repeat."""
+    from sem_console.umaa.flow import UPDATED
+
+    f = CommandFlow()
+    for i, (st, r) in enumerate([(S.ISSUED, R.SUCCEEDED), (S.COMMANDED, R.SUCCEEDED), (S.EXECUTING, R.SUCCEEDED)]):
+        assert f.observe(st, r, "", 10.0 + i) is not None
+    first = f.observe(S.ISSUED, UPDATED, "", 13.0)
+    second = f.observe(S.ISSUED, UPDATED, "", 14.0)
+    assert first is not None and second is not None and first.violation is None and second.violation is None
+    assert f.observe(S.ISSUED, UPDATED, "", 14.0) is None
+    assert [(t.status, t.reason) for t in f.transitions][-2:] == [(S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]

@@ -101,6 +101,17 @@ const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, 
   },
 };
 
+/** The members of the console's reports a vehicle of a UMAA version never fills, and why (by report topic). */
+const NOT_REPORTED_MEMBERS: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, Readonly<Record<string, string>>>>>>> = {
+  "3.0.1": {},
+  "6.0": { GPSFixReport: { SOG: "UMAA 6.0 reports no speed (GlobalPoseReport has none)" } },
+};
+
+/** Why a vehicle of `version` never has `member` in its `topic` report (null: it may). */
+export function memberNotReported(version: UmaaVersion | null | undefined, topic: Topic, member: string): string | null {
+  return (version && NOT_REPORTED_MEMBERS[version][topic]?.[member]) || null;
+}
+
 /** Why a vehicle of `version` has no `topic` report, when its version never fills that topic (null: one may come). */
 export function notReported(version: UmaaVersion | null | undefined, topic: Topic): string | null {
   return (version && NOT_REPORTED[version][topic]) || null;

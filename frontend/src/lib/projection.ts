@@ -29,6 +29,8 @@ export interface LastFix {
   courseDeg: number | null;
   /** a valid GPS fix (GPSFixStatusReport.fixValid and GPSLatLongValid), not an INS position */
   gpsFix: boolean;
+  /** why the vehicle's reports never carry a speed (its UMAA version's position report has none), when they do not */
+  noSpeed?: string | null;
 }
 
 export type Projection =
@@ -36,7 +38,9 @@ export type Projection =
   /** the last fix is older than DEAD_RECKONING.maxSeconds */
   | { kind: "too-old"; seconds: number }
   /** the speed, or the course of a vehicle under way, is not known */
-  | { kind: "no-motion"; seconds: number };
+  | { kind: "no-motion"; seconds: number }
+  /** its reports never carry a speed (`why`): it is drawn where it was last heard, not projected */
+  | { kind: "last-position"; seconds: number; why: string };
 
 /** The uncertainty circle's radius `seconds` after a fix: base + (drift + fraction × speed) × seconds, capped. */
 export function uncertaintyM(gpsFix: boolean, speedMps: number, seconds: number): number {
@@ -50,6 +54,7 @@ export function deadReckon(fix: LastFix, seconds: number): Projection {
   const s = Math.max(0, seconds);
   if (s > DEAD_RECKONING.maxSeconds) return { kind: "too-old", seconds: s };
   const speed = fix.speedMps;
+  if (!isNum(speed) && fix.noSpeed) return { kind: "last-position", seconds: s, why: fix.noSpeed };
   if (!isNum(speed) || speed < 0) return { kind: "no-motion", seconds: s };
   if (speed > 0 && !isNum(fix.courseDeg)) return { kind: "no-motion", seconds: s };
   const at = speed > 0 ? destination(fix.at, fix.courseDeg!, speed * s) : fix.at;
@@ -60,5 +65,6 @@ export function deadReckon(fix: LastFix, seconds: number): Projection {
 export function projectionText(p: Projection): string {
   if (p.kind === "projected") return `projected · within ${p.radiusM < 1000 ? `${Math.round(p.radiusM)} m` : `${(p.radiusM / 1000).toFixed(1)} km`}`;
   if (p.kind === "too-old") return `not projected: no fix for over ${DEAD_RECKONING.maxSeconds / 60} min`;
+  if (p.kind === "last-position") return `at its last position, not projected: ${p.why}`;
   return "not projected: speed or course unknown";
 }

@@ -3,6 +3,7 @@ import { initialState, reduce } from "../../data/state";
 import { type ProviderView } from "../../data/slices/vehicles";
 import { reportMessage } from "../../data/testing";
 import { originOf, vehicleMark } from "./layers";
+import { projectionText } from "../../lib/projection";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const NONE: ReadonlySet<string> = new Set();
@@ -65,5 +66,17 @@ describe("the map's marks", () => {
     expect(vehicleMark({ ...flagged, link: "lost" }, 110, null, NONE, true, [])!.projection?.kind).toBe("no-motion");
     const ins = vehicle([P, "GPSFixReport", fix], [P, "GPSFixStatusReport", { fixValid: true }]);
     expect(vehicleMark({ ...ins, link: "lost" }, 110, null, NONE, true, [])!.projection).toMatchObject({ kind: "projected", radiusM: 100 + 0.9 * 10 });
+  });
+
+  it("draws a lost UMAA 6.0 vehicle at its last position and says why it is not projected: its version reports no speed", () => {
+    // a 6.0 vehicle's position report (from its GlobalPoseReport) has no SOG, ever: no speed is made up for it
+    const p: ProviderView = { ...vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: null, trueCourse: 0, GPSLatLongValid: true }]), umaaVersion: "6.0" };
+    const m = vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true, [])!;
+    expect(m.position).toEqual({ lat: 0, lon: 0 });
+    expect(m.projection).toMatchObject({ kind: "last-position", seconds: 130 });
+    expect(projectionText(m.projection!)).toBe("at its last position, not projected: UMAA 6.0 reports no speed (GlobalPoseReport has none)");
+    // a 3.0.1 vehicle that sent no speed is not said to be of a version without one
+    const old = vehicleMark({ ...p, umaaVersion: "3.0.1", link: "lost" }, 230, null, NONE, true, [])!;
+    expect(projectionText(old.projection!)).toBe("not projected: speed or course unknown");
   });
 });

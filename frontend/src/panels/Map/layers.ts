@@ -9,6 +9,7 @@ import { EMPTY, validPosition, type LonLat, type VehicleMark } from "../../lib/g
 import { deadReckon } from "../../lib/projection";
 import { isNum, radToDeg } from "../../lib/units";
 import { invalidFor } from "../../components/Panel";
+import { memberNotReported } from "../../lib/labels";
 import { shortId } from "../../lib/vehicle";
 
 /** Closest zoom of a frame of the vehicles (a lone vehicle would else fill the map with a few metres of sea). */
@@ -32,7 +33,8 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
   const speed = isNum(fix?.SOG) && !invalidFor(invalid, "SOG") ? fix.SOG : null;
   const projection =
     link === "lost" && view
-      ? deadReckon({ at: position, speedMps: speed, courseDeg: invalidFor(invalid, "trueCourse") ? null : course, gpsFix: fixValid && fix?.GPSLatLongValid === true }, now - view.at)
+      ? deadReckon({ at: position, speedMps: speed, courseDeg: invalidFor(invalid, "trueCourse") ? null : course, gpsFix: fixValid && fix?.GPSLatLongValid === true,
+          noSpeed: memberNotReported(p.umaaVersion, "GPSFixReport", "SOG") }, now - view.at)
       : null;
   return {
     id: p.id,
