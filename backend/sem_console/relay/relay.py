@@ -1,0 +1,221 @@
+"""One side of the link: the DDS domain's SEM traffic on Zenoh and back (docs/relay.md).
+
+The vehicles' side sends every report, status and ack of both UMAA versions and writes the commands that come back;
+the operations side writes the vehicles' samples into its domain and sends its consoles' commands. Commands,
+statuses, acks and every dispose or unregistration are sent reliably at once, ahead of the reports (a higher Zenoh
+priority, congestion control Block: never dropped, never conflated); reports go at their link class's caps (congestion
+control Drop: a newer one follows)."""
+
+from __future__ import annotations
+
+import json
+import logging
+import os
+import threading
+import time
+import uuid
+from collections import defaultdict
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import zenoh
+
+from sem_console.dds.bus import Bus
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import AnySem, Sem, Sem60
+from sem_console.relay.domain import DomainSide, Taken
+from sem_console.relay.link import LINK_CLASSES, Limiter, parse_caps, short_name
+from sem_console.relay.options import RelayOptions
+from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
+
+log = logging.getLogger("sem-relay")
+TOPICS: dict[str, AnySem] = {s.spec.name: s for s in (*Sem, *Sem60)}  # every SEM topic of both UMAA versions
+_URGENT = dict(priority=zenoh.Priority.INTERACTIVE_HIGH, congestion_control=zenoh.CongestionControl.BLOCK, express=True)
+_REPORT = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.DROP)
+# a report's dispose or unregistration: reliable, but at the reports' priority, so it never overtakes their last sample
+_REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.BLOCK)
+
+
+@dataclass
+class Traffic:
+    """What crossed the link for one vehicle: the key, payload and attachment bytes of each message."""
+
+    sent_bytes: int = 0
+    sent_messages: int = 0
+    received_bytes: int = 0
+    received_messages: int = 0
+
+
+@dataclass(frozen=True)
+class Outgoing:
+    key: str
+    payload: bytes
+    attachment: bytes
+    vehicle: uuid.UUID
+    urgent: bool  # a command, status or ack, or any instance's end: reliable, first
+    report_end: bool = False
+
+
+def zenoh_config(options: RelayOptions) -> zenoh.Config:
+    config = zenoh.Config()
+    config.insert_json5("mode", json.dumps("router" if options.router else "client"))
+    config.insert_json5("scouting/multicast/enabled", "false")  # endpoints are configured, never discovered
+    config.insert_json5("connect/endpoints", json.dumps(options.connect_endpoints))
+    config.insert_json5("listen/endpoints", json.dumps(options.listen_endpoints))
+    if options.tls_root_ca is not None:
+        tls = {"root_ca_certificate": str(options.tls_root_ca)}
+        if options.tls_certificate is not None and options.tls_private_key is not None:
+            tls |= {"enable_mtls": True,  # type: ignore[dict-item]  # (json5 values)
+                    "listen_certificate": str(options.tls_certificate), "listen_private_key": str(options.tls_private_key),
+                    "connect_certificate": str(options.tls_certificate), "connect_private_key": str(options.tls_private_key)}
+        for name, value in tls.items():
+            config.insert_json5(f"transport/link/tls/{name}", json.dumps(value))
+    return config
+
+
+class Relay:
+    def __init__(self, options: RelayOptions, bus: Bus, session: zenoh.Session) -> None:
+        self.options, self.bus, self.session = options, bus, session
+        self.vehicles_side = options.side == "vehicles"
+        self.caps = {**LINK_CLASSES[options.link_class], **parse_caps(options.caps)}
+        self.limiter: Limiter[Outgoing] = Limiter(self.caps)
+        self.traffic: dict[uuid.UUID, Traffic] = defaultdict(Traffic)
+        self._lock = threading.Lock()  # the limiter, the traffic counts and the vehicles' domains
+        # operations side: the domain each vehicle's samples came from (where its commands go), and commands for a
+        # vehicle not heard yet (sent once it is)
+        self.domain_of: dict[uuid.UUID, int] = {}
+        self.waiting: dict[uuid.UUID, list[Taken]] = defaultdict(list)
+        commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
+        others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
+        self.sends = others if self.vehicles_side else commands
+        self.writes = {s.spec.name for s in (commands if self.vehicles_side else others)}
+        self.dds = DomainSide(bus, self.sends, self._taken)
+        self.started = time.monotonic()
+        self.stopping = threading.Event()
+        # the vehicles' side: the commands for its domain; the operations side: every vehicle's samples
+        watch = f"{PREFIX}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
+        self.subscriber = session.declare_subscriber(watch, self._received)
+        self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
+
+    def start(self) -> None:
+        self.dds.start()
+        self._timer.start()
+
+    # DDS -> Zenoh
+    def _taken(self, taken: Taken) -> None:
+        if not self.vehicles_side:
+            with self._lock:
+                domain = self.domain_of.get(taken.vehicle)
+                if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
+                    self.waiting[taken.vehicle].append(taken)
+                    return
+            self._send(self._outgoing(taken, domain))
+            return
+        out = self._outgoing(taken, self.bus.domain_id)
+        if taken.sem.spec.cls is not TopicClass.REPORT:
+            self._send(out)
+            return
+        topic = short_name(taken.sem.spec.name)
+        with self._lock:
+            if taken.kind is not Kind.SAMPLE:
+                before = self.limiter.take(taken.instance)
+                ready = [before, out] if before is not None else [out]
+            else:
+                fingerprint = self._fingerprint(taken) if self.limiter.cap(topic) == "change" else None
+                now = self.limiter.offer(topic, taken.instance, out, time.monotonic(), fingerprint)
+                ready = [now] if now is not None else []
+        for o in ready:
+            self._send(o)
+
+    @staticmethod
+    def _fingerprint(taken: Taken) -> Any:
+        """A report's content without its time stamp: what "on change" compares."""
+        sample = taken.sem.spec.type.deserialize(taken.data)
+        return repr({k: v for k, v in vars(sample).items() if k not in ("timeStamp", "sample_info")})
+
+    def _outgoing(self, taken: Taken, domain: int) -> Outgoing:
+        urgent = taken.sem.spec.cls is not TopicClass.REPORT
+        return Outgoing(key(domain, taken.vehicle, taken.sem.spec.name), taken.data, attachment(taken.kind, taken.source_ns),
+                        taken.vehicle, urgent, report_end=not urgent and taken.kind is not Kind.SAMPLE)
+
+    def _send(self, out: Outgoing) -> None:
+        qos = _URGENT if out.urgent else _REPORT_END if out.report_end else _REPORT
+        self.session.put(out.key, out.payload, attachment=out.attachment, **qos)
+        with self._lock:
+            t = self.traffic[out.vehicle]
+            t.sent_bytes += len(out.key) + len(out.payload) + len(out.attachment)
+            t.sent_messages += 1
+
+    # Zenoh -> DDS
+    def _received(self, sample: zenoh.Sample) -> None:
+        address = parse_key(str(sample.key_expr))
+        sem = TOPICS.get(address.topic) if address is not None else None
+        meta = read_attachment(sample.attachment.to_bytes() if sample.attachment is not None else None)
+        if address is None or sem is None or meta is None or sem.spec.name not in self.writes:
+            return  # not for this side (its own messages come back too)
+        payload = sample.payload.to_bytes()
+        release: list[Taken] = []
+        with self._lock:
+            t = self.traffic[address.vehicle]
+            t.received_bytes += len(str(sample.key_expr)) + len(payload) + 10
+            t.received_messages += 1
+            if not self.vehicles_side and address.vehicle not in self.domain_of:
+                self.domain_of[address.vehicle] = address.domain
+                release = self.waiting.pop(address.vehicle, [])
+        kind, source_ns = meta
+        try:
+            self.dds.write(sem, kind, payload, source_ns)
+        except Exception as e:  # one bad message costs only itself
+            log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
+        for taken in release:
+            self._send(self._outgoing(taken, address.domain))
+
+    # the caps' slots and the link's status
+    def _tick(self) -> None:
+        next_stats = time.monotonic() + self.options.stats_seconds
+        while not self.stopping.wait(0.1):
+            with self._lock:
+                due = self.limiter.due(time.monotonic())
+            for out in due:
+                self._send(out)
+            if time.monotonic() >= next_stats:
+                next_stats += self.options.stats_seconds
+                self.report()
+
+    def status(self) -> dict[str, Any]:
+        elapsed = max(time.monotonic() - self.started, 1e-6)
+        with self._lock:
+            vehicles = {str(v): {**asdict(t), "sentBytesPerHour": round(t.sent_bytes * 3600 / elapsed),
+                                 "receivedBytesPerHour": round(t.received_bytes * 3600 / elapsed)}
+                        for v, t in sorted(self.traffic.items())}
+            return {"name": self.options.name, "side": self.options.side, "domain": self.bus.domain_id,
+                    "linkClass": self.options.link_class, "caps": self.caps, "seconds": round(elapsed, 1),
+                    "conflated": self.limiter.conflated, "unchanged": self.limiter.unchanged,
+                    "waitingCommands": sum(len(w) for w in self.waiting.values()), "vehicles": vehicles}
+
+    def report(self) -> None:
+        status = self.status()
+        for vehicle, t in status["vehicles"].items():
+            log.info("link: vehicle %s: sent %d B in %d messages (%d B/h), received %d B in %d messages (%d B/h)", vehicle,
+                     t["sent_bytes"], t["sent_messages"], t["sentBytesPerHour"], t["received_bytes"],
+                     t["received_messages"], t["receivedBytesPerHour"])
+        if self.options.status_file is not None:
+            write_json(self.options.status_file, status)
+
+    def close(self) -> None:
+        self.stopping.set()
+        if self._timer.is_alive():
+            self._timer.join(timeout=2)
+        self.dds.stop()
+        self.subscriber.undeclare()
+
+
+def write_json(path: Path, data: Any) -> None:
+    """Written whole or not at all: a reader never sees half a file."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        tmp.write_text(json.dumps(data, indent=1))
+        os.replace(tmp, path)
+    except OSError as e:
+        log.warning("could not write the status file %s: %s", path, e)

@@ -1,0 +1,141 @@
+"""`sem-relay` over real Zenoh and Cyclone DDS on loopback: two DDS domains of this machine joined by two relays and a
+`sem-relay --router`, the far domain's consumer commanding the near domain's `sem-sim` vehicles of both UMAA versions;
+and the same through an impaired link (tests/support/impair.py)."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+
+from conftest import Process, free_domain, free_port
+from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.sim.provider import vehicle_guid
+from support.consumer import Consumer
+from support.impair import Impairment
+
+pytestmark = pytest.mark.process
+V1, V2 = vehicle_guid(1), vehicle_guid(2)  # vehicle 2 speaks UMAA 6.0
+HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+
+
+class RelayProcess(Process):
+    def __init__(self, *args: str) -> None:
+        self.proc = subprocess.Popen([sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+@pytest.fixture
+def relay() -> Iterator[Callable[..., RelayProcess]]:
+    started: list[RelayProcess] = []
+
+    def start(*args: str) -> RelayProcess:
+        started.append(RelayProcess(*args))
+        return started[-1]
+
+    yield start
+    for p in started:
+        p.end()
+
+
+def join(relay: Callable[..., RelayProcess], near: int, far: int, tmp_path: Path, *args: str,
+         via: Callable[[int], str] | None = None) -> int:
+    """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
+    link's). Returns the router's port."""
+    port = free_port()
+    router = f"tcp/127.0.0.1:{port}"
+    relay("--router", "--listen", router)
+    relay("--domain", str(near), "--side", "vehicles", "--name", "ship-1", "--connect", via(port) if via else router,
+          "--stats-seconds", "1", "--status-file", str(tmp_path / "near.json"), *args)
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--stats-seconds", "1",
+          "--status-file", str(tmp_path / "far.json"), *args)
+    return port
+
+
+def sources_60(readers: list[Any]) -> set[uuid.UUID]:
+    """The vehicles of the UMAA 6.0 samples the readers have (their `source` an IdentifierType)."""
+    return {uuid.UUID(bytes=bytes(s.source.id)) for r in readers for s in take_each(r)[0] if hasattr(s, "source")}
+
+
+def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int, relay, tmp_path: Path) -> None:
+    far = free_domain(taken=domain)
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
+    join(relay, domain, far, tmp_path)  # the satellite link class: the default
+    consumer = Consumer(far)
+    bus60 = Bus(far)
+    try:
+        readers60 = [bus60.reader(sem) for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)]
+        # both vehicles show on the far domain: the 3.0.1 one's reports, the 6.0 one's pose and INS
+        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_REPORT] and V1 in consumer.reports[Sem.INS_REPORT], 20,
+                      "vehicle 1's reports across the link")
+        seen60: set[uuid.UUID] = set()
+        deadline = time.monotonic() + 20
+        while V2 not in seen60 and time.monotonic() < deadline:
+            seen60 |= sources_60(readers60)
+            time.sleep(0.1)
+        assert V2 in seen60
+        # a cancel: the dispose of a running command crosses, the vehicle cancels it, its disposes come back
+        first = consumer.command(Service.GPS_FIX, V1)
+        canceled = consumer.wait_status(first, S.EXECUTING, 15)
+        consumer.dispose(first)
+        consumer.wait(lambda: canceled.status_disposed and canceled.ack_disposed, 15, "status and ack disposed after cancel")
+        assert canceled.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED]
+        # a GPS fix and an INS command complete
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY and seen.flow.violations == []
+        ins = consumer.command(Service.INERTIAL_SENSOR, V1, Ins.RESTARTING)
+        assert consumer.wait_terminal(ins, 20).statuses == HAPPY
+        # the cleanup: the finished fix disposed, the vehicle disposes its status and ack
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert seen.statuses == HAPPY
+        # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (once in this test)
+        assert len(consumer.reports[Sem.GPS_REPORT][V1]) == 1
+        status = json.loads((tmp_path / "near.json").read_text())
+        assert status["vehicles"][str(V1)]["sent_bytes"] > 0 and status["vehicles"][str(V2)]["sent_bytes"] > 0
+    finally:
+        consumer.close()
+        bus60.close()
+
+
+def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
+    """600 ms round trip, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the command flow
+    is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000))
+        return links[0].endpoint
+
+    sim("--surface-seconds", "60")
+    join(relay, domain, far, tmp_path, "--caps", "GPSFixReport=1", via=impaired)
+    consumer = Consumer(far)
+    try:
+        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
+        started = time.monotonic()
+        fix = consumer.command(Service.GPS_FIX, V1)
+        consumer.wait_status(fix, S.ISSUED, 10)
+        assert time.monotonic() - started >= 0.6  # the command there and its status back: one round trip at least
+        links[0].outage(4)
+        before = len(consumer.reports[Sem.GPS_FIX_REPORT][V1])
+        seen = consumer.wait_terminal(fix, 25)
+        assert seen.statuses == HAPPY and seen.flow.violations == []
+        assert time.monotonic() - started >= 4
+        consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) >= before + 2, 10, "reports after the outage")
+    finally:
+        consumer.close()
+        for link in links:
+            link.close()
