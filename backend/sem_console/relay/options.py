@@ -38,6 +38,9 @@ class RelayOptions(BaseSettings):
     caps: str = Field("", description=(
         "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
         "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"))
+    lease_seconds: float = Field(10.0, ge=1, le=600, description=(
+        "Zenoh's lease: a link silent this long is closed and opened again, and each side then sends again what the "
+        "other may have missed (default: 10)"))
     stats_seconds: float = Field(60.0, ge=0.1, le=3600, description=(
         "how often the bytes per vehicle are logged and --status-file written (default: 60)"))
     status_file: Path | None = Field(None, description="write the relay's link status (bytes per vehicle) here as JSON")

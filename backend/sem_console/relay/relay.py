@@ -8,14 +8,15 @@ control Drop: a newer one follows)."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import logging
 import os
 import threading
 import time
 import uuid
-from collections import defaultdict
-from dataclasses import asdict, dataclass
+from collections import OrderedDict, defaultdict, deque
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -35,6 +36,9 @@ _URGENT = dict(priority=zenoh.Priority.INTERACTIVE_HIGH, congestion_control=zeno
 _REPORT = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.DROP)
 # a report's dispose or unregistration: reliable, but at the reports' priority, so it never overtakes their last sample
 _REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.BLOCK)
+LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has at most 5 statuses)
+ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
+SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
 
 
 @dataclass
@@ -53,8 +57,19 @@ class Outgoing:
     payload: bytes
     attachment: bytes
     vehicle: uuid.UUID
-    urgent: bool  # a command, status or ack, or any instance's end: reliable, first
-    report_end: bool = False
+    urgent: bool  # a command, status or ack: reliable, first
+    report_end: bool = False  # a report's dispose or unregistration: reliable, after the report's samples
+    instance: Any = None  # the instance on the sending domain
+    ended: bool = False  # a dispose or unregistration
+
+
+@dataclass
+class _Log:
+    """What was sent of one instance, to send again when the other side comes (back): every message of a command,
+    status or ack instance, the latest of a report's; once it ended, only how."""
+
+    messages: deque[Outgoing] = field(default_factory=lambda: deque(maxlen=LOG_DEPTH))
+    ended: float | None = None  # when it was disposed or unregistered (monotonic)
 
 
 def zenoh_config(options: RelayOptions) -> zenoh.Config:
@@ -63,6 +78,7 @@ def zenoh_config(options: RelayOptions) -> zenoh.Config:
     config.insert_json5("scouting/multicast/enabled", "false")  # endpoints are configured, never discovered
     config.insert_json5("connect/endpoints", json.dumps(options.connect_endpoints))
     config.insert_json5("listen/endpoints", json.dumps(options.listen_endpoints))
+    config.insert_json5("transport/link/tx/lease", str(round(options.lease_seconds * 1000)))
     if options.tls_root_ca is not None:
         tls = {"root_ca_certificate": str(options.tls_root_ca)}
         if options.tls_certificate is not None and options.tls_private_key is not None:
@@ -96,6 +112,14 @@ class Relay:
         # the vehicles' side: the commands for its domain; the operations side: every vehicle's samples
         watch = f"{PREFIX}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
         self.subscriber = session.declare_subscriber(watch, self._received)
+        # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
+        # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
+        self._logs: dict[Any, _Log] = {}
+        self._seen: OrderedDict[bytes, None] = OrderedDict()
+        self._resend = threading.Event()
+        self.token = session.liveliness().declare_token(f"sem-relay/{options.side}/{options.name}/{session.zid()}")
+        other = "operations" if self.vehicles_side else "vehicles"
+        self.peers = session.liveliness().declare_subscriber(f"sem-relay/{other}/**", self._peer, history=True)
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:
@@ -136,10 +160,36 @@ class Relay:
 
     def _outgoing(self, taken: Taken, domain: int) -> Outgoing:
         urgent = taken.sem.spec.cls is not TopicClass.REPORT
+        ended = taken.kind is not Kind.SAMPLE
         return Outgoing(key(domain, taken.vehicle, taken.sem.spec.name), taken.data, attachment(taken.kind, taken.source_ns),
-                        taken.vehicle, urgent, report_end=not urgent and taken.kind is not Kind.SAMPLE)
+                        taken.vehicle, urgent, report_end=not urgent and ended, instance=taken.instance, ended=ended)
+
+    def _peer(self, sample: zenoh.Sample) -> None:
+        if sample.kind == zenoh.SampleKind.PUT:
+            log.info("the other side's relay %s is there: sending again what it may have missed", sample.key_expr)
+            self._resend.set()
+
+    def _send_again(self) -> None:
+        """Every instance's messages (an ended one's end only), in the order they were sent."""
+        with self._lock:
+            again = [m for entry in self._logs.values()
+                     for m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])]
+        for out in again:
+            self._put(out)
 
     def _send(self, out: Outgoing) -> None:
+        with self._lock:
+            entry = self._logs.get(out.instance)
+            if entry is None:
+                entry = self._logs[out.instance] = _Log()
+            if not out.urgent:
+                entry.messages.clear()  # a report's latest only
+            entry.messages.append(out)
+            if out.ended:
+                entry.ended = time.monotonic()
+        self._put(out)
+
+    def _put(self, out: Outgoing) -> None:
         qos = _URGENT if out.urgent else _REPORT_END if out.report_end else _REPORT
         self.session.put(out.key, out.payload, attachment=out.attachment, **qos)
         with self._lock:
@@ -155,8 +205,15 @@ class Relay:
         if address is None or sem is None or meta is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
         payload = sample.payload.to_bytes()
+        digest = hashlib.blake2b(str(sample.key_expr).encode() + sample.attachment.to_bytes() + payload,  # type: ignore[union-attr]
+                                 digest_size=16).digest()
         release: list[Taken] = []
         with self._lock:
+            if digest in self._seen:  # sent again after an outage, and written already
+                return
+            self._seen[digest] = None
+            if len(self._seen) > SEEN_KEPT:
+                self._seen.popitem(last=False)
             t = self.traffic[address.vehicle]
             t.received_bytes += len(str(sample.key_expr)) + len(payload) + 10
             t.received_messages += 1
@@ -179,9 +236,18 @@ class Relay:
                 due = self.limiter.due(time.monotonic())
             for out in due:
                 self._send(out)
+            if self._resend.is_set():
+                self._resend.clear()
+                self._send_again()
+            self._forget(time.monotonic() - ENDED_KEPT_SECONDS)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
                 self.report()
+
+    def _forget(self, before: float) -> None:
+        with self._lock:
+            for instance in [i for i, e in self._logs.items() if e.ended is not None and e.ended < before]:
+                del self._logs[instance]
 
     def status(self) -> dict[str, Any]:
         elapsed = max(time.monotonic() - self.started, 1e-6)
@@ -209,6 +275,8 @@ class Relay:
             self._timer.join(timeout=2)
         self.dds.stop()
         self.subscriber.undeclare()
+        self.peers.undeclare()
+        self.token.undeclare()
 
 
 def write_json(path: Path, data: Any) -> None:

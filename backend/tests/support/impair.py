@@ -37,7 +37,11 @@ class Impairment:
                 client, _ = self._server.accept()
             except OSError:
                 return
-            server = socket.create_connection(self.upstream)
+            try:
+                server = socket.create_connection(self.upstream)
+            except OSError:  # the far end is not up yet: the client tries again
+                client.close()
+                continue
             self._sockets += [client, server]
             for a, b in ((client, server), (server, client)):
                 queue: deque[tuple[float, bytes]] = deque()
