@@ -61,7 +61,8 @@ def open_session(opts: RelayOptions, stopping: threading.Event) -> zenoh.Session
             return zenoh.open(zenoh_config(opts))
         except zenoh.ZError as e:
             if not said:
-                log.warning("no Zenoh endpoint answers yet (%s): trying again every second", str(e).split("  at ")[0])
+                log.warning("cannot connect to any Zenoh endpoint yet (%s): trying again every second (a router not up yet, "
+                            "or one refusing this relay's certificate)", str(e).split("  at ")[0])
                 said = True
         stopping.wait(1.0)
     return None

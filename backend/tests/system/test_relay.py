@@ -22,6 +22,7 @@ from conftest import Process, free_domain, free_port
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.sim.provider import vehicle_guid
+from support.certs import Authority
 from support.consumer import Consumer
 from support.impair import Impairment
 
@@ -167,3 +168,31 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, 
         consumer.close()
         for link in links:
             link.close()
+
+
+def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
+    cert, key = authority.issue(name)
+    return ["--tls-root-ca", str((ca or authority).pem), "--tls-certificate", str(cert), "--tls-private-key", str(key)]
+
+
+def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay, tmp_path: Path) -> None:
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    fleet, stranger = Authority(tmp_path, "fleet-ca"), Authority(tmp_path, "other-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay("--router", "--listen", endpoint, *tls(fleet, "router"))
+    relay("--domain", str(domain), "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ops"))
+    # a relay whose certificate another authority signed, trusting the fleet's: the router refuses it
+    intruder = relay("--domain", str(other), "--side", "operations", "--connect", endpoint, "--log-level", "info",
+                     *tls(stranger, "intruder", ca=fleet))
+    consumer, outsider = Consumer(far), Consumer(other)
+    try:
+        fix = consumer.command(Service.GPS_FIX, V1)  # waits on the far side until the vehicle is heard
+        assert consumer.wait_terminal(fix, 20).statuses == HAPPY
+        outsider.pump()
+        assert V1 not in outsider.reports[Sem.GPS_REPORT]
+    finally:
+        consumer.close()
+        outsider.close()
+    assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
