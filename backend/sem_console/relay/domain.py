@@ -104,6 +104,13 @@ class DomainSide:
             w = self.writers[(sem, appendable)] = self.bus.writer(sem, appendable=appendable)
         return w
 
+    def open_writers(self, sems: list[AnySem]) -> None:
+        """Writers of these topics now, before their first sample: a checker on the domain finds every topic of a
+        vehicle's service written (ICD 5.1.1, Table 6), as on the vehicle's own domain."""
+        with self._write_lock:
+            for sem in sems:
+                self.writer(sem, False)
+
     def write(self, sem: AnySem, kind: Kind, data: bytes, source_ns: int) -> None:
         """Write what came over the link: a sample's CDR as it was sent (an appendable writer's by a writer of the
         type's appendable copy), or dispose or unregister the instance of a key's CDR."""

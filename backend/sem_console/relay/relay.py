@@ -38,6 +38,7 @@ _REPORT = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.Congestion
 _REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.BLOCK)
 LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has at most 5 statuses)
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
+WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
 
 
@@ -101,7 +102,7 @@ class Relay:
         # operations side: the domain each vehicle's samples came from (where its commands go), and commands for a
         # vehicle not heard yet (sent once it is)
         self.domain_of: dict[uuid.UUID, int] = {}
-        self.waiting: dict[uuid.UUID, list[Taken]] = defaultdict(list)
+        self.waiting: dict[uuid.UUID, deque[Taken]] = defaultdict(lambda: deque(maxlen=WAITING_DEPTH))
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
         self.sends = others if self.vehicles_side else commands
@@ -117,6 +118,7 @@ class Relay:
         self._logs: dict[Any, _Log] = {}
         self._seen: OrderedDict[bytes, None] = OrderedDict()
         self._resend = threading.Event()
+        self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
         self.token = session.liveliness().declare_token(f"sem-relay/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"sem-relay/{other}/**", self._peer, history=True)
@@ -219,8 +221,11 @@ class Relay:
             t.received_messages += 1
             if not self.vehicles_side and address.vehicle not in self.domain_of:
                 self.domain_of[address.vehicle] = address.domain
-                release = self.waiting.pop(address.vehicle, [])
+                release = list(self.waiting.pop(address.vehicle, ()))
         kind, source_ns = meta
+        if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
+            self._versions.add(type(sem))
+            self.dds.open_writers([s for s in type(sem) if s.spec.name in self.writes])
         try:
             self.dds.write(sem, kind, payload, source_ns)
         except Exception as e:  # one bad message costs only itself

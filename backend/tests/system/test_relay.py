@@ -4,6 +4,8 @@ and the same through an impaired link (tests/support/impair.py)."""
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import subprocess
 import sys
@@ -19,6 +21,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 
 from conftest import Process, free_domain, free_port
+from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.sim.provider import vehicle_guid
@@ -196,3 +199,21 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
         consumer.close()
         outsider.close()
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
+
+
+def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
+    """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
+    (on a LAN-class link: the satellite caps space reports beyond the check's gaps)."""
+    far = free_domain(taken=domain)
+    sim("--time-scale", "0.2")  # as test_check's sem-sim run: the cancel reaches the fix while EXECUTING
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer = Consumer(far)
+    try:
+        consumer.wait(lambda: V1 in consumer.reports[Sem.INS_REPORT], 20, "the vehicle across the link")
+    finally:
+        consumer.close()
+    report = tmp_path / "junit.xml"
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = check_main(["--domain", str(far), "--commands", "--window", "1.5", "--max-gap", "3", "--junit", str(report)])
+    assert code == 0, out.getvalue() + err.getvalue()
