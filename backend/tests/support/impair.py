@@ -1,6 +1,7 @@
 """A user-space link impairment for the tests (this machine's kernel has no netem): a TCP proxy that delays each
 direction by half the round trip, limits its rate, and can go silent for an outage (bytes held, connections kept, as a
-satellite link's fade: TCP's own retransmission covers loss on such a link, so loss shows as delay)."""
+satellite link's fade). It drops nothing: over TCP a lost segment is sent again, which shows as delay, and loss on UDP
+is not modelled here."""
 
 from __future__ import annotations
 

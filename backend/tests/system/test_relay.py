@@ -25,6 +25,8 @@ from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.sim.provider import vehicle_guid
+from sem_console.versions import UMAA_6_0
+from sem_console.versions.commands import commanding
 from support.certs import Authority
 from support.consumer import Consumer
 from support.impair import Impairment
@@ -72,6 +74,22 @@ def sources_60(readers: list[Any]) -> set[uuid.UUID]:
     return {uuid.UUID(bytes=bytes(s.source.id)) for r in readers for s in take_each(r)[0] if hasattr(s, "source")}
 
 
+def command_60(bus: Bus, vehicle: uuid.UUID, state: str) -> list[Any]:
+    """A UMAA 6.0 INS command to `vehicle` from `bus`: the statuses it went through, up to a terminal one."""
+    c = commanding(UMAA_6_0, Service.INERTIAL_SENSOR)
+    assert c is not None
+    statuses, session = bus.reader(c.status), uuid.uuid4()
+    writer = bus.writer(c.command)
+    writer.write(c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0)))
+    seen: list[Any] = []
+    deadline = time.monotonic() + 20
+    while (not seen or seen[-1] not in (S.COMPLETED, S.FAILED, S.CANCELED)) and time.monotonic() < deadline:
+        seen += [c.read_status(x)[0] for x in take_each(statuses)[0]
+                 if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session]
+        time.sleep(0.05)
+    return seen
+
+
 def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int, relay, tmp_path: Path) -> None:
     far = free_domain(taken=domain)
     sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
@@ -101,6 +119,8 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         assert seen.statuses == HAPPY and seen.flow.violations == []
         ins = consumer.command(Service.INERTIAL_SENSOR, V1, Ins.RESTARTING)
         assert consumer.wait_terminal(ins, 20).statuses == HAPPY
+        # the 6.0 vehicle's INS command (UMAA 6.0's InertialSensorCommandType) completes too
+        assert command_60(bus60, V2, "STATIONARY_ALIGN")[-1] is S.COMPLETED
         # the cleanup: the finished fix disposed, the vehicle disposes its status and ack
         consumer.dispose(fix)
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
@@ -145,6 +165,7 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
             link.close()
 
 
+@pytest.mark.slow
 def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, domain: int, relay, tmp_path: Path) -> None:
     """The link is down longer than Zenoh's lease (1 s here, the outage 4 s): the sessions close and open again, and
     what was under way is sent again; each message is written once."""
@@ -178,6 +199,7 @@ def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[st
     return ["--tls-root-ca", str((ca or authority).pem), "--tls-certificate", str(cert), "--tls-private-key", str(key)]
 
 
+@pytest.mark.slow
 def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay, tmp_path: Path) -> None:
     far, other = free_domain(taken=domain), free_domain(taken=domain)
     fleet, stranger = Authority(tmp_path, "fleet-ca"), Authority(tmp_path, "other-ca")
@@ -201,6 +223,7 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
+@pytest.mark.slow
 def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
     """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
     (on a LAN-class link: the satellite caps space reports beyond the check's gaps)."""
