@@ -16,7 +16,7 @@ import threading
 import time
 import uuid
 from collections import OrderedDict, defaultdict, deque
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -118,6 +118,7 @@ class Relay:
         self._logs: dict[Any, _Log] = {}
         self._seen: OrderedDict[bytes, None] = OrderedDict()
         self._resend = threading.Event()
+        self._send_lock = threading.Lock()  # one message at a time on the link, in the order logged
         self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
         self.token = session.liveliness().declare_token(f"sem-relay/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
@@ -172,24 +173,27 @@ class Relay:
             self._resend.set()
 
     def _send_again(self) -> None:
-        """Every instance's messages (an ended one's end only), in the order they were sent."""
-        with self._lock:
-            again = [m for entry in self._logs.values()
-                     for m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])]
-        for out in again:
-            self._put(out)
+        """Every instance's messages (an ended one's end only), each instance's in the order they were sent; no new
+        message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
+        with self._send_lock:
+            with self._lock:
+                again = [m for entry in self._logs.values()
+                         for m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])]
+            for out in again:
+                self._put(out)
 
     def _send(self, out: Outgoing) -> None:
-        with self._lock:
-            entry = self._logs.get(out.instance)
-            if entry is None:
-                entry = self._logs[out.instance] = _Log()
-            if not out.urgent:
-                entry.messages.clear()  # a report's latest only
-            entry.messages.append(out)
-            if out.ended:
-                entry.ended = time.monotonic()
-        self._put(out)
+        with self._send_lock:
+            with self._lock:
+                entry = self._logs.get(out.instance)
+                if entry is None:
+                    entry = self._logs[out.instance] = _Log()
+                if not out.urgent:
+                    entry.messages.clear()  # a report's latest only
+                entry.messages.append(out)
+                if out.ended:
+                    entry.ended = time.monotonic()
+            self._put(out)
 
     def _put(self, out: Outgoing) -> None:
         qos = _URGENT if out.urgent else _REPORT_END if out.report_end else _REPORT
@@ -244,9 +248,9 @@ class Relay:
             if self._resend.is_set():
                 self._resend.clear()
                 self._send_again()
-            self._forget(time.monotonic() - ENDED_KEPT_SECONDS)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
+                self._forget(time.monotonic() - ENDED_KEPT_SECONDS)
                 self.report()
 
     def _forget(self, before: float) -> None:
@@ -257,7 +261,9 @@ class Relay:
     def status(self) -> dict[str, Any]:
         elapsed = max(time.monotonic() - self.started, 1e-6)
         with self._lock:
-            vehicles = {str(v): {**asdict(t), "sentBytesPerHour": round(t.sent_bytes * 3600 / elapsed),
+            vehicles = {str(v): {"sentBytes": t.sent_bytes, "sentMessages": t.sent_messages,
+                                 "sentBytesPerHour": round(t.sent_bytes * 3600 / elapsed),
+                                 "receivedBytes": t.received_bytes, "receivedMessages": t.received_messages,
                                  "receivedBytesPerHour": round(t.received_bytes * 3600 / elapsed)}
                         for v, t in sorted(self.traffic.items())}
             return {"name": self.options.name, "side": self.options.side, "domain": self.bus.domain_id,
@@ -269,8 +275,8 @@ class Relay:
         status = self.status()
         for vehicle, t in status["vehicles"].items():
             log.info("link: vehicle %s: sent %d B in %d messages (%d B/h), received %d B in %d messages (%d B/h)", vehicle,
-                     t["sent_bytes"], t["sent_messages"], t["sentBytesPerHour"], t["received_bytes"],
-                     t["received_messages"], t["receivedBytesPerHour"])
+                     t["sentBytes"], t["sentMessages"], t["sentBytesPerHour"], t["receivedBytes"],
+                     t["receivedMessages"], t["receivedBytesPerHour"])
         if self.options.status_file is not None:
             write_json(self.options.status_file, status)
 

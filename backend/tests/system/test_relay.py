@@ -128,7 +128,7 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (once in this test)
         assert len(consumer.reports[Sem.GPS_REPORT][V1]) == 1
         status = json.loads((tmp_path / "near.json").read_text())
-        assert status["vehicles"][str(V1)]["sent_bytes"] > 0 and status["vehicles"][str(V2)]["sent_bytes"] > 0
+        assert status["vehicles"][str(V1)]["sentBytes"] > 0 and status["vehicles"][str(V2)]["sentBytes"] > 0
     finally:
         consumer.close()
         bus60.close()
