@@ -166,9 +166,11 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
 
 
 @pytest.mark.slow
-def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, domain: int, relay, tmp_path: Path) -> None:
-    """The link is down longer than Zenoh's lease (1 s here, the outage 4 s): the sessions close and open again, and
-    what was under way is sent again; each message is written once."""
+@pytest.mark.parametrize("lease,outage", [(1, 4), (10, 60)])
+def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, domain: int, relay, tmp_path: Path,
+                                                                           lease: float, outage: float) -> None:
+    """The link is down longer than Zenoh's lease (1 s and 4 s; the default 10 s and the minute of a satellite's
+    outage): the sessions close and open again, and what was under way is sent again; each message is written once."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
 
@@ -177,14 +179,14 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, 
         return links[0].endpoint
 
     sim("--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
-    join(relay, domain, far, tmp_path, "--lease-seconds", "1", via=impaired)
+    join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), via=impaired)
     consumer = Consumer(far)
     try:
         consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
         fix = consumer.command(Service.GPS_FIX, V1)
         consumer.wait_status(fix, S.EXECUTING, 10)
-        links[0].outage(4)
-        seen = consumer.wait_terminal(fix, 30)
+        links[0].outage(outage)
+        seen = consumer.wait_terminal(fix, outage + 30)
         assert seen.statuses == HAPPY and seen.flow.violations == []  # each status once, in order
         consumer.dispose(fix)  # the cleanup still crosses
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 20, "status and ack disposed after cleanup")
