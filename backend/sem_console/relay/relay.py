@@ -18,7 +18,7 @@ import uuid
 from collections import OrderedDict, defaultdict, deque
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import zenoh
 
@@ -39,6 +39,7 @@ _REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.Conges
 LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has at most 5 statuses)
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
+LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
 
 
@@ -69,7 +70,7 @@ class _Log:
     """What was sent of one instance, to send again when the other side comes (back): every message of a command,
     status or ack instance, the latest of a report's; once it ended, only how."""
 
-    messages: deque[Outgoing] = field(default_factory=lambda: deque(maxlen=LOG_DEPTH))
+    messages: deque[tuple[float, Outgoing]] = field(default_factory=lambda: deque(maxlen=LOG_DEPTH))  # (sent, message)
     ended: float | None = None  # when it was disposed or unregistered (monotonic)
 
 
@@ -117,7 +118,9 @@ class Relay:
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
         self._logs: dict[Any, _Log] = {}
         self._seen: OrderedDict[bytes, None] = OrderedDict()
-        self._resend = threading.Event()
+        self._resend_since: float | None = None  # send again what was sent since then (-inf: everything)
+        self._peers: dict[str, float | None] = {}  # the other side's relays seen: when each was lost (None: there)
+        self._was_connected, self._own_lost = False, cast(float | None, None)  # this session's link, and when it was lost last
         self._send_lock = threading.Lock()  # one message at a time on the link, in the order logged
         self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
         self.token = session.liveliness().declare_token(f"sem-relay/{options.side}/{options.name}/{session.zid()}")
@@ -168,19 +171,48 @@ class Relay:
                         taken.vehicle, urgent, report_end=not urgent and ended, instance=taken.instance, ended=ended)
 
     def _peer(self, sample: zenoh.Sample) -> None:
-        if sample.kind == zenoh.SampleKind.PUT:
-            log.info("the other side's relay %s is there: sending again what it may have missed", sample.key_expr)
-            self._resend.set()
+        """A relay of the other side came or went. One new to this relay (started, or restarted: a new session) gets
+        everything sent; one back after an outage, what was sent since two leases before the link's loss was noticed
+        (its token went, or this relay's own session lost the router: `_watch_link`)."""
+        peer, now = str(sample.key_expr), time.monotonic()
+        with self._lock:
+            if sample.kind != zenoh.SampleKind.PUT:
+                self._peers[peer] = now
+                return
+            lost = self._peers.get(peer, float("-inf"))
+            self._peers[peer] = None
+            if lost is None:  # seen again without having gone: this side's own link was down
+                lost, self._own_lost = self._own_lost, None
+            if lost is None:
+                return
+            # Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive
+            # period and the link's delay): what was sent from two leases and a margin before is sent again
+            since = lost - 2 * self.options.lease_seconds - LOSS_MARGIN_SECONDS
+            self._resend_since = since if self._resend_since is None else min(self._resend_since, since)
+        log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer,
+                 now - since)
 
-    def _send_again(self) -> None:
-        """Every instance's messages (an ended one's end only), each instance's in the order they were sent; no new
-        message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
+    def _watch_link(self) -> None:
+        """When this relay's session lost every router and peer it had (Zenoh closes a link silent for a lease)."""
+        info = self.session.info
+        connected = bool(list(info.routers_zid()) or list(info.peers_zid()))
+        with self._lock:
+            if connected:
+                self._was_connected = True
+            elif self._was_connected:
+                self._was_connected, self._own_lost = False, time.monotonic()
+
+    def _send_again(self, since: float) -> None:
+        """What was sent since `since`: each instance's messages (an ended one's end only), in the order they were
+        sent; no new message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
         with self._send_lock:
             with self._lock:
                 again = [m for entry in self._logs.values()
-                         for m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])]
+                         for at, m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])
+                         if at >= since]
             for out in again:
                 self._put(out)
+        log.info("sent %d messages again", len(again))
 
     def _send(self, out: Outgoing) -> None:
         with self._send_lock:
@@ -190,7 +222,7 @@ class Relay:
                     entry = self._logs[out.instance] = _Log()
                 if not out.urgent:
                     entry.messages.clear()  # a report's latest only
-                entry.messages.append(out)
+                entry.messages.append((time.monotonic(), out))
                 if out.ended:
                     entry.ended = time.monotonic()
             self._put(out)
@@ -245,9 +277,11 @@ class Relay:
                 due = self.limiter.due(time.monotonic())
             for out in due:
                 self._send(out)
-            if self._resend.is_set():
-                self._resend.clear()
-                self._send_again()
+            self._watch_link()
+            with self._lock:
+                since, self._resend_since = self._resend_since, None
+            if since is not None:
+                self._send_again(since)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
                 self._forget(time.monotonic() - ENDED_KEPT_SECONDS)
