@@ -3,6 +3,7 @@ kept between two sends. Plain Python: time is given, nothing here touches DDS or
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Hashable
 from dataclasses import dataclass, field
 from typing import Generic, TypeVar
@@ -104,3 +105,42 @@ class Limiter(Generic[T]):
         """The item waiting for `instance`, now (before its dispose or unregistration goes), and its state forgotten."""
         state = self._instances.pop(instance, None)
         return None if state is None else state.pending
+
+
+@dataclass
+class _Sent(Generic[T]):
+    items: deque[tuple[float, T]]  # (when sent, item), oldest first
+    ended: float | None = None  # when its dispose or unregistration was sent
+
+
+class SentLog(Generic[T]):
+    """What was sent of each instance, to send again after an outage: every item of an instance whose history counts
+    (a command's, its statuses', its ack's: at most `depth`), the latest of one whose does not (a report's); once an
+    instance ended, only its end is sent again."""
+
+    def __init__(self, depth: int) -> None:
+        self.depth = depth
+        self._instances: dict[Hashable, _Sent[T]] = {}
+
+    def add(self, instance: Hashable, item: T, at: float, latest_only: bool, ends: bool) -> None:
+        sent = self._instances.get(instance)
+        if sent is None:
+            sent = self._instances[instance] = _Sent(deque(maxlen=self.depth))
+        if latest_only:
+            sent.items.clear()
+        sent.items.append((at, item))
+        if ends:
+            sent.ended = at
+
+    def since(self, t: float) -> list[T]:
+        """What was sent at `t` or later, each instance's in the order sent (an ended instance: its end only)."""
+        return [item for sent in self._instances.values()
+                for at, item in (sent.items if sent.ended is None else list(sent.items)[-1:]) if at >= t]
+
+    def forget(self, ended_before: float) -> None:
+        """Forget the instances that ended before then."""
+        for instance in [i for i, s in self._instances.items() if s.ended is not None and s.ended < ended_before]:
+            del self._instances[instance]
+
+    def __len__(self) -> int:
+        return len(self._instances)

@@ -16,7 +16,7 @@ import threading
 import time
 import uuid
 from collections import OrderedDict, defaultdict, deque
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, cast
 
@@ -26,7 +26,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.link import LINK_CLASSES, Limiter, parse_caps, short_name
+from sem_console.relay.link import LINK_CLASSES, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
 
@@ -63,15 +63,6 @@ class Outgoing:
     report_end: bool = False  # a report's dispose or unregistration: reliable, after the report's samples
     instance: Any = None  # the instance on the sending domain
     ended: bool = False  # a dispose or unregistration
-
-
-@dataclass
-class _Log:
-    """What was sent of one instance, to send again when the other side comes (back): every message of a command,
-    status or ack instance, the latest of a report's; once it ended, only how."""
-
-    messages: deque[tuple[float, Outgoing]] = field(default_factory=lambda: deque(maxlen=LOG_DEPTH))  # (sent, message)
-    ended: float | None = None  # when it was disposed or unregistered (monotonic)
 
 
 def zenoh_config(options: RelayOptions) -> zenoh.Config:
@@ -116,7 +107,7 @@ class Relay:
         self.subscriber = session.declare_subscriber(watch, self._received)
         # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
-        self._logs: dict[Any, _Log] = {}
+        self._sent: SentLog[Outgoing] = SentLog(LOG_DEPTH)
         self._seen: OrderedDict[bytes, None] = OrderedDict()
         self._resend_since: float | None = None  # send again what was sent since then (-inf: everything)
         self._peers: dict[str, float | None] = {}  # the other side's relays seen: when each was lost (None: there)
@@ -207,9 +198,7 @@ class Relay:
         sent; no new message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
         with self._send_lock:
             with self._lock:
-                again = [m for entry in self._logs.values()
-                         for at, m in (list(entry.messages) if entry.ended is None else list(entry.messages)[-1:])
-                         if at >= since]
+                again = self._sent.since(since)
             for out in again:
                 self._put(out)
         log.info("sent %d messages again", len(again))
@@ -217,14 +206,7 @@ class Relay:
     def _send(self, out: Outgoing) -> None:
         with self._send_lock:
             with self._lock:
-                entry = self._logs.get(out.instance)
-                if entry is None:
-                    entry = self._logs[out.instance] = _Log()
-                if not out.urgent:
-                    entry.messages.clear()  # a report's latest only
-                entry.messages.append((time.monotonic(), out))
-                if out.ended:
-                    entry.ended = time.monotonic()
+                self._sent.add(out.instance, out, time.monotonic(), latest_only=not out.urgent, ends=out.ended)
             self._put(out)
 
     def _put(self, out: Outgoing) -> None:
@@ -284,13 +266,9 @@ class Relay:
                 self._send_again(since)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
-                self._forget(time.monotonic() - ENDED_KEPT_SECONDS)
+                with self._lock:
+                    self._sent.forget(time.monotonic() - ENDED_KEPT_SECONDS)
                 self.report()
-
-    def _forget(self, before: float) -> None:
-        with self._lock:
-            for instance in [i for i, e in self._logs.items() if e.ended is not None and e.ended < before]:
-                del self._logs[instance]
 
     def status(self) -> dict[str, Any]:
         elapsed = max(time.monotonic() - self.started, 1e-6)

@@ -10,7 +10,7 @@ import uuid
 import pytest
 
 from sem_console.relay.cli import main
-from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Limiter, parse_caps, short_name
+from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
 
@@ -44,6 +44,25 @@ def test_a_waiting_sample_goes_before_its_instance_ends() -> None:
     limiter.offer("GlobalPoseReport", "v", "p2", 1.0)
     assert limiter.take("v") == "p2" and limiter.take("v") is None
     assert limiter.due(10.0) == []
+
+
+def test_after_an_outage_what_was_sent_since_goes_again_an_ended_instance_only_its_end() -> None:
+    sent: SentLog[str] = SentLog(depth=64)
+    for at, status in enumerate(("ISSUED", "COMMANDED", "EXECUTING", "COMPLETED")):
+        sent.add("old", f"old {status}", at, latest_only=False, ends=False)  # a command finished long ago, not cleaned up
+    sent.add("running", "running ISSUED", 100.0, latest_only=False, ends=False)
+    sent.add("running", "running EXECUTING", 101.0, latest_only=False, ends=False)
+    sent.add("report", "fix 1", 100.0, latest_only=True, ends=False)
+    sent.add("report", "fix 2", 102.0, latest_only=True, ends=False)
+    sent.add("canceled", "canceled ISSUED", 101.0, latest_only=False, ends=False)
+    sent.add("canceled", "canceled disposed", 103.0, latest_only=False, ends=True)
+    # a relay back after an outage noticed at 105 (two leases of 1 s and 2 s before it: 101)
+    assert sent.since(101.0) == ["running EXECUTING", "fix 2", "canceled disposed"]
+    # a relay new to it gets every instance's (the ended one's end only)
+    assert sent.since(float("-inf")) == ["old ISSUED", "old COMMANDED", "old EXECUTING", "old COMPLETED", "running ISSUED",
+                                         "running EXECUTING", "fix 2", "canceled disposed"]
+    sent.forget(ended_before=104.0)
+    assert len(sent) == 3 and "canceled disposed" not in sent.since(float("-inf"))
 
 
 def test_link_classes_and_caps() -> None:
