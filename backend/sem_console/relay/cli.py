@@ -18,7 +18,7 @@ from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.relay.link import parse_caps
 from sem_console.relay.options import RelayOptions, endpoint_problem
-from sem_console.relay.relay import Relay, zenoh_config
+from sem_console.relay.relay import Relay, serve_status, zenoh_config
 
 log = logging.getLogger("sem-relay")
 
@@ -98,10 +98,20 @@ def main(argv: list[str] | None = None) -> int:
             print(f"sem-relay: {e}", file=sys.stderr)
             return 2
         relay = Relay(opts, bus, session)
+        try:
+            status = serve_status(relay, opts.status_port) if opts.status_port is not None else None
+        except OSError as e:
+            print(f"sem-relay: error: --status-port {opts.status_port}: cannot listen on it ({e.strerror or e}): give "
+                  "another port", file=sys.stderr)
+            relay.close()
+            bus.close()
+            return 2
         relay.start()
         log.info("relay %s: the %s' side of domain %d, link class %s, through %s", opts.name, opts.side, args.domain,
                  opts.link_class, ", ".join(opts.connect_endpoints + opts.listen_endpoints))
         stopping.wait()
+        if status is not None:
+            status.shutdown()
         relay.report()
         relay.close()
         bus.close()

@@ -44,6 +44,8 @@ class RelayOptions(BaseSettings):
     stats_seconds: float = Field(60.0, ge=0.1, le=3600, description=(
         "how often the bytes per vehicle are logged and --status-file written (default: 60)"))
     status_file: Path | None = Field(None, description="write the relay's link status (bytes per vehicle) here as JSON")
+    status_port: int | None = Field(None, ge=1, le=65535, description=(
+        "serve the relay's link status as JSON at http://127.0.0.1:PORT/status (this machine only)"))
     insecure: bool = Field(False, description="allow an endpoint that is not loopback without TLS (sent in the clear)")
     tls_root_ca: Path | None = Field(None, description=(
         "PEM certificate of the authority that signs the other side's certificate: TLS on tls/ endpoints"))

@@ -17,6 +17,7 @@ import time
 import uuid
 from collections import OrderedDict, defaultdict, deque
 from dataclasses import dataclass
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 from typing import Any, cast
 
@@ -300,6 +301,27 @@ class Relay:
         self.subscriber.undeclare()
         self.peers.undeclare()
         self.token.undeclare()
+
+
+def serve_status(relay: Relay, port: int) -> ThreadingHTTPServer:
+    """GET /status on 127.0.0.1:`port`: `Relay.status()` as JSON, in a thread of its own (OSError: the port is taken)."""
+
+    class Handler(BaseHTTPRequestHandler):
+        def do_GET(self) -> None:
+            found = self.path.split("?", 1)[0] == "/status"
+            body = json.dumps(relay.status() if found else {"detail": "GET /status"}).encode()
+            self.send_response(200 if found else 404)
+            self.send_header("Content-Type", "application/json")
+            self.send_header("Content-Length", str(len(body)))
+            self.end_headers()
+            self.wfile.write(body)
+
+        def log_message(self, format: str, *args: Any) -> None:
+            pass  # not a line per request in the relay's log
+
+    server = ThreadingHTTPServer(("127.0.0.1", port), Handler)
+    threading.Thread(target=server.serve_forever, name="relay-status", daemon=True).start()
+    return server
 
 
 def write_json(path: Path, data: Any) -> None:

@@ -7,6 +7,7 @@ from __future__ import annotations
 import contextlib
 import io
 import json
+import socket
 import subprocess
 import sys
 import time
@@ -15,6 +16,7 @@ from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
+import httpx
 import pytest
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
@@ -56,14 +58,15 @@ def relay() -> Iterator[Callable[..., RelayProcess]]:
 
 
 def join(relay: Callable[..., RelayProcess], near: int, far: int, tmp_path: Path, *args: str,
-         via: Callable[[int], str] | None = None) -> int:
+         via: Callable[[int], str] | None = None, status_port: int | None = None) -> int:
     """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
-    link's). Returns the router's port."""
+    link's); `status_port`: the near relay's. Returns the router's port."""
     port = free_port()
     router = f"tcp/127.0.0.1:{port}"
     relay("--router", "--listen", router)
     relay("--domain", str(near), "--side", "vehicles", "--name", "ship-1", "--connect", via(port) if via else router,
-          "--stats-seconds", "1", "--status-file", str(tmp_path / "near.json"), *args)
+          "--stats-seconds", "1", "--status-file", str(tmp_path / "near.json"),
+          *(["--status-port", str(status_port)] if status_port else []), *args)
     relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--stats-seconds", "1",
           "--status-file", str(tmp_path / "far.json"), *args)
     return port
@@ -93,7 +96,8 @@ def command_60(bus: Bus, vehicle: uuid.UUID, state: str) -> list[Any]:
 def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int, relay, tmp_path: Path) -> None:
     far = free_domain(taken=domain)
     sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
-    join(relay, domain, far, tmp_path)  # the satellite link class: the default
+    status_port = free_port()
+    join(relay, domain, far, tmp_path, status_port=status_port)  # the satellite link class: the default
     consumer = Consumer(far)
     bus60 = Bus(far)
     try:
@@ -127,8 +131,12 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         assert seen.statuses == HAPPY
         # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (once in this test)
         assert len(consumer.reports[Sem.GPS_REPORT][V1]) == 1
+        # the bytes per vehicle: in the status file, and served by the relay
         status = json.loads((tmp_path / "near.json").read_text())
         assert status["vehicles"][str(V1)]["sentBytes"] > 0 and status["vehicles"][str(V2)]["sentBytes"] > 0
+        served = httpx.get(f"http://127.0.0.1:{status_port}/status").json()
+        assert served["name"] == "ship-1" and served["linkClass"] == "satellite"
+        assert served["vehicles"][str(V1)]["sentBytes"] >= status["vehicles"][str(V1)]["sentBytes"]
     finally:
         consumer.close()
         bus60.close()
@@ -242,3 +250,16 @@ def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = check_main(["--domain", str(far), "--commands", "--window", "1.5", "--max-gap", "3", "--junit", str(report)])
     assert code == 0, out.getvalue() + err.getvalue()
+
+
+def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    relay("--router", "--listen", endpoint)
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        p = subprocess.run([sys.executable, "-m", "sem_console.relay.cli", "--domain", str(domain), "--connect", endpoint,
+                            "--status-port", str(port), "--log-level", "error"], capture_output=True, text=True, timeout=60)
+    assert (p.returncode, p.stderr) == (2, f"sem-relay: error: --status-port {port}: cannot listen on it (Address already "
+                                           "in use): give another port\n")
