@@ -1,10 +1,10 @@
 """One side of the link: the DDS domain's SEM traffic on Zenoh and back (docs/relay.md).
 
 The vehicles' side sends every report, status and ack of both UMAA versions and writes the commands that come back;
-the operations side writes the vehicles' samples into its domain and sends its consoles' commands. Commands,
-statuses, acks and every dispose or unregistration are sent reliably at once, ahead of the reports (a higher Zenoh
+the operations side writes the vehicles' samples into its domain and sends its consoles' commands. Commands, statuses
+and acks, their disposes and unregistrations included, are sent reliably at once, ahead of the reports (a higher Zenoh
 priority, congestion control Block: never dropped, never conflated); reports go at their link class's caps (congestion
-control Drop: a newer one follows)."""
+control Drop: a newer one follows), a report's dispose or unregistration reliably after its last sample."""
 
 from __future__ import annotations
 
@@ -220,14 +220,15 @@ class Relay:
 
     # Zenoh -> DDS
     def _received(self, sample: zenoh.Sample) -> None:
-        address = parse_key(str(sample.key_expr))
+        key_text = str(sample.key_expr)
+        address = parse_key(key_text)
         sem = TOPICS.get(address.topic) if address is not None else None
-        meta = read_attachment(sample.attachment.to_bytes() if sample.attachment is not None else None)
-        if address is None or sem is None or meta is None or sem.spec.name not in self.writes:
+        extra = sample.attachment.to_bytes() if sample.attachment is not None else None
+        meta = read_attachment(extra)
+        if address is None or sem is None or meta is None or extra is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
         payload = sample.payload.to_bytes()
-        digest = hashlib.blake2b(str(sample.key_expr).encode() + sample.attachment.to_bytes() + payload,  # type: ignore[union-attr]
-                                 digest_size=16).digest()
+        digest = hashlib.blake2b(key_text.encode() + extra + payload, digest_size=16).digest()
         release: list[Taken] = []
         with self._lock:
             if digest in self._seen:  # sent again after an outage, and written already
@@ -236,7 +237,7 @@ class Relay:
             if len(self._seen) > SEEN_KEPT:
                 self._seen.popitem(last=False)
             t = self.traffic[address.vehicle]
-            t.received_bytes += len(str(sample.key_expr)) + len(payload) + 10
+            t.received_bytes += len(key_text) + len(payload) + len(extra)
             t.received_messages += 1
             if not self.vehicles_side and address.vehicle not in self.domain_of:
                 self.domain_of[address.vehicle] = address.domain
