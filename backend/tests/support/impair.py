@@ -5,6 +5,7 @@ is not modelled here."""
 
 from __future__ import annotations
 
+import contextlib
 import socket
 import threading
 import time
@@ -86,4 +87,6 @@ class Impairment:
     def close(self) -> None:
         self._stop.set()
         for s in self._sockets:
+            with contextlib.suppress(OSError):  # wakes the threads blocked in accept() and recv() on it
+                s.shutdown(socket.SHUT_RDWR)
             s.close()
