@@ -35,7 +35,11 @@ REST_PAGE = BACKEND.parent / "docs" / "rest.md"
 # sem-console builds its Settings from every option it parses (cli.main: Settings(**options)), so each
 # of its options is also the environment variable SEM_<NAME>. The other commands read Settings only
 # for what is listed here (the default of --domain); a command not listed reads none of its options from it.
-SETTINGS_OPTIONS: dict[str, set[str] | None] = {"sem-console": None, "sem-sim": {"domain"}, "sem-check": {"domain"}}
+SETTINGS_OPTIONS: dict[str, set[str] | None] = {"sem-console": None, "sem-sim": {"domain"}, "sem-check": {"domain"},
+                                                "sem-relay": {"domain"}}
+# A command whose options are the fields of a settings model of its own: each option is also its environment variable
+# (the model's env_prefix), and its default the model's
+OWN_SETTINGS: dict[str, str] = {"sem-relay": "sem_console.relay.options:RelayOptions"}
 
 
 def commands() -> list[tuple[str, str]]:
@@ -116,10 +120,15 @@ def command_section(name: str, parser: argparse.ArgumentParser) -> list[str]:
     if parser.description:
         lines += [text(parser.description), ""]
     lines += ['<div class="options" markdown>', "", "| option | environment | default | what |", "|---|---|---|---|"]
+    module, _, model_name = OWN_SETTINGS.get(name, "").partition(":")
+    own = getattr(importlib.import_module(module), model_name) if module else None
     for action in parser._actions:  # noqa: SLF001 (argparse has no public list of a parser's actions)
         in_settings = action.dest in fields and (settings_names is None or action.dest in settings_names)
         env = f"`SEM_{action.dest.upper()}`" if in_settings else "—"
-        if action.required:
+        if own is not None and action.dest in own.model_fields:
+            env = f"`{own.model_config['env_prefix']}{action.dest.upper()}`"
+            default = shown(own.model_fields[action.dest].default)
+        elif action.required:
             default = "required"
         elif in_settings and action.default is None:
             default = shown(fields[action.dest].default)  # the parser leaves it None: Settings decides

@@ -1,0 +1,111 @@
+"""What a `sem-relay` process runs: its options (each also a SEM_RELAY_* environment variable), and the safety check of
+its endpoints. `sem-relay`'s options are generated from these fields (relay/cli.py through
+core/command_line.add_model_options), so the ranges, defaults and help are written once, here."""
+
+from __future__ import annotations
+
+import ipaddress
+import socket
+from pathlib import Path
+from typing import Literal
+
+from pydantic import Field, model_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+DEFAULT_ENDPOINT = "tcp/127.0.0.1:7447"
+_TLS_PROTOCOLS = ("tls", "quic")
+
+
+class RelayOptions(BaseSettings):
+    model_config = SettingsConfigDict(env_prefix="SEM_RELAY_", extra="ignore")
+
+    router: bool = Field(False, description=(
+        "run a Zenoh router session (no DDS): the relays of both sides connect to it (--listen: where it listens)"))
+    side: Literal["vehicles", "operations"] = Field("vehicles", description=(
+        "vehicles: read the vehicles' reports, statuses and acks on --domain and send them; write the commands that come "
+        "back. operations: write the vehicles' samples into --domain for the consoles there; send their commands "
+        "(default: vehicles)"))
+    name: str = Field(default_factory=socket.gethostname, min_length=1, description=(
+        "this relay's name in its log and status (default: the host name)"))
+    connect: str = Field("", description=(
+        f"Zenoh endpoints to connect to, comma separated (default for a relay: {DEFAULT_ENDPOINT}; a router: none)"))
+    listen: str = Field("", description=(
+        f"Zenoh endpoints to listen on, comma separated (default for a router: {DEFAULT_ENDPOINT}; a relay: none)"))
+    link_class: Literal["satellite", "lan"] = Field("satellite", description=(
+        "the link's rate caps on reports: satellite (GPSReport once a minute, GlobalPoseReport, GPSFixReport and "
+        "GPSFixStatusReport every 5 s, InertialSensorReport on change) or lan (no caps); commands, statuses and "
+        "acks are never capped (default: satellite)"))
+    caps: str = Field("", description=(
+        "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
+        "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"))
+    lease_seconds: float = Field(10.0, ge=1, le=600, description=(
+        "Zenoh's lease: a link silent this long is closed and opened again, and each side then sends again what the "
+        "other may have missed (default: 10)"))
+    stats_seconds: float = Field(60.0, ge=0.1, le=3600, description=(
+        "how often the bytes per vehicle are logged and --status-file written (default: 60)"))
+    status_file: Path | None = Field(None, description="write the relay's link status (bytes per vehicle) here as JSON")
+    status_port: int | None = Field(None, ge=1, le=65535, description=(
+        "serve the relay's link status as JSON at http://127.0.0.1:PORT/status (this machine only)"))
+    insecure: bool = Field(False, description="allow an endpoint that is not loopback without TLS (sent in the clear)")
+    tls_root_ca: Path | None = Field(None, description=(
+        "PEM certificate of the authority that signs the other side's certificate: TLS on tls/ endpoints"))
+    tls_certificate: Path | None = Field(None, description=(
+        "PEM certificate of this relay (with --tls-private-key): mutual TLS, the other side checks it"))
+    tls_private_key: Path | None = Field(None, description="PEM private key of --tls-certificate")
+
+    @model_validator(mode="after")
+    def _tls_pair(self) -> RelayOptions:
+        if (self.tls_certificate is None) != (self.tls_private_key is None):
+            raise ValueError("--tls-certificate and --tls-private-key go together")
+        if self.tls_certificate is not None and self.tls_root_ca is None:
+            raise ValueError("--tls-certificate needs --tls-root-ca (the authority the other side's certificate is checked by)")
+        return self
+
+    @property
+    def connect_endpoints(self) -> list[str]:
+        given = endpoints(self.connect)
+        return given or ([] if self.router else [DEFAULT_ENDPOINT])
+
+    @property
+    def listen_endpoints(self) -> list[str]:
+        given = endpoints(self.listen)
+        return given or ([DEFAULT_ENDPOINT] if self.router else [])
+
+    @property
+    def tls(self) -> bool:
+        return self.tls_root_ca is not None
+
+
+def endpoints(text: str) -> list[str]:
+    return [e.strip() for e in text.split(",") if e.strip()]
+
+
+def endpoint_host(endpoint: str) -> str:
+    """The host of a Zenoh endpoint: `tcp/10.0.0.1:7447#iface=eth0` -> 10.0.0.1, `tcp/[::1]:7447` -> ::1."""
+    address = endpoint.partition("/")[2].split("#", 1)[0].split("?", 1)[0]
+    host = address.rpartition(":")[0] if ":" in address else address
+    return host.strip("[]")
+
+
+def is_loopback(host: str) -> bool:
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False  # a name: not known to stay on this machine
+
+
+def endpoint_problem(options: RelayOptions) -> str | None:
+    """Why the relay must not open its endpoints, as one line naming the fix, or None. An endpoint off this machine
+    goes over TLS (a tls/ or quic/ endpoint with --tls-root-ca) unless --insecure says clear text is meant."""
+    for flag, given in (("--connect", options.connect_endpoints), ("--listen", options.listen_endpoints)):
+        for endpoint in given:
+            protocol = endpoint.partition("/")[0]
+            if protocol in _TLS_PROTOCOLS and not options.tls:
+                return f"{flag} {endpoint}: a TLS endpoint needs --tls-root-ca (and --tls-certificate, --tls-private-key)"
+            if protocol in _TLS_PROTOCOLS or is_loopback(endpoint_host(endpoint)) or options.insecure:
+                continue
+            return (f"{flag} {endpoint} leaves this machine without TLS: use a tls/ endpoint with --tls-root-ca, or give "
+                    "--insecure to send the fleet's traffic in the clear")
+    return None

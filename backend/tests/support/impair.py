@@ -1,0 +1,92 @@
+"""A user-space link impairment for the tests (this machine's kernel has no netem): a TCP proxy that delays each
+direction by half the round trip, limits its rate, and can go silent for an outage (bytes held, connections kept, as a
+satellite link's fade). It drops nothing: over TCP a lost segment is sent again, which shows as delay, and loss on UDP
+is not modelled here."""
+
+from __future__ import annotations
+
+import contextlib
+import socket
+import threading
+import time
+from collections import deque
+
+
+class Impairment:
+    """Listens on 127.0.0.1:`port` (a free one), forwards each connection to `upstream`."""
+
+    def __init__(self, upstream: tuple[str, int], rtt: float = 0.0, rate_bytes: float = 0.0) -> None:
+        self.upstream, self.delay, self.rate = upstream, rtt / 2, rate_bytes
+        self.bytes = 0  # forwarded in both directions
+        self._outage_until = 0.0
+        self._stop = threading.Event()
+        self._server = socket.create_server(("127.0.0.1", 0))
+        self.port = int(self._server.getsockname()[1])
+        self._sockets: list[socket.socket] = [self._server]
+        threading.Thread(target=self._accept, daemon=True).start()
+
+    @property
+    def endpoint(self) -> str:
+        return f"tcp/127.0.0.1:{self.port}"
+
+    def outage(self, seconds: float) -> None:
+        """Nothing crosses for `seconds` from now (what was sent waits, in order)."""
+        self._outage_until = time.monotonic() + seconds
+
+    def _accept(self) -> None:
+        while not self._stop.is_set():
+            try:
+                client, _ = self._server.accept()
+            except OSError:
+                return
+            try:
+                server = socket.create_connection(self.upstream)
+            except OSError:  # the far end is not up yet: the client tries again
+                client.close()
+                continue
+            self._sockets += [client, server]
+            for a, b in ((client, server), (server, client)):
+                queue: deque[tuple[float, bytes]] = deque()
+                ready = threading.Condition()
+                threading.Thread(target=self._read, args=(a, queue, ready), daemon=True).start()
+                threading.Thread(target=self._write, args=(b, queue, ready), daemon=True).start()
+
+    def _read(self, src: socket.socket, queue: deque[tuple[float, bytes]], ready: threading.Condition) -> None:
+        while not self._stop.is_set():
+            try:
+                data = src.recv(65536)
+            except OSError:
+                data = b""
+            with ready:
+                queue.append((time.monotonic(), data))
+                ready.notify()
+            if not data:
+                return
+
+    def _write(self, dst: socket.socket, queue: deque[tuple[float, bytes]], ready: threading.Condition) -> None:
+        while not self._stop.is_set():
+            with ready:
+                while not queue:
+                    ready.wait(0.1)
+                    if self._stop.is_set():
+                        return
+                arrived, data = queue.popleft()
+            while (wait := max(arrived + self.delay, self._outage_until) - time.monotonic()) > 0:
+                time.sleep(min(wait, 0.05))
+            if not data:
+                dst.close()
+                return
+            try:
+                dst.sendall(data)
+            except OSError:
+                return
+            self.bytes += len(data)
+            if self.rate:
+                time.sleep(len(data) / self.rate)
+
+    def close(self) -> None:
+        self._stop.set()
+        for s in self._sockets:
+            with contextlib.suppress(OSError):  # wakes the threads blocked in accept() and recv() on it
+                s.shutdown(socket.SHUT_RDWR)
+            s.close()

@@ -1,0 +1,265 @@
+"""`sem-relay` over real Zenoh and Cyclone DDS on loopback: two DDS domains of this machine joined by two relays and a
+`sem-relay --router`, the far domain's consumer commanding the near domain's `sem-sim` vehicles of both UMAA versions;
+and the same through an impaired link (tests/support/impair.py)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import json
+import socket
+import subprocess
+import sys
+import time
+import uuid
+from collections.abc import Callable, Iterator
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+
+from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+
+from conftest import Process, free_domain, free_port
+from sem_console.check.cli import main as check_main
+from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.sim.provider import vehicle_guid
+from sem_console.versions import UMAA_6_0
+from sem_console.versions.commands import commanding
+from support.certs import Authority
+from support.consumer import Consumer
+from support.impair import Impairment
+
+pytestmark = pytest.mark.process
+V1, V2 = vehicle_guid(1), vehicle_guid(2)  # vehicle 2 speaks UMAA 6.0
+HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
+
+
+class RelayProcess(Process):
+    def __init__(self, *args: str) -> None:
+        self.proc = subprocess.Popen([sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
+                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+
+
+@pytest.fixture
+def relay() -> Iterator[Callable[..., RelayProcess]]:
+    started: list[RelayProcess] = []
+
+    def start(*args: str) -> RelayProcess:
+        started.append(RelayProcess(*args))
+        return started[-1]
+
+    yield start
+    for p in started:
+        p.end()
+
+
+def join(relay: Callable[..., RelayProcess], near: int, far: int, tmp_path: Path, *args: str,
+         via: Callable[[int], str] | None = None, status_port: int | None = None) -> int:
+    """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
+    link's); `status_port`: the near relay's. Returns the router's port."""
+    port = free_port()
+    router = f"tcp/127.0.0.1:{port}"
+    relay("--router", "--listen", router)
+    relay("--domain", str(near), "--side", "vehicles", "--name", "ship-1", "--connect", via(port) if via else router,
+          "--stats-seconds", "1", "--status-file", str(tmp_path / "near.json"),
+          *(["--status-port", str(status_port)] if status_port else []), *args)
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--stats-seconds", "1",
+          "--status-file", str(tmp_path / "far.json"), *args)
+    return port
+
+
+def sources_60(readers: list[Any]) -> set[uuid.UUID]:
+    """The vehicles of the UMAA 6.0 samples the readers have (their `source` an IdentifierType)."""
+    return {uuid.UUID(bytes=bytes(s.source.id)) for r in readers for s in take_each(r)[0] if hasattr(s, "source")}
+
+
+def command_60(bus: Bus, vehicle: uuid.UUID, state: str) -> list[Any]:
+    """A UMAA 6.0 INS command to `vehicle` from `bus`: the statuses it went through, up to a terminal one."""
+    c = commanding(UMAA_6_0, Service.INERTIAL_SENSOR)
+    assert c is not None
+    statuses, session = bus.reader(c.status), uuid.uuid4()
+    writer = bus.writer(c.command)
+    writer.write(c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0)))
+    seen: list[Any] = []
+    deadline = time.monotonic() + 20
+    while (not seen or seen[-1] not in (S.COMPLETED, S.FAILED, S.CANCELED)) and time.monotonic() < deadline:
+        seen += [c.read_status(x)[0] for x in take_each(statuses)[0]
+                 if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session]
+        time.sleep(0.05)
+    return seen
+
+
+def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int, relay, tmp_path: Path) -> None:
+    far = free_domain(taken=domain)
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
+    status_port = free_port()
+    join(relay, domain, far, tmp_path, status_port=status_port)  # the satellite link class: the default
+    consumer = Consumer(far)
+    bus60 = Bus(far)
+    try:
+        readers60 = [bus60.reader(sem) for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)]
+        # both vehicles show on the far domain: the 3.0.1 one's reports, the 6.0 one's pose and INS
+        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_REPORT] and V1 in consumer.reports[Sem.INS_REPORT], 20,
+                      "vehicle 1's reports across the link")
+        seen60: set[uuid.UUID] = set()
+        deadline = time.monotonic() + 20
+        while V2 not in seen60 and time.monotonic() < deadline:
+            seen60 |= sources_60(readers60)
+            time.sleep(0.1)
+        assert V2 in seen60
+        # a cancel: the dispose of a running command crosses, the vehicle cancels it, its disposes come back
+        first = consumer.command(Service.GPS_FIX, V1)
+        canceled = consumer.wait_status(first, S.EXECUTING, 15)
+        consumer.dispose(first)
+        consumer.wait(lambda: canceled.status_disposed and canceled.ack_disposed, 15, "status and ack disposed after cancel")
+        assert canceled.statuses == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED]
+        # a GPS fix and an INS command complete
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY and seen.flow.violations == []
+        ins = consumer.command(Service.INERTIAL_SENSOR, V1, Ins.RESTARTING)
+        assert consumer.wait_terminal(ins, 20).statuses == HAPPY
+        # the 6.0 vehicle's INS command (UMAA 6.0's InertialSensorCommandType) completes too
+        assert command_60(bus60, V2, "STATIONARY_ALIGN")[-1] is S.COMPLETED
+        # the cleanup: the finished fix disposed, the vehicle disposes its status and ack
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert seen.statuses == HAPPY
+        # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (once in this test)
+        assert len(consumer.reports[Sem.GPS_REPORT][V1]) == 1
+        # the bytes per vehicle: in the status file, and served by the relay
+        status = json.loads((tmp_path / "near.json").read_text())
+        assert status["vehicles"][str(V1)]["sentBytes"] > 0 and status["vehicles"][str(V2)]["sentBytes"] > 0
+        served = httpx.get(f"http://127.0.0.1:{status_port}/status").json()
+        assert served["name"] == "ship-1" and served["linkClass"] == "satellite"
+        assert served["vehicles"][str(V1)]["sentBytes"] >= status["vehicles"][str(V1)]["sentBytes"]
+    finally:
+        consumer.close()
+        bus60.close()
+
+
+def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
+    """600 ms round trip, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the command flow
+    is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000))
+        return links[0].endpoint
+
+    sim("--surface-seconds", "60")
+    join(relay, domain, far, tmp_path, "--caps", "GPSFixReport=1", via=impaired)
+    consumer = Consumer(far)
+    try:
+        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
+        started = time.monotonic()
+        fix = consumer.command(Service.GPS_FIX, V1)
+        consumer.wait_status(fix, S.ISSUED, 10)
+        assert time.monotonic() - started >= 0.6  # the command there and its status back: one round trip at least
+        links[0].outage(4)
+        before = len(consumer.reports[Sem.GPS_FIX_REPORT][V1])
+        seen = consumer.wait_terminal(fix, 25)
+        assert seen.statuses == HAPPY and seen.flow.violations == []
+        assert time.monotonic() - started >= 4
+        consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) >= before + 2, 10, "reports after the outage")
+    finally:
+        consumer.close()
+        for link in links:
+            link.close()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("lease,outage", [(1, 4), (10, 60)])
+def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, domain: int, relay, tmp_path: Path,
+                                                                           lease: float, outage: float) -> None:
+    """The link is down longer than Zenoh's lease (1 s and 4 s; the default 10 s and the minute of a satellite's
+    outage): the sessions close and open again, and what was under way is sent again; each message is written once."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6))
+        return links[0].endpoint
+
+    sim("--surface-seconds", "40")  # 2 s to surface: the fix completes during the outage
+    join(relay, domain, far, tmp_path, "--lease-seconds", str(lease), via=impaired)
+    consumer = Consumer(far)
+    try:
+        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_FIX_REPORT], 20, "vehicle 1's fix report across the link")
+        fix = consumer.command(Service.GPS_FIX, V1)
+        consumer.wait_status(fix, S.EXECUTING, 10)
+        links[0].outage(outage)
+        seen = consumer.wait_terminal(fix, outage + 30)
+        assert seen.statuses == HAPPY and seen.flow.violations == []  # each status once, in order
+        consumer.dispose(fix)  # the cleanup still crosses
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 20, "status and ack disposed after cleanup")
+    finally:
+        consumer.close()
+        for link in links:
+            link.close()
+
+
+def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
+    cert, key = authority.issue(name)
+    return ["--tls-root-ca", str((ca or authority).pem), "--tls-certificate", str(cert), "--tls-private-key", str(key)]
+
+
+@pytest.mark.slow
+def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay, tmp_path: Path) -> None:
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    fleet, stranger = Authority(tmp_path, "fleet-ca"), Authority(tmp_path, "other-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay("--router", "--listen", endpoint, *tls(fleet, "router"))
+    relay("--domain", str(domain), "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ops"))
+    # a relay whose certificate another authority signed, trusting the fleet's: the router refuses it
+    intruder = relay("--domain", str(other), "--side", "operations", "--connect", endpoint, "--log-level", "info",
+                     *tls(stranger, "intruder", ca=fleet))
+    consumer, outsider = Consumer(far), Consumer(other)
+    try:
+        fix = consumer.command(Service.GPS_FIX, V1)  # waits on the far side until the vehicle is heard
+        assert consumer.wait_terminal(fix, 20).statuses == HAPPY
+        outsider.pump()
+        assert V1 not in outsider.reports[Sem.GPS_REPORT]
+    finally:
+        consumer.close()
+        outsider.close()
+    assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
+
+
+@pytest.mark.slow
+def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
+    """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
+    (on a LAN-class link: the satellite caps space reports beyond the check's gaps)."""
+    far = free_domain(taken=domain)
+    sim("--time-scale", "0.2")  # as test_check's sem-sim run: the cancel reaches the fix while EXECUTING
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer = Consumer(far)
+    try:
+        consumer.wait(lambda: V1 in consumer.reports[Sem.INS_REPORT], 20, "the vehicle across the link")
+    finally:
+        consumer.close()
+    report = tmp_path / "junit.xml"
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = check_main(["--domain", str(far), "--commands", "--window", "1.5", "--max-gap", "3", "--junit", str(report)])
+    assert code == 0, out.getvalue() + err.getvalue()
+
+
+def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
+    endpoint = f"tcp/127.0.0.1:{free_port()}"
+    relay("--router", "--listen", endpoint)
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        p = subprocess.run([sys.executable, "-m", "sem_console.relay.cli", "--domain", str(domain), "--connect", endpoint,
+                            "--status-port", str(port), "--log-level", "error"], capture_output=True, text=True, timeout=60)
+    assert (p.returncode, p.stderr) == (2, f"sem-relay: error: --status-port {port}: cannot listen on it (Address already "
+                                           "in use): give another port\n")

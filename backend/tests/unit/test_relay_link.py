@@ -1,0 +1,119 @@
+"""sem-relay's pure parts: the rate caps (latest per instance wins), the caps' and endpoints' checks, the Zenoh keys,
+and the command line's one-line refusals (no Zenoh session, no DDS)."""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import uuid
+
+import pytest
+
+from sem_console.relay.cli import main
+from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
+from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
+
+
+def test_a_capped_topic_sends_the_latest_sample_of_each_instance_at_its_slot() -> None:
+    limiter: Limiter[str] = Limiter({"GPSReport": 60.0})
+    assert limiter.offer("GPSReport", "a", "a1", now=0.0) == "a1"  # the first goes at once
+    assert limiter.offer("GPSReport", "b", "b1", now=1.0) == "b1"  # another instance has its own slot
+    assert limiter.offer("GPSReport", "a", "a2", now=10.0) is None
+    assert limiter.offer("GPSReport", "a", "a3", now=20.0) is None  # replaces a2
+    assert limiter.due(59.0) == []
+    assert limiter.due(60.0) == ["a3"] and limiter.conflated == 1
+    assert limiter.due(61.0) == []  # b has nothing waiting
+    assert limiter.offer("GPSReport", "a", "a4", now=100.0) is None  # a's slot was taken at 60
+    assert limiter.offer("GPSReport", "a", "a5", now=120.0) == "a5"
+    assert limiter.offer("GPSFixCommandStatus", "c", "c1", now=120.0) == "c1"  # not capped: every one, at once
+    assert limiter.offer("GPSFixCommandStatus", "c", "c2", now=120.0) == "c2"
+
+
+def test_on_change_sends_what_differs_from_the_last_sent() -> None:
+    limiter: Limiter[str] = Limiter({"InertialSensorReport": ON_CHANGE})
+    assert limiter.offer("InertialSensorReport", "v", "1", 0.0, fingerprint=("ON", "ALIGNING")) == "1"
+    assert limiter.offer("InertialSensorReport", "v", "2", 1.0, fingerprint=("ON", "ALIGNING")) is None
+    assert limiter.offer("InertialSensorReport", "v", "3", 2.0, fingerprint=("ON", "OPERATIONAL")) == "3"
+    assert limiter.unchanged == 1
+
+
+def test_a_waiting_sample_goes_before_its_instance_ends() -> None:
+    limiter: Limiter[str] = Limiter({"GlobalPoseReport": 5.0})
+    limiter.offer("GlobalPoseReport", "v", "p1", 0.0)
+    limiter.offer("GlobalPoseReport", "v", "p2", 1.0)
+    assert limiter.take("v") == "p2" and limiter.take("v") is None
+    assert limiter.due(10.0) == []
+
+
+def test_after_an_outage_what_was_sent_since_goes_again_an_ended_instance_only_its_end() -> None:
+    sent: SentLog[str] = SentLog(depth=64)
+    for at, status in enumerate(("ISSUED", "COMMANDED", "EXECUTING", "COMPLETED")):
+        sent.add("old", f"old {status}", at, latest_only=False, ends=False)  # a command finished long ago, not cleaned up
+    sent.add("running", "running ISSUED", 100.0, latest_only=False, ends=False)
+    sent.add("running", "running EXECUTING", 101.0, latest_only=False, ends=False)
+    sent.add("report", "fix 1", 100.0, latest_only=True, ends=False)
+    sent.add("report", "fix 2", 102.0, latest_only=True, ends=False)
+    sent.add("canceled", "canceled ISSUED", 101.0, latest_only=False, ends=False)
+    sent.add("canceled", "canceled disposed", 103.0, latest_only=False, ends=True)
+    # a relay back after an outage noticed at 105 (two leases of 1 s and 2 s before it: 101)
+    assert sent.since(101.0) == ["running EXECUTING", "fix 2", "canceled disposed"]
+    # a relay new to it gets every instance's (the ended one's end only)
+    assert sent.since(float("-inf")) == ["old ISSUED", "old COMMANDED", "old EXECUTING", "old COMPLETED", "running ISSUED",
+                                         "running EXECUTING", "fix 2", "canceled disposed"]
+    sent.forget(ended_before=104.0)
+    assert len(sent) == 3 and "canceled disposed" not in sent.since(float("-inf"))
+
+
+def test_link_classes_and_caps() -> None:
+    assert LINK_CLASSES["satellite"]["GPSReport"] == 60.0 and LINK_CLASSES["lan"] == {}
+    assert short_name("UMAA::SEM::GPSStatus::GPSReportType") == short_name("UMAA::SEM::GPSStatus::GPSReport") == "GPSReport"
+    assert parse_caps("GPSReport=30, InertialSensorReport=change,GlobalPoseReport=0") == {
+        "GPSReport": 30.0, "InertialSensorReport": ON_CHANGE, "GlobalPoseReport": 0.0}
+    for bad in ("GPSReport", "GPSFixCommand=1", "GPSReport=-1", "GPSReport=soon", "GPSReport=nan"):
+        with pytest.raises(ValueError, match=r"GPSReport|TOPIC"):
+            parse_caps(bad)
+
+
+def test_keys_and_attachments() -> None:
+    v = uuid.uuid4()
+    k = key(7, v, "UMAA::SEM::GPSStatus::GPSReport")
+    assert k == f"sem/7/{v}/UMAA::SEM::GPSStatus::GPSReport"
+    assert parse_key(k) == Address(7, v, "UMAA::SEM::GPSStatus::GPSReport")
+    assert parse_key("sem/x/y/z") is None and parse_key("other/1/2") is None
+    assert read_attachment(attachment(Kind.DISPOSE, 123)) == (Kind.DISPOSE, 123)
+    assert read_attachment(b"\x09" * 10) is None and read_attachment(None) is None
+
+
+@pytest.mark.parametrize("endpoint,host", [("tcp/10.0.0.1:7447", "10.0.0.1"), ("tcp/[::1]:7447", "::1"),
+                                          ("tls/ops.example:7447#iface=eth0", "ops.example")])
+def test_endpoint_host(endpoint: str, host: str) -> None:
+    assert endpoint_host(endpoint) == host
+
+
+def test_only_loopback_goes_without_tls_unless_insecure() -> None:
+    assert endpoint_problem(RelayOptions(connect="tcp/127.0.0.1:7447,tcp/localhost:7448")) is None
+    assert endpoint_problem(RelayOptions(connect="tcp/192.0.2.1:7447", insecure=True)) is None
+    assert "--listen tcp/0.0.0.0:7447 leaves this machine without TLS" in str(
+        endpoint_problem(RelayOptions(router=True, listen="tcp/0.0.0.0:7447")))
+    assert "needs --tls-root-ca" in str(endpoint_problem(RelayOptions(connect="tls/192.0.2.1:7447")))
+
+
+def run(*argv: str) -> tuple[int, str]:
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), pytest.raises(SystemExit) as exit_:
+        raise SystemExit(main(list(argv)))
+    return int(exit_.value.code or 0), err.getvalue()
+
+
+def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -> None:
+    assert run("--connect", "tcp/192.0.2.1:7447") == (2, (
+        "sem-relay: error: --connect tcp/192.0.2.1:7447 leaves this machine without TLS: use a tls/ endpoint with "
+        "--tls-root-ca, or give --insecure to send the fleet's traffic in the clear\n"))
+    monkeypatch.setenv("SEM_RELAY_CONNECT", "tcp/192.0.2.9:7447")  # the environment's form of the option
+    assert run()[1].startswith("sem-relay: error: --connect tcp/192.0.2.9:7447 leaves this machine")
+    assert run("--caps", "GPSReport=often") == (2, "sem-relay: error: --caps 'GPSReport=often': the cap is seconds "
+                                                   "0..86400 or 'change'\n")
+    assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
+    code, err = run("--lease-seconds", "0")
+    assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
