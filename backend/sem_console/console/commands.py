@@ -22,6 +22,8 @@ from typing import Any, Literal
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.console.clock import Clock
+from sem_console.core import messages
+from sem_console.core.messages import ServerMessage, command_message, transition_message
 from sem_console.dds.topics import AnySem, Service
 from sem_console.storage.database import Database
 from sem_console.umaa.flow import AnyReason, CommandFlow, name, parse, parse_reason
@@ -29,7 +31,7 @@ from sem_console.umaa.samples import datetime_to_float, now_datetime
 from sem_console.versions.commands import Commanding, of_command
 
 log = logging.getLogger("sem-console.commands")
-Emit = Callable[[dict[str, Any]], None]
+Emit = Callable[[ServerMessage], None]
 Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
 ClosedUnheard = Literal["heard", "bound"]
 CancelCause = Literal["operator", "shutdown"]  # an operator asked it; its station's shutdown cancelled it
@@ -72,7 +74,7 @@ class Command:
         """Finished: a final status, or ended by the console, canceled and never answered."""
         return self.flow.terminal or self.closed_unheard is not None
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> messages.Command:
         return {
             "sessionId": str(self.session_id),
             "service": self.service.value,
@@ -101,7 +103,7 @@ class Command:
         }
 
 
-def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> dict[str, Any]:
+def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> messages.Transition:
     return {"seq": seq, "status": name(t.status), "reason": name(t.reason), "logMessage": t.log_message, "violation": t.violation,
             "providerTime": provider_time, "receivedAt": received_at}
 
@@ -161,7 +163,7 @@ class Commands:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
-    def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:
+    def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[messages.Command]:
         """Newest first, from the database (memory holds only active and recent commands)."""
         rows = self.store.commands(limit=limit, offset=offset, provider_id=None if provider_id is None else str(provider_id))
         return [self.from_row(r).to_json() for r in rows]
@@ -198,7 +200,7 @@ class Commands:
             return
         cmd.acked_at = self.clock.wall()
         self.store.set_acked(str(session), cmd.acked_at)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        self.emit(command_message(cmd.to_json()))
 
     def startup(self) -> list[Command]:
         """Consumer Startup Sequence: resume following our commands that were not finished."""
@@ -222,9 +224,9 @@ class Commands:
                       self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds)), commanding,
                       issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
         self.by_session[session] = cmd
-        self.store.add_command(cmd.to_json(), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
+        self.store.add_command(dict(cmd.to_json()), {"timeStamp": [stamp.seconds, stamp.nanoseconds]}, self.station)
         self._publish(cmd)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        self.emit(command_message(cmd.to_json()))
         return cmd
 
     def adopt(self, c: dict[str, Any]) -> Command:
@@ -244,7 +246,7 @@ class Commands:
                           self._sample(commanding, provider, session, state, stamp), commanding,
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
-            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
+            self.store.add_command(dict(cmd.to_json()), {"timeStamp": list(stamp)}, cmd.console)
         # a message carries the whole command: the first one of a file may be of one already canceled, or ended
         if c.get("cancelRequested") and not cmd.cancel_requested:
             self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(),
@@ -254,7 +256,7 @@ class Commands:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
             changed = True
         if changed:
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None, cause: CancelCause = "operator") -> Command:
@@ -268,7 +270,7 @@ class Commands:
         if not cmd.cancel_requested:
             self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
             self._withdraw(cmd)
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         return cmd
 
     def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
@@ -288,7 +290,7 @@ class Commands:
             if rows:
                 self._take_stored(cmd, self.from_row(rows[0]))
         if emit:
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         self._forget_old()
 
     def _take_over(self, session: uuid.UUID) -> Command | None:
@@ -374,21 +376,14 @@ class Commands:
         received = self.clock.wall()
         cmd.times.append((provider_time, received))
         seq = len(cmd.flow.transitions)
-        self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
+        self.store.add_transition(str(session), seq, dict(transition_json(seq, t, provider_time, received)))
         if cmd.closed_unheard is not None:  # ended as never heard, and it answers after all: what it says stands
             cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False  # as add_transition stored it
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
             self.store.set_flag(str(session), "unanswered", False)
-        self.emit(
-            {
-                "type": "transition",
-                "sessionId": str(session),
-                "transition": transition_json(seq, t, provider_time, received),
-                "command": cmd.to_json(),
-            }
-        )
+        self.emit(transition_message(transition_json(seq, t, provider_time, received), cmd.to_json()))
         if cmd.flow.terminal:
             self.cleanup(cmd)
 
@@ -402,7 +397,7 @@ class Commands:
             elif not cmd.unanswered and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
                 cmd.unanswered = True
                 self.store.set_flag(str(cmd.session_id), "unanswered")
-                self.emit({"type": "command", "command": cmd.to_json()})
+                self.emit(command_message(cmd.to_json()))
         self.others = {s: c for s, c in self.others.items() if not c.terminal and not c.cleaned_up}
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:

@@ -1,9 +1,11 @@
 """The console's tables, one SQLModel class per concept. The column names are those of the first (raw sqlite3)
 schema, so a database written by an earlier release is read as it is; `migrations/` creates and changes them.
 
-TrackPoint and SeriesPoint are also the REST response models of the track and chart routes; the other API
-schemas (api/schemas.py, core/contract.py) keep their camelCase field names, built from these rows by the
-console's own classes (Command, Alarm) where state is added to them."""
+TrackPoint and SeriesPoint are also the REST response models of the track and chart routes. A shape the console keeps
+in memory as it keeps it here is declared once, as a base (AlarmBase, ShelfBase, SilenceBase) from which the table row
+and the console's own class derive (the template's `UserBase` pattern); the API's schemas (api/schemas.py,
+core/contract.py) keep their camelCase field names, sent as the console builds them (core/messages.py).
+tests/unit/test_shapes.py fails when one drifts from its base."""
 
 from __future__ import annotations
 
@@ -156,34 +158,39 @@ class ComapTaskIds(SQLModel, table=True):
     next_task: int = Field(1, description="1..65534, wrapping")
 
 
-class AlarmRecord(SQLModel, table=True):
+class AlarmBase(SQLModel):
+    """An alarm as it is kept: the row (AlarmRecord) and the console's alarm (console/alarms.py's Alarm) derive from it."""
+
+    id: int | None = Field(default=None, description="the row's id (a temporary negative one while the database is away)")
+    key: str = Field(description="kind, vehicle, command, detail: one alarm per key until it is back to normal")
+    kind: str
+    severity: str
+    provider_id: str | None = None
+    vehicle: str | None = Field(default=None, description="the vehicle as it was named when raised")
+    session_id: str | None = None
+    text: str = Field(description="as said when raised, naming `vehicle`")
+    since: float
+    cleared_at: float | None = None
+    acked_at: float | None = None
+    acked_by: str | None = None
+    normal_at: float | None = Field(default=None, description="back to normal: out of the active set")
+
+
+class AlarmRecord(AlarmBase, table=True):
     """An alarm (console/alarms.py); normal_at is set when it is back to normal (out of the active set)."""
 
     __tablename__ = "alarms"
     __table_args__ = (Index("alarms_open", "normal_at"), {"sqlite_autoincrement": True})
     id: int | None = Field(None, primary_key=True)
-    key: str
-    kind: str
-    severity: str
-    provider_id: str | None = None
-    vehicle: str | None = None
-    session_id: str | None = None
-    text: str
-    since: float
-    cleared_at: float | None = None
-    acked_at: float | None = None
-    acked_by: str | None = None
-    normal_at: float | None = None
-    console: str | None = Field(None, description="the console station whose alarm it is (null: before station names)")
+    console: str | None = Field(default=None, description="the console station whose alarm it is (null: before station names)")
 
 
-class AlarmShelfRecord(SQLModel, table=True):
-    """An alarm shelved by an operator (console/alarms.py): every station's alarm of `key` is out of view until
-    `until`, or until it ends sooner (unshelved, or the alarm got worse); shared by the consoles of one database."""
+class ShelfBase(SQLModel):
+    """An alarm shelved by an operator: every station's alarm of `key` is out of view until `until`, or until it ends
+    sooner (unshelved, or the alarm got worse). The row (AlarmShelfRecord) and the console's shelf (console/alarms.py's
+    Shelf) derive from it."""
 
-    __tablename__ = "alarm_shelves"
-    __table_args__ = (Index("alarm_shelves_open", "ended_at"),)
-    id: str = Field(primary_key=True, description="a UUID")
+    id: str = Field(description="a UUID")
     key: str = Field(description="the alarm's key: kind, vehicle, command, detail")
     kind: str
     provider_id: str | None = None
@@ -197,16 +204,23 @@ class AlarmShelfRecord(SQLModel, table=True):
     until: float = Field(description="UTC seconds the shelf ends by itself")
     ended_at: float | None = None
     ended_by: str | None = None
-    end_reason: str | None = Field(None, description="expired, unshelved, reshelved, or 'worse: <the new alarm>'")
+    end_reason: str | None = Field(default=None, description="expired, unshelved, reshelved, or 'worse: <the new alarm>'")
 
 
-class PlannedSilenceRecord(SQLModel, table=True):
-    """A vehicle's planned link gap ("out of comms until"): its loss raises no alarm until `until` and the grace after
-    it (Settings.silence_grace); still lost then, it is an alarm. Shared by the consoles of one database."""
+class AlarmShelfRecord(ShelfBase, table=True):
+    """A shelf, shared by the consoles of one database."""
 
-    __tablename__ = "planned_silences"
-    __table_args__ = (Index("planned_silences_open", "ended_at"),)
+    __tablename__ = "alarm_shelves"
+    __table_args__ = (Index("alarm_shelves_open", "ended_at"),)
     id: str = Field(primary_key=True, description="a UUID")
+
+
+class SilenceBase(SQLModel):
+    """A vehicle's planned link gap ("out of comms until"): its loss raises no alarm until `until` and the grace after
+    it (Settings.silence_grace); still lost then, it is an alarm. The row (PlannedSilenceRecord) and the console's
+    silence (console/alarms.py's Silence) derive from it."""
+
+    id: str = Field(description="a UUID")
     provider_id: str
     reason: str
     set_by: str | None = None
@@ -215,7 +229,15 @@ class PlannedSilenceRecord(SQLModel, table=True):
     until: float = Field(description="UTC seconds the vehicle is expected back by")
     ended_at: float | None = None
     ended_by: str | None = None
-    end_reason: str | None = Field(None, description="cancelled, heard (back by its time) or overdue (not heard by it)")
+    end_reason: str | None = Field(default=None, description="cancelled, heard (back by its time) or overdue (not heard by it)")
+
+
+class PlannedSilenceRecord(SilenceBase, table=True):
+    """A planned silence, shared by the consoles of one database."""
+
+    __tablename__ = "planned_silences"
+    __table_args__ = (Index("planned_silences_open", "ended_at"),)
+    id: str = Field(primary_key=True, description="a UUID")
 
 
 class TrackPoint(SQLModel, table=True):
