@@ -12,30 +12,15 @@ from __future__ import annotations
 
 import uuid
 from dataclasses import dataclass, field
-from typing import Literal
 
 from sem_console.codec.decode import REPORT_HEALTH_TOPICS, REPORT_TOPICS
 from sem_console.core import messages
+from sem_console.core.contract import LinkConfig
 from sem_console.core.messages import ProviderEvent
 from sem_console.versions import UMAA_3_0_1, UmaaVersion
 
 REPORTS = tuple(REPORT_TOPICS.values())  # the model's report topics (core/contract.ReportTopic)
-Policy = Literal["STOP_MISSION", "CONTINUE_MISSION"]
 MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
-
-
-@dataclass(frozen=True)
-class LinkConfig:
-    """A vehicle's link thresholds (seconds) and its comms-lost configuration (JAUS 0x4C03)."""
-
-    commsLostTimeout: float
-    regainedTime: float
-    policy: Policy = "STOP_MISSION"
-    regainedBehavior: int = 0
-
-    def to_json(self) -> messages.LinkConfig:
-        return {"commsLostTimeout": self.commsLostTimeout, "regainedTime": self.regainedTime, "policy": self.policy,
-                "regainedBehavior": self.regainedBehavior}
 
 
 @dataclass
@@ -95,7 +80,9 @@ class Providers:
     by_id: dict[uuid.UUID, Provider] = field(default_factory=dict)
 
     def default_config(self) -> LinkConfig:
-        return LinkConfig(self.comms_lost_timeout, self.regained_time)
+        """The console's own thresholds (Settings, checked there: they may be shorter than an operator may set)."""
+        return LinkConfig.model_construct(commsLostTimeout=self.comms_lost_timeout, regainedTime=self.regained_time,
+                                          policy="STOP_MISSION", regainedBehavior=0)
 
     def seen(self, topic: str, source: uuid.UUID, report: messages.ReportEnvelope | None, now: float, wall: float,
              alive: bool, version: UmaaVersion | None = None) -> tuple[Provider, bool]:

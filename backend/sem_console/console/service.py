@@ -31,12 +31,12 @@ from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hub import Client, Hub
-from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
+from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
 from sem_console.console.sources import Source, open_source
 from sem_console.core import messages
 from sem_console.core.config import Settings, parse_imc_vehicles
-from sem_console.core.contract import LinkConfig as LinkConfigModel
+from sem_console.core.contract import LinkConfig
 from sem_console.core.messages import (
     DatabaseState,
     GatewayState,
@@ -94,8 +94,7 @@ def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
         try:
             if not isinstance(stored, dict):
                 raise ValueError("not a JSON object")
-            model = LinkConfigModel.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
-            configs[vehicle] = LinkConfig(**model.model_dump())
+            configs[vehicle] = LinkConfig.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
         except (ValidationError, ValueError) as e:
             ignored.append(f"{vehicle} ({str(e).splitlines()[0]})")
     if ignored:

@@ -11,6 +11,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
 
+from sem_console.core import messages
+
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
 InsStateName = Literal["OFF", "ON", "RESTARTING"]  # UMAA 3.0.1: InertialSensorStateEnumType
@@ -50,6 +52,10 @@ class LinkConfig(StrictModel):
         if isinstance(v, (bool, str)):
             raise ValueError("Input should be a number")
         return v
+
+    def to_json(self) -> messages.LinkConfig:
+        return {"commsLostTimeout": self.commsLostTimeout, "regainedTime": self.regainedTime, "policy": self.policy,
+                "regainedBehavior": self.regainedBehavior}
 
 
 class ProviderSummary(StrictModel):

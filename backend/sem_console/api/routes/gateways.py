@@ -15,7 +15,6 @@ from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.routes.history import SINCE_DOC, IsoTime, epoch
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import GatewayState, LinkConfig
-from sem_console.console.providers import LinkConfig as ProviderLinkConfig
 from sem_console.core import messages
 from sem_console.gateways.aspn.gateway import write_log
 
@@ -63,6 +62,6 @@ async def set_link_config(provider_id: uuid.UUID, body: LinkConfig, console: Con
     (ReportCommsLostConfiguration); the setting is kept in the console's database. Audited like a command. Returns
     the new configuration."""
     p = known_provider(console, provider_id)
-    console.set_link_config(p, ProviderLinkConfig(**body.model_dump()))
+    console.set_link_config(p, body)
     audit(status.HTTP_200_OK, None, operator)
     return p.config.to_json()
