@@ -596,7 +596,8 @@ class Alarms:
     def _raise(self, f: Found, now: float) -> Alarm:
         who = self._vehicle(f.provider_id) if f.provider_id else None
         a = Alarm(key=f.key, kind=f.kind, severity=SEVERITY[f.kind], provider_id=f.provider_id, vehicle=who,
-                  session_id=f.session_id, text=f"{who}: {f.what}" if who else f.what, since=now)
+                  session_id=f.session_id, text=f"{who}: {f.what}" if who else f.what, since=now, cleared_at=None,
+                  acked_at=None, acked_by=None, normal_at=None)
         a.id = self.store.add_alarm(a.row())
         self.open[a.key] = a
         self._activated(a.key, now)

@@ -243,11 +243,6 @@ class Console:
             p.config = config[provider_id]
             self._emit(provider_message("configured", p.summary(self.clock.monotonic())))
 
-    @property
-    def replay(self) -> Replay | None:
-        """The playback (api/routes/replay.py); None live."""
-        return self.source.replay
-
     def _heard(self, provider_id: uuid.UUID) -> float | None:
         """When a vehicle was last heard, while its link is up (None: never heard, or lost)."""
         p = self.providers.by_id.get(provider_id)

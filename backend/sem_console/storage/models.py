@@ -32,44 +32,71 @@ class ConsoleIdentity(SQLModel, table=True):
     created_at: float = Field(description="UTC seconds since the epoch when the name was first used")
 
 
-class CommandRecord(SQLModel, table=True):
+class CommandIssued(SQLModel):
+    """A command as issued; with CommandHandled, what the row (CommandRecord) and the API's command (core/contract.py,
+    in camelCase) have in common."""
+
+    session_id: str
+    service: str
+    provider_id: str
+    state: str | None
+    operator: str | None
+    created_at: float
+
+
+class CommandHandled(SQLModel):
+    """What became of a command besides its statuses: unanswered, cancelled, closed, acknowledged, cleaned up."""
+
+    unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
+    cancel_requested: bool
+    canceled_by: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's "
+                                                "shutdown)")
+    canceled_on: str | None = Field(default=None, description=(
+        "the console station its cancel was asked on (its --console-name); null: not canceled, or before stations were "
+        "recorded with a cancel"))
+    canceled_at: float | None = Field(default=None, description="when its cancel was asked, UTC seconds")
+    cancel_cause: str | None = Field(default=None, description=(
+        "why it was cancelled: operator, an operator asked it (canceledBy, when signed in); shutdown, the console station "
+        "canceledOn cancelled it as it stopped (its Consumer Shutdown Sequence; canceledBy null). Null: not cancelled, "
+        "or cancelled before the cause was recorded"))
+    closed_unheard: str | None = Field(default=None, description=(
+        "a canceled command the vehicle never answered (no status at all), ended by the console: heard, the vehicle was "
+        "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "
+        "was not heard within --cancel-unheard-bound of the cancel. Such a command is terminal with a null status"))
+    closed_at: float | None = Field(default=None, description="when the console ended it so (closedUnheard), UTC seconds")
+    acked_at: float | None = Field(description="when the provider first acknowledged it (its CommandAckReport, published "
+                                               "as it starts to process the command), UTC seconds")
+    cleaned_up: bool
+    console: str | None = Field(default=None, description="the console station that issued it (its --console-name); "
+                                                          "null: a command of a release before station names")
+
+
+class CommandRecord(CommandHandled, CommandIssued, table=True):
     """A command this console (or another station on the same database) issued, with its flags."""
 
     __tablename__ = "commands"
     session_id: str = Field(primary_key=True)
-    service: str
-    provider_id: str
-    state: str | None = None
-    operator: str | None = None
-    created_at: float
     command: str = Field(description="the command sample's own fields as JSON (its timeStamp)")
-    unanswered: bool = False
-    cancel_requested: bool = False
-    canceled_by: str | None = None
-    cleaned_up: bool = False
-    acked_at: float | None = None
-    console: str | None = Field(None, description="name of the console station that issued it (null: before names)")
-    canceled_on: str | None = Field(None, description="name of the console station its cancel was asked on")
-    canceled_at: float | None = Field(None, description="UTC seconds since the epoch when its cancel was asked")
-    closed_unheard: str | None = Field(None, description="how the console ended it, cancelled and never answered: heard "
-                                       "(the vehicle heard again without it) or bound (not heard within the bound)")
-    closed_at: float | None = Field(None, description="UTC seconds since the epoch when the console ended it so")
-    cancel_cause: str | None = Field(None, description="why it was cancelled: operator (an operator asked it) or "
-                                     "shutdown (its station's shutdown); null: not cancelled, or before causes")
 
 
-class TransitionRecord(SQLModel, table=True):
+class TransitionBase(SQLModel):
+    """One status of a command: the row (TransitionRecord) and the API's transition (core/contract.py, in camelCase)."""
+
+    seq: int = Field(description="1-based position in the command's history")
+    status: str
+    reason: str
+    log_message: str
+    violation: str | None = Field(description="why this transition breaks ICD Figure 4, or null")
+    provider_time: float | None = Field(description="the status sample's timeStamp, UTC seconds")
+    received_at: float
+
+
+class TransitionRecord(TransitionBase, table=True):
     """One status of a command, in the order received (seq from 1)."""
 
     __tablename__ = "transitions"
     session_id: str = Field(primary_key=True, foreign_key="commands.session_id")
-    seq: int = Field(primary_key=True)
-    status: str
-    reason: str
-    log_message: str
-    violation: str | None = None
-    provider_time: float | None = None
-    received_at: float
+    seq: int = Field(primary_key=True, description="1-based position in the command's history")
 
 
 class AuditRecord(SQLModel, table=True):
@@ -158,22 +185,33 @@ class ComapTaskIds(SQLModel, table=True):
     next_task: int = Field(1, description="1..65534, wrapping")
 
 
-class AlarmBase(SQLModel):
-    """An alarm as it is kept: the row (AlarmRecord) and the console's alarm (console/alarms.py's Alarm) derive from it."""
+class AlarmRaised(SQLModel):
+    """An alarm as raised; with AlarmHandled, what the row (AlarmRecord), the console's alarm (console/alarms.py) and
+    the API's (api/schemas.py, in camelCase) have in common."""
 
-    id: int | None = Field(default=None, description="the row's id (a temporary negative one while the database is away)")
-    key: str = Field(description="kind, vehicle, command, detail: one alarm per key until it is back to normal")
+    id: int | None = Field(description="the row's id (a temporary negative one while the database is away)")
     kind: str
     severity: str
-    provider_id: str | None = None
-    vehicle: str | None = Field(default=None, description="the vehicle as it was named when raised")
-    session_id: str | None = None
+    provider_id: str | None = Field(description="the vehicle's source GUID; null for the console's own (recording)")
+    vehicle: str | None = Field(description="the vehicle as it was named when raised")
+    session_id: str | None = Field(description="the command the alarm is about, if any")
     text: str = Field(description="as said when raised, naming `vehicle`")
-    since: float
-    cleared_at: float | None = None
-    acked_at: float | None = None
-    acked_by: str | None = None
-    normal_at: float | None = Field(default=None, description="back to normal: out of the active set")
+    since: float = Field(description="when it became active, UTC seconds")
+
+
+class AlarmHandled(SQLModel):
+    """What became of an alarm: its condition cleared, an operator acknowledged it."""
+
+    cleared_at: float | None = Field(description="when its condition cleared, UTC seconds")
+    acked_at: float | None
+    acked_by: str | None = Field(description="the operator who acknowledged it (null: no sign-in on this console)")
+
+
+class AlarmBase(AlarmHandled, AlarmRaised):
+    """An alarm as it is kept: the row (AlarmRecord) and the console's alarm derive from it."""
+
+    key: str = Field(description="kind, vehicle, command, detail: one alarm per key until it is back to normal")
+    normal_at: float | None = Field(description="back to normal: out of the active set (the row stays)")
 
 
 class AlarmRecord(AlarmBase, table=True):

@@ -10,6 +10,7 @@ from typing import Any, NotRequired, get_args, get_origin, get_type_hints, is_ty
 
 import pytest
 from pydantic import BaseModel
+from pydantic.alias_generators import to_camel
 from sqlmodel import SQLModel
 
 from sem_console.api import schemas
@@ -17,11 +18,18 @@ from sem_console.console.alarms import Alarm, Shelf, Silence
 from sem_console.core import messages
 from sem_console.storage.models import (
     AlarmBase,
+    AlarmHandled,
+    AlarmRaised,
     AlarmRecord,
     AlarmShelfRecord,
+    CommandHandled,
+    CommandIssued,
+    CommandRecord,
     PlannedSilenceRecord,
     ShelfBase,
     SilenceBase,
+    TransitionBase,
+    TransitionRecord,
     table,
 )
 
@@ -105,27 +113,40 @@ def test_the_comparison_sees_a_drift() -> None:
     assert typed_fields(AlarmShelf)["until"] is False
 
 
-# ---- rows and the console's classes derived from one base (storage/models.py) ------------------------------------
-DERIVED = [
-    (AlarmBase, AlarmRecord, {"console"}, Alarm),
-    (ShelfBase, AlarmShelfRecord, set(), Shelf),
-    (SilenceBase, PlannedSilenceRecord, set(), Silence),
-]
+# ---- rows, API models and the console's classes derived from one base (storage/models.py) --------------------------
+# shape: (its bases, the row, the row's own columns, the API model (None: the API shows another view of it), its own
+# fields, the console's class (None: none kept as the row is))
+SHAPES: dict[str, tuple[tuple[type[SQLModel], ...], type[SQLModel], set[str], type[BaseModel] | None, set[str],
+                        type[SQLModel] | None]] = {
+    "alarm": ((AlarmRaised, AlarmHandled), AlarmRecord, {"key", "normal_at", "console"}, schemas.Alarm,
+              {"state", "cause", "chattering", "shelf", "returned"}, Alarm),
+    "command": ((CommandIssued, CommandHandled), CommandRecord, {"command"}, schemas.Command,
+                {"status", "terminal", "violations", "transitions"}, None),
+    "transition": ((TransitionBase,), TransitionRecord, {"session_id"}, schemas.Transition, set(), None),
+    "shelf": ((ShelfBase,), AlarmShelfRecord, set(), None, set(), Shelf),
+    "silence": ((SilenceBase,), PlannedSilenceRecord, set(), None, set(), Silence),
+}
 
 
-@pytest.mark.parametrize(("base", "row", "row_only", "kept"), DERIVED, ids=lambda x: getattr(x, "__name__", ""))
-def test_a_row_and_the_consoles_class_keep_their_bases_fields(base: type[SQLModel], row: type[SQLModel],
-                                                               row_only: set[str], kept: type[SQLModel]) -> None:
-    assert issubclass(row, base) and issubclass(kept, base)
-    fields = set(base.model_fields)
+@pytest.mark.parametrize("shape", sorted(SHAPES))
+def test_a_shapes_row_api_model_and_class_derive_from_its_base(shape: str) -> None:
+    bases, row, row_only, api, api_only, kept = SHAPES[shape]
+    fields = {f for base in bases for f in base.model_fields}
+    assert all(issubclass(row, base) for base in bases)
     assert set(row.model_fields) == fields | row_only
     assert {c.name for c in table(row).columns} == fields | row_only  # the table's columns, by the same names
-    assert set(kept.model_fields) == fields  # the console keeps no field of its own beside the row's
+    if api is not None:
+        assert all(issubclass(api, base) for base in bases)
+        assert set(wire_fields(api)) == {to_camel(f) for f in fields} | api_only  # camelCase on the API
+    if kept is not None:
+        assert all(issubclass(kept, base) for base in bases)
+        assert set(kept.model_fields) == fields | row_only - {"console"}  # the row's own but its station's name
 
 
 def test_a_kept_alarm_goes_to_its_row_and_back() -> None:
     a = Alarm(key="link-lost|p||", kind="link-lost", severity="alarm", provider_id="p", vehicle="Alpha",
-              session_id=None, text="Alpha: link lost", since=1.0)
+              session_id=None, text="Alpha: link lost", since=1.0, cleared_at=None, acked_at=None, acked_by=None,
+              normal_at=None)
     row = a.row()
     assert set(row) == set(AlarmBase.model_fields)
     assert Alarm.model_validate({**row, "console": "station-a"}) == a  # a row read back carries its station too
