@@ -29,7 +29,7 @@ from sem_console.core.contract import StrictModel as _Model
 from sem_console.core.contract import TopicHealth as TopicHealth
 from sem_console.core.contract import Transition as Transition
 from sem_console.core.contract import TransitionMessage as TransitionMessage
-from sem_console.storage.models import AlarmHandled, AlarmRaised
+from sem_console.storage.models import AlarmHandled, AlarmRaised, TaskOwned, TaskPlanned, TaskProgress
 
 
 class ReportEnvelope(_Model):
@@ -372,28 +372,19 @@ class MoveTaskRequest(_TaskRequest):
 TaskRequest = Annotated[SurveyTaskRequest | MoveTaskRequest, Field(discriminator="kind")]
 
 
-class Task(_Model):
-    taskId: int = Field(description="the CoMap task id (u16), unique among the unfinished tasks of the consoles on one database")
-    kind: Literal["survey", "move"]
-    vehicle: str = Field(description="the provider GUID")
-    imcId: int
-    featureId: int | None
-    sensor: SensorName | None
-    resolution: float | None
-    deadline: float | None = Field(description="UTC seconds since the epoch")
+class _TaskPoint(SQLModel):
     point: LatLon | None
-    state: TaskState
-    progress: int = Field(ge=0, le=100, description="% from the vehicle's TaskStatus")
-    quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
+
+
+class _TaskSynch(SQLModel):
     synch: Literal["HOLD", "RESUME", "INTERRUPT"] | None = Field(description="the last SynchAdmin sent for this task")
-    operator: str | None
-    station: str | None = Field(description="the console station that assigned it (--console-name)")
-    createdAt: float
-    updatedAt: float = Field(description="UTC seconds of the newest progress (the vehicle's TaskStatus); the task's "
-                                         "creation before any")
-    stateAt: float = Field(description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
-                                       "reported): a client merging copies of a task takes state and synch from the "
-                                       "one with the later stateAt, progress and quality from the later updatedAt")
+
+
+class Task(TaskOwned, _TaskSynch, TaskProgress, _TaskPoint, TaskPlanned):
+    model_config = CAMEL
+    kind: Literal["survey", "move"]
+    sensor: SensorName | None
+    state: TaskState
 
 
 class SynchRequest(_Model):

@@ -41,6 +41,7 @@ from sem_console.core.messages import (
     DatabaseState,
     GatewayState,
     ProviderDetail,
+    ProviderEvent,
     ProviderSummary,
     RecordingStatus,
     ReportEnvelope,
@@ -241,7 +242,7 @@ class Console:
         p = self.providers.by_id.get(uuid.UUID(provider_id))
         if p is not None and provider_id in config:
             p.config = config[provider_id]
-            self._emit(provider_message("configured", p.summary(self.clock.monotonic())))
+            self._provider_event(p, "configured")
 
     def _heard(self, provider_id: uuid.UUID) -> float | None:
         """When a vehicle was last heard, while its link is up (None: never heard, or lost)."""
@@ -336,7 +337,7 @@ class Console:
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(self._maintained)
         for p, event in self.providers.tick(now):
-            self._emit(provider_message(event, p.summary(now)))
+            self._provider_event(p, event, now)
         self.commands.tick(now, self._heard)
         self._database_changed(now)
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
@@ -388,7 +389,7 @@ class Console:
         for it in items:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version)
             if new:
-                self._emit(provider_message("appeared", p.summary(now)))
+                self._provider_event(p, "appeared", now)
             elif p.version_changed:
                 self._version_changed(p, now)
             if it.report is not None:
@@ -438,7 +439,7 @@ class Console:
         p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None,
                                      it.version)
         if new:
-            self._emit(provider_message("appeared", p.summary(now)))
+            self._provider_event(p, "appeared", now)
         elif p.version_changed:
             self._version_changed(p, now)
         if it.sample is not None:
@@ -449,7 +450,7 @@ class Console:
         (a summary the dashboard applies as it does a rename's)."""
         p.version_changed = False
         log.info("vehicle %s now speaks UMAA %s", str(p.id)[:8], p.umaa_version)
-        self._emit(provider_message("configured", p.summary(now)))
+        self._provider_event(p, "configured", now)
 
     def _command_status(self, it: StatusItem) -> None:
         """A status or ack sample (not a dispose) to the command it answers, if this console follows it."""
@@ -490,6 +491,10 @@ class Console:
             self._update_alarms([changed] if changed is not None and changed.session_id not in self._others else [])
         elif message["type"] == "provider":
             self._update_alarms([])
+
+    def _provider_event(self, p: Provider, event: ProviderEvent, now: float | None = None) -> None:
+        """Send the vehicle's summary with what happened to it (`now`: monotonic seconds, default the clock's)."""
+        self._emit(provider_message(event, p.summary(self.clock.monotonic() if now is None else now)))
 
     def _alarms_changed(self) -> None:
         """Send the active alarm set (it changed)."""
@@ -631,7 +636,7 @@ class Console:
         follows the new thresholds from the next tick."""
         self.store.set_link_config(str(p.id), dict(config.to_json()))
         p.config = config
-        self._emit(provider_message("configured", p.summary(self.clock.monotonic())))
+        self._provider_event(p, "configured")
 
     def names(self) -> dict[str, str]:
         """provider GUID string -> the vehicle's name: the one set from the dashboard (stored, shared), else
@@ -709,7 +714,7 @@ class Console:
         p = self.providers.by_id.get(provider_id)
         if p is not None:
             p.name = name
-            self._emit(provider_message("configured", p.summary(self.clock.monotonic())))
+            self._provider_event(p, "configured")
         if any(a.provider_id == key for a in self.alarms.open.values()):
             self._alarms_changed()
 

@@ -148,33 +148,51 @@ class ComapWorldRecord(SQLModel, table=True):
     station: str | None = Field(None, description="the console station that wrote it")
 
 
-class ComapTaskRecord(SQLModel, table=True):
-    """A CoMap task a console station assigned (comap/c2.py's Task), its state as the newest change says."""
+class TaskPlanned(SQLModel):
+    """A CoMap task as planned; with TaskProgress and TaskOwned, what the row (ComapTaskRecord) and the API's task
+    (api/schemas.py, in camelCase) have in common."""
 
-    __tablename__ = "comap_tasks"
-    task_id: int = Field(primary_key=True, sa_column_kwargs={"autoincrement": False},
-                         description="the C2's u16 IMC task id, unique among the consoles' unfinished tasks")
+    task_id: int = Field(description="the CoMap task id (u16), unique among the unfinished tasks of the consoles on one "
+                                     "database")
     kind: str
     vehicle: str = Field(description="the provider GUID")
     imc_id: int
-    operator: str | None = None
-    feature_id: int | None = None
-    sensor: str | None = None
-    resolution: float | None = None
-    deadline: float | None = None
-    point: str | None = Field(None, description="a move's destination as JSON {lat, lon}")
+    feature_id: int | None
+    sensor: str | None
+    resolution: float | None
+    deadline: float | None = Field(description="UTC seconds since the epoch")
+
+
+class TaskProgress(SQLModel):
+    """A task's state and progress, as the vehicle's TaskStatus reports them."""
+
     state: str
-    progress: int
-    quality: int | None = None
+    progress: int = Field(ge=0, le=100, description="% from the vehicle's TaskStatus")
+    quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
+
+
+class TaskOwned(SQLModel):
+    """Who assigned a task, where, and when it changed."""
+
+    operator: str | None
+    station: str | None = Field(description="the console station that assigned it (--console-name)")
     created_at: float
-    updated_at: float = Field(description="UTC seconds of the newest progress report (progress and quality follow the "
-                                            "newest)")
+    updated_at: float = Field(description="UTC seconds of the newest progress (the vehicle's TaskStatus); the task's "
+                                          "creation before any")
+    state_at: float = Field(description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
+                                        "reported): a client merging copies of a task takes state and synch from the "
+                                        "one with the later stateAt, progress and quality from the later updatedAt")
+
+
+class ComapTaskRecord(TaskOwned, TaskProgress, TaskPlanned, table=True):
+    """A CoMap task a console station assigned (comap/c2.py's Task), its state as the newest change says."""
+
+    __tablename__ = "comap_tasks"
+    task_id: int = Field(primary_key=True, sa_column_kwargs={"autoincrement": False})
+    point: str | None = Field(default=None, description="a move's destination as JSON {lat, lon}")
     last_synch: str | None = None
-    station: str | None = Field(None, description="the console station that assigned it")
     state_at: float = Field(0.0, sa_column_kwargs={"server_default": "0"},
-                            description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
-                                        "reported): they follow the newest decision, whatever progress came after it, "
-                                        "but a final state is never replaced (comap.c2.decided_over)")
+                            description="a final state is never replaced (comap.c2.decided_over)")
 
 
 class ComapTaskIds(SQLModel, table=True):
