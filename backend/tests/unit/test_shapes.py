@@ -15,6 +15,7 @@ from sqlmodel import SQLModel
 
 from sem_console.api import schemas
 from sem_console.console.alarms import Alarm, Shelf, Silence
+from sem_console.console.hub import dumps
 from sem_console.core import messages
 from sem_console.storage.models import (
     AlarmBase,
@@ -156,3 +157,42 @@ def test_a_kept_alarm_goes_to_its_row_and_back() -> None:
     row = a.row()
     assert set(row) == set(AlarmBase.model_fields)
     assert Alarm.model_validate({**row, "console": "station-a"}) == a  # a row read back carries its station too
+
+
+# ---- the REST JSON of a derived model is the API's as released, byte for byte ---------------------------------------
+# each sample in the order the API's JSON has it (the release's): a model derived from bases puts its fields in their
+# order, which must be this one
+TRANSITION: messages.Transition = {"seq": 1, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
+                                   "providerTime": 1.5, "receivedAt": 2.5}
+SAMPLES: dict[str, Any] = {
+    "Alarm": {"id": 3, "kind": "link-lost", "severity": "alarm", "providerId": "p", "vehicle": "Alpha", "sessionId": None,
+              "text": "Alpha: link lost", "since": 1.0, "state": "active-unacknowledged", "clearedAt": None,
+              "ackedAt": None, "ackedBy": None, "cause": "Link lost", "chattering": False,
+              "shelf": {"id": "s", "reason": "known", "by": "alice", "station": "a", "at": 2.0, "until": 3.0},
+              "returned": None},
+    "Transition": TRANSITION,
+    "Command": {"sessionId": "s", "service": "GPSFix", "providerId": "p", "state": None, "operator": "alice",
+                "createdAt": 1.0, "status": "ISSUED", "terminal": False, "unanswered": False, "cancelRequested": False,
+                "canceledBy": None, "canceledOn": None, "canceledAt": None, "cancelCause": None, "closedUnheard": None,
+                "closedAt": None, "ackedAt": 1.2, "cleanedUp": False, "console": "a", "violations": [],
+                "transitions": [TRANSITION]},
+    "Task": {"taskId": 7, "kind": "move", "vehicle": "p", "imcId": 30, "featureId": None, "sensor": None,
+             "resolution": None, "deadline": None, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED", "progress": 0,
+             "quality": None, "synch": None, "operator": "alice", "station": "a", "createdAt": 1.0, "updatedAt": 1.0,
+             "stateAt": 1.0},
+}
+
+
+@pytest.mark.parametrize("name", sorted(SAMPLES))
+def test_a_derived_models_rest_json_is_the_releases(name: str) -> None:
+    """FastAPI answers a route through its response model (validated, then dumped in the model's field order): the
+    model derived from bases must give the JSON, key for key in order, that the API gave before it derived."""
+    sample = SAMPLES[name]
+    assert set(sample) == set(get_type_hints(TYPED_DICTS[name]))  # the builder's shape
+    model = getattr(schemas, name)
+    assert model.model_validate(sample).model_dump_json(by_alias=True) == dumps(sample)
+
+
+@pytest.mark.parametrize("name", ["Alarm", "Task", "Transition"])
+def test_the_websocket_sends_them_in_the_same_order(name: str) -> None:
+    assert list(SAMPLES[name]) == list(get_type_hints(TYPED_DICTS[name]))
