@@ -127,7 +127,7 @@ def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str |
         "operator": operator, "session_id": session_id, "reason": reason[: 3 * CLIP],
     }
     try:
-        console.store.add_audit(entry)
+        console.add_audit(entry)
     except sqlite3.Error as e:  # the store closes during shutdown
         log.warning("audit entry not recorded (%s): %s", e, entry)
 

@@ -10,10 +10,12 @@ from datetime import datetime
 from typing import Annotated, Any, Literal
 
 from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, TypeAdapter
+from sqlmodel import SQLModel
 
 # the models the API shares with the lower rooms are written once, in core/contract.py; this module is the API's whole
 # contract, so it names them again (`X as X`: re-exported)
 from sem_console.core.config import MAX_NAME, MAX_SHELF_MINUTES, NOT_PRINTABLE, PRINTABLE
+from sem_console.core.contract import CAMEL
 from sem_console.core.contract import Command as Command
 from sem_console.core.contract import CommandMessage as CommandMessage
 from sem_console.core.contract import InsCommandName as InsCommandName
@@ -27,6 +29,7 @@ from sem_console.core.contract import StrictModel as _Model
 from sem_console.core.contract import TopicHealth as TopicHealth
 from sem_console.core.contract import Transition as Transition
 from sem_console.core.contract import TransitionMessage as TransitionMessage
+from sem_console.storage.models import AlarmHandled, AlarmRaised, TaskOwned, TaskPlanned, TaskProgress
 
 
 class ReportEnvelope(_Model):
@@ -369,28 +372,19 @@ class MoveTaskRequest(_TaskRequest):
 TaskRequest = Annotated[SurveyTaskRequest | MoveTaskRequest, Field(discriminator="kind")]
 
 
-class Task(_Model):
-    taskId: int = Field(description="the CoMap task id (u16), unique among the unfinished tasks of the consoles on one database")
-    kind: Literal["survey", "move"]
-    vehicle: str = Field(description="the provider GUID")
-    imcId: int
-    featureId: int | None
-    sensor: SensorName | None
-    resolution: float | None
-    deadline: float | None = Field(description="UTC seconds since the epoch")
+class _TaskPoint(SQLModel):
     point: LatLon | None
-    state: TaskState
-    progress: int = Field(ge=0, le=100, description="% from the vehicle's TaskStatus")
-    quality: int | None = Field(description="% from the vehicle's TaskStatus, null before any")
+
+
+class _TaskSynch(SQLModel):
     synch: Literal["HOLD", "RESUME", "INTERRUPT"] | None = Field(description="the last SynchAdmin sent for this task")
-    operator: str | None
-    station: str | None = Field(description="the console station that assigned it (--console-name)")
-    createdAt: float
-    updatedAt: float = Field(description="UTC seconds of the newest progress (the vehicle's TaskStatus); the task's "
-                                         "creation before any")
-    stateAt: float = Field(description="UTC seconds the state and synch were decided (a synch, a state the vehicle "
-                                       "reported): a client merging copies of a task takes state and synch from the "
-                                       "one with the later stateAt, progress and quality from the later updatedAt")
+
+
+class Task(TaskOwned, _TaskSynch, TaskProgress, _TaskPoint, TaskPlanned):
+    model_config = CAMEL
+    kind: Literal["survey", "move"]
+    sensor: SensorName | None
+    state: TaskState
 
 
 class SynchRequest(_Model):
@@ -445,7 +439,11 @@ class AlarmShelf(_Model):
     until: float = Field(description="when it comes back by itself, UTC seconds")
 
 
-class Alarm(_Model):
+class _AlarmState(SQLModel):
+    state: AlarmState
+
+
+class Alarm(AlarmHandled, _AlarmState, AlarmRaised):
     """One alarm of the active set. A condition alarm (link-lost, ins-failure, fix-lost, no-fix-after-command,
     command-unanswered) is active while its condition holds, then cleared-unacknowledged until acknowledged. An event
     alarm (command-failed, command-interrupted, flow-violation, executed-late, recording-failed) is latched: what
@@ -453,20 +451,14 @@ class Alarm(_Model):
     active-unacknowledged until acknowledged, never "cleared". An acknowledged alarm whose condition has cleared, and
     an acknowledged event, return to normal and leave the set (the row stays in the database with its times)."""
 
+    model_config = CAMEL
     id: int
     kind: AlarmKind
     severity: Literal["alarm", "warning"] = Field(description="alarm: act now; warning: look when you can")
-    providerId: str | None = Field(description="the vehicle's source GUID; null for the console's own (recording)")
     vehicle: str | None = Field(description="the vehicle as the operator knows it now: its name (set from the dashboard "
                                 "or configured), else its short id; a rename sends the set again")
-    sessionId: str | None = Field(description="the command the alarm is about, if any")
     text: str = Field(description="one line in the operator's words, naming the vehicle as `vehicle` does (the "
                       "console's database keeps the text as it was when raised)")
-    since: float = Field(description="when it became active, UTC seconds")
-    state: AlarmState
-    clearedAt: float | None = Field(description="when its condition cleared, UTC seconds")
-    ackedAt: float | None
-    ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in on this console)")
     cause: str = Field(description="its kind in words ('Link lost'): many alarms at once are grouped by it")
     chattering: bool = Field(description="it cleared and came back `chatter_count` times within `chatter_minutes`: "
                                          "it is not sounded again until acknowledged")

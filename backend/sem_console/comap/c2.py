@@ -27,6 +27,8 @@ from typing import Any, Protocol
 from sem_console.comap.codec import BROADCAST, Header, Message, msg
 from sem_console.comap.geo import Feature, GeoError, collection, coverage_name, features_from_world_model, world_model_message
 from sem_console.comap.messages import Sensor, SynchOp, TaskOp, TaskStatusEnum
+from sem_console.core import messages
+from sem_console.core.messages import ServerMessage, task_message, worldmodel_message
 
 log = logging.getLogger("sem-console.comap")
 FINAL = {"REJECTED", "COMPLETED", "ERROR", "INTERRUPTED"}
@@ -76,7 +78,7 @@ class Task:
     # Database.set_comap_task)
     state_at: float = field(default_factory=time.time)
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> messages.Task:
         return {"taskId": self.task_id, "kind": self.kind, "vehicle": str(self.vehicle), "imcId": self.imc_id,
                 "featureId": self.feature_id, "sensor": self.sensor, "resolution": self.resolution,
                 "deadline": self.deadline, "point": self.point, "state": self.state, "progress": self.progress,
@@ -128,7 +130,7 @@ class _NotSaved:
 
 class C2:
     def __init__(self, vehicles: dict[uuid.UUID, int], send: Callable[[Message, int], object],
-                 emit: Callable[[dict[str, Any]], None], save: Saver | None = None, station: str | None = None) -> None:
+                 emit: Callable[[ServerMessage], None], save: Saver | None = None, station: str | None = None) -> None:
         self.send, self.emit, self.save, self.station = send, emit, save or _NotSaved(), station
         self.linked = False  # CoMap on: the console's IMC node is open (a synch is sent only then)
         self.vehicles: dict[int, VehicleInfo] = {i: VehicleInfo(i, g) for g, i in vehicles.items()}
@@ -168,7 +170,7 @@ class C2:
 
     def _world_changed(self, source: str) -> None:
         self.world_updated_at, self.world_source = time.time(), source
-        self.emit({"type": "worldmodel", "worldModel": self.world_model()})
+        self.emit(worldmodel_message(self.world_model()))
         self.save.world({"features": [asdict(f) for f in self.features], "updated_at": self.world_updated_at,
                          "source": source, "highest_feature": self._highest_feature})
 
@@ -182,7 +184,7 @@ class C2:
         self.features = [Feature(f["feature_id"], [(lat, lon) for lat, lon in f["points"]], f["coverage"], f["properties"])
                          for f in stored["features"]]
         self.world_updated_at, self.world_source = stored["updated_at"], stored["source"]
-        self.emit({"type": "worldmodel", "worldModel": self.world_model()})
+        self.emit(worldmodel_message(self.world_model()))
 
     def load_task(self, row: Mapping[str, Any]) -> None:
         """A stored task (Database.comap_tasks), applied where newer than this console's of that id: its state and synch
@@ -205,7 +207,7 @@ class C2:
                 old.progress, old.quality, old.updated_at = task.progress, task.quality, task.updated_at
             task = old
         self.tasks[task.task_id] = task
-        self.emit({"type": "task", "task": task.to_json()})
+        self.emit(task_message(task.to_json()))
 
     # ---- IMC input ------------------------------------------------------------------------------
     def on_message(self, header: Header, m: Message) -> None:
@@ -280,7 +282,7 @@ class C2:
         if progressed:
             task.updated_at = now
         task.state = state
-        self.emit({"type": "task", "task": task.to_json()})
+        self.emit(task_message(task.to_json()))
         self.save.task(task)
 
     # ---- tasks ------------------------------------------------------------------------------------
@@ -314,7 +316,7 @@ class C2:
                                       alt=0.0))
         self.tasks[task.task_id] = task
         self.send(msg("TaskAdmin", tid=task.task_id, op=TaskOp.ASSIGN, arg=arg), task.imc_id)
-        self.emit({"type": "task", "task": task.to_json()})
+        self.emit(task_message(task.to_json()))
         return task
 
     def synch(self, task_id: int, action: str) -> Task:

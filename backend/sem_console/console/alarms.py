@@ -44,7 +44,7 @@ import time
 import uuid
 from collections import deque
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from typing import Any
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
@@ -52,10 +52,11 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 
 from sem_console.console.commands import Command
 from sem_console.console.providers import Provider
+from sem_console.core import messages
 from sem_console.core.words import WORDS, inline, word
 from sem_console.dds.topics import Service
 from sem_console.storage.database import Database
-from sem_console.storage.models import AlarmShelfRecord, PlannedSilenceRecord
+from sem_console.storage.models import AlarmBase, AlarmShelfRecord, PlannedSilenceRecord, ShelfBase, SilenceBase
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
 CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered",
@@ -99,21 +100,10 @@ def command_words(cmd: Command) -> str:
     return f"INS {'RESTART' if state == 'RESTARTING' else state}"
 
 
-@dataclass
-class Alarm:
-    id: int
-    key: str
-    kind: str
-    severity: str
-    provider_id: str | None
-    vehicle: str | None  # as the vehicle was named when raised (sent: as it is named now, `to_json`)
-    session_id: str | None
-    text: str  # as said when raised, naming `vehicle`
-    since: float
-    cleared_at: float | None = None
-    acked_at: float | None = None
-    acked_by: str | None = None
-    normal_at: float | None = None  # back to normal: out of the active set (the row stays in the database)
+class Alarm(AlarmBase):
+    """An alarm of the active set, as kept (AlarmBase: `vehicle` and `text` as raised; sent as named now, `to_json`)."""
+
+    id: int = 0
 
     @property
     def state(self) -> str:
@@ -129,23 +119,17 @@ class Alarm:
             return self.text
         return f"{vehicle}: {self.text.removeprefix(said)}"
 
-    def to_json(self, vehicle: str | None = None) -> dict[str, Any]:
+    def to_json(self, vehicle: str | None, chattering: bool, shelf: messages.AlarmShelf | None,
+                returned: str | None) -> messages.Alarm:
         """What clients are sent; `vehicle`: the vehicle's name now (None: as raised)."""
         return {"id": self.id, "kind": self.kind, "severity": self.severity, "providerId": self.provider_id,
                 "vehicle": vehicle or self.vehicle, "sessionId": self.session_id, "text": self.text_naming(vehicle),
                 "since": self.since,
-                "state": self.state, "clearedAt": self.cleared_at, "ackedAt": self.acked_at, "ackedBy": self.acked_by}
+                "state": self.state, "clearedAt": self.cleared_at, "ackedAt": self.acked_at, "ackedBy": self.acked_by,
+                "cause": word("alarmKind", self.kind), "chattering": chattering, "shelf": shelf, "returned": returned}
 
     def row(self) -> dict[str, Any]:
-        return {"id": self.id, "key": self.key, "kind": self.kind, "severity": self.severity, "provider_id": self.provider_id,
-                "vehicle": self.vehicle, "session_id": self.session_id, "text": self.text, "since": self.since,
-                "cleared_at": self.cleared_at, "acked_at": self.acked_at, "acked_by": self.acked_by,
-                "normal_at": self.normal_at}
-
-    @classmethod
-    def from_row(cls, r: Mapping[str, Any]) -> Alarm:
-        return cls(**{k: r[k] for k in ("id", "key", "kind", "severity", "provider_id", "vehicle", "session_id", "text",
-                                        "since", "cleared_at", "acked_at", "acked_by", "normal_at")})
+        return self.model_dump()
 
 
 @dataclass(frozen=True)
@@ -187,53 +171,20 @@ def overdue_text(until: float, grace: float, now: float | None = None) -> str:
     return inline(word("alarmText", "silence-overdue")).format(until=clock_time(until, now), grace=f"{grace:g}")
 
 
-@dataclass
-class Shelf:
-    """An alarm shelved by an operator (storage: AlarmShelfRecord): every station's alarm of `key` is out of view."""
+class Shelf(ShelfBase):
+    """An alarm shelved by an operator (ShelfBase): every station's alarm of `key` is out of view."""
 
-    id: str
-    key: str
-    kind: str
-    provider_id: str | None
-    session_id: str | None
-    severity: str  # the alarm's when shelved: a new alarm of its vehicle at least this severe is worse
-    text: str
-    reason: str
-    shelved_by: str | None
-    station: str | None
-    shelved_at: float
-    until: float
-    ended_at: float | None = None
-    ended_by: str | None = None
-    end_reason: str | None = None
-
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> messages.AlarmShelf:
         return {"id": self.id, "reason": self.reason, "by": self.shelved_by, "station": self.station,
                 "at": self.shelved_at, "until": self.until}
 
 
-@dataclass
-class Silence:
-    """A vehicle's planned link gap, "out of comms until" (storage: PlannedSilenceRecord)."""
+class Silence(SilenceBase):
+    """A vehicle's planned link gap, "out of comms until" (SilenceBase)."""
 
-    id: str
-    provider_id: str
-    reason: str
-    set_by: str | None
-    station: str | None
-    set_at: float
-    until: float
-    ended_at: float | None = None
-    ended_by: str | None = None
-    end_reason: str | None = None
-
-    def to_json(self, vehicle: str) -> dict[str, Any]:
+    def to_json(self, vehicle: str) -> messages.PlannedSilence:
         return {"id": self.id, "providerId": self.provider_id, "vehicle": vehicle, "reason": self.reason,
                 "by": self.set_by, "station": self.station, "at": self.set_at, "until": self.until}
-
-
-def _fields(cls: type[Shelf] | type[Silence], row: Mapping[str, Any]) -> dict[str, Any]:
-    return {k: row[k] for k in cls.__dataclass_fields__ if k in row}
 
 
 class Alarms:
@@ -250,7 +201,7 @@ class Alarms:
     def _load(self) -> None:
         self.open: dict[str, Alarm] = {}
         for r in self.store.open_alarms():
-            a = Alarm.from_row(r.model_dump())
+            a = Alarm.model_validate(r.model_dump())
             self.open[a.key] = a
         self._raised: set[str] = {k for k, a in self.open.items() if a.kind in EVENTS}  # events never raised twice
         # a vehicle with an open fix-lost alarm had a valid fix (kept across a restart)
@@ -279,11 +230,11 @@ class Alarms:
         resync: read in a worker thread)."""
         self.shelves: dict[str, Shelf] = {}
         for r in self.store.shelves() if shelves is None else shelves:
-            shelf = Shelf(**_fields(Shelf, r.model_dump()))
+            shelf = Shelf.model_validate(r.model_dump())
             self.shelves[shelf.key] = shelf
         self.silences: dict[str, Silence] = {}
         for s in self.store.silences() if silences is None else silences:
-            silence = Silence(**_fields(Silence, s.model_dump()))
+            silence = Silence.model_validate(s.model_dump())
             self.silences[silence.provider_id] = silence
 
     def reset(self) -> None:
@@ -387,19 +338,18 @@ class Alarms:
         self.acknowledge(a.id, operator, at, station)
         return True
 
-    def active(self) -> list[dict[str, Any]]:
+    def active(self) -> list[messages.Alarm]:
         """The active set, newest first, each naming its vehicle as it is named now, with its cause, whether it is
         chattering, its shelf (null: in view) and why it is back in view after a shelf."""
         newest_first = sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)
         out = []
         for a in newest_first:
             shelf = self.shelves.get(a.key)
-            out.append({**a.to_json(self._vehicle(a.provider_id) if a.provider_id else None), "cause": word("alarmKind", a.kind),
-                        "chattering": a.key in self._chattering, "shelf": shelf.to_json() if shelf else None,
-                        "returned": None if shelf else self._returned.get(a.key)})
+            out.append(a.to_json(self._vehicle(a.provider_id) if a.provider_id else None, a.key in self._chattering,
+                                 shelf.to_json() if shelf else None, None if shelf else self._returned.get(a.key)))
         return out
 
-    def planned_silences(self) -> list[dict[str, Any]]:
+    def planned_silences(self) -> list[messages.PlannedSilence]:
         """The planned silences in force, the soonest to end first."""
         return [s.to_json(self._vehicle(s.provider_id)) for s in sorted(self.silences.values(), key=lambda s: s.until)]
 
@@ -417,9 +367,10 @@ class Alarms:
         if a.key in self.shelves:
             self._end_shelf(a.key, now, operator, "reshelved", None)
         vehicle = self._vehicle(a.provider_id) if a.provider_id else None
-        shelf = Shelf(str(uuid.uuid4()), a.key, a.kind, a.provider_id, a.session_id, a.severity, a.text_naming(vehicle),
-                      reason, operator, station, now, now + seconds)
-        self.store.add_shelf(asdict(shelf))
+        shelf = Shelf(id=str(uuid.uuid4()), key=a.key, kind=a.kind, provider_id=a.provider_id, session_id=a.session_id,
+                      severity=a.severity, text=a.text_naming(vehicle), reason=reason, shelved_by=operator,
+                      station=station, shelved_at=now, until=now + seconds)
+        self.store.add_shelf(shelf.model_dump())
         self.shelves[a.key] = shelf
         self._returned.pop(a.key, None)
         return a
@@ -442,8 +393,9 @@ class Alarms:
         """Declare the vehicle out of comms until `until` (one at a time: a new one replaces the one in force)."""
         if provider_id in self.silences:
             self._end_silence(provider_id, now, operator, "replaced")
-        silence = Silence(str(uuid.uuid4()), provider_id, reason, operator, station, now, until)
-        self.store.add_silence(asdict(silence))
+        silence = Silence(id=str(uuid.uuid4()), provider_id=provider_id, reason=reason, set_by=operator, station=station,
+                          set_at=now, until=until)
+        self.store.add_silence(silence.model_dump())
         self.silences[provider_id] = silence
         self.silences_changed = True
         return silence
@@ -480,7 +432,7 @@ class Alarms:
     def shared_shelf(self, row: Mapping[str, Any]) -> bool:
         """Another station shelved an alarm or ended a shelf (the notification's row): whether this one's set shows it."""
         if "key" in row:
-            shelf = Shelf(**_fields(Shelf, row))
+            shelf = Shelf.model_validate(row)
             self.shelves[shelf.key] = shelf
             self._returned.pop(shelf.key, None)
             return shelf.key in self.open
@@ -500,7 +452,7 @@ class Alarms:
     def shared_silence(self, row: Mapping[str, Any]) -> None:
         """Another station declared or ended a planned silence."""
         if "provider_id" in row:
-            silence = Silence(**_fields(Silence, row))
+            silence = Silence.model_validate(row)
             self.silences[silence.provider_id] = silence
         else:
             pid = next((p for p, s in self.silences.items() if s.id == row.get("id")), None)
@@ -645,8 +597,9 @@ class Alarms:
     # ---- storage ------------------------------------------------------------------------
     def _raise(self, f: Found, now: float) -> Alarm:
         who = self._vehicle(f.provider_id) if f.provider_id else None
-        a = Alarm(0, f.key, f.kind, SEVERITY[f.kind], f.provider_id, who, f.session_id, f"{who}: {f.what}" if who else f.what,
-                  now)
+        a = Alarm(key=f.key, kind=f.kind, severity=SEVERITY[f.kind], provider_id=f.provider_id, vehicle=who,
+                  session_id=f.session_id, text=f"{who}: {f.what}" if who else f.what, since=now, cleared_at=None,
+                  acked_at=None, acked_by=None, normal_at=None)
         a.id = self.store.add_alarm(a.row())
         self.open[a.key] = a
         self._activated(a.key, now)

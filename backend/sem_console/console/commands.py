@@ -23,6 +23,8 @@ from typing import Any, Literal, cast
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
 
 from sem_console.console.clock import Clock
+from sem_console.core import messages
+from sem_console.core.messages import ServerMessage, command_message, transition_message
 from sem_console.dds.topics import AnySem, Service
 from sem_console.storage.commands import CommandRow
 from sem_console.storage.database import Database
@@ -31,7 +33,7 @@ from sem_console.umaa.samples import datetime_to_float, now_datetime
 from sem_console.versions.commands import Commanding, of_command
 
 log = logging.getLogger("sem-console.commands")
-Emit = Callable[[dict[str, Any]], None]
+Emit = Callable[[ServerMessage], None]
 Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monotonic seconds (None: not heard, or lost)
 ClosedUnheard = Literal["heard", "bound"]
 CancelCause = Literal["operator", "shutdown"]  # an operator asked it; its station's shutdown cancelled it
@@ -77,7 +79,7 @@ class Command:
         """Finished: a final status, or ended by the console, canceled and never answered."""
         return self.flow.terminal or self.closed_unheard is not None
 
-    def to_json(self) -> dict[str, Any]:
+    def to_json(self) -> messages.Command:
         return {
             "sessionId": str(self.session_id),
             "service": self.service.value,
@@ -106,7 +108,7 @@ class Command:
         }
 
 
-def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> dict[str, Any]:
+def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> messages.Transition:
     return {"seq": seq, "status": name(t.status), "reason": name(t.reason), "logMessage": t.log_message, "violation": t.violation,
             "providerTime": provider_time, "receivedAt": received_at}
 
@@ -172,7 +174,7 @@ class Commands:
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
-    def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[dict[str, Any]]:
+    def history(self, limit: int, offset: int, provider_id: uuid.UUID | None = None) -> list[messages.Command]:
         """Newest first, from the database (memory holds only active and recent commands); for a worker thread."""
         rows = self.store.commands(limit=limit, offset=offset, provider_id=None if provider_id is None else str(provider_id))
         return [self.from_row(r).to_json() for r in rows]
@@ -211,7 +213,7 @@ class Commands:
             return
         cmd.acked_at = self.clock.wall()
         self.store.set_acked(str(session), cmd.acked_at)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        self.emit(command_message(cmd.to_json()))
 
     def startup(self) -> list[Command]:
         """Consumer Startup Sequence: resume following our commands that were not finished."""
@@ -240,9 +242,9 @@ class Commands:
         sent: dict[str, Any] = {"timeStamp": [stamp.seconds, stamp.nanoseconds]}
         if parent is not None:
             sent["destinationParent"] = str(parent)  # the command's key: the same instance when it is disposed later
-        self.store.add_command(cmd.to_json(), sent, self.station)
+        self.store.add_command(dict(cmd.to_json()), sent, self.station)
         self._publish(cmd)
-        self.emit({"type": "command", "command": cmd.to_json()})
+        self.emit(command_message(cmd.to_json()))
         return cmd
 
     def adopt(self, c: dict[str, Any]) -> Command:
@@ -262,7 +264,7 @@ class Commands:
                           self._sample(commanding, provider, session, state, stamp), commanding,
                           issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
-            self.store.add_command(cmd.to_json(), {"timeStamp": list(stamp)}, cmd.console)
+            self.store.add_command(dict(cmd.to_json()), {"timeStamp": list(stamp)}, cmd.console)
         # a message carries the whole command: the first one of a file may be of one already canceled, or ended
         if c.get("cancelRequested") and not cmd.cancel_requested:
             self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(),
@@ -272,7 +274,7 @@ class Commands:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
             changed = True
         if changed:
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         return cmd
 
     def cancel(self, session: uuid.UUID, operator: str | None = None, cause: CancelCause = "operator") -> Command:
@@ -286,7 +288,7 @@ class Commands:
         if not cmd.cancel_requested:
             self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
             self._withdraw(cmd)
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         return cmd
 
     def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
@@ -306,7 +308,7 @@ class Commands:
             if rows:
                 self._take_stored(cmd, self.from_row(rows[0]))
         if emit:
-            self.emit({"type": "command", "command": cmd.to_json()})
+            self.emit(command_message(cmd.to_json()))
         self._forget_old()
 
     async def take_over(self, session: uuid.UUID) -> Command | None:
@@ -337,12 +339,6 @@ class Commands:
         log.info("took over command %s of console %r to cancel it", session, cmd.console)
         return cmd
 
-    def shared(self, session: uuid.UUID) -> Command | None:
-        """A command another console station changed in the shared database: as it is now (for this console's
-        clients). One this console follows takes the other station's cancel request over."""
-        rows = self.store.commands(session_id=str(session))
-        return self.merge_shared(rows[0]) if rows else None
-
     def canceled_elsewhere(self, session: uuid.UUID, changed: dict[str, Any]) -> None:
         """Another station asked to cancel a command this one follows (the columns it stored, as notified): taken over
         at once, as the vehicle's answer to that cancel may come before the row is read."""
@@ -352,7 +348,7 @@ class Commands:
                            changed.get("cancel_cause"), record=False)
 
     def merge_shared(self, row: CommandRow) -> Command:
-        """The command of a shared database row (see `shared`)."""
+        """The command of a shared database row (another station's, as stored)."""
         stored = self.from_row(row)
         mine = self.by_session.get(stored.session_id)
         if mine is None:
@@ -409,21 +405,14 @@ class Commands:
         received = self.clock.wall()
         cmd.times.append((provider_time, received))
         seq = len(cmd.flow.transitions)
-        self.store.add_transition(str(session), seq, transition_json(seq, t, provider_time, received))
+        self.store.add_transition(str(session), seq, dict(transition_json(seq, t, provider_time, received)))
         if cmd.closed_unheard is not None:  # ended as never heard, and it answers after all: what it says stands
             cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = None, None, False  # as add_transition stored it
         if cmd.unanswered:
             cmd.unanswered = False  # it did answer, late
             cmd.answered_late_after = received - cmd.created_at
             self.store.set_flag(str(session), "unanswered", False)
-        self.emit(
-            {
-                "type": "transition",
-                "sessionId": str(session),
-                "transition": transition_json(seq, t, provider_time, received),
-                "command": cmd.to_json(),
-            }
-        )
+        self.emit(transition_message(transition_json(seq, t, provider_time, received), cmd.to_json()))
         if cmd.flow.terminal:
             self.cleanup(cmd)
 
@@ -437,7 +426,7 @@ class Commands:
             elif not cmd.unanswered and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
                 cmd.unanswered = True
                 self.store.set_flag(str(cmd.session_id), "unanswered")
-                self.emit({"type": "command", "command": cmd.to_json()})
+                self.emit(command_message(cmd.to_json()))
         self.others = {s: c for s, c in self.others.items() if not c.terminal and not c.cleaned_up}
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:

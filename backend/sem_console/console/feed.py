@@ -10,10 +10,11 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import Any
+
+from sem_console.core.messages import ServerMessage
 
 log = logging.getLogger("sem-console.feed")
-Subscriber = Callable[[dict[str, Any]], None]
+Subscriber = Callable[[ServerMessage], None]
 
 
 class Feed:
@@ -29,10 +30,10 @@ class Feed:
         self._subscribers[key] = (name, callback)
         return lambda: self._subscribers.pop(key, None) and None
 
-    def publish(self, message: dict[str, Any]) -> None:
+    def publish(self, message: ServerMessage) -> None:
         for name, callback in list(self._subscribers.values()):
             try:
                 callback(message)
             except Exception:
                 self.errors[name] = self.errors.get(name, 0) + 1
-                log.exception("feed subscriber %s failed on a %s message", name, message.get("type"))
+                log.exception("feed subscriber %s failed on a %s message", name, message["type"])

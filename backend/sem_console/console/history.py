@@ -1,6 +1,6 @@
 """Per-vehicle track and chart series in the console's database, for reloads, charts and exports.
 
-One model per concept: `TrackPoint` and `SeriesPoint` (storage/models.py) are SQLModel classes, each both the
+One model per concept: `TrackPoint` and `SeriesPoint` (storage/models/) are SQLModel classes, each both the
 table mapping and the REST response model. Points are taken from reports on the event loop (a few
 dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
 pruned (older than the retention) and read in a worker thread, so the database never runs on the loop.

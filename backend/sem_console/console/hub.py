@@ -23,11 +23,13 @@ import logging
 import time
 import zlib
 from collections import deque
-from collections.abc import Awaitable, Callable
+from collections.abc import Awaitable, Callable, Mapping
 from itertools import islice
 from typing import Any
 
 import orjson
+
+from sem_console.core.messages import ReportMessage, ServerMessage, SnapshotMessage
 
 log = logging.getLogger("sem-console.hub")
 
@@ -41,7 +43,7 @@ FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's s
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
 
 
-def dumps(message: dict[str, Any]) -> str:
+def dumps(message: Mapping[str, Any]) -> str:
     """Compact JSON, by orjson (a tenth of json.dumps' CPU for a report); json.dumps for what orjson
     refuses (an integer past 64 bits). orjson writes a non-finite float as null, json.dumps as NaN,
     which no browser parses: reports never carry one (convert nulls them)."""
@@ -278,8 +280,8 @@ class Hub:
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
 
-    def publish(self, message: dict[str, Any], key: tuple[str, str] | None = None,
-                thin: dict[str, Any] | None = None) -> None:
+    def publish(self, message: ServerMessage, key: tuple[str, str] | None = None,
+                thin: ReportMessage | None = None) -> None:
         """Send `message` to every client (with `key`: a report, conflated per client; `thin`: the same report without
         what only a client drawing that vehicle needs, for the clients that draw another)."""
         if not self.clients:
@@ -294,7 +296,7 @@ class Hub:
                 log.warning("dropped a WebSocket client that %s", c.dropped_for)
                 self.clients.discard(c)
 
-    def attach(self, send: Callable[[str], Awaitable[None]], first: dict[str, Any], batch: bool = False,
+    def attach(self, send: Callable[[str], Awaitable[None]], first: SnapshotMessage, batch: bool = False,
                ack: bool = False) -> Client:
         """Register a client with `first` (its snapshot) queued ahead of any later event; `batch`: it takes the
         reports waiting for it as one JSON array; `ack`: it acknowledges the frames it has taken, and its reports go
@@ -305,7 +307,7 @@ class Hub:
         client.task = asyncio.get_running_loop().create_task(client.run())
         return client
 
-    def resync(self, snapshot: dict[str, Any]) -> None:
+    def resync(self, snapshot: SnapshotMessage) -> None:
         """Every client starts again from `snapshot` (a replay seeked): what was queued for it is dropped."""
         text = json.dumps(snapshot, separators=(",", ":"))
         for c in self.clients:

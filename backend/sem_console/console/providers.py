@@ -11,28 +11,16 @@ regained behaviour the vehicle is recorded to follow (reported, never enforced, 
 from __future__ import annotations
 
 import uuid
-from dataclasses import asdict, dataclass, field
-from typing import Any, Literal
+from dataclasses import dataclass, field
 
 from sem_console.codec.decode import REPORT_HEALTH_TOPICS, REPORT_TOPICS
+from sem_console.core import messages
+from sem_console.core.contract import LinkConfig
+from sem_console.core.messages import ProviderEvent
 from sem_console.versions import UMAA_3_0_1, UmaaVersion
 
 REPORTS = tuple(REPORT_TOPICS.values())  # the model's report topics (core/contract.ReportTopic)
-Policy = Literal["STOP_MISSION", "CONTINUE_MISSION"]
 MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
-
-
-@dataclass(frozen=True)
-class LinkConfig:
-    """A vehicle's link thresholds (seconds) and its comms-lost configuration (JAUS 0x4C03)."""
-
-    commsLostTimeout: float
-    regainedTime: float
-    policy: Policy = "STOP_MISSION"
-    regainedBehavior: int = 0
-
-    def to_json(self) -> dict[str, Any]:
-        return asdict(self)
 
 
 @dataclass
@@ -51,7 +39,7 @@ class Provider:
     name: str | None = None
     ordinal: int = 0  # 1-based order of appearance, kept for the console's lifetime
     jaus_subsystem: int | None = None
-    reports: dict[str, dict[str, Any]] = field(default_factory=dict)
+    reports: dict[str, messages.ReportEnvelope] = field(default_factory=dict)
     health: dict[str, TopicHealth] = field(default_factory=dict)
     link: str = "live"  # live | lost | regained
     regaining_since: float | None = None
@@ -63,7 +51,7 @@ class Provider:
     def last_seen(self) -> float:
         return max((h.last_seen for h in self.health.values()), default=self.first_seen)
 
-    def summary(self, now: float) -> dict[str, Any]:
+    def summary(self, now: float) -> messages.ProviderSummary:
         return {
             "id": str(self.id),
             "name": self.name,
@@ -93,9 +81,11 @@ class Providers:
     by_id: dict[uuid.UUID, Provider] = field(default_factory=dict)
 
     def default_config(self) -> LinkConfig:
-        return LinkConfig(self.comms_lost_timeout, self.regained_time)
+        """The console's own thresholds (Settings, checked there: they may be shorter than an operator may set)."""
+        return LinkConfig.model_construct(commsLostTimeout=self.comms_lost_timeout, regainedTime=self.regained_time,
+                                          policy="STOP_MISSION", regainedBehavior=0)
 
-    def seen(self, topic: str, source: uuid.UUID, report: dict[str, Any] | None, now: float, wall: float,
+    def seen(self, topic: str, source: uuid.UUID, report: messages.ReportEnvelope | None, now: float, wall: float,
              alive: bool, version: UmaaVersion | None = None, parent: uuid.UUID | None = None) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
         (disposed, or no writers). `version`: the UMAA version of the topic (a report, a command status or an ack).
@@ -127,9 +117,9 @@ class Providers:
             p.regaining_since = now
         return p, new
 
-    def tick(self, now: float) -> list[tuple[Provider, str]]:
+    def tick(self, now: float) -> list[tuple[Provider, ProviderEvent]]:
         """Advance link states; returns (provider, 'lost' | 'regained' | 'live') events."""
-        events: list[tuple[Provider, str]] = []
+        events: list[tuple[Provider, ProviderEvent]] = []
         for p in self.by_id.values():
             lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
             silent = now - p.last_seen() > lost_after

@@ -41,6 +41,7 @@ from sem_console.console.alarms import WATCHED
 from sem_console.console.clock import RecordingClock
 from sem_console.console.history import History
 from sem_console.console.hub import Hub
+from sem_console.core.messages import ReplayStatus, SnapshotMessage, replay_message
 from sem_console.recording.reader import (
     ALARM_ACKS,
     COMMANDS,
@@ -207,7 +208,7 @@ class Replayed(Protocol):
     quiet: bool  # True while seeking: state changes are not sent to clients (a snapshot follows)
 
     def reset(self) -> None: ...
-    def snapshot(self) -> dict[str, Any]: ...
+    def snapshot(self) -> SnapshotMessage: ...
     def apply(self, item: Played) -> None: ...
     def tick(self, now: float) -> None: ...
 
@@ -256,7 +257,7 @@ class Replay:
         self.clock.at = self.start
 
     # ---- control (the REST route) --------------------------------------------------------------
-    def status(self) -> dict[str, Any]:
+    def status(self) -> ReplayStatus:
         return {"file": self.path.name, "state": "playing" if self.playing else "paused", "speed": self.speed,
                 "position": self.position, "start": self.start, "end": self.end}
 
@@ -348,4 +349,4 @@ class Replay:
 
     def _broadcast(self) -> None:
         self._sent = asyncio.get_running_loop().time()
-        self.console.hub.publish({"type": "replay", "replay": self.status()})
+        self.console.hub.publish(replay_message(self.status()))

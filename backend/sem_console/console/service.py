@@ -13,7 +13,7 @@ import logging
 import time
 import uuid
 from collections import OrderedDict
-from collections.abc import Callable, Coroutine
+from collections.abc import Awaitable, Callable, Coroutine
 from dataclasses import asdict
 from typing import Any, NamedTuple, TypeVar
 
@@ -21,26 +21,48 @@ from pydantic import ValidationError
 from sqlalchemy.exc import SQLAlchemyError
 
 from sem_console.codec.decode import ReportItem, StatusItem
-from sem_console.comap.c2 import C2, FINAL, Task, TaskError
+from sem_console.comap.c2 import C2, FINAL, Task, TaskError, VehicleInfo
 from sem_console.comap.codec import BROADCAST, Header, Message
+from sem_console.comap.geo import Feature
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
 from sem_console.console.alarms import Alarm, Alarms
 from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
-from sem_console.console.hub import Hub
-from sem_console.console.providers import REPORTS, LinkConfig, Provider, Providers
+from sem_console.console.hub import Client, Hub
+from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
 from sem_console.console.sources import Source, open_source
+from sem_console.core import messages
 from sem_console.core.config import Settings, parse_imc_vehicles
-from sem_console.core.contract import LinkConfig as LinkConfigModel
+from sem_console.core.contract import LinkConfig
+from sem_console.core.messages import (
+    DatabaseState,
+    GatewayState,
+    ProviderDetail,
+    ProviderEvent,
+    ProviderSummary,
+    RecordingStatus,
+    ReportEnvelope,
+    ReportMessage,
+    ServerMessage,
+    SnapshotMessage,
+    alarms_message,
+    command_message,
+    database_message,
+    provider_message,
+    recording_message,
+    report_message,
+    silences_message,
+    thin_report_message,
+)
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.comap import TaskRow, WorldRow
 from sem_console.storage.commands import CommandRow
 from sem_console.storage.database import Database, Unavailable
-from sem_console.storage.models import AlarmShelfRecord, PlannedSilenceRecord
+from sem_console.storage.models import AlarmShelfRecord, AuditRecord, PlannedSilenceRecord, SeriesPoint, TrackPoint
 from sem_console.storage.notify import Listener
 from sem_console.versions.commands import Commanding
 
@@ -50,7 +72,6 @@ TICK = 0.2
 HELD_RETRY = 2.0  # seconds between database upkeeps (PostgreSQL): an outage's end found, held writes, the name's lock
 RESYNC_COMMANDS = 100  # the other stations' newest commands (and every unfinished one) read again after a reconnect
 EARLY_SESSIONS = 1000  # replay: sessions whose statuses came before their recorded command message, kept (the newest)
-ALARM_INPUTS = frozenset({"command", "transition", "provider"})  # messages after which the alarms are re-derived
 
 
 class Resynced(NamedTuple):
@@ -86,8 +107,7 @@ def stored_link_configs(rows: dict[str, Any]) -> dict[str, LinkConfig]:
         try:
             if not isinstance(stored, dict):
                 raise ValueError("not a JSON object")
-            model = LinkConfigModel.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
-            configs[vehicle] = LinkConfig(**model.model_dump())
+            configs[vehicle] = LinkConfig.model_validate({"policy": "STOP_MISSION", "regainedBehavior": 0, **stored})
         except (ValidationError, ValueError) as e:
             ignored.append(f"{vehicle} ({str(e).splitlines()[0]})")
     if ignored:
@@ -107,7 +127,7 @@ class Console:
         self.history = History(self.store.engine, self.source.retention_hours, replay=self.source.seeks)
         self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds, settings.ws_window_bytes, self.clock.monotonic)
         self.feed = Feed()  # what the gateways subscribe to
-        self.gateway_states: Callable[[], list[dict[str, Any]]] = lambda: []  # set by whoever runs the gateways
+        self.gateway_states: Callable[[], list[GatewayState]] = lambda: []  # set by whoever runs the gateways
         self.providers, self.commands = self._fresh_state()
         # replay: statuses and acks of a command not (yet) known, by session. Another station's command reaches the
         # recording console by the database's notification, which can come after the vehicle's first statuses (always
@@ -201,7 +221,7 @@ class Console:
                                                lambda rows: self._shared_link_config(provider, rows)))
             elif kind == "shelf":
                 if self.alarms.shared_shelf(dict(message["row"])):
-                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
+                    self._alarms_changed()
             elif kind == "silence":
                 self.alarms.shared_silence(dict(message["row"]))
                 self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
@@ -210,7 +230,7 @@ class Console:
                 station = message.get("console")
                 if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
                                                       float(message["at"]), station if isinstance(station, str) else None):
-                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
+                    self._alarms_changed()
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
         except Unavailable as e:  # away again, or this console has not found it back yet (its upkeep every 2 s): what
@@ -230,32 +250,27 @@ class Console:
         def apply(got: Resynced) -> None:
             for row in got.commands:
                 if row["console"] != self.station:
-                    self._emit({"type": "command", "command": self.commands.merge_shared(row).to_json()})
+                    self._emit(command_message(self.commands.merge_shared(row).to_json()))
             for provider_id in got.links:
                 self._shared_link_config(provider_id, got.links)
             self.alarms.reload_shared(got.shelves, got.silences)
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
             if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in got.acked.items()]):
-                self._emit({"type": "alarms", "alarms": self.alarms.active()})
+                self._alarms_changed()
             log.info("listening to the other consoles again: resynced from the database")
         await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
 
     def _shared_command(self, rows: list[CommandRow]) -> None:
         """Another station's command as stored (see Commands.merge_shared), to this console's clients."""
         if rows:
-            self._emit({"type": "command", "command": self.commands.merge_shared(rows[0]).to_json()})
+            self._emit(command_message(self.commands.merge_shared(rows[0]).to_json()))
 
     def _shared_link_config(self, provider_id: str, rows: dict[str, Any]) -> None:
         config = stored_link_configs({k: v for k, v in rows.items() if k == provider_id})
         p = self.providers.by_id.get(uuid.UUID(provider_id))
         if p is not None and provider_id in config:
             p.config = config[provider_id]
-            self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
-
-    @property
-    def replay(self) -> Replay | None:
-        """The playback (api/routes/replay.py); None live."""
-        return self.source.replay
+            self._provider_event(p, "configured")
 
     def _heard(self, provider_id: uuid.UUID) -> float | None:
         """When a vehicle was last heard, while its link is up (None: never heard, or lost)."""
@@ -350,7 +365,7 @@ class Console:
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(self._maintained)
         for p, event in self.providers.tick(now):
-            self._emit({"type": "provider", "event": event, "provider": p.summary(now)})
+            self._provider_event(p, event, now)
         self.commands.tick(now, self._heard)
         self._database_changed(now)
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
@@ -365,7 +380,7 @@ class Console:
             self._apply_name(item.provider_id, item.name)
         elif isinstance(item, RecordedAck):
             if self.alarms.acknowledged_elsewhere(item.key, item.by, item.at, item.station):
-                self._emit({"type": "alarms", "alarms": self.alarms.active()})
+                self._alarms_changed()
             else:  # derived again, the alarm is not (or no longer) in the active set at that instant
                 log.info("a recorded acknowledgement of alarm %s matches no unacknowledged alarm of the replay", item.key)
         elif isinstance(item, StatusItem):
@@ -403,14 +418,14 @@ class Console:
             p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version,
                                          it.parent)
             if new:
-                self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+                self._provider_event(p, "appeared", now)
             elif p.version_changed:
                 self._version_changed(p, now)
             if it.report is not None:
                 alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
                 self.reports_applied += 1
                 pid = str(it.source)
-                message = {"type": "report", "providerId": pid, "topic": it.topic, "report": p.reports[it.topic]}
+                message = report_message(pid, it.topic, p.reports[it.topic])
                 if not self.quiet:
                     self.hub.publish(message, key=(pid, it.topic), thin=_thin(message))
                     self.feed.publish(message)
@@ -431,7 +446,7 @@ class Console:
             self.history.on_gps(it.source, it.received_at, it.report)
 
     @staticmethod
-    def _envelope(it: ReportItem) -> dict[str, Any] | None:
+    def _envelope(it: ReportItem) -> ReportEnvelope | None:
         if it.report is None:
             return None
         return {"report": it.report, "invalid": it.invalid, "receivedAt": it.received_at}
@@ -453,7 +468,7 @@ class Console:
         p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None,
                                      it.version, it.parent)
         if new:
-            self._emit({"type": "provider", "event": "appeared", "provider": p.summary(now)})
+            self._provider_event(p, "appeared", now)
         elif p.version_changed:
             self._version_changed(p, now)
         if it.sample is not None:
@@ -464,7 +479,7 @@ class Console:
         (a summary the dashboard applies as it does a rename's)."""
         p.version_changed = False
         log.info("vehicle %s now speaks UMAA %s", str(p.id)[:8], p.umaa_version)
-        self._emit({"type": "provider", "event": "configured", "provider": p.summary(now)})
+        self._provider_event(p, "configured", now)
 
     def _command_status(self, it: StatusItem) -> None:
         """A status or ack sample (not a dispose) to the command it answers, if this console follows it."""
@@ -490,7 +505,7 @@ class Console:
                 "counters": {**ep.counters, "refusedWorldModels": self.c2.refused_world_models} if ep else {},
                 "vehicles": [v.to_json() for v in self.c2.vehicles.values()]}
 
-    def _emit(self, message: dict[str, Any]) -> None:
+    def _emit(self, message: ServerMessage) -> None:
         if not self.quiet:
             self.hub.publish(message)
             self.feed.publish(message)
@@ -500,39 +515,49 @@ class Console:
         if message["type"] == "command" and self.recorder.active:
             followed = uuid.UUID(message["command"]["sessionId"]) in self.commands.by_session
         self.recorder.on_message(message, followed)
-        if message["type"] in ALARM_INPUTS:
-            changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"])) if "command" in message else None
+        if message["type"] == "command" or message["type"] == "transition":  # the alarms are re-derived after these
+            changed = self.commands.by_session.get(uuid.UUID(message["command"]["sessionId"]))
             self._update_alarms([changed] if changed is not None and changed.session_id not in self._others else [])
+        elif message["type"] == "provider":
+            self._update_alarms([])
+
+    def _provider_event(self, p: Provider, event: ProviderEvent, now: float | None = None) -> None:
+        """Send the vehicle's summary with what happened to it (`now`: monotonic seconds, default the clock's)."""
+        self._emit(provider_message(event, p.summary(self.clock.monotonic() if now is None else now)))
+
+    def _alarms_changed(self) -> None:
+        """Send the active alarm set (it changed)."""
+        self._emit(alarms_message(self.alarms.active()))
 
     def _update_alarms(self, changed: list[Command] | None = None) -> None:
         """Re-derive the alarms (looking again at the `changed` commands); publish the set when it changed."""
         if self.closing:  # shutting down: the database closes
             return
         if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error):
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
         if self.alarms.silences_changed:
             self.alarms.silences_changed = False
-            self._emit({"type": "silences", "silences": self.alarms.planned_silences()})
+            self._emit(silences_message(self.alarms.planned_silences()))
 
     def acknowledge(self, alarm_id: int, operator: str | None) -> Alarm | None:
         """An operator acknowledges an alarm of the active set (None: there is none with that id)."""
         before = self.alarms.active()
         alarm = self.alarms.acknowledge(alarm_id, operator, self.clock.wall(), self.station)
         if alarm is not None and self.alarms.active() != before:
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
         return alarm
 
     def shelve(self, alarm_id: int, reason: str, minutes: float, operator: str | None) -> Alarm | None:
         """An operator shelves an alarm of the active set for `minutes` (None: there is none with that id)."""
         alarm = self.alarms.shelve(alarm_id, reason, minutes * 60, operator, self.clock.wall(), self.station)
         if alarm is not None:
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
         return alarm
 
     def unshelve(self, alarm_id: int, operator: str | None) -> Alarm | None:
         alarm = self.alarms.unshelve(alarm_id, operator, self.clock.wall())
         if alarm is not None:
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
         return alarm
 
     def plan_silence(self, p: Provider, until: float, reason: str, operator: str | None) -> None:
@@ -553,12 +578,12 @@ class Console:
                                   "sessionId": alarm.session_id, "ackedAt": alarm.acked_at, "ackedBy": alarm.acked_by,
                                   "station": station})
 
-    def _recording_changed(self, status: dict[str, Any]) -> None:
+    def _recording_changed(self, status: RecordingStatus) -> None:
         """From any thread: the recording started, stopped, rolled over or failed."""
         loop = self._loop
         if loop is not None:
             try:
-                loop.call_soon_threadsafe(self.hub.publish, {"type": "recording", "recording": status})
+                loop.call_soon_threadsafe(self.hub.publish, recording_message(status))
                 loop.call_soon_threadsafe(self._update_alarms)  # a failed recording is an alarm
             except RuntimeError:  # the loop has closed (shutdown)
                 pass
@@ -567,17 +592,17 @@ class Console:
     def provider(self, provider_id: uuid.UUID) -> Provider | None:
         return self.providers.by_id.get(provider_id)
 
-    def provider_detail(self, p: Provider, now: float) -> dict[str, Any]:
+    def provider_detail(self, p: Provider, now: float) -> ProviderDetail:
         return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
-    def selected_report(self, provider_id: uuid.UUID) -> dict[str, Any] | None:
+    def selected_report(self, provider_id: uuid.UUID) -> ReportMessage | None:
         """The vehicle's latest GPSReport as a report message, satellites and all (a client has just selected it: the
         reports it was sent of it were thin), None when it has none or is unknown."""
         p = self.providers.by_id.get(provider_id)
         env = p.reports.get("GPSReport") if p is not None else None
-        return None if env is None else {"type": "report", "providerId": str(provider_id), "topic": "GPSReport", "report": env}
+        return None if env is None else report_message(str(provider_id), "GPSReport", env)
 
-    def first_screen_detail(self, p: Provider, now: float) -> dict[str, Any]:
+    def first_screen_detail(self, p: Provider, now: float) -> ProviderDetail:
         """A vehicle as the snapshot has it: its GPSReport without its satellites, which only the selected vehicle's
         panel draws (it asks GET /api/providers/{id}); 40 satellites of each of 50 vehicles were most of a snapshot."""
         detail = self.provider_detail(p, now)
@@ -586,12 +611,11 @@ class Console:
             detail["reports"] = {**detail["reports"], "GPSReport": _without_satellites(gps)}
         return detail
 
-    def database_state(self) -> dict[str, Any] | None:
+    def database_state(self) -> DatabaseState | None:
         """The database's reach, for the clients (None in a replay: its own temporary file)."""
         if self.source.read_only:
             return None
-        store = self.store
-        return {"unavailableSince": store.unavailable_since, "writesHeld": store.held, "writesDropped": store.dropped}
+        return self.database_reach()
 
     def _database_changed(self, now: float) -> None:
         """A `database` message when the database went away or came back (at the tick that finds it: the banner within
@@ -604,9 +628,9 @@ class Console:
                 state["writesHeld"] == held or now - sent < 1.0):
             return
         self._database_sent = (state["unavailableSince"], state["writesHeld"], state["writesDropped"], now)
-        self._emit({"type": "database", "database": state})
+        self._emit(database_message(state))
 
-    def snapshot(self) -> dict[str, Any]:
+    def snapshot(self) -> SnapshotMessage:
         now = self.clock.monotonic()
         return {
             "type": "snapshot", "consoleId": str(self.id), "serverTime": self.clock.wall(),
@@ -639,9 +663,9 @@ class Console:
     def set_link_config(self, p: Provider, config: LinkConfig) -> None:
         """A vehicle's link thresholds and comms-lost configuration, kept in the database; link health
         follows the new thresholds from the next tick."""
-        self.store.set_link_config(str(p.id), config.to_json())
+        self.store.set_link_config(str(p.id), dict(config.to_json()))
         p.config = config
-        self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
+        self._provider_event(p, "configured")
 
     def names(self) -> dict[str, str]:
         """provider GUID string -> the vehicle's name: the one set from the dashboard (stored, shared), else
@@ -719,9 +743,9 @@ class Console:
         p = self.providers.by_id.get(provider_id)
         if p is not None:
             p.name = name
-            self._emit({"type": "provider", "event": "configured", "provider": p.summary(self.clock.monotonic())})
+            self._provider_event(p, "configured")
         if any(a.provider_id == key for a in self.alarms.open.values()):
-            self._emit({"type": "alarms", "alarms": self.alarms.active()})
+            self._alarms_changed()
 
     def issue(self, commanding: Commanding, provider_id: uuid.UUID, state: str | None, operator: str | None) -> Command:
         """A command to a vehicle, as its version commands it (`commanding`: versions/commands.py), addressed to its
@@ -729,16 +753,132 @@ class Console:
         p = self.providers.by_id.get(provider_id)
         return self.commands.issue(commanding, provider_id, state, operator, p.parent if p is not None else None)
 
+    # ---- what the API asks of the console (api/routes call these, never the console's parts) ------------------------
+    def wall_time(self) -> float:
+        """UTC seconds now, as the console's clock has it (a replay's: the instant shown)."""
+        return self.clock.wall()
 
-def _thin(message: dict[str, Any]) -> dict[str, Any] | None:
+    def provider_summaries(self) -> list[ProviderSummary]:
+        now = self.clock.monotonic()
+        return [p.summary(now) for p in self.providers.by_id.values()]
+
+    def detail(self, p: Provider) -> ProviderDetail:
+        """A vehicle with its latest reports, satellites and all."""
+        return self.provider_detail(p, self.clock.monotonic())
+
+    def silent_for(self, p: Provider) -> float:
+        """Seconds since the vehicle was last heard."""
+        return self.clock.monotonic() - p.last_seen()
+
+    async def command(self, session_id: uuid.UUID) -> Command | None:
+        """A command of this console's memory or of the database, read in a worker thread (None: none has that
+        session)."""
+        return await self.commands.get(session_id)
+
+    async def take_over(self, session_id: uuid.UUID) -> Command | None:
+        """Another station's running command taken into this console's care (Commands.take_over)."""
+        return await self.commands.take_over(session_id)
+
+    def cancel(self, session_id: uuid.UUID, operator: str | None) -> Command:
+        """Cancel a command (CommandError: it cannot be)."""
+        return self.commands.cancel(session_id, operator)
+
+    async def command_history(self, limit: int, offset: int, provider_id: uuid.UUID | None) -> list[messages.Command]:
+        """Newest first, from the database, read in a worker thread."""
+        return await asyncio.to_thread(self.commands.history, limit, offset, provider_id)
+
+    def export_commands(self, provider_id: uuid.UUID | None, since: float | None, until: float | None) -> list[Command]:
+        """The commands created in [since, until] (to `provider_id` when given), oldest first; blocking (a worker
+        thread's)."""
+        rows = self.store.export_commands(None if provider_id is None else str(provider_id), since, until)
+        return [self.commands.from_row(r) for r in rows]
+
+    def active_alarms(self) -> list[messages.Alarm]:
+        return self.alarms.active()
+
+    def shelved(self, alarm_id: int) -> bool | None:
+        """Whether the alarm of the active set is shelved (None: there is none with that id)."""
+        alarm = next((a for a in self.alarms.open.values() if a.id == alarm_id), None)
+        return None if alarm is None else alarm.key in self.alarms.shelves
+
+    def planned_silences(self) -> list[messages.PlannedSilence]:
+        return self.alarms.planned_silences()
+
+    async def has_history(self, provider_id: uuid.UUID) -> bool:
+        return await self.history.has(provider_id)
+
+    async def track(self, provider_id: uuid.UUID, since: float | None, until: float | None) -> list[TrackPoint]:
+        return await self.history.track(provider_id, since, until)
+
+    async def series(self, provider_id: uuid.UUID, since: float | None, until: float | None) -> list[SeriesPoint]:
+        return await self.history.series(provider_id, since, until)
+
+    def database_reach(self) -> DatabaseState:
+        """Whether the database can be reached and what is held for it (a replay: its own file, always reached)."""
+        store = self.store
+        return {"unavailableSince": store.unavailable_since, "writesHeld": store.held, "writesDropped": store.dropped}
+
+    async def audit_trail(self, limit: int, offset: int) -> list[AuditRecord]:
+        """The audit trail, newest first, read in a worker thread."""
+        return await asyncio.to_thread(self.store.audit, limit, offset)
+
+    def add_audit(self, entry: dict[str, Any]) -> None:
+        self.store.add_audit(entry)
+
+    def recording(self) -> Recorder:
+        """The recorder (its start, stop, status and files)."""
+        return self.recorder
+
+    def playback(self) -> Replay | None:
+        """A replay's playback (its controls and status); None live."""
+        return self.source.replay
+
+    def comap_linked(self) -> bool:
+        """CoMap is on: the console's IMC node is open."""
+        return self.imc is not None
+
+    def world_model(self) -> dict[str, Any]:
+        return self.c2.world_model()
+
+    def put_world_model(self, features: list[Feature]) -> dict[str, Any]:
+        return self.c2.put_world_model(features)
+
+    def tasks(self) -> list[Task]:
+        """Every CoMap task, newest first."""
+        return sorted(self.c2.tasks.values(), key=lambda t: t.created_at, reverse=True)
+
+    def task(self, task_id: int) -> Task | None:
+        return self.c2.tasks.get(task_id)
+
+    async def assign_task(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None,
+                          sensor: str, resolution: float, deadline: float | None, point: dict[str, float] | None) -> Task:
+        """Plan a CoMap task (C2.plan) and send it (`assign`); TaskError: it cannot be."""
+        return await self.assign(self.c2.plan(kind, vehicle, operator, feature_id=feature_id, sensor=sensor,
+                                              resolution=resolution, deadline=deadline, point=point))
+
+    def synch(self, task_id: int, action: str) -> Task:
+        return self.c2.synch(task_id, action)
+
+    def capabilities_of(self, provider_id: uuid.UUID) -> VehicleInfo | None:
+        return self.c2.capabilities_of(provider_id)
+
+    def attach_client(self, send: Callable[[str], Awaitable[None]], batch: bool, ack: bool) -> Client:
+        """A WebSocket client, its snapshot first."""
+        return self.hub.attach(send, self.snapshot(), batch=batch, ack=ack)
+
+    def detach_client(self, client: Client) -> None:
+        self.hub.detach(client)
+
+
+def _thin(message: ReportMessage) -> ReportMessage | None:
     """A GPSReport message without its satellites (`partial`), for the clients that draw another vehicle's: 40 satellites
     of each of 250 vehicles were two thirds of every client's bytes. None for any other report, or one without any."""
     env = message["report"]
     if message["topic"] != "GPSReport" or not env["report"].get("satellites"):
         return None
-    return {**message, "partial": True, "report": _without_satellites(env)}
+    return thin_report_message(message, _without_satellites(env))
 
 
-def _without_satellites(env: dict[str, Any]) -> dict[str, Any]:
+def _without_satellites(env: ReportEnvelope) -> ReportEnvelope:
     """A GPSReport's envelope with an empty satellite list (numberSatellitesInView and the rest as sent)."""
     return {**env, "report": {**env["report"], "satellites": []}}

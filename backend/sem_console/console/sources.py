@@ -23,6 +23,7 @@ from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem, Tap
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
+from sem_console.core.messages import ReplayStatus
 from sem_console.dds.bus import Bus, wait_for_acks
 from sem_console.dds.topics import AnySem
 from sem_console.storage.database import Database
@@ -104,7 +105,7 @@ class Source(Protocol):
         """The input's counters for /api/metrics."""
         ...
 
-    def status(self) -> dict[str, Any] | None:
+    def status(self) -> ReplayStatus | None:
         """The snapshot's `replay` field: the playback (None live)."""
         ...
 
@@ -186,7 +187,7 @@ class DdsSource:
             "reportWindowWaits": ingest.window_waits if ingest else 0,
         }
 
-    def status(self) -> dict[str, Any] | None:
+    def status(self) -> ReplayStatus | None:
         return None
 
     def _start_sim(self) -> None:
@@ -292,5 +293,5 @@ class RecordingSource:
             "reportWindowWaits": 0,
         }
 
-    def status(self) -> dict[str, Any] | None:
+    def status(self) -> ReplayStatus | None:
         return self.replay.status() if self.replay else None

@@ -10,6 +10,12 @@ from __future__ import annotations
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic.alias_generators import to_camel
+from sqlmodel import SQLModel
+from sqlmodel._compat import SQLModelConfig
+
+from sem_console.core import messages
+from sem_console.storage.models import CommandHandled, CommandIssued, TransitionBase
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
 LinkState = Literal["live", "lost", "regained"]
@@ -23,6 +29,11 @@ class StrictModel(BaseModel):
     """A model of the console's contract: an unknown field is an error."""
 
     model_config = ConfigDict(extra="forbid")
+
+
+# a model of the contract derived from a base of storage/models/ (the shape declared once): its snake_case fields
+# in camelCase, an unknown field an error
+CAMEL = SQLModelConfig(extra="forbid", alias_generator=to_camel, populate_by_name=True)
 
 
 class TopicHealth(StrictModel):
@@ -51,6 +62,10 @@ class LinkConfig(StrictModel):
             raise ValueError("Input should be a number")
         return v
 
+    def to_json(self) -> messages.LinkConfig:
+        return {"commsLostTimeout": self.commsLostTimeout, "regainedTime": self.regainedTime, "policy": self.policy,
+                "regainedBehavior": self.regainedBehavior}
+
 
 class ProviderSummary(StrictModel):
     id: str = Field(description="the provider's source GUID as a UUID string")
@@ -66,48 +81,25 @@ class ProviderSummary(StrictModel):
     topics: dict[str, TopicHealth]
 
 
-class Transition(StrictModel):
-    seq: int = Field(description="1-based position in the command's history")
-    status: str
-    reason: str
-    logMessage: str
-    violation: str | None = Field(description="why this transition breaks the command state machine (its ICD's figure: "
-                                              "3.0.1's Figure 4, 6.0's Figure 14), or null")
-    providerTime: float | None = Field(description="the status sample's timeStamp, UTC seconds")
-    receivedAt: float
+class Transition(TransitionBase):
+    model_config = CAMEL
 
 
-class Command(StrictModel):
-    sessionId: str
+class _CommandStatus(SQLModel):
+    status: str | None = Field(description="the last commandStatus, null before ISSUED")
+    terminal: bool
+
+
+class Command(CommandHandled, _CommandStatus, CommandIssued):
+    model_config = CAMEL
     service: Literal["GPSFix", "InertialSensor"]
-    providerId: str
     state: Literal[InsStateName, InsCommandName] | None = Field(description=(
         "the commanded INS state (InertialSensor only), a literal of its vehicle's UMAA version: 3.0.1, OFF, ON or "
         "RESTARTING; 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN"))
-    operator: str | None
-    createdAt: float
-    status: str | None = Field(description="the last commandStatus, null before ISSUED")
-    terminal: bool
-    unanswered: bool = Field(description="no ISSUED within the unanswered timeout")
-    cancelRequested: bool
-    canceledBy: str | None = Field(description="the operator who canceled it (null: no sign-in, or the console's shutdown)")
-    canceledOn: str | None = Field(None, description="the console station its cancel was asked on (its --console-name); "
-                                                     "null: not canceled, or before stations were recorded with a cancel")
-    canceledAt: float | None = Field(None, description="when its cancel was asked, UTC seconds")
-    cancelCause: Literal["operator", "shutdown"] | None = Field(None, description=(
-        "why it was cancelled: operator, an operator asked it (canceledBy, when signed in); shutdown, the console station "
-        "canceledOn cancelled it as it stopped (its Consumer Shutdown Sequence; canceledBy null). Null: not cancelled, "
-        "or cancelled before the cause was recorded"))
-    closedUnheard: Literal["heard", "bound"] | None = Field(None, description=(
-        "a canceled command the vehicle never answered (no status at all), ended by the console: heard, the vehicle was "
-        "heard again for the unanswered timeout without answering it (it never heard the command); bound, the vehicle "
-        "was not heard within --cancel-unheard-bound of the cancel. Such a command is terminal with a null status"))
-    closedAt: float | None = Field(None, description="when the console ended it so (closedUnheard), UTC seconds")
-    ackedAt: float | None = Field(description="when the provider first acknowledged it (its CommandAckReport, published as it "
-                                                  "starts to process the command), UTC seconds")
-    cleanedUp: bool
-    console: str | None = Field(None, description="the console station that issued it (its --console-name); null: a "
-                                            "command of a release before station names")
+    cancel_cause: Literal["operator", "shutdown"] | None = Field(
+        None, description=CommandHandled.model_fields["cancel_cause"].description)
+    closed_unheard: Literal["heard", "bound"] | None = Field(
+        None, description=CommandHandled.model_fields["closed_unheard"].description)
     violations: list[str]
     transitions: list[Transition]
 

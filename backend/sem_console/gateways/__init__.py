@@ -10,7 +10,8 @@ from __future__ import annotations
 import logging
 import time
 from collections import deque
-from typing import Any
+
+from sem_console.core.messages import GatewayState
 
 log = logging.getLogger("sem-console.gateways")
 RATE_WINDOW = 5.0  # seconds the messages-per-second figure averages over
@@ -52,7 +53,7 @@ class Stats:
         span = min(RATE_WINDOW, max(now - self.started, 1.0))
         return round(sum(n for _, n in self._recent) / span, 1)
 
-    def state(self) -> dict[str, Any]:
+    def state(self) -> GatewayState:
         return {"name": self.name, "enabled": self.enabled, "endpoint": self.endpoint,
                 "messagesOut": self.messages_out, "messagesPerSecond": self.per_second() if self.enabled else 0.0,
                 "lastError": self.last_error, "lastErrorAt": self.last_error_at, "counters": dict(self.counters)}

@@ -5,10 +5,10 @@ from __future__ import annotations
 import asyncio
 import contextlib
 from collections.abc import Callable
-from typing import Any
 
 from sem_console.console.feed import Feed
 from sem_console.core.config import Settings
+from sem_console.core.messages import GatewayState, ServerMessage, gateways_message
 from sem_console.gateways.aspn.gateway import AspnGateway
 from sem_console.gateways.jaus.gateway import JausGateway
 
@@ -21,21 +21,21 @@ class Gateways:
         self.jaus = JausGateway(feed, settings.jaus_port, settings.jaus_subsystem, settings.jaus_host or settings.host)
         self._task: asyncio.Task[None] | None = None
 
-    def states(self) -> list[dict[str, Any]]:
+    def states(self) -> list[GatewayState]:
         return [self.aspn.state(), self.jaus.state()]
 
-    async def start(self, publish: Callable[[dict[str, Any]], None]) -> None:
+    async def start(self, publish: Callable[[ServerMessage], None]) -> None:
         await self.jaus.start()
         if self.aspn.enabled or self.jaus.stats.enabled:
             self._task = asyncio.get_running_loop().create_task(self._report(publish))
 
-    async def _report(self, publish: Callable[[dict[str, Any]], None]) -> None:
-        last: list[dict[str, Any]] | None = None
+    async def _report(self, publish: Callable[[ServerMessage], None]) -> None:
+        last: list[GatewayState] | None = None
         while True:
             await asyncio.sleep(STATE_PERIOD)
             states = self.states()
             if states != last:
-                publish({"type": "gateways", "gateways": states})
+                publish(gateways_message(states))
                 last = states
 
     async def stop(self) -> None:

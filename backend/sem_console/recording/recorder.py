@@ -49,6 +49,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 from sem_console import __version__
 from sem_console.core.contract import CommandMessage, ProviderMessage, TransitionMessage
+from sem_console.core.messages import RecordingStatus
 from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.recording.mcap_writer import McapWriter
 from sem_console.recording.reader import ALARM_ACKS, COMMANDS, INSTANCES, NAMES
@@ -216,7 +217,7 @@ class Recorder:
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
     def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
-                 on_change: Callable[[dict[str, Any]], None] | None = None, station: str | None = None,
+                 on_change: Callable[[RecordingStatus], None] | None = None, station: str | None = None,
                  names: Callable[[], Mapping[str, str]] | None = None) -> None:
         self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
         self.station = station  # the console's name, in each file (the commands' channel)
@@ -242,7 +243,7 @@ class Recorder:
         """One take of a topic (ingest.Tap): one queue item, however many samples."""
         self._put((sem, samples, received_ns, len(samples)))
 
-    def on_message(self, message: dict[str, Any], followed: bool | None = None) -> None:
+    def on_message(self, message: Mapping[str, Any], followed: bool | None = None) -> None:
         """A console WebSocket message; commands, transitions and provider events are recorded. `followed`, for a
         command: whether this console follows it as its own (RecordedCommandMessage.followed)."""
         channel = _CHANNEL_OF_TYPE.get(message.get("type", ""))
@@ -263,7 +264,7 @@ class Recorder:
             buffer.append(item)
 
     # ---- control -----------------------------------------------------------------------
-    def start(self) -> dict[str, Any]:
+    def start(self) -> RecordingStatus:
         with self._lock:
             if self.active:
                 return self.status()
@@ -288,7 +289,7 @@ class Recorder:
         self._changed()
         return self.status()
 
-    def stop(self, timeout: float = 10.0) -> dict[str, Any]:
+    def stop(self, timeout: float = 10.0) -> RecordingStatus:
         with self._lock:
             thread = self._thread
             if self.active:
@@ -301,7 +302,7 @@ class Recorder:
         self._changed()
         return self.status()
 
-    def status(self) -> dict[str, Any]:
+    def status(self) -> RecordingStatus:
         f = self._file
         state = "recording" if self.active else "failed" if self.error else "off"
         return {"state": state, "directory": str(self.directory), "file": f.path.name if f else None,

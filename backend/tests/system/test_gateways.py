@@ -692,8 +692,8 @@ def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
 
 
 def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> None:
-    from sem_console.console.providers import LinkConfig
     from sem_console.console.service import stored_link_configs
+    from sem_console.core.contract import LinkConfig
 
     good = {"commsLostTimeout": 2.5, "regainedTime": 1, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
     rows = {"a": good, "old": {"commsLostTimeout": 4, "regainedTime": 2},  # a row from before the policy: its defaults
@@ -702,7 +702,8 @@ def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> 
             "extra": {**good, "colour": "red"}, "list": [1, 2], "not json": "{oops"}
     with caplog.at_level("WARNING", logger="sem-console"):
         configs = stored_link_configs(rows)
-    assert configs == {"a": LinkConfig(2.5, 1.0, "CONTINUE_MISSION", 3), "old": LinkConfig(4.0, 2.0)}
+    assert configs == {"a": LinkConfig(commsLostTimeout=2.5, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=3),
+                       "old": LinkConfig(commsLostTimeout=4.0, regainedTime=2.0, policy="STOP_MISSION", regainedBehavior=0)}
     warnings = [r for r in caplog.records if r.levelname == "WARNING"]
     assert len(warnings) == 1 and all(
         k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json")

@@ -122,7 +122,8 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     a.tick(cmd.issued_by_deadline + 0.1, lambda _p: last_heard)
     assert cmd.unanswered
     store.set_canceled(str(cmd.session_id), "bob", "bravo", a.clock.wall())  # bob cancels it on station bravo
-    assert a.shared(cmd.session_id) is cmd and (cmd.canceled_by, cmd.canceled_on) == ("bob", "bravo")
+    assert a.merge_shared(store.commands(session_id=str(cmd.session_id))[0]) is cmd
+    assert (cmd.canceled_by, cmd.canceled_on) == ("bob", "bravo")
     a.tick(0, lambda _p: last_heard)  # still lost
     back = a.clock.monotonic() + 0.1
     a.tick(0, lambda _p: back)  # its first sample back
@@ -145,7 +146,7 @@ def test_another_station_s_cancel_never_answered_is_ended_here_and_only_once(tmp
     cmd = alpha.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     alpha.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
     alpha.cancel(cmd.session_id, "alice")
-    shown = charlie.shared(cmd.session_id)  # charlie hears of the cancel
+    shown = charlie.merge_shared(store.commands(session_id=str(cmd.session_id))[0])  # charlie hears of the cancel
     assert shown is not None and shown.cancel_requested and not shown.terminal
     bravo = station("bravo")  # started after the cancel
     assert set(bravo.others) == set(charlie.others) == {cmd.session_id}

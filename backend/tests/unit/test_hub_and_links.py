@@ -12,7 +12,8 @@ import pytest
 from sem_console.console import hub as hub_module
 from sem_console.console.feed import Feed
 from sem_console.console.hub import Client, Hub
-from sem_console.console.providers import LinkConfig, Providers
+from sem_console.console.providers import Providers
+from sem_console.core.contract import LinkConfig
 
 
 def test_hub_keeps_order_conflates_reports_and_drops_a_stalled_client() -> None:
@@ -206,7 +207,8 @@ def test_the_window_reopens_on_the_acks_of_this_socket_across_a_resync() -> None
 
 def test_link_thresholds_are_per_vehicle() -> None:
     slow = uuid.uuid4()
-    links = Providers(comms_lost_timeout=1.0, regained_time=1.0, configs={str(slow): LinkConfig(5.0, 1.0, "CONTINUE_MISSION", 2)},
+    links = Providers(comms_lost_timeout=1.0, regained_time=1.0, configs={str(slow): LinkConfig(
+        commsLostTimeout=5.0, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=2)},
                       jaus_subsystem=9)
     fast = uuid.uuid4()
     links.seen("GPSFixReport", fast, {"x": 1}, 0.0, 0.0, True)
@@ -216,7 +218,7 @@ def test_link_thresholds_are_per_vehicle() -> None:
     assert links.by_id[fast].summary(5.1)["linkConfig"] == {"commsLostTimeout": 1.0, "regainedTime": 1.0,
                                                              "policy": "STOP_MISSION", "regainedBehavior": 0}
     assert [links.by_id[x].summary(0)["jausId"] for x in (fast, slow)] == ["9.1.1", "9.1.2"]  # order of appearance
-    links.by_id[fast].config = LinkConfig(0.5, 3.0)
+    links.by_id[fast].config = LinkConfig(commsLostTimeout=0.5, regainedTime=3.0, policy="STOP_MISSION", regainedBehavior=0)
     links.seen("GPSFixReport", fast, {"x": 1}, 6.0, 6.0, True)
     links.seen("GPSFixReport", fast, {"x": 1}, 6.4, 6.4, True)
     assert links.tick(6.4) == []  # 0.5 s lost timeout: 0.4 s gaps keep regaining going

@@ -18,6 +18,7 @@ from sem_console.api.schemas import ComapStatus, ComapVehicle, SynchRequest, Tas
 from sem_console.comap.c2 import TaskError
 from sem_console.comap.codec import MAX_PAYLOAD, encode_payload
 from sem_console.comap.geo import Feature, GeoError, feature_from_geojson, world_model_message
+from sem_console.core import messages
 
 writes = APIRouter(tags=["CoMap"])
 reads = APIRouter(tags=["CoMap"])
@@ -50,7 +51,7 @@ def _features(body: WorldModelIn) -> list[Feature]:
 async def get_world_model(console: ConsoleDep) -> dict[str, Any]:
     """The world model the consoles on this database share: a GeoJSON FeatureCollection, `properties.featureId` and
     `properties.coverage` per feature."""
-    return console.c2.world_model()
+    return console.world_model()
 
 
 @writes.put("/api/worldmodel", response_model=WorldModel,
@@ -66,22 +67,22 @@ async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: Ope
     if size > MAX_PAYLOAD:
         raise HTTPException(status.HTTP_413_REQUEST_ENTITY_TOO_LARGE, f"the world model is {size} bytes of IMC payload; at most "
                                                                       f"{MAX_PAYLOAD} fit")
-    model = console.c2.put_world_model(features)
+    model = console.put_world_model(features)
     audit(status.HTTP_200_OK, f"worldmodel:{len(features)} features", operator)
     return model
 
 
 @reads.get("/api/tasks", response_model=list[Task])
-async def list_tasks(console: ConsoleDep) -> list[dict[str, Any]]:
+async def list_tasks(console: ConsoleDep) -> list[messages.Task]:
     """Every task of the consoles on this database (stored: kept across restarts), newest first, with its state,
     progress, quality and the station that assigned it."""
-    return [t.to_json() for t in sorted(console.c2.tasks.values(), key=lambda t: t.created_at, reverse=True)]
+    return [t.to_json() for t in console.tasks()]
 
 
 @reads.get("/api/tasks/{task_id}", response_model=Task, responses=UNKNOWN_TASK)
-async def get_task(console: ConsoleDep, task_id: int = TaskId) -> dict[str, Any]:
+async def get_task(console: ConsoleDep, task_id: int = TaskId) -> messages.Task:
     """One task, as the list has it."""
-    task = console.c2.tasks.get(task_id)
+    task = console.task(task_id)
     if task is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no task {task_id}")
     return task.to_json()
@@ -96,18 +97,18 @@ async def get_task(console: ConsoleDep, task_id: int = TaskId) -> dict[str, Any]
                         409: problem("a survey of a feature the world model does not have, or no free task id" + COMAP_OFF),
                         503: problem("the database cannot be reached: task ids are taken there"),
                         **JSON_BODY})
-async def assign_task(body: TaskRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
+async def assign_task(body: TaskRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> messages.Task:
     """Assign a SurveyTask (featureId, sensor, resolution, deadline) or a MoveTask (point, deadline) to a vehicle."""
-    if console.imc is None:
+    if not console.comap_linked():
         raise HTTPException(status.HTTP_409_CONFLICT, "CoMap is off: start the console with --imc-port")
     deadline = None
     if body.deadline is not None:
         d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=UTC)
         deadline = d.timestamp()
     try:
-        task = await console.assign(console.c2.plan(body.kind, body.vehicle, operator, feature_id=body.featureId,
-                                                    sensor=body.sensor, resolution=body.resolution, deadline=deadline,
-                                                    point=body.point.model_dump() if body.point else None))
+        task = await console.assign_task(body.kind, body.vehicle, operator, feature_id=body.featureId, sensor=body.sensor,
+                                         resolution=body.resolution, deadline=deadline,
+                                         point=body.point.model_dump() if body.point else None)
     except TaskError as e:
         raise HTTPException(e.status, str(e)) from None
     audit(status.HTTP_201_CREATED, f"task:{task.task_id}", operator)
@@ -119,11 +120,11 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
                  "the task has finished; or this console has no CoMap link to the task's vehicle (CoMap off, or the "
                  "vehicle not in its --imc-vehicles): the answer names the station that assigned it")})
 async def synch_task(body: SynchRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep,
-                     task_id: int = TaskId) -> dict[str, Any]:
+                     task_id: int = TaskId) -> messages.Task:
     """HOLD, RESUME or INTERRUPT the task's vehicle (IMC SynchAdmin), whichever station assigned the task: this
     console sends it when it has a CoMap link to the vehicle."""
     try:
-        task = console.c2.synch(task_id, body.action)
+        task = console.synch(task_id, body.action)
     except TaskError as e:
         raise HTTPException(e.status, str(e)) from None
     audit(status.HTTP_200_OK, f"task:{task_id}:{body.action}", operator)
@@ -140,7 +141,7 @@ async def comap_status(console: ConsoleDep) -> dict[str, Any]:
            responses={404: problem("the provider has no IMC system id and has not been seen on the bus")})
 async def provider_capabilities(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     """The vehicle's CoMap side: its IMC system id and the capabilities of its last VehicleCapabilities."""
-    info = console.c2.capabilities_of(provider_id)
+    info = console.capabilities_of(provider_id)
     if info is None:
         if console.provider(provider_id) is None:
             raise HTTPException(status.HTTP_404_NOT_FOUND, f"no provider {provider_id} has been seen or given an IMC id")

@@ -7,9 +7,8 @@ loop (tests/system/test_loop.py).
 
 from __future__ import annotations
 
-import asyncio
 import uuid
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, HTTPException, Query, status
 from fastapi.exceptions import RequestValidationError
@@ -21,6 +20,7 @@ from sem_console.api.schemas import Command, GpsFixRequest, InertialSensorReques
 from sem_console.console.alarms import vehicle_label
 from sem_console.console.commands import CommandError
 from sem_console.console.service import Console
+from sem_console.core import messages
 from sem_console.dds.topics import Service
 from sem_console.versions.commands import Commanding, commanding, refusal
 
@@ -41,7 +41,7 @@ CREATED: Responses = {201: {"description": "the command, published on the bus", 
 @writes.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
              responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep,
-                          audit: AuditDep) -> dict[str, Any]:
+                          audit: AuditDep) -> messages.Command:
     """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId.
     A UMAA 6.0 vehicle has no GPS fix service: 422."""
     c = reachable_commanding(console, provider_id, Service.GPS_FIX, None, ("path", "provider_id"), body.confirmLost)
@@ -53,7 +53,7 @@ async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: 
 @writes.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
              responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
 async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
-                              operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
+                              operator: OperatorDep, audit: AuditDep) -> messages.Command:
     """Command the inertial sensor with a state of the vehicle's UMAA version (its `umaaVersion`): 3.0.1, OFF, ON or
     RESTARTING (InertialSensorCommand); 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or
     TRANSFER_ALIGN (InertialSensorCommandType). A state of the other version: 422, naming the vehicle's version and its
@@ -77,7 +77,7 @@ def reachable_commanding(console: Console, provider_id: uuid.UUID, service: Serv
     if refused is not None or found is None:
         raise RequestValidationError([{"loc": where, "msg": refused, "type": "value_error"}])
     if p.link == "lost" and not confirm_lost:
-        silent = console.clock.monotonic() - p.last_seen()
+        silent = console.silent_for(p)
         raise HTTPException(status.HTTP_409_CONFLICT,
                             f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
                             "the command could run whenever it comes back; send confirmLost true to command it anyway")
@@ -87,14 +87,14 @@ def reachable_commanding(console: Console, provider_id: uuid.UUID, service: Serv
 @writes.delete("/api/commands/{session_id}", response_model=Command,
                responses={**UNKNOWN_COMMAND, 409: problem("the command has finished")})
 async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep,
-                         audit: AuditDep) -> dict[str, Any]:
+                         audit: AuditDep) -> messages.Command:
     """Cancel a running command, an UNANSWERED one too: the console disposes it, the provider answers CANCELED. The
     command stays in the history."""
-    if await console.commands.get(session_id) is None:
+    if await console.command(session_id) is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
-    await console.commands.take_over(session_id)  # another station's running command, cancelled from here
+    await console.take_over(session_id)  # another station's running command, cancelled from here
     try:
-        cmd = console.commands.cancel(session_id, operator)
+        cmd = console.cancel(session_id, operator)
     except CommandError as e:
         raise HTTPException(status.HTTP_409_CONFLICT, str(e)) from None
     audit(status.HTTP_200_OK, str(session_id), operator)
@@ -106,16 +106,16 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
                          "parameters": {"session_id": "$response.body#/0/sessionId"}}}}, **DATABASE_READ})
 async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset = 0,
                         provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
-                        ) -> list[dict[str, Any]]:
+                        ) -> list[messages.Command]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
-    return await asyncio.to_thread(console.commands.history, limit, offset, provider_id)
+    return await console.command_history(limit, offset, provider_id)
 
 
 @reads.get("/api/commands/{session_id}", response_model=Command, responses=UNKNOWN_COMMAND)
-async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+async def get_command(session_id: uuid.UUID, console: ConsoleDep) -> messages.Command:
     """One command with every status transition: from memory, or from the database once it is no longer among the
     running and newest finished ones."""
-    cmd = await console.commands.get(session_id)
+    cmd = await console.command(session_id)
     if cmd is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no command with sessionId {session_id}")
     return cmd.to_json()

@@ -6,7 +6,7 @@ from __future__ import annotations
 import asyncio
 import time
 import uuid
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, HTTPException, Query, Response, status
 
@@ -15,7 +15,7 @@ from sem_console.api.responses import JSON_BODY, Responses, problem
 from sem_console.api.routes.history import SINCE_DOC, IsoTime, epoch
 from sem_console.api.routes.providers import known_provider
 from sem_console.api.schemas import GatewayState, LinkConfig
-from sem_console.console.providers import LinkConfig as ProviderLinkConfig
+from sem_console.core import messages
 from sem_console.gateways.aspn.gateway import write_log
 
 reads = APIRouter(tags=["gateways"])
@@ -30,7 +30,7 @@ LCM_LOG: Responses = {
 
 
 @reads.get("/api/gateways", response_model=list[GatewayState])
-async def gateway_states(gateways: GatewaysDep) -> list[dict[str, Any]]:
+async def gateway_states(gateways: GatewaysDep) -> list[messages.GatewayState]:
     """Each gateway: on or off, where it sends, messages out (total and per second), last error, counters."""
     return gateways.states()
 
@@ -56,12 +56,12 @@ async def aspn_log(provider_id: uuid.UUID, console: ConsoleDep, gateways: Gatewa
 @writes.put("/api/providers/{provider_id}/link-config", response_model=LinkConfig,
             responses={404: problem("unknown provider"), **JSON_BODY})
 async def set_link_config(provider_id: uuid.UUID, body: LinkConfig, console: ConsoleDep, operator: OperatorDep,
-                          audit: AuditDep) -> dict[str, Any]:
+                          audit: AuditDep) -> messages.LinkConfig:
     """Set a vehicle's link thresholds (comms-lost timeout, regained time) and record its comms-lost policy and
     regained behaviour. Link health follows the new thresholds at once; the JAUS gateway reports them
     (ReportCommsLostConfiguration); the setting is kept in the console's database. Audited like a command. Returns
     the new configuration."""
     p = known_provider(console, provider_id)
-    console.set_link_config(p, ProviderLinkConfig(**body.model_dump()))
+    console.set_link_config(p, body)
     audit(status.HTTP_200_OK, None, operator)
     return p.config.to_json()

@@ -26,6 +26,7 @@ from sem_console.api.deps import ConsoleDep
 from sem_console.api.responses import DATABASE_READ, Responses, problem
 from sem_console.api.schemas import iso_only
 from sem_console.console.service import Console
+from sem_console.core import messages
 from sem_console.core.words import word
 from sem_console.storage.models import SeriesPoint, TrackPoint
 
@@ -81,7 +82,7 @@ Range = Annotated[TimeRange, Depends(time_range)]
 
 
 async def known(console: Console, provider_id: uuid.UUID) -> None:
-    if console.provider(provider_id) is None and not await console.history.has(provider_id):
+    if console.provider(provider_id) is None and not await console.has_history(provider_id):
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no provider {provider_id} on the bus nor in the history")
 
 
@@ -91,7 +92,7 @@ async def get_track(provider_id: uuid.UUID, console: ConsoleDep, when: Range) ->
     """The vehicle's track in time order: at most one point per second from its GPSFixReports, kept for
     the console's track retention (`--track-retention-hours`)."""
     await known(console, provider_id)
-    return await console.history.track(provider_id, when.since, when.until)
+    return await console.track(provider_id, when.since, when.until)
 
 
 @router.get("/api/providers/{provider_id}/series", response_model=list[SeriesPoint], responses=UNKNOWN_PROVIDER)
@@ -99,7 +100,7 @@ async def get_series(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -
     """The dashboard's chart values in time order: mean C/N0, satellites used and in view, at most one
     point per second from the vehicle's GPSReports."""
     await known(console, provider_id)
-    return await console.history.series(provider_id, when.since, when.until)
+    return await console.series(provider_id, when.since, when.until)
 
 
 # ---- exports --------------------------------------------------------------------------------
@@ -176,7 +177,7 @@ async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     with `<time>` (UTC), `<ele>` (altitude MSL, m) and `<desc>` (fix valid, GPS or INS position); course (degrees)
     and speed (m/s) as `<sem:course>` and `<sem:speed>` extensions."""
     await known(console, provider_id)
-    points = await console.history.track(provider_id, when.since, when.until)
+    points = await console.track(provider_id, when.since, when.until)
     p = console.provider(provider_id)
     body = await asyncio.to_thread(track_gpx, provider_id, p.name if p else None, points, p.umaa_version if p else None)
     return GpxResponse(body, headers=_attachment(_filename(provider_id, when, "gpx")))
@@ -189,7 +190,7 @@ async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     """The track as CSV, one row per point in time order, times UTC ISO 8601, with the vehicle's UMAA version
     (`umaa_version`; empty: a vehicle the console has not seen since it started) (a download)."""
     await known(console, provider_id)
-    points = await console.history.track(provider_id, when.since, when.until)
+    points = await console.track(provider_id, when.since, when.until)
     p = console.provider(provider_id)
     body = await asyncio.to_thread(track_csv, points, p.umaa_version if p else None)
     return CsvResponse(body, headers=_attachment(_filename(provider_id, when, "csv")))
@@ -202,7 +203,7 @@ COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "ope
                        "provider_time_utc", "received_utc", "umaa_version")
 
 
-def commands_csv(commands: Sequence[dict[str, Any]], versions: dict[str, str] | None = None) -> str:
+def commands_csv(commands: Sequence[messages.Command], versions: dict[str, str] | None = None) -> str:
     """One row per transition, the command's columns repeated; a command with no transition yet has one
     row with the transition columns empty. The transition's status and reason are also in the operator's words, as the
     dashboard says them (`core/words.py`); `versions`: the UMAA version each command was issued in, by its sessionId
@@ -216,7 +217,8 @@ def commands_csv(commands: Sequence[dict[str, Any]], versions: dict[str, str] | 
                     c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["cancelCause"],
                     c["closedUnheard"],
                     _utc(c["closedAt"]), c["cleanedUp"]]
-            for t in c["transitions"] or [None]:
+            transitions: list[messages.Transition | None] = [*c["transitions"]] or [None]
+            for t in transitions:
                 yield head + ([None] * 9 if t is None else
                               [t["seq"], t["status"], word("CommandStatusEnumType", t["status"]), t["reason"],
                                word("CommandStatusReasonEnumType", t["reason"]), t["logMessage"], t["violation"],
@@ -237,8 +239,7 @@ async def get_commands_csv(console: ConsoleDep, when: Range,
     state, statuses and reasons read. Times UTC ISO 8601; `since`/`until` select by the time the command was created
     (a download)."""
     def build() -> str:
-        rows = console.store.export_commands(None if provider_id is None else str(provider_id), when.since, when.until)
-        commands = [console.commands.from_row(r) for r in rows]
+        commands = console.export_commands(provider_id, when.since, when.until)
         return commands_csv([c.to_json() for c in commands],
                             {str(c.session_id): c.commanding.version for c in commands})
     body = await asyncio.to_thread(build)

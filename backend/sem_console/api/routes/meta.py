@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 from typing import Any
 
 from fastapi import APIRouter, HTTPException
@@ -24,11 +23,12 @@ async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     """The console itself: its id and station name, its DDS domain and network, whether commands and reads need a
     token, whether it has a chart or replays a recording, and its database's state. Always open, even with
     --auth-reads."""
+    reach = console.database_reach()
     return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
             "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
             "basemap": settings.basemap is not None, "replay": settings.replay is not None,
-            "consoleName": console.station, "databaseUnavailableSince": console.store.unavailable_since,
-            "databaseWritesHeld": console.store.held, "databaseWritesDropped": console.store.dropped,
+            "consoleName": console.station, "databaseUnavailableSince": reach["unavailableSince"],
+            "databaseWritesHeld": reach["writesHeld"], "databaseWritesDropped": reach["writesDropped"],
             "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers)}
 
 
@@ -61,7 +61,7 @@ async def audit_trail(console: ConsoleDep, limit: Limit = 100,
                       offset: Offset = 0) -> list[dict[str, Any]]:
     """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first. Refusals
     are bounded per client address and minute (--audit-refusals-per-minute), the trail by --audit-max-rows."""
-    return [entry_json(r) for r in await asyncio.to_thread(console.store.audit, limit, offset)]
+    return [entry_json(r) for r in await console.audit_trail(limit, offset)]
 
 
 @operator_router.get("/operator", response_model=Operator)

@@ -12,6 +12,7 @@ from sem_console.api.responses import JSON_BODY, problem
 from sem_console.api.schemas import ProviderDetail, ProviderSummary, VehicleName, VehicleNameShown
 from sem_console.console.providers import Provider
 from sem_console.console.service import Console
+from sem_console.core import messages
 
 router = APIRouter(prefix="/api/providers", tags=["providers"])
 writes = APIRouter(prefix="/api/providers", tags=["providers"])  # operator token, JSON body, audited
@@ -30,19 +31,18 @@ def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
 
 
 @router.get("", response_model=list[ProviderSummary])
-async def list_providers(console: ConsoleDep) -> list[dict[str, Any]]:
+async def list_providers(console: ConsoleDep) -> list[messages.ProviderSummary]:
     """Every provider seen on the bus: its id, name, link state and link configuration, JAUS id, and the age of its
     last sample per topic."""
-    now = console.clock.monotonic()
-    return [p.summary(now) for p in console.providers.by_id.values()]
+    return console.provider_summaries()
 
 
 @router.get("/{provider_id}", response_model=ProviderDetail, responses={
     200: {"description": "the provider with its latest reports", "links": PROVIDER_LINKS}, 404: problem("unknown provider")})
-async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
+async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> messages.ProviderDetail:
     """One provider as the list has it, plus its latest GPSReport (with every satellite), GPSFixReport,
     GPSFixStatusReport and InertialSensorReport (null before any)."""
-    return console.provider_detail(known_provider(console, provider_id), console.clock.monotonic())
+    return console.detail(known_provider(console, provider_id))
 
 
 @writes.put("/{provider_id}/name", response_model=VehicleNameShown, responses={404: problem("unknown provider"), **JSON_BODY})

@@ -18,6 +18,7 @@ from sem_console.api.auth import DEVICE_COOKIE, WS_PROTOCOL, AuthError, ws_token
 from sem_console.api.guard import refuse
 from sem_console.api.schemas import client_messages, ws_schema
 from sem_console.console.hub import dumps
+from sem_console.core.messages import error_message, pong_message
 
 router = APIRouter()
 
@@ -44,8 +45,8 @@ async def websocket(ws: WebSocket) -> None:
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
     # ?batch=1: the reports waiting when the sender is free go out as one JSON array; ?ack=1: the client acknowledges
     # the frames it has taken, and its reports wait at the console, conflated, beyond a window (the dashboard asks both)
-    client = console.hub.attach(ws.send_text, console.snapshot(), batch=ws.query_params.get("batch") == "1",
-                                ack=ws.query_params.get("ack") == "1")
+    client = console.attach_client(ws.send_text, batch=ws.query_params.get("batch") == "1",
+                                   ack=ws.query_params.get("ack") == "1")
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:
         assert client.task is not None
@@ -55,7 +56,7 @@ async def websocket(ws: WebSocket) -> None:
                 await asyncio.wait_for(ws.close(code=1013, reason="too far behind; reconnect"), timeout=1)
     finally:
         receiver.cancel()
-        console.hub.detach(client)
+        console.detach_client(client)
 
 
 async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
@@ -66,18 +67,18 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                 return
             text = message.get("text")
             if text is None:
-                client.push(json.dumps({"type": "error", "message": "bad message: send JSON text, not binary"}))
+                client.push(json.dumps(error_message("bad message: send JSON text, not binary")))
                 continue
             try:
                 msg = client_messages.validate_python(json.loads(text))
             except (ValueError, ValidationError) as e:
-                client.push(json.dumps({"type": "error", "message": f"bad message: {_short(e)}"}))
+                client.push(json.dumps(error_message(f"bad message: {_short(e)}")))
                 continue
             if msg.type == "ping":
-                client.push(json.dumps({"type": "pong", "serverTime": time.time()}))
+                client.push(json.dumps(pong_message(time.time())))
             elif msg.type == "ack" and not client.ack(msg.frames):
-                client.push(json.dumps({"type": "error", "message": f"bad message: ack of {msg.frames} frames, but "
-                                        f"{client.sent_frames} were sent on this socket: acknowledge the frames received"}))
+                client.push(json.dumps(error_message(f"bad message: ack of {msg.frames} frames, but {client.sent_frames} were "
+                                                     "sent on this socket: acknowledge the frames received")))
             elif msg.type == "select":
                 client.select(None if msg.providerId is None else str(msg.providerId))
                 if msg.providerId is not None and (report := console.selected_report(msg.providerId)) is not None:

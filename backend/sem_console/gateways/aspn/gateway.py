@@ -18,6 +18,7 @@ import threading
 import time
 import uuid
 from collections import deque
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -25,6 +26,7 @@ from typing import Any
 import lcm
 
 from sem_console.console.feed import Feed
+from sem_console.core.messages import GatewayState
 from sem_console.gateways import Stats
 from sem_console.gateways.aspn.encode import Encoder, encode, vehicle_key
 
@@ -116,7 +118,7 @@ class AspnGateway:
         self.lcm: lcm.LCM | None = None
         self._unsubscribe = None
         self._lock = threading.Lock()  # stats, encoder counters and recordings: written by the worker, read by the loop
-        self._queue: queue.Queue[tuple[dict[str, Any], int] | None] = queue.Queue(QUEUE_SIZE)
+        self._queue: queue.Queue[tuple[Mapping[str, Any], int] | None] = queue.Queue(QUEUE_SIZE)
         self._worker: threading.Thread | None = None
         if url is not None:
             self.lcm = open_lcm(url)
@@ -146,13 +148,13 @@ class AspnGateway:
             self._worker = None
         self.lcm = None  # LCM closes its sockets or log file when the object goes
 
-    def state(self) -> dict[str, Any]:
+    def state(self) -> GatewayState:
         with self._lock:
             out = self.stats.state()
             out["counters"].update({f"left out: {why}": n for why, n in self.encoder.skipped.items()})
         return out
 
-    def on_message(self, message: dict[str, Any]) -> None:
+    def on_message(self, message: Mapping[str, Any]) -> None:
         """On the event loop: queue the report for the worker, or drop and count it when the queue is full."""
         if message.get("type") != "report" or message.get("topic") not in TOPICS or self.lcm is None:
             return
@@ -170,7 +172,7 @@ class AspnGateway:
                 with self._lock:
                     self.stats.error(f"worker: {e!r}")
 
-    def _handle(self, message: dict[str, Any], now_us: int) -> None:
+    def _handle(self, message: Mapping[str, Any], now_us: int) -> None:
         envelope = message["report"]
         vehicle = uuid.UUID(message["providerId"])
         try:

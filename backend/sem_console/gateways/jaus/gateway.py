@@ -14,9 +14,11 @@ import math
 import struct
 import time
 import uuid
+from collections.abc import Mapping
 from typing import Any
 
 from sem_console.console.feed import Feed
+from sem_console.core.messages import GatewayState
 from sem_console.gateways import Stats
 from sem_console.gateways.jaus import judp
 from sem_console.gateways.jaus.judp import JausId, Malformed
@@ -153,11 +155,11 @@ class JausGateway(asyncio.DatagramProtocol):
         if self.transport is not None:
             self.transport.close()
 
-    def state(self) -> dict[str, Any]:
+    def state(self) -> GatewayState:
         return self.stats.state()
 
     # ---- the console's feed --------------------------------------------------------
-    def on_message(self, message: dict[str, Any]) -> None:
+    def on_message(self, message: Mapping[str, Any]) -> None:
         kind = message.get("type")
         if kind == "provider":
             p = message["provider"]
