@@ -47,11 +47,15 @@ async function answer<T>(call: Promise<Answer<T>>): Promise<T> {
     if (e instanceof DOMException && e.name === "AbortError") throw e;
     throw new ApiError(0, UNREACHABLE);
   }
-  if (!r.response.ok) {
-    const detail = (r.error as { detail?: unknown } | undefined)?.detail;
-    throw new ApiError(r.response.status, typeof detail === "string" ? detail : r.response.statusText);
-  }
+  if (!r.response.ok) throw refusal(r.response, r.error);
   return r.data as T;
+}
+
+/** A refusal as ApiError(status, the console's one-line `detail` from its answer's body), the status text when the
+ * body has none (not the console's: a proxy's page). */
+function refusal(response: Response, body: unknown): ApiError {
+  const detail = (body as { detail?: unknown } | null | undefined)?.detail;
+  return new ApiError(response.status, typeof detail === "string" ? detail : response.statusText);
 }
 
 const provider = (provider_id: string) => ({ path: { provider_id } });
@@ -150,7 +154,7 @@ export async function download(url: string, token: string | null): Promise<Blob>
   } catch {
     throw new ApiError(0, UNREACHABLE);
   }
-  if (!r.ok) throw new ApiError(r.status, r.statusText);
+  if (!r.ok) throw refusal(r, await r.json().catch(() => null));
   return r.blob();
 }
 

@@ -7,7 +7,7 @@ import type { ReactNode } from "react";
 import { afterEach, describe, expect, it, vi } from "vitest";
 import type { Task } from "../api/rest";
 import { DataContext } from "./hooks";
-import { useStoredTracks, useTasks, useWorldModel } from "./loaders";
+import { useStoredTracks, useTasks, useVehicleCapabilities, useWorldModel } from "./loaders";
 import { makeQueryClient } from "./queries";
 import { TestSource, snapshotMessage, vehicle } from "./testing";
 
@@ -81,5 +81,32 @@ describe("REST loads merged into the store", () => {
     act(() => source.send({ type: "provider", event: "appeared", provider: vehicle("b") }));
     await waitFor(() => expect(source.store.getState().providers.b.track).toEqual([{ t: 990, lat: 2, lon: 3 }]));
     expect(Object.fromEntries(asked)).toEqual({ "/api/providers/a/track": 1, "/api/providers/b/track": 1 });
+  });
+
+});
+
+describe("REST reads shown as the console answers them", () => {
+  afterEach(() => {
+    cleanup();
+    vi.unstubAllGlobals();
+  });
+
+  it("shows a vehicle's CoMap capabilities only as the console answers them now: one selected again while the console is out of reach has none", async () => {
+    let imcId = 7;
+    const asked = fakeConsole((path) => ({ imcId: path.includes("/a/") ? imcId : 9, capabilities: [], lastHeard: 1000 }));
+    const source = new TestSource();
+    act(() => source.send(snapshotMessage({ providers: [vehicle("a"), vehicle("b")] })));
+    const { result, rerender } = renderHook(({ id }: { id: string }) => useVehicleCapabilities(id), { wrapper: wrapper(source), initialProps: { id: "a" } });
+    await waitFor(() => expect(result.current?.imcId).toBe(7));
+    rerender({ id: "b" }); // the operator selects another vehicle
+    await waitFor(() => expect(result.current?.imcId).toBe(9));
+    imcId = 8; // meanwhile a's capabilities change on the console
+    act(() => source.setState("reconnecting")); // and the console goes out of reach
+    rerender({ id: "a" }); // a selected again: nothing to ask, and what was answered before is not what it is now
+    await new Promise((r) => setTimeout(r, 20));
+    expect(result.current).toBeNull();
+    act(() => source.setState("live"));
+    await waitFor(() => expect(result.current?.imcId).toBe(8));
+    expect(asked.get("/api/providers/a/capabilities")).toBe(2);
   });
 });

@@ -27,12 +27,14 @@ export const peerFindingsQuery = (token: string | null) =>
   queryOptions({ queryKey: ["peerFindings", token], queryFn: () => peerFindings(token), refetchInterval: PEER_FINDINGS_MS });
 
 /** A vehicle's CoMap capabilities (GET /api/providers/{id}/capabilities), asked again every `periodMs` (no WebSocket
- * message carries them); a failed ask keeps the last answer. */
+ * message carries them); a failed ask keeps the last answer, while the vehicle stays selected only: none is kept for
+ * a vehicle selected again (gcTime 0), which would show its capabilities of minutes ago as its own now. */
 export const capabilitiesQuery = (providerId: string, token: string | null, periodMs: number) =>
   queryOptions({
     queryKey: ["capabilities", providerId, token],
     queryFn: () => vehicleCapabilities(providerId, token),
     refetchInterval: periodMs,
+    gcTime: 0,
   });
 
 /** The console's IMC node (GET /api/comap/status): "absent" for a console without CoMap routes (404). */

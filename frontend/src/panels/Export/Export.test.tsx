@@ -1,0 +1,29 @@
+// @vitest-environment jsdom
+import { act, cleanup, fireEvent, screen, waitFor } from "@testing-library/react";
+import { afterEach, describe, expect, it, vi } from "vitest";
+import { TestSource, snapshotMessage, vehicle } from "../../data/testing";
+import { renderWith } from "../testing";
+import { ExportPanel } from "./Export";
+
+const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
+
+describe("ExportPanel", () => {
+  afterEach(() => {
+    cleanup();
+    vi.unstubAllGlobals();
+  });
+
+  it("says why the console refused an export, in the console's own words", async () => {
+    const asked: string[] = [];
+    vi.stubGlobal("fetch", async (url: string) => {
+      asked.push(new URL(url, "http://console").pathname);
+      return Response.json({ detail: "the history database cannot be reached; try again" }, { status: 503, statusText: "Service Unavailable" });
+    });
+    const source = new TestSource(A);
+    renderWith(source, <ExportPanel />);
+    act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })] })));
+    fireEvent.click(await screen.findByTestId("export-gpx"));
+    await waitFor(() => expect(screen.getByRole("alert").textContent).toMatch(/failed: 503: the history database cannot be reached; try again$/));
+    expect(asked).toEqual([`/api/providers/${A}/track.gpx`]);
+  });
+});
