@@ -2,7 +2,7 @@
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { createSocket } from "node:dgram";
-import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
+import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, renameSync, rmSync, writeFileSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
@@ -13,6 +13,10 @@ const BIN = join(ROOT, ".venv", "bin");
 // E2E_STACK_STATE: another file, for a second Playwright run beside the first
 const STATE = process.env.E2E_STACK_STATE ?? join(ROOT, "e2e", ".stack.json");
 export const VEHICLE_3_NAME = "Charlie"; // configured with --vehicle-names; vehicles 1 and 2 have none
+/** The tag of a test that uses none of the stack's processes, only a console and simulators of its own on a domain of
+ * its own (`freeDomain`) and files of its own in the stack's folder: playwright.config.ts runs these on a second worker,
+ * beside the tests of the stack, which stop and restart its processes one test at a time. */
+export const OWN_STACK = "@own-stack";
 
 export interface Stack {
   domain: number;
@@ -133,8 +137,10 @@ export function load(): Stack {
   return JSON.parse(readFileSync(STATE, "utf8")) as Stack;
 }
 
+/** Written whole, then renamed: the other worker's load() never reads half a file. */
 function save(stack: Stack): void {
-  writeFileSync(STATE, JSON.stringify(stack, null, 2));
+  writeFileSync(`${STATE}.tmp`, JSON.stringify(stack, null, 2));
+  renameSync(`${STATE}.tmp`, STATE);
 }
 
 async function stopPid(pid: number, signal: NodeJS.Signals): Promise<void> {
