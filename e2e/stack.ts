@@ -92,7 +92,9 @@ function launch(cmd: string, args: string[], env: Record<string, string> = {}): 
   return child;
 }
 
-export async function waitHealthy(url: string, timeoutMs = 30_000): Promise<void> {
+/** A start-up wait, not a timed check: 60 s, as pytest's for a console's health (backend/tests/conftest.py), which a
+ * loaded machine's start can take. */
+export async function waitHealthy(url: string, timeoutMs = 60_000): Promise<void> {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
     try {
@@ -188,8 +190,14 @@ export async function startExtraConsole(args: string[], env: Record<string, stri
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
   const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
-  await waitHealthy(url);
-  return { url, stop: () => stopPid(child.pid!, "SIGINT") };
+  const stop = () => stopPid(child.pid!, "SIGINT");
+  try {
+    await waitHealthy(url);
+  } catch (e) {
+    await stop(); // a console that did not start is not left running
+    throw e;
+  }
+  return { url, stop };
 }
 
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
@@ -224,9 +232,13 @@ export async function startMixedFleet(): Promise<{ url: string; vehicles: string
     launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, `${run}-6.0.json`),
       "--log-level", "warning"]),
   ];
+  const stopSims = () => Promise.all(sims.map((s) => stopPid(s.pid!, "SIGINT")));
   const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, `${run}.sqlite3`),
-    "--recordings-dir", join(stack.dir, "recordings")]);
-  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
+    "--recordings-dir", join(stack.dir, "recordings")]).catch(async (e: unknown) => {
+    await stopSims();
+    throw e;
+  });
+  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), stopSims()]); } };
 }
 
 const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root
