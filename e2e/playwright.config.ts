@@ -5,8 +5,15 @@ export default defineConfig({
   testDir: "tests",
   globalSetup: "./global-setup.ts",
   globalTeardown: "./global-teardown.ts",
-  workers: 1, // one stack, and some tests stop and restart parts of it
+  // Two workers: the tests of the one stack (global-setup.ts) one at a time, as some stop and restart parts of it, and
+  // beside them, one at a time too, the tests tagged OWN_STACK (stack.ts), each on a console and domain of its own:
+  // most of their time is spent waiting on their processes, not on the CPU.
+  workers: 2,
   fullyParallel: false,
+  projects: [
+    { name: "stack", grepInvert: /@own-stack/, workers: 1 },
+    { name: "own-stack", grep: /@own-stack/, workers: 1 },
+  ],
   timeout: 90_000,
   // No retries, as pytest (scripts/test): a test that fails once fails the run; a flaky test is fixed at its root.
   retries: 0,

@@ -2,7 +2,7 @@
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { createSocket } from "node:dgram";
-import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, rmSync, writeFileSync } from "node:fs";
+import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, renameSync, rmSync, writeFileSync } from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
@@ -13,6 +13,10 @@ const BIN = join(ROOT, ".venv", "bin");
 // E2E_STACK_STATE: another file, for a second Playwright run beside the first
 const STATE = process.env.E2E_STACK_STATE ?? join(ROOT, "e2e", ".stack.json");
 export const VEHICLE_3_NAME = "Charlie"; // configured with --vehicle-names; vehicles 1 and 2 have none
+/** The tag of a test that uses none of the stack's processes, only a console and simulators of its own on a domain of
+ * its own (`freeDomain`) and files of its own in the stack's folder: playwright.config.ts runs these on a second worker,
+ * beside the tests of the stack, which stop and restart its processes one test at a time. */
+export const OWN_STACK = "@own-stack";
 
 export interface Stack {
   domain: number;
@@ -88,7 +92,9 @@ function launch(cmd: string, args: string[], env: Record<string, string> = {}): 
   return child;
 }
 
-export async function waitHealthy(url: string, timeoutMs = 30_000): Promise<void> {
+/** A start-up wait, not a timed check: 60 s, as pytest's for a console's health (backend/tests/conftest.py), which a
+ * loaded machine's start can take. */
+export async function waitHealthy(url: string, timeoutMs = 60_000): Promise<void> {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
     try {
@@ -133,8 +139,10 @@ export function load(): Stack {
   return JSON.parse(readFileSync(STATE, "utf8")) as Stack;
 }
 
+/** Written whole, then renamed: the other worker's load() never reads half a file. */
 function save(stack: Stack): void {
-  writeFileSync(STATE, JSON.stringify(stack, null, 2));
+  writeFileSync(`${STATE}.tmp`, JSON.stringify(stack, null, 2));
+  renameSync(`${STATE}.tmp`, STATE);
 }
 
 async function stopPid(pid: number, signal: NodeJS.Signals): Promise<void> {
@@ -182,8 +190,14 @@ export async function startExtraConsole(args: string[], env: Record<string, stri
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
   const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
-  await waitHealthy(url);
-  return { url, stop: () => stopPid(child.pid!, "SIGINT") };
+  const stop = () => stopPid(child.pid!, "SIGINT");
+  try {
+    await waitHealthy(url);
+  } catch (e) {
+    await stop(); // a console that did not start is not left running
+    throw e;
+  }
+  return { url, stop };
 }
 
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
@@ -218,9 +232,13 @@ export async function startMixedFleet(): Promise<{ url: string; vehicles: string
     launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, `${run}-6.0.json`),
       "--log-level", "warning"]),
   ];
+  const stopSims = () => Promise.all(sims.map((s) => stopPid(s.pid!, "SIGINT")));
   const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, `${run}.sqlite3`),
-    "--recordings-dir", join(stack.dir, "recordings")]);
-  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), ...sims.map((s) => stopPid(s.pid!, "SIGINT"))]); } };
+    "--recordings-dir", join(stack.dir, "recordings")]).catch(async (e: unknown) => {
+    await stopSims();
+    throw e;
+  });
+  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), stopSims()]); } };
 }
 
 const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root

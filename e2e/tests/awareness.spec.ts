@@ -4,7 +4,7 @@ import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
 import { SEM_SIM, stopChild, vehicle } from "../helpers";
-import { VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
+import { OWN_STACK, VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
 
 interface AlarmRecord {
   id: number;
@@ -87,7 +87,7 @@ test("a vehicle lost while the page is scrolled to the commands is in the viewpo
   await expect(page.getByTestId("fleet-lost")).toHaveText("0 lost");
 });
 
-test("a vehicle whose INS failed before the page opened shows its alarm, through a reload, until acknowledged", async ({ page, request }) => {
+test("a vehicle whose INS failed before the page opened shows its alarm, through a reload, until acknowledged", { tag: OWN_STACK }, async ({ page, request }) => {
   // Its own domain and console (with an operator token): a vehicle stopped at the end stays on a console as
   // lost, and the stack's console must keep its three vehicles for the other specs.
   const stack = load();
@@ -148,7 +148,7 @@ test("a vehicle whose INS failed before the page opened shows its alarm, through
   }
 });
 
-test("Acknowledge all by keyboard: said in words, and the focus goes to the alarm list's title, not the page's top", async ({ page, request }) => {
+test("Acknowledge all by keyboard: said in words, and the focus goes to the alarm list's title, not the page's top", { tag: OWN_STACK }, async ({ page, request }) => {
   const stack = load();
   const domain = await freeDomain([stack.domain]);
   const token = "ack-all-token";
@@ -210,7 +210,7 @@ test("Acknowledge all by keyboard: said in words, and the focus goes to the alar
   }
 });
 
-test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, the chips are one Tab stop, and the alarm count opens the alarms", async ({ page, request }) => {
+test("a fleet at 1280x720: the failed vehicle's chip comes first, the alarms are on the first screen, a vehicle picked is shown in the list, the chips are one Tab stop, and the alarm count opens the alarms", { tag: OWN_STACK }, async ({ page, request }) => {
   // A dozen vehicles (a vehicle list taller than the window), the 11th failing: its id sorts near the end
   await page.setViewportSize({ width: 1280, height: 720 });
   const stack = load();

@@ -3,13 +3,13 @@
 // panel says it has no fix service; the 3.0.1 vehicle beside it keeps its own commands.
 import { expect, test, type Locator } from "@playwright/test";
 import { latestCommand, vehicle } from "../helpers";
-import { startMixedFleet } from "../stack";
+import { OWN_STACK, startMixedFleet } from "../stack";
 
 async function statuses(cmd: Locator): Promise<string[]> {
   return cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? ""));
 }
 
-test("GPS_ALIGN sent to a UMAA 6.0 vehicle walks the flow to COMPLETED on its command card", async ({ page }) => {
+test("GPS_ALIGN sent to a UMAA 6.0 vehicle walks the flow to COMPLETED on its command card", { tag: OWN_STACK }, async ({ page }) => {
   const fleet = await startMixedFleet();
   try {
     await page.goto(fleet.url);

@@ -5,7 +5,7 @@ import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type Page } from "@playwright/test";
 import { SEM_SIM, stopChild } from "../helpers";
-import { freeDomain, load, startExtraConsole, startPostgres } from "../stack";
+import { OWN_STACK, freeDomain, load, startExtraConsole, startPostgres } from "../stack";
 
 type Running = { url: string; stop: () => Promise<void> };
 let pg: Awaited<ReturnType<typeof startPostgres>>;
@@ -44,7 +44,7 @@ async function signedIn(page: Page, url: string, operator: string): Promise<void
   await expect(page.getByTestId("operator-name")).toHaveText(operator);
 }
 
-test("bob on relief cancels alice's command from watch: both stations' finished cards name him and his station", async ({ browser, request }) => {
+test("bob on relief cancels alice's command from watch: both stations' finished cards name him and his station", { tag: OWN_STACK }, async ({ browser, request }) => {
   const alicePage = await (await browser.newContext()).newPage();
   const bobPage = await (await browser.newContext()).newPage();
   await signedIn(alicePage, watch.url, "alice");
@@ -65,7 +65,7 @@ test("bob on relief cancels alice's command from watch: both stations' finished 
   }
 });
 
-test("the database stopped: the shared-database banner within 2 s of the station knowing, and gone once it is back", async ({ page }) => {
+test("the database stopped: the shared-database banner within 2 s of the station knowing, and gone once it is back", { tag: OWN_STACK }, async ({ page }) => {
   await page.goto(watch.url);
   await expect(page.getByTestId("connection-state")).toHaveText("Live");
   const banner = page.getByTestId("database-banner");

@@ -5,7 +5,7 @@ import { execFileSync, spawn } from "node:child_process";
 import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Locator } from "@playwright/test";
-import { freeDomain, load, startGuardedConsole, startReplayConsole } from "../stack";
+import { OWN_STACK, freeDomain, load, startExtraConsole, startGuardedConsole } from "../stack";
 
 const SEM_SIM = join(dirname(fileURLToPath(import.meta.url)), "..", "..", ".venv", "bin", "sem-sim");
 const R = 6_371_008.8; // the mean Earth radius the dashboard's geometry uses
@@ -29,7 +29,7 @@ function legOf(a: { lat: number; lon: number }, b: { lat: number; lon: number })
   return { m: 2 * R * Math.asin(Math.sqrt(h)), deg: ((Math.atan2(y, x) / r) + 360) % 360 };
 }
 
-test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named, and the map projects it from its last fix, drawn as a guess", async ({ page, request }) => {
+test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named, and the map projects it from its last fix, drawn as a guess", { tag: OWN_STACK }, async ({ page, request }) => {
   // its own domain and console: the killed vehicle stays on a console as lost, and the stack's keeps its three
   const stack = load();
   const domain = await freeDomain([stack.domain]);
@@ -137,13 +137,16 @@ test("a moving vehicle killed: 'Last heard … ago' counts wherever it is named,
   }
 });
 
-test("in a replay, the selected vehicle lost in the recording is said lost there, not now", async ({ page, request }) => {
+test("in a replay, the selected vehicle lost in the recording is said lost there, not now", { tag: OWN_STACK }, async ({ page, request }) => {
   test.setTimeout(120_000);
   const stack = load();
   const domain = await freeDomain([stack.domain]);
   const token = "replay-lost-token";
   const auth = { Authorization: `Bearer ${token}` };
-  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "replay-lost.sqlite3")]);
+  // its recordings apart from the stack's, whose list the stack's tests read meanwhile
+  const recordings = join(stack.dir, "replay-lost-recordings");
+  const extra = await startGuardedConsole(token, ["--domain", String(domain), "--db", join(stack.dir, "replay-lost.sqlite3"),
+    "--recordings-dir", recordings]);
   const id = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "12"], { encoding: "utf8" }).trim().split(": ")[1];
   const simOf = (n: number) => spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "1", "--first-vehicle", String(n),
     "--state-file", join(stack.dir, `replay-lost-sim-${n}.json`), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
@@ -160,7 +163,7 @@ test("in a replay, the selected vehicle lost in the recording is said lost there
     await page.waitForTimeout(4000);
     const stopped = await request.post(`${extra.url}/api/recordings`, { headers: auth, data: { action: "stop" } });
     const { file } = (await stopped.json()) as { file: string };
-    replay = await startReplayConsole(file);
+    replay = await startExtraConsole(["--replay", join(recordings, file)]);
     // the recording's last instant, paused: the vehicle lost there
     const { end } = (await (await request.get(`${replay.url}/api/replay`)).json()) as { end: number };
     await request.post(`${replay.url}/api/replay`, { data: { action: "pause" } });

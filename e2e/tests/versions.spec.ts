@@ -1,9 +1,9 @@
 // A mixed fleet on screen: a UMAA 3.0.1 and a UMAA 6.0 vehicle in one console, each with its version.
 import { expect, test } from "@playwright/test";
 import { vehicle } from "../helpers";
-import { startMixedFleet } from "../stack";
+import { OWN_STACK, startMixedFleet } from "../stack";
 
-test("a mixed fleet: each vehicle shows the UMAA version it speaks", async ({ page }) => {
+test("a mixed fleet: each vehicle shows the UMAA version it speaks", { tag: OWN_STACK }, async ({ page }) => {
   const fleet = await startMixedFleet();
   try {
     await page.goto(fleet.url);

@@ -5,7 +5,7 @@ import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type Page } from "@playwright/test";
 import { SEM_SIM, stopChild, violations } from "../helpers";
-import { freeDomain, load, startGuardedConsole } from "../stack";
+import { OWN_STACK, freeDomain, load, startGuardedConsole } from "../stack";
 
 /** HH:MM UTC `minutes` from now. */
 function utcIn(minutes: number): string {
@@ -43,7 +43,7 @@ async function countTones(page: Page): Promise<() => Promise<number>> {
   return async () => (await page.evaluate(() => (window as unknown as { __oscillators: number }).__oscillators)) / 2;
 }
 
-test("a planned silence, a flood of 20 vehicles grouped with one tone and one announcement, and a shelf", async ({ page }) => {
+test("a planned silence, a flood of 20 vehicles grouped with one tone and one announcement, and a shelf", { tag: OWN_STACK }, async ({ page }) => {
   test.setTimeout(180_000);
   const stack = load();
   const domain = await freeDomain([stack.domain]);
@@ -148,7 +148,7 @@ test("a planned silence, a flood of 20 vehicles grouped with one tone and one an
   }
 });
 
-test("a chattering alarm: back too often, marked so, and not sounded again until acknowledged", async ({ page }) => {
+test("a chattering alarm: back too often, marked so, and not sounded again until acknowledged", { tag: OWN_STACK }, async ({ page }) => {
   test.setTimeout(120_000);
   const stack = load();
   const domain = await freeDomain([stack.domain]);

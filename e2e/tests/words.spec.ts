@@ -6,7 +6,7 @@ import { dirname, join } from "node:path";
 import { fileURLToPath } from "node:url";
 import { expect, test, type Page, type WebSocketRoute } from "@playwright/test";
 import { SEM_SIM, stopChild, vehicle } from "../helpers";
-import { freeDomain, load, startGuardedConsole } from "../stack";
+import { OWN_STACK, freeDomain, load, startGuardedConsole } from "../stack";
 
 test("the header names the signed-in operator; once the console cannot be reached, nothing says live, at once", async ({ page }) => {
   const stack = load();
@@ -103,7 +103,7 @@ test("the words table's words as written (no CSS case change); a link gone silen
   await expect(page.getByTestId("fleet-live")).toHaveText(`${n} live`, { timeout: 15_000 });
 });
 
-test("where names on the map would cover one another, a vehicle in alarm keeps its name", async ({ page, request }) => {
+test("where names on the map would cover one another, a vehicle in alarm keeps its name", { tag: OWN_STACK }, async ({ page, request }) => {
   const stack = load();
   const domain = await freeDomain([stack.domain]);
   const token = "words-map-token";

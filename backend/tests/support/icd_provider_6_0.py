@@ -11,8 +11,10 @@ Per InertialSensorCommandType addressed to it (ICD 6.0 4.1: `destination`, its `
 coarse stage of the commanded kind of alignment, and at COMPLETED its completed stage (5.3.3, 5.3.4). The same command
 again with a newer timeStamp while it runs is an update: ISSUED/UPDATED, and the flow again from the start with the
 ack of the updated command (4.1.4.2); an update of a finished command is ignored (4.1.4.2's first paragraph), or with
-`terminal_update="fail"` answered FAILED/VALIDATION_FAILED (its step 2). With `busy` it reads no command while one is
-EXECUTING, so that an update sent at EXECUTING reaches a command that has completed. The consumer's dispose before the
+`terminal_update="fail"` answered FAILED/VALIDATION_FAILED (its step 2). With `busy` it finishes the work in hand
+before it reads an update: an update that reaches a command at EXECUTING finds it COMPLETED (the update crossed the
+end), and once one has, a later command waits at EXECUTING for its update, which the checker sends at its first status:
+each whenever the update arrives, not within a time. The consumer's dispose before the
 end cancels it: CANCELED/CANCELED, then its status and ack disposed (4.1.4.5); after the end it cleans up: status and
 ack disposed (4.1.5).
 
@@ -105,6 +107,7 @@ class Command:
     disposed_early: bool = False  # the consumer disposed it before COMPLETED, and it was not canceled
     acked: bool = False
     late: list[float] = field(default_factory=list)
+    updated: bool = False
 
 
 class IcdProvider60:
@@ -113,6 +116,7 @@ class IcdProvider60:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step = breach, execute, step
         self.terminal_update, self.busy = terminal_update, busy
+        self.crossed = False  # an update reached a finished command (`busy`: later commands wait for theirs)
         self.bus = Bus(domain)
         self.guid = uuid.uuid4()
         self.source = make(IdentifierType, id=self.guid.bytes, parentID=NIL)
@@ -145,11 +149,10 @@ class IcdProvider60:
     def loop(self) -> None:
         while not self.stop.is_set():
             now = time.monotonic()
-            executing = any(c.status is Status.EXECUTING for c in self.running.values())
-            for s in [] if self.busy and executing else self.reader.take(N=16):
+            for s in self.reader.take(N=16):
                 self.on_sample(s, now)
             for session, cmd in list(self.running.items()):
-                while cmd.due and cmd.due[0][0] <= now:
+                while cmd.due and cmd.due[0][0] <= now and not self.waits_for_update(cmd, cmd.due[0][1]):
                     self.publish(cmd, cmd.due.pop(0)[1])
                 if cmd.status is Status.COMPLETED and cmd.disposed_early:
                     del self.running[session]  # ignore-cancel: its status and ack stay on the bus
@@ -192,17 +195,24 @@ class IcdProvider60:
             cmd.status = Status.FAILED
             self.status.write(self.status_sample(cmd, Status.FAILED, Reason.RESOURCE_REJECTED))
 
+    def waits_for_update(self, cmd: Command, status: Status) -> bool:
+        return self.busy and self.crossed and not cmd.updated and status is Status.COMPLETED
+
     def update(self, cmd: Command, s: Any, now: float) -> None:
         """The same source and sessionID with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
         newer = (s.timeStamp.seconds, s.timeStamp.nanoseconds) > (cmd.sample.timeStamp.seconds,
                                                                    cmd.sample.timeStamp.nanoseconds)
+        if newer and self.busy and not self.crossed and cmd.status is Status.EXECUTING:
+            cmd.due.clear()
+            self.publish(cmd, Status.COMPLETED)  # the work in hand first: the update crosses the end
         terminal = cmd.status in (Status.COMPLETED, Status.FAILED, Status.CANCELED)
+        self.crossed = self.crossed or (newer and terminal)
         if newer and terminal and self.terminal_update == "fail" and cmd.status is not Status.FAILED:
             cmd.status = Status.FAILED
             self.status.write(self.status_sample(cmd, Status.FAILED, Reason.VALIDATION_FAILED))
         if not newer or terminal or self.breach == "ignore-update":
             return
-        cmd.sample, cmd.due, cmd.acked = s, self.schedule(now), False
+        cmd.sample, cmd.due, cmd.acked, cmd.updated = s, self.schedule(now), False, True
         cmd.status = Status.ISSUED
         self.status.write(self.status_sample(cmd, Status.ISSUED, Reason.UPDATED))
 
