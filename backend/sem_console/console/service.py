@@ -659,16 +659,21 @@ class Console:
 
     async def _read_stored(self, lock: asyncio.Lock, what: str, read: Callable[[], T], apply: Callable[[T], None]) -> None:
         """`read` the database in a worker thread and `apply` it on the loop; one read at a time per `lock`, in the
-        order asked, so an older read never lands after a newer one. The database away: read again when it is back."""
+        order asked, so an older read never lands after a newer one; read again when this console wrote meanwhile (the
+        read may be older than that write, made on the loop while it ran). The database away: read again when it is
+        back."""
         async with lock:
-            try:
-                got = await asyncio.to_thread(read)
-            except (SQLAlchemyError, Unavailable) as e:
-                log.warning("could not read %s: %s", what, e)
-                self._resync_pending = True
-                return
-            if not self.closing:
-                apply(got)
+            while not self.closing:
+                asked = self.store.writes_asked
+                try:
+                    got = await asyncio.to_thread(read)
+                except (SQLAlchemyError, Unavailable) as e:
+                    log.warning("could not read %s: %s", what, e)
+                    self._resync_pending = True
+                    return
+                if self.store.writes_asked == asked and not self.closing:
+                    apply(got)
+                    return
 
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied

@@ -81,6 +81,11 @@ class Database:
     def dropped(self) -> int:
         return self.writes.dropped
 
+    @property
+    def writes_asked(self) -> int:
+        """Writes asked of this console so far: a read in another thread while it changes may be older than one."""
+        return self.writes.asked
+
     def unreachable(self, e: Exception) -> Unavailable:
         return self.writes.unreachable(e)
 

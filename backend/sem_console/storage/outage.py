@@ -37,6 +37,7 @@ class WriteBehind:
         self._held: deque[Write] = deque()  # during an outage, oldest first
         self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
         self.dropped = 0  # held writes dropped past HELD_MAX
+        self.asked = 0  # writes asked of this console so far (run or held): a read that spans one may be older
 
     @property
     def held(self) -> int:
@@ -56,6 +57,7 @@ class WriteBehind:
 
     def write(self, fn: Write) -> None:
         """Run `fn` in a transaction, or hold it (in order behind any held before) during an outage."""
+        self.asked += 1
         if self._held or self.unavailable_since is not None:  # in order; no connect timeout on the caller
             self._hold(fn)
             return
