@@ -199,12 +199,8 @@ class Console:
                 provider = str(message["provider"])
                 self._reload(self._read_stored(self._shared_lock, "the link configurations", self.store.link_configs,
                                                lambda rows: self._shared_link_config(provider, rows)))
-            elif kind == "shelf":
-                if self.alarms.shared_shelf(dict(message["row"])):
-                    self._emit({"type": "alarms", "alarms": self.alarms.active()})
-            elif kind == "silence":
-                self.alarms.shared_silence(dict(message["row"]))
-                self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
+            elif kind in ("shelf", "silence"):  # after a resync's read under way, or its older rows would undo it
+                self._reload(self._in_order(self._shared_lock, message, self._shared_watch))
             elif kind == "alarm-ack":
                 by = message.get("by")
                 station = message.get("console")
@@ -239,6 +235,25 @@ class Console:
                 self._emit({"type": "alarms", "alarms": self.alarms.active()})
             log.info("listening to the other consoles again: resynced from the database")
         await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
+
+    async def _in_order(self, lock: asyncio.Lock, message: dict[str, Any], apply: Callable[[dict[str, Any]], None]) -> None:
+        """`apply` another console's notification on the loop after the reads under `lock` asked before it."""
+        async with lock:
+            if self.closing:
+                return
+            try:
+                apply(message)
+            except (KeyError, ValueError) as e:
+                log.warning("ignored a notification of another console (%s): %.200s", e, message)
+
+    def _shared_watch(self, message: dict[str, Any]) -> None:
+        """Another station's shelf or planned silence, begun or ended."""
+        if message["kind"] == "shelf":
+            if self.alarms.shared_shelf(dict(message["row"])):
+                self._emit({"type": "alarms", "alarms": self.alarms.active()})
+        else:
+            self.alarms.shared_silence(dict(message["row"]))
+            self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
 
     def _shared_command(self, rows: list[CommandRow]) -> None:
         """Another station's command as stored (see Commands.merge_shared), to this console's clients."""

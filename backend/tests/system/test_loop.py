@@ -10,6 +10,7 @@ import json
 import re
 import threading
 import time
+import uuid
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -193,3 +194,30 @@ def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path
         finally:
             slow.released.set()
 
+
+def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) -> None:
+    """A resync (the listener reopened) reads the shelves off the loop; another station shelves an alarm after that
+    read and before it is applied: the shelf it notified stands here, not undone by the older read."""
+    now = time.time()
+    row = {"id": str(uuid.uuid4()), "key": f"link-lost:{V1}", "kind": "link-lost", "provider_id": V1, "session_id": None,
+           "severity": "alarm", "text": "Alpha: link lost", "reason": "maintenance", "shelved_by": "bob",
+           "station": "relief", "shelved_at": now, "until": now + 3600, "ended_at": None, "ended_by": None,
+           "end_reason": None}
+    with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
+        console = client.app.state.console  # type: ignore[attr-defined]
+        slow = SlowDatabase(console.store.engine)
+        try:
+            slow.hold("alarm_shelves", answered=True)
+            resync = json.dumps({"kind": "resync"})
+            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (resync,)) and slow.entered.wait(0.5),
+                       what="the resync's read of the shelves")
+            other.execute(f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})",
+                          list(row.values()))
+            other.execute("SELECT pg_notify('sem_console', %s)",
+                          (json.dumps({"kind": "shelf", "console": "relief", "row": row}),))
+            time.sleep(1.0)  # the shelf's notification heard meanwhile
+            assert slow.release() == [True]
+            settled(client)
+            assert row["key"] in client.portal.call(lambda: set(console.alarms.shelves))  # type: ignore[union-attr]
+        finally:
+            slow.released.set()
