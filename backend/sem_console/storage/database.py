@@ -212,5 +212,7 @@ class Database:
         self.alarm_rows.clear()
 
     def close(self) -> None:
+        """Write what is held, or say what is lost (WriteBehind.close); let the console's name go."""
+        self.writes.close()
         self.name_lock.close()
         self.engine.dispose()

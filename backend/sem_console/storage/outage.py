@@ -137,3 +137,11 @@ class WriteBehind:
                         time.time() - self.unavailable_since, written)
             self.unavailable_since = None
         return True
+
+    def close(self) -> None:
+        """At the console's stop (after its upkeep has ended): write what is still held when the server answers (it
+        may be back since the upkeep last looked); else say in one line how many changes are lost with the console."""
+        if self._held and not self.write_held():
+            log.error("%d changes held since %s were not written: the database %s cannot be reached as the console stops",
+                      len(self._held), self.since(), self.db.shown)
+            self._held.clear()

@@ -284,6 +284,48 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         db.close()
 
 
+def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg_cluster: Cluster, pg_url: str) -> None:
+    """A write held during an outage, the server back before the console's upkeep found it (every 2 s) and the console
+    stopped then: the held write is written as the console closes its database, not dropped with it."""
+    db = open_db(pg_url)
+    try:
+        db.claim("watch")
+        pg_cluster.stop()
+        try:
+            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held",
+                          "reason": "accepted"})
+            assert db.held == 1 and db.unavailable_since is not None
+        finally:
+            pg_cluster.start()
+    finally:
+        db.close()
+    again = open_db(pg_url)
+    try:
+        assert [e.path for e in again.audit(10, 0)] == ["/held"]
+    finally:
+        again.close()
+
+
+def test_what_cannot_be_written_when_the_console_stops_is_said(pg_cluster: Cluster, pg_url: str,
+                                                               caplog: pytest.LogCaptureFixture) -> None:
+    """The server still away as the console stops: the changes held are lost with it, and one line says how many."""
+    db = open_db(pg_url)
+    try:
+        pg_cluster.stop()
+        try:
+            for path in ("/a", "/b"):
+                db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": path,
+                              "reason": "accepted"})
+            with caplog.at_level("ERROR", logger="sem-console.storage"):
+                db.close()
+        finally:
+            pg_cluster.start()
+    finally:
+        db.close()
+    [line] = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
+    assert line.startswith("2 changes held since ") and "were not written" in line and "\n" not in line, line
+
+
 def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
     """The console's upkeep (`maintain`, every 2 s) is often the first to meet a stopped server, on the name's own
     lock connection, before any write has failed: that is an outage too, and the name is taken again when the server
