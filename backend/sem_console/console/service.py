@@ -331,11 +331,13 @@ class Console:
             self._ticker.cancel()
         if self._reloads:  # a read of the vehicle names or CoMap under way ends before the store closes
             await asyncio.gather(*self._reloads, return_exceptions=True)
+        if self._writing_held is not None:  # the upkeep (held writes, the name's lock) too: one thread per connection
+            await asyncio.gather(self._writing_held, return_exceptions=True)
         await self.source.stop()  # the DDS ingest's threads joined; a playback's task ended
         await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
         await self.source.close()  # the embedded simulator, the command writers, the bus; a replay's database
-        self.store.close()
+        await asyncio.to_thread(self.store.close)  # what is still held written: a connect timeout off the loop
 
     async def _stop_history(self) -> None:
         if self._history_task:  # writes what it still holds

@@ -9,6 +9,7 @@ import math
 import re
 import shutil
 import sqlite3
+import threading
 import time
 import uuid
 from pathlib import Path
@@ -17,7 +18,7 @@ import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
-from sqlalchemy import Connection, text
+from sqlalchemy import Connection, event, text
 from sqlalchemy.exc import OperationalError
 from sqlmodel import SQLModel
 
@@ -28,6 +29,7 @@ from sem_console.storage.database import Database, StorageError, Unavailable, Ve
 from sem_console.storage.engine import head_revision
 from sem_console.storage.url import parse_database_url
 from support.pg import Cluster
+from test_routes import app_client, wait_until
 
 LEGACY = Path(__file__).parents[1] / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
 LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
@@ -324,6 +326,35 @@ def test_what_cannot_be_written_when_the_console_stops_is_said(pg_cluster: Clust
         db.close()
     [line] = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
     assert line.startswith("2 changes held since ") and "were not written" in line and "\n" not in line, line
+
+
+def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: Path, pg_url: str) -> None:
+    """The console's upkeep (every 2 s, in a worker thread) is on the name's lock connection as the console stops: the
+    stop waits for it. It closed the database under it, and the upkeep, finding its connection closed, took the name
+    again on a new one, held after the console had stopped: the console started again was refused as running."""
+    on_lock, closed = threading.Event(), threading.Event()
+    with app_client(tmp_path, database_url=pg_url) as client:
+        store: Database = client.app.state.console.store  # type: ignore[attr-defined]
+
+        def upkeep(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+            if conn is store.name_lock.lock and statement.strip() == "SELECT 1" and not on_lock.is_set():
+                on_lock.set()
+                closed.wait(5)  # until the store is closed (or, once the stop waits for the upkeep, 5 s)
+
+        event.listen(store.engine, "before_cursor_execute", upkeep)
+        event.listen(store.engine, "engine_disposed", lambda _engine: closed.set())
+        assert on_lock.wait(30), "no upkeep on the name's lock connection"
+    again = open_db(pg_url)
+    try:
+        def claimed() -> bool:
+            try:
+                again.claim("test-console")  # app_client's
+            except StorageError:
+                return False
+            return True
+        wait_until(claimed, 15, "the name let go by the stopped console")
+    finally:
+        again.close()
 
 
 def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
