@@ -55,17 +55,20 @@ class WriteBehind:
             self.went_away(e)
             raise (refusal or self.unavailable)() from e
 
-    def write(self, fn: Write) -> None:
-        """Run `fn` in a transaction, or hold it (in order behind any held before) during an outage."""
+    def write(self, fn: Write) -> bool:
+        """Run `fn` in a transaction, or hold it (in order behind any held before) during an outage. True: committed;
+        False: held (what `fn` saw of a transaction that did not commit is not so)."""
         self.asked += 1
         if self._held or self.unavailable_since is not None:  # in order; no connect timeout on the caller
             self._hold(fn)
-            return
+            return False
         try:
             with self.outage(), self.engine.begin() as c:
                 fn(c)
         except Unavailable:
             self._hold(fn)
+            return False
+        return True
 
     @contextmanager
     def reads(self) -> Iterator[Connection]:

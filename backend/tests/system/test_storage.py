@@ -14,6 +14,7 @@ import time
 import uuid
 from pathlib import Path
 
+import psycopg
 import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
@@ -355,6 +356,37 @@ def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: 
         wait_until(claimed, 15, "the name let go by the stopped console")
     finally:
         again.close()
+
+
+def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_its_acknowledgement(pg_url: str) -> None:
+    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held,
+    and the alarm gets a temporary id, not the id of the row rolled back; its acknowledgement, held after it, reaches
+    the row written when the server answers. With the rolled-back row's id it went to no row: lost."""
+    db = open_db(pg_url)
+    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+             "acked_by": None, "normal_at": None}
+    cut: list[int] = []
+
+    def cut_before_commit(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+        if statement.lstrip().upper().startswith("DELETE FROM ALARMS") and not cut:  # its last statement
+            pid = conn.exec_driver_sql("SELECT pg_backend_pid()").scalar_one()
+            cut.append(pid)
+            with psycopg.connect(pg_url, autocommit=True) as other:
+                other.execute("SELECT pg_terminate_backend(%s)", (pid,))
+
+    try:
+        db.claim("watch")
+        event.listen(db.engine, "after_cursor_execute", cut_before_commit)
+        given = db.add_alarm(alarm)
+        assert cut and db.held == 1, "the alarm's write was not cut"
+        assert given < 0, f"the alarm got id {given}, of a row rolled back"
+        db.update_alarm({**alarm, "id": given, "acked_at": 2.0, "acked_by": "alice"})
+        assert db.maintain() and db.held == 0
+        [row] = db.open_alarms()
+        assert (row.acked_by, row.acked_at) == ("alice", 2.0)
+    finally:
+        db.close()
 
 
 def test_the_name_is_held_again_when_the_upkeep_finds_the_server_gone_first(pg_cluster: Cluster, pg_url: str) -> None:
