@@ -163,6 +163,12 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
             slow.released.set()
 
 
+def listening(client: TestClient) -> None:
+    """Wait until the console listens to the other consoles' notifications."""
+    listener = client.app.state.console._listener  # type: ignore[attr-defined]
+    assert listener is not None and listener.connected.wait(30), "the console does not listen"
+
+
 def settled(client: TestClient) -> None:
     """Wait until the console has applied every read of the database it started after a notification."""
     console = client.app.state.console  # type: ignore[attr-defined]
@@ -182,9 +188,10 @@ def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path
             other.execute("INSERT INTO link_config (provider_id, config) VALUES (%s, %s) ON CONFLICT (provider_id) "
                           "DO UPDATE SET config = excluded.config", (V1, json.dumps(theirs)))
             slow.hold("link_config", answered=True)
+            listening(client)  # one notification, one read: a second would read the newer row after the held one
             message = json.dumps({"kind": "link", "console": "relief", "provider": V1})
-            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
-                       what="the notification's read of the link configurations")
+            other.execute("SELECT pg_notify('sem_console', %s)", (message,))
+            assert slow.entered.wait(30), "no read of the link configurations after the notification"
             assert client.put(f"/api/providers/{V1}/link-config", json=ours).status_code == 200
             assert slow.release() == [True]
             settled(client)
@@ -208,9 +215,9 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
         slow = SlowDatabase(console.store.engine)
         try:
             slow.hold("alarm_shelves", answered=True)
-            resync = json.dumps({"kind": "resync"})
-            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (resync,)) and slow.entered.wait(0.5),
-                       what="the resync's read of the shelves")
+            listening(client)
+            other.execute("SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "resync"}),))
+            assert slow.entered.wait(30), "no read of the shelves after the resync"
             other.execute(f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})",
                           list(row.values()))
             other.execute("SELECT pg_notify('sem_console', %s)",
