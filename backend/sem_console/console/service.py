@@ -219,12 +219,8 @@ class Console:
                 provider = str(message["provider"])
                 self._reload(self._read_stored(self._shared_lock, "the link configurations", self.store.link_configs,
                                                lambda rows: self._shared_link_config(provider, rows)))
-            elif kind == "shelf":
-                if self.alarms.shared_shelf(dict(message["row"])):
-                    self._alarms_changed()
-            elif kind == "silence":
-                self.alarms.shared_silence(dict(message["row"]))
-                self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
+            elif kind in ("shelf", "silence"):  # after a resync's read under way, or its older rows would undo it
+                self._reload(self._in_order(self._shared_lock, message, self._shared_watch))
             elif kind == "alarm-ack":
                 by = message.get("by")
                 station = message.get("console")
@@ -259,6 +255,25 @@ class Console:
                 self._alarms_changed()
             log.info("listening to the other consoles again: resynced from the database")
         await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
+
+    async def _in_order(self, lock: asyncio.Lock, message: dict[str, Any], apply: Callable[[dict[str, Any]], None]) -> None:
+        """`apply` another console's notification on the loop after the reads under `lock` asked before it."""
+        async with lock:
+            if self.closing:
+                return
+            try:
+                apply(message)
+            except (KeyError, ValueError) as e:
+                log.warning("ignored a notification of another console (%s): %.200s", e, message)
+
+    def _shared_watch(self, message: dict[str, Any]) -> None:
+        """Another station's shelf or planned silence, begun or ended."""
+        if message["kind"] == "shelf":
+            if self.alarms.shared_shelf(dict(message["row"])):
+                self._alarms_changed()
+        else:
+            self.alarms.shared_silence(dict(message["row"]))
+            self._update_alarms()  # a vehicle lost meanwhile: its loss is an alarm, or no longer one
 
     def _shared_command(self, rows: list[CommandRow]) -> None:
         """Another station's command as stored (see Commands.merge_shared), to this console's clients."""
@@ -331,11 +346,13 @@ class Console:
             self._ticker.cancel()
         if self._reloads:  # a read of the vehicle names or CoMap under way ends before the store closes
             await asyncio.gather(*self._reloads, return_exceptions=True)
+        if self._writing_held is not None:  # the upkeep (held writes, the name's lock) too: one thread per connection
+            await asyncio.gather(self._writing_held, return_exceptions=True)
         await self.source.stop()  # the DDS ingest's threads joined; a playback's task ended
         await self._stop_history()
         await asyncio.to_thread(self.recorder.stop)
         await self.source.close()  # the embedded simulator, the command writers, the bus; a replay's database
-        self.store.close()
+        await asyncio.to_thread(self.store.close)  # what is still held written: a connect timeout off the loop
 
     async def _stop_history(self) -> None:
         if self._history_task:  # writes what it still holds
@@ -684,16 +701,21 @@ class Console:
 
     async def _read_stored(self, lock: asyncio.Lock, what: str, read: Callable[[], T], apply: Callable[[T], None]) -> None:
         """`read` the database in a worker thread and `apply` it on the loop; one read at a time per `lock`, in the
-        order asked, so an older read never lands after a newer one. The database away: read again when it is back."""
+        order asked, so an older read never lands after a newer one; read again when this console wrote meanwhile (the
+        read may be older than that write, made on the loop while it ran). The database away: read again when it is
+        back."""
         async with lock:
-            try:
-                got = await asyncio.to_thread(read)
-            except (SQLAlchemyError, Unavailable) as e:
-                log.warning("could not read %s: %s", what, e)
-                self._resync_pending = True
-                return
-            if not self.closing:
-                apply(got)
+            while not self.closing:
+                asked = self.store.writes_asked
+                try:
+                    got = await asyncio.to_thread(read)
+                except (SQLAlchemyError, Unavailable) as e:
+                    log.warning("could not read %s: %s", what, e)
+                    self._resync_pending = True
+                    return
+                if self.store.writes_asked == asked and not self.closing:
+                    apply(got)
+                    return
 
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied

@@ -37,10 +37,9 @@ class Alarms:
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
             self._ids[temporary] = new_id
             ids.append(new_id)
-        self.ctx.writes.write(write)
-        if ids:  # written now: no temporary id to map
+        if self.ctx.writes.write(write):  # written now: no temporary id to map
             self._ids.pop(temporary, None)
-            return ids[0]
+            return ids[-1]
         return temporary
 
     def update(self, alarm: dict[str, Any]) -> None:

@@ -101,8 +101,7 @@ class Commands:
                              .values(closed_unheard=why, closed_at=at, cleaned_up=True))
             stored.append(done.rowcount > 0)
             self.ctx.notify(c, "command", session=session_id)
-        self.ctx.writes.write(write)
-        return stored[-1] if stored else None
+        return stored[-1] if self.ctx.writes.write(write) else None
 
     def read(self, limit: int | None = None, offset: int = 0, unfinished: bool = False, session_id: str | None = None,
              provider_id: str | None = None, console: str | None = None) -> list[CommandRow]:

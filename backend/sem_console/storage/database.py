@@ -81,6 +81,11 @@ class Database:
     def dropped(self) -> int:
         return self.writes.dropped
 
+    @property
+    def writes_asked(self) -> int:
+        """Writes asked of this console so far: a read in another thread while it changes may be older than one."""
+        return self.writes.asked
+
     def unreachable(self, e: Exception) -> Unavailable:
         return self.writes.unreachable(e)
 
@@ -207,5 +212,7 @@ class Database:
         self.alarm_rows.clear()
 
     def close(self) -> None:
+        """Write what is held, or say what is lost (WriteBehind.close); let the console's name go."""
+        self.writes.close()
         self.name_lock.close()
         self.engine.dispose()

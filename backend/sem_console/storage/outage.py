@@ -37,6 +37,7 @@ class WriteBehind:
         self._held: deque[Write] = deque()  # during an outage, oldest first
         self.unavailable_since: float | None = None  # UTC seconds: the server was first found unreachable
         self.dropped = 0  # held writes dropped past HELD_MAX
+        self.asked = 0  # writes asked of this console so far (run or held): a read that spans one may be older
 
     @property
     def held(self) -> int:
@@ -54,16 +55,20 @@ class WriteBehind:
             self.went_away(e)
             raise (refusal or self.unavailable)() from e
 
-    def write(self, fn: Write) -> None:
-        """Run `fn` in a transaction, or hold it (in order behind any held before) during an outage."""
+    def write(self, fn: Write) -> bool:
+        """Run `fn` in a transaction, or hold it (in order behind any held before) during an outage. True: committed;
+        False: held (what `fn` saw of a transaction that did not commit is not so)."""
+        self.asked += 1
         if self._held or self.unavailable_since is not None:  # in order; no connect timeout on the caller
             self._hold(fn)
-            return
+            return False
         try:
             with self.outage(), self.engine.begin() as c:
                 fn(c)
         except Unavailable:
             self._hold(fn)
+            return False
+        return True
 
     @contextmanager
     def reads(self) -> Iterator[Connection]:
@@ -135,3 +140,11 @@ class WriteBehind:
                         time.time() - self.unavailable_since, written)
             self.unavailable_since = None
         return True
+
+    def close(self) -> None:
+        """At the console's stop (after its upkeep has ended): write what is still held when the server answers (it
+        may be back since the upkeep last looked); else say in one line how many changes are lost with the console."""
+        if self._held and not self.write_held():
+            log.error("%d changes held since %s were not written: the database %s cannot be reached as the console stops",
+                      len(self._held), self.since(), self.db.shown)
+            self._held.clear()

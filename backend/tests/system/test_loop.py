@@ -10,6 +10,7 @@ import json
 import re
 import threading
 import time
+import uuid
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
@@ -37,19 +38,25 @@ class SlowDatabase:
         self.threads: set[int] = set()
         self.entered, self.released = threading.Event(), threading.Event()
         self.released_in_time: list[bool] = []
+        self.answered = False  # hold the statement once it has its rows (a read older than what follows), not before
         event.listen(engine, "before_cursor_execute", self._statement)
+        event.listen(engine, "after_cursor_execute", self._answered)
 
-    def _statement(self, _conn: Any, _cursor: Any, statement: str, *_args: Any) -> None:
+    def _answered(self, *args: Any) -> None:
+        if self.answered:
+            self._statement(*args, answered=True)
+
+    def _statement(self, _conn: Any, _cursor: Any, statement: str, *_args: Any, answered: bool = False) -> None:
         if not statement.lstrip().upper().startswith("SELECT"):
             return
         self.threads.add(threading.get_ident())
-        if self.table and re.search(rf"\bFROM {self.table}\b", statement):
+        if self.table and self.answered == answered and re.search(rf"\bFROM {self.table}\b", statement):
             self.table = ""  # the first such statement only
             self.entered.set()
             self.released_in_time.append(self.released.wait(HOLD))
 
-    def hold(self, table: str) -> None:
-        self.table, self.threads = table, set()
+    def hold(self, table: str, answered: bool = False) -> None:
+        self.table, self.answered, self.threads = table, answered, set()
         self.entered.clear()
         self.released.clear()
         self.released_in_time.clear()
@@ -152,5 +159,72 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
             assert health.status_code == 200
             print(f"notified command: /api/health answered in {answered * 1000:.1f} ms while the database was held")
             assert released == [True], f"/api/health waited for the notification's read ({answered:.1f} s)"
+        finally:
+            slow.released.set()
+
+
+def listening(client: TestClient) -> None:
+    """Wait until the console listens to the other consoles' notifications."""
+    listener = client.app.state.console._listener  # type: ignore[attr-defined]
+    assert listener is not None and listener.connected.wait(30), "the console does not listen"
+
+
+def settled(client: TestClient) -> None:
+    """Wait until the console has applied every read of the database it started after a notification."""
+    console = client.app.state.console  # type: ignore[attr-defined]
+    wait_until(lambda: not client.portal.call(lambda: set(console._reloads)), 30,  # type: ignore[union-attr]
+               what="the console's reads after notifications to end")
+
+
+def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path, pg_url: str) -> None:
+    """Another station's link configuration is read off the loop after its notification; an operator here sets the
+    vehicle's configuration while that read (of the older row) is on its way: the configuration set here stands, as
+    the database has it, not the older one read before it."""
+    theirs = {"commsLostTimeout": 30.0, "regainedTime": 5.0, "policy": "CONTINUE_MISSION", "regainedBehavior": 0}
+    ours = {"commsLostTimeout": 7.5, "regainedTime": 2.0, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
+    with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
+        slow = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
+        try:
+            other.execute("INSERT INTO link_config (provider_id, config) VALUES (%s, %s) ON CONFLICT (provider_id) "
+                          "DO UPDATE SET config = excluded.config", (V1, json.dumps(theirs)))
+            slow.hold("link_config", answered=True)
+            listening(client)  # one notification, one read: a second would read the newer row after the held one
+            message = json.dumps({"kind": "link", "console": "relief", "provider": V1})
+            other.execute("SELECT pg_notify('sem_console', %s)", (message,))
+            assert slow.entered.wait(30), "no read of the link configurations after the notification"
+            assert client.put(f"/api/providers/{V1}/link-config", json=ours).status_code == 200
+            assert slow.release() == [True]
+            settled(client)
+            assert client.get(f"/api/providers/{V1}").json()["linkConfig"] == ours
+            stored = other.execute("SELECT config FROM link_config WHERE provider_id = %s", (V1,)).fetchone()
+            assert stored is not None and json.loads(stored[0]) == ours
+        finally:
+            slow.released.set()
+
+
+def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) -> None:
+    """A resync (the listener reopened) reads the shelves off the loop; another station shelves an alarm after that
+    read and before it is applied: the shelf it notified stands here, not undone by the older read."""
+    now = time.time()
+    row = {"id": str(uuid.uuid4()), "key": f"link-lost:{V1}", "kind": "link-lost", "provider_id": V1, "session_id": None,
+           "severity": "alarm", "text": "Alpha: link lost", "reason": "maintenance", "shelved_by": "bob",
+           "station": "relief", "shelved_at": now, "until": now + 3600, "ended_at": None, "ended_by": None,
+           "end_reason": None}
+    with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
+        console = client.app.state.console  # type: ignore[attr-defined]
+        slow = SlowDatabase(console.store.engine)
+        try:
+            slow.hold("alarm_shelves", answered=True)
+            listening(client)
+            other.execute("SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "resync"}),))
+            assert slow.entered.wait(30), "no read of the shelves after the resync"
+            other.execute(f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})",
+                          list(row.values()))
+            other.execute("SELECT pg_notify('sem_console', %s)",
+                          (json.dumps({"kind": "shelf", "console": "relief", "row": row}),))
+            time.sleep(1.0)  # the shelf's notification heard meanwhile
+            assert slow.release() == [True]
+            settled(client)
+            assert row["key"] in client.portal.call(lambda: set(console.alarms.shelves))  # type: ignore[union-attr]
         finally:
             slow.released.set()

@@ -9,15 +9,17 @@ import math
 import re
 import shutil
 import sqlite3
+import threading
 import time
 import uuid
 from pathlib import Path
 
+import psycopg
 import pytest
 from alembic.autogenerate import compare_metadata
 from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
-from sqlalchemy import Connection, text
+from sqlalchemy import Connection, event, text
 from sqlalchemy.exc import OperationalError
 from sqlmodel import SQLModel
 
@@ -28,6 +30,7 @@ from sem_console.storage.database import Database, StorageError, Unavailable, Ve
 from sem_console.storage.engine import head_revision
 from sem_console.storage.url import parse_database_url
 from support.pg import Cluster
+from test_routes import app_client, wait_until
 
 LEGACY = Path(__file__).parents[1] / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
 LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
@@ -280,6 +283,108 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
                 other.claim("watch")
         finally:
             other.close()
+    finally:
+        db.close()
+
+
+def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg_cluster: Cluster, pg_url: str) -> None:
+    """A write held during an outage, the server back before the console's upkeep found it (every 2 s) and the console
+    stopped then: the held write is written as the console closes its database, not dropped with it."""
+    db = open_db(pg_url)
+    try:
+        db.claim("watch")
+        pg_cluster.stop()
+        try:
+            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held",
+                          "reason": "accepted"})
+            assert db.held == 1 and db.unavailable_since is not None
+        finally:
+            pg_cluster.start()
+    finally:
+        db.close()
+    again = open_db(pg_url)
+    try:
+        assert [e.path for e in again.audit(10, 0)] == ["/held"]
+    finally:
+        again.close()
+
+
+def test_what_cannot_be_written_when_the_console_stops_is_said(pg_cluster: Cluster, pg_url: str,
+                                                               caplog: pytest.LogCaptureFixture) -> None:
+    """The server still away as the console stops: the changes held are lost with it, and one line says how many."""
+    db = open_db(pg_url)
+    try:
+        pg_cluster.stop()
+        try:
+            for path in ("/a", "/b"):
+                db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": path,
+                              "reason": "accepted"})
+            with caplog.at_level("ERROR", logger="sem-console.storage"):
+                db.close()
+        finally:
+            pg_cluster.start()
+    finally:
+        db.close()
+    [line] = [r.getMessage() for r in caplog.records if r.levelname == "ERROR"]
+    assert line.startswith("2 changes held since ") and "were not written" in line and "\n" not in line, line
+
+
+def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: Path, pg_url: str) -> None:
+    """The console's upkeep (every 2 s, in a worker thread) is on the name's lock connection as the console stops: the
+    stop waits for it. It closed the database under it, and the upkeep, finding its connection closed, took the name
+    again on a new one, held after the console had stopped: the console started again was refused as running."""
+    on_lock, closed = threading.Event(), threading.Event()
+    with app_client(tmp_path, database_url=pg_url) as client:
+        store: Database = client.app.state.console.store  # type: ignore[attr-defined]
+
+        def upkeep(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+            if conn is store.name_lock.lock and statement.strip() == "SELECT 1" and not on_lock.is_set():
+                on_lock.set()
+                closed.wait(5)  # until the store is closed (or, once the stop waits for the upkeep, 5 s)
+
+        event.listen(store.engine, "before_cursor_execute", upkeep)
+        event.listen(store.engine, "engine_disposed", lambda _engine: closed.set())
+        assert on_lock.wait(30), "no upkeep on the name's lock connection"
+    again = open_db(pg_url)
+    try:
+        def claimed() -> bool:
+            try:
+                again.claim("test-console")  # app_client's
+            except StorageError:
+                return False
+            return True
+        wait_until(claimed, 15, "the name let go by the stopped console")
+    finally:
+        again.close()
+
+
+def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_its_acknowledgement(pg_url: str) -> None:
+    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held,
+    and the alarm gets a temporary id, not the id of the row rolled back; its acknowledgement, held after it, reaches
+    the row written when the server answers. With the rolled-back row's id it went to no row: lost."""
+    db = open_db(pg_url)
+    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
+             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
+             "acked_by": None, "normal_at": None}
+    cut: list[int] = []
+
+    def cut_before_commit(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+        if statement.lstrip().upper().startswith("DELETE FROM ALARMS") and not cut:  # its last statement
+            pid = conn.exec_driver_sql("SELECT pg_backend_pid()").scalar_one()
+            cut.append(pid)
+            with psycopg.connect(pg_url, autocommit=True) as other:
+                other.execute("SELECT pg_terminate_backend(%s)", (pid,))
+
+    try:
+        db.claim("watch")
+        event.listen(db.engine, "after_cursor_execute", cut_before_commit)
+        given = db.add_alarm(alarm)
+        assert cut and db.held == 1, "the alarm's write was not cut"
+        assert given < 0, f"the alarm got id {given}, of a row rolled back"
+        db.update_alarm({**alarm, "id": given, "acked_at": 2.0, "acked_by": "alice"})
+        assert db.maintain() and db.held == 0
+        [row] = db.open_alarms()
+        assert (row.acked_by, row.acked_at) == ("alice", 2.0)
     finally:
         db.close()
 
