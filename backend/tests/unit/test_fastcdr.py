@@ -332,3 +332,25 @@ def _satellite_type(t: Any) -> Any:
     import typing
 
     return typing.get_args(typing.get_args(typing.get_type_hints(t, include_extras=True)["satellites"])[0])[0]
+
+
+def test_a_vehicles_parent_is_the_one_its_latest_report_says() -> None:
+    """The parent a 6.0 vehicle's reports give its source (a command's destination carries it): learned from its first
+    report, and learned again when it is given another parent, or when it spoke 3.0.1 (no parent) before."""
+    import uuid
+
+    from sem_console.versions.umaa_6_0 import identifier
+
+    vehicle, first, second = uuid.uuid4(), uuid.uuid4(), uuid.uuid4()
+    d = Decoder()
+    old = random_sample(Sem.INS_REPORT.spec.type, random.Random(1))
+    old.source = list(vehicle.bytes)
+    item = d.decode(Sem.INS_REPORT, Sem.INS_REPORT.spec.type.serialize(old), True, InstanceState.Alive, 0.0)
+    assert item is not None and item.source == vehicle and item.parent is None
+    for sem in (Sem60.INS_REPORT, Sem60.GPS_REPORT):
+        t = sem.spec.type
+        for parent in (first, first, second, second, first):
+            sample = random_sample(t, random.Random(str(parent)))
+            sample.source = identifier(vehicle, parent)
+            item = d.decode(sem, t.serialize(sample), True, InstanceState.Alive, 0.0)
+            assert item is not None and item.source == vehicle and item.parent == parent, (sem.name, parent)
