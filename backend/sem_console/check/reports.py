@@ -116,11 +116,18 @@ def check_timing(sem: AnySem, samples: list[Report], start: float, end: float, l
     case.note(f"{len(live)} {topic} samples, {rate:.2f}/s over {end - start:.1f} s, longest gap {gap:.2f} s{spread}")
 
 
+# a sequence cut by the decoder (codec/convert.py): at the console's cap when the IDL leaves it unbounded, else at its bound
+_SEQUENCE_REFS = {
+    "satellites": "ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has",
+    "carrierToNoise": "ICD 5.1.2.2, Table 12; the IDL bounds it: sequence<double, 11>",
+}
+
+
 def _icd_ref(problem: str) -> str:
     if "unknown" in problem and "ordinal" in problem:
         return f"{problem} (ICD 5.3)"
-    if "elements, more than" in problem:  # codec/convert.py's cap: the sequence is unbounded in the IDL
-        return f"{problem} (ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)"
+    if "elements, more than" in problem:
+        return f"{problem} ({_SEQUENCE_REFS.get(problem.split(':')[0], 'ICD 5.4')})"
     return f"{problem} (ICD 5.4, Table 45)"
 
 

@@ -162,10 +162,11 @@ class Decoder:
     def __init__(self) -> None:
         self.undecodable: dict[str, int] = {}
         self.decoded = 0
-        # a vehicle's parent (its source's parentID, UMAA 6.0's IdentifierType; None for a NumericGUID, which has none),
-        # read from its first report: the model's report leaves the parent out, and an identifier's parent is part of
-        # what it is
-        self._parents: dict[uuid.UUID, uuid.UUID | None] = {}
+        # a vehicle's parent by (vehicle, report type): its source's parentID (UMAA 6.0's IdentifierType; None for a
+        # NumericGUID, which has none), with the bytes of its source as they were (its id and parentID, None without
+        # a parent): the model's report leaves the parent out, so a report is decoded whole only when those bytes are
+        # not in it (its first, or its parent changed)
+        self._parents: dict[tuple[uuid.UUID, type], tuple[uuid.UUID | None, bytes | None]] = {}
         self._counting = threading.Lock()  # both DDS ingest threads decode
 
     def _bad(self, name: str) -> None:
@@ -230,14 +231,17 @@ class Decoder:
                           version=route.version, parent=parent)
 
     def _parent(self, route: _Route, source: uuid.UUID, data: bytes) -> uuid.UUID | None:
-        """A vehicle's parent, from the first report of it decoded whole (once per vehicle)."""
-        if source in self._parents:
-            return self._parents[source]
+        """A vehicle's parent, from a report of it decoded whole: its first on this type, and again when the parent it
+        says is no longer the one known (a vehicle given another parent, or speaking another version)."""
+        key = (source, route.type)
+        known = self._parents.get(key)
+        if known is not None and (known[1] is None or known[1] in data):
+            return known[0]
         try:
             parent = parent_of(route.fast.sample(data).source)
         except Exception:  # the report itself decoded: its parent is not known, and is asked again on the next one
             return None
-        self._parents[source] = parent
+        self._parents[key] = (parent, None if parent is None else source.bytes + parent.bytes)
         return parent
 
     @staticmethod

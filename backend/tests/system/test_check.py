@@ -947,6 +947,18 @@ def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
     assert case.notes == ["10 of 10 samples had problems"]
 
 
+def test_a_sequence_past_its_bound_is_referred_to_its_own_table() -> None:
+    """More carrierToNoise values than the IDL's bound of 11 (the decoder keeps 11 and says so): the finding names
+    GPSFixStatusReportType's table and bound, not the satellites' table; satellites past the console's cap keep theirs."""
+    cut = "carrierToNoise: 12 elements, more than 11; the first 11 kept"
+    case = Case("reports.GPSFixStatusReport.values")
+    reports.check_values(Sem.GPS_FIX_STATUS_REPORT, [Report(time.time(), {"carrierToNoise": [1.0] * 11}, [cut], True, 1)],
+                         reports.ReportLimits(1.0, 5.0, 1.0), case)
+    assert case.reason == f"GPSFixStatusReport {cut} (ICD 5.1.2.2, Table 12; the IDL bounds it: sequence<double, 11>)"
+    assert reports._icd_ref("satellites: 257 elements, more than 256; the first 256 kept").endswith(
+        "(ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)")
+
+
 def test_a_grouped_problem_keeps_its_icd_reference_last() -> None:
     """A source GUID that is not RFC 4122 in every sample, one line with its count and value: the ICD reference,
     `(variant 2: ICD 3.7, ...)`, came before them, not last."""

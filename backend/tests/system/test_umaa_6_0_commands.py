@@ -190,6 +190,20 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
         assert uuid.UUID(bytes=bytes(command.destination.id)) == vehicle
         assert uuid.UUID(bytes=bytes(command.destination.parentID)) == parent
         assert bytes(command.source.parentID) == bytes(16)  # the console has no parent: the nil UUID
+
+        # the vehicle given another parent: the next command goes to the identifier its reports now say
+        other = uuid.uuid4()
+        heard = httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"]
+        report.source, report.timeStamp = umaa_6_0.identifier(vehicle, other), DateTime(seconds=2, nanoseconds=0)
+        writer.write(report)
+        wait_until(lambda: httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"][
+            "receivedAt"] != heard, 15, "the report with the new parent")
+        r = httpx.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
+        assert r.status_code == 201, r.text
+        session = r.json()["sessionId"]
+        command = wait_until(lambda: next((s for s in take_each(reader)[0] if not isinstance(s, InvalidSample)
+                                           and str(uuid.UUID(bytes=bytes(s.sessionID))) == session), None), 10, "the command")
+        assert uuid.UUID(bytes=bytes(command.destination.parentID)) == other
     finally:
         bus.close()
 

@@ -104,7 +104,7 @@ const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, 
 /** The members of the console's reports a vehicle of a UMAA version never fills, and why (by report topic). */
 const NOT_REPORTED_MEMBERS: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, Readonly<Record<string, string>>>>>>> = {
   "3.0.1": {},
-  "6.0": { GPSFixReport: { SOG: "UMAA 6.0 reports no speed (GlobalPoseReport has none)" } },
+  "6.0": { GPSFixReport: { SOG: "its UMAA 6.0 position report (GlobalPoseReport) has no speed" } },
 };
 
 /** Why a vehicle of `version` never has `member` in its `topic` report (null: it may). */

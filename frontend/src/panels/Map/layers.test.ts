@@ -68,13 +68,13 @@ describe("the map's marks", () => {
     expect(vehicleMark({ ...ins, link: "lost" }, 110, null, NONE, true, [])!.projection).toMatchObject({ kind: "projected", radiusM: 100 + 0.9 * 10 });
   });
 
-  it("draws a lost UMAA 6.0 vehicle at its last position and says why it is not projected: its version reports no speed", () => {
+  it("draws a lost UMAA 6.0 vehicle at its last position and says why it is not projected: its position report has no speed", () => {
     // a 6.0 vehicle's position report (from its GlobalPoseReport) has no SOG, ever: no speed is made up for it
     const p: ProviderView = { ...vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: null, trueCourse: 0, GPSLatLongValid: true }]), umaaVersion: "6.0" };
     const m = vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true, [])!;
     expect(m.position).toEqual({ lat: 0, lon: 0 });
     expect(m.projection).toMatchObject({ kind: "last-position", seconds: 130 });
-    expect(projectionText(m.projection!)).toBe("at its last position, not projected: UMAA 6.0 reports no speed (GlobalPoseReport has none)");
+    expect(projectionText(m.projection!)).toBe("at its last position, not projected: its UMAA 6.0 position report (GlobalPoseReport) has no speed");
     // a 3.0.1 vehicle that sent no speed is not said to be of a version without one
     const old = vehicleMark({ ...p, umaaVersion: "3.0.1", link: "lost" }, 230, null, NONE, true, [])!;
     expect(projectionText(old.projection!)).toBe("not projected: speed or course unknown");
