@@ -144,3 +144,33 @@ class SentLog(Generic[T]):
 
     def __len__(self) -> int:
         return len(self._instances)
+
+
+class Held(Generic[T]):
+    """The commands for vehicles not heard yet, held until a vehicle is: what a provider that starts later finds
+    persisted on the bus (UMAA ICD 4.1.2.1), at most `depth` messages per vehicle, the oldest given up. An instance that
+    ends while held (cancelled, cleaned up, or its consumer gone) is dropped whole: none of it went, and its command
+    and dispose delivered late would start the command on the vehicle and cancel it."""
+
+    def __init__(self, depth: int) -> None:
+        self.depth = depth
+        self._vehicles: dict[Hashable, deque[tuple[Hashable, T]]] = {}
+
+    def hold(self, vehicle: Hashable, instance: Hashable, item: T, ends: bool) -> None:
+        held = self._vehicles.get(vehicle)
+        if ends:
+            if held is not None:
+                kept = [(i, x) for i, x in held if i != instance]
+                held.clear()
+                held.extend(kept)
+            return
+        if held is None:
+            held = self._vehicles[vehicle] = deque(maxlen=self.depth)
+        held.append((instance, item))
+
+    def release(self, vehicle: Hashable) -> list[T]:
+        """What is held for `vehicle`, in the order it came, no longer held."""
+        return [item for _instance, item in self._vehicles.pop(vehicle, ())]
+
+    def __len__(self) -> int:
+        return sum(len(h) for h in self._vehicles.values())

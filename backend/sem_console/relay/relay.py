@@ -15,7 +15,7 @@ import os
 import threading
 import time
 import uuid
-from collections import OrderedDict, defaultdict, deque
+from collections import OrderedDict, defaultdict
 from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -27,7 +27,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.link import LINK_CLASSES, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.link import LINK_CLASSES, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
 
@@ -95,7 +95,7 @@ class Relay:
         # operations side: the domain each vehicle's samples came from (where its commands go), and commands for a
         # vehicle not heard yet (sent once it is)
         self.domain_of: dict[uuid.UUID, int] = {}
-        self.waiting: dict[uuid.UUID, deque[Taken]] = defaultdict(lambda: deque(maxlen=WAITING_DEPTH))
+        self.held: Held[Taken] = Held(WAITING_DEPTH)
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
         self.sends = others if self.vehicles_side else commands
@@ -130,7 +130,7 @@ class Relay:
             with self._lock:
                 domain = self.domain_of.get(taken.vehicle)
                 if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
-                    self.waiting[taken.vehicle].append(taken)
+                    self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
                     return
             self._send(self._outgoing(taken, domain))
             return
@@ -241,7 +241,7 @@ class Relay:
             t.received_messages += 1
             if not self.vehicles_side and address.vehicle not in self.domain_of:
                 self.domain_of[address.vehicle] = address.domain
-                release = list(self.waiting.pop(address.vehicle, ()))
+                release = self.held.release(address.vehicle)
         kind, source_ns = meta
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
             self._versions.add(type(sem))
@@ -283,7 +283,7 @@ class Relay:
             return {"name": self.options.name, "side": self.options.side, "domain": self.bus.domain_id,
                     "linkClass": self.options.link_class, "caps": self.caps, "seconds": round(elapsed, 1),
                     "conflated": self.limiter.conflated, "unchanged": self.limiter.unchanged,
-                    "waitingCommands": sum(len(w) for w in self.waiting.values()), "vehicles": vehicles}
+                    "waitingCommands": len(self.held), "vehicles": vehicles}
 
     def report(self) -> None:
         status = self.status()

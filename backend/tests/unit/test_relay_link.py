@@ -10,7 +10,7 @@ import uuid
 import pytest
 
 from sem_console.relay.cli import main
-from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
 
@@ -63,6 +63,21 @@ def test_after_an_outage_what_was_sent_since_goes_again_an_ended_instance_only_i
                                          "running EXECUTING", "fix 2", "canceled disposed"]
     sent.forget(ended_before=104.0)
     assert len(sent) == 3 and "canceled disposed" not in sent.since(float("-inf"))
+
+
+def test_a_command_ended_while_held_for_its_vehicle_is_never_delivered() -> None:
+    held: Held[str] = Held(depth=3)
+    held.hold("v", "canceled", "canceled command", ends=False)
+    held.hold("v", "running", "running command", ends=False)
+    held.hold("w", "gone", "command of a consumer gone", ends=False)
+    held.hold("v", "canceled", "canceled dispose", ends=True)  # cancelled before the vehicle was heard
+    held.hold("w", "gone", "gone unregistered", ends=True)
+    held.hold("v", "never held", "a dispose alone", ends=True)
+    assert len(held) == 1
+    assert held.release("v") == ["running command"] and held.release("v") == [] and held.release("w") == []
+    for n in range(5):  # the last `depth` messages per vehicle
+        held.hold("v", n, f"command {n}", ends=False)
+    assert held.release("v") == ["command 2", "command 3", "command 4"]
 
 
 def test_link_classes_and_caps() -> None:
