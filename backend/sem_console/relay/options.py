@@ -33,8 +33,8 @@ class RelayOptions(BaseSettings):
         f"Zenoh endpoints to listen on, comma separated (default for a router: {DEFAULT_ENDPOINT}; a relay: none)"))
     link_class: Literal["satellite", "lan"] = Field("satellite", description=(
         "the link's rate caps on reports: satellite (GPSReport once a minute, GlobalPoseReport, GPSFixReport and "
-        "GPSFixStatusReport every 5 s, InertialSensorReport on change) or lan (no caps); commands, statuses and "
-        "acks are never capped (default: satellite)"))
+        "GPSFixStatusReport every 5 s, a fix lost or regained at once, InertialSensorReport on change) or lan (no "
+        "caps); commands, statuses and acks are never capped (default: satellite)"))
     caps: str = Field("", description=(
         "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
         "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"))

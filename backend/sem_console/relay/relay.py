@@ -27,7 +27,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.link import LINK_CLASSES, Held, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
 
@@ -144,16 +144,23 @@ class Relay:
                 before = self.limiter.take(taken.instance)
                 ready = [before, out] if before is not None else [out]
             else:
-                fingerprint = self._fingerprint(taken) if self.limiter.cap(topic) == "change" else None
+                fingerprint = self.fingerprint(taken, self.limiter.cap(topic))
                 now = self.limiter.offer(topic, taken.instance, out, time.monotonic(), fingerprint)
                 ready = [now] if now is not None else []
         for o in ready:
             self._send(o)
 
     @staticmethod
-    def _fingerprint(taken: Taken) -> Any:
-        """A report's content without its time stamp: what "on change" compares."""
-        sample = taken.sem.spec.type.deserialize(taken.data)
+    def fingerprint(taken: Taken, cap: Cap) -> Any:
+        """What the limiter compares of a report at this cap: on change, its content without its time stamp; at a cap
+        in seconds, its AT_ONCE_FIELDS (None: nothing)."""
+        fields = AT_ONCE_FIELDS.get(short_name(taken.sem.spec.name)) if cap != ON_CHANGE else None
+        if cap != ON_CHANGE and (not cap or not fields):
+            return None
+        appendable = taken.sem.spec.appendable if taken.instance[1] else None
+        sample = (appendable or taken.sem.spec.type).deserialize(taken.data)
+        if fields:
+            return repr({k: getattr(sample, k) for k in fields})
         return repr({k: v for k, v in vars(sample).items() if k not in ("timeStamp", "sample_info")})
 
     def _outgoing(self, taken: Taken, domain: int) -> Outgoing:

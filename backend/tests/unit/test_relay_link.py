@@ -9,10 +9,19 @@ import uuid
 
 import pytest
 
+from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as NavSolution
+from UMAA.Common.Measurement import Altitude_HAE, GeodeticLatitude, GeodeticLongitude, Position2D, Position3D_WGS84
+from UMAA.SEM.GPSFixStatus import GPSFixStatusReportType
+
+from sem_console.dds.topics import Sem
 from sem_console.relay.cli import main
+from sem_console.relay.domain import Taken
 from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
+from sem_console.relay.relay import Relay
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
 
 
 def test_a_capped_topic_sends_the_latest_sample_of_each_instance_at_its_slot() -> None:
@@ -36,6 +45,34 @@ def test_on_change_sends_what_differs_from_the_last_sent() -> None:
     assert limiter.offer("InertialSensorReport", "v", "2", 1.0, fingerprint=("ON", "ALIGNING")) is None
     assert limiter.offer("InertialSensorReport", "v", "3", 2.0, fingerprint=("ON", "OPERATIONAL")) == "3"
     assert limiter.unchanged == 1
+
+
+def fix_status(valid: bool, cn0: float) -> Taken:
+    origin = Position3D_WGS84(Position2D(GeodeticLatitude(0.0), GeodeticLongitude(0.0)), Altitude_HAE(0.0))
+    sample = GPSFixStatusReportType(
+        carrierToNoise=[cn0], countDown=0, fixValid=valid, lowBkupBattery=False,
+        navSolution=NavSolution.GPS_3D if valid else NavSolution.GPS_DEAD_RECK, originPosition=origin, pCode=False,
+        timeOut=not valid, source=to_guid(uuid.UUID(int=1)), timeStamp=now_datetime())
+    spec = Sem.GPS_FIX_STATUS_REPORT.spec
+    return Taken(Sem.GPS_FIX_STATUS_REPORT, Kind.SAMPLE, sample.serialize(), 0, uuid.UUID(int=1), (spec.name, False, 1))
+
+
+def test_a_fix_lost_or_regained_goes_at_once_at_the_satellite_cap() -> None:
+    cap = LINK_CLASSES["satellite"]["GPSFixStatusReport"]
+    limiter: Limiter[str] = Limiter({"GPSFixStatusReport": cap})
+
+    def offer(valid: bool, cn0: float, now: float) -> str | None:
+        return limiter.offer("GPSFixStatusReport", "v", f"{valid} {cn0}", now, Relay.fingerprint(fix_status(valid, cn0), cap))
+
+    assert offer(True, 40.0, 0.0) == "True 40.0"
+    assert offer(True, 41.0, 1.0) is None  # only its carrier-to-noise changed: at its slot
+    assert offer(False, 20.0, 2.0) == "False 20.0"  # the fix lost: at once (the older sample waiting is given up)
+    assert offer(True, 39.0, 3.0) == "True 39.0"  # and regained
+    assert offer(True, 38.0, 4.0) is None
+    assert limiter.due(7.9) == [] and limiter.due(8.0) == ["True 38.0"]
+    assert offer(True, 37.0, 9.0) is None and offer(False, 10.0, 9.5) == "False 10.0"
+    assert Relay.fingerprint(fix_status(True, 40.0), 0.0) is None  # not capped: nothing to compare
+    assert Relay.fingerprint(fix_status(True, 40.0), ON_CHANGE) != Relay.fingerprint(fix_status(True, 41.0), ON_CHANGE)
 
 
 def test_a_waiting_sample_goes_before_its_instance_ends() -> None:
@@ -132,3 +169,4 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
+
