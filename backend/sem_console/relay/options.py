@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import ipaddress
 import socket
+import ssl
 from pathlib import Path
 from typing import Literal
 
@@ -108,4 +109,22 @@ def endpoint_problem(options: RelayOptions) -> str | None:
                 continue
             return (f"{flag} {endpoint} leaves this machine without TLS: use a tls/ endpoint with --tls-root-ca, or give "
                     "--insecure to send the fleet's traffic in the clear")
+    return None
+
+
+def tls_problem(options: RelayOptions) -> str | None:
+    """Why the TLS files cannot serve, as one line naming the fix, or None: Zenoh would refuse them at every attempt
+    to connect, and the relay would wait for its router for ever."""
+    if options.tls_root_ca is not None:
+        try:
+            ssl.create_default_context(cafile=str(options.tls_root_ca))
+        except (OSError, ssl.SSLError) as e:
+            return (f"--tls-root-ca {options.tls_root_ca}: cannot read it as PEM certificates "
+                    f"({getattr(e, 'strerror', None) or e}): give the fleet authority's certificate")
+    if options.tls_certificate is not None and options.tls_private_key is not None:
+        try:
+            ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT).load_cert_chain(options.tls_certificate, options.tls_private_key)
+        except (OSError, ssl.SSLError) as e:
+            return (f"--tls-certificate {options.tls_certificate} and --tls-private-key {options.tls_private_key}: not a "
+                    f"readable PEM certificate and its private key ({getattr(e, 'strerror', None) or e})")
     return None

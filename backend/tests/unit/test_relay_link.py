@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import io
 import uuid
+from pathlib import Path
 
 import pytest
 
@@ -17,11 +18,12 @@ from sem_console.dds.topics import Sem
 from sem_console.relay.cli import main
 from sem_console.relay.domain import Taken
 from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
-from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
+from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem
 from sem_console.relay.relay import Relay
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
+from support.certs import Authority
 
 
 def test_a_capped_topic_sends_the_latest_sample_of_each_instance_at_its_slot() -> None:
@@ -149,6 +151,8 @@ def test_only_loopback_goes_without_tls_unless_insecure() -> None:
     assert "--listen tcp/0.0.0.0:7447 leaves this machine without TLS" in str(
         endpoint_problem(RelayOptions(router=True, listen="tcp/0.0.0.0:7447")))
     assert "needs --tls-root-ca" in str(endpoint_problem(RelayOptions(connect="tls/192.0.2.1:7447")))
+    for endpoint in ("tcp/10.0.0.1:7447", "tcp/ops.example.org:7447", "tcp/localhost.example.org:7447", "udp/10.0.0.1:7447"):
+        assert "leaves this machine without TLS" in str(endpoint_problem(RelayOptions(connect=endpoint))), endpoint
 
 
 def run(*argv: str) -> tuple[int, str]:
@@ -170,3 +174,19 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
 
+
+def test_tls_files_that_cannot_serve_are_one_line(tmp_path: Path) -> None:
+    fleet = Authority(tmp_path, "fleet")
+    cert, key_file = fleet.issue("ship-1")
+    missing, unreadable = tmp_path / "missing.pem", tmp_path / "garbage.pem"
+    unreadable.write_text("not a certificate")
+    tls = ("--connect", "tls/10.0.0.1:7447", "--tls-root-ca")
+    assert run(*tls, str(missing)) == (2, f"sem-relay: error: --tls-root-ca {missing}: cannot read it as PEM certificates "
+                                          "(No such file or directory): give the fleet authority's certificate\n")
+    code, err = run(*tls, str(unreadable))
+    assert code == 2 and err.startswith(f"sem-relay: error: --tls-root-ca {unreadable}: cannot read it") and err.count("\n") == 1
+    code, err = run(*tls, str(fleet.pem), "--tls-certificate", str(cert), "--tls-private-key", str(cert))  # its key: the cert
+    assert code == 2 and err.count("\n") == 1 and err.startswith(
+        f"sem-relay: error: --tls-certificate {cert} and --tls-private-key {cert}: not a readable PEM certificate")
+    assert tls_problem(RelayOptions(connect="tls/10.0.0.1:7447", tls_root_ca=fleet.pem, tls_certificate=cert,
+                                    tls_private_key=key_file)) is None
