@@ -149,6 +149,26 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         bus60.close()
 
 
+def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, domain: int, relay, tmp_path: Path) -> None:
+    """ICD 4.1.2.1: a provider that starts later finds the commands persisted on the bus, not the cancelled ones."""
+    far = free_domain(taken=domain)
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer = Consumer(far)
+    try:
+        canceled = consumer.command(Service.GPS_FIX, V1)
+        consumer.dispose(canceled)
+        kept = consumer.command(Service.GPS_FIX, V1)
+        status = tmp_path / "far.json"
+        consumer.wait(lambda: status.exists() and json.loads(status.read_text())["waitingCommands"] == 1, 15,
+                      "the far relay holding the one command alive")
+        sim()  # the vehicle is heard
+        assert consumer.wait_terminal(kept, 20).statuses == HAPPY
+        consumer.pump()
+        assert consumer.commands[canceled].statuses == []
+    finally:
+        consumer.close()
+
+
 def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
     """600 ms round trip, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the command flow
     is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
