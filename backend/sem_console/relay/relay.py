@@ -39,6 +39,7 @@ _REPORT = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.Congestion
 _REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.BLOCK)
 LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has at most 5 statuses)
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
+LOST_KEPT_SECONDS = 86400.0  # how long a lost relay of the other side is waited for (its ends kept to send again)
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
 LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
@@ -180,16 +181,28 @@ class Relay:
                 return
             lost = self._peers.get(peer, float("-inf"))
             self._peers[peer] = None
-            if lost is None:  # seen again without having gone: this side's own link was down
-                lost, self._own_lost = self._own_lost, None
+            own, self._own_lost = self._own_lost, None  # a relay of the other side heard: this side's own link is up
+            if lost is None or own is not None:  # seen again without having gone: this side's own link was down
+                lost = own if lost is None else min(lost, own)
             if lost is None:
                 return
-            # Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive
-            # period and the link's delay): what was sent from two leases and a margin before is sent again
-            since = lost - 2 * self.options.lease_seconds - LOSS_MARGIN_SECONDS
+            since = self._resend_from(lost)
             self._resend_since = since if self._resend_since is None else min(self._resend_since, since)
         log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer,
                  now - since)
+
+    def _resend_from(self, lost: float) -> float:
+        """Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive period and
+        the link's delay): what was sent from two leases and a margin before the loss was noticed is sent again."""
+        return lost - 2 * self.options.lease_seconds - LOSS_MARGIN_SECONDS
+
+    def _forget_ended(self, now: float) -> None:
+        """Forget the instances that ended ENDED_KEPT_SECONDS ago, but none a relay of the other side that is lost (or
+        this relay's own lost link) is to be sent again: a cancel sent just before an outage longer than that still
+        goes after it. A loss older than LOST_KEPT_SECONDS no longer counts (that relay is gone for good)."""
+        with self._lock:
+            losses = [t for t in (*self._peers.values(), self._own_lost) if t is not None and now - t < LOST_KEPT_SECONDS]
+            self._sent.forget(min([now - ENDED_KEPT_SECONDS, *(self._resend_from(t) for t in losses)]))
 
     def _watch_link(self) -> None:
         """When this relay's session lost every router and peer it had (Zenoh closes a link silent for a lease)."""
@@ -275,8 +288,7 @@ class Relay:
                 self._send_again(since)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
-                with self._lock:
-                    self._sent.forget(time.monotonic() - ENDED_KEPT_SECONDS)
+                self._forget_ended(time.monotonic())
                 self.report()
 
     def status(self) -> dict[str, Any]:

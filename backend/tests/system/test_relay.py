@@ -18,6 +18,7 @@ from typing import Any
 
 import httpx
 import pytest
+import zenoh
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
@@ -26,6 +27,9 @@ from conftest import Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.relay.options import RelayOptions
+from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
+from sem_console.relay.wire import Kind, attachment, key
 from sem_console.sim.provider import vehicle_guid
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
@@ -229,6 +233,30 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, 
         consumer.close()
         for link in links:
             link.close()
+
+
+def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_after_it(domain: int) -> None:
+    """A relay of the other side lost for an hour, longer than the ten minutes an ended instance is kept: the cancel
+    sent just before the loss is still sent again when it is back (real Cyclone DDS and Zenoh; the clock given)."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops", lease_seconds=10), bus, session)
+    try:
+        cancel = Outgoing(key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name), b"", attachment(Kind.DISPOSE, 0), V1, urgent=True,
+                          instance="canceled", ended=True)
+        relay._sent.add(cancel.instance, cancel, 1000.0, latest_only=False, ends=True)
+        lost = 1010.0  # the other side's relay lost
+        relay._peers["sem-relay/vehicles/ship-1/1"] = lost
+        relay._forget_ended(lost + ENDED_KEPT_SECONDS + 3600)
+        assert relay._sent.since(relay._resend_from(lost)) == [cancel]
+        relay._peers["sem-relay/vehicles/ship-1/1"] = None  # back, and sent again: forgotten in time
+        relay._forget_ended(lost + ENDED_KEPT_SECONDS + 3600)
+        assert relay._sent.since(float("-inf")) == []
+    finally:
+        relay.close()
+        bus.close()
+        session.close()
 
 
 def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
