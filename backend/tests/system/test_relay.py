@@ -81,18 +81,23 @@ def sources_60(readers: list[Any]) -> set[uuid.UUID]:
     return {uuid.UUID(bytes=bytes(s.source.id)) for r in readers for s in take_each(r)[0] if hasattr(s, "source")}
 
 
-def command_60(bus: Bus, vehicle: uuid.UUID, state: str) -> list[Any]:
-    """A UMAA 6.0 INS command to `vehicle` from `bus`: the statuses it went through, up to a terminal one."""
+def command_60(bus: Bus, vehicle: uuid.UUID, state: str, cancel: bool = False) -> list[Any]:
+    """A UMAA 6.0 INS command to `vehicle` from `bus` (`cancel`: disposed once EXECUTING): the statuses it went through,
+    up to a terminal one."""
     c = commanding(UMAA_6_0, Service.INERTIAL_SENSOR)
     assert c is not None
     statuses, session = bus.reader(c.status), uuid.uuid4()
     writer = bus.writer(c.command)
-    writer.write(c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0)))
+    command = c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0))
+    writer.write(command)
     seen: list[Any] = []
     deadline = time.monotonic() + 20
     while (not seen or seen[-1] not in (S.COMPLETED, S.FAILED, S.CANCELED)) and time.monotonic() < deadline:
         seen += [c.read_status(x)[0] for x in take_each(statuses)[0]
                  if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session]
+        if cancel and seen and seen[-1] is S.EXECUTING:
+            writer.dispose(command)
+            cancel = False
         time.sleep(0.05)
     return seen
 
@@ -135,6 +140,8 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         assert consumer.wait_terminal(ins, 20).statuses == HAPPY
         # the 6.0 vehicle's INS command (UMAA 6.0's InertialSensorCommandType) completes too
         assert command_60(bus60, V2, "STATIONARY_ALIGN")[-1] is S.COMPLETED
+        # and its cancel: the dispose crosses as a dispose of the 6.0 key (an IdentifierType source and destination)
+        assert command_60(bus60, V2, "STATIONARY_ALIGN", cancel=True) == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED]
         # the cleanup: the finished fix disposed, the vehicle disposes its status and ack
         consumer.dispose(fix)
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
