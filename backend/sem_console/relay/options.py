@@ -5,6 +5,7 @@ core/command_line.add_model_options), so the ranges, defaults and help are writt
 from __future__ import annotations
 
 import ipaddress
+import os
 import socket
 import ssl
 from pathlib import Path
@@ -127,4 +128,17 @@ def tls_problem(options: RelayOptions) -> str | None:
         except (OSError, ssl.SSLError) as e:
             return (f"--tls-certificate {options.tls_certificate} and --tls-private-key {options.tls_private_key}: not a "
                     f"readable PEM certificate and its private key ({getattr(e, 'strerror', None) or e})")
+    return None
+
+
+def status_file_problem(options: RelayOptions) -> str | None:
+    """Why --status-file cannot be written, as one line, or None: found at start, not as a warning every
+    --stats-seconds while the relay runs."""
+    path = options.status_file
+    if path is None:
+        return None
+    folder = path.parent
+    if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
+        why = "a folder" if path.is_dir() else f"no folder {folder}" if not folder.is_dir() else f"{folder} is not writable"
+        return f"--status-file {path}: {why}: give a file in a folder the relay may write"
     return None

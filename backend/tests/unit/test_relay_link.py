@@ -190,3 +190,10 @@ def test_tls_files_that_cannot_serve_are_one_line(tmp_path: Path) -> None:
         f"sem-relay: error: --tls-certificate {cert} and --tls-private-key {cert}: not a readable PEM certificate")
     assert tls_problem(RelayOptions(connect="tls/10.0.0.1:7447", tls_root_ca=fleet.pem, tls_certificate=cert,
                                     tls_private_key=key_file)) is None
+
+
+def test_a_status_file_that_cannot_be_written_is_one_line(tmp_path: Path) -> None:
+    missing, fix = tmp_path / "missing" / "near.json", "give a file in a folder the relay may write\n"
+    assert run("--status-file", str(missing)) == (
+        2, f"sem-relay: error: --status-file {missing}: no folder {missing.parent}: {fix}")
+    assert run("--status-file", str(tmp_path)) == (2, f"sem-relay: error: --status-file {tmp_path}: a folder: {fix}")
