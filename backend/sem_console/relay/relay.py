@@ -182,10 +182,10 @@ class Relay:
             lost = self._peers.get(peer, float("-inf"))
             self._peers[peer] = None
             own, self._own_lost = self._own_lost, None  # a relay of the other side heard: this side's own link is up
-            if lost is None or own is not None:  # seen again without having gone: this side's own link was down
-                lost = own if lost is None else min(lost, own)
-            if lost is None:
+            losses = [t for t in (lost, own) if t is not None]  # without its own loss: this side's own link was down
+            if not losses:
                 return
+            lost = min(losses)
             since = self._resend_from(lost)
             self._resend_since = since if self._resend_since is None else min(self._resend_since, since)
         log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer,
