@@ -19,18 +19,24 @@ from typing import Any
 import httpx
 import pytest
 import zenoh
+from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
 from conftest import Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import Kind, attachment, key
 from sem_console.sim.provider import vehicle_guid
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
 from support.certs import Authority
@@ -264,6 +270,37 @@ def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_aft
         relay.close()
         bus.close()
         session.close()
+
+
+def test_an_instance_disposed_after_several_unread_samples_ends_once_after_the_last(domain: int) -> None:
+    """A status written twice and disposed before the relay takes them (one take, each sample's instance state then
+    disposed): its samples cross, then its dispose once, never a sample after the dispose (which on the far side
+    would bring the instance back: a command re-written after its cancel would start again)."""
+    vehicle, relay_bus = Bus(domain), Bus(domain)
+    taken: list[Taken] = []
+    side = DomainSide(relay_bus, [Sem.GPS_FIX_COMMAND_STATUS], taken.append)
+    try:
+        writer = vehicle.writer(Sem.GPS_FIX_COMMAND_STATUS)
+        deadline = time.monotonic() + 10
+        while not writer.get_matched_subscriptions() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        session = uuid.uuid4()
+        for status in (S.ISSUED, S.CANCELED):
+            sample = GPSFixCommandStatusType(source=to_guid(V1), commandStatus=status, commandStatusReason=Reason.SUCCEEDED,
+                                             logMessage="", sessionID=to_guid(session), timeStamp=now_datetime())
+            writer.write(sample)
+        writer.dispose(sample)
+        writer.wait_for_acks(duration(seconds=5))
+        side.start()  # the three in one take
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and not (
+                sum(t.kind is Kind.SAMPLE for t in taken) == 2 and taken[-1].kind is Kind.DISPOSE):
+            time.sleep(0.05)
+        assert [t.kind for t in taken] == [Kind.SAMPLE, Kind.SAMPLE, Kind.DISPOSE]
+    finally:
+        side.stop()
+        vehicle.close()
+        relay_bus.close()
 
 
 def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:
