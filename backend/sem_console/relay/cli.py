@@ -13,7 +13,7 @@ from typing import Any
 import zenoh
 from pydantic import ValidationError
 
-from sem_console.core.command_line import Parser, add_model_options, cli_options, from_environment, model_error, ranged
+from sem_console.core.command_line import Parser, add_model_options, cli_options, env_name, from_environment, model_error, ranged
 from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.relay.link import parse_caps
@@ -47,7 +47,7 @@ def options_from(args: argparse.Namespace) -> RelayOptions:
         print(f"sem-relay: error: {model_error(RelayOptions, e, given)}", file=sys.stderr)
         raise SystemExit(2) from None
     except ValueError as e:
-        print(f"sem-relay: error: --caps {e}", file=sys.stderr)
+        print(f"sem-relay: error: {'--caps' if 'caps' in given else env_name(RelayOptions, 'caps')} {e}", file=sys.stderr)
         raise SystemExit(2) from None
     return opts
 

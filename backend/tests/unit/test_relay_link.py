@@ -173,6 +173,12 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
+    monkeypatch.delenv("SEM_RELAY_CONNECT")
+    monkeypatch.setenv("SEM_RELAY_STATUS_PORT", "abc")  # named by the variable that exists
+    assert run() == (2, "sem-relay: error: SEM_RELAY_STATUS_PORT: 'abc' is not a whole number\n")
+    monkeypatch.delenv("SEM_RELAY_STATUS_PORT")
+    monkeypatch.setenv("SEM_RELAY_CAPS", "GPSReport=often")
+    assert run() == (2, "sem-relay: error: SEM_RELAY_CAPS 'GPSReport=often': the cap is seconds 0..86400 or 'change'\n")
 
 
 def test_tls_files_that_cannot_serve_are_one_line(tmp_path: Path) -> None:
