@@ -105,7 +105,7 @@ def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel],
 def model_error(model: type[BaseModel], error: ValidationError, given: Collection[str] | None = None) -> str:
     """The first problem of a validation error as one line: `--port: Input should be less than or equal to 65535`,
     or a check between fields as it is worded (`--tls-certfile and --tls-keyfile go together`). With `given` (the
-    fields the command line set), a field outside it is named by the SEM_* variable it came from: `SEM_PORT: ...`
+    fields the command line set), a field outside it is named by the variable it came from: `SEM_PORT: ...`
     (an environment-only setting has no option to name)."""
     first = error.errors()[0]
     message = str(first["ctx"]["error"]) if first["type"] == "value_error" else first["msg"]
@@ -116,7 +116,12 @@ def model_error(model: type[BaseModel], error: ValidationError, given: Collectio
     name = str(first["loc"][0])
     if first["type"] in BOUNDS:  # a number out of range: say the whole range, as `ranged` does
         message = _out_of_range(model, name, first["input"]) or message
-    return f"{flag_of(model, name) if given is None or name in given else 'SEM_' + name.upper()}: {message}"
+    return f"{flag_of(model, name) if given is None or name in given else env_name(model, name)}: {message}"
+
+
+def env_name(model: type[BaseModel], name: str) -> str:
+    """The environment variable of a field: its model's prefix (SEM_, SEM_RELAY_) and its name."""
+    return f"{model.model_config.get('env_prefix') or 'SEM_'}{name.upper()}"
 
 
 BOUNDS = ("greater_than", "greater_than_equal", "less_than", "less_than_equal")

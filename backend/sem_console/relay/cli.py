@@ -13,11 +13,11 @@ from typing import Any
 import zenoh
 from pydantic import ValidationError
 
-from sem_console.core.command_line import Parser, add_model_options, cli_options, from_environment, model_error, ranged
+from sem_console.core.command_line import Parser, add_model_options, cli_options, env_name, from_environment, model_error, ranged
 from sem_console.core.config import BusSettings
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.relay.link import parse_caps
-from sem_console.relay.options import RelayOptions, endpoint_problem
+from sem_console.relay.options import RelayOptions, endpoint_problem, status_file_problem, tls_problem
 from sem_console.relay.relay import Relay, serve_status, zenoh_config
 
 log = logging.getLogger("sem-relay")
@@ -47,7 +47,7 @@ def options_from(args: argparse.Namespace) -> RelayOptions:
         print(f"sem-relay: error: {model_error(RelayOptions, e, given)}", file=sys.stderr)
         raise SystemExit(2) from None
     except ValueError as e:
-        print(f"sem-relay: error: --caps {e}", file=sys.stderr)
+        print(f"sem-relay: error: {'--caps' if 'caps' in given else env_name(RelayOptions, 'caps')} {e}", file=sys.stderr)
         raise SystemExit(2) from None
     return opts
 
@@ -71,7 +71,7 @@ def open_session(opts: RelayOptions, stopping: threading.Event) -> zenoh.Session
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     opts = options_from(args)
-    if problem := endpoint_problem(opts):
+    if problem := endpoint_problem(opts) or tls_problem(opts) or status_file_problem(opts):
         print(f"sem-relay: error: {problem}", file=sys.stderr)
         return 2
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")

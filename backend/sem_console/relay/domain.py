@@ -76,13 +76,16 @@ class DomainSide:
                 raw = take_cdr(reader, condition.mask, 256)
                 if isinstance(raw, int):
                     continue
-                for data, info in raw:
+                # a sample's instance state is its instance's at the take: an end goes after its instance's last sample
+                last = {int(info.instance_handle): i for i, (_data, info) in enumerate(raw)}
+                for i, (data, info) in enumerate(raw):
                     try:
-                        self._take(sem, appendable, data, info)
+                        self._take(sem, appendable, data, info, last[int(info.instance_handle)] == i)
                     except Exception as e:  # whatever a writer sent, only this sample is lost
                         log.warning("a sample of %s could not be read: %s", sem.spec.name, e)
 
-    def _take(self, sem: AnySem, appendable: bool, data: bytes, info: Any) -> None:
+    def _take(self, sem: AnySem, appendable: bool, data: bytes, info: Any, last: bool) -> None:
+        """One sample taken; `last`: the last of its instance in its take (the one its instance's end follows)."""
         instance = (sem.spec.name, appendable, int(info.instance_handle))
         known = self._vehicles.get(instance)
         if known is None:
@@ -93,7 +96,7 @@ class DomainSide:
         ts = int(info.source_timestamp)
         if info.valid_data:
             self.on_taken(Taken(sem, Kind.SAMPLE, data, ts, vehicle, instance))
-        if info.instance_state != InstanceState.Alive:  # a dispose after an unread sample shows only in its state
+        if last and info.instance_state != InstanceState.Alive:  # a dispose after an unread sample shows only in its state
             kind = Kind.DISPOSE if info.instance_state == InstanceState.NotAliveDisposed else Kind.UNREGISTER
             self.on_taken(Taken(sem, kind, key_cdr, ts, vehicle, instance))
             self._vehicles.pop(instance, None)

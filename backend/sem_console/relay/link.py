@@ -17,6 +17,9 @@ LINK_CLASSES: dict[str, dict[str, Cap]] = {
                   "InertialSensorReport": ON_CHANGE},
     "lan": {},
 }
+# the fields of a capped report whose change goes at once, not at the next slot: a fix lost or regained is on the
+# operator's screen within the link's delay (the rest of the report, its carrier-to-noise values, waits for the slot)
+AT_ONCE_FIELDS: dict[str, tuple[str, ...]] = {"GPSFixStatusReport": ("fixValid", "navSolution", "timeOut")}
 REPORT_NAMES = ("GPSReport", "GlobalPoseReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport")
 
 
@@ -53,8 +56,9 @@ class _Instance(Generic[T]):
     cap: float  # seconds between two sends (0.0 for an on-change topic)
     last_sent: float = float("-inf")
     pending: T | None = None
-    fingerprint: Hashable = None
+    fingerprint: Hashable = None  # the last sent's
     has_fingerprint: bool = False
+    pending_fingerprint: Hashable = None
 
 
 @dataclass
@@ -71,7 +75,8 @@ class Limiter(Generic[T]):
 
     def offer(self, topic: str, instance: Hashable, item: T, now: float, fingerprint: Hashable = None) -> T | None:
         """The item to send now, or None: it waits for its instance's next slot (or, on change, is the same as the
-        last one sent)."""
+        last one sent). A capped topic's item with a fingerprint (its AT_ONCE_FIELDS) other than the last sent's goes
+        at once."""
         cap = self.cap(topic)
         if cap == 0.0:
             return item
@@ -84,12 +89,16 @@ class Limiter(Generic[T]):
                 return None
             state.fingerprint, state.has_fingerprint = fingerprint, True
             return item
-        if now - state.last_sent >= state.cap:
-            state.last_sent = now
+        changed = fingerprint is not None and state.has_fingerprint and fingerprint != state.fingerprint
+        if now - state.last_sent >= state.cap or changed:
+            if state.pending is not None:
+                self.conflated += 1
+            state.last_sent, state.pending = now, None
+            state.fingerprint, state.has_fingerprint = fingerprint, True
             return item
         if state.pending is not None:
             self.conflated += 1
-        state.pending = item
+        state.pending, state.pending_fingerprint = item, fingerprint
         return None
 
     def due(self, now: float) -> list[T]:
@@ -99,6 +108,7 @@ class Limiter(Generic[T]):
             if state.pending is not None and now - state.last_sent >= state.cap:
                 out.append(state.pending)
                 state.pending, state.last_sent = None, now
+                state.fingerprint, state.has_fingerprint = state.pending_fingerprint, True
         return out
 
     def take(self, instance: Hashable) -> T | None:
@@ -144,3 +154,33 @@ class SentLog(Generic[T]):
 
     def __len__(self) -> int:
         return len(self._instances)
+
+
+class Held(Generic[T]):
+    """The commands for vehicles not heard yet, held until a vehicle is: what a provider that starts later finds
+    persisted on the bus (UMAA ICD 4.1.2.1), at most `depth` messages per vehicle, the oldest given up. An instance that
+    ends while held (cancelled, cleaned up, or its consumer gone) is dropped whole: none of it went, and its command
+    and dispose delivered late would start the command on the vehicle and cancel it."""
+
+    def __init__(self, depth: int) -> None:
+        self.depth = depth
+        self._vehicles: dict[Hashable, deque[tuple[Hashable, T]]] = {}
+
+    def hold(self, vehicle: Hashable, instance: Hashable, item: T, ends: bool) -> None:
+        held = self._vehicles.get(vehicle)
+        if ends:
+            if held is not None:
+                kept = [(i, x) for i, x in held if i != instance]
+                held.clear()
+                held.extend(kept)
+            return
+        if held is None:
+            held = self._vehicles[vehicle] = deque(maxlen=self.depth)
+        held.append((instance, item))
+
+    def release(self, vehicle: Hashable) -> list[T]:
+        """What is held for `vehicle`, in the order it came, no longer held."""
+        return [item for _instance, item in self._vehicles.pop(vehicle, ())]
+
+    def __len__(self) -> int:
+        return sum(len(h) for h in self._vehicles.values())

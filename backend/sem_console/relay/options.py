@@ -5,7 +5,9 @@ core/command_line.add_model_options), so the ranges, defaults and help are writt
 from __future__ import annotations
 
 import ipaddress
+import os
 import socket
+import ssl
 from pathlib import Path
 from typing import Literal
 
@@ -33,8 +35,8 @@ class RelayOptions(BaseSettings):
         f"Zenoh endpoints to listen on, comma separated (default for a router: {DEFAULT_ENDPOINT}; a relay: none)"))
     link_class: Literal["satellite", "lan"] = Field("satellite", description=(
         "the link's rate caps on reports: satellite (GPSReport once a minute, GlobalPoseReport, GPSFixReport and "
-        "GPSFixStatusReport every 5 s, InertialSensorReport on change) or lan (no caps); commands, statuses and "
-        "acks are never capped (default: satellite)"))
+        "GPSFixStatusReport every 5 s, a fix lost or regained at once, InertialSensorReport on change) or lan (no "
+        "caps); commands, statuses and acks are never capped (default: satellite)"))
     caps: str = Field("", description=(
         "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
         "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"))
@@ -108,4 +110,35 @@ def endpoint_problem(options: RelayOptions) -> str | None:
                 continue
             return (f"{flag} {endpoint} leaves this machine without TLS: use a tls/ endpoint with --tls-root-ca, or give "
                     "--insecure to send the fleet's traffic in the clear")
+    return None
+
+
+def tls_problem(options: RelayOptions) -> str | None:
+    """Why the TLS files cannot serve, as one line naming the fix, or None: Zenoh would refuse them at every attempt
+    to connect, and the relay would wait for its router for ever."""
+    if options.tls_root_ca is not None:
+        try:
+            ssl.create_default_context(cafile=str(options.tls_root_ca))
+        except (OSError, ssl.SSLError) as e:
+            return (f"--tls-root-ca {options.tls_root_ca}: cannot read it as PEM certificates "
+                    f"({getattr(e, 'strerror', None) or e}): give the fleet authority's certificate")
+    if options.tls_certificate is not None and options.tls_private_key is not None:
+        try:
+            ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT).load_cert_chain(options.tls_certificate, options.tls_private_key)
+        except (OSError, ssl.SSLError) as e:
+            return (f"--tls-certificate {options.tls_certificate} and --tls-private-key {options.tls_private_key}: not a "
+                    f"readable PEM certificate and its private key ({getattr(e, 'strerror', None) or e})")
+    return None
+
+
+def status_file_problem(options: RelayOptions) -> str | None:
+    """Why --status-file cannot be written, as one line, or None: found at start, not as a warning every
+    --stats-seconds while the relay runs."""
+    path = options.status_file
+    if path is None:
+        return None
+    folder = path.parent
+    if path.is_dir() or not folder.is_dir() or not os.access(folder, os.W_OK):
+        why = "a folder" if path.is_dir() else f"no folder {folder}" if not folder.is_dir() else f"{folder} is not writable"
+        return f"--status-file {path}: {why}: give a file in a folder the relay may write"
     return None

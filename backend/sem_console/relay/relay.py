@@ -15,7 +15,7 @@ import os
 import threading
 import time
 import uuid
-from collections import OrderedDict, defaultdict, deque
+from collections import OrderedDict, defaultdict
 from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -27,7 +27,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.link import LINK_CLASSES, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
 
@@ -39,6 +39,7 @@ _REPORT = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.Congestion
 _REPORT_END = dict(priority=zenoh.Priority.DATA, congestion_control=zenoh.CongestionControl.BLOCK)
 LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has at most 5 statuses)
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
+LOST_KEPT_SECONDS = 86400.0  # how long a lost relay of the other side is waited for (its ends kept to send again)
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
 LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
@@ -95,7 +96,7 @@ class Relay:
         # operations side: the domain each vehicle's samples came from (where its commands go), and commands for a
         # vehicle not heard yet (sent once it is)
         self.domain_of: dict[uuid.UUID, int] = {}
-        self.waiting: dict[uuid.UUID, deque[Taken]] = defaultdict(lambda: deque(maxlen=WAITING_DEPTH))
+        self.held: Held[Taken] = Held(WAITING_DEPTH)
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
         self.sends = others if self.vehicles_side else commands
@@ -130,7 +131,7 @@ class Relay:
             with self._lock:
                 domain = self.domain_of.get(taken.vehicle)
                 if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
-                    self.waiting[taken.vehicle].append(taken)
+                    self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
                     return
             self._send(self._outgoing(taken, domain))
             return
@@ -144,16 +145,23 @@ class Relay:
                 before = self.limiter.take(taken.instance)
                 ready = [before, out] if before is not None else [out]
             else:
-                fingerprint = self._fingerprint(taken) if self.limiter.cap(topic) == "change" else None
+                fingerprint = self.fingerprint(taken, self.limiter.cap(topic))
                 now = self.limiter.offer(topic, taken.instance, out, time.monotonic(), fingerprint)
                 ready = [now] if now is not None else []
         for o in ready:
             self._send(o)
 
     @staticmethod
-    def _fingerprint(taken: Taken) -> Any:
-        """A report's content without its time stamp: what "on change" compares."""
-        sample = taken.sem.spec.type.deserialize(taken.data)
+    def fingerprint(taken: Taken, cap: Cap) -> Any:
+        """What the limiter compares of a report at this cap: on change, its content without its time stamp; at a cap
+        in seconds, its AT_ONCE_FIELDS (None: nothing)."""
+        fields = AT_ONCE_FIELDS.get(short_name(taken.sem.spec.name)) if cap != ON_CHANGE else None
+        if cap != ON_CHANGE and (not cap or not fields):
+            return None
+        appendable = taken.sem.spec.appendable if taken.instance[1] else None
+        sample = (appendable or taken.sem.spec.type).deserialize(taken.data)
+        if fields:
+            return repr({k: getattr(sample, k) for k in fields})
         return repr({k: v for k, v in vars(sample).items() if k not in ("timeStamp", "sample_info")})
 
     def _outgoing(self, taken: Taken, domain: int) -> Outgoing:
@@ -173,16 +181,28 @@ class Relay:
                 return
             lost = self._peers.get(peer, float("-inf"))
             self._peers[peer] = None
-            if lost is None:  # seen again without having gone: this side's own link was down
-                lost, self._own_lost = self._own_lost, None
-            if lost is None:
+            own, self._own_lost = self._own_lost, None  # a relay of the other side heard: this side's own link is up
+            losses = [t for t in (lost, own) if t is not None]  # without its own loss: this side's own link was down
+            if not losses:
                 return
-            # Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive
-            # period and the link's delay): what was sent from two leases and a margin before is sent again
-            since = lost - 2 * self.options.lease_seconds - LOSS_MARGIN_SECONDS
+            lost = min(losses)
+            since = self._resend_from(lost)
             self._resend_since = since if self._resend_since is None else min(self._resend_since, since)
         log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer,
                  now - since)
+
+    def _resend_from(self, lost: float) -> float:
+        """Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive period and
+        the link's delay): what was sent from two leases and a margin before the loss was noticed is sent again."""
+        return lost - 2 * self.options.lease_seconds - LOSS_MARGIN_SECONDS
+
+    def _forget_ended(self, now: float) -> None:
+        """Forget the instances that ended ENDED_KEPT_SECONDS ago, but none a relay of the other side that is lost (or
+        this relay's own lost link) is to be sent again: a cancel sent just before an outage longer than that still
+        goes after it. A loss older than LOST_KEPT_SECONDS no longer counts (that relay is gone for good)."""
+        with self._lock:
+            losses = [t for t in (*self._peers.values(), self._own_lost) if t is not None and now - t < LOST_KEPT_SECONDS]
+            self._sent.forget(min([now - ENDED_KEPT_SECONDS, *(self._resend_from(t) for t in losses)]))
 
     def _watch_link(self) -> None:
         """When this relay's session lost every router and peer it had (Zenoh closes a link silent for a lease)."""
@@ -241,7 +261,7 @@ class Relay:
             t.received_messages += 1
             if not self.vehicles_side and address.vehicle not in self.domain_of:
                 self.domain_of[address.vehicle] = address.domain
-                release = list(self.waiting.pop(address.vehicle, ()))
+                release = self.held.release(address.vehicle)
         kind, source_ns = meta
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
             self._versions.add(type(sem))
@@ -268,8 +288,7 @@ class Relay:
                 self._send_again(since)
             if time.monotonic() >= next_stats:
                 next_stats += self.options.stats_seconds
-                with self._lock:
-                    self._sent.forget(time.monotonic() - ENDED_KEPT_SECONDS)
+                self._forget_ended(time.monotonic())
                 self.report()
 
     def status(self) -> dict[str, Any]:
@@ -283,7 +302,7 @@ class Relay:
             return {"name": self.options.name, "side": self.options.side, "domain": self.bus.domain_id,
                     "linkClass": self.options.link_class, "caps": self.caps, "seconds": round(elapsed, 1),
                     "conflated": self.limiter.conflated, "unchanged": self.limiter.unchanged,
-                    "waitingCommands": sum(len(w) for w in self.waiting.values()), "vehicles": vehicles}
+                    "waitingCommands": len(self.held), "vehicles": vehicles}
 
     def report(self) -> None:
         status = self.status()

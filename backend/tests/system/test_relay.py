@@ -18,15 +18,25 @@ from typing import Any
 
 import httpx
 import pytest
+import zenoh
+from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
+from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
+from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
 from conftest import Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.relay.domain import DomainSide, Taken
+from sem_console.relay.options import RelayOptions
+from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
+from sem_console.relay.wire import Kind, attachment, key
 from sem_console.sim.provider import vehicle_guid
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
 from sem_console.versions import UMAA_6_0
 from sem_console.versions.commands import commanding
 from support.certs import Authority
@@ -77,18 +87,23 @@ def sources_60(readers: list[Any]) -> set[uuid.UUID]:
     return {uuid.UUID(bytes=bytes(s.source.id)) for r in readers for s in take_each(r)[0] if hasattr(s, "source")}
 
 
-def command_60(bus: Bus, vehicle: uuid.UUID, state: str) -> list[Any]:
-    """A UMAA 6.0 INS command to `vehicle` from `bus`: the statuses it went through, up to a terminal one."""
+def command_60(bus: Bus, vehicle: uuid.UUID, state: str, cancel: bool = False) -> list[Any]:
+    """A UMAA 6.0 INS command to `vehicle` from `bus` (`cancel`: disposed once EXECUTING): the statuses it went through,
+    up to a terminal one."""
     c = commanding(UMAA_6_0, Service.INERTIAL_SENSOR)
     assert c is not None
     statuses, session = bus.reader(c.status), uuid.uuid4()
     writer = bus.writer(c.command)
-    writer.write(c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0)))
+    command = c.build(uuid.uuid4(), vehicle, session, state, (int(time.time()), 0))
+    writer.write(command)
     seen: list[Any] = []
     deadline = time.monotonic() + 20
     while (not seen or seen[-1] not in (S.COMPLETED, S.FAILED, S.CANCELED)) and time.monotonic() < deadline:
         seen += [c.read_status(x)[0] for x in take_each(statuses)[0]
                  if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session]
+        if cancel and seen and seen[-1] is S.EXECUTING:
+            writer.dispose(command)
+            cancel = False
         time.sleep(0.05)
     return seen
 
@@ -97,7 +112,9 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
     far = free_domain(taken=domain)
     sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
     status_port = free_port()
-    join(relay, domain, far, tmp_path, status_port=status_port)  # the satellite link class: the default
+    # the satellite link class (the default), its fix status capped to 10 minutes: only a change of fix crosses here
+    join(relay, domain, far, tmp_path, "--caps", "GPSFixStatusReport=600", status_port=status_port)
+    joined = time.monotonic()
     consumer = Consumer(far)
     bus60 = Bus(far)
     try:
@@ -121,16 +138,23 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
         fix = consumer.command(Service.GPS_FIX, V1)
         seen = consumer.wait_terminal(fix, 20)
         assert seen.statuses == HAPPY and seen.flow.violations == []
+        # the vehicle surfaced: its fix, lost until then, crosses at once, not at the cap's next slot
+        fixes = consumer.reports[Sem.GPS_FIX_STATUS_REPORT][V1]
+        consumer.wait(lambda: fixes[-1].fixValid, 15, "the fix regained across the link")
+        assert not fixes[0].fixValid
         ins = consumer.command(Service.INERTIAL_SENSOR, V1, Ins.RESTARTING)
         assert consumer.wait_terminal(ins, 20).statuses == HAPPY
         # the 6.0 vehicle's INS command (UMAA 6.0's InertialSensorCommandType) completes too
         assert command_60(bus60, V2, "STATIONARY_ALIGN")[-1] is S.COMPLETED
+        # and its cancel: the dispose crosses as a dispose of the 6.0 key (an IdentifierType source and destination)
+        assert command_60(bus60, V2, "STATIONARY_ALIGN", cancel=True) == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.CANCELED]
         # the cleanup: the finished fix disposed, the vehicle disposes its status and ack
         consumer.dispose(fix)
         consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
         assert seen.statuses == HAPPY
-        # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (once in this test)
-        assert len(consumer.reports[Sem.GPS_REPORT][V1]) == 1
+        # the satellite caps: the vehicle's 4 Hz GPSReport crosses once a minute (the first at once)
+        consumer.pump()
+        assert 1 <= len(consumer.reports[Sem.GPS_REPORT][V1]) <= 1 + (time.monotonic() - joined) // 60
         # the bytes per vehicle: in the status file, and served by the relay
         status = json.loads((tmp_path / "near.json").read_text())
         assert status["vehicles"][str(V1)]["sentBytes"] > 0 and status["vehicles"][str(V2)]["sentBytes"] > 0
@@ -140,6 +164,26 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
     finally:
         consumer.close()
         bus60.close()
+
+
+def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, domain: int, relay, tmp_path: Path) -> None:
+    """ICD 4.1.2.1: a provider that starts later finds the commands persisted on the bus, not the cancelled ones."""
+    far = free_domain(taken=domain)
+    join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer = Consumer(far)
+    try:
+        canceled = consumer.command(Service.GPS_FIX, V1)
+        consumer.dispose(canceled)
+        kept = consumer.command(Service.GPS_FIX, V1)
+        status = tmp_path / "far.json"
+        consumer.wait(lambda: status.exists() and json.loads(status.read_text())["waitingCommands"] == 1, 15,
+                      "the far relay holding the one command alive")
+        sim()  # the vehicle is heard
+        assert consumer.wait_terminal(kept, 20).statuses == HAPPY
+        consumer.pump()
+        assert consumer.commands[canceled].statuses == []
+    finally:
+        consumer.close()
 
 
 def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
@@ -202,6 +246,61 @@ def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, 
         consumer.close()
         for link in links:
             link.close()
+
+
+def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_after_it(domain: int) -> None:
+    """A relay of the other side lost for an hour, longer than the ten minutes an ended instance is kept: the cancel
+    sent just before the loss is still sent again when it is back (real Cyclone DDS and Zenoh; the clock given)."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops", lease_seconds=10), bus, session)
+    try:
+        cancel = Outgoing(key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name), b"", attachment(Kind.DISPOSE, 0), V1, urgent=True,
+                          instance="canceled", ended=True)
+        relay._sent.add(cancel.instance, cancel, 1000.0, latest_only=False, ends=True)
+        lost = 1010.0  # the other side's relay lost
+        relay._peers["sem-relay/vehicles/ship-1/1"] = lost
+        relay._forget_ended(lost + ENDED_KEPT_SECONDS + 3600)
+        assert relay._sent.since(relay._resend_from(lost)) == [cancel]
+        relay._peers["sem-relay/vehicles/ship-1/1"] = None  # back, and sent again: forgotten in time
+        relay._forget_ended(lost + ENDED_KEPT_SECONDS + 3600)
+        assert relay._sent.since(float("-inf")) == []
+    finally:
+        relay.close()
+        bus.close()
+        session.close()
+
+
+def test_an_instance_disposed_after_several_unread_samples_ends_once_after_the_last(domain: int) -> None:
+    """A status written twice and disposed before the relay takes them (one take, each sample's instance state then
+    disposed): its samples cross, then its dispose once, never a sample after the dispose (which on the far side
+    would bring the instance back: a command re-written after its cancel would start again)."""
+    vehicle, relay_bus = Bus(domain), Bus(domain)
+    taken: list[Taken] = []
+    side = DomainSide(relay_bus, [Sem.GPS_FIX_COMMAND_STATUS], taken.append)
+    try:
+        writer = vehicle.writer(Sem.GPS_FIX_COMMAND_STATUS)
+        deadline = time.monotonic() + 10
+        while not writer.get_matched_subscriptions() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        session = uuid.uuid4()
+        for status in (S.ISSUED, S.CANCELED):
+            sample = GPSFixCommandStatusType(source=to_guid(V1), commandStatus=status, commandStatusReason=Reason.SUCCEEDED,
+                                             logMessage="", sessionID=to_guid(session), timeStamp=now_datetime())
+            writer.write(sample)
+        writer.dispose(sample)
+        writer.wait_for_acks(duration(seconds=5))
+        side.start()  # the three in one take
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline and not (
+                sum(t.kind is Kind.SAMPLE for t in taken) == 2 and taken[-1].kind is Kind.DISPOSE):
+            time.sleep(0.05)
+        assert [t.kind for t in taken] == [Kind.SAMPLE, Kind.SAMPLE, Kind.DISPOSE]
+    finally:
+        side.stop()
+        vehicle.close()
+        relay_bus.close()
 
 
 def tls(authority: Authority, name: str, ca: Authority | None = None) -> list[str]:

@@ -6,13 +6,24 @@ from __future__ import annotations
 import contextlib
 import io
 import uuid
+from pathlib import Path
 
 import pytest
 
+from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as NavSolution
+from UMAA.Common.Measurement import Altitude_HAE, GeodeticLatitude, GeodeticLongitude, Position2D, Position3D_WGS84
+from UMAA.SEM.GPSFixStatus import GPSFixStatusReportType
+
+from sem_console.dds.topics import Sem
 from sem_console.relay.cli import main
-from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Limiter, SentLog, parse_caps, short_name
-from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem
+from sem_console.relay.domain import Taken
+from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem
+from sem_console.relay.relay import Relay
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
+from support.certs import Authority
 
 
 def test_a_capped_topic_sends_the_latest_sample_of_each_instance_at_its_slot() -> None:
@@ -36,6 +47,34 @@ def test_on_change_sends_what_differs_from_the_last_sent() -> None:
     assert limiter.offer("InertialSensorReport", "v", "2", 1.0, fingerprint=("ON", "ALIGNING")) is None
     assert limiter.offer("InertialSensorReport", "v", "3", 2.0, fingerprint=("ON", "OPERATIONAL")) == "3"
     assert limiter.unchanged == 1
+
+
+def fix_status(valid: bool, cn0: float) -> Taken:
+    origin = Position3D_WGS84(Position2D(GeodeticLatitude(0.0), GeodeticLongitude(0.0)), Altitude_HAE(0.0))
+    sample = GPSFixStatusReportType(
+        carrierToNoise=[cn0], countDown=0, fixValid=valid, lowBkupBattery=False,
+        navSolution=NavSolution.GPS_3D if valid else NavSolution.GPS_DEAD_RECK, originPosition=origin, pCode=False,
+        timeOut=not valid, source=to_guid(uuid.UUID(int=1)), timeStamp=now_datetime())
+    spec = Sem.GPS_FIX_STATUS_REPORT.spec
+    return Taken(Sem.GPS_FIX_STATUS_REPORT, Kind.SAMPLE, sample.serialize(), 0, uuid.UUID(int=1), (spec.name, False, 1))
+
+
+def test_a_fix_lost_or_regained_goes_at_once_at_the_satellite_cap() -> None:
+    cap = LINK_CLASSES["satellite"]["GPSFixStatusReport"]
+    limiter: Limiter[str] = Limiter({"GPSFixStatusReport": cap})
+
+    def offer(valid: bool, cn0: float, now: float) -> str | None:
+        return limiter.offer("GPSFixStatusReport", "v", f"{valid} {cn0}", now, Relay.fingerprint(fix_status(valid, cn0), cap))
+
+    assert offer(True, 40.0, 0.0) == "True 40.0"
+    assert offer(True, 41.0, 1.0) is None  # only its carrier-to-noise changed: at its slot
+    assert offer(False, 20.0, 2.0) == "False 20.0"  # the fix lost: at once (the older sample waiting is given up)
+    assert offer(True, 39.0, 3.0) == "True 39.0"  # and regained
+    assert offer(True, 38.0, 4.0) is None
+    assert limiter.due(7.9) == [] and limiter.due(8.0) == ["True 38.0"]
+    assert offer(True, 37.0, 9.0) is None and offer(False, 10.0, 9.5) == "False 10.0"
+    assert Relay.fingerprint(fix_status(True, 40.0), 0.0) is None  # not capped: nothing to compare
+    assert Relay.fingerprint(fix_status(True, 40.0), ON_CHANGE) != Relay.fingerprint(fix_status(True, 41.0), ON_CHANGE)
 
 
 def test_a_waiting_sample_goes_before_its_instance_ends() -> None:
@@ -63,6 +102,21 @@ def test_after_an_outage_what_was_sent_since_goes_again_an_ended_instance_only_i
                                          "running EXECUTING", "fix 2", "canceled disposed"]
     sent.forget(ended_before=104.0)
     assert len(sent) == 3 and "canceled disposed" not in sent.since(float("-inf"))
+
+
+def test_a_command_ended_while_held_for_its_vehicle_is_never_delivered() -> None:
+    held: Held[str] = Held(depth=3)
+    held.hold("v", "canceled", "canceled command", ends=False)
+    held.hold("v", "running", "running command", ends=False)
+    held.hold("w", "gone", "command of a consumer gone", ends=False)
+    held.hold("v", "canceled", "canceled dispose", ends=True)  # cancelled before the vehicle was heard
+    held.hold("w", "gone", "gone unregistered", ends=True)
+    held.hold("v", "never held", "a dispose alone", ends=True)
+    assert len(held) == 1
+    assert held.release("v") == ["running command"] and held.release("v") == [] and held.release("w") == []
+    for n in range(5):  # the last `depth` messages per vehicle
+        held.hold("v", n, f"command {n}", ends=False)
+    assert held.release("v") == ["command 2", "command 3", "command 4"]
 
 
 def test_link_classes_and_caps() -> None:
@@ -97,6 +151,8 @@ def test_only_loopback_goes_without_tls_unless_insecure() -> None:
     assert "--listen tcp/0.0.0.0:7447 leaves this machine without TLS" in str(
         endpoint_problem(RelayOptions(router=True, listen="tcp/0.0.0.0:7447")))
     assert "needs --tls-root-ca" in str(endpoint_problem(RelayOptions(connect="tls/192.0.2.1:7447")))
+    for endpoint in ("tcp/10.0.0.1:7447", "tcp/ops.example.org:7447", "tcp/localhost.example.org:7447", "udp/10.0.0.1:7447"):
+        assert "leaves this machine without TLS" in str(endpoint_problem(RelayOptions(connect=endpoint))), endpoint
 
 
 def run(*argv: str) -> tuple[int, str]:
@@ -117,3 +173,33 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
+    monkeypatch.delenv("SEM_RELAY_CONNECT")
+    monkeypatch.setenv("SEM_RELAY_STATUS_PORT", "abc")  # named by the variable that exists
+    assert run() == (2, "sem-relay: error: SEM_RELAY_STATUS_PORT: 'abc' is not a whole number\n")
+    monkeypatch.delenv("SEM_RELAY_STATUS_PORT")
+    monkeypatch.setenv("SEM_RELAY_CAPS", "GPSReport=often")
+    assert run() == (2, "sem-relay: error: SEM_RELAY_CAPS 'GPSReport=often': the cap is seconds 0..86400 or 'change'\n")
+
+
+def test_tls_files_that_cannot_serve_are_one_line(tmp_path: Path) -> None:
+    fleet = Authority(tmp_path, "fleet")
+    cert, key_file = fleet.issue("ship-1")
+    missing, unreadable = tmp_path / "missing.pem", tmp_path / "garbage.pem"
+    unreadable.write_text("not a certificate")
+    tls = ("--connect", "tls/10.0.0.1:7447", "--tls-root-ca")
+    assert run(*tls, str(missing)) == (2, f"sem-relay: error: --tls-root-ca {missing}: cannot read it as PEM certificates "
+                                          "(No such file or directory): give the fleet authority's certificate\n")
+    code, err = run(*tls, str(unreadable))
+    assert code == 2 and err.startswith(f"sem-relay: error: --tls-root-ca {unreadable}: cannot read it") and err.count("\n") == 1
+    code, err = run(*tls, str(fleet.pem), "--tls-certificate", str(cert), "--tls-private-key", str(cert))  # its key: the cert
+    assert code == 2 and err.count("\n") == 1 and err.startswith(
+        f"sem-relay: error: --tls-certificate {cert} and --tls-private-key {cert}: not a readable PEM certificate")
+    assert tls_problem(RelayOptions(connect="tls/10.0.0.1:7447", tls_root_ca=fleet.pem, tls_certificate=cert,
+                                    tls_private_key=key_file)) is None
+
+
+def test_a_status_file_that_cannot_be_written_is_one_line(tmp_path: Path) -> None:
+    missing, fix = tmp_path / "missing" / "near.json", "give a file in a folder the relay may write\n"
+    assert run("--status-file", str(missing)) == (
+        2, f"sem-relay: error: --status-file {missing}: no folder {missing.parent}: {fix}")
+    assert run("--status-file", str(tmp_path)) == (2, f"sem-relay: error: --status-file {tmp_path}: a folder: {fix}")
