@@ -91,8 +91,10 @@ def main() -> None:
     with stack(sim_args=sim_args(args.vehicles, SPARSE_GPS_HZ)) as st:
         runs[sparse] = measure(st["url"], args.seconds, args.throttle, [])
 
-    title = (f"Dashboard in headless Chromium, CPU throttled {args.throttle:g}x ({args.vehicles} vehicles x 40 satellites, "
-             f"{RATE_HZ} Hz)")
+    title = (
+        f"Dashboard in headless Chromium, CPU throttled {args.throttle:g}x ({args.vehicles} vehicles x 40 satellites, "
+        f"{RATE_HZ} Hz)"
+    )
     rows = []
     for name, r in runs.items():
         rows.append(
@@ -133,8 +135,12 @@ def main() -> None:
             target = f"{sparse}: <= selected:GPSReport + {SKY_SLACK}"
             verdict = holds(sky_ok(runs[sparse], k))
         rrows.append([k, *cells, target, verdict])
-    table("Per second: renders per panel or part, map:* the fleet canvas's updates and the map's redraws, selected:* changes"
-          " of the selected vehicle's topics", ["name", *runs, "target", ""], rrows)
+    table(
+        "Per second: renders per panel or part, map:* the fleet canvas's updates and the map's redraws, selected:* changes"
+        " of the selected vehicle's topics",
+        ["name", *runs, "target", ""],
+        rrows,
+    )
 
     d = runs["default"]
     m = runs["map collapsed"]

@@ -109,10 +109,32 @@ def stack(sim_args: list[str] | None = None, console_env: dict[str, str] | None 
     procs: dict[str, Proc] = {}
     try:
         if sim_args is not None:
-            procs["sim"] = Proc([str(BIN / "sem-sim"), "--domain", str(domain), "--state-file", str(tmp / "sim.json"),
-                                 "--log-level", "warning", *sim_args])
-        procs["console"] = Proc([str(BIN / "sem-console"), "--domain", str(domain), "--port", str(port),
-                                 "--db", str(tmp / "console.sqlite3"), "--log-level", "warning"], console_env)
+            procs["sim"] = Proc(
+                [
+                    str(BIN / "sem-sim"),
+                    "--domain",
+                    str(domain),
+                    "--state-file",
+                    str(tmp / "sim.json"),
+                    "--log-level",
+                    "warning",
+                    *sim_args,
+                ]
+            )
+        procs["console"] = Proc(
+            [
+                str(BIN / "sem-console"),
+                "--domain",
+                str(domain),
+                "--port",
+                str(port),
+                "--db",
+                str(tmp / "console.sqlite3"),
+                "--log-level",
+                "warning",
+            ],
+            console_env,
+        )
         url = f"http://127.0.0.1:{port}"
         wait_http(url + "/api/health")
         yield {"domain": domain, "port": port, "url": url, "ws": f"ws://127.0.0.1:{port}/ws", "procs": procs, "tmp": tmp}
@@ -190,27 +212,45 @@ RESULTS = Path(os.environ.get("SEM_BENCH_RESULTS", ROOT / "bench" / "results")) 
 
 def machine() -> dict[str, Any]:
     """What the figures were measured on: they mean little without it."""
-    model = next((line.split(":", 1)[1].strip() for line in Path("/proc/cpuinfo").read_text().splitlines()
-                  if line.startswith("model name")), platform.machine())
-    mem_kib = next(int(line.split()[1]) for line in Path("/proc/meminfo").read_text().splitlines()
-                   if line.startswith("MemTotal:"))
+    model = next(
+        (
+            line.split(":", 1)[1].strip()
+            for line in Path("/proc/cpuinfo").read_text().splitlines()
+            if line.startswith("model name")
+        ),
+        platform.machine(),
+    )
+    mem_kib = next(
+        int(line.split()[1]) for line in Path("/proc/meminfo").read_text().splitlines() if line.startswith("MemTotal:")
+    )
     try:
         from importlib.metadata import version
 
         cyclone = version("cyclonedds")
     except Exception:  # not installed: the benchmark still reports
         cyclone = None
-    return {"cores": os.cpu_count(), "cpu": model, "memoryGiB": round(mem_kib / 2**20, 1),
-            "os": f"{platform.system()} {platform.release()}", "python": platform.python_version(),
-            "cyclonedds": cyclone, "loadAverage1m": round(os.getloadavg()[0], 2)}
+    return {
+        "cores": os.cpu_count(),
+        "cpu": model,
+        "memoryGiB": round(mem_kib / 2**20, 1),
+        "os": f"{platform.system()} {platform.release()}",
+        "python": platform.python_version(),
+        "cyclonedds": cyclone,
+        "loadAverage1m": round(os.getloadavg()[0], 2),
+    }
 
 
 def emit(name: str, figures: dict[str, Any]) -> None:
     """The one JSON line a benchmark ends with, also kept as bench/results/<name>.json (with the date and the
     machine) for the docs' benchmark page (bench/figures.py renders it)."""
-    stamped = {"bench": name, "cores": os.cpu_count(), **figures,
-               "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "machine": machine(),
-               "command": " ".join(["python", *sys.argv])}
+    stamped = {
+        "bench": name,
+        "cores": os.cpu_count(),
+        **figures,
+        "date": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
+        "machine": machine(),
+        "command": " ".join(["python", *sys.argv]),
+    }
     print(json.dumps(stamped, separators=(",", ":")))
     RESULTS.mkdir(parents=True, exist_ok=True)
     (RESULTS / f"{name}.json").write_text(json.dumps(stamped, indent=1) + "\n")
@@ -218,8 +258,13 @@ def emit(name: str, figures: dict[str, Any]) -> None:
 
 def target(name: str, value: float | None, unit: str, op: str, limit: float | None, against: str = "") -> dict[str, Any]:
     """Print one figure beside its target and whether it holds; returns it for the JSON line."""
-    ok = value is not None and limit is not None and value == value and limit == limit and (
-        value < limit if op == "<" else value <= limit if op == "<=" else value > limit)
+    ok = (
+        value is not None
+        and limit is not None
+        and value == value
+        and limit == limit
+        and (value < limit if op == "<" else value <= limit if op == "<=" else value > limit)
+    )
     bound = f"{op} {limit} {unit}" + (f" ({against})" if against else "")
     print(f"target  {name}: {value} {unit}, target {bound}: {'holds' if ok else 'MISSED'}")
     return {"name": name, "value": value, "unit": unit, "target": f"{op} {limit}", "holds": ok}

@@ -42,8 +42,11 @@ from support.samplegen import random_sample
 
 RATES = {Sem.GPS_REPORT: 1, Sem.GPS_FIX_REPORT: 10, Sem.GPS_FIX_STATUS_REPORT: 10, Sem.INS_REPORT: 10}
 RATES_6_0 = {Sem60.GPS_REPORT: 1, Sem60.GLOBAL_POSE_REPORT: 10, Sem60.INS_REPORT: 10}  # the same vehicle, as 6.0
-COUNTERPARTS = {Sem60.GPS_REPORT: Sem.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT: Sem.GPS_FIX_REPORT,
-                Sem60.INS_REPORT: Sem.INS_REPORT}  # the 3.0.1 report each 6.0 one feeds in the model
+COUNTERPARTS = {
+    Sem60.GPS_REPORT: Sem.GPS_REPORT,
+    Sem60.GLOBAL_POSE_REPORT: Sem.GPS_FIX_REPORT,
+    Sem60.INS_REPORT: Sem.INS_REPORT,
+}  # the 3.0.1 report each 6.0 one feeds in the model
 
 
 def samples() -> dict[Sem, Any]:
@@ -51,8 +54,12 @@ def samples() -> dict[Sem, Any]:
     now = time.monotonic()
     sats = s.satellites(now)
     fix, status = s.fix_reports(now, sats)
-    out: dict[Sem, Any] = {Sem.GPS_REPORT: s.gps_report(now, sats), Sem.GPS_FIX_REPORT: fix,
-                           Sem.GPS_FIX_STATUS_REPORT: status, Sem.INS_REPORT: s.ins_report(now)}
+    out: dict[Sem, Any] = {
+        Sem.GPS_REPORT: s.gps_report(now, sats),
+        Sem.GPS_FIX_REPORT: fix,
+        Sem.GPS_FIX_STATUS_REPORT: status,
+        Sem.INS_REPORT: s.ins_report(now),
+    }
     rng = random.Random(1)
     for sem in Sem:
         out.setdefault(sem, random_sample(sem.spec.type, rng))
@@ -65,8 +72,11 @@ def samples_6_0() -> dict[Sem60, Any]:
     now = time.monotonic()
     sats = s.satellites(now)
     fix, _status = s.fix_reports(now, sats)
-    return {Sem60.GPS_REPORT: sim60.gps_report(s.gps_report(now, sats)), Sem60.GLOBAL_POSE_REPORT: sim60.global_pose(fix),
-            Sem60.INS_REPORT: sim60.ins_report(s.ins_report(now), {})}
+    return {
+        Sem60.GPS_REPORT: sim60.gps_report(s.gps_report(now, sats)),
+        Sem60.GLOBAL_POSE_REPORT: sim60.global_pose(fix),
+        Sem60.INS_REPORT: sim60.ins_report(s.ins_report(now), {}),
+    }
 
 
 def console_6_0(sem: Sem60) -> Callable[[bytes], Any]:
@@ -120,8 +130,13 @@ def compare_6_0(rounds: int) -> list[dict[str, Any]]:
         row: dict[str, Any] = {"topic_6_0": sem60.spec.name.rsplit("::", 1)[1], "topic_3_0_1": sem.spec.name.rsplit("::", 1)[1]}
         for key, (fn, data), t in zip(("3_0_1", "6_0"), runs, us, strict=True):
             n = values(fn(data)[0])
-            row |= {f"bytes_{key}": len(data), f"values_{key}": n, f"us_{key}": round(t, 2),
-                    f"ns_per_value_{key}": round(t * 1000 / n, 1), f"ns_per_byte_{key}": round(t * 1000 / len(data), 1)}
+            row |= {
+                f"bytes_{key}": len(data),
+                f"values_{key}": n,
+                f"us_{key}": round(t, 2),
+                f"ns_per_value_{key}": round(t * 1000 / n, 1),
+                f"ns_per_byte_{key}": round(t * 1000 / len(data), 1),
+            }
         row["ratio"] = round(us[1] / us[0], 2)
         out.append(row)
     return out
@@ -138,16 +153,23 @@ def main() -> None:
         dec = fastcdr.decoder(t)
         report = sem in REPORT_TOPICS
         ours = dec.json if report else dec.sample
-        for v2 in ([True] if sem.spec.xcdr2_only else [False, True]):
+        for v2 in [True] if sem.spec.xcdr2_only else [False, True]:
             data = t.serialize(sample, use_version_2=v2)
             cdds = cpu_us(t.deserialize, data, args.rounds)
             cdds_json = cpu_us(lambda d, t=t: to_json(t.deserialize(d)), data, args.rounds) if report else None
             console = cpu_us(ours, data, args.rounds)
             before = cdds_json if cdds_json is not None else cdds
-            r = {"topic": sem.spec.name.rsplit("::", 1)[1], "encoding": "XCDR2" if v2 else "XCDR1", "bytes": len(data),
-                 "cyclonedds_us": round(cdds, 1), "cyclonedds_json_us": None if cdds_json is None else round(cdds_json, 1),
-                 "console_us": round(console, 1), "console_mode": "json" if report else "sample",
-                 "speedup_vs_cyclonedds": round(cdds / console, 1), "speedup_vs_before": round(before / console, 1)}
+            r = {
+                "topic": sem.spec.name.rsplit("::", 1)[1],
+                "encoding": "XCDR2" if v2 else "XCDR1",
+                "bytes": len(data),
+                "cyclonedds_us": round(cdds, 1),
+                "cyclonedds_json_us": None if cdds_json is None else round(cdds_json, 1),
+                "console_us": round(console, 1),
+                "console_mode": "json" if report else "sample",
+                "speedup_vs_cyclonedds": round(cdds / console, 1),
+                "speedup_vs_before": round(before / console, 1),
+            }
             figures.append(r)
             rows.append(list(r.values()))
             # the encoding the simulator's writers use: XCDR2 for types with optionals, else XCDR1
@@ -159,10 +181,17 @@ def main() -> None:
         data = t.serialize(sample, use_version_2=v2)
         cdds, console = cpu_us(t.deserialize, data, args.rounds), cpu_us(console_6_0(sem), data, args.rounds)
         cdds_json = cpu_us(lambda d, t=t: to_json(t.deserialize(d)), data, args.rounds)
-        r = {"topic": f"{sem.spec.name.rsplit('::', 1)[1]} (6.0)", "encoding": "XCDR2" if v2 else "XCDR1", "bytes": len(data),
-             "cyclonedds_us": round(cdds, 1), "cyclonedds_json_us": round(cdds_json, 1), "console_us": round(console, 1),
-             "console_mode": "json+model", "speedup_vs_cyclonedds": round(cdds / console, 1),
-             "speedup_vs_before": round(cdds_json / console, 1)}
+        r = {
+            "topic": f"{sem.spec.name.rsplit('::', 1)[1]} (6.0)",
+            "encoding": "XCDR2" if v2 else "XCDR1",
+            "bytes": len(data),
+            "cyclonedds_us": round(cdds, 1),
+            "cyclonedds_json_us": round(cdds_json, 1),
+            "console_us": round(console, 1),
+            "console_mode": "json+model",
+            "speedup_vs_cyclonedds": round(cdds / console, 1),
+            "speedup_vs_before": round(cdds_json / console, 1),
+        }
         figures.append(r)
         rows.append(list(r.values()))
         per_vehicle["console_6_0"] += RATES_6_0[sem] * console
@@ -183,17 +212,29 @@ def main() -> None:
     rows.append(["per vehicle-second (ms), 6.0", "as sent", "", "", "", round(per_vehicle["console_6_0"] / 1000, 3), "", "", ""])
     table("Decode cost per sample, µs of CPU (console: generated decoder; cyclonedds: its deserializer)", keys, rows)
     pairs = compare_6_0(args.rounds * 2)
-    table("6.0 beside 3.0.1, timed in turns: console µs per sample, ns per value of the model's JSON and per byte",
-          list(pairs[0]), [list(r.values()) for r in pairs])
+    table(
+        "6.0 beside 3.0.1, timed in turns: console µs per sample, ns per value of the model's JSON and per byte",
+        list(pairs[0]),
+        [list(r.values()) for r in pairs],
+    )
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     targets = []
     for r in pairs:
         new, old = r["topic_6_0"].removesuffix("Type"), r["topic_3_0_1"]
         print(f"ratio   {new} (6.0) / {old} (3.0.1) per sample: {r['ratio']}")
-        targets.append(target(f"{new} per sample <= {old} per sample", r["us_6_0"], "µs", "<=", r["us_3_0_1"],
-                              f"{old}'s in the same rounds"))
-    emit("decode", {"topics": figures, "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
-                    "versions_in_turns": pairs, "targets": targets, "load_average": round(os.getloadavg()[0], 2)})
+        targets.append(
+            target(f"{new} per sample <= {old} per sample", r["us_6_0"], "µs", "<=", r["us_3_0_1"], f"{old}'s in the same rounds")
+        )
+    emit(
+        "decode",
+        {
+            "topics": figures,
+            "per_vehicle_second_ms": {k: round(v / 1000, 3) for k, v in per_vehicle.items()},
+            "versions_in_turns": pairs,
+            "targets": targets,
+            "load_average": round(os.getloadavg()[0], 2),
+        },
+    )
 
 
 if __name__ == "__main__":

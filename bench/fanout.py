@@ -34,6 +34,7 @@ async def clients(url: str, k: int, seconds: float) -> list[list[float]]:
                 x = report_latency(msg, now)
                 if x is not None:
                     per_client[i].append(x)
+
         return on
 
     await asyncio.gather(*(ws_collect(url, seconds, collector(i)) for i in range(k)))
@@ -43,8 +44,10 @@ async def clients(url: str, k: int, seconds: float) -> list[list[float]]:
 def stalled_client(port: int) -> socket.socket:
     s = socket.create_connection(("127.0.0.1", port))
     s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-    s.sendall(b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-              b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+    s.sendall(
+        b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+        b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+    )
     return s  # never read from again
 
 
@@ -108,8 +111,16 @@ def main() -> None:
                 time.sleep(1)
             lat = asyncio.run(clients(st["ws"], k, args.seconds))
             allv = [x for c in lat for x in c]
-            rows.append({"clients": k, "stalled_beside": stalled, "samples": len(allv), "p50_ms": ms(percentile(allv, 50)),
-                         "p99_ms": ms(percentile(allv, 99)), "worst_client_p99_ms": ms(max(percentile(c, 99) for c in lat))})
+            rows.append(
+                {
+                    "clients": k,
+                    "stalled_beside": stalled,
+                    "samples": len(allv),
+                    "p50_ms": ms(percentile(allv, 50)),
+                    "p99_ms": ms(percentile(allv, 99)),
+                    "worst_client_p99_ms": ms(max(percentile(c, 99) for c in lat)),
+                }
+            )
             if sock:
                 sock.close()
     keys = list(rows[0])
@@ -125,10 +136,18 @@ def main() -> None:
         f"Against the peer: {args.peer_vehicles} vehicles, one client each, same input", keys, [[r[k] for k in keys] for r in vs]
     )
     c, g = vs
-    targets = [common.target(f"console CPU per delivered sample ({args.peer_vehicles} vehicles) against the peer's",
-                             c["cpu_us_per_delivered"], "µs", "<", g["cpu_us_per_delivered"], "the peer"),
-               common.target("console p50 latency against the peer's", c["p50_ms"], "ms", "<", g["p50_ms"], "the peer"),
-               common.target("console p99 latency against the peer's", c["p99_ms"], "ms", "<", g["p99_ms"], "the peer")]
+    targets = [
+        common.target(
+            f"console CPU per delivered sample ({args.peer_vehicles} vehicles) against the peer's",
+            c["cpu_us_per_delivered"],
+            "µs",
+            "<",
+            g["cpu_us_per_delivered"],
+            "the peer",
+        ),
+        common.target("console p50 latency against the peer's", c["p50_ms"], "ms", "<", g["p50_ms"], "the peer"),
+        common.target("console p99 latency against the peer's", c["p99_ms"], "ms", "<", g["p99_ms"], "the peer"),
+    ]
     emit("fanout", {"rows": rows, "peer": vs, "targets": targets})
 
 

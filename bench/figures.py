@@ -14,8 +14,20 @@ from typing import Any
 
 RESULTS = Path(__file__).resolve().parent / "results"
 MARKER = "<!-- bench-figures -->"
-ORDER = ("latency", "fanout", "browser", "paint", "snapshot", "ingest", "decode", "roundtrip", "recording", "mcap_write",
-         "opscentre", "soak")  # the rest follow by name
+ORDER = (
+    "latency",
+    "fanout",
+    "browser",
+    "paint",
+    "snapshot",
+    "ingest",
+    "decode",
+    "roundtrip",
+    "recording",
+    "mcap_write",
+    "opscentre",
+    "soak",
+)  # the rest follow by name
 
 
 def _value(v: Any) -> str:
@@ -33,16 +45,20 @@ def _value(v: Any) -> str:
 def _machine(m: dict[str, Any] | None, cores: Any) -> str:
     if not m:  # a result from before the machine was recorded
         return f"{cores} cores"
-    return (f"{m.get('cpu')}, {m.get('cores')} cores, {m.get('memoryGiB')} GiB, {m.get('os')}, Python {m.get('python')}, "
-            f"Cyclone DDS {m.get('cyclonedds')}; load average {m.get('loadAverage1m')} at the end")
+    return (
+        f"{m.get('cpu')}, {m.get('cores')} cores, {m.get('memoryGiB')} GiB, {m.get('os')}, Python {m.get('python')}, "
+        f"Cyclone DDS {m.get('cyclonedds')}; load average {m.get('loadAverage1m')} at the end"
+    )
 
 
 def section(result: dict[str, Any]) -> str:
     name = result.get("bench", "?")
-    lines = [f"### {name} {{#bench-{name.replace('_', '-')}}}", "",
-             f"`bench/{name}.py`, measured {result.get('date', 'undated')} "
-             f"on {_machine(result.get('machine'), result.get('cores'))}.",
-             ""]
+    lines = [
+        f"### {name} {{#bench-{name.replace('_', '-')}}}",
+        "",
+        f"`bench/{name}.py`, measured {result.get('date', 'undated')} on {_machine(result.get('machine'), result.get('cores'))}.",
+        "",
+    ]
     targets = result.get("targets") or []
     if targets:
         lines += ["| figure | measured | target | |", "|---|---|---|---|"]
@@ -50,8 +66,11 @@ def section(result: dict[str, Any]) -> str:
             verdict = "holds" if t.get("holds") else "**missed**"
             unit = t.get("unit", "")
             lines.append(f"| {t.get('name')} | {_value(t.get('value'))} {unit} | {t.get('target')} {unit} | {verdict} |")
-    scalars = {k: v for k, v in result.items()
-               if k not in {"bench", "cores", "date", "machine", "command", "targets"} and isinstance(v, (int, float, str, bool))}
+    scalars = {
+        k: v
+        for k, v in result.items()
+        if k not in {"bench", "cores", "date", "machine", "command", "targets"} and isinstance(v, (int, float, str, bool))
+    }
     if scalars:
         lines += ["", "| figure | measured |", "|---|---|"] + [f"| {k} | {_value(v)} |" for k, v in scalars.items()]
     skip = {"bench", "cores", "date", "machine", "command", "targets"}

@@ -24,8 +24,12 @@ def main() -> None:
     bus = Bus(domain)
     qos = reader_qos(TopicClass.REPORT)
     if os.environ.get("NAIVE"):
-        qos = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.Durability.Volatile, Policy.History.KeepAll,
-                  Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True))
+        qos = Qos(
+            Policy.Reliability.Reliable(duration(seconds=1)),
+            Policy.Durability.Volatile,
+            Policy.History.KeepAll,
+            Policy.DataRepresentation(use_cdrv0_representation=True, use_xcdrv2_representation=True),
+        )
     readers = [bus.reader(Sem[n], qos) for n in names]
     ws = WaitSet(bus.participant)
     conds = [all_samples(r) for r in readers]

@@ -71,13 +71,16 @@ def measure(n: int, seconds: float) -> dict:
         elapsed = time.monotonic() - t0
         m1 = get_json(st["url"] + "/api/metrics")
         row = {
-            "vehicles": n, "console_cpu": round(cpu.read(), 3), "console_rss_mb": round(console.rss_mb(), 1),
+            "vehicles": n,
+            "console_cpu": round(cpu.read(), 3),
+            "console_rss_mb": round(console.rss_mb(), 1),
             "sim_cpu": round(sim_cpu.read(), 2),
             "taken_per_s": round((m1["samplesTaken"] - m0["samplesTaken"]) / elapsed),
             "decoded_per_s": round((m1["samplesDecoded"] - m0["samplesDecoded"]) / elapsed),
             "applied_per_s": round((m1["reportsApplied"] - m0["reportsApplied"]) / elapsed),
             "shown_per_s": round(shown[0] / elapsed),
-            "p50_ms": ms(percentile(lat, 50)), "p99_ms": ms(percentile(lat, 99)),
+            "p50_ms": ms(percentile(lat, 50)),
+            "p99_ms": ms(percentile(lat, 99)),
             # track and chart points, written in batches in a worker thread (off the event loop)
             "history_rows_per_s": round((m1["historyRowsWritten"] - m0["historyRowsWritten"]) / elapsed),
             "history_write_max_ms": round(m1["historyWriteSecondsMax"] * 1000, 1),
@@ -98,8 +101,12 @@ def measure(n: int, seconds: float) -> dict:
 def naive_reader(domain: int, seconds: float) -> dict:
     """CPU and decoded samples/s of a reader that takes and decodes every sample of the four topics."""
     run_for = seconds + 2
-    p = subprocess.Popen([sys.executable, str(common.ROOT / "bench" / "floor_reader.py"), str(domain), str(run_for), *TOPICS],
-                         stdout=subprocess.PIPE, text=True, env={**os.environ, "NAIVE": "1"})
+    p = subprocess.Popen(
+        [sys.executable, str(common.ROOT / "bench" / "floor_reader.py"), str(domain), str(run_for), *TOPICS],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "NAIVE": "1"},
+    )
     assert p.stdout is not None and p.stdout.readline().strip() == "ready"
     time.sleep(1)
     c0, t0 = common.cpu_seconds(p.pid), time.monotonic()
@@ -127,13 +134,23 @@ def main() -> None:
     at = max(within or rows, key=lambda r: r["vehicles"])
     per_vehicle = at["cpu_ms_per_vehicle_s"]
     holds = per_vehicle <= CPU_PER_VEHICLE_TARGET_MS
-    print(f"\nCPU per vehicle-second at {at['vehicles']} vehicles: {per_vehicle} ms (target <= {CPU_PER_VEHICLE_TARGET_MS} ms): "
-          f"{'holds' if holds else 'does not hold'}; {at['decoded_pct_of_nominal']}% of the nominal input decoded "
-          f"({at['cpu_us_per_decoded']} µs per decoded sample); load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    emit("ingest", {"max_vehicles_within_limits": max((r["vehicles"] for r in within), default=0),
-                    "cpu_ms_per_vehicle_s": per_vehicle, "cpu_ms_per_vehicle_s_at": at["vehicles"],
-                    "cpu_ms_per_vehicle_s_target": CPU_PER_VEHICLE_TARGET_MS, "cpu_target_holds": holds,
-                    "load_average": round(os.getloadavg()[0], 2), "rows": rows})
+    print(
+        f"\nCPU per vehicle-second at {at['vehicles']} vehicles: {per_vehicle} ms (target <= {CPU_PER_VEHICLE_TARGET_MS} ms): "
+        f"{'holds' if holds else 'does not hold'}; {at['decoded_pct_of_nominal']}% of the nominal input decoded "
+        f"({at['cpu_us_per_decoded']} µs per decoded sample); load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores"
+    )
+    emit(
+        "ingest",
+        {
+            "max_vehicles_within_limits": max((r["vehicles"] for r in within), default=0),
+            "cpu_ms_per_vehicle_s": per_vehicle,
+            "cpu_ms_per_vehicle_s_at": at["vehicles"],
+            "cpu_ms_per_vehicle_s_target": CPU_PER_VEHICLE_TARGET_MS,
+            "cpu_target_holds": holds,
+            "load_average": round(os.getloadavg()[0], 2),
+            "rows": rows,
+        },
+    )
 
 
 if __name__ == "__main__":

@@ -60,10 +60,20 @@ def publish(domain: int, seconds: float) -> int:
         t0 = time.monotonic()
         for src in sources:
             ins_w.write(InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=src, timeStamp=now_datetime()))
-            fix_w.write(GPSFixReportType(altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=GPSFixEnumType.STABLE,
-                                         GPSLatLongValid=True, magneticVariation=0.0, position2DWithTime=pos, SOG=1.0,
-                                         trueCourse=0.5, velocity=Velocity3D_PlatformNED(0.0, 0.5, 0.8), source=src,
-                                         timeStamp=now_datetime()))
+            fix_w.write(
+                GPSFixReportType(
+                    altitudeMSL=Altitude_MSL(0.0),
+                    GPSFixCommandStatus=GPSFixEnumType.STABLE,
+                    GPSLatLongValid=True,
+                    magneticVariation=0.0,
+                    position2DWithTime=pos,
+                    SOG=1.0,
+                    trueCourse=0.5,
+                    velocity=Velocity3D_PlatformNED(0.0, 0.5, 0.8),
+                    source=src,
+                    timeStamp=now_datetime(),
+                )
+            )
             sent += 2
         time.sleep(max(0.0, 1 / RATE - (time.monotonic() - t0)))
     return sent
@@ -75,10 +85,24 @@ def run(window: float, seconds: float) -> dict[str, float]:
         generic: list[float] = []
         # the writer in a process of its own, as the floor's reader: in this one it would hold the clients' GIL while it
         # writes each burst, and delay their arrival stamps by its own work
-        writer = subprocess.Popen([sys.executable, __file__, "--seconds", str(seconds), "--publish", str(st["domain"])],
-                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
-        floor = subprocess.Popen([sys.executable, str(common.ROOT / "bench" / "floor_reader.py"), str(st["domain"]),
-                                  str(seconds + 4), "INS_REPORT", "GPS_FIX_REPORT"], stdout=subprocess.PIPE, text=True)
+        writer = subprocess.Popen(
+            [sys.executable, __file__, "--seconds", str(seconds), "--publish", str(st["domain"])],
+            stdin=subprocess.PIPE,
+            stdout=subprocess.PIPE,
+            text=True,
+        )
+        floor = subprocess.Popen(
+            [
+                sys.executable,
+                str(common.ROOT / "bench" / "floor_reader.py"),
+                str(st["domain"]),
+                str(seconds + 4),
+                "INS_REPORT",
+                "GPS_FIX_REPORT",
+            ],
+            stdout=subprocess.PIPE,
+            text=True,
+        )
         for p in (writer, floor):
             assert p.stdout is not None and p.stdout.readline().strip() == "ready"
         assert writer.stdin is not None
@@ -104,13 +128,24 @@ def run(window: float, seconds: float) -> dict[str, float]:
     c50, c99, f50, f99 = percentile(console, 50), percentile(console, 99), percentile(floor_lat, 50), percentile(floor_lat, 99)
     g50, g99 = percentile(generic, 50), percentile(generic, 99)
     return {
-        "window_ms": window * 1000, "published": sent, "console_n": len(console), "peer_n": len(generic),
+        "window_ms": window * 1000,
+        "published": sent,
+        "console_n": len(console),
+        "peer_n": len(generic),
         "floor_n": len(floor_lat),
-        "console_p50_ms": ms(c50), "console_p99_ms": ms(c99), "console_max_ms": ms(max(console, default=float("nan"))),
-        "peer_p50_ms": ms(g50), "peer_p99_ms": ms(g99), "floor_p50_ms": ms(f50), "floor_p99_ms": ms(f99),
-        "overhead_p50_ms": ms(c50 - f50), "overhead_p99_ms": ms(c99 - f99),
-        "peer_overhead_p50_ms": ms(g50 - f50), "peer_overhead_p99_ms": ms(g99 - f99),
-        "ratio_p50": round(c50 / f50, 1) if f50 > 0 else None, "ratio_p99": round(c99 / f99, 1) if f99 > 0 else None,
+        "console_p50_ms": ms(c50),
+        "console_p99_ms": ms(c99),
+        "console_max_ms": ms(max(console, default=float("nan"))),
+        "peer_p50_ms": ms(g50),
+        "peer_p99_ms": ms(g99),
+        "floor_p50_ms": ms(f50),
+        "floor_p99_ms": ms(f99),
+        "overhead_p50_ms": ms(c50 - f50),
+        "overhead_p99_ms": ms(c99 - f99),
+        "peer_overhead_p50_ms": ms(g50 - f50),
+        "peer_overhead_p99_ms": ms(g99 - f99),
+        "ratio_p50": round(c50 / f50, 1) if f50 > 0 else None,
+        "ratio_p99": round(c99 / f99, 1) if f99 > 0 else None,
     }
 
 
@@ -128,19 +163,41 @@ def main() -> None:
         print(publish(args.publish, args.seconds), flush=True)
         return
     runs = [run(w, args.seconds) for w in (0.005, 0.05)]  # the default window, and a wider one
-    keys = ["window_ms", "published", "console_n", "peer_n", "floor_n", "console_p50_ms", "console_p99_ms", "console_max_ms",
-            "peer_p50_ms", "peer_p99_ms", "floor_p50_ms", "floor_p99_ms", "overhead_p50_ms", "overhead_p99_ms",
-            "peer_overhead_p50_ms", "peer_overhead_p99_ms", "ratio_p50", "ratio_p99"]
-    table("Latency, sample to WebSocket: console, peer (cyclonedds + Foxglove WebSocket server), raw DDS floor", keys,
-          [[r[k] for k in keys] for r in runs])
+    keys = [
+        "window_ms",
+        "published",
+        "console_n",
+        "peer_n",
+        "floor_n",
+        "console_p50_ms",
+        "console_p99_ms",
+        "console_max_ms",
+        "peer_p50_ms",
+        "peer_p99_ms",
+        "floor_p50_ms",
+        "floor_p99_ms",
+        "overhead_p50_ms",
+        "overhead_p99_ms",
+        "peer_overhead_p50_ms",
+        "peer_overhead_p99_ms",
+        "ratio_p50",
+        "ratio_p99",
+    ]
+    table(
+        "Latency, sample to WebSocket: console, peer (cyclonedds + Foxglove WebSocket server), raw DDS floor",
+        keys,
+        [[r[k] for k in keys] for r in runs],
+    )
     d = runs[0]  # the default window
     targets = [
         common.target("overhead over the floor, p50 (5 ms window)", d["overhead_p50_ms"], "ms", "<", 1.0),
         common.target("overhead over the floor, p99 (5 ms window)", d["overhead_p99_ms"], "ms", "<", 5.0),
-        common.target("console p50 against the peer's", d["console_p50_ms"], "ms", "<", _quarter_less(d["peer_p50_ms"]),
-                      "0.75 x the peer's"),
-        common.target("console p99 against the peer's", d["console_p99_ms"], "ms", "<", _quarter_less(d["peer_p99_ms"]),
-                      "0.75 x the peer's"),
+        common.target(
+            "console p50 against the peer's", d["console_p50_ms"], "ms", "<", _quarter_less(d["peer_p50_ms"]), "0.75 x the peer's"
+        ),
+        common.target(
+            "console p99 against the peer's", d["console_p99_ms"], "ms", "<", _quarter_less(d["peer_p99_ms"]), "0.75 x the peer's"
+        ),
     ]
     emit("latency", {"runs": runs, "targets": targets})
 

@@ -55,6 +55,8 @@ def takes(vehicles: int, seconds: int) -> list[tuple[Sem, list[tuple[bytes, bool
                     out.append((sem, pending[sem], t))
                     pending[sem] = []
     return out
+
+
 def best_us(run: Callable[[Path], int], rounds: int) -> float:
     best = float("inf")
     for _ in range(rounds):
@@ -99,16 +101,26 @@ def main() -> None:
 
     ours, theirs = best_us(recorder, args.rounds), best_us(library, args.rounds)
     messages_per_s = sum(len(batch) for _sem, batch, _t in items) / args.seconds
-    rows = [["recorder (mcap_writer.py)", round(ours, 2), round(ours * messages_per_s / 1e6, 4)],
-            ["mcap library Writer.add_message", round(theirs, 2), round(theirs * messages_per_s / 1e6, 4)]]
+    rows = [
+        ["recorder (mcap_writer.py)", round(ours, 2), round(ours * messages_per_s / 1e6, 4)],
+        ["mcap library Writer.add_message", round(theirs, 2), round(theirs * messages_per_s / 1e6, 4)],
+    ]
     table(
         f"MCAP write cost, 50 vehicles' input ({messages_per_s:.0f} messages/s)",
         ["path", "us_per_message", "core_at_50_vehicles"],
         rows,
     )
     print(f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
-    emit("mcap_write", {"messages_per_s": messages_per_s, "recorder_us": round(ours, 2), "library_us": round(theirs, 2),
-                        "speedup": round(theirs / ours, 1), "load_average": round(os.getloadavg()[0], 2)})
+    emit(
+        "mcap_write",
+        {
+            "messages_per_s": messages_per_s,
+            "recorder_us": round(ours, 2),
+            "library_us": round(theirs, 2),
+            "speedup": round(theirs / ours, 1),
+            "load_average": round(os.getloadavg()[0], 2),
+        },
+    )
 
 
 if __name__ == "__main__":

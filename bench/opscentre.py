@@ -31,10 +31,12 @@ def stats(cluster: Cluster, database: str) -> tuple[int, int]:
     """(transactions committed, bytes) of the database now."""
     import psycopg
 
-    with psycopg.connect(host="127.0.0.1", port=cluster.port, user="postgres", password=PASSWORD, dbname=database,
-                         autocommit=True) as c:
-        row = c.execute("SELECT xact_commit, pg_database_size(datname) FROM pg_stat_database WHERE datname = %s",
-                        (database,)).fetchone()
+    with psycopg.connect(
+        host="127.0.0.1", port=cluster.port, user="postgres", password=PASSWORD, dbname=database, autocommit=True
+    ) as c:
+        row = c.execute(
+            "SELECT xact_commit, pg_database_size(datname) FROM pg_stat_database WHERE datname = %s", (database,)
+        ).fetchone()
         assert row is not None
         return int(row[0]), int(row[1])
 
@@ -55,13 +57,19 @@ async def propagation(a: str, b: str, vehicles: list[str], commands: int) -> lis
                 elif msg["type"] == kind == "command" and msg["command"]["status"]:
                     into.setdefault((msg["command"]["sessionId"], msg["command"]["status"]), now)
 
-    readers = [asyncio.create_task(read(f"ws://{a}/ws", on_a, "transition")),
-               asyncio.create_task(read(f"ws://{b}/ws", on_b, "command"))]
+    readers = [
+        asyncio.create_task(read(f"ws://{a}/ws", on_a, "transition")),
+        asyncio.create_task(read(f"ws://{b}/ws", on_b, "command")),
+    ]
     await asyncio.sleep(1)
     loop = asyncio.get_running_loop()
     for n in range(commands):
-        req = urllib.request.Request(f"http://{a}/api/providers/{vehicles[n % len(vehicles)]}/gps-fix", method="POST",
-                                     data=b"{}", headers={"Content-Type": "application/json"})
+        req = urllib.request.Request(
+            f"http://{a}/api/providers/{vehicles[n % len(vehicles)]}/gps-fix",
+            method="POST",
+            data=b"{}",
+            headers={"Content-Type": "application/json"},
+        )
         await loop.run_in_executor(None, lambda r=req: urllib.request.urlopen(r, timeout=10).read())
         await asyncio.sleep(0.25)
     await asyncio.sleep(5)
@@ -83,13 +91,42 @@ def main() -> None:
         database = url.rsplit("/", 1)[1]
         domain = free_domain()
         tmp = Path(cluster.root)
-        procs.append(Proc([str(BIN / "sem-sim"), "--domain", str(domain), "--state-file", str(tmp / "sim.json"),
-                           "--vehicles", str(args.vehicles), "--log-level", "warning", *SIM]))
+        procs.append(
+            Proc(
+                [
+                    str(BIN / "sem-sim"),
+                    "--domain",
+                    str(domain),
+                    "--state-file",
+                    str(tmp / "sim.json"),
+                    "--vehicles",
+                    str(args.vehicles),
+                    "--log-level",
+                    "warning",
+                    *SIM,
+                ]
+            )
+        )
         hosts = []
         for name in ("watch", "relief"):
             port = free_port()
-            procs.append(Proc([str(BIN / "sem-console"), "--domain", str(domain), "--port", str(port), "--database-url",
-                               url, "--console-name", name, "--log-level", "warning"]))
+            procs.append(
+                Proc(
+                    [
+                        str(BIN / "sem-console"),
+                        "--domain",
+                        str(domain),
+                        "--port",
+                        str(port),
+                        "--database-url",
+                        url,
+                        "--console-name",
+                        name,
+                        "--log-level",
+                        "warning",
+                    ]
+                )
+            )
             hosts.append(f"127.0.0.1:{port}")
         for h in hosts:
             wait_http(f"http://{h}/api/health")
@@ -111,16 +148,29 @@ def main() -> None:
         cluster.close()
     vehicle_hours = len(vehicles) * elapsed / 3600
     figures: dict[str, Any] = {
-        "vehicles": len(vehicles), "consoles": 2, "seconds": round(elapsed, 1), "transitions": len(delays),
+        "vehicles": len(vehicles),
+        "consoles": 2,
+        "seconds": round(elapsed, 1),
+        "transitions": len(delays),
         "propagation_p50_ms": ms(percentile(delays, 50)) if delays else None,
         "propagation_p99_ms": ms(percentile(delays, 99)) if delays else None,
         "commits_per_second": round((commits1 - commits0) / elapsed, 1),
         "growth_mb_per_vehicle_hour": round((size1 - size0) / 2**20 / vehicle_hours, 3) if vehicle_hours else None,
     }
-    table("A -> B propagation of a command transition (WebSocket to WebSocket), database load",
-          ["vehicles", "transitions", "p50 ms", "p99 ms", "commits/s", "MB per vehicle-hour"],
-          [[figures["vehicles"], figures["transitions"], figures["propagation_p50_ms"], figures["propagation_p99_ms"],
-            figures["commits_per_second"], figures["growth_mb_per_vehicle_hour"]]])
+    table(
+        "A -> B propagation of a command transition (WebSocket to WebSocket), database load",
+        ["vehicles", "transitions", "p50 ms", "p99 ms", "commits/s", "MB per vehicle-hour"],
+        [
+            [
+                figures["vehicles"],
+                figures["transitions"],
+                figures["propagation_p50_ms"],
+                figures["propagation_p99_ms"],
+                figures["commits_per_second"],
+                figures["growth_mb_per_vehicle_hour"],
+            ]
+        ],
+    )
     emit("opscentre", figures)
 
 

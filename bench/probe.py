@@ -134,8 +134,9 @@ def latencies(events: list[tuple[int, float]], written: Written, start: float, e
 
 def browse(url: str, seconds: float, no_map: bool = False) -> dict[str, Any]:
     cmd = ["node", "scripts/probe.mjs", url, str(PROBE), str(seconds)] + (["--no-map"] if no_map else [])
-    out = subprocess.run(cmd, cwd=common.ROOT / "frontend", capture_output=True, text=True, timeout=seconds + 240,
-                         check=True).stdout
+    out = subprocess.run(
+        cmd, cwd=common.ROOT / "frontend", capture_output=True, text=True, timeout=seconds + 240, check=True
+    ).stdout
     result: dict[str, Any] = json.loads(out.strip().splitlines()[-1])
     return result
 
@@ -179,8 +180,11 @@ def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]
         seq = round((float(lat) - LAT0) / LAT_STEP)
         if seq in written.at:
             marker.append((seq, t / 1000))
-    to_page = [(t / 1000 - written.at[seq]) * 1000 for lat, t in page["arrived"]
-               if (seq := round((float(lat) - LAT0) / LAT_STEP)) in written.at]
+    to_page = [
+        (t / 1000 - written.at[seq]) * 1000
+        for lat, t in page["arrived"]
+        if (seq := round((float(lat) - LAT0) / LAT_STEP)) in written.at
+    ]
     frames = sorted(page["frames"])
     drawn_fix = panels["latitude"]["drawn"] * RATE_HZ  # samples drawn per second
     return {
@@ -245,60 +249,145 @@ def main() -> None:
         for panel, f in [*r["panels"].items(), ("map marker", r["map_marker"])]:
             s, a = f["per_sample"], f["age"]
             rows.append([name, panel, s["p50"], s["p95"], s["p99"], a["p50"], a["p95"], a["p99"], f["drawn"], r["load"]])
-    table("Sample to pixel (ms), headless Chromium, software WebGL", ["vehicles", "shown value", "per sample p50", "p95", "p99",
-          "age p50", "p95", "p99", "drawn", "load avg"], rows)
-    table("The probe's GPSFixReport, write to the page's WebSocket message (ms): all before the dashboard sees it",
-          ["vehicles", "p50", "p95", "p99", "load avg"], [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()])
-    table("Cost", ["vehicles", "renderer cores", "GPU cores", "renderer ms / drawn sample", "frame p50", "p95", "long tasks",
-                   "longest", "map fleet updates/s", "map redraws/s", "full dashboard ms", "snapshot kB"],
-          [[n, r["renderer_cores"], r["gpu_cores"], r["renderer_ms_per_drawn_sample"], r["frame_p50_ms"], r["frame_p95_ms"],
-            r["long_tasks"], r["long_task_max_ms"], r["map_vehicle_updates_per_s"], r["map_redraws_per_s"],
-            r["full_dashboard_ms"], r["snapshot_kb"]]
-           for n, r in runs.items()])
+    table(
+        "Sample to pixel (ms), headless Chromium, software WebGL",
+        ["vehicles", "shown value", "per sample p50", "p95", "p99", "age p50", "p95", "p99", "drawn", "load avg"],
+        rows,
+    )
+    table(
+        "The probe's GPSFixReport, write to the page's WebSocket message (ms): all before the dashboard sees it",
+        ["vehicles", "p50", "p95", "p99", "load avg"],
+        [[n, *r["fix_to_page"].values(), r["load"]] for n, r in runs.items()],
+    )
+    table(
+        "Cost",
+        [
+            "vehicles",
+            "renderer cores",
+            "GPU cores",
+            "renderer ms / drawn sample",
+            "frame p50",
+            "p95",
+            "long tasks",
+            "longest",
+            "map fleet updates/s",
+            "map redraws/s",
+            "full dashboard ms",
+            "snapshot kB",
+        ],
+        [
+            [
+                n,
+                r["renderer_cores"],
+                r["gpu_cores"],
+                r["renderer_ms_per_drawn_sample"],
+                r["frame_p50_ms"],
+                r["frame_p95_ms"],
+                r["long_tasks"],
+                r["long_task_max_ms"],
+                r["map_vehicle_updates_per_s"],
+                r["map_redraws_per_s"],
+                r["full_dashboard_ms"],
+                r["snapshot_kb"],
+            ]
+            for n, r in runs.items()
+        ],
+    )
 
     targets: list[dict[str, Any]] = []
     get: Callable[[str], dict[str, Any] | None] = runs.get
     if (r20 := get("20")) is not None:
-        targets.append(target("1. 20 vehicles: fix, INS, satellites per sample p50 (worst panel)", worst(r20, "p50"), "ms",
-                              "<=", 50, f"before {BEFORE['fix_p50_20']:g} (fix)"))
-        targets.append(target("1. 20 vehicles: per sample p99 (worst panel)", worst(r20, "p99"), "ms", "<=", 150,
-                              f"before {BEFORE['fix_p99_20']:g} (fix)"))
+        targets.append(
+            target(
+                "1. 20 vehicles: fix, INS, satellites per sample p50 (worst panel)",
+                worst(r20, "p50"),
+                "ms",
+                "<=",
+                50,
+                f"before {BEFORE['fix_p50_20']:g} (fix)",
+            )
+        )
+        targets.append(
+            target(
+                "1. 20 vehicles: per sample p99 (worst panel)",
+                worst(r20, "p99"),
+                "ms",
+                "<=",
+                150,
+                f"before {BEFORE['fix_p99_20']:g} (fix)",
+            )
+        )
         least = min(p["drawn"] for p in r20["panels"].values())
         targets.append(target("1. 20 vehicles: samples drawn (least panel)", least, "share", ">", 0.98))
     if (r1 := get("1")) is not None:
         # the baseline: 0.124 cores drawing 40 % of the fix's 10 samples a second, 31 ms of renderer CPU per drawn sample
         before_ms = round(BEFORE["renderer_cores_1"] * 1000 / (RATE_HZ * 0.4), 1)
-        targets.append(target("1. 1 vehicle: renderer CPU per drawn sample", r1["renderer_ms_per_drawn_sample"], "ms", "<=",
-                              before_ms,
-                              f"{r1['renderer_cores']} cores; before {BEFORE['renderer_cores_1']}, 40 % drawn"))
+        targets.append(
+            target(
+                "1. 1 vehicle: renderer CPU per drawn sample",
+                r1["renderer_ms_per_drawn_sample"],
+                "ms",
+                "<=",
+                before_ms,
+                f"{r1['renderer_cores']} cores; before {BEFORE['renderer_cores_1']}, 40 % drawn",
+            )
+        )
     ref = get("20") or get("1")
     if ref is not None:
         targets.append(target("2. map: selected vehicle's marker p50", ref["map_marker"]["per_sample"]["p50"], "ms", "<=", 100))
-        targets.append(target("2. map: fleet updates per second (<= frames/s)", ref["map_vehicle_updates_per_s"], "/s",
-                              "<=", ref["frames_per_s"]))
-        targets.append(target("2. map: fleet layer updates per second (at least 2)", ref["map_fleet_updates_per_s"], "/s", ">",
-                              1.99))
+        targets.append(
+            target(
+                "2. map: fleet updates per second (<= frames/s)",
+                ref["map_vehicle_updates_per_s"],
+                "/s",
+                "<=",
+                ref["frames_per_s"],
+            )
+        )
+        targets.append(
+            target("2. map: fleet layer updates per second (at least 2)", ref["map_fleet_updates_per_s"], "/s", ">", 1.99)
+        )
     if (r50 := get("50")) is not None:
         targets.append(target("2. 50 vehicles: panels per sample p99 (worst)", worst(r50, "p99"), "ms", "<=", 250))
         targets.append(target("2. 50 vehicles: longest task", r50["long_task_max_ms"], "ms", "<=", 50))
-        targets.append(target("2. 50 vehicles: renderer cores", r50["renderer_cores"], "cores", "<=", BEFORE["renderer_cores_50"],
-                              f"before 0.30-{BEFORE['renderer_cores_50']}"))
-        targets.append(target("4. new client, 50 vehicles: full dashboard (median of 5 loads)", r50["full_dashboard_ms"], "ms",
-                              "<=", 800, "each: " + ", ".join(f"{t:.0f}" for t in r50["full_dashboard_all_ms"])))
+        targets.append(
+            target(
+                "2. 50 vehicles: renderer cores",
+                r50["renderer_cores"],
+                "cores",
+                "<=",
+                BEFORE["renderer_cores_50"],
+                f"before 0.30-{BEFORE['renderer_cores_50']}",
+            )
+        )
+        targets.append(
+            target(
+                "4. new client, 50 vehicles: full dashboard (median of 5 loads)",
+                r50["full_dashboard_ms"],
+                "ms",
+                "<=",
+                800,
+                "each: " + ", ".join(f"{t:.0f}" for t in r50["full_dashboard_all_ms"]),
+            )
+        )
         targets.append(target("4. snapshot with 50 vehicles", r50["snapshot_kb"], "kB", "<=", 200))
     if args.fleet and (rf := get(f"fleet {args.fleet}")) is not None:
         targets.append(target(f"3. {args.fleet} vehicles: frame p95", rf["frame_p95_ms"], "ms", "<=", 33))
-        targets.append(target(f"3. {args.fleet} vehicles: selected per sample p99 (worst panel)", worst(rf, "p99"), "ms", "<=",
-                              150))
+        targets.append(
+            target(f"3. {args.fleet} vehicles: selected per sample p99 (worst panel)", worst(rf, "p99"), "ms", "<=", 150)
+        )
 
-    emit("probe", {
-        "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
-        "machine": f"{platform.node()} {platform.machine()} {platform.processor() or ''}".strip(),
-        "load_avg": load(),
-        "seconds": args.seconds,
-        "targets": targets,
-        "runs": runs,
-    })
+    emit(
+        "probe",
+        {
+            "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
+            "machine": f"{platform.node()} {platform.machine()} {platform.processor() or ''}".strip(),
+            "load_avg": load(),
+            "seconds": args.seconds,
+            "targets": targets,
+            "runs": runs,
+        },
+    )
 
 
 if __name__ == "__main__":

@@ -32,9 +32,14 @@ def main() -> None:
         writer.start()
         try:
             time.sleep(3.0)  # discovery, the simulator's vehicles up
-            out = subprocess.run(["node", "scripts/profile.mjs", st["url"], str(probe.PROBE), str(args.seconds), args.out],
-                                 cwd=common.ROOT / "frontend", capture_output=True, text=True, check=True,
-                                 timeout=args.seconds + 240).stdout
+            out = subprocess.run(
+                ["node", "scripts/profile.mjs", st["url"], str(probe.PROBE), str(args.seconds), args.out],
+                cwd=common.ROOT / "frontend",
+                capture_output=True,
+                text=True,
+                check=True,
+                timeout=args.seconds + 240,
+            ).stdout
         finally:
             stop.set()
             writer.join(5)

@@ -22,8 +22,7 @@ from ingest import sim_args
 
 
 def post_json(url: str, body: dict) -> dict:
-    req = urllib.request.Request(url, data=json.dumps(body).encode(), method="POST",
-                                 headers={"Content-Type": "application/json"})
+    req = urllib.request.Request(url, data=json.dumps(body).encode(), method="POST", headers={"Content-Type": "application/json"})
     with urllib.request.urlopen(req, timeout=30) as r:
         return json.loads(r.read())
 
@@ -51,14 +50,22 @@ def main() -> None:
             size0 = sum(p.stat().st_size for p in rec_dir.glob("*.mcap"))
             time.sleep(args.seconds)
             elapsed = time.monotonic() - t0
-            row = {"phase": phase, "console_cpu": round(cpu.read(), 3),
-                   "decoded_per_s": round((get_json(url + "/api/metrics")["samplesDecoded"] - m0["samplesDecoded"]) / elapsed)}
+            row = {
+                "phase": phase,
+                "console_cpu": round(cpu.read(), 3),
+                "decoded_per_s": round((get_json(url + "/api/metrics")["samplesDecoded"] - m0["samplesDecoded"]) / elapsed),
+            }
             if phase == "on":
                 s1 = get_json(url + "/api/recordings/status")
                 size1 = sum(p.stat().st_size for p in rec_dir.glob("*.mcap"))
-                row.update({"recorded_per_s": round((s1["messages"] - s0["messages"]) / elapsed),
-                            "mb_per_min": round((size1 - size0) / 1e6 / elapsed * 60, 2), "dropped": s1["dropped"],
-                            "writer_cpu": round((s1["writerCpuSeconds"] - s0["writerCpuSeconds"]) / elapsed, 4)})
+                row.update(
+                    {
+                        "recorded_per_s": round((s1["messages"] - s0["messages"]) / elapsed),
+                        "mb_per_min": round((size1 - size0) / 1e6 / elapsed * 60, 2),
+                        "dropped": s1["dropped"],
+                        "writer_cpu": round((s1["writerCpuSeconds"] - s0["writerCpuSeconds"]) / elapsed, 4),
+                    }
+                )
                 post_json(url + "/api/recordings", {"action": "stop"})
                 time.sleep(1)
             rows.append(row)
@@ -89,13 +96,17 @@ def main() -> None:
         "writer_cpu_core": round(sum(r["writer_cpu"] for r in on) / len(on), 4),
     }
     figures["writer_cpu_percent"] = round(figures["writer_cpu_core"] / max(cpu_off, 1e-9) * 100, 1)
-    print(f"\nadded console CPU: {figures['added_cpu_core']} core ({figures['added_cpu_percent']}% of "
-          f"{figures['console_cpu_off']}, standard error {figures['added_cpu_stderr_percent']}% over {args.pairs} pairs); "
-          f"written: {figures['mb_per_min']} MB/min")
+    print(
+        f"\nadded console CPU: {figures['added_cpu_core']} core ({figures['added_cpu_percent']}% of "
+        f"{figures['console_cpu_off']}, standard error {figures['added_cpu_stderr_percent']}% over {args.pairs} pairs); "
+        f"written: {figures['mb_per_min']} MB/min"
+    )
     # the console's CPU moves by a few hundredths of a core between phases at this load; the writer
     # thread's own CPU (its thread time, /api/recordings/status) is the recording's cost without that noise
-    print(f"the recording's writer thread: {figures['writer_cpu_core']} core ({figures['writer_cpu_percent']}% of the "
-          f"console's CPU without recording); the ingest threads' tap (a tuple per sample, a queue put per take) is not in it")
+    print(
+        f"the recording's writer thread: {figures['writer_cpu_core']} core ({figures['writer_cpu_percent']}% of the "
+        f"console's CPU without recording); the ingest threads' tap (a tuple per sample, a queue put per take) is not in it"
+    )
     figures["targets"] = [
         target("added console CPU, off/on phases", figures["added_cpu_percent"], "%", "<", 10.0),
         target("the writer thread's CPU against the console's", figures["writer_cpu_percent"], "%", "<", 10.0),

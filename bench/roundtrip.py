@@ -36,8 +36,12 @@ async def console_round_trips(st: dict, vehicle: str, n: int) -> tuple[list[floa
         task = asyncio.create_task(reader())
         loop = asyncio.get_running_loop()
         for _ in range(n + 5):
-            req = urllib.request.Request(f"{st['url']}/api/providers/{vehicle}/gps-fix", method="POST", data=b"{}",
-                                         headers={"Content-Type": "application/json"})
+            req = urllib.request.Request(
+                f"{st['url']}/api/providers/{vehicle}/gps-fix",
+                method="POST",
+                data=b"{}",
+                headers={"Content-Type": "application/json"},
+            )
             t0 = time.perf_counter()
             body = await loop.run_in_executor(None, lambda req=req: urllib.request.urlopen(req, timeout=10).read())
             session = json.loads(body)["sessionId"]
@@ -103,17 +107,41 @@ def main() -> None:
         common.wait_http(f"{st['url']}/api/providers/{vehicle}")
         c_iss, c_done = asyncio.run(console_round_trips(st, str(vehicle), args.commands))
         f_iss, f_done = plain_round_trips(st["domain"], vehicle, args.commands)
-    rows = [["console (REST -> WebSocket)", len(c_done), ms(percentile(c_iss, 50)), ms(percentile(c_iss, 99)),
-             ms(percentile(c_done, 50)), ms(percentile(c_done, 99))],
-            ["floor (plain DDS consumer)", len(f_done), ms(percentile(f_iss, 50)), ms(percentile(f_iss, 99)),
-             ms(percentile(f_done, 50)), ms(percentile(f_done, 99))]]
-    table("Command round trip (GPS fix, simulator answering at once)",
-          ["path", "n", "ISSUED p50 ms", "ISSUED p99 ms", "COMPLETED p50 ms", "COMPLETED p99 ms"], rows)
-    figures = {"commands": len(c_done), "console_issued_p50_ms": rows[0][2], "console_issued_p99_ms": rows[0][3],
-               "console_completed_p50_ms": rows[0][4], "console_completed_p99_ms": rows[0][5],
-               "floor_issued_p50_ms": rows[1][2], "floor_issued_p99_ms": rows[1][3],
-               "floor_completed_p50_ms": rows[1][4], "floor_completed_p99_ms": rows[1][5],
-               "completed_overhead_p50_ms": round(rows[0][4] - rows[1][4], 2)}
+    rows = [
+        [
+            "console (REST -> WebSocket)",
+            len(c_done),
+            ms(percentile(c_iss, 50)),
+            ms(percentile(c_iss, 99)),
+            ms(percentile(c_done, 50)),
+            ms(percentile(c_done, 99)),
+        ],
+        [
+            "floor (plain DDS consumer)",
+            len(f_done),
+            ms(percentile(f_iss, 50)),
+            ms(percentile(f_iss, 99)),
+            ms(percentile(f_done, 50)),
+            ms(percentile(f_done, 99)),
+        ],
+    ]
+    table(
+        "Command round trip (GPS fix, simulator answering at once)",
+        ["path", "n", "ISSUED p50 ms", "ISSUED p99 ms", "COMPLETED p50 ms", "COMPLETED p99 ms"],
+        rows,
+    )
+    figures = {
+        "commands": len(c_done),
+        "console_issued_p50_ms": rows[0][2],
+        "console_issued_p99_ms": rows[0][3],
+        "console_completed_p50_ms": rows[0][4],
+        "console_completed_p99_ms": rows[0][5],
+        "floor_issued_p50_ms": rows[1][2],
+        "floor_issued_p99_ms": rows[1][3],
+        "floor_completed_p50_ms": rows[1][4],
+        "floor_completed_p99_ms": rows[1][5],
+        "completed_overhead_p50_ms": round(rows[0][4] - rows[1][4], 2),
+    }
     print(f"\ncommand to COMPLETED overhead over the plain-DDS floor, p50: {figures['completed_overhead_p50_ms']} ms")
     emit("roundtrip", figures)
 

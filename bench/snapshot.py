@@ -22,8 +22,24 @@ TERMINAL = {"COMPLETED", "FAILED"}
 
 
 def sim_args(n: int) -> list[str]:
-    return ["--vehicles", str(n), "--satellites", "40", "--gps-rate", "1", "--fix-rate", "10", "--ins-rate", "10",
-            "--align-seconds", "1", "--step-seconds", "0", "--surface-seconds", "0"]
+    return [
+        "--vehicles",
+        str(n),
+        "--satellites",
+        "40",
+        "--gps-rate",
+        "1",
+        "--fix-rate",
+        "10",
+        "--ins-rate",
+        "10",
+        "--align-seconds",
+        "1",
+        "--step-seconds",
+        "0",
+        "--surface-seconds",
+        "0",
+    ]
 
 
 async def drive_commands(st: dict, vehicles: list[str], total: int) -> int:
@@ -35,8 +51,11 @@ async def drive_commands(st: dict, vehicles: list[str], total: int) -> int:
     done_sessions: set[str] = set()
 
     # no keepalive pings: under load this client's loop may fall behind the 50 vehicles' reports for a while
-    async with websockets.connect(st["ws"], max_size=2**28, ping_interval=None) as ws, \
-            httpx.AsyncClient(base_url=st["url"], timeout=30) as http:
+    async with (
+        websockets.connect(st["ws"], max_size=2**28, ping_interval=None) as ws,
+        httpx.AsyncClient(base_url=st["url"], timeout=30) as http,
+    ):
+
         async def watch() -> None:
             async for text in ws:
                 msg = json.loads(text)
@@ -104,23 +123,38 @@ def main() -> None:
             assert snap["type"] == "snapshot", snap["type"]
             times.append(elapsed)
             sizes.append(size)
-            shape = {"providers": len(snap["providers"]), "commands": len(snap["commands"]),
-                     "finished": sum(1 for c in snap["commands"] if c["terminal"])}
+            shape = {
+                "providers": len(snap["providers"]),
+                "commands": len(snap["commands"]),
+                "finished": sum(1 for c in snap["commands"] if c["terminal"]),
+            }
             time.sleep(0.2)
     med, worst = percentile(times, 50) * 1000, max(times) * 1000
-    row = {"vehicles": shape["providers"], "commands_in_snapshot": shape["commands"], "finished": shape["finished"],
-           "commands_driven": n_finished, "drive_s": round(drive_s, 1), "connects": len(times),
-           "p50_ms": round(med, 1), "p90_ms": round(percentile(times, 90) * 1000, 1), "max_ms": round(worst, 1),
-           "snapshot_bytes": int(percentile(sizes, 50))}
+    row = {
+        "vehicles": shape["providers"],
+        "commands_in_snapshot": shape["commands"],
+        "finished": shape["finished"],
+        "commands_driven": n_finished,
+        "drive_s": round(drive_s, 1),
+        "connects": len(times),
+        "p50_ms": round(med, 1),
+        "p90_ms": round(percentile(times, 90) * 1000, 1),
+        "max_ms": round(worst, 1),
+        "snapshot_bytes": int(percentile(sizes, 50)),
+    }
     table("Snapshot: a new WebSocket client's first full frame", list(row), [list(row.values())])
     # the target is for 50 vehicles and 500 finished commands: a snapshot holding less does not count
     short = shape["providers"] < args.vehicles or shape["finished"] < args.commands
     if short:
-        print(f"the snapshot holds {shape['providers']} vehicles and {shape['finished']} finished commands, "
-              f"not the {args.vehicles} and {args.commands} the target is for: MISSED")
+        print(
+            f"the snapshot holds {shape['providers']} vehicles and {shape['finished']} finished commands, "
+            f"not the {args.vehicles} and {args.commands} the target is for: MISSED"
+        )
     name = f"connect to first full frame ({shape['providers']} vehicles, {shape['finished']} finished commands)"
-    targets = [common.target(f"{name}, median of {len(times)}", None if short else row["p50_ms"], "ms", "<", 300.0),
-               common.target(f"{name}, worst of {len(times)}", None if short else row["max_ms"], "ms", "<", 300.0)]
+    targets = [
+        common.target(f"{name}, median of {len(times)}", None if short else row["p50_ms"], "ms", "<", 300.0),
+        common.target(f"{name}, worst of {len(times)}", None if short else row["max_ms"], "ms", "<", 300.0),
+    ]
     print(f"snapshot bytes: {row['snapshot_bytes']}; worst connect {row['max_ms']} ms")
     emit("snapshot", {**row, "targets": targets})
 

@@ -73,13 +73,20 @@ export interface TestMap {
   getZoom(): number;
   getCenter(): { lng: number; lat: number };
   jumpTo(options: { center?: [number, number]; zoom?: number }): void;
-  queryRenderedFeatures(options: { layers: string[] }): { properties: Record<string, unknown> | null; geometry: { type: string; coordinates?: unknown } }[];
+  queryRenderedFeatures(options: { layers: string[] }): {
+    properties: Record<string, unknown> | null;
+    geometry: { type: string; coordinates?: unknown };
+  }[];
   getCanvas(): HTMLCanvasElement;
 }
 
 /** The fleet's canvas over the map (FleetCanvas.ts's test hook `window.__semFleet`): the tracks it draws. */
 export interface TestFleet {
-  tracks(): { id: string; selected: boolean; points: { lon: number; lat: number }[] }[];
+  tracks(): {
+    id: string;
+    selected: boolean;
+    points: { lon: number; lat: number }[];
+  }[];
 }
 
 declare global {
@@ -95,5 +102,8 @@ export async function violations(page: Page, ...within: string[]): Promise<strin
   const axe = new AxeBuilder({ page });
   for (const selector of within) axe.include(selector);
   const { violations } = await axe.analyze();
-  return violations.map((v) => `${v.id} (${v.impact}): ${v.help}: ${v.nodes.map((n) => `${n.target.join(" ")}${n.failureSummary ? ` [${n.failureSummary.replace(/\s+/g, " ")}]` : ""}`).join("; ")}`);
+  return violations.map(
+    (v) =>
+      `${v.id} (${v.impact}): ${v.help}: ${v.nodes.map((n) => `${n.target.join(" ")}${n.failureSummary ? ` [${n.failureSummary.replace(/\s+/g, " ")}]` : ""}`).join("; ")}`,
+  );
 }

@@ -2,7 +2,18 @@
 // domain and a free port, started by global-setup.ts and controlled by the tests (stop, restart).
 import { execFileSync, spawn, type ChildProcess } from "node:child_process";
 import { createSocket } from "node:dgram";
-import { appendFileSync, chownSync, existsSync, mkdtempSync, mkdirSync, readFileSync, readdirSync, renameSync, rmSync, writeFileSync } from "node:fs";
+import {
+  appendFileSync,
+  chownSync,
+  existsSync,
+  mkdtempSync,
+  mkdirSync,
+  readFileSync,
+  readdirSync,
+  renameSync,
+  rmSync,
+  writeFileSync,
+} from "node:fs";
 import { createServer } from "node:net";
 import { tmpdir } from "node:os";
 import { dirname, join } from "node:path";
@@ -87,7 +98,11 @@ export async function freeDomain(avoid: number[] = []): Promise<number> {
 }
 
 function launch(cmd: string, args: string[], env: Record<string, string> = {}): ChildProcess {
-  const child = spawn(join(BIN, cmd), args, { stdio: ["ignore", "inherit", "inherit"], env: { ...process.env, ...env }, detached: false });
+  const child = spawn(join(BIN, cmd), args, {
+    stdio: ["ignore", "inherit", "inherit"],
+    env: { ...process.env, ...env },
+    detached: false,
+  });
   child.unref();
   return child;
 }
@@ -114,22 +129,93 @@ export async function startStack(): Promise<Stack> {
   const consoleImc = await freeImcPort();
   const simImc = await freeImcPort([consoleImc]);
   // CoMap over IMC on 127.0.0.1: the simulator's vehicles survey at 8 m/s (before --time-scale), lanes 40 m apart
-  const simArgs = ["--domain", String(domain), "--vehicles", "3",
-    "--imc-port", String(simImc), "--imc-host", "127.0.0.1", "--imc-id", String(SIM_IMC_ID), "--imc-peers", `127.0.0.1:${consoleImc}`,
-    "--survey-speed", "8", "--survey-spacing", "40", "--fault", "reject:2", "--fault", "skip-commanded:3",
-    "--time-scale", "0.2", "--surface-seconds", "30", "--align-seconds", "30", "--ins-rate", "10", "--fix-rate", "5",
-    "--state-file", join(dir, "sim.json"), "--log-level", "warning"];
+  const simArgs = [
+    "--domain",
+    String(domain),
+    "--vehicles",
+    "3",
+    "--imc-port",
+    String(simImc),
+    "--imc-host",
+    "127.0.0.1",
+    "--imc-id",
+    String(SIM_IMC_ID),
+    "--imc-peers",
+    `127.0.0.1:${consoleImc}`,
+    "--survey-speed",
+    "8",
+    "--survey-spacing",
+    "40",
+    "--fault",
+    "reject:2",
+    "--fault",
+    "skip-commanded:3",
+    "--time-scale",
+    "0.2",
+    "--surface-seconds",
+    "30",
+    "--align-seconds",
+    "30",
+    "--ins-rate",
+    "10",
+    "--fix-rate",
+    "5",
+    "--state-file",
+    join(dir, "sim.json"),
+    "--log-level",
+    "warning",
+  ];
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "3"], { encoding: "utf8" })
-    .trim().split("\n").map((l) => l.split(": ")[1]);
+    .trim()
+    .split("\n")
+    .map((l) => l.split(": ")[1]);
   const imcVehicles = vehicles.map((_, i) => SIM_IMC_ID + i);
-  const consoleArgs = ["--port", String(port), "--domain", String(domain), "--db", join(dir, "console.sqlite3"), "--recordings-dir", join(dir, "recordings"),
-    "--comms-lost-timeout", "1.5", "--regained-time", "1.5", "--log-level", "warning", "--vehicle-names", `${vehicles[2]}=${VEHICLE_3_NAME}`,
-    "--aspn-lcm", `file://${join(dir, "aspn.lcm")}`, "--jaus-port", "0", "--jaus-subsystem", "7",
-    "--imc-port", String(consoleImc), "--imc-host", "127.0.0.1", "--imc-peers", `127.0.0.1:${simImc}`,
-    "--imc-vehicles", vehicles.map((v, i) => `${v}=${imcVehicles[i]}`).join(",")];
+  const consoleArgs = [
+    "--port",
+    String(port),
+    "--domain",
+    String(domain),
+    "--db",
+    join(dir, "console.sqlite3"),
+    "--recordings-dir",
+    join(dir, "recordings"),
+    "--comms-lost-timeout",
+    "1.5",
+    "--regained-time",
+    "1.5",
+    "--log-level",
+    "warning",
+    "--vehicle-names",
+    `${vehicles[2]}=${VEHICLE_3_NAME}`,
+    "--aspn-lcm",
+    `file://${join(dir, "aspn.lcm")}`,
+    "--jaus-port",
+    "0",
+    "--jaus-subsystem",
+    "7",
+    "--imc-port",
+    String(consoleImc),
+    "--imc-host",
+    "127.0.0.1",
+    "--imc-peers",
+    `127.0.0.1:${simImc}`,
+    "--imc-vehicles",
+    vehicles.map((v, i) => `${v}=${imcVehicles[i]}`).join(","),
+  ];
   const sim = launch("sem-sim", simArgs);
   const con = launch("sem-console", consoleArgs);
-  const stack: Stack = { domain, port, url: `http://127.0.0.1:${port}`, dir, simArgs, consoleArgs, simPid: sim.pid!, consolePid: con.pid!, vehicles, imcVehicles };
+  const stack: Stack = {
+    domain,
+    port,
+    url: `http://127.0.0.1:${port}`,
+    dir,
+    simArgs,
+    consoleArgs,
+    simPid: sim.pid!,
+    consolePid: con.pid!,
+    vehicles,
+    imcVehicles,
+  };
   save(stack);
   await waitHealthy(stack.url);
   return stack;
@@ -186,7 +272,10 @@ export async function restartConsole(): Promise<void> {
 }
 
 /** Another console beside the stack's; returns its URL and a stop function. */
-export async function startExtraConsole(args: string[], env: Record<string, string> = {}): Promise<{ url: string; stop: () => Promise<void> }> {
+export async function startExtraConsole(
+  args: string[],
+  env: Record<string, string> = {},
+): Promise<{ url: string; stop: () => Promise<void> }> {
   const port = await freePort();
   const url = `http://127.0.0.1:${port}`;
   const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
@@ -201,14 +290,30 @@ export async function startExtraConsole(args: string[], env: Record<string, stri
 }
 
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */
-export async function startGuardedConsole(token: string, args: string[] = []): Promise<{ url: string; stop: () => Promise<void> }> {
+export async function startGuardedConsole(
+  token: string,
+  args: string[] = [],
+): Promise<{ url: string; stop: () => Promise<void> }> {
   const stack = load();
-  return startExtraConsole(["--domain", String(stack.domain), "--db", join(stack.dir, "guarded.sqlite3"), "--recordings-dir", join(stack.dir, "recordings"),
-    ...args], { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` });
+  return startExtraConsole(
+    [
+      "--domain",
+      String(stack.domain),
+      "--db",
+      join(stack.dir, "guarded.sqlite3"),
+      "--recordings-dir",
+      join(stack.dir, "recordings"),
+      ...args,
+    ],
+    { SEM_OPERATOR_TOKENS: `e2e-operator:${token}` },
+  );
 }
 
 /** A console replaying a recording of the stack's (`sem-console --replay`): no DDS. */
-export async function startReplayConsole(recording: string, args: string[] = []): Promise<{ url: string; stop: () => Promise<void> }> {
+export async function startReplayConsole(
+  recording: string,
+  args: string[] = [],
+): Promise<{ url: string; stop: () => Promise<void> }> {
   return startExtraConsole(["--replay", join(load().dir, "recordings", recording), ...args]);
 }
 
@@ -221,37 +326,80 @@ export async function stopStack(): Promise<void> {
 /** A mixed fleet of its own, apart from the stack's domain: a console and two simulators on a fresh domain, vehicle 1
  * on UMAA 3.0.1 and vehicle 2 on UMAA 6.0 (`sem-sim --umaa 6.0`). Returns the console's URL, the vehicles' GUIDs and a
  * stop function. */
-export async function startMixedFleet(): Promise<{ url: string; vehicles: string[]; stop: () => Promise<void> }> {
+export async function startMixedFleet(): Promise<{
+  url: string;
+  vehicles: string[];
+  stop: () => Promise<void>;
+}> {
   const stack = load();
   const domain = await freeDomain([stack.domain]); // the stack's sim runs vehicles 1..3 (3.0.1): vehicle 2 there too
   const run = `mixed-${domain}`; // each fleet its own state files and database: a spec starts from nothing
   const vehicles = execFileSync(join(BIN, "sem-sim"), ["--list", "--vehicles", "2"], { encoding: "utf8" })
-    .trim().split("\n").map((l) => l.split(": ")[1]);
+    .trim()
+    .split("\n")
+    .map((l) => l.split(": ")[1]);
   const sims = [
-    launch("sem-sim", ["--domain", String(domain), "--state-file", join(stack.dir, `${run}-3.0.1.json`), "--log-level", "warning"]),
-    launch("sem-sim", ["--domain", String(domain), "--umaa", "6.0", "--first-vehicle", "2", "--state-file", join(stack.dir, `${run}-6.0.json`),
-      "--log-level", "warning"]),
+    launch("sem-sim", [
+      "--domain",
+      String(domain),
+      "--state-file",
+      join(stack.dir, `${run}-3.0.1.json`),
+      "--log-level",
+      "warning",
+    ]),
+    launch("sem-sim", [
+      "--domain",
+      String(domain),
+      "--umaa",
+      "6.0",
+      "--first-vehicle",
+      "2",
+      "--state-file",
+      join(stack.dir, `${run}-6.0.json`),
+      "--log-level",
+      "warning",
+    ]),
   ];
   const stopSims = () => Promise.all(sims.map((s) => stopPid(s.pid!, "SIGINT")));
-  const con = await startExtraConsole(["--domain", String(domain), "--db", join(stack.dir, `${run}.sqlite3`),
-    "--recordings-dir", join(stack.dir, "recordings")]).catch(async (e: unknown) => {
+  const con = await startExtraConsole([
+    "--domain",
+    String(domain),
+    "--db",
+    join(stack.dir, `${run}.sqlite3`),
+    "--recordings-dir",
+    join(stack.dir, "recordings"),
+  ]).catch(async (e: unknown) => {
     await stopSims();
     throw e;
   });
-  return { url: con.url, vehicles, stop: async () => { await Promise.all([con.stop(), stopSims()]); } };
+  return {
+    url: con.url,
+    vehicles,
+    stop: async () => {
+      await Promise.all([con.stop(), stopSims()]);
+    },
+  };
 }
 
 const asPostgres = process.getuid?.() === 0; // initdb refuses to run as root
 
 function pgBin(name: string): string {
-  const versions = existsSync("/usr/lib/postgresql") ? readdirSync("/usr/lib/postgresql").sort((a, b) => Number(a) - Number(b)) : [];
-  const found = versions.map((v) => `/usr/lib/postgresql/${v}/bin/${name}`).filter((p) => existsSync(p)).at(-1);
+  const versions = existsSync("/usr/lib/postgresql")
+    ? readdirSync("/usr/lib/postgresql").sort((a, b) => Number(a) - Number(b))
+    : [];
+  const found = versions
+    .map((v) => `/usr/lib/postgresql/${v}/bin/${name}`)
+    .filter((p) => existsSync(p))
+    .at(-1);
   if (!found) throw new Error(`PostgreSQL's ${name} is not installed: apt-get install -y postgresql (scripts/setup.sh does)`);
   return found;
 }
 
 function pgRun(cmd: string, ...args: string[]): void {
-  execFileSync(asPostgres ? "runuser" : cmd, asPostgres ? ["-u", "postgres", "--", cmd, ...args] : args, { stdio: "pipe", timeout: 120_000 });
+  execFileSync(asPostgres ? "runuser" : cmd, asPostgres ? ["-u", "postgres", "--", cmd, ...args] : args, {
+    stdio: "pipe",
+    timeout: 120_000,
+  });
 }
 
 /** The clusters this run's specs started (one directory a line), for the stack's teardown. */
@@ -279,7 +427,12 @@ export function closePostgresLeft(): void {
  * backend/tests/support/pg.py starts the pytest one: a cluster in a temporary directory, by initdb and pg_ctl run as the
  * `postgres` user when the tests run as root, on a free port of 127.0.0.1. `url`: its database for the consoles;
  * `stop` and `start` for an outage; `close` stops it and removes its directory. */
-export async function startPostgres(): Promise<{ url: string; stop: () => void; start: () => void; close: () => void }> {
+export async function startPostgres(): Promise<{
+  url: string;
+  stop: () => void;
+  start: () => void;
+  close: () => void;
+}> {
   const root = mkdtempSync(join(tmpdir(), "sem-e2e-pg-"));
   appendFileSync(pgClusters(), `${root}\n`); // stopped by the stack's teardown if the spec's own close never runs
   const data = join(root, "data");
@@ -291,10 +444,33 @@ export async function startPostgres(): Promise<{ url: string; stop: () => void; 
   const pwfile = join(root, "pw");
   writeFileSync(pwfile, `${password}\n`);
   if (asPostgres) for (const p of [root, sockets, pwfile]) chownSync(p, pgUid, pgGid);
-  pgRun(pgBin("initdb"), "-D", data, "-U", "postgres", "--auth-local=trust", "--auth-host=scram-sha-256", `--pwfile=${pwfile}`, "-E", "UTF8", "--no-sync");
+  pgRun(
+    pgBin("initdb"),
+    "-D",
+    data,
+    "-U",
+    "postgres",
+    "--auth-local=trust",
+    "--auth-host=scram-sha-256",
+    `--pwfile=${pwfile}`,
+    "-E",
+    "UTF8",
+    "--no-sync",
+  );
   rmSync(pwfile);
   const port = await freePort();
-  const start = () => pgRun(pgBin("pg_ctl"), "-D", data, "-o", `-p ${port} -k ${sockets} -c listen_addresses=127.0.0.1 -c fsync=off`, "-l", join(root, "server.log"), "-w", "start");
+  const start = () =>
+    pgRun(
+      pgBin("pg_ctl"),
+      "-D",
+      data,
+      "-o",
+      `-p ${port} -k ${sockets} -c listen_addresses=127.0.0.1 -c fsync=off`,
+      "-l",
+      join(root, "server.log"),
+      "-w",
+      "start",
+    );
   const stop = () => pgRun(pgBin("pg_ctl"), "-D", data, "-m", "fast", "-w", "stop");
   start();
   return {

@@ -19,10 +19,18 @@ function preloadEntryChunks(names: string[]): Plugin {
         const tags = [];
         for (const chunk of Object.values(ctx.bundle ?? {})) {
           if (chunk.type !== "chunk" || chunk.isEntry || !names.includes(chunk.name)) continue;
-          tags.push({ tag: "link", attrs: { rel: "modulepreload", crossorigin: true, href: base + chunk.fileName }, injectTo: "head" as const });
+          tags.push({
+            tag: "link",
+            attrs: { rel: "modulepreload", crossorigin: true, href: base + chunk.fileName },
+            injectTo: "head" as const,
+          });
           for (const css of chunk.viteMetadata?.importedCss ?? [])
             // crossorigin as Vite's loader asks the sheet (crossOrigin ""): a preload of another mode is not used
-            tags.push({ tag: "link", attrs: { rel: "preload", as: "style", crossorigin: true, href: base + css }, injectTo: "head" as const });
+            tags.push({
+              tag: "link",
+              attrs: { rel: "preload", as: "style", crossorigin: true, href: base + css },
+              injectTo: "head" as const,
+            });
         }
         return tags;
       },

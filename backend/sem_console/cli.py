@@ -24,10 +24,14 @@ WS_MAX_MESSAGE_BYTES = 64 * 1024  # a bigger message from a WebSocket client clo
 
 def build_parser() -> argparse.ArgumentParser:
     """The options of every field of Settings that has one (core/command_line.add_model_options), then --log-level."""
-    p = Parser(prog="sem-console", description=(
-        "UMAA SEM operator console: a UMAA Service Consumer for GPSFix and InertialSensor commands that "
-        "streams GPS and INS state over WebSockets. Every option can also be set as an SEM_* environment "
-        "variable (e.g. SEM_DOMAIN, SEM_OPERATOR_TOKENS)."))
+    p = Parser(
+        prog="sem-console",
+        description=(
+            "UMAA SEM operator console: a UMAA Service Consumer for GPSFix and InertialSensor commands that "
+            "streams GPS and INS state over WebSockets. Every option can also be set as an SEM_* environment "
+            "variable (e.g. SEM_DOMAIN, SEM_OPERATOR_TOKENS)."
+        ),
+    )
     add_model_options(p, Settings)
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")  # the command line's only
     return p
@@ -45,13 +49,18 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(problem)
     if settings.frontend_dir is not None and not (settings.frontend_dir / "index.html").is_file():
         # the console served no dashboard then, and / answered {"detail": "Not Found"} with nothing said at start
-        parser.error(f"--frontend-dir {settings.frontend_dir} has no index.html: build the dashboard into it "
-                     "(cd frontend && npx vite build --outDir DIR) or pass another --frontend-dir")
+        parser.error(
+            f"--frontend-dir {settings.frontend_dir} has no index.html: build the dashboard into it "
+            "(cd frontend && npx vite build --outDir DIR) or pass another --frontend-dir"
+        )
     for tls_file in filter(None, (settings.tls_certfile, settings.tls_keyfile)):
         if not tls_file.is_file():
             parser.error(f"no such file: {tls_file}")
-    if settings.tls_certfile is not None and settings.tls_keyfile is not None and (
-            problem := check_tls(settings.tls_certfile, settings.tls_keyfile)):
+    if (
+        settings.tls_certfile is not None
+        and settings.tls_keyfile is not None
+        and (problem := check_tls(settings.tls_certfile, settings.tls_keyfile))
+    ):
         parser.error(problem)
     if settings.replay is not None:
         from sem_console.recording.reader import check_file
@@ -71,11 +80,14 @@ def main(argv: list[str] | None = None) -> int:
     if settings.replay is None:  # a replay keeps its state in a temporary database and records nothing
         db_option = "--database-url" if settings.database_url is not None else "--db"  # the option the operator gave
         named = settings.database_url is not None or "db_path" in settings.model_fields_set  # else the default file
-        for problem in (check_database(database.path, db_option, named) if database.path is not None else None,
-                        check_directory("--record", settings.record) if settings.record else None,
-                        # a folder given for the record control; the default one only gets a warning below
-                        check_directory("--recordings-dir", settings.recordings_dir)
-                        if "recordings_dir" in settings.model_fields_set else None):
+        for problem in (
+            check_database(database.path, db_option, named) if database.path is not None else None,
+            check_directory("--record", settings.record) if settings.record else None,
+            # a folder given for the record control; the default one only gets a warning below
+            check_directory("--recordings-dir", settings.recordings_dir)
+            if "recordings_dir" in settings.model_fields_set
+            else None,
+        ):
             if problem:
                 parser.error(problem)
     try:
@@ -114,16 +126,24 @@ def main(argv: list[str] | None = None) -> int:
 
     from sem_console.main import create_app
 
-    config = uvicorn.Config(create_app(settings, store), host=settings.host, port=settings.port, log_level=args.log_level,
-                            ws_ping_interval=20, ws_ping_timeout=20, ws_per_message_deflate=settings.ws_compression,
-                            # a client's messages are small (ping, resync, ack, select: under 200 bytes); uvicorn's
-                            # default of 16 MiB let any client have megabytes parsed on the event loop, message after message
-                            ws_max_size=WS_MAX_MESSAGE_BYTES,
-                            # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
-                            # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)
-                            proxy_headers=bool(settings.forwarded_allow_ips.strip()),
-                            forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
-                            ssl_certfile=settings.tls_certfile, ssl_keyfile=settings.tls_keyfile)
+    config = uvicorn.Config(
+        create_app(settings, store),
+        host=settings.host,
+        port=settings.port,
+        log_level=args.log_level,
+        ws_ping_interval=20,
+        ws_ping_timeout=20,
+        ws_per_message_deflate=settings.ws_compression,
+        # a client's messages are small (ping, resync, ack, select: under 200 bytes); uvicorn's
+        # default of 16 MiB let any client have megabytes parsed on the event loop, message after message
+        ws_max_size=WS_MAX_MESSAGE_BYTES,
+        # X-Forwarded-For only from the proxies named: uvicorn's default trusts any process on
+        # 127.0.0.1, which could then pick its own client address (the token slow-down, the audit's client)
+        proxy_headers=bool(settings.forwarded_allow_ips.strip()),
+        forwarded_allow_ips=settings.forwarded_allow_ips.strip() or None,
+        ssl_certfile=settings.tls_certfile,
+        ssl_keyfile=settings.tls_keyfile,
+    )
     server = uvicorn.Server(config)
     scheme = "https" if settings.tls_certfile else "http"
     for sock in listeners:  # uvicorn names no address for sockets it is given
@@ -143,23 +163,35 @@ def start_warnings(settings: Settings) -> list[str]:
     out = []
     if settings.frontend_dir is None and not (DEFAULT_FRONTEND / "index.html").is_file():
         if DEFAULT_FRONTEND.parent.is_dir():  # a source checkout: the dashboard is not built yet
-            out.append(f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
-                       "or pass --frontend-dir); the API and /ws work")
+            out.append(
+                f"no dashboard built in {DEFAULT_FRONTEND}: / answers 404 (build it: cd frontend && npm run build, "
+                "or pass --frontend-dir); the API and /ws work"
+            )
         else:  # installed from a wheel: the dashboard is not in the package, and the checkout's path means nothing here
-            out.append("this installation has no dashboard: / answers 404 (pass --frontend-dir DIR, a build of the "
-                       "project's frontend/: npm run build writes frontend/dist); the API and /ws work")
+            out.append(
+                "this installation has no dashboard: / answers 404 (pass --frontend-dir DIR, a build of the "
+                "project's frontend/: npm run build writes frontend/dist); the API and /ws work"
+            )
     beyond_loopback = settings.host not in ("127.0.0.1", "localhost", "::1")
     if beyond_loopback and not settings.operators():
         out.append(f"listening on {settings.host} with no operator token: anyone who reaches this port can command vehicles")
     if beyond_loopback and settings.operators() and settings.tls_certfile is None:
-        out.append(f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
-                   "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)")
+        out.append(
+            f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
+            "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)"
+        )
     if "*" in settings.host_names():
-        out.append("--allowed-hosts '*' accepts any Host header: a page under a foreign DNS name that resolves to this "
-                   "console (DNS rebinding) passes the Host and the Origin checks (without --auth-reads it reads the "
-                   "vehicles; without operator tokens it commands them): name the hosts instead")
-    if settings.replay is None and settings.record is None and "recordings_dir" not in settings.model_fields_set and (
-            problem := check_directory("--recordings-dir", settings.recordings_dir)):
+        out.append(
+            "--allowed-hosts '*' accepts any Host header: a page under a foreign DNS name that resolves to this "
+            "console (DNS rebinding) passes the Host and the Origin checks (without --auth-reads it reads the "
+            "vehicles; without operator tokens it commands them): name the hosts instead"
+        )
+    if (
+        settings.replay is None
+        and settings.record is None
+        and "recordings_dir" not in settings.model_fields_set
+        and (problem := check_directory("--recordings-dir", settings.recordings_dir))
+    ):
         out.append(f"{problem} (the record control fails until then)")
     f = settings.operator_tokens_file
     if f is not None and f.stat().st_mode & 0o077:
@@ -181,8 +213,7 @@ def check_database(path: Path, option: str = "--db", given: bool = True) -> str 
     if path.is_dir():
         return f"{option} {path} is a directory, not a database file: pass another {option}"
     if given and not path.parent.exists():
-        return (f"{option} {path}: the folder {path.parent} does not exist: create it (mkdir -p {path.parent}) or fix "
-                f"the path")
+        return f"{option} {path}: the folder {path.parent} does not exist: create it (mkdir -p {path.parent}) or fix the path"
     # the store creates the directory, and WAL mode writes -wal and -shm files beside the database
     if problem := writable_directory(path.parent):
         return f"{option} {path}: {problem}: pass another {option}"
@@ -243,8 +274,10 @@ def check_basemap(path: Path) -> str | None:
     except OSError as e:
         return f"--basemap {path}: cannot read it ({e.strerror or e})"
     if not head.startswith(b"PMTiles"):
-        return (f"--basemap {path} is not a PMTiles file (it does not start with 'PMTiles'): "
-                "convert it (pmtiles convert FILE.mbtiles FILE.pmtiles) or pass another --basemap")
+        return (
+            f"--basemap {path} is not a PMTiles file (it does not start with 'PMTiles'): "
+            "convert it (pmtiles convert FILE.mbtiles FILE.pmtiles) or pass another --basemap"
+        )
     if len(head) < PMTILES_HEADER or head[7] != 3:
         found = f"version {head[7]}" if len(head) > 7 else "no version"
         return (
@@ -306,8 +339,9 @@ def check_udp_ports(settings: Settings) -> None:
                 taken.append(sock)
                 sock.bind(info[4])
             except socket.gaierror as e:
-                raise StartError(f"{host_option} {host}: not an address of this machine ({e.strerror}): "
-                                 f"pass another {host_option}") from None
+                raise StartError(
+                    f"{host_option} {host}: not an address of this machine ({e.strerror}): pass another {host_option}"
+                ) from None
             except OSError as e:
                 raise StartError(port_problem(option, host_option, "UDP", where, e)) from None
     finally:
@@ -323,8 +357,10 @@ def port_problem(option: str, host_option: str, protocol: str, where: str, e: OS
             f"{option}: no permission to listen on {protocol} {where} (ports below 1024 need privileges): pass another {option}"
         )
     if e.errno == errno.EADDRNOTAVAIL:
-        return (f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: "
-                f"pass another {host_option}")
+        return (
+            f"{host_option}: cannot listen on {protocol} {where}: the address is not one of this machine's: "
+            f"pass another {host_option}"
+        )
     return f"{option}: cannot listen on {protocol} {where} ({e.strerror or e})"
 
 

@@ -115,8 +115,9 @@ def _rename_same_name_enums(src: Path, dst: Path) -> None:
         f.write_text(text)
 
 
-def generate(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
-             extensibility: str | None = "final") -> list[Path]:
+def generate(
+    out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR, extensibility: str | None = "final"
+) -> list[Path]:
     """Generate the ``UMAA`` package from the IDL files under ``idl_dir`` into ``out_dir``; return the
     written files. ``extensibility``: idlc's default for types that do not say (None: idlc's own)."""
     cache = cache or Path(tempfile.gettempdir()) / "sem-console-idlc"
@@ -138,7 +139,11 @@ def generate(out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
             # The Python backend writes into the current directory (it ignores -o).
             subprocess.run(
                 [str(idlc), "-l", str(plugin), *default, "-I", str(work_idl), str(f)],
-                cwd=gen, env=env, check=True, capture_output=True, text=True,
+                cwd=gen,
+                env=env,
+                check=True,
+                capture_output=True,
+                text=True,
             )
         target = out_dir / "UMAA"
         if target.exists():
@@ -158,8 +163,9 @@ APPENDABLE_6_0 = "UMAA_6_0_appendable"
 PACKAGES = ("UMAA", APPENDABLE, UMAA_6_0, APPENDABLE_6_0)
 
 
-def generate_as(package: str, out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR,
-                extensibility: str = "final") -> list[Path]:
+def generate_as(
+    package: str, out_dir: Path, cache: Path | None = None, idl_dir: Path = IDL_DIR, extensibility: str = "final"
+) -> list[Path]:
     """The types of ``idl_dir`` as the package ``package`` in ``out_dir``: the wire type names stay ``UMAA::...``
     (each class's ``typename``); cyclonedds imports a member's type by the module path in its annotation, so those
     name ``package``."""
@@ -202,8 +208,12 @@ def generate_6_0_appendable(out_dir: Path, cache: Path | None = None, idl_dir: P
 
 def generate_all(out_dir: Path, cache: Path | None = None) -> dict[str, list[Path]]:
     """Every generated package in ``out_dir``, by package name."""
-    return {"UMAA": generate(out_dir, cache), APPENDABLE: generate_appendable(out_dir, cache),
-            UMAA_6_0: generate_6_0(out_dir, cache), APPENDABLE_6_0: generate_6_0_appendable(out_dir, cache)}
+    return {
+        "UMAA": generate(out_dir, cache),
+        APPENDABLE: generate_appendable(out_dir, cache),
+        UMAA_6_0: generate_6_0(out_dir, cache),
+        APPENDABLE_6_0: generate_6_0_appendable(out_dir, cache),
+    }
 
 
 def inputs_digest() -> str:
@@ -221,15 +231,17 @@ STAMP = ".idlgen-stamp"
 
 def up_to_date(out_dir: Path) -> bool:
     stamp = out_dir / STAMP
-    return (stamp.exists() and stamp.read_text() == inputs_digest()
-            and all((out_dir / p / "__init__.py").exists() for p in PACKAGES))
+    return (
+        stamp.exists() and stamp.read_text() == inputs_digest() and all((out_dir / p / "__init__.py").exists() for p in PACKAGES)
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Generate Python types from idl/ with Cyclone DDS idlc.")
     parser.add_argument("--out", type=Path, default=OUT_DIR, help="folder to write the packages into (default: backend/)")
-    parser.add_argument("--if-stale", action="store_true",
-                        help="only when idl/ or idlgen changed since the last run into the same folder")
+    parser.add_argument(
+        "--if-stale", action="store_true", help="only when idl/ or idlgen changed since the last run into the same folder"
+    )
     args = parser.parse_args(argv)
     if args.if_stale and up_to_date(args.out):
         return 0

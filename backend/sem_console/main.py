@@ -82,16 +82,26 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
             await console.stop()
             await gateways.stop()
 
-    app = FastAPI(title="SEM Console", version=__version__, lifespan=lifespan,
-                  max_body_size=MAX_BODY_BYTES,
-                  description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
-                              "WebSocket messages on /ws are described by /api/ws-schema.")
+    app = FastAPI(
+        title="SEM Console",
+        version=__version__,
+        lifespan=lifespan,
+        max_body_size=MAX_BODY_BYTES,
+        description="UMAA SEM (GPS and inertial sensor) operator console over DDS. "
+        "WebSocket messages on /ws are described by /api/ws-schema.",
+    )
     app.state.settings = settings
     app.state.operators = operators = Operators(settings.operators(), settings.throttle_first_wait)
-    app.state.auditor = auditor = Auditor(commands.writes.routes + recordings.writes.routes + gateway_routes.writes.routes
-                                          + comap.writes.routes + alarms.writes.routes + providers.writes.routes
-                                          + silences.writes.routes,
-                                          settings.audit_refusals_per_minute)
+    app.state.auditor = auditor = Auditor(
+        commands.writes.routes
+        + recordings.writes.routes
+        + gateway_routes.writes.routes
+        + comap.writes.routes
+        + alarms.writes.routes
+        + providers.writes.routes
+        + silences.writes.routes,
+        settings.audit_refusals_per_minute,
+    )
 
     @app.exception_handler(RequestValidationError)
     async def validation_error(request: Request, exc: RequestValidationError) -> JSONResponse:
@@ -105,8 +115,13 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     async def http_error(request: Request, exc: HTTPException) -> Response:
         """Refused command requests (401, 404, 409, 415, 429 ...) and 401/429 anywhere: logged and recorded (api/audit.py)."""
         if exc.status_code in (401, 429) or auditor.is_command(request.scope):
-            auditor.refused(request.scope, exc.status_code, str(exc.detail), audit=getattr(exc, "audit", False),
-                            operator=token_operator(request))
+            auditor.refused(
+                request.scope,
+                exc.status_code,
+                str(exc.detail),
+                audit=getattr(exc, "audit", False),
+                operator=token_operator(request),
+            )
         return await http_exception_handler(request, exc)
 
     @app.exception_handler(Unavailable)
@@ -123,8 +138,11 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     @app.exception_handler(405)
     async def method_not_allowed(request: Request, _exc: HTTPException) -> JSONResponse:
         """405 whose Allow lists every method of the path (Starlette names only the first route's)."""
-        allow = [m for m in METHODS if any(not isinstance(r, Mount) and r.matches({**request.scope, "method": m})[0] is Match.FULL
-                                           for r in app.routes)]
+        allow = [
+            m
+            for m in METHODS
+            if any(not isinstance(r, Mount) and r.matches({**request.scope, "method": m})[0] is Match.FULL for r in app.routes)
+        ]
         return JSONResponse({"detail": "Method Not Allowed"}, status_code=405, headers={"Allow": ", ".join(allow)})
 
     # Reads need a token only with --auth-reads, commands only when there are tokens: the published
@@ -133,8 +151,9 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     writes = Included([Depends(require_operator)], NEEDS_TOKEN) if operators else Included()
     commands_writes = Included([*writes.dependencies, Depends(require_json)], writes.responses)
     if settings.replay is not None:  # read-only: commands, recording, link config, names, CoMap writes are refused (409)
-        commands_writes = Included([*commands_writes.dependencies, Depends(refuse_in_replay)],
-                                   {**commands_writes.responses, **READ_ONLY})
+        commands_writes = Included(
+            [*commands_writes.dependencies, Depends(refuse_in_replay)], {**commands_writes.responses, **READ_ONLY}
+        )
     replay_controls = Included([*reads.dependencies, Depends(require_json)], reads.responses)
     for r, extra in (
         (providers.router, reads),

@@ -38,8 +38,10 @@ _WORKER = int(os.environ.get("PYTEST_XDIST_WORKER", "gw0").removeprefix("gw")) %
 _OWN_DOMAINS = [d for d in range(1, 200) if (d - 1) % _WORKERS == _WORKER]
 # A random start per run, then a new domain per test; a domain a participant on this host is in (another run's, or
 # a process of an earlier test still there: `support.domains`) is skipped, so runs and tests never see each other.
-_domains = (_OWN_DOMAINS[k % len(_OWN_DOMAINS)]
-            for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS))))
+_domains = (
+    _OWN_DOMAINS[k % len(_OWN_DOMAINS)]
+    for k in itertools.count(random.Random(os.getpid() ^ time.time_ns()).randrange(len(_OWN_DOMAINS)))
+)
 
 
 def free_domain(taken: int | None = None) -> int:
@@ -108,12 +110,19 @@ class SimProcess(Process):
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> SimProcess:
-        cmd = [sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(self.domain), "--state-file",
-               str(self.state_file), *FAST, *self.args]
+        cmd = [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(self.domain),
+            "--state-file",
+            str(self.state_file),
+            *FAST,
+            *self.args,
+        ]
         self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         return self
-
-
 
 
 @pytest.fixture
@@ -200,8 +209,9 @@ class ConsoleProcess(Process):
             "warning",
             *self.args,
         ]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                                     env={**os.environ, **self.env})
+        self.proc = subprocess.Popen(
+            cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env={**os.environ, **self.env}
+        )
         # a wait for start-up, not a timed assertion: generous, since pytest-xdist's workers start consoles at once
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline:
@@ -215,7 +225,6 @@ class ConsoleProcess(Process):
             time.sleep(0.1)
         self.kill()  # not left running after the test: the fixture keeps only consoles that started
         raise RuntimeError("sem-console did not start")
-
 
 
 @pytest.fixture

@@ -33,7 +33,10 @@ for (const theme of ["light", "dark"] as const) {
   });
 }
 
-test("axe finds no violation with the selected vehicle lost (its last values shown stale), its alarms and a confirmation open", async ({ page, request }) => {
+test("axe finds no violation with the selected vehicle lost (its last values shown stale), its alarms and a confirmation open", async ({
+  page,
+  request,
+}) => {
   await streaming(page);
   await stopSim();
   try {
@@ -52,18 +55,32 @@ test("axe finds no violation with the selected vehicle lost (its last values sho
   } finally {
     await restartSim(); // the next tests need the vehicles
   }
-  await expect.poll(async () => {
-    const summaries = (await (await request.get(`${load().url}/api/providers`)).json()) as { id: string; link: string }[];
-    return load().vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
-  }, { timeout: 30_000 }).toBe(true);
+  await expect
+    .poll(
+      async () => {
+        const summaries = (await (await request.get(`${load().url}/api/providers`)).json()) as { id: string; link: string }[];
+        return load().vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
+      },
+      { timeout: 30_000 },
+    )
+    .toBe(true);
   // the link-lost alarms have cleared: acknowledged, they leave the set, so the next specs start without them
-  const linkLost = async () => ((await (await request.get(`${load().url}/api/alarms`)).json()) as { id: number; kind: string; state: string }[]).filter((a) => a.kind === "link-lost");
+  const linkLost = async () =>
+    (
+      (await (await request.get(`${load().url}/api/alarms`)).json()) as {
+        id: number;
+        kind: string;
+        state: string;
+      }[]
+    ).filter((a) => a.kind === "link-lost");
   await expect.poll(async () => (await linkLost()).every((a) => a.state === "cleared-unacknowledged")).toBe(true);
   for (const a of await linkLost()) await request.post(`${load().url}/api/alarms/${a.id}/ack`, { data: {} });
   await expect.poll(async () => (await linkLost()).length).toBe(0);
 });
 
-test("the theme follows the system until the operator picks one in the header; the choice survives a reload", async ({ page }) => {
+test("the theme follows the system until the operator picks one in the header; the choice survives a reload", async ({
+  page,
+}) => {
   await page.emulateMedia({ colorScheme: "dark" });
   await open(page);
   const html = page.locator("html");

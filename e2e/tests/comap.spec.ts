@@ -14,7 +14,16 @@ const COMPLETED = { hex: "#4caf50", rgb: "rgb(76, 175, 80)" }; // "covered (gree
 
 /** The vehicle's latest GPSFixReport position on the console, [lon, lat] in degrees. */
 async function position(page: Page, id: string): Promise<LonLat> {
-  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
+  type Fix = {
+    report: {
+      position2DWithTime: {
+        geodeticPosition: {
+          geodeticLatitude: { latitude: number };
+          geodeticLongitude: { longitude: number };
+        };
+      };
+    };
+  };
   const p = (await (await page.request.get(`${load().url}/api/providers/${id}`)).json()) as { reports: { GPSFixReport: Fix } };
   const g = p.reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
   return [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude];
@@ -49,7 +58,9 @@ async function rendered(page: Page, featureId: number): Promise<{ coverage: unkn
 // the smallest supported layout: less for the software renderer (SwiftShader) to draw on a loaded machine
 test.use({ viewport: { width: 1280, height: 720 } });
 
-test("a polygon drawn and edited on the map is surveyed by a simulated vehicle over IMC: the track crosses it, coverage goes PARTIAL then COMPLETED", async ({ page }) => {
+test("a polygon drawn and edited on the map is surveyed by a simulated vehicle over IMC: the track crosses it, coverage goes PARTIAL then COMPLETED", async ({
+  page,
+}) => {
   test.setTimeout(120_000); // the survey itself runs in real time (about 20 s); the rest waits on a loaded machine's renderer
   const foreign = await consoleOnly(page);
   const stack = load();
@@ -57,7 +68,10 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   const tasks: { taskId: number; state: string }[] = []; // every `task` message the page receives
   page.on("websocket", (ws) =>
     ws.on("framereceived", ({ payload }) => {
-      const m = JSON.parse(String(payload)) as { type: string; task?: { taskId: number; state: string } };
+      const m = JSON.parse(String(payload)) as {
+        type: string;
+        task?: { taskId: number; state: string };
+      };
       if (m.type === "task" && m.task) tasks.push(m.task);
     }),
   );
@@ -67,7 +81,11 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   // the basemap and every vehicle are drawn
   const map = page.getByTestId("map");
   await expect(map).toHaveAttribute("data-ready", "true");
-  await expect.poll(async () => Number(await map.getAttribute("data-vehicles")), { timeout: 30_000 }).toBe(stack.vehicles.length);
+  await expect
+    .poll(async () => Number(await map.getAttribute("data-vehicles")), {
+      timeout: 30_000,
+    })
+    .toBe(stack.vehicles.length);
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(async () => Number(await map.getAttribute("data-land"))).toBeGreaterThan(0);
 
@@ -75,7 +93,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await vehicle(page, id).click();
   await expect(vehicle(page, id)).toHaveAttribute("aria-pressed", "true");
   const comap = page.getByTestId("comap");
-  await expect(comap.getByTestId("capabilities")).toContainText(`IMC ${stack.imcVehicles[2]}: area survey side-scan sonar`, { timeout: 30_000 });
+  await expect(comap.getByTestId("capabilities")).toContainText(`IMC ${stack.imcVehicles[2]}: area survey side-scan sonar`, {
+    timeout: 30_000,
+  });
   await expect(comap.getByTestId("capabilities")).toContainText("move 8 m/s");
   const follow = page.getByTestId("map-follow");
   if ((await follow.getAttribute("aria-pressed")) === "true") await follow.click();
@@ -100,7 +120,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
 
   // edit: drag the north-east corner's handle 40 px further east
   await comap.getByTestId("edit-features").click();
-  await expect.poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["edit-handle"] }).length)).toBeGreaterThanOrEqual(4);
+  await expect
+    .poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["edit-handle"] }).length))
+    .toBeGreaterThanOrEqual(4);
   const ne = corners[2];
   await page.mouse.move(ne.x, ne.y);
   await page.mouse.down();
@@ -112,7 +134,12 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   // send the world model: the console has the edited polygon
   await comap.getByTestId("send-worldmodel").click();
   await expect(comap.getByTestId("send-worldmodel")).toBeDisabled(); // nothing left to send
-  type Model = { features: { geometry: { type: string; coordinates: number[][][] }; properties: { featureId: number; coverage: string | null } }[] };
+  type Model = {
+    features: {
+      geometry: { type: string; coordinates: number[][][] };
+      properties: { featureId: number; coverage: string | null };
+    }[];
+  };
   const model = (await (await page.request.get(`${stack.url}/api/worldmodel`)).json()) as Model;
   const sent = model.features.find((f) => f.properties.featureId === fid)!;
   expect(sent.geometry.type).toBe("Polygon");
@@ -139,7 +166,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await expect(row.getByTestId("task-station")).toHaveText(` on ${consoleName}`);
 
   // coverage PARTIAL, in the list (text and swatch) and on the map, in the same colour
-  await expect(feature).toHaveAttribute("data-coverage", "PARTIAL", { timeout: 30_000 });
+  await expect(feature).toHaveAttribute("data-coverage", "PARTIAL", {
+    timeout: 30_000,
+  });
   await expect(feature.getByTestId("coverage")).toHaveAttribute("title", "IMC coverage: PARTIAL");
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", PARTIAL.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "PARTIAL", color: PARTIAL.hex });
@@ -150,7 +179,9 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   await expect(comap.getByRole("button", { name: "Survey", exact: true })).toBeDisabled();
 
   // then COMPLETED (shown through the draft), the task too
-  await expect(feature).toHaveAttribute("data-coverage", "COMPLETED", { timeout: 60_000 });
+  await expect(feature).toHaveAttribute("data-coverage", "COMPLETED", {
+    timeout: 60_000,
+  });
   await expect(feature.getByTestId("coverage-swatch")).toHaveCSS("background-color", COMPLETED.rgb);
   await expect.poll(() => rendered(page, fid)).toEqual({ coverage: "COMPLETED", color: COMPLETED.hex });
   await expect(row.getByTestId("task-state")).toHaveAttribute("data-state", "COMPLETED");
@@ -170,7 +201,10 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   // the vehicle's stored UMAA track went over the polygon
   await expect
     .poll(async () => {
-      const pts = (await (await page.request.get(`${stack.url}/api/providers/${id}/track`)).json()) as { latitude: number; longitude: number }[];
+      const pts = (await (await page.request.get(`${stack.url}/api/providers/${id}/track`)).json()) as {
+        latitude: number;
+        longitude: number;
+      }[];
       return pts.filter((p) => inside([p.longitude, p.latitude], ring)).length;
     })
     .toBeGreaterThanOrEqual(3);
@@ -178,7 +212,8 @@ test("a polygon drawn and edited on the map is surveyed by a simulated vehicle o
   const drawnTrack = () =>
     page.evaluate(
       (vid) =>
-        window.__semFleet!.tracks()
+        window
+          .__semFleet!.tracks()
           .filter((t) => t.id === vid)
           .flatMap((t) => t.points.map((p) => [p.lon, p.lat])),
       id,

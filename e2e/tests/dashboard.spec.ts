@@ -7,7 +7,6 @@ import { load, restartConsole, restartSim, startGuardedConsole, stopSim } from "
 
 const HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"];
 
-
 async function statuses(cmd: Locator): Promise<string[]> {
   return cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? ""));
 }
@@ -29,17 +28,27 @@ test("the dashboard shows the connection, the vehicles, satellites, sky plot, fi
   await expect(page.getByTestId("ins-state")).toHaveAttribute("data-state", "ON");
 });
 
-test("another vehicle selected: its satellites at once, though the console sent them only now and then while it was not", async ({ page, request }) => {
+test("another vehicle selected: its satellites at once, though the console sent them only now and then while it was not", async ({
+  page,
+  request,
+}) => {
   const selects: unknown[] = []; // what the page tells the console it draws
   const partial = new Set<string>(); // the vehicles of which the console sent a GPSReport without its satellites
   page.on("websocket", (ws) => {
     ws.on("framesent", ({ payload }) => {
-      const msg = JSON.parse(String(payload)) as { type: string; providerId?: string | null };
+      const msg = JSON.parse(String(payload)) as {
+        type: string;
+        providerId?: string | null;
+      };
       if (msg.type === "select") selects.push(msg.providerId);
     });
     ws.on("framereceived", ({ payload }) => {
       const data = JSON.parse(String(payload)) as unknown;
-      for (const m of (Array.isArray(data) ? data : [data]) as { type: string; providerId?: string; partial?: boolean }[])
+      for (const m of (Array.isArray(data) ? data : [data]) as {
+        type: string;
+        providerId?: string;
+        partial?: boolean;
+      }[])
         if (m.type === "report" && m.partial && m.providerId) partial.add(m.providerId);
     });
   });
@@ -65,10 +74,15 @@ test("Request GPS fix: the timeline walks ISSUED to COMPLETED and the fix become
   // a command's progress ("GPS fix starting")
   const fixState = page.getByTestId("gps-fix-state");
   await expect(fixState).toHaveText(/^Receiver: (initiating a fix|performing a fix|fix stable)$/);
-  await expect(fixState).toHaveAttribute("title", /^UMAA GPSFixCommandStatus: [A-Z]+ \(the receiver's state as the vehicle reports it, whether or not a fix was commanded\)$/);
+  await expect(fixState).toHaveAttribute(
+    "title",
+    /^UMAA GPSFixCommandStatus: [A-Z]+ \(the receiver's state as the vehicle reports it, whether or not a fix was commanded\)$/,
+  );
   await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
   const cmd = latestCommand(page);
-  await expect(cmd).toHaveAttribute("data-status", "COMPLETED", { timeout: 30_000 });
+  await expect(cmd).toHaveAttribute("data-status", "COMPLETED", {
+    timeout: 30_000,
+  });
   expect(await statuses(cmd)).toEqual(HAPPY);
   await expect(page.getByTestId("fix-valid")).toHaveText("Fix valid");
   await expect(page.getByTestId("gps-fix-state")).toHaveAttribute("data-state", "STABLE");
@@ -165,7 +179,9 @@ test("the backend restarts: the page reconnects by itself and shows live data ag
   const before = await page.getByTestId("connection-state").textContent();
   expect(before).toBe("Live");
   await restartConsole();
-  await expect(page.getByTestId("connection-state")).toHaveText("Live", { timeout: 30_000 });
+  await expect(page.getByTestId("connection-state")).toHaveText("Live", {
+    timeout: 30_000,
+  });
   await expect(page.getByTestId("sky-satellite").first()).toBeVisible();
   await expect(page.getByTestId("satellites-panel-freshness")).toContainText("Live");
 });
@@ -195,7 +211,9 @@ test("with an operator token: commands are refused until sign-in", async ({ page
   }
 });
 
-test("a finished cancel names who asked it and on which station; the timeline is in time order; GPS fix on one line", async ({ page }) => {
+test("a finished cancel names who asked it and on which station; the timeline is in time order; GPS fix on one line", async ({
+  page,
+}) => {
   const token = "e2e-canceller";
   const guarded = await startGuardedConsole(token, ["--console-name", "watch"]);
   try {
@@ -208,13 +226,18 @@ test("a finished cancel names who asked it and on which station; the timeline is
     await expect(page.getByTestId("signed-in")).toBeVisible();
     await page.getByRole("button", { name: "Request GPS fix", exact: true }).click();
     const cmd = latestCommand(page);
-    await expect(cmd).toHaveAttribute("data-status", "EXECUTING", { timeout: 20_000 });
+    await expect(cmd).toHaveAttribute("data-status", "EXECUTING", {
+      timeout: 20_000,
+    });
     const title = cmd.locator(".c-title");
     await expect(title).toHaveText("GPS fix");
     const lines = await title.evaluate((el) => el.getBoundingClientRect().height / parseFloat(getComputedStyle(el).fontSize));
     expect(lines).toBeLessThan(2); // one line of text is about 1.2 font sizes high, two about 2.4
     // the acknowledgement (published with ISSUED) comes after "Received", not before it
-    const order = await cmd.getByTestId("timeline").locator("li").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
+    const order = await cmd
+      .getByTestId("timeline")
+      .locator("li")
+      .evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
     expect(order.indexOf("ack")).toBeGreaterThan(order.indexOf("ISSUED"));
     await expect(cmd.getByTestId("ack")).toContainText("the vehicle reports taking it up");
     await cmd.getByRole("button", { name: "Cancel" }).click();
@@ -224,20 +247,28 @@ test("a finished cancel names who asked it and on which station; the timeline is
     await expect(cmd.getByTestId("command-canceller")).toHaveText("cancel asked by e2e-operator on watch");
     await expect(cmd.getByTestId("transition").last()).toContainText("Cancelled on request by e2e-operator on watch");
     await expect(cmd.getByTestId("cancel-asked")).toContainText("Cancel asked by e2e-operator on watch");
-    const done = await cmd.getByTestId("timeline").locator("li").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
+    const done = await cmd
+      .getByTestId("timeline")
+      .locator("li")
+      .evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status ?? (e as HTMLElement).dataset.testid ?? ""));
     expect(done.indexOf("cancel-asked")).toBeLessThan(done.indexOf("CANCELED")); // asked, then the vehicle's answer
   } finally {
     await guarded.stop();
   }
 });
 
-test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, link thresholds saved", async ({ page, request }) => {
+test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, link thresholds saved", async ({
+  page,
+  request,
+}) => {
   const id = await open(page);
   const panel = page.getByTestId("gateways-panel");
   for (const name of ["aspn", "jaus"]) {
     await expect(panel.getByTestId(`gateway-${name}`).getByTestId("gateway-state")).toHaveText("on");
   }
-  await expect(panel.getByTestId("gateway-aspn").getByTestId("gateway-rate")).toContainText(/[1-9][0-9.]*\/s/, { timeout: 10_000 });
+  await expect(panel.getByTestId("gateway-aspn").getByTestId("gateway-rate")).toContainText(/[1-9][0-9.]*\/s/, {
+    timeout: 10_000,
+  });
   await expect(panel.getByTestId("gateway-aspn").getByTestId("gateway-error")).toHaveText("none");
   await expect(panel.getByTestId("jaus-id")).toHaveText(/^7\.1\.[1-3]$/);
 
@@ -254,10 +285,22 @@ test("gateways: state shown, JAUS id, Record ASPN log downloads a .lcm file, lin
   await form.getByLabel("On comms lost").selectOption("CONTINUE_MISSION");
   await form.getByRole("button", { name: "Save" }).click();
   await expect(panel.getByRole("form", { name: /Link configuration of/ }).getByLabel("Comms-lost timeout (s)")).toHaveValue("9");
-  await expect.poll(async () => (await (await request.get(`${load().url}/api/providers/${id}`)).json()).linkConfig)
-    .toEqual({ commsLostTimeout: 9, regainedTime: 1.5, policy: "CONTINUE_MISSION", regainedBehavior: 0 });
-  const restored = await request.put(`${load().url}/api/providers/${id}/link-config`,
-    { data: { commsLostTimeout: 1.5, regainedTime: 1.5, policy: "STOP_MISSION", regainedBehavior: 0 } });
+  await expect
+    .poll(async () => (await (await request.get(`${load().url}/api/providers/${id}`)).json()).linkConfig)
+    .toEqual({
+      commsLostTimeout: 9,
+      regainedTime: 1.5,
+      policy: "CONTINUE_MISSION",
+      regainedBehavior: 0,
+    });
+  const restored = await request.put(`${load().url}/api/providers/${id}/link-config`, {
+    data: {
+      commsLostTimeout: 1.5,
+      regainedTime: 1.5,
+      policy: "STOP_MISSION",
+      regainedBehavior: 0,
+    },
+  });
   expect(restored.status()).toBe(200);
 });
 

@@ -17,7 +17,10 @@ async function lastPoint(chart: Locator): Promise<number> {
 
 async function downloaded(page: Page, testId: string): Promise<{ name: string; text: string }> {
   const [file] = await Promise.all([page.waitForEvent("download"), page.getByTestId(testId).click()]);
-  return { name: file.suggestedFilename(), text: readFileSync((await file.path())!, "utf8") };
+  return {
+    name: file.suggestedFilename(),
+    text: readFileSync((await file.path())!, "utf8"),
+  };
 }
 
 test("after a reload the GPS chart (uPlot) shows the console's history, then appends live data", async ({ page }) => {
@@ -50,7 +53,9 @@ test("export links download the vehicle's track as GPX and CSV, and the command 
 
   const csv = await downloaded(page, "export-csv");
   const lines = csv.text.trim().split(/\r?\n/);
-  expect(lines[0]).toBe("time_utc,latitude_deg,longitude_deg,altitude_msl_m,course_deg,sog_mps,fix_valid,gps_lat_long_valid,position_time_utc,umaa_version");
+  expect(lines[0]).toBe(
+    "time_utc,latitude_deg,longitude_deg,altitude_msl_m,course_deg,sog_mps,fix_valid,gps_lat_long_valid,position_time_utc,umaa_version",
+  );
   expect(lines.length).toBeGreaterThan(3);
   expect(lines[1]).toMatch(/^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}Z,.*,3\.0\.1$/);
 
@@ -71,10 +76,21 @@ test("the command pager shows older commands of the selected vehicle from the co
   const id = await open(page);
   const origin = new URL(page.url()).origin;
   for (let i = 0; i < 22; i++) {
-    expect((await request.post(`${origin}/api/providers/${id}/inertial-sensor`, { data: { state: "ON" } })).status()).toBe(201);
+    expect(
+      (
+        await request.post(`${origin}/api/providers/${id}/inertial-sensor`, {
+          data: { state: "ON" },
+        })
+      ).status(),
+    ).toBe(201);
   }
-  const all = async () => (await (await request.get(`${origin}/api/commands?limit=1000&provider_id=${id}`)).json()) as { terminal: boolean }[];
-  await expect.poll(async () => (await all()).every((c) => c.terminal), { timeout: 60_000 }).toBe(true);
+  const all = async () =>
+    (await (await request.get(`${origin}/api/commands?limit=1000&provider_id=${id}`)).json()) as { terminal: boolean }[];
+  await expect
+    .poll(async () => (await all()).every((c) => c.terminal), {
+      timeout: 60_000,
+    })
+    .toBe(true);
   const total = (await all()).length;
   expect(total).toBeGreaterThanOrEqual(22);
 

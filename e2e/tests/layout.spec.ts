@@ -42,12 +42,15 @@ async function expectOnScreen(page: Page, el: Locator, what: string): Promise<vo
   expect(box.y + box.height, what).toBeLessThanOrEqual(viewport.height);
 }
 
-test("at 1440x900 the selected vehicle's INS and GPS fix buttons are on the first screen, beside its INS and fix status and the map", async ({ page }) => {
+test("at 1440x900 the selected vehicle's INS and GPS fix buttons are on the first screen, beside its INS and fix status and the map", async ({
+  page,
+}) => {
   await page.setViewportSize({ width: 1440, height: 900 });
   await open(page);
   expect(await page.evaluate(() => window.scrollY)).toBe(0);
   const commands = page.getByTestId("commands-panel");
-  for (const name of ["Request GPS fix", "INS OFF", "INS RESTART"]) await expectOnScreen(page, commands.getByRole("button", { name, exact: true }), name);
+  for (const name of ["Request GPS fix", "INS OFF", "INS RESTART"])
+    await expectOnScreen(page, commands.getByRole("button", { name, exact: true }), name);
   await expectOnScreen(page, page.getByTestId("ins-state"), "INS state");
   await expectOnScreen(page, page.getByTestId("fix-valid"), "fix status");
   await expectOnScreen(page, page.getByTestId("map"), "map");
@@ -60,8 +63,13 @@ test("at 1440x900 the selected vehicle's INS and GPS fix buttons are on the firs
   expect(await scrollsSideways(page)).toBe(false);
 });
 
-for (const viewport of [{ width: 1024, height: 768 }, { width: 768, height: 1024 }]) {
-  test(`at ${viewport.width}x${viewport.height} nothing scrolls sideways, and the fleet and the map come first`, async ({ page }) => {
+for (const viewport of [
+  { width: 1024, height: 768 },
+  { width: 768, height: 1024 },
+]) {
+  test(`at ${viewport.width}x${viewport.height} nothing scrolls sideways, and the fleet and the map come first`, async ({
+    page,
+  }) => {
     await page.setViewportSize(viewport);
     await open(page);
     await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
@@ -86,7 +94,9 @@ for (const viewport of [{ width: 1024, height: 768 }, { width: 768, height: 1024
   });
 }
 
-test("drag a panel by its handle: the new order survives a reload, and Reset layout brings back the default", async ({ page }) => {
+test("drag a panel by its handle: the new order survives a reload, and Reset layout brings back the default", async ({
+  page,
+}) => {
   await open(page);
   expect(await order(page, "status-panels")).toEqual(STATUS);
   // drag the fix panel onto the INS panel, above it
@@ -156,9 +166,15 @@ test("the ↑ ↓ buttons and the keyboard move a panel within its group, and ke
   expect(await order(page, "main-panels")).not.toContain("alarms-panel"); // a group keeps its own panels
 });
 
-test("a stored layout that names unknown panels, misses others or puts one in another group still shows every panel", async ({ page }) => {
+test("a stored layout that names unknown panels, misses others or puts one in another group still shows every panel", async ({
+  page,
+}) => {
   // "fix-panel" in main: a layout of the build before the status column; "ghost-panel": of a later build
-  await storeLayout(page, { main: ["ghost-panel", "export-panel", "fix-panel", "export-panel"], status: ["commands-panel"], side: "not a list" });
+  await storeLayout(page, {
+    main: ["ghost-panel", "export-panel", "fix-panel", "export-panel"],
+    status: ["commands-panel"],
+    side: "not a list",
+  });
   await open(page);
   await expect.poll(() => order(page, "main-panels")).toEqual(["export-panel", "map-panel", "satellites-panel"]);
   expect(await order(page, "status-panels")).toEqual(["commands-panel", "ins-panel", "fix-panel"]);
@@ -170,7 +186,11 @@ test("a stored layout that names unknown panels, misses others or puts one in an
 test("at 1280x720 a rearranged layout fits the width and the satellite table's last column is shown", async ({ page }) => {
   const viewport = { width: 1280, height: 720 };
   await page.setViewportSize(viewport);
-  await storeLayout(page, { main: ["satellites-panel", "export-panel", "map-panel"], status: ["fix-panel", "commands-panel", "ins-panel"], side: ["gateways-panel", "alarms-panel"] });
+  await storeLayout(page, {
+    main: ["satellites-panel", "export-panel", "map-panel"],
+    status: ["fix-panel", "commands-panel", "ins-panel"],
+    side: ["gateways-panel", "alarms-panel"],
+  });
   await open(page);
   await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
   expect(await scrollsSideways(page)).toBe(false);

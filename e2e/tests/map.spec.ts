@@ -12,22 +12,38 @@ async function drawn(page: Page, attr: "data-land" | "data-vehicles"): Promise<n
 /** The pixel (in the page) where the map draws a vehicle, from its latest position on the console. */
 async function vehiclePixel(page: Page, id: string): Promise<{ x: number; y: number }> {
   const r = await page.request.get(`${load().url}/api/providers/${id}`);
-  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
+  type Fix = {
+    report: {
+      position2DWithTime: {
+        geodeticPosition: {
+          geodeticLatitude: { latitude: number };
+          geodeticLongitude: { longitude: number };
+        };
+      };
+    };
+  };
   const p = (await r.json()) as { reports: { GPSFixReport: Fix } };
   const g = p.reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
   const box = (await page.getByTestId("map").boundingBox())!;
-  const xy = await page.evaluate(([lon, lat]) => window.__semMap!.project([lon, lat]), [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+  const xy = await page.evaluate(([lon, lat]) => window.__semMap!.project([lon, lat]), [
+    g.geodeticLongitude.longitude,
+    g.geodeticLatitude.latitude,
+  ] as [number, number]);
   return { x: box.x + xy.x, y: box.y + xy.y };
 }
 
-test("offline: the map draws the Natural Earth basemap and every vehicle, and requests nothing from another origin", async ({ page }) => {
+test("offline: the map draws the Natural Earth basemap and every vehicle, and requests nothing from another origin", async ({
+  page,
+}) => {
   const foreign = await consoleOnly(page);
   const stack = load();
   await page.goto(stack.url);
   await expect(page.getByTestId("connection-state")).toHaveText("Live");
   await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);
-  await expect(page.getByTestId("map-vehicle-count")).toHaveText(`${stack.vehicles.length} of ${stack.vehicles.length} vehicles drawn`);
+  await expect(page.getByTestId("map-vehicle-count")).toHaveText(
+    `${stack.vehicles.length} of ${stack.vehicles.length} vehicles drawn`,
+  );
   // the CoMap controls are there exactly when the console has a world model
   const hasWorldModel = (await page.request.get(`${stack.url}/api/worldmodel`)).ok();
   await expect(page.getByTestId("comap")).toHaveCount(hasWorldModel ? 1 : 0);
@@ -35,7 +51,9 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [0, 20], zoom: 1 }));
   await expect.poll(() => drawn(page, "data-land")).toBeGreaterThan(0);
   // the status line's count is the land's polygons in view, from its data: the map itself renders them too
-  await expect.poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["land"] }).length)).toBeGreaterThan(0);
+  await expect
+    .poll(() => page.evaluate(() => window.__semMap!.queryRenderedFeatures({ layers: ["land"] }).length))
+    .toBeGreaterThan(0);
   // and nothing where there is only sea (mid-Pacific)
   await page.getByTestId("map-follow").click(); // stop following, so the view stays put
   await page.evaluate(() => window.__semMap!.jumpTo({ center: [-140, -30], zoom: 5 }));
@@ -47,15 +65,28 @@ test("offline: the map draws the Natural Earth basemap and every vehicle, and re
  * colour, opaque, where its dot is drawn (its track, under the dot, ends there too, in the vehicle's colour). */
 async function fleetColourAt(page: Page, id: string): Promise<string> {
   const r = await page.request.get(`${load().url}/api/providers/${id}`);
-  type Fix = { report: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: number }; geodeticLongitude: { longitude: number } } } } };
-  const g = ((await r.json()) as { reports: { GPSFixReport: Fix } }).reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
-  return page.evaluate(([lon, lat]) => {
-    const xy = window.__semMap!.project([lon, lat]);
-    const canvas = document.querySelector<HTMLCanvasElement>("[data-testid=map-fleet]")!;
-    const dpr = canvas.width / canvas.clientWidth;
-    const px = canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data;
-    return "#" + [...px].map((v) => v.toString(16).padStart(2, "0")).join("");
-  }, [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number]);
+  type Fix = {
+    report: {
+      position2DWithTime: {
+        geodeticPosition: {
+          geodeticLatitude: { latitude: number };
+          geodeticLongitude: { longitude: number };
+        };
+      };
+    };
+  };
+  const g = ((await r.json()) as { reports: { GPSFixReport: Fix } }).reports.GPSFixReport.report.position2DWithTime
+    .geodeticPosition;
+  return page.evaluate(
+    ([lon, lat]) => {
+      const xy = window.__semMap!.project([lon, lat]);
+      const canvas = document.querySelector<HTMLCanvasElement>("[data-testid=map-fleet]")!;
+      const dpr = canvas.width / canvas.clientWidth;
+      const px = canvas.getContext("2d")!.getImageData(Math.round(xy.x * dpr), Math.round(xy.y * dpr), 1, 1).data;
+      return "#" + [...px].map((v) => v.toString(16).padStart(2, "0")).join("");
+    },
+    [g.geodeticLongitude.longitude, g.geodeticLatitude.latitude] as [number, number],
+  );
 }
 
 test("clicking a vehicle on the map selects it everywhere; the map follows it until the operator pans", async ({ page }) => {
@@ -151,8 +182,13 @@ test("the map collapsed and expanded again frames the vehicles again and keeps t
   await expect.poll(() => page.evaluate(() => window.__semMap!.getCanvas().style.cursor)).toBe("crosshair");
 });
 
-for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900 }]) {
-  test(`at ${viewport.width}x${viewport.height} every panel fits the width and the satellite table is not cut off`, async ({ page }) => {
+for (const viewport of [
+  { width: 1280, height: 720 },
+  { width: 1440, height: 900 },
+]) {
+  test(`at ${viewport.width}x${viewport.height} every panel fits the width and the satellite table is not cut off`, async ({
+    page,
+  }) => {
     await page.setViewportSize(viewport);
     await open(page);
     await expect(page.getByTestId("satellite-table").locator("tbody tr").first()).toBeVisible();
@@ -164,7 +200,10 @@ for (const viewport of [{ width: 1280, height: 720 }, { width: 1440, height: 900
     }
     // the whole table is in its box: no column hidden behind a horizontal scroll
     const wrap = page.getByTestId("satellite-table").locator("xpath=..");
-    const { scroll, client } = await wrap.evaluate((e) => ({ scroll: e.scrollWidth, client: e.clientWidth }));
+    const { scroll, client } = await wrap.evaluate((e) => ({
+      scroll: e.scrollWidth,
+      client: e.clientWidth,
+    }));
     expect(scroll).toBeLessThanOrEqual(client);
     const lastHeader = page.getByTestId("satellite-table").locator("thead th").last();
     const th = (await lastHeader.boundingBox())!;
@@ -223,7 +262,9 @@ test("Fit all brings every vehicle into view and stops following", async ({ page
   await expect(page.getByTestId("map-edge").filter({ visible: true })).toHaveCount(0);
 });
 
-test("a vehicle outside the view gets an arrow at the map's edge with its name; clicking it selects and centres that vehicle", async ({ page }) => {
+test("a vehicle outside the view gets an arrow at the map's edge with its name; clicking it selects and centres that vehicle", async ({
+  page,
+}) => {
   const stack = load();
   const first = await open(page);
   await expect.poll(() => drawn(page, "data-vehicles"), { timeout: 30_000 }).toBe(stack.vehicles.length);

@@ -22,12 +22,41 @@ test.beforeAll(async () => {
   const domain = await freeDomain([stack.domain]);
   pg = await startPostgres();
   // a GPS fix that surfaces only after 400 s: running long enough to be cancelled from the other station
-  vehicleId = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "70"], { encoding: "utf8" }).trim().split(": ")[1];
-  sim = spawn(SEM_SIM, ["--domain", String(domain), "--vehicles", "1", "--first-vehicle", "70", "--surface-seconds", "400",
-    "--state-file", join(stack.dir, "opscentre-sim.json"), "--log-level", "warning"], { stdio: ["ignore", "inherit", "inherit"] });
+  vehicleId = execFileSync(SEM_SIM, ["--list", "--vehicles", "1", "--first-vehicle", "70"], { encoding: "utf8" })
+    .trim()
+    .split(": ")[1];
+  sim = spawn(
+    SEM_SIM,
+    [
+      "--domain",
+      String(domain),
+      "--vehicles",
+      "1",
+      "--first-vehicle",
+      "70",
+      "--surface-seconds",
+      "400",
+      "--state-file",
+      join(stack.dir, "opscentre-sim.json"),
+      "--log-level",
+      "warning",
+    ],
+    { stdio: ["ignore", "inherit", "inherit"] },
+  );
   const station = (name: string, operator: string) =>
-    startExtraConsole(["--domain", String(domain), "--database-url", pg.url, "--console-name", name, "--recordings-dir", join(stack.dir, "recordings")],
-      { SEM_OPERATOR_TOKENS: `${operator}:${operator}-token` });
+    startExtraConsole(
+      [
+        "--domain",
+        String(domain),
+        "--database-url",
+        pg.url,
+        "--console-name",
+        name,
+        "--recordings-dir",
+        join(stack.dir, "recordings"),
+      ],
+      { SEM_OPERATOR_TOKENS: `${operator}:${operator}-token` },
+    );
   watch = await station("watch", "alice");
   relief = await station("relief", "bob");
 });
@@ -44,41 +73,58 @@ async function signedIn(page: Page, url: string, operator: string): Promise<void
   await expect(page.getByTestId("operator-name")).toHaveText(operator);
 }
 
-test("bob on relief cancels alice's command from watch: both stations' finished cards name him and his station", { tag: OWN_STACK }, async ({ browser, request }) => {
-  const alicePage = await (await browser.newContext()).newPage();
-  const bobPage = await (await browser.newContext()).newPage();
-  await signedIn(alicePage, watch.url, "alice");
-  await signedIn(bobPage, relief.url, "bob");
-  await expect(alicePage.getByTestId("command-target")).toContainText(vehicleId.slice(0, 8), { timeout: 30_000 });
-  await expect.poll(async () => (await request.get(`${watch.url}/api/providers/${vehicleId}`)).ok(), { timeout: 30_000 }).toBe(true);
-  const sent = await request.post(`${watch.url}/api/providers/${vehicleId}/gps-fix`, { headers: { Authorization: "Bearer alice-token" }, data: {} });
-  expect(sent.ok()).toBe(true);
-  const session = ((await sent.json()) as { sessionId: string }).sessionId;
-  const card = (page: Page) => page.getByTestId("command").and(page.locator(`[data-session="${session}"]`));
-  await expect(card(bobPage)).toHaveAttribute("data-status", "EXECUTING", { timeout: 30_000 });
-  await card(bobPage).getByRole("button", { name: "Cancel" }).click();
-  for (const page of [alicePage, bobPage]) {
-    await expect(card(page)).toHaveAttribute("data-status", "CANCELED", { timeout: 30_000 });
-    await expect(card(page).getByTestId("command-canceller")).toHaveText("cancel asked by bob on relief");
-    await card(page).locator("summary").click(); // its timeline
-    await expect(card(page).getByTestId("cancel-asked")).toContainText("Cancel asked by bob on relief");
-  }
-});
+test(
+  "bob on relief cancels alice's command from watch: both stations' finished cards name him and his station",
+  { tag: OWN_STACK },
+  async ({ browser, request }) => {
+    const alicePage = await (await browser.newContext()).newPage();
+    const bobPage = await (await browser.newContext()).newPage();
+    await signedIn(alicePage, watch.url, "alice");
+    await signedIn(bobPage, relief.url, "bob");
+    await expect(alicePage.getByTestId("command-target")).toContainText(vehicleId.slice(0, 8), { timeout: 30_000 });
+    await expect
+      .poll(async () => (await request.get(`${watch.url}/api/providers/${vehicleId}`)).ok(), { timeout: 30_000 })
+      .toBe(true);
+    const sent = await request.post(`${watch.url}/api/providers/${vehicleId}/gps-fix`, {
+      headers: { Authorization: "Bearer alice-token" },
+      data: {},
+    });
+    expect(sent.ok()).toBe(true);
+    const session = ((await sent.json()) as { sessionId: string }).sessionId;
+    const card = (page: Page) => page.getByTestId("command").and(page.locator(`[data-session="${session}"]`));
+    await expect(card(bobPage)).toHaveAttribute("data-status", "EXECUTING", {
+      timeout: 30_000,
+    });
+    await card(bobPage).getByRole("button", { name: "Cancel" }).click();
+    for (const page of [alicePage, bobPage]) {
+      await expect(card(page)).toHaveAttribute("data-status", "CANCELED", {
+        timeout: 30_000,
+      });
+      await expect(card(page).getByTestId("command-canceller")).toHaveText("cancel asked by bob on relief");
+      await card(page).locator("summary").click(); // its timeline
+      await expect(card(page).getByTestId("cancel-asked")).toContainText("Cancel asked by bob on relief");
+    }
+  },
+);
 
-test("the database stopped: the shared-database banner within 2 s of the station knowing, and gone once it is back", { tag: OWN_STACK }, async ({ page }) => {
-  await page.goto(watch.url);
-  await expect(page.getByTestId("connection-state")).toHaveText("Live");
-  const banner = page.getByTestId("database-banner");
-  await expect(banner).toHaveCount(0);
-  pg.stop();
-  try {
-    await expect(banner).toBeVisible({ timeout: 20_000 });
-    const seen = Date.now() / 1000;
-    const since = /since (\d{4}-\d\d-\d\d) (\d\d:\d\d:\d\d\.\d{3}) UTC/.exec((await banner.textContent()) ?? "");
-    expect(since).not.toBeNull();
-    expect(seen - Date.parse(`${since![1]}T${since![2]}Z`) / 1000).toBeLessThan(2);
-  } finally {
-    pg.start();
-  }
-  await expect(banner).toHaveCount(0, { timeout: 30_000 });
-});
+test(
+  "the database stopped: the shared-database banner within 2 s of the station knowing, and gone once it is back",
+  { tag: OWN_STACK },
+  async ({ page }) => {
+    await page.goto(watch.url);
+    await expect(page.getByTestId("connection-state")).toHaveText("Live");
+    const banner = page.getByTestId("database-banner");
+    await expect(banner).toHaveCount(0);
+    pg.stop();
+    try {
+      await expect(banner).toBeVisible({ timeout: 20_000 });
+      const seen = Date.now() / 1000;
+      const since = /since (\d{4}-\d\d-\d\d) (\d\d:\d\d:\d\d\.\d{3}) UTC/.exec((await banner.textContent()) ?? "");
+      expect(since).not.toBeNull();
+      expect(seen - Date.parse(`${since![1]}T${since![2]}Z`) / 1000).toBeLessThan(2);
+    } finally {
+      pg.start();
+    }
+    await expect(banner).toHaveCount(0, { timeout: 30_000 });
+  },
+);

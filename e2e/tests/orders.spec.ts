@@ -22,7 +22,10 @@ async function armMove(page: Page, label: string): Promise<void> {
   await expect(move).toHaveText(`Send move of ${label}…`);
 }
 
-test("Move-to armed for Charlie, then another vehicle selected: nothing is armed and nothing reaches it", async ({ page, request }) => {
+test("Move-to armed for Charlie, then another vehicle selected: nothing is armed and nothing reaches it", async ({
+  page,
+  request,
+}) => {
   const stack = load();
   const a = stack.vehicles[2]; // Charlie
   const b = stack.vehicles[0];
@@ -52,7 +55,9 @@ test("Move-to armed for Charlie, then another vehicle selected: nothing is armed
   const confirm = page.getByRole("dialog", { name: "Confirm move-to" });
   await expect(confirm).toBeFocused();
   await expect(confirm).toHaveAttribute("data-vehicle", a);
-  await expect(confirm).toContainText(new RegExp(`Move ${VEHICLE_3_NAME} \\(${a.slice(0, 8)}\\) to \\d+\\.\\d{4} [NS], \\d+\\.\\d{4} [EW]\\?`));
+  await expect(confirm).toContainText(
+    new RegExp(`Move ${VEHICLE_3_NAME} \\(${a.slice(0, 8)}\\) to \\d+\\.\\d{4} [NS], \\d+\\.\\d{4} [EW]\\?`),
+  );
   await vehicle(page, b).click();
   await expect(confirm).toHaveCount(0);
   await expect(page.getByRole("button", { name: "Send move" })).toHaveCount(0);
@@ -68,14 +73,20 @@ test("Move-to armed for Charlie, then another vehicle selected: nothing is armed
   await armMove(page, labelA);
   await move.click();
   await page.getByRole("dialog", { name: "Confirm move-to" }).getByRole("button", { name: "Send move" }).click();
-  await expect.poll(async () => (await tasks(request)).filter((t) => !before.some((x) => x.taskId === t.taskId)).map((t) => [t.vehicle, t.kind])).toEqual([[a, "move"]]);
+  await expect
+    .poll(async () =>
+      (await tasks(request)).filter((t) => !before.some((x) => x.taskId === t.taskId)).map((t) => [t.vehicle, t.kind]),
+    )
+    .toEqual([[a, "move"]]);
   const row = page.getByTestId("task").first();
   await expect(row).toHaveAttribute("data-vehicle", a);
   await expect(row.getByTestId("task-vehicle")).toContainText(VEHICLE_3_NAME);
   await expect(move).toHaveText("Move to…");
 
   // an order that does not get through says which order and which vehicle, the confirmation that named them gone
-  await page.route("**/api/tasks", (route) => (route.request().method() === "POST" ? route.abort("connectionrefused") : route.continue()));
+  await page.route("**/api/tasks", (route) =>
+    route.request().method() === "POST" ? route.abort("connectionrefused") : route.continue(),
+  );
   await armMove(page, labelA);
   await move.click();
   await page.getByRole("dialog", { name: "Confirm move-to" }).getByRole("button", { name: "Send move" }).click();
@@ -83,12 +94,18 @@ test("Move-to armed for Charlie, then another vehicle selected: nothing is armed
   await page.unroute("**/api/tasks");
 });
 
-test("a command to a lost vehicle says it is lost and is sent only on an explicit confirmation; unanswered, it can be cancelled, and ends when the vehicle is back without it", async ({ page, request }) => {
+test("a command to a lost vehicle says it is lost and is sent only on an explicit confirmation; unanswered, it can be cancelled, and ends when the vehicle is back without it", async ({
+  page,
+  request,
+}) => {
   test.setTimeout(120_000);
   const stack = load();
   const id = await open(page, 0);
   const label = `Vehicle ${id.slice(0, 8)}`;
-  const fix = page.getByRole("button", { name: "Request GPS fix", exact: true });
+  const fix = page.getByRole("button", {
+    name: "Request GPS fix",
+    exact: true,
+  });
   await expect(fix).toBeEnabled();
   await stopSim();
   let cmd: Locator | undefined;
@@ -96,7 +113,10 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   let session = "";
   try {
     await expect(page.getByTestId("command-lost")).toContainText(`${label} is lost: last heard`);
-    const lostFix = page.getByRole("button", { name: "Request GPS fix (vehicle lost)", exact: true });
+    const lostFix = page.getByRole("button", {
+      name: "Request GPS fix (vehicle lost)",
+      exact: true,
+    });
     await expect(lostFix).toBeVisible();
     await expect(page.getByRole("button", { name: "INS OFF (vehicle lost)", exact: true })).toBeVisible();
     // the console refuses it without the confirmation
@@ -141,17 +161,27 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     // confirmed: sent, with confirmLost
     await lostFix.click();
     await dialog.getByRole("button", { name: "Send anyway" }).click();
-    await expect.poll(async () => (await history(request)).filter((c) => !before.has(c.sessionId)).map((c) => c.providerId)).toEqual([id]);
+    await expect
+      .poll(async () => (await history(request)).filter((c) => !before.has(c.sessionId)).map((c) => c.providerId))
+      .toEqual([id]);
     await expect(page.getByTestId("command-error")).toHaveCount(0);
 
     // nobody answers it: it says so in words, and Cancel takes it back (DELETE /api/commands/{id})
     cmd = latestCommand(page);
-    await expect(cmd.getByTestId("command-status")).toHaveText("No answer", { timeout: 20_000 });
+    await expect(cmd.getByTestId("command-status")).toHaveText("No answer", {
+      timeout: 20_000,
+    });
     await expect(cmd.getByTestId("unanswered")).toContainText(`${label} has not confirmed receiving this command`);
     await expect(cmd.getByTestId("command-elapsed")).toContainText("expected");
     session = (await cmd.getAttribute("data-session"))!;
     await cmd.getByRole("button", { name: "Cancel" }).click();
-    await expect.poll(async () => ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean }).cancelRequested).toBe(true);
+    await expect
+      .poll(
+        async () =>
+          ((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { cancelRequested: boolean })
+            .cancelRequested,
+      )
+      .toBe(true);
     await expect(cmd.getByTestId("cancel-asked")).toBeVisible();
     // no "Cancel it" left where there is no Cancel button any more
     await expect(cmd.getByTestId("unanswered")).toContainText("Cancel requested: it may not hear the cancel either");
@@ -167,8 +197,12 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
     await expect(moveDialog.getByTestId("comap-confirm-lost")).toContainText(`${label} is lost: last heard`);
     await restartSim();
     restarted = true;
-    await expect(page.getByTestId("command-lost")).toHaveCount(0, { timeout: 30_000 });
-    await expect(moveDialog.getByTestId("comap-confirm-lost")).toHaveText(`${label} was lost. Send anyway? It may reach the vehicle late, or not at all.`);
+    await expect(page.getByTestId("command-lost")).toHaveCount(0, {
+      timeout: 30_000,
+    });
+    await expect(moveDialog.getByTestId("comap-confirm-lost")).toHaveText(
+      `${label} was lost. Send anyway? It may reach the vehicle late, or not at all.`,
+    );
     await page.keyboard.press("Escape");
     await expect(moveDialog).toHaveCount(0);
   } finally {
@@ -179,13 +213,21 @@ test("a command to a lost vehicle says it is lost and is sent only on an explici
   await expect(cmd!.getByTestId("command-status")).toHaveText("Cancelled before the vehicle heard it", { timeout: 30_000 });
   await expect(cmd!.getByTestId("command-elapsed")).toHaveCount(0);
   // finished, it no longer says "No answer … it may still run it": its record keeps unanswered, the card does not
-  expect(((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { unanswered: boolean }).unanswered).toBe(true);
+  expect(((await (await request.get(`${stack.url}/api/commands/${session}`)).json()) as { unanswered: boolean }).unanswered).toBe(
+    true,
+  );
   await expect(cmd!.getByTestId("unanswered")).toHaveCount(0);
   await expect(cmd!).toHaveClass(/\bmuted\b/);
-  await expect(page.getByTestId("command-lost")).toHaveCount(0, { timeout: 30_000 });
+  await expect(page.getByTestId("command-lost")).toHaveCount(0, {
+    timeout: 30_000,
+  });
   await expect(fix).toBeEnabled();
   for (const v of stack.vehicles) {
-    await expect.poll(async () => ((await (await request.get(`${stack.url}/api/providers/${v}`)).json()) as { link: string }).link, { timeout: 30_000 }).toBe("live");
+    await expect
+      .poll(async () => ((await (await request.get(`${stack.url}/api/providers/${v}`)).json()) as { link: string }).link, {
+        timeout: 30_000,
+      })
+      .toBe("live");
   }
 });
 

@@ -4,7 +4,10 @@ import { expect, test } from "@playwright/test";
 import { vehicle } from "../helpers";
 import { load, startGuardedConsole } from "../stack";
 
-test("rename the selected vehicle: needs the token, Esc cancels, a refusal in words, the new name shown", async ({ page, request }) => {
+test("rename the selected vehicle: needs the token, Esc cancels, a refusal in words, the new name shown", async ({
+  page,
+  request,
+}) => {
   const token = "e2e-secret";
   const guarded = await startGuardedConsole(token);
   const id = load().vehicles[0];
@@ -42,20 +45,41 @@ test("rename the selected vehicle: needs the token, Esc cancels, a refusal in wo
     const rejecting = load().vehicles[1]; // --fault reject:2: its command fails, an alarm
     const short = rejecting.slice(0, 8);
     const failed = (who: string) => page.getByTestId("alarm").filter({ hasText: `${who}: GPS fix command failed` });
-    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(201);
+    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(
+      201,
+    );
     await expect(failed(short).first()).toBeVisible();
-    expect((await request.put(`${guarded.url}/api/providers/${rejecting}/name`, { data: { name: "Tug Two" }, headers: auth })).status()).toBe(200);
+    expect(
+      (
+        await request.put(`${guarded.url}/api/providers/${rejecting}/name`, {
+          data: { name: "Tug Two" },
+          headers: auth,
+        })
+      ).status(),
+    ).toBe(200);
     await expect(failed("Tug Two").first().getByTestId("vehicle-tag")).toContainText("Tug Two");
     await expect(failed(short)).toHaveCount(0); // no "3b5c56d2: … failed" left beside the tag Tug Two
     // and one raised while it was named, once its name is taken away: by its id, not by the name it no longer has
-    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(201);
+    expect((await request.post(`${guarded.url}/api/providers/${rejecting}/gps-fix`, { data: {}, headers: auth })).status()).toBe(
+      201,
+    );
     await expect.poll(() => failed("Tug Two").count()).toBeGreaterThanOrEqual(2);
-    expect((await request.put(`${guarded.url}/api/providers/${rejecting}/name`, { data: { name: null }, headers: auth })).status()).toBe(200);
+    expect(
+      (
+        await request.put(`${guarded.url}/api/providers/${rejecting}/name`, {
+          data: { name: null },
+          headers: auth,
+        })
+      ).status(),
+    ).toBe(200);
     await expect(page.getByTestId("alarm").filter({ hasText: "Tug Two" })).toHaveCount(0);
     await expect(failed(short).first().getByTestId("vehicle-tag")).toHaveText(`Vehicle ${short}`);
   } finally {
     await request.put(`${guarded.url}/api/providers/${load().vehicles[1]}/name`, { data: { name: null }, headers: auth });
-    await request.put(`${guarded.url}/api/providers/${id}/name`, { data: { name: null }, headers: auth }); // the file is shared
+    await request.put(`${guarded.url}/api/providers/${id}/name`, {
+      data: { name: null },
+      headers: auth,
+    }); // the file is shared
     await guarded.stop();
   }
 });

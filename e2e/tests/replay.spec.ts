@@ -18,7 +18,10 @@ interface Recorded {
   insSession: string; // an INS ON command to another vehicle in the same stretch
   insVehicleId: string;
   vehicleId: string;
-  gps: { receivedAt: number; report: { satellites: { satelliteId: string }[] } };
+  gps: {
+    receivedAt: number;
+    report: { satellites: { satelliteId: string }[] };
+  };
 }
 
 let recorded: Recorded;
@@ -35,22 +38,46 @@ async function recordACommand(request: APIRequestContext): Promise<Recorded> {
   const vehicleId = vehicles[0];
   await json(request.post(`${url}/api/recordings`, { data: { action: "start" } }));
   await new Promise((r) => setTimeout(r, 1500));
-  const { sessionId } = await json<{ sessionId: string }>(request.post(`${url}/api/providers/${vehicleId}/gps-fix`, { data: {} }));
-  await expect.poll(async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${sessionId}`))).cleanedUp,
-    { timeout: 40_000 }).toBe(true);
+  const { sessionId } = await json<{ sessionId: string }>(
+    request.post(`${url}/api/providers/${vehicleId}/gps-fix`, { data: {} }),
+  );
+  await expect
+    .poll(
+      async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${sessionId}`))).cleanedUp,
+      { timeout: 40_000 },
+    )
+    .toBe(true);
   const insVehicleId = vehicles[2]; // another vehicle (the first one's timeline holds the GPS fix only; the second rejects)
-  const ins = await json<{ sessionId: string }>(request.post(`${url}/api/providers/${insVehicleId}/inertial-sensor`, { data: { state: "ON" } }));
-  await expect.poll(async () => (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${ins.sessionId}`))).cleanedUp,
-    { timeout: 40_000 }).toBe(true);
+  const ins = await json<{ sessionId: string }>(
+    request.post(`${url}/api/providers/${insVehicleId}/inertial-sensor`, {
+      data: { state: "ON" },
+    }),
+  );
+  await expect
+    .poll(
+      async () =>
+        (await json<{ status: string; cleanedUp: boolean }>(request.get(`${url}/api/commands/${ins.sessionId}`))).cleanedUp,
+      { timeout: 40_000 },
+    )
+    .toBe(true);
   await new Promise((r) => setTimeout(r, 1500));
   const detail = await json<{ reports: { GPSReport: Recorded["gps"] } }>(request.get(`${url}/api/providers/${vehicleId}`));
   const { file } = await json<{ file: string }>(request.post(`${url}/api/recordings`, { data: { action: "stop" } }));
-  return { file, session: sessionId, insSession: ins.sessionId, insVehicleId, vehicleId, gps: detail.reports.GPSReport };
+  return {
+    file,
+    session: sessionId,
+    insSession: ins.sessionId,
+    insVehicleId,
+    vehicleId,
+    gps: detail.reports.GPSReport,
+  };
 }
 
 async function seek(page: Page, position: number): Promise<void> {
   await page.getByTestId("replay-seek").fill(String(position)); // the bar's change event seeks
-  await expect.poll(async () => (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position).toBeCloseTo(position, 3);
+  await expect
+    .poll(async () => (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position)
+    .toBeCloseTo(position, 3);
 }
 
 async function pause(page: Page): Promise<{ start: number; end: number }> {
@@ -88,7 +115,10 @@ test.describe.serial("replay of a recording", () => {
         return out;
       },
     };
-    const stream = new McapStreamReader({ decompressHandlers, validateCrcs: true });
+    const stream = new McapStreamReader({
+      decompressHandlers,
+      validateCrcs: true,
+    });
     stream.append(data);
     const channels = new Map<number, McapTypes.Channel>();
     const schemas = new Map<number, McapTypes.Schema>();
@@ -101,9 +131,13 @@ test.describe.serial("replay of a recording", () => {
       if (record.type !== "Message") continue;
       const channel = channels.get(record.channelId)!;
       streamed.set(channel.topic, (streamed.get(channel.topic) ?? 0) + 1);
-      if (channel.messageEncoding === "cdr") cdr.set(channel.topic, [...(cdr.get(channel.topic) ?? []), { data: record.data, logTime: record.logTime }]);
+      if (channel.messageEncoding === "cdr")
+        cdr.set(channel.topic, [...(cdr.get(channel.topic) ?? []), { data: record.data, logTime: record.logTime }]);
       if (channel.topic === "sem-console/transitions") {
-        const t = JSON.parse(new TextDecoder().decode(record.data)) as { sessionId: string; transition: { status: string } };
+        const t = JSON.parse(new TextDecoder().decode(record.data)) as {
+          sessionId: string;
+          transition: { status: string };
+        };
         if (t.sessionId === recorded.session) transitions.push(t.transition.status);
       }
     }
@@ -136,7 +170,10 @@ test.describe.serial("replay of a recording", () => {
     expect(transitions).toEqual(HAPPY);
 
     const reader = await McapIndexedReader.Initialize({
-      readable: { size: async () => BigInt(data.length), read: async (offset, length) => data.slice(Number(offset), Number(offset + length)) },
+      readable: {
+        size: async () => BigInt(data.length),
+        read: async (offset, length) => data.slice(Number(offset), Number(offset + length)),
+      },
       decompressHandlers,
     });
     const total = [...streamed.values()].reduce((a, b) => a + b, 0);
@@ -177,7 +214,8 @@ test.describe.serial("replay of a recording", () => {
         return { ...message, logTime };
       });
     };
-    for (const c of sem) { // all ten schema texts parse as recorded, the same-named module and enum included
+    for (const c of sem) {
+      // all ten schema texts parse as recorded, the same-named module and enum included
       expect(() => parseIDL(new TextDecoder().decode(schemas.get(c.schemaId)!.data)), c.topic).not.toThrow();
     }
     const guid = (g: unknown): string => {
@@ -187,12 +225,17 @@ test.describe.serial("replay of a recording", () => {
     const vehicles = new Set(load().vehicles);
     const command = decode("UMAA::SEM::GPSFixControl::GPSFixCommand").filter((m) => guid(m.sessionID) === recorded.session);
     expect(command.map((m) => guid(m.destination))).toEqual([recorded.vehicleId]);
-    const statuses = decode("UMAA::SEM::GPSFixControl::GPSFixCommandStatus").filter((m) => guid(m.sessionID) === recorded.session);
+    const statuses = decode("UMAA::SEM::GPSFixControl::GPSFixCommandStatus").filter(
+      (m) => guid(m.sessionID) === recorded.session,
+    );
     expect(statuses.map((m) => m.commandStatus)).toEqual(HAPPY); // as the vehicle reported them, ISSUED first
     expect(statuses.every((m) => guid(m.source) === recorded.vehicleId)).toBe(true);
     const acks = decode("UMAA::SEM::GPSFixControl::GPSFixCommandAckReport").filter((m) => guid(m.sessionID) === recorded.session);
     expect(acks.map((m) => guid(m.source))).toEqual([recorded.vehicleId]);
-    for (const topic of ["UMAA::SEM::GPSFixStatus::GPSFixStatusReport", "UMAA::SEM::InertialSensorStatus::InertialSensorReport"]) {
+    for (const topic of [
+      "UMAA::SEM::GPSFixStatus::GPSFixStatusReport",
+      "UMAA::SEM::InertialSensorStatus::InertialSensorReport",
+    ]) {
       const reports = decode(topic); // every vehicle's; the key and the time stamp are the last members: read in step
       expect(reports.length, topic).toBeGreaterThan(10);
       expect(new Set(reports.map((m) => guid(m.source))), topic).toEqual(vehicles);
@@ -201,13 +244,21 @@ test.describe.serial("replay of a recording", () => {
         expect(Math.abs(stamped - Number(m.logTime / 1_000_000_000n)), topic).toBeLessThanOrEqual(5); // stamped when sent
       }
     }
-    const ins = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommand").filter((m) => guid(m.sessionID) === recorded.insSession);
+    const ins = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommand").filter(
+      (m) => guid(m.sessionID) === recorded.insSession,
+    );
     expect(ins.map((m) => [guid(m.destination), m.state])).toEqual([[recorded.insVehicleId, "ON"]]);
-    const insStatuses = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus").filter((m) => guid(m.sessionID) === recorded.insSession);
-    const insLive = await json<{ transitions: { status: string }[] }>(request.get(`${load().url}/api/commands/${recorded.insSession}`));
+    const insStatuses = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatus").filter(
+      (m) => guid(m.sessionID) === recorded.insSession,
+    );
+    const insLive = await json<{ transitions: { status: string }[] }>(
+      request.get(`${load().url}/api/commands/${recorded.insSession}`),
+    );
     expect(insLive.transitions.length).toBeGreaterThanOrEqual(2); // as the live console took them, ISSUED first
     expect(insStatuses.map((m) => m.commandStatus)).toEqual(insLive.transitions.map((t) => t.status));
-    const insAcks = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport").filter((m) => guid(m.sessionID) === recorded.insSession);
+    const insAcks = decode("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReport").filter(
+      (m) => guid(m.sessionID) === recorded.insSession,
+    );
     expect(insAcks.map((m) => [guid(m.source), m.state])).toEqual([[recorded.insVehicleId, "ON"]]);
   });
 
@@ -223,15 +274,22 @@ test.describe.serial("replay of a recording", () => {
     // named as the recording console named them (sem-console/names): the third vehicle by that console's
     // --vehicle-names, which this one (started without it) does not have; the first has no name there
     await expect(vehicle(page, recorded.insVehicleId).getByTestId("vehicle-tag")).toContainText(VEHICLE_3_NAME);
-    await expect(vehicle(page, recorded.vehicleId).getByTestId("vehicle-tag")).toHaveText(`Vehicle ${recorded.vehicleId.slice(0, 8)}`);
+    await expect(vehicle(page, recorded.vehicleId).getByTestId("vehicle-tag")).toHaveText(
+      `Vehicle ${recorded.vehicleId.slice(0, 8)}`,
+    );
 
     // the instant the live console took its last GPSReport: the same satellites
     const { end } = await pause(page); // paused on the server before the seek, so no step of play lands after it
     // just after the report, but within the recording: it may end less than 50 ms after the report (the seek bar
     // cannot go past the end, and the seek would not land where asked)
     await seek(page, Math.min(end, recorded.gps.receivedAt + 0.05));
-    const expected = (await json<{ reports: { GPSReport: { report: { satellites: { satelliteId: string }[] } } } }>(
-      page.request.get(`${replay.url}/api/providers/${recorded.vehicleId}`))).reports.GPSReport.report;
+    const expected = (
+      await json<{
+        reports: {
+          GPSReport: { report: { satellites: { satelliteId: string }[] } };
+        };
+      }>(page.request.get(`${replay.url}/api/providers/${recorded.vehicleId}`))
+    ).reports.GPSReport.report;
     expect(expected).toEqual(recorded.gps.report);
     await expect(page.getByTestId("sats-listed")).toHaveText(String(recorded.gps.report.satellites.length));
     const labels = await shownSatellites(page);
@@ -251,8 +309,12 @@ test.describe.serial("replay of a recording", () => {
     const cmd = page.getByTestId("commands-panel").getByTestId("command").first();
     await expect(cmd).toHaveAttribute("data-session", recorded.session);
     await expect(cmd).toHaveAttribute("data-status", "COMPLETED");
-    expect(await cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status))).toEqual(HAPPY);
-    const liveCmd = await json<{ transitions: { status: string; reason: string }[] }>(page.request.get(`${live.url}/api/commands/${recorded.session}`));
+    expect(await cmd.getByTestId("transition").evaluateAll((els) => els.map((e) => (e as HTMLElement).dataset.status))).toEqual(
+      HAPPY,
+    );
+    const liveCmd = await json<{
+      transitions: { status: string; reason: string }[];
+    }>(page.request.get(`${live.url}/api/commands/${recorded.session}`));
     expect(liveCmd.transitions.map((t) => t.status)).toEqual(HAPPY);
     await expect(cmd.getByTestId("ack")).toBeVisible();
 
@@ -270,8 +332,10 @@ test.describe.serial("replay of a recording", () => {
     await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
     await expect(page.getByTestId("replay-bar")).toBeVisible();
     const status = await pause(page);
-    const command = await json<{ createdAt: number; transitions: { receivedAt: number }[] }>(
-      page.request.get(`${replay.url}/api/commands/${recorded.session}`));
+    const command = await json<{
+      createdAt: number;
+      transitions: { receivedAt: number }[];
+    }>(page.request.get(`${replay.url}/api/commands/${recorded.session}`));
     const commands = page.getByTestId("commands-panel").getByTestId("command");
 
     await seek(page, command.createdAt - 0.5); // before the command: not there
@@ -288,7 +352,8 @@ test.describe.serial("replay of a recording", () => {
     await seek(page, status.start);
     await page.getByTestId("replay-speed").selectOption("5");
     await expect.poll(async () => (await json<{ speed: number }>(page.request.get(`${replay.url}/api/replay`))).speed).toBe(5);
-    const played = async () => (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position - status.start;
+    const played = async () =>
+      (await json<{ position: number }>(page.request.get(`${replay.url}/api/replay`))).position - status.start;
     const t0 = Date.now();
     await page.getByRole("button", { name: "Play" }).click();
     // 2.5 s of recording: 0.5 s at 5x (2.5 s at 1x)

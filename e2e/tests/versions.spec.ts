@@ -16,7 +16,9 @@ test("a mixed fleet: each vehicle shows the UMAA version it speaks", { tag: OWN_
     // position (its navigation solution, the literal in the tooltip) and its attitude; no fix status (no GPS fix service)
     await vehicle(page, six).click();
     const fix = page.getByTestId("fix-panel");
-    await expect(fix.getByTestId("latitude")).toHaveText(/^36\.8\d+° N$/, { timeout: 15_000 });
+    await expect(fix.getByTestId("latitude")).toHaveText(/^36\.8\d+° N$/, {
+      timeout: 15_000,
+    });
     // on the surface (6.0 has no GPS fix command to surface it): a measured position, as a working 6.0 vehicle's
     await expect(fix.getByTestId("position-kind")).toHaveText("Measured position");
     await expect(fix.getByTestId("position-kind")).toHaveAttribute("title", "UMAA navigationSolution: MEASURED");
@@ -27,9 +29,17 @@ test("a mixed fleet: each vehicle shows the UMAA version it speaks", { tag: OWN_
     await expect(ins.getByTestId("ins-status")).toHaveText("Fine alignment done, stationary", { timeout: 30_000 });
     await expect(ins.getByTestId("ins-status")).toHaveAttribute("title", "UMAA status: FINE_STATIONARY_ALIGNMENT_COMPLETE");
     // the steps of its own alignment: 6.0 has no OPERATIONAL, so once aligned none is left pending
-    await expect(ins.getByRole("list", { name: "Alignment" }).getByRole("listitem")).toHaveText(["Starting up", "Coarse alignment", "Fine alignment", "Alignment done"]);
+    await expect(ins.getByRole("list", { name: "Alignment" }).getByRole("listitem")).toHaveText([
+      "Starting up",
+      "Coarse alignment",
+      "Fine alignment",
+      "Alignment done",
+    ]);
     await expect(ins.locator("[aria-current=step]")).toHaveText("Alignment done");
-    await expect(ins.getByText("Alignment done", { exact: true })).toHaveAttribute("title", "UMAA status: FINE_STATIONARY_ALIGNMENT_COMPLETE");
+    await expect(ins.getByText("Alignment done", { exact: true })).toHaveAttribute(
+      "title",
+      "UMAA status: FINE_STATIONARY_ALIGNMENT_COMPLETE",
+    );
     await expect(ins.getByTestId("ins-state")).toHaveCount(0); // 6.0 reports no power state: none said
     await expect(vehicle(page, six)).toContainText("INS fine alignment done, stationary");
   } finally {

@@ -2,8 +2,16 @@
 // project's flags, and a page that refuses (and lists) every request to another origin than the console's.
 import { chromium } from "playwright-core";
 
-const ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader", "--disable-background-networking",
-  "--disable-component-update", "--disable-sync", "--no-first-run"];
+const ARGS = [
+  "--headless",
+  "--no-sandbox",
+  "--disable-gpu",
+  "--enable-unsafe-swiftshader",
+  "--disable-background-networking",
+  "--disable-component-update",
+  "--disable-sync",
+  "--no-first-run",
+];
 
 /** Headless Chromium (`CHROMIUM`, else /usr/bin/chromium) with the project's flags and `extra` ones. */
 export function launchChromium(extra = []) {
@@ -26,7 +34,9 @@ export async function refuseOtherOrigins(page, url) {
  * dashboard's ?renders counters); `window.__semMeter.stop()` returns them over the window since. */
 export function startMeter() {
   const longTasks = [];
-  const observer = new PerformanceObserver((list) => { for (const e of list.getEntries()) longTasks.push(e.duration); });
+  const observer = new PerformanceObserver((list) => {
+    for (const e of list.getEntries()) longTasks.push(e.duration);
+  });
   observer.observe({ type: "longtask" });
   const rendersStart = { ...(window.__semRenders ?? {}) };
   const frames = [];
@@ -45,7 +55,8 @@ export function startMeter() {
       observer.disconnect();
       const elapsed = (performance.now() - t0) / 1000;
       const renders = {};
-      for (const [k, v] of Object.entries(window.__semRenders ?? {})) renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
+      for (const [k, v] of Object.entries(window.__semRenders ?? {}))
+        renders[k] = +((v - (rendersStart[k] ?? 0)) / elapsed).toFixed(2);
       return { frames: frames.slice(1), longTasks, renders, elapsed }; // the first interval starts mid-frame
     },
   };

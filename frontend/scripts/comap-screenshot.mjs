@@ -10,7 +10,8 @@ const json = async (path, init) => {
   if (!r.ok) throw new Error(`${init?.method ?? "GET"} ${path}: ${r.status} ${await r.text()}`);
   return r.json();
 };
-const send = (method, path, body) => json(path, { method, headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
+const send = (method, path, body) =>
+  json(path, { method, headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
 
 // a 200 m square 80 m north of the vehicle
 const g = (await json(`/api/providers/${id}`)).reports.GPSFixReport.report.position2DWithTime.geodeticPosition;
@@ -19,8 +20,16 @@ const dLat = 1 / 111_320;
 const dLon = 1 / (111_320 * Math.cos((lat0 * Math.PI) / 180));
 const at = (e, n) => [lon0 + e * dLon, lat0 + n * dLat];
 const ring = [at(-100, 80), at(100, 80), at(100, 280), at(-100, 280), at(-100, 80)];
-const area = { type: "Feature", geometry: { type: "Polygon", coordinates: [ring] }, properties: { featureId: 1, name: "survey area" } };
-const done = { type: "Feature", geometry: { type: "Polygon", coordinates: [[at(-260, 60), at(-140, 60), at(-140, 180), at(-260, 60)]] }, properties: { featureId: 2, coverage: "COMPLETED" } };
+const area = {
+  type: "Feature",
+  geometry: { type: "Polygon", coordinates: [ring] },
+  properties: { featureId: 1, name: "survey area" },
+};
+const done = {
+  type: "Feature",
+  geometry: { type: "Polygon", coordinates: [[at(-260, 60), at(-140, 60), at(-140, 180), at(-260, 60)]] },
+  properties: { featureId: 2, coverage: "COMPLETED" },
+};
 await send("PUT", "/api/worldmodel", { type: "FeatureCollection", features: [area, done] });
 await send("POST", "/api/tasks", { kind: "survey", vehicle: id, featureId: 1, sensor: "SIDESCAN", resolution: 1 });
 

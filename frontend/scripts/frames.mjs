@@ -34,7 +34,11 @@ try {
   const cdp = await context.newCDPSession(page);
   await cdp.send("Emulation.setCPUThrottlingRate", { rate: throttle });
   await page.waitForTimeout(3000); // settle under the throttle
-  const heap = () => page.evaluate(() => { globalThis.gc?.(); return performance.memory.usedJSHeapSize / 2 ** 20; });
+  const heap = () =>
+    page.evaluate(() => {
+      globalThis.gc?.();
+      return performance.memory.usedJSHeapSize / 2 ** 20;
+    });
   const heapStart = await heap();
   await page.evaluate(startMeter);
   await page.waitForTimeout(Number(seconds) * 1000);
@@ -43,11 +47,22 @@ try {
   const frames = [...run.frames].sort((a, b) => a - b);
   const q = (p) => frames[Math.min(frames.length - 1, Math.floor(p * frames.length))];
   const r2 = (x) => +x.toFixed(2);
-  console.log(JSON.stringify({
-    throttle, collapsed: collapse, frames: frames.length, p50_ms: r2(q(0.5)), p95_ms: r2(q(0.95)), max_ms: r2(frames.at(-1)),
-    long_tasks: run.longTasks.length, long_task_max_ms: r2(Math.max(0, ...run.longTasks)), long_task_total_ms: r2(run.longTasks.reduce((a, b) => a + b, 0)),
-    renders_per_s: run.renders, heap_start_mb: r2(heapStart), heap_end_mb: r2(heapEnd),
-  }));
+  console.log(
+    JSON.stringify({
+      throttle,
+      collapsed: collapse,
+      frames: frames.length,
+      p50_ms: r2(q(0.5)),
+      p95_ms: r2(q(0.95)),
+      max_ms: r2(frames.at(-1)),
+      long_tasks: run.longTasks.length,
+      long_task_max_ms: r2(Math.max(0, ...run.longTasks)),
+      long_task_total_ms: r2(run.longTasks.reduce((a, b) => a + b, 0)),
+      renders_per_s: run.renders,
+      heap_start_mb: r2(heapStart),
+      heap_end_mb: r2(heapEnd),
+    }),
+  );
 } finally {
   await browser.close();
 }

@@ -10,7 +10,11 @@ try {
   await page.goto(show ? `${url}/?vehicle=${show}` : url);
   await page.getByTestId("connection-state").filter({ hasText: "Live" }).waitFor({ timeout: 20_000 });
   const count = await page.getByTestId("vehicle").count();
-  await page.waitForFunction((n) => Number(document.querySelector('[data-testid="map"]')?.getAttribute("data-vehicles")) >= Math.min(n, 1), count, { timeout: 30_000 });
+  await page.waitForFunction(
+    (n) => Number(document.querySelector('[data-testid="map"]')?.getAttribute("data-vehicles")) >= Math.min(n, 1),
+    count,
+    { timeout: 30_000 },
+  );
   // zoomed out far enough to show the coast, then the vehicles' area
   await page.evaluate(() => window.__semMap.jumpTo({ zoom: 8.5 }));
   await page.waitForTimeout(2500);

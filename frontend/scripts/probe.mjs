@@ -21,14 +21,18 @@ const FIRST_SCREENS = 5;
 /** A new client: navigation to every panel's value shown and the map ready (ms since navigation start). */
 async function firstScreen(page) {
   await page.goto(`${url}/?renders&vehicle=${probe}`);
-  const full = await page.waitForFunction(({ ids, noMap }) => {
-    const shown = ids.every((id) => {
-      const t = document.querySelector(`[data-testid="${id}"]`)?.textContent;
-      return t && t !== "—";
-    });
-    const map = noMap || document.querySelector('[data-testid="map"][data-ready="true"]');
-    return shown && map ? performance.now() : false;
-  }, { ids: Object.keys(WATCHED), noMap }, { polling: "raf", timeout: 60_000 });
+  const full = await page.waitForFunction(
+    ({ ids, noMap }) => {
+      const shown = ids.every((id) => {
+        const t = document.querySelector(`[data-testid="${id}"]`)?.textContent;
+        return t && t !== "—";
+      });
+      const map = noMap || document.querySelector('[data-testid="map"][data-ready="true"]');
+      return shown && map ? performance.now() : false;
+    },
+    { ids: Object.keys(WATCHED), noMap },
+    { polling: "raf", timeout: 60_000 },
+  );
   return await full.jsonValue();
 }
 
@@ -41,7 +45,8 @@ async function newContext(browser) {
 const browser = await launchChromium(["--enable-precise-memory-info"]);
 try {
   const firstScreens = [];
-  for (let i = 1; i < FIRST_SCREENS; i++) { // the others; the last is the page measured below
+  for (let i = 1; i < FIRST_SCREENS; i++) {
+    // the others; the last is the page measured below
     const other = await newContext(browser);
     firstScreens.push(await firstScreen(await other.newPage()));
     await other.close();
@@ -59,7 +64,8 @@ try {
           if (typeof e.data !== "string" || !e.data.includes(probe) || !e.data.includes('"GPSFixReport"')) return;
           const at = performance.timeOrigin + performance.now();
           const data = JSON.parse(e.data);
-          for (const m of Array.isArray(data) ? data : [data]) { // a batch of reports (/ws?batch=1) or one message
+          for (const m of Array.isArray(data) ? data : [data]) {
+            // a batch of reports (/ws?batch=1) or one message
             if (m.providerId !== probe || m.topic !== "GPSFixReport") continue;
             const lat = m.report?.report?.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
             if (typeof lat === "number") arrived.push([lat.toFixed(6), at]);
@@ -81,46 +87,58 @@ try {
   };
   const cpuStart = await cpu();
   await page.evaluate(startMeter);
-  const watched = await page.evaluate(({ ms, watched, probe, noMap }) => new Promise((resolve) => {
-    const wall = () => performance.timeOrigin + performance.now();
-    const afterFrame = (f) => requestAnimationFrame(() => setTimeout(f, 0));
-    const shown = [];
-    const observers = [];
-    for (const [id, panel] of Object.entries(watched)) {
-      let last = null;
-      const check = () => {
-        const text = document.querySelector(`[data-testid="${id}"]`)?.textContent ?? null;
-        if (text === last) return;
-        last = text;
-        afterFrame(() => shown.push([id, text, wall()]));
-      };
-      const o = new MutationObserver(check);
-      o.observe(document.querySelector(`[data-testid="${panel}"]`), { subtree: true, childList: true, characterData: true });
-      observers.push(o);
-    }
-    // the map: the selected vehicle's ring (HTML over the map, moved on the frame after its fix), its latitude
-    const map = [];
-    const ring = document.querySelector('[data-testid="map-selected"]');
-    if (!noMap && ring) {
-      const o = new MutationObserver(() => {
-        const lat = ring.dataset.lat;
-        afterFrame(() => map.push([lat, wall()]));
-      });
-      o.observe(ring, { attributes: true, attributeFilter: ["data-lat"] });
-      observers.push(o);
-    }
-    const start = wall();
-    setTimeout(() => {
-      for (const o of observers) o.disconnect();
-      const end = wall();
-      const arrived = window.__probeArrivals.filter(([, t]) => t >= start && t <= end);
-      setTimeout(() => resolve({ shown, map, arrived, start, end }), 100); // the last changes' stamps
-    }, ms);
-  }), { ms: Number(seconds) * 1000, watched: WATCHED, probe, noMap });
+  const watched = await page.evaluate(
+    ({ ms, watched, probe, noMap }) =>
+      new Promise((resolve) => {
+        const wall = () => performance.timeOrigin + performance.now();
+        const afterFrame = (f) => requestAnimationFrame(() => setTimeout(f, 0));
+        const shown = [];
+        const observers = [];
+        for (const [id, panel] of Object.entries(watched)) {
+          let last = null;
+          const check = () => {
+            const text = document.querySelector(`[data-testid="${id}"]`)?.textContent ?? null;
+            if (text === last) return;
+            last = text;
+            afterFrame(() => shown.push([id, text, wall()]));
+          };
+          const o = new MutationObserver(check);
+          o.observe(document.querySelector(`[data-testid="${panel}"]`), { subtree: true, childList: true, characterData: true });
+          observers.push(o);
+        }
+        // the map: the selected vehicle's ring (HTML over the map, moved on the frame after its fix), its latitude
+        const map = [];
+        const ring = document.querySelector('[data-testid="map-selected"]');
+        if (!noMap && ring) {
+          const o = new MutationObserver(() => {
+            const lat = ring.dataset.lat;
+            afterFrame(() => map.push([lat, wall()]));
+          });
+          o.observe(ring, { attributes: true, attributeFilter: ["data-lat"] });
+          observers.push(o);
+        }
+        const start = wall();
+        setTimeout(() => {
+          for (const o of observers) o.disconnect();
+          const end = wall();
+          const arrived = window.__probeArrivals.filter(([, t]) => t >= start && t <= end);
+          setTimeout(() => resolve({ shown, map, arrived, start, end }), 100); // the last changes' stamps
+        }, ms);
+      }),
+    { ms: Number(seconds) * 1000, watched: WATCHED, probe, noMap },
+  );
   const run = { ...watched, ...(await page.evaluate(() => window.__semMeter.stop())) };
   const cpuEnd = await cpu();
   const cores = (k) => +((cpuEnd[k] - cpuStart[k]) / run.elapsed).toFixed(3);
-  console.log(JSON.stringify({ ...run, full_dashboard_ms: +fullMs.toFixed(1), full_dashboard_all_ms: firstScreens.map((t) => +t.toFixed(1)), renderer_cores: cores("renderer"), gpu_cores: cores("gpu") }));
+  console.log(
+    JSON.stringify({
+      ...run,
+      full_dashboard_ms: +fullMs.toFixed(1),
+      full_dashboard_all_ms: firstScreens.map((t) => +t.toFixed(1)),
+      renderer_cores: cores("renderer"),
+      gpu_cores: cores("gpu"),
+    }),
+  );
 } finally {
   await browser.close();
 }

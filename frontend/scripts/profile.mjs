@@ -22,7 +22,9 @@ try {
   await page.waitForTimeout(3000);
   await page.evaluate(() => {
     window.__long = [];
-    new PerformanceObserver((l) => { for (const e of l.getEntries()) window.__long.push([e.startTime, e.duration]); }).observe({ type: "longtask" });
+    new PerformanceObserver((l) => {
+      for (const e of l.getEntries()) window.__long.push([e.startTime, e.duration]);
+    }).observe({ type: "longtask" });
   });
   await cdp.send("Profiler.start");
   const t0 = await page.evaluate(() => performance.timeOrigin + performance.now());
@@ -30,7 +32,9 @@ try {
   const { profile } = await cdp.send("Profiler.stop");
   const long = await page.evaluate(() => window.__long.map(([s, d]) => [performance.timeOrigin + s, d]));
   if (out) writeFileSync(out, JSON.stringify(profile));
-  console.log(JSON.stringify({ steady: summarize(profile, long, t0), first: { ms: firstMs, ...summarize(first.profile, [], 0) } }));
+  console.log(
+    JSON.stringify({ steady: summarize(profile, long, t0), first: { ms: firstMs, ...summarize(first.profile, [], 0) } }),
+  );
 } finally {
   await browser.close();
 }
@@ -63,11 +67,25 @@ function summarize(profile, long, t0) {
     }
     if (long.length && inLong((wallStart + (t - profile.startTime)) / 1000)) {
       const chain = [];
-      for (let c = id; c !== undefined && chain.length < 40; c = parent.get(c)) chain.push(byId.get(c).callFrame.functionName || "(anon)");
-      const k = chain.filter((x) => x !== "(anon)").slice(0, 12).join(" < ");
+      for (let c = id; c !== undefined && chain.length < 40; c = parent.get(c))
+        chain.push(byId.get(c).callFrame.functionName || "(anon)");
+      const k = chain
+        .filter((x) => x !== "(anon)")
+        .slice(0, 12)
+        .join(" < ");
       stacks.set(k, (stacks.get(k) ?? 0) + dt);
     }
   });
-  const top = (m, k) => [...m.entries()].sort((a, b) => b[1] - a[1]).slice(0, k).map(([n, v]) => [n, +v.toFixed(1)]);
-  return { total_ms: +all.toFixed(0), long: long.map(([, d]) => d), self: top(self, 30), total: top(total, 40), long_stacks: top(stacks, 15) };
+  const top = (m, k) =>
+    [...m.entries()]
+      .sort((a, b) => b[1] - a[1])
+      .slice(0, k)
+      .map(([n, v]) => [n, +v.toFixed(1)]);
+  return {
+    total_ms: +all.toFixed(0),
+    long: long.map(([, d]) => d),
+    self: top(self, 30),
+    total: top(total, 40),
+    long_stacks: top(stacks, 15),
+  };
 }

@@ -36,7 +36,14 @@ try {
   });
   frames.sort((a, b) => a - b);
   const q = (p) => frames[Math.min(frames.length - 1, Math.floor(p * frames.length))];
-  const fig = { vehicles: count, frames: frames.length, p50_ms: +q(0.5).toFixed(1), p95_ms: +q(0.95).toFixed(1), max_ms: +frames[frames.length - 1].toFixed(1), over_50ms: frames.filter((f) => f > 50).length };
+  const fig = {
+    vehicles: count,
+    frames: frames.length,
+    p50_ms: +q(0.5).toFixed(1),
+    p95_ms: +q(0.95).toFixed(1),
+    max_ms: +frames[frames.length - 1].toFixed(1),
+    over_50ms: frames.filter((f) => f > 50).length,
+  };
   console.log(JSON.stringify({ frame_times_while_switching: fig }));
 
   await (show ? vehicles.filter({ hasText: show.slice(0, 8) }) : vehicles.first()).click();

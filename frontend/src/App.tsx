@@ -62,8 +62,20 @@ export function App() {
       </div>
       <div className="layout">
         <main className="main">
-          <ArrangeableGroup group="status" panels={STATUS} className="panels status-panels" testId="status-panels" label="Selected vehicle: status and commands" />
-          <ArrangeableGroup group="main" panels={MAIN} className="panels main-panels" testId="main-panels" label="Map and satellites" />
+          <ArrangeableGroup
+            group="status"
+            panels={STATUS}
+            className="panels status-panels"
+            testId="status-panels"
+            label="Selected vehicle: status and commands"
+          />
+          <ArrangeableGroup
+            group="main"
+            panels={MAIN}
+            className="panels main-panels"
+            testId="main-panels"
+            label="Map and satellites"
+          />
         </main>
         <aside className="side" aria-label="Vehicles and alerts">
           <ErrorBoundary name="Vehicles">

@@ -59,7 +59,8 @@ async function start(): Promise<void> {
       </QueryClientProvider>
     </StrictMode>,
   );
-  if (mayConnect()) source.start(); // with the messages boot.ts's socket held: the first render has the snapshot
+  if (mayConnect())
+    source.start(); // with the messages boot.ts's socket held: the first render has the snapshot
   else source.stop(); // "Not signed in" until the operator signs in
 }
 void start();

@@ -74,12 +74,19 @@ class Auditor:
         """A request to a command route (the state-changing API routes), matched by method and path."""
         return scope["type"] == "http" and any(r.matches(scope)[0] is Match.FULL for r in self.routes)
 
-    def accepted(self, scope: Scope, status: int, operator: str | None, session_id: str | None,
-                 reason: str = "accepted") -> None:
+    def accepted(self, scope: Scope, status: int, operator: str | None, session_id: str | None, reason: str = "accepted") -> None:
         _write(scope, "accepted", status, reason, operator, session_id)
 
-    def refused(self, scope: Scope, status: int, reason: str, *, audit: bool = False, operator: str | None = None,
-                now: float | None = None) -> None:
+    def refused(
+        self,
+        scope: Scope,
+        status: int,
+        reason: str,
+        *,
+        audit: bool = False,
+        operator: str | None = None,
+        now: float | None = None,
+    ) -> None:
         """Log a refused request and, when `audit` or it is a command request, record it; within the limits."""
         audit = audit or self.is_command(scope)
         now = time.monotonic() if now is None else now
@@ -87,8 +94,11 @@ class Auditor:
         w = self.windows.pop(client, None)
         if w is None or now - w.start >= WINDOW:
             if w is not None and w.count > self.per_minute + 1:
-                log.warning("%d more refusals from %s in a minute were neither logged nor recorded (rate limit)",
-                            w.count - self.per_minute - 1, client)
+                log.warning(
+                    "%d more refusals from %s in a minute were neither logged nor recorded (rate limit)",
+                    w.count - self.per_minute - 1,
+                    client,
+                )
             w = _Window(now)
         w.count += 1
         self.windows[client] = w  # most recent last
@@ -96,11 +106,15 @@ class Auditor:
             self.windows.popitem(last=False)
         if w.count > self.per_minute + 1:
             return
-        line = (f"refused {method_of(scope)} {clip(scope['path'])} from {client} (origin "
-                f"{clip(Headers(scope=scope).get('origin'))}): {status} {clip(reason, 2 * CLIP)}")
+        line = (
+            f"refused {method_of(scope)} {clip(scope['path'])} from {client} (origin "
+            f"{clip(Headers(scope=scope).get('origin'))}): {status} {clip(reason, 2 * CLIP)}"
+        )
         if w.count == self.per_minute + 1:
-            note = (f"more than {self.per_minute} refusals from {client} within a minute: "
-                    f"the rest of this minute's are neither logged nor recorded")
+            note = (
+                f"more than {self.per_minute} refusals from {client} within a minute: "
+                f"the rest of this minute's are neither logged nor recorded"
+            )
             log.warning("%s; %s", line, note)
             _write(scope, "rate-limited", status, f"{reason}; {note}", operator)
             return
@@ -114,17 +128,25 @@ def auditor(scope: Scope) -> Auditor:
     return auditor
 
 
-def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str | None = None,
-           session_id: str | None = None) -> None:
+def _write(
+    scope: Scope, outcome: str, status: int, reason: str, operator: str | None = None, session_id: str | None = None
+) -> None:
     """Add one entry for the request in `scope` to the history database."""
     console = getattr(scope["app"].state, "console", None)
     if console is None:
         return
     origin = Headers(scope=scope).get("origin")
     entry: dict[str, Any] = {
-        "at": time.time(), "outcome": outcome, "status": status, "method": method_of(scope),
-        "path": scope["path"][:CLIP], "client": client_of(scope), "origin": origin[:CLIP] if origin else origin,
-        "operator": operator, "session_id": session_id, "reason": reason[: 3 * CLIP],
+        "at": time.time(),
+        "outcome": outcome,
+        "status": status,
+        "method": method_of(scope),
+        "path": scope["path"][:CLIP],
+        "client": client_of(scope),
+        "origin": origin[:CLIP] if origin else origin,
+        "operator": operator,
+        "session_id": session_id,
+        "reason": reason[: 3 * CLIP],
     }
     try:
         console.add_audit(entry)
@@ -133,6 +155,16 @@ def _write(scope: Scope, outcome: str, status: int, reason: str, operator: str |
 
 
 def entry_json(row: AuditRecord) -> dict[str, Any]:
-    return {"id": row.id, "at": row.at, "outcome": row.outcome, "status": row.status, "method": row.method,
-            "path": row.path, "client": row.client, "origin": row.origin, "operator": row.operator,
-            "sessionId": row.session_id, "reason": row.reason}
+    return {
+        "id": row.id,
+        "at": row.at,
+        "outcome": row.outcome,
+        "status": row.status,
+        "method": row.method,
+        "path": row.path,
+        "client": row.client,
+        "origin": row.origin,
+        "operator": row.operator,
+        "sessionId": row.session_id,
+        "reason": row.reason,
+    }

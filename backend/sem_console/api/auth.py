@@ -119,8 +119,7 @@ class Operators:
         client = f"device {device}" if device else client
         wait = self.throttle.retry_after(client, now)
         if wait > 0:
-            raise AuthError(429, f"too many wrong operator tokens from {client}: retry in {math.ceil(wait)} s",
-                            math.ceil(wait))
+            raise AuthError(429, f"too many wrong operator tokens from {client}: retry in {math.ceil(wait)} s", math.ceil(wait))
         if not token:
             raise AuthError(401, "an operator token is required: Authorization: Bearer <token>", audit=False)
         name = self.lookup(token)
@@ -136,7 +135,7 @@ def ws_token(protocols: list[str]) -> str | None:
     `sem-console`), since a browser's WebSocket cannot send an Authorization header."""
     for p in protocols:
         if p.startswith(WS_TOKEN_PREFIX):
-            raw = p[len(WS_TOKEN_PREFIX):]
+            raw = p[len(WS_TOKEN_PREFIX) :]
             try:
                 return base64.urlsafe_b64decode(raw + "=" * (-len(raw) % 4)).decode()
             except (binascii.Error, UnicodeDecodeError, ValueError):

@@ -46,13 +46,15 @@ def _authenticate(request: Request, response: Response, credentials: HTTPAuthori
     operators: Operators = request.app.state.operators
     device = operators.device(request.cookies.get(DEVICE_COOKIE))
     try:
-        name = operators.authenticate(audit.client_of(request.scope) or "?", credentials.credentials if credentials else None,
-                                      device=device)
+        name = operators.authenticate(
+            audit.client_of(request.scope) or "?", credentials.credentials if credentials else None, device=device
+        )
     except AuthError as e:
         raise TokenRefused(e) from None  # logged and recorded by the app's exception handler
     if device is None:
-        response.set_cookie(DEVICE_COOKIE, operators.new_device(), httponly=True, samesite="strict",
-                            secure=request.url.scheme == "https")
+        response.set_cookie(
+            DEVICE_COOKIE, operators.new_device(), httponly=True, samesite="strict", secure=request.url.scheme == "https"
+        )
     return name
 
 
@@ -82,8 +84,9 @@ async def refuse_in_replay(request: Request) -> None:
     configuration, CoMap writes): it is read-only. The 409 is audited like every refused command request."""
     settings: Settings = request.app.state.settings
     if settings.replay is not None:
-        raise HTTPException(409, f"read-only: this console replays the recording {settings.replay.name}; "
-                                 "it sends no command and records nothing")
+        raise HTTPException(
+            409, f"read-only: this console replays the recording {settings.replay.name}; it sends no command and records nothing"
+        )
 
 
 async def current_operator(request: Request) -> str | None:

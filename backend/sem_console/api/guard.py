@@ -57,7 +57,8 @@ def is_json(content_type: str | None) -> bool:
     m = Message()
     m["content-type"] = content_type
     return m.get_content_type() == "application/json" or (
-        m.get_content_maintype() == "application" and m.get_content_subtype().endswith("+json"))
+        m.get_content_maintype() == "application" and m.get_content_subtype().endswith("+json")
+    )
 
 
 class Guard:

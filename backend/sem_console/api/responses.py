@@ -16,8 +16,10 @@ def problem(description: str) -> dict[str, Any]:
 # Starlette's body limit (main.MAX_BODY_BYTES) answers before any route runs: in plain text when the size was declared
 # (Content-Length), as a JSON `detail` when a chunked body passed the limit while it was read.
 BODY_TOO_LARGE: dict[str, Any] = {
-    "model": Problem, "content": {"text/plain": {"schema": {"type": "string", "example": "Content Too Large"}}},
-    "description": "the request body is over 1 MiB: refused before it is read, whatever the route ('Content Too Large')"}
+    "model": Problem,
+    "content": {"text/plain": {"schema": {"type": "string", "example": "Content Too Large"}}},
+    "description": "the request body is over 1 MiB: refused before it is read, whatever the route ('Content Too Large')",
+}
 EVERY_ROUTE: Responses = {
     403: problem("refused: the Host, or for a POST, PUT, DELETE or /ws the Origin, is not allowed"),
     413: BODY_TOO_LARGE,
@@ -34,8 +36,10 @@ JSON_BODY: Responses = {
 # A read that goes to the database (the history beyond memory, the audit, the track and chart history, the exports)
 # while it cannot be reached: main.database_unavailable.
 DATABASE_READ: Responses = {
-    503: problem("the database cannot be reached (e.g. a PostgreSQL outage): one line saying since when; try again after "
-                 "Retry-After seconds"),
+    503: problem(
+        "the database cannot be reached (e.g. a PostgreSQL outage): one line saying since when; try again after "
+        "Retry-After seconds"
+    ),
 }
 READ_ONLY: Responses = {
     409: problem("read-only: the console replays a recording (sem-console --replay); nothing is commanded or recorded"),

@@ -33,8 +33,9 @@ from sem_console.storage.models import AlarmHandled, AlarmRaised, TaskOwned, Tas
 
 
 class ReportEnvelope(_Model):
-    report: dict[str, Any] = Field(description="the sample, member for member as in the IDL; its type per topic is "
-                                             "ReportTypes in /api/ws-schema")
+    report: dict[str, Any] = Field(
+        description="the sample, member for member as in the IDL; its type per topic is ReportTypes in /api/ws-schema"
+    )
     invalid: list[str] = Field(description="'member.path: why' for each value that is not a valid reading")
     receivedAt: float
 
@@ -43,8 +44,10 @@ class ProviderDetail(ProviderSummary):
     reports: dict[ReportTopic, ReportEnvelope | None]
 
 
-CONFIRM_LOST = ("the operator has seen that the vehicle's link is lost and commands it anyway; without it a command to a "
-                "lost vehicle is refused with 409")
+CONFIRM_LOST = (
+    "the operator has seen that the vehicle's link is lost and commands it anyway; without it a command to a "
+    "lost vehicle is refused with 409"
+)
 
 
 def _trimmed(v: Any) -> Any:
@@ -73,9 +76,10 @@ def _printable(v: str) -> str:
 
 
 class VehicleName(_Model):
-    name: Annotated[Annotated[str, Field(max_length=MAX_NAME, json_schema_extra={"pattern": PRINTABLE}),
-                              AfterValidator(_printable)] | None, BeforeValidator(_trimmed)] = Field(
-        description="1 to 40 printable characters (trimmed); empty or null: back to the --vehicle-names name (or none)")
+    name: Annotated[
+        Annotated[str, Field(max_length=MAX_NAME, json_schema_extra={"pattern": PRINTABLE}), AfterValidator(_printable)] | None,
+        BeforeValidator(_trimmed),
+    ] = Field(description="1 to 40 printable characters (trimmed); empty or null: back to the --vehicle-names name (or none)")
 
 
 class VehicleNameShown(_Model):
@@ -83,9 +87,12 @@ class VehicleNameShown(_Model):
 
 
 class InertialSensorRequest(_Model):
-    state: Literal[InsStateName, InsCommandName] = Field(description=(
-        "a state of the vehicle's UMAA version (its umaaVersion): 3.0.1, OFF, ON or RESTARTING; 6.0, BEST_ALIGN, "
-        "GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN; one of the other version is refused (422)"))
+    state: Literal[InsStateName, InsCommandName] = Field(
+        description=(
+            "a state of the vehicle's UMAA version (its umaaVersion): 3.0.1, OFF, ON or RESTARTING; 6.0, BEST_ALIGN, "
+            "GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN; one of the other version is refused (422)"
+        )
+    )
     confirmLost: bool = Field(False, strict=True, description=CONFIRM_LOST)
 
 
@@ -108,7 +115,8 @@ class AuditEntry(_Model):
     id: int
     at: float = Field(description="UTC seconds since the epoch")
     outcome: Literal["accepted", "refused", "rate-limited"] = Field(
-        description="rate-limited: refused, and the client's further refusals this minute are not recorded")
+        description="rate-limited: refused, and the client's further refusals this minute are not recorded"
+    )
     status: int = Field(description="the HTTP status answered")
     method: str
     path: str
@@ -129,19 +137,31 @@ class Health(_Model):
     domain: int
     authRequired: bool = Field(description="commands need an operator token")
     readAuthRequired: bool = Field(description="reads (REST and /ws) need an operator token too (--auth-reads)")
-    ddsNetwork: str | None = Field(None, description="where the console looks for vehicles, in one line: the interface and "
-                                   "discovery (unicast peers or multicast), or CYCLONEDDS_URI; null in a replay")
+    ddsNetwork: str | None = Field(
+        None,
+        description="where the console looks for vehicles, in one line: the interface and "
+        "discovery (unicast peers or multicast), or CYCLONEDDS_URI; null in a replay",
+    )
     basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
-    replay: bool = Field(description="the console serves a recording (sem-console --replay), not DDS: read-only, "
-                                     "with playback controls (/api/replay)")
+    replay: bool = Field(
+        description="the console serves a recording (sem-console --replay), not DDS: read-only, "
+        "with playback controls (/api/replay)"
+    )
     consoleName: str = Field("", description="this console station's --console-name")
-    databaseUnavailableSince: float | None = Field(None, description=(
-        "UTC seconds since when the console's PostgreSQL database cannot be reached (shared history unavailable): "
-        "monitoring goes on, commands, transitions, audit and acknowledgements are held here and written when it is "
-        "back; null while it can be reached"))
+    databaseUnavailableSince: float | None = Field(
+        None,
+        description=(
+            "UTC seconds since when the console's PostgreSQL database cannot be reached (shared history unavailable): "
+            "monitoring goes on, commands, transitions, audit and acknowledgements are held here and written when it is "
+            "back; null while it can be reached"
+        ),
+    )
     databaseWritesHeld: int = Field(0, description="writes held for the database (at most 50000; past it the oldest go)")
-    databaseWritesDropped: int = Field(0, description="held writes dropped since the console started, the oldest first, "
-                                                      "because more than 50000 were held: lost from the shared history")
+    databaseWritesDropped: int = Field(
+        0,
+        description="held writes dropped since the console started, the oldest first, "
+        "because more than 50000 were held: lost from the shared history",
+    )
 
 
 class GatewayState(_Model):
@@ -152,9 +172,11 @@ class GatewayState(_Model):
     messagesPerSecond: float = Field(description="messages sent per second over the last 5 s")
     lastError: str | None
     lastErrorAt: float | None = Field(description="UTC seconds since the epoch")
-    counters: dict[str, int] = Field(description="received, malformed (by reason), answered, left out (by reason), dropped: "
-                                                 "queue full (ASPN), "
-                                           "report time outside u32: console time sent (JAUS), errors")
+    counters: dict[str, int] = Field(
+        description="received, malformed (by reason), answered, left out (by reason), dropped: "
+        "queue full (ASPN), "
+        "report time outside u32: console time sent (JAUS), errors"
+    )
 
 
 class PeerFinding(_Model):
@@ -165,9 +187,10 @@ class PeerFinding(_Model):
     vendor: Literal["RTI"] = Field(description="the vendor, from the GUID's vendor id (RTI Connext: 01.01)")
     kind: Literal["typeInformation", "representation", "unmatched", "unmatchedReader"] = Field(
         description="typeInformation: it sends XTypes type information the console cannot use, so none of its SEM topics "
-                    "match; representation: a GPSReport or GPSFixReport writer offers XCDR1; unmatched: another SEM "
-                    "writer of it that no reader of the console matches; unmatchedReader: a command reader of it that "
-                    "the console's command writer does not match (its commands would go nowhere)")
+        "match; representation: a GPSReport or GPSFixReport writer offers XCDR1; unmatched: another SEM "
+        "writer of it that no reader of the console matches; unmatchedReader: a command reader of it that "
+        "the console's command writer does not match (its commands would go nowhere)"
+    )
     topic: str | None = Field(description="the SEM topic (short name, e.g. GPSReport); null for the whole participant")
     fix: str = Field(description="what to change, in the vendor's terms")
     message: str = Field(description="the whole finding in one line, as logged: who, what, the fix and the docs")
@@ -176,19 +199,28 @@ class PeerFinding(_Model):
 class Metrics(_Model):
     uptimeSeconds: float
     samplesTaken: int = Field(description="samples taken from DDS since start (all three readers of every SEM topic)")
-    samplesDecoded: int = Field(description="of those, decoded and applied: a writer's samples only from its owner, the most "
-                                            "reliable of a topic's readers it matches, so each sample is decoded once")
-    samplesByReader: dict[str, int] = Field(description="samplesDecoded per owner reader: reliableTransientLocal, "
-                                                        "reliableVolatile, bestEffort")
+    samplesDecoded: int = Field(
+        description="of those, decoded and applied: a writer's samples only from its owner, the most "
+        "reliable of a topic's readers it matches, so each sample is decoded once"
+    )
+    samplesByReader: dict[str, int] = Field(
+        description="samplesDecoded per owner reader: reliableTransientLocal, reliableVolatile, bestEffort"
+    )
     undecodableSamples: int
-    incompatibleWriters: dict[str, int] = Field(description="per topic, writers whose QoS no reader of the console accepts, so "
-                                                            "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
-                                                            "writer: README, 'Other DDS vendors')")
-    peerFindings: list[PeerFinding] = Field(description="other vendors' participants (today RTI Connext) that the console "
-                                                        "sees in discovery but cannot read, each with the exact fix")
+    incompatibleWriters: dict[str, int] = Field(
+        description="per topic, writers whose QoS no reader of the console accepts, so "
+        "nothing of theirs is read (e.g. an XCDR1 GPSReport or GPSFixReport "
+        "writer: README, 'Other DDS vendors')"
+    )
+    peerFindings: list[PeerFinding] = Field(
+        description="other vendors' participants (today RTI Connext) that the console "
+        "sees in discovery but cannot read, each with the exact fix"
+    )
     reportsApplied: int = Field(description="report samples applied to the state (after conflation and de-duplication)")
-    reportWindowWaits: int = Field(description="report takes that waited for the conflation window (report_interval): input "
-                                               "dense enough to batch; sparse input is taken as it arrives")
+    reportWindowWaits: int = Field(
+        description="report takes that waited for the conflation window (report_interval): input "
+        "dense enough to batch; sparse input is taken as it arrives"
+    )
     wsClients: int
     wsMessagesPublished: int = Field(description="messages handed to WebSocket clients, one per client")
     wsClientsDropped: int
@@ -196,13 +228,15 @@ class Metrics(_Model):
     commandsInMemory: int
     historyRowsWritten: int = Field(description="track and chart points written to the database")
     historyRowsPruned: int = Field(description="track and chart points removed for being older than the retention")
-    historyWriteSecondsMax: float = Field(description="longest batched write of track and chart points (in a worker "
-                                                      "thread, off the event loop), seconds")
+    historyWriteSecondsMax: float = Field(
+        description="longest batched write of track and chart points (in a worker thread, off the event loop), seconds"
+    )
 
 
 class RecordingStatus(_Model):
-    state: Literal["off", "recording", "failed"] = Field(description="failed: the recording stopped on an error "
-                                                                     "(e.g. a full disk), see `error`")
+    state: Literal["off", "recording", "failed"] = Field(
+        description="failed: the recording stopped on an error (e.g. a full disk), see `error`"
+    )
     directory: str = Field(description="where the recordings are written")
     file: str | None = Field(description="the file being written (recording), or the last one written")
     startedAt: float | None = Field(description="when this recording started, UTC seconds (null unless recording)")
@@ -219,7 +253,8 @@ class RecordingFile(_Model):
     end: float | None = Field(description="UTC seconds of the last message; null while recording or when cut short")
     state: Literal["recording", "complete", "incomplete"] = Field(
         description="incomplete: it has no MCAP summary (the console stopped on an error or was killed); "
-                    "MCAP readers still read its messages")
+        "MCAP readers still read its messages"
+    )
 
 
 class RecordingRequest(_Model):
@@ -249,8 +284,9 @@ class ReplaySeek(_Model):
     """Show the state at `position`: rebuilt from the recording, sent to every client as a fresh snapshot."""
 
     action: Literal["seek"]
-    position: float = Field(strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its "
-                                                                          "start or end")
+    position: float = Field(
+        strict=True, allow_inf_nan=False, description="UTC seconds; outside the recording it is taken as its start or end"
+    )
 
 
 class ReplaySpeed(_Model):
@@ -291,15 +327,17 @@ NoBool = BeforeValidator(_no_bool)
 Finite = Annotated[float, Field(allow_inf_nan=False), NoBool]
 Lon = Annotated[float, Field(ge=-180, le=180, allow_inf_nan=False), NoBool]
 Lat = Annotated[float, Field(ge=-90, le=90, allow_inf_nan=False), NoBool]
-Position = Annotated[tuple[Lon, Lat] | tuple[Lon, Lat, Finite],
-                     Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")]
+Position = Annotated[
+    tuple[Lon, Lat] | tuple[Lon, Lat, Finite], Field(description="[longitude, latitude(, altitude m)], degrees (GeoJSON)")
+]
 FeatureId = Annotated[int, Field(ge=0, le=0xFFFE), NoBool]
 
 
 class FeatureProperties(BaseModel):
     model_config = ConfigDict(extra="allow")
-    featureId: FeatureId | None = Field(None, description="the CoMap feature id (u16); the console numbers "
-                                  "a feature without one when it takes the model")
+    featureId: FeatureId | None = Field(
+        None, description="the CoMap feature id (u16); the console numbers a feature without one when it takes the model"
+    )
     coverage: CoverageName | None = Field(None, description="the feature's CoverageState, or null when none is known")
 
 
@@ -315,8 +353,10 @@ class LineStringGeometry(_Model):
 
 class PolygonGeometry(_Model):
     type: Literal["Polygon"]
-    coordinates: Annotated[list[Annotated[list[Position], Field(min_length=3, max_length=4096)]],
-                           Field(min_length=1, max_length=1, description="one ring, no holes; closed or not")]
+    coordinates: Annotated[
+        list[Annotated[list[Position], Field(min_length=3, max_length=4096)]],
+        Field(min_length=1, max_length=1, description="one ring, no holes; closed or not"),
+    ]
 
 
 class GeoJsonFeature(_Model):
@@ -328,6 +368,7 @@ class GeoJsonFeature(_Model):
 
 class WorldModelIn(_Model):
     """A GeoJSON FeatureCollection: CoMap's 1 vertex point, 2 line, 3+ polygon."""
+
     type: Literal["FeatureCollection"]
     features: Annotated[list[GeoJsonFeature], Field(max_length=1000)]
 
@@ -336,8 +377,9 @@ class WorldModel(_Model):
     type: Literal["FeatureCollection"]
     features: list[GeoJsonFeature]
     updatedAt: float | None = Field(description="UTC seconds of the last change, null before any")
-    source: str | None = Field(description="'operator' (a PUT), 'imc:<system id>' (a WorldModel received) or "
-                               "'coverage' (a CoverageState merged)")
+    source: str | None = Field(
+        description="'operator' (a PUT), 'imc:<system id>' (a WorldModel received) or 'coverage' (a CoverageState merged)"
+    )
 
 
 class LatLon(_Model):
@@ -346,17 +388,20 @@ class LatLon(_Model):
 
 
 class _TaskRequest(_Model):
-    vehicle: uuid.UUID = Field(description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)",
-                               examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])  # sem-sim's vehicle 1
+    vehicle: uuid.UUID = Field(
+        description="the UMAA provider GUID; it needs an IMC system id (--imc-vehicles)",
+        examples=["77b2ceb8-5afe-554e-8450-93db17c48923"],
+    )  # sem-sim's vehicle 1
     sensor: SensorName = Field("ANY", description="survey: the sensor to survey with")
     resolution: Annotated[float, Field(gt=0, le=1e6, allow_inf_nan=False), NoBool] = Field(1.0, description="survey: px/m²")
-    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(None, description="ISO 8601 (UTC when no offset "
-                                                                                                 "is given); default: an hour "
-                                                                                                 "from now")
+    deadline: Annotated[datetime | None, BeforeValidator(_iso_string)] = Field(
+        None, description="ISO 8601 (UTC when no offset is given); default: an hour from now"
+    )
 
 
 class SurveyTaskRequest(_TaskRequest):
     """A SurveyTask of a world model feature."""
+
     kind: Literal["survey"]
     featureId: FeatureId = Field(description="the world model feature to survey", examples=[1])
     point: LatLon | None = Field(None, description="not used by a survey")
@@ -364,6 +409,7 @@ class SurveyTaskRequest(_TaskRequest):
 
 class MoveTaskRequest(_TaskRequest):
     """A MoveTask to a point."""
+
     kind: Literal["move"]
     point: LatLon = Field(description="the destination")
     featureId: FeatureId | None = Field(None, description="not used by a move")
@@ -414,16 +460,29 @@ class ComapStatus(_Model):
     imcId: int
     port: int | None
     peers: list[str]
-    counters: dict[str, int] = Field(description="datagrams received, accepted, sent; dropped ones per reason: truncated, "
-                                     "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs; refusedWorldModels: "
-                                     "WorldModels accepted as datagrams whose model was not used (a feature without "
-                                     "vertices, a vertex out of range; the log names it)")
+    counters: dict[str, int] = Field(
+        description="datagrams received, accepted, sent; dropped ones per reason: truncated, "
+        "bad_sync, bad_size, bad_crc, unknown_id, bad_message; notForUs; refusedWorldModels: "
+        "WorldModels accepted as datagrams whose model was not used (a feature without "
+        "vertices, a vertex out of range; the log names it)"
+    )
     vehicles: list[ComapVehicle]
 
 
 # ---- Alarms (ISA-18.2 states, derived on the server from the console's state) ------------------------
-AlarmKind = Literal["link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "command-failed",
-                    "command-interrupted", "flow-violation", "executed-late", "recording-failed", "silence-overdue"]
+AlarmKind = Literal[
+    "link-lost",
+    "ins-failure",
+    "fix-lost",
+    "no-fix-after-command",
+    "command-unanswered",
+    "command-failed",
+    "command-interrupted",
+    "flow-violation",
+    "executed-late",
+    "recording-failed",
+    "silence-overdue",
+]
 AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-unacknowledged"]
 
 
@@ -455,16 +514,23 @@ class Alarm(AlarmHandled, _AlarmState, AlarmRaised):
     id: int
     kind: AlarmKind
     severity: Literal["alarm", "warning"] = Field(description="alarm: act now; warning: look when you can")
-    vehicle: str | None = Field(description="the vehicle as the operator knows it now: its name (set from the dashboard "
-                                "or configured), else its short id; a rename sends the set again")
-    text: str = Field(description="one line in the operator's words, naming the vehicle as `vehicle` does (the "
-                      "console's database keeps the text as it was when raised)")
+    vehicle: str | None = Field(
+        description="the vehicle as the operator knows it now: its name (set from the dashboard "
+        "or configured), else its short id; a rename sends the set again"
+    )
+    text: str = Field(
+        description="one line in the operator's words, naming the vehicle as `vehicle` does (the "
+        "console's database keeps the text as it was when raised)"
+    )
     cause: str = Field(description="its kind in words ('Link lost'): many alarms at once are grouped by it")
-    chattering: bool = Field(description="it cleared and came back `chatter_count` times within `chatter_minutes`: "
-                                         "it is not sounded again until acknowledged")
+    chattering: bool = Field(
+        description="it cleared and came back `chatter_count` times within `chatter_minutes`: "
+        "it is not sounded again until acknowledged"
+    )
     shelf: AlarmShelf | None = Field(description="its shelf, while shelved (null: in view)")
-    returned: str | None = Field(description="why it is back in view after a shelf (its time ended, unshelved, worse), "
-                                             "until acknowledged")
+    returned: str | None = Field(
+        description="why it is back in view after a shelf (its time ended, unshelved, worse), until acknowledged"
+    )
 
 
 class AlarmAckRequest(_Model):
@@ -476,8 +542,14 @@ LAST_TIME = 32_503_680_000  # UTC seconds of the year 3000: a time beyond is no 
 
 class ShelveRequest(_Model):
     reason: Reason = Field(description="why it is shelved, for the other stations and the record (1 to 200 characters)")
-    minutes: float = Field(gt=0, le=MAX_SHELF_MINUTES, examples=[60], description=(
-        "how long, minutes: within the console's bounds (shelve_min_minutes to shelve_max_minutes, by default 15 to 480)"))
+    minutes: float = Field(
+        gt=0,
+        le=MAX_SHELF_MINUTES,
+        examples=[60],
+        description=(
+            "how long, minutes: within the console's bounds (shelve_min_minutes to shelve_max_minutes, by default 15 to 480)"
+        ),
+    )
 
 
 class UnshelveRequest(_Model):
@@ -499,8 +571,9 @@ class PlannedSilence(_Model):
 
 
 class SilenceRequest(_Model):
-    until: float = Field(ge=0, le=LAST_TIME, description="when the vehicle is expected back, UTC seconds: in the future",
-                         examples=[4_102_444_800])
+    until: float = Field(
+        ge=0, le=LAST_TIME, description="when the vehicle is expected back, UTC seconds: in the future", examples=[4_102_444_800]
+    )
     reason: Reason = Field(description="why (diving, over the horizon, a relay down), 1 to 200 characters")
 
 
@@ -518,9 +591,12 @@ class SnapshotMessage(_Model):
     consoleId: str
     serverTime: float
     authRequired: bool
-    providers: list[ProviderDetail] = Field(description=(
-        "every vehicle with its latest reports, its GPSReport's satellites left out (an empty list): only the selected "
-        "vehicle's are drawn, and GET /api/providers/{id} has them"))
+    providers: list[ProviderDetail] = Field(
+        description=(
+            "every vehicle with its latest reports, its GPSReport's satellites left out (an empty list): only the selected "
+            "vehicle's are drawn, and GET /api/providers/{id} has them"
+        )
+    )
     commands: list[Command]
     gateways: list[GatewayState]
     recording: RecordingStatus
@@ -535,10 +611,14 @@ class ReportMessage(_Model):
     providerId: str
     topic: ReportTopic
     report: ReportEnvelope
-    partial: bool = Field(False, description=(
-        "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle or none "
-        "(`select`), but once every 5 s (a replay: of the recording's time); the `select` of this vehicle brings its "
-        "latest whole"))
+    partial: bool = Field(
+        False,
+        description=(
+            "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle or none "
+            "(`select`), but once every 5 s (a replay: of the recording's time); the `select` of this vehicle brings its "
+            "latest whole"
+        ),
+    )
 
 
 class GatewaysMessage(_Model):
@@ -609,8 +689,20 @@ class PongMessage(_Model):
 
 
 ServerMessage = Annotated[
-    SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage | ReplayMessage
-    | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | SilencesMessage | DatabaseMessage | ErrorMessage
+    SnapshotMessage
+    | ReportMessage
+    | ProviderMessage
+    | CommandMessage
+    | TransitionMessage
+    | RecordingMessage
+    | ReplayMessage
+    | GatewaysMessage
+    | WorldModelMessage
+    | TaskMessage
+    | AlarmsMessage
+    | SilencesMessage
+    | DatabaseMessage
+    | ErrorMessage
     | PongMessage,
     Field(discriminator="type"),
 ]
@@ -668,17 +760,20 @@ def ws_schema() -> dict[str, Any]:
     assert not clash, f"report type names clash with message names: {clash}"
     defs.update(reports)
     defs["ReportTypes"] = {
-        "type": "object", "title": "ReportTypes", "description": "The report JSON carried for each report topic",
+        "type": "object",
+        "title": "ReportTypes",
+        "description": "The report JSON carried for each report topic",
         "properties": {topic: {"$ref": f"#/$defs/{topic}Type"} for topic in typing.get_args(ReportTopic)},
-        "required": list(typing.get_args(ReportTopic)), "additionalProperties": False,
+        "required": list(typing.get_args(ReportTopic)),
+        "additionalProperties": False,
     }
     schema["properties"]["reportTypes"] = {"$ref": "#/$defs/ReportTypes"}
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": "SemConsoleMessages",
         "description": "Messages on /ws: `server` (snapshot first, then deltas) and `client`, each tagged by `type`; "
-                       "a client of /ws?batch=1 gets the `report` messages that waited for its sender as one frame (up to 500), "
-                       "a JSON array of them in order (a lone one as itself). "
-                       "`ReportTypes` gives the JSON of each report topic's `report.report`.",
+        "a client of /ws?batch=1 gets the `report` messages that waited for its sender as one frame (up to 500), "
+        "a JSON array of them in order (a lone one as itself). "
+        "`ReportTypes` gives the JSON of each report topic's `report.report`.",
         **{k: v for k, v in schema.items() if k != "title"},
     }

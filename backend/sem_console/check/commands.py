@@ -65,15 +65,17 @@ SHORT = {Service.GPS_FIX: "GPSFix", Service.INERTIAL_SENSOR: "InertialSensor"}
 LEFT = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
 GPS_NAMES = [f"commands.GPSFix.{t}" for t in ("complete", "cancel", "cleanup", "destination")]
 INS_NAMES = [f"commands.InertialSensor.{t}" for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")]
-INS_NAMES_6_0 = [f"commands.InertialSensor.{t if isinstance(t, str) else t.name}"
-                 for t in (*umaa_6_0.TESTS, "cleanup", "destination")]
+INS_NAMES_6_0 = [
+    f"commands.InertialSensor.{t if isinstance(t, str) else t.name}" for t in (*umaa_6_0.TESTS, "cleanup", "destination")
+]
 ACTIVE = frozenset({Status.ISSUED, Status.COMMANDED, Status.EXECUTING})
 SETTLED = {"RESTARTING": "ON"}  # the state an inertial sensor reporting this one ends in
 
 # Where the ICD has the provider take a step of the successful path after ISSUED (Version.flow's keys)
 STEP_REF: dict[Status | None, str] = {Status.COMMANDED: "commanded", Status.EXECUTING: "executing"}
-DESTINATION_REF = (": a command's destination directs it at one Service Provider, which responds to the commands "
-                   "addressed to its ID")
+DESTINATION_REF = (
+    ": a command's destination directs it at one Service Provider, which responds to the commands addressed to its ID"
+)
 
 
 def names(version: icd.Version = icd.V3_0_1) -> list[str]:
@@ -139,8 +141,10 @@ class Sent:
         return None
 
     def story(self) -> str:
-        steps = [f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s"
-                 for t, at in zip(self.flow.transitions, self.at, strict=True)]
+        steps = [
+            f"{name(t.status)}/{name(t.reason)} +{at - self.sent_at:.2f} s"
+            for t, at in zip(self.flow.transitions, self.at, strict=True)
+        ]
         if self.earlier and steps:  # the first status of a restarted flow is ISSUED/UPDATED on the wire
             steps[0] = steps[0].replace("ISSUED/SUCCEEDED", "ISSUED/UPDATED", 1)
         now = ", ".join(steps) or "no status"
@@ -155,8 +159,15 @@ def _newer(seconds: int, nanoseconds: int) -> tuple[int, int]:
 class Consumer:
     """The checker as a Service Consumer of one provider: writers are made only here, on first use."""
 
-    def __init__(self, observer: Observer, provider: uuid.UUID, limits: CommandLimits, out: TextIO,
-                 progress: Progress | None = None, version: icd.Version = icd.V3_0_1) -> None:
+    def __init__(
+        self,
+        observer: Observer,
+        provider: uuid.UUID,
+        limits: CommandLimits,
+        out: TextIO,
+        progress: Progress | None = None,
+        version: icd.Version = icd.V3_0_1,
+    ) -> None:
         self.observer, self.provider, self.limits, self.out, self.progress = observer, provider, limits, out, progress
         self.version = version
         self.six = version.name == umaa_6_0.V6_0.name
@@ -196,16 +207,23 @@ class Consumer:
             raise ValueError(f"UMAA {self.version.name} has no {service.value} service")
         return c
 
-    def send(self, service: Service, writer: DataWriter[Any], state: InsState | InsCmd | None = None,
-             case: Case | None = None, destination: uuid.UUID | None = None) -> Sent:
+    def send(
+        self,
+        service: Service,
+        writer: DataWriter[Any],
+        state: InsState | InsCmd | None = None,
+        case: Case | None = None,
+        destination: uuid.UUID | None = None,
+    ) -> Sent:
         """A command to the provider (or, `destination`, to another GUID); its statuses count for `case`."""
         session = uuid.uuid4()
         to = destination or self.provider
         stamp = now_datetime()
         # to the provider's identifier as its reports say it (UMAA 6.0: its parent too, ICD 6.0 5.2.9)
         parent = self.observer.parents.get(to)
-        sample = self.commanding(service).build(self.source, to, session, state.name if state is not None else None,
-                                                (stamp.seconds, stamp.nanoseconds), parent)
+        sample = self.commanding(service).build(
+            self.source, to, session, state.name if state is not None else None, (stamp.seconds, stamp.nanoseconds), parent
+        )
         topic = icd.short(self.topic(service, "command"))
         what = topic + (f" {state.name}" if state is not None else "")
         sent = Sent(service, session, sample, time.time(), to, self.version, topic, case, foreign=destination is not None)
@@ -220,11 +238,16 @@ class Consumer:
         4.1.4.2)."""
         old, t = sent.sample, now_datetime()
         stamp = max((t.seconds, t.nanoseconds), _newer(old.timeStamp.seconds, old.timeStamp.nanoseconds))
-        sent.sample = self.commanding(sent.service).build(self.source, sent.to, sent.session, old.state.name, stamp,
-                                                          parent_of(old.destination))
+        sent.sample = self.commanding(sent.service).build(
+            self.source, sent.to, sent.session, old.state.name, stamp, parent_of(old.destination)
+        )
         sent.updated_at = time.time()
-        print(f"  updating {icd.short(self.topic(sent.service, 'command'))} {sent.sample.state.name} (session "
-              f"{sent.session}): a newer timeStamp", file=self.out, flush=True)
+        print(
+            f"  updating {icd.short(self.topic(sent.service, 'command'))} {sent.sample.state.name} (session "
+            f"{sent.session}): a newer timeStamp",
+            file=self.out,
+            flush=True,
+        )
         self.writers[sent.service].write(sent.sample)
 
     def dispose(self, sent: Sent) -> None:
@@ -236,7 +259,7 @@ class Consumer:
         """Feed the provider's new statuses and acks of the command to its flow."""
         statuses = self.observer.statuses.get(sent.session, [])
         acks = self.observer.acks.get(sent.session, [])
-        for s in statuses[sent.seen[0]:]:
+        for s in statuses[sent.seen[0] :]:
             if s.source != self.provider:
                 continue
             if s.sample is not None and self.six:
@@ -247,7 +270,7 @@ class Consumer:
                     sent.at.append(s.received)
             if s.disposed:  # a writer that left (no writers) disposed nothing: Figure 15 wants the dispose
                 sent.status_disposed = True
-        for a in acks[sent.seen[1]:]:
+        for a in acks[sent.seen[1] :]:
             if a.source != self.provider:
                 continue
             if a.sample is not None:  # the last one: a provider acks an updated command again (ICD 6.0 4.1.4.2)
@@ -265,9 +288,11 @@ class Consumer:
             if status is Status.FAILED and self._update_crossed_end(sent) and not sent.update_failed:
                 sent.update_failed = True
                 if sent.case is not None:
-                    sent.case.note(f"FAILED/{name(reason)} after {name(sent.flow.status)}: the answer to the consumer's "
-                                   f"update that crossed the end of the command, as {sent.refs['update']} step 2 has it "
-                                   "(its first paragraph has the update ignored; either is taken)")
+                    sent.case.note(
+                        f"FAILED/{name(reason)} after {name(sent.flow.status)}: the answer to the consumer's "
+                        f"update that crossed the end of the command, as {sent.refs['update']} step 2 has it "
+                        "(its first paragraph has the update ignored; either is taken)"
+                    )
                 return
             before = sent.flow.status
             t = sent.flow.observe(status, reason, sample.logMessage)
@@ -282,11 +307,14 @@ class Consumer:
         if status is not Status.ISSUED:
             sent.found.append(f"{name(status)}/UPDATED: UPDATED is the reason of ISSUED only (ICD 6.0 4.1, Figure 15)")
         elif sent.updated_at is None:
-            sent.found.append(f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
-                             "4.1.4.2: an update is a command with the same source and sessionID and a newer timeStamp)")
+            sent.found.append(
+                f"ISSUED/UPDATED after {story}, though the consumer did not update the command (ICD 6.0 "
+                "4.1.4.2: an update is a command with the same source and sessionID and a newer timeStamp)"
+            )
         elif sent.flow.terminal:
-            sent.found.append(f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not "
-                             "updated (ICD 6.0 4.1.4.2)")
+            sent.found.append(
+                f"ISSUED/UPDATED after {name(sent.flow.status)}: a command in a terminal state is not updated (ICD 6.0 4.1.4.2)"
+            )
         else:
             sent.restart()
             sent.flow.observe(Status.ISSUED, Reason.SUCCEEDED, sample.logMessage)
@@ -296,8 +324,13 @@ class Consumer:
     def _update_crossed_end(sent: Sent) -> bool:
         """The consumer's update went out while the command ran, and the provider's terminal status came after it, with
         no ISSUED/UPDATED: the update reached a command in a terminal state."""
-        return (sent.updated_at is not None and not sent.earlier and sent.flow.terminal and bool(sent.at)
-                and sent.at[-1] >= sent.updated_at)
+        return (
+            sent.updated_at is not None
+            and not sent.earlier
+            and sent.flow.terminal
+            and bool(sent.at)
+            and sent.at[-1] >= sent.updated_at
+        )
 
     def wait(self, sent: Sent, predicate: Callable[[], bool], seconds: float) -> bool:
         def fed() -> bool:
@@ -349,8 +382,13 @@ def other_sources(consumer: Consumer, table: dict[uuid.UUID, list[StatusSeen]], 
     return ", ".join(sorted({str(s.source) for s in table.get(sent.session, []) if s.source != consumer.provider}))
 
 
-def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[Status] = frozenset(),
-           update_when: frozenset[Status] = frozenset()) -> bool:
+def follow(
+    consumer: Consumer,
+    sent: Sent,
+    case: Case,
+    cancel_when: frozenset[Status] = frozenset(),
+    update_when: frozenset[Status] = frozenset(),
+) -> bool:
     """Follow a command to a terminal status within the stated times (disposing it on reaching a status of
     `cancel_when`, updating it on reaching one of `update_when`); the Figure 4 verdict of every transition goes to the
     case. False when unanswered."""
@@ -361,19 +399,25 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
         waited = time.time() - sent.sent_at
         others = other_sources(consumer, consumer.observer.statuses, sent)
         if others:  # answered, but not as the provider: say so, not "unanswered" (the network is fine)
-            case.fail(f"the command's statuses came from source {others}, not from the provider's {consumer.provider} "
-                      f"(its reports' source) within {limits.answer:g} s ({ref['start']}: the provider publishes "
-                      "ISSUED, as itself)")
+            case.fail(
+                f"the command's statuses came from source {others}, not from the provider's {consumer.provider} "
+                f"(its reports' source) within {limits.answer:g} s ({ref['start']}: the provider publishes "
+                "ISSUED, as itself)"
+            )
             return False
-        case.fail(f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
-                  f"{ref['start']}: the provider publishes ISSUED when it receives a command){consumer.left()}")
+        case.fail(
+            f"unanswered: no status within {limits.answer:g} s of sending the command (waited {waited:.1f} s; "
+            f"{ref['start']}: the provider publishes ISSUED when it receives a command){consumer.left()}"
+        )
         return False
     # A provider that keeps publishing transitions (each a Figure 4 breach) must not keep the checker forever.
     overall = sent.sent_at + limits.answer + 3 * limits.step + limits.execute
     while not sent.flow.terminal:
         if time.time() > overall:
-            case.fail(f"no terminal status within {overall - sent.sent_at:g} s of sending the command ({ref['every']}: "
-                      f"every command follows {ref['figure']} to its end); statuses: {sent.story()}")
+            case.fail(
+                f"no terminal status within {overall - sent.sent_at:g} s of sending the command ({ref['every']}: "
+                f"every command follows {ref['figure']} to its end); statuses: {sent.story()}"
+            )
             break
         status = sent.flow.status
         if status in cancel_when and sent.disposed_at is None:
@@ -384,23 +428,30 @@ def follow(consumer: Consumer, sent: Sent, case: Case, cancel_when: frozenset[St
         n = sent.transitions
         if status is Status.EXECUTING:
             deadline = sent.at[-1] + limits.execute
-            missing = (f"no COMPLETED (or another terminal status) after EXECUTING ({ref['complete']}) within the stated "
-                       f"{limits.execute:g} s")
+            missing = (
+                f"no COMPLETED (or another terminal status) after EXECUTING ({ref['complete']}) within the stated "
+                f"{limits.execute:g} s"
+            )
         else:
             step = SUCCESS_NEXT.get(status)
             deadline = sent.at[-1] + limits.step
-            missing = (f"no {name(step)} after {name(status)} ({ref[STEP_REF.get(step, 'flow')]}) within the "
-                       f"stated {limits.step:g} s")
+            missing = (
+                f"no {name(step)} after {name(status)} ({ref[STEP_REF.get(step, 'flow')]}) within the stated {limits.step:g} s"
+            )
         if sent.disposed_at is not None:
             # CANCELED answers the dispose; a command that cannot be canceled runs on to COMPLETED (ICD 4.1.4.4)
             deadline = max(deadline, sent.disposed_at + limits.step)
-            missing = (f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose ({ref['cancel']}), "
-                       f"nor {missing.removeprefix('no ')}")
+            missing = (
+                f"no CANCELED within the stated {limits.step:g} s of the consumer's dispose ({ref['cancel']}), "
+                f"nor {missing.removeprefix('no ')}"
+            )
 
         if sent.updated_at is not None and not sent.earlier:  # the update is answered ISSUED/UPDATED
             deadline = sent.updated_at + limits.step
-            missing = (f"no ISSUED/UPDATED within the stated {limits.step:g} s of the consumer's update of the "
-                       f"{name(status)} command (the same source and sessionID, a newer timeStamp: {ref['update']})")
+            missing = (
+                f"no ISSUED/UPDATED within the stated {limits.step:g} s of the consumer's update of the "
+                f"{name(status)} command (the same source and sessionID, a newer timeStamp: {ref['update']})"
+            )
 
         def moved(n: int = n) -> bool:
             return sent.transitions > n
@@ -418,7 +469,7 @@ def breaches(sent: Sent, case: Case) -> None:
     after `follow` (during the ack, report, cancel and cleanup checks, and after: Consumer.settle), and
     each is checked too."""
     figure = sent.refs["figure"]
-    for v in sent.violations[sent.breaches_reported:]:
+    for v in sent.violations[sent.breaches_reported :]:
         case.fail(f"{figure} breach: {v} ({sent.refs['flow']}); statuses: {sent.story()}")
     sent.breaches_reported = len(sent.violations)
 
@@ -429,13 +480,16 @@ def check_end(sent: Sent, case: Case, canceled: bool = False, rejectable: bool =
     if last is None or not sent.flow.terminal:
         return
     if sent.flow.status is Status.FAILED and rejectable:
-        case.note(f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer ({sent.refs['failed']}: the "
-                  "provider may reject a command)")
+        case.note(
+            f"FAILED/{name(last.reason)} \"{last.log_message}\": rejected, an answer ({sent.refs['failed']}: the "
+            "provider may reject a command)"
+        )
     elif sent.flow.status is Status.FAILED:
         case.fail(f"the provider failed the command: FAILED/{name(last.reason)} \"{last.log_message}\" ({sent.refs['failed']})")
     elif sent.flow.status is Status.CANCELED and not canceled:
-        case.fail(f"CANCELED, though the consumer did not cancel it ({sent.refs['cancel']}: CANCELED answers the consumer's "
-                  "dispose)")
+        case.fail(
+            f"CANCELED, though the consumer did not cancel it ({sent.refs['cancel']}: CANCELED answers the consumer's dispose)"
+        )
 
 
 def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
@@ -446,8 +500,10 @@ def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
     if sent.ack is None and not consumer.wait(sent, lambda: sent.ack is not None, consumer.limits.step):
         others = other_sources(consumer, consumer.observer.acks, sent)
         also = f" (one came from source {others}, not from the provider's {consumer.provider})" if others else ""
-        case.fail(f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status{also} "
-                  f"({sent.refs['ack']}: the provider publishes the ack of the command it processes)")
+        case.fail(
+            f"no {ack_topic} for the command within {consumer.limits.step:g} s of its last status{also} "
+            f"({sent.refs['ack']}: the provider publishes the ack of the command it processes)"
+        )
         return
     if consumer.six:
         _check_ack_6_0(consumer, sent, case, ack_topic)
@@ -459,19 +515,25 @@ def check_ack(consumer: Consumer, sent: Sent, case: Case) -> None:
 def _check_ack_6_0(consumer: Consumer, sent: Sent, case: Case, ack_topic: str) -> None:
     """A 6.0 ack carries the command it acknowledges (Table 11): its state, and after an update the updated command
     (its timeStamp), acked again as the flow restarts (ICD 6.0 4.1.4.2, 4.1.4.1 step 1)."""
+
     def current() -> bool:
         c = sent.ack.command
-        return (c.timeStamp.seconds, c.timeStamp.nanoseconds) == (sent.sample.timeStamp.seconds,
-                                                                    sent.sample.timeStamp.nanoseconds)
+        return (c.timeStamp.seconds, c.timeStamp.nanoseconds) == (
+            sent.sample.timeStamp.seconds,
+            sent.sample.timeStamp.nanoseconds,
+        )
 
     command = sent.ack.command
     if command.state is not sent.sample.state:
-        case.fail(f"{ack_topic} command.state {name(command.state)}, the command's is {sent.sample.state.name} "
-                  f"({sent.refs['ins ack']})")
+        case.fail(
+            f"{ack_topic} command.state {name(command.state)}, the command's is {sent.sample.state.name} ({sent.refs['ins ack']})"
+        )
     elif sent.updated_at is not None and not consumer.wait(sent, current, consumer.limits.step):
-        case.fail(f"{ack_topic} still carries the command as it was before the consumer's update (its timeStamp) "
-                  f"{consumer.limits.step:g} s after the updated command's last status ({sent.refs['update']}: the flow "
-                  f"restarts through 4.1.4; {sent.refs['ack']}: the ack of the command it processes)")
+        case.fail(
+            f"{ack_topic} still carries the command as it was before the consumer's update (its timeStamp) "
+            f"{consumer.limits.step:g} s after the updated command's last status ({sent.refs['update']}: the flow "
+            f"restarts through 4.1.4; {sent.refs['ack']}: the ack of the command it processes)"
+        )
 
 
 def check_silent(sent: Sent, case: Case) -> None:
@@ -479,8 +541,10 @@ def check_silent(sent: Sent, case: Case) -> None:
     if case.outcome is Outcome.FAILED or not (sent.flow.transitions or sent.ack is not None):
         return
     answered = [f"statuses {sent.story()}" if sent.flow.transitions else "", "an ack" if sent.ack is not None else ""]
-    case.fail(f"the provider answered the {sent.topic} addressed to {sent.to}, not to it "
-              f"({' and '.join(a for a in answered if a)}; {sent.refs['destination']}{DESTINATION_REF})")
+    case.fail(
+        f"the provider answered the {sent.topic} addressed to {sent.to}, not to it "
+        f"({' and '.join(a for a in answered if a)}; {sent.refs['destination']}{DESTINATION_REF})"
+    )
 
 
 def await_disposes(consumer: Consumer, sent: Sent, case: Case, after: str, ref: str) -> None:
@@ -491,10 +555,15 @@ def await_disposes(consumer: Consumer, sent: Sent, case: Case, after: str, ref: 
         return sent.status_disposed and (sent.ack_disposed or not need_ack)
 
     if not consumer.wait(sent, done, consumer.limits.step):
-        left = [icd.short(consumer.topic(sent.service, t)) for t, d in (("status", sent.status_disposed),
-                                                                        ("ack", sent.ack_disposed or not need_ack)) if not d]
-        case.fail(f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of {after} "
-                  f"({ref}){consumer.left()}")
+        left = [
+            icd.short(consumer.topic(sent.service, t))
+            for t, d in (("status", sent.status_disposed), ("ack", sent.ack_disposed or not need_ack))
+            if not d
+        ]
+        case.fail(
+            f"the provider did not dispose its {' and '.join(left)} within {consumer.limits.step:g} s of {after} "
+            f"({ref}){consumer.left()}"
+        )
     else:
         case.note(f"{sent.session}: status and ack disposed after {after}")
 
@@ -504,13 +573,21 @@ def cleanup(consumer: Consumer, sent: Sent, case: Case) -> None:
     publishes from then on counts for `case`."""
     consumer.dispose(sent)
     sent.case = case
-    await_disposes(consumer, sent, case, f"the consumer disposing the {name(sent.flow.status)} command {sent.session}",
-                   sent.refs["cleanup"])
+    await_disposes(
+        consumer, sent, case, f"the consumer disposing the {name(sent.flow.status)} command {sent.session}", sent.refs["cleanup"]
+    )
     breaches(sent, case)
 
 
-def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, offered: set[str],
-                     state: InsState | InsCmd | None = None, rejectable: bool = False) -> Sent:
+def run_command_case(
+    consumer: Consumer,
+    service: Service,
+    writer: DataWriter[Any],
+    case: Case,
+    offered: set[str],
+    state: InsState | InsCmd | None = None,
+    rejectable: bool = False,
+) -> Sent:
     """One command through the flow to its end: the Figure 4 verdicts, how it ended, its ack and the report that
     shows its effect (ICD 4.1.4)."""
     sent = consumer.send(service, writer, state, case)
@@ -518,15 +595,17 @@ def run_command_case(consumer: Consumer, service: Service, writer: DataWriter[An
         check_end(sent, case, rejectable=rejectable)
         if sent.flow.status is Status.COMPLETED:
             check_ack(consumer, sent, case)
-            check_report = (_check_fix_report if service is Service.GPS_FIX
-                            else _check_ins_report_6_0 if consumer.six else _check_ins_report)
+            check_report = (
+                _check_fix_report if service is Service.GPS_FIX else _check_ins_report_6_0 if consumer.six else _check_ins_report
+            )
             check_report(consumer, sent, offered, case)
     breaches(sent, case)
     return sent
 
 
-def send_foreign(consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case,
-                 state: InsState | InsCmd | None = None) -> Sent:
+def send_foreign(
+    consumer: Consumer, service: Service, writer: DataWriter[Any], case: Case, state: InsState | InsCmd | None = None
+) -> Sent:
     """The destination test's command: addressed to a GUID no provider on the domain has."""
     other = uuid.uuid4()
     while other in consumer.observer.providers():
@@ -538,21 +617,25 @@ def judge_foreign(consumer: Consumer, foreign: Sent, case: Case) -> None:
     """No status nor ack of the command for another destination so far, and none until Consumer.settle looks
     again, --step-time after the dispose of the service's later commands (the provider has read the foreign one by
     then: it came first). When the provider answered no later command of the service, within --timeout of sending."""
-    later = any(s.service is foreign.service and not s.foreign and s.at and s.sent_at > foreign.sent_at
-                for s in consumer.sent)
+    later = any(s.service is foreign.service and not s.foreign and s.at and s.sent_at > foreign.sent_at for s in consumer.sent)
     until = time.time() if later else foreign.sent_at + consumer.limits.answer
     consumer.wait(foreign, lambda: bool(foreign.flow.transitions) or foreign.ack is not None, max(until - time.time(), 0.0))
     check_silent(foreign, case)
     if case.outcome is Outcome.PASSED and not consumer.observer.present(consumer.provider):
         consumer.gone(case)  # its silence tells nothing
     elif case.outcome is Outcome.PASSED:
-        case.note(f"no status nor ack of the command addressed to {foreign.to} in the "
-                  f"{time.time() - foreign.sent_at:.1f} s after sending it")
+        case.note(
+            f"no status nor ack of the command addressed to {foreign.to} in the "
+            f"{time.time() - foreign.sent_at:.1f} s after sending it"
+        )
 
 
 def _reports_since(consumer: Consumer, sem: AnySem, since: float) -> list[dict[str, Any]]:
-    return [r.body for r in consumer.observer.reports.get(sem, {}).get(consumer.provider, [])
-            if r.alive and r.body is not None and r.received >= since]
+    return [
+        r.body
+        for r in consumer.observer.reports.get(sem, {}).get(consumer.provider, [])
+        if r.alive and r.body is not None and r.received >= since
+    ]
 
 
 def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) -> list[Case]:
@@ -563,10 +646,12 @@ def gps_fix(consumer: Consumer, offered: set[str], selected: Callable[[str], boo
         return [consumer.gone(c) for c in every if selected(c.name)]
     writer = consumer.writer(Service.GPS_FIX)
     if writer is None:
-        reason = (f"the provider's GPSFixCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
-                  "command topic; "
-                  f"see discovery.GPSFixCommand){consumer.left()}")
+        reason = (
+            f"the provider's GPSFixCommand reader did not match the checker's command writer within "
+            f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+            "command topic; "
+            f"see discovery.GPSFixCommand){consumer.left()}"
+        )
         return [c.fail(reason) if c.name in GPS_NAMES[:2] else c.skip(reason) for c in every if selected(c.name)]
     foreign = send_foreign(consumer, Service.GPS_FIX, writer, destination) if selected(destination.name) else None
     finished: Sent | None = None
@@ -610,12 +695,15 @@ def _check_fix_report(consumer: Consumer, sent: Sent, offered: set[str], case: C
         return any(b.get("GPSLatLongValid") for b in _reports_since(consumer, Sem.GPS_FIX_REPORT, executing))
 
     if not consumer.wait(sent, valid, consumer.limits.step):
-        case.fail(f"COMPLETED, but no GPSFixReport with GPSLatLongValid since EXECUTING, nor within {consumer.limits.step:g} s "
-                  "after (ICD 5.1.1.3: the platform surfaces to update its GPS position)")
+        case.fail(
+            f"COMPLETED, but no GPSFixReport with GPSLatLongValid since EXECUTING, nor within {consumer.limits.step:g} s "
+            "after (ICD 5.1.1.3: the platform surfaces to update its GPS position)"
+        )
 
 
-def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case, service: Service = Service.GPS_FIX,
-            state: InsCmd | None = None) -> None:
+def _cancel(
+    consumer: Consumer, writer: DataWriter[Any], case: Case, service: Service = Service.GPS_FIX, state: InsCmd | None = None
+) -> None:
     """A command disposed while EXECUTING; when it completes before that, a second one disposed at its first status."""
     for when in (frozenset({Status.EXECUTING}), ACTIVE):
         sent = consumer.send(service, writer, state, case=case)
@@ -624,10 +712,11 @@ def _cancel(consumer: Consumer, writer: DataWriter[Any], case: Case, service: Se
         breaches(sent, case)
         if canceled:
             return
-        case.note(f"{sent.session} COMPLETED before the checker could dispose it at "
-                  + ", ".join(sorted(s.name for s in when)))
-    case.skip("both commands COMPLETED before the checker could dispose them; cancel not tested (each one's status "
-              f"and ack were disposed after its dispose, {sent.refs['cleanup'].split(',')[0]})")
+        case.note(f"{sent.session} COMPLETED before the checker could dispose it at " + ", ".join(sorted(s.name for s in when)))
+    case.skip(
+        "both commands COMPLETED before the checker could dispose them; cancel not tested (each one's status "
+        f"and ack were disposed after its dispose, {sent.refs['cleanup'].split(',')[0]})"
+    )
 
 
 def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
@@ -646,17 +735,23 @@ def check_cancel(consumer: Consumer, sent: Sent, case: Case) -> bool:
     if status is Status.CANCELED:
         case.note(f"CANCELED/{name(last.reason)} +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose")
     elif status is Status.COMPLETED:
-        case.note(f"COMPLETED +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose: the provider did not cancel it, "
-                  f"which {sent.refs['cancel']} allows for a command that cannot be canceled")
+        case.note(
+            f"COMPLETED +{sent.at[-1] - sent.disposed_at:.2f} s after the dispose: the provider did not cancel it, "
+            f"which {sent.refs['cancel']} allows for a command that cannot be canceled"
+        )
     else:
         check_end(sent, case, canceled=True)
     check_ack(consumer, sent, case)
     if sent.flow.terminal:
-        await_disposes(consumer, sent, case, f"{name(status)}, the consumer having disposed the command at "
-                       f"{name(sent.disposed_in)}",
-                       f"{sent.refs['cancel']}, {sent.refs['cancel figure']}: CANCELED, or COMPLETED when it cannot be "
-                       "canceled, then the provider "
-                       "disposes the command's status and ack")
+        await_disposes(
+            consumer,
+            sent,
+            case,
+            f"{name(status)}, the consumer having disposed the command at {name(sent.disposed_in)}",
+            f"{sent.refs['cancel']}, {sent.refs['cancel figure']}: CANCELED, or COMPLETED when it cannot be "
+            "canceled, then the provider "
+            "disposes the command's status and ack",
+        )
     return True
 
 
@@ -687,12 +782,16 @@ def ins_changed(consumer: Consumer, before: str | None) -> str | None:
         was = umaa_6_0.kind(before)
         if was is None or was is umaa_6_0.kind(now or ""):
             return None
-        return (f"the inertial sensor reports {now or 'no status'} now; it reported {before} before the InertialSensor "
-                f"commands: command {was.name} to set it back")
+        return (
+            f"the inertial sensor reports {now or 'no status'} now; it reported {before} before the InertialSensor "
+            f"commands: command {was.name} to set it back"
+        )
     if SETTLED.get(now or "", now) == SETTLED.get(before, before):
         return None
-    return (f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "
-            f"commands: set it back to {SETTLED.get(before, before)}")
+    return (
+        f"the inertial sensor reports {now or 'no state'} now; it reported {before} before the InertialSensor "
+        f"commands: set it back to {SETTLED.get(before, before)}"
+    )
 
 
 def ins_plan(consumer: Consumer) -> list[InsState]:
@@ -709,16 +808,24 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
         return [consumer.gone(Case(n)) for n in INS_NAMES if selected(n)]
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
-        reason = (f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
-                  "command topic; "
-                  f"see discovery.InertialSensorCommand){consumer.left()}")
-        return [Case(n).fail(reason) if n not in (clean.name, destination.name) else Case(n).skip(reason)
-                for n in INS_NAMES if selected(n)]
+        reason = (
+            f"the provider's InertialSensorCommand reader did not match the checker's command writer within "
+            f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+            "command topic; "
+            f"see discovery.InertialSensorCommand){consumer.left()}"
+        )
+        return [
+            Case(n).fail(reason) if n not in (clean.name, destination.name) else Case(n).skip(reason)
+            for n in INS_NAMES
+            if selected(n)
+        ]
     # addressed elsewhere, for the state the sensor is in: a provider that answers it anyway changes nothing
     now = settled_state(consumer)
-    foreign = (send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, InsState.ON if now is None else now)
-               if selected(destination.name) else None)
+    foreign = (
+        send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, InsState.ON if now is None else now)
+        if selected(destination.name)
+        else None
+    )
     answered = True
     finished: list[Sent] = []
     for state in [*ins_plan(consumer), None]:
@@ -733,12 +840,15 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
             elif not consumer.observer.present(consumer.provider):
                 consumer.gone(case)
             elif target is None:
-                case.skip("the state the inertial sensor is in is unknown: it serves no InertialSensorReport, and no "
-                          "InertialSensor command of this run finished")
+                case.skip(
+                    "the state the inertial sensor is in is unknown: it serves no InertialSensorReport, and no "
+                    "InertialSensor command of this run finished"
+                )
             else:
                 # the same test asks for an answer: a provider may reject a command for the state the sensor is in
-                sent = run_command_case(consumer, Service.INERTIAL_SENSOR, writer, case, offered, target,
-                                        rejectable=state is None)
+                sent = run_command_case(
+                    consumer, Service.INERTIAL_SENSOR, writer, case, offered, target, rejectable=state is None
+                )
                 answered = bool(sent.flow.transitions)
                 if sent.flow.terminal:
                     finished.append(sent)
@@ -750,8 +860,15 @@ def inertial_sensor(consumer: Consumer, offered: set[str], selected: Callable[[s
     return _last_cases(consumer, cases, clean, destination, foreign, finished, selected)
 
 
-def _last_cases(consumer: Consumer, cases: list[Case], clean: Case, destination: Case, foreign: Sent | None,
-                finished: list[Sent], selected: Callable[[str], bool]) -> list[Case]:
+def _last_cases(
+    consumer: Consumer,
+    cases: list[Case],
+    clean: Case,
+    destination: Case,
+    foreign: Sent | None,
+    finished: list[Sent],
+    selected: Callable[[str], bool],
+) -> list[Case]:
     """The InertialSensor tests' last: the cleanup (skipped when no command finished) and the destination test."""
     if selected(clean.name):
         if not finished:
@@ -789,9 +906,11 @@ def _check_ins_report(consumer: Consumer, sent: Sent, offered: set[str], case: C
 
     if not consumer.wait(sent, seen, consumer.limits.step):
         shown = [b.get("state") for b in _reports_since(consumer, Sem.INS_REPORT, executing)]
-        case.fail(f"COMPLETED, but the InertialSensorReport did not show {target.name} from EXECUTING to "
-                  f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
-                  "ICD 5.1.4.3 and 5.1.5.1)")
+        case.fail(
+            f"COMPLETED, but the InertialSensorReport did not show {target.name} from EXECUTING to "
+            f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
+            "ICD 5.1.4.3 and 5.1.5.1)"
+        )
 
 
 def _check_ins_report_6_0(consumer: Consumer, sent: Sent, offered: set[str], case: Case) -> None:
@@ -809,9 +928,11 @@ def _check_ins_report_6_0(consumer: Consumer, sent: Sent, offered: set[str], cas
     if not consumer.wait(sent, seen, consumer.limits.step):
         shown = [b.get("status") for b in _reports_since(consumer, Sem60.INS_REPORT, executing)]
         what = "INIT" if target is InsCmd.INIT else f"a stage of its {target.name} alignment"
-        case.fail(f"COMPLETED, but the InertialSensorReportType did not show {what} from EXECUTING to "
-                  f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
-                  "ICD 6.0 5.1.2.3, Table 13; 5.1.3.1, Table 15; 5.3.3, Table 27; 5.3.4, Table 28)")
+        case.fail(
+            f"COMPLETED, but the InertialSensorReportType did not show {what} from EXECUTING to "
+            f"{consumer.limits.step:g} s after (it showed {', '.join(dict.fromkeys(map(str, shown))) or 'nothing'}; "
+            "ICD 6.0 5.1.2.3, Table 13; 5.1.3.1, Table 15; 5.3.3, Table 27; 5.3.4, Table 28)"
+        )
 
 
 def _update(consumer: Consumer, writer: DataWriter[Any], case: Case, clean: Case, offered: set[str]) -> Sent | None:
@@ -833,11 +954,15 @@ def _update(consumer: Consumer, writer: DataWriter[Any], case: Case, clean: Case
             return sent
         ended = sent.at[-1] if sent.at else sent.sent_at
         if sent.updated_at is not None and ended > sent.updated_at + consumer.limits.step:
-            case.fail(f"the provider ran the command on to {name(sent.flow.status)} without answering the consumer's "
-                      f"update ISSUED/UPDATED ({sent.refs['update']}); statuses: {sent.story()}")
+            case.fail(
+                f"the provider ran the command on to {name(sent.flow.status)} without answering the consumer's "
+                f"update ISSUED/UPDATED ({sent.refs['update']}); statuses: {sent.story()}"
+            )
             return sent
-        case.note(f"{sent.session} {name(sent.flow.status)} before the checker could update it (or the provider "
-                  "could read the update) at " + ", ".join(sorted(s.name for s in when)))
+        case.note(
+            f"{sent.session} {name(sent.flow.status)} before the checker could update it (or the provider "
+            "could read the update) at " + ", ".join(sorted(s.name for s in when))
+        )
         breaches(sent, case)
         cleanup(consumer, sent, clean)
     case.skip("both commands ended before the checker could update them; update not tested")
@@ -855,12 +980,17 @@ def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callabl
         return [consumer.gone(c) for c in by.values() if selected(c.name)]
     writer = consumer.writer(Service.INERTIAL_SENSOR)
     if writer is None:
-        reason = (f"the provider's InertialSensorCommandType reader did not match the checker's command writer within "
-                  f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
-                  f"command topic; see discovery.InertialSensorCommandType){consumer.left()}")
+        reason = (
+            f"the provider's InertialSensorCommandType reader did not match the checker's command writer within "
+            f"{consumer.limits.answer:g} s ({consumer.version.flow['subscribe']}: the provider subscribes to the "
+            f"command topic; see discovery.InertialSensorCommandType){consumer.left()}"
+        )
         return [c.skip(reason) if c in (clean, destination) else c.fail(reason) for c in by.values() if selected(c.name)]
-    foreign = (send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, umaa_6_0.LAST)
-               if selected(destination.name) else None)
+    foreign = (
+        send_foreign(consumer, Service.INERTIAL_SENSOR, writer, destination, umaa_6_0.LAST)
+        if selected(destination.name)
+        else None
+    )
     answered = True
     finished: list[Sent] = []
     for step in umaa_6_0.TESTS:
@@ -882,8 +1012,7 @@ def inertial_sensor_6_0(consumer: Consumer, offered: set[str], selected: Callabl
                     cleanup(consumer, done, clean)
             else:
                 # same: a provider may reject it (ICD 6.0 4.1.4.4)
-                if step == "same" and not any(s.sample.state is target and s.flow.status is Status.COMPLETED
-                                              for s in finished):
+                if step == "same" and not any(s.sample.state is target and s.flow.status is Status.COMPLETED for s in finished):
                     case.skip(f"needs a {target.name} that COMPLETED: see commands.InertialSensor.{target.name}")
                 else:
                     rejectable = step == "same" or step in umaa_6_0.REJECTABLE
@@ -905,8 +1034,11 @@ def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) 
             if "InertialSensorControl" in offered:
                 cases += inertial_sensor_6_0(consumer, offered, selected)
             else:
-                cases += [Case(n).skip("the provider does not offer the InertialSensorControl service")
-                          for n in INS_NAMES_6_0 if selected(n)]
+                cases += [
+                    Case(n).skip("the provider does not offer the InertialSensorControl service")
+                    for n in INS_NAMES_6_0
+                    if selected(n)
+                ]
         finally:
             consumer.close()
         consumer.settle()
@@ -921,8 +1053,9 @@ def run(consumer: Consumer, offered: set[str], selected: Callable[[str], bool]) 
         if "InertialSensorControl" in offered:
             cases += inertial_sensor(consumer, offered, selected)
         else:
-            cases += [Case(n).skip("the provider does not offer the InertialSensorControl service")
-                      for n in INS_NAMES if selected(n)]
+            cases += [
+                Case(n).skip("the provider does not offer the InertialSensorControl service") for n in INS_NAMES if selected(n)
+            ]
     finally:
         consumer.close()
     consumer.settle()
@@ -934,9 +1067,11 @@ def plan_6_0(offered: set[str], selected: Callable[[str], bool]) -> list[str]:
     if "InertialSensorControl" not in offered:
         return []
     last = umaa_6_0.LAST.name
-    said = {"same": f"{last} again (the alignment it is in)",
-            "cancel": f"{last} canceled while executing (another when it completes first)",
-            "update": f"{last} updated (a newer timeStamp) while executing"}
+    said = {
+        "same": f"{last} again (the alignment it is in)",
+        "cancel": f"{last} canceled while executing (another when it completes first)",
+        "update": f"{last} updated (a newer timeStamp) while executing",
+    }
     tests = [t if isinstance(t, str) else t.name for t in umaa_6_0.TESTS]
     sends = [said.get(t, t) for t in tests if selected(f"commands.InertialSensor.{t}")]
     if "same" in tests and selected("commands.InertialSensor.same") and not selected(f"commands.InertialSensor.{last}"):

@@ -53,8 +53,10 @@ def _common_problems(qos: Qos, ref: str) -> list[str]:
         problems.append(f"EXCLUSIVE ownership: a consumer with the default SHARED ownership does not match it ({PROFILE}; {ref})")
     partition = _policy(qos, Policy.Partition)
     if partition is not None and [p for p in partition.partitions if p]:
-        problems.append(f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it "
-                        f"({PROFILE}; {ref})")
+        problems.append(
+            f"partition {', '.join(partition.partitions)}: a consumer in the default partition does not match it "
+            f"({PROFILE}; {ref})"
+        )
     return problems
 
 
@@ -72,18 +74,24 @@ def writer_problems(sem: Sem, qos: Qos) -> list[str]:
     problems = []
     what = "report" if sem.spec.cls is TopicClass.REPORT else "status"
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
-        problems.append(f"BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it "
-                        f"({PROFILE}; {delivery_ref(sem)})")
+        problems.append(
+            f"BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it "
+            f"({PROFILE}; {delivery_ref(sem)})"
+        )
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
         ref = "ICD 4.2.1.1" if sem.spec.cls is TopicClass.REPORT else "ICD 4.1.2"
-        problems.append(f"VOLATILE durability: a consumer on the project's QoS profile (TRANSIENT_LOCAL) does not match it, "
-                        f"and one that starts later never gets the {what} already published ({PROFILE}; {ref})")
+        problems.append(
+            f"VOLATILE durability: a consumer on the project's QoS profile (TRANSIENT_LOCAL) does not match it, "
+            f"and one that starts later never gets the {what} already published ({PROFILE}; {ref})"
+        )
     problems += _common_problems(qos, delivery_ref(sem))
     rep = _policy(qos, Policy.DataRepresentation)
     if sem.spec.xcdr2_only and (rep is None or rep.use_cdrv0_representation or not rep.use_xcdrv2_representation):
-        problems.append("XCDR1 data representation for a type with @optional members: a consumer accepts XCDR2 only for "
-                        f"it (vendors lay out optional members differently in XCDR1; {PROFILE}; {delivery_ref(sem)})")
+        problems.append(
+            "XCDR1 data representation for a type with @optional members: a consumer accepts XCDR2 only for "
+            f"it (vendors lay out optional members differently in XCDR1; {PROFILE}; {delivery_ref(sem)})"
+        )
     return problems
 
 
@@ -91,24 +99,34 @@ def reader_problems(sem: Sem, qos: Qos) -> list[str]:
     """Why a consumer's command writer (dds/qos.py writer_qos) would not reliably reach this reader."""
     problems = []
     if not isinstance(_policy(qos, Policy.Reliability), Policy.Reliability.Reliable):
-        problems.append(f"BEST_EFFORT reliability: the provider can lose a command the consumer then waits on ({PROFILE}; "
-                        "ICD 4.1: the provider responds to every command addressed to it)")
+        problems.append(
+            f"BEST_EFFORT reliability: the provider can lose a command the consumer then waits on ({PROFILE}; "
+            "ICD 4.1: the provider responds to every command addressed to it)"
+        )
     durability = _policy(qos, Policy.Durability)
     if durability is None or durability == Policy.Durability.Volatile:
-        problems.append(f"VOLATILE durability: commands already on the bus when the provider starts never reach it ({PROFILE}; "
-                        "ICD 4.1.2.1: the provider handles persisted commands)")
+        problems.append(
+            f"VOLATILE durability: commands already on the bus when the provider starts never reach it ({PROFILE}; "
+            "ICD 4.1.2.1: the provider handles persisted commands)"
+        )
     elif durability in (Policy.Durability.Transient, Policy.Durability.Persistent):
-        problems.append(f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it "
-                        f"({PROFILE}; {delivery_ref(sem)})")
+        problems.append(
+            f"{durability} durability requested: a consumer's TRANSIENT_LOCAL command writer does not match it "
+            f"({PROFILE}; {delivery_ref(sem)})"
+        )
     problems += _common_problems(qos, delivery_ref(sem))
     deadline = _policy(qos, Policy.Deadline)
     if deadline is not None and 0 <= deadline.deadline < 2**63 - 1:
-        problems.append(f"a deadline of {deadline.deadline / 1e9:g} s requested: a consumer's command writer (no deadline) "
-                        f"does not match it ({PROFILE}; {delivery_ref(sem)})")
+        problems.append(
+            f"a deadline of {deadline.deadline / 1e9:g} s requested: a consumer's command writer (no deadline) "
+            f"does not match it ({PROFILE}; {delivery_ref(sem)})"
+        )
     rep = _policy(qos, Policy.DataRepresentation)
     if rep is not None and not sem.spec.xcdr2_only and not rep.use_cdrv0_representation:
-        problems.append("XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member; "
-                        f"{PROFILE}; {delivery_ref(sem)})")
+        problems.append(
+            "XCDR1 not accepted: a consumer's command writer offers XCDR1 (the type has no @optional member; "
+            f"{PROFILE}; {delivery_ref(sem)})"
+        )
     return problems
 
 
@@ -149,30 +167,39 @@ class TypeCheck:
         ours, theirs = icd.members(sem.spec.type), list(getattr(t, "__annotations__", {}))
         missing, extra = [m for m in ours if m not in theirs], [m for m in theirs if m not in ours]
         if missing or extra:
-            problems.append(f"members differ from {idl}:" + (f" missing {', '.join(missing)}" if missing else "")
-                            + (";" if missing and extra else "") + (f" extra {', '.join(extra)}" if extra else "")
-                            + f" ({ref})")
+            problems.append(
+                f"members differ from {idl}:"
+                + (f" missing {', '.join(missing)}" if missing else "")
+                + (";" if missing and extra else "")
+                + (f" extra {', '.join(extra)}" if extra else "")
+                + f" ({ref})"
+            )
         elif theirs != ours:
-            problems.append(f"members in another order than {idl} ({', '.join(theirs)}): the order is the wire "
-                            f"layout ({ref})")
+            problems.append(f"members in another order than {idl} ({', '.join(theirs)}): the order is the wire layout ({ref})")
         want, have = icd.keys(sem.spec.type), icd.keys(t)
         if want != have:
-            problems.append(f"key members {{{', '.join(sorted(have)) or 'none'}}}; {idl} keys "
-                            f"{{{', '.join(sorted(want))}}} ({version.key_ref(sem)}: the members marked *)")
+            problems.append(
+                f"key members {{{', '.join(sorted(have)) or 'none'}}}; {idl} keys "
+                f"{{{', '.join(sorted(want))}}} ({version.key_ref(sem)}: the members marked *)"
+            )
         extensibility = getattr(t, "__idl_annotations__", {}).get("extensibility")
-        case.note(f"{role} {endpoint.key}: type {endpoint.type_name}, keys {{{', '.join(sorted(have))}}}"
-                  + (f", {extensibility}" if extensibility else ""))
+        case.note(
+            f"{role} {endpoint.key}: type {endpoint.type_name}, keys {{{', '.join(sorted(have))}}}"
+            + (f", {extensibility}" if extensibility else "")
+        )
         return problems
 
 
-def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progress | None = None,
-        version: icd.Version = icd.V3_0_1) -> list[Case]:
+def run(
+    observer: Observer, provider: uuid.UUID, selected: Any, progress: Progress | None = None, version: icd.Version = icd.V3_0_1
+) -> list[Case]:
     participants = observer.source_participants.get(provider, set())
     types = TypeCheck(observer)
     cases = []
     for service in version.services:
-        offered = {sem: observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)
-                   for sem in service.topics}
+        offered = {
+            sem: observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND) for sem in service.topics
+        }
         for sem in service.topics:
             if not selected(name(sem)):
                 continue
@@ -183,8 +210,15 @@ def run(observer: Observer, provider: uuid.UUID, selected: Any, progress: Progre
     return cases
 
 
-def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd.ServiceDef,
-                 offered: dict[AnySem, list[DcpsEndpoint]], case: Case, version: icd.Version = icd.V3_0_1) -> None:
+def _check_topic(
+    observer: Observer,
+    types: TypeCheck,
+    sem: AnySem,
+    service: icd.ServiceDef,
+    offered: dict[AnySem, list[DcpsEndpoint]],
+    case: Case,
+    version: icd.Version = icd.V3_0_1,
+) -> None:
     command = sem.spec.cls is TopicClass.COMMAND
     role = "reader" if command else "writer"
     if not any(offered.values()):
@@ -193,15 +227,18 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd
     endpoints = offered[sem]
     if not endpoints:
         others = ", ".join(icd.short(s) for s, e in offered.items() if e)
-        case.fail(f"no {role} of {sem.spec.name}, though the provider offers {service.name} ({others}); "
-                  f"the service has every topic of {service.section}")
+        case.fail(
+            f"no {role} of {sem.spec.name}, though the provider offers {service.name} ({others}); "
+            f"the service has every topic of {service.section}"
+        )
         return
     findings = observer.peer_findings()  # what another vendor's operator must change, in their terms (dds/vendors.py)
     for e in endpoints:
         # (problem, a choice of the project's QoS profile rather than an ICD rule); another vendor's fix in its terms
         # first (its QoS and type information, to match the profile): the run's table shows a test's first failure only
-        problems = [(f.message, True) for f in findings
-                    if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)]
+        problems = [
+            (f.message, True) for f in findings if f.participant == str(e.participant_key) and f.topic in (icd.short(sem), None)
+        ]
         problems += [(p, False) for p in types.check(sem, e, role, case, version)]
         warned: list[str] = []
         if version.qos_reference is not None:  # no QoS mandated: a difference from the reference is a warning
@@ -211,18 +248,26 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd
         elif isinstance(sem, Sem):
             problems += [(p, True) for p in (reader_problems(sem, e.qos) if command else writer_problems(sem, e.qos))]
         if not command and not problems and not observer.matched_by_consumer(sem, e):
-            consumer = ("a consumer on the project's QoS profile" if version.qos_reference is None
-                        else "a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2)")
+            consumer = (
+                "a consumer on the project's QoS profile"
+                if version.qos_reference is None
+                else "a reader that accepts any QoS (best-effort, volatile, XCDR1 and XCDR2)"
+            )
             # what no reader of the default partition and SHARED ownership matches, whatever its type
             apart = [w.split(";")[0] for w in warned if w.startswith(("EXCLUSIVE ownership", "partition "))]
-            why = (f"its {' and its '.join(apart)}: the checker's readers are SHARED, in the default partition"
-                   if apart else f"its type is not assignable to the {version.idl}'s: {version.topic_ref[sem]}")
+            why = (
+                f"its {' and its '.join(apart)}: the checker's readers are SHARED, in the default partition"
+                if apart
+                else f"its type is not assignable to the {version.idl}'s: {version.topic_ref[sem]}"
+            )
             problems.append((f"{consumer} did not match it ({why})", False))
         for p, profile in problems:
             case.fail(f"{role} {e.key}: {p}", profile=profile)
         if not problems and version.qos_reference is None:
-            case.note(f"{role} {e.key}: QoS fits " + ("a consumer's command writer" if command
-                                                      else "a consumer on the project's QoS profile"))
+            case.note(
+                f"{role} {e.key}: QoS fits "
+                + ("a consumer's command writer" if command else "a consumer on the project's QoS profile")
+            )
         elif not problems and not case.warnings:
             case.note(f"{role} {e.key}: QoS as RTI's UMAAQoSLib::{umaa_6_0.profile(sem)}")
 
@@ -230,5 +275,9 @@ def _check_topic(observer: Observer, types: TypeCheck, sem: AnySem, service: icd
 def offered_services(observer: Observer, provider: uuid.UUID, version: icd.Version = icd.V3_0_1) -> set[str]:
     """The services of which the provider has any endpoint (see the module docstring)."""
     participants = observer.source_participants.get(provider, set())
-    return {s.name for s in version.services for sem in s.topics
-            if observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)}
+    return {
+        s.name
+        for s in version.services
+        for sem in s.topics
+        if observer.endpoints(participants, sem, writers=sem.spec.cls is not TopicClass.COMMAND)
+    }

@@ -27,19 +27,23 @@ SERVICES = (
     ServiceDef("GPSFixControl", "ICD 5.1.1, Table 6", (Sem.GPS_FIX_COMMAND, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK)),
     ServiceDef("GPSFixStatus", "ICD 5.1.2, Table 10", (Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT)),
     ServiceDef("GPSStatus", "ICD 5.1.3, Table 13", (Sem.GPS_REPORT,)),
-    ServiceDef("InertialSensorControl", "ICD 5.1.4, Table 15",
-               (Sem.INS_COMMAND, Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK)),
+    ServiceDef("InertialSensorControl", "ICD 5.1.4, Table 15", (Sem.INS_COMMAND, Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK)),
     ServiceDef("InertialSensorStatus", "ICD 5.1.5, Table 19", (Sem.INS_REPORT,)),
 )
 SERVICE_OF = {sem: s for s in SERVICES for sem in s.topics}
 
 # Each topic's operation section and message table.
 TOPIC_REF: dict[AnySem, str] = {
-    Sem.GPS_FIX_COMMAND_ACK: "ICD 5.1.1.1, Table 7", Sem.GPS_FIX_COMMAND_STATUS: "ICD 5.1.1.2, Table 8",
-    Sem.GPS_FIX_COMMAND: "ICD 5.1.1.3, Table 9", Sem.GPS_FIX_REPORT: "ICD 5.1.2.1, Table 11",
-    Sem.GPS_FIX_STATUS_REPORT: "ICD 5.1.2.2, Table 12", Sem.GPS_REPORT: "ICD 5.1.3.1, Table 14",
-    Sem.INS_COMMAND_ACK: "ICD 5.1.4.1, Table 16", Sem.INS_COMMAND_STATUS: "ICD 5.1.4.2, Table 17",
-    Sem.INS_COMMAND: "ICD 5.1.4.3, Table 18", Sem.INS_REPORT: "ICD 5.1.5.1, Table 20",
+    Sem.GPS_FIX_COMMAND_ACK: "ICD 5.1.1.1, Table 7",
+    Sem.GPS_FIX_COMMAND_STATUS: "ICD 5.1.1.2, Table 8",
+    Sem.GPS_FIX_COMMAND: "ICD 5.1.1.3, Table 9",
+    Sem.GPS_FIX_REPORT: "ICD 5.1.2.1, Table 11",
+    Sem.GPS_FIX_STATUS_REPORT: "ICD 5.1.2.2, Table 12",
+    Sem.GPS_REPORT: "ICD 5.1.3.1, Table 14",
+    Sem.INS_COMMAND_ACK: "ICD 5.1.4.1, Table 16",
+    Sem.INS_COMMAND_STATUS: "ICD 5.1.4.2, Table 17",
+    Sem.INS_COMMAND: "ICD 5.1.4.3, Table 18",
+    Sem.INS_REPORT: "ICD 5.1.5.1, Table 20",
 }
 
 
@@ -72,11 +76,21 @@ def key_ref(sem: AnySem) -> str:
 
 # Where the ICD has each step of the command flow (section 4.1), by what the command tests cite
 FLOW_REFS_3_0_1 = {
-    "flow": "ICD 4.1, Figure 4", "figure": "Figure 4", "every": "ICD 4.1.4", "start": "ICD 4.1.4 step 3",
+    "flow": "ICD 4.1, Figure 4",
+    "figure": "Figure 4",
+    "every": "ICD 4.1.4",
+    "start": "ICD 4.1.4 step 3",
     "ack": "ICD 4.1.4.1 step 1",
-    "commanded": "ICD 4.1.4.1 step 2", "executing": "ICD 4.1.4.1 step 3", "complete": "ICD 4.1.4.2",
-    "failed": "ICD 4.1.4.3", "cancel": "ICD 4.1.4.4", "cancel figure": "Figure 14", "cleanup": "ICD 4.1.5, Figure 15",
-    "subscribe": "ICD 4.1.2.1", "destination": "ICD 4.1", "ins ack": "ICD 5.1.4.1, Table 16",
+    "commanded": "ICD 4.1.4.1 step 2",
+    "executing": "ICD 4.1.4.1 step 3",
+    "complete": "ICD 4.1.4.2",
+    "failed": "ICD 4.1.4.3",
+    "cancel": "ICD 4.1.4.4",
+    "cancel figure": "Figure 14",
+    "cleanup": "ICD 4.1.5, Figure 15",
+    "subscribe": "ICD 4.1.2.1",
+    "destination": "ICD 4.1",
+    "ins ack": "ICD 5.1.4.1, Table 16",
     "ins report": "ICD 5.1.4.3 and 5.1.5.1",
 }
 
@@ -107,6 +121,14 @@ class Version:
         return {sem: s for s in self.services for sem in s.topics}
 
 
-V3_0_1 = Version("3.0.1", "UMAA 3.0.1 IDL", SERVICES, TOPIC_REF, key_ref,
-                 tuple(sem for s in SERVICES for sem in s.topics if sem.spec.cls is TopicClass.REPORT),
-                 FLOW_REFS_3_0_1, "ICD 5.3", "ICD 5.4, Table 45")
+V3_0_1 = Version(
+    "3.0.1",
+    "UMAA 3.0.1 IDL",
+    SERVICES,
+    TOPIC_REF,
+    key_ref,
+    tuple(sem for s in SERVICES for sem in s.topics if sem.spec.cls is TopicClass.REPORT),
+    FLOW_REFS_3_0_1,
+    "ICD 5.3",
+    "ICD 5.4, Table 45",
+)

@@ -51,32 +51,49 @@ def _xml_safe(text: str) -> str:
 
 def _attrs(cases: list[Case], error: bool, seconds: float, skipped: bool = True) -> dict[str, str]:
     n = counts(cases)
-    return {"tests": str(len(cases)), "failures": str(n[Outcome.FAILED]), "errors": str(n[Outcome.ERROR] + error),
-            **({"skipped": str(n[Outcome.SKIPPED])} if skipped else {}), "time": f"{seconds:.3f}"}
+    return {
+        "tests": str(len(cases)),
+        "failures": str(n[Outcome.FAILED]),
+        "errors": str(n[Outcome.ERROR] + error),
+        **({"skipped": str(n[Outcome.SKIPPED])} if skipped else {}),
+        "time": f"{seconds:.3f}",
+    }
 
 
-def document(cases: list[Case], seconds: float, properties: dict[str, str], error: str | None = None,
-             started: dt.datetime | None = None) -> ET.ElementTree:
+def document(
+    cases: list[Case], seconds: float, properties: dict[str, str], error: str | None = None, started: dt.datetime | None = None
+) -> ET.ElementTree:
     """The report of a run; `error` (could not test) makes it a single errored case."""
     if error is not None:
         cases = [Case("setup")]
     root = ET.Element("testsuites", {"name": SUITE, **_attrs(cases, error is not None, seconds, skipped=False)})
     started = started or dt.datetime.now(dt.UTC)
-    suite = ET.SubElement(root, "testsuite", {
-        "name": SUITE, **_attrs(cases, error is not None, seconds),
-        "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(), "hostname": socket.gethostname()})
+    suite = ET.SubElement(
+        root,
+        "testsuite",
+        {
+            "name": SUITE,
+            **_attrs(cases, error is not None, seconds),
+            "timestamp": started.replace(tzinfo=None, microsecond=0).isoformat(),
+            "hostname": socket.gethostname(),
+        },
+    )
     props = ET.SubElement(suite, "properties")
     for k, v in properties.items():
         ET.SubElement(props, "property", {"name": k, "value": v})
     for c in cases:
         group, _, rest = c.name.partition(".")
-        case = ET.SubElement(suite, "testcase", {"name": rest or group, "classname": f"{SUITE}.{group}" if rest else SUITE,
-                                                 "time": f"{c.seconds:.3f}"})
+        case = ET.SubElement(
+            suite,
+            "testcase",
+            {"name": rest or group, "classname": f"{SUITE}.{group}" if rest else SUITE, "time": f"{c.seconds:.3f}"},
+        )
         if error is not None:
             ET.SubElement(case, "error", {"message": error.splitlines()[0], "type": "could-not-test"}).text = error
         elif c.outcome is Outcome.FAILED:
             ET.SubElement(case, "failure", {"message": c.reason, "type": "profile" if c.profile else "icd"}).text = "\n".join(
-                [c.reason, *c.notes])
+                [c.reason, *c.notes]
+            )
         elif c.outcome is Outcome.SKIPPED:
             ET.SubElement(case, "skipped", {"message": c.reason})
         elif c.outcome is Outcome.ERROR:
@@ -92,8 +109,10 @@ def document(cases: list[Case], seconds: float, properties: dict[str, str], erro
     return ET.ElementTree(root)
 
 
-UNFINISHED = ("sem-check did not finish: it was killed (SIGKILL, out of memory) or crashed before it wrote its "
-              "results; this report was written when it started")
+UNFINISHED = (
+    "sem-check did not finish: it was killed (SIGKILL, out of memory) or crashed before it wrote its "
+    "results; this report was written when it started"
+)
 
 
 def start(path: Path, properties: dict[str, str], started: dt.datetime) -> str | None:
@@ -110,7 +129,13 @@ def start(path: Path, properties: dict[str, str], started: dt.datetime) -> str |
     return None
 
 
-def write(path: Path, cases: list[Case], seconds: float, properties: dict[str, str], error: str | None = None,
-          started: dt.datetime | None = None) -> None:
+def write(
+    path: Path,
+    cases: list[Case],
+    seconds: float,
+    properties: dict[str, str],
+    error: str | None = None,
+    started: dt.datetime | None = None,
+) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     document(cases, seconds, properties, error, started).write(path, encoding="UTF-8", xml_declaration=True)

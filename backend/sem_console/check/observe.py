@@ -77,6 +77,7 @@ class Observer:
         self.bus = bus
         self.recorder = recorder
         self.decoder = Decoder()
+
         # (topic, reader, consumer QoS?) for every topic we read. GPSReport and GPSFixReport also by readers of their
         # appendable copies, for RTI vehicles, as the console reads them (console/ingest.py; a writer matches the
         # readers of one extensibility only, and Decoder tells the two apart by the encapsulation header).
@@ -85,12 +86,16 @@ class Observer:
             return readers + ([bus.reader(sem, qos, appendable=True)] if sem.spec.appendable is not None else [])
 
         self.readers: list[tuple[AnySem, DataReader[Any], bool]] = [
-            (sem, r, True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND for r in both(sem, reader_qos(sem.spec.cls))]
+            (sem, r, True) for sem in Sem if sem.spec.cls is not TopicClass.COMMAND for r in both(sem, reader_qos(sem.spec.cls))
+        ]
         self.readers += [(sem, r, False) for sem in REPORTS for r in both(sem, any_writer_reader_qos(sem.spec.cls))]
         if recorder is not None:  # the checker's own commands (and anyone else's) as evidence
             self.readers += [(s.command, bus.reader(s.command), True) for s in Service]
-        self.readers += [(sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), True)
-                         for sem in Sem60 if sem.spec.cls is TopicClass.REPORT]
+        self.readers += [
+            (sem, bus.reader(sem, any_writer_reader_qos(sem.spec.cls)), True)
+            for sem in Sem60
+            if sem.spec.cls is TopicClass.REPORT
+        ]
         # 6.0 mandates no QoS: a status or ack writer the reliable reader cannot match (a best-effort one) is read by a
         # best-effort reader, which takes the samples of the writers the reliable one has not matched only
         self._primary: dict[int, DataReader[Any]] = {}
@@ -180,8 +185,11 @@ class Observer:
                 six = isinstance(sem, Sem60)
                 if consumer and not six and self.recorder is not None and self.recorder.active:
                     tapped.append((data, info.valid_data, info.instance_state, info.source_timestamp))
-                item = (umaa_6_0.decode(sem, data, info.valid_data, info.instance_state, now) if isinstance(sem, Sem60)
-                        else self.decoder.decode(sem, data, info.valid_data, info.instance_state, now))
+                item = (
+                    umaa_6_0.decode(sem, data, info.valid_data, info.instance_state, now)
+                    if isinstance(sem, Sem60)
+                    else self.decoder.decode(sem, data, info.valid_data, info.instance_state, now)
+                )
                 if item is None:
                     if six:
                         self.decoder.undecodable[sem.spec.name] = self.decoder.undecodable.get(sem.spec.name, 0) + 1
@@ -218,8 +226,9 @@ class Observer:
         it to its provider before the command tests (consumers never write statuses)."""
         self._take_endpoints()
         claimed = set().union(*self.source_participants.values())
-        return {e.participant_key for e in self.publications.values()
-                if SEM_TOPICS[e.topic_name].spec.cls is TopicClass.STATUS} - claimed
+        return {
+            e.participant_key for e in self.publications.values() if SEM_TOPICS[e.topic_name].spec.cls is TopicClass.STATUS
+        } - claimed
 
     def present(self, source: uuid.UUID) -> bool:
         """Whether a DDS endpoint of the provider's participants remains (False: it left the domain, stopped or

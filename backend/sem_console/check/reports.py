@@ -44,8 +44,14 @@ def names(sem: AnySem) -> tuple[str, str]:
 
 
 # Where the ICD has the rules of the timing test (UMAA 6.0's: umaa_6_0.TIMING_REFS)
-TIMING_REFS = {"stamp": "ICD 5.2.1, Table 21", "datetime": "ICD 5.2.6, Table 26; Table 45", "utc": "ICD 5.2.6",
-               "publish": "ICD 4.2.1", "update": "ICD 4.2.1.1", "seconds": "seconds >= 0, "}
+TIMING_REFS = {
+    "stamp": "ICD 5.2.1, Table 21",
+    "datetime": "ICD 5.2.6, Table 26; Table 45",
+    "utc": "ICD 5.2.6",
+    "publish": "ICD 4.2.1",
+    "update": "ICD 4.2.1.1",
+    "seconds": "seconds >= 0, ",
+}
 
 
 def stamp(body: dict[str, Any], refs: dict[str, str] = TIMING_REFS) -> tuple[float | None, tuple[str, str] | None]:
@@ -56,21 +62,31 @@ def stamp(body: dict[str, Any], refs: dict[str, str] = TIMING_REFS) -> tuple[flo
     if not isinstance(s, int) or not isinstance(ns, int):
         return None, ("missing", f"timeStamp missing or unreadable ({refs['stamp']}: every report has its timeStamp)")
     if (s < 0 and refs["seconds"]) or not 0 <= ns <= 999_999_999:
-        return None, ("no DateTime", f"timeStamp {s} s {ns} ns is not a DateTime ({refs['seconds']}nanoseconds "
-                      f"0..999999999: {refs['datetime']})")
+        return None, (
+            "no DateTime",
+            f"timeStamp {s} s {ns} ns is not a DateTime ({refs['seconds']}nanoseconds 0..999999999: {refs['datetime']})",
+        )
     return s + ns / 1e9, None
 
 
-def check_timing(sem: AnySem, samples: list[Report], start: float, end: float, limits: ReportLimits, case: Case,
-                 version: icd.Version = icd.V3_0_1) -> None:
+def check_timing(
+    sem: AnySem,
+    samples: list[Report],
+    start: float,
+    end: float,
+    limits: ReportLimits,
+    case: Case,
+    version: icd.Version = icd.V3_0_1,
+) -> None:
     refs = dict(version.timing or TIMING_REFS)
     topic = icd.short(sem)
     live = [r for r in samples if r.alive and r.body is not None]
     if any(not r.alive for r in samples):
         case.note(f"the provider disposed its {topic} (or its writer left) during the run")
     if not live:
-        case.fail(f"no {topic} from the provider within {end - start:.1f} s ({refs['publish']}: the provider publishes its "
-                  "reports)")
+        case.fail(
+            f"no {topic} from the provider within {end - start:.1f} s ({refs['publish']}: the provider publishes its reports)"
+        )
         return
     arrivals = [start] + [r.received for r in live if r.received <= end] + [end]
     gap = max(b - a for a, b in pairwise(arrivals))
@@ -101,17 +117,23 @@ def check_timing(sem: AnySem, samples: list[Report], start: float, end: float, l
     for kind, seen in problems.items():
         times = f" ({len(seen)} of {len(live)} samples)" if len(seen) > 1 else ""
         if kind == "went back":
-            case.fail(f"{topic} timeStamp went back {max(seen):.3f} s{times} ({refs['stamp'].split(',')[0]}: the time the "
-                      "data was derived)")
+            case.fail(
+                f"{topic} timeStamp went back {max(seen):.3f} s{times} ({refs['stamp'].split(',')[0]}: the time the "
+                "data was derived)"
+            )
         elif kind == "offset":
             worst = max(seen, key=abs)
-            case.fail(f"{topic} timeStamp {worst:+.3f} s from the checker's clock on arrival{times}, beyond the stated "
-                      f"{limits.clock_offset:g} s ({refs['utc']}: UTC)")
+            case.fail(
+                f"{topic} timeStamp {worst:+.3f} s from the checker's clock on arrival{times}, beyond the stated "
+                f"{limits.clock_offset:g} s ({refs['utc']}: UTC)"
+            )
         else:
             case.fail(f"{topic} {unreadable[kind]}{times}")
     if gap > limits.max_gap:
-        case.fail(f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
-                  f"{refs['update']}: the provider publishes its updated reports)")
+        case.fail(
+            f"no {topic} for {gap:.2f} s, more than the stated {limits.max_gap:g} s ({rate:.2f} reports/s; "
+            f"{refs['update']}: the provider publishes its updated reports)"
+        )
     spread = f", timeStamp {min(offsets):+.3f}..{max(offsets):+.3f} s from the checker's clock" if offsets else ""
     case.note(f"{len(live)} {topic} samples, {rate:.2f}/s over {end - start:.1f} s, longest gap {gap:.2f} s{spread}")
 
@@ -151,12 +173,20 @@ def _gps_report(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[st
             continue
         p = f"satellites[{i}]"
         out.append(in_range(s.get("azimuth"), -math.pi, math.pi, f"{p}.azimuth", "ICD 5.4, Table 45: Angle is -pi..pi"))
-        out.append(in_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency",
-                            "ICD 5.4, Table 45: RadioFrequency_Hertz"))
+        out.append(
+            in_range(s.get("carrierFrequency"), 0, 1e10, f"{p}.carrierFrequency", "ICD 5.4, Table 45: RadioFrequency_Hertz")
+        )
         out.append(_guid_problem(s.get("satelliteId"), f"{p}.satelliteId"))
     clock = b.get("clock") or {}
-    out.append(in_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
-                      "ICD 5.4, Table 45: RadioFrequency_Hertz"))
+    out.append(
+        in_range(
+            clock.get("referenceCarrierFrequency"),
+            0,
+            1e10,
+            "clock.referenceCarrierFrequency",
+            "ICD 5.4, Table 45: RadioFrequency_Hertz",
+        )
+    )
     return out
 
 
@@ -164,8 +194,10 @@ def _fix_status(b: dict[str, Any], _r: Report, _limits: ReportLimits) -> list[st
     # carrierToNoise is a sequence<Size_Numeral> (Table 12), "nonnegative", -1e12..1e12 (Table 45); the 0..1e6 dB-Hz
     # of CarrierToNoiseDensityRatio is the satellites' C/N0 type, checked by the decoder.
     cn0 = b.get("carrierToNoise") or []
-    return [in_range(v, 0, 1e12, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12; Table 45: Size_Numeral, nonnegative")
-            for i, v in enumerate(cn0)]
+    return [
+        in_range(v, 0, 1e12, f"carrierToNoise[{i}]", "ICD 5.1.2.2, Table 12; Table 45: Size_Numeral, nonnegative")
+        for i, v in enumerate(cn0)
+    ]
 
 
 def _fix(b: dict[str, Any], r: Report, limits: ReportLimits) -> list[str | None]:
@@ -178,7 +210,9 @@ def _fix(b: dict[str, Any], r: Report, limits: ReportLimits) -> list[str | None]
 
 
 _MORE: dict[Sem, Callable[[dict[str, Any], Report, ReportLimits], list[str | None]]] = {
-    Sem.GPS_REPORT: _gps_report, Sem.GPS_FIX_STATUS_REPORT: _fix_status, Sem.GPS_FIX_REPORT: _fix,
+    Sem.GPS_REPORT: _gps_report,
+    Sem.GPS_FIX_STATUS_REPORT: _fix_status,
+    Sem.GPS_FIX_REPORT: _fix,
 }
 
 
@@ -189,8 +223,7 @@ def _source_problem(source: Any) -> str | None:
     return _guid_problem(source, "source")
 
 
-def check_values(sem: AnySem, samples: list[Report], limits: ReportLimits, case: Case,
-                 version: icd.Version = icd.V3_0_1) -> None:
+def check_values(sem: AnySem, samples: list[Report], limits: ReportLimits, case: Case, version: icd.Version = icd.V3_0_1) -> None:
     topic = icd.short(sem)
     live = [r for r in samples if r.alive and r.body is not None]
     if not live:
@@ -269,8 +302,17 @@ def group(problems: list[str]) -> list[str]:
     return lines
 
 
-def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float, end: float, limits: ReportLimits,
-        selected: Callable[[str], bool], progress: Progress | None = None, version: icd.Version = icd.V3_0_1) -> list[Case]:
+def run(
+    observer: Observer,
+    provider: uuid.UUID,
+    offered: set[str],
+    start: float,
+    end: float,
+    limits: ReportLimits,
+    selected: Callable[[str], bool],
+    progress: Progress | None = None,
+    version: icd.Version = icd.V3_0_1,
+) -> list[Case]:
     cases = []
     undecodable = observer.decoder.undecodable
     for sem in version.reports:
@@ -287,8 +329,10 @@ def run(observer: Observer, provider: uuid.UUID, offered: set[str], start: float
                     check_timing(sem, samples, start, end, limits, case, version)
                 else:
                     if undecodable.get(sem.spec.name):
-                        case.note(f"{undecodable[sem.spec.name]} {icd.short(sem)} samples on the bus (any provider) could "
-                                  f"not be decoded as the {version.idl} type")
+                        case.note(
+                            f"{undecodable[sem.spec.name]} {icd.short(sem)} samples on the bus (any provider) could "
+                            f"not be decoded as the {version.idl} type"
+                        )
                     check_values(sem, samples, limits, case, version)
             cases.append(case)
     return cases

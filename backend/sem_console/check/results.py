@@ -196,5 +196,8 @@ def summary(cases: list[Case], seconds: float, out: TextIO) -> None:
     errors = f", {n[Outcome.ERROR]} stopped" if n[Outcome.ERROR] else ""
     warned = sum(1 for c in cases if c.outcome is Outcome.PASSED and c.warnings)
     warnings = f" ({warned} with warnings)" if warned else ""
-    print(f"{len(cases)} tests: {n[Outcome.PASSED]} passed{warnings}, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped"
-          f"{errors} in {seconds:.1f} s", file=out)
+    print(
+        f"{len(cases)} tests: {n[Outcome.PASSED]} passed{warnings}, {n[Outcome.FAILED]} failed, {n[Outcome.SKIPPED]} skipped"
+        f"{errors} in {seconds:.1f} s",
+        file=out,
+    )

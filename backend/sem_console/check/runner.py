@@ -120,8 +120,9 @@ def find_provider(observer: Observer, opts: Options, net: str) -> uuid.UUID:
         time.sleep(TICK)
     if opts.provider is not None:
         others = f"; providers seen: {', '.join(map(str, sorted(found, key=str)))}" if found else ""
-        raise CouldNotTest(f"provider {opts.provider} not found on domain {opts.domain} within {opts.timeout:g} s "
-                           f"(DDS: {net}){others}")
+        raise CouldNotTest(
+            f"provider {opts.provider} not found on domain {opts.domain} within {opts.timeout:g} s (DDS: {net}){others}"
+        )
     if not found:
         # a vehicle of another vendor may be there, unreadable: say what its operator must change
         why = "".join(f"\n  {f.message}" for f in observer.peer_findings())
@@ -195,8 +196,11 @@ class StopSignals:
 
     def _handle(self, signum: int, _frame: object) -> None:
         if not self.raising:
-            print(f"sem-check: {signal.Signals(signum).name}: stopping already (disposing the commands sent, "
-                  "writing the reports)", file=self.err, flush=True)
+            print(
+                f"sem-check: {signal.Signals(signum).name}: stopping already (disposing the commands sent, writing the reports)",
+                file=self.err,
+                flush=True,
+            )
             return
         self.raising = False
         raise Stopped(signum)
@@ -252,8 +256,12 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     names = all_names()
     # the tests a stop reports: the version's once the provider is found (until then 3.0.1's, or --umaa's)
     run_names = version_names(VERSIONS[opts.umaa or icd.V3_0_1.name])
-    properties = {"domain": str(opts.domain), "dds": describe(opts.interface, opts.peers), "commands": str(opts.commands).lower(),
-                  "version": __version__}
+    properties = {
+        "domain": str(opts.domain),
+        "dds": describe(opts.interface, opts.peers),
+        "commands": str(opts.commands).lower(),
+        "version": __version__,
+    }
 
     report: Path | None = None  # --junit's file, once known
 
@@ -283,14 +291,17 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         except CouldNotTest as e:
             return could_not(f"cannot record to {e}")
         if record.is_dir():  # the file would be moved into it under another name
-            return could_not(f"cannot record to {record}: it is a directory: give a file name (e.g. "
-                             f"{record / 'sem-check.mcap'}), or {record}/ to record into it")
+            return could_not(
+                f"cannot record to {record}: it is a directory: give a file name (e.g. "
+                f"{record / 'sem-check.mcap'}), or {record}/ to record into it"
+            )
     unknown = selection.unknown(names)
     if unknown:
         return could_not(f"--only/--skip {', '.join(unknown)} selects no test (sem-check --list shows them)")
     if not any(selection(n) for n in names):  # each pattern selects some, but --skip takes away all --only gives
-        return could_not(f"--only {','.join(opts.only)} --skip {','.join(opts.skip)} leaves no test to run "
-                         "(sem-check --list shows them)")
+        return could_not(
+            f"--only {','.join(opts.only)} --skip {','.join(opts.skip)} leaves no test to run (sem-check --list shows them)"
+        )
     net = describe(opts.interface, opts.peers)
     progress = Progress()
     progress.setup("starting DDS")
@@ -325,10 +336,20 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         how = "as --umaa says" if opts.umaa else "by the topics it serves"
         print(f"sem-check: provider {provider} on domain {opts.domain} ({net}), UMAA {version.name} ({how})", file=out)
         if not any(selection(n) for n in run_names):  # the patterns name tests of the other version only
-            return could_not(f"--only/--skip select no UMAA {version.name} test, and the provider is tested as UMAA "
-                             f"{version.name} ({how}): sem-check --list shows the tests of each version")
-        print("sem-check: " + ("--commands: the command tests send commands to the provider" if opts.commands else
-                               "read-only: no command is sent (--commands runs the command tests)"), file=out, flush=True)
+            return could_not(
+                f"--only/--skip select no UMAA {version.name} test, and the provider is tested as UMAA "
+                f"{version.name} ({how}): sem-check --list shows the tests of each version"
+            )
+        print(
+            "sem-check: "
+            + (
+                "--commands: the command tests send commands to the provider"
+                if opts.commands
+                else "read-only: no command is sent (--commands runs the command tests)"
+            ),
+            file=out,
+            flush=True,
+        )
         # A gap longer than --max-gap shows for sure only in a window of twice that (a provider that
         # reports every 1.5 x max-gap may show one report mid-window, with shorter gaps either side).
         timing = any(selection(n) for n in run_names if n.startswith("reports.") and n.endswith(".timing"))
@@ -342,9 +363,12 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         unclaimed = observer.unclaimed_controls()
         if unclaimed and len(observer.providers()) == 1:  # on a domain of several, whose they are is a guess
             observer.source_participants[provider] |= unclaimed
-            print(f"sem-check: taken as the provider's, the only one on the domain: participant "
-                  f"{', '.join(sorted(map(str, unclaimed)))}, which writes command statuses but has sent none yet",
-                  file=out, flush=True)
+            print(
+                f"sem-check: taken as the provider's, the only one on the domain: participant "
+                f"{', '.join(sorted(map(str, unclaimed)))}, which writes command statuses but has sent none yet",
+                file=out,
+                flush=True,
+            )
         offered = discovery.offered_services(observer, provider, version)
         cases += discovery.run(observer, provider, selection, progress, version)
         limits = reports.ReportLimits(window, opts.max_gap, opts.clock_offset)
@@ -396,8 +420,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     if stopped is not None:
         return STOPPED + stopped.signum
     if lost:  # the evidence asked for is missing: as a report that cannot be written, not a pass
-        print("sem-check: exit code 2: the recording asked for (--record) was not written (the results above stand)",
-              file=err)
+        print("sem-check: exit code 2: the recording asked for (--record) was not written (the results above stand)", file=err)
         return COULD_NOT_TEST
     if any(c.outcome is Outcome.FAILED for c in cases):
         return FAILED

@@ -33,38 +33,67 @@ from sem_console.versions import UMAA_6_0, umaa_6_0
 
 SERVICES = (
     ServiceDef("GPSStatus", "ICD 6.0 5.1.1, Table 8", (Sem60.GPS_REPORT,)),
-    ServiceDef("InertialSensorControl", "ICD 6.0 5.1.2, Table 10",
-               (Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)),
+    ServiceDef(
+        "InertialSensorControl", "ICD 6.0 5.1.2, Table 10", (Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)
+    ),
     ServiceDef("InertialSensorStatus", "ICD 6.0 5.1.3, Table 14", (Sem60.INS_REPORT,)),
     ServiceDef("GlobalPoseStatus", "SA ICD 6.0 6.1.6, Table 18", (Sem60.GLOBAL_POSE_REPORT,)),
 )
 TOPIC_REF: dict[AnySem, str] = {
-    Sem60.GPS_REPORT: "ICD 6.0 5.1.1.1, Table 9", Sem60.INS_COMMAND_ACK: "ICD 6.0 5.1.2.1, Table 11",
-    Sem60.INS_COMMAND_STATUS: "ICD 6.0 5.1.2.2, Table 12", Sem60.INS_COMMAND: "ICD 6.0 5.1.2.3, Table 13",
-    Sem60.INS_REPORT: "ICD 6.0 5.1.3.1, Table 15", Sem60.GLOBAL_POSE_REPORT: "SA ICD 6.0 6.1.6.1, Table 19",
+    Sem60.GPS_REPORT: "ICD 6.0 5.1.1.1, Table 9",
+    Sem60.INS_COMMAND_ACK: "ICD 6.0 5.1.2.1, Table 11",
+    Sem60.INS_COMMAND_STATUS: "ICD 6.0 5.1.2.2, Table 12",
+    Sem60.INS_COMMAND: "ICD 6.0 5.1.2.3, Table 13",
+    Sem60.INS_REPORT: "ICD 6.0 5.1.3.1, Table 15",
+    Sem60.GLOBAL_POSE_REPORT: "SA ICD 6.0 6.1.6.1, Table 19",
 }
 FLOW_REFS = {
-    "flow": "ICD 6.0 4.1, Figure 14", "figure": "Figure 14", "every": "ICD 6.0 4.1.4",
-    "start": "ICD 6.0 4.1.4 step 3", "ack": "ICD 6.0 4.1.4.1 step 1",
-    "commanded": "ICD 6.0 4.1.4.1 step 2", "executing": "ICD 6.0 4.1.4.1 step 3", "complete": "ICD 6.0 4.1.4.3",
-    "failed": "ICD 6.0 4.1.4.4", "cancel": "ICD 6.0 4.1.4.5", "cancel figure": "Figure 26",
-    "cleanup": "ICD 6.0 4.1.5, Figure 27", "subscribe": "ICD 6.0 4.1.2.1", "destination": "ICD 6.0 4.1",
-    "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command", "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
-    "update": "ICD 6.0 4.1.4.2", "reasons": "ICD 6.0 4.1, Figure 15",
+    "flow": "ICD 6.0 4.1, Figure 14",
+    "figure": "Figure 14",
+    "every": "ICD 6.0 4.1.4",
+    "start": "ICD 6.0 4.1.4 step 3",
+    "ack": "ICD 6.0 4.1.4.1 step 1",
+    "commanded": "ICD 6.0 4.1.4.1 step 2",
+    "executing": "ICD 6.0 4.1.4.1 step 3",
+    "complete": "ICD 6.0 4.1.4.3",
+    "failed": "ICD 6.0 4.1.4.4",
+    "cancel": "ICD 6.0 4.1.4.5",
+    "cancel figure": "Figure 26",
+    "cleanup": "ICD 6.0 4.1.5, Figure 27",
+    "subscribe": "ICD 6.0 4.1.2.1",
+    "destination": "ICD 6.0 4.1",
+    "ins ack": "ICD 6.0 5.1.2.1, Table 11: the source command",
+    "ins report": "ICD 6.0 5.1.2.3 and 5.1.3.1",
+    "update": "ICD 6.0 4.1.4.2",
+    "reasons": "ICD 6.0 4.1, Figure 15",
 }
 # The InertialSensor tests, in the order they run: INIT first (it also stops a running alignment), each alignment,
 # GPS_ALIGN again (`same`: the alignment it has just completed), TRANSFER_ALIGN (so that the cancel's and the update's
 # GPS_ALIGN do not ask for the alignment it is in), and the update last: its GPS_ALIGN, the standard alignment, leaves
 # the sensor aligned by GPS.
-TESTS: tuple[InsCmd | str, ...] = (InsCmd.INIT, InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN,
-                                   InsCmd.GPS_ALIGN, "same", InsCmd.TRANSFER_ALIGN, "cancel", "update")
+TESTS: tuple[InsCmd | str, ...] = (
+    InsCmd.INIT,
+    InsCmd.BEST_ALIGN,
+    InsCmd.STATIONARY_ALIGN,
+    InsCmd.SNAP_ALIGN,
+    InsCmd.GPS_ALIGN,
+    "same",
+    InsCmd.TRANSFER_ALIGN,
+    "cancel",
+    "update",
+)
 LAST = InsCmd.GPS_ALIGN  # the command of the same, cancel and update tests
 # Alignments a provider may reject (a vehicle at sea cannot align stationary, a snap or transfer alignment needs a
 # feed the command does not carry): FAILED with its reason is an answer (ICD 6.0 4.1.4.4)
 REJECTABLE = frozenset({InsCmd.BEST_ALIGN, InsCmd.STATIONARY_ALIGN, InsCmd.SNAP_ALIGN, InsCmd.TRANSFER_ALIGN})
 # the InertialSensorOpStatusEnumType literals of each alignment kind (ICD 6.0 5.3.4, Table 28)
-_KIND = {InsCmd.BEST_ALIGN: "BEST_ALIGNMENT", InsCmd.GPS_ALIGN: "GPS_ALIGNMENT", InsCmd.SNAP_ALIGN: "SNAP_ALIGNMENT",
-         InsCmd.STATIONARY_ALIGN: "STATIONARY_ALIGNMENT", InsCmd.TRANSFER_ALIGN: "TRANSFER_ALIGNMENT"}
+_KIND = {
+    InsCmd.BEST_ALIGN: "BEST_ALIGNMENT",
+    InsCmd.GPS_ALIGN: "GPS_ALIGNMENT",
+    InsCmd.SNAP_ALIGN: "SNAP_ALIGNMENT",
+    InsCmd.STATIONARY_ALIGN: "STATIONARY_ALIGNMENT",
+    InsCmd.TRANSFER_ALIGN: "TRANSFER_ALIGNMENT",
+}
 
 
 def key_ref(sem: AnySem) -> str:
@@ -106,8 +135,11 @@ def qos_differences(sem: AnySem, qos: Qos, reader: bool) -> list[str]:
         out.append(f"BEST_EFFORT reliability; {said} RELIABLE")
     durability = _policy(qos, Policy.Durability)
     if durability is not None and durability != Policy.Durability.Volatile:
-        kind = {Policy.Durability.TransientLocal: "TRANSIENT_LOCAL", Policy.Durability.Transient: "TRANSIENT",
-                Policy.Durability.Persistent: "PERSISTENT"}.get(durability, str(durability))
+        kind = {
+            Policy.Durability.TransientLocal: "TRANSIENT_LOCAL",
+            Policy.Durability.Transient: "TRANSIENT",
+            Policy.Durability.Persistent: "PERSISTENT",
+        }.get(durability, str(durability))
         out.append(f"{kind} durability; {said} VOLATILE")
     if _policy(qos, Policy.Ownership) == Policy.Ownership.Exclusive:
         out.append(f"EXCLUSIVE ownership; {said} SHARED")
@@ -168,11 +200,13 @@ def decode(sem: Sem60, data: bytes, valid: bool, instance_state: int, received: 
 # Figure 15: the reasons of FAILED from each state; the first status FAILED/SERVICE_FAILED (4.1.2.1)
 FAILED_REASONS: dict[Status | None, frozenset[Reason]] = {
     None: frozenset({Reason.SERVICE_FAILED}),
-    Status.ISSUED: frozenset({Reason.VALIDATION_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
-                              Reason.SERVICE_FAILED}),
+    Status.ISSUED: frozenset(
+        {Reason.VALIDATION_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT, Reason.SERVICE_FAILED}
+    ),
     Status.COMMANDED: frozenset({Reason.RESOURCE_REJECTED, Reason.INTERRUPTED, Reason.TIMEOUT, Reason.SERVICE_FAILED}),
-    Status.EXECUTING: frozenset({Reason.OBJECTIVE_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT,
-                                 Reason.SERVICE_FAILED}),
+    Status.EXECUTING: frozenset(
+        {Reason.OBJECTIVE_FAILED, Reason.RESOURCE_FAILED, Reason.INTERRUPTED, Reason.TIMEOUT, Reason.SERVICE_FAILED}
+    ),
 }
 
 
@@ -182,8 +216,10 @@ def failed_reason(before: Status | None, status: Status | int, reason: Reason | 
     if status is not Status.FAILED or allowed is None or not isinstance(reason, Reason) or reason in allowed:
         return None
     state = before.name if before is not None else "(no status)"
-    return (f"reason {reason.name} is not valid for {state} -> FAILED ({FLOW_REFS['reasons']}: "
-            f"{', '.join(sorted(r.name for r in allowed))})")
+    return (
+        f"reason {reason.name} is not valid for {state} -> FAILED ({FLOW_REFS['reasons']}: "
+        f"{', '.join(sorted(r.name for r in allowed))})"
+    )
 
 
 # ---- what the checker reads of its InertialSensor commands' effect -----------------------------------------------
@@ -239,8 +275,15 @@ def gps_values(b: dict[str, Any], r: Any, _limits: Any) -> list[str | None]:
         if isinstance(number, (int, float)) and (number < 0 or not float(number).is_integer()):
             out.append(f"{p}.satelliteID: {number} is not a non-negative integer ({SEM_TYPES}: NaturalNumberCount)")
     clock = b.get("clock") or {}
-    out.append(in_range(clock.get("referenceCarrierFrequency"), 0, 1e10, "clock.referenceCarrierFrequency",
-                      f"{SEM_TYPES}: RadioFrequencyHertz"))
+    out.append(
+        in_range(
+            clock.get("referenceCarrierFrequency"),
+            0,
+            1e10,
+            "clock.referenceCarrierFrequency",
+            f"{SEM_TYPES}: RadioFrequencyHertz",
+        )
+    )
     return out
 
 
@@ -252,14 +295,23 @@ def pose_values(b: dict[str, Any], _r: Any, _limits: Any) -> list[str | None]:
     out: list[str | None] = [
         *_identifier(b),
         in_range(position.get("geodeticLatitude"), -90, 90, "position.geodeticLatitude", f"{SA_TYPES}: GeodeticLatitude"),
-        in_range(position.get("geodeticLongitude"), -180, 180, "position.geodeticLongitude",
-               f"{SA_TYPES}: GeodeticLongitude"),
+        in_range(position.get("geodeticLongitude"), -180, 180, "position.geodeticLongitude", f"{SA_TYPES}: GeodeticLongitude"),
         in_range(b.get("course"), -two_pi, two_pi, "course", f"{SA_TYPES}: CourseTrueNorth"),
-        in_range((attitude.get("pitch") or {}).get("pitch"), -math.pi / 2, math.pi / 2, "attitude.pitch.pitch",
-               f"{SA_TYPES}: PitchHalfAngle"),
+        in_range(
+            (attitude.get("pitch") or {}).get("pitch"),
+            -math.pi / 2,
+            math.pi / 2,
+            "attitude.pitch.pitch",
+            f"{SA_TYPES}: PitchHalfAngle",
+        ),
         in_range((attitude.get("roll") or {}).get("roll"), -two_pi, two_pi, "attitude.roll.roll", f"{SA_TYPES}: RollAngle"),
-        in_range((attitude.get("yaw") or {}).get("yaw"), -two_pi, two_pi, "attitude.yaw.yaw",
-               "the 6.0 IDL's YawAngle, Measurements.idl"),
+        in_range(
+            (attitude.get("yaw") or {}).get("yaw"),
+            -two_pi,
+            two_pi,
+            "attitude.yaw.yaw",
+            "the 6.0 IDL's YawAngle, Measurements.idl",
+        ),
         # the optional members, when present (SA ICD 6.0 Table 19: †)
         in_range(b.get("altitude"), 0, math.inf, "altitude", f"{SA_TYPES}: MSLAltitude"),
         in_range(b.get("altitudeAGL"), 0, math.inf, "altitudeAGL", f"{SA_TYPES}: DistanceAGL"),
@@ -290,14 +342,27 @@ def decoder_finding(problem: str) -> str | None:
 
 
 # The timing test's references (reports.TIMING_REFS): 6.0's DateTime has signed seconds (DateTimeSeconds, Table 31)
-TIMING_REFS = {"stamp": "ICD 6.0 5.2.1, Table 16", "datetime": "ICD 6.0 5.2.6, Table 21; Table 31", "utc": "ICD 6.0 5.2.6",
-               "publish": "ICD 6.0 4.2: a Service Provider replies to every request; 4.2.1",
-               "update": "ICD 6.0 4.2.1: the service is always providing the current data to the bus", "seconds": ""}
+TIMING_REFS = {
+    "stamp": "ICD 6.0 5.2.1, Table 16",
+    "datetime": "ICD 6.0 5.2.6, Table 21; Table 31",
+    "utc": "ICD 6.0 5.2.6",
+    "publish": "ICD 6.0 4.2: a Service Provider replies to every request; 4.2.1",
+    "update": "ICD 6.0 4.2.1: the service is always providing the current data to the bus",
+    "seconds": "",
+}
 
 V6_0 = Version(
-    "6.0", "UMAA 6.0 IDL", SERVICES, TOPIC_REF, key_ref,
-    (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT), FLOW_REFS, "ICD 6.0 5.3", SEM_TYPES,
+    "6.0",
+    "UMAA 6.0 IDL",
+    SERVICES,
+    TOPIC_REF,
+    key_ref,
+    (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT),
+    FLOW_REFS,
+    "ICD 6.0 5.3",
+    SEM_TYPES,
     qos_reference=qos_differences,
     value_checks={Sem60.GPS_REPORT: gps_values, Sem60.GLOBAL_POSE_REPORT: pose_values, Sem60.INS_REPORT: ins_values},
-    decoder_finding=decoder_finding, timing=TIMING_REFS,
+    decoder_finding=decoder_finding,
+    timing=TIMING_REFS,
 )

@@ -39,8 +39,10 @@ from sem_console.versions.shape import Adapter
 log = logging.getLogger("sem-console.ingest")
 
 REPORT_TOPICS = {
-    Sem.GPS_REPORT: "GPSReport", Sem.GPS_FIX_REPORT: "GPSFixReport",
-    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport", Sem.INS_REPORT: "InertialSensorReport",
+    Sem.GPS_REPORT: "GPSReport",
+    Sem.GPS_FIX_REPORT: "GPSFixReport",
+    Sem.GPS_FIX_STATUS_REPORT: "GPSFixStatusReport",
+    Sem.INS_REPORT: "InertialSensorReport",
 }
 # The command status and ack topics of every version (versions/commands.py), and the service each answers
 STATUS_TOPICS = {sem: c.service for sem, c in STATUSES.items()}
@@ -100,6 +102,7 @@ def _source(report: dict[str, Any]) -> Any:
 def _same(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
     return report, invalid
 
+
 @dataclass(frozen=True)
 class _Route:
     """What `Decoder.decode` needs of a topic, looked up once per sample."""
@@ -126,17 +129,33 @@ def _decoder(sem: AnySem, cls: type[IdlStruct]) -> fastcdr.TypeDecoder:
 
 
 _ROUTES: dict[AnySem, _Route] = {
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), topic, None, "report")
-       for sem, topic in REPORT_TOPICS.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "status", c.version, c)
-       for sem, c in STATUSES.items()},
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "ack", c.version, c)
-       for sem, c in ACKS.items()},
+    **{
+        sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), topic, None, "report")
+        for sem, topic in REPORT_TOPICS.items()
+    },
+    **{
+        sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "status", c.version, c)
+        for sem, c in STATUSES.items()
+    },
+    **{
+        sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), None, c.service, "ack", c.version, c)
+        for sem, c in ACKS.items()
+    },
     # a 6.0 report not said as data is adapted after its decoder
-    **{sem: _Route(sem.spec.name, sem.spec.type, _decoder(sem, sem.spec.type), r.topic, None, "report", UMAA_6_0,
-                   source=_source if r.spec is not None else umaa_6_0.source_of,
-                   model=_same if r.spec is not None else r.model)
-       for sem, r in umaa_6_0.REPORTS.items()},
+    **{
+        sem: _Route(
+            sem.spec.name,
+            sem.spec.type,
+            _decoder(sem, sem.spec.type),
+            r.topic,
+            None,
+            "report",
+            UMAA_6_0,
+            source=_source if r.spec is not None else umaa_6_0.source_of,
+            model=_same if r.spec is not None else r.model,
+        )
+        for sem, r in umaa_6_0.REPORTS.items()
+    },
 }
 DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder decodes, of both UMAA versions
 # The appendable copies of the topics that have one (TopicSpec.appendable): a sample whose encapsulation header says
@@ -144,7 +163,9 @@ DECODED_TOPICS: tuple[AnySem, ...] = tuple(_ROUTES)  # every topic the decoder d
 # any other with the topic's final type. So live samples from either reader, and recorded ones, take the same path.
 _APPENDABLE_ROUTES: dict[AnySem, _Route] = {
     sem: replace(route, type=sem.spec.appendable, fast=_decoder(sem, sem.spec.appendable))
-    for sem, route in _ROUTES.items() if sem.spec.appendable is not None}
+    for sem, route in _ROUTES.items()
+    if sem.spec.appendable is not None
+}
 _ALIVE = InstanceState.Alive
 
 
@@ -173,8 +194,9 @@ class Decoder:
         with self._counting:
             self.undecodable[name] = self.undecodable.get(name, 0) + 1
 
-    def decode(self, sem: AnySem, data: bytes, valid: bool, instance_state: int, received_at: float,
-               convert: bool = True) -> Item | None:
+    def decode(
+        self, sem: AnySem, data: bytes, valid: bool, instance_state: int, received_at: float, convert: bool = True
+    ) -> Item | None:
         """One sample of a report, status or ack topic: `data` is its CDR (only the key when not
         `valid`), `instance_state` the DDS instance state it came with, `received_at` when it was
         taken (UTC seconds). None for a sample that cannot be decoded (counted) or of another topic.
@@ -212,11 +234,13 @@ class Decoder:
         if route.report is not None:
             parent = self._parent(route, source, data) if valid else None
             if report is None:
-                return ReportItem(route.report, source, None, [], alive and valid, received_at, version=route.version,
-                                  parent=parent)
+                return ReportItem(
+                    route.report, source, None, [], alive and valid, received_at, version=route.version, parent=parent
+                )
             if convert:
-                return ReportItem(route.report, source, report[0], report[1], alive, received_at, version=route.version,
-                                  parent=parent)
+                return ReportItem(
+                    route.report, source, report[0], report[1], alive, received_at, version=route.version, parent=parent
+                )
             return ReportItem(route.report, source, None, [], alive, received_at, report, route.version, parent)
         session = guid(getattr(sample, "sessionID", None))
         if session is None:
@@ -225,10 +249,10 @@ class Decoder:
         parent = parent_of(getattr(sample, "source", None))
         if route.kind == "status" and valid:
             status, reason = route.commanding.read_status(sample)
-            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason, route.version,
-                              parent)
-        return StatusItem(route.service, route.kind, source, session, sample if valid else None, alive,
-                          version=route.version, parent=parent)
+            return StatusItem(route.service, route.kind, source, session, sample, alive, status, reason, route.version, parent)
+        return StatusItem(
+            route.service, route.kind, source, session, sample if valid else None, alive, version=route.version, parent=parent
+        )
 
     def _parent(self, route: _Route, source: uuid.UUID, data: bytes) -> uuid.UUID | None:
         """A vehicle's parent, from a report of it decoded whole: its first on this type, and again when the parent it

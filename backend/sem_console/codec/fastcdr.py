@@ -125,9 +125,16 @@ class _Gen:
         self.amax = 4 if v2 else 8
         self.lines: list[str] = []
         self.indent = 1
-        self.ns: dict[str, Any] = {"_value": convert._value, "_bad_enum": _bad_enum, "_too_many": _too_many,  # noqa: SLF001
-                                   "guid_text": guid_text, "_guids": _guid_text, "unpack_from": struct.unpack_from,
-                                   "Malformed": Malformed, "error": struct.error}
+        self.ns: dict[str, Any] = {
+            "_value": convert._value,  # noqa: SLF001
+            "_bad_enum": _bad_enum,
+            "_too_many": _too_many,
+            "guid_text": guid_text,
+            "_guids": _guid_text,
+            "unpack_from": struct.unpack_from,
+            "Malformed": Malformed,
+            "error": struct.error,
+        }
         self.k = 0
         self.run: list[tuple[str, str | None]] = []  # pending fixed-size reads: (struct code, variable or None for padding)
         self.checks: list[str] = []  # statements to emit once the pending run is read
@@ -268,13 +275,15 @@ class _Gen:
     def drop_unused(self, expr: str) -> None:
         """Drop the statements that only compute a value nothing reads (a member the version's model leaves out,
         such as an identifier's parentID), and read such a value as padding: no object is made for it."""
-        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
-            line for line in self.lines if line.strip() not in self.pure.values())))
+        used = set(
+            re.findall(
+                r"\b[a-z]\d+\b", expr + "\n" + "\n".join(line for line in self.lines if line.strip() not in self.pure.values())
+            )
+        )
         unused = {line for v, line in self.pure.items() if v not in used}
         self.lines = [line for line in self.lines if line.strip() not in unused]
         lines = {self._unpack_line(name, run, at): (name, run, at) for name, run in self.unpacks for at in ("p", "4")}
-        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(
-            line for line in self.lines if line.strip() not in lines)))
+        used = set(re.findall(r"\b[a-z]\d+\b", expr + "\n" + "\n".join(line for line in self.lines if line.strip() not in lines)))
         for k, line in enumerate(self.lines):
             found = lines.get(line.strip())
             if found is None:
@@ -284,7 +293,7 @@ class _Gen:
                 continue
             kept = [(c, v) if v is None or v in used else (f"{struct.calcsize(self.endian + c)}x", None) for c, v in run]
             self.ns[name] = struct.Struct(self.endian + "".join(c for c, _ in kept))
-            self.lines[k] = line[:len(line) - len(line.lstrip())] + self._unpack_line(name, kept, at)
+            self.lines[k] = line[: len(line) - len(line.lstrip())] + self._unpack_line(name, kept, at)
 
     # ---- values ----------------------------------------------------------------------------
     def value(self, mach: Any, path: str, name: str, enum_member: bool = False) -> str:
@@ -508,8 +517,12 @@ class _Gen:
         """A struct of @optional fixed-size scalars (and fixed-size non-optional ones)."""
         ms = list(mach.members_machines.values())
         return any(isinstance(m, mc.OptionalMachine) for m in ms) and all(
-            isinstance(m.submachine if isinstance(m, mc.OptionalMachine) else m,
-                       (mc.PrimitiveMachine, mc.EnumMachine, mc.BitBoundEnumMachine, mc.ByteArrayMachine)) for m in ms)
+            isinstance(
+                m.submachine if isinstance(m, mc.OptionalMachine) else m,
+                (mc.PrimitiveMachine, mc.EnumMachine, mc.BitBoundEnumMachine, mc.ByteArrayMachine),
+            )
+            for m in ms
+        )
 
     def speculative(self, mach: Any, path: str) -> str:
         """A struct of @optional members (XCDR2) read first as if every member were present, in one unpack
@@ -612,9 +625,16 @@ def learnable(cls: type[IdlStruct], v2: bool, json: bool) -> bool:
     return v2 and json and _flat(top) and _has_optional(top)
 
 
-def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spec = None,
-             rename: Callable[[str], str] | None = None, patterns: tuple[tuple[bool, ...], ...] = (),
-             learn: Callable[[list[int]], None] | None = None) -> tuple[str, dict[str, Any]]:
+def generate(
+    cls: type[IdlStruct],
+    v2: bool,
+    little: bool,
+    json: bool,
+    spec: Spec = None,
+    rename: Callable[[str], str] | None = None,
+    patterns: tuple[tuple[bool, ...], ...] = (),
+    learn: Callable[[list[int]], None] | None = None,
+) -> tuple[str, dict[str, Any]]:
     """The source of `decode(b)` for `cls` and the names it uses. With a `spec` (JSON mode) it returns the JSON of a
     version's model (`versions/shape.py`), an invalid value named by `rename` of its path. Each of `patterns` (the
     presence of every @optional member, in the order they are read) is tried first: one unpack, its presence flags
@@ -624,10 +644,12 @@ def generate(cls: type[IdlStruct], v2: bool, little: bool, json: bool, spec: Spe
 
     def returned(expr: str) -> str:
         if json and spec is not None:
+
             def member(path: str, top: str = expr) -> str:
                 for part in path.split("."):
                     top = g.trees[top][part]
                 return top
+
             expr = shape.source(spec, member, g.const, g.dict_of, g.lookup)
         return f"return {expr}, inv" if json else f"return {expr}"
 
@@ -675,8 +697,9 @@ PATTERNS_MAX = 4
 class TypeDecoder:
     """The generated decoders of one type, built on first use per encoding, byte order and mode."""
 
-    def __init__(self, cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None,
-                 adapt: Adapter | None = None) -> None:
+    def __init__(
+        self, cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None, adapt: Adapter | None = None
+    ) -> None:
         self.cls = cls
         # a version's report as its model (`versions/`): `spec` for the generated code, `adapt` for cyclonedds' JSON
         self.spec, self.rename, self.adapt = spec, rename, adapt
@@ -746,8 +769,9 @@ class TypeDecoder:
 _decoders: dict[tuple[type[IdlStruct], int], TypeDecoder] = {}
 
 
-def decoder(cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None,
-            adapt: Adapter | None = None) -> TypeDecoder:
+def decoder(
+    cls: type[IdlStruct], spec: Spec = None, rename: Callable[[str], str] | None = None, adapt: Adapter | None = None
+) -> TypeDecoder:
     """The decoders of `cls`; with a `spec` (and its `rename` and `adapt`, `TypeDecoder`), of its JSON as a version's
     model."""
     key = (cls, id(spec))

@@ -70,8 +70,7 @@ def report_schemas() -> dict[str, Any]:
     for sem in REPORT_TOPICS:
         struct_schema(sem.spec.type, defs)
     for struct, members in umaa_6_0.MODEL_MEMBERS.items():
-        defs[struct]["properties"].update(
-            {n: {"anyOf": [_schema(h, n, defs), {"type": "null"}]} for n, h in members.items()})
+        defs[struct]["properties"].update({n: {"anyOf": [_schema(h, n, defs), {"type": "null"}]} for n, h in members.items()})
         defs[struct]["description"] += " (and the members UMAA 6.0 adds, absent from a UMAA 3.0.1 vehicle's report)"
     for enum, added in umaa_6_0.MODEL_LITERALS.items():
         literals = defs[enum]["enum"]

@@ -79,12 +79,26 @@ class Task:
     state_at: float = field(default_factory=time.time)
 
     def to_json(self) -> messages.Task:
-        return {"taskId": self.task_id, "kind": self.kind, "vehicle": str(self.vehicle), "imcId": self.imc_id,
-                "featureId": self.feature_id, "sensor": self.sensor, "resolution": self.resolution,
-                "deadline": self.deadline, "point": self.point, "state": self.state, "progress": self.progress,
-                "quality": self.quality, "synch": self.last_synch, "operator": self.operator,
-                "station": self.station, "createdAt": self.created_at, "updatedAt": self.updated_at,
-                "stateAt": self.state_at}
+        return {
+            "taskId": self.task_id,
+            "kind": self.kind,
+            "vehicle": str(self.vehicle),
+            "imcId": self.imc_id,
+            "featureId": self.feature_id,
+            "sensor": self.sensor,
+            "resolution": self.resolution,
+            "deadline": self.deadline,
+            "point": self.point,
+            "state": self.state,
+            "progress": self.progress,
+            "quality": self.quality,
+            "synch": self.last_synch,
+            "operator": self.operator,
+            "station": self.station,
+            "createdAt": self.created_at,
+            "updatedAt": self.updated_at,
+            "stateAt": self.state_at,
+        }
 
 
 @dataclass
@@ -95,15 +109,22 @@ class VehicleInfo:
     last_heard: float | None = None
 
     def to_json(self) -> dict[str, Any]:
-        return {"imcId": self.imc_id, "providerId": str(self.provider) if self.provider else None,
-                "capabilities": self.capabilities, "lastHeard": self.last_heard}
+        return {
+            "imcId": self.imc_id,
+            "providerId": str(self.provider) if self.provider else None,
+            "capabilities": self.capabilities,
+            "lastHeard": self.last_heard,
+        }
 
 
 def capability_json(m: Message) -> dict[str, Any]:
     out: dict[str, Any] = {"kind": CAPABILITY_KINDS[m.name]}
     for k, v in m.fields.items():
-        key = {"res_bathym_factor": "resolutionBathymetryFactor", "cov_rate": "coverageRate",
-               "cov_bathym_factor": "coverageBathymetryFactor"}.get(k, k)
+        key = {
+            "res_bathym_factor": "resolutionBathymetryFactor",
+            "cov_rate": "coverageRate",
+            "cov_bathym_factor": "coverageBathymetryFactor",
+        }.get(k, k)
         out[key] = _sensor_name(v) if k == "sensor" else (v if math.isfinite(v) else None)
     return out
 
@@ -129,8 +150,14 @@ class _NotSaved:
 
 
 class C2:
-    def __init__(self, vehicles: dict[uuid.UUID, int], send: Callable[[Message, int], object],
-                 emit: Callable[[ServerMessage], None], save: Saver | None = None, station: str | None = None) -> None:
+    def __init__(
+        self,
+        vehicles: dict[uuid.UUID, int],
+        send: Callable[[Message, int], object],
+        emit: Callable[[ServerMessage], None],
+        save: Saver | None = None,
+        station: str | None = None,
+    ) -> None:
         self.send, self.emit, self.save, self.station = send, emit, save or _NotSaved(), station
         self.linked = False  # CoMap on: the console's IMC node is open (a synch is sent only then)
         self.vehicles: dict[int, VehicleInfo] = {i: VehicleInfo(i, g) for g, i in vehicles.items()}
@@ -171,8 +198,14 @@ class C2:
     def _world_changed(self, source: str) -> None:
         self.world_updated_at, self.world_source = time.time(), source
         self.emit(worldmodel_message(self.world_model()))
-        self.save.world({"features": [asdict(f) for f in self.features], "updated_at": self.world_updated_at,
-                         "source": source, "highest_feature": self._highest_feature})
+        self.save.world(
+            {
+                "features": [asdict(f) for f in self.features],
+                "updated_at": self.world_updated_at,
+                "source": source,
+                "highest_feature": self._highest_feature,
+            }
+        )
 
     def load_world(self, stored: Mapping[str, Any] | None) -> None:
         """The stored world model (Database.comap_world), applied when newer than this console's."""
@@ -181,8 +214,10 @@ class C2:
         self._saw_features([stored["highest_feature"]])
         if self.world_updated_at is not None and stored["updated_at"] <= self.world_updated_at:
             return
-        self.features = [Feature(f["feature_id"], [(lat, lon) for lat, lon in f["points"]], f["coverage"], f["properties"])
-                         for f in stored["features"]]
+        self.features = [
+            Feature(f["feature_id"], [(lat, lon) for lat, lon in f["points"]], f["coverage"], f["properties"])
+            for f in stored["features"]
+        ]
         self.world_updated_at, self.world_source = stored["updated_at"], stored["source"]
         self.emit(worldmodel_message(self.world_model()))
 
@@ -286,9 +321,18 @@ class C2:
         self.save.task(task)
 
     # ---- tasks ------------------------------------------------------------------------------------
-    def plan(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None = None,
-             sensor: str = "ANY", resolution: float = 1.0, deadline: float | None = None,
-             point: dict[str, float] | None = None) -> Task:
+    def plan(
+        self,
+        kind: str,
+        vehicle: uuid.UUID,
+        operator: str | None,
+        *,
+        feature_id: int | None = None,
+        sensor: str = "ANY",
+        resolution: float = 1.0,
+        deadline: float | None = None,
+        point: dict[str, float] | None = None,
+    ) -> Task:
         """A task checked against the vehicle table and the world model, not sent; its id (0 here) is taken in the
         database (Database.new_comap_task), then `assign` sends it."""
         imc_id = self.imc_of.get(vehicle)
@@ -297,23 +341,42 @@ class C2:
         if kind == "survey" and not any(f.feature_id == feature_id for f in self.features):
             raise TaskError(409, f"no feature {feature_id} in the world model")
         survey = kind == "survey"
-        return Task(0, kind, vehicle, imc_id, operator, feature_id if survey else None, sensor if survey else None,
-                    resolution if survey else None, deadline if deadline is not None else time.time() + 3600,
-                    None if survey else point, station=self.station)
+        return Task(
+            0,
+            kind,
+            vehicle,
+            imc_id,
+            operator,
+            feature_id if survey else None,
+            sensor if survey else None,
+            resolution if survey else None,
+            deadline if deadline is not None else time.time() + 3600,
+            None if survey else point,
+            station=self.station,
+        )
 
     def assign(self, task: Task) -> Task:
         """Send a planned task, its id taken (TaskAdmin ASSIGN; a survey's world model first)."""
         if task.kind == "survey":
             assert task.sensor is not None and task.resolution is not None
-            arg = msg("SurveyTask", task_id=task.task_id, feature_id=task.feature_id, sensor=Sensor[task.sensor].value,
-                      resolution=task.resolution, deadline=task.deadline)
+            arg = msg(
+                "SurveyTask",
+                task_id=task.task_id,
+                feature_id=task.feature_id,
+                sensor=Sensor[task.sensor].value,
+                resolution=task.resolution,
+                deadline=task.deadline,
+            )
             # the vehicle needs the feature's geometry: the world model goes first
             self.send(world_model_message(self.features), task.imc_id)
         else:
             assert task.point is not None
-            arg = msg("MoveTask", task_id=task.task_id, deadline=task.deadline,
-                      destination=msg("MapPoint", lat=math.radians(task.point["lat"]), lon=math.radians(task.point["lon"]),
-                                      alt=0.0))
+            arg = msg(
+                "MoveTask",
+                task_id=task.task_id,
+                deadline=task.deadline,
+                destination=msg("MapPoint", lat=math.radians(task.point["lat"]), lon=math.radians(task.point["lon"]), alt=0.0),
+            )
         self.tasks[task.task_id] = task
         self.send(msg("TaskAdmin", tid=task.task_id, op=TaskOp.ASSIGN, arg=arg), task.imc_id)
         self.emit(task_message(task.to_json()))
@@ -326,10 +389,12 @@ class C2:
         if task.state in FINAL:
             raise TaskError(409, f"task {task_id} is {task.state}")
         if not self.linked or self.imc_of.get(task.vehicle) != task.imc_id:
-            why = "CoMap is off (no --imc-port)" if not self.linked else \
-                f"IMC system {task.imc_id} is not in its --imc-vehicles"
-            where = f"on station {task.station!r}, which assigned it" if task.station not in (None, self.station) \
+            why = "CoMap is off (no --imc-port)" if not self.linked else f"IMC system {task.imc_id} is not in its --imc-vehicles"
+            where = (
+                f"on station {task.station!r}, which assigned it"
+                if task.station not in (None, self.station)
                 else "on a station with a CoMap link to it, or start this one with --imc-port and --imc-vehicles"
+            )
             raise TaskError(409, f"task {task_id} cannot be synched from this console ({why}): synch it {where}")
         self.send(msg("SynchAdmin", op=SynchOp[action].value), task.imc_id)
         task.last_synch = action

@@ -46,6 +46,7 @@ class ImcError(ValueError):
 @dataclass
 class Message:
     """A decoded message: its abbreviation (name) and its fields by name (nested messages are Messages)."""
+
     name: str
     fields: dict[str, Any] = field(default_factory=dict)
 
@@ -86,6 +87,7 @@ def crc16(data: bytes, crc: int = 0) -> int:
 
 # ---- encoding ------------------------------------------------------------------------------
 
+
 def _encode_value(ftype: FieldType, value: Any, out: bytearray) -> None:
     if isinstance(ftype, str):
         out += struct.pack("<" + SCALARS[ftype], value)
@@ -117,19 +119,26 @@ def encode_payload(m: Message, out: bytearray | None = None) -> bytearray:
     return out
 
 
-def encode_packet(m: Message, src: int, dst: int = BROADCAST, *, src_ent: int = 0xFF, dst_ent: int = BROADCAST_ENT,
-                  timestamp: float | None = None) -> bytes:
+def encode_packet(
+    m: Message,
+    src: int,
+    dst: int = BROADCAST,
+    *,
+    src_ent: int = 0xFF,
+    dst_ent: int = BROADCAST_ENT,
+    timestamp: float | None = None,
+) -> bytes:
     """A whole little-endian IMC packet carrying m."""
     payload = encode_payload(m)
     if len(payload) > MAX_PAYLOAD:
         raise ValueError(f"{m.name} payload of {len(payload)} bytes does not fit an IMC packet")
-    head = HEADER.pack(SYNC, m.id, len(payload), time.time() if timestamp is None else timestamp,
-                       src, src_ent, dst, dst_ent)
+    head = HEADER.pack(SYNC, m.id, len(payload), time.time() if timestamp is None else timestamp, src, src_ent, dst, dst_ent)
     body = head + payload
     return bytes(body + struct.pack("<H", crc16(body)))
 
 
 # ---- decoding ------------------------------------------------------------------------------
+
 
 class _Reader:
     def __init__(self, data: bytes | memoryview, end: str) -> None:
@@ -204,7 +213,7 @@ def decode_packet(data: bytes) -> tuple[Header, Message]:
     if HEADER_SIZE + size + 2 != len(data):
         raise ImcError("bad_size", f"header says {size} payload bytes, the datagram has {len(data) - HEADER_SIZE - 2}")
     (crc,) = struct.unpack_from(end + "H", data, HEADER_SIZE + size)
-    if crc != crc16(data[:HEADER_SIZE + size]):
-        raise ImcError("bad_crc", f"CRC 0x{crc:04X}, computed 0x{crc16(data[:HEADER_SIZE + size]):04X}")
+    if crc != crc16(data[: HEADER_SIZE + size]):
+        raise ImcError("bad_crc", f"CRC 0x{crc:04X}, computed 0x{crc16(data[: HEADER_SIZE + size]):04X}")
     header = Header(mgid, size, ts, src, src_ent, dst, dst_ent, big_endian=end == ">")
-    return header, decode_payload(mgid, memoryview(data)[HEADER_SIZE:HEADER_SIZE + size], end == ">")
+    return header, decode_payload(mgid, memoryview(data)[HEADER_SIZE : HEADER_SIZE + size], end == ">")

@@ -91,8 +91,12 @@ def feature_to_geojson(feat: Feature) -> dict[str, Any]:
         coords = pts
     else:
         coords = [[*pts, pts[0]]]
-    return {"type": "Feature", "id": feat.feature_id, "geometry": {"type": feat.kind, "coordinates": coords},
-            "properties": {**feat.properties, "featureId": feat.feature_id, "coverage": feat.coverage}}
+    return {
+        "type": "Feature",
+        "id": feat.feature_id,
+        "geometry": {"type": feat.kind, "coordinates": coords},
+        "properties": {**feat.properties, "featureId": feat.feature_id, "coverage": feat.coverage},
+    }
 
 
 def collection(features: list[Feature]) -> dict[str, Any]:
@@ -101,13 +105,22 @@ def collection(features: list[Feature]) -> dict[str, Any]:
 
 # ---- IMC -------------------------------------------------------------------------------------
 
+
 def world_model_message(features: list[Feature]) -> Message:
-    return msg("WorldModel",
-               geo_features=[msg("GeoFeature", feature_id=f.feature_id,
-                                 points=[msg("MapPoint", lat=math.radians(lat), lon=math.radians(lon), alt=0.0)
-                                         for lat, lon in f.points]) for f in features],
-               cov_states=[msg("CoverageState", feature_id=f.feature_id, state=Coverage[f.coverage])
-                           for f in features if f.coverage is not None])
+    return msg(
+        "WorldModel",
+        geo_features=[
+            msg(
+                "GeoFeature",
+                feature_id=f.feature_id,
+                points=[msg("MapPoint", lat=math.radians(lat), lon=math.radians(lon), alt=0.0) for lat, lon in f.points],
+            )
+            for f in features
+        ],
+        cov_states=[
+            msg("CoverageState", feature_id=f.feature_id, state=Coverage[f.coverage]) for f in features if f.coverage is not None
+        ],
+    )
 
 
 def features_from_world_model(m: Message) -> list[Feature]:
@@ -133,6 +146,7 @@ def coverage_name(state: int) -> str | None:
 
 
 # ---- vehicle geometry --------------------------------------------------------------------------
+
 
 class Local:
     """Metres east and north of an origin (equirectangular: fine over a survey area)."""

@@ -79,6 +79,7 @@ class TaskStatusEnum(IntEnum):
 
 class Sensor(IntEnum):
     """Not enumerated by the CoMap definitions: the project's own numbering."""
+
     ANY = 0
     SIDESCAN = 1
     MULTIBEAM = 2
@@ -94,12 +95,24 @@ LAYOUTS: tuple[Layout, ...] = (
     Layout(3004, "TaskAdmin", (("tid", "u16"), ("op", "u8"), ("arg", ("msg", "TaskAdminArgs")))),
     Layout(3005, "SynchAdmin", (("op", "u8"),)),
     Layout(3006, "VehicleCapabilities", (("capabilities", ("list", "VehicleCapability")),)),
-    Layout(3010, "CapabilityAreaSurvey", (("sensor", "u8"), ("resolution", "fp32"), ("res_bathym_factor", "fp32"),
-                                          ("cov_rate", "fp32"), ("cov_bathym_factor", "fp32"))),
+    Layout(
+        3010,
+        "CapabilityAreaSurvey",
+        (
+            ("sensor", "u8"),
+            ("resolution", "fp32"),
+            ("res_bathym_factor", "fp32"),
+            ("cov_rate", "fp32"),
+            ("cov_bathym_factor", "fp32"),
+        ),
+    ),
     Layout(3011, "CapabilityPointSurvey", (("sensor", "u8"), ("resolution", "fp32"), ("duration", "fp32"))),
     Layout(3012, "CapabilityMove", (("speed", "fp32"),)),
-    Layout(3101, "SurveyTask", (("task_id", "u16"), ("feature_id", "u16"), ("sensor", "u8"), ("resolution", "fp32"),
-                                ("deadline", "fp64"))),
+    Layout(
+        3101,
+        "SurveyTask",
+        (("task_id", "u16"), ("feature_id", "u16"), ("sensor", "u8"), ("resolution", "fp32"), ("deadline", "fp64")),
+    ),
     Layout(3102, "MoveTask", (("task_id", "u16"), ("destination", ("msg", "MapPoint")), ("deadline", "fp64"))),
     Layout(3103, "TaskStatus", (("task_id", "u16"), ("status", "u8"), ("progress", "u8"), ("quality", "u8"))),
     Layout(3104, "SynchTask", (("task_id", "u16"), ("feature_id", "u16"), ("time_window", "u16"), ("deadline", "fp64"))),

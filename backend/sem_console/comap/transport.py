@@ -77,8 +77,9 @@ class AsyncNode:
 
     async def open(self, host: str, port: int) -> None:
         loop = asyncio.get_running_loop()
-        self.transport, _ = await loop.create_datagram_endpoint(lambda: _Protocol(self._datagram), local_addr=(host, port),
-                                                                family=socket.AF_INET)
+        self.transport, _ = await loop.create_datagram_endpoint(
+            lambda: _Protocol(self._datagram), local_addr=(host, port), family=socket.AF_INET
+        )
 
     def _datagram(self, data: bytes, addr: Addr) -> None:
         got = self.endpoint.feed(data, addr)

@@ -59,13 +59,20 @@ from sem_console.storage.database import Database
 from sem_console.storage.models import AlarmBase, AlarmShelfRecord, PlannedSilenceRecord, ShelfBase, SilenceBase
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
-CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered",
-                        "silence-overdue"})
+CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "silence-overdue"})
 EVENTS = frozenset({"command-failed", "command-interrupted", "flow-violation", "executed-late", "recording-failed"})
 SEVERITY = {
-    "link-lost": "alarm", "ins-failure": "alarm", "fix-lost": "warning", "no-fix-after-command": "warning",
-    "command-unanswered": "warning", "command-failed": "alarm", "command-interrupted": "alarm", "flow-violation": "alarm",
-    "executed-late": "alarm", "recording-failed": "warning", "silence-overdue": "alarm",
+    "link-lost": "alarm",
+    "ins-failure": "alarm",
+    "fix-lost": "warning",
+    "no-fix-after-command": "warning",
+    "command-unanswered": "warning",
+    "command-failed": "alarm",
+    "command-interrupted": "alarm",
+    "flow-violation": "alarm",
+    "executed-late": "alarm",
+    "recording-failed": "warning",
+    "silence-overdue": "alarm",
 }
 RANK = {"warning": 1, "alarm": 2}
 # how a shelf ends that brings its alarm back in view, each with its words (`alarmReturned` of core/words.py); a shelf
@@ -119,14 +126,28 @@ class Alarm(AlarmBase):
             return self.text
         return f"{vehicle}: {self.text.removeprefix(said)}"
 
-    def to_json(self, vehicle: str | None, chattering: bool, shelf: messages.AlarmShelf | None,
-                returned: str | None) -> messages.Alarm:
+    def to_json(
+        self, vehicle: str | None, chattering: bool, shelf: messages.AlarmShelf | None, returned: str | None
+    ) -> messages.Alarm:
         """What clients are sent; `vehicle`: the vehicle's name now (None: as raised)."""
-        return {"id": self.id, "kind": self.kind, "severity": self.severity, "providerId": self.provider_id,
-                "vehicle": vehicle or self.vehicle, "sessionId": self.session_id, "text": self.text_naming(vehicle),
-                "since": self.since,
-                "state": self.state, "clearedAt": self.cleared_at, "ackedAt": self.acked_at, "ackedBy": self.acked_by,
-                "cause": word("alarmKind", self.kind), "chattering": chattering, "shelf": shelf, "returned": returned}
+        return {
+            "id": self.id,
+            "kind": self.kind,
+            "severity": self.severity,
+            "providerId": self.provider_id,
+            "vehicle": vehicle or self.vehicle,
+            "sessionId": self.session_id,
+            "text": self.text_naming(vehicle),
+            "since": self.since,
+            "state": self.state,
+            "clearedAt": self.cleared_at,
+            "ackedAt": self.acked_at,
+            "ackedBy": self.acked_by,
+            "cause": word("alarmKind", self.kind),
+            "chattering": chattering,
+            "shelf": shelf,
+            "returned": returned,
+        }
 
     def row(self) -> dict[str, Any]:
         return self.model_dump()
@@ -157,7 +178,7 @@ def returned_words(why: str, by: str | None = None, what: str = "") -> str:
 
 
 def clock_time(t: float, now: float | None = None) -> str:
-    """"14:20 UTC" of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now): the
+    """ "14:20 UTC" of UTC seconds `t`, with its date when that is not the day of `now` (default: the time now): the
     house style of a time the operator reads, as the dashboard's `clockTime`."""
     day = time.strftime("%Y-%m-%d", time.gmtime(t))
     hhmm = time.strftime("%H:%M", time.gmtime(t))
@@ -175,22 +196,41 @@ class Shelf(ShelfBase):
     """An alarm shelved by an operator (ShelfBase): every station's alarm of `key` is out of view."""
 
     def to_json(self) -> messages.AlarmShelf:
-        return {"id": self.id, "reason": self.reason, "by": self.shelved_by, "station": self.station,
-                "at": self.shelved_at, "until": self.until}
+        return {
+            "id": self.id,
+            "reason": self.reason,
+            "by": self.shelved_by,
+            "station": self.station,
+            "at": self.shelved_at,
+            "until": self.until,
+        }
 
 
 class Silence(SilenceBase):
     """A vehicle's planned link gap, "out of comms until" (SilenceBase)."""
 
     def to_json(self, vehicle: str) -> messages.PlannedSilence:
-        return {"id": self.id, "providerId": self.provider_id, "vehicle": vehicle, "reason": self.reason,
-                "by": self.set_by, "station": self.station, "at": self.set_at, "until": self.until}
+        return {
+            "id": self.id,
+            "providerId": self.provider_id,
+            "vehicle": vehicle,
+            "reason": self.reason,
+            "by": self.set_by,
+            "station": self.station,
+            "at": self.set_at,
+            "until": self.until,
+        }
 
 
 class Alarms:
-    def __init__(self, store: Database, names: Mapping[str, str] | None = None,
-                 on_ack: Callable[[Alarm, str | None], None] | None = None, silence_grace: float = 120.0,
-                 chatter: tuple[int, float] = (3, 600.0)) -> None:
+    def __init__(
+        self,
+        store: Database,
+        names: Mapping[str, str] | None = None,
+        on_ack: Callable[[Alarm, str | None], None] | None = None,
+        silence_grace: float = 120.0,
+        chatter: tuple[int, float] = (3, 600.0),
+    ) -> None:
         self.store = store
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
@@ -217,15 +257,17 @@ class Alarms:
         self._sessions: set[str] = set()
         self._load_watch()
         # a vehicle not heard by the end of its planned silence -> the overdue alarm's words (kept across a restart)
-        self._overdue: dict[str, str] = {a.provider_id: "" for a in self.open.values()
-                                         if a.kind == "silence-overdue" and a.provider_id}
+        self._overdue: dict[str, str] = {
+            a.provider_id: "" for a in self.open.values() if a.kind == "silence-overdue" and a.provider_id
+        }
         self._activations: dict[str, deque[float]] = {}  # key -> when it became active, within the chatter window
         self._chattering: set[str] = set()
         self._returned: dict[str, str] = {}  # key -> why a shelved alarm is back in view, until acknowledged
         self.silences_changed = False  # a planned silence began or ended (the console sends them again)
 
-    def _load_watch(self, shelves: list[AlarmShelfRecord] | None = None,
-                    silences: list[PlannedSilenceRecord] | None = None) -> None:
+    def _load_watch(
+        self, shelves: list[AlarmShelfRecord] | None = None, silences: list[PlannedSilenceRecord] | None = None
+    ) -> None:
         """The shelves and planned silences not ended, as read from the database (at start: read here; after a
         resync: read in a worker thread)."""
         self.shelves: dict[str, Shelf] = {}
@@ -251,8 +293,11 @@ class Alarms:
         # a fix command completed before the start: whether a fix followed it is not known, so it raises
         # nothing now (one already raised is in the database and clears as usual)
         raised_no_fix = {a.session_id for a in self.open.values() if a.kind == "no-fix-after-command"}
-        self._fix_followed |= {str(c.session_id) for c in commands if c.service is Service.GPS_FIX
-                               and c.flow.status is Status.COMPLETED and str(c.session_id) not in raised_no_fix}
+        self._fix_followed |= {
+            str(c.session_id)
+            for c in commands
+            if c.service is Service.GPS_FIX and c.flow.status is Status.COMPLETED and str(c.session_id) not in raised_no_fix
+        }
 
     # ---- inputs -------------------------------------------------------------------------
     def report_changed(self, source: uuid.UUID, topic: str, report: Mapping[str, Any]) -> bool:
@@ -267,8 +312,13 @@ class Alarms:
         self._watched[key] = value
         return True
 
-    def update(self, now: float, providers: Mapping[uuid.UUID, Provider], commands: Iterable[Command] = (),
-               recording_error: str | None = None) -> bool:
+    def update(
+        self,
+        now: float,
+        providers: Mapping[uuid.UUID, Provider],
+        commands: Iterable[Command] = (),
+        recording_error: str | None = None,
+    ) -> bool:
         """Re-derive the active set at `now` (UTC seconds), looking again at `commands` (the ones that changed;
         new ones first). Returns whether the active set changed."""
         commands = list(commands)
@@ -276,8 +326,9 @@ class Alarms:
             self._track(c)
         events = [f for c in commands for f in self._events(c)]
         if recording_error:
-            events.append(Found("recording-failed", None, None, f"Recording failed: {_recording_reason(recording_error)}",
-                                recording_error))
+            events.append(
+                Found("recording-failed", None, None, f"Recording failed: {_recording_reason(recording_error)}", recording_error)
+            )
         changed = self._end_in_time(now, providers)
         for f in events:
             if f.key not in self._raised:
@@ -345,8 +396,14 @@ class Alarms:
         out = []
         for a in newest_first:
             shelf = self.shelves.get(a.key)
-            out.append(a.to_json(self._vehicle(a.provider_id) if a.provider_id else None, a.key in self._chattering,
-                                 shelf.to_json() if shelf else None, None if shelf else self._returned.get(a.key)))
+            out.append(
+                a.to_json(
+                    self._vehicle(a.provider_id) if a.provider_id else None,
+                    a.key in self._chattering,
+                    shelf.to_json() if shelf else None,
+                    None if shelf else self._returned.get(a.key),
+                )
+            )
         return out
 
     def planned_silences(self) -> list[messages.PlannedSilence]:
@@ -357,8 +414,9 @@ class Alarms:
     def _find(self, alarm_id: int) -> Alarm | None:
         return next((x for x in self.open.values() if x.id == alarm_id), None)
 
-    def shelve(self, alarm_id: int, reason: str, seconds: float, operator: str | None, now: float,
-               station: str | None = None) -> Alarm | None:
+    def shelve(
+        self, alarm_id: int, reason: str, seconds: float, operator: str | None, now: float, station: str | None = None
+    ) -> Alarm | None:
         """Take the alarm out of view for `seconds` (None: no such alarm in the active set); a shelved one is shelved
         again from now (its old shelf ended)."""
         a = self._find(alarm_id)
@@ -367,9 +425,20 @@ class Alarms:
         if a.key in self.shelves:
             self._end_shelf(a.key, now, operator, "reshelved", None)
         vehicle = self._vehicle(a.provider_id) if a.provider_id else None
-        shelf = Shelf(id=str(uuid.uuid4()), key=a.key, kind=a.kind, provider_id=a.provider_id, session_id=a.session_id,
-                      severity=a.severity, text=a.text_naming(vehicle), reason=reason, shelved_by=operator,
-                      station=station, shelved_at=now, until=now + seconds)
+        shelf = Shelf(
+            id=str(uuid.uuid4()),
+            key=a.key,
+            kind=a.kind,
+            provider_id=a.provider_id,
+            session_id=a.session_id,
+            severity=a.severity,
+            text=a.text_naming(vehicle),
+            reason=reason,
+            shelved_by=operator,
+            station=station,
+            shelved_at=now,
+            until=now + seconds,
+        )
         self.store.add_shelf(shelf.model_dump())
         self.shelves[a.key] = shelf
         self._returned.pop(a.key, None)
@@ -388,13 +457,21 @@ class Alarms:
         if back is not None:
             self._returned[key] = back
 
-    def silence(self, provider_id: str, until: float, reason: str, operator: str | None, now: float,
-                station: str | None = None) -> Silence:
+    def silence(
+        self, provider_id: str, until: float, reason: str, operator: str | None, now: float, station: str | None = None
+    ) -> Silence:
         """Declare the vehicle out of comms until `until` (one at a time: a new one replaces the one in force)."""
         if provider_id in self.silences:
             self._end_silence(provider_id, now, operator, "replaced")
-        silence = Silence(id=str(uuid.uuid4()), provider_id=provider_id, reason=reason, set_by=operator, station=station,
-                          set_at=now, until=until)
+        silence = Silence(
+            id=str(uuid.uuid4()),
+            provider_id=provider_id,
+            reason=reason,
+            set_by=operator,
+            station=station,
+            set_at=now,
+            until=until,
+        )
         self.store.add_silence(silence.model_dump())
         self.silences[provider_id] = silence
         self.silences_changed = True
@@ -521,8 +598,7 @@ class Alarms:
             if reason is not Reason.INTERRUPTED:
                 out.append(Found("command-failed", pid, sid, f"{what} {_status_words(Status.FAILED, reason)}"))
             elif not self._superseded(c):
-                out.append(Found("command-interrupted", pid, sid,
-                                 f"{what} interrupted by a command not from this console"))
+                out.append(Found("command-interrupted", pid, sid, f"{what} interrupted by a command not from this console"))
         late = c.answered_late_after
         if late is not None and c.flow.transitions and c.flow.transitions[0].status in TOOK_UP:
             unanswered = inline(word("command", "unanswered"))
@@ -597,9 +673,20 @@ class Alarms:
     # ---- storage ------------------------------------------------------------------------
     def _raise(self, f: Found, now: float) -> Alarm:
         who = self._vehicle(f.provider_id) if f.provider_id else None
-        a = Alarm(key=f.key, kind=f.kind, severity=SEVERITY[f.kind], provider_id=f.provider_id, vehicle=who,
-                  session_id=f.session_id, text=f"{who}: {f.what}" if who else f.what, since=now, cleared_at=None,
-                  acked_at=None, acked_by=None, normal_at=None)
+        a = Alarm(
+            key=f.key,
+            kind=f.kind,
+            severity=SEVERITY[f.kind],
+            provider_id=f.provider_id,
+            vehicle=who,
+            session_id=f.session_id,
+            text=f"{who}: {f.what}" if who else f.what,
+            since=now,
+            cleared_at=None,
+            acked_at=None,
+            acked_by=None,
+            normal_at=None,
+        )
         a.id = self.store.add_alarm(a.row())
         self.open[a.key] = a
         self._activated(a.key, now)

@@ -109,8 +109,15 @@ class Command:
 
 
 def transition_json(seq: int, t: Any, provider_time: float | None, received_at: float) -> messages.Transition:
-    return {"seq": seq, "status": name(t.status), "reason": name(t.reason), "logMessage": t.log_message, "violation": t.violation,
-            "providerTime": provider_time, "receivedAt": received_at}
+    return {
+        "seq": seq,
+        "status": name(t.status),
+        "reason": name(t.reason),
+        "logMessage": t.log_message,
+        "violation": t.violation,
+        "providerTime": provider_time,
+        "receivedAt": received_at,
+    }
 
 
 def _uuid_or_none(text: Any) -> uuid.UUID | None:
@@ -159,18 +166,41 @@ class Commands:
         state: str | None = row["state"] or None
         provider, session = uuid.UUID(row["provider_id"]), uuid.UUID(row["session_id"])
         commanding = of_command(service, state)
-        cmd = Command(session, service, provider, state, row["operator"], row["created_at"],
-                      self._sample(commanding, provider, session, state, row["command"]["timeStamp"], source,
-                                   _uuid_or_none(row["command"].get("destinationParent"))), commanding,
-                      unanswered=bool(row["unanswered"]), cancel_requested=bool(row["cancel_requested"]),
-                      canceled_by=row["canceled_by"], canceled_on=row.get("canceled_on"),
-                      canceled_at=row.get("canceled_at"), cancel_cause=cast(CancelCause | None, row.get("cancel_cause")),
-                      closed_unheard=cast(ClosedUnheard | None, row.get("closed_unheard")), closed_at=row.get("closed_at"),
-                      cleaned_up=bool(row["cleaned_up"]), acked_at=row["acked_at"], console=row.get("console"),
-                      cancel_mono=self.clock.monotonic())
+        cmd = Command(
+            session,
+            service,
+            provider,
+            state,
+            row["operator"],
+            row["created_at"],
+            self._sample(
+                commanding,
+                provider,
+                session,
+                state,
+                row["command"]["timeStamp"],
+                source,
+                _uuid_or_none(row["command"].get("destinationParent")),
+            ),
+            commanding,
+            unanswered=bool(row["unanswered"]),
+            cancel_requested=bool(row["cancel_requested"]),
+            canceled_by=row["canceled_by"],
+            canceled_on=row.get("canceled_on"),
+            canceled_at=row.get("canceled_at"),
+            cancel_cause=cast(CancelCause | None, row.get("cancel_cause")),
+            closed_unheard=cast(ClosedUnheard | None, row.get("closed_unheard")),
+            closed_at=row.get("closed_at"),
+            cleaned_up=bool(row["cleaned_up"]),
+            acked_at=row["acked_at"],
+            console=row.get("console"),
+            cancel_mono=self.clock.monotonic(),
+        )
         for t in row["transitions"]:
-            if cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"],
-                                t["provider_time"]) is not None:
+            if (
+                cmd.flow.observe(parse(Status, t["status"]), parse_reason(t["reason"]), t["log_message"], t["provider_time"])
+                is not None
+            ):
                 cmd.times.append((t["provider_time"], t["received_at"]))  # times stay parallel to the transitions
         return cmd
 
@@ -193,8 +223,16 @@ class Commands:
             for c in sorted(finished, key=lambda c: c.created_at)[: len(finished) - KEEP_FINISHED]:
                 del self.by_session[c.session_id]
 
-    def _sample(self, commanding: Commanding, provider: uuid.UUID, session: uuid.UUID, state: str | None,
-                stamp: tuple[int, int] | list[int], source: uuid.UUID | None = None, parent: uuid.UUID | None = None) -> Any:
+    def _sample(
+        self,
+        commanding: Commanding,
+        provider: uuid.UUID,
+        session: uuid.UUID,
+        state: str | None,
+        stamp: tuple[int, int] | list[int],
+        source: uuid.UUID | None = None,
+        parent: uuid.UUID | None = None,
+    ) -> Any:
         """The command sample, as its vehicle's version writes it (`source`: another station's, when not ours;
         `parent`: the provider's, UMAA 6.0)."""
         return commanding.build(source or self.source, provider, session, state, (int(stamp[0]), int(stamp[1])), parent)
@@ -229,15 +267,30 @@ class Commands:
                 self.cleanup(c)
         return resumed
 
-    def issue(self, commanding: Commanding, provider: uuid.UUID, state: str | None, operator: str | None,
-              parent: uuid.UUID | None = None) -> Command:
+    def issue(
+        self,
+        commanding: Commanding,
+        provider: uuid.UUID,
+        state: str | None,
+        operator: str | None,
+        parent: uuid.UUID | None = None,
+    ) -> Command:
         """Publish a command of `commanding` (the vehicle's version's) with the `state` literal of its choices, to the
         provider's identifier (`parent`: the parent it reports, UMAA 6.0)."""
         session = uuid.uuid4()
         stamp = now_datetime()
-        cmd = Command(session, commanding.service, provider, state, operator, self.clock.wall(),
-                      self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds), None, parent),
-                      commanding, issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=self.station)
+        cmd = Command(
+            session,
+            commanding.service,
+            provider,
+            state,
+            operator,
+            self.clock.wall(),
+            self._sample(commanding, provider, session, state, (stamp.seconds, stamp.nanoseconds), None, parent),
+            commanding,
+            issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout,
+            console=self.station,
+        )
         self.by_session[session] = cmd
         sent: dict[str, Any] = {"timeStamp": [stamp.seconds, stamp.nanoseconds]}
         if parent is not None:
@@ -260,15 +313,25 @@ class Commands:
             state = c.get("state") or None
             commanding = of_command(service, state)
             stamp = (int(c["createdAt"]), int(c["createdAt"] % 1 * 1e9))
-            cmd = Command(session, service, provider, state, c.get("operator"), float(c["createdAt"]),
-                          self._sample(commanding, provider, session, state, stamp), commanding,
-                          issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout, console=c.get("console"))
+            cmd = Command(
+                session,
+                service,
+                provider,
+                state,
+                c.get("operator"),
+                float(c["createdAt"]),
+                self._sample(commanding, provider, session, state, stamp),
+                commanding,
+                issued_by_deadline=self.clock.monotonic() + self.unanswered_timeout,
+                console=c.get("console"),
+            )
             self.by_session[session] = cmd  # the station that issued it is the recorded console's
             self.store.add_command(dict(cmd.to_json()), {"timeStamp": list(stamp)}, cmd.console)
         # a message carries the whole command: the first one of a file may be of one already canceled, or ended
         if c.get("cancelRequested") and not cmd.cancel_requested:
-            self._canceled(cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(),
-                           c.get("cancelCause"))
+            self._canceled(
+                cmd, c.get("canceledBy"), c.get("canceledOn"), c.get("canceledAt") or self.clock.wall(), c.get("cancelCause")
+            )
             changed = True
         if c.get("closedUnheard") and cmd.closed_unheard is None and not cmd.flow.transitions:
             self._close_unheard(cmd, c["closedUnheard"], c.get("closedAt") or self.clock.wall(), emit=False)
@@ -291,8 +354,15 @@ class Commands:
             self.emit(command_message(cmd.to_json()))
         return cmd
 
-    def _canceled(self, cmd: Command, operator: str | None, station: str | None, at: float | None,
-                  cause: CancelCause | None, record: bool = True) -> None:
+    def _canceled(
+        self,
+        cmd: Command,
+        operator: str | None,
+        station: str | None,
+        at: float | None,
+        cause: CancelCause | None,
+        record: bool = True,
+    ) -> None:
         """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`)."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
         cmd.cancel_cause, cmd.cancel_mono = cause, self.clock.monotonic()
@@ -323,6 +393,7 @@ class Commands:
         def read() -> tuple[list[CommandRow], dict[str, uuid.UUID]]:
             rows = self.store.commands(session_id=str(session))
             return rows, self.store.consoles() if rows else {}
+
         rows, consoles = await asyncio.to_thread(read)
         if session in self.by_session:  # taken meanwhile (another request, a notification)
             return self.by_session[session]
@@ -344,8 +415,14 @@ class Commands:
         at once, as the vehicle's answer to that cancel may come before the row is read."""
         mine = self.by_session.get(session)
         if mine is not None and changed.get("cancel_requested") and not mine.cancel_requested:
-            self._canceled(mine, changed.get("canceled_by"), changed.get("canceled_on"), changed.get("canceled_at"),
-                           changed.get("cancel_cause"), record=False)
+            self._canceled(
+                mine,
+                changed.get("canceled_by"),
+                changed.get("canceled_on"),
+                changed.get("canceled_at"),
+                changed.get("cancel_cause"),
+                record=False,
+            )
 
     def merge_shared(self, row: CommandRow) -> Command:
         """The command of a shared database row (another station's, as stored)."""
@@ -355,8 +432,7 @@ class Commands:
             self._watch(stored)
             return stored
         if stored.cancel_requested and not mine.cancel_requested:  # recorded by the station that asked it
-            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, stored.cancel_cause,
-                           record=False)
+            self._canceled(mine, stored.canceled_by, stored.canceled_on, stored.canceled_at, stored.cancel_cause, record=False)
         if stored.closed_unheard is not None and not mine.flow.transitions:
             self._take_stored(mine, stored)  # the one ending stored, whichever station's
         return mine
@@ -388,8 +464,16 @@ class Commands:
             self.store.set_flag(str(cmd.session_id), "cleaned_up")
             self._forget_old()
 
-    def on_status(self, service: Service, session: uuid.UUID, source: uuid.UUID, status: Status | int, reason: AnyReason | int,
-                  log_message: str, provider_time: float | None) -> None:
+    def on_status(
+        self,
+        service: Service,
+        session: uuid.UUID,
+        source: uuid.UUID,
+        status: Status | int,
+        reason: AnyReason | int,
+        log_message: str,
+        provider_time: float | None,
+    ) -> None:
         cmd = self.by_session.get(session) or self.others.get(session)
         if cmd is None or cmd.service is not service or source != cmd.provider_id:
             return  # not ours (another consumer's command, or a provider it was not sent to)

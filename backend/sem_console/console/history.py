@@ -46,8 +46,9 @@ def _flagged(invalid: Sequence[str], path: str) -> bool:
     return any(x.startswith(path) for x in invalid)
 
 
-def track_point(provider: str, received_at: float, fix: dict[str, Any], invalid: Sequence[str],
-                fix_valid: bool | None) -> dict[str, Any] | None:
+def track_point(
+    provider: str, received_at: float, fix: dict[str, Any], invalid: Sequence[str], fix_valid: bool | None
+) -> dict[str, Any] | None:
     """The track point of a GPSFixReport's JSON, or None when it has no valid position.
     A value the ingest flagged as invalid (out of range) is left out (null)."""
     pos = _get(fix, "position2DWithTime", "geodeticPosition")
@@ -60,13 +61,16 @@ def track_point(provider: str, received_at: float, fix: dict[str, Any], invalid:
 
     course = value("trueCourse", fix.get("trueCourse"))
     return {
-        "providerId": provider, "time": received_at,
+        "providerId": provider,
+        "time": received_at,
         "positionTime": value("position2DWithTime.timeAtPosition", _get(fix, "position2DWithTime", "timeAtPosition")),
-        "latitude": lat, "longitude": lon,
+        "latitude": lat,
+        "longitude": lon,
         "altitudeMsl": value("altitudeMSL", _get(fix, "altitudeMSL", "altitude")),
         "course": None if course is None else math.degrees(course) % 360.0,
         "sog": value("SOG", fix.get("SOG")),
-        "latLongValid": fix.get("GPSLatLongValid") is True, "fixValid": fix_valid,
+        "latLongValid": fix.get("GPSLatLongValid") is True,
+        "fixValid": fix_valid,
     }
 
 
@@ -76,7 +80,8 @@ def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict
     cn0 = [v for v in (_number(s.get("antennaCarrierNoiseDensity")) for s in sats) if v is not None]
     in_view = gps.get("numberSatellitesInView")
     return {
-        "providerId": provider, "time": received_at,
+        "providerId": provider,
+        "time": received_at,
         "cn0Mean": sum(cn0) / len(cn0) if cn0 else None,
         "satellitesUsed": sum(1 for s in sats if s.get("usedInFix") is True),
         "satellitesInView": in_view if isinstance(in_view, int) and not isinstance(in_view, bool) and in_view >= 0 else len(sats),
@@ -117,8 +122,9 @@ class History:
         self._slot[(table, provider)] = slot
         return True
 
-    def on_fix(self, provider: uuid.UUID, received_at: float, fix: dict[str, Any], invalid: Sequence[str],
-               fix_valid: bool | None) -> None:
+    def on_fix(
+        self, provider: uuid.UUID, received_at: float, fix: dict[str, Any], invalid: Sequence[str], fix_valid: bool | None
+    ) -> None:
         if not self._due("track", provider, received_at):  # most reports: the vehicle has this second's point
             return
         point = track_point(str(provider), received_at, fix, invalid, fix_valid)
@@ -142,9 +148,11 @@ class History:
                     failing = False
                 except Exception as e:  # a full disk or a database outage must not stop the console: held, logged once
                     if not failing:
-                        log.warning("could not write the track and series (%s): held (up to %d points) and tried "
-                                    "again each second", str(e).splitlines()[0] if str(e) else type(e).__name__,
-                                    HELD_POINTS)
+                        log.warning(
+                            "could not write the track and series (%s): held (up to %d points) and tried again each second",
+                            str(e).splitlines()[0] if str(e) else type(e).__name__,
+                            HELD_POINTS,
+                        )
                     failing = True
         finally:
             if self._track or self._series:
@@ -217,12 +225,14 @@ class History:
 
     async def has(self, provider: uuid.UUID) -> bool:
         """Whether the database has any point of this provider (it may not be on the bus now)."""
+
         def query() -> bool:
             with Session(self.engine) as s:
                 for model in (TrackPoint, SeriesPoint):
                     if s.exec(select(model.time).where(model.providerId == str(provider)).limit(1)).first() is not None:
                         return True
             return False
+
         return await asyncio.to_thread(query)
 
     async def _read(self, model: type[Any], provider: uuid.UUID, since: float | None, until: float | None) -> list[Any]:
@@ -238,6 +248,7 @@ class History:
                 rows = list(s.exec(q.order_by(col(model.time))).all())
                 s.expunge_all()
                 return rows
+
         return await asyncio.to_thread(query)
 
     def close(self) -> None:

@@ -70,8 +70,15 @@ class Client:
     that never does gets every report whole, as it comes. `clock`: the console's (a replay's is the recording's time, as
     the page's trails are)."""
 
-    def __init__(self, send: Callable[[str], Awaitable[None]], max_queue: int, stall_seconds: float,
-                 batch: bool = False, window: int | None = None, clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(
+        self,
+        send: Callable[[str], Awaitable[None]],
+        max_queue: int,
+        stall_seconds: float,
+        batch: bool = False,
+        window: int | None = None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
         self.send, self.max_queue, self.stall_seconds, self.batch = send, max_queue, stall_seconds, batch
         self.clock = clock
         self.window = window
@@ -110,16 +117,21 @@ class Client:
             value = text if thin is None else (text, thin)
             if key[0] == self.selected:
                 self.first[key] = value
-            elif key in self.later or (self.selecting and key not in self.reports
-                                       and time.monotonic() - self.sent_at.get(key, -OTHERS_EVERY) < OTHERS_EVERY):
+            elif key in self.later or (
+                self.selecting
+                and key not in self.reports
+                and time.monotonic() - self.sent_at.get(key, -OTHERS_EVERY) < OTHERS_EVERY
+            ):
                 self.later[key] = value  # another vehicle's, sent a moment ago: the newest goes when it is due
                 if self.release is None:
                     self.release = asyncio.get_running_loop().call_later(OTHERS_EVERY / 4, self._release)
                 return
             else:
                 self.reports[key] = value
-        elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (len(self.ordered) >= self.max_queue and (
-                time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)):
+        elif self.queued_bytes + len(text) > MAX_QUEUED_BYTES or (
+            len(self.ordered) >= self.max_queue
+            and (time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)
+        ):
             self.drop(f"stopped reading ({len(self.ordered)} messages behind)")
             return
         else:
@@ -174,8 +186,9 @@ class Client:
         last = self.full_at.get(provider_id)
         return self.since - FULL_EVERY * (zlib.crc32(provider_id.encode()) % 1000) / 1000 if last is None else last
 
-    def _text(self, key: tuple[str, str], text: str | None = None,
-              waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None) -> str:
+    def _text(
+        self, key: tuple[str, str], text: str | None = None, waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None
+    ) -> str:
         """Take the report waiting for `key` as `text`, what `_peek` said (asked again, the clock may have passed
         FULL_EVERY: a batch measured thin against the window's room went whole)."""
         text = self._peek(key, waiting) if text is None else text
@@ -271,8 +284,13 @@ class Client:
 
 
 class Hub:
-    def __init__(self, max_queue: int = 10_000, stall_seconds: float = 5.0, window: int = 256 * 1024,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+    def __init__(
+        self,
+        max_queue: int = 10_000,
+        stall_seconds: float = 5.0,
+        window: int = 256 * 1024,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
         """`clock`: of the whole GPSReports of vehicles not selected (FULL_EVERY): the console's, a replay's recording
         time, since the page's trails step in it (at 20x, 5 s of wall time were 100 s of trails)."""
         self.max_queue, self.stall_seconds, self.window, self.clock = max_queue, stall_seconds, window, clock
@@ -280,8 +298,7 @@ class Hub:
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
 
-    def publish(self, message: ServerMessage, key: tuple[str, str] | None = None,
-                thin: ReportMessage | None = None) -> None:
+    def publish(self, message: ServerMessage, key: tuple[str, str] | None = None, thin: ReportMessage | None = None) -> None:
         """Send `message` to every client (with `key`: a report, conflated per client; `thin`: the same report without
         what only a client drawing that vehicle needs, for the clients that draw another)."""
         if not self.clients:
@@ -296,8 +313,9 @@ class Hub:
                 log.warning("dropped a WebSocket client that %s", c.dropped_for)
                 self.clients.discard(c)
 
-    def attach(self, send: Callable[[str], Awaitable[None]], first: SnapshotMessage, batch: bool = False,
-               ack: bool = False) -> Client:
+    def attach(
+        self, send: Callable[[str], Awaitable[None]], first: SnapshotMessage, batch: bool = False, ack: bool = False
+    ) -> Client:
         """Register a client with `first` (its snapshot) queued ahead of any later event; `batch`: it takes the
         reports waiting for it as one JSON array; `ack`: it acknowledges the frames it has taken, and its reports go
         out within the hub's window (`Client`)."""

@@ -90,8 +90,11 @@ class Via(str, Enum):
         """The reader's QoS. A topic with an appendable copy (TopicSpec.appendable) is read by a reader of each type:
         the final one validates the writer's type (`force_type_validation`: a writer that sends no type information, as
         RTI on the recipe, is refused, not matched by name and misread), the appendable one matches by name."""
-        qos = any_writer_reader_qos(sem.spec.cls) if self is Via.BEST_EFFORT else \
-            reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+        qos = (
+            any_writer_reader_qos(sem.spec.cls)
+            if self is Via.BEST_EFFORT
+            else reader_qos(sem.spec.cls, durable=self is Via.RELIABLE_TRANSIENT_LOCAL)
+        )
         return qos if appendable else qos + final_type_qos(sem)
 
 
@@ -112,9 +115,18 @@ def owner_of(writer_qos: Qos) -> Via:
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
 # Cyclone's dds_qos_policy_id_t values a requested-incompatible-QoS status may name.
-_POLICY_NAMES = {2: "Durability", 3: "Presentation", 4: "Deadline", 5: "LatencyBudget", 6: "Ownership",
-                 8: "Liveliness", 11: "Reliability", 12: "DestinationOrder", 24: "TypeConsistencyEnforcement",
-                 25: "DataRepresentation"}
+_POLICY_NAMES = {
+    2: "Durability",
+    3: "Presentation",
+    4: "Deadline",
+    5: "LatencyBudget",
+    6: "Ownership",
+    8: "Liveliness",
+    11: "Reliability",
+    12: "DestinationOrder",
+    24: "TypeConsistencyEnforcement",
+    25: "DataRepresentation",
+}
 _TYPE_CONSISTENCY = 24
 FORGET_AFTER = 10.0  # s after a writer left every reader: its samples were taken long before
 PEER_CHECK = 1.0  # s between looks at other vendors' participants in discovery (dds/vendors.py)
@@ -169,9 +181,17 @@ class Owners:
 
 
 class Ingest:
-    def __init__(self, bus: Bus, loop: asyncio.AbstractEventLoop, on_reports: Callable[[list[ReportItem]], None],
-                 on_statuses: Callable[[list[StatusItem]], None], report_interval: float, tap: Tap | None = None,
-                 report_burst: int = 32, command_writers: dict[AnySem, DataWriter[Any]] | None = None) -> None:
+    def __init__(
+        self,
+        bus: Bus,
+        loop: asyncio.AbstractEventLoop,
+        on_reports: Callable[[list[ReportItem]], None],
+        on_statuses: Callable[[list[StatusItem]], None],
+        report_interval: float,
+        tap: Tap | None = None,
+        report_burst: int = 32,
+        command_writers: dict[AnySem, DataWriter[Any]] | None = None,
+    ) -> None:
         self.loop, self.on_reports, self.on_statuses, self.tap = loop, on_reports, on_statuses, tap
         self.pace = Pacer(report_interval, report_burst)
         self.decoder = Decoder()
@@ -190,11 +210,13 @@ class Ingest:
         self._counting = threading.Lock()
         self.running = False
         self.report_readers = self._readers(bus, [*REPORT_TOPICS, *REPORT_TOPICS_6_0])
-        self.status_readers = self._readers(bus, list(dict.fromkeys([*STATUS_TOPICS, *ACK_TOPICS, *COMMAND_TOPICS,
-                                                                      *COMMAND_FLOW_6_0])))
+        self.status_readers = self._readers(
+            bus, list(dict.fromkeys([*STATUS_TOPICS, *ACK_TOPICS, *COMMAND_TOPICS, *COMMAND_FLOW_6_0]))
+        )
         # other vendors' endpoints of the topics it reads or writes (dds/vendors.py)
-        self.peers = PeerWatch(bus.participant, [*{s for s, _v, _r in self.report_readers + self.status_readers},
-                                                 *self.command_writers])
+        self.peers = PeerWatch(
+            bus.participant, [*{s for s, _v, _r in self.report_readers + self.status_readers}, *self.command_writers]
+        )
         self.threads: list[threading.Thread] = []
         self._waitsets: dict[str, tuple[Triggered, list[Any]]] = {}
         for name, readers in (("reports", self.report_readers), ("statuses", self.status_readers)):
@@ -235,10 +257,22 @@ class Ingest:
         """The three readers of every topic (see the module docstring), and three more of its appendable copy if it
         has one (Via.qos). A writer matches the readers of one type only, so `Owners` needs no change: its samples are
         taken from its owner among them, and `Decoder` tells the two types apart by the encapsulation header."""
-        return [(sem, via, bus.reader(sem, via.qos(sem, appendable), appendable=appendable, listener=self.owners.listener(
-                    on_requested_incompatible_qos=self._on_incompatible(sem, via))))
-                for sem in sems for appendable in (False, True) if not appendable or sem.spec.appendable is not None
-                for via in Via]
+        return [
+            (
+                sem,
+                via,
+                bus.reader(
+                    sem,
+                    via.qos(sem, appendable),
+                    appendable=appendable,
+                    listener=self.owners.listener(on_requested_incompatible_qos=self._on_incompatible(sem, via)),
+                ),
+            )
+            for sem in sems
+            for appendable in (False, True)
+            if not appendable or sem.spec.appendable is not None
+            for via in Via
+        ]
 
     def _on_incompatible(self, sem: AnySem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader
@@ -357,8 +391,9 @@ class Ingest:
 
     def matched_writers(self, sem: AnySem) -> set[int]:
         """The publication handles any reader of ours of this topic matched."""
-        return {h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem
-                for h in r.get_matched_publications()}
+        return {
+            h & _U64 for s, _via, r in self.report_readers + self.status_readers if s is sem for h in r.get_matched_publications()
+        }
 
     def reached_readers(self, sem: AnySem) -> set[int] | None:
         """The subscription handles the console's writer of this topic matched (None: the console writes no such topic)."""

@@ -60,12 +60,19 @@ class Provider:
             "linkConfig": self.config.to_json(),
             "jausId": self.jaus_id(),
             "ageSeconds": round(now - self.last_seen(), 3),
-            "topics": {name: {"ageSeconds": round(now - h.last_seen, 3), "samples": h.samples, "alive": h.alive,
-                              "receivedAt": h.received_at} for name, h in self.health.items()},
+            "topics": {
+                name: {
+                    "ageSeconds": round(now - h.last_seen, 3),
+                    "samples": h.samples,
+                    "alive": h.alive,
+                    "receivedAt": h.received_at,
+                }
+                for name, h in self.health.items()
+            },
         }
 
     def jaus_id(self) -> str | None:
-        """"S.1.C": subsystem S, node 1, component C (the order of appearance), when the JAUS gateway is on."""
+        """ "S.1.C": subsystem S, node 1, component C (the order of appearance), when the JAUS gateway is on."""
         if self.jaus_subsystem is None or not 0 < self.ordinal <= MAX_JAUS_COMPONENT:
             return None
         return f"{self.jaus_subsystem}.1.{self.ordinal}"
@@ -82,11 +89,21 @@ class Providers:
 
     def default_config(self) -> LinkConfig:
         """The console's own thresholds (Settings, checked there: they may be shorter than an operator may set)."""
-        return LinkConfig.model_construct(commsLostTimeout=self.comms_lost_timeout, regainedTime=self.regained_time,
-                                          policy="STOP_MISSION", regainedBehavior=0)
+        return LinkConfig.model_construct(
+            commsLostTimeout=self.comms_lost_timeout, regainedTime=self.regained_time, policy="STOP_MISSION", regainedBehavior=0
+        )
 
-    def seen(self, topic: str, source: uuid.UUID, report: messages.ReportEnvelope | None, now: float, wall: float,
-             alive: bool, version: UmaaVersion | None = None, parent: uuid.UUID | None = None) -> tuple[Provider, bool]:
+    def seen(
+        self,
+        topic: str,
+        source: uuid.UUID,
+        report: messages.ReportEnvelope | None,
+        now: float,
+        wall: float,
+        alive: bool,
+        version: UmaaVersion | None = None,
+        parent: uuid.UUID | None = None,
+    ) -> tuple[Provider, bool]:
         """Record a sample on `topic`; `report` None with alive False: the instance ended
         (disposed, or no writers). `version`: the UMAA version of the topic (a report, a command status or an ack).
         Returns (provider, whether it is new)."""
@@ -94,8 +111,14 @@ class Providers:
         new = p is None
         if p is None:
             key = str(source)
-            p = self.by_id[source] = Provider(source, now, self.configs.get(key) or self.default_config(),
-                                              self.names.get(key), len(self.by_id) + 1, self.jaus_subsystem)
+            p = self.by_id[source] = Provider(
+                source,
+                now,
+                self.configs.get(key) or self.default_config(),
+                self.names.get(key),
+                len(self.by_id) + 1,
+                self.jaus_subsystem,
+            )
         if version is not None and version != p.umaa_version:
             p.umaa_version = version
             p.version_changed = not new

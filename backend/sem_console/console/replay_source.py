@@ -180,8 +180,12 @@ class Cursor:
                 return RecordedCommand(dict(event["command"]), followed if isinstance(followed, bool) else None)
             if topic == ALARM_ACKS:
                 by, station = event.get("ackedBy"), event.get("station")
-                return RecordedAck(str(event["key"]), float(event["ackedAt"]), by if isinstance(by, str) else None,
-                                   station if isinstance(station, str) else None)
+                return RecordedAck(
+                    str(event["key"]),
+                    float(event["ackedAt"]),
+                    by if isinstance(by, str) else None,
+                    station if isinstance(station, str) else None,
+                )
             if topic == NAMES:
                 name = event["name"]
                 return RecordedName(uuid.UUID(event["providerId"]), name if isinstance(name, str) and name else None)
@@ -258,8 +262,14 @@ class Replay:
 
     # ---- control (the REST route) --------------------------------------------------------------
     def status(self) -> ReplayStatus:
-        return {"file": self.path.name, "state": "playing" if self.playing else "paused", "speed": self.speed,
-                "position": self.position, "start": self.start, "end": self.end}
+        return {
+            "file": self.path.name,
+            "state": "playing" if self.playing else "paused",
+            "speed": self.speed,
+            "position": self.position,
+            "start": self.start,
+            "end": self.end,
+        }
 
     async def play(self) -> None:
         if self.position >= self.end:  # at the end: from the start again

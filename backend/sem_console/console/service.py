@@ -136,16 +136,26 @@ class Console:
         # replay: the commands of other stations than the one that recorded (shown, as they reached it, but not its
         # to raise alarms for: the live console raised none for them)
         self._others: set[uuid.UUID] = set()
-        self.recorder = Recorder(settings.recording_dir(), settings.record_max_bytes, settings.record_max_seconds,
-                                 settings.record_queue, self._recording_changed, self.station,
-                                 lambda: self.providers.names)
+        self.recorder = Recorder(
+            settings.recording_dir(),
+            settings.record_max_bytes,
+            settings.record_max_seconds,
+            settings.record_queue,
+            self._recording_changed,
+            self.station,
+            lambda: self.providers.names,
+        )
         # the ones not back to normal, from the database; each acknowledgement is recorded (a replay derives the alarms
         # again, and acknowledges them from the recording)
-        self.alarms = Alarms(self.store, self.names(), self._record_ack, settings.silence_grace,
-                             (settings.chatter_count, settings.chatter_minutes * 60))
+        self.alarms = Alarms(
+            self.store,
+            self.names(),
+            self._record_ack,
+            settings.silence_grace,
+            (settings.chatter_count, settings.chatter_minutes * 60),
+        )
         self.alarms.baseline(self.commands.by_session.values())
-        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store),
-                     self.station)
+        self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store), self.station)
         self.imc: AsyncNode | None = None
         self._loop: asyncio.AbstractEventLoop | None = None
         self._names_lock, self._comap_lock, self._shared_lock = asyncio.Lock(), asyncio.Lock(), asyncio.Lock()
@@ -170,12 +180,24 @@ class Console:
 
     def _fresh_state(self) -> tuple[Providers, Commands]:
         settings = self.settings
-        providers = Providers(settings.comms_lost_timeout, settings.regained_time, self.names(),
-                              stored_link_configs(self.store.link_configs()),
-                              settings.jaus_subsystem if settings.jaus_port is not None else None)
-        commands = Commands(self.id, self.store, self._write_command, self._dispose_command, self._emit,
-                            self.settings.unanswered_timeout, self.clock, self.station,
-                            self.settings.cancel_unheard_bound)
+        providers = Providers(
+            settings.comms_lost_timeout,
+            settings.regained_time,
+            self.names(),
+            stored_link_configs(self.store.link_configs()),
+            settings.jaus_subsystem if settings.jaus_port is not None else None,
+        )
+        commands = Commands(
+            self.id,
+            self.store,
+            self._write_command,
+            self._dispose_command,
+            self._emit,
+            self.settings.unanswered_timeout,
+            self.clock,
+            self.station,
+            self.settings.cancel_unheard_bound,
+        )
         return providers, commands
 
     def reset(self) -> None:
@@ -213,19 +235,35 @@ class Console:
                 changed = message.get("changed")
                 if isinstance(changed, dict):
                     self.commands.canceled_elsewhere(uuid.UUID(session), changed)
-                self._reload(self._read_stored(self._shared_lock, "a command of another console",
-                                               lambda: self.store.commands(session_id=session), self._shared_command))
+                self._reload(
+                    self._read_stored(
+                        self._shared_lock,
+                        "a command of another console",
+                        lambda: self.store.commands(session_id=session),
+                        self._shared_command,
+                    )
+                )
             elif kind == "link":
                 provider = str(message["provider"])
-                self._reload(self._read_stored(self._shared_lock, "the link configurations", self.store.link_configs,
-                                               lambda rows: self._shared_link_config(provider, rows)))
+                self._reload(
+                    self._read_stored(
+                        self._shared_lock,
+                        "the link configurations",
+                        self.store.link_configs,
+                        lambda rows: self._shared_link_config(provider, rows),
+                    )
+                )
             elif kind in ("shelf", "silence"):  # after a resync's read under way, or its older rows would undo it
                 self._reload(self._in_order(self._shared_lock, message, self._shared_watch))
             elif kind == "alarm-ack":
                 by = message.get("by")
                 station = message.get("console")
-                if self.alarms.acknowledged_elsewhere(str(message["key"]), by if isinstance(by, str) else None,
-                                                      float(message["at"]), station if isinstance(station, str) else None):
+                if self.alarms.acknowledged_elsewhere(
+                    str(message["key"]),
+                    by if isinstance(by, str) else None,
+                    float(message["at"]),
+                    station if isinstance(station, str) else None,
+                ):
                     self._alarms_changed()
         except (KeyError, ValueError) as e:
             log.warning("ignored a notification of another console (%s): %.200s", e, message)
@@ -240,8 +278,13 @@ class Console:
         since = {k: a.since for k, a in self.alarms.open.items() if a.acked_at is None}
 
         def read() -> Resynced:
-            return Resynced(self.store.commands(limit=RESYNC_COMMANDS, unfinished=True), self.store.link_configs(),
-                            self.store.shelves(), self.store.silences(), self.store.acked_elsewhere(since))
+            return Resynced(
+                self.store.commands(limit=RESYNC_COMMANDS, unfinished=True),
+                self.store.link_configs(),
+                self.store.shelves(),
+                self.store.silences(),
+                self.store.acked_elsewhere(since),
+            )
 
         def apply(got: Resynced) -> None:
             for row in got.commands:
@@ -254,6 +297,7 @@ class Console:
             if any([self.alarms.acknowledged_elsewhere(k, by, at) for k, (at, by) in got.acked.items()]):
                 self._alarms_changed()
             log.info("listening to the other consoles again: resynced from the database")
+
         await self._read_stored(self._shared_lock, "what the other consoles changed", read, apply)
 
     async def _in_order(self, lock: asyncio.Lock, message: dict[str, Any], apply: Callable[[dict[str, Any]], None]) -> None:
@@ -432,8 +476,9 @@ class Console:
         now = self.clock.monotonic()
         alarming = False
         for it in items:
-            p, new = self.providers.seen(it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version,
-                                         it.parent)
+            p, new = self.providers.seen(
+                it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version, it.parent
+            )
             if new:
                 self._provider_event(p, "appeared", now)
             elif p.version_changed:
@@ -482,8 +527,9 @@ class Console:
         topic = f"{it.service.value}CommandStatus" if it.kind == "status" else f"{it.service.value}CommandAckReport"
         # a vehicle first heard on its command status or ack (transient-local, before its first report) speaks that
         # topic's version
-        p, new = self.providers.seen(topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None,
-                                     it.version, it.parent)
+        p, new = self.providers.seen(
+            topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None, it.version, it.parent
+        )
         if new:
             self._provider_event(p, "appeared", now)
         elif p.version_changed:
@@ -517,10 +563,14 @@ class Console:
 
     def comap_status(self) -> dict[str, Any]:
         ep = self.imc.endpoint if self.imc is not None else None
-        return {"enabled": ep is not None, "imcId": self.settings.imc_id, "port": self.settings.imc_port,
-                "peers": [f"{h}:{p}" for h, p in ep.peers] if ep else [],
-                "counters": {**ep.counters, "refusedWorldModels": self.c2.refused_world_models} if ep else {},
-                "vehicles": [v.to_json() for v in self.c2.vehicles.values()]}
+        return {
+            "enabled": ep is not None,
+            "imcId": self.settings.imc_id,
+            "port": self.settings.imc_port,
+            "peers": [f"{h}:{p}" for h, p in ep.peers] if ep else [],
+            "counters": {**ep.counters, "refusedWorldModels": self.c2.refused_world_models} if ep else {},
+            "vehicles": [v.to_json() for v in self.c2.vehicles.values()],
+        }
 
     def _emit(self, message: ServerMessage) -> None:
         if not self.quiet:
@@ -591,9 +641,18 @@ class Console:
 
     def _record_ack(self, alarm: Alarm, station: str | None) -> None:
         """An alarm just acknowledged, here or on another station: in the recording (`recorder.AlarmAckEvent`)."""
-        self.recorder.on_message({"type": "alarm-ack", "key": alarm.key, "kind": alarm.kind, "providerId": alarm.provider_id,
-                                  "sessionId": alarm.session_id, "ackedAt": alarm.acked_at, "ackedBy": alarm.acked_by,
-                                  "station": station})
+        self.recorder.on_message(
+            {
+                "type": "alarm-ack",
+                "key": alarm.key,
+                "kind": alarm.kind,
+                "providerId": alarm.provider_id,
+                "sessionId": alarm.session_id,
+                "ackedAt": alarm.acked_at,
+                "ackedBy": alarm.acked_by,
+                "station": station,
+            }
+        )
 
     def _recording_changed(self, status: RecordingStatus) -> None:
         """From any thread: the recording started, stopped, rolled over or failed."""
@@ -641,8 +700,11 @@ class Console:
         if state is None:
             return
         since, held, dropped, sent = self._database_sent
-        if state["unavailableSince"] == since and state["writesDropped"] == dropped and (
-                state["writesHeld"] == held or now - sent < 1.0):
+        if (
+            state["unavailableSince"] == since
+            and state["writesDropped"] == dropped
+            and (state["writesHeld"] == held or now - sent < 1.0)
+        ):
             return
         self._database_sent = (state["unavailableSince"], state["writesHeld"], state["writesDropped"], now)
         self._emit(database_message(state))
@@ -650,7 +712,9 @@ class Console:
     def snapshot(self) -> SnapshotMessage:
         now = self.clock.monotonic()
         return {
-            "type": "snapshot", "consoleId": str(self.id), "serverTime": self.clock.wall(),
+            "type": "snapshot",
+            "consoleId": str(self.id),
+            "serverTime": self.clock.wall(),
             "authRequired": bool(self.settings.operators()),
             "providers": [self.first_screen_detail(p, now) for p in self.providers.by_id.values()],
             "commands": [c.to_json() for c in self.commands.by_session.values()],
@@ -720,6 +784,7 @@ class Console:
     async def _reload_comap(self, kind: str, task_id: int | None) -> None:
         """The stored world model (kind worldmodel), task `task_id` (task) or both with every task (resync), applied
         where newer than this console's."""
+
         def read() -> tuple[WorldRow | None, list[TaskRow]]:
             world = self.store.comap_world() if kind != "task" else None
             return world, self.store.comap_tasks(task_id) if kind != "worldmodel" else []
@@ -728,6 +793,7 @@ class Console:
             self.c2.load_world(got[0])
             for row in got[1]:
                 self.c2.load_task(row)
+
         await self._read_stored(self._comap_lock, "the CoMap world model and tasks", read, apply)
 
     async def assign(self, task: Task) -> Task:
@@ -743,11 +809,13 @@ class Console:
 
     async def _reload_names(self) -> None:
         """Every vehicle's stored name again, applied where it changed."""
+
         def apply(stored: dict[str, str]) -> None:
             for key in {*self.providers.names, *stored, *(str(i) for i in self.providers.by_id)}:
                 name = stored.get(key) or self.settings.names().get(key)
                 if self.providers.names.get(key) != name:
                     self._apply_name(uuid.UUID(key), stored.get(key))
+
         await self._read_stored(self._names_lock, "the vehicle names", self.store.vehicle_names, apply)
 
     def _apply_name(self, provider_id: uuid.UUID, stored: str | None) -> None:
@@ -872,11 +940,31 @@ class Console:
     def task(self, task_id: int) -> Task | None:
         return self.c2.tasks.get(task_id)
 
-    async def assign_task(self, kind: str, vehicle: uuid.UUID, operator: str | None, *, feature_id: int | None,
-                          sensor: str, resolution: float, deadline: float | None, point: dict[str, float] | None) -> Task:
+    async def assign_task(
+        self,
+        kind: str,
+        vehicle: uuid.UUID,
+        operator: str | None,
+        *,
+        feature_id: int | None,
+        sensor: str,
+        resolution: float,
+        deadline: float | None,
+        point: dict[str, float] | None,
+    ) -> Task:
         """Plan a CoMap task (C2.plan) and send it (`assign`); TaskError: it cannot be."""
-        return await self.assign(self.c2.plan(kind, vehicle, operator, feature_id=feature_id, sensor=sensor,
-                                              resolution=resolution, deadline=deadline, point=point))
+        return await self.assign(
+            self.c2.plan(
+                kind,
+                vehicle,
+                operator,
+                feature_id=feature_id,
+                sensor=sensor,
+                resolution=resolution,
+                deadline=deadline,
+                point=point,
+            )
+        )
 
     def synch(self, task_id: int, action: str) -> Task:
         return self.c2.synch(task_id, action)

@@ -135,9 +135,16 @@ class DdsSource:
         return opened or Database(self.settings.database(), self.settings.audit_max_rows)
 
     def attach(self, console: ConsoleSink) -> None:
-        self.ingest = Ingest(self.bus, asyncio.get_running_loop(), console.on_reports, console.on_statuses,
-                             self.settings.report_interval, console.recorder, self.settings.report_burst,
-                             dict(self.command_writers))
+        self.ingest = Ingest(
+            self.bus,
+            asyncio.get_running_loop(),
+            console.on_reports,
+            console.on_statuses,
+            self.settings.report_interval,
+            console.recorder,
+            self.settings.report_burst,
+            dict(self.command_writers),
+        )
 
     async def start(self) -> None:
         assert self.ingest is not None, "attach() first"
@@ -168,8 +175,10 @@ class DdsSource:
             stop[0] = True
             await asyncio.to_thread(thread.join, 10)  # start-up bus check (up to 3 s) plus its shutdown
             if thread.is_alive():
-                log.warning("the embedded simulator did not finish its shutdown in 10 s: the console leaves the bus "
-                            "under it (its vehicles' reports may stay on the bus until they time out)")
+                log.warning(
+                    "the embedded simulator did not finish its shutdown in 10 s: the console leaves the bus "
+                    "under it (its vehicles' reports may stay on the bus until they time out)"
+                )
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
@@ -194,8 +203,9 @@ class DdsSource:
         from sem_console.sim.provider import InUse, SimOptions, Simulator
 
         stop = [False]
-        opts = SimOptions(vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle,
-                          time_scale=self.settings.sim_time_scale)
+        opts = SimOptions(
+            vehicles=self.settings.sim, first_vehicle=self.settings.sim_first_vehicle, time_scale=self.settings.sim_time_scale
+        )
 
         def run() -> None:
             # A participant of its own, as a vehicle's: on the console's, a Service Consumer (sem-check) took the

@@ -32,21 +32,25 @@ def not_a_number(kind: type, text: object) -> str:
 
 def number(kind: Callable[[str], N]) -> Callable[[str], N]:
     """An argument type: `kind` (int or float) of the text, else a one-line error (`not_a_number`)."""
+
     def parse(text: str) -> N:
         try:
             return kind(text)
         except ValueError:
             raise argparse.ArgumentTypeError(not_a_number(kind, text)) from None  # type: ignore[arg-type]
+
     return parse
 
 
 def ranged(kind: Callable[[str], N], lo: float, hi: float) -> Callable[[str], N]:
     """An argument type: `kind` of the text, within lo..hi, else a one-line error naming the range."""
+
     def parse(text: str) -> N:
         value = number(kind)(text)
         if not lo <= value <= hi:
             raise argparse.ArgumentTypeError(f"{text} is outside {lo:g}..{hi:g}")
         return value
+
     return parse
 
 
@@ -80,8 +84,9 @@ def value_type(annotation: Any) -> Any:
     return kinds[0]
 
 
-def add_model_options(parser: argparse.ArgumentParser, model: type[BaseModel],
-                      types: dict[str, Callable[[str], Any]] | None = None) -> None:
+def add_model_options(
+    parser: argparse.ArgumentParser, model: type[BaseModel], types: dict[str, Callable[[str], Any]] | None = None
+) -> None:
     """One option per field of `model` that has one, in the fields' order: its type from the annotation (a bool is a
     flag that sets True) or the `types` entry its `cli(type=...)` names, its help the field's description, default
     None (given options only: the model decides the rest, and reads the environment for it)."""

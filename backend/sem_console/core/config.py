@@ -42,145 +42,280 @@ class Settings(BaseSettings):
 
     # Fields in the order `sem-console --help` lists their options.
     # HTTP and DDS
-    host: str = Field("127.0.0.1", description="address to listen on (default: 127.0.0.1; anything else is only used "
-                                               "when given)")
+    host: str = Field("127.0.0.1", description="address to listen on (default: 127.0.0.1; anything else is only used when given)")
     port: int = Field(8000, ge=0, le=65535, description="HTTP port (default: 8000)")
     domain: int = Field(0, ge=0, le=232, description="DDS domain id, 0..232 (default: 0)")
-    dds_interface: str = Field("lo", description="network interface Cyclone binds to when CYCLONEDDS_URI is not set",
-                               json_schema_extra=ENV_ONLY)
-    dds_peers: str = Field("127.0.0.1", description="unicast discovery peers when CYCLONEDDS_URI is not set, comma "
-                                                    "separated", json_schema_extra=ENV_ONLY)
+    dds_interface: str = Field(
+        "lo", description="network interface Cyclone binds to when CYCLONEDDS_URI is not set", json_schema_extra=ENV_ONLY
+    )
+    dds_peers: str = Field(
+        "127.0.0.1",
+        description="unicast discovery peers when CYCLONEDDS_URI is not set, comma separated",
+        json_schema_extra=ENV_ONLY,
+    )
     sim: int = Field(0, ge=0, le=100, description="start N simulated vehicles alongside on the same domain (default: 0)")
     sim_time_scale: float = Field(1.0, ge=0.001, le=100, description="time scale of the embedded simulator (default: 1)")
-    sim_first_vehicle: int = Field(1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle, as "
-                                                                  "sem-sim --first-vehicle (default: 1)")
+    sim_first_vehicle: int = Field(
+        1, ge=1, le=9_500, description="number of the embedded simulator's first vehicle, as sem-sim --first-vehicle (default: 1)"
+    )
 
     # UMAA consumer and link health
-    db_path: Path = Field(Path("var/sem-console.sqlite3"), json_schema_extra=cli(flag="--db"),
-                          description="SQLite database file: commands, audit, alarms, track history (default: "
-                                      "var/sem-console.sqlite3); the shorthand of --database-url PATH")
-    database_url: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(
-        "the console's database: postgresql://user:password@host:port/database (shared by the consoles of an "
-        "operations centre), or a SQLite file path or sqlite:///PATH (default: --db)"))
-    console_name: str | None = Field(None, min_length=1, max_length=200, description=(
-        "this console station's name, which keeps its UMAA source GUID in the database across restarts; unique "
-        "among the consoles running on one database (default: <host name>:<HTTP port>)"))
-    comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without samples before a provider is lost "
-                                                             "(default: 3)")
-    regained_time: float = Field(3.0, ge=0, description="seconds of continuous samples before a provider is regained "
-                                                        "(default: 3)")
-    unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered "
-                                                             "(default: 5)")
-    cancel_unheard_bound: float = Field(3600.0, gt=0, description="seconds after its cancel when a canceled command "
-                                        "the vehicle never answered ends, if the vehicle is not heard again before "
-                                        "(default: 3600)")
-    track_retention_hours: float = Field(24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per "
-                                         "vehicle (default: 24)")
-    report_interval: float = Field(0.005, ge=0, le=10, description="under load, at most one take of report topics per "
-                                   "this many seconds (conflation window); sparse input is taken as it arrives",
-                                   json_schema_extra=ENV_ONLY)
-    report_burst: int = Field(32, ge=1, le=1000, description="takes of report topics allowed at once before the conflation "
-                              "window applies (refilled at one per window)", json_schema_extra=ENV_ONLY)
-    ws_max_queue: int = Field(10_000, ge=10, description="ordered messages a WebSocket client may fall behind (while it sends "
-                              "nothing for ws_stall_seconds) before it is dropped", json_schema_extra=ENV_ONLY)
-    ws_window_bytes: int = Field(256 * 1024, ge=1024, description="a WebSocket client that acknowledges (/ws?ack=1, the "
-                                 "dashboard) is sent reports only while fewer than this many bytes it was sent (any "
-                                 "message) are unacknowledged; beyond, they wait at the console, conflated, not in the "
-                                 "sockets' buffers (a batch under way may pass it; ordered messages are not held)",
-                                 json_schema_extra=ENV_ONLY)
-    ws_stall_seconds: float = Field(5.0, ge=0, description="seconds without a completed send that make a client over "
-                                    "ws_max_queue stalled", json_schema_extra=ENV_ONLY)
-    ws_compression: bool = Field(False, description="permessage-deflate on /ws when a client offers it: about a tenth of the "
-                                 "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)",
-                                 json_schema_extra=ENV_ONLY)
+    db_path: Path = Field(
+        Path("var/sem-console.sqlite3"),
+        json_schema_extra=cli(flag="--db"),
+        description="SQLite database file: commands, audit, alarms, track history (default: "
+        "var/sem-console.sqlite3); the shorthand of --database-url PATH",
+    )
+    database_url: str | None = Field(
+        None,
+        json_schema_extra=cli(metavar="URL"),
+        description=(
+            "the console's database: postgresql://user:password@host:port/database (shared by the consoles of an "
+            "operations centre), or a SQLite file path or sqlite:///PATH (default: --db)"
+        ),
+    )
+    console_name: str | None = Field(
+        None,
+        min_length=1,
+        max_length=200,
+        description=(
+            "this console station's name, which keeps its UMAA source GUID in the database across restarts; unique "
+            "among the consoles running on one database (default: <host name>:<HTTP port>)"
+        ),
+    )
+    comms_lost_timeout: float = Field(3.0, gt=0, description="seconds without samples before a provider is lost (default: 3)")
+    regained_time: float = Field(
+        3.0, ge=0, description="seconds of continuous samples before a provider is regained (default: 3)"
+    )
+    unanswered_timeout: float = Field(5.0, gt=0, description="seconds without ISSUED before a command is unanswered (default: 5)")
+    cancel_unheard_bound: float = Field(
+        3600.0,
+        gt=0,
+        description="seconds after its cancel when a canceled command "
+        "the vehicle never answered ends, if the vehicle is not heard again before "
+        "(default: 3600)",
+    )
+    track_retention_hours: float = Field(
+        24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per vehicle (default: 24)"
+    )
+    report_interval: float = Field(
+        0.005,
+        ge=0,
+        le=10,
+        description="under load, at most one take of report topics per "
+        "this many seconds (conflation window); sparse input is taken as it arrives",
+        json_schema_extra=ENV_ONLY,
+    )
+    report_burst: int = Field(
+        32,
+        ge=1,
+        le=1000,
+        description="takes of report topics allowed at once before the conflation window applies (refilled at one per window)",
+        json_schema_extra=ENV_ONLY,
+    )
+    ws_max_queue: int = Field(
+        10_000,
+        ge=10,
+        description="ordered messages a WebSocket client may fall behind (while it sends "
+        "nothing for ws_stall_seconds) before it is dropped",
+        json_schema_extra=ENV_ONLY,
+    )
+    ws_window_bytes: int = Field(
+        256 * 1024,
+        ge=1024,
+        description="a WebSocket client that acknowledges (/ws?ack=1, the "
+        "dashboard) is sent reports only while fewer than this many bytes it was sent (any "
+        "message) are unacknowledged; beyond, they wait at the console, conflated, not in the "
+        "sockets' buffers (a batch under way may pass it; ordered messages are not held)",
+        json_schema_extra=ENV_ONLY,
+    )
+    ws_stall_seconds: float = Field(
+        5.0,
+        ge=0,
+        description="seconds without a completed send that make a client over ws_max_queue stalled",
+        json_schema_extra=ENV_ONLY,
+    )
+    ws_compression: bool = Field(
+        False,
+        description="permessage-deflate on /ws when a client offers it: about a tenth of the "
+        "bytes on a slow link, for CPU and latency on every message (off: a LAN or one machine)",
+        json_schema_extra=ENV_ONLY,
+    )
 
     # Operators: "name:token,name2:token2" and/or a file of "name:token" lines; both split at the
     # first colon (parse_token). None at all: no sign-in.
-    operator_tokens: str = Field("", description="'name:token,...': command routes then need Authorization: Bearer "
-                                 "<token> (prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)")
+    operator_tokens: str = Field(
+        "",
+        description="'name:token,...': command routes then need Authorization: Bearer "
+        "<token> (prefer SEM_OPERATOR_TOKENS or --operator-tokens-file: a command line shows in ps)",
+    )
     operator_tokens_file: Path | None = Field(None, description="file of operator tokens, one 'name:token' per line")
     auth_reads: bool = Field(False, description="reads (REST GETs, /ws) need an operator token too (needs operator tokens)")
 
     # Requests from other sites (see docs/security.md)
-    allowed_hosts: str = Field("localhost,127.0.0.1,[::1]", description="Host header names accepted, comma separated; '*' "
-                               "for any (default: localhost,127.0.0.1,[::1], plus the --host address)")
-    allowed_origins: str = Field("", description="origins allowed besides the console's own, comma separated "
-                                 "(e.g. https://console.example.org behind a reverse proxy)")
-    forwarded_allow_ips: str = Field("", description="addresses of reverse proxies whose X-Forwarded-For/-Proto are "
-                                     "trusted, comma separated (default: none; the client address is the connection's)")
+    allowed_hosts: str = Field(
+        "localhost,127.0.0.1,[::1]",
+        description="Host header names accepted, comma separated; '*' "
+        "for any (default: localhost,127.0.0.1,[::1], plus the --host address)",
+    )
+    allowed_origins: str = Field(
+        "",
+        description="origins allowed besides the console's own, comma separated "
+        "(e.g. https://console.example.org behind a reverse proxy)",
+    )
+    forwarded_allow_ips: str = Field(
+        "",
+        description="addresses of reverse proxies whose X-Forwarded-For/-Proto are "
+        "trusted, comma separated (default: none; the client address is the connection's)",
+    )
     tls_certfile: Path | None = Field(None, description="PEM certificate: serve HTTPS and WSS (with --tls-keyfile)")
     tls_keyfile: Path | None = Field(None, description="PEM private key of --tls-certfile")
-    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries "
-                                                            "(default: 100000)")
-    audit_refusals_per_minute: int = Field(30, ge=1, description="refused requests of one client address logged and "
-                                           "audited per minute; further ones that minute are only counted (default: 30)")
+    audit_max_rows: int = Field(100_000, ge=10, description="the audit trail keeps this many newest entries (default: 100000)")
+    audit_refusals_per_minute: int = Field(
+        30,
+        ge=1,
+        description="refused requests of one client address logged and "
+        "audited per minute; further ones that minute are only counted (default: 30)",
+    )
 
     # Alarm management for a watch (see docs/console.md#alarms)
-    shelve_min_minutes: float = Field(15.0, gt=0, le=MAX_SHELF_MINUTES, description=(
-        "the shortest time an operator may shelve an alarm for, minutes (default: 15)"))
-    shelve_max_minutes: float = Field(480.0, gt=0, le=MAX_SHELF_MINUTES, description=(
-        "the longest time an operator may shelve an alarm for, minutes (default: 480, 8 h)"))
-    silence_grace: float = Field(120.0, ge=0, description="seconds after the end of a vehicle's planned silence ('out of "
-                                 "comms until') before, still not heard, it is an alarm (default: 120)")
-    chatter_count: int = Field(3, ge=2, le=100, description="an alarm that clears and returns this many times within "
-                               "--chatter-minutes is chattering: it stops sounding again until acknowledged (default: 3)")
-    chatter_minutes: float = Field(10.0, gt=0, le=24 * 60, description="the window of --chatter-count, minutes "
-                                   "(default: 10)")
+    shelve_min_minutes: float = Field(
+        15.0,
+        gt=0,
+        le=MAX_SHELF_MINUTES,
+        description=("the shortest time an operator may shelve an alarm for, minutes (default: 15)"),
+    )
+    shelve_max_minutes: float = Field(
+        480.0,
+        gt=0,
+        le=MAX_SHELF_MINUTES,
+        description=("the longest time an operator may shelve an alarm for, minutes (default: 480, 8 h)"),
+    )
+    silence_grace: float = Field(
+        120.0,
+        ge=0,
+        description="seconds after the end of a vehicle's planned silence ('out of "
+        "comms until') before, still not heard, it is an alarm (default: 120)",
+    )
+    chatter_count: int = Field(
+        3,
+        ge=2,
+        le=100,
+        description="an alarm that clears and returns this many times within "
+        "--chatter-minutes is chattering: it stops sounding again until acknowledged (default: 3)",
+    )
+    chatter_minutes: float = Field(10.0, gt=0, le=24 * 60, description="the window of --chatter-count, minutes (default: 10)")
 
     # Recording to MCAP (see docs/recording.md)
-    record: Path | None = Field(None, json_schema_extra=cli(metavar="DIR"), description=(
-        "record every SEM sample, UMAA 3.0.1 and 6.0, to DIR/<UTC start>.mcap from the start "
-        "(the dashboard's record control and POST /api/recordings record there too)"))
-    recordings_dir: Path = Field(Path("var/recordings"), description="where recordings go without --record "
-                                                                     "(default: var/recordings)")
-    record_max_bytes: int = Field(1 << 30, ge=65_536, description="roll a recording over to a new file at this size "
-                                                                  "(default: 1 GiB)")
-    record_max_seconds: float = Field(3600.0, gt=0, description="roll a recording over to a new file after this long "
-                                                                "(default: 3600)")
-    record_queue: int = Field(2_000, ge=10, description="takes (batches of samples) waiting for the recording's writer; "
-                              "beyond it they are dropped and their samples counted", json_schema_extra=ENV_ONLY)
-    throttle_first_wait: float = Field(1.0, gt=0, le=60, description="seconds a client waits after its fifth wrong "
-                                       "operator token in a row; each further one doubles it, up to 60 s",
-                                       json_schema_extra=ENV_ONLY)
+    record: Path | None = Field(
+        None,
+        json_schema_extra=cli(metavar="DIR"),
+        description=(
+            "record every SEM sample, UMAA 3.0.1 and 6.0, to DIR/<UTC start>.mcap from the start "
+            "(the dashboard's record control and POST /api/recordings record there too)"
+        ),
+    )
+    recordings_dir: Path = Field(
+        Path("var/recordings"), description="where recordings go without --record (default: var/recordings)"
+    )
+    record_max_bytes: int = Field(
+        1 << 30, ge=65_536, description="roll a recording over to a new file at this size (default: 1 GiB)"
+    )
+    record_max_seconds: float = Field(
+        3600.0, gt=0, description="roll a recording over to a new file after this long (default: 3600)"
+    )
+    record_queue: int = Field(
+        2_000,
+        ge=10,
+        description="takes (batches of samples) waiting for the recording's writer; "
+        "beyond it they are dropped and their samples counted",
+        json_schema_extra=ENV_ONLY,
+    )
+    throttle_first_wait: float = Field(
+        1.0,
+        gt=0,
+        le=60,
+        description="seconds a client waits after its fifth wrong "
+        "operator token in a row; each further one doubles it, up to 60 s",
+        json_schema_extra=ENV_ONLY,
+    )
 
     # Replay in the console (see docs/recording.md)
-    replay: Path | None = Field(None, json_schema_extra=cli(metavar="FILE.mcap"), description=(
-        "serve the dashboard from this recording instead of DDS (read-only: commands and recording are refused; "
-        "play, pause, speed and seek in the dashboard and /api/replay)"))
+    replay: Path | None = Field(
+        None,
+        json_schema_extra=cli(metavar="FILE.mcap"),
+        description=(
+            "serve the dashboard from this recording instead of DDS (read-only: commands and recording are refused; "
+            "play, pause, speed and seek in the dashboard and /api/replay)"
+        ),
+    )
     replay_speed: float = Field(1.0, ge=0.25, le=20, description="the replay's speed at start, 0.25 to 20 (default: 1)")
 
     # Names shown beside vehicle ids: "GUID=name,GUID2=name2"
-    vehicle_names: str = Field("", description="'GUID=name,...': names shown beside vehicle ids (a name set from the "
-                                              "dashboard, stored, is over these; in a replay, a name the recording "
-                                              "holds)")
+    vehicle_names: str = Field(
+        "",
+        description="'GUID=name,...': names shown beside vehicle ids (a name set from the "
+        "dashboard, stored, is over these; in a replay, a name the recording "
+        "holds)",
+    )
 
     # Gateways (each off unless its option is given; see docs/gateways.md)
-    aspn_lcm: str | None = Field(None, json_schema_extra=cli(metavar="URL"), description=(
-        "publish each vehicle's navigation as ASPN-23 over LCM at URL "
-        "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default"))
-    aspn_prefix: str = Field("aspn23", description=(
-        "first part of the ASPN channel names <prefix>/<vehicle>/<measurement>, at most 11 characters (LCM over UDP "
-        "takes channel names of up to 63) (default: aspn23)"))
-    aspn_log_seconds: float = Field(300.0, gt=0, le=86_400, description="seconds of ASPN messages kept per vehicle for "
-                                                                        "Record ASPN log (default: 300)")
-    jaus_port: int | None = Field(None, ge=0, le=65535, json_schema_extra=cli(nargs="?", const=3794, metavar="N"),
-                                  description="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); "
-                                              "off by default")
-    jaus_subsystem: int = Field(1, ge=1, le=65534, json_schema_extra=cli(metavar="S"), description=(
-        "JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)"))
+    aspn_lcm: str | None = Field(
+        None,
+        json_schema_extra=cli(metavar="URL"),
+        description=(
+            "publish each vehicle's navigation as ASPN-23 over LCM at URL "
+            "(e.g. udpm://239.255.76.67:7667?ttl=0, or file://PATH.lcm to append to a log); off by default"
+        ),
+    )
+    aspn_prefix: str = Field(
+        "aspn23",
+        description=(
+            "first part of the ASPN channel names <prefix>/<vehicle>/<measurement>, at most 11 characters (LCM over UDP "
+            "takes channel names of up to 63) (default: aspn23)"
+        ),
+    )
+    aspn_log_seconds: float = Field(
+        300.0, gt=0, le=86_400, description="seconds of ASPN messages kept per vehicle for Record ASPN log (default: 300)"
+    )
+    jaus_port: int | None = Field(
+        None,
+        ge=0,
+        le=65535,
+        json_schema_extra=cli(nargs="?", const=3794, metavar="N"),
+        description="answer JAUS queries over JUDP on UDP port N (3794 when N is left out); off by default",
+    )
+    jaus_subsystem: int = Field(
+        1,
+        ge=1,
+        le=65534,
+        json_schema_extra=cli(metavar="S"),
+        description=("JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)"),
+    )
     jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
-    basemap: Path | None = Field(None, json_schema_extra=cli(metavar="FILE.pmtiles"), description=(
-        "an offline chart (PMTiles, vector or raster) the dashboard's map draws, served at /api/basemap.pmtiles "
-        "(default: the built-in Natural Earth land only)"))
+    basemap: Path | None = Field(
+        None,
+        json_schema_extra=cli(metavar="FILE.pmtiles"),
+        description=(
+            "an offline chart (PMTiles, vector or raster) the dashboard's map draws, served at /api/basemap.pmtiles "
+            "(default: the built-in Natural Earth land only)"
+        ),
+    )
 
     # CoMap over IMC (UDP); off unless imc_port is given (see docs/comap.md)
-    imc_port: int | None = Field(None, ge=0, le=65535, description="CoMap over IMC: UDP port to listen on (CoMap is off "
-                                                                   "without it)")
+    imc_port: int | None = Field(
+        None, ge=0, le=65535, description="CoMap over IMC: UDP port to listen on (CoMap is off without it)"
+    )
     imc_host: str = Field("0.0.0.0", description="address the IMC node listens on (default: 0.0.0.0)")
     imc_peers: str = Field("", description="IMC peers (vehicles) the console sends to: 'host:port,...'")
     # an int that the option and SEM_IMC_ID give as text, decimal or 0x hex (_imc_id_hex)
-    imc_id: int = Field(0x4001, ge=0, le=0xFFFE, json_schema_extra=cli(type="str"), description=(
-        "the console's IMC system id, decimal or 0x hex (default: 0x4001)"))
+    imc_id: int = Field(
+        0x4001,
+        ge=0,
+        le=0xFFFE,
+        json_schema_extra=cli(type="str"),
+        description=("the console's IMC system id, decimal or 0x hex (default: 0x4001)"),
+    )
     imc_vehicles: str = Field("", description="'GUID=imcid,...': the IMC system id of each UMAA provider")
     frontend_dir: Path | None = Field(None, description="built dashboard to serve at / (default: frontend/dist)")
 
@@ -200,8 +335,9 @@ class Settings(BaseSettings):
     def _aspn_prefix(cls, v: str) -> str:
         """Channels <prefix>/<16 hex digits>/<measurement> stay within LCM's 63 characters (gateways/aspn/gateway.py)."""
         if not re.fullmatch(r"[A-Za-z0-9_.\-/]{1,11}", v):
-            raise ValueError(f"{v!r}: give 1 to 11 letters, digits or _ . - / (LCM over UDP takes channel names of up "
-                             "to 63 characters)")
+            raise ValueError(
+                f"{v!r}: give 1 to 11 letters, digits or _ . - / (LCM over UDP takes channel names of up to 63 characters)"
+            )
         return v
 
     @field_validator("imc_id", mode="before")
@@ -227,8 +363,10 @@ class Settings(BaseSettings):
         if (self.tls_certfile is None) != (self.tls_keyfile is None):
             raise ValueError("--tls-certfile and --tls-keyfile go together")
         if self.shelve_min_minutes > self.shelve_max_minutes:
-            raise ValueError(f"--shelve-min-minutes {self.shelve_min_minutes:g} is above --shelve-max-minutes "
-                             f"{self.shelve_max_minutes:g}: the shortest shelf must not be longer than the longest")
+            raise ValueError(
+                f"--shelve-min-minutes {self.shelve_min_minutes:g} is above --shelve-max-minutes "
+                f"{self.shelve_max_minutes:g}: the shortest shelf must not be longer than the longest"
+            )
         if self.replay is not None:
             if self.sim or self.record is not None:
                 raise ValueError("--replay is read-only: it does not go with --sim or --record")
@@ -320,8 +458,10 @@ def parse_peers(text: str, resolve: bool = True) -> list[tuple[str, int]]:
         try:
             address = socket.getaddrinfo(host.strip("[]"), int(port), socket.AF_INET, socket.SOCK_DGRAM)[0][4][0]
         except (socket.gaierror, UnicodeError) as e:
-            raise ValueError(f"IMC peer {item!r}: {host} is not an IPv4 address or a host name this machine resolves "
-                             f"({getattr(e, 'strerror', None) or e})") from None
+            raise ValueError(
+                f"IMC peer {item!r}: {host} is not an IPv4 address or a host name this machine resolves "
+                f"({getattr(e, 'strerror', None) or e})"
+            ) from None
         out.append((str(address), int(port)))
     return out
 

@@ -46,13 +46,14 @@ class TopicHealth(StrictModel):
 class LinkConfig(StrictModel):
     """A vehicle's link thresholds and comms-lost configuration (reported as JAUS ReportCommsLostConfiguration)."""
 
-
     commsLostTimeout: float = Field(ge=0.1, le=65535, description="seconds without any sample before the vehicle is lost")
     regainedTime: float = Field(ge=0, le=65535, description="seconds of continuous samples before a lost vehicle is regained")
     policy: Literal["STOP_MISSION", "CONTINUE_MISSION"] = Field(
-        description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)")
-    regainedBehavior: int = Field(ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and "
-                                                            "reported")
+        description="what the vehicle is set to do when it loses comms (recorded and reported; the console enforces nothing)"
+    )
+    regainedBehavior: int = Field(
+        ge=0, le=255, description="the vehicle's CommsRegainedBehavior code (JAUS u8), recorded and reported"
+    )
 
     @field_validator("commsLostTimeout", "regainedTime", "regainedBehavior", mode="before")
     @classmethod
@@ -63,20 +64,28 @@ class LinkConfig(StrictModel):
         return v
 
     def to_json(self) -> messages.LinkConfig:
-        return {"commsLostTimeout": self.commsLostTimeout, "regainedTime": self.regainedTime, "policy": self.policy,
-                "regainedBehavior": self.regainedBehavior}
+        return {
+            "commsLostTimeout": self.commsLostTimeout,
+            "regainedTime": self.regainedTime,
+            "policy": self.policy,
+            "regainedBehavior": self.regainedBehavior,
+        }
 
 
 class ProviderSummary(StrictModel):
     id: str = Field(description="the provider's source GUID as a UUID string")
-    name: str | None = Field(description="the vehicle's name: the one an operator set (PUT /api/providers/{id}/name), "
-                                         "else the console's --vehicle-names one, or null")
+    name: str | None = Field(
+        description="the vehicle's name: the one an operator set (PUT /api/providers/{id}/name), "
+        "else the console's --vehicle-names one, or null"
+    )
     link: LinkState
-    umaaVersion: UmaaVersion = Field(description="the UMAA version the vehicle speaks: that of the report topics its "
-                                                 "samples come on (3.0.1 until one is seen)")
+    umaaVersion: UmaaVersion = Field(
+        description="the UMAA version the vehicle speaks: that of the report topics its samples come on (3.0.1 until one is seen)"
+    )
     linkConfig: LinkConfig
-    jausId: str | None = Field(description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway "
-                                           "is on, else null")
+    jausId: str | None = Field(
+        description="its JAUS component 'S.1.C' (the order it appeared in) when the JAUS gateway is on, else null"
+    )
     ageSeconds: float = Field(description="seconds since the last sample on any topic")
     topics: dict[str, TopicHealth]
 
@@ -93,13 +102,18 @@ class _CommandStatus(SQLModel):
 class Command(CommandHandled, _CommandStatus, CommandIssued):
     model_config = CAMEL
     service: Literal["GPSFix", "InertialSensor"]
-    state: Literal[InsStateName, InsCommandName] | None = Field(description=(
-        "the commanded INS state (InertialSensor only), a literal of its vehicle's UMAA version: 3.0.1, OFF, ON or "
-        "RESTARTING; 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN"))
+    state: Literal[InsStateName, InsCommandName] | None = Field(
+        description=(
+            "the commanded INS state (InertialSensor only), a literal of its vehicle's UMAA version: 3.0.1, OFF, ON or "
+            "RESTARTING; 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or TRANSFER_ALIGN"
+        )
+    )
     cancel_cause: Literal["operator", "shutdown"] | None = Field(
-        None, description=CommandHandled.model_fields["cancel_cause"].description)
+        None, description=CommandHandled.model_fields["cancel_cause"].description
+    )
     closed_unheard: Literal["heard", "bound"] | None = Field(
-        None, description=CommandHandled.model_fields["closed_unheard"].description)
+        None, description=CommandHandled.model_fields["closed_unheard"].description
+    )
     violations: list[str]
     transitions: list[Transition]
 
@@ -107,7 +121,8 @@ class Command(CommandHandled, _CommandStatus, CommandIssued):
 class ProviderMessage(StrictModel):
     type: Literal["provider"]
     event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
-        description="live: a regained provider is back to normal; configured: its linkConfig, name or UMAA version changed")
+        description="live: a regained provider is back to normal; configured: its linkConfig, name or UMAA version changed"
+    )
     provider: ProviderSummary
 
 

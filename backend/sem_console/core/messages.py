@@ -272,9 +272,23 @@ class PongMessage(TypedDict):
     serverTime: float
 
 
-ServerMessage = (SnapshotMessage | ReportMessage | ProviderMessage | CommandMessage | TransitionMessage | RecordingMessage
-                 | ReplayMessage | GatewaysMessage | WorldModelMessage | TaskMessage | AlarmsMessage | SilencesMessage
-                 | DatabaseMessage | ErrorMessage | PongMessage)
+ServerMessage = (
+    SnapshotMessage
+    | ReportMessage
+    | ProviderMessage
+    | CommandMessage
+    | TransitionMessage
+    | RecordingMessage
+    | ReplayMessage
+    | GatewaysMessage
+    | WorldModelMessage
+    | TaskMessage
+    | AlarmsMessage
+    | SilencesMessage
+    | DatabaseMessage
+    | ErrorMessage
+    | PongMessage
+)
 
 
 # ---- the builders, one per message type (the snapshot's: Console.snapshot) --------------------------------------------
@@ -284,8 +298,7 @@ def report_message(provider_id: str, topic: str, report: ReportEnvelope) -> Repo
 
 def thin_report_message(message: ReportMessage, report: ReportEnvelope) -> ReportMessage:
     """The report message carrying a thinned `report` (`partial`)."""
-    return {"type": "report", "providerId": message["providerId"], "topic": message["topic"], "report": report,
-            "partial": True}
+    return {"type": "report", "providerId": message["providerId"], "topic": message["topic"], "report": report, "partial": True}
 
 
 def provider_message(event: ProviderEvent, provider: ProviderSummary) -> ProviderMessage:

@@ -23,12 +23,24 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # GPSFixReport.GPSFixCommandStatus: the receiver's own state, reported whether or not a fix was commanded
     "GPSFixEnumType": {"INITIATING": "Initiating a fix", "PERFORMING": "Performing a fix", "STABLE": "Fix stable"},
     "GPSNavigationSolutionEnumType": {
-        "GPS_1": "GPS, 1 satellite", "GPS_2": "GPS, 2 satellites", "GPS_2D": "GPS 2D", "GPS_3": "GPS, 3 satellites",
-        "GPS_3D": "GPS 3D", "GPS_4": "GPS, 4 satellites", "GPS_DEAD_RECK": "Dead reckoning", "NO_NAV": "No navigation",
+        "GPS_1": "GPS, 1 satellite",
+        "GPS_2": "GPS, 2 satellites",
+        "GPS_2D": "GPS 2D",
+        "GPS_3": "GPS, 3 satellites",
+        "GPS_3D": "GPS 3D",
+        "GPS_4": "GPS, 4 satellites",
+        "GPS_DEAD_RECK": "Dead reckoning",
+        "NO_NAV": "No navigation",
     },
     "GPSConstellationEnumType": {
-        "UNKNOWN": "Unknown", "BEIDOU": "BeiDou", "GALILEO": "Galileo", "GLONASS": "GLONASS", "GPS": "GPS",
-        "IRNSS": "NavIC", "QZSS": "QZSS", "SBAS": "SBAS",
+        "UNKNOWN": "Unknown",
+        "BEIDOU": "BeiDou",
+        "GALILEO": "Galileo",
+        "GLONASS": "GLONASS",
+        "GPS": "GPS",
+        "IRNSS": "NavIC",
+        "QZSS": "QZSS",
+        "SBAS": "SBAS",
     },
     "InertialSensorStateEnumType": {"OFF": "Off", "ON": "On", "RESTARTING": "Restarting"},
     "InertialSensorOpStatusEnumType": {
@@ -61,23 +73,38 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # ---- UMAA 6.0's position and clock (GlobalPoseReportType.navigationSolution, GPSClockType.timeFigureOfMerit) ----
     # whether the position is measured or estimated (a 3.0.1 vehicle says it as GPSLatLongValid: GPS or INS position)
     "NavigationSolutionEnumType": {
-        "MEASURED": "Measured position", "ESTIMATED": "Estimated position", "GROUND_TRUTH": "Ground truth position",
+        "MEASURED": "Measured position",
+        "ESTIMATED": "Estimated position",
+        "GROUND_TRUTH": "Ground truth position",
     },
     # the time's estimated error to UTC (1 sigma), in the classes the figure of merit names
     "TFOMEnumType": {
-        "TFOM_1": "Time within 1 ns", "TFOM_2": "Time within 10 ns", "TFOM_3": "Time within 100 ns",
-        "TFOM_4": "Time within 1 µs", "TFOM_5": "Time within 10 µs", "TFOM_6": "Time within 100 µs",
-        "TFOM_7": "Time within 1 ms", "TFOM_8": "Time within 10 ms", "TFOM_9": "Time off by over 10 ms",
+        "TFOM_1": "Time within 1 ns",
+        "TFOM_2": "Time within 10 ns",
+        "TFOM_3": "Time within 100 ns",
+        "TFOM_4": "Time within 1 µs",
+        "TFOM_5": "Time within 10 µs",
+        "TFOM_6": "Time within 100 µs",
+        "TFOM_7": "Time within 1 ms",
+        "TFOM_8": "Time within 10 ms",
+        "TFOM_9": "Time off by over 10 ms",
     },
     # the INS panel's alignment steps: the stages of the kind of alignment its status names (the status says which);
     # DONE: the alignment complete (a 3.0.1 INS then reports OPERATIONAL; a 6.0 INS has no OPERATIONAL)
     "insAlignmentStep": {
-        "INIT": "Starting up", "COARSE": "Coarse alignment", "FINE": "Fine alignment", "DONE": "Alignment done",
+        "INIT": "Starting up",
+        "COARSE": "Coarse alignment",
+        "FINE": "Fine alignment",
+        "DONE": "Alignment done",
         "OPERATIONAL": "Operational",
     },
     "CommandStatusEnumType": {
-        "ISSUED": "Received", "COMMANDED": "Accepted", "EXECUTING": "In progress", "COMPLETED": "Completed",
-        "FAILED": "Failed", "CANCELED": "Cancelled",
+        "ISSUED": "Received",
+        "COMMANDED": "Accepted",
+        "EXECUTING": "In progress",
+        "COMPLETED": "Completed",
+        "FAILED": "Failed",
+        "CANCELED": "Cancelled",
     },
     # a command's status reason, said after its status: "Failed: the equipment failed"
     "CommandStatusReasonEnumType": {
@@ -97,8 +124,12 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # ---- UMAA 6.0 commanding ----
     # InertialSensorCommandType.state: the alignment (or start-up) the operator asks of a UMAA 6.0 inertial sensor
     "InertialSensorCmdEnumType": {
-        "BEST_ALIGN": "Best alignment available", "GPS_ALIGN": "GPS-aided alignment", "INIT": "Initialise",
-        "SNAP_ALIGN": "Snap alignment", "STATIONARY_ALIGN": "Stationary alignment", "TRANSFER_ALIGN": "Transfer alignment",
+        "BEST_ALIGN": "Best alignment available",
+        "GPS_ALIGN": "GPS-aided alignment",
+        "INIT": "Initialise",
+        "SNAP_ALIGN": "Snap alignment",
+        "STATIONARY_ALIGN": "Stationary alignment",
+        "TRANSFER_ALIGN": "Transfer alignment",
     },
     # ---- the console's own states ----
     # a command the vehicle has not acknowledged (no ISSUED) within the unanswered timeout
@@ -110,7 +141,11 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # few seconds, and "unreachable": the page no longer hears the console, so nothing it shows is current; "planned":
     # lost during the vehicle's planned silence, expected: "Out of comms (planned) until 14:20")
     "link": {
-        "live": "Live", "regained": "Regained", "stale": "Stale", "lost": "Lost", "unreachable": "Not updating",
+        "live": "Live",
+        "regained": "Regained",
+        "stale": "Stale",
+        "lost": "Lost",
+        "unreachable": "Not updating",
         "planned": "Out of comms (planned)",
     },
     # GPSFixStatusReport.fixValid
@@ -142,7 +177,8 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},
     "alarmState": {
-        "active-unacknowledged": "Unacknowledged", "active-acknowledged": "Acknowledged",
+        "active-unacknowledged": "Unacknowledged",
+        "active-acknowledged": "Acknowledged",
         "cleared-unacknowledged": "Cleared, unacknowledged",
     },
     # alarm management on a watch: an alarm out of view (`Alarm.shelf`) or marked chattering (`Alarm.chattering`)
@@ -150,18 +186,28 @@ WORDS: Final[dict[str, dict[str, str]]] = {
     # why a shelved alarm is back in view (`Alarm.returned`), by how its shelf ended (`console.alarms.RETURNS`):
     # "back from shelving: unshelved by alice", "back from shelving at once, worse: Alpha: INS failed"
     "alarmReturned": {
-        "expired": "Back from shelving: its time ended", "unshelved": "Back from shelving: unshelved",
+        "expired": "Back from shelving: its time ended",
+        "unshelved": "Back from shelving: unshelved",
         "worse": "Back from shelving at once, worse",
     },
     # ---- CoMap (IMC) ----
     "taskState": {
-        "ASSIGNED": "Sent", "ACCEPTED": "Accepted", "REJECTED": "Refused", "IN_PROGRESS": "In progress",
+        "ASSIGNED": "Sent",
+        "ACCEPTED": "Accepted",
+        "REJECTED": "Refused",
+        "IN_PROGRESS": "In progress",
         # CoMap has no acknowledgement of a SynchAdmin: what was sent, not what the vehicle did
-        "HELD": "Hold sent", "COMPLETED": "Completed", "ERROR": "Error", "INTERRUPTED": "Interrupt sent",
+        "HELD": "Hold sent",
+        "COMPLETED": "Completed",
+        "ERROR": "Error",
+        "INTERRUPTED": "Interrupt sent",
     },
     "taskKind": {"survey": "Survey", "move": "Move"},
     "sensor": {
-        "ANY": "Any sensor", "SIDESCAN": "Side-scan sonar", "MULTIBEAM": "Multibeam sonar", "CAMERA": "Camera",
+        "ANY": "Any sensor",
+        "SIDESCAN": "Side-scan sonar",
+        "MULTIBEAM": "Multibeam sonar",
+        "CAMERA": "Camera",
         "MAGNETOMETER": "Magnetometer",
     },
     "coverage": {"NONE": "Not covered", "PARTIAL": "Partly covered", "COMPLETED": "Covered"},

@@ -35,8 +35,10 @@ def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1")
         try:
             _domains[domain_id] = Domain(domain_id, dds_config(interface, peers))
         except (DDSException, UnicodeEncodeError) as e:
-            raise DdsConfigError(f"Cyclone DDS could not start domain {domain_id} with the configuration from {source} "
-                                 f"(Cyclone prints the reason before this line): {e}") from None
+            raise DdsConfigError(
+                f"Cyclone DDS could not start domain {domain_id} with the configuration from {source} "
+                f"(Cyclone prints the reason before this line): {e}"
+            ) from None
     return _domains[domain_id]
 
 
@@ -74,8 +76,9 @@ class Bus:
             self._appendable_topics[sem] = Topic(self.participant, sem.spec.name, cls)
         return self._appendable_topics[sem]
 
-    def reader(self, sem: AnySem, qos: Qos | None = None, listener: Listener | None = None,
-               appendable: bool = False) -> DataReader[Any]:
+    def reader(
+        self, sem: AnySem, qos: Qos | None = None, listener: Listener | None = None, appendable: bool = False
+    ) -> DataReader[Any]:
         """A reader with the given QoS (else the topic class's, with RTI's CommandQoS on a topic that takes it),
         always with the type's data representation; `appendable`: of the type's appendable copy (TopicSpec.appendable)."""
         if qos is None:
@@ -91,7 +94,6 @@ class Bus:
         if self.participant is not None:
             delete_participant(self.participant)
         self.participant = None  # type: ignore[assignment]
-
 
 
 def all_samples(reader: DataReader[Any]) -> ReadCondition:

@@ -29,8 +29,10 @@ def loopback_config(interface: str = "lo", peers: str = "127.0.0.1") -> str:
     peer_list = [p.strip() for p in peers.split(",") if p.strip()]
     general = f"<Interfaces><NetworkInterface name={quoteattr(interface)}/></Interfaces>"
     if not peer_list:
-        return (f'<CycloneDDS><Domain Id="any"><General>{general}<AllowMulticast>true</AllowMulticast></General>'
-                '</Domain></CycloneDDS>')
+        return (
+            f'<CycloneDDS><Domain Id="any"><General>{general}<AllowMulticast>true</AllowMulticast></General>'
+            '</Domain></CycloneDDS>'
+        )
     peer_xml = "".join(f"<Peer address={quoteattr(p)}/>" for p in peer_list)
     return (
         '<CycloneDDS><Domain Id="any">'
@@ -64,8 +66,9 @@ def peers_problem(peers: str) -> str | None:
     """The first problem of the peers setting, as one line naming SEM_DDS_PEERS and its fix, or None."""
     for peer in (p.strip() for p in peers.split(",")):
         if peer and (problem := peer_problem(peer)):
-            return (f"SEM_DDS_PEERS: {problem}: give IPv4 addresses or host names, comma separated "
-                    "(or empty for multicast discovery)")
+            return (
+                f"SEM_DDS_PEERS: {problem}: give IPv4 addresses or host names, comma separated (or empty for multicast discovery)"
+            )
     return None
 
 

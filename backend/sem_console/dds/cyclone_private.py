@@ -40,8 +40,16 @@ from cyclonedds.sub import DataReader
 from cyclonedds.util import duration
 
 __all__ = [
-    "MACHINE_ATTRIBUTES", "InvalidSample", "Triggered", "delete_participant", "enum_type", "machinery", "take_cdr",
-    "type_machine", "wait_for_acks", "write_cdr",
+    "MACHINE_ATTRIBUTES",
+    "InvalidSample",
+    "Triggered",
+    "delete_participant",
+    "enum_type",
+    "machinery",
+    "take_cdr",
+    "type_machine",
+    "wait_for_acks",
+    "write_cdr",
 ]
 
 # The machine classes codec/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)

@@ -46,9 +46,13 @@ _DEPTH = {TopicClass.COMMAND: 1, TopicClass.STATUS: STATUS_DEPTH, TopicClass.REP
 
 
 def writer_qos(cls: TopicClass) -> Qos:
-    return Qos(_RELIABLE, Policy.Durability.TransientLocal, Policy.History.KeepLast(_DEPTH[cls]),
-               # Instances end by an explicit dispose (cancel, cleanup, shutdown), never by a writer closing.
-               Policy.WriterDataLifecycle(autodispose=False))
+    return Qos(
+        _RELIABLE,
+        Policy.Durability.TransientLocal,
+        Policy.History.KeepLast(_DEPTH[cls]),
+        # Instances end by an explicit dispose (cancel, cleanup, shutdown), never by a writer closing.
+        Policy.WriterDataLifecycle(autodispose=False),
+    )
 
 
 # What a publisher of the console's offers: TOPIC presentation with ordered access, which a subscriber of RTI's UMAA kit

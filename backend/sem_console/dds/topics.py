@@ -75,8 +75,9 @@ class Sem(Enum):
     GPS_FIX_COMMAND_ACK = TopicSpec(
         "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport", GPSFixCommandAckReportType, TopicClass.STATUS
     )
-    GPS_FIX_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT,
-                               AppendableGPSFixReportType)
+    GPS_FIX_REPORT = TopicSpec(
+        "UMAA::SEM::GPSFixStatus::GPSFixReport", GPSFixReportType, TopicClass.REPORT, AppendableGPSFixReportType
+    )
     GPS_FIX_STATUS_REPORT = TopicSpec("UMAA::SEM::GPSFixStatus::GPSFixStatusReport", GPSFixStatusReportType, TopicClass.REPORT)
     GPS_REPORT = TopicSpec("UMAA::SEM::GPSStatus::GPSReport", GPSReportType, TopicClass.REPORT, AppendableGPSReportType)
     INS_COMMAND = TopicSpec(
@@ -97,8 +98,7 @@ class Sem(Enum):
 
 def _named_after_type(t: type[IdlStruct], cls: TopicClass, appendable: type[IdlStruct] | None = None) -> TopicSpec:
     """A UMAA 6.0 topic: named after its type's full name (UMAA::SEM::GPSStatus::GPSReportType)."""
-    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls, appendable,
-                     command_qos_lib=cls is not TopicClass.REPORT)
+    return TopicSpec(str(t.__idl_typename__).replace(".", "::"), t, cls, appendable, command_qos_lib=cls is not TopicClass.REPORT)
 
 
 class Sem60(Enum):

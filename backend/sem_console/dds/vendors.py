@@ -139,8 +139,9 @@ class PeerWatch:
             else:
                 self.readers.pop(e.key, None)
 
-    def findings(self, matched: Callable[[AnySem], set[int]], now: float,
-                 reached: Callable[[AnySem], set[int] | None] = lambda _: None) -> list[Finding]:
+    def findings(
+        self, matched: Callable[[AnySem], set[int]], now: float, reached: Callable[[AnySem], set[int] | None] = lambda _: None
+    ) -> list[Finding]:
         """What each RTI participant with SEM endpoints must change. `matched(sem)`: the publication handles the
         console's readers of that topic matched; `reached(sem)`: the subscription handles its writer of that topic
         matched (None: it writes none)."""
@@ -164,22 +165,33 @@ class PeerWatch:
                 # logged, once for good) only once its writers stayed unmatched SETTLE s
                 if all(now - seen >= SETTLE for _, seen in unmatched):
                     drop_in = DROP_IN[type(self.topics[ends[0].topic_name])]
-                    out.append(finding("typeInformation", None, "set <resource_limits><type_object_max_serialized_length> "
-                                       f"to 0 in its participant QoS (the drop-in profile {drop_in} does)"))
+                    out.append(
+                        finding(
+                            "typeInformation",
+                            None,
+                            "set <resource_limits><type_object_max_serialized_length> "
+                            f"to 0 in its participant QoS (the drop-in profile {drop_in} does)",
+                        )
+                    )
                 continue  # nothing of it matches until then: the rest would only repeat it
             for e, seen in sorted(unmatched, key=lambda u: u[0].topic_name):
                 sem = self.topics[e.topic_name]
                 xcdr1, xcdr2 = _representations(e.qos)
                 if sem.spec.xcdr2_only and not xcdr2:
-                    mask = f" and {MASK} in its environment (Connext 7; Connext 6 cannot write it readably)" \
-                        if sem is Sem.GPS_REPORT else ""
+                    mask = (
+                        f" and {MASK} in its environment (Connext 7; Connext 6 cannot write it readably)"
+                        if sem is Sem.GPS_REPORT
+                        else ""
+                    )
                     out.append(finding("representation", short(sem), f"set XCDR2 on that writer{mask}"))
                 elif now - seen >= SETTLE:
                     partitions = _partitions(e.qos)  # the one thing that fails silently, no incompatible QoS on either side
-                    fix = (f"publish it in the default partition, as the console reads (it is in partition "
-                           f"{', '.join(partitions)})" if partitions else
-                           f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]} ({'XCDR1' if xcdr1 else ''}"
-                           f"{'+' if xcdr1 and xcdr2 else ''}{'XCDR2' if xcdr2 else ''} offered)")
+                    fix = (
+                        f"publish it in the default partition, as the console reads (it is in partition {', '.join(partitions)})"
+                        if partitions
+                        else f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]} ({'XCDR1' if xcdr1 else ''}"
+                        f"{'+' if xcdr1 and xcdr2 else ''}{'XCDR2' if xcdr2 else ''} offered)"
+                    )
                     out.append(finding("unmatched", short(sem), fix))
             readers = [self.readers[e.key] for e in ends if e.key in self.readers]
             for e, handle, seen in sorted(readers, key=lambda r: r[0].topic_name):
@@ -189,10 +201,14 @@ class PeerWatch:
                     continue
                 partitions = _partitions(e.qos)
                 xcdr1, _ = _representations(e.qos)
-                fix = (f"subscribe to it in the default partition, where the console publishes (it is in partition "
-                       f"{', '.join(partitions)})" if partitions else
-                       "accept XCDR_DATA_REPRESENTATION on that reader, which the console writes" if not xcdr1 else
-                       f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]}")
+                fix = (
+                    f"subscribe to it in the default partition, where the console publishes (it is in partition "
+                    f"{', '.join(partitions)})"
+                    if partitions
+                    else "accept XCDR_DATA_REPRESENTATION on that reader, which the console writes"
+                    if not xcdr1
+                    else f"compare its QoS with the drop-in profile {DROP_IN[type(sem)]}"
+                )
                 out.append(finding("unmatchedReader", short(sem), fix))
         return out
 

@@ -54,6 +54,13 @@ class Stats:
         return round(sum(n for _, n in self._recent) / span, 1)
 
     def state(self) -> GatewayState:
-        return {"name": self.name, "enabled": self.enabled, "endpoint": self.endpoint,
-                "messagesOut": self.messages_out, "messagesPerSecond": self.per_second() if self.enabled else 0.0,
-                "lastError": self.last_error, "lastErrorAt": self.last_error_at, "counters": dict(self.counters)}
+        return {
+            "name": self.name,
+            "enabled": self.enabled,
+            "endpoint": self.endpoint,
+            "messagesOut": self.messages_out,
+            "messagesPerSecond": self.per_second() if self.enabled else 0.0,
+            "lastError": self.last_error,
+            "lastErrorAt": self.last_error_at,
+            "counters": dict(self.counters),
+        }

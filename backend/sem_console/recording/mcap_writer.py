@@ -56,8 +56,9 @@ class McapWriter:
     must be registered), `flush` to end the chunk in progress, `finish` to write the summary; after
     that, writing anything is a ValueError."""
 
-    def __init__(self, stream: BinaryIO, *, chunk_size: int = 1 << 20, profile: str = "", library: str = "",
-                 zstd_level: int = 3) -> None:
+    def __init__(
+        self, stream: BinaryIO, *, chunk_size: int = 1 << 20, profile: str = "", library: str = "", zstd_level: int = 3
+    ) -> None:
         self._out = stream
         self._offset = 0  # bytes written to the stream
         self._data_crc = 0  # CRC of the data section so far
@@ -84,12 +85,16 @@ class McapWriter:
         self._schemas.append(schema)
         return schema.id
 
-    def register_channel(self, topic: str, message_encoding: str, schema_id: int,
-                         metadata: dict[str, str] | None = None) -> int:
+    def register_channel(self, topic: str, message_encoding: str, schema_id: int, metadata: dict[str, str] | None = None) -> int:
         if schema_id != 0 and not 0 < schema_id <= len(self._schemas):
             raise ValueError(f"no schema {schema_id}")
-        channel = Channel(id=len(self._channels) + 1, topic=topic, message_encoding=message_encoding,
-                          metadata=metadata or {}, schema_id=schema_id)
+        channel = Channel(
+            id=len(self._channels) + 1,
+            topic=topic,
+            message_encoding=message_encoding,
+            metadata=metadata or {},
+            schema_id=schema_id,
+        )
         self._record(channel)  # before the chunk that will hold its messages
         self._channels.append(channel)
         self._index[channel.id] = []
@@ -134,8 +139,11 @@ class McapWriter:
         length = 0  # of the summary so far
         offsets: list[SummaryOffset] = []
         groups: list[tuple[Opcode, Sequence[McapRecord]]] = [
-            (Opcode.SCHEMA, self._schemas), (Opcode.CHANNEL, self._channels),
-            (Opcode.STATISTICS, [self._statistics()]), (Opcode.CHUNK_INDEX, self._chunk_indexes)]
+            (Opcode.SCHEMA, self._schemas),
+            (Opcode.CHANNEL, self._channels),
+            (Opcode.STATISTICS, [self._statistics()]),
+            (Opcode.CHUNK_INDEX, self._chunk_indexes),
+        ]
         for opcode, records in groups:
             if not records:
                 continue
@@ -175,8 +183,14 @@ class McapWriter:
         indexes = [(cid, entries) for cid, entries in self._index.items() if entries]
         start = min(min(entries[0::2]) for _cid, entries in indexes)
         end = max(max(entries[0::2]) for _cid, entries in indexes)
-        chunk = Chunk(compression="zstd", data=self._compressor.compress(records), message_start_time=start,
-                      message_end_time=end, uncompressed_crc=zlib.crc32(records), uncompressed_size=len(records))
+        chunk = Chunk(
+            compression="zstd",
+            data=self._compressor.compress(records),
+            message_start_time=start,
+            message_end_time=end,
+            uncompressed_crc=zlib.crc32(records),
+            uncompressed_size=len(records),
+        )
         chunk_start = self._offset
         self._record(chunk)
         index_start, packed, index_offsets = self._offset, [], {}
@@ -190,18 +204,32 @@ class McapWriter:
             self._counts[cid] += n // 2
             entries.clear()
         self._write(b"".join(packed))
-        self._chunk_indexes.append(ChunkIndex(
-            message_start_time=start, message_end_time=end, chunk_start_offset=chunk_start,
-            chunk_length=index_start - chunk_start, message_index_offsets=index_offsets,
-            message_index_length=self._offset - index_start, compression=chunk.compression,
-            compressed_size=len(chunk.data), uncompressed_size=chunk.uncompressed_size))
+        self._chunk_indexes.append(
+            ChunkIndex(
+                message_start_time=start,
+                message_end_time=end,
+                chunk_start_offset=chunk_start,
+                chunk_length=index_start - chunk_start,
+                message_index_offsets=index_offsets,
+                message_index_length=self._offset - index_start,
+                compression=chunk.compression,
+                compressed_size=len(chunk.data),
+                uncompressed_size=chunk.uncompressed_size,
+            )
+        )
         self._start_time = start if self._start_time is None else min(self._start_time, start)
         self._end_time = max(self._end_time, end)
         self._parts, self._size = [], 0
 
     def _statistics(self) -> Statistics:
         return Statistics(
-            message_count=sum(self._counts.values()), schema_count=len(self._schemas),
-            channel_count=len(self._channels), attachment_count=0, metadata_count=0,
-            chunk_count=len(self._chunk_indexes), message_start_time=self._start_time or 0,
-            message_end_time=self._end_time, channel_message_counts=dict(self._counts))
+            message_count=sum(self._counts.values()),
+            schema_count=len(self._schemas),
+            channel_count=len(self._channels),
+            attachment_count=0,
+            metadata_count=0,
+            chunk_count=len(self._chunk_indexes),
+            message_start_time=self._start_time or 0,
+            message_end_time=self._end_time,
+            channel_message_counts=dict(self._counts),
+        )

@@ -82,10 +82,14 @@ class RecordedCommandMessage(CommandMessage):
     """A `command` WebSocket message as recorded (channel `sem-console/commands`), with whether the recording console
     followed the command as its own."""
 
-    followed: bool | None = Field(None, description=(
-        "the recording console followed this command as its own when it sent this message: it issued it, or took it "
-        "over from another station (to cancel it), so it raised the command's alarms; false: another station's command, "
-        "only shown; absent in files of recorders that did not write it (a replay then goes by the issuing station)"))
+    followed: bool | None = Field(
+        None,
+        description=(
+            "the recording console followed this command as its own when it sent this message: it issued it, or took it "
+            "over from another station (to cancel it), so it raised the command's alarms; false: another station's command, "
+            "only shown; absent in files of recorders that did not write it (a replay then goes by the issuing station)"
+        ),
+    )
 
 
 class AlarmAckEvent(BaseModel):
@@ -100,9 +104,11 @@ class AlarmAckEvent(BaseModel):
     sessionId: str | None
     ackedAt: float = Field(description="when it was acknowledged, UTC seconds")
     ackedBy: str | None = Field(description="the operator who acknowledged it (null: no sign-in)")
-    station: str | None = Field(description="the console station it was acknowledged on (--console-name): the recording "
-                                            "console's, or another's of its database; null: not known (another station's, "
-                                            "read again after a lost database connection)")
+    station: str | None = Field(
+        description="the console station it was acknowledged on (--console-name): the recording "
+        "console's, or another's of its database; null: not known (another station's, "
+        "read again after a lost database connection)"
+    )
 
 
 class VehicleNameEvent(BaseModel):
@@ -112,10 +118,14 @@ class VehicleNameEvent(BaseModel):
     model_config = ConfigDict(extra="forbid")
     type: str = Field(description="'vehicle-name'")
     providerId: str = Field(description="the vehicle's source GUID as a UUID string")
-    name: str | None = Field(description="its name: the one set from the dashboard, else the recording console's "
-                                         "--vehicle-names name; null: it has none from here on (renamed back to none)")
-    initial: bool = Field(description="true: in force when the file started (one message per named vehicle, at the "
-                                      "file's first instant); false: renamed while recording")
+    name: str | None = Field(
+        description="its name: the one set from the dashboard, else the recording console's "
+        "--vehicle-names name; null: it has none from here on (renamed back to none)"
+    )
+    initial: bool = Field(
+        description="true: in force when the file started (one message per named vehicle, at the "
+        "file's first instant); false: renamed while recording"
+    )
 
 
 # JSON channel -> (WebSocket message type it holds, the model of its messages)
@@ -155,8 +165,9 @@ class _File:
         self.sequence: dict[int, int] = {}
         for sem in SEM_TOPICS:
             schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING, topic_idl(sem).encode())
-            self.channels[sem] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema,
-                                                              {"umaaVersion": version_of(sem)})
+            self.channels[sem] = self.writer.register_channel(
+                sem.spec.name, MESSAGE_ENCODING, schema, {"umaaVersion": version_of(sem)}
+            )
         for channel, (_kind, model) in JSON_CHANNELS.items():
             schema = self.writer.register_schema(model.__name__, "jsonschema", json.dumps(model.model_json_schema()).encode())
             # the commands' channel names the recording console's station: a replay tells its own commands (its
@@ -174,10 +185,12 @@ class _File:
         first such sample, so a recording without one has none."""
         key = (sem, APPENDABLE)
         if key not in self.channels:
-            schema = self.writer.register_schema(type_name(sem.spec.type), SCHEMA_ENCODING,
-                                                 topic_idl(sem, extensibility=APPENDABLE).encode())
-            self.channels[key] = self.writer.register_channel(sem.spec.name, MESSAGE_ENCODING, schema,
-                                                              {"umaaVersion": version_of(sem), "extensibility": APPENDABLE})
+            schema = self.writer.register_schema(
+                type_name(sem.spec.type), SCHEMA_ENCODING, topic_idl(sem, extensibility=APPENDABLE).encode()
+            )
+            self.channels[key] = self.writer.register_channel(
+                sem.spec.name, MESSAGE_ENCODING, schema, {"umaaVersion": version_of(sem), "extensibility": APPENDABLE}
+            )
         return key
 
     def add(self, key: Any, data: bytes, log_ns: int, publish_ns: int) -> None:
@@ -216,9 +229,16 @@ class Recorder:
     """Owned by the console; `on_sample` is its `ingest.Tap`. start/stop/status run on the loop
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
-    def __init__(self, directory: Path, max_bytes: int, max_seconds: float, queue_size: int = 2_000,
-                 on_change: Callable[[RecordingStatus], None] | None = None, station: str | None = None,
-                 names: Callable[[], Mapping[str, str]] | None = None) -> None:
+    def __init__(
+        self,
+        directory: Path,
+        max_bytes: int,
+        max_seconds: float,
+        queue_size: int = 2_000,
+        on_change: Callable[[RecordingStatus], None] | None = None,
+        station: str | None = None,
+        names: Callable[[], Mapping[str, str]] | None = None,
+    ) -> None:
         self.directory, self.max_bytes, self.max_seconds = directory, max_bytes, max_seconds
         self.station = station  # the console's name, in each file (the commands' channel)
         self.names = names  # the vehicles' names in force (provider GUID string -> name), read when a recording starts
@@ -282,8 +302,9 @@ class Recorder:
             # read after `active`: a rename from here on is queued as well (and written after these), none is missed;
             # a copy of the loop's dict, which dict() makes at once (holding the GIL)
             self._names = dict(self.names()) if self.names is not None else {}
-            self._thread = threading.Thread(target=self._run, args=(self._buffer, self._stopping), name="sem-recorder",
-                                            daemon=True)
+            self._thread = threading.Thread(
+                target=self._run, args=(self._buffer, self._stopping), name="sem-recorder", daemon=True
+            )
             self._thread.start()
             log.info("recording to %s", first.path)
         self._changed()
@@ -305,9 +326,16 @@ class Recorder:
     def status(self) -> RecordingStatus:
         f = self._file
         state = "recording" if self.active else "failed" if self.error else "off"
-        return {"state": state, "directory": str(self.directory), "file": f.path.name if f else None,
-                "startedAt": self.started_at if self.active else None, "messages": self.messages,
-                "dropped": self.dropped, "error": self.error, "writerCpuSeconds": round(self.writer_cpu, 4)}
+        return {
+            "state": state,
+            "directory": str(self.directory),
+            "file": f.path.name if f else None,
+            "startedAt": self.started_at if self.active else None,
+            "messages": self.messages,
+            "dropped": self.dropped,
+            "error": self.error,
+            "writerCpuSeconds": round(self.writer_cpu, 4),
+        }
 
     def _changed(self) -> None:
         if self.on_change is not None:
@@ -452,8 +480,13 @@ def _instance_event(sem: AnySem, data: bytes, valid: bool, instance_state: int) 
     except Exception:  # an undecodable key: recorded as received
         key, key_cdr = None, data
     state = "disposed" if instance_state == InstanceState.NotAliveDisposed else "noWriters"
-    return {"topic": sem.spec.name, "state": state, "key": base64.b64encode(key_cdr).decode(),
-            "source": _uuid(getattr(key, "source", None)), "sessionId": _uuid(getattr(key, "sessionID", None))}
+    return {
+        "topic": sem.spec.name,
+        "state": state,
+        "key": base64.b64encode(key_cdr).decode(),
+        "source": _uuid(getattr(key, "source", None)),
+        "sessionId": _uuid(getattr(key, "sessionID", None)),
+    }
 
 
 def _uuid(raw: Any) -> str | None:

@@ -131,7 +131,7 @@ def _merge(text: str, into: _Module, note: str) -> str:
                 raise ValueError("unbalanced braces in IDL")
             depth += {"{": 1, "}": -1}.get(text[i], 0)
             i += 1
-        note = _merge(text[m.end():i - 1], into.child(m.group(1)), note)
+        note = _merge(text[m.end() : i - 1], into.child(m.group(1)), note)
         close = _CLOSE.match(text, i)
         pos = close.end() if close else i
     return _flush(buf, into, note)

@@ -44,21 +44,35 @@ PLAIN_CDR, PLAIN_CDR2 = {0x0000, 0x0001}, {0x0006, 0x0007}
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = Parser(prog="sem-replay", description=(
-        "Republish a sem-console recording (MCAP) on DDS: every SEM sample with its original keys, "
-        "timing and source timestamps; disposes as disposes."))
+    p = Parser(
+        prog="sem-replay",
+        description=(
+            "Republish a sem-console recording (MCAP) on DDS: every SEM sample with its original keys, "
+            "timing and source timestamps; disposes as disposes."
+        ),
+    )
     p.add_argument("file", type=Path, help="the recording (.mcap)")
     p.add_argument("--domain", type=ranged(int, 0, 232), required=True, help="DDS domain id to publish on, 0..232")
     # ranged: nan and inf were taken (inf published the whole file at once, a nan or negative --wait waited on)
-    p.add_argument("--speed", type=ranged(float, 0.01, 1000), default=1.0, help=(
-        "playback speed, e.g. 2 for twice as fast (default: 1)"))
+    p.add_argument(
+        "--speed", type=ranged(float, 0.01, 1000), default=1.0, help=("playback speed, e.g. 2 for twice as fast (default: 1)")
+    )
     p.add_argument("--loop", action="store_true", help="start again at the end, until interrupted")
-    p.add_argument("--commands", action="store_true",
-                   help="republish the recorded commands too (a vehicle on that domain would carry them out)")
-    p.add_argument("--retime", action="store_true",
-                   help="stamp samples with the replay's time instead of their recorded source timestamps")
-    p.add_argument("--wait", type=ranged(float, 0, 3600), default=5.0, metavar="SECONDS",
-                   help="wait up to this long for a reader on the bus before the first sample (default: 5; 0: start at once)")
+    p.add_argument(
+        "--commands",
+        action="store_true",
+        help="republish the recorded commands too (a vehicle on that domain would carry them out)",
+    )
+    p.add_argument(
+        "--retime", action="store_true", help="stamp samples with the replay's time instead of their recorded source timestamps"
+    )
+    p.add_argument(
+        "--wait",
+        type=ranged(float, 0, 3600),
+        default=5.0,
+        metavar="SECONDS",
+        help="wait up to this long for a reader on the bus before the first sample (default: 5; 0: start at once)",
+    )
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")
     return p
 
@@ -186,10 +200,16 @@ def main(argv: list[str] | None = None) -> int:
     except (McapError, OSError, EOFError) as e:  # a file cut short: what came before it was replayed
         log.error("the recording ends early: %s", e)
     wait_for_acks([*replay.writers.values(), *replay.appendable_writers.values()], 5.0)
-    log.info("replayed %d samples, %d disposes, %d unregistrations from %s in %.1f s%s%s", replay.samples,
-             replay.disposes, replay.unregisters, args.file, time.monotonic() - started,
-             f"; {replay.reencoded} re-encoded for the writer's data representation" if replay.reencoded else "",
-             f"; {replay.skipped} skipped" if replay.skipped else "")
+    log.info(
+        "replayed %d samples, %d disposes, %d unregistrations from %s in %.1f s%s%s",
+        replay.samples,
+        replay.disposes,
+        replay.unregisters,
+        args.file,
+        time.monotonic() - started,
+        f"; {replay.reencoded} re-encoded for the writer's data representation" if replay.reencoded else "",
+        f"; {replay.skipped} skipped" if replay.skipped else "",
+    )
     return 0
 
 

@@ -24,16 +24,25 @@ log = logging.getLogger("sem-relay")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = Parser(prog="sem-relay", description=(
-        "Join a DDS domain to others across a WAN over Eclipse Zenoh: on the vehicles' side, their SEM reports, statuses "
-        "and acks go out and commands come in; on the operations side, the other way. --router runs the Zenoh router "
-        "both sides connect to. Every option is also a SEM_RELAY_* environment variable (--link-class: "
-        "SEM_RELAY_LINK_CLASS)."))
-    p.add_argument("--domain", type=ranged(int, 0, 232), default=from_environment("sem-relay", BusSettings).domain, help=(
-        "DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"))
+    p = Parser(
+        prog="sem-relay",
+        description=(
+            "Join a DDS domain to others across a WAN over Eclipse Zenoh: on the vehicles' side, their SEM reports, statuses "
+            "and acks go out and commands come in; on the operations side, the other way. --router runs the Zenoh router "
+            "both sides connect to. Every option is also a SEM_RELAY_* environment variable (--link-class: "
+            "SEM_RELAY_LINK_CLASS)."
+        ),
+    )
+    p.add_argument(
+        "--domain",
+        type=ranged(int, 0, 232),
+        default=from_environment("sem-relay", BusSettings).domain,
+        help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
+    )
     add_model_options(p, RelayOptions)
-    p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info", help=(
-        "log level (default: %(default)s)"))
+    p.add_argument(
+        "--log-level", choices=("debug", "info", "warning", "error"), default="info", help=("log level (default: %(default)s)")
+    )
     return p
 
 
@@ -61,8 +70,11 @@ def open_session(opts: RelayOptions, stopping: threading.Event) -> zenoh.Session
             return zenoh.open(zenoh_config(opts))
         except zenoh.ZError as e:
             if not said:
-                log.warning("cannot connect to any Zenoh endpoint yet (%s): trying again every second (a router not up yet, "
-                            "or one refusing this relay's certificate)", str(e).split("  at ")[0])
+                log.warning(
+                    "cannot connect to any Zenoh endpoint yet (%s): trying again every second (a router not up yet, "
+                    "or one refusing this relay's certificate)",
+                    str(e).split("  at ")[0],
+                )
                 said = True
         stopping.wait(1.0)
     return None
@@ -87,8 +99,12 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     try:
         if opts.router:
-            log.info("Zenoh router %s listening on %s%s", opts.name, ", ".join(opts.listen_endpoints),
-                     f", connected to {', '.join(opts.connect_endpoints)}" if opts.connect_endpoints else "")
+            log.info(
+                "Zenoh router %s listening on %s%s",
+                opts.name,
+                ", ".join(opts.listen_endpoints),
+                f", connected to {', '.join(opts.connect_endpoints)}" if opts.connect_endpoints else "",
+            )
             stopping.wait()
             return 0
         settings = from_environment("sem-relay", BusSettings)
@@ -101,14 +117,22 @@ def main(argv: list[str] | None = None) -> int:
         try:
             status = serve_status(relay, opts.status_port) if opts.status_port is not None else None
         except OSError as e:
-            print(f"sem-relay: error: --status-port {opts.status_port}: cannot listen on it ({e.strerror or e}): give "
-                  "another port", file=sys.stderr)
+            print(
+                f"sem-relay: error: --status-port {opts.status_port}: cannot listen on it ({e.strerror or e}): give another port",
+                file=sys.stderr,
+            )
             relay.close()
             bus.close()
             return 2
         relay.start()
-        log.info("relay %s: the %s' side of domain %d, link class %s, through %s", opts.name, opts.side, args.domain,
-                 opts.link_class, ", ".join(opts.connect_endpoints + opts.listen_endpoints))
+        log.info(
+            "relay %s: the %s' side of domain %d, link class %s, through %s",
+            opts.name,
+            opts.side,
+            args.domain,
+            opts.link_class,
+            ", ".join(opts.connect_endpoints + opts.listen_endpoints),
+        )
         stopping.wait()
         if status is not None:
             status.shutdown()

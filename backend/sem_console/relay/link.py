@@ -13,8 +13,13 @@ Cap = float | str  # seconds between two samples of an instance (0: none), or ON
 
 # The named link classes: a cap per report topic (the type's name without "Type", both UMAA versions alike)
 LINK_CLASSES: dict[str, dict[str, Cap]] = {
-    "satellite": {"GPSReport": 60.0, "GlobalPoseReport": 5.0, "GPSFixReport": 5.0, "GPSFixStatusReport": 5.0,
-                  "InertialSensorReport": ON_CHANGE},
+    "satellite": {
+        "GPSReport": 60.0,
+        "GlobalPoseReport": 5.0,
+        "GPSFixReport": 5.0,
+        "GPSFixStatusReport": 5.0,
+        "InertialSensorReport": ON_CHANGE,
+    },
     "lan": {},
 }
 # the fields of a capped report whose change goes at once, not at the next slot: a fix lost or regained is on the
@@ -144,8 +149,12 @@ class SentLog(Generic[T]):
 
     def since(self, t: float) -> list[T]:
         """What was sent at `t` or later, each instance's in the order sent (an ended instance: its end only)."""
-        return [item for sent in self._instances.values()
-                for at, item in (sent.items if sent.ended is None else list(sent.items)[-1:]) if at >= t]
+        return [
+            item
+            for sent in self._instances.values()
+            for at, item in (sent.items if sent.ended is None else list(sent.items)[-1:])
+            if at >= t
+        ]
 
     def forget(self, ended_before: float) -> None:
         """Forget the instances that ended before then."""

@@ -21,38 +21,72 @@ _TLS_PROTOCOLS = ("tls", "quic")
 class RelayOptions(BaseSettings):
     model_config = SettingsConfigDict(env_prefix="SEM_RELAY_", extra="ignore")
 
-    router: bool = Field(False, description=(
-        "run a Zenoh router session (no DDS): the relays of both sides connect to it (--listen: where it listens)"))
-    side: Literal["vehicles", "operations"] = Field("vehicles", description=(
-        "vehicles: read the vehicles' reports, statuses and acks on --domain and send them; write the commands that come "
-        "back. operations: write the vehicles' samples into --domain for the consoles there; send their commands "
-        "(default: vehicles)"))
-    name: str = Field(default_factory=socket.gethostname, min_length=1, description=(
-        "this relay's name in its log and status (default: the host name)"))
-    connect: str = Field("", description=(
-        f"Zenoh endpoints to connect to, comma separated (default for a relay: {DEFAULT_ENDPOINT}; a router: none)"))
-    listen: str = Field("", description=(
-        f"Zenoh endpoints to listen on, comma separated (default for a router: {DEFAULT_ENDPOINT}; a relay: none)"))
-    link_class: Literal["satellite", "lan"] = Field("satellite", description=(
-        "the link's rate caps on reports: satellite (GPSReport once a minute, GlobalPoseReport, GPSFixReport and "
-        "GPSFixStatusReport every 5 s, a fix lost or regained at once, InertialSensorReport on change) or lan (no "
-        "caps); commands, statuses and acks are never capped (default: satellite)"))
-    caps: str = Field("", description=(
-        "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
-        "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"))
-    lease_seconds: float = Field(10.0, ge=1, le=600, description=(
-        "Zenoh's lease: a link silent this long is closed and opened again, and each side then sends again what the "
-        "other may have missed (default: 10)"))
-    stats_seconds: float = Field(60.0, ge=0.1, le=3600, description=(
-        "how often the bytes per vehicle are logged and --status-file written (default: 60)"))
+    router: bool = Field(
+        False,
+        description=("run a Zenoh router session (no DDS): the relays of both sides connect to it (--listen: where it listens)"),
+    )
+    side: Literal["vehicles", "operations"] = Field(
+        "vehicles",
+        description=(
+            "vehicles: read the vehicles' reports, statuses and acks on --domain and send them; write the commands that come "
+            "back. operations: write the vehicles' samples into --domain for the consoles there; send their commands "
+            "(default: vehicles)"
+        ),
+    )
+    name: str = Field(
+        default_factory=socket.gethostname,
+        min_length=1,
+        description=("this relay's name in its log and status (default: the host name)"),
+    )
+    connect: str = Field(
+        "",
+        description=(f"Zenoh endpoints to connect to, comma separated (default for a relay: {DEFAULT_ENDPOINT}; a router: none)"),
+    )
+    listen: str = Field(
+        "",
+        description=(f"Zenoh endpoints to listen on, comma separated (default for a router: {DEFAULT_ENDPOINT}; a relay: none)"),
+    )
+    link_class: Literal["satellite", "lan"] = Field(
+        "satellite",
+        description=(
+            "the link's rate caps on reports: satellite (GPSReport once a minute, GlobalPoseReport, GPSFixReport and "
+            "GPSFixStatusReport every 5 s, a fix lost or regained at once, InertialSensorReport on change) or lan (no "
+            "caps); commands, statuses and acks are never capped (default: satellite)"
+        ),
+    )
+    caps: str = Field(
+        "",
+        description=(
+            "caps over the link class's, comma separated: TOPIC=SECONDS (0: no cap) or TOPIC=change, TOPIC the type's "
+            "name without `Type` (GPSReport, GlobalPoseReport, GPSFixReport, GPSFixStatusReport, InertialSensorReport)"
+        ),
+    )
+    lease_seconds: float = Field(
+        10.0,
+        ge=1,
+        le=600,
+        description=(
+            "Zenoh's lease: a link silent this long is closed and opened again, and each side then sends again what the "
+            "other may have missed (default: 10)"
+        ),
+    )
+    stats_seconds: float = Field(
+        60.0, ge=0.1, le=3600, description=("how often the bytes per vehicle are logged and --status-file written (default: 60)")
+    )
     status_file: Path | None = Field(None, description="write the relay's link status (bytes per vehicle) here as JSON")
-    status_port: int | None = Field(None, ge=1, le=65535, description=(
-        "serve the relay's link status as JSON at http://127.0.0.1:PORT/status (this machine only)"))
+    status_port: int | None = Field(
+        None,
+        ge=1,
+        le=65535,
+        description=("serve the relay's link status as JSON at http://127.0.0.1:PORT/status (this machine only)"),
+    )
     insecure: bool = Field(False, description="allow an endpoint that is not loopback without TLS (sent in the clear)")
-    tls_root_ca: Path | None = Field(None, description=(
-        "PEM certificate of the authority that signs the other side's certificate: TLS on tls/ endpoints"))
-    tls_certificate: Path | None = Field(None, description=(
-        "PEM certificate of this relay (with --tls-private-key): mutual TLS, the other side checks it"))
+    tls_root_ca: Path | None = Field(
+        None, description=("PEM certificate of the authority that signs the other side's certificate: TLS on tls/ endpoints")
+    )
+    tls_certificate: Path | None = Field(
+        None, description=("PEM certificate of this relay (with --tls-private-key): mutual TLS, the other side checks it")
+    )
     tls_private_key: Path | None = Field(None, description="PEM private key of --tls-certificate")
 
     @model_validator(mode="after")
@@ -108,8 +142,10 @@ def endpoint_problem(options: RelayOptions) -> str | None:
                 return f"{flag} {endpoint}: a TLS endpoint needs --tls-root-ca (and --tls-certificate, --tls-private-key)"
             if protocol in _TLS_PROTOCOLS or is_loopback(endpoint_host(endpoint)) or options.insecure:
                 continue
-            return (f"{flag} {endpoint} leaves this machine without TLS: use a tls/ endpoint with --tls-root-ca, or give "
-                    "--insecure to send the fleet's traffic in the clear")
+            return (
+                f"{flag} {endpoint} leaves this machine without TLS: use a tls/ endpoint with --tls-root-ca, or give "
+                "--insecure to send the fleet's traffic in the clear"
+            )
     return None
 
 
@@ -120,14 +156,18 @@ def tls_problem(options: RelayOptions) -> str | None:
         try:
             ssl.create_default_context(cafile=str(options.tls_root_ca))
         except (OSError, ssl.SSLError) as e:
-            return (f"--tls-root-ca {options.tls_root_ca}: cannot read it as PEM certificates "
-                    f"({getattr(e, 'strerror', None) or e}): give the fleet authority's certificate")
+            return (
+                f"--tls-root-ca {options.tls_root_ca}: cannot read it as PEM certificates "
+                f"({getattr(e, 'strerror', None) or e}): give the fleet authority's certificate"
+            )
     if options.tls_certificate is not None and options.tls_private_key is not None:
         try:
             ssl.SSLContext(ssl.PROTOCOL_TLS_CLIENT).load_cert_chain(options.tls_certificate, options.tls_private_key)
         except (OSError, ssl.SSLError) as e:
-            return (f"--tls-certificate {options.tls_certificate} and --tls-private-key {options.tls_private_key}: not a "
-                    f"readable PEM certificate and its private key ({getattr(e, 'strerror', None) or e})")
+            return (
+                f"--tls-certificate {options.tls_certificate} and --tls-private-key {options.tls_private_key}: not a "
+                f"readable PEM certificate and its private key ({getattr(e, 'strerror', None) or e})"
+            )
     return None
 
 

@@ -77,9 +77,13 @@ def zenoh_config(options: RelayOptions) -> zenoh.Config:
     if options.tls_root_ca is not None:
         tls = {"root_ca_certificate": str(options.tls_root_ca)}
         if options.tls_certificate is not None and options.tls_private_key is not None:
-            tls |= {"enable_mtls": True,  # type: ignore[dict-item]  # (json5 values)
-                    "listen_certificate": str(options.tls_certificate), "listen_private_key": str(options.tls_private_key),
-                    "connect_certificate": str(options.tls_certificate), "connect_private_key": str(options.tls_private_key)}
+            tls |= {
+                "enable_mtls": True,  # type: ignore[dict-item]  # (json5 values)
+                "listen_certificate": str(options.tls_certificate),
+                "listen_private_key": str(options.tls_private_key),
+                "connect_certificate": str(options.tls_certificate),
+                "connect_private_key": str(options.tls_private_key),
+            }
         for name, value in tls.items():
             config.insert_json5(f"transport/link/tls/{name}", json.dumps(value))
     return config
@@ -167,8 +171,16 @@ class Relay:
     def _outgoing(self, taken: Taken, domain: int) -> Outgoing:
         urgent = taken.sem.spec.cls is not TopicClass.REPORT
         ended = taken.kind is not Kind.SAMPLE
-        return Outgoing(key(domain, taken.vehicle, taken.sem.spec.name), taken.data, attachment(taken.kind, taken.source_ns),
-                        taken.vehicle, urgent, report_end=not urgent and ended, instance=taken.instance, ended=ended)
+        return Outgoing(
+            key(domain, taken.vehicle, taken.sem.spec.name),
+            taken.data,
+            attachment(taken.kind, taken.source_ns),
+            taken.vehicle,
+            urgent,
+            report_end=not urgent and ended,
+            instance=taken.instance,
+            ended=ended,
+        )
 
     def _peer(self, sample: zenoh.Sample) -> None:
         """A relay of the other side came or went. One new to this relay (started, or restarted: a new session) gets
@@ -188,8 +200,7 @@ class Relay:
             lost = min(losses)
             since = self._resend_from(lost)
             self._resend_since = since if self._resend_since is None else min(self._resend_since, since)
-        log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer,
-                 now - since)
+        log.info("the other side's relay %s is there: sending again what it may have missed since %.1f s ago", peer, now - since)
 
     def _resend_from(self, lost: float) -> float:
         """Zenoh notices a silent link a lease or more after it went silent (up to two, with its keep-alive period and
@@ -294,22 +305,43 @@ class Relay:
     def status(self) -> dict[str, Any]:
         elapsed = max(time.monotonic() - self.started, 1e-6)
         with self._lock:
-            vehicles = {str(v): {"sentBytes": t.sent_bytes, "sentMessages": t.sent_messages,
-                                 "sentBytesPerHour": round(t.sent_bytes * 3600 / elapsed),
-                                 "receivedBytes": t.received_bytes, "receivedMessages": t.received_messages,
-                                 "receivedBytesPerHour": round(t.received_bytes * 3600 / elapsed)}
-                        for v, t in sorted(self.traffic.items())}
-            return {"name": self.options.name, "side": self.options.side, "domain": self.bus.domain_id,
-                    "linkClass": self.options.link_class, "caps": self.caps, "seconds": round(elapsed, 1),
-                    "conflated": self.limiter.conflated, "unchanged": self.limiter.unchanged,
-                    "waitingCommands": len(self.held), "vehicles": vehicles}
+            vehicles = {
+                str(v): {
+                    "sentBytes": t.sent_bytes,
+                    "sentMessages": t.sent_messages,
+                    "sentBytesPerHour": round(t.sent_bytes * 3600 / elapsed),
+                    "receivedBytes": t.received_bytes,
+                    "receivedMessages": t.received_messages,
+                    "receivedBytesPerHour": round(t.received_bytes * 3600 / elapsed),
+                }
+                for v, t in sorted(self.traffic.items())
+            }
+            return {
+                "name": self.options.name,
+                "side": self.options.side,
+                "domain": self.bus.domain_id,
+                "linkClass": self.options.link_class,
+                "caps": self.caps,
+                "seconds": round(elapsed, 1),
+                "conflated": self.limiter.conflated,
+                "unchanged": self.limiter.unchanged,
+                "waitingCommands": len(self.held),
+                "vehicles": vehicles,
+            }
 
     def report(self) -> None:
         status = self.status()
         for vehicle, t in status["vehicles"].items():
-            log.info("link: vehicle %s: sent %d B in %d messages (%d B/h), received %d B in %d messages (%d B/h)", vehicle,
-                     t["sentBytes"], t["sentMessages"], t["sentBytesPerHour"], t["receivedBytes"],
-                     t["receivedMessages"], t["receivedBytesPerHour"])
+            log.info(
+                "link: vehicle %s: sent %d B in %d messages (%d B/h), received %d B in %d messages (%d B/h)",
+                vehicle,
+                t["sentBytes"],
+                t["sentMessages"],
+                t["sentBytesPerHour"],
+                t["receivedBytes"],
+                t["receivedMessages"],
+                t["receivedBytesPerHour"],
+            )
         if self.options.status_file is not None:
             write_json(self.options.status_file, status)
 

@@ -60,10 +60,21 @@ class ComapVehicle:
         self.sensor_kinds = [Sensor[s] for s in opts.imc_sensors]
 
     def capabilities(self) -> Message:
-        caps = [msg("CapabilityAreaSurvey", sensor=s.value, resolution=self.opts.imc_resolution, res_bathym_factor=1.0,
-                    cov_rate=self.opts.survey_speed * self.opts.survey_spacing, cov_bathym_factor=1.0) for s in self.sensor_kinds]
-        caps += [msg("CapabilityPointSurvey", sensor=s.value, resolution=self.opts.imc_resolution, duration=10.0)
-                 for s in self.sensor_kinds]
+        caps = [
+            msg(
+                "CapabilityAreaSurvey",
+                sensor=s.value,
+                resolution=self.opts.imc_resolution,
+                res_bathym_factor=1.0,
+                cov_rate=self.opts.survey_speed * self.opts.survey_spacing,
+                cov_bathym_factor=1.0,
+            )
+            for s in self.sensor_kinds
+        ]
+        caps += [
+            msg("CapabilityPointSurvey", sensor=s.value, resolution=self.opts.imc_resolution, duration=10.0)
+            for s in self.sensor_kinds
+        ]
         return msg("VehicleCapabilities", capabilities=[*caps, msg("CapabilityMove", speed=self.opts.survey_speed)])
 
     @property
@@ -180,8 +191,11 @@ class ComapVehicles:
             for v in self.targets(header):
                 ok, why = v.assign(m["tid"], m["arg"], header.src, self.features)
                 log.info("vehicle %d: task %d %s", v.imc_id, m["tid"], why)
-                self.node.send(msg("TaskAdmin", tid=m["tid"], op=(TaskOp.ACCEPT if ok else TaskOp.REJECT).value, arg=None),
-                               v.imc_id, header.src)
+                self.node.send(
+                    msg("TaskAdmin", tid=m["tid"], op=(TaskOp.ACCEPT if ok else TaskOp.REJECT).value, arg=None),
+                    v.imc_id,
+                    header.src,
+                )
         elif m.name == "TaskAdmin" and m["op"] == TaskOp.UNASSIGN:
             for v in self.targets(header):
                 if v.task is not None and v.task.task_id == m["tid"]:

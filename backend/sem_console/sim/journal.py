@@ -66,8 +66,9 @@ class Journal:
         except BlockingIOError:
             owner = os.pread(fd, 32, 0).decode(errors="replace").strip() or "?"
             os.close(fd)
-            raise InUse(f"state file {path} is in use by another simulator (pid {owner}); "
-                        "give this one its own --state-file") from None
+            raise InUse(
+                f"state file {path} is in use by another simulator (pid {owner}); give this one its own --state-file"
+            ) from None
         os.ftruncate(fd, 0)
         os.pwrite(fd, str(os.getpid()).encode(), 0)
         return fd

@@ -64,15 +64,22 @@ def make_sky(seed: int, count: int, sky_speed: float = 20.0) -> list[Satellite]:
         remaining -= n
         for k, prn in enumerate(sorted(rng.sample(list(prns), n))):
             freq_k = freq + (k - 7) * 562500.0 if const is Constellation.GLONASS else freq
-            sats.append(Satellite(
-                constellation=const, prn=prn, frequency=freq_k,
-                az0=rng.uniform(0, 2 * math.pi),
-                # real satellites move about 0.5 deg/min; sky_speed makes them visibly move
-                az_rate=math.radians(rng.uniform(0.2, 0.6)) / 60 * sky_speed * rng.choice((-1, 1)),
-                el_mid=math.radians(rng.uniform(20, 60)), el_amp=math.radians(rng.uniform(5, 25)),
-                el_rate=rng.uniform(0.5, 1.5) * 2 * math.pi / 3600 * sky_speed, phase=rng.uniform(0, 2 * math.pi),
-                almanac=True, ephemeris=rng.random() > 0.1,
-            ))
+            sats.append(
+                Satellite(
+                    constellation=const,
+                    prn=prn,
+                    frequency=freq_k,
+                    az0=rng.uniform(0, 2 * math.pi),
+                    # real satellites move about 0.5 deg/min; sky_speed makes them visibly move
+                    az_rate=math.radians(rng.uniform(0.2, 0.6)) / 60 * sky_speed * rng.choice((-1, 1)),
+                    el_mid=math.radians(rng.uniform(20, 60)),
+                    el_amp=math.radians(rng.uniform(5, 25)),
+                    el_rate=rng.uniform(0.5, 1.5) * 2 * math.pi / 3600 * sky_speed,
+                    phase=rng.uniform(0, 2 * math.pi),
+                    almanac=True,
+                    ephemeris=rng.random() > 0.1,
+                )
+            )
     return sats
 
 
@@ -138,8 +145,10 @@ class Pilot:
 
 # The stages of the simulated INS's own alignment, after power-on or a restart: it aligns stationary
 STATIONARY_STAGES: tuple[OpStatus, ...] = (
-    OpStatus.INIT, OpStatus.COURSE_STATIONARY_ALIGNMENT,
-    OpStatus.FINE_STATIONARY_ALIGNMENT_STARTED, OpStatus.FINE_STATIONARY_ALIGNMENT_COMPLETE,
+    OpStatus.INIT,
+    OpStatus.COURSE_STATIONARY_ALIGNMENT,
+    OpStatus.FINE_STATIONARY_ALIGNMENT_STARTED,
+    OpStatus.FINE_STATIONARY_ALIGNMENT_COMPLETE,
 )
 
 

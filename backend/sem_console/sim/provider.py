@@ -99,8 +99,10 @@ class Simulator:
         versions = {opts.version_of(n) for n in opts.numbers}
         self.writer60 = Writer60.of_fleet(bus, opts)
         self.writers: dict[AnySem, DataWriter[Any]] = {
-            sem: bus.writer(sem, appendable=sem in self.appendable) for sem in Sem
-            if sem.spec.cls is not TopicClass.COMMAND and not all(Writer60.speaks(opts, n) for n in opts.numbers)}
+            sem: bus.writer(sem, appendable=sem in self.appendable)
+            for sem in Sem
+            if sem.spec.cls is not TopicClass.COMMAND and not all(Writer60.speaks(opts, n) for n in opts.numbers)
+        }
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
@@ -113,8 +115,9 @@ class Simulator:
         self.conditions = {c: all_samples(r) for c, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
-        self._twin_reader = bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) \
-            if Sem.INS_REPORT in self.writers else None
+        self._twin_reader = (
+            bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) if Sem.INS_REPORT in self.writers else None
+        )
         self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self._twin_reader else 0
         self._twin_at = 0.0
         self._health_at = 0.0
@@ -129,8 +132,9 @@ class Simulator:
         if taken:
             sims = {vehicle_guid(n): n for n in range(1, MAX_VEHICLE + 1)}
             free = max(sims[g] for g in on_bus if g in sims) + 1
-            raise InUse(f"vehicle {', '.join(map(str, taken))} already runs on domain {self.bus.domain_id} in another process",
-                        free=free)
+            raise InUse(
+                f"vehicle {', '.join(map(str, taken))} already runs on domain {self.bus.domain_id} in another process", free=free
+            )
 
     def _vehicle(self, number: int) -> Vehicle:
         guid, faults = vehicle_guid(number), self.opts.faults_for(number)
@@ -140,9 +144,16 @@ class Simulator:
             write, dispose, ins = self.writer60.write, self.writer60.dispose, self.writer60.alignments
         else:
             write, dispose, ins = self.write, self.dispose, None
-        return Vehicle(number, guid, faults, sensors,
-                       ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, write, dispose, ins),
-                       version, write, dispose)
+        return Vehicle(
+            number,
+            guid,
+            faults,
+            sensors,
+            ProviderFlow(self.opts, number, guid, faults, sensors, self.journal, write, dispose, ins),
+            version,
+            write,
+            dispose,
+        )
 
     def write(self, sem: AnySem, sample: Any) -> None:
         """A 3.0.1 vehicle's sample."""

@@ -107,8 +107,18 @@ class Execution:
 class ProviderFlow:
     """The commands one vehicle runs: start, steps, effects on its sensors, cancel, cleanup."""
 
-    def __init__(self, opts: SimOptions, number: int, guid: uuid.UUID, faults: set[str], sensors: Sensors,
-                 journal: Journal, write: Out, dispose: Out, ins: InsEffects | None = None) -> None:
+    def __init__(
+        self,
+        opts: SimOptions,
+        number: int,
+        guid: uuid.UUID,
+        faults: set[str],
+        sensors: Sensors,
+        journal: Journal,
+        write: Out,
+        dispose: Out,
+        ins: InsEffects | None = None,
+    ) -> None:
         self.opts, self.number, self.guid, self.faults, self.sensors = opts, number, guid, faults, sensors
         self.journal, self.write, self.dispose = journal, write, dispose
         self.ins: InsEffects = ins or Ins301()
@@ -210,9 +220,7 @@ class ProviderFlow:
     def publish_status(self, ex: Execution, status: Status, reason: AnyReason, message: str) -> None:
         t = ex.flow.observe(status, reason, message)
         if t is not None and t.violation and "skip-commanded" not in self.faults:
-            log.warning(
-                "vehicle %d %s %s: publishing a violation: %s", self.number, ex.service.value, ex.session, t.violation
-            )
+            log.warning("vehicle %d %s %s: publishing a violation: %s", self.number, ex.service.value, ex.session, t.violation)
         self.journal.set(self.guid, ex.service, ex.session, status)
         self.write(ex.commanding.status, self.status_sample(ex, status, reason, message))
         log.info("vehicle %d %s %s -> %s/%s %s", self.number, ex.service.value, ex.session, status.name, reason.name, message)
@@ -243,8 +251,14 @@ class ProviderFlow:
         step = SUCCESS_NEXT[ex.status]
         if step is Status.COMMANDED:
             if "skip-commanded" in self.faults:  # break the state machine on purpose
-                log.warning("vehicle %d %s %s: skipping COMMANDED (injected fault), a breach of the %s state machine "
-                            "(%s)", self.number, ex.service.value, ex.session, ex.commanding.version, ex.flow.figure)
+                log.warning(
+                    "vehicle %d %s %s: skipping COMMANDED (injected fault), a breach of the %s state machine (%s)",
+                    self.number,
+                    ex.service.value,
+                    ex.session,
+                    ex.commanding.version,
+                    ex.flow.figure,
+                )
                 self.publish_status(ex, Status.EXECUTING, Reason.SUCCEEDED, "executing (COMMANDED skipped: injected fault)")
                 self.start_effect(ex, now)
             else:

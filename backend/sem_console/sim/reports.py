@@ -44,8 +44,9 @@ class Sensors:
         seed = int.from_bytes(guid.bytes[:8], "big")
         self.rng = random.Random(seed)
         self.sky = make_sky(seed, opts.satellites, opts.sky_speed)
-        self.track = Track(opts.start_lat + 0.02 * (number - 1), opts.start_lon + 0.02 * (number - 1),
-                           course0=self.rng.uniform(0, 2 * math.pi))
+        self.track = Track(
+            opts.start_lat + 0.02 * (number - 1), opts.start_lon + 0.02 * (number - 1), course0=self.rng.uniform(0, 2 * math.pi)
+        )
         self.t0 = time.monotonic()
         self.ins = Ins(opts.scaled(opts.align_seconds), failed="ins-failure" in faults)
         # a vehicle starts submerged and surfaces on a GPSFix command; one whose version has no GPS fix service (UMAA
@@ -87,26 +88,51 @@ class Sensors:
         if self.fix_valid:
             strongest = sorted(rows, key=lambda r: -r[3])
             used = {id(r[0]) for r in strongest[:MAX_USED] if r[3] >= 30.0}
-        return [make(
-            GPSSatelliteType,
-            antennaCarrierNoiseDensity=round(cn0, 1), azimuth=az, basebandCarrierNoiseDensity=round(max(cn0 - 1.5, 0.0), 1),
-            carrierFrequency=s.frequency, constellationType=s.constellation, containsAlmanacData=s.almanac,
-            elevation=el, ephemerisData=s.ephemeris, satelliteId=satellite_guid(s.constellation, s.prn),
-            usedInFix=id(s) in used,
-        ) for s, az, el, cn0 in rows]
+        return [
+            make(
+                GPSSatelliteType,
+                antennaCarrierNoiseDensity=round(cn0, 1),
+                azimuth=az,
+                basebandCarrierNoiseDensity=round(max(cn0 - 1.5, 0.0), 1),
+                carrierFrequency=s.frequency,
+                constellationType=s.constellation,
+                containsAlmanacData=s.almanac,
+                elevation=el,
+                ephemerisData=s.ephemeris,
+                satelliteId=satellite_guid(s.constellation, s.prn),
+                usedInFix=id(s) in used,
+            )
+            for s, az, el, cn0 in rows
+        ]
 
     def gps_report(self, now: float, sats: list[GPSSatelliteType]) -> GPSReportType:
         elapsed_ns = int(self.t(now) * 1e9)
         clock = make(
-            GPSClockType, bias=self.rng.randint(-50, 50), biasUncertianty=15, drift=self.rng.randint(-5, 5),
-            driftUncertainty=2, elapsedRealtime=elapsed_ns % 2**31, elapsedRealtimeUncertainty=1000,
-            fullBias=-1_234_567_890, hardwareClockDiscontinuityCount=0, leapSecond=18,
-            referenceCarrierFrequency=1575.42e6, referenceCodeTypeFor="C/A",
-            referenceConstellationType=self.sky[0].constellation, time=elapsed_ns % 2**31, timeUncertainty=20.0,
+            GPSClockType,
+            bias=self.rng.randint(-50, 50),
+            biasUncertianty=15,
+            drift=self.rng.randint(-5, 5),
+            driftUncertainty=2,
+            elapsedRealtime=elapsed_ns % 2**31,
+            elapsedRealtimeUncertainty=1000,
+            fullBias=-1_234_567_890,
+            hardwareClockDiscontinuityCount=0,
+            leapSecond=18,
+            referenceCarrierFrequency=1575.42e6,
+            referenceCodeTypeFor="C/A",
+            referenceConstellationType=self.sky[0].constellation,
+            time=elapsed_ns % 2**31,
+            timeUncertainty=20.0,
         )
         # every listed satellite is above the horizon (in view); whether it is tracked shows in its C/N0
-        return make(GPSReportType, clock=clock, numberSatellitesInView=len(sats), satellites=sats,
-                             source=self.source, timeStamp=now_datetime())
+        return make(
+            GPSReportType,
+            clock=clock,
+            numberSatellitesInView=len(sats),
+            satellites=sats,
+            source=self.source,
+            timeStamp=now_datetime(),
+        )
 
     def fix_reports(self, now: float, sats: list[GPSSatelliteType]) -> tuple[GPSFixReportType, GPSFixStatusReportType]:
         lat, lon, course = self.track.at(self.t(now))
@@ -156,8 +182,13 @@ class Sensors:
         return fix, status
 
     def ins_report(self, now: float) -> InertialSensorReportType:
-        return make(InertialSensorReportType, state=self.ins.state, status=self.ins.status(self.t(now)),
-                                        source=self.source, timeStamp=now_datetime())
+        return make(
+            InertialSensorReportType,
+            state=self.ins.state,
+            status=self.ins.status(self.t(now)),
+            source=self.source,
+            timeStamp=now_datetime(),
+        )
 
     def _reschedule(self, sem: Sem, rate: float, now: float) -> None:
         """Next due time from the previous one, so the tick does not stretch every period;
@@ -188,20 +219,48 @@ class Sensors:
         key = self.source
         dispose(Sem.GPS_FIX_REPORT, make(GPSFixReportType, source=key, **_zero_fix()))
         dispose(Sem.GPS_FIX_STATUS_REPORT, make(GPSFixStatusReportType, source=key, **_zero_fix_status()))
-        dispose(Sem.GPS_REPORT, make(GPSReportType, source=key, clock=make(GPSClockType), numberSatellitesInView=0,
-                                     satellites=[], timeStamp=now_datetime()))
-        dispose(Sem.INS_REPORT, make(InertialSensorReportType, source=key, state=InsState.OFF,
-                                     status=self.ins.status(0), timeStamp=now_datetime()))
+        dispose(
+            Sem.GPS_REPORT,
+            make(
+                GPSReportType,
+                source=key,
+                clock=make(GPSClockType),
+                numberSatellitesInView=0,
+                satellites=[],
+                timeStamp=now_datetime(),
+            ),
+        )
+        dispose(
+            Sem.INS_REPORT,
+            make(InertialSensorReportType, source=key, state=InsState.OFF, status=self.ins.status(0), timeStamp=now_datetime()),
+        )
 
 
 def _zero_fix() -> dict[str, Any]:
     pos = Position2D(GeodeticLatitude(0.0), GeodeticLongitude(0.0))
-    return dict(altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=FixState.INITIATING, GPSLatLongValid=False,
-                magneticVariation=0.0, position2DWithTime=Position2DTime(pos, None), SOG=0.0, trueCourse=0.0,
-                velocity=Velocity3D_PlatformNED(0.0, 0.0, 0.0), timeStamp=now_datetime())
+    return dict(
+        altitudeMSL=Altitude_MSL(0.0),
+        GPSFixCommandStatus=FixState.INITIATING,
+        GPSLatLongValid=False,
+        magneticVariation=0.0,
+        position2DWithTime=Position2DTime(pos, None),
+        SOG=0.0,
+        trueCourse=0.0,
+        velocity=Velocity3D_PlatformNED(0.0, 0.0, 0.0),
+        timeStamp=now_datetime(),
+    )
 
 
 def _zero_fix_status() -> dict[str, Any]:
     pos = Position3D_WGS84(Position2D(GeodeticLatitude(0.0), GeodeticLongitude(0.0)), Altitude_HAE(0.0))
-    return dict(carrierToNoise=[], countDown=0, fixValid=False, lowBkupBattery=False, navSolution=NavSolution.NO_NAV,
-                originPosition=pos, pCode=False, timeOut=False, timeStamp=now_datetime())
+    return dict(
+        carrierToNoise=[],
+        countDown=0,
+        fixValid=False,
+        lowBkupBattery=False,
+        navSolution=NavSolution.NO_NAV,
+        originPosition=pos,
+        pCode=False,
+        timeOut=False,
+        timeStamp=now_datetime(),
+    )

@@ -61,18 +61,28 @@ def _sensors(text: str) -> tuple[str, ...]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    p = Parser(prog="sem-sim", description=(
-        "Simulated unmanned vehicles, each a UMAA SEM Service Provider for GPSFixControl, GPSFixStatus, "
-        "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
-        "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."))
-    p.add_argument("--domain", type=ranged(int, 0, 232), default=from_environment("sem-sim", BusSettings).domain, help=(
-        "DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"))
+    p = Parser(
+        prog="sem-sim",
+        description=(
+            "Simulated unmanned vehicles, each a UMAA SEM Service Provider for GPSFixControl, GPSFixStatus, "
+            "GPSStatus, InertialSensorControl and InertialSensorStatus. Vehicles start submerged (no GPS fix) "
+            "with the INS aligning. DDS runs on loopback unless CYCLONEDDS_URI is set."
+        ),
+    )
+    p.add_argument(
+        "--domain",
+        type=ranged(int, 0, 232),
+        default=from_environment("sem-sim", BusSettings).domain,
+        help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
+    )
     # the simulator's own options: one per field of SimOptions (sim/options.py), in its order
-    add_model_options(p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors,
-                                   "numbers": _numbers})
+    add_model_options(
+        p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors, "numbers": _numbers}
+    )
     p.add_argument("--list", action="store_true", help="print each vehicle's source GUID and exit")
-    p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info", help=(
-        "log level (default: %(default)s)"))
+    p.add_argument(
+        "--log-level", choices=("debug", "info", "warning", "error"), default="info", help=("log level (default: %(default)s)")
+    )
     return p
 
 
@@ -106,8 +116,11 @@ def main(argv: list[str] | None = None) -> int:
         try:
             opts.health_file.touch()
         except OSError as e:
-            print(f"sem-sim: error: --health-file {opts.health_file}: cannot write it ({e.strerror or e}): "
-                  "pass another --health-file", file=sys.stderr)
+            print(
+                f"sem-sim: error: --health-file {opts.health_file}: cannot write it ({e.strerror or e}): "
+                "pass another --health-file",
+                file=sys.stderr,
+            )
             return 2
         with contextlib.suppress(OSError):  # stale until the running simulator touches it: not healthy while starting
             os.utime(opts.health_file, (0, 0))
@@ -129,11 +142,16 @@ def main(argv: list[str] | None = None) -> int:
     try:
         sim = Simulator(bus, opts)
     except OSError as e:  # the fix depends on why: "give another --imc-port" for an address not of this machine misled
-        fix = {errno.EADDRINUSE: "give another --imc-port (or stop what holds it)",
-               errno.EADDRNOTAVAIL: "give an --imc-host address of this machine (or 0.0.0.0)",
-               errno.EACCES: "give an --imc-port above 1023 (or run with the right to bind it)"}
-        print(f"sem-sim: error: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}: "
-              f"{fix.get(e.errno or 0, 'check --imc-host and --imc-port')}", file=sys.stderr)
+        fix = {
+            errno.EADDRINUSE: "give another --imc-port (or stop what holds it)",
+            errno.EADDRNOTAVAIL: "give an --imc-host address of this machine (or 0.0.0.0)",
+            errno.EACCES: "give an --imc-port above 1023 (or run with the right to bind it)",
+        }
+        print(
+            f"sem-sim: error: cannot listen for IMC on {opts.imc_host}:{opts.imc_port}: {e.strerror or e}: "
+            f"{fix.get(e.errno or 0, 'check --imc-host and --imc-port')}",
+            file=sys.stderr,
+        )
         return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""

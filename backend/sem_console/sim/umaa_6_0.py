@@ -85,50 +85,85 @@ def _constellation(c: Any) -> Constellation:
 def _satellite(s: Any) -> GPSSatelliteType:
     prn = bytes(s.satelliteId)[15] if s.satelliteId is not None else 0
     return GPSSatelliteType(
-        antennaCarrierNoiseDensity=s.antennaCarrierNoiseDensity or 0.0, azimuth=s.azimuth or 0.0,
-        basebandCarrierNoiseDensity=s.basebandCarrierNoiseDensity or 0.0, carrierFrequency=s.carrierFrequency or 0.0,
+        antennaCarrierNoiseDensity=s.antennaCarrierNoiseDensity or 0.0,
+        azimuth=s.azimuth or 0.0,
+        basebandCarrierNoiseDensity=s.basebandCarrierNoiseDensity or 0.0,
+        carrierFrequency=s.carrierFrequency or 0.0,
         constellationType=_constellation(s.constellationType),
-        containsAlmanacData=bool(s.containsAlmanacData), elevation=s.elevation or 0.0, ephemerisData=bool(s.ephemerisData),
-        satelliteID=float(prn), usedInFix=bool(s.usedInFix))
+        containsAlmanacData=bool(s.containsAlmanacData),
+        elevation=s.elevation or 0.0,
+        ephemerisData=bool(s.ephemerisData),
+        satelliteID=float(prn),
+        usedInFix=bool(s.usedInFix),
+    )
 
 
 def gps_report(r: Any) -> GPSReportType:
     c = r.clock
-    clock = make(GPSClockType,
-        bias=c.bias or 0, biasUncertainty=c.biasUncertianty or 0, drift=c.drift or 0, driftUncertainty=c.driftUncertainty or 0,
-        elapsedRealtime=c.elapsedRealtime or 0, elapsedRealtimeUncertainty=c.elapsedRealtimeUncertainty or 0,
-        fullBias=c.fullBias or 0, hardwareClockDiscontinuityCount=c.hardwareClockDiscontinuityCount or 0,
-        leapSecond=c.leapSecond or 0, referenceCarrierFrequency=c.referenceCarrierFrequency or 0.0,
+    clock = make(
+        GPSClockType,
+        bias=c.bias or 0,
+        biasUncertainty=c.biasUncertianty or 0,
+        drift=c.drift or 0,
+        driftUncertainty=c.driftUncertainty or 0,
+        elapsedRealtime=c.elapsedRealtime or 0,
+        elapsedRealtimeUncertainty=c.elapsedRealtimeUncertainty or 0,
+        fullBias=c.fullBias or 0,
+        hardwareClockDiscontinuityCount=c.hardwareClockDiscontinuityCount or 0,
+        leapSecond=c.leapSecond or 0,
+        referenceCarrierFrequency=c.referenceCarrierFrequency or 0.0,
         referenceCodeTypeFor=c.referenceCodeTypeFor or "",
         referenceConstellationType=_constellation(c.referenceConstellationType),
-        time=c.time or 0, timeFigureOfMerit=tfom(c.timeUncertainty))
-    return make(GPSReportType, clock=clock, numberSatellitesInView=r.numberSatellitesInView,
-                satellites=[_satellite(s) for s in r.satellites], timeStamp=_time(r.timeStamp), source=_identifier(r.source))
+        time=c.time or 0,
+        timeFigureOfMerit=tfom(c.timeUncertainty),
+    )
+    return make(
+        GPSReportType,
+        clock=clock,
+        numberSatellitesInView=r.numberSatellitesInView,
+        satellites=[_satellite(s) for s in r.satellites],
+        timeStamp=_time(r.timeStamp),
+        source=_identifier(r.source),
+    )
 
 
 def global_pose(fix: Any) -> GlobalPoseReportType:
     position = fix.position2DWithTime.geodeticPosition
     height = fix.altitudeMSL.altitude
     return GlobalPoseReportType(
-        altitude=height if height >= 0 else None, altitudeAGL=None, altitudeASF=None, altitudeGeodetic=None,
-        attitude=Orientation3DNEDType(pitch=PitchYNEDType(pitch=0.0), roll=RollXNEDType(roll=0.0),
-                                      yaw=YawZNEDType(yaw=fix.trueCourse)),
-        attitudeCovariance=None, course=fix.trueCourse, depth=-height if height < 0 else None,
+        altitude=height if height >= 0 else None,
+        altitudeAGL=None,
+        altitudeASF=None,
+        altitudeGeodetic=None,
+        attitude=Orientation3DNEDType(
+            pitch=PitchYNEDType(pitch=0.0), roll=RollXNEDType(roll=0.0), yaw=YawZNEDType(yaw=fix.trueCourse)
+        ),
+        attitudeCovariance=None,
+        course=fix.trueCourse,
+        depth=-height if height < 0 else None,
         navigationSolution=NavSolution.MEASURED if fix.GPSLatLongValid else NavSolution.ESTIMATED,
-        position=GeoPosition2D(geodeticLatitude=position.geodeticLatitude.latitude,
-                               geodeticLongitude=position.geodeticLongitude.longitude),
-        positionCovariance=None, timeStamp=_time(fix.timeStamp), source=_identifier(fix.source))
+        position=GeoPosition2D(
+            geodeticLatitude=position.geodeticLatitude.latitude, geodeticLongitude=position.geodeticLongitude.longitude
+        ),
+        positionCovariance=None,
+        timeStamp=_time(fix.timeStamp),
+        source=_identifier(fix.source),
+    )
 
 
 # per commanded kind (InertialSensorCmdEnumType), the stages its INS reports in turn; the last one is the aim
 STAGES: dict[str, tuple[str, ...]] = {
-    **{f"{kind}_ALIGN": (f"COARSE_{kind}_ALIGNMENT", f"FINE_{kind}_ALIGNMENT_STARTED", f"FINE_{kind}_ALIGNMENT_COMPLETE")
-       for kind in ("BEST", "GPS", "STATIONARY", "TRANSFER")},
+    **{
+        f"{kind}_ALIGN": (f"COARSE_{kind}_ALIGNMENT", f"FINE_{kind}_ALIGNMENT_STARTED", f"FINE_{kind}_ALIGNMENT_COMPLETE")
+        for kind in ("BEST", "GPS", "STATIONARY", "TRANSFER")
+    },
     "SNAP_ALIGN": ("INIT", "SNAP_ALIGNMENT_COMPLETE"),
     "INIT": ("INIT",),
 }
-FAILURE = {**{kind: f"{kind.removesuffix('_ALIGN')}_ALIGNMENT_FAILURE" for kind in STAGES if kind != "INIT"},
-           "INIT": "INERTIAL_SENSOR_FAILURE"}
+FAILURE = {
+    **{kind: f"{kind.removesuffix('_ALIGN')}_ALIGNMENT_FAILURE" for kind in STAGES if kind != "INIT"},
+    "INIT": "INERTIAL_SENSOR_FAILURE",
+}
 
 
 class Alignment:
@@ -158,8 +193,7 @@ class Alignments:
         self.by_vehicle: dict[uuid.UUID, tuple[Alignment, Any]] = {}  # with the sensors whose time it runs on
 
     def start(self, sensors: Any, command: Any, t: float) -> None:
-        self.by_vehicle[uuid.UUID(bytes=bytes(sensors.source))] = (Alignment(command.state.name, t, self.stage_seconds),
-                                                                   sensors)
+        self.by_vehicle[uuid.UUID(bytes=bytes(sensors.source))] = (Alignment(command.state.name, t, self.stage_seconds), sensors)
 
     def _of(self, sensors: Any) -> Alignment | None:
         entry = self.by_vehicle.get(uuid.UUID(bytes=bytes(sensors.source)))
@@ -195,16 +229,16 @@ def ins_report(r: Any, aligned: dict[uuid.UUID, str], commanded: str | None = No
     status = r.status.name
     vehicle = uuid.UUID(bytes=bytes(r.source))
     if commanded is not None and status != "INERTIAL_SENSOR_FAILURE":
-        return InertialSensorReportType(status=OpStatus[commanded], timeStamp=_time(r.timeStamp),
-                                        source=_identifier(r.source))
+        return InertialSensorReportType(status=OpStatus[commanded], timeStamp=_time(r.timeStamp), source=_identifier(r.source))
     if status.endswith("_ALIGNMENT_COMPLETE"):
         aligned[vehicle] = status
     elif status == "OPERATIONAL":
         status = aligned.get(vehicle, _ALIGNED)
     if r.state.name != "ON" and status != "INERTIAL_SENSOR_FAILURE":
         status = "INIT"
-    return InertialSensorReportType(status=OpStatus[_OP_STATUS.get(status, status)], timeStamp=_time(r.timeStamp),
-                                    source=_identifier(r.source))
+    return InertialSensorReportType(
+        status=OpStatus[_OP_STATUS.get(status, status)], timeStamp=_time(r.timeStamp), source=_identifier(r.source)
+    )
 
 
 class Writer60:
@@ -227,8 +261,7 @@ class Writer60:
         # its appendable copy in XCDR2, as RTI's UMAA types are, for an RTI consumer (docs/umaa-versions.md)
         sems = (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)
         self.appendable = {s for s in sems if appendable and s.spec.appendable is not None}
-        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable)
-                                                       for sem in sems}
+        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
         # the command flow's statuses and acks: reliable, transient-local, with RTI UMAAQoSLib's CommandQoS (bus.writer)
         self.writers.update({sem: bus.writer(sem) for sem in (Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)})
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with

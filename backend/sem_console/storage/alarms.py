@@ -14,8 +14,20 @@ from sem_console.storage.models import AlarmRecord, AlarmShelfRecord, PlannedSil
 
 ALARMS, SHELVES, SILENCES = table(AlarmRecord), table(AlarmShelfRecord), table(PlannedSilenceRecord)
 ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
-ALARM_COLUMNS = ("key", "kind", "severity", "provider_id", "vehicle", "session_id", "text", "since", "cleared_at", "acked_at",
-                 "acked_by", "normal_at")
+ALARM_COLUMNS = (
+    "key",
+    "kind",
+    "severity",
+    "provider_id",
+    "vehicle",
+    "session_id",
+    "text",
+    "since",
+    "cleared_at",
+    "acked_at",
+    "acked_by",
+    "normal_at",
+)
 
 
 class Alarms:
@@ -37,6 +49,7 @@ class Alarms:
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
             self._ids[temporary] = new_id
             ids.append(new_id)
+
         if self.ctx.writes.write(write):  # written now: no temporary id to map
             self._ids.pop(temporary, None)
             return ids[-1]
@@ -49,6 +62,7 @@ class Alarms:
             c.execute(update(ALARMS).where(ALARMS.c.id == self._ids.get(alarm["id"], alarm["id"])).values(values))
             if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
                 self.ctx.notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
+
         self.ctx.writes.write(write)
 
     def open(self) -> list[AlarmRecord]:
@@ -65,9 +79,15 @@ class Alarms:
         out: dict[str, tuple[float, str | None]] = {}
         if not since:
             return out
-        q = select(ALARMS.c.key, ALARMS.c.acked_at, ALARMS.c.acked_by).where(
-            ALARMS.c.key.in_(list(since)), ALARMS.c.acked_at.is_not(None),
-            or_(ALARMS.c.console.is_(None), ALARMS.c.console != self.ctx.station)).order_by(ALARMS.c.acked_at)
+        q = (
+            select(ALARMS.c.key, ALARMS.c.acked_at, ALARMS.c.acked_by)
+            .where(
+                ALARMS.c.key.in_(list(since)),
+                ALARMS.c.acked_at.is_not(None),
+                or_(ALARMS.c.console.is_(None), ALARMS.c.console != self.ctx.station),
+            )
+            .order_by(ALARMS.c.acked_at)
+        )
         with self.ctx.writes.reads() as c:
             for key, at, by in c.execute(q):
                 if at >= since[key]:
@@ -107,14 +127,17 @@ class Alarms:
         def write(c: Connection) -> None:
             c.execute(insert(t).values(row))
             self.ctx.notify(c, kind, row=row)
+
         self.ctx.writes.write(write)
 
     def _end_shared(self, t: Table, kind: str, row_id: str, at: float, by: str | None, why: str) -> None:
         def write(c: Connection) -> None:
-            ended = c.execute(update(t).where(t.c.id == row_id, t.c.ended_at.is_(None))
-                              .values(ended_at=at, ended_by=by, end_reason=why)).rowcount
+            ended = c.execute(
+                update(t).where(t.c.id == row_id, t.c.ended_at.is_(None)).values(ended_at=at, ended_by=by, end_reason=why)
+            ).rowcount
             if ended:
                 self.ctx.notify(c, kind, row={"id": row_id, "ended_at": at, "ended_by": by, "end_reason": why})
+
         self.ctx.writes.write(write)
 
     def clear(self) -> None:

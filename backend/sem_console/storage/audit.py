@@ -25,6 +25,7 @@ class Audit:
             new_id = c.execute(insert(AUDIT).values(row).returning(AUDIT.c.id)).scalar_one()
             c.execute(delete(AUDIT).where(AUDIT.c.id <= new_id - self.max_rows))
             self.ctx.notify(c, "audit", id=new_id)
+
         self.ctx.writes.write(write)
 
     def newest(self, limit: int, offset: int) -> list[AuditRecord]:

@@ -77,12 +77,16 @@ class Comap:
         t = COMAP_WORLD
         values = {**world, "id": 1, "features": json.dumps(world["features"]), "station": self.ctx.station}
         ins = self.ctx.insert(t).values(values)
-        stmt = ins.on_conflict_do_update(index_elements=[t.c.id], set_={k: ins.excluded[k] for k in values if k != "id"},
-                                         where=t.c.updated_at <= ins.excluded.updated_at)
+        stmt = ins.on_conflict_do_update(
+            index_elements=[t.c.id],
+            set_={k: ins.excluded[k] for k in values if k != "id"},
+            where=t.c.updated_at <= ins.excluded.updated_at,
+        )
 
         def write(c: Connection) -> None:
             c.execute(stmt)
             self.ctx.notify(c, "worldmodel")
+
         self.ctx.writes.write(write)
 
     def set_task(self, task: dict[str, Any], final: frozenset[str]) -> None:
@@ -97,21 +101,28 @@ class Comap:
         ins = self.ctx.insert(t).values(_task_row(task))
         new = ins.excluded
         stored_final, new_final = t.c.state.in_(final), new.state.in_(final)
-        state_wins = or_(and_(new_final, or_(~stored_final, new.state_at < t.c.state_at)),
-                         and_(~new_final, ~stored_final, t.c.state_at <= new.state_at))
+        state_wins = or_(
+            and_(new_final, or_(~stored_final, new.state_at < t.c.state_at)),
+            and_(~new_final, ~stored_final, t.c.state_at <= new.state_at),
+        )
         progress_wins = t.c.updated_at <= new.updated_at
 
         def newest(column: Any, wins: Any) -> Any:
             return case((wins, new[column.name]), else_=column)
+
         stmt = ins.on_conflict_do_update(
             index_elements=[t.c.task_id],
-            set_={**{c.name: newest(c, state_wins) for c in (t.c.state, t.c.last_synch, t.c.state_at)},
-                  **{c.name: newest(c, progress_wins) for c in (t.c.progress, t.c.quality, t.c.updated_at)}},
-            where=(t.c.created_at == new.created_at) & (state_wins | progress_wins))
+            set_={
+                **{c.name: newest(c, state_wins) for c in (t.c.state, t.c.last_synch, t.c.state_at)},
+                **{c.name: newest(c, progress_wins) for c in (t.c.progress, t.c.quality, t.c.updated_at)},
+            },
+            where=(t.c.created_at == new.created_at) & (state_wins | progress_wins),
+        )
 
         def write(c: Connection) -> None:
             c.execute(stmt)
             self.ctx.notify(c, "task", id=task["task_id"])
+
         self.ctx.writes.write(write)
 
     def new_task(self, task: dict[str, Any], final: frozenset[str]) -> int | None:
@@ -124,8 +135,7 @@ class Comap:
         # one at a time in this console: SQLite has no FOR UPDATE (two assigns at once read one counter, and the
         # second deleted the first's task of that id and took it again)
         with self.ctx.writes.outage(self._unavailable), self._taking_task_id, self.ctx.engine.begin() as c:
-            start = c.execute(select(COMAP_TASK_IDS.c.next_task).where(COMAP_TASK_IDS.c.id == 1)
-                              .with_for_update()).scalar_one()
+            start = c.execute(select(COMAP_TASK_IDS.c.next_task).where(COMAP_TASK_IDS.c.id == 1).with_for_update()).scalar_one()
             busy = set(c.execute(select(COMAP_TASKS.c.task_id).where(COMAP_TASKS.c.state.not_in(final))).scalars())
             order = (((start - 1 + k) % TASK_IDS) + 1 for k in range(TASK_IDS))  # from start, wrapping
             tid: int | None = next((i for i in order if i not in busy), None)
@@ -138,11 +148,16 @@ class Comap:
             return tid
 
     def _unavailable(self) -> Unavailable:
-        return Unavailable(f"no new CoMap task while the database {self.ctx.db.shown} cannot be reached (since "
-                           f"{self.ctx.writes.since()}): task ids are taken there so that no two stations send the same "
-                           "one; assign it when the database is back (the tasks already assigned go on)")
+        return Unavailable(
+            f"no new CoMap task while the database {self.ctx.db.shown} cannot be reached (since "
+            f"{self.ctx.writes.since()}): task ids are taken there so that no two stations send the same "
+            "one; assign it when the database is back (the tasks already assigned go on)"
+        )
 
 
 def _task_row(task: dict[str, Any]) -> dict[str, Any]:
-    return {**{k: task[k] for k in (col.name for col in COMAP_TASKS.c)}, "vehicle": str(task["vehicle"]),
-            "point": json.dumps(task["point"]) if task["point"] is not None else None}
+    return {
+        **{k: task[k] for k in (col.name for col in COMAP_TASKS.c)},
+        "vehicle": str(task["vehicle"]),
+        "point": json.dumps(task["point"]) if task["point"] is not None else None,
+    }

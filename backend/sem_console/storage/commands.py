@@ -56,35 +56,62 @@ class Commands:
         self.ctx = ctx
 
     def add(self, rec: dict[str, Any], command_: dict[str, Any], console: str | None = None) -> None:
-        row = dict(session_id=rec["sessionId"], service=rec["service"], provider_id=rec["providerId"], state=rec["state"],
-                   operator=rec["operator"], created_at=rec["createdAt"], command=json.dumps(command_), unanswered=False,
-                   cancel_requested=False, cleaned_up=False, console=console)
+        row = dict(
+            session_id=rec["sessionId"],
+            service=rec["service"],
+            provider_id=rec["providerId"],
+            state=rec["state"],
+            operator=rec["operator"],
+            created_at=rec["createdAt"],
+            command=json.dumps(command_),
+            unanswered=False,
+            cancel_requested=False,
+            cleaned_up=False,
+            console=console,
+        )
 
         def write(c: Connection) -> None:
             c.execute(insert(COMMANDS).values(row))
             self.ctx.notify(c, "command", session=rec["sessionId"])
+
         self.ctx.writes.write(write)
 
     def add_transition(self, session_id: str, seq: int, t: dict[str, Any]) -> None:
-        stmt = self.ctx.insert(TRANSITIONS).values(
-            session_id=session_id, seq=seq, status=t["status"], reason=t["reason"], log_message=t["logMessage"],
-            violation=t["violation"], provider_time=t["providerTime"], received_at=t["receivedAt"],
-        ).on_conflict_do_nothing()
+        stmt = (
+            self.ctx.insert(TRANSITIONS)
+            .values(
+                session_id=session_id,
+                seq=seq,
+                status=t["status"],
+                reason=t["reason"],
+                log_message=t["logMessage"],
+                violation=t["violation"],
+                provider_time=t["providerTime"],
+                received_at=t["receivedAt"],
+            )
+            .on_conflict_do_nothing()
+        )
 
         def write(c: Connection) -> None:
             c.execute(stmt)
             # the vehicle answered after all: what it says stands, whatever station ended the command as never heard
-            c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, COMMANDS.c.closed_unheard.is_not(None))
-                      .values(closed_unheard=None, closed_at=None, cleaned_up=False))
+            c.execute(
+                update(COMMANDS)
+                .where(COMMANDS.c.session_id == session_id, COMMANDS.c.closed_unheard.is_not(None))
+                .values(closed_unheard=None, closed_at=None, cleaned_up=False)
+            )
             self.ctx.notify(c, "command", session=session_id)
+
         self.ctx.writes.write(write)
 
     def update(self, session_id: str, **values: Any) -> None:
         """Set columns of a command (its flags, its acknowledgement, its cancel); the other stations are told the
         columns with the command (`changed`), so that they apply a cancel at once, before they read the row."""
+
         def write(c: Connection) -> None:
             c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
             self.ctx.notify(c, "command", session=session_id, changed=values)
+
         self.ctx.writes.write(write)
 
     def close_unheard(self, session_id: str, why: str, at: float) -> bool | None:
@@ -96,15 +123,25 @@ class Commands:
         stored: list[bool] = []
 
         def write(c: Connection) -> None:
-            done = c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id, ~answered,
-                                                    COMMANDS.c.closed_unheard.is_(None))
-                             .values(closed_unheard=why, closed_at=at, cleaned_up=True))
+            done = c.execute(
+                update(COMMANDS)
+                .where(COMMANDS.c.session_id == session_id, ~answered, COMMANDS.c.closed_unheard.is_(None))
+                .values(closed_unheard=why, closed_at=at, cleaned_up=True)
+            )
             stored.append(done.rowcount > 0)
             self.ctx.notify(c, "command", session=session_id)
+
         return stored[-1] if self.ctx.writes.write(write) else None
 
-    def read(self, limit: int | None = None, offset: int = 0, unfinished: bool = False, session_id: str | None = None,
-             provider_id: str | None = None, console: str | None = None) -> list[CommandRow]:
+    def read(
+        self,
+        limit: int | None = None,
+        offset: int = 0,
+        unfinished: bool = False,
+        session_id: str | None = None,
+        provider_id: str | None = None,
+        console: str | None = None,
+    ) -> list[CommandRow]:
         """Commands newest first with their transitions: `limit` of them from `offset` (to `provider_id`,
         issued by `console`, when given), plus every command not yet cleaned up when `unfinished`, or the one
         `session_id`."""
@@ -139,8 +176,10 @@ class Commands:
         with self.ctx.writes.reads() as c:
             rows = [dict(r) for r in c.execute(q).mappings()]
             trans = _transitions(c, [r["session_id"] for r in rows])
-        return [cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])})
-                for r in rows]
+        return [
+            cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])})
+            for r in rows
+        ]
 
     def clear(self) -> None:
         """Forget every command and transition (a replay rebuilding its state); the audit trail stays."""
@@ -152,9 +191,12 @@ class Commands:
 def _transitions(c: Connection, ids: list[str]) -> dict[str, list[TransitionRow]]:
     """Session id -> its transitions in order."""
     out: dict[str, list[TransitionRow]] = {}
-    for chunk in (ids[i:i + 500] for i in range(0, len(ids), 500)):
-        q = select(*TRANSITIONS.c).where(TRANSITIONS.c.session_id.in_(chunk)).order_by(TRANSITIONS.c.session_id,
-                                                                                        TRANSITIONS.c.seq)
+    for chunk in (ids[i : i + 500] for i in range(0, len(ids), 500)):
+        q = (
+            select(*TRANSITIONS.c)
+            .where(TRANSITIONS.c.session_id.in_(chunk))
+            .order_by(TRANSITIONS.c.session_id, TRANSITIONS.c.seq)
+        )
         for t in c.execute(q).mappings():
             out.setdefault(t["session_id"], []).append(cast(TransitionRow, dict(t)))
     return out

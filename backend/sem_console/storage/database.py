@@ -123,17 +123,25 @@ class Database:
     def set_acked(self, session_id: str, at: float) -> None:
         self.command_rows.update(session_id, acked_at=at)
 
-    def set_canceled(self, session_id: str, operator: str | None, station: str | None, at: float,
-                     cause: str | None = "operator") -> None:
-        self.command_rows.update(session_id, cancel_requested=True, canceled_by=operator, canceled_on=station,
-                                 canceled_at=at, cancel_cause=cause)
+    def set_canceled(
+        self, session_id: str, operator: str | None, station: str | None, at: float, cause: str | None = "operator"
+    ) -> None:
+        self.command_rows.update(
+            session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at, cancel_cause=cause
+        )
 
     def set_closed_unheard(self, session_id: str, why: str, at: float) -> bool | None:
         return self.command_rows.close_unheard(session_id, why, at)
 
-    def commands(self, limit: int | None = None, offset: int = 0, unfinished: bool = False,
-                 session_id: str | None = None, provider_id: str | None = None,
-                 console: str | None = None) -> list[CommandRow]:
+    def commands(
+        self,
+        limit: int | None = None,
+        offset: int = 0,
+        unfinished: bool = False,
+        session_id: str | None = None,
+        provider_id: str | None = None,
+        console: str | None = None,
+    ) -> list[CommandRow]:
         return self.command_rows.read(limit, offset, unfinished, session_id, provider_id, console)
 
     def export_commands(self, provider_id: str | None, since: float | None, until: float | None) -> list[CommandRow]:

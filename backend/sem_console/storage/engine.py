@@ -62,8 +62,12 @@ def problem(db: DatabaseUrl, e: Exception) -> str:
         return f"{where}: {message}: fix the user name or password in --database-url"
     if "does not exist" in lower:
         return f"{where}: {message}: create it (createdb, or CREATE DATABASE) or fix --database-url"
-    if "connection refused" in lower or "timeout" in lower or "could not translate host name" in lower \
-            or "no route to host" in lower:
+    if (
+        "connection refused" in lower
+        or "timeout" in lower
+        or "could not translate host name" in lower
+        or "no route to host" in lower
+    ):
         return f"{where}: cannot reach the PostgreSQL server ({message}): start it, or fix the host and port in --database-url"
     return f"{where}: {message}: fix --database-url or the server"
 
@@ -98,14 +102,21 @@ def migrate(engine: Engine, db: DatabaseUrl) -> None:
             if current == head:
                 return
             if current is not None and current not in {r.revision for r in scripts.walk_revisions()}:
-                raise StorageError(f"{option(db)}: its schema is at revision {current}, newer than this sem-console's {head}: "
-                                   "run the sem-console release that wrote it (the consoles of one database run one release)")
+                raise StorageError(
+                    f"{option(db)}: its schema is at revision {current}, newer than this sem-console's {head}: "
+                    "run the sem-console release that wrote it (the consoles of one database run one release)"
+                )
             tables = set(inspect(c).get_table_names())
             c.commit()
             if db.path is not None and tables - {"alembic_version"}:
                 backup = backup_sqlite(db.path, current)
-                log.warning("copied %s to %s before upgrading its schema (from %s to %s)", db.path, backup,
-                            current or "the first release's", head)
+                log.warning(
+                    "copied %s to %s before upgrading its schema (from %s to %s)",
+                    db.path,
+                    backup,
+                    current or "the first release's",
+                    head,
+                )
             with c.begin():
                 command.upgrade(alembic_config(c), "head")
             log.info("database %s upgraded to schema revision %s", db.shown, head)

@@ -36,4 +36,5 @@ class Links:
         def write(c: Connection) -> None:
             c.execute(upsert)
             self.ctx.notify(c, "link", provider=provider_id)
+
         self.ctx.writes.write(write)

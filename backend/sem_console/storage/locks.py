@@ -47,9 +47,13 @@ def lock_session(c: Connection) -> Connection:
     the server's TCP keepalives set short for it. A network cut (not a restart) leaves the server the session, and its
     locks, after the console gave up on it: with the server's defaults (two hours of idle before a probe) no console
     could take those locks again for hours (the name seen as another console's, a vehicle's track written by none)."""
-    c.execute(select(func.set_config("tcp_keepalives_idle", "5", False),
-                     func.set_config("tcp_keepalives_interval", "2", False),
-                     func.set_config("tcp_keepalives_count", "2", False)))
+    c.execute(
+        select(
+            func.set_config("tcp_keepalives_idle", "5", False),
+            func.set_config("tcp_keepalives_interval", "2", False),
+            func.set_config("tcp_keepalives_count", "2", False),
+        )
+    )
     return c
 
 
@@ -72,8 +76,9 @@ class NameLock:
             self.name = name
 
     def _take(self, name: str) -> None:
-        taken = StorageError(f"another console named {name!r} is running on {self.db.shown}: give this one another "
-                             "--console-name")
+        taken = StorageError(
+            f"another console named {name!r} is running on {self.db.shown}: give this one another --console-name"
+        )
         if self.db.path is None:  # a session advisory lock: the server lets it go when this console's connection ends
             c = self.engine.connect()
             try:
@@ -98,9 +103,11 @@ class NameLock:
             except BlockingIOError:
                 holder = os.read(fd, 200).decode(errors="replace").strip()
                 os.close(fd)
-                raise StorageError(f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
-                                   "consoles cannot share a SQLite file; stop it, pass another --db, or share a "
-                                   "PostgreSQL database with --database-url") from None
+                raise StorageError(
+                    f"another console{f' ({holder!r})' if holder else ''} is running on {self.db.path}: "
+                    "consoles cannot share a SQLite file; stop it, pass another --db, or share a "
+                    "PostgreSQL database with --database-url"
+                ) from None
             if _same_file(fd, lock):
                 break
             os.close(fd)  # removed by the console that held it as it stopped, after this one opened it: a new one

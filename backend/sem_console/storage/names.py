@@ -60,10 +60,13 @@ class Names:
             stmt: Any = delete(VEHICLE_NAMES).where(VEHICLE_NAMES.c.provider_id == provider_id)
         else:
             ins = self.ctx.insert(VEHICLE_NAMES).values(provider_id=provider_id, name=name, set_by=by, set_at=time.time())
-            stmt = ins.on_conflict_do_update(index_elements=["provider_id"], set_={
-                "name": ins.excluded.name, "set_by": ins.excluded.set_by, "set_at": ins.excluded.set_at})
+            stmt = ins.on_conflict_do_update(
+                index_elements=["provider_id"],
+                set_={"name": ins.excluded.name, "set_by": ins.excluded.set_by, "set_at": ins.excluded.set_at},
+            )
 
         def write(c: Connection) -> None:
             c.execute(stmt)
             self.ctx.notify(c, "name", provider=provider_id)
+
         self.ctx.writes.write(write)

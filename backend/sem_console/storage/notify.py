@@ -28,8 +28,14 @@ log = logging.getLogger("sem-console.storage")
 # host powered off): without the TCP settings an open connection's next statement waits for TCP's retransmissions
 # (many minutes; on the event loop for a write) and a listening connection never notices; with them a statement fails
 # after about 5 s and the outage path takes over.
-PG_CONNECT_ARGS: dict[str, Any] = {"connect_timeout": 5, "tcp_user_timeout": 5000, "keepalives": 1,
-                                   "keepalives_idle": 5, "keepalives_interval": 2, "keepalives_count": 2}
+PG_CONNECT_ARGS: dict[str, Any] = {
+    "connect_timeout": 5,
+    "tcp_user_timeout": 5000,
+    "keepalives": 1,
+    "keepalives_idle": 5,
+    "keepalives_interval": 2,
+    "keepalives_count": 2,
+}
 CHANNEL = "sem_console"
 RECONNECT = 1.0  # seconds between attempts to reopen a lost listening connection
 

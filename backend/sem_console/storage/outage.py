@@ -84,8 +84,11 @@ class WriteBehind:
             self._held.popleft()
             self.dropped += 1
             if self.dropped in (1, 10, 100) or self.dropped % 1000 == 0:
-                log.error("%d held writes dropped: the database has been unreachable too long (more than %d held)",
-                          self.dropped, HELD_MAX)
+                log.error(
+                    "%d held writes dropped: the database has been unreachable too long (more than %d held)",
+                    self.dropped,
+                    HELD_MAX,
+                )
         self._held.append(fn)
 
     def unreachable(self, e: Exception) -> Unavailable:
@@ -100,15 +103,20 @@ class WriteBehind:
         return time.strftime("%Y-%m-%d %H:%M:%S UTC", time.gmtime(self.unavailable_since or time.time()))
 
     def unavailable(self) -> Unavailable:
-        return Unavailable(f"shared history unavailable since {self.since()}: the database {self.db.shown} cannot be "
-                           "reached; live monitoring goes on and changes are held here until it is back")
+        return Unavailable(
+            f"shared history unavailable since {self.since()}: the database {self.db.shown} cannot be "
+            "reached; live monitoring goes on and changes are held here until it is back"
+        )
 
     def went_away(self, e: Exception) -> None:
         if self.unavailable_since is None:
             self.unavailable_since = time.time()
             orig = getattr(e, "orig", None) or e
-            log.warning("the database %s cannot be reached (%s): holding writes until it is back", self.db.shown,
-                        str(orig).strip().splitlines()[0] if str(orig).strip() else type(e).__name__)
+            log.warning(
+                "the database %s cannot be reached (%s): holding writes until it is back",
+                self.db.shown,
+                str(orig).strip().splitlines()[0] if str(orig).strip() else type(e).__name__,
+            )
 
     def reachable(self) -> bool:
         """During an outage with nothing held: whether the server answers again (for a worker thread)."""
@@ -136,8 +144,12 @@ class WriteBehind:
                 self._held.popleft()
             written += 1
         if self.unavailable_since is not None:
-            log.warning("the database %s is back after %.0f s: wrote %d held changes", self.db.shown,
-                        time.time() - self.unavailable_since, written)
+            log.warning(
+                "the database %s is back after %.0f s: wrote %d held changes",
+                self.db.shown,
+                time.time() - self.unavailable_since,
+                written,
+            )
             self.unavailable_since = None
         return True
 
@@ -145,6 +157,10 @@ class WriteBehind:
         """At the console's stop (after its upkeep has ended): write what is still held when the server answers (it
         may be back since the upkeep last looked); else say in one line how many changes are lost with the console."""
         if self._held and not self.write_held():
-            log.error("%d changes held since %s were not written: the database %s cannot be reached as the console stops",
-                      len(self._held), self.since(), self.db.shown)
+            log.error(
+                "%d changes held since %s were not written: the database %s cannot be reached as the console stops",
+                len(self._held),
+                self.since(),
+                self.db.shown,
+            )
             self._held.clear()

@@ -47,8 +47,10 @@ def parse_database_url(text: str) -> DatabaseUrl:
     try:
         url = make_url(text)
     except (ArgumentError, ValueError):  # ValueError: a port that is not a number
-        raise ValueError("--database-url is not a URL: give postgresql://user:password@host:port/database (a "
-                         "number for the port; %-escape @ : / in the password) or a SQLite file path") from None
+        raise ValueError(
+            "--database-url is not a URL: give postgresql://user:password@host:port/database (a "
+            "number for the port; %-escape @ : / in the password) or a SQLite file path"
+        ) from None
     if url.drivername in ("postgresql", "postgres", DRIVER):
         if not url.database:
             raise ValueError("--database-url names no database: postgresql://user:password@host:port/DATABASE")

@@ -41,10 +41,17 @@ class Updated(Enum):
 UPDATED = Updated.UPDATED
 AnyReason = Reason | Updated
 TERMINAL = frozenset({Status.COMPLETED, Status.FAILED, Status.CANCELED})
-FAILURE_REASONS = frozenset({
-    Reason.VALIDATION_FAILED, Reason.OBJECTIVE_FAILED, Reason.SERVICE_FAILED, Reason.RESOURCE_FAILED,
-    Reason.RESOURCE_REJECTED, Reason.INTERRUPTED, Reason.TIMEOUT,
-})
+FAILURE_REASONS = frozenset(
+    {
+        Reason.VALIDATION_FAILED,
+        Reason.OBJECTIVE_FAILED,
+        Reason.SERVICE_FAILED,
+        Reason.RESOURCE_FAILED,
+        Reason.RESOURCE_REJECTED,
+        Reason.INTERRUPTED,
+        Reason.TIMEOUT,
+    }
+)
 _ACTIVE = (Status.ISSUED, Status.COMMANDED, Status.EXECUTING)
 
 # state before (None: no status yet) -> states allowed next
@@ -60,7 +67,10 @@ NEXT: dict[Status | None, frozenset[Status]] = {
 
 # The successful path, which a provider walks one step at a time.
 SUCCESS_NEXT: dict[Status | None, Status] = {
-    None: Status.ISSUED, Status.ISSUED: Status.COMMANDED, Status.COMMANDED: Status.EXECUTING, Status.EXECUTING: Status.COMPLETED,
+    None: Status.ISSUED,
+    Status.ISSUED: Status.COMMANDED,
+    Status.COMMANDED: Status.EXECUTING,
+    Status.EXECUTING: Status.COMPLETED,
 }
 
 
@@ -95,8 +105,7 @@ def parse_reason(text: str) -> AnyReason | int:
     return UPDATED if text == UPDATED.name else parse(Reason, text)
 
 
-def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int,
-                     figure: str = "Figure 4") -> str | None:
+def check_transition(prev: Status | None, status: Status | int, reason: AnyReason | int, figure: str = "Figure 4") -> str | None:
     """None when prev -> (status, reason) follows Figure 4 (an update: back to ISSUED), else what is wrong with it,
     naming the state machine as `figure` (its number in the vehicle's ICD: UMAA 6.0's is Figure 14)."""
     if not isinstance(status, Status):
@@ -145,13 +154,18 @@ class CommandFlow:
     def violations(self) -> list[str]:
         return [t.violation for t in self.transitions if t.violation]
 
-    def observe(self, status: Status | int, reason: AnyReason | int, log_message: str = "",
-                stamp: float | None = None) -> Transition | None:
+    def observe(
+        self, status: Status | int, reason: AnyReason | int, log_message: str = "", stamp: float | None = None
+    ) -> Transition | None:
         """Feed a received status (`stamp`: its timeStamp in seconds); returns the new transition, or None for a repeat:
         the last status again, unless it is an update (UPDATED) stamped otherwise, which is the next update."""
         last = self.transitions[-1] if self.transitions else None
-        if last is not None and last.status is status and last.reason is reason and (
-                reason is not UPDATED or stamp is None or stamp == last.stamp):
+        if (
+            last is not None
+            and last.status is status
+            and last.reason is reason
+            and (reason is not UPDATED or stamp is None or stamp == last.stamp)
+        ):
             return None
         t = Transition(status, reason, log_message, check_transition(self.status, status, reason, self.figure), stamp)
         self.transitions.append(t)

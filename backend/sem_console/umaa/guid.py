@@ -16,8 +16,14 @@ from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstell
 
 SAT_PREFIX = uuid.uuid5(uuid.NAMESPACE_URL, "urn:sem-console:gnss-satellite").bytes[:14]
 SAT_LETTER = {
-    Constellation.GPS: "G", Constellation.GALILEO: "E", Constellation.GLONASS: "R", Constellation.BEIDOU: "C",
-    Constellation.SBAS: "S", Constellation.QZSS: "J", Constellation.IRNSS: "I", Constellation.UNKNOWN: "U",
+    Constellation.GPS: "G",
+    Constellation.GALILEO: "E",
+    Constellation.GLONASS: "R",
+    Constellation.BEIDOU: "C",
+    Constellation.SBAS: "S",
+    Constellation.QZSS: "J",
+    Constellation.IRNSS: "I",
+    Constellation.UNKNOWN: "U",
 }
 
 

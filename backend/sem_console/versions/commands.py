@@ -40,8 +40,15 @@ class Build(Protocol):
     """(source, destination, sessionID, state literal or None, time stamp (seconds, nanoseconds), the destination's
     parent as it reports it in its own `source` (UMAA 6.0's IdentifierType; None: none known)) -> the command sample."""
 
-    def __call__(self, source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-                 stamp: tuple[int, int], parent: uuid.UUID | None = None) -> Any: ...
+    def __call__(
+        self,
+        source: uuid.UUID,
+        destination: uuid.UUID,
+        session: uuid.UUID,
+        state: str | None,
+        stamp: tuple[int, int],
+        parent: uuid.UUID | None = None,
+    ) -> Any: ...
 
 
 # a provider's status: (its source, the command sample, status, reason, log message, time stamp) -> the status sample
@@ -101,13 +108,24 @@ def _guid(raw: Any) -> uuid.UUID:
 
 
 def _command_3_0_1(service: Service) -> Build:
-    def build(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-              stamp: tuple[int, int], parent: uuid.UUID | None = None) -> Any:  # 3.0.1's destination is a NumericGUID
-        values: dict[str, Any] = dict(source=to_guid(source), destination=to_guid(destination),
-                                      sessionID=to_guid(session), timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]))
+    def build(
+        source: uuid.UUID,
+        destination: uuid.UUID,
+        session: uuid.UUID,
+        state: str | None,
+        stamp: tuple[int, int],
+        parent: uuid.UUID | None = None,
+    ) -> Any:  # 3.0.1's destination is a NumericGUID
+        values: dict[str, Any] = dict(
+            source=to_guid(source),
+            destination=to_guid(destination),
+            sessionID=to_guid(session),
+            timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+        )
         if service is Service.INERTIAL_SENSOR:
             values["state"] = InsState[state or ""]
         return service.command.spec.type(**values)
+
     return build
 
 
@@ -116,14 +134,19 @@ def _status_3_0_1(sample: Any) -> tuple[Status | int, AnyReason | int]:
 
 
 def _build_status_3_0_1(service: Service) -> BuildStatus:
-    def build(source: uuid.UUID, command: Any, status: Status, reason: AnyReason, message: str,
-              stamp: tuple[int, int]) -> Any:
+    def build(source: uuid.UUID, command: Any, status: Status, reason: AnyReason, message: str, stamp: tuple[int, int]) -> Any:
         if not isinstance(reason, Reason):
             raise ValueError(f"UMAA 3.0.1 has no reason {reason.name}")
         status_type: Callable[..., Any] = service.status.spec.type  # a generated struct takes its members as keywords
-        return status_type(source=to_guid(source), commandStatus=status, commandStatusReason=reason,
-                           logMessage=message[:4095], sessionID=command.sessionID,
-                           timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]))
+        return status_type(
+            source=to_guid(source),
+            commandStatus=status,
+            commandStatusReason=reason,
+            logMessage=message[:4095],
+            sessionID=command.sessionID,
+            timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+        )
+
     return build
 
 
@@ -133,18 +156,42 @@ def _build_ack_3_0_1(service: Service) -> BuildAck:
         if service is Service.GPS_FIX:
             return ack_type(source=to_guid(source), sessionID=command.sessionID)
         return ack_type(state=command.state, source=to_guid(source), sessionID=command.sessionID)
+
     return build
 
 
 COMMANDING: dict[tuple[UmaaVersion, Service], Commanding] = {
-    **{(UMAA_3_0_1, s): Commanding(UMAA_3_0_1, s, s.command, s.status, s.ack,
-                                   tuple(InsState.__members__) if s is Service.INERTIAL_SENSOR else (),
-                                   _command_3_0_1(s), _status_3_0_1, _build_status_3_0_1(s), _build_ack_3_0_1(s), False)
-       for s in Service},
+    **{
+        (UMAA_3_0_1, s): Commanding(
+            UMAA_3_0_1,
+            s,
+            s.command,
+            s.status,
+            s.ack,
+            tuple(InsState.__members__) if s is Service.INERTIAL_SENSOR else (),
+            _command_3_0_1(s),
+            _status_3_0_1,
+            _build_status_3_0_1(s),
+            _build_ack_3_0_1(s),
+            False,
+        )
+        for s in Service
+    },
     (UMAA_6_0, Service.INERTIAL_SENSOR): Commanding(
-        UMAA_6_0, Service.INERTIAL_SENSOR, Sem60.INS_COMMAND, Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK,
-        umaa_6_0.INS_COMMAND_STATES, umaa_6_0.ins_command, umaa_6_0.command_status, umaa_6_0.ins_status,
-        umaa_6_0.ins_ack, True, Status.COMMANDED, "Figure 14"),
+        UMAA_6_0,
+        Service.INERTIAL_SENSOR,
+        Sem60.INS_COMMAND,
+        Sem60.INS_COMMAND_STATUS,
+        Sem60.INS_COMMAND_ACK,
+        umaa_6_0.INS_COMMAND_STATES,
+        umaa_6_0.ins_command,
+        umaa_6_0.command_status,
+        umaa_6_0.ins_status,
+        umaa_6_0.ins_ack,
+        True,
+        Status.COMMANDED,
+        "Figure 14",
+    ),
 }
 SERVICE_NAMES = {Service.GPS_FIX: "GPS fix", Service.INERTIAL_SENSOR: "inertial sensor"}
 

@@ -73,9 +73,13 @@ def apply(spec: Spec, report: dict[str, Any]) -> Any:
     return None if _at(report, spec.path) is None else apply(spec.then, report)
 
 
-def source(spec: Spec, member: Callable[[str], str], const: Callable[[Any], str],
-           build: Callable[[list[tuple[str, str]]], str] | None = None,
-           lookup: Callable[[Mapping[Any, Any], str], str] | None = None) -> str:
+def source(
+    spec: Spec,
+    member: Callable[[str], str],
+    const: Callable[[Any], str],
+    build: Callable[[list[tuple[str, str]]], str] | None = None,
+    lookup: Callable[[Mapping[Any, Any], str], str] | None = None,
+) -> str:
     """The Python expression of the model's value that `spec` says: `member(path)` is the expression of the wire
     report's member at `path` in the generated decoder, `const(obj)` the name of a constant it holds, `build(items)`
     (when given) the expression of a dict of those names and expressions (a dict literal otherwise), `lookup(table,

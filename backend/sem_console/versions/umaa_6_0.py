@@ -61,17 +61,26 @@ _CLOCK_NOT_REPORTED = {"timeUncertainty": None}
 _PATHS = {
     "position.geodeticLatitude": "position2DWithTime.geodeticPosition.geodeticLatitude.latitude",
     "position.geodeticLongitude": "position2DWithTime.geodeticPosition.geodeticLongitude.longitude",
-    "course": "trueCourse", "altitude": "altitudeMSL.altitude", "source.id": "source",
+    "course": "trueCourse",
+    "altitude": "altitudeMSL.altitude",
+    "source.id": "source",
     "clock.biasUncertainty": "clock.biasUncertianty",
 }
 _SATELLITE_ID = re.compile(r"^(satellites\[[^\]]+\])\.satelliteID")
-_POSE_ADDS = ("altitudeAGL", "altitudeASF", "altitudeGeodetic", "attitude", "attitudeCovariance", "depth",
-              "navigationSolution", "positionCovariance")
+_POSE_ADDS = (
+    "altitudeAGL",
+    "altitudeASF",
+    "altitudeGeodetic",
+    "attitude",
+    "attitudeCovariance",
+    "depth",
+    "navigationSolution",
+    "positionCovariance",
+)
 MEASURED = {"MEASURED": True, "GROUND_TRUTH": True, "ESTIMATED": False}  # navigationSolution -> GPSLatLongValid
 
 MODEL_MEMBERS: dict[str, dict[str, Any]] = {
-    "GPSFixReportType": {n: h for n, h in get_type_hints(GlobalPoseReportType, include_extras=True).items()
-                         if n in _POSE_ADDS},
+    "GPSFixReportType": {n: h for n, h in get_type_hints(GlobalPoseReportType, include_extras=True).items() if n in _POSE_ADDS},
     "GPSClockType": {"timeFigureOfMerit": get_type_hints(GPSClockType, include_extras=True)["timeFigureOfMerit"]},
 }
 """The members 6.0 adds to the console's model, by the model's struct: optional there (absent from a 3.0.1 vehicle's
@@ -98,8 +107,12 @@ def _renamed(invalid: list[str]) -> list[str]:
 def _satellite_id(number: Any, constellation: Any) -> str | None:
     """The console's GUID for a 6.0 satellite: its constellation and its number (None when either is not usable).
     Cached: a receiver sees a few dozen satellites, reported every second."""
-    if not isinstance(number, float | int) or not float(number).is_integer() or not isinstance(constellation, str) \
-            or constellation not in Constellation.__members__:
+    if (
+        not isinstance(number, float | int)
+        or not float(number).is_integer()
+        or not isinstance(constellation, str)
+        or constellation not in Constellation.__members__
+    ):
         return None
     try:
         return str(uuid.UUID(bytes=bytes(satellite_guid(Constellation[constellation], int(number)))))
@@ -134,9 +147,12 @@ GLOBAL_POSE: Spec = {
     "GPSLatLongValid": Lookup("navigationSolution", MEASURED),
     "magneticVariation": None,
     "position2DWithTime": {
-        "geodeticPosition": {"geodeticLatitude": {"latitude": Src("position.geodeticLatitude")},
-                             "geodeticLongitude": {"longitude": Src("position.geodeticLongitude")}},
-        "timeAtPosition": Seconds("timeStamp")},
+        "geodeticPosition": {
+            "geodeticLatitude": {"latitude": Src("position.geodeticLatitude")},
+            "geodeticLongitude": {"longitude": Src("position.geodeticLongitude")},
+        },
+        "timeAtPosition": Seconds("timeStamp"),
+    },
     "SOG": None,
     "trueCourse": Src("course"),
     "velocity": None,
@@ -151,8 +167,10 @@ INS_REPORT: Spec = {"state": None, "status": Src("status"), "source": Src("sourc
 
 def _applied(spec: Spec) -> Adapter:
     """The adapter of a report said by `spec`, for its JSON as cyclonedds decodes it."""
+
     def adapt(report: dict[str, Any], invalid: list[str]) -> tuple[dict[str, Any], list[str]]:
         return apply(spec, report), _renamed(invalid) if invalid else invalid
+
     return adapt
 
 
@@ -191,35 +209,58 @@ def identifier(guid: uuid.UUID, parent: uuid.UUID | None = None) -> IdentifierTy
 INS_COMMAND_STATES: tuple[str, ...] = tuple(InsCmd.__members__)  # BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, ...
 
 
-def ins_command(source: uuid.UUID, destination: uuid.UUID, session: uuid.UUID, state: str | None,
-                stamp: tuple[int, int], parent: uuid.UUID | None = None) -> InertialSensorCommandType:
+def ins_command(
+    source: uuid.UUID,
+    destination: uuid.UUID,
+    session: uuid.UUID,
+    state: str | None,
+    stamp: tuple[int, int],
+    parent: uuid.UUID | None = None,
+) -> InertialSensorCommandType:
     """An InertialSensorCommandType of the console (`source`) to a vehicle (`destination`, whose identifier has the
     `parent` it reports in its own source: a command's destination is the provider's identifier, ICD 6.0 4.1 and 5.2.9);
     `state` a literal of INS_COMMAND_STATES (KeyError otherwise)."""
-    return make(InertialSensorCommandType, state=InsCmd[state or ""],
-                timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
-                sessionID=list(session.bytes), destination=identifier(destination, parent))
+    return make(
+        InertialSensorCommandType,
+        state=InsCmd[state or ""],
+        timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+        source=identifier(source),
+        sessionID=list(session.bytes),
+        destination=identifier(destination, parent),
+    )
 
 
 def command_status(sample: Any) -> tuple[Status | int, AnyReason | int]:
     """A CommandStatusType's status and reason in the model (`umaa/flow.py`): the same literals, by name (6.0's
     enumerations are alphabetical, 3.0.1's are not), UPDATED the model's own; an ordinal neither has stays a number."""
     status, reason = sample.commandStatus, sample.commandStatusReason
-    return (Status[status.name] if isinstance(status, Enum) else status,
-            (parse_reason(reason.name) if isinstance(reason, Enum) else reason))
+    return (
+        Status[status.name] if isinstance(status, Enum) else status,
+        (parse_reason(reason.name) if isinstance(reason, Enum) else reason),
+    )
 
 
-def ins_status(source: uuid.UUID, command: Any, status: Status, reason: AnyReason, message: str,
-               stamp: tuple[int, int]) -> InertialSensorCommandStatusType:
+def ins_status(
+    source: uuid.UUID, command: Any, status: Status, reason: AnyReason, message: str, stamp: tuple[int, int]
+) -> InertialSensorCommandStatusType:
     """A provider's InertialSensorCommandStatusType for `command` (its InertialSensorCommandType): the model's status
     and reason as 6.0's literals of the same names."""
-    return make(InertialSensorCommandStatusType,
-                timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]), source=identifier(source),
-                sessionID=command.sessionID, commandStatus=Status60[status.name], commandStatusReason=Reason60[reason.name],
-                logMessage=message[:4095])
+    return make(
+        InertialSensorCommandStatusType,
+        timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+        source=identifier(source),
+        sessionID=command.sessionID,
+        commandStatus=Status60[status.name],
+        commandStatusReason=Reason60[reason.name],
+        logMessage=message[:4095],
+    )
 
 
 def ins_ack(source: uuid.UUID, command: Any, stamp: tuple[int, int]) -> InertialSensorCommandAckReportType:
     """A provider's InertialSensorCommandAckReportType: the command it executes, whole."""
-    return InertialSensorCommandAckReportType(command=command, timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
-                                              source=identifier(source), sessionID=command.sessionID)
+    return InertialSensorCommandAckReportType(
+        command=command,
+        timeStamp=DateTime(seconds=stamp[0], nanoseconds=stamp[1]),
+        source=identifier(source),
+        sessionID=command.sessionID,
+    )

@@ -27,8 +27,14 @@ CHARLIE = uuid.UUID("3f2a9c01-0000-4000-8000-0000000000c3")  # a third vehicle, 
 
 def main(out: Path) -> None:
     out.unlink(missing_ok=True)
-    settings = Settings(domain=random.randrange(150, 230), db_path=out, recordings_dir=out.parent / "recordings", sim=2,
-                        operator_tokens="alice:s3cret", vehicle_names=f"{V1}=Alpha,{V2}=Bravo")
+    settings = Settings(
+        domain=random.randrange(150, 230),
+        db_path=out,
+        recordings_dir=out.parent / "recordings",
+        sim=2,
+        operator_tokens="alice:s3cret",
+        vehicle_names=f"{V1}=Alpha,{V2}=Bravo",
+    )
     auth = {"Authorization": "Bearer s3cret"}
     with TestClient(create_app(settings), base_url="http://localhost") as client:
         console = client.app.state.console  # type: ignore[attr-defined]
@@ -42,8 +48,11 @@ def main(out: Path) -> None:
         while client.get(f"/api/commands/{done}").json()["status"] != "COMPLETED":
             assert time.monotonic() < deadline + 60, client.get(f"/api/commands/{done}").json()
             time.sleep(0.2)
-        r = client.put(f"/api/providers/{V1}/link-config", headers=auth,
-                       json={"commsLostTimeout": 7.5, "regainedTime": 2, "policy": "CONTINUE_MISSION", "regainedBehavior": 3})
+        r = client.put(
+            f"/api/providers/{V1}/link-config",
+            headers=auth,
+            json={"commsLostTimeout": 7.5, "regainedTime": 2, "policy": "CONTINUE_MISSION", "regainedBehavior": 3},
+        )
         assert r.status_code == 200, r.text
         canceled = client.post(f"/api/providers/{V2}/inertial-sensor", json={"state": "OFF"}, headers=auth).json()
         assert client.delete(f"/api/commands/{canceled['sessionId']}", headers=auth).status_code == 200
@@ -51,8 +60,9 @@ def main(out: Path) -> None:
 
         def lost_a_minute_ago() -> None:  # on the console's loop: heard a minute ago, so it is lost
             now, wall = console.clock.monotonic(), console.clock.wall()
-            console.providers.seen("GPSReport", CHARLIE,
-                                   {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60, wall - 60, True)
+            console.providers.seen(
+                "GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60, wall - 60, True
+            )
             console.tick(now)
 
         client.portal.call(lost_a_minute_ago)

@@ -92,8 +92,9 @@ class Consumer:
 
     def command(self, service: Service, destination: uuid.UUID, state: InsState | None = None, **overrides: Any) -> uuid.UUID:
         session = uuid.uuid4()
-        fields: dict[str, Any] = dict(source=to_guid(self.source), destination=to_guid(destination),
-                                      sessionID=to_guid(session), timeStamp=now_datetime())
+        fields: dict[str, Any] = dict(
+            source=to_guid(self.source), destination=to_guid(destination), sessionID=to_guid(session), timeStamp=now_datetime()
+        )
         if service is Service.INERTIAL_SENSOR:
             fields["state"] = state
         fields.update(overrides)

@@ -58,8 +58,15 @@ class Command:
 
 
 class IcdProvider:
-    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
-                 cancelable: bool = True, reject_same_state: bool = False) -> None:
+    def __init__(
+        self,
+        domain: int,
+        breach: str | None = None,
+        execute: float = 0.4,
+        step: float = 0.05,
+        cancelable: bool = True,
+        reject_same_state: bool = False,
+    ) -> None:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step, self.cancelable = breach, execute, step, cancelable
         self.reject_same_state = reject_same_state
@@ -122,8 +129,15 @@ class IcdProvider:
             return
         session = from_guid(s.sessionID)
         self.sessions[handle] = session
-        cmd = Command(service, s, [(now + self.step, Status.COMMANDED), (now + 2 * self.step, Status.EXECUTING),
-                                   (now + 2 * self.step + self.execute, Status.COMPLETED)])
+        cmd = Command(
+            service,
+            s,
+            [
+                (now + self.step, Status.COMMANDED),
+                (now + 2 * self.step, Status.EXECUTING),
+                (now + 2 * self.step + self.execute, Status.COMPLETED),
+            ],
+        )
         if same and self.reject_same_state:
             cmd.due = [(now + self.step, Status.FAILED)]
         self.running[session] = cmd
@@ -164,12 +178,19 @@ class IcdProvider:
     def publish_report(self, now: float) -> None:
         self.reported_at = now
         status = OpStatus.INIT if self.state is InsState.RESTARTING else OpStatus.OPERATIONAL
-        self.report.write(Sem.INS_REPORT.spec.type(state=self.state, status=status, source=to_guid(self.guid),
-                                                   timeStamp=now_datetime()))
+        self.report.write(
+            Sem.INS_REPORT.spec.type(state=self.state, status=status, source=to_guid(self.guid), timeStamp=now_datetime())
+        )
 
     def status_sample(self, cmd: Command, status: Status, reason: Reason) -> Any:
-        return cmd.service.status.spec.type(source=to_guid(self.guid), sessionID=cmd.sample.sessionID, commandStatus=status,
-                                            commandStatusReason=reason, logMessage="", timeStamp=now_datetime())
+        return cmd.service.status.spec.type(
+            source=to_guid(self.guid),
+            sessionID=cmd.sample.sessionID,
+            commandStatus=status,
+            commandStatusReason=reason,
+            logMessage="",
+            timeStamp=now_datetime(),
+        )
 
     def ack_sample(self, cmd: Command) -> Any:
         if cmd.service is Service.GPS_FIX:

@@ -68,25 +68,50 @@ from sem_console.dds.qos import representation
 from sem_console.dds.topics import Sem60
 from sem_console.umaa.samples import make
 
-BREACHES = ("ignore-cancel", "silent-same-state", "answer-any-destination", "fail-after-cleanup", "ignore-update",
-            "wrong-failure-reason", "attitude-in-degrees", "reliable-reports", "exclusive-gps",
-            "best-effort-statuses")
+BREACHES = (
+    "ignore-cancel",
+    "silent-same-state",
+    "answer-any-destination",
+    "fail-after-cleanup",
+    "ignore-update",
+    "wrong-failure-reason",
+    "attitude-in-degrees",
+    "reliable-reports",
+    "exclusive-gps",
+    "best-effort-statuses",
+)
 REPORT_PERIOD = 0.1  # s between reports
 LATE = 0.2  # s after the cleanup that `fail-after-cleanup` publishes FAILED
 NIL = bytes(16)
 
 TELEMETRY = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepLast(1))
-RELIABLE_REPORTS = Qos(Policy.Reliability.Reliable(duration(seconds=1)), Policy.Durability.TransientLocal,
-                       Policy.History.KeepLast(1))
-COMMAND_WRITER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
-                     Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
-BEST_EFFORT_COMMAND_WRITER = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.History.KeepAll,
-                                 Policy.Liveliness.Automatic(duration(seconds=5)), Policy.WriterDataLifecycle(autodispose=False))
-COMMAND_READER = Qos(Policy.Reliability.Reliable(duration(seconds=5)), Policy.Durability.Volatile, Policy.History.KeepAll,
-                     Policy.Liveliness.Automatic(duration(seconds=10)))
+RELIABLE_REPORTS = Qos(
+    Policy.Reliability.Reliable(duration(seconds=1)), Policy.Durability.TransientLocal, Policy.History.KeepLast(1)
+)
+COMMAND_WRITER = Qos(
+    Policy.Reliability.Reliable(duration(seconds=5)),
+    Policy.Durability.Volatile,
+    Policy.History.KeepAll,
+    Policy.Liveliness.Automatic(duration(seconds=5)),
+    Policy.WriterDataLifecycle(autodispose=False),
+)
+BEST_EFFORT_COMMAND_WRITER = Qos(
+    Policy.Reliability.BestEffort,
+    Policy.Durability.Volatile,
+    Policy.History.KeepAll,
+    Policy.Liveliness.Automatic(duration(seconds=5)),
+    Policy.WriterDataLifecycle(autodispose=False),
+)
+COMMAND_READER = Qos(
+    Policy.Reliability.Reliable(duration(seconds=5)),
+    Policy.Durability.Volatile,
+    Policy.History.KeepAll,
+    Policy.Liveliness.Automatic(duration(seconds=10)),
+)
 # What a command's EXECUTING and COMPLETED show in the InertialSensorReportType (ICD 6.0 5.3.4, Table 28)
 STAGES = {
-    Cmd.INIT: (Op.INIT, Op.INIT), Cmd.GPS_ALIGN: (Op.COARSE_GPS_ALIGNMENT, Op.FINE_GPS_ALIGNMENT_COMPLETE),
+    Cmd.INIT: (Op.INIT, Op.INIT),
+    Cmd.GPS_ALIGN: (Op.COARSE_GPS_ALIGNMENT, Op.FINE_GPS_ALIGNMENT_COMPLETE),
     Cmd.BEST_ALIGN: (Op.COARSE_BEST_ALIGNMENT, Op.FINE_BEST_ALIGNMENT_COMPLETE),
     Cmd.STATIONARY_ALIGN: (Op.COARSE_STATIONARY_ALIGNMENT, Op.FINE_STATIONARY_ALIGNMENT_COMPLETE),
     Cmd.TRANSFER_ALIGN: (Op.COARSE_TRANSFER_ALIGNMENT, Op.FINE_TRANSFER_ALIGNMENT_COMPLETE),
@@ -111,8 +136,15 @@ class Command:
 
 
 class IcdProvider60:
-    def __init__(self, domain: int, breach: str | None = None, execute: float = 0.4, step: float = 0.05,
-                 terminal_update: str = "ignore", busy: bool = False) -> None:
+    def __init__(
+        self,
+        domain: int,
+        breach: str | None = None,
+        execute: float = 0.4,
+        step: float = 0.05,
+        terminal_update: str = "ignore",
+        busy: bool = False,
+    ) -> None:
         assert breach is None or breach in BREACHES, breach
         self.breach, self.execute, self.step = breach, execute, step
         self.terminal_update, self.busy = terminal_update, busy
@@ -130,8 +162,9 @@ class IcdProvider60:
         self.pose, self.report = writer(Sem60.GLOBAL_POSE_REPORT, reports), writer(Sem60.INS_REPORT, reports)
         statuses = BEST_EFFORT_COMMAND_WRITER if breach == "best-effort-statuses" else COMMAND_WRITER
         self.status, self.ack = writer(Sem60.INS_COMMAND_STATUS, statuses), writer(Sem60.INS_COMMAND_ACK, statuses)
-        self.reader: DataReader[Any] = DataReader(p, self.bus.topic(Sem60.INS_COMMAND), COMMAND_READER
-                                                  + representation(False, writer=False))
+        self.reader: DataReader[Any] = DataReader(
+            p, self.bus.topic(Sem60.INS_COMMAND), COMMAND_READER + representation(False, writer=False)
+        )
         self.op = Op.FINE_GPS_ALIGNMENT_COMPLETE
         self.sessions: dict[int, uuid.UUID] = {}  # command instance handle -> its session
         self.running: dict[uuid.UUID, Command] = {}
@@ -176,8 +209,11 @@ class IcdProvider60:
             self.end(session, cmd, now)
 
     def schedule(self, now: float) -> list[tuple[float, Status]]:
-        return [(now + self.step, Status.COMMANDED), (now + 2 * self.step, Status.EXECUTING),
-                (now + 2 * self.step + self.execute, Status.COMPLETED)]
+        return [
+            (now + self.step, Status.COMMANDED),
+            (now + 2 * self.step, Status.EXECUTING),
+            (now + 2 * self.step + self.execute, Status.COMPLETED),
+        ]
 
     def start(self, s: Any, handle: int, now: float) -> None:
         if bytes(s.destination.id) != self.guid.bytes and self.breach != "answer-any-destination":
@@ -200,8 +236,7 @@ class IcdProvider60:
 
     def update(self, cmd: Command, s: Any, now: float) -> None:
         """The same source and sessionID with a newer timeStamp: an update (ICD 6.0 4.1.4.2)."""
-        newer = (s.timeStamp.seconds, s.timeStamp.nanoseconds) > (cmd.sample.timeStamp.seconds,
-                                                                   cmd.sample.timeStamp.nanoseconds)
+        newer = (s.timeStamp.seconds, s.timeStamp.nanoseconds) > (cmd.sample.timeStamp.seconds, cmd.sample.timeStamp.nanoseconds)
         if newer and self.busy and not self.crossed and cmd.status is Status.EXECUTING:
             cmd.due.clear()
             self.publish(cmd, Status.COMPLETED)  # the work in hand first: the update crosses the end
@@ -254,28 +289,73 @@ class IcdProvider60:
         self.report.write(Sem60.INS_REPORT.spec.type(status=self.op, timeStamp=t, source=self.source))
         n = 8
         degrees = 180 / math.pi if self.breach == "attitude-in-degrees" else 1.0
-        sats = [GPSSatelliteType(antennaCarrierNoiseDensity=40.0, azimuth=-3.0 + 6 * i / n, basebandCarrierNoiseDensity=38.0,
-                                 carrierFrequency=1575.42e6, constellationType=Constellation.GPS, containsAlmanacData=True,
-                                 elevation=0.5, ephemerisData=True, satelliteID=float(i + 1), usedInFix=i < 6)
-                for i in range(n)]
-        clock = GPSClockType(bias=0, biasUncertainty=10, drift=0, driftUncertainty=1, elapsedRealtime=1_000_000,
-                             elapsedRealtimeUncertainty=10, fullBias=0, hardwareClockDiscontinuityCount=0, leapSecond=18,
-                             referenceCarrierFrequency=1575.42e6, referenceCodeTypeFor="C/A",
-                             referenceConstellationType=Constellation.GPS, time=1, timeFigureOfMerit=Tfom.TFOM_3)
-        self.gps.write(Sem60.GPS_REPORT.spec.type(clock=clock, numberSatellitesInView=n, satellites=sats, timeStamp=t,
-                                                  source=self.source))
-        self.pose.write(Sem60.GLOBAL_POSE_REPORT.spec.type(
-            altitude=None, altitudeAGL=None, altitudeASF=12.5, altitudeGeodetic=None,
-            attitude=Orientation3DNEDType(pitch=PitchYNEDType(pitch=0.1 * degrees), roll=RollXNEDType(roll=-0.02 * degrees),
-                                          yaw=YawZNEDType(yaw=math.pi / 4 * degrees)),
-            attitudeCovariance=None, course=math.pi / 4, depth=3.0, navigationSolution=Nav.MEASURED,
-            position=GeoPosition2D(geodeticLatitude=43.1, geodeticLongitude=5.9), positionCovariance=None,
-            timeStamp=t, source=self.source))
+        sats = [
+            GPSSatelliteType(
+                antennaCarrierNoiseDensity=40.0,
+                azimuth=-3.0 + 6 * i / n,
+                basebandCarrierNoiseDensity=38.0,
+                carrierFrequency=1575.42e6,
+                constellationType=Constellation.GPS,
+                containsAlmanacData=True,
+                elevation=0.5,
+                ephemerisData=True,
+                satelliteID=float(i + 1),
+                usedInFix=i < 6,
+            )
+            for i in range(n)
+        ]
+        clock = GPSClockType(
+            bias=0,
+            biasUncertainty=10,
+            drift=0,
+            driftUncertainty=1,
+            elapsedRealtime=1_000_000,
+            elapsedRealtimeUncertainty=10,
+            fullBias=0,
+            hardwareClockDiscontinuityCount=0,
+            leapSecond=18,
+            referenceCarrierFrequency=1575.42e6,
+            referenceCodeTypeFor="C/A",
+            referenceConstellationType=Constellation.GPS,
+            time=1,
+            timeFigureOfMerit=Tfom.TFOM_3,
+        )
+        self.gps.write(
+            Sem60.GPS_REPORT.spec.type(clock=clock, numberSatellitesInView=n, satellites=sats, timeStamp=t, source=self.source)
+        )
+        self.pose.write(
+            Sem60.GLOBAL_POSE_REPORT.spec.type(
+                altitude=None,
+                altitudeAGL=None,
+                altitudeASF=12.5,
+                altitudeGeodetic=None,
+                attitude=Orientation3DNEDType(
+                    pitch=PitchYNEDType(pitch=0.1 * degrees),
+                    roll=RollXNEDType(roll=-0.02 * degrees),
+                    yaw=YawZNEDType(yaw=math.pi / 4 * degrees),
+                ),
+                attitudeCovariance=None,
+                course=math.pi / 4,
+                depth=3.0,
+                navigationSolution=Nav.MEASURED,
+                position=GeoPosition2D(geodeticLatitude=43.1, geodeticLongitude=5.9),
+                positionCovariance=None,
+                timeStamp=t,
+                source=self.source,
+            )
+        )
 
     def status_sample(self, cmd: Command, status: Status, reason: Reason) -> Any:
-        return Sem60.INS_COMMAND_STATUS.spec.type(timeStamp=stamp(), source=self.source, sessionID=cmd.sample.sessionID,
-                                                  commandStatus=status, commandStatusReason=reason, logMessage="")
+        return Sem60.INS_COMMAND_STATUS.spec.type(
+            timeStamp=stamp(),
+            source=self.source,
+            sessionID=cmd.sample.sessionID,
+            commandStatus=status,
+            commandStatusReason=reason,
+            logMessage="",
+        )
 
     def ack_sample(self, cmd: Command) -> Any:
-        return Sem60.INS_COMMAND_ACK.spec.type(command=cmd.sample, timeStamp=stamp(), source=self.source,
-                                               sessionID=cmd.sample.sessionID)
+        return Sem60.INS_COMMAND_ACK.spec.type(
+            command=cmd.sample, timeStamp=stamp(), source=self.source, sessionID=cmd.sample.sessionID
+        )

@@ -46,8 +46,19 @@ class Cluster:
         pwfile.write_text(PASSWORD + "\n")
         if self._as_postgres:
             shutil.chown(pwfile, "postgres", "postgres")
-        self._run(_bin("initdb"), "-D", str(self.data), "-U", "postgres", "--auth-local=trust",
-                  "--auth-host=scram-sha-256", f"--pwfile={pwfile}", "-E", "UTF8", "--no-sync")
+        self._run(
+            _bin("initdb"),
+            "-D",
+            str(self.data),
+            "-U",
+            "postgres",
+            "--auth-local=trust",
+            "--auth-host=scram-sha-256",
+            f"--pwfile={pwfile}",
+            "-E",
+            "UTF8",
+            "--no-sync",
+        )
         pwfile.unlink()
         self._databases = itertools.count(1)
         self.start()
@@ -71,8 +82,9 @@ class Cluster:
     def new_database(self) -> str:
         """A new empty database; its URL."""
         name = f"sem_test_{next(self._databases)}"
-        with psycopg.connect(host="127.0.0.1", port=self.port, user="postgres", password=PASSWORD, dbname="postgres",
-                             autocommit=True) as c:
+        with psycopg.connect(
+            host="127.0.0.1", port=self.port, user="postgres", password=PASSWORD, dbname="postgres", autocommit=True
+        ) as c:
             c.execute(f'CREATE DATABASE "{name}"')
         return self.url(name)
 

@@ -38,19 +38,33 @@ def main() -> None:
     decoded = [plain(n.unpack(p)) for p in packets]
     crc = [core.CRC16IMB(p[:-2]) for p in packets]
     m = pg.messages
-    wm = m.WorldModel(geo_features=[m.GeoFeature(feature_id=42, points=[
-        m.MapPoint(lat=0.6422, lon=-1.3212, alt=0.0), m.MapPoint(lat=0.6422, lon=-1.3210, alt=0.0),
-        m.MapPoint(lat=0.6424, lon=-1.3210, alt=0.0)])],
-        cov_states=[m.CoverageState(feature_id=42, state=2)])
+    wm = m.WorldModel(
+        geo_features=[
+            m.GeoFeature(
+                feature_id=42,
+                points=[
+                    m.MapPoint(lat=0.6422, lon=-1.3212, alt=0.0),
+                    m.MapPoint(lat=0.6422, lon=-1.3210, alt=0.0),
+                    m.MapPoint(lat=0.6424, lon=-1.3210, alt=0.0),
+                ],
+            )
+        ],
+        cov_states=[m.CoverageState(feature_id=42, state=2)],
+    )
     head = {"src": 0x2001, "src_ent": 0, "dst": 0xFFFF, "dst_ent": 0xFF}
     encoded = {
         "WorldModel-le": wm.pack(is_big_endian=False, **head).hex(),
         "WorldModel-be": wm.pack(is_big_endian=True, **head).hex(),
         "TaskStatus": m.TaskStatus(task_id=3, status=2, progress=40, quality=80).pack(is_big_endian=False, **head).hex(),
         "TaskAdmin": m.TaskAdmin(tid=3, op=1).pack(is_big_endian=False, **head).hex(),
-        "VehicleCapabilities": m.VehicleCapabilities(capabilities=[
-            m.CapabilityAreaSurvey(sensor=1, resolution=10.0, res_bathym_factor=1.0, cov_rate=60.0, cov_bathym_factor=1.0),
-            m.CapabilityMove(speed=2.0)]).pack(is_big_endian=False, **head).hex(),
+        "VehicleCapabilities": m.VehicleCapabilities(
+            capabilities=[
+                m.CapabilityAreaSurvey(sensor=1, resolution=10.0, res_bathym_factor=1.0, cov_rate=60.0, cov_bathym_factor=1.0),
+                m.CapabilityMove(speed=2.0),
+            ]
+        )
+        .pack(is_big_endian=False, **head)
+        .hex(),
     }
     json.dump({"decoded": decoded, "crc": crc, "encoded": encoded}, sys.stdout)
 

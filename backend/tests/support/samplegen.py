@@ -36,9 +36,9 @@ def random_value(hint: Any, rng: random.Random, depth: int = 0, absent: float = 
         if meta == "float64":
             return rng.choice([0.0, -1.5, rng.uniform(-1e6, 1e6), rng.uniform(-1, 1)])
         if meta == "int32":
-            return rng.randrange(-2**31, 2**31)
+            return rng.randrange(-(2**31), 2**31)
         if meta == "int64":  # within +-2**53: RTI's Connector carries integers through JSON doubles
-            return rng.randrange(-2**53, 2**53)
+            return rng.randrange(-(2**53), 2**53)
         if meta.startswith("bounded_str["):
             bound = int(meta[12:-1])
             return "".join(rng.choice("abcXYZ -_é") for _ in range(rng.randrange(0, min(bound, 40))))

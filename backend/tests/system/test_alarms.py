@@ -44,8 +44,15 @@ class World:
         self.store = Database(db)
         self.written: list[Any] = []
         self.disposed: list[Any] = []
-        self.commands = Commands(self.store.claim("test", hold=False), self.store, lambda _s, x: self.written.append(x),
-                                 lambda _s, x: self.disposed.append(x), lambda _m: None, 2.0, self.clock)
+        self.commands = Commands(
+            self.store.claim("test", hold=False),
+            self.store,
+            lambda _s, x: self.written.append(x),
+            lambda _s, x: self.disposed.append(x),
+            lambda _m: None,
+            2.0,
+            self.clock,
+        )
         self.providers = Providers(3.0, 1.0, NAMES)  # lost after 3 s, regained after 1 s
         self.alarms = Alarms(self.store, NAMES)
         self.alarms.baseline(self.commands.by_session.values())
@@ -62,12 +69,13 @@ class World:
 
     def status(self, cmd: Command, *steps: tuple[S, R] | tuple[S, R, str]) -> None:
         for st, reason, *message in steps:
-            self.commands.on_status(cmd.service, cmd.session_id, cmd.provider_id, st, reason, message[0] if message else "",
-                                    self.clock.at)
+            self.commands.on_status(
+                cmd.service, cmd.session_id, cmd.provider_id, st, reason, message[0] if message else "", self.clock.at
+            )
 
     def update(self) -> list[dict[str, Any]]:
         self.providers.tick(self.clock.at)
-        self.commands.tick(self.clock.at, lambda p: (x.last_seen() if (x := self.providers.by_id.get(p)) else None))
+        self.commands.tick(self.clock.at, lambda p: x.last_seen() if (x := self.providers.by_id.get(p)) else None)
         self.alarms.update(self.clock.at, self.providers.by_id, self.commands.by_session.values(), self.recording_error)
         return self.alarms.active()
 
@@ -84,8 +92,15 @@ def test_each_failed_alignment_of_a_6_0_ins_is_an_ins_failure_in_its_words(tmp_p
     """UMAA 6.0 says which alignment failed: each raises the INS alarm, its text the status's words."""
     w = World(tmp_path / "db")
     said = {}
-    for t, status in enumerate(("GPS_ALIGNMENT_FAILURE", "STATIONARY_ALIGNMENT_FAILURE", "BEST_ALIGNMENT_FAILURE",
-                                "TRANSFER_ALIGNMENT_FAILURE", "SNAP_ALIGNMENT_FAILURE")):
+    for t, status in enumerate(
+        (
+            "GPS_ALIGNMENT_FAILURE",
+            "STATIONARY_ALIGNMENT_FAILURE",
+            "BEST_ALIGNMENT_FAILURE",
+            "TRANSFER_ALIGNMENT_FAILURE",
+            "SNAP_ALIGNMENT_FAILURE",
+        )
+    ):
         w.at(2 * t).report(ALPHA, "InertialSensorReport", status=status)
         [failed] = w.update()
         assert (failed["kind"], failed["severity"], failed["state"]) == ("ins-failure", "alarm", "active-unacknowledged")
@@ -105,8 +120,12 @@ def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_pat
     w.report(CHARLIE, "GPSReport")
     assert w.update() == []
     [lost] = w.at(5).update()
-    assert (lost["kind"], lost["severity"], lost["state"], lost["text"]) == ("link-lost", "alarm", "active-unacknowledged",
-                                                                             "Charlie: link lost")
+    assert (lost["kind"], lost["severity"], lost["state"], lost["text"]) == (
+        "link-lost",
+        "alarm",
+        "active-unacknowledged",
+        "Charlie: link lost",
+    )
     assert lost["vehicle"] == "Charlie" and lost["providerId"] == str(CHARLIE) and lost["since"] == T0 + 5
     assert w.ack(lost["id"]) and kinds(w.update()) == [("link-lost", "active-acknowledged")]
     assert w.alarms.active()[0]["ackedBy"] == "alice"
@@ -146,8 +165,12 @@ def test_fix_lost_only_after_a_valid_fix(tmp_path: Path) -> None:
     assert w.update() == []
     w.at(1.5).report(UNNAMED, "GPSFixStatusReport", fixValid=False)
     [lost] = w.update()
-    assert (lost["kind"], lost["severity"], lost["text"], lost["vehicle"]) == ("fix-lost", "warning", "3f2a9c01: GPS fix lost",
-                                                                               "3f2a9c01")
+    assert (lost["kind"], lost["severity"], lost["text"], lost["vehicle"]) == (
+        "fix-lost",
+        "warning",
+        "3f2a9c01: GPS fix lost",
+        "3f2a9c01",
+    )
     w.at(2).report(UNNAMED, "GPSFixStatusReport", fixValid=True)
     assert kinds(w.update()) == [("fix-lost", "cleared-unacknowledged")]
 
@@ -190,7 +213,10 @@ def test_unanswered_command_can_be_canceled_and_a_late_start_is_an_alarm(tmp_pat
     assert w.at(1).update() == []
     [unanswered] = w.at(3).update()
     assert (unanswered["kind"], unanswered["severity"], unanswered["text"]) == (
-        "command-unanswered", "warning", "Alpha: INS RESTART: no answer")
+        "command-unanswered",
+        "warning",
+        "Alpha: INS RESTART: no answer",
+    )
     w.commands.cancel(cmd.session_id, "alice")  # an UNANSWERED command can be canceled: it is disposed
     assert w.disposed == [cmd.sample] and cmd.cancel_requested
     assert kinds(w.update()) == [("command-unanswered", "cleared-unacknowledged")]
@@ -207,7 +233,11 @@ def test_failed_command_is_latched_until_acknowledged_then_never_raised_again(tm
     w.status(cmd, (S.ISSUED, OK), (S.FAILED, R.VALIDATION_FAILED, "timeStamp out of range"))
     [failed] = w.at(1).update()
     assert (failed["kind"], failed["severity"], failed["state"], failed["clearedAt"]) == (
-        "command-failed", "alarm", "active-unacknowledged", None)
+        "command-failed",
+        "alarm",
+        "active-unacknowledged",
+        None,
+    )
     # the reason in the words the command's card says it (core/words.py)
     assert failed["text"] == "3f2a9c01: GPS fix command failed: the vehicle found the request invalid"
     assert kinds(w.at(30).update()) == [("command-failed", "active-unacknowledged")]  # it does not clear by itself
@@ -226,7 +256,10 @@ def test_own_supersession_is_not_an_alarm_another_operators_interruption_is(tmp_
     w.at(2).status(second, (S.FAILED, R.INTERRUPTED, "superseded by command 0b9f5c2e-6c1d-4a7e-9f00-000000000000"))
     [interrupted] = w.update()  # no newer command of this console explains it: another operator's
     assert (interrupted["kind"], interrupted["severity"], interrupted["sessionId"]) == (
-        "command-interrupted", "alarm", str(second.session_id))
+        "command-interrupted",
+        "alarm",
+        str(second.session_id),
+    )
     assert interrupted["text"] == "Alpha: INS RESTART interrupted by a command not from this console"
 
 
@@ -237,9 +270,16 @@ def test_flow_violation_and_recording_failure(tmp_path: Path) -> None:
     w.recording_error = "recording stopped: the disk is full (/var/recordings/x.mcap)"
     recording, violation = w.at(1).update()
     assert (violation["kind"], violation["severity"], violation["text"]) == (
-        "flow-violation", "alarm", "Charlie: GPS fix command: the vehicle reported an invalid status sequence")
+        "flow-violation",
+        "alarm",
+        "Charlie: GPS fix command: the vehicle reported an invalid status sequence",
+    )
     assert (recording["kind"], recording["providerId"], recording["vehicle"], recording["text"]) == (
-        "recording-failed", None, None, "Recording failed: the disk is full (/var/recordings/x.mcap)")
+        "recording-failed",
+        None,
+        None,
+        "Recording failed: the disk is full (/var/recordings/x.mcap)",
+    )
     assert w.ack(recording["id"]) and kinds(w.at(2).update()) == [("flow-violation", "active-unacknowledged")]
 
 
@@ -266,16 +306,23 @@ def test_a_restart_keeps_the_alarms_not_back_to_normal(tmp_path: Path) -> None:
 
 # ---- REST and WebSocket ------------------------------------------------------------------------
 def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(domain: int, tmp_path: Path) -> None:
-    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings",
-                        operator_tokens="alice:s3cret", vehicle_names=f"{CHARLIE}=Charlie", unanswered_timeout=2.0)
+    settings = Settings(
+        domain=domain,
+        db_path=tmp_path / "db",
+        recordings_dir=tmp_path / "recordings",
+        operator_tokens="alice:s3cret",
+        vehicle_names=f"{CHARLIE}=Charlie",
+        unanswered_timeout=2.0,
+    )
     auth = {"Authorization": "Bearer s3cret"}
     with TestClient(create_app(settings), base_url="http://localhost") as client:
         console = client.app.state.console  # type: ignore[attr-defined]
 
         def heard_a_minute_ago() -> None:  # on the console's loop, like every change of its state
             now, wall = console.clock.monotonic(), console.clock.wall()
-            console.providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60,
-                                   wall - 60, True)
+            console.providers.seen(
+                "GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60, wall - 60, True
+            )
             console.tick(now)
 
         client.portal.call(heard_a_minute_ago)
@@ -291,7 +338,10 @@ def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(doma
         client.portal.call(lambda: console.tick(console.clock.monotonic() + 3))  # past the unanswered timeout
         unanswered, lost = client.get("/api/alarms").json()
         assert (unanswered["kind"], unanswered["text"], unanswered["sessionId"]) == (
-            "command-unanswered", "Charlie: GPS fix command: no answer", session)
+            "command-unanswered",
+            "Charlie: GPS fix command: no answer",
+            session,
+        )
         assert (lost["kind"], lost["text"], lost["state"]) == ("link-lost", "Charlie: link lost", "active-unacknowledged")
 
         r = client.delete(f"/api/commands/{session}", headers=auth)  # an UNANSWERED command can be canceled
@@ -328,28 +378,40 @@ def test_a_vehicle_with_a_failed_ins_shows_in_rest_and_a_fresh_snapshot(sim, con
     sim("--fault", "ins-failure", "--umaa", umaa)
     c = console("--vehicle-names", f"{V1}=Alpha")
     provider_ready(c.url, V1, {"InertialSensorReport"})
-    [alarm] = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10,
-                         "an ins-failure alarm")
+    [alarm] = wait_until(
+        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "ins-failure"], 10, "an ins-failure alarm"
+    )
     assert (alarm["text"], alarm["providerId"], alarm["severity"], alarm["state"]) == (
-        "Alpha: INS failed", V1, "alarm", "active-unacknowledged")
+        "Alpha: INS failed",
+        V1,
+        "alarm",
+        "active-unacknowledged",
+    )
     ws = WsClient(c.ws_url)
     snapshot = wait_until(lambda: ws.messages and ws.messages[0], 10, "the snapshot")
     assert snapshot["type"] == "snapshot" and alarm in snapshot["alarms"] and ws.errors == []
     ws.close()
 
 
-def test_a_renamed_vehicles_alarms_name_it_as_it_is_named_now_and_the_rows_keep_what_was_said(domain: int,
-                                                                                               tmp_path: Path) -> None:
-    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings",
-                        operator_tokens="alice:s3cret", vehicle_names=f"{CHARLIE}=Charlie")
+def test_a_renamed_vehicles_alarms_name_it_as_it_is_named_now_and_the_rows_keep_what_was_said(
+    domain: int, tmp_path: Path
+) -> None:
+    settings = Settings(
+        domain=domain,
+        db_path=tmp_path / "db",
+        recordings_dir=tmp_path / "recordings",
+        operator_tokens="alice:s3cret",
+        vehicle_names=f"{CHARLIE}=Charlie",
+    )
     auth = {"Authorization": "Bearer s3cret"}
     with TestClient(create_app(settings), base_url="http://localhost") as client:
         console = client.app.state.console  # type: ignore[attr-defined]
 
         def heard_a_minute_ago() -> None:
             now, wall = console.clock.monotonic(), console.clock.wall()
-            console.providers.seen("GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60,
-                                   wall - 60, True)
+            console.providers.seen(
+                "GPSReport", CHARLIE, {"report": {}, "invalid": [], "receivedAt": wall - 60}, now - 60, wall - 60, True
+            )
             console.tick(now)
 
         client.portal.call(heard_a_minute_ago)

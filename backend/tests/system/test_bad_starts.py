@@ -22,8 +22,7 @@ EXE = Path(sys.executable).parent / "sem-console"
 PMTILES_V3 = b"PMTiles\x03" + bytes(119)  # a whole v3 header: magic, version, then offsets and bounds (zeros here)
 
 
-def refused(args: list[str], domain: int, port: int | None = None,
-            preexec_fn: Callable[[], None] | None = None) -> str:
+def refused(args: list[str], domain: int, port: int | None = None, preexec_fn: Callable[[], None] | None = None) -> str:
     """Run the console; assert it refuses to start with exactly one line on stderr; that line."""
     cmd = [str(EXE), "--domain", str(domain), "--port", str(port or free_port()), "--log-level", "info", *args]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=15, preexec_fn=preexec_fn)
@@ -83,8 +82,15 @@ def a_directory(tmp_path: Path) -> Path:
     return tmp_path / "db"
 
 
-@pytest.mark.parametrize("make, says", [(corrupt, "is not a SQLite database"), (zeros, "is not a SQLite database"),
-                                        (truncated, "damaged"), (a_directory, "is a directory")])
+@pytest.mark.parametrize(
+    "make, says",
+    [
+        (corrupt, "is not a SQLite database"),
+        (zeros, "is not a SQLite database"),
+        (truncated, "damaged"),
+        (a_directory, "is a directory"),
+    ],
+)
 def test_a_database_it_cannot_use_is_one_line(make: Callable[[Path], Path], says: str, domain: int, tmp_path: Path) -> None:
     path = make(tmp_path)
     line = refused(["--db", str(path)], domain)
@@ -136,16 +142,22 @@ def test_an_empty_or_sound_database_passes_the_check(content: bytes | None, doma
     assert "--port" in refused(["--db", str(path)], domain, port=busy_tcp)
 
 
-@pytest.mark.parametrize("case, says, fix", [
-    ("no server", "cannot reach the PostgreSQL server", "start it, or fix the host and port in --database-url"),
-    ("wrong password", 'password authentication failed for user "postgres"', "fix the user name or password"),
-    ("no such database", 'database "nope" does not exist', "create it (createdb, or CREATE DATABASE)"),
-])
-def test_a_postgresql_it_cannot_use_is_one_line_without_the_password(case: str, says: str, fix: str, domain: int,
-                                                                       pg_cluster: Cluster) -> None:
-    url = {"no server": f"postgresql://postgres:{PASSWORD}@127.0.0.1:{free_port()}/console",
-           "wrong password": pg_cluster.url("postgres", password="not-it-42"),
-           "no such database": pg_cluster.url("nope")}[case]
+@pytest.mark.parametrize(
+    "case, says, fix",
+    [
+        ("no server", "cannot reach the PostgreSQL server", "start it, or fix the host and port in --database-url"),
+        ("wrong password", 'password authentication failed for user "postgres"', "fix the user name or password"),
+        ("no such database", 'database "nope" does not exist', "create it (createdb, or CREATE DATABASE)"),
+    ],
+)
+def test_a_postgresql_it_cannot_use_is_one_line_without_the_password(
+    case: str, says: str, fix: str, domain: int, pg_cluster: Cluster
+) -> None:
+    url = {
+        "no server": f"postgresql://postgres:{PASSWORD}@127.0.0.1:{free_port()}/console",
+        "wrong password": pg_cluster.url("postgres", password="not-it-42"),
+        "no such database": pg_cluster.url("nope"),
+    }[case]
     line = refused(["--database-url", url], domain)
     assert says in line and fix in line and "--database-url postgresql+psycopg://postgres:***@127.0.0.1:" in line, line
     assert PASSWORD not in line and "not-it-42" not in line
@@ -157,9 +169,9 @@ def test_db_and_database_url_together_is_one_line(domain: int, tmp_path: Path) -
 
 
 @pytest.mark.parametrize("backend", ["sqlite", "postgresql"])
-def test_a_second_console_of_the_same_name_on_one_database_is_one_line(backend: str, domain: int, tmp_path: Path,
-                                                                         console: Callable[..., ConsoleProcess],
-                                                                         request: pytest.FixtureRequest) -> None:
+def test_a_second_console_of_the_same_name_on_one_database_is_one_line(
+    backend: str, domain: int, tmp_path: Path, console: Callable[..., ConsoleProcess], request: pytest.FixtureRequest
+) -> None:
     url = str(tmp_path / "console.sqlite3") if backend == "sqlite" else request.getfixturevalue("pg_url")
     console("--database-url", url, "--console-name", "watch")
     line = refused(["--database-url", url, "--console-name", "watch"], domain)
@@ -171,8 +183,9 @@ def test_a_second_console_of_the_same_name_on_one_database_is_one_line(backend: 
     assert PASSWORD not in line
 
 
-def test_a_second_console_on_one_sqlite_file_is_refused_whatever_its_name(domain: int, tmp_path: Path,
-                                                                          console: Callable[..., ConsoleProcess]) -> None:
+def test_a_second_console_on_one_sqlite_file_is_refused_whatever_its_name(
+    domain: int, tmp_path: Path, console: Callable[..., ConsoleProcess]
+) -> None:
     """SQLite tells a console nothing of another's commands, alarms or names: two on one file looked shared and were not."""
     path = tmp_path / "console.sqlite3"
     first = console("--database-url", str(path), "--console-name", "watch")
@@ -205,16 +218,21 @@ def test_a_new_database_file_is_said_in_one_line_at_start(tmp_path: Path, consol
     assert "new database" not in again, again
 
 
-@pytest.mark.parametrize("args, env, line", [
-    (["--domain", "abc"], {}, "sem-console: error: --domain: 'abc' is not a whole number"),
-    ([], {"SEM_DOMAIN": "xyz"}, "sem-console: error: SEM_DOMAIN: 'xyz' is not a whole number"),
-    (["--unanswered-timeout", "soon"], {}, "sem-console: error: --unanswered-timeout: 'soon' is not a number"),
-    (["--domain", "999"], {}, "sem-console: error: --domain: 999 is outside 0..232"),  # the style they follow
-])
-def test_a_value_that_is_no_number_is_one_line_in_the_style_of_the_others(args: list[str], env: dict[str, str],
-                                                                         line: str, tmp_path: Path) -> None:
-    p = subprocess.run([str(EXE), "--db", str(tmp_path / "db"), *args], capture_output=True, text=True, timeout=15,
-                       env={**os.environ, **env})
+@pytest.mark.parametrize(
+    "args, env, line",
+    [
+        (["--domain", "abc"], {}, "sem-console: error: --domain: 'abc' is not a whole number"),
+        ([], {"SEM_DOMAIN": "xyz"}, "sem-console: error: SEM_DOMAIN: 'xyz' is not a whole number"),
+        (["--unanswered-timeout", "soon"], {}, "sem-console: error: --unanswered-timeout: 'soon' is not a number"),
+        (["--domain", "999"], {}, "sem-console: error: --domain: 999 is outside 0..232"),  # the style they follow
+    ],
+)
+def test_a_value_that_is_no_number_is_one_line_in_the_style_of_the_others(
+    args: list[str], env: dict[str, str], line: str, tmp_path: Path
+) -> None:
+    p = subprocess.run(
+        [str(EXE), "--db", str(tmp_path / "db"), *args], capture_output=True, text=True, timeout=15, env={**os.environ, **env}
+    )
     assert (p.returncode, p.stdout, p.stderr) == (2, "", line + "\n")
 
 
@@ -244,19 +262,23 @@ def test_the_same_port_for_jaus_and_imc_is_one_line(domain: int, tmp_path: Path)
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:  # a free UDP port, released for the console
         s.bind(("0.0.0.0", 0))
         port = s.getsockname()[1]
-    line = refused(["--db", str(tmp_path / "db"), "--jaus-port", str(port), "--jaus-host", "0.0.0.0", "--imc-port", str(port)],
-                   domain)
+    line = refused(
+        ["--db", str(tmp_path / "db"), "--jaus-port", str(port), "--jaus-host", "0.0.0.0", "--imc-port", str(port)], domain
+    )
     assert f"UDP 0.0.0.0:{port} is already in use" in line and "--imc-port" in line, line
 
 
 # ---- the chart, recordings, replay, TLS -------------------------------------------------------------------------
-@pytest.mark.parametrize("content, says", [
-    (None, "no such file"),
-    (b"<html>not a chart</html>", "is not a PMTiles file"),
-    (b"PM\x02\x00" + bytes(200), "is not a PMTiles file"),  # a PMTiles v2 archive
-    (b"PMTiles\x02" + bytes(200), "version 2"),
-    (PMTILES_V3[:60], "not a whole PMTiles version 3 file"),
-])
+@pytest.mark.parametrize(
+    "content, says",
+    [
+        (None, "no such file"),
+        (b"<html>not a chart</html>", "is not a PMTiles file"),
+        (b"PM\x02\x00" + bytes(200), "is not a PMTiles file"),  # a PMTiles v2 archive
+        (b"PMTiles\x02" + bytes(200), "version 2"),
+        (PMTILES_V3[:60], "not a whole PMTiles version 3 file"),
+    ],
+)
 def test_a_basemap_that_is_not_pmtiles_v3_is_one_line(content: bytes | None, says: str, domain: int, tmp_path: Path) -> None:
     chart = tmp_path / "chart.pmtiles"
     if content is not None:
@@ -285,13 +307,20 @@ def test_a_recording_folder_it_cannot_write_is_one_line(option: str, domain: int
 
 
 def test_a_missing_recording_folder_is_not_made_before_it_is_needed(domain: int, tmp_path: Path, busy_tcp: int) -> None:
-    assert "--port" in refused(["--db", str(tmp_path / "db"), "--recordings-dir", str(tmp_path / "a" / "b")], domain,
-                               port=busy_tcp)
+    assert "--port" in refused(
+        ["--db", str(tmp_path / "db"), "--recordings-dir", str(tmp_path / "a" / "b")], domain, port=busy_tcp
+    )
     assert not (tmp_path / "a").exists()
 
 
-@pytest.mark.parametrize("content, says", [(None, "cannot read"), (b"not a recording", "is not an MCAP file"),
-                                           (b"", "is not an MCAP file: it ends before an MCAP header")])
+@pytest.mark.parametrize(
+    "content, says",
+    [
+        (None, "cannot read"),
+        (b"not a recording", "is not an MCAP file"),
+        (b"", "is not an MCAP file: it ends before an MCAP header"),
+    ],
+)
 def test_a_replay_file_it_cannot_read_is_one_line(content: bytes | None, says: str, domain: int, tmp_path: Path) -> None:
     recording = tmp_path / "run.mcap"
     if content is not None:
@@ -328,4 +357,5 @@ def test_the_default_recording_folder_unwritable_is_only_a_warning(tmp_path: Pat
     (tmp_path / "var").write_text("a file where the folder would go")
     assert start_warnings(Settings()) == [
         "--recordings-dir var/recordings: var is a file, not a directory: pass another directory "
-        "(the record control fails until then)"]
+        "(the record control fails until then)"
+    ]

@@ -95,8 +95,11 @@ def failed(run: Run) -> dict[str, str]:
 
 def failure_types(report: Path) -> dict[str, str]:
     """The JUnit failures' types: icd (an ICD rule) or profile (a choice of the project's QoS profile)."""
-    return {f"{tc.get('classname', '').removeprefix('sem-check.')}.{tc.get('name')}": str(f.get("type"))
-            for tc in ET.parse(report).getroot().iter("testcase") if (f := tc.find("failure")) is not None}
+    return {
+        f"{tc.get('classname', '').removeprefix('sem-check.')}.{tc.get('name')}": str(f.get("type"))
+        for tc in ET.parse(report).getroot().iter("testcase")
+        if (f := tc.find("failure")) is not None
+    }
 
 
 def wait_for_providers(domain: int, n: int, timeout: float = 20.0, sem: AnySem = Sem.INS_REPORT) -> set[uuid.UUID]:
@@ -154,8 +157,13 @@ FAULTS = {
 
 def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     faults = list(FAULTS)
-    sim("--vehicles", str(len(faults)), "--slow-factor", "200",  # slow: 5 s a step
-        *(a for i, f in enumerate(faults, 1) for a in ("--fault", f"{f}:{i}")))
+    sim(
+        "--vehicles",
+        str(len(faults)),
+        "--slow-factor",
+        "200",  # slow: 5 s a step
+        *(a for i, f in enumerate(faults, 1) for a in ("--fault", f"{f}:{i}")),
+    )
     wait_for_providers(domain, len(faults))
 
     # Several providers and no --provider: they are listed, nothing is tested.
@@ -170,8 +178,22 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
 
     wrong = []
     for i, fault in enumerate(faults, 1):
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(vehicle_guid(i)), "--commands",
-                    "--timeout", "2", "--step-time", "1", "--window", "1", "--max-gap", "1")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(vehicle_guid(i)),
+            "--commands",
+            "--timeout",
+            "2",
+            "--step-time",
+            "1",
+            "--window",
+            "1",
+            "--max-gap",
+            "1",
+        )
         test, reason = FAULTS[fault]
         bad = failed(run)
         if run.code != 1 or reason not in bad.get(test, ""):
@@ -188,9 +210,27 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
     # command it sent (ICD 4.1.6.2), seen by an independent reader, and exits 128 + SIGTERM.
     bus = Bus(domain)
     reader = bus.reader(Sem.GPS_FIX_COMMAND)
-    p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--provider",
-                          str(vehicle_guid(faults.index("no-answer") + 1)), "--commands", "--only", "commands.GPSFix.complete",
-                          "--timeout", "60", "--window", "0.5"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    p = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.check.cli",
+            "--domain",
+            str(domain),
+            "--provider",
+            str(vehicle_guid(faults.index("no-answer") + 1)),
+            "--commands",
+            "--only",
+            "commands.GPSFix.complete",
+            "--timeout",
+            "60",
+            "--window",
+            "0.5",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     assert p.stdout is not None
     for line in p.stdout:
         if "sending GPSFixCommand" in line:
@@ -208,15 +248,17 @@ def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, 
     assert InstanceState.NotAliveDisposed in states, states
 
 
-def stop_check(sig: int, when: str, *args: str, then: Callable[[], object] = lambda: None,
-               tee_dies: bool = False) -> tuple[int, str, str]:
+def stop_check(
+    sig: int, when: str, *args: str, then: Callable[[], object] = lambda: None, tee_dies: bool = False
+) -> tuple[int, str, str]:
     """sem-check in a process of its own, sent `sig` once its output shows `when` and `then` returned:
     (exit code, stdout, stderr). `tee_dies`: the reader of its stdout goes first, as `sem-check | tee` stopped."""
     # As in a CI job: the output buffered (PYTHONUNBUFFERED, set here, hid an interpreter's last flush into the pipe
     # tee left, which failed with exit 120)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
-    p = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, env=env)
+    p = subprocess.Popen(
+        [sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+    )
     assert p.stdout is not None and p.stderr is not None
     seen = []
     for line in p.stdout:
@@ -252,19 +294,36 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
             time.sleep(0.05)
 
     try:
-        code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand (", "--domain", str(domain), "--commands",
-                                    "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
-                                    "--junit", str(report), "--record", str(evidence), then=command_on_the_bus)
+        code, out, err = stop_check(
+            signal.SIGTERM,
+            "sending GPSFixCommand (",
+            "--domain",
+            str(domain),
+            "--commands",
+            "--only",
+            "discovery,commands",
+            "--timeout",
+            "60",
+            "--window",
+            "0.5",
+            "--junit",
+            str(report),
+            "--record",
+            str(evidence),
+            then=command_on_the_bus,
+        )
     finally:
         bus.close()
     assert code == 128 + signal.SIGTERM, err
     assert "sem-check: stopped by SIGTERM: the tests not finished are reported as such" in err
     cases = junit_cases(report)
     assert {n: o for n, (o, _) in cases.items() if n.startswith("discovery.")} == {
-        n: "passed" for n in cases if n.startswith("discovery.")} and len(cases) == 20
+        n: "passed" for n in cases if n.startswith("discovery.")
+    } and len(cases) == 20
     assert cases["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
     assert {cases[n] for n in cases if n.startswith("commands.") and n != "commands.GPSFix.complete"} == {
-        ("skipped", "not run: the run was stopped by SIGTERM")}
+        ("skipped", "not run: the run was stopped by SIGTERM")
+    }
     assert "20 tests: 10 passed, 0 failed, 9 skipped, 1 stopped in " in out
     with open(evidence, "rb") as fh:
         recorded = make_reader(fh).get_summary()
@@ -273,29 +332,52 @@ def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int,
     assert topics[Sem.GPS_FIX_COMMAND.spec.name] == 2  # the one for another destination, then complete's
     # `sem-check ... | tee log`, stopped: tee goes first. The report was lost to a BrokenPipeError (a traceback, exit 2).
     report.unlink()
-    code, out, err = stop_check(signal.SIGTERM, "sending GPSFixCommand (", "--domain", str(domain), "--commands",
-                                "--only", "discovery,commands", "--timeout", "60", "--window", "0.5",
-                                "--junit", str(report), tee_dies=True)
-    assert (code, err) == (128 + signal.SIGTERM, "sem-check: stopped by SIGTERM: the tests not finished are reported as "
-                                                 "such\n")
+    code, out, err = stop_check(
+        signal.SIGTERM,
+        "sending GPSFixCommand (",
+        "--domain",
+        str(domain),
+        "--commands",
+        "--only",
+        "discovery,commands",
+        "--timeout",
+        "60",
+        "--window",
+        "0.5",
+        "--junit",
+        str(report),
+        tee_dies=True,
+    )
+    assert (code, err) == (128 + signal.SIGTERM, "sem-check: stopped by SIGTERM: the tests not finished are reported as such\n")
     assert junit_cases(report)["commands.GPSFix.complete"] == ("error", "stopped by SIGTERM before it finished")
     # Killed outright (SIGKILL after a CI's grace time, out of memory): an earlier run's report, kept in a runner's
     # workspace, was left to pass for this run's; now the report written at the start says it did not finish.
     junit.write(report, [Case("discovery.GPSReport")], 1.0, {})
     evidence.write_bytes(b"an earlier run's recording")
-    code, out, err = stop_check(signal.SIGKILL, "watching its reports", "--domain", str(domain), "--window", "60",
-                                "--junit", str(report), "--record", str(evidence))
+    code, out, err = stop_check(
+        signal.SIGKILL,
+        "watching its reports",
+        "--domain",
+        str(domain),
+        "--window",
+        "60",
+        "--junit",
+        str(report),
+        "--record",
+        str(evidence),
+    )
     assert code == -signal.SIGKILL
     assert not evidence.exists()
     assert [(n, o, r.split(":")[0]) for n, (o, r) in junit_cases(report).items()] == [
-        ("setup", "error", "sem-check did not finish")]
+        ("setup", "error", "sem-check did not finish")
+    ]
     # Ctrl-C while it watches the reports: no test ran; the report says so in the `setup` case.
-    code, out, err = stop_check(signal.SIGINT, "watching its reports", "--domain", str(domain), "--window", "60",
-                                "--junit", str(report))
+    code, out, err = stop_check(
+        signal.SIGINT, "watching its reports", "--domain", str(domain), "--window", "60", "--junit", str(report)
+    )
     assert code == 128 + signal.SIGINT, err
     cases = junit_cases(report)
-    assert cases.pop("setup") == ("error", "stopped by SIGINT while watching the provider's reports (60 s), before any "
-                                           "test ran")
+    assert cases.pop("setup") == ("error", "stopped by SIGINT while watching the provider's reports (60 s), before any test ran")
     assert set(cases.values()) == {("skipped", "not run: the run was stopped by SIGINT")} and len(cases) == 28
     assert "29 tests: 0 passed, 0 failed, 28 skipped, 1 stopped in " in out
 
@@ -327,13 +409,18 @@ def test_read_only_run_writes_no_command(sim: Callable[..., Any], domain: int, t
 
 def test_empty_domain_cannot_test_in_one_line(domain: int, tmp_path: Path) -> None:
     report = tmp_path / "junit.xml"
-    p = subprocess.run([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "1",
-                        "--junit", str(report)], capture_output=True, text=True, timeout=60)
+    p = subprocess.run(
+        [sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "1", "--junit", str(report)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert p.returncode == 2
     assert p.stdout == ""
     lines = p.stderr.strip().splitlines()
-    assert lines == [f"sem-check: no UMAA SEM provider on domain {domain} within 1 s "
-                     "(DDS: interface lo, unicast discovery to 127.0.0.1)"]
+    assert lines == [
+        f"sem-check: no UMAA SEM provider on domain {domain} within 1 s (DDS: interface lo, unicast discovery to 127.0.0.1)"
+    ]
     assert junit_cases(report) == {"setup": ("error", lines[0].removeprefix("sem-check: "))}
 
 
@@ -384,13 +471,29 @@ def test_record_and_junit_into_a_new_directory(tiny: Callable[..., TinyProvider]
     with contextlib.redirect_stderr(err):
         code = main(["--domain", str(domain), "--record", f"{missing}/"])
     assert code == 2 and not (tmp_path / "no").exists()
-    assert err.getvalue() == (f"sem-check: cannot record to {missing}/: the directory {missing.parent} does not exist: "
-                              f"create it first (mkdir -p {missing}/)\n")
+    assert err.getvalue() == (
+        f"sem-check: cannot record to {missing}/: the directory {missing.parent} does not exist: "
+        f"create it first (mkdir -p {missing}/)\n"
+    )
     p = tiny()
     out = io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
-        code = main(["--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5",
-                     "--record", f"{tmp_path / 'evidence'}/", "--junit", f"{tmp_path / 'reports'}/"])
+        code = main(
+            [
+                "--domain",
+                str(domain),
+                "--provider",
+                str(p.guid),
+                "--only",
+                "discovery",
+                "--window",
+                "0.5",
+                "--record",
+                f"{tmp_path / 'evidence'}/",
+                "--junit",
+                f"{tmp_path / 'reports'}/",
+            ]
+        )
     assert code == 0, out.getvalue() + err.getvalue()
     [recording] = (tmp_path / "evidence").glob("sem-check-*.mcap")
     [report] = (tmp_path / "reports").glob("sem-check-*.xml")
@@ -414,9 +517,26 @@ def test_a_recording_lost_in_the_run_is_no_pass(tiny: Callable[..., TinyProvider
     a green CI job with no recording; now exit 2, as for a JUnit report that cannot be written."""
     p = tiny()
     evidence = tmp_path / "evidence"
-    proc = subprocess.Popen([sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--provider",
-                             str(p.guid), "--only", "discovery", "--window", "3", "--record", f"{evidence}/"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.check.cli",
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--only",
+            "discovery",
+            "--window",
+            "3",
+            "--record",
+            f"{evidence}/",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     assert proc.stdout is not None
     for line in proc.stdout:
         if "watching its reports" in line:
@@ -431,8 +551,10 @@ def test_a_recording_lost_in_the_run_is_no_pass(tiny: Callable[..., TinyProvider
 def test_results_keep_failures_and_whole_reasons(tmp_path: Path) -> None:
     """A skip after a failure keeps the failure; the terminal shows whole reasons (their ICD
     reference comes last) and what a pass did not check; the JUnit failure text has what was seen."""
-    reason = ("Figure 4 breach: ISSUED -> COMPLETED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
-              "ISSUED/SUCCEEDED +0.01 s, COMPLETED/SUCCEEDED +0.02 s")
+    reason = (
+        "Figure 4 breach: ISSUED -> COMPLETED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
+        "ISSUED/SUCCEEDED +0.01 s, COMPLETED/SUCCEEDED +0.02 s"
+    )
     breach = Case("commands.GPSFix.cancel").fail(reason)
     breach.skip("the command COMPLETED before it reached EXECUTING long enough to be canceled; cancel not tested")
     assert (breach.outcome, breach.reason) == (Outcome.FAILED, reason)
@@ -461,8 +583,11 @@ def test_a_failure_is_marked_profile_only_when_every_failure_of_its_test_is_one(
     report = tmp_path / "junit.xml"
     junit.write(report, [both, profile, icd], 1.0, {})
     assert {n: o for n, (o, _) in junit_cases(report).items()} == {c.name: "failed" for c in (both, profile, icd)}
-    assert failure_types(report) == {"discovery.InertialSensorReport": "icd", "discovery.GPSFixStatusReport": "profile",
-                                     "discovery.GPSFixCommandStatus": "icd"}
+    assert failure_types(report) == {
+        "discovery.InertialSensorReport": "icd",
+        "discovery.GPSFixStatusReport": "profile",
+        "discovery.GPSFixCommandStatus": "icd",
+    }
 
 
 def test_a_stop_blames_the_case_running() -> None:
@@ -474,20 +599,26 @@ def test_a_stop_blames_the_case_running() -> None:
     progress.add([Case("commands.GPSFix.complete").skip("the provider does not offer the GPSFixControl service")])
     with contextlib.suppress(Stopped), Timer(Case("commands.InertialSensor.OFF"), progress):
         raise Stopped(signal.SIGTERM)
-    names = ["discovery.GPSReport", "commands.GPSFix.complete", "commands.GPSFix.cancel", "commands.InertialSensor.OFF",
-             "commands.InertialSensor.ON"]
+    names = [
+        "discovery.GPSReport",
+        "commands.GPSFix.complete",
+        "commands.GPSFix.cancel",
+        "commands.InertialSensor.OFF",
+        "commands.InertialSensor.ON",
+    ]
     assert {c.name: (c.outcome.value, c.reason) for c in progress.stopped(names, "SIGTERM")} == {
         "discovery.GPSReport": ("passed", ""),
         "commands.GPSFix.complete": ("skipped", "the provider does not offer the GPSFixControl service"),
         "commands.GPSFix.cancel": ("skipped", "not run: the run was stopped by SIGTERM"),
         "commands.InertialSensor.OFF": ("error", "stopped by SIGTERM before it finished"),
-        "commands.InertialSensor.ON": ("skipped", "not run: the run was stopped by SIGTERM")}
+        "commands.InertialSensor.ON": ("skipped", "not run: the run was stopped by SIGTERM"),
+    }
 
 
-def test_a_recorder_that_cannot_start_leaves_no_temporary_directory(tmp_path: Path,
-                                                                     monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_recorder_that_cannot_start_leaves_no_temporary_directory(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """--record made a hidden .sem-check-* directory beside the file and left it when the recorder could not start
     (the run's one line, exit 2): an error that root's permissions cannot bring about, so raised here."""
+
     def refuse(_self: object) -> None:
         raise runner.RecordingError("cannot record into it: No space left on device")
 
@@ -499,12 +630,16 @@ def test_a_recorder_that_cannot_start_leaves_no_temporary_directory(tmp_path: Pa
 
 # ---- tiny Cyclone providers with one topic wrong ------------------------------------------------
 
+
 def wrong_key_ins_report() -> type:
     """InertialSensorReportType with `state` keyed too: the UMAA 3.0.1 IDL keys `source` only."""
     good = Sem.INS_REPORT.spec.type
-    return make_idl_struct("InertialSensorReportType", "UMAA::SEM::InertialSensorStatus::InertialSensorReportType",
-                           typing.get_type_hints(good, include_extras=True),
-                           field_annotations={"state": {"key": True}, "source": {"key": True}})
+    return make_idl_struct(
+        "InertialSensorReportType",
+        "UMAA::SEM::InertialSensorStatus::InertialSensorReportType",
+        typing.get_type_hints(good, include_extras=True),
+        field_annotations={"state": {"key": True}, "source": {"key": True}},
+    )
 
 
 class TinyProvider:
@@ -520,8 +655,11 @@ class TinyProvider:
         self.writers = [self.bus.writer(Sem.GPS_FIX_REPORT)]
         self.writers[0].write(fix)
         qos = fix_status_qos or writer_qos(TopicClass.REPORT)
-        self.writers.append(DataWriter(self.bus.participant, self.bus.topic(Sem.GPS_FIX_STATUS_REPORT),
-                                       qos=qos + representation(False, writer=True)))
+        self.writers.append(
+            DataWriter(
+                self.bus.participant, self.bus.topic(Sem.GPS_FIX_STATUS_REPORT), qos=qos + representation(False, writer=True)
+            )
+        )
         self.writers[-1].write(status)
         if wrong_ins_key:
             wrong = wrong_key_ins_report()
@@ -556,8 +694,10 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery", "--window", "0.5")
     assert run.code == 1
     bad = failed(run)
-    assert ("BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it (a choice of the "
-            "project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule; ICD 4.2.1" in bad["discovery.GPSFixStatusReport"])
+    assert (
+        "BEST_EFFORT reliability: a consumer on the project's QoS profile (RELIABLE) does not match it (a choice of the "
+        "project's QoS profile, docs/dds.md, not an ICD 3.0.1 rule; ICD 4.2.1" in bad["discovery.GPSFixStatusReport"]
+    )
     # marked as the profile's in the JUnit report, as a type or key problem is marked as the ICD's (test_wrong_key...)
     assert failure_types(run.report) == {"discovery.GPSFixStatusReport": "profile"}
     assert set(bad) == {"discovery.GPSFixStatusReport"}, bad
@@ -565,18 +705,23 @@ def test_wrong_qos_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert run.cases["discovery.GPSReport"][0] == "skipped"  # GPSStatus is not offered
 
 
-def test_a_control_service_in_a_process_of_its_own_is_tested(tiny: Callable[..., TinyProvider], domain: int,
-                                                             tmp_path: Path) -> None:
+def test_a_control_service_in_a_process_of_its_own_is_tested(
+    tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path
+) -> None:
     """A vehicle whose GPSFixControl runs in a participant of its own, which writes statuses only in answer to a
     command: no sample tied it to the provider, so its service was "not offered" and its tests skipped (a pass)."""
     p = tiny()
     control = Bus(domain)
     try:
-        endpoints = [control.reader(Sem.GPS_FIX_COMMAND), control.writer(Sem.GPS_FIX_COMMAND_STATUS),  # noqa: F841
-                     control.writer(Sem.GPS_FIX_COMMAND_ACK)]  # kept: a DataWriter no one holds is deleted
+        endpoints = [  # noqa: F841  (kept: a DataWriter no one holds is deleted)
+            control.reader(Sem.GPS_FIX_COMMAND),
+            control.writer(Sem.GPS_FIX_COMMAND_STATUS),
+            control.writer(Sem.GPS_FIX_COMMAND_ACK),
+        ]
         # a window long enough for the discovery of a participant that sends no data, on a loaded machine too
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery.GPSFixCommand*",
-                    "--window", "2")
+        run = check(
+            tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "discovery.GPSFixCommand*", "--window", "2"
+        )
     finally:
         control.close()
     assert run.code == 0, run.out + run.err
@@ -590,13 +735,15 @@ def test_wrong_key_fails_discovery(tiny: Callable[..., TinyProvider], domain: in
     assert run.code == 1
     bad = failed(run)
     assert set(bad) == {"discovery.InertialSensorReport"}, bad
-    assert ("key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members "
-            "marked *)") in bad["discovery.InertialSensorReport"]
+    assert (
+        "key members {source, state}; the UMAA 3.0.1 IDL keys {source} (ICD 5.2.3, Table 23 (UMAAStatus): the members marked *)"
+    ) in bad["discovery.InertialSensorReport"]
     assert failure_types(run.report) == {"discovery.InertialSensorReport": "icd"}
     assert run.cases["discovery.GPSFixStatusReport"][0] == "passed"
 
 
 # ---- a provider that breaks Figure 4 after the command ended ------------------------------------
+
 
 class BreachAfterCleanup:
     """A Cyclone GPSFixControl provider (with an InertialSensorReport, to be found) that runs each
@@ -620,8 +767,13 @@ class BreachAfterCleanup:
 
     def status_of(self, cmd: Any, status: CmdStatus) -> Any:
         return Sem.GPS_FIX_COMMAND_STATUS.spec.type(
-            source=to_guid(self.guid), sessionID=cmd.sessionID, commandStatus=status, commandStatusReason=CmdReason.SUCCEEDED,
-            logMessage="", timeStamp=now_datetime())
+            source=to_guid(self.guid),
+            sessionID=cmd.sessionID,
+            commandStatus=status,
+            commandStatusReason=CmdReason.SUCCEEDED,
+            logMessage="",
+            timeStamp=now_datetime(),
+        )
 
     def loop(self) -> None:
         while not self.stop.is_set():
@@ -636,8 +788,9 @@ class BreachAfterCleanup:
                     cmd = self.running.pop(info.instance_handle)
                     if self.leave:
                         self.status.unregister_instance(self.status_of(cmd, CmdStatus.COMPLETED))
-                        self.ack.unregister_instance(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid),
-                                                                                        sessionID=cmd.sessionID))
+                        self.ack.unregister_instance(
+                            Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(self.guid), sessionID=cmd.sessionID)
+                        )
                         continue
                     self.status.write(self.status_of(cmd, CmdStatus.EXECUTING))  # COMPLETED -> EXECUTING
                     self.status.dispose(self.status_of(cmd, CmdStatus.EXECUTING))
@@ -650,19 +803,40 @@ class BreachAfterCleanup:
         self.bus.close()
 
 
-@pytest.mark.parametrize(("leave", "reason"), [
-    # every status of a command goes through Figure 4, also those after its test followed it
-    (False, "Figure 4 breach: COMPLETED -> EXECUTING is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
-            "ISSUED/SUCCEEDED"),
-    # Figure 15 wants the provider to dispose its status and ack: one that went away (its instances left with no
-    # writers, as a vehicle stopped mid-run) passed the cleanup test as if it had disposed them
-    (True, "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s"),
-], ids=["breach-after-the-end", "status-lost-its-writer"])
+@pytest.mark.parametrize(
+    ("leave", "reason"),
+    [
+        # every status of a command goes through Figure 4, also those after its test followed it
+        (
+            False,
+            "Figure 4 breach: COMPLETED -> EXECUTING is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "
+            "ISSUED/SUCCEEDED",
+        ),
+        # Figure 15 wants the provider to dispose its status and ack: one that went away (its instances left with no
+        # writers, as a vehicle stopped mid-run) passed the cleanup test as if it had disposed them
+        (True, "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s"),
+    ],
+    ids=["breach-after-the-end", "status-lost-its-writer"],
+)
 def test_the_cleanup_fails(leave: bool, reason: str, domain: int, tmp_path: Path) -> None:
     p = BreachAfterCleanup(domain, leave=leave)
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
-                    "commands.GPSFix.complete,commands.GPSFix.cleanup", "--timeout", "5", "--step-time", "1", "--window", "0.5")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--commands",
+            "--only",
+            "commands.GPSFix.complete,commands.GPSFix.cleanup",
+            "--timeout",
+            "5",
+            "--step-time",
+            "1",
+            "--window",
+            "0.5",
+        )
     finally:
         p.close()
     assert run.cases["commands.GPSFix.complete"] == ("passed", ""), run.out
@@ -707,8 +881,22 @@ def test_a_vehicles_control_characters_leave_the_junit_report_valid(domain: int,
     the terminal's table printed them too."""
     p = FailsWithLogMessage(domain, "\x1b[31mGPS jammed\x07\x1b[0m")
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
-                    "commands.GPSFix.complete", "--timeout", "5", "--step-time", "1", "--window", "0.5")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--commands",
+            "--only",
+            "commands.GPSFix.complete",
+            "--timeout",
+            "5",
+            "--step-time",
+            "1",
+            "--window",
+            "0.5",
+        )
     finally:
         p.close()
     assert run.code == 1, run.out + run.err
@@ -740,8 +928,22 @@ def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
     ("see discovery.InertialSensorCommand"): the test it left in says so, the later ones are skipped as not testable."""
     p = LeavesAfterIssued(domain)
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only", "commands",
-                    "--timeout", "5", "--step-time", "5", "--window", "0.5")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--commands",
+            "--only",
+            "commands",
+            "--timeout",
+            "5",
+            "--step-time",
+            "5",
+            "--window",
+            "0.5",
+        )
     finally:
         p.close()
     assert run.code == 1, run.out + run.err
@@ -750,7 +952,8 @@ def test_a_provider_that_leaves_mid_run(domain: int, tmp_path: Path) -> None:
     assert complete.startswith("no COMMANDED after ISSUED") and complete.endswith(f"; {left}"), complete
     assert set(failed(run)) == {"commands.GPSFix.complete"}, run.out
     assert {n: c for n, c in run.cases.items() if n.startswith("commands.InertialSensor")} == {
-        f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")}
+        f"commands.InertialSensor.{t}": ("skipped", left) for t in ("OFF", "ON", "RESTARTING", "same", "cleanup", "destination")
+    }
     assert run.cases["commands.GPSFix.destination"] == ("skipped", left)  # its silence tells nothing
 
 
@@ -766,7 +969,8 @@ def test_a_provider_gone_before_the_command_tests_is_no_pass(domain: int) -> Non
         bus.close()
     left = "the provider has left the domain: none of its DDS endpoints remain (stopped, or off the network)"
     assert {c.name: (c.outcome.value, c.reason) for c in cases} == {
-        n: ("failed" if n == "commands.GPSFix.complete" else "skipped", left) for n in commands.names()}
+        n: ("failed" if n == "commands.GPSFix.complete" else "skipped", left) for n in commands.names()
+    }
     assert consumer.writers == {}  # nothing was sent
 
 
@@ -786,14 +990,25 @@ class InsOffOnly(BreachAfterCleanup):
             for s in self.ins_commands.take(N=16) if self.ins_commands is not None else []:
                 info = s.sample_info
                 if info.valid_data and info.instance_state == InstanceState.Alive and s.state == InsState.OFF:
-                    self.ins_ack.write(Sem.INS_COMMAND_ACK.spec.type(state=s.state, source=to_guid(self.guid),
-                                                                    sessionID=s.sessionID))
+                    self.ins_ack.write(
+                        Sem.INS_COMMAND_ACK.spec.type(state=s.state, source=to_guid(self.guid), sessionID=s.sessionID)
+                    )
                     for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
-                        self.ins_status.write(Sem.INS_COMMAND_STATUS.spec.type(
-                            source=to_guid(self.guid), sessionID=s.sessionID, commandStatus=status,
-                            commandStatusReason=CmdReason.SUCCEEDED, logMessage="", timeStamp=now_datetime()))
-                    self.ins.write(Sem.INS_REPORT.spec.type(state=InsState.OFF, status=OpStatus.OPERATIONAL,
-                                                            source=to_guid(self.guid), timeStamp=now_datetime()))
+                        self.ins_status.write(
+                            Sem.INS_COMMAND_STATUS.spec.type(
+                                source=to_guid(self.guid),
+                                sessionID=s.sessionID,
+                                commandStatus=status,
+                                commandStatusReason=CmdReason.SUCCEEDED,
+                                logMessage="",
+                                timeStamp=now_datetime(),
+                            )
+                        )
+                    self.ins.write(
+                        Sem.INS_REPORT.spec.type(
+                            state=InsState.OFF, status=OpStatus.OPERATIONAL, source=to_guid(self.guid), timeStamp=now_datetime()
+                        )
+                    )
             time.sleep(0.02)
 
 
@@ -803,9 +1018,25 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     p = InsOffOnly(domain)
     report = tmp_path / "junit.xml"
     try:
-        code, out, err = stop_check(signal.SIGTERM, "sending InertialSensorCommand ON (", "--domain", str(domain),
-                                    "--provider", str(p.guid), "--commands", "--only", "commands.InertialSensor",
-                                    "--timeout", "60", "--step-time", "1", "--window", "0.5", "--junit", str(report))
+        code, out, err = stop_check(
+            signal.SIGTERM,
+            "sending InertialSensorCommand ON (",
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--commands",
+            "--only",
+            "commands.InertialSensor",
+            "--timeout",
+            "60",
+            "--step-time",
+            "1",
+            "--window",
+            "0.5",
+            "--junit",
+            str(report),
+        )
     finally:
         p.close()
     assert code == 128 + signal.SIGTERM, out + err
@@ -813,10 +1044,14 @@ def test_a_run_that_leaves_the_ins_off_says_so(domain: int, tmp_path: Path) -> N
     cases = junit_cases(report)
     assert cases["commands.InertialSensor.cleanup"][1].startswith("the provider did not dispose its InertialSensorCommandStatus")
     assert cases["commands.InertialSensor.ON"] == ("error", "stopped by SIGTERM before it finished")
-    assert ("InertialSensorCommand: OFF, then ON, then RESTARTING, then ON again (the inertial sensor is left ON, as it reports "
-            "now); first one for ON addressed to another GUID, which the vehicle must not answer") in out
-    assert ("sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
-            "set it back to ON") in err
+    assert (
+        "InertialSensorCommand: OFF, then ON, then RESTARTING, then ON again (the inertial sensor is left ON, as it reports "
+        "now); first one for ON addressed to another GUID, which the vehicle must not answer"
+    ) in out
+    assert (
+        "sem-check: warning: the inertial sensor reports OFF now; it reported ON before the InertialSensor commands: "
+        "set it back to ON"
+    ) in err
 
 
 class AnswersAsAnother(AnswersEachCommand):
@@ -828,8 +1063,11 @@ class AnswersAsAnother(AnswersEachCommand):
         super().__init__(domain)
 
     def answer(self, cmd: Any) -> bool:
-        self.ack.write(Sem.GPS_FIX_COMMAND_ACK.spec.type(source=to_guid(OTHER_SOURCE if self.ack_only else self.guid),
-                                                         sessionID=cmd.sessionID))
+        self.ack.write(
+            Sem.GPS_FIX_COMMAND_ACK.spec.type(
+                source=to_guid(OTHER_SOURCE if self.ack_only else self.guid), sessionID=cmd.sessionID
+            )
+        )
         for status in (CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED):
             sample = self.status_of(cmd, status)
             if not self.ack_only:
@@ -847,28 +1085,55 @@ def test_answers_from_another_source_are_not_called_missing(ack_only: bool, doma
     answered as another source."""
     p = AnswersAsAnother(domain, ack_only)
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--only",
-                    "commands.GPSFix.complete", "--timeout", "2", "--step-time", "1", "--window", "0.5")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--commands",
+            "--only",
+            "commands.GPSFix.complete",
+            "--timeout",
+            "2",
+            "--step-time",
+            "1",
+            "--window",
+            "0.5",
+        )
     finally:
         p.close()
     assert run.code == 1
     assert failed(run)["commands.GPSFix.complete"] == (
         f"no GPSFixCommandAckReport for the command within 1 s of its last status (one came from source {OTHER_SOURCE}, "
         f"not from the provider's {p.guid}) (ICD 4.1.4.1 step 1: the provider publishes the ack of the command it "
-        "processes)" if ack_only else
-        f"the command's statuses came from source {OTHER_SOURCE}, not from the provider's {p.guid} (its reports' "
-        "source) within 2 s (ICD 4.1.4 step 3: the provider publishes ISSUED, as itself)")
+        "processes)"
+        if ack_only
+        else f"the command's statuses came from source {OTHER_SOURCE}, not from the provider's {p.guid} (its reports' "
+        "source) within 2 s (ICD 4.1.4 step 3: the provider publishes ISSUED, as itself)"
+    )
 
 
 # ---- a provider that stopped reporting ----------------------------------------------------------
 
-def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int,
-                                                        tmp_path: Path) -> None:
+
+def test_a_provider_that_stopped_reporting_fails_timing(tiny: Callable[..., TinyProvider], domain: int, tmp_path: Path) -> None:
     """Each report written once (its writer still alive): a window shorter than --max-gap cannot
     see the gap, so sem-check watches at least twice --max-gap."""
     p = tiny()
-    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only", "reports.InertialSensorReport",
-                "--window", "0.5", "--max-gap", "1")
+    run = check(
+        tmp_path,
+        "--domain",
+        str(domain),
+        "--provider",
+        str(p.guid),
+        "--only",
+        "reports.InertialSensorReport",
+        "--window",
+        "0.5",
+        "--max-gap",
+        "1",
+    )
     assert "watching its reports for 2 s" in run.out
     assert run.code == 1, run.out + run.err
     assert set(failed(run)) == {"reports.InertialSensorReport.timing"}
@@ -892,8 +1157,11 @@ class SkewedClock:
         while not self.stop.is_set():
             ahead = now_datetime()
             ahead.seconds += 3
-            self.writer.write(Sem.INS_REPORT.spec.type(state=InsState.ON, status=OpStatus.OPERATIONAL,
-                                                       source=to_guid(self.guid), timeStamp=ahead))
+            self.writer.write(
+                Sem.INS_REPORT.spec.type(
+                    state=InsState.ON, status=OpStatus.OPERATIONAL, source=to_guid(self.guid), timeStamp=ahead
+                )
+            )
             time.sleep(0.05)
 
     def close(self) -> None:
@@ -907,14 +1175,28 @@ def test_a_clock_off_fails_timing_once(domain: int, tmp_path: Path) -> None:
     with the worst offset and how many samples had it."""
     p = SkewedClock(domain)
     try:
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--only",
-                    "reports.InertialSensorReport.timing", "--window", "1", "--max-gap", "0.5")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(p.guid),
+            "--only",
+            "reports.InertialSensorReport.timing",
+            "--window",
+            "1",
+            "--max-gap",
+            "0.5",
+        )
     finally:
         p.close()
     assert run.code == 1
     reason = failed(run)["reports.InertialSensorReport.timing"]
-    assert re.fullmatch(r"InertialSensorReport timeStamp \+[23]\.\d{3} s from the checker's clock on arrival \((\d+) of \1 "
-                        r"samples\), beyond the stated 1 s \(ICD 5\.2\.6: UTC\)", reason), reason
+    assert re.fullmatch(
+        r"InertialSensorReport timeStamp \+[23]\.\d{3} s from the checker's clock on arrival \((\d+) of \1 "
+        r"samples\), beyond the stated 1 s \(ICD 5\.2\.6: UTC\)",
+        reason,
+    ), reason
     failure = ET.parse(run.report).getroot().find("testsuite/testcase/failure")
     assert failure is not None and len(str(failure.text).splitlines()) == 2  # the reason, and what was seen
 
@@ -923,13 +1205,19 @@ def test_timestamps_that_are_no_datetime_fail_timing_once() -> None:
     """Each sample's bad timeStamp (its nanoseconds out of range, a different value in each) was a failure line of
     its own: a line per sample again, as for the clock's offset before."""
     now = time.time()
-    samples = [Report(now + i * 0.1, {"timeStamp": {"seconds": int(now), "nanoseconds": 1_000_000_000 + i}}, [], True, 1)
-               for i in range(10)]
+    samples = [
+        Report(now + i * 0.1, {"timeStamp": {"seconds": int(now), "nanoseconds": 1_000_000_000 + i}}, [], True, 1)
+        for i in range(10)
+    ]
     case = Case("reports.InertialSensorReport.timing")
     reports.check_timing(Sem.INS_REPORT, samples, now, now + 1.0, reports.ReportLimits(1.0, 5.0, 1.0), case)
-    assert (case.outcome, case.reason) == (Outcome.FAILED, (
-        f"InertialSensorReport timeStamp {int(now)} s 1000000000 ns is not a DateTime (seconds >= 0, nanoseconds "
-        "0..999999999: ICD 5.2.6, Table 26; Table 45) (10 of 10 samples)"))
+    assert (case.outcome, case.reason) == (
+        Outcome.FAILED,
+        (
+            f"InertialSensorReport timeStamp {int(now)} s 1000000000 ns is not a DateTime (seconds >= 0, nanoseconds "
+            "0..999999999: ICD 5.2.6, Table 26; Table 45) (10 of 10 samples)"
+        ),
+    )
     assert not [n for n in case.notes if n.startswith("also:")]
 
 
@@ -937,13 +1225,16 @@ def test_a_value_problem_in_every_sample_is_one_line_per_kind() -> None:
     """Satellite azimuths in degrees: a line per satellite and sample (a reason of 222 "kinds"); now one line for the
     kind, with how often and its first values, and the ICD reference last."""
     now = time.time()
-    samples = [Report(now + i * 0.1, {"satellites": [{"azimuth": 100.0 + n} for n in range(30)]}, [], True, 1)
-               for i in range(10)]
+    samples = [Report(now + i * 0.1, {"satellites": [{"azimuth": 100.0 + n} for n in range(30)]}, [], True, 1) for i in range(10)]
     case = Case("reports.GPSReport.values")
     reports.check_values(Sem.GPS_REPORT, samples, reports.ReportLimits(1.0, 5.0, 1.0), case)
-    assert (case.outcome, case.reason) == (Outcome.FAILED, (
-        "GPSReport satellites[].azimuth: outside -3.14159..3.14159, 300 times: satellites[0].azimuth 100.0, "
-        "satellites[1].azimuth 101.0, satellites[2].azimuth 102.0, … (ICD 5.4, Table 45: Angle is -pi..pi)"))
+    assert (case.outcome, case.reason) == (
+        Outcome.FAILED,
+        (
+            "GPSReport satellites[].azimuth: outside -3.14159..3.14159, 300 times: satellites[0].azimuth 100.0, "
+            "satellites[1].azimuth 101.0, satellites[2].azimuth 102.0, … (ICD 5.4, Table 45: Angle is -pi..pi)"
+        ),
+    )
     assert case.notes == ["10 of 10 samples had problems"]
 
 
@@ -952,11 +1243,16 @@ def test_a_sequence_past_its_bound_is_referred_to_its_own_table() -> None:
     GPSFixStatusReportType's table and bound, not the satellites' table; satellites past the console's cap keep theirs."""
     cut = "carrierToNoise: 12 elements, more than 11; the first 11 kept"
     case = Case("reports.GPSFixStatusReport.values")
-    reports.check_values(Sem.GPS_FIX_STATUS_REPORT, [Report(time.time(), {"carrierToNoise": [1.0] * 11}, [cut], True, 1)],
-                         reports.ReportLimits(1.0, 5.0, 1.0), case)
+    reports.check_values(
+        Sem.GPS_FIX_STATUS_REPORT,
+        [Report(time.time(), {"carrierToNoise": [1.0] * 11}, [cut], True, 1)],
+        reports.ReportLimits(1.0, 5.0, 1.0),
+        case,
+    )
     assert case.reason == f"GPSFixStatusReport {cut} (ICD 5.1.2.2, Table 12; the IDL bounds it: sequence<double, 11>)"
     assert reports._icd_ref("satellites: 257 elements, more than 256; the first 256 kept").endswith(
-        "(ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)")
+        "(ICD 5.1.3.1, Table 14: satellites in view, more than every GNSS constellation has)"
+    )
 
 
 def test_a_grouped_problem_keeps_its_icd_reference_last() -> None:
@@ -966,11 +1262,13 @@ def test_a_grouped_problem_keeps_its_icd_reference_last() -> None:
     samples = [Report(time.time(), {"source": guid}, [], True, 1) for _ in range(4)]
     case = Case("reports.InertialSensorReport.values")
     reports.check_values(Sem.INS_REPORT, samples, reports.ReportLimits(1.0, 5.0, 1.0), case)
-    assert case.reason == (f"InertialSensorReport source: is not an RFC 4122 GUID, 4 times: {guid} (variant 2: ICD 3.7, "
-                           "Table 45 NumericGUID)")
+    assert case.reason == (
+        f"InertialSensorReport source: is not an RFC 4122 GUID, 4 times: {guid} (variant 2: ICD 3.7, Table 45 NumericGUID)"
+    )
 
 
 # ---- a provider written from the ICD, with one breach switched on -------------------------------
+
 
 @pytest.fixture
 def icd_provider(domain: int) -> Iterator[Callable[..., IcdProvider]]:
@@ -1028,31 +1326,58 @@ def test_a_command_disposed_at_issued(cancelable: bool, icd_provider: Callable[.
         bus.close()
     assert (case.outcome, case.reason) == (Outcome.PASSED, ""), case.notes
     assert sent.disposed_in is CmdStatus.ISSUED
-    assert [t.status for t in sent.flow.transitions] == ([CmdStatus.ISSUED, CmdStatus.CANCELED] if cancelable else [
-        CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED])
+    assert [t.status for t in sent.flow.transitions] == (
+        [CmdStatus.ISSUED, CmdStatus.CANCELED]
+        if cancelable
+        else [CmdStatus.ISSUED, CmdStatus.COMMANDED, CmdStatus.EXECUTING, CmdStatus.COMPLETED]
+    )
 
 
-def test_a_command_for_the_state_the_sensor_is_in_may_be_rejected(icd_provider: Callable[..., IcdProvider], domain: int,
-                                                                   tmp_path: Path) -> None:
+def test_a_command_for_the_state_the_sensor_is_in_may_be_rejected(
+    icd_provider: Callable[..., IcdProvider], domain: int, tmp_path: Path
+) -> None:
     """The same test asks that the provider answers (ICD 4.1); rejecting the command, ISSUED then FAILED with a failure
     reason, is an answer ICD 4.1.4.3 allows, and failed the test as the provider failing the command."""
     p = icd_provider(reject_same_state=True)
-    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), *COMMANDS, "--only",
-                "commands.InertialSensor.same,commands.InertialSensor.cleanup")
+    run = check(
+        tmp_path,
+        "--domain",
+        str(domain),
+        "--provider",
+        str(p.guid),
+        *COMMANDS,
+        "--only",
+        "commands.InertialSensor.same,commands.InertialSensor.cleanup",
+    )
     assert run.code == 0, run.out + run.err
     assert run.cases == {"commands.InertialSensor.same": ("passed", ""), "commands.InertialSensor.cleanup": ("passed", "")}
     same = ET.parse(run.report).getroot().find("testsuite/testcase/system-out")
     assert same is not None and "ISSUED/SUCCEEDED +" in str(same.text) and "FAILED/RESOURCE_REJECTED +" in str(same.text)
 
 
-def test_the_destination_test_waits_for_no_answer_it_looks_for_again(icd_provider: Callable[..., IcdProvider], domain: int,
-                                                                     tmp_path: Path) -> None:
+def test_the_destination_test_waits_for_no_answer_it_looks_for_again(
+    icd_provider: Callable[..., IcdProvider], domain: int, tmp_path: Path
+) -> None:
     """commands.GPSFix.destination waited until --step-time after the provider answered the next GPSFix command,
     though the command tests look again at their end (Consumer.settle), --step-time after that command's dispose: a
     run waited it out twice. A provider that answers the command is still caught (test_each_breach_fails_its_test)."""
     p = icd_provider()
-    run = check(tmp_path, "--domain", str(domain), "--provider", str(p.guid), "--commands", "--timeout", "2", "--step-time",
-                "2", "--window", "0.5", "--only", "commands.GPSFix")
+    run = check(
+        tmp_path,
+        "--domain",
+        str(domain),
+        "--provider",
+        str(p.guid),
+        "--commands",
+        "--timeout",
+        "2",
+        "--step-time",
+        "2",
+        "--window",
+        "0.5",
+        "--only",
+        "commands.GPSFix",
+    )
     assert run.code == 0, run.out + run.err
     seconds = {tc.get("name"): float(tc.get("time", "")) for tc in ET.parse(run.report).getroot().iter("testcase")}
     assert seconds["GPSFix.destination"] < 0.5, seconds  # not until --step-time after the complete test's ISSUED
@@ -1067,8 +1392,19 @@ def test_the_end_of_the_command_tests_waits_for_no_provider_that_left(domain: in
     bus = Bus(domain)
     try:
         consumer = commands.Consumer(Observer(bus), uuid.uuid4(), commands.CommandLimits(1.0, 5.0, 1.0), io.StringIO())
-        consumer.sent.append(commands.Sent(Service.GPS_FIX, uuid.uuid4(), None, time.time(), uuid.uuid4(), icd.V3_0_1,
-                                           "GPSFixCommand", Case("commands.GPSFix.complete"), disposed_at=time.time()))
+        consumer.sent.append(
+            commands.Sent(
+                Service.GPS_FIX,
+                uuid.uuid4(),
+                None,
+                time.time(),
+                uuid.uuid4(),
+                icd.V3_0_1,
+                "GPSFixCommand",
+                Case("commands.GPSFix.complete"),
+                disposed_at=time.time(),
+            )
+        )
         start = time.monotonic()
         consumer.settle()
         assert time.monotonic() - start < 2.0
@@ -1086,7 +1422,8 @@ def test_the_plan_has_no_empty_line(domain: int) -> None:
         assert commands.plan(consumer, offered, lambda n: n == "commands.InertialSensor.same") == []
         assert commands.plan(consumer, offered, lambda n: n.endswith((".same", ".destination"))) == [
             "GPSFixCommand: one addressed to another GUID, which the vehicle must not answer",
-            "InertialSensorCommand: one for ON addressed to another GUID, which the vehicle must not answer"]
+            "InertialSensorCommand: one for ON addressed to another GUID, which the vehicle must not answer",
+        ]
     finally:
         bus.close()
 
@@ -1095,33 +1432,53 @@ def test_the_plan_has_no_empty_line(domain: int) -> None:
 BREACHES = {
     # The provider ignores the consumer's dispose while executing, runs to COMPLETED and never disposes its status and
     # ack: the cancel test was skipped ("COMPLETED after the consumer's dispose, which ICD 4.1.4.4 allows").
-    "ignore-cancel": ("commands.GPSFix.cancel", "commands.GPSFix.cancel", (
-        "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s of COMPLETED, the "
-        "consumer having disposed the command at ")),
+    "ignore-cancel": (
+        "commands.GPSFix.cancel",
+        "commands.GPSFix.cancel",
+        (
+            "the provider did not dispose its GPSFixCommandStatus and GPSFixCommandAckReport within 1 s of COMPLETED, the "
+            "consumer having disposed the command at "
+        ),
+    ),
     # An InertialSensor command for the state the sensor is in went unanswered: no test sent one.
-    "silent-same-state": ("commands.InertialSensor.same", "commands.InertialSensor.same", (
-        "unanswered: no status within 2 s of sending the command (waited 2.")),
+    "silent-same-state": (
+        "commands.InertialSensor.same",
+        "commands.InertialSensor.same",
+        ("unanswered: no status within 2 s of sending the command (waited 2."),
+    ),
     # Commands addressed to another GUID were answered: no test sent one.
-    "answer-any-destination": ("commands.InertialSensor.destination", "commands.InertialSensor.destination",
-                               "the provider answered the InertialSensorCommand addressed to "),
+    "answer-any-destination": (
+        "commands.InertialSensor.destination",
+        "commands.InertialSensor.destination",
+        "the provider answered the InertialSensorCommand addressed to ",
+    ),
     # FAILED after COMPLETED, a moment after the cleanup: caught for GPSFix, missed for every InertialSensor command
     # (each cleaned up at once, and its statuses no longer read).
-    "fail-after-cleanup": ("commands.InertialSensor.OFF,commands.InertialSensor.ON,commands.InertialSensor.RESTARTING,"
-                           "commands.InertialSensor.cleanup", "commands.InertialSensor.cleanup",
-                           "Figure 4 breach: COMPLETED -> FAILED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: "),
+    "fail-after-cleanup": (
+        "commands.InertialSensor.OFF,commands.InertialSensor.ON,commands.InertialSensor.RESTARTING,"
+        "commands.InertialSensor.cleanup",
+        "commands.InertialSensor.cleanup",
+        "Figure 4 breach: COMPLETED -> FAILED is not a Figure 4 transition (ICD 4.1, Figure 4); statuses: ",
+    ),
 }
-REFS = {"ignore-cancel": "(ICD 4.1.4.4, Figure 14: CANCELED, or COMPLETED when it cannot be canceled, then the provider "
-                         "disposes the command's status and ack)",
-        "silent-same-state": "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)",
-        "answer-any-destination": "ICD 4.1: a command's destination directs it at one Service Provider, which responds "
-                                  "to the commands addressed to its ID)",
-        "fail-after-cleanup": ", FAILED/TIMEOUT +"}
+REFS = {
+    "ignore-cancel": "(ICD 4.1.4.4, Figure 14: CANCELED, or COMPLETED when it cannot be canceled, then the provider "
+    "disposes the command's status and ack)",
+    "silent-same-state": "ICD 4.1.4 step 3: the provider publishes ISSUED when it receives a command)",
+    "answer-any-destination": "ICD 4.1: a command's destination directs it at one Service Provider, which responds "
+    "to the commands addressed to its ID)",
+    "fail-after-cleanup": ", FAILED/TIMEOUT +",
+}
 
 
-@pytest.mark.parametrize(("breach", "execute"), [*((b, 0.4) for b in BREACHES), ("ignore-cancel", 0.0)],
-                         ids=[*BREACHES, "ignore-cancel-completing-first"])
-def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: Callable[..., IcdProvider], domain: int,
-                                    tmp_path: Path) -> None:
+@pytest.mark.parametrize(
+    ("breach", "execute"),
+    [*((b, 0.4) for b in BREACHES), ("ignore-cancel", 0.0)],
+    ids=[*BREACHES, "ignore-cancel-completing-first"],
+)
+def test_each_breach_fails_its_test(
+    breach: str, execute: float, icd_provider: Callable[..., IcdProvider], domain: int, tmp_path: Path
+) -> None:
     """Four ICD breaches an independent provider showed sem-check let pass; `ignore-cancel-completing-first`: a GPS
     fix that completes before the checker could dispose it (the cancel was skipped) is canceled on a second command."""
     only, test, reason = BREACHES[breach]
@@ -1138,8 +1495,14 @@ def test_each_breach_fails_its_test(breach: str, execute: float, icd_provider: C
 
 # ---- RTI Connext ---------------------------------------------------------------------------------
 
-RTI_SERVES = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
-              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK]
+RTI_SERVES = [
+    Sem.INS_REPORT,
+    Sem.GPS_FIX_STATUS_REPORT,
+    Sem.GPS_FIX_COMMAND_STATUS,
+    Sem.GPS_FIX_COMMAND_ACK,
+    Sem.INS_COMMAND_STATUS,
+    Sem.INS_COMMAND_ACK,
+]
 
 
 @pytest.mark.interop
@@ -1153,8 +1516,19 @@ def test_rti_provider_passes_the_tests_of_its_topics(domain: int, tmp_path: Path
     v = RtiVehicle(p)
     try:
         with v.reporting():
-            run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports",
-                        "--window", "1.5", "--max-gap", "1")
+            run = check(
+                tmp_path,
+                "--domain",
+                str(domain),
+                "--provider",
+                str(v.guid),
+                "--only",
+                "discovery,reports",
+                "--window",
+                "1.5",
+                "--max-gap",
+                "1",
+            )
     finally:
         p.close()
     served = [f"discovery.{s.spec.name.rsplit('::', 1)[-1]}" for s in RTI_SERVES + COMMAND_TOPICS]

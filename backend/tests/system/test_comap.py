@@ -30,16 +30,40 @@ FIN = frozenset(FINAL)
 
 def comap_pair(sim: Any, console: Any, *sim_args: str) -> tuple[Any, int, int]:
     c_port, s_port = free_udp_port(), free_udp_port()
-    sim("--imc-port", str(s_port), "--imc-host", "127.0.0.1", "--imc-id", "0x2001", "--imc-peers", f"127.0.0.1:{c_port}",
-        "--time-scale", "0.02", "--survey-spacing", "50", *sim_args)
-    c = console("--imc-port", str(c_port), "--imc-host", "127.0.0.1", "--imc-peers", f"127.0.0.1:{s_port}",
-                "--imc-id", "0x4001", "--imc-vehicles", f"{V1}=0x2001")
+    sim(
+        "--imc-port",
+        str(s_port),
+        "--imc-host",
+        "127.0.0.1",
+        "--imc-id",
+        "0x2001",
+        "--imc-peers",
+        f"127.0.0.1:{c_port}",
+        "--time-scale",
+        "0.02",
+        "--survey-spacing",
+        "50",
+        *sim_args,
+    )
+    c = console(
+        "--imc-port",
+        str(c_port),
+        "--imc-host",
+        "127.0.0.1",
+        "--imc-peers",
+        f"127.0.0.1:{s_port}",
+        "--imc-id",
+        "0x4001",
+        "--imc-vehicles",
+        f"{V1}=0x2001",
+    )
     return c, c_port, s_port
 
 
 def capabilities(base: str) -> list[dict[str, Any]]:
     def get() -> list[dict[str, Any]] | None:
         return httpx.get(f"{base}/api/providers/{V1}/capabilities").json()["capabilities"]  # type: ignore[no-any-return]
+
     try:
         return wait_until(get, 20, "capabilities")  # type: ignore[no-any-return]
     except AssertionError:
@@ -54,6 +78,7 @@ def last_position(base: str) -> tuple[float, float]:
             else []
         )
         return (pts[-1]["latitude"], pts[-1]["longitude"]) if pts else None
+
     return wait_until(get, 20, "a track point of vehicle 1")  # type: ignore[no-any-return]
 
 
@@ -66,8 +91,11 @@ def square(center: tuple[float, float], north_m: float, size_m: float) -> list[t
 
 def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[str, Any]:
     ring = [[lon, lat] for lat, lon in points]
-    return {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[*ring, ring[0]]]},
-            "properties": {"featureId": fid, "name": "box"}}
+    return {
+        "type": "Feature",
+        "geometry": {"type": "Polygon", "coordinates": [[*ring, ring[0]]]},
+        "properties": {"featureId": fid, "name": "box"},
+    }
 
 
 def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
@@ -85,14 +113,26 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     assert f["properties"]["featureId"] == 7 and f["properties"]["coverage"] is None and f["properties"]["name"] == "box"
     assert len(f["geometry"]["coordinates"][0]) == 5  # closed ring out, 4 vertices over IMC
 
-    r = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 7, "sensor": "SIDESCAN",
-                                               "resolution": 5.0, "deadline": "2099-01-01T00:00:00Z"})
+    r = httpx.post(
+        f"{c.url}/api/tasks",
+        json={
+            "kind": "survey",
+            "vehicle": V1,
+            "featureId": 7,
+            "sensor": "SIDESCAN",
+            "resolution": 5.0,
+            "deadline": "2099-01-01T00:00:00Z",
+        },
+    )
     assert r.status_code == 201, r.text
     task = r.json()
     assert task["state"] == "ASSIGNED" and task["kind"] == "survey" and task["deadline"] == 4070908800.0
     tid = task["taskId"]
-    done = wait_until(lambda: (lambda t: t if t["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
-                      60, "the survey to complete")
+    done = wait_until(
+        lambda: (lambda t: t if t["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+        60,
+        "the survey to complete",
+    )
     assert done["progress"] == 100 and done["quality"] == 100
     time.sleep(0.5)
     ws.close()
@@ -110,6 +150,7 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
         pts = httpx.get(f"{c.url}/api/providers/{V1}/track").json()
         hits = [p for p in pts if contains(box, p["latitude"], p["longitude"])]
         return hits if len(hits) >= 3 else None
+
     wait_until(inside, 5, "track points inside the polygon")
 
 
@@ -127,8 +168,11 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     capabilities(c.url)
 
     def state(tid: int, want: str) -> dict[str, Any]:
-        return wait_until(lambda: (lambda t: t if t["state"] == want else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
-                          20, f"task {tid} {want}")
+        return wait_until(
+            lambda: (lambda t: t if t["state"] == want else None)(httpx.get(f"{c.url}/api/tasks/{tid}").json()),
+            20,
+            f"task {tid} {want}",
+        )
 
     # a sensor it lacks: REJECT
     r = httpx.post(f"{c.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": fid, "sensor": "CAMERA"}).json()
@@ -151,8 +195,11 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
 
     dest = Local(*here).latlon(-60.0, -40.0)
     m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
-    wait_until(lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
-               40, "the move task to complete")
+    wait_until(
+        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+        40,
+        "the move task to complete",
+    )
     wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
 
 
@@ -265,6 +312,7 @@ def test_fuzzed_imc_datagrams_are_counted_and_dropped(console) -> None:
     def packet(mgid: int, payload: bytes) -> bytes:
         body = struct.pack("<HHHdHBHB", 0xFE55, mgid, len(payload), 0.0, 5, 0, 0xFFFF, 0xFF) + payload
         return body + struct.pack("<H", crc16(body))
+
     datagrams = [bytes(rng.randbytes(rng.randint(0, 300))) for _ in range(300)]
     datagrams += [good[:-1] + bytes([good[-1] ^ 0xFF])] * 20  # bad CRC
     datagrams += [packet(3001, b"\xff\xff")] * 20  # a list of 65535 features in no bytes
@@ -302,8 +350,11 @@ def test_a_world_model_that_cannot_be_used_is_counted_not_taken_for_accepted(con
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
         s.sendto(encode_packet(world_model_message([Feature(4, [])]), src=5), ("127.0.0.1", port))
         s.sendto(encode_packet(world_model_message([Feature(5, [(95.0, 0.0)])]), src=5), ("127.0.0.1", port))
-    counters = wait_until(lambda: (lambda x: x if x.get("accepted") == 2 else None)(
-        httpx.get(f"{c.url}/api/comap").json()["counters"]), 10, "both datagrams")
+    counters = wait_until(
+        lambda: (lambda x: x if x.get("accepted") == 2 else None)(httpx.get(f"{c.url}/api/comap").json()["counters"]),
+        10,
+        "both datagrams",
+    )
     assert counters["refusedWorldModels"] == 2, counters
     assert httpx.get(f"{c.url}/api/worldmodel").json()["features"] == []  # no model taken from them
 
@@ -326,6 +377,7 @@ def test_a_peer_given_by_host_name_is_sent_to(console) -> None:
 def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
     import subprocess
     import sys
+
     cases = [
         (["-m", "sem_console.cli", "--imc-vehicles", "not-a-guid=5"], "is not a GUID"),
         (["-m", "sem_console.cli", "--imc-vehicles", f"{V1}=0x10000"], "not in 0..0xFFFE"),
@@ -333,8 +385,10 @@ def test_bad_imc_options_are_one_line_errors(tmp_path) -> None:
         (["-m", "sem_console.cli", "--imc-id", "x"], "is not an IMC system id"),
         (["-m", "sem_console.sim.sem_sim", "--imc-port", "1", "--imc-sensors", "SONAR"], "unknown sensor SONAR"),
         (["-m", "sem_console.sim.sem_sim", "--imc-peers", "h:99999"], "is not host:port"),
-        (["-m", "sem_console.cli", "--imc-port", "6002", "--imc-peers", "no-such-host.invalid:6002"],
-         "is not an IPv4 address or a host name"),
+        (
+            ["-m", "sem_console.cli", "--imc-port", "6002", "--imc-peers", "no-such-host.invalid:6002"],
+            "is not an IPv4 address or a host name",
+        ),
     ]
     for args, text in cases:
         p = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=60, cwd=tmp_path)
@@ -396,8 +450,19 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
     try:
         db.claim("watch", hold=False)
         vehicle = uuid.uuid4()
-        at_a = Task(1, "move", vehicle, 0x2001, None, point={"lat": 36.8, "lon": -75.7}, state="IN_PROGRESS",
-                    created_at=100.0, updated_at=101.0, station="watch", state_at=101.0)
+        at_a = Task(
+            1,
+            "move",
+            vehicle,
+            0x2001,
+            None,
+            point={"lat": 36.8, "lon": -75.7},
+            state="IN_PROGRESS",
+            created_at=100.0,
+            updated_at=101.0,
+            station="watch",
+            state_at=101.0,
+        )
         db.set_comap_task(asdict(at_a), FIN)
         at_b = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "updated_at": 102.0, "state_at": 102.0})
         db.set_comap_task(asdict(at_b), FIN)  # B's HOLD
@@ -405,7 +470,12 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
         db.set_comap_task(asdict(progressed), FIN)
         (row,) = db.comap_tasks(1)
         assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
-            "HELD", "HOLD", 40, 103.0, 102.0)
+            "HELD",
+            "HOLD",
+            40,
+            103.0,
+            102.0,
+        )
 
         shown: list[dict[str, object]] = []
         a = C2({vehicle: 0x2001}, lambda m, dst: None, shown.append, station="watch")
@@ -433,17 +503,24 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
         # a HOLD held through an outage (B's database connection lost at 104) is stored when B's write comes at last,
         # though A stored newer progress meanwhile (110); that progress stays. One stamp for both (updated_at) lost it
         db.set_comap_task(asdict(Task(**{**asdict(at_a), "progress": 80, "updated_at": 110.0})), FIN)
-        held = Task(**{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "progress": 60, "updated_at": 104.0,
-                       "state_at": 104.0})
+        held = Task(
+            **{**asdict(at_a), "state": "HELD", "last_synch": "HOLD", "progress": 60, "updated_at": 104.0, "state_at": 104.0}
+        )
         db.set_comap_task(asdict(held), FIN)
         (row,) = db.comap_tasks(1)
         assert (row["state"], row["last_synch"], row["progress"], row["updated_at"], row["state_at"]) == (
-            "HELD", "HOLD", 80, 110.0, 104.0)
+            "HELD",
+            "HOLD",
+            80,
+            110.0,
+            104.0,
+        )
         db.set_comap_task(asdict(Task(**{**asdict(at_a), "state": "COMPLETED", "updated_at": 111.0, "state_at": 111.0})), FIN)
         assert db.comap_tasks(1)[0]["state"] == "COMPLETED"  # a change of state is stored as before
         # never over another task of that id (a stale station's write of the finished task the id had before)
-        db.set_comap_task(asdict(Task(**{**asdict(at_a), "created_at": 50.0, "state": "ERROR", "updated_at": 200.0,
-                                         "state_at": 200.0})), FIN)
+        db.set_comap_task(
+            asdict(Task(**{**asdict(at_a), "created_at": 50.0, "state": "ERROR", "updated_at": 200.0, "state_at": 200.0})), FIN
+        )
         assert db.comap_tasks(1)[0]["state"] == "COMPLETED"
 
         # nor over a state A's vehicle reported after that row was stamped (its COMPLETED: C2._set stamps it)
@@ -452,8 +529,10 @@ def test_a_progress_report_keeps_another_stations_newer_state(database_url: str)
 
         c = C2({vehicle: 0x2001}, lambda m, dst: None, lambda ws: None, station="watch")
         c.tasks[1] = Task(**asdict(progressed))
-        c.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
-                     msg("TaskStatus", task_id=1, status=TaskStatusEnum.COMPLETED.value, progress=100, quality=100))
+        c.on_message(
+            Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
+            msg("TaskStatus", task_id=1, status=TaskStatusEnum.COMPLETED.value, progress=100, quality=100),
+        )
         stale = {**row, "point": row["point"], "updated_at": c.tasks[1].updated_at - 0.001}  # read before it came
         c.load_task(stale)
         assert c.tasks[1].state == "COMPLETED"
@@ -479,7 +558,8 @@ def test_a_finished_task_stays_finished_whatever_a_stale_station_decides_after(d
 
         class Held:  # watch's writes during its outage, written when the database is back
             def world(self, world: dict[str, Any]) -> None: ...
-            def task(self, task: Task) -> None: held_writes.append(Task(**asdict(task)))
+            def task(self, task: Task) -> None:
+                held_writes.append(Task(**asdict(task)))
 
         def station(name: str, save: Any = None) -> C2:
             c = C2({vehicle: 0x2001}, lambda m, dst: None, lambda ws: None, save or SharedComap(db), station=name)
@@ -487,8 +567,10 @@ def test_a_finished_task_stays_finished_whatever_a_stale_station_decides_after(d
             return c
 
         def status(c: C2, tid: int, state: TaskStatusEnum, progress: int) -> None:
-            c.on_message(Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
-                         msg("TaskStatus", task_id=tid, status=state.value, progress=progress, quality=90))
+            c.on_message(
+                Header(mgid=0, size=0, timestamp=0.0, src=0x2001, src_ent=0, dst=0x4001, dst_ent=0),
+                msg("TaskStatus", task_id=tid, status=state.value, progress=progress, quality=90),
+            )
 
         def stored(tid: int) -> tuple[str, str | None, int]:
             (row,) = db.comap_tasks(tid)
@@ -535,22 +617,39 @@ def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(databas
     try:
         with engine.begin() as c:
             command.upgrade(alembic_config(c), "0005")
-            c.execute(text("INSERT INTO comap_tasks (task_id, kind, vehicle, imc_id, state, progress, created_at, "
-                           "updated_at, last_synch, station) VALUES (7, 'move', :v, 8193, 'HELD', 40, 100.0, 102.0, "
-                           "'HOLD', 'relief')"), {"v": V1})
+            c.execute(
+                text(
+                    "INSERT INTO comap_tasks (task_id, kind, vehicle, imc_id, state, progress, created_at, "
+                    "updated_at, last_synch, station) VALUES (7, 'move', :v, 8193, 'HELD', 40, 100.0, 102.0, "
+                    "'HOLD', 'relief')"
+                ),
+                {"v": V1},
+            )
     finally:
         engine.dispose()
     db = Database(url)
     try:
         (row,) = db.comap_tasks(7)
         assert (row["state"], row["state_at"], row["updated_at"]) == ("HELD", 102.0, 102.0)
-        watch = Task(7, "move", uuid.UUID(V1), 0x2001, None, state="IN_PROGRESS", progress=60, created_at=100.0,
-                     updated_at=103.0, state_at=101.0, station="watch")  # its copy from before the HOLD
+        watch = Task(
+            7,
+            "move",
+            uuid.UUID(V1),
+            0x2001,
+            None,
+            state="IN_PROGRESS",
+            progress=60,
+            created_at=100.0,
+            updated_at=103.0,
+            state_at=101.0,
+            station="watch",
+        )  # its copy from before the HOLD
         db.set_comap_task(asdict(watch), FIN)
         (row,) = db.comap_tasks(7)
         assert (row["state"], row["last_synch"], row["progress"]) == ("HELD", "HOLD", 60)
-        db.set_comap_task(asdict(Task(**{**asdict(watch), "state": "IN_PROGRESS", "last_synch": "RESUME",
-                                         "state_at": 104.0})), FIN)
+        db.set_comap_task(
+            asdict(Task(**{**asdict(watch), "state": "IN_PROGRESS", "last_synch": "RESUME", "state_at": 104.0})), FIN
+        )
         assert db.comap_tasks(7)[0]["state"] == "IN_PROGRESS"
     finally:
         db.close()
@@ -565,8 +664,11 @@ def test_a_6_0_vehicle_moves_for_comap_and_its_position_follows(sim, console) ->
     capabilities(c.url)
     dest = Local(*here).latlon(-60.0, -40.0)
     m = httpx.post(f"{c.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": dest[0], "lon": dest[1]}}).json()
-    wait_until(lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
-               40, "the move task to complete")
+    wait_until(
+        lambda: (lambda x: x if x["state"] == "COMPLETED" else None)(httpx.get(f"{c.url}/api/tasks/{m['taskId']}").json()),
+        40,
+        "the move task to complete",
+    )
     wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
     pose = httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixReport"]["report"]
     at = pose["position2DWithTime"]["geodeticPosition"]

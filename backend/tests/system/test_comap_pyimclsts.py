@@ -35,23 +35,47 @@ def peer(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 def run_peer(work: Path, packets: list[bytes]) -> dict[str, Any]:
-    out = subprocess.run([sys.executable, "peer.py"], cwd=work, input=json.dumps({"decode": [p.hex() for p in packets]}),
-                         capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        [sys.executable, "peer.py"],
+        cwd=work,
+        input=json.dumps({"decode": [p.hex() for p in packets]}),
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout)  # type: ignore[no-any-return]
 
 
 OURS = [
-    msg("WorldModel", geo_features=[msg("GeoFeature", feature_id=7, points=[
-        msg("MapPoint", lat=0.5, lon=-0.25, alt=1.5), msg("MapPoint", lat=0.5, lon=-0.125, alt=0.0),
-        msg("MapPoint", lat=0.375, lon=-0.25, alt=0.0)])], cov_states=[msg("CoverageState", feature_id=7, state=2)]),
+    msg(
+        "WorldModel",
+        geo_features=[
+            msg(
+                "GeoFeature",
+                feature_id=7,
+                points=[
+                    msg("MapPoint", lat=0.5, lon=-0.25, alt=1.5),
+                    msg("MapPoint", lat=0.5, lon=-0.125, alt=0.0),
+                    msg("MapPoint", lat=0.375, lon=-0.25, alt=0.0),
+                ],
+            )
+        ],
+        cov_states=[msg("CoverageState", feature_id=7, state=2)],
+    ),
     msg("TaskAdmin", tid=9, op=3, arg=msg("SurveyTask", task_id=9, feature_id=7, sensor=1, resolution=2.5, deadline=1.9e9)),
-    msg("TaskAdmin", tid=9, op=3, arg=msg("MoveTask", task_id=9, deadline=1.9e9,
-                                          destination=msg("MapPoint", lat=0.1, lon=0.2, alt=0.0))),
+    msg(
+        "TaskAdmin",
+        tid=9,
+        op=3,
+        arg=msg("MoveTask", task_id=9, deadline=1.9e9, destination=msg("MapPoint", lat=0.1, lon=0.2, alt=0.0)),
+    ),
     msg("TaskAdmin", tid=9, op=1, arg=None),
     msg("SynchAdmin", op=3),
-    msg("VehicleCapabilities", capabilities=[msg("CapabilityPointSurvey", sensor=2, resolution=4.0, duration=10.0),
-                                             msg("CapabilityMove", speed=1.5)]),
+    msg(
+        "VehicleCapabilities",
+        capabilities=[msg("CapabilityPointSurvey", sensor=2, resolution=4.0, duration=10.0), msg("CapabilityMove", speed=1.5)],
+    ),
     msg("SynchTask", task_id=1, feature_id=2, time_window=30, deadline=1.9e9),
 ]
 

@@ -29,18 +29,43 @@ def task(c: ConsoleProcess, tid: int) -> dict[str, Any]:
 
 
 def comap_args(c_port: int, s_port: int, imc_id: str) -> tuple[str, ...]:
-    return ("--imc-port", str(c_port), "--imc-host", "127.0.0.1", "--imc-peers", f"127.0.0.1:{s_port}",
-            "--imc-id", imc_id, "--imc-vehicles", f"{V1}=0x2001")
+    return (
+        "--imc-port",
+        str(c_port),
+        "--imc-host",
+        "127.0.0.1",
+        "--imc-peers",
+        f"127.0.0.1:{s_port}",
+        "--imc-id",
+        imc_id,
+        "--imc-vehicles",
+        f"{V1}=0x2001",
+    )
 
 
 def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restart_keeps_them(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     """A puts the world model and assigns a survey; B (CoMap on, its own IMC port) hears both on its WebSocket and
     answers GETs as A does; C (CoMap off) is refused a synch in one line naming A; B holds and interrupts the task
     itself (it has a CoMap link to the vehicle) and A sees it; A restarted still has the world model and the task."""
     a_port, b_port, s_port = free_udp_port(), free_udp_port(), free_udp_port()
-    sim("--imc-port", str(s_port), "--imc-host", "127.0.0.1", "--imc-id", "0x2001", "--imc-peers", f"127.0.0.1:{a_port}",
-        "--time-scale", "0.02", "--survey-spacing", "50", "--survey-speed", "1")
+    sim(
+        "--imc-port",
+        str(s_port),
+        "--imc-host",
+        "127.0.0.1",
+        "--imc-id",
+        "0x2001",
+        "--imc-peers",
+        f"127.0.0.1:{a_port}",
+        "--time-scale",
+        "0.02",
+        "--survey-spacing",
+        "50",
+        "--survey-speed",
+        "1",
+    )
     a_args = ("--database-url", pg_url, "--console-name", "watch", *comap_args(a_port, s_port, "0x4001"))
     a = console(*a_args)
     b = console("--database-url", pg_url, "--console-name", "relief", *comap_args(b_port, s_port, "0x4002"))
@@ -49,12 +74,17 @@ def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restar
     try:
         here = last_position(a.url)
         capabilities(a.url)
-        put = httpx.put(f"{a.url}/api/worldmodel",
-                        json={"type": "FeatureCollection", "features": [polygon_feature(square(here, 50, 400), 7)]})
+        put = httpx.put(
+            f"{a.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [polygon_feature(square(here, 50, 400), 7)]}
+        )
         assert put.status_code == 200, put.text
-        heard = wait_until(lambda: next((m["worldModel"] for m in ws_b.of("worldmodel")
-                                         if m["worldModel"]["updatedAt"] == put.json()["updatedAt"]), None),
-                           10, "A's world model on B's WebSocket")
+        heard = wait_until(
+            lambda: next(
+                (m["worldModel"] for m in ws_b.of("worldmodel") if m["worldModel"]["updatedAt"] == put.json()["updatedAt"]), None
+            ),
+            10,
+            "A's world model on B's WebSocket",
+        )
         assert heard == put.json() == httpx.get(f"{b.url}/api/worldmodel").json() and heard["source"] == "operator"
 
         r = httpx.post(f"{a.url}/api/tasks", json={"kind": "survey", "vehicle": V1, "featureId": 7})
@@ -97,8 +127,12 @@ def test_a_restart_keeps_the_world_model_and_tasks_on_sqlite(console: Callable[.
     assert httpx.get(f"{again.url}/api/worldmodel").json() == world
     assert httpx.get(f"{again.url}/api/tasks").json() == [first]
     # the ids go on (not from 1 again: the vehicle may still run task 1), and a new feature is numbered above 1
-    assert httpx.post(f"{again.url}/api/tasks", json={"kind": "move", "vehicle": V1,
-                                                       "point": {"lat": 41.2, "lon": -8.7}}).json()["taskId"] == 2
+    assert (
+        httpx.post(f"{again.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 41.2, "lon": -8.7}}).json()[
+            "taskId"
+        ]
+        == 2
+    )
     r = httpx.put(f"{again.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [point, point]})
     assert [f["properties"]["featureId"] for f in r.json()["features"]] == [2, 3], r.text
 
@@ -128,9 +162,25 @@ def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
     try:
         one.claim("watch", hold=False)
         two.claim("relief", hold=False)
-        row = {"task_id": 0, "kind": "move", "vehicle": V1, "imc_id": 0x2001, "operator": None, "feature_id": None,
-               "sensor": None, "resolution": None, "deadline": 1e10, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED",
-               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "state_at": 1.0, "last_synch": None}
+        row = {
+            "task_id": 0,
+            "kind": "move",
+            "vehicle": V1,
+            "imc_id": 0x2001,
+            "operator": None,
+            "feature_id": None,
+            "sensor": None,
+            "resolution": None,
+            "deadline": 1e10,
+            "point": {"lat": 1.0, "lon": 2.0},
+            "state": "ASSIGNED",
+            "progress": 0,
+            "quality": None,
+            "created_at": 1.0,
+            "updated_at": 1.0,
+            "state_at": 1.0,
+            "last_synch": None,
+        }
         final = frozenset(FINAL)
         assert one.new_comap_task({**row, "station": "watch"}, final) == 1
         assert two.new_comap_task({**row, "station": "relief"}, final) == 2
@@ -140,7 +190,8 @@ def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
             c.exec_driver_sql(
                 "WITH RECURSIVE n(i) AS (SELECT 3 UNION ALL SELECT i + 1 FROM n WHERE i < 65533) "
                 "INSERT INTO comap_tasks (task_id, kind, vehicle, imc_id, state, progress, created_at, updated_at, station) "
-                f"SELECT i, 'move', '{V1}', 8193, 'IN_PROGRESS', 0, 1.0, 1.0, 'relief' FROM n")
+                f"SELECT i, 'move', '{V1}', 8193, 'IN_PROGRESS', 0, 1.0, 1.0, 'relief' FROM n"
+            )
         assert one.new_comap_task({**row, "station": "watch"}, final) == 65534
         assert two.new_comap_task({**row, "station": "relief"}, final) == 1  # wrapped; the finished task 1 replaced
         assert [t["station"] for t in one.comap_tasks(1)] == ["relief"]
@@ -152,7 +203,8 @@ def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
 
 
 def test_a_database_outage_keeps_comap_working_and_writes_it_after(
-        console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str
+) -> None:
     """PostgreSQL stopped: A's world model and a synch of its task go on (held), a new task is refused in one line
     (its id is taken in the database); started again, B reads and hears what A changed."""
     a = console("--database-url", pg_url, "--console-name", "watch", *comap_args(free_udp_port(), free_udp_port(), "0x4001"))
@@ -184,17 +236,32 @@ def test_a_database_outage_keeps_comap_working_and_writes_it_after(
         assert db.execute("SELECT state, station FROM comap_tasks WHERE task_id = %s", (tid,)).fetchone() == ("HELD", "watch")
 
 
-
 def test_task_ids_taken_at_once_by_one_console_on_sqlite(tmp_path: Any) -> None:
     """Assigns of one console at once (each in its own worker thread): every id once, none refused. SQLite has no
     FOR UPDATE: two read-then-write transactions at once would deadlock ('database is locked')."""
     db = Database(parse_database_url(f"sqlite:///{tmp_path / 'c.db'}"))
     try:
         db.claim("watch", hold=False)
-        row = {"task_id": 0, "kind": "move", "vehicle": V1, "imc_id": 0x2001, "operator": None, "feature_id": None,
-               "sensor": None, "resolution": None, "deadline": 1e10, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED",
-               "progress": 0, "quality": None, "created_at": 1.0, "updated_at": 1.0, "state_at": 1.0, "last_synch": None,
-               "station": "watch"}
+        row = {
+            "task_id": 0,
+            "kind": "move",
+            "vehicle": V1,
+            "imc_id": 0x2001,
+            "operator": None,
+            "feature_id": None,
+            "sensor": None,
+            "resolution": None,
+            "deadline": 1e10,
+            "point": {"lat": 1.0, "lon": 2.0},
+            "state": "ASSIGNED",
+            "progress": 0,
+            "quality": None,
+            "created_at": 1.0,
+            "updated_at": 1.0,
+            "state_at": 1.0,
+            "last_synch": None,
+            "station": "watch",
+        }
         with concurrent.futures.ThreadPoolExecutor(8) as pool:
             ids = list(pool.map(lambda _i: db.new_comap_task(row, frozenset(FINAL)), range(40)))
         assert sorted(ids) == list(range(1, 41))  # type: ignore[type-var]

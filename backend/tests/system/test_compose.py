@@ -27,8 +27,7 @@ def run(env: dict[str, str], *options: str) -> subprocess.CompletedProcess[str]:
     if cmd is None:
         pytest.skip("no docker compose client on this machine")
     clean = {k: v for k, v in os.environ.items() if not k.startswith("SEM_")}
-    return subprocess.run([*cmd, *options, "config"], cwd=REPO, env={**clean, **env}, capture_output=True, text=True,
-                          timeout=60)
+    return subprocess.run([*cmd, *options, "config"], cwd=REPO, env={**clean, **env}, capture_output=True, text=True, timeout=60)
 
 
 def test_the_operations_centre_profile_has_postgres_and_two_stations() -> None:

@@ -109,6 +109,7 @@ def provider_ready(base: str, pid: str, topics: set[str] = REPORTS) -> dict[str,
             return None
         d = r.json()
         return d if all(d["reports"][t] for t in topics) else None
+
     return wait_until(ready, 20, f"provider {pid} with {topics}")
 
 
@@ -124,8 +125,18 @@ def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
     assert gps["source"] == V1 and gps["numberSatellitesInView"] == len(gps["satellites"]) >= 20
     sat = gps["satellites"][0]
     assert isinstance(sat["constellationType"], str) and uuid.UUID(sat["satelliteId"])
-    assert set(sat) == {"antennaCarrierNoiseDensity", "azimuth", "basebandCarrierNoiseDensity", "carrierFrequency",
-                        "constellationType", "containsAlmanacData", "elevation", "ephemerisData", "satelliteId", "usedInFix"}
+    assert set(sat) == {
+        "antennaCarrierNoiseDensity",
+        "azimuth",
+        "basebandCarrierNoiseDensity",
+        "carrierFrequency",
+        "constellationType",
+        "containsAlmanacData",
+        "elevation",
+        "ephemerisData",
+        "satelliteId",
+        "usedInFix",
+    }
     fix = detail["reports"]["GPSFixReport"]["report"]
     assert set(fix["position2DWithTime"]["geodeticPosition"]) == {"geodeticLatitude", "geodeticLongitude"}
     assert fix["GPSFixCommandStatus"] in ("INITIATING", "PERFORMING", "STABLE")
@@ -148,14 +159,19 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
     c = console()
     bus = Consumer(domain, name="be-provider").bus
     from cyclonedds.pub import DataWriter
-    writer = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=Qos(
-        Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.LatencyBudget(duration(milliseconds=10))))
+
+    writer = DataWriter(
+        bus.participant,
+        bus.topic(Sem.INS_REPORT),
+        qos=Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.LatencyBudget(duration(milliseconds=10))),
+    )
     source = uuid.uuid4()
     sample = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(source), timeStamp=now_datetime())
 
     def seen() -> bool:
         writer.write(sample)
         return httpx.get(f"{c.url}/api/providers/{source}").status_code == 200
+
     wait_until(seen, 10, "the best-effort provider")
 
 
@@ -174,15 +190,33 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
     statuses = DataWriter(bus.participant, bus.topic(Sem.GPS_FIX_COMMAND_STATUS), qos=qos)
     commands = bus.reader(Sem.GPS_FIX_COMMAND)
     me = uuid.uuid4()
-    wait_until(lambda: reports.write(InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(me),
-                                                              timeStamp=now_datetime()))
-               or httpx.get(f"{c.url}/api/providers/{me}").status_code == 200, 10, "the provider")
+    wait_until(
+        lambda: (
+            reports.write(
+                InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(me), timeStamp=now_datetime())
+            )
+            or httpx.get(f"{c.url}/api/providers/{me}").status_code == 200
+        ),
+        10,
+        "the provider",
+    )
     session = httpx.post(f"{c.url}/api/providers/{me}/gps-fix", json={}).json()["sessionId"]
-    cmd = wait_until(lambda: next((x for x in commands.take(N=10) if str(uuid.UUID(bytes=bytes(x.sessionID))) == session), None),
-                     10, "the command at the provider")
+    cmd = wait_until(
+        lambda: next((x for x in commands.take(N=10) if str(uuid.UUID(bytes=bytes(x.sessionID))) == session), None),
+        10,
+        "the command at the provider",
+    )
     for st in (St.ISSUED, St.COMMANDED):
-        statuses.write(GPSFixCommandStatusType(source=to_guid(me), commandStatus=st, commandStatusReason=Rs.SUCCEEDED,
-                                               logMessage="", sessionID=cmd.sessionID, timeStamp=now_datetime()))
+        statuses.write(
+            GPSFixCommandStatusType(
+                source=to_guid(me),
+                commandStatus=st,
+                commandStatusReason=Rs.SUCCEEDED,
+                logMessage="",
+                sessionID=cmd.sessionID,
+                timeStamp=now_datetime(),
+            )
+        )
         time.sleep(0.05)
     done = wait_command(c.url, session, done=lambda x: x["status"] == "COMMANDED")
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED"]
@@ -200,8 +234,14 @@ def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> Non
     # An unknown enum ordinal cannot be sent from Cyclone (its writer refuses it); see test_convert.py.
     ins = InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(source), timeStamp=now_datetime())
     sats = [make(GPSSatelliteType, azimuth=0.5) for _ in range(10_000)]
-    gps = make(GPSReportType, clock=make(GPSClockType),
-               numberSatellitesInView=10_000, satellites=sats, source=to_guid(source), timeStamp=now_datetime())
+    gps = make(
+        GPSReportType,
+        clock=make(GPSClockType),
+        numberSatellitesInView=10_000,
+        satellites=sats,
+        source=to_guid(source),
+        timeStamp=now_datetime(),
+    )
     writers = {sem: bus.writer(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.INS_REPORT, Sem.GPS_REPORT)}
     writers[Sem.GPS_FIX_REPORT].write(fix)
     writers[Sem.INS_REPORT].write(ins)
@@ -226,11 +266,19 @@ def _valid_fix() -> GPSFixReportType:
         Position2DTime,
         Velocity3D_PlatformNED,
     )
+
     return GPSFixReportType(
-        altitudeMSL=Altitude_MSL(0.0), GPSFixCommandStatus=GPSFixEnumType.STABLE, GPSLatLongValid=True, magneticVariation=0.1,
+        altitudeMSL=Altitude_MSL(0.0),
+        GPSFixCommandStatus=GPSFixEnumType.STABLE,
+        GPSLatLongValid=True,
+        magneticVariation=0.1,
         position2DWithTime=Position2DTime(Position2D(GeodeticLatitude(10.0), GeodeticLongitude(20.0)), 1.7e9),
-        SOG=1.0, trueCourse=1.0, velocity=Velocity3D_PlatformNED(0.0, 0.0, 1.0), source=to_guid(uuid.uuid4()),
-        timeStamp=now_datetime())
+        SOG=1.0,
+        trueCourse=1.0,
+        velocity=Velocity3D_PlatformNED(0.0, 0.0, 1.0),
+        source=to_guid(uuid.uuid4()),
+        timeStamp=now_datetime(),
+    )
 
 
 # ---- commands ----------------------------------------------------------------------------------
@@ -249,8 +297,11 @@ def test_gps_fix_completes_with_every_transition_in_history_and_websocket(sim, c
     assert all(t["reason"] == "SUCCEEDED" and t["providerTime"] and t["receivedAt"] for t in done["transitions"])
     wait_until(lambda: ws.transitions(session) == HAPPY, 5, "every transition on the WebSocket")
     assert any(m["command"]["sessionId"] == session for m in ws.of("command"))
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"],
-               5, "a valid fix")
+    wait_until(
+        lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"],
+        5,
+        "a valid fix",
+    )
     assert ws.errors == []
 
 
@@ -311,8 +362,11 @@ def test_a_command_canceled_unanswered_ends_once_the_vehicle_is_heard_again_with
         done = wait_command(c.url, session, done=lambda x: x["terminal"], timeout=20)
         assert (done["closedUnheard"], done["status"], done["transitions"], done["cleanedUp"]) == ("heard", None, [], True)
         assert done["closedAt"] >= done["canceledAt"]
-        wait_until(lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"]
-                               for m in ws.of("command")), 10, "the end on the WebSocket")
+        wait_until(
+            lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"] for m in ws.of("command")),
+            10,
+            "the end on the WebSocket",
+        )
         assert not ws.errors, ws.errors
     finally:
         ws.close()
@@ -335,12 +389,15 @@ def test_a_command_canceled_unanswered_ends_at_the_bound_if_the_vehicle_is_never
     assert 4 <= done["closedAt"] - done["canceledAt"] < 8, done
 
 
-@pytest.mark.parametrize("fault,expect", [
-    ("reject", ("FAILED", "RESOURCE_REJECTED")),
-    ("fail-midway", ("FAILED", "RESOURCE_FAILED")),
-    ("no-answer", "unanswered"),
-    ("skip-commanded", "violation"),
-])
+@pytest.mark.parametrize(
+    "fault,expect",
+    [
+        ("reject", ("FAILED", "RESOURCE_REJECTED")),
+        ("fail-midway", ("FAILED", "RESOURCE_FAILED")),
+        ("no-answer", "unanswered"),
+        ("skip-commanded", "violation"),
+    ],
+)
 def test_injected_faults_show(sim, console, fault: str, expect: Any) -> None:
     sim("--vehicles", "2", "--fault", f"{fault}:2")
     c = console()
@@ -396,8 +453,14 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
     first.kill()
     wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] == "lost", 10, "lost")
     sim()
-    wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] in ("regained", "live")
-               and any(m["event"] == "regained" for m in ws.of("provider")), 15, "regained")
+    wait_until(
+        lambda: (
+            httpx.get(f"{c.url}/api/providers/{V1}").json()["link"] in ("regained", "live")
+            and any(m["event"] == "regained" for m in ws.of("provider"))
+        ),
+        15,
+        "regained",
+    )
     events = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == V1]
     assert events.index("lost") < events.index("regained")
 
@@ -414,8 +477,10 @@ def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp
     wait_command(first.url, session, done=lambda x: x["status"] == "EXECUTING")  # 5 s to surface: the running one's
     assert [p["id"] for p in httpx.get(f"{first.url}/api/providers").json()] == [V1]
     out = first.stop()
-    assert (f"the embedded simulator did not start: vehicle 1 already runs on domain {first.domain} in another process; "
-            "start the console with --sim-first-vehicle 2 to run both") in out
+    assert (
+        f"the embedded simulator did not start: vehicle 1 already runs on domain {first.domain} in another process; "
+        "start the console with --sim-first-vehicle 2 to run both"
+    ) in out
     second = console("--sim", "1", "--sim-first-vehicle", "2", "--sim-time-scale", "0.05", env=state)
     provider_ready(second.url, V2, {"InertialSensorReport"})
     assert running.proc is not None and running.proc.poll() is None
@@ -439,12 +504,15 @@ def test_stalled_websocket_client_does_not_stop_another(sim, console) -> None:
     provider_ready(c.url, V1, {"GPSFixReport"})
     stalled = socket.create_connection(("127.0.0.1", c.port))
     stalled.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
-    stalled.sendall(b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
-                    b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n")
+    stalled.sendall(
+        b"GET /ws HTTP/1.1\r\nHost: x\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+        b"Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+    )
     time.sleep(1.0)  # it is connected and reads nothing from here on
     ws = WsClient(c.ws_url)
-    sessions = [httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": s}).json()["sessionId"]
-                for s in ("OFF", "ON")]
+    sessions = [
+        httpx.post(f"{c.url}/api/providers/{V1}/inertial-sensor", json={"state": s}).json()["sessionId"] for s in ("OFF", "ON")
+    ]
     for s in sessions:
         wait_until(lambda s=s: ws.transitions(s) and ws.transitions(s)[-1] in ("COMPLETED", "FAILED"), 15, "transitions")
     assert ws.transitions(sessions[0])[0] == "ISSUED" and ws.errors == []
@@ -556,8 +624,14 @@ def test_a_client_that_names_its_vehicle_gets_the_others_satellites_only_now_and
 
 def test_openapi_and_ws_schema_are_published(live) -> None:
     spec = httpx.get(f"{live.url}/openapi.json").json()
-    assert {"/api/providers", "/api/providers/{provider_id}", "/api/providers/{provider_id}/gps-fix",
-            "/api/providers/{provider_id}/inertial-sensor", "/api/commands", "/api/commands/{session_id}"} <= set(spec["paths"])
+    assert {
+        "/api/providers",
+        "/api/providers/{provider_id}",
+        "/api/providers/{provider_id}/gps-fix",
+        "/api/providers/{provider_id}/inertial-sensor",
+        "/api/commands",
+        "/api/commands/{session_id}",
+    } <= set(spec["paths"])
     schema = httpx.get(f"{live.url}/api/ws-schema").json()
     kinds = {
         m["properties"]["type"]["const"] for m in schema["$defs"].values() if "const" in m.get("properties", {}).get("type", {})
@@ -572,8 +646,11 @@ def test_metrics_count_what_the_console_takes_and_sends(live) -> None:
     ws = WsClient(live.ws_url)
     wait_until(lambda: len(ws.of("report")) > 5, 10, "reports on the WebSocket")
     # past the start, where history reaches the transient-local reader only (taken and decoded once)
-    m = wait_until(lambda: (lambda m: m if m["samplesTaken"] >= 200 else None)(httpx.get(f"{live.url}/api/metrics").json()),
-                   15, "200 samples taken")
+    m = wait_until(
+        lambda: (lambda m: m if m["samplesTaken"] >= 200 else None)(httpx.get(f"{live.url}/api/metrics").json()),
+        15,
+        "200 samples taken",
+    )
     assert m["samplesTaken"] >= m["reportsApplied"] > 0 and m["wsClients"] == 1
     # the simulator's writers reach both readers of each topic; each sample is decoded once
     assert m["samplesDecoded"] <= 0.6 * m["samplesTaken"]

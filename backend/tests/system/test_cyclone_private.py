@@ -45,10 +45,14 @@ def test_the_pinned_version_is_installed() -> None:
 
 def test_only_cyclone_private_imports_the_private_modules() -> None:
     package = Path(cyclone_private.__file__).parents[1]
-    users = sorted(str(p.relative_to(package)) for p in package.rglob("*.py")
-                   if p.name != "cyclone_private.py"
-                   and any(s in p.read_text() for s in ("cyclonedds._clayer", "cyclonedds.idl._machinery", "_machinery",
-                                                        "cyclonedds.internal")))
+    users = sorted(
+        str(p.relative_to(package))
+        for p in package.rglob("*.py")
+        if p.name != "cyclone_private.py"
+        and any(
+            s in p.read_text() for s in ("cyclonedds._clayer", "cyclonedds.idl._machinery", "_machinery", "cyclonedds.internal")
+        )
+    )
     assert users == []
 
 
@@ -79,8 +83,14 @@ def test_machine_trees_have_what_fastcdr_reads() -> None:
                 seen.add(type(m))
                 todo.extend(_children(m))
     # the trees use most of the classes: the table is not a list of names nobody meets
-    assert {machinery.StructMachine, machinery.PrimitiveMachine, machinery.OptionalMachine, machinery.EnumMachine,
-            machinery.ByteArrayMachine, machinery.StringMachine} <= seen
+    assert {
+        machinery.StructMachine,
+        machinery.PrimitiveMachine,
+        machinery.OptionalMachine,
+        machinery.EnumMachine,
+        machinery.ByteArrayMachine,
+        machinery.StringMachine,
+    } <= seen
 
 
 def test_invalid_sample_carries_a_key_and_its_info() -> None:
@@ -115,11 +125,11 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
     stamp = 1_700_000_000_123_456_789
     assert write_cdr(writer, data, stamp) >= 0
     assert wait_for_acks([writer], 5.0)
-    (cdr, info), = _take_all(reader)
+    ((cdr, info),) = _take_all(reader)
     assert info.valid_data and info.source_timestamp == stamp and info.instance_state == InstanceState.Alive
     assert sem.spec.type.deserialize(cdr) == sample
     writer.dispose(sample)
-    (key, info), = _take_all(reader)
+    ((key, info),) = _take_all(reader)
     assert not info.valid_data and info.instance_state == InstanceState.NotAliveDisposed
     assert isinstance(sem.spec.type.deserialize_key(key), IdlStruct)
     # take_each (bus.py) builds InvalidSample from a key's CDR, as a plain take would
@@ -166,7 +176,7 @@ def test_triggered_names_the_conditions_with_samples(domain: int) -> None:
         assert len(_take_all(readers[1])) == 1
         change(ins)
         assert triggered.wait(duration(seconds=5)) == [1]
-        (_key, info), = _take_all(readers[1])
+        ((_key, info),) = _take_all(readers[1])
         assert not info.valid_data and info.instance_state != InstanceState.Alive
     # two conditions at once: both, in attach order
     others = [bus.writer(sem) for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT)]

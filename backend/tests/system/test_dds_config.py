@@ -46,9 +46,22 @@ def uri_forms(tmp_path: Path, name: str) -> dict[str, tuple[str, Path]]:
 @pytest.mark.parametrize("form", ["inline", "path", "file-uri"])
 def test_sim_reads_cyclonedds_uri(form: str, domain: int, tmp_path: Path) -> None:
     uri, trace = uri_forms(tmp_path, "sim")[form]
-    proc = subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
-                             str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": uri},
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(domain),
+            "--state-file",
+            str(tmp_path / "state.json"),
+            *FAST,
+        ],
+        env={**os.environ, "CYCLONEDDS_URI": uri},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     try:
         # Cyclone traces the configuration it read, the name of this very trace file among it.
         wait_until(lambda: trace.exists() and str(trace) in trace.read_text(errors="replace"), what="the sim's trace file")
@@ -60,9 +73,22 @@ def test_sim_reads_cyclonedds_uri(form: str, domain: int, tmp_path: Path) -> Non
 def test_console_and_sim_configured_by_uri_find_each_other(console, domain: int, tmp_path: Path) -> None:
     sim_uri, sim_trace = uri_forms(tmp_path, "sim")["file-uri"]
     console_uri, console_trace = uri_forms(tmp_path, "console")["inline"]
-    sim = subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
-                            str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": sim_uri},
-                           stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    sim = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(domain),
+            "--state-file",
+            str(tmp_path / "state.json"),
+            *FAST,
+        ],
+        env={**os.environ, "CYCLONEDDS_URI": sim_uri},
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     try:
         c = console(env={"CYCLONEDDS_URI": console_uri})
         providers = wait_until(lambda: httpx.get(c.url + "/api/providers").json() or None, what="the simulated vehicle")
@@ -77,22 +103,54 @@ def test_uri_pointing_elsewhere_is_not_replaced_by_loopback(domain: int, tmp_pat
     """A URI that names another interface is used as given, not Cyclone's defaults."""
     trace = tmp_path / "other.log"
     xml = traced(trace).replace('name="lo"', 'name="sem-no-such-interface"')
-    proc = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
-                           str(tmp_path / "state.json"), *FAST], env={**os.environ, "CYCLONEDDS_URI": xml},
-                          capture_output=True, text=True, timeout=30)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(domain),
+            "--state-file",
+            str(tmp_path / "state.json"),
+            *FAST,
+        ],
+        env={**os.environ, "CYCLONEDDS_URI": xml},
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     assert proc.returncode == 2
     assert "sem-no-such-interface" in trace.read_text(errors="replace")
     assert "CYCLONEDDS_URI" in proc.stderr and "Traceback" not in proc.stderr + proc.stdout
 
 
-@pytest.mark.parametrize("peers, says", [("192.0.2.300", "'192.0.2.300' is not an IPv4 address"),
-                                         ("127.0.0.1,0.0.0.0", "'0.0.0.0' is the unspecified address"),
-                                         ("127.0.0.1:0", "the port must be 1..65535"), ("::1", "'::1' is not an IPv4")])
+@pytest.mark.parametrize(
+    "peers, says",
+    [
+        ("192.0.2.300", "'192.0.2.300' is not an IPv4 address"),
+        ("127.0.0.1,0.0.0.0", "'0.0.0.0' is the unspecified address"),
+        ("127.0.0.1:0", "the port must be 1..65535"),
+        ("::1", "'::1' is not an IPv4"),
+    ],
+)
 def test_a_peer_cyclone_cannot_use_is_one_line(peers: str, says: str, domain: int, tmp_path: Path) -> None:
     """Cyclone aborted the process on such a peer (SIGABRT, a segfault on 0.0.0.0), with no line naming the setting."""
-    proc = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
-                           str(tmp_path / "state.json"), *FAST], env={**os.environ, "SEM_DDS_PEERS": peers},
-                          capture_output=True, text=True, timeout=30)
+    proc = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(domain),
+            "--state-file",
+            str(tmp_path / "state.json"),
+            *FAST,
+        ],
+        env={**os.environ, "SEM_DDS_PEERS": peers},
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     assert proc.returncode == 2, proc.stderr
     assert proc.stderr.splitlines() == [proc.stderr.strip()] and proc.stderr.startswith("sem-sim: SEM_DDS_PEERS: ")
     assert says in proc.stderr

@@ -21,17 +21,19 @@ README_MAX_BYTES = 15 * 1024
 
 def test_configuration_page_is_what_the_generator_writes_now() -> None:
     assert docs_gen.PAGE.read_text(encoding="utf-8") == docs_gen.render(), (
-        "docs/configuration.md is stale: run .venv/bin/python -m sem_console.docs_gen")
+        "docs/configuration.md is stale: run .venv/bin/python -m sem_console.docs_gen"
+    )
 
 
 def test_rest_reference_is_what_the_generator_writes_now() -> None:
     assert docs_gen.REST_PAGE.read_text(encoding="utf-8") == docs_gen.render_rest(), (
-        "docs/rest.md is stale: run .venv/bin/python -m sem_console.docs_gen")
+        "docs/rest.md is stale: run .venv/bin/python -m sem_console.docs_gen"
+    )
 
 
 def _route_section(page: str, method: str, path: str) -> str:
     start = page.index(f"### `{method} {path}`")
-    return page[start:page.index("\n### ", start + 1)]
+    return page[start : page.index("\n### ", start + 1)]
 
 
 def test_rest_reference_has_every_route_with_what_only_some_consoles_answer() -> None:
@@ -53,9 +55,12 @@ def test_rest_reference_has_every_route_with_what_only_some_consoles_answer() ->
     assert "| 401 |" not in _route_section(page, "GET", "/api/health")
     # the request body's model is linked and has its fields
     assert "Request body: [`InertialSensorRequest`](#inertialsensorrequest)." in _route_section(
-        page, "POST", "/api/providers/{provider_id}/inertial-sensor")
-    assert "| `state` | `\"OFF\"` or `\"ON\"` or `\"RESTARTING\"` or `\"BEST_ALIGN\"` or `\"GPS_ALIGN\"` or `\"INIT\"` or " \
-           "`\"SNAP_ALIGN\"` or `\"STATIONARY_ALIGN\"` or `\"TRANSFER_ALIGN\"` | required | a state of the vehicle's UMAA" in page
+        page, "POST", "/api/providers/{provider_id}/inertial-sensor"
+    )
+    assert (
+        "| `state` | `\"OFF\"` or `\"ON\"` or `\"RESTARTING\"` or `\"BEST_ALIGN\"` or `\"GPS_ALIGN\"` or `\"INIT\"` or "
+        "`\"SNAP_ALIGN\"` or `\"STATIONARY_ALIGN\"` or `\"TRANSFER_ALIGN\"` | required | a state of the vehicle's UMAA" in page
+    )
 
 
 def help_options(text: str) -> list[str]:
@@ -73,7 +78,7 @@ def documented_options(page: str, command: str) -> set[str]:
     """The options in the first column of the command's table on the configuration page."""
     start = page.index(f"## `{command}`")
     end = page.find("\n## ", start + 1)
-    rows = [line for line in page[start:end if end >= 0 else None].splitlines() if line.startswith("| `")]
+    rows = [line for line in page[start : end if end >= 0 else None].splitlines() if line.startswith("| `")]
     return {option for row in rows for option in row.split("`")[1].split(", ")}
 
 
@@ -81,8 +86,13 @@ def documented_options(page: str, command: str) -> set[str]:
 def test_every_option_of_help_is_on_the_configuration_page(command: str, target: str) -> None:
     module, _, function = target.partition(":")
     # the entry point pyproject.toml installs as the console script, run as that script does
-    run = subprocess.run([sys.executable, "-c", f"import sys; from {module} import {function} as main; sys.exit(main())",
-                          "--help"], capture_output=True, text=True, timeout=60, check=True)
+    run = subprocess.run(
+        [sys.executable, "-c", f"import sys; from {module} import {function} as main; sys.exit(main())", "--help"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=True,
+    )
     options = help_options(run.stdout)
     assert "--help" in options and len(options) > 2, run.stdout
     missing = set(options) - documented_options(docs_gen.PAGE.read_text(encoding="utf-8"), command)
@@ -95,8 +105,7 @@ def test_readme_is_short_and_its_links_resolve() -> None:
     text = readme.read_text(encoding="utf-8")
     links = re.findall(r"\]\(([^)\s]+)\)", text)
     assert any(link.startswith("docs/") for link in links)
-    broken = [link for link in links if not re.match(r"[a-z]+:", link)
-              and not (ROOT / link.partition("#")[0]).exists()]
+    broken = [link for link in links if not re.match(r"[a-z]+:", link) and not (ROOT / link.partition("#")[0]).exists()]
     assert not broken, f"README.md links to missing files: {broken}"
 
 
@@ -112,13 +121,29 @@ def _figures() -> object:
 
 def test_benchmark_page_shows_each_figure_of_the_json_beside_its_target(tmp_path: Path) -> None:
     figures: Any = _figures()
-    (tmp_path / "latency.json").write_text(json.dumps({
-        "bench": "latency", "cores": 2, "date": "2026-11-25T18:00:00Z",
-        "machine": {"cores": 2, "cpu": "Xeon", "memoryGiB": 23.5, "os": "Linux", "python": "3.11.7", "cyclonedds": "11.0.1",
-                    "loadAverage1m": 1.5},
-        "targets": [{"name": "overhead p50", "value": 0.8, "unit": "ms", "target": "< 1", "holds": True},
-                    {"name": "overhead p99", "value": 7.5, "unit": "ms", "target": "< 5", "holds": False}],
-        "runs": [{"window_ms": 5, "p50_ms": 1.9}]}))
+    (tmp_path / "latency.json").write_text(
+        json.dumps(
+            {
+                "bench": "latency",
+                "cores": 2,
+                "date": "2026-11-25T18:00:00Z",
+                "machine": {
+                    "cores": 2,
+                    "cpu": "Xeon",
+                    "memoryGiB": 23.5,
+                    "os": "Linux",
+                    "python": "3.11.7",
+                    "cyclonedds": "11.0.1",
+                    "loadAverage1m": 1.5,
+                },
+                "targets": [
+                    {"name": "overhead p50", "value": 0.8, "unit": "ms", "target": "< 1", "holds": True},
+                    {"name": "overhead p99", "value": 7.5, "unit": "ms", "target": "< 5", "holds": False},
+                ],
+                "runs": [{"window_ms": 5, "p50_ms": 1.9}],
+            }
+        )
+    )
     page = figures.render(tmp_path)
     assert "measured 2026-11-25T18:00:00Z on Xeon, 2 cores" in page and "load average 1.5" in page
     assert "| overhead p50 | 0.8 ms | < 1 ms | holds |" in page

@@ -30,8 +30,13 @@ from sem_console.umaa.samples import make, now_datetime
 from support.consumer import Consumer
 from test_console import V1, WsClient, _valid_fix, provider_ready, wait_command, wait_until
 
-FIX_MEASUREMENTS = {"measurement_position", "measurement_altitude", "measurement_velocity", "measurement_speed",
-                    "measurement_direction_of_motion_2d"}
+FIX_MEASUREMENTS = {
+    "measurement_position",
+    "measurement_altitude",
+    "measurement_velocity",
+    "measurement_speed",
+    "measurement_direction_of_motion_2d",
+}
 
 
 def nsec(report: Any) -> int:
@@ -205,7 +210,6 @@ def test_aspn_over_udp_multicast_sends_every_measurement(sim, console, tmp_path:
     assert state["aspn"]["lastError"] is None, state["aspn"]
 
 
-
 def test_every_aspn_channel_fits_lcm_over_udp() -> None:
     """Whatever the vehicle and measurement, a channel stays within LCM's 63 characters with the longest prefix the
     settings take (core/config.py: 11)."""
@@ -224,11 +228,21 @@ def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) ->
     fix.SOG = math.nan
     fix.position2DWithTime.geodeticPosition.geodeticLatitude.latitude = 200.0
     fix.velocity.downSpeed = math.nan
-    good = make(GPSSatelliteType, constellationType=Constellation.GPS, satelliteId=satellite_guid(Constellation.GPS, 7),
-                carrierFrequency=1575.42e6)
+    good = make(
+        GPSSatelliteType,
+        constellationType=Constellation.GPS,
+        satelliteId=satellite_guid(Constellation.GPS, 7),
+        carrierFrequency=1575.42e6,
+    )
     no_frequency = make(GPSSatelliteType, constellationType=Constellation.GPS, satelliteId=satellite_guid(Constellation.GPS, 8))
-    gps = make(GPSReportType, clock=make(GPSClockType), numberSatellitesInView=2, satellites=[good, no_frequency],
-               source=to_guid(source), timeStamp=now_datetime())
+    gps = make(
+        GPSReportType,
+        clock=make(GPSClockType),
+        numberSatellitesInView=2,
+        satellites=[good, no_frequency],
+        source=to_guid(source),
+        timeStamp=now_datetime(),
+    )
     writers = {sem: bus.writer(sem) for sem in (Sem.GPS_FIX_REPORT, Sem.GPS_REPORT)}  # alive until the test ends
     writers[Sem.GPS_FIX_REPORT].write(fix)
     writers[Sem.GPS_REPORT].write(gps)
@@ -241,6 +255,7 @@ def test_aspn_leaves_out_invalid_values(console, domain: int, tmp_path: Path) ->
         (tmp_path / "got.lcm").write_bytes(r.content)
         got = {ch.rsplit("/", 1)[1]: m for ch, m in read_log(tmp_path / "got.lcm")}
         return got if {"measurement_velocity", "measurement_satnav"} <= set(got) else None
+
     got = wait_until(log, 10, "the ASPN messages of the bad reports")
     assert "measurement_position" not in got and "measurement_speed" not in got  # latitude 200, SOG NaN: left out
     v = got["measurement_velocity"]
@@ -266,24 +281,47 @@ def test_aspn_log_route_needs_the_gateway(sim, console) -> None:
 def test_bad_aspn_url_is_a_one_line_error(tmp_path: Path) -> None:
     import subprocess
     import sys
-    r = subprocess.run([sys.executable, "-m", "sem_console.cli", "--aspn-lcm", f"file://{tmp_path}/no/such/dir/x.lcm"],
-                       capture_output=True, text=True, timeout=30)
+
+    r = subprocess.run(
+        [sys.executable, "-m", "sem_console.cli", "--aspn-lcm", f"file://{tmp_path}/no/such/dir/x.lcm"],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     assert r.returncode == 2 and "--aspn-lcm" in r.stderr and "Traceback" not in r.stderr
 
 
 # ---- JAUS over JUDP, decoded from the table ------------------------------------------------------
 # (bits, lo, hi): value = raw * (hi - lo) / (2**bits - 1) + lo; lo None: a plain unsigned integer
 TABLE: dict[str, tuple[int, float | None, float | None]] = {
-    "TimeSeconds": (32, None, None), "TimeNanoSeconds": (32, None, None),
-    "Latitude": (32, -90, 90), "Longitude": (32, -180, 180),
+    "TimeSeconds": (32, None, None),
+    "TimeNanoSeconds": (32, None, None),
+    "Latitude": (32, -90, 90),
+    "Longitude": (32, -180, 180),
     **{k: (32, -10000, 35000) for k in ("AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth")},
-    "XYPositionRMS": (32, 0, 100), "ZPositionRMS": (32, 0, 100),
+    "XYPositionRMS": (32, 0, 100),
+    "ZPositionRMS": (32, 0, 100),
     **{k: (16, -math.pi, math.pi) for k in ("Roll", "Pitch", "Heading", "Course")},
     **{k: (32, -327.68, 327.68) for k in ("Velocity_N", "Velocity_E", "Velocity_D")},
     "SpeedOverGround": (16, 0, 327.67),
 }
-GLOBAL = ["Latitude", "Longitude", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth", "XYPositionRMS", "ZPositionRMS", "Roll",
-          "Pitch", "Heading", "Attitude_RMS", "Course", "TimeSeconds", "TimeNanoSeconds"]
+GLOBAL = [
+    "Latitude",
+    "Longitude",
+    "AltitudeAGL",
+    "AltitudeMSL",
+    "AltitudeASF",
+    "Depth",
+    "XYPositionRMS",
+    "ZPositionRMS",
+    "Roll",
+    "Pitch",
+    "Heading",
+    "Attitude_RMS",
+    "Course",
+    "TimeSeconds",
+    "TimeNanoSeconds",
+]
 LOCAL = [
     "X",
     "Y",
@@ -303,10 +341,31 @@ LOCAL = [
     "TimeNanoSeconds",
 ]
 NED = ["Velocity_N", "Velocity_E", "Velocity_D"]
-VSTATE = ["Velocity_RMS", "RollRate", "PitchRate", "YawRate", "Rate_RMS", "SpeedOverGround", "SpeedRelativeToMedium",
-          "RotationsPerMinute", "IndicatedSpeed", "TimeSeconds", "TimeNanoSeconds"]
-ACCEL = ["Acceleration_X", "Acceleration_Y", "Acceleration_Z", "Acceleration_RMS", "RollAcceleration", "PitchAcceleration",
-         "YawAcceleration", "RotationalAcceleration_RMS", "TimeSeconds", "TimeNanoSeconds"]
+VSTATE = [
+    "Velocity_RMS",
+    "RollRate",
+    "PitchRate",
+    "YawRate",
+    "Rate_RMS",
+    "SpeedOverGround",
+    "SpeedRelativeToMedium",
+    "RotationsPerMinute",
+    "IndicatedSpeed",
+    "TimeSeconds",
+    "TimeNanoSeconds",
+]
+ACCEL = [
+    "Acceleration_X",
+    "Acceleration_Y",
+    "Acceleration_Z",
+    "Acceleration_RMS",
+    "RollAcceleration",
+    "PitchAcceleration",
+    "YawAcceleration",
+    "RotationalAcceleration_RMS",
+    "TimeSeconds",
+    "TimeNanoSeconds",
+]
 ME = (7, 3, 900)  # the test station: component, node, subsystem
 
 
@@ -317,8 +376,14 @@ def step(name: str) -> float:
 
 def judp(dest: tuple[int, int, int], message_id: int, body: bytes, seq: int = 1, flags: int = 1) -> bytes:
     size = 14 + 2 + len(body)
-    return struct.pack("<BBHB", 2, 0, size, flags) + struct.pack("<BBH", *dest) + struct.pack("<BBH", *ME) + \
-        struct.pack("<H", message_id) + body + struct.pack("<H", seq)
+    return (
+        struct.pack("<BBHB", 2, 0, size, flags)
+        + struct.pack("<BBH", *dest)
+        + struct.pack("<BBH", *ME)
+        + struct.pack("<H", message_id)
+        + body
+        + struct.pack("<H", seq)
+    )
 
 
 def unjudp(data: bytes) -> tuple[tuple[int, int, int], tuple[int, int, int], int, bytes]:
@@ -354,8 +419,18 @@ def decode_navigation(body: bytes) -> dict[str, Any]:
     v_pv, v, at = read_record(body, at, VSTATE, 16)
     a_pv, _, at = read_record(body, at, ACCEL, 16)
     assert at == len(body)
-    return {"sync": (sec, nsec_), "global": g, "globalPv": g_pv, "localPv": l_pv, "tag": tag, "ned": n, "nedPv": n_pv,
-            "state": v, "statePv": v_pv, "accelPv": a_pv}
+    return {
+        "sync": (sec, nsec_),
+        "global": g,
+        "globalPv": g_pv,
+        "localPv": l_pv,
+        "tag": tag,
+        "ned": n,
+        "nedPv": n_pv,
+        "state": v,
+        "statePv": v_pv,
+        "accelPv": a_pv,
+    }
 
 
 def ask(sock: socket.socket, port: int, packet: bytes) -> bytes:
@@ -389,8 +464,9 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
         dest, src, message_id, body = unjudp(ask(station, port, judp(me, 0x2421, everything)))
         assert (dest, src, message_id) == (ME, me, 0x4421)
         nav = decode_navigation(body)
-        assert nav["globalPv"] == sum(1 << GLOBAL.index(k) for k in ("Latitude", "Longitude", "AltitudeMSL", "Course",
-                                                                     "TimeSeconds", "TimeNanoSeconds"))
+        assert nav["globalPv"] == sum(
+            1 << GLOBAL.index(k) for k in ("Latitude", "Longitude", "AltitudeMSL", "Course", "TimeSeconds", "TimeNanoSeconds")
+        )
         assert nav["localPv"] == 0 and nav["accelPv"] == 0 and nav["tag"] == 2 and nav["nedPv"] == 0b111
         assert nav["statePv"] == sum(1 << VSTATE.index(k) for k in ("SpeedOverGround", "TimeSeconds", "TimeNanoSeconds"))
         g, t = nav["global"], int(nav["global"]["TimeSeconds"]) * 10**9 + int(nav["global"]["TimeNanoSeconds"])
@@ -420,13 +496,15 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     wait_until(lambda: ws.messages, 5, "the snapshot")
     assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True}
     ask(station, port, judp(me, 0x2421, everything))
+
     # a gateways message sent before the answer (at most one a second) may still carry the old count: wait for the
     # one that counts the answer
     def jaus_out(m: dict[str, Any]) -> int:
         return int(next(g for g in m["gateways"] if g["name"] == "jaus")["messagesOut"])
 
-    wait_until(lambda: [m for m in ws.of("gateways") if jaus_out(m) > state["messagesOut"]], 5,
-               "a gateways message counting the answer")
+    wait_until(
+        lambda: [m for m in ws.of("gateways") if jaus_out(m) > state["messagesOut"]], 5, "a gateways message counting the answer"
+    )
     assert ws.errors == []
     ws.close()
 
@@ -476,13 +554,22 @@ def test_jaus_answers_every_message_of_a_packed_datagram(sim, console, station) 
     c = console("--jaus-port", str(port), "--jaus-subsystem", "42")
     provider_ready(c.url, V1, {"GPSFixReport"})
     me = (1, 1, 42)
-    packed = b"\x02" + judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))[1:] + judp(me, 0x2C03, b"", seq=2)[1:] + \
-        judp((9, 1, 42), 0x2C03, b"", seq=3)[1:]  # the third for a component no vehicle has
+    packed = (
+        b"\x02"
+        + judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))[1:]
+        + judp(me, 0x2C03, b"", seq=2)[1:]
+        + judp((9, 1, 42), 0x2C03, b"", seq=3)[1:]
+    )  # the third for a component no vehicle has
     station.sendto(packed, ("127.0.0.1", port))
     answers = [unjudp(station.recvfrom(65536)[0]) for _ in range(2)]
     assert [(dest, src, message_id) for dest, src, message_id, _ in answers] == [(ME, me, 0x4421), (ME, me, 0x4C03)]
-    state = wait_until(lambda: (lambda s: s if s["messagesOut"] == 2 else None)(
-        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]), 5, "both answers counted")
+    state = wait_until(
+        lambda: (lambda s: s if s["messagesOut"] == 2 else None)(
+            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
+        ),
+        5,
+        "both answers counted",
+    )
     assert state["counters"] == {"received": 1, "malformed": 1, "malformed: no such component": 1}
 
 
@@ -493,9 +580,20 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
     provider_ready(c.url, V1, {"GPSFixReport"})
     me = (1, 1, 42)
     query = judp(me, 0x2421, struct.pack("<HHHH", 1, 0, 0, 0))
-    bad = [b"", b"\x02", query[:10], b"\x01" + query[1:], query[:1] + b"\x01" + query[2:], query + b"\x00",
-           query[:-3] + query[-2:], judp(me, 0x2421, b"\x00\x00"), judp((2, 1, 42), 0x2421, b"\0" * 8),
-           judp((1, 1, 43), 0x2C03, b""), judp(me, 0x2C03, b"x"), judp(me, 0x2421, b"\0" * 8, flags=0x40)]
+    bad = [
+        b"",
+        b"\x02",
+        query[:10],
+        b"\x01" + query[1:],
+        query[:1] + b"\x01" + query[2:],
+        query + b"\x00",
+        query[:-3] + query[-2:],
+        judp(me, 0x2421, b"\x00\x00"),
+        judp((2, 1, 42), 0x2421, b"\0" * 8),
+        judp((1, 1, 43), 0x2C03, b""),
+        judp(me, 0x2C03, b"x"),
+        judp(me, 0x2421, b"\0" * 8, flags=0x40),
+    ]
     rng = random.Random(13)
     bad += [bytes(rng.randrange(256) for _ in range(rng.randrange(0, 80))) for _ in range(200)]
     bad += [bytearray(query) for _ in range(100)]
@@ -519,21 +617,38 @@ def test_jaus_malformed_input_is_counted_and_dropped(sim, console, station) -> N
     assert all(unjudp(g)[2] == 0x4421 for g in got)
     station.settimeout(5)
     assert unjudp(ask(station, port, query))[2] == 0x4421
-    state = wait_until(lambda: (lambda s: s if s["counters"].get("received", 0) >= sent_bad + 1 else None)(
-        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]), 5, "every datagram counted")
+    state = wait_until(
+        lambda: (lambda s: s if s["counters"].get("received", 0) >= sent_bad + 1 else None)(
+            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]
+        ),
+        5,
+        "every datagram counted",
+    )
     counters = state["counters"]
     assert counters["received"] == sent_bad + 1
     unsupported = counters.get("unsupported message id", 0)  # a bit flipped in a message id: legal, not answered
     assert counters["malformed"] + unsupported == sent_bad - answered
-    for reason in ("short", "wrong version", "header compression", "wrong size", "wrong body size",
-                   "no such component", "multi-packet"):
+    for reason in (
+        "short",
+        "wrong version",
+        "header compression",
+        "wrong size",
+        "wrong body size",
+        "no such component",
+        "multi-packet",
+    ):
         assert counters[f"malformed: {reason}"] >= 1, reason
     assert httpx.get(f"{c.url}/api/health").status_code == 200
     # a legal JAUS message the gateway does not answer (QueryIdentification, QueryServices) is not malformed
     for message_id in (0x2B00, 0x2B03):
         station.sendto(judp(me, message_id, b"\x02" if message_id == 0x2B00 else b""), ("127.0.0.1", port))
-    after = wait_until(lambda: (lambda s: s if s.get("unsupported message id") == unsupported + 2 else None)(
-        {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]["counters"]), 5, "both counted")
+    after = wait_until(
+        lambda: (lambda s: s if s.get("unsupported message id") == unsupported + 2 else None)(
+            {g["name"]: g for g in httpx.get(f"{c.url}/api/gateways").json()}["jaus"]["counters"]
+        ),
+        5,
+        "both counted",
+    )
     assert after["malformed"] == counters["malformed"]
 
 
@@ -573,8 +688,11 @@ def test_a_slow_aspn_gateway_never_stalls_the_feed(tmp_path: Path, monkeypatch: 
         # one report taken by the held worker, five waiting, the rest dropped and counted
         assert 14 <= counters["dropped: queue full"] <= 15
         held.go.set()
-        kept = wait_until(lambda: (lambda e: e if len(e) == 20 - counters["dropped: queue full"] else None)(gw.events(vehicle)),
-                          10, "the queued reports published")
+        kept = wait_until(
+            lambda: (lambda e: e if len(e) == 20 - counters["dropped: queue full"] else None)(gw.events(vehicle)),
+            10,
+            "the queued reports published",
+        )
         speeds = [aspn23_lcm.measurement_speed.decode(data).speed for _, _, data in kept]
         assert speeds == sorted(speeds) and speeds[0] == 1.0  # in arrival order
         assert len(held.channels) == len(kept) and gw.state()["messagesOut"] == len(kept)
@@ -605,8 +723,10 @@ def test_aspn_vehicles_whose_guids_share_their_first_half_stay_apart() -> None:
     finally:
         gw.close()
     by_speed = {m.speed: (ch, m.header.device_id, m.header.sequence_id) for ch, m in got}
-    assert by_speed == {1.0: (f"aspn23/{lcm_vehicle(str(v1))}/measurement_speed", int(lcm_vehicle(str(v1)), 16) >> 1, 0),
-                        2.0: (f"aspn23/{lcm_vehicle(str(v2))}/measurement_speed", int(lcm_vehicle(str(v2)), 16) >> 1, 0)}
+    assert by_speed == {
+        1.0: (f"aspn23/{lcm_vehicle(str(v1))}/measurement_speed", int(lcm_vehicle(str(v1)), 16) >> 1, 0),
+        2.0: (f"aspn23/{lcm_vehicle(str(v2))}/measurement_speed", int(lcm_vehicle(str(v2)), 16) >> 1, 0),
+    }
 
 
 def test_aspn_file_log_survives_a_restart(tmp_path: Path) -> None:
@@ -674,6 +794,7 @@ def test_jaus_sync_time_never_wraps(monkeypatch: pytest.MonkeyPatch) -> None:
 
     def fix(seconds: int) -> dict[str, Any]:
         return {"report": {"timeStamp": {"seconds": seconds, "nanoseconds": 7}, "SOG": 1.0}, "invalid": []}
+
     body, unfit = report_navigation(fix(1_600_000_000), everything, now)
     assert decode_navigation(body)["sync"] == (1_600_000_000, 7) and not unfit
     for bad in (2**32 + 5, -1):  # wrapped, 2**32 + 5 would read as 5 s after 1970: the console's time instead
@@ -696,14 +817,23 @@ def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> 
     from sem_console.core.contract import LinkConfig
 
     good = {"commsLostTimeout": 2.5, "regainedTime": 1, "policy": "CONTINUE_MISSION", "regainedBehavior": 3}
-    rows = {"a": good, "old": {"commsLostTimeout": 4, "regainedTime": 2},  # a row from before the policy: its defaults
-            "negative": {**good, "commsLostTimeout": -1}, "nan": {**good, "regainedTime": float("nan")},
-            "text": {**good, "commsLostTimeout": "5"}, "policy": {**good, "policy": "EXPLODE"},
-            "extra": {**good, "colour": "red"}, "list": [1, 2], "not json": "{oops"}
+    rows = {
+        "a": good,
+        "old": {"commsLostTimeout": 4, "regainedTime": 2},  # a row from before the policy: its defaults
+        "negative": {**good, "commsLostTimeout": -1},
+        "nan": {**good, "regainedTime": float("nan")},
+        "text": {**good, "commsLostTimeout": "5"},
+        "policy": {**good, "policy": "EXPLODE"},
+        "extra": {**good, "colour": "red"},
+        "list": [1, 2],
+        "not json": "{oops",
+    }
     with caplog.at_level("WARNING", logger="sem-console"):
         configs = stored_link_configs(rows)
-    assert configs == {"a": LinkConfig(commsLostTimeout=2.5, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=3),
-                       "old": LinkConfig(commsLostTimeout=4.0, regainedTime=2.0, policy="STOP_MISSION", regainedBehavior=0)}
+    assert configs == {
+        "a": LinkConfig(commsLostTimeout=2.5, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=3),
+        "old": LinkConfig(commsLostTimeout=4.0, regainedTime=2.0, policy="STOP_MISSION", regainedBehavior=0),
+    }
     warnings = [r for r in caplog.records if r.levelname == "WARNING"]
     assert len(warnings) == 1 and all(
         k in warnings[0].getMessage() for k in ("negative", "nan", "text", "policy", "extra", "list", "not json")
@@ -729,13 +859,20 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
     vehicle = uuid.uuid4()
     stamp = now_datetime()
     pose = GlobalPoseReportType(
-        altitude=None, altitudeAGL=None, altitudeASF=12.0, altitudeGeodetic=None,
+        altitude=None,
+        altitudeAGL=None,
+        altitudeASF=12.0,
+        altitudeGeodetic=None,
         attitude=Orientation3DNEDType(pitch=PitchYNEDType(0.05), roll=RollXNEDType(-0.1), yaw=YawZNEDType(4.0)),
-        attitudeCovariance=None, course=4.2, depth=3.5, navigationSolution=NavigationSolutionEnumType.MEASURED,
+        attitudeCovariance=None,
+        course=4.2,
+        depth=3.5,
+        navigationSolution=NavigationSolutionEnumType.MEASURED,
         position=GeoPosition2D(geodeticLatitude=36.85, geodeticLongitude=-75.98),
         positionCovariance=CovariancePositionNEDType(pdPd=None, pePd=None, pePe=9.0, pnPd=None, pnPe=None, pnPn=16.0),
         timeStamp=DateTime(seconds=stamp.seconds, nanoseconds=stamp.nanoseconds),
-        source=IdentifierType(id=to_guid(vehicle), parentID=bytes(16)))
+        source=IdentifierType(id=to_guid(vehicle), parentID=bytes(16)),
+    )
     writer = bus.writer(Sem60.GLOBAL_POSE_REPORT)  # alive until the test ends
     writer.write(pose)
     detail = provider_ready(c.url, str(vehicle), {"GPSFixReport"})
@@ -748,6 +885,7 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
         (tmp_path / "got.lcm").write_bytes(r.content)
         got = {ch.rsplit("/", 1)[1]: m for ch, m in read_log(tmp_path / "got.lcm")}
         return got if "measurement_position" in got else None
+
     got = wait_until(log, 10, "the 6.0 vehicle's ASPN position")
     position = got["measurement_position"]
     assert (position.term1, position.term2) == (math.radians(36.85), math.radians(-75.98))
@@ -762,8 +900,19 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
     me = (1, 1, 42)
     nav = decode_navigation(unjudp(ask(station, port, judp(me, 0x2421, struct.pack("<HHHH", 0xFFFF, 0, 0xFFFF, 0))))[3])
     g = nav["global"]
-    assert set(g) == {"Latitude", "Longitude", "AltitudeASF", "Depth", "XYPositionRMS", "Roll", "Pitch", "Heading", "Course",
-                      "TimeSeconds", "TimeNanoSeconds"}
+    assert set(g) == {
+        "Latitude",
+        "Longitude",
+        "AltitudeASF",
+        "Depth",
+        "XYPositionRMS",
+        "Roll",
+        "Pitch",
+        "Heading",
+        "Course",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    }
     assert abs(g["Latitude"] - 36.85) <= step("Latitude") and abs(g["Longitude"] + 75.98) <= step("Longitude")
     assert abs(g["Depth"] - 3.5) <= step("Depth") and abs(g["AltitudeASF"] - 12.0) <= step("AltitudeASF")
     assert abs(g["XYPositionRMS"] - 5.0) <= step("XYPositionRMS")  # sqrt(16 + 9)

@@ -18,8 +18,18 @@ import pytest
 
 from test_console import HAPPY, V1, V2, provider_ready, wait_command, wait_until
 
-TRACK_HEADER = ["time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m", "course_deg", "sog_mps", "fix_valid",
-                "gps_lat_long_valid", "position_time_utc", "umaa_version"]
+TRACK_HEADER = [
+    "time_utc",
+    "latitude_deg",
+    "longitude_deg",
+    "altitude_msl_m",
+    "course_deg",
+    "sog_mps",
+    "fix_valid",
+    "gps_lat_long_valid",
+    "position_time_utc",
+    "umaa_version",
+]
 
 
 def iso(t: float) -> str:
@@ -68,8 +78,7 @@ def test_track_and_series_at_most_1_hz_survive_a_restart(sim, console) -> None:
     assert s["satellitesUsed"] == 0 and 0 < s["cn0Mean"] < 60  # submerged: nothing used in the fix
     # per vehicle, and a time range selects
     assert {x["providerId"] for x in get(first.url, f"/api/providers/{V2}/track")} == {V2}
-    middle = get(first.url, f"/api/providers/{V1}/track", since=iso(track[1]["time"] - 1e-3),
-                 until=iso(track[-2]["time"] + 1e-3))
+    middle = get(first.url, f"/api/providers/{V1}/track", since=iso(track[1]["time"] - 1e-3), until=iso(track[-2]["time"] + 1e-3))
     assert [x["time"] for x in middle] == [x["time"] for x in track[1:-1]]
     assert get(first.url, f"/api/providers/{V1}/track", since=iso(track[-1]["time"]), until=iso(track[0]["time"])) == []
 
@@ -77,8 +86,8 @@ def test_track_and_series_at_most_1_hz_survive_a_restart(sim, console) -> None:
     vehicle.stop()
     second = console()  # the vehicles are gone: the track is still there
     again = get(second.url, f"/api/providers/{V1}/track")
-    assert [x["time"] for x in again[:len(track)]] == [x["time"] for x in track]
-    assert again[:len(track)] == track
+    assert [x["time"] for x in again[: len(track)]] == [x["time"] for x in track]
+    assert again[: len(track)] == track
     assert len(get(second.url, f"/api/providers/{V1}/series")) >= len(series)
 
 
@@ -125,8 +134,11 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     for row, t in zip(rows[1:], track, strict=True):
         rec = dict(zip(TRACK_HEADER, row, strict=True))
         assert abs(parse_utc(rec["time_utc"]) - t["time"]) < 1e-3
-        assert (float(rec["latitude_deg"]), float(rec["longitude_deg"]), float(rec["altitude_msl_m"])) == \
-               (t["latitude"], t["longitude"], t["altitudeMsl"])
+        assert (float(rec["latitude_deg"]), float(rec["longitude_deg"]), float(rec["altitude_msl_m"])) == (
+            t["latitude"],
+            t["longitude"],
+            t["altitudeMsl"],
+        )
         assert (float(rec["course_deg"]), float(rec["sog_mps"])) == (t["course"], t["sog"])
         assert rec["fix_valid"] in ("true", "false", "") and rec["gps_lat_long_valid"] == str(t["latLongValid"]).lower()
         assert rec["umaa_version"] == "3.0.1"  # the vehicle's version, as REST says it
@@ -159,8 +171,9 @@ def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim,
     for s, v in zip(sessions, (V1, V2, V1), strict=True):
         mine = by_session[s]
         assert [x["status"] for x in mine] == HAPPY and [x["seq"] for x in mine] == ["1", "2", "3", "4"]
-        assert {(x["provider_id"], x["service"], x["final_status"], x["created_utc"], x["station"], x["umaa_version"])
-                for x in mine} == {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"], "test-console", "3.0.1")}
+        assert {
+            (x["provider_id"], x["service"], x["final_status"], x["created_utc"], x["station"], x["umaa_version"]) for x in mine
+        } == {(v, "GPSFix", "COMPLETED", mine[0]["created_utc"], "test-console", "3.0.1")}
         received = [parse_utc(x["received_utc"]) for x in mine]
         assert received == sorted(received) and parse_utc(mine[0]["created_utc"]) <= received[0]
 

@@ -28,8 +28,9 @@ def test_built_types_are_fresh(tmp_path: Path, package: str) -> None:
 
 
 def test_no_generated_file_is_committed() -> None:
-    tracked = subprocess.run(["git", "ls-files", "--", *idlgen.PACKAGES, idlgen.STAMP], cwd=BACKEND,
-                             capture_output=True, text=True, check=True).stdout.split()
+    tracked = subprocess.run(
+        ["git", "ls-files", "--", *idlgen.PACKAGES, idlgen.STAMP], cwd=BACKEND, capture_output=True, text=True, check=True
+    ).stdout.split()
     assert tracked == [], f"generated files are in git (they are built by scripts/setup.sh): git rm --cached {tracked}"
 
 

@@ -29,8 +29,14 @@ def options() -> dict[str, Any]:
 
 
 def lint_imports(cwd: Path, **env: str) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([str(LINT_IMPORTS), "--no-cache", "--no-logo"], cwd=cwd, capture_output=True, text=True,
-                          timeout=120, env={**os.environ, **env})
+    return subprocess.run(
+        [str(LINT_IMPORTS), "--no-cache", "--no-logo"],
+        cwd=cwd,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, **env},
+    )
 
 
 def test_the_import_contracts_are_kept() -> None:
@@ -46,13 +52,17 @@ def test_a_cycle_through_type_checking_imports_breaks_the_contracts(tmp_path: Pa
     package.mkdir()
     (package / "__init__.py").write_text("")
     (package / "service.py").write_text("from house.sources import open_source\n")
-    (package / "sources.py").write_text("from typing import TYPE_CHECKING\n\nif TYPE_CHECKING:\n"
-                                        "    from house.service import Console\n\ndef open_source() -> None: ...\n")
+    (package / "sources.py").write_text(
+        "from typing import TYPE_CHECKING\n\nif TYPE_CHECKING:\n"
+        "    from house.service import Console\n\ndef open_source() -> None: ...\n"
+    )
     lines = ["[tool.importlinter]", 'root_package = "house"']
-    lines += [f"{key} = {json.dumps(value)}" for key, value in options().items()
-              if key not in ("root_package", "root_packages", "contracts")]
-    lines += ["", "[[tool.importlinter.contracts]]", 'name = "no cycles"', 'type = "acyclic_siblings"',
-              'ancestors = ["house"]']
+    lines += [
+        f"{key} = {json.dumps(value)}"
+        for key, value in options().items()
+        if key not in ("root_package", "root_packages", "contracts")
+    ]
+    lines += ["", "[[tool.importlinter.contracts]]", 'name = "no cycles"', 'type = "acyclic_siblings"', 'ancestors = ["house"]']
     (tmp_path / "pyproject.toml").write_text("\n".join(lines) + "\n")
     run = lint_imports(tmp_path, PYTHONPATH=str(tmp_path))
     assert run.returncode == 1, run.stdout + run.stderr

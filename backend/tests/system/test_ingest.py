@@ -49,19 +49,24 @@ class Provider:
 
         self.reports = writer(Sem.INS_REPORT)
         self.statuses = writer(Sem.GPS_FIX_COMMAND_STATUS)
-        self.commands = DataReader(participant, Topic(participant, Sem.GPS_FIX_COMMAND.spec.name, Sem.GPS_FIX_COMMAND.spec.type),
-                                   qos=reader_qos(Sem.GPS_FIX_COMMAND.spec.cls))
+        self.commands = DataReader(
+            participant,
+            Topic(participant, Sem.GPS_FIX_COMMAND.spec.name, Sem.GPS_FIX_COMMAND.spec.type),
+            qos=reader_qos(Sem.GPS_FIX_COMMAND.spec.cls),
+        )
         self._received: dict[uuid.UUID, Any] = {}
 
     def report(self, at_ns: int, status: Op = Op.OPERATIONAL) -> None:
         stamp = DateTime(seconds=at_ns // S, nanoseconds=at_ns % S)
-        self.reports.write(InertialSensorReportType(state=Ins.ON, status=status, source=self.source, timeStamp=stamp),
-                           timestamp=at_ns)
+        self.reports.write(
+            InertialSensorReportType(state=Ins.ON, status=status, source=self.source, timeStamp=stamp), timestamp=at_ns
+        )
 
     def appear(self, url: str) -> None:
         def seen() -> bool:
             self.report(time.time_ns())
             return httpx.get(f"{url}/api/providers/{self.id}").status_code == 200
+
         wait_until(seen, 15, "the provider in the console")
 
     def gps_fix(self, url: str) -> Any:
@@ -74,13 +79,22 @@ class Provider:
                 if not isinstance(s, InvalidSample):  # the console disposes what it has finished with
                     self._received[from_guid(s.sessionID)] = s
             return self._received.get(session)
+
         return wait_until(received, 15, f"command {session} at the provider")
 
     def status(self, cmd: Any, status: St, at_ns: int, reason: Rs = Rs.SUCCEEDED) -> None:
         stamp = DateTime(seconds=at_ns // S, nanoseconds=at_ns % S)
-        self.statuses.write(Sem.GPS_FIX_COMMAND_STATUS.spec.type(
-            source=self.source, commandStatus=status, commandStatusReason=reason, logMessage=status.name,
-            sessionID=cmd.sessionID, timeStamp=stamp), timestamp=at_ns)
+        self.statuses.write(
+            Sem.GPS_FIX_COMMAND_STATUS.spec.type(
+                source=self.source,
+                commandStatus=status,
+                commandStatusReason=reason,
+                logMessage=status.name,
+                sessionID=cmd.sessionID,
+                timeStamp=stamp,
+            ),
+            timestamp=at_ns,
+        )
 
 
 def session_of(cmd: Any) -> str:
@@ -126,13 +140,14 @@ def test_a_report_clock_stepping_back_keeps_the_vehicle_live(console, domain: in
     stepped_back = start - 3600 * S  # e.g. GPS time sync right after surfacing
     last = 0
     for i in range(60):  # 3 s at 20 Hz, the clock an hour back from the second sample on
-        last = (start if i == 0 else stepped_back + i * S // 20)
+        last = start if i == 0 else stepped_back + i * S // 20
         p.report(last, Op.OPERATIONAL if i % 2 else Op.INIT)
         time.sleep(0.05)
     want = {"seconds": last // S, "nanoseconds": last % S}
 
     def shown() -> bool:
         return httpx.get(f"{c.url}/api/providers/{p.id}").json()["reports"]["InertialSensorReport"]["report"]["timeStamp"] == want
+
     wait_until(shown, 5, "the last report, stamped an hour back")
     detail = httpx.get(f"{c.url}/api/providers/{p.id}").json()
     assert detail["link"] == "live"
@@ -144,8 +159,11 @@ def lossy_participant(domain: int, per_mille: int) -> tuple[Domain, DomainPartic
     """A participant of its own domain instance that drops `per_mille` of the packets it sends
     (Cyclone's Internal/Test/XmitLossiness): data, heartbeats and discovery alike."""
     # A lost participant announcement is otherwise repeated only every 30 s: announce twice a second.
-    xml = loopback_config().replace("<Discovery>", "<Discovery><SPDPInterval>500 ms</SPDPInterval>").replace(
-        "</Domain>", f"<Internal><Test><XmitLossiness>{per_mille}</XmitLossiness></Test></Internal></Domain>")
+    xml = (
+        loopback_config()
+        .replace("<Discovery>", "<Discovery><SPDPInterval>500 ms</SPDPInterval>")
+        .replace("</Domain>", f"<Internal><Test><XmitLossiness>{per_mille}</XmitLossiness></Test></Internal></Domain>")
+    )
     dom = Domain(domain, xml)  # first in this process for this domain id: Cyclone keeps this config
     return dom, DomainParticipant(domain)
 
@@ -175,7 +193,10 @@ def test_a_transient_local_writer_that_published_before_the_console_started_is_s
     p = Provider(bus.participant, bus=bus)
     p.report(time.time_ns(), Op.FINE_STATIONARY_ALIGNMENT_STARTED)  # once, before the console exists
     c = console()
-    detail = wait_until(lambda: (lambda r: r.json() if r.status_code == 200 else None)(
-        httpx.get(f"{c.url}/api/providers/{p.id}")), 10, "the provider from the writer's history")
+    detail = wait_until(
+        lambda: (lambda r: r.json() if r.status_code == 200 else None)(httpx.get(f"{c.url}/api/providers/{p.id}")),
+        10,
+        "the provider from the writer's history",
+    )
     assert detail["reports"]["InertialSensorReport"]["report"]["status"] == "FINE_STATIONARY_ALIGNMENT_STARTED"
     assert metrics(c.url)["samplesByReader"] == {"reliableTransientLocal": 1, "reliableVolatile": 0, "bestEffort": 0}

@@ -112,8 +112,10 @@ def rti(request: pytest.FixtureRequest) -> Any:
     f.close()
 
 
-@pytest.fixture(params=[("6", None), ("6", "AppendableGps"), ("7", "Default"), ("7", "AppendableGps")],
-                ids=["connext6.1.2-defaults", "connext6.1.2-recipe", "connext7.7-Default", "connext7.7-recipe"])
+@pytest.fixture(
+    params=[("6", None), ("6", "AppendableGps"), ("7", "Default"), ("7", "AppendableGps")],
+    ids=["connext6.1.2-defaults", "connext6.1.2-recipe", "connext7.7-Default", "connext7.7-recipe"],
+)
 def rti_profile(request: pytest.FixtureRequest) -> Any:
     """As `rti`, on each profile the docs' matrix gives for the eight topics without optional members: Connext 6.1.2 on
     RTI's defaults and on the recipe, Connext 7.7 on the drop-in's Default (the least it needs) and on the recipe."""
@@ -150,8 +152,11 @@ def test_every_plain_topic_from_rti_decodes_in_cyclone(rti_profile: Callable[...
             p.write(s, to_plain(x))
     for s in PLAIN:
         got: list[Any] = []
-        wait_until(lambda s=s, got=got: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
-                   10, f"{s.spec.name} from RTI")
+        wait_until(
+            lambda s=s, got=got: got.extend(readers[s].take(N=100, condition=all_samples(readers[s]))) or len(got) >= 10,
+            10,
+            f"{s.spec.name} from RTI",
+        )
         assert len(got) == len(sent[s])
         for x in sent[s]:
             assert any(same(to_plain(x), to_plain(g)) for g in got), (s.spec.name, to_plain(x))
@@ -183,8 +188,11 @@ def test_optional_member_topics_are_not_matched_in_xcdr1(rti6: Callable[..., Rti
     ins = Sem.INS_REPORT  # made last on both sides: once its endpoints match both ways, discovery has told each side of
     plain = (Bus(domain).reader(ins), Bus(domain).writer(ins))  # noqa: F841 - the other's GPS endpoints (SEDP is in order)
     p = rti6(domain, writers=[*optional, ins], readers=[*optional, ins])
-    wait_until(lambda: len(p.outputs[ins].matched_subscriptions) == 2 and len(p.inputs[ins].matched_publications) == 2, 10,
-               "RTI's InertialSensorReport endpoints matched with ours")
+    wait_until(
+        lambda: len(p.outputs[ins].matched_subscriptions) == 2 and len(p.inputs[ins].matched_publications) == 2,
+        10,
+        "RTI's InertialSensorReport endpoints matched with ours",
+    )
     for s in optional:
         assert len(readers[s].get_matched_publications()) == 1, s.spec.name  # our own XCDR2 writer
         assert len(writers[s].get_matched_subscriptions()) == 1, s.spec.name  # our own XCDR2 reader
@@ -209,12 +217,24 @@ class RtiVehicle:
         src = list(self.guid.bytes)
         self.p.write(Sem.INS_REPORT, {"state": 1, "status": 8, "source": src, "timeStamp": stamp})
         if Sem.GPS_FIX_REPORT in self.p.writers:  # read on the recipe (XCDR2); RTI's default XCDR1 must not reach the console
-            self.p.write(Sem.GPS_FIX_REPORT, {
-                "altitudeMSL": {"altitude": 0.5}, "GPSFixCommandStatus": 2, "GPSLatLongValid": True, "magneticVariation": -0.17,
-                "position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 36.85},
-                                                            "geodeticLongitude": {"longitude": -75.98}}, "timeAtPosition": now},
-                "SOG": 2.5, "trueCourse": 1.2, "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
-                "source": src, "timeStamp": stamp})
+            self.p.write(
+                Sem.GPS_FIX_REPORT,
+                {
+                    "altitudeMSL": {"altitude": 0.5},
+                    "GPSFixCommandStatus": 2,
+                    "GPSLatLongValid": True,
+                    "magneticVariation": -0.17,
+                    "position2DWithTime": {
+                        "geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
+                        "timeAtPosition": now,
+                    },
+                    "SOG": 2.5,
+                    "trueCourse": 1.2,
+                    "velocity": {"downSpeed": 0.0, "eastSpeed": 1.0, "northSpeed": 2.0},
+                    "source": src,
+                    "timeStamp": stamp,
+                },
+            )
         if Sem.GPS_FIX_STATUS_REPORT not in self.p.writers:
             return
         self.p.write(
@@ -305,16 +325,29 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     to tell its operator. (RTI's XCDR1 GPS writers and what the console says of them:
     test_console_tells_of_rti_writers_it_does_not_read.)"""
     c = console()
-    topics = [Sem.INS_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_FIX_COMMAND_STATUS, Sem.GPS_FIX_COMMAND_ACK,
-              Sem.INS_COMMAND_STATUS, Sem.INS_COMMAND_ACK, Sem.GPS_FIX_REPORT, Sem.GPS_REPORT]
+    topics = [
+        Sem.INS_REPORT,
+        Sem.GPS_FIX_STATUS_REPORT,
+        Sem.GPS_FIX_COMMAND_STATUS,
+        Sem.GPS_FIX_COMMAND_ACK,
+        Sem.INS_COMMAND_STATUS,
+        Sem.INS_COMMAND_ACK,
+        Sem.GPS_FIX_REPORT,
+        Sem.GPS_REPORT,
+    ]
     v = RtiVehicle(rti(domain, writers=topics, readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND]))
     me = str(v.guid)
 
     def shown() -> Any:
         v.step()
         r = httpx.get(f"{c.url}/api/providers/{me}")
-        return r.json() if r.status_code == 200 and {"InertialSensorReport", "GPSFixStatusReport", "GPSFixReport"} <= set(
-            k for k, x in r.json()["reports"].items() if x) else None
+        return (
+            r.json()
+            if r.status_code == 200
+            and {"InertialSensorReport", "GPSFixStatusReport", "GPSFixReport"}
+            <= set(k for k, x in r.json()["reports"].items() if x)
+            else None
+        )
 
     detail = wait_until(shown, 15, "the RTI vehicle in the console")
     assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
@@ -344,8 +377,14 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
         assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
-        wait_until(lambda path=path: any(x is None or st != "ALIVE" for x, st in v.p.take(COMMANDS[
-            Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])), 30, "the cleanup dispose in RTI")
+        wait_until(
+            lambda path=path: any(
+                x is None or st != "ALIVE"
+                for x, st in v.p.take(COMMANDS[Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])
+            ),
+            30,
+            "the cleanup dispose in RTI",
+        )
 
     # Cancel by dispose: the vehicle holds the next command in EXECUTING until the console disposes it.
     v.report()
@@ -364,8 +403,16 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
     )
     assert httpx.delete(f"{c.url}/api/commands/{session}").status_code in (200, 202, 204)
     wait_until(lambda: v.report() or v.cancel_running_if_disposed(), 10, "the cancel dispose in RTI")
-    cmd = wait_until(lambda: v.report() or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
-        httpx.get(f"{c.url}/api/commands/{session}").json()), 10, "CANCELED in the console")
+    cmd = wait_until(
+        lambda: (
+            v.report()
+            or (lambda d: d if d["transitions"][-1]["status"] == "CANCELED" else None)(
+                httpx.get(f"{c.url}/api/commands/{session}").json()
+            )
+        ),
+        10,
+        "CANCELED in the console",
+    )
     assert [t["status"] for t in cmd["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     assert cmd["violations"] == []
     assert httpx.get(f"{c.url}/api/metrics").json()["peerFindings"] == []
@@ -389,8 +436,7 @@ def test_console_sees_an_rti_vehicle_end_its_gps_fix_report(rti: RtiFactory, con
     assert httpx.get(f"{c.url}/api/metrics").json()["undecodableSamples"] == 0
 
 
-def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any,
-                                                                    domain: int) -> None:
+def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callable[..., Any], console: Any, domain: int) -> None:
     """Connext 7 on its defaults sends type information Cyclone cannot add, and nothing
     of it matches (test_connext7_on_defaults_matches_no_sem_topic). The console names the participant and
     the one setting that fixes it, once for the participant (not per topic)."""
@@ -401,13 +447,15 @@ def test_console_tells_an_rti7_on_defaults_to_stop_type_information(rti7: Callab
     assert findings[0]["message"] == (
         "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
         "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
-        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)")
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"
+    )
     assert p.matched(Sem.INS_REPORT, True) == []  # what the finding says: nothing of it matches
     assert c.stop().count(findings[0]["message"]) == 1
 
 
-def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiParticipant], rti7: Callable[..., Any],
-                                                       console: Any, domain: int) -> None:
+def test_console_tells_of_rti_writers_it_does_not_read(
+    rti6: Callable[..., RtiParticipant], rti7: Callable[..., Any], console: Any, domain: int
+) -> None:
     """In /api/metrics and the log: (a) RTI writers on XCDR1 for GPSFixReport and GPSReport, with
     Connext 7.7 (on the drop-in's Default) and 6.1.2; (c) a plain RTI 6.1.2 GPSReport writer (RTI's defaults); and an
     RTI writer of a SEM topic that no reader of the console matches with no incompatible QoS on either side to say why
@@ -422,17 +470,27 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
     # consistency, read by its final readers), which must not count as writers nothing of the console reads
     cyclone = {s: Bus(domain).writer(s) for s in gps}  # noqa: F841
     plain = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT, *gps], name="Plain612"))
-    elsewhere = RtiVehicle(rti6(domain, writers=[Sem.INS_REPORT], readers=[Sem.GPS_FIX_COMMAND], partition="fleetA",
-                                name="FleetA612"))
+    elsewhere = RtiVehicle(
+        rti6(domain, writers=[Sem.INS_REPORT], readers=[Sem.GPS_FIX_COMMAND], partition="fleetA", name="FleetA612")
+    )
     default7 = RtiVehicle(rti7(domain, writers=[Sem.INS_REPORT, *gps], name="Default77"))
-    fix, mask = "set XCDR2 on that writer", ("set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
-                                             "environment (Connext 7; Connext 6 cannot write it readably)")
+    fix, mask = (
+        "set XCDR2 on that writer",
+        (
+            "set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 in its "
+            "environment (Connext 7; Connext 6 cannot write it readably)"
+        ),
+    )
     partition = "publish it in the default partition, as the console reads (it is in partition fleetA)"
     subscribe = "subscribe to it in the default partition, where the console publishes (it is in partition fleetA)"
-    want = [("Default77", "representation", "GPSFixReport", fix), ("Default77", "representation", "GPSReport", mask),
-            ("FleetA612", "unmatchedReader", "GPSFixCommand", subscribe),
-            ("FleetA612", "unmatched", "InertialSensorReport", partition),
-            ("Plain612", "representation", "GPSFixReport", fix), ("Plain612", "representation", "GPSReport", mask)]
+    want = [
+        ("Default77", "representation", "GPSFixReport", fix),
+        ("Default77", "representation", "GPSReport", mask),
+        ("FleetA612", "unmatchedReader", "GPSFixCommand", subscribe),
+        ("FleetA612", "unmatched", "InertialSensorReport", partition),
+        ("Plain612", "representation", "GPSFixReport", fix),
+        ("Plain612", "representation", "GPSReport", mask),
+    ]
 
     def found() -> Any:
         for v in (plain, elsewhere, default7):
@@ -451,10 +509,16 @@ def test_console_tells_of_rti_writers_it_does_not_read(rti6: Callable[..., RtiPa
         "RTI participant FleetA612 has a writer of InertialSensorReport that the console does not match: publish it in the "
         "default partition, as the console reads (it is in partition fleetA) (docs/dds.md#rti-connext-7)",
         f"RTI participant Plain612 offers GPSFixReport in XCDR1: {fix} (docs/dds.md#rti-connext-7)",
-        f"RTI participant Plain612 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)"]
+        f"RTI participant Plain612 offers GPSReport in XCDR1: {mask} (docs/dds.md#rti-connext-7)",
+    ]
     for v in (plain, default7):  # their InertialSensorReport is read, their GPS topics are not
-        detail = wait_until(lambda v=v: v.report() or (lambda r: r.json() if r.status_code == 200 else None)(
-            httpx.get(f"{c.url}/api/providers/{v.guid}")), 10, "a vehicle in the default partition")
+        detail = wait_until(
+            lambda v=v: (
+                v.report() or (lambda r: r.json() if r.status_code == 200 else None)(httpx.get(f"{c.url}/api/providers/{v.guid}"))
+            ),
+            10,
+            "a vehicle in the default partition",
+        )
         assert detail["reports"]["InertialSensorReport"]["report"]["state"] == "ON"
         assert not detail["reports"].get("GPSFixReport") and not detail["reports"].get("GPSReport")
     assert httpx.get(f"{c.url}/api/providers/{elsewhere.guid}").status_code == 404
@@ -468,16 +532,24 @@ def test_sem_check_names_the_fix_for_an_rti_vehicle(rti: RtiFactory, domain: int
     """In sem-check's discovery tests: an RTI vehicle on XCDR1 for GPSReport and GPSFixReport
     (RTI's default: Connext 6.1.2 on its plain defaults, Connext 7 on the drop-in's Default profile) fails
     discovery.GPSReport and discovery.GPSFixReport with the fix in RTI's terms; its other topics pass."""
-    v = RtiVehicle(rti(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
-                       readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe=None if rti.version == "6" else "Default"))
+    v = RtiVehicle(
+        rti(
+            domain,
+            writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+            readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND],
+            recipe=None if rti.version == "6" else "Default",
+        )
+    )
     v.report()  # transient-local: sem-check finds the vehicle by its reports
     run = check(tmp_path, "--domain", str(domain), "--only", "discovery.*", "--window", "1", "--timeout", "10")
     assert run.code == 1, run.out + run.err
     fails = failed(run)
     assert set(fails) == {"discovery.GPSReport", "discovery.GPSFixReport"}, fails
     # the first failure of each, which the run's table shows
-    assert (": RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
-            "in its environment") in fails["discovery.GPSReport"], fails
+    assert (
+        ": RTI participant Rti offers GPSReport in XCDR1: set XCDR2 on that writer and NDDS_XTYPES_COMPLIANCE_MASK=0x1a9 "
+        "in its environment"
+    ) in fails["discovery.GPSReport"], fails
     assert ": RTI participant Rti offers GPSFixReport in XCDR1: set XCDR2 on that writer (docs" in fails["discovery.GPSFixReport"]
     assert run.cases["discovery.InertialSensorReport"][0] == "passed"
 
@@ -491,36 +563,61 @@ def test_sem_check_names_the_fix_for_an_rti7_on_defaults(rti7: Callable[..., Any
     assert run.err.splitlines()[-1].strip() == (
         "RTI participant Rti sends type information this console cannot use (none of its SEM topics match): set "
         "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
-        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"), run.err
+        "docs/rti/sem-console-interop.xml does) (docs/dds.md#rti-connext-7)"
+    ), run.err
 
 
 def test_sem_check_passes_an_rti7_vehicle_on_the_recipe(rti7: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """sem-check reads GPSReport and GPSFixReport as the console does (a reader per extensibility): an RTI 7 vehicle
     on AppendableGps with the mask passes every discovery test, and its GPSFixReports are read right (with a final
     reader that matched RTI by name they were misread, and no report of this vehicle's source would be seen)."""
-    v = RtiVehicle(rti7(domain, writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
-                        readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND], recipe="AppendableGps", env=RECIPE_ENV))
+    v = RtiVehicle(
+        rti7(
+            domain,
+            writers=[s for s in Sem if s.spec.cls is not TopicClass.COMMAND],
+            readers=[Sem.GPS_FIX_COMMAND, Sem.INS_COMMAND],
+            recipe="AppendableGps",
+            env=RECIPE_ENV,
+        )
+    )
     with v.reporting():
-        run = check(tmp_path, "--domain", str(domain), "--provider", str(v.guid), "--only", "discovery,reports.GPSFixReport",
-                    "--window", "1.5", "--max-gap", "1")
+        run = check(
+            tmp_path,
+            "--domain",
+            str(domain),
+            "--provider",
+            str(v.guid),
+            "--only",
+            "discovery,reports.GPSFixReport",
+            "--window",
+            "1.5",
+            "--max-gap",
+            "1",
+        )
     assert run.code == 0 and failed(run) == {}, run.out + run.err
     assert {n: o for n, (o, _) in run.cases.items() if "GPS" in n and "Command" not in n} == {
-        "discovery.GPSReport": "passed", "discovery.GPSFixReport": "passed", "discovery.GPSFixStatusReport": "passed",
-        "reports.GPSFixReport.timing": "passed", "reports.GPSFixReport.values": "passed"}
+        "discovery.GPSReport": "passed",
+        "discovery.GPSFixReport": "passed",
+        "discovery.GPSFixStatusReport": "passed",
+        "reports.GPSFixReport.timing": "passed",
+        "reports.GPSFixReport.values": "passed",
+    }
 
 
 def _command(service: Service, me: uuid.UUID, dest: uuid.UUID, state: int | None = None) -> dict[str, Any]:
     now = time.time()
-    cmd: dict[str, Any] = {"source": list(me.bytes), "destination": list(dest.bytes), "sessionID": list(uuid.uuid4().bytes),
-                           "timeStamp": {"seconds": int(now), "nanoseconds": 0}}
+    cmd: dict[str, Any] = {
+        "source": list(me.bytes),
+        "destination": list(dest.bytes),
+        "sessionID": list(uuid.uuid4().bytes),
+        "timeStamp": {"seconds": int(now), "nanoseconds": 0},
+    }
     if state is not None:
         cmd["state"] = state
     return cmd
 
 
-def _statuses(
-    p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]
-) -> list[tuple[str | None, str]]:
+def _statuses(p: Any, service: Service, session: list[int], seen: list[tuple[str | None, str]]) -> list[tuple[str | None, str]]:
     for x, state in p.take(service.status):
         if x is None:
             seen.append((None, state))
@@ -529,10 +626,14 @@ def _statuses(
     return seen
 
 
-@pytest.mark.parametrize("service,state,recipe", [(Service.GPS_FIX, None, True), (Service.INERTIAL_SENSOR, 2, False)],
-                         ids=["GPSFix-recipe", "InertialSensor-defaults"])
-def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, recipe: bool, rti: RtiFactory, sim: Any,
-                                       domain: int) -> None:
+@pytest.mark.parametrize(
+    "service,state,recipe",
+    [(Service.GPS_FIX, None, True), (Service.INERTIAL_SENSOR, 2, False)],
+    ids=["GPSFix-recipe", "InertialSensor-defaults"],
+)
+def test_rti_consumer_commands_sem_sim(
+    service: Service, state: int | None, recipe: bool, rti: RtiFactory, sim: Any, domain: int
+) -> None:
     """An RTI consumer runs a command to COMPLETED and cleans up, with sem-sim as the vehicle, in both set-ups the docs
     give a consumer ("Which profile"): on the recipe (AppendableGps) against `sem-sim --gps-extensibility appendable`,
     and on the least each version needs (6.1.2 its defaults, 7.7 the drop-in's Default) against sem-sim's default.
@@ -542,8 +643,12 @@ def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, reci
         p = rti(domain, writers=[COMMANDS[service]], readers=[service.status, service.ack])
     else:
         sim()
-        p = rti(domain, writers=[COMMANDS[service]], readers=[service.status, service.ack],
-                recipe=None if rti.version == "6" else "Default")
+        p = rti(
+            domain,
+            writers=[COMMANDS[service]],
+            readers=[service.status, service.ack],
+            recipe=None if rti.version == "6" else "Default",
+        )
     vehicle = vehicle_guid(1)
     sem = COMMANDS[service]
     me = uuid.uuid4()
@@ -559,8 +664,11 @@ def test_rti_consumer_commands_sem_sim(service: Service, state: int | None, reci
     # Cleanup: RTI disposes the finished command (its key travels with the dispose); the simulator
     # disposes the status and the ack.
     p.write(sem, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
-    wait_until(lambda: any(s is None or st != "ALIVE" for s, st in _statuses(p, service, cmd["sessionID"], [])), 10,
-               "the simulator's status dispose")
+    wait_until(
+        lambda: any(s is None or st != "ALIVE" for s, st in _statuses(p, service, cmd["sessionID"], [])),
+        10,
+        "the simulator's status dispose",
+    )
 
 
 def test_rti_consumer_cancels_by_dispose(rti: RtiFactory, sim: Any, domain: int) -> None:
@@ -587,15 +695,21 @@ def test_gps_fix_report_with_rti_set_to_xcdr2_and_final(rti6: Callable[..., RtiP
     rng = random.Random(8)
     theirs = [random_sample(s.spec.type, rng) for _ in range(10)]
     ours = [random_sample(s.spec.type, rng) for _ in range(10)]
-    wait_until(lambda: len(p.outputs[s].matched_subscriptions) == 2 and len(p.inputs[s].matched_publications) == 2,
-               10, "RTI matched with our reader and writer")
+    wait_until(
+        lambda: len(p.outputs[s].matched_subscriptions) == 2 and len(p.inputs[s].matched_publications) == 2,
+        10,
+        "RTI matched with our reader and writer",
+    )
     for x in theirs:
         p.write(s, to_plain(x))
     for x in ours:
         writer.write(x)
     got: list[Any] = []
-    wait_until(lambda: got.extend(to_plain(g) for g in reader.take(N=100, condition=all_samples(reader))) or len(got) >= 20,
-               10, "RTI's samples in Cyclone")
+    wait_until(
+        lambda: got.extend(to_plain(g) for g in reader.take(N=100, condition=all_samples(reader))) or len(got) >= 20,
+        10,
+        "RTI's samples in Cyclone",
+    )
     rti_got: list[Any] = []
     wait_until(lambda: rti_got.extend(x for x, _ in p.take(s) if x) or len(rti_got) >= 20, 10, "our samples in RTI")
     for x in theirs + ours:
@@ -627,9 +741,12 @@ def test_connext7_without_type_information_matches_by_name(rti7: Callable[..., A
     assert {s: m for s, m in got.items() if s not in PLAIN} == {s: (0, 0) for s in Sem if s not in PLAIN}
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="Cyclone DDS 11.0.1 cannot add RTI Connext 7's type object (docs/dds.md, "
-                          "'RTI 7 type information'): flips when a fix lands")
+@pytest.mark.xfail(
+    strict=True,
+    raises=AssertionError,
+    reason="Cyclone DDS 11.0.1 cannot add RTI Connext 7's type object (docs/dds.md, "
+    "'RTI 7 type information'): flips when a fix lands",
+)
 def test_connext7_with_type_information_matches_the_console(rti7: Callable[..., Any], domain: int) -> None:
     """The upstream reproducer: an RTI 7.7 participant on its defaults and Cyclone 11 endpoints of the
     same UMAA types on one host. Expected: every topic whose type has no @optional member matches."""
@@ -657,8 +774,14 @@ def appendable_umaa(tmp_path_factory: pytest.TempPathFactory) -> Path:
 def _peer(umaa: Path, *args: Any) -> dict[str, Any]:
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(umaa), str(_TESTS), str(_TESTS / "system"), str(_TESTS.parent)])}
     # cwd: not backend/, whose final UMAA package would come first on sys.path
-    r = subprocess.run([sys.executable, "-m", "support.rti.appendable_peer", *map(str, args)], cwd=umaa, env=env,
-                       capture_output=True, text=True, timeout=120)
+    r = subprocess.run(
+        [sys.executable, "-m", "support.rti.appendable_peer", *map(str, args)],
+        cwd=umaa,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
     assert r.returncode == 0, r.stderr[-2000:]
     return json.loads(r.stdout.strip().splitlines()[-1])
 
@@ -666,10 +789,14 @@ def _peer(umaa: Path, *args: Any) -> dict[str, Any]:
 ALL_RIGHT = {"cyclone_matched_rti": 1, "rti_matched_cyclone": 1, "rti_to_cyclone_right": 20, "cyclone_to_rti_right": 20}
 
 
-@pytest.mark.parametrize("version,mask,gps_report_right", [("7", "mask", True), ("7", "nomask", False), ("6", "nomask", False)],
-                         ids=["connext7.7-recipe", "connext7.7-recipe-without-mask", "connext6.1.2-recipe"])
-def test_recipe_with_appendable_gps_types(version: str, mask: str, gps_report_right: bool, appendable_umaa: Path,
-                                          domain: int, request: pytest.FixtureRequest) -> None:
+@pytest.mark.parametrize(
+    "version,mask,gps_report_right",
+    [("7", "mask", True), ("7", "nomask", False), ("6", "nomask", False)],
+    ids=["connext7.7-recipe", "connext7.7-recipe-without-mask", "connext6.1.2-recipe"],
+)
+def test_recipe_with_appendable_gps_types(
+    version: str, mask: str, gps_report_right: bool, appendable_umaa: Path, domain: int, request: pytest.FixtureRequest
+) -> None:
     """RTI on the drop-in profile (XCDR2 writers for the two types, readers accepting
     XCDR and XCDR2, no type information) and Cyclone with GPSReport, GPSFixReport and their nested types
     appendable: 20 random samples each way, values compared. GPSReport needs
@@ -707,8 +834,9 @@ def _shown(c: Any, sem: Sem, sent: list[Any]) -> dict[str, Any]:
 
 
 @pytest.mark.parametrize("version", ["7", "6"], ids=["connext7.7", "connext6.1.2"])
-def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(version: str, console: Any, domain: int,
-                                                                   request: pytest.FixtureRequest) -> None:
+def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(
+    version: str, console: Any, domain: int, request: pytest.FixtureRequest
+) -> None:
     """One reader per extensibility, merged. The console reads GPSReport and GPSFixReport from an
     RTI vehicle on the drop-in's AppendableGps profile (XCDR2, RTI's appendable types; Connext 7 with the mask in its
     environment) through its appendable readers, and from a Cyclone vehicle on plain idlc types (final, as sem-sim's)
@@ -730,12 +858,19 @@ def test_console_reads_every_report_from_rti_on_the_recipe_and_from_cyclone(vers
                 p.write(s, to_plain(x))
             for x in ours[s]:
                 cyclone[s].write(x)
-        readable = [(s, who, sent) for s in REPORTS for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
-                    if not (version == "6" and who == "RTI" and s is Sem.GPS_REPORT)]
+        readable = [
+            (s, who, sent)
+            for s in REPORTS
+            for who, sent in (("RTI", theirs[s]), ("Cyclone", ours[s]))
+            if not (version == "6" and who == "RTI" and s is Sem.GPS_REPORT)
+        ]
         for s, who, sent in readable:
             want = {str(x.source): to_json(x)[0] for x in sent}
-            got = wait_until(lambda s=s, sent=sent: (lambda g: g if all(g.values()) else None)(_shown(c, s, sent)),
-                             10, f"{who}'s {s.spec.name} in the console")
+            got = wait_until(
+                lambda s=s, sent=sent: (lambda g: g if all(g.values()) else None)(_shown(c, s, sent)),
+                10,
+                f"{who}'s {s.spec.name} in the console",
+            )
             for k in want:
                 assert same(want[k], got[k]), (who, s.spec.name, want[k], got[k])
         metrics = httpx.get(f"{c.url}/api/metrics").json()
@@ -763,8 +898,11 @@ def test_rti_consumer_misreads_sem_sims_gps_topics(rti: Callable[..., Any], doma
         for x in ours[s]:
             writers[s].write(x)
     got: dict[Sem, list[Any]] = {s: [] for s in GPS}
-    wait_until(lambda: got[Sem.GPS_FIX_REPORT].extend(x for x, _ in p.take(Sem.GPS_FIX_REPORT) if x) or got[Sem.GPS_FIX_REPORT],
-               10, "a GPSFixReport sample in RTI")  # GPSReport: none arrived when measured
+    wait_until(
+        lambda: got[Sem.GPS_FIX_REPORT].extend(x for x, _ in p.take(Sem.GPS_FIX_REPORT) if x) or got[Sem.GPS_FIX_REPORT],
+        10,
+        "a GPSFixReport sample in RTI",
+    )  # GPSReport: none arrived when measured
     for s in GPS:
         got[s] += [x for x, _ in p.take(s) if x]
     assert {s: sum(any(same(to_plain(x), g) for g in got[s]) for x in ours[s]) for s in GPS} == {s: 0 for s in GPS}
@@ -776,7 +914,8 @@ def test_rti_consumer_misreads_sem_sims_gps_topics(rti: Callable[..., Any], doma
 RTI7_INS_REPORT_MINIMAL = bytes.fromhex(
     "92000000f1510200010000000000000082000000040000001a000000000000000100f1431172effd44d3f350b5c42cb009"
     "9ed39e2e0000001a000000010000000100f1d4eda04ef966c8d0e1eab88c284a9acb44540000001a000000020000003100"
-    "f1c02c6d65a8318e236ed99e33c31b36cd38f40000001a000000030000000100f1f45382ce293f961a67b3cba95ad687a3cb5c00")
+    "f1c02c6d65a8318e236ed99e33c31b36cd38f40000001a000000030000000100f1f45382ce293f961a67b3cba95ad687a3cb5c00"
+)
 
 
 def test_why_cyclone_refuses_connext7_type_objects() -> None:
@@ -829,6 +968,7 @@ def test_final_reader_refuses_rti_only_with_force_type_validation(force: bool, r
 
 # --- An RTI consumer of sem-sim on AppendableGps: sem-sim --gps-extensibility appendable --------------------------
 
+
 def _stamp(sample: dict[str, Any]) -> tuple[int, int]:
     """A sample's time stamp: which of a sem-sim writer's samples it is."""
     return int(sample["timeStamp"]["seconds"]), int(sample["timeStamp"]["nanoseconds"])
@@ -841,8 +981,9 @@ def _taken(readers: dict[Sem, Any], into: dict[Sem, list[Any]]) -> dict[Sem, lis
 
 
 @pytest.mark.parametrize("version,gps_report_right", [("7", True), ("6", False)], ids=["connext7.7", "connext6.1.2"])
-def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_report_right: bool, sim: Any, domain: int,
-                                                          request: pytest.FixtureRequest) -> None:
+def test_rti_consumer_reads_sem_sims_appendable_gps_topics(
+    version: str, gps_report_right: bool, sim: Any, domain: int, request: pytest.FixtureRequest
+) -> None:
     """RTI as consumer: on the drop-in's AppendableGps profile (Connext 7 with the mask in its environment)
     it reads `sem-sim --gps-extensibility appendable`'s GPSReport and GPSFixReport: at least 20 samples each equal to
     the sample of the same time stamp a Cyclone reader of the appendable copy took from the same writers, none
@@ -856,10 +997,18 @@ def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_rep
     cyclone = {s: bus.reader(s, reader_qos(TopicClass.REPORT) + Qos(Policy.History.KeepAll), appendable=True) for s in GPS}
     final = {s: bus.reader(s, final_type_qos(s)) for s in GPS}  # the console's final readers refuse them
     try:
-        p = make(domain, readers=[*GPS, Sem.GPS_FIX_COMMAND_STATUS], writers=[Sem.GPS_FIX_COMMAND], recipe="AppendableGps",
-                 env=RECIPE_ENV)
-        wait_until(lambda: all(p.matched(s, False) for s in GPS) and all(r.get_matched_publications() for r in cyclone.values()),
-                   10, "sem-sim's appendable GPS writers matched by RTI and by Cyclone")
+        p = make(
+            domain,
+            readers=[*GPS, Sem.GPS_FIX_COMMAND_STATUS],
+            writers=[Sem.GPS_FIX_COMMAND],
+            recipe="AppendableGps",
+            env=RECIPE_ENV,
+        )
+        wait_until(
+            lambda: all(p.matched(s, False) for s in GPS) and all(r.get_matched_publications() for r in cyclone.values()),
+            10,
+            "sem-sim's appendable GPS writers matched by RTI and by Cyclone",
+        )
         assert all(not r.get_matched_publications() for r in final.values())
         got: dict[Sem, list[Any]] = {s: [] for s in GPS}
 
@@ -892,8 +1041,9 @@ def test_rti_consumer_reads_sem_sims_appendable_gps_topics(version: str, gps_rep
         p.wait_matched(Sem.GPS_FIX_COMMAND)
         p.write(Sem.GPS_FIX_COMMAND, cmd)
         seen: list[tuple[str | None, str]] = []
-        wait_until(lambda: ("COMPLETED", "ALIVE") in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen), 20,
-                   "COMPLETED in RTI")
+        wait_until(
+            lambda: ("COMPLETED", "ALIVE") in _statuses(p, Service.GPS_FIX, cmd["sessionID"], seen), 20, "COMPLETED in RTI"
+        )
         assert [s for s, _ in seen] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
     finally:
         for x in made:

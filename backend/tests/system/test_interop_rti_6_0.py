@@ -68,17 +68,47 @@ def _stamp() -> dict[str, int]:
 
 # a 6.0 vehicle's GPS clock and satellites, as RTI's Connector takes them (enums as ordinals)
 CLOCK: dict[str, Any] = {
-    "bias": -12, "biasUncertainty": 7, "drift": 3, "driftUncertainty": 1, "elapsedRealtime": 1_000_000,
-    "elapsedRealtimeUncertainty": 5, "fullBias": -1_234_567_890_123, "hardwareClockDiscontinuityCount": 2,
-    "leapSecond": 18, "referenceCarrierFrequency": 1575.42e6, "referenceCodeTypeFor": "C",
-    "referenceConstellationType": 3, "time": 42, "timeFigureOfMerit": 2}  # GPS, TFOM_3
+    "bias": -12,
+    "biasUncertainty": 7,
+    "drift": 3,
+    "driftUncertainty": 1,
+    "elapsedRealtime": 1_000_000,
+    "elapsedRealtimeUncertainty": 5,
+    "fullBias": -1_234_567_890_123,
+    "hardwareClockDiscontinuityCount": 2,
+    "leapSecond": 18,
+    "referenceCarrierFrequency": 1575.42e6,
+    "referenceCodeTypeFor": "C",
+    "referenceConstellationType": 3,
+    "time": 42,
+    "timeFigureOfMerit": 2,
+}  # GPS, TFOM_3
 SATELLITES: list[dict[str, Any]] = [  # GPS 17 used in the fix, Galileo 5 not
-    {"antennaCarrierNoiseDensity": 41.5, "azimuth": 1.25, "basebandCarrierNoiseDensity": 40.0, "carrierFrequency": 1575.42e6,
-     "constellationType": 3, "containsAlmanacData": True, "elevation": 0.5, "ephemerisData": True, "satelliteID": 17,
-     "usedInFix": True},
-    {"antennaCarrierNoiseDensity": 30.25, "azimuth": 4.5, "basebandCarrierNoiseDensity": 29.0, "carrierFrequency": 1561.098e6,
-     "constellationType": 1, "containsAlmanacData": False, "elevation": 0.25, "ephemerisData": False, "satelliteID": 5,
-     "usedInFix": False}]
+    {
+        "antennaCarrierNoiseDensity": 41.5,
+        "azimuth": 1.25,
+        "basebandCarrierNoiseDensity": 40.0,
+        "carrierFrequency": 1575.42e6,
+        "constellationType": 3,
+        "containsAlmanacData": True,
+        "elevation": 0.5,
+        "ephemerisData": True,
+        "satelliteID": 17,
+        "usedInFix": True,
+    },
+    {
+        "antennaCarrierNoiseDensity": 30.25,
+        "azimuth": 4.5,
+        "basebandCarrierNoiseDensity": 29.0,
+        "carrierFrequency": 1561.098e6,
+        "constellationType": 1,
+        "containsAlmanacData": False,
+        "elevation": 0.25,
+        "ephemerisData": False,
+        "satelliteID": 5,
+        "usedInFix": False,
+    },
+]
 
 
 class KitVehicle:
@@ -90,12 +120,23 @@ class KitVehicle:
 
     def report(self) -> None:
         stamp = _stamp()
-        self.p.write(Sem60.GPS_REPORT, {"clock": CLOCK, "numberSatellitesInView": 2, "satellites": SATELLITES,
-                                        "timeStamp": stamp, "source": self.source})
+        self.p.write(
+            Sem60.GPS_REPORT,
+            {"clock": CLOCK, "numberSatellitesInView": 2, "satellites": SATELLITES, "timeStamp": stamp, "source": self.source},
+        )
         self.p.write(Sem60.INS_REPORT, {"status": 7, "timeStamp": stamp, "source": self.source})  # FINE_GPS_ALIGNMENT_COMPLETE
-        self.p.write(POSE, {"altitude": 0.5, "attitude": ATTITUDE, "course": 1.2, "navigationSolution": 2,  # MEASURED
-                            "position": {"geodeticLatitude": 36.85, "geodeticLongitude": -75.98}, "timeStamp": stamp,
-                            "source": self.source})
+        self.p.write(
+            POSE,
+            {
+                "altitude": 0.5,
+                "attitude": ATTITUDE,
+                "course": 1.2,
+                "navigationSolution": 2,  # MEASURED
+                "position": {"geodeticLatitude": 36.85, "geodeticLongitude": -75.98},
+                "timeStamp": stamp,
+                "source": self.source,
+            },
+        )
 
     def model(self, detail: dict[str, Any]) -> None:
         """`detail` (REST) has this vehicle's GlobalPose as the model's position report and its INS status."""
@@ -104,7 +145,9 @@ class KitVehicle:
         assert reports["GPSFixReport"]["invalid"] == reports["InertialSensorReport"]["invalid"] == []
         assert pose["source"] == ins["source"] == str(self.guid)
         assert pose["position2DWithTime"]["geodeticPosition"] == {
-            "geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}}
+            "geodeticLatitude": {"latitude": 36.85},
+            "geodeticLongitude": {"longitude": -75.98},
+        }
         assert pose["position2DWithTime"]["timeAtPosition"] > 1.7e9
         assert (pose["trueCourse"], pose["altitudeMSL"], pose["attitude"]) == (1.2, {"altitude": 0.5}, ATTITUDE)
         assert (pose["navigationSolution"], pose["GPSLatLongValid"]) == ("MEASURED", True)
@@ -117,6 +160,7 @@ def _detail(c: Any, v: KitVehicle, topics: set[str]) -> dict[str, Any]:
         v.report()
         r = httpx.get(f"{c.url}/api/providers/{v.guid}")
         return r.json() if r.status_code == 200 and topics <= {t for t, h in r.json()["topics"].items() if h["alive"]} else None
+
     return wait_until(shown, 15, f"the RTI vehicle's {sorted(topics)} in the console")
 
 
@@ -133,13 +177,18 @@ def test_console_reads_an_rti_kit_vehicle_on_the_drop_in(rti60: Callable[..., An
     assert detail["umaaVersion"] == "6.0" and detail["link"] == "live"
     gps = detail["reports"]["GPSReport"]["report"]
     assert gps["source"] == str(v.guid) and gps["numberSatellitesInView"] == 2
-    clock = {k: gps["clock"][{"biasUncertainty": "biasUncertianty"}.get(k, k)] for k in CLOCK
-             if k not in ("timeFigureOfMerit", "referenceConstellationType")}
+    clock = {
+        k: gps["clock"][{"biasUncertainty": "biasUncertianty"}.get(k, k)]
+        for k in CLOCK
+        if k not in ("timeFigureOfMerit", "referenceConstellationType")
+    }
     assert clock == {k: x for k, x in CLOCK.items() if k not in ("timeFigureOfMerit", "referenceConstellationType")}
     assert gps["clock"]["referenceConstellationType"] == "GPS"
     got = [{k: s[k] for k in s if k != "satelliteId"} for s in gps["satellites"]]
-    assert got == [{**{k: x for k, x in s.items() if k != "satelliteID"}, "constellationType": name}
-                   for s, name in zip(SATELLITES, ("GPS", "GALILEO"), strict=True)]
+    assert got == [
+        {**{k: x for k, x in s.items() if k != "satelliteID"}, "constellationType": name}
+        for s, name in zip(SATELLITES, ("GPS", "GALILEO"), strict=True)
+    ]
     assert [satellite_label(uuid.UUID(s["satelliteId"]).bytes) for s in gps["satellites"]] == ["G17", "E05"]
     assert detail["reports"]["GPSReport"]["invalid"] == []
     metrics = httpx.get(f"{c.url}/api/metrics").json()
@@ -194,12 +243,16 @@ def _cdr(reader: Any) -> list[tuple[bytes, Any]]:
 
 
 def _findings(c: Any, n: int) -> list[dict[str, Any]]:
-    return wait_until(lambda: (lambda f: f if len(f) >= n else None)(httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]),
-                      15, f"{n} findings")
+    return wait_until(
+        lambda: (lambda f: f if len(f) >= n else None)(httpx.get(f"{c.url}/api/metrics").json()["peerFindings"]),
+        15,
+        f"{n} findings",
+    )
 
 
-def test_console_tells_an_rti_kit_vehicle_as_shipped_to_stop_type_information(rti60: Callable[..., Any], console: Any,
-                                                                            domain: int) -> None:
+def test_console_tells_an_rti_kit_vehicle_as_shipped_to_stop_type_information(
+    rti60: Callable[..., Any], console: Any, domain: int
+) -> None:
     """The kit as it ships sends its types' type information (type_object_max_serialized_length 30000), which
     Cyclone cannot add: nothing of the vehicle matches, the console lists nothing and names the fix."""
     c = console()
@@ -210,12 +263,14 @@ def test_console_tells_an_rti_kit_vehicle_as_shipped_to_stop_type_information(rt
     assert findings[0]["message"] == (
         "RTI participant Kit60 sends type information this console cannot use (none of its SEM topics match): set "
         "<resource_limits><type_object_max_serialized_length> to 0 in its participant QoS (the drop-in profile "
-        "docs/rti/umaa-6.0-interop.xml does) (docs/dds.md#rti-connext-7)")
+        "docs/rti/umaa-6.0-interop.xml does) (docs/dds.md#rti-connext-7)"
+    )
     assert httpx.get(f"{c.url}/api/providers/{v.guid}").status_code == 404
 
 
-def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(rti60: Callable[..., Any], console: Any,
-                                                                     domain: int) -> None:
+def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(
+    rti60: Callable[..., Any], console: Any, domain: int
+) -> None:
     """The kit with its type information off, nothing else changed: RTI writes every type in XCDR1, the console reads
     GPSReportType and InertialSensorReportType (its INS status in the model), and tells the operator the fix for
     GlobalPoseReportType (optional members: XCDR2 only), which it counts as a writer it does not read: the model has
@@ -228,14 +283,20 @@ def test_console_tells_an_rti_kit_vehicle_to_write_globalpose_in_xcdr2(rti60: Ca
     assert (ins["status"], ins["state"], ins["source"]) == ("FINE_GPS_ALIGNMENT_COMPLETE", None, str(v.guid))
     findings = _findings(c, 1)
     assert [(f["name"], f["kind"], f["topic"], f["message"]) for f in findings] == [
-        ("Kit60", "representation", "GlobalPoseReportType", "RTI participant Kit60 offers GlobalPoseReportType in XCDR1: set "
-         "XCDR2 on that writer (docs/dds.md#rti-connext-7)")]
+        (
+            "Kit60",
+            "representation",
+            "GlobalPoseReportType",
+            "RTI participant Kit60 offers GlobalPoseReportType in XCDR1: set XCDR2 on that writer (docs/dds.md#rti-connext-7)",
+        )
+    ]
     assert httpx.get(f"{c.url}/api/metrics").json()["incompatibleWriters"] == {POSE.spec.name: 1}
 
 
 @pytest.mark.parametrize("drop_in", [True, False], ids=["drop-in", "without-serialize_key_with_dispose"])
-def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(drop_in: bool, rti60: Callable[..., Any], console: Any,
-                                                           domain: int) -> None:
+def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(
+    drop_in: bool, rti60: Callable[..., Any], console: Any, domain: int
+) -> None:
     """An RTI vehicle disposes its GlobalPoseReportType instance (XCDR2, its key an IdentifierType of 32 bytes): with
     the drop-in's serialize_key_with_dispose the console sees the instance end; without it the dispose carries only
     an MD5 key hash, which Cyclone cannot turn back into the key, and the instance stays alive in the console."""
@@ -248,9 +309,14 @@ def test_console_sees_an_rti_kit_vehicle_end_its_globalpose(drop_in: bool, rti60
         return r.json()["topics"].get("GPSFixReport") if r.status_code == 200 else None  # GlobalPose: the model's
 
     stamp = _stamp()
-    pose = {"attitude": {"pitch": {"pitch": 0.0}, "roll": {"roll": 0.0}, "yaw": {"yaw": 0.0}}, "course": 0.0,
-            "navigationSolution": 0, "position": {"geodeticLatitude": 1.0, "geodeticLongitude": 2.0}, "timeStamp": stamp,
-            "source": v.source}
+    pose = {
+        "attitude": {"pitch": {"pitch": 0.0}, "roll": {"roll": 0.0}, "yaw": {"yaw": 0.0}},
+        "course": 0.0,
+        "navigationSolution": 0,
+        "position": {"geodeticLatitude": 1.0, "geodeticLongitude": 2.0},
+        "timeStamp": stamp,
+        "source": v.source,
+    }
     assert wait_until(lambda: v.p.write(POSE, pose) or topic(), 15, "the RTI vehicle's GlobalPose in the console")["alive"]
     v.p.write(POSE, {"source": v.source}, action="dispose")
     if drop_in:
@@ -280,14 +346,20 @@ def test_the_console_writers_reach_an_rti_kit_reader(rti60: Callable[..., Any], 
     command = bus.writer(Sem60.INS_COMMAND)
     sim = Writer60(bus, align_seconds=30).writers
     p = rti60(domain, readers=[Sem60.INS_COMMAND, Sem60.GPS_REPORT, Sem60.INS_REPORT], type_object_max=0)
-    wait_until(lambda: command.get_matched_subscriptions() and all(p.matched(s, False) for s in (Sem60.GPS_REPORT,
-               Sem60.INS_REPORT)), 10, "the kit's readers matched")
+    wait_until(
+        lambda: command.get_matched_subscriptions() and all(p.matched(s, False) for s in (Sem60.GPS_REPORT, Sem60.INS_REPORT)),
+        10,
+        "the kit's readers matched",
+    )
     assert len(sim[Sem60.GPS_REPORT].get_matched_subscriptions()) == 1
     command_qos = ("UMAAQoSLib::DefaultUMAAParticipant", "UMAAQoSLib::CommandQoS")
     flow = [Sem60.INS_COMMAND, CMD_STATUS, CMD_ACK]
     q = rti60(domain, readers=flow, type_object_max=0, umaa=command_qos)
-    wait_until(lambda: all(len(q.matched(s, False)) == 1 for s in flow), 10,
-               "the console's command writer and sem-sim's status and ack writers matched by CommandQoS readers")
+    wait_until(
+        lambda: all(len(q.matched(s, False)) == 1 for s in flow),
+        10,
+        "the console's command writer and sem-sim's status and ack writers matched by CommandQoS readers",
+    )
     unleased = DataWriter(bus.publisher, bus.topic(Sem60.INS_COMMAND), writer_qos(TopicClass.COMMAND))
     time.sleep(1)
     assert len(q.matched(Sem60.INS_COMMAND, False)) == 1 and len(unleased.get_matched_subscriptions()) == 1  # p's only
@@ -323,8 +395,9 @@ def test_rti_kit_consumer_reads_sem_sims_6_0_reports(rti60: Callable[..., Any], 
         for s in REPORTS:
             theirs[s] += [x for x, _ in p.take(s) if x]
             ours[s] += [to_plain(x) for x in cyclone[s].take(N=1000, condition=all_samples(cyclone[s]))]
-        out = {s: [(x, _by_stamp(ours[s])[k]) for k, x in _by_stamp(theirs[s]).items() if k in _by_stamp(ours[s])]
-               for s in REPORTS}
+        out = {
+            s: [(x, _by_stamp(ours[s])[k]) for k, x in _by_stamp(theirs[s]).items() if k in _by_stamp(ours[s])] for s in REPORTS
+        }
         return out if all(len(v) >= 10 for v in out.values()) else None
 
     paired = wait_until(pairs, 30, "10 samples of each 6.0 report that RTI and Cyclone both took")
@@ -359,9 +432,17 @@ class KitProvider(KitVehicle):
         self.hold: set[bytes] = set()
 
     def status(self, cmd: dict[str, Any], status: str, reason: str = "SUCCEEDED") -> None:
-        self.p.write(CMD_STATUS, {"source": self.source, "sessionID": cmd["sessionID"], "commandStatus": STATUS60[status],
-                                  "commandStatusReason": REASON60[reason], "logMessage": f"rti {status.lower()}",
-                                  "timeStamp": _stamp()})
+        self.p.write(
+            CMD_STATUS,
+            {
+                "source": self.source,
+                "sessionID": cmd["sessionID"],
+                "commandStatus": STATUS60[status],
+                "commandStatusReason": REASON60[reason],
+                "logMessage": f"rti {status.lower()}",
+                "timeStamp": _stamp(),
+            },
+        )
 
     def step(self) -> None:
         self.report()
@@ -377,8 +458,7 @@ class KitProvider(KitVehicle):
                 continue
             self.commands[session] = cmd
             self.status(cmd, "ISSUED")
-            self.p.write(CMD_ACK, {"command": cmd, "source": self.source, "sessionID": cmd["sessionID"],
-                                   "timeStamp": _stamp()})
+            self.p.write(CMD_ACK, {"command": cmd, "source": self.source, "sessionID": cmd["sessionID"], "timeStamp": _stamp()})
             for s in ("COMMANDED", "EXECUTING"):
                 self.status(cmd, s)
             if session not in self.hold:
@@ -395,8 +475,9 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
     from test_console import WsClient
 
     c = console()
-    v = KitProvider(rti60(domain, writers=[*REPORTS, CMD_STATUS, CMD_ACK], readers=[Sem60.INS_COMMAND], umaa=DROP_IN,
-                          name="Kit60"))
+    v = KitProvider(
+        rti60(domain, writers=[*REPORTS, CMD_STATUS, CMD_ACK], readers=[Sem60.INS_COMMAND], umaa=DROP_IN, name="Kit60")
+    )
     _detail(c, v, HEALTH)
     ws = WsClient(c.ws_url)
 
@@ -418,8 +499,11 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
     sent = v.commands[uuid.UUID(session).bytes]
     assert (sent["state"], sent["destination"], sent["source"]["parentID"]) == (GPS_ALIGN, v.source, NIL)
     wait_until(lambda: ws.transitions(session) == HAPPY, 5, "every transition on the WebSocket")
-    wait_until(lambda: v.step() or [d for d in v.disposed if d["sessionID"] == sent["sessionID"]], 30,
-               "the console's cleanup dispose in RTI")
+    wait_until(
+        lambda: v.step() or [d for d in v.disposed if d["sessionID"] == sent["sessionID"]],
+        30,
+        "the console's cleanup dispose in RTI",
+    )
 
     session = post()
     v.hold.add(uuid.UUID(session).bytes)
@@ -430,7 +514,8 @@ def test_console_commands_an_rti_kit_vehicle(rti60: Callable[..., Any], console:
     assert [t["status"] for t in done["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
     held = v.commands[uuid.UUID(session).bytes]
     assert [{k: d[k] for k in ("source", "sessionID", "destination")} for d in v.disposed][-1] == {
-        k: held[k] for k in ("source", "sessionID", "destination")}
+        k: held[k] for k in ("source", "sessionID", "destination")
+    }
     assert done["violations"] == [] and ws.errors == []
     metrics = httpx.get(f"{c.url}/api/metrics").json()
     assert (metrics["undecodableSamples"], metrics["incompatibleWriters"], metrics["peerFindings"]) == (0, {}, []), metrics
@@ -441,14 +526,22 @@ def _statuses60(p: Any, session: list[int], seen: list[tuple[str | None, str | N
     False)."""
     for x, _state, valid in p.take_with_keys(CMD_STATUS):
         if x["sessionID"] == session:
-            seen.append((STATUS60_NAME[x["commandStatus"]], REASON60_NAME.get(x["commandStatusReason"]), True)
-                        if valid else (None, None, False))
+            seen.append(
+                (STATUS60_NAME[x["commandStatus"]], REASON60_NAME.get(x["commandStatusReason"]), True)
+                if valid
+                else (None, None, False)
+            )
     return seen
 
 
 def _command60(me: uuid.UUID, vehicle: uuid.UUID) -> dict[str, Any]:
-    return {"state": GPS_ALIGN, "source": _ident(me), "destination": _ident(vehicle), "sessionID": list(uuid.uuid4().bytes),
-            "timeStamp": _stamp()}
+    return {
+        "state": GPS_ALIGN,
+        "source": _ident(me),
+        "destination": _ident(vehicle),
+        "sessionID": list(uuid.uuid4().bytes),
+        "timeStamp": _stamp(),
+    }
 
 
 def test_rti_kit_consumer_commands_sem_sim_6_0(rti60: Callable[..., Any], sim: Any, domain: int) -> None:
@@ -471,13 +564,13 @@ def test_rti_kit_consumer_commands_sem_sim_6_0(rti60: Callable[..., Any], sim: A
     acks = [x for x, _ in p.take(CMD_ACK) if x and x["sessionID"] == cmd["sessionID"]]
     assert [(a["source"], a["command"]) for a in acks] == [(_ident(vehicle), cmd)]
     p.write(Sem60.INS_COMMAND, {k: cmd[k] for k in ("source", "destination", "sessionID")}, action="dispose")
-    wait_until(lambda: any(s is None for s, _r, _st in _statuses60(p, cmd["sessionID"], [])), 10,
-               "the simulator's status dispose")
+    wait_until(
+        lambda: any(s is None for s, _r, _st in _statuses60(p, cmd["sessionID"], [])), 10, "the simulator's status dispose"
+    )
 
 
 @pytest.mark.parametrize("drop_in", [True, False], ids=["drop-in", "without-serialize_key_with_dispose"])
-def test_rti_kit_consumer_cancels_sem_sim_6_0_by_dispose(drop_in: bool, rti60: Callable[..., Any], sim: Any,
-                                                       domain: int) -> None:
+def test_rti_kit_consumer_cancels_sem_sim_6_0_by_dispose(drop_in: bool, rti60: Callable[..., Any], sim: Any, domain: int) -> None:
     """An RTI consumer on the kit cancels a running GPS_ALIGN of `sem-sim --umaa 6.0` by disposing it: with the
     drop-in's serialize_key_with_dispose the simulator answers CANCELED (reason CANCELED); without it the dispose
     carries only the MD5 key hash of the 80-byte key, which Cyclone drops, and the command runs on."""

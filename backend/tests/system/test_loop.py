@@ -96,8 +96,12 @@ def loop_thread(client: TestClient) -> int:
 def read_routes(client: TestClient) -> list[tuple[str, str]]:
     """(method, path) of every GET and DELETE route of the app's OpenAPI document, its path parameters filled in."""
     paths: dict[str, dict[str, Any]] = client.app.openapi()["paths"]  # type: ignore[attr-defined]
-    return [(method.upper(), re.sub(r"\{(\w+)\}", lambda m: PARAMETERS[m.group(1)], path))
-            for path, operations in paths.items() for method in operations if method in ("get", "delete")]
+    return [
+        (method.upper(), re.sub(r"\{(\w+)\}", lambda m: PARAMETERS[m.group(1)], path))
+        for path, operations in paths.items()
+        for method in operations
+        if method in ("get", "delete")
+    ]
 
 
 def test_no_read_route_runs_a_statement_on_the_event_loop(client: TestClient, slow: SlowDatabase) -> None:
@@ -114,16 +118,20 @@ def test_no_read_route_runs_a_statement_on_the_event_loop(client: TestClient, sl
     assert on_loop == [], f"routes that read the database on the event loop: {on_loop}"
 
 
-@pytest.mark.parametrize("method,path,table", [
-    ("GET", "/api/commands", "commands"),
-    ("GET", f"/api/commands/{UNKNOWN}", "commands"),
-    ("DELETE", f"/api/commands/{UNKNOWN}", "commands"),
-    ("GET", "/api/audit", "audit"),
-    ("GET", "/api/commands.csv", "commands"),
-    ("GET", f"/api/providers/{V1}/track", "track"),
-])
-def test_the_loop_answers_while_a_route_waits_on_a_slow_database(client: TestClient, slow: SlowDatabase, method: str,
-                                                                  path: str, table: str) -> None:
+@pytest.mark.parametrize(
+    "method,path,table",
+    [
+        ("GET", "/api/commands", "commands"),
+        ("GET", f"/api/commands/{UNKNOWN}", "commands"),
+        ("DELETE", f"/api/commands/{UNKNOWN}", "commands"),
+        ("GET", "/api/audit", "audit"),
+        ("GET", "/api/commands.csv", "commands"),
+        ("GET", f"/api/providers/{V1}/track", "track"),
+    ],
+)
+def test_the_loop_answers_while_a_route_waits_on_a_slow_database(
+    client: TestClient, slow: SlowDatabase, method: str, path: str, table: str
+) -> None:
     """While the route's statement waits (at most HOLD s), /api/health is asked: it is answered while the statement
     still waits (it is released by that answer, not by the HOLD timeout), within a small part of HOLD."""
     slow.hold(table)
@@ -150,8 +158,10 @@ def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: st
             slow.hold("commands")
             message = json.dumps({"kind": "command", "console": "relief", "session": UNKNOWN})
             # sent again until heard: the console's listener may not be listening yet
-            wait_until(lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
-                       what="the notification's read of the command")
+            wait_until(
+                lambda: other.execute("SELECT pg_notify('sem_console', %s)", (message,)) and slow.entered.wait(0.5),
+                what="the notification's read of the command",
+            )
             started = time.monotonic()
             health = client.get("/api/health")
             answered = time.monotonic() - started
@@ -172,8 +182,11 @@ def listening(client: TestClient) -> None:
 def settled(client: TestClient) -> None:
     """Wait until the console has applied every read of the database it started after a notification."""
     console = client.app.state.console  # type: ignore[attr-defined]
-    wait_until(lambda: not client.portal.call(lambda: set(console._reloads)), 30,  # type: ignore[union-attr]
-               what="the console's reads after notifications to end")
+    wait_until(
+        lambda: not client.portal.call(lambda: set(console._reloads)),
+        30,  # type: ignore[union-attr]
+        what="the console's reads after notifications to end",
+    )
 
 
 def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path, pg_url: str) -> None:
@@ -185,8 +198,11 @@ def test_a_change_made_here_while_another_consoles_is_read_stands(tmp_path: Path
     with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
         slow = SlowDatabase(client.app.state.console.store.engine)  # type: ignore[attr-defined]
         try:
-            other.execute("INSERT INTO link_config (provider_id, config) VALUES (%s, %s) ON CONFLICT (provider_id) "
-                          "DO UPDATE SET config = excluded.config", (V1, json.dumps(theirs)))
+            other.execute(
+                "INSERT INTO link_config (provider_id, config) VALUES (%s, %s) ON CONFLICT (provider_id) "
+                "DO UPDATE SET config = excluded.config",
+                (V1, json.dumps(theirs)),
+            )
             slow.hold("link_config", answered=True)
             listening(client)  # one notification, one read: a second would read the newer row after the held one
             message = json.dumps({"kind": "link", "console": "relief", "provider": V1})
@@ -206,10 +222,23 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
     """A resync (the listener reopened) reads the shelves off the loop; another station shelves an alarm after that
     read and before it is applied: the shelf it notified stands here, not undone by the older read."""
     now = time.time()
-    row = {"id": str(uuid.uuid4()), "key": f"link-lost:{V1}", "kind": "link-lost", "provider_id": V1, "session_id": None,
-           "severity": "alarm", "text": "Alpha: link lost", "reason": "maintenance", "shelved_by": "bob",
-           "station": "relief", "shelved_at": now, "until": now + 3600, "ended_at": None, "ended_by": None,
-           "end_reason": None}
+    row = {
+        "id": str(uuid.uuid4()),
+        "key": f"link-lost:{V1}",
+        "kind": "link-lost",
+        "provider_id": V1,
+        "session_id": None,
+        "severity": "alarm",
+        "text": "Alpha: link lost",
+        "reason": "maintenance",
+        "shelved_by": "bob",
+        "station": "relief",
+        "shelved_at": now,
+        "until": now + 3600,
+        "ended_at": None,
+        "ended_by": None,
+        "end_reason": None,
+    }
     with app_client(tmp_path, database_url=pg_url) as client, psycopg.connect(pg_url, autocommit=True) as other:
         console = client.app.state.console  # type: ignore[attr-defined]
         slow = SlowDatabase(console.store.engine)
@@ -218,10 +247,12 @@ def test_a_shelf_heard_while_a_resync_reads_stands(tmp_path: Path, pg_url: str) 
             listening(client)
             other.execute("SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "resync"}),))
             assert slow.entered.wait(30), "no read of the shelves after the resync"
-            other.execute(f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})",
-                          list(row.values()))
-            other.execute("SELECT pg_notify('sem_console', %s)",
-                          (json.dumps({"kind": "shelf", "console": "relief", "row": row}),))
+            other.execute(
+                f"INSERT INTO alarm_shelves ({', '.join(row)}) VALUES ({', '.join(['%s'] * len(row))})", list(row.values())
+            )
+            other.execute(
+                "SELECT pg_notify('sem_console', %s)", (json.dumps({"kind": "shelf", "console": "relief", "row": row}),)
+            )
             time.sleep(1.0)  # the shelf's notification heard meanwhile
             assert slow.release() == [True]
             settled(client)

@@ -49,7 +49,8 @@ def heard(ws: WsClient, session: str, status: str) -> dict[str, Any] | None:
 
 @pytest.mark.slow
 def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     sim("--surface-seconds", "400")  # a GPS fix stays EXECUTING until canceled
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
@@ -59,8 +60,7 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
     try:
         session = gps_fix_executing(a.url)
         on_b = wait_until(lambda: heard(ws_b, session, "EXECUTING"), 10, "A's command on B's WebSocket")
-        assert on_b["console"] == "watch" and [t["status"] for t in on_b["transitions"]] == ["ISSUED", "COMMANDED",
-                                                                                              "EXECUTING"]
+        assert on_b["console"] == "watch" and [t["status"] for t in on_b["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING"]
         assert command(b.url, session)["console"] == "watch"  # and in B's history
         r = httpx.delete(f"{b.url}/api/commands/{session}")  # B cancels A's command
         assert r.status_code == 200 and r.json()["cancelRequested"], r.text
@@ -79,7 +79,8 @@ def test_two_consoles_distinct_identities_shared_commands_and_hand_over(
 
 @pytest.mark.slow
 def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and_the_csv(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     """Bob on relief cancels Alice's command from watch: both stations, their histories and their CSV exports say who
     cancelled it and where, not only while the cancel is on its way (the API had the operator, no station)."""
     sim("--surface-seconds", "400")
@@ -96,15 +97,21 @@ def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and
         assert r.status_code == 200 and (r.json()["canceledBy"], r.json()["canceledOn"]) == ("bob", "relief"), r.text
         for c in (a, b):
             done = wait_command(c.url, session, done=lambda x: x["terminal"] and x["status"] == "CANCELED")
-            assert (done["operator"], done["console"], done["canceledBy"], done["canceledOn"]) == \
-                   ("alice", "watch", "bob", "relief"), done
+            assert (done["operator"], done["console"], done["canceledBy"], done["canceledOn"]) == (
+                "alice",
+                "watch",
+                "bob",
+                "relief",
+            ), done
             assert abs(done["canceledAt"] - asked) < 5
             listed = next(x for x in httpx.get(f"{c.url}/api/commands").json() if x["sessionId"] == session)
             assert (listed["canceledBy"], listed["canceledOn"]) == ("bob", "relief")  # the history page
-            rows = [x for x in csv.DictReader(io.StringIO(httpx.get(f"{c.url}/api/commands.csv").text))
-                    if x["session_id"] == session]
-            assert {(x["operator"], x["station"], x["canceled_by"], x["canceled_on"]) for x in rows} == \
-                   {("alice", "watch", "bob", "relief")}, rows
+            rows = [
+                x for x in csv.DictReader(io.StringIO(httpx.get(f"{c.url}/api/commands.csv").text)) if x["session_id"] == session
+            ]
+            assert {(x["operator"], x["station"], x["canceled_by"], x["canceled_on"]) for x in rows} == {
+                ("alice", "watch", "bob", "relief")
+            }, rows
         # Alice's own WebSocket: the finished command as her station's clients have it
         on_a = wait_until(lambda: heard(ws_a, session, "CANCELED"), 10, "CANCELED on A's WebSocket")
         assert (on_a["canceledBy"], on_a["canceledOn"]) == ("bob", "relief"), on_a
@@ -117,7 +124,8 @@ def test_the_canceller_and_the_station_are_named_on_every_station_in_history_and
 
 
 def test_the_database_banner_s_message_comes_within_2_s_of_the_console_knowing(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str
+) -> None:
     """The dashboard asked GET /api/health every 15 s: the banner came about 12 s after the console knew. The console
     now pushes a `database` message at the tick that finds the outage (and its end), as it does an alarm."""
     sim()
@@ -132,16 +140,21 @@ def test_the_database_banner_s_message_comes_within_2_s_of_the_console_knowing(
         pg_cluster.stop()
         try:
             for ws in sockets:
+
                 def down(ws: WsClient = ws) -> tuple[float, dict[str, Any]] | None:
                     m = next((m for m in ws.of("database") if m["database"]["unavailableSince"] is not None), None)
                     return (time.time(), m["database"]) if m else None
+
                 seen, state = wait_until(down, 20, "the outage on the WebSocket")
                 assert seen - state["unavailableSince"] < 2.0, (seen, state)
         finally:
             pg_cluster.start()
         for ws in sockets:
-            wait_until(lambda ws=ws: (x := ws.of("database")) and x[-1]["database"]["unavailableSince"] is None, 20,
-                       "the end of the outage on the WebSocket")
+            wait_until(
+                lambda ws=ws: (x := ws.of("database")) and x[-1]["database"]["unavailableSince"] is None,
+                20,
+                "the end of the outage on the WebSocket",
+            )
             assert not ws.errors, ws.errors
     finally:
         for ws in sockets:
@@ -149,7 +162,8 @@ def test_the_database_banner_s_message_comes_within_2_s_of_the_console_knowing(
 
 
 def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     # no orphan grace to speak of: the vehicle would cancel a command that lost its writer (A) by itself after 10 s,
     # and this test would pass without B's dispose reaching it
     sim("--surface-seconds", "400", "--orphan-grace", "3600")
@@ -165,7 +179,8 @@ def test_a_command_of_a_console_that_stopped_is_canceled_from_another(
 
 @pytest.mark.slow
 def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by_another(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     """Watch cancels a command its lost vehicle never answered, then stops for good: relief showed it counting up for
     ever, in its history and on its dashboard. Relief ends it once it has heard the vehicle back without a word of it."""
     a = console("--database-url", pg_url, "--console-name", "watch")
@@ -180,8 +195,11 @@ def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by
         assert (done["closedUnheard"], done["status"], done["transitions"], done["cleanedUp"]) == ("heard", None, [], True)
         listed = next(x for x in httpx.get(f"{b.url}/api/commands").json() if x["sessionId"] == session)  # history
         assert (listed["terminal"], listed["closedUnheard"], listed["closedAt"]) == (True, "heard", done["closedAt"])
-        wait_until(lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"]
-                               for m in ws_b.of("command")), 10, "the end on relief's WebSocket")
+        wait_until(
+            lambda: any(m["command"]["sessionId"] == session and m["command"]["terminal"] for m in ws_b.of("command")),
+            10,
+            "the end on relief's WebSocket",
+        )
         assert not ws_b.errors, ws_b.errors
     finally:
         ws_b.close()
@@ -189,7 +207,8 @@ def test_a_command_canceled_unanswered_on_a_station_stopped_for_good_is_ended_by
 
 @pytest.mark.slow
 def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path
+) -> None:
     """Relief records; it shows watch's command, raising no alarm for it, then takes it over (to cancel it) and from
     then on raises its alarms: here the Figure 4 violation of a vehicle that skips COMMANDED. A replay of relief's
     recording raised none: the file did not say which commands were taken over, so this one counted as watch's."""
@@ -205,6 +224,7 @@ def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
 
     def violations(c: ConsoleProcess) -> list[dict[str, Any]]:
         return [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "flow-violation" and x["sessionId"] == session]
+
     assert violations(a) and not violations(b)  # watch's own; relief only shows it
     r = httpx.delete(f"{b.url}/api/commands/{session}")  # relief takes it over to cancel it
     assert r.status_code == 200 and r.json()["cancelRequested"], r.text
@@ -221,7 +241,8 @@ def test_a_command_taken_over_replays_with_the_alarms_the_station_raised_for_it(
 
 @pytest.mark.slow
 def test_a_database_outage_loses_nothing_and_stops_no_console(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str
+) -> None:
     """PostgreSQL stopped: both consoles keep monitoring, A commands and cancels, its health says since when the
     shared history is unavailable, reads of the database answer 503 in one line, an alarm raised meanwhile can be
     acknowledged; started again: what A held is written, B reads it all from the database and its WebSocket hears
@@ -274,8 +295,11 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         with psycopg.connect(pg_url) as db:  # the name written last is the one both consoles show
             stored = db.execute("SELECT name FROM vehicle_names WHERE provider_id = %s", (V1,)).fetchone()
         assert stored is not None and stored[0] in ("Night A", "Night B"), stored
-        wait_until(lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)), 10,
-                   f"{stored[0]!r} on both consoles")
+        wait_until(
+            lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)),
+            10,
+            f"{stored[0]!r} on both consoles",
+        )
     finally:
         ws_b.close()
     assert a.proc is not None and b.proc is not None and a.proc.poll() is None and b.proc.poll() is None
@@ -288,7 +312,8 @@ def lost(c: ConsoleProcess) -> dict[str, Any] | None:
 
 @pytest.mark.slow
 def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     vehicle = sim()
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
@@ -303,7 +328,8 @@ def test_an_alarm_acknowledged_on_one_console_is_acknowledged_on_the_other(
 
 @pytest.mark.slow
 def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and_the_other(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str, tmp_path: Path
+) -> None:
     """Relief records; bob acknowledges on watch its alarm of one lost vehicle (so relief's is acknowledged too),
     relief's own operator relief's of the other. A replay derives the alarms again: it showed every one as never
     acknowledged, as if nobody had seen them; it shows them acknowledged when, by whom and where they were."""
@@ -315,8 +341,10 @@ def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and
     vehicles.kill()
 
     def lost_of(c: ConsoleProcess, v: str) -> dict[str, Any] | None:
-        return next((x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v),
-                    None)
+        return next(
+            (x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost" and x["providerId"] == v), None
+        )
+
     on_a = wait_until(lambda: lost_of(a, V1), 15, "V1's link-lost on watch")
     for v in (V1, V2):
         wait_until(lambda v=v: lost_of(b, v), 15, f"{v}'s link-lost on relief")
@@ -338,7 +366,8 @@ def test_a_replay_shows_the_alarms_acknowledged_as_they_were_on_this_station_and
 
 
 def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_console_loads_it(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     sim()
     a = console("--database-url", pg_url, "--console-name", "watch")
     b = console("--database-url", pg_url, "--console-name", "relief")
@@ -348,14 +377,18 @@ def test_a_rename_on_one_console_shows_on_the_others_websocket_and_a_later_conso
     with psycopg.connect(pg_url, autocommit=True) as db:  # the listening connections lost: a rename meanwhile is
         db.execute("SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE query LIKE 'LISTEN%'")  # not heard
     assert httpx.put(f"{a.url}/api/providers/{V1}/name", json={"name": "Charlie"}).status_code == 200
-    wait_until(lambda: httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie", 10,
-               "B reloads the names when it listens again")
+    wait_until(
+        lambda: httpx.get(f"{b.url}/api/providers/{V1}").json()["name"] == "Charlie",
+        10,
+        "B reloads the names when it listens again",
+    )
     later = console("--database-url", pg_url, "--console-name", "night")
     assert provider_ready(later.url, V1, {"GPSFixReport"})["name"] == "Charlie"
 
 
 def test_each_vehicles_track_is_written_once_and_handed_over(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     """Two consoles hear the vehicle, one writes its track (at most one point a second in the shared database);
     when that one stops, the other goes on writing it."""
     sim()

@@ -113,8 +113,11 @@ def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(co
     base = time.time_ns()
 
     def shown() -> list[int]:
-        return [m["report"]["report"]["timeStamp"]["seconds"] * S + m["report"]["report"]["timeStamp"]["nanoseconds"] - base
-                for m in ws.of("report") if m["providerId"] == str(p.id) and m["topic"] == "InertialSensorReport"]
+        return [
+            m["report"]["report"]["timeStamp"]["seconds"] * S + m["report"]["report"]["timeStamp"]["nanoseconds"] - base
+            for m in ws.of("report")
+            if m["providerId"] == str(p.id) and m["topic"] == "InertialSensorReport"
+        ]
 
     time.sleep(2.5)  # idle: the thread's wakeups by its 200 ms timeout take nothing and must not empty the bucket
     for i in (1, 2):

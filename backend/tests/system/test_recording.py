@@ -34,8 +34,14 @@ from test_console import HAPPY, V1, WsClient, provider_ready, wait_command, wait
 
 SEM_TOPICS = {s.spec.name: s for s in Sem}
 BOTH_VERSIONS = {s.spec.name for s in (*Sem, *Sem60)}  # every file has a channel of each, recorded or not
-JSON_TOPICS = {"sem-console/commands", "sem-console/transitions", "sem-console/links", "sem-console/instances",
-               "sem-console/alarm-acks", "sem-console/names"}
+JSON_TOPICS = {
+    "sem-console/commands",
+    "sem-console/transitions",
+    "sem-console/links",
+    "sem-console/instances",
+    "sem-console/alarm-acks",
+    "sem-console/names",
+}
 
 
 def post(base: str, action: str) -> dict[str, Any]:
@@ -94,8 +100,9 @@ DECODE = textwrap.dedent("""
 """)
 
 
-def decode_with_schema(schema_name: str, idl: str, topic: str, path: Path, tmp: Path,
-                       channel: int | None = None) -> list[dict[str, Any]]:
+def decode_with_schema(
+    schema_name: str, idl: str, topic: str, path: Path, tmp: Path, channel: int | None = None
+) -> list[dict[str, Any]]:
     """Every message of `topic` (of its channel `channel` only, if given) decoded with types that idlc builds from the
     schema text alone."""
     work = tmp / (schema_name.replace("::", "_") + ("" if channel is None else f"-{channel}"))
@@ -104,9 +111,24 @@ def decode_with_schema(schema_name: str, idl: str, topic: str, path: Path, tmp: 
     idlgen.generate(work / "gen", idl_dir=work / "idl", extensibility=None)  # the text says @final itself
     module, name = schema_name.replace("::", ".").rsplit(".", 1)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
-    out = subprocess.run([sys.executable, "-c", DECODE, str(work / "gen"), module, name, str(path), topic,
-                          *([] if channel is None else [str(channel)])],
-                         capture_output=True, text=True, cwd=work, env=env, timeout=60)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-c",
+            DECODE,
+            str(work / "gen"),
+            module,
+            name,
+            str(path),
+            topic,
+            *([] if channel is None else [str(channel)]),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=work,
+        env=env,
+        timeout=60,
+    )
     assert out.returncode == 0, out.stderr
     return list(json.loads(out.stdout))
 
@@ -173,8 +195,9 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
 
     # decoded with types built by idlc from the schema text in the file
     status_schema, _ = channels["UMAA::SEM::GPSFixControl::GPSFixCommandStatus"]
-    statuses = decode_with_schema(status_schema.name, status_schema.data.decode(),
-                                  "UMAA::SEM::GPSFixControl::GPSFixCommandStatus", path, tmp_path)
+    statuses = decode_with_schema(
+        status_schema.name, status_schema.data.decode(), "UMAA::SEM::GPSFixControl::GPSFixCommandStatus", path, tmp_path
+    )
     ours = [s for s in statuses if guid(s["sessionID"]) == session]
     assert [s["commandStatus"] for s in ours] == HAPPY and {guid(s["source"]) for s in ours} == {V1}
     assert ours[-1]["commandStatusReason"] == "SUCCEEDED"
@@ -190,8 +213,12 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     )
     assert [guid(x["sessionID"]) for x in commands] == [session] and guid(commands[0]["destination"]) == V1
     # the other topics the run carried, each with the types built from its own schema text
-    for topic in ("UMAA::SEM::GPSStatus::GPSReport", "UMAA::SEM::GPSFixStatus::GPSFixStatusReport",
-                  "UMAA::SEM::InertialSensorStatus::InertialSensorReport", "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport"):
+    for topic in (
+        "UMAA::SEM::GPSStatus::GPSReport",
+        "UMAA::SEM::GPSFixStatus::GPSFixStatusReport",
+        "UMAA::SEM::InertialSensorStatus::InertialSensorReport",
+        "UMAA::SEM::GPSFixControl::GPSFixCommandAckReport",
+    ):
         schema, _ = channels[topic]
         decoded = decode_with_schema(schema.name, schema.data.decode(), topic, path, tmp_path)
         assert decoded and len(decoded) == len(messages[topic]) and {guid(x["source"]) for x in decoded} == {V1}, topic
@@ -208,7 +235,10 @@ def test_a_recorded_run_reads_back_with_its_own_schemas(sim, console, tmp_path: 
     # the cleanup's disposes: the console's command, then the provider's status and ack
     disposed = [json.loads(m.data) for m in messages["sem-console/instances"]]
     assert {(d["topic"].rsplit("::", 1)[1], d["state"]) for d in disposed if d["sessionId"] == session} == {
-        ("GPSFixCommand", "disposed"), ("GPSFixCommandStatus", "disposed"), ("GPSFixCommandAckReport", "disposed")}
+        ("GPSFixCommand", "disposed"),
+        ("GPSFixCommandStatus", "disposed"),
+        ("GPSFixCommandAckReport", "disposed"),
+    }
     key = next(d for d in disposed if d["topic"].endswith("GPSFixCommandStatus"))["key"]
     assert len(base64.b64decode(key)) >= 4 + 32  # header, source and sessionID
 
@@ -220,8 +250,11 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
     provider_ready(c.url, V1)
     time.sleep(1.5)
     s.stop()  # the simulator's shutdown disposes every report: recorded as disposes
-    wait_until(lambda: not httpx.get(f"{c.url}/api/providers/{V1}").json()["topics"]["GPSFixReport"]["alive"], 10,
-               "the disposed GPSFixReport")
+    wait_until(
+        lambda: not httpx.get(f"{c.url}/api/providers/{V1}").json()["topics"]["GPSFixReport"]["alive"],
+        10,
+        "the disposed GPSFixReport",
+    )
     path = recorded(c.url, tmp_path)
     _channels, messages = read(path)
     recorded_fixes = messages["UMAA::SEM::GPSFixStatus::GPSFixReport"]
@@ -234,6 +267,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
 
         from sem_console.dds.bus import Bus, all_samples
         from sem_console.dds.qos import reader_qos
+
         bus = Bus(other)
         reader = bus.reader(Sem.GPS_FIX_REPORT, reader_qos(Sem.GPS_FIX_REPORT.spec.cls, durable=True))
         seen_ts: list[int] = []
@@ -251,6 +285,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
                         seen_ts.append(x.sample_info.source_timestamp)
                         arrived.setdefault(x.sample_info.source_timestamp, time.monotonic())
                 time.sleep(0.005)
+
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
         replay = subprocess.Popen(
@@ -288,7 +323,9 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         assert not detail["topics"]["GPSFixReport"]["alive"]  # disposed, as when it was recorded
         # the original source timestamps
         assert set(seen_ts) <= {m.publish_time for m in recorded_fixes} and len(seen_ts) >= len(recorded_fixes) // 2, (
-            sorted(seen_ts), sorted(m.publish_time for m in recorded_fixes))
+            sorted(seen_ts),
+            sorted(m.publish_time for m in recorded_fixes),
+        )
         # with the recorded timing at twice the speed: never faster (its own count of the time it took, from the
         # first sample to the last, against the recording's span), and the fixes arrive about as spaced as recorded
         logged = {m.publish_time: m.log_time for m in recorded_fixes}
@@ -302,7 +339,8 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         last = detail["reports"]["GPSFixReport"]["report"]
         wire = Sem.GPS_FIX_REPORT.spec.type.deserialize(recorded_fixes[-1].data)
         assert last["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"] == pytest.approx(
-            wire.position2DWithTime.geodeticPosition.geodeticLatitude.latitude)
+            wire.position2DWithTime.geodeticPosition.geodeticLatitude.latitude
+        )
         assert httpx.get(f"{second.url}/api/commands").json() == []  # commands are not republished by default
 
         # --loop --retime: again and again, stamped with the replay's time, until interrupted
@@ -311,9 +349,25 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         taker = threading.Thread(target=take, daemon=True)
         taker.start()
         began = time.time_ns()
-        looping = subprocess.Popen([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
-                                    "--speed", "20", "--loop", "--retime", "--wait", "0"],
-                                   stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        looping = subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "sem_console.recording.sem_replay",
+                str(path),
+                "--domain",
+                str(other),
+                "--speed",
+                "20",
+                "--loop",
+                "--retime",
+                "--wait",
+                "0",
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
         try:
             wait_until(lambda: len(seen_ts) > 2 * len(recorded_fixes), 30, "the recording replayed more than twice")
             looping.send_signal(signal.SIGINT)
@@ -342,11 +396,15 @@ def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path:
         c = console("--record", str(small))
         if not mounted:
             import resource
+
             assert c.proc is not None
             resource.prlimit(c.proc.pid, resource.RLIMIT_FSIZE, (192 * 1024, 192 * 1024))
         ws = WsClient(c.ws_url)
-        status = wait_until(lambda: (lambda s: s if s["state"] == "failed" else None)(
-            httpx.get(f"{c.url}/api/recordings/status").json()), 90, "the recording to fail")
+        status = wait_until(
+            lambda: (lambda s: s if s["state"] == "failed" else None)(httpx.get(f"{c.url}/api/recordings/status").json()),
+            90,
+            "the recording to fail",
+        )
         assert ("the disk is full" if mounted else "too large") in status["error"].lower()
         wait_until(lambda: any(m["recording"]["state"] == "failed" for m in ws.of("recording")), 5, "the failure on /ws")
         # the console goes on: health, fresh reports, and a recording that can be tried again
@@ -414,8 +472,12 @@ def test_umaa_6_0_samples_are_recorded_under_the_6_0_schemas(tmp_path: Path) -> 
     from support.samplegen import random_sample
 
     samples: dict[Sem60, list[Any]] = {
-        sem: [random_sample(sem.spec.type, random.Random(seed), absent=absent)
-              for seed, absent in ((1, 0.0), (2, 1.0), (3, 0.5), (4, 0.5))] for sem in Sem60}
+        sem: [
+            random_sample(sem.spec.type, random.Random(seed), absent=absent)
+            for seed, absent in ((1, 0.0), (2, 1.0), (3, 0.5), (4, 0.5))
+        ]
+        for sem in Sem60
+    }
     pose = samples[Sem60.GLOBAL_POSE_REPORT]
     assert pose[0].depth is not None and pose[0].positionCovariance is not None  # every optional member present
     assert pose[1].altitude is None and pose[1].attitudeCovariance is None  # every one absent
@@ -423,8 +485,9 @@ def test_umaa_6_0_samples_are_recorded_under_the_6_0_schemas(tmp_path: Path) -> 
     r.start()
     now = time.time_ns()
     for sem, values in samples.items():
-        r.on_samples(sem, [(v.serialize(use_version_2=sem.spec.xcdr2_only), True, int(InstanceState.Alive), now)
-                           for v in values], now)
+        r.on_samples(
+            sem, [(v.serialize(use_version_2=sem.spec.xcdr2_only), True, int(InstanceState.Alive), now) for v in values], now
+        )
     gone = pose[2]
     r.on_samples(Sem60.GLOBAL_POSE_REPORT, [(gone.serialize_key(), False, int(InstanceState.NotAliveDisposed), now)], now)
     r.stop()
@@ -448,8 +511,12 @@ def test_umaa_6_0_samples_are_recorded_under_the_6_0_schemas(tmp_path: Path) -> 
     # 3.0.1's GPSReportType has the same name: its own schema, the 3.0.1 IDL
     old = summary.schemas[channels[Sem.GPS_REPORT.spec.name].schema_id]
     new = summary.schemas[channels[Sem60.GPS_REPORT.spec.name].schema_id]
-    assert old.name == new.name and old.id != new.id and "timeFigureOfMerit" in new.data.decode() \
+    assert (
+        old.name == new.name
+        and old.id != new.id
+        and "timeFigureOfMerit" in new.data.decode()
         and "timeFigureOfMerit" not in old.data.decode()
+    )
     _, messages = read(path)
     [disposed] = [json.loads(m.data) for m in messages["sem-console/instances"]]
     assert disposed["topic"] == Sem60.GLOBAL_POSE_REPORT.spec.name and disposed["state"] == "disposed"
@@ -524,8 +591,10 @@ def test_an_appendable_writers_samples_are_recorded_under_their_own_schema(sem: 
         channel = by_extensibility[kind]
         schema = summary.schemas[channel.schema_id]
         assert schema.name == type_name and schema.encoding == "omgidl"
-        assert f"@{kind}\nstruct" in schema.data.decode() and f"@{'final' if kind == 'appendable' else 'appendable'}" \
-            not in schema.data.decode()
+        assert (
+            f"@{kind}\nstruct" in schema.data.decode()
+            and f"@{'final' if kind == 'appendable' else 'appendable'}" not in schema.data.decode()
+        )
         got = decode_with_schema(schema.name, schema.data.decode(), sem.spec.name, path, tmp_path, channel.id)
         assert got == json.loads(json.dumps([_plain(s) for s in samples])), kind
 
@@ -587,7 +656,7 @@ def test_files_roll_over_at_their_size(tmp_path: Path) -> None:
     got = 0
     for path in files:
         raw = path.read_bytes()
-        summary_start = int.from_bytes(raw[-8 - 29 + 9:-8 - 29 + 17], "little")  # the footer's first field
+        summary_start = int.from_bytes(raw[-8 - 29 + 9 : -8 - 29 + 17], "little")  # the footer's first field
         # the data section: at the limit (but the last file's; counted before compression), at most a batch (50
         # samples here) beyond it;
         # the summary after it repeats the schemas

@@ -50,8 +50,12 @@ HAPPY = [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED]
 
 class RelayProcess(Process):
     def __init__(self, *args: str) -> None:
-        self.proc = subprocess.Popen([sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
-                                     stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "sem_console.relay.cli", "--log-level", "warning", *args],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
 
 
 @pytest.fixture
@@ -67,18 +71,51 @@ def relay() -> Iterator[Callable[..., RelayProcess]]:
         p.end()
 
 
-def join(relay: Callable[..., RelayProcess], near: int, far: int, tmp_path: Path, *args: str,
-         via: Callable[[int], str] | None = None, status_port: int | None = None) -> int:
+def join(
+    relay: Callable[..., RelayProcess],
+    near: int,
+    far: int,
+    tmp_path: Path,
+    *args: str,
+    via: Callable[[int], str] | None = None,
+    status_port: int | None = None,
+) -> int:
     """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
     link's); `status_port`: the near relay's. Returns the router's port."""
     port = free_port()
     router = f"tcp/127.0.0.1:{port}"
     relay("--router", "--listen", router)
-    relay("--domain", str(near), "--side", "vehicles", "--name", "ship-1", "--connect", via(port) if via else router,
-          "--stats-seconds", "1", "--status-file", str(tmp_path / "near.json"),
-          *(["--status-port", str(status_port)] if status_port else []), *args)
-    relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--stats-seconds", "1",
-          "--status-file", str(tmp_path / "far.json"), *args)
+    relay(
+        "--domain",
+        str(near),
+        "--side",
+        "vehicles",
+        "--name",
+        "ship-1",
+        "--connect",
+        via(port) if via else router,
+        "--stats-seconds",
+        "1",
+        "--status-file",
+        str(tmp_path / "near.json"),
+        *(["--status-port", str(status_port)] if status_port else []),
+        *args,
+    )
+    relay(
+        "--domain",
+        str(far),
+        "--side",
+        "operations",
+        "--name",
+        "ops",
+        "--connect",
+        router,
+        "--stats-seconds",
+        "1",
+        "--status-file",
+        str(tmp_path / "far.json"),
+        *args,
+    )
     return port
 
 
@@ -99,8 +136,11 @@ def command_60(bus: Bus, vehicle: uuid.UUID, state: str, cancel: bool = False) -
     seen: list[Any] = []
     deadline = time.monotonic() + 20
     while (not seen or seen[-1] not in (S.COMPLETED, S.FAILED, S.CANCELED)) and time.monotonic() < deadline:
-        seen += [c.read_status(x)[0] for x in take_each(statuses)[0]
-                 if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session]
+        seen += [
+            c.read_status(x)[0]
+            for x in take_each(statuses)[0]
+            if hasattr(x, "sessionID") and uuid.UUID(bytes=bytes(x.sessionID)) == session
+        ]
         if cancel and seen and seen[-1] is S.EXECUTING:
             writer.dispose(command)
             cancel = False
@@ -120,8 +160,11 @@ def test_a_far_consumer_commands_near_vehicles_of_both_versions(sim, domain: int
     try:
         readers60 = [bus60.reader(sem) for sem in (Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)]
         # both vehicles show on the far domain: the 3.0.1 one's reports, the 6.0 one's pose and INS
-        consumer.wait(lambda: V1 in consumer.reports[Sem.GPS_REPORT] and V1 in consumer.reports[Sem.INS_REPORT], 20,
-                      "vehicle 1's reports across the link")
+        consumer.wait(
+            lambda: V1 in consumer.reports[Sem.GPS_REPORT] and V1 in consumer.reports[Sem.INS_REPORT],
+            20,
+            "vehicle 1's reports across the link",
+        )
         seen60: set[uuid.UUID] = set()
         deadline = time.monotonic() + 20
         while V2 not in seen60 and time.monotonic() < deadline:
@@ -176,8 +219,11 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
         consumer.dispose(canceled)
         kept = consumer.command(Service.GPS_FIX, V1)
         status = tmp_path / "far.json"
-        consumer.wait(lambda: status.exists() and json.loads(status.read_text())["waitingCommands"] == 1, 15,
-                      "the far relay holding the one command alive")
+        consumer.wait(
+            lambda: status.exists() and json.loads(status.read_text())["waitingCommands"] == 1,
+            15,
+            "the far relay holding the one command alive",
+        )
         sim()  # the vehicle is heard
         assert consumer.wait_terminal(kept, 20).statuses == HAPPY
         consumer.pump()
@@ -219,8 +265,9 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
 
 @pytest.mark.slow
 @pytest.mark.parametrize("lease,outage", [(1, 4), (10, 60)])
-def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(sim, domain: int, relay, tmp_path: Path,
-                                                                           lease: float, outage: float) -> None:
+def test_an_outage_longer_than_the_lease_loses_nothing_of_the_command_flow(
+    sim, domain: int, relay, tmp_path: Path, lease: float, outage: float
+) -> None:
     """The link is down longer than Zenoh's lease (1 s and 4 s; the default 10 s and the minute of a satellite's
     outage): the sessions close and open again, and what was under way is sent again; each message is written once."""
     far = free_domain(taken=domain)
@@ -256,8 +303,15 @@ def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_aft
     session, bus = zenoh.open(config), Bus(domain)
     relay = Relay(RelayOptions(side="operations", name="ops", lease_seconds=10), bus, session)
     try:
-        cancel = Outgoing(key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name), b"", attachment(Kind.DISPOSE, 0), V1, urgent=True,
-                          instance="canceled", ended=True)
+        cancel = Outgoing(
+            key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name),
+            b"",
+            attachment(Kind.DISPOSE, 0),
+            V1,
+            urgent=True,
+            instance="canceled",
+            ended=True,
+        )
         relay._sent.add(cancel.instance, cancel, 1000.0, latest_only=False, ends=True)
         lost = 1010.0  # the other side's relay lost
         relay._peers["sem-relay/vehicles/ship-1/1"] = lost
@@ -286,15 +340,22 @@ def test_an_instance_disposed_after_several_unread_samples_ends_once_after_the_l
             time.sleep(0.05)
         session = uuid.uuid4()
         for status in (S.ISSUED, S.CANCELED):
-            sample = GPSFixCommandStatusType(source=to_guid(V1), commandStatus=status, commandStatusReason=Reason.SUCCEEDED,
-                                             logMessage="", sessionID=to_guid(session), timeStamp=now_datetime())
+            sample = GPSFixCommandStatusType(
+                source=to_guid(V1),
+                commandStatus=status,
+                commandStatusReason=Reason.SUCCEEDED,
+                logMessage="",
+                sessionID=to_guid(session),
+                timeStamp=now_datetime(),
+            )
             writer.write(sample)
         writer.dispose(sample)
         writer.wait_for_acks(duration(seconds=5))
         side.start()  # the three in one take
         deadline = time.monotonic() + 10
         while time.monotonic() < deadline and not (
-                sum(t.kind is Kind.SAMPLE for t in taken) == 2 and taken[-1].kind is Kind.DISPOSE):
+            sum(t.kind is Kind.SAMPLE for t in taken) == 2 and taken[-1].kind is Kind.DISPOSE
+        ):
             time.sleep(0.05)
         assert [t.kind for t in taken] == [Kind.SAMPLE, Kind.SAMPLE, Kind.DISPOSE]
     finally:
@@ -318,8 +379,17 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     relay("--domain", str(domain), "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ship-1"))
     relay("--domain", str(far), "--side", "operations", "--connect", endpoint, "--link-class", "lan", *tls(fleet, "ops"))
     # a relay whose certificate another authority signed, trusting the fleet's: the router refuses it
-    intruder = relay("--domain", str(other), "--side", "operations", "--connect", endpoint, "--log-level", "info",
-                     *tls(stranger, "intruder", ca=fleet))
+    intruder = relay(
+        "--domain",
+        str(other),
+        "--side",
+        "operations",
+        "--connect",
+        endpoint,
+        "--log-level",
+        "info",
+        *tls(stranger, "intruder", ca=fleet),
+    )
     consumer, outsider = Consumer(far), Consumer(other)
     try:
         fix = consumer.command(Service.GPS_FIX, V1)  # waits on the far side until the vehicle is heard
@@ -358,7 +428,25 @@ def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
         port = taken.getsockname()[1]
-        p = subprocess.run([sys.executable, "-m", "sem_console.relay.cli", "--domain", str(domain), "--connect", endpoint,
-                            "--status-port", str(port), "--log-level", "error"], capture_output=True, text=True, timeout=60)
-    assert (p.returncode, p.stderr) == (2, f"sem-relay: error: --status-port {port}: cannot listen on it (Address already "
-                                           "in use): give another port\n")
+        p = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "sem_console.relay.cli",
+                "--domain",
+                str(domain),
+                "--connect",
+                endpoint,
+                "--status-port",
+                str(port),
+                "--log-level",
+                "error",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
+    assert (p.returncode, p.stderr) == (
+        2,
+        f"sem-relay: error: --status-port {port}: cannot listen on it (Address already in use): give another port\n",
+    )

@@ -114,6 +114,7 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
         got = httpx.get(f"{r.url}/api/providers/{V1}/{kind}")
         assert got.status_code == 200, got.text
         return [p["time"] for p in got.json()]
+
     assert max(history("track")) > replayed[0]["createdAt"] and max(history("series")) > replayed[0]["createdAt"]
 
     # seek back before the command: it is absent; between EXECUTING and COMPLETED: EXECUTING; at the end: done
@@ -128,8 +129,11 @@ def test_replay_shows_the_recorded_vehicle_and_command_and_seeks(recorded_run: d
     control(r.url, {"action": "seek", "position": (times[2] + times[3]) / 2})
     midway = command(r.url, session)
     assert [t["status"] for t in midway["transitions"]] == HAPPY[:3] and not midway["terminal"]
-    snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if m["commands"] and m["commands"][0]["status"] == "EXECUTING"],
-                          5, "a fresh snapshot after the seek")[-1]
+    snapshot = wait_until(
+        lambda: [m for m in ws.of("snapshot") if m["commands"] and m["commands"][0]["status"] == "EXECUTING"],
+        5,
+        "a fresh snapshot after the seek",
+    )[-1]
     assert snapshot["replay"]["position"] == pytest.approx((times[2] + times[3]) / 2)
     control(r.url, {"action": "seek", "position": end + 100})  # beyond the end: the end
     assert replay_state(r.url)["position"] == end
@@ -187,16 +191,20 @@ def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
     r = console("--replay", str(recorded_run["path"]))
     control(r.url, {"action": "seek", "position": replay_state(r.url)["end"]})
     session = recorded_run["session"]
-    refused = [httpx.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
-               httpx.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
-               httpx.delete(f"{r.url}/api/commands/{session}"),
-               httpx.post(f"{r.url}/api/recordings", json={"action": "start"}),
-               httpx.put(f"{r.url}/api/providers/{V1}/link-config",
-                         json={"commsLostTimeout": 3, "regainedTime": 3, "policy": "STOP_MISSION", "regainedBehavior": 0}),
-               httpx.put(f"{r.url}/api/providers/{V1}/name", json={"name": "Bravo"}),
-               httpx.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
-               httpx.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
-               httpx.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"})]
+    refused = [
+        httpx.post(f"{r.url}/api/providers/{V1}/gps-fix", json={}),
+        httpx.post(f"{r.url}/api/providers/{V1}/inertial-sensor", json={"state": "OFF"}),
+        httpx.delete(f"{r.url}/api/commands/{session}"),
+        httpx.post(f"{r.url}/api/recordings", json={"action": "start"}),
+        httpx.put(
+            f"{r.url}/api/providers/{V1}/link-config",
+            json={"commsLostTimeout": 3, "regainedTime": 3, "policy": "STOP_MISSION", "regainedBehavior": 0},
+        ),
+        httpx.put(f"{r.url}/api/providers/{V1}/name", json={"name": "Bravo"}),
+        httpx.put(f"{r.url}/api/worldmodel", json={"type": "FeatureCollection", "features": []}),
+        httpx.post(f"{r.url}/api/tasks", json={"kind": "move", "vehicle": V1, "point": {"lat": 36.8, "lon": -75.7}}),
+        httpx.post(f"{r.url}/api/tasks/1/synch", json={"action": "HOLD"}),
+    ]
     for x in refused:
         assert x.status_code == 409 and x.json()["detail"].startswith("read-only: this console replays"), x.text
     assert httpx.get(f"{r.url}/api/recordings/status").json()["state"] == "off"
@@ -213,11 +221,13 @@ def test_replay_is_read_only(recorded_run: dict[str, Any], console) -> None:
 def test_replay_options_are_checked(tmp_path: Path) -> None:
     not_mcap = tmp_path / "notes.mcap"
     not_mcap.write_text("hello")
-    for args, needle in ((["--replay", str(tmp_path / "missing.mcap")], "cannot read"),
-                         (["--replay", str(not_mcap)], "is not an MCAP file"),
-                         (["--replay", str(not_mcap), "--sim", "1"], "does not go with --sim or --record"),
-                         (["--replay", str(not_mcap), "--imc-port", "4001"], "does not go with --imc-port"),
-                         (["--replay", str(not_mcap), "--replay-speed", "50"], "--replay-speed")):
+    for args, needle in (
+        (["--replay", str(tmp_path / "missing.mcap")], "cannot read"),
+        (["--replay", str(not_mcap)], "is not an MCAP file"),
+        (["--replay", str(not_mcap), "--sim", "1"], "does not go with --sim or --record"),
+        (["--replay", str(not_mcap), "--imc-port", "4001"], "does not go with --imc-port"),
+        (["--replay", str(not_mcap), "--replay-speed", "50"], "--replay-speed"),
+    ):
         p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
         assert p.returncode == 2 and needle in p.stderr and "Traceback" not in p.stderr, (args, p.stderr)
 
@@ -229,10 +239,28 @@ def synthetic_recording(directory: Path, seconds: float = 4.0, rate: float = 4.0
     recorder = Recorder(directory, 1 << 30, 3600)
     recorder.start()
     t0 = time.time_ns()
-    recorder.on_message({"type": "command", "command": {
-        "sessionId": str(uuid.UUID(int=rng.getrandbits(128), version=4)), "service": "GPSFix", "providerId": V1, "state": None,
-        "operator": None, "createdAt": t0 / 1e9, "status": None, "terminal": False, "unanswered": False, "cancelRequested": False,
-        "canceledBy": None, "ackedAt": None, "cleanedUp": False, "violations": [], "transitions": []}})
+    recorder.on_message(
+        {
+            "type": "command",
+            "command": {
+                "sessionId": str(uuid.UUID(int=rng.getrandbits(128), version=4)),
+                "service": "GPSFix",
+                "providerId": V1,
+                "state": None,
+                "operator": None,
+                "createdAt": t0 / 1e9,
+                "status": None,
+                "terminal": False,
+                "unanswered": False,
+                "cancelRequested": False,
+                "canceledBy": None,
+                "ackedAt": None,
+                "cleanedUp": False,
+                "violations": [],
+                "transitions": [],
+            },
+        }
+    )
     for i in range(int(seconds * rate)):
         at = t0 + int(i * 1e9 / rate)
         for sem in REPORT_TOPICS:
@@ -252,7 +280,7 @@ def test_a_recording_cut_short_replays_up_to_where_it_stops(console, tmp_path: P
     data = path.read_bytes()
     at = 8  # the magic; then records: opcode (1 byte), length (u64 LE), body
     while data[at] != 0x0F:  # DataEnd: everything after it is the summary a killed console never writes
-        at += 9 + int.from_bytes(data[at + 1:at + 9], "little")
+        at += 9 + int.from_bytes(data[at + 1 : at + 9], "little")
     cut = tmp_path / "cut.mcap"
     cut.write_bytes(data[:at])
     r = console("--replay", str(cut), "--replay-speed", "20")
@@ -273,8 +301,9 @@ def test_a_synthetic_recording_replays(console, tmp_path: Path) -> None:
 
 
 @pytest.mark.parametrize("recorded_by", ["watch", "relief", None])
-def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went(console, tmp_path: Path,
-                                                                                recorded_by: str | None) -> None:
+def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went(
+    console, tmp_path: Path, recorded_by: str | None
+) -> None:
     """Another station's command reaches the recording console by the database's notification, after the vehicle's
     first statuses (long after them when that station's write was held in an outage). The replay applies those
     statuses when the command comes: FAILED as live, not a command with no status and an 'unanswered' alarm that
@@ -287,14 +316,39 @@ def test_another_stations_command_recorded_after_its_statuses_replays_as_it_went
     session = uuid.uuid4()
     t0 = time.time_ns() - 3_000_000_000
     for i, (status, reason) in enumerate(((St.ISSUED, Rs.SUCCEEDED), (St.FAILED, Rs.RESOURCE_REJECTED))):
-        sample = GPSFixCommandStatusType(source=to_guid(uuid.UUID(V1)), sessionID=to_guid(session), commandStatus=status,
-                                         commandStatusReason=reason, logMessage="rejected", timeStamp=now_datetime())
+        sample = GPSFixCommandStatusType(
+            source=to_guid(uuid.UUID(V1)),
+            sessionID=to_guid(session),
+            commandStatus=status,
+            commandStatusReason=reason,
+            logMessage="rejected",
+            timeStamp=now_datetime(),
+        )
         at = t0 + i * 20_000_000
         recorder.on_samples(Sem.GPS_FIX_COMMAND_STATUS, [(sample.serialize(), True, InstanceState.Alive, at)], at)
-    recorder.on_message({"type": "command", "command": {  # as relief's command reached watch, with what relief saw
-        "sessionId": str(session), "service": "GPSFix", "providerId": V1, "state": None, "operator": None,
-        "createdAt": t0 / 1e9 - 0.01, "status": "FAILED", "terminal": True, "unanswered": False, "cancelRequested": False,
-        "canceledBy": None, "ackedAt": None, "cleanedUp": False, "console": "relief", "violations": [], "transitions": []}})
+    recorder.on_message(
+        {
+            "type": "command",
+            "command": {  # as relief's command reached watch, with what relief saw
+                "sessionId": str(session),
+                "service": "GPSFix",
+                "providerId": V1,
+                "state": None,
+                "operator": None,
+                "createdAt": t0 / 1e9 - 0.01,
+                "status": "FAILED",
+                "terminal": True,
+                "unanswered": False,
+                "cancelRequested": False,
+                "canceledBy": None,
+                "ackedAt": None,
+                "cleanedUp": False,
+                "console": "relief",
+                "violations": [],
+                "transitions": [],
+            },
+        }
+    )
     recorder.stop()
     (path,) = directory.glob("*.mcap")
     r = console("--replay", str(path), "--replay-speed", "20")
@@ -313,7 +367,7 @@ def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: 
     path = synthetic_recording(tmp_path / "rec")
     raw = bytearray(path.read_bytes())
     frame = raw.index(b"\x28\xb5\x2f\xfd")  # the first chunk's zstd frame
-    raw[frame + 40:frame + 120] = bytes(80)
+    raw[frame + 40 : frame + 120] = bytes(80)
     damaged = tmp_path / "damaged.mcap"
     damaged.write_bytes(raw[:-200])  # without its summary, as after a crash: read from the start
     with pytest.raises(McapError, match=r"a damaged chunk or record \("):
@@ -324,19 +378,32 @@ def test_a_damaged_recording_is_one_line_not_a_traceback(domain: int, tmp_path: 
     cut.write_bytes(path.read_bytes()[:frame])
     with pytest.raises(McapError, match="the file is cut short"):
         list(iter_messages(cut, {"sem-console/commands"}))
-    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", "--domain", str(domain), "--wait", "0",
-                        str(damaged)], capture_output=True, text=True, timeout=30)
+    p = subprocess.run(
+        [sys.executable, "-m", "sem_console.recording.sem_replay", "--domain", str(domain), "--wait", "0", str(damaged)],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     assert p.returncode == 0 and "Traceback" not in p.stderr, p.stderr
     assert "the recording ends early: a damaged chunk or record (" in p.stderr
 
 
-@pytest.mark.parametrize("args, says", [(["--speed", "inf"], "--speed: inf is outside 0.01..1000"),
-                                        (["--wait", "nan"], "--wait: nan is outside 0..3600"),
-                                        (["--domain", "233"], "--domain: 233 is outside 0..232")])
+@pytest.mark.parametrize(
+    "args, says",
+    [
+        (["--speed", "inf"], "--speed: inf is outside 0.01..1000"),
+        (["--wait", "nan"], "--wait: nan is outside 0..3600"),
+        (["--domain", "233"], "--domain: 233 is outside 0..232"),
+    ],
+)
 def test_sem_replay_refuses_a_value_out_of_range_in_one_line(args: list[str], says: str, tmp_path: Path) -> None:
     """--speed inf published the whole file at once and --wait nan waited on; both were taken."""
-    p = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(tmp_path / "x.mcap"), "--domain", "1",
-                        *args], capture_output=True, text=True, timeout=30)
+    p = subprocess.run(
+        [sys.executable, "-m", "sem_console.recording.sem_replay", str(tmp_path / "x.mcap"), "--domain", "1", *args],
+        capture_output=True,
+        text=True,
+        timeout=30,
+    )
     assert p.returncode == 2 and p.stderr.count("\n") == 1 and says in p.stderr, p.stderr
 
 
@@ -366,8 +433,9 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
     before_rename = time.time()
     assert httpx.put(f"{c.url}/api/providers/{V1}/name", json={"name": "Tug Two"}).json()["name"] == "Tug Two"
     first.kill()
-    lost = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "link-lost"], 15,
-                      "V1's link lost")
+    lost = wait_until(
+        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "link-lost"], 15, "V1's link lost"
+    )
     assert [a["text"] for a in lost] == ["Tug Two: link lost"]
     then = recorded_messages(c.url)  # V2's samples a while longer: the replay's tick finds V1 lost before the end
     wait_until(lambda: recorded_messages(c.url) > then + 100, 15, "more samples recorded")
@@ -382,8 +450,11 @@ def test_a_replay_names_the_vehicles_as_the_recording_station_did(sim, console, 
     ws = WsClient(r.ws_url)
 
     def shown() -> tuple[dict[str, Any], list[str]]:
-        return ({v: httpx.get(f"{r.url}/api/providers/{v}").json()["name"] for v in (V1, V2)},
-                [a["text"] for a in httpx.get(f"{r.url}/api/alarms").json()])
+        return (
+            {v: httpx.get(f"{r.url}/api/providers/{v}").json()["name"] for v in (V1, V2)},
+            [a["text"] for a in httpx.get(f"{r.url}/api/alarms").json()],
+        )
+
     control(r.url, {"action": "seek", "position": before_rename})
     assert shown() == ({V1: "Tug One", V2: "Yankee"}, [])  # V2 has no name in the recording: the replay's own
     end = replay_state(r.url)["end"]
@@ -425,7 +496,10 @@ def test_each_file_starts_with_the_names_in_force(console, tmp_path: Path) -> No
     last = next(f for f in reversed(files()) if read(f)[1][Sem.GPS_FIX_REPORT.spec.name])  # the one with report(1)
     assert last != first
     assert [(n["providerId"], n["name"], n["initial"]) for _at, n in names_recorded(first)] == [
-        *((v, name, True) for v, name in sorted(names.items())), (V1, "Tug Two", False), (V2, None, False)]
+        *((v, name, True) for v, name in sorted(names.items())),
+        (V1, "Tug Two", False),
+        (V2, None, False),
+    ]
     assert [(n["providerId"], n["name"], n["initial"]) for _at, n in names_recorded(last)] == [(V1, "Tug Two", True)]
 
     r = console("--replay", str(last), "--vehicle-names", f"{V1}=Zulu")
@@ -449,14 +523,15 @@ def test_a_name_before_the_vehicle_appeared_a_recorded_null_and_a_file_without_n
             sample = random_sample(Sem.GPS_FIX_REPORT.spec.type, rng)
             sample.source = to_guid(uuid.UUID(V2))
             times.append(time.time_ns())
-            recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive,
-                                                      times[-1])], times[-1])
+            recorder.on_samples(
+                Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive, times[-1])], times[-1]
+            )
             time.sleep(0.01)  # the rename apart from both reports, so that a seek between them falls between
             if n == 0 and names is not None:
                 recorder.on_message({"type": "vehicle-name", "providerId": V2, "name": None, "initial": False})
                 time.sleep(0.01)
         recorder.stop()
-        path, = directory.glob("*.mcap")
+        (path,) = directory.glob("*.mcap")
         return path, times[0]
 
     def name(r: Any) -> Any:
@@ -491,7 +566,7 @@ def test_a_rename_is_recorded_even_with_the_buffer_full(tmp_path: Path) -> None:
     recorder.on_samples(Sem.GPS_FIX_REPORT, [(sample.serialize(use_version_2=True), True, InstanceState.Alive, at)], at)
     recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
     assert recorder.stop()["dropped"] == 1
-    path, = (tmp_path / "rec").glob("*.mcap")
+    (path,) = (tmp_path / "rec").glob("*.mcap")
     assert [(n["providerId"], n["name"]) for _at, n in names_recorded(path)] == [(V1, "Tug Two")]
 
 
@@ -504,7 +579,7 @@ def test_a_recorded_name_of_the_wrong_shape_is_skipped(tmp_path: Path) -> None:
     recorder.on_message({"type": "vehicle-name", "providerId": 5, "name": "Tug One", "initial": False})
     recorder.on_message({"type": "vehicle-name", "providerId": V1, "name": "Tug Two", "initial": False})
     recorder.stop()
-    path, = (tmp_path / "rec").glob("*.mcap")
+    (path,) = (tmp_path / "rec").glob("*.mcap")
     cursor = Cursor(path, Decoder())
     try:
         read_items = [item for _at, item in cursor.read_until(2**63)]

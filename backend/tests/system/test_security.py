@@ -42,8 +42,14 @@ def audit(c: Any, **headers: str) -> list[dict[str, Any]]:
 
 def ws_handshake(port: int, **headers: str) -> int:
     """The HTTP status of a raw /ws handshake with these headers (a client library sets Host itself)."""
-    lines = {"Host": f"127.0.0.1:{port}", "Upgrade": "websocket", "Connection": "Upgrade",
-             "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ==", "Sec-WebSocket-Version": "13", **headers}
+    lines = {
+        "Host": f"127.0.0.1:{port}",
+        "Upgrade": "websocket",
+        "Connection": "Upgrade",
+        "Sec-WebSocket-Key": "dGhlIHNhbXBsZSBub25jZQ==",
+        "Sec-WebSocket-Version": "13",
+        **headers,
+    }
     with socket.create_connection(("127.0.0.1", port), timeout=5) as s:
         s.sendall(("GET /ws HTTP/1.1\r\n" + "".join(f"{k}: {v}\r\n" for k, v in lines.items()) + "\r\n").encode())
         return int(s.recv(1024).split(b" ", 2)[1])
@@ -61,11 +67,20 @@ def test_foreign_origin_or_host_is_refused_and_creates_nothing(sim, console) -> 
     c = console()
     session = gps_fix_executing(c.url)
     before = commands(c)
-    routes = [("POST", f"/api/providers/{V1}/gps-fix", {}), ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "OFF"}),
-              ("DELETE", f"/api/commands/{session}", None)]
+    routes = [
+        ("POST", f"/api/providers/{V1}/gps-fix", {}),
+        ("POST", f"/api/providers/{V1}/inertial-sensor", {"state": "OFF"}),
+        ("DELETE", f"/api/commands/{session}", None),
+    ]
     for method, path, body in routes:
-        for headers in ({"Origin": EVIL}, {"Origin": "null"}, {"Host": "evil.example"}, {"Host": "evil.example:80"},
-                        {"Sec-Fetch-Site": "cross-site"}, {"Origin": c.url.replace("127.0.0.1", "localhost")}):
+        for headers in (
+            {"Origin": EVIL},
+            {"Origin": "null"},
+            {"Host": "evil.example"},
+            {"Host": "evil.example:80"},
+            {"Sec-Fetch-Site": "cross-site"},
+            {"Origin": c.url.replace("127.0.0.1", "localhost")},
+        ):
             r = httpx.request(method, c.url + path, json=body, headers=headers)
             assert r.status_code == 403, (method, path, headers, r.text)
             assert "not allowed" in r.json()["detail"]
@@ -119,8 +134,12 @@ def test_allowed_hosts_and_origins_for_a_reverse_proxy(sim, console) -> None:
     assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers=proxied).status_code == 201
     assert httpx.get(f"{c.url}/api/providers").status_code == 200  # the --host address stays accepted
     assert httpx.get(f"{c.url}/api/providers", headers={"Host": "localhost"}).status_code == 403  # not configured now
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={},
-                      headers={**proxied, "Origin": "https://other.example.org"}).status_code == 403
+    assert (
+        httpx.post(
+            f"{c.url}/api/providers/{V1}/gps-fix", json={}, headers={**proxied, "Origin": "https://other.example.org"}
+        ).status_code
+        == 403
+    )
     assert ws_handshake(c.port, Host="console.example.org", Origin="https://console.example.org") == 101
     assert ws_handshake(c.port, Host="console.example.org", Origin="https://other.example.org") == 403
 
@@ -160,8 +179,11 @@ def test_a_huge_body_is_refused_before_it_is_read(console) -> None:
     route = f"{c.url}/api/providers/{V1}/inertial-sensor"
     body = b'{"state": "ON", "x": "' + b"a" * (1 << 20) + b'"}'
     declared = httpx.post(route, content=body, headers={"Content-Type": "application/json"})
-    chunked = httpx.post(route, content=iter([body[:1000], body[1000:]]),
-                         headers={"Content-Type": "application/json", "Authorization": "Bearer s3cret"})
+    chunked = httpx.post(
+        route,
+        content=iter([body[:1000], body[1000:]]),
+        headers={"Content-Type": "application/json", "Authorization": "Bearer s3cret"},
+    )
     assert (declared.status_code, chunked.status_code) == (413, 413), (declared.text, chunked.text)
     assert [a["status"] for a in audit(c)] == [413, 413]  # audited as refused command requests
     small = httpx.post(route, json={"state": "ON", "x": "a" * 1000}, headers={"Authorization": "Bearer s3cret"})
@@ -187,16 +209,24 @@ def test_x_forwarded_for_is_ignored_unless_the_proxy_is_named(console) -> None:
     address past the slow-down of wrong tokens and into the audit."""
     c = console(env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
     url = f"{c.url}/api/providers/{V1}/gps-fix"
-    statuses = [httpx.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
-                for i in range(FREE_FAILURES + 1)]
+    statuses = [
+        httpx.post(url, json={}, headers={"Authorization": "Bearer guess", "X-Forwarded-For": f"10.0.0.{i}"}).status_code
+        for i in range(FREE_FAILURES + 1)
+    ]
     assert statuses == [401] * FREE_FAILURES + [429]  # one client, whatever it claims
     assert {a["client"] for a in audit(c)} == {"127.0.0.1"}
     c.stop()
     c = console(
         "--forwarded-allow-ips", "127.0.0.1", env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW}
     )  # behind a proxy on this host
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={},
-                      headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"}).status_code == 401
+    assert (
+        httpx.post(
+            f"{c.url}/api/providers/{V1}/gps-fix",
+            json={},
+            headers={"Authorization": "Bearer guess", "X-Forwarded-For": "10.9.9.9"},
+        ).status_code
+        == 401
+    )
     assert audit(c)[0]["client"] == "10.9.9.9"
 
 
@@ -215,8 +245,10 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
             and "samesite=strict" in r.headers["set-cookie"].lower()
         )
         device = operator.cookies["sem-console-device"]
-        statuses = [httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
-                    for _ in range(FREE_FAILURES + 1)]
+        statuses = [
+            httpx.get(f"{c.url}/api/operator", headers={"Authorization": "Bearer guess"}).status_code
+            for _ in range(FREE_FAILURES + 1)
+        ]
         assert statuses == [401] * FREE_FAILURES + [429]
         assert httpx.get(f"{c.url}/api/operator", headers=alice).status_code == 429  # the address waits, whatever token it sends
         assert (
@@ -231,8 +263,12 @@ def test_a_signed_in_operator_is_not_slowed_down_by_another_process_on_its_addre
         assert operator.post(f"/api/providers/{V1}/gps-fix", json={}, headers=alice).json()["operator"] == "alice"
         good = "bearer." + base64.urlsafe_b64encode(b"s3cret").decode().rstrip("=")
         assert ws_refused(c.ws_url, subprotocols=["sem-console", good]) == 403  # type: ignore[list-item]
-        with connect(c.ws_url, open_timeout=5, subprotocols=["sem-console", good],  # type: ignore[list-item]
-                     additional_headers={"Cookie": f"sem-console-device={device}"}) as ws:
+        with connect(
+            c.ws_url,
+            open_timeout=5,
+            subprotocols=["sem-console", good],  # type: ignore[list-item]
+            additional_headers={"Cookie": f"sem-console-device={device}"},
+        ) as ws:
             assert '"snapshot"' in ws.recv(timeout=5)
         # the cookie is no free pass: wrong tokens with it slow down that device
         statuses = [
@@ -267,13 +303,15 @@ def test_bad_options_exit_with_a_clear_error(tmp_path: Path) -> None:
     bad_file.write_text("alice-without-a-token\n")
     accented = tmp_path / "accented"
     accented.write_text("# a token no browser can send\nalice:pässwort\n", encoding="utf-8")
-    for args, needle in ((["--operator-tokens-file", str(tmp_path / "missing")], "cannot read operator tokens file"),
-                         (["--operator-tokens-file", str(bad_file)], f"{bad_file}:1: expected name:token"),
-                         (["--operator-tokens-file", str(accented)], f"{accented}:2: the token of 'alice' must be visible ASCII"),
-                         (["--operator-tokens", "alice:s3cret,bob:"], "item 2: expected name:token"),
-                         (["--auth-reads"], "--auth-reads needs operator tokens"),
-                         (["--tls-certfile", str(bad_file)], "--tls-certfile and --tls-keyfile go together"),
-                         (["--vehicle-names", "not-a-guid=Alpha"], "'not-a-guid' is not a GUID")):
+    for args, needle in (
+        (["--operator-tokens-file", str(tmp_path / "missing")], "cannot read operator tokens file"),
+        (["--operator-tokens-file", str(bad_file)], f"{bad_file}:1: expected name:token"),
+        (["--operator-tokens-file", str(accented)], f"{accented}:2: the token of 'alice' must be visible ASCII"),
+        (["--operator-tokens", "alice:s3cret,bob:"], "item 2: expected name:token"),
+        (["--auth-reads"], "--auth-reads needs operator tokens"),
+        (["--tls-certfile", str(bad_file)], "--tls-certfile and --tls-keyfile go together"),
+        (["--vehicle-names", "not-a-guid=Alpha"], "'not-a-guid' is not a GUID"),
+    ):
         p = subprocess.run([sys.executable, "-m", "sem_console.cli", *args], capture_output=True, text=True, timeout=30)
         assert p.returncode == 2 and needle in p.stderr, (args, p.stderr)
 
@@ -283,11 +321,15 @@ def test_both_token_sources_split_at_the_first_colon(tmp_path: Path) -> None:
     tokens.write_text(" dave : Long-Secret:x \n")
     s = Settings(operator_tokens=" bob : Long-Secret:y , carol:c4rol", operator_tokens_file=tokens)
     assert s.operators() == {"Long-Secret:y": "bob", "c4rol": "carol", "Long-Secret:x": "dave"}
-    for bad, needle in (("bob:", "item 1: expected name:token"), (" :t0k", "expected name:token"),
-                        ("a-bare-token", "expected name:token"), ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must "
-                                                                                                "be visible ASCII"),
-                        ("bob:two words", "visible ASCII"), ("bob:tab\tinside", "visible ASCII"),
-                        ("alice:same,bob:same", "'bob' has the same token as 'alice'")):
+    for bad, needle in (
+        ("bob:", "item 1: expected name:token"),
+        (" :t0k", "expected name:token"),
+        ("a-bare-token", "expected name:token"),
+        ("alice:s3cret, bob:pässword", "item 2: the token of 'bob' must be visible ASCII"),
+        ("bob:two words", "visible ASCII"),
+        ("bob:tab\tinside", "visible ASCII"),
+        ("alice:same,bob:same", "'bob' has the same token as 'alice'"),
+    ):
         with pytest.raises(ValueError, match=needle):
             Settings(operator_tokens=bad).operators()
     with pytest.raises(ValueError, match="'dave' has the same token as 'eve'"):
@@ -303,6 +345,7 @@ def test_start_warnings(tmp_path: Path) -> None:
 
     def settings(**given: Any) -> Settings:  # a built dashboard, whether this tree has one or not
         return Settings(frontend_dir=tmp_path / "dist", **given)
+
     assert start_warnings(settings()) == []
     assert "no operator token" in start_warnings(settings(host="0.0.0.0"))[0]
     warned = start_warnings(settings(host="10.0.0.5", operator_tokens_file=tokens))
@@ -335,10 +378,28 @@ def test_token_helpers() -> None:
     assert ops.lookup("s3cret") == "alice" and ops.lookup("s3cre") is None and ops.lookup("") is None
     assert ws_token(["sem-console", "bearer." + base64.urlsafe_b64encode(b"a:b/c?").decode().rstrip("=")]) == "a:b/c?"
     assert ws_token(["sem-console"]) is None and ws_token(["bearer.%%%"]) == ""
-    assert [host_name(h) for h in ("Example.org:8000", "[::1]:80", "[::1]", "localhost", " 127.0.0.1:8000 ")] == \
-        ["example.org", "[::1]", "[::1]", "localhost", "127.0.0.1"]
-    for bad in ("localhost:8123@evil.example", "localhost@evil.example", "::1", "[::1", "[evil.example]:80", "localhost:80:80",
-                "localhost:port", "localhost/x", "local host", "localhost:123456", "", ":80", "evil..example"):
+    assert [host_name(h) for h in ("Example.org:8000", "[::1]:80", "[::1]", "localhost", " 127.0.0.1:8000 ")] == [
+        "example.org",
+        "[::1]",
+        "[::1]",
+        "localhost",
+        "127.0.0.1",
+    ]
+    for bad in (
+        "localhost:8123@evil.example",
+        "localhost@evil.example",
+        "::1",
+        "[::1",
+        "[evil.example]:80",
+        "localhost:80:80",
+        "localhost:port",
+        "localhost/x",
+        "local host",
+        "localhost:123456",
+        "",
+        ":80",
+        "evil..example",
+    ):
         assert host_name(bad) is None, bad
     assert is_json("application/json; charset=utf-8") and is_json("application/merge-patch+json")
     assert not is_json("text/plain") and not is_json(None) and not is_json("multipart/form-data; boundary=x")
@@ -357,17 +418,26 @@ def self_signed(folder: Path) -> tuple[Path, Path]:
     key = ec.generate_private_key(ec.SECP256R1())
     name = x509.Name([x509.NameAttribute(NameOID.COMMON_NAME, "sem-console test")])
     now = datetime.datetime.now(datetime.UTC)
-    cert = (x509.CertificateBuilder().subject_name(name).issuer_name(name).public_key(key.public_key())
-            .serial_number(x509.random_serial_number()).not_valid_before(now - datetime.timedelta(minutes=1))
-            .not_valid_after(now + datetime.timedelta(days=1))
-            .add_extension(x509.SubjectAlternativeName([x509.IPAddress(ipaddress.ip_address("127.0.0.1")),
-                                                        x509.DNSName("localhost")]), critical=False)
-            .add_extension(x509.BasicConstraints(ca=True, path_length=None), critical=True)
-            .sign(key, hashes.SHA256()))
+    cert = (
+        x509.CertificateBuilder()
+        .subject_name(name)
+        .issuer_name(name)
+        .public_key(key.public_key())
+        .serial_number(x509.random_serial_number())
+        .not_valid_before(now - datetime.timedelta(minutes=1))
+        .not_valid_after(now + datetime.timedelta(days=1))
+        .add_extension(
+            x509.SubjectAlternativeName([x509.IPAddress(ipaddress.ip_address("127.0.0.1")), x509.DNSName("localhost")]),
+            critical=False,
+        )
+        .add_extension(x509.BasicConstraints(ca=True, path_length=None), critical=True)
+        .sign(key, hashes.SHA256())
+    )
     certfile, keyfile = folder / "cert.pem", folder / "key.pem"
     certfile.write_bytes(cert.public_bytes(serialization.Encoding.PEM))
-    keyfile.write_bytes(key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
-                                          serialization.NoEncryption()))
+    keyfile.write_bytes(
+        key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption())
+    )
     return certfile, keyfile
 
 
@@ -379,11 +449,22 @@ def test_https_and_wss_with_a_self_signed_certificate(sim, console, tmp_path: Pa
     )
     assert c.url.startswith("https://")
     wait_until(lambda: httpx.get(f"{c.url}/api/providers/{V1}", verify=c.verify).status_code == 200, 20, "the vehicle over HTTPS")
-    r = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, verify=c.verify,
-                   headers={"Authorization": "Bearer s3cret", "Origin": c.url})  # its own origin is https://
+    r = httpx.post(
+        f"{c.url}/api/providers/{V1}/gps-fix",
+        json={},
+        verify=c.verify,
+        headers={"Authorization": "Bearer s3cret", "Origin": c.url},
+    )  # its own origin is https://
     assert r.status_code == 201 and r.json()["operator"] == "alice"
-    assert httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}, verify=c.verify,  # the http:// origin is another one
-                      headers={"Authorization": "Bearer s3cret", "Origin": c.url.replace("https", "http")}).status_code == 403
+    assert (
+        httpx.post(
+            f"{c.url}/api/providers/{V1}/gps-fix",
+            json={},
+            verify=c.verify,  # the http:// origin is another one
+            headers={"Authorization": "Bearer s3cret", "Origin": c.url.replace("https", "http")},
+        ).status_code
+        == 403
+    )
     with pytest.raises(httpx.ConnectError):
         httpx.get(f"{c.url}/api/health")  # not trusted without the certificate
     with connect(c.ws_url, open_timeout=5, ssl=c.verify, origin=c.url) as ws:  # type: ignore[arg-type]
@@ -402,9 +483,20 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     (tmp_path / "chart.pmtiles").write_bytes(
         b"PMTiles\x03" + bytes(2000)
     )  # served as it is: GET /api/basemap.pmtiles answers 200
-    c = console("--auth-reads", "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"),
-                "--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001",
-                env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW})
+    c = console(
+        "--auth-reads",
+        "--aspn-lcm",
+        "memq://",
+        "--basemap",
+        str(tmp_path / "chart.pmtiles"),
+        "--imc-port",
+        str(free_udp_port()),
+        "--imc-host",
+        "127.0.0.1",
+        "--imc-vehicles",
+        f"{V1}=0x2001",
+        env={"SEM_OPERATOR_TOKENS": "alice:s3cret", **SLOW},
+    )
     auth = {"Authorization": "Bearer s3cret"}
     wait_until(lambda: httpx.get(f"{c.url}/api/providers", headers=auth).json(), 20, "vehicles")
     wait_until(lambda: any(a["id"] == 1 for a in httpx.get(f"{c.url}/api/alarms", headers=auth).json()), 20, "alarm 1")
@@ -427,7 +519,8 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     (tmp_path / "schemathesis.toml").write_text(
         f'[parameters]\n"path.session_id" = "{r.json()["sessionId"]}"\n\n'
         '[[operations]]\ninclude-path = "/api/providers/{provider_id}/inertial-sensor"\n'
-        'checks.positive_data_acceptance.expected-statuses = ["2xx", "3xx", "401", "403", "404", "409", "422", "429", "5xx"]\n')
+        'checks.positive_data_acceptance.expected-statuses = ["2xx", "3xx", "401", "403", "404", "409", "422", "429", "5xx"]\n'
+    )
     schemathesis(c.url, tmp_path, "-H", "Authorization: Bearer s3cret", config=tmp_path / "schemathesis.toml")
 
 
@@ -436,25 +529,53 @@ def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path)
     CoMap write routes answer 409 (read-only), its playback controls take whatever the schema allows.
     The ASPN gateway and the basemap work in a replay as live, so they are on here too."""
     (tmp_path / "chart.pmtiles").write_bytes(b"PMTiles\x03" + bytes(2000))
-    c = console("--replay", str(synthetic_recording(tmp_path / "recordings")),  # the console's recordings folder: listed
-                "--aspn-lcm", "memq://", "--basemap", str(tmp_path / "chart.pmtiles"))
+    c = console(
+        "--replay",
+        str(synthetic_recording(tmp_path / "recordings")),  # the console's recordings folder: listed
+        "--aspn-lcm",
+        "memq://",
+        "--basemap",
+        str(tmp_path / "chart.pmtiles"),
+    )
     assert httpx.get(f"{c.url}/api/replay").status_code == 200
     # a replay has no CoMap task (CoMap is not recorded, and its writes are refused): that route can only 404
     schemathesis(c.url, tmp_path, "--exclude-path", "/api/tasks/{task_id}")
 
 
 def schemathesis(url: str, tmp_path: Path, *args: str, config: Path | None = None) -> None:
-    cmd = [str(Path(sys.executable).parent / "schemathesis"), *(["--config-file", str(config)] if config else []),
-           "run", f"{url}/openapi.json", "--checks", "all",
-           "--exclude-checks", "use_after_free", "--generation-deterministic", "--max-examples", "25", "--workers", "1",
-           *args, "--no-color", "--report", "junit", "--report-dir", str(tmp_path)]
+    cmd = [
+        str(Path(sys.executable).parent / "schemathesis"),
+        *(["--config-file", str(config)] if config else []),
+        "run",
+        f"{url}/openapi.json",
+        "--checks",
+        "all",
+        "--exclude-checks",
+        "use_after_free",
+        "--generation-deterministic",
+        "--max-examples",
+        "25",
+        "--workers",
+        "1",
+        *args,
+        "--no-color",
+        "--report",
+        "junit",
+        "--report-dir",
+        str(tmp_path),
+    ]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=120, cwd=tmp_path)
-    summary = p.stdout[p.stdout.rfind("SUMMARY"):]
+    summary = p.stdout[p.stdout.rfind("SUMMARY") :]
     print(summary)
     assert p.returncode == 0, p.stdout[-6000:]
     spec = httpx.get(f"{url}/openapi.json").json()
     excluded = [args[i + 1] for i, a in enumerate(args) if a == "--exclude-path"]
-    operations = sum(1 for name, path in spec["paths"].items() if name not in excluded
-                     for method in path if method in ("get", "post", "put", "patch", "delete"))
+    operations = sum(
+        1
+        for name, path in spec["paths"].items()
+        if name not in excluded
+        for method in path
+        if method in ("get", "post", "put", "patch", "delete")
+    )
     assert f"Tested: {operations}" in summary and " passed" in summary and "failure" not in summary, summary
     assert "Warnings:" not in summary, summary

@@ -72,8 +72,13 @@ def test_ins_aligns_after_power_on(sim, consumer: Consumer) -> None:
         lambda: any(r.status is Op.OPERATIONAL for r in consumer.reports[Sem.INS_REPORT].get(V1, [])), 20, "OPERATIONAL"
     )
     seen = [r.status for r in consumer.reports[Sem.INS_REPORT][V1]]
-    order = [Op.INIT, Op.COURSE_STATIONARY_ALIGNMENT, Op.FINE_STATIONARY_ALIGNMENT_STARTED,
-             Op.FINE_STATIONARY_ALIGNMENT_COMPLETE, Op.OPERATIONAL]
+    order = [
+        Op.INIT,
+        Op.COURSE_STATIONARY_ALIGNMENT,
+        Op.FINE_STATIONARY_ALIGNMENT_STARTED,
+        Op.FINE_STATIONARY_ALIGNMENT_COMPLETE,
+        Op.OPERATIONAL,
+    ]
     ranks = [order.index(s) for s in seen]
     assert ranks == sorted(ranks) and len(set(ranks)) >= 3
 
@@ -158,11 +163,14 @@ def test_newer_command_interrupts_running_one(sim, consumer: Consumer) -> None:
     consumer.wait_status(second, S.EXECUTING)
 
 
-@pytest.mark.parametrize("fault,statuses,reason", [
-    ("reject", [S.ISSUED, S.FAILED], R.RESOURCE_REJECTED),
-    ("fail-midway", [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED], R.RESOURCE_FAILED),
-    ("skip-commanded", [S.ISSUED, S.EXECUTING, S.COMPLETED], R.SUCCEEDED),
-])
+@pytest.mark.parametrize(
+    "fault,statuses,reason",
+    [
+        ("reject", [S.ISSUED, S.FAILED], R.RESOURCE_REJECTED),
+        ("fail-midway", [S.ISSUED, S.COMMANDED, S.EXECUTING, S.FAILED], R.RESOURCE_FAILED),
+        ("skip-commanded", [S.ISSUED, S.EXECUTING, S.COMPLETED], R.SUCCEEDED),
+    ],
+)
 def test_injected_faults_on_one_vehicle(sim, consumer: Consumer, fault: str, statuses: list[S], reason: R) -> None:
     sim("--vehicles", "2", "--fault", f"{fault}:2")
     for v in (V1, V2):
@@ -306,24 +314,35 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
     assert "Traceback" not in out
     seen = consumer.wait_terminal(session)
     assert seen.statuses[-1] is S.FAILED and seen.reasons[-1] is R.SERVICE_FAILED
-    consumer.wait(lambda: all(V1 in consumer.report_disposed[s] for s in
-                              (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT)),
-                  10, "reports disposed")
+    consumer.wait(
+        lambda: all(
+            V1 in consumer.report_disposed[s]
+            for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT)
+        ),
+        10,
+        "reports disposed",
+    )
 
 
-@pytest.mark.parametrize("args,message", [
-    (["--vehicles", "0"], "--vehicles: 0 is outside 1..500"),
-    (["--domain", "x"], "sem-sim: error: --domain: 'x' is not a whole number"),
-    (["--fault", "explode"], "unknown fault 'explode'"),
-    (["--fault", "reject:zero"], "must be a vehicle number"),
-    (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: this simulator runs vehicles 1..2"),
-    (["--first-vehicle", "4", "--fault", "ins-failure:1"], "--fault ins-failure:1: this simulator runs vehicle 4"),
-    (["--fix-rate", "50"], "--fix-rate: 50 is outside 1..10"),
-    (["--nope"], "unrecognized arguments: --nope"),
-    # a fault for a vehicle it does not run was injected nowhere, silently; a health file it cannot write, never written
-    (["--vehicles", "2", "--first-vehicle", "3", "--fault", "reject:2"], "--fault reject:2: this simulator runs vehicles 3..4"),
-    (["--health-file", "/nonexistent/sem-sim.alive"], "--health-file /nonexistent/sem-sim.alive: cannot write it"),
-])
+@pytest.mark.parametrize(
+    "args,message",
+    [
+        (["--vehicles", "0"], "--vehicles: 0 is outside 1..500"),
+        (["--domain", "x"], "sem-sim: error: --domain: 'x' is not a whole number"),
+        (["--fault", "explode"], "unknown fault 'explode'"),
+        (["--fault", "reject:zero"], "must be a vehicle number"),
+        (["--vehicles", "2", "--fault", "reject:3"], "--fault reject:3: this simulator runs vehicles 1..2"),
+        (["--first-vehicle", "4", "--fault", "ins-failure:1"], "--fault ins-failure:1: this simulator runs vehicle 4"),
+        (["--fix-rate", "50"], "--fix-rate: 50 is outside 1..10"),
+        (["--nope"], "unrecognized arguments: --nope"),
+        # a fault for a vehicle it does not run was injected nowhere, silently; a health file it cannot write, never written
+        (
+            ["--vehicles", "2", "--first-vehicle", "3", "--fault", "reject:2"],
+            "--fault reject:2: this simulator runs vehicles 3..4",
+        ),
+        (["--health-file", "/nonexistent/sem-sim.alive"], "--health-file /nonexistent/sem-sim.alive: cannot write it"),
+    ],
+)
 def test_bad_options_one_line_exit_2(args: list[str], message: str) -> None:
     out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", *args], capture_output=True, text=True, timeout=30)
     assert out.returncode == 2
@@ -335,14 +354,42 @@ def test_a_busy_imc_port_is_one_line_exit_2(domain: int) -> None:
     with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as busy:
         busy.bind(("127.0.0.1", 0))
         port = busy.getsockname()[1]
-        out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--imc-port", str(port),
-                              "--imc-host", "127.0.0.1"], capture_output=True, text=True, timeout=60)
+        out = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "sem_console.sim.sem_sim",
+                "--domain",
+                str(domain),
+                "--imc-port",
+                str(port),
+                "--imc-host",
+                "127.0.0.1",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
     assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
     assert out.stderr.startswith(f"sem-sim: error: cannot listen for IMC on 127.0.0.1:{port}: ")
     assert "another --imc-port" in out.stderr
     # an address not of this machine (TEST-NET-1) is not a busy port: the fix names --imc-host, not another port
-    out = subprocess.run([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--imc-port", "6099",
-                          "--imc-host", "192.0.2.1"], capture_output=True, text=True, timeout=60)
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sem_console.sim.sem_sim",
+            "--domain",
+            str(domain),
+            "--imc-port",
+            "6099",
+            "--imc-host",
+            "192.0.2.1",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
     assert out.returncode == 2 and out.stderr.count("\n") == 1, out.stderr
     assert "--imc-host address of this machine" in out.stderr and "another --imc-port" not in out.stderr, out.stderr
 
@@ -373,8 +420,14 @@ def test_writers_offer_the_representation_of_their_type(sim, consumer: Consumer)
     wait_reports(consumer, V1)
     reports = {s.spec.name for s in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.INS_REPORT)}
     offered: dict[str, object] = {}
-    consumer.wait(lambda: (offered.update({p.topic_name: p.qos[Policy.DataRepresentation] for p in reader.read(N=100)})
-                           or reports <= set(offered)), 10, "publications")
+    consumer.wait(
+        lambda: (
+            offered.update({p.topic_name: p.qos[Policy.DataRepresentation] for p in reader.read(N=100)})
+            or reports <= set(offered)
+        ),
+        10,
+        "publications",
+    )
     for sem in (Sem.GPS_REPORT, Sem.GPS_FIX_REPORT):
         rep = offered[sem.spec.name]
         assert rep.use_xcdrv2_representation and not rep.use_cdrv0_representation, rep
@@ -387,9 +440,17 @@ def test_shutdown_with_a_vanished_reader_is_clean(sim, consumer: Consumer, domai
     """wait_for_acks times out when a matched reader died without a goodbye; shutdown must still be clean."""
     p = sim("--surface-seconds", "400")
     wait_reports(consumer, V1)
-    crashed = subprocess.Popen([sys.executable, "-c", (
-        "import sys, time; sys.path.insert(0, 'tests'); from support.consumer import Consumer; "
-        f"c = Consumer({domain}, name='crashes'); time.sleep(30)")], cwd=str(__import__('pathlib').Path(__file__).parents[2]))
+    crashed = subprocess.Popen(
+        [
+            sys.executable,
+            "-c",
+            (
+                "import sys, time; sys.path.insert(0, 'tests'); from support.consumer import Consumer; "
+                f"c = Consumer({domain}, name='crashes'); time.sleep(30)"
+            ),
+        ],
+        cwd=str(__import__('pathlib').Path(__file__).parents[2]),
+    )
     time.sleep(2.0)  # it has matched the simulator's writers
     session = consumer.command(Service.GPS_FIX, V1)
     consumer.wait_status(session, S.EXECUTING)
@@ -407,8 +468,10 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     second = sim("--state-file", str(tmp_path / "second.json"))  # its own journal, the same vehicle 1
     assert second.proc is not None and second.proc.wait(timeout=20) == 1
     out = second.stop()
-    assert out.strip().splitlines()[-1] == (f"sem-sim: error: vehicle 1 already runs on domain {second.domain} in another "
-                                            "process; run these vehicles with --first-vehicle 2 or on another --domain")
+    assert out.strip().splitlines()[-1] == (
+        f"sem-sim: error: vehicle 1 already runs on domain {second.domain} in another "
+        "process; run these vehicles with --first-vehicle 2 or on another --domain"
+    )
     same_journal = sim("--first-vehicle", "2")  # other vehicles, but the first one's journal
     assert same_journal.proc is not None and same_journal.proc.wait(timeout=20) == 1
     assert f"is in use by another simulator (pid {first.proc.pid})" in same_journal.stop()  # type: ignore[union-attr]
@@ -460,9 +523,24 @@ def test_two_simulators_started_together_leave_one_vehicle(domain: int, tmp_path
     console's health): under a loaded run two simulators starting at once took 20 s to get as far as their look."""
     from conftest import FAST
 
-    procs = [subprocess.Popen([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), "--state-file",
-                               str(tmp_path / f"s{i}.json"), *FAST], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                              text=True) for i in range(2)]
+    procs = [
+        subprocess.Popen(
+            [
+                sys.executable,
+                "-m",
+                "sem_console.sim.sem_sim",
+                "--domain",
+                str(domain),
+                "--state-file",
+                str(tmp_path / f"s{i}.json"),
+                *FAST,
+            ],
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
+        for i in range(2)
+    ]
     try:
         deadline = time.monotonic() + 60
         while time.monotonic() < deadline and all(p.poll() is None for p in procs):

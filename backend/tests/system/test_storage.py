@@ -97,7 +97,8 @@ def test_identity_per_name_kept_across_restarts_never_shared(database_url: str) 
 
 
 def test_a_console_stopping_as_another_starts_on_a_sqlite_file_leaves_one_holder(
-        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """The lock file is removed at a clean stop: a console that opened it just before (and locks it just after) held
     the removed file's lock, and a third then took a new file's: two consoles on one SQLite file."""
     url = str(tmp_path / "console.sqlite3")
@@ -124,16 +125,25 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
     db = open_db(database_url)
     try:
         session = str(uuid.uuid4())
-        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
-                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        db.add_command(
+            {"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice", "createdAt": 100.0},
+            {"timeStamp": [100, 0]},
+            "watch",
+        )
         db.set_canceled(session, "bob", "relief", 101.0)
         assert db.set_closed_unheard(session, "heard", 108.0) is True
         # another station ends it too, later: refused, the first ending stands (each station shows the stored one)
         assert db.set_closed_unheard(session, "bound", 109.0) is False
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("heard", 108.0, True)
-        canceled = {"status": "CANCELED", "reason": "CANCELED", "logMessage": "", "violation": None,
-                    "providerTime": 1.0, "receivedAt": 109.0}
+        canceled = {
+            "status": "CANCELED",
+            "reason": "CANCELED",
+            "logMessage": "",
+            "violation": None,
+            "providerTime": 1.0,
+            "receivedAt": 109.0,
+        }
         db.add_transition(session, 1, canceled)  # the vehicle answered after all
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
@@ -149,11 +159,24 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
     db.audit_trail.max_rows = 3
     try:
         session = str(uuid.uuid4())
-        db.add_command({"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice",
-                        "createdAt": 100.0}, {"timeStamp": [100, 0]}, "watch")
+        db.add_command(
+            {"sessionId": session, "service": "GPSFix", "providerId": V1, "state": None, "operator": "alice", "createdAt": 100.0},
+            {"timeStamp": [100, 0]},
+            "watch",
+        )
         for seq, status in enumerate(("ISSUED", "COMMANDED", "COMMANDED"), start=1):
-            db.add_transition(session, min(seq, 2), {"status": status, "reason": "SUCCEEDED", "logMessage": "",
-                                                     "violation": None, "providerTime": 1.0, "receivedAt": 2.0})
+            db.add_transition(
+                session,
+                min(seq, 2),
+                {
+                    "status": status,
+                    "reason": "SUCCEEDED",
+                    "logMessage": "",
+                    "violation": None,
+                    "providerTime": 1.0,
+                    "receivedAt": 2.0,
+                },
+            )
         db.set_canceled(session, "bob", "relief", 101.5)
         db.set_flag(session, "cleaned_up")
         [row] = db.commands(session_id=session)
@@ -163,8 +186,9 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         assert row["console"] == "watch" and row["command"] == {"timeStamp": [100, 0]}
         assert db.commands(limit=10, unfinished=True, console="relief") == []
         for n in range(5):
-            db.add_audit({"at": float(n), "outcome": "accepted", "status": 200, "method": "POST", "path": f"/{n}",
-                          "reason": "accepted"})
+            db.add_audit(
+                {"at": float(n), "outcome": "accepted", "status": 200, "method": "POST", "path": f"/{n}", "reason": "accepted"}
+            )
         assert [e.path for e in db.audit(10, 0)] == ["/4", "/3", "/2"]  # the newest audit_max_rows
         db.set_link_config(V1, {"commsLostTimeout": 5})
         db.set_link_config(V1, {"commsLostTimeout": 7})
@@ -174,9 +198,20 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         assert db.vehicle_names() == {V1: "Bravo"}
         db.set_vehicle_name(V1, None, "bob")
         assert db.vehicle_names() == {}
-        alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
-                 "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
-                 "acked_by": None, "normal_at": None}
+        alarm = {
+            "key": "k",
+            "kind": "link-lost",
+            "severity": "alarm",
+            "provider_id": V1,
+            "vehicle": "Alpha",
+            "session_id": None,
+            "text": "Alpha: link lost",
+            "since": 1.0,
+            "cleared_at": None,
+            "acked_at": None,
+            "acked_by": None,
+            "normal_at": None,
+        }
         first = db.add_alarm(alarm)
         assert db.add_alarm(alarm) == first + 1
         db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
@@ -189,9 +224,12 @@ def test_track_points_written_once_read_in_order(database_url: str) -> None:
     db = open_db(database_url)
     history = History(db.engine, retention_hours=24)
     provider = uuid.UUID(V1)
-    fix = {"position2DWithTime": {"geodeticPosition": {"geodeticLatitude": {"latitude": 0.5},
-                                                       "geodeticLongitude": {"longitude": 0.25}}},
-           "GPSLatLongValid": True}
+    fix = {
+        "position2DWithTime": {
+            "geodeticPosition": {"geodeticLatitude": {"latitude": 0.5}, "geodeticLongitude": {"longitude": 0.25}}
+        },
+        "GPSLatLongValid": True,
+    }
 
     async def run() -> list[float]:
         now = math.floor(time.time()) + 0.25
@@ -251,14 +289,24 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
     acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
     db = open_db(pg_url)
     db.claim("watch")
-    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
-             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
-             "acked_by": None, "normal_at": None}
+    alarm = {
+        "key": "k",
+        "kind": "link-lost",
+        "severity": "alarm",
+        "provider_id": V1,
+        "vehicle": "Alpha",
+        "session_id": None,
+        "text": "Alpha: link lost",
+        "since": 1.0,
+        "cleared_at": None,
+        "acked_at": None,
+        "acked_by": None,
+        "normal_at": None,
+    }
     try:
         pg_cluster.stop()
         try:
-            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a",
-                          "reason": "accepted"})
+            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a", "reason": "accepted"})
             temporary = db.add_alarm(alarm)
             assert temporary < 0 and db.unavailable_since is not None and db.held == 2
             db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
@@ -295,8 +343,9 @@ def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg
         db.claim("watch")
         pg_cluster.stop()
         try:
-            db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held",
-                          "reason": "accepted"})
+            db.add_audit(
+                {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held", "reason": "accepted"}
+            )
             assert db.held == 1 and db.unavailable_since is not None
         finally:
             pg_cluster.start()
@@ -309,16 +358,18 @@ def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg
         again.close()
 
 
-def test_what_cannot_be_written_when_the_console_stops_is_said(pg_cluster: Cluster, pg_url: str,
-                                                               caplog: pytest.LogCaptureFixture) -> None:
+def test_what_cannot_be_written_when_the_console_stops_is_said(
+    pg_cluster: Cluster, pg_url: str, caplog: pytest.LogCaptureFixture
+) -> None:
     """The server still away as the console stops: the changes held are lost with it, and one line says how many."""
     db = open_db(pg_url)
     try:
         pg_cluster.stop()
         try:
             for path in ("/a", "/b"):
-                db.add_audit({"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": path,
-                              "reason": "accepted"})
+                db.add_audit(
+                    {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": path, "reason": "accepted"}
+                )
             with caplog.at_level("ERROR", logger="sem-console.storage"):
                 db.close()
         finally:
@@ -347,12 +398,14 @@ def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: 
         assert on_lock.wait(30), "no upkeep on the name's lock connection"
     again = open_db(pg_url)
     try:
+
         def claimed() -> bool:
             try:
                 again.claim("test-console")  # app_client's
             except StorageError:
                 return False
             return True
+
         wait_until(claimed, 15, "the name let go by the stopped console")
     finally:
         again.close()
@@ -363,9 +416,20 @@ def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_
     and the alarm gets a temporary id, not the id of the row rolled back; its acknowledgement, held after it, reaches
     the row written when the server answers. With the rolled-back row's id it went to no row: lost."""
     db = open_db(pg_url)
-    alarm = {"key": "k", "kind": "link-lost", "severity": "alarm", "provider_id": V1, "vehicle": "Alpha",
-             "session_id": None, "text": "Alpha: link lost", "since": 1.0, "cleared_at": None, "acked_at": None,
-             "acked_by": None, "normal_at": None}
+    alarm = {
+        "key": "k",
+        "kind": "link-lost",
+        "severity": "alarm",
+        "provider_id": V1,
+        "vehicle": "Alpha",
+        "session_id": None,
+        "text": "Alpha: link lost",
+        "since": 1.0,
+        "cleared_at": None,
+        "acked_at": None,
+        "acked_by": None,
+        "normal_at": None,
+    }
     cut: list[int] = []
 
     def cut_before_commit(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
@@ -449,15 +513,19 @@ def test_the_sessions_that_hold_locks_are_ended_by_the_server_soon_after_a_netwo
         assert writers.mine({V1}) == {V1}
         for c in (db.name_lock.lock, writers._conn):  # the name's session, the vehicles' session (over TCP: 127.0.0.1)
             assert isinstance(c, Connection)
-            assert [c.execute(text(f"SHOW tcp_keepalives_{s}")).scalar() for s in ("idle", "interval", "count")] \
-                == ["5", "2", "2"]
+            assert [c.execute(text(f"SHOW tcp_keepalives_{s}")).scalar() for s in ("idle", "interval", "count")] == [
+                "5",
+                "2",
+                "2",
+            ]
     finally:
         writers.close()
         db.close()
 
 
-@pytest.mark.parametrize("url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/",
-                                 "mysql://u:s3cret@h/db"])
+@pytest.mark.parametrize(
+    "url", ["postgresql://u:s3cret@127.0.0.1:abc/db", "postgresql://u:s3cret@h:5432/", "mysql://u:s3cret@h/db"]
+)
 def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url: str) -> None:
     with pytest.raises(ValueError) as refused:
         parse_database_url(url)

@@ -99,7 +99,7 @@ def test_every_6_0_command_completes_through_the_flow_and_the_ins_walks_its_stag
         # the vehicle's INS walked the stages of the kind commanded, and reports its aim once COMPLETED
         wait_until(lambda st=state: stages.take() and stages.seen[-1] == STAGES[st][-1], 5, f"{state}: its last stage")
         walked = [x for x in stages.seen if x in STAGES[state]]
-        assert walked[-len(STAGES[state]):] == list(STAGES[state]) or state == "SNAP_ALIGN", (state, stages.seen)
+        assert walked[-len(STAGES[state]) :] == list(STAGES[state]) or state == "SNAP_ALIGN", (state, stages.seen)
     assert ws.errors == []
 
 
@@ -121,8 +121,11 @@ def test_a_6_0_vehicle_first_heard_on_its_command_status_speaks_6_0(console, dom
         writer = bus.writer(Sem60.INS_COMMAND_STATUS)  # kept: the status stays on the bus while it lives
         writer.write(umaa_6_0.ins_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
         c = console()
-        seen = wait_until(lambda: (r := httpx.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
-                          15, "the vehicle of the status")
+        seen = wait_until(
+            lambda: (r := httpx.get(f"{c.url}/api/providers/{vehicle}")).status_code == 200 and r.json(),
+            15,
+            "the vehicle of the status",
+        )
         assert seen["umaaVersion"] == "6.0", seen
     finally:
         bus.close()
@@ -146,8 +149,13 @@ def test_a_vehicle_heard_on_the_other_versions_topics_is_shown_in_its_new_versio
             command = found.build(console_id, vehicle, uuid.uuid4(), found.states[0], (1, 0))
             writers.append(bus.writer(found.status))
             writers[-1].write(found.build_status(vehicle, command, S.ISSUED, R.SUCCEEDED, "", (1, 0)))
-            wait_until(lambda v=version: any(m["provider"]["id"] == str(vehicle) and m["provider"]["umaaVersion"] == v
-                                              for m in ws.of("provider")), 15, f"the vehicle shown as UMAA {version}")
+            wait_until(
+                lambda v=version: any(
+                    m["provider"]["id"] == str(vehicle) and m["provider"]["umaaVersion"] == v for m in ws.of("provider")
+                ),
+                15,
+                f"the vehicle shown as UMAA {version}",
+            )
         told = [m["event"] for m in ws.of("provider") if m["provider"]["id"] == str(vehicle)]
         assert told[:1] == ["appeared"] and "configured" in told, told
         assert httpx.get(f"{c.url}/api/providers/{vehicle}").json()["umaaVersion"] == "6.0"
@@ -160,8 +168,18 @@ def _console_command(domain: int, session: str) -> tuple[Bus, Any]:
     """The console's InertialSensorCommandType of `session`, as it is on the bus (transient-local)."""
     bus = Bus(domain)
     reader = bus.reader(Sem60.INS_COMMAND)
-    found = wait_until(lambda: next((s for s in take_each(reader)[0] if not isinstance(s, InvalidSample)
-                                     and str(uuid.UUID(bytes=bytes(s.sessionID))) == session), None), 10, "the command")
+    found = wait_until(
+        lambda: next(
+            (
+                s
+                for s in take_each(reader)[0]
+                if not isinstance(s, InvalidSample) and str(uuid.UUID(bytes=bytes(s.sessionID))) == session
+            ),
+            None,
+        ),
+        10,
+        "the command",
+    )
     return bus, found
 
 
@@ -175,9 +193,11 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
     c = console()
     bus = Bus(domain)
     try:
-        report = Sem60.INS_REPORT.spec.type(status=InertialSensorOpStatusEnumType.INIT,
-                                            timeStamp=DateTime(seconds=1, nanoseconds=0),
-                                            source=umaa_6_0.identifier(vehicle, parent))
+        report = Sem60.INS_REPORT.spec.type(
+            status=InertialSensorOpStatusEnumType.INIT,
+            timeStamp=DateTime(seconds=1, nanoseconds=0),
+            source=umaa_6_0.identifier(vehicle, parent),
+        )
         writer = bus.writer(Sem60.INS_REPORT)  # kept: the vehicle lives while its writer does
         writer.write(report)
         wait_until(lambda: httpx.get(f"{c.url}/api/providers/{vehicle}").status_code == 200, 15, "the vehicle")
@@ -185,8 +205,18 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
         assert r.status_code == 201, r.text
         reader = bus.reader(Sem60.INS_COMMAND)
         session = r.json()["sessionId"]
-        command = wait_until(lambda: next((s for s in take_each(reader)[0] if not isinstance(s, InvalidSample)
-                                           and str(uuid.UUID(bytes=bytes(s.sessionID))) == session), None), 10, "the command")
+        command = wait_until(
+            lambda: next(
+                (
+                    s
+                    for s in take_each(reader)[0]
+                    if not isinstance(s, InvalidSample) and str(uuid.UUID(bytes=bytes(s.sessionID))) == session
+                ),
+                None,
+            ),
+            10,
+            "the command",
+        )
         assert uuid.UUID(bytes=bytes(command.destination.id)) == vehicle
         assert uuid.UUID(bytes=bytes(command.destination.parentID)) == parent
         assert bytes(command.source.parentID) == bytes(16)  # the console has no parent: the nil UUID
@@ -196,13 +226,28 @@ def test_a_6_0_command_is_addressed_to_the_providers_identifier_its_parent_too(c
         heard = httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"]
         report.source, report.timeStamp = umaa_6_0.identifier(vehicle, other), DateTime(seconds=2, nanoseconds=0)
         writer.write(report)
-        wait_until(lambda: httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"][
-            "receivedAt"] != heard, 15, "the report with the new parent")
+        wait_until(
+            lambda: (
+                httpx.get(f"{c.url}/api/providers/{vehicle}").json()["reports"]["InertialSensorReport"]["receivedAt"] != heard
+            ),
+            15,
+            "the report with the new parent",
+        )
         r = httpx.post(f"{c.url}/api/providers/{vehicle}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 201, r.text
         session = r.json()["sessionId"]
-        command = wait_until(lambda: next((s for s in take_each(reader)[0] if not isinstance(s, InvalidSample)
-                                           and str(uuid.UUID(bytes=bytes(s.sessionID))) == session), None), 10, "the command")
+        command = wait_until(
+            lambda: next(
+                (
+                    s
+                    for s in take_each(reader)[0]
+                    if not isinstance(s, InvalidSample) and str(uuid.UUID(bytes=bytes(s.sessionID))) == session
+                ),
+                None,
+            ),
+            10,
+            "the command",
+        )
         assert uuid.UUID(bytes=bytes(command.destination.parentID)) == other
     finally:
         bus.close()
@@ -225,11 +270,20 @@ def test_a_6_0_command_updated_starts_over_and_the_monitor_follows(sim, console,
     finally:
         bus.close()
     assert [(t["status"], t["reason"]) for t in done["transitions"]] == [
-        ("ISSUED", "SUCCEEDED"), ("COMMANDED", "SUCCEEDED"), ("EXECUTING", "SUCCEEDED"),
-        ("ISSUED", "UPDATED"), ("COMMANDED", "SUCCEEDED"), ("EXECUTING", "SUCCEEDED"), ("COMPLETED", "SUCCEEDED")]
+        ("ISSUED", "SUCCEEDED"),
+        ("COMMANDED", "SUCCEEDED"),
+        ("EXECUTING", "SUCCEEDED"),
+        ("ISSUED", "UPDATED"),
+        ("COMMANDED", "SUCCEEDED"),
+        ("EXECUTING", "SUCCEEDED"),
+        ("COMPLETED", "SUCCEEDED"),
+    ]
     assert done["violations"] == [] and done["cleanedUp"]
-    wait_until(lambda: [m["transition"]["reason"] for m in ws.of("transition") if m["sessionId"] == session].count("UPDATED")
-               == 1, 5, "UPDATED on the WebSocket")
+    wait_until(
+        lambda: [m["transition"]["reason"] for m in ws.of("transition") if m["sessionId"] == session].count("UPDATED") == 1,
+        5,
+        "UPDATED on the WebSocket",
+    )
     assert ws.errors == []
 
 
@@ -263,6 +317,7 @@ def test_a_6_0_vehicle_disposes_its_status_and_ack_when_the_console_cleans_up(si
 
         def disposed(reader: DataReader[Any]) -> bool:  # a dispose after an untaken sample shows in its instance state
             return any(s.sample_info.instance_state == InstanceState.NotAliveDisposed for s in take_each(reader)[0])
+
         wait_until(lambda: disposed(status), 10, "the status disposed")
         wait_until(lambda: disposed(ack), 10, "the ack disposed")
     finally:
@@ -279,8 +334,11 @@ def test_a_6_0_alignment_that_fails_shows_its_kind_s_failure_and_the_command_fai
     assert done["violations"] == []
     wait_until(lambda: stages.take() and stages.seen[-1] == "GPS_ALIGNMENT_FAILURE", 5, "GPS_ALIGNMENT_FAILURE")
     # the alarm names the command in the operator's words
-    alarms = wait_until(lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "command-failed"], 5,
-                        "the command-failed alarm")
+    alarms = wait_until(
+        lambda: [a for a in httpx.get(f"{c.url}/api/alarms").json() if a["kind"] == "command-failed"],
+        5,
+        "the command-failed alarm",
+    )
     assert "INS GPS-aided alignment failed" in alarms[0]["text"], alarms
 
 
@@ -312,30 +370,33 @@ def test_the_flow_takes_an_update_back_to_issued_from_a_running_state_only() -> 
 # ---- REST: the vehicle's version decides the choices (no DDS under test) ---------------------------------------------
 def test_a_literal_of_the_other_version_and_a_gps_fix_to_a_6_0_vehicle_get_422s(domain: int, tmp_path: Path) -> None:
     six, old = uuid.uuid4(), uuid.uuid4()
-    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings",
-                        vehicle_names=f"{six}=Six,{old}=Old")
+    settings = Settings(
+        domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings", vehicle_names=f"{six}=Six,{old}=Old"
+    )
     with TestClient(create_app(settings), base_url="http://localhost") as client:
         console = client.app.state.console  # type: ignore[attr-defined]
 
         def heard() -> None:
             now, wall = console.clock.monotonic(), console.clock.wall()
             console.providers.seen("GPSReport", six, {"report": {}, "invalid": [], "receivedAt": wall}, now, wall, True, "6.0")
-            console.providers.seen("GPSReport", old, {"report": {}, "invalid": [], "receivedAt": wall}, now, wall, True,
-                                   "3.0.1")
+            console.providers.seen("GPSReport", old, {"report": {}, "invalid": [], "receivedAt": wall}, now, wall, True, "3.0.1")
 
         client.portal.call(heard)
         r = client.post(f"/api/providers/{six}/inertial-sensor", json={"state": "ON"})
         assert r.status_code == 422 and r.json()["errors"] == [
             "body.state: Six speaks UMAA 6.0: its inertial sensor takes BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, "
-            "STATIONARY_ALIGN, TRANSFER_ALIGN; ON is a UMAA 3.0.1 state"], r.text
+            "STATIONARY_ALIGN, TRANSFER_ALIGN; ON is a UMAA 3.0.1 state"
+        ], r.text
         r = client.post(f"/api/providers/{old}/inertial-sensor", json={"state": "GPS_ALIGN"})
         assert r.status_code == 422 and r.json()["detail"] == (
-            "body.state: Old speaks UMAA 3.0.1: its inertial sensor takes OFF, ON, RESTARTING; GPS_ALIGN is a UMAA 6.0 "
-            "state"), r.text
+            "body.state: Old speaks UMAA 3.0.1: its inertial sensor takes OFF, ON, RESTARTING; GPS_ALIGN is a UMAA 6.0 state"
+        ), r.text
         r = client.post(f"/api/providers/{six}/gps-fix", json={})
         assert r.status_code == 422 and r.json()["detail"] == (
-            "path.provider_id: Six speaks UMAA 6.0, which has no GPS fix service (GPSFixControl)"), r.text
+            "path.provider_id: Six speaks UMAA 6.0, which has no GPS fix service (GPSFixControl)"
+        ), r.text
         assert client.get("/api/commands").json() == []  # nothing was published
+
         # a lost vehicle: a command its version has not is refused as such, not held for a confirmation it could not use
         def lose(lost: bool) -> None:
             for v in (six, old):
@@ -385,15 +446,20 @@ def test_nothing_outside_the_versions_room_asks_which_version_a_vehicle_speaks()
     """The versions room (`versions/`) and the simulator's 6.0 writer (`sim/umaa_6_0.py`) know what each version has;
     elsewhere none compares a version (sem-check's detector, `check/observe.py`, names the one it found)."""
     import sem_console
+
     root = Path(sem_console.__file__).parent
     allowed = {"versions", "sim/umaa_6_0.py", "check/observe.py"}
 
     def a_version(n: ast.expr) -> bool:
-        return (isinstance(n, ast.Constant) and n.value in ("3.0.1", "6.0")) or \
-            (isinstance(n, ast.Name) and n.id in ("UMAA_3_0_1", "UMAA_6_0"))
+        return (isinstance(n, ast.Constant) and n.value in ("3.0.1", "6.0")) or (
+            isinstance(n, ast.Name) and n.id in ("UMAA_3_0_1", "UMAA_6_0")
+        )
 
-    asked = [f"{f.relative_to(root)}:{n.lineno}: {ast.unparse(n)}" for f in sorted(root.rglob("*.py"))
-             if not any(str(f.relative_to(root)).startswith(a) for a in allowed)
-             for n in ast.walk(ast.parse(f.read_text())) if isinstance(n, ast.Compare) and
-             any(a_version(x) for x in (n.left, *n.comparators))]
+    asked = [
+        f"{f.relative_to(root)}:{n.lineno}: {ast.unparse(n)}"
+        for f in sorted(root.rglob("*.py"))
+        if not any(str(f.relative_to(root)).startswith(a) for a in allowed)
+        for n in ast.walk(ast.parse(f.read_text()))
+        if isinstance(n, ast.Compare) and any(a_version(x) for x in (n.left, *n.comparators))
+    ]
     assert asked == []

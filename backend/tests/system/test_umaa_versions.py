@@ -43,6 +43,7 @@ def _detail(base: str, pid: str, topics: set[str]) -> dict[str, Any]:
     def ready() -> dict[str, Any] | None:
         r = httpx.get(f"{base}/api/providers/{pid}")
         return r.json() if r.status_code == 200 and topics <= set(r.json()["topics"]) else None
+
     return wait_until(ready, 30, f"provider {pid} with {topics}")
 
 
@@ -86,11 +87,23 @@ def test_a_mixed_fleet_in_one_console(sim: Any, console: Any, tmp_path: Path) ->
     assert all(new["topics"][t]["alive"] and new["topics"][t]["samples"] > 0 for t in HEALTH_6_0)
     assert new["link"] == "live" and set(new["topics"]) == HEALTH_6_0
     # the WebSocket says each vehicle's version too (the snapshot and the provider events)
-    wait_until(lambda: {p["provider"]["id"]: p["provider"]["umaaVersion"] for p in ws.of("provider")}.get(V2) == "6.0"
-               or {p["id"]: p["umaaVersion"] for p in ws.messages[0]["providers"]}.get(V2) == "6.0", 10, "6.0 on the WebSocket")
+    wait_until(
+        lambda: (
+            {p["provider"]["id"]: p["provider"]["umaaVersion"] for p in ws.of("provider")}.get(V2) == "6.0"
+            or {p["id"]: p["umaaVersion"] for p in ws.messages[0]["providers"]}.get(V2) == "6.0"
+        ),
+        10,
+        "6.0 on the WebSocket",
+    )
     # and its reports in the model's topics, each valid against the published schema (WsClient checks every message)
-    wait_until(lambda: {"GPSFixReport", "InertialSensorReport", "GPSReport"} <= {
-        m["topic"] for m in ws.of("report") if m["providerId"] == V2}, 10, "the 6.0 vehicle's reports on the WebSocket")
+    wait_until(
+        lambda: (
+            {"GPSFixReport", "InertialSensorReport", "GPSReport"}
+            <= {m["topic"] for m in ws.of("report") if m["providerId"] == V2}
+        ),
+        10,
+        "the 6.0 vehicle's reports on the WebSocket",
+    )
     assert ws.errors == []
     ws.close()
     six.stop()  # its shutdown disposes its reports: the 6.0 vehicle's link is lost at once
@@ -130,7 +143,8 @@ def test_6_0_reports_decode_into_the_model() -> None:
     assert invalid == []
     assert pose["position2DWithTime"] == {
         "geodeticPosition": {"geodeticLatitude": {"latitude": 36.85}, "geodeticLongitude": {"longitude": -75.98}},
-        "timeAtPosition": 1_790_000_004.00000025}
+        "timeAtPosition": 1_790_000_004.00000025,
+    }
     assert pose["trueCourse"] == 3.0 and pose["GPSLatLongValid"] is True and pose["navigationSolution"] == "MEASURED"
     assert pose["attitude"] == {"pitch": {"pitch": 0.1}, "roll": {"roll": -0.2}, "yaw": {"yaw": 1.5}}
     assert pose["positionCovariance"] == {"pdPd": None, "pePd": None, "pePe": 2.0, "pnPd": None, "pnPe": 0.5, "pnPn": 3.0}
@@ -142,8 +156,16 @@ def test_6_0_reports_decode_into_the_model() -> None:
     _schema_members(pose, "GPSFixReportType", defs)
 
     _, ins, invalid = _model(Sem60.INS_REPORT)
-    assert ins == {"state": None, "status": "FINE_GPS_ALIGNMENT_STARTED", "source": ins["source"],
-                   "timeStamp": {"seconds": 1, "nanoseconds": 2}} and invalid == []
+    assert (
+        ins
+        == {
+            "state": None,
+            "status": "FINE_GPS_ALIGNMENT_STARTED",
+            "source": ins["source"],
+            "timeStamp": {"seconds": 1, "nanoseconds": 2},
+        }
+        and invalid == []
+    )
     assert "FINE_GPS_ALIGNMENT_STARTED" in defs["InertialSensorOpStatusEnumType"]["enum"]
     _schema_members(ins, "InertialSensorReportType", defs)
 
@@ -156,8 +178,10 @@ def test_a_6_0_position_flagged_invalid_is_named_by_the_models_path() -> None:
     sample.course = float("nan")
     sample.navigationSolution = type(sample.navigationSolution)["ESTIMATED"]
     _, pose, invalid = _model(Sem60.GLOBAL_POSE_REPORT, type(sample).serialize(sample, use_version_2=True))
-    assert sorted(invalid) == ["position2DWithTime.geodeticPosition.geodeticLatitude.latitude: 95.0 outside -90..90",
-                               "trueCourse: nan is not a number"]
+    assert sorted(invalid) == [
+        "position2DWithTime.geodeticPosition.geodeticLatitude.latitude: 95.0 outside -90..90",
+        "trueCourse: nan is not a number",
+    ]
     assert pose["GPSLatLongValid"] is False and pose["navigationSolution"] == "ESTIMATED" and pose["trueCourse"] is None
     assert track_point(pose["source"], 0.0, pose, invalid, None) is None  # no valid position, no track point
 
@@ -188,8 +212,10 @@ def test_a_6_0_satellite_number_no_satellite_has_is_flagged() -> None:
     sample.satellites = [replace(first, satelliteID=17.5), replace(first, satelliteID=300.0), first]
     _, gps, invalid = _model(Sem60.GPS_REPORT, type(sample).serialize(sample))
     assert [s["satelliteId"] is None for s in gps["satellites"]] == [True, True, False]
-    assert invalid == ["satellites[0].satelliteId: 17.5 is no satellite number (a whole number 1..255)",
-                       "satellites[1].satelliteId: 300.0 is no satellite number (a whole number 1..255)"]
+    assert invalid == [
+        "satellites[0].satelliteId: 17.5 is no satellite number (a whole number 1..255)",
+        "satellites[1].satelliteId: 300.0 is no satellite number (a whole number 1..255)",
+    ]
 
 
 def test_a_6_0_course_west_of_north_is_valid() -> None:
@@ -205,7 +231,17 @@ def test_a_6_0_course_west_of_north_is_valid() -> None:
 
 def test_time_figure_of_merit() -> None:
     assert [tfom(x).name for x in (None, 0.5, 1, 1.5, 10, 20, 100, 101, 1e7, 1e9)] == [
-        "TFOM_1", "TFOM_1", "TFOM_1", "TFOM_2", "TFOM_2", "TFOM_3", "TFOM_3", "TFOM_4", "TFOM_8", "TFOM_9"]
+        "TFOM_1",
+        "TFOM_1",
+        "TFOM_1",
+        "TFOM_2",
+        "TFOM_2",
+        "TFOM_3",
+        "TFOM_3",
+        "TFOM_4",
+        "TFOM_8",
+        "TFOM_9",
+    ]
 
 
 def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
@@ -227,8 +263,10 @@ def test_the_generated_decoder_and_cyclonedds_give_the_same_model() -> None:
             assert generated == r.model(*to_json(sem.spec.type.deserialize(data)))
         if sem is Sem60.GLOBAL_POSE_REPORT:
             pose = generated
-    assert sorted(pose[1]) == ["position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
-                               "trueCourse: -7.0 outside -6.28319..6.28319"]
+    assert sorted(pose[1]) == [
+        "position2DWithTime.geodeticPosition.geodeticLongitude.longitude: 181.0 outside -180..180",
+        "trueCourse: -7.0 outside -6.28319..6.28319",
+    ]
     assert pose[0]["altitudeMSL"] == {"altitude": 5.0} and pose[0]["attitudeCovariance"]["rrRy"] is None
 
 
@@ -253,6 +291,7 @@ def test_a_6_0_report_from_an_appendable_writer_decodes_into_the_same_model() ->
 
 def _attitude_covariance() -> Any:
     from UMAA_6_0.Common.Measurement import CovarianceOrientationNEDType
+
     return CovarianceOrientationNEDType(rpRp=0.01, rpRy=None, rrRp=0.002, rrRr=0.02, rrRy=None, ryRy=0.03)
 
 
@@ -273,8 +312,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     time.sleep(1.0)
     live = {pid: httpx.get(f"{c.url}/api/providers/{pid}").json() for pid in (V1, V2)}
     six.stop()  # its shutdown disposes its reports: recorded as 6.0 instance events
-    lost = wait_until(lambda: (d := httpx.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10,
-                      "the 6.0 vehicle lost")
+    lost = wait_until(
+        lambda: (d := httpx.get(f"{c.url}/api/providers/{V2}").json())["link"] == "lost" and d, 10, "the 6.0 vehicle lost"
+    )
     path = recorded(c.url, tmp_path)
     c.stop()
 
@@ -291,15 +331,17 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     name = Sem60.GLOBAL_POSE_REPORT.spec.name
     poses = decode_with_schema(channels[name][0].name, channels[name][0].data.decode(), name, path, tmp_path)
     assert len(poses) == len(messages[name]) >= 3 and {str(uuid.UUID(hex=x["source"]["id"])) for x in poses} == {V2}
-    assert poses == json.loads(json.dumps([_plain(Sem60.GLOBAL_POSE_REPORT.spec.type.deserialize(m.data))
-                                           for m in messages[name]]))
+    assert poses == json.loads(
+        json.dumps([_plain(Sem60.GLOBAL_POSE_REPORT.spec.type.deserialize(m.data)) for m in messages[name]])
+    )
     pose = poses[-1]  # the simulator's: the altitude above or the depth below the surface, no covariance
     assert (pose["altitude"] is None) != (pose["depth"] is None) and pose["positionCovariance"] is None
     assert -90 <= pose["position"]["geodeticLatitude"] <= 90
     assert messages["UMAA::SEM::GPSStatus::GPSReport"]  # the 3.0.1 vehicle beside it
     events = [json.loads(m.data) for m in messages["sem-console/instances"]]
-    assert {(s.spec.name, V2) for s in umaa_6_0.REPORTS} <= {(e["topic"], e["source"]) for e in events
-                                                             if e["state"] == "disposed"}
+    assert {(s.spec.name, V2) for s in umaa_6_0.REPORTS} <= {
+        (e["topic"], e["source"]) for e in events if e["state"] == "disposed"
+    }
 
     # the console replaying it: at the instant the live console last took each GPSReport, that very report
     r = console("--replay", str(path))
@@ -321,8 +363,9 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     at_end = httpx.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
     assert at_end["link"] == lost["link"] == "lost"
     assert {t: h["alive"] for t, h in at_end["topics"].items()} == {t: h["alive"] for t, h in lost["topics"].items()}
-    snapshot = wait_until(lambda: [m for m in ws.of("snapshot") if any(p["id"] == V2 for p in m["providers"])], 5,
-                          "a snapshot with the 6.0 vehicle")[-1]
+    snapshot = wait_until(
+        lambda: [m for m in ws.of("snapshot") if any(p["id"] == V2 for p in m["providers"])], 5, "a snapshot with the 6.0 vehicle"
+    )[-1]
     assert {p["id"]: p["umaaVersion"] for p in snapshot["providers"]} == {V1: "3.0.1", V2: "6.0"}
     assert ws.errors == []
     ws.close()
@@ -337,14 +380,21 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
     other = free_domain(taken=domain)
     second = ConsoleProcess(other, tmp_path / "second.sqlite3", [], {}).start()
     try:
-        out = subprocess.run([sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other),
-                              "--speed", "4"], capture_output=True, text=True, timeout=60)
+        out = subprocess.run(
+            [sys.executable, "-m", "sem_console.recording.sem_replay", str(path), "--domain", str(other), "--speed", "4"],
+            capture_output=True,
+            text=True,
+            timeout=60,
+        )
         assert out.returncode == 0, out.stderr
         again = _detail(second.url, V2, HEALTH_6_0)
         assert again["umaaVersion"] == "6.0"
         last = Decoder().decode(Sem60.GPS_REPORT, messages[Sem60.GPS_REPORT.spec.name][-1].data, True, ALIVE, 0.0)
         assert last is not None
-        wait_until(lambda: httpx.get(f"{second.url}/api/providers/{V2}").json()["reports"]["GPSReport"]["report"]
-                   == last.report, 10, "the last recorded 6.0 GPSReport on the second console")  # type: ignore[union-attr]
+        wait_until(
+            lambda: httpx.get(f"{second.url}/api/providers/{V2}").json()["reports"]["GPSReport"]["report"] == last.report,
+            10,
+            "the last recorded 6.0 GPSReport on the second console",
+        )  # type: ignore[union-attr]
     finally:
         second.stop()

@@ -107,10 +107,15 @@ def test_a_planned_silence_holds_the_loss_back_then_is_overdue_heard_or_cancelle
     assert [s["until"] for s in w.alarms.planned_silences()] == [T0 + 60]
     assert w.at(89).update() == []  # within the grace
     [overdue] = w.at(90).update()
-    assert (overdue["kind"], overdue["severity"], overdue["cause"]) == ("silence-overdue", "alarm",
-                                                                        "Not heard after a planned silence")
-    assert overdue["text"] == f"Charlie: not heard by {time.strftime('%H:%M', time.gmtime(T0 + 60))} UTC, the end of its " \
-                              "planned silence (30 s grace)"
+    assert (overdue["kind"], overdue["severity"], overdue["cause"]) == (
+        "silence-overdue",
+        "alarm",
+        "Not heard after a planned silence",
+    )
+    assert (
+        overdue["text"] == f"Charlie: not heard by {time.strftime('%H:%M', time.gmtime(T0 + 60))} UTC, the end of its "
+        "planned silence (30 s grace)"
+    )
     assert w.alarms.planned_silences() == []
     for t in (91, 91.5, 92):  # heard again: cleared, and a later loss is link-lost again
         w.at(t).report(CHARLIE, "GPSReport")
@@ -142,7 +147,8 @@ def alarm_of(c: ConsoleProcess, kind: str) -> dict[str, Any] | None:
 
 @pytest.mark.slow
 def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelved(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess]) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess]
+) -> None:
     env = {**OPERATOR, "SEM_SHELVE_MIN_MINUTES": "0.1"}
     vehicle = sim()
     c = console(env=env)
@@ -151,8 +157,9 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     lost = wait_until(lambda: alarm_of(c, "link-lost"), 15, "link-lost")
     shelve = f"{c.url}/api/alarms/{lost['id']}/shelve"
     r = httpx.post(shelve, json={"reason": "relay down", "minutes": 600}, headers=AUTH)
-    assert r.status_code == 409 and r.json()["detail"] == ("600 minutes is outside this console's shelving bounds, 0.1 to "
-                                                           "480 minutes: shelve for a time within them")
+    assert r.status_code == 409 and r.json()["detail"] == (
+        "600 minutes is outside this console's shelving bounds, 0.1 to 480 minutes: shelve for a time within them"
+    )
     assert httpx.post(shelve, json={"reason": "  ", "minutes": 30}, headers=AUTH).status_code == 422
     assert httpx.post(shelve, json={"reason": "relay down", "minutes": 30}).status_code == 401
     r = httpx.post(shelve, json={"reason": "relay down", "minutes": 0.4}, headers=AUTH)  # 24 s
@@ -178,8 +185,9 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     r = httpx.post(unshelve, json={}, headers=AUTH)
     assert r.status_code == 200 and by_kind(r.json(), "link-lost")["returned"] == "back from shelving: unshelved by alice"
     assert httpx.post(unshelve, json={}, headers=AUTH).status_code == 409
-    audit = [(e["path"], e["outcome"], e["status"], e["operator"], e["sessionId"])
-             for e in httpx.get(f"{c.url}/api/audit").json()]
+    audit = [
+        (e["path"], e["outcome"], e["status"], e["operator"], e["sessionId"]) for e in httpx.get(f"{c.url}/api/audit").json()
+    ]
     path = f"/api/alarms/{lost['id']}/shelve"
     assert (path, "accepted", 200, "alice", "shelved for 0.4 min: relay down") in audit
     assert (path, "refused", 409, "alice", None) in audit and (path, "refused", 401, None, None) in audit
@@ -188,7 +196,8 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
 
 @pytest.mark.slow
 def test_a_planned_silence_is_kept_over_a_restart_and_ends_in_an_alarm_when_the_vehicle_is_not_back(
-        sim: Callable[..., Any], console: Callable[..., ConsoleProcess]) -> None:
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess]
+) -> None:
     env = {**OPERATOR, "SEM_SILENCE_GRACE": "2"}
     vehicle = sim()
     started = time.monotonic()
@@ -214,41 +223,51 @@ def test_a_planned_silence_is_kept_over_a_restart_and_ends_in_an_alarm_when_the_
     assert time.time() < until  # lost within the silence: no alarm, not a trivial pass
     overdue = wait_until(lambda: alarm_of(c, "silence-overdue"), until - time.time() + 20, "the overdue alarm")
     assert time.time() >= until + 2
-    assert overdue["text"].endswith(f"not heard by {time.strftime('%H:%M', time.gmtime(until))} UTC, the end of its "
-                                    "planned silence (2 s grace)")
+    assert overdue["text"].endswith(
+        f"not heard by {time.strftime('%H:%M', time.gmtime(until))} UTC, the end of its planned silence (2 s grace)"
+    )
     assert overdue["severity"] == "alarm" and alarm_of(c, "link-lost") is None
     assert httpx.get(f"{c.url}/api/silences").json() == []
     sim()  # back: cleared, waiting for acknowledgement
     wait_until(lambda: (a := alarm_of(c, "silence-overdue")) and a["state"] == "cleared-unacknowledged", 20, "cleared")
     audit = [(e["path"], e["operator"], e["sessionId"]) for e in httpx.get(f"{c.url}/api/audit").json()]
-    assert (f"/api/providers/{V1}/silence", "alice",
-            f"out of comms until {time.strftime('%H:%M', time.gmtime(until))} UTC: dive to 40 m") in audit
+    assert (
+        f"/api/providers/{V1}/silence",
+        "alice",
+        f"out of comms until {time.strftime('%H:%M', time.gmtime(until))} UTC: dive to 40 m",
+    ) in audit
 
 
-def test_a_flood_of_20_vehicles_lost_at_once_shares_one_cause(sim: Callable[..., Any],
-                                                              console: Callable[..., ConsoleProcess]) -> None:
+def test_a_flood_of_20_vehicles_lost_at_once_shares_one_cause(
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess]
+) -> None:
     vehicles = sim("--vehicles", "20")
     c = console()
     ids = {str(vehicle_guid(n)) for n in range(1, 21)}
     wait_until(lambda: {p["id"] for p in httpx.get(f"{c.url}/api/providers").json()} == ids, 60, "20 vehicles")
     vehicles.kill()  # the relay fails
-    flood = wait_until(lambda: len(a := [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"]) == 20
-                       and a, 30, "20 link-lost alarms")
+    flood = wait_until(
+        lambda: len(a := [x for x in httpx.get(f"{c.url}/api/alarms").json() if x["kind"] == "link-lost"]) == 20 and a,
+        30,
+        "20 link-lost alarms",
+    )
     assert {a["providerId"] for a in flood} == ids and {a["cause"] for a in flood} == {"Link lost"}
     assert not any(a["chattering"] or a["shelf"] for a in flood)
 
 
 @pytest.mark.slow
-def test_two_stations_share_shelves_and_planned_silences(sim: Callable[..., Any], console: Callable[..., ConsoleProcess],
-                                                         pg_url: str) -> None:
+def test_two_stations_share_shelves_and_planned_silences(
+    sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
+) -> None:
     vehicle = sim()
     a = console("--database-url", pg_url, "--console-name", "watch", env=OPERATOR)
     b = console("--database-url", pg_url, "--console-name", "relief", env=OPERATOR)
     for c in (a, b):
         provider_ready(c.url, V1, {"GPSFixReport"})
     until = time.time() + 600
-    assert httpx.put(f"{a.url}/api/providers/{V1}/silence", json={"until": until, "reason": "dive"},
-                     headers=AUTH).status_code == 200
+    assert (
+        httpx.put(f"{a.url}/api/providers/{V1}/silence", json={"until": until, "reason": "dive"}, headers=AUTH).status_code == 200
+    )
     wait_until(lambda: [s["until"] for s in httpx.get(f"{b.url}/api/silences").json()] == [until], 2, "the silence on B")
     assert httpx.delete(f"{b.url}/api/providers/{V1}/silence", headers=AUTH).status_code == 200
     wait_until(lambda: httpx.get(f"{a.url}/api/silences").json() == [], 2, "the cancel on A")
@@ -271,4 +290,5 @@ def test_shelving_bounds_the_wrong_way_round_stop_sem_console_with_one_line(caps
     assert e.value.code == 2
     assert capsys.readouterr().err == (
         "sem-console: error: --shelve-min-minutes 600 is above --shelve-max-minutes 480: the shortest shelf must not be "
-        "longer than the longest\n")
+        "longer than the longest\n"
+    )

@@ -29,8 +29,10 @@ def _umaa_enums() -> list[type[IdlEnum]]:
     for package in (maritime, maritime_6_0):
         for m in pkgutil.iter_modules(package.__path__):
             name = m.name.removesuffix("Module")
-            enum = getattr(importlib.import_module(f"{package.__name__}.{m.name}"), name.removesuffix("Enum") + "EnumType"
-                           if m.name.endswith("EnumModule") else m.name)
+            enum = getattr(
+                importlib.import_module(f"{package.__name__}.{m.name}"),
+                name.removesuffix("Enum") + "EnumType" if m.name.endswith("EnumModule") else m.name,
+            )
             assert issubclass(enum, IdlEnum)
             found.append(enum)
     return found
@@ -63,20 +65,42 @@ def test_every_alarm_kind_has_words_and_a_severity() -> None:
 # Every enumeration the console publishes (its REST and WebSocket schemas), by schema and property: the words table that
 # names its literals wherever the console shows them ...
 SAID_BY = {
-    ("Alarm", "kind"): "alarmKind", ("Alarm", "severity"): "alarmSeverity", ("Alarm", "state"): "alarmState",
-    ("ProviderSummary", "link"): "link", ("ProviderDetail", "link"): "link", ("FeatureProperties", "coverage"): "coverage",
-    ("Task", "state"): "taskState", ("Task", "kind"): "taskKind", ("Task", "sensor"): "sensor",
-    ("MoveTaskRequest", "sensor"): "sensor", ("SurveyTaskRequest", "sensor"): "sensor", ("Command", "cancelCause"): "cancelCause",
+    ("Alarm", "kind"): "alarmKind",
+    ("Alarm", "severity"): "alarmSeverity",
+    ("Alarm", "state"): "alarmState",
+    ("ProviderSummary", "link"): "link",
+    ("ProviderDetail", "link"): "link",
+    ("FeatureProperties", "coverage"): "coverage",
+    ("Task", "state"): "taskState",
+    ("Task", "kind"): "taskKind",
+    ("Task", "sensor"): "sensor",
+    ("MoveTaskRequest", "sensor"): "sensor",
+    ("SurveyTaskRequest", "sensor"): "sensor",
+    ("Command", "cancelCause"): "cancelCause",
 }
 # ... or none, for one that is no state the console names: what a request asks (an action, a command's target state
 # "INS OFF", as its button says it), a name (a service, a topic, a gateway, a capability), or a state said by a
 # control or a phrase of its own (recording, replay, audit, diagnostics)
 NO_STATE = {
-    ("AuditEntry", "outcome"), ("Capability", "kind"), ("Command", "closedUnheard"), ("Command", "service"),
-    ("Command", "state"), ("GatewayState", "name"), ("InertialSensorRequest", "state"), ("LinkConfig", "policy"),
-    ("PeerFinding", "kind"), ("ProviderMessage", "event"), ("RecordingFile", "state"), ("RecordingRequest", "action"),
-    ("RecordingStatus", "state"), ("ReplayStatus", "state"), ("ReportMessage", "topic"), ("SynchRequest", "action"),
-    ("Task", "synch"), ("ProviderSummary", "umaaVersion"), ("ProviderDetail", "umaaVersion"),
+    ("AuditEntry", "outcome"),
+    ("Capability", "kind"),
+    ("Command", "closedUnheard"),
+    ("Command", "service"),
+    ("Command", "state"),
+    ("GatewayState", "name"),
+    ("InertialSensorRequest", "state"),
+    ("LinkConfig", "policy"),
+    ("PeerFinding", "kind"),
+    ("ProviderMessage", "event"),
+    ("RecordingFile", "state"),
+    ("RecordingRequest", "action"),
+    ("RecordingStatus", "state"),
+    ("ReplayStatus", "state"),
+    ("ReportMessage", "topic"),
+    ("SynchRequest", "action"),
+    ("Task", "synch"),
+    ("ProviderSummary", "umaaVersion"),
+    ("ProviderDetail", "umaaVersion"),
 }
 
 
@@ -135,19 +159,53 @@ def test_words_inside_a_phrase() -> None:
 
 
 def test_the_commands_export_says_each_transition_in_the_operators_words() -> None:
-    command = {"sessionId": "s1", "service": "InertialSensor", "providerId": "p1", "state": "OFF", "operator": "alice",
-               "console": "watch", "createdAt": 1.0, "ackedAt": 1.1, "status": "FAILED", "terminal": True,
-               "unanswered": False, "cancelRequested": False, "canceledBy": None, "canceledOn": None, "canceledAt": None,
-               "cancelCause": None,
-               "closedUnheard": None, "closedAt": None, "cleanedUp": True,
-               "transitions": [{"seq": 0, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
-                                "providerTime": 1.2, "receivedAt": 1.2},
-                               {"seq": 1, "status": "FAILED", "reason": "RESOURCE_FAILED", "logMessage": "", "violation": None,
-                                "providerTime": 1.3, "receivedAt": 1.3}]}
+    command = {
+        "sessionId": "s1",
+        "service": "InertialSensor",
+        "providerId": "p1",
+        "state": "OFF",
+        "operator": "alice",
+        "console": "watch",
+        "createdAt": 1.0,
+        "ackedAt": 1.1,
+        "status": "FAILED",
+        "terminal": True,
+        "unanswered": False,
+        "cancelRequested": False,
+        "canceledBy": None,
+        "canceledOn": None,
+        "canceledAt": None,
+        "cancelCause": None,
+        "closedUnheard": None,
+        "closedAt": None,
+        "cleanedUp": True,
+        "transitions": [
+            {
+                "seq": 0,
+                "status": "ISSUED",
+                "reason": "SUCCEEDED",
+                "logMessage": "",
+                "violation": None,
+                "providerTime": 1.2,
+                "receivedAt": 1.2,
+            },
+            {
+                "seq": 1,
+                "status": "FAILED",
+                "reason": "RESOURCE_FAILED",
+                "logMessage": "",
+                "violation": None,
+                "providerTime": 1.3,
+                "receivedAt": 1.3,
+            },
+        ],
+    }
     reader = csv.DictReader(io.StringIO(commands_csv([command])))
     assert reader.fieldnames is not None
     names = list(reader.fieldnames)  # each literal with its words beside it
     assert names[names.index("status") + 1] == "status_words" and names[names.index("reason") + 1] == "reason_words"
     rows = list(reader)
     assert [(r["status"], r["status_words"], r["reason"], r["reason_words"]) for r in rows] == [
-        ("ISSUED", "Received", "SUCCEEDED", "Succeeded"), ("FAILED", "Failed", "RESOURCE_FAILED", "The equipment failed")]
+        ("ISSUED", "Received", "SUCCEEDED", "Succeeded"),
+        ("FAILED", "Failed", "RESOURCE_FAILED", "The equipment failed"),
+    ]

@@ -46,14 +46,17 @@ def test_vertex_count_makes_the_kind_and_a_closed_ring_is_the_same_polygon() -> 
     assert [x for p in reopened for x in p] == pytest.approx([x for p in closed.points for x in p]) and len(reopened) == 4
 
 
-@pytest.mark.parametrize("feature", [
-    gj("Polygon", [[[0, 0], [1, 1], [1, 0], [0, 1]]]),  # crosses itself
-    gj("Polygon", [[[0, 0], [1, 1], [0, 0], [0, 0]]]),  # 2 distinct vertices
-    gj("Polygon", [SQUARE, SQUARE]),  # a hole
-    gj("LineString", SQUARE[:3]),  # 3 vertices are a polygon, not a line
-    gj("MultiPoint", SQUARE),
-    gj("Point", [200, 0]),
-])
+@pytest.mark.parametrize(
+    "feature",
+    [
+        gj("Polygon", [[[0, 0], [1, 1], [1, 0], [0, 1]]]),  # crosses itself
+        gj("Polygon", [[[0, 0], [1, 1], [0, 0], [0, 0]]]),  # 2 distinct vertices
+        gj("Polygon", [SQUARE, SQUARE]),  # a hole
+        gj("LineString", SQUARE[:3]),  # 3 vertices are a polygon, not a line
+        gj("MultiPoint", SQUARE),
+        gj("Point", [200, 0]),
+    ],
+)
 def test_geometry_comap_cannot_carry(feature: dict[str, object]) -> None:
     with pytest.raises(GeoError):
         feature_from_geojson(feature, "f")

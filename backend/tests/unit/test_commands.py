@@ -31,8 +31,14 @@ class Bus:
 
 def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
     store = Database(db)
-    return Commands(store.claim("test", hold=False), store, lambda _s, x: bus.written.append(x),
-                    lambda _s, x: bus.disposed.append(x), bus.emitted.append, timeout)
+    return Commands(
+        store.claim("test", hold=False),
+        store,
+        lambda _s, x: bus.written.append(x),
+        lambda _s, x: bus.disposed.append(x),
+        bus.emitted.append,
+        timeout,
+    )
 
 
 def test_every_transition_recorded_even_with_equal_provider_times(tmp_path: Path) -> None:
@@ -115,8 +121,15 @@ def test_a_cancel_asked_on_another_station_ends_unanswered_only_once_the_vehicle
     is not "heard again without it" at its first sample back, which may well be followed by its answer."""
     bus = Bus()
     store = Database(tmp_path / "db")
-    a = Commands(store.claim("alpha", hold=False), store, lambda _s, x: bus.written.append(x),
-                 lambda _s, x: bus.disposed.append(x), bus.emitted.append, 2.0, station="alpha")
+    a = Commands(
+        store.claim("alpha", hold=False),
+        store,
+        lambda _s, x: bus.written.append(x),
+        lambda _s, x: bus.disposed.append(x),
+        bus.emitted.append,
+        2.0,
+        station="alpha",
+    )
     cmd = a.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     last_heard = a.clock.monotonic() - 60  # lost a minute ago
     a.tick(cmd.issued_by_deadline + 0.1, lambda _p: last_heard)
@@ -140,8 +153,16 @@ def test_another_station_s_cancel_never_answered_is_ended_here_and_only_once(tmp
     emitted: dict[str, list[dict[str, Any]]] = {"alpha": [], "bravo": [], "charlie": [], "delta": []}
 
     def station(name: str) -> Commands:
-        return Commands(store.claim(name, hold=False), store, lambda _s, _x: None, lambda _s, _x: None,
-                        emitted[name].append, 2.0, station=name)
+        return Commands(
+            store.claim(name, hold=False),
+            store,
+            lambda _s, _x: None,
+            lambda _s, _x: None,
+            emitted[name].append,
+            2.0,
+            station=name,
+        )
+
     alpha, charlie = station("alpha"), station("charlie")
     cmd = alpha.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
     alpha.tick(cmd.issued_by_deadline + 0.1, lambda _p: None)  # lost: unanswered
@@ -307,8 +328,9 @@ def test_two_updates_in_a_row_are_two_transitions_kept_after_a_restart(tmp_path:
     c = consumer(tmp_path / "db", bus)
     ins60 = COMMANDING["6.0", Service.INERTIAL_SENSOR]
     cmd = c.issue(ins60, VEHICLE, "GPS_ALIGN", None)
-    for i, (st, r) in enumerate([(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.ISSUED, UPDATED),
-                                 (S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]):
+    for i, (st, r) in enumerate(
+        [(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.ISSUED, UPDATED), (S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]
+    ):
         c.on_status(Service.INERTIAL_SENSOR, cmd.session_id, VEHICLE, st, r, "", 10.0 + min(i, 4))
     want = ["ISSUED", "COMMANDED", "EXECUTING", "ISSUED", "ISSUED"]
     assert [t["status"] for t in cmd.to_json()["transitions"]] == want and cmd.flow.violations == []

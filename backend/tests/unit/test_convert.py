@@ -28,5 +28,6 @@ def test_nan_and_out_of_range() -> None:
     _report, invalid = to_json(sample)
     assert invalid == ["timeStamp.nanoseconds: 2000000000 outside 0..1e+09"]
     from sem_console.codec.convert import _value
+
     bad: list[str] = []
     assert _value(math.inf, "SOG", bad) is None and bad == ["SOG: inf is not a number"]

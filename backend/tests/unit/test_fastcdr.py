@@ -82,12 +82,10 @@ def test_6_0_types_pinned_to_cyclonedds_on_random_samples(sem: Sem60) -> None:
         sample = random_sample(sem.spec.type, rng, absent=(0.0, 1.0, 0.1, 0.5, 0.9)[i % 5])
         if i % 6 == 0:
             _values_out_of_range(sample, rng)
-        datas = [(sem.spec.type, sem.spec.type.serialize(sample, use_version_2=v2, endianness=e))
-                 for v2, e in encodings(sem)]
+        datas = [(sem.spec.type, sem.spec.type.serialize(sample, use_version_2=v2, endianness=e)) for v2, e in encodings(sem)]
         if sem.spec.appendable is not None:
             copy = to_appendable(sample)
-            datas += [(type(copy), copy.serialize(use_version_2=True, endianness=e))
-                      for e in (Endianness.Little, Endianness.Big)]
+            datas += [(type(copy), copy.serialize(use_version_2=True, endianness=e)) for e in (Endianness.Little, Endianness.Big)]
         for t, data in datas:
             ref = t.deserialize(data)
             got = fastcdr.decoder(t).sample(data)
@@ -281,8 +279,10 @@ def test_decoder_reads_an_appendable_writers_sample_with_the_appendable_copy(sem
 
 
 LEARNING = [(s.spec.type, None) for s in SEMS if fastcdr.learnable(s.spec.type, True, True)] + [
-    (s.spec.type, umaa_6_0.REPORTS[s]) for s in Sem60 if s in umaa_6_0.REPORTS and umaa_6_0.REPORTS[s].spec is not None
-    and fastcdr.learnable(s.spec.type, True, True)]
+    (s.spec.type, umaa_6_0.REPORTS[s])
+    for s in Sem60
+    if s in umaa_6_0.REPORTS and umaa_6_0.REPORTS[s].spec is not None and fastcdr.learnable(s.spec.type, True, True)
+]
 
 
 @pytest.mark.parametrize(("t", "report"), LEARNING, ids=[t.__name__ for t, _ in LEARNING])
@@ -291,8 +291,7 @@ def test_learned_presence_patterns_decode_as_cyclonedds(t: Any, report: Any) -> 
     unpack each after that); whichever pattern a sample has, learned or not, its JSON is cyclonedds' (a 6.0 report's
     adapted to the model), invalid values included."""
     rng = random.Random(t.__name__)
-    dec = fastcdr.TypeDecoder(t) if report is None else fastcdr.TypeDecoder(t, report.spec, umaa_6_0.model_path,
-                                                                          report.model)
+    dec = fastcdr.TypeDecoder(t) if report is None else fastcdr.TypeDecoder(t, report.spec, umaa_6_0.model_path, report.model)
     samples = [random_sample(t, rng, absent=(0.0, 1.0, 0.1, 0.5)[i % 4]) for i in range(40)]
     for i, sample in enumerate(samples * 3):
         if i % 7 == 0:
@@ -328,11 +327,11 @@ def test_every_presence_pattern_learned_decodes_as_cyclonedds(t: Any, report: An
         ordered = sorted(patterns)
         assert len(ordered) > 1
         for k in range(0, len(ordered), fastcdr.PATTERNS_MAX):
-            source, ns = fastcdr.generate(t, True, little, True, spec, rename, tuple(ordered[k:k + fastcdr.PATTERNS_MAX]))
+            source, ns = fastcdr.generate(t, True, little, True, spec, rename, tuple(ordered[k : k + fastcdr.PATTERNS_MAX]))
             exec(compile(source, "<patterns>", "exec"), ns)  # the generated decoder, as TypeDecoder builds it
             for data, want in zip(datas, wants, strict=True):
                 got = ns["decode"](data)
-                assert same(got[0], want[0]) and got[1] == want[1], (ordered[k:k + fastcdr.PATTERNS_MAX], data.hex())
+                assert same(got[0], want[0]) and got[1] == want[1], (ordered[k : k + fastcdr.PATTERNS_MAX], data.hex())
 
 
 def test_a_value_the_model_leaves_out_is_not_decoded() -> None:
@@ -359,8 +358,7 @@ def test_adjacent_absent_members_are_one_test() -> None:
     integer: one test, not four."""
     r = umaa_6_0.REPORTS[Sem60.GLOBAL_POSE_REPORT]
     pattern = (False,) * 4 + (False, True, False)
-    source, _ = fastcdr.generate(Sem60.GLOBAL_POSE_REPORT.spec.type, True, True, True, r.spec, umaa_6_0.model_path,
-                                 (pattern,))
+    source, _ = fastcdr.generate(Sem60.GLOBAL_POSE_REPORT.spec.type, True, True, True, r.spec, umaa_6_0.model_path, (pattern,))
     condition = next(line for line in source.splitlines() if line.strip().startswith("if ") and " and " in line)
     assert condition.count("not ") == 3 and condition.count(" and ") == 3, condition
 
@@ -382,7 +380,7 @@ def test_each_versions_satellites_keep_their_own_bound() -> None:
     size = len(full) - len(fewer)  # one satellite (its size a multiple of its alignment)
     at = next(k for k in range(len(full)) if full[k] != fewer[k])  # the count
     assert struct.unpack_from("<I", full, at)[0] == 300
-    over = full[:at] + struct.pack("<I", 301) + full[at + 4:at + 4 + size] + full[at + 4:]
+    over = full[:at] + struct.pack("<I", 301) + full[at + 4 : at + 4 + size] + full[at + 4 :]
     for data, kept, said in ((full, 300, []), (over, 300, ["satellites: 301 elements, more than 300; the first 300 kept"])):
         got, ref = fastcdr.decoder(t).json(data), to_json(t.deserialize(data))
         assert got == ref

@@ -12,13 +12,16 @@ from sem_console.umaa.flow import CommandFlow, check_transition
 OK = R.SUCCEEDED
 
 
-@pytest.mark.parametrize("path", [
-    [(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.COMPLETED, OK)],
-    [(S.ISSUED, OK), (S.FAILED, R.RESOURCE_REJECTED)],
-    [(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.FAILED, R.RESOURCE_FAILED)],
-    [(S.ISSUED, OK), (S.COMMANDED, OK), (S.CANCELED, R.CANCELED)],
-    [(S.FAILED, R.SERVICE_FAILED)],
-])
+@pytest.mark.parametrize(
+    "path",
+    [
+        [(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.COMPLETED, OK)],
+        [(S.ISSUED, OK), (S.FAILED, R.RESOURCE_REJECTED)],
+        [(S.ISSUED, OK), (S.COMMANDED, OK), (S.EXECUTING, OK), (S.FAILED, R.RESOURCE_FAILED)],
+        [(S.ISSUED, OK), (S.COMMANDED, OK), (S.CANCELED, R.CANCELED)],
+        [(S.FAILED, R.SERVICE_FAILED)],
+    ],
+)
 def test_valid_paths(path: list[tuple[S, R]]) -> None:
     flow = CommandFlow()
     for status, reason in path:
@@ -26,17 +29,20 @@ def test_valid_paths(path: list[tuple[S, R]]) -> None:
     assert flow.violations == [] and flow.terminal
 
 
-@pytest.mark.parametrize("prev,status,reason,needle", [
-    (S.ISSUED, S.EXECUTING, OK, "ISSUED -> EXECUTING"),
-    (None, S.COMMANDED, OK, "(no status) -> COMMANDED"),
-    (S.COMPLETED, S.EXECUTING, OK, "COMPLETED -> EXECUTING"),
-    (S.CANCELED, S.COMPLETED, OK, "CANCELED -> COMPLETED"),
-    (S.COMMANDED, S.COMPLETED, OK, "COMMANDED -> COMPLETED"),
-    (S.EXECUTING, S.FAILED, OK, "reason SUCCEEDED"),
-    (S.EXECUTING, S.CANCELED, R.TIMEOUT, "reason TIMEOUT"),
-    (S.ISSUED, S.COMMANDED, R.CANCELED, "reason CANCELED"),
-    (None, S.FAILED, R.RESOURCE_FAILED, "reason RESOURCE_FAILED"),
-])
+@pytest.mark.parametrize(
+    "prev,status,reason,needle",
+    [
+        (S.ISSUED, S.EXECUTING, OK, "ISSUED -> EXECUTING"),
+        (None, S.COMMANDED, OK, "(no status) -> COMMANDED"),
+        (S.COMPLETED, S.EXECUTING, OK, "COMPLETED -> EXECUTING"),
+        (S.CANCELED, S.COMPLETED, OK, "CANCELED -> COMPLETED"),
+        (S.COMMANDED, S.COMPLETED, OK, "COMMANDED -> COMPLETED"),
+        (S.EXECUTING, S.FAILED, OK, "reason SUCCEEDED"),
+        (S.EXECUTING, S.CANCELED, R.TIMEOUT, "reason TIMEOUT"),
+        (S.ISSUED, S.COMMANDED, R.CANCELED, "reason CANCELED"),
+        (None, S.FAILED, R.RESOURCE_FAILED, "reason RESOURCE_FAILED"),
+    ],
+)
 def test_violations(prev: S | None, status: S, reason: R, needle: str) -> None:
     problem = check_transition(prev, status, reason)
     assert problem is not None and needle in problem
@@ -53,6 +59,7 @@ def test_repeat_is_not_a_transition_and_violation_is_recorded() -> None:
 
 def test_unknown_ordinals_are_violations_and_do_not_move_the_state() -> None:
     from sem_console.umaa.flow import name, parse
+
     flow = CommandFlow()
     flow.observe(S.ISSUED, OK)
     t = flow.observe(99, OK)

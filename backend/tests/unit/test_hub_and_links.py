@@ -85,6 +85,7 @@ def test_hub_batches_waiting_reports_for_a_client_that_asks_and_sends_a_lone_one
         def sender(name: str) -> Callable[[str], Awaitable[None]]:
             async def send(text: str) -> None:
                 frames[name].append(text)
+
             return send
 
         hub.attach(sender("batch"), {"type": "snapshot"}, batch=True)
@@ -106,6 +107,7 @@ def test_hub_batches_waiting_reports_for_a_client_that_asks_and_sends_a_lone_one
 def test_an_ordered_event_goes_out_next_while_reports_keep_coming() -> None:
     """Under load the reports never all go out (a new one arrives during each send): an alarm, a lost vehicle or a
     command published meanwhile must not wait for them, nor go after reports published later."""
+
     async def scenario(batch: bool) -> list[str]:
         hub = Hub()
         sent: list[str] = []
@@ -175,6 +177,7 @@ def test_resync_storm_queues_one_snapshot() -> None:
 def test_the_window_reopens_on_the_acks_of_this_socket_across_a_resync() -> None:
     """/ws?ack=1: reports wait while the window is full; an ack beyond the frames sent (not this socket's count) is
     ignored, one of some frames frees theirs only, and a replay's resync keeps the count (the client counts on)."""
+
     async def scenario() -> None:
         hub = Hub(window=100)
         sent: list[str] = []
@@ -207,16 +210,23 @@ def test_the_window_reopens_on_the_acks_of_this_socket_across_a_resync() -> None
 
 def test_link_thresholds_are_per_vehicle() -> None:
     slow = uuid.uuid4()
-    links = Providers(comms_lost_timeout=1.0, regained_time=1.0, configs={str(slow): LinkConfig(
-        commsLostTimeout=5.0, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=2)},
-                      jaus_subsystem=9)
+    links = Providers(
+        comms_lost_timeout=1.0,
+        regained_time=1.0,
+        configs={str(slow): LinkConfig(commsLostTimeout=5.0, regainedTime=1.0, policy="CONTINUE_MISSION", regainedBehavior=2)},
+        jaus_subsystem=9,
+    )
     fast = uuid.uuid4()
     links.seen("GPSFixReport", fast, {"x": 1}, 0.0, 0.0, True)
     links.seen("GPSFixReport", slow, {"x": 1}, 0.0, 0.0, True)
     assert [(p.id, e) for p, e in links.tick(2.0)] == [(fast, "lost")]  # slow has 5 s
     assert [(p.id, e) for p, e in links.tick(5.1)] == [(slow, "lost")]
-    assert links.by_id[fast].summary(5.1)["linkConfig"] == {"commsLostTimeout": 1.0, "regainedTime": 1.0,
-                                                             "policy": "STOP_MISSION", "regainedBehavior": 0}
+    assert links.by_id[fast].summary(5.1)["linkConfig"] == {
+        "commsLostTimeout": 1.0,
+        "regainedTime": 1.0,
+        "policy": "STOP_MISSION",
+        "regainedBehavior": 0,
+    }
     assert [links.by_id[x].summary(0)["jausId"] for x in (fast, slow)] == ["9.1.1", "9.1.2"]  # order of appearance
     links.by_id[fast].config = LinkConfig(commsLostTimeout=0.5, regainedTime=3.0, policy="STOP_MISSION", regainedBehavior=0)
     links.seen("GPSFixReport", fast, {"x": 1}, 6.0, 6.0, True)
@@ -233,6 +243,7 @@ def test_feed_delivers_in_order_and_survives_a_failing_subscriber() -> None:
 
     def bad(_m: dict) -> None:
         raise RuntimeError("boom")
+
     feed.subscribe("bad", bad)
     stop = feed.subscribe("good", lambda m: got.append(m["n"]))
     for n in range(3):
@@ -258,12 +269,12 @@ async def held_client(hub: Hub, snapshot_bytes: int) -> tuple[Client, list[str]]
 def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() -> None:
     """A report updated while it waits goes out in its place with the newest text (a 10 Hz fix is not sent to the back
     of the queue by each update); a batch stops at the window's room (at least one report)."""
+
     async def scenario() -> None:
         hub = Hub(window=2048)
         client, sent = await held_client(hub, 2100)
         for p in ("a", "b", "c", "a"):  # a, updated while it waits
-            hub.publish({"type": "report", "providerId": p, "pad": "y" * 900},
-                        key=(p, "GPSFixReport"))
+            hub.publish({"type": "report", "providerId": p, "pad": "y" * 900}, key=(p, "GPSFixReport"))
         hub.publish({"type": "report", "providerId": "a", "newest": True, "pad": "y" * 900}, key=("a", "GPSFixReport"))
         await asyncio.sleep(0.01)
         assert len(sent) == 1  # held by the window
@@ -277,7 +288,8 @@ def test_a_waiting_report_keeps_its_place_and_a_batch_keeps_within_the_window() 
 
 
 def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_few_seconds(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """A client that named the vehicle it draws gets that one's GPSReports whole and the others' thin, but one every
     FULL_EVERY seconds whole (the trails), the first within FULL_EVERY of its coming at a point spread by the vehicle's
     id (b's: 1.6 s); a client that named none gets every report whole."""
@@ -291,6 +303,7 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
         def sender(name: str) -> Callable[[str], Awaitable[None]]:
             async def send(text: str) -> None:
                 got[name].append(json.loads(text))
+
             return send
 
         dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"})
@@ -312,8 +325,17 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
         await gps("b", 4)
         await gps("a", 4)
         seen = [(m["providerId"], m["n"], m.get("partial", False)) for m in got["dashboard"] if m["type"] == "report"]
-        assert seen == [("a", 0, False), ("b", 0, True), ("a", 1, False), ("b", 1, False), ("a", 2, False),
-                        ("b", 2, True), ("b", 3, False), ("b", 4, False), ("a", 4, True)]
+        assert seen == [
+            ("a", 0, False),
+            ("b", 0, True),
+            ("a", 1, False),
+            ("b", 1, False),
+            ("a", 2, False),
+            ("b", 2, True),
+            ("b", 3, False),
+            ("b", 4, False),
+            ("a", 4, True),
+        ]
         assert all(not m.get("partial") for m in got["other"])
         assert len([m for m in got["other"] if m["type"] == "report"]) == 9
         now[0] = 900.0  # a replay seeked back: its clock went back, and each vehicle's next is due afresh (a's: 0.47 s)
@@ -329,6 +351,7 @@ def test_a_selecting_client_gets_other_vehicles_gps_reports_thin_but_once_every_
 def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwhile() -> None:
     """What goes out is decided when it is sent: a new page's reports wait (its window is full until its code takes
     the socket over) and its `select` comes meanwhile; they then go thin, not whole."""
+
     async def scenario() -> None:
         hub = Hub(window=1024, clock=lambda: 1000.0)  # the console's clock, stopped: none is due (a's at 0.47 s)
         client, sent = await held_client(hub, 1100)
@@ -348,6 +371,7 @@ def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwh
 def test_the_selected_vehicles_reports_go_ahead_of_the_fleets_and_past_the_window() -> None:
     """The fleet's reports wait for the window; the selected vehicle's go out at once, and first once it opens; a new
     selection takes its vehicle's waiting reports along, and gives the old one's back to the fleet."""
+
     async def scenario() -> None:
         hub = Hub(window=1024)
         client, sent = await held_client(hub, 1100)
@@ -371,7 +395,8 @@ def test_the_selected_vehicles_reports_go_ahead_of_the_fleets_and_past_the_windo
 
 
 def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_frames_pass_the_bound(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """The selected vehicle's reports pass the window, each counted as in flight until acknowledged: a client that
     takes them and acknowledges none is dropped at MAX_UNACKED_FRAMES, one that acknowledges is not."""
     monkeypatch.setattr(hub_module, "MAX_UNACKED_FRAMES", 5)
@@ -383,8 +408,7 @@ def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_fra
         for c in (silent, acking):
             c.select("sel")
         for n in range(10):
-            hub.publish({"type": "report", "providerId": "sel", "topic": "GPSFixReport", "n": n},
-                        key=("sel", "GPSFixReport"))
+            hub.publish({"type": "report", "providerId": "sel", "topic": "GPSFixReport", "n": n}, key=("sel", "GPSFixReport"))
             await asyncio.sleep(0.01)
             acking.ack(len(acked))
         assert silent.dropped and silent not in hub.clients and hub.dropped == 1
@@ -395,7 +419,8 @@ def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_fra
 
 
 def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_quarter_second(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """A selecting client gets each other vehicle's report of a topic at most once every OTHERS_EVERY, the newest (the
     ones between are replaced), and the selected vehicle's every one; a client that selects nothing gets every one."""
     monkeypatch.setattr(hub_module, "OTHERS_EVERY", 1.0)  # a second, so that a loaded machine sends all five within it
@@ -408,6 +433,7 @@ def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_qua
             async def send(text: str) -> None:
                 if (m := json.loads(text))["type"] == "report":
                     got[name].append((m["providerId"], m["n"]))
+
             return send
 
         dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"})
@@ -430,7 +456,8 @@ def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_qua
 
 
 def test_a_parked_report_goes_at_once_when_its_vehicle_is_selected_and_stops_with_its_socket(
-        monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
     """Another vehicle's report parked until OTHERS_EVERY (never, here) goes at once when the client selects that
     vehicle; an ordered message is not held behind it; detaching the client cancels its release timer."""
     monkeypatch.setattr(hub_module, "OTHERS_EVERY", 3600.0)  # no parked report comes due during the test

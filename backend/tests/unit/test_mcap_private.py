@@ -30,8 +30,11 @@ def test_the_pinned_version_is_installed() -> None:
 
 def test_only_mcap_private_imports_the_private_module() -> None:
     package = Path(mcap_private.__file__).parents[1]
-    users = sorted(str(p.relative_to(package)) for p in package.rglob("*.py")
-                   if p.name != "mcap_private.py" and "mcap.data_stream" in p.read_text())
+    users = sorted(
+        str(p.relative_to(package))
+        for p in package.rglob("*.py")
+        if p.name != "mcap_private.py" and "mcap.data_stream" in p.read_text()
+    )
     assert users == []
 
 
@@ -44,13 +47,16 @@ def test_records_as_the_specification_lays_them_out() -> None:
 
     body = struct.pack("<BQQ", Opcode.CHANNEL, 123, 45)
     assert record_bytes(SummaryOffset(group_opcode=Opcode.CHANNEL, group_start=123, group_length=45)) == (
-        bytes([Opcode.SUMMARY_OFFSET]) + struct.pack("<Q", len(body)) + body)
+        bytes([Opcode.SUMMARY_OFFSET]) + struct.pack("<Q", len(body)) + body
+    )
 
     body = struct.pack("<QQI", 10, 20, 0xDEADBEEF)
     assert record_bytes(Footer(summary_start=10, summary_offset_start=20, summary_crc=0xDEADBEEF)) == (
-        bytes([Opcode.FOOTER]) + struct.pack("<Q", len(body)) + body)
+        bytes([Opcode.FOOTER]) + struct.pack("<Q", len(body)) + body
+    )
 
     metadata = struct.pack("<I", len(_string("k") + _string("v"))) + _string("k") + _string("v")
     body = struct.pack("<HH", 3, 2) + _string("t") + _string("cdr") + metadata
     assert record_bytes(Channel(id=3, schema_id=2, topic="t", message_encoding="cdr", metadata={"k": "v"})) == (
-        bytes([Opcode.CHANNEL]) + struct.pack("<Q", len(body)) + body)
+        bytes([Opcode.CHANNEL]) + struct.pack("<Q", len(body)) + body
+    )

@@ -25,7 +25,7 @@ def records_in(buf: bytes) -> list[object]:
     out, at = [], 0
     while at < len(buf):
         (length,) = struct.unpack_from("<Q", buf, at + 1)
-        out.append(next(iter(StreamReader(io.BytesIO(buf[at:at + 9 + length]), skip_magic=True).records)))
+        out.append(next(iter(StreamReader(io.BytesIO(buf[at : at + 9 + length]), skip_magic=True).records)))
         at += 9 + length
     assert at == len(buf)
     return out
@@ -41,8 +41,7 @@ def test_message_record_and_index_are_the_spec_bytes() -> None:
     w.finish()
     # Message, by hand: opcode 0x05; record length 2+4+8+8+8 = 30 (u64 LE); channel id 1 (u16);
     # sequence 7 (u32); log time; publish time (u64 LE each); the data (XCDR1 LE header, long 42)
-    golden = bytes.fromhex(
-        "05" "1e00000000000000" "0100" "07000000" "0807060504030201" "1817161514131211" "00010000" "2a000000")
+    golden = bytes.fromhex("051e0000000000000001000700000008070605040302011817161514131211000100002a000000")
     records = list(StreamReader(io.BytesIO(out.getvalue()), emit_chunks=True, validate_crcs=True).records)
     chunks = [r for r in records if isinstance(r, Chunk)]
     assert len(chunks) == 1 and chunks[0].compression == "zstd"
@@ -51,8 +50,8 @@ def test_message_record_and_index_are_the_spec_bytes() -> None:
     assert chunks[0].uncompressed_size == len(golden) and chunks[0].uncompressed_crc == zlib.crc32(golden)
     # Message index, by hand: opcode 0x07; length 2+4+16 = 22; channel 1; array of 16 bytes: (log time, offset 0)
     raw = out.getvalue()
-    at = raw.index(bytes.fromhex("07" "1600000000000000" "0100" "10000000"))
-    assert raw[at + 15:at + 31] == bytes.fromhex("0807060504030201" "0000000000000000")
+    at = raw.index(bytes.fromhex("071600000000000000010010000000"))
+    assert raw[at + 15 : at + 31] == bytes.fromhex("08070605040302010000000000000000")
     assert [r for r in records if isinstance(r, MessageIndex)] == [MessageIndex(channel_id=1, records=[(0x0102030405060708, 0)])]
     # data end: the CRC of every byte before it (magic included)
     end = next(r for r in records if isinstance(r, DataEnd))
@@ -69,8 +68,11 @@ def _write(chunk_size: int) -> tuple[bytes, list[tuple[int, int, bytes, int, int
     w = McapWriter(out, chunk_size=chunk_size, library="test")
     s_cdr = w.register_schema("A", "omgidl", b"struct A { long x; };")
     s_json = w.register_schema("B", "jsonschema", b"{}")
-    channels = [w.register_channel("t/a", "cdr", s_cdr), w.register_channel("t/b", "cdr", s_cdr),
-                w.register_channel("t/json", "json", s_json, {"k": "v"})]
+    channels = [
+        w.register_channel("t/a", "cdr", s_cdr),
+        w.register_channel("t/b", "cdr", s_cdr),
+        w.register_channel("t/json", "json", s_json, {"k": "v"}),
+    ]
     sent, seq = [], dict.fromkeys(channels, 0)
     t = T0
     for i in range(3000):
@@ -93,8 +95,10 @@ def _write(chunk_size: int) -> tuple[bytes, list[tuple[int, int, bytes, int, int
 def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     raw, sent = _write(chunk_size)
     # streamed, every CRC checked: every message, in the order written
-    streamed = [(c.id, m.log_time, m.data, m.publish_time, m.sequence)
-                for _s, c, m in NonSeekingReader(io.BytesIO(raw), validate_crcs=True).iter_messages(log_time_order=False)]
+    streamed = [
+        (c.id, m.log_time, m.data, m.publish_time, m.sequence)
+        for _s, c, m in NonSeekingReader(io.BytesIO(raw), validate_crcs=True).iter_messages(log_time_order=False)
+    ]
     assert streamed == sent
     reader = make_reader(io.BytesIO(raw), validate_crcs=True)
     summary = reader.get_summary()
@@ -105,7 +109,10 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     assert st.channel_message_counts == {cid: sum(1 for m in sent if m[0] == cid) for cid in (1, 2, 3)}
     assert (st.message_start_time, st.message_end_time) == (min(m[1] for m in sent), max(m[1] for m in sent))
     assert {c.topic: (c.schema_id, c.message_encoding) for c in summary.channels.values()} == {
-        "t/a": (1, "cdr"), "t/b": (1, "cdr"), "t/json": (2, "json")}
+        "t/a": (1, "cdr"),
+        "t/b": (1, "cdr"),
+        "t/json": (2, "json"),
+    }
     assert summary.channels[3].metadata == {"k": "v"}
     assert {s.name: s.encoding for s in summary.schemas.values()} == {"A": "omgidl", "B": "jsonschema"}
     # through the summary's chunk indexes, in log time order, and a time window of one topic
@@ -118,8 +125,15 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
     for ci, next_start in zip(
         summary.chunk_indexes, [c.chunk_start_offset for c in summary.chunk_indexes[1:]] + [None], strict=True
     ):
-        chunk = next(iter(StreamReader(io.BytesIO(raw[ci.chunk_start_offset:ci.chunk_start_offset + ci.chunk_length]),
-                                       skip_magic=True, emit_chunks=True).records))
+        chunk = next(
+            iter(
+                StreamReader(
+                    io.BytesIO(raw[ci.chunk_start_offset : ci.chunk_start_offset + ci.chunk_length]),
+                    skip_magic=True,
+                    emit_chunks=True,
+                ).records
+            )
+        )
         assert isinstance(chunk, Chunk)
         assert (chunk.message_start_time, chunk.message_end_time) == (ci.message_start_time, ci.message_end_time)
         assert ci.compressed_size == len(chunk.data) and ci.uncompressed_size == chunk.uncompressed_size
@@ -150,18 +164,18 @@ def test_the_mcap_library_reads_it_back(chunk_size: int) -> None:
                 opcode, _length, channel, _seq, at_log = struct.unpack_from("<BQHIQ", records, at)
                 assert (opcode, channel, at_log) == (0x05, cid, log_time)
     # the footer's summary CRC, as the spec defines it: summary start to the footer's summary_offset_start field
-    footer = next(r for r in StreamReader(io.BytesIO(raw[-8 - 29:]), skip_magic=True).records)
+    footer = next(r for r in StreamReader(io.BytesIO(raw[-8 - 29 :]), skip_magic=True).records)
     assert isinstance(footer, Footer) and footer.summary_start > 0
-    assert footer.summary_crc == zlib.crc32(raw[footer.summary_start:len(raw) - 8 - 4])
+    assert footer.summary_crc == zlib.crc32(raw[footer.summary_start : len(raw) - 8 - 4])
     # the summary offsets: one per group, each group holding only records of its opcode, back to back
-    offsets = records_in(raw[footer.summary_offset_start:len(raw) - 8 - 29])
+    offsets = records_in(raw[footer.summary_offset_start : len(raw) - 8 - 29])
     assert all(isinstance(o, SummaryOffset) for o in offsets)
     kinds = {0x03: Schema, 0x04: Channel, 0x0B: Statistics, 0x08: ChunkIndex}
     assert [o.group_opcode for o in offsets] == list(kinds)
     at = footer.summary_start
     for o in offsets:
         assert o.group_start == at
-        group = records_in(raw[o.group_start:o.group_start + o.group_length])
+        group = records_in(raw[o.group_start : o.group_start + o.group_length])
         assert group and all(isinstance(r, kinds[o.group_opcode]) for r in group)
         at += o.group_length
     assert at == footer.summary_offset_start

@@ -52,9 +52,17 @@ def test_on_change_sends_what_differs_from_the_last_sent() -> None:
 def fix_status(valid: bool, cn0: float) -> Taken:
     origin = Position3D_WGS84(Position2D(GeodeticLatitude(0.0), GeodeticLongitude(0.0)), Altitude_HAE(0.0))
     sample = GPSFixStatusReportType(
-        carrierToNoise=[cn0], countDown=0, fixValid=valid, lowBkupBattery=False,
-        navSolution=NavSolution.GPS_3D if valid else NavSolution.GPS_DEAD_RECK, originPosition=origin, pCode=False,
-        timeOut=not valid, source=to_guid(uuid.UUID(int=1)), timeStamp=now_datetime())
+        carrierToNoise=[cn0],
+        countDown=0,
+        fixValid=valid,
+        lowBkupBattery=False,
+        navSolution=NavSolution.GPS_3D if valid else NavSolution.GPS_DEAD_RECK,
+        originPosition=origin,
+        pCode=False,
+        timeOut=not valid,
+        source=to_guid(uuid.UUID(int=1)),
+        timeStamp=now_datetime(),
+    )
     spec = Sem.GPS_FIX_STATUS_REPORT.spec
     return Taken(Sem.GPS_FIX_STATUS_REPORT, Kind.SAMPLE, sample.serialize(), 0, uuid.UUID(int=1), (spec.name, False, 1))
 
@@ -98,8 +106,16 @@ def test_after_an_outage_what_was_sent_since_goes_again_an_ended_instance_only_i
     # a relay back after an outage noticed at 105 (two leases of 1 s and 2 s before it: 101)
     assert sent.since(101.0) == ["running EXECUTING", "fix 2", "canceled disposed"]
     # a relay new to it gets every instance's (the ended one's end only)
-    assert sent.since(float("-inf")) == ["old ISSUED", "old COMMANDED", "old EXECUTING", "old COMPLETED", "running ISSUED",
-                                         "running EXECUTING", "fix 2", "canceled disposed"]
+    assert sent.since(float("-inf")) == [
+        "old ISSUED",
+        "old COMMANDED",
+        "old EXECUTING",
+        "old COMPLETED",
+        "running ISSUED",
+        "running EXECUTING",
+        "fix 2",
+        "canceled disposed",
+    ]
     sent.forget(ended_before=104.0)
     assert len(sent) == 3 and "canceled disposed" not in sent.since(float("-inf"))
 
@@ -123,7 +139,10 @@ def test_link_classes_and_caps() -> None:
     assert LINK_CLASSES["satellite"]["GPSReport"] == 60.0 and LINK_CLASSES["lan"] == {}
     assert short_name("UMAA::SEM::GPSStatus::GPSReportType") == short_name("UMAA::SEM::GPSStatus::GPSReport") == "GPSReport"
     assert parse_caps("GPSReport=30, InertialSensorReport=change,GlobalPoseReport=0") == {
-        "GPSReport": 30.0, "InertialSensorReport": ON_CHANGE, "GlobalPoseReport": 0.0}
+        "GPSReport": 30.0,
+        "InertialSensorReport": ON_CHANGE,
+        "GlobalPoseReport": 0.0,
+    }
     for bad in ("GPSReport", "GPSFixCommand=1", "GPSReport=-1", "GPSReport=soon", "GPSReport=nan"):
         with pytest.raises(ValueError, match=r"GPSReport|TOPIC"):
             parse_caps(bad)
@@ -139,8 +158,10 @@ def test_keys_and_attachments() -> None:
     assert read_attachment(b"\x09" * 10) is None and read_attachment(None) is None
 
 
-@pytest.mark.parametrize("endpoint,host", [("tcp/10.0.0.1:7447", "10.0.0.1"), ("tcp/[::1]:7447", "::1"),
-                                          ("tls/ops.example:7447#iface=eth0", "ops.example")])
+@pytest.mark.parametrize(
+    "endpoint,host",
+    [("tcp/10.0.0.1:7447", "10.0.0.1"), ("tcp/[::1]:7447", "::1"), ("tls/ops.example:7447#iface=eth0", "ops.example")],
+)
 def test_endpoint_host(endpoint: str, host: str) -> None:
     assert endpoint_host(endpoint) == host
 
@@ -149,7 +170,8 @@ def test_only_loopback_goes_without_tls_unless_insecure() -> None:
     assert endpoint_problem(RelayOptions(connect="tcp/127.0.0.1:7447,tcp/localhost:7448")) is None
     assert endpoint_problem(RelayOptions(connect="tcp/192.0.2.1:7447", insecure=True)) is None
     assert "--listen tcp/0.0.0.0:7447 leaves this machine without TLS" in str(
-        endpoint_problem(RelayOptions(router=True, listen="tcp/0.0.0.0:7447")))
+        endpoint_problem(RelayOptions(router=True, listen="tcp/0.0.0.0:7447"))
+    )
     assert "needs --tls-root-ca" in str(endpoint_problem(RelayOptions(connect="tls/192.0.2.1:7447")))
     for endpoint in ("tcp/10.0.0.1:7447", "tcp/ops.example.org:7447", "tcp/localhost.example.org:7447", "udp/10.0.0.1:7447"):
         assert "leaves this machine without TLS" in str(endpoint_problem(RelayOptions(connect=endpoint))), endpoint
@@ -163,13 +185,19 @@ def run(*argv: str) -> tuple[int, str]:
 
 
 def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -> None:
-    assert run("--connect", "tcp/192.0.2.1:7447") == (2, (
-        "sem-relay: error: --connect tcp/192.0.2.1:7447 leaves this machine without TLS: use a tls/ endpoint with "
-        "--tls-root-ca, or give --insecure to send the fleet's traffic in the clear\n"))
+    assert run("--connect", "tcp/192.0.2.1:7447") == (
+        2,
+        (
+            "sem-relay: error: --connect tcp/192.0.2.1:7447 leaves this machine without TLS: use a tls/ endpoint with "
+            "--tls-root-ca, or give --insecure to send the fleet's traffic in the clear\n"
+        ),
+    )
     monkeypatch.setenv("SEM_RELAY_CONNECT", "tcp/192.0.2.9:7447")  # the environment's form of the option
     assert run()[1].startswith("sem-relay: error: --connect tcp/192.0.2.9:7447 leaves this machine")
-    assert run("--caps", "GPSReport=often") == (2, "sem-relay: error: --caps 'GPSReport=often': the cap is seconds "
-                                                   "0..86400 or 'change'\n")
+    assert run("--caps", "GPSReport=often") == (
+        2,
+        "sem-relay: error: --caps 'GPSReport=often': the cap is seconds 0..86400 or 'change'\n",
+    )
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
@@ -187,19 +215,33 @@ def test_tls_files_that_cannot_serve_are_one_line(tmp_path: Path) -> None:
     missing, unreadable = tmp_path / "missing.pem", tmp_path / "garbage.pem"
     unreadable.write_text("not a certificate")
     tls = ("--connect", "tls/10.0.0.1:7447", "--tls-root-ca")
-    assert run(*tls, str(missing)) == (2, f"sem-relay: error: --tls-root-ca {missing}: cannot read it as PEM certificates "
-                                          "(No such file or directory): give the fleet authority's certificate\n")
+    assert run(*tls, str(missing)) == (
+        2,
+        f"sem-relay: error: --tls-root-ca {missing}: cannot read it as PEM certificates "
+        "(No such file or directory): give the fleet authority's certificate\n",
+    )
     code, err = run(*tls, str(unreadable))
     assert code == 2 and err.startswith(f"sem-relay: error: --tls-root-ca {unreadable}: cannot read it") and err.count("\n") == 1
     code, err = run(*tls, str(fleet.pem), "--tls-certificate", str(cert), "--tls-private-key", str(cert))  # its key: the cert
-    assert code == 2 and err.count("\n") == 1 and err.startswith(
-        f"sem-relay: error: --tls-certificate {cert} and --tls-private-key {cert}: not a readable PEM certificate")
-    assert tls_problem(RelayOptions(connect="tls/10.0.0.1:7447", tls_root_ca=fleet.pem, tls_certificate=cert,
-                                    tls_private_key=key_file)) is None
+    assert (
+        code == 2
+        and err.count("\n") == 1
+        and err.startswith(
+            f"sem-relay: error: --tls-certificate {cert} and --tls-private-key {cert}: not a readable PEM certificate"
+        )
+    )
+    assert (
+        tls_problem(
+            RelayOptions(connect="tls/10.0.0.1:7447", tls_root_ca=fleet.pem, tls_certificate=cert, tls_private_key=key_file)
+        )
+        is None
+    )
 
 
 def test_a_status_file_that_cannot_be_written_is_one_line(tmp_path: Path) -> None:
     missing, fix = tmp_path / "missing" / "near.json", "give a file in a folder the relay may write\n"
     assert run("--status-file", str(missing)) == (
-        2, f"sem-relay: error: --status-file {missing}: no folder {missing.parent}: {fix}")
+        2,
+        f"sem-relay: error: --status-file {missing}: no folder {missing.parent}: {fix}",
+    )
     assert run("--status-file", str(tmp_path)) == (2, f"sem-relay: error: --status-file {tmp_path}: a folder: {fix}")

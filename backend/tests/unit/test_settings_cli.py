@@ -18,8 +18,18 @@ from sem_console.core.config import Settings
 # the options whose name is not --<field> with dashes, and the one option that is no setting
 RENAMED = {"db_path": "--db"}
 CLI_ONLY = {"log_level"}
-ENV_ONLY = {"dds_interface", "dds_peers", "report_interval", "report_burst", "ws_max_queue", "ws_stall_seconds",
-            "ws_window_bytes", "ws_compression", "record_queue", "throttle_first_wait"}
+ENV_ONLY = {
+    "dds_interface",
+    "dds_peers",
+    "report_interval",
+    "report_burst",
+    "ws_max_queue",
+    "ws_stall_seconds",
+    "ws_window_bytes",
+    "ws_compression",
+    "record_queue",
+    "throttle_first_wait",
+}
 
 
 @pytest.fixture(autouse=True)
@@ -60,9 +70,21 @@ def test_every_field_has_its_option_or_is_environment_only() -> None:
 def test_options_and_environment_make_the_same_settings(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
     tokens = tmp_path / "tokens"
     tokens.write_text("alice:s3cret\n")
-    values = {"host": "0.0.0.0", "port": "8123", "domain": "7", "db_path": str(tmp_path / "db"), "comms_lost_timeout": "1.5",
-              "operator_tokens_file": str(tokens), "auth_reads": None, "imc_port": "6002", "imc_id": "0x4002",
-              "imc_peers": "127.0.0.1:6001", "jaus_port": "3795", "record_max_bytes": "1000000", "aspn_prefix": "nav"}
+    values = {
+        "host": "0.0.0.0",
+        "port": "8123",
+        "domain": "7",
+        "db_path": str(tmp_path / "db"),
+        "comms_lost_timeout": "1.5",
+        "operator_tokens_file": str(tokens),
+        "auth_reads": None,
+        "imc_port": "6002",
+        "imc_id": "0x4002",
+        "imc_peers": "127.0.0.1:6001",
+        "jaus_port": "3795",
+        "record_max_bytes": "1000000",
+        "aspn_prefix": "nav",
+    }
     argv: list[str] = []
     for name, value in values.items():
         argv += [flag_of(Settings, name)] + ([value] if value is not None else [])
@@ -75,23 +97,30 @@ def test_options_and_environment_make_the_same_settings(monkeypatch: pytest.Monk
     assert from_options.imc_id == 0x4002 and from_options.auth_reads and from_options.operators() == {"s3cret": "alice"}
 
 
-@pytest.mark.parametrize("given, line", [
-    ({"auth_reads": True}, "--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)"),
-    ({"tls_keyfile": "key.pem"}, "--tls-certfile and --tls-keyfile go together"),
-    ({"replay": "run.mcap", "sim": 2}, "--replay is read-only: it does not go with --sim or --record"),
-    ({"replay": "run.mcap", "imc_port": 6002}, "--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)"),
-    ({"imc_peers": "nope"}, "IMC peer 'nope' is not host:port"),
-    ({"vehicle_names": "not-a-guid=Alpha"}, "vehicle name 'not-a-guid=Alpha': 'not-a-guid' is not a GUID"),
-    ({"operator_tokens": "alice:s3cret,bob:"}, "item 2: expected name:token"),
-    ({"imc_id": "0xZZ"}, "--imc-id: '0xZZ' is not an IMC system id (decimal or 0x hex)"),
-    ({"port": 70000}, "--port: 70000 is outside 0..65535"),
-    ({"db_path": 5.5}, "--db: Input is not a valid path"),
-    ({"allowed_hosts": " , "}, "--allowed-hosts: ' , ' names no host"),  # every request was a 403, nothing said
-    # LCM over UDP refuses a channel name over 63 characters: nothing was sent on those (docs/gateways.md)
-    ({"aspn_prefix": "navigation-1"}, "--aspn-prefix: 'navigation-1': give 1 to 11 letters, digits or _ . - /"),
-])
+@pytest.mark.parametrize(
+    "given, line",
+    [
+        ({"auth_reads": True}, "--auth-reads needs operator tokens (--operator-tokens-file or SEM_OPERATOR_TOKENS)"),
+        ({"tls_keyfile": "key.pem"}, "--tls-certfile and --tls-keyfile go together"),
+        ({"replay": "run.mcap", "sim": 2}, "--replay is read-only: it does not go with --sim or --record"),
+        (
+            {"replay": "run.mcap", "imc_port": 6002},
+            "--replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)",
+        ),
+        ({"imc_peers": "nope"}, "IMC peer 'nope' is not host:port"),
+        ({"vehicle_names": "not-a-guid=Alpha"}, "vehicle name 'not-a-guid=Alpha': 'not-a-guid' is not a GUID"),
+        ({"operator_tokens": "alice:s3cret,bob:"}, "item 2: expected name:token"),
+        ({"imc_id": "0xZZ"}, "--imc-id: '0xZZ' is not an IMC system id (decimal or 0x hex)"),
+        ({"port": 70000}, "--port: 70000 is outside 0..65535"),
+        ({"db_path": 5.5}, "--db: Input is not a valid path"),
+        ({"allowed_hosts": " , "}, "--allowed-hosts: ' , ' names no host"),  # every request was a 403, nothing said
+        # LCM over UDP refuses a channel name over 63 characters: nothing was sent on those (docs/gateways.md)
+        ({"aspn_prefix": "navigation-1"}, "--aspn-prefix: 'navigation-1': give 1 to 11 letters, digits or _ . - /"),
+    ],
+)
 def test_a_check_fails_as_one_line_from_options_and_environment(
-        given: dict[str, object], line: str, monkeypatch: pytest.MonkeyPatch) -> None:
+    given: dict[str, object], line: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
     with pytest.raises(ValidationError) as e:
         Settings(**given)  # type: ignore[arg-type]
     message = model_error(Settings, e.value)
@@ -109,7 +138,8 @@ def test_a_bad_option_stops_sem_console_with_one_line(capsys: pytest.CaptureFixt
         cli.main(["--replay", "run.mcap", "--imc-port", "6002"])
     assert e.value.code == 2
     assert capsys.readouterr().err == (
-        "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n")
+        "sem-console: error: --replay is read-only: it does not go with --imc-port (CoMap sends to vehicles)\n"
+    )
 
 
 @pytest.mark.parametrize("name", ["a\u202egnp.exe", "x" * 41, "two\nlines"])
@@ -121,14 +151,17 @@ def test_vehicle_names_follow_the_dashboard_s_rules(name: str) -> None:
     assert "printable characters only" in model_error(Settings, e.value)
 
 
-@pytest.mark.parametrize("variable, value, line", [
-    ("SEM_REPORT_INTERVAL", "-1", "SEM_REPORT_INTERVAL: -1 is outside 0..10"),  # no option: --report-interval does not exist
-    ("SEM_PORT", "http", "SEM_PORT: 'http' is not a whole number"),
-    ("SEM_DOMAIN", "xyz", "SEM_DOMAIN: 'xyz' is not a whole number"),  # as --domain abc says it (test_bad_starts.py)
-])
-def test_a_bad_environment_variable_of_sem_console_is_named(variable: str, value: str, line: str,
-                                                            monkeypatch: pytest.MonkeyPatch,
-                                                            capsys: pytest.CaptureFixture[str]) -> None:
+@pytest.mark.parametrize(
+    "variable, value, line",
+    [
+        ("SEM_REPORT_INTERVAL", "-1", "SEM_REPORT_INTERVAL: -1 is outside 0..10"),  # no option: --report-interval does not exist
+        ("SEM_PORT", "http", "SEM_PORT: 'http' is not a whole number"),
+        ("SEM_DOMAIN", "xyz", "SEM_DOMAIN: 'xyz' is not a whole number"),  # as --domain abc says it (test_bad_starts.py)
+    ],
+)
+def test_a_bad_environment_variable_of_sem_console_is_named(
+    variable: str, value: str, line: str, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     """The line named the option of the field (one that does not exist for an environment-only setting)."""
     monkeypatch.setenv(variable, value)
     with pytest.raises(SystemExit) as e:
@@ -137,8 +170,9 @@ def test_a_bad_environment_variable_of_sem_console_is_named(variable: str, value
     assert capsys.readouterr().err.startswith(f"sem-console: error: {line}")
 
 
-def test_the_other_commands_refuse_a_bad_domain_in_one_line(monkeypatch: pytest.MonkeyPatch,
-                                                           capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_other_commands_refuse_a_bad_domain_in_one_line(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     """sem-sim, sem-replay and sem-check read their DDS settings from the environment (from_environment)."""
     from sem_console.sim import sem_sim
 
@@ -149,9 +183,14 @@ def test_the_other_commands_refuse_a_bad_domain_in_one_line(monkeypatch: pytest.
     assert capsys.readouterr().err == "sem-sim: error: SEM_DOMAIN: 999 is outside 0..232\n"
 
 
-@pytest.mark.parametrize("env", [
-    {"SEM_TLS_KEYFILE": "key.pem"}, {"SEM_AUTH_READS": "1"}, {"SEM_OPERATOR_TOKENS_FILE": "/nonexistent/tokens"},
-])
+@pytest.mark.parametrize(
+    "env",
+    [
+        {"SEM_TLS_KEYFILE": "key.pem"},
+        {"SEM_AUTH_READS": "1"},
+        {"SEM_OPERATOR_TOKENS_FILE": "/nonexistent/tokens"},
+    ],
+)
 def test_the_console_s_own_settings_never_stop_the_other_commands(env: dict[str, str], monkeypatch: pytest.MonkeyPatch) -> None:
     """A console's environment (its TLS pair, tokens file, --auth-reads) shared with sem-sim is not sem-sim's concern:
     the other commands read only the DDS settings (BusSettings)."""

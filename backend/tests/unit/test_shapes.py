@@ -106,6 +106,7 @@ def test_the_server_message_union_is_the_contracts() -> None:
 
 def test_the_comparison_sees_a_drift() -> None:
     """A TypedDict with a field renamed, or one left out, is told apart from its model."""
+
     class AlarmShelf(typing.TypedDict):
         id: str
         reason: str
@@ -121,15 +122,34 @@ def test_the_comparison_sees_a_drift() -> None:
 # ---- rows, API models and the console's classes derived from one base (storage/models/) --------------------------
 # shape: (its bases, the row, the row's own columns, the API model (None: the API shows another view of it), its own
 # fields, the console's class (None: none kept as the row is))
-SHAPES: dict[str, tuple[tuple[type[SQLModel], ...], type[SQLModel], set[str], type[BaseModel] | None, set[str],
-                        type[SQLModel] | None]] = {
-    "alarm": ((AlarmRaised, AlarmHandled), AlarmRecord, {"key", "normal_at", "console"}, schemas.Alarm,
-              {"state", "cause", "chattering", "shelf", "returned"}, Alarm),
-    "command": ((CommandIssued, CommandHandled), CommandRecord, {"command"}, schemas.Command,
-                {"status", "terminal", "violations", "transitions"}, None),
+SHAPES: dict[
+    str, tuple[tuple[type[SQLModel], ...], type[SQLModel], set[str], type[BaseModel] | None, set[str], type[SQLModel] | None]
+] = {
+    "alarm": (
+        (AlarmRaised, AlarmHandled),
+        AlarmRecord,
+        {"key", "normal_at", "console"},
+        schemas.Alarm,
+        {"state", "cause", "chattering", "shelf", "returned"},
+        Alarm,
+    ),
+    "command": (
+        (CommandIssued, CommandHandled),
+        CommandRecord,
+        {"command"},
+        schemas.Command,
+        {"status", "terminal", "violations", "transitions"},
+        None,
+    ),
     "transition": ((TransitionBase,), TransitionRecord, {"session_id"}, schemas.Transition, set(), None),
-    "task": ((TaskPlanned, TaskProgress, TaskOwned), ComapTaskRecord, {"point", "last_synch"}, schemas.Task,
-             {"point", "synch"}, None),
+    "task": (
+        (TaskPlanned, TaskProgress, TaskOwned),
+        ComapTaskRecord,
+        {"point", "last_synch"},
+        schemas.Task,
+        {"point", "synch"},
+        None,
+    ),
     "shelf": ((ShelfBase,), AlarmShelfRecord, set(), None, set(), Shelf),
     "silence": ((SilenceBase,), PlannedSilenceRecord, set(), None, set(), Silence),
 }
@@ -151,9 +171,20 @@ def test_a_shapes_row_api_model_and_class_derive_from_its_base(shape: str) -> No
 
 
 def test_a_kept_alarm_goes_to_its_row_and_back() -> None:
-    a = Alarm(key="link-lost|p||", kind="link-lost", severity="alarm", provider_id="p", vehicle="Alpha",
-              session_id=None, text="Alpha: link lost", since=1.0, cleared_at=None, acked_at=None, acked_by=None,
-              normal_at=None)
+    a = Alarm(
+        key="link-lost|p||",
+        kind="link-lost",
+        severity="alarm",
+        provider_id="p",
+        vehicle="Alpha",
+        session_id=None,
+        text="Alpha: link lost",
+        since=1.0,
+        cleared_at=None,
+        acked_at=None,
+        acked_by=None,
+        normal_at=None,
+    )
     row = a.row()
     assert set(row) == set(AlarmBase.model_fields)
     assert Alarm.model_validate({**row, "console": "station-a"}) == a  # a row read back carries its station too
@@ -162,24 +193,78 @@ def test_a_kept_alarm_goes_to_its_row_and_back() -> None:
 # ---- the REST JSON of a derived model is the API's as released, byte for byte ---------------------------------------
 # each sample in the order the API's JSON has it (the release's): a model derived from bases puts its fields in their
 # order, which must be this one
-TRANSITION: messages.Transition = {"seq": 1, "status": "ISSUED", "reason": "SUCCEEDED", "logMessage": "", "violation": None,
-                                   "providerTime": 1.5, "receivedAt": 2.5}
+TRANSITION: messages.Transition = {
+    "seq": 1,
+    "status": "ISSUED",
+    "reason": "SUCCEEDED",
+    "logMessage": "",
+    "violation": None,
+    "providerTime": 1.5,
+    "receivedAt": 2.5,
+}
 SAMPLES: dict[str, Any] = {
-    "Alarm": {"id": 3, "kind": "link-lost", "severity": "alarm", "providerId": "p", "vehicle": "Alpha", "sessionId": None,
-              "text": "Alpha: link lost", "since": 1.0, "state": "active-unacknowledged", "clearedAt": None,
-              "ackedAt": None, "ackedBy": None, "cause": "Link lost", "chattering": False,
-              "shelf": {"id": "s", "reason": "known", "by": "alice", "station": "a", "at": 2.0, "until": 3.0},
-              "returned": None},
+    "Alarm": {
+        "id": 3,
+        "kind": "link-lost",
+        "severity": "alarm",
+        "providerId": "p",
+        "vehicle": "Alpha",
+        "sessionId": None,
+        "text": "Alpha: link lost",
+        "since": 1.0,
+        "state": "active-unacknowledged",
+        "clearedAt": None,
+        "ackedAt": None,
+        "ackedBy": None,
+        "cause": "Link lost",
+        "chattering": False,
+        "shelf": {"id": "s", "reason": "known", "by": "alice", "station": "a", "at": 2.0, "until": 3.0},
+        "returned": None,
+    },
     "Transition": TRANSITION,
-    "Command": {"sessionId": "s", "service": "GPSFix", "providerId": "p", "state": None, "operator": "alice",
-                "createdAt": 1.0, "status": "ISSUED", "terminal": False, "unanswered": False, "cancelRequested": False,
-                "canceledBy": None, "canceledOn": None, "canceledAt": None, "cancelCause": None, "closedUnheard": None,
-                "closedAt": None, "ackedAt": 1.2, "cleanedUp": False, "console": "a", "violations": [],
-                "transitions": [TRANSITION]},
-    "Task": {"taskId": 7, "kind": "move", "vehicle": "p", "imcId": 30, "featureId": None, "sensor": None,
-             "resolution": None, "deadline": None, "point": {"lat": 1.0, "lon": 2.0}, "state": "ASSIGNED", "progress": 0,
-             "quality": None, "synch": None, "operator": "alice", "station": "a", "createdAt": 1.0, "updatedAt": 1.0,
-             "stateAt": 1.0},
+    "Command": {
+        "sessionId": "s",
+        "service": "GPSFix",
+        "providerId": "p",
+        "state": None,
+        "operator": "alice",
+        "createdAt": 1.0,
+        "status": "ISSUED",
+        "terminal": False,
+        "unanswered": False,
+        "cancelRequested": False,
+        "canceledBy": None,
+        "canceledOn": None,
+        "canceledAt": None,
+        "cancelCause": None,
+        "closedUnheard": None,
+        "closedAt": None,
+        "ackedAt": 1.2,
+        "cleanedUp": False,
+        "console": "a",
+        "violations": [],
+        "transitions": [TRANSITION],
+    },
+    "Task": {
+        "taskId": 7,
+        "kind": "move",
+        "vehicle": "p",
+        "imcId": 30,
+        "featureId": None,
+        "sensor": None,
+        "resolution": None,
+        "deadline": None,
+        "point": {"lat": 1.0, "lon": 2.0},
+        "state": "ASSIGNED",
+        "progress": 0,
+        "quality": None,
+        "synch": None,
+        "operator": "alice",
+        "station": "a",
+        "createdAt": 1.0,
+        "updatedAt": 1.0,
+        "stateAt": 1.0,
+    },
 }
 
 

@@ -234,16 +234,36 @@ def _time(s: int, ns: int) -> typing.Any:
 
 def _golden_gps_report() -> tuple[typing.Any, bytes]:
     clock = gen_class_6_0("UMAA::SEM::GPSStatus::GPSClockType")(
-        bias=-5, biasUncertainty=7, drift=-3, driftUncertainty=2, elapsedRealtime=123456789012, elapsedRealtimeUncertainty=9,
-        fullBias=-1234567890123, hardwareClockDiscontinuityCount=1, leapSecond=18, referenceCarrierFrequency=1575.42e6,
-        referenceCodeTypeFor="C", referenceConstellationType=_mar("GPSConstellationEnumType", "GPS"), time=42,
-        timeFigureOfMerit=_mar("TFOMEnumType", "TFOM_3"))
+        bias=-5,
+        biasUncertainty=7,
+        drift=-3,
+        driftUncertainty=2,
+        elapsedRealtime=123456789012,
+        elapsedRealtimeUncertainty=9,
+        fullBias=-1234567890123,
+        hardwareClockDiscontinuityCount=1,
+        leapSecond=18,
+        referenceCarrierFrequency=1575.42e6,
+        referenceCodeTypeFor="C",
+        referenceConstellationType=_mar("GPSConstellationEnumType", "GPS"),
+        time=42,
+        timeFigureOfMerit=_mar("TFOMEnumType", "TFOM_3"),
+    )
     sat = gen_class_6_0("UMAA::SEM::GPSStatus::GPSSatelliteType")(
-        antennaCarrierNoiseDensity=45.5, azimuth=1.25, basebandCarrierNoiseDensity=40.0, carrierFrequency=1575.42e6,
-        constellationType=_mar("GPSConstellationEnumType", "GALILEO"), containsAlmanacData=True, elevation=0.5,
-        ephemerisData=False, satelliteID=17.0, usedInFix=True)
+        antennaCarrierNoiseDensity=45.5,
+        azimuth=1.25,
+        basebandCarrierNoiseDensity=40.0,
+        carrierFrequency=1575.42e6,
+        constellationType=_mar("GPSConstellationEnumType", "GALILEO"),
+        containsAlmanacData=True,
+        elevation=0.5,
+        ephemerisData=False,
+        satelliteID=17.0,
+        usedInFix=True,
+    )
     sample = gen_class_6_0("UMAA::SEM::GPSStatus::GPSReportType")(
-        clock=clock, numberSatellitesInView=9, satellites=[sat], timeStamp=_time(1_790_000_000, 500), source=_ident(A, B))
+        clock=clock, numberSatellitesInView=9, satellites=[sat], timeStamp=_time(1_790_000_000, 500), source=_ident(A, B)
+    )
     w = Cdr(1)
     w.i64(-5).i64(7).i32(-3).i32(2).i64(123456789012).i64(9).i64(-1234567890123).i64(1).i32(18).f64(1575.42e6)
     w.string("C").i32(3).i32(42).i32(2)  # GPS is ordinal 3; TFOM_3 is 2
@@ -255,8 +275,12 @@ def _golden_gps_report() -> tuple[typing.Any, bytes]:
 
 def _command(state: str) -> typing.Any:
     return gen_class_6_0("UMAA::SEM::InertialSensorControl::InertialSensorCommandType")(
-        state=_mar("InertialSensorCmdEnumType", state), timeStamp=_time(1_790_000_001, 7), source=_ident(A, NIL),
-        sessionID=C, destination=_ident(B, D))
+        state=_mar("InertialSensorCmdEnumType", state),
+        timeStamp=_time(1_790_000_001, 7),
+        source=_ident(A, NIL),
+        sessionID=C,
+        destination=_ident(B, D),
+    )
 
 
 def _command_bytes(w: Cdr, ordinal: int) -> Cdr:
@@ -269,38 +293,57 @@ def _golden_command() -> tuple[typing.Any, bytes]:
 
 def _golden_status() -> tuple[typing.Any, bytes]:
     sample = gen_class_6_0("UMAA::SEM::InertialSensorControl::InertialSensorCommandStatusType")(
-        timeStamp=_time(1_790_000_002, 0), source=_ident(B, D), sessionID=C,
-        commandStatus=_mar("CommandStatusEnumType", "ISSUED"), commandStatusReason=_mar("CommandStatusReasonEnumType", "UPDATED"),
-        logMessage="updated")
+        timeStamp=_time(1_790_000_002, 0),
+        source=_ident(B, D),
+        sessionID=C,
+        commandStatus=_mar("CommandStatusEnumType", "ISSUED"),
+        commandStatusReason=_mar("CommandStatusReasonEnumType", "UPDATED"),
+        logMessage="updated",
+    )
     w = Cdr(1).i64(1_790_000_002).i32(0).octets(B + D + C).i32(5).i32(8).string("updated")
     return sample, w.bytes()
 
 
 def _golden_ack() -> tuple[typing.Any, bytes]:
     sample = gen_class_6_0("UMAA::SEM::InertialSensorControl::InertialSensorCommandAckReportType")(
-        command=_command("STATIONARY_ALIGN"), timeStamp=_time(1_790_000_003, 9), source=_ident(B, D), sessionID=C)
+        command=_command("STATIONARY_ALIGN"), timeStamp=_time(1_790_000_003, 9), source=_ident(B, D), sessionID=C
+    )
     w = _command_bytes(Cdr(1), 4).i64(1_790_000_003).i32(9).octets(B + D + C)
     return sample, w.bytes()
 
 
 def _golden_ins_report() -> tuple[typing.Any, bytes]:
     sample = gen_class_6_0("UMAA::SEM::InertialSensorStatus::InertialSensorReportType")(
-        status=_mar("InertialSensorOpStatusEnumType", "FINE_GPS_ALIGNMENT_STARTED"), timeStamp=_time(1, 2), source=_ident(B, D))
+        status=_mar("InertialSensorOpStatusEnumType", "FINE_GPS_ALIGNMENT_STARTED"), timeStamp=_time(1, 2), source=_ident(B, D)
+    )
     return sample, Cdr(1).i32(8).i64(1).i32(2).octets(B + D).bytes()
 
 
 def _golden_global_pose() -> tuple[typing.Any, bytes]:
     o = "UMAA::Common::Orientation::"
     attitude = gen_class_6_0(o + "Orientation3DNEDType")(
-        pitch=gen_class_6_0(o + "PitchYNEDType")(pitch=0.1), roll=gen_class_6_0(o + "RollXNEDType")(roll=-0.2),
-        yaw=gen_class_6_0(o + "YawZNEDType")(yaw=1.5))
+        pitch=gen_class_6_0(o + "PitchYNEDType")(pitch=0.1),
+        roll=gen_class_6_0(o + "RollXNEDType")(roll=-0.2),
+        yaw=gen_class_6_0(o + "YawZNEDType")(yaw=1.5),
+    )
     covariance = gen_class_6_0("UMAA::Common::Measurement::CovariancePositionNEDType")(
-        pdPd=None, pePd=None, pePe=2.0, pnPd=None, pnPe=0.5, pnPn=3.0)
+        pdPd=None, pePd=None, pePe=2.0, pnPd=None, pnPe=0.5, pnPn=3.0
+    )
     sample = gen_class_6_0("UMAA::SA::GlobalPoseStatus::GlobalPoseReportType")(
-        altitude=None, altitudeAGL=None, altitudeASF=None, altitudeGeodetic=12.5, attitude=attitude, attitudeCovariance=None,
-        course=3.0, depth=None, navigationSolution=_mar("NavigationSolutionEnumType", "MEASURED"),
+        altitude=None,
+        altitudeAGL=None,
+        altitudeASF=None,
+        altitudeGeodetic=12.5,
+        attitude=attitude,
+        attitudeCovariance=None,
+        course=3.0,
+        depth=None,
+        navigationSolution=_mar("NavigationSolutionEnumType", "MEASURED"),
         position=gen_class_6_0("UMAA::Common::Measurement::GeoPosition2D")(geodeticLatitude=36.85, geodeticLongitude=-75.98),
-        positionCovariance=covariance, timeStamp=_time(1_790_000_004, 250), source=_ident(B, D))
+        positionCovariance=covariance,
+        timeStamp=_time(1_790_000_004, 250),
+        source=_ident(B, D),
+    )
     # XCDR2: the type has @optional members; 8-byte values align to 4
     w = Cdr(2).optional(None).optional(None).optional(None).optional(12.5)
     w.f64(0.1).f64(-0.2).f64(1.5).boolean(False).f64(3.0).optional(None).i32(2).f64(36.85).f64(-75.98)

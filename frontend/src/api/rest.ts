@@ -6,10 +6,14 @@ import type { components, paths } from "./generated/openapi";
 import type { Alarm } from "./generated/ws";
 import type { Command, LinkConfig, RecordingStatus, ReplayStatus, TypedProviderDetail } from "./types";
 
-type InsState = paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
+type InsState =
+  paths["/api/providers/{provider_id}/inertial-sensor"]["post"]["requestBody"]["content"]["application/json"]["state"];
 
 export class ApiError extends Error {
-  constructor(readonly status: number, message: string) {
+  constructor(
+    readonly status: number,
+    message: string,
+  ) {
     super(message);
   }
 }
@@ -82,11 +86,24 @@ export async function peerFindings(token: string | null): Promise<PeerFinding[]>
 
 /** `confirmLost`: the operator confirmed commanding a vehicle whose link is lost (the console refuses it with 409 otherwise). */
 export function requestGpsFix(providerId: string, token: string | null, confirmLost = false): Promise<Command> {
-  return answer(client.POST("/api/providers/{provider_id}/gps-fix", { ...on(token), params: provider(providerId), body: { confirmLost } }));
+  return answer(
+    client.POST("/api/providers/{provider_id}/gps-fix", { ...on(token), params: provider(providerId), body: { confirmLost } }),
+  );
 }
 
-export function setInertialSensor(providerId: string, state: InsState, token: string | null, confirmLost = false): Promise<Command> {
-  return answer(client.POST("/api/providers/{provider_id}/inertial-sensor", { ...on(token), params: provider(providerId), body: { state, confirmLost } }));
+export function setInertialSensor(
+  providerId: string,
+  state: InsState,
+  token: string | null,
+  confirmLost = false,
+): Promise<Command> {
+  return answer(
+    client.POST("/api/providers/{provider_id}/inertial-sensor", {
+      ...on(token),
+      params: provider(providerId),
+      body: { state, confirmLost },
+    }),
+  );
 }
 
 export function cancelCommand(sessionId: string, token: string | null): Promise<Command> {
@@ -101,7 +118,9 @@ export function ackAlarm(alarmId: number, token: string | null): Promise<Alarm[]
 
 /** Set a vehicle's link thresholds and comms-lost configuration (PUT, operator token, audited). */
 export function setLinkConfig(providerId: string, config: LinkConfig, token: string | null): Promise<LinkConfig> {
-  return answer(client.PUT("/api/providers/{provider_id}/link-config", { ...on(token), params: provider(providerId), body: config }));
+  return answer(
+    client.PUT("/api/providers/{provider_id}/link-config", { ...on(token), params: provider(providerId), body: config }),
+  );
 }
 
 /** Name a vehicle (PUT, operator token, audited; stored and shared with the other consoles): an empty name goes
@@ -111,8 +130,16 @@ export function setVehicleName(providerId: string, name: string, token: string |
 }
 
 /** The vehicle's ASPN-23 messages of the last `seconds` (the console's clock) as an LCM log file, and its file name. */
-export async function aspnLog(providerId: string, seconds: number, token: string | null): Promise<{ blob: Blob; filename: string }> {
-  const call = client.GET("/api/providers/{provider_id}/aspn-log", { ...on(token), params: { path: { provider_id: providerId }, query: { seconds } }, parseAs: "blob" });
+export async function aspnLog(
+  providerId: string,
+  seconds: number,
+  token: string | null,
+): Promise<{ blob: Blob; filename: string }> {
+  const call = client.GET("/api/providers/{provider_id}/aspn-log", {
+    ...on(token),
+    params: { path: { provider_id: providerId }, query: { seconds } },
+    parseAs: "blob",
+  });
   const blob = await answer(call);
   const named = /filename="([^"]+)"/.exec((await call).response.headers.get("Content-Disposition") ?? "");
   return { blob, filename: named ? named[1] : "aspn.lcm" };
@@ -132,13 +159,25 @@ type SeriesPoint = components["schemas"]["SeriesPoint"];
 
 /** The console's chart series of a vehicle from `since` (GET /api/providers/{id}/series). */
 export function series(providerId: string, since: string, token: string | null, signal?: AbortSignal): Promise<SeriesPoint[]> {
-  return answer(client.GET("/api/providers/{provider_id}/series", { ...on(token), params: { path: { provider_id: providerId }, query: { since } }, signal }));
+  return answer(
+    client.GET("/api/providers/{provider_id}/series", {
+      ...on(token),
+      params: { path: { provider_id: providerId }, query: { since } },
+      signal,
+    }),
+  );
 }
 
 /** A vehicle with its latest reports, in full (GET /api/providers/{id}): the snapshot leaves out the satellites. */
-export async function providerDetail(providerId: string, token: string | null, signal?: AbortSignal): Promise<TypedProviderDetail> {
+export async function providerDetail(
+  providerId: string,
+  token: string | null,
+  signal?: AbortSignal,
+): Promise<TypedProviderDetail> {
   // the document types `reports` per topic as the WebSocket schema's ReportTypes only in words: typed here
-  return (await answer(client.GET("/api/providers/{provider_id}", { ...on(token), params: provider(providerId), signal }))) as TypedProviderDetail;
+  return (await answer(
+    client.GET("/api/providers/{provider_id}", { ...on(token), params: provider(providerId), signal }),
+  )) as TypedProviderDetail;
 }
 
 /** Commands to one vehicle, newest first, `limit` from `offset` (GET /api/commands): the history pager. */
@@ -162,7 +201,13 @@ export type TrackPoint = components["schemas"]["TrackPoint"];
 
 /** The console's stored track of a vehicle from `since` (GET /api/providers/{id}/track). */
 export function track(providerId: string, since: string, token: string | null, signal?: AbortSignal): Promise<TrackPoint[]> {
-  return answer(client.GET("/api/providers/{provider_id}/track", { ...on(token), params: { path: { provider_id: providerId }, query: { since } }, signal }));
+  return answer(
+    client.GET("/api/providers/{provider_id}/track", {
+      ...on(token),
+      params: { path: { provider_id: providerId }, query: { since } },
+      signal,
+    }),
+  );
 }
 
 /** The CoMap world model (GET /api/worldmodel): null when the console has none (404, CoMap not built in or off). */
@@ -219,19 +264,29 @@ export function comapStatus(token: string | null): Promise<ComapStatus> {
 
 /** Shelve an alarm for `minutes` with a reason (POST, operator token, audited; shared by every station). */
 export function shelveAlarm(alarmId: number, reason: string, minutes: number, token: string | null): Promise<Alarm[]> {
-  return answer(client.POST("/api/alarms/{alarm_id}/shelve", { ...on(token), params: { path: { alarm_id: alarmId } }, body: { reason, minutes } }));
+  return answer(
+    client.POST("/api/alarms/{alarm_id}/shelve", {
+      ...on(token),
+      params: { path: { alarm_id: alarmId } },
+      body: { reason, minutes },
+    }),
+  );
 }
 
 /** Bring a shelved alarm back into view at once. */
 export function unshelveAlarm(alarmId: number, token: string | null): Promise<Alarm[]> {
-  return answer(client.POST("/api/alarms/{alarm_id}/unshelve", { ...on(token), params: { path: { alarm_id: alarmId } }, body: {} }));
+  return answer(
+    client.POST("/api/alarms/{alarm_id}/unshelve", { ...on(token), params: { path: { alarm_id: alarmId } }, body: {} }),
+  );
 }
 
 type PlannedSilence = components["schemas"]["PlannedSilence"];
 
 /** Declare a vehicle out of comms until `until` (UTC seconds), with a reason (PUT, operator token, audited). */
 export function planSilence(providerId: string, until: number, reason: string, token: string | null): Promise<PlannedSilence[]> {
-  return answer(client.PUT("/api/providers/{provider_id}/silence", { ...on(token), params: provider(providerId), body: { until, reason } }));
+  return answer(
+    client.PUT("/api/providers/{provider_id}/silence", { ...on(token), params: provider(providerId), body: { until, reason } }),
+  );
 }
 
 /** End a vehicle's planned silence now. */

@@ -51,7 +51,9 @@ export type Topic = keyof ReportTypes;
 export type ReportEnvelopeOf<T extends Topic> = Omit<ReportEnvelope, "report"> & { report: ReportTypes[T] };
 
 /** A `report` message, discriminated by `topic`. */
-export type TypedReportMessage = { [T in Topic]: Omit<ReportMessage, "topic" | "report"> & { topic: T; report: ReportEnvelopeOf<T> } }[Topic];
+export type TypedReportMessage = {
+  [T in Topic]: Omit<ReportMessage, "topic" | "report"> & { topic: T; report: ReportEnvelopeOf<T> };
+}[Topic];
 
 /** A vehicle's latest report per topic (the snapshot's `reports`). */
 export type TopicReports = { [T in Topic]?: ReportEnvelopeOf<T> | null };

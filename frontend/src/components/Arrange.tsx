@@ -1,8 +1,24 @@
 // Rearranging the panels of a group (dnd-kit): drag a panel by its ⠿ handle, or focus the handle and
 // press Space, the arrow keys, Space; or use its ↑ ↓ buttons. The order is kept in the settings store.
 import { createContext, useContext, useRef, useState, type CSSProperties, type ReactNode } from "react";
-import { DndContext, KeyboardSensor, PointerSensor, closestCenter, useSensor, useSensors, type Announcements, type DragEndEvent, type UniqueIdentifier } from "@dnd-kit/core";
-import { SortableContext, rectSortingStrategy, sortableKeyboardCoordinates, useSortable, verticalListSortingStrategy } from "@dnd-kit/sortable";
+import {
+  DndContext,
+  KeyboardSensor,
+  PointerSensor,
+  closestCenter,
+  useSensor,
+  useSensors,
+  type Announcements,
+  type DragEndEvent,
+  type UniqueIdentifier,
+} from "@dnd-kit/core";
+import {
+  SortableContext,
+  rectSortingStrategy,
+  sortableKeyboardCoordinates,
+  useSortable,
+  verticalListSortingStrategy,
+} from "@dnd-kit/sortable";
 import { CSS } from "@dnd-kit/utilities";
 import { usePanelOrder } from "../data/settings";
 import { moveBy, moveTo, type Group } from "../lib/layout";
@@ -33,12 +49,15 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
     useSensor(KeyboardSensor, { coordinateGetter: sortableKeyboardCoordinates }),
   );
   // what a screen reader says while a panel is moved: its title and the place it would take
-  const name = (id: UniqueIdentifier) => document.querySelector(`[data-panel="${String(id)}"] > section`)?.getAttribute("aria-label") ?? String(id);
+  const name = (id: UniqueIdentifier) =>
+    document.querySelector(`[data-panel="${String(id)}"] > section`)?.getAttribute("aria-label") ?? String(id);
   const place = (id: UniqueIdentifier) => `place ${order.indexOf(String(id)) + 1} of ${order.length}`;
   const announcements: Announcements = {
     onDragStart: ({ active }) => `Picked up ${name(active.id)}, at ${place(active.id)}.`,
-    onDragOver: ({ active, over }) => (over ? `${name(active.id)} over ${place(over.id)}.` : `${name(active.id)} is over no place.`),
-    onDragEnd: ({ active, over }) => (over ? `${name(active.id)} dropped at ${place(over.id)}.` : `${name(active.id)} dropped where it was.`),
+    onDragOver: ({ active, over }) =>
+      over ? `${name(active.id)} over ${place(over.id)}.` : `${name(active.id)} is over no place.`,
+    onDragEnd: ({ active, over }) =>
+      over ? `${name(active.id)} dropped at ${place(over.id)}.` : `${name(active.id)} dropped where it was.`,
     onDragCancel: ({ active }) => `Moving ${name(active.id)} cancelled.`,
   };
   const onDragEnd = ({ active, over }: DragEndEvent) => {
@@ -49,11 +68,18 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
       <SortableContext items={order} strategy={group === "main" ? rectSortingStrategy : verticalListSortingStrategy}>
         <div className={className} data-testid={testId} aria-label={label} role="group">
           {order.map((id, i) => (
-            <SortableSlot key={id} id={id} wide={panels[id].wide} first={i === 0} last={i === order.length - 1} move={(by) => {
+            <SortableSlot
+              key={id}
+              id={id}
+              wide={panels[id].wide}
+              first={i === 0}
+              last={i === order.length - 1}
+              move={(by) => {
                 const next = moveBy(order, id, by);
                 setOrder(next);
                 setSaid(`${name(id)} moved to place ${next.indexOf(id) + 1} of ${next.length}.`);
-              }}>
+              }}
+            >
               {panels[id].node}
             </SortableSlot>
           ))}
@@ -66,12 +92,33 @@ export function ArrangeableGroup({ group, panels, className, testId, label }: Gr
   );
 }
 
-function SortableSlot({ id, wide, first, last, move, children }: { id: string; wide?: boolean; first: boolean; last: boolean; move: (by: number) => void; children: ReactNode }) {
+function SortableSlot({
+  id,
+  wide,
+  first,
+  last,
+  move,
+  children,
+}: {
+  id: string;
+  wide?: boolean;
+  first: boolean;
+  last: boolean;
+  move: (by: number) => void;
+  children: ReactNode;
+}) {
   const { attributes, listeners, setNodeRef, setActivatorNodeRef, transform, transition, isDragging } = useSortable({ id });
-  const style: CSSProperties = { transform: CSS.Translate.toString(transform), transition, zIndex: isDragging ? 3 : undefined, opacity: isDragging ? 0.85 : undefined };
+  const style: CSSProperties = {
+    transform: CSS.Translate.toString(transform),
+    transition,
+    zIndex: isDragging ? 3 : undefined,
+    opacity: isDragging ? 0.85 : undefined,
+  };
   return (
     <div ref={setNodeRef} style={style} className={`slot${wide ? " wide" : ""}${isDragging ? " dragging" : ""}`} data-panel={id}>
-      <SlotContext.Provider value={{ handle: { attributes, listeners, setActivatorNodeRef }, move, first, last }}>{children}</SlotContext.Provider>
+      <SlotContext.Provider value={{ handle: { attributes, listeners, setActivatorNodeRef }, move, first, last }}>
+        {children}
+      </SlotContext.Provider>
     </div>
   );
 }
@@ -112,10 +159,26 @@ export function MoveButtons({ title, testId }: { title: string; testId: string }
   };
   return (
     <span className="move-buttons">
-      <button ref={earlier} className="move" disabled={slot.first} aria-label={`Move ${title} earlier`} title="move earlier (up or left)" onClick={() => press(-1)} data-testid={`${testId}-earlier`}>
+      <button
+        ref={earlier}
+        className="move"
+        disabled={slot.first}
+        aria-label={`Move ${title} earlier`}
+        title="move earlier (up or left)"
+        onClick={() => press(-1)}
+        data-testid={`${testId}-earlier`}
+      >
         ↑
       </button>
-      <button ref={later} className="move" disabled={slot.last} aria-label={`Move ${title} later`} title="move later (down or right)" onClick={() => press(1)} data-testid={`${testId}-later`}>
+      <button
+        ref={later}
+        className="move"
+        disabled={slot.last}
+        aria-label={`Move ${title} later`}
+        title="move later (down or right)"
+        onClick={() => press(1)}
+        data-testid={`${testId}-later`}
+      >
         ↓
       </button>
     </span>

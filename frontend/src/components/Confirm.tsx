@@ -14,7 +14,16 @@ interface Props {
   testId?: string;
 }
 
-export function Confirm({ label, confirmText, cancelText = "Keep as is", onConfirm, onCancel, children, vehicle, testId }: Props) {
+export function Confirm({
+  label,
+  confirmText,
+  cancelText = "Keep as is",
+  onConfirm,
+  onCancel,
+  children,
+  vehicle,
+  testId,
+}: Props) {
   const box = useRef<HTMLDivElement>(null);
   const cancel = useRef(onCancel);
   useEffect(() => {
@@ -37,7 +46,12 @@ export function Confirm({ label, confirmText, cancelText = "Keep as is", onConfi
       document.removeEventListener("keydown", onKey);
       // back to where the operator was, unless they have moved on (e.g. clicked another vehicle)
       const active = document.activeElement;
-      if (before && before.isConnected && (active === null || active === document.body || (node !== null && node.contains(active)))) before.focus();
+      if (
+        before &&
+        before.isConnected &&
+        (active === null || active === document.body || (node !== null && node.contains(active)))
+      )
+        before.focus();
     };
   }, []);
 

@@ -26,15 +26,28 @@ export function SelectedLost() {
   const recorded = useCapabilities().playback; // a replay: lost in the recording, not now
   if (since === null) return null;
   return (
-    <p className={`selected-lost${until !== null ? " planned" : ""}`} data-testid="selected-lost" title={recorded ? RECORDED_TITLE : undefined}>
-      {stateWords(linkOrPlanned("lost", until), recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last reported
+    <p
+      className={`selected-lost${until !== null ? " planned" : ""}`}
+      data-testid="selected-lost"
+      title={recorded ? RECORDED_TITLE : undefined}
+    >
+      {stateWords(linkOrPlanned("lost", until), recorded)} · <LastHeard since={since > 0 ? since : null} /> · shown: what it last
+      reported
     </p>
   );
 }
 
 /** "Alpha (77b2ceb8) is lost: last heard 12 s ago" (or "is out of comms (planned) until 14:20 UTC" while lost in its
  * planned silence, `until` its end), counting; `since` 0 or null: no report of it received. */
-export function LostFor({ target, since, until = null }: { target: VehicleIdentity; since: number | null; until?: number | null }) {
+export function LostFor({
+  target,
+  since,
+  until = null,
+}: {
+  target: VehicleIdentity;
+  since: number | null;
+  until?: number | null;
+}) {
   const now = useNow(1000);
   return <>{lostText(vehicleLabel(target), since ? now - since : null, until)}</>;
 }
@@ -46,5 +59,9 @@ export function LostBadge({ recorded }: { recorded: boolean }) {
   const since = useSelector(selectedLostSince);
   const until = useSelector(selectedPlannedUntil);
   const now = useNow(1000);
-  return <>{stateWords(linkOrPlanned("lost", until), recorded)} · {since ? elapsedText(now - since) : DASH}</>;
+  return (
+    <>
+      {stateWords(linkOrPlanned("lost", until), recorded)} · {since ? elapsedText(now - since) : DASH}
+    </>
+  );
 }

@@ -48,8 +48,24 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
           {title}
         </h2>
         {freshness && freshness !== "none" && (
-          <span className={`fresh fresh-${freshness}${recordedState(freshness, recorded) ? " recorded" : ""}`} data-testid={`${testId}-freshness`} title={recordedState(freshness, recorded) ? `age of the latest data: ${RECORDED_TITLE}` : freshness === "unreachable" ? "the console cannot be reached: the latest data, not updating" : freshness === "lost" ? "time since the vehicle was last heard (its newest report of any topic)" : "age of the latest data"}>
-            {freshness === "lost" ? <LostBadge recorded={recorded} /> : `${freshnessText(freshness, recorded)} · ${age(ageSeconds ?? null)}`}
+          <span
+            className={`fresh fresh-${freshness}${recordedState(freshness, recorded) ? " recorded" : ""}`}
+            data-testid={`${testId}-freshness`}
+            title={
+              recordedState(freshness, recorded)
+                ? `age of the latest data: ${RECORDED_TITLE}`
+                : freshness === "unreachable"
+                  ? "the console cannot be reached: the latest data, not updating"
+                  : freshness === "lost"
+                    ? "time since the vehicle was last heard (its newest report of any topic)"
+                    : "age of the latest data"
+            }
+          >
+            {freshness === "lost" ? (
+              <LostBadge recorded={recorded} />
+            ) : (
+              `${freshnessText(freshness, recorded)} · ${age(ageSeconds ?? null)}`
+            )}
           </span>
         )}
         {!collapsed && actions}
@@ -63,14 +79,27 @@ export function Panel({ title, testId, freshness, ageSeconds, actions, children,
 /** A panel whose body (`children`, the component that subscribes to what the panel draws) exists only while the
  * panel is open: collapsed, it does not draw `children`'s reports, only its title bar with the freshness and age of
  * the selected vehicle's `topic` (so a folded panel still says its data went stale or lost). */
-export function Foldable({ title, testId, topic, className, children }: { title: string; testId: string; topic: Topic; className?: string; children: ReactNode }) {
+export function Foldable({
+  title,
+  testId,
+  topic,
+  className,
+  children,
+}: {
+  title: string;
+  testId: string;
+  topic: Topic;
+  className?: string;
+  children: ReactNode;
+}) {
   const [collapsed] = useCollapsed(testId);
   return collapsed ? <Folded title={title} testId={testId} topic={topic} className={className} /> : children;
 }
 
 /** Two views of a topic alike for a folded title bar: both none, or last heard of in the same second (the clock of
  * ages redraws it twice a second with the newest view; a report changes it at most once a second). */
-const sameSecond = (a: TopicView | null, b: TopicView | null): boolean => a === b || (a !== null && b !== null && Math.floor(a.at) === Math.floor(b.at));
+const sameSecond = (a: TopicView | null, b: TopicView | null): boolean =>
+  a === b || (a !== null && b !== null && Math.floor(a.at) === Math.floor(b.at));
 
 function Folded({ title, testId, topic, className }: { title: string; testId: string; topic: Topic; className?: string }) {
   const view = useFrameValue(selectedTopic(topic) as (s: State) => TopicView | null, sameSecond);
@@ -79,7 +108,13 @@ function Folded({ title, testId, topic, className }: { title: string; testId: st
   const now = useNow();
   const ageS = view ? Math.max(0, now - view.at) : null;
   return (
-    <Panel title={title} testId={testId} className={className} freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving)} ageSeconds={ageS}>
+    <Panel
+      title={title}
+      testId={testId}
+      className={className}
+      freshness={freshness(ageS, topic, view?.interval ?? null, link, receiving)}
+      ageSeconds={ageS}
+    >
       {null}
     </Panel>
   );
@@ -96,7 +131,10 @@ interface FieldProps {
 /** A labelled value; stale values are dimmed and marked, invalid ones flagged with the reason. */
 export function Field({ label, value, stale, invalid, testId }: FieldProps) {
   return (
-    <div className={`field${stale ? " stale" : ""}${invalid ? " invalid" : ""}`} title={invalid ?? (stale ? "stale: no fresh data" : undefined)}>
+    <div
+      className={`field${stale ? " stale" : ""}${invalid ? " invalid" : ""}`}
+      title={invalid ?? (stale ? "stale: no fresh data" : undefined)}
+    >
       <span className="label">{label}</span>
       <span className="value" data-testid={testId}>
         {value}

@@ -19,7 +19,11 @@ const themed = (name: string, fallback: string) => () => {
   }
   return c;
 };
-const AXIS = { stroke: themed("--muted", "#8a99a9"), grid: { stroke: themed("--line", "#243140"), width: 1 }, ticks: { stroke: themed("--line", "#243140"), width: 1 } };
+const AXIS = {
+  stroke: themed("--muted", "#8a99a9"),
+  grid: { stroke: themed("--line", "#243140"), width: 1 },
+  ticks: { stroke: themed("--line", "#243140"), width: 1 },
+};
 
 /** uPlot's columns: times, C/N0, used, in view (null: a gap). */
 export function chartData(points: HistoryPoint[]): uPlot.AlignedData {
@@ -32,7 +36,11 @@ function options(width: number): uPlot.Options {
     height: HEIGHT,
     cursor: { drag: { x: false, y: false } },
     legend: { live: true },
-    scales: { x: { time: true }, db: { range: [0, 60] }, n: { range: (_u, _min, max) => [0, Math.max(12, Math.ceil((max ?? 0) + 2))] } },
+    scales: {
+      x: { time: true },
+      db: { range: [0, 60] },
+      n: { range: (_u, _min, max) => [0, Math.max(12, Math.ceil((max ?? 0) + 2))] },
+    },
     axes: [
       { ...AXIS, values: (_u, splits) => splits.map(hms) },
       { ...AXIS, scale: "db", label: "dB-Hz", size: 44, labelSize: 14 },
@@ -40,9 +48,22 @@ function options(width: number): uPlot.Options {
     ],
     series: [
       { label: "UTC", value: (_u, v) => (v == null ? "—" : hms(v)) },
-      { label: "C/N0 mean", scale: "db", stroke: "#4fc3f7", width: 1.5, value: (_u, v) => (v == null ? "—" : `${v.toFixed(1)} dB-Hz`) },
+      {
+        label: "C/N0 mean",
+        scale: "db",
+        stroke: "#4fc3f7",
+        width: 1.5,
+        value: (_u, v) => (v == null ? "—" : `${v.toFixed(1)} dB-Hz`),
+      },
       { label: "used", scale: "n", stroke: "#4caf50", width: 1.5, value: (_u, v) => (v == null ? "—" : String(v)) },
-      { label: "in view", scale: "n", stroke: "#f5a623", width: 1, dash: [4, 3], value: (_u, v) => (v == null ? "—" : String(v)) },
+      {
+        label: "in view",
+        scale: "n",
+        stroke: "#f5a623",
+        width: 1,
+        dash: [4, 3],
+        value: (_u, v) => (v == null ? "—" : String(v)),
+      },
     ],
   };
 }
@@ -86,7 +107,15 @@ export const TrendChart = memo(function TrendChart({ points, label }: { points: 
   }, [points]);
 
   return (
-    <figure className="trend" role="img" aria-label={label} data-testid="fix-history" data-points={points.length} data-first={points[0]?.t} data-last={points.at(-1)?.t}>
+    <figure
+      className="trend"
+      role="img"
+      aria-label={label}
+      data-testid="fix-history"
+      data-points={points.length}
+      data-first={points[0]?.t}
+      data-last={points.at(-1)?.t}
+    >
       <div ref={box} />
     </figure>
   );

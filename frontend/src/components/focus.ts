@@ -7,7 +7,10 @@ import { useEffect, useRef } from "react";
  * once: an operator who moved the focus meanwhile (or anything else that dropped it later) is never overruled.
  * `forget()`: the action failed and its button stays (so does the focus). The button must stay focusable while its
  * action runs (aria-disabled, not disabled, which would drop the focus at once). */
-export function useFocusWhenGone(): { pressed: (button: HTMLElement, next: () => HTMLElement | null | undefined) => void; forget: () => void } {
+export function useFocusWhenGone(): {
+  pressed: (button: HTMLElement, next: () => HTMLElement | null | undefined) => void;
+  forget: () => void;
+} {
   const after = useRef<{ button: HTMLElement; next: () => HTMLElement | null | undefined } | null>(null);
   useEffect(() => {
     const pending = after.current;

@@ -14,27 +14,54 @@ const B = "0c1f3a52-2d6e-5f0e-9a43-6f1b1d2a9e11";
 
 function alarm(id: number, over: Partial<Alarm> = {}): Alarm {
   return {
-    id, kind: "ins-failure", severity: "alarm", providerId: A, vehicle: A.slice(0, 8), sessionId: null, text: `Inertial sensor failure on ${A.slice(0, 8)}`,
-    since: 1000 + id, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "INS failure",
-    chattering: false, shelf: null, returned: null, ...over,
+    id,
+    kind: "ins-failure",
+    severity: "alarm",
+    providerId: A,
+    vehicle: A.slice(0, 8),
+    sessionId: null,
+    text: `Inertial sensor failure on ${A.slice(0, 8)}`,
+    since: 1000 + id,
+    state: "active-unacknowledged",
+    clearedAt: null,
+    ackedAt: null,
+    ackedBy: null,
+    cause: "INS failure",
+    chattering: false,
+    shelf: null,
+    returned: null,
+    ...over,
   };
 }
 
 const provider = (id: string) => ({
-  id, name: null, link: "live", ageSeconds: 0, topics: {}, linkConfig: null, jausId: null, umaaVersion: "3.0.1",
+  id,
+  name: null,
+  link: "live",
+  ageSeconds: 0,
+  topics: {},
+  linkConfig: null,
+  jausId: null,
+  umaaVersion: "3.0.1",
   reports: { GPSReport: null, GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null },
 });
 
 function snapshot(ids: string[], alarms: Alarm[] = []): ServerMessage {
   return {
-    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: false, commands: [], gateways: [], replay: null, alarms,
+    type: "snapshot",
+    consoleId: "c",
+    serverTime: 0,
+    authRequired: false,
+    commands: [],
+    gateways: [],
+    replay: null,
+    alarms,
     recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
     providers: ids.map(provider),
   } as unknown as ServerMessage;
 }
 
-const report = (id: string): ServerMessage =>
-  reportMessage(id, "InertialSensorReport", { state: "ON", status: "INIT" });
+const report = (id: string): ServerMessage => reportMessage(id, "InertialSensorReport", { state: "ON", status: "INIT" });
 
 function apply(msgs: ServerMessage[], start: State = initialState): State {
   return msgs.reduce((s, m, i) => reduce(s, m, 2000 + i), start);
@@ -52,10 +79,32 @@ describe("the console's alarms in the store", () => {
     expect(s.alarms).toEqual([]);
     s = apply([{ type: "alarms", alarms: [alarm(1)] }], s);
     expect(s.alarms).toEqual([alarm(1)]);
-    s = apply([{ type: "alarms", alarms: [alarm(2, { kind: "link-lost", providerId: B }), alarm(1, { state: "cleared-unacknowledged", clearedAt: 1500 })] }], s);
-    expect(s.alarms.map((a) => [a.id, a.state])).toEqual([[2, "active-unacknowledged"], [1, "cleared-unacknowledged"]]);
+    s = apply(
+      [
+        {
+          type: "alarms",
+          alarms: [
+            alarm(2, { kind: "link-lost", providerId: B }),
+            alarm(1, { state: "cleared-unacknowledged", clearedAt: 1500 }),
+          ],
+        },
+      ],
+      s,
+    );
+    expect(s.alarms.map((a) => [a.id, a.state])).toEqual([
+      [2, "active-unacknowledged"],
+      [1, "cleared-unacknowledged"],
+    ]);
     expect(unacknowledged(s.alarms)).toHaveLength(2); // cleared, but the operator has not seen it acknowledged
-    s = apply([{ type: "alarms", alarms: [alarm(2, { kind: "link-lost", providerId: B, state: "active-acknowledged", ackedAt: 1600, ackedBy: "alice" })] }], s);
+    s = apply(
+      [
+        {
+          type: "alarms",
+          alarms: [alarm(2, { kind: "link-lost", providerId: B, state: "active-acknowledged", ackedAt: 1600, ackedBy: "alice" })],
+        },
+      ],
+      s,
+    );
     expect(unacknowledged(s.alarms)).toEqual([]);
     expect(s.alarms).toHaveLength(1); // acknowledged and still active: listed
   });
@@ -66,7 +115,10 @@ describe("the console's alarms in the store", () => {
     inbox.enqueue(snapshot([A, B], [alarm(1)]));
     inbox.flush();
     let woken = 0;
-    store.subscribe((s) => s.alarms, () => woken++);
+    store.subscribe(
+      (s) => s.alarms,
+      () => woken++,
+    );
     inbox.enqueue(report(A));
     inbox.enqueue({ type: "provider", event: "lost", provider: { ...provider(B), link: "lost" } } as unknown as ServerMessage);
     inbox.flush();
@@ -81,7 +133,12 @@ describe("the console's alarms in the store", () => {
 describe("the tab title", () => {
   it("counts the unacknowledged alarms, and is plain at zero", () => {
     expect(pageTitle(2)).toBe("(2) SEM Console");
-    expect(pageTitle(unacknowledged([alarm(1), alarm(2, { state: "cleared-unacknowledged" }), alarm(3, { state: "active-acknowledged" })]).length)).toBe("(2) SEM Console");
+    expect(
+      pageTitle(
+        unacknowledged([alarm(1), alarm(2, { state: "cleared-unacknowledged" }), alarm(3, { state: "active-acknowledged" })])
+          .length,
+      ),
+    ).toBe("(2) SEM Console");
     expect(pageTitle(0)).toBe("SEM Console");
     expect(pageTitle(2, true)).toBe("(2) Replay · SEM Console"); // a replay's alarms never pass for a live console's
     expect(pageTitle(0, true)).toBe("Replay · SEM Console");
@@ -121,7 +178,12 @@ describe("a burst of new alarms", () => {
     const lost = (i: number) => alarm(i, { kind: "link-lost", cause: "Link lost", text: `V${i}: link lost` });
     expect(burst.add([lost(1), lost(2)], 0)).toBe(true); // the tone
     vi.advanceTimersByTime(500);
-    expect(burst.add(Array.from({ length: 18 }, (_, i) => lost(i + 3)), 500)).toBe(false); // no second tone
+    expect(
+      burst.add(
+        Array.from({ length: 18 }, (_, i) => lost(i + 3)),
+        500,
+      ),
+    ).toBe(false); // no second tone
     expect(said).toEqual([]);
     vi.advanceTimersByTime(1000);
     expect(said).toEqual(["Alarm: Link lost: 20 vehicles: see the alarm list"]);
@@ -137,9 +199,13 @@ describe("the live region's words for new alarms", () => {
     expect(alarmWords([alarm(1), alarm(2, { severity: "warning" })])).toBe(
       `Alarm: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:41 UTC. Warning: Inertial sensor failure on ${A.slice(0, 8)}, since 00:16:42 UTC`,
     );
-    const fleet = Array.from({ length: 250 }, (_, i) => alarm(i + 1, { text: `Vehicle ${i + 1}: link lost`, cause: i % 2 ? "Link lost" : "INS failure" }));
+    const fleet = Array.from({ length: 250 }, (_, i) =>
+      alarm(i + 1, { text: `Vehicle ${i + 1}: link lost`, cause: i % 2 ? "Link lost" : "INS failure" }),
+    );
     const said = alarmWords(fleet);
-    expect(said).toBe("Alarm: Vehicle 250: link lost, since 00:20:50 UTC. Alarm: Vehicle 249: link lost, since 00:20:49 UTC. And 248 more new alarms: see the alarm list");
+    expect(said).toBe(
+      "Alarm: Vehicle 250: link lost, since 00:20:50 UTC. Alarm: Vehicle 249: link lost, since 00:20:49 UTC. And 248 more new alarms: see the alarm list",
+    );
     expect(said.split("link lost")).toHaveLength(SAID_AT_MOST); // never read on for the whole fleet
   });
 });

@@ -42,7 +42,11 @@ export class Connection implements DataSource {
   private told: { ws: WebSocket; providerId: string | null } | null = null; // the last `select` sent, and its socket
 
   /** `protocols`: the WebSocket subprotocols of the next (re)connect (they carry the operator token). */
-  constructor(private readonly url: string, protected readonly inbox: Inbox, private readonly protocols: () => string[] = () => []) {}
+  constructor(
+    private readonly url: string,
+    protected readonly inbox: Inbox,
+    private readonly protocols: () => string[] = () => [],
+  ) {}
 
   subscribe = (l: Listener): (() => void) => {
     this.listeners.add(l);
@@ -62,7 +66,10 @@ export class Connection implements DataSource {
   start(): void {
     this.stopped = false;
     // the console sends the other vehicles' GPSReports without their satellites (only the selected one's are drawn)
-    this.unwatchSelected ??= this.inbox.store.subscribe((s) => s.selected, () => this.sendSelected(this.ws));
+    this.unwatchSelected ??= this.inbox.store.subscribe(
+      (s) => s.selected,
+      () => this.sendSelected(this.ws),
+    );
     this.setState("connecting");
     this.open(takeEarly(this.url, this.protocols())); // the page's own socket (early.ts), if it is still the right one
   }

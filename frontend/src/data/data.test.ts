@@ -1,5 +1,12 @@
 import { afterEach, describe, expect, expectTypeOf, it, vi } from "vitest";
-import type { Command, GPSFixStatusReportType, InertialSensorOpStatusEnumType, InertialSensorReportType, ReplayStatus, ServerMessage } from "../api/types";
+import type {
+  Command,
+  GPSFixStatusReportType,
+  InertialSensorOpStatusEnumType,
+  InertialSensorReportType,
+  ReplayStatus,
+  ServerMessage,
+} from "../api/types";
 import { Connection, PING_EVERY_MS, SILENT_AFTER_MS, backoff } from "./connection";
 import { Inbox, createStateStore, update } from "./store";
 import { unreachable } from "./source";
@@ -18,22 +25,63 @@ function env(report: Record<string, unknown>, invalid: string[] = [], receivedAt
 
 function cmd(over: Partial<Command> = {}): Command {
   return {
-    sessionId: "s1", service: "GPSFix", providerId: P, state: null, operator: null, createdAt: 1, status: null, terminal: false,
-    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, console: null, ackedAt: null, violations: [], transitions: [], ...over,
+    sessionId: "s1",
+    service: "GPSFix",
+    providerId: P,
+    state: null,
+    operator: null,
+    createdAt: 1,
+    status: null,
+    terminal: false,
+    unanswered: false,
+    cancelRequested: false,
+    canceledBy: null,
+    cleanedUp: false,
+    console: null,
+    ackedAt: null,
+    violations: [],
+    transitions: [],
+    ...over,
   };
 }
 
 function snapshot(): ServerMessage {
   return {
-    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: true, commands: [cmd()], gateways: [],
+    type: "snapshot",
+    consoleId: "c",
+    serverTime: 0,
+    authRequired: true,
+    commands: [cmd()],
+    gateways: [],
     recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
-    providers: [{ id: P, link: "live", ageSeconds: 0, topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
-      reports: { GPSReport: env({ satellites: [], numberSatellitesInView: 0 }), GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null } }],
+    providers: [
+      {
+        id: P,
+        link: "live",
+        ageSeconds: 0,
+        topics: { GPSReport: { ageSeconds: 2, samples: 1, alive: true, receivedAt: 0 } },
+        reports: {
+          GPSReport: env({ satellites: [], numberSatellitesInView: 0 }),
+          GPSFixReport: null,
+          GPSFixStatusReport: null,
+          InertialSensorReport: null,
+        },
+      },
+    ],
   } as unknown as ServerMessage;
 }
 
 const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", regainedBehavior: 0 } as const;
-const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({ id: P, name: null, link, ageSeconds, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const });
+const summary = (link: "live" | "lost" | "regained", ageSeconds = 0) => ({
+  id: P,
+  name: null,
+  link,
+  ageSeconds,
+  topics: {},
+  linkConfig: CONFIG,
+  jausId: null,
+  umaaVersion: "3.0.1" as const,
+});
 
 function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): State {
   return msgs.reduce((s, m, i) => reduce(s, m, t0 + i), start);
@@ -41,9 +89,19 @@ function apply(msgs: ServerMessage[], start: State = initialState, t0 = 1000): S
 
 describe("reducer", () => {
   it("applies a frame's messages together as one by one, leaving the state it started from as it was", () => {
-    const fix = (id: string, lat: number) => reportMessage(id, "GPSFixReport", { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 1 } } } });
+    const fix = (id: string, lat: number) =>
+      reportMessage(id, "GPSFixReport", {
+        position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 1 } } },
+      });
     const lost = { type: "provider", event: "lost", provider: { ...summary("lost", 5), id: "b" } } as unknown as ServerMessage;
-    const msgs = [fix("a", 1), fix("b", 2), lost, fix("a", 3), reportMessage("c", "InertialSensorReport", { state: "ON", status: "INIT" }), fix("b", 4)];
+    const msgs = [
+      fix("a", 1),
+      fix("b", 2),
+      lost,
+      fix("a", 3),
+      reportMessage("c", "InertialSensorReport", { state: "ON", status: "INIT" }),
+      fix("b", 4),
+    ];
     const start = apply([snapshot()]);
     const frozen = JSON.stringify(start);
     const one = msgs.reduce((s, m) => reduce(s, m, 1005), start);
@@ -86,7 +144,11 @@ describe("reducer", () => {
 
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
     const other = reportMessage("other", "InertialSensorReport", { state: "ON", status: "INIT" });
-    const appeared = { type: "provider", event: "appeared", provider: { id: "third", name: "Alpha", link: "live", ageSeconds: 0, topics: {} } } as unknown as ServerMessage;
+    const appeared = {
+      type: "provider",
+      event: "appeared",
+      provider: { id: "third", name: "Alpha", link: "live", ageSeconds: 0, topics: {} },
+    } as unknown as ServerMessage;
     let s = select(apply([snapshot()]), "other");
     s = apply([other, appeared], s);
     expect(s.selected).toBe("other");
@@ -111,12 +173,20 @@ describe("reducer", () => {
     const fix = (v: boolean) => reportMessage(P, "GPSFixStatusReport", { fixValid: v, carrierToNoise: [40] });
     const ins = (st: InertialSensorOpStatusEnumType) => reportMessage(P, "InertialSensorReport", { state: "ON", status: st });
     const tr = (status: string, reason: string, violation: string | null): ServerMessage => ({
-      type: "transition", sessionId: "s1", command: cmd({ status }),
+      type: "transition",
+      sessionId: "s1",
+      command: cmd({ status }),
       transition: { seq: 1, status, reason, logMessage: "x", violation, providerTime: 1, receivedAt: 1 },
     });
     const s = apply([
-      snapshot(), fix(true), fix(false), ins("OPERATIONAL"), ins("INERTIAL_SENSOR_FAILURE"), ins("INERTIAL_SENSOR_FAILURE"),
-      tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"), tr("FAILED", "RESOURCE_FAILED", null),
+      snapshot(),
+      fix(true),
+      fix(false),
+      ins("OPERATIONAL"),
+      ins("INERTIAL_SENSOR_FAILURE"),
+      ins("INERTIAL_SENSOR_FAILURE"),
+      tr("EXECUTING", "SUCCEEDED", "ISSUED -> EXECUTING is not a Figure 4 transition"),
+      tr("FAILED", "RESOURCE_FAILED", null),
       { type: "command", command: cmd({ sessionId: "s2", unanswered: true }) },
       { type: "provider", event: "lost", provider: summary("lost", 3) },
       { type: "provider", event: "regained", provider: summary("regained") },
@@ -128,7 +198,25 @@ describe("reducer", () => {
   });
 
   it("keeps satellite trails and a bounded C/N0 history, one point per second of the console's clock", () => {
-    const gps = (az: number, at: number): ServerMessage => reportMessage(P, "GPSReport", { numberSatellitesInView: 9, satellites: [{ azimuth: az, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true, antennaCarrierNoiseDensity: 40 }] }, [], at);
+    const gps = (az: number, at: number): ServerMessage =>
+      reportMessage(
+        P,
+        "GPSReport",
+        {
+          numberSatellitesInView: 9,
+          satellites: [
+            {
+              azimuth: az,
+              elevation: 0.5,
+              satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207",
+              usedInFix: true,
+              antennaCarrierNoiseDensity: 40,
+            },
+          ],
+        },
+        [],
+        at,
+      );
     let s = apply([snapshot()]);
     for (let t = 0; t < HISTORY_SECONDS * 2; t += 1) s = reduce(s, gps(t / 1000, 7000 + t / 2), 5000 + t);
     const trail = s.providers[P].trails.E07;
@@ -140,8 +228,17 @@ describe("reducer", () => {
   });
 
   it("computes chart points as the console does and merges the console's history after a reload", () => {
-    const sats = [{ antennaCarrierNoiseDensity: 30, usedInFix: true }, { antennaCarrierNoiseDensity: 50, usedInFix: false }, { usedInFix: true }];
-    expect(historyPoint({ satellites: sats, numberSatellitesInView: 3 } as never, 5)).toEqual({ t: 5, cn0: 40, used: 2, inView: 3 });
+    const sats = [
+      { antennaCarrierNoiseDensity: 30, usedInFix: true },
+      { antennaCarrierNoiseDensity: 50, usedInFix: false },
+      { usedInFix: true },
+    ];
+    expect(historyPoint({ satellites: sats, numberSatellitesInView: 3 } as never, 5)).toEqual({
+      t: 5,
+      cn0: 40,
+      used: 2,
+      inView: 3,
+    });
     expect(historyPoint({ satellites: [], numberSatellitesInView: 0 } as never, 5).cn0).toBe(null);
     const pt = (t: number, used = 1): HistoryPoint => ({ t, cn0: 40, used, inView: 9 });
     const live = [pt(1000.2, 7), pt(1001.1, 7)];
@@ -156,11 +253,30 @@ describe("reducer", () => {
   });
 
   it("follows the recording, failed too (a full disk: the console raises the alarm)", () => {
-    const rec = { state: "recording", directory: "/rec", file: "a.mcap", startedAt: 1, messages: 0, dropped: 0, error: null } as const;
+    const rec = {
+      state: "recording",
+      directory: "/rec",
+      file: "a.mcap",
+      startedAt: 1,
+      messages: 0,
+      dropped: 0,
+      error: null,
+    } as const;
     let s = apply([{ ...snapshot(), recording: rec } as ServerMessage]);
     expect(s.recording?.state).toBe("recording");
-    const failed = { ...rec, state: "failed", startedAt: null, error: "recording stopped: the disk is full (/rec/a.mcap)" } as const;
-    s = apply([{ type: "recording", recording: failed }, { type: "recording", recording: failed }], s);
+    const failed = {
+      ...rec,
+      state: "failed",
+      startedAt: null,
+      error: "recording stopped: the disk is full (/rec/a.mcap)",
+    } as const;
+    s = apply(
+      [
+        { type: "recording", recording: failed },
+        { type: "recording", recording: failed },
+      ],
+      s,
+    );
     expect(s.recording?.state).toBe("failed");
     expect(s.recording?.error).toBe(failed.error);
     s = apply([{ type: "recording", recording: { ...rec, file: "b.mcap" } }], s);
@@ -168,10 +284,26 @@ describe("reducer", () => {
   });
 
   it("keeps gateway states and a vehicle's link configuration and JAUS id", () => {
-    const gw = { name: "jaus", enabled: true, endpoint: "udp://127.0.0.1:3794 subsystem 5", messagesOut: 4, messagesPerSecond: 0.8,
-      lastError: null, lastErrorAt: null, counters: { received: 4 } } as const;
-    const configured = { ...summary("live"), linkConfig: { ...CONFIG, commsLostTimeout: 9, policy: "CONTINUE_MISSION" as const }, jausId: "5.1.1" };
-    const s = apply([snapshot(), { type: "gateways", gateways: [gw] }, { type: "provider", event: "configured", provider: configured }]);
+    const gw = {
+      name: "jaus",
+      enabled: true,
+      endpoint: "udp://127.0.0.1:3794 subsystem 5",
+      messagesOut: 4,
+      messagesPerSecond: 0.8,
+      lastError: null,
+      lastErrorAt: null,
+      counters: { received: 4 },
+    } as const;
+    const configured = {
+      ...summary("live"),
+      linkConfig: { ...CONFIG, commsLostTimeout: 9, policy: "CONTINUE_MISSION" as const },
+      jausId: "5.1.1",
+    };
+    const s = apply([
+      snapshot(),
+      { type: "gateways", gateways: [gw] },
+      { type: "provider", event: "configured", provider: configured },
+    ]);
     expect(s.gateways).toEqual([gw]);
     expect(s.providers[P].linkConfig?.commsLostTimeout).toBe(9);
     expect(s.providers[P].jausId).toBe("5.1.1");
@@ -192,11 +324,32 @@ describe("reducer", () => {
 });
 
 describe("CoMap world model and tasks", () => {
-  const fc = (coverage: string | null) => ({ type: "FeatureCollection", updatedAt: 1, source: "put",
-    features: [{ type: "Feature", geometry: { type: "Point", coordinates: [1, 2] }, properties: { featureId: 1, coverage } }] });
-  const task = (state: string, updatedAt: number, taskId = 1, more: object = {}) => ({ taskId, kind: "survey", vehicle: P, imcId: 8193, featureId: 1, sensor: "SIDESCAN",
-    resolution: 1, deadline: null, point: null, state, progress: 0, quality: null, synch: null, operator: null, createdAt: taskId, updatedAt,
-    stateAt: updatedAt, ...more });
+  const fc = (coverage: string | null) => ({
+    type: "FeatureCollection",
+    updatedAt: 1,
+    source: "put",
+    features: [{ type: "Feature", geometry: { type: "Point", coordinates: [1, 2] }, properties: { featureId: 1, coverage } }],
+  });
+  const task = (state: string, updatedAt: number, taskId = 1, more: object = {}) => ({
+    taskId,
+    kind: "survey",
+    vehicle: P,
+    imcId: 8193,
+    featureId: 1,
+    sensor: "SIDESCAN",
+    resolution: 1,
+    deadline: null,
+    point: null,
+    state,
+    progress: 0,
+    quality: null,
+    synch: null,
+    operator: null,
+    createdAt: taskId,
+    updatedAt,
+    stateAt: updatedAt,
+    ...more,
+  });
   it("takes the world model and tasks from the WebSocket; a REST answer older than a message does not undo it", async () => {
     const { tasksLoaded, worldModelLoaded } = await import("./slices/comap");
     let s = reduce(initialState, { type: "worldmodel", worldModel: fc(null) } as unknown as ServerMessage, 1);
@@ -216,13 +369,25 @@ describe("CoMap world model and tasks", () => {
     expect(tasksLoaded(kept, [task("ASSIGNED", 10) as never])).toBe(kept); // nothing newer: the same state
     // a HOLD (state decided at 40, progress as it was) came as a message; a GET answered before it, read after, has
     // newer progress (35) but the older state: the HOLD stays, the progress is taken
-    const running = reduce(kept, { type: "task", task: task("IN_PROGRESS", 30, 3, { progress: 20 }) } as unknown as ServerMessage, 4);
-    const held = reduce(running, { type: "task", task: task("HELD", 30, 3, { stateAt: 40, synch: "HOLD", progress: 20 }) } as unknown as ServerMessage, 5);
+    const running = reduce(
+      kept,
+      { type: "task", task: task("IN_PROGRESS", 30, 3, { progress: 20 }) } as unknown as ServerMessage,
+      4,
+    );
+    const held = reduce(
+      running,
+      { type: "task", task: task("HELD", 30, 3, { stateAt: 40, synch: "HOLD", progress: 20 }) } as unknown as ServerMessage,
+      5,
+    );
     const merged = tasksLoaded(held, [task("IN_PROGRESS", 35, 3, { stateAt: 30, progress: 60 }) as never]).tasks[3];
     expect([merged.state, merged.synch, merged.progress, merged.stateAt, merged.updatedAt]).toEqual(["HELD", "HOLD", 60, 40, 35]);
     // the vehicle COMPLETED it (at 38) before another station's HOLD (at 40) reached it: the console keeps it COMPLETED
     // (comap.c2.decided_over) and says so; the page does not keep the later HOLD over it
-    const done = reduce(held, { type: "task", task: task("COMPLETED", 38, 3, { stateAt: 38, progress: 100 }) } as unknown as ServerMessage, 6);
+    const done = reduce(
+      held,
+      { type: "task", task: task("COMPLETED", 38, 3, { stateAt: 38, progress: 100 }) } as unknown as ServerMessage,
+      6,
+    );
     expect([done.tasks[3].state, done.tasks[3].progress]).toEqual(["COMPLETED", 100]);
     expect(tasksLoaded(done, [task("HELD", 30, 3, { stateAt: 40, synch: "HOLD" }) as never]).tasks[3].state).toBe("COMPLETED");
   });
@@ -269,7 +434,10 @@ describe("store and connection", () => {
       onopen: (() => void) | null = null;
       closed = false;
       sent: string[] = []; // what the source sent the console (its acks)
-      constructor(readonly url: string, readonly protocols?: string[]) {
+      constructor(
+        readonly url: string,
+        readonly protocols?: string[],
+      ) {
         FakeSocket.all.push(this);
       }
       send(text: string): void {
@@ -400,7 +568,8 @@ describe("store and connection", () => {
       vi.stubGlobal("WebSocket", FakeSocket);
       const token = ["sem-console", "bearer.dG9rZW4"];
       const early = openEarly("ws://console/ws?batch=1", token);
-      const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
+      const ins = (status: string) =>
+        reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
       FakeSocket.all[0].readyState = 1;
       FakeSocket.all[0].receive(snapshot());
       FakeSocket.all[0].receive([ins("INIT"), ins("OPERATIONAL")]);
@@ -416,8 +585,11 @@ describe("store and connection", () => {
       expect(conn.getState()).toBe("live");
       // each frame taken is acknowledged, counted from the socket's first (?ack=1: the console's window)
       // then the vehicle it draws (the console sends the others' GPSReports without their satellites)
-      expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual(
-        [{ type: "ack", frames: 1 }, { type: "ack", frames: 2 }, { type: "select", providerId: P }]);
+      expect(FakeSocket.all[0].sent.map((t) => JSON.parse(t) as unknown)).toEqual([
+        { type: "ack", frames: 1 },
+        { type: "ack", frames: 2 },
+        { type: "select", providerId: P },
+      ]);
       inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL");
       FakeSocket.all[0].receive([ins("INERTIAL_SENSOR_FAILURE")]); // the socket's later messages reach the source
@@ -425,8 +597,10 @@ describe("store and connection", () => {
       expect(JSON.parse(FakeSocket.all[0].sent[3])).toEqual({ type: "ack", frames: 3 });
       update(store, (s) => ({ ...s, selected: "not-a-vehicle-id" })); // a ?vehicle= link to nothing: no vehicle's
       update(store, (s) => ({ ...s, selected: Q }));
-      expect(FakeSocket.all[0].sent.slice(4).map((t) => JSON.parse(t) as unknown)).toEqual(
-        [{ type: "select", providerId: null }, { type: "select", providerId: Q }]);
+      expect(FakeSocket.all[0].sent.slice(4).map((t) => JSON.parse(t) as unknown)).toEqual([
+        { type: "select", providerId: null },
+        { type: "select", providerId: Q },
+      ]);
       inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("INERTIAL_SENSOR_FAILURE");
 
@@ -439,7 +613,9 @@ describe("store and connection", () => {
       const alone = new Connection("ws://console/ws?batch=1", loneInbox, () => token);
       alone.start();
       expect(lone.getState().selected).toBe(P);
-      expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toEqual([JSON.stringify({ type: "select", providerId: P })]);
+      expect(FakeSocket.all[1].sent.filter((t) => t.includes('"select"'))).toEqual([
+        JSON.stringify({ type: "select", providerId: P }),
+      ]);
       alone.stop();
       FakeSocket.all.splice(1, 1); // the indices below as before
 
@@ -507,7 +683,8 @@ describe("store and connection", () => {
       conn.start();
       const ws = FakeSocket.all[0];
       ws.receive(snapshot());
-      const ins = (status: string) => reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
+      const ins = (status: string) =>
+        reportMessage(P, "InertialSensorReport", { state: "ON", status: status as InertialSensorOpStatusEnumType });
       ws.receive([ins("INIT"), reportMessage("other", "GPSFixStatusReport", { fixValid: true }), ins("OPERATIONAL")]);
       inbox.flush();
       expect(report(store.getState().providers[P], "InertialSensorReport")?.status).toBe("OPERATIONAL"); // the later one
@@ -518,12 +695,27 @@ describe("store and connection", () => {
 
 describe("the map's track", () => {
   const fix = (lat: number, lon: number, t: number) =>
-    reportMessage(P, "GPSFixReport", { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } } }, [], t);
+    reportMessage(
+      P,
+      "GPSFixReport",
+      {
+        position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } },
+      },
+      [],
+      t,
+    );
   it("takes at most one valid position a second from GPSFixReports, then merges the console's stored track", async () => {
     const { trackLoaded, TRACK_SECONDS } = await import("./slices/vehicles");
     let s = apply([snapshot(), fix(1, 2, 5000.1), fix(1.1, 2, 5000.6), fix(200, 2, 5001.2), fix(1.2, 2, 5002.0)]);
-    expect(s.providers[P].track).toEqual([{ lat: 1, lon: 2, t: 5000.1 }, { lat: 1.2, lon: 2, t: 5002.0 }]); // 1.1 same second, 200 invalid
-    s = trackLoaded(s, P, [{ lat: 0, lon: 0, t: 5002.0 - TRACK_SECONDS - 1 }, { lat: 0.5, lon: 2, t: 4990 }, { lat: 9, lon: 9, t: 5000.3 }]);
+    expect(s.providers[P].track).toEqual([
+      { lat: 1, lon: 2, t: 5000.1 },
+      { lat: 1.2, lon: 2, t: 5002.0 },
+    ]); // 1.1 same second, 200 invalid
+    s = trackLoaded(s, P, [
+      { lat: 0, lon: 0, t: 5002.0 - TRACK_SECONDS - 1 },
+      { lat: 0.5, lon: 2, t: 4990 },
+      { lat: 9, lon: 9, t: 5000.3 },
+    ]);
     expect(s.providers[P].track.map((p) => p.t)).toEqual([4990, 5000.1, 5002.0]); // too old dropped; the live point kept for its second
     expect(trackLoaded(s, "nobody", [{ lat: 0, lon: 0, t: 1 }])).toBe(s);
   });
@@ -576,7 +768,10 @@ describe("data sources", () => {
   });
 
   /** A replay source on a store with P selected, at `position` of the recording. */
-  function replayAt(state: "playing" | "paused", position: number): { inbox: Inbox; store: Inbox["store"]; replay: ReplaySource } {
+  function replayAt(
+    state: "playing" | "paused",
+    position: number,
+  ): { inbox: Inbox; store: Inbox["store"]; replay: ReplaySource } {
     vi.useFakeTimers({ now: 1_700_000_000_000 });
     const inbox = new Inbox(createStateStore(P));
     const store = inbox.store;
@@ -585,14 +780,37 @@ describe("data sources", () => {
     deliver(replay, { ...snapshot(), replay: playback(state, position, 1) } as ServerMessage);
     return { inbox, store, replay };
   }
-  const gpsReport = reportMessage(P, "GPSReport", { satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }] });
+  const gpsReport = reportMessage(P, "GPSReport", {
+    satellites: [{ azimuth: 1, elevation: 0.5, satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", usedInFix: true }],
+  });
 
   it("a replay snapshot (a seek) starts trails, charts and commands again, takes its alarms and keeps the selection", () => {
     const { inbox, store, replay } = replayAt("paused", 1050);
     deliver(replay, gpsReport);
     inbox.flush();
-    deliver(replay, { type: "alarms", alarms: [{ id: 1, kind: "link-lost", severity: "alarm", providerId: P, vehicle: P.slice(0, 8), sessionId: null,
-      text: "lost", since: 1049, state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "Link lost", chattering: false, shelf: null, returned: null }] });
+    deliver(replay, {
+      type: "alarms",
+      alarms: [
+        {
+          id: 1,
+          kind: "link-lost",
+          severity: "alarm",
+          providerId: P,
+          vehicle: P.slice(0, 8),
+          sessionId: null,
+          text: "lost",
+          since: 1049,
+          state: "active-unacknowledged",
+          clearedAt: null,
+          ackedAt: null,
+          ackedBy: null,
+          cause: "Link lost",
+          chattering: false,
+          shelf: null,
+          returned: null,
+        },
+      ],
+    });
     inbox.flush();
     expect(store.getState().providers[P].trails.E07).toHaveLength(1);
     expect(store.getState().alarms).toHaveLength(1);
@@ -623,7 +841,8 @@ describe("report payloads typed per topic", () => {
   it("a report message's topic narrows its report; a topic's view holds that topic's report", async () => {
     const { selectedTopic, viewReport } = await import("./slices/vehicles");
     const msg = reportMessage(P, "GPSFixStatusReport", { fixValid: true });
-    if (msg.type === "report" && msg.topic === "GPSFixStatusReport") expectTypeOf(msg.report.report).toEqualTypeOf<GPSFixStatusReportType>();
+    if (msg.type === "report" && msg.topic === "GPSFixStatusReport")
+      expectTypeOf(msg.report.report).toEqualTypeOf<GPSFixStatusReportType>();
     const s = apply([snapshot(), msg]);
     const status = viewReport(selectedTopic("GPSFixStatusReport")(s));
     expectTypeOf(status).toEqualTypeOf<GPSFixStatusReportType | null>();
@@ -650,9 +869,20 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
 
   it("a live partial GPSReport (another vehicle selected) keeps the satellites it had, the trails and the chart", async () => {
     const { selectedGpsPartial } = await import("./slices/vehicles");
-    const sats = [{ satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", azimuth: 1, elevation: 0.5, usedInFix: true, antennaCarrierNoiseDensity: 40 }];
+    const sats = [
+      {
+        satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207",
+        azimuth: 1,
+        elevation: 0.5,
+        usedInFix: true,
+        antennaCarrierNoiseDensity: 40,
+      },
+    ];
     const whole = apply([snapshot(), reportMessage(P, "GPSReport", { satellites: sats, numberSatellitesInView: 9 }, [], 2)]);
-    const thin = { ...reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 8 }, [], 3), partial: true } as ServerMessage;
+    const thin = {
+      ...reportMessage(P, "GPSReport", { satellites: [], numberSatellitesInView: 8 }, [], 3),
+      partial: true,
+    } as ServerMessage;
     const s = reduce(whole, thin, 10);
     expect(selectedGpsPartial(s)).toBe(true); // completed by the console's whole one (or GET /api/providers/{id})
     expect(report(s.providers[P], "GPSReport")).toEqual({ satellites: sats, numberSatellitesInView: 8 });
@@ -666,7 +896,8 @@ describe("the first screen: the snapshot's GPSReport without its satellites", ()
   it("a vehicle not selected: its whole GPSReport of every 5 s gives its trails a point, a few ms early or not", () => {
     const sat = (az: number) => [{ satelliteId: "ca5d35fb-bcc2-5b9a-b20c-df56b7b90207", azimuth: az, elevation: 0.5 }];
     const whole = (az: number, at: number) => reportMessage(P, "GPSReport", { satellites: sat(az) }, [], at);
-    const thin = (at: number) => ({ ...reportMessage(P, "GPSReport", { satellites: [] }, [], at), partial: true }) as ServerMessage;
+    const thin = (at: number) =>
+      ({ ...reportMessage(P, "GPSReport", { satellites: [] }, [], at), partial: true }) as ServerMessage;
     let s = reduce(apply([snapshot()]), whole(1, 100), 100);
     for (const t of [101, 102, 103, 104]) s = reduce(s, thin(t), t);
     s = reduce(s, whole(2, 104.98), 104.98); // the console's 5 s, arriving 20 ms sooner than the last one did

@@ -9,7 +9,10 @@ class FakeSocket {
   onmessage: unknown = null;
   onopen: unknown = null;
   closed = false;
-  constructor(readonly url: string, readonly protocols?: string[]) {
+  constructor(
+    readonly url: string,
+    readonly protocols?: string[],
+  ) {
     FakeSocket.all.push(this);
   }
   close(): void {

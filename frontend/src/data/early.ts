@@ -59,7 +59,8 @@ export function startEarly(): Promise<Health> {
     const opened = !known || getToken() !== null ? openEarly(defaultUrl(), wsProtocols()) : null;
     healthAnswer = consoleHealth().then((h) => {
       if (h.readAuthRequired !== known) writeSetting(READ_AUTH_KEY, h.readAuthRequired);
-      if (!mayRead(h)) opened?.ws.close(); // reads need a token it has not: the console refuses it anyway
+      if (!mayRead(h))
+        opened?.ws.close(); // reads need a token it has not: the console refuses it anyway
       else if (!opened) openEarly(defaultUrl(), wsProtocols());
       return h;
     });

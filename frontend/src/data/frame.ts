@@ -80,10 +80,13 @@ export function frameSource<T>(
         const now = performance.now();
         if (now - drawnAt < everyMs) {
           // not a frame asked for each frame until then (a page kept producing frames for nothing)
-          waiting ??= setTimeout(() => {
-            waiting = undefined;
-            onFrame(draw);
-          }, everyMs - (now - drawnAt));
+          waiting ??= setTimeout(
+            () => {
+              waiting = undefined;
+              onFrame(draw);
+            },
+            everyMs - (now - drawnAt),
+          );
           return;
         }
         const next = select(store.getState());

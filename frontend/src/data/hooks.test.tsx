@@ -8,7 +8,9 @@ import { TestSource, reportMessage, snapshotMessage, vehicle } from "./testing";
 
 function counted<T>(source: TestSource, hook: () => T): { renders: () => number; value: () => T } {
   let renders = 0;
-  const wrapper = ({ children }: { children: ReactNode }) => <DataContext.Provider value={{ store: source.store, source }}>{children}</DataContext.Provider>;
+  const wrapper = ({ children }: { children: ReactNode }) => (
+    <DataContext.Provider value={{ store: source.store, source }}>{children}</DataContext.Provider>
+  );
   const { result } = renderHook(() => (renders++, hook()), { wrapper });
   return { renders: () => renders, value: () => result.current };
 }
@@ -20,9 +22,17 @@ describe("shallow selectors over every vehicle", () => {
     const source = new TestSource();
     act(() => source.send(snapshotMessage({ providers: [vehicle("a", { name: "Alpha" }), vehicle("b")] })));
     const names = counted(source, useVehicleNames);
-    expect([...names.value()]).toEqual([["a", "Alpha"], ["b", ""]]);
+    expect([...names.value()]).toEqual([
+      ["a", "Alpha"],
+      ["b", ""],
+    ]);
     const before = names.renders();
-    act(() => source.send(reportMessage("a", "InertialSensorReport", { state: "ON" }), reportMessage("b", "GPSFixStatusReport", { fixValid: true })));
+    act(() =>
+      source.send(
+        reportMessage("a", "InertialSensorReport", { state: "ON" }),
+        reportMessage("b", "GPSFixStatusReport", { fixValid: true }),
+      ),
+    );
     expect(names.renders()).toBe(before);
     act(() => source.send({ type: "provider", event: "configured", provider: { ...vehicle("b"), name: "Bravo" } }));
     expect(names.renders()).toBe(before + 1);
@@ -31,7 +41,12 @@ describe("shallow selectors over every vehicle", () => {
 
   it("the lost vehicles: not woken by a live vehicle's reports, woken by a loss", () => {
     const source = new TestSource();
-    act(() => source.send(snapshotMessage({ providers: [vehicle("a"), vehicle("b")] }), reportMessage("b", "GPSFixStatusReport", { fixValid: true })));
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: [vehicle("a"), vehicle("b")] }),
+        reportMessage("b", "GPSFixStatusReport", { fixValid: true }),
+      ),
+    );
     const lost = counted(source, useLostVehicles);
     expect(lost.value().size).toBe(0);
     const before = lost.renders();

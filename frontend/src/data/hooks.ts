@@ -149,7 +149,10 @@ const selectedId = (s: State): string | null => s.selected;
 /** Every vehicle, sorted by id, on the frame; `same` (stable): when two views of every vehicle draw alike (an
  * overview showing a few fields of each skips the frames where none of those changed); `everyMs`: at most
  * once that often (frameSource). */
-export function useProvidersOnFrame(same?: (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean, everyMs = 0): ProviderView[] {
+export function useProvidersOnFrame(
+  same?: (a: Record<string, ProviderView>, b: Record<string, ProviderView>) => boolean,
+  everyMs = 0,
+): ProviderView[] {
   const providers = useFrameValue(allProviders, same, everyMs);
   return useMemo(() => Object.values(providers).sort((a, b) => a.id.localeCompare(b.id)), [providers]);
 }
@@ -213,7 +216,10 @@ export function useSelectedProvider(): ProviderView | null {
 export function useCommands(providerId: string | null): Command[] {
   const commands = useSelector((s) => s.commands);
   return useMemo(
-    () => Object.values(commands).filter((c) => !providerId || c.providerId === providerId).sort((a, b) => b.createdAt - a.createdAt),
+    () =>
+      Object.values(commands)
+        .filter((c) => !providerId || c.providerId === providerId)
+        .sort((a, b) => b.createdAt - a.createdAt),
     [commands, providerId],
   );
 }

@@ -12,8 +12,24 @@ import { makeQueryClient } from "./queries";
 import { TestSource, snapshotMessage, vehicle } from "./testing";
 
 const task = (taskId: number, state: Task["state"], stateAt: number): Task => ({
-  taskId, createdAt: 1, deadline: null, featureId: null, imcId: 7, kind: "move", operator: null, point: null, progress: 0, quality: null,
-  resolution: null, sensor: null, state, stateAt, station: null, synch: null, vehicle: "v", updatedAt: stateAt,
+  taskId,
+  createdAt: 1,
+  deadline: null,
+  featureId: null,
+  imcId: 7,
+  kind: "move",
+  operator: null,
+  point: null,
+  progress: 0,
+  quality: null,
+  resolution: null,
+  sensor: null,
+  state,
+  stateAt,
+  station: null,
+  synch: null,
+  vehicle: "v",
+  updatedAt: stateAt,
 });
 
 /** fetch answering `answer(path)` after `delay` resolves, counting the requests of each path. */
@@ -60,13 +76,18 @@ describe("REST loads merged into the store", () => {
   it("drops a world model answered before a newer `worldmodel` message came", async () => {
     let answer: () => void = () => undefined;
     const asked = fakeConsole(
-      () => ({ type: "FeatureCollection", features: [{ type: "Feature", id: 1, properties: { name: "old" }, geometry: { type: "Point", coordinates: [0, 0] } }] }),
+      () => ({
+        type: "FeatureCollection",
+        features: [{ type: "Feature", id: 1, properties: { name: "old" }, geometry: { type: "Point", coordinates: [0, 0] } }],
+      }),
       () => new Promise((r) => (answer = r)),
     );
     const source = new TestSource();
     const { result } = renderHook(() => useWorldModel(), { wrapper: wrapper(source) });
     await waitFor(() => expect(asked.get("/api/worldmodel")).toBe(1));
-    act(() => source.send({ type: "worldmodel", worldModel: { type: "FeatureCollection", features: [], source: null, updatedAt: 2 } }));
+    act(() =>
+      source.send({ type: "worldmodel", worldModel: { type: "FeatureCollection", features: [], source: null, updatedAt: 2 } }),
+    );
     act(() => answer());
     await new Promise((r) => setTimeout(r, 20));
     expect(result.current?.features).toEqual([]); // the message's, not the older answer's
@@ -82,7 +103,6 @@ describe("REST loads merged into the store", () => {
     await waitFor(() => expect(source.store.getState().providers.b.track).toEqual([{ t: 990, lat: 2, lon: 3 }]));
     expect(Object.fromEntries(asked)).toEqual({ "/api/providers/a/track": 1, "/api/providers/b/track": 1 });
   });
-
 });
 
 describe("REST reads shown as the console answers them", () => {
@@ -96,7 +116,10 @@ describe("REST reads shown as the console answers them", () => {
     const asked = fakeConsole((path) => ({ imcId: path.includes("/a/") ? imcId : 9, capabilities: [], lastHeard: 1000 }));
     const source = new TestSource();
     act(() => source.send(snapshotMessage({ providers: [vehicle("a"), vehicle("b")] })));
-    const { result, rerender } = renderHook(({ id }: { id: string }) => useVehicleCapabilities(id), { wrapper: wrapper(source), initialProps: { id: "a" } });
+    const { result, rerender } = renderHook(({ id }: { id: string }) => useVehicleCapabilities(id), {
+      wrapper: wrapper(source),
+      initialProps: { id: "a" },
+    });
     await waitFor(() => expect(result.current?.imcId).toBe(7));
     rerender({ id: "b" }); // the operator selects another vehicle
     await waitFor(() => expect(result.current?.imcId).toBe(9));

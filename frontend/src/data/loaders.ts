@@ -5,14 +5,32 @@
 import { useQuery } from "@tanstack/react-query";
 import type { FeatureCollection } from "geojson";
 import { useEffect, useMemo, useRef } from "react";
-import { providerDetail, series, tasks, track, worldModel, type ComapStatus, type ComapVehicle, type Health, type Task } from "../api/rest";
+import {
+  providerDetail,
+  series,
+  tasks,
+  track,
+  worldModel,
+  type ComapStatus,
+  type ComapVehicle,
+  type Health,
+  type Task,
+} from "../api/rest";
 import type { TrackSample } from "../lib/geo";
 import { useToken } from "./auth";
 import { useShallow } from "zustand/react/shallow";
 import { perProviders, useConnectionState, useData, useSelector } from "./hooks";
 import { capabilitiesQuery, comapStatusQuery, healthQuery, operatorQuery } from "./queries";
 import { tasksReplaced, worldModelLoaded } from "./slices/comap";
-import { HISTORY_SECONDS, TRACK_SECONDS, detailLoaded, historyLoaded, selectedGpsPartial, trackLoaded, type HistoryPoint } from "./slices/vehicles";
+import {
+  HISTORY_SECONDS,
+  TRACK_SECONDS,
+  detailLoaded,
+  historyLoaded,
+  selectedGpsPartial,
+  trackLoaded,
+  type HistoryPoint,
+} from "./slices/vehicles";
 import type { State } from "./state";
 import { update } from "./store";
 
@@ -29,13 +47,23 @@ export function useOperatorName(): string | null {
 const isoSecondsAgo = (now: number, seconds: number) => new Date((now - seconds) * 1000).toISOString();
 
 /** A vehicle's chart history (GET /api/providers/{id}/series) of the HISTORY_SECONDS before `now`. */
-export async function loadSeries(providerId: string, token: string | null, now: number, signal?: AbortSignal): Promise<HistoryPoint[]> {
+export async function loadSeries(
+  providerId: string,
+  token: string | null,
+  now: number,
+  signal?: AbortSignal,
+): Promise<HistoryPoint[]> {
   const points = await series(providerId, isoSecondsAgo(now, HISTORY_SECONDS), token, signal);
   return points.map((p) => ({ t: p.time, cn0: p.cn0Mean, used: p.satellitesUsed, inView: p.satellitesInView }));
 }
 
 /** A vehicle's stored track (GET /api/providers/{id}/track) of the TRACK_SECONDS before `now`. */
-export async function loadTrack(providerId: string, token: string | null, now: number, signal?: AbortSignal): Promise<TrackSample[]> {
+export async function loadTrack(
+  providerId: string,
+  token: string | null,
+  now: number,
+  signal?: AbortSignal,
+): Promise<TrackSample[]> {
   const points = await track(providerId, isoSecondsAgo(now, TRACK_SECONDS), token, signal);
   return points.map((p) => ({ lat: p.latitude, lon: p.longitude, t: p.time }));
 }
@@ -43,7 +71,11 @@ export async function loadTrack(providerId: string, token: string | null, now: n
 /** Load once for each `key` (null: nothing to load now) and merge the answer into the store with `merge`; the request
  * of a key left before it answered is aborted, and a failed one leaves the live data to fill in. `key` holds all that
  * `load` depends on. */
-function useLoadInto<T>(key: string | null, load: (signal: AbortSignal) => Promise<T>, merge: (s: State, answer: T) => State): void {
+function useLoadInto<T>(
+  key: string | null,
+  load: (signal: AbortSignal) => Promise<T>,
+  merge: (s: State, answer: T) => State,
+): void {
   const { store } = useData();
   useEffect(() => {
     if (key === null) return;

@@ -18,7 +18,12 @@ export const healthQuery = () => queryOptions({ queryKey: ["health"], queryFn: (
 /** GET /api/operator: the name the operator's token belongs to (the header says who is signed in); asked once per
  * token. */
 export const operatorQuery = (token: string | null) =>
-  queryOptions({ queryKey: ["operator", token], queryFn: () => checkToken(token!), enabled: token !== null, staleTime: Infinity });
+  queryOptions({
+    queryKey: ["operator", token],
+    queryFn: () => checkToken(token!),
+    enabled: token !== null,
+    staleTime: Infinity,
+  });
 
 /** Other vendors' participants the console sees but cannot read, with the fix (GET /api/metrics): asked every
  * PEER_FINDINGS_MS, as the console itself looks at discovery every second; not pushed over the WebSocket. */

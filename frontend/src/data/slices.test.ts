@@ -5,7 +5,17 @@ import { Inbox, createStateStore, update } from "./store";
 import { frameSource, onFrame } from "./frame";
 import { sameOverview } from "./hooks";
 import { reportMessage, type DeepPartial } from "./testing";
-import { allProviders, selectedKnown, selectedPlannedUntil, selectedLink, selectedLinkConfig, selectedName, selectedTopic, selectedTrails, type TopicView } from "./slices/vehicles";
+import {
+  allProviders,
+  selectedKnown,
+  selectedPlannedUntil,
+  selectedLink,
+  selectedLinkConfig,
+  selectedName,
+  selectedTopic,
+  selectedTrails,
+  type TopicView,
+} from "./slices/vehicles";
 import { plannedUntil } from "./slices/alarms";
 import { type State } from "./state";
 
@@ -15,11 +25,23 @@ const CONFIG = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP_MISSION", r
 
 function snapshot(): ServerMessage {
   const provider = (id: string) => ({
-    id, name: "Alpha", link: "live", ageSeconds: 0, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1",
+    id,
+    name: "Alpha",
+    link: "live",
+    ageSeconds: 0,
+    topics: {},
+    linkConfig: CONFIG,
+    jausId: null,
+    umaaVersion: "3.0.1",
     reports: { GPSReport: null, GPSFixReport: null, GPSFixStatusReport: null, InertialSensorReport: null },
   });
   return {
-    type: "snapshot", consoleId: "c", serverTime: 0, authRequired: false, commands: [], gateways: [],
+    type: "snapshot",
+    consoleId: "c",
+    serverTime: 0,
+    authRequired: false,
+    commands: [],
+    gateways: [],
     recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
     providers: [provider(A), provider(B)],
   } as unknown as ServerMessage;
@@ -29,8 +51,19 @@ let t = 100;
 function reportMsg(providerId: string, topic: Topic): ServerMessage {
   t += 0.1;
   const bodies: { [T in Topic]: DeepPartial<ReportTypes[T]> } = {
-    GPSReport: { numberSatellitesInView: 2, satellites: [{ satelliteId: "s3", azimuth: 1, elevation: 0.5, usedInFix: true }, { satelliteId: "s70", azimuth: 2, elevation: 0.2 }] },
-    GPSFixReport: { position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: 0.1 + t * 1e-6 }, geodeticLongitude: { longitude: 0.2 } } }, trueCourse: 1 },
+    GPSReport: {
+      numberSatellitesInView: 2,
+      satellites: [
+        { satelliteId: "s3", azimuth: 1, elevation: 0.5, usedInFix: true },
+        { satelliteId: "s70", azimuth: 2, elevation: 0.2 },
+      ],
+    },
+    GPSFixReport: {
+      position2DWithTime: {
+        geodeticPosition: { geodeticLatitude: { latitude: 0.1 + t * 1e-6 }, geodeticLongitude: { longitude: 0.2 } },
+      },
+      trueCourse: 1,
+    },
     GPSFixStatusReport: { fixValid: true },
     InertialSensorReport: { state: "ON", status: "OPERATIONAL" },
   };
@@ -58,7 +91,11 @@ function setup(slices: Record<string, (s: State) => unknown>) {
 
 describe("slice subscriptions", () => {
   it("a GPSFixReport at 10 Hz does not notify the satellites (sky plot, table) subscriptions", () => {
-    const { notified, send } = setup({ satellites: selectedTopic("GPSReport"), trails: selectedTrails, fix: selectedTopic("GPSFixReport") });
+    const { notified, send } = setup({
+      satellites: selectedTopic("GPSReport"),
+      trails: selectedTrails,
+      fix: selectedTopic("GPSFixReport"),
+    });
     for (let i = 0; i < 10; i++) send(A, "GPSFixReport");
     expect(notified).toEqual({ satellites: 0, trails: 0, fix: 10 });
     send(A, "GPSReport");
@@ -71,7 +108,12 @@ describe("slice subscriptions", () => {
   });
 
   it("other topics and other vehicles' reports do not notify the selected vehicle's slices", () => {
-    const slices = { satellites: selectedTopic("GPSReport"), fix: selectedTopic("GPSFixReport"), status: selectedTopic("GPSFixStatusReport"), ins: selectedTopic("InertialSensorReport") };
+    const slices = {
+      satellites: selectedTopic("GPSReport"),
+      fix: selectedTopic("GPSFixReport"),
+      status: selectedTopic("GPSFixStatusReport"),
+      ins: selectedTopic("InertialSensorReport"),
+    };
     const { notified, send } = setup(slices);
     for (const topic of ["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"] as Topic[]) send(B, topic);
     expect(notified).toEqual({ satellites: 0, fix: 0, status: 0, ins: 0 });
@@ -81,10 +123,29 @@ describe("slice subscriptions", () => {
   });
 
   it("what a panel shows of the vehicle itself (name, link, configuration) is not notified by its reports", () => {
-    const { inbox, store, notified, send } = setup({ name: selectedName, link: selectedLink, config: selectedLinkConfig, known: selectedKnown, all: allProviders });
+    const { inbox, store, notified, send } = setup({
+      name: selectedName,
+      link: selectedLink,
+      config: selectedLinkConfig,
+      known: selectedKnown,
+      all: allProviders,
+    });
     for (const topic of ["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"] as Topic[]) send(A, topic);
     expect(notified).toEqual({ name: 0, link: 0, config: 0, known: 0, all: 4 }); // the overview of every vehicle sees each
-    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.enqueue({
+      type: "provider",
+      event: "lost",
+      provider: {
+        id: A,
+        name: "Alpha",
+        link: "lost",
+        ageSeconds: 5,
+        topics: {},
+        linkConfig: CONFIG,
+        jausId: null,
+        umaaVersion: "3.0.1" as const,
+      },
+    } as unknown as ServerMessage);
     inbox.flush();
     expect(notified.link).toBe(1);
     update(store, (s) => ({ ...s, selected: B }));
@@ -96,11 +157,33 @@ describe("slice subscriptions", () => {
 
   it("names the selected vehicle out of comms (planned) only while it is lost in a planned silence in force", () => {
     const { inbox, store } = setup({});
-    const silence = { id: "s1", providerId: A, vehicle: "Alpha", until: 5000, reason: "dive", at: 0, by: "alice", station: "watch" };
+    const silence = {
+      id: "s1",
+      providerId: A,
+      vehicle: "Alpha",
+      until: 5000,
+      reason: "dive",
+      at: 0,
+      by: "alice",
+      station: "watch",
+    };
     inbox.enqueue({ type: "silences", silences: [silence] } as unknown as ServerMessage);
     inbox.flush();
     expect(selectedPlannedUntil(store.getState())).toBeNull(); // heard: its silence says nothing of its link
-    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.enqueue({
+      type: "provider",
+      event: "lost",
+      provider: {
+        id: A,
+        name: "Alpha",
+        link: "lost",
+        ageSeconds: 5,
+        topics: {},
+        linkConfig: CONFIG,
+        jausId: null,
+        umaaVersion: "3.0.1" as const,
+      },
+    } as unknown as ServerMessage);
     inbox.flush();
     expect(selectedPlannedUntil(store.getState())).toBe(5000);
     expect(plannedUntil(store.getState().silences, B, "lost")).toBeNull(); // lost without a silence: lost
@@ -125,7 +208,8 @@ function frames(hidden = false) {
   };
 }
 
-const latitude = (v: TopicView<"GPSFixReport"> | null) => v?.envelope.report.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
+const latitude = (v: TopicView<"GPSFixReport"> | null) =>
+  v?.envelope.report.position2DWithTime?.geodeticPosition?.geodeticLatitude?.latitude;
 
 describe("the rendering model: a panel draws on the animation frame", () => {
   afterEach(() => {
@@ -243,7 +327,6 @@ describe("an overview's slice", () => {
     expect(src.getSnapshot()).toBe(store.getState().providers);
   });
 
-
   it("draws alike when no shown field changed (a newer report: its age is the clock's to draw), not when a link did", () => {
     const { inbox, store, send } = setup({});
     const same = sameOverview();
@@ -253,7 +336,20 @@ describe("an overview's slice", () => {
     expect(before).not.toBe(store.getState().providers);
     expect(same(before, store.getState().providers)).toBe(true);
     const a = store.getState().providers;
-    inbox.enqueue({ type: "provider", event: "lost", provider: { id: A, name: "Alpha", link: "lost", ageSeconds: 5, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1" as const } } as unknown as ServerMessage);
+    inbox.enqueue({
+      type: "provider",
+      event: "lost",
+      provider: {
+        id: A,
+        name: "Alpha",
+        link: "lost",
+        ageSeconds: 5,
+        topics: {},
+        linkConfig: CONFIG,
+        jausId: null,
+        umaaVersion: "3.0.1" as const,
+      },
+    } as unknown as ServerMessage);
     inbox.flush();
     expect(same(a, store.getState().providers)).toBe(false);
   });

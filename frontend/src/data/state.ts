@@ -4,7 +4,15 @@ import type { FeatureCollection } from "geojson";
 import type { Command, DatabaseState, GatewayState, RecordingStatus, ServerMessage, Topic } from "../api/types";
 import { initialAlarms, type AlarmsState } from "./slices/alarms";
 import { initialComap, taskReceived, type ComapState } from "./slices/comap";
-import { emptyProvider, fromSummary, initialVehicles, reported, withLoneSelected, type ProviderView, type VehiclesState } from "./slices/vehicles";
+import {
+  emptyProvider,
+  fromSummary,
+  initialVehicles,
+  reported,
+  withLoneSelected,
+  type ProviderView,
+  type VehiclesState,
+} from "./slices/vehicles";
 
 /** What the console says of itself: its id, whether it asks for tokens, its gateways, recording and database, and
  * the commands it follows. */
@@ -21,7 +29,15 @@ export interface ConsoleState {
 
 export type State = ConsoleState & VehiclesState & AlarmsState & ComapState;
 
-const initialConsole: ConsoleState = { consoleId: null, authRequired: false, readAuthRequired: false, commands: {}, gateways: [], recording: null, database: null };
+const initialConsole: ConsoleState = {
+  consoleId: null,
+  authRequired: false,
+  readAuthRequired: false,
+  commands: {},
+  gateways: [],
+  recording: null,
+  database: null,
+};
 
 export const initialState: State = { ...initialConsole, ...initialVehicles, ...initialAlarms, ...initialComap };
 
@@ -66,17 +82,37 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
           if (env) {
             const ageS = d.topics[topic]?.ageSeconds ?? 0;
             const partial = topic === "GPSReport" ? { partial: true } : {};
-            p = { ...p, topics: { ...p.topics, [topic]: { envelope: env, at: now - ageS, interval: old?.topics[topic]?.interval ?? null, ...partial } } };
+            p = {
+              ...p,
+              topics: {
+                ...p.topics,
+                [topic]: { envelope: env, at: now - ageS, interval: old?.topics[topic]?.interval ?? null, ...partial },
+              },
+            };
           }
         }
         providers[d.id] = p;
       }
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
-      return { ...state, consoleId: msg.consoleId, authRequired: msg.authRequired, providers, commands, gateways: msg.gateways, recording: msg.recording, alarms: msg.alarms ?? [], silences: msg.silences ?? [], database: msg.database ?? null };
+      return {
+        ...state,
+        consoleId: msg.consoleId,
+        authRequired: msg.authRequired,
+        providers,
+        commands,
+        gateways: msg.gateways,
+        recording: msg.recording,
+        alarms: msg.alarms ?? [],
+        silences: msg.silences ?? [],
+        database: msg.database ?? null,
+      };
     }
     case "report":
-      return { ...state, providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) } };
+      return {
+        ...state,
+        providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) },
+      };
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
@@ -105,7 +141,6 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return state;
   }
 }
-
 
 /** A replay moved to another instant: what was built from the instants before it (trails, charts) goes;
  * the snapshot that follows brings the alarms of the new instant. */

@@ -40,7 +40,8 @@ export class Inbox {
     if (this.scheduled) return;
     this.scheduled = true;
     // a hidden page has no frames, and its state stays current for the tab's title and the alarm tone
-    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden) onFrame(this.flushJob);
+    if (typeof requestAnimationFrame === "function" && typeof document !== "undefined" && !document.hidden)
+      onFrame(this.flushJob);
     else setTimeout(this.flushJob, 50);
   }
 

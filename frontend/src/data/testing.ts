@@ -1,14 +1,33 @@
 // Test fixtures: server messages built from the parts a test needs, and the mock data source of component tests.
 import type { Alarm } from "../api/generated/ws";
-import type { Command, LinkConfig, ReplayStatus, ReportTypes, ServerMessage, Topic, TypedProviderDetail, TypedSnapshotMessage } from "../api/types";
+import type {
+  Command,
+  LinkConfig,
+  ReplayStatus,
+  ReportTypes,
+  ServerMessage,
+  Topic,
+  TypedProviderDetail,
+  TypedSnapshotMessage,
+} from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { Inbox, createStateStore, type StateStore } from "./store";
 
 /** Every member optional, at every depth: the part of a report a test sets. */
-export type DeepPartial<T> = T extends (infer U)[] ? DeepPartial<U>[] : T extends object ? { [K in keyof T]?: DeepPartial<T[K]> } : T;
+export type DeepPartial<T> = T extends (infer U)[]
+  ? DeepPartial<U>[]
+  : T extends object
+    ? { [K in keyof T]?: DeepPartial<T[K]> }
+    : T;
 
 /** A `report` message of `topic` carrying `report` (members the test leaves out are absent, as a reducer must bear). */
-export function reportMessage<T extends Topic>(providerId: string, topic: T, report: DeepPartial<ReportTypes[T]>, invalid: string[] = [], receivedAt = 1): ServerMessage {
+export function reportMessage<T extends Topic>(
+  providerId: string,
+  topic: T,
+  report: DeepPartial<ReportTypes[T]>,
+  invalid: string[] = [],
+  receivedAt = 1,
+): ServerMessage {
   const sample = report as ReportTypes[T];
   return { type: "report", providerId, topic, report: { report: sample, invalid, receivedAt } } as ServerMessage;
 }
@@ -17,23 +36,58 @@ const CONFIG: LinkConfig = { commsLostTimeout: 3, regainedTime: 3, policy: "STOP
 
 /** A vehicle as the snapshot gives it: live, named, UMAA 3.0.1, no reports; `over` sets the rest. */
 export function vehicle(id: string, over: Partial<TypedProviderDetail> = {}): TypedProviderDetail {
-  return { id, name: null, link: "live", ageSeconds: 0, topics: {}, linkConfig: CONFIG, jausId: null, umaaVersion: "3.0.1", reports: {}, ...over };
+  return {
+    id,
+    name: null,
+    link: "live",
+    ageSeconds: 0,
+    topics: {},
+    linkConfig: CONFIG,
+    jausId: null,
+    umaaVersion: "3.0.1",
+    reports: {},
+    ...over,
+  };
 }
 
 /** The snapshot a console sends on a (re)connect: no vehicle, alarm or command unless `over` gives them. */
 export function snapshotMessage(over: Partial<TypedSnapshotMessage> = {}): ServerMessage {
   return {
-    type: "snapshot", consoleId: "test-console", serverTime: 0, authRequired: false, commands: [], gateways: [], alarms: [], silences: [],
+    type: "snapshot",
+    consoleId: "test-console",
+    serverTime: 0,
+    authRequired: false,
+    commands: [],
+    gateways: [],
+    alarms: [],
+    silences: [],
     recording: { state: "off", directory: "var/recordings", file: null, startedAt: null, messages: 0, dropped: 0, error: null },
-    replay: null, providers: [], ...over,
+    replay: null,
+    providers: [],
+    ...over,
   };
 }
 
 /** An alarm of the console's active set: active and unacknowledged unless `over` says otherwise. */
 export function alarm(id: number, providerId: string | null, over: Partial<Alarm> = {}): Alarm {
   return {
-    id, kind: "link-lost", severity: "alarm", providerId, vehicle: providerId?.slice(0, 8) ?? "", sessionId: null, text: "link lost", since: 1000,
-    state: "active-unacknowledged", clearedAt: null, ackedAt: null, ackedBy: null, cause: "Link lost", chattering: false, shelf: null, returned: null, ...over,
+    id,
+    kind: "link-lost",
+    severity: "alarm",
+    providerId,
+    vehicle: providerId?.slice(0, 8) ?? "",
+    sessionId: null,
+    text: "link lost",
+    since: 1000,
+    state: "active-unacknowledged",
+    clearedAt: null,
+    ackedAt: null,
+    ackedBy: null,
+    cause: "Link lost",
+    chattering: false,
+    shelf: null,
+    returned: null,
+    ...over,
   };
 }
 
@@ -88,7 +142,22 @@ export class TestSource implements DataSource {
 /** A command as the console follows it: GPSFix to `providerId`, just asked, no answer yet; `over` sets the rest. */
 export function command(providerId: string, over: Partial<Command> = {}): Command {
   return {
-    sessionId: "s1", service: "GPSFix", providerId, state: null, operator: null, createdAt: 1000, status: null, terminal: false, unanswered: false,
-    cancelRequested: false, canceledBy: null, cleanedUp: false, console: null, ackedAt: null, violations: [], transitions: [], ...over,
+    sessionId: "s1",
+    service: "GPSFix",
+    providerId,
+    state: null,
+    operator: null,
+    createdAt: 1000,
+    status: null,
+    terminal: false,
+    unanswered: false,
+    cancelRequested: false,
+    canceledBy: null,
+    cleanedUp: false,
+    console: null,
+    ackedAt: null,
+    violations: [],
+    transitions: [],
+    ...over,
   };
 }

@@ -27,6 +27,9 @@ export function onTokenChange(l: () => void): () => void {
 export function wsProtocols(t: string | null = token): string[] {
   if (!t) return [];
   const bytes = new TextEncoder().encode(t);
-  const b64 = btoa(String.fromCharCode(...bytes)).replace(/\+/g, "-").replace(/\//g, "_").replace(/=+$/, "");
+  const b64 = btoa(String.fromCharCode(...bytes))
+    .replace(/\+/g, "-")
+    .replace(/\//g, "_")
+    .replace(/=+$/, "");
   return ["sem-console", `bearer.${b64}`];
 }

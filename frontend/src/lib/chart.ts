@@ -18,22 +18,55 @@ export function vectorLayers(metadata: unknown): string[] {
 }
 
 const colour = (layer: string): string =>
-  /water|ocean|sea|lake|river/i.test(layer) ? WATER : /earth|land(?!use)|coast/i.test(layer) ? LAND : /road|transport|transit/i.test(layer) ? "#6b7886" : "#3a4856";
+  /water|ocean|sea|lake|river/i.test(layer)
+    ? WATER
+    : /earth|land(?!use)|coast/i.test(layer)
+      ? LAND
+      : /road|transport|transit/i.test(layer)
+        ? "#6b7886"
+        : "#3a4856";
 
 /** Source and layers that draw a chart: a raster archive as a raster layer; a vector one (MVT) with a
  * plain style for every vector layer (areas filled, lines, points), water and land in the basemap's colours. */
-export function chartStyle(url: string, header: Pick<Header, "tileType" | "minZoom" | "maxZoom">, metadata: unknown): { source: SourceSpecification; layers: LayerSpecification[] } {
+export function chartStyle(
+  url: string,
+  header: Pick<Header, "tileType" | "minZoom" | "maxZoom">,
+  metadata: unknown,
+): { source: SourceSpecification; layers: LayerSpecification[] } {
   const base = { url: `pmtiles://${url}`, minzoom: header.minZoom, maxzoom: header.maxZoom, attribution: "offline chart" };
   if (header.tileType !== TileType.Mvt) {
-    return { source: { type: "raster", tileSize: 256, ...base }, layers: [{ id: "chart-raster", type: "raster", source: CHART_SOURCE }] };
+    return {
+      source: { type: "raster", tileSize: 256, ...base },
+      layers: [{ id: "chart-raster", type: "raster", source: CHART_SOURCE }],
+    };
   }
   const layers: LayerSpecification[] = [];
   for (const id of vectorLayers(metadata)) {
     const c = colour(id);
     layers.push(
-      { id: `chart-${id}-fill`, type: "fill", source: CHART_SOURCE, "source-layer": id, filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": c, "fill-opacity": 0.9 } },
-      { id: `chart-${id}-line`, type: "line", source: CHART_SOURCE, "source-layer": id, paint: { "line-color": c === WATER || c === LAND ? COAST : c, "line-width": 0.8 } },
-      { id: `chart-${id}-point`, type: "circle", source: CHART_SOURCE, "source-layer": id, filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 2, "circle-color": "#9fb3c8" } },
+      {
+        id: `chart-${id}-fill`,
+        type: "fill",
+        source: CHART_SOURCE,
+        "source-layer": id,
+        filter: ["==", ["geometry-type"], "Polygon"],
+        paint: { "fill-color": c, "fill-opacity": 0.9 },
+      },
+      {
+        id: `chart-${id}-line`,
+        type: "line",
+        source: CHART_SOURCE,
+        "source-layer": id,
+        paint: { "line-color": c === WATER || c === LAND ? COAST : c, "line-width": 0.8 },
+      },
+      {
+        id: `chart-${id}-point`,
+        type: "circle",
+        source: CHART_SOURCE,
+        "source-layer": id,
+        filter: ["==", ["geometry-type"], "Point"],
+        paint: { "circle-radius": 2, "circle-color": "#9fb3c8" },
+      },
     );
   }
   return { source: { type: "vector", ...base }, layers };

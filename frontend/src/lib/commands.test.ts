@@ -4,12 +4,21 @@ import { commandChoices, commandTitle, noGpsFix } from "./commands";
 import { INS_COMMAND, commandStatusText, reasonText } from "./labels";
 
 /** The Command's state literals the console's WebSocket schema has. */
-const stateLiterals = (wsSchema as { $defs: { Command: { properties: { state: { anyOf: { enum?: string[] }[] } } } } }).$defs.Command.properties.state.anyOf.flatMap((a) => a.enum ?? []);
+const stateLiterals = (
+  wsSchema as { $defs: { Command: { properties: { state: { anyOf: { enum?: string[] }[] } } } } }
+).$defs.Command.properties.state.anyOf.flatMap((a) => a.enum ?? []);
 
 describe("the commands a vehicle is offered, by its UMAA version", () => {
   it("offers a UMAA 6.0 vehicle its six alignments in words, and no GPS fix, saying why", () => {
     const six = commandChoices("6.0");
-    expect(six.map((c) => c.state).sort()).toEqual(["BEST_ALIGN", "GPS_ALIGN", "INIT", "SNAP_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN"]);
+    expect(six.map((c) => c.state).sort()).toEqual([
+      "BEST_ALIGN",
+      "GPS_ALIGN",
+      "INIT",
+      "SNAP_ALIGN",
+      "STATIONARY_ALIGN",
+      "TRANSFER_ALIGN",
+    ]);
     expect(six.every((c) => c.service === "InertialSensor")).toBe(true);
     expect(six.find((c) => c.state === "GPS_ALIGN")?.label).toBe("INS GPS-aided alignment");
     expect(six.find((c) => c.state === "STATIONARY_ALIGN")?.label).toBe("INS stationary alignment");

@@ -1,6 +1,16 @@
 // The commands panel: live commands (WebSocket) merged with older pages (REST), and the words of its cards.
 import type { Command } from "../api/types";
-import { CANCEL_CAUSE, COMMAND, COMMAND_STATUS, INS_COMMAND, commandStatusText, inline, reasonText, type InsCommand, type UmaaVersion } from "./labels";
+import {
+  CANCEL_CAUSE,
+  COMMAND,
+  COMMAND_STATUS,
+  INS_COMMAND,
+  commandStatusText,
+  inline,
+  reasonText,
+  type InsCommand,
+  type UmaaVersion,
+} from "./labels";
 
 /** A command the panel offers: its service, the state it asks (InertialSensor), its button's words, how a sentence
  * names it, and the question it asks first (null: sent at once). */
@@ -16,8 +26,20 @@ const REALIGN = "It must align again before it is operational.";
 const CHOICES_3_0_1: CommandChoice[] = [
   { service: "GPSFix", state: null, label: "Request GPS fix", noun: "a GPS fix request", confirm: null },
   { service: "InertialSensor", state: "ON", label: "INS ON", noun: "INS ON", confirm: null },
-  { service: "InertialSensor", state: "OFF", label: "INS OFF", noun: "INS OFF", confirm: "Switch its inertial sensor off? Navigation falls back to GPS only." },
-  { service: "InertialSensor", state: "RESTARTING", label: "INS RESTART", noun: "INS RESTART", confirm: `Restart its inertial sensor? ${REALIGN}` },
+  {
+    service: "InertialSensor",
+    state: "OFF",
+    label: "INS OFF",
+    noun: "INS OFF",
+    confirm: "Switch its inertial sensor off? Navigation falls back to GPS only.",
+  },
+  {
+    service: "InertialSensor",
+    state: "RESTARTING",
+    label: "INS RESTART",
+    noun: "INS RESTART",
+    confirm: `Restart its inertial sensor? ${REALIGN}`,
+  },
 ];
 const INS_6_0: InsCommand[] = ["GPS_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN", "BEST_ALIGN", "SNAP_ALIGN", "INIT"];
 
@@ -32,7 +54,13 @@ export function commandChoices(version: UmaaVersion | null | undefined): Command
   if (version !== "6.0") return CHOICES_3_0_1;
   return INS_6_0.map((state) => {
     const title = insCommandTitle(state) ?? state;
-    return { service: "InertialSensor", state, label: title, noun: title, confirm: state === "INIT" ? `Initialise its inertial sensor? ${REALIGN}` : null };
+    return {
+      service: "InertialSensor",
+      state,
+      label: title,
+      noun: title,
+      confirm: state === "INIT" ? `Initialise its inertial sensor? ${REALIGN}` : null,
+    };
   });
 }
 
@@ -69,7 +97,14 @@ export function durationOf(c: Command): number | null {
  * there is none to go by. Failed and cancelled ones say nothing of how long the service takes. */
 export function expectedDuration(c: Command, all: Command[]): number | null {
   const took = all
-    .filter((o) => o.sessionId !== c.sessionId && o.providerId === c.providerId && o.service === c.service && (o.state ?? null) === (c.state ?? null) && o.createdAt < c.createdAt)
+    .filter(
+      (o) =>
+        o.sessionId !== c.sessionId &&
+        o.providerId === c.providerId &&
+        o.service === c.service &&
+        (o.state ?? null) === (c.state ?? null) &&
+        o.createdAt < c.createdAt,
+    )
     .map(durationOf)
     .filter((d): d is number => d !== null && d >= 0)
     .sort((a, b) => a - b);
@@ -81,7 +116,10 @@ export function expectedDuration(c: Command, all: Command[]): number | null {
 /** A command timeline's lines in the order they happened; stable, so at one instant a status stays before the
  * acknowledgement the vehicle publishes after it. A line without a recorded time (Infinity) goes last. */
 export function inTimeOrder<T extends { at: number }>(lines: T[]): T[] {
-  return lines.map((l, i) => ({ l, i })).sort((a, b) => (a.l.at === b.l.at ? 0 : a.l.at - b.l.at) || a.i - b.i).map(({ l }) => l);
+  return lines
+    .map((l, i) => ({ l, i }))
+    .sort((a, b) => (a.l.at === b.l.at ? 0 : a.l.at - b.l.at) || a.i - b.i)
+    .map(({ l }) => l);
 }
 
 /** Who asked for the cancel and on which station: "by bob on relief" ("" when neither is known); a station's shutdown
@@ -112,7 +150,9 @@ export function statusText(c: Command): string {
 /** The reason words of a transition: a cancel the operator asked for names who asked it and where ("on request by bob
  * on relief"); one a station's shutdown asked says so ("on request of watch as it stopped"). */
 export function transitionReason(c: Command, status: string, reason: string): string {
-  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && c.cancelCause === "shutdown") return `${reasonText(reason)} of ${c.canceledOn ?? "its station"} as it stopped`;
-  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c)) return `${reasonText(reason)} ${cancellerText(c)}`;
+  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && c.cancelCause === "shutdown")
+    return `${reasonText(reason)} of ${c.canceledOn ?? "its station"} as it stopped`;
+  if (status === "CANCELED" && reason === "CANCELED" && c.cancelRequested && cancellerText(c))
+    return `${reasonText(reason)} ${cancellerText(c)}`;
   return reasonText(reason);
 }

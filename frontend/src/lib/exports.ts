@@ -51,7 +51,8 @@ export function exportName(kind: ExportKind, providerId: string | null): string 
  * "Vehicle-77b2ceb8-track-2026-11-25T1432Z.gpx"; `vehicle` null: the commands of every vehicle. */
 export function exportFileName(kind: ExportKind, vehicle: { id: string; name: string | null } | null, nowMs: number): string {
   const who = vehicle === null ? "all-vehicles" : vehicle.name ? vehicle.name : `Vehicle-${vehicle.id.slice(0, 8)}`;
-  const safe = who.replace(/[^\p{L}\p{N}._-]+/gu, "-").replace(/^[-.]+|-+$/g, "") || `Vehicle-${vehicle?.id.slice(0, 8) ?? "all"}`;
+  const safe =
+    who.replace(/[^\p{L}\p{N}._-]+/gu, "-").replace(/^[-.]+|-+$/g, "") || `Vehicle-${vehicle?.id.slice(0, 8) ?? "all"}`;
   const d = new Date(nowMs).toISOString(); // 2026-11-25T14:32:07.123Z
   const stamp = `${d.slice(0, 10)}T${d.slice(11, 13)}${d.slice(14, 16)}Z`;
   const what = kind === "commands" ? "commands.csv" : `track.${kind}`;

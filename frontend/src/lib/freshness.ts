@@ -15,7 +15,13 @@ export function staleAfter(topic: Topic, observedInterval: number | null): numbe
 export type Freshness = "live" | "stale" | "lost" | "none" | "unreachable";
 
 /** `receiving`: the page hears the console (its data source is connected); false: "unreachable", whatever the age. */
-export function freshness(ageSeconds: number | null, topic: Topic, observedInterval: number | null, link: LinkState | null, receiving: boolean): Freshness {
+export function freshness(
+  ageSeconds: number | null,
+  topic: Topic,
+  observedInterval: number | null,
+  link: LinkState | null,
+  receiving: boolean,
+): Freshness {
   if (ageSeconds === null) return "none";
   if (!receiving) return "unreachable";
   if (link === "lost") return "lost";

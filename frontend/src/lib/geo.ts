@@ -30,7 +30,8 @@ export function pathLengthM(points: LonLat[]): number {
 /** Initial great-circle bearing from a to b, degrees 0..360 from true north. */
 export function bearingDeg(a: LonLat, b: LonLat): number {
   const y = Math.sin(rad(b.lon - a.lon)) * Math.cos(rad(b.lat));
-  const x = Math.cos(rad(a.lat)) * Math.sin(rad(b.lat)) - Math.sin(rad(a.lat)) * Math.cos(rad(b.lat)) * Math.cos(rad(b.lon - a.lon));
+  const x =
+    Math.cos(rad(a.lat)) * Math.sin(rad(b.lat)) - Math.sin(rad(a.lat)) * Math.cos(rad(b.lat)) * Math.cos(rad(b.lon - a.lon));
   return ((Math.atan2(y, x) * 180) / Math.PI + 360) % 360;
 }
 
@@ -41,8 +42,9 @@ export function destination(from: LonLat, courseDeg: number, distance: number): 
   const c = rad(courseDeg);
   const lat1 = rad(from.lat);
   const lat2 = Math.asin(Math.min(1, Math.max(-1, Math.sin(lat1) * Math.cos(d) + Math.cos(lat1) * Math.sin(d) * Math.cos(c))));
-  const lon2 = rad(from.lon) + Math.atan2(Math.sin(c) * Math.sin(d) * Math.cos(lat1), Math.cos(d) - Math.sin(lat1) * Math.sin(lat2));
-  const lon = ((((lon2 * 180) / Math.PI + 180) % 360) + 360) % 360 - 180;
+  const lon2 =
+    rad(from.lon) + Math.atan2(Math.sin(c) * Math.sin(d) * Math.cos(lat1), Math.cos(d) - Math.sin(lat1) * Math.sin(lat2));
+  const lon = (((((lon2 * 180) / Math.PI + 180) % 360) + 360) % 360) - 180;
   return { lon, lat: (lat2 * 180) / Math.PI };
 }
 
@@ -104,8 +106,17 @@ export function trimTrack(points: TrackSample[], now: number, seconds: number): 
 
 /** The measure tool's path: the line and one point per vertex. */
 export function measureGeoJson(points: LonLat[]): FeatureCollection {
-  const features: Feature[] = points.map((p) => ({ type: "Feature", geometry: { type: "Point", coordinates: [p.lon, p.lat] }, properties: {} }));
-  if (points.length >= 2) features.push({ type: "Feature", geometry: { type: "LineString", coordinates: points.map((p) => [p.lon, p.lat]) }, properties: {} });
+  const features: Feature[] = points.map((p) => ({
+    type: "Feature",
+    geometry: { type: "Point", coordinates: [p.lon, p.lat] },
+    properties: {},
+  }));
+  if (points.length >= 2)
+    features.push({
+      type: "Feature",
+      geometry: { type: "LineString", coordinates: points.map((p) => [p.lon, p.lat]) },
+      properties: {},
+    });
   return { type: "FeatureCollection", features };
 }
 
@@ -140,7 +151,10 @@ export function drawnGeometry(points: LonLat[]): Point | LineString | Polygon | 
 
 /** The next featureId: above every id of the given world models and of `used` (tasks' features, ids deleted
  * this session), so a new feature never takes the id of a deleted one (whose CoverageState may still come). */
-export function nextFeatureId(fcs: FeatureCollection | null | (FeatureCollection | null)[], used: Iterable<unknown> = []): number {
+export function nextFeatureId(
+  fcs: FeatureCollection | null | (FeatureCollection | null)[],
+  used: Iterable<unknown> = [],
+): number {
   let max = 0;
   const see = (v: unknown) => {
     const n = Number(v);
@@ -159,7 +173,10 @@ export function parseWorldModel(text: string, from = 1): FeatureCollection {
   let next = Math.max(from, nextFeatureId(j));
   const features = j.features.map((f) => {
     const id = Number(f.properties?.featureId);
-    return { ...f, properties: { ...f.properties, featureId: Number.isInteger(id) ? id : next++, coverage: f.properties?.coverage ?? null } };
+    return {
+      ...f,
+      properties: { ...f.properties, featureId: Number.isInteger(id) ? id : next++, coverage: f.properties?.coverage ?? null },
+    };
   });
   return { type: "FeatureCollection", features };
 }
@@ -191,7 +208,11 @@ function vertices(g: Feature["geometry"] | null | undefined): number[][] {
 /** The edit tool's handles: one point per vertex of every feature, with its featureId and vertex index. */
 export function vertexHandles(fc: FeatureCollection | null): FeatureCollection<Point> {
   const features = (fc?.features ?? []).flatMap((f) =>
-    vertices(f.geometry).map((c, index) => ({ type: "Feature" as const, geometry: { type: "Point" as const, coordinates: c }, properties: { featureId: f.properties?.featureId, index } })),
+    vertices(f.geometry).map((c, index) => ({
+      type: "Feature" as const,
+      geometry: { type: "Point" as const, coordinates: c },
+      properties: { featureId: f.properties?.featureId, index },
+    })),
   );
   return { type: "FeatureCollection", features };
 }
@@ -212,13 +233,19 @@ export function moveVertex(fc: FeatureCollection, featureId: unknown, index: num
   return { ...fc, features };
 }
 
-
 /** Every vertex of the polygons and lines of a feature collection. */
 function* allVertices(fc: FeatureCollection): Generator<number[]> {
   for (const f of fc.features) {
     const g = f.geometry;
     if (!g) continue;
-    const lines = g.type === "Polygon" || g.type === "MultiLineString" ? g.coordinates : g.type === "MultiPolygon" ? g.coordinates.flat() : g.type === "LineString" ? [g.coordinates] : [];
+    const lines =
+      g.type === "Polygon" || g.type === "MultiLineString"
+        ? g.coordinates
+        : g.type === "MultiPolygon"
+          ? g.coordinates.flat()
+          : g.type === "LineString"
+            ? [g.coordinates]
+            : [];
     for (const line of lines) yield* line;
   }
 }

@@ -50,12 +50,17 @@ import {
 } from "./labels";
 
 /** The UMAA enumerations the console's WebSocket schema has, with their literals, and the alarm kinds. */
-const schemaDefs = (wsSchema as { $defs: Record<string, { enum?: string[]; properties?: Record<string, { enum?: string[] }> }> }).$defs;
-const umaaEnums = Object.entries(schemaDefs).flatMap(([name, d]) => (d.enum && name.endsWith("EnumType") ? [[name, d.enum] as const] : []));
+const schemaDefs = (wsSchema as { $defs: Record<string, { enum?: string[]; properties?: Record<string, { enum?: string[] }> }> })
+  .$defs;
+const umaaEnums = Object.entries(schemaDefs).flatMap(([name, d]) =>
+  d.enum && name.endsWith("EnumType") ? [[name, d.enum] as const] : [],
+);
 
 describe("the words table (backend/sem_console/core/words.py, published as schema/words.json)", () => {
   it("has words for every literal of every UMAA enumeration the console sends", () => {
-    expect(umaaEnums.map(([name]) => name)).toEqual(expect.arrayContaining(["GPSFixEnumType", "InertialSensorOpStatusEnumType", "InertialSensorStateEnumType"]));
+    expect(umaaEnums.map(([name]) => name)).toEqual(
+      expect.arrayContaining(["GPSFixEnumType", "InertialSensorOpStatusEnumType", "InertialSensorStateEnumType"]),
+    );
     for (const [name, literals] of umaaEnums) {
       const table = UMAA_WORDS[name];
       expect(table, `no words table for ${name}`).toBeDefined();
@@ -66,14 +71,16 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   it("has words for every alarm kind, severity and state", () => {
     const alarm = schemaDefs.Alarm.properties!;
     for (const kind of alarm.kind.enum!) expect(alarmKindText(kind), kind).not.toBe(kind);
-    for (const severity of alarm.severity.enum!) expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
+    for (const severity of alarm.severity.enum!)
+      expect((ALARM_SEVERITY as Record<string, string>)[severity]?.trim(), severity).toBeTruthy();
     for (const state of alarm.state.enum!) expect((ALARM_STATE as Record<string, string>)[state]?.trim(), state).toBeTruthy();
   });
 
   it("has words for a watch's states: an alarm shelved or chattering, why it is back, a vehicle out of comms as planned", () => {
     const alarm = schemaDefs.Alarm.properties!;
     expect(Object.keys(alarm)).toEqual(expect.arrayContaining(["shelf", "chattering", "returned", "cause"]));
-    for (const [literal, words] of Object.entries({ ...ALARM_MARK, ...ALARM_RETURNED })) expect(words.trim(), literal).toBeTruthy();
+    for (const [literal, words] of Object.entries({ ...ALARM_MARK, ...ALARM_RETURNED }))
+      expect(words.trim(), literal).toBeTruthy();
     expect(linkText("planned")).toBe("Out of comms (planned)");
   });
 
@@ -84,7 +91,9 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     // the fleet bar's count says when: the end of one, the soonest end of several
     expect(plannedCount([soon])).toMatch(/^1 out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/);
     expect(plannedCount([soon + 600, soon])).toMatch(/^2 out of comms \(planned\), the soonest until (2026-11-28 )?22:20 UTC$/);
-    expect(plannedEntry("Alpha", soon, "dive", "alice", "watch")).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice on watch\)$/);
+    expect(plannedEntry("Alpha", soon, "dive", "alice", "watch")).toMatch(
+      /^Alpha: out of comms \(planned\) until .*22:20 UTC: dive \(declared by alice on watch\)$/,
+    );
     expect(plannedEntry("Alpha", soon, "dive", null, null)).toMatch(/^Alpha: out of comms \(planned\) until .*22:20 UTC: dive$/);
     expect(plannedTitle("dive", "alice", "watch")).toMatch(/^planned silence declared by alice on watch: dive;/);
     // a lost vehicle in its planned silence has one name wherever it is said: the chip's, the list's, the panels'
@@ -98,7 +107,9 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(lostButtonNote(null)).toBe(" (vehicle lost)");
     expect(lostButtonNote(soon)).toBe(" (out of comms)");
     expect(lostMeanwhileText("INS OFF", "Alpha", null)).toBe("INS OFF for Alpha not sent: the vehicle is now lost.");
-    expect(lostMeanwhileText("INS OFF", "Alpha", soon)).toMatch(/^INS OFF for Alpha not sent: the vehicle is now out of comms \(planned\) until .*22:20 UTC\.$/);
+    expect(lostMeanwhileText("INS OFF", "Alpha", soon)).toMatch(
+      /^INS OFF for Alpha not sent: the vehicle is now out of comms \(planned\) until .*22:20 UTC\.$/,
+    );
     expect(shelvedCount(3)).toBe("3 shelved");
     expect(shelvedText("bob", "relief", soon, "relay down")).toMatch(/^shelved by bob on relief until .*22:20 UTC: relay down$/);
     expect(floodText(alarmKindText("link-lost"), 20)).toBe("Link lost: 20 vehicles");
@@ -111,7 +122,8 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(fixWord(undefined, "6.0").title).toContain("UMAA 6.0 has no GPS fix service");
     expect(notReported("6.0", "GPSFixStatusReport")).toContain("no GPS fix service");
     // its GPSReport, GlobalPose (the position report) and INS status feed the view: one may come
-    for (const topic of ["GPSReport", "GPSFixReport", "InertialSensorReport"] as const) expect(notReported("6.0", topic)).toBeNull();
+    for (const topic of ["GPSReport", "GPSFixReport", "InertialSensorReport"] as const)
+      expect(notReported("6.0", topic)).toBeNull();
     expect(insWord(undefined, undefined, "6.0").title).toBe("no inertial sensor report yet");
     expect(fixWord(undefined, "3.0.1").title).toBe("no GPS fix status yet");
     expect(insWord(undefined, undefined, null).title).toBe("no inertial sensor report yet");
@@ -121,7 +133,9 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   it("says on the fix panel that a UMAA 6.0 vehicle has no fix service, not a fix lost, and its position's quality", () => {
     const measured = { navigationSolution: "MEASURED" as const };
     expect(fixBadge(undefined, "6.0", measured)).toMatchObject({ text: "No fix service", tone: "muted" });
-    expect(fixBadge(undefined, "6.0", measured).title).toMatch(/^UMAA 6\.0 has no GPS fix service: .*\. Position quality: measured position$/);
+    expect(fixBadge(undefined, "6.0", measured).title).toMatch(
+      /^UMAA 6\.0 has no GPS fix service: .*\. Position quality: measured position$/,
+    );
     expect(fixBadge(undefined, "6.0", null).title).toMatch(/\. Position quality: —$/);
     // a 3.0.1 vehicle: its fix status, green or red; none yet, a dash, not red
     expect(fixBadge(true, "3.0.1", null)).toMatchObject({ text: "Fix valid", tone: "ok" });
@@ -131,7 +145,10 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
 
   it("gives one state one name: the fleet bar, the vehicle list and the INS panel say the status as the table does", () => {
     expect(insWord("ON", "OPERATIONAL").text).toBe(`INS ${inline(insStatusText("OPERATIONAL")!)}`);
-    expect(insWord("ON", "OPERATIONAL")).toMatchObject({ text: "INS operational", title: "UMAA state: ON; UMAA status: OPERATIONAL" });
+    expect(insWord("ON", "OPERATIONAL")).toMatchObject({
+      text: "INS operational",
+      title: "UMAA state: ON; UMAA status: OPERATIONAL",
+    });
     expect(insWord("ON", "INERTIAL_SENSOR_FAILURE").text).toBe("INS failed"); // as the alarm: "Alpha: INS failed"
     expect(insWord("OFF", "INIT").text).toBe("INS off");
     expect(fixWord(true)).toMatchObject({ text: "Fix valid", title: "UMAA fixValid: true" });
@@ -142,9 +159,16 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
   });
 
   it("says a UMAA 6.0 INS's alignment kind and stage, and its failures, in the table's words (the literal in the tooltip)", () => {
-    expect(insWord(null, "COARSE_GPS_ALIGNMENT", "6.0")).toMatchObject({ text: "INS coarse alignment, GPS-aided", tone: "warn", title: "UMAA status: COARSE_GPS_ALIGNMENT" });
+    expect(insWord(null, "COARSE_GPS_ALIGNMENT", "6.0")).toMatchObject({
+      text: "INS coarse alignment, GPS-aided",
+      tone: "warn",
+      title: "UMAA status: COARSE_GPS_ALIGNMENT",
+    });
     expect(insWord(null, "FINE_TRANSFER_ALIGNMENT_STARTED").text).toBe("INS fine alignment, transfer");
-    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS fine alignment done, best available", tone: "ok" });
+    expect(insWord(null, "FINE_BEST_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({
+      text: "INS fine alignment done, best available",
+      tone: "ok",
+    });
     expect(insWord(null, "SNAP_ALIGNMENT_COMPLETE", "6.0")).toMatchObject({ text: "INS snap alignment done", tone: "ok" });
     // aligned is the last step of the vehicle's own alignment: a 3.0.1 INS whose fine alignment is done is not yet
     // OPERATIONAL; a 6.0 INS (no OPERATIONAL) is aligned at the completed stage
@@ -166,28 +190,46 @@ describe("the words table (backend/sem_console/core/words.py, published as schem
     expect(words(aligned)).toEqual(["Starting up", "Coarse alignment", "Fine alignment", "Alignment done"]);
     expect(aligned.current).toBe(aligned.steps.length - 1);
     // each step's tooltip the literal of the kind the vehicle runs (6.0 spells coarse COARSE)
-    expect(literals(alignmentBar("6.0", "COARSE_GPS_ALIGNMENT"))).toEqual(["INIT", "COARSE_GPS_ALIGNMENT", "FINE_GPS_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE"]);
+    expect(literals(alignmentBar("6.0", "COARSE_GPS_ALIGNMENT"))).toEqual([
+      "INIT",
+      "COARSE_GPS_ALIGNMENT",
+      "FINE_GPS_ALIGNMENT_STARTED",
+      "FINE_GPS_ALIGNMENT_COMPLETE",
+    ]);
     expect(alignmentBar("6.0", "FINE_TRANSFER_ALIGNMENT_STARTED").current).toBe(2);
     // a snap alignment has no coarse or fine stage: none is shown done
     const snap = alignmentBar("6.0", "SNAP_ALIGNMENT_COMPLETE");
     expect([words(snap), snap.current]).toEqual([["Starting up", "Alignment done"], 1]);
     // a failure is no step, on the bar of the kind that failed; a status naming no kind names no kind's literal
-    expect(alignmentBar("6.0", "BEST_ALIGNMENT_FAILURE")).toMatchObject({ current: -1, steps: [{ status: "INIT" }, { status: "COARSE_BEST_ALIGNMENT" }, {}, {}] });
+    expect(alignmentBar("6.0", "BEST_ALIGNMENT_FAILURE")).toMatchObject({
+      current: -1,
+      steps: [{ status: "INIT" }, { status: "COARSE_BEST_ALIGNMENT" }, {}, {}],
+    });
     expect([literals(alignmentBar("6.0", "INIT")), alignmentBar("6.0", "INIT").current]).toEqual([["INIT", null, null, null], 0]);
     // UMAA 3.0.1: its alignment done, then OPERATIONAL
     const old = alignmentBar("3.0.1", "FINE_GPS_ALIGNMENT_COMPLETE");
     expect(words(old)).toEqual(["Starting up", "Coarse alignment", "Fine alignment", "Alignment done", "Operational"]);
     expect([old.current, literals(old)[1]]).toEqual([3, "COURSE_GPS_ALIGNMENT"]);
-    expect([alignmentBar("3.0.1", "OPERATIONAL").current, literals(alignmentBar("3.0.1", "OPERATIONAL"))]).toEqual([4, ["INIT", null, null, null, "OPERATIONAL"]]);
+    expect([alignmentBar("3.0.1", "OPERATIONAL").current, literals(alignmentBar("3.0.1", "OPERATIONAL"))]).toEqual([
+      4,
+      ["INIT", null, null, null, "OPERATIONAL"],
+    ]);
     expect(alignmentBar("3.0.1", "INIT", "OFF").current).toBe(-1); // an INS that is off is at no step
     expect(alignmentBar("3.0.1", "INERTIAL_SENSOR_FAILURE").current).toBe(-1);
   });
 
   it("says what kind of position it is and the clock's time quality, each version what it reports", () => {
-    expect(positionKind({ navigationSolution: "ESTIMATED", GPSLatLongValid: false })).toMatchObject({ text: "Estimated position", tone: "bad", title: "UMAA navigationSolution: ESTIMATED" });
+    expect(positionKind({ navigationSolution: "ESTIMATED", GPSLatLongValid: false })).toMatchObject({
+      text: "Estimated position",
+      tone: "bad",
+      title: "UMAA navigationSolution: ESTIMATED",
+    });
     expect(positionKind({ navigationSolution: "MEASURED", GPSLatLongValid: true }).text).toBe("Measured position");
     expect(positionKind({ GPSLatLongValid: true })).toMatchObject({ text: "GPS position", title: "UMAA GPSLatLongValid: true" });
-    expect(timeQuality({ timeFigureOfMerit: "TFOM_3" })).toMatchObject({ text: "Time within 100 ns", title: "UMAA timeFigureOfMerit: TFOM_3" });
+    expect(timeQuality({ timeFigureOfMerit: "TFOM_3" })).toMatchObject({
+      text: "Time within 100 ns",
+      title: "UMAA timeFigureOfMerit: TFOM_3",
+    });
     expect(timeQuality({ timeFigureOfMerit: "TFOM_9", timeUncertainty: null }).text).toBe("Time off by over 10 ms");
     expect(timeQuality({ timeUncertainty: 12.25 }).text).toBe("± 12.3 ns");
     expect(timeQuality({}).text).toBe("—"); // nothing reported, nothing made up
@@ -300,9 +342,15 @@ describe("expected duration of a running command", () => {
 describe("export file names", () => {
   const at = Date.parse("2026-11-25T14:32:59.900Z");
   it("name the vehicle, what the file holds and when, in UTC to the minute", () => {
-    expect(exportFileName("commands", { id: "f0e1d2c3-0000-5000-8000-000000000003", name: "Charlie" }, at)).toBe("Charlie-commands-2026-11-25T1432Z.csv");
-    expect(exportFileName("gpx", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: null }, at)).toBe("Vehicle-77b2ceb8-track-2026-11-25T1432Z.gpx");
-    expect(exportFileName("csv", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: "Sea Dog/2" }, at)).toBe("Sea-Dog-2-track-2026-11-25T1432Z.csv");
+    expect(exportFileName("commands", { id: "f0e1d2c3-0000-5000-8000-000000000003", name: "Charlie" }, at)).toBe(
+      "Charlie-commands-2026-11-25T1432Z.csv",
+    );
+    expect(exportFileName("gpx", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: null }, at)).toBe(
+      "Vehicle-77b2ceb8-track-2026-11-25T1432Z.gpx",
+    );
+    expect(exportFileName("csv", { id: "77b2ceb8-5afe-554e-8450-93db17c48923", name: "Sea Dog/2" }, at)).toBe(
+      "Sea-Dog-2-track-2026-11-25T1432Z.csv",
+    );
     expect(exportFileName("commands", null, at)).toBe("all-vehicles-commands-2026-11-25T1432Z.csv");
   });
 });

@@ -3,15 +3,40 @@
 // words). An operator at sea reads "Dead reckoning", not GPS_DEAD_RECK; the literal stays available in a tooltip
 // (`umaa`), for the engineer comparing the screen with a log. A literal the table does not know (a newer ICD, another
 // vendor's value) is shown as it is rather than hidden. Every place that names a state takes its words from here.
-import type { GPSConstellationEnumType, InertialSensorOpStatusEnumType, InertialSensorStateEnumType, LinkState, ProviderSummary, Topic } from "../api/types";
-import type { Alarm, FeatureProperties, GPSFixEnumType, GPSNavigationSolutionEnumType, NavigationSolutionEnumType, TFOMEnumType, Task } from "../api/generated/ws";
+import type {
+  GPSConstellationEnumType,
+  InertialSensorOpStatusEnumType,
+  InertialSensorStateEnumType,
+  LinkState,
+  ProviderSummary,
+  Topic,
+} from "../api/types";
+import type {
+  Alarm,
+  FeatureProperties,
+  GPSFixEnumType,
+  GPSNavigationSolutionEnumType,
+  NavigationSolutionEnumType,
+  TFOMEnumType,
+  Task,
+} from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
 import { DASH, clockTime, elapsedText } from "./units";
 
 // Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
 type Words<T extends string> = Readonly<Record<T, string>>;
 type CommandStatus = "ISSUED" | "COMMANDED" | "EXECUTING" | "COMPLETED" | "FAILED" | "CANCELED";
-type CommandReason = "SUCCEEDED" | "CANCELED" | "VALIDATION_FAILED" | "OBJECTIVE_FAILED" | "SERVICE_FAILED" | "RESOURCE_FAILED" | "RESOURCE_REJECTED" | "INTERRUPTED" | "TIMEOUT" | "UPDATED";
+type CommandReason =
+  | "SUCCEEDED"
+  | "CANCELED"
+  | "VALIDATION_FAILED"
+  | "OBJECTIVE_FAILED"
+  | "SERVICE_FAILED"
+  | "RESOURCE_FAILED"
+  | "RESOURCE_REJECTED"
+  | "INTERRUPTED"
+  | "TIMEOUT"
+  | "UPDATED";
 /** UMAA 6.0's InertialSensorCmdEnumType: what a 6.0 InertialSensorCommandType asks (the Command's state of a 6.0 vehicle). */
 export type InsCommand = "BEST_ALIGN" | "GPS_ALIGN" | "INIT" | "SNAP_ALIGN" | "STATIONARY_ALIGN" | "TRANSFER_ALIGN";
 export const FIX_STATE: Words<GPSFixEnumType> = WORDS.GPSFixEnumType;
@@ -63,7 +88,9 @@ function lookup<T extends string>(words: Words<T>, v: string | null | undefined)
 /** A word inside a phrase: its first letter lowered, unless it starts an abbreviation ("GPS 3D"); as the backend's
  * `words.inline`. */
 export function inline(words: string): string {
-  return words.length > 1 && words[1] === words[1].toUpperCase() && words[1] !== words[1].toLowerCase() ? words : words.slice(0, 1).toLowerCase() + words.slice(1);
+  return words.length > 1 && words[1] === words[1].toUpperCase() && words[1] !== words[1].toLowerCase()
+    ? words
+    : words.slice(0, 1).toLowerCase() + words.slice(1);
 }
 
 /** The tooltip that keeps the protocol's word: "UMAA navSolution: GPS_DEAD_RECK". */
@@ -97,7 +124,8 @@ export type UmaaVersion = ProviderSummary["umaaVersion"];
 const NOT_REPORTED: Readonly<Record<UmaaVersion, Partial<Readonly<Record<Topic, string>>>>> = {
   "3.0.1": {},
   "6.0": {
-    GPSFixStatusReport: "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports no fix status (its position comes in its GlobalPoseReport)",
+    GPSFixStatusReport:
+      "UMAA 6.0 has no GPS fix service: a 6.0 vehicle reports no fix status (its position comes in its GlobalPoseReport)",
   },
 };
 
@@ -135,7 +163,12 @@ export function insAligned(status: string | null | undefined, version: UmaaVersi
  * "INS restarting"), else its status ("INS operational", "INS coarse alignment, stationary", "INS failed", "INS
  * GPS-aided alignment failed"); a vehicle that reports no power state (UMAA 6.0) by its status. */
 export function insWord(state: string | null | undefined, status: string | null | undefined, version?: UmaaVersion | null): Word {
-  if (!state && !status) return { text: `INS ${DASH}`, tone: "muted", title: notReported(version, "InertialSensorReport") ?? "no inertial sensor report yet" };
+  if (!state && !status)
+    return {
+      text: `INS ${DASH}`,
+      tone: "muted",
+      title: notReported(version, "InertialSensorReport") ?? "no inertial sensor report yet",
+    };
   const title = [umaa("state", state), umaa("status", status)].filter(Boolean).join("; ");
   if (insFailed(status)) return { text: `INS ${inline(lookup(INS_STATUS, status))}`, tone: "bad", title };
   if (state && state !== "ON") return { text: `INS ${inline(insStateText(state))}`, tone: "warn", title };
@@ -157,11 +190,16 @@ export function fixWord(fixValid: boolean | null | undefined, version?: UmaaVers
 /** The GPS fix panel's fix badge: the fix status ("Fix valid" green, "No fix" red); a vehicle whose version has no GPS
  * fix service (UMAA 6.0) "No fix service", not a fix lost, its position's quality its navigation solution ("Position
  * quality: measured position") in the tooltip; no status yet a dash. */
-export function fixBadge(fixValid: boolean | null | undefined, version: UmaaVersion | null | undefined,
-  fix: Parameters<typeof positionKind>[0]): Word {
+export function fixBadge(
+  fixValid: boolean | null | undefined,
+  version: UmaaVersion | null | undefined,
+  fix: Parameters<typeof positionKind>[0],
+): Word {
   const none = notReported(version, "GPSFixStatusReport");
   if (typeof fixValid !== "boolean" && none) {
-    const quality = fix?.navigationSolution ? `${FIX_SERVICE.quality}: ${inline(positionKind(fix).text)}` : `${FIX_SERVICE.quality}: ${DASH}`;
+    const quality = fix?.navigationSolution
+      ? `${FIX_SERVICE.quality}: ${inline(positionKind(fix).text)}`
+      : `${FIX_SERVICE.quality}: ${DASH}`;
     return { text: FIX_SERVICE.none, tone: "muted", title: `${none}. ${quality}` };
   }
   const word = fixWord(fixValid, version);
@@ -176,16 +214,25 @@ export function positionSourceText(valid: boolean | null | undefined): string {
 /** What kind of position it is, as the vehicle says it: its navigation solution when it reports one ("Measured
  * position", UMAA 6.0's GlobalPose), else whose it is ("GPS position", UMAA 3.0.1's GPSLatLongValid); the literal in
  * the tooltip. */
-export function positionKind(fix: { navigationSolution?: string | null; GPSLatLongValid?: boolean | null } | null | undefined): Word {
+export function positionKind(
+  fix: { navigationSolution?: string | null; GPSLatLongValid?: boolean | null } | null | undefined,
+): Word {
   const solution = fix?.navigationSolution;
   const valid = fix?.GPSLatLongValid;
-  if (solution) return { text: lookup(POSITION_SOLUTION, solution), tone: valid ? "ok" : "bad", title: umaa("navigationSolution", solution) };
-  return { text: positionSourceText(valid), tone: valid ? "ok" : "bad", title: umaa("GPSLatLongValid", typeof valid === "boolean" ? String(valid) : null) };
+  if (solution)
+    return { text: lookup(POSITION_SOLUTION, solution), tone: valid ? "ok" : "bad", title: umaa("navigationSolution", solution) };
+  return {
+    text: positionSourceText(valid),
+    tone: valid ? "ok" : "bad",
+    title: umaa("GPSLatLongValid", typeof valid === "boolean" ? String(valid) : null),
+  };
 }
 
 /** The GPS clock's time quality, as the vehicle reports it: its time uncertainty ("12.5 ns", UMAA 3.0.1) or its time
  * figure of merit ("Time within 100 ns", UMAA 6.0, the literal in the tooltip); nothing reported: a dash. */
-export function timeQuality(clock: { timeUncertainty?: number | null; timeFigureOfMerit?: string | null } | null | undefined): Word {
+export function timeQuality(
+  clock: { timeUncertainty?: number | null; timeFigureOfMerit?: string | null } | null | undefined,
+): Word {
   const merit = clock?.timeFigureOfMerit;
   if (merit) return { text: lookup(TIME_MERIT, merit), tone: "info", title: umaa("timeFigureOfMerit", merit) };
   const ns = clock?.timeUncertainty;
@@ -208,7 +255,13 @@ type OpStatus = InertialSensorOpStatusEnumType;
  * with. */
 const ALIGNMENTS: Readonly<Record<UmaaVersion, readonly (readonly OpStatus[])[]>> = {
   "3.0.1": [
-    ["INIT", "COURSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE", "OPERATIONAL"],
+    [
+      "INIT",
+      "COURSE_STATIONARY_ALIGNMENT",
+      "FINE_STATIONARY_ALIGNMENT_STARTED",
+      "FINE_STATIONARY_ALIGNMENT_COMPLETE",
+      "OPERATIONAL",
+    ],
     ["INIT", "COURSE_GPS_ALIGNMENT", "FINE_GPS_ALIGNMENT_STARTED", "FINE_GPS_ALIGNMENT_COMPLETE", "OPERATIONAL"],
   ],
   "6.0": [
@@ -221,8 +274,10 @@ const ALIGNMENTS: Readonly<Record<UmaaVersion, readonly (readonly OpStatus[])[]>
 };
 /** The kind of alignment each failure of one names (UMAA 6.0), by its alignment's stage after INIT. */
 const FAILED_ALIGNMENT: Partial<Readonly<Record<OpStatus, OpStatus>>> = {
-  STATIONARY_ALIGNMENT_FAILURE: "COARSE_STATIONARY_ALIGNMENT", GPS_ALIGNMENT_FAILURE: "COARSE_GPS_ALIGNMENT",
-  BEST_ALIGNMENT_FAILURE: "COARSE_BEST_ALIGNMENT", TRANSFER_ALIGNMENT_FAILURE: "COARSE_TRANSFER_ALIGNMENT",
+  STATIONARY_ALIGNMENT_FAILURE: "COARSE_STATIONARY_ALIGNMENT",
+  GPS_ALIGNMENT_FAILURE: "COARSE_GPS_ALIGNMENT",
+  BEST_ALIGNMENT_FAILURE: "COARSE_BEST_ALIGNMENT",
+  TRANSFER_ALIGNMENT_FAILURE: "COARSE_TRANSFER_ALIGNMENT",
   SNAP_ALIGNMENT_FAILURE: "SNAP_ALIGNMENT_COMPLETE",
 };
 
@@ -242,13 +297,22 @@ export interface AlignmentBarStep {
 /** The INS panel's step bar for a vehicle of `version` reporting `status`: the stages of its kind of alignment (a
  * status naming none, INIT or a sensor failure: the stages its version's alignments share) and the one it is at
  * (-1: none, a failure or an INS that is off, whose INIT is no step of an alignment, `insStatusText`). */
-export function alignmentBar(version: UmaaVersion | null | undefined, status: string | null | undefined, state?: string | null): { steps: AlignmentBarStep[]; current: number } {
+export function alignmentBar(
+  version: UmaaVersion | null | undefined,
+  status: string | null | undefined,
+  state?: string | null,
+): { steps: AlignmentBarStep[]; current: number } {
   const s = status as OpStatus | null | undefined;
   const named = s ? (FAILED_ALIGNMENT[s] ?? s) : null;
   // a version not known: the first that has the status (a status both have: 3.0.1's, which ends at OPERATIONAL)
-  const alignments = version ? ALIGNMENTS[version] : (Object.values(ALIGNMENTS).find((v) => v.some((a) => named !== null && a.includes(named))) ?? ALIGNMENTS["3.0.1"]);
+  const alignments = version
+    ? ALIGNMENTS[version]
+    : (Object.values(ALIGNMENTS).find((v) => v.some((a) => named !== null && a.includes(named))) ?? ALIGNMENTS["3.0.1"]);
   const own = alignments.find((a) => named !== null && named !== "INIT" && named !== "OPERATIONAL" && a.includes(named));
-  const steps = (own ?? alignments[0]).map((x) => ({ step: stepOf(x), status: own || x === "INIT" || x === "OPERATIONAL" ? x : null }));
+  const steps = (own ?? alignments[0]).map((x) => ({
+    step: stepOf(x),
+    status: own || x === "INIT" || x === "OPERATIONAL" ? x : null,
+  }));
   const off = !s || insStatusText(s, state) === null;
   return { steps, current: off ? -1 : steps.findIndex((x) => x.status === s) };
 }
@@ -365,7 +429,9 @@ export function plannedText(until: number): string {
  * (planned) until 14:20 UTC", "3 out of comms (planned), the soonest until 14:20 UTC". */
 export function plannedCount(ends: readonly number[]): string {
   const soonest = clockTime(Math.min(...ends));
-  return ends.length === 1 ? `1 ${inline(plannedText(ends[0]))}` : `${ends.length} ${inline(LINK.planned)}, the soonest until ${soonest}`;
+  return ends.length === 1
+    ? `1 ${inline(plannedText(ends[0]))}`
+    : `${ends.length} ${inline(LINK.planned)}, the soonest until ${soonest}`;
 }
 
 /** A planned silence as the list of them says it: "Alpha: out of comms (planned) until 14:20 UTC: dive (declared by

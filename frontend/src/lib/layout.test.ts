@@ -19,7 +19,8 @@ describe("panel order", () => {
     expect(groupOrder(stored, "main", KNOWN)).toEqual(["c", "a", "b", "d"]);
     expect(groupOrder(stored, "side", ["s1", "s2"])).toEqual(["s2", "s1"]);
     expect(groupOrder({ main: ["s2", "a"] }, "main", KNOWN)).toEqual(KNOWN); // a panel of another group stays there
-    for (const bad of [null, "x", 1, [], ["a"], { main: "a" }, { side: ["a"] }]) expect(groupOrder(bad, "main", KNOWN)).toEqual(KNOWN);
+    for (const bad of [null, "x", 1, [], ["a"], { main: "a" }, { side: ["a"] }])
+      expect(groupOrder(bad, "main", KNOWN)).toEqual(KNOWN);
   });
   it("moves a panel to an index or by a number of places, clamped to the list", () => {
     expect(moveTo(KNOWN, "a", 2)).toEqual(["b", "c", "a", "d"]);

@@ -7,7 +7,9 @@ export type Group = "side" | "status" | "main";
 /** A stored order made safe: only the `known` panels, each once, in the stored order; known panels
  * the stored order misses (new in this build) appended in their default (`known`) order. */
 export function mergeOrder(stored: unknown, known: readonly string[]): string[] {
-  const kept = Array.isArray(stored) ? stored.filter((id, i): id is string => typeof id === "string" && known.includes(id) && stored.indexOf(id) === i) : [];
+  const kept = Array.isArray(stored)
+    ? stored.filter((id, i): id is string => typeof id === "string" && known.includes(id) && stored.indexOf(id) === i)
+    : [];
   return [...kept, ...known.filter((id) => !kept.includes(id))];
 }
 

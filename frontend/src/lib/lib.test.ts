@@ -31,7 +31,11 @@ describe("vehicle identity", () => {
     expect(urlWithVehicle(`http://h:1/?vehicle=${A}`, null)).toBe("http://h:1/");
   });
   it("finds a vehicle by a part of its name or of its id, any case, with or without the id's dashes", () => {
-    const fleet = [{ id: A, name: "Alpha" }, { id: B, name: null }, { id: "0a0b0c0d-0000-4000-8000-000000000077", name: "Charlie 77" }];
+    const fleet = [
+      { id: A, name: "Alpha" },
+      { id: B, name: null },
+      { id: "0a0b0c0d-0000-4000-8000-000000000077", name: "Charlie 77" },
+    ];
     const found = (q: string) => fleet.filter(vehicleMatcher(q)).map((v) => v.name ?? shortId(v.id));
     expect(found("")).toEqual(["Alpha", "1c7e3a29", "Charlie 77"]);
     expect(found("  ")).toHaveLength(3);
@@ -77,13 +81,26 @@ describe("sky-plot projection", () => {
   });
   it("draws trails of two or more points", () => {
     expect(trailPath([{ x: 0, y: 0 }])).toBe("");
-    expect(trailPath([{ x: 0, y: 0 }, { x: 1.25, y: -2 }])).toBe("M0.0,0.0 L1.3,-2.0");
+    expect(
+      trailPath([
+        { x: 0, y: 0 },
+        { x: 1.25, y: -2 },
+      ]),
+    ).toBe("M0.0,0.0 L1.3,-2.0");
   });
 });
 
 describe("unit formatting", () => {
   it("shows a dash for missing or non-finite values", () => {
-    for (const f of [(v: number | null) => fixed(v, 1, "m"), degrees, speed, (v: number | null) => latLon(v, true), (v: number | null) => dms(v, false), utc, age]) {
+    for (const f of [
+      (v: number | null) => fixed(v, 1, "m"),
+      degrees,
+      speed,
+      (v: number | null) => latLon(v, true),
+      (v: number | null) => dms(v, false),
+      utc,
+      age,
+    ]) {
       expect(f(null)).toBe(DASH);
       expect(f(Number.NaN)).toBe(DASH);
     }
@@ -177,9 +194,15 @@ describe("exports", () => {
     expect(rangeQuery({ kind: "last", hours: 1 }, now)).toEqual({ since: "2026-11-22T11:00:00Z" });
     expect(rangeQuery({ kind: "all" }, now)).toEqual({});
     expect(rangeQuery({ kind: "between", since: "2026-11-22T08:00", until: "" }, now)).toEqual({ since: "2026-11-22T08:00:00Z" });
-    expect(rangeQuery({ kind: "between", since: "2026-11-22T09:00", until: "2026-11-22T08:00" }, now)).toEqual({ error: "From is after To" });
-    expect(rangeQuery({ kind: "between", since: "soon", until: "" }, now)).toEqual({ error: "From: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" });
-    expect(rangeQuery({ kind: "between", since: "2026-11-22 08:00", until: "11/22/2026, 09:00 AM" }, now)).toEqual({ error: "To: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM" });
+    expect(rangeQuery({ kind: "between", since: "2026-11-22T09:00", until: "2026-11-22T08:00" }, now)).toEqual({
+      error: "From is after To",
+    });
+    expect(rangeQuery({ kind: "between", since: "soon", until: "" }, now)).toEqual({
+      error: "From: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM",
+    });
+    expect(rangeQuery({ kind: "between", since: "2026-11-22 08:00", until: "11/22/2026, 09:00 AM" }, now)).toEqual({
+      error: "To: write a UTC date and time, 24-hour, as YYYY-MM-DD HH:MM",
+    });
     expect(utcParam("2026-02-30T08:00")).toBe(null);
     expect(utcParam("2026-11-22 08:00:30")).toBe("2026-11-22T08:00:30Z");
   });
@@ -187,7 +210,9 @@ describe("exports", () => {
     const q = { since: "2026-11-22T11:00:00Z" };
     expect(exportUrl("gpx", V, q)).toBe(`/api/providers/${V}/track.gpx?since=2026-11-22T11%3A00%3A00Z`);
     expect(exportUrl("csv", V, {})).toBe(`/api/providers/${V}/track.csv`);
-    expect(exportUrl("commands", V, { until: "2026-11-22T11:00:00Z" })).toBe(`/api/commands.csv?provider_id=${V}&until=2026-11-22T11%3A00%3A00Z`);
+    expect(exportUrl("commands", V, { until: "2026-11-22T11:00:00Z" })).toBe(
+      `/api/commands.csv?provider_id=${V}&until=2026-11-22T11%3A00%3A00Z`,
+    );
     expect(exportUrl("commands", null, {})).toBe("/api/commands.csv");
     expect(exportName("gpx", V)).toBe(`track_${V}.gpx`);
     expect(exportName("commands", null)).toBe("commands.csv");
@@ -220,14 +245,36 @@ describe("command timeline", () => {
       { at: Infinity, what: "Cancel asked (time not recorded)" },
       { at: 12, what: "Cancel asked" },
     ];
-    expect(inTimeOrder(lines).map((l) => l.what)).toEqual(["Requested", "Received", "Acknowledged", "Cancel asked", "Failed", "Cancel asked (time not recorded)"]);
+    expect(inTimeOrder(lines).map((l) => l.what)).toEqual([
+      "Requested",
+      "Received",
+      "Acknowledged",
+      "Cancel asked",
+      "Failed",
+      "Cancel asked (time not recorded)",
+    ]);
   });
 });
 
 describe("a command card's words", () => {
   const cmd = (over: Partial<Command> = {}): Command => ({
-    sessionId: "s1", service: "GPSFix", providerId: "p1", state: null, operator: "alice", createdAt: 1, status: null, terminal: false,
-    unanswered: false, cancelRequested: false, canceledBy: null, cleanedUp: false, console: "watch", ackedAt: null, violations: [], transitions: [], ...over,
+    sessionId: "s1",
+    service: "GPSFix",
+    providerId: "p1",
+    state: null,
+    operator: "alice",
+    createdAt: 1,
+    status: null,
+    terminal: false,
+    unanswered: false,
+    cancelRequested: false,
+    canceledBy: null,
+    cleanedUp: false,
+    console: "watch",
+    ackedAt: null,
+    violations: [],
+    transitions: [],
+    ...over,
   });
   it("says a cancel with the words table's status and reason, and who asked it where", () => {
     const canceled = cmd({ status: "CANCELED", terminal: true, cancelRequested: true, canceledBy: "bob", canceledOn: "relief" });
@@ -238,7 +285,14 @@ describe("a command card's words", () => {
     expect(transitionReason(canceled, "FAILED", "RESOURCE_FAILED")).toBe("the equipment failed");
   });
   it("says a cancel of a station's shutdown as such, not as if someone on watch asked it", () => {
-    const stopped = cmd({ status: "CANCELED", terminal: true, cancelRequested: true, canceledBy: null, canceledOn: "watch", cancelCause: "shutdown" });
+    const stopped = cmd({
+      status: "CANCELED",
+      terminal: true,
+      cancelRequested: true,
+      canceledBy: null,
+      canceledOn: "watch",
+      cancelCause: "shutdown",
+    });
     expect(cancelText(stopped)).toBe(`${WORDS.cancelCause.shutdown}: watch cancelled it as it stopped`);
     expect(transitionReason(stopped, "CANCELED", "CANCELED")).toBe("on request of watch as it stopped");
     const asked = cmd({ cancelRequested: true, canceledBy: null, canceledOn: "watch", cancelCause: "operator" });
@@ -248,8 +302,12 @@ describe("a command card's words", () => {
   });
   it("says a command the vehicle never answered in the table's words", () => {
     expect(statusText(cmd({ unanswered: true }))).toBe(WORDS.command.unanswered);
-    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "heard" }))).toBe("Cancelled before the vehicle heard it");
-    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "bound" }))).toBe("Cancelled, never answered");
+    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "heard" }))).toBe(
+      "Cancelled before the vehicle heard it",
+    );
+    expect(statusText(cmd({ unanswered: true, cancelRequested: true, terminal: true, closedUnheard: "bound" }))).toBe(
+      "Cancelled, never answered",
+    );
     expect(statusText(cmd())).toBe("Sent");
   });
 });

@@ -8,12 +8,29 @@ const H = 500;
 const overlap = (a: Box, b: Box) => a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
 
 const mark = (id: string, over: Partial<VehicleMark> = {}): VehicleMark => ({
-  id, label: id, position: { lon: 0, lat: 0 }, courseDeg: null, fix: "valid", gpsPosition: true, link: "live", selected: false, alarmed: false, projection: null, heardS: null, plannedUntil: null, ...over,
+  id,
+  label: id,
+  position: { lon: 0, lat: 0 },
+  courseDeg: null,
+  fix: "valid",
+  gpsPosition: true,
+  link: "live",
+  selected: false,
+  alarmed: false,
+  projection: null,
+  heardS: null,
+  plannedUntil: null,
+  ...over,
 });
 
 describe("whose name wins where names overlap", () => {
   it("the selected vehicle's first, then those in alarm or lost, then the others in the fleet's order", () => {
-    const fleet = [mark("well"), mark("alarmed", { alarmed: true }), mark("lost", { link: "lost" }), mark("selected", { selected: true })];
+    const fleet = [
+      mark("well"),
+      mark("alarmed", { alarmed: true }),
+      mark("lost", { link: "lost" }),
+      mark("selected", { selected: true }),
+    ];
     const placed = [...fleet].sort((a, b) => labelRank(a) - labelRank(b)).map((m) => m.id);
     expect(placed).toEqual(["selected", "alarmed", "lost", "well"]);
     // placed first, an alarmed vehicle's name is the one shown where it would cover a well one's
@@ -24,7 +41,11 @@ describe("whose name wins where names overlap", () => {
 
 describe("edge arrows", () => {
   it("a few arrows all get a place, none moved", () => {
-    const arrows = [[2000, 100], [2000, 400], [-900, 250]].map(([x, y]) => ({ edge: edgeMark(x, y, W, H, 22)!, w: 120, h: 20 }));
+    const arrows = [
+      [2000, 100],
+      [2000, 400],
+      [-900, 250],
+    ].map(([x, y]) => ({ edge: edgeMark(x, y, W, H, 22)!, w: 120, h: 20 }));
     const boxes = edgeBoxes(arrows, W, H);
     expect(boxes.every((b) => b !== null)).toBe(true);
   });
@@ -60,12 +81,21 @@ describe("names on the map", () => {
     expect(shown.filter(Boolean)).toHaveLength(5);
     const kept = names.filter((_, i) => shown[i]);
     for (const [i, a] of kept.entries()) for (const b of kept.slice(i + 1)) expect(overlap(a, b)).toBe(false);
-    expect(clearOf([{ x: 0, y: 0, w: 50, h: 18 }, { x: 0, y: 20, w: 50, h: 18 }])).toEqual([true, true]);
+    expect(
+      clearOf([
+        { x: 0, y: 0, w: 50, h: 18 },
+        { x: 0, y: 20, w: 50, h: 18 },
+      ]),
+    ).toEqual([true, true]);
   });
 
   it("no name covers the '+N more' note but the selected vehicle's", () => {
     const note = { x: 0, y: 0, w: 190, h: 26 };
-    const names = [{ x: 20, y: 5, w: 80, h: 18 }, { x: 120, y: 10, w: 80, h: 18 }, { x: 300, y: 10, w: 80, h: 18 }];
+    const names = [
+      { x: 20, y: 5, w: 80, h: 18 },
+      { x: 120, y: 10, w: 80, h: 18 },
+      { x: 300, y: 10, w: 80, h: 18 },
+    ];
     expect(clearOf(names, [note])).toEqual([false, false, true]); // both under the note left to their dots
     expect(clearOf(names, [note], 1)).toEqual([true, false, true]); // the first the selected's: shown all the same
   });
@@ -88,7 +118,12 @@ describe("the lost vehicles' projection labels", () => {
     items[0].mark = lost("planned", { plannedUntil: 1e9, selected: true });
     expect(shownByRank(items)).toEqual([true, false, false, true]);
     // and none over the "+N more" note but the selected's
-    expect(shownByRank([{ mark: lost("corner", { alarmed: true }), box: projectionBox("projected", { x: 170, y: 10 }, size) }], [{ x: 0, y: 0, w: 190, h: 26 }])).toEqual([false]);
+    expect(
+      shownByRank(
+        [{ mark: lost("corner", { alarmed: true }), box: projectionBox("projected", { x: 170, y: 10 }, size) }],
+        [{ x: 0, y: 0, w: 190, h: 26 }],
+      ),
+    ).toEqual([false]);
   });
   it("a projection's box is left of its ghost; a reason for none, under the vehicle's name", () => {
     expect(projectionBox("projected", { x: 400, y: 200 }, size)).toEqual({ x: 238, y: 192, w: 150, h: 16 });
@@ -101,9 +136,13 @@ describe("a vehicle's name on the map", () => {
   it("names a vehicle lost in its planned silence by the page's one rule, with when it was last heard; lost, as lost", () => {
     const until = now + 20 * 60;
     const planned = mark("Alpha (77b2ceb8)", { link: "lost", heardS: 12, plannedUntil: until });
-    expect(markName(planned)).toMatch(/^Alpha \(77b2ceb8\) · out of comms \(planned\) until (2026-11-28 )?22:20 UTC · last heard 12 s ago$/);
+    expect(markName(planned)).toMatch(
+      /^Alpha \(77b2ceb8\) · out of comms \(planned\) until (2026-11-28 )?22:20 UTC · last heard 12 s ago$/,
+    );
     expect(markName(planned, true)).toMatch(/^Alpha \(77b2ceb8\) · out of comms \(planned\) until (2026-11-28 )?22:20 UTC$/); // its edge arrow: short
-    expect(markName(mark("Alpha (77b2ceb8)", { link: "lost", heardS: 12 }))).toBe("Alpha (77b2ceb8) · lost · last heard 12 s ago");
+    expect(markName(mark("Alpha (77b2ceb8)", { link: "lost", heardS: 12 }))).toBe(
+      "Alpha (77b2ceb8) · lost · last heard 12 s ago",
+    );
     expect(markName(mark("Alpha (77b2ceb8)", { link: "lost", heardS: null }))).toBe("Alpha (77b2ceb8) · lost"); // never heard
     expect(markName(mark("Alpha (77b2ceb8)", { plannedUntil: null }))).toBe("Alpha (77b2ceb8)"); // live: the name alone
   });

@@ -70,7 +70,11 @@ export function clearOf(boxes: Box[], taken: Box[] = [], keep = 0): boolean[] {
 export function shownByRank(items: readonly { mark: VehicleMark; box: Box }[], taken: Box[] = []): boolean[] {
   const order = items.map((_, i) => i).sort((a, b) => labelRank(items[a].mark) - labelRank(items[b].mark)); // stable
   const keep = order.length > 0 && labelRank(items[order[0]].mark) === 0 ? 1 : 0;
-  const shown = clearOf(order.map((i) => items[i].box), taken, keep);
+  const shown = clearOf(
+    order.map((i) => items[i].box),
+    taken,
+    keep,
+  );
   const out: boolean[] = new Array<boolean>(items.length);
   for (const [k, i] of order.entries()) out[i] = shown[k];
   return out;
@@ -300,7 +304,9 @@ export class VehicleOverlay {
   private placeProjection(m: Marker, p: { x: number; y: number }): void {
     const b = projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!);
     m.projected.style.transform =
-      m.mark.projection?.kind === "projected" ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)` : `translate(${Math.round(b.x)}px, ${Math.round(b.y)}px)`;
+      m.mark.projection?.kind === "projected"
+        ? `translate(${Math.round(p.x - 12)}px, ${Math.round(p.y - 8)}px) translate(-100%, 0)`
+        : `translate(${Math.round(b.x)}px, ${Math.round(b.y)}px)`;
   }
 
   /** Each vehicle's label at its position when in view, else its arrow at the edge towards it. Arrows that would
@@ -349,18 +355,31 @@ export class VehicleOverlay {
     for (const [m] of newNames) m.labelSize = { w: m.label.offsetWidth, h: m.label.offsetHeight };
     for (const [m] of newArrows) m.size = { w: m.edge.offsetWidth, h: m.edge.offsetHeight };
     for (const [m] of newProjections) m.projectedSize = { w: m.projected.offsetWidth, h: m.projected.offsetHeight };
-    const boxes = edgeBoxes(outside.map(([m, edge]) => {
-      m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
-      return { edge, ...m.size! };
-    }), width, height);
+    const boxes = edgeBoxes(
+      outside.map(([m, edge]) => {
+        m.edge.classList.toggle("from-right", edge.x > width / 2); // its name on the side towards the middle
+        return { edge, ...m.size! };
+      }),
+      width,
+      height,
+    );
     const note = boxes.includes(null) ? [NOTE_BOX] : []; // the "+N more" note shown: no name over it but the selected's
-    const shown = shownByRank(inside.map(([m, p]) => ({ mark: m.mark, box: { ...labelOrigin(p), ...m.labelSize! } })), note);
+    const shown = shownByRank(
+      inside.map(([m, p]) => ({ mark: m.mark, box: { ...labelOrigin(p), ...m.labelSize! } })),
+      note,
+    );
     for (const [i, [m, p]] of inside.entries()) {
       if (m.label.hidden === shown[i]) m.label.hidden = !shown[i];
       if (shown[i]) m.label.style.transform = labelAt(p);
     }
     // the lost vehicles' projection labels, by the same rule: many lost at once do not pile up their "projected"
-    const projectedShown = shownByRank(projections.map(([m, p]) => ({ mark: m.mark, box: projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!) })), note);
+    const projectedShown = shownByRank(
+      projections.map(([m, p]) => ({
+        mark: m.mark,
+        box: projectionBox(m.mark.projection?.kind ?? "projected", p, m.projectedSize!),
+      })),
+      note,
+    );
     for (const [i, [m, p]] of projections.entries()) {
       if (m.projected.hidden === projectedShown[i]) m.projected.hidden = !projectedShown[i];
       if (projectedShown[i]) this.placeProjection(m, p);

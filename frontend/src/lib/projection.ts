@@ -63,7 +63,8 @@ export function deadReckon(fix: LastFix, seconds: number): Projection {
 
 /** What the map says of a projection: "projected · within 127 m", or why there is none. */
 export function projectionText(p: Projection): string {
-  if (p.kind === "projected") return `projected · within ${p.radiusM < 1000 ? `${Math.round(p.radiusM)} m` : `${(p.radiusM / 1000).toFixed(1)} km`}`;
+  if (p.kind === "projected")
+    return `projected · within ${p.radiusM < 1000 ? `${Math.round(p.radiusM)} m` : `${(p.radiusM / 1000).toFixed(1)} km`}`;
   if (p.kind === "too-old") return `not projected: no fix for over ${DEAD_RECKONING.maxSeconds / 60} min`;
   if (p.kind === "last-position") return `at its last position, not projected: ${p.why}`;
   return "not projected: speed or course unknown";

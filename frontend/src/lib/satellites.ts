@@ -3,16 +3,46 @@ import type { GPSConstellationEnumType, GPSSatelliteType } from "../api/types";
 
 // bytes 0..13 of uuid5(NAMESPACE_URL, "urn:sem-console:gnss-satellite"); byte 14 = constellation ordinal, 15 = PRN
 export const SAT_PREFIX = "ca5d35fbbcc25b9ab20cdf56b7b9";
-export const CONSTELLATIONS: readonly GPSConstellationEnumType[] = ["UNKNOWN", "BEIDOU", "GALILEO", "GLONASS", "GPS", "IRNSS", "QZSS", "SBAS"];
+export const CONSTELLATIONS: readonly GPSConstellationEnumType[] = [
+  "UNKNOWN",
+  "BEIDOU",
+  "GALILEO",
+  "GLONASS",
+  "GPS",
+  "IRNSS",
+  "QZSS",
+  "SBAS",
+];
 export const LETTER: Record<GPSConstellationEnumType, string> = {
-  GPS: "G", GALILEO: "E", GLONASS: "R", BEIDOU: "C", SBAS: "S", QZSS: "J", IRNSS: "I", UNKNOWN: "U",
+  GPS: "G",
+  GALILEO: "E",
+  GLONASS: "R",
+  BEIDOU: "C",
+  SBAS: "S",
+  QZSS: "J",
+  IRNSS: "I",
+  UNKNOWN: "U",
 };
 export const COLOR: Record<GPSConstellationEnumType, string> = {
-  GPS: "#4fc3f7", GALILEO: "#ffb74d", GLONASS: "#e57373", BEIDOU: "#ba68c8", SBAS: "#aed581", QZSS: "#f06292", IRNSS: "#fff176", UNKNOWN: "#90a4ae",
+  GPS: "#4fc3f7",
+  GALILEO: "#ffb74d",
+  GLONASS: "#e57373",
+  BEIDOU: "#ba68c8",
+  SBAS: "#aed581",
+  QZSS: "#f06292",
+  IRNSS: "#fff176",
+  UNKNOWN: "#90a4ae",
 };
 export type Shape = "circle" | "square" | "diamond" | "triangle";
 export const SHAPE: Record<GPSConstellationEnumType, Shape> = {
-  GPS: "circle", GALILEO: "square", GLONASS: "diamond", BEIDOU: "triangle", SBAS: "square", QZSS: "circle", IRNSS: "diamond", UNKNOWN: "circle",
+  GPS: "circle",
+  GALILEO: "square",
+  GLONASS: "diamond",
+  BEIDOU: "triangle",
+  SBAS: "square",
+  QZSS: "circle",
+  IRNSS: "diamond",
+  UNKNOWN: "circle",
 };
 
 const labels = new Map<string, string>(); // a few hundred satellites at most: each id's label made once

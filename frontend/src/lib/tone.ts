@@ -94,7 +94,10 @@ export function alarmWords(fresh: readonly Alarm[]): string {
     return `${severity}: ${floodText(cause, fresh.length)}: see the alarm list`;
   }
   const newest = [...fresh].sort((a, b) => b.since - a.since || b.id - a.id);
-  return `${newest.slice(0, SAID_AT_MOST - 1).map(one).join(". ")}. And ${fresh.length - (SAID_AT_MOST - 1)} more new alarms: see the alarm list`;
+  return `${newest
+    .slice(0, SAID_AT_MOST - 1)
+    .map(one)
+    .join(". ")}. And ${fresh.length - (SAID_AT_MOST - 1)} more new alarms: see the alarm list`;
 }
 
 /** One tone and one announcement for a burst of new alarms (a flood comes over a second or two, in several `alarms`
@@ -105,7 +108,11 @@ export class Burst {
   private started = 0;
   private timer: ReturnType<typeof setTimeout> | null = null;
 
-  constructor(private readonly say: (words: string) => void, private readonly quietMs = 1000, private readonly longestMs = 3000) {}
+  constructor(
+    private readonly say: (words: string) => void,
+    private readonly quietMs = 1000,
+    private readonly longestMs = 3000,
+  ) {}
 
   /** New alarms: true when they start a burst (sound the tone). */
   add(fresh: readonly Alarm[], now = Date.now()): boolean {

@@ -55,5 +55,6 @@ export function vehicleMatcher(query: string): (v: VehicleIdentity) => boolean {
   const q = query.trim().toLowerCase();
   if (!q) return () => true;
   const bare = q.replaceAll("-", "");
-  return (v) => vehicleLabel(v).toLowerCase().includes(q) || v.id.includes(q) || (bare !== "" && v.id.replaceAll("-", "").includes(bare));
+  return (v) =>
+    vehicleLabel(v).toLowerCase().includes(q) || v.id.includes(q) || (bare !== "" && v.id.replaceAll("-", "").includes(bare));
 }

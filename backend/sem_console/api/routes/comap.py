@@ -54,19 +54,31 @@ async def get_world_model(console: ConsoleDep) -> dict[str, Any]:
     return console.world_model()
 
 
-@writes.put("/api/worldmodel", response_model=WorldModel,
-            responses={**JSON_BODY, 409: problem("geometry CoMap cannot carry: a polygon that crosses itself or has fewer "
-                                                "than 3 distinct vertices, a featureId given twice"),
-                       413: {**BODY_TOO_LARGE, "description": "the world model does not fit one IMC packet (65535 bytes of "
-                                                              "payload), or the request body is over 1 MiB"}})
+@writes.put(
+    "/api/worldmodel",
+    response_model=WorldModel,
+    responses={
+        **JSON_BODY,
+        409: problem(
+            "geometry CoMap cannot carry: a polygon that crosses itself or has fewer "
+            "than 3 distinct vertices, a featureId given twice"
+        ),
+        413: {
+            **BODY_TOO_LARGE,
+            "description": "the world model does not fit one IMC packet (65535 bytes of "
+            "payload), or the request body is over 1 MiB",
+        },
+    },
+)
 async def put_world_model(body: WorldModelIn, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> dict[str, Any]:
     """Replace the world model and send it (IMC WorldModel) to every IMC peer. Features without a
     featureId are numbered; a closed polygon ring and an open one are the same polygon."""
     features = _features(body)
     size = len(encode_payload(world_model_message([Feature(max(f.feature_id, 0), f.points, f.coverage) for f in features])))
     if size > MAX_PAYLOAD:
-        raise HTTPException(status.HTTP_413_REQUEST_ENTITY_TOO_LARGE, f"the world model is {size} bytes of IMC payload; at most "
-                                                                      f"{MAX_PAYLOAD} fit")
+        raise HTTPException(
+            status.HTTP_413_REQUEST_ENTITY_TOO_LARGE, f"the world model is {size} bytes of IMC payload; at most {MAX_PAYLOAD} fit"
+        )
     model = console.put_world_model(features)
     audit(status.HTTP_200_OK, f"worldmodel:{len(features)} features", operator)
     return model
@@ -88,15 +100,27 @@ async def get_task(console: ConsoleDep, task_id: int = TaskId) -> messages.Task:
     return task.to_json()
 
 
-@writes.post("/api/tasks", response_model=Task, status_code=status.HTTP_201_CREATED,
-             responses={201: {"description": "the task, sent to the vehicle as TaskAdmin ASSIGN (state ASSIGNED)", "links": {
-                 name: {"operationId": op, "parameters": {"task_id": "$response.body#/taskId"}}
-                 for name, op in (("GetTask", "get_task_api_tasks__task_id__get"),
-                                  ("SynchTask", "synch_task_api_tasks__task_id__synch_post"))}},
-                        404: problem("the vehicle has no IMC system id in the console's vehicle table"),
-                        409: problem("a survey of a feature the world model does not have, or no free task id" + COMAP_OFF),
-                        503: problem("the database cannot be reached: task ids are taken there"),
-                        **JSON_BODY})
+@writes.post(
+    "/api/tasks",
+    response_model=Task,
+    status_code=status.HTTP_201_CREATED,
+    responses={
+        201: {
+            "description": "the task, sent to the vehicle as TaskAdmin ASSIGN (state ASSIGNED)",
+            "links": {
+                name: {"operationId": op, "parameters": {"task_id": "$response.body#/taskId"}}
+                for name, op in (
+                    ("GetTask", "get_task_api_tasks__task_id__get"),
+                    ("SynchTask", "synch_task_api_tasks__task_id__synch_post"),
+                )
+            },
+        },
+        404: problem("the vehicle has no IMC system id in the console's vehicle table"),
+        409: problem("a survey of a feature the world model does not have, or no free task id" + COMAP_OFF),
+        503: problem("the database cannot be reached: task ids are taken there"),
+        **JSON_BODY,
+    },
+)
 async def assign_task(body: TaskRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> messages.Task:
     """Assign a SurveyTask (featureId, sensor, resolution, deadline) or a MoveTask (point, deadline) to a vehicle."""
     if not console.comap_linked():
@@ -106,21 +130,37 @@ async def assign_task(body: TaskRequest, console: ConsoleDep, operator: Operator
         d = body.deadline if body.deadline.tzinfo else body.deadline.replace(tzinfo=UTC)
         deadline = d.timestamp()
     try:
-        task = await console.assign_task(body.kind, body.vehicle, operator, feature_id=body.featureId, sensor=body.sensor,
-                                         resolution=body.resolution, deadline=deadline,
-                                         point=body.point.model_dump() if body.point else None)
+        task = await console.assign_task(
+            body.kind,
+            body.vehicle,
+            operator,
+            feature_id=body.featureId,
+            sensor=body.sensor,
+            resolution=body.resolution,
+            deadline=deadline,
+            point=body.point.model_dump() if body.point else None,
+        )
     except TaskError as e:
         raise HTTPException(e.status, str(e)) from None
     audit(status.HTTP_201_CREATED, f"task:{task.task_id}", operator)
     return task.to_json()
 
 
-@writes.post("/api/tasks/{task_id}/synch", response_model=Task,
-             responses={**UNKNOWN_TASK, **JSON_BODY, 409: problem(
-                 "the task has finished; or this console has no CoMap link to the task's vehicle (CoMap off, or the "
-                 "vehicle not in its --imc-vehicles): the answer names the station that assigned it")})
-async def synch_task(body: SynchRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep,
-                     task_id: int = TaskId) -> messages.Task:
+@writes.post(
+    "/api/tasks/{task_id}/synch",
+    response_model=Task,
+    responses={
+        **UNKNOWN_TASK,
+        **JSON_BODY,
+        409: problem(
+            "the task has finished; or this console has no CoMap link to the task's vehicle (CoMap off, or the "
+            "vehicle not in its --imc-vehicles): the answer names the station that assigned it"
+        ),
+    },
+)
+async def synch_task(
+    body: SynchRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep, task_id: int = TaskId
+) -> messages.Task:
     """HOLD, RESUME or INTERRUPT the task's vehicle (IMC SynchAdmin), whichever station assigned the task: this
     console sends it when it has a CoMap link to the vehicle."""
     try:
@@ -137,8 +177,11 @@ async def comap_status(console: ConsoleDep) -> dict[str, Any]:
     return console.comap_status()
 
 
-@reads.get("/api/providers/{provider_id}/capabilities", response_model=ComapVehicle,
-           responses={404: problem("the provider has no IMC system id and has not been seen on the bus")})
+@reads.get(
+    "/api/providers/{provider_id}/capabilities",
+    response_model=ComapVehicle,
+    responses={404: problem("the provider has no IMC system id and has not been seen on the bus")},
+)
 async def provider_capabilities(provider_id: uuid.UUID, console: ConsoleDep) -> dict[str, Any]:
     """The vehicle's CoMap side: its IMC system id and the capabilities of its last VehicleCapabilities."""
     info = console.capabilities_of(provider_id)

@@ -29,19 +29,36 @@ reads = APIRouter(tags=["commands"])
 UNKNOWN_PROVIDER: Responses = {404: problem("unknown provider")}
 # a command not among the running and newest finished ones is looked up in the database
 UNKNOWN_COMMAND: Responses = {404: problem("unknown command"), **DATABASE_READ}
-LOST: Responses = {409: problem("the vehicle's link is lost: the answer names it and how long it has been silent; send "
-                                "confirmLost true to command it anyway (a replay, read-only, refuses every command with 409)")}
+LOST: Responses = {
+    409: problem(
+        "the vehicle's link is lost: the answer names it and how long it has been silent; send "
+        "confirmLost true to command it anyway (a replay, read-only, refuses every command with 409)"
+    )
+}
 # OpenAPI links: the sessionId of a created command is what the command routes take (for clients and test tools)
-CREATED: Responses = {201: {"description": "the command, published on the bus", "links": {
-    name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
-    for name, op in (("GetCommand", "get_command_api_commands__session_id__get"),
-                     ("CancelCommand", "cancel_command_api_commands__session_id__delete"))}}}
+CREATED: Responses = {
+    201: {
+        "description": "the command, published on the bus",
+        "links": {
+            name: {"operationId": op, "parameters": {"session_id": "$response.body#/sessionId"}}
+            for name, op in (
+                ("GetCommand", "get_command_api_commands__session_id__get"),
+                ("CancelCommand", "cancel_command_api_commands__session_id__delete"),
+            )
+        },
+    }
+}
 
 
-@writes.post("/api/providers/{provider_id}/gps-fix", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
-async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep,
-                          audit: AuditDep) -> messages.Command:
+@writes.post(
+    "/api/providers/{provider_id}/gps-fix",
+    response_model=Command,
+    status_code=status.HTTP_201_CREATED,
+    responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY},
+)
+async def request_gps_fix(
+    provider_id: uuid.UUID, body: GpsFixRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> messages.Command:
     """Surface the vehicle for a GPS fix (GPSFixCommand); the body is `{}`. Returns the command with its sessionId.
     A UMAA 6.0 vehicle has no GPS fix service: 422."""
     c = reachable_commanding(console, provider_id, Service.GPS_FIX, None, ("path", "provider_id"), body.confirmLost)
@@ -50,23 +67,28 @@ async def request_gps_fix(provider_id: uuid.UUID, body: GpsFixRequest, console: 
     return cmd.to_json()
 
 
-@writes.post("/api/providers/{provider_id}/inertial-sensor", response_model=Command, status_code=status.HTTP_201_CREATED,
-             responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY})
-async def set_inertial_sensor(provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep,
-                              operator: OperatorDep, audit: AuditDep) -> messages.Command:
+@writes.post(
+    "/api/providers/{provider_id}/inertial-sensor",
+    response_model=Command,
+    status_code=status.HTTP_201_CREATED,
+    responses={**CREATED, **UNKNOWN_PROVIDER, **LOST, **JSON_BODY},
+)
+async def set_inertial_sensor(
+    provider_id: uuid.UUID, body: InertialSensorRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> messages.Command:
     """Command the inertial sensor with a state of the vehicle's UMAA version (its `umaaVersion`): 3.0.1, OFF, ON or
     RESTARTING (InertialSensorCommand); 6.0, BEST_ALIGN, GPS_ALIGN, INIT, SNAP_ALIGN, STATIONARY_ALIGN or
     TRANSFER_ALIGN (InertialSensorCommandType). A state of the other version: 422, naming the vehicle's version and its
     choices."""
-    c = reachable_commanding(console, provider_id, Service.INERTIAL_SENSOR, body.state, ("body", "state"),
-                             body.confirmLost)
+    c = reachable_commanding(console, provider_id, Service.INERTIAL_SENSOR, body.state, ("body", "state"), body.confirmLost)
     cmd = console.issue(c, provider_id, body.state, operator)
     audit(status.HTTP_201_CREATED, str(cmd.session_id), operator)
     return cmd.to_json()
 
 
-def reachable_commanding(console: Console, provider_id: uuid.UUID, service: Service, state: str | None,
-                         where: tuple[str, ...], confirm_lost: bool) -> Commanding:
+def reachable_commanding(
+    console: Console, provider_id: uuid.UUID, service: Service, state: str | None, where: tuple[str, ...], confirm_lost: bool
+) -> Commanding:
     """How a known vehicle's version commands `service`: a 422 (a validation problem at `where`) naming its version
     and its choices when it cannot take this command, whether or not it is lost (no confirmation asked for a command
     that would be refused); then, a vehicle whose link is lost only with the operator's explicit confirmation (409
@@ -78,16 +100,18 @@ def reachable_commanding(console: Console, provider_id: uuid.UUID, service: Serv
         raise RequestValidationError([{"loc": where, "msg": refused, "type": "value_error"}])
     if p.link == "lost" and not confirm_lost:
         silent = console.silent_for(p)
-        raise HTTPException(status.HTTP_409_CONFLICT,
-                            f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
-                            "the command could run whenever it comes back; send confirmLost true to command it anyway")
+        raise HTTPException(
+            status.HTTP_409_CONFLICT,
+            f"{vehicle_label(p.id, p.name)} is lost (nothing heard for {silent:.0f} s): "
+            "the command could run whenever it comes back; send confirmLost true to command it anyway",
+        )
     return found
 
 
-@writes.delete("/api/commands/{session_id}", response_model=Command,
-               responses={**UNKNOWN_COMMAND, 409: problem("the command has finished")})
-async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep,
-                         audit: AuditDep) -> messages.Command:
+@writes.delete(
+    "/api/commands/{session_id}", response_model=Command, responses={**UNKNOWN_COMMAND, 409: problem("the command has finished")}
+)
+async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: OperatorDep, audit: AuditDep) -> messages.Command:
     """Cancel a running command, an UNANSWERED one too: the console disposes it, the provider answers CANCELED. The
     command stays in the history."""
     if await console.command(session_id) is None:
@@ -101,12 +125,28 @@ async def cancel_command(session_id: uuid.UUID, console: ConsoleDep, operator: O
     return cmd.to_json()
 
 
-@reads.get("/api/commands", response_model=list[Command], responses={200: {"description": "commands, newest first", "links": {
-    "GetNewestCommand": {"operationId": "get_command_api_commands__session_id__get",
-                         "parameters": {"session_id": "$response.body#/0/sessionId"}}}}, **DATABASE_READ})
-async def list_commands(console: ConsoleDep, limit: Limit = 100, offset: Offset = 0,
-                        provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
-                        ) -> list[messages.Command]:
+@reads.get(
+    "/api/commands",
+    response_model=list[Command],
+    responses={
+        200: {
+            "description": "commands, newest first",
+            "links": {
+                "GetNewestCommand": {
+                    "operationId": "get_command_api_commands__session_id__get",
+                    "parameters": {"session_id": "$response.body#/0/sessionId"},
+                }
+            },
+        },
+        **DATABASE_READ,
+    },
+)
+async def list_commands(
+    console: ConsoleDep,
+    limit: Limit = 100,
+    offset: Offset = 0,
+    provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
+) -> list[messages.Command]:
     """Commands this console issued, newest first, with every status transition (`limit` from `offset`)."""
     return await console.command_history(limit, offset, provider_id)
 

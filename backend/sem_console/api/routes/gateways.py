@@ -35,12 +35,18 @@ async def gateway_states(gateways: GatewaysDep) -> list[messages.GatewayState]:
     return gateways.states()
 
 
-@reads.get("/api/providers/{provider_id}/aspn-log", response_class=Response,
-           responses={**LCM_LOG, 404: problem("unknown provider"), 409: problem("the ASPN gateway is off (--aspn-lcm)")})
-async def aspn_log(provider_id: uuid.UUID, console: ConsoleDep, gateways: GatewaysDep,
-                   since: Annotated[IsoTime, Query(description=SINCE_DOC + ": a recording started then")] = None,
-                   seconds: Annotated[float | None, Query(gt=0, le=86_400, description="only the last this many seconds")] = None
-                   ) -> Response:
+@reads.get(
+    "/api/providers/{provider_id}/aspn-log",
+    response_class=Response,
+    responses={**LCM_LOG, 404: problem("unknown provider"), 409: problem("the ASPN gateway is off (--aspn-lcm)")},
+)
+async def aspn_log(
+    provider_id: uuid.UUID,
+    console: ConsoleDep,
+    gateways: GatewaysDep,
+    since: Annotated[IsoTime, Query(description=SINCE_DOC + ": a recording started then")] = None,
+    seconds: Annotated[float | None, Query(gt=0, le=86_400, description="only the last this many seconds")] = None,
+) -> Response:
     """The vehicle's ASPN-23 messages the console kept (the last --aspn-log-seconds, at most 8 MiB), as a `.lcm` log
     file for lcm-logplayer or any LCM log reader. `since` and `seconds` narrow the window."""
     known_provider(console, provider_id)
@@ -49,14 +55,21 @@ async def aspn_log(provider_id: uuid.UUID, console: ConsoleDep, gateways: Gatewa
     events = gateways.aspn.events(provider_id, epoch("since", since), seconds)
     data = await asyncio.to_thread(write_log, events)
     stamp = time.strftime("%Y%m%dT%H%M%SZ", time.gmtime())
-    return Response(data, media_type="application/octet-stream",
-                    headers={"Content-Disposition": f'attachment; filename="aspn-{str(provider_id)[:8]}-{stamp}.lcm"'})
+    return Response(
+        data,
+        media_type="application/octet-stream",
+        headers={"Content-Disposition": f'attachment; filename="aspn-{str(provider_id)[:8]}-{stamp}.lcm"'},
+    )
 
 
-@writes.put("/api/providers/{provider_id}/link-config", response_model=LinkConfig,
-            responses={404: problem("unknown provider"), **JSON_BODY})
-async def set_link_config(provider_id: uuid.UUID, body: LinkConfig, console: ConsoleDep, operator: OperatorDep,
-                          audit: AuditDep) -> messages.LinkConfig:
+@writes.put(
+    "/api/providers/{provider_id}/link-config",
+    response_model=LinkConfig,
+    responses={404: problem("unknown provider"), **JSON_BODY},
+)
+async def set_link_config(
+    provider_id: uuid.UUID, body: LinkConfig, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> messages.LinkConfig:
     """Set a vehicle's link thresholds (comms-lost timeout, regained time) and record its comms-lost policy and
     regained behaviour. Link health follows the new thresholds at once; the JAUS gateway reports them
     (ReportCommsLostConfiguration); the setting is kept in the console's database. Audited like a command. Returns

@@ -73,8 +73,9 @@ SINCE_DOC = "from this time on (ISO 8601, e.g. 2026-11-22T08:00:00Z; without an 
 UNTIL_DOC = "up to this time (ISO 8601; without an offset: UTC); before `since`: nothing"
 
 
-async def time_range(since: Annotated[IsoTime, Query(description=SINCE_DOC)] = None,
-                     until: Annotated[IsoTime, Query(description=UNTIL_DOC)] = None) -> TimeRange:
+async def time_range(
+    since: Annotated[IsoTime, Query(description=SINCE_DOC)] = None, until: Annotated[IsoTime, Query(description=UNTIL_DOC)] = None
+) -> TimeRange:
     return TimeRange(epoch("since", since), epoch("until", until))
 
 
@@ -133,13 +134,39 @@ def _attachment(name: str) -> dict[str, str]:
     return {"Content-Disposition": f'attachment; filename="{name}"'}
 
 
-TRACK_CSV_HEADER = ("time_utc", "latitude_deg", "longitude_deg", "altitude_msl_m", "course_deg", "sog_mps",
-                    "fix_valid", "gps_lat_long_valid", "position_time_utc", "umaa_version")
+TRACK_CSV_HEADER = (
+    "time_utc",
+    "latitude_deg",
+    "longitude_deg",
+    "altitude_msl_m",
+    "course_deg",
+    "sog_mps",
+    "fix_valid",
+    "gps_lat_long_valid",
+    "position_time_utc",
+    "umaa_version",
+)
 
 
 def track_csv(points: Sequence[TrackPoint], version: str | None = None) -> str:
-    return _csv(TRACK_CSV_HEADER, ((_utc(p.time), p.latitude, p.longitude, p.altitudeMsl, p.course, p.sog, p.fixValid,
-                                    p.latLongValid, _utc(p.positionTime), version) for p in points))
+    return _csv(
+        TRACK_CSV_HEADER,
+        (
+            (
+                _utc(p.time),
+                p.latitude,
+                p.longitude,
+                p.altitudeMsl,
+                p.course,
+                p.sog,
+                p.fixValid,
+                p.latLongValid,
+                _utc(p.positionTime),
+                version,
+            )
+            for p in points
+        ),
+    )
 
 
 def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPoint], version: str | None = None) -> str:
@@ -150,14 +177,17 @@ def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPo
     gpx.nsmap["sem"] = EXT_NS
     label = f"{name} ({provider_id})" if name else str(provider_id)
     speaks = f"a UMAA {version} vehicle; " if version else ""
-    track = gpxpy.gpx.GPXTrack(name=f"Track of {label}", description=(
-        f"{speaks}its position reports at most once per second; time: when the console received them"))
+    track = gpxpy.gpx.GPXTrack(
+        name=f"Track of {label}",
+        description=(f"{speaks}its position reports at most once per second; time: when the console received them"),
+    )
     segment = gpxpy.gpx.GPXTrackSegment()
     for p in points:
-        pt = gpxpy.gpx.GPXTrackPoint(p.latitude, p.longitude, elevation=p.altitudeMsl,
-                                     time=datetime.fromtimestamp(p.time, UTC))
-        pt.description = f"fix {'valid' if p.fixValid else 'not valid' if p.fixValid is False else 'unknown'}, " \
-                         f"position from {'GPS' if p.latLongValid else 'INS'}"
+        pt = gpxpy.gpx.GPXTrackPoint(p.latitude, p.longitude, elevation=p.altitudeMsl, time=datetime.fromtimestamp(p.time, UTC))
+        pt.description = (
+            f"fix {'valid' if p.fixValid else 'not valid' if p.fixValid is False else 'unknown'}, "
+            f"position from {'GPS' if p.latLongValid else 'INS'}"
+        )
         for tag, value in (("course", p.course), ("speed", p.sog)):
             if value is not None:
                 ext = ElementTree.Element(f"{{{EXT_NS}}}{tag}")
@@ -169,9 +199,17 @@ def track_gpx(provider_id: uuid.UUID, name: str | None, points: Sequence[TrackPo
     return gpx.to_xml(version="1.1")
 
 
-@router.get("/api/providers/{provider_id}/track.gpx", response_class=Response,
-            responses={**_document("application/gpx+xml", "GPX 1.1: the track in time order, elevation MSL (m), "
-                                   "course (degrees) and speed (m/s) as extensions"), **UNKNOWN_PROVIDER})
+@router.get(
+    "/api/providers/{provider_id}/track.gpx",
+    response_class=Response,
+    responses={
+        **_document(
+            "application/gpx+xml",
+            "GPX 1.1: the track in time order, elevation MSL (m), course (degrees) and speed (m/s) as extensions",
+        ),
+        **UNKNOWN_PROVIDER,
+    },
+)
 async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> Response:
     """The track as a GPX 1.1 file (a download, made with gpxpy): one track, one segment, the points in time order
     with `<time>` (UTC), `<ele>` (altitude MSL, m) and `<desc>` (fix valid, GPS or INS position); course (degrees)
@@ -183,9 +221,11 @@ async def get_track_gpx(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     return GpxResponse(body, headers=_attachment(_filename(provider_id, when, "gpx")))
 
 
-@router.get("/api/providers/{provider_id}/track.csv", response_class=Response,
-            responses={**_document("text/csv", f"CSV (RFC 4180), units in the header: {','.join(TRACK_CSV_HEADER)}"),
-                       **UNKNOWN_PROVIDER})
+@router.get(
+    "/api/providers/{provider_id}/track.csv",
+    response_class=Response,
+    responses={**_document("text/csv", f"CSV (RFC 4180), units in the header: {','.join(TRACK_CSV_HEADER)}"), **UNKNOWN_PROVIDER},
+)
 async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> Response:
     """The track as CSV, one row per point in time order, times UTC ISO 8601, with the vehicle's UMAA version
     (`umaa_version`; empty: a vehicle the console has not seen since it started) (a download)."""
@@ -196,11 +236,37 @@ async def get_track_csv(provider_id: uuid.UUID, console: ConsoleDep, when: Range
     return CsvResponse(body, headers=_attachment(_filename(provider_id, when, "csv")))
 
 
-COMMANDS_CSV_HEADER = ("session_id", "service", "provider_id", "ins_state", "operator", "station", "created_utc",
-                       "acked_utc", "final_status", "terminal", "unanswered", "cancel_requested", "canceled_by",
-                       "canceled_on", "canceled_utc", "cancel_cause", "closed_unheard", "closed_utc", "cleaned_up",
-                       "seq", "status", "status_words", "reason", "reason_words", "log_message", "violation",
-                       "provider_time_utc", "received_utc", "umaa_version")
+COMMANDS_CSV_HEADER = (
+    "session_id",
+    "service",
+    "provider_id",
+    "ins_state",
+    "operator",
+    "station",
+    "created_utc",
+    "acked_utc",
+    "final_status",
+    "terminal",
+    "unanswered",
+    "cancel_requested",
+    "canceled_by",
+    "canceled_on",
+    "canceled_utc",
+    "cancel_cause",
+    "closed_unheard",
+    "closed_utc",
+    "cleaned_up",
+    "seq",
+    "status",
+    "status_words",
+    "reason",
+    "reason_words",
+    "log_message",
+    "violation",
+    "provider_time_utc",
+    "received_utc",
+    "umaa_version",
+)
 
 
 def commands_csv(commands: Sequence[messages.Command], versions: dict[str, str] | None = None) -> str:
@@ -212,25 +278,63 @@ def commands_csv(commands: Sequence[messages.Command], versions: dict[str, str] 
 
     def rows() -> Iterable[list[Any]]:
         for c in commands:
-            head = [c["sessionId"], c["service"], c["providerId"], c["state"], c["operator"], c["console"],
-                    _utc(c["createdAt"]), _utc(c["ackedAt"]), c["status"], c["terminal"], c["unanswered"],
-                    c["cancelRequested"], c["canceledBy"], c["canceledOn"], _utc(c["canceledAt"]), c["cancelCause"],
-                    c["closedUnheard"],
-                    _utc(c["closedAt"]), c["cleanedUp"]]
+            head = [
+                c["sessionId"],
+                c["service"],
+                c["providerId"],
+                c["state"],
+                c["operator"],
+                c["console"],
+                _utc(c["createdAt"]),
+                _utc(c["ackedAt"]),
+                c["status"],
+                c["terminal"],
+                c["unanswered"],
+                c["cancelRequested"],
+                c["canceledBy"],
+                c["canceledOn"],
+                _utc(c["canceledAt"]),
+                c["cancelCause"],
+                c["closedUnheard"],
+                _utc(c["closedAt"]),
+                c["cleanedUp"],
+            ]
             transitions: list[messages.Transition | None] = [*c["transitions"]] or [None]
             for t in transitions:
-                yield head + ([None] * 9 if t is None else
-                              [t["seq"], t["status"], word("CommandStatusEnumType", t["status"]), t["reason"],
-                               word("CommandStatusReasonEnumType", t["reason"]), t["logMessage"], t["violation"],
-                               _utc(t["providerTime"]), _utc(t["receivedAt"])]) + [versions.get(c["sessionId"])]
+                yield (
+                    head
+                    + (
+                        [None] * 9
+                        if t is None
+                        else [
+                            t["seq"],
+                            t["status"],
+                            word("CommandStatusEnumType", t["status"]),
+                            t["reason"],
+                            word("CommandStatusReasonEnumType", t["reason"]),
+                            t["logMessage"],
+                            t["violation"],
+                            _utc(t["providerTime"]),
+                            _utc(t["receivedAt"]),
+                        ]
+                    )
+                    + [versions.get(c["sessionId"])]
+                )
+
     return _csv(COMMANDS_CSV_HEADER, rows())
 
 
-@router.get("/api/commands.csv", response_class=Response, tags=["commands"],
-            responses=_document("text/csv", f"CSV (RFC 4180): {','.join(COMMANDS_CSV_HEADER)}"))
-async def get_commands_csv(console: ConsoleDep, when: Range,
-                           provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
-                           ) -> Response:
+@router.get(
+    "/api/commands.csv",
+    response_class=Response,
+    tags=["commands"],
+    responses=_document("text/csv", f"CSV (RFC 4180): {','.join(COMMANDS_CSV_HEADER)}"),
+)
+async def get_commands_csv(
+    console: ConsoleDep,
+    when: Range,
+    provider_id: Annotated[uuid.UUID | None, Query(description="only commands to this provider")] = None,
+) -> Response:
     """The command history, oldest first, one row per status transition with the command's columns repeated
     (among them `operator` and `station`, who issued it and where; `canceled_by`, `canceled_on`, `canceled_utc`, `cancel_cause`;
     `closed_unheard`, `closed_utc`); a command with no status yet is one row, its transition columns empty. Each
@@ -238,10 +342,11 @@ async def get_commands_csv(console: ConsoleDep, when: Range,
     `reason_words`); `umaa_version`, the UMAA version the command was issued in (its vehicle's), by whose standard its
     state, statuses and reasons read. Times UTC ISO 8601; `since`/`until` select by the time the command was created
     (a download)."""
+
     def build() -> str:
         commands = console.export_commands(provider_id, when.since, when.until)
-        return commands_csv([c.to_json() for c in commands],
-                            {str(c.session_id): c.commanding.version for c in commands})
+        return commands_csv([c.to_json() for c in commands], {str(c.session_id): c.commanding.version for c in commands})
+
     body = await asyncio.to_thread(build)
     name = f"commands{f'_{provider_id}' if provider_id else ''}.csv"
     return CsvResponse(body, headers=_attachment(name))

@@ -24,12 +24,20 @@ async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
     token, whether it has a chart or replays a recording, and its database's state. Always open, even with
     --auth-reads."""
     reach = console.database_reach()
-    return {"status": "ok", "consoleId": str(console.id), "domain": settings.domain,
-            "authRequired": bool(settings.operators()), "readAuthRequired": settings.auth_reads,
-            "basemap": settings.basemap is not None, "replay": settings.replay is not None,
-            "consoleName": console.station, "databaseUnavailableSince": reach["unavailableSince"],
-            "databaseWritesHeld": reach["writesHeld"], "databaseWritesDropped": reach["writesDropped"],
-            "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers)}
+    return {
+        "status": "ok",
+        "consoleId": str(console.id),
+        "domain": settings.domain,
+        "authRequired": bool(settings.operators()),
+        "readAuthRequired": settings.auth_reads,
+        "basemap": settings.basemap is not None,
+        "replay": settings.replay is not None,
+        "consoleName": console.station,
+        "databaseUnavailableSince": reach["unavailableSince"],
+        "databaseWritesHeld": reach["writesHeld"],
+        "databaseWritesDropped": reach["writesDropped"],
+        "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers),
+    }
 
 
 @reads.get("/metrics", response_model=Metrics)
@@ -42,12 +50,19 @@ PMTILES = "application/vnd.pmtiles"
 _BYTES = {"schema": {"type": "string", "format": "binary"}}
 
 
-@reads.get("/basemap.pmtiles", response_class=FileResponse, responses={
-    200: {"description": "the whole PMTiles file", "content": {PMTILES: _BYTES}},
-    206: {"description": "the byte range asked for with `Range: bytes=a-b` (how the dashboard's pmtiles reader reads it)",
-          "content": {PMTILES: _BYTES}},
-    404: {"description": "the console has no basemap (no --basemap)", "model": Problem},
-    416: {"description": "the range is outside the file", "content": {"text/plain": {"schema": {"type": "string"}}}}})
+@reads.get(
+    "/basemap.pmtiles",
+    response_class=FileResponse,
+    responses={
+        200: {"description": "the whole PMTiles file", "content": {PMTILES: _BYTES}},
+        206: {
+            "description": "the byte range asked for with `Range: bytes=a-b` (how the dashboard's pmtiles reader reads it)",
+            "content": {PMTILES: _BYTES},
+        },
+        404: {"description": "the console has no basemap (no --basemap)", "model": Problem},
+        416: {"description": "the range is outside the file", "content": {"text/plain": {"schema": {"type": "string"}}}},
+    },
+)
 async def basemap(settings: SettingsDep) -> FileResponse:
     """The offline chart given with --basemap, for the map; HTTP range requests (`Range: bytes=a-b`, answered 206
     with `Accept-Ranges: bytes`) are how it is read."""
@@ -57,8 +72,7 @@ async def basemap(settings: SettingsDep) -> FileResponse:
 
 
 @reads.get("/audit", response_model=list[AuditEntry], responses=DATABASE_READ)
-async def audit_trail(console: ConsoleDep, limit: Limit = 100,
-                      offset: Offset = 0) -> list[dict[str, Any]]:
+async def audit_trail(console: ConsoleDep, limit: Limit = 100, offset: Offset = 0) -> list[dict[str, Any]]:
     """Command requests, accepted and refused (for any reason), and wrong tokens on any route, newest first. Refusals
     are bounded per client address and minute (--audit-refusals-per-minute), the trail by --audit-max-rows."""
     return [entry_json(r) for r in await console.audit_trail(limit, offset)]

@@ -17,10 +17,14 @@ from sem_console.core import messages
 router = APIRouter(prefix="/api/providers", tags=["providers"])
 writes = APIRouter(prefix="/api/providers", tags=["providers"])  # operator token, JSON body, audited
 # OpenAPI links: a provider's id is what the per-vehicle routes take (for clients and test tools)
-PROVIDER_LINKS = {name: {"operationId": op, "parameters": {"provider_id": "$response.body#/id"}} for name, op in (
-    ("AspnLog", "aspn_log_api_providers__provider_id__aspn_log_get"),
-    ("SetLinkConfig", "set_link_config_api_providers__provider_id__link_config_put"),
-    ("SetName", "set_name_api_providers__provider_id__name_put"))}
+PROVIDER_LINKS = {
+    name: {"operationId": op, "parameters": {"provider_id": "$response.body#/id"}}
+    for name, op in (
+        ("AspnLog", "aspn_log_api_providers__provider_id__aspn_log_get"),
+        ("SetLinkConfig", "set_link_config_api_providers__provider_id__link_config_put"),
+        ("SetName", "set_name_api_providers__provider_id__name_put"),
+    )
+}
 
 
 def known_provider(console: Console, provider_id: uuid.UUID) -> Provider:
@@ -37,8 +41,14 @@ async def list_providers(console: ConsoleDep) -> list[messages.ProviderSummary]:
     return console.provider_summaries()
 
 
-@router.get("/{provider_id}", response_model=ProviderDetail, responses={
-    200: {"description": "the provider with its latest reports", "links": PROVIDER_LINKS}, 404: problem("unknown provider")})
+@router.get(
+    "/{provider_id}",
+    response_model=ProviderDetail,
+    responses={
+        200: {"description": "the provider with its latest reports", "links": PROVIDER_LINKS},
+        404: problem("unknown provider"),
+    },
+)
 async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> messages.ProviderDetail:
     """One provider as the list has it, plus its latest GPSReport (with every satellite), GPSFixReport,
     GPSFixStatusReport and InertialSensorReport (null before any)."""
@@ -46,8 +56,9 @@ async def get_provider(provider_id: uuid.UUID, console: ConsoleDep) -> messages.
 
 
 @writes.put("/{provider_id}/name", response_model=VehicleNameShown, responses={404: problem("unknown provider"), **JSON_BODY})
-async def set_name(provider_id: uuid.UUID, body: VehicleName, console: ConsoleDep, operator: OperatorDep,
-                   audit: AuditDep) -> dict[str, Any]:
+async def set_name(
+    provider_id: uuid.UUID, body: VehicleName, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> dict[str, Any]:
     """Name a vehicle: the name is kept in the console's database, shared with the other consoles on it, and
     shown wherever the vehicle is named (over --vehicle-names; its alarms' text, raised before or after). A name is 1 to 40
     printable characters (no control, invisible or bidirectional format characters), trimmed; an empty or null name goes

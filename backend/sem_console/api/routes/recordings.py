@@ -23,10 +23,14 @@ writes = APIRouter(prefix="/api", tags=["recordings"])
 reads = APIRouter(prefix="/api", tags=["recordings"])
 
 
-@writes.post("/recordings", response_model=RecordingStatus,
-             responses={**JSON_BODY, 503: problem("the recording cannot start: its directory cannot be made or written")})
-async def control_recording(body: RecordingRequest, request: Request, console: ConsoleDep,
-                            operator: OperatorDep) -> messages.RecordingStatus:
+@writes.post(
+    "/recordings",
+    response_model=RecordingStatus,
+    responses={**JSON_BODY, 503: problem("the recording cannot start: its directory cannot be made or written")},
+)
+async def control_recording(
+    body: RecordingRequest, request: Request, console: ConsoleDep, operator: OperatorDep
+) -> messages.RecordingStatus:
     """Start recording every SEM sample, UMAA 3.0.1 and 6.0, to `<directory>/<UTC start>.mcap`, or stop.
     Starting a running recording, or stopping a stopped one, changes nothing. Returns the recording's status."""
     recorder = console.recording()
@@ -51,10 +55,15 @@ async def list_recordings(console: ConsoleDep) -> list[dict[str, Any]]:
     return await asyncio.to_thread(console.recording().list)
 
 
-@reads.get("/recordings/{name}", response_class=FileResponse,
-           responses={200: {"content": {"application/octet-stream": {}}, "description": "the MCAP file"},
-                      404: problem("no such recording (a path is never a recording's name)"),
-                      409: problem("the file is being recorded: stop the recording (or wait for it to roll over)")})
+@reads.get(
+    "/recordings/{name}",
+    response_class=FileResponse,
+    responses={
+        200: {"content": {"application/octet-stream": {}}, "description": "the MCAP file"},
+        404: problem("no such recording (a path is never a recording's name)"),
+        409: problem("the file is being recorded: stop the recording (or wait for it to roll over)"),
+    },
+)
 async def download_recording(name: RecordingName, console: ConsoleDep) -> FileResponse:
     """Download one recording (MCAP). A name that is not a recording's (`<UTC start>.mcap`) is a 422: never a path."""
     recorder = console.recording()

@@ -28,8 +28,9 @@ async def replay_status(console: ConsoleDep) -> messages.ReplayStatus | None:
     return replay.status() if replay is not None else None
 
 
-@controls.post("/replay", response_model=ReplayStatus,
-               responses={**JSON_BODY, 409: problem("the console is live, not replaying")})
+@controls.post(
+    "/replay", response_model=ReplayStatus, responses={**JSON_BODY, 409: problem("the console is live, not replaying")}
+)
 async def control_replay(body: ReplayRequest, console: ConsoleDep) -> messages.ReplayStatus:
     """`{"action": "play"}`, `{"action": "pause"}`, `{"action": "seek", "position": <UTC seconds>}` (the state at
     that instant is rebuilt and every client gets a fresh snapshot; answered once it is) or

@@ -15,8 +15,10 @@ from sem_console.api.schemas import PlannedSilence, SilenceRequest
 from sem_console.console.alarms import clock_time
 from sem_console.core import messages
 
-VehicleId = Annotated[uuid.UUID, Path(description="the vehicle's source GUID (`id` in GET /api/providers)",
-                                      examples=["77b2ceb8-5afe-554e-8450-93db17c48923"])]  # sem-sim's vehicle 1
+VehicleId = Annotated[
+    uuid.UUID,
+    Path(description="the vehicle's source GUID (`id` in GET /api/providers)", examples=["77b2ceb8-5afe-554e-8450-93db17c48923"]),
+]  # sem-sim's vehicle 1
 reads = APIRouter(tags=["alarms"])
 writes = APIRouter(tags=["alarms"])
 
@@ -27,11 +29,19 @@ async def list_silences(console: ConsoleDep) -> list[messages.PlannedSilence]:
     return console.planned_silences()
 
 
-@writes.put("/api/providers/{provider_id}/silence", response_model=list[PlannedSilence],
-            responses={200: {"description": "the planned silences in force after it"}, 404: problem("unknown provider"),
-                       409: problem("`until` has passed"), **JSON_BODY})
-async def plan_silence(provider_id: VehicleId, body: SilenceRequest, console: ConsoleDep, operator: OperatorDep,
-                       audit: AuditDep) -> list[messages.PlannedSilence]:
+@writes.put(
+    "/api/providers/{provider_id}/silence",
+    response_model=list[PlannedSilence],
+    responses={
+        200: {"description": "the planned silences in force after it"},
+        404: problem("unknown provider"),
+        409: problem("`until` has passed"),
+        **JSON_BODY,
+    },
+)
+async def plan_silence(
+    provider_id: VehicleId, body: SilenceRequest, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> list[messages.PlannedSilence]:
     """Declare a vehicle out of comms until `until` (diving, over the horizon, a relay down): its link loss raises no
     alarm until then and the console's grace after it (silence_grace); still not heard then, that is an alarm
     (silence-overdue). A new one replaces the vehicle's silence in force. Every client gets the silences."""
@@ -44,11 +54,17 @@ async def plan_silence(provider_id: VehicleId, body: SilenceRequest, console: Co
     return console.planned_silences()
 
 
-@writes.delete("/api/providers/{provider_id}/silence", response_model=list[PlannedSilence],
-               responses={200: {"description": "the planned silences in force after it"},
-                          404: problem("unknown provider, and no planned silence for it")})
-async def cancel_silence(provider_id: VehicleId, console: ConsoleDep, operator: OperatorDep,
-                         audit: AuditDep) -> list[messages.PlannedSilence]:
+@writes.delete(
+    "/api/providers/{provider_id}/silence",
+    response_model=list[PlannedSilence],
+    responses={
+        200: {"description": "the planned silences in force after it"},
+        404: problem("unknown provider, and no planned silence for it"),
+    },
+)
+async def cancel_silence(
+    provider_id: VehicleId, console: ConsoleDep, operator: OperatorDep, audit: AuditDep
+) -> list[messages.PlannedSilence]:
     """End a vehicle's planned silence now: a loss is an alarm again. A vehicle without one keeps none (nothing
     changes); a vehicle never heard of, without one, is a 404."""
     if not console.cancel_silence(provider_id, operator):

@@ -36,8 +36,11 @@ async def websocket(ws: WebSocket) -> None:
     if ws.app.state.settings.auth_reads:
         try:
             operators = ws.app.state.operators
-            operators.authenticate(audit.client_of(ws.scope) or "?", ws_token(ws.scope.get("subprotocols", [])),
-                                   device=operators.device(ws.cookies.get(DEVICE_COOKIE)))
+            operators.authenticate(
+                audit.client_of(ws.scope) or "?",
+                ws_token(ws.scope.get("subprotocols", [])),
+                device=operators.device(ws.cookies.get(DEVICE_COOKIE)),
+            )
         except AuthError as e:
             audit.auditor(ws.scope).refused(ws.scope, e.status, e.detail, audit=e.audit)
             await refuse(ws.scope, ws.send, e.status, e.detail)
@@ -45,8 +48,7 @@ async def websocket(ws: WebSocket) -> None:
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
     # ?batch=1: the reports waiting when the sender is free go out as one JSON array; ?ack=1: the client acknowledges
     # the frames it has taken, and its reports wait at the console, conflated, beyond a window (the dashboard asks both)
-    client = console.attach_client(ws.send_text, batch=ws.query_params.get("batch") == "1",
-                                   ack=ws.query_params.get("ack") == "1")
+    client = console.attach_client(ws.send_text, batch=ws.query_params.get("batch") == "1", ack=ws.query_params.get("ack") == "1")
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:
         assert client.task is not None
@@ -77,8 +79,14 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
             if msg.type == "ping":
                 client.push(json.dumps(pong_message(time.time())))
             elif msg.type == "ack" and not client.ack(msg.frames):
-                client.push(json.dumps(error_message(f"bad message: ack of {msg.frames} frames, but {client.sent_frames} were "
-                                                     "sent on this socket: acknowledge the frames received")))
+                client.push(
+                    json.dumps(
+                        error_message(
+                            f"bad message: ack of {msg.frames} frames, but {client.sent_frames} were "
+                            "sent on this socket: acknowledge the frames received"
+                        )
+                    )
+                )
             elif msg.type == "select":
                 client.select(None if msg.providerId is None else str(msg.providerId))
                 if msg.providerId is not None and (report := console.selected_report(msg.providerId)) is not None:

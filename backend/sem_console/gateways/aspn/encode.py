@@ -45,8 +45,14 @@ from sem_console.umaa.guid import SAT_PREFIX
 NAN = math.nan
 VENDOR_ID = 0x53454D43  # "SEMC": user-selected (ASPN reserves 0x23000000..0x23FFFFFF)
 # One data source (vendor, device, context) per measurement stream, so sequence_id counts per stream
-CONTEXT_IDS = {"measurement_position": 1, "measurement_altitude": 2, "measurement_velocity": 3,
-               "measurement_speed": 4, "measurement_direction_of_motion_2d": 5, "measurement_satnav": 6}
+CONTEXT_IDS = {
+    "measurement_position": 1,
+    "measurement_altitude": 2,
+    "measurement_velocity": 3,
+    "measurement_speed": 4,
+    "measurement_direction_of_motion_2d": 5,
+    "measurement_satnav": 6,
+}
 TO_LCM: dict[str, Callable[[Any], Any]] = {name: getattr(conversions, f"{name}_to_lcm") for name in CONTEXT_IDS}
 
 # one-value measurements: (class, its "no error model", the member holding the value)
@@ -60,8 +66,15 @@ GPS_EPOCH = 315_964_800  # 1980-01-06 in POSIX seconds
 LEAP_SECONDS = 18  # GPS - UTC since 2017, used when the GPSReport's clock gives no leapSecond
 WEEK = 604_800
 
-SYSTEMS = {"GPS": Sys.SYS_GPS, "GALILEO": Sys.SYS_GALILEO, "GLONASS": Sys.SYS_GLONASS, "BEIDOU": Sys.SYS_BEIDOU,
-           "SBAS": Sys.SYS_SBAS, "QZSS": Sys.SYS_QZSS, "IRNSS": Sys.SYS_IRNSS}
+SYSTEMS = {
+    "GPS": Sys.SYS_GPS,
+    "GALILEO": Sys.SYS_GALILEO,
+    "GLONASS": Sys.SYS_GLONASS,
+    "BEIDOU": Sys.SYS_BEIDOU,
+    "SBAS": Sys.SYS_SBAS,
+    "QZSS": Sys.SYS_QZSS,
+    "IRNSS": Sys.SYS_IRNSS,
+}
 # (system, carrier frequency band in MHz) -> RINEX 3.05 observation code. UMAA gives the carrier frequency,
 # not the tracking code: each band takes the code a receiver of it most commonly tracks (README).
 SIGNALS: list[tuple[Sys, float, float, Signal]] = [
@@ -190,11 +203,23 @@ class Encoder:
         if lat is None or lon is None:
             self._skip("position: latitude or longitude invalid")
         else:  # height left out: UMAA gives MSL, ASPN's term3 is height above the ellipsoid
-            out.append(("measurement_position", MeasurementPosition(
-                header=self.header(vehicle, "measurement_position"), time_of_validity=when,
-                reference_frame=MeasurementPositionReferenceFrame.GEODETIC, term1=math.radians(lat), term2=math.radians(lon),
-                term3=NAN, covariance=_nan(2, 2), error_model=MeasurementPositionErrorModel.NONE,
-                error_model_params=NO_PARAMS, integrity=[])))
+            out.append(
+                (
+                    "measurement_position",
+                    MeasurementPosition(
+                        header=self.header(vehicle, "measurement_position"),
+                        time_of_validity=when,
+                        reference_frame=MeasurementPositionReferenceFrame.GEODETIC,
+                        term1=math.radians(lat),
+                        term2=math.radians(lon),
+                        term3=NAN,
+                        covariance=_nan(2, 2),
+                        error_model=MeasurementPositionErrorModel.NONE,
+                        error_model_params=NO_PARAMS,
+                        integrity=[],
+                    ),
+                )
+            )
         alt = n("altitudeMSL.altitude")
         if alt is None:
             self._skip(f"altitude: {why('altitudeMSL.altitude')}")
@@ -204,11 +229,23 @@ class Encoder:
         if all(v is None for v in ned):
             self._skip(f"velocity: {why('velocity')}")
         else:
-            out.append(("measurement_velocity", MeasurementVelocity(
-                header=self.header(vehicle, "measurement_velocity"), time_of_validity=when,
-                reference_frame=MeasurementVelocityReferenceFrame.NED, x=ned[0], y=ned[1], z=ned[2],
-                covariance=_nan(3, 3), error_model=MeasurementVelocityErrorModel.NONE,
-                error_model_params=NO_PARAMS, integrity=[])))
+            out.append(
+                (
+                    "measurement_velocity",
+                    MeasurementVelocity(
+                        header=self.header(vehicle, "measurement_velocity"),
+                        time_of_validity=when,
+                        reference_frame=MeasurementVelocityReferenceFrame.NED,
+                        x=ned[0],
+                        y=ned[1],
+                        z=ned[2],
+                        covariance=_nan(3, 3),
+                        error_model=MeasurementVelocityErrorModel.NONE,
+                        error_model_params=NO_PARAMS,
+                        integrity=[],
+                    ),
+                )
+            )
         sog = n("SOG")
         if sog is None:
             self._skip(f"speed: SOG {why('SOG')}")
@@ -218,16 +255,26 @@ class Encoder:
         if course is None:
             self._skip(f"direction of motion: trueCourse {why('trueCourse')}")
         else:
-            out.append(self._scalar(vehicle, "measurement_direction_of_motion_2d", when,
-                                    MeasurementDirectionOfMotion2DReference.NE, course))
+            out.append(
+                self._scalar(
+                    vehicle, "measurement_direction_of_motion_2d", when, MeasurementDirectionOfMotion2DReference.NE, course
+                )
+            )
         return out
 
     def _scalar(self, vehicle: uuid.UUID, measurement: str, when: TypeTimestamp, reference: Any, value: float) -> tuple[str, Any]:
         """A one-value measurement (altitude, speed, direction of motion) with no variance known (NaN)."""
         cls, no_error_model, member = SCALARS[measurement]
-        return measurement, cls(header=self.header(vehicle, measurement), time_of_validity=when, reference=reference,
-                                **{member: value}, variance=NAN, error_model=no_error_model,
-                                error_model_params=NO_PARAMS, integrity=[])
+        return measurement, cls(
+            header=self.header(vehicle, measurement),
+            time_of_validity=when,
+            reference=reference,
+            **{member: value},
+            variance=NAN,
+            error_model=no_error_model,
+            error_model_params=NO_PARAMS,
+            integrity=[],
+        )
 
     def gps_report(self, vehicle: uuid.UUID, report: dict[str, Any], invalid: list[str]) -> list[tuple[str, Any]]:
         t = self._time(report, invalid)
@@ -236,17 +283,28 @@ class Encoder:
         leap = number(report, invalid, "clock.leapSecond")
         leap = int(leap) if leap is not None and 0 <= leap <= 100 else LEAP_SECONDS
         gps = t / 1e9 - GPS_EPOCH + leap
-        clock = TypeSatnavTime(week_number=int(gps // WEEK), seconds_of_week=gps % WEEK,
-                               time_reference=TypeSatnavTimeTimeReference.TIME_GPS)
+        clock = TypeSatnavTime(
+            week_number=int(gps // WEEK), seconds_of_week=gps % WEEK, time_reference=TypeSatnavTimeTimeReference.TIME_GPS
+        )
         obs: list[TypeSatnavObs] = []
         for i, sat in enumerate(report.get("satellites") or []):
             o = self._observation(sat, invalid, f"satellites[{i}]")
             if o is not None:
                 obs.append(o)
         types = {(o.satellite_system.satellite_system, o.signal_descriptor.signal_descriptor) for o in obs}
-        return [("measurement_satnav", MeasurementSatnav(
-            header=self.header(vehicle, "measurement_satnav"), time_of_validity=TypeTimestamp(elapsed_nsec=t),
-            receiver_clock_time=clock, num_signal_types=len(types), obs=obs, integrity=[]))]
+        return [
+            (
+                "measurement_satnav",
+                MeasurementSatnav(
+                    header=self.header(vehicle, "measurement_satnav"),
+                    time_of_validity=TypeTimestamp(elapsed_nsec=t),
+                    receiver_clock_time=clock,
+                    num_signal_types=len(types),
+                    obs=obs,
+                    integrity=[],
+                ),
+            )
+        ]
 
     def _observation(self, sat: dict[str, Any], invalid: list[str], path: str) -> TypeSatnavObs | None:
         system = SYSTEMS.get(sat.get("constellationType") or "")
@@ -271,10 +329,22 @@ class Encoder:
             else number(sat, [], "antennaCarrierNoiseDensity")
         )
         return TypeSatnavObs(
-            satellite_system=TypeSatnavSatelliteSystem(system), signal_descriptor=TypeSatnavSignalDescriptor(signal),
-            prn=raw[15], frequency=freq, pseudorange=NAN, pseudorange_variance=NAN,
-            pseudorange_rate_type=TypeSatnavObsPseudorangeRateType.PSR_RATE_DOPPLER, pseudorange_rate=NAN,
-            pseudorange_rate_variance=NAN, carrier_phase=NAN, carrier_phase_variance=NAN,
-            c_n0=cn0 if cn0 is not None else NAN, lock_count=-1,
-            iono_correction_source=TypeSatnavObsIonoCorrectionSource.UNKNOWN, iono_correction_applied=False,
-            tropo_correction_applied=False, signal_bias_correction_applied=False, integrity=[])
+            satellite_system=TypeSatnavSatelliteSystem(system),
+            signal_descriptor=TypeSatnavSignalDescriptor(signal),
+            prn=raw[15],
+            frequency=freq,
+            pseudorange=NAN,
+            pseudorange_variance=NAN,
+            pseudorange_rate_type=TypeSatnavObsPseudorangeRateType.PSR_RATE_DOPPLER,
+            pseudorange_rate=NAN,
+            pseudorange_rate_variance=NAN,
+            carrier_phase=NAN,
+            carrier_phase_variance=NAN,
+            c_n0=cn0 if cn0 is not None else NAN,
+            lock_count=-1,
+            iono_correction_source=TypeSatnavObsIonoCorrectionSource.UNKNOWN,
+            iono_correction_applied=False,
+            tropo_correction_applied=False,
+            signal_bias_correction_applied=False,
+            integrity=[],
+        )

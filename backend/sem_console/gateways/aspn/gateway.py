@@ -65,8 +65,9 @@ def check_url(url: str) -> None:
         try:
             open_lcm(url)
         except RuntimeError as e:  # lcm's own "Couldn't create LCM": liblcm printed the reason on stderr just before
-            raise RuntimeError(f"{e} (LCM says why on the line above): give e.g. udpm://239.255.76.67:7667?ttl=0, "
-                               "file://PATH.lcm or memq://") from None
+            raise RuntimeError(
+                f"{e} (LCM says why on the line above): give e.g. udpm://239.255.76.67:7667?ttl=0, file://PATH.lcm or memq://"
+            ) from None
         return
     path = Path(url.removeprefix("file://").split("?", 1)[0])
     if path.is_dir():

@@ -60,12 +60,20 @@ def navigation_values(
         lon = _valid(fix, "position2DWithTime.geodeticPosition.geodeticLongitude.longitude")
         if lat is not None and lon is not None:
             pose.update(Latitude=lat, Longitude=lon)
-    for name, path in (("AltitudeMSL", "altitudeMSL.altitude"), ("AltitudeAGL", "altitudeAGL"),
-                       ("AltitudeASF", "altitudeASF"), ("Depth", "depth")):
+    for name, path in (
+        ("AltitudeMSL", "altitudeMSL.altitude"),
+        ("AltitudeAGL", "altitudeAGL"),
+        ("AltitudeASF", "altitudeASF"),
+        ("Depth", "depth"),
+    ):
         if (v := _valid(fix, path)) is not None:
             pose[name] = v
-    for name, path in (("Roll", "attitude.roll.roll"), ("Pitch", "attitude.pitch.pitch"), ("Heading", "attitude.yaw.yaw"),
-                       ("Course", "trueCourse")):
+    for name, path in (
+        ("Roll", "attitude.roll.roll"),
+        ("Pitch", "attitude.pitch.pitch"),
+        ("Heading", "attitude.yaw.yaw"),
+        ("Course", "trueCourse"),
+    ):
         if (angle := _angle(_valid(fix, path))) is not None:
             pose[name] = angle
     # the horizontal position error (DRMS) from the position's covariance, when the vehicle reports it
@@ -101,12 +109,15 @@ def report_navigation(fix: dict[str, Any] | None, asked: tuple[int, int, int, in
     if stamp is None or unfit:
         stamp = (int(now), int(now % 1 * 1e9))
     g, local, velocity, acceleration = asked
-    return (struct.pack("<II", stamp[0], stamp[1])
-            + judp.record(judp.GLOBAL_POSE, g, pose)
-            + judp.record(judp.LOCAL_POSE, local, {})
-            + struct.pack("<B", judp.VELOCITY_NED_TAG) + judp.record(judp.VELOCITY_NED, 0xFF if velocity else 0, ned)
-            + judp.record(judp.VELOCITY_STATE, velocity, state)
-            + judp.record(judp.ACCELERATION_STATE, acceleration, {})), unfit
+    return (
+        struct.pack("<II", stamp[0], stamp[1])
+        + judp.record(judp.GLOBAL_POSE, g, pose)
+        + judp.record(judp.LOCAL_POSE, local, {})
+        + struct.pack("<B", judp.VELOCITY_NED_TAG)
+        + judp.record(judp.VELOCITY_NED, 0xFF if velocity else 0, ned)
+        + judp.record(judp.VELOCITY_STATE, velocity, state)
+        + judp.record(judp.ACCELERATION_STATE, acceleration, {})
+    ), unfit
 
 
 def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
@@ -117,8 +128,14 @@ def report_comms_lost_configuration(config: dict[str, Any]) -> bytes:
     def seconds(v: Any) -> int:
         return min(65535, math.ceil(float(v)))
 
-    return struct.pack("<HBBHB", seconds(config["commsLostTimeout"]), judp.COMMS_LOST_POLICIES[config["policy"]], 1,
-                       seconds(config["regainedTime"]), int(config["regainedBehavior"]) & 0xFF)
+    return struct.pack(
+        "<HBBHB",
+        seconds(config["commsLostTimeout"]),
+        judp.COMMS_LOST_POLICIES[config["policy"]],
+        1,
+        seconds(config["regainedTime"]),
+        int(config["regainedBehavior"]) & 0xFF,
+    )
 
 
 class Unsupported(Exception):

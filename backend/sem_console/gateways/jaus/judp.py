@@ -84,13 +84,64 @@ FIELD_TYPES: dict[str, FieldType] = {
 }
 
 # ReportNavigation's records: presence-vector width (bits) and optional fields in order (bit 0 first)
-GLOBAL_POSE = (16, ("Latitude", "Longitude", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth", "XYPositionRMS",
-                    "ZPositionRMS", "Roll", "Pitch", "Heading", "Attitude_RMS", "Course", "TimeSeconds", "TimeNanoSeconds"))
-LOCAL_POSE = (16, ("X", "Y", "AltitudeAGL", "AltitudeMSL", "AltitudeASF", "Depth", "ZLocal", "XYPositionRMS", "ZPositionRMS",
-                   "Roll", "Pitch", "Heading", "Attitude_RMS", "Course", "TimeSeconds", "TimeNanoSeconds"))
+GLOBAL_POSE = (
+    16,
+    (
+        "Latitude",
+        "Longitude",
+        "AltitudeAGL",
+        "AltitudeMSL",
+        "AltitudeASF",
+        "Depth",
+        "XYPositionRMS",
+        "ZPositionRMS",
+        "Roll",
+        "Pitch",
+        "Heading",
+        "Attitude_RMS",
+        "Course",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    ),
+)
+LOCAL_POSE = (
+    16,
+    (
+        "X",
+        "Y",
+        "AltitudeAGL",
+        "AltitudeMSL",
+        "AltitudeASF",
+        "Depth",
+        "ZLocal",
+        "XYPositionRMS",
+        "ZPositionRMS",
+        "Roll",
+        "Pitch",
+        "Heading",
+        "Attitude_RMS",
+        "Course",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    ),
+)
 VELOCITY_NED = (8, ("Velocity_N", "Velocity_E", "Velocity_D"))
-VELOCITY_STATE = (16, ("Velocity_RMS", "RollRate", "PitchRate", "YawRate", "Rate_RMS", "SpeedOverGround",
-                       "SpeedRelativeToMedium", "RotationsPerMinute", "IndicatedSpeed", "TimeSeconds", "TimeNanoSeconds"))
+VELOCITY_STATE = (
+    16,
+    (
+        "Velocity_RMS",
+        "RollRate",
+        "PitchRate",
+        "YawRate",
+        "Rate_RMS",
+        "SpeedOverGround",
+        "SpeedRelativeToMedium",
+        "RotationsPerMinute",
+        "IndicatedSpeed",
+        "TimeSeconds",
+        "TimeNanoSeconds",
+    ),
+)
 ACCELERATION_STATE = (
     16,
     (
@@ -151,7 +202,7 @@ def parse(data: bytes) -> list[Packet]:
             raise Malformed("multi-packet")
         end = at + size
         (message_id,) = MESSAGE_ID.unpack_from(data, at - 1 + HEADER.size)
-        body = data[at - 1 + HEADER.size + MESSAGE_ID.size:end - SEQUENCE.size]
+        body = data[at - 1 + HEADER.size + MESSAGE_ID.size : end - SEQUENCE.size]
         (sequence,) = SEQUENCE.unpack_from(data, end - SEQUENCE.size)
         out.append(Packet(flags, JausId(ds, dn, dc), JausId(ss, sn, sc), message_id, body, sequence))
         at = end
@@ -160,9 +211,23 @@ def parse(data: bytes) -> list[Packet]:
 
 def packet(flags: int, destination: JausId, source: JausId, message_id: int, body: bytes, sequence: int) -> bytes:
     size = OVERHEAD + MESSAGE_ID.size + len(body)
-    return (HEADER.pack(VERSION, 0, size, flags, destination.component, destination.node, destination.subsystem,
-                        source.component, source.node, source.subsystem)
-            + MESSAGE_ID.pack(message_id) + body + SEQUENCE.pack(sequence & 0xFFFF))
+    return (
+        HEADER.pack(
+            VERSION,
+            0,
+            size,
+            flags,
+            destination.component,
+            destination.node,
+            destination.subsystem,
+            source.component,
+            source.node,
+            source.subsystem,
+        )
+        + MESSAGE_ID.pack(message_id)
+        + body
+        + SEQUENCE.pack(sequence & 0xFFFF)
+    )
 
 
 def record(layout: tuple[int, tuple[str, ...]], asked: int, values: dict[str, float]) -> bytes:

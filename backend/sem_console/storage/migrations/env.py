@@ -10,7 +10,6 @@ from sem_console.storage import models  # noqa: F401  # the tables, registered o
 
 connection = context.config.attributes["connection"]
 # SQLite changes most columns only by copying the table (batch mode); PostgreSQL alters them in place
-context.configure(connection=connection, target_metadata=SQLModel.metadata,
-                  render_as_batch=connection.dialect.name == "sqlite")
+context.configure(connection=connection, target_metadata=SQLModel.metadata, render_as_batch=connection.dialect.name == "sqlite")
 with context.begin_transaction():
     context.run_migrations()

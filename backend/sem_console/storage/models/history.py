@@ -12,8 +12,9 @@ class TrackPoint(SQLModel, table=True):
 
     __tablename__ = TRACK
     providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSFixReport")
+    time: float = Field(
+        primary_key=True, index=True, description="UTC seconds since the epoch when the console received the GPSFixReport"
+    )
     positionTime: float | None = Field(description="the report's timeAtPosition, UTC seconds (null: not sent)")
     latitude: float = Field(description="degrees, WGS 84, north positive")
     longitude: float = Field(description="degrees, WGS 84, east positive")
@@ -21,8 +22,7 @@ class TrackPoint(SQLModel, table=True):
     course: float | None = Field(description="true course over ground, degrees 0..360")
     sog: float | None = Field(description="speed over ground, metres per second")
     latLongValid: bool = Field(description="GPSLatLongValid: the position is from GPS (false: from the INS)")
-    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport "
-                                              "(null: none received yet)")
+    fixValid: bool | None = Field(description="fixValid of the vehicle's latest GPSFixStatusReport (null: none received yet)")
 
 
 class SeriesPoint(SQLModel, table=True):
@@ -30,9 +30,11 @@ class SeriesPoint(SQLModel, table=True):
 
     __tablename__ = SERIES
     providerId: str = Field(primary_key=True, description="the provider's source GUID as a UUID string")
-    time: float = Field(primary_key=True, index=True,
-                        description="UTC seconds since the epoch when the console received the GPSReport")
-    cn0Mean: float | None = Field(description="mean antennaCarrierNoiseDensity (C/N0) of the satellites "
-                                              "that report one, dB-Hz (null: none)")
+    time: float = Field(
+        primary_key=True, index=True, description="UTC seconds since the epoch when the console received the GPSReport"
+    )
+    cn0Mean: float | None = Field(
+        description="mean antennaCarrierNoiseDensity (C/N0) of the satellites that report one, dB-Hz (null: none)"
+    )
     satellitesUsed: int = Field(description="satellites with usedInFix")
     satellitesInView: int = Field(description="numberSatellitesInView")

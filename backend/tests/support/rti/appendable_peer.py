@@ -36,8 +36,15 @@ def cyclone_only(domain: int) -> None:
     readers = {s: Bus(domain).reader(s) for s in TOPICS}
     writers = {s: Bus(domain).writer(s) for s in TOPICS}
     time.sleep(3)
-    print(json.dumps({s.name: [len(readers[s].get_matched_publications()) - 1, len(writers[s].get_matched_subscriptions()) - 1]
-                      for s in TOPICS}), flush=True)
+    print(
+        json.dumps(
+            {
+                s.name: [len(readers[s].get_matched_publications()) - 1, len(writers[s].get_matched_subscriptions()) - 1]
+                for s in TOPICS
+            }
+        ),
+        flush=True,
+    )
 
 
 def main() -> None:
@@ -53,7 +60,8 @@ def main() -> None:
     try:
         deadline = time.monotonic() + 5
         while time.monotonic() < deadline and not all(
-                len(p.matched(s, True)) == 2 and len(p.matched(s, False)) == 2 for s in TOPICS):
+            len(p.matched(s, True)) == 2 and len(p.matched(s, False)) == 2 for s in TOPICS
+        ):
             time.sleep(0.1)
         time.sleep(0.5)
         result: dict[str, dict[str, int]] = {}
@@ -61,8 +69,10 @@ def main() -> None:
         theirs = {s: [random_sample(s.spec.type, rng) for _ in range(20)] for s in TOPICS}
         ours = {s: [random_sample(s.spec.type, rng) for _ in range(20)] for s in TOPICS}
         for s in TOPICS:
-            result[s.name] = {"cyclone_matched_rti": len(readers[s].get_matched_publications()) - 1,
-                              "rti_matched_cyclone": len(p.matched(s, False)) - 1}
+            result[s.name] = {
+                "cyclone_matched_rti": len(readers[s].get_matched_publications()) - 1,
+                "rti_matched_cyclone": len(p.matched(s, False)) - 1,
+            }
             for x in theirs[s]:
                 p.write(s, to_plain(x))
             for x in ours[s]:

@@ -63,8 +63,9 @@ def _idl_root(sems: list[AnySem]) -> Path:
     return IDL_ROOT / "umaa-6.0" if versions == {True} else IDL_ROOT
 
 
-def _endpoint_qos(sem: AnySem, writer: bool, representation: str | None = None, recipe: str | None = None,
-                  umaa: str | None = None) -> str:
+def _endpoint_qos(
+    sem: AnySem, writer: bool, representation: str | None = None, recipe: str | None = None, umaa: str | None = None
+) -> str:
     tag = "datawriter_qos" if writer else "datareader_qos"
     extra = ""
     if representation:
@@ -78,20 +79,35 @@ def _endpoint_qos(sem: AnySem, writer: bool, representation: str | None = None, 
     # Unbounded members (GPSReport's satellites): RTI allocates the largest sample up front unless
     # told to allocate samples over this size on demand.
     side = "writer" if writer else "reader"
-    extra += (f"<property><value><element><name>dds.data_{side}.history.memory_manager.fast_pool.pool_buffer_max_size"
-              "</name><value>4096</value></element></value></property>")
+    extra += (
+        f"<property><value><element><name>dds.data_{side}.history.memory_manager.fast_pool.pool_buffer_max_size"
+        "</name><value>4096</value></element></value></property>"
+    )
     if writer:
-        extra += ("<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances>"
-                  "</writer_data_lifecycle>")
+        extra += (
+            "<writer_data_lifecycle><autodispose_unregistered_instances>false</autodispose_unregistered_instances>"
+            "</writer_data_lifecycle>"
+        )
     base = ' base_name="SemInterop::Loopback"'
-    return (f'<{tag}{base}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
-            f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
-            f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>')
+    return (
+        f'<{tag}{base}><reliability><kind>RELIABLE_RELIABILITY_QOS</kind></reliability>'
+        f'<durability><kind>TRANSIENT_LOCAL_DURABILITY_QOS</kind></durability>'
+        f'<history><kind>KEEP_LAST_HISTORY_QOS</kind><depth>{_DEPTH[sem.spec.cls]}</depth></history>{extra}</{tag}>'
+    )
 
 
-def config_xml(domain: int, writers: list[AnySem], readers: list[AnySem], representation: str | None = None,
-               extensibility: str | None = None, recipe: str | None = None, type_object_max: int | None = None,
-               partition: str | None = None, name: str = "Rti", umaa: tuple[str, str] | None = None) -> str:
+def config_xml(
+    domain: int,
+    writers: list[AnySem],
+    readers: list[AnySem],
+    representation: str | None = None,
+    extensibility: str | None = None,
+    recipe: str | None = None,
+    type_object_max: int | None = None,
+    partition: str | None = None,
+    name: str = "Rti",
+    umaa: tuple[str, str] | None = None,
+) -> str:
     """RTI's XML for one participant. ``partition``: its publisher's and subscriber's; ``recipe``: the profile of the
     repository's drop-in (docs/rti/sem-console-interop.xml, "Default" or "AppendableGps", loaded beside this XML as the
     file it is) its QoS inherits; ``type_object_max``: RTI's type_object_max_serialized_length; ``name``: the
@@ -101,8 +117,11 @@ def config_xml(domain: int, writers: list[AnySem], readers: list[AnySem], repres
     sems = list(dict.fromkeys(writers + readers))
     # registered under the type's full name; the XML name is the short one, as RTI's UMAA kit has it (a UMAA 6.0 topic
     # is named after its type, and XML does not take two objects of one name)
-    regs = "".join(f"<register_type name={quoteattr(_short(s))} type_ref={quoteattr(type_name(s))}>"
-                   f"<registered_name>{type_name(s)}</registered_name></register_type>" for s in sems)
+    regs = "".join(
+        f"<register_type name={quoteattr(_short(s))} type_ref={quoteattr(type_name(s))}>"
+        f"<registered_name>{type_name(s)}</registered_name></register_type>"
+        for s in sems
+    )
     topics = "".join(f"<topic name={quoteattr(s.spec.name)} register_type_ref={quoteattr(_short(s))}/>" for s in sems)
     pubs = "".join(
         f"<data_writer name={quoteattr(s.name)} topic_ref={quoteattr(s.spec.name)}>"
@@ -116,10 +135,19 @@ def config_xml(domain: int, writers: list[AnySem], readers: list[AnySem], repres
     )
     base = f' base_name="SemConsoleInterop::{recipe}"' if recipe else f" base_name={quoteattr(umaa[0])}" if umaa else ""
     in_partition = f"<partition><name><element>{partition}</element></name></partition>"
-    pub_qos, sub_qos = (f"<publisher_qos>{in_partition}</publisher_qos>", f"<subscriber_qos>{in_partition}</subscriber_qos>") \
-        if partition is not None else ("", "")
-    limits = ("" if type_object_max is None else
-              f"<resource_limits><type_object_max_serialized_length>{type_object_max}</type_object_max_serialized_length></resource_limits>")
+    pub_qos, sub_qos = (
+        (f"<publisher_qos>{in_partition}</publisher_qos>", f"<subscriber_qos>{in_partition}</subscriber_qos>")
+        if partition is not None
+        else ("", "")
+    )
+    limits = (
+        ""
+        if type_object_max is None
+        else (
+            f"<resource_limits><type_object_max_serialized_length>{type_object_max}"
+            "</type_object_max_serialized_length></resource_limits>"
+        )
+    )
     return f"""<?xml version="1.0"?>
 <dds>
 <qos_library name="SemInterop"><qos_profile name="Loopback" is_default_qos="true"{base}>
@@ -140,13 +168,34 @@ def config_xml(domain: int, writers: list[AnySem], readers: list[AnySem], repres
 class RtiParticipant:
     """One RTI Connext participant with a writer and/or reader per given SEM topic."""
 
-    def __init__(self, domain: int, writers: list[AnySem] = (), readers: list[AnySem] = (),  # type: ignore[assignment]
-                 representation: str | None = None, extensibility: str | None = None, recipe: str | None = None,
-                 type_object_max: int | None = None, partition: str | None = None, name: str = "Rti",
-                 umaa: tuple[str, str] | None = None) -> None:
+    def __init__(
+        self,
+        domain: int,
+        writers: list[AnySem] = (),
+        readers: list[AnySem] = (),  # type: ignore[assignment]
+        representation: str | None = None,
+        extensibility: str | None = None,
+        recipe: str | None = None,
+        type_object_max: int | None = None,
+        partition: str | None = None,
+        name: str = "Rti",
+        umaa: tuple[str, str] | None = None,
+    ) -> None:
         with tempfile.NamedTemporaryFile("w", suffix=".xml", delete=False) as f:  # removed in close()
-            f.write(config_xml(domain, list(writers), list(readers), representation, extensibility, recipe, type_object_max,
-                               partition, name, umaa))
+            f.write(
+                config_xml(
+                    domain,
+                    list(writers),
+                    list(readers),
+                    representation,
+                    extensibility,
+                    recipe,
+                    type_object_max,
+                    partition,
+                    name,
+                    umaa,
+                )
+            )
         self._file = f
         # the drop-ins as an RTI user loads them: the files themselves, first of an RTI URL group (files separated by ';')
         first = [RECIPE_XML] if recipe else [UMAA_QOS_XML, UMAA_60_XML] if umaa else []

@@ -64,9 +64,20 @@ def _fetch(plat: str) -> Path:
             # well inside pytest's 120 s per test (the fixture fetches in the first test that asks): a slow or
             # silent registry is a skip with its reason, not a timeout failing every Connext 7 case
             try:
-                r = subprocess.run([npm, "pack", f"rticonnextdds-connector@{NPM_VERSION}", "--silent",
-                                    "--fetch-timeout=60000", "--fetch-retries=0"], cwd=tmp,
-                                   capture_output=True, text=True, timeout=90)
+                r = subprocess.run(
+                    [
+                        npm,
+                        "pack",
+                        f"rticonnextdds-connector@{NPM_VERSION}",
+                        "--silent",
+                        "--fetch-timeout=60000",
+                        "--fetch-retries=0",
+                    ],
+                    cwd=tmp,
+                    capture_output=True,
+                    text=True,
+                    timeout=90,
+                )
             except subprocess.TimeoutExpired:
                 raise RuntimeError("npm pack rticonnextdds-connector took over 90 s (a slow registry)") from None
             if r.returncode != 0:
@@ -77,7 +88,7 @@ def _fetch(plat: str) -> Path:
                 members = [m for m in t.getmembers() if m.name.startswith(prefix) and m.isfile()]
                 lib.mkdir(parents=True, exist_ok=True)
                 for m in members:
-                    m.name = m.name[len(prefix):]
+                    m.name = m.name[len(prefix) :]
                     t.extract(m, lib)
     pkg = root / "rticonnextdds_connector"
     if not (pkg / "rticonnextdds_connector.py").exists():
@@ -127,9 +138,14 @@ class RemoteParticipant:
             self.proc = idle.pop()
         else:
             pythonpath = os.pathsep.join([str(root), str(_TESTS), str(_BACKEND)])
-            self.proc = subprocess.Popen([sys.executable, "-m", "support.rti.worker"], stdin=subprocess.PIPE,
-                                         stdout=subprocess.PIPE, text=True, cwd=_TESTS,
-                                         env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath})
+            self.proc = subprocess.Popen(
+                [sys.executable, "-m", "support.rti.worker"],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+                text=True,
+                cwd=_TESTS,
+                env={**os.environ, **(env or {}), "PYTHONPATH": pythonpath},
+            )
         self.writers = set(kw.get("writers", ()))
         kw = {k: ([sem_key(s) for s in v] if k in ("writers", "readers") else v) for k, v in kw.items()}
         try:

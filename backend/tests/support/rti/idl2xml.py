@@ -13,8 +13,17 @@ from pathlib import Path
 
 IDL_ROOT = Path(__file__).resolve().parents[4] / "idl"
 
-_BASIC = {"double": "float64", "float": "float32", "long long": "int64", "long": "int32", "short": "int16",
-          "unsigned long": "uint32", "unsigned short": "uint16", "octet": "uint8", "boolean": "boolean"}
+_BASIC = {
+    "double": "float64",
+    "float": "float32",
+    "long long": "int64",
+    "long": "int32",
+    "short": "int16",
+    "unsigned long": "uint32",
+    "unsigned short": "uint16",
+    "octet": "uint8",
+    "boolean": "boolean",
+}
 _TOKEN = re.compile(r"//[^\n]*|#[^\n]*|@\w+|::|[A-Za-z_]\w*|\d+|[{};<>,\[\]]")
 
 
@@ -35,7 +44,7 @@ def _type_xml(tokens: list[str], i: int) -> tuple[str, int]:
             return f'type="string" stringMaxLength="{tokens[i + 2]}"', i + 4
         return 'type="string" stringMaxLength="-1"', i + 1
     for words in (3, 2, 1):  # "unsigned long long", "long long", "double"
-        name = " ".join(tokens[i:i + words])
+        name = " ".join(tokens[i : i + words])
         if name in _BASIC:
             return f'type="{_BASIC[name]}"', i + words
     name = tokens[i]

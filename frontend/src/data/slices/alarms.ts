@@ -33,7 +33,6 @@ export function pageTitle(unacknowledgedCount: number, replay = false, unreachab
   return unacknowledgedCount > 0 ? `(${unacknowledgedCount}) ${name}` : name;
 }
 
-
 /** When a vehicle's planned silence ends, while it is lost in it (the link lost, a silence in force for it); null
  * otherwise. The one rule by which the page names a lost vehicle "out of comms (planned)" rather than lost. */
 export function plannedUntil(silences: readonly PlannedSilence[], providerId: string, link: string): number | null {

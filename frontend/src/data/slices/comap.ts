@@ -66,4 +66,3 @@ export function tasksReplaced<S extends ComapState>(state: S, tasks: Task[], seq
   for (const [id, t] of Object.entries(state.tasks)) if ((state.taskMessageSeq[Number(id)] ?? 0) > seq) kept[Number(id)] = t;
   return tasksLoaded({ ...state, tasks: kept }, tasks);
 }
-

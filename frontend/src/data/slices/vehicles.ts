@@ -1,7 +1,16 @@
 // The vehicles slice: each vehicle's views of its latest reports, its satellite trails, chart history and map track,
 // and the operator's selection. Pure functions of the state: unchanged parts keep their identity, so panels that
 // select them do not re-render.
-import type { LinkConfig, LinkState, ProviderSummary, ReportEnvelopeOf, ReportTypes, Topic, TopicReports, TypedReportMessage } from "../../api/types";
+import type {
+  LinkConfig,
+  LinkState,
+  ProviderSummary,
+  ReportEnvelopeOf,
+  ReportTypes,
+  Topic,
+  TopicReports,
+  TypedReportMessage,
+} from "../../api/types";
 import { nextInterval } from "../../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../../lib/geo";
 import { satelliteLabel } from "../../lib/satellites";
@@ -93,7 +102,11 @@ export function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
   return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId, umaaVersion: s.umaaVersion };
 }
 
-function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeOf<"GPSReport">, now: number): Record<string, TrailPoint[]> {
+function updateTrails(
+  trails: Record<string, TrailPoint[]>,
+  env: ReportEnvelopeOf<"GPSReport">,
+  now: number,
+): Record<string, TrailPoint[]> {
   const gps = env.report;
   const next: Record<string, TrailPoint[]> = {};
   let changed = false;
@@ -119,7 +132,9 @@ function updateTrails(trails: Record<string, TrailPoint[]>, env: ReportEnvelopeO
 /** The chart values of a GPSReport received at `t` (as the console computes its series). */
 export function historyPoint(gps: ReportTypes["GPSReport"], t: number): HistoryPoint {
   const sats = gps.satellites ?? [];
-  const cn0s = sats.map((s) => s.antennaCarrierNoiseDensity).filter((v): v is number => typeof v === "number" && Number.isFinite(v));
+  const cn0s = sats
+    .map((s) => s.antennaCarrierNoiseDensity)
+    .filter((v): v is number => typeof v === "number" && Number.isFinite(v));
   const inView = gps.numberSatellitesInView;
   return {
     t,
@@ -157,7 +172,10 @@ export function detailLoaded<S extends VehiclesState>(state: S, providerId: stri
   const env = reports.GPSReport;
   if (!before || !view?.partial || !env || env.receivedAt < view.envelope.receivedAt) return state;
   const gps: TopicView<"GPSReport"> = { envelope: env, at: view.at, interval: view.interval };
-  return { ...state, providers: { ...state.providers, [providerId]: { ...before, topics: { ...before.topics, GPSReport: gps } } } };
+  return {
+    ...state,
+    providers: { ...state.providers, [providerId]: { ...before, topics: { ...before.topics, GPSReport: gps } } },
+  };
 }
 
 /** The console's series of a vehicle (REST), merged into the live history. */
@@ -206,7 +224,9 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
   // selected the vehicle): it arrived when it first did, or selecting a vehicle silent for minutes, or lost, would
   // show it heard from just now (its age, "stale", "lost for", a lost command's confirmation)
   const again = prevView !== undefined && prevView.envelope.receivedAt === msg.report.receivedAt;
-  const at = again ? { at: prevView.at, interval: prevView.interval } : { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
+  const at = again
+    ? { at: prevView.at, interval: prevView.interval }
+    : { at: now, interval: prevView ? nextInterval(prevView.interval, now - prevView.at) : null };
   if (msg.topic === "GPSReport" && msg.partial) {
     // without its satellites: the trails and the chart wait for a whole one; the satellites it had stay
     const kept = (prevView as TopicView<"GPSReport"> | undefined)?.envelope.report.satellites ?? [];
@@ -214,11 +234,11 @@ export function reported(before: ProviderView | undefined, msg: TypedReportMessa
     return { ...b, topics: { ...b.topics, GPSReport: { envelope, ...at, partial: true } } };
   }
   let p: ProviderView = { ...b, topics: { ...b.topics, [topic]: { envelope: msg.report, ...at } } };
-  if (msg.topic === "GPSReport") p = { ...p, trails: updateTrails(p.trails, msg.report, now), history: updateHistory(p.history, msg.report) };
+  if (msg.topic === "GPSReport")
+    p = { ...p, trails: updateTrails(p.trails, msg.report, now), history: updateHistory(p.history, msg.report) };
   if (msg.topic === "GPSFixReport") p = { ...p, track: updateTrack(p.track, msg.report) };
   return p;
 }
-
 
 /** The vehicle to select by itself: the lone vehicle on the bus, while the operator has chosen none (and
  * the page's link named none); otherwise the selection stays as it is. */
@@ -231,7 +251,6 @@ export function withLoneSelected<S extends VehiclesState>(state: S): S {
   }
   return lone === null ? state : { ...state, selected: lone };
 }
-
 
 /** The operator's choice of vehicle: a known one, or (from a link) any id, shown once it reports. */
 export function select<S extends VehiclesState>(state: S, providerId: string | null): S {

@@ -12,7 +12,14 @@ const LOST = alarm(1, B, { text: "Bravo: link lost" });
 
 function shown(source = new TestSource(A)): TestSource {
   renderWith(source, <AlarmsPanel />);
-  act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })], alarms: [LOST] })));
+  act(() =>
+    source.send(
+      snapshotMessage({
+        providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })],
+        alarms: [LOST],
+      }),
+    ),
+  );
   return source;
 }
 
@@ -39,7 +46,12 @@ describe("AlarmsPanel", () => {
     const source = shown();
     fireEvent.click(await screen.findByRole("button", { name: "Acknowledge: Bravo: link lost" }));
     await waitFor(() => expect(asked).toEqual([{ method: "POST", path: "/api/alarms/1/ack" }]));
-    act(() => source.send({ type: "alarms", alarms: [{ ...LOST, state: "active-acknowledged", ackedBy: "e2e-operator", ackedAt: 1001 }] }));
+    act(() =>
+      source.send({
+        type: "alarms",
+        alarms: [{ ...LOST, state: "active-acknowledged", ackedBy: "e2e-operator", ackedAt: 1001 }],
+      }),
+    );
     await waitFor(() => expect(screen.getByTestId("alarm-state").textContent).toBe("Acknowledged"));
     expect(screen.getByTestId("alarm-count").textContent).toBe("0 unacknowledged");
     expect(screen.queryByRole("button", { name: "Acknowledge: Bravo: link lost" })).toBeNull();

@@ -12,7 +12,15 @@ import { useToken } from "../../data/auth";
 import { useAlarms, useCapabilities, useLostVehicles, useNow, useSelector, useSelectVehicle } from "../../data/hooks";
 import { LastHeard } from "../../components/LastHeard";
 import { FLOOD_AT, unacknowledged } from "../../data/slices/alarms";
-import { ALARM_MARK, ALARM_SEVERITY, ALARM_STATE, CHATTERING_TITLE, floodText, shelvedCount, shelvedText } from "../../lib/labels";
+import {
+  ALARM_MARK,
+  ALARM_SEVERITY,
+  ALARM_STATE,
+  CHATTERING_TITLE,
+  floodText,
+  shelvedCount,
+  shelvedText,
+} from "../../lib/labels";
 import { age, utc } from "../../lib/units";
 import { shortId } from "../../lib/vehicle";
 import { PlannedSilences } from "../PlannedSilences/PlannedSilences";
@@ -138,9 +146,17 @@ export function AlarmsPanel() {
     const acked = a.state === "active-acknowledged";
     // the console names the vehicle as it is named now (a rename sends the alarms again): its configured name,
     // else its short id (then it has no name)
-    const vehicle = a.providerId ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null } : null;
+    const vehicle = a.providerId
+      ? { id: a.providerId, name: a.vehicle && a.vehicle !== shortId(a.providerId) ? a.vehicle : null }
+      : null;
     return (
-      <li key={a.id} className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`} data-testid="alarm" data-kind={a.kind} data-state={a.state}>
+      <li
+        key={a.id}
+        className={`alarm-entry alarm-${sev.tone}${acked ? " acked" : ""}`}
+        data-testid="alarm"
+        data-kind={a.kind}
+        data-state={a.state}
+      >
         <button
           className="alarm-main"
           onClick={() => a.providerId && selectVehicle(a.providerId)}
@@ -187,12 +203,24 @@ export function AlarmsPanel() {
                 Acknowledge
               </button>
             )}
-            <button className="small" aria-expanded={shelving === a.id} onClick={() => setShelving(shelving === a.id ? null : a.id)} aria-label={`Shelve: ${a.text}`}>
+            <button
+              className="small"
+              aria-expanded={shelving === a.id}
+              onClick={() => setShelving(shelving === a.id ? null : a.id)}
+              aria-label={`Shelve: ${a.text}`}
+            >
               Shelve
             </button>
           </span>
         )}
-        {shelving === a.id && <ShelveForm alarm={a} busy={busy} onShelve={(reason, minutes) => void act(a.id, () => shelveAlarm(a.id, reason, minutes, token), "Not shelved")} onCancel={() => setShelving(null)} />}
+        {shelving === a.id && (
+          <ShelveForm
+            alarm={a}
+            busy={busy}
+            onShelve={(reason, minutes) => void act(a.id, () => shelveAlarm(a.id, reason, minutes, token), "Not shelved")}
+            onCancel={() => setShelving(null)}
+          />
+        )}
         {errors[a.id] && (
           <p className="error alarm-error" role="alert">
             {errors[a.id]}
@@ -217,7 +245,12 @@ export function AlarmsPanel() {
     const unacked = unacknowledged(members).length;
     const isOpen = expanded[a.cause] ?? false;
     rows.push(
-      <li key={`group-${a.cause}`} className={`alarm-entry alarm-group alarm-${worst.tone}`} data-testid="alarm-group" data-cause={a.cause}>
+      <li
+        key={`group-${a.cause}`}
+        className={`alarm-entry alarm-group alarm-${worst.tone}`}
+        data-testid="alarm-group"
+        data-cause={a.cause}
+      >
         <span className="alarm-head">
           <span className={`alarm-severity tone-${worst.tone}`}>{worst.text}</span>
           <span className="alarm-text" data-testid="alarm-group-title">
@@ -230,7 +263,17 @@ export function AlarmsPanel() {
             {isOpen ? "Hide each" : "Show each"}
           </button>
           {mayAck && unacked > 0 && (
-            <button className="small" aria-disabled={busy || undefined} onClick={() => !busy && void ack(unacknowledged(members).map((m) => m.id), true)}>
+            <button
+              className="small"
+              aria-disabled={busy || undefined}
+              onClick={() =>
+                !busy &&
+                void ack(
+                  unacknowledged(members).map((m) => m.id),
+                  true,
+                )
+              }
+            >
               Acknowledge these {unacked}
             </button>
           )}
@@ -266,7 +309,10 @@ export function AlarmsPanel() {
               onClick={(e) => {
                 if (busy) return;
                 focus.pressed(e.currentTarget, () => title.current);
-                void ack(open.map((a) => a.id), true);
+                void ack(
+                  open.map((a) => a.id),
+                  true,
+                );
               }}
             >
               Acknowledge all
@@ -287,7 +333,12 @@ export function AlarmsPanel() {
       )}
       {onShelf.length > 0 && (
         <div className="alarm-shelved">
-          <button className="small" aria-expanded={showShelved} onClick={() => setShowShelved(!showShelved)} data-testid="alarms-shelved">
+          <button
+            className="small"
+            aria-expanded={showShelved}
+            onClick={() => setShowShelved(!showShelved)}
+            data-testid="alarms-shelved"
+          >
             {shelvedCount(onShelf.length)}
           </button>
           {showShelved && (
@@ -301,7 +352,12 @@ export function AlarmsPanel() {
                     </span>
                   )}
                   {mayAck && (
-                    <button className="small" aria-disabled={busy || undefined} onClick={() => void act(a.id, () => unshelveAlarm(a.id, token), "Not unshelved")} aria-label={`Unshelve: ${a.text}`}>
+                    <button
+                      className="small"
+                      aria-disabled={busy || undefined}
+                      onClick={() => void act(a.id, () => unshelveAlarm(a.id, token), "Not unshelved")}
+                      aria-label={`Unshelve: ${a.text}`}
+                    >
                       Unshelve
                     </button>
                   )}
@@ -322,7 +378,17 @@ export function AlarmsPanel() {
 }
 
 /** Shelve one alarm: a reason (required) and a time among the offered ones. */
-function ShelveForm({ alarm, busy, onShelve, onCancel }: { alarm: Alarm; busy: boolean; onShelve: (reason: string, minutes: number) => void; onCancel: () => void }) {
+function ShelveForm({
+  alarm,
+  busy,
+  onShelve,
+  onCancel,
+}: {
+  alarm: Alarm;
+  busy: boolean;
+  onShelve: (reason: string, minutes: number) => void;
+  onCancel: () => void;
+}) {
   const [reason, setReason] = useState("");
   const [minutes, setMinutes] = useState(60);
   return (

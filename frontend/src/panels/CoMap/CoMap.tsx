@@ -10,14 +10,30 @@ import { createTask, problemText, putWorldModel, synchTask, type Capability, typ
 import { Confirm } from "../../components/Confirm";
 import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
-import { useCapabilities, useLostVehicles, useSelectedVehicle, useSelector, useSilences, useVehicleNames } from "../../data/hooks";
+import {
+  useCapabilities,
+  useLostVehicles,
+  useSelectedVehicle,
+  useSelector,
+  useSilences,
+  useVehicleNames,
+} from "../../data/hooks";
 import { LastHeard, LostFor } from "../../components/LastHeard";
 import { useComapStatus, useTasks, useVehicleCapabilities } from "../../data/loaders";
 import { FINISHED } from "../../data/slices/comap";
 import { plannedUntil } from "../../data/slices/alarms";
 import { coverageColor, drawnGeometry, nextFeatureId, parseWorldModel, type Coverage, type LonLat } from "../../lib/geo";
 import { RESOLUTION_UNIT, clockTime, resolution as resolutionText, utcWhen } from "../../lib/units";
-import { coverageText, lostButtonNote, lostClause, lostMeanwhileText, positionText, sensorText, taskKindText, taskStateText } from "../../lib/labels";
+import {
+  coverageText,
+  lostButtonNote,
+  lostClause,
+  lostMeanwhileText,
+  positionText,
+  sensorText,
+  taskKindText,
+  taskStateText,
+} from "../../lib/labels";
 import { countRender } from "../../lib/renders";
 import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
 
@@ -76,7 +92,8 @@ function deadlineOf(text: string): number | null | "bad" {
 
 export function pendingText(p: Pending): string {
   if (p.kind === "move") return `Move ${vehicleLabel(p.target)} to ${positionText(p.point.lat, p.point.lon)}?`;
-  if (p.kind === "survey") return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline !== null ? `, by ${clockTime(p.deadline)}` : ""}?`;
+  if (p.kind === "survey")
+    return `Survey feature #${p.featureId} with ${vehicleLabel(p.target)}: ${sensorText(p.sensor).toLowerCase()}, resolution ${resolutionText(p.resolution)}${p.deadline !== null ? `, by ${clockTime(p.deadline)}` : ""}?`;
   return `${SYNCH_WORDS[p.action]} task ${p.task.taskId} (${taskKindText(p.task.kind).toLowerCase()}) of ${vehicleLabel(p.target)}?`;
 }
 
@@ -98,7 +115,19 @@ export function CoMapOff() {
   );
 }
 
-export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setTool, drawn, clearDrawn, moveTarget, picked, unpick }: Props) {
+export function CoMapControls({
+  model,
+  consoleModel,
+  dirty,
+  setDraft,
+  tool,
+  setTool,
+  drawn,
+  clearDrawn,
+  moveTarget,
+  picked,
+  unpick,
+}: Props) {
   countRender("comap");
   const token = useToken();
   const mayWrite = useCapabilities().command; // a replay is read-only: nothing is sent
@@ -126,7 +155,9 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   // Adjusted while rendering, so no frame shows an order armed for a vehicle no longer selected:
   if ((armed && armed.id !== selected) || (pending && pending.target.id !== selected)) {
     const what = pending ?? { kind: "move" as const, target: armed! };
-    setNote(`${what.kind === "move" ? "Move-to" : pendingName(what as Pending)} for ${vehicleLabel(what.target)} not sent: the selected vehicle changed.`);
+    setNote(
+      `${what.kind === "move" ? "Move-to" : pendingName(what as Pending)} for ${vehicleLabel(what.target)} not sent: the selected vehicle changed.`,
+    );
     setArmed(null);
     setPending(null);
   } else if (pending && !pending.lost && isLost(pending.target.id)) {
@@ -153,7 +184,10 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     const geometry = drawnGeometry(drawn);
     if (geometry) {
       const id = freshId();
-      setDraft({ ...model, features: [...model.features, { type: "Feature", geometry, properties: { featureId: id, coverage: null } }] });
+      setDraft({
+        ...model,
+        features: [...model.features, { type: "Feature", geometry, properties: { featureId: id, coverage: null } }],
+      });
     }
     clearDrawn();
     setTool("select");
@@ -173,8 +207,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const exportHref = `data:application/geo+json;charset=utf-8,${encodeURIComponent(JSON.stringify(model))}`;
   // Why the selected vehicle cannot be tasked (null: it can): CoMap off, or no IMC id for it.
   const offReason = status === "absent" ? COMAP_ABSENT : status !== null && !status.enabled ? COMAP_OFF : null;
-  const noImc = vehicle && caps !== null && caps.imcId === null ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.` : null;
-  const cannotTask = !mayWrite ? "Replay: read-only." : offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it.");
+  const noImc =
+    vehicle && caps !== null && caps.imcId === null
+      ? `${vehicleLabel(vehicle)} has no IMC system id (the console's --imc-vehicles): it cannot be tasked.`
+      : null;
+  const cannotTask = !mayWrite ? "Replay: read-only." : (offReason ?? noImc ?? (vehicle ? null : "Select a vehicle to task it."));
   const target: VehicleIdentity | null = vehicle ? { id: vehicle.id, name: vehicle.name } : null;
   const targetLost = target !== null && isLost(target.id) ? lostButtonNote(untilOf(target.id)) : "";
 
@@ -183,11 +220,30 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     const to = p.target.id; // the vehicle it was prepared for, whatever is selected now
     if (p.kind === "move") {
       setArmed(null);
-      run(`Move-to for ${vehicleLabel(p.target)}`, createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token));
+      run(
+        `Move-to for ${vehicleLabel(p.target)}`,
+        createTask({ kind: "move", vehicle: to, point: p.point, sensor: "ANY", resolution: 1 }, token),
+      );
     } else if (p.kind === "survey") {
-      run(`Survey for ${vehicleLabel(p.target)}`, createTask({ kind: "survey", vehicle: to, featureId: p.featureId, sensor: p.sensor, resolution: p.resolution, ...(p.deadline !== null ? { deadline: new Date(p.deadline * 1000).toISOString() } : {}) }, token));
+      run(
+        `Survey for ${vehicleLabel(p.target)}`,
+        createTask(
+          {
+            kind: "survey",
+            vehicle: to,
+            featureId: p.featureId,
+            sensor: p.sensor,
+            resolution: p.resolution,
+            ...(p.deadline !== null ? { deadline: new Date(p.deadline * 1000).toISOString() } : {}),
+          },
+          token,
+        ),
+      );
     } else {
-      run(`${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`, synchTask(p.task.taskId, p.action, token));
+      run(
+        `${SYNCH_WORDS[p.action]} of task ${p.task.taskId} for ${vehicleLabel(p.target)}`,
+        synchTask(p.task.taskId, p.action, token),
+      );
     }
   };
   const survey = () => {
@@ -211,8 +267,13 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
   const synch = (t: Task, action: SynchAction) => {
     setNote(null);
     // INTERRUPT, and any order to a lost vehicle, waits for the operator's confirmation
-    if (action === "INTERRUPT" || isLost(t.vehicle)) setPending({ kind: "synch", target: identity(t.vehicle), lost: isLost(t.vehicle), task: t, action });
-    else run(`${SYNCH_WORDS[action]} of task ${t.taskId} for ${vehicleLabel(identity(t.vehicle))}`, synchTask(t.taskId, action, token));
+    if (action === "INTERRUPT" || isLost(t.vehicle))
+      setPending({ kind: "synch", target: identity(t.vehicle), lost: isLost(t.vehicle), task: t, action });
+    else
+      run(
+        `${SYNCH_WORDS[action]} of task ${t.taskId} for ${vehicleLabel(identity(t.vehicle))}`,
+        synchTask(t.taskId, action, token),
+      );
   };
 
   if (offReason) {
@@ -229,7 +290,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
     <div className="comap" data-testid="comap">
       <div className="comap-row">
         <strong>World model</strong>
-        <button className="small" aria-pressed={tool === "draw"} onClick={() => (tool === "draw" ? finishDrawing() : (clearDrawn(), setTool("draw")))}>
+        <button
+          className="small"
+          aria-pressed={tool === "draw"}
+          onClick={() => (tool === "draw" ? finishDrawing() : (clearDrawn(), setTool("draw")))}
+        >
           {tool === "draw" ? `Finish (${drawn.length} points)` : "Draw feature"}
         </button>
         <button
@@ -251,12 +316,27 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         )}
         <label className="button small">
           Import GeoJSON
-          <input type="file" accept=".json,.geojson,application/geo+json" hidden onChange={(e) => importFile(e.target.files?.[0])} />
+          <input
+            type="file"
+            accept=".json,.geojson,application/geo+json"
+            hidden
+            onChange={(e) => importFile(e.target.files?.[0])}
+          />
         </label>
         <a className="button" href={exportHref} download="worldmodel.geojson">
           Export GeoJSON
         </a>
-        <button className="small" disabled={!dirty || !mayWrite} onClick={() => run("World model", putWorldModel(model, token).then(() => setDraft(null)))} data-testid="send-worldmodel">
+        <button
+          className="small"
+          disabled={!dirty || !mayWrite}
+          onClick={() =>
+            run(
+              "World model",
+              putWorldModel(model, token).then(() => setDraft(null)),
+            )
+          }
+          data-testid="send-worldmodel"
+        >
           Send world model
         </button>
         {dirty && (
@@ -267,13 +347,27 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       </div>
       <ul className="features">
         {model.features.map((f) => (
-          <li key={String(f.properties?.featureId)} data-testid="feature" aria-current={picked !== null && f.properties?.featureId === picked ? "true" : undefined} data-feature-id={String(f.properties?.featureId)} data-coverage={String(f.properties?.coverage ?? "")}>
-            <span className="swatch" data-testid="coverage-swatch" style={{ background: coverageColor((f.properties?.coverage ?? null) as Coverage) }} />
+          <li
+            key={String(f.properties?.featureId)}
+            data-testid="feature"
+            aria-current={picked !== null && f.properties?.featureId === picked ? "true" : undefined}
+            data-feature-id={String(f.properties?.featureId)}
+            data-coverage={String(f.properties?.coverage ?? "")}
+          >
+            <span
+              className="swatch"
+              data-testid="coverage-swatch"
+              style={{ background: coverageColor((f.properties?.coverage ?? null) as Coverage) }}
+            />
             #{String(f.properties?.featureId)} {GEOMETRY_WORDS[f.geometry?.type ?? ""] ?? f.geometry?.type} ·{" "}
             <span data-testid="coverage" title={imc("coverage", (f.properties?.coverage ?? null) as string | null)}>
               {coverageText((f.properties?.coverage ?? null) as string | null)}
             </span>{" "}
-            <button className="small" onClick={() => remove(f.properties?.featureId)} aria-label={`Delete feature ${String(f.properties?.featureId)}`}>
+            <button
+              className="small"
+              onClick={() => remove(f.properties?.featureId)}
+              aria-label={`Delete feature ${String(f.properties?.featureId)}`}
+            >
               ✕
             </button>
           </li>
@@ -281,7 +375,11 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
       </ul>
       <div className="comap-row" role="group" aria-label={target ? `Task ${vehicleLabel(target)}` : "Task a vehicle"}>
         <strong>Task {target ? <VehicleTag v={target} /> : "(select a vehicle)"}</strong>
-        <select aria-label="Feature" value={featureId} onChange={(e) => setFeatureId(e.target.value ? Number(e.target.value) : "")}>
+        <select
+          aria-label="Feature"
+          value={featureId}
+          onChange={(e) => setFeatureId(e.target.value ? Number(e.target.value) : "")}
+        >
           <option value="">feature…</option>
           {consoleModel.features.map((f) => (
             <option key={String(f.properties?.featureId)} value={String(f.properties?.featureId)}>
@@ -296,15 +394,40 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
             </option>
           ))}
         </select>
-        <input aria-label={`Resolution (${RESOLUTION_UNIT})`} title="survey resolution, in the unit of the vehicles' capabilities" type="number" min={0.01} step={0.1} value={resolution} onChange={(e) => setResolution(Number(e.target.value))} style={{ width: 70 }} />
+        <input
+          aria-label={`Resolution (${RESOLUTION_UNIT})`}
+          title="survey resolution, in the unit of the vehicles' capabilities"
+          type="number"
+          min={0.01}
+          step={0.1}
+          value={resolution}
+          onChange={(e) => setResolution(Number(e.target.value))}
+          style={{ width: 70 }}
+        />
         <span className="muted">{RESOLUTION_UNIT}</span>
-        <input aria-label="Deadline (UTC)" title="none, or a 24-hour UTC time: HH:MM (the next one) or YYYY-MM-DD HH:MM" type="text" placeholder="deadline HH:MM UTC" maxLength={16} size={16} value={deadline} onChange={(e) => setDeadline(e.target.value)} />
+        <input
+          aria-label="Deadline (UTC)"
+          title="none, or a 24-hour UTC time: HH:MM (the next one) or YYYY-MM-DD HH:MM"
+          type="text"
+          placeholder="deadline HH:MM UTC"
+          maxLength={16}
+          size={16}
+          value={deadline}
+          onChange={(e) => setDeadline(e.target.value)}
+        />
         <button
           className="small"
           disabled={cannotTask !== null || featureId === "" || dirty}
           onClick={survey}
           data-testid="survey"
-          title={cannotTask ?? (dirty ? "send or discard the world model edits first: the vehicle surveys the console's features" : target ? `Survey the chosen feature with ${vehicleLabel(target)} (asks you to confirm)` : undefined)}
+          title={
+            cannotTask ??
+            (dirty
+              ? "send or discard the world model edits first: the vehicle surveys the console's features"
+              : target
+                ? `Survey the chosen feature with ${vehicleLabel(target)} (asks you to confirm)`
+                : undefined)
+          }
         >
           Survey{targetLost}
         </button>
@@ -315,9 +438,20 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           onClick={moveButton}
           data-testid="move-to"
           data-vehicle={armed?.id}
-          title={cannotTask ?? (armed ? `Move-to armed for ${vehicleLabel(armed)}: click its destination on the map` : target ? `Move ${vehicleLabel(target)}: then click its destination on the map` : undefined)}
+          title={
+            cannotTask ??
+            (armed
+              ? `Move-to armed for ${vehicleLabel(armed)}: click its destination on the map`
+              : target
+                ? `Move ${vehicleLabel(target)}: then click its destination on the map`
+                : undefined)
+          }
         >
-          {armed ? (moveTarget ? `Send move of ${vehicleLabel(armed)}…` : `Move ${vehicleLabel(armed)}: click its destination`) : `Move to…${targetLost}`}
+          {armed
+            ? moveTarget
+              ? `Send move of ${vehicleLabel(armed)}…`
+              : `Move ${vehicleLabel(armed)}: click its destination`
+            : `Move to…${targetLost}`}
         </button>
       </div>
       {cannotTask && target && mayWrite && (
@@ -330,7 +464,15 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           key={`${pending.kind} ${pending.target.id}`}
           label={`Confirm ${pendingName(pending).toLowerCase()}`}
           vehicle={pending.target.id}
-          confirmText={pending.lost ? "Send anyway" : pending.kind === "synch" ? SYNCH_WORDS[pending.action] : pending.kind === "move" ? "Send move" : "Send survey"}
+          confirmText={
+            pending.lost
+              ? "Send anyway"
+              : pending.kind === "synch"
+                ? SYNCH_WORDS[pending.action]
+                : pending.kind === "move"
+                  ? "Send move"
+                  : "Send survey"
+          }
           onConfirm={() => send(pending)}
           onCancel={() => setPending(null)}
           testId="comap-confirm"
@@ -339,12 +481,23 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
           {pending.lost && (
             <p className="confirm-lost" data-testid="comap-confirm-lost">
               <strong>
-                {isLost(pending.target.id) ? <LostFor target={pending.target} since={lost.get(pending.target.id) ?? null} until={untilOf(pending.target.id)} /> : `${vehicleLabel(pending.target)} was lost`}. Send anyway?
+                {isLost(pending.target.id) ? (
+                  <LostFor
+                    target={pending.target}
+                    since={lost.get(pending.target.id) ?? null}
+                    until={untilOf(pending.target.id)}
+                  />
+                ) : (
+                  `${vehicleLabel(pending.target)} was lost`
+                )}
+                . Send anyway?
               </strong>{" "}
               It may reach the vehicle late, or not at all.
             </p>
           )}
-          {pending.kind === "synch" && pending.action === "INTERRUPT" && <p>It stops the task for good: a new task is needed to go on.</p>}
+          {pending.kind === "synch" && pending.action === "INTERRUPT" && (
+            <p>It stops the task for good: a new task is needed to go on.</p>
+          )}
         </Confirm>
       )}
       {note && (
@@ -370,34 +523,74 @@ export function CoMapControls({ model, consoleModel, dirty, setDraft, tool, setT
         </p>
       )}
       {!mayWrite && <p className="readonly-note">Replay: read-only. The world model and tasks are not sent.</p>}
-      {error && <p className="error" role="alert" data-testid="comap-error">{error}</p>}
+      {error && (
+        <p className="error" role="alert" data-testid="comap-error">
+          {error}
+        </p>
+      )}
       <table className="tasks">
         <tbody>
           {taskList.map((t) => {
             const owner = identity(t.vehicle);
             const finished = t.state !== null && FINISHED.has(t.state);
             // a task's HOLD, RESUME, INTERRUPT go to its own vehicle, and only while that vehicle is the one selected
-            const why = !mayWrite ? "Replay: read-only." : finished ? "the task has finished" : t.vehicle !== selected ? `select ${vehicleLabel(owner)} to act on its task` : null;
+            const why = !mayWrite
+              ? "Replay: read-only."
+              : finished
+                ? "the task has finished"
+                : t.vehicle !== selected
+                  ? `select ${vehicleLabel(owner)} to act on its task`
+                  : null;
             return (
               <tr key={t.taskId} data-testid="task" data-task-id={t.taskId} data-vehicle={t.vehicle}>
                 <td>{t.taskId}</td>
-                <td>{taskKindText(t.kind)}{t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}</td>
+                <td>
+                  {taskKindText(t.kind)}
+                  {t.featureId !== null && t.kind === "survey" ? ` #${t.featureId}` : ""}
+                </td>
                 <td data-testid="task-vehicle">
                   <VehicleTag v={owner} />
-                  {isLost(t.vehicle) && <span className={untilOf(t.vehicle) !== null ? "fleet-planned" : "tone-bad"} data-testid="task-lost"> {lostClause(untilOf(t.vehicle))} · <LastHeard since={lost.get(t.vehicle) ?? null} /></span>}
+                  {isLost(t.vehicle) && (
+                    <span className={untilOf(t.vehicle) !== null ? "fleet-planned" : "tone-bad"} data-testid="task-lost">
+                      {" "}
+                      {lostClause(untilOf(t.vehicle))} · <LastHeard since={lost.get(t.vehicle) ?? null} />
+                    </span>
+                  )}
                 </td>
-                <td data-testid="task-state" data-state={t.state ?? ""} title={t.state === "HELD" || t.state === "INTERRUPTED" ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does` : imc("task state", t.state)}>
+                <td
+                  data-testid="task-state"
+                  data-state={t.state ?? ""}
+                  title={
+                    t.state === "HELD" || t.state === "INTERRUPTED"
+                      ? `${imc("task state", t.state)}: sent to the vehicle; CoMap has no acknowledgement of a hold or interrupt, so its TaskStatus reports (progress) show what it does`
+                      : imc("task state", t.state)
+                  }
+                >
                   {t.state ? taskStateText(t.state) : "—"}
                 </td>
                 <td data-testid="task-progress">{typeof t.progress === "number" ? `${t.progress}%` : "—"}</td>
                 <td>{typeof t.quality === "number" ? `quality ${t.quality}%` : ""}</td>
                 <td className="muted" data-testid="task-by">
                   {t.operator ? `by ${t.operator}` : ""}
-                  {t.station ? <span data-testid="task-station" title="the console station that assigned it"> on {t.station}</span> : null}
+                  {t.station ? (
+                    <span data-testid="task-station" title="the console station that assigned it">
+                      {" "}
+                      on {t.station}
+                    </span>
+                  ) : null}
                 </td>
                 <td>
                   {(["HOLD", "RESUME", "INTERRUPT"] as const).map((a) => (
-                    <button key={a} className="small" disabled={why !== null} title={why ?? `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? `, which is ${lostClause(untilOf(t.vehicle))} (asks you to confirm)` : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`} onClick={() => synch(t, a)}>
+                    <button
+                      key={a}
+                      className="small"
+                      disabled={why !== null}
+                      title={
+                        why ??
+                        `${SYNCH_WORDS[a]} this task of ${vehicleLabel(owner)}${isLost(t.vehicle) ? `, which is ${lostClause(untilOf(t.vehicle))} (asks you to confirm)` : a === "INTERRUPT" ? " (asks you to confirm)" : ""}`
+                      }
+                      onClick={() => synch(t, a)}
+                    >
                       {SYNCH_WORDS[a]}
                     </button>
                   ))}

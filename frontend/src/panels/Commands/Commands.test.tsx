@@ -44,9 +44,13 @@ describe("CommandsPanel", () => {
     });
     const source = shown();
     fireEvent.click(await screen.findByRole("button", { name: "Request GPS fix" }), { detail: 1 });
-    await waitFor(() => expect(asked).toEqual([{ method: "POST", path: `/api/providers/${A}/gps-fix`, body: { confirmLost: false } }]));
+    await waitFor(() =>
+      expect(asked).toEqual([{ method: "POST", path: `/api/providers/${A}/gps-fix`, body: { confirmLost: false } }]),
+    );
     act(() => source.send({ type: "command", command: command(A, { sessionId: "s3", createdAt: 1001, status: "EXECUTING" }) }));
-    await waitFor(() => expect(screen.getAllByTestId("command").map((c) => c.dataset.status)).toEqual(["EXECUTING", "COMPLETED"]));
+    await waitFor(() =>
+      expect(screen.getAllByTestId("command").map((c) => c.dataset.status)).toEqual(["EXECUTING", "COMPLETED"]),
+    );
   });
 
   it("says a lost vehicle is lost before a command is sent to it", async () => {
@@ -56,7 +60,9 @@ describe("CommandsPanel", () => {
 
   it("sends nothing in a replay", async () => {
     shown(new TestSource(A, REPLAY));
-    await waitFor(() => expect(screen.getByTestId("commands-replay").textContent).toBe("Replay: read-only. Commands are not sent."));
+    await waitFor(() =>
+      expect(screen.getByTestId("commands-replay").textContent).toBe("Replay: read-only. Commands are not sent."),
+    );
     expect((screen.getByRole("button", { name: "Request GPS fix" }) as HTMLButtonElement).disabled).toBe(true);
   });
 });

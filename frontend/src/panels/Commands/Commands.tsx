@@ -6,10 +6,40 @@ import { useFocusWhenGone } from "../../components/focus";
 import { Panel } from "../../components/Panel";
 import { VehicleTag } from "../../components/VehicleTag";
 import { useToken } from "../../data/auth";
-import { useCapabilities, useCommands, useConnectionState, useNow, useSelectedUmaaVersion, useSelectedVehicle, useSelector } from "../../data/hooks";
+import {
+  useCapabilities,
+  useCommands,
+  useConnectionState,
+  useNow,
+  useSelectedUmaaVersion,
+  useSelectedVehicle,
+  useSelector,
+} from "../../data/hooks";
 import { selectedLostSince, selectedPlannedUntil } from "../../data/slices/vehicles";
-import { cancelText, cancellerText, commandChoices, commandTitle, expectedDuration, inTimeOrder, mergeCommands, noGpsFix, statusText, transitionReason, type CommandChoice } from "../../lib/commands";
-import { CANCEL_CAUSE, COMMAND, commandStatusText, inline, lostButtonNote, lostClause, lostMeanwhileText, umaa, type UmaaVersion } from "../../lib/labels";
+import {
+  cancelText,
+  cancellerText,
+  commandChoices,
+  commandTitle,
+  expectedDuration,
+  inTimeOrder,
+  mergeCommands,
+  noGpsFix,
+  statusText,
+  transitionReason,
+  type CommandChoice,
+} from "../../lib/commands";
+import {
+  CANCEL_CAUSE,
+  COMMAND,
+  commandStatusText,
+  inline,
+  lostButtonNote,
+  lostClause,
+  lostMeanwhileText,
+  umaa,
+  type UmaaVersion,
+} from "../../lib/labels";
 import { LostFor } from "../../components/LastHeard";
 import { clockDuration, utc } from "../../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
@@ -47,62 +77,104 @@ type Line = { at: number; node: ReactNode };
 
 function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
   const lines: Line[] = [
-    { at: c.createdAt, node: (
-      <li key="requested" className="muted">
-        <span className="t-status">Requested</span> <span className="t-time">{utc(c.createdAt, false)}</span>
-        {c.operator ? <span> by {c.operator}</span> : null}
-        {c.console ? <span data-testid="station"> on {c.console}</span> : null}
-      </li>
-    ) },
-    ...c.transitions.map((t) => ({ at: t.receivedAt, node: (
-      <li key={`t${t.seq}`} className={t.violation ? "violation" : ""} data-testid="transition" data-status={t.status} data-reason={t.reason}>
-        <span className="t-status" title={umaa("commandStatus", t.status)}>{commandStatusText(t.status)}</span>{" "}
-        <span className="t-reason" title={umaa("reason", t.reason)}>{transitionReason(c, t.status, t.reason)}</span> <span className="t-time">{utc(t.receivedAt, false)}</span>
-        {t.logMessage && <span className="t-log">“{t.logMessage}”</span>}
-        {t.violation && (
-          <strong className="t-violation" role="alert" data-testid="violation" title={`UMAA flow violation: ${t.violation}`}>
-            Out of sequence: the vehicle skipped a step or went back
-          </strong>
-        )}
-      </li>
-    ) })),
+    {
+      at: c.createdAt,
+      node: (
+        <li key="requested" className="muted">
+          <span className="t-status">Requested</span> <span className="t-time">{utc(c.createdAt, false)}</span>
+          {c.operator ? <span> by {c.operator}</span> : null}
+          {c.console ? <span data-testid="station"> on {c.console}</span> : null}
+        </li>
+      ),
+    },
+    ...c.transitions.map((t) => ({
+      at: t.receivedAt,
+      node: (
+        <li
+          key={`t${t.seq}`}
+          className={t.violation ? "violation" : ""}
+          data-testid="transition"
+          data-status={t.status}
+          data-reason={t.reason}
+        >
+          <span className="t-status" title={umaa("commandStatus", t.status)}>
+            {commandStatusText(t.status)}
+          </span>{" "}
+          <span className="t-reason" title={umaa("reason", t.reason)}>
+            {transitionReason(c, t.status, t.reason)}
+          </span>{" "}
+          <span className="t-time">{utc(t.receivedAt, false)}</span>
+          {t.logMessage && <span className="t-log">“{t.logMessage}”</span>}
+          {t.violation && (
+            <strong className="t-violation" role="alert" data-testid="violation" title={`UMAA flow violation: ${t.violation}`}>
+              Out of sequence: the vehicle skipped a step or went back
+            </strong>
+          )}
+        </li>
+      ),
+    })),
   ];
   if (c.ackedAt !== null) {
-    lines.push({ at: c.ackedAt, node: (
-      <li key="ack" className="muted" data-testid="ack">
-        <span className="t-status" title="UMAA CommandAckReport: the vehicle publishes it as it starts to process the command">Acknowledged</span> the vehicle reports taking it up <span className="t-time">{utc(c.ackedAt, false)}</span>
-      </li>
-    ) });
+    lines.push({
+      at: c.ackedAt,
+      node: (
+        <li key="ack" className="muted" data-testid="ack">
+          <span className="t-status" title="UMAA CommandAckReport: the vehicle publishes it as it starts to process the command">
+            Acknowledged
+          </span>{" "}
+          the vehicle reports taking it up <span className="t-time">{utc(c.ackedAt, false)}</span>
+        </li>
+      ),
+    });
   }
   if (c.cancelRequested) {
     const at = c.canceledAt ?? null;
-    lines.push({ at: at ?? Infinity, node: (
-      <li key="cancel" className="muted" data-testid="cancel-asked">
-        <span className="t-status">{CANCEL_CAUSE[c.cancelCause ?? "operator"]}{c.cancelCause === "shutdown" ? ":" : ""}</span> {cancellerText(c)} {at !== null && <span className="t-time">{utc(at, false)}</span>}
-      </li>
-    ) });
+    lines.push({
+      at: at ?? Infinity,
+      node: (
+        <li key="cancel" className="muted" data-testid="cancel-asked">
+          <span className="t-status">
+            {CANCEL_CAUSE[c.cancelCause ?? "operator"]}
+            {c.cancelCause === "shutdown" ? ":" : ""}
+          </span>{" "}
+          {cancellerText(c)} {at !== null && <span className="t-time">{utc(at, false)}</span>}
+        </li>
+      ),
+    });
   }
   if (c.closedUnheard) {
     const at = c.closedAt ?? null;
-    lines.push({ at: at ?? Infinity, node: (
-      <li key="closed" data-testid="closed-unheard">
-        <span className="t-status">Ended by the console:</span>{" "}
-        {c.closedUnheard === "heard"
-          ? "the vehicle was heard again without answering it; it never heard the command, which the cancel withdrew"
-          : `the vehicle was not heard for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel; the cancel withdrew the command if it had not heard it`}{" "}
-        {at !== null && <span className="t-time">{utc(at, false)}</span>}
-      </li>
-    ) });
+    lines.push({
+      at: at ?? Infinity,
+      node: (
+        <li key="closed" data-testid="closed-unheard">
+          <span className="t-status">Ended by the console:</span>{" "}
+          {c.closedUnheard === "heard"
+            ? "the vehicle was heard again without answering it; it never heard the command, which the cancel withdrew"
+            : `the vehicle was not heard for ${clockDuration((at ?? 0) - (c.canceledAt ?? c.createdAt))} after the cancel; the cancel withdrew the command if it had not heard it`}{" "}
+          {at !== null && <span className="t-time">{utc(at, false)}</span>}
+        </li>
+      ),
+    });
   }
   return (
     <ol className="timeline" data-testid="timeline" aria-label={`Timeline of ${commandTitle(c)}`}>
       {inTimeOrder(lines).map((l) => l.node)}
       {awaitingAnswer(c) && (
-        <li className="violation" role="alert" data-testid="unanswered" title="UMAA: no ISSUED status within the unanswered timeout">
-          <strong>{COMMAND.unanswered}: {vehicleLabel(target)} has not confirmed receiving this command.</strong> It may still run it when it
-          hears it, late.{" "}
+        <li
+          className="violation"
+          role="alert"
+          data-testid="unanswered"
+          title="UMAA: no ISSUED status within the unanswered timeout"
+        >
+          <strong>
+            {COMMAND.unanswered}: {vehicleLabel(target)} has not confirmed receiving this command.
+          </strong>{" "}
+          It may still run it when it hears it, late.{" "}
           {/* once cancelled (no Cancel button any more), what is left to know: the cancel may not reach it either */}
-          {c.cancelRequested ? "Cancel requested: it may not hear the cancel either; watch it when it answers." : "Cancel it if it should not run then."}
+          {c.cancelRequested
+            ? "Cancel requested: it may not hear the cancel either; watch it when it answers."
+            : "Cancel it if it should not run then."}
         </li>
       )}
       {c.cancelRequested && !c.terminal && <li className="muted">waiting for the vehicle to answer the cancel…</li>}
@@ -114,28 +186,64 @@ function Timeline({ c, target }: { c: Command; target: VehicleIdentity }) {
 function Elapsed({ c, expected }: { c: Command; expected: number | null }) {
   const now = useNow(1000);
   return (
-    <span className="c-elapsed muted" data-testid="command-elapsed" title="time since it was requested; expected: the median of this vehicle's earlier completed commands of this kind">
+    <span
+      className="c-elapsed muted"
+      data-testid="command-elapsed"
+      title="time since it was requested; expected: the median of this vehicle's earlier completed commands of this kind"
+    >
       {clockDuration(now - c.createdAt)} of {expected === null ? "— expected" : `${clockDuration(expected)} expected`}
     </span>
   );
 }
 
-function CommandCard({ c, target, expected, canCommand, waiting, onCancel, open }: {
-  c: Command; target: VehicleIdentity; expected: number | null; canCommand: boolean; waiting: boolean; onCancel: (c: Command) => void; open: boolean;
+function CommandCard({
+  c,
+  target,
+  expected,
+  canCommand,
+  waiting,
+  onCancel,
+  open,
+}: {
+  c: Command;
+  target: VehicleIdentity;
+  expected: number | null;
+  canCommand: boolean;
+  waiting: boolean;
+  onCancel: (c: Command) => void;
+  open: boolean;
 }) {
   // Cancel goes once the console has the cancel: the focus of the operator who pressed it goes to the command's row
   // (its status), not to the page's top
   const row = useRef<HTMLElement>(null);
   const focus = useFocusWhenGone();
   return (
-    <details className={`command ${statusClass(c)}`} open={open} data-testid="command" data-session={c.sessionId} data-status={c.status ?? "none"}>
+    <details
+      className={`command ${statusClass(c)}`}
+      open={open}
+      data-testid="command"
+      data-session={c.sessionId}
+      data-status={c.status ?? "none"}
+    >
       <summary ref={row} data-testid="command-summary">
         <span className="c-title">{commandTitle(c)}</span>
-        <span className="c-status" data-testid="command-status" title={awaitingAnswer(c) ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}>
+        <span
+          className="c-status"
+          data-testid="command-status"
+          title={awaitingAnswer(c) ? "UMAA: unanswered (no ISSUED)" : umaa("commandStatus", c.status)}
+        >
           {statusText(c)}
         </span>
-        {cancelText(c) && <span className="c-canceller muted" data-testid="command-canceller">{inline(cancelText(c) ?? "")}</span>}
-        {c.violations.length > 0 && <span className="c-flag" data-testid="command-violation">⚠ out of sequence</span>}
+        {cancelText(c) && (
+          <span className="c-canceller muted" data-testid="command-canceller">
+            {inline(cancelText(c) ?? "")}
+          </span>
+        )}
+        {c.violations.length > 0 && (
+          <span className="c-flag" data-testid="command-violation">
+            ⚠ out of sequence
+          </span>
+        )}
         <span className="c-time muted">{utc(c.createdAt, false)}</span>
         {!c.terminal && <Elapsed c={c} expected={expected} />}
         {/* a double click is one cancel: its second click would otherwise say "not sent" of the one that was */}
@@ -167,8 +275,18 @@ const FETCH = 100; // commands asked of the console per request
 
 /** The selected vehicle's commands, newest first: the live ones, then older pages from the console's
  * history (GET /api/commands) on demand. Keyed by the vehicle, so its pages never show beside another. */
-function CommandList({ target, live, canCommand, waiting, onCancel }: {
-  target: VehicleIdentity; live: Command[]; canCommand: boolean; waiting: boolean; onCancel: (c: Command) => void;
+function CommandList({
+  target,
+  live,
+  canCommand,
+  waiting,
+  onCancel,
+}: {
+  target: VehicleIdentity;
+  live: Command[];
+  canCommand: boolean;
+  waiting: boolean;
+  onCancel: (c: Command) => void;
 }) {
   const token = useToken();
   const [older, setOlder] = useState<Command[]>([]);
@@ -186,13 +304,16 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
     // the history's first page at once, so the count says how many there are (the live list holds only what this
     // console follows and recently finished); a failure leaves the count as "shown" until Older commands is pressed
     let gone = false;
-    commandPage(target.id, FETCH, 0, token).then((page) => {
-      if (gone) return;
-      setOlder((o) => (o.length ? o : page));
-      setFetched((f) => Math.max(f, page.length));
-      setDone((d) => d || page.length < FETCH);
-      setCounted(true);
-    }, () => undefined);
+    commandPage(target.id, FETCH, 0, token).then(
+      (page) => {
+        if (gone) return;
+        setOlder((o) => (o.length ? o : page));
+        setFetched((f) => Math.max(f, page.length));
+        setDone((d) => d || page.length < FETCH);
+        setCounted(true);
+      },
+      () => undefined,
+    );
     return () => {
       gone = true;
     };
@@ -207,7 +328,9 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
       return;
     }
     setLoading(true);
-    let got = older, offset = fetched, end = false;
+    let got = older,
+      offset = fetched,
+      end = false;
     try {
       while (mergeCommands(live, got, until).length < want && !end) {
         const page = await commandPage(target.id, FETCH, offset, token);
@@ -232,7 +355,16 @@ function CommandList({ target, live, canCommand, waiting, onCancel }: {
       <div className="command-list" data-testid="command-list">
         {all.length === 0 && <p className="muted">No commands sent to this vehicle.</p>}
         {shown.map((c, i) => (
-          <CommandCard key={c.sessionId} c={c} target={target} expected={c.terminal ? null : expectedDuration(c, all)} canCommand={canCommand} waiting={waiting} open={i < 3 || !c.terminal} onCancel={onCancel} />
+          <CommandCard
+            key={c.sessionId}
+            c={c}
+            target={target}
+            expected={c.terminal ? null : expectedDuration(c, all)}
+            canCommand={canCommand}
+            waiting={waiting}
+            open={i < 3 || !c.terminal}
+            onCancel={onCancel}
+          />
         ))}
       </div>
       {(all.length > 0 || older.length > 0) && (
@@ -334,7 +466,11 @@ export function CommandsPanel() {
   };
   const shown = pending !== null && pending.target.id === selected ? pending : null;
   const why = (a: Action, t: VehicleIdentity): string => {
-    const said = unreachable ? `${a.label}: ${UNREACHABLE}` : lost ? `${a.label} on ${vehicleLabel(t)}, which is ${lostClause(until)}: asks you to confirm` : `${a.label} on ${vehicleLabel(t)}`;
+    const said = unreachable
+      ? `${a.label}: ${UNREACHABLE}`
+      : lost
+        ? `${a.label} on ${vehicleLabel(t)}, which is ${lostClause(until)}: asks you to confirm`
+        : `${a.label} on ${vehicleLabel(t)}`;
     const literal = umaa("state", a.state); // the UMAA literal it sends, for the engineer comparing with a log
     return literal ? `${said} (${literal})` : said;
   };
@@ -342,8 +478,16 @@ export function CommandsPanel() {
 
   return (
     <Panel title="Commands" testId="commands-panel">
-      {!mayCommand && <p className="readonly-note" data-testid="commands-replay">Replay: read-only. Commands are not sent.</p>}
-      {mayCommand && authRequired && !token && <p className="readonly-note" data-testid="commands-read-only">Read-only: sign in with an operator token to command vehicles.</p>}
+      {!mayCommand && (
+        <p className="readonly-note" data-testid="commands-replay">
+          Replay: read-only. Commands are not sent.
+        </p>
+      )}
+      {mayCommand && authRequired && !token && (
+        <p className="readonly-note" data-testid="commands-read-only">
+          Read-only: sign in with an operator token to command vehicles.
+        </p>
+      )}
       {mayCommand && unreachable && (
         <p className="error" role="status" data-testid="commands-unreachable">
           Console unreachable: no command can be sent until it answers again.
@@ -355,18 +499,28 @@ export function CommandsPanel() {
           {!known && <span className="muted">not on the bus (yet)</span>}
         </p>
       ) : (
-        <p className="muted" data-testid="command-target">Select a vehicle to command it.</p>
+        <p className="muted" data-testid="command-target">
+          Select a vehicle to command it.
+        </p>
       )}
       {/* no live region: its "last heard" counts every second */}
       {target && lost && lostSince !== null && (
         <p className={until !== null ? "command-planned" : "alarm"} data-testid="command-lost">
           <LostFor target={target} since={lostSince} until={until} />.
-          {mayCommand && " A command waits until it is heard again; each one asks you to confirm."/* a replay sends none */}
+          {mayCommand && " A command waits until it is heard again; each one asks you to confirm." /* a replay sends none */}
         </p>
       )}
       <div className="actions" role="group" aria-label={target ? `Commands to ${vehicleLabel(target)}` : "Command actions"}>
         {actions.map((a) => (
-          <button key={a.label} disabled={!canCommand || !target} aria-disabled={sending || undefined} title={target ? why(a, target) : undefined} onClick={(e) => target && e.detail < 2 && act(a, target)} data-lost={lost ? "true" : undefined} data-state={a.state ?? undefined}>
+          <button
+            key={a.label}
+            disabled={!canCommand || !target}
+            aria-disabled={sending || undefined}
+            title={target ? why(a, target) : undefined}
+            onClick={(e) => target && e.detail < 2 && act(a, target)}
+            data-lost={lost ? "true" : undefined}
+            data-state={a.state ?? undefined}
+          >
             {a.label}
             {lost && mayCommand && lostButtonNote(until)}
           </button>
@@ -406,7 +560,12 @@ export function CommandsPanel() {
           {shown.lost && (
             <p className="confirm-lost" data-testid="confirm-lost">
               <strong>
-                {lostSince !== null ? <LostFor target={shown.target} since={lostSince} until={until} /> : `${vehicleLabel(shown.target)} was lost`}. Send {shown.action.noun} anyway?
+                {lostSince !== null ? (
+                  <LostFor target={shown.target} since={lostSince} until={until} />
+                ) : (
+                  `${vehicleLabel(shown.target)} was lost`
+                )}
+                . Send {shown.action.noun} anyway?
               </strong>{" "}
               It runs when the vehicle hears it, maybe much later.
             </p>

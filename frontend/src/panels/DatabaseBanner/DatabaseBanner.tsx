@@ -10,10 +10,12 @@ export function DatabaseBanner() {
   if (db == null || since == null) return null;
   return (
     <p className="alarm" role="alert" data-testid="database-banner">
-      Shared history unavailable since {utc(since)}: this console keeps monitoring and holds its commands, transitions,
-      audit and acknowledgements ({db.writesHeld} held) until the database is back.
-      {db.writesDropped ? ` ${db.writesDropped} of the oldest were dropped (more than 50,000 held): ` +
-        "they are missing from the shared history." : ""}
+      Shared history unavailable since {utc(since)}: this console keeps monitoring and holds its commands, transitions, audit and
+      acknowledgements ({db.writesHeld} held) until the database is back.
+      {db.writesDropped
+        ? ` ${db.writesDropped} of the oldest were dropped (more than 50,000 held): ` +
+          "they are missing from the shared history."
+        : ""}
     </p>
   );
 }

@@ -17,13 +17,18 @@ describe("ExportPanel", () => {
     const asked: string[] = [];
     vi.stubGlobal("fetch", async (url: string) => {
       asked.push(new URL(url, "http://console").pathname);
-      return Response.json({ detail: "the history database cannot be reached; try again" }, { status: 503, statusText: "Service Unavailable" });
+      return Response.json(
+        { detail: "the history database cannot be reached; try again" },
+        { status: 503, statusText: "Service Unavailable" },
+      );
     });
     const source = new TestSource(A);
     renderWith(source, <ExportPanel />);
     act(() => source.send(snapshotMessage({ providers: [vehicle(A, { name: "Alpha" })] })));
     fireEvent.click(await screen.findByTestId("export-gpx"));
-    await waitFor(() => expect(screen.getByRole("alert").textContent).toMatch(/failed: 503: the history database cannot be reached; try again$/));
+    await waitFor(() =>
+      expect(screen.getByRole("alert").textContent).toMatch(/failed: 503: the history database cannot be reached; try again$/),
+    );
     expect(asked).toEqual([`/api/providers/${A}/track.gpx`]);
   });
 });

@@ -33,28 +33,35 @@ export function ExportPanel() {
 
   // The URL is built when clicked, so "last hour" ends now. The file is fetched here (with the token under
   // --auth-reads) and saved under a name that says whose and when (the console's own names carry the GUID).
-  const fetchOnClick = (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
-    e.preventDefault();
-    const q = rangeQuery(range, Date.now());
-    if ("error" in q) return;
-    const url = exportUrl(kind, who?.id ?? null, q);
-    const filename = exportFileName(kind, who, Date.now());
-    setError(null);
-    download(url, token)
-      .then((blob) => {
-        const a = document.createElement("a");
-        a.href = URL.createObjectURL(blob);
-        a.download = filename;
-        a.click();
-        setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
-      })
-      .catch((err: unknown) => setError(`Export of ${filename} failed: ${problemText(err)}`));
-  };
+  const fetchOnClick =
+    (kind: ExportKind, who: { id: string; name: string | null } | null) => (e: MouseEvent<HTMLAnchorElement>) => {
+      e.preventDefault();
+      const q = rangeQuery(range, Date.now());
+      if ("error" in q) return;
+      const url = exportUrl(kind, who?.id ?? null, q);
+      const filename = exportFileName(kind, who, Date.now());
+      setError(null);
+      download(url, token)
+        .then((blob) => {
+          const a = document.createElement("a");
+          a.href = URL.createObjectURL(blob);
+          a.download = filename;
+          a.click();
+          setTimeout(() => URL.revokeObjectURL(a.href), 10_000);
+        })
+        .catch((err: unknown) => setError(`Export of ${filename} failed: ${problemText(err)}`));
+    };
   const link = (kind: ExportKind, who: { id: string; name: string | null } | null, label: string, testId: string) => {
     const q = "error" in checked ? {} : checked;
     return (
-      <a className={`button small${rangeError ? " disabled" : ""}`} href={exportUrl(kind, who?.id ?? null, q)} download={exportFileName(kind, who, now * 1000)}
-        onClick={fetchOnClick(kind, who)} aria-disabled={!!rangeError} data-testid={testId}>
+      <a
+        className={`button small${rangeError ? " disabled" : ""}`}
+        href={exportUrl(kind, who?.id ?? null, q)}
+        download={exportFileName(kind, who, now * 1000)}
+        onClick={fetchOnClick(kind, who)}
+        aria-disabled={!!rangeError}
+        data-testid={testId}
+      >
         {label}
       </a>
     );
@@ -76,15 +83,39 @@ export function ExportPanel() {
         {choice === "between" && (
           <>
             <label>
-              From <input type="text" placeholder="YYYY-MM-DD HH:MM" title="a 24-hour UTC date and time" maxLength={19} size={16} value={since} onChange={(e) => setSince(e.target.value)} aria-label="From (UTC)" />
+              From{" "}
+              <input
+                type="text"
+                placeholder="YYYY-MM-DD HH:MM"
+                title="a 24-hour UTC date and time"
+                maxLength={19}
+                size={16}
+                value={since}
+                onChange={(e) => setSince(e.target.value)}
+                aria-label="From (UTC)"
+              />
             </label>
             <label>
-              To <input type="text" placeholder="YYYY-MM-DD HH:MM" title="a 24-hour UTC date and time" maxLength={19} size={16} value={until} onChange={(e) => setUntil(e.target.value)} aria-label="To (UTC)" />
+              To{" "}
+              <input
+                type="text"
+                placeholder="YYYY-MM-DD HH:MM"
+                title="a 24-hour UTC date and time"
+                maxLength={19}
+                size={16}
+                value={until}
+                onChange={(e) => setUntil(e.target.value)}
+                aria-label="To (UTC)"
+              />
             </label>
           </>
         )}
       </div>
-      {rangeError && <p className="error" role="alert">{rangeError}</p>}
+      {rangeError && (
+        <p className="error" role="alert">
+          {rangeError}
+        </p>
+      )}
       {vehicle ? (
         <div className="export-links" role="group" aria-label="Exports of the selected vehicle">
           <VehicleTag v={vehicle} />
@@ -99,8 +130,14 @@ export function ExportPanel() {
         <span className="muted">Every vehicle:</span>
         {link("commands", null, "Commands CSV", "export-commands-all")}
       </div>
-      {error && <p className="error" role="alert">{error}</p>}
-      <p className="muted small-note">Times are UTC. The console keeps each vehicle's track and chart data for its track retention.</p>
+      {error && (
+        <p className="error" role="alert">
+          {error}
+        </p>
+      )}
+      <p className="muted small-note">
+        Times are UTC. The console keeps each vehicle's track and chart data for its track retention.
+      </p>
     </Panel>
   );
 }

@@ -17,7 +17,10 @@ function shown(umaaVersion: "3.0.1" | "6.0" = "3.0.1"): TestSource {
   return source;
 }
 
-const position = (lat: number) => ({ GPSLatLongValid: true, position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 10 } } } });
+const position = (lat: number) => ({
+  GPSLatLongValid: true,
+  position2DWithTime: { geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: 10 } } },
+});
 
 describe("FixPanel", () => {
   afterEach(cleanup);
@@ -29,7 +32,12 @@ describe("FixPanel", () => {
 
   it("shows whether the fix is valid in words, and the position of the selected vehicle's newest report", async () => {
     const source = shown();
-    act(() => source.send(reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000), reportMessage(A, "GPSFixReport", position(59.5), [], 1000)));
+    act(() =>
+      source.send(
+        reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000),
+        reportMessage(A, "GPSFixReport", position(59.5), [], 1000),
+      ),
+    );
     await waitFor(() => expect(screen.getByTestId("fix-valid").textContent).toBe("Fix valid"));
     expect(screen.getByTestId("fix-valid").dataset.tone).toBe("ok");
     expect(screen.getByTestId("latitude").textContent).toContain("59.5");

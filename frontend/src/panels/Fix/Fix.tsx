@@ -1,6 +1,14 @@
 import { Field, Foldable, Panel, invalidFor } from "../../components/Panel";
 import { TrendChart } from "../../components/TrendChart";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap, useSelector } from "../../data/hooks";
+import {
+  useNow,
+  useReceiving,
+  useSelectedLink,
+  useSelectedTopic,
+  useSelectedUmaaVersion,
+  useSelectionGap,
+  useSelector,
+} from "../../data/hooks";
 import { useHistory } from "../../data/loaders";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
@@ -8,7 +16,16 @@ import { useDmsSetting } from "../../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
 import type { GPSFixReportType } from "../../api/types";
-import { fixBadge, fixStateBadge, fixStateTitle, navSolutionText, notReported, positionKind, timeOutText, umaa } from "../../lib/labels";
+import {
+  fixBadge,
+  fixStateBadge,
+  fixStateTitle,
+  navSolutionText,
+  notReported,
+  positionKind,
+  timeOutText,
+  umaa,
+} from "../../lib/labels";
 import { DASH, degrees, dms, fixed, isNum, latLon, speed, utc, yesNo } from "../../lib/units";
 
 /** A standard deviation from a variance (m² -> m, rad² -> rad); null when not reported. */
@@ -26,19 +43,50 @@ function PoseFields({ fix, stale, inv }: { fix: GPSFixReportType; stale: boolean
   const deg = (v: number | null) => (v === null ? DASH : degrees(v, 2));
   return (
     <>
-      {a && <Field label="Roll / pitch / yaw" value={`${degrees(a.roll?.roll)} / ${degrees(a.pitch?.pitch)} / ${degrees(a.yaw?.yaw, 1, true)}`} stale={stale} invalid={inv("attitude")} testId="attitude" />}
+      {a && (
+        <Field
+          label="Roll / pitch / yaw"
+          value={`${degrees(a.roll?.roll)} / ${degrees(a.pitch?.pitch)} / ${degrees(a.yaw?.yaw, 1, true)}`}
+          stale={stale}
+          invalid={inv("attitude")}
+          testId="attitude"
+        />
+      )}
       {isNum(fix.depth) && <Field label="Depth" value={m(fix.depth)} stale={stale} invalid={inv("depth")} testId="depth" />}
-      {isNum(fix.altitudeGeodetic) && <Field label="Altitude HAE" value={m(fix.altitudeGeodetic)} stale={stale} invalid={inv("altitudeGeodetic")} />}
-      {isNum(fix.altitudeAGL) && <Field label="Above ground" value={m(fix.altitudeAGL)} stale={stale} invalid={inv("altitudeAGL")} />}
-      {isNum(fix.altitudeASF) && <Field label="Above sea floor" value={m(fix.altitudeASF)} stale={stale} invalid={inv("altitudeASF")} />}
+      {isNum(fix.altitudeGeodetic) && (
+        <Field label="Altitude HAE" value={m(fix.altitudeGeodetic)} stale={stale} invalid={inv("altitudeGeodetic")} />
+      )}
+      {isNum(fix.altitudeAGL) && (
+        <Field label="Above ground" value={m(fix.altitudeAGL)} stale={stale} invalid={inv("altitudeAGL")} />
+      )}
+      {isNum(fix.altitudeASF) && (
+        <Field label="Above sea floor" value={m(fix.altitudeASF)} stale={stale} invalid={inv("altitudeASF")} />
+      )}
       {pc && (
-        <span style={{ display: "contents" }} title={`UMAA positionCovariance (m²): pnPn ${pc.pnPn ?? DASH}, pePe ${pc.pePe ?? DASH}, pdPd ${pc.pdPd ?? DASH}`}>
-          <Field label="Position σ N / E / D" value={`${m(sigma(pc.pnPn))} / ${m(sigma(pc.pePe))} / ${m(sigma(pc.pdPd))}`} stale={stale} invalid={inv("positionCovariance")} testId="position-sigma" />
+        <span
+          style={{ display: "contents" }}
+          title={`UMAA positionCovariance (m²): pnPn ${pc.pnPn ?? DASH}, pePe ${pc.pePe ?? DASH}, pdPd ${pc.pdPd ?? DASH}`}
+        >
+          <Field
+            label="Position σ N / E / D"
+            value={`${m(sigma(pc.pnPn))} / ${m(sigma(pc.pePe))} / ${m(sigma(pc.pdPd))}`}
+            stale={stale}
+            invalid={inv("positionCovariance")}
+            testId="position-sigma"
+          />
         </span>
       )}
       {ac && (
-        <span style={{ display: "contents" }} title={`UMAA attitudeCovariance (rad²): rrRr ${ac.rrRr ?? DASH}, rpRp ${ac.rpRp ?? DASH}, ryRy ${ac.ryRy ?? DASH}`}>
-          <Field label="Attitude σ roll / pitch / yaw" value={`${deg(sigma(ac.rrRr))} / ${deg(sigma(ac.rpRp))} / ${deg(sigma(ac.ryRy))}`} stale={stale} invalid={inv("attitudeCovariance")} />
+        <span
+          style={{ display: "contents" }}
+          title={`UMAA attitudeCovariance (rad²): rrRr ${ac.rrRr ?? DASH}, rpRp ${ac.rpRp ?? DASH}, ryRy ${ac.ryRy ?? DASH}`}
+        >
+          <Field
+            label="Attitude σ roll / pitch / yaw"
+            value={`${deg(sigma(ac.rrRr))} / ${deg(sigma(ac.rpRp))} / ${deg(sigma(ac.ryRy))}`}
+            stale={stale}
+            invalid={inv("attitudeCovariance")}
+          />
         </span>
       )}
     </>
@@ -94,40 +142,110 @@ function FixBody() {
       {gap ? (
         <SelectionGap gap={gap} />
       ) : !fix && !st ? (
-        <p className="muted" data-testid="fix-none">{notReported(version, "GPSFixReport") ?? "No GPS fix reports yet."}</p>
+        <p className="muted" data-testid="fix-none">
+          {notReported(version, "GPSFixReport") ?? "No GPS fix reports yet."}
+        </p>
       ) : (
         <>
           <SelectedLost />
           <div className="badges">
-            <span className={`badge ${fixSaid.tone}${sSt ? " stale" : ""}`} data-testid="fix-valid" data-tone={fixSaid.tone} title={fixSaid.title}>
+            <span
+              className={`badge ${fixSaid.tone}${sSt ? " stale" : ""}`}
+              data-testid="fix-valid"
+              data-tone={fixSaid.tone}
+              title={fixSaid.title}
+            >
               {fixSaid.text}
             </span>
-            <span className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`} data-testid="position-kind" title={positionKind(fix).title}>
+            <span
+              className={`badge ${fix?.GPSLatLongValid ? "ok" : "bad"}${sFix ? " stale" : ""}`}
+              data-testid="position-kind"
+              title={positionKind(fix).title}
+            >
               {positionKind(fix).text}
             </span>
-            <span className="badge" data-testid="gps-fix-state" data-state={fix?.GPSFixCommandStatus ?? ""} title={fixStateTitle(fix?.GPSFixCommandStatus)}>{fixStateBadge(fix?.GPSFixCommandStatus)}</span>
-            <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>{navSolutionText(st?.navSolution)}</span>
+            <span
+              className="badge"
+              data-testid="gps-fix-state"
+              data-state={fix?.GPSFixCommandStatus ?? ""}
+              title={fixStateTitle(fix?.GPSFixCommandStatus)}
+            >
+              {fixStateBadge(fix?.GPSFixCommandStatus)}
+            </span>
+            <span className="badge" data-testid="nav-solution" title={umaa("navSolution", st?.navSolution)}>
+              {navSolutionText(st?.navSolution)}
+            </span>
           </div>
           <div className="fields">
-            <Field label="Latitude" value={fmt(lat, true)} stale={sFix} invalid={inv("position2DWithTime.geodeticPosition.geodeticLatitude")} testId="latitude" />
-            <Field label="Longitude" value={fmt(lon, false)} stale={sFix} invalid={inv("position2DWithTime.geodeticPosition.geodeticLongitude")} />
+            <Field
+              label="Latitude"
+              value={fmt(lat, true)}
+              stale={sFix}
+              invalid={inv("position2DWithTime.geodeticPosition.geodeticLatitude")}
+              testId="latitude"
+            />
+            <Field
+              label="Longitude"
+              value={fmt(lon, false)}
+              stale={sFix}
+              invalid={inv("position2DWithTime.geodeticPosition.geodeticLongitude")}
+            />
             <Field label="Time at position" value={`${utc(fix?.position2DWithTime?.timeAtPosition)}`} stale={sFix} />
-            <Field label="Altitude MSL" value={fixed(fix?.altitudeMSL?.altitude, 1, "m")} stale={sFix} invalid={inv("altitudeMSL")} />
+            <Field
+              label="Altitude MSL"
+              value={fixed(fix?.altitudeMSL?.altitude, 1, "m")}
+              stale={sFix}
+              invalid={inv("altitudeMSL")}
+            />
             <Field label="SOG" value={speed(fix?.SOG)} stale={sFix} invalid={inv("SOG")} />
             <Field label="True course" value={degrees(fix?.trueCourse, 1, true)} stale={sFix} invalid={inv("trueCourse")} />
-            <Field label="Magnetic variation" value={degrees(fix?.magneticVariation)} stale={sFix} invalid={inv("magneticVariation")} />
-            <Field label="Velocity N / E / D" value={fix?.velocity ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s` : DASH} stale={sFix} invalid={inv("velocity")} />
+            <Field
+              label="Magnetic variation"
+              value={degrees(fix?.magneticVariation)}
+              stale={sFix}
+              invalid={inv("magneticVariation")}
+            />
+            <Field
+              label="Velocity N / E / D"
+              value={
+                fix?.velocity
+                  ? `${fixed(fix.velocity.northSpeed, 2)} / ${fixed(fix.velocity.eastSpeed, 2)} / ${fixed(fix.velocity.downSpeed, 2)} m/s`
+                  : DASH
+              }
+              stale={sFix}
+              invalid={inv("velocity")}
+            />
             {fix && <PoseFields fix={fix} stale={sFix} inv={inv} />}
-            <Field label="Origin" value={origin ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}` : DASH} stale={sSt} invalid={invS("originPosition")} />
+            <Field
+              label="Origin"
+              value={
+                origin
+                  ? `${fmt(origin.geodeticPosition?.geodeticLatitude?.latitude, true)}, ${fmt(origin.geodeticPosition?.geodeticLongitude?.longitude, false)}, ${fixed(origin.heightAboveEllipsoid?.altitude, 1, "m HAE")}`
+                  : DASH
+              }
+              stale={sSt}
+              invalid={invS("originPosition")}
+            />
             <Field label="Countdown" value={fixed(st?.countDown, 0, "s")} stale={sSt} />
             <Field label="P-code" value={yesNo(st?.pCode)} stale={sSt} />
             <Field label="Low backup battery" value={yesNo(st?.lowBkupBattery)} stale={sSt} />
-            <span style={{ display: "contents" }} title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}>
+            <span
+              style={{ display: "contents" }}
+              title={umaa("timeOut", typeof st?.timeOut === "boolean" ? String(st.timeOut) : null)}
+            >
               <Field label="Fix search" value={timeOutText(st?.timeOut)} stale={sSt} testId="fix-timeout" />
             </span>
-            <Field label="Carrier-to-noise" value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH} stale={sSt} invalid={invS("carrierToNoise")} />
+            <Field
+              label="Carrier-to-noise"
+              value={st?.carrierToNoise?.length ? `${st.carrierToNoise.map((v) => fixed(v, 1)).join(", ")} dB-Hz` : DASH}
+              stale={sSt}
+              invalid={invS("carrierToNoise")}
+            />
           </div>
-          <TrendChart points={history} label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`} />
+          <TrendChart
+            points={history}
+            label={`C/N0 mean and satellites used and in view, last ${HISTORY_SECONDS / 60} minutes`}
+          />
         </>
       )}
     </Panel>

@@ -14,7 +14,10 @@ function fleet(): TestSource {
   renderWith(source, <FleetBar />);
   act(() =>
     source.send(
-      snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })], alarms: [alarm(1, B)] }),
+      snapshotMessage({
+        providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost" })],
+        alarms: [alarm(1, B)],
+      }),
       reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000),
       reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000),
     ),

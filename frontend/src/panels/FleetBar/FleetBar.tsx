@@ -4,14 +4,38 @@
 // the tone, with its mute), and says why the vehicle panels are empty when none is selected.
 import { memo, useEffect, useMemo, useRef, useState, type KeyboardEvent } from "react";
 import type { Alarm } from "../../api/generated/ws";
-import { useAlarms, useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import {
+  useAlarms,
+  useCapabilities,
+  useConnectionState,
+  useNow,
+  useProvidersOnFrame,
+  useReceiving,
+  sameOverview,
+  useSelector,
+  useSilences,
+  useSelectVehicle,
+} from "../../data/hooks";
 import { useConsoleHealth } from "../../data/loaders";
 import { useCollapsed, useSetting } from "../../data/settings";
 import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../../data/slices/alarms";
 import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api/types";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../../lib/freshness";
-import { ALARM_SEVERITY, fixWord, floodText, inline, insWord, linkText, plannedCount, plannedText, plannedTitle, shelvedCount, type UmaaVersion, type Word } from "../../lib/labels";
+import {
+  ALARM_SEVERITY,
+  fixWord,
+  floodText,
+  inline,
+  insWord,
+  linkText,
+  plannedCount,
+  plannedText,
+  plannedTitle,
+  shelvedCount,
+  type UmaaVersion,
+  type Word,
+} from "../../lib/labels";
 import { LastHeard } from "../../components/LastHeard";
 import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../../lib/tone";
 import { shortId, vehicleColor } from "../../lib/vehicle";
@@ -71,7 +95,23 @@ interface ChipProps {
 }
 
 // Redrawn only when what it shows changes: most chips stay as they are at each of the bar's redraws.
-const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus, umaaVersion, alarms, heardAt, silence, until, recorded, selected, tabbable, onSelect }: ChipProps) {
+const Chip = memo(function Chip({
+  id,
+  label,
+  link,
+  fixValid,
+  insState,
+  insStatus,
+  umaaVersion,
+  alarms,
+  heardAt,
+  silence,
+  until,
+  recorded,
+  selected,
+  tabbable,
+  onSelect,
+}: ChipProps) {
   // a vehicle lost during its planned silence: expected, said so rather than "Lost"
   const planned = until !== null;
   const l: Word = planned ? { text: plannedText(until), tone: "info", title: silence?.title } : LINK[link];
@@ -94,7 +134,11 @@ const Chip = memo(function Chip({ id, label, link, fixValid, insState, insStatus
         <span className="vehicle-mark" style={{ background: vehicleColor(id) }} aria-hidden="true" />
         {label}
       </span>
-      <span className={`fleet-word tone-${l.tone}${planned ? " fleet-planned" : ""}${rec ? " recorded" : ""}`} title={rec ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title} data-testid="fleet-link">
+      <span
+        className={`fleet-word tone-${l.tone}${planned ? " fleet-planned" : ""}${rec ? " recorded" : ""}`}
+        title={rec ? [l.title, RECORDED_TITLE].filter(Boolean).join(": ") : l.title}
+        data-testid="fleet-link"
+      >
         {stateWords(l.text, rec)}
       </span>
       {heardAt !== undefined && <LastHeard since={heardAt} className="fleet-word tone-bad" />}
@@ -149,7 +193,11 @@ function SpeakerIcon({ muted }: { muted: boolean }) {
   return (
     <svg className="fleet-icon" viewBox="0 0 16 16" width="14" height="14" aria-hidden="true">
       <path d="M2 6h3l4-3v10l-4-3H2z" fill="currentColor" />
-      {muted ? <path d="M11 5.5l4 5M15 5.5l-4 5" stroke="currentColor" strokeWidth="1.6" /> : <path d="M11 5a4 4 0 0 1 0 6M12.5 3a7 7 0 0 1 0 10" stroke="currentColor" strokeWidth="1.4" fill="none" />}
+      {muted ? (
+        <path d="M11 5.5l4 5M15 5.5l-4 5" stroke="currentColor" strokeWidth="1.6" />
+      ) : (
+        <path d="M11 5a4 4 0 0 1 0 6M12.5 3a7 7 0 0 1 0 10" stroke="currentColor" strokeWidth="1.4" fill="none" />
+      )}
     </svg>
   );
 }
@@ -186,7 +234,10 @@ export function FleetBar() {
   const open = useMemo(() => unacknowledged(alarms), [alarms]);
   const shelvedCountNow = useMemo(() => shelved(alarms).length, [alarms]);
   const silences = useSilences();
-  const silenceOf = useMemo(() => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by, x.station) }])), [silences]);
+  const silenceOf = useMemo(
+    () => new Map(silences.map((x) => [x.providerId, { until: x.until, title: plannedTitle(x.reason, x.by, x.station) }])),
+    [silences],
+  );
   const announced = useAnnunciation(alarms, open.length, muted);
   const byVehicle = useMemo(() => {
     const m = new Map<string, number>();
@@ -226,7 +277,9 @@ export function FleetBar() {
     requestAnimationFrame(() => {
       const region = document.querySelector<HTMLElement>('section[aria-label="Alarms"]');
       region?.scrollIntoView({ block: "nearest" });
-      (region?.querySelector<HTMLElement>(".alarm-ack") ?? region?.querySelector<HTMLElement>(".alarm-main"))?.focus({ preventScroll: true });
+      (region?.querySelector<HTMLElement>(".alarm-ack") ?? region?.querySelector<HTMLElement>(".alarm-main"))?.focus({
+        preventScroll: true,
+      });
     });
   };
   return (
@@ -241,7 +294,11 @@ export function FleetBar() {
               {notUpdating} {inline(linkText("unreachable"))}
             </span>
           ) : (
-            <span className={`fleet-count tone-${live ? "ok" : "muted"}${recorded ? " recorded" : ""}`} data-testid="fleet-live" title={recorded ? RECORDED_TITLE : undefined}>
+            <span
+              className={`fleet-count tone-${live ? "ok" : "muted"}${recorded ? " recorded" : ""}`}
+              data-testid="fleet-live"
+              title={recorded ? RECORDED_TITLE : undefined}
+            >
               {stateWords(`${live} ${inline(linkText("live"))}`, recorded)}
             </span>
           )}
@@ -250,24 +307,48 @@ export function FleetBar() {
               {stale} {inline(linkText("stale"))}
             </span>
           )}
-          <span className={`fleet-count tone-${lost.length ? "bad" : "muted"}`} data-testid="fleet-lost" title={lost.map((c) => name(c.p)).join(", ") || undefined}>
+          <span
+            className={`fleet-count tone-${lost.length ? "bad" : "muted"}`}
+            data-testid="fleet-lost"
+            title={lost.map((c) => name(c.p)).join(", ") || undefined}
+          >
             {lost.length} {inline(linkText("lost"))}
           </span>
           {planned.length > 0 && (
-            <span className="fleet-count fleet-planned" data-testid="fleet-planned" title={planned.map(({ c, until }) => `${name(c.p)}: until ${clockTime(until)}`).join("; ")}>
+            <span
+              className="fleet-count fleet-planned"
+              data-testid="fleet-planned"
+              title={planned.map(({ c, until }) => `${name(c.p)}: until ${clockTime(until)}`).join("; ")}
+            >
               {plannedCount(planned.map((x) => x.until))}
             </span>
           )}
         </span>
-        <button className={`fleet-count fleet-alarms tone-${open.length ? "bad" : "muted"}`} data-testid="fleet-alarms" onClick={showAlarms} title="show the alarm list">
+        <button
+          className={`fleet-count fleet-alarms tone-${open.length ? "bad" : "muted"}`}
+          data-testid="fleet-alarms"
+          onClick={showAlarms}
+          title="show the alarm list"
+        >
           {open.length === 1 ? "1 unacknowledged alarm" : `${open.length} unacknowledged alarms`}
         </button>
         {shelvedCountNow > 0 && (
-          <button className="fleet-count tone-muted" data-testid="fleet-shelved" onClick={showAlarms} title="alarms shelved by an operator: show them">
+          <button
+            className="fleet-count tone-muted"
+            data-testid="fleet-shelved"
+            onClick={showAlarms}
+            title="alarms shelved by an operator: show them"
+          >
             {shelvedCount(shelvedCountNow)}
           </button>
         )}
-        <button className="fleet-mute" aria-pressed={muted} data-testid="mute" onClick={() => setMuted(!muted)} title={muted ? "the alarm tone is off" : "the alarm tone is on"}>
+        <button
+          className="fleet-mute"
+          aria-pressed={muted}
+          data-testid="mute"
+          onClick={() => setMuted(!muted)}
+          title={muted ? "the alarm tone is off" : "the alarm tone is on"}
+        >
           <SpeakerIcon muted={muted} /> Mute tone
         </button>
       </div>
@@ -315,7 +396,14 @@ export function FleetBar() {
   );
 }
 
-const KEY_STEP: Record<string, number> = { ArrowRight: 1, ArrowDown: 1, ArrowLeft: -1, ArrowUp: -1, Home: -Infinity, End: Infinity };
+const KEY_STEP: Record<string, number> = {
+  ArrowRight: 1,
+  ArrowDown: 1,
+  ArrowLeft: -1,
+  ArrowUp: -1,
+  Home: -Infinity,
+  End: Infinity,
+};
 
 /** The chips are one Tab stop (a fleet of 250 would otherwise be 250 Tabs between the header and the panels): the
  * arrow keys, Home and End move the focus among them (a toolbar's keys). */
@@ -333,7 +421,9 @@ function moveAmongChips(e: KeyboardEvent<HTMLDivElement>) {
 export function SelectionGap({ gap }: { gap: "no-vehicle" | "select" }) {
   return (
     <p className="muted" data-testid="selection-gap">
-      {gap === "select" ? "Select a vehicle in the fleet bar or the vehicle list." : "No vehicle on the bus yet: see the fleet bar above."}
+      {gap === "select"
+        ? "Select a vehicle in the fleet bar or the vehicle list."
+        : "No vehicle on the bus yet: see the fleet bar above."}
     </p>
   );
 }

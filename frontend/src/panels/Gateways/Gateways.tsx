@@ -22,8 +22,17 @@ function GatewayRow({ g }: { g: GatewayState }) {
       {g.enabled && (
         <>
           <Field label="Endpoint" value={g.endpoint ?? "—"} />
-          <Field label="Messages out" value={`${g.messagesPerSecond.toFixed(1)}/s · ${g.messagesOut} total`} testId="gateway-rate" />
-          <Field label="Last error" value={g.lastError ? `${g.lastError} (${utc(g.lastErrorAt, false)})` : "none"} invalid={g.lastError} testId="gateway-error" />
+          <Field
+            label="Messages out"
+            value={`${g.messagesPerSecond.toFixed(1)}/s · ${g.messagesOut} total`}
+            testId="gateway-rate"
+          />
+          <Field
+            label="Last error"
+            value={g.lastError ? `${g.lastError} (${utc(g.lastErrorAt, false)})` : "none"}
+            invalid={g.lastError}
+            testId="gateway-error"
+          />
           {Object.keys(g.counters).length > 0 && (
             <details>
               <summary className="muted">counters</summary>
@@ -61,14 +70,22 @@ function RecordAspn({ target, enabled, token }: { target: VehicleIdentity; enabl
   return (
     <div className="actions" role="group" aria-label="ASPN log">
       {recording ? (
-        <button onClick={() => void stop()} data-testid="aspn-stop" title={`Stop and download the ASPN log of ${vehicleLabel(recording.vehicle)}`}>
+        <button
+          onClick={() => void stop()}
+          data-testid="aspn-stop"
+          title={`Stop and download the ASPN log of ${vehicleLabel(recording.vehicle)}`}
+        >
           Stop and download ({Math.round(now - recording.start)} s of {vehicleLabel(recording.vehicle)})
         </button>
       ) : (
         <button
           disabled={!enabled}
           data-testid="aspn-record"
-          title={enabled ? `Record the ASPN-23 messages of ${vehicleLabel(target)}` : "the ASPN gateway is off (start the console with --aspn-lcm URL)"}
+          title={
+            enabled
+              ? `Record the ASPN-23 messages of ${vehicleLabel(target)}`
+              : "the ASPN gateway is off (start the console with --aspn-lcm URL)"
+          }
           onClick={() => (setError(null), setRecording({ vehicle: target, start: Date.now() / 1000 }))}
         >
           Record ASPN log
@@ -87,8 +104,20 @@ type Outcome = { vehicle: string; note: string | null; error: string | null };
 
 /** The vehicle's link thresholds and recorded comms-lost configuration (reported over JAUS as 0x4C03). Keyed by
  * vehicle and configuration, so a new configuration from the console starts a fresh draft. */
-function LinkConfigForm({ target, config, canEdit, token, outcome, setOutcome }: {
-  target: VehicleIdentity; config: LinkConfig; canEdit: boolean; token: string | null; outcome: Outcome | null; setOutcome: (o: Outcome) => void;
+function LinkConfigForm({
+  target,
+  config,
+  canEdit,
+  token,
+  outcome,
+  setOutcome,
+}: {
+  target: VehicleIdentity;
+  config: LinkConfig;
+  canEdit: boolean;
+  token: string | null;
+  outcome: Outcome | null;
+  setOutcome: (o: Outcome) => void;
 }) {
   const [draft, setDraft] = useState<LinkConfig>(config);
   const shown = outcome?.vehicle === target.id ? outcome : null;
@@ -106,22 +135,55 @@ function LinkConfigForm({ target, config, canEdit, token, outcome, setOutcome }:
     }
   };
   return (
-    <form className="link-config" aria-label={`Link configuration of ${vehicleLabel(target)}`} onSubmit={(e) => (e.preventDefault(), void save())}>
+    <form
+      className="link-config"
+      aria-label={`Link configuration of ${vehicleLabel(target)}`}
+      onSubmit={(e) => (e.preventDefault(), void save())}
+    >
       <label>
-        Comms-lost timeout (s) <input type="number" min={0.1} step={0.1} value={Number.isNaN(draft.commsLostTimeout) ? "" : draft.commsLostTimeout} onChange={num("commsLostTimeout")} disabled={!canEdit} />
+        Comms-lost timeout (s){" "}
+        <input
+          type="number"
+          min={0.1}
+          step={0.1}
+          value={Number.isNaN(draft.commsLostTimeout) ? "" : draft.commsLostTimeout}
+          onChange={num("commsLostTimeout")}
+          disabled={!canEdit}
+        />
       </label>
       <label>
-        Regained time (s) <input type="number" min={0} step={0.1} value={Number.isNaN(draft.regainedTime) ? "" : draft.regainedTime} onChange={num("regainedTime")} disabled={!canEdit} />
+        Regained time (s){" "}
+        <input
+          type="number"
+          min={0}
+          step={0.1}
+          value={Number.isNaN(draft.regainedTime) ? "" : draft.regainedTime}
+          onChange={num("regainedTime")}
+          disabled={!canEdit}
+        />
       </label>
       <label>
         On comms lost{" "}
-        <select value={draft.policy} onChange={(e) => setDraft({ ...draft, policy: e.target.value as LinkConfig["policy"] })} disabled={!canEdit}>
+        <select
+          value={draft.policy}
+          onChange={(e) => setDraft({ ...draft, policy: e.target.value as LinkConfig["policy"] })}
+          disabled={!canEdit}
+        >
           <option value="STOP_MISSION">stop mission</option>
           <option value="CONTINUE_MISSION">continue mission</option>
         </select>
       </label>
       <label title="JAUS CommsRegainedBehavior (0 to 255): what the vehicle does when its link comes back, as its own code; recorded and reported, the console enforces nothing">
-        Behaviour code when the link comes back <input type="number" min={0} max={255} step={1} value={Number.isNaN(draft.regainedBehavior) ? "" : draft.regainedBehavior} onChange={num("regainedBehavior")} disabled={!canEdit} />
+        Behaviour code when the link comes back{" "}
+        <input
+          type="number"
+          min={0}
+          max={255}
+          step={1}
+          value={Number.isNaN(draft.regainedBehavior) ? "" : draft.regainedBehavior}
+          onChange={num("regainedBehavior")}
+          disabled={!canEdit}
+        />
       </label>
       <button type="submit" disabled={!canEdit} title={`Save the link configuration of ${vehicleLabel(target)}`}>
         Save

@@ -7,7 +7,13 @@ import { utc } from "../../lib/units";
 import { useConsoleHealth, useOperatorName } from "../../data/loaders";
 import { RecordControl } from "../Recording/Recording";
 
-const LABEL = { connecting: "Connecting…", live: "Live", reconnecting: "Reconnecting…", offline: "Offline (retrying)", "signed-out": "Not signed in" };
+const LABEL = {
+  connecting: "Connecting…",
+  live: "Live",
+  reconnecting: "Reconnecting…",
+  offline: "Offline (retrying)",
+  "signed-out": "Not signed in",
+};
 
 export function Header() {
   const conn = useConnectionState();
@@ -43,7 +49,11 @@ export function Header() {
           Replay <span className="replay-file">{playback.status.file}</span>
         </span>
       )}
-      <span className="muted" data-testid="console-station" title={consoleId ? `console source GUID ${consoleId}` : "console source GUID"}>
+      <span
+        className="muted"
+        data-testid="console-station"
+        title={consoleId ? `console source GUID ${consoleId}` : "console source GUID"}
+      >
         {station ? `station ${station}` : consoleId ? `console ${consoleId.slice(0, 8)}` : ""}
       </span>
       <span className="spacer" />
@@ -56,7 +66,14 @@ export function Header() {
       {((authRequired && command) || readAuthRequired) && // a replay commands nothing: a token matters only to read
         (token ? (
           <span className="signin" data-testid="signed-in">
-            {operator ? <>Signed in as <b data-testid="operator-name">{operator}</b></> : "Signed in"} <button onClick={() => setToken(null)}>Sign out</button>
+            {operator ? (
+              <>
+                Signed in as <b data-testid="operator-name">{operator}</b>
+              </>
+            ) : (
+              "Signed in"
+            )}{" "}
+            <button onClick={() => setToken(null)}>Sign out</button>
           </span>
         ) : (
           <form
@@ -66,8 +83,16 @@ export function Header() {
               void signIn(draft.trim());
             }}
           >
-            <span className="readonly" data-testid="read-only">Read-only</span>
-            <input type="password" aria-label="Operator token" placeholder="Operator token" value={draft} onChange={(e) => setDraft(e.target.value)} />
+            <span className="readonly" data-testid="read-only">
+              Read-only
+            </span>
+            <input
+              type="password"
+              aria-label="Operator token"
+              placeholder="Operator token"
+              value={draft}
+              onChange={(e) => setDraft(e.target.value)}
+            />
             <button type="submit">Sign in</button>
             {refused && (
               <span className="error" role="alert" data-testid="sign-in-error">
@@ -77,10 +102,17 @@ export function Header() {
           </form>
         ))}
       <ThemeToggle />
-      <button className="small" onClick={resetLayout} title="the default panel order, nothing collapsed" data-testid="reset-layout">
+      <button
+        className="small"
+        onClick={resetLayout}
+        title="the default panel order, nothing collapsed"
+        data-testid="reset-layout"
+      >
         Reset layout
       </button>
-      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>{utc(now, true, "s")}</span>
+      <span className="clock" title={playback ? "UTC, the recording's time" : "UTC"}>
+        {utc(now, true, "s")}
+      </span>
     </header>
   );
 }
@@ -89,7 +121,10 @@ export function Header() {
 function ThemeToggle() {
   const [theme, setTheme] = useThemeSetting();
   return (
-    <label className="theme-toggle" title="colours for daylight (light) or the night (dark); System follows the computer's setting">
+    <label
+      className="theme-toggle"
+      title="colours for daylight (light) or the night (dark); System follows the computer's setting"
+    >
       Theme
       <select value={theme} onChange={(e) => isThemeChoice(e.target.value) && setTheme(e.target.value)} data-testid="theme">
         <option value="system">System</option>

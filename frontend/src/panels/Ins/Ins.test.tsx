@@ -40,10 +40,17 @@ describe("InsPanel", () => {
   it("raises a failure the operator cannot miss, and shows only the selected vehicle's reports", async () => {
     const source = shown(A);
     // B's failure: not the selected vehicle's, whose own report is drawn in the same frame
-    act(() => source.send(reportMessage(B, "InertialSensorReport", { state: "ON", status: "INERTIAL_SENSOR_FAILURE" }, [], 1000), reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000)));
+    act(() =>
+      source.send(
+        reportMessage(B, "InertialSensorReport", { state: "ON", status: "INERTIAL_SENSOR_FAILURE" }, [], 1000),
+        reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000),
+      ),
+    );
     await waitFor(() => expect(screen.getByTestId("ins-status").textContent).toBe("Operational"));
     expect(screen.queryByTestId("ins-failure")).toBeNull();
-    act(() => source.send(reportMessage(A, "InertialSensorReport", { state: "ON", status: "INERTIAL_SENSOR_FAILURE" }, [], 1001)));
+    act(() =>
+      source.send(reportMessage(A, "InertialSensorReport", { state: "ON", status: "INERTIAL_SENSOR_FAILURE" }, [], 1001)),
+    );
     await waitFor(() => expect(screen.getByRole("alert").textContent).toContain("navigation cannot rely on it"));
     expect(screen.getByTestId("ins-failure")).toBeTruthy();
   });

@@ -1,10 +1,28 @@
 import { Foldable, Panel } from "../../components/Panel";
-import { useNow, useReceiving, useSelectedLink, useSelectedTopic, useSelectedUmaaVersion, useSelectionGap } from "../../data/hooks";
+import {
+  useNow,
+  useReceiving,
+  useSelectedLink,
+  useSelectedTopic,
+  useSelectedUmaaVersion,
+  useSelectionGap,
+} from "../../data/hooks";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
 import { viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
-import { alignmentBar, alignmentStepText, inline, insAligned, insFailed, insStateText, insStatusText, insWord, notReported, umaa } from "../../lib/labels";
+import {
+  alignmentBar,
+  alignmentStepText,
+  inline,
+  insAligned,
+  insFailed,
+  insStateText,
+  insStatusText,
+  insWord,
+  notReported,
+  umaa,
+} from "../../lib/labels";
 import { utc } from "../../lib/units";
 
 export function InsPanel() {
@@ -34,22 +52,36 @@ function InsBody() {
       {gap ? (
         <SelectionGap gap={gap} />
       ) : !ins ? (
-        <p className="muted" data-testid="ins-none">{notReported(version, "InertialSensorReport") ?? "No InertialSensorReport yet."}</p>
+        <p className="muted" data-testid="ins-none">
+          {notReported(version, "InertialSensorReport") ?? "No InertialSensorReport yet."}
+        </p>
       ) : (
         <>
           <SelectedLost />
           <div className="badges">
             {ins.state && (
-              <span className={`badge big${stale ? " stale" : ""}`} data-testid="ins-state" data-state={ins.state} title={[umaa("state", ins.state), status === null && umaa("status", ins.status)].filter(Boolean).join("; ")}>
+              <span
+                className={`badge big${stale ? " stale" : ""}`}
+                data-testid="ins-state"
+                data-state={ins.state}
+                title={[umaa("state", ins.state), status === null && umaa("status", ins.status)].filter(Boolean).join("; ")}
+              >
                 INS {inline(insStateText(ins.state))}
               </span>
             )}
             {status !== null && (
-              <span className={`badge${ins.state ? "" : " big"}${insAligned(ins.status, version) ? " ok" : ""}${stale ? " stale" : ""}`} data-testid="ins-status" data-status={ins.status ?? ""} title={umaa("status", ins.status)}>
+              <span
+                className={`badge${ins.state ? "" : " big"}${insAligned(ins.status, version) ? " ok" : ""}${stale ? " stale" : ""}`}
+                data-testid="ins-status"
+                data-status={ins.status ?? ""}
+                title={umaa("status", ins.status)}
+              >
                 {status}
               </span>
             )}
-            <span className="muted" data-testid="ins-time">at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}</span>
+            <span className="muted" data-testid="ins-time">
+              at {utc(ins.timeStamp ? ins.timeStamp.seconds! + (ins.timeStamp.nanoseconds ?? 0) / 1e9 : null, false)}
+            </span>
           </div>
           {failed && (
             <div className="alarm" role="alert" data-testid="ins-failure">
@@ -58,7 +90,11 @@ function InsBody() {
           )}
           <ol className={`steps${stale ? " stale" : ""}`} aria-label="Alignment">
             {bar.steps.map(({ step, status: literal }, i) => (
-              <li key={step} className={i < bar.current ? "done" : i === bar.current ? "current" : ""} aria-current={i === bar.current ? "step" : undefined}>
+              <li
+                key={step}
+                className={i < bar.current ? "done" : i === bar.current ? "current" : ""}
+                aria-current={i === bar.current ? "step" : undefined}
+              >
                 <span title={umaa("status", literal)}>{alignmentStepText(step)}</span>
               </li>
             ))}

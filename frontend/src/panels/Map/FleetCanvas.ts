@@ -10,7 +10,22 @@ import type { Map as MapLibre } from "maplibre-gl";
 import { cancelFrame, onFrame } from "../../data/frame";
 import type { LonLat, VehicleMark } from "../../lib/geo";
 import { vehicleColor } from "../../lib/vehicle";
-import { PROJECTED_R, countInView, hitVehicle, mercator, nearestCopy, place, placeProjection, similarity, thinned, unwrapped, type Placed, type Point, type Projected, type ToScreen } from "./fleet";
+import {
+  PROJECTED_R,
+  countInView,
+  hitVehicle,
+  mercator,
+  nearestCopy,
+  place,
+  placeProjection,
+  similarity,
+  thinned,
+  unwrapped,
+  type Placed,
+  type Point,
+  type Projected,
+  type ToScreen,
+} from "./fleet";
 
 export const FIX_COLORS: Record<VehicleMark["fix"], string> = { valid: "#4caf50", invalid: "#e0593f", unknown: "#9fb3c8" };
 const LINK_COLORS: Partial<Record<VehicleMark["link"], string>> = { lost: "#e0593f", stale: "#f5a623" };
@@ -164,7 +179,10 @@ export class FleetCanvas {
       if (t.points.length < 2) continue;
       const merc = this.merc(t.points);
       const k = nearestCopy(merc[merc.length - 1], cx).x - merc[merc.length - 1].x; // the track goes with its vehicle
-      const pts = thinned(merc.map((m) => toScreen(k ? { x: m.x + k, y: m.y } : m)), 1);
+      const pts = thinned(
+        merc.map((m) => toScreen(k ? { x: m.x + k, y: m.y } : m)),
+        1,
+      );
       ctx.beginPath();
       ctx.moveTo(pts[0].x, pts[0].y);
       for (let i = 1; i < pts.length; i++) ctx.lineTo(pts[i].x, pts[i].y);

@@ -7,18 +7,46 @@ import type { Map as MapLibre } from "maplibre-gl";
 import type { FeatureCollection } from "geojson";
 import { Panel } from "../../components/Panel";
 import { useToken } from "../../data/auth";
-import { useAlarmed, useNow, useProvidersOnFrame, useReceiving, useSelectedTopic, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import {
+  useAlarmed,
+  useNow,
+  useProvidersOnFrame,
+  useReceiving,
+  useSelectedTopic,
+  useSelector,
+  useSilences,
+  useSelectVehicle,
+} from "../../data/hooks";
 import type { ProviderView } from "../../data/slices/vehicles";
 import { useChartConfigured, useStoredTracks, useWorldModel } from "../../data/loaders";
 import { useCollapsed, useDmsSetting } from "../../data/settings";
 import type { VehicleOverlay } from "../../lib/mapOverlay";
-import { bearingDeg, distanceText, pathLengthM, vertexHandles, withLiveCoverage, type LonLat, type VehicleMark } from "../../lib/geo";
+import {
+  bearingDeg,
+  distanceText,
+  pathLengthM,
+  vertexHandles,
+  withLiveCoverage,
+  type LonLat,
+  type VehicleMark,
+} from "../../lib/geo";
 import { useTheme } from "../../lib/theme";
 import { CoMapControls, CoMapOff, type MapTool } from "../CoMap/CoMap";
 import { CursorStore, MapCursor } from "./MapCursor";
 import { MapToolbar } from "./MapToolbar";
 import type { FleetCanvas, FleetData, ToolMarks } from "./FleetCanvas";
-import { useChart, useFitAll, useLand, useMapInstance, useMeasureLayer, usePointer, useSelectedRing, useSettled, useVehicleLayer, useWorldModelLayer } from "./hooks";
+import {
+  useChart,
+  useFitAll,
+  useLand,
+  useMapInstance,
+  useMeasureLayer,
+  usePointer,
+  useSelectedRing,
+  useSettled,
+  useVehicleLayer,
+  useWorldModelLayer,
+} from "./hooks";
 import { fitAll, originOf, vehicleMark } from "./layers";
 
 /** The fleet (every vehicle's mark, tracks and origins, on a canvas over the map) is redrawn on the first frame at
@@ -38,13 +66,33 @@ const StoredTracks = memo(function StoredTracks({ ready }: { ready: boolean }) {
 /** The selected vehicle's ring (HTML over the map) at its newest fix: the one part of the map that subscribes to the
  * selected vehicle's fix, so each fix renders this (nothing of its own to draw) and not the map panel's tree (the
  * CoMap controls, toolbar, status and legend), which renders at the fleet's rate. */
-const SelectedRing = memo(function SelectedRing({ overlay, vehicle, now, selected }: { overlay: VehicleOverlay | null; vehicle: ProviderView | undefined; now: number; selected: string | null }) {
+const SelectedRing = memo(function SelectedRing({
+  overlay,
+  vehicle,
+  now,
+  selected,
+}: {
+  overlay: VehicleOverlay | null;
+  vehicle: ProviderView | undefined;
+  now: number;
+  selected: string | null;
+}) {
   const fix = useSelectedTopic("GPSFixReport");
   const alarmed = useAlarmed();
   const receiving = useReceiving();
   const silences = useSilences();
   const mark = useMemo(
-    () => (vehicle ? vehicleMark(fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle, now, selected, alarmed, receiving, silences) : null),
+    () =>
+      vehicle
+        ? vehicleMark(
+            fix ? { ...vehicle, topics: { ...vehicle.topics, GPSFixReport: fix } } : vehicle,
+            now,
+            selected,
+            alarmed,
+            receiving,
+            silences,
+          )
+        : null,
     [vehicle, fix, now, selected, alarmed, receiving, silences],
   );
   useSelectedRing(overlay, mark);
@@ -84,7 +132,8 @@ export function MapPanel() {
   const receiving = useReceiving();
   const silences = useSilences();
   const fleetAll = useMemo(
-    () => fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving, silences)).filter((v): v is VehicleMark => v !== null),
+    () =>
+      fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving, silences)).filter((v): v is VehicleMark => v !== null),
     [fleet, now, selected, alarmed, receiving, silences],
   );
   const selectedVehicle = useMemo(() => fleet.find((v) => v.id === selected), [fleet, selected]);
@@ -108,7 +157,16 @@ export function MapPanel() {
 
   const chart = useChart(mapRef, ready, chartConfigured, token);
   const { land, landLoaded, landDrawn } = useLand(mapRef, ready);
-  usePointer(mapRef, ready, tool, modelRef, fleetCanvas, { selectVehicle, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft });
+  usePointer(mapRef, ready, tool, modelRef, fleetCanvas, {
+    selectVehicle,
+    cursor,
+    setFollow,
+    setMeasure,
+    setDrawn,
+    setMoveTarget,
+    setPicked,
+    setDraft,
+  });
   // an edge arrow: that vehicle selected, in the middle of the map, and followed
   const pickEdge = useCallback(
     (map: MapLibre, m: VehicleMark) => {
@@ -129,7 +187,10 @@ export function MapPanel() {
   const toolMarks = useMemo<ToolMarks>(
     () => ({
       path: toolPoints,
-      handles: tool === "edit" ? vertexHandles(shownModel).features.map((f) => ({ lon: f.geometry.coordinates[0], lat: f.geometry.coordinates[1] })) : [],
+      handles:
+        tool === "edit"
+          ? vertexHandles(shownModel).features.map((f) => ({ lon: f.geometry.coordinates[0], lat: f.geometry.coordinates[1] }))
+          : [],
     }),
     [toolPoints, tool, shownModel],
   );
@@ -151,7 +212,10 @@ export function MapPanel() {
             const map = mapRef.current;
             if (!map) return;
             setFollow(false); // following would take the view back to one vehicle
-            fitAll(map, fleetAll.map((m) => m.position));
+            fitAll(
+              map,
+              fleetAll.map((m) => m.position),
+            );
           }}
           measuring={measuring}
           toggleMeasure={() => {
@@ -166,11 +230,24 @@ export function MapPanel() {
       {settled && <StoredTracks ready />}
       <SelectedRing overlay={overlay} vehicle={selectedVehicle} now={now} selected={selected} />
       <div className="map-wrap">
-        <div ref={container} className="map" data-testid="map" data-ready={ready} data-land={landDrawn} data-vehicles={vehiclesDrawn} />
+        <div
+          ref={container}
+          className="map"
+          data-testid="map"
+          data-ready={ready}
+          data-land={landDrawn}
+          data-vehicles={vehiclesDrawn}
+        />
         <div className="map-status">
           <MapCursor cursor={cursor} useDms={useDms} />
-          {chart !== "none" && <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>chart: {chart === "failed" ? "cannot be read" : chart}</span>}
-          <span data-testid="map-vehicle-count">{vehiclesDrawn} of {fleet.length} vehicles drawn</span>
+          {chart !== "none" && (
+            <span data-testid="map-chart" className={chart === "failed" ? "error" : undefined}>
+              chart: {chart === "failed" ? "cannot be read" : chart}
+            </span>
+          )}
+          <span data-testid="map-vehicle-count">
+            {vehiclesDrawn} of {fleet.length} vehicles drawn
+          </span>
           {measuring && (
             <span data-testid="map-distance">
               {measure.length < 2 ? "click points to measure" : `${distanceText(measured)} · last leg ${lastLeg!.toFixed(0)}°`}
@@ -199,7 +276,9 @@ export function MapPanel() {
         <CoMapOff />
       )}
       <p className="map-legend muted">
-        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span> <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin · dashed: a lost vehicle's projected position (dead reckoning, not a report) and the circle it is probably within
+        <span className="lg lg-valid">fix valid</span> <span className="lg lg-invalid">no fix</span>{" "}
+        <span className="lg lg-unknown">unknown</span> · ring: stale (amber) or lost (red) · ○ origin · dashed: a lost vehicle's
+        projected position (dead reckoning, not a report) and the circle it is probably within
         {worldModel ? " · areas: covered (green), partial (amber), not (red)" : ""}
       </p>
     </Panel>

@@ -1,6 +1,17 @@
 import { describe, expect, it } from "vitest";
 import type { VehicleMark } from "../../lib/geo";
-import { countInView, hitVehicle, mercator, nearestCopy, outsideMiddle, place, placeProjection, similarity, thinned, unwrapped } from "./fleet";
+import {
+  countInView,
+  hitVehicle,
+  mercator,
+  nearestCopy,
+  outsideMiddle,
+  place,
+  placeProjection,
+  similarity,
+  thinned,
+  unwrapped,
+} from "./fleet";
 import { destination } from "../../lib/geo";
 import { countLandInView, landRings } from "./layers";
 
@@ -88,9 +99,29 @@ describe("the fleet's canvas", () => {
   });
 
   it("counts the land's polygons in view: a vertex in it, or around its middle; each part of a multipolygon its own", () => {
-    const square = (w: number, s: number, size = 1) => [[[w, s], [w + size, s], [w + size, s + size], [w, s + size], [w, s]]];
+    const square = (w: number, s: number, size = 1) => [
+      [
+        [w, s],
+        [w + size, s],
+        [w + size, s + size],
+        [w, s + size],
+        [w, s],
+      ],
+    ];
     // a C open to the east: its box covers 0..10 x 0..10, its land only the edges
-    const c = [[[0, 0], [10, 0], [10, 2], [2, 2], [2, 8], [10, 8], [10, 10], [0, 10], [0, 0]]];
+    const c = [
+      [
+        [0, 0],
+        [10, 0],
+        [10, 2],
+        [2, 2],
+        [2, 8],
+        [10, 8],
+        [10, 10],
+        [0, 10],
+        [0, 0],
+      ],
+    ];
     const rings = landRings({
       type: "FeatureCollection",
       features: [

@@ -75,7 +75,8 @@ export function place(marks: VehicleMark[], toScreen: ToScreen, bearingDeg: numb
   return marks.map((mark) => {
     const at = toScreen(nearestCopy(mercator(mark.position), cx));
     const angle = (((mark.courseDeg ?? 0) - bearingDeg) * Math.PI) / 180;
-    const arrow = mark.courseDeg === null ? null : { x: at.x + ARROW_AHEAD * Math.sin(angle), y: at.y - ARROW_AHEAD * Math.cos(angle) };
+    const arrow =
+      mark.courseDeg === null ? null : { x: at.x + ARROW_AHEAD * Math.sin(angle), y: at.y - ARROW_AHEAD * Math.cos(angle) };
     return { mark, at, r: mark.selected ? SELECTED_DOT_R : DOT_R, arrow, angle };
   });
 }
@@ -126,7 +127,12 @@ export type Projected = Extract<Projection, { kind: "projected" }>;
  * map's centre, as its dot), the projected position (`at`, at its copy nearest that: the line between goes the short
  * way) and the circle's radius in px (its edge due north of `at`: Mercator keeps a small circle round), at least
  * `minR`. */
-export function placeProjection(p: Projected, toScreen: ToScreen, cx: number, minR: number): { from: Point; at: Point; r: number } {
+export function placeProjection(
+  p: Projected,
+  toScreen: ToScreen,
+  cx: number,
+  minR: number,
+): { from: Point; at: Point; r: number } {
   const mFrom = nearestCopy(mercator(p.from), cx);
   const mAt = nearestCopy(mercator(p.at), mFrom.x);
   const mEdge = nearestCopy(mercator(destination(p.at, 0, p.radiusM)), mAt.x);

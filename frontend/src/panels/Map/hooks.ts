@@ -46,7 +46,11 @@ export type MapRef = RefObject<MapLibre | null>;
 
 /** The map itself, while the panel is open (a collapsed panel has no container, and a map kept without one would
  * still draw every update), in the theme's basemap colours; `ready` once loaded with the layers added. */
-export function useMapInstance(container: RefObject<HTMLDivElement | null>, collapsed: boolean, theme: Theme): { mapRef: MapRef; ready: boolean } {
+export function useMapInstance(
+  container: RefObject<HTMLDivElement | null>,
+  collapsed: boolean,
+  theme: Theme,
+): { mapRef: MapRef; ready: boolean } {
   const mapRef = useRef<MapLibre | null>(null);
   const [ready, setReady] = useState(false);
   const themeRef = useRef(theme); // the theme a new map starts in
@@ -112,7 +116,10 @@ export function useSettled(mapRef: MapRef, ready: boolean): boolean {
  * (the first view waits for it). `landDrawn`: how many of its polygons are in view, for the operator's status line and
  * the tests, counted from the land's own polygons when the camera stops (a search of the map's rendered features,
  * once a second, was a task of its own). */
-export function useLand(mapRef: MapRef, ready: boolean): { land: RefObject<FeatureCollection | null>; landLoaded: boolean; landDrawn: number } {
+export function useLand(
+  mapRef: MapRef,
+  ready: boolean,
+): { land: RefObject<FeatureCollection | null>; landLoaded: boolean; landDrawn: number } {
   const land = useRef<FeatureCollection | null>(null);
   const [landLoaded, setLandLoaded] = useState(false);
   const [landDrawn, setLandDrawn] = useState(0);
@@ -221,7 +228,8 @@ export function usePointer(
       cursor.set({ lon: e.lngLat.lng, lat: e.lngLat.lat });
       if (dragging && (e.originalEvent.buttons & 1) === 0) dragging = null; // released outside the window
       const model = modelRef.current;
-      if (dragging && model) setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
+      if (dragging && model)
+        setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
       // the pointer over a vehicle (the fleet is drawn on a canvas of our own: hit in what it drew)
       const over = toolRef.current === "select" && fleetRef.current?.hit(e.point) != null;
       if (over !== overVehicle) {
@@ -270,7 +278,20 @@ export function usePointer(
       map.off("click", click);
       cursor.set(null);
     };
-  }, [mapRef, ready, modelRef, fleetRef, selectVehicle, cursor, setFollow, setMeasure, setDrawn, setMoveTarget, setPicked, setDraft]);
+  }, [
+    mapRef,
+    ready,
+    modelRef,
+    fleetRef,
+    selectVehicle,
+    cursor,
+    setFollow,
+    setMeasure,
+    setDrawn,
+    setMoveTarget,
+    setPicked,
+    setDraft,
+  ]);
 }
 
 /** The vehicles: every vehicle's dot, course arrow, track and origin on the fleet's canvas (`data`, at the fleet's
@@ -334,14 +355,25 @@ export function useSelectedRing(overlay: VehicleOverlay | null, newest: VehicleM
 
 /** The CoMap world model's features by coverage (the picked one wider) and, in the edit tool, its vertex handles;
  * `modelRef` holds the model shown (what a vertex drag moves). */
-export function useWorldModelLayer(mapRef: MapRef, ready: boolean, model: FeatureCollection | null, tool: MapTool, picked: unknown, modelRef: RefObject<FeatureCollection | null>): void {
+export function useWorldModelLayer(
+  mapRef: MapRef,
+  ready: boolean,
+  model: FeatureCollection | null,
+  tool: MapTool,
+  picked: unknown,
+  modelRef: RefObject<FeatureCollection | null>,
+): void {
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
     modelRef.current = model;
     const features = (model?.features ?? []).map((f) => ({
       ...f,
-      properties: { ...f.properties, color: coverageColor(f.properties?.coverage ?? null), picked: tool === "edit" && picked !== null && f.properties?.featureId === picked },
+      properties: {
+        ...f.properties,
+        color: coverageColor(f.properties?.coverage ?? null),
+        picked: tool === "edit" && picked !== null && f.properties?.featureId === picked,
+      },
     }));
     source(map, "worldmodel")?.setData({ type: "FeatureCollection", features });
     source(map, "handles")?.setData(tool === "edit" ? vertexHandles(model) : EMPTY);
@@ -361,7 +393,14 @@ export function useMeasureLayer(mapRef: MapRef, ready: boolean, points: LonLat[]
  * followed (unless the operator panned away): centred when following starts or another vehicle is selected, then
  * centred again only when it leaves the middle of the map (a jump redraws the basemap: jumping after every metre
  * redrew it at the fleet's rate). */
-export function useFitAll(mapRef: MapRef, ready: boolean, marks: VehicleMark[], follow: boolean, land: RefObject<FeatureCollection | null>, landLoaded: boolean): boolean {
+export function useFitAll(
+  mapRef: MapRef,
+  ready: boolean,
+  marks: VehicleMark[],
+  follow: boolean,
+  land: RefObject<FeatureCollection | null>,
+  landLoaded: boolean,
+): boolean {
   const framed = useRef<MapLibre | null>(null); // the map that had its first frame: a reopened panel's is framed again
   const [isFramed, setFramed] = useState(false); // the same, for the render
   const centred = useRef<string | null>(null); // the vehicle centred since following started

@@ -7,7 +7,9 @@ import { projectionText } from "../../lib/projection";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const NONE: ReadonlySet<string> = new Set();
-const at = (lat: number, lon: number) => ({ geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } } });
+const at = (lat: number, lon: number) => ({
+  geodeticPosition: { geodeticLatitude: { latitude: lat }, geodeticLongitude: { longitude: lon } },
+});
 
 function vehicle(...msgs: Parameters<typeof reportMessage>[]): ProviderView {
   const s = msgs.reduce((st, m, i) => reduce(st, reportMessage(...m), 100 + i), initialState);
@@ -16,7 +18,10 @@ function vehicle(...msgs: Parameters<typeof reportMessage>[]): ProviderView {
 
 describe("the map's marks", () => {
   it("marks a vehicle at its GPSFixReport position, with course, fix validity, name and selection", () => {
-    const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0.5, 0.25), trueCourse: -Math.PI / 2, GPSLatLongValid: true }], [P, "GPSFixStatusReport", { fixValid: false, originPosition: at(0.1, 0.2) }]);
+    const p = vehicle(
+      [P, "GPSFixReport", { position2DWithTime: at(0.5, 0.25), trueCourse: -Math.PI / 2, GPSLatLongValid: true }],
+      [P, "GPSFixStatusReport", { fixValid: false, originPosition: at(0.1, 0.2) }],
+    );
     const m = vehicleMark(p, 101, P, NONE, true, [])!;
     expect(m.position).toEqual({ lat: 0.5, lon: 0.25 });
     expect(m.courseDeg).toBeCloseTo(270);
@@ -43,7 +48,10 @@ describe("the map's marks", () => {
 
   it("projects a lost vehicle from its last fix (time since its arrival, SOG, true course), and only a lost one", () => {
     // a valid GPS fix at 100 s, heading east (π/2) at 2 m/s; lost, looked at 130 s after its fix
-    const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 2, trueCourse: Math.PI / 2, GPSLatLongValid: true }], [P, "GPSFixStatusReport", { fixValid: true }]);
+    const p = vehicle(
+      [P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 2, trueCourse: Math.PI / 2, GPSLatLongValid: true }],
+      [P, "GPSFixStatusReport", { fixValid: true }],
+    );
     expect(vehicleMark(p, 230, null, NONE, true, [])!.projection).toBeNull(); // stale, not lost: no guess
     const m = vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true, [])!;
     expect(m.position).toEqual({ lat: 0, lon: 0 }); // the mark stays at the report
@@ -55,7 +63,10 @@ describe("the map's marks", () => {
 
   it("says when a lost vehicle was last heard: its newest report of any topic, not its fix's", () => {
     // its fix at 100 s, its INS report at 101 s
-    const p = vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 0 }], [P, "InertialSensorReport", { state: "ON" }]);
+    const p = vehicle(
+      [P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: 0 }],
+      [P, "InertialSensorReport", { state: "ON" }],
+    );
     expect(vehicleMark(p, 230, null, NONE, true, [])!.heardS).toBeNull(); // not lost
     expect(vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true, [])!.heardS).toBe(129);
   });
@@ -65,16 +76,24 @@ describe("the map's marks", () => {
     const flagged = vehicle([P, "GPSFixReport", fix, ["SOG: not a number"]]);
     expect(vehicleMark({ ...flagged, link: "lost" }, 110, null, NONE, true, [])!.projection?.kind).toBe("no-motion");
     const ins = vehicle([P, "GPSFixReport", fix], [P, "GPSFixStatusReport", { fixValid: true }]);
-    expect(vehicleMark({ ...ins, link: "lost" }, 110, null, NONE, true, [])!.projection).toMatchObject({ kind: "projected", radiusM: 100 + 0.9 * 10 });
+    expect(vehicleMark({ ...ins, link: "lost" }, 110, null, NONE, true, [])!.projection).toMatchObject({
+      kind: "projected",
+      radiusM: 100 + 0.9 * 10,
+    });
   });
 
   it("draws a lost UMAA 6.0 vehicle at its last position and says why it is not projected: its position report has no speed", () => {
     // a 6.0 vehicle's position report (from its GlobalPoseReport) has no SOG, ever: no speed is made up for it
-    const p: ProviderView = { ...vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: null, trueCourse: 0, GPSLatLongValid: true }]), umaaVersion: "6.0" };
+    const p: ProviderView = {
+      ...vehicle([P, "GPSFixReport", { position2DWithTime: at(0, 0), SOG: null, trueCourse: 0, GPSLatLongValid: true }]),
+      umaaVersion: "6.0",
+    };
     const m = vehicleMark({ ...p, link: "lost" }, 230, null, NONE, true, [])!;
     expect(m.position).toEqual({ lat: 0, lon: 0 });
     expect(m.projection).toMatchObject({ kind: "last-position", seconds: 130 });
-    expect(projectionText(m.projection!)).toBe("at its last position, not projected: its UMAA 6.0 position report (GlobalPoseReport) has no speed");
+    expect(projectionText(m.projection!)).toBe(
+      "at its last position, not projected: its UMAA 6.0 position report (GlobalPoseReport) has no speed",
+    );
     // a 3.0.1 vehicle that sent no speed is not said to be of a version without one
     const old = vehicleMark({ ...p, umaaVersion: "3.0.1", link: "lost" }, 230, null, NONE, true, [])!;
     expect(projectionText(old.projection!)).toBe("not projected: speed or course unknown");

@@ -17,7 +17,14 @@ const FRAME_MAX_ZOOM = 14;
 
 /** `alarmed`: the vehicles with an unacknowledged alarm; `receiving`: the page hears the console (else nothing is
  * current: drawn stale); `silences`: the planned silences in force. */
-export function vehicleMark(p: ProviderView, now: number, selected: string | null, alarmed: ReadonlySet<string>, receiving: boolean, silences: readonly PlannedSilence[]): VehicleMark | null {
+export function vehicleMark(
+  p: ProviderView,
+  now: number,
+  selected: string | null,
+  alarmed: ReadonlySet<string>,
+  receiving: boolean,
+  silences: readonly PlannedSilence[],
+): VehicleMark | null {
   const fix = report(p, "GPSFixReport");
   const st = report(p, "GPSFixStatusReport");
   const g = fix?.position2DWithTime?.geodeticPosition;
@@ -25,16 +32,34 @@ export function vehicleMark(p: ProviderView, now: number, selected: string | nul
   if (!position) return null;
   const view = p.topics.GPSFixReport;
   const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link, receiving) : "none";
-  const link = p.link === "lost" || f === "lost" ? "lost" : f === "stale" || f === "unreachable" ? "stale" : p.link === "regained" ? "regained" : "live";
-  const course = typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse) ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360 : null;
+  const link =
+    p.link === "lost" || f === "lost"
+      ? "lost"
+      : f === "stale" || f === "unreachable"
+        ? "stale"
+        : p.link === "regained"
+          ? "regained"
+          : "live";
+  const course =
+    typeof fix?.trueCourse === "number" && Number.isFinite(fix.trueCourse)
+      ? ((radToDeg(fix.trueCourse) % 360) + 360) % 360
+      : null;
   const fixValid = st?.fixValid === true;
   // lost: where it may be now, from its last fix (a speed or course the vehicle flagged invalid is not used)
   const invalid = view?.envelope.invalid;
   const speed = isNum(fix?.SOG) && !invalidFor(invalid, "SOG") ? fix.SOG : null;
   const projection =
     link === "lost" && view
-      ? deadReckon({ at: position, speedMps: speed, courseDeg: invalidFor(invalid, "trueCourse") ? null : course, gpsFix: fixValid && fix?.GPSLatLongValid === true,
-          noSpeed: memberNotReported(p.umaaVersion, "GPSFixReport", "SOG") }, now - view.at)
+      ? deadReckon(
+          {
+            at: position,
+            speedMps: speed,
+            courseDeg: invalidFor(invalid, "trueCourse") ? null : course,
+            gpsFix: fixValid && fix?.GPSLatLongValid === true,
+            noSpeed: memberNotReported(p.umaaVersion, "GPSFixReport", "SOG"),
+          },
+          now - view.at,
+        )
       : null;
   return {
     id: p.id,
@@ -65,13 +90,46 @@ export function source(map: MapLibre, id: string): GeoJSONSource | undefined {
  * drawn on a canvas of its own over the map: FleetCanvas.ts). */
 export function addLayers(map: MapLibre): void {
   for (const id of ["worldmodel", "measure", "handles"]) map.addSource(id, { type: "geojson", data: EMPTY });
-  map.addLayer({ id: "wm-fill", type: "fill", source: "worldmodel", filter: ["==", ["geometry-type"], "Polygon"], paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 } });
-  map.addLayer({ id: "wm-line", type: "line", source: "worldmodel", paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] } });
-  map.addLayer({ id: "wm-point", type: "circle", source: "worldmodel", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-color": ["get", "color"], "circle-radius": 5 } });
-  map.addLayer({ id: "measure-line", type: "line", source: "measure", paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] } });
-  map.addLayer({ id: "measure-point", type: "circle", source: "measure", filter: ["==", ["geometry-type"], "Point"], paint: { "circle-radius": 4, "circle-color": "#fff" } });
+  map.addLayer({
+    id: "wm-fill",
+    type: "fill",
+    source: "worldmodel",
+    filter: ["==", ["geometry-type"], "Polygon"],
+    paint: { "fill-color": ["get", "color"], "fill-opacity": 0.25 },
+  });
+  map.addLayer({
+    id: "wm-line",
+    type: "line",
+    source: "worldmodel",
+    paint: { "line-color": ["get", "color"], "line-width": ["case", ["get", "picked"], 5, 2] },
+  });
+  map.addLayer({
+    id: "wm-point",
+    type: "circle",
+    source: "worldmodel",
+    filter: ["==", ["geometry-type"], "Point"],
+    paint: { "circle-color": ["get", "color"], "circle-radius": 5 },
+  });
+  map.addLayer({
+    id: "measure-line",
+    type: "line",
+    source: "measure",
+    paint: { "line-color": "#fff", "line-width": 2, "line-dasharray": [2, 2] },
+  });
+  map.addLayer({
+    id: "measure-point",
+    type: "circle",
+    source: "measure",
+    filter: ["==", ["geometry-type"], "Point"],
+    paint: { "circle-radius": 4, "circle-color": "#fff" },
+  });
   // the edit tool's vertex handles, dragged to move a vertex
-  map.addLayer({ id: "edit-handle", type: "circle", source: "handles", paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 } });
+  map.addLayer({
+    id: "edit-handle",
+    type: "circle",
+    source: "handles",
+    paint: { "circle-radius": 6, "circle-color": "#fff", "circle-stroke-color": "#1e88e5", "circle-stroke-width": 2 },
+  });
 }
 
 /** A box in degrees (west may exceed east by the map's wrap: a view over the antimeridian). */
@@ -125,7 +183,8 @@ export function countLandInView(rings: LandRing[], view: Bounds): number {
   const midLon = (((((view.west + view.east) / 2 + 180) % 360) + 360) % 360) - 180;
   const midLat = (view.south + view.north) / 2;
   const shifts = whole ? [0] : [-360, 0, 360].filter((k) => k + 180 >= view.west && k - 180 <= view.east);
-  const inView = (lon: number, lat: number) => lat >= view.south && lat <= view.north && (whole || shifts.some((k) => lon + k >= view.west && lon + k <= view.east));
+  const inView = (lon: number, lat: number) =>
+    lat >= view.south && lat <= view.north && (whole || shifts.some((k) => lon + k >= view.west && lon + k <= view.east));
   return rings.filter((r) => {
     if (r.north < view.south || r.south > view.north) return false;
     if (!whole && !shifts.some((k) => r.east + k >= view.west && r.west + k <= view.east)) return false;

@@ -10,6 +10,7 @@ describe("the planned silence's end, as the operator writes it", () => {
     expect(nextUtc("00:00", now)).toBe(Date.parse("2026-11-29T00:00:00Z") / 1000);
   });
   it("refuses what is no 24-hour HH:MM (a 12-hour time, an hour or minute out of range)", () => {
-    for (const bad of ["2:20 PM", "02:20 PM", "2:20", "24:00", "14:60", "1420", "", "14:20:00"]) expect(nextUtc(bad, now)).toBeNull();
+    for (const bad of ["2:20 PM", "02:20 PM", "2:20", "24:00", "14:60", "1420", "", "14:20:00"])
+      expect(nextUtc(bad, now)).toBeNull();
   });
 });

@@ -49,7 +49,12 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
             <li key={x.id} className="alarm-entry" data-testid="planned-silence">
               <span className="alarm-text">{plannedEntry(labelOf(x.providerId), x.until, x.reason, x.by, x.station)}</span>
               {mayAct && (
-                <button className="small" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")} aria-label={`Cancel silence: ${labelOf(x.providerId)}`}>
+                <button
+                  className="small"
+                  aria-disabled={busy || undefined}
+                  onClick={() => void run(() => cancelSilence(x.providerId, token), "Not cancelled")}
+                  aria-label={`Cancel silence: ${labelOf(x.providerId)}`}
+                >
                   Cancel silence
                 </button>
               )}
@@ -77,7 +82,17 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
             </span>
             <label>
               {current ? "New end (UTC)" : "Until (UTC)"}
-              <input type="text" inputMode="numeric" placeholder="HH:MM" pattern="([01][0-9]|2[0-3]):[0-5][0-9]" maxLength={5} size={5} value={until} onChange={(e) => setUntil(e.target.value)} required />
+              <input
+                type="text"
+                inputMode="numeric"
+                placeholder="HH:MM"
+                pattern="([01][0-9]|2[0-3]):[0-5][0-9]"
+                maxLength={5}
+                size={5}
+                value={until}
+                onChange={(e) => setUntil(e.target.value)}
+                required
+              />
             </label>
             <label>
               Why (diving, over the horizon, a relay down)
@@ -87,7 +102,12 @@ export function PlannedSilences({ mayAct, token }: { mayAct: boolean; token: str
               {current ? "Change end" : "Declare planned silence"}
             </button>
             {current && (
-              <button className="small" type="button" aria-disabled={busy || undefined} onClick={() => void run(() => cancelSilence(vehicle.id, token), "Not ended")}>
+              <button
+                className="small"
+                type="button"
+                aria-disabled={busy || undefined}
+                onClick={() => void run(() => cancelSilence(vehicle.id, token), "Not ended")}
+              >
                 End silence now
               </button>
             )}

@@ -23,7 +23,9 @@ export function RecordControl() {
     <span className="recording" data-testid="recording" data-state={rec.state}>
       {recording ? (
         <>
-          <span className="rec-dot" aria-hidden="true">●</span>
+          <span className="rec-dot" aria-hidden="true">
+            ●
+          </span>
           <span title={`${rec.directory}/${rec.file ?? ""}`} data-testid="recording-status">
             REC {rec.startedAt !== null ? clockDuration(now - rec.startedAt) : ""}
             {rec.dropped > 0 ? ` (${rec.dropped} dropped)` : ""}
@@ -33,15 +35,25 @@ export function RecordControl() {
           </button>
         </>
       ) : (
-        <button className="small" disabled={busy || !allowed} onClick={() => run("start")}
-          title={allowed ? `Record every SEM sample (UMAA 3.0.1 and 6.0) to ${rec.directory}` : "Sign in to record"}>
+        <button
+          className="small"
+          disabled={busy || !allowed}
+          onClick={() => run("start")}
+          title={allowed ? `Record every SEM sample (UMAA 3.0.1 and 6.0) to ${rec.directory}` : "Sign in to record"}
+        >
           ● Record
         </button>
       )}
       {rec.state === "failed" && (
-        <span className="error" role="alert" data-testid="recording-error">{rec.error}</span>
+        <span className="error" role="alert" data-testid="recording-error">
+          {rec.error}
+        </span>
       )}
-      {error && <span className="error" role="alert">{error}</span>}
+      {error && (
+        <span className="error" role="alert">
+          {error}
+        </span>
+      )}
     </span>
   );
 }

@@ -31,22 +31,45 @@ export function RenameVehicle({ v }: { v: VehicleIdentity }) {
   };
   if (draft === null) {
     return (
-      <button type="button" className="rename" onClick={() => setDraft(v.name ?? "")} disabled={!mayWrite}
-        title={mayWrite ? `Rename ${vehicleLabel(v)} on every console` : "Renaming needs an operator token (and a live console)"}>
+      <button
+        type="button"
+        className="rename"
+        onClick={() => setDraft(v.name ?? "")}
+        disabled={!mayWrite}
+        title={mayWrite ? `Rename ${vehicleLabel(v)} on every console` : "Renaming needs an operator token (and a live console)"}
+      >
         Rename
       </button>
     );
   }
   return (
-    <form className="rename-form" aria-label={`Rename ${vehicleLabel(v)}`} onSubmit={(e) => (e.preventDefault(), void save())}
-      onKeyDown={(e) => e.key === "Escape" && (e.preventDefault(), close())}>
+    <form
+      className="rename-form"
+      aria-label={`Rename ${vehicleLabel(v)}`}
+      onSubmit={(e) => (e.preventDefault(), void save())}
+      onKeyDown={(e) => e.key === "Escape" && (e.preventDefault(), close())}
+    >
       <label>
-        Name <input value={draft} maxLength={MAX_NAME} autoFocus onChange={(e) => setDraft(e.target.value)}
-          placeholder="empty: the configured name" />
+        Name{" "}
+        <input
+          value={draft}
+          maxLength={MAX_NAME}
+          autoFocus
+          onChange={(e) => setDraft(e.target.value)}
+          placeholder="empty: the configured name"
+        />
       </label>
-      <button type="submit" disabled={busy}>Save</button>
-      <button type="button" onClick={close}>Cancel</button>
-      {error && <span className="error" role="alert" data-testid="rename-error">{error}</span>}
+      <button type="submit" disabled={busy}>
+        Save
+      </button>
+      <button type="button" onClick={close}>
+        Cancel
+      </button>
+      {error && (
+        <span className="error" role="alert" data-testid="rename-error">
+          {error}
+        </span>
+      )}
     </form>
   );
 }

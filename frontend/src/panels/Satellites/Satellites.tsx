@@ -16,9 +16,26 @@ const R = 120;
 
 function Marker({ shape, x, y, fill, stroke }: { shape: Shape; x: number; y: number; fill: string; stroke: string }) {
   const s = 6;
-  if (shape === "square") return <rect x={x - s} y={y - s} width={2 * s} height={2 * s} fill={fill} stroke={stroke} strokeWidth={2} />;
-  if (shape === "diamond") return <polygon points={`${x},${y - s - 2} ${x + s + 2},${y} ${x},${y + s + 2} ${x - s - 2},${y}`} fill={fill} stroke={stroke} strokeWidth={2} />;
-  if (shape === "triangle") return <polygon points={`${x},${y - s - 2} ${x + s + 1},${y + s} ${x - s - 1},${y + s}`} fill={fill} stroke={stroke} strokeWidth={2} />;
+  if (shape === "square")
+    return <rect x={x - s} y={y - s} width={2 * s} height={2 * s} fill={fill} stroke={stroke} strokeWidth={2} />;
+  if (shape === "diamond")
+    return (
+      <polygon
+        points={`${x},${y - s - 2} ${x + s + 2},${y} ${x},${y + s + 2} ${x - s - 2},${y}`}
+        fill={fill}
+        stroke={stroke}
+        strokeWidth={2}
+      />
+    );
+  if (shape === "triangle")
+    return (
+      <polygon
+        points={`${x},${y - s - 2} ${x + s + 1},${y + s} ${x - s - 1},${y + s}`}
+        fill={fill}
+        stroke={stroke}
+        strokeWidth={2}
+      />
+    );
   return <circle cx={x} cy={y} r={s} fill={fill} stroke={stroke} strokeWidth={2} />;
 }
 
@@ -35,10 +52,24 @@ function tooltip(s: GPSSatelliteType): string {
 
 // The sky plot, table and chart redraw only when their props change: the selected vehicle's GPSReport
 // (not its GPSFixReport, nor the panel's age display).
-const SkyPlot = memo(function SkyPlot({ sats, trails, stale }: { sats: GPSSatelliteType[]; trails: Record<string, TrailPoint[]>; stale: boolean }) {
+const SkyPlot = memo(function SkyPlot({
+  sats,
+  trails,
+  stale,
+}: {
+  sats: GPSSatelliteType[];
+  trails: Record<string, TrailPoint[]>;
+  stale: boolean;
+}) {
   countRender("skyplot");
   return (
-    <svg className={`skyplot${stale ? " stale" : ""}`} viewBox={`${-R - 16} ${-R - 16} ${2 * R + 32} ${2 * R + 32}`} role="img" aria-label="Sky plot" data-testid="skyplot">
+    <svg
+      className={`skyplot${stale ? " stale" : ""}`}
+      viewBox={`${-R - 16} ${-R - 16} ${2 * R + 32} ${2 * R + 32}`}
+      role="img"
+      aria-label="Sky plot"
+      data-testid="skyplot"
+    >
       {[0, 30, 60].map((el) => (
         <circle key={el} r={R * (1 - el / 90)} className="sky-ring" />
       ))}
@@ -54,7 +85,9 @@ const SkyPlot = memo(function SkyPlot({ sats, trails, stale }: { sats: GPSSatell
       })}
       {sats.map((s) => {
         const label = satelliteLabel(s.satelliteId);
-        const path = trailPath((trails[label] ?? []).map((t) => project(t.az, t.el, R)).filter((p): p is NonNullable<typeof p> => p !== null));
+        const path = trailPath(
+          (trails[label] ?? []).map((t) => project(t.az, t.el, R)).filter((p): p is NonNullable<typeof p> => p !== null),
+        );
         return path ? <path key={`t-${label}`} d={path} className="sky-trail" stroke={COLOR[constellationOf(s)]} /> : null;
       })}
       {sats.map((s) => {
@@ -118,12 +151,22 @@ const Cn0Chart = memo(function Cn0Chart({ sats }: { sats: GPSSatelliteType[] }) 
       {groups.map((g) => (
         <g key={g.c}>
           {g.bars.map(({ s, x }) => {
-            const v = typeof s.antennaCarrierNoiseDensity === "number" && Number.isFinite(s.antennaCarrierNoiseDensity) ? s.antennaCarrierNoiseDensity : 0;
+            const v =
+              typeof s.antennaCarrierNoiseDensity === "number" && Number.isFinite(s.antennaCarrierNoiseDensity)
+                ? s.antennaCarrierNoiseDensity
+                : 0;
             const bh = (Math.min(Math.max(v, 0), max) / max) * h;
             return (
               <g key={satelliteLabel(s.satelliteId)} data-testid="cn0-bar">
                 <title>{`${satelliteLabel(s.satelliteId)}: ${fixed(s.antennaCarrierNoiseDensity, 1, "dB-Hz")}${s.usedInFix ? ", used in fix" : ""}`}</title>
-                <rect x={x + 2} y={h - bh} width={10} height={bh} fill={s.usedInFix ? COLOR[g.c] : "transparent"} stroke={COLOR[g.c]} />
+                <rect
+                  x={x + 2}
+                  y={h - bh}
+                  width={10}
+                  height={bh}
+                  fill={s.usedInFix ? COLOR[g.c] : "transparent"}
+                  stroke={COLOR[g.c]}
+                />
                 <text x={x + 7} y={h + 10} className="bar-label" textAnchor="middle">
                   {satelliteLabel(s.satelliteId).slice(1)}
                 </text>
@@ -143,14 +186,22 @@ type SortKey = "id" | "constellation" | "az" | "el" | "cn0" | "almanac" | "ephem
 
 function sortValue(s: GPSSatelliteType, k: SortKey): string | number {
   switch (k) {
-    case "id": return satelliteLabel(s.satelliteId);
-    case "constellation": return constellationOf(s);
-    case "az": return s.azimuth ?? -Infinity;
-    case "el": return s.elevation ?? -Infinity;
-    case "cn0": return s.antennaCarrierNoiseDensity ?? -Infinity;
-    case "almanac": return s.containsAlmanacData ? 1 : 0;
-    case "ephemeris": return s.ephemerisData ? 1 : 0;
-    case "used": return s.usedInFix ? 1 : 0;
+    case "id":
+      return satelliteLabel(s.satelliteId);
+    case "constellation":
+      return constellationOf(s);
+    case "az":
+      return s.azimuth ?? -Infinity;
+    case "el":
+      return s.elevation ?? -Infinity;
+    case "cn0":
+      return s.antennaCarrierNoiseDensity ?? -Infinity;
+    case "almanac":
+      return s.containsAlmanacData ? 1 : 0;
+    case "ephemeris":
+      return s.ephemerisData ? 1 : 0;
+    case "used":
+      return s.usedInFix ? 1 : 0;
   }
 }
 
@@ -160,7 +211,8 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
   const [desc, setDesc] = useState(true);
   const rows = useMemo(() => {
     const r = [...sats].sort((a, b) => {
-      const va = sortValue(a, key), vb = sortValue(b, key);
+      const va = sortValue(a, key),
+        vb = sortValue(b, key);
       return (va < vb ? -1 : va > vb ? 1 : 0) * (desc ? -1 : 1);
     });
     return r;
@@ -192,7 +244,9 @@ const SatelliteTable = memo(function SatelliteTable({ sats }: { sats: GPSSatelli
           {rows.map((s) => (
             <tr key={satelliteLabel(s.satelliteId)} className={s.usedInFix ? "used" : ""}>
               <td>{satelliteLabel(s.satelliteId)}</td>
-              <td className="constellation" style={{ "--constellation": COLOR[constellationOf(s)] } as CSSProperties}>{constellationText(constellationOf(s))}</td>
+              <td className="constellation" style={{ "--constellation": COLOR[constellationOf(s)] } as CSSProperties}>
+                {constellationText(constellationOf(s))}
+              </td>
               <td>{typeof s.azimuth === "number" ? (((radToDeg(s.azimuth) % 360) + 360) % 360).toFixed(1) : DASH}</td>
               <td>{typeof s.elevation === "number" ? radToDeg(s.elevation).toFixed(1) : DASH}</td>
               <td>{fixed(s.antennaCarrierNoiseDensity, 1)}</td>
@@ -231,7 +285,9 @@ function SatellitesBody() {
   const fresh = freshness(ageS, "GPSReport", view?.interval ?? null, link, receiving);
   const stale = notCurrent(fresh);
   const used = sats.filter((s) => s.usedInFix === true).length;
-  const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(([, n]) => n);
+  const counts = CONSTELLATIONS.map((c) => [c, sats.filter((s) => constellationOf(s) === c).length] as const).filter(
+    ([, n]) => n,
+  );
   const clock = gps?.clock;
   return (
     <Panel title="Satellites" testId="satellites-panel" freshness={fresh} ageSeconds={ageS} className="wide">
@@ -242,13 +298,22 @@ function SatellitesBody() {
       ) : (
         <>
           <div className={`counts${stale ? " stale" : ""}`}>
-            <Field label="In view" value={String(gps.numberSatellitesInView ?? sats.length)} testId="sats-in-view" stale={stale} />
+            <Field
+              label="In view"
+              value={String(gps.numberSatellitesInView ?? sats.length)}
+              testId="sats-in-view"
+              stale={stale}
+            />
             <Field label="Listed" value={String(sats.length)} testId="sats-listed" stale={stale} />
             <Field label="Used in fix" value={String(used)} testId="sats-used" stale={stale} />
             {counts.map(([c, n]) => (
               <Field key={c} label={constellationText(c)} value={String(n)} stale={stale} />
             ))}
-            {view && view.envelope.invalid.length > 0 && <span className="invalid-note" title={view.envelope.invalid.join("\n")}>⚠ {view.envelope.invalid.length} invalid values</span>}
+            {view && view.envelope.invalid.length > 0 && (
+              <span className="invalid-note" title={view.envelope.invalid.join("\n")}>
+                ⚠ {view.envelope.invalid.length} invalid values
+              </span>
+            )}
           </div>
           <div className="sat-grid">
             <SkyPlot sats={sats} trails={trails} stale={stale} />

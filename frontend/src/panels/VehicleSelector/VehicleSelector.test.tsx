@@ -13,7 +13,9 @@ function shown(): TestSource {
   renderWith(source, <VehicleSelector />);
   act(() =>
     source.send(
-      snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost", umaaVersion: "6.0" })] }),
+      snapshotMessage({
+        providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo", link: "lost", umaaVersion: "6.0" })],
+      }),
       reportMessage(A, "GPSFixStatusReport", { fixValid: true }, [], 1000),
       reportMessage(A, "InertialSensorReport", { state: "ON", status: "OPERATIONAL" }, [], 1000),
     ),
@@ -43,7 +45,13 @@ describe("VehicleSelector", () => {
     fireEvent.click(row("Bravo"));
     expect(source.store.getState().selected).toBe(B);
     await waitFor(() => expect(row("Bravo").getAttribute("aria-pressed")).toBe("true"));
-    act(() => source.send({ type: "provider", event: "configured", provider: { ...vehicle(B, { link: "lost", umaaVersion: "6.0" }), name: "Charlie" } }));
+    act(() =>
+      source.send({
+        type: "provider",
+        event: "configured",
+        provider: { ...vehicle(B, { link: "lost", umaaVersion: "6.0" }), name: "Charlie" },
+      }),
+    );
     await waitFor(() => expect(row("Charlie").getAttribute("aria-pressed")).toBe("true"));
   });
 
@@ -59,6 +67,8 @@ describe("VehicleSelector", () => {
     const source = shown();
     await waitFor(() => expect(screen.getAllByTestId("vehicle")).toHaveLength(2));
     act(() => source.setState("reconnecting"));
-    await waitFor(() => expect(screen.getAllByTestId("vehicle-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]));
+    await waitFor(() =>
+      expect(screen.getAllByTestId("vehicle-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]),
+    );
   });
 });

@@ -1,7 +1,17 @@
 import { Fragment, startTransition, useEffect, useMemo, useRef, useState } from "react";
 import { useFocusWhenGone } from "../../components/focus";
 import { VehicleTag } from "../../components/VehicleTag";
-import { useCapabilities, useConnectionState, useNow, useProvidersOnFrame, useReceiving, sameOverview, useSelector, useSilences, useSelectVehicle } from "../../data/hooks";
+import {
+  useCapabilities,
+  useConnectionState,
+  useNow,
+  useProvidersOnFrame,
+  useReceiving,
+  sameOverview,
+  useSelector,
+  useSilences,
+  useSelectVehicle,
+} from "../../data/hooks";
 import { lastHeardAt, report } from "../../data/slices/vehicles";
 import { plannedUntil } from "../../data/slices/alarms";
 import { LastHeard } from "../../components/LastHeard";
@@ -18,7 +28,17 @@ const SAME_LIST = sameOverview();
 /** Find a vehicle in a fleet by a part of its name or id: the list shows the matches as typed, Esc or Clear brings back
  * the whole fleet, and the count of matches (of `filter`, the query the list shows) is said politely. A key redraws
  * the field alone at once; the list (250 rows) follows in a transition, which the next key interrupts. */
-function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onFilter: (q: string) => void; matches: number; total: number }) {
+function FindVehicle({
+  filter,
+  onFilter,
+  matches,
+  total,
+}: {
+  filter: string;
+  onFilter: (q: string) => void;
+  matches: number;
+  total: number;
+}) {
   const field = useRef<HTMLInputElement>(null);
   const [query, setQuery] = useState(filter);
   const clear = () => (setQuery(""), onFilter(""));
@@ -47,8 +67,13 @@ function FindVehicle({ filter, onFilter, matches, total }: { filter: string; onF
         />
       </label>
       {/* always laid out, hidden without a query: the list under it does not move as the operator starts typing */}
-      <button type="button" className="small" style={{ visibility: query ? "visible" : "hidden" }} onClick={() => (clear(), field.current?.focus())}
-        aria-label="Clear the vehicle search">
+      <button
+        type="button"
+        className="small"
+        style={{ visibility: query ? "visible" : "hidden" }}
+        onClick={() => (clear(), field.current?.focus())}
+        aria-label="Clear the vehicle search"
+      >
         Clear
       </button>
       <span className="muted find-count" role="status" data-testid="find-vehicle-count">
@@ -95,71 +120,95 @@ export function VehicleSelector() {
   }, [selected, shown, filter]); // and when the search has changed the rows above it
   return (
     <>
-    {(providers.length > 1 || filter) && <FindVehicle key={searches} filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />}
-    <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
-      {providers.length === 0 && <p className="muted">{signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}</p>}
-      {providers.length > 0 && !selected && <p className="muted" data-testid="select-vehicle">Select a vehicle.</p>}
-      {providers.length > 0 && matching.length === 0 && (
-        <p className="muted" data-testid="find-vehicle-none">
-          No vehicle's name or id has “{filter.trim()}”.
-        </p>
+      {(providers.length > 1 || filter) && (
+        <FindVehicle key={searches} filter={filter} onFilter={setFilter} matches={matching.length} total={providers.length} />
       )}
-      {selected && !providers.some((p) => p.id === selected) && (
-        <p className="vehicle selected missing" data-testid="selected-missing">
-          <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
-        </p>
-      )}
-      {hidden && (
-        <p className="vehicle selected missing" data-testid="selected-hidden">
-          <span>
-            <VehicleTag v={hidden} /> selected, not among the matches of the search
-          </span>
-          <button type="button" className="small" onClick={(e) => showAll(e.currentTarget)}>
-            Show all vehicles
-          </button>
-        </p>
-      )}
-      {matching.map((p) => {
-        const seen = lastHeardAt(p);
-        const ageS = seen === null ? null : Math.max(0, now - seen);
-        const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
-        const until = plannedUntil(silences, p.id, link); // lost in its planned silence: named so, not lost
-        const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
-        const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid, p.umaaVersion);
-        const ins = report(p, "InertialSensorReport");
-        const insSaid = insWord(ins?.state, ins?.status, p.umaaVersion);
-        return (
-          <Fragment key={p.id}>
-          <button
-            className={`vehicle${p.id === selected ? " selected" : ""}`}
-            aria-pressed={p.id === selected}
-            data-testid="vehicle"
-            data-link={link}
-            onClick={() => selectVehicle(p.id)}
-          >
-            <span className="vehicle-name">
-              <VehicleTag v={p} />
+      <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
+        {providers.length === 0 && (
+          <p className="muted">
+            {signedOut ? "Sign in to see the vehicles." : "No vehicle on the bus yet: see the fleet bar above."}
+          </p>
+        )}
+        {providers.length > 0 && !selected && (
+          <p className="muted" data-testid="select-vehicle">
+            Select a vehicle.
+          </p>
+        )}
+        {providers.length > 0 && matching.length === 0 && (
+          <p className="muted" data-testid="find-vehicle-none">
+            No vehicle's name or id has “{filter.trim()}”.
+          </p>
+        )}
+        {selected && !providers.some((p) => p.id === selected) && (
+          <p className="vehicle selected missing" data-testid="selected-missing">
+            <VehicleTag v={{ id: selected, name: null }} /> selected, {signedOut ? "shown after sign-in" : "not on the bus (yet)"}
+          </p>
+        )}
+        {hidden && (
+          <p className="vehicle selected missing" data-testid="selected-hidden">
+            <span>
+              <VehicleTag v={hidden} /> selected, not among the matches of the search
             </span>
-            <span className={`link link-${until !== null ? "planned" : link}${rec ? " recorded" : ""}`} data-testid="vehicle-link" title={rec ? RECORDED_TITLE : undefined}>
-              {stateWords(linkOrPlanned(link, until), rec)}
-            </span>
-            <span className="vehicle-meta">
-              {p.umaaVersion && (
-                <span className="umaa-version" data-testid="vehicle-umaa" title="the UMAA version of the topics the vehicle reports on">
-                  UMAA {p.umaaVersion}
+            <button type="button" className="small" onClick={(e) => showAll(e.currentTarget)}>
+              Show all vehicles
+            </button>
+          </p>
+        )}
+        {matching.map((p) => {
+          const seen = lastHeardAt(p);
+          const ageS = seen === null ? null : Math.max(0, now - seen);
+          const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
+          const until = plannedUntil(silences, p.id, link); // lost in its planned silence: named so, not lost
+          const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
+          const fix = fixWord(report(p, "GPSFixStatusReport")?.fixValid, p.umaaVersion);
+          const ins = report(p, "InertialSensorReport");
+          const insSaid = insWord(ins?.state, ins?.status, p.umaaVersion);
+          return (
+            <Fragment key={p.id}>
+              <button
+                className={`vehicle${p.id === selected ? " selected" : ""}`}
+                aria-pressed={p.id === selected}
+                data-testid="vehicle"
+                data-link={link}
+                onClick={() => selectVehicle(p.id)}
+              >
+                <span className="vehicle-name">
+                  <VehicleTag v={p} />
                 </span>
-              )}{" "}
-              <span title={fix.title}>{inline(fix.text)}</span> · <span title={insSaid.title}>{insSaid.text}</span>
-              {link === "lost" ? <> · <LastHeard since={seen} /></> : ` · ${age(ageS)}`}
-            </span>
-            <span className="vehicle-id muted">{p.id}</span>
-          </button>
-          {p.id === selected && <RenameVehicle v={p} />}
-          </Fragment>
-        );
-      })}
-
-    </nav>
+                <span
+                  className={`link link-${until !== null ? "planned" : link}${rec ? " recorded" : ""}`}
+                  data-testid="vehicle-link"
+                  title={rec ? RECORDED_TITLE : undefined}
+                >
+                  {stateWords(linkOrPlanned(link, until), rec)}
+                </span>
+                <span className="vehicle-meta">
+                  {p.umaaVersion && (
+                    <span
+                      className="umaa-version"
+                      data-testid="vehicle-umaa"
+                      title="the UMAA version of the topics the vehicle reports on"
+                    >
+                      UMAA {p.umaaVersion}
+                    </span>
+                  )}{" "}
+                  <span title={fix.title}>{inline(fix.text)}</span> · <span title={insSaid.title}>{insSaid.text}</span>
+                  {link === "lost" ? (
+                    <>
+                      {" "}
+                      · <LastHeard since={seen} />
+                    </>
+                  ) : (
+                    ` · ${age(ageS)}`
+                  )}
+                </span>
+                <span className="vehicle-id muted">{p.id}</span>
+              </button>
+              {p.id === selected && <RenameVehicle v={p} />}
+            </Fragment>
+          );
+        })}
+      </nav>
     </>
   );
 }

@@ -19,9 +19,12 @@ depends_on = None
 
 
 def upgrade() -> None:
-    op.create_table("consoles", sa.Column("name", sa.String(), primary_key=True),
-                    sa.Column("guid", sa.String(), nullable=False, unique=True),
-                    sa.Column("created_at", sa.Float(), nullable=False))
+    op.create_table(
+        "consoles",
+        sa.Column("name", sa.String(), primary_key=True),
+        sa.Column("guid", sa.String(), nullable=False, unique=True),
+        sa.Column("created_at", sa.Float(), nullable=False),
+    )
     op.add_column("commands", sa.Column("console", sa.String()))
 
 

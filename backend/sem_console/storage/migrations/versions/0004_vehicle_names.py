@@ -16,9 +16,13 @@ depends_on = None
 
 
 def upgrade() -> None:
-    op.create_table("vehicle_names", sa.Column("provider_id", sa.String(), primary_key=True),
-                    sa.Column("name", sa.String(), nullable=False), sa.Column("set_by", sa.String()),
-                    sa.Column("set_at", sa.Float(), nullable=False))
+    op.create_table(
+        "vehicle_names",
+        sa.Column("provider_id", sa.String(), primary_key=True),
+        sa.Column("name", sa.String(), nullable=False),
+        sa.Column("set_by", sa.String()),
+        sa.Column("set_at", sa.Float(), nullable=False),
+    )
 
 
 def downgrade() -> None:

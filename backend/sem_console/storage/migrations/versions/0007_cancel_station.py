@@ -15,8 +15,7 @@ down_revision = "0006"
 branch_labels = None
 depends_on = None
 
-COLUMNS = (("canceled_on", sa.String()), ("canceled_at", sa.Float()), ("closed_unheard", sa.String()),
-           ("closed_at", sa.Float()))
+COLUMNS = (("canceled_on", sa.String()), ("canceled_at", sa.Float()), ("closed_unheard", sa.String()), ("closed_at", sa.Float()))
 
 
 def upgrade() -> None:
