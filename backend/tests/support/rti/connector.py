@@ -204,7 +204,7 @@ class RtiParticipant:
         self.outputs = {s: self.connector.get_output(f"pub::{s.name}") for s in writers}
         self.inputs = {s: self.connector.get_input(f"sub::{s.name}") for s in readers}
 
-    def wait_matched(self, sem: AnySem, timeout: float = 10.0) -> None:
+    def wait_matched(self, sem: AnySem, timeout: float = 30.0) -> None:
         deadline = time.monotonic() + timeout
         while time.monotonic() < deadline:
             port = self.outputs.get(sem) or self.inputs[sem]

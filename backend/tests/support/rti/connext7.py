@@ -166,7 +166,7 @@ class RemoteParticipant:
             raise RuntimeError(f"Connext 7 worker: {value}")
         return value
 
-    def wait_matched(self, sem: Any, timeout: float = 10.0) -> None:
+    def wait_matched(self, sem: Any, timeout: float = 30.0) -> None:
         if not self._call("wait_matched", sem_key(sem), timeout):
             raise TimeoutError(f"RTI 7 {sem.spec.name} matched nothing")
 
