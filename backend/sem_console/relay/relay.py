@@ -8,6 +8,7 @@ control Drop: a newer one follows), a report's dispose or unregistration reliabl
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import logging
@@ -29,7 +30,7 @@ from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions
-from sem_console.relay.wire import PREFIX, Kind, attachment, key, parse_key, read_attachment
+from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
 
 log = logging.getLogger("sem-relay")
 TOPICS: dict[str, AnySem] = {s.spec.name: s for s in (*Sem, *Sem60)}  # every SEM topic of both UMAA versions
@@ -132,12 +133,15 @@ class Relay:
     # DDS -> Zenoh
     def _taken(self, taken: Taken) -> None:
         if not self.vehicles_side:
-            with self._lock:
-                domain = self.domain_of.get(taken.vehicle)
-                if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
-                    self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
-                    return
-            self._send(self._outgoing(taken, domain))
+            # the lookup and the send in one step (`_send_lock`): a command, or its cancel, taken while its vehicle's
+            # first sample releases the ones held goes after them, never before
+            with self._send_lock:
+                with self._lock:
+                    domain = self.domain_of.get(taken.vehicle)
+                    if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
+                        self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
+                        return
+                self._send_locked(self._outgoing(taken, domain))
             return
         out = self._outgoing(taken, self.bus.domain_id)
         if taken.sem.spec.cls is not TopicClass.REPORT:
@@ -237,9 +241,13 @@ class Relay:
 
     def _send(self, out: Outgoing) -> None:
         with self._send_lock:
-            with self._lock:
-                self._sent.add(out.instance, out, time.monotonic(), latest_only=not out.urgent, ends=out.ended)
-            self._put(out)
+            self._send_locked(out)
+
+    def _send_locked(self, out: Outgoing) -> None:
+        """`_send`, its caller holding `_send_lock`."""
+        with self._lock:
+            self._sent.add(out.instance, out, time.monotonic(), latest_only=not out.urgent, ends=out.ended)
+        self._put(out)
 
     def _put(self, out: Outgoing) -> None:
         qos = _URGENT if out.urgent else _REPORT_END if out.report_end else _REPORT
@@ -258,7 +266,16 @@ class Relay:
         meta = read_attachment(extra)
         if address is None or sem is None or meta is None or extra is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
-        payload = sample.payload.to_bytes()
+        # a vehicle's first sample on the operations side releases the commands held for it: sent in one step with it
+        # (`_send_lock`), so that none taken meanwhile (a cancel) goes before them
+        first = not self.vehicles_side and address.vehicle not in self.domain_of
+        with self._send_lock if first else contextlib.nullcontext():
+            self._apply(address, sem, key_text, extra, meta, sample.payload.to_bytes(), first)
+
+    def _apply(
+        self, address: Address, sem: AnySem, key_text: str, extra: bytes, meta: tuple[Kind, int], payload: bytes, first: bool
+    ) -> None:
+        """A message of the other side written into this domain (`first`: `_send_lock` held, see `_received`)."""
         digest = hashlib.blake2b(key_text.encode() + extra + payload, digest_size=16).digest()
         release: list[Taken] = []
         with self._lock:
@@ -270,7 +287,7 @@ class Relay:
             t = self.traffic[address.vehicle]
             t.received_bytes += len(key_text) + len(payload) + len(extra)
             t.received_messages += 1
-            if not self.vehicles_side and address.vehicle not in self.domain_of:
+            if first and address.vehicle not in self.domain_of:
                 self.domain_of[address.vehicle] = address.domain
                 release = self.held.release(address.vehicle)
         kind, source_ns = meta
@@ -282,7 +299,7 @@ class Relay:
         except Exception as e:  # one bad message costs only itself
             log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
         for taken in release:
-            self._send(self._outgoing(taken, address.domain))
+            self._send_locked(self._outgoing(taken, address.domain))
 
     # the caps' slots and the link's status
     def _tick(self) -> None:

@@ -10,6 +10,7 @@ import json
 import socket
 import subprocess
 import sys
+import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator
@@ -33,7 +34,7 @@ from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
-from sem_console.relay.wire import Kind, attachment, key
+from sem_console.relay.wire import Kind, attachment, key, read_attachment
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
@@ -450,3 +451,45 @@ def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
         2,
         f"sem-relay: error: --status-port {port}: cannot listen on it (Address already in use): give another port\n",
     )
+
+
+def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_command_goes_after_it(
+    domain: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Operations side: a command held for a vehicle not heard yet is released by the vehicle's first sample; its
+    cancel, taken from a console in that moment, goes after it, never before (the vehicle would then take the cancel
+    of nothing, start the command and run it). Real Zenoh and Cyclone DDS; the first sample's write held open."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    sent: list[Kind] = []
+    put = relay._put
+    monkeypatch.setattr(relay, "_put", lambda out: (sent.append(Kind((read_attachment(out.attachment) or (0, 0))[0])), put(out)))
+    entered, gate = threading.Event(), threading.Event()
+
+    def held_open(*_: Any) -> None:
+        entered.set()
+        gate.wait(10)
+
+    monkeypatch.setattr(relay.dds, "write", held_open)
+    instance = (Sem.GPS_FIX_COMMAND.spec.name, False, 7)
+    try:
+        relay._taken(Taken(Sem.GPS_FIX_COMMAND, Kind.SAMPLE, b"command", 0, V1, instance))  # held: V1 not heard
+        assert sent == []
+        session.put(key(domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        assert entered.wait(10), "the vehicle's first sample was not received"
+        cancel = threading.Thread(target=relay._taken, args=(Taken(Sem.GPS_FIX_COMMAND, Kind.DISPOSE, b"key", 0, V1, instance),))
+        cancel.start()
+        cancel.join(0.5)  # with the held command not sent yet, the cancel waits for it
+        gate.set()
+        cancel.join(10)
+        deadline = time.monotonic() + 10
+        while len(sent) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert sent == [Kind.SAMPLE, Kind.DISPOSE]
+    finally:
+        gate.set()
+        relay.close()
+        bus.close()
+        session.close()
