@@ -109,18 +109,31 @@ function launch(cmd: string, args: string[], env: Record<string, string> = {}): 
 
 /** A start-up wait, not a timed check: 60 s, as pytest's for a console's health (backend/tests/conftest.py), which a
  * loaded machine's start can take. */
-export async function waitHealthy(url: string, timeoutMs = 60_000): Promise<void> {
+/** Until the console at `url` answers its health check. With `child` and `domain`: that it is this child's console,
+ * not another process's that took the port between `freePort` and the child's bind (pytest and the other Playwright
+ * worker start consoles too): `PortTaken` when the child exits first or another console answers. */
+export async function waitHealthy(url: string, timeoutMs = 60_000, child?: ChildProcess, domain?: number): Promise<void> {
   const deadline = Date.now() + timeoutMs;
   while (Date.now() < deadline) {
+    if (child && child.exitCode !== null) throw new PortTaken(`console for ${url} exited (${child.exitCode}) before it answered`);
     try {
-      if ((await fetch(`${url}/api/health`)).ok) return;
-    } catch {
+      const r = await fetch(`${url}/api/health`);
+      if (r.ok) {
+        const health = (await r.json()) as { domain?: number };
+        if (domain !== undefined && health.domain !== domain)
+          throw new PortTaken(`${url} is another console's (domain ${health.domain})`);
+        return;
+      }
+    } catch (e) {
+      if (e instanceof PortTaken) throw e;
       /* not up yet */
     }
     await new Promise((r) => setTimeout(r, 200));
   }
   throw new Error(`console at ${url} did not start`);
 }
+
+class PortTaken extends Error {}
 
 export async function startStack(): Promise<Stack> {
   const domain = await freeDomain();
@@ -276,17 +289,21 @@ export async function startExtraConsole(
   args: string[],
   env: Record<string, string> = {},
 ): Promise<{ url: string; stop: () => Promise<void> }> {
-  const port = await freePort();
-  const url = `http://127.0.0.1:${port}`;
-  const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
-  const stop = () => stopPid(child.pid!, "SIGINT");
-  try {
-    await waitHealthy(url);
-  } catch (e) {
-    await stop(); // a console that did not start is not left running
-    throw e;
+  const at = args.lastIndexOf("--domain"); // the last one given is the one the console takes
+  const domain = at >= 0 ? Number(args[at + 1]) : undefined;
+  for (let attempt = 1; ; attempt++) {
+    const port = await freePort();
+    const url = `http://127.0.0.1:${port}`;
+    const child = launch("sem-console", ["--port", String(port), "--log-level", "warning", ...args], env);
+    const stop = () => stopPid(child.pid!, "SIGINT");
+    try {
+      await waitHealthy(url, 60_000, child, domain);
+      return { url, stop };
+    } catch (e) {
+      await stop(); // a console that did not start is not left running
+      if (!(e instanceof PortTaken) || attempt >= 3) throw e;
+    }
   }
-  return { url, stop };
 }
 
 /** A second console on the same domain with an operator token configured; returns its URL and a stop function. */

@@ -44,12 +44,20 @@ _domains = (
 )
 
 
-def free_domain(taken: int | None = None) -> int:
-    """A DDS domain id of this worker's that no one on this host uses, other than `taken`."""
+def free_domain(taken: int | None = None, strict: bool = False) -> int:
+    """A DDS domain id of this worker's that no participant is in, other than `taken`; failing that (not `strict`),
+    one that only this process's own participants, left by earlier tests, are in."""
+    fallback = None
     for _ in range(len(_OWN_DOMAINS)):
         d = next(_domains)
-        if d != taken and domain_free(d):
+        if d == taken:
+            continue
+        if domain_free(d, own_ok=False):
             return d
+        if fallback is None and not strict and domain_free(d):
+            fallback = d
+    if fallback is not None:
+        return fallback
     raise RuntimeError("no free DDS domain id on this host")
 
 

@@ -48,11 +48,14 @@ def domain_ports(d: int) -> list[int]:
     return [7400 + 250 * d, *(7410 + 250 * d + 2 * i for i in range(4))]
 
 
-def domain_free(d: int) -> bool:
-    """No other process on this host has a participant in domain `d` (this process's own participants, left by
-    earlier tests, do not count: they are idle, and a worker would otherwise run out of domains)."""
+def domain_free(d: int, own_ok: bool = True) -> bool:
+    """No other process on this host has a participant in domain `d`; with `own_ok` False, none of this process's
+    either (participants left by earlier tests in a pytest worker live as long as the worker, and some keep
+    writing)."""
     ports = domain_ports(d)
     if all(udp_free(p) for p in ports):
         return True
+    if not own_ok:
+        return False
     own = own_udp_ports()
     return all(p in own or udp_free(p) for p in ports)

@@ -9,6 +9,7 @@ import uuid
 from typing import Any
 
 import httpx
+import pytest
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import Domain, DomainParticipant
 from cyclonedds.internal import InvalidSample
@@ -23,12 +24,21 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import Inertial
 from UMAA.Common.Measurement import DateTime
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
+from conftest import free_domain
 from sem_console.dds.bus import Bus
 from sem_console.dds.config import loopback_config
 from sem_console.dds.qos import reader_qos
 from sem_console.dds.topics import Sem
 from sem_console.umaa.guid import from_guid, to_guid
 from test_console import HAPPY, WsClient, wait_command, wait_until
+
+
+@pytest.fixture
+def domain() -> int:
+    """A domain no participant is in, this process's own included: a test here opens the domain with a configuration
+    of its own, which Cyclone takes only from the first participant of a domain id in a process."""
+    return free_domain(strict=True)
+
 
 S = 1_000_000_000  # ns
 RELIABLE_VOLATILE = Qos(Policy.Reliability.Reliable(S), Policy.Durability.Volatile, Policy.History.KeepAll)
