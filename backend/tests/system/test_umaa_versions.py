@@ -22,7 +22,7 @@ from sem_console.codec.convert import to_json
 from sem_console.codec.decode import Decoder, ReportItem
 from sem_console.codec.jsonschema import report_schemas
 from sem_console.console.history import track_point
-from sem_console.dds.topics import Sem60, delimited, to_appendable
+from sem_console.dds.topics import Sem, Sem60, delimited, to_appendable
 from sem_console.sim import umaa_6_0 as sim60
 from sem_console.sim.models import SUBMERGED_DEPTH_M
 from sem_console.sim.options import SimOptions
@@ -357,8 +357,15 @@ def test_a_mixed_fleet_recorded_replays_as_live(sim: Any, console: Any, domain: 
         assert shown["umaaVersion"] == live[pid]["umaaVersion"] and set(shown["topics"]) == set(live[pid]["topics"])
         assert shown["link"] == live[pid]["link"] == "live"
     assert {p["id"]: p["umaaVersion"] for p in httpx.get(f"{r.url}/api/providers").json()} == {V1: "3.0.1", V2: "6.0"}
-    control(r.url, {"action": "seek", "position": state["start"]})  # back to before either vehicle, then to the end
-    assert httpx.get(f"{r.url}/api/providers/{V2}").status_code == 404
+    # back to the recording's first instant, where only the vehicle heard first is (each vehicle on its version's
+    # channels; either may come first), then to the end
+    first = {
+        pid: min(m.log_time for s in sems for m in messages.get(s.spec.name, []))
+        for pid, sems in ((V1, list(Sem)), (V2, list(Sem60)))
+    }
+    control(r.url, {"action": "seek", "position": state["start"]})
+    later = V2 if first[V2] > first[V1] else V1
+    assert httpx.get(f"{r.url}/api/providers/{later}").status_code == 404
     control(r.url, {"action": "seek", "position": state["end"]})
     at_end = httpx.get(f"{r.url}/api/providers/{V2}").json()  # its disposes replayed: lost, as live
     assert at_end["link"] == lost["link"] == "lost"
