@@ -3,8 +3,10 @@ temporary directory, as the tests start it: backend/tests/support/pg.py), with -
 Console A issues GPS fix commands round the fleet; for each transition, the time from its `transition` message on
 A's WebSocket to the `command` message with that status on B's (the NOTIFY path: A's write, PostgreSQL, B's
 listener, B's loop and hub): p50/p99. Over the window, the database's write load (transactions committed per
-second, pg_stat_database) and its growth (pg_database_size) per vehicle-hour.
-Usage: python bench/opscentre.py [--vehicles 100] [--seconds 60] [--commands 40]
+second, pg_stat_database) and its growth (pg_database_size) per vehicle-hour. Then the database stopped --outages
+times: from the instant console B finds it unreachable (its `unavailableSince`) to its `database` message on B's
+WebSocket, which the shared-database banner draws (issue 33 asks for it within 2 s).
+Usage: python bench/opscentre.py [--vehicles 100] [--seconds 60] [--commands 40] [--outages 3]
 """
 
 from __future__ import annotations
@@ -78,11 +80,39 @@ async def propagation(a: str, b: str, vehicles: list[str], commands: int) -> lis
     return [on_b[k] - on_a[k] for k in on_a if k in on_b]
 
 
+async def banner_after(cluster: Cluster, b: str) -> float:
+    """The database stopped: seconds from B's `unavailableSince` to its `database` message on B's WebSocket; the
+    database started again and awaited back (no banner) before returning."""
+    import websockets
+
+    async with websockets.connect(f"ws://{b}/ws", max_size=2**26) as ws:
+        await asyncio.sleep(1)
+        await asyncio.get_running_loop().run_in_executor(None, cluster.stop)
+        after = None
+        try:
+            async with asyncio.timeout(60):
+                async for text in ws:
+                    msg = json.loads(text)
+                    if msg["type"] == "database" and msg["database"]["unavailableSince"] is not None:
+                        after = time.time() - msg["database"]["unavailableSince"]
+                        break
+        finally:
+            await asyncio.get_running_loop().run_in_executor(None, cluster.start)
+        async with asyncio.timeout(60):
+            async for text in ws:
+                msg = json.loads(text)
+                if msg["type"] == "database" and msg["database"]["unavailableSince"] is None:
+                    break
+    assert after is not None
+    return after
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--vehicles", type=int, default=100)
     ap.add_argument("--seconds", type=float, default=60)
     ap.add_argument("--commands", type=int, default=40)
+    ap.add_argument("--outages", type=int, default=3)
     args = ap.parse_args()
     cluster = Cluster()
     procs: list[Proc] = []
@@ -142,6 +172,7 @@ def main() -> None:
             time.sleep(rest)
         elapsed = time.monotonic() - t0
         commits1, size1 = stats(cluster, database)
+        banners = [asyncio.run(banner_after(cluster, hosts[1])) for _ in range(args.outages)]
     finally:
         for p in reversed(procs):
             p.stop()
@@ -156,10 +187,12 @@ def main() -> None:
         "propagation_p99_ms": ms(percentile(delays, 99)) if delays else None,
         "commits_per_second": round((commits1 - commits0) / elapsed, 1),
         "growth_mb_per_vehicle_hour": round((size1 - size0) / 2**20 / vehicle_hours, 3) if vehicle_hours else None,
+        "outages": len(banners),
+        "banner_after_max_s": round(max(banners), 2) if banners else None,
     }
     table(
         "A -> B propagation of a command transition (WebSocket to WebSocket), database load",
-        ["vehicles", "transitions", "p50 ms", "p99 ms", "commits/s", "MB per vehicle-hour"],
+        ["vehicles", "transitions", "p50 ms", "p99 ms", "commits/s", "MB per vehicle-hour", "banner after s (max)"],
         [
             [
                 figures["vehicles"],
@@ -168,6 +201,7 @@ def main() -> None:
                 figures["propagation_p99_ms"],
                 figures["commits_per_second"],
                 figures["growth_mb_per_vehicle_hour"],
+                figures["banner_after_max_s"],
             ]
         ],
     )

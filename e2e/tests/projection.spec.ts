@@ -163,14 +163,19 @@ test(
         number,
         number,
       ]);
-      const c = await at();
-      const box = (await page.getByTestId("map").boundingBox())!;
-      const ghost = await page.evaluate(([lon, lat]) => window.__semMap!.project([lon, lat]), [c.lon, c.lat] as [number, number]);
+      // the label and the ghost it names read in one instant (the ghost moves on each second: read apart, a loaded
+      // machine saw them a second apart)
       await expect
-        .poll(async () => {
-          const l = await proj.boundingBox(); // null while the label is drawn again for the new view: poll on
-          return l !== null && Math.abs(l.x + l.width - (box.x + ghost.x - 12)) < 3 && Math.abs(l.y - (box.y + ghost.y - 8)) < 3;
-        })
+        .poll(() =>
+          page.evaluate(() => {
+            const p = document.querySelector<HTMLElement>("[data-testid=map-projection]")!;
+            const l = p.getBoundingClientRect(); // empty while the label is drawn again for the new view: poll on
+            if (p.hidden || l.width === 0) return false;
+            const box = document.querySelector("[data-testid=map]")!.getBoundingClientRect();
+            const ghost = window.__semMap!.project([Number(p.dataset.lon), Number(p.dataset.lat)]);
+            return Math.abs(l.right - (box.x + ghost.x - 12)) < 3 && Math.abs(l.y - (box.y + ghost.y - 8)) < 3;
+          }),
+        )
         .toBe(true);
       // the circle's faint fill just past the ghost's middle (beyond the end of the line from the last fix): drawn, and
       // not opaque as a vehicle's dot is
