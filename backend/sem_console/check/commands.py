@@ -46,7 +46,7 @@ from UMAA_6_0.Common.MaritimeEnumeration.InertialSensorCmdEnumModule import Iner
 from sem_console.check import icd, umaa_6_0
 from sem_console.check.observe import Observer, StatusSeen
 from sem_console.check.results import Case, Outcome, Progress, Stopped, Timer
-from sem_console.core.contract import UmaaVersion
+from sem_console.core.versions import UmaaVersion
 from sem_console.dds.bus import wait_for_acks
 from sem_console.dds.topics import AnySem, Sem, Sem60, Service
 from sem_console.umaa.flow import SUCCESS_NEXT, UPDATED, CommandFlow, name

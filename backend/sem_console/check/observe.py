@@ -28,7 +28,7 @@ import uuid
 from collections import defaultdict
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 from cyclonedds.builtin_types import DcpsEndpoint
@@ -42,8 +42,10 @@ from sem_console.dds.cyclone_private import take_cdr
 from sem_console.dds.qos import TopicClass, any_writer_reader_qos, reader_qos
 from sem_console.dds.topics import AnySem, Sem, Sem60, Service, final_type_qos
 from sem_console.dds.vendors import Finding, PeerWatch
-from sem_console.recording.recorder import Recorder
 from sem_console.versions import UMAA_3_0_1, UMAA_6_0, UmaaVersion
+
+if TYPE_CHECKING:
+    from sem_console.recording.recorder import Recorder
 
 _U64 = 0xFFFF_FFFF_FFFF_FFFF
 SEM_TOPICS: dict[str, AnySem] = {sem.spec.name: sem for sem in [*Sem, *Sem60]}

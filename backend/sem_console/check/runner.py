@@ -31,7 +31,6 @@ from sem_console.check.results import Case, Outcome, Progress, Selection, Stoppe
 from sem_console.dds.bus import Bus, DdsConfigError
 from sem_console.dds.config import describe
 from sem_console.dds.topics import Sem, Sem60
-from sem_console.recording.recorder import Recorder, RecordingError
 
 SETTLE = 1.0  # s to keep looking for more providers after the first one is found
 
@@ -146,6 +145,8 @@ class Evidence:
         # An earlier run's file must not pass for this run's when this one is killed before it moves its own in place
         self.target.unlink(missing_ok=True)
         self.dir = Path(tempfile.mkdtemp(prefix=".sem-check-", dir=self.target.parent))
+        from sem_console.recording.recorder import Recorder  # the recorder's modules only for --record
+
         try:
             self.recorder = Recorder(self.dir, max_bytes=2**62, max_seconds=1e9, queue_size=100_000)
             self.recorder.start()
@@ -319,6 +320,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         except DdsConfigError as e:
             return could_not(str(e))
         if record is not None:
+            from sem_console.recording.recorder import RecordingError
+
             try:
                 evidence = Evidence(record)
             except (OSError, RecordingError) as e:

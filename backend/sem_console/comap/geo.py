@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from shapely.geometry import LineString, MultiLineString, Point, Polygon
-from shapely.geometry.base import BaseGeometry
+if TYPE_CHECKING:
+    from shapely.geometry.base import BaseGeometry
 
 from sem_console.comap.codec import Message, msg
 from sem_console.comap.messages import Coverage
@@ -73,6 +73,8 @@ def feature_from_geojson(f: dict[str, Any], where: str) -> Feature:
         points = open_ring([_latlon(p, where) for p in coords[0] or []])
         if len(set(points)) < 3:
             raise GeoError(f"{where}: a polygon needs 3 or more distinct vertices")
+        from shapely.geometry import Polygon  # shapely (and numpy) loaded on first use: not by every process that starts
+
         if not Polygon([(lon, lat) for lat, lon in points]).is_valid:
             raise GeoError(f"{where}: not a valid polygon (it crosses itself or has no area)")
     else:
@@ -171,6 +173,8 @@ def lawnmower(points: list[tuple[float, float]], spacing: float) -> list[tuple[f
     polygon, boustrophedon; the vertices of a line; the point itself."""
     if len(points) < 3:
         return list(points)
+    from shapely.geometry import LineString, MultiLineString, Polygon
+
     loc = Local(*points[0])
     poly: BaseGeometry = Polygon([loc.xy(*p) for p in points])
     minx, miny, maxx, maxy = poly.bounds
@@ -198,4 +202,6 @@ def lawnmower(points: list[tuple[float, float]], spacing: float) -> list[tuple[f
 
 
 def contains(points: list[tuple[float, float]], lat: float, lon: float) -> bool:
+    from shapely.geometry import Point, Polygon
+
     return bool(Polygon([(b, a) for a, b in points]).contains(Point(lon, lat)))

@@ -15,6 +15,7 @@ from sqlmodel import SQLModel
 from sqlmodel._compat import SQLModelConfig
 
 from sem_console.core import messages
+from sem_console.core.versions import UmaaVersion as UmaaVersion
 from sem_console.storage.models import CommandHandled, CommandIssued, TransitionBase
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
@@ -22,7 +23,6 @@ LinkState = Literal["live", "lost", "regained"]
 InsStateName = Literal["OFF", "ON", "RESTARTING"]  # UMAA 3.0.1: InertialSensorStateEnumType
 # UMAA 6.0: InertialSensorCmdEnumType, what its InertialSensorCommandType's state takes
 InsCommandName = Literal["BEST_ALIGN", "GPS_ALIGN", "INIT", "SNAP_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN"]
-UmaaVersion = Literal["3.0.1", "6.0"]
 
 
 class StrictModel(BaseModel):

@@ -10,7 +10,7 @@ from pydantic import BaseModel, ConfigDict, Field, field_validator, model_valida
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.config import ENV_ONLY, cli
-from sem_console.core.contract import UmaaVersion
+from sem_console.core.versions import UmaaVersion
 from sem_console.umaa.guid import stable_guid
 
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")

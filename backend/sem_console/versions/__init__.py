@@ -10,7 +10,7 @@ and nothing after it asks which version a vehicle speaks, but for the version it
 
 from __future__ import annotations
 
-from sem_console.core.contract import UmaaVersion
+from sem_console.core.versions import UmaaVersion
 
 __all__ = ["UMAA_3_0_1", "UMAA_6_0", "UmaaVersion"]
 UMAA_3_0_1: UmaaVersion = "3.0.1"

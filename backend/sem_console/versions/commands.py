@@ -29,7 +29,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
 from UMAA.Common.Measurement import DateTime
 
-from sem_console.core.contract import UmaaVersion
+from sem_console.core.versions import UmaaVersion
 from sem_console.dds.topics import AnySem, Sem60, Service
 from sem_console.umaa.flow import AnyReason
 from sem_console.umaa.guid import to_guid

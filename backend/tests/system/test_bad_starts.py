@@ -168,6 +168,7 @@ def test_db_and_database_url_together_is_one_line(domain: int, tmp_path: Path) -
     assert "--db and --database-url: give one" in line, line
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["sqlite", "postgresql"])
 def test_a_second_console_of_the_same_name_on_one_database_is_one_line(
     backend: str, domain: int, tmp_path: Path, console: Callable[..., ConsoleProcess], request: pytest.FixtureRequest
@@ -183,6 +184,7 @@ def test_a_second_console_of_the_same_name_on_one_database_is_one_line(
     assert PASSWORD not in line
 
 
+@pytest.mark.slow
 def test_a_second_console_on_one_sqlite_file_is_refused_whatever_its_name(
     domain: int, tmp_path: Path, console: Callable[..., ConsoleProcess]
 ) -> None:
@@ -209,6 +211,7 @@ def test_a_db_in_a_folder_that_does_not_exist_is_one_line(domain: int, tmp_path:
     assert not (tmp_path / "typo").exists()
 
 
+@pytest.mark.slow
 def test_a_new_database_file_is_said_in_one_line_at_start(tmp_path: Path, console: Callable[..., ConsoleProcess]) -> None:
     path = tmp_path / "new.sqlite3"
     out = console("--database-url", str(path)).stop()

@@ -117,6 +117,7 @@ def wait_for_providers(domain: int, n: int, timeout: float = 20.0, sem: AnySem =
     return seen
 
 
+@pytest.mark.slow
 def test_sem_sim_passes_every_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     # a GPS fix slow enough that the cancel reaches it while EXECUTING, and a gap beyond a stall of the simulator, on a
     # machine loaded by the rest of the suite and the browser tests (at 0.1 and 1 s: once the fix COMPLETED first and
@@ -155,6 +156,7 @@ FAULTS = {
 }
 
 
+@pytest.mark.slow
 def test_each_fault_is_caught_by_its_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     faults = list(FAULTS)
     sim(
@@ -275,6 +277,7 @@ def stop_check(
     return p.returncode, "".join(seen) + out, err
 
 
+@pytest.mark.slow
 def test_a_stopped_run_reports_what_it_did(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """A CI job's time limit (SIGTERM) or Ctrl-C: the finished cases keep their results, the one running is an
     error, the rest are skipped as not run, in a valid JUnit report and the summary; the recording is a whole
@@ -619,11 +622,13 @@ def test_a_recorder_that_cannot_start_leaves_no_temporary_directory(tmp_path: Pa
     """--record made a hidden .sem-check-* directory beside the file and left it when the recorder could not start
     (the run's one line, exit 2): an error that root's permissions cannot bring about, so raised here."""
 
-    def refuse(_self: object) -> None:
-        raise runner.RecordingError("cannot record into it: No space left on device")
+    from sem_console.recording.recorder import Recorder, RecordingError
 
-    monkeypatch.setattr(runner.Recorder, "start", refuse)
-    with pytest.raises(runner.RecordingError):
+    def refuse(_self: object) -> None:
+        raise RecordingError("cannot record into it: No space left on device")
+
+    monkeypatch.setattr(Recorder, "start", refuse)
+    with pytest.raises(RecordingError):
         runner.Evidence(tmp_path / "evidence.mcap")
     assert list(tmp_path.iterdir()) == []
 

@@ -244,6 +244,7 @@ def test_a_writer_no_reader_of_the_checker_can_match_says_why(
     ), reason
 
 
+@pytest.mark.slow
 def test_sem_sim_6_0_passes_every_6_0_test(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """A `sem-sim --umaa 6.0` vehicle passes every 6.0 test, its InertialSensorControl flow included (each alignment,
     the update, cancel and cleanup), and only 6.0 tests run."""
@@ -255,6 +256,7 @@ def test_sem_sim_6_0_passes_every_6_0_test(sim: Callable[..., Any], domain: int,
     assert "UMAA 6.0 (by the topics it serves)" in run.out
 
 
+@pytest.mark.slow
 def test_a_mixed_sem_sim_checks_each_vehicle_in_its_version(sim: Callable[..., Any], domain: int, tmp_path: Path) -> None:
     """One `sem-sim --vehicles 2 --umaa-6-0-vehicles 2`: vehicle 1 passes every 3.0.1 test, vehicle 2 every 6.0 test,
     each found by the topics it serves."""
@@ -286,6 +288,7 @@ SIM_FAULTS: dict[str, tuple[str, str]] = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("fault", list(SIM_FAULTS))
 def test_each_sem_sim_fault_fails_the_6_0_test_with_its_reason(
     fault: str, sim: Callable[..., Any], domain: int, tmp_path: Path
@@ -321,6 +324,7 @@ def test_each_sem_sim_fault_fails_the_6_0_test_with_its_reason(
     assert failure_types(run.report) == {"commands.InertialSensor.GPS_ALIGN": "icd"}
 
 
+@pytest.mark.slow
 def test_a_mixed_bus_checks_each_provider_in_its_version(
     sim: Callable[..., Any], provider60: Callable[..., IcdProvider60], domain: int, tmp_path: Path
 ) -> None:

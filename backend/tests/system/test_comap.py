@@ -98,6 +98,7 @@ def polygon_feature(points: list[tuple[float, float]], fid: int | None) -> dict[
     }
 
 
+@pytest.mark.slow
 def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     c, _c_port, _s_port = comap_pair(sim, console)
     here = last_position(c.url)
@@ -154,6 +155,7 @@ def test_survey_task_runs_on_a_simulated_vehicle(sim, console) -> None:
     wait_until(inside, 5, "track points inside the polygon")
 
 
+@pytest.mark.slow
 def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     c, _c_port, _s_port = comap_pair(sim, console, "--survey-speed", "1")
     here = last_position(c.url)
@@ -203,6 +205,7 @@ def test_reject_hold_resume_interrupt_and_move(sim, console) -> None:
     wait_until(lambda: math.hypot(*Local(*dest).xy(*last_position(c.url))) < 1.0, 10, "the vehicle at the destination")
 
 
+@pytest.mark.slow
 def test_task_routes_refuse_bad_requests(console) -> None:
     c = console("--imc-port", str(free_udp_port()), "--imc-host", "127.0.0.1", "--imc-vehicles", f"{V1}=0x2001")
     fc = {"type": "FeatureCollection", "features": []}
@@ -655,6 +658,7 @@ def test_a_task_stored_before_state_at_keeps_its_state_after_the_upgrade(databas
         db.close()
 
 
+@pytest.mark.slow
 def test_a_6_0_vehicle_moves_for_comap_and_its_position_follows(sim, console) -> None:
     """A UMAA 6.0 vehicle (sem-sim --umaa 6.0) under CoMap: its position, from its GlobalPose through the console's one
     model, is CoMap's vehicle position and the track's; a move task takes it to the point, as a 3.0.1 vehicle."""

@@ -9,6 +9,7 @@ from typing import Any
 
 import httpx
 import psycopg
+import pytest
 
 from conftest import ConsoleProcess, free_udp_port
 from sem_console.comap.c2 import FINAL
@@ -43,6 +44,7 @@ def comap_args(c_port: int, s_port: int, imc_id: str) -> tuple[str, ...]:
     )
 
 
+@pytest.mark.slow
 def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restart_keeps_them(
     sim: Callable[..., Any], console: Callable[..., ConsoleProcess], pg_url: str
 ) -> None:
@@ -115,6 +117,7 @@ def test_world_model_and_tasks_reach_the_other_console_which_synchs_and_a_restar
     assert task(again, tid) == task(b, tid)
 
 
+@pytest.mark.slow
 def test_a_restart_keeps_the_world_model_and_tasks_on_sqlite(console: Callable[..., ConsoleProcess]) -> None:
     args = comap_args(free_udp_port(), free_udp_port(), "0x4001")  # no vehicle needed: the task stays ASSIGNED
     c = console(*args)
@@ -137,6 +140,7 @@ def test_a_restart_keeps_the_world_model_and_tasks_on_sqlite(console: Callable[.
     assert [f["properties"]["featureId"] for f in r.json()["features"]] == [2, 3], r.text
 
 
+@pytest.mark.slow
 def test_task_ids_never_collide_between_consoles(console: Callable[..., ConsoleProcess], pg_url: str) -> None:
     """Two consoles assigning at once on one database: every id once (each console alone would count from 1)."""
     a = console("--database-url", pg_url, "--console-name", "watch", *comap_args(free_udp_port(), free_udp_port(), "0x4001"))
@@ -202,6 +206,7 @@ def test_task_ids_wrap_and_run_out_across_stations(database_url: str) -> None:
         two.close()
 
 
+@pytest.mark.slow
 def test_a_database_outage_keeps_comap_working_and_writes_it_after(
     console: Callable[..., ConsoleProcess], pg_cluster: Cluster, pg_url: str
 ) -> None:

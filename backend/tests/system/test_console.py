@@ -381,6 +381,7 @@ def test_a_command_canceled_unanswered_ends_once_the_vehicle_is_heard_again_with
         snapshot.close()
 
 
+@pytest.mark.slow
 def test_a_command_canceled_unanswered_ends_at_the_bound_if_the_vehicle_is_never_heard(sim, console) -> None:
     c = console("--cancel-unheard-bound", "4")
     session = lost_vehicle_command_canceled_unanswered(c, sim())
@@ -465,6 +466,7 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
     assert events.index("lost") < events.index("regained")
 
 
+@pytest.mark.slow
 def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp_path) -> None:
     """`scripts/run` (the console with --sim 1) beside a running `sem-sim`: the console shows the running
     simulator's vehicle 1 and logs why its own did not start; --sim-first-vehicle runs both."""
@@ -486,6 +488,7 @@ def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp
     assert running.proc is not None and running.proc.poll() is None
 
 
+@pytest.mark.slow
 def test_the_embedded_simulator_passes_sem_check_as_sem_sim_does(console, tmp_path) -> None:
     """The README's `scripts/run` (the console with --sim 1) then `sem-check --domain 0`: the embedded simulator is a
     participant of its own, as a vehicle is. On the console's, sem-check took the console's own readers of the command

@@ -151,6 +151,7 @@ def test_gpx_and_csv_exports_of_the_track(sim, console) -> None:
     )
 
 
+@pytest.mark.slow
 def test_commands_csv_has_every_transition_and_the_pager_filters_by_vehicle(sim, console) -> None:
     sim("--vehicles", "2")
     c = console()

@@ -67,3 +67,28 @@ def test_a_cycle_through_type_checking_imports_breaks_the_contracts(tmp_path: Pa
     run = lint_imports(tmp_path, PYTHONPATH=str(tmp_path))
     assert run.returncode == 1, run.stdout + run.stderr
     assert ".sources -> .service" in run.stdout, run.stdout
+
+
+# What each command loads as it starts: every test, vehicle and CI job starts these processes, so a heavy library
+# imported where it is not needed is paid on every start (sem-sim took 1 CPU-second, 0.4 without the database's
+# modules and shapely)
+@pytest.mark.parametrize(
+    "module, not_loaded",
+    [
+        ("sem_console.sim.sem_sim", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
+        ("sem_console.check.cli", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
+        ("sem_console.relay.cli", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
+        ("sem_console.main", ["shapely", "numpy", "aspn23"]),  # CoMap's geometry and the ASPN encoder: on first use
+    ],
+)
+def test_a_command_starts_without_the_libraries_it_does_not_use(module: str, not_loaded: list[str]) -> None:
+    run = subprocess.run(
+        [sys.executable, "-c", f"import sys, {module}; print(' '.join(sorted(sys.modules)))"],
+        cwd=BACKEND,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode == 0, run.stderr
+    loaded = set(run.stdout.split())
+    assert [m for m in not_loaded if m in loaded] == []

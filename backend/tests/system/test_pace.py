@@ -9,6 +9,7 @@ import json
 import time
 
 import httpx
+import pytest
 
 from sem_console.console.hub import Hub
 from sem_console.console.pace import Pacer
@@ -104,6 +105,7 @@ def test_hub_sends_a_lone_report_at_once_and_conflates_while_a_send_is_in_flight
     asyncio.run(scenario())
 
 
+@pytest.mark.slow
 def test_sparse_reports_reach_the_websocket_without_waiting_for_a_long_window(console, domain: int) -> None:
     """A 10 s conflation window: sparse reports still arrive at once; a dense stream is conflated."""
     c = console(env={"SEM_REPORT_INTERVAL": "10", "SEM_REPORT_BURST": "8"})

@@ -383,6 +383,7 @@ def test_sem_replay_republishes_a_recording_that_another_console_shows(sim, cons
         second.stop()
 
 
+@pytest.mark.slow
 def test_a_full_disk_stops_the_recording_not_the_console(sim, console, tmp_path: Path) -> None:
     """A real full disk: a 192 KiB tmpfs (we run as root here). Where mounting is not permitted, the
     console process gets a file size limit instead (RLIMIT_FSIZE: writes past it fail with EFBIG)."""

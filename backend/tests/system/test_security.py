@@ -524,6 +524,7 @@ def test_schemathesis_finds_no_failure_against_the_live_console(sim, console, tm
     schemathesis(c.url, tmp_path, "-H", "Authorization: Bearer s3cret", config=tmp_path / "schemathesis.toml")
 
 
+@pytest.mark.slow
 def test_schemathesis_finds_no_failure_against_a_replay(console, tmp_path: Path) -> None:
     """The same against a console replaying a recording: its command, recording, link configuration and
     CoMap write routes answer 409 (read-only), its playback controls take whatever the schema allows.

@@ -21,14 +21,16 @@ from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import lcm
 
 from sem_console.console.feed import Feed
 from sem_console.core.messages import GatewayState
 from sem_console.gateways import Stats
-from sem_console.gateways.aspn.encode import Encoder, encode, vehicle_key
+
+if TYPE_CHECKING:  # the encoder (ASPN's classes and numpy, a third of a second) is loaded only by a gateway that runs
+    from sem_console.gateways.aspn.encode import Encoder
 
 MAX_LOG_BYTES = 8 * 1024 * 1024
 LCM_MAX_CHANNEL = 63  # characters: LCM over UDP refuses longer channel names (so --aspn-prefix takes at most 11)
@@ -37,6 +39,8 @@ LCM_MAX_CHANNEL = 63  # characters: LCM over UDP refuses longer channel names (s
 def channel_vehicle(vehicle: uuid.UUID) -> str:
     """The vehicle's part of its channel names: its 64-bit key (`vehicle_key`, from the whole GUID) in 16 hex digits;
     its ASPN device_id is the same bits shifted right by one."""
+    from sem_console.gateways.aspn.encode import vehicle_key
+
     return f"{vehicle_key(vehicle):016x}"
 
 
@@ -114,7 +118,7 @@ class AspnGateway:
     def __init__(self, feed: Feed, url: str | None, prefix: str = "aspn23", log_seconds: float = 300.0) -> None:
         self.prefix, self.log_seconds = prefix, log_seconds
         self.stats = Stats("aspn", url is not None, f"{url} ({prefix}/<vehicle>/<measurement>)" if url else None)
-        self.encoder = Encoder()
+        self.encoder: Encoder | None = None
         self.recordings: dict[uuid.UUID, Recording] = {}
         self.lcm: lcm.LCM | None = None
         self._unsubscribe = None
@@ -122,6 +126,9 @@ class AspnGateway:
         self._queue: queue.Queue[tuple[Mapping[str, Any], int] | None] = queue.Queue(QUEUE_SIZE)
         self._worker: threading.Thread | None = None
         if url is not None:
+            from sem_console.gateways.aspn.encode import Encoder
+
+            self.encoder = Encoder()
             self.lcm = open_lcm(url)
             self.stats.count("dropped: queue full", 0)
             self._worker = threading.Thread(target=self._work, name="aspn-gateway", daemon=True)
@@ -152,7 +159,8 @@ class AspnGateway:
     def state(self) -> GatewayState:
         with self._lock:
             out = self.stats.state()
-            out["counters"].update({f"left out: {why}": n for why, n in self.encoder.skipped.items()})
+            if self.encoder is not None:
+                out["counters"].update({f"left out: {why}": n for why, n in self.encoder.skipped.items()})
         return out
 
     def on_message(self, message: Mapping[str, Any]) -> None:
@@ -174,8 +182,11 @@ class AspnGateway:
                     self.stats.error(f"worker: {e!r}")
 
     def _handle(self, message: Mapping[str, Any], now_us: int) -> None:
+        from sem_console.gateways.aspn.encode import encode
+
         envelope = message["report"]
         vehicle = uuid.UUID(message["providerId"])
+        assert self.encoder is not None  # the worker runs only with an LCM URL
         try:
             with self._lock:
                 if message["topic"] == "GPSFixReport":
