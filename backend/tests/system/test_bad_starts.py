@@ -25,7 +25,7 @@ PMTILES_V3 = b"PMTiles\x03" + bytes(119)  # a whole v3 header: magic, version, t
 def refused(args: list[str], domain: int, port: int | None = None, preexec_fn: Callable[[], None] | None = None) -> str:
     """Run the console; assert it refuses to start with exactly one line on stderr; that line."""
     cmd = [str(EXE), "--domain", str(domain), "--port", str(port or free_port()), "--log-level", "info", *args]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=15, preexec_fn=preexec_fn)
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=60, preexec_fn=preexec_fn)
     assert p.returncode == 2, (args, p.returncode, p.stderr[-2000:])
     assert "Traceback" not in p.stderr and p.stdout == "", p.stderr
     lines = p.stderr.splitlines()
@@ -234,7 +234,7 @@ def test_a_value_that_is_no_number_is_one_line_in_the_style_of_the_others(
     args: list[str], env: dict[str, str], line: str, tmp_path: Path
 ) -> None:
     p = subprocess.run(
-        [str(EXE), "--db", str(tmp_path / "db"), *args], capture_output=True, text=True, timeout=15, env={**os.environ, **env}
+        [str(EXE), "--db", str(tmp_path / "db"), *args], capture_output=True, text=True, timeout=60, env={**os.environ, **env}
     )
     assert (p.returncode, p.stdout, p.stderr) == (2, "", line + "\n")
 
