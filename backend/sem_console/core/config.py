@@ -293,6 +293,23 @@ class Settings(BaseSettings):
         description=("JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)"),
     )
     jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
+    foxglove_port: int = Field(
+        0,
+        ge=0,
+        le=65535,
+        json_schema_extra=cli(metavar="PORT"),
+        description=(
+            "serve the fleet, read-only, to Foxglove or Lichtblick over the Foxglove WebSocket protocol on TCP port PORT "
+            "(Foxglove's usual one is 8765; see docs/foxglove.md); 0: off (default)"
+        ),
+    )
+    foxglove_host: str = Field(
+        "127.0.0.1",
+        description=(
+            "address the Foxglove gateway listens on (default: 127.0.0.1); the protocol has no authentication: "
+            "another address is warned about at start"
+        ),
+    )
     basemap: Path | None = Field(
         None,
         json_schema_extra=cli(metavar="FILE.pmtiles"),

@@ -494,7 +494,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     assert state["endpoint"] == f"udp://127.0.0.1:{port} subsystem 42"
     ws = WsClient(c.ws_url)  # every message checked against the published schema
     wait_until(lambda: ws.messages, 5, "the snapshot")
-    assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True}
+    assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True, "foxglove": False}
     ask(station, port, judp(me, 0x2421, everything))
 
     # a gateways message sent before the answer (at most one a second) may still carry the old count: wait for the

@@ -1,0 +1,156 @@
+"""The Foxglove gateway against a real console and sem-sim, read by a Foxglove WebSocket protocol client written from
+the protocol's specification (tests/support/foxglove.py), not from the console's code."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import socket
+import time
+from typing import Any
+
+import httpx
+
+from conftest import free_port
+from support.foxglove import FoxgloveClient, connect
+from test_bad_starts import refused
+from test_console import V1, V2, provider_ready, wait_command
+
+FIX_PATH = ("position2DWithTime", "geodeticPosition")
+
+
+def gateway(base: str) -> dict[str, Any]:
+    return {g["name"]: g for g in httpx.get(f"{base}/api/gateways").json()}["foxglove"]
+
+
+async def until(client: FoxgloveClient, done: Any, seconds: float, what: str) -> None:
+    """Read the client's messages (each to `done`, None for a text message) until `done` says True."""
+    try:
+        async with asyncio.timeout(seconds):
+            async for m in client.messages():
+                if done(m):
+                    return
+    except TimeoutError:
+        raise AssertionError(f"no {what} within {seconds} s") from None
+
+
+def latlon(report: dict[str, Any]) -> tuple[float, float]:
+    p = report["position2DWithTime"]["geodeticPosition"]
+    return p["geodeticLatitude"]["latitude"], p["geodeticLongitude"]["longitude"]
+
+
+def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports(sim, console) -> None:
+    sim("--vehicles", "2")
+    c = console("--foxglove-port", str(free_port()))
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    provider_ready(c.url, V2, {"GPSFixReport"})
+    state = gateway(c.url)
+    assert state["enabled"] and state["lastError"] is None and state["endpoint"].startswith("ws://127.0.0.1:")
+    me, other = f"/vehicles/{V1}/location", f"/vehicles/{V2}/location"
+    fixes: dict[tuple[int, int], dict[str, Any]] = {}  # LocationFix by its time
+    reports: dict[tuple[int, int], dict[str, Any]] = {}  # the GPSFixReport channel's messages of V1 by their time
+    logs: list[dict[str, Any]] = []
+    fleets: list[dict[str, Any]] = []
+    senders: set[str] = set()
+
+    async def session() -> dict[str, Any]:
+        async with connect(state["endpoint"]) as client:
+            wanted = {me, other, "/fleet/locations", "/console/log", "/reports/GPSFixReport", "/reports/GPSReport"}
+            await until(client, lambda _m: wanted <= set(client.topics()), 10, f"advertisement of {wanted}")
+            assert client.server_info["capabilities"] == []  # read-only: no clientPublish, services, parameters
+            topics = client.topics()
+            assert topics[me]["schemaName"] == "foxglove.LocationFix" and topics[me]["encoding"] == "json"
+            assert topics["/fleet/locations"]["schemaName"] == "foxglove.LocationFixes"
+            assert topics["/console/log"]["schemaName"] == "foxglove.Log"
+            schema = json.loads(topics["/reports/GPSFixReport"]["schema"])
+            assert schema["properties"]["report"] == {"$ref": "#/$defs/GPSFixReportType"} and "GPSFixReportType" in schema["$defs"]
+            # nobody subscribed yet: messages are only counted, none encoded
+            await asyncio.sleep(1.5)
+            idle = await asyncio.to_thread(gateway, c.url)
+            assert idle["messagesOut"] == 0 and idle["counters"]["left out: no subscriber"] > 0, idle
+
+            await client.subscribe([me, "/fleet/locations", "/console/log", "/reports/GPSFixReport"])
+            # the vehicle surfaces on a GPS fix command: its transitions are logged, and its fixes get a position
+            session = (await asyncio.to_thread(httpx.post, f"{c.url}/api/providers/{V1}/gps-fix", json={})).json()["sessionId"]
+
+            def take(m: Any) -> bool:
+                if m is not None:
+                    body = m.json()
+                    if m.topic == me:
+                        fixes[(body["timestamp"]["sec"], body["timestamp"]["nsec"])] = body
+                    elif m.topic == "/console/log":
+                        logs.append(body)
+                    elif m.topic == "/fleet/locations":
+                        fleets.append(body)
+                    elif m.topic == "/reports/GPSFixReport":  # the fleet's, each with its vehicle (Plot filters by it)
+                        senders.add(body["providerId"])
+                        t = body["report"]["timeStamp"]
+                        if body["providerId"] == V1:
+                            reports[(t["seconds"], t["nanoseconds"])] = body
+                return any("command completed" in x["message"] for x in logs) and len(fixes) >= 2 and len(fleets) >= 2
+
+            await until(client, take, 30, "the command's completion in the log, two fixes and two fleet messages")
+            command = await asyncio.to_thread(wait_command, c.url, session, 15, lambda x: x["status"] == "COMPLETED")
+            # the fix the console holds now comes on the vehicle's channel with its position
+            rest = (await asyncio.to_thread(httpx.get, f"{c.url}/api/providers/{V1}")).json()["reports"]["GPSFixReport"]
+            t = rest["report"]["timeStamp"]
+            key = (t["seconds"], t["nanoseconds"])
+            await until(client, lambda m: take(m) and key in fixes and key in reports, 10, f"the fix of {key}")
+            return {"rest": rest, "key": key, "command": command, "state": await asyncio.to_thread(gateway, c.url)}
+
+    got = asyncio.run(session())
+    rest, key = got["rest"], got["key"]
+    fix = fixes[key]
+    assert (fix["latitude"], fix["longitude"]) == latlon(rest["report"])
+    assert fix["frame_id"] == V1 and len(fix["position_covariance"]) == 9
+    assert fix["position_covariance_type"] in (0, 2)
+    # the JSON report is what the dashboard gets: the same report, values flagged invalid and all
+    assert reports[key]["report"] == rest["report"] and reports[key]["invalid"] == rest["invalid"]
+    assert senders == {V1, V2}
+    # the fleet: both vehicles, V2 submerged at its INS's position (GPSLatLongValid false), as the dashboard's map has it
+    last = fleets[-1]["fixes"]
+    assert sorted(f["frame_id"] for f in last) == sorted([V1, V2]) and all(isinstance(f["latitude"], float) for f in last)
+    # one log line per transition of the command, at info level, named by its service
+    said = [x for x in logs if x["name"] == f"command/{got['command']['service']}"]
+    assert len(said) == len(got["command"]["transitions"]) and all(x["level"] == 2 for x in said), said
+    last_log = got["command"]["transitions"][-1]["logMessage"]  # the vehicle's own words, after the console's
+    assert said[-1]["message"] == f"{V1}: {got['command']['service']} command completed ({last_log})", said[-1]
+    # V2's location channel has no subscriber: its fixes were never encoded, only counted
+    assert got["state"]["counters"]["left out: no subscriber"] > 0
+    assert got["state"]["messagesOut"] >= len(fixes) + len(logs) + len(fleets) + len(reports)
+
+
+def test_a_foxglove_client_cannot_publish_call_a_service_or_set_a_parameter(sim, console) -> None:
+    sim("--vehicles", "1")
+    c = console("--foxglove-port", str(free_port()))
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    endpoint = gateway(c.url)["endpoint"]
+
+    async def session() -> list[dict[str, Any]]:
+        async with connect(endpoint) as client:
+            await until(client, lambda _m: "/console/log" in client.topics(), 10, "the log channel")
+            command = {"op": "advertise", "channels": [{"id": 7, "topic": f"/vehicles/{V1}/gps-fix", "encoding": "json"}]}
+            await client.send_json({**command, "channels": [{**command["channels"][0], "schemaName": "gps-fix"}]})
+            await client.publish(7, json.dumps({"providerId": V1}).encode())
+            await client.call_service(1, 1, "json", b"{}")
+            await client.send_json({"op": "setParameters", "parameters": [{"name": "vehicle", "value": V1}]})
+            await until(client, lambda _m: len(client.statuses) >= 4, 10, "four refusals")
+            return client.statuses
+
+    statuses = asyncio.run(session())
+    said = [s.get("message", "") for s in statuses]
+    assert any("does not support clientPublish" in x for x in said), said
+    assert any(s["op"] == "serviceCallFailure" and "does not support services" in s["message"] for s in statuses), said
+    assert any("does not support parameters" in x for x in said), said
+    time.sleep(1)
+    assert httpx.get(f"{c.url}/api/commands").json() == []  # nothing reached the console, nor any vehicle
+    assert gateway(c.url)["lastError"] is None
+
+
+def test_a_foxglove_port_in_use_is_one_line(domain: int, tmp_path) -> None:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        port = s.getsockname()[1]
+        line = refused(["--db", str(tmp_path / "db"), "--foxglove-port", str(port)], domain)
+    assert f"TCP 127.0.0.1:{port} is already in use" in line and "pass another --foxglove-port" in line, line
