@@ -7,14 +7,18 @@ import asyncio
 import json
 import socket
 import time
+import uuid
 from typing import Any
 
 import httpx
 
 from conftest import free_port
+from sem_console.umaa.samples import now_datetime
+from support.consumer import Consumer
 from support.foxglove import FoxgloveClient, connect
 from test_bad_starts import refused
 from test_console import V1, V2, provider_ready, wait_command
+from test_gateways import global_pose
 
 FIX_PATH = ("position2DWithTime", "geodeticPosition")
 
@@ -63,7 +67,9 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
             assert topics["/fleet/locations"]["schemaName"] == "foxglove.LocationFixes"
             assert topics["/console/log"]["schemaName"] == "foxglove.Log"
             schema = json.loads(topics["/reports/GPSFixReport"]["schema"])
-            assert schema["properties"]["report"] == {"$ref": "#/$defs/GPSFixReportType"} and "GPSFixReportType" in schema["$defs"]
+            assert (
+                schema["properties"]["report"] == {"$ref": "#/$defs/GPSFixReportType"} and "GPSFixReportType" in schema["$defs"]
+            )
             # nobody subscribed yet: messages are only counted, none encoded
             await asyncio.sleep(1.5)
             idle = await asyncio.to_thread(gateway, c.url)
@@ -118,6 +124,39 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
     # V2's location channel has no subscriber: its fixes were never encoded, only counted
     assert got["state"]["counters"]["left out: no subscriber"] > 0
     assert got["state"]["messagesOut"] >= len(fixes) + len(logs) + len(fleets) + len(reports)
+
+
+def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) -> None:
+    """A UMAA 6.0 vehicle's GlobalPose is its position report in the console's model: its LocationFix comes on the
+    vehicle's channel, with the report's time, and no covariance (GlobalPose gives no down variance)."""
+    from sem_console.dds.topics import Sem60
+
+    c = console("--foxglove-port", str(free_port()))
+    bus = Consumer(domain, name="a-6.0-vehicle").bus
+    vehicle, stamp = uuid.uuid4(), now_datetime()
+    writer = bus.writer(Sem60.GLOBAL_POSE_REPORT)  # alive until the test ends
+    writer.write(global_pose(vehicle, stamp))
+    assert provider_ready(c.url, str(vehicle), {"GPSFixReport"})["umaaVersion"] == "6.0"
+    topic = f"/vehicles/{vehicle}/location"
+
+    async def session() -> dict[str, Any]:
+        async with connect(gateway(c.url)["endpoint"]) as client:
+            await until(client, lambda _m: topic in client.topics(), 10, f"the channel {topic}")
+            await client.subscribe([topic])
+            got: list[dict[str, Any]] = []
+            writer.write(global_pose(vehicle, stamp))  # again, now that a client subscribes
+            await until(client, lambda m: m is not None and not got.append(m.json()), 10, "the 6.0 vehicle's LocationFix")
+            return got[0]
+
+    fix = asyncio.run(session())
+    assert fix == {
+        "timestamp": {"sec": stamp.seconds, "nsec": stamp.nanoseconds},
+        "frame_id": str(vehicle),
+        "latitude": 36.85,
+        "longitude": -75.98,
+        "position_covariance": [0.0] * 9,
+        "position_covariance_type": 0,
+    }
 
 
 def test_a_foxglove_client_cannot_publish_call_a_service_or_set_a_parameter(sim, console) -> None:

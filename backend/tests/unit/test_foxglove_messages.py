@@ -1,0 +1,94 @@
+"""What the Foxglove gateway makes of the console's messages (gateways/foxglove/schemas.py): no process, no server."""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from sem_console.core.messages import Alarm, ReportEnvelope
+from sem_console.gateways.foxglove.schemas import alarm_logs, location_fix, transition_log
+
+
+def fix(lat: float, lon: float, invalid: list[str] | None = None, **report: Any) -> ReportEnvelope:
+    position = {"geodeticLatitude": {"latitude": lat}, "geodeticLongitude": {"longitude": lon}}
+    body = {"position2DWithTime": {"geodeticPosition": position}, "timeStamp": {"seconds": 100, "nanoseconds": 5}, **report}
+    return {"report": body, "invalid": invalid or [], "receivedAt": 200.25}
+
+
+def alarm(id: int, state: str = "active-unacknowledged", severity: str = "alarm") -> Alarm:
+    return {
+        "id": id,
+        "kind": "link-lost",
+        "severity": severity,
+        "providerId": None,
+        "vehicle": "Alpha",
+        "sessionId": None,
+        "text": f"Alpha: link lost {id}",
+        "since": 50.5,
+        "state": state,
+        "clearedAt": None,
+        "ackedAt": None,
+        "ackedBy": None,
+        "cause": "",
+        "chattering": False,
+        "shelf": None,
+        "returned": None,
+    }
+
+
+def test_a_fix_is_a_location_fix_with_its_covariance_turned_to_east_north_up() -> None:
+    covariance = {"pnPn": 16.0, "pePe": 9.0, "pdPd": 4.0}
+    got = location_fix(fix(36.85, -75.98, positionCovariance=covariance), "Alpha")
+    assert got == {
+        "timestamp": {"sec": 100, "nsec": 5},
+        "frame_id": "Alpha",
+        "latitude": 36.85,
+        "longitude": -75.98,
+        "position_covariance": [9.0, 0.0, 0.0, 0.0, 16.0, 0.0, 0.0, 0.0, 4.0],
+        "position_covariance_type": 2,
+    }
+    # a UMAA 6.0 GlobalPose gives no down variance: the covariance is then unknown, not made up
+    partial = location_fix(fix(36.85, -75.98, positionCovariance={**covariance, "pdPd": None}), "Alpha")
+    assert partial is not None and partial["position_covariance_type"] == 0 and partial["position_covariance"] == [0.0] * 9
+
+
+def test_a_fix_without_a_valid_position_is_no_location_fix_and_a_bad_time_is_the_console_s() -> None:
+    assert location_fix(fix(math.nan, 1.0), "A") is None
+    bad = ["position2DWithTime.geodeticPosition.geodeticLatitude.latitude: 95.0 is out of range"]
+    assert location_fix(fix(95.0, 1.0, bad), "A") is None
+    stale = location_fix(fix(1.0, 2.0, ["timeStamp.nanoseconds: 2000000000 is out of range"]), "A")
+    assert stale is not None and stale["timestamp"] == {"sec": 200, "nsec": 250_000_000}
+
+
+def test_alarms_are_logged_when_raised_changed_and_gone() -> None:
+    raised = alarm_logs({}, [alarm(1), alarm(2, severity="warning")], 60.0)
+    assert [(x["level"], x["message"], x["name"], x["timestamp"]) for x in raised] == [
+        (4, "Alpha: link lost 1", "alarm/link-lost", {"sec": 50, "nsec": 500_000_000}),
+        (3, "Alpha: link lost 2", "alarm/link-lost", {"sec": 50, "nsec": 500_000_000}),
+    ]
+    before = {1: alarm(1), 2: alarm(2)}
+    changed = alarm_logs(before, [alarm(1, state="active-acknowledged")], 61.0)
+    assert [(x["level"], x["message"]) for x in changed] == [
+        (2, "Acknowledged: Alpha: link lost 1"),
+        (2, "No longer active: Alpha: link lost 2"),
+    ]
+    assert alarm_logs(before, list(before.values()), 62.0) == []
+
+
+def test_a_failed_transition_is_an_error_in_the_operator_s_words() -> None:
+    transition = {
+        "seq": 3,
+        "status": "FAILED",
+        "reason": "RESOURCE_FAILED",
+        "logMessage": "",
+        "violation": None,
+        "providerTime": None,
+        "receivedAt": 70.0,
+    }
+    m: Any = {"type": "transition", "sessionId": "s", "transition": transition, "command": {"service": "GPSFix"}}
+    got = transition_log(m, "Alpha")
+    assert (got["level"], got["message"], got["name"]) == (
+        4,
+        "Alpha: GPSFix command failed: the equipment failed",
+        "command/GPSFix",
+    )
