@@ -8,6 +8,7 @@ import json
 import socket
 import time
 import uuid
+from pathlib import Path
 from typing import Any
 
 import httpx
@@ -19,6 +20,7 @@ from support.foxglove import FoxgloveClient, connect
 from test_bad_starts import refused
 from test_console import V1, V2, provider_ready, wait_command
 from test_gateways import global_pose
+from test_replay import synthetic_recording
 
 FIX_PATH = ("position2DWithTime", "geodeticPosition")
 
@@ -157,6 +159,22 @@ def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) ->
         "position_covariance": [0.0] * 9,
         "position_covariance_type": 0,
     }
+
+
+def test_a_replay_is_served_as_it_plays(console, tmp_path: Path) -> None:
+    """With --replay the gateway reads the console's feed as it always does: the replayed reports come out."""
+    recording = synthetic_recording(tmp_path / "rec", seconds=8)
+    r = console("--replay", str(recording), "--replay-speed", "0.25", "--foxglove-port", str(free_port()))
+    seen: list[dict[str, Any]] = []
+
+    async def session() -> None:
+        async with connect(gateway(r.url)["endpoint"]) as client:
+            await until(client, lambda _m: "/reports/GPSFixReport" in client.topics(), 20, "the GPSFixReport channel")
+            await client.subscribe(["/reports/GPSFixReport"])
+            await until(client, lambda m: m is not None and not seen.append(m.json()), 20, "a replayed GPSFixReport")
+
+    asyncio.run(session())
+    assert seen[0]["providerId"] == V1
 
 
 def test_a_foxglove_client_cannot_publish_call_a_service_or_set_a_parameter(sim, console) -> None:
