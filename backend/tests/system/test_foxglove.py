@@ -6,12 +6,15 @@ from __future__ import annotations
 import asyncio
 import json
 import socket
+import subprocess
+import sys
 import time
 import uuid
 from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 
 from conftest import free_port
 from sem_console.umaa.samples import now_datetime
@@ -211,3 +214,54 @@ def test_a_foxglove_port_in_use_is_one_line(domain: int, tmp_path) -> None:
         port = s.getsockname()[1]
         line = refused(["--db", str(tmp_path / "db"), "--foxglove-port", str(port)], domain)
     assert f"TCP 127.0.0.1:{port} is already in use" in line and "pass another --foxglove-port" in line, line
+
+
+# A client that stopped reading (a laptop asleep at the end of an SSH tunnel): megabytes of reports wait for it in its
+# socket. The gateway is run in a process of its own, so that a stop that never returns cannot hold the tests' process.
+STALLED_CLIENT = """
+import asyncio, os, sys, time, uuid
+sys.path.insert(0, "tests")
+from sem_console.console.feed import Feed
+from sem_console.gateways.foxglove.gateway import FoxgloveGateway
+from support.foxglove import connect
+
+async def main() -> None:
+    feed, vehicle = Feed(), str(uuid.uuid4())
+    gateway = FoxgloveGateway(feed, int(sys.argv[1]))
+    await gateway.start()
+    def report() -> None:
+        envelope = {"report": {"pad": "x" * 1000}, "invalid": [], "receivedAt": time.time()}
+        feed.publish({"type": "report", "providerId": vehicle, "topic": "GPSReport", "report": envelope})
+    report()
+    async with connect(gateway.stats.endpoint) as client:
+        async for _ in client.messages():
+            if "/reports/GPSReport" in client.topics():
+                break
+        await client.subscribe(["/reports/GPSReport"])
+        while not gateway.channels["/reports/GPSReport"].has_sinks():
+            await asyncio.sleep(0.05)
+        for _ in range(20000):  # 20 MB: more than the sockets between them hold; the client reads none of it
+            report()
+        started = time.monotonic()
+        await gateway.stop()
+        print(f"{time.monotonic() - started:.1f}", flush=True)
+        os._exit(0)  # at once: closing the client that reads nothing would wait for its close handshake
+
+asyncio.run(main())
+"""
+
+
+@pytest.mark.process
+def test_a_client_that_stopped_reading_does_not_hold_the_consoles_shutdown() -> None:
+    try:
+        run = subprocess.run(
+            [sys.executable, "-c", STALLED_CLIENT, str(free_port())],
+            cwd=Path(__file__).resolve().parents[2],
+            capture_output=True,
+            text=True,
+            timeout=30,
+        )
+    except subprocess.TimeoutExpired:
+        raise AssertionError("the Foxglove gateway did not stop within 30 s") from None
+    assert run.returncode == 0, run.stderr
+    assert float(run.stdout.split()[-1]) < 10, run.stdout

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import threading
 import time
 from collections.abc import Mapping
 from typing import Any, cast
@@ -23,12 +24,13 @@ from foxglove.websocket import WebSocketServer
 
 from sem_console.console.feed import Feed
 from sem_console.core.messages import Alarm, GatewayState, ReportEnvelope, TransitionMessage
-from sem_console.gateways import Stats
+from sem_console.gateways import Stats, log
 from sem_console.gateways.foxglove import schemas
 
 FLEET_PERIOD = 1.0  # seconds between two LocationFixes of the fleet
 FLEET_TOPIC = "/fleet/locations"
 LOG_TOPIC = "/console/log"
+STOP_SECONDS = 3.0  # the longest the console's shutdown waits for foxglove-sdk's server to stop
 
 
 def vehicle_topic(provider_id: str) -> str:
@@ -89,7 +91,14 @@ class FoxgloveGateway:
             with contextlib.suppress(asyncio.CancelledError):
                 await self._task
         if self.server is not None:
-            await asyncio.to_thread(self.server.stop)
+            # foxglove-sdk's stop waits until every client took what was queued for it: a client that stopped reading
+            # (asleep at the end of an SSH tunnel) would hold it, and the console's shutdown, for ever
+            stopping = threading.Thread(target=self.server.stop, name="foxglove-stop", daemon=True)
+            stopping.start()
+            await asyncio.to_thread(stopping.join, STOP_SECONDS)
+            if stopping.is_alive():
+                log.warning("foxglove gateway: its server did not stop within %.0f s (a client stopped reading)", STOP_SECONDS)
+            self.server = None
 
     def state(self) -> GatewayState:
         return self.stats.state()
