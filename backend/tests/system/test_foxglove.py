@@ -265,3 +265,17 @@ def test_a_client_that_stopped_reading_does_not_hold_the_consoles_shutdown() -> 
         raise AssertionError("the Foxglove gateway did not stop within 30 s") from None
     assert run.returncode == 0, run.stderr
     assert float(run.stdout.split()[-1]) < 10, run.stdout
+
+
+@pytest.mark.process
+def test_the_console_starts_without_foxglove_sdk_when_the_gateway_is_off() -> None:
+    """foxglove-sdk (its native library, a few tens of milliseconds) is loaded only by a Foxglove gateway that runs."""
+    run = subprocess.run(
+        [sys.executable, "-c", "import sys, sem_console.main; print(' '.join(sorted(sys.modules)))"],
+        cwd=Path(__file__).resolve().parents[2],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode == 0, run.stderr
+    assert [m for m in run.stdout.split() if m == "foxglove" or m.startswith("foxglove.")] == []

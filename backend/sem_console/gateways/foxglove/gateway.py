@@ -16,16 +16,18 @@ import contextlib
 import threading
 import time
 from collections.abc import Mapping
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, cast
 
-import foxglove
 import orjson
-from foxglove.websocket import WebSocketServer
 
 from sem_console.console.feed import Feed
 from sem_console.core.messages import Alarm, GatewayState, ReportEnvelope, TransitionMessage
 from sem_console.gateways import Stats, log
 from sem_console.gateways.foxglove import schemas
+
+if TYPE_CHECKING:  # foxglove-sdk (its native library) is loaded only by a gateway that runs
+    import foxglove
+    from foxglove.websocket import WebSocketServer
 
 FLEET_PERIOD = 1.0  # seconds between two LocationFixes of the fleet
 FLEET_TOPIC = "/fleet/locations"
@@ -41,15 +43,11 @@ def report_topic(topic: str) -> str:
     return f"/reports/{topic}"
 
 
-def _schema(name: str, schema: dict[str, Any]) -> foxglove.Schema:
-    return foxglove.Schema(name=name, encoding="jsonschema", data=orjson.dumps(schema))
-
-
 class FoxgloveGateway:
     def __init__(self, feed: Feed, port: int, host: str = "127.0.0.1") -> None:
         self.port, self.host = port, host
         self.stats = Stats("foxglove", port != 0)
-        self.context = foxglove.Context()  # this gateway's channels only (not foxglove-sdk's global ones)
+        self.context: foxglove.Context | None = None  # this gateway's channels only (not foxglove-sdk's global ones)
         self.server: WebSocketServer | None = None
         self.channels: dict[str, foxglove.Channel] = {}
         self.fixes: dict[str, ReportEnvelope] = {}  # provider id -> its latest GPSFixReport
@@ -61,7 +59,10 @@ class FoxgloveGateway:
     async def start(self) -> None:
         if not self.port:
             return
+        import foxglove
+
         self.stats.endpoint = f"ws://{self._where(self.port)}"
+        self.context = foxglove.Context()
         try:  # sem-console checked the port at start (cli.py); it can still be taken since
             server = await asyncio.to_thread(
                 foxglove.start_server,
@@ -107,7 +108,10 @@ class FoxgloveGateway:
     def _channel(self, topic: str, schema_name: str, schema: dict[str, Any]) -> foxglove.Channel:
         ch = self.channels.get(topic)
         if ch is None:
-            ch = foxglove.Channel(topic, schema=_schema(schema_name, schema), message_encoding="json", context=self.context)
+            import foxglove
+
+            described = foxglove.Schema(name=schema_name, encoding="jsonschema", data=orjson.dumps(schema))
+            ch = foxglove.Channel(topic, schema=described, message_encoding="json", context=self.context)
             self.channels[topic] = ch
         return ch
 
