@@ -52,6 +52,17 @@ def test_a_fix_is_a_location_fix_with_its_covariance_turned_to_east_north_up() -
     assert partial is not None and partial["position_covariance_type"] == 0 and partial["position_covariance"] == [0.0] * 9
 
 
+def test_a_location_fix_s_altitude_is_the_height_above_the_ellipsoid_a_6_0_vehicle_gives() -> None:
+    above_sea = {"altitudeMSL": {"altitude": 3.0}}
+    got = location_fix(fix(36.85, -75.98, altitudeGeodetic=-33.5, **above_sea), "Alpha")
+    assert got is not None and got["altitude"] == -33.5
+    # a 3.0.1 vehicle gives only its height above mean sea level: no altitude rather than a wrong one
+    old = location_fix(fix(36.85, -75.98, altitudeGeodetic=None, **above_sea), "Alpha")
+    assert old is not None and "altitude" not in old
+    flagged = location_fix(fix(1.0, 2.0, ["altitudeGeodetic: 900000.0 is out of range"], altitudeGeodetic=9e5), "A")
+    assert flagged is not None and "altitude" not in flagged
+
+
 def test_a_fix_without_a_valid_position_is_no_location_fix_and_a_bad_time_is_the_console_s() -> None:
     assert location_fix(fix(math.nan, 1.0), "A") is None
     bad = ["position2DWithTime.geodeticPosition.geodeticLatitude.latitude: 95.0 is out of range"]

@@ -32,7 +32,11 @@ LOCATION_FIX: dict[str, Any] = {
         "frame_id": {"type": "string", "description": "the vehicle's name, else its id"},
         "latitude": {"type": "number"},
         "longitude": {"type": "number"},
-        "altitude": {"type": "number", "description": "left out: UMAA gives the height above mean sea level"},
+        "altitude": {
+            "type": "number",
+            "description": "metres above the WGS 84 ellipsoid: a UMAA 6.0 vehicle's altitudeGeodetic; left out without it "
+            "(UMAA 3.0.1 gives only the height above mean sea level)",
+        },
         "position_covariance": {"type": "array", "items": {"type": "number"}, "minItems": 9, "maxItems": 9},
         "position_covariance_type": {"type": "integer", "enum": [0, 1, 2, 3]},
     },
@@ -105,7 +109,7 @@ def location_fix(envelope: ReportEnvelope, frame_id: str) -> dict[str, Any] | No
     north, east, down = (number(report, invalid, f"positionCovariance.{v}") for v in ("pnPn", "pePe", "pdPd"))
     known = north is not None and east is not None and down is not None
     covariance = [east, 0.0, 0.0, 0.0, north, 0.0, 0.0, 0.0, down] if known else [0.0] * 9
-    return {
+    fix: dict[str, Any] = {
         "timestamp": stamp,
         "frame_id": frame_id,
         "latitude": lat,
@@ -113,6 +117,10 @@ def location_fix(envelope: ReportEnvelope, frame_id: str) -> dict[str, Any] | No
         "position_covariance": covariance,
         "position_covariance_type": COVARIANCE_DIAGONAL_KNOWN if known else COVARIANCE_UNKNOWN,
     }
+    # LocationFix's altitude is above the WGS 84 ellipsoid: a 6.0 GlobalPose's altitudeGeodetic, never altitudeMSL
+    if (height := number(report, invalid, "altitudeGeodetic")) is not None:
+        fix["altitude"] = height
+    return fix
 
 
 def log(at: float, level: int, message: str, name: str) -> dict[str, Any]:
