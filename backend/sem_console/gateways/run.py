@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import time
 from collections.abc import Callable
 
 from sem_console.console.feed import Feed
@@ -17,10 +18,11 @@ STATE_PERIOD = 1.0  # seconds between `gateways` WebSocket messages (sent only w
 
 
 class Gateways:
-    def __init__(self, settings: Settings, feed: Feed) -> None:
+    def __init__(self, settings: Settings, feed: Feed, now: Callable[[], float] = time.time) -> None:
+        """`now`: the console's clock (UTC seconds), the recording's time in a replay."""
         self.aspn = AspnGateway(feed, settings.aspn_lcm, settings.aspn_prefix, settings.aspn_log_seconds)
         self.jaus = JausGateway(feed, settings.jaus_port, settings.jaus_subsystem, settings.jaus_host or settings.host)
-        self.foxglove = FoxgloveGateway(feed, settings.foxglove_port, settings.foxglove_host)
+        self.foxglove = FoxgloveGateway(feed, settings.foxglove_port, settings.foxglove_host, now)
         self._task: asyncio.Task[None] | None = None
 
     def states(self) -> list[GatewayState]:

@@ -15,7 +15,7 @@ import asyncio
 import contextlib
 import threading
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING, Any, cast
 
 import orjson
@@ -44,8 +44,9 @@ def report_topic(topic: str) -> str:
 
 
 class FoxgloveGateway:
-    def __init__(self, feed: Feed, port: int, host: str = "127.0.0.1") -> None:
-        self.port, self.host = port, host
+    def __init__(self, feed: Feed, port: int, host: str = "127.0.0.1", now: Callable[[], float] = time.time) -> None:
+        """`now`: the console's clock (UTC seconds), the recording's time in a replay."""
+        self.port, self.host, self.now = port, host, now
         self.stats = Stats("foxglove", port != 0)
         self.context: foxglove.Context | None = None  # this gateway's channels only (not foxglove-sdk's global ones)
         self.server: WebSocketServer | None = None
@@ -142,7 +143,7 @@ class FoxgloveGateway:
             entry = schemas.transition_log(m, self._vehicle(m["command"]["providerId"]))
             self._log(self.channels[LOG_TOPIC], entry, m["transition"]["receivedAt"])
         elif kind == "alarms":
-            now = time.time()
+            now = self.now()
             for entry in schemas.alarm_logs(self.alarms, message["alarms"], now):
                 self._log(self.channels[LOG_TOPIC], entry, now)
             self.alarms = {a["id"]: a for a in message["alarms"]}
@@ -175,4 +176,4 @@ class FoxgloveGateway:
                 self.stats.count("left out: no subscriber")
                 continue
             fixes = [f for pid, e in self.fixes.items() if (f := schemas.location_fix(e, self._vehicle(pid))) is not None]
-            self._log(ch, {"fixes": fixes}, time.time())
+            self._log(ch, {"fixes": fixes}, self.now())
