@@ -357,6 +357,14 @@ class Settings(BaseSettings):
             )
         return v
 
+    @field_validator("foxglove_host")
+    @classmethod
+    def _foxglove_host(cls, v: str) -> str:
+        """foxglove-sdk's server takes no empty address (every interface to the start's check of the port)."""
+        if not v.strip():
+            raise ValueError("an empty address: give one, 127.0.0.1 (this machine) or 0.0.0.0 (every interface)")
+        return v
+
     @field_validator("imc_id", mode="before")
     @classmethod
     def _imc_id_hex(cls, v: Any) -> Any:

@@ -227,6 +227,12 @@ def test_a_foxglove_port_in_use_is_one_line(domain: int, tmp_path) -> None:
     assert f"TCP 127.0.0.1:{port} is already in use" in line and "pass another --foxglove-port" in line, line
 
 
+def test_a_foxglove_host_the_server_cannot_take_is_one_line(domain: int, tmp_path) -> None:
+    """An empty address is every interface to the start's check of the port, and none to foxglove-sdk's server."""
+    line = refused(["--db", str(tmp_path / "db"), "--foxglove-port", str(free_port()), "--foxglove-host", ""], domain)
+    assert line.startswith("sem-console: error: --foxglove-host: an empty address: give one"), line
+
+
 # A client that stopped reading (a laptop asleep at the end of an SSH tunnel): megabytes of reports wait for it in its
 # socket. The gateway is run in a process of its own, so that a stop that never returns cannot hold the tests' process.
 STALLED_CLIENT = """
