@@ -72,9 +72,7 @@ def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports
             assert topics["/fleet/locations"]["schemaName"] == "foxglove.LocationFixes"
             assert topics["/console/log"]["schemaName"] == "foxglove.Log"
             schema = json.loads(topics["/reports/GPSFixReport"]["schema"])
-            assert (
-                schema["properties"]["report"] == {"$ref": "#/$defs/GPSFixReportType"} and "GPSFixReportType" in schema["$defs"]
-            )
+            assert schema["properties"]["report"]["title"] == "GPSFixReportType" and "$defs" not in schema
             # nobody subscribed yet: messages are only counted, none encoded
             await asyncio.sleep(1.5)
             idle = await asyncio.to_thread(gateway, c.url)

@@ -6,7 +6,33 @@ import math
 from typing import Any
 
 from sem_console.core.messages import Alarm, ReportEnvelope
+from sem_console.gateways.foxglove import schemas
 from sem_console.gateways.foxglove.schemas import alarm_logs, location_fix, transition_log
+
+SCALARS = ("boolean", "string", "number", "integer")
+
+
+def unreadable(schema: dict[str, Any], at: str = "") -> list[str]:
+    """What Foxglove's and Lichtblick's reader of a JSON channel's schema (parseJsonSchema of @foxglove/mcap-support)
+    refuses, as its rules are: an object with properties, each a boolean, string, number, integer, object or array of
+    them, no $ref, anyOf or list of types. A channel it refuses is left out of the player (\"Failed to parse channel
+    schema\"), with its panels."""
+    if schema.get("type") != "object" or not isinstance(schema.get("properties"), dict):
+        return [f"{at or '/'}: not an object with properties"]
+    out = []
+    for name, field in schema["properties"].items():
+        kind = field.get("type")
+        if kind == "object":
+            out += unreadable(field, f"{at}/{name}")
+        elif kind == "array":
+            item = field.get("items", {})
+            if item.get("type") == "object":
+                out += unreadable(item, f"{at}/{name}[]")
+            elif item.get("type") not in SCALARS:
+                out.append(f"{at}/{name}[]: {item}")
+        elif kind not in SCALARS:
+            out.append(f"{at}/{name}: {field}")
+    return out
 
 
 def fix(lat: float, lon: float, invalid: list[str] | None = None, **report: Any) -> ReportEnvelope:
@@ -103,3 +129,15 @@ def test_a_failed_transition_is_an_error_in_the_operator_s_words() -> None:
         "Alpha: GPSFix command failed: the equipment failed",
         "command/GPSFix",
     )
+
+
+def test_every_channel_s_schema_is_one_foxglove_and_lichtblick_read() -> None:
+    from sem_console.codec.jsonschema import report_schemas
+
+    reports = [name for name, d in report_schemas().items() if name.endswith("ReportType") and d.get("type") == "object"]
+    assert {"GPSReportType", "GPSFixReportType", "GPSFixStatusReportType", "InertialSensorReportType"} <= set(reports)
+    for schema in [schemas.LOCATION_FIX, schemas.LOCATION_FIXES, schemas.LOG, *map(schemas.report_schema, reports)]:
+        assert unreadable(schema) == [], schema["title"]
+    fix = schemas.report_schema("GPSFixReportType")["properties"]["report"]
+    # the report's members as the reader needs them: a nullable member is its type (a null reads as absent)
+    assert fix["properties"]["SOG"]["type"] == "number" and fix["properties"]["GPSLatLongValid"]["type"] == "boolean"

@@ -67,22 +67,47 @@ LOG: dict[str, Any] = {
 
 @functools.cache
 def report_schema(type_name: str) -> dict[str, Any]:
-    """A report channel's message: the vehicle, then the report's envelope as the dashboard gets it."""
+    """A report channel's message: the vehicle, then the report's envelope as the dashboard gets it; in the JSON Schema
+    Foxglove's and Lichtblick's reader takes (`readable`)."""
     from sem_console.codec.jsonschema import report_schemas
 
-    return {
-        "title": f"sem_console.{type_name}",
-        "type": "object",
-        "properties": {
-            "providerId": {"type": "string", "format": "uuid"},
-            "vehicle": {"type": ["string", "null"], "description": "the vehicle's name in the console"},
-            "receivedAt": {"type": "number", "description": "UTC seconds the console received it"},
-            "invalid": {"type": "array", "items": {"type": "string"}, "description": "values flagged invalid, and why"},
-            "report": {"$ref": f"#/$defs/{type_name}"},
+    schema: dict[str, Any] = readable(
+        {
+            "title": f"sem_console.{type_name}",
+            "type": "object",
+            "properties": {
+                "providerId": {"type": "string", "format": "uuid"},
+                "vehicle": {"type": ["string", "null"], "description": "the vehicle's name in the console"},
+                "receivedAt": {"type": "number", "description": "UTC seconds the console received it"},
+                "invalid": {"type": "array", "items": {"type": "string"}, "description": "values flagged invalid, and why"},
+                "report": {"$ref": f"#/$defs/{type_name}"},
+            },
+            "required": ["providerId", "vehicle", "receivedAt", "invalid", "report"],
         },
-        "required": ["providerId", "vehicle", "receivedAt", "invalid", "report"],
-        "$defs": report_schemas(),
-    }
+        report_schemas(),
+    )
+    return schema
+
+
+def readable(node: Any, defs: dict[str, Any]) -> Any:
+    """A JSON Schema as Foxglove's and Lichtblick's reader of a JSON channel's schema takes it (it knows objects,
+    arrays, booleans, strings and numbers, and refuses the whole channel for anything else): each `$ref` to `defs`
+    inlined, a nullable member (`anyOf` with null, a list of types with null) its one other type, a null reading as
+    absent."""
+    if isinstance(node, list):
+        return [readable(x, defs) for x in node]
+    if not isinstance(node, dict):
+        return node
+    if "$ref" in node:
+        rest = {k: v for k, v in node.items() if k != "$ref"}
+        return {**readable(defs[node["$ref"].rsplit("/", 1)[-1]], defs), **readable(rest, defs)}
+    if "anyOf" in node and len(others := [x for x in node["anyOf"] if x != {"type": "null"}]) == 1:
+        rest = {k: v for k, v in node.items() if k != "anyOf"}
+        return {**readable(others[0], defs), **readable(rest, defs)}
+    out = {k: readable(v, defs) for k, v in node.items()}
+    if isinstance(kinds := out.get("type"), list) and len(others := [k for k in kinds if k != "null"]) == 1:
+        out["type"] = others[0]
+    return out
 
 
 def time_of(seconds: float) -> dict[str, int]:
