@@ -24,6 +24,7 @@ ORDER = (
     "decode",
     "roundtrip",
     "recording",
+    "foxglove",
     "mcap_write",
     "opscentre",
     "soak",

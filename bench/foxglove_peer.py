@@ -2,18 +2,15 @@
 report topic feeding Foxglove's WebSocket server (`foxglove-sdk`), every sample published as JSON on
 a channel per topic, as it arrives. It runs in a process of its own (so its CPU is measured apart):
     foxglove_peer.py DOMAIN PORT
-`peer()` starts it; `foxglove_collect()` is a client of the Foxglove WebSocket protocol (the
-`foxglove.sdk.v1` subprotocol foxglove-sdk speaks, the framing of `foxglove.websocket.v1`) that
-subscribes to every channel and timestamps arrivals.
+`peer()` starts it; `foxglove_collect()` subscribes to every channel with the tests' client of the Foxglove WebSocket
+protocol (backend/tests/support/foxglove.py) and timestamps arrivals.
 """
 
 from __future__ import annotations
 
 import dataclasses
 import enum
-import json
 import socket
-import struct
 import sys
 import time
 from collections.abc import Callable, Iterator
@@ -22,9 +19,6 @@ from typing import Any
 
 import common
 from common import Proc
-
-SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]  # foxglove-sdk 0.30 accepts only the first
-MESSAGE_DATA = 0x01  # binary opcode: u8 op, u32 subscription id, u64 log time (ns), payload
 
 
 def jsonable(x: Any) -> Any:
@@ -96,22 +90,19 @@ def peer(domain: int) -> Iterator[tuple[Proc, str]]:
 
 async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, dict[str, Any], float], None]) -> None:
     """Subscribe to every channel for `seconds`, calling on_message(topic, sample, arrival_time) per message."""
-    import websockets
+    from support.foxglove import connect
 
-    async with websockets.connect(url, subprotocols=SUBPROTOCOLS, max_size=2**26) as ws:  # type: ignore[arg-type]
-        topic_of: dict[int, str] = {}
-        async for data in common.for_seconds(ws, seconds):
+    async with connect(url) as client:
+        subscribed: set[str] = set()
+        async for m in common.for_seconds(client.messages(), seconds):
             now = time.time()
-            if isinstance(data, str):
-                msg = json.loads(data)
-                if msg.get("op") == "advertise":
-                    subs = [{"id": len(topic_of) + i + 1, "channelId": c["id"]} for i, c in enumerate(msg["channels"])]
-                    for s, c in zip(subs, msg["channels"], strict=True):
-                        topic_of[s["id"]] = c["topic"]
-                    await ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
-            elif data and data[0] == MESSAGE_DATA:
-                (sub,) = struct.unpack_from("<I", data, 1)
-                on_message(topic_of.get(sub, "?"), json.loads(data[13:]), now)
+            if m is None:  # a text message: subscribe to the channels advertised since
+                new = [t for t in client.topics() if t not in subscribed]
+                if new:
+                    subscribed.update(new)
+                    await client.subscribe(new)
+            else:
+                on_message(m.topic, m.json(), now)
 
 
 def sample_latency(sample: dict[str, Any], now: float) -> float | None:

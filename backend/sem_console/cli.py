@@ -93,6 +93,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         listeners = listen(settings.host, settings.port)
         check_udp_ports(settings)
+        if settings.foxglove_port:  # bound by foxglove-sdk's own server once the application starts: checked here
+            for sock in listen(settings.foxglove_host, settings.foxglove_port, "--foxglove-port", "--foxglove-host"):
+                sock.close()
     except StartError as e:
         parser.error(str(e))
     # the database's and DDS's modules (about 0.3 s) once the checks above passed: a bad start is told before them
@@ -179,6 +182,12 @@ def start_warnings(settings: Settings) -> list[str]:
         out.append(
             f"listening on {settings.host} with operator tokens and no TLS: tokens cross the network in clear "
             "text (--tls-certfile and --tls-keyfile, or a TLS reverse proxy)"
+        )
+    if settings.foxglove_port and settings.foxglove_host not in ("127.0.0.1", "localhost", "::1"):
+        out.append(
+            f"--foxglove-host {settings.foxglove_host}: the Foxglove WebSocket protocol has no authentication: anyone who "
+            f"reaches port {settings.foxglove_port} reads the whole fleet (keep 127.0.0.1 and reach it over an SSH tunnel: "
+            "docs/foxglove.md)"
         )
     if "*" in settings.host_names():
         out.append(
@@ -295,15 +304,17 @@ def check_tls(certfile: Path, keyfile: Path) -> str | None:
     return None
 
 
-def listen(host: str, port: int) -> list[socket.socket]:
+def listen(host: str, port: int, option: str = "--port", host_option: str = "--host") -> list[socket.socket]:
     """Sockets bound to every address of `host` at `port`, as uvicorn (asyncio's create_server) binds them,
     to hand to uvicorn: a busy port is then found before anything starts, and nothing takes it meanwhile.
-    StartError names the host and port and what to do."""
+    StartError names the host and port (as `option` and `host_option`) and what to do."""
     where = f"{host}:{port}" if ":" not in host else f"[{host}]:{port}"
     try:
         infos = socket.getaddrinfo(host or None, port, socket.AF_UNSPEC, socket.SOCK_STREAM, 0, socket.AI_PASSIVE)
     except socket.gaierror as e:
-        raise StartError(f"--host {host}: not an address of this machine ({e.strerror}): pass another --host") from None
+        raise StartError(
+            f"{host_option} {host}: not an address of this machine ({e.strerror}): pass another {host_option}"
+        ) from None
     sockets: list[socket.socket] = []
     for family, kind, proto, _name, address in dict.fromkeys(infos):
         sock = socket.socket(family, kind, proto)
@@ -316,7 +327,7 @@ def listen(host: str, port: int) -> list[socket.socket]:
         except OSError as e:
             for s in sockets:
                 s.close()
-            raise StartError(port_problem("--port", "--host", "TCP", where, e)) from None
+            raise StartError(port_problem(option, host_option, "TCP", where, e)) from None
     return sockets
 
 

@@ -31,6 +31,7 @@ from sem_console.core.config import Settings
 BACKEND = Path(__file__).resolve().parents[1]
 PAGE = BACKEND.parent / "docs" / "configuration.md"
 REST_PAGE = BACKEND.parent / "docs" / "rest.md"
+FOXGLOVE_LAYOUT = BACKEND.parent / "docs" / "foxglove-layout.json"
 
 # sem-console builds its Settings from every option it parses (cli.main: Settings(**options)), so each
 # of its options is also the environment variable SEM_<NAME>. The other commands read Settings only
@@ -407,7 +408,13 @@ def render_rest() -> str:
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
-PAGES: dict[Path, Callable[[], str]] = {PAGE: render, REST_PAGE: render_rest}
+def foxglove_layout() -> str:
+    from sem_console.gateways.foxglove.layout import layout
+
+    return layout()
+
+
+PAGES: dict[Path, Callable[[], str]] = {PAGE: render, REST_PAGE: render_rest, FOXGLOVE_LAYOUT: foxglove_layout}
 
 
 def main() -> int:

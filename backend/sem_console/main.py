@@ -67,7 +67,7 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         console = Console(settings, store)  # its Source (console/sources.py) owns the DDS participant (none for a recording)
         app.state.console = console
-        gateways = Gateways(settings, console.feed)  # subscribed before the first sample arrives
+        gateways = Gateways(settings, console.feed, console.clock.wall)  # subscribed before the first sample arrives
         app.state.gateways = gateways
         console.gateway_states = gateways.states
         await gateways.start(console.hub.publish)

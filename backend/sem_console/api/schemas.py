@@ -165,7 +165,7 @@ class Health(_Model):
 
 
 class GatewayState(_Model):
-    name: Literal["aspn", "jaus"]
+    name: Literal["aspn", "jaus", "foxglove"]
     enabled: bool = Field(description="on (its option was given) or off")
     endpoint: str | None = Field(description="where it publishes or listens")
     messagesOut: int = Field(description="messages sent since start")
@@ -175,7 +175,8 @@ class GatewayState(_Model):
     counters: dict[str, int] = Field(
         description="received, malformed (by reason), answered, left out (by reason), dropped: "
         "queue full (ASPN), "
-        "report time outside u32: console time sent (JAUS), errors"
+        "report time outside u32: console time sent (JAUS), left out: no subscriber, left out: no valid position "
+        "(Foxglove), errors"
     )
 
 

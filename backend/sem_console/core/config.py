@@ -293,6 +293,23 @@ class Settings(BaseSettings):
         description=("JAUS subsystem id: vehicles are components S.1.1, S.1.2, ... (default: 1)"),
     )
     jaus_host: str | None = Field(None, description="address the JAUS gateway listens on (default: --host)")
+    foxglove_port: int = Field(
+        0,
+        ge=0,
+        le=65535,
+        json_schema_extra=cli(metavar="PORT"),
+        description=(
+            "serve the fleet, read-only, to Foxglove or Lichtblick over the Foxglove WebSocket protocol on TCP port PORT "
+            "(Foxglove's usual one is 8765; see docs/foxglove.md); 0: off (default)"
+        ),
+    )
+    foxglove_host: str = Field(
+        "127.0.0.1",
+        description=(
+            "address the Foxglove gateway listens on (default: 127.0.0.1); the protocol has no authentication: "
+            "another address is warned about at start"
+        ),
+    )
     basemap: Path | None = Field(
         None,
         json_schema_extra=cli(metavar="FILE.pmtiles"),
@@ -338,6 +355,14 @@ class Settings(BaseSettings):
             raise ValueError(
                 f"{v!r}: give 1 to 11 letters, digits or _ . - / (LCM over UDP takes channel names of up to 63 characters)"
             )
+        return v
+
+    @field_validator("foxglove_host")
+    @classmethod
+    def _foxglove_host(cls, v: str) -> str:
+        """foxglove-sdk's server takes no empty address (every interface to the start's check of the port)."""
+        if not v.strip():
+            raise ValueError("an empty address: give one, 127.0.0.1 (this machine) or 0.0.0.0 (every interface)")
         return v
 
     @field_validator("imc_id", mode="before")

@@ -1,4 +1,4 @@
-"""Gateways: the console's state out to neighbouring worlds, each in its own package (`aspn`, `jaus`).
+"""Gateways: the console's state out to neighbouring worlds, each in its own package (`aspn`, `jaus`, `foxglove`).
 
 A gateway reads the console only through its feed (`sem_console.console.feed.Feed`): it never touches
 DDS. Each is off unless its option is given; its state (on or off, messages out per second, last error,
@@ -8,13 +8,28 @@ its counters) is in `GET /api/gateways` and in the WebSocket `gateways` message.
 from __future__ import annotations
 
 import logging
+import math
 import time
 from collections import deque
+from typing import Any
 
 from sem_console.core.messages import GatewayState
 
 log = logging.getLogger("sem-console.gateways")
 RATE_WINDOW = 5.0  # seconds the messages-per-second figure averages over
+
+
+def number(report: dict[str, Any], invalid: list[str], path: str) -> float | None:
+    """The finite number at `path` (dotted) of a report the console decoded, or None when it is absent, null, not a
+    number or listed invalid."""
+    if any(x.startswith(f"{path}:") or x.startswith(f"{path}.") for x in invalid):
+        return None
+    v: Any = report
+    for part in path.split("."):
+        v = v.get(part) if isinstance(v, dict) else None
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+        return None
+    return float(v)
 
 
 class Stats:

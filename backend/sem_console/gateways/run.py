@@ -4,29 +4,34 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import time
 from collections.abc import Callable
 
 from sem_console.console.feed import Feed
 from sem_console.core.config import Settings
 from sem_console.core.messages import GatewayState, ServerMessage, gateways_message
 from sem_console.gateways.aspn.gateway import AspnGateway
+from sem_console.gateways.foxglove.gateway import FoxgloveGateway
 from sem_console.gateways.jaus.gateway import JausGateway
 
 STATE_PERIOD = 1.0  # seconds between `gateways` WebSocket messages (sent only when something changed)
 
 
 class Gateways:
-    def __init__(self, settings: Settings, feed: Feed) -> None:
+    def __init__(self, settings: Settings, feed: Feed, now: Callable[[], float] = time.time) -> None:
+        """`now`: the console's clock (UTC seconds), the recording's time in a replay."""
         self.aspn = AspnGateway(feed, settings.aspn_lcm, settings.aspn_prefix, settings.aspn_log_seconds)
         self.jaus = JausGateway(feed, settings.jaus_port, settings.jaus_subsystem, settings.jaus_host or settings.host)
+        self.foxglove = FoxgloveGateway(feed, settings.foxglove_port, settings.foxglove_host, now)
         self._task: asyncio.Task[None] | None = None
 
     def states(self) -> list[GatewayState]:
-        return [self.aspn.state(), self.jaus.state()]
+        return [self.aspn.state(), self.jaus.state(), self.foxglove.state()]
 
     async def start(self, publish: Callable[[ServerMessage], None]) -> None:
         await self.jaus.start()
-        if self.aspn.enabled or self.jaus.stats.enabled:
+        await self.foxglove.start()
+        if self.aspn.enabled or self.jaus.stats.enabled or self.foxglove.stats.enabled:
             self._task = asyncio.get_running_loop().create_task(self._report(publish))
 
     async def _report(self, publish: Callable[[ServerMessage], None]) -> None:
@@ -45,3 +50,4 @@ class Gateways:
                 await self._task
         self.aspn.close()
         self.jaus.close()
+        await self.foxglove.stop()

@@ -31,6 +31,12 @@ def test_rest_reference_is_what_the_generator_writes_now() -> None:
     )
 
 
+def test_foxglove_layout_is_what_the_generator_writes_now() -> None:
+    assert docs_gen.FOXGLOVE_LAYOUT.read_text(encoding="utf-8") == docs_gen.foxglove_layout(), (
+        "docs/foxglove-layout.json is stale: run .venv/bin/python -m sem_console.docs_gen"
+    )
+
+
 def _route_section(page: str, method: str, path: str) -> str:
     start = page.index(f"### `{method} {path}`")
     return page[start : page.index("\n### ", start + 1)]

@@ -494,7 +494,7 @@ def test_jaus_report_navigation_matches_the_simulator(sim, console, consumer, st
     assert state["endpoint"] == f"udp://127.0.0.1:{port} subsystem 42"
     ws = WsClient(c.ws_url)  # every message checked against the published schema
     wait_until(lambda: ws.messages, 5, "the snapshot")
-    assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True}
+    assert {g["name"]: g["enabled"] for g in ws.messages[0]["gateways"]} == {"aspn": False, "jaus": True, "foxglove": False}
     ask(station, port, judp(me, 0x2421, everything))
 
     # a gateways message sent before the answer (at most one a second) may still carry the old count: wait for the
@@ -840,25 +840,16 @@ def test_stored_link_configs_are_validated(caplog: pytest.LogCaptureFixture) -> 
     )
 
 
-def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: int, station, tmp_path: Path) -> None:
-    """A UMAA 6.0 vehicle's GlobalPose reaches the gateways through the console's one model, as a 3.0.1 vehicle's
-    GPSFixReport does: ASPN-23's position and direction of motion; JAUS's ReportNavigation with the position, course,
-    attitude, depth and horizontal position error 6.0 adds. Written with the 3.0.1 ICD's report QoS (reliable,
-    transient-local), which the console's 6.0 readers match as they match RTI's best-effort writers (sem-sim)."""
+def global_pose(vehicle: uuid.UUID, stamp: Any) -> Any:
+    """A UMAA 6.0 vehicle's GlobalPose at 36.85 N 75.98 W, at `stamp` (its DateTime's seconds and nanoseconds): course
+    4.2, yaw 4.0, depth 3.5, altitude ASF 12, a horizontal position covariance of north 16 and east 9, no down."""
     from UMAA_6_0.Common import IdentifierType
     from UMAA_6_0.Common.MaritimeEnumeration.NavigationSolutionEnumModule import NavigationSolutionEnumType
     from UMAA_6_0.Common.Measurement import CovariancePositionNEDType, DateTime, GeoPosition2D
     from UMAA_6_0.Common.Orientation import Orientation3DNEDType, PitchYNEDType, RollXNEDType, YawZNEDType
     from UMAA_6_0.SA.GlobalPoseStatus import GlobalPoseReportType
 
-    from sem_console.dds.topics import Sem60
-
-    port = free_udp_port()
-    c = console("--aspn-lcm", f"file://{tmp_path / 'aspn.lcm'}", "--jaus-port", str(port), "--jaus-subsystem", "42")
-    bus = Consumer(domain, name="a-6.0-vehicle").bus
-    vehicle = uuid.uuid4()
-    stamp = now_datetime()
-    pose = GlobalPoseReportType(
+    return GlobalPoseReportType(
         altitude=None,
         altitudeAGL=None,
         altitudeASF=12.0,
@@ -873,6 +864,21 @@ def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: 
         timeStamp=DateTime(seconds=stamp.seconds, nanoseconds=stamp.nanoseconds),
         source=IdentifierType(id=to_guid(vehicle), parentID=bytes(16)),
     )
+
+
+def test_a_6_0_vehicles_global_pose_comes_out_of_both_gateways(console, domain: int, station, tmp_path: Path) -> None:
+    """A UMAA 6.0 vehicle's GlobalPose reaches the gateways through the console's one model, as a 3.0.1 vehicle's
+    GPSFixReport does: ASPN-23's position and direction of motion; JAUS's ReportNavigation with the position, course,
+    attitude, depth and horizontal position error 6.0 adds. Written with the 3.0.1 ICD's report QoS (reliable,
+    transient-local), which the console's 6.0 readers match as they match RTI's best-effort writers (sem-sim)."""
+    from sem_console.dds.topics import Sem60
+
+    port = free_udp_port()
+    c = console("--aspn-lcm", f"file://{tmp_path / 'aspn.lcm'}", "--jaus-port", str(port), "--jaus-subsystem", "42")
+    bus = Consumer(domain, name="a-6.0-vehicle").bus
+    vehicle = uuid.uuid4()
+    stamp = now_datetime()
+    pose = global_pose(vehicle, stamp)
     writer = bus.writer(Sem60.GLOBAL_POSE_REPORT)  # alive until the test ends
     writer.write(pose)
     detail = provider_ready(c.url, str(vehicle), {"GPSFixReport"})

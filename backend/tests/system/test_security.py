@@ -353,6 +353,10 @@ def test_start_warnings(tmp_path: Path) -> None:
     assert any("DNS rebinding" in w for w in start_warnings(settings(allowed_hosts="localhost, *")))
     tokens.chmod(0o600)
     assert start_warnings(settings(host="10.0.0.5", operator_tokens_file=tokens, tls_certfile=tokens, tls_keyfile=tokens)) == []
+    # Foxglove's protocol has no authentication: one line when its gateway listens beyond loopback, none when it is off
+    assert start_warnings(settings(foxglove_port=8765)) == start_warnings(settings(foxglove_host="0.0.0.0")) == []
+    (warning,) = start_warnings(settings(foxglove_port=8765, foxglove_host="0.0.0.0"))
+    assert warning.startswith("--foxglove-host 0.0.0.0: the Foxglove WebSocket protocol has no authentication"), warning
 
 
 def test_throttle_backs_off_and_forgets() -> None:

@@ -40,6 +40,7 @@ from aspn23.type_satnav_signal_descriptor import TypeSatnavSignalDescriptorSigna
 from aspn23.type_satnav_time import TypeSatnavTime, TypeSatnavTimeTimeReference
 from aspn23.type_timestamp import TypeTimestamp
 
+from sem_console.gateways import number
 from sem_console.umaa.guid import SAT_PREFIX
 
 NAN = math.nan
@@ -116,18 +117,6 @@ def device_id(vehicle: uuid.UUID) -> int:
 def signal_of(system: Sys, frequency_hz: float) -> Signal | None:
     mhz = frequency_hz / 1e6
     return next((sig for s, f, half, sig in SIGNALS if s is system and abs(mhz - f) <= half), None)
-
-
-def number(report: dict[str, Any], invalid: list[str], path: str) -> float | None:
-    """The finite number at `path` (dotted), or None when it is absent, null, not a number or listed invalid."""
-    if any(x.startswith(f"{path}:") or x.startswith(f"{path}.") for x in invalid):
-        return None
-    v: Any = report
-    for part in path.split("."):
-        v = v.get(part) if isinstance(v, dict) else None
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-        return None
-    return float(v)
 
 
 def guard(obj: Any) -> Any:

@@ -8,7 +8,11 @@ import { useCapabilities, useGateways, useNow, useSelectedVehicle, useSelector }
 import { utc } from "../../lib/units";
 import { vehicleLabel, type VehicleIdentity } from "../../lib/vehicle";
 
-const TITLES: Record<GatewayState["name"], string> = { aspn: "ASPN-23 over LCM", jaus: "JAUS over JUDP" };
+const TITLES: Record<GatewayState["name"], string> = {
+  aspn: "ASPN-23 over LCM",
+  jaus: "JAUS over JUDP",
+  foxglove: "Foxglove WebSocket",
+};
 
 function GatewayRow({ g }: { g: GatewayState }) {
   return (

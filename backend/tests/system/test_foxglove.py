@@ -1,0 +1,296 @@
+"""The Foxglove gateway against a real console and sem-sim, read by a Foxglove WebSocket protocol client written from
+the protocol's specification (tests/support/foxglove.py), not from the console's code."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import socket
+import subprocess
+import sys
+import time
+import uuid
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+
+from conftest import free_port
+from sem_console.umaa.samples import now_datetime
+from support.consumer import Consumer
+from support.foxglove import FoxgloveClient, connect
+from test_bad_starts import refused
+from test_console import V1, V2, provider_ready, wait_command
+from test_gateways import global_pose
+from test_replay import synthetic_recording
+
+FIX_PATH = ("position2DWithTime", "geodeticPosition")
+
+
+def gateway(base: str) -> dict[str, Any]:
+    return {g["name"]: g for g in httpx.get(f"{base}/api/gateways").json()}["foxglove"]
+
+
+async def until(client: FoxgloveClient, done: Any, seconds: float, what: str) -> None:
+    """Read the client's messages (each to `done`, None for a text message) until `done` says True."""
+    try:
+        async with asyncio.timeout(seconds):
+            async for m in client.messages():
+                if done(m):
+                    return
+    except TimeoutError:
+        raise AssertionError(f"no {what} within {seconds} s") from None
+
+
+def latlon(report: dict[str, Any]) -> tuple[float, float]:
+    p = report["position2DWithTime"]["geodeticPosition"]
+    return p["geodeticLatitude"]["latitude"], p["geodeticLongitude"]["longitude"]
+
+
+def test_a_foxglove_client_sees_the_fleet_and_decodes_its_fixes_logs_and_reports(sim, console) -> None:
+    sim("--vehicles", "2")
+    c = console("--foxglove-port", str(free_port()))
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    provider_ready(c.url, V2, {"GPSFixReport"})
+    state = gateway(c.url)
+    assert state["enabled"] and state["lastError"] is None and state["endpoint"].startswith("ws://127.0.0.1:")
+    me, other = f"/vehicles/{V1}/location", f"/vehicles/{V2}/location"
+    fixes: dict[tuple[int, int], dict[str, Any]] = {}  # LocationFix by its time
+    reports: dict[tuple[int, int], dict[str, Any]] = {}  # the GPSFixReport channel's messages of V1 by their time
+    logs: list[dict[str, Any]] = []
+    fleets: list[dict[str, Any]] = []
+    senders: set[str] = set()
+
+    async def session() -> dict[str, Any]:
+        async with connect(state["endpoint"]) as client:
+            wanted = {me, other, "/fleet/locations", "/console/log", "/reports/GPSFixReport", "/reports/GPSReport"}
+            await until(client, lambda _m: wanted <= set(client.topics()), 10, f"advertisement of {wanted}")
+            assert client.server_info["capabilities"] == []  # read-only: no clientPublish, services, parameters
+            topics = client.topics()
+            assert topics[me]["schemaName"] == "foxglove.LocationFix" and topics[me]["encoding"] == "json"
+            assert topics["/fleet/locations"]["schemaName"] == "foxglove.LocationFixes"
+            assert topics["/console/log"]["schemaName"] == "foxglove.Log"
+            schema = json.loads(topics["/reports/GPSFixReport"]["schema"])
+            assert schema["properties"]["report"]["title"] == "GPSFixReportType" and "$defs" not in schema
+            # nobody subscribed yet: messages are only counted, none encoded
+            await asyncio.sleep(1.5)
+            idle = await asyncio.to_thread(gateway, c.url)
+            assert idle["messagesOut"] == 0 and idle["counters"]["left out: no subscriber"] > 0, idle
+
+            await client.subscribe([me, "/fleet/locations", "/console/log", "/reports/GPSFixReport"])
+            # the vehicle surfaces on a GPS fix command: its transitions are logged, and its fixes get a position
+            session = (await asyncio.to_thread(httpx.post, f"{c.url}/api/providers/{V1}/gps-fix", json={})).json()["sessionId"]
+
+            def take(m: Any) -> bool:
+                if m is not None:
+                    body = m.json()
+                    if m.topic == me:
+                        fixes[(body["timestamp"]["sec"], body["timestamp"]["nsec"])] = body
+                    elif m.topic == "/console/log":
+                        logs.append(body)
+                    elif m.topic == "/fleet/locations":
+                        fleets.append(body)
+                    elif m.topic == "/reports/GPSFixReport":  # the fleet's, each with its vehicle (Plot filters by it)
+                        senders.add(body["providerId"])
+                        t = body["report"]["timeStamp"]
+                        if body["providerId"] == V1:
+                            reports[(t["seconds"], t["nanoseconds"])] = body
+                return any("command completed" in x["message"] for x in logs) and len(fixes) >= 2 and len(fleets) >= 2
+
+            await until(client, take, 30, "the command's completion in the log, two fixes and two fleet messages")
+            command = await asyncio.to_thread(wait_command, c.url, session, 15, lambda x: x["status"] == "COMPLETED")
+            # the fix the console holds now comes on the vehicle's channel with its position
+            rest = (await asyncio.to_thread(httpx.get, f"{c.url}/api/providers/{V1}")).json()["reports"]["GPSFixReport"]
+            t = rest["report"]["timeStamp"]
+            key = (t["seconds"], t["nanoseconds"])
+            await until(client, lambda m: take(m) and key in fixes and key in reports, 10, f"the fix of {key}")
+            return {"rest": rest, "key": key, "command": command, "state": await asyncio.to_thread(gateway, c.url)}
+
+    got = asyncio.run(session())
+    rest, key = got["rest"], got["key"]
+    fix = fixes[key]
+    assert (fix["latitude"], fix["longitude"]) == latlon(rest["report"])
+    assert fix["frame_id"] == V1 and len(fix["position_covariance"]) == 9
+    assert fix["position_covariance_type"] in (0, 2)
+    # the JSON report is what the dashboard gets: the same report, values flagged invalid and all
+    assert reports[key]["report"] == rest["report"] and reports[key]["invalid"] == rest["invalid"]
+    assert senders == {V1, V2}
+    # the fleet: both vehicles, V2 submerged at its INS's position (GPSLatLongValid false), as the dashboard's map has it
+    last = fleets[-1]["fixes"]
+    assert sorted(f["frame_id"] for f in last) == sorted([V1, V2]) and all(isinstance(f["latitude"], float) for f in last)
+    # one log line per transition of the command, at info level, named by its service
+    said = [x for x in logs if x["name"] == f"command/{got['command']['service']}"]
+    assert len(said) == len(got["command"]["transitions"]) and all(x["level"] == 2 for x in said), said
+    last_log = got["command"]["transitions"][-1]["logMessage"]  # the vehicle's own words, after the console's
+    assert said[-1]["message"] == f"{V1}: {got['command']['service']} command completed ({last_log})", said[-1]
+    # V2's location channel has no subscriber: its fixes were never encoded, only counted
+    assert got["state"]["counters"]["left out: no subscriber"] > 0
+    assert got["state"]["messagesOut"] >= len(fixes) + len(logs) + len(fleets) + len(reports)
+
+
+def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) -> None:
+    """A UMAA 6.0 vehicle's GlobalPose is its position report in the console's model: its LocationFix comes on the
+    vehicle's channel, with the report's time, and no covariance (GlobalPose gives no down variance)."""
+    from sem_console.dds.topics import Sem60
+
+    c = console("--foxglove-port", str(free_port()))
+    bus = Consumer(domain, name="a-6.0-vehicle").bus
+    vehicle, stamp = uuid.uuid4(), now_datetime()
+    writer = bus.writer(Sem60.GLOBAL_POSE_REPORT)  # alive until the test ends
+    writer.write(global_pose(vehicle, stamp))
+    assert provider_ready(c.url, str(vehicle), {"GPSFixReport"})["umaaVersion"] == "6.0"
+    topic = f"/vehicles/{vehicle}/location"
+
+    async def session() -> dict[str, Any]:
+        async with connect(gateway(c.url)["endpoint"]) as client:
+            await until(client, lambda _m: topic in client.topics(), 10, f"the channel {topic}")
+            await client.subscribe([topic])
+            got: list[dict[str, Any]] = []
+            writer.write(global_pose(vehicle, stamp))  # again, now that a client subscribes
+            await until(client, lambda m: m is not None and not got.append(m.json()), 10, "the 6.0 vehicle's LocationFix")
+            return got[0]
+
+    fix = asyncio.run(session())
+    assert fix == {
+        "timestamp": {"sec": stamp.seconds, "nsec": stamp.nanoseconds},
+        "frame_id": str(vehicle),
+        "latitude": 36.85,
+        "longitude": -75.98,
+        "position_covariance": [0.0] * 9,
+        "position_covariance_type": 0,
+    }
+
+
+def test_a_replay_is_served_as_it_plays(console, tmp_path: Path) -> None:
+    """With --replay the gateway reads the console's feed as it always does: the replayed reports come out, and what
+    the gateway stamps itself (the fleet's LocationFixes) is at the replay's instant, not the machine's."""
+    recording = synthetic_recording(tmp_path / "rec", seconds=8)
+    r = console("--replay", str(recording), "--replay-speed", "0.25", "--foxglove-port", str(free_port()))
+    seen: list[dict[str, Any]] = []
+    fleet: list[tuple[int, float]] = []  # each LocationFixes' log time (ns), and the latest report's receivedAt then
+
+    def take(m: Any) -> bool:
+        if m is not None and m.topic == "/reports/GPSFixReport":
+            seen.append(m.json())
+        elif m is not None and m.topic == "/fleet/locations" and seen:
+            fleet.append((m.log_time, seen[-1]["receivedAt"]))
+        return len(fleet) >= 2
+
+    async def session() -> None:
+        async with connect(gateway(r.url)["endpoint"]) as client:
+            await until(client, lambda _m: "/reports/GPSFixReport" in client.topics(), 20, "the GPSFixReport channel")
+            await client.subscribe(["/reports/GPSFixReport", "/fleet/locations"])
+            await until(client, take, 20, "replayed GPSFixReports and two LocationFixes of the fleet")
+
+    asyncio.run(session())
+    assert seen[0]["providerId"] == V1
+    # the replay plays a report each second (a quarter of the recording's 4 a second)
+    assert all(abs(log_time / 1e9 - received) < 1.5 for log_time, received in fleet), fleet
+
+
+def test_a_foxglove_client_cannot_publish_call_a_service_or_set_a_parameter(sim, console) -> None:
+    sim("--vehicles", "1")
+    c = console("--foxglove-port", str(free_port()))
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    endpoint = gateway(c.url)["endpoint"]
+
+    async def session() -> list[dict[str, Any]]:
+        async with connect(endpoint) as client:
+            await until(client, lambda _m: "/console/log" in client.topics(), 10, "the log channel")
+            command = {"op": "advertise", "channels": [{"id": 7, "topic": f"/vehicles/{V1}/gps-fix", "encoding": "json"}]}
+            await client.send_json({**command, "channels": [{**command["channels"][0], "schemaName": "gps-fix"}]})
+            await client.publish(7, json.dumps({"providerId": V1}).encode())
+            await client.call_service(1, 1, "json", b"{}")
+            await client.send_json({"op": "setParameters", "parameters": [{"name": "vehicle", "value": V1}]})
+            await until(client, lambda _m: len(client.statuses) >= 4, 10, "four refusals")
+            return client.statuses
+
+    statuses = asyncio.run(session())
+    said = [s.get("message", "") for s in statuses]
+    assert any("does not support clientPublish" in x for x in said), said
+    assert any(s["op"] == "serviceCallFailure" and "does not support services" in s["message"] for s in statuses), said
+    assert any("does not support parameters" in x for x in said), said
+    time.sleep(1)
+    assert httpx.get(f"{c.url}/api/commands").json() == []  # nothing reached the console, nor any vehicle
+    assert gateway(c.url)["lastError"] is None
+
+
+def test_a_foxglove_port_in_use_is_one_line(domain: int, tmp_path) -> None:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        port = s.getsockname()[1]
+        line = refused(["--db", str(tmp_path / "db"), "--foxglove-port", str(port)], domain)
+    assert f"TCP 127.0.0.1:{port} is already in use" in line and "pass another --foxglove-port" in line, line
+
+
+def test_a_foxglove_host_the_server_cannot_take_is_one_line(domain: int, tmp_path) -> None:
+    """An empty address is every interface to the start's check of the port, and none to foxglove-sdk's server."""
+    line = refused(["--db", str(tmp_path / "db"), "--foxglove-port", str(free_port()), "--foxglove-host", ""], domain)
+    assert line.startswith("sem-console: error: --foxglove-host: an empty address: give one"), line
+
+
+# A client that stopped reading (a laptop asleep at the end of an SSH tunnel): megabytes of reports wait for it in its
+# socket. The gateway is run in a process of its own, so that a stop that never returns cannot hold the tests' process.
+STALLED_CLIENT = """
+import asyncio, os, sys, time, uuid
+sys.path.insert(0, "tests")
+from sem_console.console.feed import Feed
+from sem_console.gateways.foxglove.gateway import FoxgloveGateway
+from support.foxglove import connect
+
+async def main() -> None:
+    feed, vehicle = Feed(), str(uuid.uuid4())
+    gateway = FoxgloveGateway(feed, int(sys.argv[1]))
+    await gateway.start()
+    def report() -> None:
+        envelope = {"report": {"pad": "x" * 1000}, "invalid": [], "receivedAt": time.time()}
+        feed.publish({"type": "report", "providerId": vehicle, "topic": "GPSReport", "report": envelope})
+    report()
+    async with connect(gateway.stats.endpoint) as client:
+        async for _ in client.messages():
+            if "/reports/GPSReport" in client.topics():
+                break
+        await client.subscribe(["/reports/GPSReport"])
+        while not gateway.channels["/reports/GPSReport"].has_sinks():
+            await asyncio.sleep(0.05)
+        for _ in range(20000):  # 20 MB: more than the sockets between them hold; the client reads none of it
+            report()
+        started = time.monotonic()
+        await gateway.stop()
+        print(f"{time.monotonic() - started:.1f}", flush=True)
+        os._exit(0)  # at once: closing the client that reads nothing would wait for its close handshake
+
+asyncio.run(main())
+"""
+
+
+@pytest.mark.process
+def test_a_client_that_stopped_reading_does_not_hold_the_consoles_shutdown() -> None:
+    try:
+        run = subprocess.run(
+            [sys.executable, "-c", STALLED_CLIENT, str(free_port())],
+            cwd=Path(__file__).resolve().parents[2],
+            capture_output=True,
+            text=True,
+            timeout=30,
+        )
+    except subprocess.TimeoutExpired:
+        raise AssertionError("the Foxglove gateway did not stop within 30 s") from None
+    assert run.returncode == 0, run.stderr
+    assert float(run.stdout.split()[-1]) < 10, run.stdout
+
+
+@pytest.mark.process
+def test_the_console_starts_without_foxglove_sdk_when_the_gateway_is_off() -> None:
+    """foxglove-sdk (its native library, a few tens of milliseconds) is loaded only by a Foxglove gateway that runs."""
+    run = subprocess.run(
+        [sys.executable, "-c", "import sys, sem_console.main; print(' '.join(sorted(sys.modules)))"],
+        cwd=Path(__file__).resolve().parents[2],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert run.returncode == 0, run.stderr
+    assert [m for m in run.stdout.split() if m == "foxglove" or m.startswith("foxglove.")] == []
