@@ -305,7 +305,7 @@ def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_aft
     relay = Relay(RelayOptions(side="operations", name="ops", lease_seconds=10), bus, session)
     try:
         cancel = Outgoing(
-            key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name),
+            key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND.spec.name),
             b"",
             attachment(Kind.DISPOSE, 0),
             V1,
@@ -404,6 +404,36 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
 
 
 @pytest.mark.slow
+def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
+    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
+    relay with ship-2's certificate started under ship-1's name (misconfigured, or taking another's name) never gets
+    the commands for ship-1's vehicles, which ship-1's own relay gets and its vehicle completes."""
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay(
+        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
+    )
+    lan = ("--connect", endpoint, "--link-class", "lan")
+    relay("--domain", str(other), "--name", "ship-1", *lan, *tls(fleet, "ship-2"))
+    relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
+    consumer, elsewhere = Consumer(far), Bus(other)
+    try:
+        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert take_each(commands)[0] == []  # neither the command nor its dispose reached ship-2's domain
+    finally:
+        consumer.close()
+        elsewhere.close()
+
+
+@pytest.mark.slow
 def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
     """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
     (on a LAN-class link: the satellite caps space reports beyond the check's gaps)."""
@@ -477,7 +507,9 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
     try:
         relay._taken(Taken(Sem.GPS_FIX_COMMAND, Kind.SAMPLE, b"command", 0, V1, instance))  # held: V1 not heard
         assert sent == []
-        session.put(key(domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        session.put(
+            key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0)
+        )
         assert entered.wait(10), "the vehicle's first sample was not received"
         cancel = threading.Thread(target=relay._taken, args=(Taken(Sem.GPS_FIX_COMMAND, Kind.DISPOSE, b"key", 0, V1, instance),))
         cancel.start()
