@@ -234,13 +234,13 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
 
 
 def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
-    """600 ms round trip, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the command flow
-    is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
+    """600 ms round trip, 5 % loss, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the
+    command flow is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
 
     def impaired(port: int) -> str:
-        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000))
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000, loss=0.05))
         return links[0].endpoint
 
     sim("--surface-seconds", "60")
@@ -258,6 +258,7 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
         assert seen.statuses == HAPPY and seen.flow.violations == []
         assert time.monotonic() - started >= 4
         consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) >= before + 2, 10, "reports after the outage")
+        assert links[0].lost >= 1 and links[0].lost == int(links[0].segments * 0.05)  # the loss was on the link
     finally:
         consumer.close()
         for link in links:
