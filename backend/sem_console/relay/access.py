@@ -19,19 +19,27 @@ _MESSAGES = [
     "declare_liveliness_subscriber",
     "liveliness_query",
 ]
-_LIVELINESS_MESSAGES = ["liveliness_token", "declare_liveliness_subscriber", "liveliness_query", "reply"]
 
 
-def _rule(rule_id: str, key_exprs: list[str], messages: list[str]) -> dict[str, Any]:
-    return {"id": rule_id, "permission": "allow", "flows": ["ingress", "egress"], "messages": messages, "key_exprs": key_exprs}
+def _rule(
+    rule_id: str, key_exprs: list[str], messages: list[str], flows: tuple[str, ...] = ("ingress", "egress")
+) -> dict[str, Any]:
+    return {"id": rule_id, "permission": "allow", "flows": list(flows), "messages": messages, "key_exprs": key_exprs}
 
 
 def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> dict[str, Any]:
     """The `access_control` section of the router's Zenoh configuration; everything not allowed here is denied."""
     rules = [
         _rule("operations", ["**"], _MESSAGES),
-        # a vehicles' relay watches the operations relays come and go (it sends again what they missed)
-        _rule("watch operations", [f"{LIVELINESS}/operations/**"], _LIVELINESS_MESSAGES),
+        # a vehicles' relay watches the operations relays come and go (it sends again what they missed): it asks
+        # (ingress) and is told (egress), but never declares a token there itself, which would pass for a new one
+        _rule(
+            "watch operations",
+            [f"{LIVELINESS}/operations/**"],
+            ["declare_liveliness_subscriber", "liveliness_query"],
+            ("ingress",),
+        ),
+        _rule("told operations", [f"{LIVELINESS}/operations/**"], ["liveliness_token", "reply"], ("egress",)),
     ]
     subjects = [{"id": "operations", "cert_common_names": operations_relays}] if operations_relays else []
     policies = [{"id": "operations", "rules": ["operations"], "subjects": ["operations"]}] if operations_relays else []
@@ -39,6 +47,10 @@ def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> d
         rules.append(_rule(f"vehicles {name}", [f"*/{name}/**", f"{LIVELINESS}/vehicles/{name}/**"], _MESSAGES))
         subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
         policies.append(
-            {"id": f"vehicles {name}", "rules": [f"vehicles {name}", "watch operations"], "subjects": [f"vehicles {name}"]}
+            {
+                "id": f"vehicles {name}",
+                "rules": [f"vehicles {name}", "watch operations", "told operations"],
+                "subjects": [f"vehicles {name}"],
+            }
         )
     return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects, "policies": policies}

@@ -31,6 +31,8 @@ from conftest import Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.relay.access import LIVELINESS
+from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
@@ -432,6 +434,49 @@ def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(si
     finally:
         consumer.close()
         elsewhere.close()
+
+
+@pytest.mark.parametrize("impostor", ["ship-2"])
+def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay, tmp_path: Path, impostor: str) -> None:
+    """A new operations relay's liveliness token makes every vehicles' relay send again all it sent: the router keeps
+    a vehicles' relay's token as an operations relay's from the others, as it keeps the operations relay's own."""
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        f"ship-1,{impostor}",
+        "--operations-relays",
+        "ops",
+        *tls(fleet, "router"),
+    )
+
+    def session(name: str) -> zenoh.Session:
+        cert, private = fleet.issue(name)
+        options = RelayOptions(name=name, connect=endpoint, tls_root_ca=fleet.pem, tls_certificate=cert, tls_private_key=private)
+        opened = open_session(options, threading.Event())
+        assert opened is not None
+        return opened
+
+    ship, ops, intruder = session("ship-1"), session("ops"), session(impostor)
+    heard: list[str] = []
+    try:
+        watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", lambda s: heard.append(str(s.key_expr)))
+        posing = intruder.liveliness().declare_token(f"{LIVELINESS}/operations/{impostor}/{intruder.zid()}")
+        token = ops.liveliness().declare_token(f"{LIVELINESS}/operations/ops/{ops.zid()}")
+        deadline = time.monotonic() + 10
+        while not any("/ops/" in k for k in heard) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert any("/ops/" in k for k in heard), "the operations relay's token never came"
+        time.sleep(1)
+        assert [k for k in heard if "/ops/" not in k] == []
+        for declared in (watch, posing, token):
+            declared.undeclare()
+    finally:
+        for s in (ship, ops, intruder):
+            s.close()
 
 
 @pytest.mark.slow
