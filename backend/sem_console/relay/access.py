@@ -1,11 +1,13 @@
 """Zenoh access control on a `sem-relay --router` (docs/relay.md#security): which relay, known by its TLS certificate's
-common name, may send and receive what. A vehicles' relay has only its own key spaces, the keys whose second chunk is
-its name (`sem/<name>/**`: its vehicles' samples out, their commands in), and its liveliness token; an operations relay
-has every key; any other certificate, nothing."""
+common name, may send and receive what. A vehicles' relay has only its own key space (`sem/<name>/**`: its vehicles'
+samples out, their commands in) and its liveliness token, and watches the operations relays' tokens; an operations
+relay has every key; any other certificate, nothing."""
 
 from __future__ import annotations
 
 from typing import Any
+
+from sem_console.relay.wire import PREFIX
 
 LIVELINESS = "sem-relay"  # the relays' liveliness tokens: `sem-relay/<side>/<name>/<session>`
 _MESSAGES = [
@@ -44,7 +46,7 @@ def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> d
     subjects = [{"id": "operations", "cert_common_names": operations_relays}] if operations_relays else []
     policies = [{"id": "operations", "rules": ["operations"], "subjects": ["operations"]}] if operations_relays else []
     for name in vehicle_relays:
-        rules.append(_rule(f"vehicles {name}", [f"*/{name}/**", f"{LIVELINESS}/vehicles/{name}/**"], _MESSAGES))
+        rules.append(_rule(f"vehicles {name}", [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**"], _MESSAGES))
         subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
         policies.append(
             {

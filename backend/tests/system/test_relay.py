@@ -436,7 +436,7 @@ def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(si
         elsewhere.close()
 
 
-@pytest.mark.parametrize("impostor", ["ship-2"])
+@pytest.mark.parametrize("impostor", ["ship-2", "operations"])
 def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay, tmp_path: Path, impostor: str) -> None:
     """A new operations relay's liveliness token makes every vehicles' relay send again all it sent: the router keeps
     a vehicles' relay's token as an operations relay's from the others, as it keeps the operations relay's own."""
