@@ -118,9 +118,16 @@ class RelayOptions(BaseSettings):
                     "--vehicle-relays and --operations-relays are a router's access control: give them with --router and "
                     "--tls-root-ca, --tls-certificate, --tls-private-key (the relays are known by their certificates)"
                 )
-            for name in endpoints(self.vehicle_relays):
+            vehicles, operations = endpoints(self.vehicle_relays), endpoints(self.operations_relays)
+            for name in vehicles:
                 if bad := key_chunk_problem(name):
                     raise ValueError(f"--vehicle-relays {name!r}: {bad}")
+            named = vehicles + operations
+            if twice := sorted({name for name in named if named.count(name) > 1}):
+                raise ValueError(
+                    f"--vehicle-relays, --operations-relays: {', '.join(map(repr, twice))} named twice: each relay's "
+                    "certificate once, in one list"
+                )
         return self
 
     @property

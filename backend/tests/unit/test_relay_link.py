@@ -230,6 +230,15 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
         and err.startswith("sem-relay: error: --vehicle-relays and --operations-relays are a router's")
         and (err.count("\n") == 1)
     )
+    acl = ("--router", "--tls-root-ca", "ca.pem", "--tls-certificate", "router.pem", "--tls-private-key", "router.key")
+    assert run(*acl, "--vehicle-relays", "ship-1,ship-1") == (
+        2,
+        "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice: each relay's certificate once, "
+        "in one list\n",
+    )
+    assert run(*acl, "--vehicle-relays", "ship-1", "--operations-relays", "ops,ship-1")[1].startswith(
+        "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice"
+    )
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
     monkeypatch.delenv("SEM_RELAY_CONNECT")
