@@ -151,8 +151,11 @@ class RelayOptions(BaseSettings):
 
 def key_chunk_problem(name: str) -> str | None:
     """Why a relay's name cannot be a chunk of its Zenoh keys (`sem/<name>/...`), or None."""
-    if not name or any(c in name for c in "/*$?#") or name.strip() != name:
-        return "a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#' or surrounding spaces"
+    if not name or any(c in name for c in "/*$?#") or name.startswith("@") or name.strip() != name:
+        return (
+            "a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#', no leading '@' (a chunk no wildcard "
+            "matches) and no surrounding spaces"
+        )
     return None
 
 

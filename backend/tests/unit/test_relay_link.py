@@ -221,9 +221,10 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
     assert run("--name", "ship/1") == (
         2,
-        "sem-relay: error: --name 'ship/1': a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#' or "
-        "surrounding spaces\n",
+        "sem-relay: error: --name 'ship/1': a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#', no "
+        "leading '@' (a chunk no wildcard matches) and no surrounding spaces\n",
     )
+    assert run("--name", "@ship-1")[1].startswith("sem-relay: error: --name '@ship-1': a relay's name is one Zenoh key")
     code, err = run("--router", "--vehicle-relays", "ship-1")  # access control knows relays by their certificates
     assert (
         code == 2
