@@ -128,6 +128,14 @@ class RelayOptions(BaseSettings):
                     f"--vehicle-relays, --operations-relays: {', '.join(map(repr, twice))} named twice: each relay's "
                     "certificate once, in one list"
                 )
+            for flag, given in (("--listen", self.listen_endpoints), ("--connect", self.connect_endpoints)):
+                for endpoint in given:
+                    if (protocol := endpoint.partition("/")[0]) not in _TLS_PROTOCOLS:
+                        raise ValueError(
+                            f"{flag} {endpoint}: --vehicle-relays and --operations-relays know the relays by their "
+                            f"certificates, which a {protocol}/ endpoint carries none of (a relay through it would get "
+                            "nothing): give tls/ or quic/ endpoints only"
+                        )
         return self
 
     @property

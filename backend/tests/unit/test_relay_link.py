@@ -232,6 +232,13 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
         and (err.count("\n") == 1)
     )
     acl = ("--router", "--tls-root-ca", "ca.pem", "--tls-certificate", "router.pem", "--tls-private-key", "router.key")
+    assert run(*acl, "--vehicle-relays", "ship-1") == (  # the router's default endpoint, tcp/
+        2,
+        "sem-relay: error: --listen tcp/127.0.0.1:7447: --vehicle-relays and --operations-relays know the relays by "
+        "their certificates, which a tcp/ endpoint carries none of (a relay through it would get nothing): give tls/ "
+        "or quic/ endpoints only\n",
+    )
+    acl = (*acl, "--listen", "tls/0.0.0.0:7447")
     assert run(*acl, "--vehicle-relays", "ship-1,ship-1") == (
         2,
         "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice: each relay's certificate once, "
