@@ -1,8 +1,8 @@
 """A user-space link impairment for the tests (this machine's kernel has no netem): a TCP proxy that delays each
 direction by half the round trip, limits its rate, and can go silent for an outage (bytes held, connections kept, as a
-satellite link's fade). Loss is modelled as TCP shows it: a lost segment is sent again a retransmission timeout later
-(at least 200 ms over the round trip, as Linux's), and what follows it on its connection waits behind it; loss on UDP
-is not modelled here."""
+satellite link's fade). Loss is modelled as TCP shows it: a lost segment comes a retransmission timeout (at least 200 ms
+over the round trip, as Linux's) after it would have, held by an outage or the rate or not, and what follows it on its
+connection waits behind it; loss on UDP is not modelled here."""
 
 from __future__ import annotations
 
@@ -80,9 +80,13 @@ class Impairment:
                     if self._stop.is_set():
                         return
                 arrived, data = queue.popleft()
-            late = self.retransmission if self._loses(data) else 0.0
-            while (wait := max(arrived + self.delay + late, self._outage_until) - time.monotonic()) > 0:
-                time.sleep(min(wait, 0.05))
+            lost, due = self._loses(data), arrived + self.delay
+            while True:
+                while (wait := max(due, self._outage_until) - time.monotonic()) > 0:
+                    time.sleep(min(wait, 0.05))
+                if not lost:
+                    break
+                lost, due = False, time.monotonic() + self.retransmission  # a timeout after it would have come
             if not data:
                 dst.close()
                 return

@@ -235,6 +235,27 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
         consumer.close()
 
 
+def test_the_impairment_s_loss_costs_a_retransmission_after_an_outage_too() -> None:
+    """A segment lost is sent again a retransmission timeout after it would have come: one held by an outage (or
+    behind others at the link's rate) costs it as well, after it."""
+    sink = socket.create_server(("127.0.0.1", 0))
+    link = Impairment(sink.getsockname(), loss=1.0)  # every segment lost: each comes 200 ms late
+    try:
+        with socket.create_connection(("127.0.0.1", link.port)) as sender:
+            receiver, _ = sink.accept()
+            link.outage(0.5)
+            started = time.monotonic()
+            sender.sendall(b"x")
+            receiver.settimeout(5)
+            assert receiver.recv(1) == b"x"
+            assert time.monotonic() - started >= 0.5 + link.retransmission - 0.02
+            assert link.lost == 1
+            receiver.close()
+    finally:
+        link.close()
+        sink.close()
+
+
 def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
     """600 ms round trip, 5 % loss, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the
     command flow is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
