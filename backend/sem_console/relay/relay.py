@@ -113,8 +113,9 @@ class Relay:
         self.dds = DomainSide(bus, self.sends, self._taken)
         self.started = time.monotonic()
         self.stopping = threading.Event()
-        # the vehicles' side: the commands sent to its name (its key space); the operations side: every vehicle's samples
-        watch = f"{PREFIX}/{options.name}/**" if self.vehicles_side else f"{PREFIX}/**"
+        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
+        # serve another domain); the operations side: every vehicle's samples
+        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
         self.subscriber = session.declare_subscriber(watch, self._received)
         # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).

@@ -457,6 +457,28 @@ def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(si
         elsewhere.close()
 
 
+def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int, relay, tmp_path: Path) -> None:
+    """Two vehicles' relays of one name (the default, the host's name, for two domains of one machine), no access
+    control: the command for a vehicle of one domain, and its cleanup, are written on that domain only."""
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    sim()
+    port = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    relay("--domain", str(other), "--name", "ship-1", "--connect", f"tcp/127.0.0.1:{port}", "--link-class", "lan")
+    consumer, elsewhere = Consumer(far), Bus(other)
+    try:
+        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        time.sleep(2)  # the other relay's subscription known to the router
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert take_each(commands)[0] == []  # neither the command nor its dispose reached the other domain
+    finally:
+        consumer.close()
+        elsewhere.close()
+
+
 @pytest.mark.parametrize("impostor", ["ship-2", "operations"])
 def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay, tmp_path: Path, impostor: str) -> None:
     """A new operations relay's liveliness token makes every vehicles' relay send again all it sent: the router keeps
