@@ -105,6 +105,7 @@ class Relay:
         # operations side: the relay and domain each vehicle's samples came from (where its commands go), and commands
         # for a vehicle not heard yet (sent once it is)
         self.origin_of: dict[uuid.UUID, tuple[str, int]] = {}
+        self._refused: set[tuple[uuid.UUID, str, int]] = set()  # the other relays and domains a vehicle was heard through
         self.held: Held[Taken] = Held(WAITING_DEPTH)
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
@@ -285,6 +286,21 @@ class Relay:
         release: list[Taken] = []
         with self._lock:
             if digest in self._seen:  # sent again after an outage, and written already
+                return
+            origin = self.origin_of.get(address.vehicle)
+            if origin is not None and origin != (address.relay, address.domain):
+                # a vehicle is written from the relay and domain its commands go to only: another relay (the access
+                # control keeps each to its own key space) cannot pass for it
+                if (address.vehicle, address.relay, address.domain) not in self._refused:
+                    self._refused.add((address.vehicle, address.relay, address.domain))
+                    log.warning(
+                        "vehicle %s is heard through relay %s, domain %d: its samples through relay %s, domain %d are "
+                        "not written",
+                        address.vehicle,
+                        *origin,
+                        address.relay,
+                        address.domain,
+                    )
                 return
             self._seen[digest] = None
             if len(self._seen) > SEEN_KEPT:

@@ -427,6 +427,63 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
+def fleet_session(fleet: Authority, name: str, endpoint: str) -> zenoh.Session:
+    """A Zenoh session with the fleet's certificate for `name`, connected to `endpoint` (a router's)."""
+    cert, private = fleet.issue(name)
+    options = RelayOptions(name=name, connect=endpoint, tls_root_ca=fleet.pem, tls_certificate=cert, tls_private_key=private)
+    opened = open_session(options, threading.Event())
+    assert opened is not None
+    return opened
+
+
+@pytest.mark.slow
+def test_access_control_keeps_a_vehicles_relay_from_passing_for_another_s_vehicle(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """In its own key space a vehicles' relay may still put samples under the id of a vehicle of another's: the
+    operations relay writes a vehicle's samples only from the relay and domain it first heard it through (where its
+    commands go), so ship-2 cannot report a status of ship-1's vehicle, which ship-1 can."""
+    far = free_domain(taken=domain)
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay(
+        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
+    )
+    lan = ("--connect", endpoint, "--link-class", "lan")
+    relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
+    consumer = Consumer(far)
+    statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
+    ships = {name: fleet_session(fleet, name, endpoint) for name in ("ship-1", "ship-2")}
+    try:
+        assert consumer.wait_terminal(consumer.command(Service.GPS_FIX, V1), 20).statuses == HAPPY  # V1 heard via ship-1
+        sessions = {name: uuid.uuid4() for name in ships}
+        for name, zs in ships.items():
+            status = GPSFixCommandStatusType(
+                source=to_guid(V1),
+                commandStatus=S.COMPLETED,
+                commandStatusReason=Reason.SUCCEEDED,
+                logMessage="",
+                sessionID=to_guid(sessions[name]),
+                timeStamp=now_datetime(),
+            )
+            topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+            zs.put(key(name, domain, V1, topic), status.serialize(), attachment=attachment(Kind.SAMPLE, 0))
+        deadline, written = time.monotonic() + 10, set()
+        while sessions["ship-1"] not in written and time.monotonic() < deadline:
+            written |= {uuid.UUID(bytes=bytes(s.sessionID)) for s in take_each(statuses)[0]}
+            time.sleep(0.05)
+        assert sessions["ship-1"] in written  # the relay the vehicle is heard through
+        time.sleep(1)
+        written |= {uuid.UUID(bytes=bytes(s.sessionID)) for s in take_each(statuses)[0]}
+        assert sessions["ship-2"] not in written
+    finally:
+        consumer.close()
+        for zs in ships.values():
+            zs.close()
+
+
 @pytest.mark.slow
 def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
     """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
@@ -495,15 +552,7 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
         "ops",
         *tls(fleet, "router"),
     )
-
-    def session(name: str) -> zenoh.Session:
-        cert, private = fleet.issue(name)
-        options = RelayOptions(name=name, connect=endpoint, tls_root_ca=fleet.pem, tls_certificate=cert, tls_private_key=private)
-        opened = open_session(options, threading.Event())
-        assert opened is not None
-        return opened
-
-    ship, ops, intruder = session("ship-1"), session("ops"), session(impostor)
+    ship, ops, intruder = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", impostor))
     heard: list[str] = []
     try:
         watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", lambda s: heard.append(str(s.key_expr)))
