@@ -36,7 +36,10 @@ class RelayOptions(BaseSettings):
     name: str = Field(
         default_factory=socket.gethostname,
         min_length=1,
-        description=("this relay's name in its log and status (default: the host name)"),
+        description=(
+            "this relay's name in its log and status, and a vehicles' relay's key space (sem/NAME/...): behind a router's "
+            "access control, its certificate's common name (default: the host name)"
+        ),
     )
     connect: str = Field(
         "",
