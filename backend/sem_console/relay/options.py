@@ -36,7 +36,10 @@ class RelayOptions(BaseSettings):
     name: str = Field(
         default_factory=socket.gethostname,
         min_length=1,
-        description=("this relay's name in its log and status (default: the host name)"),
+        description=(
+            "this relay's name in its log and status, and a vehicles' relay's key space (sem/NAME/...): behind a router's "
+            "access control, its certificate's common name (default: the host name)"
+        ),
     )
     connect: str = Field(
         "",
@@ -88,14 +91,59 @@ class RelayOptions(BaseSettings):
         None, description=("PEM certificate of this relay (with --tls-private-key): mutual TLS, the other side checks it")
     )
     tls_private_key: Path | None = Field(None, description="PEM private key of --tls-certificate")
+    vehicle_relays: str = Field(
+        "",
+        description=(
+            "a router's access control (with mutual TLS): the vehicles' relays, comma separated, each by its name, which is "
+            "its certificate's common name: each sends and receives only on its own key space (its vehicles' samples, "
+            "their commands); a certificate named in neither list gets nothing"
+        ),
+    )
+    operations_relays: str = Field(
+        "",
+        description=(
+            "a router's access control (with mutual TLS): the operations relays' certificate common names, comma "
+            "separated: they receive every vehicles' relay's samples and send commands to any"
+        ),
+    )
 
     @model_validator(mode="after")
-    def _tls_pair(self) -> RelayOptions:
+    def _consistent(self) -> RelayOptions:
         if (self.tls_certificate is None) != (self.tls_private_key is None):
             raise ValueError("--tls-certificate and --tls-private-key go together")
         if self.tls_certificate is not None and self.tls_root_ca is None:
             raise ValueError("--tls-certificate needs --tls-root-ca (the authority the other side's certificate is checked by)")
+        if bad := key_chunk_problem(self.name):
+            raise ValueError(f"--name {self.name!r}: {bad}")
+        if self.vehicle_relays or self.operations_relays:
+            if not self.router or self.tls_certificate is None:
+                raise ValueError(
+                    "--vehicle-relays and --operations-relays are a router's access control: give them with --router and "
+                    "--tls-root-ca, --tls-certificate, --tls-private-key (the relays are known by their certificates)"
+                )
+            vehicles, operations = endpoints(self.vehicle_relays), endpoints(self.operations_relays)
+            for name in vehicles:
+                if bad := key_chunk_problem(name):
+                    raise ValueError(f"--vehicle-relays {name!r}: {bad}")
+            named = vehicles + operations
+            if twice := sorted({name for name in named if named.count(name) > 1}):
+                raise ValueError(
+                    f"--vehicle-relays, --operations-relays: {', '.join(map(repr, twice))} named twice: each relay's "
+                    "certificate once, in one list"
+                )
+            for flag, given in (("--listen", self.listen_endpoints), ("--connect", self.connect_endpoints)):
+                for endpoint in given:
+                    if (protocol := endpoint.partition("/")[0]) not in _TLS_PROTOCOLS:
+                        raise ValueError(
+                            f"{flag} {endpoint}: --vehicle-relays and --operations-relays know the relays by their "
+                            f"certificates, which a {protocol}/ endpoint carries none of (a relay through it would get "
+                            "nothing): give tls/ or quic/ endpoints only"
+                        )
         return self
+
+    @property
+    def access_controlled(self) -> bool:
+        return bool(self.vehicle_relays or self.operations_relays)
 
     @property
     def connect_endpoints(self) -> list[str]:
@@ -110,6 +158,16 @@ class RelayOptions(BaseSettings):
     @property
     def tls(self) -> bool:
         return self.tls_root_ca is not None
+
+
+def key_chunk_problem(name: str) -> str | None:
+    """Why a relay's name cannot be a chunk of its Zenoh keys (`sem/<name>/...`), or None."""
+    if not name or any(c in name for c in "/*$?#") or name.startswith("@") or name.strip() != name:
+        return (
+            "a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#', no leading '@' (a chunk no wildcard "
+            "matches) and no surrounding spaces"
+        )
+    return None
 
 
 def endpoints(text: str) -> list[str]:

@@ -27,9 +27,10 @@ import zenoh
 from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
+from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
-from sem_console.relay.options import RelayOptions
+from sem_console.relay.options import RelayOptions, endpoints
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
 
 log = logging.getLogger("sem-relay")
@@ -87,6 +88,9 @@ def zenoh_config(options: RelayOptions) -> zenoh.Config:
             }
         for name, value in tls.items():
             config.insert_json5(f"transport/link/tls/{name}", json.dumps(value))
+    if options.access_controlled:
+        acl = access_control(endpoints(options.vehicle_relays), endpoints(options.operations_relays))
+        config.insert_json5("access_control", json.dumps(acl))
     return config
 
 
@@ -98,9 +102,10 @@ class Relay:
         self.limiter: Limiter[Outgoing] = Limiter(self.caps)
         self.traffic: dict[uuid.UUID, Traffic] = defaultdict(Traffic)
         self._lock = threading.Lock()  # the limiter, the traffic counts and the vehicles' domains
-        # operations side: the domain each vehicle's samples came from (where its commands go), and commands for a
-        # vehicle not heard yet (sent once it is)
-        self.domain_of: dict[uuid.UUID, int] = {}
+        # operations side: the relay and domain each vehicle's samples came from (where its commands go), and commands
+        # for a vehicle not heard yet (sent once it is)
+        self.origin_of: dict[uuid.UUID, tuple[str, int]] = {}
+        self._refused: set[tuple[uuid.UUID, str, int]] = set()  # the other relays and domains a vehicle was heard through
         self.held: Held[Taken] = Held(WAITING_DEPTH)
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
@@ -109,8 +114,9 @@ class Relay:
         self.dds = DomainSide(bus, self.sends, self._taken)
         self.started = time.monotonic()
         self.stopping = threading.Event()
-        # the vehicles' side: the commands for its domain; the operations side: every vehicle's samples
-        watch = f"{PREFIX}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
+        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
+        # serve another domain); the operations side: every vehicle's samples
+        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
         self.subscriber = session.declare_subscriber(watch, self._received)
         # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
@@ -121,9 +127,9 @@ class Relay:
         self._was_connected, self._own_lost = False, cast(float | None, None)  # this session's link, and when it was lost last
         self._send_lock = threading.Lock()  # one message at a time on the link, in the order logged
         self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
-        self.token = session.liveliness().declare_token(f"sem-relay/{options.side}/{options.name}/{session.zid()}")
+        self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
-        self.peers = session.liveliness().declare_subscriber(f"sem-relay/{other}/**", self._peer, history=True)
+        self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:
@@ -137,13 +143,13 @@ class Relay:
             # first sample releases the ones held goes after them, never before
             with self._send_lock:
                 with self._lock:
-                    domain = self.domain_of.get(taken.vehicle)
-                    if domain is None:  # not a vehicle of the link (yet): held until its first sample comes
+                    origin = self.origin_of.get(taken.vehicle)
+                    if origin is None:  # not a vehicle of the link (yet): held until its first sample comes
                         self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
                         return
-                self._send_locked(self._outgoing(taken, domain))
+                self._send_locked(self._outgoing(taken, *origin))
             return
-        out = self._outgoing(taken, self.bus.domain_id)
+        out = self._outgoing(taken, self.options.name, self.bus.domain_id)
         if taken.sem.spec.cls is not TopicClass.REPORT:
             self._send(out)
             return
@@ -172,11 +178,11 @@ class Relay:
             return repr({k: getattr(sample, k) for k in fields})
         return repr({k: v for k, v in vars(sample).items() if k not in ("timeStamp", "sample_info")})
 
-    def _outgoing(self, taken: Taken, domain: int) -> Outgoing:
+    def _outgoing(self, taken: Taken, relay: str, domain: int) -> Outgoing:
         urgent = taken.sem.spec.cls is not TopicClass.REPORT
         ended = taken.kind is not Kind.SAMPLE
         return Outgoing(
-            key(domain, taken.vehicle, taken.sem.spec.name),
+            key(relay, domain, taken.vehicle, taken.sem.spec.name),
             taken.data,
             attachment(taken.kind, taken.source_ns),
             taken.vehicle,
@@ -268,7 +274,7 @@ class Relay:
             return  # not for this side (its own messages come back too)
         # a vehicle's first sample on the operations side releases the commands held for it: sent in one step with it
         # (`_send_lock`), so that none taken meanwhile (a cancel) goes before them
-        first = not self.vehicles_side and address.vehicle not in self.domain_of
+        first = not self.vehicles_side and address.vehicle not in self.origin_of
         with self._send_lock if first else contextlib.nullcontext():
             self._apply(address, sem, key_text, extra, meta, sample.payload.to_bytes(), first)
 
@@ -281,14 +287,29 @@ class Relay:
         with self._lock:
             if digest in self._seen:  # sent again after an outage, and written already
                 return
+            origin = self.origin_of.get(address.vehicle)
+            if origin is not None and origin != (address.relay, address.domain):
+                # a vehicle is written from the relay and domain its commands go to only: another relay (the access
+                # control keeps each to its own key space) cannot pass for it
+                if (address.vehicle, address.relay, address.domain) not in self._refused:
+                    self._refused.add((address.vehicle, address.relay, address.domain))
+                    log.warning(
+                        "vehicle %s is heard through relay %s, domain %d: its samples through relay %s, domain %d are "
+                        "not written",
+                        address.vehicle,
+                        *origin,
+                        address.relay,
+                        address.domain,
+                    )
+                return
             self._seen[digest] = None
             if len(self._seen) > SEEN_KEPT:
                 self._seen.popitem(last=False)
             t = self.traffic[address.vehicle]
             t.received_bytes += len(key_text) + len(payload) + len(extra)
             t.received_messages += 1
-            if first and address.vehicle not in self.domain_of:
-                self.domain_of[address.vehicle] = address.domain
+            if first and address.vehicle not in self.origin_of:
+                self.origin_of[address.vehicle] = (address.relay, address.domain)
                 release = self.held.release(address.vehicle)
         kind, source_ns = meta
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
@@ -299,7 +320,7 @@ class Relay:
         except Exception as e:  # one bad message costs only itself
             log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
         for taken in release:
-            self._send_locked(self._outgoing(taken, address.domain))
+            self._send_locked(self._outgoing(taken, address.relay, address.domain))
 
     # the caps' slots and the link's status
     def _tick(self) -> None:

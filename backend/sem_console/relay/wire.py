@@ -1,4 +1,5 @@
-"""What a relay puts on Zenoh: key `sem/<domain>/<vehicle>/<topic>`, the payload the sample's CDR with its encapsulation
+"""What a relay puts on Zenoh: key `sem/<relay>/<domain>/<vehicle>/<topic>` (`<relay>`: the vehicles' relay's name, the
+key space Zenoh's access control gives it), the payload the sample's CDR with its encapsulation
 header (a dispose's or unregistration's: the instance's key CDR), and an attachment saying which of the three it is
 and the sample's source timestamp."""
 
@@ -20,12 +21,13 @@ class Kind(IntEnum):
     UNREGISTER = 2  # the instance lost its last writer
 
 
-def key(domain: int, vehicle: uuid.UUID, topic: str) -> str:
-    return f"{PREFIX}/{domain}/{vehicle}/{topic}"
+def key(relay: str, domain: int, vehicle: uuid.UUID, topic: str) -> str:
+    return f"{PREFIX}/{relay}/{domain}/{vehicle}/{topic}"
 
 
 @dataclass(frozen=True)
 class Address:
+    relay: str  # the vehicles' relay the vehicle is heard through
     domain: int
     vehicle: uuid.UUID
     topic: str
@@ -33,11 +35,11 @@ class Address:
 
 def parse_key(text: str) -> Address | None:
     """The parts of a relay's key, or None for a key that is not one."""
-    parts = text.split("/", 3)
-    if len(parts) != 4 or parts[0] != PREFIX or not parts[1].isdigit():
+    parts = text.split("/", 4)
+    if len(parts) != 5 or parts[0] != PREFIX or not parts[2].isdigit():
         return None
     try:
-        return Address(int(parts[1]), uuid.UUID(parts[2]), parts[3])
+        return Address(parts[1], int(parts[2]), uuid.UUID(parts[3]), parts[4])
     except ValueError:
         return None
 

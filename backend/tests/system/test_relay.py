@@ -31,6 +31,8 @@ from conftest import Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.relay.access import LIVELINESS
+from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
@@ -233,14 +235,35 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
         consumer.close()
 
 
+def test_the_impairment_s_loss_costs_a_retransmission_after_an_outage_too() -> None:
+    """A segment lost is sent again a retransmission timeout after it would have come: one held by an outage (or
+    behind others at the link's rate) costs it as well, after it."""
+    sink = socket.create_server(("127.0.0.1", 0))
+    link = Impairment(sink.getsockname(), loss=1.0)  # every segment lost: each comes 200 ms late
+    try:
+        with socket.create_connection(("127.0.0.1", link.port)) as sender:
+            receiver, _ = sink.accept()
+            link.outage(0.5)
+            started = time.monotonic()
+            sender.sendall(b"x")
+            receiver.settimeout(5)
+            assert receiver.recv(1) == b"x"
+            assert time.monotonic() - started >= 0.5 + link.retransmission - 0.02
+            assert link.lost == 1
+            receiver.close()
+    finally:
+        link.close()
+        sink.close()
+
+
 def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, tmp_path: Path) -> None:
-    """600 ms round trip, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the command flow
-    is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
+    """600 ms round trip, 5 % loss, 64 kbit/s, and an outage of a few seconds while a command runs: nothing of the
+    command flow is lost, and the reports go on after it (the minute-long outage belongs to a slow test: docs/relay.md)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
 
     def impaired(port: int) -> str:
-        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000))
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000, loss=0.05))
         return links[0].endpoint
 
     sim("--surface-seconds", "60")
@@ -258,6 +281,7 @@ def test_commands_cross_an_impaired_link_and_an_outage(sim, domain: int, relay, 
         assert seen.statuses == HAPPY and seen.flow.violations == []
         assert time.monotonic() - started >= 4
         consumer.wait(lambda: len(consumer.reports[Sem.GPS_FIX_REPORT][V1]) >= before + 2, 10, "reports after the outage")
+        assert links[0].lost >= 1 and links[0].lost == int(links[0].segments * 0.05)  # the loss was on the link
     finally:
         consumer.close()
         for link in links:
@@ -305,7 +329,7 @@ def test_a_cancel_sent_before_an_outage_longer_than_ends_are_kept_goes_again_aft
     relay = Relay(RelayOptions(side="operations", name="ops", lease_seconds=10), bus, session)
     try:
         cancel = Outgoing(
-            key(domain, V1, Sem.GPS_FIX_COMMAND.spec.name),
+            key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND.spec.name),
             b"",
             attachment(Kind.DISPOSE, 0),
             V1,
@@ -403,6 +427,150 @@ def test_mutual_tls_lets_in_only_the_fleets_certificates(sim, domain: int, relay
     assert "cannot connect to any Zenoh endpoint yet" in intruder.stop()
 
 
+def fleet_session(fleet: Authority, name: str, endpoint: str) -> zenoh.Session:
+    """A Zenoh session with the fleet's certificate for `name`, connected to `endpoint` (a router's)."""
+    cert, private = fleet.issue(name)
+    options = RelayOptions(name=name, connect=endpoint, tls_root_ca=fleet.pem, tls_certificate=cert, tls_private_key=private)
+    opened = open_session(options, threading.Event())
+    assert opened is not None
+    return opened
+
+
+@pytest.mark.slow
+def test_access_control_keeps_a_vehicles_relay_from_passing_for_another_s_vehicle(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """In its own key space a vehicles' relay may still put samples under the id of a vehicle of another's: the
+    operations relay writes a vehicle's samples only from the relay and domain it first heard it through (where its
+    commands go), so ship-2 cannot report a status of ship-1's vehicle, which ship-1 can."""
+    far = free_domain(taken=domain)
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay(
+        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
+    )
+    lan = ("--connect", endpoint, "--link-class", "lan")
+    relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
+    consumer = Consumer(far)
+    statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
+    ships = {name: fleet_session(fleet, name, endpoint) for name in ("ship-1", "ship-2")}
+    try:
+        assert consumer.wait_terminal(consumer.command(Service.GPS_FIX, V1), 20).statuses == HAPPY  # V1 heard via ship-1
+        sessions = {name: uuid.uuid4() for name in ships}
+        for name, zs in ships.items():
+            status = GPSFixCommandStatusType(
+                source=to_guid(V1),
+                commandStatus=S.COMPLETED,
+                commandStatusReason=Reason.SUCCEEDED,
+                logMessage="",
+                sessionID=to_guid(sessions[name]),
+                timeStamp=now_datetime(),
+            )
+            topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+            zs.put(key(name, domain, V1, topic), status.serialize(), attachment=attachment(Kind.SAMPLE, 0))
+        deadline, written = time.monotonic() + 10, set()
+        while sessions["ship-1"] not in written and time.monotonic() < deadline:
+            written |= {uuid.UUID(bytes=bytes(s.sessionID)) for s in take_each(statuses)[0]}
+            time.sleep(0.05)
+        assert sessions["ship-1"] in written  # the relay the vehicle is heard through
+        time.sleep(1)
+        written |= {uuid.UUID(bytes=bytes(s.sessionID)) for s in take_each(statuses)[0]}
+        assert sessions["ship-2"] not in written
+    finally:
+        consumer.close()
+        for zs in ships.values():
+            zs.close()
+
+
+@pytest.mark.slow
+def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
+    """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
+    relay with ship-2's certificate started under ship-1's name (misconfigured, or taking another's name) never gets
+    the commands for ship-1's vehicles, which ship-1's own relay gets and its vehicle completes."""
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    sim()
+    relay(
+        "--router", "--listen", endpoint, "--vehicle-relays", "ship-1,ship-2", "--operations-relays", "ops", *tls(fleet, "router")
+    )
+    lan = ("--connect", endpoint, "--link-class", "lan")
+    relay("--domain", str(other), "--name", "ship-1", *lan, *tls(fleet, "ship-2"))
+    relay("--domain", str(domain), "--name", "ship-1", *lan, *tls(fleet, "ship-1"))
+    relay("--domain", str(far), "--side", "operations", "--name", "ops", *lan, *tls(fleet, "ops"))
+    consumer, elsewhere = Consumer(far), Bus(other)
+    try:
+        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert take_each(commands)[0] == []  # neither the command nor its dispose reached ship-2's domain
+    finally:
+        consumer.close()
+        elsewhere.close()
+
+
+def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int, relay, tmp_path: Path) -> None:
+    """Two vehicles' relays of one name (the default, the host's name, for two domains of one machine), no access
+    control: the command for a vehicle of one domain, and its cleanup, are written on that domain only."""
+    far, other = free_domain(taken=domain), free_domain(taken=domain)
+    sim()
+    port = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    relay("--domain", str(other), "--name", "ship-1", "--connect", f"tcp/127.0.0.1:{port}", "--link-class", "lan")
+    consumer, elsewhere = Consumer(far), Bus(other)
+    try:
+        commands = elsewhere.reader(Sem.GPS_FIX_COMMAND)
+        time.sleep(2)  # the other relay's subscription known to the router
+        fix = consumer.command(Service.GPS_FIX, V1)
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        consumer.dispose(fix)
+        consumer.wait(lambda: seen.status_disposed and seen.ack_disposed, 15, "status and ack disposed after cleanup")
+        assert take_each(commands)[0] == []  # neither the command nor its dispose reached the other domain
+    finally:
+        consumer.close()
+        elsewhere.close()
+
+
+@pytest.mark.parametrize("impostor", ["ship-2", "operations"])
+def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay, tmp_path: Path, impostor: str) -> None:
+    """A new operations relay's liveliness token makes every vehicles' relay send again all it sent: the router keeps
+    a vehicles' relay's token as an operations relay's from the others, as it keeps the operations relay's own."""
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        f"ship-1,{impostor}",
+        "--operations-relays",
+        "ops",
+        *tls(fleet, "router"),
+    )
+    ship, ops, intruder = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", impostor))
+    heard: list[str] = []
+    try:
+        watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", lambda s: heard.append(str(s.key_expr)))
+        posing = intruder.liveliness().declare_token(f"{LIVELINESS}/operations/{impostor}/{intruder.zid()}")
+        token = ops.liveliness().declare_token(f"{LIVELINESS}/operations/ops/{ops.zid()}")
+        deadline = time.monotonic() + 10
+        while not any("/ops/" in k for k in heard) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert any("/ops/" in k for k in heard), "the operations relay's token never came"
+        time.sleep(1)
+        assert [k for k in heard if "/ops/" not in k] == []
+        for declared in (watch, posing, token):
+            declared.undeclare()
+    finally:
+        for s in (ship, ops, intruder):
+            s.close()
+
+
 @pytest.mark.slow
 def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
     """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
@@ -477,7 +645,9 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
     try:
         relay._taken(Taken(Sem.GPS_FIX_COMMAND, Kind.SAMPLE, b"command", 0, V1, instance))  # held: V1 not heard
         assert sent == []
-        session.put(key(domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        session.put(
+            key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0)
+        )
         assert entered.wait(10), "the vehicle's first sample was not received"
         cancel = threading.Thread(target=relay._taken, args=(Taken(Sem.GPS_FIX_COMMAND, Kind.DISPOSE, b"key", 0, V1, instance),))
         cancel.start()

@@ -15,6 +15,7 @@ from UMAA.Common.Measurement import Altitude_HAE, GeodeticLatitude, GeodeticLong
 from UMAA.SEM.GPSFixStatus import GPSFixStatusReportType
 
 from sem_console.dds.topics import Sem
+from sem_console.relay.access import access_control
 from sem_console.relay.cli import main
 from sem_console.relay.domain import Taken
 from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
@@ -135,6 +136,25 @@ def test_a_command_ended_while_held_for_its_vehicle_is_never_delivered() -> None
     assert held.release("v") == ["command 2", "command 3", "command 4"]
 
 
+def test_access_control_gives_each_vehicles_relay_its_own_key_space_and_denies_the_rest() -> None:
+    acl = access_control(["ship-1", "ship-2"], ["ops"])
+    assert acl["enabled"] and acl["default_permission"] == "deny"
+    rules = {r["id"]: r for r in acl["rules"]}
+    names = {s["id"]: s["cert_common_names"] for s in acl["subjects"]}
+    granted = {
+        names[subject][0]: sorted(k for rule in p["rules"] for k in rules[rule]["key_exprs"])
+        for p in acl["policies"]
+        for subject in p["subjects"]
+    }
+    assert granted == {
+        "ops": ["**"],
+        "ship-1": ["sem-relay/operations/**", "sem-relay/operations/**", "sem-relay/vehicles/ship-1/**", "sem/ship-1/**"],
+        "ship-2": ["sem-relay/operations/**", "sem-relay/operations/**", "sem-relay/vehicles/ship-2/**", "sem/ship-2/**"],
+    }
+    assert "put" not in rules["watch operations"]["messages"]  # a vehicles' relay only watches the operations relays
+    assert rules["watch operations"]["flows"] == ["ingress"] and rules["told operations"]["flows"] == ["egress"]
+
+
 def test_link_classes_and_caps() -> None:
     assert LINK_CLASSES["satellite"]["GPSReport"] == 60.0 and LINK_CLASSES["lan"] == {}
     assert short_name("UMAA::SEM::GPSStatus::GPSReportType") == short_name("UMAA::SEM::GPSStatus::GPSReport") == "GPSReport"
@@ -150,10 +170,10 @@ def test_link_classes_and_caps() -> None:
 
 def test_keys_and_attachments() -> None:
     v = uuid.uuid4()
-    k = key(7, v, "UMAA::SEM::GPSStatus::GPSReport")
-    assert k == f"sem/7/{v}/UMAA::SEM::GPSStatus::GPSReport"
-    assert parse_key(k) == Address(7, v, "UMAA::SEM::GPSStatus::GPSReport")
-    assert parse_key("sem/x/y/z") is None and parse_key("other/1/2") is None
+    k = key("ship-1", 7, v, "UMAA::SEM::GPSStatus::GPSReport")
+    assert k == f"sem/ship-1/7/{v}/UMAA::SEM::GPSStatus::GPSReport"
+    assert parse_key(k) == Address("ship-1", 7, v, "UMAA::SEM::GPSStatus::GPSReport")
+    assert parse_key(f"sem/7/{v}/x") is None and parse_key("sem/ship-1/x/y/z") is None and parse_key("other/1/2") is None
     assert read_attachment(attachment(Kind.DISPOSE, 123)) == (Kind.DISPOSE, 123)
     assert read_attachment(b"\x09" * 10) is None and read_attachment(None) is None
 
@@ -199,6 +219,34 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
         "sem-relay: error: --caps 'GPSReport=often': the cap is seconds 0..86400 or 'change'\n",
     )
     assert run("--tls-certificate", "a.pem") == (2, "sem-relay: error: --tls-certificate and --tls-private-key go together\n")
+    assert run("--name", "ship/1") == (
+        2,
+        "sem-relay: error: --name 'ship/1': a relay's name is one Zenoh key chunk: no '/', '*', '$', '?', '#', no "
+        "leading '@' (a chunk no wildcard matches) and no surrounding spaces\n",
+    )
+    assert run("--name", "@ship-1")[1].startswith("sem-relay: error: --name '@ship-1': a relay's name is one Zenoh key")
+    code, err = run("--router", "--vehicle-relays", "ship-1")  # access control knows relays by their certificates
+    assert (
+        code == 2
+        and err.startswith("sem-relay: error: --vehicle-relays and --operations-relays are a router's")
+        and (err.count("\n") == 1)
+    )
+    acl = ("--router", "--tls-root-ca", "ca.pem", "--tls-certificate", "router.pem", "--tls-private-key", "router.key")
+    assert run(*acl, "--vehicle-relays", "ship-1") == (  # the router's default endpoint, tcp/
+        2,
+        "sem-relay: error: --listen tcp/127.0.0.1:7447: --vehicle-relays and --operations-relays know the relays by "
+        "their certificates, which a tcp/ endpoint carries none of (a relay through it would get nothing): give tls/ "
+        "or quic/ endpoints only\n",
+    )
+    acl = (*acl, "--listen", "tls/0.0.0.0:7447")
+    assert run(*acl, "--vehicle-relays", "ship-1,ship-1") == (
+        2,
+        "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice: each relay's certificate once, "
+        "in one list\n",
+    )
+    assert run(*acl, "--vehicle-relays", "ship-1", "--operations-relays", "ops,ship-1")[1].startswith(
+        "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice"
+    )
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
     monkeypatch.delenv("SEM_RELAY_CONNECT")

@@ -1,0 +1,58 @@
+"""Zenoh access control on a `sem-relay --router` (docs/relay.md#security): which relay, known by its TLS certificate's
+common name, may send and receive what. A vehicles' relay has only its own key space (`sem/<name>/**`: its vehicles'
+samples out, their commands in) and its liveliness token, and watches the operations relays' tokens; an operations
+relay has every key; any other certificate, nothing."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from sem_console.relay.wire import PREFIX
+
+LIVELINESS = "sem-relay"  # the relays' liveliness tokens: `sem-relay/<side>/<name>/<session>`
+_MESSAGES = [
+    "put",
+    "delete",
+    "declare_subscriber",
+    "query",
+    "declare_queryable",
+    "reply",
+    "liveliness_token",
+    "declare_liveliness_subscriber",
+    "liveliness_query",
+]
+
+
+def _rule(
+    rule_id: str, key_exprs: list[str], messages: list[str], flows: tuple[str, ...] = ("ingress", "egress")
+) -> dict[str, Any]:
+    return {"id": rule_id, "permission": "allow", "flows": list(flows), "messages": messages, "key_exprs": key_exprs}
+
+
+def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> dict[str, Any]:
+    """The `access_control` section of the router's Zenoh configuration; everything not allowed here is denied."""
+    rules = [
+        _rule("operations", ["**"], _MESSAGES),
+        # a vehicles' relay watches the operations relays come and go (it sends again what they missed): it asks
+        # (ingress) and is told (egress), but never declares a token there itself, which would pass for a new one
+        _rule(
+            "watch operations",
+            [f"{LIVELINESS}/operations/**"],
+            ["declare_liveliness_subscriber", "liveliness_query"],
+            ("ingress",),
+        ),
+        _rule("told operations", [f"{LIVELINESS}/operations/**"], ["liveliness_token", "reply"], ("egress",)),
+    ]
+    subjects = [{"id": "operations", "cert_common_names": operations_relays}] if operations_relays else []
+    policies = [{"id": "operations", "rules": ["operations"], "subjects": ["operations"]}] if operations_relays else []
+    for name in vehicle_relays:
+        rules.append(_rule(f"vehicles {name}", [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**"], _MESSAGES))
+        subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
+        policies.append(
+            {
+                "id": f"vehicles {name}",
+                "rules": [f"vehicles {name}", "watch operations", "told operations"],
+                "subjects": [f"vehicles {name}"],
+            }
+        )
+    return {"enabled": True, "default_permission": "deny", "rules": rules, "subjects": subjects, "policies": policies}
