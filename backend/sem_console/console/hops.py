@@ -83,5 +83,11 @@ def listen(bus: Bus, loop: asyncio.AbstractEventLoop, on_links: Callable[[list[h
     return hops.reader(bus.participant, Listener(on_data_available=available))
 
 
+def relay_silent_after(comms_lost_timeout: float) -> float:
+    """Seconds without data over a relay's link before it is silent: the console's comms-lost timeout, but at least
+    three of the relay's samples (what a console knows of the link's age is up to one sample old)."""
+    return max(comms_lost_timeout, 3 * hops.PERIOD)
+
+
 def silent_relays(relays: Mapping[str, Hop], wall: float, after: float) -> list[Hop]:
     return [h for h in relays.values() if h.vehicles and h.silent(wall, after)]

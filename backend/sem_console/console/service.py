@@ -30,7 +30,7 @@ from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
-from sem_console.console.hops import Hops
+from sem_console.console.hops import Hops, relay_silent_after
 from sem_console.console.hub import Client, Hub
 from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
@@ -155,7 +155,7 @@ class Console:
             self._record_ack,
             settings.silence_grace,
             (settings.chatter_count, settings.chatter_minutes * 60),
-            settings.comms_lost_timeout,
+            relay_silent_after(settings.comms_lost_timeout),
         )
         self.hops = Hops()  # the relays the vehicles come through (console/hops.py)
         self.alarms.baseline(self.commands.by_session.values())

@@ -6,13 +6,13 @@ through a relay and to raise one alarm for a relay gone silent. Not a UMAA topic
 # no `from __future__ import annotations`: cyclonedds reads the IDL struct's annotations as types
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cyclonedds.core import Policy, Qos
 from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
 from cyclonedds.idl.annotations import key
-from cyclonedds.idl.types import int64
+from cyclonedds.idl.types import int64, sequence
 from cyclonedds.pub import DataWriter
 from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
@@ -25,7 +25,10 @@ NEVER = -1  # ageMs of a relay that carried no data yet
 @dataclass
 class RelayLink(IdlStruct, typename="SEMConsole::RelayLink"):
     relay: str  # the vehicles' side relay's --name
-    vehicles: list[str]  # the vehicles it carries: their source GUIDs as UUID strings
+    if TYPE_CHECKING:
+        vehicles: list[str]
+    else:
+        vehicles: sequence[str]  # the vehicles it carries: their source GUIDs as UUID strings
     ageMs: int64  # ms since the last data over the link from it, as the operations side's relay wrote the sample
     key("relay")
 

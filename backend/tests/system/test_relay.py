@@ -27,7 +27,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
-from conftest import Process, free_domain, free_port
+from conftest import ConsoleProcess, Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
@@ -493,3 +493,51 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
         relay.close()
         bus.close()
         session.close()
+
+
+def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """The console knows the hop: a console on the far domain shows each vehicle "via relay ship-1" with the age of its
+    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port)))
+        return links[0].endpoint
+
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    join(relay, domain, far, tmp_path, "--link-class", "lan", via=impaired)
+    console = ConsoleProcess(far, tmp_path / "far.sqlite3", ["--comms-lost-timeout", "3"], {}).start()
+    try:
+
+        def marked() -> dict[str, Any]:
+            providers = httpx.get(f"{console.url}/api/providers").json()
+            return {p["id"]: p["relay"] for p in providers if p.get("relay")}
+
+        deadline = time.monotonic() + 30
+        while set(marked()) != {str(V1), str(V2)} and time.monotonic() < deadline:
+            time.sleep(0.2)
+        hops = marked()
+        assert set(hops) == {str(V1), str(V2)}, hops
+        for hop in hops.values():
+            assert hop["name"] == "ship-1" and 0 <= hop["ageSeconds"] < 3 and hop["dataTime"] > time.time() - 10
+        assert httpx.get(f"{console.url}/api/alarms").json() == []
+        links[0].outage(120)  # the link goes quiet
+        deadline = time.monotonic() + 30
+        alarms: list[dict[str, Any]] = []
+        while not any(a["kind"] == "relay-silent" for a in alarms) and time.monotonic() < deadline:
+            time.sleep(0.2)
+            alarms = httpx.get(f"{console.url}/api/alarms").json()
+        time.sleep(2)  # and nothing more comes: no alarm per vehicle
+        alarms = httpx.get(f"{console.url}/api/alarms").json()
+        assert [(a["kind"], a["text"], a["providerId"]) for a in alarms] == [
+            ("relay-silent", "relay ship-1 silent: 2 vehicles", None)
+        ]
+        lost = {p["id"]: p["link"] for p in httpx.get(f"{console.url}/api/providers").json()}
+        assert lost == {str(V1): "lost", str(V2): "lost"}  # lost, by their own time stamps: one alarm for both
+    finally:
+        console.end()
+        for link in links:
+            link.close()
