@@ -149,10 +149,11 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "planned": "Out of comms (planned)",
     },
     # a vehicle seen through a sem-relay (`ProviderSummary.relay`): `{relay}` its --name, `{age}` how old its newest
-    # data is by its own time stamp ("1.4 s"): "via relay ship-1, 1.4 s old"
+    # data is by its own time stamp ("1.4 s"): "via relay ship-1, 1.4 s old"; unknown: no time stamp of it yet
     "relay": {
         "via": "Via relay {relay}, {age} old",
-        "title": "Seen through sem-relay {relay}: its newest data, by the vehicle's own time stamp, is {age} old",
+        "unknown": "Via relay {relay}",
+        "title": "Seen through sem-relay {relay}, of the vehicles' side; the age: of its newest data, by its own time stamp",
     },
     # GPSFixStatusReport.fixValid
     "fixValid": {"true": "Fix valid", "false": "No fix"},
