@@ -102,7 +102,10 @@ class Hops:
 
     def write(self, now: float | None = None) -> None:
         for link in self.links(time.monotonic() if now is None else now):
-            self.writer.write(link)
+            try:
+                self.writer.write(link)
+            except Exception as e:  # the consoles miss one second of it; the relay's timer goes on
+                log.warning("could not write relay %s's link to the consoles: %s", link.relay, e)
 
     def close(self) -> None:
         self.subscriber.undeclare()
