@@ -737,10 +737,11 @@ def relay_silent_text(relay: str, vehicles: int) -> str:
 def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_after: float) -> bool:
     """Whether a lost vehicle was lost with the relay it comes through: no data came over the relay's link since the
     vehicle went silent (its newest time stamp and its comms-lost timeout), or, without a time stamp of it, the relay
-    is silent. Its loss is then the relay's, said by the relay's one alarm."""
+    is silent. Its loss is then the relay's, said by the relay's one alarm. A relay that has carried no data yet (its
+    operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
     hop = relays.get(p.relay) if p.relay is not None else None
-    if hop is None:
+    if hop is None or hop.data_at is None:
         return False
-    if hop.data_at is None or p.stamp is None:
-        return hop.data_at is None or hop.silent(now, silent_after)
+    if p.stamp is None:
+        return hop.silent(now, silent_after)
     return hop.data_at <= p.stamp + p.config.commsLostTimeout

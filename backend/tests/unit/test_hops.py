@@ -88,3 +88,16 @@ def test_a_vehicle_lost_with_its_relay_is_the_relay_s_alarm_one_lost_alone_its_o
 def test_the_relay_s_alarm_names_it_and_counts_its_vehicles() -> None:
     assert relay_silent_text("ship-1", 12) == "relay ship-1 silent: 12 vehicles"
     assert relay_silent_text("ship-1", 1) == "relay ship-1 silent: 1 vehicle"
+
+
+def test_a_vehicle_lost_under_a_relay_that_carried_no_data_yet_is_its_own_loss() -> None:
+    """An operations side's relay just restarted says its relay carried no data yet (NEVER): that relay is never
+    silent, so a vehicle lost under it must raise its own link-lost, or nothing would say it."""
+    links = Providers(comms_lost_timeout=5.0, regained_time=1.0)
+    links.seen("GPSFixReport", A, envelope(T0, T0), 0.0, T0, True)
+    p = links.by_id[A]
+    p.relay = "ship-1"
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(A)], NEVER), T0 + 20)
+    assert silent_relays(hops.by_relay, T0 + 30, 10.0) == []
+    assert not lost_with_relay(p, hops.by_relay, T0 + 30, 10.0)
