@@ -742,6 +742,7 @@ def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_a
     hop = relays.get(p.relay) if p.relay is not None else None
     if hop is None or hop.data_at is None:
         return False
-    if p.stamp is None:
+    made = p.data_at()
+    if made is None:
         return hop.silent(now, silent_after)
-    return hop.data_at <= p.stamp + p.config.commsLostTimeout
+    return hop.data_at <= made + p.config.commsLostTimeout

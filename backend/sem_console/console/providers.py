@@ -8,7 +8,10 @@ It shows `regained` for one regained time, then `live`. Both thresholds are per 
 regained behaviour the vehicle is recorded to follow (reported, never enforced, by the console).
 
 A vehicle seen through a relay (`relay`: console/hops.py) is silent by its own time stamps, not by arrival: a relay
-that holds samples through an outage and releases them late must not make a lost vehicle look live.
+that holds samples through an outage and releases them late must not make a lost vehicle look live. Its clock need
+not agree with the console's: its newest time stamp is moved to the console's clock by the least lag (receipt minus
+time stamp) its reports have had; a time stamp ahead of its receipt (a clock ahead, or a bad one) makes it silent from
+arrival until its time stamps can be read again.
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from sem_console.versions import UMAA_3_0_1, UmaaVersion
 
 REPORTS = tuple(REPORT_TOPICS.values())  # the model's report topics (core/contract.ReportTopic)
 MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
+STAMP_AHEAD = 1.0  # s a report's own time stamp may be ahead of its receipt (clocks a little apart); more: not read
 
 
 @dataclass
@@ -55,12 +59,19 @@ class Provider:
     version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
     relay: str | None = None  # the relay it is seen through (console/hops.py), None: on this domain itself
     stamp: float | None = None  # UTC seconds: the newest of its reports' own time stamps (timeStamp)
+    lag: float | None = None  # the least receipt (console's clock) minus own time stamp: its clock's offset, the link's
+
+    def data_at(self) -> float | None:
+        """When its newest data was made, on the console's clock (UTC seconds): its newest time stamp moved by the
+        least lag seen, so that a vehicle's clock behind or ahead of the console's counts no silence of its own."""
+        return None if self.stamp is None or self.lag is None else self.stamp + self.lag
 
     def silent_for(self, now: float, wall: float) -> float:
         """Seconds it has been silent: since its newest report's own time stamp when seen through a relay (once it
         has one), else since its last sample arrived."""
-        if self.relay is not None and self.stamp is not None:
-            return wall - self.stamp
+        made = self.data_at()
+        if self.relay is not None and made is not None:
+            return wall - made
         return now - self.last_seen()
 
     def last_seen(self) -> float:
@@ -92,7 +103,7 @@ class Provider:
         return {
             "name": self.relay or "",
             "dataTime": self.stamp,
-            "ageSeconds": None if self.stamp is None else round(wall - self.stamp, 3),
+            "ageSeconds": None if self.stamp is None else round(max(0.0, wall - self.stamp), 3),
         }
 
     def jaus_id(self) -> str | None:
@@ -161,8 +172,11 @@ class Providers:
         if report is not None:
             p.reports[topic] = report
             stamp = report_stamp(report.get("report") or {})
-            if stamp is not None and (p.stamp is None or stamp > p.stamp):
-                p.stamp = stamp
+            if stamp is not None and stamp > wall + STAMP_AHEAD:  # its clock ahead (now): silent from arrival
+                p.stamp = p.lag = None
+            elif stamp is not None:
+                p.lag = wall - stamp if p.lag is None else min(p.lag, wall - stamp)
+                p.stamp = stamp if p.stamp is None else max(p.stamp, stamp)
         if p.link == "lost" and (p.regaining_since is None or gap > p.config.commsLostTimeout):
             p.regaining_since = now
         return p, new

@@ -101,3 +101,30 @@ def test_a_vehicle_lost_under_a_relay_that_carried_no_data_yet_is_its_own_loss()
     hops.seen(RelayLink("ship-1", [str(A)], NEVER), T0 + 20)
     assert silent_relays(hops.by_relay, T0 + 30, 10.0) == []
     assert not lost_with_relay(p, hops.by_relay, T0 + 30, 10.0)
+
+
+def test_a_relayed_vehicle_s_clock_apart_from_the_console_s_neither_loses_it_while_heard_nor_keeps_it_when_silent() -> None:
+    """Vehicles seen through a relay, their reports arriving fresh every 0.5 s for 20 s: one's clock an hour behind the
+    console's, one's an hour ahead, one's jumping an hour ahead midway, and one with a single bad time stamp far in the
+    future. Each is live while heard
+    and lost a comms-lost timeout after it goes silent, as the same vehicle with the console's clock."""
+    links = Providers(comms_lost_timeout=5.0, regained_time=1.0)
+    skews = {uuid.uuid4(): lambda t: -3600.0, uuid.uuid4(): lambda t: 3600.0, uuid.uuid4(): lambda t: 3600.0 * (t > 10)}
+    bad = uuid.uuid4()
+    t = 0.0
+    while t < 20.0:
+        for v, skew in skews.items():
+            links.seen("GPSFixReport", v, envelope(T0 + t - 0.2 + skew(t), T0 + t), t, T0 + t, True)
+        links.seen("GPSFixReport", bad, envelope(T0 + t - 0.2 + (1e9 if t == 1.0 else 0), T0 + t), t, T0 + t, True)
+        for p in links.by_id.values():
+            p.relay = "ship-1"
+        links.tick(t, T0 + t)
+        assert {p.link for p in links.by_id.values()} == {"live"}, t
+        t += 0.5
+    links.tick(24.0, T0 + 24.0)  # silent for 4.5 s
+    assert {p.link for p in links.by_id.values()} == {"live"}
+    links.tick(26.0, T0 + 26.0)  # silent for 6.5 s
+    assert {p.link for p in links.by_id.values()} == {"lost"}
+    hops = Hops()  # the relay's link quiet since their last data: each is lost with it, whatever its clock
+    hops.seen(RelayLink("ship-1", [str(v) for v in links.by_id], 6500), T0 + 26.0)
+    assert all(lost_with_relay(p, hops.by_relay, T0 + 26.0, 5.0) for p in links.by_id.values())
