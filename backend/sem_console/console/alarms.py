@@ -679,7 +679,7 @@ class Alarms:
         if a.kind == "command-unanswered":
             return True  # the commands not finished are always in memory
         if a.kind == "relay-silent":
-            return a.key.rsplit("|", 1)[-1] in relays  # its relay heard of since the start
+            return a.key.split("|", 3)[3] in relays  # its relay (the key's last part, whatever it holds) heard of
         p = providers.get(uuid.UUID(a.provider_id)) if a.provider_id else None
         if p is None:
             return False

@@ -467,3 +467,22 @@ def test_a_silent_relay_is_one_alarm_naming_it_and_its_vehicles_not_one_per_vehi
         active = heard(t, [ALPHA, CHARLIE])
     assert sorted(kinds(active)) == [("link-lost", "active-unacknowledged"), ("relay-silent", "cleared-unacknowledged")]
     assert next(a for a in active if a["kind"] == "link-lost")["providerId"] == str(UNNAMED)
+
+
+def test_a_silent_relay_whose_name_holds_a_bar_clears_when_its_link_is_back(tmp_path: Path) -> None:
+    """A relay's --name is free text: "ship|1" (a bar, as the alarms' keys join their parts with) raises its
+    relay-silent alarm and clears it when data comes over its link again."""
+    from sem_console.console.hops import Hops
+    from sem_console.dds.hops import RelayLink
+
+    w = World(tmp_path / "db")
+    w.alarms.relay_silent_after = 3.0
+    hops = Hops()
+    hops.seen(RelayLink("ship|1", [str(ALPHA)], 0), w.clock.at)
+    w.at(10)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    [silent] = w.alarms.active()
+    assert (silent["kind"], silent["text"]) == ("relay-silent", "relay ship|1 silent: 1 vehicle")
+    hops.seen(RelayLink("ship|1", [str(ALPHA)], 0), w.at(11).clock.at)  # data over the link again
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert kinds(w.alarms.active()) == [("relay-silent", "cleared-unacknowledged")]
