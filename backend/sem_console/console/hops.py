@@ -47,6 +47,7 @@ class Hops:
     def __init__(self) -> None:
         self.by_relay: dict[str, Hop] = {}
         self.via: dict[uuid.UUID, str] = {}  # vehicle -> the relay that carries it
+        self._warned: set[tuple[str, str]] = set()  # (relay, text) of a vehicle not a GUID: said once, not every second
 
     def seen(self, link: hops.RelayLink, received: float) -> set[uuid.UUID]:
         """A relay's sample, received at `received` (UTC seconds): the vehicles whose relay changed with it."""
@@ -55,7 +56,9 @@ class Hops:
             try:
                 vehicles.add(uuid.UUID(text))
             except ValueError:
-                log.warning("relay %s names a vehicle that is not a GUID: %r", link.relay, text)
+                if (link.relay, text) not in self._warned:
+                    self._warned.add((link.relay, text))
+                    log.warning("relay %s names a vehicle that is not a GUID: %r", link.relay, text)
         data_at = None if link.ageMs < 0 else received - link.ageMs / 1000
         self.by_relay[link.relay] = Hop(link.relay, frozenset(vehicles), data_at)
         changed = {v for v in vehicles if self.via.get(v) != link.relay}

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import uuid
 
+import pytest
+
 from sem_console.console.alarms import lost_with_relay, relay_silent_text
 from sem_console.console.hops import Hops, silent_relays
 from sem_console.console.providers import Providers, report_stamp
@@ -128,3 +130,12 @@ def test_a_relayed_vehicle_s_clock_apart_from_the_console_s_neither_loses_it_whi
     hops = Hops()  # the relay's link quiet since their last data: each is lost with it, whatever its clock
     hops.seen(RelayLink("ship-1", [str(v) for v in links.by_id], 6500), T0 + 26.0)
     assert all(lost_with_relay(p, hops.by_relay, T0 + 26.0, 5.0) for p in links.by_id.values())
+
+
+def test_a_relay_s_sample_naming_a_vehicle_that_is_not_a_guid_is_one_warning_not_one_a_second(
+    caplog: pytest.LogCaptureFixture,
+) -> None:
+    hops = Hops()
+    for t in range(5):  # a relay's samples, once a second
+        assert hops.seen(RelayLink("ship-1", [str(A), "not-a-guid"], 0), T0 + t) == ({A} if t == 0 else set())
+    assert [r.getMessage() for r in caplog.records] == ["relay ship-1 names a vehicle that is not a GUID: 'not-a-guid'"]
