@@ -91,13 +91,15 @@ export function lastHeardAt(p: ProviderView): number | null {
 
 /** When the newest data of a vehicle seen through a relay was made, by its own time stamp (a report's `timeStamp`), on
  * the page's clock: the stamp's distance to the console's receipt of it, moved to when the page got it, so that
- * neither the console's clock nor the vehicle's need agree with the page's. Null: no report with a time stamp. */
+ * neither the console's clock nor the vehicle's need agree with the page's. A stamp ahead of its receipt (the
+ * vehicle's clock ahead) counts as made at its receipt: never younger than its arrival. Null: no report with a time
+ * stamp. */
 export function relayDataAt(p: ProviderView): number | null {
   let newest: number | null = null;
   for (const t of Object.values(p.topics)) {
     const stamp = (t.envelope.report as { timeStamp?: { seconds?: number; nanoseconds?: number } | null }).timeStamp;
     if (typeof stamp?.seconds !== "number") continue;
-    const at = t.at - (t.envelope.receivedAt - (stamp.seconds + (stamp.nanoseconds ?? 0) / 1e9));
+    const at = t.at - Math.max(0, t.envelope.receivedAt - (stamp.seconds + (stamp.nanoseconds ?? 0) / 1e9));
     if (newest === null || at > newest) newest = at;
   }
   return newest;

@@ -128,4 +128,22 @@ describe("VehicleSelector", () => {
     );
     await waitFor(() => expect(screen.queryAllByTestId("relay-hop")).toHaveLength(0));
   });
+
+  it("counts a relayed vehicle whose clock is ahead of the console's from its data's arrival, not as never aging", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FixPanel />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null } })],
+        }),
+        // its clock an hour ahead: stamped 3600 s after the console received it (the page's clock: 1000 s)
+        reportMessage(A, "GPSFixStatusReport", { fixValid: true, timeStamp: { seconds: 4600, nanoseconds: 0 } }, [], 1000),
+      ),
+    );
+    act(() => {
+      source.clock = 1010;
+    });
+    await waitFor(() => expect(screen.getByTestId("selected-relay").textContent).toBe("Via relay ship-1, 10 s old"));
+  });
 });
