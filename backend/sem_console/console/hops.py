@@ -62,7 +62,12 @@ class Hops:
         data_at = None if link.ageMs < 0 else received - link.ageMs / 1000
         self.by_relay[link.relay] = Hop(link.relay, frozenset(vehicles), data_at)
         changed = {v for v in vehicles if self.via.get(v) != link.relay}
-        self.via.update((v, link.relay) for v in changed)
+        for v in changed:  # gone from the relay that carried it before (of which no more samples may come)
+            old = self.via.get(v)
+            before = None if old is None else self.by_relay.get(old)
+            if before is not None:
+                before.vehicles = before.vehicles - {v}
+            self.via[v] = link.relay
         return changed
 
     def of(self, vehicle: uuid.UUID) -> Hop | None:

@@ -139,3 +139,13 @@ def test_a_relay_s_sample_naming_a_vehicle_that_is_not_a_guid_is_one_warning_not
     for t in range(5):  # a relay's samples, once a second
         assert hops.seen(RelayLink("ship-1", [str(A), "not-a-guid"], 0), T0 + t) == ({A} if t == 0 else set())
     assert [r.getMessage() for r in caplog.records] == ["relay ship-1 names a vehicle that is not a GUID: 'not-a-guid'"]
+
+
+def test_vehicles_moved_to_another_relay_leave_their_old_relay_which_is_then_silent_about_none() -> None:
+    """Both vehicles of ship-1 now come through ship-2: the operations side's relay writes no more samples of ship-1
+    (it carries none), so the console must not keep calling ship-1 silent with them."""
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(A), str(B)], 0), T0)
+    assert hops.seen(RelayLink("ship-2", [str(A), str(B)], 0), T0 + 19) == {A, B}
+    assert hops.by_relay["ship-1"].vehicles == frozenset()
+    assert [h.relay for h in silent_relays(hops.by_relay, T0 + 20, 10.0)] == []
