@@ -77,7 +77,10 @@ class RelayHop(StrictModel):
 
     name: str = Field(description="the --name of the sem-relay of the vehicles' side that carries it")
     dataTime: float | None = Field(
-        description="UTC seconds: the vehicle's own time stamp (timeStamp) of its newest report, null before one"
+        description=(
+            "UTC seconds: the vehicle's own time stamp (timeStamp) of its newest report, null before one or while its"
+            " time stamps are ahead of their receipt (its clock ahead: silent from arrival)"
+        )
     )
     ageSeconds: float | None = Field(
         description="seconds from dataTime to now: how old its newest data is, the relay and the link included"
