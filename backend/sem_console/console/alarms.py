@@ -32,9 +32,9 @@ Managing them on a watch (after ISA-18.2; docs/console.md#alarms):
 - chattering: an alarm activated again `chatter[0]` times within `chatter[1]` seconds (it cleared and came back) is
   marked `chattering` (the dashboard stops sounding it again) until acknowledged.
 - a relay gone silent (console/hops.py): one relay-silent alarm, "relay ship-1 silent: 12 vehicles", of the console
-  (no vehicle), while no data comes over its link for the comms-lost timeout; a vehicle lost with its relay (no data
-  came over the relay's link since the vehicle went silent) raises no link-lost of its own. A vehicle lost while its
-  relay still carries the others' data is link-lost, as any.
+  (no vehicle), while no data comes over its link for the comms-lost timeout, unless every vehicle it carries is in a
+  planned silence; a vehicle lost with its relay (no data came over the relay's link since the vehicle went silent)
+  raises no link-lost of its own. A vehicle lost while its relay still carries the others' data is link-lost, as any.
 - floods: every alarm carries its `cause` (its kind in words), by which the dashboard groups many at once.
 
 Cost: `report_changed` is on the report path (thousands of samples a second): one dict lookup and
@@ -630,6 +630,8 @@ class Alarms:
     def _conditions(self, now: float, providers: Mapping[uuid.UUID, Provider], relays: Mapping[str, Hop]) -> dict[str, Found]:
         holding: dict[str, Found] = dict(self._unanswered)
         for hop in silent_relays(relays, now, self.relay_silent_after):
+            if all(str(v) in self.silences for v in hop.vehicles):
+                continue  # every vehicle it carries in a planned silence: its quiet is expected, as their loss is
             f = Found("relay-silent", None, None, relay_silent_text(hop.relay, len(hop.vehicles)), hop.relay)
             holding[f.key] = f
         fix_valid: dict[str, Any] = {}

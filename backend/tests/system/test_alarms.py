@@ -486,3 +486,25 @@ def test_a_silent_relay_whose_name_holds_a_bar_clears_when_its_link_is_back(tmp_
     hops.seen(RelayLink("ship|1", [str(ALPHA)], 0), w.at(11).clock.at)  # data over the link again
     w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
     assert kinds(w.alarms.active()) == [("relay-silent", "cleared-unacknowledged")]
+
+
+def test_a_relay_silent_while_every_vehicle_it_carries_is_in_a_planned_silence_raises_no_relay_alarm(
+    tmp_path: Path,
+) -> None:
+    """The watch planned the ship's satellite outage: both vehicles of relay ship-1 out of comms until T0 + 600. The
+    relay's link going quiet then is expected, as each vehicle's loss is: no alarm; one vehicle not planned: the alarm."""
+    from sem_console.console.hops import Hops
+    from sem_console.dds.hops import RelayLink
+
+    w = World(tmp_path / "db")
+    w.alarms.relay_silent_after = 3.0
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(ALPHA), str(CHARLIE)], 0), w.clock.at)
+    for v in (ALPHA, CHARLIE):
+        w.alarms.silence(str(v), T0 + 600, "satellite outage", "alice", w.clock.at)
+    w.at(10)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert w.alarms.active() == []
+    w.alarms.cancel_silence(str(CHARLIE), "alice", w.clock.at)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert kinds(w.alarms.active()) == [("relay-silent", "active-unacknowledged")]
