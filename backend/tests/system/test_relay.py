@@ -541,3 +541,28 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
         console.end()
         for link in links:
             link.close()
+
+
+def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_its_timer(
+    domain: int, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Operations side: the write of the relays' topic failing in Cyclone (here: its participant already deleted) is one
+    warning naming the relay, not an exception out of the relay's timer thread (its caps' slots and resends run on it)."""
+    from sem_console.relay.hops import Hops
+
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    hops = Hops(session, bus)
+    try:
+        hops.carrier[V1] = "ship-1"
+        hops.heard_from(V1, 100.0)
+        bus.close()  # the writer's participant gone: Cyclone refuses the write
+        hops.write(101.0)
+        assert [r.getMessage().split(":")[0] for r in caplog.records if r.levelname == "WARNING"] == [
+            "could not write relay ship-1's link to the consoles"
+        ]
+    finally:
+        hops.close()
+        bus.close()
+        session.close()
