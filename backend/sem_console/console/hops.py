@@ -38,7 +38,7 @@ class Hop:
         return None if self.data_at is None else max(0.0, wall - self.data_at)
 
     def silent(self, wall: float, after: float) -> bool:
-        """No data over its link for longer than `after` seconds (or never any, for that long since it was heard of)."""
+        """Data came over its link once, and none for longer than `after` seconds since (never any: not silent)."""
         age = self.age(wall)
         return age is not None and age > after
 
