@@ -24,6 +24,7 @@ from sem_console.core.contract import LinkConfig as LinkConfig
 from sem_console.core.contract import LinkState as LinkState
 from sem_console.core.contract import ProviderMessage as ProviderMessage
 from sem_console.core.contract import ProviderSummary as ProviderSummary
+from sem_console.core.contract import RelayHop as RelayHop
 from sem_console.core.contract import ReportTopic as ReportTopic
 from sem_console.core.contract import StrictModel as _Model
 from sem_console.core.contract import TopicHealth as TopicHealth
@@ -483,6 +484,7 @@ AlarmKind = Literal[
     "executed-late",
     "recording-failed",
     "silence-overdue",
+    "relay-silent",
 ]
 AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-unacknowledged"]
 

@@ -31,6 +31,10 @@ Managing them on a watch (after ISA-18.2; docs/console.md#alarms):
   until it is heard again.
 - chattering: an alarm activated again `chatter[0]` times within `chatter[1]` seconds (it cleared and came back) is
   marked `chattering` (the dashboard stops sounding it again) until acknowledged.
+- a relay gone silent (console/hops.py): one relay-silent alarm, "relay ship-1 silent: 12 vehicles", of the console
+  (no vehicle), while no data comes over its link for the comms-lost timeout, unless every vehicle it carries is in a
+  planned silence; a vehicle lost with its relay (no data came over the relay's link since the vehicle went silent)
+  raises no link-lost of its own. A vehicle lost while its relay still carries the others' data is link-lost, as any.
 - floods: every alarm carries its `cause` (its kind in words), by which the dashboard groups many at once.
 
 Cost: `report_changed` is on the report path (thousands of samples a second): one dict lookup and
@@ -51,6 +55,7 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusE
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
 
 from sem_console.console.commands import Command
+from sem_console.console.hops import Hop, silent_relays
 from sem_console.console.providers import Provider
 from sem_console.core import messages
 from sem_console.core.words import WORDS, inline, word
@@ -59,7 +64,9 @@ from sem_console.storage.database import Database
 from sem_console.storage.models import AlarmBase, AlarmShelfRecord, PlannedSilenceRecord, ShelfBase, SilenceBase
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
-CONDITIONS = frozenset({"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "silence-overdue"})
+CONDITIONS = frozenset(
+    {"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "silence-overdue", "relay-silent"}
+)
 EVENTS = frozenset({"command-failed", "command-interrupted", "flow-violation", "executed-late", "recording-failed"})
 SEVERITY = {
     "link-lost": "alarm",
@@ -73,6 +80,7 @@ SEVERITY = {
     "executed-late": "alarm",
     "recording-failed": "warning",
     "silence-overdue": "alarm",
+    "relay-silent": "alarm",
 }
 RANK = {"warning": 1, "alarm": 2}
 # how a shelf ends that brings its alarm back in view, each with its words (`alarmReturned` of core/words.py); a shelf
@@ -230,12 +238,14 @@ class Alarms:
         on_ack: Callable[[Alarm, str | None], None] | None = None,
         silence_grace: float = 120.0,
         chatter: tuple[int, float] = (3, 600.0),
+        relay_silent_after: float = 10.0,
     ) -> None:
         self.store = store
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
         self.silence_grace = silence_grace
         self.chatter = chatter  # (returns, seconds): an alarm back this often is chattering
+        self.relay_silent_after = relay_silent_after  # seconds without data over a relay's link: silent (the console's)
         self._load()
 
     def _load(self) -> None:
@@ -318,9 +328,12 @@ class Alarms:
         providers: Mapping[uuid.UUID, Provider],
         commands: Iterable[Command] = (),
         recording_error: str | None = None,
+        relays: Mapping[str, Hop] | None = None,
     ) -> bool:
         """Re-derive the active set at `now` (UTC seconds), looking again at `commands` (the ones that changed;
-        new ones first). Returns whether the active set changed."""
+        new ones first), with the relays the vehicles come through (console/hops.py). Returns whether the active set
+        changed."""
+        relays = relays or {}
         commands = list(commands)
         for c in commands:
             self._track(c)
@@ -335,7 +348,7 @@ class Alarms:
                 self._raised.add(f.key)
                 self._raise(f, now)
                 changed = True
-        holding = self._conditions(now, providers)
+        holding = self._conditions(now, providers, relays)
         for key, a in list(self.open.items()):
             if a.kind not in CONDITIONS:
                 continue
@@ -345,7 +358,7 @@ class Alarms:
                     self._activated(key, now)
                     self._save(a)
                     changed = True
-            elif self._can_judge(a, providers):
+            elif self._can_judge(a, providers, relays):
                 if a.acked_at is not None:
                     a.cleared_at = a.normal_at = now
                     del self.open[key]
@@ -614,8 +627,13 @@ class Alarms:
         own = str(c.session_id)
         return any(w != own and w in self._sessions for w in (word.strip(".,;:()") for word in message.split()))
 
-    def _conditions(self, now: float, providers: Mapping[uuid.UUID, Provider]) -> dict[str, Found]:
+    def _conditions(self, now: float, providers: Mapping[uuid.UUID, Provider], relays: Mapping[str, Hop]) -> dict[str, Found]:
         holding: dict[str, Found] = dict(self._unanswered)
+        for hop in silent_relays(relays, now, self.relay_silent_after):
+            if all(str(v) in self.silences for v in hop.vehicles):
+                continue  # every vehicle it carries in a planned silence: its quiet is expected, as their loss is
+            f = Found("relay-silent", None, None, relay_silent_text(hop.relay, len(hop.vehicles)), hop.relay)
+            holding[f.key] = f
         fix_valid: dict[str, Any] = {}
         for p in providers.values():
             pid = str(p.id)
@@ -624,7 +642,8 @@ class Alarms:
                 self._overdue.pop(pid, None)  # heard again: no longer overdue
             elif pid in self._overdue:
                 found.append(Found("silence-overdue", pid, None, self._overdue[pid]))
-            elif pid not in self.silences:  # a planned silence: the loss is expected
+            elif pid not in self.silences and not lost_with_relay(p, relays, now, self.relay_silent_after):
+                # (a planned silence: the loss is expected; lost with its relay: the relay's alarm says it)
                 found.append(Found("link-lost", pid, None, f"link {inline(word('link', 'lost'))}"))
             ins = p.reports.get("InertialSensorReport")
             ins_status = ins["report"].get("status") if ins is not None else None
@@ -656,11 +675,13 @@ class Alarms:
                     holding[f.key] = f
         return holding
 
-    def _can_judge(self, a: Alarm, providers: Mapping[uuid.UUID, Provider]) -> bool:
+    def _can_judge(self, a: Alarm, providers: Mapping[uuid.UUID, Provider], relays: Mapping[str, Hop]) -> bool:
         """Whether the state holds what the alarm's condition is about; after a restart a vehicle not heard
         from yet (or not yet this report) is no evidence that its condition cleared."""
         if a.kind == "command-unanswered":
             return True  # the commands not finished are always in memory
+        if a.kind == "relay-silent":
+            return a.key.split("|", 3)[3] in relays  # its relay (the key's last part, whatever it holds) heard of
         p = providers.get(uuid.UUID(a.provider_id)) if a.provider_id else None
         if p is None:
             return False
@@ -707,3 +728,23 @@ def _status_words(status: Status, reason: object) -> str:
 def _recording_reason(error: str) -> str:
     """'recording stopped: the disk is full (/var/x.mcap)' -> 'the disk is full (/var/x.mcap)'."""
     return error.removeprefix("recording stopped: ")
+
+
+def relay_silent_text(relay: str, vehicles: int) -> str:
+    """ "relay ship-1 silent: 12 vehicles", in the words table's words."""
+    count = f"{vehicles} vehicle{'' if vehicles == 1 else 's'}"
+    return inline(word("alarmText", "relay-silent")).format(relay=relay, vehicles=count)
+
+
+def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_after: float) -> bool:
+    """Whether a lost vehicle was lost with the relay it comes through: no data came over the relay's link since the
+    vehicle went silent (its newest time stamp and its comms-lost timeout), or, without a time stamp of it, the relay
+    is silent. Its loss is then the relay's, said by the relay's one alarm. A relay that has carried no data yet (its
+    operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
+    hop = relays.get(p.relay) if p.relay is not None else None
+    if hop is None or hop.data_at is None:
+        return False
+    made = p.data_at()
+    if made is None:
+        return hop.silent(now, silent_after)
+    return hop.data_at <= made + p.config.commsLostTimeout

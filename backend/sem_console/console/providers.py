@@ -6,12 +6,21 @@ have kept arriving, with no gap longer than the comms-lost timeout, for its rega
 It shows `regained` for one regained time, then `live`. Both thresholds are per vehicle
 (`LinkConfig`, default from the console's settings), with the comms-lost policy and
 regained behaviour the vehicle is recorded to follow (reported, never enforced, by the console).
+
+A vehicle seen through a relay (`relay`: console/hops.py) is silent by its own time stamps, not by arrival: a relay
+that holds samples through an outage and releases them late must not make a lost vehicle look live. Its clock need
+not agree with the console's: its newest time stamp is moved to the console's clock by the least lag (receipt minus
+time stamp) its reports have had; a time stamp ahead of its receipt (a clock ahead, or a bad one) makes it silent from
+arrival until its time stamps can be read again.
 """
 
 from __future__ import annotations
 
+import time
 import uuid
+from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from sem_console.codec.decode import REPORT_HEALTH_TOPICS, REPORT_TOPICS
 from sem_console.core import messages
@@ -21,6 +30,7 @@ from sem_console.versions import UMAA_3_0_1, UmaaVersion
 
 REPORTS = tuple(REPORT_TOPICS.values())  # the model's report topics (core/contract.ReportTopic)
 MAX_JAUS_COMPONENT = 254  # component ids are a u8; 255 is JAUS's broadcast
+STAMP_AHEAD = 1.0  # s a report's own time stamp may be ahead of its receipt (clocks a little apart); more: not read
 
 
 @dataclass
@@ -47,11 +57,28 @@ class Provider:
     umaa_version: UmaaVersion = UMAA_3_0_1  # of the report topics its samples come on
     parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0): a command's destination carries it
     version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
+    relay: str | None = None  # the relay it is seen through (console/hops.py), None: on this domain itself
+    stamp: float | None = None  # UTC seconds: the newest of its reports' own time stamps (timeStamp)
+    lag: float | None = None  # the least receipt (console's clock) minus own time stamp: its clock's offset, the link's
+
+    def data_at(self) -> float | None:
+        """When its newest data was made, on the console's clock (UTC seconds): its newest time stamp moved by the
+        least lag seen, so that a vehicle's clock behind or ahead of the console's counts no silence of its own."""
+        return None if self.stamp is None or self.lag is None else self.stamp + self.lag
+
+    def silent_for(self, now: float, wall: float) -> float:
+        """Seconds it has been silent: since its newest report's own time stamp when seen through a relay (once it
+        has one), else since its last sample arrived."""
+        made = self.data_at()
+        if self.relay is not None and made is not None:
+            return wall - made
+        return now - self.last_seen()
 
     def last_seen(self) -> float:
         return max((h.last_seen for h in self.health.values()), default=self.first_seen)
 
-    def summary(self, now: float) -> messages.ProviderSummary:
+    def summary(self, now: float, wall: float | None = None) -> messages.ProviderSummary:
+        """`now`: monotonic seconds; `wall`: UTC seconds, for the relay's age (None: time.time())."""
         return {
             "id": str(self.id),
             "name": self.name,
@@ -69,6 +96,14 @@ class Provider:
                 }
                 for name, h in self.health.items()
             },
+            "relay": None if self.relay is None else self.hop(time.time() if wall is None else wall),
+        }
+
+    def hop(self, wall: float) -> messages.RelayHop:
+        return {
+            "name": self.relay or "",
+            "dataTime": self.stamp,
+            "ageSeconds": None if self.stamp is None else round(max(0.0, wall - self.stamp), 3),
         }
 
     def jaus_id(self) -> str | None:
@@ -136,16 +171,24 @@ class Providers:
         h.samples += 1
         if report is not None:
             p.reports[topic] = report
+            stamp = report_stamp(report.get("report") or {})
+            if stamp is not None and stamp > wall + STAMP_AHEAD:  # its clock ahead (now): silent from arrival
+                p.stamp = p.lag = None
+            elif stamp is not None:
+                p.lag = wall - stamp if p.lag is None else min(p.lag, wall - stamp)
+                p.stamp = stamp if p.stamp is None else max(p.stamp, stamp)
         if p.link == "lost" and (p.regaining_since is None or gap > p.config.commsLostTimeout):
             p.regaining_since = now
         return p, new
 
-    def tick(self, now: float) -> list[tuple[Provider, ProviderEvent]]:
-        """Advance link states; returns (provider, 'lost' | 'regained' | 'live') events."""
+    def tick(self, now: float, wall: float | None = None) -> list[tuple[Provider, ProviderEvent]]:
+        """Advance link states at `now` (monotonic) and `wall` (UTC seconds, for the vehicles seen through a relay;
+        None: time.time()); returns (provider, 'lost' | 'regained' | 'live') events."""
         events: list[tuple[Provider, ProviderEvent]] = []
+        wall = time.time() if wall is None else wall
         for p in self.by_id.values():
             lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
-            silent = now - p.last_seen() > lost_after
+            silent = p.silent_for(now, wall) > lost_after
             reports = [h for t, h in p.health.items() if t in REPORT_HEALTH_TOPICS]
             gone = bool(reports) and not any(h.alive for h in reports)
             if p.link != "lost" and (silent or gone):
@@ -161,3 +204,14 @@ class Providers:
                 p.link = "live"
                 events.append((p, "live"))
         return events
+
+
+def report_stamp(report: Mapping[str, Any]) -> float | None:
+    """A report's own time stamp (its `timeStamp`, UTC seconds), None when it has none the console can read."""
+    ts = report.get("timeStamp")
+    if not isinstance(ts, Mapping):
+        return None
+    seconds, nanoseconds = ts.get("seconds"), ts.get("nanoseconds", 0)
+    if not isinstance(seconds, (int, float)) or not isinstance(nanoseconds, (int, float)):
+        return None
+    return seconds + nanoseconds / 1e9

@@ -30,6 +30,7 @@ from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
+from sem_console.console.hops import Hops, relay_silent_after
 from sem_console.console.hub import Client, Hub
 from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
@@ -57,6 +58,7 @@ from sem_console.core.messages import (
     silences_message,
     thin_report_message,
 )
+from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.comap import TaskRow, WorldRow
@@ -153,7 +155,9 @@ class Console:
             self._record_ack,
             settings.silence_grace,
             (settings.chatter_count, settings.chatter_minutes * 60),
+            relay_silent_after(settings.comms_lost_timeout),
         )
+        self.hops = Hops()  # the relays the vehicles come through (console/hops.py)
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store), self.station)
         self.imc: AsyncNode | None = None
@@ -425,7 +429,7 @@ class Console:
             self._held_tried = now
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(self._maintained)
-        for p, event in self.providers.tick(now):
+        for p, event in self.providers.tick(now, self.clock.wall()):
             self._provider_event(p, event, now)
         self.commands.tick(now, self._heard)
         self._database_changed(now)
@@ -480,7 +484,7 @@ class Console:
                 it.topic, it.source, self._envelope(it), now, it.received_at, it.alive, it.version, it.parent
             )
             if new:
-                self._provider_event(p, "appeared", now)
+                self._appeared(p, now)
             elif p.version_changed:
                 self._version_changed(p, now)
             if it.report is not None:
@@ -531,11 +535,29 @@ class Console:
             topic, it.source, None, now, self.clock.wall(), it.alive or it.sample is not None, it.version, it.parent
         )
         if new:
-            self._provider_event(p, "appeared", now)
+            self._appeared(p, now)
         elif p.version_changed:
             self._version_changed(p, now)
         if it.sample is not None:
             self._command_status(it)
+
+    def _appeared(self, p: Provider, now: float) -> None:
+        p.relay = self.hops.via.get(p.id)  # a relay that said it carries the vehicle before its first sample came
+        self._provider_event(p, "appeared", now)
+
+    def on_relay_links(self, links: list[RelayLink], received: float) -> None:
+        """The relays' samples (console/hops.py), received at `received` (UTC seconds): their vehicles marked, each
+        whose relay changed sent again to every station."""
+        if self.closing:
+            return
+        now = self.clock.monotonic()
+        for link in links:
+            for vehicle in self.hops.seen(link, received):
+                p = self.providers.by_id.get(vehicle)
+                if p is not None and p.relay != link.relay:
+                    p.relay = link.relay
+                    self._provider_event(p, "configured", now)
+        self._update_alarms()
 
     def _version_changed(self, p: Provider, now: float) -> None:
         """A vehicle now heard on the topics of another UMAA version than before: every station shows its new version
@@ -590,7 +612,7 @@ class Console:
 
     def _provider_event(self, p: Provider, event: ProviderEvent, now: float | None = None) -> None:
         """Send the vehicle's summary with what happened to it (`now`: monotonic seconds, default the clock's)."""
-        self._emit(provider_message(event, p.summary(self.clock.monotonic() if now is None else now)))
+        self._emit(provider_message(event, p.summary(self.clock.monotonic() if now is None else now, self.clock.wall())))
 
     def _alarms_changed(self) -> None:
         """Send the active alarm set (it changed)."""
@@ -600,7 +622,7 @@ class Console:
         """Re-derive the alarms (looking again at the `changed` commands); publish the set when it changed."""
         if self.closing:  # shutting down: the database closes
             return
-        if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error):
+        if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error, self.hops.by_relay):
             self._alarms_changed()
         if self.alarms.silences_changed:
             self.alarms.silences_changed = False
@@ -669,7 +691,7 @@ class Console:
         return self.providers.by_id.get(provider_id)
 
     def provider_detail(self, p: Provider, now: float) -> ProviderDetail:
-        return {**p.summary(now), "reports": {t: p.reports.get(t) for t in REPORTS}}
+        return {**p.summary(now, self.clock.wall()), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
     def selected_report(self, provider_id: uuid.UUID) -> ReportMessage | None:
         """The vehicle's latest GPSReport as a report message, satellites and all (a client has just selected it: the
@@ -850,7 +872,8 @@ class Console:
 
     def provider_summaries(self) -> list[ProviderSummary]:
         now = self.clock.monotonic()
-        return [p.summary(now) for p in self.providers.by_id.values()]
+        wall = self.clock.wall()
+        return [p.summary(now, wall) for p in self.providers.by_id.values()]
 
     def detail(self, p: Provider) -> ProviderDetail:
         """A vehicle with its latest reports, satellites and all."""

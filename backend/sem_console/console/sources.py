@@ -18,13 +18,16 @@ from pathlib import Path
 from typing import Any, Protocol
 
 from cyclonedds.core import DDSException
+from cyclonedds.sub import DataReader
 
 from sem_console.console.clock import Clock, RecordingClock
+from sem_console.console.hops import listen
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem, Tap
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.core.messages import ReplayStatus
 from sem_console.dds.bus import Bus, wait_for_acks
+from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.storage.database import Database
 from sem_console.storage.url import sqlite_file
@@ -43,6 +46,8 @@ class ConsoleSink(Replayed, Protocol):
     def on_reports(self, items: list[ReportItem]) -> None: ...
 
     def on_statuses(self, items: list[StatusItem]) -> None: ...
+
+    def on_relay_links(self, links: list[RelayLink], received: float) -> None: ...
 
 
 class Source(Protocol):
@@ -129,6 +134,7 @@ class DdsSource:
         self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
         self.command_writers = {topic: self.bus.writer(topic) for topic in COMMAND_TOPICS}  # every version's
         self.ingest: Ingest | None = None
+        self.relay_links: DataReader[Any] | None = None
         self._sim: tuple[threading.Thread, list[bool]] | None = None
 
     def database(self, opened: Database | None) -> Database:
@@ -145,6 +151,7 @@ class DdsSource:
             self.settings.report_burst,
             dict(self.command_writers),
         )
+        self.relay_links = listen(self.bus, asyncio.get_running_loop(), console.on_relay_links)  # console/hops.py
 
     async def start(self) -> None:
         assert self.ingest is not None, "attach() first"
@@ -182,6 +189,7 @@ class DdsSource:
         # Leave the bus: unregister as a publisher of commands (ICD 4.1.6.2), unsubscribe, delete the participant.
         self.command_writers.clear()
         self.ingest = None
+        self.relay_links = None
         self.bus.close()
 
     def counters(self) -> dict[str, Any]:

@@ -72,6 +72,21 @@ class LinkConfig(StrictModel):
         }
 
 
+class RelayHop(StrictModel):
+    """The relay a vehicle is seen through (docs/relay.md#the-console-knows-the-hop)."""
+
+    name: str = Field(description="the --name of the sem-relay of the vehicles' side that carries it")
+    dataTime: float | None = Field(
+        description=(
+            "UTC seconds: the vehicle's own time stamp (timeStamp) of its newest report, null before one or while its"
+            " time stamps are ahead of their receipt (its clock ahead: silent from arrival)"
+        )
+    )
+    ageSeconds: float | None = Field(
+        description="seconds from dataTime to now: how old its newest data is, the relay and the link included"
+    )
+
+
 class ProviderSummary(StrictModel):
     id: str = Field(description="the provider's source GUID as a UUID string")
     name: str | None = Field(
@@ -88,6 +103,10 @@ class ProviderSummary(StrictModel):
     )
     ageSeconds: float = Field(description="seconds since the last sample on any topic")
     topics: dict[str, TopicHealth]
+    relay: RelayHop | None = Field(
+        None,
+        description="the relay the vehicle is seen through, with how old its newest data is; null: heard on this domain itself",
+    )
 
 
 class Transition(TransitionBase):

@@ -28,6 +28,12 @@ class LinkConfig(TypedDict):
     regainedBehavior: int
 
 
+class RelayHop(TypedDict):
+    name: str
+    dataTime: float | None
+    ageSeconds: float | None
+
+
 class ProviderSummary(TypedDict):
     id: str
     name: str | None
@@ -37,6 +43,7 @@ class ProviderSummary(TypedDict):
     jausId: str | None
     ageSeconds: float
     topics: dict[str, TopicHealth]
+    relay: NotRequired[RelayHop | None]
 
 
 class ReportEnvelope(TypedDict):

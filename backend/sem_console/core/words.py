@@ -148,6 +148,13 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "unreachable": "Not updating",
         "planned": "Out of comms (planned)",
     },
+    # a vehicle seen through a sem-relay (`ProviderSummary.relay`): `{relay}` its --name, `{age}` how old its newest
+    # data is by its own time stamp ("1.4 s"): "via relay ship-1, 1.4 s old"; unknown: no time stamp of it yet
+    "relay": {
+        "via": "Via relay {relay}, {age} old",
+        "unknown": "Via relay {relay}",
+        "title": "Seen through sem-relay {relay}, of the vehicles' side; the age: of its newest data, by its own time stamp",
+    },
     # GPSFixStatusReport.fixValid
     "fixValid": {"true": "Fix valid", "false": "No fix"},
     # a vehicle whose UMAA version has no GPS fix service (6.0): it reports no fix status; how good its position is, its
@@ -168,11 +175,14 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "executed-late": "Command executed late",
         "recording-failed": "Recording failed",
         "silence-overdue": "Not heard after a planned silence",
+        "relay-silent": "Relay silent",
     },
     # the sentence of an alarm kind whose text says more than its state, by kind; `{until}` "14:20 UTC" (its date when
     # not today's), `{grace}` seconds: "Charlie: not heard by 14:20 UTC, the end of its planned silence (30 s grace)"
     "alarmText": {
         "silence-overdue": "Not heard by {until}, the end of its planned silence ({grace} s grace)",
+        # `{relay}` the relay's --name, `{vehicles}` "12 vehicles": "relay ship-1 silent: 12 vehicles"
+        "relay-silent": "Relay {relay} silent: {vehicles}",
     },
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},

@@ -1,12 +1,13 @@
 """Zenoh access control on a `sem-relay --router` (docs/relay.md#security): which relay, known by its TLS certificate's
 common name, may send and receive what. A vehicles' relay has only its own key space (`sem/<name>/**`: its vehicles'
-samples out, their commands in) and its liveliness token, and watches the operations relays' tokens; an operations
-relay has every key; any other certificate, nothing."""
+samples out, their commands in), its liveliness token and those of the vehicles it carries, and watches the operations
+relays' tokens; an operations relay has every key; any other certificate, nothing."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from sem_console.relay.hops import CARRIES
 from sem_console.relay.wire import PREFIX
 
 LIVELINESS = "sem-relay"  # the relays' liveliness tokens: `sem-relay/<side>/<name>/<session>`
@@ -46,7 +47,9 @@ def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> d
     subjects = [{"id": "operations", "cert_common_names": operations_relays}] if operations_relays else []
     policies = [{"id": "operations", "rules": ["operations"], "subjects": ["operations"]}] if operations_relays else []
     for name in vehicle_relays:
-        rules.append(_rule(f"vehicles {name}", [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**"], _MESSAGES))
+        # its key space, its own token, and the tokens of the vehicles it carries (relay/hops.py) under its own name
+        own = [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**", f"{CARRIES}/{name}/**"]
+        rules.append(_rule(f"vehicles {name}", own, _MESSAGES))
         subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
         policies.append(
             {

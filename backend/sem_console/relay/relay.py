@@ -24,11 +24,13 @@ from typing import Any, cast
 
 import zenoh
 
+from sem_console.dds import hops
 from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
+from sem_console.relay.hops import Carried, Hops
 from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoints
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
@@ -130,6 +132,9 @@ class Relay:
         self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
+        # which relay carries which vehicle, for the operations side's consoles (relay/hops.py)
+        self.carried = Carried(session, options.name) if self.vehicles_side else None
+        self.hops = None if self.vehicles_side else Hops(session, bus)
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:
@@ -149,6 +154,8 @@ class Relay:
                         return
                 self._send_locked(self._outgoing(taken, *origin))
             return
+        assert self.carried is not None
+        self.carried.saw(taken.vehicle)
         out = self._outgoing(taken, self.options.name, self.bus.domain_id)
         if taken.sem.spec.cls is not TopicClass.REPORT:
             self._send(out)
@@ -272,6 +279,8 @@ class Relay:
         meta = read_attachment(extra)
         if address is None or sem is None or meta is None or extra is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
+        if self.hops is not None:
+            self.hops.heard_from(address.vehicle, time.monotonic())
         # a vehicle's first sample on the operations side releases the commands held for it: sent in one step with it
         # (`_send_lock`), so that none taken meanwhile (a cancel) goes before them
         first = not self.vehicles_side and address.vehicle not in self.origin_of
@@ -325,7 +334,11 @@ class Relay:
     # the caps' slots and the link's status
     def _tick(self) -> None:
         next_stats = time.monotonic() + self.options.stats_seconds
+        next_hops = time.monotonic()
         while not self.stopping.wait(0.1):
+            if self.hops is not None and time.monotonic() >= next_hops:
+                next_hops += hops.PERIOD
+                self.hops.write()
             with self._lock:
                 due = self.limiter.due(time.monotonic())
             for out in due:
@@ -391,6 +404,10 @@ class Relay:
         self.subscriber.undeclare()
         self.peers.undeclare()
         self.token.undeclare()
+        if self.carried is not None:
+            self.carried.close()
+        if self.hops is not None:
+            self.hops.close()
 
 
 def serve_status(relay: Relay, port: int) -> ThreadingHTTPServer:

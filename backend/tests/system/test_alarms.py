@@ -431,3 +431,80 @@ def test_a_renamed_vehicles_alarms_name_it_as_it_is_named_now_and_the_rows_keep_
         assert (row["vehicle"], row["text"]) == ("Charlie", "Charlie: link lost")
         client.put(f"/api/providers/{CHARLIE}/name", json={"name": None}, headers=auth)  # back to --vehicle-names
         assert client.get("/api/alarms").json()[0]["text"] == "Charlie: link lost"
+
+
+def test_a_silent_relay_is_one_alarm_naming_it_and_its_vehicles_not_one_per_vehicle(tmp_path: Path) -> None:
+    """Three vehicles through relay ship-1 (console/hops.py): its link goes quiet, every vehicle is lost with it, and the
+    set holds one relay-silent alarm, of the console; the link back with two of them, the third is lost on its own."""
+    from sem_console.console.hops import Hops
+    from sem_console.dds.hops import RelayLink
+
+    w = World(tmp_path / "db")
+    w.alarms.relay_silent_after = 3.0
+    fleet = [ALPHA, CHARLIE, UNNAMED]
+    hops = Hops()
+
+    def heard(t: float, vehicles: list[uuid.UUID]) -> list[dict[str, Any]]:
+        w.at(t)
+        stamp = {"seconds": int(w.clock.at), "nanoseconds": 0}
+        for v in vehicles:
+            w.report(v, "GPSFixReport", timeStamp=stamp)
+            w.providers.by_id[v].relay = "ship-1"
+        hops.seen(RelayLink("ship-1", [str(v) for v in fleet], 0), w.clock.at)  # data over the link just now
+        w.providers.tick(w.clock.at, w.clock.at)
+        w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+        return w.alarms.active()
+
+    assert heard(0, fleet) == []
+    w.at(10).providers.tick(w.clock.at, w.clock.at)  # the relay's link quiet since T0: all three lost
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    [silent] = w.alarms.active()
+    assert (silent["kind"], silent["providerId"], silent["severity"]) == ("relay-silent", None, "alarm")
+    assert silent["text"] == "relay ship-1 silent: 3 vehicles" and silent["cause"] == "Relay silent"
+    # the link back with Alpha and Charlie: the relay's alarm clears; the unnamed vehicle, still silent while the link
+    # carries the others' data, is lost on its own
+    for t in (11, 12, 13, 14, 15, 16):
+        active = heard(t, [ALPHA, CHARLIE])
+    assert sorted(kinds(active)) == [("link-lost", "active-unacknowledged"), ("relay-silent", "cleared-unacknowledged")]
+    assert next(a for a in active if a["kind"] == "link-lost")["providerId"] == str(UNNAMED)
+
+
+def test_a_silent_relay_whose_name_holds_a_bar_clears_when_its_link_is_back(tmp_path: Path) -> None:
+    """A relay's --name is free text: "ship|1" (a bar, as the alarms' keys join their parts with) raises its
+    relay-silent alarm and clears it when data comes over its link again."""
+    from sem_console.console.hops import Hops
+    from sem_console.dds.hops import RelayLink
+
+    w = World(tmp_path / "db")
+    w.alarms.relay_silent_after = 3.0
+    hops = Hops()
+    hops.seen(RelayLink("ship|1", [str(ALPHA)], 0), w.clock.at)
+    w.at(10)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    [silent] = w.alarms.active()
+    assert (silent["kind"], silent["text"]) == ("relay-silent", "relay ship|1 silent: 1 vehicle")
+    hops.seen(RelayLink("ship|1", [str(ALPHA)], 0), w.at(11).clock.at)  # data over the link again
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert kinds(w.alarms.active()) == [("relay-silent", "cleared-unacknowledged")]
+
+
+def test_a_relay_silent_while_every_vehicle_it_carries_is_in_a_planned_silence_raises_no_relay_alarm(
+    tmp_path: Path,
+) -> None:
+    """The watch planned the ship's satellite outage: both vehicles of relay ship-1 out of comms until T0 + 600. The
+    relay's link going quiet then is expected, as each vehicle's loss is: no alarm; one vehicle not planned: the alarm."""
+    from sem_console.console.hops import Hops
+    from sem_console.dds.hops import RelayLink
+
+    w = World(tmp_path / "db")
+    w.alarms.relay_silent_after = 3.0
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(ALPHA), str(CHARLIE)], 0), w.clock.at)
+    for v in (ALPHA, CHARLIE):
+        w.alarms.silence(str(v), T0 + 600, "satellite outage", "alice", w.clock.at)
+    w.at(10)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert w.alarms.active() == []
+    w.alarms.cancel_silence(str(CHARLIE), "alice", w.clock.at)
+    w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
+    assert kinds(w.alarms.active()) == [("relay-silent", "active-unacknowledged")]

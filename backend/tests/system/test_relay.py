@@ -27,13 +27,14 @@ from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandS
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
-from conftest import Process, free_domain, free_port
+from conftest import ConsoleProcess, Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
 from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.relay.access import LIVELINESS
 from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
+from sem_console.relay.hops import CARRIES, carries_key
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import Kind, attachment, key, read_attachment
@@ -571,6 +572,39 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
             s.close()
 
 
+def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_no_other_relay_s(relay, tmp_path: Path) -> None:
+    """The consoles learn the hop from the tokens of the vehicles a relay carries (relay/hops.py): the router lets a
+    vehicles' relay declare them under its own name, for the operations relay to see, and not under another's."""
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        "ship-1,ship-2",
+        "--operations-relays",
+        "ops",
+        *tls(fleet, "router"),
+    )
+    ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", "ship-2"))
+    heard: list[str] = []
+    try:
+        watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)))
+        posing = other.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=2)))
+        token = ship.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=1)))
+        deadline = time.monotonic() + 10
+        while not heard and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(1)
+        assert heard == [carries_key("ship-1", uuid.UUID(int=1))]
+        for declared in (watch, posing, token):
+            declared.undeclare()
+    finally:
+        for s in (ship, ops, other):
+            s.close()
+
+
 @pytest.mark.slow
 def test_sem_check_on_the_far_side_passes_a_near_vehicle(sim, domain: int, relay, tmp_path: Path) -> None:
     """The relay is transparent to the ICD's flow: sem-check, commands included, passes a vehicle of the other domain
@@ -661,5 +695,78 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
     finally:
         gate.set()
         relay.close()
+        bus.close()
+        session.close()
+
+
+def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """The console knows the hop: a console on the far domain shows each vehicle "via relay ship-1" with the age of its
+    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port)))
+        return links[0].endpoint
+
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    join(relay, domain, far, tmp_path, "--link-class", "lan", via=impaired)
+    console = ConsoleProcess(far, tmp_path / "far.sqlite3", ["--comms-lost-timeout", "3"], {}).start()
+    try:
+
+        def marked() -> dict[str, Any]:
+            providers = httpx.get(f"{console.url}/api/providers").json()
+            return {p["id"]: p["relay"] for p in providers if p.get("relay")}
+
+        deadline = time.monotonic() + 30
+        while set(marked()) != {str(V1), str(V2)} and time.monotonic() < deadline:
+            time.sleep(0.2)
+        hops = marked()
+        assert set(hops) == {str(V1), str(V2)}, hops
+        for hop in hops.values():
+            assert hop["name"] == "ship-1" and 0 <= hop["ageSeconds"] < 3 and hop["dataTime"] > time.time() - 10
+        assert httpx.get(f"{console.url}/api/alarms").json() == []
+        links[0].outage(120)  # the link goes quiet
+        deadline = time.monotonic() + 30
+        alarms: list[dict[str, Any]] = []
+        while not any(a["kind"] == "relay-silent" for a in alarms) and time.monotonic() < deadline:
+            time.sleep(0.2)
+            alarms = httpx.get(f"{console.url}/api/alarms").json()
+        time.sleep(2)  # and nothing more comes: no alarm per vehicle
+        alarms = httpx.get(f"{console.url}/api/alarms").json()
+        assert [(a["kind"], a["text"], a["providerId"]) for a in alarms] == [
+            ("relay-silent", "relay ship-1 silent: 2 vehicles", None)
+        ]
+        lost = {p["id"]: p["link"] for p in httpx.get(f"{console.url}/api/providers").json()}
+        assert lost == {str(V1): "lost", str(V2): "lost"}  # lost, by their own time stamps: one alarm for both
+    finally:
+        console.end()
+        for link in links:
+            link.close()
+
+
+def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_its_timer(
+    domain: int, caplog: pytest.LogCaptureFixture
+) -> None:
+    """Operations side: the write of the relays' topic failing in Cyclone (here: its participant already deleted) is one
+    warning naming the relay, not an exception out of the relay's timer thread (its caps' slots and resends run on it)."""
+    from sem_console.relay.hops import Hops
+
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    hops = Hops(session, bus)
+    try:
+        hops.carrier[V1] = "ship-1"
+        hops.heard_from(V1, 100.0)
+        bus.close()  # the writer's participant gone: Cyclone refuses the write
+        hops.write(101.0)
+        assert [r.getMessage().split(":")[0] for r in caplog.records if r.levelname == "WARNING"] == [
+            "could not write relay ship-1's link to the consoles"
+        ]
+    finally:
+        hops.close()
         bus.close()
         session.close()

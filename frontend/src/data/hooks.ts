@@ -168,7 +168,7 @@ export function sameOverview(): (a: Record<string, ProviderView>, b: Record<stri
     let k = keys.get(p);
     if (k !== undefined) return k;
     const ins = report(p, "InertialSensorReport");
-    k = `${p.name}|${p.link}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}`;
+    k = `${p.name}|${p.link}|${p.relay}|${report(p, "GPSFixStatusReport")?.fixValid}|${ins?.state}|${ins?.status}`;
     keys.set(p, k);
     return k;
   };

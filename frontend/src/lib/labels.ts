@@ -21,7 +21,7 @@ import type {
   Task,
 } from "../api/generated/ws";
 import WORDS from "../../schema/words.json";
-import { DASH, clockTime, elapsedText } from "./units";
+import { DASH, age, clockTime, elapsedText } from "./units";
 
 // Each table typed by the literals it must name: a literal without words fails the build (and labels.test.ts).
 type Words<T extends string> = Readonly<Record<T, string>>;
@@ -64,6 +64,7 @@ const TASK_STATE: Words<NonNullable<Task["state"]>> = WORDS.taskState;
 const TASK_KIND: Words<Task["kind"]> = WORDS.taskKind;
 const SENSOR: Words<NonNullable<Task["sensor"]>> = WORDS.sensor;
 const COVERAGE: Words<NonNullable<FeatureProperties["coverage"]>> = WORDS.coverage;
+const RELAY: Words<"via" | "unknown" | "title"> = WORDS.relay;
 
 /** The tables of the UMAA enumerations, by the enumeration's name (labels.test.ts checks every literal the console's
  * schema has against them). */
@@ -468,4 +469,11 @@ export function lostMeanwhileText(what: string, vehicle: string, until: number |
 
 export function plannedTitle(reason: string, by: string | null, station: string | null): string {
   return `planned silence${by ? ` declared by ${by}` : ""}${station ? ` on ${station}` : ""}: ${reason}; a loss raises no alarm until then and the console's grace after it`;
+}
+
+/** A vehicle seen through a relay: "Via relay ship-1, 1.4 s old" (`ageS`: of its newest data, by its own time stamp;
+ * null: none yet, "Via relay ship-1"), and what that means for the tooltip. */
+export function relayText(relay: string, ageS: number | null): { text: string; title: string } {
+  const fill = (w: string) => w.replace("{relay}", relay).replace("{age}", age(ageS));
+  return { text: fill(ageS === null ? RELAY.unknown : RELAY.via), title: fill(RELAY.title) };
 }

@@ -48,6 +48,7 @@ export interface ProviderView {
   linkConfig: LinkConfig | null; // per-vehicle thresholds and comms-lost configuration
   jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
   umaaVersion: ProviderSummary["umaaVersion"] | null; // the UMAA version it speaks (null before the console said)
+  relay: string | null; // the sem-relay it is seen through (its --name), null: on the console's own domain
   topics: { [T in Topic]?: TopicView<T> };
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
@@ -88,18 +89,47 @@ export function lastHeardAt(p: ProviderView): number | null {
   return latest;
 }
 
+/** When the newest data of a vehicle seen through a relay was made, by its own time stamp (a report's `timeStamp`), on
+ * the page's clock: the stamp's distance to the console's receipt of it, moved to when the page got it, so that
+ * neither the console's clock nor the vehicle's need agree with the page's. A stamp ahead of its receipt (the
+ * vehicle's clock ahead) counts as made at its receipt: never younger than its arrival. Null: no report with a time
+ * stamp. */
+export function relayDataAt(p: ProviderView): number | null {
+  let newest: number | null = null;
+  for (const t of Object.values(p.topics)) {
+    const stamp = (t.envelope.report as { timeStamp?: { seconds?: number; nanoseconds?: number } | null }).timeStamp;
+    if (typeof stamp?.seconds !== "number") continue;
+    const at = t.at - Math.max(0, t.envelope.receivedAt - (stamp.seconds + (stamp.nanoseconds ?? 0) / 1e9));
+    if (newest === null || at > newest) newest = at;
+  }
+  return newest;
+}
+
 /** The report a view of topic T holds (null: none), e.g. viewReport<"GPSReport">(view). */
 export function viewReport<T extends Topic>(view: TopicView<T> | null | undefined): ReportTypes[T] | null {
   return view ? view.envelope.report : null;
 }
 
 export function emptyProvider(id: string, link: LinkState, name: string | null = null): ProviderView {
-  return { id, name, link, linkConfig: null, jausId: null, umaaVersion: null, topics: {}, trails: {}, history: [], track: [] };
+  return {
+    id,
+    name,
+    link,
+    linkConfig: null,
+    jausId: null,
+    umaaVersion: null,
+    relay: null,
+    topics: {},
+    trails: {},
+    history: [],
+    track: [],
+  };
 }
 
 /** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id, UMAA version). */
 export function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
-  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId, umaaVersion: s.umaaVersion };
+  const relay = s.relay?.name ?? null;
+  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId, umaaVersion: s.umaaVersion, relay };
 }
 
 function updateTrails(

@@ -12,6 +12,7 @@ import {
 import { useHistory } from "../../data/loaders";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
+import { SelectedRelay } from "../../components/RelayHop";
 import { useDmsSetting } from "../../data/settings";
 import { HISTORY_SECONDS, viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
@@ -148,6 +149,7 @@ function FixBody() {
       ) : (
         <>
           <SelectedLost />
+          <SelectedRelay />
           <div className="badges">
             <span
               className={`badge ${fixSaid.tone}${sSt ? " stale" : ""}`}

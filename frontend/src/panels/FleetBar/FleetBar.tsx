@@ -36,6 +36,7 @@ import {
   type UmaaVersion,
   type Word,
 } from "../../lib/labels";
+import { RelayHop } from "../../components/RelayHop";
 import { LastHeard } from "../../components/LastHeard";
 import { Burst, NewAlarms, beep, unlockAudioOnGesture } from "../../lib/tone";
 import { shortId, vehicleColor } from "../../lib/vehicle";
@@ -89,6 +90,7 @@ interface ChipProps {
   silence: { until: number; title: string } | null; // a planned silence ("out of comms until")
   until: number | null; // lost in its planned silence: when it ends (plannedUntil)
   recorded: boolean; // a replay: the link is the recording's
+  relayed: boolean; // seen through a sem-relay (RelayHop says which, and how old its data is)
   selected: boolean;
   tabbable: boolean; // the bar's one Tab stop (the selected chip, else the first); the arrow keys go through the rest
   onSelect: (id: string) => void;
@@ -108,6 +110,7 @@ const Chip = memo(function Chip({
   silence,
   until,
   recorded,
+  relayed,
   selected,
   tabbable,
   onSelect,
@@ -142,6 +145,7 @@ const Chip = memo(function Chip({
         {stateWords(l.text, rec)}
       </span>
       {heardAt !== undefined && <LastHeard since={heardAt} className="fleet-word tone-bad" />}
+      {relayed && <RelayHop id={id} className="fleet-word" />}
       <span className={`fleet-word tone-${fix.tone}${old ? " fleet-old" : ""}`} title={(fix.title ?? "") + old}>
         {fix.text}
       </span>
@@ -385,6 +389,7 @@ export function FleetBar() {
               silence={silenceOf.get(p.id) ?? null}
               until={plannedUntil(silences, p.id, link)}
               recorded={recorded}
+              relayed={p.relay !== null}
               selected={p.id === selected}
               tabbable={p.id === tabStop}
               onSelect={onSelect}

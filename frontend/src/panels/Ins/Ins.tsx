@@ -9,6 +9,7 @@ import {
 } from "../../data/hooks";
 import { SelectionGap } from "../FleetBar/FleetBar";
 import { SelectedLost } from "../../components/LastHeard";
+import { SelectedRelay } from "../../components/RelayHop";
 import { viewReport } from "../../data/slices/vehicles";
 import { freshness, notCurrent } from "../../lib/freshness";
 import {
@@ -58,6 +59,7 @@ function InsBody() {
       ) : (
         <>
           <SelectedLost />
+          <SelectedRelay />
           <div className="badges">
             {ins.state && (
               <span

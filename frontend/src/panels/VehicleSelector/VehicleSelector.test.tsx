@@ -1,9 +1,14 @@
 // @vitest-environment jsdom
 import { act, cleanup, fireEvent, screen, waitFor } from "@testing-library/react";
-import { afterEach, describe, expect, it } from "vitest";
+import { afterEach, describe, expect, it, vi } from "vitest";
 import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { FixPanel } from "../Fix/Fix";
+import { FleetBar } from "../FleetBar/FleetBar";
 import { renderWith } from "../testing";
 import { VehicleSelector } from "./VehicleSelector";
+
+// the Fix panel's history chart draws on a canvas (uPlot), which jsdom has not
+vi.mock("../../components/TrendChart", () => ({ TrendChart: () => null }));
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -70,5 +75,75 @@ describe("VehicleSelector", () => {
     await waitFor(() =>
       expect(screen.getAllByTestId("vehicle-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]),
     );
+  });
+
+  it("marks a vehicle seen through a relay with the relay's name and the age of its newest data, by its own time stamp", async () => {
+    const source = new TestSource(A); // Alpha selected
+    renderWith(
+      source,
+      <>
+        <FleetBar />
+        <VehicleSelector />
+        <FixPanel />
+      </>,
+    );
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [
+            vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null } }),
+            vehicle(B, { name: "Bravo" }),
+          ],
+        }),
+        // made 1.4 s before the console received it (the page's clock: 1000 s, as the console's receipt)
+        reportMessage(
+          A,
+          "GPSFixStatusReport",
+          { fixValid: true, timeStamp: { seconds: 998, nanoseconds: 600_000_000 } },
+          [],
+          1000,
+        ),
+        reportMessage(B, "GPSFixStatusReport", { fixValid: true, timeStamp: { seconds: 990, nanoseconds: 0 } }, [], 1000),
+      ),
+    );
+    await waitFor(() => expect(row("Alpha").textContent).toContain("via relay ship-1, 1.4 s old"));
+    const mark = row("Alpha").querySelector("[data-testid=relay-hop]")!;
+    expect(mark.getAttribute("title")).toBe(
+      "Seen through sem-relay ship-1, of the vehicles' side; the age: of its newest data, by its own time stamp",
+    );
+    const chip = screen.getAllByTestId("fleet-vehicle").find((c) => c.textContent?.includes("Alpha"))!;
+    expect(chip.querySelector("[data-testid=relay-hop]")?.textContent).toBe("Via relay ship-1, 1.4 s old");
+    expect(screen.getByTestId("selected-relay").textContent).toBe("Via relay ship-1, 1.4 s old");
+    // Bravo, on the console's own domain: no mark
+    expect(row("Bravo").querySelector("[data-testid=relay-hop]")).toBeNull();
+    expect(screen.getAllByTestId("relay-hop")).toHaveLength(3);
+    // the age counts with the clock, from the vehicle's time stamp, not from the report's arrival
+    act(() => {
+      source.clock = 1002;
+    });
+    await waitFor(() => expect(screen.getByTestId("selected-relay").textContent).toBe("Via relay ship-1, 3.4 s old"));
+    // a summary without a relay: the mark goes
+    act(() =>
+      source.send({ type: "provider", event: "configured", provider: { ...vehicle(A, { name: "Alpha" }), relay: null } }),
+    );
+    await waitFor(() => expect(screen.queryAllByTestId("relay-hop")).toHaveLength(0));
+  });
+
+  it("counts a relayed vehicle whose clock is ahead of the console's from its data's arrival, not as never aging", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FixPanel />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null } })],
+        }),
+        // its clock an hour ahead: stamped 3600 s after the console received it (the page's clock: 1000 s)
+        reportMessage(A, "GPSFixStatusReport", { fixValid: true, timeStamp: { seconds: 4600, nanoseconds: 0 } }, [], 1000),
+      ),
+    );
+    act(() => {
+      source.clock = 1010;
+    });
+    await waitFor(() => expect(screen.getByTestId("selected-relay").textContent).toBe("Via relay ship-1, 10 s old"));
   });
 });

@@ -15,6 +15,7 @@ import {
 import { lastHeardAt, report } from "../../data/slices/vehicles";
 import { plannedUntil } from "../../data/slices/alarms";
 import { LastHeard } from "../../components/LastHeard";
+import { RelayHop } from "../../components/RelayHop";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../../lib/freshness";
 import { fixWord, inline, insWord, linkOrPlanned } from "../../lib/labels";
 import { age } from "../../lib/units";
@@ -200,6 +201,12 @@ export function VehicleSelector() {
                     </>
                   ) : (
                     ` · ${age(ageS)}`
+                  )}
+                  {p.relay && (
+                    <>
+                      {" "}
+                      · <RelayHop id={p.id} inline />
+                    </>
                   )}
                 </span>
                 <span className="vehicle-id muted">{p.id}</span>
