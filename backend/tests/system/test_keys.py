@@ -1,0 +1,177 @@
+"""`sem-keys` round-trips through an implementation we did not write: OpenSSL verifies what it signs (the S/MIME
+documents against the permissions CA, the identities' certificates against the identity CA), as DDS Security's
+builtin plugins do."""
+
+from __future__ import annotations
+
+import datetime as dt
+import re
+import shutil
+import stat
+import subprocess
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from cryptography import x509
+
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.topics import Sem, Sem60
+
+pytestmark = [
+    pytest.mark.process,
+    pytest.mark.skipif(shutil.which("openssl") is None, reason="the openssl command is not installed"),
+]
+
+SEM_KEYS = Path(__file__).resolve().parents[3] / ".venv" / "bin" / "sem-keys"
+ALL = {s.spec.name for s in (*Sem, *Sem60)}
+COMMANDS = {s.spec.name for s in (*Sem, *Sem60) if s.spec.cls is TopicClass.COMMAND}
+
+
+def keys(*args: str | Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([str(SEM_KEYS), *map(str, args)], capture_output=True, text=True, timeout=60)
+
+
+def openssl(*args: str | Path) -> subprocess.CompletedProcess[bytes]:
+    return subprocess.run(["openssl", *map(str, args)], capture_output=True, timeout=60)
+
+
+def smime_verified(fleet: Path, signed: Path) -> bytes:
+    """The document `signed` holds, as `openssl smime -verify` returns it once the permissions CA vouches for it."""
+    done = openssl("smime", "-verify", "-text", "-CAfile", fleet / "permissions_ca.pem", "-in", signed)
+    assert done.returncode == 0, done.stderr
+    assert b"Verification successful" in done.stderr
+    return done.stdout.replace(b"\r\n", b"\n")
+
+
+def identity_verifies(fleet: Path, name: str) -> None:
+    done = openssl("verify", "-CAfile", fleet / "identity_ca.pem", fleet / "identities" / name / "cert.pem")
+    assert done.returncode == 0 and done.stdout.strip().endswith(b": OK"), done
+
+
+@pytest.fixture
+def fleet(tmp_path: Path) -> Path:
+    folder = tmp_path / "fleet"
+    done = keys("init", folder, "--fleet", "Blue", "--domain", "4", "--domain", "9")
+    assert done.returncode == 0, done.stderr
+    for name, role in (("vehicle-1", "vehicle"), ("ops", "station"), ("wall", "readonly")):
+        done = keys("issue", folder, name, "--role", role)
+        assert done.returncode == 0, done.stderr
+    return folder
+
+
+def test_openssl_verifies_the_governance_and_returns_its_document(fleet: Path) -> None:
+    document = smime_verified(fleet, fleet / "governance.p7s")
+    assert document == (fleet / "governance.xml").read_bytes()
+    rule = ET.fromstring(document).find("./domain_access_rules/domain_rule")
+    assert rule is not None
+    assert [e.text for e in rule.findall("./domains/id")] == ["4", "9"]
+    assert rule.findtext("allow_unauthenticated_participants") == "false"
+    assert {t.text for t in rule.findall("./topic_access_rules/topic_rule/topic_expression")} == ALL
+
+
+def test_openssl_verifies_each_identity_and_its_permissions_name_its_certificate(fleet: Path) -> None:
+    for name, published, subscribed in (
+        ("vehicle-1", ALL - COMMANDS, COMMANDS),
+        ("ops", COMMANDS, ALL),
+        ("wall", set(), ALL),
+    ):
+        identity_verifies(fleet, name)
+        folder = fleet / "identities" / name
+        document = smime_verified(fleet, folder / "permissions.p7s")
+        assert document == (folder / "permissions.xml").read_bytes()
+        cert = x509.load_pem_x509_certificate((folder / "cert.pem").read_bytes())
+        grant = ET.fromstring(document).find("./permissions/grant")
+        assert grant is not None
+        assert grant.findtext("subject_name") == cert.subject.rfc4514_string()
+        assert grant.findtext("validity/not_after") == cert.not_valid_after_utc.strftime("%Y-%m-%dT%H:%M:%SZ")
+        assert {t.text for t in grant.findall("./allow_rule/publish/topics/topic")} == published
+        assert {t.text for t in grant.findall("./allow_rule/subscribe/topics/topic")} == subscribed
+        assert [e.text for e in grant.findall("./allow_rule/domains/id")] == ["4", "9"]
+        assert grant.findtext("default") == "DENY"
+
+
+def test_keys_are_the_owners_only_and_the_snippet_names_the_identitys_files(fleet: Path) -> None:
+    for key in (fleet / "identity_ca.key", fleet / "permissions_ca.key", fleet / "identities" / "ops" / "key.pem"):
+        assert stat.S_IMODE(key.stat().st_mode) == 0o600, key
+    root = ET.fromstring((fleet / "identities" / "ops" / "cyclonedds.xml").read_bytes())
+    files = {e.tag.split("}")[1]: e.text for e in root.iter() if len(e) == 0}
+    assert files["IdentityCertificate"] == f"file:{fleet / 'identities' / 'ops' / 'cert.pem'}"
+    assert files["Governance"] == f"file:{fleet / 'governance.p7s'}"
+    for uri in files.values():
+        assert uri is not None and Path(uri.removeprefix("file:")).is_file(), uri
+
+
+def test_reissuing_one_identity_replaces_its_files_only(fleet: Path) -> None:
+    def contents() -> dict[Path, bytes]:
+        return {p: p.read_bytes() for p in sorted(fleet.rglob("*")) if p.is_file()}
+
+    before = contents()
+    done = keys("issue", fleet, "vehicle-1", "--role", "vehicle")
+    assert done.returncode == 0, done.stderr
+    after = contents()
+    assert after.keys() == before.keys()
+    changed = {p.relative_to(fleet) for p in before if before[p] != after[p]}
+    assert changed == {Path("identities/vehicle-1", f) for f in ("cert.pem", "key.pem", "permissions.xml", "permissions.p7s")}
+    for name in ("vehicle-1", "ops", "wall"):
+        identity_verifies(fleet, name)
+        smime_verified(fleet, fleet / "identities" / name / "permissions.p7s")
+
+
+def test_a_tampered_governance_fails_openssls_verify(fleet: Path) -> None:
+    signed = (fleet / "governance.p7s").read_bytes()
+    tampered = fleet / "tampered.p7s"
+    assert signed.count(b"<allow_unauthenticated_participants>false<") == 1
+    tampered.write_bytes(
+        signed.replace(b"<allow_unauthenticated_participants>false<", b"<allow_unauthenticated_participants>true<")
+    )
+    done = openssl("smime", "-verify", "-text", "-CAfile", fleet / "permissions_ca.pem", "-in", tampered)
+    assert done.returncode != 0
+    assert b"Verification successful" not in done.stderr
+
+
+def test_a_fleet_of_another_permissions_ca_does_not_verify(fleet: Path, tmp_path: Path) -> None:
+    other = tmp_path / "other"
+    assert keys("init", other, "--fleet", "Red").returncode == 0
+    done = openssl("smime", "-verify", "-text", "-CAfile", other / "permissions_ca.pem", "-in", fleet / "governance.p7s")
+    assert done.returncode != 0
+
+
+def test_the_certificate_lasts_as_asked_within_the_authorities(tmp_path: Path) -> None:
+    folder = tmp_path / "short"
+    assert keys("init", folder, "--fleet", "Short", "--days", "10").returncode == 0
+    assert keys("issue", folder, "a", "--role", "station", "--days", "3").returncode == 0
+    assert keys("issue", folder, "b", "--role", "station", "--days", "365").returncode == 0
+    ca = x509.load_pem_x509_certificate((folder / "identity_ca.pem").read_bytes())
+    a, b = (x509.load_pem_x509_certificate((folder / "identities" / n / "cert.pem").read_bytes()) for n in "ab")
+    assert a.not_valid_after_utc - a.not_valid_before_utc == dt.timedelta(days=3)
+    assert b.not_valid_after_utc == ca.not_valid_after_utc
+
+
+def test_bad_input_is_one_line_and_exit_2(fleet: Path, tmp_path: Path) -> None:
+    def refusal(*args: str | Path) -> str:
+        done = keys(*args)
+        assert done.returncode == 2, done
+        assert done.stdout == "" and done.stderr.count("\n") == 1 and "Traceback" not in done.stderr, done.stderr
+        said = re.fullmatch(r"sem-keys( init| issue)?: error: (.*)\n", done.stderr)
+        assert said is not None, done.stderr
+        return said.group(2)
+
+    assert refusal("issue", fleet, "x", "--role", "admiral").startswith("--role: invalid choice: 'admiral'")
+    empty = tmp_path / "empty"
+    assert refusal("issue", empty, "x", "--role", "station") == (
+        f"{empty} has no fleet: run `sem-keys init {empty} --fleet NAME` first"
+    )
+    ca = (fleet / "identity_ca.pem").read_bytes()
+    assert refusal("init", fleet, "--fleet", "Blue").startswith(f"{fleet} has a fleet's authorities already: give --force")
+    assert (fleet / "identity_ca.pem").read_bytes() == ca
+    assert refusal("issue", fleet, "../escape", "--role", "station").startswith("'../escape' is no identity name")
+    assert refusal("init", tmp_path / "f2", "--fleet", "a,b").startswith("--fleet 'a,b': use letters")
+    assert refusal("init", tmp_path / "f3", "--fleet", "a", "--domain", "300") == "--domain: 300 is outside 0..232"
+
+
+def test_init_with_force_makes_new_authorities(fleet: Path) -> None:
+    old = (fleet / "identity_ca.pem").read_bytes()
+    assert keys("init", fleet, "--fleet", "Blue", "--force").returncode == 0
+    assert (fleet / "identity_ca.pem").read_bytes() != old
+    assert openssl("verify", "-CAfile", fleet / "identity_ca.pem", fleet / "identities" / "ops" / "cert.pem").returncode != 0
