@@ -124,7 +124,7 @@ def cyclone_xml(
     """A Cyclone DDS configuration (a CYCLONEDDS_URI fragment) with one identity's `<Security>` section, every file an
     absolute file: URI; the security plugins load by their default names (dds_security_auth, _ac, _crypto)."""
     root = ET.Element("CycloneDDS", {"xmlns": "https://cdds.io/config"})
-    security = _sub(ET.SubElement(root, "Domain", {"id": "any"}), "Security")
+    security = _sub(ET.SubElement(root, "Domain", {"Id": "any"}), "Security")
     auth = _sub(security, "Authentication")
     _sub(auth, "IdentityCertificate", _file(certificate))
     _sub(auth, "PrivateKey", _file(private_key))

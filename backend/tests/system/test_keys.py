@@ -9,6 +9,7 @@ import re
 import shutil
 import stat
 import subprocess
+import sys
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -23,13 +24,14 @@ pytestmark = [
     pytest.mark.skipif(shutil.which("openssl") is None, reason="the openssl command is not installed"),
 ]
 
-SEM_KEYS = Path(__file__).resolve().parents[3] / ".venv" / "bin" / "sem-keys"
 ALL = {s.spec.name for s in (*Sem, *Sem60)}
 COMMANDS = {s.spec.name for s in (*Sem, *Sem60) if s.spec.cls is TopicClass.COMMAND}
 
 
 def keys(*args: str | Path) -> subprocess.CompletedProcess[str]:
-    return subprocess.run([str(SEM_KEYS), *map(str, args)], capture_output=True, text=True, timeout=60)
+    return subprocess.run(
+        [sys.executable, "-m", "sem_console.keys.cli", *map(str, args)], capture_output=True, text=True, timeout=60
+    )
 
 
 def openssl(*args: str | Path) -> subprocess.CompletedProcess[bytes]:

@@ -80,7 +80,7 @@ def test_the_cyclone_snippet_names_every_file_as_an_absolute_file_uri(tmp_path: 
     ns = {"c": "https://cdds.io/config"}
     assert root.tag == "{https://cdds.io/config}CycloneDDS"
     (domain,) = root.findall("c:Domain", ns)
-    assert domain.get("id") == "any"
+    assert domain.get("Id") == "any"
     security = domain.find("c:Security", ns)
     assert security is not None
     got = {e.tag.split("}")[1]: e.text for e in security.iter() if len(e) == 0}
