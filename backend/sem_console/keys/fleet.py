@@ -92,9 +92,13 @@ class Fleet:
         return self.folder / IDENTITIES / name
 
     def _authority(self, stem: str) -> tuple[x509.Certificate, ec.EllipticCurvePrivateKey]:
-        cert = x509.load_pem_x509_certificate(self.file(f"{stem}.pem").read_bytes())
-        key = serialization.load_pem_private_key(self.file(f"{stem}.key").read_bytes(), None)
-        assert isinstance(key, ec.EllipticCurvePrivateKey), stem
+        try:
+            cert = x509.load_pem_x509_certificate(self.file(f"{stem}.pem").read_bytes())
+            key = serialization.load_pem_private_key(self.file(f"{stem}.key").read_bytes(), None)
+        except ValueError:
+            key = None
+        if not isinstance(key, ec.EllipticCurvePrivateKey):
+            raise KeysError(f"{self.file(stem)}.pem and .key are not what `sem-keys init` writes: run init again with --force")
         return cert, key
 
     def settings(self) -> tuple[str, list[int]]:
@@ -157,7 +161,12 @@ class Fleet:
         fleet, domains = self.settings()
         id_cert, id_key = self._authority(IDENTITY_CA)
         perm_cert, perm_key = self._authority(PERMISSIONS_CA)
-        not_after = min(now + dt.timedelta(days=days), id_cert.not_valid_after_utc, perm_cert.not_valid_after_utc)
+        ends = min(id_cert.not_valid_after_utc, perm_cert.not_valid_after_utc)
+        if ends <= now:
+            raise KeysError(
+                f"the fleet's authorities in {self.folder} expired at {ends:%Y-%m-%d %H:%M} UTC: run init again with --force"
+            )
+        not_after = min(now + dt.timedelta(days=days), ends)
         key = ec.generate_private_key(ec.SECP256R1())
         cert = (
             x509.CertificateBuilder()

@@ -18,6 +18,7 @@ from cryptography import x509
 
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Sem60
+from sem_console.keys.fleet import Fleet
 
 pytestmark = [
     pytest.mark.process,
@@ -177,3 +178,21 @@ def test_init_with_force_makes_new_authorities(fleet: Path) -> None:
     assert keys("init", fleet, "--fleet", "Blue", "--force").returncode == 0
     assert (fleet / "identity_ca.pem").read_bytes() != old
     assert openssl("verify", "-CAfile", fleet / "identity_ca.pem", fleet / "identities" / "ops" / "cert.pem").returncode != 0
+
+
+def test_expired_or_damaged_authorities_are_one_line_and_exit_2(tmp_path: Path) -> None:
+    old = tmp_path / "old"
+    Fleet(old).init("Old", [0], 1, False, dt.datetime.now(dt.UTC) - dt.timedelta(days=2))
+    done = keys("issue", old, "a", "--role", "station")
+    assert done.returncode == 2 and done.stderr.count("\n") == 1, done
+    assert done.stderr.startswith(f"sem-keys: error: the fleet's authorities in {old} expired at ")
+    assert not (old / "identities" / "a").exists()
+    damaged = tmp_path / "damaged"
+    assert keys("init", damaged, "--fleet", "D").returncode == 0
+    (damaged / "permissions_ca.key").write_text("not a key\n")
+    done = keys("issue", damaged, "a", "--role", "station")
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"sem-keys: error: {damaged}/permissions_ca.pem and .key are not what `sem-keys init` writes: run init again "
+        "with --force\n",
+    )
