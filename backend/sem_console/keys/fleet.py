@@ -22,7 +22,8 @@ IDENTITY_CA, PERMISSIONS_CA = "identity_ca", "permissions_ca"
 GOVERNANCE = "governance"
 IDENTITIES = "identities"
 NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9._-]{0,63}")  # a folder's name, and a subject's CN with nothing to escape
-FLEET = re.compile(r"[A-Za-z0-9][A-Za-z0-9 ._-]{0,63}")
+# X.509 allows 64 characters in a common name, and the longest authority's is "FLEET permissions CA".
+FLEET = re.compile(r"[A-Za-z0-9][A-Za-z0-9 ._-]{0,48}")
 
 
 class KeysError(Exception):
@@ -116,7 +117,7 @@ class Fleet:
         """The fleet's identity and permissions authorities and its signed governance; the files written."""
         if not FLEET.fullmatch(fleet):
             raise KeysError(
-                f"--fleet {fleet!r}: use letters, digits, spaces, '.', '_' and '-' (up to 64, a letter or digit first)"
+                f"--fleet {fleet!r}: use letters, digits, spaces, '.', '_' and '-' (up to 49, a letter or digit first)"
             )
         if not force and any(self.file(f).exists() for f in (FLEET_FILE, f"{IDENTITY_CA}.pem", f"{PERMISSIONS_CA}.pem")):
             raise KeysError(

@@ -196,3 +196,16 @@ def test_expired_or_damaged_authorities_are_one_line_and_exit_2(tmp_path: Path) 
         f"sem-keys: error: {damaged}/permissions_ca.pem and .key are not what `sem-keys init` writes: run init again "
         "with --force\n",
     )
+
+
+def test_a_fleet_name_too_long_for_the_authorities_subject_is_one_line_and_writes_nothing(tmp_path: Path) -> None:
+    longest, too_long = tmp_path / "longest", tmp_path / "too-long"
+    done = keys("init", longest, "--fleet", "F" * 49)
+    assert done.returncode == 0, done.stderr
+    assert "CN=" + "F" * 49 + " permissions CA" in x509.load_pem_x509_certificate(
+        (longest / "permissions_ca.pem").read_bytes()
+    ).subject.rfc4514_string()
+    done = keys("init", too_long, "--fleet", "F" * 50)
+    assert (done.returncode, done.stdout) == (2, ""), done
+    assert done.stderr.startswith(f"sem-keys: error: --fleet '{'F' * 50}': use letters") and done.stderr.count("\n") == 1
+    assert not too_long.exists()
