@@ -6,6 +6,7 @@ import datetime as dt
 import json
 import os
 import re
+import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,14 +33,16 @@ class KeysError(Exception):
 
 def _write(path: Path, data: bytes, secret: bool = False) -> None:
     """Replace `path` with `data` at once (a reader never sees half a file); a secret is the owner's only (0600)."""
-    tmp = path.with_name(f".{path.name}.tmp")
-    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600 if secret else 0o644)
+    # mkstemp makes a new file of its own (O_EXCL, 0600): never one someone else put there, nor a link to one.
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
     try:
-        os.fchmod(fd, 0o600 if secret else 0o644)
-        os.write(fd, data)
-    finally:
-        os.close(fd)
-    os.replace(tmp, path)
+        with os.fdopen(fd, "wb") as out:
+            os.fchmod(out.fileno(), 0o600 if secret else 0o644)
+            out.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
 
 
 def _pem(cert: x509.Certificate) -> bytes:

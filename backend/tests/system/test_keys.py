@@ -209,3 +209,19 @@ def test_a_fleet_name_too_long_for_the_authorities_subject_is_one_line_and_write
     assert (done.returncode, done.stdout) == (2, ""), done
     assert done.stderr.startswith(f"sem-keys: error: --fleet '{'F' * 50}': use letters") and done.stderr.count("\n") == 1
     assert not too_long.exists()
+
+
+def test_a_link_planted_where_a_key_is_written_gets_no_key(fleet: Path, tmp_path: Path) -> None:
+    """A folder others can write to (a shared mount): a name planted where sem-keys writes a key before it takes its
+    place must not receive the key, nor become the key's file."""
+    loot = tmp_path / "loot"
+    loot.write_bytes(b"")
+    folder = fleet / "identities" / "vehicle-1"
+    for planted in (folder / ".key.pem.tmp", fleet / ".identity_ca.key.tmp"):
+        planted.symlink_to(loot)
+    assert keys("issue", fleet, "vehicle-1", "--role", "vehicle").returncode == 0
+    assert keys("init", fleet, "--fleet", "Blue", "--force").returncode == 0
+    assert loot.read_bytes() == b""
+    for key in (folder / "key.pem", fleet / "identity_ca.key"):
+        assert not key.is_symlink() and stat.S_IMODE(key.stat().st_mode) == 0o600, key
+        assert key.read_bytes().startswith(b"-----BEGIN PRIVATE KEY-----")
