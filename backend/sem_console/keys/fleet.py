@@ -101,6 +101,11 @@ class Fleet:
             key = serialization.load_pem_private_key(self.file(f"{stem}.key").read_bytes(), None)
         except ValueError:
             key = None
+        except TypeError:  # a key kept encrypted at rest: cryptography asks for the password it was not given
+            raise KeysError(
+                f"{self.file(stem)}.key is encrypted: sem-keys reads it as init writes it; decrypt it to issue "
+                f"(openssl pkey -in ENCRYPTED.key -out {self.file(stem)}.key)"
+            ) from None
         if not isinstance(key, ec.EllipticCurvePrivateKey):
             raise KeysError(f"{self.file(stem)}.pem and .key are not what `sem-keys init` writes: run init again with --force")
         return cert, key

@@ -225,3 +225,21 @@ def test_a_link_planted_where_a_key_is_written_gets_no_key(fleet: Path, tmp_path
     for key in (folder / "key.pem", fleet / "identity_ca.key"):
         assert not key.is_symlink() and stat.S_IMODE(key.stat().st_mode) == 0o600, key
         assert key.read_bytes().startswith(b"-----BEGIN PRIVATE KEY-----")
+
+
+
+def test_an_authority_key_kept_encrypted_is_one_line_and_issues_nothing(tmp_path: Path) -> None:
+    folder = tmp_path / "fleet"
+    assert keys("init", folder, "--fleet", "Blue").returncode == 0
+    key = folder / "identity_ca.key"
+    plain = key.read_bytes()
+    encrypted = openssl("pkey", "-in", key, "-aes256", "-passout", "pass:secret")
+    assert encrypted.returncode == 0, encrypted.stderr
+    key.write_bytes(encrypted.stdout)
+    done = keys("issue", folder, "a", "--role", "station")
+    assert (done.returncode, done.stdout) == (2, ""), done
+    assert done.stderr.startswith(f"sem-keys: error: {key} is encrypted: ") and done.stderr.count("\n") == 1, done.stderr
+    assert not (folder / "identities" / "a").exists()
+    key.write_bytes(plain)
+    assert keys("issue", folder, "a", "--role", "station").returncode == 0
+    identity_verifies(folder, "a")
