@@ -106,7 +106,7 @@ class Fleet:
                 f"{self.file(stem)}.key is encrypted: sem-keys reads it as init writes it; decrypt it to issue "
                 f"(openssl pkey -in ENCRYPTED.key -out {self.file(stem)}.key)"
             ) from None
-        if not isinstance(key, ec.EllipticCurvePrivateKey):
+        if not isinstance(key, ec.EllipticCurvePrivateKey) or key.public_key() != cert.public_key():
             raise KeysError(f"{self.file(stem)}.pem and .key are not what `sem-keys init` writes: run init again with --force")
         return cert, key
 

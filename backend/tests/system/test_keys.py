@@ -243,3 +243,18 @@ def test_an_authority_key_kept_encrypted_is_one_line_and_issues_nothing(tmp_path
     key.write_bytes(plain)
     assert keys("issue", folder, "a", "--role", "station").returncode == 0
     identity_verifies(folder, "a")
+
+
+def test_an_authority_key_that_is_not_its_certificates_is_one_line_and_issues_nothing(tmp_path: Path) -> None:
+    """A pair left mismatched (init stopped between a key and its certificate, a key copied over another) signed
+    identities no participant would accept."""
+    folder = tmp_path / "fleet"
+    assert keys("init", folder, "--fleet", "Blue").returncode == 0
+    (folder / "identity_ca.key").write_bytes((folder / "permissions_ca.key").read_bytes())
+    done = keys("issue", folder, "a", "--role", "station")
+    assert (done.returncode, done.stderr) == (
+        2,
+        f"sem-keys: error: {folder}/identity_ca.pem and .key are not what `sem-keys init` writes: run init again "
+        "with --force\n",
+    )
+    assert not (folder / "identities" / "a").exists()
