@@ -202,9 +202,10 @@ def test_a_fleet_name_too_long_for_the_authorities_subject_is_one_line_and_write
     longest, too_long = tmp_path / "longest", tmp_path / "too-long"
     done = keys("init", longest, "--fleet", "F" * 49)
     assert done.returncode == 0, done.stderr
-    assert "CN=" + "F" * 49 + " permissions CA" in x509.load_pem_x509_certificate(
-        (longest / "permissions_ca.pem").read_bytes()
-    ).subject.rfc4514_string()
+    assert (
+        "CN=" + "F" * 49 + " permissions CA"
+        in x509.load_pem_x509_certificate((longest / "permissions_ca.pem").read_bytes()).subject.rfc4514_string()
+    )
     done = keys("init", too_long, "--fleet", "F" * 50)
     assert (done.returncode, done.stdout) == (2, ""), done
     assert done.stderr.startswith(f"sem-keys: error: --fleet '{'F' * 50}': use letters") and done.stderr.count("\n") == 1
@@ -225,7 +226,6 @@ def test_a_link_planted_where_a_key_is_written_gets_no_key(fleet: Path, tmp_path
     for key in (folder / "key.pem", fleet / "identity_ca.key"):
         assert not key.is_symlink() and stat.S_IMODE(key.stat().st_mode) == 0o600, key
         assert key.read_bytes().startswith(b"-----BEGIN PRIVATE KEY-----")
-
 
 
 def test_an_authority_key_kept_encrypted_is_one_line_and_issues_nothing(tmp_path: Path) -> None:
@@ -254,7 +254,6 @@ def test_an_authority_key_that_is_not_its_certificates_is_one_line_and_issues_no
     done = keys("issue", folder, "a", "--role", "station")
     assert (done.returncode, done.stderr) == (
         2,
-        f"sem-keys: error: {folder}/identity_ca.pem and .key are not what `sem-keys init` writes: run init again "
-        "with --force\n",
+        f"sem-keys: error: {folder}/identity_ca.pem and .key are not what `sem-keys init` writes: run init again with --force\n",
     )
     assert not (folder / "identities" / "a").exists()
