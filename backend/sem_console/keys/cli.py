@@ -47,7 +47,7 @@ def build_parser() -> argparse.ArgumentParser:
         required=True,
         choices=[r.value for r in Role],
         help=(
-            "vehicle: publishes reports, statuses and acks, reads commands; station: reads everything, writes commands; "
+            "vehicle: publishes reports, statuses and acks, reads everything; station: reads everything, writes commands; "
             "readonly: reads everything, writes nothing"
         ),
     )

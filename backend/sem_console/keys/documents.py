@@ -20,7 +20,7 @@ XSI = "http://www.w3.org/2001/XMLSchema-instance"
 class Role(str, Enum):
     """What an identity may do on the bus."""
 
-    VEHICLE = "vehicle"  # publishes its reports, statuses and acks; reads commands
+    VEHICLE = "vehicle"  # publishes its reports, statuses and acks; reads everything
     STATION = "station"  # reads everything; writes commands
     READONLY = "readonly"  # reads everything; writes nothing
 
@@ -31,13 +31,14 @@ def sem_topics() -> list[tuple[str, TopicClass]]:
 
 
 def grants(role: Role) -> tuple[list[str], list[str]]:
-    """(topics published, topics subscribed) of a role."""
+    """(topics published, topics subscribed) of a role. Every role reads every SEM topic: a vehicle's program reads
+    the reports (a second process must not speak for its vehicles) and its command statuses (where a command stood
+    when it restarted) besides the commands (sim/provider.py)."""
     topics = sem_topics()
     commands = [name for name, cls in topics if cls is TopicClass.COMMAND]
-    others = [name for name, cls in topics if cls is not TopicClass.COMMAND]
-    if role is Role.VEHICLE:
-        return others, commands
     everything = [name for name, _ in topics]
+    if role is Role.VEHICLE:
+        return [name for name, cls in topics if cls is not TopicClass.COMMAND], everything
     return (commands if role is Role.STATION else []), everything
 
 

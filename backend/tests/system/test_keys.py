@@ -10,15 +10,22 @@ import shutil
 import stat
 import subprocess
 import sys
+import time
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 from cryptography import x509
+from cyclonedds.builtin import BuiltinDataReader, BuiltinTopicDcpsPublication, BuiltinTopicDcpsSubscription
 
+from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Sem60
+from sem_console.keys.documents import Role, grants
 from sem_console.keys.fleet import Fleet
+from test_console import wait_until
 
 pytestmark = [
     pytest.mark.process,
@@ -75,7 +82,7 @@ def test_openssl_verifies_the_governance_and_returns_its_document(fleet: Path) -
 
 def test_openssl_verifies_each_identity_and_its_permissions_name_its_certificate(fleet: Path) -> None:
     for name, published, subscribed in (
-        ("vehicle-1", ALL - COMMANDS, COMMANDS),
+        ("vehicle-1", ALL - COMMANDS, ALL),
         ("ops", COMMANDS, ALL),
         ("wall", set(), ALL),
     ):
@@ -257,3 +264,32 @@ def test_an_authority_key_that_is_not_its_certificates_is_one_line_and_issues_no
         f"sem-keys: error: {folder}/identity_ca.pem and .key are not what `sem-keys init` writes: run init again with --force\n",
     )
     assert not (folder / "identities" / "a").exists()
+
+
+def test_a_vehicle_identity_grants_every_topic_sem_sim_reads_and_writes(sim: Callable[..., Any], domain: int) -> None:
+    """What the vehicles' program subscribes and publishes, as discovery shows it (Cyclone's DCPSSubscription and
+    DCPSPublication), on both UMAA versions: under DDS Security a reader or writer its permissions do not grant is
+    refused at creation, and the simulator would not start."""
+    bus = Bus(domain)
+    readers = {
+        kind: BuiltinDataReader(bus.participant, topic)
+        for kind, topic in (("subscribe", BuiltinTopicDcpsSubscription), ("publish", BuiltinTopicDcpsPublication))
+    }
+    seen: dict[str, set[str]] = {"subscribe": set(), "publish": set()}
+
+    def sim_endpoints() -> bool:
+        for kind, reader in readers.items():
+            seen[kind] |= {
+                e.topic_name
+                for e in reader.take(N=1000)
+                if e.sample_info.valid_data and e.participant_key != bus.participant.guid
+            }
+        return seen["subscribe"] >= COMMANDS
+
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    wait_until(sim_endpoints, timeout=30, what="the simulator's command readers")
+    time.sleep(1)
+    sim_endpoints()
+    published, subscribed = grants(Role.VEHICLE)
+    assert seen["subscribe"] - set(subscribed) == set()
+    assert seen["publish"] - set(published) == set()

@@ -46,7 +46,7 @@ def test_the_governance_admits_only_the_authenticated_and_encrypts_every_sem_top
 @pytest.mark.parametrize(
     ("role", "published", "subscribed"),
     [
-        (Role.VEHICLE, ALL - COMMANDS, COMMANDS),
+        (Role.VEHICLE, ALL - COMMANDS, ALL),
         (Role.STATION, COMMANDS, ALL),
         (Role.READONLY, set(), ALL),
     ],
