@@ -35,12 +35,14 @@ FOXGLOVE_LAYOUT = BACKEND.parent / "docs" / "foxglove-layout.json"
 
 # sem-console builds its Settings from every option it parses (cli.main: Settings(**options)), so each
 # of its options is also the environment variable SEM_<NAME>. The other commands read Settings only
-# for what is listed here (the default of --domain); a command not listed reads none of its options from it.
+# for what is listed here (the default of --domain); a command not listed reads none of its options from it. A
+# subcommand is listed by its full name ("sem-keys init").
 SETTINGS_OPTIONS: dict[str, set[str] | None] = {
     "sem-console": None,
     "sem-sim": {"domain"},
     "sem-check": {"domain"},
     "sem-relay": {"domain"},
+    "sem-keys init": {"domain"},
 }
 # A command whose options are the fields of a settings model of its own: each option is also its environment variable
 # (the model's env_prefix), and its default the model's
@@ -118,16 +120,27 @@ def help_of(parser: argparse.ArgumentParser, action: argparse.Action) -> str:
     return action.help % params
 
 
-def command_section(name: str, parser: argparse.ArgumentParser) -> list[str]:
+def subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
+    """A command's subcommands (`sem-keys init`, `sem-keys issue`) and their parsers; {} for a command without."""
+    for action in parser._actions:  # noqa: SLF001 (argparse has no public list of a parser's actions)
+        if isinstance(action, argparse._SubParsersAction):  # noqa: SLF001 (nor a public class of its subcommands)
+            return dict(action.choices)
+    return {}
+
+
+def command_section(name: str, parser: argparse.ArgumentParser, level: str = "##") -> list[str]:
     settings_names = SETTINGS_OPTIONS.get(name, set())
     fields = Settings.model_fields
-    lines = [f"## `{name}`", ""]
+    lines = [f"{level} `{name}`", ""]
     if parser.description:
         lines += [text(parser.description), ""]
+    subs = subcommands(parser)
     lines += ['<div class="options" markdown>', "", "| option | environment | default | what |", "|---|---|---|---|"]
     module, _, model_name = OWN_SETTINGS.get(name, "").partition(":")
     own = getattr(importlib.import_module(module), model_name) if module else None
     for action in parser._actions:  # noqa: SLF001 (argparse has no public list of a parser's actions)
+        if subs and isinstance(action, argparse._SubParsersAction):  # noqa: SLF001 (as in subcommands)
+            continue  # each has a section of its own, below
         in_settings = action.dest in fields and (settings_names is None or action.dest in settings_names)
         env = f"`SEM_{action.dest.upper()}`" if in_settings else "—"
         if own is not None and action.dest in own.model_fields:
@@ -141,6 +154,8 @@ def command_section(name: str, parser: argparse.ArgumentParser) -> list[str]:
             default = shown(action.default)
         lines.append(f"| {invocation(action)} | {env} | {default} | {text(help_of(parser, action))} |")
     lines += ["", "</div>", ""]
+    for sub, sub_parser in subs.items():
+        lines += command_section(f"{name} {sub}", sub_parser, level + "#")
     if SETTINGS_OPTIONS.get(name, set()) is None:
         options = {a.dest for a in parser._actions}  # noqa: SLF001 (as above)
         rest = [(k, f) for k, f in fields.items() if k not in options]

@@ -81,19 +81,31 @@ def help_options(text: str) -> list[str]:
 
 
 def documented_options(page: str, command: str) -> set[str]:
-    """The options in the first column of the command's table on the configuration page."""
-    start = page.index(f"## `{command}`")
-    end = page.find("\n## ", start + 1)
-    rows = [line for line in page[start : end if end >= 0 else None].splitlines() if line.startswith("| `")]
+    """The options in the first column of the command's table on the configuration page (a subcommand's, `sem-keys
+    init`, under its own heading)."""
+    start = re.search(rf"^#+ `{re.escape(command)}`$", page, re.MULTILINE)
+    assert start is not None, command
+    end = re.compile(r"^#", re.MULTILINE).search(page, start.end())
+    rows = [line for line in page[start.end() : end.start() if end else None].splitlines() if line.startswith("| `")]
     return {option for row in rows for option in row.split("`")[1].split(", ")}
 
 
-@pytest.mark.parametrize("command, target", docs_gen.commands())
-def test_every_option_of_help_is_on_the_configuration_page(command: str, target: str) -> None:
+def invocations() -> list[tuple[str, str, list[str]]]:
+    """(command as the page names it, entry point, arguments before --help): each command, or each of its
+    subcommands when it has them (sem-keys init, sem-keys issue)."""
+    out = []
+    for command, target in docs_gen.commands():
+        subs = docs_gen.subcommands(docs_gen.parser_of(target.partition(":")[0]))
+        out += [(f"{command} {sub}", target, [sub]) for sub in subs] or [(command, target, [])]
+    return out
+
+
+@pytest.mark.parametrize("command, target, before", invocations())
+def test_every_option_of_help_is_on_the_configuration_page(command: str, target: str, before: list[str]) -> None:
     module, _, function = target.partition(":")
     # the entry point pyproject.toml installs as the console script, run as that script does
     run = subprocess.run(
-        [sys.executable, "-c", f"import sys; from {module} import {function} as main; sys.exit(main())", "--help"],
+        [sys.executable, "-c", f"import sys; from {module} import {function} as main; sys.exit(main())", *before, "--help"],
         capture_output=True,
         text=True,
         timeout=60,

@@ -78,6 +78,7 @@ def test_a_cycle_through_type_checking_imports_breaks_the_contracts(tmp_path: Pa
         ("sem_console.sim.sem_sim", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
         ("sem_console.check.cli", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
         ("sem_console.relay.cli", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi"]),
+        ("sem_console.keys.cli", ["sqlalchemy", "sqlmodel", "alembic", "shapely", "numpy", "fastapi", "zenoh"]),
         ("sem_console.main", ["shapely", "numpy", "aspn23", "foxglove"]),  # CoMap's geometry and the ASPN encoder: on first use
     ],
 )

@@ -148,8 +148,20 @@ def test_access_control_gives_each_vehicles_relay_its_own_key_space_and_denies_t
     }
     assert granted == {
         "ops": ["**"],
-        "ship-1": ["sem-relay/operations/**", "sem-relay/operations/**", "sem-relay/vehicles/ship-1/**", "sem/ship-1/**"],
-        "ship-2": ["sem-relay/operations/**", "sem-relay/operations/**", "sem-relay/vehicles/ship-2/**", "sem/ship-2/**"],
+        "ship-1": [
+            "sem-relay-carries/ship-1/**",
+            "sem-relay/operations/**",
+            "sem-relay/operations/**",
+            "sem-relay/vehicles/ship-1/**",
+            "sem/ship-1/**",
+        ],
+        "ship-2": [
+            "sem-relay-carries/ship-2/**",
+            "sem-relay/operations/**",
+            "sem-relay/operations/**",
+            "sem-relay/vehicles/ship-2/**",
+            "sem/ship-2/**",
+        ],
     }
     assert "put" not in rules["watch operations"]["messages"]  # a vehicles' relay only watches the operations relays
     assert rules["watch operations"]["flows"] == ["ingress"] and rules["told operations"]["flows"] == ["egress"]
