@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import signal
 import sys
 import threading
+from pathlib import Path
 from typing import Any
 
 import zenoh
@@ -41,6 +43,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     add_model_options(p, RelayOptions)
     p.add_argument(
+        "--config",
+        type=Path,
+        metavar="FILE",
+        help=(
+            "a file of SEM_RELAY_* lines in the environment's form (KEY=value: a systemd EnvironmentFile, a compose "
+            "env_file), the endpoints and TLS files of one deployment in one place; the command line and the "
+            "environment come before it"
+        ),
+    )
+    p.add_argument(
         "--log-level", choices=("debug", "info", "warning", "error"), default="info", help=("log level (default: %(default)s)")
     )
     return p
@@ -49,11 +61,22 @@ def build_parser() -> argparse.ArgumentParser:
 def options_from(args: argparse.Namespace) -> RelayOptions:
     """The options given on the command line over the SEM_RELAY_* environment; a bad value is one line and exit 2."""
     given = {name: getattr(args, name) for name in cli_options(RelayOptions) if getattr(args, name) is not None}
+    config: Path | None = getattr(args, "config", None)
+    if config is not None:
+        try:
+            config.read_bytes()
+        except OSError as e:
+            print(f"sem-relay: error: --config {config}: {e.strerror or e}: give a readable file", file=sys.stderr)
+            raise SystemExit(2) from None
     try:
-        opts = RelayOptions(**given)
+        opts = RelayOptions(_env_file=config, **given)  # pydantic-settings reads the file under the environment
         parse_caps(opts.caps)
     except ValidationError as e:
-        print(f"sem-relay: error: {model_error(RelayOptions, e, given)}", file=sys.stderr)
+        field = str(e.errors()[0]["loc"][0]) if e.errors() and e.errors()[0]["loc"] else ""
+        where = ""
+        if config is not None and field and field not in given and env_name(RelayOptions, field) not in os.environ:
+            where = f" (in --config {config})"  # the value came from the file
+        print(f"sem-relay: error: {model_error(RelayOptions, e, given)}{where}", file=sys.stderr)
         raise SystemExit(2) from None
     except ValueError as e:
         print(f"sem-relay: error: {'--caps' if 'caps' in given else env_name(RelayOptions, 'caps')} {e}", file=sys.stderr)

@@ -16,7 +16,7 @@ from UMAA.SEM.GPSFixStatus import GPSFixStatusReportType
 
 from sem_console.dds.topics import Sem
 from sem_console.relay.access import access_control
-from sem_console.relay.cli import main
+from sem_console.relay.cli import build_parser, main, options_from
 from sem_console.relay.domain import Taken
 from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem
@@ -305,3 +305,32 @@ def test_a_status_file_that_cannot_be_written_is_one_line(tmp_path: Path) -> Non
         f"sem-relay: error: --status-file {missing}: no folder {missing.parent}: {fix}",
     )
     assert run("--status-file", str(tmp_path)) == (2, f"sem-relay: error: --status-file {tmp_path}: a folder: {fix}")
+
+
+def test_a_deployment_s_options_come_from_one_file_under_the_environment_and_the_command_line(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """--config FILE: SEM_RELAY_* lines (a systemd EnvironmentFile, a compose env_file); the environment, then the
+    command line, come before it; a bad value in it, or a file that cannot be read, is one line naming it."""
+    for name in ("SEM_RELAY_NAME", "SEM_RELAY_SIDE", "SEM_RELAY_CONNECT", "SEM_RELAY_LINK_CLASS"):
+        monkeypatch.delenv(name, raising=False)
+    config = tmp_path / "relay.env"
+    config.write_text(
+        "# ship-7's relay\nSEM_RELAY_NAME=ship-7\nSEM_RELAY_SIDE=operations\nSEM_RELAY_CONNECT=tcp/127.0.0.1:7999\n"
+        "SEM_RELAY_LINK_CLASS=lan\n"
+    )
+    opts = options_from(build_parser().parse_args(["--config", str(config)]))
+    assert (opts.name, opts.side, opts.connect, opts.link_class) == ("ship-7", "operations", "tcp/127.0.0.1:7999", "lan")
+    assert options_from(build_parser().parse_args(["--config", str(config), "--name", "ship-8"])).name == "ship-8"
+    monkeypatch.setenv("SEM_RELAY_NAME", "ship-9")
+    assert options_from(build_parser().parse_args(["--config", str(config)])).name == "ship-9"
+
+    config.write_text("SEM_RELAY_LINK_CLASS=iridium\n")
+    assert run("--config", str(config)) == (
+        2,
+        f"sem-relay: error: SEM_RELAY_LINK_CLASS: Input should be 'satellite' or 'lan' (in --config {config})\n",
+    )
+    assert run("--config", str(tmp_path / "none.env")) == (
+        2,
+        f"sem-relay: error: --config {tmp_path / 'none.env'}: No such file or directory: give a readable file\n",
+    )
