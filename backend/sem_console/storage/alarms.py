@@ -33,33 +33,32 @@ ALARM_COLUMNS = (
 class Alarms:
     def __init__(self, ctx: Context) -> None:
         self.ctx = ctx
-        self._temporary_ids = itertools.count(-1, -1)  # alarms raised during an outage, until written
-        self._ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
+        self._temporary_ids = itertools.count(-1, -1)  # the ids of the alarms raised since the start
+        self._ids: dict[int, int] = {}  # such an id -> its row's id once written (the writer thread's own)
 
     def add(self, alarm: dict[str, Any]) -> int:
-        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
-        During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
-        updates go to the row written for it."""
+        """A new alarm (keys: ALARM_COLUMNS); returns its id in this console's memory, at once: a negative one, until
+        the console starts again and reads the row's. The writer thread maps it to the row it writes, where the alarm's
+        updates go (its last, back to normal, lets it go). The oldest alarms back to normal beyond ALARMS_KEPT go."""
         row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.ctx.station}
         temporary = next(self._temporary_ids)
-        ids: list[int] = []
 
         def write(c: Connection) -> None:
             new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
             self._ids[temporary] = new_id
-            ids.append(new_id)
 
-        if self.ctx.writes.write(write):  # written now: no temporary id to map
-            self._ids.pop(temporary, None)
-            return ids[-1]
+        self.ctx.writes.write(write)
         return temporary
 
     def update(self, alarm: dict[str, Any]) -> None:
         values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
 
         def write(c: Connection) -> None:
-            c.execute(update(ALARMS).where(ALARMS.c.id == self._ids.get(alarm["id"], alarm["id"])).values(values))
+            row_id = self._ids.get(alarm["id"], alarm["id"])
+            if alarm["normal_at"] is not None:  # its last write: the alarm leaves the console's memory
+                self._ids.pop(alarm["id"], None)
+            c.execute(update(ALARMS).where(ALARMS.c.id == row_id).values(values))
             if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
                 self.ctx.notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
 
@@ -142,6 +141,9 @@ class Alarms:
 
     def clear(self) -> None:
         """Forget every alarm, shelf and silence (a replay rebuilding its state)."""
-        with self.ctx.engine.begin() as c:
+
+        def write(c: Connection) -> None:
             for t in (ALARMS, SHELVES, SILENCES):
                 c.execute(delete(t))
+
+        self.ctx.writes.write(write)

@@ -131,9 +131,10 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
             "watch",
         )
         db.set_canceled(session, "bob", "relief", 101.0)
-        assert db.set_closed_unheard(session, "heard", 108.0) is True
+        assert db.set_closed_unheard(session, "heard", 108.0).result(30) is None  # stored
         # another station ends it too, later: refused, the first ending stands (each station shows the stored one)
-        assert db.set_closed_unheard(session, "bound", 109.0) is False
+        refused = db.set_closed_unheard(session, "bound", 109.0).result(30)
+        assert refused is not None and (refused["closed_unheard"], refused["closed_at"]) == ("heard", 108.0)
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("heard", 108.0, True)
         canceled = {
@@ -147,7 +148,8 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
         db.add_transition(session, 1, canceled)  # the vehicle answered after all
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
-        assert db.set_closed_unheard(session, "heard", 110.0) is False  # another station's, after that answer
+        refused = db.set_closed_unheard(session, "heard", 110.0).result(30)  # another station's, after that answer
+        assert refused is not None and refused["closed_unheard"] is None and len(refused["transitions"]) == 1
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["cleaned_up"], len(row["transitions"])) == (None, False, 1), row
     finally:
@@ -212,10 +214,10 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
             "acked_by": None,
             "normal_at": None,
         }
-        first = db.add_alarm(alarm)
-        assert db.add_alarm(alarm) == first + 1
-        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
-        assert [a.id for a in db.open_alarms()] == [first + 1]
+        first = db.add_alarm(alarm)  # its id in the console's memory, at once; its row's id is the writer's
+        assert db.add_alarm({**alarm, "key": "k2"}) == first - 1
+        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})  # to the row written for it
+        assert [a.key for a in db.open_alarms()] == ["k2"]
     finally:
         db.close()
 
@@ -308,6 +310,7 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         try:
             db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a", "reason": "accepted"})
             temporary = db.add_alarm(alarm)
+            assert db.flush(30)  # the writer thread met the outage
             assert temporary < 0 and db.unavailable_since is not None and db.held == 2
             db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
             assert db.held == 3
@@ -346,7 +349,7 @@ def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg
             db.add_audit(
                 {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held", "reason": "accepted"}
             )
-            assert db.held == 1 and db.unavailable_since is not None
+            assert db.flush(30) and db.held == 1 and db.unavailable_since is not None
         finally:
             pg_cluster.start()
     finally:
@@ -443,7 +446,7 @@ def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_
         db.claim("watch")
         event.listen(db.engine, "after_cursor_execute", cut_before_commit)
         given = db.add_alarm(alarm)
-        assert cut and db.held == 1, "the alarm's write was not cut"
+        assert db.flush(30) and cut and db.held == 1, "the alarm's write was not cut"
         assert given < 0, f"the alarm got id {given}, of a row rolled back"
         db.update_alarm({**alarm, "id": given, "acked_at": 2.0, "acked_by": "alice"})
         assert db.maintain() and db.held == 0
