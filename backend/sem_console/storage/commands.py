@@ -194,8 +194,7 @@ def _rows(c: Connection, q: Select[Any]) -> list[CommandRow]:
     rows = [dict(r) for r in c.execute(q).mappings()]
     trans = _transitions(c, [r["session_id"] for r in rows])
     return [
-        cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])})
-        for r in rows
+        cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])}) for r in rows
     ]
 
 

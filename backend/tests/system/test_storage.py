@@ -222,6 +222,34 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         db.close()
 
 
+def test_writes_run_in_order_on_one_thread_of_their_own_and_the_stop_writes_every_one(database_url: str) -> None:
+    """A write returns at once; the writes run on one thread, not the caller's, in the order asked; a read sees
+    every write asked before it; the stop writes those still queued."""
+    db = open_db(database_url)
+    wrote_on: set[int] = set()
+
+    def inserted(_conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+        if statement.lstrip().upper().startswith("INSERT"):
+            wrote_on.add(threading.get_ident())
+
+    event.listen(db.engine, "before_cursor_execute", inserted)
+    entry = {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "reason": "accepted"}
+    try:
+        for i in range(40):
+            db.add_audit({**entry, "path": f"/{i}"})
+        assert [e.path for e in db.audit(1, 0)] == ["/39"]  # the read waited for the 40 writes
+        for i in range(40, 100):
+            db.add_audit({**entry, "path": f"/{i}"})
+    finally:
+        db.close()
+    assert len(wrote_on) == 1 and threading.get_ident() not in wrote_on, "writes on the caller's thread"
+    again = open_db(database_url)
+    try:
+        assert [e.path for e in again.audit(200, 0)] == [f"/{i}" for i in reversed(range(100))]
+    finally:
+        again.close()
+
+
 def test_track_points_written_once_read_in_order(database_url: str) -> None:
     db = open_db(database_url)
     history = History(db.engine, retention_hours=24)
