@@ -5,15 +5,18 @@ same key."""
 from __future__ import annotations
 
 import itertools
+from collections import deque
+from concurrent.futures import Future
 from typing import Any
 
-from sqlalchemy import Connection, Table, delete, insert, or_, select, update
+from sqlalchemy import Connection, Table, delete, func, insert, or_, select, text, update
 
 from sem_console.storage.context import Context
 from sem_console.storage.models import AlarmRecord, AlarmShelfRecord, PlannedSilenceRecord, table
 
 ALARMS, SHELVES, SILENCES = table(AlarmRecord), table(AlarmShelfRecord), table(PlannedSilenceRecord)
 ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
+IDS_AHEAD = 64  # alarm ids taken from the database ahead of the alarms, so an alarm has its row's id at once
 ALARM_COLUMNS = (
     "key",
     "kind",
@@ -33,23 +36,49 @@ ALARM_COLUMNS = (
 class Alarms:
     def __init__(self, ctx: Context) -> None:
         self.ctx = ctx
-        self._temporary_ids = itertools.count(-1, -1)  # the ids of the alarms raised since the start
-        self._ids: dict[int, int] = {}  # such an id -> its row's id once written (the writer thread's own)
+        self._ahead: deque[int] = deque()  # row ids taken for the next alarms (the caller's, on the loop)
+        self._taking: Future[list[int]] | None = None
+        self._taken = 0  # SQLite: the highest id taken (the writer thread's)
+        self._temporary_ids = itertools.count(-1, -1)  # alarms raised with no id taken ahead (a database outage)
+        self._ids: dict[int, int] = {}  # such a temporary id -> its row's id once written (the writer thread's)
+        self._take_ids()
+
+    def _take_ids(self) -> None:
+        """Take the next row ids ahead, on the writer thread (the caller does not wait), when few are left."""
+        if self._taking is not None and self._taking.done():
+            if not self._taking.cancelled() and self._taking.exception() is None:
+                self._ahead.extend(self._taking.result())
+            self._taking = None
+        if self._taking is None and len(self._ahead) < IDS_AHEAD // 2:
+            self._taking = self.ctx.writes.write(self._next_ids)
+
+    def _next_ids(self, c: Connection) -> list[int]:
+        if self.ctx.db.path is None:  # the table's sequence, shared by the consoles of the database
+            q = text("SELECT nextval(pg_get_serial_sequence('alarms', 'id')) FROM generate_series(1, :n)")
+            return list(c.execute(q, {"n": IDS_AHEAD}).scalars())
+        top = max(c.execute(select(func.max(ALARMS.c.id))).scalar() or 0, self._taken)  # one console per file
+        self._taken = top + IDS_AHEAD
+        return list(range(top + 1, self._taken + 1))
 
     def add(self, alarm: dict[str, Any]) -> int:
-        """A new alarm (keys: ALARM_COLUMNS); returns its id in this console's memory, at once: a negative one, until
-        the console starts again and reads the row's. The writer thread maps it to the row it writes, where the alarm's
-        updates go (its last, back to normal, lets it go). The oldest alarms back to normal beyond ALARMS_KEPT go."""
+        """A new alarm (keys: ALARM_COLUMNS); returns its id at once: its row's, taken ahead. With none taken (the
+        database away since the console started, or long) a temporary negative one, which the writer thread maps to
+        the row it writes, where the alarm's updates go (its last, back to normal, lets it go); the row's id is the
+        alarm's after a restart. The oldest alarms back to normal beyond ALARMS_KEPT go."""
+        self._take_ids()
+        given = self._ahead.popleft() if self._ahead else next(self._temporary_ids)
         row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.ctx.station}
-        temporary = next(self._temporary_ids)
+        if given > 0:
+            row["id"] = given
 
         def write(c: Connection) -> None:
             new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
-            self._ids[temporary] = new_id
+            if given < 0:
+                self._ids[given] = new_id
 
         self.ctx.writes.write(write)
-        return temporary
+        return given
 
     def update(self, alarm: dict[str, Any]) -> None:
         values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}

@@ -26,6 +26,7 @@ from sqlmodel import SQLModel
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
+from sem_console.storage.alarms import IDS_AHEAD
 from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters
 from sem_console.storage.engine import head_revision
 from sem_console.storage.url import parse_database_url
@@ -214,10 +215,11 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
             "acked_by": None,
             "normal_at": None,
         }
-        first = db.add_alarm(alarm)  # its id in the console's memory, at once; its row's id is the writer's
-        assert db.add_alarm({**alarm, "key": "k2"}) == first - 1
-        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})  # to the row written for it
-        assert [a.key for a in db.open_alarms()] == ["k2"]
+        assert db.flush(30)  # opened: alarm ids taken ahead
+        first = db.add_alarm(alarm)  # its row's id, at once
+        second = db.add_alarm({**alarm, "key": "k2"})
+        db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
+        assert 0 < first < second and [(a.id, a.key) for a in db.open_alarms()] == [(second, "k2")]
     finally:
         db.close()
 
@@ -314,7 +316,8 @@ def test_the_first_releases_file_opens_with_its_history_and_identity(tmp_path: P
 
 
 def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluster: Cluster, pg_url: str) -> None:
-    """PostgreSQL stopped: writes are held in order (an alarm gets a temporary id), reads fail at once in one line
+    """PostgreSQL stopped: writes are held in order (an alarm has its row's id, taken ahead, or past those a temporary
+    one), reads fail at once in one line
     (no connect attempt on the caller's thread); started again: `maintain` writes what was held (the alarm's
     acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
     db = open_db(pg_url)
@@ -334,14 +337,18 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         "normal_at": None,
     }
     try:
+        assert db.flush(30)  # alarm ids taken ahead
         pg_cluster.stop()
         try:
             db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a", "reason": "accepted"})
+            given = [db.add_alarm({**alarm, "key": f"k{i}", "normal_at": 1.5}) for i in range(IDS_AHEAD)]
             temporary = db.add_alarm(alarm)
             assert db.flush(30)  # the writer thread met the outage
-            assert temporary < 0 and db.unavailable_since is not None and db.held == 2
+            assert all(i > 0 for i in given) and temporary < 0, (given, temporary)
+            held = db.held
+            assert db.unavailable_since is not None and held >= 2 + IDS_AHEAD
             db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
-            assert db.held == 3
+            assert db.held == held + 1
             started = time.monotonic()
             with pytest.raises(Unavailable) as refused:
                 db.audit(10, 0)
@@ -356,6 +363,8 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         assert [e.path for e in db.audit(10, 0)] == ["/a"]
         [row] = db.open_alarms()
         assert row.acked_by == "alice" and row.acked_at == 2.0  # the held update found the row written late
+        assert db.flush(30)  # ids taken ahead again: the next alarm has its row's id
+        assert db.add_alarm({**alarm, "key": "next", "normal_at": 3.0}) > 0
         other = open_db(pg_url)
         try:
             with pytest.raises(StorageError):  # the name's lock went with the old server; maintain took it again
@@ -372,6 +381,7 @@ def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg
     db = open_db(pg_url)
     try:
         db.claim("watch")
+        assert db.flush(30)  # opened: alarm ids taken ahead (not a held write)
         pg_cluster.stop()
         try:
             db.add_audit(
@@ -442,10 +452,10 @@ def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: 
         again.close()
 
 
-def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_its_acknowledgement(pg_url: str) -> None:
-    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held,
-    and the alarm gets a temporary id, not the id of the row rolled back; its acknowledgement, held after it, reaches
-    the row written when the server answers. With the rolled-back row's id it went to no row: lost."""
+def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_its_id_and_its_acknowledgement(pg_url: str) -> None:
+    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held; the
+    alarm's id, its row's taken ahead, is the row's written when the server answers, where its acknowledgement, held
+    after it, goes."""
     db = open_db(pg_url)
     alarm = {
         "key": "k",
@@ -472,14 +482,14 @@ def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_
 
     try:
         db.claim("watch")
+        assert db.flush(30)  # alarm ids taken ahead
         event.listen(db.engine, "after_cursor_execute", cut_before_commit)
         given = db.add_alarm(alarm)
         assert db.flush(30) and cut and db.held == 1, "the alarm's write was not cut"
-        assert given < 0, f"the alarm got id {given}, of a row rolled back"
         db.update_alarm({**alarm, "id": given, "acked_at": 2.0, "acked_by": "alice"})
         assert db.maintain() and db.held == 0
         [row] = db.open_alarms()
-        assert (row.acked_by, row.acked_at) == ("alice", 2.0)
+        assert (row.id, row.acked_by, row.acked_at) == (given, "alice", 2.0)
     finally:
         db.close()
 

@@ -173,17 +173,17 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     c.stop()
     c = console(env=env)  # the shelf and the alarm are kept
     again = alarm_of(c, "link-lost")
-    assert again is not None and again["id"] > 0 and again["shelf"] == shelf  # restarted: the id of its row
+    assert again is not None and again["id"] == lost["id"] and again["shelf"] == shelf
     assert time.time() < shelf["until"]  # the test saw the restart within the shelf: not a trivial pass
     back = wait_until(lambda: (a := alarm_of(c, "link-lost")) and a["shelf"] is None and a, 40, "the shelf's end")
     assert back["returned"] == "back from shelving: its time ended" and time.time() >= shelf["until"]
 
-    shelve = f"{c.url}/api/alarms/{again['id']}/shelve"
+    shelve = f"{c.url}/api/alarms/{lost['id']}/shelve"
     assert httpx.post(shelve, json={"reason": "known", "minutes": 60}, headers=AUTH).status_code == 200
     c.stop()
     c = console(env=env)
     assert (alarm_of(c, "link-lost") or {}).get("shelf", {})["reason"] == "known"  # type: ignore[index]
-    unshelve = f"{c.url}/api/alarms/{again['id']}/unshelve"
+    unshelve = f"{c.url}/api/alarms/{lost['id']}/unshelve"
     r = httpx.post(unshelve, json={}, headers=AUTH)
     assert r.status_code == 200 and by_kind(r.json(), "link-lost")["returned"] == "back from shelving: unshelved by alice"
     assert httpx.post(unshelve, json={}, headers=AUTH).status_code == 409
@@ -193,7 +193,7 @@ def test_a_shelf_is_kept_over_a_console_restart_and_ends_in_time_or_when_unshelv
     path = f"/api/alarms/{lost['id']}/shelve"
     assert (path, "accepted", 200, "alice", "shelved for 0.4 min: relay down") in audit
     assert (path, "refused", 409, "alice", None) in audit and (path, "refused", 401, None, None) in audit
-    assert (f"/api/alarms/{again['id']}/unshelve", "accepted", 200, "alice", None) in audit
+    assert (f"/api/alarms/{lost['id']}/unshelve", "accepted", 200, "alice", None) in audit
 
 
 @pytest.mark.slow

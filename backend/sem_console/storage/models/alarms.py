@@ -11,8 +11,8 @@ class AlarmRaised(SQLModel):
     the API's (api/schemas.py, in camelCase) have in common."""
 
     id: int | None = Field(
-        description="the alarm's id: negative for one raised since the console started (given before its row is "
-        "written), its row's id after a restart"
+        description="the alarm's id: its row's, taken ahead; negative for one raised while the database could not be "
+        "reached and no id was taken ahead (its row's after a restart)"
     )
     kind: str
     severity: str
