@@ -50,14 +50,15 @@ class Alarms:
                 self._ahead.extend(self._taking.result())
             self._taking = None
         if self._taking is None and len(self._ahead) < IDS_AHEAD // 2:
-            self._taking = self.ctx.writes.write(self._next_ids)
+            self._taking = self.ctx.writes.write(lambda c: self._next_ids(c, IDS_AHEAD))
 
-    def _next_ids(self, c: Connection) -> list[int]:
+    def _next_ids(self, c: Connection, n: int) -> list[int]:
+        """`n` row ids no alarm has, nor is given (on the writer thread)."""
         if self.ctx.db.path is None:  # the table's sequence, shared by the consoles of the database
             q = text("SELECT nextval(pg_get_serial_sequence('alarms', 'id')) FROM generate_series(1, :n)")
-            return list(c.execute(q, {"n": IDS_AHEAD}).scalars())
+            return list(c.execute(q, {"n": n}).scalars())
         top = max(c.execute(select(func.max(ALARMS.c.id))).scalar() or 0, self._taken)  # one console per file
-        self._taken = top + IDS_AHEAD
+        self._taken = top + n
         return list(range(top + 1, self._taken + 1))
 
     def add(self, alarm: dict[str, Any]) -> int:
@@ -68,11 +69,10 @@ class Alarms:
         self._take_ids()
         given = self._ahead.popleft() if self._ahead else next(self._temporary_ids)
         row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.ctx.station}
-        if given > 0:
-            row["id"] = given
 
         def write(c: Connection) -> None:
-            new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
+            new_id = given if given > 0 else self._next_ids(c, 1)[0]  # not one of those taken ahead meanwhile
+            c.execute(insert(ALARMS).values({**row, "id": new_id}))
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
             if given < 0:
                 self._ids[given] = new_id

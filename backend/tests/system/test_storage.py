@@ -252,6 +252,40 @@ def test_writes_run_in_order_on_one_thread_of_their_own_and_the_stop_writes_ever
         again.close()
 
 
+def test_an_alarm_raised_before_ids_are_taken_takes_none_of_them(database_url: str) -> None:
+    """The writer slow (a statement that waits): the alarm ids taken ahead run out, the next alarm has a temporary id,
+    and its row's id is not one of those taken ahead meanwhile, so the alarm after it is written too."""
+    db = open_db(database_url)
+    gate = threading.Event()
+    alarm = {
+        "kind": "link-lost",
+        "severity": "alarm",
+        "provider_id": V1,
+        "vehicle": "Alpha",
+        "session_id": None,
+        "text": "Alpha: link lost",
+        "since": 1.0,
+        "cleared_at": None,
+        "acked_at": None,
+        "acked_by": None,
+        "normal_at": None,
+    }
+    try:
+        assert db.flush(30)  # opened: alarm ids taken ahead
+        db.writes.write(lambda _c: gate.wait(30))  # the next ids are taken behind it
+        given = [db.add_alarm({**alarm, "key": f"k{i}"}) for i in range(IDS_AHEAD + 1)]
+        assert given[-1] < 0 < min(given[:-1]), given
+        gate.set()
+        assert db.flush(30)
+        after = db.add_alarm({**alarm, "key": "after"})
+        assert db.flush(30)
+        rows = {a.key: a.id for a in db.open_alarms()}
+        assert len(rows) == IDS_AHEAD + 2 and rows["after"] == after, (after, rows)
+    finally:
+        gate.set()
+        db.close()
+
+
 def test_track_points_written_once_read_in_order(database_url: str) -> None:
     db = open_db(database_url)
     history = History(db.engine, retention_hours=24)
