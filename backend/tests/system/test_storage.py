@@ -38,6 +38,21 @@ LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'sou
 V1 = "77b2ceb8-5afe-554e-8450-93db17c48923"
 
 
+ALARM = {
+    "kind": "link-lost",
+    "severity": "alarm",
+    "provider_id": V1,
+    "vehicle": "Alpha",
+    "session_id": None,
+    "text": "Alpha: link lost",
+    "since": 1.0,
+    "cleared_at": None,
+    "acked_at": None,
+    "acked_by": None,
+    "normal_at": None,
+}
+
+
 def open_db(url: str) -> Database:
     return Database(parse_database_url(url))
 
@@ -201,20 +216,7 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         assert db.vehicle_names() == {V1: "Bravo"}
         db.set_vehicle_name(V1, None, "bob")
         assert db.vehicle_names() == {}
-        alarm = {
-            "key": "k",
-            "kind": "link-lost",
-            "severity": "alarm",
-            "provider_id": V1,
-            "vehicle": "Alpha",
-            "session_id": None,
-            "text": "Alpha: link lost",
-            "since": 1.0,
-            "cleared_at": None,
-            "acked_at": None,
-            "acked_by": None,
-            "normal_at": None,
-        }
+        alarm = {**ALARM, "key": "k"}
         assert db.flush(30)  # opened: alarm ids taken ahead
         first = db.add_alarm(alarm)  # its row's id, at once
         second = db.add_alarm({**alarm, "key": "k2"})
@@ -257,19 +259,7 @@ def test_an_alarm_raised_before_ids_are_taken_takes_none_of_them(database_url: s
     and its row's id is not one of those taken ahead meanwhile, so the alarm after it is written too."""
     db = open_db(database_url)
     gate = threading.Event()
-    alarm = {
-        "kind": "link-lost",
-        "severity": "alarm",
-        "provider_id": V1,
-        "vehicle": "Alpha",
-        "session_id": None,
-        "text": "Alpha: link lost",
-        "since": 1.0,
-        "cleared_at": None,
-        "acked_at": None,
-        "acked_by": None,
-        "normal_at": None,
-    }
+    alarm = dict(ALARM)
     try:
         assert db.flush(30)  # opened: alarm ids taken ahead
         db.writes.write(lambda _c: gate.wait(30))  # the next ids are taken behind it
@@ -356,20 +346,7 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
     acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
     db = open_db(pg_url)
     db.claim("watch")
-    alarm = {
-        "key": "k",
-        "kind": "link-lost",
-        "severity": "alarm",
-        "provider_id": V1,
-        "vehicle": "Alpha",
-        "session_id": None,
-        "text": "Alpha: link lost",
-        "since": 1.0,
-        "cleared_at": None,
-        "acked_at": None,
-        "acked_by": None,
-        "normal_at": None,
-    }
+    alarm = {**ALARM, "key": "k"}
     try:
         assert db.flush(30)  # alarm ids taken ahead
         pg_cluster.stop()
@@ -491,20 +468,7 @@ def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_its_id_and_its_ackn
     alarm's id, its row's taken ahead, is the row's written when the server answers, where its acknowledgement, held
     after it, goes."""
     db = open_db(pg_url)
-    alarm = {
-        "key": "k",
-        "kind": "link-lost",
-        "severity": "alarm",
-        "provider_id": V1,
-        "vehicle": "Alpha",
-        "session_id": None,
-        "text": "Alpha: link lost",
-        "since": 1.0,
-        "cleared_at": None,
-        "acked_at": None,
-        "acked_by": None,
-        "normal_at": None,
-    }
+    alarm = {**ALARM, "key": "k"}
     cut: list[int] = []
 
     def cut_before_commit(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
