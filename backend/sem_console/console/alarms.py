@@ -405,7 +405,8 @@ class Alarms:
     def active(self) -> list[messages.Alarm]:
         """The active set, newest first, each naming its vehicle as it is named now, with its cause, whether it is
         chattering, its shelf (null: in view) and why it is back in view after a shelf."""
-        newest_first = sorted(self.open.values(), key=lambda a: (a.since, a.id), reverse=True)
+        # of one instant, the last raised first (`open` keeps the order they were raised in; a sort keeps ties' order)
+        newest_first = sorted(reversed(self.open.values()), key=lambda a: a.since, reverse=True)
         out = []
         for a in newest_first:
             shelf = self.shelves.get(a.key)

@@ -17,6 +17,7 @@ import asyncio
 import logging
 import uuid
 from collections.abc import Callable
+from concurrent.futures import Future
 from dataclasses import dataclass, field
 from typing import Any, Literal, cast
 
@@ -149,6 +150,8 @@ class Commands:
         # other stations' canceled commands with no status, which this station ends too if the vehicle never answers
         # (`_watch`): from the database at start, then from the other stations' notifications
         self.others: dict[uuid.UUID, Command] = {}
+        # endings as never heard asked of the database, until written: one refused shows what is stored (`tick`)
+        self._endings: list[tuple[Command, Future[CommandRow | None]]] = []
         self._load_history()
 
     # ---- history --------------------------------------------------------------------
@@ -371,12 +374,10 @@ class Commands:
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already); refused
-        by the database once a status of it is stored or another station ended it first: what is stored stands."""
+        by the database once a status of it is stored or another station ended it first: what is stored stands, shown
+        from the tick after the writer thread wrote it (`_refused_endings`)."""
         cmd.closed_unheard, cmd.closed_at, cmd.cleaned_up = why, at, True
-        if self.store.set_closed_unheard(str(cmd.session_id), why, at) is False:
-            rows = self.store.commands(session_id=str(cmd.session_id))
-            if rows:
-                self._take_stored(cmd, self.from_row(rows[0]))
+        self._endings.append((cmd, self.store.set_closed_unheard(str(cmd.session_id), why, at)))
         if emit:
             self.emit(command_message(cmd.to_json()))
         self._forget_old()
@@ -502,6 +503,7 @@ class Commands:
 
     def tick(self, now: float, heard: Heard) -> None:
         """`now`: monotonic seconds; `heard`: when a provider was last heard."""
+        self._refused_endings()
         for cmd in [*self.by_session.values(), *self.others.values()]:
             if cmd.flow.transitions or cmd.cleaned_up:
                 continue
@@ -512,6 +514,16 @@ class Commands:
                 self.store.set_flag(str(cmd.session_id), "unanswered")
                 self.emit(command_message(cmd.to_json()))
         self.others = {s: c for s, c in self.others.items() if not c.terminal and not c.cleaned_up}
+
+    def _refused_endings(self) -> None:
+        """The endings as never heard the database has written: one it refused shows the command as stored."""
+        written = [(cmd, f) for cmd, f in self._endings if f.done()]
+        self._endings = [(cmd, f) for cmd, f in self._endings if not f.done()]
+        for cmd, f in written:
+            stored = None if f.cancelled() or f.exception() is not None else f.result()
+            if stored is not None:
+                self._take_stored(cmd, self.from_row(stored))
+                self.emit(command_message(cmd.to_json()))
 
     def _unheard_cancel(self, cmd: Command, seen: float | None) -> None:
         """A canceled command with no status: ended once its vehicle has been heard for the unanswered timeout since

@@ -788,8 +788,8 @@ class Console:
     async def _read_stored(self, lock: asyncio.Lock, what: str, read: Callable[[], T], apply: Callable[[T], None]) -> None:
         """`read` the database in a worker thread and `apply` it on the loop; one read at a time per `lock`, in the
         order asked, so an older read never lands after a newer one; read again when this console wrote meanwhile (the
-        read may be older than that write, made on the loop while it ran). The database away: read again when it is
-        back."""
+        read waits for the writes asked before it, not for one asked while it ran). The database away: read again when
+        it is back."""
         async with lock:
             while not self.closing:
                 asked = self.store.writes_asked

@@ -296,7 +296,7 @@ class RecordingSource:
 
     async def close(self) -> None:
         if self._store is not None:
-            self._store.close()  # before its file goes (closing it again later does nothing)
+            await asyncio.to_thread(self._store.close)  # its writes flushed before its file goes (again: nothing)
         self._dir.cleanup()
 
     def counters(self) -> dict[str, Any]:

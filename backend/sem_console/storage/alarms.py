@@ -5,15 +5,18 @@ same key."""
 from __future__ import annotations
 
 import itertools
+from collections import deque
+from concurrent.futures import Future
 from typing import Any
 
-from sqlalchemy import Connection, Table, delete, insert, or_, select, update
+from sqlalchemy import Connection, Table, delete, func, insert, or_, select, text, update
 
 from sem_console.storage.context import Context
 from sem_console.storage.models import AlarmRecord, AlarmShelfRecord, PlannedSilenceRecord, table
 
 ALARMS, SHELVES, SILENCES = table(AlarmRecord), table(AlarmShelfRecord), table(PlannedSilenceRecord)
 ALARMS_KEPT = 100_000  # alarms back to normal kept in the database
+IDS_AHEAD = 64  # alarm ids taken from the database ahead of the alarms, so an alarm has its row's id at once
 ALARM_COLUMNS = (
     "key",
     "kind",
@@ -33,33 +36,58 @@ ALARM_COLUMNS = (
 class Alarms:
     def __init__(self, ctx: Context) -> None:
         self.ctx = ctx
-        self._temporary_ids = itertools.count(-1, -1)  # alarms raised during an outage, until written
-        self._ids: dict[int, int] = {}  # such a temporary id -> the row's id once written
+        self._ahead: deque[int] = deque()  # row ids taken for the next alarms (the caller's, on the loop)
+        self._taking: Future[list[int]] | None = None
+        self._taken = 0  # SQLite: the highest id taken (the writer thread's)
+        self._temporary_ids = itertools.count(-1, -1)  # alarms raised with no id taken ahead (a database outage)
+        self._ids: dict[int, int] = {}  # such a temporary id -> its row's id once written (the writer thread's)
+        self._take_ids()
+
+    def _take_ids(self) -> None:
+        """Take the next row ids ahead, on the writer thread (the caller does not wait), when few are left."""
+        if self._taking is not None and self._taking.done():
+            if not self._taking.cancelled() and self._taking.exception() is None:
+                self._ahead.extend(self._taking.result())
+            self._taking = None
+        if self._taking is None and len(self._ahead) < IDS_AHEAD // 2:
+            self._taking = self.ctx.writes.write(lambda c: self._next_ids(c, IDS_AHEAD))
+
+    def _next_ids(self, c: Connection, n: int) -> list[int]:
+        """`n` row ids no alarm has, nor is given (on the writer thread)."""
+        if self.ctx.db.path is None:  # the table's sequence, shared by the consoles of the database
+            q = text("SELECT nextval(pg_get_serial_sequence('alarms', 'id')) FROM generate_series(1, :n)")
+            return list(c.execute(q, {"n": n}).scalars())
+        top = max(c.execute(select(func.max(ALARMS.c.id))).scalar() or 0, self._taken)  # one console per file
+        self._taken = top + n
+        return list(range(top + 1, self._taken + 1))
 
     def add(self, alarm: dict[str, Any]) -> int:
-        """A new alarm (keys: ALARM_COLUMNS); returns its id. The oldest alarms back to normal beyond ALARMS_KEPT go.
-        During an outage the id is a temporary negative one (the alarm's in this console's memory); its held
-        updates go to the row written for it."""
+        """A new alarm (keys: ALARM_COLUMNS); returns its id at once: its row's, taken ahead. With none taken (the
+        database away since the console started, or long) a temporary negative one, which the writer thread maps to
+        the row it writes, where the alarm's updates go (its last, back to normal, lets it go); the row's id is the
+        alarm's after a restart. The oldest alarms back to normal beyond ALARMS_KEPT go."""
+        self._take_ids()
+        given = self._ahead.popleft() if self._ahead else next(self._temporary_ids)
         row = {**{k: alarm.get(k) for k in ALARM_COLUMNS}, "console": self.ctx.station}
-        temporary = next(self._temporary_ids)
-        ids: list[int] = []
 
         def write(c: Connection) -> None:
-            new_id: int = c.execute(insert(ALARMS).values(row).returning(ALARMS.c.id)).scalar_one()
+            new_id = given if given > 0 else self._next_ids(c, 1)[0]  # not one of those taken ahead meanwhile
+            c.execute(insert(ALARMS).values({**row, "id": new_id}))
             c.execute(delete(ALARMS).where(ALARMS.c.id <= new_id - ALARMS_KEPT, ALARMS.c.normal_at.is_not(None)))
-            self._ids[temporary] = new_id
-            ids.append(new_id)
+            if given < 0:
+                self._ids[given] = new_id
 
-        if self.ctx.writes.write(write):  # written now: no temporary id to map
-            self._ids.pop(temporary, None)
-            return ids[-1]
-        return temporary
+        self.ctx.writes.write(write)
+        return given
 
     def update(self, alarm: dict[str, Any]) -> None:
         values = {k: alarm[k] for k in ("since", "cleared_at", "acked_at", "acked_by", "normal_at")}
 
         def write(c: Connection) -> None:
-            c.execute(update(ALARMS).where(ALARMS.c.id == self._ids.get(alarm["id"], alarm["id"])).values(values))
+            row_id = self._ids.get(alarm["id"], alarm["id"])
+            if alarm["normal_at"] is not None:  # its last write: the alarm leaves the console's memory
+                self._ids.pop(alarm["id"], None)
+            c.execute(update(ALARMS).where(ALARMS.c.id == row_id).values(values))
             if alarm["acked_at"] is not None:  # the other stations' alarm of the same key is acknowledged too
                 self.ctx.notify(c, "alarm-ack", key=alarm["key"], at=alarm["acked_at"], by=alarm["acked_by"])
 
@@ -142,6 +170,9 @@ class Alarms:
 
     def clear(self) -> None:
         """Forget every alarm, shelf and silence (a replay rebuilding its state)."""
-        with self.ctx.engine.begin() as c:
+
+        def write(c: Connection) -> None:
             for t in (ALARMS, SHELVES, SILENCES):
                 c.execute(delete(t))
+
+        self.ctx.writes.write(write)

@@ -4,6 +4,7 @@ shared by the consoles of one database (notification kind "command")."""
 from __future__ import annotations
 
 import json
+from concurrent.futures import Future
 from typing import Any, TypedDict, cast
 
 from sqlalchemy import Connection, Select, delete, insert, or_, select, update
@@ -114,24 +115,26 @@ class Commands:
 
         self.ctx.writes.write(write)
 
-    def close_unheard(self, session_id: str, why: str, at: float) -> bool | None:
+    def close_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is
         stored (another station heard the vehicle answer; `add_transition` withdraws an ending stored before), nor once
-        another station ended it (every station shows the one stored ending). True: stored; False: refused (the
-        caller reads what is stored); None: held in an outage."""
+        another station ended it (every station shows the one stored ending). The future, once written: None when
+        stored; the command as stored when refused (the caller shows what is stored)."""
         answered = select(TRANSITIONS.c.seq).where(TRANSITIONS.c.session_id == session_id).exists()
-        stored: list[bool] = []
 
-        def write(c: Connection) -> None:
+        def write(c: Connection) -> CommandRow | None:
             done = c.execute(
                 update(COMMANDS)
                 .where(COMMANDS.c.session_id == session_id, ~answered, COMMANDS.c.closed_unheard.is_(None))
                 .values(closed_unheard=why, closed_at=at, cleaned_up=True)
             )
-            stored.append(done.rowcount > 0)
             self.ctx.notify(c, "command", session=session_id)
+            if done.rowcount > 0:
+                return None
+            stored = _rows(c, select(*COMMANDS.c).where(COMMANDS.c.session_id == session_id))
+            return stored[0] if stored else None
 
-        return stored[-1] if self.ctx.writes.write(write) else None
+        return self.ctx.writes.write(write)
 
     def read(
         self,
@@ -174,18 +177,25 @@ class Commands:
 
     def _rows(self, q: Select[Any]) -> list[CommandRow]:
         with self.ctx.writes.reads() as c:
-            rows = [dict(r) for r in c.execute(q).mappings()]
-            trans = _transitions(c, [r["session_id"] for r in rows])
-        return [
-            cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])})
-            for r in rows
-        ]
+            return _rows(c, q)
 
     def clear(self) -> None:
         """Forget every command and transition (a replay rebuilding its state); the audit trail stays."""
-        with self.ctx.engine.begin() as c:
+
+        def write(c: Connection) -> None:
             c.execute(delete(TRANSITIONS))
             c.execute(delete(COMMANDS))
+
+        self.ctx.writes.write(write)
+
+
+def _rows(c: Connection, q: Select[Any]) -> list[CommandRow]:
+    """The commands `q` selects, their JSON parsed, with their transitions."""
+    rows = [dict(r) for r in c.execute(q).mappings()]
+    trans = _transitions(c, [r["session_id"] for r in rows])
+    return [
+        cast(CommandRow, {**r, "command": json.loads(r["command"]), "transitions": trans.get(r["session_id"], [])}) for r in rows
+    ]
 
 
 def _transitions(c: Connection, ids: list[str]) -> dict[str, list[TransitionRow]]:

@@ -2,14 +2,16 @@
 outage write-behind (outage.py), the console's name lock (locks.py), and one module per aggregate (commands, alarms
 with their shelves and silences, comap, names, audit, links), each returning typed rows.
 
-Calls are synchronous: a route on the event loop reads in a worker thread (asyncio.to_thread); writes are single rows,
-held without a connect attempt during an outage."""
+Reads are synchronous: a route on the event loop reads in a worker thread (asyncio.to_thread), and sees every write
+this console asked before it. Writes return at once: each runs in order on the write-behind's one writer thread, held
+without a connect attempt during an outage; a write whose result the caller uses returns a Future of it."""
 
 from __future__ import annotations
 
 import sqlite3
 import uuid
 from collections.abc import Callable
+from concurrent.futures import Future
 from pathlib import Path
 from typing import Any
 
@@ -98,6 +100,10 @@ class Database:
     def write_held(self) -> bool:
         return self.writes.write_held()
 
+    def flush(self, timeout: float | None = None) -> bool:
+        """Wait until the writes asked so far are written, or held in an outage (for a worker thread, or a test)."""
+        return self.writes.flush(timeout)
+
     def listen(self, on_message: Callable[[dict[str, Any]], object]) -> Listener | None:
         """A started Listener of the other consoles' notifications (None on SQLite: one console per file)."""
         if self.db.path is not None:
@@ -130,7 +136,7 @@ class Database:
             session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at, cancel_cause=cause
         )
 
-    def set_closed_unheard(self, session_id: str, why: str, at: float) -> bool | None:
+    def set_closed_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         return self.command_rows.close_unheard(session_id, why, at)
 
     def commands(
@@ -220,7 +226,8 @@ class Database:
         self.alarm_rows.clear()
 
     def close(self) -> None:
-        """Write what is held, or say what is lost (WriteBehind.close); let the console's name go."""
+        """Write what is asked and held, or say what is lost (WriteBehind.close: its writer thread ends); let the
+        console's name go."""
         self.writes.close()
         self.name_lock.close()
         self.engine.dispose()

@@ -51,7 +51,7 @@ class Names:
 
     def vehicle_names(self) -> dict[str, str]:
         """provider GUID string -> the name an operator set for it from the dashboard."""
-        with self.ctx.engine.connect() as c:
+        with self.ctx.writes.reads() as c:
             return {p: n for p, n in c.execute(select(VEHICLE_NAMES.c.provider_id, VEHICLE_NAMES.c.name))}
 
     def set_vehicle_name(self, provider_id: str, name: str | None, by: str | None) -> None:

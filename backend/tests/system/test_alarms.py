@@ -55,6 +55,7 @@ class World:
         )
         self.providers = Providers(3.0, 1.0, NAMES)  # lost after 3 s, regained after 1 s
         self.alarms = Alarms(self.store, NAMES)
+        assert self.store.flush(30)  # as a console started: alarm ids taken ahead
         self.alarms.baseline(self.commands.by_session.values())
         self.recording_error: str | None = None
 
@@ -133,6 +134,7 @@ def test_link_lost_is_active_until_regained_and_leaves_once_acknowledged(tmp_pat
         w.at(t).report(CHARLIE, "GPSReport")
         w.update()
     assert w.providers.by_id[CHARLIE].link == "regained" and w.alarms.active() == []
+    assert w.store.flush(30)
     with w.store.engine.connect() as c:
         [row] = c.execute(text("SELECT * FROM alarms")).mappings().all()
     assert row["normal_at"] == row["cleared_at"] == T0 + 7 and row["acked_by"] == "alice"
@@ -304,6 +306,21 @@ def test_a_restart_keeps_the_alarms_not_back_to_normal(tmp_path: Path) -> None:
     assert again.update() == before  # the failed commands in the loaded history are not raised again
 
 
+def test_an_alarm_has_its_rows_id_at_once_the_id_it_keeps_over_a_restart(tmp_path: Path) -> None:
+    """An alarm's id is given at once (the loop does not wait for its row) and is its row's: the id the dashboard, the
+    audit trail and a restarted console name it by."""
+    w = World(tmp_path / "db")
+    w.report(CHARLIE, "GPSReport")
+    [lost] = w.at(5).update()
+    assert lost["kind"] == "link-lost" and w.ack(lost["id"]) and w.store.flush(30)
+    with w.store.engine.connect() as c:
+        [row_id] = c.execute(text("SELECT id FROM alarms")).scalars().all()
+    assert lost["id"] == row_id, f"the alarm is shown as {lost['id']}, its row is {row_id}"
+    w.store.close()
+    [again] = World(tmp_path / "db").at(7).alarms.active()
+    assert (again["id"], again["ackedBy"]) == (row_id, "alice")
+
+
 # ---- REST and WebSocket ------------------------------------------------------------------------
 def test_routes_acknowledge_audited_and_no_silent_command_to_a_lost_vehicle(domain: int, tmp_path: Path) -> None:
     settings = Settings(
@@ -426,6 +443,7 @@ def test_a_renamed_vehicles_alarms_name_it_as_it_is_named_now_and_the_rows_keep_
             while message["type"] != "alarms":  # the set is sent again, not only the provider's new name
                 message = ws.receive_json()
             assert [(a["vehicle"], a["text"]) for a in message["alarms"]] == [("Delta", "Delta: link lost")]
+        assert console.store.flush(30)
         with console.store.engine.connect() as c:  # what was said when raised stays as recorded
             [row] = c.execute(text("SELECT vehicle, text FROM alarms")).mappings().all()
         assert (row["vehicle"], row["text"]) == ("Charlie", "Charlie: link lost")

@@ -1,8 +1,9 @@
 """No route, nor another console's notification, blocks the event loop on the database. The app of `sem-console`
 in this process (tests/system/test_routes.py's `app_client`: real Cyclone DDS, the embedded simulator, a SQLite or
 PostgreSQL database), with its database made slow: a statement of the request under test waits in the thread that
-runs it. A request that reads the database on the event loop stops every other request with it; one that reads it
-in a worker thread leaves the loop to answer /api/health meanwhile."""
+runs it. A request that reads or writes the database on the event loop stops every other request with it; one that
+reads it in a worker thread, or writes it on the database's writer thread, leaves the loop to answer /api/health
+meanwhile."""
 
 from __future__ import annotations
 
@@ -29,13 +30,15 @@ PARAMETERS = {"provider_id": V1, "session_id": UNKNOWN, "task_id": "1", "name": 
 
 
 class SlowDatabase:
-    """Statements on `table` wait in their thread, once armed, until `release` or HOLD: a slow database server.
-    Records the thread of every SELECT, and whether each held statement was released (not timed out). Listens for
-    the engine's life (a listener removed while another thread runs a statement breaks that statement)."""
+    """Statements of `verb` on `table` wait in their thread, once armed, until `release` or HOLD: a slow database
+    server. Records the thread of every SELECT and of the held statement, and whether each held statement was released
+    (not timed out). Listens for the engine's life (a listener removed while another thread runs a statement breaks
+    that statement)."""
 
     def __init__(self, engine: Engine) -> None:
-        self.engine, self.table = engine, ""
+        self.engine, self.table, self.verb = engine, "", "SELECT"
         self.threads: set[int] = set()
+        self.held_in: int | None = None  # the thread of the statement held
         self.entered, self.released = threading.Event(), threading.Event()
         self.released_in_time: list[bool] = []
         self.answered = False  # hold the statement once it has its rows (a read older than what follows), not before
@@ -47,16 +50,22 @@ class SlowDatabase:
             self._statement(*args, answered=True)
 
     def _statement(self, _conn: Any, _cursor: Any, statement: str, *_args: Any, answered: bool = False) -> None:
-        if not statement.lstrip().upper().startswith("SELECT"):
-            return
-        self.threads.add(threading.get_ident())
-        if self.table and self.answered == answered and re.search(rf"\bFROM {self.table}\b", statement):
+        verb = statement.lstrip().split(None, 1)[0].upper()
+        if verb == "SELECT":
+            self.threads.add(threading.get_ident())
+        if (
+            self.table
+            and verb == self.verb
+            and self.answered == answered
+            and re.search(rf"\b(FROM|INTO|UPDATE) {self.table}\b", statement)
+        ):
             self.table = ""  # the first such statement only
+            self.held_in = threading.get_ident()
             self.entered.set()
             self.released_in_time.append(self.released.wait(HOLD))
 
-    def hold(self, table: str, answered: bool = False) -> None:
-        self.table, self.answered, self.threads = table, answered, set()
+    def hold(self, table: str, answered: bool = False, verb: str = "SELECT") -> None:
+        self.table, self.answered, self.verb, self.threads, self.held_in = table, answered, verb, set(), None
         self.entered.clear()
         self.released.clear()
         self.released_in_time.clear()
@@ -147,6 +156,42 @@ def test_the_loop_answers_while_a_route_waits_on_a_slow_database(
     print(f"{method} {path}: /api/health answered in {answered * 1000:.1f} ms while the database was held")
     assert released == [True], f"/api/health waited for {method} {path} ({answered:.1f} s): it blocked the loop"
     assert answered < HOLD / 2
+
+
+def test_the_loop_answers_while_a_write_waits_on_a_slow_database(tmp_path: Path, database_url: str) -> None:
+    """A command issued, an alarm acknowledged, a vehicle renamed, each with its write held in the thread that runs it
+    (a database server that does not answer, as one that drops packets until the connect timeout): the write is not
+    the loop's, /api/health is answered while it waits, and each request is answered."""
+    with app_client(tmp_path, database_url=database_url) as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+        slow = SlowDatabase(console.store.engine)
+        try:
+            failed = "recording stopped: the disk is full (/recordings/x.mcap)"  # an alarm, raised at the next tick
+            client.portal.call(lambda: setattr(console.recorder, "error", failed))  # type: ignore[union-attr]
+            [alarm] = wait_until(lambda: client.get("/api/alarms").json(), 30, "the recording's alarm")
+            writes = [
+                ("POST", f"/api/providers/{V1}/gps-fix", {}, "INSERT", "commands"),
+                ("POST", f"/api/alarms/{alarm['id']}/ack", {}, "UPDATE", "alarms"),
+                ("PUT", f"/api/providers/{V1}/name", {"name": "Slow"}, "INSERT", "vehicle_names"),
+            ]
+            loop = loop_thread(client)
+            for method, path, body, verb, table in writes:
+                slow.hold(table, verb=verb)
+                with ThreadPoolExecutor(1) as pool:
+                    pending = pool.submit(client.request, method, path, json=body)
+                    assert slow.entered.wait(30), f"{method} {path}: no {verb} on {table}"
+                    started = time.monotonic()
+                    health = client.get("/api/health")
+                    answered = time.monotonic() - started
+                    released = slow.release()
+                    assert health.status_code == 200
+                    assert pending.result(timeout=60).status_code in (200, 201)
+                print(f"{method} {path}: /api/health answered in {answered * 1000:.1f} ms while its write was held")
+                assert slow.held_in != loop, f"{method} {path} wrote {table} on the event loop"
+                assert released == [True], f"/api/health waited for {method} {path}'s write ({answered:.1f} s)"
+                assert answered < HOLD / 2
+        finally:
+            slow.released.set()
 
 
 def test_another_consoles_change_is_read_off_the_loop(tmp_path: Path, pg_url: str) -> None:

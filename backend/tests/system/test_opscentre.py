@@ -269,10 +269,10 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
             r = httpx.get(f"{c.url}/api/audit")
             assert r.status_code == 503 and r.json()["detail"].startswith("shared history unavailable since"), r.text
             assert "\n" not in r.json()["detail"] and "pg-test-s3cret" not in r.text
-        vehicle.kill()  # an alarm raised during the outage: a temporary id, acknowledged by it
+        vehicle.kill()  # an alarm raised during the outage: its row's id, taken ahead, acknowledged by it
         on_a = wait_until(lambda: lost(a), 15, "link-lost on A")
         wait_until(lambda: lost(b), 15, "link-lost on B")
-        assert on_a["id"] < 0, on_a
+        assert on_a["id"] > 0, on_a
         r = httpx.post(f"{a.url}/api/alarms/{on_a['id']}/ack", json={})
         assert r.status_code == 200, r.text
         for c, name in ((a, "Night A"), (b, "Night B")):  # both rename it: both held, written one after the other
@@ -294,6 +294,8 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
         assert not ws_b.errors, ws_b.errors
         with psycopg.connect(pg_url) as db:  # the name written last is the one both consoles show
             stored = db.execute("SELECT name FROM vehicle_names WHERE provider_id = %s", (V1,)).fetchone()
+            acked = db.execute("SELECT acked_at FROM alarms WHERE id = %s AND console = 'watch'", (on_a["id"],)).fetchone()
+        assert acked is not None and acked[0] is not None, f"no row {on_a['id']} of A's alarm, acknowledged"
         assert stored is not None and stored[0] in ("Night A", "Night B"), stored
         wait_until(
             lambda: all(httpx.get(f"{c.url}/api/providers/{V1}").json()["name"] == stored[0] for c in (a, b)),

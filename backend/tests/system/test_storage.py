@@ -26,6 +26,7 @@ from sqlmodel import SQLModel
 from sem_console.console.history import History
 from sem_console.core.config import Settings
 from sem_console.main import create_app
+from sem_console.storage.alarms import IDS_AHEAD
 from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters
 from sem_console.storage.engine import head_revision
 from sem_console.storage.url import parse_database_url
@@ -35,6 +36,21 @@ from test_routes import app_client, wait_until
 LEGACY = Path(__file__).parents[1] / "data" / "legacy-8592e59.sqlite3"  # made by tests/data/make_legacy_db.py
 LEGACY_GUID = uuid.UUID("77b09762-22b2-4bad-aab6-e87ed4b24833")  # its meta 'source'
 V1 = "77b2ceb8-5afe-554e-8450-93db17c48923"
+
+
+ALARM = {
+    "kind": "link-lost",
+    "severity": "alarm",
+    "provider_id": V1,
+    "vehicle": "Alpha",
+    "session_id": None,
+    "text": "Alpha: link lost",
+    "since": 1.0,
+    "cleared_at": None,
+    "acked_at": None,
+    "acked_by": None,
+    "normal_at": None,
+}
 
 
 def open_db(url: str) -> Database:
@@ -131,9 +147,10 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
             "watch",
         )
         db.set_canceled(session, "bob", "relief", 101.0)
-        assert db.set_closed_unheard(session, "heard", 108.0) is True
+        assert db.set_closed_unheard(session, "heard", 108.0).result(30) is None  # stored
         # another station ends it too, later: refused, the first ending stands (each station shows the stored one)
-        assert db.set_closed_unheard(session, "bound", 109.0) is False
+        refused = db.set_closed_unheard(session, "bound", 109.0).result(30)
+        assert refused is not None and (refused["closed_unheard"], refused["closed_at"]) == ("heard", 108.0)
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == ("heard", 108.0, True)
         canceled = {
@@ -147,7 +164,8 @@ def test_a_status_of_a_command_and_its_ending_as_never_heard_never_stand_togethe
         db.add_transition(session, 1, canceled)  # the vehicle answered after all
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["closed_at"], row["cleaned_up"]) == (None, None, False), row
-        assert db.set_closed_unheard(session, "heard", 110.0) is False  # another station's, after that answer
+        refused = db.set_closed_unheard(session, "heard", 110.0).result(30)  # another station's, after that answer
+        assert refused is not None and refused["closed_unheard"] is None and len(refused["transitions"]) == 1
         [row] = db.commands(session_id=session)
         assert (row["closed_unheard"], row["cleaned_up"], len(row["transitions"])) == (None, False, 1), row
     finally:
@@ -198,25 +216,63 @@ def test_commands_audit_link_configs_names_and_alarms_round_trip(database_url: s
         assert db.vehicle_names() == {V1: "Bravo"}
         db.set_vehicle_name(V1, None, "bob")
         assert db.vehicle_names() == {}
-        alarm = {
-            "key": "k",
-            "kind": "link-lost",
-            "severity": "alarm",
-            "provider_id": V1,
-            "vehicle": "Alpha",
-            "session_id": None,
-            "text": "Alpha: link lost",
-            "since": 1.0,
-            "cleared_at": None,
-            "acked_at": None,
-            "acked_by": None,
-            "normal_at": None,
-        }
-        first = db.add_alarm(alarm)
-        assert db.add_alarm(alarm) == first + 1
+        alarm = {**ALARM, "key": "k"}
+        assert db.flush(30)  # opened: alarm ids taken ahead
+        first = db.add_alarm(alarm)  # its row's id, at once
+        second = db.add_alarm({**alarm, "key": "k2"})
         db.update_alarm({**alarm, "id": first, "normal_at": 3.0})
-        assert [a.id for a in db.open_alarms()] == [first + 1]
+        assert 0 < first < second and [(a.id, a.key) for a in db.open_alarms()] == [(second, "k2")]
     finally:
+        db.close()
+
+
+def test_writes_run_in_order_on_one_thread_of_their_own_and_the_stop_writes_every_one(database_url: str) -> None:
+    """A write returns at once; the writes run on one thread, not the caller's, in the order asked; a read sees
+    every write asked before it; the stop writes those still queued."""
+    db = open_db(database_url)
+    wrote_on: set[int] = set()
+
+    def inserted(_conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
+        if statement.lstrip().upper().startswith("INSERT"):
+            wrote_on.add(threading.get_ident())
+
+    event.listen(db.engine, "before_cursor_execute", inserted)
+    entry = {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "reason": "accepted"}
+    try:
+        for i in range(40):
+            db.add_audit({**entry, "path": f"/{i}"})
+        assert [e.path for e in db.audit(1, 0)] == ["/39"]  # the read waited for the 40 writes
+        for i in range(40, 100):
+            db.add_audit({**entry, "path": f"/{i}"})
+    finally:
+        db.close()
+    assert len(wrote_on) == 1 and threading.get_ident() not in wrote_on, "writes on the caller's thread"
+    again = open_db(database_url)
+    try:
+        assert [e.path for e in again.audit(200, 0)] == [f"/{i}" for i in reversed(range(100))]
+    finally:
+        again.close()
+
+
+def test_an_alarm_raised_before_ids_are_taken_takes_none_of_them(database_url: str) -> None:
+    """The writer slow (a statement that waits): the alarm ids taken ahead run out, the next alarm has a temporary id,
+    and its row's id is not one of those taken ahead meanwhile, so the alarm after it is written too."""
+    db = open_db(database_url)
+    gate = threading.Event()
+    alarm = dict(ALARM)
+    try:
+        assert db.flush(30)  # opened: alarm ids taken ahead
+        db.writes.write(lambda _c: gate.wait(30))  # the next ids are taken behind it
+        given = [db.add_alarm({**alarm, "key": f"k{i}"}) for i in range(IDS_AHEAD + 1)]
+        assert given[-1] < 0 < min(given[:-1]), given
+        gate.set()
+        assert db.flush(30)
+        after = db.add_alarm({**alarm, "key": "after"})
+        assert db.flush(30)
+        rows = {a.key: a.id for a in db.open_alarms()}
+        assert len(rows) == IDS_AHEAD + 2 and rows["after"] == after, (after, rows)
+    finally:
+        gate.set()
         db.close()
 
 
@@ -284,33 +340,26 @@ def test_the_first_releases_file_opens_with_its_history_and_identity(tmp_path: P
 
 
 def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluster: Cluster, pg_url: str) -> None:
-    """PostgreSQL stopped: writes are held in order (an alarm gets a temporary id), reads fail at once in one line
+    """PostgreSQL stopped: writes are held in order (an alarm has its row's id, taken ahead, or past those a temporary
+    one), reads fail at once in one line
     (no connect attempt on the caller's thread); started again: `maintain` writes what was held (the alarm's
     acknowledgement to its row), and holds the console's name again, so a second console of the name is refused."""
     db = open_db(pg_url)
     db.claim("watch")
-    alarm = {
-        "key": "k",
-        "kind": "link-lost",
-        "severity": "alarm",
-        "provider_id": V1,
-        "vehicle": "Alpha",
-        "session_id": None,
-        "text": "Alpha: link lost",
-        "since": 1.0,
-        "cleared_at": None,
-        "acked_at": None,
-        "acked_by": None,
-        "normal_at": None,
-    }
+    alarm = {**ALARM, "key": "k"}
     try:
+        assert db.flush(30)  # alarm ids taken ahead
         pg_cluster.stop()
         try:
             db.add_audit({"at": 1.0, "outcome": "accepted", "status": 201, "method": "POST", "path": "/a", "reason": "accepted"})
+            given = [db.add_alarm({**alarm, "key": f"k{i}", "normal_at": 1.5}) for i in range(IDS_AHEAD)]
             temporary = db.add_alarm(alarm)
-            assert temporary < 0 and db.unavailable_since is not None and db.held == 2
+            assert db.flush(30)  # the writer thread met the outage
+            assert all(i > 0 for i in given) and temporary < 0, (given, temporary)
+            held = db.held
+            assert db.unavailable_since is not None and held >= 2 + IDS_AHEAD
             db.update_alarm({**alarm, "id": temporary, "acked_at": 2.0, "acked_by": "alice"})
-            assert db.held == 3
+            assert db.held == held + 1
             started = time.monotonic()
             with pytest.raises(Unavailable) as refused:
                 db.audit(10, 0)
@@ -325,6 +374,8 @@ def test_an_outage_holds_writes_fails_reads_at_once_and_keeps_the_name(pg_cluste
         assert [e.path for e in db.audit(10, 0)] == ["/a"]
         [row] = db.open_alarms()
         assert row.acked_by == "alice" and row.acked_at == 2.0  # the held update found the row written late
+        assert db.flush(30)  # ids taken ahead again: the next alarm has its row's id
+        assert db.add_alarm({**alarm, "key": "next", "normal_at": 3.0}) > 0
         other = open_db(pg_url)
         try:
             with pytest.raises(StorageError):  # the name's lock went with the old server; maintain took it again
@@ -341,12 +392,13 @@ def test_what_is_held_when_the_console_stops_is_written_if_the_server_is_back(pg
     db = open_db(pg_url)
     try:
         db.claim("watch")
+        assert db.flush(30)  # opened: alarm ids taken ahead (not a held write)
         pg_cluster.stop()
         try:
             db.add_audit(
                 {"at": 1.0, "outcome": "accepted", "status": 200, "method": "DELETE", "path": "/held", "reason": "accepted"}
             )
-            assert db.held == 1 and db.unavailable_since is not None
+            assert db.flush(30) and db.held == 1 and db.unavailable_since is not None
         finally:
             pg_cluster.start()
     finally:
@@ -411,25 +463,12 @@ def test_the_console_stops_after_its_upkeep_ends_and_lets_its_name_go(tmp_path: 
         again.close()
 
 
-def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_its_acknowledgement(pg_url: str) -> None:
-    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held,
-    and the alarm gets a temporary id, not the id of the row rolled back; its acknowledgement, held after it, reaches
-    the row written when the server answers. With the rolled-back row's id it went to no row: lost."""
+def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_its_id_and_its_acknowledgement(pg_url: str) -> None:
+    """The connection cut after the alarm's statements ran, before its commit (rolled back): the write is held; the
+    alarm's id, its row's taken ahead, is the row's written when the server answers, where its acknowledgement, held
+    after it, goes."""
     db = open_db(pg_url)
-    alarm = {
-        "key": "k",
-        "kind": "link-lost",
-        "severity": "alarm",
-        "provider_id": V1,
-        "vehicle": "Alpha",
-        "session_id": None,
-        "text": "Alpha: link lost",
-        "since": 1.0,
-        "cleared_at": None,
-        "acked_at": None,
-        "acked_by": None,
-        "normal_at": None,
-    }
+    alarm = {**ALARM, "key": "k"}
     cut: list[int] = []
 
     def cut_before_commit(conn: Connection, _cursor: object, statement: str, *_args: object) -> None:
@@ -441,14 +480,14 @@ def test_an_alarm_whose_write_is_cut_before_its_commit_keeps_a_temporary_id_and_
 
     try:
         db.claim("watch")
+        assert db.flush(30)  # alarm ids taken ahead
         event.listen(db.engine, "after_cursor_execute", cut_before_commit)
         given = db.add_alarm(alarm)
-        assert cut and db.held == 1, "the alarm's write was not cut"
-        assert given < 0, f"the alarm got id {given}, of a row rolled back"
+        assert db.flush(30) and cut and db.held == 1, "the alarm's write was not cut"
         db.update_alarm({**alarm, "id": given, "acked_at": 2.0, "acked_by": "alice"})
         assert db.maintain() and db.held == 0
         [row] = db.open_alarms()
-        assert (row.acked_by, row.acked_at) == ("alice", 2.0)
+        assert (row.id, row.acked_by, row.acked_at) == (given, "alice", 2.0)
     finally:
         db.close()
 

@@ -57,6 +57,7 @@ def test_a_shelved_alarm_is_out_of_view_until_its_time_ends_and_a_worse_one_brin
     active = w.update()
     assert by_kind(active, "fix-lost")["shelf"] is None
     assert by_kind(active, "fix-lost")["returned"] == "back from shelving at once, worse: Alpha: INS failed"
+    assert w.store.flush(30)
     with w.store.engine.connect() as c:
         ends = c.execute(text("SELECT end_reason FROM alarm_shelves ORDER BY shelved_at")).scalars().all()
     assert ends == ["expired", "worse: Alpha: INS failed"]
@@ -135,6 +136,7 @@ def test_a_planned_silence_holds_the_loss_back_then_is_overdue_heard_or_cancelle
     w.at(240).update()
     assert w.alarms.cancel_silence(str(CHARLIE), "bob", T0 + 241) is not None
     assert any(a["kind"] == "link-lost" and a["state"] == "active-unacknowledged" for a in w.at(242).update())
+    assert w.store.flush(30)
     with w.store.engine.connect() as c:
         ends = c.execute(text("SELECT end_reason, ended_by FROM planned_silences ORDER BY set_at")).all()
     assert [tuple(e) for e in ends] == [("overdue", None), ("heard", None), ("cancelled", "bob")]

@@ -29,8 +29,15 @@ class Bus:
         self.emitted: list[dict[str, Any]] = []
 
 
+_stores: dict[Path, Database] = {}
+
+
 def consumer(db: Path, bus: Bus, timeout: float = 5.0) -> Commands:
-    store = Database(db)
+    """A console's commands on the SQLite file `db`; one opened again on a file is a console restarted: the earlier
+    one's writes are done first, as at its stop."""
+    if db in _stores:
+        _stores[db].flush()
+    store = _stores[db] = Database(db)
     return Commands(
         store.claim("test", hold=False),
         store,
@@ -183,6 +190,8 @@ def test_another_station_s_cancel_never_answered_is_ended_here_and_only_once(tmp
     stored = store.commands(session_id=str(cmd.session_id))[0]
     assert (stored["closed_unheard"], stored["closed_at"], stored["cleaned_up"]) == ("heard", ended["closedAt"], True)
     charlie.tick(0, lambda _p: back + 3.0)  # charlie would end it too, later: refused, it shows the stored ending
+    assert store.flush(30)
+    charlie.tick(0, lambda _p: back + 3.1)  # from the tick after its refused write
     assert emitted["charlie"][-1]["command"]["closedAt"] == ended["closedAt"]
     assert store.commands(session_id=str(cmd.session_id))[0]["closed_at"] == ended["closedAt"]
     assert charlie.others == {} and station("delta").others == {}

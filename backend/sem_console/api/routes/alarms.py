@@ -20,8 +20,8 @@ reads = APIRouter(tags=["alarms"])
 AlarmId = Annotated[
     int,
     Path(
-        description="the alarm's id (`id` in GET /api/alarms); negative for an alarm raised "
-        "while the database could not be reached",
+        description="the alarm's id (`id` in GET /api/alarms): its row's, taken ahead; negative for one raised "
+        "while the database could not be reached and no id was taken ahead (its row's after a restart)",
         examples=[1],
     ),
 ]

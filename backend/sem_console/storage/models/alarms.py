@@ -10,7 +10,10 @@ class AlarmRaised(SQLModel):
     """An alarm as raised; with AlarmHandled, what the row (AlarmRecord), the console's alarm (console/alarms.py) and
     the API's (api/schemas.py, in camelCase) have in common."""
 
-    id: int | None = Field(description="the row's id (a temporary negative one while the database is away)")
+    id: int | None = Field(
+        description="the alarm's id: its row's, taken ahead; negative for one raised while the database could not be "
+        "reached and no id was taken ahead (its row's after a restart)"
+    )
     kind: str
     severity: str
     provider_id: str | None = Field(description="the vehicle's source GUID; null for the console's own (recording)")

@@ -57,6 +57,21 @@ describe("AlarmsPanel", () => {
     expect(screen.queryByRole("button", { name: "Acknowledge: Bravo: link lost" })).toBeNull();
   });
 
+  it("shows the newest first and, of one instant, the console's order (the last raised first), whatever the ids", async () => {
+    const source = shown();
+    const raised = [
+      alarm(-3, A, { text: "Alpha: INS failed", kind: "ins-failure", since: 1002 }),
+      alarm(-2, A, { text: "Alpha: link lost", since: 1001 }),
+      alarm(-1, B, { text: "Bravo: link lost", since: 1001 }),
+      alarm(7, B, { text: "Bravo: GPS fix lost", kind: "fix-lost", since: 900 }),
+    ];
+    act(() => source.send({ type: "alarms", alarms: raised }));
+    await waitFor(() => expect(screen.getAllByTestId("alarm")).toHaveLength(4));
+    const texts = raised.map((a) => a.text);
+    const order = screen.getAllByTestId("alarm").map((li) => texts.find((t) => li.textContent?.includes(t)));
+    expect(order).toEqual(["Alpha: INS failed", "Alpha: link lost", "Bravo: link lost", "Bravo: GPS fix lost"]);
+  });
+
   it("offers no acknowledgement in a replay: its alarms are history", async () => {
     shown(new TestSource(A, REPLAY));
     await waitFor(() => expect(screen.getAllByTestId("alarm")).toHaveLength(1));

@@ -70,7 +70,8 @@ export function AlarmsPanel() {
   const lost = useLostVehicles(); // an alarm naming a lost vehicle says when it was last heard
   const [errors, setErrors] = useState<Record<number, string>>({});
   const [busy, setBusy] = useState(false);
-  const all = [...alarms].sort((a, b) => b.since - a.since || b.id - a.id);
+  // newest first; of one instant, in the console's order (the last raised first: an id says nothing of it)
+  const all = [...alarms].sort((a, b) => b.since - a.since);
   const sorted = all.filter((a) => !a.shelf); // in view
   const onShelf = all.filter((a) => a.shelf);
   const open = unacknowledged(alarms);
