@@ -95,10 +95,20 @@ def wait_command(
 
 
 def gps_fix_executing(base: str) -> str:
-    """Request a GPS fix of vehicle 1 and wait until it is EXECUTING; returns its sessionId."""
+    """Request a GPS fix of vehicle 1 and wait until it is EXECUTING, on the console and in its database (the history
+    route reads it there, after the writes asked before it: the console writes on a thread of its own, just after it
+    shows a transition, so a console killed at once may not have written it yet); returns its sessionId."""
     provider_ready(base, V1, {"GPSFixReport"})
     session = httpx.post(f"{base}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
     wait_command(base, session, done=lambda x: x["status"] == "EXECUTING")
+
+    def stored() -> bool:
+        r = httpx.get(f"{base}/api/commands", params={"provider_id": V1})
+        return r.status_code == 200 and any(
+            c["sessionId"] == session and "EXECUTING" in [t["status"] for t in c["transitions"]] for c in r.json()
+        )
+
+    wait_until(stored, 15, f"command {session} EXECUTING in the database")
     return str(session)
 
 
