@@ -80,9 +80,6 @@ def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
             item.add_marker(pytest.mark.postgres)
         if postgres or names & _PROCESS_FIXTURES:
             item.add_marker(pytest.mark.process)
-    # the slow tests first (stable: each in its file's order): pytest-xdist hands tests out in this order, so the
-    # longest ones run beside the many short ones, not alone at the end of the run
-    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
 
 
 FAST = ["--time-scale", "0.05", "--fix-rate", "10", "--ins-rate", "10", "--gps-rate", "4"]

@@ -79,7 +79,8 @@ def last_position(base: str) -> tuple[float, float]:
         )
         return (pts[-1]["latitude"], pts[-1]["longitude"]) if pts else None
 
-    return wait_until(get, 20, "a track point of vehicle 1")  # type: ignore[no-any-return]
+    # a wait, not a timed assertion: the track is written once a second, and the whole test command loads the machine
+    return wait_until(get, 60, "a track point of vehicle 1")  # type: ignore[no-any-return]
 
 
 def square(center: tuple[float, float], north_m: float, size_m: float) -> list[tuple[float, float]]:
