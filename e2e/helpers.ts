@@ -49,6 +49,29 @@ export async function history(request: APIRequestContext, url = load().url): Pro
   return (await (await request.get(`${url}/api/commands?limit=1000`)).json()) as CommandRecord[];
 }
 
+/** The stack's vehicles all live again and no link-lost alarm left (the cleared ones acknowledged, so they leave the
+ * set): a spec that stops the simulator calls it before, so that an earlier spec's leftovers are not counted as its
+ * own, and after, so that the next specs start without them. */
+export async function settleLinkLost(request: APIRequestContext): Promise<void> {
+  const stack = load();
+  await expect
+    .poll(
+      async () => {
+        const summaries = (await (await request.get(`${stack.url}/api/providers`)).json()) as { id: string; link: string }[];
+        return stack.vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
+      },
+      { timeout: 30_000 },
+    )
+    .toBe(true);
+  const linkLost = async () =>
+    ((await (await request.get(`${stack.url}/api/alarms`)).json()) as { id: number; kind: string; state: string }[]).filter(
+      (a) => a.kind === "link-lost",
+    );
+  await expect.poll(async () => (await linkLost()).every((a) => a.state === "cleared-unacknowledged")).toBe(true);
+  for (const a of await linkLost()) await request.post(`${stack.url}/api/alarms/${a.id}/ack`, { data: {} });
+  await expect.poll(async () => (await linkLost()).length).toBe(0);
+}
+
 /** Refuse (and record) every request that does not go to the console; the test fails on any. */
 export async function consoleOnly(page: Page): Promise<string[]> {
   const origin = new URL(load().url).origin;

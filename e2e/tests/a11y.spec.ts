@@ -3,7 +3,7 @@
 // and one selected; the theme follows the system's preference until the operator picks one in the header,
 // and the choice survives a reload.
 import { expect, test, type Page } from "@playwright/test";
-import { open, violations } from "../helpers";
+import { open, settleLinkLost, violations } from "../helpers";
 import { load, restartSim, stopSim } from "../stack";
 
 /** The dashboard with live data in every panel of the selected vehicle and the vehicles on the map. */
@@ -37,6 +37,7 @@ test("axe finds no violation with the selected vehicle lost (its last values sho
   page,
   request,
 }) => {
+  await settleLinkLost(request);
   await streaming(page);
   await stopSim();
   try {
@@ -55,27 +56,7 @@ test("axe finds no violation with the selected vehicle lost (its last values sho
   } finally {
     await restartSim(); // the next tests need the vehicles
   }
-  await expect
-    .poll(
-      async () => {
-        const summaries = (await (await request.get(`${load().url}/api/providers`)).json()) as { id: string; link: string }[];
-        return load().vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
-      },
-      { timeout: 30_000 },
-    )
-    .toBe(true);
-  // the link-lost alarms have cleared: acknowledged, they leave the set, so the next specs start without them
-  const linkLost = async () =>
-    (
-      (await (await request.get(`${load().url}/api/alarms`)).json()) as {
-        id: number;
-        kind: string;
-        state: string;
-      }[]
-    ).filter((a) => a.kind === "link-lost");
-  await expect.poll(async () => (await linkLost()).every((a) => a.state === "cleared-unacknowledged")).toBe(true);
-  for (const a of await linkLost()) await request.post(`${load().url}/api/alarms/${a.id}/ack`, { data: {} });
-  await expect.poll(async () => (await linkLost()).length).toBe(0);
+  await settleLinkLost(request);
 });
 
 test("the theme follows the system until the operator picks one in the header; the choice survives a reload", async ({

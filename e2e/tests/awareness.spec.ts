@@ -3,7 +3,7 @@
 import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
 import { expect, test, type APIRequestContext, type Page } from "@playwright/test";
-import { SEM_SIM, stopChild, vehicle } from "../helpers";
+import { SEM_SIM, settleLinkLost, stopChild, vehicle } from "../helpers";
 import { OWN_STACK, VEHICLE_3_NAME, freeDomain, load, restartSim, startGuardedConsole, stopSim } from "../stack";
 
 interface AlarmRecord {
@@ -44,6 +44,7 @@ test("a vehicle lost while the page is scrolled to the commands is in the viewpo
   request,
 }) => {
   const stack = load();
+  await settleLinkLost(request);
   await page.setViewportSize({ width: 1024, height: 768 });
   await page.goto(stack.url);
   await expect(page.getByTestId("connection-state")).toHaveText("Live");
@@ -78,21 +79,7 @@ test("a vehicle lost while the page is scrolled to the commands is in the viewpo
   } finally {
     await restartSim(); // the next tests need the vehicles, whatever happened here
   }
-  await expect
-    .poll(
-      async () => {
-        const summaries = (await (await request.get(`${stack.url}/api/providers`)).json()) as { id: string; link: string }[];
-        return stack.vehicles.every((id) => summaries.find((p) => p.id === id)?.link === "live");
-      },
-      { timeout: 30_000 },
-    )
-    .toBe(true);
-  // the link-lost alarms have cleared: acknowledged, they return to normal and leave the set
-  for (const a of await alarms(request, stack.url)) {
-    if (a.kind === "link-lost" && a.state === "cleared-unacknowledged")
-      await request.post(`${stack.url}/api/alarms/${a.id}/ack`, { data: {} });
-  }
-  await expect.poll(async () => (await alarms(request, stack.url)).filter((a) => a.kind === "link-lost").length).toBe(0);
+  await settleLinkLost(request);
   await expect(page.getByTestId("fleet-lost")).toHaveText("0 lost");
 });
 

@@ -14,9 +14,19 @@ export function resolveTheme(choice: ThemeChoice, systemLight: boolean): Theme {
   return choice === "system" ? (systemLight ? "light" : "dark") : choice;
 }
 
+/** The theme the system's preference and the operator's choice give now. Only apply() reads the system's preference:
+ * in Chromium, reading a MediaQueryList's `matches` after the preference changed and before the next frame takes the
+ * change in without its `change` event (measured: a list read in a loop missed it 3 times in 6), so a render reading
+ * it there (a panel's theme hook, while the vehicles stream) kept the page in the old theme until a reload. */
+function resolveNow(): Theme {
+  return resolveTheme(readSetting<ThemeChoice>(THEME, "system", isThemeChoice), query?.matches ?? false);
+}
+
+let shown: Theme = resolveNow();
+
 /** The theme shown now. */
 export function currentTheme(): Theme {
-  return resolveTheme(readSetting<ThemeChoice>(THEME, "system", isThemeChoice), query?.matches ?? false);
+  return shown;
 }
 
 const listeners = new Set<() => void>();
@@ -28,11 +38,12 @@ export function onThemeChange(l: () => void): () => void {
 }
 
 function apply(): void {
-  if (typeof document === "undefined") return;
-  const theme = currentTheme();
-  if (document.documentElement.dataset.theme === theme) return;
-  document.documentElement.dataset.theme = theme;
-  for (const l of listeners) l();
+  const theme = resolveNow();
+  const changed = theme !== shown;
+  shown = theme;
+  if (typeof document !== "undefined" && document.documentElement.dataset.theme !== theme)
+    document.documentElement.dataset.theme = theme;
+  if (changed) for (const l of listeners) l();
 }
 
 apply();
