@@ -18,6 +18,7 @@ from pathlib import Path
 
 import pytest
 
+from sem_console.dds.bus import Bus
 from support.consumer import Consumer
 from support.domains import domain_free, udp_free
 
@@ -149,6 +150,21 @@ def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
     yield start
     for p in started:
         p.end()
+
+
+@pytest.fixture
+def new_bus() -> Iterator[Callable[[int], Bus]]:
+    """A Bus (a participant of this process) in a domain, closed after the test: one left open keeps its writers'
+    transient-local samples in the domain, where a later test of this worker taking the same id would meet them."""
+    made: list[Bus] = []
+
+    def make(domain: int) -> Bus:
+        made.append(Bus(domain))
+        return made[-1]
+
+    yield make
+    for b in made:
+        b.close()
 
 
 @pytest.fixture

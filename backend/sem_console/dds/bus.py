@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import threading
 from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
@@ -12,13 +13,17 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
 from sem_console.dds.config import dds_config, peers_problem
-from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
+from sem_console.dds.cyclone_private import InvalidSample, delete_entity, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import PUBLISHER, reader_qos, representation, umaa_command_qos, writer_qos
 from sem_console.dds.topics import AnySem
 
-# One Domain object per domain id per process: Cyclone keeps the first config it was given.
+# One Domain object per domain id per process: Cyclone keeps the first config it was given. It holds the domain's
+# sockets until deleted: it is deleted with the last Bus of its domain id, so that a process that used a domain id
+# (a test worker, sem-check) does not look like a participant in it any more.
 _domains: dict[int, Domain] = {}
+_buses: dict[int, int] = {}  # the Buses open in each domain id
+_opening = threading.Lock()
 
 
 class DdsConfigError(RuntimeError):
@@ -27,6 +32,11 @@ class DdsConfigError(RuntimeError):
 
 def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> Domain:
     """The process's Domain for this id, created from CYCLONEDDS_URI or the interface and peers settings."""
+    with _opening:
+        return _open_domain(domain_id, interface, peers)
+
+
+def _open_domain(domain_id: int, interface: str, peers: str) -> Domain:
     if domain_id not in _domains:
         uri = bool(os.environ.get("CYCLONEDDS_URI", "").strip())
         if not uri and (problem := peers_problem(peers)):  # Cyclone would abort the process on it
@@ -46,9 +56,11 @@ class Bus:
     """Owns one DomainParticipant and a Topic per SEM topic (created on first use)."""
 
     def __init__(self, domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> None:
-        open_domain(domain_id, interface, peers)
+        with _opening:
+            _open_domain(domain_id, interface, peers)
+            self.participant = DomainParticipant(domain_id)
+            _buses[domain_id] = _buses.get(domain_id, 0) + 1
         self.domain_id = domain_id
-        self.participant = DomainParticipant(domain_id)
         self.publisher = Publisher(self.participant, qos=PUBLISHER)  # every writer's (qos.PUBLISHER: RTI's UMAA kit)
         self._topics: dict[AnySem, Topic[Any]] = {}
         self._appendable_topics: dict[AnySem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)
@@ -91,9 +103,17 @@ class Bus:
         """Delete the participant, and in Cyclone everything made from it, now (closing twice does nothing)."""
         self._topics.clear()
         self._appendable_topics.clear()
-        if self.participant is not None:
-            delete_participant(self.participant)
-        self.participant = None  # type: ignore[assignment]
+        if self.participant is None:
+            return
+        with _opening:
+            delete_entity(self.participant)
+            self.participant = None  # type: ignore[assignment]
+            _buses[self.domain_id] -= 1
+            if _buses[self.domain_id] == 0:
+                del _buses[self.domain_id]
+                domain = _domains.pop(self.domain_id, None)
+                if domain is not None:
+                    delete_entity(domain)
 
 
 def all_samples(reader: DataReader[Any]) -> ReadCondition:

@@ -12,7 +12,7 @@ Why each is needed (none has a public equivalent in 11.0.1):
   `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so the C function it wraps is called here.
 - `type_machine` and `machinery`: the tree of "machines" cyclonedds serialises a type with (its layout rules:
   alignment, headers, optional flags), which `codec/fastcdr.py` compiles into a decoder per type.
-- `delete_participant`: deletes a participant in Cyclone at once; cyclonedds-python has no public delete and leaves
+- `delete_entity`: deletes a participant (or a domain) in Cyclone at once; cyclonedds-python has no public delete and leaves
   it to `__del__`, which never deletes an entity freed in a reference cycle (the function says why that crashes).
 - `Triggered`: `WaitSet.wait` returns only how many conditions triggered, not which; the ingest threads take
   only the readers that have samples (a sample's copies reach two or three of a topic's readers, and every report
@@ -30,7 +30,6 @@ from typing import Any, cast
 
 from cyclonedds._clayer import ddspy_take, ddspy_write_ts
 from cyclonedds.core import DDSException, Entity, WaitSet
-from cyclonedds.domain import DomainParticipant
 from cyclonedds.idl import IdlStruct
 from cyclonedds.idl import _machinery as machinery
 from cyclonedds.internal import InvalidSample as InvalidSample
@@ -43,7 +42,7 @@ __all__ = [
     "MACHINE_ATTRIBUTES",
     "InvalidSample",
     "Triggered",
-    "delete_participant",
+    "delete_entity",
     "enum_type",
     "machinery",
     "take_cdr",
@@ -127,8 +126,9 @@ def type_machine(cls: type[IdlStruct], v2: bool) -> machinery.Machine:
     return machine
 
 
-def delete_participant(participant: DomainParticipant) -> None:
-    """Delete a participant and its readers, writers, topics and conditions in Cyclone at once.
+def delete_entity(entity: Entity) -> None:
+    """Delete a participant and its readers, writers, topics and conditions (or a domain and its participants, whose
+    sockets it holds) in Cyclone at once.
 
     Not left to Python's collector: cyclonedds-python deletes an entity in its `__del__` only while its weak
     registry still holds it, and the cycle collector clears weak references before it calls `__del__`, so an
@@ -137,6 +137,6 @@ def delete_participant(participant: DomainParticipant) -> None:
     (seen as a pytest worker lost after an in-process console had left a domain id the worker used again). The
     Python objects of the children stay until collected; deleting their stale handles then does nothing.
     """
-    ref: int = participant._ref  # noqa: SLF001 (see the module)
+    ref: int = entity._ref  # noqa: SLF001 (see the module)
     Entity._entities.pop(ref, None)  # noqa: SLF001 (its own __del__ must not delete the handle again)
-    participant._delete(ref)  # noqa: SLF001 (see the module)
+    entity._delete(ref)  # noqa: SLF001 (see the module)

@@ -29,11 +29,11 @@ from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 from conftest import ConsoleProcess, SimProcess
 from sem_console.api.schemas import server_messages
 from sem_console.check.cli import main as check_main
+from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import make, now_datetime
-from support.consumer import Consumer
 
 V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
 HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
@@ -165,9 +165,9 @@ def test_rest_and_websocket_show_every_report_type(sim, console) -> None:
     ws.close()
 
 
-def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
+def test_best_effort_volatile_provider_is_matched(console, domain: int, new_bus: Callable[[int], Bus]) -> None:
     c = console()
-    bus = Consumer(domain, name="be-provider").bus
+    bus = new_bus(domain)
     from cyclonedds.pub import DataWriter
 
     writer = DataWriter(
@@ -185,7 +185,7 @@ def test_best_effort_volatile_provider_is_matched(console, domain: int) -> None:
     wait_until(seen, 10, "the best-effort provider")
 
 
-def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain: int) -> None:
+def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain: int, new_bus: Callable[[int], Bus]) -> None:
     """A provider whose report and status writers are best-effort and volatile, with a latency budget."""
     from cyclonedds.pub import DataWriter
 
@@ -194,7 +194,7 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
     from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
 
     c = console()
-    bus = Consumer(domain, name="be-status-provider").bus
+    bus = new_bus(domain)
     qos = Qos(Policy.Reliability.BestEffort, Policy.Durability.Volatile, Policy.LatencyBudget(duration(milliseconds=10)))
     reports = DataWriter(bus.participant, bus.topic(Sem.INS_REPORT), qos=qos)
     statuses = DataWriter(bus.participant, bus.topic(Sem.GPS_FIX_COMMAND_STATUS), qos=qos)
@@ -233,9 +233,9 @@ def test_command_to_a_best_effort_volatile_provider_is_followed(console, domain:
     assert httpx.get(f"{c.url}/api/metrics").json()["samplesByReader"]["bestEffort"] >= 3  # its only reader
 
 
-def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int) -> None:
+def test_bad_data_from_the_bus_is_flagged_not_fatal(console, domain: int, new_bus: Callable[[int], Bus]) -> None:
     c = console()
-    bus = Consumer(domain, name="bad-provider").bus
+    bus = new_bus(domain)
     source = uuid.uuid4()
     fix = make(GPSFixReportType, **{k: v for k, v in vars(_valid_fix()).items()})
     fix.SOG = math.nan

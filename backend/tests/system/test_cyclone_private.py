@@ -31,6 +31,7 @@ from sem_console.dds.cyclone_private import (
     write_cdr,
 )
 from sem_console.dds.topics import Sem
+from support.domains import domain_free
 from support.samplegen import random_sample
 
 PYPROJECT = Path(__file__).resolve().parents[2] / "pyproject.toml"
@@ -221,3 +222,27 @@ def test_closing_a_bus_deletes_readers_held_in_a_reference_cycle(domain: int) ->
     done = subprocess.run([sys.executable, "-c", _CYCLE_SCRIPT, str(domain)], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, (done.returncode, done.stderr[-2000:])
     assert done.stdout.split() == ["matched", "0"]
+
+
+def test_the_last_bus_of_a_domain_closed_leaves_no_socket_of_it(domain: int) -> None:
+    """A process that used a domain id does not look like a participant in it once its buses are closed: the domain
+    (which holds the sockets) is deleted with its last bus, and a later bus opens it again. A pytest worker's domains
+    stay free for its later tests so (tests/conftest.py `free_domain`)."""
+    first, second = Bus(domain), Bus(domain)
+    assert not domain_free(domain, own_ok=False)
+    first.close()
+    assert not domain_free(domain, own_ok=False), "the second bus is still open"
+    second.close()
+    assert domain_free(domain, own_ok=False)
+    again = Bus(domain)
+    try:
+        writer, reader = again.writer(Sem.INS_REPORT), again.reader(Sem.INS_REPORT)
+        sample = random_sample(Sem.INS_REPORT.spec.type, random.Random(1))
+        writer.write(sample)
+        deadline = time.monotonic() + 5
+        while not (got := reader.take(N=1)) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert got, "the reopened domain carries samples"
+    finally:
+        again.close()
+    assert domain_free(domain, own_ok=False)

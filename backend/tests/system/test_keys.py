@@ -266,11 +266,13 @@ def test_an_authority_key_that_is_not_its_certificates_is_one_line_and_issues_no
     assert not (folder / "identities" / "a").exists()
 
 
-def test_a_vehicle_identity_grants_every_topic_sem_sim_reads_and_writes(sim: Callable[..., Any], domain: int) -> None:
+def test_a_vehicle_identity_grants_every_topic_sem_sim_reads_and_writes(
+    sim: Callable[..., Any], domain: int, new_bus: Callable[[int], Bus]
+) -> None:
     """What the vehicles' program subscribes and publishes, as discovery shows it (Cyclone's DCPSSubscription and
     DCPSPublication), on both UMAA versions: under DDS Security a reader or writer its permissions do not grant is
     refused at creation, and the simulator would not start."""
-    bus = Bus(domain)
+    bus = new_bus(domain)
     readers = {
         kind: BuiltinDataReader(bus.participant, topic)
         for kind, topic in (("subscribe", BuiltinTopicDcpsSubscription), ("publish", BuiltinTopicDcpsPublication))

@@ -556,7 +556,9 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
     ship, ops, intruder = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", impostor))
     heard: list[str] = []
     try:
-        watch = ship.liveliness().declare_subscriber(f"{LIVELINESS}/operations/**", lambda s: heard.append(str(s.key_expr)))
+        watch = ship.liveliness().declare_subscriber(
+            f"{LIVELINESS}/operations/**", lambda s: heard.append(str(s.key_expr)), history=True
+        )
         posing = intruder.liveliness().declare_token(f"{LIVELINESS}/operations/{impostor}/{intruder.zid()}")
         token = ops.liveliness().declare_token(f"{LIVELINESS}/operations/ops/{ops.zid()}")
         deadline = time.monotonic() + 10
@@ -590,7 +592,7 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
     ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", "ship-2"))
     heard: list[str] = []
     try:
-        watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)))
+        watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)), history=True)
         posing = other.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=2)))
         token = ship.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=1)))
         deadline = time.monotonic() + 10

@@ -12,6 +12,7 @@ import subprocess
 import sys
 import time
 import uuid
+from collections.abc import Callable
 
 import pytest
 
@@ -23,6 +24,7 @@ from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import Inert
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.Common.Measurement import DateTime
 
+from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem, Service
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import from_guid, satellite_label
@@ -490,18 +492,16 @@ def test_a_second_simulator_does_not_impersonate_the_first(sim, consumer: Consum
     assert listed.splitlines() == [f"vehicle 2: {V2}", f"vehicle 3: {vehicle_guid(3)}"]
 
 
-def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: int) -> None:
+def test_a_report_python_cannot_decode_does_not_stop_the_simulator(sim, domain: int, new_bus: Callable[[int], Bus]) -> None:
     """A GPSReport whose string is not UTF-8 passes Cyclone and fails Python's decoder; the
     simulator's look at the bus at start must not die of it (it is transient-local: it stays)."""
     import random
 
     from cyclonedds._clayer import ddspy_write
 
-    from sem_console.dds.bus import Bus
     from support.samplegen import random_sample
 
-    bus = Bus(domain)
-    w = bus.writer(Sem.GPS_REPORT)
+    w = new_bus(domain).writer(Sem.GPS_REPORT)
     rng = random.Random(1)
     x = random_sample(Sem.GPS_REPORT.spec.type, rng)
     while x.clock is None:
