@@ -89,7 +89,8 @@ def peer(domain: int) -> Iterator[tuple[Proc, str]]:
 
 
 async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, dict[str, Any], float], None]) -> None:
-    """Subscribe to every channel for `seconds`, calling on_message(topic, sample, arrival_time) per message."""
+    """Subscribe to every channel for `seconds`, calling on_message(topic, sample, arrival_time) per message (a JSON
+    channel's sample decoded, a raw one's {})."""
     from support.foxglove import connect
 
     async with connect(url) as client:
@@ -101,8 +102,9 @@ async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, 
                 if new:
                     subscribed.update(new)
                     await client.subscribe(new)
-            else:
-                on_message(m.topic, m.json(), now)
+            else:  # a raw (cdr) channel's sample is handed on undecoded, as {}
+                is_json = client.topics().get(m.topic, {}).get("encoding") == "json"
+                on_message(m.topic, m.json() if is_json else {}, now)
 
 
 def sample_latency(sample: dict[str, Any], now: float) -> float | None:

@@ -41,7 +41,7 @@ class ConsoleSink(Replayed, Protocol):
     that the sources never import the console that composes them."""
 
     @property
-    def recorder(self) -> Tap: ...
+    def feed(self) -> Tap: ...
 
     def on_reports(self, items: list[ReportItem]) -> None: ...
 
@@ -147,7 +147,7 @@ class DdsSource:
             console.on_reports,
             console.on_statuses,
             self.settings.report_interval,
-            console.recorder,
+            console.feed,  # the raw samples, to its taps (the recorder, the Foxglove gateway)
             self.settings.report_burst,
             dict(self.command_writers),
         )
