@@ -29,9 +29,10 @@ import orjson
 
 from sem_console.console.feed import Feed
 from sem_console.core.messages import Alarm, GatewayState, ReplayStatus, ReportEnvelope, TransitionMessage
-from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
+from sem_console.dds.topics import AnySem, delimited
 from sem_console.gateways import Stats, log
 from sem_console.gateways.foxglove import schemas
+from sem_console.recording.recorder import SEM_TOPICS  # a raw channel each, as in a recording
 from sem_console.recording.schema import MESSAGE_ENCODING, SCHEMA_ENCODING, topic_idl, type_name, version_of
 
 if TYPE_CHECKING:  # foxglove-sdk (its native library) is loaded only by a gateway that runs
@@ -44,7 +45,6 @@ LOG_TOPIC = "/console/log"
 WORLD_TOPIC = "/comap/world"
 STOP_SECONDS = 3.0  # the longest the console's shutdown waits for foxglove-sdk's server to stop
 PLAYBACK_PERIOD = 0.2  # seconds between two looks at the replay's position (sent to clients when it moved)
-SEM_TOPICS: tuple[AnySem, ...] = (*Sem, *Sem60)  # a raw channel each, as in a recording
 APPENDABLE = "appendable"
 
 
@@ -147,7 +147,7 @@ class FoxgloveGateway:
             self._unsubscribe()
         if self._untap:
             self._untap()
-        for task in self._tasks:
+        for task in [*self._tasks, *self._requests]:
             task.cancel()
             with contextlib.suppress(asyncio.CancelledError):
                 await task
