@@ -171,27 +171,36 @@ def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) ->
 
 def test_a_replay_is_served_as_it_plays(console, tmp_path: Path) -> None:
     """With --replay the gateway reads the console's feed as it always does: the replayed reports come out, and what
-    the gateway stamps itself (the fleet's LocationFixes) is at the replay's instant, not the machine's."""
+    the gateway stamps itself (the fleet's LocationFixes) is at the replay's instant, not the machine's; the raw
+    channels carry the recorded samples as they are played, the bytes and log times of the recording."""
+    from sem_console.recording.reader import iter_messages
+
+    raw = "UMAA::SEM::GPSFixStatus::GPSFixReport"
     recording = synthetic_recording(tmp_path / "rec", seconds=8)
+    recorded = {(m.log_time, bytes(m.data)) for _topic, m in iter_messages(recording, {raw})}
     r = console("--replay", str(recording), "--replay-speed", "0.25", "--foxglove-port", str(free_port()))
     seen: list[dict[str, Any]] = []
     fleet: list[tuple[int, float]] = []  # each LocationFixes' log time (ns), and the latest report's receivedAt then
+    played: list[tuple[int, bytes]] = []  # the raw channel's messages
 
     def take(m: Any) -> bool:
         if m is not None and m.topic == "/reports/GPSFixReport":
             seen.append(m.json())
         elif m is not None and m.topic == "/fleet/locations" and seen:
             fleet.append((m.log_time, seen[-1]["receivedAt"]))
-        return len(fleet) >= 2
+        elif m is not None and m.topic == raw:
+            played.append((m.log_time, m.data))
+        return len(fleet) >= 2 and len(played) >= 2
 
     async def session() -> None:
         async with connect(gateway(r.url)["endpoint"]) as client:
             await until(client, lambda _m: "/reports/GPSFixReport" in client.topics(), 20, "the GPSFixReport channel")
-            await client.subscribe(["/reports/GPSFixReport", "/fleet/locations"])
-            await until(client, take, 20, "replayed GPSFixReports and two LocationFixes of the fleet")
+            await client.subscribe(["/reports/GPSFixReport", "/fleet/locations", raw])
+            await until(client, take, 20, "replayed GPSFixReports, two LocationFixes of the fleet, two raw samples")
 
     asyncio.run(session())
     assert seen[0]["providerId"] == V1
+    assert set(played) <= recorded and len(set(played)) == len(played), played
     # the replay plays a report each second (a quarter of the recording's 4 a second)
     assert all(abs(log_time / 1e9 - received) < 1.5 for log_time, received in fleet), fleet
 

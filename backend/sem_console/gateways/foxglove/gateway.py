@@ -6,7 +6,7 @@ fleet's `foxglove.LocationFixes` once a second (`/fleet/locations`), a `foxglove
 decoded reports as the dashboard gets them (`/reports/<topic>`); and raw, each SEM topic of either UMAA version by its
 DDS name, every sample's CDR as it came off the wire (`cdr`), with the `omgidl` schema the recorder writes
 (`recording/schema.py`); an appendable writer's samples (delimited XCDR2) on a channel of their own, as in a recording.
-The raw samples come from the feed's tap, on the ingest threads.
+The raw samples come from the feed's tap, on the ingest threads (a replay's, on its reading thread, as they are played).
 
 Nothing is encoded for a channel no client subscribes to (foxglove-sdk's `has_sinks`): such a message is only counted
 (`left out: no subscriber`; a raw take is not counted). The server offers no capability but, in a replay, playback
