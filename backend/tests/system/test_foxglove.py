@@ -8,6 +8,7 @@ import base64
 import dataclasses
 import enum
 import json
+import random
 import socket
 import subprocess
 import sys
@@ -474,3 +475,86 @@ def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_pat
     assert got["answer"].status == PAUSED and got["answer"].did_seek and abs(got["answer"].time - middle) < 1000
     assert got["playing"]["state"] == "playing" and got["playing"]["speed"] == 2.0, got["playing"]
     assert got["last"].status == PAUSED
+
+
+@pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
+def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_say(console, domain: int, umaa: str) -> None:
+    """An RTI vehicle's GPSReport, GPSFixReport and GlobalPose (an appendable writer: delimited XCDR2) come on a second
+    raw channel of their topic, whose schema has every struct @appendable (as in a recording); Foxglove's decoder reads
+    them as the docs' decoder table says (random samples: every optional member set or not)."""
+    from sem_console.dds.bus import Bus
+    from sem_console.dds.topics import Sem, Sem60, delimited
+    from support.samplegen import random_sample
+
+    sems = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT] if umaa == "3.0.1" else [Sem60.GLOBAL_POSE_REPORT]
+    c = console("--foxglove-port", str(free_port()))
+    bus = Bus(domain)
+    rng = random.Random(5)
+    try:
+        writers = {sem: bus.writer(sem, appendable=True) for sem in sems}
+
+        def write() -> None:
+            for sem, w in writers.items():
+                for _ in range(3):
+                    assert sem.spec.appendable is not None
+                    w.write(random_sample(sem.spec.appendable, rng))
+
+        got: dict[str, list[bytes]] = {s.spec.name: [] for s in sems}
+
+        async def session() -> dict[str, dict[str, Any]]:
+            async with connect(gateway(c.url)["endpoint"]) as client:
+                write()  # the first sample of each opens its appendable channel
+
+                def appendable() -> dict[int, dict[str, Any]]:
+                    return {i: ch for i, ch in client.channels.items() if ch.get("metadata", {}).get("extensibility")}
+
+                await until(client, lambda _m: len(appendable()) == len(sems), 10, "the appendable channels")
+                channels = appendable()
+                subs = [{"id": 100 + i, "channelId": i} for i in channels]
+                client.topic_of.update({100 + i: ch["topic"] for i, ch in channels.items()})
+                await client.send_json({"op": "subscribe", "subscriptions": subs})
+
+                async def writing() -> None:  # until enough came (the subscription takes effect at some point)
+                    while True:
+                        write()
+                        await asyncio.sleep(0.5)
+
+                def take(m: Any) -> bool:
+                    if m is not None:
+                        got[m.topic].append(m.data)
+                    return all(len(v) >= 6 for v in got.values())
+
+                writer = asyncio.create_task(writing())
+                try:
+                    await until(client, take, 20, "six samples on each appendable channel")
+                except AssertionError:
+                    raise AssertionError({k: len(v) for k, v in got.items()}) from None
+                finally:
+                    writer.cancel()
+                return {ch["topic"]: ch for ch in channels.values()}
+
+        topics = asyncio.run(session())
+    finally:
+        bus.close()
+    by_name = {s.spec.name: s for s in sems}
+    channels = []
+    for name, samples in got.items():
+        ad = topics[name]
+        assert ad["encoding"] == "cdr" and "@appendable" in ad["schema"] and "@final" not in ad["schema"], name
+        assert all(delimited(d) for d in samples)
+        channels.append({"schemaName": ad["schemaName"], "schema": ad["schema"], "messages": [b64(d) for d in samples]})
+    out = foxglove_decodes(channels)
+    measured: dict[tuple[str, str], bool] = {}
+    how: dict[str, str] = {}
+    for (name, samples), decoded in zip(got.items(), out["channels"], strict=True):
+        appendable_type = by_name[name].spec.appendable
+        assert appendable_type is not None
+        errors = sum("error" in d for d in decoded["decoded"])
+        wrong = sum(
+            "value" in d and d["value"] != plain(appendable_type.deserialize(data))
+            for data, d in zip(samples, decoded["decoded"], strict=True)
+        )
+        measured[(name, "appendable")] = not wrong and not errors
+        how[name] = f"{len(samples)} samples, {wrong} wrong, {errors} errors {decoded.get('error', '')}"
+    table = {k: v for k, v in documented_decoding().items() if k in measured}
+    assert table == measured, f"docs/foxglove.md says {table}, measured {how} (decoder {out['versions']})"
