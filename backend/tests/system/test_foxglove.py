@@ -479,11 +479,13 @@ def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_pat
 
 @pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
 def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_say(console, domain: int, umaa: str) -> None:
-    """An RTI vehicle's GPSReport, GPSFixReport and GlobalPose (an appendable writer: delimited XCDR2) come on a second
-    raw channel of their topic, whose schema has every struct @appendable (as in a recording); Foxglove's decoder reads
-    them as the docs' decoder table says (random samples: every optional member set or not)."""
+    """An RTI vehicle's GPSReport, GPSFixReport and GlobalPose (an appendable writer: delimited XCDR2) come on a raw
+    channel of their own topic (`<DDS name>/appendable`: Foxglove's player takes one channel a topic), whose schema has
+    every struct @appendable (as in a recording); Foxglove's decoder reads them as the docs' decoder table says (random
+    samples: every optional member set or not)."""
     from sem_console.dds.bus import Bus
     from sem_console.dds.topics import Sem, Sem60, delimited
+    from sem_console.gateways.foxglove.gateway import APPENDABLE_TOPIC
     from support.samplegen import random_sample
 
     sems = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT] if umaa == "3.0.1" else [Sem60.GLOBAL_POSE_REPORT]
@@ -510,8 +512,13 @@ def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_sa
 
                 await until(client, lambda _m: len(appendable()) == len(sems), 10, "the appendable channels")
                 channels = appendable()
+                advertised = [ch["topic"] for ch in client.channels.values()]
+                # one channel a topic: Foxglove's player shows none of a second channel of a topic
+                assert len(advertised) == len(set(advertised)), sorted(advertised)
+                assert {ch["topic"] for ch in channels.values()} == {name + APPENDABLE_TOPIC for name in got}
+                dds = {i: ch["topic"].removesuffix(APPENDABLE_TOPIC) for i, ch in channels.items()}
                 subs = [{"id": 100 + i, "channelId": i} for i in channels]
-                client.topic_of.update({100 + i: ch["topic"] for i, ch in channels.items()})
+                client.topic_of.update({100 + i: dds[i] for i in channels})
                 await client.send_json({"op": "subscribe", "subscriptions": subs})
 
                 async def writing() -> None:  # until enough came (the subscription takes effect at some point)
@@ -531,7 +538,7 @@ def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_sa
                     raise AssertionError({k: len(v) for k, v in got.items()}) from None
                 finally:
                     writer.cancel()
-                return {ch["topic"]: ch for ch in channels.values()}
+                return {dds[i]: ch for i, ch in channels.items()}
 
         topics = asyncio.run(session())
     finally:

@@ -5,7 +5,7 @@ fleet's `foxglove.LocationFixes` once a second (`/fleet/locations`), a `foxglove
 (`/console/log`), CoMap's world model as `foxglove.GeoJSON` once a second (`/comap/world`), and each report topic's
 decoded reports as the dashboard gets them (`/reports/<topic>`); and raw, each SEM topic of either UMAA version by its
 DDS name, every sample's CDR as it came off the wire (`cdr`), with the `omgidl` schema the recorder writes
-(`recording/schema.py`); an appendable writer's samples (delimited XCDR2) on a channel of their own, as in a recording.
+(`recording/schema.py`); an appendable writer's samples (delimited XCDR2) on a topic of their own, `<DDS name>/appendable`.
 The raw samples come from the feed's tap, on the ingest threads (a replay's, on its reading thread, as they are played).
 
 Nothing is encoded for a channel no client subscribes to (foxglove-sdk's `has_sinks`): such a message is only counted
@@ -46,6 +46,9 @@ WORLD_TOPIC = "/comap/world"
 STOP_SECONDS = 3.0  # the longest the console's shutdown waits for foxglove-sdk's server to stop
 PLAYBACK_PERIOD = 0.2  # seconds between two looks at the replay's position (sent to clients when it moved)
 APPENDABLE = "appendable"
+# after the DDS name, the topic of an appendable writer's raw channel: Foxglove's and Lichtblick's players take one
+# channel per topic (a second channel of a topic is an error there, and none of its messages is shown)
+APPENDABLE_TOPIC = "/appendable"
 
 
 class Playback(Protocol):
@@ -182,8 +185,9 @@ class FoxgloveGateway:
         idl = topic_idl(sem, extensibility="appendable" if extensibility == APPENDABLE else "final")
         schema = foxglove.Schema(name=type_name(sem.spec.type), encoding=SCHEMA_ENCODING, data=idl.encode())
         metadata = {"umaaVersion": version_of(sem)} | ({"extensibility": APPENDABLE} if extensibility == APPENDABLE else {})
+        topic = sem.spec.name + (APPENDABLE_TOPIC if extensibility == APPENDABLE else "")
         return foxglove.Channel(
-            sem.spec.name, schema=schema, message_encoding=MESSAGE_ENCODING, context=self.context, metadata=metadata
+            topic, schema=schema, message_encoding=MESSAGE_ENCODING, context=self.context, metadata=metadata
         )
 
     def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
