@@ -246,6 +246,7 @@ class Replay:
         self._task: asyncio.Task[None] | None = None
         self._since = 0.0  # loop time from which playing advances (after a seek or play)
         self._sent = 0.0  # loop time of the last `replay` message
+        self.seeks = 0  # seeks done, whoever asked (the Foxglove gateway tells its clients each one)
 
     # ---- lifecycle -------------------------------------------------------------------------
     async def open(self) -> None:
@@ -320,6 +321,7 @@ class Replay:
                 self.console.quiet = False
             self._since = asyncio.get_running_loop().time()
             self.console.hub.resync(self.console.snapshot())
+            self.seeks += 1
             self._broadcast()
 
     # ---- playing ---------------------------------------------------------------------------------

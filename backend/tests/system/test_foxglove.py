@@ -442,7 +442,7 @@ def test_comaps_world_model_is_a_geojson_channel(console) -> None:
 def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_path: Path) -> None:
     """With --replay the server offers playback control over the recording's span: a client's pause and seek move the
     console's replay (what REST and the dashboard show), its speed too; the dashboard's seek comes back to the
-    client as the playback state: both views at one instant."""
+    client as the playback state, as a seek: both views at one instant."""
     from support.foxglove import PAUSE, PAUSED, PLAY
 
     recording = synthetic_recording(tmp_path / "rec", seconds=20, rate=2)
@@ -464,17 +464,19 @@ def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_pat
             playing = await asyncio.to_thread(lambda: httpx.get(f"{r.url}/api/replay").json())
             # the dashboard seeks back to the start, paused: the client is told
             await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "pause"})
+            mark = len(client.playback)
             await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "seek", "position": start}, timeout=30)
             back = round(start * 1e9)
             await until(client, lambda _m: client.playback[-1].time == back, 10, "the dashboard's seek")
-            return {"info": info, "sought": sought, "answer": answer, "playing": playing, "last": client.playback[-1]}
+            there = next(s for s in client.playback[mark:] if s.time == back)
+            return {"info": info, "sought": sought, "answer": answer, "playing": playing, "last": there}
 
     got = asyncio.run(session())
     assert "playbackControl" in got["info"]["capabilities"], got["info"]
     assert got["sought"]["state"] == "paused" and abs(got["sought"]["position"] - middle / 1e9) < 1e-6, got["sought"]
     assert got["answer"].status == PAUSED and got["answer"].did_seek and abs(got["answer"].time - middle) < 1000
     assert got["playing"]["state"] == "playing" and got["playing"]["speed"] == 2.0, got["playing"]
-    assert got["last"].status == PAUSED
+    assert got["last"].status == PAUSED and got["last"].did_seek, got["last"]  # a seek, whoever asked: Foxglove is told
 
 
 @pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])

@@ -56,6 +56,7 @@ class Playback(Protocol):
 
     start: float
     end: float
+    seeks: int  # seeks done, whoever asked
 
     def status(self) -> ReplayStatus: ...
     async def play(self) -> None: ...
@@ -99,6 +100,7 @@ class FoxgloveGateway:
         self._requests: set[asyncio.Task[None]] = set()  # playback control requests being carried out
         self._loop: asyncio.AbstractEventLoop | None = None
         self._shown: tuple[Any, ...] | None = None  # the playback state clients were last sent
+        self._seeks = 0  # the replay's seeks clients were told of
         self._unsubscribe = feed.subscribe("foxglove", self.on_message) if port else None
         self._untap = feed.tap("foxglove", self) if port else None
 
@@ -315,7 +317,7 @@ class FoxgloveGateway:
                 replay.pause()
         except Exception as e:  # shown as the gateway's last error; the replay goes on
             self.stats.error(f"playback control: {e}")
-        self._show(replay.status(), request.seek_time is not None, request.request_id)
+        self._show(replay, request.request_id)
 
     async def _playback(self) -> None:
         """The replay's position to every client whenever it moved, whoever moved it (Foxglove, the dashboard)."""
@@ -323,13 +325,17 @@ class FoxgloveGateway:
             await asyncio.sleep(PLAYBACK_PERIOD)
             replay = self.replay[1]() if self.replay else None
             if replay is not None:
-                self._show(replay.status(), False, None)
+                self._show(replay, None)
 
-    def _show(self, status: ReplayStatus, did_seek: bool, request_id: str | None) -> None:
+    def _show(self, replay: Playback, request_id: str | None) -> None:
+        """The replay's state to every client if it changed, or in answer to a request; `did_seek` when the replay
+        sought since the last one sent, whoever asked (Foxglove, the dashboard, REST), as the protocol asks."""
         from foxglove.websocket import PlaybackState, PlaybackStatus
 
         if self.server is None:
             return
+        status, did_seek = replay.status(), replay.seeks != self._seeks
+        self._seeks = replay.seeks
         if status["state"] == "playing":
             state = PlaybackStatus.Playing
         else:
