@@ -537,7 +537,7 @@ def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_sa
                 try:
                     await until(client, take, 20, "six samples on each appendable channel")
                 except AssertionError:
-                    raise AssertionError({k: len(v) for k, v in got.items()}) from None
+                    raise AssertionError(({k: len(v) for k, v in got.items()}, client.statuses)) from None
                 finally:
                     writer.cancel()
                 return {dds[i]: ch for i, ch in channels.items()}

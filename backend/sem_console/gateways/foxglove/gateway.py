@@ -188,9 +188,7 @@ class FoxgloveGateway:
         schema = foxglove.Schema(name=type_name(sem.spec.type), encoding=SCHEMA_ENCODING, data=idl.encode())
         metadata = {"umaaVersion": version_of(sem)} | ({"extensibility": APPENDABLE} if extensibility == APPENDABLE else {})
         topic = sem.spec.name + (APPENDABLE_TOPIC if extensibility == APPENDABLE else "")
-        return foxglove.Channel(
-            topic, schema=schema, message_encoding=MESSAGE_ENCODING, context=self.context, metadata=metadata
-        )
+        return foxglove.Channel(topic, schema=schema, message_encoding=MESSAGE_ENCODING, context=self.context, metadata=metadata)
 
     def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic (the feed's tap, on an ingest thread): each valid sample's CDR to the topic's raw
