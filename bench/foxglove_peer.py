@@ -88,8 +88,14 @@ def peer(domain: int) -> Iterator[tuple[Proc, str]]:
         proc.stop()
 
 
-async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, dict[str, Any], float], None]) -> None:
-    """Subscribe to every channel for `seconds`, calling on_message(topic, sample, arrival_time) per message."""
+async def foxglove_collect(
+    url: str,
+    seconds: float,
+    on_message: Callable[[str, dict[str, Any], float], None],
+    wanted: Callable[[str], bool] = lambda _topic: True,
+) -> None:
+    """Subscribe to every channel (or those of the topics `wanted` says) for `seconds`, calling on_message(topic,
+    sample, arrival_time) per message (a JSON channel's sample decoded, a raw one's {})."""
     from support.foxglove import connect
 
     async with connect(url) as client:
@@ -97,12 +103,13 @@ async def foxglove_collect(url: str, seconds: float, on_message: Callable[[str, 
         async for m in common.for_seconds(client.messages(), seconds):
             now = time.time()
             if m is None:  # a text message: subscribe to the channels advertised since
-                new = [t for t in client.topics() if t not in subscribed]
+                new = [t for t in client.topics() if t not in subscribed and wanted(t)]
                 if new:
                     subscribed.update(new)
                     await client.subscribe(new)
-            else:
-                on_message(m.topic, m.json(), now)
+            else:  # a raw (cdr) channel's sample is handed on undecoded, as {}
+                is_json = client.topics().get(m.topic, {}).get("encoding") == "json"
+                on_message(m.topic, m.json() if is_json else {}, now)
 
 
 def sample_latency(sample: dict[str, Any], now: float) -> float | None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
@@ -29,6 +30,7 @@ from sem_console.api.routes import gateways as gateway_routes
 from sem_console.console.service import Console
 from sem_console.core.config import Settings
 from sem_console.gateways.run import Gateways
+from sem_console.recording.reader import time_range
 from sem_console.storage.database import Database, Unavailable
 
 log = logging.getLogger("sem-console")
@@ -67,7 +69,12 @@ def create_app(settings: Settings | None = None, store: Database | None = None) 
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         console = Console(settings, store)  # its Source (console/sources.py) owns the DDS participant (none for a recording)
         app.state.console = console
-        gateways = Gateways(settings, console.feed, console.clock.wall)  # subscribed before the first sample arrives
+        playback = None  # Foxglove's playback control of the replay: its span, and the replay once the console runs it
+        if settings.replay is not None and settings.foxglove_port:
+            span = await asyncio.to_thread(time_range, settings.replay)
+            playback = (span or (0, 0), console.playback)
+        # subscribed before the first sample arrives
+        gateways = Gateways(settings, console.feed, console.clock.wall, console.c2.world_model, playback)
         app.state.gateways = gateways
         console.gateway_states = gateways.states
         await gateways.start(console.hub.publish)

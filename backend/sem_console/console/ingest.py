@@ -24,9 +24,10 @@ GPSReport and GPSFixReport have three more readers, of appendable copies of thei
 RTI vehicles; a writer matches the readers of one extensibility only (Via.qos, docs/dds.md
 "One reader per extensibility").
 
-A `Tap` (the recorder) gets every sample taken from its owner reader as the raw CDR from the
-wire, before it is decoded; the command topics of both UMAA versions are read for it alone (the console's own
-commands and any other consumer's), never decoded here, and the UMAA 6.0 status and ack topics for it at least.
+A `Tap` (the console's feed, for the recorder and the Foxglove gateway) gets every sample taken from its owner reader
+as the raw CDR from the wire, before it is decoded; the command topics of both UMAA versions are read for it alone
+(the console's own commands and any other consumer's), never decoded here, and the UMAA 6.0 status and ack topics for it
+at least.
 """
 
 from __future__ import annotations
@@ -72,7 +73,8 @@ class Tap(Protocol):
     """Where every sample the console takes goes too, raw (the recorder). Called on the ingest
     threads: it must return at once. `active` is read before each call."""
 
-    active: bool
+    @property
+    def active(self) -> bool: ...
 
     def on_samples(self, sem: AnySem, samples: list[tuple[bytes, bool, int, int]], received_ns: int) -> None:
         """One take of a topic: (data, valid, instance state, source timestamp in ns) per sample, where data is

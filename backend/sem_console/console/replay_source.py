@@ -1,7 +1,8 @@
 """`sem-console --replay FILE.mcap`: the console's state rebuilt from a recording instead of DDS.
 
 The recorded CDR of each report, status and ack topic of either UMAA version goes through the same `Decoder` the DDS
-ingest uses (a 6.0 report through its version's adapter, as live) and is applied by the same console methods;
+ingest uses (a 6.0 report through its version's adapter, as live) and is applied by the same console methods (and, as
+it is played, not while seeking, goes raw to the console's feed, as the ingest's samples do live);
 disposes and lost writers come from the
 `sem-console/instances` channel, the commands the recording console issued (and cancel requests)
 from `sem-console/commands`, the alarm acknowledgements from `sem-console/alarm-acks` and the vehicles' names from
@@ -31,7 +32,7 @@ import struct
 import uuid
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 from cyclonedds.core import InstanceState
 from mcap.exceptions import McapError
@@ -52,10 +53,14 @@ from sem_console.recording.reader import (
     time_range,
 )
 
+if TYPE_CHECKING:
+    from sem_console.console.ingest import Tap
+
 log = logging.getLogger("sem-console.replay")
 
 SEM_TOPICS = {s.spec.name: s for s in DECODED_TOPICS}  # both UMAA versions' (topic names differ between them)
 TOPICS = {*SEM_TOPICS, INSTANCES, COMMANDS, ALARM_ACKS, NAMES}
+_ALIVE = int(InstanceState.Alive)
 STEP = 0.05  # wall seconds between steps while playing
 STATUS_EVERY = 0.5  # wall seconds between `replay` messages while playing
 BATCH = 2_000  # decoded messages per worker-thread read while playing
@@ -105,8 +110,10 @@ class Cursor:
     """Reads a recording from its start, in log time order, and decodes each message. Used from one
     worker thread at a time."""
 
-    def __init__(self, path: Path, decoder: Decoder) -> None:
-        self.decoder = decoder
+    def __init__(self, path: Path, decoder: Decoder, tap: Tap | None = None) -> None:
+        """`tap`: where each recorded SEM sample goes too, raw, as it is played (not while seeking): the console's
+        feed, as the ingest's samples live (the Foxglove gateway's raw channels)."""
+        self.decoder, self.tap = decoder, tap
         self._messages = iter_messages(path, TOPICS)
         self._pending: tuple[str, Any] | None = None
         self.done = False
@@ -118,6 +125,7 @@ class Cursor:
         `rebuild` (a seek: nothing is sent to clients on the way) only the last report of each provider and topic
         is converted to JSON; the ones before it count for link health only (a report with no JSON, alive)."""
         out: list[tuple[int, Played]] = []
+        tap = self.tap if self.tap is not None and self.tap.active and not rebuild else None
         while len(out) < limit and not self.done:
             if self._pending is None:
                 try:
@@ -133,6 +141,8 @@ class Cursor:
             if message.log_time > until_ns:
                 break
             self._pending = None
+            if tap is not None and topic in SEM_TOPICS:
+                tap.on_samples(SEM_TOPICS[topic], [(message.data, True, _ALIVE, message.publish_time)], message.log_time)
             item = self._decode(topic, message, convert=not rebuild)
             if item is not None:
                 out.append((message.log_time, item))
@@ -211,6 +221,9 @@ class Replayed(Protocol):
     hub: Hub
     quiet: bool  # True while seeking: state changes are not sent to clients (a snapshot follows)
 
+    @property
+    def feed(self) -> Tap: ...
+
     def reset(self) -> None: ...
     def snapshot(self) -> SnapshotMessage: ...
     def apply(self, item: Played) -> None: ...
@@ -233,6 +246,7 @@ class Replay:
         self._task: asyncio.Task[None] | None = None
         self._since = 0.0  # loop time from which playing advances (after a seek or play)
         self._sent = 0.0  # loop time of the last `replay` message
+        self.seeks = 0  # seeks done, whoever asked (the Foxglove gateway tells its clients each one)
 
     # ---- lifecycle -------------------------------------------------------------------------
     async def open(self) -> None:
@@ -256,7 +270,7 @@ class Replay:
     def _rewind(self) -> None:
         if self._cursor is not None:
             self._cursor.close()
-        self._cursor = Cursor(self.path, self.decoder)
+        self._cursor = Cursor(self.path, self.decoder, self.console.feed)
         self._next_tick = self.start + TICK
         self.clock.at = self.start
 
@@ -307,6 +321,7 @@ class Replay:
                 self.console.quiet = False
             self._since = asyncio.get_running_loop().time()
             self.console.hub.resync(self.console.snapshot())
+            self.seeks += 1
             self._broadcast()
 
     # ---- playing ---------------------------------------------------------------------------------

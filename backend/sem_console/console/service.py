@@ -147,6 +147,7 @@ class Console:
             self.station,
             lambda: self.providers.names,
         )
+        self.feed.tap("recorder", self.recorder)  # every sample the console takes, raw, while it records
         # the ones not back to normal, from the database; each acknowledgement is recorded (a replay derives the alarms
         # again, and acknowledges them from the recording)
         self.alarms = Alarms(

@@ -22,7 +22,7 @@ from cyclonedds.sub import DataReader
 
 from sem_console.console.clock import Clock, RecordingClock
 from sem_console.console.hops import listen
-from sem_console.console.ingest import Ingest, ReportItem, StatusItem, Tap
+from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.core.messages import ReplayStatus
@@ -39,9 +39,6 @@ log = logging.getLogger("sem-console")
 class ConsoleSink(Replayed, Protocol):
     """What a source drives: the console (`service.Console`), which hands itself in to `attach`. Declared here, so
     that the sources never import the console that composes them."""
-
-    @property
-    def recorder(self) -> Tap: ...
 
     def on_reports(self, items: list[ReportItem]) -> None: ...
 
@@ -147,7 +144,7 @@ class DdsSource:
             console.on_reports,
             console.on_statuses,
             self.settings.report_interval,
-            console.recorder,
+            console.feed,  # the raw samples, to its taps (the recorder, the Foxglove gateway)
             self.settings.report_burst,
             dict(self.command_writers),
         )

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import logging
 import math
+import threading
 import time
 from collections import deque
 from typing import Any
@@ -33,7 +34,8 @@ def number(report: dict[str, Any], invalid: list[str], path: str) -> float | Non
 
 
 class Stats:
-    """What a gateway shows: on or off, where it sends, messages out and their rate, last error, counters."""
+    """What a gateway shows: on or off, where it sends, messages out and their rate, last error, counters. Counted on
+    the event loop and on the ingest threads (the Foxglove gateway's raw channels): under a lock."""
 
     def __init__(self, name: str, enabled: bool, endpoint: str | None = None) -> None:
         self.name, self.enabled, self.endpoint = name, enabled, endpoint
@@ -43,17 +45,20 @@ class Stats:
         self.last_error_at: float | None = None
         self._recent: deque[tuple[float, int]] = deque()  # (monotonic second, messages out in it)
         self.started = time.monotonic()
+        self._lock = threading.Lock()
 
     def sent(self, n: int = 1) -> None:
-        self.messages_out += n
         second = float(int(time.monotonic()))
-        if self._recent and self._recent[-1][0] == second:
-            self._recent[-1] = (second, self._recent[-1][1] + n)
-        else:
-            self._recent.append((second, n))
+        with self._lock:
+            self.messages_out += n
+            if self._recent and self._recent[-1][0] == second:
+                self._recent[-1] = (second, self._recent[-1][1] + n)
+            else:
+                self._recent.append((second, n))
 
     def count(self, key: str, n: int = 1) -> None:
-        self.counters[key] = self.counters.get(key, 0) + n
+        with self._lock:
+            self.counters[key] = self.counters.get(key, 0) + n
 
     def error(self, text: str) -> None:
         if text != self.last_error:
@@ -63,10 +68,12 @@ class Stats:
 
     def per_second(self, now: float | None = None) -> float:
         now = time.monotonic() if now is None else now
-        while self._recent and self._recent[0][0] < now - RATE_WINDOW:
-            self._recent.popleft()
+        with self._lock:
+            while self._recent and self._recent[0][0] < now - RATE_WINDOW:
+                self._recent.popleft()
+            total = sum(n for _, n in self._recent)
         span = min(RATE_WINDOW, max(now - self.started, 1.0))
-        return round(sum(n for _, n in self._recent) / span, 1)
+        return round(total / span, 1)
 
     def state(self) -> GatewayState:
         return {
@@ -77,5 +84,9 @@ class Stats:
             "messagesPerSecond": self.per_second() if self.enabled else 0.0,
             "lastError": self.last_error,
             "lastErrorAt": self.last_error_at,
-            "counters": dict(self.counters),
+            "counters": self._counters(),
         }
+
+    def _counters(self) -> dict[str, int]:
+        with self._lock:
+            return dict(self.counters)

@@ -6,23 +6,32 @@ import asyncio
 import contextlib
 import time
 from collections.abc import Callable
+from typing import Any
 
 from sem_console.console.feed import Feed
 from sem_console.core.config import Settings
 from sem_console.core.messages import GatewayState, ServerMessage, gateways_message
 from sem_console.gateways.aspn.gateway import AspnGateway
-from sem_console.gateways.foxglove.gateway import FoxgloveGateway
+from sem_console.gateways.foxglove.gateway import FoxgloveGateway, Playback
 from sem_console.gateways.jaus.gateway import JausGateway
 
 STATE_PERIOD = 1.0  # seconds between `gateways` WebSocket messages (sent only when something changed)
 
 
 class Gateways:
-    def __init__(self, settings: Settings, feed: Feed, now: Callable[[], float] = time.time) -> None:
-        """`now`: the console's clock (UTC seconds), the recording's time in a replay."""
+    def __init__(
+        self,
+        settings: Settings,
+        feed: Feed,
+        now: Callable[[], float] = time.time,
+        world: Callable[[], dict[str, Any]] | None = None,
+        replay: tuple[tuple[int, int], Callable[[], Playback | None]] | None = None,
+    ) -> None:
+        """`now`: the console's clock (UTC seconds), the recording's time in a replay; `world`: CoMap's world model
+        now; `replay`: a replay's span (first and last log times, ns) and the console's replay, once it runs."""
         self.aspn = AspnGateway(feed, settings.aspn_lcm, settings.aspn_prefix, settings.aspn_log_seconds)
         self.jaus = JausGateway(feed, settings.jaus_port, settings.jaus_subsystem, settings.jaus_host or settings.host)
-        self.foxglove = FoxgloveGateway(feed, settings.foxglove_port, settings.foxglove_host, now)
+        self.foxglove = FoxgloveGateway(feed, settings.foxglove_port, settings.foxglove_host, now, world, replay)
         self._task: asyncio.Task[None] | None = None
 
     def states(self) -> list[GatewayState]:

@@ -226,7 +226,7 @@ class _File:
 
 
 class Recorder:
-    """Owned by the console; `on_sample` is its `ingest.Tap`. start/stop/status run on the loop
+    """Owned by the console; an `ingest.Tap` of its feed (`on_samples`). start/stop/status run on the loop
     (start and stop do a little file I/O: call them off the loop); the writer thread does the rest."""
 
     def __init__(

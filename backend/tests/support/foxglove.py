@@ -16,6 +16,10 @@ import websockets
 
 SUBPROTOCOLS = ["foxglove.sdk.v1", "foxglove.websocket.v1"]  # foxglove-sdk 0.30 accepts only the first
 MESSAGE_DATA = 0x01  # server binary opcode: u8 op, u32 subscription id, u64 log time (ns), payload
+PLAYBACK_STATE = 0x05  # server binary opcode: u8 op, u8 status, u64 time (ns), f32 speed, u8 did seek, u32 id length, id
+PLAYBACK_CONTROL_REQUEST = 0x03  # client binary opcode: u8 op, u8 command, f32 speed, u8 seek?, u64 seek time, u32, id
+PLAY, PAUSE = 0, 1  # a playback control request's command
+PLAYING, PAUSED, BUFFERING, ENDED = 0, 1, 2, 3  # a playback state's status
 CLIENT_MESSAGE_DATA = 0x01  # client binary opcode: u8 op, u32 client channel id, payload
 SERVICE_CALL_REQUEST = 0x02  # client binary opcode: u8 op, u32 service id, u32 call id, u32 encoding length, encoding, payload
 
@@ -31,12 +35,22 @@ class Message:
 
 
 @dataclass
+class PlaybackState:
+    status: int
+    time: int  # nanoseconds
+    speed: float
+    did_seek: bool
+    request_id: str
+
+
+@dataclass
 class FoxgloveClient:
     ws: Any
     server_info: dict[str, Any] = field(default_factory=dict)
     channels: dict[int, dict[str, Any]] = field(default_factory=dict)  # channel id -> its advertisement
     statuses: list[dict[str, Any]] = field(default_factory=list)  # every text message that is not advertise/serverInfo
     topic_of: dict[int, str] = field(default_factory=dict)  # subscription id -> topic
+    playback: list[PlaybackState] = field(default_factory=list)  # every playback state the server sent
     _next_subscription: int = 1
 
     def topics(self) -> dict[str, dict[str, Any]]:
@@ -78,6 +92,12 @@ class FoxgloveClient:
         e = encoding.encode()
         await self.ws.send(struct.pack("<BIII", SERVICE_CALL_REQUEST, service_id, call_id, len(e)) + e + payload)
 
+    async def playback_control(self, command: int, speed: float, seek_ns: int | None, request_id: str) -> None:
+        """A playback control request (needs the server's playbackControl capability)."""
+        rid = request_id.encode()
+        head = struct.pack("<BBfBQI", PLAYBACK_CONTROL_REQUEST, command, speed, seek_ns is not None, seek_ns or 0, len(rid))
+        await self.ws.send(head + rid)
+
     async def messages(self) -> AsyncIterator[Message | None]:
         """Every message of the subscribed channels as it comes; None for each text message (applied here first)."""
         async for data in self.ws:
@@ -87,6 +107,10 @@ class FoxgloveClient:
             elif data and data[0] == MESSAGE_DATA:
                 sub, log_time = struct.unpack_from("<IQ", data, 1)
                 yield Message(self.topic_of.get(sub, "?"), log_time, bytes(data[13:]))
+            elif data and data[0] == PLAYBACK_STATE:
+                status, at, speed, did_seek, n = struct.unpack_from("<BQfBI", data, 1)
+                self.playback.append(PlaybackState(status, at, speed, bool(did_seek), bytes(data[19 : 19 + n]).decode()))
+                yield None
 
 
 @asynccontextmanager

@@ -4,7 +4,11 @@ the protocol's specification (tests/support/foxglove.py), not from the console's
 from __future__ import annotations
 
 import asyncio
+import base64
+import dataclasses
+import enum
 import json
+import random
 import socket
 import subprocess
 import sys
@@ -26,6 +30,10 @@ from test_gateways import global_pose
 from test_replay import synthetic_recording
 
 FIX_PATH = ("position2DWithTime", "geodeticPosition")
+
+
+def b64(data: bytes) -> str:
+    return base64.b64encode(data).decode()
 
 
 def gateway(base: str) -> dict[str, Any]:
@@ -164,27 +172,36 @@ def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) ->
 
 def test_a_replay_is_served_as_it_plays(console, tmp_path: Path) -> None:
     """With --replay the gateway reads the console's feed as it always does: the replayed reports come out, and what
-    the gateway stamps itself (the fleet's LocationFixes) is at the replay's instant, not the machine's."""
+    the gateway stamps itself (the fleet's LocationFixes) is at the replay's instant, not the machine's; the raw
+    channels carry the recorded samples as they are played, the bytes and log times of the recording."""
+    from sem_console.recording.reader import iter_messages
+
+    raw = "UMAA::SEM::GPSFixStatus::GPSFixReport"
     recording = synthetic_recording(tmp_path / "rec", seconds=8)
+    recorded = {(m.log_time, bytes(m.data)) for _topic, m in iter_messages(recording, {raw})}
     r = console("--replay", str(recording), "--replay-speed", "0.25", "--foxglove-port", str(free_port()))
     seen: list[dict[str, Any]] = []
     fleet: list[tuple[int, float]] = []  # each LocationFixes' log time (ns), and the latest report's receivedAt then
+    played: list[tuple[int, bytes]] = []  # the raw channel's messages
 
     def take(m: Any) -> bool:
         if m is not None and m.topic == "/reports/GPSFixReport":
             seen.append(m.json())
         elif m is not None and m.topic == "/fleet/locations" and seen:
             fleet.append((m.log_time, seen[-1]["receivedAt"]))
-        return len(fleet) >= 2
+        elif m is not None and m.topic == raw:
+            played.append((m.log_time, m.data))
+        return len(fleet) >= 2 and len(played) >= 2
 
     async def session() -> None:
         async with connect(gateway(r.url)["endpoint"]) as client:
             await until(client, lambda _m: "/reports/GPSFixReport" in client.topics(), 20, "the GPSFixReport channel")
-            await client.subscribe(["/reports/GPSFixReport", "/fleet/locations"])
-            await until(client, take, 20, "replayed GPSFixReports and two LocationFixes of the fleet")
+            await client.subscribe(["/reports/GPSFixReport", "/fleet/locations", raw])
+            await until(client, take, 20, "replayed GPSFixReports, two LocationFixes of the fleet, two raw samples")
 
     asyncio.run(session())
     assert seen[0]["providerId"] == V1
+    assert set(played) <= recorded and len(set(played)) == len(played), played
     # the replay plays a report each second (a quarter of the recording's 4 a second)
     assert all(abs(log_time / 1e9 - received) < 1.5 for log_time, received in fleet), fleet
 
@@ -294,3 +311,266 @@ def test_the_console_starts_without_foxglove_sdk_when_the_gateway_is_off() -> No
     )
     assert run.returncode == 0, run.stderr
     assert [m for m in run.stdout.split() if m == "foxglove" or m.startswith("foxglove.")] == []
+
+
+# ---- raw SEM channels, decoded by Foxglove's own decoder ---------------------------------------------------------------
+DECODER = Path(__file__).resolve().parents[1] / "support" / "omgidl_decode.cjs"
+DOCS = Path(__file__).resolve().parents[3] / "docs" / "foxglove.md"
+
+
+def plain(x: Any) -> Any:
+    """A sample as Cyclone's Python binding deserializes it, in the plain JSON Foxglove's decoder gives (the support
+    script's `plain`): enumerations as numbers, octets as arrays, absent optional members left out."""
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return {f.name: plain(v) for f in dataclasses.fields(x) if (v := getattr(x, f.name)) is not None}
+    if isinstance(x, enum.Enum):
+        return x.value
+    if isinstance(x, (bytes, bytearray, list, tuple)):
+        return [plain(v) for v in x]
+    return x
+
+
+def foxglove_decodes(channels: list[dict[str, Any]]) -> dict[str, Any]:
+    """Foxglove's OMG IDL parser and CDR decoder, run by Node (tests/support/omgidl_decode.cjs)."""
+    run = subprocess.run(["node", str(DECODER)], input=json.dumps(channels), capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    return dict(json.loads(run.stdout))
+
+
+def documented_decoding() -> dict[tuple[str, str], bool]:
+    """The decoder table of docs/foxglove.md: (topic, extensibility) -> whether Foxglove decodes it right."""
+    rows: dict[tuple[str, str], bool] = {}
+    for line in DOCS.read_text().splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) >= 4 and cells[0].startswith("`UMAA::") and cells[2] in ("final", "appendable"):
+            rows[(cells[0].strip("`"), cells[2])] = cells[3].startswith("yes")
+    return rows
+
+
+@pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
+def test_the_raw_sem_channels_decode_with_foxglove_s_own_decoder_as_the_docs_say(sim, console, umaa: str) -> None:
+    """Every SEM topic of a UMAA version on its raw channel, CDR as it came off the wire with the recorder's OMG IDL:
+    Foxglove's decoder (@foxglove/omgidl-serialization, as npm serves it) reads each sample as Cyclone reads it, or
+    not, and docs/foxglove.md says which (its decoder table), measured here."""
+    from sem_console.dds.qos import TopicClass
+    from sem_console.dds.topics import Sem, Sem60, delimited
+
+    sems = list(Sem if umaa == "3.0.1" else Sem60)
+    sim("--vehicles", "1", "--umaa", umaa)
+    c = console("--foxglove-port", str(free_port()))
+    provider_ready(c.url, V1, {"GPSFixReport"})
+    got: dict[str, list[Any]] = {s.spec.name: [] for s in sems}
+
+    async def session() -> dict[str, dict[str, Any]]:
+        async with connect(gateway(c.url)["endpoint"]) as client:
+            await until(client, lambda _m: set(got) <= set(client.topics()), 10, "the raw channels")
+            topics = client.topics()
+            await client.subscribe(list(got))
+            services = ["inertial-sensor"] if umaa == "6.0" else ["gps-fix", "inertial-sensor"]
+            for service in services:  # the command, status and ack topics carry something
+                body = {"state": "INIT" if umaa == "6.0" else "ON"} if service == "inertial-sensor" else {}
+                r = await asyncio.to_thread(httpx.post, f"{c.url}/api/providers/{V1}/{service}", json=body)
+                assert r.status_code < 300, r.text
+
+            def take(m: Any) -> bool:
+                if m is not None:
+                    got[m.topic].append(m.data)
+                return all(len(got[s.spec.name]) >= (5 if s.spec.cls is TopicClass.REPORT else 1) for s in sems)
+
+            await until(client, take, 45, "samples on every raw channel")
+            return topics
+
+    topics = asyncio.run(session())
+    by_name = {s.spec.name: s for s in sems}
+    channels = []
+    for name, samples in got.items():
+        ad = topics[name]
+        assert ad["encoding"] == "cdr" and ad["schemaEncoding"] == "omgidl", ad
+        assert ad["schemaName"] == by_name[name].spec.type.__idl_typename__.replace(".", "::")
+        channels.append({"schemaName": ad["schemaName"], "schema": ad["schema"], "messages": [b64(d) for d in samples]})
+    out = foxglove_decodes(channels)
+    measured: dict[tuple[str, str], bool] = {}
+    how: dict[str, str] = {}  # what went wrong, for the message
+    for (name, samples), decoded in zip(got.items(), out["channels"], strict=True):
+        sem = by_name[name]
+        wrong = errors = 0
+        for data, d in zip(samples, decoded["decoded"], strict=True):
+            assert not delimited(data)  # a Cyclone vehicle's, final: the topic's own channel
+            errors += "error" in d
+            wrong += "value" in d and d["value"] != plain(sem.spec.type.deserialize(data))
+        measured[(name, "final")] = not wrong and not errors
+        how[name] = f"{len(samples)} samples, {wrong} wrong, {errors} errors {decoded.get('error', '')}"
+    documented = documented_decoding()
+    table = {k: v for k, v in documented.items() if k in measured}
+    assert table == measured, f"docs/foxglove.md says {table}, measured {how} (decoder {out['versions']})"
+
+
+def test_comaps_world_model_is_a_geojson_channel(console) -> None:
+    """The world model a console holds (here set over REST) comes on `/comap/world` as foxglove.GeoJSON, and again as
+    it changes; a client subscribing late gets it within a second."""
+    c = console("--foxglove-port", str(free_port()))
+    square = [[-75.99, 36.85], [-75.98, 36.85], [-75.98, 36.86], [-75.99, 36.86], [-75.99, 36.85]]
+    feature = {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [square]}, "properties": {"featureId": 7}}
+    assert httpx.put(f"{c.url}/api/worldmodel", json={"type": "FeatureCollection", "features": [feature]}).status_code == 200
+    worlds: list[dict[str, Any]] = []
+
+    async def session() -> None:
+        async with connect(gateway(c.url)["endpoint"]) as client:
+            await until(client, lambda _m: "/comap/world" in client.topics(), 10, "the world model's channel")
+            assert client.topics()["/comap/world"]["schemaName"] == "foxglove.GeoJSON"
+            await client.subscribe(["/comap/world"])
+            await until(client, lambda m: m is not None and not worlds.append(json.loads(m.json()["geojson"])), 5, "it")
+            feature["properties"] = {"featureId": 8}
+            put = {"type": "FeatureCollection", "features": [feature]}
+            assert (await asyncio.to_thread(httpx.put, f"{c.url}/api/worldmodel", json=put)).status_code == 200
+
+            def changed(m: Any) -> bool:
+                if m is not None:
+                    worlds.append(json.loads(m.json()["geojson"]))
+                return worlds[-1]["features"][0]["properties"]["featureId"] == 8
+
+            await until(client, changed, 5, "the changed world model")
+
+    asyncio.run(session())
+    first, last = worlds[0], worlds[-1]
+    rest = httpx.get(f"{c.url}/api/worldmodel").json()
+    assert first["type"] == "FeatureCollection" and first["features"][0]["properties"]["featureId"] == 7
+    assert first["features"][0]["geometry"] == {"type": "Polygon", "coordinates": [square]}
+    assert last == {"type": "FeatureCollection", "features": rest["features"]}
+
+
+def test_foxglove_s_playback_control_drives_the_consoles_replay(console, tmp_path: Path) -> None:
+    """With --replay the server offers playback control over the recording's span: a client's pause and seek move the
+    console's replay (what REST and the dashboard show), its speed too; the dashboard's seek comes back to the
+    client as the playback state, as a seek: both views at one instant."""
+    from support.foxglove import PAUSE, PAUSED, PLAY
+
+    recording = synthetic_recording(tmp_path / "rec", seconds=20, rate=2)
+    r = console("--replay", str(recording), "--foxglove-port", str(free_port()))
+    status = httpx.get(f"{r.url}/api/replay").json()
+    start, end = status["start"], status["end"]
+    middle = round((start + (end - start) / 2) * 1e9)
+
+    async def session() -> dict[str, Any]:
+        async with connect(gateway(r.url)["endpoint"]) as client:
+            await until(client, lambda _m: bool(client.server_info), 10, "the server's info")
+            info = client.server_info
+            await client.playback_control(PAUSE, 1.0, middle, "seek-1")
+            await until(client, lambda _m: any(s.request_id == "seek-1" for s in client.playback), 10, "the seek's state")
+            sought = await asyncio.to_thread(lambda: httpx.get(f"{r.url}/api/replay").json())
+            answer = next(s for s in client.playback if s.request_id == "seek-1")
+            await client.playback_control(PLAY, 2.0, None, "play-2")
+            await until(client, lambda _m: any(s.request_id == "play-2" for s in client.playback), 10, "the play's state")
+            playing = await asyncio.to_thread(lambda: httpx.get(f"{r.url}/api/replay").json())
+            # the dashboard seeks back to the start, paused: the client is told
+            await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "pause"})
+            mark = len(client.playback)
+            await asyncio.to_thread(httpx.post, f"{r.url}/api/replay", json={"action": "seek", "position": start}, timeout=30)
+            back = round(start * 1e9)
+            await until(client, lambda _m: client.playback[-1].time == back, 10, "the dashboard's seek")
+            there = next(s for s in client.playback[mark:] if s.time == back)
+            return {"info": info, "sought": sought, "answer": answer, "playing": playing, "last": there}
+
+    got = asyncio.run(session())
+    assert "playbackControl" in got["info"]["capabilities"], got["info"]
+    assert got["sought"]["state"] == "paused" and abs(got["sought"]["position"] - middle / 1e9) < 1e-6, got["sought"]
+    assert got["answer"].status == PAUSED and got["answer"].did_seek and abs(got["answer"].time - middle) < 1000
+    assert got["playing"]["state"] == "playing" and got["playing"]["speed"] == 2.0, got["playing"]
+    assert got["last"].status == PAUSED and got["last"].did_seek, got["last"]  # a seek, whoever asked: Foxglove is told
+
+
+@pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
+def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_say(console, domain: int, umaa: str) -> None:
+    """An RTI vehicle's GPSReport, GPSFixReport and GlobalPose (an appendable writer: delimited XCDR2) come on a raw
+    channel of their own topic (`<DDS name>/appendable`: Foxglove's player takes one channel a topic), whose schema has
+    every struct @appendable (as in a recording); Foxglove's decoder reads them as the docs' decoder table says (random
+    samples: every optional member set or not)."""
+    from sem_console.dds.bus import Bus
+    from sem_console.dds.topics import Sem, Sem60, delimited
+    from sem_console.gateways.foxglove.gateway import APPENDABLE_TOPIC
+    from support.samplegen import random_sample
+
+    sems = [Sem.GPS_REPORT, Sem.GPS_FIX_REPORT] if umaa == "3.0.1" else [Sem60.GLOBAL_POSE_REPORT]
+    c = console("--foxglove-port", str(free_port()))
+    bus = Bus(domain)
+    rng = random.Random(5)
+    try:
+        writers = {sem: bus.writer(sem, appendable=True) for sem in sems}
+
+        def write() -> None:
+            for sem, w in writers.items():
+                for _ in range(3):
+                    assert sem.spec.appendable is not None
+                    w.write(random_sample(sem.spec.appendable, rng))
+
+        got: dict[str, list[bytes]] = {s.spec.name: [] for s in sems}
+
+        async def session() -> dict[str, dict[str, Any]]:
+            async with connect(gateway(c.url)["endpoint"]) as client:
+                write()  # the first sample of each opens its appendable channel
+
+                def appendable() -> dict[int, dict[str, Any]]:
+                    return {i: ch for i, ch in client.channels.items() if ch.get("metadata", {}).get("extensibility")}
+
+                await until(client, lambda _m: len(appendable()) == len(sems), 10, "the appendable channels")
+                channels = appendable()
+                advertised = [ch["topic"] for ch in client.channels.values()]
+                # one channel a topic: Foxglove's player shows none of a second channel of a topic
+                assert len(advertised) == len(set(advertised)), sorted(advertised)
+                assert {ch["topic"] for ch in channels.values()} == {name + APPENDABLE_TOPIC for name in got}
+                dds = {i: ch["topic"].removesuffix(APPENDABLE_TOPIC) for i, ch in channels.items()}
+                subs = [{"id": 100 + i, "channelId": i} for i in channels]
+                client.topic_of.update({100 + i: dds[i] for i in channels})
+                await client.send_json({"op": "subscribe", "subscriptions": subs})
+
+                async def writing() -> None:  # until enough came (the subscription takes effect at some point)
+                    while True:
+                        write()
+                        # foxglove-sdk 0.30 can refuse a subscription sent just after a channel's advertisement
+                        # ("Unknown channel ID: N"): that channel is subscribed to again
+                        refused = {str(m.get("message")) for m in client.statuses}
+                        again = [sub for sub in subs if f"Unknown channel ID: {sub['channelId']}" in refused]
+                        client.statuses.clear()
+                        if again:
+                            await client.send_json({"op": "subscribe", "subscriptions": again})
+                        await asyncio.sleep(0.5)
+
+                def take(m: Any) -> bool:
+                    if m is not None:
+                        got[m.topic].append(m.data)
+                    return all(len(v) >= 6 for v in got.values())
+
+                writer = asyncio.create_task(writing())
+                try:
+                    await until(client, take, 20, "six samples on each appendable channel")
+                except AssertionError:
+                    raise AssertionError(({k: len(v) for k, v in got.items()}, client.statuses)) from None
+                finally:
+                    writer.cancel()
+                return {dds[i]: ch for i, ch in channels.items()}
+
+        topics = asyncio.run(session())
+    finally:
+        bus.close()
+    by_name = {s.spec.name: s for s in sems}
+    channels = []
+    for name, samples in got.items():
+        ad = topics[name]
+        assert ad["encoding"] == "cdr" and "@appendable" in ad["schema"] and "@final" not in ad["schema"], name
+        assert all(delimited(d) for d in samples)
+        channels.append({"schemaName": ad["schemaName"], "schema": ad["schema"], "messages": [b64(d) for d in samples]})
+    out = foxglove_decodes(channels)
+    measured: dict[tuple[str, str], bool] = {}
+    how: dict[str, str] = {}
+    for (name, samples), decoded in zip(got.items(), out["channels"], strict=True):
+        appendable_type = by_name[name].spec.appendable
+        assert appendable_type is not None
+        errors = sum("error" in d for d in decoded["decoded"])
+        wrong = sum(
+            "value" in d and d["value"] != plain(appendable_type.deserialize(data))
+            for data, d in zip(samples, decoded["decoded"], strict=True)
+        )
+        measured[(name, "appendable")] = not wrong and not errors
+        how[name] = f"{len(samples)} samples, {wrong} wrong, {errors} errors {decoded.get('error', '')}"
+    table = {k: v for k, v in documented_decoding().items() if k in measured}
+    assert table == measured, f"docs/foxglove.md says {table}, measured {how} (decoder {out['versions']})"

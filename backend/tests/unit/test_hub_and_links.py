@@ -6,6 +6,7 @@ import asyncio
 import json
 import uuid
 from collections.abc import Awaitable, Callable
+from typing import Any
 
 import pytest
 
@@ -251,6 +252,33 @@ def test_feed_delivers_in_order_and_survives_a_failing_subscriber() -> None:
     stop()
     feed.publish({"type": "report", "n": 3})
     assert got == [0, 1, 2] and feed.errors == {"bad": 4}
+
+
+def test_the_feed_taps_raw_samples_to_active_taps_and_survives_a_failing_one() -> None:
+    """The feed is the ingest's tap: a take goes to every active tap (the recorder, the Foxglove gateway), none to an
+    inactive one, and one that raises costs only itself."""
+    from sem_console.dds.topics import Sem
+
+    class Taken:
+        def __init__(self, active: bool) -> None:
+            self.active, self.takes = active, 0
+
+        def on_samples(self, _sem: Any, samples: list[tuple[bytes, bool, int, int]], _received_ns: int) -> None:
+            if not samples:
+                raise RuntimeError("boom")
+            self.takes += 1
+
+    feed, on, off = Feed(), Taken(True), Taken(False)
+    feed.tap("off", off)
+    assert not feed.active  # the ingest then hands it nothing
+    feed.tap("bad", Taken(True))
+    stop = feed.tap("on", on)
+    assert feed.active
+    feed.on_samples(Sem.GPS_REPORT, [], 0)  # "bad" raises on an empty take (as "on" then does too)
+    feed.on_samples(Sem.GPS_REPORT, [(b"\x00\x01\x00\x00", True, 0, 0)], 0)
+    stop()
+    feed.on_samples(Sem.GPS_REPORT, [(b"\x00\x01\x00\x00", True, 0, 0)], 0)
+    assert (on.takes, off.takes) == (1, 0) and feed.errors == {"bad": 1, "on": 1}
 
 
 async def held_client(hub: Hub, snapshot_bytes: int) -> tuple[Client, list[str]]:

@@ -1,11 +1,13 @@
-"""What the Foxglove gateway sends, as JSON: Foxglove's well-known `foxglove.LocationFix`, `foxglove.LocationFixes` and
-`foxglove.Log` (the fields their panels read, in Foxglove's JSON form: a time is {sec, nsec}), and the console's decoded
-reports as the dashboard gets them; each with the JSON Schema its channel advertises."""
+"""What the Foxglove gateway sends, as JSON: Foxglove's well-known `foxglove.LocationFix`, `foxglove.LocationFixes`,
+`foxglove.Log` and `foxglove.GeoJSON` (the fields their panels read, in Foxglove's JSON form: a time is {sec, nsec}),
+and the console's decoded reports as the dashboard gets them; each with the JSON Schema its channel advertises."""
 
 from __future__ import annotations
 
 import functools
 from typing import Any
+
+import orjson
 
 from sem_console.core.messages import Alarm, ReportEnvelope, TransitionMessage
 from sem_console.core.words import inline, word
@@ -63,6 +65,19 @@ LOG: dict[str, Any] = {
     },
     "required": ["timestamp", "level", "message", "name", "file", "line"],
 }
+GEOJSON: dict[str, Any] = {
+    "title": "foxglove.GeoJSON",
+    "description": "CoMap's world model: its survey areas as a GeoJSON FeatureCollection (positions [lon, lat], degrees)",
+    "type": "object",
+    "properties": {"geojson": {"type": "string", "description": "the FeatureCollection, as GeoJSON text"}},
+    "required": ["geojson"],
+}
+
+
+def geojson(world: dict[str, Any]) -> dict[str, Any]:
+    """CoMap's world model (`C2.world_model`) as a foxglove.GeoJSON: its FeatureCollection, without the console's
+    own members (when and by whom it was last changed)."""
+    return {"geojson": orjson.dumps({"type": "FeatureCollection", "features": world["features"]}).decode()}
 
 
 @functools.cache
