@@ -51,6 +51,7 @@ class FoxgloveClient:
     statuses: list[dict[str, Any]] = field(default_factory=list)  # every text message that is not advertise/serverInfo
     topic_of: dict[int, str] = field(default_factory=dict)  # subscription id -> topic
     playback: list[PlaybackState] = field(default_factory=list)  # every playback state the server sent
+    subscribed: dict[int, int] = field(default_factory=dict)  # channel id -> subscription id
     _next_subscription: int = 1
 
     def topics(self) -> dict[str, dict[str, Any]]:
@@ -71,12 +72,28 @@ class FoxgloveClient:
     async def subscribe(self, topics: Sequence[str]) -> None:
         """Subscribe to the channels of these topics (advertised already)."""
         by_topic = self.topics()
+        await self.subscribe_channels({by_topic[t]["id"]: t for t in topics})
+
+    async def subscribe_channels(self, channels: dict[int, str]) -> None:
+        """Subscribe to these channels (advertised already), each message of one named as given."""
         subs = []
-        for t in topics:
-            subs.append({"id": self._next_subscription, "channelId": by_topic[t]["id"]})
-            self.topic_of[self._next_subscription] = t
+        for channel, name in channels.items():
+            subs.append({"id": self._next_subscription, "channelId": channel})
+            self.topic_of[self._next_subscription] = name
+            self.subscribed[channel] = self._next_subscription
             self._next_subscription += 1
         await self.ws.send(json.dumps({"op": "subscribe", "subscriptions": subs}))
+
+    async def _subscribe_again(self, status: dict[str, Any]) -> None:
+        """foxglove-sdk 0.30 can refuse a subscription sent just after the channel's advertisement, as a status
+        "Unknown channel ID: N" (1 in 50 in a script of its own): a channel this client subscribed to is asked again."""
+        message = str(status.get("message", ""))
+        if not message.startswith("Unknown channel ID: "):
+            return
+        channel = int(message.removeprefix("Unknown channel ID: ").strip() or -1)
+        if channel in self.subscribed and channel in self.channels:
+            sub = {"id": self.subscribed[channel], "channelId": channel}
+            await self.ws.send(json.dumps({"op": "subscribe", "subscriptions": [sub]}))
 
     async def send_json(self, msg: dict[str, Any]) -> None:
         await self.ws.send(json.dumps(msg))
@@ -102,7 +119,10 @@ class FoxgloveClient:
         """Every message of the subscribed channels as it comes; None for each text message (applied here first)."""
         async for data in self.ws:
             if isinstance(data, str):
-                self._text(json.loads(data))
+                msg = json.loads(data)
+                self._text(msg)
+                if msg.get("op") == "status":
+                    await self._subscribe_again(msg)
                 yield None
             elif data and data[0] == MESSAGE_DATA:
                 sub, log_time = struct.unpack_from("<IQ", data, 1)

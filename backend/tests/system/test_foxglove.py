@@ -519,20 +519,11 @@ def test_an_appendable_writers_samples_have_their_own_raw_channel_as_the_docs_sa
                 assert len(advertised) == len(set(advertised)), sorted(advertised)
                 assert {ch["topic"] for ch in channels.values()} == {name + APPENDABLE_TOPIC for name in got}
                 dds = {i: ch["topic"].removesuffix(APPENDABLE_TOPIC) for i, ch in channels.items()}
-                subs = [{"id": 100 + i, "channelId": i} for i in channels]
-                client.topic_of.update({100 + i: dds[i] for i in channels})
-                await client.send_json({"op": "subscribe", "subscriptions": subs})
+                await client.subscribe_channels(dds)
 
                 async def writing() -> None:  # until enough came (the subscription takes effect at some point)
                     while True:
                         write()
-                        # foxglove-sdk 0.30 can refuse a subscription sent just after a channel's advertisement
-                        # ("Unknown channel ID: N"): that channel is subscribed to again
-                        refused = {str(m.get("message")) for m in client.statuses}
-                        again = [sub for sub in subs if f"Unknown channel ID: {sub['channelId']}" in refused]
-                        client.statuses.clear()
-                        if again:
-                            await client.send_json({"op": "subscribe", "subscriptions": again})
                         await asyncio.sleep(0.5)
 
                 def take(m: Any) -> bool:
