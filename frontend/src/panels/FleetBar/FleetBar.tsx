@@ -65,6 +65,11 @@ const LINK: Record<FleetLink, Word> = {
   regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
   stale: { text: linkText("stale"), tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
   lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
+  unchecked: {
+    text: linkText("unchecked"),
+    tone: "muted",
+    title: "silent while this console is behind: not judged (and not blamed) until it keeps up again",
+  },
   unreachable: { text: linkText("unreachable"), tone: "muted", title: UNREACHABLE_TITLE },
 };
 
