@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import pytest
 from websockets.exceptions import ConnectionClosed
 from websockets.sync.client import connect
 
@@ -32,6 +33,7 @@ def all_live(url: str, n: int) -> bool:
     return len(providers) == n and all(p["link"] == "live" for p in providers)
 
 
+@pytest.mark.slow
 def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim, console) -> None:
     """The machine stalled for 3 s (saturated: the simulators and a browser took the cores; or its VM paused): the
     console and the vehicles' simulator stopped, the console ran again first. Every vehicle is silent by its clock
@@ -86,6 +88,7 @@ def test_a_silent_vehicle_is_lost_while_the_console_keeps_up(sim, console, domai
         silent.end()
 
 
+@pytest.mark.slow
 def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, console) -> None:
     """A real client that stops reading (its socket's buffers full: a laptop asleep) is cut after the bound, told why
     in the close frame; another client's reports keep arriving meanwhile."""
