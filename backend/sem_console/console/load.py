@@ -6,7 +6,8 @@ the loop (the ingest lag), the process's CPU, and the samples Cyclone DDS says i
 
 The console is behind from a delay past `BEHIND_AFTER` until none has passed it for `settle` seconds (the comms-lost
 timeout: time for every live vehicle to be heard again once it keeps up). While it is behind, a vehicle's silence is
-not judged (`Providers.tick`: "not checked: console behind") and, when that withheld a vehicle's check, the console
+not judged while its delay (`worst`) may explain it (`Providers.tick`: "not checked: console behind"; silent longer,
+it is lost whatever the console's load) and, when that withheld a vehicle's check, the console
 says so once, as its own alarm ("console-overloaded"), not one link-lost per vehicle.
 """
 

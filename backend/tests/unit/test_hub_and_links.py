@@ -525,11 +525,22 @@ def test_a_silence_while_the_console_is_behind_is_not_judged_until_it_keeps_up()
     heard, silent = uuid.uuid4(), uuid.uuid4()
     for pid in (heard, silent):
         links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
-    assert [e for _, e in links.tick(1.6, 1.6, judging=False)] == ["unchecked", "unchecked"]
-    assert links.tick(1.8, 1.8, judging=False) == []
+    assert [e for _, e in links.tick(1.6, 1.6, behind_by=2.0)] == ["unchecked", "unchecked"]
+    assert links.tick(1.8, 1.8, behind_by=2.0) == []
     links.seen("GPSFixReport", heard, {"x": 1}, 2.0, 2.0, True)
-    assert [(p.id, e) for p, e in links.tick(2.1, 2.1, judging=False)] == [(heard, "live")]
+    assert [(p.id, e) for p, e in links.tick(2.1, 2.1, behind_by=2.0)] == [(heard, "live")]
     assert [(p.id, e) for p, e in links.tick(2.2, 2.2)] == [(silent, "lost")]  # kept up: its silence is its own
+
+
+def test_a_silence_longer_than_the_consoles_own_delay_is_lost_however_long_the_console_stays_behind() -> None:
+    """The console behind by 0.6 s at worst (a late tick now and then, each within the settle time, keeps it behind
+    for good): that explains 0.6 s of a vehicle's silence, not more; a vehicle silent past it is lost, not hidden."""
+    links = Providers(comms_lost_timeout=1.0, regained_time=2.0)
+    pid = uuid.uuid4()
+    links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
+    assert [e for _, e in links.tick(1.5, 1.5, behind_by=0.6)] == ["unchecked"]
+    assert [e for _, e in links.tick(1.7, 1.7, behind_by=0.6)] == ["lost"]
+    assert links.by_id[pid].link == "lost" and links.tick(600.0, 600.0, behind_by=0.6) == []
 
 
 def test_a_writer_gone_is_judged_however_far_behind_the_console_is() -> None:
@@ -537,4 +548,4 @@ def test_a_writer_gone_is_judged_however_far_behind_the_console_is() -> None:
     pid = uuid.uuid4()
     links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
     links.seen("GPSFixReport", pid, None, 0.1, 0.1, False)
-    assert [e for _, e in links.tick(0.2, 0.2, judging=False)] == ["lost"]
+    assert [e for _, e in links.tick(0.2, 0.2, behind_by=60.0)] == ["lost"]
