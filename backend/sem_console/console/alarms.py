@@ -370,6 +370,11 @@ class Alarms:
             if a.kind not in CONDITIONS:
                 continue
             if key in holding:
+                said = f"{a.vehicle}: {holding[key].what}" if a.vehicle else holding[key].what
+                if a.text != said:  # its words changed while it holds (how many vehicles, how far behind): true now
+                    a.text = said
+                    self._save(a)
+                    changed = True
                 if a.cleared_at is not None:  # back again before it was acknowledged: active once more
                     a.cleared_at, a.since = None, now
                     self._activated(key, now)
@@ -757,7 +762,7 @@ def relay_silent_text(relay: str, vehicles: int) -> str:
 
 
 def overloaded_text(delay: float, vehicles: int) -> str:
-    """ "this console is overloaded: it ran 3.2 s behind, so 12 vehicles were not checked...", in the words table's
+    """ "this console is overloaded: it ran up to 3.2 s behind and did not check 12 vehicles...", in the words table's
     words."""
     count = f"{vehicles} vehicle{'' if vehicles == 1 else 's'}"
     return inline(word("alarmText", "console-overloaded")).format(delay=f"{delay:.1f} s", vehicles=count)

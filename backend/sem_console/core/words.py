@@ -187,8 +187,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         # `{relay}` the relay's --name, `{vehicles}` "12 vehicles": "relay ship-1 silent: 12 vehicles"
         "relay-silent": "Relay {relay} silent: {vehicles}",
         # `{delay}` "3.2 s" (the worst of its delays), `{vehicles}` "12 vehicles"
-        "console-overloaded": "This console is overloaded: it ran up to {delay} behind, so {vehicles} were not checked "
-        "(not blamed: no link-lost alarm for them); run fewer vehicles on this console or give it a bigger machine",
+        "console-overloaded": "This console is overloaded: it ran up to {delay} behind and did not check {vehicles} (no "
+        "link-lost alarm for a silence its delay may explain); run fewer vehicles on this console or give it a bigger "
+        "machine",
     },
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},

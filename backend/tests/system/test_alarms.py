@@ -526,3 +526,27 @@ def test_a_relay_silent_while_every_vehicle_it_carries_is_in_a_planned_silence_r
     w.alarms.cancel_silence(str(CHARLIE), "alice", w.clock.at)
     w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
     assert kinds(w.alarms.active()) == [("relay-silent", "active-unacknowledged")]
+
+
+def test_the_console_overloaded_alarm_says_how_many_vehicles_it_did_not_check_now_not_when_raised(
+    tmp_path: Path,
+) -> None:
+    """The console falls behind and vehicles go unchecked one after another: its one alarm's words follow the count
+    and the worst delay while it holds (one alarm, not one per change), and keep the last when it clears."""
+    from sem_console.console.alarms import overloaded_text
+
+    w = World(tmp_path / "db")
+    w.at(1).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(0.7, 1))
+    [first] = w.alarms.active()
+    assert (
+        first["text"] == "this console is overloaded: it ran up to 0.7 s behind and did not check 1 vehicle (no "
+        "link-lost alarm for a silence its delay may explain); run fewer vehicles on this console or give it a bigger machine"
+    )
+    assert w.at(2).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(3.2, 130))
+    [grown] = w.alarms.active()
+    assert grown["id"] == first["id"] and grown["state"] == "active-unacknowledged"
+    assert grown["text"].startswith("this console is overloaded: it ran up to 3.2 s behind and did not check 130 vehicles")
+    assert not w.at(3).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(3.2, 130))
+    assert w.at(4).alarms.update(w.clock.at, w.providers.by_id, (), None, None, None)
+    [cleared] = w.alarms.active()
+    assert cleared["state"] == "cleared-unacknowledged" and "130 vehicles" in cleared["text"]
