@@ -6,7 +6,7 @@ the loop (the ingest lag), the process's CPU, and the samples Cyclone DDS says i
 
 The console is behind from a delay past `BEHIND_AFTER` until none has passed it for `settle` seconds (the comms-lost
 timeout: time for every live vehicle to be heard again once it keeps up). While it is behind, a vehicle's silence is
-not judged while its delay (`worst`) may explain it (`Providers.tick`: "not checked: console behind"; silent longer,
+not judged while its delays may explain it (`excuse`) (`Providers.tick`: "not checked: console behind"; silent longer,
 it is lost whatever the console's load) and, when that withheld a vehicle's check, the console
 says so once, as its own alarm ("console-overloaded"), not one link-lost per vehicle.
 """
@@ -14,6 +14,7 @@ says so once, as its own alarm ("console-overloaded"), not one link-lost per veh
 from __future__ import annotations
 
 import time
+from collections import deque
 from collections.abc import Callable
 
 from sem_console.core.messages import ConsoleLoad
@@ -28,6 +29,7 @@ class Load:
         self.behind_since: float | None = None  # UTC seconds
         self.withheld = 0  # vehicles whose check this episode withheld
         self._last_late = -float("inf")  # monotonic: the last delay past BEHIND_AFTER
+        self._lates: deque[tuple[float, float]] = deque()  # (monotonic, delay) of the delays past it, the last settle
         self._window_start: float | None = None  # monotonic: the current window's start (the first tick's)
         self._cpu_start = time.process_time()
         self._loop_max = self._lag_max = 0.0  # the current window's worst
@@ -63,9 +65,20 @@ class Load:
         self._lag_max = max(self._lag_max, lag)
         self._late(lag, now)
 
+    def excuse(self, now: float) -> float | None:
+        """While it is behind, how much of a vehicle's silence its own delays may explain: the worst of those of the
+        last `settle` seconds (one older was followed by `settle` seconds in which every live vehicle was heard, and one
+        spurious, a wall clock stepped between a take and its handling, counts no longer); None while it keeps up."""
+        while self._lates and now - self._lates[0][0] >= self.settle:
+            self._lates.popleft()
+        if self.behind_since is None or not self._lates:
+            return None
+        return max(d for _, d in self._lates)
+
     def _late(self, delay: float, now: float) -> None:
         if delay > BEHIND_AFTER:
             self._last_late = now
+            self._lates.append((now, delay))
             self.worst = max(self.worst, delay)
 
     def state(self) -> ConsoleLoad:

@@ -184,10 +184,10 @@ class Providers:
     def tick(self, now: float, wall: float | None = None, behind_by: float | None = None) -> list[tuple[Provider, ProviderEvent]]:
         """Advance link states at `now` (monotonic) and `wall` (UTC seconds, for the vehicles seen through a relay;
         None: time.time()); returns (provider, 'lost' | 'regained' | 'live' | 'unchecked') events. `behind_by`: while
-        the console is behind (console/load.py), the worst of its own delays, which may have made a vehicle look
-        silent that long: a vehicle silent past its timeout by no more than that is `unchecked`, not lost, until it is
-        heard or the console keeps up; silent past it by more, its silence is its own and it is lost whatever the
-        console's load (as a writer gone or a disposed instance, which DDS says)."""
+        the console is behind, how much silence its own delays may explain (console/load.py, `Load.excuse`): a
+        vehicle silent past its timeout by no more than that is `unchecked`, not lost, until it is heard or the console
+        keeps up; silent past it by more, its silence is its own and it is lost whatever the console's load (as a
+        writer gone or a disposed instance, which DDS says)."""
         events: list[tuple[Provider, ProviderEvent]] = []
         wall = time.time() if wall is None else wall
         for p in self.by_id.values():

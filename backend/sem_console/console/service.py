@@ -463,8 +463,7 @@ class Console:
             self._held_tried = now
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(self._maintained)
-        behind_by = self.load.worst if self.load.behind else None
-        for p, event in self.providers.tick(now, self.clock.wall(), behind_by):
+        for p, event in self.providers.tick(now, self.clock.wall(), self.load.excuse(now)):
             self._provider_event(p, event, now)
         if self.load.behind:
             unchecked = sum(p.link == "unchecked" for p in self.providers.by_id.values())
