@@ -252,8 +252,12 @@ class Alarms:
         silence_grace: float = 120.0,
         chatter: tuple[int, float] = (3, 600.0),
         relay_silent_after: float = 10.0,
+        station: str = "",
     ) -> None:
         self.store = store
+        # this console's station: its console-overloaded alarm's key names it, so that another station's
+        # acknowledgement or shelf of its own overload (shared by key) is not one of this console's
+        self.station = station
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
         self.silence_grace = silence_grace
@@ -364,7 +368,7 @@ class Alarms:
                 changed = True
         holding = self._conditions(now, providers, relays)
         if overloaded is not None:
-            f = Found("console-overloaded", None, None, overloaded)
+            f = Found("console-overloaded", None, None, overloaded, self.station)
             holding[f.key] = f
         for key, a in list(self.open.items()):
             if a.kind not in CONDITIONS:

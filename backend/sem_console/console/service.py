@@ -165,6 +165,7 @@ class Console:
             settings.silence_grace,
             (settings.chatter_count, settings.chatter_minutes * 60),
             relay_silent_after(settings.comms_lost_timeout),
+            self.station,
         )
         self.hops = Hops()  # the relays the vehicles come through (console/hops.py)
         self.load = Load(settings.comms_lost_timeout, self.clock.wall)  # whether this console is the one behind

@@ -550,3 +550,21 @@ def test_the_console_overloaded_alarm_says_how_many_vehicles_it_did_not_check_no
     assert w.at(4).alarms.update(w.clock.at, w.providers.by_id, (), None, None, None)
     [cleared] = w.alarms.active()
     assert cleared["state"] == "cleared-unacknowledged" and "130 vehicles" in cleared["text"]
+
+
+def test_one_stations_overload_acknowledged_or_shelved_is_not_another_stations(tmp_path: Path) -> None:
+    """Acknowledgements and shelves are shared by key between the stations of one database; a console's overload is
+    its own: an operator at ops-2 acknowledging or shelving ops-2's leaves ops-1's in view, unacknowledged."""
+    from sem_console.console.alarms import overloaded_text
+
+    store = Database(tmp_path / "db")
+    one, two = Alarms(store, NAMES, station="ops-1"), Alarms(store, NAMES, station="ops-2")
+    for alarms in (one, two):
+        alarms.update(T0, {}, (), None, None, overloaded_text(2.0, 3))
+    [theirs] = two.open.values()
+    assert two.acknowledge(theirs.id, "bob", T0 + 1, "ops-2") is not None
+    assert not one.acknowledged_elsewhere(theirs.key, "bob", T0 + 1, "ops-2")
+    assert two.shelve(theirs.id, "known slow machine", 3600, "bob", T0 + 1, "ops-2") is not None
+    assert not one.shared_shelf(two.shelves[theirs.key].model_dump())
+    [ours] = one.active()
+    assert (ours["state"], ours["shelf"]) == ("active-unacknowledged", None)
