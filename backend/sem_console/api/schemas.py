@@ -132,6 +132,25 @@ class Operator(_Model):
     operator: str | None = Field(description="the name the token belongs to; null when the console has no operator tokens")
 
 
+class ConsoleLoad(_Model):
+    """Whether this console is the one behind (console/load.py): while it is, a vehicle's silence is not judged (its
+    link "unchecked": not checked, console behind), and if that withheld a vehicle's check it raises one
+    console-overloaded alarm of its own, not a link-lost per vehicle. The delays: the worst of the last second."""
+
+    behind: bool = Field(
+        description="the console's event loop ran late or handled samples late (over 0.5 s) within the last comms-lost "
+        "timeout: vehicles' silences are its own, not judged"
+    )
+    behindSince: float | None = Field(description="UTC seconds since when it is behind; null while it keeps up")
+    loopDelayMs: float = Field(description="how late its event loop ran its 5 Hz tick, the worst of the last second")
+    ingestLagMs: float = Field(
+        description="how long a sample waited between its take from DDS and its handling, the worst of the last second"
+    )
+    cpuCores: float = Field(description="the console process's CPU over the last second, in cores")
+    samplesLost: int = Field(description="samples Cyclone DDS reported lost to the console's readers since it started")
+    vehiclesNotChecked: int = Field(description="vehicles whose silence was not judged while it was behind")
+
+
 class Health(_Model):
     status: Literal["ok"]
     consoleId: str
@@ -163,6 +182,7 @@ class Health(_Model):
         description="held writes dropped since the console started, the oldest first, "
         "because more than 50000 were held: lost from the shared history",
     )
+    load: ConsoleLoad | None = Field(None, description="whether the console is the one behind (null in a replay)")
 
 
 class GatewayState(_Model):
@@ -200,6 +220,7 @@ class PeerFinding(_Model):
 
 class Metrics(_Model):
     uptimeSeconds: float
+    samplesLost: int = Field(0, description=ConsoleLoad.model_fields["samplesLost"].description)
     samplesTaken: int = Field(description="samples taken from DDS since start (all three readers of every SEM topic)")
     samplesDecoded: int = Field(
         description="of those, decoded and applied: a writer's samples only from its owner, the most "
@@ -485,6 +506,7 @@ AlarmKind = Literal[
     "recording-failed",
     "silence-overdue",
     "relay-silent",
+    "console-overloaded",
 ]
 AlarmState = Literal["active-unacknowledged", "active-acknowledged", "cleared-unacknowledged"]
 
@@ -607,6 +629,7 @@ class SnapshotMessage(_Model):
     alarms: list[Alarm] = Field(description="the active alarm set (every alarm not returned to normal), newest first")
     silences: list[PlannedSilence] = Field(description="the planned silences in force, the soonest to end first")
     database: DatabaseState | None = Field(None, description="the database's reach (null in a replay: its own file)")
+    load: ConsoleLoad | None = Field(None, description="whether the console is the one behind (null in a replay)")
 
 
 class ReportMessage(_Model):
@@ -674,6 +697,13 @@ class DatabaseMessage(_Model):
     database: DatabaseState
 
 
+class LoadMessage(_Model):
+    """The console fell behind or caught up (console-overloaded): its load then."""
+
+    type: Literal["load"]
+    load: ConsoleLoad
+
+
 class SilencesMessage(_Model):
     """A planned silence was declared, cancelled or ended: every one in force, the soonest to end first."""
 
@@ -705,6 +735,7 @@ ServerMessage = Annotated[
     | AlarmsMessage
     | SilencesMessage
     | DatabaseMessage
+    | LoadMessage
     | ErrorMessage
     | PongMessage,
     Field(discriminator="type"),

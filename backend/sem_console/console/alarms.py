@@ -35,6 +35,9 @@ Managing them on a watch (after ISA-18.2; docs/console.md#alarms):
   (no vehicle), while no data comes over its link for the comms-lost timeout, unless every vehicle it carries is in a
   planned silence; a vehicle lost with its relay (no data came over the relay's link since the vehicle went silent)
   raises no link-lost of its own. A vehicle lost while its relay still carries the others' data is link-lost, as any.
+- the console behind (console/load.py): one console-overloaded alarm, of the console, while it is behind and that
+  withheld the check of a vehicle's silence (such a vehicle is `unchecked`, not lost: no link-lost of its own); it
+  clears when the console keeps up again, and a vehicle still silent then is lost as any.
 - floods: every alarm carries its `cause` (its kind in words), by which the dashboard groups many at once.
 
 Cost: `report_changed` is on the report path (thousands of samples a second): one dict lookup and
@@ -65,7 +68,16 @@ from sem_console.storage.models import AlarmBase, AlarmShelfRecord, PlannedSilen
 
 NO_FIX_GRACE = 5.0  # seconds after a COMPLETED GPS fix command before a still invalid fix is an alarm
 CONDITIONS = frozenset(
-    {"link-lost", "ins-failure", "fix-lost", "no-fix-after-command", "command-unanswered", "silence-overdue", "relay-silent"}
+    {
+        "link-lost",
+        "ins-failure",
+        "fix-lost",
+        "no-fix-after-command",
+        "command-unanswered",
+        "silence-overdue",
+        "relay-silent",
+        "console-overloaded",
+    }
 )
 EVENTS = frozenset({"command-failed", "command-interrupted", "flow-violation", "executed-late", "recording-failed"})
 SEVERITY = {
@@ -81,6 +93,7 @@ SEVERITY = {
     "recording-failed": "warning",
     "silence-overdue": "alarm",
     "relay-silent": "alarm",
+    "console-overloaded": "alarm",
 }
 RANK = {"warning": 1, "alarm": 2}
 # how a shelf ends that brings its alarm back in view, each with its words (`alarmReturned` of core/words.py); a shelf
@@ -239,8 +252,12 @@ class Alarms:
         silence_grace: float = 120.0,
         chatter: tuple[int, float] = (3, 600.0),
         relay_silent_after: float = 10.0,
+        station: str = "",
     ) -> None:
         self.store = store
+        # this console's station: its console-overloaded alarm's key names it, so that another station's
+        # acknowledgement or shelf of its own overload (shared by key) is not one of this console's
+        self.station = station
         self.names = dict(names or {})  # provider GUID string -> configured name (--vehicle-names)
         self.on_ack = on_ack  # an alarm just acknowledged, with the station it was acknowledged on (the recording)
         self.silence_grace = silence_grace
@@ -329,10 +346,11 @@ class Alarms:
         commands: Iterable[Command] = (),
         recording_error: str | None = None,
         relays: Mapping[str, Hop] | None = None,
+        overloaded: str | None = None,
     ) -> bool:
         """Re-derive the active set at `now` (UTC seconds), looking again at `commands` (the ones that changed;
-        new ones first), with the relays the vehicles come through (console/hops.py). Returns whether the active set
-        changed."""
+        new ones first), with the relays the vehicles come through (console/hops.py); `overloaded`: the words of the
+        console's own overload while it holds (`overloaded_text`). Returns whether the active set changed."""
         relays = relays or {}
         commands = list(commands)
         for c in commands:
@@ -349,10 +367,18 @@ class Alarms:
                 self._raise(f, now)
                 changed = True
         holding = self._conditions(now, providers, relays)
+        if overloaded is not None:
+            f = Found("console-overloaded", None, None, overloaded, self.station)
+            holding[f.key] = f
         for key, a in list(self.open.items()):
             if a.kind not in CONDITIONS:
                 continue
             if key in holding:
+                said = f"{a.vehicle}: {holding[key].what}" if a.vehicle else holding[key].what
+                if a.text != said:  # its words changed while it holds (how many vehicles, how far behind): true now
+                    a.text = said
+                    self._save(a)
+                    changed = True
                 if a.cleared_at is not None:  # back again before it was acknowledged: active once more
                     a.cleared_at, a.since = None, now
                     self._activated(key, now)
@@ -514,7 +540,7 @@ class Alarms:
         for pid, silence in list(self.silences.items()):
             if now >= silence.until + self.silence_grace:
                 p = providers.get(uuid.UUID(pid))
-                heard = p is not None and p.link != "lost"
+                heard = p is not None and p.link in ("live", "regained")
                 if not heard:
                     self._overdue[pid] = overdue_text(silence.until, self.silence_grace, now)
                 self._end_silence(pid, now, None, "heard" if heard else "overdue")
@@ -639,10 +665,12 @@ class Alarms:
         for p in providers.values():
             pid = str(p.id)
             found: list[Found] = []
-            if p.link != "lost":
+            if p.link in ("live", "regained"):
                 self._overdue.pop(pid, None)  # heard again: no longer overdue
             elif pid in self._overdue:
                 found.append(Found("silence-overdue", pid, None, self._overdue[pid]))
+            elif p.link == "unchecked":
+                pass  # silent while the console is behind: the console's own alarm says it (console-overloaded)
             elif pid not in self.silences and not lost_with_relay(p, relays, now, self.relay_silent_after):
                 # (a planned silence: the loss is expected; lost with its relay: the relay's alarm says it)
                 found.append(Found("link-lost", pid, None, f"link {inline(word('link', 'lost'))}"))
@@ -679,7 +707,7 @@ class Alarms:
     def _can_judge(self, a: Alarm, providers: Mapping[uuid.UUID, Provider], relays: Mapping[str, Hop]) -> bool:
         """Whether the state holds what the alarm's condition is about; after a restart a vehicle not heard
         from yet (or not yet this report) is no evidence that its condition cleared."""
-        if a.kind == "command-unanswered":
+        if a.kind in ("command-unanswered", "console-overloaded"):
             return True  # the commands not finished are always in memory
         if a.kind == "relay-silent":
             return a.key.split("|", 3)[3] in relays  # its relay (the key's last part, whatever it holds) heard of
@@ -735,6 +763,13 @@ def relay_silent_text(relay: str, vehicles: int) -> str:
     """ "relay ship-1 silent: 12 vehicles", in the words table's words."""
     count = f"{vehicles} vehicle{'' if vehicles == 1 else 's'}"
     return inline(word("alarmText", "relay-silent")).format(relay=relay, vehicles=count)
+
+
+def overloaded_text(delay: float, vehicles: int) -> str:
+    """ "this console is overloaded: it ran up to 3.2 s behind and did not check 12 vehicles...", in the words table's
+    words."""
+    count = f"{vehicles} vehicle{'' if vehicles == 1 else 's'}"
+    return inline(word("alarmText", "console-overloaded")).format(delay=f"{delay:.1f} s", vehicles=count)
 
 
 def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_after: float) -> bool:

@@ -7,9 +7,11 @@ OTHERS_EVERY; reports are conflated per client (the latest per provider and topi
 client that reads slowly gets fewer reports, not later ones, of those not yet written: what was written waits in
 the sockets' buffers in order (with 250 vehicles, megabytes: the selected vehicle's tail, docs/rendering.md).
 A client is dropped when its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
-stopped reading), or when the queue reaches four times `max_queue` whatever it does;
+stopped reading), or when the queue reaches four times `max_queue` whatever it does, or when one send to it has not
+completed for `cut_seconds` whatever waits (a laptop gone to sleep: its reports are conflated, so only time bounds it);
 so no client holds memory without bound nor delays anyone else, and a burst does not
-drop a healthy client. A client that asks for batches (the dashboard: /ws?batch=1) gets the
+drop a healthy client. A client dropped is told why in the WebSocket's close reason (`Client.dropped_for`).
+A client that asks for batches (the dashboard: /ws?batch=1) gets the
 reports waiting for it when its sender is free as one JSON array: a lone report goes out alone and
 at once, so only load makes batches (a browser pays about 0.13 ms of its main thread per WebSocket
 message, whatever its size: 30 % of it with 250 vehicles). Everything here runs on the event loop thread.
@@ -86,6 +88,7 @@ class Client:
         self.inflight: deque[int] = deque()  # the sizes of the frames sent and not yet acknowledged, oldest first
         self.inflight_bytes = 0
         self.last_sent = time.monotonic()
+        self.sending_since: float | None = None  # monotonic: when the send under way began (None: none under way)
         self.ordered: deque[str] = deque()
         self.queued_bytes = 0
         self.snapshot_pending = False
@@ -132,7 +135,7 @@ class Client:
             len(self.ordered) >= self.max_queue
             and (time.monotonic() - self.last_sent > self.stall_seconds or len(self.ordered) >= 4 * self.max_queue)
         ):
-            self.drop(f"stopped reading ({len(self.ordered)} messages behind)")
+            self.drop(f"stopped reading: {len(self.ordered)} messages behind")
             return
         else:
             self.ordered.append(text)
@@ -277,10 +280,11 @@ class Client:
                     if len(self.inflight) > MAX_UNACKED_FRAMES or self.inflight_bytes > MAX_QUEUED_BYTES:
                         # it reads but never acknowledges: what passes the window (the selected vehicle's reports,
                         # ordered events) would grow `inflight` and the sockets' buffers without bound
-                        self.drop(f"acknowledges none of its frames ({len(self.inflight)} in flight)")
+                        self.drop(f"acknowledged none of {len(self.inflight)} frames")
                         return
+                self.sending_since = time.monotonic()
                 await self.send(text)
-                self.last_sent = time.monotonic()
+                self.last_sent, self.sending_since = time.monotonic(), None
 
 
 class Hub:
@@ -290,10 +294,12 @@ class Hub:
         stall_seconds: float = 5.0,
         window: int = 256 * 1024,
         clock: Callable[[], float] = time.monotonic,
+        cut_seconds: float = 30.0,
     ) -> None:
         """`clock`: of the whole GPSReports of vehicles not selected (FULL_EVERY): the console's, a replay's recording
         time, since the page's trails step in it (at 20x, 5 s of wall time were 100 s of trails)."""
         self.max_queue, self.stall_seconds, self.window, self.clock = max_queue, stall_seconds, window, clock
+        self.cut_seconds = cut_seconds
         self.clients: set[Client] = set()
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
@@ -309,9 +315,20 @@ class Hub:
         for c in list(self.clients):
             c.push(text, key, thin_text)
             if c.dropped:
-                self.dropped += 1
-                log.warning("dropped a WebSocket client that %s", c.dropped_for)
-                self.clients.discard(c)
+                self._dropped(c)
+
+    def sweep(self, now: float) -> None:
+        """Cut every client one send to which has not completed for `cut_seconds` (it stopped reading: a laptop
+        asleep), whatever waits for it (`now`: monotonic seconds; the console's tick)."""
+        for c in list(self.clients):
+            if c.sending_since is not None and now - c.sending_since > self.cut_seconds:
+                c.drop(f"stopped reading: nothing taken for {now - c.sending_since:.0f} s")
+                self._dropped(c)
+
+    def _dropped(self, c: Client) -> None:
+        self.dropped += 1
+        log.warning("dropped a WebSocket client that %s", c.dropped_for)
+        self.clients.discard(c)
 
     def attach(
         self, send: Callable[[str], Awaitable[None]], first: SnapshotMessage, batch: bool = False, ack: bool = False

@@ -203,6 +203,7 @@ class Ingest:
         self.taken = 0  # samples taken from DDS (every reader of every topic), for /api/metrics
         self.decoded = 0  # of those, decoded: those taken from their writer's owner reader
         self.by_reader = {v.value: 0 for v in Via}  # decoded samples per reader kind
+        self.samples_lost = 0  # samples Cyclone says its readers lost (SAMPLE_LOST: a gap, or no room), for /api/health
         self.window_waits = 0  # report takes that waited for the conflation window (dense input), for /api/metrics
         self.owners = Owners()
         self.command_writers = command_writers or {}  # the console's, by topic: whose readers they reach (dds/vendors.py)
@@ -267,7 +268,9 @@ class Ingest:
                     sem,
                     via.qos(sem, appendable),
                     appendable=appendable,
-                    listener=self.owners.listener(on_requested_incompatible_qos=self._on_incompatible(sem, via)),
+                    listener=self.owners.listener(
+                        on_requested_incompatible_qos=self._on_incompatible(sem, via), on_sample_lost=self._on_lost
+                    ),
                 ),
             )
             for sem in sems
@@ -275,6 +278,11 @@ class Ingest:
             if not appendable or sem.spec.appendable is not None
             for via in Via
         ]
+
+    def _on_lost(self, _reader: DataReader[Any], status: Any) -> None:
+        """Cyclone's SAMPLE_LOST status of a reader (in its listener thread): counted (console/load.py shows it)."""
+        with self._counting:
+            self.samples_lost += status.total_count_change
 
     def _on_incompatible(self, sem: AnySem, via: Via) -> Callable[[DataReader[Any], Any], None]:
         """Count the writers of a topic that no reader of ours can match. The best-effort reader

@@ -181,17 +181,31 @@ class Providers:
             p.regaining_since = now
         return p, new
 
-    def tick(self, now: float, wall: float | None = None) -> list[tuple[Provider, ProviderEvent]]:
+    def tick(self, now: float, wall: float | None = None, behind_by: float | None = None) -> list[tuple[Provider, ProviderEvent]]:
         """Advance link states at `now` (monotonic) and `wall` (UTC seconds, for the vehicles seen through a relay;
-        None: time.time()); returns (provider, 'lost' | 'regained' | 'live') events."""
+        None: time.time()); returns (provider, 'lost' | 'regained' | 'live' | 'unchecked') events. `behind_by`: while
+        the console is behind, how much silence its own delays may explain (console/load.py, `Load.excuse`): a
+        vehicle silent past its timeout by no more than that is `unchecked`, not lost, until it is heard or the console
+        keeps up; silent past it by more, its silence is its own and it is lost whatever the console's load (as a
+        writer gone or a disposed instance, which DDS says)."""
         events: list[tuple[Provider, ProviderEvent]] = []
         wall = time.time() if wall is None else wall
         for p in self.by_id.values():
             lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
-            silent = p.silent_for(now, wall) > lost_after
+            silence = p.silent_for(now, wall)
+            silent = silence > lost_after
+            excused = behind_by is not None and silence <= lost_after + behind_by
             reports = [h for t, h in p.health.items() if t in REPORT_HEALTH_TOPICS]
             gone = bool(reports) and not any(h.alive for h in reports)
-            if p.link != "lost" and (silent or gone):
+            if p.link in ("live", "regained") and silent and not gone and excused:
+                p.link = "unchecked"
+                events.append((p, "unchecked"))
+            elif p.link == "unchecked" and not silent and not gone:
+                p.link = "live"  # heard again: its silence was the console's
+                events.append((p, "live"))
+            elif p.link == "unchecked" and not gone and excused:
+                continue
+            elif p.link != "lost" and (silent or gone):
                 p.link, p.regaining_since = "lost", None
                 events.append((p, "lost"))
             elif p.link == "lost":

@@ -25,13 +25,14 @@ from sem_console.comap.c2 import C2, FINAL, Task, TaskError, VehicleInfo
 from sem_console.comap.codec import BROADCAST, Header, Message
 from sem_console.comap.geo import Feature
 from sem_console.comap.transport import Addr, AsyncNode, Endpoint
-from sem_console.console.alarms import Alarm, Alarms
+from sem_console.console.alarms import Alarm, Alarms, overloaded_text
 from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
 from sem_console.console.hops import Hops, relay_silent_after
 from sem_console.console.hub import Client, Hub
+from sem_console.console.load import Load
 from sem_console.console.providers import REPORTS, Provider, Providers
 from sem_console.console.replay_source import RecordedAck, RecordedCommand, RecordedName, Replay
 from sem_console.console.sources import Source, open_source
@@ -39,6 +40,7 @@ from sem_console.core import messages
 from sem_console.core.config import Settings, parse_imc_vehicles
 from sem_console.core.contract import LinkConfig
 from sem_console.core.messages import (
+    ConsoleLoad,
     DatabaseState,
     GatewayState,
     ProviderDetail,
@@ -52,6 +54,7 @@ from sem_console.core.messages import (
     alarms_message,
     command_message,
     database_message,
+    load_message,
     provider_message,
     recording_message,
     report_message,
@@ -127,7 +130,13 @@ class Console:
         self.store = self.source.database(store)
         self.id = self.store.claim(self.station)
         self.history = History(self.store.engine, self.source.retention_hours, replay=self.source.seeks)
-        self.hub = Hub(settings.ws_max_queue, settings.ws_stall_seconds, settings.ws_window_bytes, self.clock.monotonic)
+        self.hub = Hub(
+            settings.ws_max_queue,
+            settings.ws_stall_seconds,
+            settings.ws_window_bytes,
+            self.clock.monotonic,
+            settings.ws_cut_seconds,
+        )
         self.feed = Feed()  # what the gateways subscribe to
         self.gateway_states: Callable[[], list[GatewayState]] = lambda: []  # set by whoever runs the gateways
         self.providers, self.commands = self._fresh_state()
@@ -157,8 +166,10 @@ class Console:
             settings.silence_grace,
             (settings.chatter_count, settings.chatter_minutes * 60),
             relay_silent_after(settings.comms_lost_timeout),
+            self.station,
         )
         self.hops = Hops()  # the relays the vehicles come through (console/hops.py)
+        self.load = Load(settings.comms_lost_timeout, self.clock.wall)  # whether this console is the one behind
         self.alarms.baseline(self.commands.by_session.values())
         self.c2 = C2(parse_imc_vehicles(settings.imc_vehicles), self._imc_send, self._emit, SharedComap(self.store), self.station)
         self.imc: AsyncNode | None = None
@@ -410,12 +421,36 @@ class Console:
         self.history.close()
 
     async def _tick_forever(self) -> None:
+        due = time.monotonic() + TICK
         while True:
-            await asyncio.sleep(TICK)
+            await asyncio.sleep(max(0.0, due - time.monotonic()))
+            now = time.monotonic()
             try:
-                self.tick(time.monotonic())
+                self._measure_load(now - due, now)
+                self.hub.sweep(now)
+                self.tick(now)
             except Exception:  # a bug here must not stop link health or unanswered checks for good
                 log.exception("tick failed")
+            due = max(due + TICK, now)
+
+    def _measure_load(self, delay: float, now: float) -> None:
+        """How late this tick ran: whether the console is behind (console/load.py); every station told when that
+        changes, and the log."""
+        self.load.samples_lost = self.source.counters().get("samplesLost", 0)
+        if not self.load.tick(delay, now):
+            return
+        state = self.load.state()
+        if self.load.behind:
+            log.warning(
+                "this console is behind: its event loop ran %.0f ms late, samples waited %.0f ms (%.2f cores); "
+                "vehicles' silences are not judged until it keeps up",
+                state["loopDelayMs"],
+                state["ingestLagMs"],
+                state["cpuCores"],
+            )
+        else:
+            log.warning("this console keeps up again: vehicles' silences are judged again")
+        self._emit(load_message(state))
 
     def _maintained(self, done: asyncio.Task[bool]) -> None:
         self._writing_held = None
@@ -430,8 +465,11 @@ class Console:
             self._held_tried = now
             self._writing_held = asyncio.get_running_loop().create_task(asyncio.to_thread(self.store.maintain))
             self._writing_held.add_done_callback(self._maintained)
-        for p, event in self.providers.tick(now, self.clock.wall()):
+        for p, event in self.providers.tick(now, self.clock.wall(), self.load.excuse(now)):
             self._provider_event(p, event, now)
+        if self.load.behind:
+            unchecked = sum(p.link == "unchecked" for p in self.providers.by_id.values())
+            self.load.withheld = max(self.load.withheld, unchecked)
         self.commands.tick(now, self._heard)
         self._database_changed(now)
         self._update_alarms()  # conditions that hold for a time (no fix after a completed GPS fix command)
@@ -479,6 +517,8 @@ class Console:
         if self.closing:
             return
         now = self.clock.monotonic()
+        if items and not self.source.read_only:  # how long the take waited for the loop (a replay's time is its own)
+            self.load.handled(self.clock.wall() - items[0].received_at, now)
         alarming = False
         for it in items:
             p, new = self.providers.seen(
@@ -623,7 +663,11 @@ class Console:
         """Re-derive the alarms (looking again at the `changed` commands); publish the set when it changed."""
         if self.closing:  # shutting down: the database closes
             return
-        if self.alarms.update(self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error, self.hops.by_relay):
+        load = self.load
+        overloaded = overloaded_text(load.worst, load.withheld) if load.behind and load.withheld else None
+        if self.alarms.update(
+            self.clock.wall(), self.providers.by_id, changed or (), self.recorder.error, self.hops.by_relay, overloaded
+        ):
             self._alarms_changed()
         if self.alarms.silences_changed:
             self.alarms.silences_changed = False
@@ -710,6 +754,10 @@ class Console:
             detail["reports"] = {**detail["reports"], "GPSReport": _without_satellites(gps)}
         return detail
 
+    def load_state(self) -> ConsoleLoad | None:
+        """Whether this console is the one behind (None in a replay: a recording's time is its own)."""
+        return None if self.source.read_only else self.load.state()
+
     def database_state(self) -> DatabaseState | None:
         """The database's reach, for the clients (None in a replay: its own temporary file)."""
         if self.source.read_only:
@@ -747,6 +795,7 @@ class Console:
             "alarms": self.alarms.active(),
             "database": self.database_state(),
             "silences": self.alarms.planned_silences(),
+            "load": self.load_state(),
         }
 
     def metrics(self) -> dict[str, Any]:

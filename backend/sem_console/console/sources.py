@@ -199,6 +199,7 @@ class DdsSource:
             "incompatibleWriters": dict(ingest.incompatible) if ingest else {},
             "peerFindings": [f.to_json() for f in ingest.findings] if ingest else [],
             "reportWindowWaits": ingest.window_waits if ingest else 0,
+            "samplesLost": ingest.samples_lost if ingest else 0,
         }
 
     def status(self) -> ReplayStatus | None:

@@ -135,6 +135,13 @@ class Settings(BaseSettings):
         description="seconds without a completed send that make a client over ws_max_queue stalled",
         json_schema_extra=ENV_ONLY,
     )
+    ws_cut_seconds: float = Field(
+        30.0,
+        ge=1,
+        description="a WebSocket client one send to which has not completed for this long (it stopped reading: a "
+        "laptop asleep) is cut, with the reason in its close frame, whatever waits for it",
+        json_schema_extra=ENV_ONLY,
+    )
     ws_compression: bool = Field(
         False,
         description="permessage-deflate on /ws when a client offers it: about a tenth of the "

@@ -19,7 +19,7 @@ from sem_console.core.versions import UmaaVersion as UmaaVersion
 from sem_console.storage.models import CommandHandled, CommandIssued, TransitionBase
 
 ReportTopic = Literal["GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"]
-LinkState = Literal["live", "lost", "regained"]
+LinkState = Literal["live", "lost", "regained", "unchecked"]
 InsStateName = Literal["OFF", "ON", "RESTARTING"]  # UMAA 3.0.1: InertialSensorStateEnumType
 # UMAA 6.0: InertialSensorCmdEnumType, what its InertialSensorCommandType's state takes
 InsCommandName = Literal["BEST_ALIGN", "GPS_ALIGN", "INIT", "SNAP_ALIGN", "STATIONARY_ALIGN", "TRANSFER_ALIGN"]
@@ -139,8 +139,9 @@ class Command(CommandHandled, _CommandStatus, CommandIssued):
 
 class ProviderMessage(StrictModel):
     type: Literal["provider"]
-    event: Literal["appeared", "lost", "regained", "live", "configured"] = Field(
-        description="live: a regained provider is back to normal; configured: its linkConfig, name or UMAA version changed"
+    event: Literal["appeared", "lost", "regained", "live", "configured", "unchecked"] = Field(
+        description="live: a regained provider is back to normal; configured: its linkConfig, name or UMAA version "
+        "changed; unchecked: silent while this console is behind, so not judged until it catches up"
     )
     provider: ProviderSummary
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from typing import Any, Literal, NotRequired, TypedDict
 
-ProviderEvent = Literal["appeared", "lost", "regained", "live", "configured"]
+ProviderEvent = Literal["appeared", "lost", "regained", "live", "configured", "unchecked"]
 
 
 # ---- the shapes the messages carry ---------------------------------------------------------
@@ -176,6 +176,16 @@ class DatabaseState(TypedDict):
     writesDropped: int
 
 
+class ConsoleLoad(TypedDict):
+    behind: bool
+    behindSince: float | None
+    loopDelayMs: float
+    ingestLagMs: float
+    cpuCores: float
+    samplesLost: int
+    vehiclesNotChecked: int
+
+
 class GatewayState(TypedDict):
     name: str
     enabled: bool
@@ -201,6 +211,7 @@ class SnapshotMessage(TypedDict):
     alarms: list[Alarm]
     silences: list[PlannedSilence]
     database: DatabaseState | None
+    load: ConsoleLoad | None
 
 
 class ReportMessage(TypedDict):
@@ -269,6 +280,11 @@ class DatabaseMessage(TypedDict):
     database: DatabaseState
 
 
+class LoadMessage(TypedDict):
+    type: Literal["load"]
+    load: ConsoleLoad
+
+
 class ErrorMessage(TypedDict):
     type: Literal["error"]
     message: str
@@ -293,6 +309,7 @@ ServerMessage = (
     | AlarmsMessage
     | SilencesMessage
     | DatabaseMessage
+    | LoadMessage
     | ErrorMessage
     | PongMessage
 )
@@ -350,6 +367,10 @@ def silences_message(silences: list[PlannedSilence]) -> SilencesMessage:
 
 def database_message(database: DatabaseState) -> DatabaseMessage:
     return {"type": "database", "database": database}
+
+
+def load_message(load: ConsoleLoad) -> LoadMessage:
+    return {"type": "load", "load": load}
 
 
 def error_message(message: str) -> ErrorMessage:

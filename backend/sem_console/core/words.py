@@ -147,6 +147,8 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "lost": "Lost",
         "unreachable": "Not updating",
         "planned": "Out of comms (planned)",
+        # silent while this console is behind (console/load.py): its silence may be the console's, so not judged
+        "unchecked": "Not checked: console behind",
     },
     # a vehicle seen through a sem-relay (`ProviderSummary.relay`): `{relay}` its --name, `{age}` how old its newest
     # data is by its own time stamp ("1.4 s"): "via relay ship-1, 1.4 s old"; unknown: no time stamp of it yet
@@ -176,6 +178,7 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "recording-failed": "Recording failed",
         "silence-overdue": "Not heard after a planned silence",
         "relay-silent": "Relay silent",
+        "console-overloaded": "Console overloaded",
     },
     # the sentence of an alarm kind whose text says more than its state, by kind; `{until}` "14:20 UTC" (its date when
     # not today's), `{grace}` seconds: "Charlie: not heard by 14:20 UTC, the end of its planned silence (30 s grace)"
@@ -183,6 +186,10 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         "silence-overdue": "Not heard by {until}, the end of its planned silence ({grace} s grace)",
         # `{relay}` the relay's --name, `{vehicles}` "12 vehicles": "relay ship-1 silent: 12 vehicles"
         "relay-silent": "Relay {relay} silent: {vehicles}",
+        # `{delay}` "3.2 s" (the worst of its delays), `{vehicles}` "12 vehicles"
+        "console-overloaded": "This console is overloaded: it ran up to {delay} behind and did not check {vehicles} (no "
+        "link-lost alarm for a silence its delay may explain); run fewer vehicles on this console or give it a bigger "
+        "machine",
     },
     # an alarm's severity and its ISA-18.2 state (`api.schemas.Alarm`)
     "alarmSeverity": {"alarm": "Alarm", "warning": "Warning"},

@@ -526,3 +526,45 @@ def test_a_relay_silent_while_every_vehicle_it_carries_is_in_a_planned_silence_r
     w.alarms.cancel_silence(str(CHARLIE), "alice", w.clock.at)
     w.alarms.update(w.clock.at, w.providers.by_id, (), None, hops.by_relay)
     assert kinds(w.alarms.active()) == [("relay-silent", "active-unacknowledged")]
+
+
+def test_the_console_overloaded_alarm_says_how_many_vehicles_it_did_not_check_now_not_when_raised(
+    tmp_path: Path,
+) -> None:
+    """The console falls behind and vehicles go unchecked one after another: its one alarm's words follow the count
+    and the worst delay while it holds (one alarm, not one per change), and keep the last when it clears."""
+    from sem_console.console.alarms import overloaded_text
+
+    w = World(tmp_path / "db")
+    w.at(1).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(0.7, 1))
+    [first] = w.alarms.active()
+    assert (
+        first["text"] == "this console is overloaded: it ran up to 0.7 s behind and did not check 1 vehicle (no "
+        "link-lost alarm for a silence its delay may explain); run fewer vehicles on this console or give it a bigger machine"
+    )
+    assert w.at(2).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(3.2, 130))
+    [grown] = w.alarms.active()
+    assert grown["id"] == first["id"] and grown["state"] == "active-unacknowledged"
+    assert grown["text"].startswith("this console is overloaded: it ran up to 3.2 s behind and did not check 130 vehicles")
+    assert not w.at(3).alarms.update(w.clock.at, w.providers.by_id, (), None, None, overloaded_text(3.2, 130))
+    assert w.at(4).alarms.update(w.clock.at, w.providers.by_id, (), None, None, None)
+    [cleared] = w.alarms.active()
+    assert cleared["state"] == "cleared-unacknowledged" and "130 vehicles" in cleared["text"]
+
+
+def test_one_stations_overload_acknowledged_or_shelved_is_not_another_stations(tmp_path: Path) -> None:
+    """Acknowledgements and shelves are shared by key between the stations of one database; a console's overload is
+    its own: an operator at ops-2 acknowledging or shelving ops-2's leaves ops-1's in view, unacknowledged."""
+    from sem_console.console.alarms import overloaded_text
+
+    store = Database(tmp_path / "db")
+    one, two = Alarms(store, NAMES, station="ops-1"), Alarms(store, NAMES, station="ops-2")
+    for alarms in (one, two):
+        alarms.update(T0, {}, (), None, None, overloaded_text(2.0, 3))
+    [theirs] = two.open.values()
+    assert two.acknowledge(theirs.id, "bob", T0 + 1, "ops-2") is not None
+    assert not one.acknowledged_elsewhere(theirs.key, "bob", T0 + 1, "ops-2")
+    assert two.shelve(theirs.id, "known slow machine", 3600, "bob", T0 + 1, "ops-2") is not None
+    assert not one.shared_shelf(two.shelves[theirs.key].model_dump())
+    [ours] = one.active()
+    assert (ours["state"], ours["shelf"]) == ("active-unacknowledged", None)

@@ -519,3 +519,61 @@ def test_a_parked_report_goes_at_once_when_its_vehicle_is_selected_and_stops_wit
         assert timer.cancelled() and client.release is None and not client.later
 
     asyncio.run(scenario())
+
+
+def test_a_client_whose_send_has_not_completed_for_the_bound_is_cut_whatever_waits() -> None:
+    """A laptop asleep: its reports are conflated, so its queue never grows past the bound; time cuts it."""
+
+    async def scenario() -> None:
+        hub = Hub(max_queue=5, stall_seconds=0.0, cut_seconds=30.0)
+        gate = asyncio.Event()
+
+        async def send_stalled(_text: str) -> None:
+            await gate.wait()
+
+        async def send_fast(_text: str) -> None:
+            return None
+
+        fast = hub.attach(send_fast, {"type": "snapshot"})
+        asleep = hub.attach(send_stalled, {"type": "snapshot"})
+        hub.publish({"type": "report", "n": 1}, key=("p", "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        assert asleep.sending_since is not None and fast.sending_since is None
+        hub.sweep(asleep.sending_since + 29.0)
+        assert not asleep.dropped and asleep in hub.clients
+        hub.sweep(asleep.sending_since + 31.0)
+        assert asleep.dropped and asleep not in hub.clients and fast in hub.clients
+        assert asleep.dropped_for == "stopped reading: nothing taken for 31 s" and hub.dropped == 1
+
+    asyncio.run(scenario())
+
+
+def test_a_silence_while_the_console_is_behind_is_not_judged_until_it_keeps_up() -> None:
+    links = Providers(comms_lost_timeout=1.0, regained_time=2.0)
+    heard, silent = uuid.uuid4(), uuid.uuid4()
+    for pid in (heard, silent):
+        links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
+    assert [e for _, e in links.tick(1.6, 1.6, behind_by=2.0)] == ["unchecked", "unchecked"]
+    assert links.tick(1.8, 1.8, behind_by=2.0) == []
+    links.seen("GPSFixReport", heard, {"x": 1}, 2.0, 2.0, True)
+    assert [(p.id, e) for p, e in links.tick(2.1, 2.1, behind_by=2.0)] == [(heard, "live")]
+    assert [(p.id, e) for p, e in links.tick(2.2, 2.2)] == [(silent, "lost")]  # kept up: its silence is its own
+
+
+def test_a_silence_longer_than_the_consoles_own_delay_is_lost_however_long_the_console_stays_behind() -> None:
+    """The console behind by 0.6 s at worst (a late tick now and then, each within the settle time, keeps it behind
+    for good): that explains 0.6 s of a vehicle's silence, not more; a vehicle silent past it is lost, not hidden."""
+    links = Providers(comms_lost_timeout=1.0, regained_time=2.0)
+    pid = uuid.uuid4()
+    links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
+    assert [e for _, e in links.tick(1.5, 1.5, behind_by=0.6)] == ["unchecked"]
+    assert [e for _, e in links.tick(1.7, 1.7, behind_by=0.6)] == ["lost"]
+    assert links.by_id[pid].link == "lost" and links.tick(600.0, 600.0, behind_by=0.6) == []
+
+
+def test_a_writer_gone_is_judged_however_far_behind_the_console_is() -> None:
+    links = Providers(comms_lost_timeout=1.0, regained_time=2.0)
+    pid = uuid.uuid4()
+    links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
+    links.seen("GPSFixReport", pid, None, 0.1, 0.1, False)
+    assert [e for _, e in links.tick(0.2, 0.2, behind_by=60.0)] == ["lost"]

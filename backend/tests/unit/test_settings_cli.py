@@ -25,6 +25,7 @@ ENV_ONLY = {
     "report_burst",
     "ws_max_queue",
     "ws_stall_seconds",
+    "ws_cut_seconds",
     "ws_window_bytes",
     "ws_compression",
     "record_queue",

@@ -36,6 +36,7 @@ async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
         "databaseUnavailableSince": reach["unavailableSince"],
         "databaseWritesHeld": reach["writesHeld"],
         "databaseWritesDropped": reach["writesDropped"],
+        "load": console.load_state(),
         "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers),
     }
 

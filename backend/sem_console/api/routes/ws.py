@@ -7,6 +7,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import json
+import logging
 import time
 from typing import Any
 
@@ -21,6 +22,7 @@ from sem_console.console.hub import dumps
 from sem_console.core.messages import error_message, pong_message
 
 router = APIRouter()
+log = logging.getLogger("sem-console.ws")
 
 
 @router.get("/api/ws-schema", tags=["meta"])
@@ -54,8 +56,9 @@ async def websocket(ws: WebSocket) -> None:
         assert client.task is not None
         await asyncio.wait({receiver, client.task}, return_when=asyncio.FIRST_COMPLETED)
         if client.dropped:  # it stopped reading: tell it (if it still can hear), and let it go
+            log.warning("closed the WebSocket of %s: %s", audit.client_of(ws.scope) or "?", client.dropped_for)
             with contextlib.suppress(Exception):
-                await asyncio.wait_for(ws.close(code=1013, reason="too far behind; reconnect"), timeout=1)
+                await asyncio.wait_for(ws.close(code=1013, reason=close_reason(client.dropped_for)), timeout=1)
     finally:
         receiver.cancel()
         console.detach_client(client)
@@ -93,6 +96,11 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                     client.push(dumps(report), key=(report["providerId"], "GPSReport"))  # whole: those it had were thin
             elif msg.type == "resync":
                 client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
+
+
+def close_reason(why: str) -> str:
+    """The close frame's reason (at most 123 bytes): why, and what to do."""
+    return f"{why}; the console cut it so no other screen waits. Reconnect"[:123]
 
 
 def _short(e: Exception) -> str:

@@ -53,6 +53,15 @@ describe("FleetBar", () => {
     await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
   });
 
+  it("counts a vehicle not checked while the console is behind apart, not as live", async () => {
+    const source = fleet();
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+    act(() => source.send({ type: "provider", event: "unchecked", provider: vehicle(A, { name: "Alpha", link: "unchecked" }) }));
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("0 live"));
+    expect(screen.getByTestId("fleet-unchecked").textContent).toBe("1 not checked: console behind");
+    expect(screen.getByTestId("fleet-lost").textContent).toBe("1 lost");
+  });
+
   it("selects the vehicle of the chip pressed", async () => {
     const source = fleet();
     await waitFor(() => expect(chip("Alpha")).toBeTruthy());

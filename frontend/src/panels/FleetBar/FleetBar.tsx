@@ -65,6 +65,11 @@ const LINK: Record<FleetLink, Word> = {
   regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
   stale: { text: linkText("stale"), tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
   lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
+  unchecked: {
+    text: linkText("unchecked"),
+    tone: "muted",
+    title: "silent while this console is behind, no longer than its own delay may explain: not judged (nor blamed)",
+  },
   unreachable: { text: linkText("unreachable"), tone: "muted", title: UNREACHABLE_TITLE },
 };
 
@@ -260,7 +265,9 @@ export function FleetBar() {
   // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
   const stale = all.filter((c) => c.link === "stale").length;
   const notUpdating = all.filter((c) => c.link === "unreachable").length;
-  const live = all.length - lostAll.length - stale - notUpdating;
+  // silent while the console is behind: neither live nor lost, counted apart
+  const unchecked = all.filter((c) => c.link === "unchecked").length;
+  const live = all.length - lostAll.length - stale - notUpdating - unchecked;
   // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
   // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
   const alarmed = all.filter((c) => !lost.includes(c) && byVehicle.has(c.p.id));
@@ -309,6 +316,11 @@ export function FleetBar() {
           {stale > 0 && (
             <span className="fleet-count tone-warn" data-testid="fleet-stale" title={`no report for over ${STALE_AFTER_S} s`}>
               {stale} {inline(linkText("stale"))}
+            </span>
+          )}
+          {unchecked > 0 && (
+            <span className="fleet-count tone-warn" data-testid="fleet-unchecked" title={LINK.unchecked.title}>
+              {unchecked} {inline(linkText("unchecked"))}
             </span>
           )}
           <span

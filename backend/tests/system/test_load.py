@@ -1,0 +1,135 @@
+"""The console knows when it is the one behind (console/load.py), against `sem-sim` vehicles over real DDS; and a
+WebSocket client that stops reading is cut with a reason, slowing no one (console/hub.py)."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import threading
+import time
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from websockets.exceptions import ConnectionClosed
+from websockets.sync.client import connect
+
+from conftest import SimProcess
+from sem_console.sim.provider import vehicle_guid
+from test_console import WsClient, wait_until
+
+VEHICLES = 12
+
+
+def alarms(url: str) -> list[dict[str, Any]]:
+    result: list[dict[str, Any]] = httpx.get(f"{url}/api/alarms").json()
+    return result
+
+
+def all_live(url: str, n: int) -> bool:
+    providers = httpx.get(f"{url}/api/providers").json()
+    return len(providers) == n and all(p["link"] == "live" for p in providers)
+
+
+@pytest.mark.slow
+def test_a_starved_console_says_it_is_overloaded_once_and_blames_no_vehicle(sim, console) -> None:
+    """The machine stalled for 3 s (saturated: the simulators and a browser took the cores; or its VM paused): the
+    console and the vehicles' simulator stopped, the console ran again first. Every vehicle is silent by its clock
+    then. It says it was behind, raises one console-overloaded alarm and no link-lost, shows the vehicles as not
+    checked until they are heard, and clears when it keeps up."""
+    vehicles = sim("--vehicles", str(VEHICLES))
+    c = console()
+    wait_until(lambda: all_live(c.url, VEHICLES), 30, "every vehicle live")
+    wait_until(lambda: not httpx.get(f"{c.url}/api/health").json()["load"]["behind"], 30, "the console keeping up")
+    ws = WsClient(c.ws_url)
+    wait_until(lambda: ws.of("snapshot"), 10, "the snapshot")
+    assert c.proc is not None and vehicles.proc is not None
+    os.kill(vehicles.proc.pid, signal.SIGSTOP)
+    os.kill(c.proc.pid, signal.SIGSTOP)
+    time.sleep(3)
+    os.kill(c.proc.pid, signal.SIGCONT)
+    time.sleep(0.2)
+    os.kill(vehicles.proc.pid, signal.SIGCONT)
+    wait_until(lambda: any(m["load"]["behind"] for m in ws.of("load")), 10, "the console behind")
+    wait_until(lambda: any(not m["load"]["behind"] for m in ws.of("load")), 15, "the console caught up")
+    wait_until(lambda: all_live(c.url, VEHICLES), 15, "every vehicle live again")
+    active = alarms(c.url)
+    assert [a["kind"] for a in active] == ["console-overloaded"], active
+    overload = active[0]
+    assert overload["providerId"] is None and overload["state"] == "cleared-unacknowledged"
+    assert overload["text"].startswith("this console is overloaded: it ran up to ")
+    assert "run fewer vehicles on this console or give it a bigger machine" in overload["text"]
+    events = [m["event"] for m in ws.of("provider")]
+    assert "unchecked" in events and "lost" not in events, events
+    assert ws.errors == []
+    health = httpx.get(f"{c.url}/api/health").json()["load"]
+    assert health["behind"] is False and health["vehiclesNotChecked"] == 0
+
+
+def test_a_silent_vehicle_is_lost_while_the_console_keeps_up(sim, console, domain: int, tmp_path: Path) -> None:
+    """The console not behind: a vehicle that goes silent (its process stopped) is link-lost as ever, and the console
+    says nothing of itself."""
+    sim("--vehicles", "2")
+    silent = SimProcess(domain, ["--vehicles", "1", "--first-vehicle", "3"], tmp_path / "third.json").start()
+    c = console()
+    wait_until(lambda: all_live(c.url, 3), 30, "every vehicle live")
+    assert silent.proc is not None
+    os.kill(silent.proc.pid, signal.SIGSTOP)
+    try:
+        lost = str(vehicle_guid(3))
+        wait_until(lambda: any(a["kind"] == "link-lost" for a in alarms(c.url)), 15, "a link-lost alarm")
+        active = alarms(c.url)
+        assert [(a["kind"], a["providerId"]) for a in active] == [("link-lost", lost)], active
+        assert httpx.get(f"{c.url}/api/health").json()["load"]["behind"] is False
+    finally:
+        os.kill(silent.proc.pid, signal.SIGCONT)
+        silent.end()
+
+
+@pytest.mark.slow
+def test_a_client_that_stops_reading_is_cut_with_a_reason_and_slows_no_one(sim, console) -> None:
+    """A real client that stops reading (its socket's buffers full: a laptop asleep) is cut after the bound, told why
+    in the close frame; another client's reports keep arriving meanwhile."""
+    sim("--vehicles", "6")
+    c = console(env={"SEM_WS_CUT_SECONDS": "2"})
+    wait_until(lambda: all_live(c.url, 6), 30, "every vehicle live")
+    reading = WsClient(c.ws_url)
+    sock = socket.socket()
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)  # before connecting: a small window from the start
+    sock.connect(("127.0.0.1", c.port))
+    with connect(c.ws_url, sock=sock, open_timeout=10, max_size=2**24) as sleeper:
+        closed: list[tuple[int | None, str | None]] = []
+
+        def wake_later() -> None:
+            try:
+                while True:
+                    sleeper.recv()
+            except ConnectionClosed as e:
+                closed.append((e.rcvd.code if e.rcvd else None, e.rcvd.reason if e.rcvd else None))
+
+        # the sleeper's buffers fill, and it is cut after the bound; meanwhile the reading client's reports stay fresh
+        start = time.monotonic()
+        time.sleep(1)
+        before = len(reading.of("report"))
+        ages: list[float] = []
+
+        def cut() -> bool:
+            newest = reading.of("report")[-1]["report"]["report"]["timeStamp"]
+            ages.append(time.time() - (newest["seconds"] + newest["nanoseconds"] / 1e9))
+            return bool(httpx.get(f"{c.url}/api/metrics").json()["wsClientsDropped"] >= 1)
+
+        wait_until(cut, 30, "the sleeper cut")
+        cut_after = time.monotonic() - start
+        reader = threading.Thread(target=wake_later, daemon=True)
+        reader.start()  # the laptop wakes at once: it reads what was sent to it, then the close
+        reader.join(15)
+    assert closed and closed[0][0] == 1013, closed
+    assert closed[0][1] is not None and closed[0][1].startswith("stopped reading: nothing taken for "), closed
+    assert closed[0][1].endswith("the console cut it so no other screen waits. Reconnect")
+    assert len(reading.of("report")) - before > 50 * cut_after, "the reading client kept receiving"
+    assert max(ages) < 1.0, ages  # its newest report, every 50 ms while the sleeper stalled: under a second old
+    assert httpx.get(f"{c.url}/api/metrics").json()["wsClients"] == 1
+    out = c.stop()
+    assert "closed the WebSocket of 127.0.0.1" in out and "stopped reading" in out
