@@ -89,6 +89,7 @@ class Client:
         self.inflight_bytes = 0
         self.last_sent = time.monotonic()
         self.sending_since: float | None = None  # monotonic: when the send under way began (None: none under way)
+        self.sending_bytes = 0  # the size of the send under way
         self.ordered: deque[str] = deque()
         self.queued_bytes = 0
         self.snapshot_pending = False
@@ -282,9 +283,12 @@ class Client:
                         # ordered events) would grow `inflight` and the sockets' buffers without bound
                         self.drop(f"acknowledged none of {len(self.inflight)} frames")
                         return
-                self.sending_since = time.monotonic()
+                self.sending_since, self.sending_bytes = time.monotonic(), len(text)
                 await self.send(text)
                 self.last_sent, self.sending_since = time.monotonic(), None
+
+
+SLOWEST_LINK = 2_000  # bytes a second: a 16 kbit/s satellite link, the thinnest a dashboard is served over
 
 
 class Hub:
@@ -321,7 +325,9 @@ class Hub:
         """Cut every client one send to which has not completed for `cut_seconds` (it stopped reading: a laptop
         asleep), whatever waits for it (`now`: monotonic seconds; the console's tick)."""
         for c in list(self.clients):
-            if c.sending_since is not None and now - c.sending_since > self.cut_seconds:
+            # a send completes only once the frame is nearly all out: a snapshot of hundreds of kB takes minutes on a
+            # satellite link that is still reading, so its size at the slowest link served is added to the bound
+            if c.sending_since is not None and now - c.sending_since > self.cut_seconds + c.sending_bytes / SLOWEST_LINK:
                 c.drop(f"stopped reading: nothing taken for {now - c.sending_since:.0f} s")
                 self._dropped(c)
 

@@ -139,7 +139,7 @@ class Settings(BaseSettings):
         30.0,
         ge=1,
         description="a WebSocket client one send to which has not completed for this long (it stopped reading: a "
-        "laptop asleep) is cut, with the reason in its close frame, whatever waits for it",
+        "laptop asleep) is cut, with the reason in its close frame, whatever waits for it; a big frame (a snapshot) is given the time its size takes at 16 kbit/s more",
         json_schema_extra=ENV_ONLY,
     )
     ws_compression: bool = Field(

@@ -12,7 +12,7 @@ import pytest
 
 from sem_console.console import hub as hub_module
 from sem_console.console.feed import Feed
-from sem_console.console.hub import Client, Hub
+from sem_console.console.hub import SLOWEST_LINK, Client, Hub
 from sem_console.console.providers import Providers
 from sem_console.core.contract import LinkConfig
 
@@ -544,6 +544,30 @@ def test_a_client_whose_send_has_not_completed_for_the_bound_is_cut_whatever_wai
         hub.sweep(asleep.sending_since + 31.0)
         assert asleep.dropped and asleep not in hub.clients and fast in hub.clients
         assert asleep.dropped_for == "stopped reading: nothing taken for 31 s" and hub.dropped == 1
+
+    asyncio.run(scenario())
+
+
+def test_a_big_snapshot_on_a_slow_link_is_given_the_time_its_size_takes_before_a_cut() -> None:
+    """A send completes once the frame is nearly all out: a 200 kB snapshot on a 16 kbit/s satellite link that is still
+    reading takes 100 s, and is not cut at the 30 s bound (it would be sent again on the reconnect, and cut again)."""
+
+    async def scenario() -> None:
+        hub = Hub(cut_seconds=30.0)
+        gate = asyncio.Event()
+
+        async def send_slow(_text: str) -> None:
+            await gate.wait()
+
+        snapshot = {"type": "snapshot", "pad": "x" * 200_000}
+        slow = hub.attach(send_slow, snapshot)
+        await asyncio.sleep(0.01)
+        assert slow.sending_since is not None and slow.sending_bytes > 200_000
+        hub.sweep(slow.sending_since + 31.0)
+        assert not slow.dropped and slow in hub.clients
+        hub.sweep(slow.sending_since + 30.0 + slow.sending_bytes / SLOWEST_LINK + 1.0)
+        assert slow.dropped and slow not in hub.clients
+        gate.set()
 
     asyncio.run(scenario())
 
