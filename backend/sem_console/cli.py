@@ -100,7 +100,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(str(e))
     # the database's and DDS's modules (about 0.3 s) once the checks above passed: a bad start is told before them
     # (before logging is set up: alembic logs its plugins as it is imported)
-    from sem_console.dds.bus import DdsConfigError, open_domain
+    from sem_console.dds.bus import Bus, DdsConfigError, bus_security, open_domain
+    from sem_console.dds.security import OPEN_BUS
     from sem_console.storage.database import Database, StorageError
 
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
@@ -121,7 +122,12 @@ def main(argv: list[str] | None = None) -> int:
         logging.getLogger("sem-console").warning(warning)
     if settings.replay is None:
         try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
-            open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
+            security = bus_security(settings.dds_security)
+            open_domain(settings.domain, settings.dds_interface, settings.dds_peers, security)
+            if security is not None:  # documents Cyclone's plugins refuse (a domain the governance does not cover)
+                Bus(settings.domain).close()
+            else:
+                logging.getLogger("sem-console").warning(OPEN_BUS)
         except DdsConfigError as e:
             print(f"sem-console: {e}", file=sys.stderr)
             return 2

@@ -39,7 +39,7 @@ FOXGLOVE_LAYOUT = BACKEND.parent / "docs" / "foxglove-layout.json"
 # subcommand is listed by its full name ("sem-keys init").
 SETTINGS_OPTIONS: dict[str, set[str] | None] = {
     "sem-console": None,
-    "sem-sim": {"domain"},
+    "sem-sim": {"domain", "dds_security"},
     "sem-check": {"domain"},
     "sem-relay": {"domain"},
     "sem-keys init": {"domain"},

@@ -116,8 +116,8 @@ class Process:
 
 
 class SimProcess(Process):
-    def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
-        self.domain, self.args, self.state_file = domain, args, state_file
+    def __init__(self, domain: int, args: list[str], state_file: Path, env: dict[str, str] | None = None) -> None:
+        self.domain, self.args, self.state_file, self.env = domain, args, state_file, env or {}
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> SimProcess:
@@ -132,7 +132,9 @@ class SimProcess(Process):
             *FAST,
             *self.args,
         ]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.proc = subprocess.Popen(
+            cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env={**os.environ, **self.env}
+        )
         return self
 
 
@@ -141,8 +143,8 @@ def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
     """Start `sem-sim` processes on the test's domain; they share one state file, like restarts of one simulator."""
     started: list[SimProcess] = []
 
-    def start(*args: str) -> SimProcess:
-        p = SimProcess(domain, list(args), tmp_path / "sim-state.json").start()
+    def start(*args: str, env: dict[str, str] | None = None) -> SimProcess:
+        p = SimProcess(domain, list(args), tmp_path / "sim-state.json", env).start()
         started.append(p)
         return p
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import logging
 import os
+from pathlib import Path
 from typing import Any
 
 from cyclonedds.core import DDSException, InstanceState, Listener, Qos, ReadCondition, SampleState, ViewState
@@ -15,40 +17,83 @@ from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import PUBLISHER, reader_qos, representation, umaa_command_qos, writer_qos
+from sem_console.dds.security import BusSecurity, SecurityError, from_uri, load, plugins_missing
 from sem_console.dds.topics import AnySem
 
-# One Domain object per domain id per process: Cyclone keeps the first config it was given.
+# One Domain object per domain id per process: Cyclone keeps the first config it was given (and its security).
 _domains: dict[int, Domain] = {}
+_security: dict[int, BusSecurity | None] = {}
+log = logging.getLogger("sem-console.dds")
 
 
 class DdsConfigError(RuntimeError):
-    """Cyclone refused the configuration (a bad CYCLONEDDS_URI, an interface that does not exist)."""
+    """Cyclone refused the configuration (a bad CYCLONEDDS_URI, an interface that does not exist, security
+    documents it cannot join with)."""
 
 
-def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> Domain:
-    """The process's Domain for this id, created from CYCLONEDDS_URI or the interface and peers settings."""
+def bus_security(folder: Path | None) -> BusSecurity | None:
+    """The DDS Security a process joins with: the identity in `folder` (--dds-security), else CYCLONEDDS_URI's
+    <Security> section's, else None (an open bus); DdsConfigError (one line) for documents the participant could not
+    join with, or a Cyclone DDS without the security plugins."""
+    uri = os.environ.get("CYCLONEDDS_URI", "").strip()
+    try:
+        security = load(folder) if folder is not None else from_uri(uri)
+    except SecurityError as e:
+        raise DdsConfigError(str(e)) from None
+    if security is not None and (problem := plugins_missing()):
+        raise DdsConfigError(problem)
+    return security
+
+
+def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1", security: BusSecurity | None = None) -> Domain:
+    """The process's Domain for this id, created from CYCLONEDDS_URI or the interface and peers settings, with the
+    identity's <Security> configuration beside it when given (bus_security)."""
     if domain_id not in _domains:
         uri = bool(os.environ.get("CYCLONEDDS_URI", "").strip())
         if not uri and (problem := peers_problem(peers)):  # Cyclone would abort the process on it
             raise DdsConfigError(problem)
         source = "CYCLONEDDS_URI" if uri else f"interface {interface!r}, peers {peers!r}"
+        config = dds_config(interface, peers)
+        if security is None and uri:  # the operator's own <Security> section, told as the bus's state
+            security = from_uri(os.environ["CYCLONEDDS_URI"])
+        if security is not None and security.config:
+            config, source = f"{config},{security.config}", f"{source} and {security.source}"
         try:
-            _domains[domain_id] = Domain(domain_id, dds_config(interface, peers))
+            _domains[domain_id] = Domain(domain_id, config)
         except (DDSException, UnicodeEncodeError) as e:
             raise DdsConfigError(
                 f"Cyclone DDS could not start domain {domain_id} with the configuration from {source} "
                 f"(Cyclone prints the reason before this line): {e}"
             ) from None
+        _security[domain_id] = security
+        if security is not None:  # an open bus is said by the commands that keep a log (OPEN_BUS)
+            log.info("domain %d: %s", domain_id, security.describe())
     return _domains[domain_id]
+
+
+def domain_security(domain_id: int) -> BusSecurity | None:
+    """The DDS Security the process's domain was opened with (None: an open bus, or not opened)."""
+    return _security.get(domain_id)
 
 
 class Bus:
     """Owns one DomainParticipant and a Topic per SEM topic (created on first use)."""
 
-    def __init__(self, domain_id: int, interface: str = "lo", peers: str = "127.0.0.1") -> None:
-        open_domain(domain_id, interface, peers)
+    def __init__(
+        self, domain_id: int, interface: str = "lo", peers: str = "127.0.0.1", security: BusSecurity | None = None
+    ) -> None:
+        open_domain(domain_id, interface, peers, security)
         self.domain_id = domain_id
-        self.participant = DomainParticipant(domain_id)
+        secured = domain_security(domain_id)
+        try:
+            self.participant = DomainParticipant(domain_id)
+        except DDSException as e:
+            if secured is None:
+                raise
+            raise DdsConfigError(
+                f"Cyclone DDS refused a participant with the DDS Security of {secured.source} "
+                f"(Cyclone prints the reason before this line): {e}"
+            ) from None
         self.publisher = Publisher(self.participant, qos=PUBLISHER)  # every writer's (qos.PUBLISHER: RTI's UMAA kit)
         self._topics: dict[AnySem, Topic[Any]] = {}
         self._appendable_topics: dict[AnySem, Topic[Any]] = {}  # of the types' appendable copies (TopicSpec.appendable)

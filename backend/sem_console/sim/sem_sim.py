@@ -9,13 +9,15 @@ import logging
 import os
 import signal
 import sys
+from pathlib import Path
 
 from pydantic import ValidationError
 
 from sem_console.comap.messages import Sensor
 from sem_console.core.command_line import Parser, add_model_options, cli_options, from_environment, model_error, ranged
-from sem_console.core.config import BusSettings, parse_imc_id, parse_peers
-from sem_console.dds.bus import Bus, DdsConfigError
+from sem_console.core.config import BusSettings, Settings, parse_imc_id, parse_peers
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security, domain_security
+from sem_console.dds.security import OPEN_BUS
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
 
 
@@ -74,6 +76,13 @@ def build_parser() -> argparse.ArgumentParser:
         type=ranged(int, 0, 232),
         default=from_environment("sem-sim", BusSettings).domain,
         help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
+    )
+    p.add_argument(
+        "--dds-security",
+        type=Path,
+        metavar="DIR",
+        default=from_environment("sem-sim", BusSettings).dds_security,
+        help=Settings.model_fields["dds_security"].description,
     )
     # the simulator's own options: one per field of SimOptions (sim/options.py), in its order
     add_model_options(
@@ -135,10 +144,12 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGINT, stop)
     signal.signal(signal.SIGTERM, stop)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
     except DdsConfigError as e:
         print(f"sem-sim: {e}", file=sys.stderr)
         return 2
+    if domain_security(args.domain) is None:
+        logging.getLogger("sem-sim").warning(OPEN_BUS)
     try:
         sim = Simulator(bus, opts)
     except OSError as e:  # the fix depends on why: "give another --imc-port" for an address not of this machine misled
