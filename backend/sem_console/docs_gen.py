@@ -40,8 +40,9 @@ FOXGLOVE_LAYOUT = BACKEND.parent / "docs" / "foxglove-layout.json"
 SETTINGS_OPTIONS: dict[str, set[str] | None] = {
     "sem-console": None,
     "sem-sim": {"domain", "dds_security"},
-    "sem-check": {"domain"},
-    "sem-relay": {"domain"},
+    "sem-check": {"domain", "dds_security"},
+    "sem-replay": {"dds_security"},
+    "sem-relay": {"domain", "dds_security"},
     "sem-keys init": {"domain"},
 }
 # A command whose options are the fields of a settings model of its own: each option is also its environment variable

@@ -29,9 +29,9 @@ from typing import Any
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
-from sem_console.core.command_line import Parser, from_environment, ranged
+from sem_console.core.command_line import Parser, add_dds_security, from_environment, ranged
 from sem_console.core.config import BusSettings
-from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
@@ -53,6 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("file", type=Path, help="the recording (.mcap)")
     p.add_argument("--domain", type=ranged(int, 0, 232), required=True, help="DDS domain id to publish on, 0..232")
+    add_dds_security(p, "sem-replay")
     # ranged: nan and inf were taken (inf published the whole file at once, a nan or negative --wait waited on)
     p.add_argument(
         "--speed", type=ranged(float, 0.01, 1000), default=1.0, help=("playback speed, e.g. 2 for twice as fast (default: 1)")
@@ -178,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(problem)
     settings = from_environment("sem-replay", BusSettings)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
     except DdsConfigError as e:
         print(f"sem-replay: {e}", file=sys.stderr)
         return 2

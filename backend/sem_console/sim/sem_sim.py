@@ -9,13 +9,20 @@ import logging
 import os
 import signal
 import sys
-from pathlib import Path
 
 from pydantic import ValidationError
 
 from sem_console.comap.messages import Sensor
-from sem_console.core.command_line import Parser, add_model_options, cli_options, from_environment, model_error, ranged
-from sem_console.core.config import BusSettings, Settings, parse_imc_id, parse_peers
+from sem_console.core.command_line import (
+    Parser,
+    add_dds_security,
+    add_model_options,
+    cli_options,
+    from_environment,
+    model_error,
+    ranged,
+)
+from sem_console.core.config import BusSettings, parse_imc_id, parse_peers
 from sem_console.dds.bus import Bus, DdsConfigError, bus_security, domain_security
 from sem_console.dds.security import OPEN_BUS
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
@@ -77,13 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=from_environment("sem-sim", BusSettings).domain,
         help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
     )
-    p.add_argument(
-        "--dds-security",
-        type=Path,
-        metavar="DIR",
-        default=from_environment("sem-sim", BusSettings).dds_security,
-        help=Settings.model_fields["dds_security"].description,
-    )
+    add_dds_security(p, "sem-sim")
     # the simulator's own options: one per field of SimOptions (sim/options.py), in its order
     add_model_options(
         p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors, "numbers": _numbers}

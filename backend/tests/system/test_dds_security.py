@@ -133,6 +133,20 @@ def test_a_read_only_identity_cannot_write_a_command(sim, console, fleet: Path, 
     assert not fix_valid(c.url)
 
 
+@secure
+def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet: Path, domain: int) -> None:
+    sim("--dds-security", identity(fleet, "usv-1"), env=env())
+    done = subprocess.run(
+        [sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "30"]
+        + ["--dds-security", identity(fleet, "wall"), "--only", "discovery.GPSFixReport,reports.GPSFixReport.values"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, **env()},
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+
+
 def one_line_refusal(cmd: list[str]) -> str:
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=60, env={**os.environ, **env()})
     assert done.returncode == 2, done.stdout + done.stderr
