@@ -63,8 +63,9 @@ start=$SECONDS
 for plugin in auth ac crypto; do
   [ -f "$CACHE/prefix/lib/libdds_security_$plugin.so" ] || fail "the build made no libdds_security_$plugin.so (log: $log)"
 done
-# the binding alone (--no-deps: the project's .venv has its dependencies), built against the prefix
-CYCLONEDDS_HOME="$CACHE/prefix" "$PY" -m pip install -q --disable-pip-version-check --no-deps --target "$CACHE/python" \
+# the binding alone (--no-deps: the project's .venv has its dependencies), built against this prefix (--no-cache-dir: pip
+# would take a wheel it built against another prefix before, whose library path is written into it)
+CYCLONEDDS_HOME="$CACHE/prefix" "$PY" -m pip install -q --disable-pip-version-check --no-cache-dir --no-deps --target "$CACHE/python" \
   --no-binary cyclonedds "cyclonedds==$VERSION" >>"$log" 2>&1 \
   || { tail -n 30 "$log" >&2; fail "the cyclonedds binding's build failed (log: $log)"; }
 echo "built in $((SECONDS - start)) s" >>"$log"
