@@ -149,8 +149,6 @@ def main(argv: list[str] | None = None) -> int:
     except DdsConfigError as e:
         print(f"sem-sim: {e}", file=sys.stderr)
         return 2
-    if domain_security(args.domain) is None:
-        logging.getLogger("sem-sim").warning(OPEN_BUS)
     try:
         sim = Simulator(bus, opts)
     except OSError as e:  # the fix depends on why: "give another --imc-port" for an address not of this machine misled
@@ -169,6 +167,8 @@ def main(argv: list[str] | None = None) -> int:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
         print(f"sem-sim: error: {e}{hint}", file=sys.stderr)
         return 1
+    if domain_security(args.domain) is None:  # said once the simulator starts: a refused start is one line
+        logging.getLogger("sem-sim").warning(OPEN_BUS)
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.number, v.guid, sorted(v.faults) or "none")
     twin = False
