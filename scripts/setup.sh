@@ -57,10 +57,6 @@ trap - EXIT  # the job is over: the sourcing script's own exit is its business
 if [ "$dashboard_rc" != 0 ]; then
   cat "$dashboard_log" >&2
   rm -f "$dashboard_log"
-case " $* " in *" --secure "*) SEM_SECURE=1 ;; esac
-if [ "${SEM_SECURE:-0}" = 1 ]; then
-  bash "$ROOT/scripts/secure-build.sh" >/dev/null
-fi
   echo "the dashboard's install or build failed (above)" >&2
   exit 1
 fi
