@@ -71,7 +71,22 @@ def domain() -> int:
 _PROCESS_FIXTURES = {"sim", "console", "pg_cluster"}
 
 
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--security",
+        choices=("skip", "only"),
+        help="deselect the tests marked security (the DDS Security build's), or keep only them (scripts/test's two passes)",
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    security = config.getoption("--security")
+    if security is not None:
+        keep = security == "only"
+        deselected = [item for item in items if (item.get_closest_marker("security") is not None) != keep]
+        if deselected:
+            config.hook.pytest_deselected(items=deselected)
+            items[:] = [item for item in items if (item.get_closest_marker("security") is not None) == keep]
     for item in items:
         names = set(getattr(item, "fixturenames", ()))
         callspec = getattr(item, "callspec", None)

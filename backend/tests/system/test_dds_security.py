@@ -27,6 +27,7 @@ from test_console import HAPPY, REPORTS, V1, provider_ready, wait_command
 
 ENV = secure_env()
 pytestmark = pytest.mark.process
+# the tests on the secure build: marked `security` (scripts/test runs them in a pass of their own, once the build is done)
 secure = pytest.mark.skipif(isinstance(ENV, str), reason=f"no secure build of Cyclone DDS: {ENV}")
 NOW = dt.datetime.now(dt.UTC)
 
@@ -58,6 +59,7 @@ def fix_valid(base: str) -> bool:
     return bool(httpx.get(f"{base}/api/providers/{V1}").json()["reports"]["GPSFixStatusReport"]["report"]["fixValid"])
 
 
+@pytest.mark.security
 @secure
 def test_a_secure_console_and_sim_exchange_every_topic_and_commands_complete(sim, console, fleet: Path) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
@@ -74,6 +76,7 @@ def test_a_secure_console_and_sim_exchange_every_topic_and_commands_complete(sim
         assert [t["status"] for t in done["transitions"]] == HAPPY
 
 
+@pytest.mark.security
 @secure
 def test_a_participant_without_security_sees_nothing_and_commands_nothing(sim, console, fleet: Path, domain: int) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
@@ -112,6 +115,7 @@ REFUSED_WRITER = textwrap.dedent(
 )
 
 
+@pytest.mark.security
 @secure
 def test_a_read_only_identity_cannot_write_a_command(sim, console, fleet: Path, domain: int) -> None:
     """The read-only identity joins through the operator's own CYCLONEDDS_URI (<Security> beside the bus's config);
@@ -133,6 +137,7 @@ def test_a_read_only_identity_cannot_write_a_command(sim, console, fleet: Path, 
     assert not fix_valid(c.url)
 
 
+@pytest.mark.security
 @secure
 def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet: Path, domain: int) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
@@ -164,6 +169,7 @@ def test_an_expired_identity_is_refused(fleet: Path, domain: int) -> None:
     assert "usv-old/cert.pem: the identity's certificate expired at" in line and "sem-keys issue" in line
 
 
+@pytest.mark.security
 @secure
 def test_an_expired_identity_given_through_cyclonedds_uri_is_refused_by_cyclone(fleet: Path, domain: int) -> None:
     """Without the command's own check, Cyclone's authentication plugin refuses the participant: one line."""
