@@ -139,6 +139,20 @@ def test_a_read_only_identity_cannot_write_a_command(sim, console, fleet: Path, 
 
 @pytest.mark.security
 @secure
+def test_a_console_under_a_read_only_identity_stops_with_one_line(fleet: Path, domain: int, tmp_path: Path) -> None:
+    """Its command writers are refused by access control: said at the start, not a traceback of its lifespan."""
+    line = one_line_refusal(
+        [
+            *(sys.executable, "-m", "sem_console.cli", "--port", "0", "--domain", str(domain)),
+            *("--db", str(tmp_path / "c.sqlite3"), "--dds-security", identity(fleet, "wall")),
+        ]
+    )
+    assert line.startswith("sem-console: DDS Security as wall")
+    assert "its permissions do not let it write commands" in line and "--role station" in line
+
+
+@pytest.mark.security
+@secure
 def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet: Path, domain: int) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
     done = subprocess.run(
