@@ -5,7 +5,8 @@
 #   .../python: the cyclonedds Python binding built against it (pip --target), which scripts/secure puts before the
 #     project's .venv, whose own cyclonedds stays PyPI's wheel (that has no security plugins).
 # The C source is the one the crates registry's cyclors 0.4.0 vendors (Cyclone DDS 11.0.1), checked against the
-# registry index's checksum. Run by `scripts/setup.sh --secure` (or SEM_SECURE=1) and by scripts/test; about 3 minutes
+# registry index's checksum, and the binding's source (PyPI's cyclonedds 11.0.1 archive) against PyPI's. Run by
+# `scripts/setup.sh --secure` (or SEM_SECURE=1) and by scripts/test; about 3 minutes
 # on 2 idle cores. Prints the cache's folder on its last line; a failure leaves its one-line reason in .../failed
 # (the security tests' skip reason). Needs cmake, a C compiler and OpenSSL's headers (Debian: cmake, build-essential,
 # libssl-dev), installed here when run as root.
@@ -14,6 +15,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 VERSION="11.0.1"
 CRATE="cyclors-0.4.0"
 CRATE_SHA256="6beb8dc0574f6e2184a2a67c6833ff7ab5b64a95d2459db9b009797b0bb7374e"
+SDIST_SHA256="487cdd9e3dbe3bc6f66c3318c45979f4015bb9d32d5dfcb9bb4a67376176a526"  # PyPI's cyclonedds-11.0.1.tar.gz
 CACHE="${SEM_SECURE_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/sem-console/cyclonedds-secure-$VERSION}"
 PY="$ROOT/.venv/bin/python"
 
@@ -64,10 +66,12 @@ for plugin in auth ac crypto; do
   [ -f "$CACHE/prefix/lib/libdds_security_$plugin.so" ] || fail "the build made no libdds_security_$plugin.so (log: $log)"
 done
 # the binding alone (--no-deps: the project's .venv has its dependencies), built against this prefix (--no-cache-dir: pip
-# would take a wheel it built against another prefix before, whose library path is written into it)
+# would take a wheel it built against another prefix before, whose library path is written into it), from PyPI's source
+# archive checked against its checksum (--require-hashes)
+echo "cyclonedds==$VERSION --hash=sha256:$SDIST_SHA256" >"$work/binding.txt"
 CYCLONEDDS_HOME="$CACHE/prefix" "$PY" -m pip install -q --disable-pip-version-check --no-cache-dir --no-deps --target "$CACHE/python" \
-  --no-binary cyclonedds "cyclonedds==$VERSION" >>"$log" 2>&1 \
-  || { tail -n 30 "$log" >&2; fail "the cyclonedds binding's build failed (log: $log)"; }
+  --no-binary cyclonedds --require-hashes -r "$work/binding.txt" >>"$log" 2>&1 \
+  || { tail -n 30 "$log" >&2; fail "the cyclonedds binding's build failed, or PyPI's source archive has not the checksum written here (log: $log)"; }
 echo "built in $((SECONDS - start)) s" >>"$log"
 touch "$CACHE/ready"
 echo "$CACHE"
