@@ -16,7 +16,7 @@ from cyclonedds.topic import Topic
 from sem_console.dds.config import dds_config, peers_problem
 from sem_console.dds.cyclone_private import InvalidSample, delete_participant, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
-from sem_console.dds.qos import PUBLISHER, reader_qos, representation, umaa_command_qos, writer_qos
+from sem_console.dds.qos import PUBLISHER, TopicClass, reader_qos, representation, umaa_command_qos, writer_qos
 from sem_console.dds.security import BusSecurity, SecurityError, from_uri, load, plugins_missing
 from sem_console.dds.topics import AnySem
 
@@ -111,7 +111,10 @@ class Bus:
         appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
         qos = writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True)
-        return DataWriter(self.publisher, topic, qos=qos + umaa_command_qos(True) if sem.spec.command_qos_lib else qos)
+        try:
+            return DataWriter(self.publisher, topic, qos=qos + umaa_command_qos(True) if sem.spec.command_qos_lib else qos)
+        except DDSException as e:
+            raise self._refused(e, sem, "write") from None
 
     def _appendable_topic(self, sem: AnySem) -> Topic[Any]:
         cls = sem.spec.appendable
@@ -130,7 +133,21 @@ class Bus:
             qos = reader_qos(sem.spec.cls) + umaa_command_qos(False) if sem.spec.command_qos_lib else reader_qos(sem.spec.cls)
         qos = qos + representation(sem.spec.xcdr2_only, writer=False)
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
-        return DataReader(self.participant, topic, qos=qos, listener=listener)
+        try:
+            return DataReader(self.participant, topic, qos=qos, listener=listener)
+        except DDSException as e:
+            raise self._refused(e, sem, "read") from None
+
+    def _refused(self, e: DDSException, sem: AnySem, what: str) -> Exception:
+        """DdsConfigError (one line) for an endpoint the identity's permissions do not allow, else `e`."""
+        secured = domain_security(self.domain_id)
+        if secured is None or e.code != DDSException.DDS_RETCODE_NOT_ALLOWED_BY_SECURITY:
+            return e
+        role = "station" if sem.spec.cls is TopicClass.COMMAND else "vehicle"
+        return DdsConfigError(
+            f"{secured.describe()}: its permissions do not let it {what} {sem.spec.name}: give this command an identity "
+            f"that may (sem-keys issue FLEET NAME --role {role}; docs/security.md)"
+        )
 
     def close(self) -> None:
         """Delete the participant, and in Cyclone everything made from it, now (closing twice does nothing)."""

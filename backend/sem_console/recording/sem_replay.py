@@ -98,11 +98,14 @@ class Replay:
             self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
         return self.appendable_writers[sem]
 
-    def wait_for_readers(self, seconds: float) -> bool:
-        """Make a writer for every topic to replay and wait until one of them matches a reader (or `seconds` pass),
-        so the first samples are not published before anyone listens."""
+    def make_writers(self) -> None:
+        """A writer for every topic to replay (DdsConfigError, one line, for one the identity may not write)."""
         for sem in self.topics.values():
             self.writer(sem)
+
+    def wait_for_readers(self, seconds: float) -> bool:
+        """Wait until a writer (make_writers) matches a reader (or `seconds` pass), so the first samples are not
+        published before anyone listens."""
         deadline = time.monotonic() + seconds
         while time.monotonic() < deadline and not self.stopping:
             if any(w.get_matched_subscriptions() for w in self.writers.values()):
@@ -180,10 +183,11 @@ def main(argv: list[str] | None = None) -> int:
     settings = from_environment("sem-replay", BusSettings)
     try:
         bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
+        replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
+        replay.make_writers()
     except DdsConfigError as e:
         print(f"sem-replay: {e}", file=sys.stderr)
         return 2
-    replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
 
     def stop(_sig: int, _frame: Any) -> None:
         replay.stopping = True

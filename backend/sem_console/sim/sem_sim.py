@@ -163,6 +163,9 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
+    except DdsConfigError as e:  # a writer the identity's permissions refuse
+        print(f"sem-sim: {e}", file=sys.stderr)
+        return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
         print(f"sem-sim: error: {e}{hint}", file=sys.stderr)

@@ -24,6 +24,7 @@ from sem_console.sim.provider import vehicle_guid
 from support.consumer import Consumer
 from support.secure import secure_env
 from test_console import HAPPY, REPORTS, V1, provider_ready, wait_command
+from test_replay import synthetic_recording
 
 ENV = secure_env()
 pytestmark = pytest.mark.process
@@ -148,7 +149,22 @@ def test_a_console_under_a_read_only_identity_stops_with_one_line(fleet: Path, d
         ]
     )
     assert line.startswith("sem-console: DDS Security as wall")
-    assert "its permissions do not let it write commands" in line and "--role station" in line
+    assert "its permissions do not let it write UMAA::SEM::GPSFixControl::GPSFixCommand" in line and "--role station" in line
+
+
+@pytest.mark.security
+@secure
+def test_sem_sim_and_sem_replay_under_a_read_only_identity_stop_with_one_line(fleet: Path, domain: int, tmp_path: Path) -> None:
+    """Their writers are refused by access control: one line naming the identity, the topic and the role it needs."""
+    wall = ("--dds-security", identity(fleet, "wall"))
+    line = one_line_refusal([sys.executable, "-m", "sem_console.sim.sem_sim", "--domain", str(domain), *wall])
+    assert line.startswith("sem-sim: DDS Security as wall") and "its permissions do not let it write UMAA::SEM::" in line
+    assert "--role vehicle" in line
+    recording = synthetic_recording(tmp_path / "rec", seconds=0.5)
+    line = one_line_refusal(
+        [sys.executable, "-m", "sem_console.recording.sem_replay", str(recording), "--domain", str(domain), "--wait", "0", *wall]
+    )
+    assert line.startswith("sem-replay: DDS Security as wall") and "its permissions do not let it write UMAA::SEM::" in line
 
 
 @pytest.mark.security
