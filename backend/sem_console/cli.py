@@ -138,7 +138,7 @@ def main(argv: list[str] | None = None) -> int:
         logging.getLogger("sem-console").warning(warning)
     if settings.replay is None:
         try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
-            security = bus_security(settings.dds_security)
+            security = bus_security(settings.dds_security, settings.domain)
             open_domain(settings.domain, settings.dds_interface, settings.dds_peers, security)
             if security is not None:  # documents Cyclone's plugins refuse (a domain the governance does not cover)
                 command_writers_allowed(Bus(settings.domain))

@@ -317,7 +317,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     cases: list[Case] = []
     try:
         try:
-            bus = Bus(opts.domain, opts.interface, opts.peers, bus_security(opts.dds_security))
+            bus = Bus(opts.domain, opts.interface, opts.peers, bus_security(opts.dds_security, opts.domain))
         except DdsConfigError as e:
             return could_not(str(e))
         if record is not None:

@@ -131,7 +131,8 @@ class DdsSource:
         self.clock = Clock()
         self.station = settings.station()
         self.retention_hours = settings.track_retention_hours
-        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers, bus_security(settings.dds_security))
+        security = bus_security(settings.dds_security, settings.domain)
+        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers, security)
         self.command_writers = {topic: self.bus.writer(topic) for topic in COMMAND_TOPICS}  # every version's
         self.ingest: Ingest | None = None
         self.relay_links: DataReader[Any] | None = None

@@ -31,13 +31,13 @@ class DdsConfigError(RuntimeError):
     documents it cannot join with)."""
 
 
-def bus_security(folder: Path | None) -> BusSecurity | None:
-    """The DDS Security a process joins with: the identity in `folder` (--dds-security), else CYCLONEDDS_URI's
-    <Security> section's, else None (an open bus); DdsConfigError (one line) for documents the participant could not
-    join with, or a Cyclone DDS without the security plugins."""
+def bus_security(folder: Path | None, domain_id: int) -> BusSecurity | None:
+    """The DDS Security a process joins `domain_id` with: the identity in `folder` (--dds-security), else
+    CYCLONEDDS_URI's <Security> section's for that domain, else None (an open bus); DdsConfigError (one line) for
+    documents the participant could not join with, or a Cyclone DDS without the security plugins."""
     uri = os.environ.get("CYCLONEDDS_URI", "").strip()
     try:
-        security = load(folder) if folder is not None else from_uri(uri)
+        security = load(folder) if folder is not None else from_uri(uri, domain_id)
     except SecurityError as e:
         raise DdsConfigError(str(e)) from None
     if security is not None and (problem := plugins_missing()):
@@ -55,7 +55,7 @@ def open_domain(domain_id: int, interface: str = "lo", peers: str = "127.0.0.1",
         source = "CYCLONEDDS_URI" if uri else f"interface {interface!r}, peers {peers!r}"
         config = dds_config(interface, peers)
         if security is None and uri:  # the operator's own <Security> section, told as the bus's state
-            security = from_uri(os.environ["CYCLONEDDS_URI"])
+            security = from_uri(os.environ["CYCLONEDDS_URI"], domain_id)
         if security is not None and security.config:
             config, source = f"{config},{security.config}", f"{source} and {security.source}"
         try:

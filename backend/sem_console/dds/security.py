@@ -212,9 +212,31 @@ def load(folder: Path, now: dt.datetime | None = None) -> BusSecurity:
     )
 
 
-def from_uri(uri: str) -> BusSecurity | None:
-    """The identity a CYCLONEDDS_URI's <Security> section names (its certificate's subject when it can be read),
-    or None when the URI has none. Only inline XML and files are looked in; Cyclone checks the documents."""
+def _uri_certificate(text: str, domain_id: int) -> str | None:
+    """The <IdentityCertificate> of a configuration's <Security> that applies to `domain_id` (outside any <Domain>, or
+    in one whose Id is `any`, absent or this id, as Cyclone applies them), or None; in a text that is not XML, its
+    first such element."""
+    try:
+        root = ET.fromstring(f"<uri>{re.sub(r'^<[?]xml[^>]*[?]>', '', text.strip())}</uri>")
+    except ET.ParseError:
+        match = re.search(r"<IdentityCertificate>\s*([^<]*?)\s*</IdentityCertificate>", text)
+        return match.group(1) if match else None
+    parents = {child: parent for parent in root.iter() for child in parent}
+    for element in root.iter():
+        if element.tag.rpartition("}")[2] != "IdentityCertificate" or not (element.text or "").strip():
+            continue
+        domain = parents.get(element)
+        while domain is not None and domain.tag.rpartition("}")[2] != "Domain":
+            domain = parents.get(domain)
+        if domain is None or domain.get("Id", "any") in ("any", str(domain_id)):
+            return (element.text or "").strip()
+    return None
+
+
+def from_uri(uri: str, domain_id: int) -> BusSecurity | None:
+    """The identity a CYCLONEDDS_URI's <Security> section for `domain_id` names (its certificate's subject when it can
+    be read), or None when the URI has none for that domain. Only inline XML and files are looked in; Cyclone checks
+    the documents."""
     for item in (i.strip() for i in uri.split(",")):
         text = item
         if not item.startswith("<"):
@@ -222,11 +244,10 @@ def from_uri(uri: str) -> BusSecurity | None:
                 text = Path(item.removeprefix("file://")).read_text(encoding="utf-8")
             except (OSError, UnicodeDecodeError):
                 continue
-        match = re.search(r"<IdentityCertificate>\s*([^<]*?)\s*</IdentityCertificate>", text)
-        if match is None:
+        location = _uri_certificate(text, domain_id)
+        if location is None:
             continue
         subject, identity, not_after = "", "(unknown)", None
-        location = match.group(1)
         if location.startswith("file:"):
             try:
                 cert = x509.load_pem_x509_certificate(Path(location.removeprefix("file:")).read_bytes())

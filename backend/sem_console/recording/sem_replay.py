@@ -182,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(problem)
     settings = from_environment("sem-replay", BusSettings)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
         replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
         replay.make_writers()
     except DdsConfigError as e:

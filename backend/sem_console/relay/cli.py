@@ -142,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         settings = from_environment("sem-relay", BusSettings)
         try:
-            bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
+            bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
         except DdsConfigError as e:
             print(f"sem-relay: {e}", file=sys.stderr)
             return 2

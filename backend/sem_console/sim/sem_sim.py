@@ -145,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGINT, stop)
     signal.signal(signal.SIGTERM, stop)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security))
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
     except DdsConfigError as e:
         print(f"sem-sim: {e}", file=sys.stderr)
         return 2
