@@ -392,6 +392,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         else:
             reason = "read-only run: --commands sends commands (a real vehicle's INS may be switched off, or realigned)"
             cases += [Case(n).skip(reason) for n in commands.names(version) if selection(n)]
+    except DdsConfigError as e:  # --commands under an identity whose permissions refuse a command writer
+        return could_not(str(e))
     except Stopped as e:  # every command sent is disposed by now (commands.run)
         stopped = e
         cases = progress.stopped([n for n in run_names if selection(n)], e.name)

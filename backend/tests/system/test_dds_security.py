@@ -183,6 +183,25 @@ def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet:
     assert done.returncode == 0, done.stdout + done.stderr
 
 
+@pytest.mark.security
+@secure
+def test_sem_check_commands_under_a_read_only_identity_is_one_line(sim, fleet: Path, domain: int) -> None:
+    sim("--dds-security", identity(fleet, "usv-1"), env=env())
+    done = subprocess.run(
+        [
+            *(sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "30", "--commands"),
+            *("--dds-security", identity(fleet, "wall"), "--only", "discovery.GPSFixReport"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, **env()},
+    )
+    assert done.returncode == 2 and "Traceback" not in done.stderr, done.stdout + done.stderr
+    (line,) = [line for line in done.stderr.splitlines() if line.strip()]
+    assert line.startswith("sem-check: DDS Security as wall") and "do not let it write UMAA::SEM::" in line
+
+
 def one_line_refusal(cmd: list[str]) -> str:
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=60, env={**os.environ, **env()})
     assert done.returncode == 2, done.stdout + done.stderr
