@@ -166,20 +166,25 @@ def test_sem_sim_and_sem_replay_under_a_read_only_identity_stop_with_one_line(fl
     assert line.startswith("sem-replay: DDS Security as wall") and "its permissions do not let it write UMAA::SEM::" in line
 
 
-@pytest.mark.security
-@secure
-def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet: Path, domain: int) -> None:
-    sim("--dds-security", identity(fleet, "usv-1"), env=env())
-    done = subprocess.run(
+def sem_check(fleet: Path, domain: int, *args: str) -> subprocess.CompletedProcess[str]:
+    """sem-check on the secure build under the read-only identity, against the vehicle usv-1 of a sem-sim."""
+    return subprocess.run(
         [
             *(sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "30"),
-            *("--dds-security", identity(fleet, "wall"), "--only", "discovery.GPSFixReport,reports.GPSFixReport.values"),
+            *("--dds-security", identity(fleet, "wall"), *args),
         ],
         capture_output=True,
         text=True,
         timeout=120,
         env={**os.environ, **env()},
     )
+
+
+@pytest.mark.security
+@secure
+def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet: Path, domain: int) -> None:
+    sim("--dds-security", identity(fleet, "usv-1"), env=env())
+    done = sem_check(fleet, domain, "--only", "discovery.GPSFixReport,reports.GPSFixReport.values")
     assert done.returncode == 0, done.stdout + done.stderr
 
 
@@ -187,16 +192,7 @@ def test_sem_check_tests_a_secure_vehicle_under_a_read_only_identity(sim, fleet:
 @secure
 def test_sem_check_commands_under_a_read_only_identity_is_one_line(sim, fleet: Path, domain: int) -> None:
     sim("--dds-security", identity(fleet, "usv-1"), env=env())
-    done = subprocess.run(
-        [
-            *(sys.executable, "-m", "sem_console.check.cli", "--domain", str(domain), "--timeout", "30", "--commands"),
-            *("--dds-security", identity(fleet, "wall"), "--only", "discovery.GPSFixReport"),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        env={**os.environ, **env()},
-    )
+    done = sem_check(fleet, domain, "--commands", "--only", "discovery.GPSFixReport")
     assert done.returncode == 2 and "Traceback" not in done.stderr, done.stdout + done.stderr
     (line,) = [line for line in done.stderr.splitlines() if line.strip()]
     assert line.startswith("sem-check: DDS Security as wall") and "do not let it write UMAA::SEM::" in line
