@@ -102,9 +102,15 @@ class CpuMeter:
 
 
 @contextmanager
-def stack(sim_args: list[str] | None = None, console_env: dict[str, str] | None = None) -> Iterator[dict[str, Any]]:
-    """A console (and, unless sim_args is None, a separate simulator) on a spare domain and port."""
-    domain, port = free_domain(), free_port()
+def stack(
+    sim_args: list[str] | None = None,
+    console_env: dict[str, str] | None = None,
+    console_args: list[str] | None = None,
+    sim_env: dict[str, str] | None = None,
+    domain: int | None = None,
+) -> Iterator[dict[str, Any]]:
+    """A console (and, unless sim_args is None, a separate simulator) on a spare domain (or `domain`) and port."""
+    domain, port = domain if domain is not None else free_domain(), free_port()
     tmp = Path(tempfile.mkdtemp(prefix="sem-bench-"))
     procs: dict[str, Proc] = {}
     try:
@@ -119,7 +125,8 @@ def stack(sim_args: list[str] | None = None, console_env: dict[str, str] | None 
                     "--log-level",
                     "warning",
                     *sim_args,
-                ]
+                ],
+                sim_env,
             )
         procs["console"] = Proc(
             [
@@ -132,6 +139,7 @@ def stack(sim_args: list[str] | None = None, console_env: dict[str, str] | None 
                 str(tmp / "console.sqlite3"),
                 "--log-level",
                 "warning",
+                *(console_args or []),
             ],
             console_env,
         )

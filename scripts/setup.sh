@@ -1,5 +1,7 @@
 # Sourced by scripts/run, scripts/test and scripts/screenshot: makes .venv with the backend installed,
 # installs the dashboard's npm packages and builds it into frontend/dist (which the console serves).
+# With --secure (or SEM_SECURE=1) it also builds the DDS Security build of Cyclone DDS and its Python binding into a
+# cache, once per machine (scripts/secure-build.sh, about 3 minutes; scripts/secure runs a command on it).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PY="${PYTHON:-python3}"
@@ -59,3 +61,7 @@ if [ "$dashboard_rc" != 0 ]; then
   exit 1
 fi
 rm -f "$dashboard_log"
+case " $* " in *" --secure "*) SEM_SECURE=1 ;; esac
+if [ "${SEM_SECURE:-0}" = 1 ]; then
+  bash "$ROOT/scripts/secure-build.sh" >/dev/null
+fi

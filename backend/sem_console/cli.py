@@ -13,11 +13,15 @@ import sys
 import tempfile
 from contextlib import closing
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pydantic import ValidationError
 
 from sem_console.core.command_line import Parser, add_model_options, model_error
 from sem_console.core.config import Settings
+
+if TYPE_CHECKING:
+    from sem_console.dds.bus import Bus
 
 WS_MAX_MESSAGE_BYTES = 64 * 1024  # a bigger message from a WebSocket client closes its socket (1009, message too big)
 
@@ -35,6 +39,18 @@ def build_parser() -> argparse.ArgumentParser:
     add_model_options(p, Settings)
     p.add_argument("--log-level", choices=("debug", "info", "warning", "error"), default="info")  # the command line's only
     return p
+
+
+def command_writers_allowed(bus: Bus) -> None:
+    """The console's command writers (console/sources.py makes them at its start) made once and closed with `bus`:
+    DdsConfigError (one line) when the identity's permissions do not let it write commands."""
+    from sem_console.versions.commands import COMMAND_TOPICS
+
+    try:
+        for topic in COMMAND_TOPICS:
+            bus.writer(topic)
+    finally:
+        bus.close()
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -100,7 +116,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(str(e))
     # the database's and DDS's modules (about 0.3 s) once the checks above passed: a bad start is told before them
     # (before logging is set up: alembic logs its plugins as it is imported)
-    from sem_console.dds.bus import DdsConfigError, open_domain
+    from sem_console.dds.bus import Bus, DdsConfigError, bus_security, open_domain
+    from sem_console.dds.security import OPEN_BUS
     from sem_console.storage.database import Database, StorageError
 
     logging.basicConfig(level=args.log_level.upper(), format="%(asctime)s %(name)s %(levelname)s %(message)s")
@@ -121,7 +138,12 @@ def main(argv: list[str] | None = None) -> int:
         logging.getLogger("sem-console").warning(warning)
     if settings.replay is None:
         try:  # a DDS configuration Cyclone refuses is a one-line error here, not a traceback in the lifespan
-            open_domain(settings.domain, settings.dds_interface, settings.dds_peers)
+            security = bus_security(settings.dds_security, settings.domain)
+            open_domain(settings.domain, settings.dds_interface, settings.dds_peers, security)
+            if security is not None:  # documents Cyclone's plugins refuse (a domain the governance does not cover)
+                command_writers_allowed(Bus(settings.domain))
+            else:
+                logging.getLogger("sem-console").warning(OPEN_BUS)
         except DdsConfigError as e:
             print(f"sem-console: {e}", file=sys.stderr)
             return 2

@@ -39,9 +39,10 @@ FOXGLOVE_LAYOUT = BACKEND.parent / "docs" / "foxglove-layout.json"
 # subcommand is listed by its full name ("sem-keys init").
 SETTINGS_OPTIONS: dict[str, set[str] | None] = {
     "sem-console": None,
-    "sem-sim": {"domain"},
-    "sem-check": {"domain"},
-    "sem-relay": {"domain"},
+    "sem-sim": {"domain", "dds_security"},
+    "sem-check": {"domain", "dds_security"},
+    "sem-replay": {"dds_security"},
+    "sem-relay": {"domain", "dds_security"},
     "sem-keys init": {"domain"},
 }
 # A command whose options are the fields of a settings model of its own: each option is also its environment variable

@@ -72,7 +72,22 @@ def domain() -> int:
 _PROCESS_FIXTURES = {"sim", "console", "pg_cluster"}
 
 
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--security",
+        choices=("skip", "only"),
+        help="deselect the tests marked security (the DDS Security build's), or keep only them (scripts/test's two passes)",
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    security = config.getoption("--security")
+    if security is not None:
+        keep = security == "only"
+        deselected = [item for item in items if (item.get_closest_marker("security") is not None) != keep]
+        if deselected:
+            config.hook.pytest_deselected(items=deselected)
+            items[:] = [item for item in items if (item.get_closest_marker("security") is not None) == keep]
     for item in items:
         names = set(getattr(item, "fixturenames", ()))
         callspec = getattr(item, "callspec", None)
@@ -117,8 +132,8 @@ class Process:
 
 
 class SimProcess(Process):
-    def __init__(self, domain: int, args: list[str], state_file: Path) -> None:
-        self.domain, self.args, self.state_file = domain, args, state_file
+    def __init__(self, domain: int, args: list[str], state_file: Path, env: dict[str, str] | None = None) -> None:
+        self.domain, self.args, self.state_file, self.env = domain, args, state_file, env or {}
         self.proc: subprocess.Popen[str] | None = None
 
     def start(self) -> SimProcess:
@@ -133,7 +148,9 @@ class SimProcess(Process):
             *FAST,
             *self.args,
         ]
-        self.proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+        self.proc = subprocess.Popen(
+            cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env={**os.environ, **self.env}
+        )
         return self
 
 
@@ -142,8 +159,8 @@ def sim(domain: int, tmp_path: Path) -> Iterator[Callable[..., SimProcess]]:
     """Start `sem-sim` processes on the test's domain; they share one state file, like restarts of one simulator."""
     started: list[SimProcess] = []
 
-    def start(*args: str) -> SimProcess:
-        p = SimProcess(domain, list(args), tmp_path / "sim-state.json").start()
+    def start(*args: str, env: dict[str, str] | None = None) -> SimProcess:
+        p = SimProcess(domain, list(args), tmp_path / "sim-state.json", env).start()
         started.append(p)
         return p
 

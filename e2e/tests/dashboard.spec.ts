@@ -14,6 +14,7 @@ async function statuses(cmd: Locator): Promise<string[]> {
 test("the dashboard shows the connection, the vehicles, satellites, sky plot, fix and INS", async ({ page, request }) => {
   const id = await open(page);
   await expect(page.getByTestId("vehicle")).toHaveCount(3);
+  await expect(page.getByTestId("bus-security")).toHaveText("DDS bus open (no security)"); // the stack has no --dds-security
   const detail = await (await request.get(`${load().url}/api/providers/${id}`)).json();
   const listed = detail.reports.GPSReport.report.satellites.length;
   expect(listed).toBeGreaterThanOrEqual(20);

@@ -266,6 +266,7 @@ test.describe.serial("replay of a recording", () => {
     const live = load();
     await page.goto(`${replay.url}/?vehicle=${recorded.vehicleId}`);
     await expect(page.getByTestId("replay-badge")).toContainText(recorded.file);
+    await expect(page.getByTestId("bus-security")).toHaveCount(0); // a recording has no bus
     await expect(page.getByTestId("connection-state")).toHaveText("Connected");
     await expect(page).toHaveTitle(/Replay · SEM Console$/); // beside a live console's tab, never taken for one
     await expect(page.getByTestId("replay-bar")).toBeVisible();

@@ -151,6 +151,14 @@ class ConsoleLoad(_Model):
     vehiclesNotChecked: int = Field(description="vehicles whose silence was not judged while it was behind")
 
 
+class DdsSecurity(_Model):
+    secured: bool = Field(description="the console joined the DDS bus under DDS Security (false: an open bus)")
+    identity: str | None = Field(None, description="the identity it joined under: its certificate's common name")
+    subject: str | None = Field(None, description="the certificate's subject (RFC 4514)")
+    source: str | None = Field(None, description="where its documents are: --dds-security DIR or CYCLONEDDS_URI")
+    notAfter: float | None = Field(None, description="the certificate's end, UTC seconds since the epoch")
+
+
 class Health(_Model):
     status: Literal["ok"]
     consoleId: str
@@ -161,6 +169,9 @@ class Health(_Model):
         None,
         description="where the console looks for vehicles, in one line: the interface and "
         "discovery (unicast peers or multicast), or CYCLONEDDS_URI; null in a replay",
+    )
+    ddsSecurity: DdsSecurity | None = Field(
+        None, description="whether the console's DDS bus is secured and under which identity; null in a replay"
     )
     basemap: bool = Field(False, description="the console serves a PMTiles chart at /api/basemap.pmtiles (--basemap)")
     replay: bool = Field(

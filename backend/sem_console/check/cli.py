@@ -10,7 +10,7 @@ import uuid
 
 from sem_console.check.results import Stopped
 from sem_console.check.runner import COULD_NOT_TEST, STOPPED, UMAA_VERSIONS, Options, all_names, run
-from sem_console.core.command_line import Parser, from_environment, ranged
+from sem_console.core.command_line import Parser, add_dds_security, from_environment, ranged
 from sem_console.core.config import BusSettings
 
 
@@ -45,6 +45,7 @@ def build_parser() -> argparse.ArgumentParser:
         ),
     )
     p.add_argument("--domain", type=_domain, default=None, help="DDS domain id, 0..232 (default: SEM_DOMAIN or 0)")
+    add_dds_security(p, "sem-check")
     p.add_argument(
         "--provider", type=_guid, default=None, help="the provider's source GUID; needed when several providers are on the domain"
     )
@@ -164,6 +165,7 @@ def main(argv: list[str] | None = None) -> int:
         execute_time=args.execute_time,
         interface=settings.dds_interface,
         peers=settings.dds_peers,
+        dds_security=args.dds_security,
         umaa=args.umaa,
     )
     # SIGTERM (a CI job canceled or out of time) and Ctrl-C stop the run through its finally blocks, so every

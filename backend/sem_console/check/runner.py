@@ -28,7 +28,7 @@ from sem_console import __version__
 from sem_console.check import commands, discovery, icd, junit, reports, umaa_6_0
 from sem_console.check.observe import TICK, Observer
 from sem_console.check.results import Case, Outcome, Progress, Selection, Stopped, summary
-from sem_console.dds.bus import Bus, DdsConfigError
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security
 from sem_console.dds.config import describe
 from sem_console.dds.topics import Sem, Sem60
 
@@ -55,6 +55,7 @@ class Options:
     execute_time: float = 300.0
     interface: str = "lo"
     peers: str = "127.0.0.1"
+    dds_security: Path | None = None  # the identity's folder (--dds-security), else CYCLONEDDS_URI's, else an open bus
     umaa: str | None = None  # the UMAA version to test the provider as; None: the version of its topics
 
 
@@ -316,7 +317,7 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     cases: list[Case] = []
     try:
         try:
-            bus = Bus(opts.domain, opts.interface, opts.peers)
+            bus = Bus(opts.domain, opts.interface, opts.peers, bus_security(opts.dds_security, opts.domain))
         except DdsConfigError as e:
             return could_not(str(e))
         if record is not None:
@@ -391,6 +392,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         else:
             reason = "read-only run: --commands sends commands (a real vehicle's INS may be switched off, or realigned)"
             cases += [Case(n).skip(reason) for n in commands.names(version) if selection(n)]
+    except DdsConfigError as e:  # --commands under an identity whose permissions refuse a command writer
+        return could_not(str(e))
     except Stopped as e:  # every command sent is disposed by now (commands.run)
         stopped = e
         cases = progress.stopped([n for n in run_names if selection(n)], e.name)

@@ -26,7 +26,7 @@ from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.core.messages import ReplayStatus
-from sem_console.dds.bus import Bus, wait_for_acks
+from sem_console.dds.bus import Bus, bus_security, wait_for_acks
 from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.storage.database import Database
@@ -128,7 +128,8 @@ class DdsSource:
         self.clock = Clock()
         self.station = settings.station()
         self.retention_hours = settings.track_retention_hours
-        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers)
+        security = bus_security(settings.dds_security, settings.domain)
+        self.bus = Bus(settings.domain, settings.dds_interface, settings.dds_peers, security)
         self.command_writers = {topic: self.bus.writer(topic) for topic in COMMAND_TOPICS}  # every version's
         self.ingest: Ingest | None = None
         self.relay_links: DataReader[Any] | None = None

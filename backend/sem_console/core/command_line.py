@@ -152,3 +152,16 @@ def from_environment(prog: str, model: type[M]) -> M:
     except ValidationError as e:
         print(f"{prog}: error: {model_error(model, e, given=())}", file=sys.stderr)
         raise SystemExit(2) from None
+
+
+def add_dds_security(parser: argparse.ArgumentParser, prog: str) -> None:
+    """--dds-security DIR on a command other than sem-console, as Settings' field says it (default SEM_DDS_SECURITY)."""
+    from sem_console.core.config import BusSettings, Settings
+
+    parser.add_argument(
+        "--dds-security",
+        type=Path,
+        metavar="DIR",
+        default=from_environment(prog, BusSettings).dds_security,
+        help=Settings.model_fields["dds_security"].description,
+    )

@@ -53,6 +53,16 @@ class Settings(BaseSettings):
         description="unicast discovery peers when CYCLONEDDS_URI is not set, comma separated",
         json_schema_extra=ENV_ONLY,
     )
+    dds_security: Path | None = Field(
+        None,
+        json_schema_extra=cli(metavar="DIR"),
+        description=(
+            "join the DDS bus under DDS Security as the identity in DIR (the folder `sem-keys issue` writes; the "
+            "fleet's identity_ca.pem, permissions_ca.pem and governance.p7s there or two folders up); needs the secure "
+            "build (scripts/setup.sh --secure, run under scripts/secure). Default: CYCLONEDDS_URI's <Security> "
+            "section if it has one, else an open bus"
+        ),
+    )
     sim: int = Field(0, ge=0, le=100, description="start N simulated vehicles alongside on the same domain (default: 0)")
     sim_time_scale: float = Field(1.0, ge=0.001, le=100, description="time scale of the embedded simulator (default: 1)")
     sim_first_vehicle: int = Field(
@@ -139,7 +149,8 @@ class Settings(BaseSettings):
         30.0,
         ge=1,
         description="a WebSocket client one send to which has not completed for this long (it stopped reading: a "
-        "laptop asleep) is cut, with the reason in its close frame, whatever waits for it; a big frame (a snapshot) is given the time its size takes at 16 kbit/s more",
+        "laptop asleep) is cut, with the reason in its close frame, whatever waits for it; a big frame (a snapshot) is "
+        "given the time its size takes at 16 kbit/s more",
         json_schema_extra=ENV_ONLY,
     )
     ws_compression: bool = Field(
@@ -562,3 +573,4 @@ class BusSettings(BaseSettings):
     domain: int = Settings.model_fields["domain"]  # type: ignore[assignment]  # a FieldInfo: see above
     dds_interface: str = Settings.model_fields["dds_interface"]  # type: ignore[assignment]  # a FieldInfo
     dds_peers: str = Settings.model_fields["dds_peers"]  # type: ignore[assignment]  # a FieldInfo
+    dds_security: Path | None = Settings.model_fields["dds_security"]  # type: ignore[assignment]  # a FieldInfo

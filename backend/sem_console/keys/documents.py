@@ -9,7 +9,9 @@ from collections.abc import Iterable, Sequence
 from enum import Enum
 from pathlib import Path
 
+from sem_console.dds.hops import TOPIC as RELAY_LINK
 from sem_console.dds.qos import TopicClass
+from sem_console.dds.security import cyclone_xml as security_config
 from sem_console.dds.topics import Sem, Sem60
 
 PERMISSIONS_XSD = "http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_permissions.xsd"
@@ -33,12 +35,14 @@ def sem_topics() -> list[tuple[str, TopicClass]]:
 def grants(role: Role) -> tuple[list[str], list[str]]:
     """(topics published, topics subscribed) of a role. Every role reads every SEM topic: a vehicle's program reads
     the reports (a second process must not speak for its vehicles) and its command statuses (where a command stood
-    when it restarted) besides the commands (sim/provider.py)."""
+    when it restarted) besides the commands (sim/provider.py). The project's own topic of the relays (dds/hops.py) is
+    read by every role (a console marks the vehicles a relay carries) and written by a vehicle identity: an operations
+    side's sem-relay speaks for the vehicles it carries, as a vehicle."""
     topics = sem_topics()
     commands = [name for name, cls in topics if cls is TopicClass.COMMAND]
-    everything = [name for name, _ in topics]
+    everything = [name for name, _ in topics] + [RELAY_LINK]
     if role is Role.VEHICLE:
-        return [name for name, cls in topics if cls is not TopicClass.COMMAND], everything
+        return [name for name, cls in topics if cls is not TopicClass.COMMAND] + [RELAY_LINK], everything
     return (commands if role is Role.STATION else []), everything
 
 
@@ -75,7 +79,7 @@ def governance_xml(domains: Sequence[int]) -> bytes:
     for kind in ("discovery", "liveliness", "rtps"):
         _sub(rule, f"{kind}_protection_kind", "ENCRYPT")
     rules = _sub(rule, "topic_access_rules")
-    for name, _cls in sem_topics():
+    for name in [name for name, _cls in sem_topics()] + [RELAY_LINK]:
         topic = _sub(rules, "topic_rule")
         _sub(topic, "topic_expression", name)
         _sub(topic, "enable_discovery_protection", "true")
@@ -115,23 +119,18 @@ def permissions_xml(
     return _text(root)
 
 
-def _file(path: Path) -> str:
-    return f"file:{path.resolve()}"
-
-
 def cyclone_xml(
     identity_ca: Path, certificate: Path, private_key: Path, permissions_ca: Path, governance: Path, permissions: Path
 ) -> bytes:
-    """A Cyclone DDS configuration (a CYCLONEDDS_URI fragment) with one identity's `<Security>` section, every file an
-    absolute file: URI; the security plugins load by their default names (dds_security_auth, _ac, _crypto)."""
-    root = ET.Element("CycloneDDS", {"xmlns": "https://cdds.io/config"})
-    security = _sub(ET.SubElement(root, "Domain", {"Id": "any"}), "Security")
-    auth = _sub(security, "Authentication")
-    _sub(auth, "IdentityCertificate", _file(certificate))
-    _sub(auth, "PrivateKey", _file(private_key))
-    _sub(auth, "IdentityCA", _file(identity_ca))
-    access = _sub(security, "AccessControl")
-    _sub(access, "Governance", _file(governance))
-    _sub(access, "Permissions", _file(permissions))
-    _sub(access, "PermissionsCA", _file(permissions_ca))
-    return _text(root)
+    """A Cyclone DDS configuration (a CYCLONEDDS_URI fragment) with one identity's `<Security>` section (the one a
+    participant joins with: dds/security.py)."""
+    return security_config(
+        {
+            "IdentityCA": identity_ca,
+            "IdentityCertificate": certificate,
+            "PrivateKey": private_key,
+            "PermissionsCA": permissions_ca,
+            "Governance": governance,
+            "Permissions": permissions,
+        }
+    )

@@ -29,9 +29,9 @@ from typing import Any
 from cyclonedds.pub import DataWriter
 from mcap.exceptions import McapError
 
-from sem_console.core.command_line import Parser, from_environment, ranged
+from sem_console.core.command_line import Parser, add_dds_security, from_environment, ranged
 from sem_console.core.config import BusSettings
-from sem_console.dds.bus import Bus, DdsConfigError, wait_for_acks
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security, wait_for_acks
 from sem_console.dds.cyclone_private import write_cdr
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
@@ -53,6 +53,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("file", type=Path, help="the recording (.mcap)")
     p.add_argument("--domain", type=ranged(int, 0, 232), required=True, help="DDS domain id to publish on, 0..232")
+    add_dds_security(p, "sem-replay")
     # ranged: nan and inf were taken (inf published the whole file at once, a nan or negative --wait waited on)
     p.add_argument(
         "--speed", type=ranged(float, 0.01, 1000), default=1.0, help=("playback speed, e.g. 2 for twice as fast (default: 1)")
@@ -97,11 +98,14 @@ class Replay:
             self.appendable_writers[sem] = self.bus.writer(sem, appendable=True)
         return self.appendable_writers[sem]
 
-    def wait_for_readers(self, seconds: float) -> bool:
-        """Make a writer for every topic to replay and wait until one of them matches a reader (or `seconds` pass),
-        so the first samples are not published before anyone listens."""
+    def make_writers(self) -> None:
+        """A writer for every topic to replay (DdsConfigError, one line, for one the identity may not write)."""
         for sem in self.topics.values():
             self.writer(sem)
+
+    def wait_for_readers(self, seconds: float) -> bool:
+        """Wait until a writer (make_writers) matches a reader (or `seconds` pass), so the first samples are not
+        published before anyone listens."""
         deadline = time.monotonic() + seconds
         while time.monotonic() < deadline and not self.stopping:
             if any(w.get_matched_subscriptions() for w in self.writers.values()):
@@ -178,11 +182,12 @@ def main(argv: list[str] | None = None) -> int:
         parser.error(problem)
     settings = from_environment("sem-replay", BusSettings)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
+        replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
+        replay.make_writers()
     except DdsConfigError as e:
         print(f"sem-replay: {e}", file=sys.stderr)
         return 2
-    replay = Replay(bus, args.file, args.speed, args.retime, args.commands)
 
     def stop(_sig: int, _frame: Any) -> None:
         replay.stopping = True

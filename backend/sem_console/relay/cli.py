@@ -15,9 +15,18 @@ from typing import Any
 import zenoh
 from pydantic import ValidationError
 
-from sem_console.core.command_line import Parser, add_model_options, cli_options, env_name, from_environment, model_error, ranged
+from sem_console.core.command_line import (
+    Parser,
+    add_dds_security,
+    add_model_options,
+    cli_options,
+    env_name,
+    from_environment,
+    model_error,
+    ranged,
+)
 from sem_console.core.config import BusSettings
-from sem_console.dds.bus import Bus, DdsConfigError
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security
 from sem_console.relay.link import parse_caps
 from sem_console.relay.options import RelayOptions, endpoint_problem, status_file_problem, tls_problem
 from sem_console.relay.relay import Relay, serve_status, zenoh_config
@@ -41,6 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=from_environment("sem-relay", BusSettings).domain,
         help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
     )
+    add_dds_security(p, "sem-relay")
     add_model_options(p, RelayOptions)
     p.add_argument(
         "--config",
@@ -132,7 +142,7 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         settings = from_environment("sem-relay", BusSettings)
         try:
-            bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+            bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
         except DdsConfigError as e:
             print(f"sem-relay: {e}", file=sys.stderr)
             return 2

@@ -13,9 +13,18 @@ import sys
 from pydantic import ValidationError
 
 from sem_console.comap.messages import Sensor
-from sem_console.core.command_line import Parser, add_model_options, cli_options, from_environment, model_error, ranged
+from sem_console.core.command_line import (
+    Parser,
+    add_dds_security,
+    add_model_options,
+    cli_options,
+    from_environment,
+    model_error,
+    ranged,
+)
 from sem_console.core.config import BusSettings, parse_imc_id, parse_peers
-from sem_console.dds.bus import Bus, DdsConfigError
+from sem_console.dds.bus import Bus, DdsConfigError, bus_security, domain_security
+from sem_console.dds.security import OPEN_BUS
 from sem_console.sim.provider import FAULTS, InUse, SimOptions, Simulator, vehicle_guid
 
 
@@ -75,6 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=from_environment("sem-sim", BusSettings).domain,
         help=("DDS domain id, 0..232 (default: SEM_DOMAIN or 0)"),
     )
+    add_dds_security(p, "sem-sim")
     # the simulator's own options: one per field of SimOptions (sim/options.py), in its order
     add_model_options(
         p, SimOptions, {"fault": _fault, "imc_id": _imc_id, "peers": _peers, "sensors": _sensors, "numbers": _numbers}
@@ -135,7 +145,7 @@ def main(argv: list[str] | None = None) -> int:
     signal.signal(signal.SIGINT, stop)
     signal.signal(signal.SIGTERM, stop)
     try:
-        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers)
+        bus = Bus(args.domain, settings.dds_interface, settings.dds_peers, bus_security(args.dds_security, args.domain))
     except DdsConfigError as e:
         print(f"sem-sim: {e}", file=sys.stderr)
         return 2
@@ -153,10 +163,15 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 2
+    except DdsConfigError as e:  # a writer the identity's permissions refuse
+        print(f"sem-sim: {e}", file=sys.stderr)
+        return 2
     except InUse as e:
         hint = f"; run these vehicles with --first-vehicle {e.free} or on another --domain" if e.free else ""
         print(f"sem-sim: error: {e}{hint}", file=sys.stderr)
         return 1
+    if domain_security(args.domain) is None:  # said once the simulator starts: a refused start is one line
+        logging.getLogger("sem-sim").warning(OPEN_BUS)
     for v in sim.vehicles.values():
         logging.getLogger("sem-sim").info("vehicle %d source %s faults %s", v.number, v.guid, sorted(v.faults) or "none")
     twin = False

@@ -32,7 +32,7 @@ pytestmark = [
     pytest.mark.skipif(shutil.which("openssl") is None, reason="the openssl command is not installed"),
 ]
 
-ALL = {s.spec.name for s in (*Sem, *Sem60)}
+ALL = {s.spec.name for s in (*Sem, *Sem60)} | {"SEMConsole_RelayLink"}  # the SEM topics and the relays' (dds/hops.py)
 COMMANDS = {s.spec.name for s in (*Sem, *Sem60) if s.spec.cls is TopicClass.COMMAND}
 
 

@@ -13,7 +13,7 @@ from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import Sem, Sem60
 from sem_console.keys.documents import Role, cyclone_xml, governance_xml, grants, permissions_xml
 
-ALL_ORDER = [s.spec.name for s in (*Sem, *Sem60)]
+ALL_ORDER = [s.spec.name for s in (*Sem, *Sem60)] + ["SEMConsole_RelayLink"]  # the SEM topics, and the relays' (dds/hops.py)
 ALL = set(ALL_ORDER)
 COMMANDS = {s.spec.name for s in (*Sem, *Sem60) if s.spec.cls is TopicClass.COMMAND}
 T0 = dt.datetime(2026, 11, 29, 7, 0, tzinfo=dt.UTC)
@@ -23,7 +23,7 @@ def texts(root: ET.Element, path: str) -> list[str]:
     return [e.text or "" for e in root.findall(path)]
 
 
-def test_the_governance_admits_only_the_authenticated_and_encrypts_every_sem_topic() -> None:
+def test_the_governance_admits_only_the_authenticated_and_encrypts_every_topic() -> None:
     root = ET.fromstring(governance_xml([0, 7]))
     rules = root.findall("./domain_access_rules/domain_rule")
     assert len(rules) == 1
@@ -35,7 +35,7 @@ def test_the_governance_admits_only_the_authenticated_and_encrypts_every_sem_top
         assert texts(rule, f"{kind}_protection_kind") == ["ENCRYPT"]
     topics = rule.findall("./topic_access_rules/topic_rule")
     assert {t.findtext("topic_expression") for t in topics} == ALL
-    assert len(topics) == len(ALL) == 16  # 10 topics of UMAA 3.0.1, 6 of 6.0
+    assert len(topics) == len(ALL) == 17  # 10 topics of UMAA 3.0.1, 6 of 6.0, the relays' own
     for t in topics:
         assert t.findtext("data_protection_kind") == "ENCRYPT"
         assert t.findtext("metadata_protection_kind") == "ENCRYPT"
@@ -47,7 +47,7 @@ def test_the_governance_admits_only_the_authenticated_and_encrypts_every_sem_top
     ("role", "published", "subscribed"),
     [
         (Role.VEHICLE, ALL - COMMANDS, ALL),
-        (Role.STATION, COMMANDS, ALL),
+        (Role.STATION, COMMANDS, ALL),  # a console reads the relays' topic, and writes only commands
         (Role.READONLY, set(), ALL),
     ],
 )

@@ -11,7 +11,9 @@ from sem_console.api.audit import entry_json
 from sem_console.api.deps import ConsoleDep, Limit, Offset, OperatorDep, SettingsDep
 from sem_console.api.responses import DATABASE_READ
 from sem_console.api.schemas import AuditEntry, Health, Metrics, Operator, Problem
+from sem_console.dds.bus import domain_security
 from sem_console.dds.config import describe
+from sem_console.dds.security import BusSecurity
 
 health_router = APIRouter(prefix="/api", tags=["meta"])  # always open
 reads = APIRouter(prefix="/api", tags=["meta"])
@@ -20,9 +22,9 @@ operator_router = APIRouter(prefix="/api", tags=["meta"])  # needs a token when 
 
 @health_router.get("/health", response_model=Health)
 async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
-    """The console itself: its id and station name, its DDS domain and network, whether commands and reads need a
-    token, whether it has a chart or replays a recording, and its database's state. Always open, even with
-    --auth-reads."""
+    """The console itself: its id and station name, its DDS domain and network, whether that bus is secured (DDS
+    Security, and under which identity), whether commands and reads need a token, whether it has a chart or replays a
+    recording, and its database's state. Always open, even with --auth-reads."""
     reach = console.database_reach()
     return {
         "status": "ok",
@@ -38,6 +40,19 @@ async def health(console: ConsoleDep, settings: SettingsDep) -> dict[str, Any]:
         "databaseWritesDropped": reach["writesDropped"],
         "load": console.load_state(),
         "ddsNetwork": None if settings.replay is not None else describe(settings.dds_interface, settings.dds_peers),
+        "ddsSecurity": None if settings.replay is not None else security_json(domain_security(settings.domain)),
+    }
+
+
+def security_json(security: BusSecurity | None) -> dict[str, Any]:
+    if security is None:
+        return {"secured": False}
+    return {
+        "secured": True,
+        "identity": security.identity,
+        "subject": security.subject or None,
+        "source": security.source,
+        "notAfter": security.not_after.timestamp() if security.not_after else None,
     }
 
 

@@ -56,6 +56,7 @@ export function Header() {
       >
         {station ? `station ${station}` : consoleId ? `console ${consoleId.slice(0, 8)}` : ""}
       </span>
+      <BusSecurity />
       <span className="spacer" />
       <RecordControl />
       {readAuthRequired && !token && (
@@ -114,6 +115,31 @@ export function Header() {
         {utc(now, true, "s")}
       </span>
     </header>
+  );
+}
+
+/** Whether the console's DDS bus is secured (DDS Security) and under which identity; an open bus said plainly. */
+function BusSecurity() {
+  const security = useConsoleHealth()?.ddsSecurity;
+  if (!security) return null; // a replay, or the console not answering yet
+  if (!security.secured)
+    return (
+      <span
+        className="bus-open"
+        data-testid="bus-security"
+        title="no DDS Security: any process on the vehicles' network can read every report and command a vehicle"
+      >
+        DDS bus open (no security)
+      </span>
+    );
+  return (
+    <span
+      className="bus-secured"
+      data-testid="bus-security"
+      title={`DDS Security: ${security.subject ?? security.identity ?? ""}, from ${security.source ?? ""}`}
+    >
+      DDS secured as {security.identity}
+    </span>
   );
 }
 
