@@ -15,6 +15,7 @@ from sem_console.umaa.guid import stable_guid
 
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
 MAX_VEHICLE = 10_000  # vehicle numbers run 1..MAX_VEHICLE
+MAX_FLEET = 1_000  # vehicles one simulator runs
 
 
 class SimOptions(BaseModel):
@@ -23,11 +24,13 @@ class SimOptions(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    vehicles: int = Field(1, ge=1, le=500, description="number of vehicles, each with its own stable source GUID (default: 1)")
+    vehicles: int = Field(
+        1, ge=1, le=MAX_FLEET, description="number of vehicles, each with its own stable source GUID (default: 1)"
+    )
     first_vehicle: int = Field(
         1,
         ge=1,
-        le=MAX_VEHICLE - 500,
+        le=MAX_VEHICLE - MAX_FLEET,
         description=(
             "number of the first vehicle: vehicles N, N+1, ... (their GUIDs follow from their numbers). A simulator refuses to "
             "start a vehicle another process already runs on the domain (default: 1)"

@@ -29,6 +29,7 @@ from sem_console.dds.cyclone_private import (
     type_machine,
     wait_for_acks,
     write_cdr,
+    writer_version_2,
 )
 from sem_console.dds.topics import Sem
 from support.samplegen import random_sample
@@ -143,6 +144,19 @@ def test_write_cdr_take_cdr_and_wait_for_acks(domain: int) -> None:
         time.sleep(0.02)
     assert len(taken) == 1 and isinstance(taken[0], InvalidSample)
     assert taken[0].sample_info.instance_state == InstanceState.NotAliveDisposed
+    bus.close()
+
+
+def test_writer_version_2_is_what_write_serialises_with(domain: int) -> None:
+    """sem-sim serialises its prepared reports with writer_version_2 (sim/prepared.py): for a type with @optional
+    members and its appendable copy, what DataWriter.write would serialise; for a plain type, the type's own."""
+    bus = Bus(domain)
+    assert writer_version_2(bus.writer(Sem.GPS_REPORT)) in (True, None)
+    assert writer_version_2(bus.writer(Sem.GPS_REPORT, appendable=True)) in (True, None)
+    for sem in (Sem.GPS_REPORT, Sem.INS_REPORT):
+        w = bus.writer(sem)
+        sample = random_sample(sem.spec.type, random.Random(2), absent=0.0)
+        assert sample.serialize(use_version_2=writer_version_2(w))[1] >= (6 if sem.spec.xcdr2_only else 0)
     bus.close()
 
 
