@@ -4,7 +4,9 @@ every report type of both UMAA versions in both encodings, and a sample of anoth
 from __future__ import annotations
 
 import copy
+import enum
 import random
+from dataclasses import fields, is_dataclass, replace
 from typing import Any
 
 import pytest
@@ -30,25 +32,37 @@ def _bounded(sample: Any) -> Any:
     return sample
 
 
+def _redrawn(value: Any, rng: random.Random) -> Any:
+    """The same shape (strings, absent members, sequence lengths) with every value member drawn again, the awkward
+    values among them (NaN, infinities, -0.0, the ends of the 32-bit range)."""
+    if is_dataclass(value) and not isinstance(value, type):
+        return replace(value, **{f.name: _redrawn(getattr(value, f.name), rng) for f in fields(value)})
+    if isinstance(value, list):
+        return [_redrawn(v, rng) for v in value]
+    if isinstance(value, bool):
+        return rng.random() < 0.5
+    if isinstance(value, enum.Enum):
+        return rng.choice(list(type(value)))
+    if isinstance(value, int):
+        return rng.choice([0, 2**31 - 1, -(2**31), rng.randrange(-(2**31), 2**31)]) if value < 0 else rng.randrange(2**31)
+    if isinstance(value, float):
+        return rng.choice([float("nan"), float("inf"), -float("inf"), -0.0, rng.uniform(-1e6, 1e6)])
+    if isinstance(value, bytes):
+        return rng.randbytes(len(value))
+    return value
+
+
 @pytest.mark.parametrize("v2", [True, False])
 @pytest.mark.parametrize("sem", REPORTS, ids=lambda s: s.name)
 def test_a_layout_packs_what_cyclonedds_serialises(sem: Any, v2: bool) -> None:
     rng = random.Random(f"{sem.name}{v2}")
-    packed = 0
     for _ in range(12):
         sample = _bounded(random_sample(sem.spec.type, rng))
         layout = Layout(sample, v2)
         assert layout.encode(sample) == _cyclone(sample, v2)
-        # the same shape, other values: every value member drawn again
-        other = _bounded(random_sample(sem.spec.type, rng, absent=0.0))
-        same = _bounded(copy.deepcopy(sample))
-        for name in ("timeStamp", "source"):
-            setattr(same, name, getattr(other, name))
-        data = layout.encode(same)
-        assert data is not None
-        assert data == _cyclone(same, v2)
-        packed += 1
-    assert packed == 12
+        for _ in range(4):  # the same shape, other values
+            same = _redrawn(sample, rng)
+            assert layout.encode(same) == _cyclone(same, v2)
 
 
 @pytest.mark.parametrize("umaa", ["3.0.1", "6.0"])
@@ -98,3 +112,29 @@ def test_a_sample_of_another_shape_is_not_packed() -> None:
     wrong = copy.deepcopy(sample)
     wrong.fixValid = 1  # not a boolean: cyclonedds, not the layout, says what it makes of it
     assert layout.encode(wrong) is None
+
+
+@pytest.mark.parametrize("v2", [True, False])
+def test_every_change_of_shape_is_refused(v2: bool) -> None:
+    """A layout holds its strings, lengths, presences and value types as constants: a sample that differs in any of
+    them is not packed by it (PreparedWriter then serialises it by cyclonedds)."""
+    rng = random.Random(5)
+    sample = random_sample(Sem.GPS_REPORT.spec.type, rng, absent=0.0)
+    while len(sample.satellites) < 3:
+        sample = random_sample(Sem.GPS_REPORT.spec.type, rng, absent=0.0)
+    sample.satellites = sample.satellites[:3]
+    sample.clock.referenceCodeTypeFor = "GPS_L1"
+    layout = Layout(sample, v2)
+    assert layout.encode(copy.deepcopy(sample)) == _cyclone(sample, v2)
+    changes: dict[str, Any] = {
+        "a string of another length": lambda s: setattr(s.clock, "referenceCodeTypeFor", "GPS_L1CA"),
+        "another string of the same length": lambda s: setattr(s.clock, "referenceCodeTypeFor", "GPS_L5"),
+        "an enumeration given as its number": lambda s: setattr(s.clock, "referenceConstellationType", 1),
+        "a GUID of another length": lambda s: setattr(s, "source", bytes(s.source) + b"\0"),
+        "a boolean given as a number": lambda s: setattr(s.satellites[0], "usedInFix", 1),
+        "one satellite fewer": lambda s: s.satellites.pop(),
+    }
+    for what, change in changes.items():
+        other = copy.deepcopy(sample)
+        change(other)
+        assert layout.encode(other) is None, what
