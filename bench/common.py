@@ -164,11 +164,11 @@ def wait_http(url: str, timeout: float = 30) -> None:
     raise RuntimeError(f"{url} did not answer")
 
 
-def get_json(url: str, method: str = "GET") -> Any:
+def get_json(url: str, method: str = "GET", timeout: float = 10) -> Any:
     import urllib.request
 
     req = urllib.request.Request(url, method=method)
-    with urllib.request.urlopen(req, timeout=10) as r:
+    with urllib.request.urlopen(req, timeout=timeout) as r:
         return json.loads(r.read())
 
 

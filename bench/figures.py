@@ -15,6 +15,7 @@ from typing import Any
 RESULTS = Path(__file__).resolve().parent / "results"
 MARKER = "<!-- bench-figures -->"
 ORDER = (
+    "scale",
     "latency",
     "fanout",
     "browser",

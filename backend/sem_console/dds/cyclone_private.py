@@ -8,6 +8,8 @@ Why each is needed (none has a public equivalent in 11.0.1):
   undecoded) and the recorder keeps the CDR as it came off the wire.
 - `write_cdr`: `DataWriter.write` of bytes already serialised, with their source timestamp (`sem-replay`
   republishes recorded CDR as it was recorded).
+- `writer_version_2`: the XCDR version `DataWriter.write` serialises with, which `sem-sim` serialises its prepared
+  samples with (`sim/prepared.py`) to write them with `write_cdr`.
 - `wait_for_acks`: `DataWriter.wait_for_acks` raises AttributeError on a timeout in 11.0.1 (it compares with
   `Exception.DDS_RETCODE_TIMEOUT`, which does not exist), so the C function it wraps is called here.
 - `type_machine` and `machinery`: the tree of "machines" cyclonedds serialises a type with (its layout rules:
@@ -49,6 +51,7 @@ __all__ = [
     "type_machine",
     "wait_for_acks",
     "write_cdr",
+    "writer_version_2",
 ]
 
 # The machine classes codec/fastcdr.py handles and what it reads of each (the test walks every SEM type's trees)
@@ -99,6 +102,12 @@ def write_cdr(writer: DataWriter[Any], data: bytes, timestamp_ns: int) -> int:
     the epoch). Returns Cyclone's return code (negative on failure)."""
     result: int = ddspy_write_ts(writer._ref, data, timestamp_ns)  # noqa: SLF001 (see the module)
     return result
+
+
+def writer_version_2(writer: DataWriter[Any]) -> bool | None:
+    """The XCDR version `DataWriter.write` serialises with: True XCDR2, False XCDR1, None the type's own."""
+    v2: bool | None = writer._use_version_2  # noqa: SLF001 (see the module)
+    return v2
 
 
 def wait_for_acks(writers: Iterable[DataWriter[Any]], seconds: float) -> bool:

@@ -15,6 +15,7 @@ from sem_console.umaa.guid import stable_guid
 
 FAULTS = ("reject", "fail-midway", "no-answer", "slow", "skip-commanded", "ins-failure")
 MAX_VEHICLE = 10_000  # vehicle numbers run 1..MAX_VEHICLE
+MAX_FLEET = 1_000  # vehicles one simulator runs
 
 
 class SimOptions(BaseModel):
@@ -23,11 +24,13 @@ class SimOptions(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    vehicles: int = Field(1, ge=1, le=500, description="number of vehicles, each with its own stable source GUID (default: 1)")
+    vehicles: int = Field(
+        1, ge=1, le=MAX_FLEET, description="number of vehicles, each with its own stable source GUID (default: 1)"
+    )
     first_vehicle: int = Field(
         1,
         ge=1,
-        le=MAX_VEHICLE - 500,
+        le=MAX_VEHICLE,
         description=(
             "number of the first vehicle: vehicles N, N+1, ... (their GUIDs follow from their numbers). A simulator refuses to "
             "start a vehicle another process already runs on the domain (default: 1)"
@@ -157,6 +160,16 @@ class SimOptions(BaseModel):
                 faults.setdefault(target, set()).add(kind)
             return faults
         return value
+
+    @model_validator(mode="after")
+    def _last_vehicle(self) -> SimOptions:
+        """Vehicle numbers run 1..MAX_VEHICLE: the fleet must end there, wherever it starts."""
+        if self.first_vehicle + self.vehicles - 1 > MAX_VEHICLE:
+            raise ValueError(
+                f"--first-vehicle {self.first_vehicle} with --vehicles {self.vehicles} runs past vehicle {MAX_VEHICLE}: "
+                f"start at {MAX_VEHICLE - self.vehicles + 1} or lower"
+            )
+        return self
 
     @model_validator(mode="after")
     def _fault_targets(self) -> SimOptions:

@@ -44,6 +44,7 @@ class Sensors:
         seed = int.from_bytes(guid.bytes[:8], "big")
         self.rng = random.Random(seed)
         self.sky = make_sky(seed, opts.satellites, opts.sky_speed)
+        self.sky_ids: list[Any] = [satellite_guid(s.constellation, s.prn) for s in self.sky]  # NumericGUIDs
         self.track = Track(
             opts.start_lat + 0.02 * (number - 1), opts.start_lon + 0.02 * (number - 1), course0=self.rng.uniform(0, 2 * math.pi)
         )
@@ -56,6 +57,8 @@ class Sensors:
         self.fix_state = FixState.INITIATING
         self.pilot: Pilot | None = None  # set by the vehicle's CoMap side (comap_vehicle.py)
         self.next_report = {Sem.GPS_FIX_REPORT: 0.0, Sem.GPS_REPORT: 0.0, Sem.INS_REPORT: 0.0}
+        self.next_due = 0.0  # the earliest of next_report: a vehicle with nothing due and nothing moving is not stepped
+        self.stepped = self.t0
 
     # ---- sensor state -------------------------------------------------------------
     def t(self, now: float) -> float:
@@ -70,7 +73,13 @@ class Sensors:
     def fix_valid(self) -> bool:
         return self.depth >= 0.0
 
-    def step(self, now: float, dt: float) -> None:
+    @property
+    def moving(self) -> bool:
+        """Whether it changes between its reports (surfacing, its INS restarting): stepped every tick."""
+        return self.surfacing or self.ins.state is InsState.RESTARTING
+
+    def step(self, now: float) -> None:
+        dt, self.stepped = now - self.stepped, now
         self.ins.step(self.t(now))
         if self.surfacing and self.depth < 0.0:
             rate = -SUBMERGED_DEPTH_M / max(self.opts.scaled(self.opts.surface_seconds), 1e-3)
@@ -78,19 +87,17 @@ class Sensors:
 
     # ---- reports -------------------------------------------------------------------
     def satellites(self, now: float) -> list[GPSSatelliteType]:
-        t = self.t(now)
+        t, exposure, gauss = self.t(now), self.exposure, self.rng.gauss
         rows = []
-        for s in self.sky:
+        for s, guid in zip(self.sky, self.sky_ids, strict=True):
             az, el = s.az_el(t)
-            cn0 = s.cn0(el, self.exposure, self.rng.gauss(0, 1.0))
-            rows.append((s, az, el, cn0))
+            rows.append((s, guid, az, el, s.cn0(el, exposure, gauss(0, 1.0))))
         used = set()
         if self.fix_valid:
-            strongest = sorted(rows, key=lambda r: -r[3])
-            used = {id(r[0]) for r in strongest[:MAX_USED] if r[3] >= 30.0}
-        return [
-            make(
-                GPSSatelliteType,
+            strongest = sorted(rows, key=lambda r: -r[4])
+            used = {id(r[0]) for r in strongest[:MAX_USED] if r[4] >= 30.0}
+        return [  # every member given: the constructor itself (`make` fills absent ones), a thousand vehicles' worth
+            GPSSatelliteType(
                 antennaCarrierNoiseDensity=round(cn0, 1),
                 azimuth=az,
                 basebandCarrierNoiseDensity=round(max(cn0 - 1.5, 0.0), 1),
@@ -99,10 +106,10 @@ class Sensors:
                 containsAlmanacData=s.almanac,
                 elevation=el,
                 ephemerisData=s.ephemeris,
-                satelliteId=satellite_guid(s.constellation, s.prn),
+                satelliteId=guid,
                 usedInFix=id(s) in used,
             )
-            for s, az, el, cn0 in rows
+            for s, guid, az, el, cn0 in rows
         ]
 
     def gps_report(self, now: float, sats: list[GPSSatelliteType]) -> GPSReportType:
@@ -195,9 +202,10 @@ class Sensors:
         after a stall (or a report forced early) the schedule starts again from now."""
         nxt = self.next_report[sem] + 1.0 / rate
         self.next_report[sem] = nxt if nxt > now else now + 1.0 / rate
+        self.next_due = min(self.next_report.values())
 
     def report_now(self, sem: Sem) -> None:
-        self.next_report[sem] = 0.0
+        self.next_report[sem] = self.next_due = 0.0
 
     def publish(self, now: float, write: Out) -> None:
         due = {k: now >= v for k, v in self.next_report.items()}

@@ -51,6 +51,7 @@ from sem_console.dds.bus import Bus
 from sem_console.dds.topics import AnySem, Sem, Sem60, to_appendable
 from sem_console.sim.models import STATIONARY_STAGES
 from sem_console.sim.options import SimOptions
+from sem_console.sim.prepared import PreparedWriter
 from sem_console.umaa.samples import make
 from sem_console.versions import UMAA_6_0
 
@@ -264,6 +265,7 @@ class Writer60:
         self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
         # the command flow's statuses and acks: reliable, transient-local, with RTI UMAAQoSLib's CommandQoS (bus.writer)
         self.writers.update({sem: bus.writer(sem) for sem in (Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)})
+        self.prepared = {sem: PreparedWriter(self.writers[sem]) for sem in sems}  # the reports (sim/prepared.py)
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with
         self.alignments = Alignments(align_seconds)
 
@@ -283,7 +285,12 @@ class Writer60:
         """A 3.0.1 report as its 6.0 counterpart; a 6.0 sample (a command's status or ack) as it is."""
         out = self._as_6_0(sem, sample) if isinstance(sem, Sem) else (sem, sample)
         if out is not None:
-            self.writers[out[0]].write(to_appendable(out[1]) if out[0] in self.appendable else out[1])
+            sample = to_appendable(out[1]) if out[0] in self.appendable else out[1]
+            prepared = self.prepared.get(out[0])
+            if prepared is not None:
+                prepared.write(sample)
+            else:
+                self.writers[out[0]].write(sample)
 
     def dispose(self, sem: AnySem, sample: Any) -> None:
         out = self._as_6_0(sem, sample) if isinstance(sem, Sem) else (sem, sample)

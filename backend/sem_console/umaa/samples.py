@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import time
 from dataclasses import fields
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -14,9 +15,14 @@ if TYPE_CHECKING:
 T = TypeVar("T", bound="DataclassInstance")  # the generated structs are dataclasses
 
 
+@functools.cache
+def _members(cls: type[DataclassInstance]) -> tuple[str, ...]:
+    return tuple(f.name for f in fields(cls))
+
+
 def make(cls: type[T], **values: Any) -> T:
     """Construct a generated struct; members not given are None (for @optional members)."""
-    return cls(**{f.name: values.get(f.name) for f in fields(cls)})
+    return cls(**{name: values.get(name) for name in _members(cls)})
 
 
 def now_datetime(t: float | None = None) -> DateTime:

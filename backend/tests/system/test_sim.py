@@ -329,7 +329,7 @@ def test_ctrl_c_runs_shutdown_sequence(sim, consumer: Consumer) -> None:
 @pytest.mark.parametrize(
     "args,message",
     [
-        (["--vehicles", "0"], "--vehicles: 0 is outside 1..500"),
+        (["--vehicles", "0"], "--vehicles: 0 is outside 1..1000"),
         (["--domain", "x"], "sem-sim: error: --domain: 'x' is not a whole number"),
         (["--fault", "explode"], "unknown fault 'explode'"),
         (["--fault", "reject:zero"], "must be a vehicle number"),

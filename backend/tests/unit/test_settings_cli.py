@@ -215,3 +215,22 @@ def test_the_missing_dashboard_warning_names_a_path_that_exists_here(tmp_path: P
     monkeypatch.setattr(main, "DEFAULT_FRONTEND", tmp_path / "site-packages" / "frontend" / "dist")
     (wheel,) = [w for w in cli.start_warnings(Settings()) if "dashboard" in w]
     assert "site-packages" not in wheel and "--frontend-dir DIR" in wheel
+
+
+def test_every_embedded_simulator_the_settings_allow_starts() -> None:
+    """--sim-first-vehicle and --sim are handed to sem-sim's options: their largest values make a simulator, and a
+    fleet that would run past the last vehicle number is one line naming where to start instead."""
+    from sem_console.sim.options import MAX_VEHICLE, SimOptions
+
+    def largest(name: str) -> int:
+        return next(b.le for b in Settings.model_fields[name].metadata if getattr(b, "le", None) is not None)
+
+    first, fleet = largest("sim_first_vehicle"), largest("sim")
+    assert SimOptions(first_vehicle=first, vehicles=fleet).numbers[-1] == first + fleet - 1
+    assert SimOptions(first_vehicle=MAX_VEHICLE, vehicles=1).numbers[-1] == MAX_VEHICLE
+    with pytest.raises(ValidationError) as e:
+        SimOptions(first_vehicle=MAX_VEHICLE - 9, vehicles=20)
+    assert model_error(SimOptions, e.value) == (
+        f"--first-vehicle {MAX_VEHICLE - 9} with --vehicles 20 runs past vehicle {MAX_VEHICLE}: "
+        f"start at {MAX_VEHICLE - 19} or lower"
+    )
