@@ -11,7 +11,7 @@ simulator's default rates; with 50, a new client's time to the full dashboard an
 The probe's GPSFixReports are stamped as they reach the page's WebSocket too: what comes before the dashboard.
 Every figure is printed beside its target, then one JSON line with the date, the machine and
 its load average.
-Usage: python bench/probe.py [--seconds 20] [--fleet 250]
+Usage: python bench/probe.py [--seconds 20] [--fleet 250] [--fleet-hz 1]
 """
 
 from __future__ import annotations
@@ -100,10 +100,16 @@ def probe_writer(domain: int, stop: threading.Event, written: Written) -> None:
         stop.wait(max(0.0, nxt - time.monotonic()))
 
 
-def sim_args(vehicles: int, full_rate: bool) -> list[str] | None:
+def sim_args(vehicles: int, full_rate: bool, fleet_hz: float | None = None) -> list[str] | None:
+    """The simulator's options: every report at 10 Hz (full_rate), at `fleet_hz`, or at its default rates."""
     if vehicles <= 1:
         return None
-    rates = ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"] if full_rate else []
+    if full_rate:
+        rates = ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"]
+    elif fleet_hz is not None:
+        rates = ["--gps-rate", f"{fleet_hz:g}", "--fix-rate", f"{fleet_hz:g}", "--ins-rate", f"{fleet_hz:g}"]
+    else:
+        rates = []
     return ["--vehicles", str(vehicles - 1), "--first-vehicle", "2", *rates]
 
 
@@ -154,10 +160,10 @@ def snapshot_bytes(ws_url: str) -> int:
     return asyncio.run(first())
 
 
-def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]:
+def run(vehicles: int, seconds: float, full_rate: bool = True, fleet_hz: float | None = None) -> dict[str, Any]:
     written = Written()
     stop = threading.Event()
-    with stack(sim_args=sim_args(vehicles, full_rate)) as st:
+    with stack(sim_args=sim_args(vehicles, full_rate, fleet_hz)) as st:
         writer = threading.Thread(target=probe_writer, args=(st["domain"], stop, written), daemon=True)
         writer.start()
         try:
@@ -236,13 +242,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--fleet", type=int, default=250, help="the fleet run's vehicles (0: none)")
+    ap.add_argument("--fleet-hz", type=float, default=None, help="the fleet run's report rate (default: the simulator's)")
     ap.add_argument("--vehicles", type=vehicle_counts, default="1,20,50", help="the runs at 10 Hz, comma-separated ('': none)")
     args = ap.parse_args()
     runs: dict[str, dict[str, Any]] = {}
     for n in args.vehicles:
         runs[str(n)] = run(n, args.seconds) | {"load": load()}
     if args.fleet:
-        runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False) | {"load": load()}
+        runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False, fleet_hz=args.fleet_hz) | {"load": load()}
 
     rows = []
     for name, r in runs.items():
