@@ -74,6 +74,14 @@ test(
       await expect(rows).toHaveCount(1);
       await expect(rows).toHaveAttribute("data-link", "lost");
       await expect(rows).toContainText(lone);
+
+      // zoomed out, the map draws the fleet in clusters, the lost vehicle never among them
+      await expect(page.getByTestId("map")).toHaveAttribute("data-ready", "true");
+      await page.evaluate(() => window.__semMap!.jumpTo({ zoom: 4 }));
+      await expect.poll(() => page.evaluate(() => window.__semFleet!.drawnClusters().length)).toBeGreaterThan(0);
+      const clustered = await page.evaluate(() => window.__semFleet!.drawnClusters().flat());
+      expect(clustered.length).toBeGreaterThan(FLEET / 2);
+      expect(clustered).not.toContain(lone);
     } finally {
       await stopChild(single);
       await stopChild(fleet);

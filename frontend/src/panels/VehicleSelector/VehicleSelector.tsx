@@ -1,4 +1,4 @@
-import { startTransition, useEffect, useMemo, useRef, useState } from "react";
+import { startTransition, useEffect, useEffectEvent, useMemo, useRef, useState } from "react";
 import { useVirtualizer } from "@tanstack/react-virtual";
 import { useFocusWhenGone } from "../../components/focus";
 import { VehicleTag } from "../../components/VehicleTag";
@@ -268,10 +268,12 @@ export function VehicleSelector() {
   });
   // A vehicle selected elsewhere (a chip of the fleet bar, the map, an alarm) is brought into the list's view, its
   // Rename with it: with a fleet the list scrolls within itself. Only the list scrolls, never the page.
-  useEffect(() => {
+  // Only when the selection, the search or the filters change: the operator's own scrolling is left alone.
+  const reveal = useEffectEvent(() => {
     if (at >= 0) virtual.scrollToIndex(at, { align: "auto" });
-    else if (hidden && list.current) list.current.scrollTop = 0; // what the list says of it, at its top
-  }, [selected, at, hidden, virtual]);
+    else if (selected && list.current) list.current.scrollTop = 0; // what the list says of it, at its top
+  });
+  useEffect(() => reveal(), [selected, shown, filter, filters]);
   const margin = virtual.options.scrollMargin;
   return (
     <>
