@@ -25,6 +25,7 @@ import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../../lib/freshness";
 import {
   ALARM_SEVERITY,
+  FLEET_STATE,
   fixWord,
   floodText,
   inline,
@@ -367,12 +368,12 @@ export function FleetBar() {
           )}
           {inAlarm > 0 && (
             <span className="fleet-count tone-bad" data-testid="fleet-in-alarm" title="vehicles with an unacknowledged alarm">
-              {inAlarm} in alarm
+              {inAlarm} {inline(FLEET_STATE.alarm)}
             </span>
           )}
           {underCommand > 0 && (
             <span className="fleet-count tone-info" data-testid="fleet-commanded" title="vehicles with a command in progress">
-              {underCommand} commanded
+              {underCommand} {inline(FLEET_STATE.commanded)}
             </span>
           )}
         </span>

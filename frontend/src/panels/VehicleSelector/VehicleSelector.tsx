@@ -20,7 +20,7 @@ import { plannedUntil } from "../../data/slices/alarms";
 import { LastHeard } from "../../components/LastHeard";
 import { RelayHop } from "../../components/RelayHop";
 import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../../lib/freshness";
-import { fixWord, inline, insWord, linkOrPlanned, linkText } from "../../lib/labels";
+import { FLEET_STATE, fixWord, inline, insWord, linkOrPlanned, linkText } from "../../lib/labels";
 import { age } from "../../lib/units";
 import { vehicleMatcher } from "../../lib/vehicle";
 import { STALE_AFTER_S } from "../FleetBar/FleetBar";
@@ -102,8 +102,8 @@ const STATES: { value: Filters["state"]; text: string }[] = [
   { value: "live", text: linkText("live") },
   { value: "stale", text: linkText("stale") },
   { value: "lost", text: linkText("lost") },
-  { value: "alarm", text: "In alarm" },
-  { value: "commanded", text: "Commanded" },
+  { value: "alarm", text: FLEET_STATE.alarm },
+  { value: "commanded", text: FLEET_STATE.commanded },
 ];
 
 /** A filter's drop-down: its choices, "" first (any). */
