@@ -100,17 +100,60 @@ def probe_writer(domain: int, stop: threading.Event, written: Written) -> None:
         stop.wait(max(0.0, nxt - time.monotonic()))
 
 
+SIM_MAX = 500  # sem-sim's most vehicles: a larger fleet is run by several
+
+
+def sim_blocks(vehicles: int) -> list[tuple[int, int]]:
+    """The simulators of a fleet of `vehicles` beside the probe (vehicle 1): each one's first vehicle and count."""
+    return [(first, min(SIM_MAX, vehicles + 1 - first)) for first in range(2, vehicles + 1, SIM_MAX)]
+
+
+def rate_args(full_rate: bool, fleet_hz: float | None) -> list[str]:
+    """Every report at 10 Hz (full_rate), at `fleet_hz`, or at the simulator's default rates."""
+    if full_rate:
+        return ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"]
+    if fleet_hz is not None:
+        return ["--gps-rate", f"{fleet_hz:g}", "--fix-rate", f"{fleet_hz:g}", "--ins-rate", f"{fleet_hz:g}"]
+    return []
+
+
 def sim_args(vehicles: int, full_rate: bool, fleet_hz: float | None = None) -> list[str] | None:
-    """The simulator's options: every report at 10 Hz (full_rate), at `fleet_hz`, or at its default rates."""
+    """The first simulator's options (the stack's); `more_sims` starts the others of a fleet beyond SIM_MAX."""
     if vehicles <= 1:
         return None
-    if full_rate:
-        rates = ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"]
-    elif fleet_hz is not None:
-        rates = ["--gps-rate", f"{fleet_hz:g}", "--fix-rate", f"{fleet_hz:g}", "--ins-rate", f"{fleet_hz:g}"]
-    else:
-        rates = []
-    return ["--vehicles", str(vehicles - 1), "--first-vehicle", "2", *rates]
+    first, count = sim_blocks(vehicles)[0]
+    return ["--vehicles", str(count), "--first-vehicle", str(first), *rate_args(full_rate, fleet_hz)]
+
+
+def more_sims(st: dict[str, Any], vehicles: int, full_rate: bool, fleet_hz: float | None) -> list[common.Proc]:
+    """The simulators of the fleet after the stack's first, on its domain."""
+    return [
+        common.Proc(
+            [
+                str(common.BIN / "sem-sim"),
+                *("--domain", str(st["domain"]), "--log-level", "warning"),
+                *("--state-file", str(st["tmp"] / f"sim{first}.json")),
+                *("--vehicles", str(count), "--first-vehicle", str(first)),
+                *rate_args(full_rate, fleet_hz),
+            ]
+        )
+        for first, count in sim_blocks(vehicles)[1:]
+    ]
+
+
+def listed(url: str, vehicles: int, timeout: float = 180.0) -> None:
+    """Until the console lists the whole fleet: a simulator of a thousand vehicles takes longer than the 3 s of
+    discovery to start them all, and a page opened before measures a smaller fleet."""
+    deadline = time.monotonic() + timeout
+    n = 0
+    while n < vehicles:
+        if time.monotonic() > deadline:
+            raise SystemExit(f"the console listed {n} of {vehicles} vehicles after {timeout:g} s: the machine is too busy")
+        try:
+            n = len(common.get_json(f"{url}/api/providers"))
+        except OSError:  # a console busy starting a thousand vehicles answers late: asked again
+            continue
+        time.sleep(1.0)
 
 
 def q(values: list[float]) -> dict[str, float | None]:
@@ -164,15 +207,19 @@ def run(vehicles: int, seconds: float, full_rate: bool = True, fleet_hz: float |
     written = Written()
     stop = threading.Event()
     with stack(sim_args=sim_args(vehicles, full_rate, fleet_hz)) as st:
+        sims = more_sims(st, vehicles, full_rate, fleet_hz)
         writer = threading.Thread(target=probe_writer, args=(st["domain"], stop, written), daemon=True)
         writer.start()
         try:
             time.sleep(3.0)  # discovery, the simulator's vehicles up
+            listed(st["url"], vehicles)
             page = browse(st["url"], seconds)
             snap = snapshot_bytes(st["ws"])
         finally:
             stop.set()
             writer.join(5)
+            for sim in sims:
+                sim.stop()
     start, end = page["start"] / 1000, page["end"] / 1000
     panels: dict[str, Any] = {}
     for panel in ("latitude", "ins-time", "sats-in-view"):
