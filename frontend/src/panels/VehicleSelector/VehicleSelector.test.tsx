@@ -177,6 +177,36 @@ describe("VehicleSelector", () => {
     expect(screen.getByTestId("find-vehicle-count").textContent).toBe("1 of 1000 vehicles");
   });
 
+  it("keeps the focused row and the selected one in the page when the list scrolls them out of its view, and says each row's place in the fleet", async () => {
+    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+    const source = new TestSource();
+    renderWith(source, <VehicleSelector />);
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) }),
+      ),
+    );
+    await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+    fireEvent.click(row("Unit 0001"));
+    await waitFor(() => expect(row("Unit 0001").getAttribute("aria-pressed")).toBe("true"));
+    const focused = row("Unit 0002");
+    act(() => focused.focus());
+    expect(focused.closest("[role=listitem]")?.getAttribute("aria-posinset")).toBe("3");
+    expect(focused.closest("[role=listitem]")?.getAttribute("aria-setsize")).toBe("1000");
+    // the operator scrolls the list far down (a wheel, a scroll bar): the rows there drawn, the focus and the selected
+    // vehicle's row (its Rename) not taken out of the page
+    const list = screen.getByTestId("vehicles");
+    act(() => {
+      list.scrollTop = 600 * 70;
+      fireEvent.scroll(list);
+    });
+    await waitFor(() => expect(row("Unit 0600")).toBeTruthy());
+    expect(document.activeElement).toBe(focused);
+    expect(focused.isConnected).toBe(true);
+    expect(row("Unit 0001")).toBeTruthy();
+    expect(screen.getAllByTestId("vehicle").length).toBeLessThan(60);
+  });
+
   it("filters by state, by UMAA version and by relay, and says how many of the fleet match", async () => {
     const [C, D] = ["c0000000-0000-4000-8000-000000000003", "d0000000-0000-4000-8000-000000000004"];
     const source = new TestSource();

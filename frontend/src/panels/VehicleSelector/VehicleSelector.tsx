@@ -1,5 +1,5 @@
 import { startTransition, useEffect, useEffectEvent, useMemo, useRef, useState } from "react";
-import { useVirtualizer } from "@tanstack/react-virtual";
+import { defaultRangeExtractor, useVirtualizer, type Range } from "@tanstack/react-virtual";
 import { useFocusWhenGone } from "../../components/focus";
 import { VehicleTag } from "../../components/VehicleTag";
 import {
@@ -198,6 +198,7 @@ export function VehicleSelector() {
   const commanded = useCommanded();
   const list = useRef<HTMLElement>(null);
   const rows = useRef<HTMLDivElement>(null);
+  const focusedRow = useRef<string | null>(null); // the id of the row the focus is in (its button, its Rename)
   const [filter, setFilter] = useState(""); // the search's query, as the list shows it (FindVehicle)
   const [filters, setFilters] = useState<Filters>(ANY);
   const [searches, setSearches] = useState(0); // a new search field (empty) each time the list clears it
@@ -261,6 +262,14 @@ export function VehicleSelector() {
     estimateSize: () => ROW_PX,
     getItemKey: (i) => matching[i]?.p.id ?? i,
     overscan: OVERSCAN,
+    // the selected row (its Rename) and the one with the focus stay in the page when scrolled out of view: the focus
+    // and a name being typed are not lost to a scroll
+    rangeExtractor: (range: Range) => {
+      const drawn = defaultRangeExtractor(range);
+      const focusedAt = focusedRow.current ? matching.findIndex((v) => v.p.id === focusedRow.current) : -1;
+      const kept = [at, focusedAt].filter((i) => i >= 0 && !drawn.includes(i));
+      return kept.length ? [...drawn, ...kept].sort((x, y) => x - y) : drawn;
+    },
     gap: ROW_GAP,
     scrollMargin: rows.current?.offsetTop ?? 0,
     initialRect: { width: 320, height: 480 }, // before the list is measured (and in a test's page without layout)
@@ -321,7 +330,16 @@ export function VehicleSelector() {
             </button>
           </p>
         )}
-        <div className="vehicle-rows" ref={rows} style={{ height: virtual.getTotalSize() }}>
+        <div
+          className="vehicle-rows"
+          role="list"
+          ref={rows}
+          style={{ height: virtual.getTotalSize() }}
+          onFocus={(e) => (focusedRow.current = e.target.closest<HTMLElement>(".vehicle-row")?.dataset.id ?? null)}
+          onBlur={(e) => {
+            if (!(e.relatedTarget instanceof Node && e.currentTarget.contains(e.relatedTarget))) focusedRow.current = null;
+          }}
+        >
           {virtual.getVirtualItems().map((item) => {
             const { p, seen, ageS, link, until } = matching[item.index];
             const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
@@ -332,7 +350,11 @@ export function VehicleSelector() {
               <div
                 key={item.key}
                 className="vehicle-row"
+                role="listitem"
+                aria-posinset={item.index + 1}
+                aria-setsize={matching.length}
                 data-index={item.index}
+                data-id={p.id}
                 ref={virtual.measureElement}
                 style={{ transform: `translateY(${item.start - margin}px)` }}
               >
