@@ -337,15 +337,10 @@ export class VehicleOverlay {
         outside.push([m, edge]);
       } else {
         if (!m.edge.hidden) m.edge.hidden = true;
-        inside.push([m, p]);
+        // a vehicle drawn in a cluster (FleetCanvas): its name not shown, the cluster's count stands for it
+        if (!this.clustered.has(m.mark.id)) inside.push([m, p]);
+        else if (!m.label.hidden) m.label.hidden = true;
       }
-    }
-    // a vehicle drawn in a cluster (FleetCanvas): its name not shown, the cluster's count stands for it
-    for (let i = inside.length - 1; i >= 0; i--) {
-      const [m] = inside[i];
-      if (!this.clustered.has(m.mark.id)) continue;
-      if (!m.label.hidden) m.label.hidden = true;
-      inside.splice(i, 1);
     }
     const rank = ([m]: [Marker, unknown]) => labelRank(m.mark);
     // stable: the others in the fleet's order, so that the same arrows stay shown as the map moves
