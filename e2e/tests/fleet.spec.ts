@@ -3,7 +3,7 @@
 import { execFileSync, spawn } from "node:child_process";
 import { join } from "node:path";
 import { expect, test } from "@playwright/test";
-import { SEM_SIM, stopChild } from "../helpers";
+import { SEM_SIM, stopChild, violations } from "../helpers";
 import { OWN_STACK, freeDomain, load, startExtraConsole } from "../stack";
 
 const FLEET = 200; // one sem-sim, every report at 1 Hz: the largest this test's minute allows beside the other worker
@@ -68,6 +68,21 @@ test(
       await expect(rows).toContainText("Kestrel");
       await expect(page.getByTestId("find-vehicle-count")).toHaveText(`1 of ${FLEET + 1} vehicles`);
       await find.press("Escape");
+      await expect(rows.first()).toBeVisible();
+      // the bar, the search, the filters and the virtual rows are clean for a screen reader; each row says its place
+      expect(
+        await violations(page, '[data-testid="fleet-bar"]', '[data-testid="vehicles"]', ".find-vehicle", ".fleet-filters"),
+      ).toEqual([]);
+      await expect(page.getByTestId("vehicles").getByRole("listitem").first()).toHaveAttribute("aria-setsize", String(FLEET + 1));
+      // the row with the focus stays in the page (and focused) when the list is scrolled far from it
+      await rows.first().focus();
+      const focused = await rows.first().textContent();
+      const vehicles = page.getByTestId("vehicles");
+      await expect(async () => {
+        await vehicles.evaluate((l) => l.scrollTo({ top: l.scrollHeight }));
+        await expect(vehicles.getByRole("listitem").last()).toHaveAttribute("aria-posinset", String(FLEET + 1), { timeout: 500 });
+      }).toPass();
+      expect(await page.evaluate(() => document.activeElement?.textContent)).toBe(focused);
 
       // the state filter: the lost one alone
       await page.getByRole("combobox", { name: "State" }).selectOption("lost");
