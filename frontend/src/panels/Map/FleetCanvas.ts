@@ -222,8 +222,8 @@ export class FleetCanvas {
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
     const all = place(ordered, toScreen, this.map.getBearing(), cx);
     // zoomed out, the vehicles close together on the screen are one mark with their count; the selected one, those
-    // in alarm and the lost are always drawn on their own, over the clusters
-    const { singles, clusters } = clustered(all);
+    // in alarm and the lost are always drawn on their own, over the clusters; at the closest zoom, every one
+    const { singles, clusters } = clustered(all, this.map.getZoom() < this.map.getMaxZoom());
     this.placed = singles;
     this.clusters = clusters;
     const near = (p: Point) => p.x > -30 && p.y > -30 && p.x < w + 30 && p.y < h + 30;

@@ -186,5 +186,9 @@ describe("a lost vehicle's projection on the screen", () => {
     expect(hitCluster(clusters, { x: 0, y: 0 })).toBeNull();
     // four close together are not a cluster: each is drawn
     expect(clustered(placed.slice(3, 7)).clusters).toHaveLength(0);
+    // at the map's closest zoom a cluster's click could not draw its vehicles apart: each is drawn on its own there
+    const closest = clustered(placed, false);
+    expect(closest.clusters).toHaveLength(0);
+    expect(closest.singles).toHaveLength(placed.length);
   });
 });

@@ -159,12 +159,18 @@ export function keptApart(mark: VehicleMark): boolean {
 
 /** The vehicles as drawn: those whose dots fall `min` or more to one `cell` x `cell` square of the screen are one
  * cluster (zoomed out, a fleet of a thousand is tens of marks, not a thousand overlapping dots), the rest (and every
- * one `keptApart`) on their own. */
-export function clustered(placed: Placed[], cell = CLUSTER_CELL, min = CLUSTER_MIN): { singles: Placed[]; clusters: Cluster[] } {
+ * one `keptApart`) on their own. `zoomable`: the map can zoom in further; at its closest zoom a cluster's click could
+ * not draw its vehicles apart (vehicles side by side on a pier), so none is clustered there. */
+export function clustered(
+  placed: Placed[],
+  zoomable = true,
+  cell = CLUSTER_CELL,
+  min = CLUSTER_MIN,
+): { singles: Placed[]; clusters: Cluster[] } {
   const cells = new Map<string, Placed[]>();
   const singles: Placed[] = [];
   for (const v of placed) {
-    if (keptApart(v.mark)) {
+    if (!zoomable || keptApart(v.mark)) {
       singles.push(v);
       continue;
     }
