@@ -32,6 +32,7 @@ from typing import Any
 
 import common
 from common import emit, percentile, stack, table, target
+from pydantic import ValidationError
 
 from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem
@@ -273,6 +274,20 @@ def load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
+def fleet_rate(text: str) -> float:
+    """--fleet-hz: a rate sem-sim takes for every report (its own limits, read before any run: a simulator that refuses
+    it never brings the fleet up, and the probe would wait minutes for it)."""
+    try:
+        hz = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text}: not a rate in Hz (e.g. 1)") from None
+    try:
+        SimOptions(fix_rate=hz, gps_rate=hz, ins_rate=hz)
+    except ValidationError as e:
+        raise argparse.ArgumentTypeError(f"{text}: {e.errors()[0]['msg'].lower()} (sem-sim's report rates, in Hz)") from None
+    return hz
+
+
 def vehicle_counts(text: str) -> list[int]:
     """--vehicles: '1,20,50' -> [1, 20, 50]; '' -> none. Read before any run: a bad count found after the first run
     lost that run's minutes of results to a traceback."""
@@ -289,7 +304,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--fleet", type=int, default=250, help="the fleet run's vehicles (0: none)")
-    ap.add_argument("--fleet-hz", type=float, default=None, help="the fleet run's report rate (default: the simulator's)")
+    ap.add_argument("--fleet-hz", type=fleet_rate, default=None, help="the fleet run's report rate (default: the simulator's)")
     ap.add_argument("--vehicles", type=vehicle_counts, default="1,20,50", help="the runs at 10 Hz, comma-separated ('': none)")
     args = ap.parse_args()
     runs: dict[str, dict[str, Any]] = {}
