@@ -11,7 +11,7 @@ simulator's default rates; with 50, a new client's time to the full dashboard an
 The probe's GPSFixReports are stamped as they reach the page's WebSocket too: what comes before the dashboard.
 Every figure is printed beside its target, then one JSON line with the date, the machine and
 its load average.
-Usage: python bench/probe.py [--seconds 20] [--fleet 250]
+Usage: python bench/probe.py [--seconds 20] [--fleet 250] [--fleet-hz 1]
 """
 
 from __future__ import annotations
@@ -32,6 +32,7 @@ from typing import Any
 
 import common
 from common import emit, percentile, stack, table, target
+from pydantic import ValidationError
 
 from sem_console.dds.bus import Bus
 from sem_console.dds.topics import Sem
@@ -100,11 +101,60 @@ def probe_writer(domain: int, stop: threading.Event, written: Written) -> None:
         stop.wait(max(0.0, nxt - time.monotonic()))
 
 
-def sim_args(vehicles: int, full_rate: bool) -> list[str] | None:
+SIM_MAX = 500  # sem-sim's most vehicles: a larger fleet is run by several
+
+
+def sim_blocks(vehicles: int) -> list[tuple[int, int]]:
+    """The simulators of a fleet of `vehicles` beside the probe (vehicle 1): each one's first vehicle and count."""
+    return [(first, min(SIM_MAX, vehicles + 1 - first)) for first in range(2, vehicles + 1, SIM_MAX)]
+
+
+def rate_args(full_rate: bool, fleet_hz: float | None) -> list[str]:
+    """Every report at 10 Hz (full_rate), at `fleet_hz`, or at the simulator's default rates."""
+    if full_rate:
+        return ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"]
+    if fleet_hz is not None:
+        return ["--gps-rate", f"{fleet_hz:g}", "--fix-rate", f"{fleet_hz:g}", "--ins-rate", f"{fleet_hz:g}"]
+    return []
+
+
+def sim_args(vehicles: int, full_rate: bool, fleet_hz: float | None = None) -> list[str] | None:
+    """The first simulator's options (the stack's); `more_sims` starts the others of a fleet beyond SIM_MAX."""
     if vehicles <= 1:
         return None
-    rates = ["--satellites", "40", "--gps-rate", "10", "--fix-rate", "10", "--ins-rate", "10"] if full_rate else []
-    return ["--vehicles", str(vehicles - 1), "--first-vehicle", "2", *rates]
+    first, count = sim_blocks(vehicles)[0]
+    return ["--vehicles", str(count), "--first-vehicle", str(first), *rate_args(full_rate, fleet_hz)]
+
+
+def more_sims(st: dict[str, Any], vehicles: int, full_rate: bool, fleet_hz: float | None) -> list[common.Proc]:
+    """The simulators of the fleet after the stack's first, on its domain."""
+    return [
+        common.Proc(
+            [
+                str(common.BIN / "sem-sim"),
+                *("--domain", str(st["domain"]), "--log-level", "warning"),
+                *("--state-file", str(st["tmp"] / f"sim{first}.json")),
+                *("--vehicles", str(count), "--first-vehicle", str(first)),
+                *rate_args(full_rate, fleet_hz),
+            ]
+        )
+        for first, count in sim_blocks(vehicles)[1:]
+    ]
+
+
+def listed(url: str, vehicles: int, timeout: float = 180.0) -> None:
+    """Until the console lists the whole fleet: a simulator of a thousand vehicles takes longer than the 3 s of
+    discovery to start them all, and a page opened before measures a smaller fleet."""
+    deadline = time.monotonic() + timeout
+    n = 0
+    while n < vehicles:
+        if time.monotonic() > deadline:
+            raise SystemExit(f"the console listed {n} of {vehicles} vehicles after {timeout:g} s: the machine is too busy")
+        try:
+            n = len(common.get_json(f"{url}/api/providers"))
+        except OSError:  # a console busy starting a thousand vehicles answers late: asked again
+            continue
+        time.sleep(1.0)
 
 
 def q(values: list[float]) -> dict[str, float | None]:
@@ -154,19 +204,23 @@ def snapshot_bytes(ws_url: str) -> int:
     return asyncio.run(first())
 
 
-def run(vehicles: int, seconds: float, full_rate: bool = True) -> dict[str, Any]:
+def run(vehicles: int, seconds: float, full_rate: bool = True, fleet_hz: float | None = None) -> dict[str, Any]:
     written = Written()
     stop = threading.Event()
-    with stack(sim_args=sim_args(vehicles, full_rate)) as st:
+    with stack(sim_args=sim_args(vehicles, full_rate, fleet_hz)) as st:
+        sims = more_sims(st, vehicles, full_rate, fleet_hz)
         writer = threading.Thread(target=probe_writer, args=(st["domain"], stop, written), daemon=True)
         writer.start()
         try:
             time.sleep(3.0)  # discovery, the simulator's vehicles up
+            listed(st["url"], vehicles)
             page = browse(st["url"], seconds)
             snap = snapshot_bytes(st["ws"])
         finally:
             stop.set()
             writer.join(5)
+            for sim in sims:
+                sim.stop()
     start, end = page["start"] / 1000, page["end"] / 1000
     panels: dict[str, Any] = {}
     for panel in ("latitude", "ins-time", "sats-in-view"):
@@ -220,6 +274,20 @@ def load() -> str:
     return " ".join(f"{x:.2f}" for x in os.getloadavg())
 
 
+def fleet_rate(text: str) -> float:
+    """--fleet-hz: a rate sem-sim takes for every report (its own limits, read before any run: a simulator that refuses
+    it never brings the fleet up, and the probe would wait minutes for it)."""
+    try:
+        hz = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text}: not a rate in Hz (e.g. 1)") from None
+    try:
+        SimOptions(fix_rate=hz, gps_rate=hz, ins_rate=hz)
+    except ValidationError as e:
+        raise argparse.ArgumentTypeError(f"{text}: {e.errors()[0]['msg'].lower()} (sem-sim's report rates, in Hz)") from None
+    return hz
+
+
 def vehicle_counts(text: str) -> list[int]:
     """--vehicles: '1,20,50' -> [1, 20, 50]; '' -> none. Read before any run: a bad count found after the first run
     lost that run's minutes of results to a traceback."""
@@ -236,13 +304,14 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--seconds", type=float, default=20.0)
     ap.add_argument("--fleet", type=int, default=250, help="the fleet run's vehicles (0: none)")
+    ap.add_argument("--fleet-hz", type=fleet_rate, default=None, help="the fleet run's report rate (default: the simulator's)")
     ap.add_argument("--vehicles", type=vehicle_counts, default="1,20,50", help="the runs at 10 Hz, comma-separated ('': none)")
     args = ap.parse_args()
     runs: dict[str, dict[str, Any]] = {}
     for n in args.vehicles:
         runs[str(n)] = run(n, args.seconds) | {"load": load()}
     if args.fleet:
-        runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False) | {"load": load()}
+        runs[f"fleet {args.fleet}"] = run(args.fleet, args.seconds, full_rate=False, fleet_hz=args.fleet_hz) | {"load": load()}
 
     rows = []
     for name, r in runs.items():

@@ -103,13 +103,14 @@ export interface TestMap {
   getCanvas(): HTMLCanvasElement;
 }
 
-/** The fleet's canvas over the map (FleetCanvas.ts's test hook `window.__semFleet`): the tracks it draws. */
+/** The fleet's canvas over the map (FleetCanvas.ts's test hook `window.__semFleet`): the tracks and clusters it draws. */
 export interface TestFleet {
   tracks(): {
     id: string;
     selected: boolean;
     points: { lon: number; lat: number }[];
   }[];
+  drawnClusters(): string[][];
 }
 
 declare global {

@@ -150,6 +150,9 @@ WORDS: Final[dict[str, dict[str, str]]] = {
         # silent while this console is behind (console/load.py): its silence may be the console's, so not judged
         "unchecked": "Not checked: console behind",
     },
+    # the fleet's exceptional vehicles besides the lost, as the fleet bar counts them and the vehicle list filters them
+    # ("2 in alarm": vehicles with an unacknowledged alarm; "1 commanded": vehicles with a command in progress)
+    "fleet": {"alarm": "In alarm", "commanded": "Commanded"},
     # a vehicle seen through a sem-relay (`ProviderSummary.relay`): `{relay}` its --name, `{age}` how old its newest
     # data is by its own time stamp ("1.4 s"): "via relay ship-1, 1.4 s old"; unknown: no time stamp of it yet
     "relay": {

@@ -224,6 +224,12 @@ export function useCommands(providerId: string | null): Command[] {
   );
 }
 
+/** The vehicles with a command in progress (one not yet terminal): a new set only when the commands change. */
+export function useCommanded(): ReadonlySet<string> {
+  const commands = useSelector((s) => s.commands);
+  return useMemo(() => new Set(Object.values(commands).flatMap((c) => (c.terminal ? [] : [c.providerId]))), [commands]);
+}
+
 export function useRecording(): RecordingStatus | null {
   return useSelector((s) => s.recording);
 }

@@ -358,6 +358,9 @@ export function reasonText(v: string | null | undefined): string {
   return inline(lookup(REASON, v));
 }
 
+/** The fleet's exceptional vehicles besides the lost, as counted and filtered: "In alarm", "Commanded". */
+export const FLEET_STATE: Words<"alarm" | "commanded"> = WORDS.fleet;
+
 /** A vehicle's link in a word ("Live", "Stale", "Lost"). */
 export function linkText(v: LinkState | "stale" | "unreachable" | "planned"): string {
   return lookup(LINK, v);

@@ -123,6 +123,7 @@ export function labelRank(mark: VehicleMark): number {
 export class VehicleOverlay {
   private readonly root: HTMLDivElement;
   private readonly markers = new Map<string, Marker>();
+  private clustered: ReadonlySet<string> = new Set(); // drawn in a cluster: no name
   // the selected vehicle at its newest position: a ring over its dot, moved on every frame after its fix by a CSS
   // transform, which redraws no map (a software-rendered map redrawn ten times a second takes most of a core)
   private readonly ring: HTMLDivElement;
@@ -164,6 +165,12 @@ export class VehicleOverlay {
       this.place();
     });
     this.resized.observe(this.root);
+  }
+
+  /** The vehicles the fleet's canvas draws in a cluster: their names hidden, placed again. */
+  setClustered(ids: ReadonlySet<string>): void {
+    this.clustered = ids;
+    this.place();
   }
 
   /** The vehicles to label (at the map's update rate): elements made, updated or removed, then placed. */
@@ -330,7 +337,9 @@ export class VehicleOverlay {
         outside.push([m, edge]);
       } else {
         if (!m.edge.hidden) m.edge.hidden = true;
-        inside.push([m, p]);
+        // a vehicle drawn in a cluster (FleetCanvas): its name not shown, the cluster's count stands for it
+        if (!this.clustered.has(m.mark.id)) inside.push([m, p]);
+        else if (!m.label.hidden) m.label.hidden = true;
       }
     }
     const rank = ([m]: [Marker, unknown]) => labelRank(m.mark);

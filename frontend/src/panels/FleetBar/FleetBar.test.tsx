@@ -1,9 +1,11 @@
 // @vitest-environment jsdom
 import { act, cleanup, fireEvent, screen, waitFor, within } from "@testing-library/react";
 import { afterEach, describe, expect, it } from "vitest";
-import { TestSource, alarm, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { TestSource, alarm, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { update } from "../../data/store";
+import { select } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
-import { FleetBar } from "./FleetBar";
+import { CHIP_LIMIT, FleetBar } from "./FleetBar";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -76,5 +78,40 @@ describe("FleetBar", () => {
     act(() => source.send(snapshotMessage()));
     await waitFor(() => expect(screen.getByTestId("no-vehicle-help")).toBeTruthy());
     expect(screen.queryAllByTestId("fleet-vehicle")).toHaveLength(0);
+  });
+
+  it("with a fleet of 1,000 counts it by state and draws a bounded number of chips: the lost, in alarm and commanded first, and the selected one", async () => {
+    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+    const [lost, alarmed, commanded, selected] = [ids[500], ids[600], ids[700], ids[900]];
+    const source = new TestSource();
+    renderWith(source, <FleetBar />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: ids.map((id) => vehicle(id, { link: id === lost ? "lost" : "live" })),
+          alarms: [alarm(1, alarmed)],
+          commands: [command(commanded), command(ids[10], { sessionId: "done", terminal: true })],
+        }),
+      ),
+    );
+    act(() => update(source.store, (s) => select(s, selected)));
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("999 live"));
+    expect(screen.getByTestId("fleet-lost").textContent).toBe("1 lost");
+    expect(screen.getByTestId("fleet-in-alarm").textContent).toBe("1 in alarm");
+    expect(screen.getByTestId("fleet-commanded").textContent).toBe("1 commanded");
+    const chips = screen.getAllByTestId("fleet-vehicle");
+    expect(chips).toHaveLength(CHIP_LIMIT + 1);
+    expect(chips.slice(0, 3).map((c) => c.dataset.vehicle)).toEqual([lost, alarmed, commanded]);
+    expect(chips.at(-1)?.dataset.vehicle).toBe(selected);
+    expect(chips.at(-1)?.getAttribute("aria-pressed")).toBe("true");
+    expect(screen.getByTestId("fleet-more").textContent).toBe(`${1000 - CHIP_LIMIT - 1} more in the vehicle list`);
+  });
+
+  it("draws every chip of a fleet the bar holds, and no count of what none is in", async () => {
+    fleet();
+    await waitFor(() => expect(screen.getAllByTestId("fleet-vehicle")).toHaveLength(2));
+    expect(screen.queryByTestId("fleet-more")).toBeNull();
+    expect(screen.queryByTestId("fleet-commanded")).toBeNull();
+    expect(screen.getByTestId("fleet-in-alarm").textContent).toBe("1 in alarm");
   });
 });

@@ -7,6 +7,7 @@ import type { Alarm } from "../../api/generated/ws";
 import {
   useAlarms,
   useCapabilities,
+  useCommanded,
   useConnectionState,
   useNow,
   useProvidersOnFrame,
@@ -24,6 +25,7 @@ import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api
 import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../../lib/freshness";
 import {
   ALARM_SEVERITY,
+  FLEET_STATE,
   fixWord,
   floodText,
   inline,
@@ -57,6 +59,43 @@ export type FleetLink = PageLink;
 export function fleetLink(p: ProviderView, now: number, receiving: boolean): FleetLink {
   const seen = lastHeardAt(p);
   return pageLink(p.link, seen === null ? null : now - seen, STALE_AFTER_S, receiving);
+}
+
+/** At most this many chips (and the selected vehicle's): a fleet of a thousand is counted, its exceptional vehicles
+ * shown first, and the rest found in the vehicle list. */
+export const CHIP_LIMIT = 24;
+
+/** The chips the bar draws, in order: the lost vehicles, then those with an unacknowledged alarm, then those with a
+ * command in progress, then the rest, at most `limit` of them, and the selected vehicle's chip whatever its place. */
+export function fleetChips<C extends { p: { id: string } }>(
+  all: readonly C[],
+  ex: { lost: readonly C[]; alarmed: ReadonlyMap<string, number>; commanded: ReadonlySet<string>; selected: string | null },
+  limit = CHIP_LIMIT,
+): C[] {
+  const lost = new Set(ex.lost);
+  const alarmed = all.filter((c) => !lost.has(c) && ex.alarmed.has(c.p.id));
+  const first = new Set([...ex.lost, ...alarmed]);
+  const commanded = all.filter((c) => !first.has(c) && ex.commanded.has(c.p.id));
+  for (const c of commanded) first.add(c);
+  const ordered = first.size ? [...ex.lost, ...alarmed, ...commanded, ...all.filter((c) => !first.has(c))] : [...all];
+  const shown = ordered.slice(0, limit);
+  const chosen = ordered.find((c, i) => i >= limit && c.p.id === ex.selected);
+  return chosen ? [...shown, chosen] : shown;
+}
+
+/** The names a count's tooltip lists: a few, then how many more (a thousand lost is not a readable tooltip). */
+function namesTitle(names: readonly string[], most = 20): string | undefined {
+  if (!names.length) return undefined;
+  const said = names.slice(0, most).join(", ");
+  return names.length > most ? `${said} and ${names.length - most} more` : said;
+}
+
+/** The vehicle list's search, scrolled into view with the focus in it: where the vehicles the bar has no chip for are
+ * found. */
+function showVehicleList() {
+  const find = document.querySelector<HTMLElement>('[data-testid="find-vehicle"]');
+  (find ?? document.querySelector<HTMLElement>('[data-testid="vehicles"]'))?.scrollIntoView({ block: "nearest" });
+  find?.focus({ preventScroll: true });
 }
 
 const UNREACHABLE_TITLE = "the console cannot be reached: the last state it sent, not updating";
@@ -254,6 +293,7 @@ export function FleetBar() {
     return m;
   }, [open]);
   const receiving = useReceiving();
+  const commanded = useCommanded();
   const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
   const lostAll = all.filter((c) => c.link === "lost");
   // lost during a planned silence: expected, counted apart
@@ -268,12 +308,11 @@ export function FleetBar() {
   // silent while the console is behind: neither live nor lost, counted apart
   const unchecked = all.filter((c) => c.link === "unchecked").length;
   const live = all.length - lostAll.length - stale - notUpdating - unchecked;
-  // lost vehicles first, then those with an unacknowledged alarm (an INS failure, a failed command): with many, the
-  // bar scrolls inside itself, and neither must be out of sight behind the vehicles that are well
-  const alarmed = all.filter((c) => !lost.includes(c) && byVehicle.has(c.p.id));
-  const first = new Set([...lost, ...alarmed]);
-  const chips = first.size ? [...lost, ...alarmed, ...all.filter((c) => !first.has(c))] : all;
-  // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip: 250 chips by 250)
+  const inAlarm = all.filter((c) => byVehicle.has(c.p.id)).length;
+  const underCommand = all.filter((c) => commanded.has(c.p.id)).length;
+  const chips = fleetChips(all, { lost, alarmed: byVehicle, commanded, selected });
+  const more = all.length - chips.length;
+  // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip)
   const tabStop = chips.some((c) => c.p.id === selected) ? selected : chips[0]?.p.id;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
   const newest = open.find((a) => a.state === "active-unacknowledged") ?? open[0] ?? null;
@@ -326,7 +365,7 @@ export function FleetBar() {
           <span
             className={`fleet-count tone-${lost.length ? "bad" : "muted"}`}
             data-testid="fleet-lost"
-            title={lost.map((c) => name(c.p)).join(", ") || undefined}
+            title={namesTitle(lost.map((c) => name(c.p)))}
           >
             {lost.length} {inline(linkText("lost"))}
           </span>
@@ -337,6 +376,16 @@ export function FleetBar() {
               title={planned.map(({ c, until }) => `${name(c.p)}: until ${clockTime(until)}`).join("; ")}
             >
               {plannedCount(planned.map((x) => x.until))}
+            </span>
+          )}
+          {inAlarm > 0 && (
+            <span className="fleet-count tone-bad" data-testid="fleet-in-alarm" title="vehicles with an unacknowledged alarm">
+              {inAlarm} {inline(FLEET_STATE.alarm)}
+            </span>
+          )}
+          {underCommand > 0 && (
+            <span className="fleet-count tone-info" data-testid="fleet-commanded" title="vehicles with a command in progress">
+              {underCommand} {inline(FLEET_STATE.commanded)}
             </span>
           )}
         </span>
@@ -407,6 +456,17 @@ export function FleetBar() {
               onSelect={onSelect}
             />
           ))}
+          {more > 0 && (
+            <button
+              className="fleet-chip fleet-more muted"
+              data-testid="fleet-more"
+              tabIndex={-1}
+              onClick={showVehicleList}
+              title="the vehicle list finds and filters the whole fleet"
+            >
+              {more} more in the vehicle list
+            </button>
+          )}
         </div>
       )}
     </nav>

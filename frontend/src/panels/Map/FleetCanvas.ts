@@ -12,7 +12,9 @@ import type { LonLat, VehicleMark } from "../../lib/geo";
 import { vehicleColor } from "../../lib/vehicle";
 import {
   PROJECTED_R,
+  clustered,
   countInView,
+  hitCluster,
   hitVehicle,
   mercator,
   nearestCopy,
@@ -21,6 +23,7 @@ import {
   similarity,
   thinned,
   unwrapped,
+  type Cluster,
   type Placed,
   type Point,
   type Projected,
@@ -73,16 +76,20 @@ export class FleetCanvas {
   private height = 0;
   private data: FleetData = { marks: [], tracks: [], origins: [] };
   private tools: ToolMarks = { path: [], handles: [] };
-  private placed: Placed[] = [];
+  private placed: Placed[] = []; // the vehicles drawn on their own
+  private clusters: Cluster[] = [];
+  private clusteredIds: ReadonlySet<string> = new Set();
   private drawnCount = -1;
   private lastView: { toScreen: (m: Point) => Point; cx: number } | null = null; // the transform of the last drawing
   // a track's Mercator points, kept while the store keeps its array (a track changes once a second at most)
   private readonly mercs = new WeakMap<LonLat[], Point[]>();
 
-  /** `onCount`: the number of vehicles in view changed (the status line's "n of m vehicles drawn"). */
+  /** `onCount`: the number of vehicles in view changed (the status line's "n of m vehicles drawn"); `onClustered`: the
+   * vehicles drawn in a cluster changed (their names are not shown). */
   constructor(
     private readonly map: MapLibre,
     private readonly onCount: (n: number) => void,
+    private readonly onClustered: (ids: ReadonlySet<string>) => void = () => undefined,
   ) {
     this.canvas = document.createElement("canvas");
     this.canvas.className = "map-fleet";
@@ -116,6 +123,16 @@ export class FleetCanvas {
   /** The vehicle drawn under point `p` of the map (px from its top left), or null. */
   hit(p: Point): string | null {
     return hitVehicle(this.placed, p);
+  }
+
+  /** The cluster drawn under point `p` of the map: its middle on the screen, or null. */
+  cluster(p: Point): Point | null {
+    return hitCluster(this.clusters, p)?.at ?? null;
+  }
+
+  /** The clusters drawn (for the tests): each one's vehicles. */
+  drawnClusters(): string[][] {
+    return this.clusters.map((c) => c.ids);
   }
 
   /** The tracks drawn (for the tests: where a vehicle went): of each, the points the last drawing put on the canvas,
@@ -203,11 +220,23 @@ export class FleetCanvas {
     for (const m of marks) if (m.projection?.kind === "projected") this.drawProjection(m.id, m.projection, toScreen, cx);
     // the selected vehicle last: on top
     const ordered = [...marks.filter((m) => !m.selected), ...marks.filter((m) => m.selected)];
-    this.placed = place(ordered, toScreen, this.map.getBearing(), cx);
+    const all = place(ordered, toScreen, this.map.getBearing(), cx);
+    // zoomed out, the vehicles close together on the screen are one mark with their count; the selected one, those
+    // in alarm and the lost are always drawn on their own, over the clusters; at the closest zoom, every one
+    const { singles, clusters } = clustered(all, this.map.getZoom() < this.map.getMaxZoom());
+    this.placed = singles;
+    this.clusters = clusters;
+    const near = (p: Point) => p.x > -30 && p.y > -30 && p.x < w + 30 && p.y < h + 30;
+    for (const c of clusters) if (near(c.at)) this.drawCluster(c);
     // those off the screen (by more than a link ring and an arrow) drawn not at all: zoomed in on one of 250
-    for (const v of this.placed) if (v.at.x > -30 && v.at.y > -30 && v.at.x < w + 30 && v.at.y < h + 30) this.drawVehicle(v);
+    for (const v of singles) if (near(v.at)) this.drawVehicle(v);
     this.drawTools(toScreen, cx);
-    const n = countInView(this.placed, w, h);
+    const ids = new Set(clusters.flatMap((c) => c.ids));
+    if (ids.size !== this.clusteredIds.size || [...ids].some((id) => !this.clusteredIds.has(id))) {
+      this.clusteredIds = ids;
+      this.onClustered(ids);
+    }
+    const n = countInView(all, w, h);
     if (n !== this.drawnCount) {
       this.drawnCount = n;
       this.onCount(n);
@@ -275,6 +304,25 @@ export class FleetCanvas {
     ctx.arc(to.x, to.y, PROJECTED_R, 0, 2 * Math.PI);
     ctx.stroke();
     ctx.restore();
+  }
+
+  /** A cluster: a disc with the count of its vehicles. */
+  private drawCluster({ at, ids, r }: Cluster): void {
+    const { ctx } = this;
+    ctx.beginPath();
+    ctx.arc(at.x, at.y, r, 0, 2 * Math.PI);
+    ctx.globalAlpha = 0.85;
+    ctx.fillStyle = "#1e88e5";
+    ctx.fill();
+    ctx.globalAlpha = 1;
+    ctx.lineWidth = 2;
+    ctx.strokeStyle = "#ffffff";
+    ctx.stroke();
+    ctx.fillStyle = "#ffffff";
+    ctx.font = "bold 12px system-ui, sans-serif";
+    ctx.textAlign = "center";
+    ctx.textBaseline = "middle";
+    ctx.fillText(String(ids.length), at.x, at.y);
   }
 
   private drawVehicle({ mark, at, r, arrow, angle }: Placed): void {

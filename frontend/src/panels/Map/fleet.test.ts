@@ -1,7 +1,10 @@
 import { describe, expect, it } from "vitest";
 import type { VehicleMark } from "../../lib/geo";
 import {
+  CLUSTER_CELL,
+  clustered,
   countInView,
+  hitCluster,
   hitVehicle,
   mercator,
   nearestCopy,
@@ -159,5 +162,33 @@ describe("a lost vehicle's projection on the screen", () => {
     expect(at.lon).toBeLessThan(0);
     const p = placeProjection({ kind: "projected", from, at, radiusM: 10 * PX_M, seconds: 60 }, northUp, 1, 7);
     expect(p.at.x - p.from.x).toBeCloseTo(50, 3);
+  });
+
+  it("draws vehicles close together on the screen as one cluster, and keeps the selected, alarmed and lost ones apart", () => {
+    // twelve vehicles within one cell, three of them the selected, one in alarm and one lost; one far away
+    const marks = Array.from({ length: 12 }, (_, i) => mark(`v${i}`, 0, 0));
+    marks[0] = { ...marks[0], selected: true };
+    marks[1] = { ...marks[1], alarmed: true };
+    marks[2] = { ...marks[2], link: "lost" };
+    const placed = marks.map((m, i) => ({
+      mark: m,
+      at: { x: 100 + (i % 4) * 5, y: 100 + Math.floor(i / 4) * 5 },
+      r: 7,
+      arrow: null,
+      angle: 0,
+    }));
+    placed.push({ mark: mark("far", 0, 0), at: { x: 100 + 3 * CLUSTER_CELL, y: 100 }, r: 7, arrow: null, angle: 0 });
+    const { singles, clusters } = clustered(placed);
+    expect(clusters).toHaveLength(1);
+    expect(clusters[0].ids.sort()).toEqual(["v10", "v11", "v3", "v4", "v5", "v6", "v7", "v8", "v9"].sort());
+    expect(singles.map((v) => v.mark.id)).toEqual(["far", "v0", "v1", "v2"]); // the kept-apart ones drawn last, on top
+    expect(hitCluster(clusters, clusters[0].at)).toBe(clusters[0]);
+    expect(hitCluster(clusters, { x: 0, y: 0 })).toBeNull();
+    // four close together are not a cluster: each is drawn
+    expect(clustered(placed.slice(3, 7)).clusters).toHaveLength(0);
+    // at the map's closest zoom a cluster's click could not draw its vehicles apart: each is drawn on its own there
+    const closest = clustered(placed, false);
+    expect(closest.clusters).toHaveLength(0);
+    expect(closest.singles).toHaveLength(placed.length);
   });
 });

@@ -140,3 +140,61 @@ export function placeProjection(
   const edge = toScreen(mEdge);
   return { from: toScreen(mFrom), at, r: Math.max(minR, Math.hypot(edge.x - at.x, edge.y - at.y)) };
 }
+
+/** Vehicles drawn as one mark when zoomed out: where (the middle of their dots), which, and the mark's radius. */
+export interface Cluster {
+  at: Point;
+  ids: string[];
+  r: number;
+}
+
+/** The screen's cells (px) within which vehicles are drawn as one cluster, and the fewest vehicles that make one. */
+export const CLUSTER_CELL = 40;
+export const CLUSTER_MIN = 5;
+
+/** A vehicle never drawn in a cluster: the selected one, one in alarm, one lost (the operator must see each). */
+export function keptApart(mark: VehicleMark): boolean {
+  return mark.selected || mark.alarmed || mark.link === "lost";
+}
+
+/** The vehicles as drawn: those whose dots fall `min` or more to one `cell` x `cell` square of the screen are one
+ * cluster (zoomed out, a fleet of a thousand is tens of marks, not a thousand overlapping dots), the rest (and every
+ * one `keptApart`) on their own. `zoomable`: the map can zoom in further; at its closest zoom a cluster's click could
+ * not draw its vehicles apart (vehicles side by side on a pier), so none is clustered there. */
+export function clustered(
+  placed: Placed[],
+  zoomable = true,
+  cell = CLUSTER_CELL,
+  min = CLUSTER_MIN,
+): { singles: Placed[]; clusters: Cluster[] } {
+  const cells = new Map<string, Placed[]>();
+  const singles: Placed[] = [];
+  for (const v of placed) {
+    if (!zoomable || keptApart(v.mark)) {
+      singles.push(v);
+      continue;
+    }
+    const key = `${Math.floor(v.at.x / cell)},${Math.floor(v.at.y / cell)}`;
+    const group = cells.get(key);
+    if (group) group.push(v);
+    else cells.set(key, [v]);
+  }
+  const clusters: Cluster[] = [];
+  for (const group of cells.values()) {
+    if (group.length < min) {
+      singles.push(...group);
+      continue;
+    }
+    const x = group.reduce((s, v) => s + v.at.x, 0) / group.length;
+    const y = group.reduce((s, v) => s + v.at.y, 0) / group.length;
+    clusters.push({ at: { x, y }, ids: group.map((v) => v.mark.id), r: Math.min(22, 10 + 3 * Math.log10(group.length)) });
+  }
+  // the kept-apart ones last, so that they are drawn over any cluster (the selected one last of all, as placed)
+  const apart = singles.filter((v) => keptApart(v.mark));
+  return { singles: [...singles.filter((v) => !keptApart(v.mark)), ...apart], clusters };
+}
+
+/** The cluster under screen point `p` (null: none). */
+export function hitCluster(clusters: Cluster[], p: Point): Cluster | null {
+  return clusters.find((c) => Math.hypot(p.x - c.at.x, p.y - c.at.y) <= c.r + 2) ?? null;
+}

@@ -231,7 +231,8 @@ export function usePointer(
       if (dragging && model)
         setDraft(moveVertex(model, dragging.featureId, dragging.index, { lon: e.lngLat.lng, lat: e.lngLat.lat }));
       // the pointer over a vehicle (the fleet is drawn on a canvas of our own: hit in what it drew)
-      const over = toolRef.current === "select" && fleetRef.current?.hit(e.point) != null;
+      const fleet = fleetRef.current;
+      const over = toolRef.current === "select" && fleet !== null && (fleet.hit(e.point) ?? fleet.cluster(e.point)) !== null;
       if (over !== overVehicle) {
         overVehicle = over;
         // off it: the tool's cursor (a tool chosen while over a vehicle: its crosshair, not the select tool's)
@@ -255,7 +256,11 @@ export function usePointer(
       if (id) {
         selectVehicle(id);
         setFollow(true);
+        return;
       }
+      // a cluster: zoomed in on it, until its vehicles are drawn apart
+      const cluster = fleetRef.current?.cluster(e.point);
+      if (cluster) map.easeTo({ center: map.unproject([cluster.x, cluster.y]), zoom: map.getZoom() + 2 });
     };
     map.on("mousedown", "edit-handle", startDrag);
     map.on("mouseup", endDrag);
@@ -319,8 +324,12 @@ export function useVehicleLayer(
   useEffect(() => {
     const map = mapRef.current;
     if (!ready || !map) return;
-    const c = new FleetCanvas(map, (n) => count.current(n));
     const o = new VehicleOverlay(map, (m) => pick.current(map, m));
+    const c = new FleetCanvas(
+      map,
+      (n) => count.current(n),
+      (ids) => o.setClustered(ids), // a vehicle in a cluster: its name not shown
+    );
     fleetRef.current = c;
     setOverlay(o);
     return () => {

@@ -1,7 +1,7 @@
 // @vitest-environment jsdom
 import { act, cleanup, fireEvent, screen, waitFor } from "@testing-library/react";
-import { afterEach, describe, expect, it, vi } from "vitest";
-import { TestSource, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { afterAll, afterEach, beforeAll, describe, expect, it, vi } from "vitest";
+import { TestSource, alarm, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { FixPanel } from "../Fix/Fix";
 import { FleetBar } from "../FleetBar/FleetBar";
 import { renderWith } from "../testing";
@@ -27,6 +27,18 @@ function shown(): TestSource {
   );
   return source;
 }
+
+// jsdom lays nothing out: the list is given a height and each row one, as a browser would, for its virtual rows
+const layout = [vi.spyOn(Element.prototype, "clientHeight", "get"), vi.spyOn(HTMLElement.prototype, "offsetHeight", "get")];
+beforeAll(() => {
+  layout[0].mockImplementation(function (this: Element) {
+    return this.matches("[data-testid=vehicles]") ? 480 : 0;
+  });
+  layout[1].mockImplementation(function (this: HTMLElement) {
+    return this.matches(".vehicle-row") ? 64 : 0;
+  });
+});
+afterAll(() => layout.forEach((s) => s.mockRestore()));
 
 const row = (name: string) => screen.getAllByTestId("vehicle").find((r) => r.textContent?.includes(name))!;
 
@@ -145,5 +157,95 @@ describe("VehicleSelector", () => {
       source.clock = 1010;
     });
     await waitFor(() => expect(screen.getByTestId("selected-relay").textContent).toBe("Via relay ship-1, 10 s old"));
+  });
+
+  it("draws only the rows in view of a fleet of 1,000, and finds one by name among them", async () => {
+    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+    const source = new TestSource();
+    renderWith(source, <VehicleSelector />);
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) }),
+      ),
+    );
+    await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+    // 480 px of 64 px rows, and the few drawn each side of them: tens, not a thousand
+    expect(screen.getAllByTestId("vehicle").length).toBeLessThan(40);
+    fireEvent.change(screen.getByTestId("find-vehicle"), { target: { value: "unit 0987" } });
+    await waitFor(() => expect(screen.getAllByTestId("vehicle")).toHaveLength(1));
+    expect(row("Unit 0987")).toBeTruthy();
+    expect(screen.getByTestId("find-vehicle-count").textContent).toBe("1 of 1000 vehicles");
+  });
+
+  it("keeps the focused row and the selected one in the page when the list scrolls them out of its view, and says each row's place in the fleet", async () => {
+    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+    const source = new TestSource();
+    renderWith(source, <VehicleSelector />);
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) }),
+      ),
+    );
+    await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+    fireEvent.click(row("Unit 0001"));
+    await waitFor(() => expect(row("Unit 0001").getAttribute("aria-pressed")).toBe("true"));
+    const focused = row("Unit 0002");
+    act(() => focused.focus());
+    expect(focused.closest("[role=listitem]")?.getAttribute("aria-posinset")).toBe("3");
+    expect(focused.closest("[role=listitem]")?.getAttribute("aria-setsize")).toBe("1000");
+    // the operator scrolls the list far down (a wheel, a scroll bar): the rows there drawn, the focus and the selected
+    // vehicle's row (its Rename) not taken out of the page
+    const list = screen.getByTestId("vehicles");
+    act(() => {
+      list.scrollTop = 600 * 70;
+      fireEvent.scroll(list);
+    });
+    await waitFor(() => expect(row("Unit 0600")).toBeTruthy());
+    expect(document.activeElement).toBe(focused);
+    expect(focused.isConnected).toBe(true);
+    expect(row("Unit 0001")).toBeTruthy();
+    expect(screen.getAllByTestId("vehicle").length).toBeLessThan(60);
+  });
+
+  it("filters by state, by UMAA version and by relay, and says how many of the fleet match", async () => {
+    const [C, D] = ["c0000000-0000-4000-8000-000000000003", "d0000000-0000-4000-8000-000000000004"];
+    const source = new TestSource();
+    renderWith(source, <VehicleSelector />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [
+            vehicle(A, { name: "Alpha" }),
+            vehicle(B, { name: "Bravo", link: "lost", umaaVersion: "6.0" }),
+            vehicle(C, { name: "Charlie", relay: { name: "ship-1", dataTime: null, ageSeconds: null } }),
+            vehicle(D, { name: "Delta", umaaVersion: "6.0" }),
+          ],
+          alarms: [alarm(1, C)],
+          commands: [command(D)],
+        }),
+      ),
+    );
+    await waitFor(() => expect(screen.getAllByTestId("vehicle")).toHaveLength(4));
+    const names = () => screen.getAllByTestId("vehicle-tag").map((t) => t.textContent?.split(" ")[0]);
+    const pick = (id: string, value: string) => fireEvent.change(screen.getByTestId(id), { target: { value } });
+    pick("filter-state", "lost");
+    await waitFor(() => expect(names()).toEqual(["Bravo"]));
+    expect(screen.getByTestId("find-vehicle-count").textContent).toBe("1 of 4 vehicles");
+    pick("filter-state", "alarm");
+    await waitFor(() => expect(names()).toEqual(["Charlie"]));
+    pick("filter-state", "commanded");
+    await waitFor(() => expect(names()).toEqual(["Delta"]));
+    pick("filter-state", "");
+    pick("filter-version", "6.0");
+    await waitFor(() => expect(names()).toEqual(["Bravo", "Delta"]));
+    pick("filter-version", "");
+    pick("filter-relay", "ship-1");
+    await waitFor(() => expect(names()).toEqual(["Charlie"]));
+    pick("filter-relay", "(direct)");
+    await waitFor(() => expect(names()).toHaveLength(3));
+    fireEvent.change(screen.getByTestId("find-vehicle"), { target: { value: "zulu" } });
+    await waitFor(() =>
+      expect(screen.getByTestId("find-vehicle-none").textContent).toBe("No vehicle matches the search and the filters."),
+    );
   });
 });
