@@ -7,6 +7,7 @@ import argparse
 import sys
 import traceback
 import uuid
+from pathlib import Path
 
 from sem_console.check.results import Stopped
 from sem_console.check.runner import COULD_NOT_TEST, STOPPED, UMAA_VERSIONS, Options, all_names, run
@@ -139,6 +140,17 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="S",
         help=("seconds allowed from EXECUTING to COMPLETED (surfacing, INS alignment) (default: %(default)s)"),
     )
+    p.add_argument(
+        "--security-profile",
+        type=Path,
+        default=None,
+        metavar="DIR",
+        help=(
+            "check a fleet's DDS Security documents against the project's security profile instead of testing a provider "
+            "(no DDS): DIR is the fleet's folder (sem-keys init: its governance and every identity's permissions) or one "
+            "identity's folder (sem-keys issue); the profile.* tests (docs/sem-check.md)"
+        ),
+    )
     p.add_argument("--list", action="store_true", help="print the test names and exit")
     return p
 
@@ -167,6 +179,7 @@ def main(argv: list[str] | None = None) -> int:
         peers=settings.dds_peers,
         dds_security=args.dds_security,
         umaa=args.umaa,
+        security_profile=args.security_profile,
     )
     # SIGTERM (a CI job canceled or out of time) and Ctrl-C stop the run through its finally blocks, so every
     # command sent is disposed (Service Consumer Shutdown, ICD 4.1.6.2), and it reports what it did (runner.run).

@@ -20,16 +20,18 @@ import sys
 import tempfile
 import time
 import uuid
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TextIO, cast
 
 from sem_console import __version__
-from sem_console.check import commands, discovery, icd, junit, reports, umaa_6_0
+from sem_console.check import commands, discovery, icd, junit, profile, reports, umaa_6_0
 from sem_console.check.observe import TICK, Observer
 from sem_console.check.results import Case, Outcome, Progress, Selection, Stopped, summary
 from sem_console.dds.bus import Bus, DdsConfigError, bus_security
 from sem_console.dds.config import describe
+from sem_console.dds.security import SecurityError
 from sem_console.dds.topics import Sem, Sem60
 
 SETTLE = 1.0  # s to keep looking for more providers after the first one is found
@@ -57,6 +59,7 @@ class Options:
     peers: str = "127.0.0.1"
     dds_security: Path | None = None  # the identity's folder (--dds-security), else CYCLONEDDS_URI's, else an open bus
     umaa: str | None = None  # the UMAA version to test the provider as; None: the version of its topics
+    security_profile: Path | None = None  # a fleet's or identity's folder: check its documents (check/profile.py), no DDS
 
 
 VERSIONS = {v.name: v for v in (icd.V3_0_1, umaa_6_0.V6_0)}
@@ -71,8 +74,9 @@ def version_names(version: icd.Version) -> list[str]:
 
 
 def all_names() -> list[str]:
-    """Every test of every UMAA version, each name once (`--list`; what --only and --skip may name)."""
-    return list(dict.fromkeys(n for v in VERSIONS.values() for n in version_names(v)))
+    """Every test of every UMAA version and of --security-profile, each name once (`--list`; what --only and --skip
+    may name)."""
+    return list(dict.fromkeys([n for v in VERSIONS.values() for n in version_names(v)] + profile.NAMES))
 
 
 class CouldNotTest(Exception):
@@ -251,6 +255,35 @@ def run(opts: Options, out: TextIO | None = None, err: TextIO | None = None) -> 
         err.flush()
 
 
+def _profile(
+    folder: Path,
+    selection: Selection,
+    report: Path | None,
+    properties: dict[str, str],
+    started: dt.datetime,
+    t0: float,
+    out: TextIO,
+    could_not: Callable[[str], int],
+) -> int:
+    """--security-profile: the documents' test cases (no DDS), reported as a run's."""
+    try:
+        docs = profile.documents(folder)
+    except SecurityError as e:
+        return could_not(str(e))
+    cases = [c for c in profile.check(docs) if selection(c.name)]
+    if not cases:
+        return could_not("--only/--skip leaves no test of --security-profile to run (sem-check --list shows them)")
+    seconds = time.monotonic() - t0
+    summary(cases, seconds, out)
+    if report is not None:
+        try:
+            junit.write(report, cases, seconds, {**properties, "security_profile": str(folder)}, started=started)
+        except OSError as e:
+            return could_not(f"cannot write the JUnit report {report}: {e}")
+        print(f"sem-check: JUnit report {report}", file=out)
+    return FAILED if any(c.outcome is Outcome.FAILED for c in cases) else OK
+
+
 def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
     started, t0 = dt.datetime.now(dt.UTC), time.monotonic()
     name = run_name(started)  # of its --junit and --record files in a directory: the same for both
@@ -304,6 +337,8 @@ def _run(opts: Options, out: TextIO, err: TextIO, signals: StopSignals) -> int:
         return could_not(
             f"--only {','.join(opts.only)} --skip {','.join(opts.skip)} leaves no test to run (sem-check --list shows them)"
         )
+    if opts.security_profile is not None:
+        return _profile(opts.security_profile, selection, report, properties, started, t0, out, could_not)
     net = describe(opts.interface, opts.peers)
     progress = Progress()
     progress.setup("starting DDS")

@@ -113,7 +113,7 @@ def _valid(path: Path, cert: x509.Certificate, what: str, now: dt.datetime, fix:
         )
 
 
-def _verify_smime(path: Path, ca: Path) -> bytes:
+def verify_smime(path: Path, ca: Path) -> bytes:
     """The document signed in `path` once its S/MIME signature verifies against `ca` (with OpenSSL's command, as
     Cyclone's plugin verifies it with OpenSSL's library; without the command, Cyclone's own check is the only one)."""
     data = path.read_bytes()
@@ -137,7 +137,7 @@ def _verify_smime(path: Path, ca: Path) -> bytes:
     return document if isinstance(document, bytes) else b""
 
 
-def _rdns(subject: str) -> set[tuple[str, str]]:
+def rdns(subject: str) -> set[tuple[str, str]]:
     """A distinguished name as a set of (attribute, value), the way DDS Security compares a grant's subject."""
     return {(k.strip().upper(), v.strip()) for k, _, v in (p.partition("=") for p in re.split(r"(?<!\\),", subject) if p.strip())}
 
@@ -155,9 +155,9 @@ def _granted(path: Path, document: bytes, subject: x509.Name, now: dt.datetime) 
         root = ET.fromstring(document)
     except ET.ParseError as e:
         raise SecurityError(f"{path}: its permissions are not XML ({e})") from None
-    wanted = _rdns(subject.rfc4514_string())
+    wanted = rdns(subject.rfc4514_string())
     for grant in root.iter("grant"):
-        if _rdns(grant.findtext("subject_name") or "") != wanted:
+        if rdns(grant.findtext("subject_name") or "") != wanted:
             continue
         start, end = _instant(grant.findtext("validity/not_before")), _instant(grant.findtext("validity/not_after"))
         if end is not None and end <= now:
@@ -200,8 +200,8 @@ def load(folder: Path, now: dt.datetime | None = None) -> BusSecurity:
         raise SecurityError(f"{files['PrivateKey']} is not the key of {files['IdentityCertificate']}: {fix}")
     perm_ca = _certificate(files["PermissionsCA"])
     _valid(files["PermissionsCA"], perm_ca, "permissions CA", now, "the fleet needs new authorities (sem-keys init --force)")
-    _verify_smime(files["Governance"], files["PermissionsCA"])
-    _granted(files["Permissions"], _verify_smime(files["Permissions"], files["PermissionsCA"]), cert.subject, now)
+    verify_smime(files["Governance"], files["PermissionsCA"])
+    _granted(files["Permissions"], verify_smime(files["Permissions"], files["PermissionsCA"]), cert.subject, now)
     names = cert.subject.get_attributes_for_oid(x509.NameOID.COMMON_NAME)
     return BusSecurity(
         identity=str(names[0].value) if names else cert.subject.rfc4514_string(),

@@ -19,6 +19,25 @@ GOVERNANCE_XSD = "http://www.omg.org/spec/DDS-SECURITY/20170901/omg_shared_ca_go
 XSI = "http://www.w3.org/2001/XMLSchema-instance"
 
 
+# The project's security profile: what the fleet's governance sets for each domain and for every SEM topic (in
+# this order, the governance schema's), and what `sem-check --security-profile` holds a governance to.
+DOMAIN_PROFILE = {
+    "allow_unauthenticated_participants": "false",
+    "enable_join_access_control": "true",
+    "discovery_protection_kind": "ENCRYPT",
+    "liveliness_protection_kind": "ENCRYPT",
+    "rtps_protection_kind": "ENCRYPT",
+}
+TOPIC_PROFILE = {
+    "enable_discovery_protection": "true",
+    "enable_liveliness_protection": "true",
+    "enable_read_access_control": "true",
+    "enable_write_access_control": "true",
+    "metadata_protection_kind": "ENCRYPT",
+    "data_protection_kind": "ENCRYPT",
+}
+
+
 class Role(str, Enum):
     """What an identity may do on the bus."""
 
@@ -74,20 +93,14 @@ def governance_xml(domains: Sequence[int]) -> bytes:
     root = _root(GOVERNANCE_XSD)
     rule = _sub(_sub(root, "domain_access_rules"), "domain_rule")
     _domains(rule, domains)
-    _sub(rule, "allow_unauthenticated_participants", "false")
-    _sub(rule, "enable_join_access_control", "true")
-    for kind in ("discovery", "liveliness", "rtps"):
-        _sub(rule, f"{kind}_protection_kind", "ENCRYPT")
+    for tag, value in DOMAIN_PROFILE.items():
+        _sub(rule, tag, value)
     rules = _sub(rule, "topic_access_rules")
     for name in [name for name, _cls in sem_topics()] + [RELAY_LINK]:
         topic = _sub(rules, "topic_rule")
         _sub(topic, "topic_expression", name)
-        _sub(topic, "enable_discovery_protection", "true")
-        _sub(topic, "enable_liveliness_protection", "true")
-        _sub(topic, "enable_read_access_control", "true")
-        _sub(topic, "enable_write_access_control", "true")
-        _sub(topic, "metadata_protection_kind", "ENCRYPT")
-        _sub(topic, "data_protection_kind", "ENCRYPT")
+        for tag, value in TOPIC_PROFILE.items():
+            _sub(topic, tag, value)
     return _text(root)
 
 

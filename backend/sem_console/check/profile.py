@@ -1,0 +1,158 @@
+"""`sem-check --security-profile DIR`: a fleet's DDS Security governance and permissions held to the project's
+security profile (what `sem-keys` writes: keys/documents.py), without DDS. Each finding is one line saying the problem
+and the fix, under the test case that names it."""
+
+from __future__ import annotations
+
+import fnmatch
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+from sem_console.check.results import Case
+from sem_console.dds.hops import TOPIC as RELAY_LINK
+from sem_console.dds.qos import TopicClass
+from sem_console.dds.security import FLEET_FILES, IDENTITY_FILES, SecurityError, identity_files, rdns, verify_smime
+from sem_console.keys.documents import DOMAIN_PROFILE, TOPIC_PROFILE, Role, sem_topics
+
+SIGNATURES = "profile.signatures"  # every document verifies against the fleet's permissions CA
+UNAUTHENTICATED = "profile.unauthenticated_participants"
+JOIN = "profile.join_access_control"
+BUS = "profile.bus_protection"  # discovery, liveliness and RTPS messages
+TOPICS = "profile.topic_protection"
+COMMANDS = "profile.command_grants"
+NAMES = [SIGNATURES, UNAUTHENTICATED, JOIN, BUS, TOPICS, COMMANDS]
+# the case of each domain setting of the profile
+DOMAIN_CASES = {
+    "allow_unauthenticated_participants": UNAUTHENTICATED,
+    "enable_join_access_control": JOIN,
+    "discovery_protection_kind": BUS,
+    "liveliness_protection_kind": BUS,
+    "rtps_protection_kind": BUS,
+}
+RESIGN = "then sign it again with the fleet's permissions CA (sem-keys init --force writes the profile's)"
+
+
+@dataclass(frozen=True)
+class Documents:
+    """What is checked: the governance and the permissions documents, signed, and the CA they must verify against."""
+
+    governance: Path
+    permissions: list[Path]
+    permissions_ca: Path
+
+
+def documents(folder: Path) -> Documents:
+    """A fleet's folder (`sem-keys init`: its governance and every identity's permissions) or one identity's folder
+    (`sem-keys issue`, as --dds-security takes it); SecurityError (one line) when the documents are not there."""
+    fleet = {tag: folder / name for tag, name in FLEET_FILES.items()}
+    if fleet["Governance"].is_file() and (folder / "identities").is_dir():
+        if not fleet["PermissionsCA"].is_file():
+            raise SecurityError(
+                f"--security-profile {folder}: no {fleet['PermissionsCA'].name} there: give a sem-keys fleet folder"
+            )
+        found = sorted((folder / "identities").glob(f"*/{IDENTITY_FILES['Permissions']}"))
+        return Documents(fleet["Governance"], found, fleet["PermissionsCA"])
+    if not folder.is_dir():
+        raise SecurityError(
+            f"--security-profile {folder}: no such folder: "
+            "give a fleet's folder (sem-keys init) or an identity's (sem-keys issue)"
+        )
+    if not (folder / IDENTITY_FILES["Permissions"]).is_file():
+        raise SecurityError(
+            f"--security-profile {folder}: neither a fleet's folder (governance.p7s and identities/) nor an identity's "
+            "(permissions.p7s): give the folder sem-keys init or sem-keys issue wrote"
+        )
+    files = identity_files(folder)
+    return Documents(files["Governance"], [files["Permissions"]], files["PermissionsCA"])
+
+
+def _signed(path: Path, ca: Path, signatures: Case) -> ET.Element | None:
+    """The document in `path` once its signature verifies and it is XML; else a finding under `signatures`."""
+    try:
+        return ET.fromstring(verify_smime(path, ca))
+    except SecurityError as e:
+        signatures.fail(str(e))
+    except ET.ParseError as e:
+        signatures.fail(f"{path}: its document is not XML ({e}): write it again with sem-keys")
+    return None
+
+
+def _text(node: ET.Element, tag: str) -> str:
+    return (node.findtext(tag) or "").strip()
+
+
+def _governance(path: Path, root: ET.Element, cases: dict[str, Case]) -> None:
+    topics = [name for name, _ in sem_topics()] + [RELAY_LINK]
+    for number, rule in enumerate(root.iter("domain_rule"), 1):
+        where = f"{path}: domain_rule {number}"
+        for tag, wanted in DOMAIN_PROFILE.items():
+            value = _text(rule, tag)
+            if value.lower() != wanted.lower():
+                cases[DOMAIN_CASES[tag]].fail(
+                    f"{where}: {tag} is {value or 'missing'}, the profile's is {wanted}: set it, {RESIGN}", profile=True
+                )
+        for topic in rule.iter("topic_rule"):
+            expression = _text(topic, "topic_expression")
+            covered = [t for t in topics if fnmatch.fnmatchcase(t, expression)]
+            if not covered:
+                continue
+            for tag, wanted in TOPIC_PROFILE.items():
+                value = _text(topic, tag)
+                if value.lower() != wanted.lower():
+                    cases[TOPICS].fail(
+                        f"{where}: the topic rule {expression!r} (covering {covered[0]}"
+                        f"{f' and {len(covered) - 1} more' if len(covered) > 1 else ''}) has {tag} {value or 'missing'}, "
+                        f"the profile's is {wanted}: set it, {RESIGN}",
+                        profile=True,
+                    )
+
+
+def _publishes(rule: ET.Element, topic: str) -> bool:
+    return any(fnmatch.fnmatchcase(topic, (t.text or "").strip()) for t in rule.findall("publish/topics/topic"))
+
+
+def _permissions(path: Path, root: ET.Element, case: Case) -> None:
+    """A grant may publish a command topic only for a station: the role is its subject's OU, as sem-keys writes it in
+    the identity's certificate (signed by the identity CA) and the grant. The first rule that names a topic decides,
+    else the grant's default, as the access control plugin applies them."""
+    commands = [name for name, cls in sem_topics() if cls is TopicClass.COMMAND]
+    for grant in root.iter("grant"):
+        roles = {v for k, v in rdns(_text(grant, "subject_name")) if k == "OU"}
+        if Role.STATION.value in roles:
+            continue
+        allowed = []
+        for topic in commands:
+            decided = next((r for r in grant if r.tag in ("allow_rule", "deny_rule") and _publishes(r, topic)), None)
+            if (decided.tag == "allow_rule") if decided is not None else _text(grant, "default").upper() == "ALLOW":
+                allowed.append(topic)
+        if allowed:
+            role = ", ".join(sorted(roles)) or "no role (OU)"
+            case.fail(
+                f"{path}: grant {grant.get('name', '?')!r} lets {_text(grant, 'subject_name')} ({role}, not a station) "
+                f"publish the command topic {allowed[0]}{f' and {len(allowed) - 1} more' if len(allowed) > 1 else ''}: "
+                "only a station writes commands: issue the identity again (sem-keys issue FLEET NAME --role ROLE)",
+                profile=True,
+            )
+
+
+def check(docs: Documents) -> list[Case]:
+    """The profile's test cases, each failed by its findings (the first is its reason, the rest notes)."""
+    cases = {name: Case(name) for name in NAMES}
+    governance = _signed(docs.governance, docs.permissions_ca, cases[SIGNATURES])
+    if governance is not None:
+        _governance(docs.governance, governance, cases)
+    else:
+        for name in (UNAUTHENTICATED, JOIN, BUS, TOPICS):
+            cases[name].skip(f"not checked: the governance {docs.governance} did not verify")
+    verified = 0
+    for path in docs.permissions:
+        permissions = _signed(path, docs.permissions_ca, cases[SIGNATURES])
+        if permissions is not None:
+            verified += 1
+            _permissions(path, permissions, cases[COMMANDS])
+    if not verified:
+        cases[COMMANDS].skip("not checked: no identity's permissions.p7s that verifies (sem-keys issue writes them)")
+    checked = [docs.governance, *docs.permissions]
+    cases[SIGNATURES].note(f"documents: {', '.join(map(str, checked))}")
+    return list(cases.values())
