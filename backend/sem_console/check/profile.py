@@ -12,7 +12,7 @@ from pathlib import Path
 from sem_console.check.results import Case
 from sem_console.dds.hops import TOPIC as RELAY_LINK
 from sem_console.dds.qos import TopicClass
-from sem_console.dds.security import FLEET_FILES, IDENTITY_FILES, SecurityError, identity_files, rdns, verify_smime
+from sem_console.dds.security import IDENTITY_FILES, SecurityError, fleet_file, rdns, verify_smime
 from sem_console.keys.documents import DOMAIN_PROFILE, TOPIC_PROFILE, Role, sem_topics
 
 SIGNATURES = "profile.signatures"  # every document verifies against the fleet's permissions CA
@@ -44,27 +44,25 @@ class Documents:
 
 def documents(folder: Path) -> Documents:
     """A fleet's folder (`sem-keys init`: its governance and every identity's permissions) or one identity's folder
-    (`sem-keys issue`, as --dds-security takes it); SecurityError (one line) when the documents are not there."""
-    fleet = {tag: folder / name for tag, name in FLEET_FILES.items()}
-    if fleet["Governance"].is_file() and (folder / "identities").is_dir():
-        if not fleet["PermissionsCA"].is_file():
-            raise SecurityError(
-                f"--security-profile {folder}: no {fleet['PermissionsCA'].name} there: give a sem-keys fleet folder"
-            )
-        found = sorted((folder / "identities").glob(f"*/{IDENTITY_FILES['Permissions']}"))
-        return Documents(fleet["Governance"], found, fleet["PermissionsCA"])
+    (`sem-keys issue`, as --dds-security takes it: its permissions, the fleet's governance and permissions CA beside
+    them or in its fleet's folder); SecurityError (one line) when the documents are not there."""
     if not folder.is_dir():
         raise SecurityError(
             f"--security-profile {folder}: no such folder: "
             "give a fleet's folder (sem-keys init) or an identity's (sem-keys issue)"
         )
-    if not (folder / IDENTITY_FILES["Permissions"]).is_file():
-        raise SecurityError(
-            f"--security-profile {folder}: neither a fleet's folder (governance.p7s and identities/) nor an identity's "
-            "(permissions.p7s): give the folder sem-keys init or sem-keys issue wrote"
-        )
-    files = identity_files(folder)
-    return Documents(files["Governance"], [files["Permissions"]], files["PermissionsCA"])
+    own = folder / IDENTITY_FILES["Permissions"]
+    governance, ca = fleet_file(folder, "Governance"), fleet_file(folder, "PermissionsCA")
+    for path in (governance, ca):
+        if not path.is_file():
+            raise SecurityError(
+                f"--security-profile {folder}: no {path.name} there: give the folder "
+                "sem-keys init wrote (the fleet's) or sem-keys issue wrote (an identity's, its fleet's files beside it "
+                "or two folders up)"
+            )
+    if own.is_file():
+        return Documents(governance, [own], ca)
+    return Documents(governance, sorted((folder / "identities").glob(f"*/{IDENTITY_FILES['Permissions']}")), ca)
 
 
 def _signed(path: Path, ca: Path, signatures: Case) -> ET.Element | None:

@@ -80,13 +80,20 @@ def cyclone_xml(files: dict[str, Path]) -> bytes:
     return ('<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n").encode()
 
 
+def fleet_file(folder: Path, tag: str) -> Path:
+    """The fleet's file of <Security> element `tag` (FLEET_FILES) for the identity in `folder`: beside its files, else
+    in its fleet's folder; the one beside them when neither is there."""
+    name = FLEET_FILES[tag]
+    return next((f for f in (folder / name, folder.parent.parent / name) if f.is_file()), folder / name)
+
+
 def identity_files(folder: Path) -> dict[str, Path]:
     """The files of the identity in `folder`, by their <Security> element's name."""
     if not folder.is_dir():
         raise SecurityError(f"--dds-security {folder}: no such folder: give the folder `sem-keys issue` wrote for this identity")
     found = {tag: folder / name for tag, name in IDENTITY_FILES.items()}
-    for tag, name in FLEET_FILES.items():
-        found[tag] = next((f for f in (folder / name, folder.parent.parent / name) if f.is_file()), folder / name)
+    for tag in FLEET_FILES:
+        found[tag] = fleet_file(folder, tag)
     for tag, path in found.items():
         if not path.is_file():
             where = "" if tag in IDENTITY_FILES else f" nor in its fleet's folder {folder.parent.parent}"

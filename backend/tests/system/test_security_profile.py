@@ -58,6 +58,12 @@ def failed(rows: dict[str, str]) -> set[str]:
     return {name for name, line in rows.items() if line.split()[1] == "FAIL"}
 
 
+def test_a_fleet_before_its_first_identity_checks_its_governance(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert keys(["init", str(tmp_path / "fleet"), "--fleet", "Test Fleet"]) == 0
+    code, rows = check(tmp_path / "fleet", capsys)
+    assert code == 0 and rows[COMMANDS].split()[1] == "skip", rows
+
+
 def test_sem_keys_own_fleet_and_each_identity_pass(fleet: Path, capsys: pytest.CaptureFixture[str]) -> None:
     code, rows = check(fleet, capsys)
     assert code == 0, rows
@@ -139,4 +145,7 @@ def test_a_tampered_document_is_one_line_naming_it(fleet: Path, capsys: pytest.C
 def test_a_folder_without_documents_is_one_line_and_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--security-profile", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "neither a fleet's folder" in err[0]
+    assert err == [
+        f"sem-check: --security-profile {tmp_path}: no governance.p7s there: give the folder sem-keys init wrote (the "
+        "fleet's) or sem-keys issue wrote (an identity's, its fleet's files beside it or two folders up)"
+    ]
