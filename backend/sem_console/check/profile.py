@@ -106,24 +106,43 @@ def _governance(path: Path, root: ET.Element, cases: dict[str, Case]) -> None:
                     )
 
 
+DOMAIN_IDS = range(233)  # the DDS domain ids a participant can join (0..232)
+
+
+def _int(text: str | None, default: int) -> int:
+    return int(text.strip()) if text is not None and text.strip().isdigit() else default
+
+
+def _domain_ids(rule: ET.Element) -> set[int]:
+    """The domain ids a rule's <domains> covers: its ids and id ranges (a range without min or max is open)."""
+    ids = {_int(i.text, -1) for i in rule.findall("domains/id")}
+    for r in rule.findall("domains/id_range"):
+        low, high = _int(r.findtext("min"), 0), _int(r.findtext("max"), DOMAIN_IDS[-1])
+        ids.update(range(low, high + 1))
+    return ids & set(DOMAIN_IDS)
+
+
 def _publishes(rule: ET.Element, topic: str) -> bool:
     return any(fnmatch.fnmatchcase(topic, (t.text or "").strip()) for t in rule.findall("publish/topics/topic"))
 
 
+def _may_publish(grant: ET.Element, topic: str) -> bool:
+    """Whether a grant lets its subject publish `topic` on some domain: on each, the first allow or deny rule that
+    covers the domain and names the topic decides, else the grant's default, as the access control plugin applies them."""
+    rules = [(r.tag, _domain_ids(r)) for r in grant if r.tag in ("allow_rule", "deny_rule") and _publishes(r, topic)]
+    default = _text(grant, "default").upper() == "ALLOW"
+    return any(next((tag == "allow_rule" for tag, ids in rules if d in ids), default) for d in DOMAIN_IDS)
+
+
 def _permissions(path: Path, root: ET.Element, case: Case) -> None:
     """A grant may publish a command topic only for a station: the role is its subject's OU, as sem-keys writes it in
-    the identity's certificate (signed by the identity CA) and the grant. The first rule that names a topic decides,
-    else the grant's default, as the access control plugin applies them."""
+    the identity's certificate (signed by the identity CA) and the grant."""
     commands = [name for name, cls in sem_topics() if cls is TopicClass.COMMAND]
     for grant in root.iter("grant"):
         roles = {v for k, v in rdns(_text(grant, "subject_name")) if k == "OU"}
         if Role.STATION.value in roles:
             continue
-        allowed = []
-        for topic in commands:
-            decided = next((r for r in grant if r.tag in ("allow_rule", "deny_rule") and _publishes(r, topic)), None)
-            if (decided.tag == "allow_rule") if decided is not None else _text(grant, "default").upper() == "ALLOW":
-                allowed.append(topic)
+        allowed = [topic for topic in commands if _may_publish(grant, topic)]
         if allowed:
             role = ", ".join(sorted(roles)) or "no role (OU)"
             case.fail(

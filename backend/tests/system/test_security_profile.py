@@ -128,6 +128,20 @@ def test_a_command_topic_granted_to_an_identity_not_a_station_is_flagged(fleet: 
     assert check(fleet / "identities" / "station-1", capsys)[0] == 0
 
 
+@pytest.mark.parametrize(("domains", "flagged"), [("<id>99</id>", True), ("<id_range><min>5</min></id_range>", False)])
+def test_a_deny_rule_holds_a_command_topic_only_on_its_domains(
+    fleet: Path, capsys: pytest.CaptureFixture[str], domains: str, flagged: bool
+) -> None:
+    display = fleet / "identities" / "display"
+    xml = display / "permissions.xml"
+    deny = f"<deny_rule><domains>{domains}</domains><publish><topics><topic>{COMMAND}</topic></topics></publish></deny_rule>"
+    xml.write_text(xml.read_text(encoding="utf-8").replace("<allow_rule>", deny + "<allow_rule>", 1), encoding="utf-8")
+    grant = f"<publish><topics><topic>{COMMAND}</topic></topics></publish><subscribe>"
+    resign(fleet, xml, display / "permissions.p7s", "<subscribe>", grant)
+    code, rows = check(display, capsys)
+    assert (code, failed(rows)) == ((1, {COMMANDS}) if flagged else (0, set())), rows
+
+
 def test_a_tampered_document_is_one_line_naming_it(fleet: Path, capsys: pytest.CaptureFixture[str]) -> None:
     signed = fleet / "governance.p7s"
     text = signed.read_text(encoding="utf-8")
