@@ -123,7 +123,10 @@ def _valid(path: Path, cert: x509.Certificate, what: str, now: dt.datetime, fix:
 def verify_smime(path: Path, ca: Path) -> bytes:
     """The document signed in `path` once its S/MIME signature verifies against `ca` (with OpenSSL's command, as
     Cyclone's plugin verifies it with OpenSSL's library; without the command, Cyclone's own check is the only one)."""
-    data = path.read_bytes()
+    try:
+        data = path.read_bytes()
+    except OSError as e:
+        raise SecurityError(f"{path} cannot be read ({e.strerror}): write it again with sem-keys") from None
     message = message_from_bytes(data)
     parts = message.get_payload() if message.is_multipart() else None
     if not isinstance(parts, list) or not parts or not isinstance(parts[0], Message):

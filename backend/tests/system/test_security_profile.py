@@ -156,6 +156,13 @@ def test_a_tampered_document_is_one_line_naming_it(fleet: Path, capsys: pytest.C
     assert skipped == {UNAUTHENTICATED, JOIN, BUS, TOPICS}
 
 
+def test_a_permissions_document_that_cannot_be_read_is_one_line(fleet: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    (fleet / "identities" / "stray" / "permissions.p7s").mkdir(parents=True)
+    code, rows = check(fleet, capsys)
+    assert code == 1 and failed(rows) == {SIGNATURES}, rows
+    assert "stray/permissions.p7s cannot be read (Is a directory): write it again with sem-keys" in rows[SIGNATURES]
+
+
 def test_a_folder_without_documents_is_one_line_and_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["--security-profile", str(tmp_path)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
