@@ -14,6 +14,7 @@ from sem_console.dds.hops import TOPIC as RELAY_LINK
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.security import IDENTITY_FILES, SecurityError, fleet_file, rdns, verify_smime
 from sem_console.keys.documents import DOMAIN_PROFILE, TOPIC_PROFILE, Role, sem_topics
+from sem_console.keys.fleet import Fleet, KeysError
 
 SIGNATURES = "profile.signatures"  # every document verifies against the fleet's permissions CA
 UNAUTHENTICATED = "profile.unauthenticated_participants"
@@ -40,6 +41,7 @@ class Documents:
     governance: Path
     permissions: list[Path]
     permissions_ca: Path
+    domains: list[int] | None = None  # the fleet's domains (sem-keys init's fleet.json beside the governance), if known
 
 
 def documents(folder: Path) -> Documents:
@@ -60,9 +62,14 @@ def documents(folder: Path) -> Documents:
                 "sem-keys init wrote (the fleet's) or sem-keys issue wrote (an identity's, its fleet's files beside it "
                 "or two folders up)"
             )
+    try:
+        domains: list[int] | None = Fleet(governance.parent).settings()[1]
+    except KeysError:
+        domains = None
     if own.is_file():
-        return Documents(governance, [own], ca)
-    return Documents(governance, sorted((folder / "identities").glob(f"*/{IDENTITY_FILES['Permissions']}")), ca)
+        return Documents(governance, [own], ca, domains)
+    permissions = sorted((folder / "identities").glob(f"*/{IDENTITY_FILES['Permissions']}"))
+    return Documents(governance, permissions, ca, domains)
 
 
 def _signed(path: Path, ca: Path, signatures: Case) -> ET.Element | None:
@@ -80,9 +87,18 @@ def _text(node: ET.Element, tag: str) -> str:
     return (node.findtext(tag) or "").strip()
 
 
-def _governance(path: Path, root: ET.Element, cases: dict[str, Case]) -> None:
+def _governance(path: Path, root: ET.Element, domains: list[int] | None, cases: dict[str, Case]) -> None:
     topics = [name for name, _ in sem_topics()] + [RELAY_LINK]
-    for number, rule in enumerate(root.iter("domain_rule"), 1):
+    rules = list(root.iter("domain_rule"))
+    joined = set[int]().union(*(_domain_ids(rule) for rule in rules))
+    outside = [str(d) for d in sorted(set(domains or []) - joined)] or ([] if rules else ["of the fleet"])
+    if outside:
+        cases[JOIN].fail(
+            f"{path}: no domain_rule covers the domain {', '.join(outside)}, so no participant may join it: "
+            f"add the profile's, {RESIGN}",
+            profile=True,
+        )
+    for number, rule in enumerate(rules, 1):
         where = f"{path}: domain_rule {number}"
         for tag, wanted in DOMAIN_PROFILE.items():
             value = _text(rule, tag)
@@ -90,6 +106,15 @@ def _governance(path: Path, root: ET.Element, cases: dict[str, Case]) -> None:
                 cases[DOMAIN_CASES[tag]].fail(
                     f"{where}: {tag} is {value or 'missing'}, the profile's is {wanted}: set it, {RESIGN}", profile=True
                 )
+        expressions = [_text(topic, "topic_expression") for topic in rule.iter("topic_rule")]
+        missing = [t for t in topics if not any(fnmatch.fnmatchcase(t, e) for e in expressions)]
+        if missing:
+            cases[TOPICS].fail(
+                f"{where}: no topic rule covers {missing[0]}"
+                f"{f' and {len(missing) - 1} more' if len(missing) > 1 else ''}, so no participant may use it: "
+                f"add the profile's, {RESIGN}",
+                profile=True,
+            )
         for topic in rule.iter("topic_rule"):
             expression = _text(topic, "topic_expression")
             covered = [t for t in topics if fnmatch.fnmatchcase(t, expression)]
@@ -158,7 +183,7 @@ def check(docs: Documents) -> list[Case]:
     cases = {name: Case(name) for name in NAMES}
     governance = _signed(docs.governance, docs.permissions_ca, cases[SIGNATURES])
     if governance is not None:
-        _governance(docs.governance, governance, cases)
+        _governance(docs.governance, governance, docs.domains, cases)
     else:
         for name in (UNAUTHENTICATED, JOIN, BUS, TOPICS):
             cases[name].skip(f"not checked: the governance {docs.governance} did not verify")

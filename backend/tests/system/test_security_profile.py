@@ -111,6 +111,26 @@ def test_a_governance_off_the_profile_is_flagged_by_name(
     assert says in rows[name] and "sign it again with the fleet's permissions CA" in rows[name]
 
 
+@pytest.mark.parametrize(
+    ("old", "new", "name", "says"),
+    [
+        ("<id>7</id>", "<id>8</id>", JOIN, "no domain_rule covers the domain 7"),
+        ("<domain_rule>", "<domain_rule_off>", JOIN, "no domain_rule covers the domain 7"),
+        (f"<topic_expression>{COMMAND}<", "<topic_expression>Other<", TOPICS, f"no topic rule covers {COMMAND},"),
+    ],
+)
+def test_a_governance_that_leaves_the_fleet_s_domain_or_a_topic_without_a_rule_is_flagged(
+    fleet: Path, capsys: pytest.CaptureFixture[str], old: str, new: str, name: str, says: str
+) -> None:
+    xml = fleet / "governance.xml"
+    if old == "<domain_rule>":
+        xml.write_text(xml.read_text(encoding="utf-8").replace("</domain_rule>", "</domain_rule_off>"), encoding="utf-8")
+    resign(fleet, xml, fleet / "governance.p7s", old, new)
+    code, rows = check(fleet, capsys)
+    assert code == 1 and name in failed(rows), rows
+    assert says in rows[name], rows
+
+
 def test_a_command_topic_granted_to_an_identity_not_a_station_is_flagged(fleet: Path, capsys: pytest.CaptureFixture[str]) -> None:
     display = fleet / "identities" / "display"
     grant = f"<publish><topics><topic>{COMMAND}</topic></topics></publish><subscribe>"
