@@ -155,8 +155,17 @@ def test_a_6_0_vehicles_global_pose_is_its_location_fix(console, domain: int) ->
             await until(client, lambda _m: topic in client.topics(), 10, f"the channel {topic}")
             await client.subscribe([topic])
             got: list[dict[str, Any]] = []
-            writer.write(global_pose(vehicle, stamp))  # again, now that a client subscribes
-            await until(client, lambda m: m is not None and not got.append(m.json()), 10, "the 6.0 vehicle's LocationFix")
+
+            async def writing() -> None:  # again, until the subscription has taken effect at the server
+                while True:
+                    writer.write(global_pose(vehicle, stamp))
+                    await asyncio.sleep(0.5)
+
+            again = asyncio.create_task(writing())
+            try:
+                await until(client, lambda m: m is not None and not got.append(m.json()), 10, "LocationFix of the 6.0 vehicle")
+            finally:
+                again.cancel()
             return got[0]
 
     fix = asyncio.run(session())
