@@ -97,14 +97,17 @@ export interface Filters {
 }
 const ANY: Filters = { state: "", version: "", relay: "" };
 const DIRECT = "(direct)";
-const STATES: { value: Filters["state"]; text: string }[] = [
-  { value: "", text: "Any state" },
-  { value: "live", text: linkText("live") },
-  { value: "stale", text: linkText("stale") },
-  { value: "lost", text: linkText("lost") },
-  { value: "alarm", text: FLEET_STATE.alarm },
-  { value: "commanded", text: FLEET_STATE.commanded },
-];
+/** The state filter's choices; in a replay (`recorded`) the links are the recording's, worded so ("Recorded: live"). */
+function states(recorded: boolean): { value: Filters["state"]; text: string }[] {
+  return [
+    { value: "", text: "Any state" },
+    { value: "live", text: stateWords(linkText("live"), recorded) },
+    { value: "stale", text: stateWords(linkText("stale"), recorded) },
+    { value: "lost", text: stateWords(linkText("lost"), recorded) },
+    { value: "alarm", text: FLEET_STATE.alarm },
+    { value: "commanded", text: FLEET_STATE.commanded },
+  ];
+}
 
 /** A filter's drop-down: its choices, "" first (any). */
 function Choice({
@@ -137,7 +140,9 @@ function FleetFilters({
   onFilters,
   versions,
   relays,
+  recorded,
 }: {
+  recorded: boolean;
   filters: Filters;
   onFilters: (f: Filters) => void;
   versions: readonly string[];
@@ -149,7 +154,7 @@ function FleetFilters({
       <Choice
         label="State"
         value={filters.state}
-        options={STATES}
+        options={states(recorded)}
         onChange={(v) => set({ state: v as Filters["state"] })}
         testId="filter-state"
       />
@@ -296,7 +301,14 @@ export function VehicleSelector() {
             total={providers.length}
             narrowed={narrowed}
           />
-          <FleetFilters key={`f${searches}`} filters={filters} onFilters={setFilters} versions={versions} relays={relays} />
+          <FleetFilters
+            key={`f${searches}`}
+            filters={filters}
+            onFilters={setFilters}
+            versions={versions}
+            relays={relays}
+            recorded={recorded}
+          />
         </>
       )}
       <nav className="vehicles" aria-label="Vehicles" data-testid="vehicles" ref={list}>
