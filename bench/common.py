@@ -172,6 +172,18 @@ def get_json(url: str, method: str = "GET", timeout: float = 10) -> Any:
         return json.loads(r.read())
 
 
+def wait_listed(url: str, vehicles: int, timeout: float = 30) -> None:
+    """Wait until the console at `url` lists `vehicles` vehicles, then 3 s of warm-up; a figure measured on fewer is
+    not the one asked for, so that is one line (SystemExit)."""
+    deadline = time.monotonic() + timeout
+    while get_json(url + "/api/metrics")["providers"] < vehicles and time.monotonic() < deadline:
+        time.sleep(0.5)
+    seen = get_json(url + "/api/metrics")["providers"]
+    if seen < vehicles:
+        raise SystemExit(f"only {seen} of {vehicles} simulated vehicles appeared within {timeout:.0f} s (is sem-sim running?)")
+    time.sleep(3)
+
+
 def report_latency(msg: dict[str, Any], now: float) -> float | None:
     """Seconds from a report's timeStamp (set by its writer) to its arrival here."""
     if msg.get("type") != "report":

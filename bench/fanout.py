@@ -30,7 +30,7 @@ import threading
 import time
 
 import common
-from common import CpuMeter, emit, for_seconds, get_json, ms, percentile, report_latency, stack, table, ws_collect
+from common import CpuMeter, emit, for_seconds, get_json, ms, percentile, report_latency, stack, table, wait_listed, ws_collect
 from foxglove_peer import foxglove_collect, peer, sample_latency
 from ingest import sim_args
 
@@ -131,13 +131,7 @@ def fleet(clients_n: int, vehicles: int, seconds: float) -> dict:
     after the clients connected and warmed up (see the docstring)."""
     env = {"SEM_WS_CUT_SECONDS": str(FLEET_CUT_SECONDS)}
     with stack(sim_args=fleet_sim_args(vehicles), console_env=env) as st:
-        deadline = time.monotonic() + 60
-        while get_json(st["url"] + "/api/metrics")["providers"] < vehicles and time.monotonic() < deadline:
-            time.sleep(0.5)
-        seen = get_json(st["url"] + "/api/metrics")["providers"]
-        if seen < vehicles:
-            raise SystemExit(f"only {seen} of {vehicles} simulated vehicles appeared (is sem-sim running?)")
-        time.sleep(3)
+        wait_listed(st["url"], vehicles, timeout=60)
         counted_from = time.time() + clients_n * FLEET_STAGGER + FLEET_WARM_UP
         until = counted_from + seconds
         asleep: list[float] = []
@@ -208,10 +202,7 @@ def fleet(clients_n: int, vehicles: int, seconds: float) -> dict:
 def against_peer(vehicles: int, seconds: float) -> list[dict]:
     """The console and the peer on the same `vehicles`, one client each, at once."""
     with stack(sim_args=sim_args(vehicles)) as st, peer(st["domain"]) as (peer_proc, peer_url):
-        deadline = time.monotonic() + 30
-        while get_json(st["url"] + "/api/metrics")["providers"] < vehicles and time.monotonic() < deadline:
-            time.sleep(0.5)
-        time.sleep(3)  # warm up
+        wait_listed(st["url"], vehicles)
         got = {"console": [0, []], "peer": [0, []]}  # delivered reports, latencies (GPSFixReport, InertialSensorReport)
 
         def on_console(msg: dict, now: float) -> None:

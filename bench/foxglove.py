@@ -19,7 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from common import CpuMeter, emit, free_port, get_json, stack, table, target
+from common import CpuMeter, emit, free_port, get_json, stack, table, target, wait_listed
 from foxglove_peer import foxglove_collect
 from ingest import sim_args
 
@@ -47,10 +47,7 @@ def main() -> None:
     rows: list[dict[str, Any]] = []
     with stack(sim_args=sim_args(args.vehicles), console_env={"SEM_FOXGLOVE_PORT": str(port)}) as st:
         console, url = st["procs"]["console"], st["url"]
-        deadline = time.monotonic() + 30
-        while get_json(url + "/api/metrics")["providers"] < args.vehicles and time.monotonic() < deadline:
-            time.sleep(0.5)
-        time.sleep(3)  # warm up
+        wait_listed(url, args.vehicles)
         for phase in ("no client", *CLIENTS) * args.pairs:
             received = 0
 

@@ -20,7 +20,7 @@ import sys
 import time
 
 import common
-from common import CpuMeter, emit, get_json, ms, percentile, report_latency, stack, table, ws_collect
+from common import CpuMeter, emit, get_json, ms, percentile, report_latency, stack, table, wait_listed, ws_collect
 
 TOPICS = ["GPS_REPORT", "GPS_FIX_REPORT", "GPS_FIX_STATUS_REPORT", "INS_REPORT"]
 SAMPLES_PER_VEHICLE_S = 1 + 10 + 10 + 10  # the rates of sim_args
@@ -47,13 +47,7 @@ def sim_args(n: int) -> list[str]:
 def measure(n: int, seconds: float) -> dict:
     with stack(sim_args=sim_args(n)) as st:
         console, sim = st["procs"]["console"], st["procs"]["sim"]
-        deadline = time.monotonic() + 30
-        while get_json(st["url"] + "/api/metrics")["providers"] < n and time.monotonic() < deadline:
-            time.sleep(0.5)
-        seen = get_json(st["url"] + "/api/metrics")["providers"]
-        if seen < n:
-            raise SystemExit(f"only {seen} of {n} simulated vehicles appeared (is sem-sim running?)")
-        time.sleep(3)  # warm up
+        wait_listed(st["url"], n)
         lat: list[float] = []
         shown = [0]
 

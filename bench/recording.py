@@ -17,7 +17,7 @@ import time
 import urllib.request
 from pathlib import Path
 
-from common import CpuMeter, emit, get_json, stack, table, target
+from common import CpuMeter, emit, get_json, stack, table, target, wait_listed
 from ingest import sim_args
 
 
@@ -37,10 +37,7 @@ def main() -> None:
     rows = []
     with stack(sim_args=sim_args(args.vehicles), console_env={"SEM_RECORDINGS_DIR": str(rec_dir)}) as st:
         console, url = st["procs"]["console"], st["url"]
-        deadline = time.monotonic() + 30
-        while get_json(url + "/api/metrics")["providers"] < args.vehicles and time.monotonic() < deadline:
-            time.sleep(0.5)
-        time.sleep(3)  # warm up
+        wait_listed(url, args.vehicles)
         for phase in ("off", "on") * args.pairs:
             if phase == "on":
                 post_json(url + "/api/recordings", {"action": "start"})
