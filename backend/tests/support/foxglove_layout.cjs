@@ -42,16 +42,24 @@ for (const [name, def] of Object.entries(defs)) {
 }
 // a panel type's config, as the type itself says (`Exclude<MapPanel["config"], undefined>`): an intersection with
 // BasePanel's `config: unknown` reads as anything in the generated schema above
-const used = [...new Set(JSON.stringify(layout).match(/"panelType":"[^"]*"/g) || [])]
-  .map((s) => panelTypes[JSON.parse(`{${s}}`).panelType])
-  .filter(Boolean);
+const children = (n) => [
+  ...(n.items || []).map((i) => i.content),
+  ...(n.tabs || []).map((t) => t.content),
+  ...(n.panels || []).map((i) => i.panel),
+];
+const panelsOf = (n) => (!n || typeof n !== "object" ? [] : n.type === "panel" ? [n] : children(n).flatMap(panelsOf));
+const used = [...new Set(panelsOf(layout.content).map((p) => panelTypes[p.panelType]))].filter(Boolean);
 const configs = {};
 if (used.length > 0) {
-  const shim = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "layout-")), "configs.ts");
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), "layout-"));
   const from = JSON.stringify(embedTypes.replace(/\.d\.ts$/, ""));
   const lines = used.map((t) => `export type ${t}Config_ = Exclude<import(${from}).${t}["config"], undefined>;`);
-  fs.writeFileSync(shim, lines.join("\n") + "\n");
-  Object.assign(defs, schemaOf(shim, "*").definitions);
+  fs.writeFileSync(path.join(dir, "configs.ts"), lines.join("\n") + "\n");
+  try {
+    Object.assign(defs, schemaOf(path.join(dir, "configs.ts"), "*").definitions);
+  } finally {
+    fs.rmSync(dir, { recursive: true, force: true });
+  }
   for (const t of used) configs[t] = `${t}Config_`;
 }
 // a node's own keys only: what it contains is checked as a node of its own
@@ -62,7 +70,11 @@ defs.Content = {};
 const settings = (v) => {
   if (Array.isArray(v)) return v.map(settings);
   if (!v || typeof v !== "object") return v;
-  const out = Object.fromEntries(Object.entries(v).filter(([k]) => k !== "required").map(([k, x]) => [k, settings(x)]));
+  const out = Object.fromEntries(
+    Object.entries(v)
+      .filter(([k]) => k !== "required")
+      .map(([k, x]) => [k, settings(x)]),
+  );
   if (out.properties && !("additionalProperties" in out)) out.additionalProperties = false;
   return out;
 };
@@ -90,14 +102,15 @@ function node(at, value) {
   if (value && value.type === "panel") {
     const def = panelTypes[value.panelType] || "BasePanel";
     say(at, def, check("layout", def, value));
-    if (configs[def] && value.config !== undefined) say(`${at}/config`, configs[def], check("settings", configs[def], value.config));
+    if (configs[def] && value.config !== undefined) {
+      say(`${at}/config`, `${def}.config`, check("settings", configs[def], value.config));
+    }
   } else if (value && kinds[value.type]) {
     say(at, kinds[value.type], check("layout", kinds[value.type], value));
-    (value.items || []).forEach((item, i) => node(`${at}/items/${i}/content`, item.content));
-    (value.tabs || []).forEach((tab, i) => node(`${at}/tabs/${i}/content`, tab.content));
-    (value.panels || []).forEach((item, i) => node(`${at}/panels/${i}/panel`, item.panel));
+    const where = { split: ["items", "content"], tabs: ["tabs", "content"], stack: ["panels", "panel"] }[value.type];
+    (value[where[0]] || []).forEach((item, i) => node(`${at}/${where[0]}/${i}/${where[1]}`, item[where[1]]));
   } else {
-    errors.push({ path: at, type: "Content", key: "type", message: `is not a panel, split, tabs or stack` });
+    errors.push({ path: at, type: "Content", key: "type", message: "is not a panel, split, tabs or stack" });
   }
 }
 say("", "Layout", check("layout", "Layout", layout));
