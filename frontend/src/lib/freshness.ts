@@ -35,6 +35,15 @@ export const notCurrent = (f: Freshness): boolean => f === "stale" || f === "los
  * than `staleAfterS`, "unreachable" whenever the page does not hear the console (a lost one stays lost: the worse of
  * what it may be now). The fleet bar, the vehicle list and the map say it. */
 export type PageLink = LinkState | "stale" | "unreachable";
+
+/** The one state the fleet bar counts a vehicle in and the vehicle list's state filter matches it by: "live" for a
+ * live or regained link, "planned" for one lost in its planned silence (expected, not counted lost). */
+export type FleetState = "live" | "stale" | "unchecked" | "unreachable" | "lost" | "planned";
+export function fleetState(link: PageLink, inPlannedSilence: boolean): FleetState {
+  if (link === "regained") return "live";
+  if (link === "lost" && inPlannedSilence) return "planned";
+  return link;
+}
 export function pageLink(link: LinkState, silentS: number | null, staleAfterS: number, receiving: boolean): PageLink {
   if (!receiving && link !== "lost") return "unreachable";
   return link === "live" && silentS !== null && silentS > staleAfterS ? "stale" : link;
@@ -50,7 +59,7 @@ export const RECORDED_TITLE = "the recording's state at the instant shown, not t
 
 /** Whether a replay's (`recorded`) link or freshness is the recording's: every one but "unreachable", the page's own
  * state now (it does not hear the console that replays), which no recording said. */
-export function recordedState(link: PageLink | Exclude<Freshness, "none">, recorded: boolean): boolean {
+export function recordedState(link: PageLink | FleetState | Exclude<Freshness, "none">, recorded: boolean): boolean {
   return recorded && link !== "unreachable";
 }
 

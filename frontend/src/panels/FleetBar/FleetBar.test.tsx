@@ -107,6 +107,18 @@ describe("FleetBar", () => {
     expect(screen.getByTestId("fleet-more").textContent).toBe(`${1000 - CHIP_LIMIT - 1} more in the vehicle list`);
   });
 
+  it("says how many lost vehicles are among those beyond its chips when more are lost than it holds", async () => {
+    const ids = Array.from({ length: 100 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+    const source = new TestSource();
+    renderWith(source, <FleetBar />);
+    act(() => source.send(snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { link: i < 30 ? "lost" : "live" })) })));
+    await waitFor(() => expect(screen.getByTestId("fleet-lost").textContent).toBe("30 lost"));
+    expect(screen.getAllByTestId("fleet-vehicle").every((c) => c.dataset.link === "lost")).toBe(true);
+    expect(screen.getByTestId("fleet-more").textContent).toBe(
+      `${100 - CHIP_LIMIT} more in the vehicle list, ${30 - CHIP_LIMIT} of them lost`,
+    );
+  });
+
   it("draws every chip of a fleet the bar holds, and no count of what none is in", async () => {
     fleet();
     await waitFor(() => expect(screen.getAllByTestId("fleet-vehicle")).toHaveLength(2));

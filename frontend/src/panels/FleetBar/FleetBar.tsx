@@ -22,7 +22,15 @@ import { useCollapsed, useSetting } from "../../data/settings";
 import { FLOOD_AT, pageTitle, plannedUntil, shelved, unacknowledged } from "../../data/slices/alarms";
 import { lastHeardAt, report, type ProviderView } from "../../data/slices/vehicles";
 import type { GPSFixStatusReportType, InertialSensorReportType } from "../../api/types";
-import { RECORDED_TITLE, pageLink, recordedState, stateWords, type PageLink } from "../../lib/freshness";
+import {
+  RECORDED_TITLE,
+  fleetState,
+  pageLink,
+  recordedState,
+  stateWords,
+  type FleetState,
+  type PageLink,
+} from "../../lib/freshness";
 import {
   ALARM_SEVERITY,
   FLEET_STATE,
@@ -302,16 +310,22 @@ export function FleetBar() {
     return until === null ? [] : [{ c, until }];
   });
   const lost = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) === null);
-  // a vehicle silent for seconds is not counted live, nor is any with the console unreachable (all "not updating")
-  const stale = all.filter((c) => c.link === "stale").length;
-  const notUpdating = all.filter((c) => c.link === "unreachable").length;
-  // silent while the console is behind: neither live nor lost, counted apart
-  const unchecked = all.filter((c) => c.link === "unchecked").length;
-  const live = all.length - lostAll.length - stale - notUpdating - unchecked;
+  // each vehicle counted in one state, the one the vehicle list's state filter matches it by: a vehicle silent for
+  // seconds is not counted live, nor is any with the console unreachable (all "not updating"), nor one silent while
+  // the console is behind ("unchecked")
+  const count = (state: FleetState) =>
+    all.filter((c) => fleetState(c.link, plannedUntil(silences, c.p.id, c.link) !== null) === state).length;
+  const stale = count("stale");
+  const notUpdating = count("unreachable");
+  const unchecked = count("unchecked");
+  const live = count("live");
   const inAlarm = all.filter((c) => byVehicle.has(c.p.id)).length;
   const underCommand = all.filter((c) => commanded.has(c.p.id)).length;
   const chips = fleetChips(all, { lost, alarmed: byVehicle, commanded, selected });
   const more = all.length - chips.length;
+  // lost vehicles beyond the chips (more lost than the bar holds): the note says they are among the rest
+  const shownIds = new Set(chips.map((c) => c.p.id));
+  const lostMore = lost.filter((c) => !shownIds.has(c.p.id)).length;
   // the bar's one Tab stop: the selected chip, else the first (worked out once, not per chip)
   const tabStop = chips.some((c) => c.p.id === selected) ? selected : chips[0]?.p.id;
   // the newest alarm still active first: a cleared one ("link lost" of a vehicle back) is named as cleared
@@ -464,7 +478,7 @@ export function FleetBar() {
               onClick={showVehicleList}
               title="the vehicle list finds and filters the whole fleet"
             >
-              {more} more in the vehicle list
+              {more} more in the vehicle list{lostMore > 0 ? `, ${lostMore} of them ${inline(linkText("lost"))}` : ""}
             </button>
           )}
         </div>

@@ -207,6 +207,61 @@ describe("VehicleSelector", () => {
     expect(screen.getAllByTestId("vehicle").length).toBeLessThan(60);
   });
 
+  it("matches each state filter to the vehicles the fleet bar counts in that state, regained and unchecked too", async () => {
+    const ids = [1, 2, 3, 4, 5].map((n) => `${n}0000000-0000-4000-8000-00000000000${n}`);
+    const source = new TestSource();
+    renderWith(
+      source,
+      <>
+        <FleetBar />
+        <VehicleSelector />
+      </>,
+    );
+    const until = Date.now() / 1000 + 600;
+    act(() =>
+      source.send(
+        snapshotMessage({
+          providers: [
+            vehicle(ids[0], { name: "Alpha" }),
+            vehicle(ids[1], { name: "Bravo", link: "regained" }),
+            vehicle(ids[2], { name: "Charlie", link: "unchecked" }),
+            vehicle(ids[3], { name: "Delta", link: "lost" }),
+            vehicle(ids[4], { name: "Echo", link: "lost" }),
+          ],
+          silences: [{ id: "s1", providerId: ids[4], vehicle: "Echo", until, reason: "dive", at: 0, by: null, station: null }],
+        }),
+      ),
+    );
+    await waitFor(() => expect(screen.getAllByTestId("vehicle")).toHaveLength(5));
+    const names = () => screen.getAllByTestId("vehicle-tag").map((t) => t.textContent?.split(" ")[0]);
+    const counted = (id: string) => Number(screen.getByTestId(id).textContent?.split(" ")[0]);
+    const pick = (value: string) => fireEvent.change(screen.getByTestId("filter-state"), { target: { value } });
+    for (const [state, bar, expected] of [
+      ["live", "fleet-live", ["Alpha", "Bravo"]],
+      ["unchecked", "fleet-unchecked", ["Charlie"]],
+      ["lost", "fleet-lost", ["Delta"]],
+    ] as const) {
+      pick(state);
+      await waitFor(() => expect(names()).toEqual(expected));
+      expect(counted(bar)).toBe(expected.length);
+    }
+    pick("planned");
+    await waitFor(() => expect(names()).toEqual(["Echo"]));
+    expect(screen.getByTestId("fleet-planned").textContent).toContain("1");
+    const options = [...screen.getByTestId("filter-state").querySelectorAll("option")].map((o) => o.textContent);
+    expect(options).toEqual([
+      "Any state",
+      "Live",
+      "Stale",
+      "Not checked: console behind",
+      "Lost",
+      "Out of comms (planned)",
+      "Not updating",
+      "In alarm",
+      "Commanded",
+    ]);
+  });
+
   it("filters by state, by UMAA version and by relay, and says how many of the fleet match", async () => {
     const [C, D] = ["c0000000-0000-4000-8000-000000000003", "d0000000-0000-4000-8000-000000000004"];
     const source = new TestSource();

@@ -19,7 +19,7 @@ import { lastHeardAt, report } from "../../data/slices/vehicles";
 import { plannedUntil } from "../../data/slices/alarms";
 import { LastHeard } from "../../components/LastHeard";
 import { RelayHop } from "../../components/RelayHop";
-import { RECORDED_TITLE, pageLink, recordedState, stateWords } from "../../lib/freshness";
+import { RECORDED_TITLE, fleetState, pageLink, recordedState, stateWords, type FleetState } from "../../lib/freshness";
 import { FLEET_STATE, fixWord, inline, insWord, linkOrPlanned, linkText } from "../../lib/labels";
 import { age } from "../../lib/units";
 import { vehicleMatcher } from "../../lib/vehicle";
@@ -91,19 +91,19 @@ function FindVehicle({
 
 /** The list's filters beside the search: "" is any. `state` is what the fleet bar counts. */
 export interface Filters {
-  state: "" | "live" | "stale" | "lost" | "alarm" | "commanded";
+  state: "" | FleetState | "alarm" | "commanded";
   version: string;
   relay: string; // a relay's name, or DIRECT
 }
 const ANY: Filters = { state: "", version: "", relay: "" };
 const DIRECT = "(direct)";
-/** The state filter's choices; in a replay (`recorded`) the links are the recording's, worded so ("Recorded: live"). */
+/** The state filter's choices: each state the fleet bar counts (`fleetState`), in its words; in a replay (`recorded`)
+ * the links are the recording's, worded so ("Recorded: live"), but "Not updating", the page's own state now. */
 function states(recorded: boolean): { value: Filters["state"]; text: string }[] {
+  const link = (s: FleetState) => ({ value: s, text: stateWords(linkText(s), recordedState(s, recorded)) });
   return [
     { value: "", text: "Any state" },
-    { value: "live", text: stateWords(linkText("live"), recorded) },
-    { value: "stale", text: stateWords(linkText("stale"), recorded) },
-    { value: "lost", text: stateWords(linkText("lost"), recorded) },
+    ...(["live", "stale", "unchecked", "lost", "planned", "unreachable"] as const).map(link),
     { value: "alarm", text: FLEET_STATE.alarm },
     { value: "commanded", text: FLEET_STATE.commanded },
   ];
@@ -233,10 +233,8 @@ export function VehicleSelector() {
           return alarmed.has(v.p.id);
         case "commanded":
           return commanded.has(v.p.id);
-        case "lost":
-          return v.link === "lost" && v.until === null; // lost in a planned silence is expected, not counted lost
         default:
-          return v.link === filters.state;
+          return fleetState(v.link, v.until !== null) === filters.state;
       }
     };
     return views.filter(
