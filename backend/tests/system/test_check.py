@@ -258,8 +258,15 @@ def stop_check(
     # As in a CI job: the output buffered (PYTHONUNBUFFERED, set here, hid an interpreter's last flush into the pipe
     # tee left, which failed with exit 120)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
+    # Ctrl-C reaches it as a terminal's would, whatever pytest inherited: a background job (`cmd &` in a script,
+    # nohup) starts with SIGINT ignored, and so would sem-check, which then ran its whole window and passed
     p = subprocess.Popen(
-        [sys.executable, "-m", "sem_console.check.cli", *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env
+        [sys.executable, "-m", "sem_console.check.cli", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     assert p.stdout is not None and p.stderr is not None
     seen = []
