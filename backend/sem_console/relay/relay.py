@@ -8,7 +8,6 @@ control Drop: a newer one follows), a report's dispose or unregistration reliabl
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import logging
@@ -16,7 +15,7 @@ import os
 import threading
 import time
 import uuid
-from collections import OrderedDict, defaultdict
+from collections import OrderedDict, defaultdict, deque
 from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -30,7 +29,7 @@ from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60
 from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.hops import Carried, Hops
+from sem_console.relay.hops import Carried, Hops, Origin
 from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoints
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
@@ -57,6 +56,18 @@ class Traffic:
     sent_messages: int = 0
     received_bytes: int = 0
     received_messages: int = 0
+
+
+@dataclass(frozen=True)
+class Incoming:
+    """A message of the other side, to write into this domain."""
+
+    address: Address
+    sem: AnySem
+    key_text: str
+    extra: bytes  # the attachment
+    meta: tuple[Kind, int]  # its kind and source timestamp
+    payload: bytes
 
 
 @dataclass(frozen=True)
@@ -104,11 +115,12 @@ class Relay:
         self.limiter: Limiter[Outgoing] = Limiter(self.caps)
         self.traffic: dict[uuid.UUID, Traffic] = defaultdict(Traffic)
         self._lock = threading.Lock()  # the limiter, the traffic counts and the vehicles' domains
-        # operations side: the relay and domain each vehicle's samples came from (where its commands go), and commands
-        # for a vehicle not heard yet (sent once it is)
-        self.origin_of: dict[uuid.UUID, tuple[str, int]] = {}
-        self._refused: set[tuple[uuid.UUID, str, int]] = set()  # the other relays and domains a vehicle was heard through
+        # operations side: the commands for a vehicle no relay owns yet (relay/hops.py; sent once one does), and the
+        # samples that came for it before its relay's token (written if that relay becomes its owner)
         self.held: Held[Taken] = Held(WAITING_DEPTH)
+        self._early: dict[tuple[uuid.UUID, Origin], deque[Incoming]] = {}
+        self._apply_lock = threading.Lock()  # the operations side's writes into its domain, in the order received
+        self._refused: set[tuple[uuid.UUID, Origin]] = set()  # the other relays a vehicle's samples came through
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
         self.sends = others if self.vehicles_side else commands
@@ -116,10 +128,6 @@ class Relay:
         self.dds = DomainSide(bus, self.sends, self._taken)
         self.started = time.monotonic()
         self.stopping = threading.Event()
-        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
-        # serve another domain); the operations side: every vehicle's samples
-        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
-        self.subscriber = session.declare_subscriber(watch, self._received)
         # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
         self._sent: SentLog[Outgoing] = SentLog(LOG_DEPTH)
@@ -133,8 +141,14 @@ class Relay:
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
         # which relay carries which vehicle, for the operations side's consoles (relay/hops.py)
-        self.carried = Carried(session, options.name) if self.vehicles_side else None
-        self.hops = None if self.vehicles_side else Hops(session, bus)
+        self.carried = Carried(session, options.name, bus.domain_id) if self.vehicles_side else None
+        self.hops = None if self.vehicles_side else Hops(session, bus, self._owned)
+        if self.hops is not None:
+            self.hops.start()
+        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
+        # serve another domain); the operations side: every vehicle's samples
+        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
+        self.subscriber = session.declare_subscriber(watch, self._received)
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:
@@ -146,12 +160,13 @@ class Relay:
         if not self.vehicles_side:
             # the lookup and the send in one step (`_send_lock`): a command, or its cancel, taken while its vehicle's
             # first sample releases the ones held goes after them, never before
+            assert self.hops is not None
             with self._send_lock:
-                with self._lock:
-                    origin = self.origin_of.get(taken.vehicle)
-                    if origin is None:  # not a vehicle of the link (yet): held until its first sample comes
+                origin = self.hops.owner_of(taken.vehicle)
+                if origin is None:  # no relay owns the vehicle (yet): held until one does
+                    with self._lock:
                         self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
-                        return
+                    return
                 self._send_locked(self._outgoing(taken, *origin))
             return
         assert self.carried is not None
@@ -279,57 +294,67 @@ class Relay:
         meta = read_attachment(extra)
         if address is None or sem is None or meta is None or extra is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
-        if self.hops is not None:
-            self.hops.heard_from(address.vehicle, time.monotonic())
-        # a vehicle's first sample on the operations side releases the commands held for it: sent in one step with it
-        # (`_send_lock`), so that none taken meanwhile (a cancel) goes before them
-        first = not self.vehicles_side and address.vehicle not in self.origin_of
-        with self._send_lock if first else contextlib.nullcontext():
-            self._apply(address, sem, key_text, extra, meta, sample.payload.to_bytes(), first)
+        incoming = Incoming(address, sem, key_text, extra, meta, sample.payload.to_bytes())
+        if self.hops is None:  # the vehicles' side
+            self._apply(incoming)
+            return
+        origin = (address.relay, address.domain)
+        with self._apply_lock:
+            owner = self.hops.owner_of(address.vehicle)
+            if owner is None:  # its relay's token not here yet (or two relays say they carry it): kept until one owns it
+                with self._lock:
+                    early = self._early.setdefault((address.vehicle, origin), deque(maxlen=WAITING_DEPTH))
+                    early.append(incoming)
+            elif owner == origin:
+                self.hops.heard_from(address.vehicle, time.monotonic())
+                self._apply(incoming)
+            elif (address.vehicle, origin) not in self._refused:  # another relay's vehicle: not written
+                self._refused.add((address.vehicle, origin))
+                log.warning(
+                    "vehicle %s is carried by relay %s, domain %d: its samples through relay %s, domain %d are not written",
+                    address.vehicle,
+                    *owner,
+                    *origin,
+                )
 
-    def _apply(
-        self, address: Address, sem: AnySem, key_text: str, extra: bytes, meta: tuple[Kind, int], payload: bytes, first: bool
-    ) -> None:
-        """A message of the other side written into this domain (`first`: `_send_lock` held, see `_received`)."""
-        digest = hashlib.blake2b(key_text.encode() + extra + payload, digest_size=16).digest()
-        release: list[Taken] = []
+    def _owned(self, vehicle: uuid.UUID, origin: Origin) -> None:
+        """Operations side: a relay now owns `vehicle` (relay/hops.py): what it sent before its token came is written,
+        and the commands held for the vehicle go to it, in one step (`_send_lock`), so that none taken meanwhile (a
+        cancel) goes before them."""
+        with self._send_lock, self._apply_lock:
+            with self._lock:
+                early = self._early.pop((vehicle, origin), ())
+                for other in [k for k in self._early if k[0] == vehicle]:
+                    del self._early[other]
+                release = self.held.release(vehicle)
+            if early:
+                assert self.hops is not None
+                self.hops.heard_from(vehicle, time.monotonic())
+            for incoming in early:
+                self._apply(incoming)
+            for taken in release:
+                self._send_locked(self._outgoing(taken, *origin))
+
+    def _apply(self, incoming: Incoming) -> None:
+        """A message of the other side written into this domain."""
+        address, sem, kind = incoming.address, incoming.sem, incoming.meta[0]
+        digest = hashlib.blake2b(incoming.key_text.encode() + incoming.extra + incoming.payload, digest_size=16).digest()
         with self._lock:
             if digest in self._seen:  # sent again after an outage, and written already
-                return
-            origin = self.origin_of.get(address.vehicle)
-            if origin is not None and origin != (address.relay, address.domain):
-                # a vehicle is written from the relay and domain its commands go to only: another relay (the access
-                # control keeps each to its own key space) cannot pass for it
-                if (address.vehicle, address.relay, address.domain) not in self._refused:
-                    self._refused.add((address.vehicle, address.relay, address.domain))
-                    log.warning(
-                        "vehicle %s is heard through relay %s, domain %d: its samples through relay %s, domain %d are "
-                        "not written",
-                        address.vehicle,
-                        *origin,
-                        address.relay,
-                        address.domain,
-                    )
                 return
             self._seen[digest] = None
             if len(self._seen) > SEEN_KEPT:
                 self._seen.popitem(last=False)
             t = self.traffic[address.vehicle]
-            t.received_bytes += len(key_text) + len(payload) + len(extra)
+            t.received_bytes += len(incoming.key_text) + len(incoming.payload) + len(incoming.extra)
             t.received_messages += 1
-            if first and address.vehicle not in self.origin_of:
-                self.origin_of[address.vehicle] = (address.relay, address.domain)
-                release = self.held.release(address.vehicle)
-        kind, source_ns = meta
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
             self._versions.add(type(sem))
             self.dds.open_writers([s for s in type(sem) if s.spec.name in self.writes])
         try:
-            self.dds.write(sem, kind, payload, source_ns)
+            self.dds.write(sem, kind, incoming.payload, incoming.meta[1])
         except Exception as e:  # one bad message costs only itself
             log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
-        for taken in release:
-            self._send_locked(self._outgoing(taken, address.relay, address.domain))
 
     # the caps' slots and the link's status
     def _tick(self) -> None:

@@ -14,6 +14,7 @@ import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +76,15 @@ def relay() -> Iterator[Callable[..., RelayProcess]]:
         p.end()
 
 
+@dataclass
+class Joined:
+    port: int  # the router's
+    near_args: list[str]  # the vehicles' relay's command line (to start it again)
+    near: RelayProcess
+    far_args: list[str]  # the operations relay's
+    far: RelayProcess
+
+
 def join(
     relay: Callable[..., RelayProcess],
     near: int,
@@ -83,13 +93,13 @@ def join(
     *args: str,
     via: Callable[[int], str] | None = None,
     status_port: int | None = None,
-) -> int:
+) -> Joined:
     """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
-    link's); `status_port`: the near relay's. Returns the router's port."""
+    link's); `status_port`: the near relay's."""
     port = free_port()
     router = f"tcp/127.0.0.1:{port}"
     relay("--router", "--listen", router)
-    relay(
+    near_args = [
         "--domain",
         str(near),
         "--side",
@@ -104,8 +114,8 @@ def join(
         str(tmp_path / "near.json"),
         *(["--status-port", str(status_port)] if status_port else []),
         *args,
-    )
-    relay(
+    ]
+    far_args = [
         "--domain",
         str(far),
         "--side",
@@ -119,8 +129,8 @@ def join(
         "--status-file",
         str(tmp_path / "far.json"),
         *args,
-    )
-    return port
+    ]
+    return Joined(port, near_args, relay(*near_args), far_args, relay(*far_args))
 
 
 def sources_60(readers: list[Any]) -> set[uuid.UUID]:
@@ -485,6 +495,75 @@ def test_access_control_keeps_a_vehicles_relay_from_passing_for_another_s_vehicl
             zs.close()
 
 
+def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it(sim, domain: int, relay, tmp_path: Path) -> None:
+    """ship-1 carries vehicle 1 (its token); ship-2 says it carries it too and puts samples under its id. The operations
+    relay, started then, hears ship-2's samples first (ship-1 is behind a 2 s round trip): it sends the console's command
+    to neither while both say so, never to ship-2, writes none of ship-2's samples, and sends the command to ship-1
+    once ship-1 alone says it carries the vehicle; the fix completes."""
+    far = free_domain(taken=domain)
+    port = free_port()
+    router = f"tcp/127.0.0.1:{port}"
+    link = Impairment(("127.0.0.1", port), rtt=2.0)
+    sim()
+    relay("--router", "--listen", router)
+    relay("--domain", str(domain), "--name", "ship-1", "--connect", link.endpoint, "--link-class", "lan")
+    config = zenoh.Config()
+    config.insert_json5("connect/endpoints", json.dumps([router]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    rogue = zenoh.open(config)
+    commands: list[str] = []
+    consumer: Consumer | None = None
+    posing = threading.Event()
+    try:
+        fixes = f"sem/ship-2/*/*/{Sem.GPS_FIX_COMMAND.spec.name}"
+        listening = rogue.declare_subscriber(fixes, lambda s: commands.append(str(s.key_expr)))
+        claim = rogue.liveliness().declare_token(carries_key("ship-2", domain, V1))
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline and carries_key("ship-1", domain, V1) not in {
+            str(r.ok.key_expr) for r in rogue.liveliness().get(f"{CARRIES}/**") if r.ok is not None
+        }:
+            time.sleep(0.2)
+        sessions: list[uuid.UUID] = []
+
+        def pose() -> None:  # ship-2's samples of vehicle 1, a status of a session of its own every 20 ms
+            while not posing.wait(0.02):
+                sessions.append(uuid.uuid4())
+                status = GPSFixCommandStatusType(
+                    source=to_guid(V1),
+                    commandStatus=S.COMPLETED,
+                    commandStatusReason=Reason.SUCCEEDED,
+                    logMessage="",
+                    sessionID=to_guid(sessions[-1]),
+                    timeStamp=now_datetime(),
+                )
+                topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+                rogue.put(key("ship-2", domain, V1, topic), status.serialize(), attachment=attachment(Kind.SAMPLE, 0))
+
+        poser = threading.Thread(target=pose, daemon=True)
+        poser.start()
+        relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--link-class", "lan")
+        consumer = Consumer(far)
+        statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        time.sleep(4)  # both say they carry vehicle 1: the command waits
+        consumer.pump()
+        assert commands == [] and consumer.commands[fix].statuses == []
+        claim.undeclare()  # ship-1 alone
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        posing.set()
+        poser.join(5)
+        written = {uuid.UUID(bytes=bytes(x.sessionID)) for x in take_each(statuses)[0]}
+        assert commands == [] and written.isdisjoint(sessions)
+        listening.undeclare()
+    finally:
+        posing.set()
+        if consumer is not None:
+            consumer.close()
+        rogue.close()
+        link.close()
+
+
 @pytest.mark.slow
 def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
     """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
@@ -520,7 +599,7 @@ def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int
     control: the command for a vehicle of one domain, and its cleanup, are written on that domain only."""
     far, other = free_domain(taken=domain), free_domain(taken=domain)
     sim()
-    port = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    port = join(relay, domain, far, tmp_path, "--link-class", "lan").port
     relay("--domain", str(other), "--name", "ship-1", "--connect", f"tcp/127.0.0.1:{port}", "--link-class", "lan")
     consumer, elsewhere = Consumer(far), Bus(other)
     try:
@@ -593,13 +672,13 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
     heard: list[str] = []
     try:
         watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)), history=True)
-        posing = other.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=2)))
-        token = ship.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=1)))
+        posing = other.liveliness().declare_token(carries_key("ship-1", 0, uuid.UUID(int=2)))
+        token = ship.liveliness().declare_token(carries_key("ship-1", 0, uuid.UUID(int=1)))
         deadline = time.monotonic() + 10
         while not heard and time.monotonic() < deadline:
             time.sleep(0.05)
         time.sleep(1)
-        assert heard == [carries_key("ship-1", uuid.UUID(int=1))]
+        assert heard == [carries_key("ship-1", 0, uuid.UUID(int=1))]
         for declared in (watch, posing, token):
             declared.undeclare()
     finally:
@@ -657,12 +736,13 @@ def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
     )
 
 
-def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_command_goes_after_it(
+def test_a_cancel_taken_while_its_vehicle_s_owner_releases_the_held_command_goes_after_it(
     domain: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Operations side: a command held for a vehicle not heard yet is released by the vehicle's first sample; its
+    """Operations side: a command held for a vehicle no relay owns yet is released when one does (its token); its
     cancel, taken from a console in that moment, goes after it, never before (the vehicle would then take the cancel
-    of nothing, start the command and run it). Real Zenoh and Cyclone DDS; the first sample's write held open."""
+    of nothing, start the command and run it). Real Zenoh and Cyclone DDS; the write of the vehicle's sample that came
+    before its relay's token, done in that step, held open."""
     config = zenoh.Config()
     config.insert_json5("scouting/multicast/enabled", "false")
     session, bus = zenoh.open(config), Bus(domain)
@@ -684,7 +764,10 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
         session.put(
             key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0)
         )
-        assert entered.wait(10), "the vehicle's first sample was not received"
+        time.sleep(0.5)  # received, and kept: no relay owns V1 yet
+        assert not entered.is_set()
+        token = session.liveliness().declare_token(carries_key("ship-1", domain, V1))
+        assert entered.wait(10), "the vehicle's sample was not written when ship-1 came to own it"
         cancel = threading.Thread(target=relay._taken, args=(Taken(Sem.GPS_FIX_COMMAND, Kind.DISPOSE, b"key", 0, V1, instance),))
         cancel.start()
         cancel.join(0.5)  # with the held command not sent yet, the cancel waits for it
@@ -694,6 +777,7 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
         while len(sent) < 2 and time.monotonic() < deadline:
             time.sleep(0.05)
         assert sent == [Kind.SAMPLE, Kind.DISPOSE]
+        token.undeclare()
     finally:
         gate.set()
         relay.close()
@@ -759,9 +843,9 @@ def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_it
     config = zenoh.Config()
     config.insert_json5("scouting/multicast/enabled", "false")
     session, bus = zenoh.open(config), Bus(domain)
-    hops = Hops(session, bus)
+    hops = Hops(session, bus, lambda *_: None)
     try:
-        hops.carrier[V1] = "ship-1"
+        hops.owner[V1] = ("ship-1", 0)
         hops.heard_from(V1, 100.0)
         bus.close()  # the writer's participant gone: Cyclone refuses the write
         hops.write(101.0)
