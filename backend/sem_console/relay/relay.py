@@ -26,7 +26,7 @@ import zenoh
 from sem_console.dds import hops
 from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
-from sem_console.dds.topics import AnySem, Sem, Sem60
+from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.hops import Carried, Hops, Origin
@@ -46,6 +46,7 @@ LOST_KEPT_SECONDS = 86400.0  # how long a lost relay of the other side is waited
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
 LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
+TERMINAL = ("COMPLETED", "FAILED", "CANCELED")  # a command status's terminal states, by name in both UMAA versions
 
 
 @dataclass
@@ -80,6 +81,21 @@ class Outgoing:
     report_end: bool = False  # a report's dispose or unregistration: reliable, after the report's samples
     instance: Any = None  # the instance on the sending domain
     ended: bool = False  # a dispose or unregistration
+    session: bytes | None = None  # a command sample's sessionID
+
+
+def decoded(sem: AnySem, data: bytes) -> Any:
+    """A sample's CDR read as its type (an appendable writer's as the type's appendable copy)."""
+    appendable = sem.spec.appendable if sem.spec.appendable is not None and delimited(data) else None
+    return (appendable or sem.spec.type).deserialize(data)
+
+
+def session_of(taken: Taken) -> bytes | None:
+    """A command sample's sessionID (None: it cannot be read; the command goes all the same)."""
+    try:
+        return bytes(decoded(taken.sem, taken.data).sessionID)
+    except Exception:
+        return None
 
 
 def zenoh_config(options: RelayOptions) -> zenoh.Config:
@@ -137,6 +153,9 @@ class Relay:
         self._was_connected, self._own_lost = False, cast(float | None, None)  # this session's link, and when it was lost last
         self._send_lock = threading.Lock()  # one message at a time on the link, in the order logged
         self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
+        # the operations side: the commands (vehicle, sessionID) whose vehicle said they ended (a terminal status): never
+        # sent again, so a vehicles' relay that restarts does not give a vehicle a finished command as if new
+        self._finished: OrderedDict[tuple[uuid.UUID, bytes | None], None] = OrderedDict()
         self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
@@ -203,6 +222,7 @@ class Relay:
     def _outgoing(self, taken: Taken, relay: str, domain: int) -> Outgoing:
         urgent = taken.sem.spec.cls is not TopicClass.REPORT
         ended = taken.kind is not Kind.SAMPLE
+        command = taken.sem.spec.cls is TopicClass.COMMAND and not ended
         return Outgoing(
             key(relay, domain, taken.vehicle, taken.sem.spec.name),
             taken.data,
@@ -212,6 +232,7 @@ class Relay:
             report_end=not urgent and ended,
             instance=taken.instance,
             ended=ended,
+            session=session_of(taken) if command else None,
         )
 
     def _peer(self, sample: zenoh.Sample) -> None:
@@ -262,7 +283,7 @@ class Relay:
         sent; no new message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
         with self._send_lock:
             with self._lock:
-                again = self._sent.since(since)
+                again = [o for o in self._sent.since(since) if (o.vehicle, o.session) not in self._finished]
             for out in again:
                 self._put(out)
         log.info("sent %d messages again", len(again))
@@ -351,10 +372,25 @@ class Relay:
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
             self._versions.add(type(sem))
             self.dds.open_writers([s for s in type(sem) if s.spec.name in self.writes])
+        if sem.spec.cls is TopicClass.STATUS and kind is Kind.SAMPLE and self.hops is not None:
+            self._note_finished(address.vehicle, sem, incoming.payload)
         try:
             self.dds.write(sem, kind, incoming.payload, incoming.meta[1])
         except Exception as e:  # one bad message costs only itself
             log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
+
+    def _note_finished(self, vehicle: uuid.UUID, sem: AnySem, payload: bytes) -> None:
+        try:
+            status = decoded(sem, payload)
+            ended = getattr(status.commandStatus, "name", None) in TERMINAL
+            session = bytes(status.sessionID)
+        except Exception:  # a status this relay cannot read is written all the same; its command is sent again
+            return
+        if ended:
+            with self._lock:
+                self._finished[(vehicle, session)] = None
+                if len(self._finished) > SEEN_KEPT:
+                    self._finished.popitem(last=False)
 
     # the caps' slots and the link's status
     def _tick(self) -> None:

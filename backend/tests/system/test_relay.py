@@ -246,6 +246,33 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
         consumer.close()
 
 
+def test_a_vehicles_relay_restarted_does_not_give_the_vehicle_a_finished_command_again(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """The vehicles' relay restarts (a new writer on the vehicles' domain): the operations relay sends it again what is
+    alive of its consoles' commands, but not a command the vehicle said has ended (COMPLETED, not yet cleaned up): a
+    vehicle that took it for new would run it again."""
+    far = free_domain(taken=domain)
+    sim()
+    joined = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer, near = Consumer(far), Bus(domain)
+    try:
+        commands = near.reader(Sem.GPS_FIX_COMMAND)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        assert consumer.wait_terminal(fix, 20).statuses == HAPPY  # and left alive: no cleanup yet
+        take_each(commands)
+        joined.near.end()
+        relay(*joined.near_args)
+        heard = len(consumer.reports[Sem.INS_REPORT][V1])
+        consumer.wait(lambda: len(consumer.reports[Sem.INS_REPORT][V1]) > heard + 2, 20, "reports through the new relay")
+        time.sleep(1)  # what the operations relay sends again to the new relay has come
+        again = [x for x in take_each(commands)[0] if uuid.UUID(bytes=bytes(x.sessionID)) == fix]
+        assert again == []
+    finally:
+        consumer.close()
+        near.close()
+
+
 def test_the_impairment_s_loss_costs_a_retransmission_after_an_outage_too() -> None:
     """A segment lost is sent again a retransmission timeout after it would have come: one held by an outage (or
     behind others at the link's rate) costs it as well, after it."""
