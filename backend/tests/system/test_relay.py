@@ -812,6 +812,77 @@ def test_a_cancel_taken_while_its_vehicle_s_owner_releases_the_held_command_goes
         session.close()
 
 
+def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_over_an_impaired_link(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """Two relays and a router joined through a link of 600 ms round trip, 5 % loss and 64 kbit/s, at the satellite
+    class (its caps shortened): a console on the far domain sees vehicles of both UMAA versions, and through its REST
+    API a GPS fix cancelled, a GPS fix, and an INS command of each version complete, each cleaned up. The operations
+    relay is restarted while the fix runs: its new writer writes the fix's statuses again, and the console records
+    each once."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000, loss=0.05))
+        return links[0].endpoint
+
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
+    caps = "GPSReport=5,GlobalPoseReport=2,GPSFixReport=2"
+    joined = join(relay, domain, far, tmp_path, "--caps", caps, via=impaired)
+    console = ConsoleProcess(far, tmp_path / "far.sqlite3", ["--comms-lost-timeout", "15"], {}).start()
+    base = console.url
+
+    def command(session: str) -> dict[str, Any]:
+        return dict(httpx.get(f"{base}/api/commands/{session}").json())
+
+    def wait(session: str, done: Callable[[dict[str, Any]], bool], timeout: float = 30) -> dict[str, Any]:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            c = command(session)
+            if done(c):
+                return c
+            time.sleep(0.1)
+        raise AssertionError(f"command {session}: {command(session)}")
+
+    def run(path: str, body: dict[str, Any]) -> str:
+        r = httpx.post(f"{base}{path}", json=body)
+        assert r.status_code == 201, r.text
+        return str(r.json()["sessionId"])
+
+    def finished(c: dict[str, Any]) -> bool:
+        return bool(c["terminal"] and c["cleanedUp"])
+
+    try:
+        deadline, versions = time.monotonic() + 40, {}
+        while versions != {str(V1): "3.0.1", str(V2): "6.0"} and time.monotonic() < deadline:
+            time.sleep(0.2)
+            providers = httpx.get(f"{base}/api/providers").json()
+            versions = {p["id"]: p["umaaVersion"] for p in providers if p["link"] == "live"}
+        assert versions == {str(V1): "3.0.1", str(V2): "6.0"}
+        canceled = run(f"/api/providers/{V1}/gps-fix", {})
+        wait(canceled, lambda c: c["status"] == "EXECUTING")
+        assert httpx.delete(f"{base}/api/commands/{canceled}").status_code == 200
+        c = wait(canceled, finished)
+        assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+        fix = run(f"/api/providers/{V1}/gps-fix", {})
+        wait(fix, lambda c: c["status"] == "EXECUTING")
+        joined.far.end()  # the operations relay restarted while the fix runs
+        relay(*joined.far_args)
+        done = {fix: wait(fix, finished, 40)}
+        for vehicle, state in ((V1, "RESTARTING"), (V2, "STATIONARY_ALIGN")):
+            session = run(f"/api/providers/{vehicle}/inertial-sensor", {"state": state})
+            done[session] = wait(session, finished)
+        for c in done.values():
+            assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"], c
+            assert c["violations"] == []
+        assert links[0].lost >= 1  # the loss was on the link
+    finally:
+        console.end()
+        for link in links:
+            link.close()
+
+
 def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
     sim, domain: int, relay, tmp_path: Path
 ) -> None:
