@@ -30,7 +30,7 @@ from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
-from sem_console.console.hops import Hops, relay_silent_after
+from sem_console.console.hops import Hops, Links, relay_silent_after
 from sem_console.console.hub import Client, Hub
 from sem_console.console.load import Load
 from sem_console.console.providers import REPORTS, Provider, Providers
@@ -61,7 +61,6 @@ from sem_console.core.messages import (
     silences_message,
     thin_report_message,
 )
-from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.comap import TaskRow, WorldRow
@@ -528,6 +527,8 @@ class Console:
                 self._appeared(p, now)
             elif p.version_changed:
                 self._version_changed(p, now)
+            if it.writer is not None and it.report is not None:
+                self._follow_path(p, it.writer, now)
             if it.report is not None:
                 alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
                 self.reports_applied += 1
@@ -586,16 +587,29 @@ class Console:
         p.relay = self.hops.via.get(p.id)  # a relay that said it carries the vehicle before its first sample came
         self._provider_event(p, "appeared", now)
 
-    def on_relay_links(self, links: list[RelayLink], received: float) -> None:
-        """The relays' samples (console/hops.py), received at `received` (UTC seconds): their vehicles marked, each
-        whose relay changed sent again to every station."""
+    def _follow_path(self, p: Provider, writer: uuid.UUID, now: float) -> None:
+        """The mark follows the latest path: a report a relay wrote marks its vehicle via the relay that carries it, one
+        another participant wrote (the vehicle heard on this domain itself) takes the mark away."""
+        direct = writer not in self.hops.writers
+        relay = None if direct else self.hops.via.get(p.id)
+        p.direct = direct
+        if p.relay != relay:
+            p.relay = relay
+            self._provider_event(p, "configured", now)
+
+    def on_relay_links(self, links: Links, received: float) -> None:
+        """The relays' samples (console/hops.py), received at `received` (UTC seconds), with the participant that wrote
+        each: their vehicles marked (but one heard last on this domain itself), each whose relay changed sent again to
+        every station."""
         if self.closing:
             return
         now = self.clock.monotonic()
-        for link in links:
+        for link, writer in links:
+            if writer is not None:
+                self.hops.writers.add(writer)
             for vehicle in self.hops.seen(link, received):
                 p = self.providers.by_id.get(vehicle)
-                if p is not None and p.relay != link.relay:
+                if p is not None and p.relay != link.relay and not p.direct:
                     p.relay = link.relay
                     self._provider_event(p, "configured", now)
         self._update_alarms()

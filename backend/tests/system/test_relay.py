@@ -25,8 +25,10 @@ from cyclonedds.util import duration
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
+from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from conftest import ConsoleProcess, Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
@@ -887,7 +889,8 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
     sim, domain: int, relay, tmp_path: Path
 ) -> None:
     """The console knows the hop: a console on the far domain shows each vehicle "via relay ship-1" with the age of its
-    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either."""
+    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either;
+    a vehicle then heard on the console's own domain is no longer marked (the mark follows its latest path)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
 
@@ -925,6 +928,19 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
         ]
         lost = {p["id"]: p["link"] for p in httpx.get(f"{console.url}/api/providers").json()}
         assert lost == {str(V1): "lost", str(V2): "lost"}  # lost, by their own time stamps: one alarm for both
+        # vehicle 1 now heard on the console's own domain (the relay still says it carries it): the mark follows
+        here = Bus(far)
+        try:
+            writer = here.writer(Sem.INS_REPORT)
+            deadline = time.monotonic() + 20
+            while set(marked()) != {str(V2)} and time.monotonic() < deadline:
+                writer.write(
+                    InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(V1), timeStamp=now_datetime())
+                )
+                time.sleep(0.2)
+            assert set(marked()) == {str(V2)}
+        finally:
+            here.close()
     finally:
         console.end()
         for link in links:
