@@ -1,7 +1,8 @@
 """One side of the link: the DDS domain's SEM traffic on Zenoh and back (docs/relay.md).
 
 The vehicles' side sends every report, status and ack of both UMAA versions and writes the commands that come back;
-the operations side writes the vehicles' samples into its domain and sends its consoles' commands. Commands, statuses
+the operations side writes the vehicles' samples into its domain and sends its consoles' commands, each to the relay
+that owns its vehicle (relay/hops.py). Commands, statuses
 and acks, their disposes and unregistrations included, are sent reliably at once, ahead of the reports (a higher Zenoh
 priority, congestion control Block: never dropped, never conflated); reports go at their link class's caps (congestion
 control Drop: a newer one follows), a report's dispose or unregistration reliably after its last sample."""
@@ -178,7 +179,7 @@ class Relay:
     def _taken(self, taken: Taken) -> None:
         if not self.vehicles_side:
             # the lookup and the send in one step (`_send_lock`): a command, or its cancel, taken while its vehicle's
-            # first sample releases the ones held goes after them, never before
+            # owner releases the ones held (`_owned`) goes after them, never before
             assert self.hops is not None
             with self._send_lock:
                 origin = self.hops.owner_of(taken.vehicle)
