@@ -574,7 +574,7 @@ def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it
         consumer = Consumer(far)
         statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
         fix = consumer.command(Service.GPS_FIX, V1)
-        time.sleep(4)  # both say they carry vehicle 1: the command waits
+        time.sleep(2)  # both say they carry vehicle 1: the command waits
         consumer.pump()
         assert commands == [] and consumer.commands[fix].statuses == []
         claim.undeclare()  # ship-1 alone
