@@ -45,6 +45,7 @@ LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has 
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
 LOST_KEPT_SECONDS = 86400.0  # how long a lost relay of the other side is waited for (its ends kept to send again)
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
+EARLY_VEHICLES = 1000  # the vehicles (and relays) whose samples are kept until a relay owns them
 LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
 TERMINAL = ("COMPLETED", "FAILED", "CANCELED")  # a command status's terminal states, by name in both UMAA versions
@@ -325,7 +326,11 @@ class Relay:
             owner = self.hops.owner_of(address.vehicle)
             if owner is None:  # its relay's token not here yet (or two relays say they carry it): kept until one owns it
                 with self._lock:
-                    early = self._early.setdefault((address.vehicle, origin), deque(maxlen=WAITING_DEPTH))
+                    early = self._early.get((address.vehicle, origin))
+                    if early is None:
+                        early = self._early[(address.vehicle, origin)] = deque(maxlen=WAITING_DEPTH)
+                        if len(self._early) > EARLY_VEHICLES:  # ids no relay ever declares: the oldest given up
+                            del self._early[next(iter(self._early))]
                     early.append(incoming)
             elif owner == origin:
                 self.hops.heard_from(address.vehicle, time.monotonic())

@@ -39,7 +39,7 @@ from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.hops import CARRIES, carries_key
 from sem_console.relay.options import RelayOptions
-from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
+from sem_console.relay.relay import EARLY_VEHICLES, ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import Kind, attachment, key, read_attachment
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
@@ -883,6 +883,30 @@ def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_o
         console.end()
         for link in links:
             link.close()
+
+
+def test_samples_of_vehicles_no_relay_declares_are_kept_for_a_bounded_number_of_vehicles(domain: int) -> None:
+    """Operations side: samples under ids no relay declares (a relay that never does, or a flood of made-up ids) are
+    kept for at most EARLY_VEHICLES vehicles, the oldest given up; the newest are there when a relay declares its own.
+    Real Zenoh and Cyclone DDS."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    try:
+        topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+        ids = [uuid.UUID(int=i + 1) for i in range(EARLY_VEHICLES + 10)]
+        for vehicle in ids:
+            session.put(key("ship-9", domain, vehicle, topic), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        deadline = time.monotonic() + 10
+        while (ids[-1], ("ship-9", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(relay._early) == EARLY_VEHICLES
+        assert (ids[0], ("ship-9", domain)) not in relay._early and (ids[-1], ("ship-9", domain)) in relay._early
+    finally:
+        relay.close()
+        bus.close()
+        session.close()
 
 
 def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_one_alarm(
