@@ -324,9 +324,12 @@ class Relay:
         origin = (address.relay, address.domain)
         with self._apply_lock:
             owner = self.hops.owner_of(address.vehicle)
-            if owner is None:  # its relay's token not here yet (or two relays say they carry it): kept until one owns it
+            with self._lock:
+                early = self._early.get((address.vehicle, origin))
+            # its relay's token not here yet (or two relays say they carry it): kept until one owns it; and kept behind
+            # those kept before it while its owner, just decided, has not written them yet (`_owned`)
+            if owner is None or (owner == origin and early is not None):
                 with self._lock:
-                    early = self._early.get((address.vehicle, origin))
                     if early is None:
                         early = self._early[(address.vehicle, origin)] = deque(maxlen=WAITING_DEPTH)
                         if len(self._early) > EARLY_VEHICLES:  # ids no relay ever declares: the oldest given up

@@ -814,6 +814,62 @@ def test_a_cancel_taken_while_its_vehicle_s_owner_releases_the_held_command_goes
         session.close()
 
 
+def test_a_sample_that_comes_as_its_vehicle_gets_its_owner_is_written_after_those_kept_before(
+    domain: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Operations side: the samples that came before their relay's token are written, in the order they came, before
+    one that comes between the relay being made the vehicle's owner and those being written (a status written before
+    the one it followed is the console's newest; a report, the vehicle's state). Real Zenoh and Cyclone DDS; the
+    writing of those kept held open."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    assert relay.hops is not None
+    written: list[bytes] = []
+    monkeypatch.setattr(relay.dds, "write", lambda _sem, _kind, payload, _ns: written.append(payload))
+    entered, gate = threading.Event(), threading.Event()
+    owned = relay.hops.on_owned
+
+    def held_open(vehicle: uuid.UUID, origin: tuple[str, int]) -> None:
+        entered.set()
+        gate.wait(10)
+        owned(vehicle, origin)
+
+    relay.hops.on_owned = held_open
+    topic = key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name)
+    tokens: list[Any] = []
+    declare = threading.Thread(
+        target=lambda: tokens.append(session.liveliness().declare_token(carries_key("ship-1", domain, V1)))
+    )
+    try:
+        session.put(topic, b"ISSUED", attachment=attachment(Kind.SAMPLE, 1))
+        deadline = time.monotonic() + 10
+        while (V1, ("ship-1", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        declare.start()
+        assert entered.wait(10), "ship-1 was not made vehicle 1's owner"
+        assert relay.hops.owner_of(V1) == ("ship-1", domain)
+        session.put(topic, b"COMMANDED", attachment=attachment(Kind.SAMPLE, 2))
+        early = relay._early.get((V1, ("ship-1", domain)), ())
+        deadline = time.monotonic() + 10
+        while not written and len(early) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)  # received: written at once, or kept behind the first
+        gate.set()
+        deadline = time.monotonic() + 10
+        while len(written) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert written == [b"ISSUED", b"COMMANDED"]
+    finally:
+        gate.set()
+        declare.join(10)
+        for token in tokens:
+            token.undeclare()
+        relay.close()
+        bus.close()
+        session.close()
+
+
 def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_over_an_impaired_link(
     sim, domain: int, relay, tmp_path: Path
 ) -> None:
