@@ -58,7 +58,7 @@ class Provider:
     parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0): a command's destination carries it
     version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
     relay: str | None = None  # the relay it is seen through (console/hops.py), None: on this domain itself
-    direct: bool = False  # its latest report written on this domain by another participant than a relay's
+    writer: uuid.UUID | None = None  # the DDS participant that wrote its latest report (a relay's, or another's)
     stamp: float | None = None  # UTC seconds: the newest of its reports' own time stamps (timeStamp)
     lag: float | None = None  # the least receipt (console's clock) minus own time stamp: its clock's offset, the link's
 

@@ -590,9 +590,8 @@ class Console:
     def _follow_path(self, p: Provider, writer: uuid.UUID, now: float) -> None:
         """The mark follows the latest path: a report a relay wrote marks its vehicle via the relay that carries it, one
         another participant wrote (the vehicle heard on this domain itself) takes the mark away."""
-        direct = writer not in self.hops.writers
-        relay = None if direct else self.hops.via.get(p.id)
-        p.direct = direct
+        p.writer = writer
+        relay = self.hops.via.get(p.id) if self._relayed(p) else None
         if p.relay != relay:
             p.relay = relay
             self._provider_event(p, "configured", now)
@@ -606,13 +605,18 @@ class Console:
         now = self.clock.monotonic()
         for link, writer in links:
             if writer is not None:
-                self.hops.writers.add(writer)
-            for vehicle in self.hops.seen(link, received):
+                self.hops.writers.add(writer)  # a report it wrote before this sample came is now known for a relay's
+            self.hops.seen(link, received)
+            for vehicle in self.hops.by_relay[link.relay].vehicles:
                 p = self.providers.by_id.get(vehicle)
-                if p is not None and p.relay != link.relay and not p.direct:
+                if p is not None and p.relay != link.relay and self._relayed(p):
                     p.relay = link.relay
                     self._provider_event(p, "configured", now)
         self._update_alarms()
+
+    def _relayed(self, p: Provider) -> bool:
+        """Its latest report was written by an operations relay (or by a writer not known: a recording's)."""
+        return p.writer is None or p.writer in self.hops.writers
 
     def _version_changed(self, p: Provider, now: float) -> None:
         """A vehicle now heard on the topics of another UMAA version than before: every station shows its new version

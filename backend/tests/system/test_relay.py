@@ -22,6 +22,7 @@ import httpx
 import pytest
 import zenoh
 from cyclonedds.util import duration
+from fastapi.testclient import TestClient
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
@@ -32,8 +33,12 @@ from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from conftest import ConsoleProcess, Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
+from sem_console.codec.decode import ReportItem
+from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.main import create_app
 from sem_console.relay.access import LIVELINESS
 from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
@@ -1050,3 +1055,35 @@ def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_it
         hops.close()
         bus.close()
         session.close()
+
+
+def test_a_console_marks_a_vehicle_whose_relay_it_learns_after_the_relay_s_report(domain: int, tmp_path: Path) -> None:
+    """The console learns the operations relays' participants from their samples of SEMConsole_RelayLink, which come in
+    their own time: a report a relay wrote before the console learned it is the relay's once its sample comes (a
+    console starting, an operations relay restarted: a new participant), not only at the vehicle's next report (a
+    minute at the satellite caps); a vehicle heard last from another participant stays unmarked."""
+    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings")
+    first, restarted, here = uuid.uuid4(), uuid.uuid4(), uuid.uuid4()  # two relays' participants, the vehicle's own
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+
+        def report(writer: uuid.UUID) -> None:  # on the console's loop, as the ingest hands them
+            console.on_reports([ReportItem("GPSReport", V1, {}, [], True, console.clock.wall(), writer=writer)])
+
+        def link(writer: uuid.UUID) -> None:
+            console.on_relay_links([(RelayLink(relay="ship-1", vehicles=[str(V1)], ageMs=0), writer)], console.clock.wall())
+
+        def mark() -> str | None:
+            [p] = client.get("/api/providers").json()
+            return None if p["relay"] is None else str(p["relay"]["name"])
+
+        client.portal.call(report, first)
+        assert mark() is None  # not known for a relay's yet
+        client.portal.call(link, first)
+        assert mark() == "ship-1"
+        client.portal.call(report, restarted)
+        client.portal.call(link, restarted)
+        assert mark() == "ship-1"
+        client.portal.call(report, here)
+        client.portal.call(link, restarted)
+        assert mark() is None
