@@ -31,8 +31,13 @@ QUERY_SECONDS = 10.0  # how long the operations side's start waits for the route
 Origin = tuple[str, int]  # a vehicles' relay's name and its DDS domain
 
 
+def carries_prefix(relay: str) -> str:
+    """The key space of the tokens of a relay's vehicles (a relay's name in one chunk, whatever it holds)."""
+    return f"{CARRIES}/{quote(relay, safe='')}"
+
+
 def carries_key(relay: str, domain: int, vehicle: uuid.UUID) -> str:
-    return f"{CARRIES}/{quote(relay, safe='')}/{domain}/{vehicle}"  # a relay's name in one chunk, whatever it holds
+    return f"{carries_prefix(relay)}/{domain}/{vehicle}"
 
 
 def parse_carries(text: str) -> tuple[Origin, uuid.UUID] | None:

@@ -689,7 +689,8 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
 
 def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_no_other_relay_s(relay, tmp_path: Path) -> None:
     """The consoles learn the hop from the tokens of the vehicles a relay carries (relay/hops.py): the router lets a
-    vehicles' relay declare them under its own name, for the operations relay to see, and not under another's."""
+    vehicles' relay declare them under its own name (one a key chunk holds as it is, or one it holds encoded: a space),
+    for the operations relay to see, and not under another's."""
     fleet = Authority(tmp_path, "fleet-ca")
     endpoint = f"tls/localhost:{free_port()}"
     relay(
@@ -697,22 +698,22 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
         "--listen",
         endpoint,
         "--vehicle-relays",
-        "ship-1,ship-2",
+        "Ship One,ship-2",
         "--operations-relays",
         "ops",
         *tls(fleet, "router"),
     )
-    ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", "ship-2"))
+    ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("Ship One", "ops", "ship-2"))
     heard: list[str] = []
     try:
         watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)), history=True)
-        posing = other.liveliness().declare_token(carries_key("ship-1", 0, uuid.UUID(int=2)))
-        token = ship.liveliness().declare_token(carries_key("ship-1", 0, uuid.UUID(int=1)))
+        posing = other.liveliness().declare_token(carries_key("Ship One", 0, uuid.UUID(int=2)))
+        token = ship.liveliness().declare_token(carries_key("Ship One", 0, uuid.UUID(int=1)))
         deadline = time.monotonic() + 10
         while not heard and time.monotonic() < deadline:
             time.sleep(0.05)
         time.sleep(1)
-        assert heard == [carries_key("ship-1", 0, uuid.UUID(int=1))]
+        assert heard == [carries_key("Ship One", 0, uuid.UUID(int=1))]
         for declared in (watch, posing, token):
             declared.undeclare()
     finally:
