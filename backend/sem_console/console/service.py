@@ -588,10 +588,14 @@ class Console:
         self._provider_event(p, "appeared", now)
 
     def _follow_path(self, p: Provider, writer: uuid.UUID, now: float) -> None:
-        """The mark follows the latest path: a report a relay wrote marks its vehicle via the relay that carries it, one
-        another participant wrote (the vehicle heard on this domain itself) takes the mark away."""
+        """The mark follows the path: a report another participant than a relay's wrote (the vehicle heard on this
+        domain itself) takes the mark away, and a report a relay wrote marks its vehicle via the relay that carries it
+        once none came directly for its comms-lost timeout (heard both ways, it is shown direct, not marked and unmarked
+        at each report)."""
         p.writer = writer
-        relay = self.hops.via.get(p.id) if self._relayed(p) else None
+        if writer not in self.hops.writers:
+            p.direct = (writer, now)
+        relay = self.hops.via.get(p.id) if self._relayed(p, now) else None
         if p.relay != relay:
             p.relay = relay
             self._provider_event(p, "configured", now)
@@ -609,14 +613,16 @@ class Console:
             self.hops.seen(link, received)
             for vehicle in self.hops.by_relay[link.relay].vehicles:
                 p = self.providers.by_id.get(vehicle)
-                if p is not None and p.relay != link.relay and self._relayed(p):
+                if p is not None and p.relay != link.relay and self._relayed(p, now):
                     p.relay = link.relay
                     self._provider_event(p, "configured", now)
         self._update_alarms()
 
-    def _relayed(self, p: Provider) -> bool:
-        """Its latest report was written by an operations relay (or by a writer not known: a recording's)."""
-        return p.writer is None or p.writer in self.hops.writers
+    def _relayed(self, p: Provider, now: float) -> bool:
+        """Its latest report was written by an operations relay (or by a writer not known: a recording's), and none
+        by another participant (one not learned since to be a relay's) for its comms-lost timeout."""
+        direct = p.direct is not None and p.direct[0] not in self.hops.writers and now - p.direct[1] <= p.config.commsLostTimeout
+        return (p.writer is None or p.writer in self.hops.writers) and not direct
 
     def _version_changed(self, p: Provider, now: float) -> None:
         """A vehicle now heard on the topics of another UMAA version than before: every station shows its new version

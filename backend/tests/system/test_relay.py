@@ -1062,8 +1062,9 @@ def test_a_console_marks_a_vehicle_whose_relay_it_learns_after_the_relay_s_repor
     """The console learns the operations relays' participants from their samples of SEMConsole_RelayLink, which come in
     their own time: a report a relay wrote before the console learned it is the relay's once its sample comes (a
     console starting, an operations relay restarted: a new participant), not only at the vehicle's next report (a
-    minute at the satellite caps); a vehicle heard last from another participant stays unmarked."""
-    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings")
+    minute at the satellite caps); a vehicle heard from another participant is unmarked, and stays so while it is
+    heard that way too (not marked and unmarked at each report: an event to every station each time)."""
+    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings", comms_lost_timeout=2.0)
     first, restarted, here = uuid.uuid4(), uuid.uuid4(), uuid.uuid4()  # two relays' participants, the vehicle's own
     with TestClient(create_app(settings), base_url="http://localhost") as client:
         console = client.app.state.console  # type: ignore[attr-defined]
@@ -1088,3 +1089,8 @@ def test_a_console_marks_a_vehicle_whose_relay_it_learns_after_the_relay_s_repor
         client.portal.call(report, here)
         client.portal.call(link, restarted)
         assert mark() is None
+        client.portal.call(report, restarted)  # heard both ways: shown direct, not marked at every other report
+        assert mark() is None
+        time.sleep(2.1)  # nothing directly for its comms-lost timeout: the relay's path is its path
+        client.portal.call(report, restarted)
+        assert mark() == "ship-1"
