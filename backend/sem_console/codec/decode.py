@@ -66,6 +66,7 @@ class ReportItem:
     sample: Any = None  # the (report, invalid) JSON not yet applied (`Decoder.decode(..., convert=False)`)
     version: UmaaVersion = UMAA_3_0_1  # the UMAA version of the topic it came on
     parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0's IdentifierType; the nil UUID: none)
+    writer: uuid.UUID | None = None  # the DDS participant that wrote it (live DDS only): a relay's, or another's
 
 
 @dataclass

@@ -47,6 +47,7 @@ class Hops:
     def __init__(self) -> None:
         self.by_relay: dict[str, Hop] = {}
         self.via: dict[uuid.UUID, str] = {}  # vehicle -> the relay that carries it
+        self.writers: set[uuid.UUID] = set()  # the DDS participants of the operations side's relays
         self._warned: set[tuple[str, str]] = set()  # (relay, text) of a vehicle not a GUID: said once, not every second
 
     def seen(self, link: hops.RelayLink, received: float) -> set[uuid.UUID]:
@@ -75,12 +76,20 @@ class Hops:
         return None if relay is None else self.by_relay.get(relay)
 
 
-def listen(bus: Bus, loop: asyncio.AbstractEventLoop, on_links: Callable[[list[hops.RelayLink], float], None]) -> DataReader[Any]:
-    """A reader of the relays' topic whose samples go to `on_links` on the loop, with the time they came."""
+Links = list[tuple[hops.RelayLink, uuid.UUID | None]]  # each relay's sample, and the participant that wrote it
+
+
+def listen(bus: Bus, loop: asyncio.AbstractEventLoop, on_links: Callable[[Links, float], None]) -> DataReader[Any]:
+    """A reader of the relays' topic whose samples go to `on_links` on the loop, each with the DDS participant that
+    wrote it (the operations side's relay, which writes the vehicles' samples too), with the time they came."""
+
+    def writer(reader: DataReader[Any], sample: hops.RelayLink) -> uuid.UUID | None:
+        data = reader.get_matched_publication_data(sample.sample_info.publication_handle)  # type: ignore[attr-defined]
+        return None if data is None else data.participant_key
 
     def available(reader: DataReader[Any]) -> None:
         try:
-            samples = [s for s in reader.take(64) if isinstance(s, hops.RelayLink)]
+            samples = [(s, writer(reader, s)) for s in reader.take(64) if isinstance(s, hops.RelayLink)]
         except Exception as e:  # Cyclone's listener thread: never raise there
             log.warning("could not read the relays' topic: %s", e)
             return

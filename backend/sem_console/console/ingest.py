@@ -36,6 +36,7 @@ import asyncio
 import logging
 import threading
 import time
+import uuid
 from collections.abc import Callable, Sequence
 from enum import Enum
 from typing import Any, Protocol
@@ -146,6 +147,7 @@ class Owners:
 
     def __init__(self) -> None:
         self.by_handle: dict[int, Via] = {}
+        self.participant: dict[int, uuid.UUID] = {}  # the participant of each writer (a relay's, or the vehicle's)
         self._left: dict[int, float] = {}
 
     def listener(self, **more: Callable[..., None]) -> Listener:
@@ -168,6 +170,7 @@ class Owners:
             return None
         if data is None:
             return None
+        self.participant[handle] = data.participant_key
         via = self.by_handle[handle] = owner_of(data.qos)
         return via
 
@@ -180,6 +183,7 @@ class Owners:
             if now - left > FORGET_AFTER:
                 self._left.pop(handle, None)
                 self.by_handle.pop(handle, None)
+                self.participant.pop(handle, None)
 
 
 class Ingest:
@@ -338,6 +342,8 @@ class Ingest:
                     continue
                 item = self.decoder.decode(sem, data, info.valid_data, info.instance_state, received_ns / 1e9)
                 if item is not None:
+                    if isinstance(item, ReportItem):
+                        item.writer = self.owners.participant.get(info.publication_handle & _U64)
                     out.append(item)
             if tapped and tap is not None:
                 tap.on_samples(sem, tapped, received_ns)

@@ -58,6 +58,8 @@ class Provider:
     parent: uuid.UUID | None = None  # the parent its source says it has (UMAA 6.0): a command's destination carries it
     version_changed: bool = False  # its version changed on the last sample: the stations must be told (Console)
     relay: str | None = None  # the relay it is seen through (console/hops.py), None: on this domain itself
+    writer: uuid.UUID | None = None  # the DDS participant that wrote its latest report (a relay's, or another's)
+    direct: tuple[uuid.UUID, float] | None = None  # the writer and time (monotonic) of its latest report not a relay's
     stamp: float | None = None  # UTC seconds: the newest of its reports' own time stamps (timeStamp)
     lag: float | None = None  # the least receipt (console's clock) minus own time stamp: its clock's offset, the link's
 

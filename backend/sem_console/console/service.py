@@ -30,7 +30,7 @@ from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
 from sem_console.console.history import History
-from sem_console.console.hops import Hops, relay_silent_after
+from sem_console.console.hops import Hops, Links, relay_silent_after
 from sem_console.console.hub import Client, Hub
 from sem_console.console.load import Load
 from sem_console.console.providers import REPORTS, Provider, Providers
@@ -61,7 +61,6 @@ from sem_console.core.messages import (
     silences_message,
     thin_report_message,
 )
-from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.recording.recorder import Recorder, RecordingError
 from sem_console.storage.comap import TaskRow, WorldRow
@@ -528,6 +527,8 @@ class Console:
                 self._appeared(p, now)
             elif p.version_changed:
                 self._version_changed(p, now)
+            if it.writer is not None and it.report is not None:
+                self._follow_path(p, it.writer, now)
             if it.report is not None:
                 alarming = self.alarms.report_changed(it.source, it.topic, it.report) or alarming  # INS status, fixValid
                 self.reports_applied += 1
@@ -586,19 +587,42 @@ class Console:
         p.relay = self.hops.via.get(p.id)  # a relay that said it carries the vehicle before its first sample came
         self._provider_event(p, "appeared", now)
 
-    def on_relay_links(self, links: list[RelayLink], received: float) -> None:
-        """The relays' samples (console/hops.py), received at `received` (UTC seconds): their vehicles marked, each
-        whose relay changed sent again to every station."""
+    def _follow_path(self, p: Provider, writer: uuid.UUID, now: float) -> None:
+        """The mark follows the path: a report another participant than a relay's wrote (the vehicle heard on this
+        domain itself) takes the mark away, and a report a relay wrote marks its vehicle via the relay that carries it
+        once none came directly for its comms-lost timeout (heard both ways, it is shown direct, not marked and unmarked
+        at each report)."""
+        p.writer = writer
+        if writer not in self.hops.writers:
+            p.direct = (writer, now)
+        relay = self.hops.via.get(p.id) if self._relayed(p, now) else None
+        if p.relay != relay:
+            p.relay = relay
+            self._provider_event(p, "configured", now)
+
+    def on_relay_links(self, links: Links, received: float) -> None:
+        """The relays' samples (console/hops.py), received at `received` (UTC seconds), with the participant that wrote
+        each: their vehicles marked (but one heard last on this domain itself), each whose relay changed sent again to
+        every station."""
         if self.closing:
             return
         now = self.clock.monotonic()
-        for link in links:
-            for vehicle in self.hops.seen(link, received):
+        for link, writer in links:
+            if writer is not None:
+                self.hops.writers.add(writer)  # a report it wrote before this sample came is now known for a relay's
+            self.hops.seen(link, received)
+            for vehicle in self.hops.by_relay[link.relay].vehicles:
                 p = self.providers.by_id.get(vehicle)
-                if p is not None and p.relay != link.relay:
+                if p is not None and p.relay != link.relay and self._relayed(p, now):
                     p.relay = link.relay
                     self._provider_event(p, "configured", now)
         self._update_alarms()
+
+    def _relayed(self, p: Provider, now: float) -> bool:
+        """Its latest report was written by an operations relay (or by a writer not known: a recording's), and none
+        by another participant (one not learned since to be a relay's) for its comms-lost timeout."""
+        direct = p.direct is not None and p.direct[0] not in self.hops.writers and now - p.direct[1] <= p.config.commsLostTimeout
+        return (p.writer is None or p.writer in self.hops.writers) and not direct
 
     def _version_changed(self, p: Provider, now: float) -> None:
         """A vehicle now heard on the topics of another UMAA version than before: every station shows its new version

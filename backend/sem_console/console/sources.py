@@ -21,13 +21,12 @@ from cyclonedds.core import DDSException
 from cyclonedds.sub import DataReader
 
 from sem_console.console.clock import Clock, RecordingClock
-from sem_console.console.hops import listen
+from sem_console.console.hops import Links, listen
 from sem_console.console.ingest import Ingest, ReportItem, StatusItem
 from sem_console.console.replay_source import Replay, Replayed
 from sem_console.core.config import Settings
 from sem_console.core.messages import ReplayStatus
 from sem_console.dds.bus import Bus, bus_security, wait_for_acks
-from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import AnySem
 from sem_console.storage.database import Database
 from sem_console.storage.url import sqlite_file
@@ -44,7 +43,7 @@ class ConsoleSink(Replayed, Protocol):
 
     def on_statuses(self, items: list[StatusItem]) -> None: ...
 
-    def on_relay_links(self, links: list[RelayLink], received: float) -> None: ...
+    def on_relay_links(self, links: Links, received: float) -> None: ...
 
 
 class Source(Protocol):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from sem_console.relay.hops import CARRIES
+from sem_console.relay.hops import carries_prefix
 from sem_console.relay.wire import PREFIX
 
 LIVELINESS = "sem-relay"  # the relays' liveliness tokens: `sem-relay/<side>/<name>/<session>`
@@ -48,7 +48,7 @@ def access_control(vehicle_relays: list[str], operations_relays: list[str]) -> d
     policies = [{"id": "operations", "rules": ["operations"], "subjects": ["operations"]}] if operations_relays else []
     for name in vehicle_relays:
         # its key space, its own token, and the tokens of the vehicles it carries (relay/hops.py) under its own name
-        own = [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**", f"{CARRIES}/{name}/**"]
+        own = [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**", f"{carries_prefix(name)}/**"]
         rules.append(_rule(f"vehicles {name}", own, _MESSAGES))
         subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
         policies.append(

@@ -1,12 +1,14 @@
-"""Which relay of the vehicles' side carries which vehicle, told to the operations side's consoles
-(docs/relay.md#the-console-knows-the-hop).
+"""Which relay of the vehicles' side carries which vehicle: the vehicle's owner, where its commands go, and what the
+operations side's consoles are told (docs/relay.md#the-console-knows-the-hop).
 
-The vehicles' side holds a Zenoh liveliness token per vehicle it carries, `sem-relay-carries/<its name>/<vehicle>`:
-nothing crosses the thin link for it once declared, and Zenoh declares it again when a link comes back. The operations
-side follows the tokens, counts when each vehicle's data last came over the link, and writes once a second, for each
-relay of the vehicles' side it heard, a sample of the project's DDS topic (dds/hops.py): the relay's name, its vehicles
-and the age of the last data from it. A relay whose tokens went (its link lost, or the relay stopped) keeps its
-vehicles: its age grows, which is what a console calls a silent relay."""
+The vehicles' side holds a Zenoh liveliness token per vehicle it carries, `sem-relay-carries/<its name>/<its domain>/
+<vehicle>`: nothing crosses the thin link for it once declared, and Zenoh declares it again when a link comes back.
+The operations side follows the tokens: a vehicle declared by one relay alone is that relay's (its owner), kept when
+the relay's token goes (its link lost, or the relay stopped: its commands wait for it); a relay that declares a vehicle
+another owns is refused, and a vehicle two relays declare when none owns it is owned by neither until one alone does.
+It counts when each vehicle's data last came over the link, and writes once a second, for each relay of the vehicles'
+side that owns vehicles, a sample of the project's DDS topic (dds/hops.py): the relay's name, its vehicles and the age
+of the last data from it; its age grows when its link is lost, which is what a console calls a silent relay."""
 
 from __future__ import annotations
 
@@ -14,6 +16,7 @@ import logging
 import threading
 import time
 import uuid
+from collections.abc import Callable
 from typing import Any
 from urllib.parse import quote, unquote
 
@@ -24,18 +27,25 @@ from sem_console.dds.bus import Bus
 
 log = logging.getLogger("sem-relay")
 CARRIES = "sem-relay-carries"
+QUERY_SECONDS = 10.0  # how long the operations side's start waits for the router's list of the tokens declared
+Origin = tuple[str, int]  # a vehicles' relay's name and its DDS domain
 
 
-def carries_key(relay: str, vehicle: uuid.UUID) -> str:
-    return f"{CARRIES}/{quote(relay, safe='')}/{vehicle}"  # a relay's name in one chunk of the key, whatever it holds
+def carries_prefix(relay: str) -> str:
+    """The key space of the tokens of a relay's vehicles (a relay's name in one chunk, whatever it holds)."""
+    return f"{CARRIES}/{quote(relay, safe='')}"
 
 
-def parse_carries(text: str) -> tuple[str, uuid.UUID] | None:
+def carries_key(relay: str, domain: int, vehicle: uuid.UUID) -> str:
+    return f"{carries_prefix(relay)}/{domain}/{vehicle}"
+
+
+def parse_carries(text: str) -> tuple[Origin, uuid.UUID] | None:
     parts = text.split("/")
-    if len(parts) != 3 or parts[0] != CARRIES:
+    if len(parts) != 4 or parts[0] != CARRIES or not parts[2].isdigit():
         return None
     try:
-        return unquote(parts[1]), uuid.UUID(parts[2])
+        return (unquote(parts[1]), int(parts[2])), uuid.UUID(parts[3])
     except ValueError:
         return None
 
@@ -43,8 +53,8 @@ def parse_carries(text: str) -> tuple[str, uuid.UUID] | None:
 class Carried:
     """The vehicles' side: a token per vehicle this relay carries, declared at the vehicle's first sample."""
 
-    def __init__(self, session: zenoh.Session, name: str) -> None:
-        self.session, self.name = session, name
+    def __init__(self, session: zenoh.Session, name: str, domain: int) -> None:
+        self.session, self.name, self.domain = session, name, domain
         self.tokens: dict[uuid.UUID, Any] = {}
         self._lock = threading.Lock()
 
@@ -53,7 +63,8 @@ class Carried:
             return
         with self._lock:
             if vehicle not in self.tokens:
-                self.tokens[vehicle] = self.session.liveliness().declare_token(carries_key(self.name, vehicle))
+                key = carries_key(self.name, self.domain, vehicle)
+                self.tokens[vehicle] = self.session.liveliness().declare_token(key)
 
     def close(self) -> None:
         with self._lock:
@@ -63,25 +74,78 @@ class Carried:
 
 
 class Hops:
-    """The operations side: which relay carries each vehicle, when its data last came, written to the consoles."""
+    """The operations side: which relay owns each vehicle (its tokens), when its data last came, told to the consoles.
+    `on_owned(vehicle, origin)` is called, outside this object's lock, when a vehicle gets its owner."""
 
-    def __init__(self, session: zenoh.Session, bus: Bus) -> None:
-        self.carrier: dict[uuid.UUID, str] = {}
+    def __init__(self, session: zenoh.Session, bus: Bus, on_owned: Callable[[uuid.UUID, Origin], None]) -> None:
+        self.on_owned = on_owned
+        self.owner: dict[uuid.UUID, Origin] = {}
+        self.claims: dict[uuid.UUID, set[Origin]] = {}  # the relays whose token for the vehicle is there
         self.heard: dict[uuid.UUID, float] = {}  # vehicle -> monotonic time of its last message over the link
+        self._warned: set[tuple[uuid.UUID, frozenset[Origin]]] = set()
+        self._ready = False  # the tokens declared before this relay started all read (a claim alone is then alone)
         self._lock = threading.Lock()
         self.writer = hops.writer(bus.participant)
-        self.subscriber = session.liveliness().declare_subscriber(f"{CARRIES}/**", self._carries, history=True)
+        self.session = session
+        self.subscriber = session.liveliness().declare_subscriber(f"{CARRIES}/**", self._carries)
+
+    def start(self) -> None:
+        """The tokens declared already, read at once: a vehicle two relays say they carry is owned by neither."""
+        for reply in self.session.liveliness().get(f"{CARRIES}/**", timeout=QUERY_SECONDS):
+            if reply.ok is not None:
+                self._carries(reply.ok)
+        with self._lock:
+            self._ready = True
+            owned = [(v, o) for v in list(self.claims) if (o := self._decide(v)) is not None]
+        for vehicle, origin in owned:
+            self.on_owned(vehicle, origin)
+
+    def owner_of(self, vehicle: uuid.UUID) -> Origin | None:
+        with self._lock:
+            return self.owner.get(vehicle)
 
     def _carries(self, sample: zenoh.Sample) -> None:
         found = parse_carries(str(sample.key_expr))
-        if found is None or sample.kind != zenoh.SampleKind.PUT:
-            return  # a token gone: the relay keeps its vehicles (its age grows: silent)
-        relay, vehicle = found
+        if found is None:
+            return
+        origin, vehicle = found
         with self._lock:
-            before = self.carrier.get(vehicle)
-            self.carrier[vehicle] = relay
-        if before != relay:
-            log.info("vehicle %s is carried by relay %s", vehicle, relay)
+            claims = self.claims.setdefault(vehicle, set())
+            if sample.kind == zenoh.SampleKind.PUT:
+                claims.add(origin)
+            else:
+                claims.discard(origin)  # a token gone: its owner keeps the vehicle (its age grows: silent)
+            owned = self._decide(vehicle) if self._ready else None
+        if owned is not None:
+            self.on_owned(vehicle, owned)
+
+    def _decide(self, vehicle: uuid.UUID) -> Origin | None:
+        """The vehicle's owner if it gets one now (this object's lock held); a claim refused is said once."""
+        claims, owner = self.claims.get(vehicle, set()), self.owner.get(vehicle)
+        if owner is None and len(claims) == 1:
+            self.owner[vehicle] = owner = next(iter(claims))
+            log.info("vehicle %s is carried by relay %s, domain %d: its commands go there", vehicle, *owner)
+            return owner
+        others = frozenset(claims - {owner} if owner is not None else claims)
+        if others and (len(others) > 1 or owner is not None) and (vehicle, others) not in self._warned:
+            self._warned.add((vehicle, others))
+            names = ", ".join(f"relay {r}, domain {d}" for r, d in sorted(others))
+            if owner is not None:
+                log.warning(
+                    "vehicle %s is carried by relay %s, domain %d: %s also says it carries it; refused (its samples are "
+                    "not written, its commands not sent there)",
+                    vehicle,
+                    *owner,
+                    names,
+                )
+            else:
+                log.warning(
+                    "vehicle %s is said to be carried by %s: its commands wait, and its samples are not written, until "
+                    "one relay alone says so",
+                    vehicle,
+                    names,
+                )
+        return None
 
     def heard_from(self, vehicle: uuid.UUID, now: float) -> None:
         with self._lock:
@@ -91,7 +155,7 @@ class Hops:
         """One sample per relay: its vehicles, and the age of the last data from any of them (NEVER: none yet)."""
         with self._lock:
             relays: dict[str, list[uuid.UUID]] = {}
-            for vehicle, relay in self.carrier.items():
+            for vehicle, (relay, _domain) in self.owner.items():
                 relays.setdefault(relay, []).append(vehicle)
             out = []
             for relay, vehicles in sorted(relays.items()):

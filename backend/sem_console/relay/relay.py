@@ -1,14 +1,14 @@
 """One side of the link: the DDS domain's SEM traffic on Zenoh and back (docs/relay.md).
 
 The vehicles' side sends every report, status and ack of both UMAA versions and writes the commands that come back;
-the operations side writes the vehicles' samples into its domain and sends its consoles' commands. Commands, statuses
+the operations side writes the vehicles' samples into its domain and sends its consoles' commands, each to the relay
+that owns its vehicle (relay/hops.py). Commands, statuses
 and acks, their disposes and unregistrations included, are sent reliably at once, ahead of the reports (a higher Zenoh
 priority, congestion control Block: never dropped, never conflated); reports go at their link class's caps (congestion
 control Drop: a newer one follows), a report's dispose or unregistration reliably after its last sample."""
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import logging
@@ -16,7 +16,7 @@ import os
 import threading
 import time
 import uuid
-from collections import OrderedDict, defaultdict
+from collections import OrderedDict, defaultdict, deque
 from dataclasses import dataclass
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
@@ -27,10 +27,10 @@ import zenoh
 from sem_console.dds import hops
 from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
-from sem_console.dds.topics import AnySem, Sem, Sem60
+from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.hops import Carried, Hops
+from sem_console.relay.hops import Carried, Hops, Origin
 from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
 from sem_console.relay.options import RelayOptions, endpoints
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
@@ -45,8 +45,10 @@ LOG_DEPTH = 64  # the messages of an instance kept to send again (a command has 
 ENDED_KEPT_SECONDS = 600.0  # an ended instance's dispose or unregistration is sent again for this long
 LOST_KEPT_SECONDS = 86400.0  # how long a lost relay of the other side is waited for (its ends kept to send again)
 WAITING_DEPTH = 256  # the messages held per vehicle not heard yet: those of a vehicle of this domain are never sent
+EARLY_VEHICLES = 1000  # the vehicles (and relays) whose samples are kept until a relay owns them
 LOSS_MARGIN_SECONDS = 2.0  # beyond two leases: how long before a lost link was noticed what it carried may be lost
 SEEN_KEPT = 100_000  # the messages received a receiver remembers, to write each once
+TERMINAL = ("COMPLETED", "FAILED", "CANCELED")  # a command status's terminal states, by name in both UMAA versions
 
 
 @dataclass
@@ -60,6 +62,18 @@ class Traffic:
 
 
 @dataclass(frozen=True)
+class Incoming:
+    """A message of the other side, to write into this domain."""
+
+    address: Address
+    sem: AnySem
+    key_text: str
+    extra: bytes  # the attachment
+    meta: tuple[Kind, int]  # its kind and source timestamp
+    payload: bytes
+
+
+@dataclass(frozen=True)
 class Outgoing:
     key: str
     payload: bytes
@@ -69,6 +83,21 @@ class Outgoing:
     report_end: bool = False  # a report's dispose or unregistration: reliable, after the report's samples
     instance: Any = None  # the instance on the sending domain
     ended: bool = False  # a dispose or unregistration
+    session: bytes | None = None  # a command sample's sessionID
+
+
+def decoded(sem: AnySem, data: bytes) -> Any:
+    """A sample's CDR read as its type (an appendable writer's as the type's appendable copy)."""
+    appendable = sem.spec.appendable if sem.spec.appendable is not None and delimited(data) else None
+    return (appendable or sem.spec.type).deserialize(data)
+
+
+def session_of(taken: Taken) -> bytes | None:
+    """A command sample's sessionID (None: it cannot be read; the command goes all the same)."""
+    try:
+        return bytes(decoded(taken.sem, taken.data).sessionID)
+    except Exception:
+        return None
 
 
 def zenoh_config(options: RelayOptions) -> zenoh.Config:
@@ -104,11 +133,12 @@ class Relay:
         self.limiter: Limiter[Outgoing] = Limiter(self.caps)
         self.traffic: dict[uuid.UUID, Traffic] = defaultdict(Traffic)
         self._lock = threading.Lock()  # the limiter, the traffic counts and the vehicles' domains
-        # operations side: the relay and domain each vehicle's samples came from (where its commands go), and commands
-        # for a vehicle not heard yet (sent once it is)
-        self.origin_of: dict[uuid.UUID, tuple[str, int]] = {}
-        self._refused: set[tuple[uuid.UUID, str, int]] = set()  # the other relays and domains a vehicle was heard through
+        # operations side: the commands for a vehicle no relay owns yet (relay/hops.py; sent once one does), and the
+        # samples that came for it before its relay's token (written if that relay becomes its owner)
         self.held: Held[Taken] = Held(WAITING_DEPTH)
+        self._early: dict[tuple[uuid.UUID, Origin], deque[Incoming]] = {}
+        self._apply_lock = threading.Lock()  # the operations side's writes into its domain, in the order received
+        self._refused: set[tuple[uuid.UUID, Origin]] = set()  # the other relays a vehicle's samples came through
         commands = [s for s in TOPICS.values() if s.spec.cls is TopicClass.COMMAND]
         others = [s for s in TOPICS.values() if s.spec.cls is not TopicClass.COMMAND]
         self.sends = others if self.vehicles_side else commands
@@ -116,10 +146,6 @@ class Relay:
         self.dds = DomainSide(bus, self.sends, self._taken)
         self.started = time.monotonic()
         self.stopping = threading.Event()
-        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
-        # serve another domain); the operations side: every vehicle's samples
-        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
-        self.subscriber = session.declare_subscriber(watch, self._received)
         # A link that was down longer than the Zenoh lease lost what was under way: when a relay of the other side comes
         # (back), what this side sent is sent again, and the receiver writes only what it has not yet (`_seen`).
         self._sent: SentLog[Outgoing] = SentLog(LOG_DEPTH)
@@ -129,12 +155,21 @@ class Relay:
         self._was_connected, self._own_lost = False, cast(float | None, None)  # this session's link, and when it was lost last
         self._send_lock = threading.Lock()  # one message at a time on the link, in the order logged
         self._versions: set[type] = set()  # the UMAA versions (Sem, Sem60) whose topics this side writes already
+        # the operations side: the commands (vehicle, sessionID) whose vehicle said they ended (a terminal status): never
+        # sent again, so a vehicles' relay that restarts does not give a vehicle a finished command as if new
+        self._finished: OrderedDict[tuple[uuid.UUID, bytes | None], None] = OrderedDict()
         self.token = session.liveliness().declare_token(f"{LIVELINESS}/{options.side}/{options.name}/{session.zid()}")
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
         # which relay carries which vehicle, for the operations side's consoles (relay/hops.py)
-        self.carried = Carried(session, options.name) if self.vehicles_side else None
-        self.hops = None if self.vehicles_side else Hops(session, bus)
+        self.carried = Carried(session, options.name, bus.domain_id) if self.vehicles_side else None
+        self.hops = None if self.vehicles_side else Hops(session, bus, self._owned)
+        if self.hops is not None:
+            self.hops.start()
+        # the vehicles' side: the commands sent to its name (its key space) and domain (another relay of its name may
+        # serve another domain); the operations side: every vehicle's samples
+        watch = f"{PREFIX}/{options.name}/{bus.domain_id}/**" if self.vehicles_side else f"{PREFIX}/**"
+        self.subscriber = session.declare_subscriber(watch, self._received)
         self._timer = threading.Thread(target=self._tick, name="relay-timer", daemon=True)
 
     def start(self) -> None:
@@ -145,13 +180,14 @@ class Relay:
     def _taken(self, taken: Taken) -> None:
         if not self.vehicles_side:
             # the lookup and the send in one step (`_send_lock`): a command, or its cancel, taken while its vehicle's
-            # first sample releases the ones held goes after them, never before
+            # owner releases the ones held (`_owned`) goes after them, never before
+            assert self.hops is not None
             with self._send_lock:
-                with self._lock:
-                    origin = self.origin_of.get(taken.vehicle)
-                    if origin is None:  # not a vehicle of the link (yet): held until its first sample comes
+                origin = self.hops.owner_of(taken.vehicle)
+                if origin is None:  # no relay owns the vehicle (yet): held until one does
+                    with self._lock:
                         self.held.hold(taken.vehicle, taken.instance, taken, ends=taken.kind is not Kind.SAMPLE)
-                        return
+                    return
                 self._send_locked(self._outgoing(taken, *origin))
             return
         assert self.carried is not None
@@ -188,6 +224,7 @@ class Relay:
     def _outgoing(self, taken: Taken, relay: str, domain: int) -> Outgoing:
         urgent = taken.sem.spec.cls is not TopicClass.REPORT
         ended = taken.kind is not Kind.SAMPLE
+        command = taken.sem.spec.cls is TopicClass.COMMAND and not ended
         return Outgoing(
             key(relay, domain, taken.vehicle, taken.sem.spec.name),
             taken.data,
@@ -197,6 +234,7 @@ class Relay:
             report_end=not urgent and ended,
             instance=taken.instance,
             ended=ended,
+            session=session_of(taken) if command else None,
         )
 
     def _peer(self, sample: zenoh.Sample) -> None:
@@ -247,7 +285,7 @@ class Relay:
         sent; no new message goes in between (`_send_lock`), so none overtakes one of its instance sent again."""
         with self._send_lock:
             with self._lock:
-                again = self._sent.since(since)
+                again = [o for o in self._sent.since(since) if (o.vehicle, o.session) not in self._finished]
             for out in again:
                 self._put(out)
         log.info("sent %d messages again", len(again))
@@ -279,57 +317,89 @@ class Relay:
         meta = read_attachment(extra)
         if address is None or sem is None or meta is None or extra is None or sem.spec.name not in self.writes:
             return  # not for this side (its own messages come back too)
-        if self.hops is not None:
-            self.hops.heard_from(address.vehicle, time.monotonic())
-        # a vehicle's first sample on the operations side releases the commands held for it: sent in one step with it
-        # (`_send_lock`), so that none taken meanwhile (a cancel) goes before them
-        first = not self.vehicles_side and address.vehicle not in self.origin_of
-        with self._send_lock if first else contextlib.nullcontext():
-            self._apply(address, sem, key_text, extra, meta, sample.payload.to_bytes(), first)
+        incoming = Incoming(address, sem, key_text, extra, meta, sample.payload.to_bytes())
+        if self.hops is None:  # the vehicles' side
+            self._apply(incoming)
+            return
+        origin = (address.relay, address.domain)
+        with self._apply_lock:
+            owner = self.hops.owner_of(address.vehicle)
+            with self._lock:
+                early = self._early.get((address.vehicle, origin))
+            # its relay's token not here yet (or two relays say they carry it): kept until one owns it; and kept behind
+            # those kept before it while its owner, just decided, has not written them yet (`_owned`)
+            if owner is None or (owner == origin and early is not None):
+                with self._lock:
+                    if early is None:
+                        early = self._early[(address.vehicle, origin)] = deque(maxlen=WAITING_DEPTH)
+                        if len(self._early) > EARLY_VEHICLES:  # ids no relay ever declares: the oldest given up
+                            del self._early[next(iter(self._early))]
+                    early.append(incoming)
+            elif owner == origin:
+                self.hops.heard_from(address.vehicle, time.monotonic())
+                self._apply(incoming)
+            elif (address.vehicle, origin) not in self._refused:  # another relay's vehicle: not written
+                self._refused.add((address.vehicle, origin))
+                log.warning(
+                    "vehicle %s is carried by relay %s, domain %d: its samples through relay %s, domain %d are not written",
+                    address.vehicle,
+                    *owner,
+                    *origin,
+                )
 
-    def _apply(
-        self, address: Address, sem: AnySem, key_text: str, extra: bytes, meta: tuple[Kind, int], payload: bytes, first: bool
-    ) -> None:
-        """A message of the other side written into this domain (`first`: `_send_lock` held, see `_received`)."""
-        digest = hashlib.blake2b(key_text.encode() + extra + payload, digest_size=16).digest()
-        release: list[Taken] = []
+    def _owned(self, vehicle: uuid.UUID, origin: Origin) -> None:
+        """Operations side: a relay now owns `vehicle` (relay/hops.py): what it sent before its token came is written,
+        and the commands held for the vehicle go to it, in one step (`_send_lock`), so that none taken meanwhile (a
+        cancel) goes before them."""
+        with self._send_lock, self._apply_lock:
+            with self._lock:
+                early = self._early.pop((vehicle, origin), ())
+                for other in [k for k in self._early if k[0] == vehicle]:
+                    del self._early[other]
+                release = self.held.release(vehicle)
+            if early:
+                assert self.hops is not None
+                self.hops.heard_from(vehicle, time.monotonic())
+            for incoming in early:
+                self._apply(incoming)
+            for taken in release:
+                self._send_locked(self._outgoing(taken, *origin))
+
+    def _apply(self, incoming: Incoming) -> None:
+        """A message of the other side written into this domain."""
+        address, sem, kind = incoming.address, incoming.sem, incoming.meta[0]
+        digest = hashlib.blake2b(incoming.key_text.encode() + incoming.extra + incoming.payload, digest_size=16).digest()
         with self._lock:
             if digest in self._seen:  # sent again after an outage, and written already
-                return
-            origin = self.origin_of.get(address.vehicle)
-            if origin is not None and origin != (address.relay, address.domain):
-                # a vehicle is written from the relay and domain its commands go to only: another relay (the access
-                # control keeps each to its own key space) cannot pass for it
-                if (address.vehicle, address.relay, address.domain) not in self._refused:
-                    self._refused.add((address.vehicle, address.relay, address.domain))
-                    log.warning(
-                        "vehicle %s is heard through relay %s, domain %d: its samples through relay %s, domain %d are "
-                        "not written",
-                        address.vehicle,
-                        *origin,
-                        address.relay,
-                        address.domain,
-                    )
                 return
             self._seen[digest] = None
             if len(self._seen) > SEEN_KEPT:
                 self._seen.popitem(last=False)
             t = self.traffic[address.vehicle]
-            t.received_bytes += len(key_text) + len(payload) + len(extra)
+            t.received_bytes += len(incoming.key_text) + len(incoming.payload) + len(incoming.extra)
             t.received_messages += 1
-            if first and address.vehicle not in self.origin_of:
-                self.origin_of[address.vehicle] = (address.relay, address.domain)
-                release = self.held.release(address.vehicle)
-        kind, source_ns = meta
         if type(sem) not in self._versions:  # the first sample of a UMAA version: every topic of it written from now on
             self._versions.add(type(sem))
             self.dds.open_writers([s for s in type(sem) if s.spec.name in self.writes])
+        if sem.spec.cls is TopicClass.STATUS and kind is Kind.SAMPLE and self.hops is not None:
+            self._note_finished(address.vehicle, sem, incoming.payload)
         try:
-            self.dds.write(sem, kind, payload, source_ns)
+            self.dds.write(sem, kind, incoming.payload, incoming.meta[1])
         except Exception as e:  # one bad message costs only itself
             log.warning("could not write a %s of %s for vehicle %s: %s", kind.name.lower(), sem.spec.name, address.vehicle, e)
-        for taken in release:
-            self._send_locked(self._outgoing(taken, address.relay, address.domain))
+
+    def _note_finished(self, vehicle: uuid.UUID, sem: AnySem, payload: bytes) -> None:
+        try:
+            status = decoded(sem, payload)
+            ended = getattr(status.commandStatus, "name", None) in TERMINAL
+            session = bytes(status.sessionID)
+        except Exception:  # a status this relay cannot read is written all the same; its command is sent again
+            return
+        if ended:
+            with self._lock:
+                self._finished[(vehicle, session)] = None
+                if len(self._finished) > SEEN_KEPT:
+                    self._finished.popitem(last=False)
 
     # the caps' slots and the link's status
     def _tick(self) -> None:

@@ -158,13 +158,24 @@ class CommandFlow:
         self, status: Status | int, reason: AnyReason | int, log_message: str = "", stamp: float | None = None
     ) -> Transition | None:
         """Feed a received status (`stamp`: its timeStamp in seconds); returns the new transition, or None for a repeat:
-        the last status again, unless it is an update (UPDATED) stamped otherwise, which is the next update."""
+        the last status again, unless it is an update (UPDATED) stamped otherwise, which is the next update; or an
+        earlier status observed already, its time stamp included, stamped before the last status: the same sample
+        delivered again (as a relay that restarted writes a running command's statuses again). One stamped at the last
+        status's time is a provider that repeated itself: a transition, and its violation."""
         last = self.transitions[-1] if self.transitions else None
         if (
             last is not None
             and last.status is status
             and last.reason is reason
             and (reason is not UPDATED or stamp is None or stamp == last.stamp)
+        ):
+            return None
+        if (
+            last is not None
+            and stamp is not None
+            and last.stamp is not None
+            and stamp < last.stamp
+            and any(t.status is status and t.reason is reason and t.stamp == stamp for t in self.transitions)
         ):
             return None
         t = Transition(status, reason, log_message, check_transition(self.status, status, reason, self.figure), stamp)

@@ -14,6 +14,7 @@ import threading
 import time
 import uuid
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -21,22 +22,29 @@ import httpx
 import pytest
 import zenoh
 from cyclonedds.util import duration
+from fastapi.testclient import TestClient
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as S
 from UMAA.Common.MaritimeEnumeration.CommandStatusReasonEnumType import CommandStatusReasonEnumType as Reason
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
 from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as Ins
 from UMAA.SEM.GPSFixControl import GPSFixCommandStatusType
+from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from conftest import ConsoleProcess, Process, free_domain, free_port
 from sem_console.check.cli import main as check_main
+from sem_console.codec.decode import ReportItem
+from sem_console.core.config import Settings
 from sem_console.dds.bus import Bus, take_each
+from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.main import create_app
 from sem_console.relay.access import LIVELINESS
 from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.hops import CARRIES, carries_key
 from sem_console.relay.options import RelayOptions
-from sem_console.relay.relay import ENDED_KEPT_SECONDS, Outgoing, Relay
+from sem_console.relay.relay import EARLY_VEHICLES, ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import Kind, attachment, key, read_attachment
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
@@ -75,6 +83,15 @@ def relay() -> Iterator[Callable[..., RelayProcess]]:
         p.end()
 
 
+@dataclass
+class Joined:
+    port: int  # the router's
+    near_args: list[str]  # the vehicles' relay's command line (to start it again)
+    near: RelayProcess
+    far_args: list[str]  # the operations relay's
+    far: RelayProcess
+
+
 def join(
     relay: Callable[..., RelayProcess],
     near: int,
@@ -83,13 +100,13 @@ def join(
     *args: str,
     via: Callable[[int], str] | None = None,
     status_port: int | None = None,
-) -> int:
+) -> Joined:
     """A router and the two sides' relays; `via`: the near relay's endpoint for the router's port (an impaired
-    link's); `status_port`: the near relay's. Returns the router's port."""
+    link's); `status_port`: the near relay's."""
     port = free_port()
     router = f"tcp/127.0.0.1:{port}"
     relay("--router", "--listen", router)
-    relay(
+    near_args = [
         "--domain",
         str(near),
         "--side",
@@ -104,8 +121,8 @@ def join(
         str(tmp_path / "near.json"),
         *(["--status-port", str(status_port)] if status_port else []),
         *args,
-    )
-    relay(
+    ]
+    far_args = [
         "--domain",
         str(far),
         "--side",
@@ -119,8 +136,8 @@ def join(
         "--status-file",
         str(tmp_path / "far.json"),
         *args,
-    )
-    return port
+    ]
+    return Joined(port, near_args, relay(*near_args), far_args, relay(*far_args))
 
 
 def sources_60(readers: list[Any]) -> set[uuid.UUID]:
@@ -234,6 +251,33 @@ def test_a_command_canceled_before_its_vehicle_is_heard_never_reaches_it(sim, do
         assert consumer.commands[canceled].statuses == []
     finally:
         consumer.close()
+
+
+def test_a_vehicles_relay_restarted_does_not_give_the_vehicle_a_finished_command_again(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """The vehicles' relay restarts (a new writer on the vehicles' domain): the operations relay sends it again what is
+    alive of its consoles' commands, but not a command the vehicle said has ended (COMPLETED, not yet cleaned up): a
+    vehicle that took it for new would run it again."""
+    far = free_domain(taken=domain)
+    sim()
+    joined = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    consumer, near = Consumer(far), Bus(domain)
+    try:
+        commands = near.reader(Sem.GPS_FIX_COMMAND)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        assert consumer.wait_terminal(fix, 20).statuses == HAPPY  # and left alive: no cleanup yet
+        take_each(commands)
+        joined.near.end()
+        relay(*joined.near_args)
+        heard = len(consumer.reports[Sem.INS_REPORT][V1])
+        consumer.wait(lambda: len(consumer.reports[Sem.INS_REPORT][V1]) > heard + 2, 20, "reports through the new relay")
+        time.sleep(1)  # what the operations relay sends again to the new relay has come
+        again = [x for x in take_each(commands)[0] if uuid.UUID(bytes=bytes(x.sessionID)) == fix]
+        assert again == []
+    finally:
+        consumer.close()
+        near.close()
 
 
 def test_the_impairment_s_loss_costs_a_retransmission_after_an_outage_too() -> None:
@@ -485,6 +529,75 @@ def test_access_control_keeps_a_vehicles_relay_from_passing_for_another_s_vehicl
             zs.close()
 
 
+def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it(sim, domain: int, relay, tmp_path: Path) -> None:
+    """ship-1 carries vehicle 1 (its token); ship-2 says it carries it too and puts samples under its id. The operations
+    relay, started then, hears ship-2's samples first (ship-1 is behind a 2 s round trip): it sends the console's command
+    to neither while both say so, never to ship-2, writes none of ship-2's samples, and sends the command to ship-1
+    once ship-1 alone says it carries the vehicle; the fix completes."""
+    far = free_domain(taken=domain)
+    port = free_port()
+    router = f"tcp/127.0.0.1:{port}"
+    link = Impairment(("127.0.0.1", port), rtt=2.0)
+    sim()
+    relay("--router", "--listen", router)
+    relay("--domain", str(domain), "--name", "ship-1", "--connect", link.endpoint, "--link-class", "lan")
+    config = zenoh.Config()
+    config.insert_json5("connect/endpoints", json.dumps([router]))
+    config.insert_json5("scouting/multicast/enabled", "false")
+    rogue = zenoh.open(config)
+    commands: list[str] = []
+    consumer: Consumer | None = None
+    posing = threading.Event()
+    try:
+        fixes = f"sem/ship-2/*/*/{Sem.GPS_FIX_COMMAND.spec.name}"
+        listening = rogue.declare_subscriber(fixes, lambda s: commands.append(str(s.key_expr)))
+        claim = rogue.liveliness().declare_token(carries_key("ship-2", domain, V1))
+        deadline = time.monotonic() + 20
+        while time.monotonic() < deadline and carries_key("ship-1", domain, V1) not in {
+            str(r.ok.key_expr) for r in rogue.liveliness().get(f"{CARRIES}/**") if r.ok is not None
+        }:
+            time.sleep(0.2)
+        sessions: list[uuid.UUID] = []
+
+        def pose() -> None:  # ship-2's samples of vehicle 1, a status of a session of its own every 20 ms
+            while not posing.wait(0.02):
+                sessions.append(uuid.uuid4())
+                status = GPSFixCommandStatusType(
+                    source=to_guid(V1),
+                    commandStatus=S.COMPLETED,
+                    commandStatusReason=Reason.SUCCEEDED,
+                    logMessage="",
+                    sessionID=to_guid(sessions[-1]),
+                    timeStamp=now_datetime(),
+                )
+                topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+                rogue.put(key("ship-2", domain, V1, topic), status.serialize(), attachment=attachment(Kind.SAMPLE, 0))
+
+        poser = threading.Thread(target=pose, daemon=True)
+        poser.start()
+        relay("--domain", str(far), "--side", "operations", "--name", "ops", "--connect", router, "--link-class", "lan")
+        consumer = Consumer(far)
+        statuses = consumer.bus.reader(Sem.GPS_FIX_COMMAND_STATUS)
+        fix = consumer.command(Service.GPS_FIX, V1)
+        time.sleep(2)  # both say they carry vehicle 1: the command waits
+        consumer.pump()
+        assert commands == [] and consumer.commands[fix].statuses == []
+        claim.undeclare()  # ship-1 alone
+        seen = consumer.wait_terminal(fix, 20)
+        assert seen.statuses == HAPPY
+        posing.set()
+        poser.join(5)
+        written = {uuid.UUID(bytes=bytes(x.sessionID)) for x in take_each(statuses)[0]}
+        assert commands == [] and written.isdisjoint(sessions)
+        listening.undeclare()
+    finally:
+        posing.set()
+        if consumer is not None:
+            consumer.close()
+        rogue.close()
+        link.close()
+
+
 @pytest.mark.slow
 def test_access_control_gives_a_vehicles_relay_only_its_own_vehicles_commands(sim, domain: int, relay, tmp_path: Path) -> None:
     """The router's access control (--vehicle-relays, --operations-relays, by certificate common name): a vehicles'
@@ -520,7 +633,7 @@ def test_a_vehicles_relay_writes_only_its_own_domain_s_commands(sim, domain: int
     control: the command for a vehicle of one domain, and its cleanup, are written on that domain only."""
     far, other = free_domain(taken=domain), free_domain(taken=domain)
     sim()
-    port = join(relay, domain, far, tmp_path, "--link-class", "lan")
+    port = join(relay, domain, far, tmp_path, "--link-class", "lan").port
     relay("--domain", str(other), "--name", "ship-1", "--connect", f"tcp/127.0.0.1:{port}", "--link-class", "lan")
     consumer, elsewhere = Consumer(far), Bus(other)
     try:
@@ -576,7 +689,8 @@ def test_access_control_lets_no_vehicles_relay_pose_as_an_operations_relay(relay
 
 def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_no_other_relay_s(relay, tmp_path: Path) -> None:
     """The consoles learn the hop from the tokens of the vehicles a relay carries (relay/hops.py): the router lets a
-    vehicles' relay declare them under its own name, for the operations relay to see, and not under another's."""
+    vehicles' relay declare them under its own name (one a key chunk holds as it is, or one it holds encoded: a space),
+    for the operations relay to see, and not under another's."""
     fleet = Authority(tmp_path, "fleet-ca")
     endpoint = f"tls/localhost:{free_port()}"
     relay(
@@ -584,22 +698,22 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
         "--listen",
         endpoint,
         "--vehicle-relays",
-        "ship-1,ship-2",
+        "Ship One,ship-2",
         "--operations-relays",
         "ops",
         *tls(fleet, "router"),
     )
-    ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops", "ship-2"))
+    ship, ops, other = (fleet_session(fleet, name, endpoint) for name in ("Ship One", "ops", "ship-2"))
     heard: list[str] = []
     try:
         watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: heard.append(str(s.key_expr)), history=True)
-        posing = other.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=2)))
-        token = ship.liveliness().declare_token(carries_key("ship-1", uuid.UUID(int=1)))
+        posing = other.liveliness().declare_token(carries_key("Ship One", 0, uuid.UUID(int=2)))
+        token = ship.liveliness().declare_token(carries_key("Ship One", 0, uuid.UUID(int=1)))
         deadline = time.monotonic() + 10
         while not heard and time.monotonic() < deadline:
             time.sleep(0.05)
         time.sleep(1)
-        assert heard == [carries_key("ship-1", uuid.UUID(int=1))]
+        assert heard == [carries_key("Ship One", 0, uuid.UUID(int=1))]
         for declared in (watch, posing, token):
             declared.undeclare()
     finally:
@@ -657,12 +771,13 @@ def test_a_status_port_in_use_is_one_line(domain: int, relay) -> None:
     )
 
 
-def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_command_goes_after_it(
+def test_a_cancel_taken_while_its_vehicle_s_owner_releases_the_held_command_goes_after_it(
     domain: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Operations side: a command held for a vehicle not heard yet is released by the vehicle's first sample; its
+    """Operations side: a command held for a vehicle no relay owns yet is released when one does (its token); its
     cancel, taken from a console in that moment, goes after it, never before (the vehicle would then take the cancel
-    of nothing, start the command and run it). Real Zenoh and Cyclone DDS; the first sample's write held open."""
+    of nothing, start the command and run it). Real Zenoh and Cyclone DDS; the write of the vehicle's sample that came
+    before its relay's token, done in that step, held open."""
     config = zenoh.Config()
     config.insert_json5("scouting/multicast/enabled", "false")
     session, bus = zenoh.open(config), Bus(domain)
@@ -684,7 +799,10 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
         session.put(
             key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name), b"status", attachment=attachment(Kind.SAMPLE, 0)
         )
-        assert entered.wait(10), "the vehicle's first sample was not received"
+        time.sleep(0.5)  # received, and kept: no relay owns V1 yet
+        assert not entered.is_set()
+        token = session.liveliness().declare_token(carries_key("ship-1", domain, V1))
+        assert entered.wait(10), "the vehicle's sample was not written when ship-1 came to own it"
         cancel = threading.Thread(target=relay._taken, args=(Taken(Sem.GPS_FIX_COMMAND, Kind.DISPOSE, b"key", 0, V1, instance),))
         cancel.start()
         cancel.join(0.5)  # with the held command not sent yet, the cancel waits for it
@@ -694,8 +812,160 @@ def test_a_cancel_taken_while_its_vehicle_s_first_sample_releases_the_held_comma
         while len(sent) < 2 and time.monotonic() < deadline:
             time.sleep(0.05)
         assert sent == [Kind.SAMPLE, Kind.DISPOSE]
+        token.undeclare()
     finally:
         gate.set()
+        relay.close()
+        bus.close()
+        session.close()
+
+
+def test_a_sample_that_comes_as_its_vehicle_gets_its_owner_is_written_after_those_kept_before(
+    domain: int, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Operations side: the samples that came before their relay's token are written, in the order they came, before
+    one that comes between the relay being made the vehicle's owner and those being written (a status written before
+    the one it followed is the console's newest; a report, the vehicle's state). Real Zenoh and Cyclone DDS; the
+    writing of those kept held open."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    assert relay.hops is not None
+    written: list[bytes] = []
+    monkeypatch.setattr(relay.dds, "write", lambda _sem, _kind, payload, _ns: written.append(payload))
+    entered, gate = threading.Event(), threading.Event()
+    owned = relay.hops.on_owned
+
+    def held_open(vehicle: uuid.UUID, origin: tuple[str, int]) -> None:
+        entered.set()
+        gate.wait(10)
+        owned(vehicle, origin)
+
+    relay.hops.on_owned = held_open
+    topic = key("ship-1", domain, V1, Sem.GPS_FIX_COMMAND_STATUS.spec.name)
+    tokens: list[Any] = []
+    declare = threading.Thread(
+        target=lambda: tokens.append(session.liveliness().declare_token(carries_key("ship-1", domain, V1)))
+    )
+    try:
+        session.put(topic, b"ISSUED", attachment=attachment(Kind.SAMPLE, 1))
+        deadline = time.monotonic() + 10
+        while (V1, ("ship-1", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        declare.start()
+        assert entered.wait(10), "ship-1 was not made vehicle 1's owner"
+        assert relay.hops.owner_of(V1) == ("ship-1", domain)
+        session.put(topic, b"COMMANDED", attachment=attachment(Kind.SAMPLE, 2))
+        early = relay._early.get((V1, ("ship-1", domain)), ())
+        deadline = time.monotonic() + 10
+        while not written and len(early) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)  # received: written at once, or kept behind the first
+        gate.set()
+        deadline = time.monotonic() + 10
+        while len(written) < 2 and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert written == [b"ISSUED", b"COMMANDED"]
+    finally:
+        gate.set()
+        declare.join(10)
+        for token in tokens:
+            token.undeclare()
+        relay.close()
+        bus.close()
+        session.close()
+
+
+def test_a_far_console_commands_vehicles_of_both_versions_through_its_rest_api_over_an_impaired_link(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """Two relays and a router joined through a link of 600 ms round trip, 5 % loss and 64 kbit/s, at the satellite
+    class (its caps shortened): a console on the far domain sees vehicles of both UMAA versions, and through its REST
+    API a GPS fix cancelled, a GPS fix, and an INS command of each version complete, each cleaned up. The operations
+    relay is restarted while the fix runs: its new writer writes the fix's statuses again, and the console records
+    each once."""
+    far = free_domain(taken=domain)
+    links: list[Impairment] = []
+
+    def impaired(port: int) -> str:
+        links.append(Impairment(("127.0.0.1", port), rtt=0.6, rate_bytes=8000, loss=0.05))
+        return links[0].endpoint
+
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2", "--surface-seconds", "60")  # a fix takes 3 s: time to cancel
+    caps = "GPSReport=5,GlobalPoseReport=2,GPSFixReport=2"
+    joined = join(relay, domain, far, tmp_path, "--caps", caps, via=impaired)
+    console = ConsoleProcess(far, tmp_path / "far.sqlite3", ["--comms-lost-timeout", "15"], {}).start()
+    base = console.url
+
+    def command(session: str) -> dict[str, Any]:
+        return dict(httpx.get(f"{base}/api/commands/{session}").json())
+
+    def wait(session: str, done: Callable[[dict[str, Any]], bool], timeout: float = 30) -> dict[str, Any]:
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            c = command(session)
+            if done(c):
+                return c
+            time.sleep(0.1)
+        raise AssertionError(f"command {session}: {command(session)}")
+
+    def run(path: str, body: dict[str, Any]) -> str:
+        r = httpx.post(f"{base}{path}", json=body)
+        assert r.status_code == 201, r.text
+        return str(r.json()["sessionId"])
+
+    def finished(c: dict[str, Any]) -> bool:
+        return bool(c["terminal"] and c["cleanedUp"])
+
+    try:
+        deadline, versions = time.monotonic() + 40, {}
+        while versions != {str(V1): "3.0.1", str(V2): "6.0"} and time.monotonic() < deadline:
+            time.sleep(0.2)
+            providers = httpx.get(f"{base}/api/providers").json()
+            versions = {p["id"]: p["umaaVersion"] for p in providers if p["link"] == "live"}
+        assert versions == {str(V1): "3.0.1", str(V2): "6.0"}
+        canceled = run(f"/api/providers/{V1}/gps-fix", {})
+        wait(canceled, lambda c: c["status"] == "EXECUTING")
+        assert httpx.delete(f"{base}/api/commands/{canceled}").status_code == 200
+        c = wait(canceled, finished)
+        assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "CANCELED"]
+        fix = run(f"/api/providers/{V1}/gps-fix", {})
+        wait(fix, lambda c: c["status"] == "EXECUTING")
+        joined.far.end()  # the operations relay restarted while the fix runs
+        relay(*joined.far_args)
+        done = {fix: wait(fix, finished, 40)}
+        for vehicle, state in ((V1, "RESTARTING"), (V2, "STATIONARY_ALIGN")):
+            session = run(f"/api/providers/{vehicle}/inertial-sensor", {"state": state})
+            done[session] = wait(session, finished)
+        for c in done.values():
+            assert [t["status"] for t in c["transitions"]] == ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"], c
+            assert c["violations"] == []
+        assert links[0].lost >= 1  # the loss was on the link
+    finally:
+        console.end()
+        for link in links:
+            link.close()
+
+
+def test_samples_of_vehicles_no_relay_declares_are_kept_for_a_bounded_number_of_vehicles(domain: int) -> None:
+    """Operations side: samples under ids no relay declares (a relay that never does, or a flood of made-up ids) are
+    kept for at most EARLY_VEHICLES vehicles, the oldest given up; the newest are there when a relay declares its own.
+    Real Zenoh and Cyclone DDS."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    relay = Relay(RelayOptions(side="operations", name="ops"), bus, session)
+    try:
+        topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+        ids = [uuid.UUID(int=i + 1) for i in range(EARLY_VEHICLES + 10)]
+        for vehicle in ids:
+            session.put(key("ship-9", domain, vehicle, topic), b"status", attachment=attachment(Kind.SAMPLE, 0))
+        deadline = time.monotonic() + 10
+        while (ids[-1], ("ship-9", domain)) not in relay._early and time.monotonic() < deadline:
+            time.sleep(0.05)
+        assert len(relay._early) == EARLY_VEHICLES
+        assert (ids[0], ("ship-9", domain)) not in relay._early and (ids[-1], ("ship-9", domain)) in relay._early
+    finally:
         relay.close()
         bus.close()
         session.close()
@@ -705,7 +975,8 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
     sim, domain: int, relay, tmp_path: Path
 ) -> None:
     """The console knows the hop: a console on the far domain shows each vehicle "via relay ship-1" with the age of its
-    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either."""
+    newest data; the link cut, it raises one alarm naming the relay and its two vehicles, and no link-lost for either;
+    a vehicle then heard on the console's own domain is no longer marked (the mark follows its latest path)."""
     far = free_domain(taken=domain)
     links: list[Impairment] = []
 
@@ -743,6 +1014,19 @@ def test_a_far_console_marks_the_vehicles_via_the_relay_and_a_silent_relay_is_on
         ]
         lost = {p["id"]: p["link"] for p in httpx.get(f"{console.url}/api/providers").json()}
         assert lost == {str(V1): "lost", str(V2): "lost"}  # lost, by their own time stamps: one alarm for both
+        # vehicle 1 now heard on the console's own domain (the relay still says it carries it): the mark follows
+        here = Bus(far)
+        try:
+            writer = here.writer(Sem.INS_REPORT)
+            deadline = time.monotonic() + 20
+            while set(marked()) != {str(V2)} and time.monotonic() < deadline:
+                writer.write(
+                    InertialSensorReportType(state=Ins.ON, status=Op.OPERATIONAL, source=to_guid(V1), timeStamp=now_datetime())
+                )
+                time.sleep(0.2)
+            assert set(marked()) == {str(V2)}
+        finally:
+            here.close()
     finally:
         console.end()
         for link in links:
@@ -759,9 +1043,9 @@ def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_it
     config = zenoh.Config()
     config.insert_json5("scouting/multicast/enabled", "false")
     session, bus = zenoh.open(config), Bus(domain)
-    hops = Hops(session, bus)
+    hops = Hops(session, bus, lambda *_: None)
     try:
-        hops.carrier[V1] = "ship-1"
+        hops.owner[V1] = ("ship-1", 0)
         hops.heard_from(V1, 100.0)
         bus.close()  # the writer's participant gone: Cyclone refuses the write
         hops.write(101.0)
@@ -772,3 +1056,41 @@ def test_a_relay_s_write_of_its_hops_that_fails_is_one_warning_not_the_end_of_it
         hops.close()
         bus.close()
         session.close()
+
+
+def test_a_console_marks_a_vehicle_whose_relay_it_learns_after_the_relay_s_report(domain: int, tmp_path: Path) -> None:
+    """The console learns the operations relays' participants from their samples of SEMConsole_RelayLink, which come in
+    their own time: a report a relay wrote before the console learned it is the relay's once its sample comes (a
+    console starting, an operations relay restarted: a new participant), not only at the vehicle's next report (a
+    minute at the satellite caps); a vehicle heard from another participant is unmarked, and stays so while it is
+    heard that way too (not marked and unmarked at each report: an event to every station each time)."""
+    settings = Settings(domain=domain, db_path=tmp_path / "db", recordings_dir=tmp_path / "recordings", comms_lost_timeout=2.0)
+    first, restarted, here = uuid.uuid4(), uuid.uuid4(), uuid.uuid4()  # two relays' participants, the vehicle's own
+    with TestClient(create_app(settings), base_url="http://localhost") as client:
+        console = client.app.state.console  # type: ignore[attr-defined]
+
+        def report(writer: uuid.UUID) -> None:  # on the console's loop, as the ingest hands them
+            console.on_reports([ReportItem("GPSReport", V1, {}, [], True, console.clock.wall(), writer=writer)])
+
+        def link(writer: uuid.UUID) -> None:
+            console.on_relay_links([(RelayLink(relay="ship-1", vehicles=[str(V1)], ageMs=0), writer)], console.clock.wall())
+
+        def mark() -> str | None:
+            [p] = client.get("/api/providers").json()
+            return None if p["relay"] is None else str(p["relay"]["name"])
+
+        client.portal.call(report, first)
+        assert mark() is None  # not known for a relay's yet
+        client.portal.call(link, first)
+        assert mark() == "ship-1"
+        client.portal.call(report, restarted)
+        client.portal.call(link, restarted)
+        assert mark() == "ship-1"
+        client.portal.call(report, here)
+        client.portal.call(link, restarted)
+        assert mark() is None
+        client.portal.call(report, restarted)  # heard both ways: shown direct, not marked at every other report
+        assert mark() is None
+        time.sleep(2.1)  # nothing directly for its comms-lost timeout: the relay's path is its path
+        client.portal.call(report, restarted)
+        assert mark() == "ship-1"

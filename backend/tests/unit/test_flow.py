@@ -84,3 +84,22 @@ def test_each_update_is_a_new_step_and_a_redelivered_one_a_repeat() -> None:
     assert first is not None and second is not None and first.violation is None and second.violation is None
     assert f.observe(S.ISSUED, UPDATED, "", 14.0) is None
     assert [(t.status, t.reason) for t in f.transitions][-2:] == [(S.ISSUED, UPDATED), (S.ISSUED, UPDATED)]
+
+
+def test_a_command_s_statuses_delivered_again_are_repeats_and_a_new_one_still_counts() -> None:
+    """A relay that restarts writes a running command's statuses again (ISSUED, COMMANDED, EXECUTING, their own time
+    stamps, older than the last's): nothing new, no violation; the command's next status is its next transition, and a
+    status of a state seen before but stamped anew is one (a violation)."""
+    f = CommandFlow()
+    path = [(S.ISSUED, OK, 10.0), (S.COMMANDED, OK, 11.0), (S.EXECUTING, OK, 12.0)]
+    for st, r, stamp in path:
+        assert f.observe(st, r, "", stamp) is not None
+    for st, r, stamp in path:
+        assert f.observe(st, r, "", stamp) is None
+    assert f.observe(S.COMPLETED, OK, "", 13.0) is not None
+    assert [t.status for t in f.transitions] == [S.ISSUED, S.COMMANDED, S.EXECUTING, S.COMPLETED] and f.violations == []
+    again = f.observe(S.EXECUTING, OK, "", 14.0)
+    assert again is not None and again.violation is not None
+    tied = CommandFlow()  # a provider repeating itself at the last status's time: a transition, not a redelivery
+    for st in (S.ISSUED, S.COMMANDED, S.ISSUED):
+        assert tied.observe(st, OK, "", 5.0) is not None
