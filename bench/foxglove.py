@@ -19,7 +19,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from common import CpuMeter, emit, free_port, get_json, stack, table, target, wait_listed
+from common import CpuMeter, Proc, emit, free_port, get_json, stack, table, target, wait_listed
 from foxglove_peer import foxglove_collect
 from ingest import sim_args
 
@@ -37,6 +37,26 @@ def layout_topics(topic: str) -> bool:
 CLIENTS: dict[str, Callable[[str], bool]] = {"every channel": lambda _t: True, "the layout's channels": layout_topics}
 
 
+def phases(proc: Proc, url: str, seconds: float, pairs: int) -> list[tuple[str, float, int]]:
+    """`pairs` rounds of phases of `seconds` each: no client, then each of CLIENTS on the Foxglove server at `url`; per
+    phase, the share of a core `proc` used and the messages a second the client received."""
+    rows = []
+    for phase in ("no client", *CLIENTS) * pairs:
+        received = 0
+
+        def on(_topic: str, _sample: dict[str, Any], _at: float) -> None:
+            nonlocal received
+            received += 1
+
+        cpu, t0 = CpuMeter(proc), time.monotonic()
+        if phase in CLIENTS:
+            asyncio.run(foxglove_collect(url, seconds, on, CLIENTS[phase]))
+        else:
+            time.sleep(seconds)
+        rows.append((phase, cpu.read(), round(received / (time.monotonic() - t0))))
+    return rows
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--vehicles", type=int, default=50)
@@ -44,24 +64,13 @@ def main() -> None:
     ap.add_argument("--pairs", type=int, default=4, help="rounds of phases: without a client, then each client")
     args = ap.parse_args()
     port = free_port()
-    rows: list[dict[str, Any]] = []
     with stack(sim_args=sim_args(args.vehicles), console_env={"SEM_FOXGLOVE_PORT": str(port)}) as st:
         console, url = st["procs"]["console"], st["url"]
         wait_listed(url, args.vehicles)
-        for phase in ("no client", *CLIENTS) * args.pairs:
-            received = 0
-
-            def on(_topic: str, _sample: dict[str, Any], _at: float) -> None:
-                nonlocal received
-                received += 1
-
-            cpu, t0 = CpuMeter(console), time.monotonic()
-            if phase in CLIENTS:
-                asyncio.run(foxglove_collect(f"ws://127.0.0.1:{port}", args.seconds, on, CLIENTS[phase]))
-            else:
-                time.sleep(args.seconds)
-            elapsed = time.monotonic() - t0
-            rows.append({"phase": phase, "console_cpu": round(cpu.read(), 3), "received_per_s": round(received / elapsed)})
+        rows = [
+            {"phase": phase, "console_cpu": round(cpu, 3), "received_per_s": per_s}
+            for phase, cpu, per_s in phases(console, f"ws://127.0.0.1:{port}", args.seconds, args.pairs)
+        ]
         state = {g["name"]: g for g in get_json(url + "/api/gateways")}["foxglove"]
     without = [r["console_cpu"] for r in rows if r["phase"] == "no client"]
     cpu_without = sum(without) / len(without)

@@ -7,6 +7,7 @@ its counters) is in `GET /api/gateways` and in the WebSocket `gateways` message.
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 import threading
@@ -20,13 +21,19 @@ log = logging.getLogger("sem-console.gateways")
 RATE_WINDOW = 5.0  # seconds the messages-per-second figure averages over
 
 
+@functools.lru_cache(maxsize=1024)
+def _parts(path: str) -> tuple[str, ...]:
+    """A dotted path's members (split once: a gateway reads the same few paths of every report)."""
+    return tuple(path.split("."))
+
+
 def number(report: dict[str, Any], invalid: list[str], path: str) -> float | None:
     """The finite number at `path` (dotted) of a report the console decoded, or None when it is absent, null, not a
     number or listed invalid."""
-    if any(x.startswith(f"{path}:") or x.startswith(f"{path}.") for x in invalid):
+    if invalid and any(x.startswith(f"{path}:") or x.startswith(f"{path}.") for x in invalid):
         return None
     v: Any = report
-    for part in path.split("."):
+    for part in _parts(path):
         v = v.get(part) if isinstance(v, dict) else None
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
         return None

@@ -9,11 +9,12 @@ DDS name, every sample's CDR as it came off the wire (`cdr`), with the `omgidl` 
 The raw samples come from the feed's tap, on the ingest threads (a replay's, on its reading thread, as they are played).
 
 Nothing is encoded for a channel no client subscribes to (foxglove-sdk's `has_sinks`): such a message is only counted
-(`left out: no subscriber`; a raw take is not counted). The server offers no capability but, in a replay, playback
-control: a client's publish, service call or parameter request is refused by foxglove-sdk itself, so nothing a
-Foxglove client sends reaches the console. Playback control (play, pause, seek, speed) drives the console's own replay,
-the one the dashboard's controls drive, and the replay's position goes back to every client as Foxglove's playback
-state, whoever moved it.
+(`left out: no subscriber`; a raw take is not counted). The JSON messages of one turn of the event loop are handed to
+foxglove-sdk together at its end (`_flush`): its sending thread is then woken once for them all, not once each.
+The server offers no capability but, in a replay, playback control: a client's publish, service call or parameter
+request is refused by foxglove-sdk itself, so nothing a Foxglove client sends reaches the console. Playback control
+(play, pause, seek, speed) drives the console's own replay, the one the dashboard's controls drive, and the replay's
+position goes back to every client as Foxglove's playback state, whoever moved it.
 """
 
 from __future__ import annotations
@@ -98,6 +99,7 @@ class FoxgloveGateway:
         self._raw_lock = threading.Lock()  # the ingest threads open an appendable writer's channel at its first sample
         self._tasks: list[asyncio.Task[None]] = []
         self._requests: set[asyncio.Task[None]] = set()  # playback control requests being carried out
+        self._pending: list[tuple[foxglove.Channel, bytes, int]] = []  # this turn's JSON messages (`_flush`)
         self._loop: asyncio.AbstractEventLoop | None = None
         self._shown: tuple[Any, ...] | None = None  # the playback state clients were last sent
         self._seeks = 0  # the replay's seeks clients were told of
@@ -222,8 +224,21 @@ class FoxgloveGateway:
         if not ch.has_sinks():
             self.stats.count("left out: no subscriber")
             return
-        ch.log(orjson.dumps(message), log_time=max(0, round(at * 1e9)))
-        self.stats.sent()
+        self._send(ch, orjson.dumps(message), at)
+
+    def _send(self, ch: foxglove.Channel, data: bytes, at: float) -> None:
+        """`data` to `ch` at the end of this turn of the loop (`_flush`), with its time."""
+        if not self._pending:
+            assert self._loop is not None  # the server runs
+            self._loop.call_soon(self._flush)
+        self._pending.append((ch, data, max(0, round(at * 1e9))))
+
+    def _flush(self) -> None:
+        """This turn's JSON messages to foxglove-sdk, in their order, one after the other."""
+        pending, self._pending = self._pending, []
+        for ch, data, log_time in pending:
+            ch.log(data, log_time=log_time)
+        self.stats.sent(len(pending))
 
     def _vehicle(self, provider_id: str) -> str:
         return self.names.get(provider_id) or provider_id
@@ -256,7 +271,7 @@ class FoxgloveGateway:
             type_name = f"{topic}Type"
             ch = self._channel(report_topic(topic), f"sem_console.{type_name}", schemas.report_schema(type_name))
         if ch.has_sinks():
-            self._log(ch, {"providerId": provider_id, "vehicle": self.names.get(provider_id), **envelope}, at)
+            self._send(ch, orjson.dumps({"providerId": provider_id, "vehicle": self.names.get(provider_id), **envelope}), at)
         else:
             self.stats.count("left out: no subscriber")
         if topic == "GPSFixReport":
@@ -265,7 +280,7 @@ class FoxgloveGateway:
             if not fix_channel.has_sinks():
                 self.stats.count("left out: no subscriber")
             elif (fix := schemas.location_fix(envelope, self._vehicle(provider_id))) is not None:
-                self._log(fix_channel, fix, at)
+                self._send(fix_channel, orjson.dumps(fix), at)
             else:
                 self.stats.count("left out: no valid position")
 

@@ -20,6 +20,7 @@ LEVEL_OF_STATUS = {"FAILED": ERROR, "CANCELED": WARNING}
 # foxglove.LocationFix's position_covariance_type
 COVARIANCE_UNKNOWN, COVARIANCE_DIAGONAL_KNOWN = 0, 2
 
+COVARIANCE_PATHS = ("positionCovariance.pnPn", "positionCovariance.pePe", "positionCovariance.pdPd")  # north, east, down
 _TIME = {
     "type": "object",
     "properties": {"sec": {"type": "integer", "minimum": 0}, "nsec": {"type": "integer", "minimum": 0, "maximum": 999999999}},
@@ -146,7 +147,7 @@ def location_fix(envelope: ReportEnvelope, frame_id: str) -> dict[str, Any] | No
     )
     # UMAA's covariance is north, east, down; LocationFix's is east, north, up (row-major 3x3): the diagonal is known
     # when the vehicle gives all three variances
-    north, east, down = (number(report, invalid, f"positionCovariance.{v}") for v in ("pnPn", "pePe", "pdPd"))
+    north, east, down = (number(report, invalid, path) for path in COVARIANCE_PATHS)
     known = north is not None and east is not None and down is not None
     covariance = [east, 0.0, 0.0, 0.0, north, 0.0, 0.0, 0.0, down] if known else [0.0] * 9
     fix: dict[str, Any] = {
