@@ -1,8 +1,8 @@
-"""foxglove-sdk's own cost at the Foxglove gateway's rate: the floor under bench/foxglove.py's figures. What one client
+"""foxglove-sdk's own cost at the Foxglove gateway's rate: the floor under bench/foxglove_gateway.py's figures. What one client
 subscribed to every channel of a console at the 50-vehicle rate gets is captured for `--capture` seconds; the console
 stops, and a bare foxglove-sdk server in a process of its own logs the same bytes on the same channels at the times
 they came (the messages of each `--burst-ms` together, as the gateway hands a turn of its loop), with nothing else to
-do. Its CPU is measured as bench/foxglove.py measures the console's: phases without a client, with one on every
+do. Its CPU is measured as bench/foxglove_gateway.py measures the console's: phases without a client, with one on every
 channel and with one on the layout's channels (the same client), alternating. No target: figures only, none kept.
 Usage: python bench/foxglove_floor.py [--vehicles 50] [--capture 20] [--seconds 12] [--pairs 3] [--burst-ms 10]
 """
@@ -23,8 +23,7 @@ Captured = tuple[float, str, bytes]  # arrival (monotonic seconds), topic, the m
 
 
 def serve(port: int, capture: Path, burst: float) -> None:
-    """The bare server: the captured messages again and again, at their times (run with python -P: this folder's
-    foxglove.py is the benchmark, not the SDK)."""
+    """The bare server: the captured messages again and again, at their times."""
     import foxglove
 
     captured = pickle.loads(capture.read_bytes())
@@ -79,7 +78,7 @@ def main() -> None:
     if args.serve:
         return serve(args.serve, args.messages, args.burst_ms / 1000)
     from common import Proc, free_port, stack, table, wait_listed
-    from foxglove import CLIENTS, phases
+    from foxglove_gateway import CLIENTS, phases
     from ingest import sim_args
 
     port = free_port()
@@ -93,9 +92,7 @@ def main() -> None:
         file = Path(tmp) / "captured.pickle"
         file.write_bytes(pickle.dumps(captured))
         port = free_port()
-        server = Proc(
-            [sys.executable, "-P", __file__, "--serve", str(port), "--messages", str(file), "--burst-ms", str(args.burst_ms)]
-        )
+        server = Proc([sys.executable, __file__, "--serve", str(port), "--messages", str(file), "--burst-ms", str(args.burst_ms)])
         try:
             time.sleep(3.0)  # the server up
             rows = [

@@ -5,7 +5,7 @@ Foxglove subscribes to what its panels show (tests/support/foxglove.py, in this 
 Phases alternate without, every channel, the layout's, without... (`--pairs` rounds of `--seconds` each) on one
 running console, so all see the same input; the added CPU is the mean of the phases with a client minus the mean of
 those without, printed with its standard error over the rounds.
-Usage: python bench/foxglove.py [--vehicles 50] [--seconds 15] [--pairs 4]
+Usage: python bench/foxglove_gateway.py [--vehicles 50] [--seconds 15] [--pairs 4]
 """
 
 from __future__ import annotations
