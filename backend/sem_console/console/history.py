@@ -2,8 +2,10 @@
 
 One model per concept: `TrackPoint` and `SeriesPoint` (storage/models/) are SQLModel classes, each both the
 table mapping and the REST response model. Points are taken from reports on the event loop (a few
-dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
-pruned (older than the retention) and read in a worker thread, so the database never runs on the loop.
+dictionary lookups, at most one point per vehicle and UTC second for each; a track point only when the vehicle
+moved, time passed or its state changed: `Thinning`), batched, and written, rolled up (older than the rollup age:
+the first point of each interval), pruned (older than the retention) and read in a worker thread, so the database
+never runs on the loop.
 """
 
 from __future__ import annotations
@@ -14,20 +16,44 @@ import math
 import time
 import uuid
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
 from sqlmodel import Session, col, delete, func, select
 
+from sem_console.comap.geo import distance_m
+from sem_console.core.config import Settings
 from sem_console.storage.locks import VehicleWriters
 from sem_console.storage.models import SeriesPoint, TrackPoint
+from sem_console.storage.rollup import interval_start, roll_up
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
 HELD_POINTS = 100_000  # track (and series) points held while they cannot be written (a database outage)
-PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
-__all__ = ["History", "SeriesPoint", "TrackPoint", "series_point", "track_point"]
+PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes and rollups (sooner for a short retention or rollup age)
+__all__ = ["History", "SeriesPoint", "Thinning", "TrackPoint", "series_point", "track_point"]
+
+
+class Thinning(NamedTuple):
+    """Which track points are stored, and how old history is rolled up."""
+
+    metres: float  # a track point is stored when the vehicle moved this far from the last one stored,
+    seconds: float  # or this long passed since it, or its GPSLatLongValid or fixValid changed
+    rollup_after: float  # seconds: older track and series points are rolled up
+    rollup_every: float  # to the first of each vehicle's interval of this many seconds
+
+    @classmethod
+    def of(cls, settings: Settings) -> Thinning:
+        return cls(
+            settings.track_thin_metres,
+            settings.track_thin_seconds,
+            settings.track_rollup_after_hours * 3600.0,
+            settings.track_rollup_seconds,
+        )
+
+
+KEEP_ALL = Thinning(0.0, 0.0, math.inf, 60.0)  # every second's point, none rolled up
 
 
 def _get(d: Any, *path: str) -> Any:
@@ -91,13 +117,18 @@ def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict
 class History:
     """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
 
-    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False) -> None:
+    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False, thinning: Thinning = KEEP_ALL) -> None:
         self.engine = engine  # the console's database (storage.Database), which made the tables and closes it
         # shared by consoles (PostgreSQL): each vehicle's points written by one of them
         self.writers = VehicleWriters(engine) if engine.dialect.name == "postgresql" else None
         self._insert = (postgresql if engine.dialect.name == "postgresql" else sqlite).insert
         self.retention = retention_hours * 3600.0
-        self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
+        self.thinning = thinning
+        # a replay's points are at the recording's times: their age is not the wall clock's, nothing is rolled up
+        self.rollup_after = math.inf if replay else thinning.rollup_after
+        self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4, self.rollup_after / 4))
+        self._rolled_to: float | None = None  # the start of the first interval not rolled up yet (None: the oldest)
+        self._stored: dict[uuid.UUID, dict[str, Any]] = {}  # each vehicle's last track point stored
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
         self._slot: dict[tuple[str, uuid.UUID], int] = {}  # (table, provider) -> UTC second of its last point
@@ -109,6 +140,7 @@ class History:
         # figures for /api/metrics
         self.rows_written = 0
         self.rows_pruned = 0
+        self.rows_rolled_up = 0
         self.last_write_seconds = 0.0
         self.max_write_seconds = 0.0
 
@@ -128,8 +160,24 @@ class History:
         if not self._due("track", provider, received_at):  # most reports: the vehicle has this second's point
             return
         point = track_point(str(provider), received_at, fix, invalid, fix_valid)
-        if point is not None:
+        if point is not None and self._keeps(provider, point):
             self._track.append(point)
+
+    def _keeps(self, provider: uuid.UUID, point: dict[str, Any]) -> bool:
+        """Whether the point is stored: the vehicle's first, one that moved at least the thinning's metres from the
+        last stored, one at least its seconds after it (or before it: a wall clock stepped back), a changed
+        GPSLatLongValid or fixValid. A vehicle that stays put keeps one point per that many seconds."""
+        last = self._stored.get(provider)
+        if not (
+            last is None
+            or point["latLongValid"] != last["latLongValid"]
+            or point["fixValid"] != last["fixValid"]
+            or not 0 <= point["time"] - last["time"] < self.thinning.seconds
+            or distance_m((last["latitude"], last["longitude"]), (point["latitude"], point["longitude"])) >= self.thinning.metres
+        ):
+            return False
+        self._stored[provider] = point
+        return True
 
     def on_gps(self, provider: uuid.UUID, received_at: float, gps: dict[str, Any]) -> None:
         if self._due("series", provider, received_at):
@@ -165,18 +213,32 @@ class History:
             prune_before = now - self.retention if now - self._last_prune >= self.prune_interval else None
             if not (track or series or prune_before is not None):
                 return
+            rollup: tuple[float | None, float] | None = None
             if prune_before is not None:
                 self._last_prune = now
+                if math.isfinite(self.rollup_after):
+                    rollup = (self._rolled_to, interval_start(now - self.rollup_after, self.thinning.rollup_every))
             started = time.perf_counter()
             try:
-                await asyncio.to_thread(self._write, track, series, prune_before)
+                await asyncio.to_thread(self._write, track, series, prune_before, rollup)
             except Exception:  # kept for the next flush (a database outage), up to HELD_POINTS: then the oldest go
                 self._track, self._series = (track + self._track)[-HELD_POINTS:], (series + self._series)[-HELD_POINTS:]
                 raise
+            if rollup is not None:
+                self._rolled_to = rollup[1]
+            if self._rolled_to is not None and (track or series):  # points held through an outage: rolled up next time
+                oldest = min(p["time"] for p in (*track, *series))
+                self._rolled_to = min(self._rolled_to, interval_start(oldest, self.thinning.rollup_every))
             self.last_write_seconds = time.perf_counter() - started
             self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
 
-    def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
+    def _write(
+        self,
+        track: list[dict[str, Any]],
+        series: list[dict[str, Any]],
+        prune_before: float | None,
+        rollup: tuple[float | None, float] | None,
+    ) -> None:
         if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
             w = self.writers
             mine = w.mine({p["providerId"] for p in (*track, *series)})
@@ -189,6 +251,9 @@ class History:
             if prune_before is not None:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
+            if rollup is not None:
+                for model in (TrackPoint, SeriesPoint):
+                    self.rows_rolled_up += roll_up(s, model, rollup[0], rollup[1], self.thinning.rollup_every)
             s.commit()
         self.rows_written += len(track) + len(series)
 
@@ -198,6 +263,7 @@ class History:
         async with self._lock:  # after a flush in progress, before the next
             self._track = [p for p in self._track if p["time"] <= t]
             self._series = [p for p in self._series if p["time"] <= t]
+            self._stored = {}  # the first point played next is stored
             kept = await asyncio.to_thread(self._delete_after, t)
             # each vehicle's last second with a point, kept or held: the rebuild up to `t` adds none before it
             for table, rows in (("track", self._track), ("series", self._series)):
