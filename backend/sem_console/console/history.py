@@ -251,10 +251,11 @@ class History:
             if prune_before is not None:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
-            if rollup is not None:
+            s.commit()
+            if rollup is not None:  # a transaction per table: a command's write waits for one, not for all
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_rolled_up += roll_up(s, model, rollup[0], rollup[1], self.thinning.rollup_every)
-            s.commit()
+                    s.commit()
         self.rows_written += len(track) + len(series)
 
     async def forget_after(self, t: float) -> None:
