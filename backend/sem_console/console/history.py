@@ -26,7 +26,7 @@ from sem_console.comap.geo import distance_m
 from sem_console.core.config import Settings
 from sem_console.storage.locks import VehicleWriters
 from sem_console.storage.models import SeriesPoint, TrackPoint
-from sem_console.storage.rollup import interval_start, roll_up
+from sem_console.storage.rollup import interval_start, roll_up_step
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
@@ -127,7 +127,10 @@ class History:
         # a replay's points are at the recording's times: their age is not the wall clock's, nothing is rolled up
         self.rollup_after = math.inf if replay else thinning.rollup_after
         self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4, self.rollup_after / 4))
-        self._rolled_to: float | None = None  # the start of the first interval not rolled up yet (None: the oldest)
+        # per table: the start of the first interval not rolled up yet (none: from the oldest row), and whether the
+        # rollup is behind (a step of it at each flush until it is not)
+        self._rolled_to: dict[str, float] = {}
+        self._rollup_behind = False
         self._stored: dict[uuid.UUID, dict[str, Any]] = {}  # each vehicle's last track point stored
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
@@ -208,27 +211,28 @@ class History:
 
     async def flush(self) -> None:
         async with self._lock:
-            track, series, self._track, self._series = self._track, self._series, [], []
             now = time.time()
-            prune_before = now - self.retention if now - self._last_prune >= self.prune_interval else None
-            if not (track or series or prune_before is not None):
+            track, series, self._track, self._series = self._track, self._series, [], []
+            due = now - self._last_prune >= self.prune_interval
+            prune_before = now - self.retention if due else None
+            rollup_before = None
+            if math.isfinite(self.rollup_after) and (due or self._rollup_behind):
+                rollup_before = interval_start(now - self.rollup_after, self.thinning.rollup_every)
+            if not (track or series or due or rollup_before is not None):
                 return
-            rollup: tuple[float | None, float] | None = None
-            if prune_before is not None:
+            if due:
                 self._last_prune = now
-                if math.isfinite(self.rollup_after):
-                    rollup = (self._rolled_to, interval_start(now - self.rollup_after, self.thinning.rollup_every))
             started = time.perf_counter()
             try:
-                await asyncio.to_thread(self._write, track, series, prune_before, rollup)
+                await asyncio.to_thread(self._write, track, series, prune_before, rollup_before)
             except Exception:  # kept for the next flush (a database outage), up to HELD_POINTS: then the oldest go
                 self._track, self._series = (track + self._track)[-HELD_POINTS:], (series + self._series)[-HELD_POINTS:]
                 raise
-            if rollup is not None:
-                self._rolled_to = rollup[1]
-            if self._rolled_to is not None and (track or series):  # points held through an outage: rolled up next time
-                oldest = min(p["time"] for p in (*track, *series))
-                self._rolled_to = min(self._rolled_to, interval_start(oldest, self.thinning.rollup_every))
+            for model, rows in ((TrackPoint, track), (SeriesPoint, series)):  # points held through an outage: rolled up
+                rolled_to = self._rolled_to.get(model.__tablename__)
+                if rolled_to is not None and rows:
+                    oldest = interval_start(min(p["time"] for p in rows), self.thinning.rollup_every)
+                    self._rolled_to[model.__tablename__] = min(rolled_to, oldest)
             self.last_write_seconds = time.perf_counter() - started
             self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
 
@@ -237,7 +241,7 @@ class History:
         track: list[dict[str, Any]],
         series: list[dict[str, Any]],
         prune_before: float | None,
-        rollup: tuple[float | None, float] | None,
+        rollup_before: float | None,
     ) -> None:
         if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
             w = self.writers
@@ -252,10 +256,18 @@ class History:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
             s.commit()
-            if rollup is not None:  # a transaction per table: a command's write waits for one, not for all
+            if rollup_before is not None:  # a step per table and transaction: a command's write waits for one at most
+                behind = False
                 for model in (TrackPoint, SeriesPoint):
-                    self.rows_rolled_up += roll_up(s, model, rollup[0], rollup[1], self.thinning.rollup_every)
+                    name = model.__tablename__
+                    step = roll_up_step(s, model, self._rolled_to.get(name), rollup_before, self.thinning.rollup_every)
                     s.commit()
+                    if step is None:  # another console's rollup: this one's at its next prune
+                        continue
+                    self._rolled_to[name] = step[0]
+                    self.rows_rolled_up += step[1]
+                    behind = behind or step[0] < rollup_before
+                self._rollup_behind = behind
         self.rows_written += len(track) + len(series)
 
     async def forget_after(self, t: float) -> None:

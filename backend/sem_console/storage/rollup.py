@@ -9,7 +9,10 @@ from sqlalchemy import ColumnElement, Integer, cast, func, literal
 from sqlalchemy.orm import aliased
 from sqlmodel import Session, col, delete, select
 
+from sem_console.storage.locks import _key
 from sem_console.storage.models import SeriesPoint, TrackPoint
+
+STEP_SECONDS = 60.0  # of history rolled up in one transaction (a whole number of intervals, at least one)
 
 
 def interval_start(t: float, every: float) -> float:
@@ -40,3 +43,27 @@ def roll_up(s: Session, model: type[TrackPoint] | type[SeriesPoint], since: floa
     if since is not None:
         stmt = stmt.where(col(model.time) >= since)
     return int(s.execute(stmt).rowcount)  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
+
+
+def roll_up_step(
+    s: Session, model: type[TrackPoint] | type[SeriesPoint], since: float | None, before: float, every: float
+) -> tuple[float, int] | None:
+    """Roll up the next STEP_SECONDS of `model`'s rows from `since` (None: the oldest) towards `before`, in the session's
+    transaction (its commit ends the step): where the next step starts and how many rows were deleted. A step is
+    bounded, so the database's writer (SQLite has one) is never held long for a backlog (a day of history after a
+    start), and time with no rows is skipped at once. None: another console on the database (PostgreSQL) is rolling
+    this table up now; it is not waited for (two consoles deleting the same rows would wait on, or deadlock with,
+    each other)."""
+    if s.get_bind().dialect.name == "postgresql":
+        taken = s.execute(select(func.pg_try_advisory_xact_lock(_key(f"rollup:{model.__tablename__}")))).scalar()
+        if not taken:
+            return None
+    oldest = select(func.min(col(model.time))).where(col(model.time) < before)
+    if since is not None:
+        oldest = oldest.where(col(model.time) >= since)
+    first = s.execute(oldest).scalar()
+    if first is None:
+        return before, 0
+    start = interval_start(first, every)
+    end = min(before, start + every * max(1.0, STEP_SECONDS // every))
+    return end, roll_up(s, model, start, end, every)

@@ -12,7 +12,9 @@ import sqlite3
 import threading
 import time
 import uuid
+from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import psycopg
 import pytest
@@ -21,14 +23,15 @@ from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
 from sqlalchemy import Connection, event, text
 from sqlalchemy.exc import OperationalError
-from sqlmodel import SQLModel
+from sqlmodel import Session, SQLModel, select
 
-from sem_console.console.history import History
+from sem_console.console.history import History, Thinning, track_point
 from sem_console.core.config import Settings
 from sem_console.main import create_app
 from sem_console.storage.alarms import IDS_AHEAD
 from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters
 from sem_console.storage.engine import head_revision
+from sem_console.storage.models import TrackPoint
 from sem_console.storage.url import parse_database_url
 from support.pg import Cluster
 from test_routes import app_client, wait_until
@@ -570,3 +573,80 @@ def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url
         parse_database_url(url)
     line = str(refused.value)
     assert line.startswith("--database-url") and "\n" not in line and "s3cret" not in line, line
+
+
+def fix_at(lat: float, lon: float) -> dict[str, Any]:
+    """A GPSFixReport's JSON with a valid position."""
+    return {
+        "position2DWithTime": {
+            "geodeticPosition": {"geodeticLatitude": {"latitude": lat}, "geodeticLongitude": {"longitude": lon}}
+        },
+        "GPSLatLongValid": True,
+    }
+
+
+def old_points(provider: str, start: float, seconds: int) -> list[dict[str, Any]]:
+    return [track_point(provider, start + k, fix_at(1.0, 2.0), [], True) or {} for k in range(seconds)]
+
+
+def test_a_backlog_of_old_history_is_rolled_up_a_minute_per_transaction_skipping_empty_time(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(0.0, 0.0, 3600.0, 60.0))
+    vehicles = [str(uuid.uuid4()) for _ in range(3)]
+    minute = math.floor(time.time() / 60) * 60
+    # ten minutes 8 hours ago and ten 2 hours ago, a point a second each: a console started on a day's history
+    blocks = (minute - 8 * 3600, minute - 2 * 3600)
+    history._track = [p for v in vehicles for b in blocks for p in old_points(v, b, 600)]
+
+    def per_minute() -> Counter[float]:
+        with Session(db.engine) as s:
+            return Counter(math.floor(t / 60) * 60 for t in s.exec(select(TrackPoint.time)).all())
+
+    async def run() -> Counter[float]:
+        await history.flush()
+        first = per_minute()
+        for _ in range(20):  # a minute a flush, and the 5 h 50 min between the two blocks in one step
+            await history.flush()
+        return first
+
+    try:
+        first = asyncio.run(run())
+        assert first[blocks[0]] == 3 and first[blocks[0] + 60] == 180 and first[blocks[1]] == 180, first
+        assert per_minute() == {b + 60 * k: 3 for b in blocks for k in range(10)}
+        assert history.rows_rolled_up == 2 * 10 * 3 * 59
+    finally:
+        db.close()
+
+
+@pytest.mark.postgres
+def test_a_console_does_not_wait_for_another_rolling_up_the_same_history(pg_url: str) -> None:
+    a, b = open_db(pg_url), open_db(pg_url)
+    thinning = Thinning(0.0, 0.0, 3600.0, 60.0)
+    first, second = History(a.engine, 24, thinning=thinning), History(b.engine, 24, thinning=thinning)
+    minute = math.floor(time.time() / 60) * 60 - 2 * 3600
+    loader = History(a.engine, 24)
+    loader._track = [p for v in range(3) for p in old_points(str(uuid.uuid4()), minute, 120)]
+    asyncio.run(loader.flush())
+    loader.close()
+
+    def slow(conn: Connection, cursor: Any, statement: str, *args: Any) -> None:
+        if statement.lstrip().upper().startswith("DELETE FROM TRACK") and "EXISTS" in statement.upper():
+            time.sleep(6)  # the first console's rollup, rows deleted, not committed yet
+
+    event.listen(a.engine, "after_cursor_execute", slow)
+    try:
+        rolling = threading.Thread(target=lambda: asyncio.run(first.flush()))
+        rolling.start()
+        time.sleep(1)
+        started = time.monotonic()
+        asyncio.run(second.flush())
+        waited = time.monotonic() - started
+        rolling.join()
+        assert waited < 3, waited
+        assert first.rows_rolled_up == 3 * 59 and second.rows_rolled_up == 0
+    finally:
+        event.remove(a.engine, "after_cursor_execute", slow)
+        for h in (first, second):
+            h.close()
+        a.close()
+        b.close()
