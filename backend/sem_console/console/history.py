@@ -132,6 +132,7 @@ class History:
         self._rolled_to: dict[str, float] = {}
         self._rollup_behind = False
         self._stored: dict[uuid.UUID, dict[str, Any]] = {}  # each vehicle's last track point stored
+        self._unstored: dict[uuid.UUID, dict[str, Any]] = {}  # its latest point not stored (thinned) since
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
         self._slot: dict[tuple[str, uuid.UUID], int] = {}  # (table, provider) -> UTC second of its last point
@@ -178,9 +179,26 @@ class History:
             or not 0 <= point["time"] - last["time"] < self.thinning.seconds
             or distance_m((last["latitude"], last["longitude"]), (point["latitude"], point["longitude"])) >= self.thinning.metres
         ):
+            self._unstored[provider] = point
             return False
         self._stored[provider] = point
+        self._unstored.pop(provider, None)
         return True
+
+    def _quiet(self, now: float | None) -> list[dict[str, Any]]:
+        """The latest point of each vehicle whose fixes stopped (none for the thinning's seconds; `now` None: the
+        console stops) when it was thinned away: stored, so the track ends where the vehicle was last heard, not up to
+        the thinning's metres and seconds short of it (its last known position after a restart). A vehicle silent that
+        long is forgotten (its next fix is stored as a first): one that left holds nothing here."""
+        if now is None:
+            quiet = list(self._unstored)
+        elif self.replay:  # a recording's times, not the wall clock's: its points are stored as they are played
+            return []
+        else:
+            quiet = [v for v, p in self._stored.items() if now - self._unstored.get(v, p)["time"] >= self.thinning.seconds]
+            for v in quiet:
+                del self._stored[v]
+        return [self._unstored.pop(v) for v in quiet if v in self._unstored]
 
     def on_gps(self, provider: uuid.UUID, received_at: float, gps: dict[str, Any]) -> None:
         if self._due("series", provider, received_at):
@@ -206,13 +224,14 @@ class History:
                         )
                     failing = True
         finally:
+            self._track += self._quiet(None)
             if self._track or self._series:
                 await asyncio.shield(self.flush())
 
     async def flush(self) -> None:
         async with self._lock:
             now = time.time()
-            track, series, self._track, self._series = self._track, self._series, [], []
+            track, series, self._track, self._series = self._track + self._quiet(now), self._series, [], []
             due = now - self._last_prune >= self.prune_interval
             prune_before = now - self.retention if due else None
             rollup_before = None
@@ -276,7 +295,7 @@ class History:
         async with self._lock:  # after a flush in progress, before the next
             self._track = [p for p in self._track if p["time"] <= t]
             self._series = [p for p in self._series if p["time"] <= t]
-            self._stored = {}  # the first point played next is stored
+            self._stored, self._unstored = {}, {}  # the first point played next is stored
             kept = await asyncio.to_thread(self._delete_after, t)
             # each vehicle's last second with a point, kept or held: the rebuild up to `t` adds none before it
             for table, rows in (("track", self._track), ("series", self._series)):

@@ -4,6 +4,7 @@ the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import fcntl
 import math
 import re
@@ -25,6 +26,7 @@ from sqlalchemy import Connection, event, text
 from sqlalchemy.exc import OperationalError
 from sqlmodel import Session, SQLModel, select
 
+from sem_console.comap.geo import Local
 from sem_console.console.history import History, Thinning, track_point
 from sem_console.core.config import Settings
 from sem_console.main import create_app
@@ -583,6 +585,36 @@ def fix_at(lat: float, lon: float) -> dict[str, Any]:
         },
         "GPSLatLongValid": True,
     }
+
+
+def test_a_vehicle_whose_fixes_stop_keeps_its_last_position_on_the_track(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(5.0, 10.0, math.inf, 60.0))
+    gone, running = uuid.uuid4(), uuid.uuid4()
+    origin = Local(10.0, 20.0)
+
+    async def run() -> tuple[list[TrackPoint], list[TrackPoint]]:
+        t0 = time.time() - 30
+        for k in range(5):  # 1 m a second, then nothing: a vehicle lost 25 s ago
+            history.on_fix(gone, t0 + k, fix_at(*origin.latlon(float(k), 0.0)), [], True)
+        await history.flush()
+        task = asyncio.create_task(history.run())
+        await asyncio.sleep(0.05)
+        now = time.time()
+        for k in range(4):
+            history.on_fix(running, now + k, fix_at(*origin.latlon(0.0, float(k))), [], True)
+        task.cancel()  # the console stops
+        with contextlib.suppress(asyncio.CancelledError):
+            await task
+        return await history.track(gone, None, None), await history.track(running, None, None)
+
+    try:
+        lost, stopped = asyncio.run(run())
+        assert [round(origin.xy(p.latitude, p.longitude)[0], 3) for p in lost] == [0.0, 4.0], lost
+        assert [round(origin.xy(p.latitude, p.longitude)[1], 3) for p in stopped] == [0.0, 3.0], stopped
+        assert gone not in history._stored and not history._unstored  # the lost vehicle is forgotten
+    finally:
+        db.close()
 
 
 def old_points(provider: str, start: float, seconds: int) -> list[dict[str, Any]]:
