@@ -22,7 +22,8 @@ def interval_start(t: float, every: float) -> float:
 
 def roll_up(s: Session, model: type[TrackPoint] | type[SeriesPoint], since: float | None, before: float, every: float) -> int:
     """Delete the rows of `model` whose time is in [since, before) (since None: from the oldest) and that are not the
-    first of their vehicle's interval of `every` seconds; how many were deleted. `since` and `before` are interval
+    first of their vehicle's interval of `every` seconds (nor, on the track, one whose GPSLatLongValid or fixValid
+    differs from the vehicle's row before it); how many were deleted. `since` and `before` are interval
     starts, so an interval is rolled up once and whole."""
     earlier = aliased(model)
     postgresql = s.get_bind().dialect.name == "postgresql"
@@ -40,6 +41,17 @@ def roll_up(s: Session, model: type[TrackPoint] | type[SeriesPoint], since: floa
         .exists()
     )
     stmt = delete(model).where(col(model.time) < before, first)
+    if model is TrackPoint:  # a change of GPSLatLongValid or fixValid is kept, at its time: the track says when it was
+        prev = aliased(TrackPoint)
+
+        def previous(c: Any) -> Any:  # the vehicle's row before this one: its value of `c`
+            q = select(c).where(col(prev.providerId) == col(TrackPoint.providerId), col(prev.time) < col(TrackPoint.time))
+            return q.order_by(col(prev.time).desc()).limit(1).scalar_subquery()
+
+        stmt = stmt.where(
+            col(TrackPoint.latLongValid) == previous(col(prev.latLongValid)),
+            col(TrackPoint.fixValid).is_not_distinct_from(previous(col(prev.fixValid))),
+        )
     if since is not None:
         stmt = stmt.where(col(model.time) >= since)
     return int(s.execute(stmt).rowcount)  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult

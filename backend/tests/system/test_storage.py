@@ -650,6 +650,32 @@ def test_a_backlog_of_old_history_is_rolled_up_a_minute_per_transaction_skipping
         db.close()
 
 
+def test_the_rollup_keeps_each_change_of_gps_lat_long_valid_and_fix_valid_at_its_time(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(0.0, 0.0, 3600.0, 60.0))
+    ins, fix, steady = (str(uuid.uuid4()) for _ in range(3))
+    minute = math.floor(time.time() / 60) * 60 - 2 * 3600
+    # one vehicle from its INS (GPSLatLongValid false) for 10 s, one whose fix went invalid, one with no fix status
+    history._track = [{**p, "latLongValid": not 20 <= k < 30} for k, p in enumerate(old_points(ins, minute, 60))]
+    history._track += [{**p, "fixValid": k < 40} for k, p in enumerate(old_points(fix, minute, 60))]
+    history._track += [{**p, "fixValid": None} for p in old_points(steady, minute, 60)]
+
+    async def run() -> dict[str, list[tuple[float, bool, bool | None]]]:
+        await history.flush()
+        return {
+            v: [(p.time - minute, p.latLongValid, p.fixValid) for p in await history.track(uuid.UUID(v), None, None)]
+            for v in (ins, fix, steady)
+        }
+
+    try:
+        kept = asyncio.run(run())
+        assert kept[ins] == [(0, True, True), (20, False, True), (30, True, True)], kept[ins]
+        assert kept[fix] == [(0, True, True), (40, True, False)], kept[fix]
+        assert kept[steady] == [(0, True, None)], kept[steady]
+    finally:
+        db.close()
+
+
 @pytest.mark.postgres
 def test_a_console_does_not_wait_for_another_rolling_up_the_same_history(pg_url: str) -> None:
     a, b = open_db(pg_url), open_db(pg_url)

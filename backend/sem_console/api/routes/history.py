@@ -92,8 +92,8 @@ async def known(console: Console, provider_id: uuid.UUID) -> None:
 async def get_track(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> list[TrackPoint]:
     """The vehicle's track in time order, from its GPSFixReports: at most one point per second, stored when the
     vehicle moved `--track-thin-metres` (5 m), `--track-thin-seconds` (10 s) passed or its GPSLatLongValid or fixValid
-    changed; older than `--track-rollup-after-hours` (1 h), the first point of each `--track-rollup-seconds` (60 s);
-    kept for the console's track retention (`--track-retention-hours`)."""
+    changed; older than `--track-rollup-after-hours` (1 h), the first point of each `--track-rollup-seconds` (60 s) and
+    each change of GPSLatLongValid or fixValid; kept for the console's track retention (`--track-retention-hours`)."""
     await known(console, provider_id)
     return await console.track(provider_id, when.since, when.until)
 
