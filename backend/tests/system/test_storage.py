@@ -687,15 +687,18 @@ def test_a_console_does_not_wait_for_another_rolling_up_the_same_history(pg_url:
     asyncio.run(loader.flush())
     loader.close()
 
+    deleting = threading.Event()
+
     def slow(conn: Connection, cursor: Any, statement: str, *args: Any) -> None:
         if statement.lstrip().upper().startswith("DELETE FROM TRACK") and "EXISTS" in statement.upper():
+            deleting.set()
             time.sleep(6)  # the first console's rollup, rows deleted, not committed yet
 
     event.listen(a.engine, "after_cursor_execute", slow)
     try:
         rolling = threading.Thread(target=lambda: asyncio.run(first.flush()))
         rolling.start()
-        time.sleep(1)
+        assert deleting.wait(30)
         started = time.monotonic()
         asyncio.run(second.flush())
         waited = time.monotonic() - started
