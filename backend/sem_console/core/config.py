@@ -128,7 +128,8 @@ class Settings(BaseSettings):
         gt=0,
         le=24 * 366,
         description="track and chart history older than this many hours is rolled up to the first point of each "
-        "vehicle in each --track-rollup-seconds (default: 1)",
+        "vehicle in each --track-rollup-seconds, and on the track each change of GPSLatLongValid or fixValid "
+        "(default: 1)",
     )
     track_rollup_seconds: float = Field(
         60.0, ge=1, le=3600, description="the interval rolled-up history keeps one point of per vehicle (default: 60)"
