@@ -228,14 +228,16 @@ class History:
             if self._track or self._series:
                 await asyncio.shield(self.flush())
 
-    async def flush(self) -> None:
+    async def flush(self, upkeep: bool = True) -> None:
+        """Write the points taken; with `upkeep`, prune and roll up when due (a read asks for the points only: it
+        must not wait for a step of the rollup of a backlog, each of a dashboard's reads of every vehicle's track)."""
         async with self._lock:
             now = time.time()
             track, series, self._track, self._series = self._track + self._quiet(now), self._series, [], []
-            due = now - self._last_prune >= self.prune_interval
+            due = upkeep and now - self._last_prune >= self.prune_interval
             prune_before = now - self.retention if due else None
             rollup_before = None
-            if math.isfinite(self.rollup_after) and (due or self._rollup_behind):
+            if math.isfinite(self.rollup_after) and (due or (upkeep and self._rollup_behind)):
                 rollup_before = interval_start(now - self.rollup_after, self.thinning.rollup_every)
             if not (track or series or due or rollup_before is not None):
                 return
@@ -334,7 +336,7 @@ class History:
         return await asyncio.to_thread(query)
 
     async def _read(self, model: type[Any], provider: uuid.UUID, since: float | None, until: float | None) -> list[Any]:
-        await self.flush()  # what arrived until now is included
+        await self.flush(upkeep=False)  # what arrived until now is included
 
         def query() -> list[Any]:
             q = select(model).where(model.providerId == str(provider))
