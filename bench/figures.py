@@ -16,6 +16,7 @@ RESULTS = Path(__file__).resolve().parent / "results"
 MARKER = "<!-- bench-figures -->"
 ORDER = (
     "scale",
+    "storage",
     "latency",
     "fanout",
     "browser",

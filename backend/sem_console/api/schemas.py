@@ -262,6 +262,10 @@ class Metrics(_Model):
     commandsInMemory: int
     historyRowsWritten: int = Field(description="track and chart points written to the database")
     historyRowsPruned: int = Field(description="track and chart points removed for being older than the retention")
+    historyRowsRolledUp: int = Field(
+        description="track and chart points removed by the rollup (older than --track-rollup-after-hours: the first "
+        "of each vehicle's --track-rollup-seconds, and each change of its GPSLatLongValid or fixValid, is kept)"
+    )
     historyWriteSecondsMax: float = Field(
         description="longest batched write of track and chart points (in a worker thread, off the event loop), seconds"
     )

@@ -2,8 +2,10 @@
 
 One model per concept: `TrackPoint` and `SeriesPoint` (storage/models/) are SQLModel classes, each both the
 table mapping and the REST response model. Points are taken from reports on the event loop (a few
-dictionary lookups, at most one point per vehicle and UTC second for each), batched, and written,
-pruned (older than the retention) and read in a worker thread, so the database never runs on the loop.
+dictionary lookups, at most one point per vehicle and UTC second for each; a track point only when the vehicle
+moved, time passed or its state changed: `Thinning`), batched, and written, rolled up (older than the rollup age:
+the first point of each interval), pruned (older than the retention) and read in a worker thread, so the database
+never runs on the loop.
 """
 
 from __future__ import annotations
@@ -14,20 +16,44 @@ import math
 import time
 import uuid
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 from sqlalchemy.dialects import postgresql, sqlite
 from sqlalchemy.engine import Engine
 from sqlmodel import Session, col, delete, func, select
 
+from sem_console.comap.geo import distance_m
+from sem_console.core.config import Settings
 from sem_console.storage.locks import VehicleWriters
 from sem_console.storage.models import SeriesPoint, TrackPoint
+from sem_console.storage.rollup import interval_start, roll_up_step
 
 log = logging.getLogger("sem-console.history")
 FLUSH_INTERVAL = 1.0  # seconds between batched writes
 HELD_POINTS = 100_000  # track (and series) points held while they cannot be written (a database outage)
-PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes (sooner for a short retention)
-__all__ = ["History", "SeriesPoint", "TrackPoint", "series_point", "track_point"]
+PRUNE_INTERVAL_MAX = 60.0  # seconds between prunes and rollups (sooner for a short retention or rollup age)
+__all__ = ["History", "SeriesPoint", "Thinning", "TrackPoint", "series_point", "track_point"]
+
+
+class Thinning(NamedTuple):
+    """Which track points are stored, and how old history is rolled up."""
+
+    metres: float  # a track point is stored when the vehicle moved this far from the last one stored,
+    seconds: float  # or this long passed since it, or its GPSLatLongValid or fixValid changed
+    rollup_after: float  # seconds: older track and series points are rolled up
+    rollup_every: float  # to the first of each vehicle's interval of this many seconds
+
+    @classmethod
+    def of(cls, settings: Settings) -> Thinning:
+        return cls(
+            settings.track_thin_metres,
+            settings.track_thin_seconds,
+            settings.track_rollup_after_hours * 3600.0,
+            settings.track_rollup_seconds,
+        )
+
+
+KEEP_ALL = Thinning(0.0, 0.0, math.inf, 60.0)  # every second's point, none rolled up
 
 
 def _get(d: Any, *path: str) -> Any:
@@ -91,13 +117,22 @@ def series_point(provider: str, received_at: float, gps: dict[str, Any]) -> dict
 class History:
     """Takes points on the loop (`on_fix`, `on_gps`), writes them in batches off it (`run`)."""
 
-    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False) -> None:
+    def __init__(self, engine: Engine, retention_hours: float, replay: bool = False, thinning: Thinning = KEEP_ALL) -> None:
         self.engine = engine  # the console's database (storage.Database), which made the tables and closes it
         # shared by consoles (PostgreSQL): each vehicle's points written by one of them
         self.writers = VehicleWriters(engine) if engine.dialect.name == "postgresql" else None
         self._insert = (postgresql if engine.dialect.name == "postgresql" else sqlite).insert
         self.retention = retention_hours * 3600.0
-        self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4))
+        self.thinning = thinning
+        # a replay's points are at the recording's times: their age is not the wall clock's, nothing is rolled up
+        self.rollup_after = math.inf if replay else thinning.rollup_after
+        self.prune_interval = max(FLUSH_INTERVAL, min(PRUNE_INTERVAL_MAX, self.retention / 4, self.rollup_after / 4))
+        # per table: the start of the first interval not rolled up yet (none: from the oldest row), and whether the
+        # rollup is behind (a step of it at each flush until it is not)
+        self._rolled_to: dict[str, float] = {}
+        self._rollup_behind = False
+        self._stored: dict[uuid.UUID, dict[str, Any]] = {}  # each vehicle's last track point stored
+        self._unstored: dict[uuid.UUID, dict[str, Any]] = {}  # its latest point not stored (thinned) since
         self._track: list[dict[str, Any]] = []
         self._series: list[dict[str, Any]] = []
         self._slot: dict[tuple[str, uuid.UUID], int] = {}  # (table, provider) -> UTC second of its last point
@@ -109,6 +144,7 @@ class History:
         # figures for /api/metrics
         self.rows_written = 0
         self.rows_pruned = 0
+        self.rows_rolled_up = 0
         self.last_write_seconds = 0.0
         self.max_write_seconds = 0.0
 
@@ -128,8 +164,41 @@ class History:
         if not self._due("track", provider, received_at):  # most reports: the vehicle has this second's point
             return
         point = track_point(str(provider), received_at, fix, invalid, fix_valid)
-        if point is not None:
+        if point is not None and self._keeps(provider, point):
             self._track.append(point)
+
+    def _keeps(self, provider: uuid.UUID, point: dict[str, Any]) -> bool:
+        """Whether the point is stored: the vehicle's first, one that moved at least the thinning's metres from the
+        last stored, one at least its seconds after it (or before it: a wall clock stepped back), a changed
+        GPSLatLongValid or fixValid. A vehicle that stays put keeps one point per that many seconds."""
+        last = self._stored.get(provider)
+        if not (
+            last is None
+            or point["latLongValid"] != last["latLongValid"]
+            or point["fixValid"] != last["fixValid"]
+            or not 0 <= point["time"] - last["time"] < self.thinning.seconds
+            or distance_m((last["latitude"], last["longitude"]), (point["latitude"], point["longitude"])) >= self.thinning.metres
+        ):
+            self._unstored[provider] = point
+            return False
+        self._stored[provider] = point
+        self._unstored.pop(provider, None)
+        return True
+
+    def _quiet(self, now: float | None) -> list[dict[str, Any]]:
+        """The latest point of each vehicle whose fixes stopped (none for the thinning's seconds; `now` None: the
+        console stops) when it was thinned away: stored, so the track ends where the vehicle was last heard, not up to
+        the thinning's metres and seconds short of it (its last known position after a restart). A vehicle silent that
+        long is forgotten (its next fix is stored as a first): one that left holds nothing here."""
+        if now is None:
+            quiet = list(self._unstored)
+        elif self.replay:  # a recording's times, not the wall clock's: its points are stored as they are played
+            return []
+        else:
+            quiet = [v for v, p in self._stored.items() if now - self._unstored.get(v, p)["time"] >= self.thinning.seconds]
+            for v in quiet:
+                del self._stored[v]
+        return [self._unstored.pop(v) for v in quiet if v in self._unstored]
 
     def on_gps(self, provider: uuid.UUID, received_at: float, gps: dict[str, Any]) -> None:
         if self._due("series", provider, received_at):
@@ -155,28 +224,46 @@ class History:
                         )
                     failing = True
         finally:
+            self._track += self._quiet(None)
             if self._track or self._series:
                 await asyncio.shield(self.flush())
 
-    async def flush(self) -> None:
+    async def flush(self, upkeep: bool = True) -> None:
+        """Write the points taken; with `upkeep`, prune and roll up when due (a read asks for the points only: it
+        must not wait for a step of the rollup of a backlog, each of a dashboard's reads of every vehicle's track)."""
         async with self._lock:
-            track, series, self._track, self._series = self._track, self._series, [], []
             now = time.time()
-            prune_before = now - self.retention if now - self._last_prune >= self.prune_interval else None
-            if not (track or series or prune_before is not None):
+            track, series, self._track, self._series = self._track + self._quiet(now), self._series, [], []
+            due = upkeep and now - self._last_prune >= self.prune_interval
+            prune_before = now - self.retention if due else None
+            rollup_before = None
+            if math.isfinite(self.rollup_after) and (due or (upkeep and self._rollup_behind)):
+                rollup_before = interval_start(now - self.rollup_after, self.thinning.rollup_every)
+            if not (track or series or due or rollup_before is not None):
                 return
-            if prune_before is not None:
+            if due:
                 self._last_prune = now
             started = time.perf_counter()
             try:
-                await asyncio.to_thread(self._write, track, series, prune_before)
+                await asyncio.to_thread(self._write, track, series, prune_before, rollup_before)
             except Exception:  # kept for the next flush (a database outage), up to HELD_POINTS: then the oldest go
                 self._track, self._series = (track + self._track)[-HELD_POINTS:], (series + self._series)[-HELD_POINTS:]
                 raise
+            for model, rows in ((TrackPoint, track), (SeriesPoint, series)):  # points held through an outage: rolled up
+                rolled_to = self._rolled_to.get(model.__tablename__)
+                if rolled_to is not None and rows:
+                    oldest = interval_start(min(p["time"] for p in rows), self.thinning.rollup_every)
+                    self._rolled_to[model.__tablename__] = min(rolled_to, oldest)
             self.last_write_seconds = time.perf_counter() - started
             self.max_write_seconds = max(self.max_write_seconds, self.last_write_seconds)
 
-    def _write(self, track: list[dict[str, Any]], series: list[dict[str, Any]], prune_before: float | None) -> None:
+    def _write(
+        self,
+        track: list[dict[str, Any]],
+        series: list[dict[str, Any]],
+        prune_before: float | None,
+        rollup_before: float | None,
+    ) -> None:
         if self.writers is not None:  # another console writes the vehicles it holds: their points here are dropped
             w = self.writers
             mine = w.mine({p["providerId"] for p in (*track, *series)})
@@ -190,6 +277,18 @@ class History:
                 for model in (TrackPoint, SeriesPoint):
                     self.rows_pruned += s.execute(delete(model).where(col(model.time) < prune_before)).rowcount  # type: ignore[attr-defined]  # a DELETE's result is a CursorResult
             s.commit()
+            if rollup_before is not None:  # a step per table and transaction: a command's write waits for one at most
+                behind = False
+                for model in (TrackPoint, SeriesPoint):
+                    name = model.__tablename__
+                    step = roll_up_step(s, model, self._rolled_to.get(name), rollup_before, self.thinning.rollup_every)
+                    s.commit()
+                    if step is None:  # another console's rollup: this one's at its next prune
+                        continue
+                    self._rolled_to[name] = step[0]
+                    self.rows_rolled_up += step[1]
+                    behind = behind or step[0] < rollup_before
+                self._rollup_behind = behind
         self.rows_written += len(track) + len(series)
 
     async def forget_after(self, t: float) -> None:
@@ -198,6 +297,7 @@ class History:
         async with self._lock:  # after a flush in progress, before the next
             self._track = [p for p in self._track if p["time"] <= t]
             self._series = [p for p in self._series if p["time"] <= t]
+            self._stored, self._unstored = {}, {}  # the first point played next is stored
             kept = await asyncio.to_thread(self._delete_after, t)
             # each vehicle's last second with a point, kept or held: the rebuild up to `t` adds none before it
             for table, rows in (("track", self._track), ("series", self._series)):
@@ -236,7 +336,7 @@ class History:
         return await asyncio.to_thread(query)
 
     async def _read(self, model: type[Any], provider: uuid.UUID, since: float | None, until: float | None) -> list[Any]:
-        await self.flush()  # what arrived until now is included
+        await self.flush(upkeep=False)  # what arrived until now is included
 
         def query() -> list[Any]:
             q = select(model).where(model.providerId == str(provider))

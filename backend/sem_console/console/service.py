@@ -29,7 +29,7 @@ from sem_console.console.alarms import Alarm, Alarms, overloaded_text
 from sem_console.console.clock import Clock
 from sem_console.console.commands import Command, Commands, provider_time
 from sem_console.console.feed import Feed
-from sem_console.console.history import History
+from sem_console.console.history import History, Thinning
 from sem_console.console.hops import Hops, Links, relay_silent_after
 from sem_console.console.hub import Client, Hub
 from sem_console.console.load import Load
@@ -128,7 +128,9 @@ class Console:
         self.station = self.source.station
         self.store = self.source.database(store)
         self.id = self.store.claim(self.station)
-        self.history = History(self.store.engine, self.source.retention_hours, replay=self.source.seeks)
+        self.history = History(
+            self.store.engine, self.source.retention_hours, replay=self.source.seeks, thinning=Thinning.of(settings)
+        )
         self.hub = Hub(
             settings.ws_max_queue,
             settings.ws_stall_seconds,
@@ -834,6 +836,7 @@ class Console:
             "commandsInMemory": len(self.commands.by_session),
             "historyRowsWritten": self.history.rows_written,
             "historyRowsPruned": self.history.rows_pruned,
+            "historyRowsRolledUp": self.history.rows_rolled_up,
             "historyWriteSecondsMax": round(self.history.max_write_seconds, 6),
         }
 

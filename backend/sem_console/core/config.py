@@ -108,6 +108,32 @@ class Settings(BaseSettings):
     track_retention_hours: float = Field(
         24.0, gt=0, le=24 * 366, description="hours of track and chart history kept per vehicle (default: 24)"
     )
+    track_thin_metres: float = Field(
+        5.0,
+        ge=0,
+        le=10_000,
+        description="a track point is stored when the vehicle has moved at least this many metres since the last one "
+        "stored, --track-thin-seconds have passed, or its GPSLatLongValid or fixValid changed; 0: every second's point "
+        "(default: 5)",
+    )
+    track_thin_seconds: float = Field(
+        10.0,
+        ge=0,
+        le=3600,
+        description="a track point is stored at least this often, in seconds, while the vehicle stays within "
+        "--track-thin-metres (default: 10)",
+    )
+    track_rollup_after_hours: float = Field(
+        1.0,
+        gt=0,
+        le=24 * 366,
+        description="track and chart history older than this many hours is rolled up to the first point of each "
+        "vehicle in each --track-rollup-seconds, and on the track each change of GPSLatLongValid or fixValid "
+        "(default: 1)",
+    )
+    track_rollup_seconds: float = Field(
+        60.0, ge=1, le=3600, description="the interval rolled-up history keeps one point of per vehicle (default: 60)"
+    )
     report_interval: float = Field(
         0.005,
         ge=0,

@@ -9,6 +9,9 @@ import itertools
 import math
 import signal
 import time
+import uuid
+from collections import Counter
+from collections.abc import Callable
 from datetime import UTC, datetime
 from typing import Any
 
@@ -16,8 +19,14 @@ import gpxpy
 import httpx
 import pytest
 
-from test_console import HAPPY, V1, V2, provider_ready, wait_command, wait_until
+from sem_console.comap.geo import Local
+from sem_console.dds.bus import Bus
+from sem_console.dds.topics import Sem
+from sem_console.umaa.guid import to_guid
+from sem_console.umaa.samples import now_datetime
+from test_console import HAPPY, V1, V2, _valid_fix, command, provider_ready, wait_command, wait_until
 
+UNTHINNED = ("--track-thin-metres", "0", "--track-thin-seconds", "0")  # every second's track point stored
 TRACK_HEADER = [
     "time_utc",
     "latitude_deg",
@@ -57,7 +66,7 @@ def at_most_one_per_second(points: list[dict[str, Any]]) -> None:
 @pytest.mark.slow
 def test_track_and_series_at_most_1_hz_survive_a_restart(sim, console) -> None:
     vehicle = sim("--vehicles", "2")  # GPSFixReport at 10 Hz, GPSReport at 4 Hz (conftest FAST)
-    first = console()
+    first = console(*UNTHINNED)
     provider_ready(first.url, V1)
     start = time.time()
     wait_until(lambda: len(get(first.url, f"/api/providers/{V1}/track")) >= 6, 20, "six track points")
@@ -84,16 +93,114 @@ def test_track_and_series_at_most_1_hz_survive_a_restart(sim, console) -> None:
 
     first.stop(signal.SIGINT)
     vehicle.stop()
-    second = console()  # the vehicles are gone: the track is still there
+    second = console(*UNTHINNED)  # the vehicles are gone: the track is still there
     again = get(second.url, f"/api/providers/{V1}/track")
     assert [x["time"] for x in again[: len(track)]] == [x["time"] for x in track]
     assert again[: len(track)] == track
     assert len(get(second.url, f"/api/providers/{V1}/series")) >= len(series)
 
 
+def off_path(p: tuple[float, float], path: list[tuple[float, float]]) -> float:
+    """Metres from p to the nearest segment of the polyline `path` (local x, y in metres)."""
+
+    def to_segment(a: tuple[float, float], b: tuple[float, float]) -> float:
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        k = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy or 1.0)))
+        return math.hypot(p[0] - a[0] - k * dx, p[1] - a[1] - k * dy)
+
+    return min(to_segment(a, b) for a, b in itertools.pairwise([path[0], *path]))
+
+
+def test_the_track_keeps_a_moving_vehicles_turn_and_drops_a_stationary_vehicles_repeats(
+    console, new_bus: Callable[[int], Bus], domain: int
+) -> None:
+    c = console("--track-thin-metres", "5", "--track-thin-seconds", "6")
+    writer = new_bus(domain).writer(Sem.GPS_FIX_REPORT)
+    moving, still = uuid.uuid4(), uuid.uuid4()
+    origin = Local(10.0, 20.0)
+
+    def write(vehicle: uuid.UUID, x: float, y: float, valid: bool = True) -> None:
+        fix = _valid_fix()
+        lat, lon = origin.latlon(x, y)
+        fix.position2DWithTime.geodeticPosition.geodeticLatitude.latitude = lat
+        fix.position2DWithTime.geodeticPosition.geodeticLongitude.longitude = lon
+        fix.GPSLatLongValid, fix.source, fix.timeStamp = valid, to_guid(vehicle), now_datetime()
+        writer.write(fix)
+
+    def listed() -> bool:
+        for v in (moving, still):
+            write(v, 0.0, 0.0)
+        time.sleep(0.2)
+        return all(httpx.get(f"{c.url}/api/providers/{v}").status_code == 200 for v in (moving, still))
+
+    wait_until(listed, 20, "both vehicles listed")
+    # one report a second, each in a second of its own: 2 m/s east for 8 s, a right angle, 2 m/s north for 8 s; the
+    # other vehicle stays put, one report of it from the INS (GPSLatLongValid false)
+    path = [(2.0 * k, 0.0) if k <= 8 else (16.0, 2.0 * (k - 8)) for k in range(17)]
+    start = math.floor(time.time()) + 1.5
+    for k, (x, y) in enumerate(path):
+        time.sleep(max(0.0, start + k - time.time()))
+        write(moving, x, y)
+        write(still, 0.0, 0.0, valid=k != 9)
+    end = time.time()
+
+    track = get(c.url, f"/api/providers/{moving}/track")
+    stored = [origin.xy(p["latitude"], p["longitude"]) for p in track]
+    assert 4 <= len(stored) < len(path) / 2, stored  # one in 2.5 s at 2 m/s, not every second's
+    assert all(math.dist(a, b) >= 5 - 1e-6 for a, b in itertools.pairwise(stored[-7:])), stored  # the path: 5 m apart
+    assert max(off_path(p, stored) for p in path[:-1]) <= 5.0, stored  # the turn too: no report's position 5 m off
+    assert min(math.dist((16.0, 0.0), p) for p in stored) <= 5.0, stored
+
+    here = get(c.url, f"/api/providers/{still}/track")
+    assert {(round(p["latitude"], 9), round(p["longitude"], 9)) for p in here} == {(10.0, 20.0)}
+    times = [p["time"] for p in here if p["time"] >= start - 1]
+    assert len(times) <= math.ceil((end - start) / 6) + 3, times  # every 6 s and the change there and back
+    from_ins = [i for i, p in enumerate(here) if not p["latLongValid"]]
+    assert len(from_ins) == 1 and here[from_ins[0] + 1]["latLongValid"], here  # each change kept at once
+    assert here[from_ins[0] + 1]["time"] - here[from_ins[0]]["time"] < 1.5 and abs(here[from_ins[0]]["time"] - start - 9) < 1
+
+
+def test_old_history_is_rolled_up_to_one_point_per_interval_and_commands_audit_and_alarms_are_not(
+    sim, console, database_url: str
+) -> None:
+    sim("--fault", "ins-failure")  # an alarm per vehicle, and no position from the INS: a track once surfaced
+    c = console(
+        "--database-url",
+        database_url,
+        *("--track-thin-metres", "0", "--track-thin-seconds", "0"),  # every second's point: 3 in an interval
+        *("--track-rollup-after-hours", "0.002", "--track-rollup-seconds", "3"),  # older than 7.2 s: 1 in 3 s
+    )
+    provider_ready(c.url, V1, {"GPSFixReport", "GPSReport"})
+    session = httpx.post(f"{c.url}/api/providers/{V1}/gps-fix", json={}).json()["sessionId"]
+    wait_command(c.url, session)
+    alarms = wait_until(lambda: get(c.url, "/api/alarms"), 20, "an alarm")
+    start = time.time()
+    wait_until(lambda: time.time() - start > 24 and get(c.url, "/api/metrics")["historyRowsRolledUp"] > 0, 30, "a rollup")
+    now = time.time()
+    for kind in ("track", "series"):
+        points = get(c.url, f"/api/providers/{V1}/{kind}")
+        # a track point whose GPSLatLongValid or fixValid differs from the one before is kept besides (fixValid is
+        # null until the first GPSFixStatusReport)
+        changed = {
+            b["time"]
+            for a, b in itertools.pairwise(points)
+            if kind == "track" and (a["latLongValid"], a["fixValid"]) != (b["latLongValid"], b["fixValid"])
+        }
+        aged = [p for p in points if p["time"] < now - 7.2 - 3 - 2.8]  # the rollup's lag
+        old = Counter(math.floor(p["time"] / 3) for p in aged if p["time"] not in changed)
+        recent = Counter(math.floor(p["time"] / 3) for p in points if p["time"] > now - 6)
+        assert len(old) >= 3 and set(old.values()) == {1}, (kind, old)
+        intervals = sorted({math.floor(p["time"] / 3) for p in aged})
+        assert intervals == list(range(intervals[0], intervals[-1] + 1)), (kind, old)  # not one left without its point
+        assert max(recent.values()) >= 2, (kind, recent)  # the last 7.2 s as written: one a second
+    assert [t["status"] for t in command(c.url, session)["transitions"]] == HAPPY
+    assert [a["id"] for a in get(c.url, "/api/alarms")] == [a["id"] for a in alarms]
+    assert any(x.get("sessionId") == session for x in get(c.url, "/api/audit"))
+
+
 def test_retention_prunes_old_points(sim, console) -> None:
     sim()
-    c = console("--track-retention-hours", "0.0005")  # 1.8 s, pruned every second
+    c = console("--track-retention-hours", "0.0005", *UNTHINNED)  # 1.8 s, pruned every second
     provider_ready(c.url, V1)
     wait_until(lambda: get(c.url, "/api/metrics")["historyRowsPruned"] >= 4, 20, "pruned points")
     oldest = get(c.url, f"/api/providers/{V1}/track")[0]["time"]

@@ -30,7 +30,7 @@ from test_console import (
     wait_command,
     wait_until,
 )
-from test_history import at_most_one_per_second
+from test_history import UNTHINNED, at_most_one_per_second
 from test_names import rename_heard
 from test_recording import read, recorded
 
@@ -248,8 +248,8 @@ def test_a_database_outage_loses_nothing_and_stops_no_console(
     acknowledged; started again: what A held is written, B reads it all from the database and its WebSocket hears
     what it missed (A's command, the acknowledgement)."""
     vehicle = sim("--surface-seconds", "400")
-    a = console("--database-url", pg_url, "--console-name", "watch")
-    b = console("--database-url", pg_url, "--console-name", "relief")
+    a = console("--database-url", pg_url, "--console-name", "watch", *UNTHINNED)
+    b = console("--database-url", pg_url, "--console-name", "relief", *UNTHINNED)
     provider_ready(a.url, V1, {"GPSFixReport"})
     provider_ready(b.url, V1, {"GPSFixReport"})
     ws_b = WsClient(b.ws_url)
@@ -394,8 +394,8 @@ def test_each_vehicles_track_is_written_once_and_handed_over(
     """Two consoles hear the vehicle, one writes its track (at most one point a second in the shared database);
     when that one stops, the other goes on writing it."""
     sim()
-    a = console("--database-url", pg_url, "--console-name", "watch")
-    b = console("--database-url", pg_url, "--console-name", "relief")
+    a = console("--database-url", pg_url, "--console-name", "watch", *UNTHINNED)
+    b = console("--database-url", pg_url, "--console-name", "relief", *UNTHINNED)
     provider_ready(a.url, V1, {"GPSFixReport"})
     provider_ready(b.url, V1, {"GPSFixReport"})
 

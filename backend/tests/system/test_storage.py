@@ -4,6 +4,7 @@ the first release, on SQLite and on a real PostgreSQL server (tests/pg.py) where
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import fcntl
 import math
 import re
@@ -12,7 +13,9 @@ import sqlite3
 import threading
 import time
 import uuid
+from collections import Counter
 from pathlib import Path
+from typing import Any
 
 import psycopg
 import pytest
@@ -21,14 +24,16 @@ from alembic.runtime.migration import MigrationContext
 from fastapi.testclient import TestClient
 from sqlalchemy import Connection, event, text
 from sqlalchemy.exc import OperationalError
-from sqlmodel import SQLModel
+from sqlmodel import Session, SQLModel, select
 
-from sem_console.console.history import History
+from sem_console.comap.geo import Local
+from sem_console.console.history import History, Thinning, track_point
 from sem_console.core.config import Settings
 from sem_console.main import create_app
 from sem_console.storage.alarms import IDS_AHEAD
 from sem_console.storage.database import Database, StorageError, Unavailable, VehicleWriters
 from sem_console.storage.engine import head_revision
+from sem_console.storage.models import TrackPoint
 from sem_console.storage.url import parse_database_url
 from support.pg import Cluster
 from test_routes import app_client, wait_until
@@ -570,3 +575,143 @@ def test_a_bad_database_url_is_one_line_naming_the_option_never_the_password(url
         parse_database_url(url)
     line = str(refused.value)
     assert line.startswith("--database-url") and "\n" not in line and "s3cret" not in line, line
+
+
+def fix_at(lat: float, lon: float) -> dict[str, Any]:
+    """A GPSFixReport's JSON with a valid position."""
+    return {
+        "position2DWithTime": {
+            "geodeticPosition": {"geodeticLatitude": {"latitude": lat}, "geodeticLongitude": {"longitude": lon}}
+        },
+        "GPSLatLongValid": True,
+    }
+
+
+def test_a_vehicle_whose_fixes_stop_keeps_its_last_position_on_the_track(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(5.0, 10.0, math.inf, 60.0))
+    gone, running = uuid.uuid4(), uuid.uuid4()
+    origin = Local(10.0, 20.0)
+
+    async def run() -> tuple[list[TrackPoint], list[TrackPoint]]:
+        t0 = time.time() - 30
+        for k in range(5):  # 1 m a second, then nothing: a vehicle lost 25 s ago
+            history.on_fix(gone, t0 + k, fix_at(*origin.latlon(float(k), 0.0)), [], True)
+        await history.flush()
+        task = asyncio.create_task(history.run())
+        await asyncio.sleep(0.05)
+        now = time.time()
+        for k in range(4):
+            history.on_fix(running, now + k, fix_at(*origin.latlon(0.0, float(k))), [], True)
+        task.cancel()  # the console stops
+        with contextlib.suppress(asyncio.CancelledError):
+            await task
+        return await history.track(gone, None, None), await history.track(running, None, None)
+
+    try:
+        lost, stopped = asyncio.run(run())
+        assert [round(origin.xy(p.latitude, p.longitude)[0], 3) for p in lost] == [0.0, 4.0], lost
+        assert [round(origin.xy(p.latitude, p.longitude)[1], 3) for p in stopped] == [0.0, 3.0], stopped
+        assert gone not in history._stored and not history._unstored  # the lost vehicle is forgotten
+    finally:
+        db.close()
+
+
+def old_points(provider: str, start: float, seconds: int) -> list[dict[str, Any]]:
+    return [track_point(provider, start + k, fix_at(1.0, 2.0), [], True) or {} for k in range(seconds)]
+
+
+def test_a_backlog_of_old_history_is_rolled_up_a_minute_per_transaction_skipping_empty_time(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(0.0, 0.0, 3600.0, 60.0))
+    vehicles = [str(uuid.uuid4()) for _ in range(3)]
+    minute = math.floor(time.time() / 60) * 60
+    # ten minutes 8 hours ago and ten 2 hours ago, a point a second each: a console started on a day's history
+    blocks = (minute - 8 * 3600, minute - 2 * 3600)
+    history._track = [p for v in vehicles for b in blocks for p in old_points(v, b, 600)]
+
+    def per_minute() -> Counter[float]:
+        with Session(db.engine) as s:
+            return Counter(math.floor(t / 60) * 60 for t in s.exec(select(TrackPoint.time)).all())
+
+    async def run() -> Counter[float]:
+        await history.flush()
+        first = per_minute()
+        await history.flush()  # a step: the same minute again (points were written in it: they could have been held)
+        read = per_minute()
+        await history.track(uuid.UUID(vehicles[0]), None, None)  # a read waits for no step of the rollup
+        assert per_minute() == read
+        for _ in range(20):  # a minute a flush, and the 5 h 50 min between the two blocks in one step
+            await history.flush()
+        return first
+
+    try:
+        first = asyncio.run(run())
+        assert first[blocks[0]] == 3 and first[blocks[0] + 60] == 180 and first[blocks[1]] == 180, first
+        assert per_minute() == {b + 60 * k: 3 for b in blocks for k in range(10)}
+        assert history.rows_rolled_up == 2 * 10 * 3 * 59
+    finally:
+        db.close()
+
+
+def test_the_rollup_keeps_each_change_of_gps_lat_long_valid_and_fix_valid_at_its_time(database_url: str) -> None:
+    db = open_db(database_url)
+    history = History(db.engine, retention_hours=24, thinning=Thinning(0.0, 0.0, 3600.0, 60.0))
+    ins, fix, steady = (str(uuid.uuid4()) for _ in range(3))
+    minute = math.floor(time.time() / 60) * 60 - 2 * 3600
+    # one vehicle from its INS (GPSLatLongValid false) for 10 s, one whose fix went invalid, one with no fix status
+    history._track = [{**p, "latLongValid": not 20 <= k < 30} for k, p in enumerate(old_points(ins, minute, 60))]
+    history._track += [{**p, "fixValid": k < 40} for k, p in enumerate(old_points(fix, minute, 60))]
+    history._track += [{**p, "fixValid": None} for p in old_points(steady, minute, 60)]
+
+    async def run() -> dict[str, list[tuple[float, bool, bool | None]]]:
+        await history.flush()
+        return {
+            v: [(p.time - minute, p.latLongValid, p.fixValid) for p in await history.track(uuid.UUID(v), None, None)]
+            for v in (ins, fix, steady)
+        }
+
+    try:
+        kept = asyncio.run(run())
+        assert kept[ins] == [(0, True, True), (20, False, True), (30, True, True)], kept[ins]
+        assert kept[fix] == [(0, True, True), (40, True, False)], kept[fix]
+        assert kept[steady] == [(0, True, None)], kept[steady]
+    finally:
+        db.close()
+
+
+@pytest.mark.postgres
+def test_a_console_does_not_wait_for_another_rolling_up_the_same_history(pg_url: str) -> None:
+    a, b = open_db(pg_url), open_db(pg_url)
+    thinning = Thinning(0.0, 0.0, 3600.0, 60.0)
+    first, second = History(a.engine, 24, thinning=thinning), History(b.engine, 24, thinning=thinning)
+    minute = math.floor(time.time() / 60) * 60 - 2 * 3600
+    loader = History(a.engine, 24)
+    loader._track = [p for v in range(3) for p in old_points(str(uuid.uuid4()), minute, 120)]
+    asyncio.run(loader.flush())
+    loader.close()
+
+    deleting = threading.Event()
+
+    def slow(conn: Connection, cursor: Any, statement: str, *args: Any) -> None:
+        if statement.lstrip().upper().startswith("DELETE FROM TRACK") and "EXISTS" in statement.upper():
+            deleting.set()
+            time.sleep(6)  # the first console's rollup, rows deleted, not committed yet
+
+    event.listen(a.engine, "after_cursor_execute", slow)
+    try:
+        rolling = threading.Thread(target=lambda: asyncio.run(first.flush()))
+        rolling.start()
+        assert deleting.wait(30)
+        started = time.monotonic()
+        asyncio.run(second.flush())
+        waited = time.monotonic() - started
+        rolling.join()
+        assert waited < 3, waited
+        assert first.rows_rolled_up == 3 * 59 and second.rows_rolled_up == 0
+    finally:
+        event.remove(a.engine, "after_cursor_execute", slow)
+        for h in (first, second):
+            h.close()
+        a.close()
+        b.close()

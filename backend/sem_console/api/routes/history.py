@@ -90,8 +90,10 @@ async def known(console: Console, provider_id: uuid.UUID) -> None:
 # ---- JSON ---------------------------------------------------------------------------------
 @router.get("/api/providers/{provider_id}/track", response_model=list[TrackPoint], responses=UNKNOWN_PROVIDER)
 async def get_track(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> list[TrackPoint]:
-    """The vehicle's track in time order: at most one point per second from its GPSFixReports, kept for
-    the console's track retention (`--track-retention-hours`)."""
+    """The vehicle's track in time order, from its GPSFixReports: at most one point per second, stored when the
+    vehicle moved `--track-thin-metres` (5 m), `--track-thin-seconds` (10 s) passed or its GPSLatLongValid or fixValid
+    changed; older than `--track-rollup-after-hours` (1 h), the first point of each `--track-rollup-seconds` (60 s) and
+    each change of GPSLatLongValid or fixValid; kept for the console's track retention (`--track-retention-hours`)."""
     await known(console, provider_id)
     return await console.track(provider_id, when.since, when.until)
 
@@ -99,7 +101,8 @@ async def get_track(provider_id: uuid.UUID, console: ConsoleDep, when: Range) ->
 @router.get("/api/providers/{provider_id}/series", response_model=list[SeriesPoint], responses=UNKNOWN_PROVIDER)
 async def get_series(provider_id: uuid.UUID, console: ConsoleDep, when: Range) -> list[SeriesPoint]:
     """The dashboard's chart values in time order: mean C/N0, satellites used and in view, at most one
-    point per second from the vehicle's GPSReports."""
+    point per second from the vehicle's GPSReports; older than `--track-rollup-after-hours` (1 h), the first point of
+    each `--track-rollup-seconds` (60 s)."""
     await known(console, provider_id)
     return await console.series(provider_id, when.since, when.until)
 
