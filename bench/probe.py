@@ -82,7 +82,7 @@ def probe_writer(domain: int, stop: threading.Event, written: Written) -> None:
     seq, nxt = 0, time.monotonic()
     while not stop.is_set():
         now = time.monotonic()
-        sensors.step(now, 1 / RATE_HZ)
+        sensors.step(now)
         sats = sensors.satellites(now)
         gps = sensors.gps_report(now, sats)
         gps.numberSatellitesInView = SATS_BASE + seq % SATS_MOD

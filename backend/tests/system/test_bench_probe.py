@@ -25,3 +25,27 @@ def test_a_fleet_rate_the_simulator_refuses_is_one_line_before_any_run(hz: str) 
     error = r.stderr.strip().splitlines()[-1]
     assert error.startswith(f"probe.py: error: argument --fleet-hz: {hz}"), error
     assert "Traceback" not in r.stderr
+
+
+@pytest.mark.process
+def test_the_probe_vehicle_writes_its_samples(domain: int) -> None:
+    """The probe's own vehicle (its writer thread, on the simulator's Sensors) writes a sample every tenth of a second:
+    a writer thread that died at its first step left every probe run one vehicle short, blaming the machine."""
+    script = (
+        "import sys, threading, time\n"
+        f"sys.path.insert(0, {str(ROOT / 'bench')!r})\n"
+        "import probe\n"
+        "stop, written, died = threading.Event(), probe.Written(), []\n"
+        "def run():\n"
+        "    try:\n"
+        f"        probe.probe_writer({domain}, stop, written)\n"
+        "    except BaseException as e:\n"
+        "        died.append(repr(e))\n"
+        "t = threading.Thread(target=run)\n"
+        "t.start(); time.sleep(1.5); stop.set(); t.join(10)\n"
+        "print(len(written.at), died)\n"
+    )
+    r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stderr
+    count, died = r.stdout.split(" ", 1)
+    assert died.strip() == "[]" and int(count) >= 5, r.stdout
