@@ -53,7 +53,7 @@ def lat_text(seq: int) -> str:
 
 
 def ins_text(stamp: float) -> str:
-    return "at " + datetime.datetime.fromtimestamp(stamp, datetime.UTC).strftime("%H:%M:%S.%f")[:-3] + "Z"
+    return "at " + datetime.datetime.fromtimestamp(stamp, datetime.UTC).strftime("%H:%M:%S.%f")[:-3] + " UTC"
 
 
 @dataclass
