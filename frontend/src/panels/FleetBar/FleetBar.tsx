@@ -302,19 +302,17 @@ export function FleetBar() {
   }, [open]);
   const receiving = useReceiving();
   const commanded = useCommanded();
-  const all = providers.map((p) => ({ p, link: fleetLink(p, now, receiving) }));
-  const lostAll = all.filter((c) => c.link === "lost");
-  // lost during a planned silence: expected, counted apart
-  const planned = lostAll.flatMap((c) => {
-    const until = plannedUntil(silences, c.p.id, c.link);
-    return until === null ? [] : [{ c, until }];
+  // each vehicle in the one state the bar counts it in, the one the vehicle list's state filter matches it by: a vehicle
+  // silent for seconds is not counted live, nor is any with the console unreachable (all "not updating"), nor one
+  // silent while the console is behind ("unchecked"), nor one lost during its planned silence (expected, counted apart)
+  const all = providers.map((p) => {
+    const link = fleetLink(p, now, receiving);
+    const until = plannedUntil(silences, p.id, link);
+    return { p, link, until, state: fleetState(link, until !== null) };
   });
-  const lost = lostAll.filter((c) => plannedUntil(silences, c.p.id, c.link) === null);
-  // each vehicle counted in one state, the one the vehicle list's state filter matches it by: a vehicle silent for
-  // seconds is not counted live, nor is any with the console unreachable (all "not updating"), nor one silent while
-  // the console is behind ("unchecked")
-  const count = (state: FleetState) =>
-    all.filter((c) => fleetState(c.link, plannedUntil(silences, c.p.id, c.link) !== null) === state).length;
+  const planned = all.flatMap((c) => (c.until === null ? [] : [{ c, until: c.until }]));
+  const lost = all.filter((c) => c.state === "lost");
+  const count = (state: FleetState) => all.filter((c) => c.state === state).length;
   const stale = count("stale");
   const notUpdating = count("unreachable");
   const unchecked = count("unchecked");

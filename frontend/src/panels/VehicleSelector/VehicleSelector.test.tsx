@@ -40,6 +40,17 @@ beforeAll(() => {
 });
 afterAll(() => layout.forEach((s) => s.mockRestore()));
 
+/** A list of 1,000 vehicles, "Unit 0000" to "Unit 0999", drawn. */
+async function fleetOfThousand(): Promise<void> {
+  const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
+  const source = new TestSource();
+  renderWith(source, <VehicleSelector />);
+  act(() =>
+    source.send(snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) })),
+  );
+  await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+}
+
 const row = (name: string) => screen.getAllByTestId("vehicle").find((r) => r.textContent?.includes(name))!;
 
 describe("VehicleSelector", () => {
@@ -160,15 +171,7 @@ describe("VehicleSelector", () => {
   });
 
   it("draws only the rows in view of a fleet of 1,000, and finds one by name among them", async () => {
-    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
-    const source = new TestSource();
-    renderWith(source, <VehicleSelector />);
-    act(() =>
-      source.send(
-        snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) }),
-      ),
-    );
-    await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+    await fleetOfThousand();
     // 480 px of 64 px rows, and the few drawn each side of them: tens, not a thousand
     expect(screen.getAllByTestId("vehicle").length).toBeLessThan(40);
     fireEvent.change(screen.getByTestId("find-vehicle"), { target: { value: "unit 0987" } });
@@ -178,15 +181,7 @@ describe("VehicleSelector", () => {
   });
 
   it("keeps the focused row and the selected one in the page when the list scrolls them out of its view, and says each row's place in the fleet", async () => {
-    const ids = Array.from({ length: 1000 }, (_, i) => `00000000-0000-4000-8000-${String(i).padStart(12, "0")}`);
-    const source = new TestSource();
-    renderWith(source, <VehicleSelector />);
-    act(() =>
-      source.send(
-        snapshotMessage({ providers: ids.map((id, i) => vehicle(id, { name: `Unit ${String(i).padStart(4, "0")}` })) }),
-      ),
-    );
-    await waitFor(() => expect(screen.getAllByTestId("vehicle").length).toBeGreaterThan(0));
+    await fleetOfThousand();
     fireEvent.click(row("Unit 0001"));
     await waitFor(() => expect(row("Unit 0001").getAttribute("aria-pressed")).toBe("true"));
     const focused = row("Unit 0002");
