@@ -6,7 +6,9 @@ Each command gets a fresh RFC 4122 sessionID; every status is checked against Fi
 FAILED; a command with no ISSUED within `unanswered_timeout` is marked unanswered. A canceled command the
 vehicle never answered is ended by the console (`closed_unheard`): once the vehicle is heard again for the
 unanswered timeout without a status of it (it never heard the command: the cancel disposed it first), or when the
-vehicle is not heard within `cancel_unheard_bound` of the cancel. Another station's canceled command with no status
+vehicle is not heard within `cancel_unheard_bound` of the cancel. An operator's cancel is disposed once the database
+has it (`CANCEL_STORED_WAIT` at most): the other stations are told who cancelled before the vehicle can answer, and
+never show a command CANCELED with its canceller unknown. Another station's canceled command with no status
 is ended here by the same rule (`others`), whether or not that station still runs: the first ending stored stands, and
 every station shows it.
 """
@@ -14,6 +16,7 @@ every station shows it.
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import uuid
 from collections.abc import Callable
@@ -39,6 +42,8 @@ Heard = Callable[[uuid.UUID], float | None]  # a provider's last sample, monoton
 ClosedUnheard = Literal["heard", "bound"]
 CancelCause = Literal["operator", "shutdown"]  # an operator asked it; its station's shutdown cancelled it
 KEEP_FINISHED = 500  # finished commands kept in memory and in snapshots; older ones are read from the database
+CANCEL_STORED_WAIT = 0.5  # s: the longest a cancel's dispose waits for the database to store it (a write is ms; an
+# outage or a queue of writes must not hold a cancel on its way to the vehicle)
 
 
 @dataclass
@@ -152,6 +157,8 @@ class Commands:
         self.others: dict[uuid.UUID, Command] = {}
         # endings as never heard asked of the database, until written: one refused shows what is stored (`tick`)
         self._endings: list[tuple[Command, Future[CommandRow | None]]] = []
+        # cancels waiting for the database to store them before their dispose goes (`_withdraw_once_stored`)
+        self._withdrawing: dict[uuid.UUID, Callable[[], None]] = {}
         self._load_history()
 
     # ---- history --------------------------------------------------------------------
@@ -352,10 +359,42 @@ class Commands:
                 f"command {session} already finished ({name(cmd.flow.status) if cmd.flow.status else 'cleaned up'})"
             )
         if not cmd.cancel_requested:
-            self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
-            self._withdraw(cmd)
+            stored = self._canceled(cmd, operator, self.station, self.clock.wall(), cause)
+            if cause == "shutdown" or stored is None:
+                self._withdraw(cmd)
+            else:
+                self._withdraw_once_stored(cmd, stored)
             self.emit(command_message(cmd.to_json()))
         return cmd
+
+    def _withdraw_once_stored(self, cmd: Command, stored: Future[None]) -> None:
+        """Dispose `cmd` (the cancel on the wire) once its cancel is stored, or after CANCEL_STORED_WAIT: the other
+        stations are notified on the write's commit, so they know who cancelled before the vehicle's CANCELED comes."""
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:  # no loop (a caller of its own thread): at once
+            self._withdraw(cmd)
+            return
+
+        def go() -> None:
+            if self._withdrawing.pop(cmd.session_id, None) is None:
+                return  # gone already (stored, the wait ran out, or the console stopped)
+            timer.cancel()
+            cmd.cancel_mono, cmd.heard_from = self.clock.monotonic(), None  # the vehicle may answer from now
+            self._withdraw(cmd)
+
+        def written(_f: Future[None]) -> None:
+            with contextlib.suppress(RuntimeError):  # the loop closed meanwhile: `flush_withdrawals` sent it
+                loop.call_soon_threadsafe(go)
+
+        timer = loop.call_later(CANCEL_STORED_WAIT, go)
+        self._withdrawing[cmd.session_id] = go
+        stored.add_done_callback(written)
+
+    def flush_withdrawals(self) -> None:
+        """Every cancel still waiting for the database goes to its vehicle now (the console stops)."""
+        for go in list(self._withdrawing.values()):
+            go()
 
     def _canceled(
         self,
@@ -365,12 +404,14 @@ class Commands:
         at: float | None,
         cause: CancelCause | None,
         record: bool = True,
-    ) -> None:
-        """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`)."""
+    ) -> Future[None] | None:
+        """A cancel asked: its vehicle heard since now, and only since now, may end it unanswered (`_unheard_cancel`).
+        With `record`, the future of its write to the database."""
         cmd.cancel_requested, cmd.canceled_by, cmd.canceled_on, cmd.canceled_at = True, operator, station, at
         cmd.cancel_cause, cmd.cancel_mono = cause, self.clock.monotonic()
         if record:
-            self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall(), cause)
+            return self.store.set_canceled(str(cmd.session_id), operator, station, cmd.canceled_at or self.clock.wall(), cause)
+        return None
 
     def _close_unheard(self, cmd: Command, why: ClosedUnheard, at: float, emit: bool = True) -> None:
         """End a canceled command the vehicle never answered (its dispose, the cancel, was published already); refused
@@ -508,7 +549,8 @@ class Commands:
             if cmd.flow.transitions or cmd.cleaned_up:
                 continue
             if cmd.cancel_requested:
-                self._unheard_cancel(cmd, heard(cmd.provider_id))
+                if cmd.session_id not in self._withdrawing:  # not ended unheard before its cancel went
+                    self._unheard_cancel(cmd, heard(cmd.provider_id))
             elif not cmd.unanswered and cmd.issued_by_deadline and now >= cmd.issued_by_deadline:
                 cmd.unanswered = True
                 self.store.set_flag(str(cmd.session_id), "unanswered")
@@ -546,6 +588,7 @@ class Commands:
         for cmd in canceled:
             if not cmd.cancel_requested:
                 self.cancel(cmd.session_id, None, "shutdown")
+        self.flush_withdrawals()
         return canceled
 
 

@@ -105,15 +105,16 @@ class Commands:
 
         self.ctx.writes.write(write)
 
-    def update(self, session_id: str, **values: Any) -> None:
+    def update(self, session_id: str, **values: Any) -> Future[None]:
         """Set columns of a command (its flags, its acknowledgement, its cancel); the other stations are told the
-        columns with the command (`changed`), so that they apply a cancel at once, before they read the row."""
+        columns with the command (`changed`), so that they apply a cancel at once, before they read the row. The
+        future is done once written (and the others told)."""
 
         def write(c: Connection) -> None:
             c.execute(update(COMMANDS).where(COMMANDS.c.session_id == session_id).values(**values))
             self.ctx.notify(c, "command", session=session_id, changed=values)
 
-        self.ctx.writes.write(write)
+        return self.ctx.writes.write(write)
 
     def close_unheard(self, session_id: str, why: str, at: float) -> Future[CommandRow | None]:
         """A cancelled command the vehicle never answered, ended by the console (`why`): not once a status of it is

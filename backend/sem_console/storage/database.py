@@ -131,8 +131,9 @@ class Database:
 
     def set_canceled(
         self, session_id: str, operator: str | None, station: str | None, at: float, cause: str | None = "operator"
-    ) -> None:
-        self.command_rows.update(
+    ) -> Future[None]:
+        """The cancel of a command, written behind; the future is done once it is stored and the other stations told."""
+        return self.command_rows.update(
             session_id, cancel_requested=True, canceled_by=operator, canceled_on=station, canceled_at=at, cancel_cause=cause
         )
 

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import asyncio
+import threading
+import time
 import uuid
 from pathlib import Path
 from typing import Any
@@ -95,6 +97,74 @@ def test_unanswered_then_late_answer_is_persisted(tmp_path: Path) -> None:
     c.on_status(Service.GPS_FIX, cmd.session_id, VEHICLE, S.ISSUED, OK, "", 1.0)
     assert not cmd.unanswered
     assert not consumer(tmp_path / "db", Bus()).by_session[cmd.session_id].unanswered
+
+
+def _stored_at_dispose(tmp_path: Path) -> tuple[Commands, Database, list[tuple[float, list[str | None]]]]:
+    """A console whose dispose notes when it went and the canceller the database held then (what another station could
+    read), or [] when the writer was still busy (the row cannot be read before it is written)."""
+    store = Database(tmp_path / "db")
+    seen: list[tuple[float, list[str | None]]] = []
+
+    def dispose(_s: Any, sample: Any) -> None:
+        session = str(uuid.UUID(bytes=bytes(sample.sessionID)))
+        stored = store.writes.flush(0.05)
+        seen.append((time.monotonic(), [r["canceled_by"] for r in store.commands(session_id=session)] if stored else []))
+
+    c = Commands(store.claim("test", hold=False), store, lambda _s, _x: None, dispose, lambda _m: None, 5.0)
+    return c, store, seen
+
+
+def test_a_cancel_goes_to_the_vehicle_once_stored_so_other_stations_know_the_canceller_first(tmp_path: Path) -> None:
+    """The dispose (the cancel on the wire) waits for the database to store who cancelled: the other stations are
+    notified at that commit, so the vehicle's CANCELED never reaches them before its canceller (it did under load)."""
+    c, store, seen = _stored_at_dispose(tmp_path)
+    cmd = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
+    store.flush()
+    busy = threading.Event()
+
+    async def main() -> None:
+        store.writes.write(lambda _c: busy.wait(5))  # the writer busy with an earlier write
+        c.cancel(cmd.session_id, "bob")
+        await asyncio.sleep(0.2)
+        assert seen == []  # not on the wire before the database has it
+        busy.set()
+        for _ in range(100):
+            if seen:
+                break
+            await asyncio.sleep(0.02)
+
+    try:
+        asyncio.run(main())
+    finally:
+        busy.set()
+    assert [names for _t, names in seen] == [["bob"]]
+
+
+def test_a_cancel_goes_to_the_vehicle_within_its_bound_whatever_the_database_does(tmp_path: Path) -> None:
+    """A database that does not store the cancel at once (an outage, a long queue) holds it CANCEL_STORED_WAIT at most;
+    and a console that stops sends every cancel still waiting, at once."""
+    c, store, seen = _stored_at_dispose(tmp_path)
+    first = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
+    second = c.issue(GPS_FIX_3_0_1, VEHICLE, None, "alice")
+    store.flush()
+    busy = threading.Event()
+
+    async def main() -> None:
+        store.writes.write(lambda _c: busy.wait(10))
+        asked = time.monotonic()
+        c.cancel(first.session_id, "bob")
+        while not seen and time.monotonic() - asked < 5:
+            await asyncio.sleep(0.02)
+        wait = commands_module.CANCEL_STORED_WAIT
+        assert seen and seen[0][1] == [] and wait <= seen[0][0] - asked < wait + 2, (seen, asked)
+        c.cancel(second.session_id, "bob")
+        c.shutdown()  # the console stops: the cancel still waiting goes now
+        assert len(seen) == 2
+
+    try:
+        asyncio.run(main())
+    finally:
+        busy.set()
 
 
 def test_a_cancel_never_answered_ends_once_the_vehicle_is_heard_for_the_unanswered_timeout(tmp_path: Path) -> None:
