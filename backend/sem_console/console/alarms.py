@@ -783,4 +783,4 @@ def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_a
     made = p.data_at()
     if made is None:
         return hop.silent(now, silent_after)
-    return hop.data_at <= made + p.config.commsLostTimeout
+    return hop.data_at <= made + p.lost_after()

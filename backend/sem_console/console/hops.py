@@ -3,8 +3,9 @@
 A `sem-relay` of the operations side writes, once a second, a sample of the project's own topic (dds/hops.py) per relay
 of the vehicles' side: its name, the vehicles it carries and the age of the last data over the link from it. The
 console reads it (a listener that hands each sample to the loop), marks those vehicles "via relay ship-1" (their
-lost-vehicle logic then counts from their own time stamps, `console/providers.py`), and a relay whose last data is
-older than the comms-lost timeout is silent: one alarm for it, not one per vehicle (`console/alarms.py`)."""
+lost-vehicle logic then counts from their own time stamps, `console/providers.py`, with how long each may be quiet by
+the link's rate caps added to its comms-lost timeout), and a relay whose last data is older than the comms-lost
+timeout (and its caps' quiet) is silent: one alarm for it, not one per vehicle (`console/alarms.py`)."""
 
 from __future__ import annotations
 
@@ -33,14 +34,16 @@ class Hop:
     relay: str
     vehicles: frozenset[uuid.UUID] = field(default_factory=frozenset)
     data_at: float | None = None  # UTC seconds (the console's clock) of the last data over the link from it; None: none
+    quiet: Mapping[uuid.UUID, float] = field(default_factory=dict)  # s each vehicle may be quiet by the link's caps
 
     def age(self, wall: float) -> float | None:
         return None if self.data_at is None else max(0.0, wall - self.data_at)
 
     def silent(self, wall: float, after: float) -> bool:
-        """Data came over its link once, and none for longer than `after` seconds since (never any: not silent)."""
+        """Data came over its link once, and none for longer than `after` seconds (and the longest its vehicles may be
+        quiet by its caps) since (never any: not silent)."""
         age = self.age(wall)
-        return age is not None and age > after
+        return age is not None and age > after + max(self.quiet.values(), default=0.0)
 
 
 class Hops:
@@ -61,7 +64,11 @@ class Hops:
                     self._warned.add((link.relay, text))
                     log.warning("relay %s names a vehicle that is not a GUID: %r", link.relay, text)
         data_at = None if link.ageMs < 0 else received - link.ageMs / 1000
-        self.by_relay[link.relay] = Hop(link.relay, frozenset(vehicles), data_at)
+        quiet = {}
+        for text, ms in zip(link.vehicles, link.quietMs, strict=False):  # each vehicle's, in the same order
+            with contextlib.suppress(ValueError):
+                quiet[uuid.UUID(text)] = max(0, ms) / 1000
+        self.by_relay[link.relay] = Hop(link.relay, frozenset(vehicles), data_at, quiet)
         changed = {v for v in vehicles if self.via.get(v) != link.relay}
         for v in changed:  # gone from the relay that carried it before (of which no more samples may come)
             old = self.via.get(v)

@@ -11,7 +11,8 @@ A vehicle seen through a relay (`relay`: console/hops.py) is silent by its own t
 that holds samples through an outage and releases them late must not make a lost vehicle look live. Its clock need
 not agree with the console's: its newest time stamp is moved to the console's clock by the least lag (receipt minus
 time stamp) its reports have had; a time stamp ahead of its receipt (a clock ahead, or a bad one) makes it silent from
-arrival until its time stamps can be read again.
+arrival until its time stamps can be read again. The longest its relay's rate caps keep its data quiet is added to
+its comms-lost timeout: the caps alone never make it lost.
 """
 
 from __future__ import annotations
@@ -62,6 +63,12 @@ class Provider:
     direct: tuple[uuid.UUID, float] | None = None  # the writer and time (monotonic) of its latest report not a relay's
     stamp: float | None = None  # UTC seconds: the newest of its reports' own time stamps (timeStamp)
     lag: float | None = None  # the least receipt (console's clock) minus own time stamp: its clock's offset, the link's
+    quiet: float = 0.0  # s its data may be quiet by the rate caps of the relay it is seen through (console/hops.py)
+
+    def lost_after(self) -> float:
+        """Seconds of silence before it is lost: its comms-lost timeout, and seen through a relay, the longest the
+        relay's rate caps may keep its data quiet (at the satellite caps a fix every 5 s: lost after 3 + 5 s)."""
+        return self.config.commsLostTimeout + (self.quiet if self.relay is not None else 0.0)
 
     def data_at(self) -> float | None:
         """When its newest data was made, on the console's clock (UTC seconds): its newest time stamp moved by the
@@ -193,7 +200,7 @@ class Providers:
         events: list[tuple[Provider, ProviderEvent]] = []
         wall = time.time() if wall is None else wall
         for p in self.by_id.values():
-            lost_after, regain_after = p.config.commsLostTimeout, p.config.regainedTime
+            lost_after, regain_after = p.lost_after(), p.config.regainedTime
             silence = p.silent_for(now, wall)
             silent = silence > lost_after
             excused = behind_by is not None and silence <= lost_after + behind_by

@@ -587,6 +587,8 @@ class Console:
 
     def _appeared(self, p: Provider, now: float) -> None:
         p.relay = self.hops.via.get(p.id)  # a relay that said it carries the vehicle before its first sample came
+        hop = self.hops.of(p.id)
+        p.quiet = 0.0 if hop is None else hop.quiet.get(p.id, 0.0)
         self._provider_event(p, "appeared", now)
 
     def _follow_path(self, p: Provider, writer: uuid.UUID, now: float) -> None:
@@ -613,8 +615,11 @@ class Console:
             if writer is not None:
                 self.hops.writers.add(writer)  # a report it wrote before this sample came is now known for a relay's
             self.hops.seen(link, received)
-            for vehicle in self.hops.by_relay[link.relay].vehicles:
+            hop = self.hops.by_relay[link.relay]
+            for vehicle in hop.vehicles:
                 p = self.providers.by_id.get(vehicle)
+                if p is not None:
+                    p.quiet = hop.quiet.get(vehicle, 0.0)
                 if p is not None and p.relay != link.relay and self._relayed(p, now):
                     p.relay = link.relay
                     self._provider_event(p, "configured", now)

@@ -36,16 +36,21 @@ def carries_prefix(relay: str) -> str:
     return f"{CARRIES}/{quote(relay, safe='')}"
 
 
-def carries_key(relay: str, domain: int, vehicle: uuid.UUID) -> str:
-    return f"{carries_prefix(relay)}/{domain}/{vehicle}"
+def carries_key(relay: str, domain: int, vehicle: uuid.UUID, quiet_ms: int = 0) -> str:
+    """A vehicle's token, with the longest its data may be quiet over the link by the relay's caps (`link.quiet_seconds`,
+    ms)."""
+    return f"{carries_prefix(relay)}/{domain}/{vehicle}/{quiet_ms}"
 
 
-def parse_carries(text: str) -> tuple[Origin, uuid.UUID] | None:
+def parse_carries(text: str) -> tuple[Origin, uuid.UUID, int] | None:
+    """A token's relay and domain, vehicle and quiet (ms; 0 in a token without it, of an earlier relay)."""
     parts = text.split("/")
-    if len(parts) != 4 or parts[0] != CARRIES or not parts[2].isdigit():
+    if len(parts) not in (4, 5) or parts[0] != CARRIES or not parts[2].isdigit():
+        return None
+    if len(parts) == 5 and not parts[4].isdigit():
         return None
     try:
-        return (unquote(parts[1]), int(parts[2])), uuid.UUID(parts[3])
+        return (unquote(parts[1]), int(parts[2])), uuid.UUID(parts[3]), int(parts[4]) if len(parts) == 5 else 0
     except ValueError:
         return None
 
@@ -58,12 +63,13 @@ class Carried:
         self.tokens: dict[uuid.UUID, Any] = {}
         self._lock = threading.Lock()
 
-    def saw(self, vehicle: uuid.UUID) -> None:
+    def saw(self, vehicle: uuid.UUID, quiet: float = 0.0) -> None:
+        """`quiet`: the longest its data may be quiet over the link by this relay's caps, for its version's topics."""
         if vehicle in self.tokens:
             return
         with self._lock:
             if vehicle not in self.tokens:
-                key = carries_key(self.name, self.domain, vehicle)
+                key = carries_key(self.name, self.domain, vehicle, round(quiet * 1000))
                 self.tokens[vehicle] = self.session.liveliness().declare_token(key)
 
     def close(self) -> None:
@@ -82,6 +88,7 @@ class Hops:
         self.owner: dict[uuid.UUID, Origin] = {}
         self.claims: dict[uuid.UUID, set[Origin]] = {}  # the relays whose token for the vehicle is there
         self.heard: dict[uuid.UUID, float] = {}  # vehicle -> monotonic time of its last message over the link
+        self.quiet: dict[tuple[uuid.UUID, Origin], int] = {}  # ms a vehicle may be quiet by the caps of a relay of it
         self._warned: set[tuple[uuid.UUID, frozenset[Origin]]] = set()
         self._ready = False  # the tokens declared before this relay started all read (a claim alone is then alone)
         self._lock = threading.Lock()
@@ -108,11 +115,12 @@ class Hops:
         found = parse_carries(str(sample.key_expr))
         if found is None:
             return
-        origin, vehicle = found
+        origin, vehicle, quiet_ms = found
         with self._lock:
             claims = self.claims.setdefault(vehicle, set())
             if sample.kind == zenoh.SampleKind.PUT:
                 claims.add(origin)
+                self.quiet[vehicle, origin] = quiet_ms
             else:
                 claims.discard(origin)  # a token gone: its owner keeps the vehicle (its age grows: silent)
             owned = self._decide(vehicle) if self._ready else None
@@ -152,16 +160,19 @@ class Hops:
             self.heard[vehicle] = now
 
     def links(self, now: float) -> list[hops.RelayLink]:
-        """One sample per relay: its vehicles, and the age of the last data from any of them (NEVER: none yet)."""
+        """One sample per relay: its vehicles, the age of the last data from any of them (NEVER: none yet) and how long
+        each may be quiet by the caps."""
         with self._lock:
-            relays: dict[str, list[uuid.UUID]] = {}
-            for vehicle, (relay, _domain) in self.owner.items():
-                relays.setdefault(relay, []).append(vehicle)
+            relays: dict[str, list[tuple[uuid.UUID, Origin]]] = {}
+            for vehicle, origin in self.owner.items():
+                relays.setdefault(origin[0], []).append((vehicle, origin))
             out = []
-            for relay, vehicles in sorted(relays.items()):
-                last = max((self.heard[v] for v in vehicles if v in self.heard), default=None)
+            for relay, owned in sorted(relays.items()):
+                owned.sort(key=lambda vo: vo[0])
+                last = max((self.heard[v] for v, _o in owned if v in self.heard), default=None)
                 age = hops.NEVER if last is None else round((now - last) * 1000)
-                out.append(hops.RelayLink(relay, [str(v) for v in sorted(vehicles)], age))
+                quiet = [self.quiet.get((v, o), 0) for v, o in owned]
+                out.append(hops.RelayLink(relay, [str(v) for v, _o in owned], age, quiet))
             return out
 
     def write(self, now: float | None = None) -> None:

@@ -28,6 +28,15 @@ AT_ONCE_FIELDS: dict[str, tuple[str, ...]] = {"GPSFixStatusReport": ("fixValid",
 REPORT_NAMES = ("GPSReport", "GlobalPoseReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport")
 
 
+def quiet_seconds(caps: dict[str, Cap], reports: tuple[str, ...]) -> float:
+    """The longest a live vehicle reporting on `reports` (its version's report topics, short names) may be quiet over
+    the link by these caps: the shortest periodic cap of them (0: one of them is not capped, and comes at the vehicle's
+    own rate; on-change topics promise nothing, and count only when all are: 0). A console adds it to the vehicle's
+    comms-lost timeout, so that the caps alone never make a relayed vehicle lost."""
+    periodic = [float(c) for c in (caps.get(t, 0.0) for t in reports) if c != ON_CHANGE]
+    return min(periodic, default=0.0)
+
+
 def short_name(topic: str) -> str:
     """`UMAA::SEM::GPSStatus::GPSReportType` and `UMAA::SEM::GPSStatus::GPSReport` -> GPSReport."""
     return topic.rsplit("::", 1)[-1].removesuffix("Type")

@@ -31,7 +31,18 @@ from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
 from sem_console.relay.access import LIVELINESS, access_control
 from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.hops import Carried, Hops, Origin
-from sem_console.relay.link import AT_ONCE_FIELDS, LINK_CLASSES, ON_CHANGE, Cap, Held, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.link import (
+    AT_ONCE_FIELDS,
+    LINK_CLASSES,
+    ON_CHANGE,
+    Cap,
+    Held,
+    Limiter,
+    SentLog,
+    parse_caps,
+    quiet_seconds,
+    short_name,
+)
 from sem_console.relay.options import RelayOptions, endpoints
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
 
@@ -130,6 +141,11 @@ class Relay:
         self.options, self.bus, self.session = options, bus, session
         self.vehicles_side = options.side == "vehicles"
         self.caps = {**LINK_CLASSES[options.link_class], **parse_caps(options.caps)}
+        # how long a vehicle of each UMAA version may be quiet over the link by the caps (its token says it)
+        self.quiet = {
+            version: quiet_seconds(self.caps, tuple(short_name(t.spec.name) for t in version if t.spec.cls is TopicClass.REPORT))
+            for version in (Sem, Sem60)
+        }
         self.limiter: Limiter[Outgoing] = Limiter(self.caps)
         self.traffic: dict[uuid.UUID, Traffic] = defaultdict(Traffic)
         self._lock = threading.Lock()  # the limiter, the traffic counts and the vehicles' domains
@@ -191,7 +207,7 @@ class Relay:
                 self._send_locked(self._outgoing(taken, *origin))
             return
         assert self.carried is not None
-        self.carried.saw(taken.vehicle)
+        self.carried.saw(taken.vehicle, self.quiet[type(taken.sem)])
         out = self._outgoing(taken, self.options.name, self.bus.domain_id)
         if taken.sem.spec.cls is not TopicClass.REPORT:
             self._send(out)

@@ -42,7 +42,7 @@ from sem_console.main import create_app
 from sem_console.relay.access import LIVELINESS
 from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.hops import CARRIES, carries_key
+from sem_console.relay.hops import CARRIES, carries_key, parse_carries
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import EARLY_VEHICLES, ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import Kind, attachment, key, read_attachment
@@ -553,8 +553,10 @@ def test_a_vehicle_s_commands_go_only_to_the_relay_that_alone_says_it_carries_it
         listening = rogue.declare_subscriber(fixes, lambda s: commands.append(str(s.key_expr)))
         claim = rogue.liveliness().declare_token(carries_key("ship-2", domain, V1))
         deadline = time.monotonic() + 20
-        while time.monotonic() < deadline and carries_key("ship-1", domain, V1) not in {
-            str(r.ok.key_expr) for r in rogue.liveliness().get(f"{CARRIES}/**") if r.ok is not None
+        while time.monotonic() < deadline and (("ship-1", domain), V1) not in {
+            found[:2]
+            for r in rogue.liveliness().get(f"{CARRIES}/**")
+            if r.ok is not None and (found := parse_carries(str(r.ok.key_expr))) is not None
         }:
             time.sleep(0.2)
         sessions: list[uuid.UUID] = []
@@ -1094,3 +1096,33 @@ def test_a_console_marks_a_vehicle_whose_relay_it_learns_after_the_relay_s_repor
         time.sleep(2.1)  # nothing directly for its comms-lost timeout: the relay's path is its path
         client.portal.call(report, restarted)
         assert mark() == "ship-1"
+
+
+def test_a_far_console_at_its_default_timeout_keeps_vehicles_behind_the_satellite_caps_live(
+    sim, domain: int, relay, tmp_path: Path
+) -> None:
+    """At the satellite caps a vehicle's newest data crosses the link every 5 s; the console's comms-lost timeout is 3 s
+    by default. Each vehicles' relay says how long its caps may keep a vehicle quiet (its token), and the console adds
+    it: a vehicle of either version stays live between its capped reports, with no link-lost alarm (each vehicle went
+    lost and regained at every fix before)."""
+    far = free_domain(taken=domain)
+    sim("--vehicles", "2", "--umaa-6-0-vehicles", "2")
+    join(relay, domain, far, tmp_path, "--link-class", "satellite")
+    console = ConsoleProcess(far, tmp_path / "far.sqlite3", [], {}).start()
+    try:
+        ids = {str(V1), str(V2)}
+        deadline = time.monotonic() + 40
+        providers: list[dict[str, Any]] = []
+        while time.monotonic() < deadline and {p["id"] for p in providers if p.get("relay")} != ids:
+            time.sleep(0.25)
+            providers = httpx.get(f"{console.url}/api/providers").json()
+        assert {p["id"] for p in providers if p.get("relay")} == ids, providers
+        states: set[tuple[str, str]] = set()
+        until = time.monotonic() + 12  # two of the caps' 5 s and more
+        while time.monotonic() < until:
+            states |= {(p["id"], p["link"]) for p in httpx.get(f"{console.url}/api/providers").json()}
+            time.sleep(0.25)
+        assert states == {(v, "live") for v in ids}, states
+        assert [a for a in httpx.get(f"{console.url}/api/alarms").json() if a["kind"] == "link-lost"] == []
+    finally:
+        console.end()

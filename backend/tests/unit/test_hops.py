@@ -149,3 +149,37 @@ def test_vehicles_moved_to_another_relay_leave_their_old_relay_which_is_then_sil
     assert hops.seen(RelayLink("ship-2", [str(A), str(B)], 0), T0 + 19) == {A, B}
     assert hops.by_relay["ship-1"].vehicles == frozenset()
     assert [h.relay for h in silent_relays(hops.by_relay, T0 + 20, 10.0)] == []
+
+
+def test_a_vehicle_behind_the_satellite_caps_is_not_lost_between_its_capped_reports_but_is_when_silent() -> None:
+    """At the satellite caps a relayed vehicle's fix comes every 5 s: with the console's 3 s comms-lost timeout alone
+    it went lost and regained at every fix. Its relay says how long its data may be quiet by the caps (quietMs), and
+    the console adds it: lost only once silent for 3 + 5 s; a vehicle heard directly keeps the 3 s."""
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(A)], 0, [5000]), T0)
+    hop = hops.of(A)
+    assert hop is not None and hop.quiet == {A: 5.0}
+    links = Providers(comms_lost_timeout=3.0, regained_time=1.0)
+    events = []
+    for step in range(301):  # 30 s in steps of 0.1 s: a fix every 5 s, each 0.6 s on its way
+        t = step / 10
+        if step % 50 == 6:
+            for v in (A, B):
+                links.seen("GPSFixReport", v, envelope(T0 + t - 0.6, T0 + t), t, T0 + t, True)
+            links.by_id[A].relay, links.by_id[A].quiet = "ship-1", hop.quiet[A]
+        events += [(e, p.id) for p, e in links.tick(t, T0 + t)]
+    assert [e for e, pid in events if pid == A] == []  # never lost between its capped reports
+    assert ("lost", B) in events  # the same arrivals heard directly: lost at 3 s, as before
+    last = 25.6  # its last fix, made at 25.0 and received then: its data counts from 25.6 on the console's clock
+    for t in (last + 7.0, last + 7.9):  # within 3 + 5 s
+        assert [e for p, e in links.tick(t, T0 + t) if p.id == A] == []
+    t = last + 8.1
+    assert [e for p, e in links.tick(t, T0 + t) if p.id == A] == ["lost"]
+
+
+def test_a_relay_whose_caps_keep_its_vehicles_quiet_is_silent_only_past_that_quiet() -> None:
+    hops = Hops()
+    hops.seen(RelayLink("ship-1", [str(A), str(B)], 0, [5000, 60000]), T0)
+    hops.seen(RelayLink("ship-2", [str(uuid.uuid4())], 0), T0)  # an earlier relay: no quiet said
+    assert [h.relay for h in silent_relays(hops.by_relay, T0 + 62.0, 3.0)] == ["ship-2"]
+    assert [h.relay for h in silent_relays(hops.by_relay, T0 + 63.5, 3.0)] == ["ship-1", "ship-2"]

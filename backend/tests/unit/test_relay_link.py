@@ -18,7 +18,8 @@ from sem_console.dds.topics import Sem
 from sem_console.relay.access import access_control
 from sem_console.relay.cli import build_parser, main, options_from
 from sem_console.relay.domain import Taken
-from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, short_name
+from sem_console.relay.hops import carries_key, parse_carries
+from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, quiet_seconds, short_name
 from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem
 from sem_console.relay.relay import Relay
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
@@ -334,3 +335,20 @@ def test_a_deployment_s_options_come_from_one_file_under_the_environment_and_the
         2,
         f"sem-relay: error: --config {tmp_path / 'none.env'}: No such file or directory: give a readable file\n",
     )
+
+
+def test_the_caps_say_how_long_a_vehicle_of_each_version_may_be_quiet_and_its_token_carries_it() -> None:
+    """The shortest periodic cap of the version's report topics: a console adds it to the comms-lost timeout."""
+    v3 = ("GPSFixReport", "GPSFixStatusReport", "GPSReport", "InertialSensorReport")
+    v6 = ("GPSReport", "GlobalPoseReport", "InertialSensorReport")
+    satellite = LINK_CLASSES["satellite"]
+    assert quiet_seconds(satellite, v3) == 5.0 and quiet_seconds(satellite, v6) == 5.0
+    assert quiet_seconds(LINK_CLASSES["lan"], v3) == 0.0  # nothing capped: the vehicle's own rate
+    custom = {**satellite, **parse_caps("GlobalPoseReport=30")}
+    assert quiet_seconds(custom, v6) == 30.0 and quiet_seconds(custom, v3) == 5.0  # each version its own topics
+    assert quiet_seconds({**satellite, **parse_caps("GPSFixStatusReport=0")}, v3) == 0.0  # one uncapped topic
+    assert quiet_seconds({t: ON_CHANGE for t in v6}, v6) == 0.0  # on change promises nothing
+    vehicle = uuid.uuid4()
+    assert parse_carries(carries_key("Ship One", 3, vehicle, 5000)) == (("Ship One", 3), vehicle, 5000)
+    assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}") == (("ship-1", 3), vehicle, 0)  # an earlier relay's
+    assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}/soon") is None
