@@ -113,6 +113,7 @@ class Provider:
             "name": self.relay or "",
             "dataTime": self.stamp,
             "ageSeconds": None if self.stamp is None else round(max(0.0, wall - self.stamp), 3),
+            "quietSeconds": self.quiet,
         }
 
     def jaus_id(self) -> str | None:

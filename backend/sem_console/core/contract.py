@@ -85,6 +85,12 @@ class RelayHop(StrictModel):
     ageSeconds: float | None = Field(
         description="seconds from dataTime to now: how old its newest data is, the relay and the link included"
     )
+    quietSeconds: float = Field(
+        description=(
+            "how long the relay's rate caps may keep its data quiet (its shortest periodic cap: 5 at the satellite"
+            " defaults, 0 uncapped): added to its comms-lost timeout, and to the time before the dashboard says stale"
+        )
+    )
 
 
 class ProviderSummary(StrictModel):

@@ -32,6 +32,7 @@ class RelayHop(TypedDict):
     name: str
     dataTime: float | None
     ageSeconds: float | None
+    quietSeconds: float
 
 
 class ProviderSummary(TypedDict):

@@ -1117,6 +1117,11 @@ def test_a_far_console_at_its_default_timeout_keeps_vehicles_behind_the_satellit
             time.sleep(0.25)
             providers = httpx.get(f"{console.url}/api/providers").json()
         assert {p["id"] for p in providers if p.get("relay")} == ids, providers
+        deadline = time.monotonic() + 5  # said by the relay's next sample (once a second)
+        while time.monotonic() < deadline and any(p["relay"]["quietSeconds"] != 5.0 for p in providers):
+            time.sleep(0.25)
+            providers = httpx.get(f"{console.url}/api/providers").json()
+        assert [p["relay"]["quietSeconds"] for p in providers] == [5.0, 5.0]  # the dashboard waits as long for "stale"
         states: set[tuple[str, str]] = set()
         until = time.monotonic() + 12  # two of the caps' 5 s and more
         while time.monotonic() < until:

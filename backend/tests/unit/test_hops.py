@@ -51,7 +51,12 @@ def test_old_samples_released_late_by_a_relay_do_not_make_a_lost_vehicle_live() 
         t += 0.5
     assert links.by_id[A].link == "lost"  # by its time stamps: silent for 30 s
     assert links.by_id[B].link != "lost"  # heard directly: by arrival
-    assert links.by_id[A].summary(t, T0 + t)["relay"] == {"name": "ship-1", "dataTime": T0 + 0.5, "ageSeconds": t - 0.5}
+    assert links.by_id[A].summary(t, T0 + t)["relay"] == {
+        "name": "ship-1",
+        "dataTime": T0 + 0.5,
+        "ageSeconds": t - 0.5,
+        "quietSeconds": 0.0,
+    }
     assert links.by_id[B].summary(t, T0 + t)["relay"] is None
     while t < 22.0:  # current samples again: regained after the regained time
         links.seen("GPSFixReport", A, envelope(T0 + t - 0.2, T0 + t), t, T0 + t, True)

@@ -49,6 +49,7 @@ export interface ProviderView {
   jausId: string | null; // "S.1.C" when the console's JAUS gateway is on
   umaaVersion: ProviderSummary["umaaVersion"] | null; // the UMAA version it speaks (null before the console said)
   relay: string | null; // the sem-relay it is seen through (its --name), null: on the console's own domain
+  relayQuiet: number; // s that relay's rate caps may keep its data quiet (0: uncapped, or not seen through a relay)
   topics: { [T in Topic]?: TopicView<T> };
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
@@ -119,6 +120,7 @@ export function emptyProvider(id: string, link: LinkState, name: string | null =
     jausId: null,
     umaaVersion: null,
     relay: null,
+    relayQuiet: 0,
     topics: {},
     trails: {},
     history: [],
@@ -126,10 +128,12 @@ export function emptyProvider(id: string, link: LinkState, name: string | null =
   };
 }
 
-/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id, UMAA version). */
+/** The summary's fields a provider view keeps (name, link state, link configuration, JAUS id, UMAA version, relay). */
 export function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
   const relay = s.relay?.name ?? null;
-  return { ...p, name: s.name, link: s.link, linkConfig: s.linkConfig, jausId: s.jausId, umaaVersion: s.umaaVersion, relay };
+  const relayQuiet = s.relay?.quietSeconds ?? 0;
+  const { name, link, linkConfig, jausId, umaaVersion } = s;
+  return { ...p, name, link, linkConfig, jausId, umaaVersion, relay, relayQuiet };
 }
 
 function updateTrails(

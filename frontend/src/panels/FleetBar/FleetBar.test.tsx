@@ -3,9 +3,9 @@ import { act, cleanup, fireEvent, screen, waitFor, within } from "@testing-libra
 import { afterEach, describe, expect, it } from "vitest";
 import { TestSource, alarm, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { update } from "../../data/store";
-import { select } from "../../data/slices/vehicles";
+import { emptyProvider, fromSummary, select, type ProviderView, type TopicView } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
-import { CHIP_LIMIT, FleetBar } from "./FleetBar";
+import { CHIP_LIMIT, FleetBar, fleetLink } from "./FleetBar";
 
 const A = "77b2ceb8-5afe-554e-8450-93db17c48923";
 const B = "0f3c52aa-1d7e-5b1e-9c1f-6f7d2d8e0c11";
@@ -31,6 +31,24 @@ const chip = (name: string) => screen.getAllByTestId("fleet-vehicle").find((c) =
 
 describe("FleetBar", () => {
   afterEach(cleanup);
+
+  it("calls a vehicle behind a relay's rate caps stale only once silent past them, as the console calls it lost", () => {
+    const heardAt = (p: ProviderView, at: number): ProviderView => ({
+      ...p,
+      topics: { GPSFixReport: { at, interval: null } as unknown as TopicView<"GPSFixReport"> },
+    });
+    const hop = (quietSeconds: number) => ({ name: "ship-1", dataTime: null, ageSeconds: null, quietSeconds });
+    const capped = heardAt(fromSummary(emptyProvider(A, "live"), vehicle(A, { relay: hop(5) })), 100);
+    const direct = heardAt(fromSummary(emptyProvider(B, "live"), vehicle(B)), 100);
+    const uncapped = heardAt(fromSummary(emptyProvider(B, "live"), vehicle(B, { relay: hop(0) })), 100);
+    expect([fleetLink(capped, 104.9, true), fleetLink(direct, 104.9, true), fleetLink(uncapped, 104.9, true)]).toEqual([
+      "live", // a fix every 5 s at the satellite caps: not stale between two
+      "stale",
+      "stale",
+    ]);
+    expect(fleetLink(capped, 107.9, true)).toBe("live");
+    expect(fleetLink(capped, 108.1, true)).toBe("stale"); // 3 s past its caps
+  });
 
   it("counts the live and lost vehicles and the unacknowledged alarms, the lost one first, each with its words", async () => {
     fleet();

@@ -59,6 +59,12 @@ import { unreachable as isUnreachable } from "../../data/source";
 const SAME_BAR = sameOverview();
 /** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
 export const STALE_AFTER_S = 3;
+const STALE_TITLE = `no report for over ${STALE_AFTER_S} s (behind a relay: ${STALE_AFTER_S} s past its rate caps)`;
+
+/** How long a live vehicle may be silent before it is "stale": STALE_AFTER_S, and seen through a relay, the longest
+ * that relay's rate caps keep its data quiet (the console adds it to its comms-lost timeout too: at the satellite caps
+ * a fix comes every 5 s, and such a vehicle was "stale" two seconds in every five). */
+export const staleAfterOf = (p: ProviderView): number => STALE_AFTER_S + p.relayQuiet;
 
 export type FleetLink = PageLink;
 
@@ -66,7 +72,7 @@ export type FleetLink = PageLink;
  * "unreachable" at once when the page does not hear the console. */
 export function fleetLink(p: ProviderView, now: number, receiving: boolean): FleetLink {
   const seen = lastHeardAt(p);
-  return pageLink(p.link, seen === null ? null : now - seen, STALE_AFTER_S, receiving);
+  return pageLink(p.link, seen === null ? null : now - seen, staleAfterOf(p), receiving);
 }
 
 /** At most this many chips (and the selected vehicle's): a fleet of a thousand is counted, its exceptional vehicles
@@ -110,7 +116,7 @@ const UNREACHABLE_TITLE = "the console cannot be reached: the last state it sent
 const LINK: Record<FleetLink, Word> = {
   live: { text: linkText("live"), tone: "ok", title: "reports arriving" },
   regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
-  stale: { text: linkText("stale"), tone: "warn", title: `no report for over ${STALE_AFTER_S} s` },
+  stale: { text: linkText("stale"), tone: "warn", title: STALE_TITLE },
   lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
   unchecked: {
     text: linkText("unchecked"),
@@ -365,7 +371,7 @@ export function FleetBar() {
             </span>
           )}
           {stale > 0 && (
-            <span className="fleet-count tone-warn" data-testid="fleet-stale" title={`no report for over ${STALE_AFTER_S} s`}>
+            <span className="fleet-count tone-warn" data-testid="fleet-stale" title={STALE_TITLE}>
               {stale} {inline(linkText("stale"))}
             </span>
           )}

@@ -114,7 +114,7 @@ describe("VehicleSelector", () => {
       source.send(
         snapshotMessage({
           providers: [
-            vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null } }),
+            vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null, quietSeconds: 0 } }),
             vehicle(B, { name: "Bravo" }),
           ],
         }),
@@ -158,7 +158,9 @@ describe("VehicleSelector", () => {
     act(() =>
       source.send(
         snapshotMessage({
-          providers: [vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null } })],
+          providers: [
+            vehicle(A, { name: "Alpha", relay: { name: "ship-1", dataTime: null, ageSeconds: null, quietSeconds: 0 } }),
+          ],
         }),
         // its clock an hour ahead: stamped 3600 s after the console received it (the page's clock: 1000 s)
         reportMessage(A, "GPSFixStatusReport", { fixValid: true, timeStamp: { seconds: 4600, nanoseconds: 0 } }, [], 1000),
@@ -267,7 +269,7 @@ describe("VehicleSelector", () => {
           providers: [
             vehicle(A, { name: "Alpha" }),
             vehicle(B, { name: "Bravo", link: "lost", umaaVersion: "6.0" }),
-            vehicle(C, { name: "Charlie", relay: { name: "ship-1", dataTime: null, ageSeconds: null } }),
+            vehicle(C, { name: "Charlie", relay: { name: "ship-1", dataTime: null, ageSeconds: null, quietSeconds: 0 } }),
             vehicle(D, { name: "Delta", umaaVersion: "6.0" }),
           ],
           alarms: [alarm(1, C)],

@@ -23,7 +23,7 @@ import { RECORDED_TITLE, fleetState, pageLink, recordedState, stateWords, type F
 import { FLEET_STATE, fixWord, inline, insWord, linkOrPlanned, linkText } from "../../lib/labels";
 import { age } from "../../lib/units";
 import { vehicleMatcher } from "../../lib/vehicle";
-import { STALE_AFTER_S } from "../FleetBar/FleetBar";
+import { staleAfterOf } from "../FleetBar/FleetBar";
 import { RenameVehicle } from "../RenameVehicle/RenameVehicle";
 
 /** The list draws when a vehicle's name, link, fix or INS changed; its ages with the clock (useNow, 0.5 s). */
@@ -218,7 +218,7 @@ export function VehicleSelector() {
       providers.map((p) => {
         const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
-        const link = pageLink(p.link, ageS, STALE_AFTER_S, receiving);
+        const link = pageLink(p.link, ageS, staleAfterOf(p), receiving);
         return { p, seen, ageS, link, until: plannedUntil(silences, p.id, link) };
       }),
     [providers, now, receiving, silences],
