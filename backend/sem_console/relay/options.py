@@ -8,6 +8,7 @@ import ipaddress
 import os
 import socket
 import ssl
+import uuid
 from pathlib import Path
 from typing import Literal
 
@@ -96,7 +97,9 @@ class RelayOptions(BaseSettings):
         description=(
             "a router's access control (with mutual TLS): the vehicles' relays, comma separated, each by its name, which is "
             "its certificate's common name: each sends and receives only on its own key space (its vehicles' samples, "
-            "their commands); a certificate named in neither list gets nothing"
+            "their commands); a certificate named in neither list gets nothing. NAME=GUID+GUID...: that relay carries "
+            "only those vehicles (their source GUIDs): it cannot say it carries, report for or take the commands of "
+            "another vehicle, whichever relay declares first"
         ),
     )
     operations_relays: str = Field(
@@ -121,7 +124,8 @@ class RelayOptions(BaseSettings):
                     "--vehicle-relays and --operations-relays are a router's access control: give them with --router and "
                     "--tls-root-ca, --tls-certificate, --tls-private-key (the relays are known by their certificates)"
                 )
-            vehicles, operations = endpoints(self.vehicle_relays), endpoints(self.operations_relays)
+            vehicles = [item.partition("=")[0].strip() for item in endpoints(self.vehicle_relays)]
+            operations = endpoints(self.operations_relays)
             for name in vehicles:
                 if bad := key_chunk_problem(name):
                     raise ValueError(f"--vehicle-relays {name!r}: {bad}")
@@ -131,6 +135,15 @@ class RelayOptions(BaseSettings):
                     f"--vehicle-relays, --operations-relays: {', '.join(map(repr, twice))} named twice: each relay's "
                     "certificate once, in one list"
                 )
+            owners: dict[uuid.UUID, str] = {}
+            for name, carried in vehicle_relays(self.vehicle_relays).items():
+                for vehicle in carried or ():
+                    if vehicle in owners:
+                        raise ValueError(
+                            f"--vehicle-relays: vehicle {vehicle} is given to {owners[vehicle]!r} and {name!r}: a vehicle "
+                            "is carried by one relay"
+                        )
+                    owners[vehicle] = name
             for flag, given in (("--listen", self.listen_endpoints), ("--connect", self.connect_endpoints)):
                 for endpoint in given:
                     if (protocol := endpoint.partition("/")[0]) not in _TLS_PROTOCOLS:
@@ -172,6 +185,27 @@ def key_chunk_problem(name: str) -> str | None:
 
 def endpoints(text: str) -> list[str]:
     return [e.strip() for e in text.split(",") if e.strip()]
+
+
+def vehicle_relays(text: str) -> dict[str, tuple[uuid.UUID, ...] | None]:
+    """`--vehicle-relays`: each relay's name and the vehicles it alone may carry (None: any under its name), in order;
+    a ValueError naming the bad item and the fix."""
+    out: dict[str, tuple[uuid.UUID, ...] | None] = {}
+    for item in endpoints(text):
+        name, sep, listed = item.partition("=")
+        name = name.strip()
+        if not sep:
+            out[name] = None
+            continue
+        try:
+            out[name] = tuple(uuid.UUID(v.strip()) for v in listed.split("+") if v.strip())
+        except ValueError:
+            raise ValueError(
+                f"--vehicle-relays {item!r}: give NAME or NAME=GUID+GUID..., each GUID a vehicle's source GUID"
+            ) from None
+        if not out[name]:
+            raise ValueError(f"--vehicle-relays {item!r}: no vehicle after '=': give NAME alone, or NAME=GUID+GUID...")
+    return out
 
 
 def endpoint_host(endpoint: str) -> str:

@@ -43,7 +43,7 @@ from sem_console.relay.link import (
     quiet_seconds,
     short_name,
 )
-from sem_console.relay.options import RelayOptions, endpoints
+from sem_console.relay.options import RelayOptions, endpoints, vehicle_relays
 from sem_console.relay.wire import PREFIX, Address, Kind, attachment, key, parse_key, read_attachment
 
 log = logging.getLogger("sem-relay")
@@ -131,7 +131,7 @@ def zenoh_config(options: RelayOptions) -> zenoh.Config:
         for name, value in tls.items():
             config.insert_json5(f"transport/link/tls/{name}", json.dumps(value))
     if options.access_controlled:
-        acl = access_control(endpoints(options.vehicle_relays), endpoints(options.operations_relays))
+        acl = access_control(vehicle_relays(options.vehicle_relays), endpoints(options.operations_relays))
         config.insert_json5("access_control", json.dumps(acl))
     return config
 

@@ -45,7 +45,7 @@ from sem_console.relay.domain import DomainSide, Taken
 from sem_console.relay.hops import CARRIES, carries_key, parse_carries
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import EARLY_VEHICLES, ENDED_KEPT_SECONDS, Outgoing, Relay
-from sem_console.relay.wire import Kind, attachment, key, read_attachment
+from sem_console.relay.wire import PREFIX, Kind, attachment, key, read_attachment
 from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import now_datetime
@@ -720,6 +720,51 @@ def test_access_control_lets_a_vehicles_relay_say_which_vehicles_it_carries_and_
             declared.undeclare()
     finally:
         for s in (ship, ops, other):
+            s.close()
+
+
+def test_access_control_with_each_relay_s_vehicles_listed_lets_no_relay_claim_or_report_another_s_vehicle(
+    relay, tmp_path: Path
+) -> None:
+    """Ownership goes to the relay that alone declares a vehicle: without a list, a relay that declares another's
+    vehicle before that vehicle's own relay does would own it and get its commands. With each relay's vehicles listed
+    (`--vehicle-relays NAME=GUID+GUID`), the router refuses ship-2's token and samples for ship-1's vehicle, whichever
+    comes first, and passes those of its own."""
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    mine, theirs = uuid.UUID(int=1), uuid.UUID(int=2)
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        f"ship-1={mine},ship-2={theirs}",
+        "--operations-relays",
+        "ops",
+        *tls(fleet, "router"),
+    )
+    ops, other = (fleet_session(fleet, name, endpoint) for name in ("ops", "ship-2"))
+    tokens: list[str] = []
+    samples: list[str] = []
+    try:
+        watch = ops.liveliness().declare_subscriber(f"{CARRIES}/**", lambda s: tokens.append(str(s.key_expr)), history=True)
+        data = ops.declare_subscriber(f"{PREFIX}/**", lambda s: samples.append(str(s.key_expr)))
+        time.sleep(1)  # the subscriptions in place at the router
+        claim = other.liveliness().declare_token(carries_key("ship-2", 0, mine, 5000))  # before ship-1 ever did
+        token = other.liveliness().declare_token(carries_key("ship-2", 0, theirs, 5000))
+        topic = Sem.GPS_FIX_COMMAND_STATUS.spec.name
+        deadline = time.monotonic() + 10
+        while (not tokens or not samples) and time.monotonic() < deadline:
+            for vehicle in (mine, theirs):
+                other.put(key("ship-2", 0, vehicle, topic), b"status", attachment=attachment(Kind.SAMPLE, 0))
+            time.sleep(0.2)
+        time.sleep(1)
+        assert tokens == [carries_key("ship-2", 0, theirs, 5000)]
+        assert set(samples) == {key("ship-2", 0, theirs, topic)}, samples
+        for declared in (watch, data, claim, token):
+            declared.undeclare()
+    finally:
+        for s in (ops, other):
             s.close()
 
 

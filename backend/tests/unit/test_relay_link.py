@@ -138,7 +138,8 @@ def test_a_command_ended_while_held_for_its_vehicle_is_never_delivered() -> None
 
 
 def test_access_control_gives_each_vehicles_relay_its_own_key_space_and_denies_the_rest() -> None:
-    acl = access_control(["ship-1", "ship-2"], ["ops"])
+    v1, v2 = uuid.UUID(int=1), uuid.UUID(int=2)
+    acl = access_control({"ship-1": None, "ship-2": None, "ship-3": (v1, v2)}, ["ops"])
     assert acl["enabled"] and acl["default_permission"] == "deny"
     rules = {r["id"]: r for r in acl["rules"]}
     names = {s["id"]: s["cert_common_names"] for s in acl["subjects"]}
@@ -162,6 +163,15 @@ def test_access_control_gives_each_vehicles_relay_its_own_key_space_and_denies_t
             "sem-relay/operations/**",
             "sem-relay/vehicles/ship-2/**",
             "sem/ship-2/**",
+        ],
+        "ship-3": [  # its vehicles listed: their keys and tokens only
+            f"sem-relay-carries/ship-3/*/{v1}/**",
+            f"sem-relay-carries/ship-3/*/{v2}/**",
+            "sem-relay/operations/**",
+            "sem-relay/operations/**",
+            "sem-relay/vehicles/ship-3/**",
+            f"sem/ship-3/*/{v1}/**",
+            f"sem/ship-3/*/{v2}/**",
         ],
     }
     assert "put" not in rules["watch operations"]["messages"]  # a vehicles' relay only watches the operations relays
@@ -260,6 +270,18 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
     assert run(*acl, "--vehicle-relays", "ship-1", "--operations-relays", "ops,ship-1")[1].startswith(
         "sem-relay: error: --vehicle-relays, --operations-relays: 'ship-1' named twice"
     )
+    v1 = "00000000-0000-0000-0000-000000000001"
+    assert run(*acl, "--vehicle-relays", f"ship-1={v1}+v2") == (
+        2,
+        "sem-relay: error: --vehicle-relays 'ship-1=00000000-0000-0000-0000-000000000001+v2': give NAME or "
+        "NAME=GUID+GUID..., each GUID a vehicle's source GUID\n",
+    )
+    assert run(*acl, "--vehicle-relays", f"ship-1={v1},ship-2={v1}") == (
+        2,
+        f"sem-relay: error: --vehicle-relays: vehicle {v1} is given to 'ship-1' and 'ship-2': a vehicle is carried by "
+        "one relay\n",
+    )
+    assert run(*acl, "--vehicle-relays", "ship-1=")[1].startswith("sem-relay: error: --vehicle-relays 'ship-1=': no vehicle")
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
     monkeypatch.delenv("SEM_RELAY_CONNECT")
