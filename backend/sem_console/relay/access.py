@@ -10,10 +10,9 @@ import uuid
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from sem_console.relay.hops import carries_prefix
+from sem_console.relay.hops import LIVELINESS, carries_prefix
 from sem_console.relay.wire import PREFIX
 
-LIVELINESS = "sem-relay"  # the relays' liveliness tokens: `sem-relay/<side>/<name>/<session>`
 _MESSAGES = [
     "put",
     "delete",

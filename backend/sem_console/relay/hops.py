@@ -2,9 +2,11 @@
 operations side's consoles are told (docs/relay.md#the-console-knows-the-hop).
 
 The vehicles' side holds a Zenoh liveliness token per vehicle it carries, `sem-relay-carries/<its name>/<its domain>/
-<vehicle>`: nothing crosses the thin link for it once declared, and Zenoh declares it again when a link comes back.
+<vehicle>/<quiet ms>`: nothing crosses the thin link for it once declared, and Zenoh declares it again when a link
+comes back; it is undeclared once the vehicle has not been heard there for a while (it moved to another ship's network).
 The operations side follows the tokens: a vehicle declared by one relay alone is that relay's (its owner), kept when
-the relay's token goes (its link lost, or the relay stopped: its commands wait for it); a relay that declares a vehicle
+the relay's token goes (its link lost, or the relay stopped: its commands wait for it) but not when the relay undeclares
+it while still there (the vehicle left it: a relay that alone declares it next owns it); a relay that declares a vehicle
 another owns is refused, and a vehicle two relays declare when none owns it is owned by neither until one alone does.
 It counts when each vehicle's data last came over the link, and writes once a second, for each relay of the vehicles'
 side that owns vehicles, a sample of the project's DDS topic (dds/hops.py): the relay's name, its vehicles and the age
@@ -27,6 +29,9 @@ from sem_console.dds.bus import Bus
 
 log = logging.getLogger("sem-relay")
 CARRIES = "sem-relay-carries"
+LIVELINESS = "sem-relay"  # the relays' own liveliness tokens (relay.py): `sem-relay/<side>/<name>/<session>`
+RELAYS = f"{LIVELINESS}/vehicles"  # the vehicles' relays' ones
+LEFT_GRACE = 3.0  # s after a vehicle's token went: its relay's own token still there then, the vehicle left that relay
 QUERY_SECONDS = 10.0  # how long the operations side's start waits for the router's list of the tokens declared
 Origin = tuple[str, int]  # a vehicles' relay's name and its DDS domain
 
@@ -56,21 +61,39 @@ def parse_carries(text: str) -> tuple[Origin, uuid.UUID, int] | None:
 
 
 class Carried:
-    """The vehicles' side: a token per vehicle this relay carries, declared at the vehicle's first sample."""
+    """The vehicles' side: a token per vehicle this relay carries, declared at the vehicle's first sample and undeclared
+    once the vehicle has not been heard on this relay's domain for `gone_after` seconds (`forget`: it moved to another
+    ship's network, whose relay may then carry it); declared again when it is heard again."""
 
-    def __init__(self, session: zenoh.Session, name: str, domain: int) -> None:
-        self.session, self.name, self.domain = session, name, domain
+    def __init__(self, session: zenoh.Session, name: str, domain: int, gone_after: float = 600.0) -> None:
+        self.session, self.name, self.domain, self.gone_after = session, name, domain, gone_after
         self.tokens: dict[uuid.UUID, Any] = {}
+        self.heard: dict[uuid.UUID, float] = {}  # monotonic: each vehicle's last sample on this domain
         self._lock = threading.Lock()
 
-    def saw(self, vehicle: uuid.UUID, quiet: float = 0.0) -> None:
+    def saw(self, vehicle: uuid.UUID, quiet: float = 0.0, now: float | None = None) -> None:
         """`quiet`: the longest its data may be quiet over the link by this relay's caps, for its version's topics."""
+        self.heard[vehicle] = time.monotonic() if now is None else now
         if vehicle in self.tokens:
             return
         with self._lock:
             if vehicle not in self.tokens:
                 key = carries_key(self.name, self.domain, vehicle, round(quiet * 1000))
                 self.tokens[vehicle] = self.session.liveliness().declare_token(key)
+
+    def forget(self, now: float) -> list[uuid.UUID]:
+        """Undeclare the tokens of the vehicles not heard for `gone_after` seconds; returns them."""
+        with self._lock:
+            gone = [v for v in self.tokens if now - self.heard.get(v, now) >= self.gone_after]
+            for vehicle in gone:
+                self.tokens.pop(vehicle).undeclare()
+        for vehicle in gone:
+            log.info(
+                "vehicle %s not heard for %.0f s: no longer said to be carried here (another relay may carry it)",
+                vehicle,
+                self.gone_after,
+            )
+        return gone
 
     def close(self) -> None:
         with self._lock:
@@ -85,6 +108,10 @@ class Hops:
 
     def __init__(self, session: zenoh.Session, bus: Bus, on_owned: Callable[[uuid.UUID, Origin], None]) -> None:
         self.on_owned = on_owned
+        # the vehicles' relays whose own liveliness token is there (`sem-relay/vehicles/<name>/<session>`): a vehicle's
+        # token gone while its relay's is there is a vehicle that left it, not a link lost
+        self.alive: dict[str, set[str]] = {}
+        self.leaving: dict[tuple[uuid.UUID, Origin], float] = {}  # a token gone, and when to look again (`release`)
         self.owner: dict[uuid.UUID, Origin] = {}
         self.claims: dict[uuid.UUID, set[Origin]] = {}  # the relays whose token for the vehicle is there
         self.heard: dict[uuid.UUID, float] = {}  # vehicle -> monotonic time of its last message over the link
@@ -95,6 +122,7 @@ class Hops:
         self.writer = hops.writer(bus.participant)
         self.session = session
         self.subscriber = session.liveliness().declare_subscriber(f"{CARRIES}/**", self._carries)
+        self.relays = session.liveliness().declare_subscriber(f"{RELAYS}/**", self._relay, history=True)
 
     def start(self) -> None:
         """The tokens declared already, read at once: a vehicle two relays say they carry is owned by neither."""
@@ -121,8 +149,13 @@ class Hops:
             if sample.kind == zenoh.SampleKind.PUT:
                 claims.add(origin)
                 self.quiet[vehicle, origin] = quiet_ms
+                self.leaving.pop((vehicle, origin), None)
             else:
-                claims.discard(origin)  # a token gone: its owner keeps the vehicle (its age grows: silent)
+                # a token gone: its owner keeps the vehicle (its age grows: silent), unless its relay is still there a
+                # moment later (`release`): the relay no longer carries it
+                claims.discard(origin)
+                if self.owner.get(vehicle) == origin:
+                    self.leaving[vehicle, origin] = time.monotonic() + LEFT_GRACE
             owned = self._decide(vehicle) if self._ready else None
         if owned is not None:
             self.on_owned(vehicle, owned)
@@ -155,6 +188,39 @@ class Hops:
                 )
         return None
 
+    def _relay(self, sample: zenoh.Sample) -> None:
+        parts = str(sample.key_expr).split("/")
+        if len(parts) < 4:
+            return
+        with self._lock:
+            sessions = self.alive.setdefault(parts[2], set())
+            if sample.kind == zenoh.SampleKind.PUT:
+                sessions.add(parts[3])
+            else:
+                sessions.discard(parts[3])
+
+    def release(self, now: float) -> None:
+        """The vehicles whose owner undeclared their token while it is still there (LEFT_GRACE later: a link lost takes
+        the relay's own token as well) are no longer its: a relay that alone declares one now owns it."""
+        owned: list[tuple[uuid.UUID, Origin]] = []
+        with self._lock:
+            for (vehicle, origin), at in list(self.leaving.items()):
+                if now < at:
+                    continue
+                del self.leaving[vehicle, origin]
+                if self.owner.get(vehicle) != origin or origin in self.claims.get(vehicle, ()) or not self.alive.get(origin[0]):
+                    continue
+                del self.owner[vehicle]
+                log.info(
+                    "vehicle %s is no longer carried by relay %s, domain %d: its commands wait for its next relay",
+                    vehicle,
+                    *origin,
+                )
+                if (new := self._decide(vehicle)) is not None:
+                    owned.append((vehicle, new))
+        for vehicle, origin in owned:
+            self.on_owned(vehicle, origin)
+
     def heard_from(self, vehicle: uuid.UUID, now: float) -> None:
         with self._lock:
             self.heard[vehicle] = now
@@ -176,7 +242,9 @@ class Hops:
             return out
 
     def write(self, now: float | None = None) -> None:
-        for link in self.links(time.monotonic() if now is None else now):
+        now = time.monotonic() if now is None else now
+        self.release(now)
+        for link in self.links(now):
             try:
                 self.writer.write(link)
             except Exception as e:  # the consoles miss one second of it; the relay's timer goes on
@@ -184,3 +252,4 @@ class Hops:
 
     def close(self) -> None:
         self.subscriber.undeclare()
+        self.relays.undeclare()

@@ -74,6 +74,15 @@ class RelayOptions(BaseSettings):
             "other may have missed (default: 10)"
         ),
     )
+    vehicle_gone_seconds: float = Field(
+        600.0,
+        ge=10,
+        le=86400,
+        description=(
+            "a vehicles' relay: a vehicle not heard on its domain this long is no longer said to be carried here, so "
+            "that the relay of the ship whose network it moved to may carry it and get its commands (default: 600)"
+        ),
+    )
     stats_seconds: float = Field(
         60.0, ge=0.1, le=3600, description=("how often the bytes per vehicle are logged and --status-file written (default: 60)")
     )

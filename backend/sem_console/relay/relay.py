@@ -28,9 +28,9 @@ from sem_console.dds import hops
 from sem_console.dds.bus import Bus
 from sem_console.dds.qos import TopicClass
 from sem_console.dds.topics import AnySem, Sem, Sem60, delimited
-from sem_console.relay.access import LIVELINESS, access_control
+from sem_console.relay.access import access_control
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.hops import Carried, Hops, Origin
+from sem_console.relay.hops import LIVELINESS, Carried, Hops, Origin
 from sem_console.relay.link import (
     AT_ONCE_FIELDS,
     LINK_CLASSES,
@@ -178,7 +178,7 @@ class Relay:
         other = "operations" if self.vehicles_side else "vehicles"
         self.peers = session.liveliness().declare_subscriber(f"{LIVELINESS}/{other}/**", self._peer, history=True)
         # which relay carries which vehicle, for the operations side's consoles (relay/hops.py)
-        self.carried = Carried(session, options.name, bus.domain_id) if self.vehicles_side else None
+        self.carried = Carried(session, options.name, bus.domain_id, options.vehicle_gone_seconds) if self.vehicles_side else None
         self.hops = None if self.vehicles_side else Hops(session, bus, self._owned)
         if self.hops is not None:
             self.hops.start()
@@ -422,9 +422,12 @@ class Relay:
         next_stats = time.monotonic() + self.options.stats_seconds
         next_hops = time.monotonic()
         while not self.stopping.wait(0.1):
-            if self.hops is not None and time.monotonic() >= next_hops:
+            if time.monotonic() >= next_hops:
                 next_hops += hops.PERIOD
-                self.hops.write()
+                if self.hops is not None:
+                    self.hops.write()
+                if self.carried is not None:
+                    self.carried.forget(time.monotonic())
             with self._lock:
                 due = self.limiter.due(time.monotonic())
             for out in due:

@@ -39,10 +39,9 @@ from sem_console.dds.bus import Bus, take_each
 from sem_console.dds.hops import RelayLink
 from sem_console.dds.topics import Sem, Sem60, Service
 from sem_console.main import create_app
-from sem_console.relay.access import LIVELINESS
 from sem_console.relay.cli import open_session
 from sem_console.relay.domain import DomainSide, Taken
-from sem_console.relay.hops import CARRIES, carries_key, parse_carries
+from sem_console.relay.hops import CARRIES, LEFT_GRACE, LIVELINESS, RELAYS, Carried, Hops, carries_key, parse_carries
 from sem_console.relay.options import RelayOptions
 from sem_console.relay.relay import EARLY_VEHICLES, ENDED_KEPT_SECONDS, Outgoing, Relay
 from sem_console.relay.wire import PREFIX, Kind, attachment, key, read_attachment
@@ -1176,3 +1175,56 @@ def test_a_far_console_at_its_default_timeout_keeps_vehicles_behind_the_satellit
         assert [a for a in httpx.get(f"{console.url}/api/alarms").json() if a["kind"] == "link-lost"] == []
     finally:
         console.end()
+
+
+def test_a_vehicle_moved_to_another_ship_s_network_is_carried_by_that_ship_s_relay_once_the_first_lets_it_go(
+    domain: int,
+) -> None:
+    """ship-1 carries vehicle 1; the vehicle moves to ship-2's network. ship-1's relay, not hearing it for its
+    --vehicle-gone-seconds, undeclares its token while ship-1 itself is still there: the operations side then gives the
+    vehicle to ship-2, which says it carries it (refused while ship-1 did), and the vehicle's commands go there. A
+    vehicle whose relay's link is lost (its relay's own token gone too) stays that relay's. Real Zenoh tokens."""
+    config = zenoh.Config()
+    config.insert_json5("scouting/multicast/enabled", "false")
+    session, bus = zenoh.open(config), Bus(domain)
+    owned: list[tuple[uuid.UUID, tuple[str, int]]] = []
+    hops = Hops(session, bus, lambda vehicle, origin: owned.append((vehicle, origin)))
+    ship_1 = Carried(session, "ship-1", domain, gone_after=60)
+    declared: list[Any] = []
+    try:
+        hops.start()
+        declared += [session.liveliness().declare_token(f"{RELAYS}/{name}/{name}-session") for name in ("ship-1", "ship-2")]
+        ship_1.saw(V1, 5.0, now=0.0)
+        ship_1.saw(V2, 5.0, now=0.0)
+
+        def owner(vehicle: uuid.UUID, origin: tuple[str, int] | None) -> None:
+            deadline = time.monotonic() + 10
+            while hops.owner_of(vehicle) != origin and time.monotonic() < deadline:
+                hops.release(time.monotonic() + LEFT_GRACE)
+                time.sleep(0.05)
+            assert hops.owner_of(vehicle) == origin, (vehicle, hops.owner_of(vehicle), origin)
+
+        owner(V1, ("ship-1", domain))
+        declared.append(session.liveliness().declare_token(carries_key("ship-2", domain, V1, 5000)))  # moved there
+        time.sleep(0.5)
+        hops.release(time.monotonic() + LEFT_GRACE)
+        assert hops.owner_of(V1) == ("ship-1", domain)  # refused while ship-1 says it carries it
+        ship_1.saw(V2, 5.0, now=30.0)  # vehicle 2 still heard by ship-1
+        assert ship_1.forget(59.0) == [] and ship_1.forget(60.0) == [V1]
+        owner(V1, ("ship-2", domain))
+        assert owned[-1] == (V1, ("ship-2", domain))
+        # ship-1's link lost: its vehicles' tokens and its own go, in any order (here its vehicle's first, its own
+        # within LEFT_GRACE): vehicle 2 stays ship-1's
+        ship_1.close()
+        time.sleep(0.3)
+        declared.pop(0).undeclare()
+        time.sleep(0.5)
+        hops.release(time.monotonic() + LEFT_GRACE)
+        assert hops.owner_of(V2) == ("ship-1", domain)
+    finally:
+        for token in declared:
+            token.undeclare()
+        ship_1.close()
+        hops.close()
+        session.close()
+        bus.close()
