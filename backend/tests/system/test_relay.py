@@ -1228,3 +1228,39 @@ def test_a_vehicle_moved_to_another_ship_s_network_is_carried_by_that_ship_s_rel
         hops.close()
         session.close()
         bus.close()
+
+
+@pytest.mark.parametrize("watch", ["sem/ship-1/0/**", "sem/ship-1/0/00000000-0000-0000-0000-000000000001/**"])
+def test_access_control_with_a_relay_s_vehicles_listed_still_gives_it_its_vehicles_commands(
+    relay, tmp_path: Path, watch: str
+) -> None:
+    """A listed vehicles' relay subscribes as `sem-relay` does (`sem/<name>/<domain>/**`, relay.py): the commands the
+    operations relay puts for one of its listed vehicles must reach it."""
+    fleet = Authority(tmp_path, "fleet-ca")
+    endpoint = f"tls/localhost:{free_port()}"
+    mine = uuid.UUID(int=1)
+    relay(
+        "--router",
+        "--listen",
+        endpoint,
+        "--vehicle-relays",
+        f"ship-1={mine}",
+        "--operations-relays",
+        "ops",
+        *tls(fleet, "router"),
+    )
+    ship, ops = (fleet_session(fleet, name, endpoint) for name in ("ship-1", "ops"))
+    got: list[str] = []
+    try:
+        sub = ship.declare_subscriber(watch, lambda s: got.append(str(s.key_expr)))
+        time.sleep(1)  # the subscription in place at the router
+        topic = Sem.GPS_FIX_COMMAND.spec.name
+        deadline = time.monotonic() + 10
+        while not got and time.monotonic() < deadline:
+            ops.put(key("ship-1", 0, mine, topic), b"command", attachment=attachment(Kind.SAMPLE, 0))
+            time.sleep(0.2)
+        assert got, "a listed relay's own vehicle's command never reached it"
+        sub.undeclare()
+    finally:
+        for s in (ship, ops):
+            s.close()
