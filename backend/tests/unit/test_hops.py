@@ -188,3 +188,20 @@ def test_a_relay_whose_caps_keep_its_vehicles_quiet_is_silent_only_past_that_qui
     hops.seen(RelayLink("ship-2", [str(uuid.uuid4())], 0), T0)  # an earlier relay: no quiet said
     assert [h.relay for h in silent_relays(hops.by_relay, T0 + 62.0, 3.0)] == ["ship-2"]
     assert [h.relay for h in silent_relays(hops.by_relay, T0 + 63.5, 3.0)] == ["ship-1", "ship-2"]
+
+
+def test_a_lost_vehicle_behind_the_satellite_caps_is_regained_with_a_regained_time_longer_than_the_timeout() -> None:
+    """A relayed vehicle back after a loss, its fixes every 5 s by the caps (quiet 5 s), its regained time 6 s: its
+    samples are continuous by its lost_after (3 + 5 s), so it is regained about 6 s after it is heard again; a gap
+    between two capped fixes longer than the bare 3 s timeout must not start the regaining again at every fix."""
+    links = Providers(comms_lost_timeout=3.0, regained_time=6.0)
+    links.seen("GPSFixReport", A, envelope(T0, T0 + 0.6), 0.6, T0 + 0.6, True)
+    links.by_id[A].relay, links.by_id[A].quiet = "ship-1", 5.0
+    events = [e for p, e in links.tick(20.0, T0 + 20.0) if p.id == A]
+    assert events == ["lost"]
+    for step in range(200, 601):  # from 20 s to 60 s in steps of 0.1 s: a fix every 5 s again, each 0.6 s on its way
+        t = step / 10
+        if step % 50 == 6:
+            links.seen("GPSFixReport", A, envelope(T0 + t - 0.6, T0 + t), t, T0 + t, True)
+        events += [e for p, e in links.tick(t, T0 + t) if p.id == A]
+    assert "regained" in events, events
