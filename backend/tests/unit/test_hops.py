@@ -8,7 +8,7 @@ import uuid
 import pytest
 
 from sem_console.console.alarms import lost_with_relay, relay_silent_text
-from sem_console.console.hops import Hops, silent_relays
+from sem_console.console.hops import Hops, relay_silent_after, silent_relays
 from sem_console.console.providers import Providers, report_stamp
 from sem_console.core.messages import ReportEnvelope
 from sem_console.dds.hops import NEVER, RelayLink
@@ -205,3 +205,22 @@ def test_a_lost_vehicle_behind_the_satellite_caps_is_regained_with_a_regained_ti
             links.seen("GPSFixReport", A, envelope(T0 + t - 0.6, T0 + t), t, T0 + t, True)
         events += [e for p, e in links.tick(t, T0 + t) if p.id == A]
     assert "regained" in events, events
+
+
+def test_a_vehicle_lost_with_its_relay_is_said_by_some_alarm_whatever_the_quiet_of_the_relay_s_other_vehicles() -> None:
+    """A relay carrying a 3.0.1 vehicle (quiet 5 s) and a 6.0 one whose caps keep it quiet 30 s (`--caps
+    GlobalPoseReport=30`): its link goes at T0 + 10. The 3.0.1 vehicle is lost 3 + 5 s after its last data, with its
+    relay (no link-lost of its own); the relay's alarm must then say it, not 25 s later."""
+    hops = Hops()
+    links = Providers(comms_lost_timeout=3.0, regained_time=1.0)
+    for t in (0.0, 5.0, 10.0):  # its capped fixes, the last as the link goes
+        links.seen("GPSFixReport", A, envelope(T0 + t, T0 + t + 0.2), t + 0.2, T0 + t + 0.2, True)
+    hops.seen(RelayLink("ship-1", [str(A), str(B)], 0, [5000, 30000]), T0 + 10.2)
+    p = links.by_id[A]
+    p.relay, p.quiet = "ship-1", 5.0
+    t = 10.2 + 8.5
+    assert [e for q, e in links.tick(t, T0 + t) if q.id == A] == ["lost"]
+    after = relay_silent_after(3.0)
+    said_by_relay = [h.relay for h in silent_relays(hops.by_relay, T0 + t, after)] == ["ship-1"]
+    said_by_vehicle = not lost_with_relay(p, hops.by_relay, T0 + t, after)
+    assert said_by_relay or said_by_vehicle, "a lost vehicle that no alarm says"
