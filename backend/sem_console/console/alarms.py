@@ -774,13 +774,16 @@ def overloaded_text(delay: float, vehicles: int) -> str:
 
 def lost_with_relay(p: Provider, relays: Mapping[str, Hop], now: float, silent_after: float) -> bool:
     """Whether a lost vehicle was lost with the relay it comes through: no data came over the relay's link since the
-    vehicle went silent (its newest time stamp and its comms-lost timeout), or, without a time stamp of it, the relay
-    is silent. Its loss is then the relay's, said by the relay's one alarm. A relay that has carried no data yet (its
-    operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
+    vehicle went silent (its newest time stamp and its timeout), or, without a time stamp of it, the relay is silent.
+    Its loss is then the relay's, said by the relay's one alarm; but a vehicle silent now while that alarm is not on
+    (the relay's other vehicles' caps keep them quieter: it is silent later) says its own. A relay that has carried no
+    data yet (its operations side's relay just restarted) is never silent: the loss is the vehicle's own."""
     hop = relays.get(p.relay) if p.relay is not None else None
     if hop is None or hop.data_at is None:
         return False
     made = p.data_at()
     if made is None:
         return hop.silent(now, silent_after)
+    if now - made > p.lost_after() and not hop.silent(now, silent_after):
+        return False  # silent now, and the relay's alarm not on (yet: its other vehicles' caps keep them quieter)
     return hop.data_at <= made + p.lost_after()

@@ -187,7 +187,7 @@ class Providers:
             elif stamp is not None:
                 p.lag = wall - stamp if p.lag is None else min(p.lag, wall - stamp)
                 p.stamp = stamp if p.stamp is None else max(p.stamp, stamp)
-        if p.link == "lost" and (p.regaining_since is None or gap > p.config.commsLostTimeout):
+        if p.link == "lost" and (p.regaining_since is None or gap > p.lost_after()):
             p.regaining_since = now
         return p, new
 

@@ -52,6 +52,7 @@ def access_control(vehicle_relays: Mapping[str, Sequence[uuid.UUID] | None], ope
     for name, vehicles in vehicle_relays.items():
         # its key space, its own token, and the tokens of the vehicles it carries (relay/hops.py) under its own name;
         # with its vehicles listed, only theirs: no other relay's vehicle can be claimed, reported for or commanded
+        mine = [f"vehicles {name}"]
         if vehicles is None:
             own = [f"{PREFIX}/{name}/**", f"{LIVELINESS}/vehicles/{name}/**", f"{carries_prefix(name)}/**"]
         else:
@@ -60,12 +61,16 @@ def access_control(vehicle_relays: Mapping[str, Sequence[uuid.UUID] | None], ope
                 *(f"{PREFIX}/{name}/*/{v}/**" for v in vehicles),
                 *(f"{carries_prefix(name)}/*/{v}/**" for v in vehicles),
             ]
+            # it subscribes to its whole key space (`sem/<name>/<domain>/**`, relay.py); what reaches it there is
+            # still only its vehicles' (the puts the router delivers are those of the keys above)
+            rules.append(_rule(f"subscribes {name}", [f"{PREFIX}/{name}/**"], ["declare_subscriber"], ("ingress",)))
+            mine.append(f"subscribes {name}")
         rules.append(_rule(f"vehicles {name}", own, _MESSAGES))
         subjects.append({"id": f"vehicles {name}", "cert_common_names": [name]})
         policies.append(
             {
                 "id": f"vehicles {name}",
-                "rules": [f"vehicles {name}", "watch operations", "told operations"],
+                "rules": [*mine, "watch operations", "told operations"],
                 "subjects": [f"vehicles {name}"],
             }
         )

@@ -31,6 +31,7 @@ log = logging.getLogger("sem-relay")
 CARRIES = "sem-relay-carries"
 LIVELINESS = "sem-relay"  # the relays' own liveliness tokens (relay.py): `sem-relay/<side>/<name>/<session>`
 RELAYS = f"{LIVELINESS}/vehicles"  # the vehicles' relays' ones
+QUIET_MAX_MS = 86_400_000  # a token's quiet at most (a cap is a day at most, relay/link.py): a larger one is no token
 LEFT_GRACE = 3.0  # s after a vehicle's token went: its relay's own token still there then, the vehicle left that relay
 QUERY_SECONDS = 10.0  # how long the operations side's start waits for the router's list of the tokens declared
 Origin = tuple[str, int]  # a vehicles' relay's name and its DDS domain
@@ -52,7 +53,7 @@ def parse_carries(text: str) -> tuple[Origin, uuid.UUID, int] | None:
     parts = text.split("/")
     if len(parts) not in (4, 5) or parts[0] != CARRIES or not parts[2].isdigit():
         return None
-    if len(parts) == 5 and not parts[4].isdigit():
+    if len(parts) == 5 and not (parts[4].isdigit() and int(parts[4]) <= QUIET_MAX_MS):
         return None
     try:
         return (unquote(parts[1]), int(parts[2])), uuid.UUID(parts[3]), int(parts[4]) if len(parts) == 5 else 0

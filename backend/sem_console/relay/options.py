@@ -207,7 +207,7 @@ def vehicle_relays(text: str) -> dict[str, tuple[uuid.UUID, ...] | None]:
             out[name] = None
             continue
         try:
-            out[name] = tuple(uuid.UUID(v.strip()) for v in listed.split("+") if v.strip())
+            out[name] = tuple(dict.fromkeys(uuid.UUID(v.strip()) for v in listed.split("+") if v.strip()))
         except ValueError:
             raise ValueError(
                 f"--vehicle-relays {item!r}: give NAME or NAME=GUID+GUID..., each GUID a vehicle's source GUID"

@@ -20,7 +20,7 @@ from sem_console.relay.cli import build_parser, main, options_from
 from sem_console.relay.domain import Taken
 from sem_console.relay.hops import carries_key, parse_carries
 from sem_console.relay.link import LINK_CLASSES, ON_CHANGE, Held, Limiter, SentLog, parse_caps, quiet_seconds, short_name
-from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem
+from sem_console.relay.options import RelayOptions, endpoint_host, endpoint_problem, tls_problem, vehicle_relays
 from sem_console.relay.relay import Relay
 from sem_console.relay.wire import Address, Kind, attachment, key, parse_key, read_attachment
 from sem_console.umaa.guid import to_guid
@@ -164,16 +164,18 @@ def test_access_control_gives_each_vehicles_relay_its_own_key_space_and_denies_t
             "sem-relay/vehicles/ship-2/**",
             "sem/ship-2/**",
         ],
-        "ship-3": [  # its vehicles listed: their keys and tokens only
+        "ship-3": [  # its vehicles listed: their keys and tokens only (and its subscription to its key space)
             f"sem-relay-carries/ship-3/*/{v1}/**",
             f"sem-relay-carries/ship-3/*/{v2}/**",
             "sem-relay/operations/**",
             "sem-relay/operations/**",
             "sem-relay/vehicles/ship-3/**",
+            "sem/ship-3/**",
             f"sem/ship-3/*/{v1}/**",
             f"sem/ship-3/*/{v2}/**",
         ],
     }
+    assert rules["subscribes ship-3"]["messages"] == ["declare_subscriber"]  # its key space: subscribed, not put
     assert "put" not in rules["watch operations"]["messages"]  # a vehicles' relay only watches the operations relays
     assert rules["watch operations"]["flows"] == ["ingress"] and rules["told operations"]["flows"] == ["egress"]
 
@@ -282,6 +284,7 @@ def test_the_command_line_refuses_in_one_line(monkeypatch: pytest.MonkeyPatch) -
         "one relay\n",
     )
     assert run(*acl, "--vehicle-relays", "ship-1=")[1].startswith("sem-relay: error: --vehicle-relays 'ship-1=': no vehicle")
+    assert vehicle_relays(f"ship-1={v1}+{v1}, ship-2") == {"ship-1": (uuid.UUID(v1),), "ship-2": None}  # once is enough
     code, err = run("--lease-seconds", "0")
     assert code == 2 and err.startswith("sem-relay: error: --lease-seconds: ") and err.count("\n") == 1
     monkeypatch.delenv("SEM_RELAY_CONNECT")
@@ -374,3 +377,5 @@ def test_the_caps_say_how_long_a_vehicle_of_each_version_may_be_quiet_and_its_to
     assert parse_carries(carries_key("Ship One", 3, vehicle, 5000)) == (("Ship One", 3), vehicle, 5000)
     assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}") == (("ship-1", 3), vehicle, 0)  # an earlier relay's
     assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}/soon") is None
+    assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}/86400001") is None  # more than a day: no token
+    assert parse_carries(f"sem-relay-carries/ship-1/3/{vehicle}/{10**30}") is None
