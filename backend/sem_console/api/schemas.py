@@ -656,8 +656,8 @@ class ReportMessage(_Model):
         False,
         description=(
             "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle or none "
-            "(`select`), but once every 5 s (a replay: of the recording's time); the `select` of this vehicle brings its "
-            "latest whole"
+            "(`select`), but once every 5 s or longer with a large fleet (a replay: of the recording's time); the `select` "
+            "of this vehicle brings its latest whole"
         ),
     )
 
@@ -726,6 +726,16 @@ class SilencesMessage(_Model):
     silences: list[PlannedSilence]
 
 
+class PaceMessage(_Model):
+    """To a client that named the vehicle it draws (`select`, /ws?vehicle=): how often, at most, each other vehicle's
+    report of a topic comes to it (the console shares a budget of reports a second among the vehicles it does not
+    draw), sent with its first `select` and again when the fleet's size moves it. A vehicle not drawn is silent only
+    when nothing of it came for longer than this beside the usual bound."""
+
+    type: Literal["pace"]
+    othersEvery: float = Field(gt=0, description="seconds: each other vehicle's report of a topic comes at most this often")
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -751,6 +761,7 @@ ServerMessage = Annotated[
     | SilencesMessage
     | DatabaseMessage
     | LoadMessage
+    | PaceMessage
     | ErrorMessage
     | PongMessage,
     Field(discriminator="type"),
@@ -778,9 +789,10 @@ class AckMessage(_Model):
 
 class SelectMessage(_Model):
     """The vehicle the client draws in full (null: none): its reports go out ahead of the others' and its latest
-    GPSReport comes whole at once; every other vehicle's GPSReport then comes `partial` but once every 5 s, and each other
-    vehicle's reports at most once a topic every 0.25 s (the newest). A client that never sends one gets every report
-    whole, as it comes."""
+    GPSReport comes whole at once; every other vehicle's GPSReport then comes `partial` but once every 5 s (longer with
+    a large fleet: a budget of whole ones a second), and each other vehicle's reports at most once a topic every pace
+    (0.25 s, longer with a large fleet: a budget of reports a second; told in a `pace` message), the newest. A client
+    that never sends one gets every report whole, as it comes."""
 
     type: Literal["select"]
     providerId: uuid.UUID | None

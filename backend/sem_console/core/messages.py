@@ -285,6 +285,11 @@ class LoadMessage(TypedDict):
     load: ConsoleLoad
 
 
+class PaceMessage(TypedDict):
+    type: Literal["pace"]
+    othersEvery: float
+
+
 class ErrorMessage(TypedDict):
     type: Literal["error"]
     message: str
@@ -310,6 +315,7 @@ ServerMessage = (
     | SilencesMessage
     | DatabaseMessage
     | LoadMessage
+    | PaceMessage
     | ErrorMessage
     | PongMessage
 )
@@ -371,6 +377,10 @@ def database_message(database: DatabaseState) -> DatabaseMessage:
 
 def load_message(load: ConsoleLoad) -> LoadMessage:
     return {"type": "load", "load": load}
+
+
+def pace_message(others_every: float) -> PaceMessage:
+    return {"type": "pace", "othersEvery": others_every}
 
 
 def error_message(message: str) -> ErrorMessage:

@@ -135,6 +135,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task":
       return taskReceived(state, msg.task);
+    case "pace":
     case "load": // the console's own load: its console-overloaded alarm and the vehicles' "unchecked" link say it
     case "replay": // the playback is the data source's (replay.ts), not the console's state
     case "error":
