@@ -13,7 +13,16 @@ import { unreachable } from "./source";
 import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
-import { HISTORY_SECONDS, historyLoaded, historyPoint, mergeHistory, report, select, type HistoryPoint } from "./slices/vehicles";
+import {
+  HISTORY_SECONDS,
+  historyLoaded,
+  historyPoint,
+  mergeHistory,
+  paceOf,
+  report,
+  select,
+  type HistoryPoint,
+} from "./slices/vehicles";
 import { initialState, reduce, reduceAll, type State } from "./state";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -140,6 +149,20 @@ describe("reducer", () => {
     expect(report(after.providers[P], "GPSReport")?.satellites).toHaveLength(1); // its satellites taken all the same
     const newer = reduce(after, reportMessage(P, "GPSReport", { satellites: [] }, [], 2), 1101);
     expect(newer.providers[P].topics.GPSReport!.at).toBe(1101); // a new sample arrived now
+  });
+
+  it("paces every vehicle by the console's pace but the selected one once its reports come at full rate", () => {
+    const fix = (id: string) => reportMessage(id, "GPSFixReport", {});
+    let s = select(apply([snapshot()]), "a");
+    expect(paceOf(s, "a")).toBe(0); // the console paces none until it says so
+    s = apply([{ type: "pace", othersEvery: 10 }], s);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 10]); // a: none of its reports came since it was selected
+    s = apply([fix("b"), fix("a")], s);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([0, 10]);
+    s = select(s, "b"); // b at the others' pace until its first report at full rate; a at the others' pace again
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 10]);
+    s = reduce(s, fix("b"), 1001);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 0]);
   });
 
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {

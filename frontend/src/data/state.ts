@@ -7,6 +7,7 @@ import { initialComap, taskReceived, type ComapState } from "./slices/comap";
 import {
   emptyProvider,
   fromSummary,
+  heardAtFullRate,
   initialVehicles,
   reported,
   withLoneSelected,
@@ -65,6 +66,7 @@ export function reduceAll(state: State, msgs: readonly ServerMessage[], now: num
     }
     const known = msg.providerId in draft;
     draft[msg.providerId] = reported(draft[msg.providerId], msg, now);
+    s = heardAtFullRate(s, msg.providerId);
     if (!known && s.selected === null) s = withLoneSelected(s);
   }
   return s;
@@ -109,10 +111,12 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       };
     }
     case "report":
-      return {
-        ...state,
-        providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) },
-      };
+      return heardAtFullRate(
+        { ...state, providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) } },
+        msg.providerId,
+      );
+    case "pace": // the vehicles the page does not draw come at this pace: judged silent by it (paceOf)
+      return state.othersEvery === msg.othersEvery ? state : { ...state, othersEvery: msg.othersEvery };
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);
@@ -135,7 +139,6 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       return { ...state, worldModel: msg.worldModel as FeatureCollection, worldModelSeq: state.worldModelSeq + 1 };
     case "task":
       return taskReceived(state, msg.task);
-    case "pace":
     case "load": // the console's own load: its console-overloaded alarm and the vehicles' "unchecked" link say it
     case "replay": // the playback is the data source's (replay.ts), not the console's state
     case "error":

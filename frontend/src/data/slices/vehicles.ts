@@ -64,9 +64,35 @@ export interface VehiclesState {
   // A replay's instants shown (each seek, each reconnect): the chart's and map's history is loaded again
   // for each, and a REST answer for an earlier one is dropped
   instant: number;
+  // The console's pace of the vehicles the page does not draw (its `pace` message): each one's report of a topic comes
+  // at most this often, seconds; null: it paces none (it sends every report as it comes)
+  othersEvery: number | null;
+  // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
+  // still be at the others' pace)
+  fullRate: string | null;
 }
 
-export const initialVehicles: VehiclesState = { providers: {}, selected: null, instant: 0 };
+export const initialVehicles: VehiclesState = {
+  providers: {},
+  selected: null,
+  instant: 0,
+  othersEvery: null,
+  fullRate: null,
+};
+
+/** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
+ * vehicles it does not draw, for every vehicle but the selected one once its own reports come at full rate; 0 when the
+ * console paces none. */
+export function paceOf(s: Pick<VehiclesState, "othersEvery" | "fullRate" | "selected">, id: string): number {
+  if (s.othersEvery === null) return 0;
+  return id === s.selected && id === s.fullRate ? 0 : s.othersEvery;
+}
+
+/** The state with a report of `providerId` come: the selected vehicle's first since its selection marks it at full
+ * rate (`fullRate`). */
+export function heardAtFullRate<S extends VehiclesState>(state: S, providerId: string): S {
+  return providerId === state.selected && state.fullRate !== providerId ? { ...state, fullRate: providerId } : state;
+}
 
 export const TRAIL_SECONDS = 600;
 export const TRAIL_STEP = 5;

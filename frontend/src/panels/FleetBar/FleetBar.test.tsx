@@ -55,6 +55,45 @@ describe("FleetBar", () => {
     await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
   });
 
+  it("keeps a vehicle the console paces live while it comes at its pace, and calls it stale once silent beyond it", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FleetBar />);
+    const fix = (id: string) => reportMessage(id, "GPSFixStatusReport", { fixValid: true }, [], source.clock);
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo" })] }),
+        { type: "pace", othersEvery: 10 },
+        fix(A),
+        fix(B),
+      ),
+    );
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("2 live"));
+    act(() => {
+      source.clock = 1008; // Bravo, not selected, comes every 10 s: 8 s since its last is its pace, not a silence
+      source.send(fix(A));
+    });
+    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("live"));
+    expect(screen.getByTestId("fleet-live").textContent).toBe("2 live");
+    expect(chip("Bravo").getAttribute("data-link")).toBe("live");
+    act(() => {
+      source.clock = 1014; // 14 s: silent past its pace and the 3 s
+      source.send(fix(A));
+    });
+    await waitFor(() => expect(screen.getByTestId("fleet-stale").textContent).toBe("1 stale"));
+    expect(chip("Bravo").getAttribute("data-link")).toBe("stale");
+    expect(within(chip("Bravo")).getByTestId("fleet-link").getAttribute("title")).toBe("no report for over 13 s");
+    expect(screen.getByTestId("fleet-stale").getAttribute("title")).toBe(
+      "no report for over 3 s (over 13 s for a vehicle not selected: the console sends each of them every 10 s)",
+    );
+    // Alpha, selected and at full rate: stale after 3 s of silence, not 13
+    act(() => {
+      source.clock = 1018;
+      source.send(fix(B));
+    });
+    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("stale"));
+    expect(chip("Bravo").getAttribute("data-link")).toBe("live");
+  });
+
   it("counts a vehicle not checked while the console is behind apart, not as live", async () => {
     const source = fleet();
     await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
