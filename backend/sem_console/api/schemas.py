@@ -30,6 +30,7 @@ from sem_console.core.contract import StrictModel as _Model
 from sem_console.core.contract import TopicHealth as TopicHealth
 from sem_console.core.contract import Transition as Transition
 from sem_console.core.contract import TransitionMessage as TransitionMessage
+from sem_console.core.versions import UmaaVersion
 from sem_console.storage.models import AlarmHandled, AlarmRaised, TaskOwned, TaskPlanned, TaskProgress
 
 
@@ -43,6 +44,53 @@ class ReportEnvelope(_Model):
 
 class ProviderDetail(ProviderSummary):
     reports: dict[ReportTopic, ReportEnvelope | None]
+
+
+class FixBrief(_Model):
+    """Of a vehicle's newest GPSFixReport, what the map draws of a vehicle not selected."""
+
+    lat: float | None = Field(description="position2DWithTime's latitude, degrees")
+    lon: float | None = Field(description="position2DWithTime's longitude, degrees")
+    course: float | None = Field(description="trueCourse, radians")
+    sog: float | None = Field(description="SOG, m/s")
+    latLongValid: bool | None = Field(description="GPSLatLongValid")
+    invalid: list[str] = Field(description="the report's invalid values, as its envelope has them")
+    receivedAt: float = Field(description="when the console received it, as its envelope has it")
+    timeStamp: dict[str, Any] | None = Field(
+        None, description="its timeStamp, for a vehicle seen through a relay (the age of its data); absent otherwise"
+    )
+
+
+class FixStatusBrief(_Model):
+    """Of a vehicle's newest GPSFixStatusReport, what the page draws of a vehicle not selected."""
+
+    fixValid: bool | None
+    originLat: float | None = Field(description="originPosition's latitude, degrees")
+    originLon: float | None = Field(description="originPosition's longitude, degrees")
+    receivedAt: float
+
+
+class InsBrief(_Model):
+    """Of a vehicle's newest InertialSensorReport, what the page draws of a vehicle not selected."""
+
+    state: str | None
+    status: str | None
+    receivedAt: float
+
+
+class VehicleBrief(_Model):
+    """A vehicle as a client that named another draws it (its list row, fleet-bar chip and map dot): a tenth of a
+    ProviderDetail's bytes. GET /api/providers/{id} has the rest."""
+
+    id: str
+    name: str | None
+    link: LinkState
+    umaaVersion: UmaaVersion
+    jausId: str | None
+    relay: RelayHop | None
+    fix: FixBrief | None = Field(description="null: no GPSFixReport yet")
+    fixStatus: FixStatusBrief | None = Field(description="null: no GPSFixStatusReport yet")
+    ins: InsBrief | None = Field(description="null: no InertialSensorReport yet")
 
 
 CONFIRM_LOST = (
@@ -634,8 +682,16 @@ class SnapshotMessage(_Model):
     providers: list[ProviderDetail] = Field(
         description=(
             "every vehicle with its latest reports, its GPSReport's satellites left out (an empty list): only the selected "
-            "vehicle's are drawn, and GET /api/providers/{id} has them"
+            "vehicle's are drawn, and GET /api/providers/{id} has them; to a client that named its vehicle on connect "
+            "(/ws?vehicle=), that vehicle alone (if known)"
         )
+    )
+    fleet: list[VehicleBrief] = Field(
+        default_factory=list,
+        description=(
+            "to a client that named its vehicle on connect (/ws?vehicle=): every other vehicle, as the brief its overviews "
+            "draw; empty otherwise"
+        ),
     )
     commands: list[Command]
     gateways: list[GatewayState]

@@ -56,6 +56,42 @@ class ProviderDetail(ProviderSummary):
     reports: dict[str, ReportEnvelope | None]
 
 
+class FixBrief(TypedDict):
+    lat: float | None
+    lon: float | None
+    course: float | None
+    sog: float | None
+    latLongValid: bool | None
+    invalid: list[str]
+    receivedAt: float
+    timeStamp: NotRequired[dict[str, Any] | None]
+
+
+class FixStatusBrief(TypedDict):
+    fixValid: bool | None
+    originLat: float | None
+    originLon: float | None
+    receivedAt: float
+
+
+class InsBrief(TypedDict):
+    state: str | None
+    status: str | None
+    receivedAt: float
+
+
+class VehicleBrief(TypedDict):
+    id: str
+    name: str | None
+    link: str
+    umaaVersion: str
+    jausId: str | None
+    relay: RelayHop | None
+    fix: FixBrief | None
+    fixStatus: FixStatusBrief | None
+    ins: InsBrief | None
+
+
 class Transition(TypedDict):
     seq: int
     status: str
@@ -204,6 +240,7 @@ class SnapshotMessage(TypedDict):
     serverTime: float
     authRequired: bool
     providers: list[ProviderDetail]
+    fleet: list[VehicleBrief]
     commands: list[Command]
     gateways: list[GatewayState]
     recording: RecordingStatus

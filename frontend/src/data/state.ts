@@ -6,6 +6,7 @@ import { initialAlarms, type AlarmsState } from "./slices/alarms";
 import { initialComap, taskReceived, type ComapState } from "./slices/comap";
 import {
   emptyProvider,
+  fromBrief,
   fromSummary,
   heardAtFullRate,
   initialVehicles,
@@ -78,7 +79,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       const providers: Record<string, ProviderView> = {};
       for (const d of msg.providers) {
         const old = state.providers[d.id];
-        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {} };
+        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {}, brief: false };
         for (const topic of Object.keys(d.reports) as Topic[]) {
           const env = d.reports[topic];
           if (env) {
@@ -95,6 +96,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
         }
         providers[d.id] = p;
       }
+      // to a page that named its vehicle on connect: every other vehicle as its brief (what the overviews draw)
+      for (const b of msg.fleet ?? []) providers[b.id] = fromBrief(state.providers[b.id], b, now, msg.serverTime);
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
       return {

@@ -1,7 +1,7 @@
 // @vitest-environment jsdom
 import { act, cleanup, fireEvent, screen, waitFor, within } from "@testing-library/react";
 import { afterEach, describe, expect, it } from "vitest";
-import { TestSource, alarm, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { TestSource, alarm, brief, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { update } from "../../data/store";
 import { select } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
@@ -53,6 +53,27 @@ describe("FleetBar", () => {
     expect(screen.getAllByTestId("fleet-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]);
     act(() => source.setState("live"));
     await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+  });
+
+  it("draws a vehicle of the snapshot's brief as one sent whole: its link, fix and INS", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FleetBar />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          serverTime: 1002, // Bravo's reports received 2 s before the snapshot: 2 s old on the page's clock too
+          providers: [vehicle(A, { name: "Alpha" })],
+          fleet: [brief(B, 1000, { name: "Bravo", ins: { state: "ON", status: "INIT", receivedAt: 1000 } })],
+        }),
+      ),
+    );
+    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("live"));
+    expect(within(chip("Bravo")).getByText("Fix valid")).toBeTruthy();
+    expect(within(chip("Bravo")).getByText("INS starting up")).toBeTruthy();
+    act(() => {
+      source.clock = 1002; // 4 s after its reports, no pace known: stale
+    });
+    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("stale"));
   });
 
   it("keeps a vehicle the console paces live while it comes at its pace, and calls it stale once silent beyond it", async () => {
