@@ -27,6 +27,9 @@ function fleet(): TestSource {
   return source;
 }
 
+// the bar's clock of ages ticks once a second: a wait for what it draws after the page's clock moved allows a few
+const TICK = { timeout: 3000 };
+
 const chip = (name: string) => screen.getAllByTestId("fleet-vehicle").find((c) => c.textContent?.includes(name))!;
 
 describe("FleetBar", () => {
@@ -73,7 +76,7 @@ describe("FleetBar", () => {
     act(() => {
       source.clock = 1002; // 4 s after its reports, no pace known: stale
     });
-    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("stale"));
+    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("stale"), TICK);
   });
 
   it("keeps a vehicle the console paces live while it comes at its pace, and calls it stale once silent beyond it", async () => {
@@ -100,8 +103,11 @@ describe("FleetBar", () => {
       source.clock = 1014; // 14 s: silent past its pace and the 3 s
       source.send(fix(A));
     });
-    await waitFor(() => expect(screen.getByTestId("fleet-stale").textContent).toBe("1 stale"));
-    expect(chip("Bravo").getAttribute("data-link")).toBe("stale");
+    // the bar draws on the frame after the report and on its clock's tick: both, once both have come
+    await waitFor(() => {
+      expect(screen.getByTestId("fleet-stale").textContent).toBe("1 stale");
+      expect(chip("Bravo").getAttribute("data-link")).toBe("stale");
+    }, TICK);
     expect(within(chip("Bravo")).getByTestId("fleet-link").getAttribute("title")).toBe("no report for over 13 s");
     expect(screen.getByTestId("fleet-stale").getAttribute("title")).toBe(
       "no report for over 3 s (over 13 s for a vehicle not selected: the console sends each of them every 10 s)",
@@ -111,7 +117,7 @@ describe("FleetBar", () => {
       source.clock = 1018;
       source.send(fix(B));
     });
-    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("stale"));
+    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("stale"), TICK);
     expect(chip("Bravo").getAttribute("data-link")).toBe("live");
   });
 
