@@ -2,9 +2,10 @@
 
 Ordered events (commands, transitions, providers, alarms) are queued per client, never
 conflated, and each goes out before any report waiting; then the reports of the vehicle the client selected (`select`);
-a selecting client's reports of the other vehicles wait (`later`) so that each goes at most once a topic every
-OTHERS_EVERY; reports are conflated per client (the latest per provider and topic), so a
-client that reads slowly gets fewer reports, not later ones, of those not yet written: what was written waits in
+a selecting client's reports of the other vehicles wait (`later`) so that each goes at most once a topic every pace
+(OTHERS_EVERY, longer when their streams pass a budget of reports a second, OTHERS_BUDGET); reports are conflated per
+client (the latest per provider and topic), so a client that reads slowly gets fewer reports, not later ones, of those
+not yet written: what was written waits in
 the sockets' buffers in order (with 250 vehicles, megabytes: the selected vehicle's tail, docs/rendering.md).
 A client is dropped when its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
 stopped reading), or when the queue reaches four times `max_queue` whatever it does, or when one send to it has not
