@@ -30,6 +30,7 @@ from sem_console.core.contract import StrictModel as _Model
 from sem_console.core.contract import TopicHealth as TopicHealth
 from sem_console.core.contract import Transition as Transition
 from sem_console.core.contract import TransitionMessage as TransitionMessage
+from sem_console.core.versions import UmaaVersion
 from sem_console.storage.models import AlarmHandled, AlarmRaised, TaskOwned, TaskPlanned, TaskProgress
 
 
@@ -43,6 +44,53 @@ class ReportEnvelope(_Model):
 
 class ProviderDetail(ProviderSummary):
     reports: dict[ReportTopic, ReportEnvelope | None]
+
+
+class FixBrief(_Model):
+    """Of a vehicle's newest GPSFixReport, what the map draws of a vehicle not selected."""
+
+    lat: float | None = Field(description="position2DWithTime's latitude, degrees")
+    lon: float | None = Field(description="position2DWithTime's longitude, degrees")
+    course: float | None = Field(description="trueCourse, radians")
+    sog: float | None = Field(description="SOG, m/s")
+    latLongValid: bool | None = Field(description="GPSLatLongValid")
+    invalid: list[str] = Field(description="the report's invalid values, as its envelope has them")
+    receivedAt: float = Field(description="when the console received it, as its envelope has it")
+    timeStamp: dict[str, Any] | None = Field(
+        None, description="its timeStamp, for a vehicle seen through a relay (the age of its data); absent otherwise"
+    )
+
+
+class FixStatusBrief(_Model):
+    """Of a vehicle's newest GPSFixStatusReport, what the page draws of a vehicle not selected."""
+
+    fixValid: bool | None
+    originLat: float | None = Field(description="originPosition's latitude, degrees")
+    originLon: float | None = Field(description="originPosition's longitude, degrees")
+    receivedAt: float
+
+
+class InsBrief(_Model):
+    """Of a vehicle's newest InertialSensorReport, what the page draws of a vehicle not selected."""
+
+    state: str | None
+    status: str | None
+    receivedAt: float
+
+
+class VehicleBrief(_Model):
+    """A vehicle as a client that named another draws it (its list row, fleet-bar chip and map dot): a tenth of a
+    ProviderDetail's bytes. GET /api/providers/{id} has the rest."""
+
+    id: str
+    name: str | None
+    link: LinkState
+    umaaVersion: UmaaVersion
+    jausId: str | None
+    relay: RelayHop | None
+    fix: FixBrief | None = Field(description="null: no GPSFixReport yet")
+    fixStatus: FixStatusBrief | None = Field(description="null: no GPSFixStatusReport yet")
+    ins: InsBrief | None = Field(description="null: no InertialSensorReport yet")
 
 
 CONFIRM_LOST = (
@@ -634,8 +682,16 @@ class SnapshotMessage(_Model):
     providers: list[ProviderDetail] = Field(
         description=(
             "every vehicle with its latest reports, its GPSReport's satellites left out (an empty list): only the selected "
-            "vehicle's are drawn, and GET /api/providers/{id} has them"
+            "vehicle's are drawn, and GET /api/providers/{id} has them; to a client that named its vehicle on connect "
+            "(/ws?vehicle=), that vehicle alone (if known)"
         )
+    )
+    fleet: list[VehicleBrief] = Field(
+        default_factory=list,
+        description=(
+            "to a client that named its vehicle on connect (/ws?vehicle=): every other vehicle, as the brief its overviews "
+            "draw; empty otherwise"
+        ),
     )
     commands: list[Command]
     gateways: list[GatewayState]
@@ -656,8 +712,8 @@ class ReportMessage(_Model):
         False,
         description=(
             "a GPSReport without its satellites (an empty list): sent to a client that selected another vehicle or none "
-            "(`select`), but once every 5 s (a replay: of the recording's time); the `select` of this vehicle brings its "
-            "latest whole"
+            "(`select`), but once every 5 s or longer with a large fleet (a replay: of the recording's time); the `select` "
+            "of this vehicle brings its latest whole"
         ),
     )
 
@@ -726,6 +782,16 @@ class SilencesMessage(_Model):
     silences: list[PlannedSilence]
 
 
+class PaceMessage(_Model):
+    """To a client that named the vehicle it draws (`select`, /ws?vehicle=): how often, at most, each other vehicle's
+    report of a topic comes to it (the console shares a budget of reports a second among the vehicles it does not
+    draw), sent with its first `select` and again when the fleet's size moves it. A vehicle not drawn is silent only
+    when nothing of it came for longer than this beside the usual bound."""
+
+    type: Literal["pace"]
+    othersEvery: float = Field(gt=0, description="seconds: each other vehicle's report of a topic comes at most this often")
+
+
 class ErrorMessage(_Model):
     type: Literal["error"]
     message: str
@@ -751,6 +817,7 @@ ServerMessage = Annotated[
     | SilencesMessage
     | DatabaseMessage
     | LoadMessage
+    | PaceMessage
     | ErrorMessage
     | PongMessage,
     Field(discriminator="type"),
@@ -778,9 +845,10 @@ class AckMessage(_Model):
 
 class SelectMessage(_Model):
     """The vehicle the client draws in full (null: none): its reports go out ahead of the others' and its latest
-    GPSReport comes whole at once; every other vehicle's GPSReport then comes `partial` but once every 5 s, and each other
-    vehicle's reports at most once a topic every 0.25 s (the newest). A client that never sends one gets every report
-    whole, as it comes."""
+    GPSReport comes whole at once; every other vehicle's GPSReport then comes `partial` but once every 5 s (longer with
+    a large fleet: a budget of whole ones a second), and each other vehicle's reports at most once a topic every pace
+    (0.25 s, longer with a large fleet: a budget of reports a second; told in a `pace` message), the newest. A client
+    that never sends one gets every report whole, as it comes."""
 
     type: Literal["select"]
     providerId: uuid.UUID | None

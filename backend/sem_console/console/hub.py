@@ -2,9 +2,10 @@
 
 Ordered events (commands, transitions, providers, alarms) are queued per client, never
 conflated, and each goes out before any report waiting; then the reports of the vehicle the client selected (`select`);
-a selecting client's reports of the other vehicles wait (`later`) so that each goes at most once a topic every
-OTHERS_EVERY; reports are conflated per client (the latest per provider and topic), so a
-client that reads slowly gets fewer reports, not later ones, of those not yet written: what was written waits in
+a selecting client's reports of the other vehicles wait (`later`) so that each goes at most once a topic every pace
+(OTHERS_EVERY, longer when their streams pass a budget of reports a second, OTHERS_BUDGET); reports are conflated per
+client (the latest per provider and topic), so a client that reads slowly gets fewer reports, not later ones, of those
+not yet written: what was written waits in
 the sockets' buffers in order (with 250 vehicles, megabytes: the selected vehicle's tail, docs/rendering.md).
 A client is dropped when its ordered queue passes `max_queue` and it has sent nothing for `stall_seconds` (it
 stopped reading), or when the queue reaches four times `max_queue` whatever it does, or when one send to it has not
@@ -24,14 +25,15 @@ import json
 import logging
 import time
 import zlib
-from collections import deque
+from collections import Counter, deque
 from collections.abc import Awaitable, Callable, Mapping
+from heapq import heappop, heappush
 from itertools import islice
 from typing import Any
 
 import orjson
 
-from sem_console.core.messages import ReportMessage, ServerMessage, SnapshotMessage
+from sem_console.core.messages import ReportMessage, ServerMessage, SnapshotMessage, pace_message
 
 log = logging.getLogger("sem-console.hub")
 
@@ -41,8 +43,19 @@ MAX_UNACKED_FRAMES = 40_000  # a client on /ws?ack=1 that acknowledges none: 17 
 BATCH_MAX = 500  # reports in one batch at most (a frame of a few hundred kB)
 OTHERS_EVERY = 0.25  # s: at most one report a topic this often of each vehicle a selecting client does not draw in full
 # (its fleet on the map redraws every 0.45 s, its list with it): 10 Hz vehicles sent whole were the page's most work
+OTHERS_BUDGET = 400  # reports a second of the vehicles a selecting client does not draw in full, all of them together:
+# each one's topic goes at most every max(OTHERS_EVERY, their streams / OTHERS_BUDGET) s (its `pace`, told to the page).
+# The page met every target at 800 a second (50 vehicles at 10 Hz, 4 a second each: panels p99 41-48 ms, 0.27 renderer
+# cores, quiet machine) and missed at 1,000 (250 vehicles at 1 Hz: p99 100-170 ms, long tasks) and 4,000 (1,000
+# vehicles: p99 3 s); half of the 800, since at 1,000 vehicles the console and the simulator take most of the 2 cores:
+# 100 vehicles of four topics at 1 Hz, 1,000 vehicles' each every 10 s (the map's dots move every 10 s)
 FULL_EVERY = 5.0  # seconds: a vehicle not selected still gets its GPSReport's satellites this often (the sky plot's
 # trails take a point every 5 s of every vehicle, so a vehicle selected later shows the last ten minutes' trails)
+WHOLE_BUDGET = 10  # whole GPSReports a second of the vehicles a selecting client does not draw (about 10 kB each, 40
+# satellites): each one's at most every max(FULL_EVERY, their count / WHOLE_BUDGET) s; at 1,000 vehicles one every 100 s
+# (their trails sparser), where every vehicle's every 5 s was 2 MB a second to each page
+STREAMS_EVERY = 5.0  # s: the streams (a vehicle's topic) published within this long are what the budgets share
+RETELL = 0.1  # a client is told its pace again when it moved by more than this share
 
 
 def dumps(message: Mapping[str, Any]) -> str:
@@ -66,11 +79,12 @@ class Client:
     kB a second, what the operator watches); a client that takes frames and acknowledges none is dropped once
     MAX_UNACKED_FRAMES or MAX_QUEUED_BYTES are unacknowledged (those pass the window, and each is counted in `inflight`).
 
-    `select`: a client that names the vehicle it draws (the dashboard: `select` messages) gets every other vehicle's
-    GPSReport thin (without its satellites, marked `partial`) but once every FULL_EVERY seconds, and each other
-    vehicle's reports at most once a topic every OTHERS_EVERY seconds, the newest (`later` holds them meanwhile); one
-    that never does gets every report whole, as it comes. `clock`: the console's (a replay's is the recording's time, as
-    the page's trails are)."""
+    `select`: a client that names the vehicle it draws (the dashboard: `select` messages, or /ws?vehicle=) gets every
+    other vehicle's GPSReport thin (without its satellites, marked `partial`) but once every `whole_every` seconds, and
+    each other vehicle's reports at most once a topic every `pace` seconds, the newest (`later` holds them meanwhile,
+    `due` says when each is due): the hub sets both from its budgets (`Hub.repace`) and tells the client its pace (a
+    `pace` message), by which the page judges a vehicle it does not draw silent. One that never does gets every report
+    whole, as it comes. `clock`: the console's (a replay's is the recording's time, as the page's trails are)."""
 
     def __init__(
         self,
@@ -99,6 +113,10 @@ class Client:
         self.selected: str | None = None
         self.full_at: dict[str, float] = {}  # when each vehicle's last whole GPSReport went out to it
         self.since = clock()  # when it came, or its replay last seeked (`_last_whole`)
+        self.came = time.monotonic()  # when it came (`_sent_at`)
+        self.pace = OTHERS_EVERY  # s: each other vehicle's topic at most this often (the pace told, once selecting)
+        self.whole_every = FULL_EVERY  # s: each other vehicle's whole GPSReport at most this often
+        self.due: list[tuple[float, tuple[str, str]]] = []  # the reports parked in `later`: when each was last sent
         self.later: dict[tuple[str, str], str | tuple[str, str]] = {}  # other vehicles' reports not yet due to go
         self.sent_at: dict[tuple[str, str], float] = {}  # when each other vehicle's report of a topic last went
         self.release: asyncio.TimerHandle | None = None
@@ -121,12 +139,12 @@ class Client:
             value = text if thin is None else (text, thin)
             if key[0] == self.selected:
                 self.first[key] = value
-            elif key in self.later or (
-                self.selecting
-                and key not in self.reports
-                and time.monotonic() - self.sent_at.get(key, -OTHERS_EVERY) < OTHERS_EVERY
-            ):
+            elif key in self.later:
                 self.later[key] = value  # another vehicle's, sent a moment ago: the newest goes when it is due
+                return
+            elif self.selecting and key not in self.reports and time.monotonic() - (sent := self._sent_at(key)) < self.pace:
+                self.later[key] = value
+                heappush(self.due, (sent, key))
                 if self.release is None:
                     self.release = asyncio.get_running_loop().call_later(OTHERS_EVERY / 4, self._release)
                 return
@@ -149,11 +167,26 @@ class Client:
             self.snapshot_pending = True
             self.push(text)
 
+    def _sent_at(self, key: tuple[str, str]) -> float:
+        """When another vehicle's report of a topic last went to this client (monotonic). Before its first: as if one
+        went at a point of the pace before the client came, spread by the key, so that each stream's first comes
+        within a pace, not all at once: the snapshot has every vehicle's newest, and a new page's first second was a
+        report of every topic of every vehicle (4,000 with 1,000 vehicles)."""
+        sent = self.sent_at.get(key)
+        return self.came - self.pace * (zlib.crc32("/".join(key).encode()) % 1000) / 1000 if sent is None else sent
+
     def _release(self) -> None:
-        """Every OTHERS_EVERY / 4 while some wait: the other vehicles' reports now due join the queue."""
+        """Every OTHERS_EVERY / 4 while some wait: the other vehicles' reports now due join the queue, the longest
+        waiting first (`due` is a heap by when each was last sent: the few due are found without a look at the rest)."""
         self.release = None
         now = time.monotonic()
-        for key in [k for k in self.later if now - self.sent_at.get(k, -OTHERS_EVERY) >= OTHERS_EVERY]:
+        while self.due and now - self.due[0][0] >= self.pace:
+            _, key = heappop(self.due)
+            if key not in self.later:  # it went meanwhile (its vehicle selected)
+                continue
+            if now - (sent := self._sent_at(key)) < self.pace:  # sent since it was parked, or the pace grew
+                heappush(self.due, (sent, key))
+                continue
             self.reports[key] = self.later.pop(key)
         if self.reports:
             self.wake.set()
@@ -161,7 +194,10 @@ class Client:
             self.release = asyncio.get_running_loop().call_later(OTHERS_EVERY / 4, self._release)
 
     def select(self, provider_id: str | None) -> None:
-        """The client draws this vehicle now (None: none): its GPSReports go out whole, and its reports first."""
+        """The client draws this vehicle now (None: none): its GPSReports go out whole, and its reports first; the
+        first `select` tells it the pace of the others."""
+        if not self.selecting:
+            self.push(dumps(pace_message(self.pace)))
         self.selecting, self.selected = True, provider_id
         for key in [k for k in self.later if k[0] == provider_id]:
             self.first[key] = self.later.pop(key)
@@ -179,7 +215,7 @@ class Client:
         value = (self.reports if waiting is None else waiting)[key]
         if isinstance(value, str):
             return value
-        due = not self.selecting or key[0] == self.selected or self.clock() - self._last_whole(key[0]) >= FULL_EVERY
+        due = not self.selecting or key[0] == self.selected or self.clock() - self._last_whole(key[0]) >= self.whole_every
         return value[0] if due else value[1]
 
     def _last_whole(self, provider_id: str) -> float:
@@ -188,7 +224,7 @@ class Client:
         first comes within FULL_EVERY and not all at once: a new page's first reports were every vehicle's whole, 40
         satellites each (50 vehicles: 650 kB), which the snapshot had left out."""
         last = self.full_at.get(provider_id)
-        return self.since - FULL_EVERY * (zlib.crc32(provider_id.encode()) % 1000) / 1000 if last is None else last
+        return self.since - self.whole_every * (zlib.crc32(provider_id.encode()) % 1000) / 1000 if last is None else last
 
     def _text(
         self, key: tuple[str, str], text: str | None = None, waiting: dict[tuple[str, str], str | tuple[str, str]] | None = None
@@ -247,6 +283,7 @@ class Client:
         """Its sender and its release timer stop (Hub.detach: the socket closed; a timer left pending kept the client
         alive and moved its parked reports to a queue nobody sends)."""
         self.later.clear()
+        self.due.clear()
         if self.release is not None:
             self.release.cancel()
             self.release = None
@@ -307,10 +344,16 @@ class Hub:
         self.clients: set[Client] = set()
         self.published = 0  # messages handed to clients (one per client), for /api/metrics
         self.dropped = 0
+        self.heard: set[tuple[str, str]] = set()  # the streams (a vehicle's topic) published since `counted_at`
+        self.counted_at: float | None = None  # monotonic: when `streams` were last counted (`sweep`)
+        self.streams: Counter[str] = Counter()  # per vehicle, its streams published within STREAMS_EVERY
+        self.gps: set[str] = set()  # the vehicles among them with a GPSReport
 
     def publish(self, message: ServerMessage, key: tuple[str, str] | None = None, thin: ReportMessage | None = None) -> None:
         """Send `message` to every client (with `key`: a report, conflated per client; `thin`: the same report without
         what only a client drawing that vehicle needs, for the clients that draw another)."""
+        if key is not None:
+            self.heard.add(key)
         if not self.clients:
             return
         text = dumps(message)
@@ -323,7 +366,17 @@ class Hub:
 
     def sweep(self, now: float) -> None:
         """Cut every client one send to which has not completed for `cut_seconds` (it stopped reading: a laptop
-        asleep), whatever waits for it (`now`: monotonic seconds; the console's tick)."""
+        asleep), whatever waits for it (`now`: monotonic seconds; the console's tick); every STREAMS_EVERY, count the
+        streams published and set each client's pace by them."""
+        if self.counted_at is None:
+            self.counted_at = now
+        elif now - self.counted_at >= STREAMS_EVERY:
+            self.counted_at = now
+            heard, self.heard = self.heard, set()
+            self.streams = Counter(p for p, _ in heard)
+            self.gps = {p for p, topic in heard if topic == "GPSReport"}
+            for c in self.clients:
+                self.repace(c)
         for c in list(self.clients):
             # a send completes only once the frame is nearly all out: a snapshot of hundreds of kB takes minutes on a
             # satellite link that is still reading, so its size at the slowest link served is added to the bound
@@ -331,19 +384,39 @@ class Hub:
                 c.drop(f"stopped reading: nothing taken for {now - c.sending_since:.0f} s")
                 self._dropped(c)
 
+    def repace(self, c: Client) -> None:
+        """Set the client's pace of the vehicles it does not draw from the budgets and the streams counted (the
+        selected vehicle's not among them); tell it when it moved by more than RETELL."""
+        others = sum(self.streams.values()) - self.streams.get(c.selected, 0) if c.selected else sum(self.streams.values())
+        c.whole_every = max(FULL_EVERY, (len(self.gps) - (c.selected in self.gps)) / WHOLE_BUDGET)
+        pace = round(max(OTHERS_EVERY, others / OTHERS_BUDGET), 2)
+        if abs(pace - c.pace) > RETELL * c.pace:
+            c.pace = pace
+            if c.selecting:
+                c.push(dumps(pace_message(pace)))
+
     def _dropped(self, c: Client) -> None:
         self.dropped += 1
         log.warning("dropped a WebSocket client that %s", c.dropped_for)
         self.clients.discard(c)
 
     def attach(
-        self, send: Callable[[str], Awaitable[None]], first: SnapshotMessage, batch: bool = False, ack: bool = False
+        self,
+        send: Callable[[str], Awaitable[None]],
+        first: SnapshotMessage,
+        batch: bool = False,
+        ack: bool = False,
+        vehicle: str | None = None,
     ) -> Client:
         """Register a client with `first` (its snapshot) queued ahead of any later event; `batch`: it takes the
         reports waiting for it as one JSON array; `ack`: it acknowledges the frames it has taken, and its reports go
-        out within the hub's window (`Client`)."""
+        out within the hub's window (`Client`); `vehicle`: the vehicle it draws, named as it came (/ws?vehicle=: its
+        snapshot is built for it), as a `select` of it."""
         client = Client(send, self.max_queue, self.stall_seconds, batch, self.window if ack else None, self.clock)
         client.push_snapshot(json.dumps(first, separators=(",", ":")))
+        self.repace(client)
+        if vehicle is not None:
+            client.select(vehicle)
         self.clients.add(client)
         client.task = asyncio.get_running_loop().create_task(client.run())
         return client
@@ -357,6 +430,7 @@ class Hub:
             c.reports.clear()
             c.first.clear()
             c.later.clear()
+            c.due.clear()
             c.full_at.clear()  # a seek back: the recording's clock went back, and each vehicle's next is due afresh
             c.since = self.clock()
             c.snapshot_pending = False

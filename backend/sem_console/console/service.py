@@ -42,6 +42,7 @@ from sem_console.core.contract import LinkConfig
 from sem_console.core.messages import (
     ConsoleLoad,
     DatabaseState,
+    FixBrief,
     GatewayState,
     ProviderDetail,
     ProviderEvent,
@@ -51,6 +52,7 @@ from sem_console.core.messages import (
     ReportMessage,
     ServerMessage,
     SnapshotMessage,
+    VehicleBrief,
     alarms_message,
     command_message,
     database_message,
@@ -774,12 +776,13 @@ class Console:
     def provider_detail(self, p: Provider, now: float) -> ProviderDetail:
         return {**p.summary(now, self.clock.wall()), "reports": {t: p.reports.get(t) for t in REPORTS}}
 
-    def selected_report(self, provider_id: uuid.UUID) -> ReportMessage | None:
-        """The vehicle's latest GPSReport as a report message, satellites and all (a client has just selected it: the
-        reports it was sent of it were thin), None when it has none or is unknown."""
+    def selected_reports(self, provider_id: uuid.UUID) -> list[ReportMessage]:
+        """The vehicle's latest report of each topic as report messages, its GPSReport's satellites and all (a client has
+        just selected it: the reports it was sent of it were thin, paced, or its snapshot's brief); none when it is
+        unknown."""
         p = self.providers.by_id.get(provider_id)
-        env = p.reports.get("GPSReport") if p is not None else None
-        return None if env is None else report_message(str(provider_id), "GPSReport", env)
+        reports = {} if p is None else p.reports
+        return [report_message(str(provider_id), t, env) for t in REPORTS if (env := reports.get(t)) is not None]
 
     def first_screen_detail(self, p: Provider, now: float) -> ProviderDetail:
         """A vehicle as the snapshot has it: its GPSReport without its satellites, which only the selected vehicle's
@@ -816,14 +819,23 @@ class Console:
         self._database_sent = (state["unavailableSince"], state["writesHeld"], state["writesDropped"], now)
         self._emit(database_message(state))
 
-    def snapshot(self) -> SnapshotMessage:
+    def snapshot(self, vehicle: str | None = None) -> SnapshotMessage:
+        """What a new client draws first: every vehicle as `first_screen_detail`; to one that named the vehicle it
+        draws (`vehicle`), that one so and every other as its brief (`vehicle_brief`: 2.5 kB a vehicle against 0.3)."""
         now = self.clock.monotonic()
+        shown = list(self.providers.by_id.values())
+        briefs: list[VehicleBrief] = []
+        if vehicle is not None:
+            shown = [p for p in self.providers.by_id.values() if str(p.id) == vehicle]
+            wall = self.clock.wall()
+            briefs = [vehicle_brief(p, now, wall) for p in self.providers.by_id.values() if str(p.id) != vehicle]
         return {
             "type": "snapshot",
             "consoleId": str(self.id),
             "serverTime": self.clock.wall(),
             "authRequired": bool(self.settings.operators()),
-            "providers": [self.first_screen_detail(p, now) for p in self.providers.by_id.values()],
+            "providers": [self.first_screen_detail(p, now) for p in shown],
+            "fleet": briefs,
             "commands": [c.to_json() for c in self.commands.by_session.values()],
             "gateways": self.gateway_states(),
             "recording": self.recorder.status(),
@@ -1082,9 +1094,9 @@ class Console:
     def capabilities_of(self, provider_id: uuid.UUID) -> VehicleInfo | None:
         return self.c2.capabilities_of(provider_id)
 
-    def attach_client(self, send: Callable[[str], Awaitable[None]], batch: bool, ack: bool) -> Client:
-        """A WebSocket client, its snapshot first."""
-        return self.hub.attach(send, self.snapshot(), batch=batch, ack=ack)
+    def attach_client(self, send: Callable[[str], Awaitable[None]], batch: bool, ack: bool, vehicle: str | None = None) -> Client:
+        """A WebSocket client, its snapshot first (built for the vehicle it draws, `vehicle`, when it named one)."""
+        return self.hub.attach(send, self.snapshot(vehicle), batch=batch, ack=ack, vehicle=vehicle)
 
     def detach_client(self, client: Client) -> None:
         self.hub.detach(client)
@@ -1097,6 +1109,56 @@ def _thin(message: ReportMessage) -> ReportMessage | None:
     if message["topic"] != "GPSReport" or not env["report"].get("satellites"):
         return None
     return thin_report_message(message, _without_satellites(env))
+
+
+def vehicle_brief(p: Provider, now: float, wall: float) -> VehicleBrief:
+    """The vehicle as a page that draws another shows it (its list row, fleet-bar chip, map dot and origin): the members
+    of its newest fix, fix status and INS reports it draws, each with its receipt; positions to 1e-7 degrees (1 cm)."""
+    summary = p.summary(now, wall)
+    fix, status, ins = (p.reports.get(t) for t in ("GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"))
+    brief: VehicleBrief = {
+        "id": summary["id"],
+        "name": summary["name"],
+        "link": summary["link"],
+        "umaaVersion": summary["umaaVersion"],
+        "jausId": summary["jausId"],
+        "relay": summary.get("relay"),
+        "fix": None,
+        "fixStatus": None,
+        "ins": None,
+    }
+    if fix is not None:
+        r = fix["report"]
+        g = (r.get("position2DWithTime") or {}).get("geodeticPosition") or {}
+        fix_brief: FixBrief = {
+            "lat": _rounded((g.get("geodeticLatitude") or {}).get("latitude"), 7),
+            "lon": _rounded((g.get("geodeticLongitude") or {}).get("longitude"), 7),
+            "course": _rounded(r.get("trueCourse"), 5),
+            "sog": _rounded(r.get("SOG"), 3),
+            "latLongValid": r.get("GPSLatLongValid"),
+            "invalid": fix["invalid"],
+            "receivedAt": fix["receivedAt"],
+        }
+        if p.relay is not None:
+            fix_brief["timeStamp"] = r.get("timeStamp")
+        brief["fix"] = fix_brief
+    if status is not None:
+        r = status["report"]
+        o = (r.get("originPosition") or {}).get("geodeticPosition") or {}
+        brief["fixStatus"] = {
+            "fixValid": r.get("fixValid"),
+            "originLat": _rounded((o.get("geodeticLatitude") or {}).get("latitude"), 7),
+            "originLon": _rounded((o.get("geodeticLongitude") or {}).get("longitude"), 7),
+            "receivedAt": status["receivedAt"],
+        }
+    if ins is not None:
+        r = ins["report"]
+        brief["ins"] = {"state": r.get("state"), "status": r.get("status"), "receivedAt": ins["receivedAt"]}
+    return brief
+
+
+def _rounded(value: Any, digits: int) -> float | None:
+    return round(value, digits) if isinstance(value, float | int) and not isinstance(value, bool) else None
 
 
 def _without_satellites(env: ReportEnvelope) -> ReportEnvelope:

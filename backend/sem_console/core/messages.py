@@ -57,6 +57,42 @@ class ProviderDetail(ProviderSummary):
     reports: dict[str, ReportEnvelope | None]
 
 
+class FixBrief(TypedDict):
+    lat: float | None
+    lon: float | None
+    course: float | None
+    sog: float | None
+    latLongValid: bool | None
+    invalid: list[str]
+    receivedAt: float
+    timeStamp: NotRequired[dict[str, Any] | None]
+
+
+class FixStatusBrief(TypedDict):
+    fixValid: bool | None
+    originLat: float | None
+    originLon: float | None
+    receivedAt: float
+
+
+class InsBrief(TypedDict):
+    state: str | None
+    status: str | None
+    receivedAt: float
+
+
+class VehicleBrief(TypedDict):
+    id: str
+    name: str | None
+    link: str
+    umaaVersion: str
+    jausId: str | None
+    relay: RelayHop | None
+    fix: FixBrief | None
+    fixStatus: FixStatusBrief | None
+    ins: InsBrief | None
+
+
 class Transition(TypedDict):
     seq: int
     status: str
@@ -205,6 +241,7 @@ class SnapshotMessage(TypedDict):
     serverTime: float
     authRequired: bool
     providers: list[ProviderDetail]
+    fleet: list[VehicleBrief]
     commands: list[Command]
     gateways: list[GatewayState]
     recording: RecordingStatus
@@ -286,6 +323,11 @@ class LoadMessage(TypedDict):
     load: ConsoleLoad
 
 
+class PaceMessage(TypedDict):
+    type: Literal["pace"]
+    othersEvery: float
+
+
 class ErrorMessage(TypedDict):
     type: Literal["error"]
     message: str
@@ -311,6 +353,7 @@ ServerMessage = (
     | SilencesMessage
     | DatabaseMessage
     | LoadMessage
+    | PaceMessage
     | ErrorMessage
     | PongMessage
 )
@@ -372,6 +415,10 @@ def database_message(database: DatabaseState) -> DatabaseMessage:
 
 def load_message(load: ConsoleLoad) -> LoadMessage:
     return {"type": "load", "load": load}
+
+
+def pace_message(others_every: float) -> PaceMessage:
+    return {"type": "pace", "othersEvery": others_every}
 
 
 def error_message(message: str) -> ErrorMessage:

@@ -35,7 +35,7 @@ from sem_console.sim.provider import vehicle_guid
 from sem_console.umaa.guid import to_guid
 from sem_console.umaa.samples import make, now_datetime
 
-V1, V2 = str(vehicle_guid(1)), str(vehicle_guid(2))
+V1, V2, V3 = str(vehicle_guid(1)), str(vehicle_guid(2)), str(vehicle_guid(3))
 HAPPY = ["ISSUED", "COMMANDED", "EXECUTING", "COMPLETED"]
 REPORTS = {"GPSReport", "GPSFixReport", "GPSFixStatusReport", "InertialSensorReport"}
 
@@ -644,6 +644,45 @@ def test_a_client_that_names_its_vehicle_gets_the_others_satellites_only_now_and
     wait_until(lambda: ws.of("error"), 5, "a select of no vehicle id refused")
     assert "providerId" in ws.of("error")[0]["message"] and ws.errors == []
     ws.close()
+
+
+def test_a_client_that_names_its_vehicle_on_connect_gets_a_snapshot_built_for_it(sim, console) -> None:
+    """/ws?vehicle=<id> (the dashboard): its snapshot has that vehicle whole and every other as its brief (what the
+    overviews draw, a tenth of its bytes); it is told its pace at once; selecting another vehicle brings that one's
+    newest report of every topic whole, past its pace. A client that names none gets every vehicle whole."""
+    sim("--vehicles", "3")
+    c = console()
+    for v in (V1, V2, V3):
+        provider_ready(c.url, v, {"GPSFixReport", "GPSFixStatusReport", "InertialSensorReport", "GPSReport"})
+    plain = WsClient(c.ws_url)
+    ws = WsClient(f"{c.ws_url}?vehicle={V1.upper()}")  # an id as a link may spell it
+    full = wait_until(lambda: plain.of("snapshot"), 10, "the snapshot of a client that names none")[0]
+    mine = wait_until(lambda: ws.of("snapshot"), 10, "the snapshot built for the vehicle")[0]
+    assert {p["id"] for p in full["providers"]} == {V1, V2, V3} and full["fleet"] == []
+    assert [p["id"] for p in mine["providers"]] == [V1] and {b["id"] for b in mine["fleet"]} == {V2, V3}
+    whole = next(p for p in full["providers"] if p["id"] == V2)
+    b = next(b for b in mine["fleet"] if b["id"] == V2)
+    fix = whole["reports"]["GPSFixReport"]["report"]
+    lat = fix["position2DWithTime"]["geodeticPosition"]["geodeticLatitude"]["latitude"]
+    assert b["fix"]["lat"] == pytest.approx(lat, abs=1e-3)  # the two snapshots a moment apart: metres
+    assert b["fixStatus"]["fixValid"] is not None and b["ins"]["state"] and b["link"] == "live"
+    assert len(json.dumps(b)) * 4 < len(json.dumps(whole))
+    wait_until(lambda: ws.of("pace"), 5, "its pace")
+    assert ws.of("pace")[0]["othersEvery"] >= 0.25 and plain.of("pace") == []
+    mark = len(ws.messages)
+    ws.ws.send(json.dumps({"type": "select", "providerId": V2}))
+    got = wait_until(
+        lambda: (lambda t: t if len(t) == 4 else None)({m["topic"] for m in ws.messages[mark:] if m.get("providerId") == V2}),
+        5,
+        "the newly selected vehicle's newest report of each topic",
+    )
+    assert got == {"GPSFixReport", "GPSFixStatusReport", "InertialSensorReport", "GPSReport"}
+    bad = WsClient(f"{c.ws_url}?vehicle=unit-1")
+    wait_until(lambda: bad.of("error"), 5, "a vehicle= that is no id refused")
+    assert "vehicle=" in bad.of("error")[0]["message"] and len(bad.of("snapshot")[0]["providers"]) == 3
+    for w in (plain, ws, bad):
+        assert w.errors == []
+        w.close()
 
 
 def test_openapi_and_ws_schema_are_published(live) -> None:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import itertools
 import json
 import uuid
 from collections.abc import Awaitable, Callable
@@ -390,7 +391,12 @@ def test_a_report_that_waited_goes_thin_when_the_client_named_its_vehicle_meanwh
         client.ack(1)
         await asyncio.sleep(0.01)
         frames = [json.loads(t) for t in sent[1:]]
-        got = {m["providerId"]: m.get("partial", False) for f in frames for m in (f if isinstance(f, list) else [f])}
+        got = {
+            m["providerId"]: m.get("partial", False)
+            for f in frames
+            for m in (f if isinstance(f, list) else [f])
+            if m["type"] == "report"
+        }
         assert got == {"a": False, "b": True}
 
     asyncio.run(scenario())
@@ -404,6 +410,8 @@ def test_the_selected_vehicles_reports_go_ahead_of_the_fleets_and_past_the_windo
         hub = Hub(window=1024)
         client, sent = await held_client(hub, 1100)
         client.select("sel")
+        await asyncio.sleep(hub_module.OTHERS_EVERY)  # each other vehicle's first report is due within a pace of its coming
+        assert json.loads(sent.pop(1))["type"] == "pace"  # told with its first `select`, past the window
 
         def fix(p: str) -> None:
             hub.publish({"type": "report", "providerId": p, "topic": "GPSFixReport"}, key=(p, "GPSFixReport"))
@@ -440,8 +448,8 @@ def test_a_client_that_never_acknowledges_is_dropped_once_its_unacknowledged_fra
             await asyncio.sleep(0.01)
             acking.ack(len(acked))
         assert silent.dropped and silent not in hub.clients and hub.dropped == 1
-        assert len(sent) == 5  # the snapshot and four reports: the fifth report passed the bound
-        assert not acking.dropped and len(acked) == 11
+        assert len(sent) == 5  # the snapshot, its pace and three reports: the fourth report passed the bound
+        assert not acking.dropped and len(acked) == 12
 
     asyncio.run(scenario())
 
@@ -467,7 +475,7 @@ def test_the_vehicles_a_client_does_not_draw_come_at_most_once_a_topic_every_qua
         dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"})
         hub.attach(sender("other"), {"type": "snapshot"})
         dashboard.select("sel")
-        await asyncio.sleep(0.01)
+        await asyncio.sleep(hub_module.OTHERS_EVERY)  # each other vehicle's first report is due within a pace of its coming
         for n in range(5):
             for p in ("fleet", "sel"):
                 hub.publish({"type": "report", "providerId": p, "n": n}, key=(p, "GPSFixReport"))
@@ -506,7 +514,8 @@ def test_a_parked_report_goes_at_once_when_its_vehicle_is_selected_and_stops_wit
         hub.publish({"type": "report", "providerId": "fleet", "n": 1}, key=("fleet", "GPSFixReport"))
         hub.publish({"type": "alarms", "n": 9})
         await asyncio.sleep(0.01)
-        assert got == [("snapshot", None), ("report", 0), ("alarms", 9)]  # n 1 parked, the alarm not behind it
+        # the first within a pace of the client's coming, then n 1 in its place: parked, the alarm not behind it
+        assert got == [("snapshot", None), ("pace", None), ("alarms", 9)]
         assert ("fleet", "GPSFixReport") in client.later and client.release is not None
         client.select("fleet")
         await asyncio.sleep(0.01)
@@ -601,3 +610,119 @@ def test_a_writer_gone_is_judged_however_far_behind_the_console_is() -> None:
     links.seen("GPSFixReport", pid, {"x": 1}, 0.0, 0.0, True)
     links.seen("GPSFixReport", pid, None, 0.1, 0.1, False)
     assert [e for _, e in links.tick(0.2, 0.2, behind_by=60.0)] == ["lost"]
+
+
+def test_the_vehicles_a_client_does_not_draw_share_a_budget_and_the_client_is_told_its_pace(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A client that named its vehicle on connect (/ws?vehicle=) gets the other vehicles' reports within a budget of
+    reports a second shared by them all: each one's topic at most once a pace, the streams counted over STREAMS_EVERY
+    divided by OTHERS_BUDGET, and is told that pace (with its `select`, and again when it moves); its own vehicle's
+    every report; a client that names none gets every report, and no pace."""
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.05)
+    monkeypatch.setattr(hub_module, "OTHERS_BUDGET", 20)  # 20 streams of the others: one report of each a second
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: dict[str, list[dict[str, Any]]] = {"dashboard": [], "script": []}
+
+        def sender(name: str) -> Callable[[str], Awaitable[None]]:
+            async def send(text: str) -> None:
+                got[name].append(json.loads(text))
+
+            return send
+
+        keys = [(p, t) for p in [f"v{i}" for i in range(10)] + ["sel"] for t in ("GPSFixReport", "InertialSensorReport")]
+
+        def publish_all(n: int) -> None:
+            for p, t in keys:
+                hub.publish({"type": "report", "providerId": p, "topic": t, "n": n}, key=(p, t))
+
+        dashboard = hub.attach(sender("dashboard"), {"type": "snapshot"}, vehicle="sel")
+        hub.attach(sender("script"), {"type": "snapshot"})
+        publish_all(0)
+        await asyncio.sleep(0.01)
+        hub.sweep(100.0)
+        hub.sweep(100.0 + hub_module.STREAMS_EVERY)  # 22 streams heard, 20 of them the others'
+        assert dashboard.pace == 1.0
+        start = asyncio.get_running_loop().time()
+        n = 1
+        while asyncio.get_running_loop().time() - start < 1.5:  # 20 Hz for 1.5 s
+            publish_all(n)
+            n += 1
+            await asyncio.sleep(0.05)
+        await asyncio.sleep(0.01)
+        paces = [m["othersEvery"] for m in got["dashboard"] if m["type"] == "pace"]
+        assert paces == [0.05, 1.0]  # told with the vehicle named on connect, and when the streams were counted
+        reports = [m for m in got["dashboard"] if m["type"] == "report"]
+        for key in keys:
+            mine = [m["n"] for m in reports if (m["providerId"], m["topic"]) == key]
+            if key[0] == "sel":
+                assert mine == list(range(n))
+            else:  # its first (n 0), within the first pace, then at most one a second: 1.5 s of them
+                assert 1 <= len(mine) <= 3 and mine == sorted(mine), (key, mine)
+        assert len(got["script"]) == 1 + len(keys) * n and all(m["type"] != "pace" for m in got["script"])
+
+    asyncio.run(scenario())
+
+
+def test_a_new_clients_first_reports_of_the_other_vehicles_are_spread_over_a_pace(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The snapshot has every vehicle's newest: the first report of each other vehicle's topic to a client that named
+    its vehicle comes within a pace of its coming, spread by the stream, not all at once after the snapshot."""
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.5)
+
+    async def scenario() -> None:
+        hub = Hub()
+        got: list[dict[str, Any]] = []
+
+        async def send(text: str) -> None:
+            got.append(json.loads(text))
+
+        hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        for i in range(100):
+            hub.publish({"type": "report", "providerId": f"v{i}", "topic": "GPSFixReport"}, key=(f"v{i}", "GPSFixReport"))
+        await asyncio.sleep(0.01)
+        at_once = len([m for m in got if m["type"] == "report"])
+        await asyncio.sleep(0.6)
+        assert at_once < 20 and len([m for m in got if m["type"] == "report"]) == 100
+
+    asyncio.run(scenario())
+
+
+def test_the_whole_gps_reports_of_the_vehicles_not_drawn_share_a_budget(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Each other vehicle's whole GPSReport (its satellites: the trails) comes at most every FULL_EVERY, or every
+    their count / WHOLE_BUDGET seconds when that is longer: 10 vehicles at 2 a second, one every 5 s of each."""
+    now = [1000.0]
+    monkeypatch.setattr(hub_module, "OTHERS_EVERY", 0.0)
+    monkeypatch.setattr(hub_module, "FULL_EVERY", 1.0)
+    monkeypatch.setattr(hub_module, "WHOLE_BUDGET", 2)
+
+    async def scenario() -> None:
+        hub = Hub(clock=lambda: now[0])
+        got: list[dict[str, Any]] = []
+
+        async def send(text: str) -> None:
+            got.append(json.loads(text))
+
+        hub.attach(send, {"type": "snapshot"}, vehicle="sel")
+        vehicles = ["sel"] + [f"v{i}" for i in range(10)]
+
+        async def gps() -> None:
+            for p in vehicles:
+                whole = {"type": "report", "providerId": p, "topic": "GPSReport", "t": now[0], "report": {"satellites": [1]}}
+                hub.publish(whole, key=(p, "GPSReport"), thin={**whole, "partial": True, "report": {"satellites": []}})
+            await asyncio.sleep(0.01)
+
+        await gps()
+        hub.sweep(0.0)
+        hub.sweep(hub_module.STREAMS_EVERY)
+        for _ in range(20):  # 20 s of the console's clock
+            now[0] += 1.0
+            await gps()
+        whole = [m for m in got if m["type"] == "report" and not m.get("partial") and m["t"] > 1000.0]
+        assert len([m for m in whole if m["providerId"] == "sel"]) == 20
+        for p in vehicles[1:]:
+            times = [m["t"] for m in whole if m["providerId"] == p]
+            assert 3 <= len(times) <= 5 and all(b - a >= 5.0 for a, b in itertools.pairwise(times)), (p, times)
+
+    asyncio.run(scenario())

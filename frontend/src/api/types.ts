@@ -16,9 +16,11 @@ import type {
   LinkConfig,
   RecordingStatus,
   ReplayStatus,
+  VehicleBrief,
 } from "./generated/ws";
 
 export type {
+  VehicleBrief,
   DatabaseState,
   GatewayState,
   LinkConfig,

@@ -2,7 +2,7 @@
 // a fresh snapshot on every (re)connect, and messages handed to the store's inbox (applied once per frame).
 import type { ClientMessage, ReplayStatus, ServerMessage } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
-import { takeEarly, type EarlySocket } from "./early";
+import { socketUrl, takeEarly, type EarlySocket } from "./early";
 import type { Inbox } from "./store";
 import { isVehicleId } from "../lib/vehicle";
 
@@ -130,10 +130,12 @@ export class Connection implements DataSource {
     this.inbox.enqueue(msg);
   }
 
-  /** A new socket, or `early`'s with the messages it held. */
+  /** A new socket, or `early`'s with the messages it held. A new one names the vehicle selected (`socketUrl`): its
+   * snapshot is built for it. */
   private open(early: EarlySocket | null = null): void {
     const protocols = this.protocols();
-    const ws = early?.ws ?? (protocols.length ? new WebSocket(this.url, protocols) : new WebSocket(this.url));
+    const url = socketUrl(this.url, this.inbox.store.getState().selected);
+    const ws = early?.ws ?? (protocols.length ? new WebSocket(url, protocols) : new WebSocket(url));
     this.ws = ws;
     let frames = 0; // frames taken from this socket, acknowledged to the console (?ack=1, defaultUrl)
     let asked: number | null = Date.now(); // when the oldest question this socket has not answered was asked (null: none)

@@ -13,7 +13,16 @@ import { unreachable } from "./source";
 import { openEarly } from "./early";
 import { ReplaySource } from "./replay";
 import { reportMessage } from "./testing";
-import { HISTORY_SECONDS, historyLoaded, historyPoint, mergeHistory, report, select, type HistoryPoint } from "./slices/vehicles";
+import {
+  HISTORY_SECONDS,
+  historyLoaded,
+  historyPoint,
+  mergeHistory,
+  paceOf,
+  report,
+  select,
+  type HistoryPoint,
+} from "./slices/vehicles";
 import { initialState, reduce, reduceAll, type State } from "./state";
 
 const P = "77b2ceb8-5afe-554e-8450-93db17c48923";
@@ -140,6 +149,20 @@ describe("reducer", () => {
     expect(report(after.providers[P], "GPSReport")?.satellites).toHaveLength(1); // its satellites taken all the same
     const newer = reduce(after, reportMessage(P, "GPSReport", { satellites: [] }, [], 2), 1101);
     expect(newer.providers[P].topics.GPSReport!.at).toBe(1101); // a new sample arrived now
+  });
+
+  it("paces every vehicle by the console's pace but the selected one once its reports come at full rate", () => {
+    const fix = (id: string) => reportMessage(id, "GPSFixReport", {});
+    let s = select(apply([snapshot()]), "a");
+    expect(paceOf(s, "a")).toBe(0); // the console paces none until it says so
+    s = apply([{ type: "pace", othersEvery: 10 }], s);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 10]); // a: none of its reports came since it was selected
+    s = apply([fix("b"), fix("a")], s);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([0, 10]);
+    s = select(s, "b"); // b at the others' pace until its first report at full rate; a at the others' pace again
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 10]);
+    s = reduce(s, fix("b"), 1001);
+    expect([paceOf(s, "a"), paceOf(s, "b")]).toEqual([10, 0]);
   });
 
   it("keeps the selection through reports, new vehicles and a snapshot that lacks it (reconnect, restart)", () => {
@@ -619,9 +642,10 @@ describe("store and connection", () => {
       alone.stop();
       FakeSocket.all.splice(1, 1); // the indices below as before
 
-      // open before the code came: the early socket names the link's vehicle at once, and the source does not again
-      vi.stubGlobal("window", { location: { search: `?vehicle=${P}` } });
-      openEarly("ws://console/ws?batch=1", token);
+      // open before the code came: the early socket names the link's vehicle at once (its URL, for the snapshot built
+      // for it, and a `select`), and the source does not again
+      openEarly("ws://console/ws?batch=1", token, P);
+      expect(FakeSocket.all[1].url).toBe(`ws://console/ws?batch=1&vehicle=${P}`);
       FakeSocket.all[1].readyState = 1;
       FakeSocket.all[1].onopen?.();
       expect(FakeSocket.all[1].sent).toEqual([JSON.stringify({ type: "select", providerId: P })]);
@@ -636,7 +660,8 @@ describe("store and connection", () => {
       const elsewhere = new Connection("ws://console/ws?batch=1", new Inbox(createStateStore(P)), () => token);
       elsewhere.start();
       expect(FakeSocket.all[1].closed).toBe(true);
-      expect(FakeSocket.all[2].url).toBe("ws://console/ws?batch=1");
+      // its own, naming the vehicle selected: the console builds its snapshot for it
+      expect(FakeSocket.all[2].url).toBe(`ws://console/ws?batch=1&vehicle=${P}`);
       elsewhere.stop();
       FakeSocket.all.splice(1, 2); // the indices below as before
 
@@ -848,6 +873,53 @@ describe("report payloads typed per topic", () => {
     expectTypeOf(status).toEqualTypeOf<GPSFixStatusReportType | null>();
     expect(status?.fixValid).toBe(true);
     expectTypeOf(report(s.providers[P], "InertialSensorReport")).toEqualTypeOf<InertialSensorReportType | null>();
+  });
+});
+
+describe("the first screen of a page that named its vehicle: every other vehicle's brief", () => {
+  it("draws a vehicle from its brief, and fills in the rest when it is selected: the whole reports and its detail", async () => {
+    const { briefLoaded, fromBrief } = await import("./slices/vehicles");
+    const { vehicleMark } = await import("../panels/Map/layers");
+    const { brief, snapshotMessage } = await import("./testing");
+    const s = apply([snapshotMessage({ serverTime: 1002, fleet: [brief(P, 1000)] })], initialState);
+    const p = s.providers[P];
+    expect(p.brief).toBe(true);
+    expect(p.linkConfig).toBeNull();
+    expect(p.topics.GPSFixReport?.at).toBe(1000 - 2); // 2 s old at the console: 2 s old here
+    const mark = vehicleMark(p, 999, null, new Set(), true, [])!;
+    expect(mark).toMatchObject({ position: { lat: 36.8, lon: -75.7 }, fix: "valid", gpsPosition: true, link: "live" });
+    expect(mark.courseDeg).toBeCloseTo((1.5 * 180) / Math.PI);
+    expect(report(p, "InertialSensorReport")).toMatchObject({ state: "ON", status: "OPERATIONAL" });
+    expect(report(p, "GPSFixReport")?.altitudeMSL).toBeNull(); // not in the brief: not reported, no error
+    // selected: the console sends its newest reports whole (the same samples: heard when they first came)
+    const whole = reportMessage(
+      P,
+      "GPSFixReport",
+      { position2DWithTime: { timeAtPosition: 5 }, altitudeMSL: { altitude: -3 } },
+      [],
+      1000,
+    );
+    const selected = reduce(select(s, P), whole, 1005);
+    expect(report(selected.providers[P], "GPSFixReport")?.altitudeMSL).toEqual({ altitude: -3 });
+    expect(selected.providers[P].topics.GPSFixReport?.at).toBe(998);
+    // and its detail over REST: its link configuration, the reports it has whole
+    const detail = {
+      ...summary("live"),
+      reports: {
+        InertialSensorReport: env({ state: "ON", status: "OPERATIONAL", timeStamp: { seconds: 7, nanoseconds: 0 } }, [], 1000),
+      },
+    } as never;
+    const loaded = briefLoaded(selected, P, detail);
+    expect(loaded.providers[P].brief).toBe(false);
+    expect(loaded.providers[P].linkConfig).toEqual(CONFIG);
+    expect(report(loaded.providers[P], "InertialSensorReport")?.timeStamp).toEqual({ seconds: 7, nanoseconds: 0 });
+    expect(briefLoaded(loaded, P, detail)).toBe(loaded); // once
+    // a vehicle of a later snapshot sent whole is no longer a brief's
+    expect(fromBrief(undefined, brief(P), 0, 0).brief).toBe(true);
+    // behind a relay's caps, the brief says its quiet, as the whole summary does (the bar's "stale" waits for it)
+    const relay = { name: "ship-1", dataTime: null, ageSeconds: null, quietSeconds: 5 };
+    expect(fromBrief(undefined, brief(P, 1000, { relay }), 0, 0)).toMatchObject({ relay: "ship-1", relayQuiet: 5 });
+    expect(apply([snapshot()], loaded).providers[P].brief).toBe(false);
   });
 });
 

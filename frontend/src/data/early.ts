@@ -7,7 +7,7 @@ import { health, type Health } from "../api/rest";
 import type { ClientMessage } from "../api/types";
 import { readSetting, writeSetting } from "./settingStore";
 import { getToken, wsProtocols } from "./token";
-import { vehicleFromUrl } from "../lib/vehicle";
+import { isVehicleId, vehicleFromUrl } from "../lib/vehicle";
 
 /** The console's WebSocket, asking for its reports in batches under load (a browser pays about 0.13 ms of its main
  * thread per message whatever its size, 30 % of it with 250 vehicles sent one message per report), and acknowledging
@@ -19,8 +19,19 @@ export function defaultUrl(): string {
   return `${protocol === "https:" ? "wss" : "ws"}://${host}/ws?batch=1&ack=1`;
 }
 
+/** The socket's URL naming the vehicle the page draws (`vehicle=`, none for no vehicle id): the console builds its
+ * snapshot for it, that vehicle whole and every other as the brief the overviews draw (1,000 vehicles: 2.5 MB whole,
+ * under 0.5 MB so). */
+export function socketUrl(url: string, vehicle: string | null): string {
+  if (!vehicle || !isVehicleId(vehicle)) return url;
+  const u = new URL(url);
+  u.searchParams.set("vehicle", vehicle);
+  return u.toString();
+}
+
 /** A socket opened before its source existed, and the messages it received meanwhile (in order); `told`: the vehicle
- * it named to the console (`select`) once open, undefined before. */
+ * it named to the console (`select`) once open, undefined before; `url`: the URL it was asked for, before its vehicle
+ * (`socketUrl`). */
 export interface EarlySocket {
   ws: WebSocket;
   url: string;
@@ -56,21 +67,23 @@ const READ_AUTH_KEY = "sem-console.readAuthRequired"; // what the console's last
 export function startEarly(): Promise<Health> {
   if (!healthAnswer) {
     const known = readSetting(READ_AUTH_KEY, false, (v): v is boolean => typeof v === "boolean");
-    const opened = !known || getToken() !== null ? openEarly(defaultUrl(), wsProtocols()) : null;
+    const vehicle = vehicleFromUrl(window.location.search); // the page's ?vehicle= link (none: null)
+    const opened = !known || getToken() !== null ? openEarly(defaultUrl(), wsProtocols(), vehicle) : null;
     healthAnswer = consoleHealth().then((h) => {
       if (h.readAuthRequired !== known) writeSetting(READ_AUTH_KEY, h.readAuthRequired);
       if (!mayRead(h))
         opened?.ws.close(); // reads need a token it has not: the console refuses it anyway
-      else if (!opened) openEarly(defaultUrl(), wsProtocols());
+      else if (!opened) openEarly(defaultUrl(), wsProtocols(), vehicle);
       return h;
     });
   }
   return healthAnswer;
 }
 
-/** Open the socket a source will take over, holding its messages until then. */
-export function openEarly(url: string, protocols: string[]): EarlySocket {
-  const ws = protocols.length ? new WebSocket(url, protocols) : new WebSocket(url);
+/** Open the socket a source will take over, holding its messages until then; `vehicle`: the one the page opens on. */
+export function openEarly(url: string, protocols: string[], vehicle: string | null = null): EarlySocket {
+  const named = socketUrl(url, vehicle);
+  const ws = protocols.length ? new WebSocket(named, protocols) : new WebSocket(named);
   const held: MessageEvent<string>[] = [];
   ws.onmessage = (ev: MessageEvent<string>) => held.push(ev);
   const e: EarlySocket = { ws, url, protocols, held };
@@ -78,7 +91,7 @@ export function openEarly(url: string, protocols: string[]): EarlySocket {
   // vehicles' GPSReports without their satellites while the code loads, not whole (40 satellites each, at 10 Hz with
   // 50 vehicles, and the page's first frames applied them all)
   ws.onopen = () => {
-    e.told = vehicleFromUrl(window.location.search);
+    e.told = vehicle;
     const msg: ClientMessage = { type: "select", providerId: e.told };
     ws.send(JSON.stringify(msg));
   };

@@ -10,6 +10,7 @@ import { unacknowledged } from "./slices/alarms";
 import {
   allProviders,
   lastHeardAt,
+  paceOf,
   report,
   select,
   selectedLink,
@@ -183,6 +184,20 @@ export function sameOverview(): (a: Record<string, ProviderView>, b: Record<stri
 export function useConnectionState(): SourceState {
   const { source } = useData();
   return useSyncExternalStore(source.subscribe, source.getState);
+}
+
+/** How much longer than the usual bound the page waits before it calls a vehicle silent (`paceOf`): the console's
+ * pace of the vehicles the page does not draw. */
+export function usePaceOf(): (id: string) => number {
+  const othersEvery = useSelector((s) => s.othersEvery);
+  const fullRate = useSelector((s) => s.fullRate);
+  const selected = useSelector((s) => s.selected);
+  return useCallback((id: string) => paceOf({ othersEvery, fullRate, selected }, id), [othersEvery, fullRate, selected]);
+}
+
+/** The console's pace of the vehicles the page does not draw (null: it paces none). */
+export function useOthersEvery(): number | null {
+  return useSelector((s) => s.othersEvery);
 }
 
 /** Whether the page hears the console: false at once when its connection drops (nothing shown is current then). */

@@ -25,6 +25,7 @@ import { tasksReplaced, worldModelLoaded } from "./slices/comap";
 import {
   HISTORY_SECONDS,
   TRACK_SECONDS,
+  briefLoaded,
   detailLoaded,
   historyLoaded,
   selectedGpsPartial,
@@ -92,15 +93,16 @@ function useLoadInto<T>(
  * REST at once rather than waiting for its next GPSReport (a real receiver may report every few seconds). */
 export function useSelectedSatellitesLoaded(): void {
   const selected = useSelector((s) => s.selected);
-  const partial = useSelector(selectedGpsPartial);
+  // its GPSReport without its satellites, or the vehicle built from the snapshot's brief of it (its link configuration)
+  const partial = useSelector((s) => selectedGpsPartial(s) || (s.selected !== null && s.providers[s.selected]?.brief === true));
   const live = useConnectionState() === "live";
   const token = useToken();
   const instant = useSelector((s) => s.instant);
   const key = selected && partial && live ? JSON.stringify([selected, token, instant]) : null;
   useLoadInto(
     key,
-    async (signal) => (await providerDetail(selected!, token, signal)).reports,
-    (s, reports) => detailLoaded(s, selected!, reports),
+    (signal) => providerDetail(selected!, token, signal),
+    (s, detail) => detailLoaded(briefLoaded(s, selected!, detail), selected!, detail.reports),
   );
 }
 

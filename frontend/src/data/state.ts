@@ -6,7 +6,9 @@ import { initialAlarms, type AlarmsState } from "./slices/alarms";
 import { initialComap, taskReceived, type ComapState } from "./slices/comap";
 import {
   emptyProvider,
+  fromBrief,
   fromSummary,
+  heardAtFullRate,
   initialVehicles,
   reported,
   withLoneSelected,
@@ -65,6 +67,7 @@ export function reduceAll(state: State, msgs: readonly ServerMessage[], now: num
     }
     const known = msg.providerId in draft;
     draft[msg.providerId] = reported(draft[msg.providerId], msg, now);
+    s = heardAtFullRate(s, msg.providerId);
     if (!known && s.selected === null) s = withLoneSelected(s);
   }
   return s;
@@ -76,7 +79,7 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       const providers: Record<string, ProviderView> = {};
       for (const d of msg.providers) {
         const old = state.providers[d.id];
-        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {} };
+        let p: ProviderView = { ...fromSummary(old ?? emptyProvider(d.id, d.link), d), topics: {}, brief: false };
         for (const topic of Object.keys(d.reports) as Topic[]) {
           const env = d.reports[topic];
           if (env) {
@@ -93,6 +96,8 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
         }
         providers[d.id] = p;
       }
+      // to a page that named its vehicle on connect: every other vehicle as its brief (what the overviews draw)
+      for (const b of msg.fleet ?? []) providers[b.id] = fromBrief(state.providers[b.id], b, now, msg.serverTime);
       const commands: Record<string, Command> = {};
       for (const c of msg.commands) commands[c.sessionId] = c;
       return {
@@ -109,10 +114,12 @@ function reduceMessage(state: State, msg: ServerMessage, now: number): State {
       };
     }
     case "report":
-      return {
-        ...state,
-        providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) },
-      };
+      return heardAtFullRate(
+        { ...state, providers: { ...state.providers, [msg.providerId]: reported(state.providers[msg.providerId], msg, now) } },
+        msg.providerId,
+      );
+    case "pace": // the vehicles the page does not draw come at this pace: judged silent by it (paceOf)
+      return state.othersEvery === msg.othersEvery ? state : { ...state, othersEvery: msg.othersEvery };
     case "provider": {
       const id = msg.provider.id;
       const before = state.providers[id] ?? emptyProvider(id, msg.provider.link);

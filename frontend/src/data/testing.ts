@@ -9,6 +9,7 @@ import type {
   Topic,
   TypedProviderDetail,
   TypedSnapshotMessage,
+  VehicleBrief,
 } from "../api/types";
 import { LIVE, type Capabilities, type DataSource, type PlaybackControls, type SourceState } from "./source";
 import { Inbox, createStateStore, type StateStore } from "./store";
@@ -46,6 +47,23 @@ export function vehicle(id: string, over: Partial<TypedProviderDetail> = {}): Ty
     jausId: null,
     umaaVersion: "3.0.1",
     reports: {},
+    ...over,
+  };
+}
+
+/** A vehicle as the snapshot's `fleet` has it (to a page that named another): live at 36.8 N 75.7 W, its fix valid and
+ * its INS operational, each report received at `receivedAt`; `over` sets the rest. */
+export function brief(id: string, receivedAt = 1000, over: Partial<VehicleBrief> = {}): VehicleBrief {
+  return {
+    id,
+    name: null,
+    link: "live",
+    umaaVersion: "3.0.1",
+    jausId: null,
+    relay: null,
+    fix: { lat: 36.8, lon: -75.7, course: 1.5, sog: 1.8, latLongValid: true, invalid: [], receivedAt },
+    fixStatus: { fixValid: true, originLat: 36.7, originLon: -75.6, receivedAt },
+    ins: { state: "ON", status: "OPERATIONAL", receivedAt },
     ...over,
   };
 }

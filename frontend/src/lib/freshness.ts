@@ -14,18 +14,31 @@ export function staleAfter(topic: Topic, observedInterval: number | null): numbe
 
 export type Freshness = "live" | "stale" | "lost" | "none" | "unreachable";
 
-/** `receiving`: the page hears the console (its data source is connected); false: "unreachable", whatever the age. */
+/** `receiving`: the page hears the console (its data source is connected); false: "unreachable", whatever the age.
+ * `paceS`: the console sends this vehicle's reports at most this often (a vehicle the page does not draw, `paceOf`):
+ * stale only once silent that much longer than the topic's floor (its observed interval is the pace's, not its own). */
 export function freshness(
   ageSeconds: number | null,
   topic: Topic,
   observedInterval: number | null,
   link: LinkState | null,
   receiving: boolean,
+  paceS = 0,
 ): Freshness {
   if (ageSeconds === null) return "none";
   if (!receiving) return "unreachable";
   if (link === "lost") return "lost";
-  return ageSeconds > staleAfter(topic, observedInterval) ? "stale" : "live";
+  const bound = paceS > 0 ? staleAfter(topic, null) + paceS : staleAfter(topic, observedInterval);
+  return ageSeconds > bound ? "stale" : "live";
+}
+
+/** What "stale" means in the fleet bar and the vehicle list: silent over `staleAfterS`, and over that beyond its pace
+ * for a vehicle the console paces (`othersEvery`, null: none). */
+export function staleTitle(staleAfterS: number, othersEvery: number | null): string {
+  const base = `no report for over ${staleAfterS} s`;
+  if (othersEvery === null) return base;
+  const paced = Math.round((staleAfterS + othersEvery) * 10) / 10;
+  return `${base} (over ${paced} s for a vehicle not selected: the console sends each of them every ${othersEvery} s)`;
 }
 
 /** Data shown but not current (greyed): stale, of a lost vehicle, or with the console unreachable. */

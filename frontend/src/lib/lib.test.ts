@@ -3,7 +3,7 @@ import type { Command } from "../api/types";
 import WORDS from "../../schema/words.json";
 import { cancelText, inTimeOrder, mergeCommands, statusText, transitionReason } from "./commands";
 import { exportName, exportUrl, rangeQuery, utcParam } from "./exports";
-import { freshness, freshnessText, nextInterval, pageLink, recordedState, staleAfter, stateWords } from "./freshness";
+import { freshness, freshnessText, nextInterval, pageLink, recordedState, staleAfter, staleTitle, stateWords } from "./freshness";
 import { satelliteLabel } from "./satellites";
 import { project, trailPath } from "./skyplot";
 import { DASH, age, clockTime, degrees, dms, fixed, latLon, speed, utc } from "./units";
@@ -146,6 +146,17 @@ describe("freshness", () => {
     expect(pageLink("lost", 30, 3, false)).toBe("lost"); // the worse of what it may be now
     expect(pageLink("live", 0.1, 3, true)).toBe("live");
     expect(pageLink("live", 4, 3, true)).toBe("stale");
+  });
+  it("allows a vehicle the console paces its pace beyond the topic's floor, whatever interval it observed", () => {
+    // paced at 10 s: its fixes come 10 s apart, and it is silent only past 1.5 + 10 s
+    expect(freshness(9.9, "GPSFixReport", 10, "live", true, 10)).toBe("live");
+    expect(freshness(11.4, "GPSFixReport", 10, "live", true, 10)).toBe("live");
+    expect(freshness(11.6, "GPSFixReport", 10, "live", true, 10)).toBe("stale");
+    expect(freshness(11.6, "GPSFixReport", 10, "lost", true, 10)).toBe("lost");
+    expect(staleTitle(3, null)).toBe("no report for over 3 s");
+    expect(staleTitle(3, 10)).toBe(
+      "no report for over 3 s (over 13 s for a vehicle not selected: the console sends each of them every 10 s)",
+    );
   });
   it("allows three observed intervals for slow topics", () => {
     expect(staleAfter("InertialSensorReport", 2)).toBe(6);

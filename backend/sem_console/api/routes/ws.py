@@ -1,6 +1,8 @@
 """WebSocket /ws: a snapshot on connect, then typed deltas (see /api/ws-schema); /ws?batch=1 takes reports in arrays;
 /ws?ack=1 acknowledges the frames it takes (`ack` messages) and gets reports within a window of unacknowledged bytes;
-a client that names the vehicle it draws (`select`) gets the others' GPSReports without their satellites."""
+a client that names the vehicle it draws (`select`) gets the others' GPSReports without their satellites and their
+reports at a pace (`pace`); one that names it on connect (/ws?vehicle=<id>) gets a snapshot built for it: that vehicle
+whole, every other as its brief."""
 
 from __future__ import annotations
 
@@ -9,6 +11,7 @@ import contextlib
 import json
 import logging
 import time
+import uuid
 from typing import Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
@@ -49,8 +52,16 @@ async def websocket(ws: WebSocket) -> None:
             return
     await ws.accept(subprotocol=WS_PROTOCOL if WS_PROTOCOL in ws.scope.get("subprotocols", []) else None)
     # ?batch=1: the reports waiting when the sender is free go out as one JSON array; ?ack=1: the client acknowledges
-    # the frames it has taken, and its reports wait at the console, conflated, beyond a window (the dashboard asks both)
-    client = console.attach_client(ws.send_text, batch=ws.query_params.get("batch") == "1", ack=ws.query_params.get("ack") == "1")
+    # the frames it has taken, and its reports wait at the console, conflated, beyond a window (the dashboard asks both);
+    # ?vehicle=<id>: the vehicle it draws, its snapshot built for it (a `select` of it)
+    named = ws.query_params.get("vehicle")
+    vehicle = _vehicle_id(named)
+    client = console.attach_client(
+        ws.send_text, batch=ws.query_params.get("batch") == "1", ack=ws.query_params.get("ack") == "1", vehicle=vehicle
+    )
+    if named is not None and vehicle is None:
+        said = f"bad vehicle={named[:60]!r}: name a vehicle by its id (a UUID); the snapshot has every vehicle"
+        client.push(json.dumps(error_message(said)))
     receiver = asyncio.create_task(_receive(ws, client, console))
     try:
         assert client.task is not None
@@ -92,10 +103,21 @@ async def _receive(ws: WebSocket, client: Any, console: Any) -> None:
                 )
             elif msg.type == "select":
                 client.select(None if msg.providerId is None else str(msg.providerId))
-                if msg.providerId is not None and (report := console.selected_report(msg.providerId)) is not None:
-                    client.push(dumps(report), key=(report["providerId"], "GPSReport"))  # whole: those it had were thin
+                # whole and now: what it had of the vehicle was thin (GPSReport), paced, or the snapshot's brief
+                for report in [] if msg.providerId is None else console.selected_reports(msg.providerId):
+                    client.push(dumps(report), key=(report["providerId"], report["topic"]))
             elif msg.type == "resync":
                 client.push_snapshot(json.dumps(console.snapshot(), separators=(",", ":")))
+
+
+def _vehicle_id(text: str | None) -> str | None:
+    """The vehicle named by /ws?vehicle= as the console writes ids (None: none, or not an id)."""
+    if text is None:
+        return None
+    try:
+        return str(uuid.UUID(text))
+    except ValueError:
+        return None
 
 
 def close_reason(why: str) -> str:

@@ -1,7 +1,11 @@
 // The vehicles slice: each vehicle's views of its latest reports, its satellite trails, chart history and map track,
 // and the operator's selection. Pure functions of the state: unchanged parts keep their identity, so panels that
 // select them do not re-render.
+import type { DateTime } from "../../api/generated/ws";
 import type {
+  GPSFixReportType,
+  GPSFixStatusReportType,
+  InertialSensorReportType,
   LinkConfig,
   LinkState,
   ProviderSummary,
@@ -9,7 +13,9 @@ import type {
   ReportTypes,
   Topic,
   TopicReports,
+  TypedProviderDetail,
   TypedReportMessage,
+  VehicleBrief,
 } from "../../api/types";
 import { nextInterval } from "../../lib/freshness";
 import { trimTrack, validPosition, type TrackSample } from "../../lib/geo";
@@ -54,6 +60,9 @@ export interface ProviderView {
   trails: Record<string, TrailPoint[]>;
   history: HistoryPoint[];
   track: TrackSample[]; // positions of the last TRACK_SECONDS, at most one per second (the map's track)
+  // built from the snapshot's brief of it (a page that draws another vehicle: its overviews' members, the rest null,
+  // no link configuration); its selection loads it whole (GET /api/providers/{id}: briefLoaded, and the `select`)
+  brief?: boolean;
 }
 
 export interface VehiclesState {
@@ -65,9 +74,35 @@ export interface VehiclesState {
   // A replay's instants shown (each seek, each reconnect): the chart's and map's history is loaded again
   // for each, and a REST answer for an earlier one is dropped
   instant: number;
+  // The console's pace of the vehicles the page does not draw (its `pace` message): each one's report of a topic comes
+  // at most this often, seconds; null: it paces none (it sends every report as it comes)
+  othersEvery: number | null;
+  // The selected vehicle once a report of it came since it was selected: at full rate from then on (before, it may
+  // still be at the others' pace)
+  fullRate: string | null;
 }
 
-export const initialVehicles: VehiclesState = { providers: {}, selected: null, instant: 0 };
+export const initialVehicles: VehiclesState = {
+  providers: {},
+  selected: null,
+  instant: 0,
+  othersEvery: null,
+  fullRate: null,
+};
+
+/** How much longer than the usual bound the page waits before it calls vehicle `id` silent: the console's pace of the
+ * vehicles it does not draw, for every vehicle but the selected one once its own reports come at full rate; 0 when the
+ * console paces none. */
+export function paceOf(s: Pick<VehiclesState, "othersEvery" | "fullRate" | "selected">, id: string): number {
+  if (s.othersEvery === null) return 0;
+  return id === s.selected && id === s.fullRate ? 0 : s.othersEvery;
+}
+
+/** The state with a report of `providerId` come: the selected vehicle's first since its selection marks it at full
+ * rate (`fullRate`). */
+export function heardAtFullRate<S extends VehiclesState>(state: S, providerId: string): S {
+  return providerId === state.selected && state.fullRate !== providerId ? { ...state, fullRate: providerId } : state;
+}
 
 export const TRAIL_SECONDS = 600;
 export const TRAIL_STEP = 5;
@@ -134,6 +169,83 @@ export function fromSummary(p: ProviderView, s: ProviderSummary): ProviderView {
   const relayQuiet = s.relay?.quietSeconds ?? 0;
   const { name, link, linkConfig, jausId, umaaVersion } = s;
   return { ...p, name, link, linkConfig, jausId, umaaVersion, relay, relayQuiet };
+}
+
+/** A vehicle of the snapshot's `fleet` (to a page that named another): what its list row, fleet-bar chip and map dot
+ * draw, each report's other members null, arrived as long before `now` as the console had it before `serverTime`. */
+export function fromBrief(old: ProviderView | undefined, b: VehicleBrief, now: number, serverTime: number): ProviderView {
+  const view = <T extends Topic>(topic: T, report: ReportTypes[T], receivedAt: number, invalid: string[] = []) => ({
+    envelope: { report, invalid, receivedAt },
+    at: now - Math.max(0, serverTime - receivedAt),
+    interval: old?.topics[topic]?.interval ?? null,
+  });
+  const topics: ProviderView["topics"] = {};
+  const stamp = b.fix?.timeStamp;
+  if (b.fix) {
+    const fix: GPSFixReportType = {
+      GPSFixCommandStatus: null,
+      GPSLatLongValid: b.fix.latLongValid,
+      SOG: b.fix.sog,
+      altitudeMSL: null,
+      magneticVariation: null,
+      position2DWithTime: { geodeticPosition: geodetic(b.fix.lat, b.fix.lon), timeAtPosition: null },
+      source: b.id,
+      timeStamp: typeof stamp?.seconds === "number" ? (stamp as unknown as DateTime) : null,
+      trueCourse: b.fix.course,
+      velocity: null,
+    };
+    topics.GPSFixReport = view("GPSFixReport", fix, b.fix.receivedAt, b.fix.invalid);
+  }
+  if (b.fixStatus) {
+    const status: GPSFixStatusReportType = {
+      carrierToNoise: null,
+      countDown: null,
+      fixValid: b.fixStatus.fixValid,
+      lowBkupBattery: null,
+      navSolution: null,
+      originPosition: { geodeticPosition: geodetic(b.fixStatus.originLat, b.fixStatus.originLon), heightAboveEllipsoid: null },
+      pCode: null,
+      source: b.id,
+      timeOut: null,
+      timeStamp: null,
+    };
+    topics.GPSFixStatusReport = view("GPSFixStatusReport", status, b.fixStatus.receivedAt);
+  }
+  if (b.ins) {
+    const ins: InertialSensorReportType = {
+      source: b.id,
+      state: b.ins.state as InertialSensorReportType["state"],
+      status: b.ins.status as InertialSensorReportType["status"],
+      timeStamp: null,
+    };
+    topics.InertialSensorReport = view("InertialSensorReport", ins, b.ins.receivedAt);
+  }
+  const { name, link, jausId, umaaVersion } = b;
+  const summary = { name, link, jausId, umaaVersion, relay: b.relay?.name ?? null, relayQuiet: b.relay?.quietSeconds ?? 0 };
+  return { ...(old ?? emptyProvider(b.id, b.link)), ...summary, topics, brief: true };
+}
+
+const geodetic = (latitude: number | null, longitude: number | null) => ({
+  geodeticLatitude: { latitude },
+  geodeticLongitude: { longitude },
+});
+
+/** The vehicle's detail (GET /api/providers/{id}) into one built from a brief (`fromBrief`): its link configuration,
+ * and each report the brief had in part, whole (the same sample; a newer one comes by the WebSocket, `select`). */
+export function briefLoaded<S extends VehiclesState>(state: S, providerId: string, detail: TypedProviderDetail): S {
+  const before = state.providers[providerId];
+  if (!before?.brief) return state;
+  const topics = { ...before.topics };
+  const whole = <T extends Topic>(topic: T) => {
+    const view = before.topics[topic];
+    const env = detail.reports[topic];
+    if (view && env && env.receivedAt === view.envelope.receivedAt) topics[topic] = { ...view, envelope: env };
+  };
+  whole("GPSFixReport");
+  whole("GPSFixStatusReport");
+  whole("InertialSensorReport");
+  const p: ProviderView = { ...before, topics, linkConfig: before.linkConfig ?? detail.linkConfig, brief: false };
+  return { ...state, providers: { ...state.providers, [providerId]: p } };
 }
 
 function updateTrails(

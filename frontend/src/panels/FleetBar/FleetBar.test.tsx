@@ -1,7 +1,7 @@
 // @vitest-environment jsdom
 import { act, cleanup, fireEvent, screen, waitFor, within } from "@testing-library/react";
 import { afterEach, describe, expect, it } from "vitest";
-import { TestSource, alarm, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
+import { TestSource, alarm, brief, command, reportMessage, snapshotMessage, vehicle } from "../../data/testing";
 import { update } from "../../data/store";
 import { emptyProvider, fromSummary, select, type ProviderView, type TopicView } from "../../data/slices/vehicles";
 import { renderWith } from "../testing";
@@ -26,6 +26,9 @@ function fleet(): TestSource {
   );
   return source;
 }
+
+// the bar's clock of ages ticks once a second: a wait for what it draws after the page's clock moved allows a few
+const TICK = { timeout: 3000 };
 
 const chip = (name: string) => screen.getAllByTestId("fleet-vehicle").find((c) => c.textContent?.includes(name))!;
 
@@ -71,6 +74,69 @@ describe("FleetBar", () => {
     expect(screen.getAllByTestId("fleet-link").map((l) => l.textContent)).toEqual(["Lost", "Not updating"]);
     act(() => source.setState("live"));
     await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("1 live"));
+  });
+
+  it("draws a vehicle of the snapshot's brief as one sent whole: its link, fix and INS", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FleetBar />);
+    act(() =>
+      source.send(
+        snapshotMessage({
+          serverTime: 1002, // Bravo's reports received 2 s before the snapshot: 2 s old on the page's clock too
+          providers: [vehicle(A, { name: "Alpha" })],
+          fleet: [brief(B, 1000, { name: "Bravo", ins: { state: "ON", status: "INIT", receivedAt: 1000 } })],
+        }),
+      ),
+    );
+    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("live"));
+    expect(within(chip("Bravo")).getByText("Fix valid")).toBeTruthy();
+    expect(within(chip("Bravo")).getByText("INS starting up")).toBeTruthy();
+    act(() => {
+      source.clock = 1002; // 4 s after its reports, no pace known: stale
+    });
+    await waitFor(() => expect(chip("Bravo").getAttribute("data-link")).toBe("stale"), TICK);
+  });
+
+  it("keeps a vehicle the console paces live while it comes at its pace, and calls it stale once silent beyond it", async () => {
+    const source = new TestSource(A);
+    renderWith(source, <FleetBar />);
+    const fix = (id: string) => reportMessage(id, "GPSFixStatusReport", { fixValid: true }, [], source.clock);
+    act(() =>
+      source.send(
+        snapshotMessage({ providers: [vehicle(A, { name: "Alpha" }), vehicle(B, { name: "Bravo" })] }),
+        { type: "pace", othersEvery: 10 },
+        fix(A),
+        fix(B),
+      ),
+    );
+    await waitFor(() => expect(screen.getByTestId("fleet-live").textContent).toBe("2 live"));
+    act(() => {
+      source.clock = 1008; // Bravo, not selected, comes every 10 s: 8 s since its last is its pace, not a silence
+      source.send(fix(A));
+    });
+    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("live"));
+    expect(screen.getByTestId("fleet-live").textContent).toBe("2 live");
+    expect(chip("Bravo").getAttribute("data-link")).toBe("live");
+    act(() => {
+      source.clock = 1014; // 14 s: silent past its pace and the 3 s
+      source.send(fix(A));
+    });
+    // the bar draws on the frame after the report and on its clock's tick: both, once both have come
+    await waitFor(() => {
+      expect(screen.getByTestId("fleet-stale").textContent).toBe("1 stale");
+      expect(chip("Bravo").getAttribute("data-link")).toBe("stale");
+    }, TICK);
+    expect(within(chip("Bravo")).getByTestId("fleet-link").getAttribute("title")).toBe("no report for over 13 s");
+    expect(screen.getByTestId("fleet-stale").getAttribute("title")).toBe(
+      "no report for over 3 s (over 13 s for a vehicle not selected: the console sends each of them every 10 s)",
+    );
+    // Alpha, selected and at full rate: stale after 3 s of silence, not 13
+    act(() => {
+      source.clock = 1018;
+      source.send(fix(B));
+    });
+    await waitFor(() => expect(chip("Alpha").getAttribute("data-link")).toBe("stale"), TICK);
+    expect(chip("Bravo").getAttribute("data-link")).toBe("live");
   });
 
   it("counts a vehicle not checked while the console is behind apart, not as live", async () => {

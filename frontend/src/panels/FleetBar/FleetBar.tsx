@@ -10,6 +10,8 @@ import {
   useCommanded,
   useConnectionState,
   useNow,
+  useOthersEvery,
+  usePaceOf,
   useProvidersOnFrame,
   useReceiving,
   sameOverview,
@@ -27,6 +29,7 @@ import {
   fleetState,
   pageLink,
   recordedState,
+  staleTitle,
   stateWords,
   type FleetState,
   type PageLink,
@@ -59,7 +62,6 @@ import { unreachable as isUnreachable } from "../../data/source";
 const SAME_BAR = sameOverview();
 /** A live vehicle silent this long is shown "stale" before the console calls it lost (as the vehicle list does). */
 export const STALE_AFTER_S = 3;
-const STALE_TITLE = `no report for over ${STALE_AFTER_S} s (behind a relay: ${STALE_AFTER_S} s past its rate caps)`;
 
 /** How long a live vehicle may be silent before it is "stale": STALE_AFTER_S, and seen through a relay, the longest
  * that relay's rate caps keep its data quiet (the console adds it to its comms-lost timeout too: at the satellite caps
@@ -68,11 +70,12 @@ export const staleAfterOf = (p: ProviderView): number => STALE_AFTER_S + p.relay
 
 export type FleetLink = PageLink;
 
-/** The vehicle's link as the page can vouch for it (`pageLink`): "stale" for a live vehicle silent a few seconds,
- * "unreachable" at once when the page does not hear the console. */
-export function fleetLink(p: ProviderView, now: number, receiving: boolean): FleetLink {
+/** The vehicle's link as the page can vouch for it (`pageLink`): "stale" for a live vehicle silent a few seconds (and
+ * its pace, `paceS`, for one the console sends at the others' pace: `paceOf`), "unreachable" at once when the page does
+ * not hear the console. */
+export function fleetLink(p: ProviderView, now: number, receiving: boolean, paceS = 0): FleetLink {
   const seen = lastHeardAt(p);
-  return pageLink(p.link, seen === null ? null : now - seen, staleAfterOf(p), receiving);
+  return pageLink(p.link, seen === null ? null : now - seen, staleAfterOf(p) + paceS, receiving);
 }
 
 /** At most this many chips (and the selected vehicle's): a fleet of a thousand is counted, its exceptional vehicles
@@ -116,7 +119,7 @@ const UNREACHABLE_TITLE = "the console cannot be reached: the last state it sent
 const LINK: Record<FleetLink, Word> = {
   live: { text: linkText("live"), tone: "ok", title: "reports arriving" },
   regained: { text: linkText("regained"), tone: "info", title: "back after a loss, not yet steady" },
-  stale: { text: linkText("stale"), tone: "warn", title: STALE_TITLE },
+  stale: { text: linkText("stale"), tone: "warn", title: staleTitle(STALE_AFTER_S, null) },
   lost: { text: linkText("lost"), tone: "bad", title: "no report within the link timeout" },
   unchecked: {
     text: linkText("unchecked"),
@@ -147,6 +150,7 @@ interface ChipProps {
   heardAt: number | null | undefined; // a lost vehicle's last-heard time (null: never heard); undefined: not lost
   silence: { until: number; title: string } | null; // a planned silence ("out of comms until")
   until: number | null; // lost in its planned silence: when it ends (plannedUntil)
+  staleAfterS: number; // silent this long, it is stale (STALE_AFTER_S, its relay's quiet and its pace)
   recorded: boolean; // a replay: the link is the recording's
   relayed: boolean; // seen through a sem-relay (RelayHop says which, and how old its data is)
   selected: boolean;
@@ -167,6 +171,7 @@ const Chip = memo(function Chip({
   heardAt,
   silence,
   until,
+  staleAfterS,
   recorded,
   relayed,
   selected,
@@ -175,7 +180,11 @@ const Chip = memo(function Chip({
 }: ChipProps) {
   // a vehicle lost during its planned silence: expected, said so rather than "Lost"
   const planned = until !== null;
-  const l: Word = planned ? { text: plannedText(until), tone: "info", title: silence?.title } : LINK[link];
+  const l: Word = planned
+    ? { text: plannedText(until), tone: "info", title: silence?.title }
+    : link === "stale"
+      ? { ...LINK.stale, title: staleTitle(staleAfterS, null) }
+      : LINK[link];
   const rec = recordedState(link, recorded); // "not updating" is the page's now, in a replay too
   const fix = fixWord(fixValid, umaaVersion);
   const ins = insWord(insState, insStatus, umaaVersion);
@@ -308,11 +317,13 @@ export function FleetBar() {
   }, [open]);
   const receiving = useReceiving();
   const commanded = useCommanded();
+  const paceOf = usePaceOf();
+  const othersEvery = useOthersEvery();
   // each vehicle in the one state the bar counts it in, the one the vehicle list's state filter matches it by: a vehicle
   // silent for seconds is not counted live, nor is any with the console unreachable (all "not updating"), nor one
   // silent while the console is behind ("unchecked"), nor one lost during its planned silence (expected, counted apart)
   const all = providers.map((p) => {
-    const link = fleetLink(p, now, receiving);
+    const link = fleetLink(p, now, receiving, paceOf(p.id));
     const until = plannedUntil(silences, p.id, link);
     return { p, link, until, state: fleetState(link, until !== null) };
   });
@@ -371,7 +382,7 @@ export function FleetBar() {
             </span>
           )}
           {stale > 0 && (
-            <span className="fleet-count tone-warn" data-testid="fleet-stale" title={STALE_TITLE}>
+            <span className="fleet-count tone-warn" data-testid="fleet-stale" title={staleTitle(STALE_AFTER_S, othersEvery)}>
               {stale} {inline(linkText("stale"))}
             </span>
           )}
@@ -467,6 +478,7 @@ export function FleetBar() {
               heardAt={link === "lost" ? lastHeardAt(p) : undefined}
               silence={silenceOf.get(p.id) ?? null}
               until={plannedUntil(silences, p.id, link)}
+              staleAfterS={Math.round((staleAfterOf(p) + paceOf(p.id)) * 10) / 10}
               recorded={recorded}
               relayed={p.relay !== null}
               selected={p.id === selected}

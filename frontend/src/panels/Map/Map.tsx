@@ -10,6 +10,7 @@ import { useToken } from "../../data/auth";
 import {
   useAlarmed,
   useNow,
+  usePaceOf,
   useProvidersOnFrame,
   useReceiving,
   useSelectedTopic,
@@ -81,6 +82,7 @@ const SelectedRing = memo(function SelectedRing({
   const alarmed = useAlarmed();
   const receiving = useReceiving();
   const silences = useSilences();
+  const paceOf = usePaceOf();
   const mark = useMemo(
     () =>
       vehicle
@@ -91,9 +93,10 @@ const SelectedRing = memo(function SelectedRing({
             alarmed,
             receiving,
             silences,
+            paceOf(vehicle.id),
           )
         : null,
-    [vehicle, fix, now, selected, alarmed, receiving, silences],
+    [vehicle, fix, now, selected, alarmed, receiving, silences, paceOf],
   );
   useSelectedRing(overlay, mark);
   return null;
@@ -131,10 +134,13 @@ export function MapPanel() {
   const alarmed = useAlarmed();
   const receiving = useReceiving();
   const silences = useSilences();
+  const paceOf = usePaceOf();
   const fleetAll = useMemo(
     () =>
-      fleet.map((p) => vehicleMark(p, now, selected, alarmed, receiving, silences)).filter((v): v is VehicleMark => v !== null),
-    [fleet, now, selected, alarmed, receiving, silences],
+      fleet
+        .map((p) => vehicleMark(p, now, selected, alarmed, receiving, silences, paceOf(p.id)))
+        .filter((v): v is VehicleMark => v !== null),
+    [fleet, now, selected, alarmed, receiving, silences, paceOf],
   );
   const selectedVehicle = useMemo(() => fleet.find((v) => v.id === selected), [fleet, selected]);
   const fleetData = useMemo<FleetData>(

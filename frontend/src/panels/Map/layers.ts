@@ -16,7 +16,8 @@ import { shortId } from "../../lib/vehicle";
 const FRAME_MAX_ZOOM = 14;
 
 /** `alarmed`: the vehicles with an unacknowledged alarm; `receiving`: the page hears the console (else nothing is
- * current: drawn stale); `silences`: the planned silences in force. */
+ * current: drawn stale); `silences`: the planned silences in force; `paceS`: the console sends its reports at most this
+ * often (a vehicle the page does not draw: `paceOf`), so it is stale only once silent that much longer. */
 export function vehicleMark(
   p: ProviderView,
   now: number,
@@ -24,6 +25,7 @@ export function vehicleMark(
   alarmed: ReadonlySet<string>,
   receiving: boolean,
   silences: readonly PlannedSilence[],
+  paceS = 0,
 ): VehicleMark | null {
   const fix = report(p, "GPSFixReport");
   const st = report(p, "GPSFixStatusReport");
@@ -31,7 +33,7 @@ export function vehicleMark(
   const position = validPosition(g?.geodeticLatitude?.latitude, g?.geodeticLongitude?.longitude);
   if (!position) return null;
   const view = p.topics.GPSFixReport;
-  const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link, receiving) : "none";
+  const f = view ? freshness(Math.max(0, now - view.at), "GPSFixReport", view.interval, p.link, receiving, paceS) : "none";
   const link =
     p.link === "lost" || f === "lost"
       ? "lost"

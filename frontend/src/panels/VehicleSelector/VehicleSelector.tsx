@@ -8,6 +8,7 @@ import {
   useCommanded,
   useConnectionState,
   useNow,
+  usePaceOf,
   useProvidersOnFrame,
   useReceiving,
   sameOverview,
@@ -198,6 +199,7 @@ export function VehicleSelector() {
   const signedOut = useConnectionState() === "signed-out";
   const recorded = useCapabilities().playback; // a replay: the links are the recording's
   const receiving = useReceiving();
+  const paceOf = usePaceOf();
   const silences = useSilences();
   const alarmed = useAlarmed();
   const commanded = useCommanded();
@@ -218,10 +220,10 @@ export function VehicleSelector() {
       providers.map((p) => {
         const seen = lastHeardAt(p);
         const ageS = seen === null ? null : Math.max(0, now - seen);
-        const link = pageLink(p.link, ageS, staleAfterOf(p), receiving);
+        const link = pageLink(p.link, ageS, staleAfterOf(p) + paceOf(p.id), receiving);
         return { p, seen, ageS, link, until: plannedUntil(silences, p.id, link) };
       }),
-    [providers, now, receiving, silences],
+    [providers, now, receiving, silences, paceOf],
   );
   const matching = useMemo(() => {
     const named = vehicleMatcher(filter);
