@@ -1,0 +1,259 @@
+"""What `sem-sim` writes, read back with cyclonedds over loopback and checked member by member against what its
+vehicles mean (sim/models.py and sim/reports.py, restated here): each satellite where its orbit puts it at the
+report's time with its own constants, the position on the vehicle's circle at the time of its course, the clock's and
+the fix's constants, time stamps of now, the INS's stages, the fault of a failed INS, a surfacing on a GPS fix command,
+and both UMAA versions in one fleet. It fails when the simulator's fast paths (prepared samples and bytes) corrupt a
+member."""
+
+from __future__ import annotations
+
+import itertools
+import math
+import statistics
+import time
+from typing import Any
+
+import pytest
+
+from UMAA.Common.MaritimeEnumeration.GPSFixEnumType import GPSFixEnumType as Fix
+from UMAA.Common.MaritimeEnumeration.GPSNavigationSolutionEnumType import GPSNavigationSolutionEnumType as Nav
+from UMAA.Common.MaritimeEnumeration.InertialSensorOpStatusEnumType import InertialSensorOpStatusEnumType as Op
+from UMAA.Common.MaritimeEnumeration.InertialSensorStateEnumType import InertialSensorStateEnumType as InsState
+
+from sem_console.dds.bus import Bus, all_samples
+from sem_console.dds.cyclone_private import InvalidSample
+from sem_console.dds.topics import Sem, Sem60, Service
+from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Satellite
+from sem_console.sim.options import SimOptions, vehicle_guid
+from sem_console.sim.reports import Sensors
+from sem_console.sim.umaa_6_0 import tfom
+from sem_console.umaa.guid import satellite_guid
+from support.consumer import Consumer
+
+# the simulator's options (conftest's FAST, then these): vehicle 2's INS failed, vehicle 3 speaks UMAA 6.0
+ARGS = ["--vehicles", "3", "--fault", "ins-failure:2", "--umaa-6-0-vehicles", "3"]
+OPTS = SimOptions(  # type: ignore[call-arg]
+    vehicles=3, faults={2: {"ins-failure"}}, umaa_6_0_vehicles={3}, time_scale=0.05, fix_rate=10, ins_rate=10, gps_rate=4
+)
+V1, V2, V3 = (vehicle_guid(n) for n in (1, 2, 3))
+ANGLE = 2e-3  # rad: a satellite's or a course's motion in the few milliseconds between a report's time and its stamp
+DEG = 1e-6  # degrees of latitude or longitude: about 10 cm
+SLACK = 0.02  # s: the same between the time a report is made for and its time stamp
+
+
+def _model(number: int) -> Sensors:
+    """The vehicle as the simulator builds it (its seed, sky, track and INS follow from its number)."""
+    return Sensors(OPTS, number, vehicle_guid(number), OPTS.faults_for(number))
+
+
+def _stamp(t: Any) -> float:
+    return float(t.seconds + t.nanoseconds / 1e9)
+
+
+def _sky_at(s: Satellite, t: float) -> tuple[float, float]:
+    """A satellite's azimuth (-pi..pi) and elevation (3..89 degrees) t seconds after its vehicle started."""
+    az = (s.az0 + s.az_rate * t) % (2 * math.pi)
+    az = az - 2 * math.pi if az > math.pi else az
+    el = s.el_mid + s.el_amp * math.sin(s.el_rate * t + s.phase)
+    return az, min(max(el, math.radians(3)), math.radians(89))
+
+
+def _angle_near(a: float, b: float) -> bool:
+    return abs((a - b + math.pi) % (2 * math.pi) - math.pi) < ANGLE
+
+
+class Clock:
+    """A vehicle's start on the wall clock, from one report's course: its course turns at a known rate from a known
+    start, so a course gives the seconds since the start (within the first turn of its circle, 12 minutes)."""
+
+    def __init__(self, model: Sensors, course: float, stamp: float) -> None:
+        track = model.track
+        self.start = stamp - ((course - track.course0) % (2 * math.pi)) / track.turn_rate
+
+    def t(self, stamp: float) -> float:
+        return stamp - self.start
+
+
+def _check_position(model: Sensors, clock: Clock, stamp: float, lat: float, lon: float, course: float) -> None:
+    lat_m, lon_m, course_m = model.track.at(clock.t(stamp))
+    assert abs(lat - lat_m) < DEG and abs(lon - lon_m) < DEG, (lat, lon, lat_m, lon_m)
+    assert _angle_near(course, course_m)
+
+
+def _check_sky(model: Sensors, t: float, sats: list[Any], exposure: float | None, six: bool) -> None:
+    """Every satellite in the sky's order with its own constants, where its orbit puts it at t, its C/N0 (rounded to a
+    tenth, the baseband's 1.5 dB lower) as its elevation and the antenna's exposure make it (a noise of one dB: under
+    water twice its size, at the surface 28 + 22 sin(elevation) plus it; `exposure` None: surfacing, somewhere between),
+    and at the surface the strongest (at most 12, from 30 dB-Hz) used in the fix."""
+    assert len(sats) == len(model.sky) == OPTS.satellites
+    for s, sky in zip(sats, model.sky, strict=True):
+        if six:
+            assert s.satelliteID == float(sky.prn) and s.constellationType.name == sky.constellation.name
+        else:
+            assert list(s.satelliteId) == satellite_guid(sky.constellation, sky.prn) and s.constellationType is sky.constellation
+        assert s.carrierFrequency == sky.frequency and s.containsAlmanacData is sky.almanac and s.ephemerisData is sky.ephemeris
+        az, el = _sky_at(sky, t)
+        assert _angle_near(s.azimuth, az) and abs(s.elevation - el) < ANGLE
+        cn0, baseband = s.antennaCarrierNoiseDensity, s.basebandCarrierNoiseDensity
+        assert cn0 == round(cn0, 1) and baseband == round(baseband, 1) and abs(baseband - max(cn0 - 1.5, 0.0)) < 0.01
+        clear = 28.0 + 22.0 * math.sin(s.elevation)
+        if exposure == 0.0:
+            assert 0.0 <= cn0 < 13.0, cn0
+        elif exposure == 1.0:
+            assert abs(cn0 - clear) < 6.5, (cn0, clear)
+        else:
+            assert 0.0 <= cn0 < max(13.0, clear + 6.5), (cn0, clear)
+    used = [s.antennaCarrierNoiseDensity for s in sats if s.usedInFix]
+    unused = [s.antennaCarrierNoiseDensity for s in sats if not s.usedInFix]
+    if exposure == 0.0:
+        assert used == []
+    if exposure != 1.0:
+        return
+    assert 0 < len(used) <= MAX_USED and min(used) >= 30.0
+    if len(used) < MAX_USED:
+        assert all(c < 30.05 for c in unused)
+    assert min(used) >= max(unused) - 0.1  # the strongest, within the rounding of the C/N0 written
+
+
+def _check_clock(model: Sensors, clock: Any, six: bool) -> None:
+    assert -50 <= clock.bias <= 50 and -5 <= clock.drift <= 5
+    assert (clock.biasUncertainty if six else clock.biasUncertianty) == 15 and clock.driftUncertainty == 2
+    assert 0 <= clock.elapsedRealtime < 2**31 and clock.time == clock.elapsedRealtime
+    assert clock.elapsedRealtimeUncertainty == 1000 and clock.fullBias == -1_234_567_890
+    assert clock.hardwareClockDiscontinuityCount == 0 and clock.leapSecond == 18
+    assert clock.referenceCarrierFrequency == 1575.42e6 and clock.referenceCodeTypeFor == "C/A"
+    assert clock.referenceConstellationType.name == model.sky[0].constellation.name
+    if six:
+        assert clock.timeFigureOfMerit is tfom(20.0)
+    else:
+        assert clock.timeUncertainty == 20.0
+
+
+def _current(stamps: list[float], began: float) -> None:
+    """Time stamps of now, in the order written, at the report's rate."""
+    assert stamps == sorted(stamps) and began - 1 <= stamps[0] and stamps[-1] <= time.time() + 0.1
+
+
+def _at_rate(stamps: list[float], rate: float) -> None:
+    """The median interval between reports is the report's period (a loaded machine delays a few of them)."""
+    assert len(stamps) >= 5
+    assert abs(statistics.median(b - a for a, b in itertools.pairwise(stamps)) - 1 / rate) < 0.3 / rate
+
+
+def _take(readers: dict[Any, Any], into: dict[Any, dict[bytes, list[Any]]]) -> None:
+    for sem, r in readers.items():
+        for s in r.take(N=1000, condition=all_samples(r)):
+            if not isinstance(s, InvalidSample):
+                into.setdefault(sem, {}).setdefault(bytes(s.source.id), []).append(s)
+
+
+@pytest.mark.timeout(120)
+def test_every_member_of_every_report_is_what_the_vehicle_means(sim, consumer: Consumer, new_bus: Any, domain: int) -> None:
+    bus: Bus = new_bus(domain)
+    six_readers = {sem: bus.reader(sem) for sem in (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)}
+    six: dict[Any, dict[bytes, list[Any]]] = {}
+    began = time.time()
+    sim(*ARGS)
+
+    def has(n: int) -> bool:
+        _take(six_readers, six)
+        three = [sem for sem in Sem if sem.spec.cls.value == "report"]
+        return all(len(consumer.reports[sem].get(v, [])) >= n for sem in three for v in (V1, V2)) and all(
+            len(six.get(sem, {}).get(V3.bytes, [])) >= n for sem in six_readers
+        )
+
+    consumer.wait(lambda: has(12), 30, "a dozen reports of every topic from every vehicle")
+    # vehicle 1 surfaces on a GPS fix command: a valid fix, satellites used, then its reports until the fix is stable
+    consumer.command(Service.GPS_FIX, V1)
+    consumer.wait(lambda: consumer.latest(Sem.GPS_FIX_REPORT, V1).GPSFixCommandStatus is Fix.STABLE, 15, "a stable fix")
+    consumer.wait(lambda: has(24), 15, "a dozen more reports")
+
+    for v, number in ((V1, 1), (V2, 2)):
+        model = _model(number)
+        fixes = consumer.reports[Sem.GPS_FIX_REPORT][v]
+        clock = Clock(model, fixes[0].trueCourse, _stamp(fixes[0].timeStamp))
+        for sem in (Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_REPORT, Sem.INS_REPORT):
+            reports = consumer.reports[sem][v]
+            assert all(bytes(r.source) == v.bytes for r in reports)
+            _current([_stamp(r.timeStamp) for r in reports], began)
+        _at_rate([_stamp(r.timeStamp) for r in fixes], OPTS.fix_rate)
+        _at_rate([_stamp(r.timeStamp) for r in consumer.reports[Sem.GPS_REPORT][v]], OPTS.gps_rate)
+        _at_rate([_stamp(r.timeStamp) for r in consumer.reports[Sem.INS_REPORT][v]], OPTS.ins_rate)
+        surfaced_at, submerged_until = math.inf, -math.inf  # the first stamp at the surface, the last under water
+        for f in fixes:
+            stamp = _stamp(f.timeStamp)
+            pos = f.position2DWithTime
+            assert abs(pos.timeAtPosition - stamp) < SLACK
+            lat, lon = pos.geodeticPosition.geodeticLatitude.latitude, pos.geodeticPosition.geodeticLongitude.longitude
+            _check_position(model, clock, stamp, lat, lon, f.trueCourse)
+            assert model.track.speed == f.SOG and f.magneticVariation == math.radians(-10.8)
+            assert f.velocity.northSpeed == f.SOG * math.cos(f.trueCourse) and f.velocity.eastSpeed == f.SOG * math.sin(
+                f.trueCourse
+            )
+            depth = f.altitudeMSL.altitude
+            assert SUBMERGED_DEPTH_M <= depth <= 0.0 and f.GPSLatLongValid is (depth >= 0.0)
+            rising = -SUBMERGED_DEPTH_M / OPTS.scaled(OPTS.surface_seconds)
+            assert f.velocity.downSpeed in ((0.0, -rising) if depth == SUBMERGED_DEPTH_M else (-rising,) if depth < 0 else (0.0,))
+            if depth >= 0.0:
+                surfaced_at = min(surfaced_at, stamp)
+            if depth == SUBMERGED_DEPTH_M:
+                submerged_until = stamp
+            if v == V2:
+                assert depth == SUBMERGED_DEPTH_M and f.GPSFixCommandStatus is Fix.INITIATING
+        assert (surfaced_at < math.inf) is (v == V1)
+        for s in consumer.reports[Sem.GPS_FIX_STATUS_REPORT][v]:
+            origin = s.originPosition
+            assert origin.geodeticPosition.geodeticLatitude.latitude == model.track.lat0
+            assert (
+                origin.geodeticPosition.geodeticLongitude.longitude == model.track.lon0
+                and origin.heightAboveEllipsoid.altitude == -36.5
+            )
+            valid = _stamp(s.timeStamp) >= surfaced_at
+            assert s.fixValid is valid and s.timeOut is (not valid) and s.lowBkupBattery is False and s.pCode is False
+            assert s.navSolution is (Nav.GPS_3D if valid else Nav.GPS_DEAD_RECK)
+            assert 0 <= s.countDown <= math.ceil(OPTS.scaled(OPTS.surface_seconds)) and (valid or s.carrierToNoise == [])
+            assert s.carrierToNoise == sorted(s.carrierToNoise, reverse=True) and len(s.carrierToNoise) <= 11
+        by_stamp = {_stamp(s.timeStamp): s for s in consumer.reports[Sem.GPS_FIX_STATUS_REPORT][v]}
+        for g in consumer.reports[Sem.GPS_REPORT][v]:
+            stamp = _stamp(g.timeStamp)
+            assert g.numberSatellitesInView == len(g.satellites)
+            exposure = 0.0 if stamp <= submerged_until else 1.0 if stamp >= surfaced_at else None
+            _check_sky(model, clock.t(stamp), g.satellites, exposure, six=False)
+            _check_clock(model, g.clock, six=False)
+            status = next((s for t, s in by_stamp.items() if abs(t - stamp) < 0.01), None)  # the next tick's: 20 ms on
+            if status is not None and status.fixValid:  # written with this report: its used satellites' C/N0
+                used = sorted((s.antennaCarrierNoiseDensity for s in g.satellites if s.usedInFix), reverse=True)[:11]
+                assert status.carrierToNoise == used
+        ins = consumer.reports[Sem.INS_REPORT][v]
+        assert all(r.state is InsState.ON for r in ins)
+        if v == V2:  # the ins-failure fault
+            assert all(r.status is Op.INERTIAL_SENSOR_FAILURE for r in ins)
+        else:
+            model_ins = Ins(OPTS.scaled(OPTS.align_seconds))
+            for r in ins:
+                t = clock.t(_stamp(r.timeStamp))
+                assert r.status in {model_ins.status(t + d) for d in (-SLACK, 0.0, SLACK)}, (t, r.status)
+            assert ins[-1].status is Op.OPERATIONAL
+
+    # vehicle 3 speaks UMAA 6.0: on the surface from its start, its position measured
+    model = _model(3)
+    poses = six[Sem60.GLOBAL_POSE_REPORT][V3.bytes]
+    clock = Clock(model, poses[0].course, _stamp(poses[0].timeStamp))
+    for sem, reports in ((sem, six[sem][V3.bytes]) for sem in six_readers):
+        assert all(bytes(r.source.parentID) == bytes(16) for r in reports)
+        _current([_stamp(r.timeStamp) for r in reports], began)
+        rate = {Sem60.GPS_REPORT: OPTS.gps_rate, Sem60.GLOBAL_POSE_REPORT: OPTS.fix_rate, Sem60.INS_REPORT: OPTS.ins_rate}[sem]
+        _at_rate([_stamp(r.timeStamp) for r in reports], rate)
+    for p in poses:
+        _check_position(model, clock, _stamp(p.timeStamp), p.position.geodeticLatitude, p.position.geodeticLongitude, p.course)
+        assert p.attitude.yaw.yaw == p.course and p.attitude.pitch.pitch == 0.0 and p.attitude.roll.roll == 0.0
+        assert p.altitude == 0.0 and p.depth is None and p.navigationSolution.name == "MEASURED"
+        assert p.altitudeAGL is None and p.altitudeASF is None and p.altitudeGeodetic is None
+        assert p.attitudeCovariance is None and p.positionCovariance is None
+    for g in six[Sem60.GPS_REPORT][V3.bytes]:
+        assert g.numberSatellitesInView == len(g.satellites)
+        _check_sky(model, clock.t(_stamp(g.timeStamp)), g.satellites, 1.0, six=True)
+        _check_clock(model, g.clock, six=True)
+    stages = [r.status.name for r in six[Sem60.INS_REPORT][V3.bytes]]
+    order = ["INIT", "COARSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE"]
+    assert [order.index(s) for s in stages] == sorted(order.index(s) for s in stages) and stages[-1] == order[-1]
