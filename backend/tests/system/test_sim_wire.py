@@ -32,13 +32,13 @@ from support.consumer import Consumer
 
 # the simulator's options (conftest's FAST, then these): vehicle 2's INS failed, vehicle 3 speaks UMAA 6.0
 ARGS = ["--vehicles", "3", "--fault", "ins-failure:2", "--umaa-6-0-vehicles", "3"]
-OPTS = SimOptions(  # type: ignore[call-arg]
+OPTS = SimOptions(
     vehicles=3, faults={2: {"ins-failure"}}, umaa_6_0_vehicles={3}, time_scale=0.05, fix_rate=10, ins_rate=10, gps_rate=4
 )
 V1, V2, V3 = (vehicle_guid(n) for n in (1, 2, 3))
-ANGLE = 2e-3  # rad: a satellite's or a course's motion in the few milliseconds between a report's time and its stamp
-DEG = 1e-6  # degrees of latitude or longitude: about 10 cm
-SLACK = 0.02  # s: the same between the time a report is made for and its time stamp
+ANGLE = 1e-9  # rad: a satellite's or a course's error at a report's own time (sub-nanosecond)
+DEG = 1e-9  # degrees of latitude or longitude: 0.1 mm
+LATE = 0.5  # s: at most from a report's time to its time stamp (a loaded machine delays a process)
 
 
 def _model(number: int) -> Sensors:
@@ -63,21 +63,40 @@ def _angle_near(a: float, b: float) -> bool:
 
 
 class Clock:
-    """A vehicle's start on the wall clock, from one report's course: its course turns at a known rate from a known
-    start, so a course gives the seconds since the start (within the first turn of its circle, 12 minutes)."""
+    """A vehicle's time since its start, which its reports are made for: a course gives it (the course turns at a known
+    rate from a known start, within the first turn of the circle, 12 minutes), and a GPSReport's clock its
+    nanoseconds (modulo 2^31); its start on the wall clock is the earliest a time stamp allows (a stamp is taken after
+    the time the report is made for)."""
 
-    def __init__(self, model: Sensors, course: float, stamp: float) -> None:
-        track = model.track
-        self.start = stamp - ((course - track.course0) % (2 * math.pi)) / track.turn_rate
+    def __init__(self, model: Sensors, fixes: list[tuple[float, float]]) -> None:
+        self.track = model.track
+        self.start = min(stamp - self.of_course(course) for course, stamp in fixes)
+
+    def of_course(self, course: float) -> float:
+        return ((course - self.track.course0) % (2 * math.pi)) / self.track.turn_rate
+
+    def of_clock(self, elapsed_ns: int, stamp: float) -> float:
+        """The time a GPSReport was made for, from its clock's elapsed nanoseconds (modulo 2^31) and its stamp."""
+        wraps = round((self.t(stamp) * 1e9 - elapsed_ns) / 2**31)
+        return (wraps * 2**31 + elapsed_ns) / 1e9
 
     def t(self, stamp: float) -> float:
         return stamp - self.start
 
+    def stamped(self, t: float, stamp: float) -> None:
+        """The report made for t was stamped then: not before it (but for the drift of the wall clock against the
+        monotonic one its times are taken from, and the precision of a stamp), and soon after."""
+        assert -1e-3 <= self.t(stamp) - t < LATE, (t, self.t(stamp))
 
-def _check_position(model: Sensors, clock: Clock, stamp: float, lat: float, lon: float, course: float) -> None:
-    lat_m, lon_m, course_m = model.track.at(clock.t(stamp))
+
+def _check_position(model: Sensors, clock: Clock, stamp: float, lat: float, lon: float, course: float) -> float:
+    """The position on the vehicle's circle at the time its course gives; that time."""
+    t = clock.of_course(course)
+    lat_m, lon_m, course_m = model.track.at(t)
     assert abs(lat - lat_m) < DEG and abs(lon - lon_m) < DEG, (lat, lon, lat_m, lon_m)
     assert _angle_near(course, course_m)
+    clock.stamped(t, stamp)
+    return t
 
 
 def _check_sky(model: Sensors, t: float, sats: list[Any], exposure: float | None, six: bool) -> None:
@@ -171,7 +190,7 @@ def test_every_member_of_every_report_is_what_the_vehicle_means(sim, consumer: C
     for v, number in ((V1, 1), (V2, 2)):
         model = _model(number)
         fixes = consumer.reports[Sem.GPS_FIX_REPORT][v]
-        clock = Clock(model, fixes[0].trueCourse, _stamp(fixes[0].timeStamp))
+        clock = Clock(model, [(f.trueCourse, _stamp(f.timeStamp)) for f in fixes])
         for sem in (Sem.GPS_FIX_REPORT, Sem.GPS_FIX_STATUS_REPORT, Sem.GPS_REPORT, Sem.INS_REPORT):
             reports = consumer.reports[sem][v]
             assert all(bytes(r.source) == v.bytes for r in reports)
@@ -180,12 +199,15 @@ def test_every_member_of_every_report_is_what_the_vehicle_means(sim, consumer: C
         _at_rate([_stamp(r.timeStamp) for r in consumer.reports[Sem.GPS_REPORT][v]], OPTS.gps_rate)
         _at_rate([_stamp(r.timeStamp) for r in consumer.reports[Sem.INS_REPORT][v]], OPTS.ins_rate)
         surfaced_at, submerged_until = math.inf, -math.inf  # the first stamp at the surface, the last under water
+        fix_times: dict[float, float] = {}  # each fix report's time: its stamp
         for f in fixes:
             stamp = _stamp(f.timeStamp)
             pos = f.position2DWithTime
-            assert abs(pos.timeAtPosition - stamp) < SLACK
             lat, lon = pos.geodeticPosition.geodeticLatitude.latitude, pos.geodeticPosition.geodeticLongitude.longitude
-            _check_position(model, clock, stamp, lat, lon, f.trueCourse)
+            t = _check_position(model, clock, stamp, lat, lon, f.trueCourse)
+            fix_times[t] = stamp
+            clock.stamped(t, pos.timeAtPosition)
+            assert pos.timeAtPosition <= stamp
             assert model.track.speed == f.SOG and f.magneticVariation == math.radians(-10.8)
             assert f.velocity.northSpeed == f.SOG * math.cos(f.trueCourse) and f.velocity.eastSpeed == f.SOG * math.sin(
                 f.trueCourse
@@ -213,36 +235,42 @@ def test_every_member_of_every_report_is_what_the_vehicle_means(sim, consumer: C
             assert s.navSolution is (Nav.GPS_3D if valid else Nav.GPS_DEAD_RECK)
             assert 0 <= s.countDown <= math.ceil(OPTS.scaled(OPTS.surface_seconds)) and (valid or s.carrierToNoise == [])
             assert s.carrierToNoise == sorted(s.carrierToNoise, reverse=True) and len(s.carrierToNoise) <= 11
-        by_stamp = {_stamp(s.timeStamp): s for s in consumer.reports[Sem.GPS_FIX_STATUS_REPORT][v]}
+        statuses = [(_stamp(s.timeStamp), s) for s in consumer.reports[Sem.GPS_FIX_STATUS_REPORT][v]]
         for g in consumer.reports[Sem.GPS_REPORT][v]:
             stamp = _stamp(g.timeStamp)
             assert g.numberSatellitesInView == len(g.satellites)
+            t = clock.of_clock(g.clock.elapsedRealtime, stamp)
+            clock.stamped(t, stamp)
             exposure = 0.0 if stamp <= submerged_until else 1.0 if stamp >= surfaced_at else None
-            _check_sky(model, clock.t(stamp), g.satellites, exposure, six=False)
+            _check_sky(model, t, g.satellites, exposure, six=False)
             _check_clock(model, g.clock, six=False)
-            status = next((s for t, s in by_stamp.items() if abs(t - stamp) < 0.01), None)  # the next tick's: 20 ms on
-            if status is not None and status.fixValid:  # written with this report: its used satellites' C/N0
+            # a fix report of the same tick (the same time, to the nanosecond of the clock): its status, stamped right
+            # after it, carries the C/N0 of this report's satellites used in the fix, strongest first
+            tick = next((stamp for ft, stamp in fix_times.items() if abs(ft - t) < 2e-9), None)
+            status = [s for at, s in statuses if tick is not None and 0.0 <= at - tick < 0.002]
+            if len(status) == 1 and status[0].fixValid:
                 used = sorted((s.antennaCarrierNoiseDensity for s in g.satellites if s.usedInFix), reverse=True)[:11]
-                assert status.carrierToNoise == used
+                assert status[0].carrierToNoise == used
         ins = consumer.reports[Sem.INS_REPORT][v]
         assert all(r.state is InsState.ON for r in ins)
         if v == V2:  # the ins-failure fault
             assert all(r.status is Op.INERTIAL_SENSOR_FAILURE for r in ins)
         else:
             model_ins = Ins(OPTS.scaled(OPTS.align_seconds))
-            for r in ins:
+            for r in ins:  # at a time up to LATE before its stamp
                 t = clock.t(_stamp(r.timeStamp))
-                assert r.status in {model_ins.status(t + d) for d in (-SLACK, 0.0, SLACK)}, (t, r.status)
+                assert r.status in {model_ins.status(t - LATE * k / 10) for k in range(11)}, (t, r.status)
             assert ins[-1].status is Op.OPERATIONAL
 
     # vehicle 3 speaks UMAA 6.0: on the surface from its start, its position measured
     model = _model(3)
     poses = six[Sem60.GLOBAL_POSE_REPORT][V3.bytes]
-    clock = Clock(model, poses[0].course, _stamp(poses[0].timeStamp))
-    for sem, reports in ((sem, six[sem][V3.bytes]) for sem in six_readers):
+    clock = Clock(model, [(p.course, _stamp(p.timeStamp)) for p in poses])
+    rates = {Sem60.GPS_REPORT: OPTS.gps_rate, Sem60.GLOBAL_POSE_REPORT: OPTS.fix_rate, Sem60.INS_REPORT: OPTS.ins_rate}
+    for sem60, rate in rates.items():
+        reports = six[sem60][V3.bytes]
         assert all(bytes(r.source.parentID) == bytes(16) for r in reports)
         _current([_stamp(r.timeStamp) for r in reports], began)
-        rate = {Sem60.GPS_REPORT: OPTS.gps_rate, Sem60.GLOBAL_POSE_REPORT: OPTS.fix_rate, Sem60.INS_REPORT: OPTS.ins_rate}[sem]
         _at_rate([_stamp(r.timeStamp) for r in reports], rate)
     for p in poses:
         _check_position(model, clock, _stamp(p.timeStamp), p.position.geodeticLatitude, p.position.geodeticLongitude, p.course)
@@ -252,7 +280,9 @@ def test_every_member_of_every_report_is_what_the_vehicle_means(sim, consumer: C
         assert p.attitudeCovariance is None and p.positionCovariance is None
     for g in six[Sem60.GPS_REPORT][V3.bytes]:
         assert g.numberSatellitesInView == len(g.satellites)
-        _check_sky(model, clock.t(_stamp(g.timeStamp)), g.satellites, 1.0, six=True)
+        t = clock.of_clock(g.clock.elapsedRealtime, _stamp(g.timeStamp))
+        clock.stamped(t, _stamp(g.timeStamp))
+        _check_sky(model, t, g.satellites, 1.0, six=True)
         _check_clock(model, g.clock, six=True)
     stages = [r.status.name for r in six[Sem60.INS_REPORT][V3.bytes]]
     order = ["INIT", "COARSE_STATIONARY_ALIGNMENT", "FINE_STATIONARY_ALIGNMENT_STARTED", "FINE_STATIONARY_ALIGNMENT_COMPLETE"]
