@@ -45,7 +45,7 @@ class Sensors:
         self.rng = random.Random(seed)
         self.sky = make_sky(seed, opts.satellites, opts.sky_speed)
         self.orbits = [s.orbit for s in self.sky]
-        ids: list[Any] = [satellite_guid(s.constellation, s.prn) for s in self.sky]  # NumericGUIDs
+        ids: list[Any] = [bytes(satellite_guid(s.constellation, s.prn)) for s in self.sky]  # NumericGUIDs, packed as they are
         self.sky_samples = [  # every member given: the constructor itself (`make` fills absent ones)
             GPSSatelliteType(
                 antennaCarrierNoiseDensity=0.0,
