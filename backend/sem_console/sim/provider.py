@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import time
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from cyclonedds.core import InstanceState
+from cyclonedds.core import InstanceState, Policy, Qos
 from cyclonedds.pub import DataWriter
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
@@ -118,12 +119,18 @@ class Simulator:
         self.conditions = {c: all_samples(r) for c, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
+        # Not our own samples (IgnoreLocal): a thousand vehicles' INS reports a second, each delivered to it and
+        # decoded by cyclonedds to be skipped, cost more than the rest of the watch.
         self._twin_reader = (
-            bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) if Sem.INS_REPORT in self.writers else None
+            bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT) + Qos(Policy.IgnoreLocal.Participant))
+            if Sem.INS_REPORT in self.writers
+            else None
         )
-        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self._twin_reader else 0
         self._twin_at = 0.0
         self._health_at = 0.0
+        # Until when no vehicle has anything to do: none has a report due, none is changing (a command executing, a
+        # surfacing, an INS restarting, a CoMap task), and no command came since the vehicles were last looked at.
+        self._quiet_until = 0.0
         self.started = False
 
     def claim(self) -> None:
@@ -206,6 +213,7 @@ class Simulator:
                 self.handle(c, s, now, startup)
 
     def handle(self, commanding: Commanding, s: Any, now: float, startup: bool) -> None:
+        self._quiet_until = 0.0  # a command may start work before any report is due: every vehicle is looked at
         state = s.sample_info.instance_state
         cmd: Any = s.key_sample if isinstance(s, InvalidSample) else s  # a generated command struct
         service = commanding.service
@@ -246,7 +254,7 @@ class Simulator:
         mine = self.writers[Sem.INS_REPORT].guid
         for s in take_each(self._twin_reader)[0]:
             handle = s.sample_info.publication_handle & _U64
-            if handle == self._own_writer or isinstance(s, InvalidSample):
+            if isinstance(s, InvalidSample):
                 continue
             with contextlib.suppress(TypeError, ValueError):
                 source = from_guid(s.source)
@@ -268,13 +276,20 @@ class Simulator:
                 self.comap.step()
             except Exception:  # a CoMap fault must not stop the UMAA provider
                 log.exception("CoMap step failed")
-        for v in self.vehicles.values():  # a thousand vehicles, fifty ticks a second: only those with work
+        if now < self._quiet_until and self.comap is None:  # a thousand vehicles, fifty ticks a second
+            return
+        quiet_until = math.inf
+        for v in self.vehicles.values():  # only those with work
             sensors = v.sensors
             if now < sensors.next_due and not v.commands.executions and not sensors.moving and sensors.pilot is None:
+                quiet_until = min(quiet_until, sensors.next_due)
                 continue
             sensors.step(now)
             v.commands.step(now)
             sensors.publish(now, v.write)
+            busy = v.commands.executions or sensors.moving or sensors.pilot is not None
+            quiet_until = 0.0 if busy else min(quiet_until, sensors.next_due)
+        self._quiet_until = quiet_until
 
     def run(self, stop: Callable[[], bool]) -> None:
         if not self.started:
