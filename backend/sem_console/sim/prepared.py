@@ -23,7 +23,7 @@ from typing import Any
 from cyclonedds.core import DDSException
 from cyclonedds.pub import DataWriter
 
-from sem_console.dds.cyclone_private import enum_type, type_machine, write_cdr, writer_version_2
+from sem_console.dds.cyclone_private import enum_type, type_machine, write_cdr, write_flush, writer_version_2
 from sem_console.dds.cyclone_private import machinery as mc
 
 LAYOUTS_MAX = 16  # per writer: the shapes its samples come in (GPSFixStatusReport: 0..11 carrier-to-noise values)
@@ -244,3 +244,9 @@ class PreparedWriter:
 
     def dispose(self, sample: Any) -> None:
         self.writer.dispose(sample)
+
+    def flush(self) -> None:
+        """Send what a batching writer (`Bus.writer(batching=True)`) holds."""
+        ret = write_flush(self.writer)
+        if ret < 0:
+            raise DDSException(ret, f"Occurred while flushing {self.writer!r}")

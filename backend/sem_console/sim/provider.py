@@ -100,13 +100,14 @@ class Simulator:
         # --umaa 6.0 or --umaa-6-0-vehicles: those vehicles' samples written on the 6.0 topics (sim/umaa_6_0.py)
         versions = {opts.version_of(n) for n in opts.numbers}
         self.writer60 = Writer60.of_fleet(bus, opts)
-        self.writers: dict[AnySem, DataWriter[Any]] = {
-            sem: bus.writer(sem, appendable=sem in self.appendable)
+        self.writers: dict[AnySem, DataWriter[Any]] = {  # the reports batched: sent at the end of each tick
+            sem: bus.writer(sem, appendable=sem in self.appendable, batching=sem.spec.cls is TopicClass.REPORT)
             for sem in Sem
             if sem.spec.cls is not TopicClass.COMMAND and not all(Writer60.speaks(opts, n) for n in opts.numbers)
         }
         # the reports, a thousand vehicles' worth a second, from prepared bytes (sim/prepared.py)
         self.prepared = {sem: PreparedWriter(w) for sem, w in self.writers.items() if sem.spec.cls is TopicClass.REPORT}
+        self.report_writers = [*self.prepared.values(), *(self.writer60.prepared.values() if self.writer60 else [])]
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
@@ -290,6 +291,12 @@ class Simulator:
             busy = v.commands.executions or sensors.moving or sensors.pilot is not None
             quiet_until = 0.0 if busy else min(quiet_until, sensors.next_due)
         self._quiet_until = quiet_until
+        self.flush()
+
+    def flush(self) -> None:
+        """Send the reports written (their writers batch them)."""
+        for p in self.report_writers:
+            p.flush()
 
     def run(self, stop: Callable[[], bool]) -> None:
         if not self.started:
@@ -310,5 +317,6 @@ class Simulator:
         for v in self.vehicles.values():
             v.commands.shutdown()
             v.sensors.dispose(v.dispose)
+        self.flush()
         wait_for_acks([*self.writers.values(), *(self.writer60.writers.values() if self.writer60 else [])], ack_timeout)
         self.journal.close()

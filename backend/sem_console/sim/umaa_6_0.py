@@ -303,7 +303,9 @@ class Writer60:
         # its appendable copy in XCDR2, as RTI's UMAA types are, for an RTI consumer (docs/umaa-versions.md)
         sems = (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)
         self.appendable = {s for s in sems if appendable and s.spec.appendable is not None}
-        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
+        self.writers: dict[AnySem, DataWriter[Any]] = {  # batched: the simulator sends them at the end of each tick
+            sem: bus.writer(sem, appendable=sem in self.appendable, batching=True) for sem in sems
+        }
         # the command flow's statuses and acks: reliable, transient-local, with RTI UMAAQoSLib's CommandQoS (bus.writer)
         self.writers.update({sem: bus.writer(sem) for sem in (Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)})
         self.prepared = {sem: PreparedWriter(self.writers[sem]) for sem in sems}  # the reports (sim/prepared.py)
