@@ -15,7 +15,7 @@ from cyclonedds.sub import DataReader
 from cyclonedds.topic import Topic
 
 from sem_console.dds.config import dds_config, peers_problem
-from sem_console.dds.cyclone_private import InvalidSample, delete_entity, take_cdr
+from sem_console.dds.cyclone_private import BatchingDataWriter, InvalidSample, delete_entity, take_cdr
 from sem_console.dds.cyclone_private import wait_for_acks as wait_for_acks
 from sem_console.dds.qos import PUBLISHER, TopicClass, reader_qos, representation, umaa_command_qos, writer_qos
 from sem_console.dds.security import BusSecurity, SecurityError, from_uri, load, plugins_missing
@@ -118,13 +118,15 @@ class Bus:
             self._topics[sem] = Topic(self.participant, sem.spec.name, sem.spec.type)
         return self._topics[sem]
 
-    def writer(self, sem: AnySem, appendable: bool = False) -> DataWriter[Any]:
+    def writer(self, sem: AnySem, appendable: bool = False, batching: bool = False) -> DataWriter[Any]:
         """A writer with the topic class's QoS and the type's data representation; `appendable`: of the type's
-        appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent)."""
+        appendable copy (TopicSpec.appendable: sem-replay republishes an RTI vehicle's samples as they were sent);
+        `batching`: its samples wait in it until `cyclone_private.write_flush` sends them, many to a datagram."""
         topic = self._appendable_topic(sem) if appendable else self.topic(sem)
         qos = writer_qos(sem.spec.cls) + representation(sem.spec.xcdr2_only, writer=True)
+        kind = BatchingDataWriter if batching else DataWriter
         try:
-            return DataWriter(self.publisher, topic, qos=qos + umaa_command_qos(True) if sem.spec.command_qos_lib else qos)
+            return kind(self.publisher, topic, qos=qos + umaa_command_qos(True) if sem.spec.command_qos_lib else qos)
         except DDSException as e:
             raise self._refused(e, sem, "write") from None
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from UMAA.Common.MaritimeEnumeration.GPSConstellationEnumType import GPSConstellationEnumType as Constellation
@@ -24,6 +25,7 @@ CONSTELLATIONS = [
 ]
 MAX_USED = 12
 SUBMERGED_DEPTH_M = -30.0
+_EL_MIN, _EL_MAX, _TWO_PI = math.radians(3), math.radians(89), 2 * math.pi
 
 
 @dataclass
@@ -40,17 +42,10 @@ class Satellite:
     almanac: bool
     ephemeris: bool
 
-    def az_el(self, t: float) -> tuple[float, float]:
-        az = (self.az0 + self.az_rate * t) % (2 * math.pi)
-        if az > math.pi:  # UMAA Angle is -pi..pi
-            az -= 2 * math.pi
-        el = self.el_mid + self.el_amp * math.sin(self.el_rate * t + self.phase)
-        return az, min(max(el, math.radians(3)), math.radians(89))
-
-    def cn0(self, el: float, exposure: float, noise: float) -> float:
-        """C/N0 in dB-Hz: rises with elevation; exposure 0 (submerged) .. 1 (antenna clear)."""
-        clear = 28.0 + 22.0 * math.sin(el) + noise
-        return max(0.0, clear * exposure + 4.0 * (1 - exposure) * abs(noise) / 2)
+    @property
+    def orbit(self) -> Orbit:
+        """What `sky_view` takes of it."""
+        return self.az0, self.az_rate, self.el_mid, self.el_amp, self.el_rate, self.phase
 
 
 def make_sky(seed: int, count: int, sky_speed: float = 20.0) -> list[Satellite]:
@@ -81,6 +76,31 @@ def make_sky(seed: int, count: int, sky_speed: float = 20.0) -> list[Satellite]:
                 )
             )
     return sats
+
+
+Orbit = tuple[float, float, float, float, float, float]  # a satellite's az0, az_rate, el_mid, el_amp, el_rate, phase
+
+
+def sky_view(
+    orbits: list[Orbit], t: float, exposure: float, gauss: Callable[[float, float], float]
+) -> list[tuple[float, float, float]]:
+    """Each satellite's azimuth (radians, -pi..pi as UMAA's Angle), elevation (3..89 degrees, in radians) and C/N0
+    (dB-Hz) at `t` seconds, from its `Satellite.orbit` (az0, az_rate, el_mid, el_amp, el_rate, phase): the C/N0 rises with
+    elevation, with a noise of gauss(0, 1) drawn per satellite in order; `exposure` 0 (the antenna under water) .. 1
+    (clear). One loop over plain numbers: a thousand vehicles' skies a second."""
+    sin, lo, hi, two_pi, pi = math.sin, _EL_MIN, _EL_MAX, _TWO_PI, math.pi
+    dim = 4.0 * (1 - exposure)
+    out = []
+    for az0, az_rate, el_mid, el_amp, el_rate, phase in orbits:
+        az = (az0 + az_rate * t) % two_pi
+        if az > pi:
+            az -= two_pi
+        el = el_mid + el_amp * sin(el_rate * t + phase)
+        el = lo if el < lo else hi if el > hi else el
+        noise = gauss(0, 1.0)
+        cn0 = (28.0 + 22.0 * sin(el) + noise) * exposure + dim * abs(noise) / 2
+        out.append((az, el, cn0 if cn0 > 0.0 else 0.0))
+    return out
 
 
 @dataclass

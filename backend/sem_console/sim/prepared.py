@@ -23,7 +23,7 @@ from typing import Any
 from cyclonedds.core import DDSException
 from cyclonedds.pub import DataWriter
 
-from sem_console.dds.cyclone_private import enum_type, type_machine, write_cdr, writer_version_2
+from sem_console.dds.cyclone_private import enum_type, type_machine, write_cdr, write_flush, writer_version_2
 from sem_console.dds.cyclone_private import machinery as mc
 
 LAYOUTS_MAX = 16  # per writer: the shapes its samples come in (GPSFixStatusReport: 0..11 carrier-to-noise values)
@@ -66,6 +66,15 @@ class _Walk:
         self.leaves: list[_Leaf] = []
         self.guards: list[str] = []
         self.consts: dict[str, Any] = {}
+        self.binds: list[str] = []  # a struct's or a sequence's local name, read once: `a3 = a1.satellites`
+
+    def bind(self, expr: str) -> str:
+        """A local name for `expr`, read once before the guards (a sample of another shape raises there, as a guard)."""
+        if expr.isidentifier():
+            return expr
+        name = f"a{len(self.binds)}"
+        self.binds.append(f"{name} = {expr}")
+        return name
 
     def const(self, value: Any) -> str:
         name = f"K{len(self.consts)}"
@@ -87,6 +96,7 @@ class _Walk:
         elif isinstance(m, mc.StructMachine):
             if not hasattr(value, "__dataclass_fields__"):
                 raise Unsupported(f"{expr}: not a struct")
+            expr = self.bind(expr)
             for name, sub in m.members_machines.items():
                 self.member(sub, expr, getattr(value, name), get, name)
         elif isinstance(m, mc.PrimitiveMachine):
@@ -100,14 +110,15 @@ class _Walk:
             if len(members) < 2:
                 raise Unsupported(f"{expr}: an enumeration of one literal")
             code = m.code if isinstance(m, mc.BitBoundEnumMachine) else "I"
-            self.guards.append(f"{expr}.__class__ is {self.const(type(members[0]))}")
-            self.leaves.append(_Leaf(f"{expr}.value", code, (members[0], members[1]), put, value))
+            self.guards.append(f"{expr}.__class__ is {self.const(type(members[0]))}")  # so its _value_ is its number
+            self.leaves.append(_Leaf(f"{expr}._value_", code, (members[0], members[1]), put, value))
         elif isinstance(m, mc.ByteArrayMachine):
             self.guards.append(f"len({expr}) == {m.size}")
             self.leaves.append(_Leaf(f"bytes({expr})", f"{m.size}s", (b"\x11" * m.size, b"\x22" * m.size), put, value))
         elif isinstance(m, mc.StringMachine):
             self.guards.append(f"{expr} == {self.const(value)}")
         elif isinstance(m, (mc.SequenceMachine, mc.PlainCdrV2SequenceOfPrimitiveMachine)):
+            expr = self.bind(expr)
             self.guards.append(f"len({expr}) == {len(value)}")
             for i, item in enumerate(value):
                 if isinstance(m, mc.SequenceMachine):
@@ -163,7 +174,8 @@ class Layout:
         self._args[0::2] = gaps
         guards = " and ".join(w.guards) or "True"
         values = ", ".join(leaf.expr for leaf in w.leaves)
-        source = f"def values(s):\n    if not ({guards}):\n        return None\n    return ({values}{',' if w.leaves else ''})\n"
+        lines = ["def values(s):", *(f"    {b}" for b in w.binds), f"    if not ({guards}):", "        return None"]
+        source = "\n".join([*lines, f"    return ({values}{',' if w.leaves else ''})", ""])
         ns: dict[str, Any] = dict(w.consts)
         exec(compile(source, f"<layout of {type(sample).__name__}>", "exec"), ns)
         self.values: Callable[[Any], tuple[Any, ...] | None] = ns["values"]
@@ -232,3 +244,9 @@ class PreparedWriter:
 
     def dispose(self, sample: Any) -> None:
         self.writer.dispose(sample)
+
+    def flush(self) -> None:
+        """Send what a batching writer (`Bus.writer(batching=True)`) holds."""
+        ret = write_flush(self.writer)
+        if ret < 0:
+            raise DDSException(ret, f"Occurred while flushing {self.writer!r}")

@@ -12,13 +12,14 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import math
 import time
 import uuid
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from cyclonedds.core import InstanceState
+from cyclonedds.core import InstanceState, Policy, Qos
 from cyclonedds.pub import DataWriter
 
 from UMAA.Common.MaritimeEnumeration.CommandStatusEnumType import CommandStatusEnumType as Status
@@ -99,13 +100,14 @@ class Simulator:
         # --umaa 6.0 or --umaa-6-0-vehicles: those vehicles' samples written on the 6.0 topics (sim/umaa_6_0.py)
         versions = {opts.version_of(n) for n in opts.numbers}
         self.writer60 = Writer60.of_fleet(bus, opts)
-        self.writers: dict[AnySem, DataWriter[Any]] = {
-            sem: bus.writer(sem, appendable=sem in self.appendable)
+        self.writers: dict[AnySem, DataWriter[Any]] = {  # the reports batched: sent at the end of each tick
+            sem: bus.writer(sem, appendable=sem in self.appendable, batching=sem.spec.cls is TopicClass.REPORT)
             for sem in Sem
             if sem.spec.cls is not TopicClass.COMMAND and not all(Writer60.speaks(opts, n) for n in opts.numbers)
         }
         # the reports, a thousand vehicles' worth a second, from prepared bytes (sim/prepared.py)
         self.prepared = {sem: PreparedWriter(w) for sem, w in self.writers.items() if sem.spec.cls is TopicClass.REPORT}
+        self.report_writers = [*self.prepared.values(), *(self.writer60.prepared.values() if self.writer60 else [])]
         self.vehicles = {v.guid: v for v in (self._vehicle(n) for n in opts.numbers)}
         self.comap: ComapVehicles | None = None
         if opts.imc_port is not None:  # CoMap vehicles over IMC (an OSError when the port is taken)
@@ -118,12 +120,18 @@ class Simulator:
         self.conditions = {c: all_samples(r) for c, r in self.command_readers.items()}
         self._bus_status: dict[tuple[uuid.UUID, uuid.UUID], Status] = {}
         # Watched for as long as it runs: another process that starts at the same moment passes claim().
+        # Not our own samples (IgnoreLocal): a thousand vehicles' INS reports a second, each delivered to it and
+        # decoded by cyclonedds to be skipped, cost more than the rest of the watch.
         self._twin_reader = (
-            bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT)) if Sem.INS_REPORT in self.writers else None
+            bus.reader(Sem.INS_REPORT, any_writer_reader_qos(TopicClass.REPORT) + Qos(Policy.IgnoreLocal.Participant))
+            if Sem.INS_REPORT in self.writers
+            else None
         )
-        self._own_writer = self.writers[Sem.INS_REPORT].get_instance_handle() & _U64 if self._twin_reader else 0
         self._twin_at = 0.0
         self._health_at = 0.0
+        # Until when no vehicle has anything to do: none has a report due, none is changing (a command executing, a
+        # surfacing, an INS restarting, a CoMap task), and no command came since the vehicles were last looked at.
+        self._quiet_until = 0.0
         self.started = False
 
     def claim(self) -> None:
@@ -206,6 +214,7 @@ class Simulator:
                 self.handle(c, s, now, startup)
 
     def handle(self, commanding: Commanding, s: Any, now: float, startup: bool) -> None:
+        self._quiet_until = 0.0  # a command may start work before any report is due: every vehicle is looked at
         state = s.sample_info.instance_state
         cmd: Any = s.key_sample if isinstance(s, InvalidSample) else s  # a generated command struct
         service = commanding.service
@@ -246,7 +255,7 @@ class Simulator:
         mine = self.writers[Sem.INS_REPORT].guid
         for s in take_each(self._twin_reader)[0]:
             handle = s.sample_info.publication_handle & _U64
-            if handle == self._own_writer or isinstance(s, InvalidSample):
+            if isinstance(s, InvalidSample):
                 continue
             with contextlib.suppress(TypeError, ValueError):
                 source = from_guid(s.source)
@@ -268,13 +277,26 @@ class Simulator:
                 self.comap.step()
             except Exception:  # a CoMap fault must not stop the UMAA provider
                 log.exception("CoMap step failed")
-        for v in self.vehicles.values():  # a thousand vehicles, fifty ticks a second: only those with work
+        if now < self._quiet_until and self.comap is None:  # a thousand vehicles, fifty ticks a second
+            return
+        quiet_until = math.inf
+        for v in self.vehicles.values():  # only those with work
             sensors = v.sensors
             if now < sensors.next_due and not v.commands.executions and not sensors.moving and sensors.pilot is None:
+                quiet_until = min(quiet_until, sensors.next_due)
                 continue
             sensors.step(now)
             v.commands.step(now)
             sensors.publish(now, v.write)
+            busy = v.commands.executions or sensors.moving or sensors.pilot is not None
+            quiet_until = 0.0 if busy else min(quiet_until, sensors.next_due)
+        self._quiet_until = quiet_until
+        self.flush()
+
+    def flush(self) -> None:
+        """Send the reports written (their writers batch them)."""
+        for p in self.report_writers:
+            p.flush()
 
     def run(self, stop: Callable[[], bool]) -> None:
         if not self.started:
@@ -295,5 +317,6 @@ class Simulator:
         for v in self.vehicles.values():
             v.commands.shutdown()
             v.sensors.dispose(v.dispose)
+        self.flush()
         wait_for_acks([*self.writers.values(), *(self.writer60.writers.values() if self.writer60 else [])], ack_timeout)
         self.journal.close()

@@ -28,7 +28,7 @@ from UMAA.SEM.GPSStatus import GPSClockType, GPSReportType, GPSSatelliteType
 from UMAA.SEM.InertialSensorStatus import InertialSensorReportType
 
 from sem_console.dds.topics import AnySem, Sem, Service
-from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Pilot, Track, make_sky
+from sem_console.sim.models import MAX_USED, SUBMERGED_DEPTH_M, Ins, Pilot, Track, make_sky, sky_view
 from sem_console.sim.options import SimOptions
 from sem_console.umaa.guid import satellite_guid, to_guid
 from sem_console.umaa.samples import make, now_datetime
@@ -44,7 +44,23 @@ class Sensors:
         seed = int.from_bytes(guid.bytes[:8], "big")
         self.rng = random.Random(seed)
         self.sky = make_sky(seed, opts.satellites, opts.sky_speed)
-        self.sky_ids: list[Any] = [satellite_guid(s.constellation, s.prn) for s in self.sky]  # NumericGUIDs
+        self.orbits = [s.orbit for s in self.sky]
+        ids: list[Any] = [bytes(satellite_guid(s.constellation, s.prn)) for s in self.sky]  # NumericGUIDs, packed as they are
+        self.sky_samples = [  # every member given: the constructor itself (`make` fills absent ones)
+            GPSSatelliteType(
+                antennaCarrierNoiseDensity=0.0,
+                azimuth=0.0,
+                basebandCarrierNoiseDensity=0.0,
+                carrierFrequency=s.frequency,
+                constellationType=s.constellation,
+                containsAlmanacData=s.almanac,
+                elevation=0.0,
+                ephemerisData=s.ephemeris,
+                satelliteId=guid,
+                usedInFix=False,
+            )
+            for s, guid in zip(self.sky, ids, strict=True)
+        ]
         self.track = Track(
             opts.start_lat + 0.02 * (number - 1), opts.start_lon + 0.02 * (number - 1), course0=self.rng.uniform(0, 2 * math.pi)
         )
@@ -87,30 +103,19 @@ class Sensors:
 
     # ---- reports -------------------------------------------------------------------
     def satellites(self, now: float) -> list[GPSSatelliteType]:
-        t, exposure, gauss = self.t(now), self.exposure, self.rng.gauss
-        rows = []
-        for s, guid in zip(self.sky, self.sky_ids, strict=True):
-            az, el = s.az_el(t)
-            rows.append((s, guid, az, el, s.cn0(el, exposure, gauss(0, 1.0))))
-        used = set()
-        if self.fix_valid:
-            strongest = sorted(rows, key=lambda r: -r[4])
-            used = {id(r[0]) for r in strongest[:MAX_USED] if r[4] >= 30.0}
-        return [  # every member given: the constructor itself (`make` fills absent ones), a thousand vehicles' worth
-            GPSSatelliteType(
-                antennaCarrierNoiseDensity=round(cn0, 1),
-                azimuth=az,
-                basebandCarrierNoiseDensity=round(max(cn0 - 1.5, 0.0), 1),
-                carrierFrequency=s.frequency,
-                constellationType=s.constellation,
-                containsAlmanacData=s.almanac,
-                elevation=el,
-                ephemerisData=s.ephemeris,
-                satelliteId=guid,
-                usedInFix=id(s) in used,
-            )
-            for s, guid, az, el, cn0 in rows
-        ]
+        """The sky at `now`: the vehicle's own satellite samples, the same objects on every call (each made once, with
+        the members that never change), their position, C/N0 and use in the fix set now; a report is written before
+        the next call."""
+        view = sky_view(self.orbits, self.t(now), self.exposure, self.rng.gauss)
+        used = [False] * len(view)
+        if self.fix_valid:  # the strongest, from 30 dB-Hz
+            for i in sorted(range(len(view)), key=lambda i: view[i][2], reverse=True)[:MAX_USED]:
+                used[i] = view[i][2] >= 30.0
+        for sat, (az, el, cn0), in_fix in zip(self.sky_samples, view, used, strict=True):
+            sat.azimuth, sat.elevation, sat.usedInFix = az, el, in_fix
+            sat.antennaCarrierNoiseDensity = round(cn0, 1)
+            sat.basebandCarrierNoiseDensity = round(max(cn0 - 1.5, 0.0), 1)
+        return self.sky_samples
 
     def gps_report(self, now: float, sats: list[GPSSatelliteType]) -> GPSReportType:
         elapsed_ns = int(self.t(now) * 1e9)

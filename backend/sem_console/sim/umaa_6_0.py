@@ -85,21 +85,62 @@ def _constellation(c: Any) -> Constellation:
 
 def _satellite(s: Any) -> GPSSatelliteType:
     prn = bytes(s.satelliteId)[15] if s.satelliteId is not None else 0
-    return GPSSatelliteType(
-        antennaCarrierNoiseDensity=s.antennaCarrierNoiseDensity or 0.0,
-        azimuth=s.azimuth or 0.0,
-        basebandCarrierNoiseDensity=s.basebandCarrierNoiseDensity or 0.0,
+    sat = GPSSatelliteType(
+        antennaCarrierNoiseDensity=0.0,
+        azimuth=0.0,
+        basebandCarrierNoiseDensity=0.0,
         carrierFrequency=s.carrierFrequency or 0.0,
         constellationType=_constellation(s.constellationType),
         containsAlmanacData=bool(s.containsAlmanacData),
-        elevation=s.elevation or 0.0,
+        elevation=0.0,
         ephemerisData=bool(s.ephemerisData),
         satelliteID=float(prn),
-        usedInFix=bool(s.usedInFix),
+        usedInFix=False,
     )
+    _changing(sat, s)
+    return sat
 
 
-def gps_report(r: Any) -> GPSReportType:
+def _changing(sat: GPSSatelliteType, s: Any) -> None:
+    """The members of a satellite that change between a vehicle's reports, from its 3.0.1 satellite."""
+    sat.antennaCarrierNoiseDensity = s.antennaCarrierNoiseDensity or 0.0
+    sat.azimuth = s.azimuth or 0.0
+    sat.basebandCarrierNoiseDensity = s.basebandCarrierNoiseDensity or 0.0
+    sat.elevation = s.elevation or 0.0
+    sat.usedInFix = bool(s.usedInFix)
+
+
+def _constant(s: Any) -> tuple[Any, ...]:
+    return s.carrierFrequency, s.constellationType, s.containsAlmanacData, s.ephemerisData, s.satelliteId
+
+
+class Skies:
+    """Each vehicle's satellites as 6.0 writes them, made once from its 3.0.1 satellite samples (`Sensors.satellites`:
+    the same objects every report) with their constant members; each report sets the members that change. A satellite
+    whose sample is another object, or whose constant members changed, is made again."""
+
+    def __init__(self) -> None:
+        self._of: dict[bytes, list[tuple[Any, tuple[Any, ...], GPSSatelliteType] | None]] = {}  # by vehicle: 3.0.1, 6.0
+
+    def __call__(self, vehicle: bytes, sats: list[Any]) -> list[GPSSatelliteType]:
+        known = self._of.get(vehicle)
+        if known is None or len(known) != len(sats):
+            known = self._of[vehicle] = [None] * len(sats)
+        out = []
+        for i, s in enumerate(sats):
+            entry, constant = known[i], _constant(s)
+            if entry is not None and entry[0] is s and entry[1] == constant:
+                sat = entry[2]
+                _changing(sat, s)
+            else:
+                sat = _satellite(s)
+                known[i] = (s, constant, sat)
+            out.append(sat)
+        return out
+
+
+def gps_report(r: Any, skies: Skies | None = None) -> GPSReportType:
+    """A 3.0.1 GPSReport as 6.0's; `skies`: the vehicles' 6.0 satellites, kept from one report to the next."""
     c = r.clock
     clock = make(
         GPSClockType,
@@ -122,7 +163,7 @@ def gps_report(r: Any) -> GPSReportType:
         GPSReportType,
         clock=clock,
         numberSatellitesInView=r.numberSatellitesInView,
-        satellites=[_satellite(s) for s in r.satellites],
+        satellites=skies(bytes(r.source), r.satellites) if skies is not None else [_satellite(s) for s in r.satellites],
         timeStamp=_time(r.timeStamp),
         source=_identifier(r.source),
     )
@@ -262,11 +303,14 @@ class Writer60:
         # its appendable copy in XCDR2, as RTI's UMAA types are, for an RTI consumer (docs/umaa-versions.md)
         sems = (Sem60.GPS_REPORT, Sem60.GLOBAL_POSE_REPORT, Sem60.INS_REPORT)
         self.appendable = {s for s in sems if appendable and s.spec.appendable is not None}
-        self.writers: dict[AnySem, DataWriter[Any]] = {sem: bus.writer(sem, appendable=sem in self.appendable) for sem in sems}
+        self.writers: dict[AnySem, DataWriter[Any]] = {  # batched: the simulator sends them at the end of each tick
+            sem: bus.writer(sem, appendable=sem in self.appendable, batching=True) for sem in sems
+        }
         # the command flow's statuses and acks: reliable, transient-local, with RTI UMAAQoSLib's CommandQoS (bus.writer)
         self.writers.update({sem: bus.writer(sem) for sem in (Sem60.INS_COMMAND_STATUS, Sem60.INS_COMMAND_ACK)})
         self.prepared = {sem: PreparedWriter(self.writers[sem]) for sem in sems}  # the reports (sim/prepared.py)
         self._aligned: dict[uuid.UUID, str] = {}  # per vehicle, the stage its alignment completed with
+        self.skies = Skies()
         self.alignments = Alignments(align_seconds)
 
     def ins_report(self, r: Any) -> InertialSensorReportType:
@@ -274,7 +318,7 @@ class Writer60:
 
     def _as_6_0(self, sem: Sem, sample: Any) -> tuple[Sem60, Any] | None:
         if sem is Sem.GPS_REPORT:
-            return Sem60.GPS_REPORT, gps_report(sample)
+            return Sem60.GPS_REPORT, gps_report(sample, self.skies)
         if sem is Sem.GPS_FIX_REPORT:
             return Sem60.GLOBAL_POSE_REPORT, global_pose(sample)
         if sem is Sem.INS_REPORT:

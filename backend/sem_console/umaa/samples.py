@@ -21,8 +21,15 @@ def _members(cls: type[DataclassInstance]) -> tuple[str, ...]:
 
 
 def make(cls: type[T], **values: Any) -> T:
-    """Construct a generated struct; members not given are None (for @optional members)."""
-    return cls(**{name: values.get(name) for name in _members(cls)})
+    """Construct a generated struct; members not given are None (for @optional members). A name that is not a member
+    is a TypeError."""
+    members = _members(cls)
+    if len(values) == len(members):  # every member given (the simulator's reports, a thousand vehicles' a second)
+        return cls(**values)
+    unknown = values.keys() - set(members)
+    if unknown:
+        raise TypeError(f"{cls.__name__} has no member {', '.join(sorted(unknown))}")
+    return cls(**{name: values.get(name) for name in members})
 
 
 def now_datetime(t: float | None = None) -> DateTime:

@@ -185,6 +185,47 @@ def test_prepared_writes_put_on_the_wire_what_write_does(domain: int) -> None:
     bus.close()
 
 
+def test_a_batching_writer_has_cyclones_batching_and_flushes(domain: int) -> None:
+    """Bus.writer(batching=True) makes a BatchingDataWriter: Cyclone's own QoS of the writer says it batches (a plain
+    writer's does not), its samples reach a reader, and write_flush sends what it holds (Cyclone's return code 0)."""
+    import ctypes as ct
+
+    from cyclonedds.internal import DDS
+
+    from sem_console.dds.cyclone_private import BatchingDataWriter, write_flush
+
+    dll = ct.CDLL(DDS._dll_handle._name)  # Cyclone's own view of the writer's QoS (functions of its own)
+    dll.dds_create_qos.restype = ct.c_void_p
+    dll.dds_get_qos.argtypes = [ct.c_int32, ct.c_void_p]
+    dll.dds_qget_writer_batching.argtypes = [ct.c_void_p, ct.POINTER(ct.c_bool)]
+    dll.dds_qget_writer_batching.restype = ct.c_bool
+    dll.dds_delete_qos.argtypes = [ct.c_void_p]
+
+    def batching(writer: Any) -> bool:
+        qos, flag = dll.dds_create_qos(), ct.c_bool(False)
+        try:
+            assert dll.dds_get_qos(writer._ref, qos) == 0
+            return bool(dll.dds_qget_writer_batching(qos, ct.byref(flag)) and flag.value)
+        finally:
+            dll.dds_delete_qos(qos)
+
+    bus = Bus(domain)
+    sem = Sem.INS_REPORT
+    batched, plain, reader = bus.writer(sem, batching=True), bus.writer(sem), bus.reader(sem)
+    assert isinstance(batched, BatchingDataWriter) and batching(batched)
+    assert not isinstance(plain, BatchingDataWriter) and not batching(plain)
+    deadline = time.monotonic() + 10
+    while not batched.get_matched_subscriptions() and time.monotonic() < deadline:
+        time.sleep(0.02)
+    sample = random_sample(sem.spec.type, random.Random(4), absent=0.0)
+    batched.write(sample)
+    assert write_flush(batched) == 0 and write_flush(plain) == 0
+    assert wait_for_acks([batched], 5.0)
+    ((cdr, info),) = _take_all(reader)
+    assert info.valid_data and sem.spec.type.deserialize(cdr) == sample
+    bus.close()
+
+
 def test_triggered_names_the_conditions_with_samples(domain: int) -> None:
     """Triggered.wait hands back the attach-order index of each triggered condition (by a sample, a dispose, a writer
     gone; several at once in attach order), and none on a timeout."""
