@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from sem_console.dds.bus import Bus
+from support import http
 from support.consumer import Consumer
 from support.domains import domain_free, udp_free
 
@@ -262,7 +263,7 @@ class ConsoleProcess(Process):
             if self.proc.poll() is not None:
                 raise RuntimeError(f"sem-console exited: {self.proc.communicate()[0]}")
             try:
-                if httpx.get(self.url + "/api/health", timeout=1, verify=self.verify).status_code == 200:
+                if http.get(self.url + "/api/health", timeout=1, verify=self.verify).status_code == 200:
                     return self
             except httpx.HTTPError:
                 pass
