@@ -489,7 +489,10 @@ def test_simulator_killed_is_lost_then_regained(sim, console) -> None:
 def test_embedded_simulator_does_not_impersonate_a_running_one(sim, console, tmp_path) -> None:
     """`scripts/run` (the console with --sim 1) beside a running `sem-sim`: the console shows the running
     simulator's vehicle 1 and logs why its own did not start; --sim-first-vehicle runs both."""
-    running = sim("--surface-seconds", "100")
+    alive = tmp_path / "sem-sim.alive"  # touched by the running simulator from its first step on (0 until then)
+    running = sim("--surface-seconds", "100", "--health-file", str(alive))
+    # on the bus before the console's embedded simulator looks for its vehicles, which it does as the console starts
+    wait_until(lambda: alive.exists() and alive.stat().st_mtime > 0, 30, "the running simulator's first step")
     state = {"XDG_STATE_HOME": str(tmp_path)}  # the embedded simulator's journal
     first = console("--sim", "1", "--sim-time-scale", "0.05", "--log-level", "error", env=state)
     provider_ready(first.url, V1, {"InertialSensorReport"})
