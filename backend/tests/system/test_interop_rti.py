@@ -25,6 +25,7 @@ import sys
 import threading
 import time
 import uuid
+from collections import Counter
 from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
@@ -208,7 +209,7 @@ class RtiVehicle:
         self.p = p
         self.guid = uuid.uuid4()
         self.handled: set[bytes] = set()
-        self.disposed: list[bytes] = []
+        self.ends: Counter[Sem] = Counter()  # command instances seen ending (disposed, unregistered), by topic
         self.hold: set[bytes] = set()  # commands to keep EXECUTING (to be canceled)
 
     def report(self) -> None:
@@ -292,8 +293,10 @@ class RtiVehicle:
         """Publish reports, answer new commands with the Figure 4 flow, cancel disposed running ones."""
         self.report()
         for service, sem in COMMANDS.items():
-            for cmd, _state in self.p.take(sem):
-                if cmd is None:  # a dispose: the consumer cancels or cleans up
+            for cmd, state in self.p.take(sem):
+                if cmd is None or state != "ALIVE":  # kept for ended(): the consumer cancels or cleans up
+                    self.ends[sem] += 1
+                if cmd is None:
                     continue
                 session = bytes(cmd["sessionID"])
                 if session in self.handled or bytes(cmd["destination"]) != self.guid.bytes:
@@ -309,6 +312,13 @@ class RtiVehicle:
                     self.running = (service, cmd)
                 else:
                     self.status(service, cmd, "COMPLETED")
+
+    def ended(self, sem: Sem) -> bool:
+        """Whether an instance of command topic `sem` ended since the last call: among the samples step() took (a
+        cleanup can come while a test steps the vehicle to its command's end) and those waiting now."""
+        self.ends[sem] += sum(1 for got, state in self.p.take(sem) if got is None or state != "ALIVE")
+        seen, self.ends[sem] = self.ends[sem], 0
+        return seen > 0
 
     def cancel_running_if_disposed(self) -> bool:
         service, cmd = self.running
@@ -378,10 +388,7 @@ def test_console_commands_an_rti_vehicle(rti: RtiFactory, console: Any, domain: 
         assert cmd["violations"] == [] and cmd["ackedAt"]
         # Cleanup: the console disposes the finished command; RTI's reader sees the instance end.
         wait_until(
-            lambda path=path: any(
-                x is None or st != "ALIVE"
-                for x, st in v.p.take(COMMANDS[Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR])
-            ),
+            lambda path=path: v.ended(COMMANDS[Service.GPS_FIX if path == "gps-fix" else Service.INERTIAL_SENSOR]),
             30,
             "the cleanup dispose in RTI",
         )
